@@ -1,0 +1,51 @@
+"""Virtual Actuator Control and Virtual Model Control for any robot described by a URDF.
+
+Declare virtual actuators between frames of a robot, distribute their wrenches over parallel
+chains with the extended Partitioned Actuator Set method, and map them to joint efforts.
+"""
+
+from .declaration.actuators import ParallelVirtualActuator, VirtualActuator
+from .declaration.constraints import DesignConstraint, Equal, EqualTorque, Linear
+from .declaration.frames import AXES, WORLD
+from .distribution.solution import Solution
+from .exceptions import (
+    ConstraintError,
+    FrameNotFoundError,
+    InadmissibleWrenchError,
+    InvalidAxisError,
+    InvalidInputError,
+    JointNotFoundError,
+    RobotDescriptionError,
+    RobotNotFoundError,
+    SingularConfigurationError,
+    VirtualActuatorError,
+)
+from .robots import Robot, list_robots, load_robot, millipede
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AXES",
+    "WORLD",
+    "ConstraintError",
+    "DesignConstraint",
+    "Equal",
+    "EqualTorque",
+    "FrameNotFoundError",
+    "InadmissibleWrenchError",
+    "InvalidAxisError",
+    "InvalidInputError",
+    "JointNotFoundError",
+    "Linear",
+    "ParallelVirtualActuator",
+    "Robot",
+    "RobotDescriptionError",
+    "RobotNotFoundError",
+    "SingularConfigurationError",
+    "Solution",
+    "VirtualActuator",
+    "VirtualActuatorError",
+    "list_robots",
+    "load_robot",
+    "millipede",
+]

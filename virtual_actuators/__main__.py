@@ -1,0 +1,110 @@
+"""Command line: ``python -m virtual_actuators demo`` and friends."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+
+def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
+    model = robot.model
+    lines = [f"{'joint':<16}{'effort [N m]':>14}"]
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.shortname() == "JointModelFreeFlyer":
+            continue
+        for k in range(joint.nv):
+            name = model.names[j] + (f"[{k}]" if joint.nv > 1 else "")
+            note = "  (limp)" if model.names[j] in limp else ""
+            lines.append(f"{name:<16}{tau[joint.idx_v + k]:>14.4f}{note}")
+    return "\n".join(lines)
+
+
+def _print_solution(title: str, robot, body, q, wrench, sol) -> None:
+    print(f"\n== {title}")
+    sizes = body.sizes()
+    print(
+        f"n={sizes['n']} p={sizes['p']} natural constraints={sizes['l_total']} "
+        f"free entries={sizes['d_total']} redundancy r={sizes['r']} design={sizes['design']}"
+    )
+    print(f"method: {sol.method}   residual: {sol.residual:.2e}")
+    for key in ("MFS", "RFS", "CFS"):
+        labels = ", ".join(f"{r}.{a}" for r, a in sol.sets[key])
+        print(f"{key} ({len(sol.sets[key])}): {labels}")
+    print("\nforces on the body, per chain [N, N m]:")
+    print(sol.table())
+    print("\njoint efforts:")
+    print(_joint_table(robot, sol.tau))
+
+
+def demo_stand(robot_name: str = "solo12", repeat: int = 2000) -> None:
+    """Load a quadruped, declare a body actuator on its four feet, print the distribution."""
+    import virtual_actuators as va
+
+    robot = va.load_robot(robot_name)
+    q = robot.neutral()
+    feet = [f for f in ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT") if robot.model.existFrame(f)]
+    mass = sum(inertia.mass for inertia in robot.model.inertias)
+    weight = mass * 9.81
+    print(f"{robot}  mass {mass:.2f} kg, standing pose from its SRDF")
+    body = va.ParallelVirtualActuator(
+        robot, action="base_link", reactions=feet, reference="base_link", contact="point"
+    )
+    wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])
+    sol = body.solve(q, wrench)
+    _print_solution(
+        "body actuator, no design constraint (minimum-norm distribution)",
+        robot,
+        body,
+        q,
+        wrench,
+        sol,
+    )
+    # all x forces equal, y forces equal front and hind, diagonal z sums equal: r = 6
+    design = [
+        va.Equal((feet[0], "x"), (feet[1], "x")),
+        va.Equal((feet[0], "x"), (feet[2], "x")),
+        va.Equal((feet[0], "x"), (feet[3], "x")),
+        va.Equal((feet[0], "y"), (feet[1], "y")),
+        va.Equal((feet[2], "y"), (feet[3], "y")),
+        va.Linear({(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}),
+    ]
+    square = va.ParallelVirtualActuator(
+        robot, action="base_link", reactions=feet, reference="base_link", design=design
+    )
+    sol2 = square.solve(q, wrench)
+    _print_solution(
+        "with six design constraints (square, partitioned)", robot, square, q, wrench, sol2
+    )
+    for name, actuator in (("minimum-norm", body), ("partitioned", square)):
+        start = time.perf_counter()
+        for _ in range(repeat):
+            actuator.solve(q, wrench)
+        elapsed = (time.perf_counter() - start) / repeat * 1e6
+        print(f"\nsolve time ({name}): {elapsed:.1f} us per call (median of one run)")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``python -m virtual_actuators``."""
+    parser = argparse.ArgumentParser(prog="python -m virtual_actuators", description=__doc__)
+    sub = parser.add_subparsers(dest="command")
+    demo = sub.add_parser("demo", help="run a demo (default: a quadruped standing)")
+    demo.add_argument("name", nargs="?", default="stand", choices=["stand"])
+    demo.add_argument("--robot", default="solo12", help="quadruped with *_FOOT frames")
+    sub.add_parser("robots", help="list the robots load_robot accepts by name")
+    args = parser.parse_args(argv)
+    if args.command in (None, "demo"):
+        demo_stand(getattr(args, "robot", "solo12"))
+    elif args.command == "robots":
+        import virtual_actuators as va
+
+        print("\n".join(va.list_robots()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""declaration layer of virtual_actuators."""

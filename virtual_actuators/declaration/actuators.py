@@ -1,0 +1,347 @@
+"""Virtual actuators: serial (VAC 2.1-2.4) and parallel (VAC 2.5, VMC 4).
+
+A virtual actuator exerts a wrench on an action frame {B} from a reaction frame {A} (minus that
+wrench acts on {A}), expressed in a reference frame {O}. The joint torques that emulate it are
+``tau = J^T F`` (VAC eq. 5-7). A parallel actuator has one action frame and several reaction
+frames, one serial chain each, and must distribute its wrench over the chains.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..declaration.constraints import DesignConstraint, Equal, Linear
+from ..declaration.frames import check_axes_subset, parse_axes, resolve_frame
+from ..distribution.dense import DenseSolver
+from ..distribution.partitioner import PartitionedSolver
+from ..distribution.problem import DistributionProblem
+from ..distribution.solution import Solution
+from ..exceptions import (
+    ConstraintError,
+    FrameNotFoundError,
+    InadmissibleWrenchError,
+    InvalidInputError,
+)
+from ..kinematics.relative import RelativeKinematics
+from ..robots.robot import Robot
+
+
+def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
+    wrench = np.asarray(wrench, dtype=float)
+    if wrench.shape != (len(axes),):
+        raise InvalidInputError(
+            f"The wrench has shape {wrench.shape}; this actuator's axes {tuple(axes)} need "
+            f"({len(axes)},)."
+        )
+    if not np.all(np.isfinite(wrench)):
+        raise InvalidInputError(f"The wrench has NaN or inf entries: {wrench}.")
+    return wrench
+
+
+class VirtualActuator:
+    """A serial virtual actuator between an action frame {B} and a reaction frame {A}.
+
+    Args:
+        robot: The robot.
+        action: Name of the action frame {B} (the wrench acts on it).
+        reaction: Name of the reaction frame {A} (minus the wrench acts on it), or ``"world"``.
+        reference: Name of the reference frame {O} whose axes the wrench is expressed along.
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``.
+
+    Raises:
+        FrameNotFoundError: A frame name is not in the model.
+        InvalidAxisError: Bad axes.
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        action: str,
+        reaction: str,
+        reference: str = "world",
+        axes: Sequence[str] = ("x", "y", "z", "rx", "ry", "rz"),
+    ) -> None:
+        self.robot = robot
+        self.action, self.reaction, self.reference = action, reaction, reference
+        self.axes = parse_axes(axes)
+        model = robot.model
+        self.kinematics = RelativeKinematics(
+            model,
+            resolve_frame(model, action, "action"),
+            [resolve_frame(model, reaction, "reaction")],
+            resolve_frame(model, reference, "reference"),
+            self.axes,
+        )
+
+    def position(self, q: np.ndarray) -> np.ndarray:
+        """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.
+
+        Translations: ``R_O^T (p_B - p_A)`` [m]. Rotations: the rotation vector of {B} relative
+        to {A}, ``log(R_A^T R_B)``, expressed in {O} [rad].
+
+        Raises:
+            InvalidInputError: Bad ``q``.
+
+        """
+        q = self.kinematics.check_configuration(q)
+        return self.kinematics.positions(self.kinematics.compute(q))[0]
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray:
+        """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
+
+        Columns of joints outside the path between {A} and {B} are zero (a floating base
+        cancels unless one frame is ``"world"``).
+
+        Raises:
+            InvalidInputError: Bad ``q``.
+
+        """
+        q = self.kinematics.check_configuration(q)
+        return self.kinematics.compute(q).jacobian_o * self.kinematics.signs[0]
+
+    def velocity(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s].
+
+        Raises:
+            InvalidInputError: Bad ``q`` or ``v``.
+
+        """
+        v = self.kinematics.check_velocity(v)
+        return self.jacobian(q) @ v
+
+    def torques(self, q: np.ndarray, wrench: np.ndarray) -> np.ndarray:
+        """Joint torques ``J^T F`` that emulate ``wrench`` on {B} from {A} (VAC eq. 7).
+
+        Raises:
+            InvalidInputError: Bad ``q`` or ``wrench``.
+
+        """
+        wrench = _wrench_array(wrench, self.axes)
+        return self.jacobian(q).T @ wrench
+
+    def is_admissible(self, q: np.ndarray, wrench: np.ndarray, tol: float = 1e-9) -> bool:
+        """Whether ``wrench`` lies in the range of the Jacobian (it can be produced).
+
+        Args:
+            q: Configuration.
+            wrench: Wrench over ``axes``.
+            tol: Relative tolerance on the part of ``wrench`` outside the range.
+
+        Raises:
+            InvalidInputError: Bad ``q`` or ``wrench``.
+
+        """
+        wrench = _wrench_array(wrench, self.axes)
+        jac = self.jacobian(q)
+        u, s, _ = np.linalg.svd(jac, full_matrices=False)
+        rank = int(np.sum(s > 1e-10 * max(s[0], 1e-300))) if s.size and s[0] > 0 else 0
+        inside = u[:, :rank] @ (u[:, :rank].T @ wrench)
+        return bool(np.linalg.norm(wrench - inside) <= tol * max(1.0, np.linalg.norm(wrench)))
+
+    def __repr__(self) -> str:
+        return (
+            f"VirtualActuator(action={self.action!r}, reaction={self.reaction!r}, "
+            f"reference={self.reference!r}, axes={self.axes})"
+        )
+
+
+class ParallelVirtualActuator:
+    """One action frame {B}, several reaction frames {A_i}: a wrench distributed over chains.
+
+    Args:
+        robot: The robot.
+        action: Name of the action frame {B}.
+        reactions: Names of the reaction frames, one serial chain each.
+        reference: Name of the reference frame {O}.
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``.
+        contact: ``"point"`` (no moment about a reaction frame's origin on the selected
+            rotational axes), ``"flat"`` (any wrench), or a dict from reaction to either.
+        unactuated: Names of limp joints (torque 0).
+        passive: ``{joint: (stiffness [N m/rad], rest angle [rad])}``: torque
+            ``-stiffness * (angle - rest)``, measured, not commanded.
+        design: Design constraints (:class:`Equal`, :class:`Linear`, :class:`EqualTorque`).
+
+    Raises:
+        FrameNotFoundError: A frame name is not in the model.
+        JointNotFoundError: A joint name is unknown or not on any chain.
+        InvalidAxisError: Bad axes.
+        ConstraintError: Constraints that contradict each other, repeat each other or are too
+            many; a reaction frame with no joint to the action frame; a repeated reaction.
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        action: str,
+        reactions: Sequence[str],
+        reference: str = "world",
+        axes: Sequence[str] = ("x", "y", "z", "rx", "ry", "rz"),
+        contact: str | Mapping[str, str] = "point",
+        unactuated: Sequence[str] = (),
+        passive: Mapping[str, tuple[float, float]] | None = None,
+        design: Sequence[DesignConstraint] = (),
+    ) -> None:
+        self.robot = robot
+        self.action, self.reference = action, reference
+        if isinstance(reactions, str):
+            reactions = [reactions]
+        self.reactions = tuple(reactions)
+        if not self.reactions:
+            raise ConstraintError("A parallel virtual actuator needs at least one reaction frame.")
+        if len(set(self.reactions)) != len(self.reactions):
+            raise ConstraintError(f"Reaction frames repeat: {self.reactions}.")
+        self.axes = parse_axes(axes)
+        model = robot.model
+        action_id = resolve_frame(model, action, "action")
+        reaction_ids = [resolve_frame(model, r, "reaction") for r in self.reactions]
+        if action_id in reaction_ids:
+            raise FrameNotFoundError(
+                f"The action frame {action!r} is also a reaction frame; they must differ."
+            )
+        self.kinematics = RelativeKinematics(
+            model, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
+        )
+        self.design = tuple(design)
+        self.problem = DistributionProblem(
+            self.kinematics, self.reactions, contact, unactuated, passive or {}, self.design
+        )
+        preferred = np.ones((len(self.reactions), len(self.axes)))
+        for constraint in self.design:
+            if isinstance(constraint, (Equal, Linear)):
+                for reaction, axis in constraint.labels():
+                    preferred[self.reactions.index(reaction), self.axes.index(axis)] = 1e-3
+        self.partitioner = PartitionedSolver(self.problem, preferred)
+        self.dense = DenseSolver(self.problem)
+        self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
+        self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
+
+    @property
+    def n(self) -> int:
+        """Number of axes (dimension of the wrench)."""
+        return len(self.axes)
+
+    @property
+    def p(self) -> int:
+        """Number of chains."""
+        return len(self.reactions)
+
+    def sizes(self) -> dict[str, int]:
+        """Return the seed's constants: n, p, natural constraints, free entries, redundancy r."""
+        l_total = sum(g.size * g.num_constraints for g in self.problem.groups)
+        d_total = self.partitioner.num_free_entries
+        return {
+            "n": self.n,
+            "p": self.p,
+            "l_total": l_total,
+            "d_total": d_total,
+            "r": d_total - self.n,
+            "design": self.problem.num_hard,
+        }
+
+    def _keep(self, free: Sequence[str]) -> tuple[tuple[str, ...], np.ndarray]:
+        key = (free,) if isinstance(free, str) else tuple(free)
+        cached = self._keep_cache.get(key)
+        if cached is None:
+            axes = check_axes_subset(free, self.axes, "free")
+            cached = (axes, np.array([a not in axes for a in self.axes]))
+            self._keep_cache[key] = cached
+        return cached
+
+    def solve(
+        self,
+        q: np.ndarray,
+        wrench: np.ndarray,
+        free: Sequence[str] = (),
+        strict: bool = False,
+        tol: float = 1e-6,
+        method: str = "partitioned",
+    ) -> Solution:
+        """Distribute ``wrench`` over the chains and map it to joint efforts.
+
+        Args:
+            q: Configuration ``(model.nq,)``.
+            wrench: ``(n,)`` wrench on {B}; entries of ``free`` axes are ignored.
+            free: Axes left to the solver (their produced value is reported in the solution).
+            strict: Raise :class:`InadmissibleWrenchError` if the wrench cannot be produced.
+            tol: Residual tolerance, relative to ``max(1, |wrench|)``, for admissibility.
+            method: ``"partitioned"`` (default) or ``"dense"`` (reference solver, eq. 10-11).
+
+        Returns:
+            The :class:`Solution`.
+
+        Raises:
+            InvalidInputError: Bad ``q``, ``wrench`` or ``method``.
+            InvalidAxisError: A ``free`` axis is not one of the actuator's axes.
+            SingularConfigurationError: No distribution can be solved at this configuration.
+            ConstraintError: Too many constraints for the free axes, or contradictory ones.
+            InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
+
+        """
+        q = self.kinematics.check_configuration(q)
+        wrench = _wrench_array(wrench, self.axes)
+        free, keep = self._keep(free)
+        if method == "partitioned":
+            solver = self.partitioner
+        elif method == "dense":
+            solver = self.dense
+        else:
+            raise InvalidInputError(f"method must be 'partitioned' or 'dense', got {method!r}.")
+        ev = self.problem.evaluate(q)
+        raw = solver.solve(ev, wrench, keep)
+        produced = raw.forces.sum(axis=0)
+        error = (produced - wrench)[keep]
+        residual = float(np.sqrt(error @ error))
+        kind = raw.method
+        if residual > tol * max(1.0, float(np.sqrt(wrench[keep] @ wrench[keep]))):
+            kind = "least-squares"
+        elif kind == "least-squares":
+            kind = "pseudo-inverse"
+        tau_total = self.problem.torques(ev.state.jacobian_o, raw.forces)
+        tau = np.where(self.problem.actuated_mask, tau_total, 0.0)
+        base_effort = tau[:6].copy() if self._floating else np.zeros(0)
+        requested = np.where(keep, wrench, produced)
+        solution = Solution(
+            tau=tau,
+            forces=raw.forces,
+            wrench=produced,
+            sets=raw.sets,
+            residual=residual,
+            method=kind,
+            requested=requested,
+            reactions=self.reactions,
+            axes=self.axes,
+            free=free,
+            tau_passive=ev.passive_torque,
+            base_effort=base_effort,
+            solver=method,
+        )
+        if strict and kind == "least-squares":
+            raise InadmissibleWrenchError(
+                f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "
+                f"configuration: residual {residual:.3g} (produced {produced.round(6).tolist()}).",
+                solution,
+            )
+        return solution
+
+    def torques(self, q: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.
+
+        Raises:
+            InvalidInputError: Bad ``q`` or ``forces``.
+
+        """
+        q = self.kinematics.check_configuration(q)
+        forces = np.asarray(forces, dtype=float)
+        if forces.shape != (self.p, self.n) or not np.all(np.isfinite(forces)):
+            raise InvalidInputError(f"forces must be finite with shape ({self.p}, {self.n}).")
+        return self.problem.torques(self.kinematics.compute(q).jacobian_o, forces)
+
+    def __repr__(self) -> str:
+        return (
+            f"ParallelVirtualActuator(action={self.action!r}, reactions={list(self.reactions)}, "
+            f"reference={self.reference!r}, axes={self.axes}, design={len(self.design)})"
+        )

@@ -1,0 +1,1 @@
+"""distribution layer of virtual_actuators."""

@@ -1,0 +1,74 @@
+"""Reference solver: the dense constraint system of VAC eq. 10-11 over all ``p n`` entries.
+
+It forms the whole matrix ``K`` (wrench rows, block-diagonal natural constraints, coupling and
+design rows) and solves it with plain dense linear algebra. It is slow on purpose-free grounds:
+it is the baseline of the benchmarks and the oracle the partitioned solver is tested against.
+Semantics match :class:`~virtual_actuators.distribution.partitioner.PartitionedSolver`: square
+systems are solved exactly, others by the minimum-norm solution that meets every constraint
+exactly and the wrench as closely as possible.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..exceptions import ConstraintError, SingularConfigurationError
+from .linalg import constrained_min_norm
+from .partitioner import ILL_CONDITIONED, RawSolution
+from .problem import DistributionProblem, Evaluation
+
+
+class DenseSolver:
+    """Solve eq. 10-11 densely.
+
+    Args:
+        problem: The declaration-time structure of the distribution.
+
+    """
+
+    def __init__(self, problem: DistributionProblem) -> None:
+        self.problem = problem
+
+    def system(
+        self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Return ``(soft, soft_rhs, hard, hard_rhs)``: wrench rows and constraint rows of K."""
+        p, n = self.problem.p, self.problem.n
+        soft = np.tile(np.eye(n), (1, p))[keep]
+        natural, natural_rhs = self.problem.block_natural(ev)
+        hard = np.vstack((natural, ev.hard_rows.reshape(-1, p * n)))
+        hard_rhs = np.concatenate((natural_rhs, ev.hard_rhs))
+        return soft, wrench[keep], hard, hard_rhs
+
+    def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
+        """Distribute ``wrench``; see :meth:`PartitionedSolver.solve` for the arguments.
+
+        Raises:
+            SingularConfigurationError: The square system is singular at this configuration.
+            ConstraintError: The constraints contradict each other at this configuration.
+
+        """
+        p, n = self.problem.p, self.problem.n
+        soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)
+        k = np.vstack((soft, hard))
+        if k.shape[0] == k.shape[1]:
+            cond = np.linalg.cond(k)
+            if not np.isfinite(cond) or cond > ILL_CONDITIONED:
+                raise SingularConfigurationError(
+                    f"The {k.shape[0]} x {k.shape[1]} constraint matrix K (eq. 10) is singular "
+                    f"at this configuration (condition {cond:.1e})."
+                )
+            x = np.linalg.solve(k, np.concatenate((soft_rhs, hard_rhs)))
+            method = "partitioned"
+        else:
+            x, hard_residual = constrained_min_norm(hard, hard_rhs, soft, soft_rhs)
+            if hard_residual > 1e-8 * (1.0 + np.abs(hard_rhs).max(initial=0.0)):
+                raise ConstraintError(
+                    "The constraints contradict each other at this configuration "
+                    f"(residual {hard_residual:.2e})."
+                )
+            method = "pseudo-inverse" if k.shape[0] < k.shape[1] else "least-squares"
+        return RawSolution(forces=x.reshape(p, n), method=method, sets={})
+
+    def __repr__(self) -> str:
+        return f"DenseSolver(p={self.problem.p}, n={self.problem.n})"

@@ -1,0 +1,150 @@
+"""Small dense linear-algebra helpers shared by the solvers."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = None) -> np.ndarray:
+    """Pick ``count`` well-conditioned columns of ``matrix`` (greedy pivoted Gram-Schmidt).
+
+    This is the column choice of a QR factorisation with column pivoting (Businger-Golub):
+    at each step the column with the largest norm orthogonal to those already picked wins.
+
+    Args:
+        matrix: ``(rows, cols)`` array.
+        count: How many columns to pick (``<= cols``).
+        weights: Optional ``(cols,)`` positive factors; a column with a small weight is picked
+            only when the others cannot do (used to keep design-referenced entries out of the CFS).
+
+    Returns:
+        The picked column indices, in the order picked.
+
+    """
+    work = np.array(matrix, dtype=float, copy=True)
+    if weights is not None:
+        work = work * weights[None, :]
+    picked: list[int] = []
+    available = np.ones(work.shape[1], dtype=bool)
+    for _ in range(count):
+        norms = np.einsum("ij,ij->j", work, work)
+        norms[~available] = -1.0
+        j = int(np.argmax(norms))
+        picked.append(j)
+        available[j] = False
+        column = work[:, j]
+        norm = np.sqrt(max(norms[j], 0.0))
+        if norm > 0.0:
+            unit = column / norm
+            work -= np.outer(unit, unit @ work)
+    return np.array(picked, dtype=int)
+
+
+def dependent_rows(matrix: np.ndarray, tol: float = 1e-9) -> list[int]:
+    """Return the indices of rows that are linear combinations of the rows before them.
+
+    Args:
+        matrix: ``(rows, cols)`` array.
+        tol: Relative tolerance on a row's norm after projection (scaled by its own norm).
+
+    Returns:
+        The dependent row indices, in order.
+
+    """
+    basis: list[np.ndarray] = []
+    dependent = []
+    for i, row in enumerate(np.asarray(matrix, dtype=float)):
+        scale = np.linalg.norm(row)
+        residual = row.copy()
+        for b in basis:
+            residual -= (b @ residual) * b
+        norm = np.linalg.norm(residual)
+        if scale == 0.0 or norm <= tol * scale:
+            dependent.append(i)
+        else:
+            basis.append(residual / norm)
+    return dependent
+
+
+def condition_estimate(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray:
+    """Cheap condition numbers ``||A||_inf ||A^-1||_inf`` of stacked square matrices.
+
+    Args:
+        matrices: ``(..., k, k)`` matrices.
+        inverses: Their inverses, same shape.
+
+    Returns:
+        ``(...)`` condition estimates (inf where an inverse is not finite).
+
+    """
+    norm = np.abs(matrices).sum(axis=-1).max(axis=-1)
+    norm_inv = np.abs(inverses).sum(axis=-1).max(axis=-1)
+    estimate = norm * norm_inv
+    return np.where(np.isfinite(estimate), estimate, np.inf)
+
+
+def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Invert stacked square matrices, returning inf condition for exactly singular ones.
+
+    Args:
+        matrices: ``(..., k, k)`` matrices.
+
+    Returns:
+        ``(inverses, condition_estimates)``; singular entries get NaN inverses and inf condition.
+
+    """
+    try:
+        inverses = np.linalg.inv(matrices)
+    except np.linalg.LinAlgError:
+        inverses = np.empty_like(matrices)
+        flat_in = matrices.reshape(-1, *matrices.shape[-2:])
+        flat_out = inverses.reshape(-1, *matrices.shape[-2:])
+        for i, m in enumerate(flat_in):
+            try:
+                flat_out[i] = np.linalg.inv(m)
+            except np.linalg.LinAlgError:
+                flat_out[i] = np.nan
+    return inverses, condition_estimate(matrices, inverses)
+
+
+def constrained_min_norm(
+    hard: np.ndarray,
+    hard_rhs: np.ndarray,
+    soft: np.ndarray,
+    soft_rhs: np.ndarray,
+    rcond: float = 1e-10,
+) -> tuple[np.ndarray, float]:
+    """Minimise ``||x||`` among minimisers of ``||soft x - soft_rhs||`` with ``hard x = hard_rhs``.
+
+    Uses the SVD null space of ``hard``: ``x = x_h + N z`` with ``x_h`` the minimum-norm solution
+    of the hard rows (orthogonal to ``N``), then ``z`` the minimum-norm least-squares solution.
+
+    Args:
+        hard: ``(h, m)`` rows that must hold exactly.
+        hard_rhs: ``(h,)``.
+        soft: ``(s, m)`` rows met in the least-squares sense.
+        soft_rhs: ``(s,)``.
+        rcond: Relative singular-value cut-off.
+
+    Returns:
+        ``(x, hard_residual)``: the solution and ``||hard x - hard_rhs||`` (0 unless the hard
+        rows contradict each other).
+
+    """
+    m = soft.shape[1] if soft.size else hard.shape[1]
+    if hard.shape[0]:
+        u, s, vt = np.linalg.svd(hard, full_matrices=True)
+        rank = int(np.sum(s > rcond * max(s[0], 1e-300))) if s.size else 0
+        x_h = vt[:rank].T @ ((u[:, :rank].T @ hard_rhs) / s[:rank])
+        null = vt[rank:].T
+    else:
+        x_h = np.zeros(m)
+        null = np.eye(m)
+    if soft.shape[0] and null.shape[1]:
+        reduced = soft @ null
+        z = np.linalg.lstsq(reduced, soft_rhs - soft @ x_h, rcond=rcond)[0]
+        x = x_h + null @ z
+    else:
+        x = x_h
+    hard_residual = float(np.linalg.norm(hard @ x - hard_rhs)) if hard.shape[0] else 0.0
+    return x, hard_residual

@@ -1,0 +1,449 @@
+"""The extended Partitioned Actuator Set method (VAC 2.5.1-2.5.2), chosen automatically.
+
+Per chain, the natural constraints ``G_i F_i = t_i`` are solved for the Constrained Force Set
+(``l`` entries picked by pivoted QR on ``G_i``): ``f_b = Q_i f_a + u_i`` (eq. 12-13), one small
+``l x l`` inverse per chain, all chains of a group at once. Each chain's wrench becomes
+``F_i = T_i f_ia + w_i``. What is left is the reduced system over the ``sum d_i`` free entries:
+the wrench rows (eq. 14) and the design / coupling rows.
+
+- Square (design constraints = redundancies, ``r``): the Redundant Force Set is picked by pivoted
+  QR on the design block and eliminated (eq. 16-18, with any invertible design block instead of
+  the seed's identity), leaving one ``n x n`` solve for the Minimum Force Set. Blocks that do not
+  depend on ``q`` are factored once.
+- Fewer design constraints: the minimum of ``sum ||F_i||^2`` subject to every constraint, through
+  a KKT system of size ``n + s`` (never the ``pn x pn`` matrix), using that the weight
+  ``T_i^T T_i`` is block diagonal.
+- More rows than unknowns (an inadmissible request) or rank loss: constraints exact, wrench in
+  the least-squares sense, then minimum norm.
+
+When a chosen block becomes ill-conditioned at the current configuration the sets are re-picked
+there; :class:`~virtual_actuators.SingularConfigurationError` is raised only when the whole
+system is singular.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..exceptions import ConstraintError, SingularConfigurationError
+from .linalg import constrained_min_norm, safe_inverse, select_columns
+from .problem import DistributionProblem, Evaluation
+
+#: Condition estimate above which a block is considered ill-conditioned and re-picked.
+ILL_CONDITIONED = 1e10
+
+
+@dataclass
+class RawSolution:
+    """Solver output before it is wrapped into a :class:`~virtual_actuators.Solution`."""
+
+    forces: np.ndarray
+    method: str
+    sets: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
+
+
+@dataclass
+class _Reduced:
+    """The reduced system at one configuration (after eliminating the CFS)."""
+
+    transforms: list[np.ndarray]  # per group (g, n, d): F_i = T_i f_ia + w_i
+    offsets: list[np.ndarray]  # per group (g, n)
+    wrench_rows: np.ndarray  # (n, m)
+    hard_rows: np.ndarray  # (s, m)
+    hard_rhs: np.ndarray  # (s,)
+    offset_sum: np.ndarray  # (n,)
+
+
+@dataclass
+class _SquarePlan:
+    """Cached RFS/MFS choice for a square reduced system and one set of free axes."""
+
+    rfs: np.ndarray
+    mfs: np.ndarray
+    gain: np.ndarray | None = None  # -H_r^-1 H_m when the hard rows are constant
+    bias: np.ndarray | None = None  # H_r^-1 h when the hard rows are constant
+
+
+class PartitionedSolver:
+    """Solve the force distribution by partitioning into MFS / RFS / CFS.
+
+    Args:
+        problem: The declaration-time structure of the distribution.
+        preferred: ``(p, n)`` weights in (0, 1]; entries with small weights (those named by
+            design constraints) are kept out of the Constrained Force Set when possible.
+
+    """
+
+    def __init__(self, problem: DistributionProblem, preferred: np.ndarray) -> None:
+        self.problem = problem
+        self.preferred = preferred
+        ev = problem.evaluate(problem.generic_configurations()[0], check_singular=False)
+        self.cfs: list[np.ndarray] = []
+        self.free_entries: list[np.ndarray] = []
+        for group, rows in zip(problem.groups, ev.groups, strict=True):
+            picks = [
+                self._pick_cfs(rows.rows[j], group.num_constraints, preferred[chain])
+                for j, chain in enumerate(group.chains)
+            ]
+            self._set_cfs(len(self.cfs), np.array(picks, dtype=int).reshape(group.size, -1))
+        self._plans: dict[tuple, _SquarePlan] = {}
+        self._reported_sets: dict[tuple, dict] = {}
+        self.num_free_entries = sum(g.size * g.num_free for g in problem.groups)
+
+    # -- sets --------------------------------------------------------------------------------
+    @staticmethod
+    def _pick_cfs(rows: np.ndarray, count: int, weights: np.ndarray) -> np.ndarray:
+        return np.sort(select_columns(rows, count, weights))
+
+    def _set_cfs(self, index: int, cfs: np.ndarray) -> None:
+        n = self.problem.n
+        mask = np.ones((cfs.shape[0], n), dtype=bool)
+        np.put_along_axis(mask, cfs, False, axis=1)
+        free = np.array([np.flatnonzero(m) for m in mask], dtype=int).reshape(cfs.shape[0], -1)
+        if index == len(self.cfs):
+            self.cfs.append(cfs)
+            self.free_entries.append(free)
+        else:
+            self.cfs[index] = cfs
+            self.free_entries[index] = free
+        self._plans = {}
+        self._reported_sets = {}
+
+    def labels(self) -> list[tuple[str, str]]:
+        """Labels of the reduced unknowns ``f_a``, in the solver's order."""
+        out = []
+        for group, free in zip(self.problem.groups, self.free_entries, strict=True):
+            for j, chain in enumerate(group.chains):
+                out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in free[j]]
+        return out
+
+    def cfs_labels(self) -> list[tuple[str, str]]:
+        """Labels of the Constrained Force Set, chain by chain."""
+        out = []
+        for group, cfs in zip(self.problem.groups, self.cfs, strict=True):
+            for j, chain in enumerate(group.chains):
+                out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in cfs[j]]
+        return out
+
+    # -- elimination of the CFS (eq. 12-15) --------------------------------------------------
+    def _reduce(self, ev: Evaluation) -> _Reduced:
+        problem = self.problem
+        n = problem.n
+        transforms, offsets, wrench_blocks, hard_blocks = [], [], [], []
+        hard_rhs = ev.hard_rhs.copy()
+        offset_sum = np.zeros(n)
+        for index, (group, rows) in enumerate(zip(problem.groups, ev.groups, strict=True)):
+            g, l_, d = group.size, group.num_constraints, group.num_free
+            transform = np.zeros((g, n, d))
+            offset = np.zeros((g, n))
+            chains = np.arange(g)[:, None]
+            if l_:
+                q_matrix, u = self._eliminate(index, rows.rows, rows.rhs)
+                transform[chains, self.cfs[index], :] = q_matrix
+                offset[chains, self.cfs[index]] = u
+            transform[chains, self.free_entries[index], np.arange(d)[None, :]] = 1.0
+            transforms.append(transform)
+            offsets.append(offset)
+            offset_sum += offset.sum(axis=0)
+            wrench_blocks.append(transform.transpose(1, 0, 2).reshape(n, g * d))
+            if len(hard_rhs):
+                hard = ev.hard_rows[:, group.chains, :]
+                hard_blocks.append(np.einsum("spn,pnd->spd", hard, transform).reshape(-1, g * d))
+                hard_rhs -= np.einsum("spn,pn->s", hard, offset)
+            else:
+                hard_blocks.append(np.zeros((0, g * d)))
+        return _Reduced(
+            transforms=transforms,
+            offsets=offsets,
+            wrench_rows=np.hstack(wrench_blocks),
+            hard_rows=np.hstack(hard_blocks),
+            hard_rhs=hard_rhs,
+            offset_sum=offset_sum,
+        )
+
+    def _eliminate(
+        self, index: int, rows: np.ndarray, rhs: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Return ``Q_i = -G_b^-1 G_a`` and ``u_i = G_b^-1 t_i`` for every chain of a group."""
+        for attempt in range(2):
+            cfs, free = self.cfs[index], self.free_entries[index]
+            chains = np.arange(cfs.shape[0])[:, None, None]
+            all_rows = np.arange(rows.shape[1])[None, :, None]
+            blocks = rows[chains, all_rows, cfs[:, None, :]]
+            inverse, cond = safe_inverse(blocks)
+            bad = np.flatnonzero(cond > ILL_CONDITIONED)
+            if not len(bad):
+                others = rows[chains, all_rows, free[:, None, :]]
+                return -inverse @ others, np.einsum("gij,gj->gi", inverse, rhs)
+            if attempt:
+                break
+            group = self.problem.groups[index]
+            new = cfs.copy()
+            for j in bad:
+                weights = self.preferred[group.chains[j]]
+                new[j] = self._pick_cfs(rows[j], cfs.shape[1], weights)
+            self._set_cfs(index, new)
+        chain = self.problem.reactions[self.problem.groups[index].chains[bad[0]]]
+        raise SingularConfigurationError(
+            f"The natural constraints of the chain to {chain!r} are degenerate at this "
+            "configuration (no well-conditioned Constrained Force Set, condition "
+            f"{cond[bad[0]]:.1e})."
+        )
+
+    # -- the reduced system ------------------------------------------------------------------
+    def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
+        """Distribute ``wrench`` over the chains.
+
+        Args:
+            ev: Evaluation at the current configuration.
+            wrench: ``(n,)`` requested wrench (entries of free axes are ignored).
+            keep: ``(n,)`` bool, the axes whose wrench is prescribed (not free).
+
+        Returns:
+            The distribution and the method used.
+
+        Raises:
+            SingularConfigurationError: The square system is singular at this configuration.
+            ConstraintError: Too many constraints for the free axes, or constraints that
+                contradict each other at this configuration.
+
+        """
+        m, s, k = self.num_free_entries, len(ev.hard_rhs), int(keep.sum())
+        free_key = keep.tobytes()
+        if k + s < m:
+            forces = self._solve_projected(ev, wrench, keep)
+            if forces is not None:
+                sets = self._reported_sets.get(free_key)
+                if sets is None:
+                    reduced = self._reduce(ev)
+                    sets = self._report_sets(reduced.wrench_rows[keep], reduced.hard_rows)
+                    self._reported_sets[free_key] = sets
+                return RawSolution(forces=forces, method="pseudo-inverse", sets=sets)
+        reduced = self._reduce(ev)
+        a = reduced.wrench_rows[keep]
+        rhs = wrench[keep] - reduced.offset_sum[keep]
+        h, h_rhs = reduced.hard_rows, reduced.hard_rhs
+        if s > m - k and s:
+            names = [self.problem.axes[i] for i in np.flatnonzero(keep)]
+            raise ConstraintError(
+                f"Too many constraints: {s} design/coupling constraints but only {m - k} "
+                f"redundancies (sum of d = {m}, prescribed axes {names}). Remove "
+                f"{s - (m - k)} or leave more axes free."
+            )
+        sets = None
+        if k + s == m:
+            f, sets = self._solve_square(reduced, a, rhs, free_key)
+            method = "partitioned"
+        else:
+            f = self._solve_least_squares(reduced, a, rhs, h, h_rhs)
+            method = "least-squares"
+        forces = self._forces(reduced, f)
+        if sets is None:
+            sets = self._reported_sets.get(free_key)
+            if sets is None:
+                sets = self._reported_sets[free_key] = self._report_sets(a, h)
+        return RawSolution(forces=forces, method=method, sets=sets)
+
+    def _forces(self, reduced: _Reduced, f: np.ndarray) -> np.ndarray:
+        forces = np.empty((self.problem.p, self.problem.n))
+        start = 0
+        for group, transform, offset in zip(
+            self.problem.groups, reduced.transforms, reduced.offsets, strict=True
+        ):
+            g, d = group.size, group.num_free
+            local = f[start : start + g * d].reshape(g, d)
+            forces[group.chains] = np.einsum("gnd,gd->gn", transform, local) + offset
+            start += g * d
+        return forces
+
+    def _solve_square(
+        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, free_key: tuple
+    ) -> tuple[np.ndarray, dict]:
+        h, h_rhs = reduced.hard_rows, reduced.hard_rhs
+        m = a.shape[1]
+        plan = self._plans.get(free_key)
+        if plan is None:
+            plan = self._plan_square(h, m)
+            self._plans[free_key] = plan
+        if len(plan.rfs):
+            if plan.gain is not None:
+                gain, bias = plan.gain, plan.bias
+            else:
+                gain, bias = self._rfs_gain(h, h_rhs, plan)
+                if gain is None:
+                    plan = self._plan_square(h, m, constant=False)
+                    self._plans[free_key] = plan
+                    gain, bias = self._rfs_gain(h, h_rhs, plan)
+                    if gain is None:
+                        raise SingularConfigurationError(
+                            "The design constraints are degenerate at this configuration: no "
+                            "Redundant Force Set makes them solvable."
+                        )
+            a_r = a[:, plan.rfs]
+            mfs_matrix = a[:, plan.mfs] + a_r @ gain
+            mfs_rhs = rhs - a_r @ bias
+        else:
+            mfs_matrix, mfs_rhs = a[:, plan.mfs], rhs
+        inverse, cond = safe_inverse(mfs_matrix)
+        if cond > ILL_CONDITIONED:
+            raise SingularConfigurationError(
+                f"The {len(plan.mfs)} x {len(plan.mfs)} Minimum Force Set system is singular at "
+                f"this configuration (condition {cond:.1e}): the constraints leave the wrench "
+                "undetermined or unreachable here (e.g. a straight knee, or feet in line)."
+            )
+        f = np.empty(m)
+        f[plan.mfs] = inverse @ mfs_rhs
+        if len(plan.rfs):
+            f[plan.rfs] = gain @ f[plan.mfs] + bias
+        labels = self.labels()
+        sets = {
+            "MFS": [labels[i] for i in plan.mfs],
+            "RFS": [labels[i] for i in plan.rfs],
+            "CFS": self.cfs_labels(),
+        }
+        return f, sets
+
+    def _plan_square(self, h: np.ndarray, m: int, constant: bool = True) -> _SquarePlan:
+        s = h.shape[0]
+        rfs = np.sort(select_columns(h, s)) if s else np.array([], dtype=int)
+        mfs = np.setdiff1d(np.arange(m), rfs)
+        plan = _SquarePlan(rfs=rfs, mfs=mfs)
+        if s and constant and self._hard_rows_constant():
+            inverse, cond = safe_inverse(h[:, rfs])
+            if cond < ILL_CONDITIONED:
+                plan.gain = -inverse @ h[:, mfs]
+                plan.bias = inverse @ self.problem.constant_rhs
+        return plan
+
+    def _hard_rows_constant(self) -> bool:
+        """Hard rows are constant if they are declaration-only and avoid every CFS entry."""
+        problem = self.problem
+        if not problem.constant_hard:
+            return False
+        for group, cfs in zip(problem.groups, self.cfs, strict=True):
+            rows = problem.constant_rows[:, group.chains, :]
+            index = np.broadcast_to(cfs[None], (rows.shape[0], *cfs.shape))
+            if np.any(np.take_along_axis(rows, index, axis=2)):
+                return False
+        return True
+
+    @staticmethod
+    def _rfs_gain(
+        h: np.ndarray, h_rhs: np.ndarray, plan: _SquarePlan
+    ) -> tuple[np.ndarray | None, np.ndarray | None]:
+        inverse, cond = safe_inverse(h[:, plan.rfs])
+        if cond > ILL_CONDITIONED:
+            return None, None
+        return -inverse @ h[:, plan.mfs], inverse @ h_rhs
+
+    @staticmethod
+    def _weights(reduced: _Reduced) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        """Per group: ``T_i^T T_i`` and ``T_i^T w_i``, so ``||F_i||^2 = f^T W f + 2 b^T f + c``."""
+        grams, linear = [], []
+        for transform, offset in zip(reduced.transforms, reduced.offsets, strict=True):
+            grams.append(np.einsum("gnd,gne->gde", transform, transform))
+            linear.append(np.einsum("gnd,gn->gd", transform, offset))
+        return grams, linear
+
+    def _solve_projected(
+        self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
+    ) -> np.ndarray | None:
+        """Minimum of ``sum ||F_i||^2`` subject to every constraint (VAC 2.5.2), or None.
+
+        Each chain's admissible wrenches are ``F_i = G_i^+ t_i + P_i y`` with the projector
+        ``P_i = I - G_i^+ G_i`` onto the null space of its natural constraints. With ``R_i`` the
+        rows (prescribed wrench axes and hard rows) that involve ``F_i``, the optimum is
+        ``F_i = P_i R_i^T lambda + G_i^+ t_i`` where ``(sum_i R_i P_i R_i^T) lambda`` equals the
+        targets minus ``sum_i R_i G_i^+ t_i``: one ``(n + s)`` square solve, plus ``p`` small
+        ``l x l`` inverses, never the ``pn x pn`` matrix. Returns None when that system is
+        ill-conditioned (then the least-squares path decides).
+        """
+        problem = self.problem
+        n, p = problem.n, problem.p
+        projectors = np.empty((p, n, n))
+        particular = np.empty((p, n))
+        for group, rows in zip(problem.groups, ev.groups, strict=True):
+            g_rows = rows.rows
+            if g_rows.shape[1]:
+                gram_inv, cond = safe_inverse(g_rows @ g_rows.transpose(0, 2, 1))
+                if np.any(cond > ILL_CONDITIONED):
+                    return None
+                pseudo = g_rows.transpose(0, 2, 1) @ gram_inv
+                projectors[group.chains] = np.eye(n) - pseudo @ g_rows
+                particular[group.chains] = (pseudo @ rows.rhs[:, :, None])[:, :, 0]
+            else:
+                projectors[group.chains] = np.eye(n)
+                particular[group.chains] = 0.0
+        hard = ev.hard_rows  # (s, p, n)
+        kept = projectors[:, keep, :]  # (p, k, n) = S P_i
+        top_left = kept[:, :, keep].sum(axis=0)
+        target = wrench[keep] - particular[:, keep].sum(axis=0)
+        if len(ev.hard_rhs):
+            hp = np.einsum("spn,pnm->psm", hard, projectors)  # C_i P_i
+            top_right = np.einsum("pkn,spn->ks", kept, hard)
+            bottom_right = np.einsum("psm,tpm->st", hp, hard)
+            kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
+            target = np.concatenate(
+                (target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular))
+            )
+        else:
+            kkt = top_left
+        kkt_inverse, cond = safe_inverse(kkt)
+        if cond > ILL_CONDITIONED:
+            return None
+        multipliers = kkt_inverse @ target
+        k = int(keep.sum())
+        # F_i = P_i (S^T lambda_w + C_i^T lambda_h) + G_i^+ t_i
+        forces = kept.transpose(0, 2, 1) @ multipliers[:k] + particular
+        if len(ev.hard_rhs):
+            forces += np.einsum("psm,s->pm", hp, multipliers[k:])
+        return forces
+
+    def _solve_least_squares(
+        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, h: np.ndarray, h_rhs: np.ndarray
+    ) -> np.ndarray:
+        grams, linear = self._weights(reduced)
+        # change of variables g = L^T f + L^-1 b with W = L L^T, so that ||all F_i||^2 = ||g||^2 + c
+        m = a.shape[1]
+        l_inv_t = np.zeros((m, m))
+        w_lin = np.empty(m)
+        start = 0
+        for group, gram, lin in zip(self.problem.groups, grams, linear, strict=True):
+            g, d = group.size, group.num_free
+            inverse = np.linalg.inv(gram)
+            chol_inv_t = np.linalg.inv(np.linalg.cholesky(gram)).transpose(0, 2, 1)
+            for j in range(g):
+                sl = slice(start + j * d, start + (j + 1) * d)
+                l_inv_t[sl, sl] = chol_inv_t[j]
+            w_lin[start : start + g * d] = np.einsum("gde,ge->gd", inverse, lin).ravel()
+            start += g * d
+        g_vec, hard_residual = constrained_min_norm(
+            h @ l_inv_t, h_rhs + h @ w_lin, a @ l_inv_t, rhs + a @ w_lin
+        )
+        if hard_residual > 1e-8 * (1.0 + np.abs(h_rhs).max(initial=0.0)):
+            raise ConstraintError(
+                "The design and coupling constraints contradict each other at this "
+                f"configuration (residual {hard_residual:.2e})."
+            )
+        return l_inv_t @ g_vec - w_lin
+
+    def _report_sets(self, a: np.ndarray, h: np.ndarray) -> dict[str, list[tuple[str, str]]]:
+        """MFS / RFS of a non-square system: the MFS spans the wrench rows, the RFS the rest."""
+        labels = self.labels()
+        m = a.shape[1]
+        count = min(a.shape[0], m)
+        mfs = np.sort(select_columns(a, count)) if count else np.array([], dtype=int)
+        rfs = np.setdiff1d(np.arange(m), mfs)
+        return {
+            "MFS": [labels[i] for i in mfs],
+            "RFS": [labels[i] for i in rfs],
+            "CFS": self.cfs_labels(),
+        }
+
+    def __repr__(self) -> str:
+        return (
+            f"PartitionedSolver(p={self.problem.p}, n={self.problem.n}, "
+            f"CFS={sum(c.size for c in self.cfs)}, free entries={self.num_free_entries})"
+        )

@@ -1,0 +1,585 @@
+"""The force distribution problem of a parallel virtual actuator (VAC eq. 8-11).
+
+:class:`DistributionProblem` turns a declaration (frames, axes, contacts, limp and passive joints,
+design constraints) into arrays once, and :meth:`DistributionProblem.evaluate` fills in the
+configuration-dependent numbers of eq. 11 at a given ``q``:
+
+- per chain ``i``, the *natural constraint* rows ``G_i F_i = t_i`` (``l_i`` rows over the ``n``
+  entries of the chain's wrench ``F_i``): zero torque at a limp joint, the measured torque of a
+  passive spring, zero moment about a point foot's origin (a virtual ball joint), and zero
+  component along every direction the chain cannot produce (the left null space of its full
+  Jacobian, virtual ball joint included: the millipede's fourth constraint);
+- *coupling* rows over several chains: a limp or passive joint shared by several chains (a waist
+  under a torso action frame) constrains the sum of their torques;
+- *design* rows (``Equal``, ``Linear``, ``EqualTorque``).
+
+Chains with the same structure form a :class:`ChainGroup` whose work is vectorised with numpy.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..declaration.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
+from ..declaration.frames import AXES, resolve_joint
+from ..exceptions import (
+    ConstraintError,
+    InvalidAxisError,
+    JointNotFoundError,
+    SingularConfigurationError,
+)
+from ..kinematics.relative import KinematicState, RelativeKinematics, skew
+from .linalg import dependent_rows
+
+#: A chain is singular when its smallest needed singular value falls below this fraction of its
+#: largest one.
+SINGULAR_TOL = 1e-9
+
+
+@dataclass
+class ChainGroup:
+    """Chains of identical structure, stacked for vectorised evaluation.
+
+    Attributes:
+        chains: ``(g,)`` chain indices (positions in the actuator's ``reactions``).
+        columns: ``(g, k)`` velocity indices of the joints on each chain.
+        signs: ``(g, k)`` +1 / -1: on {B}'s or {A}'s side of the path.
+        constrained: ``(g, c)`` positions (into ``columns``) of limp or passive joints that belong
+            to this chain only.
+        stiffness: ``(g, c)`` spring stiffness of those joints (0 for a limp joint) [N m/rad].
+        rest: ``(g, c)`` spring rest angles [rad].
+        angle_index: ``(g, c)`` index in ``q`` of those joints' angle (-1 for a limp joint).
+        ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
+            contact, restricted to the selected axes; empty for a flat contact.
+        rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
+        cfs: ``(g, l)`` entries of ``F_i`` in the Constrained Force Set (chosen by the partitioner).
+
+    """
+
+    chains: np.ndarray
+    columns: np.ndarray
+    signs: np.ndarray
+    constrained: np.ndarray
+    stiffness: np.ndarray
+    rest: np.ndarray
+    angle_index: np.ndarray
+    ball_axes: np.ndarray
+    rank: int
+    n: int
+
+    @property
+    def size(self) -> int:
+        """Number of chains in the group."""
+        return len(self.chains)
+
+    @property
+    def num_constraints(self) -> int:
+        """``l``: natural constraints per chain."""
+        return self.constrained.shape[1] + len(self.ball_axes) + (self.n - self.rank)
+
+    @property
+    def num_free(self) -> int:
+        """``d = n - l``: force entries per chain not fixed by natural constraints."""
+        return self.n - self.num_constraints
+
+
+@dataclass
+class GroupRows:
+    """Natural-constraint rows of one :class:`ChainGroup` at one configuration.
+
+    Attributes:
+        rows: ``(g, l, n)`` the ``G_i``.
+        rhs: ``(g, l)`` the ``t_i`` (measured or zero torques).
+        jacobians: ``(g, n, k)`` each chain's Jacobian on its own joint columns.
+
+    """
+
+    rows: np.ndarray
+    rhs: np.ndarray
+    jacobians: np.ndarray
+
+
+@dataclass
+class Evaluation:
+    """Everything configuration-dependent that the solvers need at one ``q``.
+
+    Attributes:
+        q: The configuration.
+        state: Kinematic state (Jacobian rows in {O}, frame placements).
+        groups: Natural-constraint rows per chain group.
+        hard_rows: ``(s, p, n)`` coupling and design rows over all chains' wrenches.
+        hard_rhs: ``(s,)`` their right-hand sides.
+        passive_torque: ``(nv,)`` torques of passive springs at ``q`` [N m].
+
+    """
+
+    q: np.ndarray
+    state: KinematicState
+    groups: list[GroupRows]
+    hard_rows: np.ndarray
+    hard_rhs: np.ndarray
+    passive_torque: np.ndarray
+
+
+class DistributionProblem:
+    """Declaration-time structure of a parallel virtual actuator's force distribution.
+
+    Args:
+        kinematics: Relative kinematics of the action frame w.r.t. every reaction frame.
+        reactions: Reaction frame names (one chain each).
+        contact: ``"point"``, ``"flat"``, or a map from reaction name to either.
+        unactuated: Names of limp joints (zero torque).
+        passive: Map from joint name to ``(stiffness [N m/rad], rest angle [rad])``.
+        design: Design constraints.
+
+    Raises:
+        JointNotFoundError: A limp, passive or torque-constrained joint is unknown or on no chain.
+        ConstraintError: Contradictory, redundant or too many constraints; a chain with no joint.
+        InvalidAxisError: A design constraint names an axis the actuator does not have.
+
+    """
+
+    def __init__(
+        self,
+        kinematics: RelativeKinematics,
+        reactions: Sequence[str],
+        contact: str | Mapping[str, str],
+        unactuated: Sequence[str],
+        passive: Mapping[str, tuple[float, float]],
+        design: Sequence[DesignConstraint],
+    ) -> None:
+        self.kinematics = kinematics
+        self.model: pin.Model = kinematics.model
+        self.reactions = tuple(reactions)
+        self.axes = kinematics.axes
+        self.n = len(self.axes)
+        self.p = len(self.reactions)
+        self.contacts = self._parse_contacts(contact)
+        signs = kinematics.signs
+        for i, name in enumerate(self.reactions):
+            if not np.any(signs[i]):
+                raise ConstraintError(
+                    f"Reaction frame {name!r} is rigidly attached to the action frame "
+                    f"{self.model.frames[kinematics.action_id].name!r}: no joint lies between "
+                    "them, so that chain cannot exert anything."
+                )
+        self.limp_v, self.passive_v = self._parse_joints(unactuated, passive)
+        self.actuated_mask = np.ones(self.model.nv, dtype=bool)
+        self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
+        self.constant_rows = np.zeros((0, self.p, self.n))
+        self.constant_rhs = np.zeros(0)
+        self.torque_pairs = np.zeros((0, 2), dtype=int)
+        self._build_groups()
+        self._build_design(design)
+
+    # -- declaration -----------------------------------------------------------------------
+    def _parse_contacts(self, contact: str | Mapping[str, str]) -> tuple[str, ...]:
+        kinds = ("point", "flat")
+        if isinstance(contact, str):
+            if contact not in kinds:
+                raise ConstraintError(
+                    f"contact must be 'point', 'flat' or a dict; got {contact!r}."
+                )
+            return (contact,) * self.p
+        unknown = set(contact) - set(self.reactions)
+        if unknown:
+            raise ConstraintError(
+                f"contact names {sorted(unknown)} which are not reaction frames; "
+                f"reactions are {list(self.reactions)}."
+            )
+        out = []
+        for name in self.reactions:
+            kind = contact.get(name, "point")
+            if kind not in kinds:
+                raise ConstraintError(f"contact[{name!r}] must be 'point' or 'flat', got {kind!r}.")
+            out.append(kind)
+        return tuple(out)
+
+    def _joint_columns(self, name: str, role: str) -> tuple[int, np.ndarray]:
+        joint_id = resolve_joint(self.model, name, role)
+        joint = self.model.joints[joint_id]
+        vs = np.arange(joint.idx_v, joint.idx_v + joint.nv)
+        if not np.any(self.kinematics.signs[:, vs]):
+            chain_joints = sorted(
+                {
+                    self.model.names[j]
+                    for j in range(1, self.model.njoints)
+                    if np.any(self.kinematics.signs[:, self.model.joints[j].idx_v])
+                }
+            )
+            raise JointNotFoundError(
+                f"The {role} {name!r} is not on any chain between the action frame and the "
+                f"reaction frames {list(self.reactions)}; joints on the chains: {chain_joints}."
+            )
+        return joint_id, vs
+
+    def _parse_joints(
+        self, unactuated: Sequence[str], passive: Mapping[str, tuple[float, float]]
+    ) -> tuple[dict[int, str], dict[int, tuple[str, float, float, int, bool]]]:
+        if isinstance(unactuated, str):
+            unactuated = [unactuated]
+        limp: dict[int, str] = {}
+        for name in unactuated:
+            _, vs = self._joint_columns(name, "unactuated joint")
+            for v in vs:
+                limp[int(v)] = name
+        springs: dict[int, tuple[str, float, float, int, bool]] = {}
+        for name, params in dict(passive).items():
+            joint_id, vs = self._joint_columns(name, "passive joint")
+            joint = self.model.joints[joint_id]
+            try:
+                stiffness, rest = (float(x) for x in params)
+            except (TypeError, ValueError):
+                raise ConstraintError(
+                    f"passive[{name!r}] must be (stiffness, rest_angle), got {params!r}."
+                ) from None
+            if not (np.isfinite(stiffness) and np.isfinite(rest)):
+                raise ConstraintError(f"passive[{name!r}] has a NaN or inf value: {params!r}.")
+            if joint.nv != 1 or joint.nq not in (1, 2):
+                raise ConstraintError(
+                    f"passive joint {name!r} has {joint.nv} degrees of freedom; passive springs "
+                    "need a one-degree-of-freedom joint (revolute, prismatic or continuous)."
+                )
+            if int(vs[0]) in limp:
+                raise ConstraintError(f"joint {name!r} is declared both unactuated and passive.")
+            springs[int(vs[0])] = (name, stiffness, rest, joint.idx_q, joint.nq == 2)
+        return limp, springs
+
+    def _build_groups(self) -> None:
+        signs = self.kinematics.signs
+        counts = np.count_nonzero(signs, axis=0)
+        constrained_v = set(self.limp_v) | set(self.passive_v)
+        #: velocity indices of limp/passive joints shared by several chains (coupling rows)
+        self.coupled_v = sorted(v for v in constrained_v if counts[v] > 1)
+        rot_axes = np.array([k for k in range(3) if AXES[3 + k] in self.axes], dtype=int)
+        per_chain = []
+        for i in range(self.p):
+            columns = np.flatnonzero(signs[i])
+            own = [j for j, v in enumerate(columns) if v in constrained_v and counts[v] == 1]
+            ball = rot_axes if self.contacts[i] == "point" else np.array([], dtype=int)
+            per_chain.append((columns, np.array(own, dtype=int), ball))
+        generic = self.generic_configurations()
+        states = [self.kinematics.compute(q) for q in generic]
+        ranks = []
+        for i, (columns, _, ball) in enumerate(per_chain):
+            rank = max(
+                np.linalg.matrix_rank(self._full_jacobian(s, i, columns, ball), tol=None)
+                for s in states
+            )
+            ranks.append(int(rank))
+        keys: dict[tuple, list[int]] = {}
+        for i, (columns, own, ball) in enumerate(per_chain):
+            keys.setdefault((len(columns), len(own), tuple(ball), ranks[i]), []).append(i)
+        self.groups: list[ChainGroup] = []
+        for (k, _, ball, rank), members in keys.items():
+            own = np.array([per_chain[i][1] for i in members], dtype=int).reshape(len(members), -1)
+            columns = np.array([per_chain[i][0] for i in members], dtype=int).reshape(-1, k)
+            group_signs = np.take_along_axis(signs[members], columns, axis=1)
+            own_v = np.take_along_axis(columns, own, axis=1)
+            springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
+            stiffness = [[s[1] if s else 0.0 for s in row] for row in springs]
+            rest = [[s[2] if s else 0.0 for s in row] for row in springs]
+            angle = [[s[3] if s else -1 for s in row] for row in springs]
+            group = ChainGroup(
+                chains=np.array(members, dtype=int),
+                columns=columns,
+                signs=group_signs,
+                constrained=own,
+                stiffness=np.asarray(stiffness, dtype=float).reshape(own.shape),
+                rest=np.asarray(rest, dtype=float).reshape(own.shape),
+                angle_index=np.asarray(angle, dtype=int).reshape(own.shape),
+                ball_axes=np.array(ball, dtype=int),
+                rank=rank,
+                n=self.n,
+            )
+            self.groups.append(group)
+        springs = [(v, *spec[1:]) for v, spec in self.passive_v.items()]
+        self._springs = tuple(np.array(column) for column in zip(*springs, strict=True))
+        if springs:
+            self._springs = (
+                self._springs[0].astype(int),
+                self._springs[1].astype(float),
+                self._springs[2].astype(float),
+                self._springs[3].astype(int),
+                self._springs[4].astype(int),
+            )
+        self._check_natural_rows(generic)
+
+    def _full_jacobian(
+        self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray
+    ) -> np.ndarray:
+        jac = state.jacobian_o[:, columns] * self.kinematics.signs[chain, columns]
+        balls = self._ball_columns(state.offsets_o()[chain : chain + 1], ball)[0]
+        return np.hstack((jac, balls))
+
+    def _ball_columns(self, offsets_o: np.ndarray, ball: np.ndarray) -> np.ndarray:
+        """``(g, n, len(ball))`` twists of {B} for rotations about {O}'s axes at each {A_i}."""
+        g = offsets_o.shape[0]
+        twists = np.zeros((g, 6, 3))
+        # column k: linear part e_k x d = -skew(d) e_k, angular part e_k; d from {A} to {B} in {O}
+        twists[:, :3, :] = -skew(offsets_o)
+        twists[:, 3:, :] = np.eye(3)
+        return twists[:, self.kinematics.rows][:, :, ball]
+
+    def generic_configurations(self, count: int = 3, seed: int = 7) -> list[np.ndarray]:
+        """Random valid configurations used to find generic ranks and well-conditioned sets."""
+        rng = np.random.default_rng(seed)
+        model = self.model
+        q0 = pin.neutral(model)
+        lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+        out = []
+        for _ in range(count):
+            q = pin.integrate(model, q0, rng.uniform(-0.8, 0.8, model.nv))
+            finite = (np.abs(lower) < 1e3) & (np.abs(upper) < 1e3) & (upper > lower)
+            low, high = np.where(finite, lower, 0.0), np.where(finite, upper, 0.0)
+            inside = low + (high - low) * rng.uniform(0.2, 0.8, model.nq)
+            q = np.where(finite, inside, q)
+            out.append(pin.normalize(model, q))
+        return out
+
+    def _check_natural_rows(self, generic: Sequence[np.ndarray]) -> None:
+        ev = self.evaluate(generic[0], check_singular=False)
+        for group, rows in zip(self.groups, ev.groups, strict=True):
+            for j, chain in enumerate(group.chains):
+                bad = dependent_rows(rows.rows[j])
+                if bad:
+                    raise ConstraintError(
+                        f"The natural constraints of the chain to {self.reactions[chain]!r} "
+                        f"are redundant: {self._describe_natural(group, j, bad[0])} repeats what "
+                        "the others already impose (e.g. a limp joint at a point contact: use "
+                        "contact='flat' for that reaction, or drop the joint from unactuated)."
+                    )
+
+    def _describe_natural(self, group: ChainGroup, j: int, row: int) -> str:
+        c = group.constrained.shape[1]
+        if row < c:
+            v = group.columns[j, group.constrained[j, row]]
+            return f"the torque constraint of joint {self._joint_name(v)!r}"
+        if row < c + len(group.ball_axes):
+            return f"zero moment {AXES[3 + group.ball_axes[row - c]]} at the point contact"
+        return "a direction the chain cannot produce"
+
+    def _joint_name(self, v: int) -> str:
+        for j in range(1, self.model.njoints):
+            joint = self.model.joints[j]
+            if joint.idx_v <= v < joint.idx_v + joint.nv:
+                return self.model.names[j]
+        raise IndexError(v)
+
+    def _label_index(self, label: Label, constraint: DesignConstraint) -> tuple[int, int]:
+        try:
+            reaction, axis = label
+        except (TypeError, ValueError):
+            raise ConstraintError(
+                f"{constraint!r}: a label is (reaction_frame, axis), got {label!r}."
+            ) from None
+        if reaction not in self.reactions:
+            raise ConstraintError(
+                f"{constraint!r} names {reaction!r}, which is not a reaction frame of this "
+                f"actuator; reactions are {list(self.reactions)}."
+            )
+        if axis not in self.axes:
+            raise InvalidAxisError(
+                f"{constraint!r} names axis {axis!r}, which is not one of this actuator's axes "
+                f"{self.axes}."
+            )
+        return self.reactions.index(reaction), self.axes.index(axis)
+
+    def _build_design(self, design: Sequence[DesignConstraint]) -> None:
+        design = list(design)
+        constant_rows, constant_rhs, torque_pairs = [], [], []
+        self.design_names: list[str] = []
+        constant_names, torque_names = [], []
+        for constraint in design:
+            if isinstance(constraint, Equal):
+                row = np.zeros((self.p, self.n))
+                (ia, xa), (ib, xb) = (
+                    self._label_index(lbl, constraint) for lbl in (constraint.a, constraint.b)
+                )
+                if (ia, xa) == (ib, xb):
+                    raise ConstraintError(f"{constraint!r} equates an entry with itself.")
+                row[ia, xa] += 1.0
+                row[ib, xb] -= 1.0
+                constant_rows.append(row)
+                constant_rhs.append(0.0)
+                constant_names.append(repr(constraint))
+            elif isinstance(constraint, Linear):
+                row = np.zeros((self.p, self.n))
+                if not constraint.coefficients:
+                    raise ConstraintError(f"{constraint!r} has no coefficient.")
+                for label, coeff in constraint.coefficients.items():
+                    i, x = self._label_index(label, constraint)
+                    if not np.isfinite(coeff):
+                        raise ConstraintError(f"{constraint!r} has a NaN or inf coefficient.")
+                    row[i, x] += float(coeff)
+                if not np.isfinite(constraint.rhs):
+                    raise ConstraintError(f"{constraint!r} has a NaN or inf rhs.")
+                constant_rows.append(row)
+                constant_rhs.append(float(constraint.rhs))
+                constant_names.append(repr(constraint))
+            elif isinstance(constraint, EqualTorque):
+                vs = []
+                for name in (constraint.joint_a, constraint.joint_b):
+                    joint_id, v = self._joint_columns(name, "EqualTorque joint")
+                    if len(v) != 1:
+                        raise ConstraintError(
+                            f"{constraint!r}: joint {name!r} has {len(v)} degrees of freedom; "
+                            "EqualTorque needs one-degree-of-freedom joints."
+                        )
+                    vs.append(int(v[0]))
+                if vs[0] == vs[1]:
+                    raise ConstraintError(f"{constraint!r} names the same joint twice.")
+                torque_pairs.append(vs)
+                torque_names.append(repr(constraint))
+            else:
+                raise ConstraintError(
+                    f"Unknown design constraint {constraint!r}; use va.Equal, va.Linear or "
+                    "va.EqualTorque."
+                )
+        self.constant_rows = np.array(constant_rows).reshape(-1, self.p, self.n)
+        self.constant_rhs = np.array(constant_rhs, dtype=float)
+        self.torque_pairs = np.array(torque_pairs, dtype=int).reshape(-1, 2)
+        coupled_names = [f"torque of shared joint {self._joint_name(v)!r}" for v in self.coupled_v]
+        self.hard_names = coupled_names + constant_names + torque_names
+        self.num_hard = len(self.hard_names)
+        #: True when no hard row depends on the configuration
+        self.constant_hard = not self.coupled_v and not torque_pairs
+        total_free = sum(g.size * g.num_free for g in self.groups)
+        if self.num_hard > total_free:
+            raise ConstraintError(
+                f"Too many constraints: {self.num_hard} design/coupling constraints but the "
+                f"natural constraints leave only {total_free} free force entries (sum of d over "
+                f"the chains). Remove {self.num_hard - total_free}."
+            )
+        self._check_hard_rows()
+
+    def _check_hard_rows(self) -> None:
+        """Reject hard rows that are implied by, or contradict, the natural ones and each other."""
+        if not self.num_hard:
+            return
+        ev = self.evaluate(self.generic_configurations()[1], check_singular=False)
+        natural, natural_rhs = self.block_natural(ev)
+        hard = ev.hard_rows.reshape(self.num_hard, -1)
+        stacked = np.vstack((natural, hard))
+        bad = [i - natural.shape[0] for i in dependent_rows(stacked) if i >= natural.shape[0]]
+        if bad:
+            rhs = np.concatenate((natural_rhs, ev.hard_rhs))
+            solution = np.linalg.lstsq(stacked, rhs, rcond=None)[0]
+            consistent = np.allclose(stacked @ solution, rhs, atol=1e-9 * (1 + np.abs(rhs).max()))
+            verb = "is implied by" if consistent else "contradicts"
+            raise ConstraintError(
+                f"Design constraint {self.hard_names[bad[0]]} {verb} the other constraints "
+                "(natural and design); remove it."
+            )
+
+    # -- configuration-dependent -----------------------------------------------------------
+    def evaluate(self, q: np.ndarray, check_singular: bool = True) -> Evaluation:
+        """Evaluate the natural, coupling and design rows at ``q`` (already checked).
+
+        Args:
+            q: Configuration.
+            check_singular: Raise when a chain's full Jacobian loses rank.
+
+        Returns:
+            The :class:`Evaluation`.
+
+        Raises:
+            SingularConfigurationError: A chain's Jacobian is singular at ``q``.
+
+        """
+        state = self.kinematics.compute(q)
+        jac = state.jacobian_o
+        offsets = state.offsets_o()
+        passive = np.zeros(self.model.nv)
+        if self.passive_v:
+            v, stiffness, rest, idx_q, continuous = self._springs
+            angle = np.where(continuous, np.arctan2(q[idx_q + continuous], q[idx_q]), q[idx_q])
+            passive[v] = -stiffness * (angle - rest)
+        groups = []
+        for group in self.groups:
+            jacobians = jac[:, group.columns].transpose(1, 0, 2) * group.signs[:, None, :]
+            balls = self._ball_columns(offsets[group.chains], group.ball_axes)
+            full = np.concatenate((jacobians, balls), axis=2)
+            chain_index = np.arange(group.size)[:, None]
+            blocks = [
+                jacobians.transpose(0, 2, 1)[chain_index, group.constrained],
+                balls.transpose(0, 2, 1),
+            ]
+            null_dim = self.n - group.rank
+            ratio = None
+            if null_dim or (check_singular and full.shape[2] != group.rank):
+                u, s, _ = np.linalg.svd(full, full_matrices=True)
+                ratio = s[:, group.rank - 1] / np.maximum(s[:, 0], 1e-300) if group.rank else None
+            elif check_singular and group.rank:
+                # square, full rank: Hadamard ratio |det| / prod(column norms) is 0 iff singular
+                norms = np.sqrt(np.einsum("gnk,gnk->gk", full, full)).prod(axis=1)
+                ratio = np.abs(np.linalg.det(full)) / np.maximum(norms, 1e-300)
+            if check_singular and ratio is not None:
+                if np.any(ratio < SINGULAR_TOL):
+                    chain = int(group.chains[int(np.argmin(ratio))])
+                    raise SingularConfigurationError(
+                        f"The chain from {self.reactions[chain]!r} to the action frame is "
+                        f"singular at this configuration (its Jacobian loses rank: ratio "
+                        f"{float(ratio.min()):.2e}), e.g. a straight knee; the distribution is "
+                        "not determined. Bend the chain or change the axes."
+                    )
+            if null_dim:
+                blocks.append(u[:, :, group.rank :].transpose(0, 2, 1))
+            rows = np.concatenate(blocks, axis=1)
+            rhs = np.zeros(rows.shape[:2])
+            c = group.constrained.shape[1]
+            if c:
+                rhs[:, :c] = passive[group.columns[chain_index, group.constrained]]
+            groups.append(GroupRows(rows=rows, rhs=rhs, jacobians=jacobians))
+        signs = self.kinematics.signs
+        hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
+        if self.coupled_v:
+            cv = self.coupled_v
+            hard_rows.insert(0, np.einsum("ps,ns->spn", signs[:, cv], jac[:, cv]))
+            hard_rhs.insert(0, passive[cv])
+        if len(self.torque_pairs):
+            va, vb = self.torque_pairs[:, 0], self.torque_pairs[:, 1]
+            hard_rows.append(
+                np.einsum("ps,ns->spn", signs[:, va], jac[:, va])
+                - np.einsum("ps,ns->spn", signs[:, vb], jac[:, vb])
+            )
+            hard_rhs.append(np.zeros(len(va)))
+        if len(hard_rows) > 1:
+            hard_rows, hard_rhs = [np.concatenate(hard_rows, axis=0)], [np.concatenate(hard_rhs)]
+        return Evaluation(
+            q=q,
+            state=state,
+            groups=groups,
+            hard_rows=hard_rows[0],
+            hard_rhs=hard_rhs[0],
+            passive_torque=passive,
+        )
+
+    def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
+        """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""
+        total = sum(g.size * g.num_constraints for g in self.groups)
+        matrix = np.zeros((total, self.p * self.n))
+        rhs = np.zeros(total)
+        row = 0
+        for group, rows in zip(self.groups, ev.groups, strict=True):
+            l_ = group.num_constraints
+            for j, chain in enumerate(group.chains):
+                matrix[row : row + l_, chain * self.n : (chain + 1) * self.n] = rows.rows[j]
+                rhs[row : row + l_] = rows.rhs[j]
+                row += l_
+        return matrix, rhs
+
+    def torques(self, jacobian_o: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        """Total joint torques ``sum_i J_i^T F_i`` of a distribution ``forces`` ``(p, n)``.
+
+        Args:
+            jacobian_o: ``(n, nv)`` from :attr:`KinematicState.jacobian_o`.
+            forces: ``(p, n)`` chain wrenches.
+
+        """
+        weighted = self.kinematics.signs.T @ forces  # (nv, n)
+        return np.einsum("nv,vn->v", jacobian_o, weighted)

@@ -1,0 +1,83 @@
+"""The result of a parallel virtual actuator's solve."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(repr=False)
+class Solution:
+    """A force distribution and the joint efforts that produce it.
+
+    Attributes:
+        tau: ``(nv,)`` joint efforts to command [N m or N]; 0 at limp and passive joints.
+        forces: ``(p, n)`` each chain's wrench on the action frame {B} (forces along and moments
+            about {O}'s axes, moments about {B}'s origin) [N, N m].
+        wrench: ``(n,)`` the wrench actually produced on {B}: ``forces.sum(axis=0)``.
+        sets: ``{"MFS": [...], "RFS": [...], "CFS": [...]}`` with labels ``(reaction, axis)``.
+        residual: Norm of the part of the requested wrench (prescribed axes) not produced.
+        method: ``"partitioned"``, ``"pseudo-inverse"`` or ``"least-squares"``.
+        requested: ``(n,)`` the wrench that was asked for (free axes hold the produced value).
+        reactions: Reaction frame names, one per row of ``forces``.
+        axes: Axis names, one per column of ``forces``.
+        free: Axes left to the solver.
+        tau_passive: ``(nv,)`` torques that passive springs contribute at this configuration.
+        base_effort: Efforts on a floating base's six coordinates: 0 unless the request needs
+            the base to push on the world (a chain to ``"world"``); these cannot be commanded.
+        solver: ``"partitioned"`` or ``"dense"``: which algorithm computed this.
+
+    """
+
+    tau: np.ndarray
+    forces: np.ndarray
+    wrench: np.ndarray
+    sets: dict[str, list[tuple[str, str]]]
+    residual: float
+    method: str
+    requested: np.ndarray
+    reactions: tuple[str, ...]
+    axes: tuple[str, ...]
+    free: tuple[str, ...] = ()
+    tau_passive: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    base_effort: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    solver: str = "partitioned"
+
+    @property
+    def admissible(self) -> bool:
+        """Whether the requested wrench was produced (``method != "least-squares"``)."""
+        return self.method != "least-squares"
+
+    def force(self, reaction: str) -> np.ndarray:
+        """Return the ``(n,)`` wrench that the chain ending at ``reaction`` exerts on {B}.
+
+        Raises:
+            KeyError: If ``reaction`` is not a reaction frame of the actuator.
+
+        """
+        if reaction not in self.reactions:
+            raise KeyError(f"{reaction!r} is not a reaction frame; reactions: {self.reactions}")
+        return self.forces[self.reactions.index(reaction)]
+
+    def table(self, precision: int = 3) -> str:
+        """Return the forces as a text table, one row per chain, plus the total."""
+        width = max(10, precision + 8)
+        name_width = max(len("produced"), *(len(r) for r in self.reactions))
+        head = " " * name_width + "".join(f"{a:>{width}}" for a in self.axes)
+        lines = [head]
+
+        def line(label: str, values: np.ndarray) -> str:
+            return f"{label:<{name_width}}" + "".join(f"{x:>{width}.{precision}f}" for x in values)
+
+        lines += [line(name, row) for name, row in zip(self.reactions, self.forces, strict=True)]
+        lines.append(line("produced", self.wrench))
+        lines.append(line("requested", self.requested))
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        sizes = ", ".join(f"{k}={len(v)}" for k, v in self.sets.items())
+        return (
+            f"Solution(method={self.method!r}, solver={self.solver!r}, "
+            f"residual={self.residual:.3g}, p={len(self.reactions)}, axes={self.axes}, {sizes})"
+        )

@@ -1,0 +1,327 @@
+"""A generated many-legged robot: the millipede of the seed (000_..., section 2.5.1).
+
+``N`` legs hang from a box-shaped body that lies along ``x`` and is centred on the origin of its
+frame ``body``. Legs come in left/right pairs spaced along ``x``: leg ``i`` (1-based) is on the
+left (``y > 0``) when ``i`` is odd and on the right when ``i`` is even, so legs 1 and 2 form the
+front pair. Each leg has two revolute joints about ``x`` and a point foot::
+
+    body --hip_i--> thigh_i --knee_i--> shin_i --foot_i_joint (fixed)--> foot_i
+
+With every joint at zero the legs hang straight down. The standing pose (:meth:`Robot.neutral`)
+bends each leg symmetrically (hip ``+a`` / knee ``-2a`` on the left, the mirror on the right, with
+equal thigh and shin lengths) so that every foot sits right under its hip with the knee pointing
+outwards, and lifts the body so that all feet touch ``z = 0``.
+
+The URDF is built in code with :mod:`xml.etree.ElementTree` (so every name and value is escaped
+properly) and loaded with Pinocchio; masses and inertias follow the box, cylinder and sphere
+formulas, and the feet carry a tiny mass so that simulators that reject massless bodies load them.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pinocchio as pin
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.robots.robot import Robot
+
+__all__ = ["millipede"]
+
+#: Mass (kg) and sphere radius (m) of each point foot: tiny but not zero.
+FOOT_MASS = 1e-3
+FOOT_RADIUS = 0.005
+#: Default length (m) of each thigh and each shin.
+DEFAULT_LEG_LENGTH = 0.10
+
+
+def _fmt(value: float) -> str:
+    """Format a number for the URDF without losing precision."""
+    return repr(float(value))
+
+
+def _vec(*values: float) -> str:
+    """Format a space-separated vector for a URDF attribute."""
+    return " ".join(_fmt(v) for v in values)
+
+
+def _add_inertial(
+    link: ET.Element, mass: float, com: tuple[float, float, float], diag: tuple[float, float, float]
+) -> None:
+    """Append an ``<inertial>`` with a diagonal inertia (about the centre of mass) to ``link``."""
+    inertial = ET.SubElement(link, "inertial")
+    ET.SubElement(inertial, "origin", xyz=_vec(*com), rpy="0 0 0")
+    ET.SubElement(inertial, "mass", value=_fmt(mass))
+    ixx, iyy, izz = diag
+    ET.SubElement(
+        inertial,
+        "inertia",
+        ixx=_fmt(ixx),
+        ixy="0",
+        ixz="0",
+        iyy=_fmt(iyy),
+        iyz="0",
+        izz=_fmt(izz),
+    )
+
+
+def _add_geometry(
+    link: ET.Element,
+    tag: str,
+    xyz: tuple[float, float, float],
+    shape: str,
+    collision: bool,
+    **size: str,
+) -> None:
+    """Append a ``<visual>`` (and optionally a matching ``<collision>``) to ``link``."""
+    for kind in ("visual", "collision") if collision else ("visual",):
+        element = ET.SubElement(link, kind)
+        ET.SubElement(element, "origin", xyz=_vec(*xyz), rpy="0 0 0")
+        geometry = ET.SubElement(element, "geometry")
+        ET.SubElement(geometry, shape, **size)
+        if kind == "visual":
+            ET.SubElement(element, "material", name=tag)
+
+
+def _cylinder_inertia(mass: float, radius: float, length: float) -> tuple[float, float, float]:
+    """Principal inertia of a solid cylinder along ``z`` about its centre of mass."""
+    transverse = mass * (3.0 * radius**2 + length**2) / 12.0
+    return (transverse, transverse, 0.5 * mass * radius**2)
+
+
+def _check_legs(legs: object) -> int:
+    """Return ``legs`` as an int, or raise if it is not an integer >= 1."""
+    if isinstance(legs, bool) or not isinstance(legs, numbers.Integral):
+        raise InvalidInputError(
+            f"millipede(legs=...) needs an integer number of legs >= 1, got {legs!r} "
+            f"({type(legs).__name__})."
+        )
+    if legs < 1:
+        raise InvalidInputError(f"millipede(legs=...) needs at least 1 leg, got {legs}.")
+    return int(legs)
+
+
+def _check_positive(**values: float) -> None:
+    """Raise :class:`InvalidInputError` unless every value is a finite number > 0."""
+    for name, value in values.items():
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, numbers.Real)
+            or not math.isfinite(value)
+            or value <= 0
+        ):
+            raise InvalidInputError(
+                f"millipede({name}=...) must be a finite number > 0, got {value!r}."
+            )
+
+
+def millipede_urdf(
+    legs: int = 100,
+    *,
+    spacing: float = 0.06,
+    body_width: float = 0.10,
+    body_height: float = 0.04,
+    leg_length: float = DEFAULT_LEG_LENGTH,
+    body_mass_per_pair: float = 0.15,
+    thigh_mass: float = 0.03,
+    shin_mass: float = 0.02,
+    leg_radius: float = 0.008,
+    effort: float = 2.0,
+    velocity: float = 10.0,
+) -> str:
+    """Return the URDF text of a millipede with ``legs`` legs (see :func:`millipede`).
+
+    Args:
+        legs: Number of legs, an integer >= 1.
+        spacing: Distance along ``x`` between successive leg pairs (m).
+        body_width: Width of the body along ``y`` (m); the hips sit on its sides.
+        body_height: Height of the body along ``z`` (m).
+        leg_length: Length of each thigh and of each shin (m).
+        body_mass_per_pair: Body mass per pair of legs (kg); the body is ``spacing`` long per pair.
+        thigh_mass: Mass of each thigh (kg).
+        shin_mass: Mass of each shin (kg).
+        leg_radius: Radius of the cylinders that make up the thighs and shins (m).
+        effort: Effort limit of every joint (N m).
+        velocity: Velocity limit of every joint (rad/s).
+
+    Returns:
+        The URDF document as a string.
+
+    Raises:
+        InvalidInputError: If ``legs`` is not an integer >= 1 or a dimension, mass or limit is
+            not a finite positive number.
+
+    """
+    legs = _check_legs(legs)
+    _check_positive(
+        spacing=spacing,
+        body_width=body_width,
+        body_height=body_height,
+        leg_length=leg_length,
+        body_mass_per_pair=body_mass_per_pair,
+        thigh_mass=thigh_mass,
+        shin_mass=shin_mass,
+        leg_radius=leg_radius,
+        effort=effort,
+        velocity=velocity,
+    )
+    pairs = (legs + 1) // 2
+    body_length = pairs * spacing
+    body_mass = pairs * body_mass_per_pair
+
+    robot = ET.Element("robot", name="millipede")
+    for material, rgba in (("body", "0.45 0.3 0.15 1"), ("leg", "0.2 0.2 0.2 1")):
+        ET.SubElement(ET.SubElement(robot, "material", name=material), "color", rgba=rgba)
+
+    body = ET.SubElement(robot, "link", name="body")
+    _add_inertial(
+        body,
+        body_mass,
+        (0.0, 0.0, 0.0),
+        (
+            body_mass * (body_width**2 + body_height**2) / 12.0,
+            body_mass * (body_length**2 + body_height**2) / 12.0,
+            body_mass * (body_length**2 + body_width**2) / 12.0,
+        ),
+    )
+    _add_geometry(
+        body,
+        "body",
+        (0.0, 0.0, 0.0),
+        "box",
+        collision=True,
+        size=_vec(body_length, body_width, body_height),
+    )
+
+    limit = {
+        "effort": _fmt(effort),
+        "velocity": _fmt(velocity),
+    }
+    for i in range(1, legs + 1):
+        pair = (i - 1) // 2
+        side = 1.0 if i % 2 == 1 else -1.0
+        mount = (0.5 * (pairs - 1) * spacing - pair * spacing, side * 0.5 * body_width, 0.0)
+
+        for link_name, mass in ((f"thigh_{i}", thigh_mass), (f"shin_{i}", shin_mass)):
+            link = ET.SubElement(robot, "link", name=link_name)
+            _add_inertial(
+                link,
+                mass,
+                (0.0, 0.0, -0.5 * leg_length),
+                _cylinder_inertia(mass, leg_radius, leg_length),
+            )
+            _add_geometry(
+                link,
+                "leg",
+                (0.0, 0.0, -0.5 * leg_length),
+                "cylinder",
+                collision=False,
+                radius=_fmt(leg_radius),
+                length=_fmt(leg_length),
+            )
+        foot = ET.SubElement(robot, "link", name=f"foot_{i}")
+        sphere = 0.4 * FOOT_MASS * FOOT_RADIUS**2
+        _add_inertial(foot, FOOT_MASS, (0.0, 0.0, 0.0), (sphere, sphere, sphere))
+        _add_geometry(
+            foot, "leg", (0.0, 0.0, 0.0), "sphere", collision=True, radius=_fmt(FOOT_RADIUS)
+        )
+
+        chain = (
+            (f"hip_{i}", "revolute", "body", f"thigh_{i}", mount, (-1.5, 1.5)),
+            (f"knee_{i}", "revolute", f"thigh_{i}", f"shin_{i}", (0, 0, -leg_length), (-2.5, 2.5)),
+            (f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length), None),
+        )
+        for name, kind, parent, child, xyz, bounds in chain:
+            joint = ET.SubElement(robot, "joint", name=name, type=kind)
+            ET.SubElement(joint, "parent", link=parent)
+            ET.SubElement(joint, "child", link=child)
+            ET.SubElement(joint, "origin", xyz=_vec(*xyz), rpy="0 0 0")
+            if bounds is not None:
+                ET.SubElement(joint, "axis", xyz="1 0 0")
+                ET.SubElement(joint, "limit", lower=_fmt(bounds[0]), upper=_fmt(bounds[1]), **limit)
+                ET.SubElement(joint, "dynamics", damping="0.01", friction="0.0")
+
+    ET.indent(robot)
+    return ET.tostring(robot, encoding="unicode", xml_declaration=True) + "\n"
+
+
+def millipede(
+    legs: int = 100,
+    *,
+    floating_base: bool = True,
+    hip_angle: float = 0.4,
+    **dimensions: float,
+) -> Robot:
+    """Build a millipede: ``legs`` legs along a box body, two joints per leg, point feet.
+
+    Frames and joints, for leg ``i`` in ``1..legs``: joints ``hip_i`` and ``knee_i`` (revolute
+    about ``x``), links ``thigh_i``, ``shin_i`` and ``foot_i`` (the point foot, attached by the
+    fixed joint ``foot_i_joint``), and the action frame ``body``. Odd legs are on the left
+    (``y > 0``), even legs on the right; legs ``2k - 1`` and ``2k`` share the same ``x``, pair 1 at
+    the front (``+x``).
+
+    Args:
+        legs: Number of legs, an integer >= 1.
+        floating_base: Whether ``body`` is attached to the world by a free-flyer joint (7 entries
+            of ``q``) rather than welded to it.
+        hip_angle: Hip angle of the standing pose (rad): left hips at ``+hip_angle`` and knees at
+            ``-2 hip_angle``, right legs mirrored, so the feet sit right under the hips.
+        **dimensions: Keyword arguments of :func:`millipede_urdf` (``spacing``, ``body_width``,
+            ``body_height``, ``leg_length``, masses, ``leg_radius``, ``effort``, ``velocity``).
+
+    Returns:
+        The robot, named ``"millipede"``, whose :meth:`~Robot.neutral` is the standing pose
+        (reference configuration ``"standing"``). With a floating base the body stands at height
+        ``2 leg_length cos(hip_angle)`` and every foot is on ``z = 0``; with a fixed base the
+        body is at the origin and the feet are that far below it.
+
+    Raises:
+        InvalidInputError: If ``legs`` is not an integer >= 1 (``0``, ``-1``, ``2.5`` and ``"3"``
+            are all refused), ``hip_angle`` is not in ``[0, pi/2)``, ``floating_base`` is not a
+            bool, or a dimension is not a finite positive number.
+        TypeError: If an unknown keyword is passed in ``dimensions``.
+
+    """
+    legs = _check_legs(legs)
+    if not isinstance(floating_base, bool):
+        raise InvalidInputError(f"floating_base must be True or False, got {floating_base!r}.")
+    if (
+        isinstance(hip_angle, bool)
+        or not isinstance(hip_angle, numbers.Real)
+        or not 0.0 <= hip_angle < 0.5 * math.pi
+    ):
+        raise InvalidInputError(f"hip_angle must be a number in [0, pi/2), got {hip_angle!r}.")
+    urdf = millipede_urdf(legs, **dimensions)
+    leg_length = float(dimensions.get("leg_length", DEFAULT_LEG_LENGTH))
+
+    if floating_base:
+        model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
+    else:
+        model = pin.buildModelFromXML(urdf)
+    model.name = "millipede"
+
+    standing = pin.neutral(model)
+    idx_q = list(model.idx_qs)  # one copy: indexing model.idx_qs copies the whole vector each time
+    for i in range(1, legs + 1):
+        side = 1.0 if i % 2 == 1 else -1.0
+        standing[idx_q[model.getJointId(f"hip_{i}")]] = side * hip_angle
+        standing[idx_q[model.getJointId(f"knee_{i}")]] = -2.0 * side * hip_angle
+    if floating_base:
+        standing[2] = 2.0 * leg_length * math.cos(hip_angle)
+    standing = np.asarray(standing, dtype=float)
+    model.referenceConfigurations["standing"] = standing
+
+    return Robot(
+        name="millipede",
+        model=model,
+        data=pin.Data(model),  # much faster than model.createData() for large models
+        urdf_path=None,
+        urdf_string=urdf,
+        package_dirs=[],
+        floating_base=floating_base,
+        reference_configurations={"standing": standing.copy()},
+        default_pose="standing",
+    )

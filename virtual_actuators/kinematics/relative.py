@@ -73,7 +73,7 @@ class RelativeKinematics:
         axes: Sequence[str],
     ) -> None:
         self.model = model
-        self.data = model.createData()
+        self.data = pin.Data(model)
         self.action_id = int(action_id)
         self.reaction_ids = np.array(reaction_ids, dtype=int)
         self._reaction_list = [int(r) for r in reaction_ids]

@@ -3,14 +3,17 @@
 ``N`` legs hang from a box-shaped body that lies along ``x`` and is centred on the origin of its
 frame ``body``. Legs come in left/right pairs spaced along ``x``: leg ``i`` (1-based) is on the
 left (``y > 0``) when ``i`` is odd and on the right when ``i`` is even, so legs 1 and 2 form the
-front pair. Each leg has two revolute joints about ``x`` and a point foot::
+front pair. Each leg has two joints, a hip that swings the leg forward and back (revolute about
+``z``) and a knee that lifts it (revolute about ``x``), and a point foot::
 
     body --hip_i--> thigh_i --knee_i--> shin_i --foot_i_joint (fixed)--> foot_i
 
-With every joint at zero the legs hang straight down. The standing pose (:meth:`Robot.neutral`)
-bends each leg symmetrically (hip ``+a`` / knee ``-2a`` on the left, the mirror on the right, with
-equal thigh and shin lengths) so that every foot sits right under its hip with the knee pointing
-outwards, and lifts the body so that all feet touch ``z = 0``.
+The thigh reaches sideways (outwards, length ``leg_length``) and the shin hangs from the knee, so
+with every joint at zero the shins point straight down. In the standing pose
+(:meth:`Robot.neutral`) each knee is bent by ``knee_angle`` so that the foot is outboard of the
+knee, and the body is lifted so that all feet touch ``z = 0``. The hip moves the foot along ``x``
+and the knee in the leg's ``y-z`` plane: each leg can push in a two-dimensional subspace, and with
+the three zero moments of its point foot it has the seed's ``l = 4`` natural constraints.
 
 The URDF is built in code with :mod:`xml.etree.ElementTree` (so every name and value is escaped
 properly) and loaded with Pinocchio; masses and inertias follow the box, cylinder and sphere
@@ -74,12 +77,13 @@ def _add_geometry(
     xyz: tuple[float, float, float],
     shape: str,
     collision: bool,
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0),
     **size: str,
 ) -> None:
     """Append a ``<visual>`` (and optionally a matching ``<collision>``) to ``link``."""
     for kind in ("visual", "collision") if collision else ("visual",):
         element = ET.SubElement(link, kind)
-        ET.SubElement(element, "origin", xyz=_vec(*xyz), rpy="0 0 0")
+        ET.SubElement(element, "origin", xyz=_vec(*xyz), rpy=_vec(*rpy))
         geometry = ET.SubElement(element, "geometry")
         ET.SubElement(geometry, shape, **size)
         if kind == "visual":
@@ -207,18 +211,21 @@ def millipede_urdf(
 
         for link_name, mass in ((f"thigh_{i}", thigh_mass), (f"shin_{i}", shin_mass)):
             link = ET.SubElement(robot, "link", name=link_name)
-            _add_inertial(
-                link,
-                mass,
-                (0.0, 0.0, -0.5 * leg_length),
-                _cylinder_inertia(mass, leg_radius, leg_length),
+            is_thigh = link_name.startswith("thigh")
+            centre = (
+                (0.0, side * 0.5 * leg_length, 0.0) if is_thigh else (0.0, 0.0, -0.5 * leg_length)
             )
+            inertia = _cylinder_inertia(mass, leg_radius, leg_length)
+            if is_thigh:  # cylinder along y: swap the axial and a transverse moment
+                inertia = (inertia[0], inertia[2], inertia[1])
+            _add_inertial(link, mass, centre, inertia)
             _add_geometry(
                 link,
                 "leg",
-                (0.0, 0.0, -0.5 * leg_length),
+                centre,
                 "cylinder",
                 collision=False,
+                rpy=(0.5 * math.pi, 0.0, 0.0) if is_thigh else (0.0, 0.0, 0.0),
                 radius=_fmt(leg_radius),
                 length=_fmt(leg_length),
             )
@@ -230,17 +237,25 @@ def millipede_urdf(
         )
 
         chain = (
-            (f"hip_{i}", "revolute", "body", f"thigh_{i}", mount, (-1.5, 1.5)),
-            (f"knee_{i}", "revolute", f"thigh_{i}", f"shin_{i}", (0, 0, -leg_length), (-2.5, 2.5)),
-            (f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length), None),
+            (f"hip_{i}", "revolute", "body", f"thigh_{i}", mount, (-1.0, 1.0), "0 0 1"),
+            (
+                f"knee_{i}",
+                "revolute",
+                f"thigh_{i}",
+                f"shin_{i}",
+                (0, side * leg_length, 0),
+                (-2.0, 2.0),
+                "1 0 0",
+            ),
+            (f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length), None, ""),
         )
-        for name, kind, parent, child, xyz, bounds in chain:
+        for name, kind, parent, child, xyz, bounds, axis in chain:
             joint = ET.SubElement(robot, "joint", name=name, type=kind)
             ET.SubElement(joint, "parent", link=parent)
             ET.SubElement(joint, "child", link=child)
             ET.SubElement(joint, "origin", xyz=_vec(*xyz), rpy="0 0 0")
             if bounds is not None:
-                ET.SubElement(joint, "axis", xyz="1 0 0")
+                ET.SubElement(joint, "axis", xyz=axis)
                 ET.SubElement(joint, "limit", lower=_fmt(bounds[0]), upper=_fmt(bounds[1]), **limit)
                 ET.SubElement(joint, "dynamics", damping="0.01", friction="0.0")
 
@@ -252,7 +267,7 @@ def millipede(
     legs: int = 100,
     *,
     floating_base: bool = True,
-    hip_angle: float = 0.4,
+    knee_angle: float = 0.5,
     **dimensions: float,
 ) -> Robot:
     """Build a millipede: ``legs`` legs along a box body, two joints per leg, point feet.
@@ -267,20 +282,20 @@ def millipede(
         legs: Number of legs, an integer >= 1.
         floating_base: Whether ``body`` is attached to the world by a free-flyer joint (7 entries
             of ``q``) rather than welded to it.
-        hip_angle: Hip angle of the standing pose (rad): left hips at ``+hip_angle`` and knees at
-            ``-2 hip_angle``, right legs mirrored, so the feet sit right under the hips.
+        knee_angle: Knee bend of the standing pose (rad): left knees at ``+knee_angle``, right
+            knees at ``-knee_angle``, so every foot is outboard of its knee (hips at zero).
         **dimensions: Keyword arguments of :func:`millipede_urdf` (``spacing``, ``body_width``,
             ``body_height``, ``leg_length``, masses, ``leg_radius``, ``effort``, ``velocity``).
 
     Returns:
         The robot, named ``"millipede"``, whose :meth:`~Robot.neutral` is the standing pose
         (reference configuration ``"standing"``). With a floating base the body stands at height
-        ``2 leg_length cos(hip_angle)`` and every foot is on ``z = 0``; with a fixed base the
+        ``leg_length cos(knee_angle)`` and every foot is on ``z = 0``; with a fixed base the
         body is at the origin and the feet are that far below it.
 
     Raises:
         InvalidInputError: If ``legs`` is not an integer >= 1 (``0``, ``-1``, ``2.5`` and ``"3"``
-            are all refused), ``hip_angle`` is not in ``[0, pi/2)``, ``floating_base`` is not a
+            are all refused), ``knee_angle`` is not in ``(0, pi/2)``, ``floating_base`` is not a
             bool, or a dimension is not a finite positive number.
         TypeError: If an unknown keyword is passed in ``dimensions``.
 
@@ -289,11 +304,11 @@ def millipede(
     if not isinstance(floating_base, bool):
         raise InvalidInputError(f"floating_base must be True or False, got {floating_base!r}.")
     if (
-        isinstance(hip_angle, bool)
-        or not isinstance(hip_angle, numbers.Real)
-        or not 0.0 <= hip_angle < 0.5 * math.pi
+        isinstance(knee_angle, bool)
+        or not isinstance(knee_angle, numbers.Real)
+        or not 0.0 < knee_angle < 0.5 * math.pi
     ):
-        raise InvalidInputError(f"hip_angle must be a number in [0, pi/2), got {hip_angle!r}.")
+        raise InvalidInputError(f"knee_angle must be a number in (0, pi/2), got {knee_angle!r}.")
     urdf = millipede_urdf(legs, **dimensions)
     leg_length = float(dimensions.get("leg_length", DEFAULT_LEG_LENGTH))
 
@@ -307,10 +322,9 @@ def millipede(
     idx_q = list(model.idx_qs)  # one copy: indexing model.idx_qs copies the whole vector each time
     for i in range(1, legs + 1):
         side = 1.0 if i % 2 == 1 else -1.0
-        standing[idx_q[model.getJointId(f"hip_{i}")]] = side * hip_angle
-        standing[idx_q[model.getJointId(f"knee_{i}")]] = -2.0 * side * hip_angle
+        standing[idx_q[model.getJointId(f"knee_{i}")]] = side * knee_angle
     if floating_base:
-        standing[2] = 2.0 * leg_length * math.cos(hip_angle)
+        standing[2] = leg_length * math.cos(knee_angle)
     standing = np.asarray(standing, dtype=float)
     model.referenceConfigurations["standing"] = standing
 

@@ -20,7 +20,6 @@ from ..distribution.problem import DistributionProblem
 from ..distribution.solution import Solution
 from ..exceptions import (
     ConstraintError,
-    FrameNotFoundError,
     InadmissibleWrenchError,
     InvalidInputError,
 )
@@ -128,7 +127,8 @@ class VirtualActuator:
         Args:
             q: Configuration.
             wrench: Wrench over ``axes``.
-            tol: Relative tolerance on the part of ``wrench`` outside the range.
+            tol: Tolerance on the part of ``wrench`` outside the range, relative to ``|wrench|``
+                (scale-free: a zero wrench is admissible).
 
         Raises:
             InvalidInputError: Bad ``q`` or ``wrench``.
@@ -139,7 +139,7 @@ class VirtualActuator:
         u, s, _ = np.linalg.svd(jac, full_matrices=False)
         rank = int(np.sum(s > 1e-10 * max(s[0], 1e-300))) if s.size and s[0] > 0 else 0
         inside = u[:, :rank] @ (u[:, :rank].T @ wrench)
-        return bool(np.linalg.norm(wrench - inside) <= tol * max(1.0, np.linalg.norm(wrench)))
+        return bool(np.linalg.norm(wrench - inside) <= tol * np.linalg.norm(wrench))
 
     def __repr__(self) -> str:
         return (
@@ -199,7 +199,7 @@ class ParallelVirtualActuator:
         action_id = resolve_frame(model, action, "action")
         reaction_ids = [resolve_frame(model, r, "reaction") for r in self.reactions]
         if action_id in reaction_ids:
-            raise FrameNotFoundError(
+            raise ConstraintError(
                 f"The action frame {action!r} is also a reaction frame; they must differ."
             )
         self.kinematics = RelativeKinematics(
@@ -277,7 +277,8 @@ class ParallelVirtualActuator:
             InvalidInputError: Bad ``q``, ``wrench`` or ``method``.
             InvalidAxisError: A ``free`` axis is not one of the actuator's axes.
             SingularConfigurationError: No distribution can be solved at this configuration.
-            ConstraintError: Too many constraints for the free axes, or contradictory ones.
+            ConstraintError: Too many constraints for the free axes (more design and coupling
+                constraints than redundancies), or constraints that contradict each other here.
             InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
 
         """
@@ -290,6 +291,7 @@ class ParallelVirtualActuator:
             solver = self.dense
         else:
             raise InvalidInputError(f"method must be 'partitioned' or 'dense', got {method!r}.")
+        self.problem.check_counts(keep)
         ev = self.problem.evaluate(q)
         raw = solver.solve(ev, wrench, keep)
         produced = raw.forces.sum(axis=0)

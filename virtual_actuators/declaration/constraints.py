@@ -36,10 +36,10 @@ class Equal(DesignConstraint):
 
     def labels(self) -> list[Label]:
         """Return both labels."""
-        return [tuple(self.a), tuple(self.b)]
+        return [self.a, self.b]
 
     def __repr__(self) -> str:
-        return f"Equal({tuple(self.a)!r}, {tuple(self.b)!r})"
+        return f"Equal({self.a!r}, {self.b!r})"
 
 
 @dataclass(frozen=True)
@@ -60,13 +60,13 @@ class Linear(DesignConstraint):
 
     def labels(self) -> list[Label]:
         """Return the labels with a coefficient."""
-        return [tuple(label) for label in self.coefficients]
+        return list(self.coefficients)
 
     def __hash__(self) -> int:
         return hash((tuple(self.coefficients.items()), self.rhs))
 
     def __repr__(self) -> str:
-        terms = ", ".join(f"{tuple(k)!r}: {v:g}" for k, v in self.coefficients.items())
+        terms = ", ".join(f"{k!r}: {v:g}" for k, v in self.coefficients.items())
         return f"Linear({{{terms}}}, rhs={self.rhs:g})"
 
 

@@ -51,7 +51,7 @@ class DenseSolver:
         p, n = self.problem.p, self.problem.n
         soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)
         k = np.vstack((soft, hard))
-        if k.shape[0] == k.shape[1]:
+        if k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep):
             cond = np.linalg.cond(k)
             if not np.isfinite(cond) or cond > ILL_CONDITIONED:
                 raise SingularConfigurationError(
@@ -67,7 +67,7 @@ class DenseSolver:
                     "The constraints contradict each other at this configuration "
                     f"(residual {hard_residual:.2e})."
                 )
-            method = "pseudo-inverse" if k.shape[0] < k.shape[1] else "least-squares"
+            method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
         return RawSolution(forces=x.reshape(p, n), method=method, sets={})
 
     def __repr__(self) -> str:

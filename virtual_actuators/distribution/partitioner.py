@@ -80,6 +80,9 @@ class PartitionedSolver:
         self.problem = problem
         self.preferred = preferred
         ev = problem.evaluate(problem.generic_configurations()[0], check_singular=False)
+        #: evaluation at a fixed random configuration: sets are chosen there, so that they do not
+        #: depend on which configuration an actuator happens to see first
+        self._generic = ev
         self.cfs: list[np.ndarray] = []
         self.free_entries: list[np.ndarray] = []
         for group, rows in zip(problem.groups, ev.groups, strict=True):
@@ -217,7 +220,7 @@ class PartitionedSolver:
             if forces is not None:
                 sets = self._reported_sets.get(free_key)
                 if sets is None:
-                    reduced = self._reduce(ev)
+                    reduced = self._reduce(self._generic)
                     sets = self._report_sets(reduced.wrench_rows[keep], reduced.hard_rows)
                     self._reported_sets[free_key] = sets
                 return RawSolution(forces=forces, method="pseudo-inverse", sets=sets)
@@ -225,15 +228,8 @@ class PartitionedSolver:
         a = reduced.wrench_rows[keep]
         rhs = wrench[keep] - reduced.offset_sum[keep]
         h, h_rhs = reduced.hard_rows, reduced.hard_rhs
-        if s > m - k and s:
-            names = [self.problem.axes[i] for i in np.flatnonzero(keep)]
-            raise ConstraintError(
-                f"Too many constraints: {s} design/coupling constraints but only {m - k} "
-                f"redundancies (sum of d = {m}, prescribed axes {names}). Remove "
-                f"{s - (m - k)} or leave more axes free."
-            )
         sets = None
-        if k + s == m:
+        if k + s == m and not self.problem.structurally_singular(keep):
             f, sets = self._solve_square(reduced, a, rhs, free_key)
             method = "partitioned"
         else:
@@ -243,7 +239,9 @@ class PartitionedSolver:
         if sets is None:
             sets = self._reported_sets.get(free_key)
             if sets is None:
-                sets = self._reported_sets[free_key] = self._report_sets(a, h)
+                generic = self._reduce(self._generic)
+                sets = self._report_sets(generic.wrench_rows[keep], generic.hard_rows)
+                self._reported_sets[free_key] = sets
         return RawSolution(forces=forces, method=method, sets=sets)
 
     def _forces(self, reduced: _Reduced, f: np.ndarray) -> np.ndarray:
@@ -265,7 +263,7 @@ class PartitionedSolver:
         m = a.shape[1]
         plan = self._plans.get(free_key)
         if plan is None:
-            plan = self._plan_square(h, m)
+            plan = self._plan_square(self._reduce(self._generic).hard_rows, m)
             self._plans[free_key] = plan
         if len(plan.rfs):
             if plan.gain is not None:

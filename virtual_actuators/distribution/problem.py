@@ -170,6 +170,7 @@ class DistributionProblem:
         self.limp_v, self.passive_v = self._parse_joints(unactuated, passive)
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
+        self._structural: dict[bytes, bool] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
         self.torque_pairs = np.zeros((0, 2), dtype=int)
@@ -371,12 +372,16 @@ class DistributionProblem:
         raise IndexError(v)
 
     def _label_index(self, label: Label, constraint: DesignConstraint) -> tuple[int, int]:
-        try:
-            reaction, axis = label
-        except (TypeError, ValueError):
+        if not (
+            isinstance(label, tuple | list)
+            and len(label) == 2
+            and all(isinstance(x, str) for x in label)
+        ):
             raise ConstraintError(
-                f"{constraint!r}: a label is (reaction_frame, axis), got {label!r}."
-            ) from None
+                f"{constraint!r}: a label is a pair (reaction_frame, axis) such as "
+                f"('FL_FOOT', 'x'), got {label!r}."
+            )
+        reaction, axis = label
         if reaction not in self.reactions:
             raise ConstraintError(
                 f"{constraint!r} names {reaction!r}, which is not a reaction frame of this "
@@ -558,6 +563,53 @@ class DistributionProblem:
             hard_rhs=hard_rhs[0],
             passive_torque=passive,
         )
+
+    def structurally_singular(self, keep: np.ndarray) -> bool:
+        """Whether the square system is singular at every configuration for these free axes.
+
+        Some declarations can never determine the distribution uniquely (two point feet cannot
+        push a moment about the line between them); those get the minimum-norm least-squares
+        solution instead of a :class:`SingularConfigurationError`. Checked once per set of
+        prescribed axes at random configurations, densely (declaration-time cost only).
+
+        Args:
+            keep: ``(n,)`` bool, the prescribed (not free) axes.
+        """
+        key = keep.tobytes()
+        cached = self._structural.get(key)
+        if cached is None:
+            cached = True
+            for q in self.generic_configurations():
+                ev = self.evaluate(q, check_singular=False)
+                natural, _ = self.block_natural(ev)
+                k = np.vstack(
+                    (
+                        np.tile(np.eye(self.n), (1, self.p))[keep],
+                        natural,
+                        ev.hard_rows.reshape(-1, self.p * self.n),
+                    )
+                )
+                if k.shape[0] == k.shape[1] and np.linalg.matrix_rank(k) == k.shape[0]:
+                    cached = False
+                    break
+            self._structural[key] = cached
+        return cached
+
+    def check_counts(self, keep: np.ndarray) -> None:
+        """Raise if there are more design/coupling constraints than redundancies for ``keep``.
+
+        Raises:
+            ConstraintError: ``s > sum(d) - (number of prescribed axes)``.
+        """
+        m = sum(g.size * g.num_free for g in self.groups)
+        k, s = int(keep.sum()), self.num_hard
+        if s and s > m - k:
+            names = [a for a, kept in zip(self.axes, keep, strict=True) if kept]
+            raise ConstraintError(
+                f"Too many constraints: {s} design/coupling constraints but only {m - k} "
+                f"redundancies (sum of d = {m} minus the {k} prescribed axes {names}). Remove "
+                f"{s - (m - k)} or leave more axes free."
+            )
 
     def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
         """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""

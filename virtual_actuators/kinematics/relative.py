@@ -115,7 +115,8 @@ class RelativeKinematics:
             q: Configuration, shape ``(model.nq,)``.
 
         Returns:
-            ``q`` as a contiguous float64 array.
+            ``q`` as a float64 array; quaternions and (cos, sin) pairs within 1e-3 of unit
+            norm are normalised (a copy is made then).
 
         Raises:
             InvalidInputError: Wrong shape, NaN or inf, or a quaternion far from unit norm.
@@ -130,13 +131,19 @@ class RelativeKinematics:
         if not np.all(np.isfinite(q)):
             bad = np.flatnonzero(~np.isfinite(q)).tolist()
             raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
+        normalized = False
         for s in self._quaternion_slices:
             norm = float(np.linalg.norm(q[s]))
             if abs(norm - 1.0) > 1e-3:
+                kind = "(cos, sin) pair" if s.stop - s.start == 2 else "quaternion"
                 raise InvalidInputError(
-                    f"Configuration q[{s.start}:{s.stop}] is a quaternion of norm {norm:.6g}; "
-                    "it must be a unit quaternion (see pinocchio.normalize)."
+                    f"Configuration q[{s.start}:{s.stop}] is a {kind} of norm {norm:.6g}; "
+                    f"it must have unit norm (see pinocchio.normalize)."
                 )
+            if abs(norm - 1.0) > 1e-12:
+                if not normalized:
+                    q, normalized = q.copy(), True
+                q[s] /= norm  # integration drift: use the exact unit quaternion
         return q
 
     def check_velocity(self, v: np.ndarray) -> np.ndarray:
@@ -228,13 +235,19 @@ def skew(vector: np.ndarray) -> np.ndarray:
 
 
 def _quaternion_slices(model: pin.Model) -> list[slice]:
-    """Slices of ``q`` that hold unit quaternions (free-flyer and spherical joints)."""
+    """Slices of ``q`` that must have unit norm.
+
+    Free-flyer and spherical joints hold quaternions; continuous (unbounded revolute) joints hold
+    a ``(cos, sin)`` pair.
+    """
     slices = []
     for joint in list(model.joints)[1:]:
         if joint.shortname() == "JointModelFreeFlyer":
             slices.append(slice(joint.idx_q + 3, joint.idx_q + 7))
         elif joint.shortname() == "JointModelSpherical":
             slices.append(slice(joint.idx_q, joint.idx_q + 4))
+        elif joint.nq == 2 and joint.nv == 1:
+            slices.append(slice(joint.idx_q, joint.idx_q + 2))
     return slices
 
 

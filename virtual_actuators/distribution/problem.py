@@ -171,6 +171,7 @@ class DistributionProblem:
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
         self._structural: dict[bytes, bool] = {}
+        self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
         self.torque_pairs = np.zeros((0, 2), dtype=int)
@@ -318,13 +319,23 @@ class DistributionProblem:
         return np.hstack((jac, balls))
 
     def _ball_columns(self, offsets_o: np.ndarray, ball: np.ndarray) -> np.ndarray:
-        """``(g, n, len(ball))`` twists of {B} for rotations about {O}'s axes at each {A_i}."""
-        g = offsets_o.shape[0]
-        twists = np.zeros((g, 6, 3))
-        # column k: linear part e_k x d = -skew(d) e_k, angular part e_k; d from {A} to {B} in {O}
-        twists[:, :3, :] = -skew(offsets_o)
-        twists[:, 3:, :] = np.eye(3)
-        return twists[:, self.kinematics.rows][:, :, ball]
+        """``(g, n, len(ball))`` twists of {B} for rotations about {O}'s axes at each {A_i}.
+
+        Column ``k``: linear part ``e_k x d``, angular part ``e_k``, with ``d`` from {A} to {B}
+        in {O}. Linear in ``d``, so it is one product with a map precomputed per axis choice.
+        """
+        key = tuple(ball)
+        maps = self._ball_maps.get(key)
+        if maps is None:
+            basis = np.zeros((3, 6, 3))  # d_j -> twist rows x ball axes
+            basis[:, :3, :] = -skew(np.eye(3))  # -skew(e_j) for each j
+            constant = np.zeros((6, 3))
+            constant[3:, :] = np.eye(3)
+            rows = self.kinematics.rows
+            linear = basis[:, rows][:, :, ball].reshape(3, -1)
+            maps = self._ball_maps[key] = (linear, constant[rows][:, ball].ravel())
+        linear, constant = maps
+        return (offsets_o @ linear + constant).reshape(offsets_o.shape[0], self.n, len(ball))
 
     def generic_configurations(self, count: int = 3, seed: int = 7) -> list[np.ndarray]:
         """Random valid configurations used to find generic ranks and well-conditioned sets."""

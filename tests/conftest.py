@@ -171,8 +171,18 @@ class ReferenceDistribution:
     Wrench rows: ``sum_i F_i = w`` on the prescribed axes.
     """
 
-    def __init__(self, rob, action, reactions, reference, axes, contact, unactuated=(),
-                 passive=None, design=()):
+    def __init__(
+        self,
+        rob,
+        action,
+        reactions,
+        reference,
+        axes,
+        contact,
+        unactuated=(),
+        passive=None,
+        design=(),
+    ):
         self.rob, self.model = rob, rob.model
         self.action, self.reactions, self.reference = action, list(reactions), reference
         self.axes, self.rows = tuple(axes), axis_rows(axes)
@@ -196,8 +206,10 @@ class ReferenceDistribution:
     def ball_columns(self, q, reaction):
         data = placements(self.model, q)
         rot_o = data.oMf[frame_id(self.model, self.reference)].rotation
-        d = rot_o.T @ (data.oMf[frame_id(self.model, self.action)].translation
-                       - data.oMf[frame_id(self.model, reaction)].translation)
+        d = rot_o.T @ (
+            data.oMf[frame_id(self.model, self.action)].translation
+            - data.oMf[frame_id(self.model, reaction)].translation
+        )
         cols = []
         for k in range(3):
             if AXES[3 + k] not in self.axes:
@@ -214,7 +226,7 @@ class ReferenceDistribution:
 
         def row_for(chain, vec):
             row = np.zeros(p * n)
-            row[chain * n:(chain + 1) * n] = vec
+            row[chain * n : (chain + 1) * n] = vec
             return row
 
         constrained = {joint_v(model, j): 0.0 for j in self.limp}
@@ -255,8 +267,12 @@ class ReferenceDistribution:
             hard.append(row)
         keep = [k for k, a in enumerate(self.axes) if a not in free]
         soft = np.tile(np.eye(n), (1, p))[keep]
-        return (np.array(hard).reshape(-1, p * n), np.array(rhs), soft,
-                np.asarray(wrench, dtype=float)[keep])
+        return (
+            np.array(hard).reshape(-1, p * n),
+            np.array(rhs),
+            soft,
+            np.asarray(wrench, dtype=float)[keep],
+        )
 
     def index(self, label):
         reaction, axis = label

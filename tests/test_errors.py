@@ -161,9 +161,12 @@ def test_non_finite_configuration(solo, q, value):
     bad = q.copy()
     bad[9] = value
     leg = va.VirtualActuator(solo, "base_link", "FL_FOOT")
-    for call in (lambda: leg.jacobian(bad), lambda: leg.torques(bad, np.zeros(6)),
-                 lambda: leg.is_admissible(bad, np.zeros(6)),
-                 lambda: body(solo).solve(bad, np.zeros(6))):
+    for call in (
+        lambda: leg.jacobian(bad),
+        lambda: leg.torques(bad, np.zeros(6)),
+        lambda: leg.is_admissible(bad, np.zeros(6)),
+        lambda: body(solo).solve(bad, np.zeros(6)),
+    ):
         with raises(va.InvalidInputError, "[9]"):
             call()
 
@@ -207,8 +210,11 @@ def test_wrong_wrench_shape(solo, q, shape):
 def test_non_finite_wrench(solo, q, value):
     wrench = np.array([0.0, 1.0, value, 0.0, 0.0, 0.0])
     leg = va.VirtualActuator(solo, "base_link", "FL_FOOT")
-    for call in (lambda: leg.torques(q, wrench), lambda: leg.is_admissible(q, wrench),
-                 lambda: body(solo).solve(q, wrench)):
+    for call in (
+        lambda: leg.torques(q, wrench),
+        lambda: leg.is_admissible(q, wrench),
+        lambda: body(solo).solve(q, wrench),
+    ):
         with raises(va.InvalidInputError, "NaN or inf"):
             call()
 
@@ -268,16 +274,19 @@ def test_limp_joint_at_point_contact_makes_natural_constraints_redundant(solo):
 
 def test_too_many_design_constraints_at_construction(solo):
     rng = np.random.default_rng(0)
-    design = [va.Linear({(f, a): float(rng.normal()) for f in FEET for a in AXES})
-              for _ in range(13)]
+    design = [
+        va.Linear({(f, a): float(rng.normal()) for f in FEET for a in AXES}) for _ in range(13)
+    ]
     with raises(va.ConstraintError, "Too many", "13", "12"):
         body(solo, design=design)
 
 
 def test_more_constraints_than_redundancies_rejected_at_solve(solo, q):
     rng = np.random.default_rng(1)
-    design = [va.Linear({(f, a): float(rng.normal()) for f in FEET for a in AXES}, rhs=1.0)
-              for _ in range(7)]
+    design = [
+        va.Linear({(f, a): float(rng.normal()) for f in FEET for a in AXES}, rhs=1.0)
+        for _ in range(7)
+    ]
     actuator = body(solo, design=design)
     with raises(va.ConstraintError, "Too many", "7"):
         actuator.solve(q, np.ones(6))
@@ -330,8 +339,9 @@ def test_multi_dof_joint_cannot_be_passive_or_torque_constrained(solo):
     with raises(va.ConstraintError, "'root_joint'", "6 degrees"):
         va.ParallelVirtualActuator(solo, "base_link", ["world"], passive={"root_joint": (1, 0)})
     with raises(va.ConstraintError, "'root_joint'", "6 degrees"):
-        va.ParallelVirtualActuator(solo, "base_link", ["world", "FL_FOOT"],
-                                   design=[va.EqualTorque("root_joint", "FL_KFE")])
+        va.ParallelVirtualActuator(
+            solo, "base_link", ["world", "FL_FOOT"], design=[va.EqualTorque("root_joint", "FL_KFE")]
+        )
 
 
 # -- configuration-dependent -----------------------------------------------------------------------
@@ -376,9 +386,17 @@ def test_unknown_robot():
 
 
 def test_every_error_class_derives_from_the_base_class():
-    classes = [va.ConstraintError, va.FrameNotFoundError, va.InadmissibleWrenchError,
-               va.InvalidAxisError, va.InvalidInputError, va.JointNotFoundError,
-               va.RobotDescriptionError, va.RobotNotFoundError, va.SingularConfigurationError]
+    classes = [
+        va.ConstraintError,
+        va.FrameNotFoundError,
+        va.InadmissibleWrenchError,
+        va.InvalidAxisError,
+        va.InvalidInputError,
+        va.JointNotFoundError,
+        va.RobotDescriptionError,
+        va.RobotNotFoundError,
+        va.SingularConfigurationError,
+    ]
     for cls in classes:
         assert issubclass(cls, va.VirtualActuatorError)
         assert cls is not va.VirtualActuatorError

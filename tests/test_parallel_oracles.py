@@ -45,7 +45,8 @@ def feet(name: str) -> tuple[str, ...]:
     """The four foot frames of a quadruped: body frames whose name ends with 'foot'."""
     model = robot(name).model
     out = tuple(
-        f.name for f in model.frames
+        f.name
+        for f in model.frames
         if f.type == pin.FrameType.BODY and f.name.lower().endswith("_foot")
     )
     assert len(out) == 4, out
@@ -73,15 +74,28 @@ class Setup:
 
     def actuator(self) -> va.ParallelVirtualActuator:
         return va.ParallelVirtualActuator(
-            robot(self.robot), self.action, list(self.reactions), self.reference, self.axes,
-            self.contact, unactuated=list(self.unactuated), passive=dict(self.passive),
+            robot(self.robot),
+            self.action,
+            list(self.reactions),
+            self.reference,
+            self.axes,
+            self.contact,
+            unactuated=list(self.unactuated),
+            passive=dict(self.passive),
             design=list(self.design),
         )
 
     def oracle(self) -> ReferenceDistribution:
         return ReferenceDistribution(
-            robot(self.robot), self.action, self.reactions, self.reference, self.axes,
-            self.contact, self.unactuated, self.passive, self.design,
+            robot(self.robot),
+            self.action,
+            self.reactions,
+            self.reference,
+            self.axes,
+            self.contact,
+            self.unactuated,
+            self.passive,
+            self.design,
         )
 
     def contacts(self) -> dict[str, str]:
@@ -92,9 +106,14 @@ class Setup:
     def __str__(self) -> str:
         contact = self.contact if isinstance(self.contact, str) else "mixed"
         extras = "".join(
-            f"-{k}{len(v)}" for k, v in
-            (("limp", self.unactuated), ("spring", self.passive), ("design", self.design),
-             ("free", self.free)) if v
+            f"-{k}{len(v)}"
+            for k, v in (
+                ("limp", self.unactuated),
+                ("spring", self.passive),
+                ("design", self.design),
+                ("free", self.free),
+            )
+            if v
         )
         return f"{self.robot}:{self.action}:{self.reference}:{contact}{extras}"
 
@@ -127,23 +146,67 @@ def special_setups() -> list[Setup]:
         Setup("talos_reduced", "torso_2_link", SOLES, "world", "flat", scale=0.2),
         Setup("talos_reduced", "torso_2_link", SOLES, "base_link", "flat", scale=0.2),
         # limp waist yaw shared by both chains: it fixes the yaw moment, left free
-        Setup("talos_reduced", "torso_2_link", SOLES, "torso_1_link", "flat",
-              unactuated=("torso_1_joint",), free=("rz",), scale=0.2),
+        Setup(
+            "talos_reduced",
+            "torso_2_link",
+            SOLES,
+            "torso_1_link",
+            "flat",
+            unactuated=("torso_1_joint",),
+            free=("rz",),
+            scale=0.2,
+        ),
         # waist shared by the two arm chains only: a true coupling (limp yaw, spring pitch)
-        Setup("talos_reduced", "base_link", TALOS_ARMS, "world", "flat",
-              unactuated=("torso_1_joint",), passive={"torso_2_joint": (40.0, 0.1)}, scale=0.2),
-        Setup("talos_reduced", "base_link", TALOS_ARMS, "base_link",
-              {"left_sole_link": "flat", "gripper_left_base_link": "point",
-               "gripper_right_base_link": "flat"},
-              design=(va.EqualTorque("arm_left_4_joint", "arm_right_4_joint"),), scale=0.2),
+        Setup(
+            "talos_reduced",
+            "base_link",
+            TALOS_ARMS,
+            "world",
+            "flat",
+            unactuated=("torso_1_joint",),
+            passive={"torso_2_joint": (40.0, 0.1)},
+            scale=0.2,
+        ),
+        Setup(
+            "talos_reduced",
+            "base_link",
+            TALOS_ARMS,
+            "base_link",
+            {
+                "left_sole_link": "flat",
+                "gripper_left_base_link": "point",
+                "gripper_right_base_link": "flat",
+            },
+            design=(va.EqualTorque("arm_left_4_joint", "arm_right_4_joint"),),
+            scale=0.2,
+        ),
         # limp and passive joints that belong to one chain each
-        Setup("solo12", "base_link", (fl, fr, hl, hr), "world", "flat",
-              unactuated=("FL_HAA",), passive={"HR_KFE": (5.0, 1.2)}),
-        Setup("solo12", "base_link", (fl, fr, hl, hr), "base_link", {fl: "flat", hr: "flat"},
-              passive={"FR_HFE": (2.0, 0.7), "HL_KFE": (3.0, -1.0)}),
+        Setup(
+            "solo12",
+            "base_link",
+            (fl, fr, hl, hr),
+            "world",
+            "flat",
+            unactuated=("FL_HAA",),
+            passive={"HR_KFE": (5.0, 1.2)},
+        ),
+        Setup(
+            "solo12",
+            "base_link",
+            (fl, fr, hl, hr),
+            "base_link",
+            {fl: "flat", hr: "flat"},
+            passive={"FR_HFE": (2.0, 0.7), "HL_KFE": (3.0, -1.0)},
+        ),
         Setup("solo12", "base_link", (fl, fr, hl, hr), "world", "point", design=_solo_design()),
-        Setup("anymal", "base", feet("anymal"), "base", "point",
-              design=(va.EqualTorque("LF_KFE", "RF_KFE"), va.EqualTorque("LH_HFE", "RH_HFE"))),
+        Setup(
+            "anymal",
+            "base",
+            feet("anymal"),
+            "base",
+            "point",
+            design=(va.EqualTorque("LF_KFE", "RF_KFE"), va.EqualTorque("LH_HFE", "RH_HFE")),
+        ),
         Setup("solo12", "base_link", (fl, fr, hl, hr), "world", "point", free=("x", "rz")),
         # three legs: r = 3
         Setup("hyq_no_sensors", "base_link", feet("hyq_no_sensors")[:3], "world", "point"),
@@ -173,8 +236,10 @@ def solve_random(setup: Setup, seed: int, method: str = "partitioned"):
 
 
 def rnea_of_forces(setup: Setup, q, forces) -> np.ndarray:
-    pairs = [(setup.action, r, setup.reference, setup.axes, f)
-             for r, f in zip(setup.reactions, forces, strict=True)]
+    pairs = [
+        (setup.action, r, setup.reference, setup.axes, f)
+        for r, f in zip(setup.reactions, forces, strict=True)
+    ]
     return rnea_torques(setup.robot, q, external_forces(robot(setup.robot).model, q, pairs))
 
 
@@ -193,8 +258,9 @@ def test_forces_sum_to_wrench_and_admissible_request_is_met(setup, seed):
     _, _, _, wrench, sol = solve_random(setup, seed)
     keep = kept(setup)
     assert sol.forces.shape == (len(setup.reactions), len(setup.axes))
-    np.testing.assert_allclose(sol.forces.sum(axis=0), sol.wrench, rtol=0, atol=1e-12 * max(
-        1.0, np.abs(sol.forces).max()))
+    np.testing.assert_allclose(
+        sol.forces.sum(axis=0), sol.wrench, rtol=0, atol=1e-12 * max(1.0, np.abs(sol.forces).max())
+    )
     assert sol.method in ("partitioned", "pseudo-inverse")
     assert sol.residual < TOL * max(1.0, np.linalg.norm(wrench))
     assert relative_error(sol.wrench[keep], wrench[keep]) < TOL
@@ -215,8 +281,10 @@ def test_tau_equals_rnea_of_chain_forces_with_limp_and_passive_joints(setup, see
     tau = rnea_of_forces(setup, q, sol.forces)
     scale = max(1.0, np.abs(tau).max())
     limp = [joint_v(model, j) for j in setup.unactuated]
-    springs = {joint_v(model, j): -k * (joint_angle(model, q, j) - rest)
-               for j, (k, rest) in setup.passive.items()}
+    springs = {
+        joint_v(model, j): -k * (joint_angle(model, q, j) - rest)
+        for j, (k, rest) in setup.passive.items()
+    }
     expected_passive = np.zeros(model.nv)
     for v, t in springs.items():
         expected_passive[v] = t
@@ -226,8 +294,9 @@ def test_tau_equals_rnea_of_chain_forces_with_limp_and_passive_joints(setup, see
     np.testing.assert_allclose(sol.tau[actuated], tau[actuated], rtol=0, atol=TOL * scale)
     np.testing.assert_array_equal(sol.tau[~actuated], 0.0)
     np.testing.assert_allclose(tau[limp], 0.0, atol=TOL * scale)
-    np.testing.assert_allclose(tau[list(springs)], expected_passive[list(springs)],
-                               atol=TOL * scale)
+    np.testing.assert_allclose(
+        tau[list(springs)], expected_passive[list(springs)], atol=TOL * scale
+    )
     np.testing.assert_allclose(tau[:6], 0.0, atol=TOL * scale)
     np.testing.assert_array_equal(sol.tau[:6], 0.0)
     # the public torques() of a given distribution is the full J^T F (limp/passive included)
@@ -274,7 +343,7 @@ def test_distribution_is_the_minimum_norm_feasible_one(setup, seed):
         rng = np.random.default_rng(seed)
         for _ in range(5):
             step = directions @ rng.normal(size=directions.shape[1])
-            assert np.sum((flat + 1e-3 * step) ** 2) > np.sum(flat ** 2)
+            assert np.sum((flat + 1e-3 * step) ** 2) > np.sum(flat**2)
     else:
         assert sol.method == "partitioned"
 
@@ -302,8 +371,9 @@ def test_design_constraints_hold(setup, seed):
     """Equal, Linear (with rhs) and EqualTorque hold exactly in the solution."""
     rob, _, q, _, sol = solve_random(setup, seed)
     model = rob.model
-    index = {(r, a): (i, j) for i, r in enumerate(setup.reactions)
-             for j, a in enumerate(setup.axes)}
+    index = {
+        (r, a): (i, j) for i, r in enumerate(setup.reactions) for j, a in enumerate(setup.axes)
+    }
     scale = max(1.0, np.abs(sol.forces).max())
     tau = rnea_of_forces(setup, q, sol.forces)
     for c in setup.design:
@@ -351,8 +421,15 @@ def test_random_design_sets_partitioned_equals_dense_and_oracle(base, data, seed
     """Random Equal/Linear sets (up to r): both solvers agree (forces, tau, method or error)."""
     r = actuator(base).sizes()["r"]
     design = data.draw(design_sets(base, r))
-    setup = Setup(base.robot, base.action, base.reactions, base.reference, base.contact,
-                  design=tuple(design), scale=base.scale)
+    setup = Setup(
+        base.robot,
+        base.action,
+        base.reactions,
+        base.reference,
+        base.contact,
+        design=tuple(design),
+        scale=base.scale,
+    )
     try:
         body = setup.actuator()
     except va.ConstraintError:
@@ -373,7 +450,8 @@ def test_random_design_sets_partitioned_equals_dense_and_oracle(base, data, seed
         return
     assert part.method == dense.method
     assert part.method == ("partitioned" if len(design) == r else "pseudo-inverse") or (
-        part.method == "least-squares")
+        part.method == "least-squares"
+    )
     assert relative_error(part.forces, dense.forces) < TOL
     assert relative_error(part.tau, dense.tau) < TOL
     if part.method != "least-squares":
@@ -398,8 +476,15 @@ def test_generic_design_sets_up_to_r_are_accepted_and_labelled(base):
     rob = robot(base.robot)
     for count in range(r + 1):
         design = generic_design(base, count, rng)
-        setup = Setup(base.robot, base.action, base.reactions, base.reference, base.contact,
-                      design=tuple(design), scale=base.scale)
+        setup = Setup(
+            base.robot,
+            base.action,
+            base.reactions,
+            base.reference,
+            base.contact,
+            design=tuple(design),
+            scale=base.scale,
+        )
         body = setup.actuator()
         assert body.sizes()["design"] == count
         assert body.sizes()["r"] == r
@@ -428,8 +513,9 @@ def test_sets_partition_all_force_entries(setup):
 
 
 # -- linearity and free axes ----------------------------------------------------------------------
-LINEAR_SETUPS = [s for s in SETUPS if not s.passive and all(
-    getattr(c, "rhs", 0.0) == 0.0 for c in s.design)]
+LINEAR_SETUPS = [
+    s for s in SETUPS if not s.passive and all(getattr(c, "rhs", 0.0) == 0.0 for c in s.design)
+]
 
 
 @pytest.mark.parametrize("setup", LINEAR_SETUPS, ids=str)
@@ -481,8 +567,10 @@ def test_single_point_leg_with_six_axes_is_least_squares_projection():
         wrench = rng.normal(scale=10.0, size=6)
         sol = body.solve(q, wrench)
         data = placements(model, q)
-        d = (data.oMf[frame_id(model, "base_link")].translation
-             - data.oMf[frame_id(model, "FL_FOOT")].translation)
+        d = (
+            data.oMf[frame_id(model, "base_link")].translation
+            - data.oMf[frame_id(model, "FL_FOOT")].translation
+        )
         # producible wrenches: (f, -d x f); least squares = orthogonal projection on that space
         basis = np.array([np.concatenate((e, -np.cross(d, e))) for e in np.eye(3)]).T
         expected = basis @ np.linalg.lstsq(basis, wrench, rcond=None)[0]
@@ -504,10 +592,20 @@ def test_shared_limp_waist_with_six_axes_is_least_squares_with_exact_constraints
     """talos torso on two soles, limp waist yaw shared by both chains, all 6 axes prescribed:
     the waist fixes one wrench component, so a generic request is met in the least-squares
     sense while the limp joint and the design constraints hold exactly."""
-    design = (va.Equal(("left_sole_link", "z"), ("right_sole_link", "z")),
-              va.Linear({("left_sole_link", "x"): 1.0, ("right_sole_link", "y"): 2.0}, rhs=4.0))
-    setup = Setup("talos_reduced", "torso_2_link", SOLES, "world", "flat",
-                  unactuated=("torso_1_joint",), design=design, scale=0.2)
+    design = (
+        va.Equal(("left_sole_link", "z"), ("right_sole_link", "z")),
+        va.Linear({("left_sole_link", "x"): 1.0, ("right_sole_link", "y"): 2.0}, rhs=4.0),
+    )
+    setup = Setup(
+        "talos_reduced",
+        "torso_2_link",
+        SOLES,
+        "world",
+        "flat",
+        unactuated=("torso_1_joint",),
+        design=design,
+        scale=0.2,
+    )
     body = setup.actuator()
     rob = robot(setup.robot)
     model = rob.model
@@ -532,8 +630,7 @@ def test_shared_limp_waist_with_six_axes_is_least_squares_with_exact_constraints
 
 @pytest.mark.parametrize(
     ("name", "action", "stance"),
-    [("solo12", "base_link", ("FL_FOOT", "HR_FOOT")),
-     ("talos_reduced", "torso_2_link", SOLES)],
+    [("solo12", "base_link", ("FL_FOOT", "HR_FOOT")), ("talos_reduced", "torso_2_link", SOLES)],
     ids=["solo12-trot", "talos-point-soles"],
 )
 def test_two_point_feet_admissible_wrench_is_solved(name, action, stance):
@@ -565,8 +662,7 @@ def test_two_point_feet_admissible_wrench_is_solved(name, action, stance):
 @pytest.mark.parametrize("method", ["partitioned", "dense"])
 @pytest.mark.parametrize(
     ("name", "action", "stance"),
-    [("solo12", "base_link", ("FL_FOOT", "HR_FOOT")),
-     ("talos_reduced", "torso_2_link", SOLES)],
+    [("solo12", "base_link", ("FL_FOOT", "HR_FOOT")), ("talos_reduced", "torso_2_link", SOLES)],
     ids=["solo12-trot", "talos-point-soles"],
 )
 def test_two_point_feet_generic_request_is_least_squares(name, action, stance, method):
@@ -589,8 +685,7 @@ def test_two_point_feet_generic_request_is_least_squares(name, action, stance, m
         p_b = data.oMf[frame_id(rob.model, action)].translation
         for foot, f in zip(stance, sol.forces, strict=True):
             d = p_b - data.oMf[frame_id(rob.model, foot)].translation
-            np.testing.assert_allclose(f[3:] + np.cross(d, f[:3]), 0.0,
-                                       atol=TOL * np.abs(f).max())
+            np.testing.assert_allclose(f[3:] + np.cross(d, f[:3]), 0.0, atol=TOL * np.abs(f).max())
 
 
 @pytest.mark.parametrize("method", ["partitioned", "dense"])
@@ -609,10 +704,19 @@ def test_square_but_structurally_singular_declaration_gives_least_squares(case, 
         limp = ("torso_1_joint",)
     else:
         design = (va.Equal((left, "x"), (left, "y")), va.Equal((right, "x"), (right, "y"))) + tuple(
-            va.Equal((left, a), (right, a)) for a in AXES[2:])
+            va.Equal((left, a), (right, a)) for a in AXES[2:]
+        )
         limp = ()
-    setup = Setup("talos_reduced", "torso_2_link", SOLES, "world", "flat", unactuated=limp,
-                  design=design, scale=0.2)
+    setup = Setup(
+        "talos_reduced",
+        "torso_2_link",
+        SOLES,
+        "world",
+        "flat",
+        unactuated=limp,
+        design=design,
+        scale=0.2,
+    )
     body = setup.actuator()
     assert body.sizes()["design"] == body.sizes()["r"] == 6
     rng = np.random.default_rng(3)
@@ -641,8 +745,12 @@ def test_both_solvers_agree_when_design_constraints_exceed_redundancy(free):
     """
     base = Setup("solo12", "base_link", feet("solo12"), "world", "point")
     rng = np.random.default_rng(1)
-    body = Setup(base.robot, base.action, base.reactions, design=tuple(
-        generic_design(base, 7 + len(free), rng))).actuator()
+    body = Setup(
+        base.robot,
+        base.action,
+        base.reactions,
+        design=tuple(generic_design(base, 7 + len(free), rng)),
+    ).actuator()
     q = random_configuration(robot("solo12"), rng, 0.3)
     wrench = rng.normal(scale=10.0, size=6)
     outcomes = []
@@ -669,8 +777,11 @@ def test_single_world_chain_equals_serial_actuator():
         sol = body.solve(q, wrench)
         assert sol.method == "partitioned"
         np.testing.assert_allclose(sol.forces[0], wrench, atol=1e-9 * np.abs(wrench).max())
-        tau = rnea_torques("ur5_robot", q, external_forces(rob.model, q, [
-            ("tool0", "world", "world", AXES, wrench)]))
+        tau = rnea_torques(
+            "ur5_robot",
+            q,
+            external_forces(rob.model, q, [("tool0", "world", "world", AXES, wrench)]),
+        )
         np.testing.assert_allclose(sol.tau, tau, atol=1e-9 * np.abs(tau).max())
         np.testing.assert_allclose(sol.tau, leg.torques(q, wrench), atol=1e-12)
         assert sol.base_effort.size == 0
@@ -696,8 +807,14 @@ def test_chain_to_world_reports_floating_base_effort():
 def test_fully_limp_leg_exerts_nothing():
     """Every joint of one flat leg limp: that chain's wrench is zero, the others carry all."""
     fl, fr, hl, hr = feet("solo12")
-    setup = Setup("solo12", "base_link", (fl, fr, hl, hr), "world", "flat",
-                  unactuated=("FL_HAA", "FL_HFE", "FL_KFE"))
+    setup = Setup(
+        "solo12",
+        "base_link",
+        (fl, fr, hl, hr),
+        "world",
+        "flat",
+        unactuated=("FL_HAA", "FL_HFE", "FL_KFE"),
+    )
     body = setup.actuator()
     assert body.sizes()["r"] == 3
     rng = np.random.default_rng(6)
@@ -722,8 +839,9 @@ def test_results_do_not_depend_on_call_history():
     calls = []
     for k in range(16):
         q = random_configuration(robot("solo12"), rng, 0.5)
-        calls.append((q, rng.normal(scale=10.0, size=6), frees[k % 4],
-                       ("partitioned", "dense")[k % 3 == 0]))
+        calls.append(
+            (q, rng.normal(scale=10.0, size=6), frees[k % 4], ("partitioned", "dense")[k % 3 == 0])
+        )
     first = [shared.solve(q, w, free=f, method=m) for q, w, f, m in calls]
     for (q, w, f, m), sol in zip(calls, first, strict=True):
         fresh = setup.actuator().solve(q, w, free=f, method=m)
@@ -740,22 +858,38 @@ def test_millipede_sizes_and_sets(legs):
     rob = millipede(legs)
     reactions = [f"foot_{i}" for i in range(1, legs + 1)]
     body = va.ParallelVirtualActuator(rob, "body", reactions, "world", AXES, "point")
-    assert body.sizes() == {"n": 6, "p": legs, "l_total": 4 * legs, "d_total": 2 * legs,
-                            "r": 2 * legs - 6, "design": 0}
+    assert body.sizes() == {
+        "n": 6,
+        "p": legs,
+        "l_total": 4 * legs,
+        "d_total": 2 * legs,
+        "r": 2 * legs - 6,
+        "design": 0,
+    }
     rng = np.random.default_rng(legs)
     q = random_configuration(rob, rng, 0.2)
     wrench = rng.normal(scale=10.0, size=6)
     sol = body.solve(q, wrench)
     assert sol.method == ("partitioned" if legs == 3 else "pseudo-inverse")
     assert {k: len(v) for k, v in sol.sets.items()} == {
-        "MFS": 6, "RFS": 2 * legs - 6, "CFS": 4 * legs}
+        "MFS": 6,
+        "RFS": 2 * legs - 6,
+        "CFS": 4 * legs,
+    }
     assert sol.residual < TOL * np.linalg.norm(wrench)
     dense = body.solve(q, wrench, method="dense")
     assert relative_error(sol.forces, dense.forces) < TOL
     assert relative_error(sol.tau, dense.tau) < TOL
     setup = Setup("millipede", "body", tuple(reactions))
-    tau = rnea_torques(zero_g_millipede(legs), q, external_forces(rob.model, q, [
-        ("body", r, "world", AXES, f) for r, f in zip(reactions, sol.forces, strict=True)]))
+    tau = rnea_torques(
+        zero_g_millipede(legs),
+        q,
+        external_forces(
+            rob.model,
+            q,
+            [("body", r, "world", AXES, f) for r, f in zip(reactions, sol.forces, strict=True)],
+        ),
+    )
     np.testing.assert_allclose(sol.tau, tau, atol=TOL * max(1.0, np.abs(tau).max()))
     np.testing.assert_allclose(tau[:6], 0.0, atol=TOL * max(1.0, np.abs(tau).max()))
     if legs <= 10:
@@ -785,8 +919,9 @@ def test_millipede_ten_legs_with_r_equal_constraints_is_partitioned_and_equals_d
         axis = "y" if rng.random() < 0.5 else "z"
         design.append(va.Equal((reactions[i], axis), (reactions[j], axis)))
     try:
-        body = va.ParallelVirtualActuator(rob, "body", reactions, "world", AXES, "point",
-                                          design=design)
+        body = va.ParallelVirtualActuator(
+            rob, "body", reactions, "world", AXES, "point", design=design
+        )
     except va.ConstraintError:
         return
     q = random_configuration(rob, rng, 0.2)
@@ -801,8 +936,15 @@ def test_millipede_ten_legs_with_r_equal_constraints_is_partitioned_and_equals_d
     assert len(sol.sets["RFS"]) == 14
     dense = body.solve(q, wrench, method="dense")
     assert relative_error(sol.forces, dense.forces) < TOL
-    assert relative_error(sol.forces, ReferenceDistribution(
-        rob, "body", reactions, "world", AXES, "point", design=design).solve(q, wrench)) < 1e-7
+    assert (
+        relative_error(
+            sol.forces,
+            ReferenceDistribution(
+                rob, "body", reactions, "world", AXES, "point", design=design
+            ).solve(q, wrench),
+        )
+        < 1e-7
+    )
 
 
 def test_millipede_ten_legs_generic_constraints_count_r_is_partitioned():
@@ -813,14 +955,16 @@ def test_millipede_ten_legs_generic_constraints_count_r_is_partitioned():
     setup = Setup("millipede", "body", reactions)
     rng = np.random.default_rng(7)
     design = generic_design(setup, 14, rng)
-    body = va.ParallelVirtualActuator(rob, "body", list(reactions), "world", AXES, "point",
-                                      design=design)
+    body = va.ParallelVirtualActuator(
+        rob, "body", list(reactions), "world", AXES, "point", design=design
+    )
     for _ in range(5):
         q = random_configuration(rob, rng, 0.2)
         wrench = rng.normal(scale=10.0, size=6)
         sol = body.solve(q, wrench)
         assert sol.method == "partitioned"
         assert relative_error(sol.forces, body.solve(q, wrench, method="dense").forces) < TOL
-        oracle = ReferenceDistribution(rob, "body", reactions, "world", AXES, "point",
-                                       design=design)
+        oracle = ReferenceDistribution(
+            rob, "body", reactions, "world", AXES, "point", design=design
+        )
         assert relative_error(sol.forces, oracle.solve(q, wrench)) < 1e-7

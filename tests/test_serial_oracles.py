@@ -110,8 +110,9 @@ def test_torques_equal_rnea_of_plus_wrench_on_action_minus_on_reaction(case, ref
     wrench = rng.normal(scale=10.0, size=len(axes))
     leg = va.VirtualActuator(rob, action, reaction, reference, axes)
     tau = leg.torques(q, wrench)
-    expected = rnea_torques(name, q, external_forces(rob.model, q, [
-        (action, reaction, reference, axes, wrench)]))
+    expected = rnea_torques(
+        name, q, external_forces(rob.model, q, [(action, reaction, reference, axes, wrench)])
+    )
     assert tau.shape == (rob.model.nv,)
     assert np.max(np.abs(expected)) > 1e-3  # the oracle is not trivially zero
     assert relative_error(tau, expected) < 1e-9
@@ -157,10 +158,12 @@ def test_position_is_pose_of_action_relative_to_reaction_in_reference(case, seed
     data = placements(model, q)
     a, b = data.oMf[frame_id(model, reaction)], data.oMf[frame_id(model, action)]
     rot_o = data.oMf[frame_id(model, third)].rotation
-    expected = np.concatenate((
-        rot_o.T @ (b.translation - a.translation),
-        rot_o.T @ a.rotation @ pin.log3(a.rotation.T @ b.rotation),
-    ))
+    expected = np.concatenate(
+        (
+            rot_o.T @ (b.translation - a.translation),
+            rot_o.T @ a.rotation @ pin.log3(a.rotation.T @ b.rotation),
+        )
+    )
     for axes in (AXES, ("y", "rx"), ("z",)):
         leg = va.VirtualActuator(rob, action, reaction, third, axes)
         np.testing.assert_allclose(leg.position(q), expected[axis_rows(axes)], atol=1e-12)
@@ -179,8 +182,9 @@ def test_translation_rows_are_derivative_of_position_when_reference_is_reaction(
     for k in range(model.nv):
         dv = np.zeros(model.nv)
         dv[k] = eps
-        fd[:, k] = (leg.position(pin.integrate(model, q, dv))
-                    - leg.position(pin.integrate(model, q, -dv))) / (2 * eps)
+        fd[:, k] = (
+            leg.position(pin.integrate(model, q, dv)) - leg.position(pin.integrate(model, q, -dv))
+        ) / (2 * eps)
     np.testing.assert_allclose(leg.jacobian(q), fd, atol=1e-6, rtol=0)
 
 
@@ -266,8 +270,9 @@ def test_single_joint_arm_moment_about_other_axis_is_inadmissible():
     """UR5 wrist_3 relative to wrist_2: one joint, only a moment about its axis is producible."""
     rob = robot("ur5_robot")
     q = random_configuration(rob, np.random.default_rng(3))
-    leg = va.VirtualActuator(rob, "wrist_3_link", "wrist_2_link", "wrist_3_link",
-                             ("rx", "ry", "rz"))
+    leg = va.VirtualActuator(
+        rob, "wrist_3_link", "wrist_2_link", "wrist_3_link", ("rx", "ry", "rz")
+    )
     jac = leg.jacobian(q)
     assert np.linalg.matrix_rank(jac) == 1
     axis = jac[:, np.flatnonzero(np.linalg.norm(jac, axis=0))[0]]

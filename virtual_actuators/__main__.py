@@ -96,9 +96,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     demo.add_argument("name", nargs="?", default="stand", choices=["stand"])
     demo.add_argument("--robot", default="solo12", help="quadruped with *_FOOT frames")
     sub.add_parser("robots", help="list the robots load_robot accepts by name")
+    example = sub.add_parser("example", help="run one of the seeds' worked examples")
+    example.add_argument(
+        "name", choices=["hexapod-tripod", "millipede", "single-leg", "double-support"]
+    )
     args = parser.parse_args(argv)
     if args.command in (None, "demo"):
         demo_stand(getattr(args, "robot", "solo12"))
+    elif args.command == "example":
+        from .examples import EXAMPLES
+
+        EXAMPLES[args.name]()
     elif args.command == "robots":
         import virtual_actuators as va
 

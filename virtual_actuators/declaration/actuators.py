@@ -320,6 +320,7 @@ class ParallelVirtualActuator:
             tau_passive=ev.passive_torque,
             base_effort=base_effort,
             solver=method,
+            systems=raw.systems,
         )
         if strict and kind == "least-squares":
             raise InadmissibleWrenchError(

@@ -68,7 +68,9 @@ class DenseSolver:
                     f"(residual {hard_residual:.2e})."
                 )
             method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
-        return RawSolution(forces=x.reshape(p, n), method=method, sets={})
+        return RawSolution(
+            forces=x.reshape(p, n), method=method, sets={}, systems=(("dense", k.shape[1], 1),)
+        )
 
     def __repr__(self) -> str:
         return f"DenseSolver(p={self.problem.p}, n={self.problem.n})"

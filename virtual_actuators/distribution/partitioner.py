@@ -42,6 +42,8 @@ class RawSolution:
     forces: np.ndarray
     method: str
     sets: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
+    #: linear systems inverted at this solve: ``(what, size, how many)``
+    systems: tuple[tuple[str, int, int], ...] = ()
 
 
 @dataclass
@@ -223,18 +225,33 @@ class PartitionedSolver:
                     reduced = self._reduce(self._generic)
                     sets = self._report_sets(reduced.wrench_rows[keep], reduced.hard_rows)
                     self._reported_sets[free_key] = sets
-                return RawSolution(forces=forces, method="pseudo-inverse", sets=sets)
+                systems = tuple(
+                    ("CFS", g.num_constraints, g.size)
+                    for g in self.problem.groups
+                    if g.num_constraints
+                ) + (("KKT", k + s, 1),)
+                return RawSolution(
+                    forces=forces, method="pseudo-inverse", sets=sets, systems=systems
+                )
         reduced = self._reduce(ev)
         a = reduced.wrench_rows[keep]
         rhs = wrench[keep] - reduced.offset_sum[keep]
         h, h_rhs = reduced.hard_rows, reduced.hard_rhs
         sets = None
+        systems = tuple(
+            ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
+        )
         if k + s == m and not self.problem.structurally_singular(keep):
             f, sets = self._solve_square(reduced, a, rhs, free_key)
             method = "partitioned"
+            plan = self._plans[free_key]
+            if len(plan.rfs) and plan.gain is None:
+                systems += (("RFS", len(plan.rfs), 1),)
+            systems += (("MFS", len(plan.mfs), 1),)
         else:
             f = self._solve_least_squares(reduced, a, rhs, h, h_rhs)
             method = "least-squares"
+            systems += (("least-squares", m, 1),)
         forces = self._forces(reduced, f)
         if sets is None:
             sets = self._reported_sets.get(free_key)
@@ -242,7 +259,7 @@ class PartitionedSolver:
                 generic = self._reduce(self._generic)
                 sets = self._report_sets(generic.wrench_rows[keep], generic.hard_rows)
                 self._reported_sets[free_key] = sets
-        return RawSolution(forces=forces, method=method, sets=sets)
+        return RawSolution(forces=forces, method=method, sets=sets, systems=systems)
 
     def _forces(self, reduced: _Reduced, f: np.ndarray) -> np.ndarray:
         forces = np.empty((self.problem.p, self.problem.n))

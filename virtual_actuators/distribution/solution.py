@@ -27,6 +27,9 @@ class Solution:
         base_effort: Efforts on a floating base's six coordinates: 0 unless the request needs
             the base to push on the world (a chain to ``"world"``); these cannot be commanded.
         solver: ``"partitioned"`` or ``"dense"``: which algorithm computed this.
+        systems: Linear systems inverted at this solve, as ``(what, size, count)``: e.g.
+            ``(("CFS", 3, 3), ("MFS", 6, 1))`` for the seed's hexapod tripod (p 3x3 inverses,
+            one 6x6); design blocks that do not depend on ``q`` are factored at construction.
 
     """
 
@@ -43,6 +46,7 @@ class Solution:
     tau_passive: np.ndarray = field(default_factory=lambda: np.zeros(0))
     base_effort: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solver: str = "partitioned"
+    systems: tuple[tuple[str, int, int], ...] = ()
 
     @property
     def admissible(self) -> bool:

@@ -1,0 +1,102 @@
+"""The seeds' worked examples (VAC section 3 and 2.5.1, VMC 4.1 and 4.2) reproduced."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from virtual_actuators import examples
+
+
+@pytest.fixture(scope="module")
+def hexapod():
+    return examples.hexapod_tripod(verbose=False)
+
+
+def test_hexapod_tripod_has_the_seed_constants_and_sets(hexapod):
+    assert hexapod["sizes"] == {"n": 6, "p": 3, "l_total": 9, "d_total": 9, "r": 3, "design": 3}
+    sol = hexapod["solution"]
+    assert sol.method == "partitioned"
+    assert {k: len(v) for k, v in sol.sets.items()} == {"MFS": 6, "RFS": 3, "CFS": 9}
+    # point feet: the constrained force set is the three moments of each leg (eq. 28)
+    assert sorted(a for _, a in sol.sets["CFS"]) == sorted(["rx", "ry", "rz"] * 3)
+
+
+def test_hexapod_tripod_needs_only_3x3_and_6x6_solves(hexapod):
+    assert hexapod["systems"] == (("CFS", 3, 3), ("MFS", 6, 1))
+
+
+def test_hexapod_tripod_matches_dense_and_rnea(hexapod):
+    assert hexapod["dense_difference"] < 1e-9
+    assert hexapod["rnea_difference"] < 1e-9
+    sol = hexapod["solution"]
+    f = {r: sol.force(r) for r in sol.reactions}
+    # eq. 26: f_x3 = f_x2, f_y3 = f_y2, f_y1 = 2 f_y2 on the tripod (foot_1, foot_3, foot_5)
+    assert f["foot_5"][0] == pytest.approx(f["foot_3"][0], abs=1e-12)
+    assert f["foot_5"][1] == pytest.approx(f["foot_3"][1], abs=1e-12)
+    assert f["foot_1"][1] == pytest.approx(2 * f["foot_3"][1], abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def millipede():
+    return examples.millipede(verbose=False)
+
+
+def test_millipede_constants_and_sets(millipede):
+    assert millipede["sizes"] == {"n": 6, "p": 100, "l_total": 400, "d_total": 200, "r": 194,
+                                  "design": 0}  # fmt: skip
+    for key in ("solution", "square"):
+        sol = millipede[key]
+        assert {k: len(v) for k, v in sol.sets.items()} == {"MFS": 6, "RFS": 194, "CFS": 400}
+    assert millipede["solution"].method == "pseudo-inverse"
+    assert millipede["design"] == 194
+    square = millipede["square"]
+    assert square.method == "partitioned"
+    assert square.systems == (("CFS", 4, 100), ("MFS", 6, 1))  # O(p l^3 + n^3)
+    assert millipede["dense_difference"] < 1e-9
+
+
+def test_single_leg_matches_closed_form_of_eq_7():
+    result = examples.single_leg(verbose=False)
+    sol = result["solution"]
+    assert sol.method == "partitioned" and sol.residual < 1e-9
+    for key in ("fx", "tau_knee", "tau_hip"):
+        assert result["library"][key] == pytest.approx(result["closed_form"][key], rel=1e-10)
+    assert result["library"]["tau_ankle"] == 0.0
+
+
+def test_single_leg_straight_knee_is_a_singular_configuration():
+    result = examples.single_leg(verbose=False)
+    assert result["straight_knee"].startswith("SingularConfigurationError")
+    assert "left_foot" in result["straight_knee"]
+
+
+def test_single_leg_closed_form_is_singular_only_at_straight_knee():
+    # eq. 7's matrix [[-L1 L2 s_k / C, -L1 c_a / C], [0, -1]] has determinant L1 L2 s_k / C
+    a, l1, l2 = -0.2, 0.42, 0.42
+    for k in (0.3, 0.7, 1.2):
+        c = l1 * np.cos(a) + l2 * np.cos(a + k)
+        t1 = np.array(examples.single_leg_closed_form(a, k, l1, l2, 1.0, 0.0)[1:])
+        t2 = np.array(examples.single_leg_closed_form(a, k, l1, l2, 0.0, 1.0)[1:])
+        assert np.linalg.det(np.column_stack((t1, t2))) == pytest.approx(l1 * l2 * np.sin(k) / c)
+    t1 = np.array(examples.single_leg_closed_form(a, 0.0, l1, l2, 1.0, 0.0)[1:])
+    assert np.allclose(t1, 0.0)  # straight knee: f_z produces no torque, it is undetermined
+
+
+def test_double_support_matches_closed_form_of_eq_14():
+    result = examples.double_support(verbose=False)
+    sol = result["solution"]
+    assert sol.method == "partitioned" and sol.residual < 1e-9
+    for side in ("left", "right"):
+        np.testing.assert_allclose(result["library"][side], result["closed_form"][side], rtol=1e-9)
+    assert result["library"]["left"][3] == pytest.approx(result["library"]["right"][3])
+
+
+@pytest.mark.parametrize("name", ["single-leg", "double-support", "hexapod-tripod"])
+def test_examples_run_from_the_command_line(name):
+    out = subprocess.run(
+        [sys.executable, "-m", "virtual_actuators", "example", name],
+        capture_output=True, text=True, timeout=120, check=True,
+    )  # fmt: skip
+    assert "closed form" in out.stdout or "RNEA" in out.stdout

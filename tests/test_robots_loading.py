@@ -570,3 +570,11 @@ def test_millipede_fixed_base() -> None:
 def test_millipede_rejects_invalid_leg_counts(legs: object) -> None:
     with pytest.raises(InvalidInputError, match="legs"):
         millipede(legs)  # type: ignore[arg-type]
+
+
+def test_installed_robot_folder_is_searched() -> None:
+    """A regular (non-editable) install puts robots/ under <prefix>/share: it is searched."""
+    import sysconfig
+
+    installed = Path(sysconfig.get_path("data")) / "share" / "virtual_actuators" / "robots"
+    assert installed in loader._local_dirs()

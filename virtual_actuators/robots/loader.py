@@ -50,6 +50,7 @@ import logging
 import os
 import re
 import sys
+import sysconfig
 import xml.etree.ElementTree as ET
 from collections import Counter
 from collections.abc import Mapping
@@ -248,10 +249,15 @@ def _quick_check(urdf: Path) -> str | None:
 
 
 def _local_dirs() -> list[Path]:
-    """Folders searched for robots by name: ``VIRTUAL_ACTUATORS_ROBOTS`` first, then robots/."""
+    """Folders searched for robots by name.
+
+    ``VIRTUAL_ACTUATORS_ROBOTS`` first, then the source tree's ``robots/`` (editable installs),
+    then ``<prefix>/share/virtual_actuators/robots`` (where a regular install puts them).
+    """
     extra = os.environ.get(ROBOTS_PATH_ENV, "")
     folders = [Path(entry).expanduser() for entry in extra.split(os.pathsep) if entry.strip()]
-    return [*folders, robots_dir]
+    installed = Path(sysconfig.get_path("data")) / "share" / "virtual_actuators" / "robots"
+    return [*folders, robots_dir, installed]
 
 
 def _find_local(folder: Path, name: str) -> Path | None:

@@ -94,13 +94,11 @@ class GroupRows:
     Attributes:
         rows: ``(g, l, n)`` the ``G_i``.
         rhs: ``(g, l)`` the ``t_i`` (measured or zero torques).
-        jacobians: ``(g, n, k)`` each chain's Jacobian on its own joint columns.
 
     """
 
     rows: np.ndarray
     rhs: np.ndarray
-    jacobians: np.ndarray
 
 
 @dataclass
@@ -550,7 +548,7 @@ class DistributionProblem:
             c = group.constrained.shape[1]
             if c:
                 rhs[:, :c] = passive[group.columns[chain_index, group.constrained]]
-            groups.append(GroupRows(rows=rows, rhs=rhs, jacobians=jacobians))
+            groups.append(GroupRows(rows=rows, rhs=rhs))
         signs = self.kinematics.signs
         hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
         if self.coupled_v:

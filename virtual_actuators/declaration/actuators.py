@@ -247,8 +247,9 @@ class ParallelVirtualActuator:
         cached = self._keep_cache.get(key)
         if cached is None:
             axes = check_axes_subset(free, self.axes, "free")
-            cached = (axes, np.array([a not in axes for a in self.axes]))
-            self._keep_cache[key] = cached
+            keep = np.array([a not in axes for a in self.axes])
+            self.problem.check_counts(keep)  # declaration-only: checked once per set of free axes
+            cached = self._keep_cache[key] = (axes, keep)
         return cached
 
     def solve(
@@ -291,7 +292,6 @@ class ParallelVirtualActuator:
             solver = self.dense
         else:
             raise InvalidInputError(f"method must be 'partitioned' or 'dense', got {method!r}.")
-        self.problem.check_counts(keep)
         ev = self.problem.evaluate(q)
         raw = solver.solve(ev, wrench, keep)
         produced = raw.forces.sum(axis=0)

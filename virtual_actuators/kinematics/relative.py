@@ -104,10 +104,6 @@ class RelativeKinematics:
             signs[joint.idx_v : joint.idx_v + joint.nv] = sign
         return signs
 
-    def chain_columns(self, chain: int) -> np.ndarray:
-        """Velocity indices of the joints on the path between {A_chain} and {B}."""
-        return np.flatnonzero(self.signs[chain])
-
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
         """Return ``q`` as a float array after checking its shape, values and quaternions.
 

@@ -88,22 +88,73 @@ def demo_stand(robot_name: str = "solo12", repeat: int = 2000) -> None:
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (median of one run)")
 
 
+def demo_walk(args: argparse.Namespace) -> int:
+    """Run one of the seeds' walks in MuJoCo, print its metrics, write JSON and a plot."""
+    from .demos import run_walk
+    from .simulation.metrics import write_json
+    from .simulation.plots import plot_walk
+
+    result = run_walk(
+        args.name,
+        duration=args.duration,
+        speed=args.speed,
+        terrain=args.terrain,
+        progress=not args.quiet,
+    )
+    metrics = result.metrics
+    print(metrics.summary())
+    if args.json:
+        print(f"metrics: {write_json(metrics, args.json)}")
+    if args.plot:
+        title = f"{args.name}: {result.log.metadata['robot']} on {result.log.metadata['terrain']}"
+        heights = result.log.terrain_points[:, 1]
+        layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
+        path = plot_walk(result.log, args.plot, title=title, metrics=metrics, layout=layout)
+        print(f"plot: {path}")
+    return 1 if metrics.fell else 0
+
+
+DEMOS = ("turkey-walk", "flamingo-slopes", "stand")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``python -m virtual_actuators``."""
     parser = argparse.ArgumentParser(prog="python -m virtual_actuators", description=__doc__)
     sub = parser.add_subparsers(dest="command")
-    demo = sub.add_parser("demo", help="run a demo (default: a quadruped standing)")
-    demo.add_argument("name", nargs="?", default="stand", choices=["stand"])
-    demo.add_argument("--robot", default="solo12", help="quadruped with *_FOOT frames")
+    demo = sub.add_parser(
+        "demo",
+        help="run a demo (default: Spring Turkey walking in MuJoCo)",
+        description="turkey-walk: Spring Turkey on level ground (VMC section 5); "
+        "flamingo-slopes: Spring Flamingo blind over unknown slopes (VMC section 6); "
+        "stand: a quadruped's body actuator and its force distribution.",
+    )
+    demo.add_argument("name", nargs="?", default="turkey-walk", choices=DEMOS)
+    demo.add_argument("--duration", type=float, default=None, help="simulated seconds")
+    demo.add_argument("--speed", type=float, default=None, help="desired speed [m/s]")
+    demo.add_argument(
+        "--terrain",
+        default=None,
+        help="'flat', a built-in profile (profile-one, profile-two, rolling) or points "
+        "'x:z,x:z,...' in metres",
+    )
+    demo.add_argument("--json", default=None, metavar="PATH", help="write the metrics as JSON")
+    demo.add_argument("--plot", default=None, metavar="PATH", help="save a PNG of the run")
+    demo.add_argument("--quiet", action="store_true", help="no progress bar")
+    demo.add_argument("--robot", default="solo12", help="stand: quadruped with *_FOOT frames")
     sub.add_parser("robots", help="list the robots load_robot accepts by name")
     example = sub.add_parser("example", help="run one of the seeds' worked examples")
     example.add_argument(
         "name", choices=["hexapod-tripod", "millipede", "single-leg", "double-support"]
     )
     args = parser.parse_args(argv)
-    if args.command in (None, "demo"):
-        demo_stand(getattr(args, "robot", "solo12"))
-    elif args.command == "example":
+    if args.command is None:
+        args = parser.parse_args(["demo", *(argv or [])])
+    if args.command == "demo":
+        if args.name == "stand":
+            demo_stand(args.robot)
+            return 0
+        return demo_walk(args)
+    if args.command == "example":
         from .examples import EXAMPLES
 
         EXAMPLES[args.name]()

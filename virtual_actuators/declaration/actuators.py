@@ -9,6 +9,7 @@ frames, one serial chain each, and must distribute its wrench over the chains.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -37,6 +38,25 @@ def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
     if not np.all(np.isfinite(wrench)):
         raise InvalidInputError(f"The wrench has NaN or inf entries: {wrench}.")
     return wrench
+
+
+@dataclass(frozen=True, repr=False)
+class SensorReading:
+    """One reading of a serial actuator's virtual sensor.
+
+    Attributes:
+        position: Pose of {B} relative to {A} in {O} on the actuator's axes [m, rad].
+        velocity: Its rate ``jacobian @ v`` [m/s, rad/s].
+        jacobian: ``(len(axes), nv)`` Jacobian.
+
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    jacobian: np.ndarray
+
+    def __repr__(self) -> str:
+        return f"SensorReading(position={self.position}, velocity={self.velocity})"
 
 
 class VirtualActuator:
@@ -74,6 +94,27 @@ class VirtualActuator:
             resolve_frame(model, reference, "reference"),
             self.axes,
         )
+
+    def read(self, q: np.ndarray, v: np.ndarray) -> SensorReading:
+        """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
+
+        Args:
+            q: Configuration ``(nq,)``.
+            v: Velocity ``(nv,)``.
+
+        Returns:
+            The :class:`SensorReading`.
+
+        Raises:
+            InvalidInputError: Bad ``q`` or ``v``.
+
+        """
+        q = self.kinematics.check_configuration(q)
+        v = self.kinematics.check_velocity(v)
+        state = self.kinematics.compute(q)
+        jacobian = state.jacobian_o * self.kinematics.signs[0]
+        position = self.kinematics.positions(state)[0]
+        return SensorReading(position=position, velocity=jacobian @ v, jacobian=jacobian)
 
     def position(self, q: np.ndarray) -> np.ndarray:
         """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.

@@ -33,7 +33,8 @@ that, the SRDF in those folders whose stem is the longest prefix of the URDF ste
 :attr:`Robot.reference_configurations`, and :meth:`Robot.neutral` returns the first of
 ``standing``, ``half_sitting``, ``straight_standing``, ``default``, ``home``, ``neutral`` that
 exists, else the first group state, else Pinocchio's neutral configuration. An SRDF that cannot be
-read is ignored.
+read is ignored. Its ``passive_joint`` entries become :attr:`Robot.passive_joints` (joints that
+no actuator drives, such as the boom of a planar biped).
 
 A URDF given by path is checked before Pinocchio sees it (XML syntax, then the URDF structure with
 ``yourdfpy``: names, joint types, parent and child links, limits, a single tree), so that a broken
@@ -392,7 +393,8 @@ def _load_urdf(
             f"Pinocchio could not build a model from {path}: {exc}"
         ) from exc
 
-    configurations = _reference_configurations(model, _find_srdf(path))
+    srdf = _find_srdf(path)
+    configurations = _reference_configurations(model, srdf)
     return Robot(
         name=name,
         model=model,
@@ -403,6 +405,7 @@ def _load_urdf(
         floating_base=floating_base,
         reference_configurations=configurations,
         default_pose=_default_pose(configurations),
+        passive_joints=_passive_joints(model, srdf),
     )
 
 
@@ -498,6 +501,26 @@ def _reference_configurations(model: pin.Model, srdf: Path | None) -> dict[str, 
         _logger.debug("Ignoring the SRDF %s: %s", srdf, exc)
         return {}
     return {key: q for key, q in entries if q.shape == (model.nq,) and np.all(np.isfinite(q))}
+
+
+def _passive_joints(model: pin.Model, srdf: Path | None) -> tuple[str, ...]:
+    """Names of the SRDF's ``<passive_joint name="..."/>`` entries that are joints of the model.
+
+    Entries naming no joint of the model are ignored (logged at debug level), as is an SRDF that
+    cannot be read. The order is the model's joint order.
+    """
+    if srdf is None:
+        return ()
+    try:
+        root = ET.parse(srdf).getroot()
+    except (ET.ParseError, OSError) as exc:
+        _logger.debug("Ignoring the SRDF %s: %s", srdf, exc)
+        return ()
+    declared = {element.get("name", "") for element in root.iter("passive_joint")}
+    joints = list(model.names)[1:]
+    for name in sorted(declared - set(joints)):
+        _logger.debug("%s: passive joint %r is not a joint of the model; ignored", srdf, name)
+    return tuple(name for name in joints if name in declared)
 
 
 def _default_pose(configurations: Mapping[str, np.ndarray]) -> str | None:

@@ -24,6 +24,8 @@ class Robot:
         reference_configurations: Named poses (from the SRDF's ``group_state`` entries or the
             robot's own description), each of size ``model.nq``.
         default_pose: Key of ``reference_configurations`` that :meth:`neutral` returns, or None.
+        passive_joints: Names of the joints that no actuator drives (the SRDF's
+            ``passive_joint`` entries, e.g. the boom of a planar biped); empty by default.
 
     """
 
@@ -36,6 +38,7 @@ class Robot:
     floating_base: bool = False
     reference_configurations: dict[str, np.ndarray] = field(default_factory=dict)
     default_pose: str | None = None
+    passive_joints: tuple[str, ...] = ()
 
     def neutral(self) -> np.ndarray:
         """Return a standing / home configuration if the robot has one, else Pinocchio's neutral.

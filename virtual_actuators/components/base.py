@@ -1,0 +1,90 @@
+"""The base class of virtual components.
+
+A virtual component (VMC 2001, section 3) turns the reading of a virtual actuator's sensor, the
+pose and velocity of its action frame {B} relative to its reaction frame {A} along the
+actuator's axes, into a wrench on {B}. Components act on a subset of the actuator's axes; the
+:class:`~virtual_actuators.control.Controller` hands each one only its own axes, already sliced,
+so a component never indexes the actuator's axes itself.
+
+To write your own component, subclass :class:`Component`, pass the axes it acts on to
+``super().__init__`` and implement :meth:`Component.compute_wrench`::
+
+    class Friction(Component):
+        def __init__(self, axis: str, force: float) -> None:
+            super().__init__((axis,))
+            self.force = force  # [N]
+
+        def compute_wrench(self, position, velocity, time):
+            return -self.force * np.sign(velocity)
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..declaration.frames import parse_axes
+from ..exceptions import InvalidInputError
+
+
+class Component(ABC):
+    """A virtual component acting on some axes of a virtual actuator.
+
+    Args:
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")`` the component acts on.
+        name: Label used in reports; defaults to the class name.
+
+    Raises:
+        InvalidAxisError: Bad axes.
+
+    """
+
+    def __init__(self, axes: Sequence[str], name: str | None = None) -> None:
+        self.axes: tuple[str, ...] = parse_axes(axes)
+        self.name = name or type(self).__name__
+
+    @abstractmethod
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """Wrench on the action frame from the sensor reading on this component's axes.
+
+        Args:
+            position: Pose of {B} relative to {A} along ``self.axes`` [m, rad].
+            velocity: Its rate [m/s, rad/s].
+            time: Controller time [s].
+
+        Returns:
+            ``(len(self.axes),)`` forces [N] and moments [N m].
+
+        """
+
+    def reset(self, position: np.ndarray, time: float) -> None:  # noqa: B027 (optional hook)
+        """Hook called when the component becomes active (a state is entered). Default: nothing.
+
+        Args:
+            position: Sensor reading on ``self.axes`` at activation [m, rad].
+            time: Controller time [s].
+
+        """
+
+    def _per_axis(self, value: float | Sequence[float] | np.ndarray, what: str) -> np.ndarray:
+        """Broadcast a scalar or per-axis parameter to ``(len(axes),)`` finite floats."""
+        array = np.array(value, dtype=float)
+        if array.ndim == 0:
+            array = np.full(len(self.axes), float(array))
+        if array.shape != (len(self.axes),):
+            raise InvalidInputError(
+                f"{self.name}: {what} must be a scalar or have one entry per axis "
+                f"{self.axes}, got shape {array.shape}."
+            )
+        if not np.all(np.isfinite(array)):
+            raise InvalidInputError(f"{self.name}: {what} must be finite, got {array}.")
+        return array
+
+    def _parameters(self) -> str:
+        return ""
+
+    def __repr__(self) -> str:
+        extra = self._parameters()
+        return f"{type(self).__name__}(axes={self.axes}{', ' + extra if extra else ''})"

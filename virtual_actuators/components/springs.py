@@ -1,0 +1,215 @@
+"""Linear springs, dampers and constant forces on the axes of a virtual actuator.
+
+All of them are one formula, per axis ``i``::
+
+    wrench_i = stiffness_i (setpoint_i - position_i) + damping_i (velocity_setpoint_i - velocity_i)
+               + force_i
+
+with positions in metres or radians and wrenches in newtons or newton-metres. Set points are
+attributes: a state machine or a gait moves them between ticks ("hints and suggestions", VMC
+section 3) without rebuilding anything.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from .base import Component
+
+Vector = float | Sequence[float] | np.ndarray
+
+
+class SpringDamper(Component):
+    """A spring and a damper in parallel on each axis, plus an optional constant force.
+
+    Args:
+        axes: Axes the component acts on.
+        stiffness: Per axis or scalar, >= 0 [N/m or N m/rad].
+        damping: Per axis or scalar, >= 0 [N s/m or N m s/rad].
+        setpoint: Rest position of the spring [m or rad].
+        velocity_setpoint: Velocity the damper pulls toward [m/s or rad/s].
+        force: Constant force added (a feed-forward, e.g. the weight) [N or N m].
+        limit: Largest magnitude of the spring-damper's output per axis, before ``force`` is
+            added (a saturating component) [N or N m]; ``inf`` for none.
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: Bad axes.
+        InvalidInputError: A parameter has the wrong shape, is not finite, or a stiffness,
+            damping or limit is negative.
+
+    """
+
+    def __init__(
+        self,
+        axes: Sequence[str],
+        stiffness: Vector = 0.0,
+        damping: Vector = 0.0,
+        setpoint: Vector = 0.0,
+        velocity_setpoint: Vector = 0.0,
+        force: Vector = 0.0,
+        limit: Vector = np.inf,
+        name: str | None = None,
+    ) -> None:
+        super().__init__(axes, name)
+        self.stiffness = stiffness
+        self.damping = damping
+        self.setpoint = setpoint
+        self.velocity_setpoint = velocity_setpoint
+        self.force = force
+        self.limit = limit
+
+    # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time.
+    @property
+    def stiffness(self) -> np.ndarray:
+        """Spring constants [N/m or N m/rad]."""
+        return self._stiffness
+
+    @stiffness.setter
+    def stiffness(self, value: Vector) -> None:
+        self._stiffness = self._non_negative(value, "stiffness")
+
+    @property
+    def damping(self) -> np.ndarray:
+        """Damping constants [N s/m or N m s/rad]."""
+        return self._damping
+
+    @damping.setter
+    def damping(self, value: Vector) -> None:
+        self._damping = self._non_negative(value, "damping")
+
+    @property
+    def setpoint(self) -> np.ndarray:
+        """Spring rest positions [m or rad]."""
+        return self._setpoint
+
+    @setpoint.setter
+    def setpoint(self, value: Vector) -> None:
+        self._setpoint = self._per_axis(value, "setpoint")
+
+    @property
+    def velocity_setpoint(self) -> np.ndarray:
+        """Velocities the dampers pull toward [m/s or rad/s]."""
+        return self._velocity_setpoint
+
+    @velocity_setpoint.setter
+    def velocity_setpoint(self, value: Vector) -> None:
+        self._velocity_setpoint = self._per_axis(value, "velocity_setpoint")
+
+    @property
+    def force(self) -> np.ndarray:
+        """Constant feed-forward force [N or N m]."""
+        return self._force
+
+    @force.setter
+    def force(self, value: Vector) -> None:
+        self._force = self._per_axis(value, "force")
+
+    @property
+    def limit(self) -> np.ndarray:
+        """Saturation of the spring-damper output per axis [N or N m] (``inf``: none)."""
+        return self._limit
+
+    @limit.setter
+    def limit(self, value: Vector) -> None:
+        array = np.array(value, dtype=float)
+        array = np.full(len(self.axes), float(array)) if array.ndim == 0 else array
+        if array.shape != (len(self.axes),) or np.any(np.isnan(array)) or np.any(array < 0.0):
+            raise InvalidInputError(
+                f"{self.name}: limit must be >= 0 (inf for none), a scalar or one per axis "
+                f"{self.axes}, got {value!r}."
+            )
+        self._limit = array
+
+    def _non_negative(self, value: Vector, what: str) -> np.ndarray:
+        array = self._per_axis(value, what)
+        if np.any(array < 0.0):
+            raise InvalidInputError(f"{self.name}: {what} must be >= 0, got {array}.")
+        return array
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """``clip(k (x0 - x) + b (v0 - v), -limit, limit) + f`` per axis (module docstring)."""
+        wrench = self._stiffness * (self._setpoint - position) + self._damping * (
+            self._velocity_setpoint - velocity
+        )
+        return np.clip(wrench, -self._limit, self._limit) + self._force
+
+    def _parameters(self) -> str:
+        def fmt(array: np.ndarray) -> str:
+            return np.array2string(array, precision=4, separator=", ")
+
+        return (
+            f"stiffness={fmt(self._stiffness)}, damping={fmt(self._damping)}, "
+            f"setpoint={fmt(self._setpoint)}"
+        )
+
+
+class Spring(SpringDamper):
+    """A linear spring: ``stiffness (setpoint - position)``.
+
+    Args:
+        axes: Axes the spring acts on.
+        stiffness: [N/m or N m/rad], >= 0.
+        setpoint: Rest position [m or rad].
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: Bad axes.
+        InvalidInputError: Bad parameter shape or value.
+
+    """
+
+    def __init__(
+        self,
+        axes: Sequence[str],
+        stiffness: Vector,
+        setpoint: Vector = 0.0,
+        name: str | None = None,
+    ) -> None:
+        super().__init__(axes, stiffness=stiffness, setpoint=setpoint, name=name)
+
+
+class Damper(SpringDamper):
+    """A linear damper: ``damping (velocity_setpoint - velocity)``.
+
+    Args:
+        axes: Axes the damper acts on.
+        damping: [N s/m or N m s/rad], >= 0.
+        velocity_setpoint: Velocity of the damper's other end [m/s or rad/s].
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: Bad axes.
+        InvalidInputError: Bad parameter shape or value.
+
+    """
+
+    def __init__(
+        self,
+        axes: Sequence[str],
+        damping: Vector,
+        velocity_setpoint: Vector = 0.0,
+        name: str | None = None,
+    ) -> None:
+        super().__init__(axes, damping=damping, velocity_setpoint=velocity_setpoint, name=name)
+
+
+class ConstantForce(SpringDamper):
+    """A constant wrench (a thruster, or a feed-forward such as the robot's weight).
+
+    Args:
+        axes: Axes the force acts on.
+        force: [N or N m].
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: Bad axes.
+        InvalidInputError: Bad parameter shape or value.
+
+    """
+
+    def __init__(self, axes: Sequence[str], force: Vector, name: str | None = None) -> None:
+        super().__init__(axes, force=force, name=name)

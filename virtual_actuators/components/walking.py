@@ -1,0 +1,178 @@
+"""The seed's walking components (VMC 2001, section 5, Figs. 6 and 7).
+
+* :class:`GrannyWalker`: spring-dampers between the ground and the body on height and pitch,
+  "a virtual granny walker" that holds the body up and upright in every phase.
+* :class:`DogtrackBunny`: a damper (optionally a spring) between the body and a set point that
+  runs ahead at the desired speed, like the mechanical rabbit of a dog track.
+* :class:`SwingLegLinkage`: spring-dampers between the body and the swing foot, whose set points
+  the gait moves so that the foot clears the ground and lands a stride ahead.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..declaration.frames import parse_axes
+from ..exceptions import InvalidAxisError, InvalidInputError
+from .springs import SpringDamper, Vector
+
+
+class GrannyWalker(SpringDamper):
+    """Spring-dampers on body height and pitch, plus the weight as a feed-forward force.
+
+    Attach it to the body actuator whose sensor is the body's pose in the world.
+
+    Args:
+        height: Height set point of the action frame [m] (along the actuator's z).
+        stiffness: ``(k_z [N/m], k_pitch [N m/rad])``.
+        damping: ``(b_z [N s/m], b_pitch [N m s/rad])``.
+        pitch: Pitch set point [rad].
+        weight: Constant upward force [N], e.g. total mass times g, so that the spring does not
+            sag by ``weight / k_z``.
+        axes: The height axis and the pitch axis (``("z", "ry")`` for a planar robot in x-z).
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: ``axes`` is not one translation followed by one rotation.
+        InvalidInputError: Bad parameter shape or value.
+
+    """
+
+    def __init__(
+        self,
+        height: float,
+        stiffness: Vector,
+        damping: Vector,
+        pitch: float = 0.0,
+        weight: float = 0.0,
+        axes: Sequence[str] = ("z", "ry"),
+        name: str | None = None,
+    ) -> None:
+        parsed = parse_axes(axes)
+        if len(parsed) != 2 or parsed[0].startswith("r") or not parsed[1].startswith("r"):
+            raise InvalidAxisError(
+                f"GrannyWalker axes must be a height axis then a pitch axis such as "
+                f"('z', 'ry'), got {tuple(axes)}."
+            )
+        super().__init__(
+            parsed, stiffness, damping, setpoint=(height, pitch), force=(weight, 0.0), name=name
+        )
+
+    @property
+    def height(self) -> float:
+        """Height set point [m]."""
+        return float(self.setpoint[0])
+
+    @height.setter
+    def height(self, value: float) -> None:
+        self.setpoint = (value, self.setpoint[1])
+
+    @property
+    def pitch(self) -> float:
+        """Pitch set point [rad]."""
+        return float(self.setpoint[1])
+
+    @pitch.setter
+    def pitch(self, value: float) -> None:
+        self.setpoint = (self.setpoint[0], value)
+
+
+class DogtrackBunny(SpringDamper):
+    """A set point running at the desired speed, pulling the body through a damper (and spring).
+
+    ``force = damping (speed - velocity) + stiffness (bunny - position)`` with the bunny at
+    ``start + speed (time - start_time)``. :meth:`reset` (called when the state that uses the
+    bunny is entered) puts the bunny back at the body so that the spring never winds up across
+    phases where the bunny is inactive.
+
+    Args:
+        speed: Desired speed [m/s] along ``axis``.
+        damping: [N s/m], >= 0.
+        stiffness: [N/m], >= 0 (the seed uses a damper only: 0).
+        limit: Largest force the bunny applies [N] (``inf``: none).
+        axis: Axis of travel.
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: Bad axis.
+        InvalidInputError: Bad parameter value.
+
+    """
+
+    def __init__(
+        self,
+        speed: float,
+        damping: float,
+        stiffness: float = 0.0,
+        limit: float = np.inf,
+        axis: str = "x",
+        name: str | None = None,
+    ) -> None:
+        super().__init__((axis,), stiffness, damping, limit=limit, name=name)
+        self.speed = speed
+        self.start_position = 0.0  # [m]
+        self.start_time = 0.0  # [s]
+
+    @property
+    def speed(self) -> float:
+        """Desired speed [m/s]."""
+        return float(self.velocity_setpoint[0])
+
+    @speed.setter
+    def speed(self, value: float) -> None:
+        if not np.isfinite(value):
+            raise InvalidInputError(f"{self.name}: speed must be finite, got {value}.")
+        self.velocity_setpoint = value
+
+    def position_at(self, time: float) -> float:
+        """Where the bunny is at ``time`` [m]."""
+        return self.start_position + self.speed * (time - self.start_time)
+
+    def reset(self, position: np.ndarray, time: float) -> None:
+        """Put the bunny at ``position`` at ``time``."""
+        self.start_position = float(np.asarray(position).reshape(-1)[0])
+        self.start_time = float(time)
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """Damper toward the bunny's speed plus spring toward its position."""
+        self.setpoint = self.position_at(time)
+        return super().compute_wrench(position, velocity, time)
+
+
+class SwingLegLinkage(SpringDamper):
+    """Spring-dampers that place the swing foot relative to the body.
+
+    Attach it to a serial actuator whose action frame is the swing foot and whose reaction frame
+    is the body. The gait moves :attr:`setpoint` (and :attr:`velocity_setpoint`) every tick with
+    :meth:`place`, e.g. mirroring the stance leg while lifting the foot, then setting it down a
+    stride ahead.
+
+    Args:
+        stiffness: Per axis or scalar [N/m].
+        damping: Per axis or scalar [N s/m].
+        axes: Axes of the foot's placement (``("x", "z")`` for a planar robot).
+        setpoint: Initial foot position relative to the body [m].
+        name: Label used in reports.
+
+    Raises:
+        InvalidAxisError: Bad axes.
+        InvalidInputError: Bad parameter shape or value.
+
+    """
+
+    def __init__(
+        self,
+        stiffness: Vector,
+        damping: Vector,
+        axes: Sequence[str] = ("x", "z"),
+        setpoint: Vector = 0.0,
+        name: str | None = None,
+    ) -> None:
+        super().__init__(axes, stiffness, damping, setpoint=setpoint, name=name)
+
+    def place(self, setpoint: Vector, velocity_setpoint: Vector = 0.0) -> None:
+        """Move the foot's set point [m] and its velocity [m/s]."""
+        self.setpoint = setpoint
+        self.velocity_setpoint = velocity_setpoint

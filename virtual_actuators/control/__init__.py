@@ -1,0 +1,17 @@
+"""Control: the controller that turns components into efforts, and gait state machines."""
+
+from . import events
+from .controller import Attachment, Controller, ControlOutput, velocity_names
+from .state_machine import Context, State, StateMachine, Transition
+
+__all__ = [
+    "Attachment",
+    "Context",
+    "ControlOutput",
+    "Controller",
+    "State",
+    "StateMachine",
+    "Transition",
+    "events",
+    "velocity_names",
+]

@@ -1,0 +1,397 @@
+"""The controller: virtual components on virtual actuators, summed into joint efforts.
+
+Per tick, for every active attachment (an actuator with its components):
+
+1. read its sensor: pose and velocity of the action frame relative to the sensor's reaction
+   frame, on the actuator's axes;
+2. sum the components' wrenches;
+3. map the wrench to joint torques: ``J^T F`` for a serial actuator, the partitioned
+   distribution (:meth:`ParallelVirtualActuator.solve`) for a parallel one;
+
+then add all torques, zero the limp joints, and clip to the URDF's effort limits, reporting
+which joints saturated (VMC 2001, section 3: "the interactions between these components and the
+robot automatically generate the desired torques").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..components.base import Component
+from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
+from ..declaration.frames import WORLD, check_axes_subset, resolve_joint
+from ..distribution.solution import Solution
+from ..exceptions import (
+    InvalidInputError,
+    SingularConfigurationError,
+    suggestion,
+)
+from ..robots.robot import Robot
+
+Actuator = VirtualActuator | ParallelVirtualActuator
+
+
+@dataclass(repr=False)
+class Attachment:
+    """An actuator, the components attached to it and the sensor they read.
+
+    Attributes:
+        name: Unique name in its controller.
+        actuator: The serial or parallel virtual actuator that produces the wrench.
+        sensor: Serial actuator whose position and velocity the components read (for a serial
+            actuator, the actuator itself).
+        components: The virtual components.
+        free: Axes left to the distribution (parallel actuators only).
+        indices: For each component, the indices of its axes among the actuator's axes.
+
+    """
+
+    name: str
+    actuator: Actuator
+    sensor: VirtualActuator
+    components: list[Component]
+    free: tuple[str, ...] = ()
+    indices: list[np.ndarray] = field(default_factory=list)
+    unilateral: dict[int, float] = field(default_factory=dict)
+    yield_mask: np.ndarray | None = None
+
+    @property
+    def axes(self) -> tuple[str, ...]:
+        """The actuator's axes."""
+        return self.actuator.axes
+
+    def __repr__(self) -> str:
+        kind = type(self.actuator).__name__
+        names = ", ".join(c.name for c in self.components)
+        return f"Attachment({self.name!r}, {kind} on {self.actuator.action!r}, [{names}])"
+
+
+@dataclass(repr=False)
+class ControlOutput:
+    """What the controller computed in one tick.
+
+    Attributes:
+        tau: ``(nv,)`` joint efforts after limp joints and clipping [N m or N].
+        tau_requested: ``(nv,)`` before clipping.
+        saturated: ``(nv,)`` bool, True where the effort limit clipped the request.
+        wrenches: Requested wrench per active attachment, on its actuator's axes.
+        produced: Wrench actually produced per attachment (differs from the request on free axes
+            and for inadmissible requests).
+        positions: Sensor position per active attachment [m, rad].
+        velocities: Sensor velocity per active attachment [m/s, rad/s].
+        solutions: Distribution per parallel attachment.
+        failed: Attachments whose distribution was singular at this configuration (they
+            contribute no torque) with the error message.
+        active: Names of the attachments evaluated.
+        joint_names: Names of the velocity entries (for reports).
+
+    """
+
+    tau: np.ndarray
+    tau_requested: np.ndarray
+    saturated: np.ndarray
+    wrenches: dict[str, np.ndarray]
+    produced: dict[str, np.ndarray]
+    positions: dict[str, np.ndarray]
+    velocities: dict[str, np.ndarray]
+    solutions: dict[str, Solution]
+    failed: dict[str, str]
+    active: tuple[str, ...]
+    joint_names: tuple[str, ...]
+
+    @property
+    def saturated_joints(self) -> list[str]:
+        """Names of the velocity entries whose effort was clipped."""
+        return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
+
+    def __repr__(self) -> str:
+        return (
+            f"ControlOutput(active={self.active}, |tau|={np.linalg.norm(self.tau):.3g}, "
+            f"saturated={self.saturated_joints}, failed={list(self.failed)})"
+        )
+
+
+def velocity_names(robot: Robot) -> tuple[str, ...]:
+    """Name of every velocity entry: the joint's name, with ``[i]`` for multi-dof joints."""
+    model = robot.model
+    names: list[str] = []
+    for joint_id in range(1, model.njoints):
+        name, nv = model.names[joint_id], model.joints[joint_id].nv
+        names.extend([name] if nv == 1 else [f"{name}[{i}]" for i in range(nv)])
+    return tuple(names)
+
+
+class Controller:
+    """Evaluate virtual components on virtual actuators and return joint efforts.
+
+    Args:
+        robot: The robot.
+        clip: Clip the efforts to the URDF's effort limits (joints without a positive finite
+            limit are never clipped).
+        on_singular: ``"raise"`` (default) re-raises :class:`SingularConfigurationError` from a
+            parallel actuator; ``"skip"`` drops that actuator's torques for the tick and reports
+            it in :attr:`ControlOutput.failed`.
+
+    Raises:
+        InvalidInputError: Bad ``on_singular``.
+
+    """
+
+    def __init__(self, robot: Robot, clip: bool = True, on_singular: str = "raise") -> None:
+        if on_singular not in ("raise", "skip"):
+            raise InvalidInputError(f"on_singular must be 'raise' or 'skip', got {on_singular!r}.")
+        self.robot = robot
+        self.clip = clip
+        self.on_singular = on_singular
+        self.attachments: dict[str, Attachment] = {}
+        model = robot.model
+        self.joint_names = velocity_names(robot)
+        limits = np.full(model.nv, np.inf)
+        for joint_id in range(1, model.njoints):
+            joint = model.joints[joint_id]
+            if joint.nv == 1:
+                limit = float(model.effortLimit[joint.idx_v])
+                if np.isfinite(limit) and limit > 0.0:
+                    limits[joint.idx_v] = limit
+        self.effort_limits = limits  # [N m or N], inf where unlimited
+
+    def add(
+        self,
+        name: str,
+        actuator: Actuator,
+        components: Sequence[Component] = (),
+        *,
+        sensor: VirtualActuator | None = None,
+        free: Sequence[str] = (),
+        unilateral: Mapping[str, float] | None = None,
+        yield_axes: Sequence[str] = (),
+    ) -> Attachment:
+        """Attach components to an actuator under a unique name.
+
+        Args:
+            name: Unique name (states refer to it).
+            actuator: A :class:`VirtualActuator` or :class:`ParallelVirtualActuator` of this
+                controller's robot.
+            components: Components whose axes are subsets of the actuator's axes.
+            sensor: What the components read. Default: the actuator itself if serial; for a
+                parallel actuator, a serial actuator from ``"world"`` to its action frame on its
+                axes and reference (the body's pose in the world, as a state estimator gives).
+            free: Axes left to the distribution (parallel actuators), e.g. ``("x",)`` on one
+                leg with a limp ankle (VMC eq. 5-7).
+            unilateral: Parallel actuators: ``{axis: minimum}``, every chain's share on that axis
+                must stay at or above the minimum, e.g. ``{"z": 5.0}`` so that no foot pulls on
+                the ground [N]. When a request would break it, the request on ``yield_axes``
+                is scaled down (the most that keeps every share feasible; the distribution is
+                linear in the wrench) and :attr:`ControlOutput.produced` shows the result.
+            yield_axes: Axes of the request given up first to meet ``unilateral``.
+
+        Returns:
+            The :class:`Attachment`.
+
+        Raises:
+            InvalidInputError: The name is taken, or the actuator or sensor belongs to another
+                robot, or the sensor's axes differ from the actuator's.
+            InvalidAxisError: A component acts on an axis the actuator does not have, or
+                ``free``, ``unilateral`` or ``yield_axes`` name axes it does not have.
+
+        """
+        if name in self.attachments:
+            raise InvalidInputError(f"An attachment named {name!r} already exists.")
+        if actuator.robot.model is not self.robot.model:
+            raise InvalidInputError(f"Attachment {name!r}: the actuator is for another robot.")
+        free_axes = check_axes_subset(free, actuator.axes, "free") if free else ()
+        if free_axes and isinstance(actuator, VirtualActuator):
+            raise InvalidInputError(
+                f"Attachment {name!r}: free axes need a ParallelVirtualActuator; a serial "
+                "actuator produces every axis."
+            )
+        if sensor is None:
+            if isinstance(actuator, VirtualActuator):
+                sensor = actuator
+            else:
+                sensor = VirtualActuator(
+                    self.robot, actuator.action, WORLD, actuator.reference, actuator.axes
+                )
+        if sensor.robot.model is not self.robot.model:
+            raise InvalidInputError(f"Attachment {name!r}: the sensor is for another robot.")
+        if sensor.axes != actuator.axes:
+            raise InvalidInputError(
+                f"Attachment {name!r}: sensor axes {sensor.axes} differ from the actuator's "
+                f"{actuator.axes}."
+            )
+        indices = []
+        for component in components:
+            check_axes_subset(component.axes, actuator.axes, f"{component.name} axes")
+            indices.append(np.array([actuator.axes.index(a) for a in component.axes]))
+        limits: dict[int, float] = {}
+        yield_mask = None
+        if unilateral or yield_axes:
+            if isinstance(actuator, VirtualActuator) or not unilateral or not yield_axes:
+                raise InvalidInputError(
+                    f"Attachment {name!r}: unilateral and yield_axes go together, on a "
+                    "ParallelVirtualActuator."
+                )
+            for axis in check_axes_subset(tuple(unilateral), actuator.axes, "unilateral"):
+                limits[actuator.axes.index(axis)] = float(unilateral[axis])
+            yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
+            yield_mask = np.array([a in yielded for a in actuator.axes])
+        attachment = Attachment(
+            name, actuator, sensor, list(components), free_axes, indices, limits, yield_mask
+        )
+        self.attachments[name] = attachment
+        return attachment
+
+    def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
+        """Velocity indices of 1-dof joints given by name.
+
+        Raises:
+            JointNotFoundError: A name is not a joint of the model (with close matches).
+
+        """
+        model = self.robot.model
+        out = []
+        for joint in joints:
+            joint_id = resolve_joint(model, joint)
+            out.extend(
+                range(
+                    model.joints[joint_id].idx_v,
+                    model.joints[joint_id].idx_v + model.joints[joint_id].nv,
+                )
+            )
+        return np.array(out, dtype=int)
+
+    def reset(self, names: Iterable[str], q: np.ndarray, time: float) -> None:
+        """Call every component's :meth:`~Component.reset` hook for the named attachments.
+
+        Raises:
+            InvalidInputError: Unknown attachment name.
+
+        """
+        for name in names:
+            attachment = self._get(name)
+            position = attachment.sensor.position(q)
+            for component, index in zip(attachment.components, attachment.indices, strict=True):
+                component.reset(position[index], time)
+
+    def _get(self, name: str) -> Attachment:
+        try:
+            return self.attachments[name]
+        except KeyError:
+            raise InvalidInputError(
+                f"No attachment named {name!r}.{suggestion(name, self.attachments)} "
+                f"Attachments: {sorted(self.attachments)}."
+            ) from None
+
+    def compute(
+        self,
+        q: np.ndarray,
+        v: np.ndarray,
+        time: float = 0.0,
+        active: Iterable[str] | None = None,
+        limp: np.ndarray | Sequence[int] = (),
+    ) -> ControlOutput:
+        """Evaluate the components and return the joint efforts for one tick.
+
+        Args:
+            q: Configuration ``(nq,)``.
+            v: Velocity ``(nv,)``.
+            time: Controller time [s] (components such as the dogtrack bunny use it).
+            active: Names of the attachments to evaluate (default: all).
+            limp: Velocity indices forced to zero effort (see :meth:`joint_indices`).
+
+        Returns:
+            The :class:`ControlOutput`.
+
+        Raises:
+            InvalidInputError: Bad ``q`` or ``v``, or an unknown attachment name.
+            SingularConfigurationError: A parallel actuator is singular here and
+                ``on_singular="raise"``.
+
+        """
+        nv = self.robot.model.nv
+        names = tuple(self.attachments) if active is None else tuple(active)
+        tau = np.zeros(nv)
+        wrenches, produced, positions, velocities = {}, {}, {}, {}
+        solutions: dict[str, Solution] = {}
+        failed: dict[str, str] = {}
+        for name in names:
+            attachment = self._get(name)
+            sensor = attachment.sensor
+            reading = sensor.read(q, v)
+            position, velocity, jacobian = reading.position, reading.velocity, reading.jacobian
+            wrench = np.zeros(len(attachment.axes))
+            for component, index in zip(attachment.components, attachment.indices, strict=True):
+                wrench[index] += component.compute_wrench(position[index], velocity[index], time)
+            if not np.all(np.isfinite(wrench)):
+                raise InvalidInputError(
+                    f"Attachment {name!r}: a component returned a non-finite wrench {wrench}."
+                )
+            positions[name], velocities[name], wrenches[name] = position, velocity, wrench
+            actuator = attachment.actuator
+            if isinstance(actuator, VirtualActuator):
+                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(q)
+                tau += jacobian_act.T @ wrench
+                produced[name] = wrench
+                continue
+            try:
+                solution = actuator.solve(q, wrench, free=attachment.free)
+                if attachment.unilateral:
+                    solution = self._enforce_unilateral(attachment, q, wrench, solution)
+            except SingularConfigurationError as error:
+                if self.on_singular == "raise":
+                    raise
+                failed[name] = str(error)
+                continue
+            tau += solution.tau
+            solutions[name] = solution
+            produced[name] = solution.wrench
+        tau[np.asarray(limp, dtype=int)] = 0.0
+        requested = tau.copy()
+        if self.clip:
+            tau = np.clip(tau, -self.effort_limits, self.effort_limits)
+        saturated = np.abs(requested) > self.effort_limits
+        return ControlOutput(
+            tau=tau,
+            tau_requested=requested,
+            saturated=saturated,
+            wrenches=wrenches,
+            produced=produced,
+            positions=positions,
+            velocities=velocities,
+            solutions=solutions,
+            failed=failed,
+            active=names,
+            joint_names=self.joint_names,
+        )
+
+    @staticmethod
+    def _enforce_unilateral(
+        attachment: Attachment, q: np.ndarray, wrench: np.ndarray, solution: Solution
+    ) -> Solution:
+        """Scale the request on the yield axes until every chain's share meets its minimum."""
+        forces = solution.forces
+        if all(np.all(forces[:, i] >= low) for i, low in attachment.unilateral.items()):
+            return solution
+        base = np.where(attachment.yield_mask, 0.0, wrench)
+        fallback = attachment.actuator.solve(q, base, free=attachment.free)
+        # forces(alpha) = base + alpha (full - base): the largest alpha in [0, 1] that is feasible
+        alpha = 1.0
+        for i, low in attachment.unilateral.items():
+            start, slope = fallback.forces[:, i], forces[:, i] - fallback.forces[:, i]
+            for f0, df in zip(start, slope, strict=True):
+                if f0 + alpha * df < low:
+                    alpha = max(0.0, (low - f0) / df) if df < 0.0 else 0.0
+        if alpha <= 0.0:
+            return fallback
+        return attachment.actuator.solve(
+            q, np.where(attachment.yield_mask, alpha * wrench, wrench), free=attachment.free
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
+            f"clip={self.clip})"
+        )

@@ -1,0 +1,289 @@
+"""A state machine for gaits (VMC 2001, section 5, Fig. 5 and Table 1).
+
+Each :class:`State` names the controller attachments (actuators with their components) it uses,
+the chains in support and the joints left limp. :class:`Transition` objects move between states
+on events: callables of the tick's :class:`Context` returning a bool (see
+:mod:`virtual_actuators.control.events` for body-over-foot, contact and timer events). All
+declarations are built once; changing state only swaps which precomputed attachments are
+evaluated, so a transition costs nothing at run time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+
+from ..declaration.frames import resolve_frame
+from ..exceptions import InvalidInputError, suggestion
+from ..robots.robot import Robot
+
+
+class Context:
+    """What events see at one tick: state, time, contacts and frame positions on demand.
+
+    Args:
+        robot: The robot (frame names are resolved against its model).
+        q: Configuration ``(nq,)``.
+        v: Velocity ``(nv,)``.
+        time: Controller time [s].
+        contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
+        time_in_state: Seconds since the current state was entered (the machine fills it).
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        q: np.ndarray,
+        v: np.ndarray,
+        time: float,
+        contacts: Mapping[str, bool] | None = None,
+        time_in_state: float = 0.0,
+    ) -> None:
+        self.robot = robot
+        self.q, self.v, self.time = q, v, float(time)
+        self.contacts = dict(contacts or {})
+        self.time_in_state = time_in_state
+        self.state: str | None = None
+        self._data: pin.Data | None = None
+
+    def _placement(self, frame: str) -> tuple[int, pin.SE3]:
+        model = self.robot.model
+        frame_id = resolve_frame(model, frame, "event")
+        if self._data is None:
+            self._data = pin.Data(model)
+            pin.forwardKinematics(model, self._data, self.q, self.v)
+            pin.updateFramePlacements(model, self._data)
+        return frame_id, self._data.oMf[frame_id]
+
+    def frame_position(self, frame: str) -> np.ndarray:
+        """World position of a frame [m] (forward kinematics run once per context).
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        return self._placement(frame)[1].translation.copy()
+
+    def frame_rotation(self, frame: str) -> np.ndarray:
+        """World orientation of a frame, a 3x3 rotation matrix.
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        return self._placement(frame)[1].rotation.copy()
+
+    def frame_pitch(self, frame: str) -> float:
+        """Rotation of a frame about the world y axis [rad] (planar robots in x-z).
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        rotation = self._placement(frame)[1].rotation
+        return float(np.arctan2(rotation[0, 2], rotation[0, 0]))
+
+    def frame_velocity(self, frame: str) -> np.ndarray:
+        """Linear velocity of a frame's origin in world axes [m/s].
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        frame_id, _ = self._placement(frame)
+        velocity = pin.getFrameVelocity(
+            self.robot.model, self._data, frame_id, pin.LOCAL_WORLD_ALIGNED
+        )
+        return velocity.linear.copy()
+
+    def in_contact(self, frame: str) -> bool:
+        """The contact switch of ``frame``.
+
+        Raises:
+            InvalidInputError: No switch reported for that frame.
+
+        """
+        try:
+            return bool(self.contacts[frame])
+        except KeyError:
+            raise InvalidInputError(
+                f"No contact switch for {frame!r}.{suggestion(frame, self.contacts)} "
+                f"Switches: {sorted(self.contacts)}."
+            ) from None
+
+    def __repr__(self) -> str:
+        return f"Context(time={self.time:.4f}, state={self.state!r}, contacts={self.contacts})"
+
+
+Event = Callable[[Context], bool]
+
+
+@dataclass(repr=False)
+class State:
+    """One state of a gait.
+
+    Attributes:
+        name: Unique name.
+        active: Names of the controller attachments evaluated in this state.
+        support: Frames in support (for reports and viewers).
+        limp: Joints whose effort is zero in this state (e.g. a swing leg falling freely).
+        on_enter: Called with the context when the state is entered.
+        on_update: Called with the context at every tick spent in the state, before the
+            controller runs (e.g. to move set points).
+
+    """
+
+    name: str
+    active: tuple[str, ...] = ()
+    support: tuple[str, ...] = ()
+    limp: tuple[str, ...] = ()
+    on_enter: Callable[[Context], None] | None = None
+    on_update: Callable[[Context], None] | None = None
+
+    def __post_init__(self) -> None:
+        self.active, self.support, self.limp = (
+            tuple(self.active),
+            tuple(self.support),
+            tuple(self.limp),
+        )
+
+    def __repr__(self) -> str:
+        return f"State({self.name!r}, active={self.active}, support={self.support})"
+
+
+@dataclass(repr=False)
+class Transition:
+    """Go from ``source`` to ``target`` when ``event(context)`` is true.
+
+    Attributes:
+        source: Name of the state the transition leaves.
+        target: Name of the state it enters.
+        event: Callable of the :class:`Context` returning a bool.
+        label: Text for reports (the seed's Table 1 "trigger event").
+
+    """
+
+    source: str
+    target: str
+    event: Event
+    label: str = ""
+
+    def __repr__(self) -> str:
+        label = f", {self.label!r}" if self.label else ""
+        return f"Transition({self.source!r} -> {self.target!r}{label})"
+
+
+@dataclass
+class StateMachine:
+    """States and transitions; at most one transition per tick, tried in declaration order.
+
+    Args:
+        states: The states (unique names).
+        transitions: The transitions between them.
+        initial: Name of the initial state.
+
+    Raises:
+        InvalidInputError: Repeated state names, or a transition or ``initial`` naming an unknown
+            state.
+
+    """
+
+    states: Sequence[State]
+    transitions: Sequence[Transition]
+    initial: str
+    history: list[tuple[float, str]] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self._states = {}
+        for state in self.states:
+            if state.name in self._states:
+                raise InvalidInputError(f"State {state.name!r} is declared twice.")
+            self._states[state.name] = state
+        self.index = {name: i for i, name in enumerate(self._states)}
+        self._leaving: dict[str, list[Transition]] = {name: [] for name in self._states}
+        for transition in self.transitions:
+            for end in (transition.source, transition.target):
+                self._check(end, f"transition {transition}")
+            self._leaving[transition.source].append(transition)
+        self._check(self.initial, "initial")
+        self.current: State = self._states[self.initial]
+        self.entered_at = 0.0  # [s]
+        self.started = False
+
+    def _check(self, name: str, where: str) -> None:
+        if name not in self._states:
+            raise InvalidInputError(
+                f"{where}: unknown state {name!r}.{suggestion(name, self._states)} "
+                f"States: {list(self._states)}."
+            )
+
+    @property
+    def names(self) -> list[str]:
+        """State names in declaration order (their index is :attr:`index`)."""
+        return list(self._states)
+
+    def state(self, name: str) -> State:
+        """The state called ``name``.
+
+        Raises:
+            InvalidInputError: Unknown name.
+
+        """
+        self._check(name, "state")
+        return self._states[name]
+
+    def start(self, context: Context, state: str | None = None) -> State:
+        """Enter the initial state (or ``state``) at ``context.time``.
+
+        Raises:
+            InvalidInputError: Unknown state.
+
+        """
+        self.history.clear()
+        self.started = True
+        self._enter(self.state(state or self.initial), context)
+        return self.current
+
+    def _enter(self, state: State, context: Context) -> None:
+        self.current = state
+        self.entered_at = context.time
+        self.history.append((context.time, state.name))
+        context.state, context.time_in_state = state.name, 0.0
+        if state.on_enter is not None:
+            state.on_enter(context)
+
+    def update(self, context: Context) -> State:
+        """Take the first transition whose event fires, then run the state's ``on_update``.
+
+        Starts the machine on the first call if :meth:`start` was not called.
+
+        Returns:
+            The current state after the update.
+
+        """
+        if not self.started:
+            self.start(context)
+        context.state = self.current.name
+        context.time_in_state = context.time - self.entered_at
+        for transition in self._leaving[self.current.name]:
+            if transition.event(context):
+                self._enter(self._states[transition.target], context)
+                break
+        if self.current.on_update is not None:
+            self.current.on_update(context)
+        return self.current
+
+    def steps_into(self, names: Iterable[str]) -> int:
+        """How many times the machine entered any of ``names`` (e.g. single-support states)."""
+        wanted = set(names)
+        return sum(1 for _, name in self.history if name in wanted)
+
+    def __repr__(self) -> str:
+        return (
+            f"StateMachine(states={self.names}, transitions={len(self.transitions)}, "
+            f"current={self.current.name!r})"
+        )

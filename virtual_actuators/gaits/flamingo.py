@@ -1,0 +1,342 @@
+"""Blind walking over unknown slopes (VMC 2001, section 6): Spring Flamingo.
+
+Level walking extended with geometry only; the robot knows nothing of the terrain:
+
+* ankles limp in stance: in single support the body actuator sets height and pitch and leaves
+  x free (VMC eq. 5-7 with a limp ankle); in double support both legs hold the body with matched
+  hip torques (eq. 12-14) and the dogtrack bunny regulates the speed;
+* the only terrain sensors are heel and toe contact switches; at every touchdown the *global
+  slope* (the line through both ankles) is computed from the joint angles;
+* the hip height set point, measured vertically from the global slope, is ``k_height`` times the
+  limit of eq. 15 (back leg at the transition plane) and eq. 16 (swing leg at touchdown);
+* the swing leg follows a lift-and-reach trajectory planned along the global slope, its foot
+  held parallel to it; on premature landing (a switch closes early) its ankle goes limp so the
+  foot conforms to the slope, and both switches closed start double support (section 6.2);
+* if the swing time expires before touchdown, the swing set point keeps going down (a downward
+  push through the virtual surface of the global slope), and once the ankle is below that
+  surface the global slope is recomputed from the swing ankle, continuously (Fig. 13).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from ..control import events
+from ..control.state_machine import Context, State, StateMachine, Transition
+from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
+from ..declaration.constraints import EqualTorque
+from ..robots.robot import Robot
+from .base import Gait, planar_standing_configuration
+from .turkey import PLANAR_AXES, SIDES, other, smoothstep
+
+
+@dataclass
+class FlamingoParameters:
+    """Gait variables (the seed's Table 2) and component constants, SI units.
+
+    Attributes:
+        speed: Desired horizontal hip speed ``xdot_d`` [m/s].
+        pitch: Desired body pitch ``theta_d`` [rad].
+        step_length: Desired step length ``s_l`` [m].
+        transition_distance: ``l_t``: double support ends when the hip is this far behind the
+            front ankle [m].
+        lift: Swing lift ``h_l`` above the global slope [m].
+        k_height: Fraction of the height limit used as the hip height set point.
+        leg_length: ``l1 + l2``, hip to ankle [m].
+        stiffness_z, damping_z: Granny walker on height [N/m], [N s/m].
+        stiffness_pitch, damping_pitch: Granny walker on pitch [N m/rad], [N m s/rad].
+        bunny_damping: ``b_x`` [N s/m].
+        min_normal_force: In double support, each foot pushes at least this much [N]; the
+            bunny's force is scaled down when it would make a foot pull.
+        swing_time: Planned duration of the swing [s].
+        swing_stiffness: Swing linkage (x, z, pitch) [N/m, N/m, N m/rad].
+        swing_damping: Swing linkage (x, z, pitch) [N s/m, N s/m, N m s/rad].
+        min_speed: Double support ends only while the body moves forward faster than this
+            [m/s] (so that a robot starting from rest does not lift a foot too early).
+        push_speed: Speed of the swing set point going down after the swing time [m/s].
+        weight: Feed-forward on z [N]; None: total mass times g.
+
+    """
+
+    speed: float = 0.4
+    pitch: float = 0.0
+    step_length: float = 0.28
+    transition_distance: float = 0.05
+    lift: float = 0.07
+    k_height: float = 0.85
+    leg_length: float = 0.84
+    stiffness_z: float = 5000.0
+    damping_z: float = 200.0
+    stiffness_pitch: float = 500.0
+    damping_pitch: float = 20.0
+    bunny_damping: float = 100.0
+    min_normal_force: float = 10.0
+    swing_time: float = 0.45
+    swing_stiffness: tuple[float, float, float] = (600.0, 800.0, 20.0)
+    swing_damping: tuple[float, float, float] = (30.0, 40.0, 1.0)
+    min_speed: float = 0.1
+    push_speed: float = 0.3
+    weight: float | None = None
+
+    def height_limit(self, slope: float) -> float:
+        """Hip height limit above the global slope, the smaller of eq. 15 and eq. 16 [m].
+
+        Eq. 15: the back leg at the transition plane, ``r = s_l - l_t`` behind the hip:
+        ``sqrt(L^2 - r^2) - r tan(beta)``. Eq. 16: the swing leg touching down ``r1 = s_l / 2``
+        ahead of the hip: ``sqrt(L^2 - r1^2) + r1 tan(beta)``.
+        """
+        length = self.leg_length
+        r = self.step_length - self.transition_distance
+        r1 = 0.5 * self.step_length
+        upslope = math.sqrt(length**2 - r**2) - r * math.tan(slope)
+        downslope = math.sqrt(length**2 - r1**2) + r1 * math.tan(slope)
+        return min(upslope, downslope)
+
+    def hip_height(self, slope: float) -> float:
+        """Hip height set point ``k_height * h_limit`` above the global slope [m]."""
+        return self.k_height * self.height_limit(slope)
+
+
+class FlamingoWalker(Gait):
+    """Spring Flamingo's blind slope walking (VMC section 6).
+
+    States: ``double_support``; ``SIDE_support`` (single support on SIDE, the other leg swings);
+    ``SIDE_support_2`` (landing: a switch of the swing foot closed, its ankle goes limp).
+
+    Args:
+        robot: ``spring_flamingo`` (frames ``body``, ``SIDE_foot``, ``SIDE_heel``, ``SIDE_toe``;
+            joints ``SIDE_hip``, ``SIDE_knee``, ``SIDE_ankle``).
+        parameters: Gait variables and component constants.
+        initial: Initial state.
+
+    Raises:
+        FrameNotFoundError: The robot lacks the frames above.
+        JointNotFoundError: The robot lacks the joints above.
+
+    """
+
+    step_states = ("left_support", "right_support")
+    contact_frames = ("left_heel", "left_toe", "right_heel", "right_toe")
+
+    def __init__(
+        self,
+        robot: Robot,
+        parameters: FlamingoParameters | None = None,
+        initial: str = "double_support",
+    ) -> None:
+        super().__init__(robot)
+        self.parameters = p = parameters or FlamingoParameters()
+        mass = float(sum(inertia.mass for inertia in robot.model.inertias))  # [kg]
+        weight = mass * 9.81 if p.weight is None else p.weight  # [N]
+        self.slope = 0.0  # global slope estimate [rad]
+        self.slope_origin = np.zeros(2)  # a point (x, z) of the global slope line [m]
+        self.hip_height = p.hip_height(0.0)  # set point above the global slope [m]
+        self.granny = GrannyWalker(
+            self.hip_height,
+            stiffness=(p.stiffness_z, p.stiffness_pitch),
+            damping=(p.damping_z, p.damping_pitch),
+            pitch=p.pitch,
+            weight=weight,
+        )
+        self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
+        self.swing = {
+            side: SwingLegLinkage(
+                p.swing_stiffness,
+                p.swing_damping,
+                axes=PLANAR_AXES,
+                name=f"{side}_swing_linkage",
+            )
+            for side in SIDES
+        }
+        ankles = [f"{side}_ankle" for side in SIDES]
+        c = self.controller
+        double = ParallelVirtualActuator(
+            robot,
+            "body",
+            [f"{side}_foot" for side in SIDES],
+            "world",
+            PLANAR_AXES,
+            contact="flat",
+            unactuated=ankles,
+            design=[EqualTorque("left_hip", "right_hip")],
+        )
+        c.add(
+            "double",
+            double,
+            [self.granny, self.bunny],
+            unilateral={"z": p.min_normal_force},
+            yield_axes=("x",),
+        )
+        for side in SIDES:
+            stance = ParallelVirtualActuator(
+                robot,
+                "body",
+                [f"{side}_foot"],
+                "world",
+                PLANAR_AXES,
+                contact="flat",
+                unactuated=[f"{side}_ankle"],
+            )
+            c.add(f"{side}_stance", stance, [self.granny], free=("x",))
+            swing = VirtualActuator(robot, f"{side}_foot", "body", "world", PLANAR_AXES)
+            c.add(f"{side}_swing", swing, [self.swing[side]])
+
+        self.front = "left"
+        self._swing_start = np.zeros(2)  # swing ankle (x, z) in the world at lift-off [m]
+        self._swing_target_x = 0.0  # planned touchdown x [m]
+        states = [
+            State(
+                "double_support",
+                ("double",),
+                ("left_foot", "right_foot"),
+                limp=tuple(ankles),
+                on_enter=self._enter_double,
+                on_update=self._update_height,
+            )
+        ]
+        transitions = []
+        for side in SIDES:
+            swing_side = other(side)
+            states += [
+                State(
+                    f"{side}_support",
+                    (f"{side}_stance", f"{swing_side}_swing"),
+                    (f"{side}_foot",),
+                    limp=(f"{side}_ankle",),
+                    on_enter=self._enter_single,
+                    on_update=self._update_single,
+                ),
+                State(
+                    f"{side}_support_2",
+                    (f"{side}_stance", f"{swing_side}_swing"),
+                    (f"{side}_foot",),
+                    limp=tuple(ankles),
+                    on_update=self._update_single,
+                ),
+            ]
+            swing_switches = (f"{swing_side}_heel", f"{swing_side}_toe")
+            transitions += [
+                Transition(
+                    "double_support",
+                    f"{side}_support",
+                    self._front_is(
+                        side,
+                        events.all_of(
+                            events.ahead_of("body", f"{side}_foot", -p.transition_distance),
+                            lambda context: context.frame_velocity("body")[0] > p.min_speed,
+                        ),
+                    ),
+                    f"hip within l_t of the {side} ankle",
+                ),
+                Transition(
+                    f"{side}_support",
+                    "double_support",
+                    events.all_of(
+                        events.contact(*swing_switches), events.after(0.5 * p.swing_time)
+                    ),
+                    f"{swing_side} heel and toe down",
+                ),
+                Transition(
+                    f"{side}_support",
+                    f"{side}_support_2",
+                    events.all_of(
+                        events.contact(*swing_switches, require_all=False),
+                        events.after(0.3 * p.swing_time),
+                    ),
+                    f"{swing_side} foot lands early",
+                ),
+                Transition(
+                    f"{side}_support_2",
+                    "double_support",
+                    events.contact(*swing_switches),
+                    f"{swing_side} heel and toe down",
+                ),
+            ]
+        self._finish(StateMachine(states, transitions, initial))
+
+    def initial_configuration(self, stance: float = 0.15) -> np.ndarray:
+        """Standing at the level-ground hip height, left ankle ``stance`` ahead, right behind."""
+        return planar_standing_configuration(
+            self.robot, self.parameters.hip_height(0.0), {"left": stance, "right": -stance}
+        )
+
+    # --- geometry ------------------------------------------------------------------------------
+
+    def slope_height(self, x: float) -> float:
+        """Height of the global slope line at ``x`` [m]."""
+        return float(self.slope_origin[1] + (x - self.slope_origin[0]) * math.tan(self.slope))
+
+    def _set_slope(self, back: np.ndarray, front: np.ndarray) -> None:
+        dx = float(front[0] - back[0])
+        if abs(dx) < 1e-3:
+            return
+        slope = math.atan2(float(front[2] - back[2]), dx)
+        self.slope = float(np.clip(slope, -0.6, 0.6))
+        self.slope_origin = np.array([back[0], back[2]])
+        self.hip_height = self.parameters.hip_height(self.slope)
+
+    def _update_height(self, context: Context) -> None:
+        body = context.frame_position("body")
+        self.granny.height = self.slope_height(body[0]) + self.hip_height
+        xdot = float(context.frame_velocity("body")[0])
+        self.granny.velocity_setpoint = (xdot * math.tan(self.slope), 0.0)
+
+    def _front_is(self, side: str, event: events.Event) -> events.Event:
+        return lambda context: self.front == side and event(context)
+
+    # --- state callbacks -----------------------------------------------------------------------
+
+    def _enter_double(self, context: Context) -> None:
+        left = context.frame_position("left_foot")
+        right = context.frame_position("right_foot")
+        self.front = "left" if left[0] > right[0] else "right"
+        back, front = (right, left) if self.front == "left" else (left, right)
+        self._set_slope(back, front)
+        self._update_height(context)
+
+    def _enter_single(self, context: Context) -> None:
+        stance = context.state.split("_")[0]
+        swing = other(stance)
+        ankle = context.frame_position(f"{swing}_foot")
+        stance_ankle = context.frame_position(f"{stance}_foot")
+        self._swing_start = ankle[[0, 2]]
+        self._swing_target_x = float(stance_ankle[0]) + self.parameters.step_length
+        self.slope_origin = stance_ankle[[0, 2]]
+
+    def _update_single(self, context: Context) -> None:
+        p = self.parameters
+        stance = context.state.split("_")[0]
+        swing = other(stance)
+        self._update_height(context)
+        body = context.frame_position("body")
+        ankle = context.frame_position(f"{swing}_foot")
+        elapsed = context.time - self._single_entered(context)
+        phase = elapsed / p.swing_time
+        x_target = self._swing_start[0] + (self._swing_target_x - self._swing_start[0]) * (
+            smoothstep(phase)
+        )
+        surface = self.slope_height(x_target)
+        if phase <= 1.0:
+            start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])
+            z_target = surface + (1.0 - phase) * start_height + p.lift * math.sin(math.pi * phase)
+        else:
+            # Downward push through the virtual surface, and re-estimate the slope below it.
+            z_target = surface - p.push_speed * (elapsed - p.swing_time)
+            if ankle[2] < self.slope_height(float(ankle[0])):
+                stance_ankle = context.frame_position(f"{stance}_foot")
+                self._set_slope(stance_ankle, ankle)
+        # The linkage works relative to the body, along world axes; the foot stays parallel
+        # to the global slope: its pitch relative to the body is -slope - body pitch.
+        body_pitch = context.frame_pitch("body")
+        self.swing[swing].place((x_target - body[0], z_target - body[2], -self.slope - body_pitch))
+
+    def _single_entered(self, context: Context) -> float:
+        # Time the current single-support phase began (support_2 continues the same swing).
+        for time, name in reversed(self.machine.history):
+            if name.endswith("_support"):
+                return time
+        return context.time

@@ -1,0 +1,282 @@
+"""Turkey walking (VMC 2001, section 5): Spring Turkey's level-ground gait.
+
+The seed's algorithm, with its Table 1 state machine:
+
+==================  ===============================  ===========================================
+state               entered when                     virtual components
+==================  ===============================  ===========================================
+double_support      delay after left/right_support_2 granny walker, dogtrack bunny
+left_support        body nearly over the left foot   granny walker, swing-leg linkage (right leg)
+left_support_2      body away from the left foot     granny walker; right leg limp
+right_support       body nearly over the right foot  granny walker, swing-leg linkage (left leg)
+right_support_2     body away from the right foot    granny walker; left leg limp
+==================  ===============================  ===========================================
+
+The granny walker (spring-dampers on height and pitch) is on the body in every state. In double
+support the body is held by both legs with matched hip torques (VMC eq. 12-14) and the dogtrack
+bunny (a damper toward the desired speed) pushes it along x. In single support the stance foot is
+a point contact, so the body actuator controls height and pitch while x is left free (VMC eq.
+5-7). The swing-leg linkage mirrors the stance leg while lifting the foot, and sets it down
+about a stride ahead; in the buffer states the swing leg is limp for a short delay so that it
+falls to the ground (the turkey has no foot switches). Foot placement is never used for speed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from ..control import events
+from ..control.state_machine import Context, State, StateMachine, Transition
+from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
+from ..declaration.constraints import EqualTorque
+from ..robots.robot import Robot
+from .base import Gait
+
+SIDES = ("left", "right")
+PLANAR_AXES = ("x", "z", "ry")
+
+
+def other(side: str) -> str:
+    """The other leg."""
+    return "right" if side == "left" else "left"
+
+
+def smoothstep(s: float) -> float:
+    """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest."""
+    s = min(max(s, 0.0), 1.0)
+    return s * s * (3.0 - 2.0 * s)
+
+
+def lift_profile(phase: float, peak: float) -> float:
+    """Swing foot height over the swing, 0 at both ends and 1 at ``peak`` (a phase in (0, 1)).
+
+    A quarter sine up to the peak, a quarter cosine down after it: an early peak clears the
+    ground quickly after lift-off and leaves a long, gentle descent.
+    """
+    phase = min(max(phase, 0.0), 1.0)
+    if phase < peak:
+        return float(np.sin(0.5 * np.pi * phase / peak))
+    return float(np.cos(0.5 * np.pi * (phase - peak) / (1.0 - peak)))
+
+
+@dataclass
+class TurkeyParameters:
+    """Gait variables and virtual component constants of turkey walking (SI units).
+
+    Attributes:
+        speed: Dogtrack bunny speed [m/s].
+        height: Granny walker height set point, hip above the ground [m].
+        pitch: Granny walker pitch set point [rad].
+        stiffness_z: [N/m].
+        damping_z: [N s/m].
+        stiffness_pitch: [N m/rad].
+        damping_pitch: [N m s/rad].
+        bunny_damping: Dogtrack bunny damper [N s/m].
+        bunny_limit: Largest bunny force [N].
+        min_normal_force: In double support, each foot pushes at least this much [N]; the
+            bunny's force is scaled down when it would make a foot pull (lift off).
+        weight: Feed-forward on z [N]; None: total mass times g.
+        over_distance: "Body nearly over the foot": body x minus front foot x above this [m].
+        away_distance: "Body away from the stance foot": body x minus stance foot x above this
+            [m]; the swing foot lands about this far ahead of the body.
+        swing_reach: Swing foot x relative to the body at the end of the swing [m].
+        lift: Swing foot lift above the ground [m].
+        lift_peak: Phase of the swing (0 to 1) at which the foot is highest.
+        swing_stiffness: Swing-leg linkage springs (x, z) [N/m].
+        swing_damping: Swing-leg linkage dampers (x, z) [N s/m].
+        touchdown_depth: How far below the ground the swing set point ends [m].
+        buffer_delay: Time the swing leg stays limp in the buffer states [s].
+        foot_radius: Height of the foot frame above the ground when in contact [m].
+
+    """
+
+    speed: float = 0.5
+    height: float = 0.54
+    pitch: float = 0.0
+    stiffness_z: float = 1500.0
+    damping_z: float = 150.0
+    stiffness_pitch: float = 200.0
+    damping_pitch: float = 20.0
+    bunny_damping: float = 80.0
+    bunny_limit: float = 60.0
+    min_normal_force: float = 10.0
+    weight: float | None = None
+    over_distance: float = -0.075
+    away_distance: float = 0.075
+    swing_reach: float = 0.19
+    lift: float = 0.05
+    lift_peak: float = 0.35
+    swing_stiffness: tuple[float, float] = (400.0, 600.0)
+    swing_damping: tuple[float, float] = (20.0, 25.0)
+    touchdown_depth: float = 0.02
+    buffer_delay: float = 0.04
+    foot_radius: float = 0.02
+
+
+class TurkeyWalker(Gait):
+    """Spring Turkey's turkey walking on level ground (VMC section 5, Table 1).
+
+    Args:
+        robot: ``spring_turkey`` (or any planar biped on a boom with frames ``body``,
+            ``left_foot``, ``right_foot`` and joints ``SIDE_hip``, ``SIDE_knee``).
+        parameters: Gait variables and component constants.
+        initial: Initial state (the seed starts in single support and gives a small push).
+
+    Raises:
+        FrameNotFoundError: The robot lacks the frames above.
+        JointNotFoundError: The robot lacks the joints above.
+
+    """
+
+    step_states = ("left_support", "right_support")
+
+    def __init__(
+        self,
+        robot: Robot,
+        parameters: TurkeyParameters | None = None,
+        initial: str = "left_support",
+    ) -> None:
+        super().__init__(robot)
+        self.parameters = p = parameters or TurkeyParameters()
+        mass = float(sum(inertia.mass for inertia in robot.model.inertias))  # [kg]
+        weight = mass * 9.81 if p.weight is None else p.weight  # [N]
+        self.granny = GrannyWalker(
+            p.height,
+            stiffness=(p.stiffness_z, p.stiffness_pitch),
+            damping=(p.damping_z, p.damping_pitch),
+            pitch=p.pitch,
+            weight=weight,
+        )
+        self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
+        self.swing = {
+            side: SwingLegLinkage(p.swing_stiffness, p.swing_damping, name=f"{side}_swing_linkage")
+            for side in SIDES
+        }
+        feet = [f"{side}_foot" for side in SIDES]
+        double = ParallelVirtualActuator(
+            robot,
+            "body",
+            feet,
+            "world",
+            PLANAR_AXES,
+            contact="point",
+            design=[EqualTorque("left_hip", "right_hip")],
+        )
+        c = self.controller
+        c.add(
+            "double",
+            double,
+            [self.granny, self.bunny],
+            unilateral={"z": p.min_normal_force},
+            yield_axes=("x",),
+        )
+        for side in SIDES:
+            stance = ParallelVirtualActuator(
+                robot, "body", [f"{side}_foot"], "world", PLANAR_AXES, contact="point"
+            )
+            c.add(f"{side}_stance", stance, [self.granny], free=("x",))
+            swing = VirtualActuator(robot, f"{side}_foot", "body", "world", ("x", "z"))
+            c.add(f"{side}_swing", swing, [self.swing[side]])
+
+        self.front = "left"  # foot ahead in double support
+        self._swing_start = np.zeros(2)  # swing foot relative to the body at lift-off [m]
+        self._progress_start = 0.0  # body x minus stance x at lift-off [m]
+        self.ground = 0.0  # ground height estimate under the stance foot [m]
+        states = [
+            State(
+                "double_support",
+                ("double",),
+                ("left_foot", "right_foot"),
+                on_enter=self._enter_double,
+                on_update=self._update_double,
+            )
+        ]
+        transitions = []
+        for side in SIDES:
+            swing_side = other(side)
+            states += [
+                State(
+                    f"{side}_support",
+                    (f"{side}_stance", f"{swing_side}_swing"),
+                    (f"{side}_foot",),
+                    on_enter=self._enter_single,
+                    on_update=self._update_single,
+                ),
+                State(
+                    f"{side}_support_2",
+                    (f"{side}_stance",),
+                    (f"{side}_foot",),
+                    limp=(f"{swing_side}_hip", f"{swing_side}_knee"),
+                    on_update=self._update_single,
+                ),
+            ]
+            transitions += [
+                Transition(
+                    "double_support",
+                    f"{side}_support",
+                    self._front_is(side, events.ahead_of("body", f"{side}_foot", p.over_distance)),
+                    f"body nearly over {side} foot",
+                ),
+                Transition(
+                    f"{side}_support",
+                    f"{side}_support_2",
+                    events.ahead_of("body", f"{side}_foot", p.away_distance),
+                    f"body away from {side} foot",
+                ),
+                Transition(
+                    f"{side}_support_2",
+                    "double_support",
+                    events.after(p.buffer_delay),
+                    f"delay after {side} support 2",
+                ),
+            ]
+        self._finish(StateMachine(states, transitions, initial))
+
+    # --- events and state callbacks ------------------------------------------------------------
+
+    def _front_is(self, side: str, event: events.Event) -> events.Event:
+        return lambda context: self.front == side and event(context)
+
+    def stance_side(self) -> str:
+        """The stance leg in single support (the left one in double support)."""
+        return self.state.split("_")[0] if self.state != "double_support" else "left"
+
+    def _update_ground(self, context: Context, feet: list[str]) -> None:
+        heights = [context.frame_position(f"{side}_foot")[2] for side in feet]
+        self.ground = float(np.mean(heights)) - self.parameters.foot_radius
+        self.granny.height = self.ground + self.parameters.height
+
+    def _enter_double(self, context: Context) -> None:
+        x_left = context.frame_position("left_foot")[0]
+        x_right = context.frame_position("right_foot")[0]
+        self.front = "left" if x_left > x_right else "right"
+
+    def _update_double(self, context: Context) -> None:
+        self._update_ground(context, list(SIDES))
+
+    def _enter_single(self, context: Context) -> None:
+        stance = context.state.split("_")[0]
+        swing = other(stance)
+        body = context.frame_position("body")
+        self._swing_start = (context.frame_position(f"{swing}_foot") - body)[[0, 2]]
+        self._progress_start = float(body[0] - context.frame_position(f"{stance}_foot")[0])
+
+    def _update_single(self, context: Context) -> None:
+        p = self.parameters
+        stance = context.state.split("_")[0]
+        self._update_ground(context, [stance])
+        if context.state.endswith("_2"):
+            return
+        body = context.frame_position("body")
+        progress = float(body[0] - context.frame_position(f"{stance}_foot")[0])
+        span = max(p.away_distance - self._progress_start, 1e-3)
+        phase = min(max((progress - self._progress_start) / span, 0.0), 1.0)
+        x_rel = self._swing_start[0] + (p.swing_reach - self._swing_start[0]) * smoothstep(
+            1.6 * phase
+        )
+        foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
+        z_rel = self.ground + p.foot_radius + foot_height - body[2]
+        self.swing[other(stance)].place((x_rel, z_rel))

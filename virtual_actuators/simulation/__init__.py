@@ -1,0 +1,34 @@
+"""MuJoCo simulation of any loaded robot, on flat or sloped terrain.
+
+:class:`Simulator` steps a robot driven by joint torques and reports its state in Pinocchio's
+conventions and its contacts by frame name; :class:`Terrain` describes the ground;
+:func:`build_mujoco_model` builds the MuJoCo model in code from the Pinocchio model; the
+``conversions`` functions map configurations, velocities and torques between the two libraries.
+"""
+
+from .conversions import (
+    configuration_from_mujoco,
+    configuration_to_mujoco,
+    ctrl_to_torques,
+    torques_to_ctrl,
+    velocity_from_mujoco,
+    velocity_to_mujoco,
+)
+from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model
+from .simulator import Simulator
+from .terrain import Terrain
+
+__all__ = [
+    "ContactParameters",
+    "JointMap",
+    "MujocoModel",
+    "Simulator",
+    "Terrain",
+    "build_mujoco_model",
+    "configuration_from_mujoco",
+    "configuration_to_mujoco",
+    "ctrl_to_torques",
+    "torques_to_ctrl",
+    "velocity_from_mujoco",
+    "velocity_to_mujoco",
+]

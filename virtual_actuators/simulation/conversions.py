@@ -1,0 +1,293 @@
+"""Convert configurations, velocities and torques between Pinocchio and MuJoCo conventions.
+
+Every conversion goes joint by joint through the index maps of a
+:class:`~virtual_actuators.simulation.model.MujocoModel` (built by joint name). Per joint:
+
+============  ===============================  ==========================================
+joint         Pinocchio                        MuJoCo
+============  ===============================  ==========================================
+free-flyer    q: ``x y z qx qy qz qw`` (the    qpos: ``x y z qw qx qy qz`` (the body pose
+              joint placement times the        in the world)
+              free-flyer motion)
+free-flyer    v: ``v_local, w_local``, both    qvel: ``v_world, w_local``: the same origin
+              in the body frame; ``v_local``   velocity in world axes, the angular velocity
+              is the velocity of the origin    in the body frame
+spherical     q: ``qx qy qz qw``               qpos: ``qw qx qy qz``; velocities equal
+continuous    q: ``cos(theta), sin(theta)``    qpos: ``theta``; velocities equal
+others        q and v copied                   (hinge or slide)
+============  ===============================  ==========================================
+
+The velocity map is linear, ``qvel = T(q) v`` with ``T`` the identity except for the free-flyer's
+linear block, which is the body rotation ``R``. Generalized forces transform with ``T^T``
+(power is preserved) and accelerations as ``qacc = T a + (dT/dt) v``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.simulation.model import MujocoModel
+
+__all__ = [
+    "configuration_from_mujoco",
+    "configuration_to_mujoco",
+    "ctrl_to_torques",
+    "torques_to_ctrl",
+    "velocity_from_mujoco",
+    "velocity_to_mujoco",
+]
+
+#: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
+UNACTUATED_TOLERANCE = 1e-9
+
+
+def _vector(value: object, size: int, what: str) -> np.ndarray:
+    """A finite float vector of the given size, or InvalidInputError."""
+    try:
+        array = np.array(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"{what} must be a vector of {size} numbers: {exc}.") from exc
+    if array.shape != (size,):
+        raise InvalidInputError(f"{what} must have {size} entries, got shape {np.shape(value)}.")
+    if not np.all(np.isfinite(array)):
+        index = int(np.argmax(~np.isfinite(array)))
+        raise InvalidInputError(f"{what} holds a non-finite value at index {index}.")
+    return array
+
+
+def _rotation_xyzw(quat: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a quaternion ``(x, y, z, w)`` (normalised first)."""
+    x, y, z, w = quat / np.linalg.norm(quat)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def _quat_xyzw(rotation: np.ndarray) -> np.ndarray:
+    """Unit quaternion ``(x, y, z, w)`` with ``w >= 0`` of a rotation matrix."""
+    m = rotation
+    trace = np.trace(m)
+    if trace > 0.0:
+        s = 2.0 * np.sqrt(1.0 + trace)
+        q = np.array(
+            [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
+        )
+    else:
+        i = int(np.argmax(np.diag(m)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * np.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
+        q = np.zeros(4)
+        q[i] = s / 4.0
+        q[j] = (m[j, i] + m[i, j]) / s
+        q[k] = (m[k, i] + m[i, k]) / s
+        q[3] = (m[k, j] - m[j, k]) / s
+    q /= np.linalg.norm(q)
+    return q if q[3] >= 0.0 else -q
+
+
+def _free_pose(mm: MujocoModel, joint, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World rotation and position of a free-flyer's body from the Pinocchio ``q``."""
+    position = q[joint.idx_q : joint.idx_q + 3]
+    rotation = _rotation_xyzw(q[joint.idx_q + 3 : joint.idx_q + 7])
+    placement = joint.placement
+    return placement.rotation @ rotation, placement.rotation @ position + placement.translation
+
+
+def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
+    """MuJoCo ``qpos`` of a Pinocchio configuration.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        q: Pinocchio configuration, shape ``(model.nq,)``.
+
+    Returns:
+        ``qpos``, shape ``(mj_model.nq,)``.
+
+    Raises:
+        InvalidInputError: If ``q`` has the wrong size or non-finite entries.
+
+    """
+    q = _vector(q, mm.robot.model.nq, "q")
+    qpos = np.array(mm.model.qpos0, dtype=float)
+    for joint in mm.joints:
+        a, i = joint.qpos_adr, joint.idx_q
+        if joint.kind == "free":
+            rotation, position = _free_pose(mm, joint, q)
+            x, y, z, w = _quat_xyzw(rotation)
+            if joint.placement.isIdentity():  # keep the caller's quaternion exactly
+                x, y, z, w = q[i + 3 : i + 7]
+            qpos[a : a + 3] = position
+            qpos[a + 3 : a + 7] = (w, x, y, z)
+        elif joint.kind == "ball":
+            x, y, z, w = q[i : i + 4]
+            qpos[a : a + 4] = (w, x, y, z)
+        elif joint.kind == "continuous":
+            qpos[a] = np.arctan2(q[i + 1], q[i])
+        else:
+            qpos[a] = q[i]
+    return qpos
+
+
+def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
+    """Pinocchio configuration of a MuJoCo ``qpos``.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        qpos: MuJoCo positions, shape ``(mj_model.nq,)``.
+
+    Returns:
+        ``q``, shape ``(model.nq,)``.
+
+    Raises:
+        InvalidInputError: If ``qpos`` has the wrong size or non-finite entries.
+
+    """
+    qpos = _vector(qpos, mm.model.nq, "qpos")
+    q = np.zeros(mm.robot.model.nq)
+    for joint in mm.joints:
+        a, i = joint.qpos_adr, joint.idx_q
+        if joint.kind == "free":
+            w, x, y, z = qpos[a + 3 : a + 7]
+            position = qpos[a : a + 3]
+            if joint.placement.isIdentity():
+                q[i : i + 3] = position
+                q[i + 3 : i + 7] = (x, y, z, w)
+            else:
+                rotation = _rotation_xyzw(np.array([x, y, z, w]))
+                back = joint.placement.rotation.T
+                q[i : i + 3] = back @ (position - joint.placement.translation)
+                q[i + 3 : i + 7] = _quat_xyzw(back @ rotation)
+        elif joint.kind == "ball":
+            w, x, y, z = qpos[a : a + 4]
+            q[i : i + 4] = (x, y, z, w)
+        elif joint.kind == "continuous":
+            q[i : i + 2] = (np.cos(qpos[a]), np.sin(qpos[a]))
+        else:
+            q[i] = qpos[a]
+    return q
+
+
+def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """MuJoCo ``qvel`` of a Pinocchio velocity at configuration ``q``.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        q: Pinocchio configuration, shape ``(model.nq,)`` (the free-flyer's orientation is
+            needed to express its linear velocity in the world frame).
+        v: Pinocchio velocity, shape ``(model.nv,)``.
+
+    Returns:
+        ``qvel``, shape ``(mj_model.nv,)``.
+
+    Raises:
+        InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
+
+    """
+    q = _vector(q, mm.robot.model.nq, "q")
+    v = _vector(v, mm.robot.model.nv, "v")
+    qvel = np.zeros(mm.model.nv)
+    for joint in mm.joints:
+        d, i = joint.dof_adr, joint.idx_v
+        if joint.kind == "free":
+            rotation, _ = _free_pose(mm, joint, q)
+            qvel[d : d + 3] = rotation @ v[i : i + 3]
+            qvel[d + 3 : d + 6] = v[i + 3 : i + 6]
+        else:
+            qvel[d : d + joint.nv] = v[i : i + joint.nv]
+    return qvel
+
+
+def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+    """Pinocchio velocity of a MuJoCo ``qvel`` at positions ``qpos``.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        qpos: MuJoCo positions, shape ``(mj_model.nq,)``.
+        qvel: MuJoCo velocities, shape ``(mj_model.nv,)``.
+
+    Returns:
+        ``v``, shape ``(model.nv,)``: the free-flyer's linear and angular velocities in its
+        body frame.
+
+    Raises:
+        InvalidInputError: If ``qpos`` or ``qvel`` has the wrong size or non-finite entries.
+
+    """
+    qpos = _vector(qpos, mm.model.nq, "qpos")
+    qvel = _vector(qvel, mm.model.nv, "qvel")
+    v = np.zeros(mm.robot.model.nv)
+    for joint in mm.joints:
+        d, i = joint.dof_adr, joint.idx_v
+        if joint.kind == "free":
+            a = joint.qpos_adr
+            w, x, y, z = qpos[a + 3 : a + 7]
+            rotation = _rotation_xyzw(np.array([x, y, z, w]))
+            v[i : i + 3] = rotation.T @ qvel[d : d + 3]
+            v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
+        else:
+            v[i : i + joint.nv] = qvel[d : d + joint.nv]
+    return v
+
+
+def torques_to_ctrl(
+    mm: MujocoModel, tau: np.ndarray, *, ignore_unactuated: bool = False
+) -> np.ndarray:
+    """The actuators' controls for joint efforts ``tau`` (Pinocchio velocity order).
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        tau: Joint efforts [N m or N], shape ``(model.nv,)``.
+        ignore_unactuated: Drop efforts on unactuated degrees of freedom (free-flyer, passive
+            joints) instead of raising.
+
+    Returns:
+        ``ctrl``, shape ``(mj_model.nu,)`` (not clipped: MuJoCo clips to ``ctrlrange``).
+
+    Raises:
+        InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or (unless
+            ``ignore_unactuated``) asks for more than 1e-9 on a degree of freedom that no
+            actuator drives (the message names the joint).
+
+    """
+    tau = _vector(tau, mm.robot.model.nv, "tau")
+    ctrl = np.zeros(mm.model.nu)
+    for joint in mm.joints:
+        i = joint.idx_v
+        if joint.actuator is not None:
+            ctrl[joint.actuator] = tau[i]
+            continue
+        effort = tau[i : i + joint.nv]
+        if not ignore_unactuated and np.any(np.abs(effort) > UNACTUATED_TOLERANCE):
+            raise InvalidInputError(
+                f"tau asks for {effort.tolist()} on joint {joint.name!r}, which no actuator "
+                f"drives (actuated joints: {', '.join(mm.actuated) or 'none'}); pass "
+                "ignore_unactuated=True to drop it."
+            )
+    return ctrl
+
+
+def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
+    """Joint efforts (Pinocchio velocity order) of an actuator control vector.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        ctrl: Actuator controls, shape ``(mj_model.nu,)``.
+
+    Returns:
+        ``tau``, shape ``(model.nv,)``, zero on unactuated degrees of freedom.
+
+    Raises:
+        InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
+
+    """
+    ctrl = _vector(ctrl, mm.model.nu, "ctrl")
+    tau = np.zeros(mm.robot.model.nv)
+    for joint in mm.joints:
+        if joint.actuator is not None:
+            tau[joint.idx_v] = ctrl[joint.actuator]
+    return tau

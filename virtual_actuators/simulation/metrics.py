@@ -1,0 +1,383 @@
+"""Summarise a recorded walking run (:class:`~virtual_actuators.simulation.recording.WalkLog`).
+
+:func:`compute_metrics` reduces a log to the numbers the seed reports for its walkers (seed
+003, section 5: "walked continuously at approximately 0.5 m/s ... six steps in 4 s ... deviated a
+maximum of 3 cm from the nominal height ... pitch was confined to +-0.1 rad"), and
+:func:`write_json` stores them.
+
+Time windows: ``startup_s`` is counted from the first tick. The *walking* ticks are those before
+the first fallen tick (all ticks when the robot did not fall). Speed, height and pitch statistics
+use the walking ticks at or after ``startup_s`` (all walking ticks when fewer than two of them are
+past ``startup_s``: a run that ended during start-up); steps count over all walking ticks;
+``duration_s`` and ``distance_m`` cover the whole log. NaN samples (a set point that is not
+active, a channel not recorded at some ticks) are ignored; a statistic with no finite sample is
+``None``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.simulation.recording import WalkLog
+
+__all__ = [
+    "WalkMetrics",
+    "compute_metrics",
+    "default_step_states",
+    "resolve_step_states",
+    "write_json",
+]
+
+
+@dataclass(frozen=True)
+class WalkMetrics:
+    """What a walking run achieved. All SI; ``None`` when a quantity could not be measured.
+
+    Attributes:
+        fell: Whether any tick has ``fallen`` set.
+        fall_time_s: Time of the first fallen tick [s], or None.
+        duration_s: Time from the first to the last tick [s].
+        distance_m: ``x`` at the last tick minus ``x`` at the first [m].
+        mean_speed_mps: ``(x(T) - x(t0)) / (T - t0)`` over the statistics window [m/s].
+        speed_std_mps: Standard deviation of ``xdot`` over the window [m/s] (from ``x`` by finite
+            differences when ``xdot`` is not recorded).
+        height_dev_m: Largest ``|z - z_setpoint|`` over the window [m].
+        height_mean_m: Mean ``z`` over the window [m].
+        pitch_max_abs_rad: Largest ``|pitch|`` over the window [rad].
+        pitch_dev_rad: Largest ``|pitch - pitch_setpoint|`` over the window [rad].
+        steps: Entries into a step (single-support) state while walking.
+        step_time_mean_s: Mean time between consecutive step entries [s].
+        realtime_factor: ``duration_s / wall_time_s`` (above 1: faster than real time).
+        speed_setpoint_mps: The desired speed [m/s] (metadata ``speed_setpoint_mps``, else the
+            median of the finite ``xdot_setpoint`` samples in the window).
+        startup_s: The start-up time excluded from the statistics [s].
+        window_start_s: Time of the first tick of the statistics window [s].
+        window_end_s: Time of the last tick of the statistics window [s].
+        samples: Number of ticks in the log.
+        step_states: The state names whose entries were counted as steps.
+
+    """
+
+    fell: bool
+    fall_time_s: float | None
+    duration_s: float
+    distance_m: float | None
+    mean_speed_mps: float | None
+    speed_std_mps: float | None
+    height_dev_m: float | None
+    height_mean_m: float | None
+    pitch_max_abs_rad: float | None
+    pitch_dev_rad: float | None
+    steps: int
+    step_time_mean_s: float | None
+    realtime_factor: float | None
+    speed_setpoint_mps: float | None
+    startup_s: float
+    window_start_s: float | None
+    window_end_s: float | None
+    samples: int
+    step_states: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the metrics as a JSON-able dict (bools, ints, floats, None, lists of str)."""
+        return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}
+
+    def summary(self) -> str:
+        """Return a one-line human summary, e.g. for a plot title or a log line."""
+        parts = [f"{_fmt(self.distance_m, 'm')} in {self.duration_s:.2f} s"]
+        speed = f"mean speed {_fmt(self.mean_speed_mps, 'm/s')}"
+        if self.speed_setpoint_mps is not None:
+            speed += f" (set {self.speed_setpoint_mps:.2f})"
+        parts.append(speed)
+        parts.append(f"height dev {_fmt(self.height_dev_m, 'm', 3)}")
+        parts.append(f"|pitch| <= {_fmt(self.pitch_max_abs_rad, 'rad', 3)}")
+        steps = f"{self.steps} steps"
+        if self.step_time_mean_s is not None:
+            steps += f" of {self.step_time_mean_s:.2f} s"
+        parts.append(steps)
+        if self.fell:
+            parts.append(f"FELL at {self.fall_time_s:.2f} s")
+        if self.realtime_factor is not None:
+            parts.append(f"{self.realtime_factor:.2f}x real time")
+        return ", ".join(parts)
+
+
+def _fmt(value: float | None, unit: str, digits: int = 2) -> str:
+    return "n/a" if value is None else f"{value:.{digits}f} {unit}"
+
+
+def _plain(value: Any) -> Any:
+    """Convert NumPy scalars to Python ones, NaN and infinities to None, tuples to lists."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    if isinstance(value, int | np.integer):
+        return int(value)
+    if isinstance(value, float | np.floating):
+        value = float(value)
+        return value if math.isfinite(value) else None
+    if isinstance(value, tuple | list):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _float_or_none(value: float) -> float | None:
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def _nanmax_abs(values: np.ndarray) -> float | None:
+    finite = values[np.isfinite(values)]
+    return float(np.max(np.abs(finite))) if finite.size else None
+
+
+def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
+    """Guess the single-support states from their names.
+
+    A name counts when it contains ``single``, or contains ``support`` but neither ``double`` nor
+    ends in ``2`` (the seed's buffer states "Left Support 2" and "Right Support 2" follow a step,
+    they do not start one). Prefer giving ``metadata["step_states"]`` explicitly.
+
+    Args:
+        state_names: The log's state names.
+
+    Returns:
+        The names that look like single-support states.
+
+    """
+    out = []
+    for name in state_names:
+        low = name.lower()
+        if "single" in low or (
+            "support" in low and "double" not in low and not low.rstrip().endswith("2")
+        ):
+            out.append(name)
+    return tuple(out)
+
+
+def resolve_step_states(log: WalkLog, step_states: Iterable[str] | None = None) -> tuple[str, ...]:
+    """Return the step-state names: ``step_states``, else metadata, else the default guess.
+
+    Args:
+        log: The run.
+        step_states: Explicit names, or None.
+
+    Returns:
+        Names from ``step_states``, else ``metadata["step_states"]``, else
+        :func:`default_step_states` of the log's state names.
+
+    Raises:
+        InvalidInputError: If a given name is not a state of the log (the message names it and
+            lists the valid ones).
+
+    """
+    source = "step_states"
+    if step_states is None:
+        step_states = log.metadata.get("step_states")
+        source = "metadata['step_states']"
+    if step_states is None:
+        return default_step_states(log.state_names)
+    if isinstance(step_states, str):
+        step_states = (step_states,)
+    names = tuple(str(s) for s in step_states)
+    for name in names:
+        if name not in log.state_names:
+            listed = ", ".join(repr(s) for s in log.state_names) or "none"
+            raise InvalidInputError(
+                f"{source}: {name!r} is not a state of the log; valid states: {listed}."
+            )
+    return names
+
+
+def _positive_or_none(value: Any, what: str) -> float | None:
+    if value is None:
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"{what}: expected a number, got {value!r}.") from None
+    if not math.isfinite(number) or number <= 0:
+        raise InvalidInputError(f"{what}: expected a positive finite number, got {value!r}.")
+    return number
+
+
+def compute_metrics(
+    log: WalkLog,
+    *,
+    startup_s: float = 2.0,
+    wall_time_s: float | None = None,
+    step_states: Iterable[str] | None = None,
+) -> WalkMetrics:
+    """Compute what a walking run achieved (see the module docstring for the windows).
+
+    Args:
+        log: The run; needs ``time`` and ``x``; ``xdot``, ``z``, ``z_setpoint``, ``pitch``,
+            ``pitch_setpoint``, ``fallen`` and the state are used when present.
+        startup_s: Seconds after the first tick excluded from the speed, height and pitch
+            statistics.
+        wall_time_s: Wall-clock seconds the run took (else ``metadata["wall_time_s"]``), for
+            ``realtime_factor``.
+        step_states: Names of the states whose entries count as steps (else
+            ``metadata["step_states"]``, else :func:`default_step_states`).
+
+    Returns:
+        The metrics.
+
+    Raises:
+        InvalidInputError: If the log has fewer than two ticks or no ``x`` channel, or an
+            argument is invalid (the message names it).
+
+    """
+    if not isinstance(log, WalkLog):
+        raise InvalidInputError(f"log: expected a WalkLog, got {type(log).__name__}.")
+    n = len(log)
+    if n < 2:
+        raise InvalidInputError(f"log: an empty run ({n} tick{'s' * (n != 1)}); need at least 2.")
+    if "x" not in log.data:
+        log.channel("x")  # raises, listing the channels the log has
+    try:
+        startup_s = float(startup_s)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"startup_s: expected a number, got {startup_s!r}.") from None
+    if not math.isfinite(startup_s) or startup_s < 0:
+        raise InvalidInputError(f"startup_s: expected a finite number >= 0, got {startup_s!r}.")
+    wall = _positive_or_none(
+        wall_time_s if wall_time_s is not None else log.metadata.get("wall_time_s"),
+        "wall_time_s" if wall_time_s is not None else "metadata['wall_time_s']",
+    )
+
+    t = log.time
+    x = log["x"]
+    duration = float(t[-1] - t[0])
+
+    # Fall: the walking ticks are those before the first fallen tick.
+    fell, fall_time, end = False, None, n
+    if "fallen" in log.data:
+        fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
+        if np.any(fallen):
+            end = int(np.argmax(fallen))
+            fell, fall_time = True, float(t[end])
+
+    # Statistics window: walking ticks at or after startup_s (all walking ticks if too few).
+    ticks = np.arange(n)
+    walking = ticks < end
+    window = walking & (t - t[0] >= startup_s)
+    if np.count_nonzero(window) < 2 or np.ptp(t[window]) <= 0:
+        window = walking
+
+    finite_x = np.flatnonzero(np.isfinite(x))
+    distance = float(x[finite_x[-1]] - x[finite_x[0]]) if finite_x.size else None
+
+    mean_speed = None
+    usable = np.flatnonzero(window & np.isfinite(x))
+    if usable.size >= 2 and t[usable[-1]] > t[usable[0]]:
+        i, j = usable[0], usable[-1]
+        mean_speed = float((x[j] - x[i]) / (t[j] - t[i]))
+
+    speed_std = None
+    if log.has("xdot"):
+        xdot = log["xdot"][window]
+    elif usable.size >= 2:
+        xdot = np.gradient(x[usable], t[usable]) if np.all(np.diff(t[usable]) > 0) else np.zeros(0)
+    else:
+        xdot = np.zeros(0)
+    xdot = xdot[np.isfinite(xdot)]
+    if xdot.size:
+        speed_std = float(np.std(xdot))
+
+    height_dev = height_mean = None
+    if "z" in log.data:
+        z = log["z"][window]
+        finite = z[np.isfinite(z)]
+        height_mean = float(np.mean(finite)) if finite.size else None
+        if "z_setpoint" in log.data:
+            height_dev = _nanmax_abs(z - log["z_setpoint"][window])
+
+    pitch_max = pitch_dev = None
+    if "pitch" in log.data:
+        pitch = log["pitch"][window]
+        pitch_max = _nanmax_abs(pitch)
+        if "pitch_setpoint" in log.data:
+            pitch_dev = _nanmax_abs(pitch - log["pitch_setpoint"][window])
+
+    names = resolve_step_states(log, step_states)
+    entries = log.entries(names)
+    entries = entries[entries < end]
+    steps = int(entries.size)
+    step_time = float(np.mean(np.diff(t[entries]))) if entries.size >= 2 else None
+
+    setpoint = log.metadata.get("speed_setpoint_mps")
+    if setpoint is not None:
+        try:
+            setpoint = _float_or_none(setpoint)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"metadata['speed_setpoint_mps']: expected a number, got {setpoint!r}."
+            ) from None
+    elif "xdot_setpoint" in log.data:
+        bunny = log["xdot_setpoint"][window]
+        bunny = bunny[np.isfinite(bunny)]
+        setpoint = float(np.median(bunny)) if bunny.size else None
+
+    return WalkMetrics(
+        fell=fell,
+        fall_time_s=fall_time,
+        duration_s=duration,
+        distance_m=distance,
+        mean_speed_mps=mean_speed,
+        speed_std_mps=speed_std,
+        height_dev_m=height_dev,
+        height_mean_m=height_mean,
+        pitch_max_abs_rad=pitch_max,
+        pitch_dev_rad=pitch_dev,
+        steps=steps,
+        step_time_mean_s=step_time,
+        realtime_factor=duration / wall if wall is not None else None,
+        speed_setpoint_mps=setpoint,
+        startup_s=startup_s,
+        window_start_s=float(t[window][0]) if np.any(window) else None,
+        window_end_s=float(t[window][-1]) if np.any(window) else None,
+        samples=n,
+        step_states=names,
+    )
+
+
+def write_json(metrics: WalkMetrics | Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
+    """Write metrics to ``path`` as pretty JSON with sorted keys (NaN written as null).
+
+    Args:
+        metrics: A :class:`WalkMetrics` or a dict of JSON-able values.
+        path: Destination file; parents are created.
+
+    Returns:
+        The path written.
+
+    Raises:
+        InvalidInputError: If a value cannot be written as JSON (the message names its key).
+
+    """
+    if isinstance(metrics, WalkMetrics):
+        data = metrics.to_dict()
+    elif isinstance(metrics, Mapping):
+        data = {str(k): _plain(v) for k, v in metrics.items()}
+    else:
+        raise InvalidInputError(
+            f"metrics: expected WalkMetrics or a dict, got {type(metrics).__name__}."
+        )
+    for key, value in data.items():
+        try:
+            json.dumps(value, allow_nan=False)
+        except (TypeError, ValueError) as err:
+            raise InvalidInputError(f"metrics[{key!r}]: not JSON-able ({err}).") from None
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(data, indent=2, sort_keys=True, allow_nan=False) + "\n")
+    return path

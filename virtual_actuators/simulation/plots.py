@@ -1,0 +1,479 @@
+"""Plot a recorded walking run like the seed's figures (seed 003, Fig. 9, 15 and 16).
+
+:func:`plot_walk` draws one of two layouts into a PNG:
+
+``"time"`` (Fig. 9, Spring Turkey on level ground), against time:
+
+    =====================================  =========================================
+    x with its set point (dashed)          virtual force Fx on the body
+    hip height z with its set point        virtual force Fz
+    pitch with its set point               virtual moment M_pitch
+    xdot with the bunny speed (dotted)     state machine state (names as y ticks)
+    =====================================  =========================================
+
+    plus, when the log has a terrain (``metadata["terrain_points"]``), a bottom row with the
+    terrain and the body path against x, and the global slope estimate against x.
+
+``"terrain"`` (Fig. 15 and 16, Spring Flamingo on slopes), every panel against the body's x: the
+terrain with the body path across the top, then global slope, hip height above the terrain with
+its set point, xdot with its set point and pitch on the left; Fz, Fx, M_pitch and the state on the
+right. ``layout="auto"`` picks ``"terrain"`` when the log has terrain points, else ``"time"``.
+
+Vertical lines mark entries into the step (single-support, dash-dot) and double-support (dotted)
+states, as in Fig. 15. Ticks after a fall are shaded red.
+
+Matplotlib is imported inside the functions (importing this module stays cheap) and draws on a
+``FigureCanvasAgg`` of its own: no pyplot, so the global backend and open figures are untouched.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.simulation.recording import WalkLog, check_terrain_points
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from virtual_actuators.simulation.metrics import WalkMetrics
+
+__all__ = ["plot_terrain", "plot_walk"]
+
+_LAYOUTS = ("auto", "time", "terrain")
+_ACTUAL = {"color": "C0", "lw": 1.2}
+_SETPOINT = {"color": "C3", "lw": 1.1, "ls": "--"}
+_DESIRED_SPEED = {"color": "C3", "lw": 1.3, "ls": ":"}
+_FORCE = {"color": "C2", "lw": 1.0}
+
+
+def _new_figure(width: float, height: float) -> Figure:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height), layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _save(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=dpi, format="png")
+    return path
+
+
+def _not_recorded(ax: Axes, name: str) -> None:
+    ax.text(
+        0.5,
+        0.5,
+        f"{name}: not recorded",
+        transform=ax.transAxes,
+        ha="center",
+        va="center",
+        color="0.5",
+        fontsize=8,
+    )
+
+
+def _series(
+    ax: Axes,
+    xs: np.ndarray,
+    log: WalkLog,
+    name: str,
+    ylabel: str,
+    *,
+    style: dict[str, Any] = _ACTUAL,
+    setpoint: str | None = None,
+    setpoint_style: dict[str, Any] = _SETPOINT,
+    setpoint_label: str = "set point",
+    stride: slice = slice(None),
+) -> None:
+    """Plot channel ``name`` (and its set point) against ``xs``, or say it was not recorded."""
+    ax.set_ylabel(ylabel)
+    ax.grid(True, lw=0.4, alpha=0.5)
+    if not log.has(name):
+        _not_recorded(ax, name)
+        return
+    ax.plot(xs[stride], log[name][stride], label=name, **style)
+    if setpoint is not None and log.has(setpoint):
+        ax.plot(xs[stride], log[setpoint][stride], label=setpoint_label, **setpoint_style)
+        ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
+
+
+def _state_panel(ax: Axes, xs: np.ndarray, log: WalkLog) -> None:
+    """Draw the state machine state as a step plot with the state names as y tick labels."""
+    ax.set_ylabel("state")
+    ax.grid(True, axis="x", lw=0.4, alpha=0.5)
+    state = log.state
+    if not np.any(state >= 0):
+        _not_recorded(ax, "state")
+        return
+    # Exact step plot from the change points only (no decimation can hide a short state).
+    change = np.flatnonzero(state[1:] != state[:-1]) + 1
+    keep = np.concatenate(([0], change, [len(state) - 1]))
+    ax.step(xs[keep], state[keep].astype(float), where="post", color="C4", lw=1.3)
+    ticks = list(range(len(log.state_names)))
+    labels = list(log.state_names)
+    if np.any(state < 0):
+        ticks.insert(0, -1)
+        labels.insert(0, "(unknown)")
+    ax.set_yticks(ticks, labels, fontsize=7)
+    ax.set_ylim(min(ticks) - 0.5, max(ticks) + 0.5)
+
+
+def _double_support_states(log: WalkLog) -> tuple[str, ...]:
+    names = log.metadata.get("double_support_states")
+    if names is None:
+        return tuple(s for s in log.state_names if "double" in s.lower())
+    if isinstance(names, str):
+        names = (names,)
+    names = tuple(str(s) for s in names)
+    for name in names:
+        log.state_index(name)  # raises on an unknown state, listing the valid ones
+    return names
+
+
+def _state_lines(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
+    """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
+    from virtual_actuators.simulation.metrics import resolve_step_states
+
+    marks = (
+        (log.entries(resolve_step_states(log)), "dashdot"),
+        (log.entries(_double_support_states(log)), "dotted"),
+    )
+    for ax in axes:
+        for ticks, style in marks:
+            if ticks.size:
+                ax.vlines(
+                    xs[ticks],
+                    0,
+                    1,
+                    transform=ax.get_xaxis_transform(),
+                    colors="0.55",
+                    linestyles=style,
+                    lw=0.7,
+                    zorder=0.5,
+                )
+
+
+def _fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool) -> None:
+    """Shade (or mark with a line) everything from the first fallen tick on."""
+    if not log.has("fallen"):
+        return
+    fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
+    if not np.any(fallen):
+        return
+    i = int(np.argmax(fallen))
+    for ax in axes:
+        if span:
+            ax.axvspan(xs[i], xs[-1], color="red", alpha=0.08, lw=0)
+        ax.axvline(xs[i], color="red", lw=1.0, alpha=0.7)
+    axes[0].text(
+        xs[i],
+        1.0,
+        " fell",
+        color="red",
+        fontsize=8,
+        va="bottom",
+        transform=axes[0].get_xaxis_transform(),
+    )
+
+
+def _body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:
+    """The hip's world height: ``z_world``, else terrain height below plus ``z``."""
+    if log.has("z_world"):
+        return log["z_world"]
+    if log.has("z"):
+        return np.interp(log["x"], terrain[:, 0], terrain[:, 1]) + log["z"]
+    return None
+
+
+def _terrain_panel(
+    ax: Axes,
+    terrain: np.ndarray,
+    body_x: np.ndarray | None,
+    body_z: np.ndarray | None,
+    *,
+    xlim: tuple[float, float] | None = None,
+) -> None:
+    """Draw the terrain profile (filled) and the body path above it."""
+    order = np.argsort(terrain[:, 0], kind="stable")
+    tx, tz = terrain[order, 0], terrain[order, 1]
+    lo, hi = xlim if xlim is not None else (float(tx[0]), float(tx[-1]))
+    inside = (tx >= lo) & (tx <= hi)
+    visible = np.concatenate((tz[inside], np.interp([lo, hi], tx, tz)))
+    tops = [float(np.max(visible))]
+    if body_z is not None and np.any(np.isfinite(body_z)):
+        tops.append(float(np.nanmax(body_z)))
+    bottom, top = float(np.min(visible)), max(tops)
+    pad = 0.08 * max(top - bottom, 0.1)
+    ax.fill_between(tx, tz, bottom - 2 * pad, color="0.85", lw=0)
+    ax.plot(tx, tz, color="0.3", lw=1.2, label="terrain")
+    if body_x is not None and body_z is not None:
+        ax.plot(body_x, body_z, label="body (hip) path", **_ACTUAL)
+        ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(bottom - pad, top + pad)
+    ax.set_ylabel("world z [m]")
+    ax.grid(True, lw=0.4, alpha=0.5)
+
+
+def _default_title(log: WalkLog) -> str:
+    meta = log.metadata
+    parts = [str(meta.get("robot", "walking run"))]
+    if "terrain" in meta:
+        parts.append(f"terrain {meta['terrain']}")
+    elif "terrain_points" not in meta:
+        parts.append("level ground")
+    speed = meta.get("speed_setpoint_mps")
+    if isinstance(speed, int | float | np.number) and math.isfinite(float(speed)):
+        parts.append(f"speed set point {float(speed):.2f} m/s")
+    return ", ".join(parts)
+
+
+def _as_log(log: WalkLog | str | os.PathLike[str]) -> WalkLog:
+    if isinstance(log, WalkLog):
+        out = log
+    elif isinstance(log, str | os.PathLike):
+        out = WalkLog.load_npz(log)
+    else:
+        raise InvalidInputError(f"log: expected a WalkLog or an .npz path, got {log!r}.")
+    if len(out) < 2:
+        raise InvalidInputError(f"log: an empty run ({len(out)} ticks); need at least 2 to plot.")
+    return out
+
+
+def plot_walk(
+    log: WalkLog | str | os.PathLike[str],
+    path: str | os.PathLike[str],
+    *,
+    title: str | None = None,
+    layout: str = "auto",
+    metrics: WalkMetrics | None = None,
+    state_lines: bool = True,
+    dpi: float = 120,
+    max_points: int = 20000,
+) -> Path:
+    """Plot a walking run in the style of the seed's Fig. 9 or Fig. 15/16 and save a PNG.
+
+    Args:
+        log: The run, or the path of a log saved with :meth:`WalkLog.save_npz`.
+        path: Destination PNG; parents are created.
+        title: Figure title; default from the metadata (robot, terrain, speed set point).
+        layout: ``"time"`` (Fig. 9), ``"terrain"`` (Fig. 15/16, against x; needs terrain points)
+            or ``"auto"`` (``"terrain"`` when the log has terrain points).
+        metrics: When given, its :meth:`~WalkMetrics.summary` is added under the title.
+        state_lines: Mark entries into step and double-support states with vertical lines.
+        dpi: Resolution of the PNG.
+        max_points: Continuous channels are decimated to about this many points (the state plot
+            is always exact).
+
+    Returns:
+        The path written.
+
+    Raises:
+        InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
+            unknown or the terrain points are malformed.
+
+    """
+    log = _as_log(log)
+    if layout not in _LAYOUTS:
+        raise InvalidInputError(f"layout: {layout!r} is not one of {', '.join(_LAYOUTS)}.")
+    terrain = log.terrain_points
+    if layout == "auto":
+        layout = "terrain" if terrain is not None else "time"
+    if layout == "terrain" and terrain is None:
+        raise InvalidInputError(
+            "layout: 'terrain' needs metadata['terrain_points'] (an (n, 2) array of (x, z))."
+        )
+    if layout == "terrain" or terrain is not None:
+        log.channel("x")  # raises, listing the channels, when the body x is missing
+    step = max(1, math.ceil(len(log) / max(int(max_points), 2)))
+    stride = slice(None, None, step)
+
+    if layout == "time":
+        fig, axes, xs = _time_layout(log, terrain, stride)
+    else:
+        fig, axes, xs = _terrain_layout(log, terrain, stride)
+    if state_lines:
+        _state_lines(axes, xs, log)
+    _fall_marks(axes, xs, log, span=layout == "time")
+    heading = title if title is not None else _default_title(log)
+    if metrics is not None:
+        heading += "\n" + metrics.summary()
+    fig.suptitle(heading, fontsize=11)
+    return _save(fig, path, dpi)
+
+
+def _time_layout(
+    log: WalkLog, terrain: np.ndarray | None, stride: slice
+) -> tuple[Figure, list[Axes], np.ndarray]:
+    """Fig. 9: positions, velocity (left) and forces, state (right) against time."""
+    rows = 5 if terrain is not None else 4
+    fig = _new_figure(12, 11 if terrain is not None else 9)
+    grid = fig.add_gridspec(rows, 2, height_ratios=[1, 1, 1, 1, 1.3][:rows])
+    t = log.time
+    first = fig.add_subplot(grid[0, 0])
+    left = [first] + [fig.add_subplot(grid[r, 0], sharex=first) for r in range(1, 4)]
+    right = [fig.add_subplot(grid[r, 1], sharex=first) for r in range(4)]
+    axes = left + right
+    _series(left[0], t, log, "x", "x [m]", setpoint="x_setpoint", stride=stride)
+    _series(left[1], t, log, "z", "hip height z [m]", setpoint="z_setpoint", stride=stride)
+    _series(left[2], t, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
+    _series(
+        left[3],
+        t,
+        log,
+        "xdot",
+        "xdot [m/s]",
+        setpoint="xdot_setpoint",
+        setpoint_style=_DESIRED_SPEED,
+        setpoint_label="bunny (desired)",
+        stride=stride,
+    )
+    _series(right[0], t, log, "fx", "Fx [N]", style=_FORCE, stride=stride)
+    _series(right[1], t, log, "fz", "Fz [N]", style=_FORCE, stride=stride)
+    _series(right[2], t, log, "m_pitch", "M_pitch [N m]", style=_FORCE, stride=stride)
+    _state_panel(right[3], t, log)
+    for ax in (left[3], right[3]):
+        ax.set_xlabel("time [s]")
+    for ax in left[:3] + right[:3]:
+        ax.tick_params(labelbottom=False)
+    first.set_xlim(float(t[0]), float(t[-1]))
+    if terrain is not None:
+        x = log["x"]
+        xlim = _x_range(x, terrain)
+        has_slope = log.has("global_slope")
+        ax_t = fig.add_subplot(grid[4, 0] if has_slope else grid[4, :])
+        _terrain_panel(ax_t, terrain, x, _body_height_world(log, terrain), xlim=xlim)
+        ax_t.set_xlabel("x [m]")
+        if has_slope:
+            ax_s = fig.add_subplot(grid[4, 1], sharex=ax_t)
+            _series(ax_s, x, log, "global_slope", "global slope [rad]", stride=stride)
+            ax_s.set_xlabel("x [m]")
+    return fig, axes, t
+
+
+def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
+    """The walked x range with a small margin (the terrain's range if x is not finite)."""
+    finite = x[np.isfinite(x)]
+    if finite.size == 0:
+        return float(np.min(terrain[:, 0])), float(np.max(terrain[:, 0]))
+    lo, hi = float(np.min(finite)), float(np.max(finite))
+    pad = 0.03 * max(hi - lo, 0.1)
+    return lo - pad, hi + pad
+
+
+def _terrain_layout(
+    log: WalkLog, terrain: np.ndarray, stride: slice
+) -> tuple[Figure, list[Axes], np.ndarray]:
+    """Fig. 15/16: every panel against the body's x.
+
+    Terrain and body path, global slope, height, xdot and pitch on the left; Fz, Fx, M_pitch and
+    the state on the right (equal widths, so the columns line up along x).
+    """
+    fig = _new_figure(12, 11)
+    columns = fig.add_gridspec(1, 2)
+    left_grid = columns[0, 0].subgridspec(5, 1, height_ratios=[1.4, 1, 1, 1, 1])
+    right_grid = columns[0, 1].subgridspec(4, 1)
+    x = log["x"]
+    top = fig.add_subplot(left_grid[0, 0])
+    _terrain_panel(top, terrain, x, _body_height_world(log, terrain), xlim=_x_range(x, terrain))
+    left = [fig.add_subplot(left_grid[r, 0], sharex=top) for r in range(1, 5)]
+    right = [fig.add_subplot(right_grid[r, 0], sharex=top) for r in range(4)]
+    _series(left[0], x, log, "global_slope", "global slope [rad]", stride=stride)
+    _series(left[1], x, log, "z", "height above terrain [m]", setpoint="z_setpoint", stride=stride)
+    _series(
+        left[2],
+        x,
+        log,
+        "xdot",
+        "xdot [m/s]",
+        setpoint="xdot_setpoint",
+        setpoint_style=_DESIRED_SPEED,
+        setpoint_label="desired",
+        stride=stride,
+    )
+    _series(left[3], x, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
+    _series(right[0], x, log, "fz", "Fz [N]", style=_FORCE, stride=stride)
+    _series(right[1], x, log, "fx", "Fx [N]", style=_FORCE, stride=stride)
+    _series(right[2], x, log, "m_pitch", "M_pitch [N m]", style=_FORCE, stride=stride)
+    _state_panel(right[3], x, log)
+    for ax in [top, *left[:3], *right[:3]]:
+        ax.tick_params(labelbottom=False)
+    for ax in (left[3], right[3]):
+        ax.set_xlabel("x [m]")
+    return fig, [top, *left, *right], x
+
+
+def plot_terrain(
+    points: np.ndarray | Sequence[Sequence[float]],
+    path: str | os.PathLike[str],
+    *,
+    body_x: np.ndarray | None = None,
+    body_z: np.ndarray | None = None,
+    title: str | None = None,
+    dpi: float = 120,
+) -> Path:
+    """Plot a terrain profile (and optionally a body path above it) and save a PNG.
+
+    Segments are labelled with their slope in degrees when there are at most 30 of them.
+
+    Args:
+        points: ``(n, 2)`` terrain vertices ``(x, z)`` [m].
+        path: Destination PNG; parents are created.
+        body_x: Optional ``(k,)`` body x path [m].
+        body_z: Optional ``(k,)`` body world height along the path [m].
+        title: Figure title.
+        dpi: Resolution of the PNG.
+
+    Returns:
+        The path written.
+
+    Raises:
+        InvalidInputError: If ``points`` is not an ``(n >= 2, 2)`` finite array, or only one of
+            ``body_x`` and ``body_z`` is given, or they differ in length.
+
+    """
+    terrain = check_terrain_points(points, "points")
+    if (body_x is None) != (body_z is None):
+        raise InvalidInputError("body_x, body_z: give both or neither.")
+    if body_x is not None:
+        body_x = np.asarray(body_x, dtype=float)
+        body_z = np.asarray(body_z, dtype=float)
+        if body_x.shape != body_z.shape or body_x.ndim != 1:
+            raise InvalidInputError(
+                f"body_x, body_z: expected two (k,) arrays, got {body_x.shape} and {body_z.shape}."
+            )
+    fig = _new_figure(12, 3.8)
+    ax = fig.add_subplot()
+    _terrain_panel(ax, terrain, body_x, body_z)
+    order = np.argsort(terrain[:, 0], kind="stable")
+    tx, tz = terrain[order, 0], terrain[order, 1]
+    if len(tx) <= 31:
+        for i in range(len(tx) - 1):
+            dx = tx[i + 1] - tx[i]
+            if dx <= 0:
+                continue
+            degrees = math.degrees(math.atan2(tz[i + 1] - tz[i], dx))
+            ax.annotate(
+                f"{degrees:+.0f}°",
+                ((tx[i] + tx[i + 1]) / 2, (tz[i] + tz[i + 1]) / 2),
+                xytext=(0, -12),
+                textcoords="offset points",
+                ha="center",
+                fontsize=7,
+                color="0.25",
+            )
+    ax.set_xlabel("x [m]")
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return _save(fig, path, dpi)

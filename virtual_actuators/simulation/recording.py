@@ -1,0 +1,697 @@
+"""Record a walking run one control tick at a time, and keep it as a :class:`WalkLog`.
+
+A :class:`Recorder` holds a fixed set of named float channels declared at construction, plus a
+discrete state (an index into ``state_names``) and a metadata dict. Rows live in one preallocated
+``(capacity, channels)`` float64 array that doubles when full, so appending is amortised O(1):
+:meth:`Recorder.append` costs about 2-4 µs of Python for the sixteen standard channels and
+:meth:`Recorder.append_row` about 1 µs. A channel not given at a tick stays NaN.
+
+:meth:`Recorder.to_log` returns a :class:`WalkLog`: one array per channel, the state indices,
+the state names and the metadata; :meth:`WalkLog.save_npz` and :meth:`WalkLog.load_npz` store it
+in a NumPy ``.npz`` file (no pickle).
+
+Standard channels
+-----------------
+
+The walking demos record these (:data:`STANDARD_CHANNELS`); all SI, world frame, planar robots
+moving along ``x`` with ``z`` up and pitch about ``y``:
+
+====================  ======  ===========================================================
+channel               unit    meaning
+====================  ======  ===========================================================
+``time``              s       simulation time of the control tick (required in every log)
+``x``                 m       body (hip) x
+``z``                 m       hip height above the terrain directly below the hip
+``z_world``           m       hip height in the world frame
+``pitch``             rad     body pitch (positive nose down, about +y)
+``xdot``              m/s     body (hip) horizontal velocity
+``x_setpoint``        m       set point of the x virtual spring (NaN when none)
+``z_setpoint``        m       set point of the height spring, same reference as ``z``
+``pitch_setpoint``    rad     set point of the pitch spring
+``xdot_setpoint``     m/s     dogtrack bunny speed; NaN when the bunny is inactive
+``fx``                N       virtual force along x applied to the body by the components
+``fz``                N       virtual force along z applied to the body by the components
+``m_pitch``           N m     virtual moment about y applied to the body by the components
+``global_slope``      rad     global slope estimate (seed section 6); NaN for level walkers
+``fallen``            0/1     1 from the tick the robot is judged fallen
+====================  ======  ===========================================================
+
+plus the discrete ``state`` (int index into ``state_names``, -1 when unknown), always recorded.
+Extra channels (joint torques, saturation counts, ...) may be declared beside them.
+
+Standard metadata keys
+----------------------
+
+``robot`` (str), ``terrain`` (str, a name), ``terrain_points`` (``(n, 2)`` array of terrain
+``(x, z)`` vertices in the world frame), ``speed_setpoint_mps`` (float), ``nominal_height_m``
+(float), ``step_states`` (names of the single-support states whose entries count as steps),
+``double_support_states`` (names of the double-support states), ``control_dt_s`` (float),
+``wall_time_s`` (float, wall-clock time of the run). Any other JSON-able values or NumPy arrays
+may be added.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError, close_matches
+
+__all__ = [
+    "STANDARD_CHANNELS",
+    "UNITS",
+    "Recorder",
+    "WalkLog",
+    "check_terrain_points",
+]
+
+#: The float channels recorded by the walking demos (the discrete ``state`` is always recorded).
+STANDARD_CHANNELS: tuple[str, ...] = (
+    "time",
+    "x",
+    "z",
+    "z_world",
+    "pitch",
+    "xdot",
+    "x_setpoint",
+    "z_setpoint",
+    "pitch_setpoint",
+    "xdot_setpoint",
+    "fx",
+    "fz",
+    "m_pitch",
+    "global_slope",
+    "fallen",
+)
+
+#: Units of the standard channels, for labels.
+UNITS: dict[str, str] = {
+    "time": "s",
+    "x": "m",
+    "z": "m",
+    "z_world": "m",
+    "pitch": "rad",
+    "xdot": "m/s",
+    "x_setpoint": "m",
+    "z_setpoint": "m",
+    "pitch_setpoint": "rad",
+    "xdot_setpoint": "m/s",
+    "fx": "N",
+    "fz": "N",
+    "m_pitch": "N m",
+    "global_slope": "rad",
+    "fallen": "",
+}
+
+_STATE = "state"
+_NPZ_FORMAT = 1
+_META_ARRAY_PREFIX = "meta_array__"
+
+
+def _unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInputError:
+    """Build the error for a name that is not one of ``valid`` (names it, lists the valid ones)."""
+    listed = ", ".join(repr(v) for v in valid)
+    hint = close_matches(str(name), valid, n=3)
+    did_you_mean = f" Did you mean {', '.join(repr(h) for h in hint)}?" if hint else ""
+    return InvalidInputError(f"Unknown {what} {name!r}; valid {what}s: {listed}.{did_you_mean}")
+
+
+def _check_names(names: Iterable[object], what: str) -> tuple[str, ...]:
+    """Return ``names`` as a tuple of non-empty unique strings, or raise naming the bad one."""
+    out: list[str] = []
+    for name in names:
+        if not isinstance(name, str) or not name:
+            raise InvalidInputError(f"{what}: every name must be a non-empty str, got {name!r}.")
+        if name in out:
+            raise InvalidInputError(f"{what}: {name!r} is given twice.")
+        out.append(name)
+    return tuple(out)
+
+
+# -- the log ------------------------------------------------------------------------------------
+@dataclass(eq=False)
+class WalkLog:
+    """A recorded run: one float array per channel, the discrete state, and metadata.
+
+    Build one with :meth:`Recorder.to_log`, :meth:`from_arrays` or :meth:`load_npz`.
+
+    Attributes:
+        data: Channel name -> ``(n,)`` float64 array, in declaration order; ``"time"`` [s] is
+            required, finite and non-decreasing.
+        state: ``(n,)`` int64 index into ``state_names`` per tick; -1 when unknown.
+        state_names: Names of the discrete states.
+        metadata: Run description (see the module docstring for the standard keys).
+
+    """
+
+    data: dict[str, np.ndarray]
+    state: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    state_names: tuple[str, ...] = ()
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.data, Mapping):
+            raise InvalidInputError(f"data must be a mapping of channel arrays, got {self.data!r}.")
+        names = _check_names(self.data.keys(), "channels")
+        if _STATE in names:
+            raise InvalidInputError("data: 'state' is not a float channel; pass state=... instead.")
+        if "time" not in names:
+            raise InvalidInputError(
+                "data: a 'time' channel is required; channels given: "
+                + ", ".join(repr(n) for n in names)
+                + "."
+            )
+        n = None
+        data: dict[str, np.ndarray] = {}
+        for name in names:
+            try:
+                array = np.array(self.data[name], dtype=np.float64)
+            except (TypeError, ValueError) as err:
+                raise InvalidInputError(f"channel {name!r}: not numeric ({err}).") from None
+            if array.ndim != 1:
+                raise InvalidInputError(
+                    f"channel {name!r}: expected a 1-D array, shape {array.shape}."
+                )
+            if n is None:
+                n = array.shape[0]
+            elif array.shape[0] != n:
+                raise InvalidInputError(
+                    f"channel {name!r}: {array.shape[0]} samples, but {names[0]!r} has {n}."
+                )
+            data[name] = array
+        n = n or 0
+        time = data["time"]
+        if not np.all(np.isfinite(time)):
+            raise InvalidInputError(f"channel 'time': non-finite value at tick {_first_bad(time)}.")
+        if n > 1 and np.any(np.diff(time) < 0):
+            bad = int(np.argmax(np.diff(time) < 0)) + 1
+            raise InvalidInputError(f"channel 'time': decreases at tick {bad} ({time[bad]!r} s).")
+        self.data = data
+        self.state_names = _check_names(self.state_names, "state_names")
+        state = np.asarray(self.state)
+        if state.size == 0 and n > 0:
+            state = np.full(n, -1, dtype=np.int64)
+        if state.ndim != 1 or state.shape[0] != n:
+            raise InvalidInputError(f"state: expected shape ({n},), got {state.shape}.")
+        if state.size and not np.issubdtype(state.dtype, np.integer):
+            if not np.all(np.isfinite(state)) or np.any(state != np.round(state)):
+                raise InvalidInputError(
+                    "state: values must be integers (indices into state_names)."
+                )
+        state = state.astype(np.int64)
+        if self.state_names and state.size:
+            bad = (state < -1) | (state >= len(self.state_names))
+            if np.any(bad):
+                i = int(np.argmax(bad))
+                raise InvalidInputError(
+                    f"state: {int(state[i])} at tick {i} is not an index into state_names "
+                    f"(0..{len(self.state_names) - 1}, or -1 for unknown)."
+                )
+        self.state = state
+        if not isinstance(self.metadata, Mapping):
+            raise InvalidInputError(f"metadata must be a dict, got {type(self.metadata).__name__}.")
+        self.metadata = dict(self.metadata)
+
+    # -- construction ---------------------------------------------------------------------------
+    @classmethod
+    def from_arrays(
+        cls,
+        *,
+        state: Sequence[int] | np.ndarray | None = None,
+        state_names: Sequence[str] = (),
+        metadata: Mapping[str, Any] | None = None,
+        **channels: Sequence[float] | np.ndarray,
+    ) -> WalkLog:
+        """Build a log from whole arrays (synthetic runs, tests, conversions).
+
+        Args:
+            state: ``(n,)`` state indices; all -1 (unknown) when omitted.
+            state_names: Names of the states.
+            metadata: Run description.
+            **channels: Channel name -> ``(n,)`` values; ``time`` is required.
+
+        Returns:
+            The log.
+
+        Raises:
+            InvalidInputError: If a channel is missing, misshapen or inconsistent.
+
+        """
+        return cls(
+            data=dict(channels),
+            state=np.zeros(0, dtype=np.int64) if state is None else np.asarray(state),
+            state_names=tuple(state_names),
+            metadata=dict(metadata or {}),
+        )
+
+    # -- access ---------------------------------------------------------------------------------
+    def __len__(self) -> int:
+        return int(self.data["time"].shape[0])
+
+    def __contains__(self, name: object) -> bool:
+        return name == _STATE or name in self.data
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.channel(name)
+
+    def __repr__(self) -> str:
+        span = f"{self.time[0]:.3f}..{self.time[-1]:.3f} s" if len(self) else "empty"
+        return (
+            f"WalkLog({len(self)} ticks, {span}, channels={list(self.channels)}, "
+            f"states={list(self.state_names)})"
+        )
+
+    @property
+    def channels(self) -> tuple[str, ...]:
+        """Names of the float channels, in declaration order (``state`` is not among them)."""
+        return tuple(self.data)
+
+    @property
+    def time(self) -> np.ndarray:
+        """``(n,)`` time of each tick [s]."""
+        return self.data["time"]
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last tick [s] (0 for fewer than two ticks)."""
+        return float(self.time[-1] - self.time[0]) if len(self) > 1 else 0.0
+
+    def channel(self, name: str) -> np.ndarray:
+        """Return the ``(n,)`` array of channel ``name`` (``"state"`` gives the state indices).
+
+        Raises:
+            InvalidInputError: If the log has no such channel (the message lists the valid ones).
+
+        """
+        if name == _STATE:
+            return self.state
+        try:
+            return self.data[name]
+        except (KeyError, TypeError):
+            raise _unknown_name(name, (*self.data, _STATE), "channel") from None
+
+    def has(self, name: str) -> bool:
+        """Whether channel ``name`` exists and holds at least one finite value."""
+        if name == _STATE:
+            return bool(np.any(self.state >= 0))
+        array = self.data.get(name)
+        return array is not None and bool(np.any(np.isfinite(array)))
+
+    def state_index(self, name: str) -> int:
+        """Return the index of state ``name`` in :attr:`state_names`.
+
+        Raises:
+            InvalidInputError: If there is no such state (the message lists the valid ones).
+
+        """
+        try:
+            return self.state_names.index(name)
+        except ValueError:
+            raise _unknown_name(name, self.state_names, "state") from None
+
+    def entries(self, states: Iterable[str]) -> np.ndarray:
+        """Return the ticks at which the state changes into one of ``states``.
+
+        The first tick is not an entry (the run starts there). Moving between two of ``states``
+        counts as an entry into the second.
+
+        Args:
+            states: State names (each must be in :attr:`state_names`).
+
+        Returns:
+            ``(k,)`` increasing tick indices.
+
+        Raises:
+            InvalidInputError: If a name is not a state of this log.
+
+        """
+        indices = [self.state_index(s) for s in states]
+        if len(self) < 2 or not indices:
+            return np.zeros(0, dtype=np.int64)
+        s = self.state
+        changed = s[1:] != s[:-1]
+        into = np.isin(s[1:], np.asarray(indices, dtype=np.int64))
+        return np.flatnonzero(changed & into) + 1
+
+    @property
+    def terrain_points(self) -> np.ndarray | None:
+        """``(n, 2)`` terrain ``(x, z)`` vertices from ``metadata["terrain_points"]``, or None.
+
+        Raises:
+            InvalidInputError: If the metadata entry is not an ``(n >= 2, 2)`` finite array.
+
+        """
+        points = self.metadata.get("terrain_points")
+        if points is None:
+            return None
+        return check_terrain_points(points, "metadata['terrain_points']")
+
+    # -- files ----------------------------------------------------------------------------------
+    def save_npz(self, path: str | os.PathLike[str]) -> Path:
+        """Write the log to ``path`` as a compressed ``.npz`` (readable without pickle).
+
+        Metadata values that are NumPy arrays are stored as arrays; the rest must be JSON-able
+        (NumPy scalars and nested arrays are converted; tuples and sets come back as lists).
+
+        Args:
+            path: Destination file; written as given (no suffix is added); parents are created.
+
+        Returns:
+            The path written.
+
+        Raises:
+            InvalidInputError: If a metadata value cannot be stored (the message names its key).
+
+        """
+        path = Path(path)
+        arrays: dict[str, np.ndarray] = {}
+        plain: dict[str, Any] = {}
+        for key, value in self.metadata.items():
+            if not isinstance(key, str):
+                raise InvalidInputError(f"metadata: keys must be str, got {key!r}.")
+            if isinstance(value, np.ndarray):
+                if value.dtype == object:
+                    raise InvalidInputError(f"metadata[{key!r}]: object arrays cannot be saved.")
+                arrays[_META_ARRAY_PREFIX + key] = value
+            else:
+                try:
+                    json.dumps(value, default=_json_default)
+                except (TypeError, ValueError) as err:
+                    raise InvalidInputError(
+                        f"metadata[{key!r}]: cannot be saved ({err})."
+                    ) from None
+                plain[key] = value
+        names = self.channels
+        matrix = (
+            np.column_stack([self.data[n] for n in names])
+            if len(self)
+            else np.zeros((0, len(names)))
+        )
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("wb") as f:
+            np.savez_compressed(
+                f,
+                format=np.asarray(_NPZ_FORMAT),
+                channels=np.asarray(names, dtype=str),
+                data=matrix,
+                state=self.state,
+                state_names=np.asarray(self.state_names, dtype=str),
+                metadata_json=np.asarray(json.dumps(plain, default=_json_default)),
+                **arrays,
+            )
+        return path
+
+    @classmethod
+    def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:
+        """Read a log written by :meth:`save_npz`.
+
+        Args:
+            path: The ``.npz`` file.
+
+        Returns:
+            The log.
+
+        Raises:
+            InvalidInputError: If the file is not a walk log.
+
+        """
+        path = Path(path)
+        with np.load(path, allow_pickle=False) as npz:
+            missing = [k for k in ("channels", "data", "state") if k not in npz.files]
+            if missing:
+                raise InvalidInputError(f"{path}: not a walk log (no {', '.join(missing)}).")
+            names = [str(n) for n in npz["channels"]]
+            matrix = npz["data"]
+            metadata = json.loads(str(npz["metadata_json"])) if "metadata_json" in npz else {}
+            for key in npz.files:
+                if key.startswith(_META_ARRAY_PREFIX):
+                    metadata[key[len(_META_ARRAY_PREFIX) :]] = npz[key]
+            state_names = tuple(str(s) for s in npz["state_names"]) if "state_names" in npz else ()
+            state = npz["state"]
+        if matrix.ndim != 2 or matrix.shape[1] != len(names):
+            raise InvalidInputError(
+                f"{path}: 'data' has shape {matrix.shape}, expected (n, {len(names)})."
+            )
+        return cls(
+            data={n: np.ascontiguousarray(matrix[:, j]) for j, n in enumerate(names)},
+            state=state,
+            state_names=state_names,
+            metadata=metadata,
+        )
+
+
+def _first_bad(array: np.ndarray) -> int:
+    return int(np.argmax(~np.isfinite(array)))
+
+
+def _json_default(value: Any) -> Any:
+    """Convert NumPy values and sets for :func:`json.dumps`."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, set | frozenset):
+        return sorted(value, key=str)
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")
+
+
+def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
+    """Return terrain vertices as an ``(n, 2)`` float array of ``(x, z)``, sorted by nothing.
+
+    Args:
+        points: ``(n, 2)`` array-like with ``n >= 2``, finite.
+        what: Name of the argument, for messages.
+
+    Returns:
+        The points as float64.
+
+    Raises:
+        InvalidInputError: If the shape is wrong or a value is not finite.
+
+    """
+    try:
+        array = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InvalidInputError(
+            f"{what}: expected an (n, 2) array of (x, z), got {points!r}."
+        ) from None
+    if array.ndim != 2 or array.shape[1] != 2 or array.shape[0] < 2:
+        raise InvalidInputError(
+            f"{what}: expected an (n >= 2, 2) array of (x, z), got {array.shape}."
+        )
+    if not np.all(np.isfinite(array)):
+        raise InvalidInputError(f"{what}: non-finite value in row {_first_bad(array) // 2}.")
+    return array
+
+
+# -- the recorder -------------------------------------------------------------------------------
+class Recorder:
+    """Collect one row per control tick into preallocated, amortised-growth arrays.
+
+    Example:
+        >>> rec = Recorder(channels=("time", "x", "z"), state_names=("double", "single"),
+        ...                metadata={"robot": "spring_turkey"})
+        >>> rec.append(time=0.0, x=0.0, z=0.54, state="single")
+        >>> rec.append_row([0.001, 0.0005, 0.54], state=1)
+        >>> log = rec.to_log()
+        >>> log["x"].tolist()
+        [0.0, 0.0005]
+
+    Args:
+        channels: Float channel names; must include ``"time"``. ``"state"`` may be listed (it is
+            recorded separately either way). Defaults to :data:`STANDARD_CHANNELS`.
+        state_names: Names of the discrete states; ``state`` values index into them.
+        capacity: Rows allocated up front (the buffer doubles when full).
+        metadata: Run description, copied; more can be added through :attr:`metadata`.
+
+    Raises:
+        InvalidInputError: If a channel or state name is empty or repeated, ``"time"`` is
+            missing, or ``capacity`` is not a positive integer.
+
+    """
+
+    __slots__ = (
+        "_buffer",
+        "_channels",
+        "_index",
+        "_n",
+        "_nchan",
+        "_state",
+        "_state_index",
+        "_state_names",
+        "metadata",
+    )
+
+    def __init__(
+        self,
+        channels: Sequence[str] = STANDARD_CHANNELS,
+        *,
+        state_names: Sequence[str] = (),
+        capacity: int = 4096,
+        metadata: Mapping[str, Any] | None = None,
+    ) -> None:
+        if isinstance(channels, str):
+            raise InvalidInputError(f"channels: expected a sequence of names, got {channels!r}.")
+        names = tuple(c for c in _check_names(channels, "channels") if c != _STATE)
+        if "time" not in names:
+            raise InvalidInputError(
+                "channels: 'time' is required; given: " + ", ".join(repr(n) for n in names) + "."
+            )
+        if isinstance(state_names, str):
+            raise InvalidInputError(f"state_names: expected a sequence, got {state_names!r}.")
+        if isinstance(capacity, bool) or not isinstance(capacity, int | np.integer) or capacity < 1:
+            raise InvalidInputError(f"capacity: expected a positive int, got {capacity!r}.")
+        self._channels: tuple[str, ...] = names
+        self._nchan = len(names)
+        self._index: dict[str, int] = {n: j for j, n in enumerate(names)}
+        self._state_names: tuple[str, ...] = _check_names(state_names, "state_names")
+        self._state_index: dict[str, int] = {n: i for i, n in enumerate(self._state_names)}
+        self._buffer = np.full((int(capacity), self._nchan), np.nan)
+        self._state = np.full(int(capacity), -1, dtype=np.int64)
+        self._n = 0
+        #: Run description (see the module docstring for the standard keys); copied by to_log.
+        self.metadata: dict[str, Any] = dict(metadata or {})
+
+    def __len__(self) -> int:
+        return self._n
+
+    def __repr__(self) -> str:
+        return (
+            f"Recorder({self._n} rows, capacity {self.capacity}, channels={list(self._channels)})"
+        )
+
+    @property
+    def channels(self) -> tuple[str, ...]:
+        """The float channel names, in row order."""
+        return self._channels
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """The discrete state names."""
+        return self._state_names
+
+    @property
+    def capacity(self) -> int:
+        """Rows currently allocated."""
+        return int(self._buffer.shape[0])
+
+    def _grow(self) -> None:
+        old = self._buffer.shape[0]
+        buffer = np.full((2 * old, self._nchan), np.nan)
+        buffer[:old] = self._buffer
+        state = np.full(2 * old, -1, dtype=np.int64)
+        state[:old] = self._state
+        self._buffer, self._state = buffer, state
+
+    def _state_value(self, state: int | str) -> int:
+        if isinstance(state, str):
+            try:
+                return self._state_index[state]
+            except KeyError:
+                raise _unknown_name(state, self._state_names, "state") from None
+        if isinstance(state, bool) or not isinstance(state, int | np.integer):
+            raise InvalidInputError(f"state: expected an int index or a state name, got {state!r}.")
+        value = int(state)
+        if value < -1 or (self._state_names and value >= len(self._state_names)):
+            raise InvalidInputError(
+                f"state: {value} is not an index into state_names "
+                f"(0..{len(self._state_names) - 1}, or -1 for unknown)."
+            )
+        return value
+
+    def append(self, state: int | str | None = None, **values: float) -> None:
+        """Record one tick: ``rec.append(time=t, x=x, ..., state=i)``.
+
+        Channels left out stay NaN for this tick.
+
+        Args:
+            state: Index into :attr:`state_names` (or the state's name); -1 (unknown) if omitted.
+            **values: Channel name -> value.
+
+        Raises:
+            InvalidInputError: If a channel or state is unknown (nothing is recorded then).
+
+        """
+        n = self._n
+        if n == self._buffer.shape[0]:
+            self._grow()
+        row = self._buffer[n]
+        index = self._index
+        try:
+            for name, value in values.items():
+                row[index[name]] = value
+        except KeyError as err:
+            row[:] = np.nan
+            raise _unknown_name(err.args[0], self._channels, "channel") from None
+        except (TypeError, ValueError) as err:
+            row[:] = np.nan
+            raise InvalidInputError(f"channel {name!r}: cannot record {value!r} ({err}).") from None
+        if state is not None:
+            if type(state) is not int or state < -1 or state >= len(self._state_names) > 0:
+                try:
+                    state = self._state_value(state)
+                except InvalidInputError:
+                    row[:] = np.nan
+                    raise
+            self._state[n] = state
+        self._n = n + 1
+
+    def append_row(self, row: Sequence[float] | np.ndarray, state: int | str | None = None) -> None:
+        """Record one tick from a full row of values in :attr:`channels` order.
+
+        Args:
+            row: ``(len(channels),)`` values.
+            state: Index into :attr:`state_names` (or the state's name); -1 (unknown) if omitted.
+
+        Raises:
+            InvalidInputError: If ``row`` has the wrong length or the state is unknown.
+
+        """
+        try:
+            length = len(row)
+        except TypeError:
+            length = -1
+        if length != self._nchan:
+            raise InvalidInputError(
+                f"row: expected {self._nchan} values ({', '.join(self._channels)}), got "
+                f"{'a scalar' if length < 0 else length}."
+            )
+        if state is not None and (
+            type(state) is not int or state < -1 or state >= len(self._state_names) > 0
+        ):
+            state = self._state_value(state)
+        n = self._n
+        if n == self._buffer.shape[0]:
+            self._grow()
+        try:
+            self._buffer[n] = row
+        except (TypeError, ValueError) as err:
+            self._buffer[n] = np.nan
+            raise InvalidInputError(f"row: cannot record {row!r} ({err}).") from None
+        if state is not None:
+            self._state[n] = state
+        self._n = n + 1
+
+    def to_log(self) -> WalkLog:
+        """Return the rows recorded so far as a :class:`WalkLog` (copies; recording may go on).
+
+        Raises:
+            InvalidInputError: If the recorded ``time`` is not finite and non-decreasing.
+
+        """
+        n = self._n
+        return WalkLog(
+            data={c: self._buffer[:n, j] for j, c in enumerate(self._channels)},  # copied
+            state=self._state[:n],  # copied by WalkLog
+            state_names=self._state_names,
+            metadata=copy.deepcopy(self.metadata),
+        )

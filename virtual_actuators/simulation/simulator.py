@@ -1,0 +1,342 @@
+"""Simulate a loaded robot with MuJoCo: torques in, Pinocchio-convention state out.
+
+:class:`Simulator` builds the MuJoCo model of a robot on a terrain
+(:func:`~virtual_actuators.simulation.model.build_mujoco_model`) and steps it one control period
+at a time with the joint torques held, which is how a controller running at ``control_rate``
+drives a robot. States are read and written in Pinocchio's conventions (``q``, ``v``), contacts
+are queried by Pinocchio frame name.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.robots.robot import Robot
+from virtual_actuators.simulation.conversions import (
+    configuration_from_mujoco,
+    configuration_to_mujoco,
+    torques_to_ctrl,
+    velocity_from_mujoco,
+    velocity_to_mujoco,
+)
+from virtual_actuators.simulation.model import (
+    Collisions,
+    ContactParameters,
+    MujocoModel,
+    build_mujoco_model,
+)
+from virtual_actuators.simulation.terrain import Terrain
+
+__all__ = ["Simulator"]
+
+
+@dataclass
+class _Push:
+    """An external force held on a body for a time window."""
+
+    body: int
+    site: int
+    force: np.ndarray  # N, world frame
+    end: float  # s, simulation time at which it stops
+
+
+class Simulator:
+    """A MuJoCo simulation of a robot on a terrain, driven by joint torques.
+
+    Attributes:
+        robot: The simulated robot.
+        terrain: The ground.
+        mujoco_model: The :class:`~virtual_actuators.simulation.model.MujocoModel` (MuJoCo model
+            plus the Pinocchio index maps).
+        model: The MuJoCo ``MjModel``.
+        data: The MuJoCo ``MjData`` (read it freely; write it only if you know MuJoCo).
+        control_period: Duration of one :meth:`step` [s].
+        substeps: Physics steps per control period.
+
+    Example:
+        >>> import numpy as np
+        >>> import virtual_actuators as va
+        >>> from virtual_actuators.simulation import Simulator, Terrain
+        >>> sim = Simulator(va.load_robot("spring_turkey"), Terrain.builtin("profile-one"))
+        >>> sim.step(np.zeros(sim.robot.model.nv))  # one control period, no torque
+        >>> sim.in_contact("left_foot"), round(sim.time, 6)
+        (True, 0.001)
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        terrain: Terrain | None = None,
+        *,
+        timestep: float = 5e-4,
+        control_rate: float = 1000.0,
+        actuated: Iterable[str] | None = None,
+        contact: ContactParameters | None = None,
+        collisions: Collisions = "collision",
+    ) -> None:
+        """Build the MuJoCo model and reset to the robot's standing pose at rest.
+
+        Args:
+            robot: The robot to simulate.
+            terrain: The ground; level ground at height 0 when None.
+            timestep: Physics time step [s].
+            control_rate: Control frequency [Hz]; ``1 / control_rate`` must be a whole number
+                of physics steps.
+            actuated: Joints driven by motors (see
+                :func:`~virtual_actuators.simulation.model.build_mujoco_model`); by default
+                every 1-DoF joint not in ``robot.passive_joints``.
+            contact: Contact parameters (defaults documented in
+                :class:`~virtual_actuators.simulation.model.ContactParameters`).
+            collisions: Which robot geometry collides (see ``build_mujoco_model``).
+
+        Raises:
+            InvalidInputError: If ``control_rate`` is not positive or its period is not a whole
+                number of time steps, or an argument of ``build_mujoco_model`` is invalid.
+            RobotDescriptionError: If the robot cannot be turned into a MuJoCo model.
+            JointNotFoundError: If ``actuated`` names an unknown joint.
+
+        """
+        if not (
+            isinstance(control_rate, (int, float))
+            and math.isfinite(control_rate)
+            and control_rate > 0
+        ):
+            raise InvalidInputError(
+                f"control_rate must be a positive number of Hz: {control_rate!r}."
+            )
+        if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
+            raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
+        period = 1.0 / float(control_rate)
+        ratio = period / float(timestep)
+        substeps = round(ratio)
+        if substeps < 1 or abs(ratio - substeps) > 1e-9 * max(1.0, ratio):
+            raise InvalidInputError(
+                f"The control period 1/{control_rate:g} Hz = {period:g} s is not a whole number "
+                f"of physics steps of {timestep:g} s ({ratio:.6g} steps); choose a control rate "
+                "that divides 1/timestep."
+            )
+        self.mujoco_model: MujocoModel = build_mujoco_model(
+            robot,
+            terrain,
+            timestep=timestep,
+            actuated=actuated,
+            contact=contact,
+            collisions=collisions,
+        )
+        self.robot = robot
+        self.terrain = self.mujoco_model.terrain
+        self.model: mujoco.MjModel = self.mujoco_model.model
+        self.data = mujoco.MjData(self.model)
+        self.control_period = period
+        self.substeps = int(substeps)
+        self._pushes: list[_Push] = []
+        self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
+        self._force = np.zeros(6)
+        self.reset()
+
+    # -- state -----------------------------------------------------------------------------------
+
+    @property
+    def time(self) -> float:
+        """Simulation time [s]."""
+        return float(self.data.time)
+
+    @property
+    def q(self) -> np.ndarray:
+        """Configuration in Pinocchio's convention (a fresh array of size ``model.nq``)."""
+        return configuration_from_mujoco(self.mujoco_model, self.data.qpos)
+
+    @property
+    def v(self) -> np.ndarray:
+        """Velocity in Pinocchio's convention (a fresh array of size ``model.nv``).
+
+        The free-flyer's linear and angular velocities are in its body frame.
+        """
+        return velocity_from_mujoco(self.mujoco_model, self.data.qpos, self.data.qvel)
+
+    def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
+        """Restart at time 0 from a state given in Pinocchio's conventions.
+
+        Args:
+            q: Configuration, size ``model.nq``; ``robot.neutral()`` (the standing pose when the
+                robot has one) when None.
+            v: Velocity, size ``model.nv``; zero when None.
+
+        Raises:
+            InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
+
+        """
+        pin_model = self.robot.model
+        q = self.robot.neutral() if q is None else q
+        v = np.zeros(pin_model.nv) if v is None else v
+        qpos = configuration_to_mujoco(self.mujoco_model, q)
+        qvel = velocity_to_mujoco(self.mujoco_model, q, v)
+        mujoco.mj_resetData(self.model, self.data)
+        self.data.qpos[:] = qpos
+        self.data.qvel[:] = qvel
+        self._pushes.clear()
+        self._applied[:] = 0.0
+        mujoco.mj_forward(self.model, self.data)
+
+    # -- stepping --------------------------------------------------------------------------------
+
+    def step(self, tau: np.ndarray, *, ignore_unactuated: bool = False) -> None:
+        """Advance one control period with the joint efforts ``tau`` held.
+
+        MuJoCo clips each effort to its actuator's ``ctrlrange`` (``+-effortLimit``).
+
+        Args:
+            tau: Joint efforts [N m or N] in Pinocchio's velocity order, size ``model.nv``.
+            ignore_unactuated: Drop efforts on degrees of freedom no actuator drives instead of
+                raising.
+
+        Raises:
+            InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or asks for
+                an effort on an unactuated degree of freedom (the message names the joint).
+
+        """
+        ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
+        self.data.ctrl[:] = ctrl
+        if not self._pushes and not np.any(self._applied):
+            mujoco.mj_step(self.model, self.data, nstep=self.substeps)
+            return
+        for _ in range(self.substeps):
+            self._apply_pushes()
+            mujoco.mj_step(self.model, self.data)
+        self._apply_pushes()
+
+    def push(self, force_world: np.ndarray, frame: str, duration: float = 0.1) -> None:
+        """Push the robot: hold a world-frame force at a frame's origin for a while, from now.
+
+        The force is applied through ``xfrc_applied`` on the frame's body, with the moment that
+        puts it at the frame origin (updated every physics step). Pushes add up.
+
+        Args:
+            force_world: Force [N] in world axes, 3 values.
+            frame: Pinocchio frame whose origin the force acts at.
+            duration: How long the force lasts [s] (> 0).
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+            InvalidInputError: If the force is not 3 finite numbers, ``duration`` is not
+                positive, or the frame is fixed to the world.
+
+        """
+        mm = self.mujoco_model
+        body = mm.frame_body(frame)
+        force = np.array(force_world, dtype=float).reshape(-1)
+        if force.shape != (3,) or not np.all(np.isfinite(force)):
+            raise InvalidInputError(
+                f"force_world must be 3 finite numbers [N], got {force_world!r}."
+            )
+        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+            raise InvalidInputError(f"duration must be a positive number of seconds: {duration!r}.")
+        if body == 0:
+            raise InvalidInputError(f"Frame {frame!r} is fixed to the world: it cannot be pushed.")
+        end = self.time + float(duration) - 0.5 * self.model.opt.timestep
+        self._pushes.append(_Push(body, mm.frame_sites[frame], force, end))
+        self._apply_pushes()
+
+    def _apply_pushes(self) -> None:
+        """Write the active pushes into ``xfrc_applied`` (removing the ones that ended)."""
+        self.data.xfrc_applied[:] -= self._applied
+        self._applied[:] = 0.0
+        now = self.time
+        self._pushes = [push for push in self._pushes if now < push.end]
+        for push in self._pushes:
+            point = self.data.site_xpos[push.site]
+            lever = point - self.data.xipos[push.body]
+            self._applied[push.body, :3] += push.force
+            self._applied[push.body, 3:] += np.cross(lever, push.force)
+        self.data.xfrc_applied[:] += self._applied
+
+    # -- contacts --------------------------------------------------------------------------------
+
+    def _terrain_contacts(self, frame: str | None = None):
+        """Yield ``(contact index, robot geom, sign)`` for active robot-terrain contacts.
+
+        ``sign`` is +1 when the robot geom is the contact's second geom (MuJoCo's contact force
+        acts on the second geom along the normal) and -1 otherwise.
+        """
+        mm = self.mujoco_model
+        if frame is not None:
+            mm.check_frame(frame)
+            geoms = set(mm.frame_geoms.get(frame, ()))
+        terrain = mm.terrain_geoms
+        contacts = self.data.contact
+        for i in range(self.data.ncon):
+            if contacts.exclude[i] != 0:
+                continue
+            g1, g2 = int(contacts.geom1[i]), int(contacts.geom2[i])
+            if g1 in terrain and g2 not in terrain:
+                robot_geom, sign = g2, 1.0
+            elif g2 in terrain and g1 not in terrain:
+                robot_geom, sign = g1, -1.0
+            else:
+                continue
+            if robot_geom not in mm.geom_frames:
+                continue
+            if frame is None or robot_geom in geoms:
+                yield i, robot_geom, sign
+
+    def in_contact(self, frame: str) -> bool:
+        """Whether a geom of a frame touches the terrain.
+
+        A frame's geoms are those attached to it plus those its origin lies on (a heel frame
+        on a heel sphere); see :attr:`MujocoModel.frame_geoms`.
+
+        Args:
+            frame: Pinocchio frame name.
+
+        Returns:
+            True if any of its geoms is in contact with a terrain geom.
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+
+        """
+        return any(True for _ in self._terrain_contacts(frame))
+
+    def contact_force(self, frame: str) -> np.ndarray:
+        """Total force of the terrain on a frame's geoms, in world axes [N].
+
+        Args:
+            frame: Pinocchio frame name.
+
+        Returns:
+            The force, shape ``(3,)`` (zero without contact).
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+
+        """
+        total = np.zeros(3)
+        for i, _, sign in self._terrain_contacts(frame):
+            mujoco.mj_contactForce(self.model, self.data, i, self._force)
+            axes = self.data.contact.frame[i].reshape(3, 3)  # rows: normal, tangent 1, tangent 2
+            total += sign * (axes.T @ self._force[:3])
+        return total
+
+    def touching_terrain(self) -> set[str]:
+        """Names of the frames whose geoms touch the terrain (e.g. to detect a fall).
+
+        Returns:
+            Frame names (a geom counts for its parent frame and every frame that owns it).
+
+        """
+        owners = self.mujoco_model.geom_frames
+        return {name for _, geom, _ in self._terrain_contacts() for name in owners[geom]}
+
+    def __repr__(self) -> str:
+        return (
+            f"Simulator({self.robot.name!r}, terrain={self.terrain!r}, t={self.time:.4f} s, "
+            f"dt={self.model.opt.timestep:g} s x {self.substeps} per control period, "
+            f"{self.model.nu} actuators)"
+        )

@@ -1,0 +1,386 @@
+"""Terrain for the simulations: a piecewise-linear height profile ``z(x)`` along world x.
+
+A :class:`Terrain` is a list of points ``(x, z)`` in metres with strictly increasing ``x``. The
+height is linear between consecutive points and flat (constant) before the first point and after
+the last one, so a profile never has vertical steps. The profile does not depend on ``y``.
+
+Built-in profiles (all slopes within +-20 degrees, level for the first 2 m so a robot can start
+standing at ``x = 0``):
+
+``flat``
+    Level ground at height 0 (a plane in MuJoCo).
+``profile-one``
+    The style of Profile One of the seed (Chew, Pratt et al., "Virtual model control: an
+    intuitive approach for bipedal locomotion", IJRR 2001, section 6.3, Fig. 15), about 14 m:
+    2 m level, up 15 degrees, level, down 15 degrees, level, up 20 degrees, level, down 20
+    degrees, level; segments of 1.2 m to 1.8 m.
+``profile-two``
+    The style of the seed's Profile Two (Fig. 16), rougher: after 2 m level, a series of slopes
+    between -18 and +18 degrees, 0.6 m to 1.5 m long, with gradient changes of at most 18 degrees
+    at each transition; 16.4 m in all. Hard-coded, hence the same in every run.
+``rolling``
+    Gentle rolling ground: after 2 m level, slopes of 5 and 10 degrees up and down over 1 m
+    segments, 14 m in all.
+
+In MuJoCo (:func:`~virtual_actuators.simulation.model.build_mujoco_model`) a flat terrain is a
+plane and any other profile is a chain of thin boxes, one per segment, whose top faces lie on the
+segments, plus 50 m long level boxes before the first and after the last point.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError, suggestion
+
+__all__ = ["Terrain"]
+
+#: Length of the level ground that every built-in profile starts with [m].
+LEVEL_START = 2.0
+
+#: Default width of the terrain boxes along y in MuJoCo [m].
+DEFAULT_WIDTH = 2.0
+
+# Built-in profiles as (horizontal length [m], slope [deg]) segments after LEVEL_START m of level
+# ground starting at x = 0; the height starts at 0.
+_PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
+    "profile-one": (
+        (1.5, 15.0),
+        (1.6, 0.0),
+        (1.5, -15.0),
+        (1.6, 0.0),
+        (1.2, 20.0),
+        (1.6, 0.0),
+        (1.2, -20.0),
+        (1.8, 0.0),
+    ),
+    "profile-two": (
+        (1.0, 10.0),
+        (0.8, 18.0),
+        (1.2, 5.0),
+        (0.7, -10.0),
+        (1.0, -18.0),
+        (0.6, -5.0),
+        (1.5, 8.0),
+        (0.9, 15.0),
+        (0.8, 0.0),
+        (1.1, -14.0),
+        (0.7, 3.0),
+        (1.3, 12.0),
+        (0.6, -6.0),
+        (1.0, -16.0),
+        (1.2, 0.0),
+    ),
+    "rolling": (
+        (1.0, 5.0),
+        (1.0, 10.0),
+        (1.0, 5.0),
+        (1.0, -5.0),
+        (1.0, -10.0),
+        (1.0, -5.0),
+        (1.0, 5.0),
+        (1.0, 10.0),
+        (1.0, 5.0),
+        (1.0, -5.0),
+        (1.0, -10.0),
+        (1.0, -5.0),
+    ),
+}
+
+_BUILTIN_NAMES = ("flat", *_PROFILES)
+
+
+def _profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Points of a built-in profile: (0, 0), (LEVEL_START, 0), then one point per segment."""
+    points = [(0.0, 0.0), (LEVEL_START, 0.0)]
+    x, z = LEVEL_START, 0.0
+    for length, slope_deg in segments:
+        x += length
+        z += length * math.tan(math.radians(slope_deg))
+        points.append((round(x, 12), z))
+    return points
+
+
+def _pair(point: np.ndarray) -> str:
+    """Format a point as ``(x, z)`` with plain floats."""
+    return f"({float(point[0])!r}, {float(point[1])!r})"
+
+
+class Terrain:
+    """A piecewise-linear height profile ``z(x)`` [m] along world x, flat outside its points.
+
+    Build one with :meth:`flat`, :meth:`from_points`, :meth:`builtin` or :meth:`parse`.
+
+    Attributes:
+        name: A label (the built-in name, ``"flat"``, or ``"custom"``).
+        width: Width of the terrain along world y in MuJoCo [m], centred on ``y = 0`` (a flat
+            terrain is an infinite plane and ignores it).
+
+    """
+
+    def __init__(
+        self,
+        points: Iterable[Sequence[float]],
+        *,
+        name: str = "custom",
+        width: float = DEFAULT_WIDTH,
+    ) -> None:
+        """Create a terrain from its points (prefer the named constructors).
+
+        Args:
+            points: Points ``(x, z)`` [m], at least one, ``x`` strictly increasing.
+            name: A label shown by :meth:`__repr__`.
+            width: Width along y of the MuJoCo terrain boxes [m], > 0.
+
+        Raises:
+            InvalidInputError: If the points are not an ``(n, 2)`` array of finite numbers with
+                ``n >= 1`` and strictly increasing ``x``, or ``width`` is not positive.
+
+        """
+        try:
+            array = np.array(points, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(
+                f"Terrain points must be (x, z) pairs of numbers in metres: {exc}."
+            ) from exc
+        if array.ndim != 2 or array.shape[1] != 2 or array.shape[0] < 1:
+            raise InvalidInputError(
+                "Terrain points must be a non-empty list of (x, z) pairs, got an array of "
+                f"shape {array.shape}."
+            )
+        if not np.all(np.isfinite(array)):
+            bad = int(np.argwhere(~np.isfinite(array))[0, 0])
+            raise InvalidInputError(
+                f"Terrain point {bad} {_pair(array[bad])} is not finite: heights and positions "
+                "must be finite numbers in metres."
+            )
+        steps = np.diff(array[:, 0])
+        if np.any(steps <= 0.0):
+            i = int(np.argmax(steps <= 0.0))
+            raise InvalidInputError(
+                f"Terrain x positions must be strictly increasing: point {i + 1} "
+                f"{_pair(array[i + 1])} does not come after point {i} {_pair(array[i])} "
+                "(a vertical step is not a valid profile)."
+            )
+        if not (isinstance(width, (int, float)) and math.isfinite(width) and width > 0.0):
+            raise InvalidInputError(
+                f"Terrain width must be a positive number of metres: {width!r}."
+            )
+        array.setflags(write=False)
+        self._points = array
+        self.name = str(name)
+        self.width = float(width)
+
+    # -- constructors ---------------------------------------------------------------------------
+
+    @classmethod
+    def flat(cls, height: float = 0.0, *, width: float = DEFAULT_WIDTH) -> Terrain:
+        """Level ground.
+
+        Args:
+            height: Ground height [m].
+            width: See :class:`Terrain` (unused by the MuJoCo plane).
+
+        Returns:
+            The flat terrain.
+
+        Raises:
+            InvalidInputError: If ``height`` is not a finite number.
+
+        """
+        return cls([(0.0, height)], name="flat", width=width)
+
+    @classmethod
+    def from_points(
+        cls, points: Iterable[Sequence[float]], *, width: float = DEFAULT_WIDTH
+    ) -> Terrain:
+        """A terrain through the given points, linear between them and flat outside.
+
+        Args:
+            points: Pairs ``(x, z)`` [m] with strictly increasing ``x``.
+            width: See :class:`Terrain`.
+
+        Returns:
+            The terrain, named ``"custom"``.
+
+        Raises:
+            InvalidInputError: If the points are empty, not pairs of finite numbers, or their
+                ``x`` does not strictly increase (the message names the offending point).
+
+        """
+        return cls(points, name="custom", width=width)
+
+    @classmethod
+    def builtin(cls, name: str, *, width: float = DEFAULT_WIDTH) -> Terrain:
+        """One of the built-in profiles (see :meth:`names` and the module documentation).
+
+        Args:
+            name: ``"flat"``, ``"profile-one"``, ``"profile-two"`` or ``"rolling"``.
+            width: See :class:`Terrain`.
+
+        Returns:
+            The terrain.
+
+        Raises:
+            InvalidInputError: If ``name`` is not a built-in profile (the message lists the
+                closest names).
+
+        """
+        if name == "flat":
+            return cls.flat(width=width)
+        if name not in _PROFILES:
+            hint = suggestion(str(name), _BUILTIN_NAMES, "terrains")
+            raise InvalidInputError(f"No built-in terrain named {name!r}. {hint}")
+        return cls(_profile_points(_PROFILES[name]), name=name, width=width)
+
+    @staticmethod
+    def names() -> tuple[str, ...]:
+        """Names of the built-in profiles accepted by :meth:`builtin` and :meth:`parse`."""
+        return _BUILTIN_NAMES
+
+    @classmethod
+    def parse(cls, spec: str, *, width: float = DEFAULT_WIDTH) -> Terrain:
+        """A terrain from a short text, as given on a command line.
+
+        Accepted forms: ``"flat"``, ``"flat:HEIGHT"`` (level ground at ``HEIGHT`` m), a built-in
+        name (:meth:`names`), or points ``"x:z,x:z,..."`` in metres (for example
+        ``"0:0,2:0,3:0.27,4:0.27"``).
+
+        Args:
+            spec: The text.
+            width: See :class:`Terrain`.
+
+        Returns:
+            The terrain.
+
+        Raises:
+            InvalidInputError: If the text is none of these forms; the message quotes the bad
+                token and lists what is valid.
+
+        """
+        if not isinstance(spec, str):
+            raise InvalidInputError(f"A terrain spec must be a string, got {type(spec).__name__}.")
+        text = spec.strip()
+        valid = (
+            f"valid terrains: {', '.join(_BUILTIN_NAMES)}, 'flat:HEIGHT', or points 'x:z,x:z,...' "
+            "in metres with increasing x (e.g. '0:0,2:0,3:0.27')"
+        )
+        if not text:
+            raise InvalidInputError(f"Empty terrain spec; {valid}.")
+        if text in _BUILTIN_NAMES:
+            return cls.builtin(text, width=width)
+        if text.startswith("flat:"):
+            height = text.removeprefix("flat:").strip()
+            try:
+                value = float(height)
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise InvalidInputError(
+                    f"Bad terrain height {height!r} in {spec!r}: 'flat:HEIGHT' needs a finite "
+                    f"number of metres; {valid}."
+                )
+            return cls.flat(value, width=width)
+        points = []
+        for token in text.split(","):
+            parts = token.split(":")
+            values: list[float] = []
+            if len(parts) == 2:
+                try:
+                    values = [float(part) for part in parts]
+                except ValueError:
+                    values = []
+            if len(values) != 2 or not all(math.isfinite(v) for v in values):
+                hint = ""
+                if ":" not in token and token.strip():
+                    hint = " " + suggestion(token.strip(), _BUILTIN_NAMES, "terrains")
+                raise InvalidInputError(
+                    f"Bad terrain token {token.strip()!r} in {spec!r}: expected a point 'x:z' "
+                    f"with two finite numbers in metres; {valid}.{hint}"
+                )
+            points.append(values)
+        return cls(points, name="custom", width=width)
+
+    # -- queries ---------------------------------------------------------------------------------
+
+    @property
+    def points(self) -> np.ndarray:
+        """The profile points, shape ``(n, 2)``: columns x [m] and z [m] (a copy)."""
+        return self._points.copy()
+
+    @property
+    def is_flat(self) -> bool:
+        """Whether every point has the same height (level ground)."""
+        return bool(np.all(self._points[:, 1] == self._points[0, 1]))
+
+    @property
+    def slopes(self) -> np.ndarray:
+        """Slope angle of each segment between consecutive points [rad], shape ``(n - 1,)``."""
+        dx = np.diff(self._points[:, 0])
+        dz = np.diff(self._points[:, 1])
+        return np.arctan2(dz, dx)
+
+    def height(self, x: float | np.ndarray) -> float | np.ndarray:
+        """Ground height at world ``x``.
+
+        Args:
+            x: Position(s) along world x [m], a number or an array.
+
+        Returns:
+            Height(s) [m]: a float for a number, an array of the shape of ``x`` otherwise.
+
+        """
+        xs, zs = self._points[:, 0], self._points[:, 1]
+        heights = np.interp(np.asarray(x, dtype=float), xs, zs)
+        return float(heights) if np.ndim(x) == 0 else heights
+
+    def slope(self, x: float | np.ndarray) -> float | np.ndarray:
+        """Slope angle of the ground at world ``x`` [rad], positive uphill towards +x.
+
+        At a point between two segments the slope of the segment after it is returned; before
+        the first and after the last point the ground is level (0).
+
+        Args:
+            x: Position(s) along world x [m], a number or an array.
+
+        Returns:
+            Angle(s) [rad]: a float for a number, an array of the shape of ``x`` otherwise.
+
+        """
+        xs = self._points[:, 0]
+        positions = np.asarray(x, dtype=float)
+        angles = np.concatenate(([0.0], self.slopes, [0.0]))
+        index = np.searchsorted(xs, positions, side="right")  # 0 before, n after the points
+        result = angles[index]
+        return float(result) if np.ndim(x) == 0 else result
+
+    def segments(self, run: float = 50.0) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+        """The ground as straight segments, with level run-in and run-out segments.
+
+        Args:
+            run: Length of the level segments added before the first and after the last
+                point [m].
+
+        Returns:
+            Segments ``((x0, z0), (x1, z1))`` from left to right.
+
+        """
+        xs, zs = self._points[:, 0], self._points[:, 1]
+        out = [((float(xs[0] - run), float(zs[0])), (float(xs[0]), float(zs[0])))]
+        for i in range(len(xs) - 1):
+            out.append(((float(xs[i]), float(zs[i])), (float(xs[i + 1]), float(zs[i + 1]))))
+        out.append(((float(xs[-1]), float(zs[-1])), (float(xs[-1] + run), float(zs[-1]))))
+        return out
+
+    def __repr__(self) -> str:
+        if self.is_flat:
+            return f"Terrain.flat(height={self._points[0, 1]:g})"
+        xs, zs = self._points[:, 0], self._points[:, 1]
+        steepest = math.degrees(float(np.max(np.abs(self.slopes))))
+        return (
+            f"Terrain({self.name!r}, {len(xs)} points, x {xs[0]:g}..{xs[-1]:g} m, "
+            f"z {zs.min():.3g}..{zs.max():.3g} m, steepest {steepest:.3g} deg)"
+        )

@@ -50,6 +50,7 @@ HIP_LIMIT = 2.0  # rad, +- hip swing [estimate]
 KNEE_RANGE = (0.0, 2.6)  # rad, knee stop at 0, bends one way only [IHMC]; 2.6 rad [estimate]
 JOINT_VELOCITY = 12.0  # rad/s, hips, knees, ankles [estimate]
 LEG_RADIUS = 0.02  # m, radius of the thigh and shin cylinders (inertia and visuals) [estimate]
+SHIN_CLEARANCE = 0.06  # m, shin collision cylinder stops this far above the tip [estimate]
 STANDING_FOOT_OFFSET = 0.10  # m, feet at +-0.10 m in x from the hips when standing [estimate]
 
 
@@ -300,6 +301,13 @@ def _sphere_collision(radius: float, xyz: tuple[float, float, float]) -> str:
     )
 
 
+def _collision(geometry: str, xyz: tuple[float, float, float]) -> str:
+    return (
+        f'    <collision>\n      <origin xyz="{_xyz(*xyz)}" rpy="0 0 0"/>\n'
+        f"      <geometry>{geometry}</geometry>\n    </collision>\n"
+    )
+
+
 def _joint(
     name: str,
     kind: str,
@@ -383,6 +391,7 @@ def urdf(robot: Biped) -> str:
             (0.0, 0.0, 0.0),
             "body",
         )
+        + _collision(f'<box size="{_xyz(sx, sy, sz)}"/>', body_com)
         + "  </link>\n"
     )
     for side, _ in SIDES:
@@ -399,10 +408,15 @@ def _leg(robot: Biped, side: str) -> str:
         ("shin", robot.shin_mass, robot.shin_length, robot.shin_com),
     ):
         cylinder = f'<cylinder radius="{_f(LEG_RADIUS)}" length="{_f(length)}"/>'
+        # Collision: the whole thigh; the shin stops SHIN_CLEARANCE above its tip, so that only
+        # the feet touch the ground in normal walking (anything else touching means a fall).
+        hit = length - (SHIN_CLEARANCE if part == "shin" else 0.0)
+        hit_cylinder = f'<cylinder radius="{_f(LEG_RADIUS)}" length="{_f(hit)}"/>'
         out.append(
             f'  <link name="{side}_{part}">\n'
             + _inertial(mass, (0.0, 0.0, -com), *_rod_inertia(mass, length))
             + _visual(cylinder, (0.0, 0.0, -length / 2.0), side)
+            + _collision(hit_cylinder, (0.0, 0.0, -hit / 2.0))
             + "  </link>\n"
         )
     effort, velocity = robot.hip_effort, JOINT_VELOCITY
@@ -448,9 +462,6 @@ def _leg(robot: Biped, side: str) -> str:
         f'  <link name="{foot}">\n'
         + _inertial(robot.foot_mass, centre, ixx, iyy, izz)
         + _visual(f'<box size="{_xyz(length, 4 * LEG_RADIUS, thickness)}"/>', centre, "foot")
-        # contact spheres tangent to the sole plane at the heel and toe points
-        + _sphere_collision(robot.foot_radius, (heel[0], 0.0, sole + robot.foot_radius))
-        + _sphere_collision(robot.foot_radius, (toe[0], 0.0, sole + robot.foot_radius))
         + "  </link>\n"
     )
     out.append(
@@ -463,8 +474,11 @@ def _leg(robot: Biped, side: str) -> str:
             limits=(-robot.ankle_limit, robot.ankle_limit, robot.ankle_effort, velocity),
         )
     )
+    # Contact spheres tangent to the sole plane, one in each of the heel and toe links, so that
+    # a simulator reports the heel and toe contact switches by frame.
     for point, xyz in (("heel", heel), ("toe", toe)):
-        out.append(f'  <link name="{side}_{point}"/>\n')
+        sphere = _sphere_collision(robot.foot_radius, (0.0, 0.0, robot.foot_radius))
+        out.append(f'  <link name="{side}_{point}">\n{sphere}  </link>\n')
         out.append(_joint(f"{side}_{point}_joint", "fixed", foot, f"{side}_{point}", xyz))
     return "".join(out)
 

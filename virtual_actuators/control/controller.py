@@ -281,8 +281,7 @@ class Controller:
             return self.attachments[name]
         except KeyError:
             raise InvalidInputError(
-                f"No attachment named {name!r}.{suggestion(name, self.attachments)} "
-                f"Attachments: {sorted(self.attachments)}."
+                f"No attachment named {name!r}. {suggestion(name, self.attachments, 'attachments')}"
             ) from None
 
     def compute(

@@ -111,8 +111,8 @@ class Context:
             return bool(self.contacts[frame])
         except KeyError:
             raise InvalidInputError(
-                f"No contact switch for {frame!r}.{suggestion(frame, self.contacts)} "
-                f"Switches: {sorted(self.contacts)}."
+                f"No contact switch for {frame!r}. "
+                + suggestion(frame, self.contacts, "contact switches")
             ) from None
 
     def __repr__(self) -> str:
@@ -217,8 +217,7 @@ class StateMachine:
     def _check(self, name: str, where: str) -> None:
         if name not in self._states:
             raise InvalidInputError(
-                f"{where}: unknown state {name!r}.{suggestion(name, self._states)} "
-                f"States: {list(self._states)}."
+                f"{where}: unknown state {name!r}. {suggestion(name, self._states, 'states')}"
             )
 
     @property

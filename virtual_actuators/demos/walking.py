@@ -122,9 +122,7 @@ class WalkResult:
 
 def _spec(name: str) -> WalkSpec:
     if name not in WALKS:
-        raise InvalidInputError(
-            f"Unknown walk {name!r}.{suggestion(name, WALKS)} Walks: {sorted(WALKS)}."
-        )
+        raise InvalidInputError(f"Unknown walk {name!r}. {suggestion(name, WALKS, 'walks')}")
     return WALKS[name]
 
 

@@ -31,7 +31,7 @@ from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
 from ..declaration.constraints import EqualTorque
 from ..robots.robot import Robot
 from .base import Gait, planar_standing_configuration
-from .turkey import PLANAR_AXES, SIDES, other, smoothstep
+from .turkey import PLANAR_AXES, SIDES, lift_profile, other, smoothstep
 
 
 @dataclass
@@ -48,11 +48,16 @@ class FlamingoParameters:
         k_height: Fraction of the height limit used as the hip height set point.
         leg_length: ``l1 + l2``, hip to ankle [m].
         stiffness_z, damping_z: Granny walker on height [N/m], [N s/m].
+        min_lift: Fraction of the weight below which the granny walker's z force never goes:
+            its spring-damper part is saturated at ``(1 - min_lift) * weight`` both ways, so
+            that a dropping height set point never pulls the body down (legs only push) and
+            the feet keep the normal force the bunny needs.
         stiffness_pitch, damping_pitch: Granny walker on pitch [N m/rad], [N m s/rad].
         bunny_damping: ``b_x`` [N s/m].
         min_normal_force: In double support, each foot pushes at least this much [N]; the
             bunny's force is scaled down when it would make a foot pull.
         swing_time: Planned duration of the swing [s].
+        lift_peak: Phase of the swing (0 to 1) at which the foot is highest above its path.
         swing_stiffness: Swing linkage (x, z, pitch) [N/m, N/m, N m/rad].
         swing_damping: Swing linkage (x, z, pitch) [N s/m, N s/m, N m s/rad].
         min_speed: Double support ends only while the body moves forward faster than this
@@ -71,11 +76,13 @@ class FlamingoParameters:
     leg_length: float = 0.84
     stiffness_z: float = 5000.0
     damping_z: float = 200.0
+    min_lift: float = 0.3
     stiffness_pitch: float = 500.0
     damping_pitch: float = 20.0
     bunny_damping: float = 100.0
     min_normal_force: float = 10.0
     swing_time: float = 0.45
+    lift_peak: float = 0.35
     swing_stiffness: tuple[float, float, float] = (600.0, 800.0, 20.0)
     swing_damping: tuple[float, float, float] = (30.0, 40.0, 1.0)
     min_speed: float = 0.1
@@ -142,6 +149,7 @@ class FlamingoWalker(Gait):
             pitch=p.pitch,
             weight=weight,
         )
+        self.granny.limit = ((1.0 - p.min_lift) * weight, np.inf)
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
         self.swing = {
             side: SwingLegLinkage(
@@ -236,7 +244,9 @@ class FlamingoWalker(Gait):
                     f"{side}_support",
                     "double_support",
                     events.all_of(
-                        events.contact(*swing_switches), events.after(0.5 * p.swing_time)
+                        events.contact(*swing_switches),
+                        events.after(0.5 * p.swing_time),
+                        events.ahead_of(f"{swing_side}_foot", f"{side}_foot", 0.0),
                     ),
                     f"{swing_side} heel and toe down",
                 ),
@@ -246,6 +256,7 @@ class FlamingoWalker(Gait):
                     events.all_of(
                         events.contact(*swing_switches, require_all=False),
                         events.after(0.3 * p.swing_time),
+                        events.ahead_of(f"{swing_side}_foot", f"{side}_foot", 0.0),
                     ),
                     f"{swing_side} foot lands early",
                 ),
@@ -322,7 +333,9 @@ class FlamingoWalker(Gait):
         surface = self.slope_height(x_target)
         if phase <= 1.0:
             start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])
-            z_target = surface + (1.0 - phase) * start_height + p.lift * math.sin(math.pi * phase)
+            z_target = (
+                surface + (1.0 - phase) * start_height + p.lift * lift_profile(phase, p.lift_peak)
+            )
         else:
             # Downward push through the virtual surface, and re-estimate the slope below it.
             z_target = surface - p.push_speed * (elapsed - p.swing_time)

@@ -4,7 +4,18 @@ Declare virtual actuators between frames of a robot, distribute their wrenches o
 chains with the extended Partitioned Actuator Set method, and map them to joint efforts.
 """
 
-from .declaration.actuators import ParallelVirtualActuator, VirtualActuator
+from .components import (
+    Component,
+    ConstantForce,
+    Damper,
+    DogtrackBunny,
+    GrannyWalker,
+    Spring,
+    SpringDamper,
+    SwingLegLinkage,
+)
+from .control import Context, Controller, ControlOutput, State, StateMachine, Transition, events
+from .declaration.actuators import ParallelVirtualActuator, SensorReading, VirtualActuator
 from .declaration.constraints import DesignConstraint, Equal, EqualTorque, Linear
 from .declaration.frames import AXES, WORLD
 from .distribution.solution import Solution
@@ -27,6 +38,22 @@ __version__ = "0.1.0"
 __all__ = [
     "AXES",
     "WORLD",
+    "Component",
+    "ConstantForce",
+    "Context",
+    "ControlOutput",
+    "Controller",
+    "Damper",
+    "DogtrackBunny",
+    "GrannyWalker",
+    "SensorReading",
+    "Spring",
+    "SpringDamper",
+    "State",
+    "StateMachine",
+    "SwingLegLinkage",
+    "Transition",
+    "events",
     "ConstraintError",
     "DesignConstraint",
     "Equal",

@@ -1,0 +1,74 @@
+"""Whole-length walks of the seeds' bipeds in MuJoCo: metrics and real-time factors.
+
+Prints a table and can write JSON (and the plots):
+
+    python benchmarks/bench_walk.py [--only turkey-flat] [--json walk.json] [--plots DIR]
+
+Cases: Spring Turkey 20 s on level ground at 0.5 m/s (seed: about 0.5 m/s, height within 3 cm,
+pitch within 0.1 rad, steps of about 0.5 s); Spring Flamingo 40 s over profile-one and
+profile-two at 0.4 m/s (seed: 12 m of slopes between -20 and +20 degrees without falling), and
+on level ground.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+from pathlib import Path
+
+from virtual_actuators.demos import run_walk
+from virtual_actuators.simulation.plots import plot_walk
+
+CASES = {
+    "turkey-flat": ("turkey-walk", "flat", 20.0),
+    "flamingo-flat": ("flamingo-slopes", "flat", 30.0),
+    "flamingo-profile-one": ("flamingo-slopes", "profile-one", 40.0),
+    "flamingo-profile-two": ("flamingo-slopes", "profile-two", 45.0),
+}
+COLUMNS = (
+    ("fell", "fell", "{}"),
+    ("distance_m", "dist [m]", "{:.2f}"),
+    ("mean_speed_mps", "speed [m/s]", "{:.3f}"),
+    ("height_dev_m", "|dz| [m]", "{:.3f}"),
+    ("pitch_max_abs_rad", "|pitch| [rad]", "{:.3f}"),
+    ("steps", "steps", "{}"),
+    ("step_time_mean_s", "step [s]", "{:.2f}"),
+    ("realtime_factor", "x real time", "{:.2f}"),
+)
+
+
+def main() -> None:
+    """Run the cases, print the table, optionally write JSON and plots."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--only", choices=sorted(CASES), action="append")
+    parser.add_argument("--json", default=None)
+    parser.add_argument("--plots", default=None, help="folder for one PNG per case")
+    args = parser.parse_args()
+    results = {}
+    header = f"{'case':<22}" + "".join(f"{title:>14}" for _, title, _ in COLUMNS)
+    print(header)
+    for case in args.only or CASES:
+        walk, terrain, duration = CASES[case]
+        result = run_walk(walk, duration=duration, terrain=terrain, progress=False)
+        metrics = result.metrics.to_dict()
+        results[case] = metrics
+        cells = []
+        for key, _, fmt in COLUMNS:
+            value = metrics.get(key)
+            cells.append(f"{'-' if value is None else fmt.format(value):>14}")
+        print(f"{case:<22}" + "".join(cells), flush=True)
+        if args.plots:
+            folder = Path(args.plots)
+            folder.mkdir(parents=True, exist_ok=True)
+            layout = "time" if terrain == "flat" else "terrain"
+            plot_walk(result.log, folder / f"{case}.png", title=case, layout=layout)
+    if args.json:
+        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+        payload = {"machine": platform.platform(), "python": platform.python_version(), **results}
+        Path(args.json).write_text(json.dumps(payload, indent=2, sort_keys=True))
+        print(f"wrote {args.json}")
+
+
+if __name__ == "__main__":
+    main()

@@ -57,7 +57,11 @@ def test_spring_damper_is_k_dx_plus_b_dv_plus_f_per_axis(seed):
 
 def test_scalar_parameters_broadcast_to_every_axis():
     component = SpringDamper(
-        ("x", "y", "rz"), stiffness=10.0, damping=2.0, setpoint=0.5, velocity_setpoint=-1.0,
+        ("x", "y", "rz"),
+        stiffness=10.0,
+        damping=2.0,
+        setpoint=0.5,
+        velocity_setpoint=-1.0,
         force=3.0,
     )
     for name in ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit"):

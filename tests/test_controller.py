@@ -166,8 +166,7 @@ def test_sensor_other_than_the_actuator():
     controller.add("arm", actuator, [Spring(axes, 100.0, setpoint=[0.1, 0.2, 0.3])], sensor=sensor)
     out = controller.compute(q, v)
     position = (
-        placement(model, q, "tool0").translation
-        - placement(model, q, "shoulder_link").translation
+        placement(model, q, "tool0").translation - placement(model, q, "shoulder_link").translation
     )
     np.testing.assert_allclose(out.positions["arm"], position, rtol=0, atol=1e-12)
     force = 100.0 * (np.array([0.1, 0.2, 0.3]) - position)
@@ -270,6 +269,24 @@ def test_no_clipping_when_clip_false():
     np.testing.assert_array_equal(out.tau, out.tau_requested)
 
 
+def test_joints_without_a_positive_finite_limit_are_never_clipped():
+    rob = va.load_robot(UR5)  # a private copy: its limits are edited below
+    model = rob.model
+    model.effortLimit[0] = 0.0
+    model.effortLimit[1] = np.inf
+    q, v, _ = ur5_state(52)
+    controller = Controller(rob)
+    arm = va.VirtualActuator(rob, "tool0", "world", "world", AXES)
+    force = np.array([3000.0, -2000.0, 4000.0, 300.0, -200.0, 250.0])
+    controller.add("arm", arm, [ConstantForce(AXES, force)])
+    out = controller.compute(q, v)
+    requested = analytic_jacobian(model, q, "tool0").T @ force
+    assert np.all(np.abs(requested[2:]) > model.effortLimit[2:])
+    np.testing.assert_allclose(out.tau[:2], requested[:2], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(out.tau[2:], np.sign(requested[2:]) * model.effortLimit[2:], atol=0)
+    np.testing.assert_array_equal(out.saturated, [False, False, True, True, True, True])
+
+
 def test_panda_fingers_and_arm_clip_independently():
     rob = robot("panda")
     model = rob.model
@@ -345,12 +362,19 @@ def test_double_support_torque_is_the_distribution_of_the_components_wrench(seed
         out.tau[v_index(model, "right_hip")], abs=1e-9
     )
     reference = ReferenceDistribution(
-        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, "point",
+        rob,
+        "body",
+        ["left_foot", "right_foot"],
+        "world",
+        PLANAR,
+        "point",
         design=[va.EqualTorque("left_hip", "right_hip")],
     )
     forces = reference.solve(q, wrench)
     np.testing.assert_allclose(out.solutions["double"].forces, forces, rtol=0, atol=1e-9)
-    pairs = [("body", f"{s}_foot", "world", PLANAR, forces[i]) for i, s in enumerate(("left", "right"))]
+    pairs = [
+        ("body", f"{s}_foot", "world", PLANAR, forces[i]) for i, s in enumerate(("left", "right"))
+    ]
     np.testing.assert_allclose(
         out.tau, rnea_torques(TURKEY, q, external_forces(model, q, pairs)), rtol=0, atol=1e-9
     )
@@ -363,7 +387,12 @@ def single_leg(name: str, side: str = "left"):
             rob, "body", [f"{side}_foot"], "world", PLANAR, contact="point"
         )
     return rob, va.ParallelVirtualActuator(
-        rob, "body", [f"{side}_foot"], "world", PLANAR, contact="flat",
+        rob,
+        "body",
+        [f"{side}_foot"],
+        "world",
+        PLANAR,
+        contact="flat",
         unactuated=[f"{side}_ankle"],
     )
 
@@ -410,7 +439,12 @@ def _unilateral_controller(minimum: float, fx: float):
         yield_axes=("x",),
     )
     reference = ReferenceDistribution(
-        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, "point",
+        rob,
+        "body",
+        ["left_foot", "right_foot"],
+        "world",
+        PLANAR,
+        "point",
         design=[va.EqualTorque("left_hip", "right_hip")],
     )
     return rob, double, controller, reference
@@ -649,3 +683,13 @@ def test_read_validates_inputs():
         actuator.read(np.zeros(5), np.zeros(6))
     with pytest.raises(va.InvalidInputError):
         actuator.read(np.zeros(6), np.zeros(7))
+
+
+def test_repeated_active_name_is_rejected():
+    robot = va.load_robot("ur5_robot")
+    controller = va.Controller(robot)
+    actuator = va.VirtualActuator(robot, "tool0", "world", "world", ("x", "y", "z"))
+    controller.add("tool", actuator, [va.Spring(("x", "y", "z"), 10.0)])
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    with pytest.raises(va.InvalidInputError, match="twice"):
+        controller.compute(q, v, active=["tool", "tool"])

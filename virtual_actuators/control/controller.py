@@ -76,7 +76,8 @@ class ControlOutput:
     Attributes:
         tau: ``(nv,)`` joint efforts after limp joints and clipping [N m or N].
         tau_requested: ``(nv,)`` before clipping.
-        saturated: ``(nv,)`` bool, True where the effort limit clipped the request.
+        saturated: ``(nv,)`` bool, True where the request exceeds the effort limit (and was
+            clipped, unless the controller was built with ``clip=False``).
         wrenches: Requested wrench per active attachment, on its actuator's axes.
         produced: Wrench actually produced per attachment (differs from the request on free axes
             and for inadmissible requests).
@@ -305,13 +306,15 @@ class Controller:
             The :class:`ControlOutput`.
 
         Raises:
-            InvalidInputError: Bad ``q`` or ``v``, or an unknown attachment name.
+            InvalidInputError: Bad ``q`` or ``v``, or an unknown or repeated attachment name.
             SingularConfigurationError: A parallel actuator is singular here and
                 ``on_singular="raise"``.
 
         """
         nv = self.robot.model.nv
         names = tuple(self.attachments) if active is None else tuple(active)
+        if len(set(names)) != len(names):
+            raise InvalidInputError(f"active names an attachment twice: {names}.")
         tau = np.zeros(nv)
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}

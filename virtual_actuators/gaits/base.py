@@ -120,12 +120,12 @@ def planar_leg_ik(dx: float, dz: float, thigh: float, shin: float) -> tuple[floa
     """
     u, w = -dx, -dz
     cos_knee = (u * u + w * w - thigh**2 - shin**2) / (2.0 * thigh * shin)
-    if not -1.0 <= cos_knee <= 1.0:
+    if not -1.0 - 1e-12 <= cos_knee <= 1.0 + 1e-12:
         raise InvalidInputError(
             f"Foot offset ({dx:.3f}, {dz:.3f}) m is out of reach of a {thigh:.3f} + {shin:.3f} m "
             "leg."
         )
-    knee = math.acos(cos_knee)
+    knee = math.acos(min(1.0, max(-1.0, cos_knee)))  # rounding at full extension
     hip = math.atan2(u, w) - math.atan2(shin * math.sin(knee), thigh + shin * math.cos(knee))
     return hip, knee
 

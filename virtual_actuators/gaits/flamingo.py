@@ -4,14 +4,16 @@ Level walking extended with geometry only; the robot knows nothing of the terrai
 
 * ankles limp in stance: in single support the body actuator sets height and pitch and leaves
   x free (VMC eq. 5-7 with a limp ankle); in double support both legs hold the body with matched
-  hip torques (eq. 12-14) and the dogtrack bunny regulates the speed;
+  hip torques (eq. 12-14) and the dogtrack bunny regulates the speed; the granny walker's z
+  spring-damper is saturated so that the legs never pull the body down (``min_lift``);
 * the only terrain sensors are heel and toe contact switches; at every touchdown the *global
   slope* (the line through both ankles) is computed from the joint angles;
 * the hip height set point, measured vertically from the global slope, is ``k_height`` times the
   limit of eq. 15 (back leg at the transition plane) and eq. 16 (swing leg at touchdown);
 * the swing leg follows a lift-and-reach trajectory planned along the global slope, its foot
-  held parallel to it; on premature landing (a switch closes early) its ankle goes limp so the
-  foot conforms to the slope, and both switches closed start double support (section 6.2);
+  held parallel to it; on premature landing (a switch closes early, with the swing ankle
+  ahead of the stance ankle: a scuff behind it is ignored) its ankle goes limp so the foot
+  conforms to the slope, and both switches closed start double support (section 6.2);
 * if the swing time expires before touchdown, the swing set point keeps going down (a downward
   push through the virtual surface of the global slope), and once the ankle is below that
   surface the global slope is recomputed from the swing ankle, continuously (Fig. 13).
@@ -54,14 +56,23 @@ class FlamingoParameters:
             the feet keep the normal force the bunny needs.
         stiffness_pitch, damping_pitch: Granny walker on pitch [N m/rad], [N m s/rad].
         bunny_damping: ``b_x`` [N s/m].
+        level_single_support: Hold the height set point in single support (climb in double
+            support, where the legs can pay for it), instead of following the global slope.
+        height_rate: Fastest change of the height set point [m/s] (no step in the spring).
+        equal_hip_torques: Double support with the seed's matched hip torques (eq. 12); False
+            takes the minimum-norm distribution instead, which lets the legs push forward
+            while the hip is above the back ankle (needed to climb).
         min_normal_force: In double support, each foot pushes at least this much [N]; the
             bunny's force is scaled down when it would make a foot pull.
         swing_time: Planned duration of the swing [s].
         lift_peak: Phase of the swing (0 to 1) at which the foot is highest above its path.
         swing_stiffness: Swing linkage (x, z, pitch) [N/m, N/m, N m/rad].
         swing_damping: Swing linkage (x, z, pitch) [N s/m, N s/m, N m s/rad].
-        min_speed: Double support ends only while the body moves forward faster than this
-            [m/s] (so that a robot starting from rest does not lift a foot too early).
+        min_speed: Double support ends only if the hip, vaulting over the front ankle as a
+            linear inverted pendulum (``xdot^2 - g / h * d^2``, ``d`` its distance behind the
+            ankle), would pass over the ankle at least this fast [m/s] (so that a robot
+            starting from rest, or slowed down, does not lift a foot too early). Keep it well
+            below ``speed``, or double support lasts until the hip passes the front ankle.
         push_speed: Speed of the swing set point going down after the swing time [m/s].
         weight: Feed-forward on z [N]; None: total mass times g.
 
@@ -70,7 +81,7 @@ class FlamingoParameters:
     speed: float = 0.4
     pitch: float = 0.0
     step_length: float = 0.28
-    transition_distance: float = 0.05
+    transition_distance: float = 0.08
     lift: float = 0.07
     k_height: float = 0.85
     leg_length: float = 0.84
@@ -80,8 +91,11 @@ class FlamingoParameters:
     stiffness_pitch: float = 500.0
     damping_pitch: float = 20.0
     bunny_damping: float = 100.0
+    equal_hip_torques: bool = True
+    level_single_support: bool = False
+    height_rate: float = 0.3
     min_normal_force: float = 10.0
-    swing_time: float = 0.45
+    swing_time: float = 0.4
     lift_peak: float = 0.35
     swing_stiffness: tuple[float, float, float] = (600.0, 800.0, 20.0)
     swing_damping: tuple[float, float, float] = (30.0, 40.0, 1.0)
@@ -142,6 +156,7 @@ class FlamingoWalker(Gait):
         self.slope = 0.0  # global slope estimate [rad]
         self.slope_origin = np.zeros(2)  # a point (x, z) of the global slope line [m]
         self.hip_height = p.hip_height(0.0)  # set point above the global slope [m]
+        self._height_time = 0.0  # last update of the height set point [s]
         self.granny = GrannyWalker(
             self.hip_height,
             stiffness=(p.stiffness_z, p.stiffness_pitch),
@@ -170,7 +185,7 @@ class FlamingoWalker(Gait):
             PLANAR_AXES,
             contact="flat",
             unactuated=ankles,
-            design=[EqualTorque("left_hip", "right_hip")],
+            design=[EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
         )
         c.add(
             "double",
@@ -235,7 +250,7 @@ class FlamingoWalker(Gait):
                         side,
                         events.all_of(
                             events.ahead_of("body", f"{side}_foot", -p.transition_distance),
-                            lambda context: context.frame_velocity("body")[0] > p.min_speed,
+                            self._can_vault(side),
                         ),
                     ),
                     f"hip within l_t of the {side} ankle",
@@ -291,10 +306,39 @@ class FlamingoWalker(Gait):
         self.hip_height = self.parameters.hip_height(self.slope)
 
     def _update_height(self, context: Context) -> None:
+        p = self.parameters
         body = context.frame_position("body")
-        self.granny.height = self.slope_height(body[0]) + self.hip_height
+        single = context.state != "double_support"
+        if single and p.level_single_support:
+            # Climb (or descend) in double support only: with x free over a limp ankle, every
+            # centimetre the body rises in single support is paid for with forward speed.
+            self.granny.velocity_setpoint = (0.0, 0.0)
+            self._height_time = context.time
+            return
+        target = self.slope_height(body[0]) + self.hip_height
+        step = p.height_rate * max(context.time - self._height_time, 0.0)
+        current = self.granny.height
+        self.granny.height = current + float(np.clip(target - current, -step, step))
+        self._height_time = context.time
         xdot = float(context.frame_velocity("body")[0])
         self.granny.velocity_setpoint = (xdot * math.tan(self.slope), 0.0)
+
+    def _can_vault(self, side: str) -> events.Event:
+        # Single support with a limp ankle is an inverted pendulum over the stance ankle: the
+        # hip passes over it at speed sqrt(xdot^2 - (g / h) d^2), d the hip's distance behind
+        # the ankle and h the hip height above the ankle (linear inverted pendulum along the
+        # global slope). Double support lasts until that speed is at least ``min_speed``.
+        def event(context: Context) -> bool:
+            body = context.frame_position("body")
+            ankle = context.frame_position(f"{side}_foot")
+            xdot = float(context.frame_velocity("body")[0])
+            behind = float(ankle[0] - body[0])
+            if xdot <= 0.0 or behind <= 0.0:
+                return xdot > 0.0
+            height = max(float(body[2] - ankle[2]), 0.3)
+            return xdot**2 - 9.81 / height * behind**2 >= self.parameters.min_speed**2
+
+        return event
 
     def _front_is(self, side: str, event: events.Event) -> events.Event:
         return lambda context: self.front == side and event(context)
@@ -325,22 +369,25 @@ class FlamingoWalker(Gait):
         self._update_height(context)
         body = context.frame_position("body")
         ankle = context.frame_position(f"{swing}_foot")
+        stance_ankle = context.frame_position(f"{stance}_foot")
         elapsed = context.time - self._single_entered(context)
         phase = elapsed / p.swing_time
         x_target = self._swing_start[0] + (self._swing_target_x - self._swing_start[0]) * (
             smoothstep(phase)
         )
         surface = self.slope_height(x_target)
+        start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])
         if phase <= 1.0:
-            start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])
             z_target = (
-                surface + (1.0 - phase) * start_height + p.lift * lift_profile(phase, p.lift_peak)
+                surface
+                + (1.0 - smoothstep(phase)) * start_height
+                + p.lift * lift_profile(phase, p.lift_peak)
             )
         else:
-            # Downward push through the virtual surface, and re-estimate the slope below it.
+            # Swing time expired: downward push through the virtual surface, and re-estimate
+            # the slope once the ankle is below it (Fig. 13).
             z_target = surface - p.push_speed * (elapsed - p.swing_time)
             if ankle[2] < self.slope_height(float(ankle[0])):
-                stance_ankle = context.frame_position(f"{stance}_foot")
                 self._set_slope(stance_ankle, ankle)
         # The linkage works relative to the body, along world axes; the foot stays parallel
         # to the global slope: its pitch relative to the body is -slope - body pitch.

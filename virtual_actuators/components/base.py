@@ -68,7 +68,9 @@ class Component(ABC):
 
         """
 
-    def _per_axis(self, value: float | Sequence[float] | np.ndarray, what: str) -> np.ndarray:
+    def _per_axis(
+        self, value: float | Sequence[float] | np.ndarray, what: str, allow_inf: bool = False
+    ) -> np.ndarray:
         """Broadcast a scalar or per-axis parameter to ``(len(axes),)`` finite floats."""
         array = np.array(value, dtype=float)
         if array.ndim == 0:
@@ -78,7 +80,7 @@ class Component(ABC):
                 f"{self.name}: {what} must be a scalar or have one entry per axis "
                 f"{self.axes}, got shape {array.shape}."
             )
-        if not np.all(np.isfinite(array)):
+        if np.any(np.isnan(array)) or not (allow_inf or np.all(np.isfinite(array))):
             raise InvalidInputError(f"{self.name}: {what} must be finite, got {array}.")
         return array
 

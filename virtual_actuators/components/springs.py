@@ -115,17 +115,10 @@ class SpringDamper(Component):
 
     @limit.setter
     def limit(self, value: Vector) -> None:
-        array = np.array(value, dtype=float)
-        array = np.full(len(self.axes), float(array)) if array.ndim == 0 else array
-        if array.shape != (len(self.axes),) or np.any(np.isnan(array)) or np.any(array < 0.0):
-            raise InvalidInputError(
-                f"{self.name}: limit must be >= 0 (inf for none), a scalar or one per axis "
-                f"{self.axes}, got {value!r}."
-            )
-        self._limit = array
+        self._limit = self._non_negative(value, "limit", allow_inf=True)
 
-    def _non_negative(self, value: Vector, what: str) -> np.ndarray:
-        array = self._per_axis(value, what)
+    def _non_negative(self, value: Vector, what: str, allow_inf: bool = False) -> np.ndarray:
+        array = self._per_axis(value, what, allow_inf)
         if np.any(array < 0.0):
             raise InvalidInputError(f"{self.name}: {what} must be >= 0, got {array}.")
         return array

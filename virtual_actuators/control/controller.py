@@ -380,12 +380,16 @@ class Controller:
         base = np.where(attachment.yield_mask, 0.0, wrench)
         fallback = attachment.actuator.solve(q, base, free=attachment.free)
         # forces(alpha) = base + alpha (full - base): the largest alpha in [0, 1] that is feasible
-        alpha = 1.0
-        for i, low in attachment.unilateral.items():
-            start, slope = fallback.forces[:, i], forces[:, i] - fallback.forces[:, i]
-            for f0, df in zip(start, slope, strict=True):
-                if f0 + alpha * df < low:
-                    alpha = max(0.0, (low - f0) / df) if df < 0.0 else 0.0
+        axes = list(attachment.unilateral)
+        lows = np.array([attachment.unilateral[i] for i in axes])
+        start = fallback.forces[:, axes]
+        slope = forces[:, axes] - start
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = (lows - start) / slope
+        upper = np.where(slope < 0.0, ratio, np.inf).min(initial=1.0)
+        lower = np.where(slope > 0.0, ratio, -np.inf).max(initial=0.0)
+        stuck = np.any((slope == 0.0) & (start < lows))  # no alpha helps that chain
+        alpha = 0.0 if stuck or lower > upper else float(min(upper, 1.0))
         if alpha <= 0.0:
             return fallback
         return attachment.actuator.solve(

@@ -31,6 +31,9 @@ class Context:
         time: Controller time [s].
         contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
         time_in_state: Seconds since the current state was entered (the machine fills it).
+        data: Pinocchio data to run the kinematics in (a controller passes the same one every
+            tick instead of allocating one); a new one by default.
+        frame_ids: Cache of resolved frame names, shared across ticks the same way.
 
     """
 
@@ -42,21 +45,29 @@ class Context:
         time: float,
         contacts: Mapping[str, bool] | None = None,
         time_in_state: float = 0.0,
+        data: pin.Data | None = None,
+        frame_ids: dict[str, int] | None = None,
     ) -> None:
         self.robot = robot
         self.q, self.v, self.time = q, v, float(time)
         self.contacts = dict(contacts or {})
         self.time_in_state = time_in_state
         self.state: str | None = None
-        self._data: pin.Data | None = None
+        self._data = data
+        self._frame_ids = {} if frame_ids is None else frame_ids
+        self._kinematics_done = False
 
     def _placement(self, frame: str) -> tuple[int, pin.SE3]:
         model = self.robot.model
-        frame_id = resolve_frame(model, frame, "event")
-        if self._data is None:
-            self._data = pin.Data(model)
+        frame_id = self._frame_ids.get(frame)
+        if frame_id is None:
+            frame_id = self._frame_ids[frame] = resolve_frame(model, frame, "event")
+        if not self._kinematics_done:
+            if self._data is None:
+                self._data = pin.Data(model)
             pin.forwardKinematics(model, self._data, self.q, self.v)
             pin.updateFramePlacements(model, self._data)
+            self._kinematics_done = True
         return frame_id, self._data.oMf[frame_id]
 
     def frame_position(self, frame: str) -> np.ndarray:

@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..control.controller import Controller, ControlOutput
-from ..control.state_machine import Context, StateMachine
+from ..control.state_machine import Context, Event, StateMachine
 from ..declaration.frames import resolve_frame, resolve_joint
 from ..exceptions import InvalidInputError
 from ..robots.robot import Robot
@@ -47,10 +47,16 @@ class Gait:
         self.machine: StateMachine | None = None
         self.last: ControlOutput | None = None
         self._limp: dict[str, np.ndarray] = {}
+        self._data = pin.Data(robot.model)  # reused by every tick's Context
+        self._frame_ids: dict[str, int] = {}
 
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
         self._limp = {s.name: self.controller.joint_indices(s.limp) for s in machine.states}
+
+    def _front_is(self, side: str, event: Event) -> Event:
+        """``event``, but only while ``side`` is the front foot (``self.front``)."""
+        return lambda context: self.front == side and event(context)
 
     def initial_configuration(self) -> np.ndarray:
         """Where a simulation of this gait starts (default: the robot's standing pose)."""
@@ -87,7 +93,9 @@ class Gait:
             The :class:`ControlOutput` (its ``tau`` goes to the motors).
 
         """
-        context = Context(self.robot, q, v, time, contacts)
+        context = Context(
+            self.robot, q, v, time, contacts, data=self._data, frame_ids=self._frame_ids
+        )
         before = len(self.machine.history)
         state = self.machine.update(context)
         if len(self.machine.history) != before:

@@ -211,6 +211,7 @@ class FlamingoWalker(Gait):
         self.front = "left"
         self._swing_start = np.zeros(2)  # swing ankle (x, z) in the world at lift-off [m]
         self._swing_target_x = 0.0  # planned touchdown x [m]
+        self._swing_started = 0.0  # time the current swing began [s]
         states = [
             State(
                 "double_support",
@@ -340,9 +341,6 @@ class FlamingoWalker(Gait):
 
         return event
 
-    def _front_is(self, side: str, event: events.Event) -> events.Event:
-        return lambda context: self.front == side and event(context)
-
     # --- state callbacks -----------------------------------------------------------------------
 
     def _enter_double(self, context: Context) -> None:
@@ -355,6 +353,7 @@ class FlamingoWalker(Gait):
 
     def _enter_single(self, context: Context) -> None:
         stance = context.state.split("_")[0]
+        self._swing_started = context.time  # support_2 continues the same swing
         swing = other(stance)
         ankle = context.frame_position(f"{swing}_foot")
         stance_ankle = context.frame_position(f"{stance}_foot")
@@ -370,7 +369,7 @@ class FlamingoWalker(Gait):
         body = context.frame_position("body")
         ankle = context.frame_position(f"{swing}_foot")
         stance_ankle = context.frame_position(f"{stance}_foot")
-        elapsed = context.time - self._single_entered(context)
+        elapsed = context.time - self._swing_started
         phase = elapsed / p.swing_time
         x_target = self._swing_start[0] + (self._swing_target_x - self._swing_start[0]) * (
             smoothstep(phase)
@@ -393,10 +392,3 @@ class FlamingoWalker(Gait):
         # to the global slope: its pitch relative to the body is -slope - body pitch.
         body_pitch = context.frame_pitch("body")
         self.swing[swing].place((x_target - body[0], z_target - body[2], -self.slope - body_pitch))
-
-    def _single_entered(self, context: Context) -> float:
-        # Time the current single-support phase began (support_2 continues the same swing).
-        for time, name in reversed(self.machine.history):
-            if name.endswith("_support"):
-                return time
-        return context.time

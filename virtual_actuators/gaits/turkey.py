@@ -237,9 +237,6 @@ class TurkeyWalker(Gait):
 
     # --- events and state callbacks ------------------------------------------------------------
 
-    def _front_is(self, side: str, event: events.Event) -> events.Event:
-        return lambda context: self.front == side and event(context)
-
     def stance_side(self) -> str:
         """The stance leg in single support (the left one in double support)."""
         return self.state.split("_")[0] if self.state != "double_support" else "left"

@@ -693,3 +693,81 @@ def test_repeated_active_name_is_rejected():
     q, v = robot.neutral(), np.zeros(robot.model.nv)
     with pytest.raises(va.InvalidInputError, match="twice"):
         controller.compute(q, v, active=["tool", "tool"])
+
+
+def _flamingo_cone(mu: float, min_normal: float, fx: float, tilt: float):
+    """Flamingo double support (limp ankles, flat feet) with both soles pitched by ``tilt``."""
+    rob = robot(FLAMINGO)
+    ankles = ["left_ankle", "right_ankle"]
+    double = va.ParallelVirtualActuator(
+        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, contact="flat", unactuated=ankles
+    )
+    controller = Controller(rob, clip=False)
+    controller.add(
+        "double",
+        double,
+        [ConstantForce(PLANAR, [fx, 110.0, 1.0])],
+        yield_axes=("x",),
+        friction=mu,
+        min_normal=min_normal,
+    )
+    q = rob.neutral()
+    for ankle in ankles:
+        q[q_index(rob.model, ankle)] += tilt
+    reference = ReferenceDistribution(
+        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, "flat", unactuated=ankles
+    )
+    return rob, controller, reference, q
+
+
+def _cone_margins(model, q, forces, mu, min_normal) -> np.ndarray:
+    """Normal minus its minimum, and mu * normal -+ tangential, per foot, from the soles' FK."""
+    margins = []
+    for chain, foot in enumerate(("left_foot", "right_foot")):
+        rotation = placement(model, q, foot).rotation  # sole axes in the world
+        force_world = np.array([forces[chain, 0], 0.0, forces[chain, 1]])
+        normal, tangent = rotation[:, 2] @ force_world, rotation[:, 0] @ force_world
+        margins += [normal - min_normal, mu * normal - tangent, mu * normal + tangent]
+    return np.array(margins)
+
+
+@pytest.mark.parametrize(("fx", "tilt"), [(80.0, 0.0), (-90.0, 0.0), (60.0, 0.25), (-50.0, -0.3)])
+def test_friction_cone_scales_the_yield_axis_to_the_largest_feasible_request(fx, tilt):
+    mu, min_normal = 0.4, 10.0
+    rob, controller, reference, q = _flamingo_cone(mu, min_normal, fx, tilt)
+    request = np.array([fx, 110.0, 1.0])
+    assert _cone_margins(rob.model, q, reference.solve(q, request), mu, min_normal).min() < 0.0
+    base = np.array([0.0, 110.0, 1.0])
+    assert _cone_margins(rob.model, q, reference.solve(q, base), mu, min_normal).min() > 0.0
+
+    def feasible(alpha: float) -> bool:
+        forces = reference.solve(q, np.array([alpha * fx, 110.0, 1.0]))
+        return _cone_margins(rob.model, q, forces, mu, min_normal).min() >= -1e-12
+
+    low, high = 0.0, 1.0  # bisection on the independent distribution (a convex set of alphas)
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if feasible(middle) else (low, middle)
+    out = controller.compute(q, np.zeros(rob.model.nv))
+    produced = out.produced["double"]
+    assert produced[0] == pytest.approx(low * fx, abs=1e-8)
+    np.testing.assert_allclose(produced[1:], [110.0, 1.0], rtol=0, atol=1e-9)
+    margins = _cone_margins(rob.model, q, out.solutions["double"].forces, mu, min_normal)
+    assert margins.min() == pytest.approx(0.0, abs=1e-8)  # one condition is active
+
+
+def test_friction_cone_leaves_a_feasible_request_untouched():
+    rob, controller, reference, q = _flamingo_cone(0.8, 5.0, 3.0, 0.1)
+    out = controller.compute(q, np.zeros(rob.model.nv))
+    np.testing.assert_allclose(out.produced["double"], [3.0, 110.0, 1.0], rtol=0, atol=1e-9)
+
+
+def test_friction_cone_arguments_are_checked():
+    rob, double = turkey_double()
+    for mu in (0.0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(va.InvalidInputError, match="friction"):
+            Controller(rob).add("double", double, [], friction=mu, yield_axes=("x",))
+    with pytest.raises(va.InvalidInputError, match="min_normal"):
+        Controller(rob).add("double", double, [], friction=0.5, min_normal=-1.0, yield_axes=("x",))
+    with pytest.raises(va.InvalidInputError, match="yield_axes"):
+        Controller(rob).add("double", double, [], friction=0.5)

@@ -157,3 +157,17 @@ def test_turkey_parameters_are_documented():
     doc = TurkeyParameters.__doc__
     for name in TurkeyParameters.__dataclass_fields__:
         assert f"{name}:" in doc, name
+
+
+def test_flamingo_climbs_a_fifteen_degree_slope_blind():
+    # level to x = 0.6 m, then 15 degrees up to x = 6 m: premature landings, the global slope
+    # estimate, eq. 15 heights and the friction-cone-limited bunny all take part
+    rise = 5.4 * np.tan(np.radians(15.0))
+    result = run_walk(
+        "flamingo-slopes", duration=8.0, terrain=f"0.6:0,6:{rise:.4f}", progress=False
+    )
+    metrics = result.metrics
+    assert not metrics.fell
+    assert metrics.distance_m > 2.0  # the slope starts at 0.6 m
+    assert metrics.height_dev_m < 0.05
+    assert result.gait.slope > np.radians(12.0)  # the estimate converged to the real slope

@@ -50,7 +50,8 @@ HIP_LIMIT = 2.0  # rad, +- hip swing [estimate]
 KNEE_RANGE = (0.0, 2.6)  # rad, knee stop at 0, bends one way only [IHMC]; 2.6 rad [estimate]
 JOINT_VELOCITY = 12.0  # rad/s, hips, knees, ankles [estimate]
 LEG_RADIUS = 0.02  # m, radius of the thigh and shin cylinders (inertia and visuals) [estimate]
-SHIN_CLEARANCE = 0.06  # m, shin collision cylinder stops this far above the tip [estimate]
+SHIN_CLEARANCE = 0.10  # m, shin collision cylinder stops this far above the tip [estimate]:
+# clear of a sloped ground with the ankle at its 1.3 rad stop
 STANDING_FOOT_OFFSET = 0.10  # m, feet at +-0.10 m in x from the hips when standing [estimate]
 
 
@@ -142,7 +143,8 @@ FLAMINGO_FOOT_TOE = FLAMINGO_FOOT_LENGTH - FLAMINGO_FOOT_HEEL  # m, toe in front
 FLAMINGO_HIP_EFFORT = 40.0  # N m [estimate]
 FLAMINGO_KNEE_EFFORT = 40.0  # N m [estimate]
 FLAMINGO_ANKLE_EFFORT = 10.0  # N m [estimate]
-FLAMINGO_ANKLE_LIMIT = 0.8  # rad, +- [estimate]
+FLAMINGO_ANKLE_LIMIT = 1.3  # rad, +- [estimate]: a limp stance ankle on a 20-degree slope under a
+# bent knee reaches about -0.95 rad; a tighter stop would brake the body like an ankle torque
 FLAMINGO_STANDING_HEIGHT = 0.78  # m hip height, knees bent (below the 0.84 m leg) [estimate]
 FLAMINGO_FOOT_RADIUS = 0.01  # m, heel and toe contact spheres [estimate]
 
@@ -410,13 +412,13 @@ def _leg(robot: Biped, side: str) -> str:
         cylinder = f'<cylinder radius="{_f(LEG_RADIUS)}" length="{_f(length)}"/>'
         # Collision: the whole thigh; the shin stops SHIN_CLEARANCE above its tip, so that only
         # the feet touch the ground in normal walking (anything else touching means a fall).
-        hit = length - (SHIN_CLEARANCE if part == "shin" else 0.0)
+        hit = round(length - (SHIN_CLEARANCE if part == "shin" else 0.0), 9)
         hit_cylinder = f'<cylinder radius="{_f(LEG_RADIUS)}" length="{_f(hit)}"/>'
         out.append(
             f'  <link name="{side}_{part}">\n'
             + _inertial(mass, (0.0, 0.0, -com), *_rod_inertia(mass, length))
             + _visual(cylinder, (0.0, 0.0, -length / 2.0), side)
-            + _collision(hit_cylinder, (0.0, 0.0, -hit / 2.0))
+            + _collision(hit_cylinder, (0.0, 0.0, round(-hit / 2.0, 9)))
             + "  </link>\n"
         )
     effort, velocity = robot.hip_effort, JOINT_VELOCITY

@@ -15,6 +15,7 @@ robot automatically generate the desired torques").
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -57,6 +58,8 @@ class Attachment:
     indices: list[np.ndarray] = field(default_factory=list)
     unilateral: dict[int, float] = field(default_factory=dict)
     yield_mask: np.ndarray | None = None
+    friction: float | None = None
+    min_normal: float = 0.0
 
     @property
     def axes(self) -> tuple[str, ...]:
@@ -169,6 +172,8 @@ class Controller:
         free: Sequence[str] = (),
         unilateral: Mapping[str, float] | None = None,
         yield_axes: Sequence[str] = (),
+        friction: float | None = None,
+        min_normal: float = 0.0,
     ) -> Attachment:
         """Attach components to an actuator under a unique name.
 
@@ -187,7 +192,16 @@ class Controller:
                 the ground [N]. When a request would break it, the request on ``yield_axes``
                 is scaled down (the most that keeps every share feasible; the distribution is
                 linear in the wrench) and :attr:`ControlOutput.produced` shows the result.
-            yield_axes: Axes of the request given up first to meet ``unilateral``.
+            yield_axes: Axes of the request given up first to meet ``unilateral`` and the
+                friction cone.
+            friction: Parallel actuators: friction coefficient ``mu`` of a contact cone at
+                every reaction frame: each chain's share, seen in its reaction frame (a foot on
+                sloped ground: normal along the frame's z), must keep its tangential part
+                within ``mu`` times its normal part, the normal part at least ``min_normal``.
+                The ground's slope comes from the reaction frame's orientation, so a limp foot
+                lying on a slope tells it from the joint angles alone. Violations are met by
+                scaling ``yield_axes`` like ``unilateral``. None: no cone.
+            min_normal: Least normal force of the cone [N] (with ``friction``).
 
         Returns:
             The :class:`Attachment`.
@@ -199,6 +213,14 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` name axes it does not have.
 
         """
+        if friction is not None and not (math.isfinite(friction) and friction > 0.0):
+            raise InvalidInputError(
+                f"Attachment {name!r}: friction must be a positive number, got {friction}."
+            )
+        if not (math.isfinite(min_normal) and min_normal >= 0.0):
+            raise InvalidInputError(
+                f"Attachment {name!r}: min_normal must be >= 0 N, got {min_normal}."
+            )
         if name in self.attachments:
             raise InvalidInputError(f"An attachment named {name!r} already exists.")
         if actuator.robot.model is not self.robot.model:
@@ -229,18 +251,33 @@ class Controller:
             indices.append(np.array([actuator.axes.index(a) for a in component.axes]))
         limits: dict[int, float] = {}
         yield_mask = None
-        if unilateral or yield_axes:
-            if isinstance(actuator, VirtualActuator) or not unilateral or not yield_axes:
+        constrained = bool(unilateral) or friction is not None
+        if constrained or yield_axes:
+            if isinstance(actuator, VirtualActuator) or not constrained or not yield_axes:
                 raise InvalidInputError(
-                    f"Attachment {name!r}: unilateral and yield_axes go together, on a "
-                    "ParallelVirtualActuator."
+                    f"Attachment {name!r}: unilateral (or friction) and yield_axes go "
+                    "together, on a ParallelVirtualActuator."
                 )
-            for axis in check_axes_subset(tuple(unilateral), actuator.axes, "unilateral"):
+            if friction is not None and not {"x", "y", "z"} & set(actuator.axes):
+                raise InvalidInputError(
+                    f"Attachment {name!r}: a friction cone needs force axes (x, y or z) among "
+                    f"{actuator.axes}."
+                )
+            for axis in check_axes_subset(tuple(unilateral or {}), actuator.axes, "unilateral"):
                 limits[actuator.axes.index(axis)] = float(unilateral[axis])
             yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
             yield_mask = np.array([a in yielded for a in actuator.axes])
         attachment = Attachment(
-            name, actuator, sensor, list(components), free_axes, indices, limits, yield_mask
+            name,
+            actuator,
+            sensor,
+            list(components),
+            free_axes,
+            indices,
+            limits,
+            yield_mask,
+            None if friction is None else float(friction),
+            float(min_normal),
         )
         self.attachments[name] = attachment
         return attachment
@@ -340,7 +377,7 @@ class Controller:
                 continue
             try:
                 solution = actuator.solve(q, wrench, free=attachment.free)
-                if attachment.unilateral:
+                if attachment.yield_mask is not None:
                     solution = self._enforce_unilateral(attachment, q, wrench, solution)
             except SingularConfigurationError as error:
                 if self.on_singular == "raise":
@@ -370,25 +407,69 @@ class Controller:
         )
 
     @staticmethod
+    def _constraint_rows(attachment: Attachment) -> tuple[np.ndarray, np.ndarray]:
+        """Linear conditions ``rows @ forces.ravel() >= lows`` on the chains' shares.
+
+        ``unilateral`` gives one row per chain and axis; a friction cone gives, per chain, the
+        normal force (the reaction frame's z in {O}) ``>= min_normal`` and ``mu n.f -+ t.f >=
+        0`` for both tangents (a pyramid). The reaction frames' orientations are those of the
+        solve that just ran at this configuration.
+        """
+        actuator = attachment.actuator
+        p, n = actuator.p, actuator.n
+        rows, lows = [], []
+        for axis, low in attachment.unilateral.items():
+            for chain in range(p):
+                row = np.zeros((p, n))
+                row[chain, axis] = 1.0
+                rows.append(row.ravel())
+                lows.append(low)
+        if attachment.friction is not None:
+            kinematics = actuator.kinematics
+            oMf = kinematics.data.oMf
+            rotation_o = oMf[kinematics.reference_id].rotation
+            force_axes = [(i, "xyz".index(a)) for i, a in enumerate(actuator.axes) if a in "xyz"]
+            columns = np.array([i for i, _ in force_axes])
+            components = np.array([k for _, k in force_axes])
+            mu = attachment.friction
+            for chain, frame_id in enumerate(kinematics.reaction_ids.tolist()):
+                # reaction frame axes in {O}, restricted to the actuator's force axes
+                frame_o = (rotation_o.T @ oMf[frame_id].rotation)[components]
+                normal, tangents = frame_o[:, 2], (frame_o[:, 0], frame_o[:, 1])
+                candidates = [(normal, attachment.min_normal)]
+                for tangent in tangents:
+                    if np.any(np.abs(tangent) > 1e-12):
+                        candidates += [(mu * normal - tangent, 0.0), (mu * normal + tangent, 0.0)]
+                for vector, low in candidates:
+                    row = np.zeros((p, n))
+                    row[chain, columns] = vector
+                    rows.append(row.ravel())
+                    lows.append(low)
+        return np.array(rows), np.array(lows)
+
     def _enforce_unilateral(
-        attachment: Attachment, q: np.ndarray, wrench: np.ndarray, solution: Solution
+        self, attachment: Attachment, q: np.ndarray, wrench: np.ndarray, solution: Solution
     ) -> Solution:
-        """Scale the request on the yield axes until every chain's share meets its minimum."""
-        forces = solution.forces
-        if all(np.all(forces[:, i] >= low) for i, low in attachment.unilateral.items()):
+        """Scale the request on the yield axes until every chain's share is feasible.
+
+        Feasible: ``unilateral`` minima and the friction cone (see :meth:`add`). The
+        distribution is linear in the wrench, so the shares are ``base + alpha (full - base)``
+        with ``base`` the request without its yield axes: the largest feasible ``alpha`` in
+        ``[0, 1]`` comes from one extra solve and a ratio test.
+        """
+        rows, lows = self._constraint_rows(attachment)
+        full = rows @ solution.forces.ravel()
+        if np.all(full >= lows - 1e-9):
             return solution
         base = np.where(attachment.yield_mask, 0.0, wrench)
         fallback = attachment.actuator.solve(q, base, free=attachment.free)
-        # forces(alpha) = base + alpha (full - base): the largest alpha in [0, 1] that is feasible
-        axes = list(attachment.unilateral)
-        lows = np.array([attachment.unilateral[i] for i in axes])
-        start = fallback.forces[:, axes]
-        slope = forces[:, axes] - start
+        start = rows @ fallback.forces.ravel()
+        slope = full - start
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = (lows - start) / slope
         upper = np.where(slope < 0.0, ratio, np.inf).min(initial=1.0)
         lower = np.where(slope > 0.0, ratio, -np.inf).max(initial=0.0)
-        stuck = np.any((slope == 0.0) & (start < lows))  # no alpha helps that chain
+        stuck = np.any((slope == 0.0) & (start < lows))  # no alpha helps that condition
         alpha = 0.0 if stuck or lower > upper else float(min(upper, 1.0))
         if alpha <= 0.0:
             return fallback

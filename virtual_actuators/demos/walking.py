@@ -87,7 +87,7 @@ WALKS: dict[str, WalkSpec] = {
         "flamingo-slopes",
         "spring_flamingo",
         _flamingo,
-        "rolling",
+        "profile-one",
         40.0,
         10.0,
         0.2,

@@ -3,9 +3,15 @@
 Level walking extended with geometry only; the robot knows nothing of the terrain:
 
 * ankles limp in stance: in single support the body actuator sets height and pitch and leaves
-  x free (VMC eq. 5-7 with a limp ankle); in double support both legs hold the body with matched
-  hip torques (eq. 12-14) and the dogtrack bunny regulates the speed; the granny walker's z
+  x free (VMC eq. 5-7 with a limp ankle); in double support both legs hold the body (eq. 12-14;
+  the redundancy split by minimum norm, or the seed's matched hip torques on request) and the
+  dogtrack bunny regulates the speed, its force scaled down whenever a foot would leave its
+  friction cone (the sole's slope comes from the joint angles); the granny walker's z
   spring-damper is saturated so that the legs never pull the body down (``min_lift``);
+* speed is won or lost in double support (over a limp ankle the body is an inverted pendulum):
+  double support lasts until the hip would vault over the front ankle at a speed between
+  ``min_speed`` and ``speed + max_overspeed``, and the touchdown target moves with the speed error
+  (``step_gain``) so that a fast hip gets a longer, braking, double support;
 * the only terrain sensors are heel and toe contact switches; at every touchdown the *global
   slope* (the line through both ankles) is computed from the joint angles;
 * the hip height set point, measured vertically from the global slope, is ``k_height`` times the
@@ -55,15 +61,21 @@ class FlamingoParameters:
             that a dropping height set point never pulls the body down (legs only push) and
             the feet keep the normal force the bunny needs.
         stiffness_pitch, damping_pitch: Granny walker on pitch [N m/rad], [N m s/rad].
-        bunny_damping: ``b_x`` [N s/m].
+        bunny_damping: ``b_x`` [N s/m] (Table 2's "2" read as 200).
         level_single_support: Hold the height set point in single support (climb in double
             support, where the legs can pay for it), instead of following the global slope.
         height_rate: Fastest change of the height set point [m/s] (no step in the spring).
-        equal_hip_torques: Double support with the seed's matched hip torques (eq. 12); False
-            takes the minimum-norm distribution instead, which lets the legs push forward
-            while the hip is above the back ankle (needed to climb).
-        min_normal_force: In double support, each foot pushes at least this much [N]; the
-            bunny's force is scaled down when it would make a foot pull.
+        equal_hip_torques: Double support with the seed's matched hip torques (eq. 12). The
+            default (False) takes the minimum-norm distribution instead: with matched hip
+            torques each leg's force runs close to its hip-ankle line, so the bunny cannot
+            brake hard enough on slopes and the speed runs away (measured: falls on the 20
+            degree downslope of ``profile-one``; crosses it with the minimum-norm split).
+        min_normal_force: In double support, each foot pushes at least this much on the ground,
+            normal to its sole [N]; the bunny's force is scaled down when it would make a foot
+            pull.
+        friction: Friction coefficient assumed for the feet: in double support each foot's
+            force stays in this cone around its sole's normal (the sole lies on the local
+            slope, known from the joint angles); the bunny's force is scaled down otherwise.
         swing_time: Planned duration of the swing [s].
         lift_peak: Phase of the swing (0 to 1) at which the foot is highest above its path.
         swing_stiffness: Swing linkage (x, z, pitch) [N/m, N/m, N m/rad].
@@ -73,6 +85,19 @@ class FlamingoParameters:
             ankle), would pass over the ankle at least this fast [m/s] (so that a robot
             starting from rest, or slowed down, does not lift a foot too early). Keep it well
             below ``speed``, or double support lasts until the hip passes the front ankle.
+        max_overspeed: Double support also waits, while the hip is still behind the front
+            ankle (where the bunny can brake), until that vault speed is at most ``speed``
+            plus this [m/s]; None: no upper bound. With limp ankles, single support only
+            accelerates the body once it is over the ankle: speed is won or lost in double
+            support.
+        step_gain: Touchdown target moves ``step_gain * (xdot - speed)`` beyond the step
+            length (clipped to -40 % / +60 % of it) [s]: a faster hip steps further, which
+            lengthens the braking double support; a premature landing on an upslope (a short
+            step) would otherwise feed the speed up step after step.
+        swing_hip_travel: The swing foot reaches forward no faster than the hip travels: its
+            progress is at most the hip's displacement since lift-off over this distance [m]
+            (None: time only). A hip slowed by a slope then does not lose its momentum to a
+            swing leg rushing forward (the seed's linkage "mirrors the stance leg").
         push_speed: Speed of the swing set point going down after the swing time [m/s].
         weight: Feed-forward on z [N]; None: total mass times g.
 
@@ -90,16 +115,20 @@ class FlamingoParameters:
     min_lift: float = 0.3
     stiffness_pitch: float = 500.0
     damping_pitch: float = 20.0
-    bunny_damping: float = 100.0
-    equal_hip_torques: bool = True
+    bunny_damping: float = 200.0
+    equal_hip_torques: bool = False
     level_single_support: bool = False
     height_rate: float = 0.3
     min_normal_force: float = 10.0
+    friction: float = 0.6
     swing_time: float = 0.4
     lift_peak: float = 0.35
     swing_stiffness: tuple[float, float, float] = (600.0, 800.0, 20.0)
     swing_damping: tuple[float, float, float] = (30.0, 40.0, 1.0)
     min_speed: float = 0.1
+    swing_hip_travel: float | None = 0.12
+    max_overspeed: float | None = 0.05
+    step_gain: float = 0.5
     push_speed: float = 0.3
     weight: float | None = None
 
@@ -191,8 +220,9 @@ class FlamingoWalker(Gait):
             "double",
             double,
             [self.granny, self.bunny],
-            unilateral={"z": p.min_normal_force},
             yield_axes=("x",),
+            friction=p.friction,
+            min_normal=p.min_normal_force,
         )
         for side in SIDES:
             stance = ParallelVirtualActuator(
@@ -212,6 +242,7 @@ class FlamingoWalker(Gait):
         self._swing_start = np.zeros(2)  # swing ankle (x, z) in the world at lift-off [m]
         self._swing_target_x = 0.0  # planned touchdown x [m]
         self._swing_started = 0.0  # time the current swing began [s]
+        self._swing_hip_x = 0.0  # hip x when the current swing began [m]
         states = [
             State(
                 "double_support",
@@ -328,16 +359,24 @@ class FlamingoWalker(Gait):
         # Single support with a limp ankle is an inverted pendulum over the stance ankle: the
         # hip passes over it at speed sqrt(xdot^2 - (g / h) d^2), d the hip's distance behind
         # the ankle and h the hip height above the ankle (linear inverted pendulum along the
-        # global slope). Double support lasts until that speed is at least ``min_speed``.
+        # global slope). Double support lasts until that speed is at least ``min_speed`` and,
+        # while the hip is still behind the front ankle (the bunny can still brake there; past
+        # it, nothing can), at most ``speed + max_overspeed``.
         def event(context: Context) -> bool:
+            p = self.parameters
             body = context.frame_position("body")
             ankle = context.frame_position(f"{side}_foot")
             xdot = float(context.frame_velocity("body")[0])
             behind = float(ankle[0] - body[0])
-            if xdot <= 0.0 or behind <= 0.0:
-                return xdot > 0.0
+            if xdot <= 0.0:
+                return False
             height = max(float(body[2] - ankle[2]), 0.3)
-            return xdot**2 - 9.81 / height * behind**2 >= self.parameters.min_speed**2
+            vault = xdot**2 - 9.81 / height * max(behind, 0.0) ** 2
+            if vault < p.min_speed**2:
+                return False
+            if p.max_overspeed is None or behind <= 0.0:
+                return True
+            return vault <= (p.speed + p.max_overspeed) ** 2
 
         return event
 
@@ -358,6 +397,7 @@ class FlamingoWalker(Gait):
         ankle = context.frame_position(f"{swing}_foot")
         stance_ankle = context.frame_position(f"{stance}_foot")
         self._swing_start = ankle[[0, 2]]
+        self._swing_hip_x = float(context.frame_position("body")[0])
         self._swing_target_x = float(stance_ankle[0]) + self.parameters.step_length
         self.slope_origin = stance_ankle[[0, 2]]
 
@@ -371,8 +411,22 @@ class FlamingoWalker(Gait):
         stance_ankle = context.frame_position(f"{stance}_foot")
         elapsed = context.time - self._swing_started
         phase = elapsed / p.swing_time
-        x_target = self._swing_start[0] + (self._swing_target_x - self._swing_start[0]) * (
-            smoothstep(phase)
+        reach = phase
+        if p.swing_hip_travel is not None:
+            # the foot reaches forward no faster than the hip travels: a hip slowed down (by a
+            # slope) does not have the swing leg take its momentum (mirror-like, as the seed's
+            # swing-leg linkage "mirrors the stance leg")
+            reach = min(phase, (float(body[0]) - self._swing_hip_x) / p.swing_hip_travel)
+        target_x = self._swing_target_x
+        if p.step_gain:
+            # longer steps when too fast: longer double support (braking) and a hip further
+            # behind the next stance ankle; shorter when too slow (Raibert-like)
+            xdot = float(context.frame_velocity("body")[0])
+            target_x += float(
+                np.clip(p.step_gain * (xdot - p.speed), -0.4 * p.step_length, 0.6 * p.step_length)
+            )
+        x_target = self._swing_start[0] + (target_x - self._swing_start[0]) * (
+            smoothstep(reach)
         )
         surface = self.slope_height(x_target)
         start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])

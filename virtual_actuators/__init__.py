@@ -35,6 +35,16 @@ from .robots import Robot, list_robots, load_robot, millipede
 
 __version__ = "0.1.0"
 
+
+def __getattr__(name: str) -> object:
+    """Load ``va.viz`` (MeshCat) on first use, keeping ``import virtual_actuators`` light."""
+    if name == "viz":
+        import importlib
+
+        return importlib.import_module(".viz", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 __all__ = [
     "AXES",
     "WORLD",

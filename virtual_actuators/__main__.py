@@ -41,8 +41,13 @@ def _print_solution(title: str, robot, body, q, wrench, sol) -> None:
     print(_joint_table(robot, sol.tau))
 
 
-def demo_stand(robot_name: str = "solo12", repeat: int = 2000) -> None:
-    """Load a quadruped, declare a body actuator on its four feet, print the distribution."""
+def demo_stand(
+    robot_name: str = "solo12", repeat: int = 2000, args: argparse.Namespace | None = None
+) -> None:
+    """Load a quadruped, declare a body actuator on its four feet, print the distribution.
+
+    With ``args.viz`` / ``args.record``, also show it in MeshCat / write it as HTML.
+    """
     import virtual_actuators as va
 
     robot = va.load_robot(robot_name)
@@ -86,20 +91,99 @@ def demo_stand(robot_name: str = "solo12", repeat: int = 2000) -> None:
             actuator.solve(q, wrench)
         elapsed = (time.perf_counter() - start) / repeat * 1e6
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (median of one run)")
+    if args is not None:
+        _show_static(args, robot, q, sol2, square, wrench)
+
+
+def _wants_viewer(args: argparse.Namespace) -> bool:
+    return bool(getattr(args, "viz", False) or getattr(args, "record", None))
+
+
+def _nice_scale(force: float, length: float) -> float:
+    """Arrow scale [m/N] drawing ``force`` about ``length`` long, at a round N per metre."""
+    per_metre = max(force, 1e-9) / max(length, 1e-3)
+    exponent = 10.0 ** np.floor(np.log10(per_metre))
+    step = next(m for m in (1.0, 2.0, 5.0, 10.0) if m * exponent >= per_metre)
+    return 1.0 / (step * exponent)
+
+
+def _robot_extent(robot, q: np.ndarray) -> float:
+    import pinocchio as pin
+
+    data = pin.Data(robot.model)
+    pin.framesForwardKinematics(robot.model, data, q)
+    points = np.array([f.translation for f in data.oMf])
+    return max(0.3, float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))))
+
+
+def _make_viewer(args: argparse.Namespace, robot, **options):
+    """A live viewer (``--viz``) or an offline one for ``--record`` only, or None."""
+    if not _wants_viewer(args):
+        return None
+    from .viz import OfflineWindow, Viewer
+
+    window = None if args.viz else OfflineWindow()
+    return Viewer(robot, window=window, **options)
+
+
+def _pause(message: str) -> None:
+    """Wait for Enter when a person is at the terminal; return at once in scripts."""
+    if sys.stdin is not None and sys.stdin.isatty():
+        try:
+            input(message)
+        except EOFError:
+            pass
+
+
+def _finish_viewer(args: argparse.Namespace, viewer) -> None:
+    if args.record:
+        print(f"recording: {viewer.save_html(args.record)}")
+    if args.viz:
+        viewer.flush()
+        print(f"viewer: {viewer.url}")
+        _pause("Press Enter to stop the viewer. ")
+    viewer.close()
+
+
+def _show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:
+    """Show one configuration with an actuator's distribution (``--viz`` / ``--record``)."""
+    if not _wants_viewer(args):
+        return
+    force = float(
+        np.linalg.norm(
+            solution.forces[
+                :, [i for i, a in enumerate(solution.axes) if a in ("x", "y", "z")]
+            ].sum(axis=0)
+        )
+    )
+    extent = _robot_extent(robot, q)
+    viewer = _make_viewer(args, robot, force_scale=_nice_scale(force, 0.6 * extent))
+    viewer.show(q, solution, actuator=actuator)
+    _finish_viewer(args, viewer)
 
 
 def demo_walk(args: argparse.Namespace) -> int:
     """Run one of the seeds' walks in MuJoCo, print its metrics, write JSON and a plot."""
-    from .demos import run_walk
+    from .demos import WALKS, run_walk
+    from .robots.loader import load_robot
     from .simulation.metrics import write_json
     from .simulation.plots import plot_walk
 
+    viewer = on_tick = None
+    if _wants_viewer(args):
+        viewer = _make_viewer(args, load_robot(WALKS[args.name].robot), force_scale=1 / 250)
+        if args.record:
+            viewer.start_recording(fps=30.0)
+        if args.viz:
+            _pause("Open the viewer, then press Enter to start. ")
+        on_tick = viewer.tick_callback(realtime=args.realtime)
     result = run_walk(
         args.name,
         duration=args.duration,
         speed=args.speed,
         terrain=args.terrain,
         progress=not args.quiet,
+        on_tick=on_tick,
     )
     metrics = result.metrics
     print(metrics.summary())
@@ -111,10 +195,60 @@ def demo_walk(args: argparse.Namespace) -> int:
         layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
         path = plot_walk(result.log, args.plot, title=title, metrics=metrics, layout=layout)
         print(f"plot: {path}")
+    if viewer is not None:
+        _finish_viewer(args, viewer)
     return 1 if metrics.fell else 0
 
 
 DEMOS = ("turkey-walk", "flamingo-slopes", "stand")
+
+#: What the viewer needs to draw each example: robot, action frame, reference frame (the
+#: reaction frames and axes come from the example's solution; q is the robot's neutral pose).
+EXAMPLE_VIEWS = {
+    "hexapod-tripod": ("hexapod", "body", "world"),
+    "millipede": ("millipede", "body", "body"),
+    "single-leg": ("spring_flamingo", "body", "world"),
+    "double-support": ("spring_flamingo", "body", "world"),
+}
+
+
+def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> None:
+    parser.add_argument(
+        "--viz",
+        action="store_true",
+        help="show it live in MeshCat (prints the URL"
+        + ("; walks update at 30 Hz wall clock)" if walks else ")"),
+    )
+    parser.add_argument(
+        "--record",
+        default=None,
+        metavar="PATH.html",
+        help="write a standalone HTML page (a MeshCat animation of the whole run for walks, "
+        "30 frames per simulated second)",
+    )
+    if walks:
+        parser.add_argument(
+            "--realtime",
+            action="store_true",
+            help="with --viz, slow the simulation down to wall-clock time",
+        )
+
+
+def example_view(args: argparse.Namespace, name: str, result: dict) -> None:
+    """Show an example's configuration and solution (``--viz`` / ``--record``)."""
+    if not _wants_viewer(args):
+        return
+    from types import SimpleNamespace
+
+    import virtual_actuators as va
+
+    robot_name, action, reference = EXAMPLE_VIEWS[name]
+    robot = va.millipede(legs=100) if robot_name == "millipede" else va.load_robot(robot_name)
+    solution = result["solution"]
+    actuator = SimpleNamespace(
+        action=action, reactions=solution.reactions, reference=reference, axes=solution.axes
+    )
+    _show_static(args, robot, robot.neutral(), solution, actuator, solution.requested)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -141,23 +275,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     demo.add_argument("--plot", default=None, metavar="PATH", help="save a PNG of the run")
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
     demo.add_argument("--robot", default="solo12", help="stand: quadruped with *_FOOT frames")
+    _viewer_arguments(demo, walks=True)
     sub.add_parser("robots", help="list the robots load_robot accepts by name")
     example = sub.add_parser("example", help="run one of the seeds' worked examples")
     example.add_argument(
         "name", choices=["hexapod-tripod", "millipede", "single-leg", "double-support"]
     )
+    _viewer_arguments(example)
     args = parser.parse_args(argv)
     if args.command is None:
         args = parser.parse_args(["demo", *(argv or [])])
     if args.command == "demo":
         if args.name == "stand":
-            demo_stand(args.robot)
+            demo_stand(args.robot, args=args)
             return 0
         return demo_walk(args)
     if args.command == "example":
         from .examples import EXAMPLES
 
-        EXAMPLES[args.name]()
+        result = EXAMPLES[args.name]()
+        example_view(args, args.name, result)
     elif args.command == "robots":
         import virtual_actuators as va
 

@@ -1,0 +1,99 @@
+"""Screenshots of the viewer for the README: each robot with a virtual actuator and its wrench.
+
+``python robots/screenshots/take.py`` writes ``robots/screenshots/<robot>.png`` (needs Debian's
+``chromium``): the scene is saved as a standalone HTML page and rendered headless.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+import virtual_actuators as va
+from virtual_actuators.visualization import OfflineWindow
+
+HERE = Path(__file__).resolve().parent
+FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--enable-unsafe-swiftshader",
+    "--use-angle=swiftshader",
+    "--hide-scrollbars",
+    "--window-size=960,600",
+    "--virtual-time-budget=6000",
+]
+
+
+def scenes():
+    """``(robot, q, actuator, solution or None, wrench or None, force_scale)`` per robot."""
+    planar = ("x", "z", "ry")
+    for name in ("spring_turkey", "spring_flamingo"):
+        robot = va.load_robot(name)
+        limp = ["left_ankle", "right_ankle"] if name == "spring_flamingo" else []
+        body = va.ParallelVirtualActuator(
+            robot,
+            "body",
+            ["left_foot", "right_foot"],
+            "world",
+            planar,
+            contact="flat" if limp else "point",
+            unactuated=limp,
+        )
+        q = robot.neutral()
+        weight = sum(i.mass for i in robot.model.inertias) * 9.81
+        yield robot, q, body, body.solve(q, np.array([0.2 * weight, weight, 0.5])), None, 0.004
+    robot = va.load_robot("hexapod")
+    feet = ["foot_1", "foot_3", "foot_5"]
+    body = va.ParallelVirtualActuator(robot, "body", feet, "world", contact="point")
+    q = robot.neutral()
+    yield robot, q, body, body.solve(q, np.array([5.0, 0, 37.3, 0, 0.3, 0])), None, 0.01
+    robot = va.load_robot("solo12")
+    feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(robot, "base_link", feet, "world", contact="point")
+    q = robot.neutral()
+    yield robot, q, body, body.solve(q, np.array([8.0, 0, 25.0, 0, 0.5, 0])), None, 0.01
+    robot = va.load_robot("ur5_robot")
+    hand = robot.model.frames[robot.model.nframes - 1].name
+    arm = va.VirtualActuator(robot, hand, "world", "world", ("x", "y", "z"))
+    q = robot.neutral()
+    yield robot, q, arm, None, np.array([20.0, 0.0, 30.0]), 0.006
+
+
+def main() -> None:
+    """Render every scene of :func:`scenes` to a PNG next to this script."""
+    chromium = shutil.which("chromium")
+    if chromium is None:
+        raise SystemExit("needs Debian's chromium (apt-get install -y chromium)")
+    with tempfile.TemporaryDirectory() as tmp:
+        for robot, q, actuator, solution, wrench, scale in scenes():
+            viewer = va.viz.Viewer(robot, window=OfflineWindow(), force_scale=scale)
+            viewer.show(q, solution, actuator=actuator, wrench=wrench)
+            page = viewer.save_html(str(Path(tmp) / f"{robot.name}.html"))
+            out = HERE / f"{robot.name}.png"
+            subprocess.run(
+                [
+                    chromium,
+                    *FLAGS,
+                    f"--user-data-dir={tmp}/profile",
+                    f"--screenshot={out}",
+                    Path(page).as_uri(),
+                ],
+                check=True,
+                capture_output=True,
+                timeout=120,
+            )
+            print(out)
+
+
+if __name__ == "__main__":
+    main()

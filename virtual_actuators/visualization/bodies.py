@@ -1,0 +1,346 @@
+"""The robot's bodies in the scene: its URDF visuals, or a skeleton built from its kinematic tree.
+
+Every shape is a :class:`Part`: a MeshCat object attached to a Pinocchio joint with a fixed
+placement (scale included). After forward kinematics its world matrix is
+``data.oMi[joint].homogeneous @ placement``.
+
+- URDF visuals (``geometry="urdf"``): meshes (STL, OBJ, Collada) are loaded by Pinocchio's
+  ``MeshcatVisualizer`` (imported only for robots that have meshes); primitive shapes (boxes,
+  spheres, cylinders, capsules, cones, ellipsoids: the seeds' robots and the millipede) are
+  built here with the URDF's colours.
+- Skeleton (``geometry="skeleton"``, or ``"auto"`` for a URDF without any ``<visual>``): a
+  sphere at every joint, a cylinder from each joint to its children, a cylinder and a sphere to
+  every fixed frame away from its joint (feet, tools), a box around a floating base's joints.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import meshcat.geometry as mg
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import InvalidInputError, RobotDescriptionError
+from ..robots.robot import Robot
+from .geometry import Cone, Placed, material, span_matrix, to_hex, translation, y_to_z
+
+GEOMETRY_MODES = ("auto", "urdf", "skeleton")
+
+_MESH_SUFFIXES = (".dae", ".obj", ".stl")
+
+# skeleton colours
+BASE_COLOR = 0x37474F
+LINK_COLOR = 0x90A4AE
+JOINT_COLOR = 0x455A64
+TIP_COLOR = 0x263238
+
+
+@dataclass(repr=False)
+class Part:
+    """One shape of the robot.
+
+    Attributes:
+        name: Node name under the robot's node.
+        joint: Pinocchio joint id it moves with (0: the world).
+        placement: ``(4, 4)`` placement in the joint's frame, scale included.
+        geometry: The MeshCat geometry (None for meshes that Pinocchio loads).
+        color: ``0xRRGGBB``.
+        opacity: In ``[0, 1]``.
+        source: The Pinocchio geometry object behind a URDF visual, or None.
+
+    """
+
+    name: str
+    joint: int
+    placement: np.ndarray
+    geometry: object | None = None
+    color: int = LINK_COLOR
+    opacity: float = 1.0
+    source: object | None = None
+
+    def __repr__(self) -> str:
+        return f"Part({self.name!r}, joint={self.joint})"
+
+
+def _has_mesh_file(geometry_object: pin.GeometryObject) -> bool:
+    return str(geometry_object.meshPath).lower().endswith(_MESH_SUFFIXES)
+
+
+def _primitive(shape: object) -> list[tuple[object, np.ndarray]] | None:
+    """MeshCat geometry (with an offset inside the part) for a coal primitive, or None."""
+    kind = type(shape).__name__
+    if kind == "Box":
+        return [(mg.Box((2.0 * np.asarray(shape.halfSide)).tolist()), np.eye(4))]
+    if kind == "Sphere":
+        return [(mg.Sphere(float(shape.radius)), np.eye(4))]
+    if kind == "Ellipsoid":
+        return [(mg.Ellipsoid(np.asarray(shape.radii, dtype=float)), np.eye(4))]
+    if kind == "Cylinder":
+        return [(Placed(mg.Cylinder(2.0 * shape.halfLength, shape.radius), y_to_z()), np.eye(4))]
+    if kind == "Cone":
+        return [(Placed(Cone(2.0 * shape.halfLength, shape.radius), y_to_z()), np.eye(4))]
+    if kind == "Capsule":
+        half, radius = float(shape.halfLength), float(shape.radius)
+        return [
+            (Placed(mg.Cylinder(2.0 * half, radius), y_to_z()), np.eye(4)),
+            (mg.Sphere(radius), translation([0.0, 0.0, half])),
+            (mg.Sphere(radius), translation([0.0, 0.0, -half])),
+        ]
+    return None
+
+
+def visual_model(robot: Robot) -> pin.GeometryModel | None:
+    """The robot's visual geometry from its URDF, or None when it has no URDF source.
+
+    Raises:
+        RobotDescriptionError: Pinocchio cannot build the visual model (a missing mesh...).
+
+    """
+    model = robot.model
+    try:
+        if robot.urdf_string:
+            return pin.buildGeomFromUrdfString(
+                model,
+                robot.urdf_string,
+                pin.GeometryType.VISUAL,
+                package_dirs=list(robot.package_dirs),
+            )
+        if robot.urdf_path is not None:
+            return pin.buildGeomFromUrdf(
+                model,
+                str(robot.urdf_path),
+                pin.GeometryType.VISUAL,
+                package_dirs=list(robot.package_dirs),
+            )
+    except (RuntimeError, ValueError, OSError) as error:
+        raise RobotDescriptionError(
+            f"Cannot load the visual geometry of {robot.name!r}: {error}"
+        ) from error
+    return None
+
+
+def urdf_parts(geometry_model: pin.GeometryModel) -> list[Part]:
+    """Parts for the URDF's visual geometry objects."""
+    parts = []
+    for geometry_object in geometry_model.geometryObjects:
+        scale = np.diag([*np.asarray(geometry_object.meshScale, dtype=float), 1.0])
+        base = geometry_object.placement.homogeneous @ scale
+        color = np.asarray(geometry_object.meshColor, dtype=float)
+        opacity = float(color[3]) if color.size > 3 else 1.0
+        name = f"visuals/{geometry_object.name}"
+        pieces = None if _has_mesh_file(geometry_object) else _primitive(geometry_object.geometry)
+        if pieces is None:  # a mesh: Pinocchio's MeshcatVisualizer loads it
+            parts.append(
+                Part(
+                    name,
+                    int(geometry_object.parentJoint),
+                    base,
+                    None,
+                    to_hex(color),
+                    opacity,
+                    geometry_object,
+                )
+            )
+            continue
+        for k, (geometry, offset) in enumerate(pieces):
+            parts.append(
+                Part(
+                    name if k == 0 else f"{name}_{k}",
+                    int(geometry_object.parentJoint),
+                    base @ offset,
+                    geometry,
+                    to_hex(color),
+                    opacity,
+                    geometry_object,
+                )
+            )
+    return parts
+
+
+def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bool) -> list[Part]:
+    """Primitive shapes built from the kinematic tree (see the module documentation).
+
+    Args:
+        model: The Pinocchio model.
+        data: Data after forward kinematics at a reference configuration (unused for placement
+            in joint frames, kept for future use of world sizes).
+        detail: Typical link length [m]; radii are fractions of it.
+        floating: Whether joint 1 is a free-flyer (a base box is drawn around it).
+
+    Returns:
+        The parts.
+
+    """
+    link_radius = min(0.03, max(0.003, 0.07 * detail))
+    joint_radius = 1.6 * link_radius
+    parts: list[Part] = []
+    children: dict[int, list[np.ndarray]] = {}
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        parent = int(model.parents[j])
+        offset = np.asarray(model.jointPlacements[j].translation, dtype=float)
+        children.setdefault(parent, []).append(offset)
+        parts.append(
+            Part(f"skeleton/joint_{name}", j, np.eye(4), mg.Sphere(joint_radius), JOINT_COLOR)
+        )
+        if np.linalg.norm(offset) > 1e-6 and (parent > 0 or not floating):
+            matrix = span_matrix(np.zeros(3), offset)
+            parts.append(
+                Part(
+                    f"skeleton/link_{name}",
+                    parent,
+                    matrix,
+                    mg.Cylinder(1.0, link_radius),
+                    LINK_COLOR,
+                )
+            )
+    # frames away from their joint (feet, toes, tools), one per point: named after the link
+    # (BODY frame) when there is one, else the operational or fixed-joint frame
+    priority = {pin.FrameType.BODY: 0, pin.FrameType.OP_FRAME: 1, pin.FrameType.FIXED_JOINT: 2}
+    tips: dict[tuple, pin.Frame] = {}
+    for frame in model.frames:
+        joint = int(frame.parentJoint)
+        offset = np.asarray(frame.placement.translation, dtype=float)
+        if frame.type not in priority or joint == 0 or np.linalg.norm(offset) < 1e-6:
+            continue
+        key = (joint, *np.round(offset, 6))
+        if key not in tips or priority[frame.type] < priority[tips[key].type]:
+            tips[key] = frame
+    for frame in tips.values():
+        joint = int(frame.parentJoint)
+        offset = np.asarray(frame.placement.translation, dtype=float)
+        children.setdefault(joint, []).append(offset)
+        matrix = span_matrix(np.zeros(3), offset)
+        parts.append(
+            Part(
+                f"skeleton/tip_link_{frame.name}",
+                joint,
+                matrix,
+                mg.Cylinder(1.0, link_radius),
+                LINK_COLOR,
+            )
+        )
+        parts.append(
+            Part(
+                f"skeleton/tip_{frame.name}",
+                joint,
+                translation(offset),
+                mg.Sphere(1.3 * link_radius),
+                TIP_COLOR,
+            )
+        )
+    if floating and model.njoints > 1:
+        points = np.array(children.get(1, [np.zeros(3)]) + [np.zeros(3)])
+        low, high = points.min(axis=0), points.max(axis=0)
+        size = np.maximum(high - low, 2.0 * joint_radius) + joint_radius
+        parts.append(
+            Part(
+                "skeleton/base",
+                1,
+                translation((low + high) / 2.0),
+                mg.Box(size.tolist()),
+                BASE_COLOR,
+            )
+        )
+    return parts
+
+
+class RobotBodies:
+    """The robot's shapes: built once, placed after each forward-kinematics pass.
+
+    Args:
+        robot: The robot.
+        geometry: ``"auto"`` (the URDF's visuals if it has any, else a skeleton), ``"urdf"`` or
+            ``"skeleton"``.
+        detail: Typical link length [m] (skeleton radii).
+
+    Raises:
+        InvalidInputError: Unknown ``geometry``.
+        RobotDescriptionError: ``geometry="urdf"`` and the robot has no visual geometry, or
+            Pinocchio cannot load it.
+
+    """
+
+    def __init__(self, robot: Robot, geometry: str = "auto", detail: float = 0.2) -> None:
+        if geometry not in GEOMETRY_MODES:
+            raise InvalidInputError(f"geometry must be one of {GEOMETRY_MODES}, got {geometry!r}.")
+        self.robot = robot
+        self.kind = "skeleton"
+        self.visual_model: pin.GeometryModel | None = None
+        parts: list[Part] = []
+        if geometry != "skeleton":
+            try:
+                self.visual_model = visual_model(robot)
+            except RobotDescriptionError as error:
+                if geometry == "urdf":
+                    raise
+                warnings.warn(f"{error}; drawing a skeleton instead.", stacklevel=3)
+            if self.visual_model is not None and self.visual_model.ngeoms > 0:
+                parts = urdf_parts(self.visual_model)
+                self.kind = "urdf"
+            elif geometry == "urdf":
+                raise RobotDescriptionError(
+                    f"The robot {robot.name!r} has no <visual> geometry in its URDF; use "
+                    "geometry='skeleton' or 'auto'."
+                )
+        if not parts:
+            floating = robot.model.njoints > 1 and (
+                robot.model.joints[1].shortname() == "JointModelFreeFlyer"
+            )
+            data = pin.Data(robot.model)
+            parts = skeleton_parts(robot.model, data, detail, floating)
+        self.parts = parts
+        self._joints = np.array([p.joint for p in parts], dtype=int)
+        self._placements = np.array([p.placement for p in parts]) if parts else np.zeros((0, 4, 4))
+
+    @property
+    def has_meshes(self) -> bool:
+        """Whether some parts are mesh files (loaded through Pinocchio's visualizer)."""
+        return any(p.geometry is None for p in self.parts)
+
+    def create(self, scene: object, node: str = "robot") -> None:
+        """Send every part's object to the scene (under ``node``)."""
+        meshes = [p for p in self.parts if p.geometry is None]
+        if meshes:
+            from pinocchio.visualize import MeshcatVisualizer
+
+            loader = MeshcatVisualizer(self.robot.model, None, self.visual_model)
+            loader.viewer = scene.node(node)
+            loader.viewerRootNodeName = node
+            loader.viewerVisualGroupName = "visuals"  # Pinocchio's node: visuals/<geometry name>
+            for part in meshes:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", UserWarning)
+                    loader.loadViewerGeometryObject(part.source, pin.GeometryType.VISUAL)
+        for part in self.parts:
+            if part.geometry is not None:
+                scene.create(
+                    f"{node}/{part.name}", part.geometry, material(part.color, part.opacity)
+                )
+
+    def matrices(self, data: pin.Data) -> np.ndarray:
+        """World matrices ``(len(parts), 4, 4)`` after forward kinematics in ``data``."""
+        if not self.parts:
+            return self._placements
+        frames = np.array([m.homogeneous for m in data.oMi])
+        return frames[self._joints] @ self._placements
+
+    def __repr__(self) -> str:
+        return f"RobotBodies({self.robot.name!r}, {self.kind}, {len(self.parts)} parts)"
+
+
+def typical_link_length(model: pin.Model) -> float:
+    """Median distance between a joint and its parent joint (and fixed frames) [m]."""
+    lengths = [
+        float(np.linalg.norm(model.jointPlacements[j].translation)) for j in range(1, model.njoints)
+    ]
+    lengths += [
+        float(np.linalg.norm(f.placement.translation))
+        for f in model.frames
+        if f.type in (pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT)
+    ]
+    lengths = [x for x in lengths if x > 1e-4 and math.isfinite(x)]
+    return float(np.median(lengths)) if lengths else 0.2

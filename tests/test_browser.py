@@ -120,9 +120,12 @@ def test_live_viewer_page_shows_the_arrows(tmp_path):
         bare = screenshot(url, tmp_path / "bare.png")
         viewer.show(q, solution, actuator=body)
         viewer.flush(10.0)
-        arrows = screenshot(url, tmp_path / "arrows.png")
+        baseline = hue_mask(bare, PALETTE.requested_force).sum()
+        for budget_ms in (6000, 12000, 24000):  # the page gets the scene over a websocket:
+            arrows = screenshot(url, tmp_path / "arrows.png", budget_ms)  # give a busy
+            added = hue_mask(arrows, PALETTE.requested_force).sum() - baseline  # machine time
+            if added > 300:
+                break
     finally:
         viewer.close()
-    added = hue_mask(arrows, PALETTE.requested_force).sum()
-    added -= hue_mask(bare, PALETTE.requested_force).sum()
     assert added > 300

@@ -663,9 +663,7 @@ def test_biped_stands_with_joint_pd(name):
     assert force[2] == pytest.approx(weight, rel=0.05)
     assert abs(force[1]) < 1e-9  # planar robot: no lateral force
     # sinking: the foot spheres' centres are at most 3 mm below one radius above the ground
-    for gid in (
-        g for foot in FEET[name] for g in sim.mujoco_model.frame_geoms[foot]
-    ):
+    for gid in (g for foot in FEET[name] for g in sim.mujoco_model.frame_geoms[foot]):
         depth = sim.model.geom_size[gid][0] - sim.data.geom_xpos[gid][2]
         assert -1e-4 < depth < 3e-3
 

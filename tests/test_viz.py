@@ -511,7 +511,7 @@ def test_terrain_slabs_follow_the_ground_profile():
         normal = matrix[:3, 2]
         np.testing.assert_allclose(top[:3] + 1e-3 * normal, (start + end) / 2, atol=1e-12)
         np.testing.assert_allclose(matrix[:3, 0], (end - start) / np.linalg.norm(end - start))
-    assert rec.visible("/Grid") is False
+    assert rec.visible(f"{ROOT}/ground") is False  # the terrain replaces the grid
 
 
 # -- recording -------------------------------------------------------------------------------

@@ -425,9 +425,7 @@ class FlamingoWalker(Gait):
             target_x += float(
                 np.clip(p.step_gain * (xdot - p.speed), -0.4 * p.step_length, 0.6 * p.step_length)
             )
-        x_target = self._swing_start[0] + (target_x - self._swing_start[0]) * (
-            smoothstep(reach)
-        )
+        x_target = self._swing_start[0] + (target_x - self._swing_start[0]) * (smoothstep(reach))
         surface = self.slope_height(x_target)
         start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])
         if phase <= 1.0:

@@ -33,6 +33,7 @@ import meshcat
 import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
+from meshcat.commands import SetProperty
 
 from ..declaration.frames import AXES, resolve_frame
 from ..distribution.solution import Solution
@@ -101,8 +102,9 @@ class Viewer:
             or ``"skeleton"``.
         camera: ``"auto"`` (from the side for a robot moving in the x-z plane, else from the
             front-left), ``"side"``, ``"iso"`` or None (MeshCat's default).
-        follow: Move the camera and the legend with the robot (default: when the robot can
-            travel, i.e. a floating base or a prismatic first joint).
+        follow: Keep a travelling robot at the centre of the view, the legend beside it
+            (default: when the robot can travel, i.e. a floating base or a prismatic first
+            joint).
         legend: Draw the legend in the scene.
         rate_hz: Live updates per wall-clock second of :meth:`maybe_show` and
             :meth:`tick_callback`.
@@ -198,6 +200,8 @@ class Viewer:
         self.extent = max(0.3, float(np.linalg.norm(high - low)))
         self.detail = min(typical_link_length(model), 0.5 * self.extent)
         self._target0 = (low + high) / 2.0
+        floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
+        self._ground = float(low[2]) if floating else 0.0  # feet of a free robot, else z = 0
         self._centroid0 = self._centroid()
         d = self.detail
         self.sizes = {
@@ -271,16 +275,42 @@ class Viewer:
         )
 
     def _setup_camera(self) -> None:
+        """Centre the scene on the robot, replace MeshCat's grid, place the camera.
+
+        MeshCat's orbit controls look at the world origin and cannot be retargeted (MeshCat
+        0.3.2), so the viewer's whole node is shifted to put the robot's centre there (and keeps
+        shifting with a travelling robot, see ``follow``). MeshCat's grid and axes, which would
+        no longer lie on the robot's ground, are replaced by a grid inside the viewer's node.
+        """
+        scene = self.scene
+        scene.place("", translation(-self._target0))
+        self._hud_rotation = frame_on_plane(np.array([self._view[0], self._view[1], 0.0]))
+        scene.place("hud", translation(self._target0))
+        scene.set_property("/Grid", "visible", False)
+        scene.set_property("/Axes", "visible", False)
+        # short segments: some renderers (SwiftShader) drop a whole line that passes behind
+        # the camera, and the camera stands inside the grid
+        half, step = 10.0, 0.5
+        ticks = np.arange(-half, half + step / 2, step)
+        starts, ends = np.meshgrid(ticks, ticks[:-1], indexing="ij")
+        starts, ends = starts.ravel(), ends.ravel()
+        along_y = np.stack((starts, ends, starts, ends + step), axis=1)
+        along_x = np.stack((ends, starts, ends + step, starts), axis=1)
+        points = np.vstack((along_y, along_x)).reshape(-1, 2) + self._target0[:2]
+        vertices = np.column_stack((points, np.full(len(points), self._ground))).T
+        scene.create(
+            "ground/grid",
+            mg.LineSegments(
+                mg.PointsGeometry(vertices.astype(np.float32)),
+                mg.LineBasicMaterial(color=0x9A9A9A),
+            ),
+        )
         if self._camera_mode is None:
             return
-        distance = max(0.8, 1.6 * self.extent)
-        offset = self._view * distance  # world, from the target
-        local = [float(offset[0]), float(offset[2]), float(-offset[1])]  # three.js y-up
-        self.scene.place("/Cameras/default", translation(self._target0))
-        self.scene.set_property("/Cameras/default/rotated/<object>", "position", local)
-        # the head-up display (legend, state) faces the camera and follows the robot
-        self._hud_rotation = frame_on_plane(np.array([self._view[0], self._view[1], 0.0]))
-        self.scene.place("hud", translation(self._target0))
+        distance = max(0.8, 1.5 * self.extent)
+        offset = self._view * distance  # from the robot's centre to the camera, world axes
+        local = [float(offset[0]), float(offset[2]), float(-offset[1])]  # three.js is y-up
+        scene.set_property("/Cameras/default/rotated/<object>", "position", local)
 
     def _hud_matrix(self, offset_right: float, offset_up: float) -> np.ndarray:
         rotation = getattr(self, "_hud_rotation", np.eye(3))
@@ -291,9 +321,9 @@ class Viewer:
 
     def _draw_legend(self) -> None:
         entries = self.legend_entries()
-        size = min(1.5, max(0.3, 0.55 * self.extent))
+        size = min(1.5, max(0.35, 0.75 * self.extent))
         spacing = 0.105 * size
-        left = -(0.55 * self.extent + 0.5 * size)
+        left = -(0.6 * self.extent + 0.5 * size)
         top = 0.5 * self.extent
         for k, (color, text) in enumerate(entries):
             up = top - k * spacing
@@ -360,7 +390,7 @@ class Viewer:
             name = f"terrain/slab_{k:03d}"
             self.scene.create(name, mg.Box(lengths.tolist()), material(0xB0A58C))
             self.scene.place(name, matrix)
-        self.scene.set_property("/Grid", "visible", False)
+        self.scene.set_property("ground", "visible", False)  # the terrain replaces the grid
         if self.window.live:
             self.scene.sync()
 
@@ -492,11 +522,11 @@ class Viewer:
         scene = self.scene
         for part, matrix in zip(self.bodies.parts, self.bodies.matrices(data), strict=True):
             scene.place(f"robot/{part.name}", matrix)
-        if self.follow and self._camera_mode is not None:
-            shift = self._centroid() - self._centroid0
-            shift[2] = 0.0
-            scene.place("/Cameras/default", translation(self._target0 + shift))
-            scene.place("hud", translation(self._target0 + shift))
+        if self.follow:  # keep the robot at the centre of the view (see _setup_camera)
+            centre = self._target0 + self._centroid() - self._centroid0
+            centre[2] = self._target0[2]
+            scene.place("", translation(-centre))
+            scene.place("hud", translation(centre))
 
         tau, saturated = None, None
         if solution is not None or actuator is not None:
@@ -925,7 +955,8 @@ class Viewer:
             size = min(2.0, max(0.4, 0.8 * self.extent))
             self.scene.create(name, text_object(state, size, font_size=30))
             self.scene.declare(name)
-            self.scene.place(name, self._hud_matrix(0.0, 0.62 * self.extent))
+            right, up = 0.45 * self.extent, 0.7 * self.extent + 0.12 * size  # beside the arrows
+            self.scene.place(name, self._hud_matrix(right, up))
         self.scene.use(name)
 
     # recording --------------------------------------------------------------------------------
@@ -971,7 +1002,8 @@ class Viewer:
         """
         self.scene.sync()
         recording = self._recording or self._last_recording
-        extra = []
+        # the page has the legend as HTML over the view: hide the one drawn in the scene
+        extra: list[object] = [SetProperty("visible", False, self.scene.node("hud/legend").path)]
         if recording is not None and recording.frames >= 2:
             extra.append(recording.command(self.scene.path))
         title = title or f"virtual_actuators: {self.robot.name}"

@@ -12,8 +12,6 @@ Without Chromium the tests are skipped, except under CI (``CI`` set), where they
 from __future__ import annotations
 
 import os
-import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -22,47 +20,20 @@ from matplotlib import image as mpimg
 
 import virtual_actuators as va
 from virtual_actuators.visualization import PALETTE, OfflineWindow
+from virtual_actuators.visualization.browser import find_chromium, screenshot
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMIUM = find_chromium()
 if CHROMIUM is None and os.environ.get("CI"):
     pytest.fail("CI must provide Debian's chromium for the browser tests", pytrace=False)
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed")
 
-FLAGS = (
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--hide-scrollbars",
-)
 SIZE = (800, 600)
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 
 
-def screenshot(url: str, path: Path, budget_ms: int = 6000) -> np.ndarray:
+def render(url: str, path: Path, budget_ms: int = 6000) -> np.ndarray:
     """Render ``url`` headless and return its pixels ``(height, width, 3)`` in [0, 1]."""
-    profile = path.with_suffix(".profile")
-    subprocess.run(
-        [
-            CHROMIUM,
-            *FLAGS,
-            f"--user-data-dir={profile}",
-            f"--window-size={SIZE[0]},{SIZE[1]}",
-            f"--virtual-time-budget={budget_ms}",
-            f"--screenshot={path}",
-            url,
-        ],
-        check=True,
-        capture_output=True,
-        timeout=120,
-    )
-    pixels = mpimg.imread(path)[..., :3]
+    pixels = mpimg.imread(screenshot(url, path, SIZE, budget_ms))[..., :3]
     assert pixels.shape == (SIZE[1], SIZE[0], 3)
     return pixels
 
@@ -99,7 +70,7 @@ def test_recorded_html_shows_the_robot_and_the_wrench_arrows(tmp_path):
         path = viewer.save_html(str(tmp_path / f"{name}.html"))
         html = Path(path).read_text(encoding="utf-8")
         assert "https://" not in html and "http://cdn" not in html  # opens offline
-        pages[name] = screenshot(Path(path).as_uri(), tmp_path / f"{name}.png")
+        pages[name] = render(Path(path).as_uri(), tmp_path / f"{name}.png")
     arrows, bare = pages["arrows"], pages["bare"]
     background = np.median(bare.reshape(-1, 3), axis=0)
     robot_pixels = np.linalg.norm(bare - background, axis=-1) > 0.15
@@ -117,12 +88,12 @@ def test_live_viewer_page_shows_the_arrows(tmp_path):
         assert url and url.startswith("http://")
         viewer.show(q)
         viewer.flush(10.0)
-        bare = screenshot(url, tmp_path / "bare.png")
+        bare = render(url, tmp_path / "bare.png")
         viewer.show(q, solution, actuator=body)
         viewer.flush(10.0)
         baseline = hue_mask(bare, PALETTE.requested_force).sum()
         for budget_ms in (6000, 12000, 24000):  # the page gets the scene over a websocket:
-            arrows = screenshot(url, tmp_path / "arrows.png", budget_ms)  # give a busy
+            arrows = render(url, tmp_path / "arrows.png", budget_ms)  # give a busy
             added = hue_mask(arrows, PALETTE.requested_force).sum() - baseline  # machine time
             if added > 300:
                 break

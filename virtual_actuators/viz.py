@@ -5,28 +5,5 @@ module imports MeshCat; ``import virtual_actuators`` alone does not (``va.viz`` 
 first use).
 """
 
-from .visualization import (
-    PALETTE,
-    AnimationRecording,
-    CommandRecorder,
-    ForwardingWindow,
-    LiveWindow,
-    OfflineWindow,
-    Palette,
-    SceneWindow,
-    TickUpdater,
-    Viewer,
-)
-
-__all__ = [
-    "PALETTE",
-    "AnimationRecording",
-    "CommandRecorder",
-    "ForwardingWindow",
-    "LiveWindow",
-    "OfflineWindow",
-    "Palette",
-    "SceneWindow",
-    "TickUpdater",
-    "Viewer",
-]
+from .visualization import *  # noqa: F403
+from .visualization import __all__  # noqa: F401

@@ -6,8 +6,6 @@
 
 from __future__ import annotations
 
-import shutil
-import subprocess
 import tempfile
 from pathlib import Path
 
@@ -15,23 +13,9 @@ import numpy as np
 
 import virtual_actuators as va
 from virtual_actuators.visualization import OfflineWindow
+from virtual_actuators.visualization.browser import screenshot
 
 HERE = Path(__file__).resolve().parent
-FLAGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--hide-scrollbars",
-    "--window-size=960,600",
-    "--virtual-time-budget=6000",
-]
 
 
 def scenes():
@@ -71,28 +55,12 @@ def scenes():
 
 def main() -> None:
     """Render every scene of :func:`scenes` to a PNG next to this script."""
-    chromium = shutil.which("chromium")
-    if chromium is None:
-        raise SystemExit("needs Debian's chromium (apt-get install -y chromium)")
     with tempfile.TemporaryDirectory() as tmp:
         for robot, q, actuator, solution, wrench, scale in scenes():
             viewer = va.viz.Viewer(robot, window=OfflineWindow(), force_scale=scale)
             viewer.show(q, solution, actuator=actuator, wrench=wrench)
             page = viewer.save_html(str(Path(tmp) / f"{robot.name}.html"))
-            out = HERE / f"{robot.name}.png"
-            subprocess.run(
-                [
-                    chromium,
-                    *FLAGS,
-                    f"--user-data-dir={tmp}/profile",
-                    f"--screenshot={out}",
-                    Path(page).as_uri(),
-                ],
-                check=True,
-                capture_output=True,
-                timeout=120,
-            )
-            print(out)
+            print(screenshot(Path(page).as_uri(), HERE / f"{robot.name}.png", (960, 600)))
 
 
 if __name__ == "__main__":

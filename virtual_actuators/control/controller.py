@@ -60,6 +60,26 @@ class Attachment:
     yield_mask: np.ndarray | None = None
     friction: float | None = None
     min_normal: float = 0.0
+    bound_rows: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    bound_lows: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    force_columns: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    force_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+
+    def __post_init__(self) -> None:
+        # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
+        if self.yield_mask is None:
+            return
+        p, n = self.actuator.p, self.actuator.n
+        rows = []
+        for axis in self.unilateral:
+            block = np.zeros((p, p, n))
+            block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
+            rows.append(block.reshape(p, p * n))
+        self.bound_rows = np.vstack(rows) if rows else np.zeros((0, p * n))
+        self.bound_lows = np.repeat(np.array(list(self.unilateral.values()), dtype=float), p)
+        force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
+        self.force_columns = np.array([i for i, _ in force_axes], dtype=int)
+        self.force_components = np.array([k for _, k in force_axes], dtype=int)
 
     @property
     def axes(self) -> tuple[str, ...]:
@@ -410,42 +430,36 @@ class Controller:
     def _constraint_rows(attachment: Attachment) -> tuple[np.ndarray, np.ndarray]:
         """Linear conditions ``rows @ forces.ravel() >= lows`` on the chains' shares.
 
-        ``unilateral`` gives one row per chain and axis; a friction cone gives, per chain, the
-        normal force (the reaction frame's z in {O}) ``>= min_normal`` and ``mu n.f -+ t.f >=
-        0`` for both tangents (a pyramid). The reaction frames' orientations are those of the
-        solve that just ran at this configuration.
+        ``unilateral`` gives one row per chain and axis (built at declaration); a friction
+        cone gives, per chain, the normal force (the reaction frame's z in {O}) ``>=
+        min_normal`` and ``mu n.f -+ t.f >= 0`` for both tangents (a pyramid; a tangent outside
+        the actuator's force axes gives a row implied by the normal one). The reaction frames'
+        orientations are those of the solve that just ran at this configuration.
         """
+        if attachment.friction is None:
+            return attachment.bound_rows, attachment.bound_lows
         actuator = attachment.actuator
         p, n = actuator.p, actuator.n
-        rows, lows = [], []
-        for axis, low in attachment.unilateral.items():
-            for chain in range(p):
-                row = np.zeros((p, n))
-                row[chain, axis] = 1.0
-                rows.append(row.ravel())
-                lows.append(low)
-        if attachment.friction is not None:
-            kinematics = actuator.kinematics
-            oMf = kinematics.data.oMf
-            rotation_o = oMf[kinematics.reference_id].rotation
-            force_axes = [(i, "xyz".index(a)) for i, a in enumerate(actuator.axes) if a in "xyz"]
-            columns = np.array([i for i, _ in force_axes])
-            components = np.array([k for _, k in force_axes])
-            mu = attachment.friction
-            for chain, frame_id in enumerate(kinematics.reaction_ids.tolist()):
-                # reaction frame axes in {O}, restricted to the actuator's force axes
-                frame_o = (rotation_o.T @ oMf[frame_id].rotation)[components]
-                normal, tangents = frame_o[:, 2], (frame_o[:, 0], frame_o[:, 1])
-                candidates = [(normal, attachment.min_normal)]
-                for tangent in tangents:
-                    if np.any(np.abs(tangent) > 1e-12):
-                        candidates += [(mu * normal - tangent, 0.0), (mu * normal + tangent, 0.0)]
-                for vector, low in candidates:
-                    row = np.zeros((p, n))
-                    row[chain, columns] = vector
-                    rows.append(row.ravel())
-                    lows.append(low)
-        return np.array(rows), np.array(lows)
+        kinematics = actuator.kinematics
+        oMf = kinematics.data.oMf
+        rotation_o = oMf[kinematics.reference_id].rotation
+        rotations = np.array(
+            [oMf[frame_id].rotation for frame_id in kinematics.reaction_ids.tolist()]
+        )
+        # reaction frames' axes in {O}, restricted to the actuator's force axes: (p, m, 3)
+        frames_o = (rotation_o.T @ rotations)[:, attachment.force_components, :]
+        normal, first, second = frames_o[..., 2], frames_o[..., 0], frames_o[..., 1]
+        mu_normal = attachment.friction * normal
+        vectors = np.stack(
+            (normal, mu_normal - first, mu_normal + first, mu_normal - second, mu_normal + second),
+            axis=1,
+        )  # (p, 5, m)
+        cone = np.zeros((p, 5, p, n))
+        chains = np.arange(p)[:, None, None]
+        cone[chains, np.arange(5)[None, :, None], chains, attachment.force_columns] = vectors
+        cone_lows = np.tile([attachment.min_normal, 0.0, 0.0, 0.0, 0.0], p)
+        rows = np.vstack((attachment.bound_rows, cone.reshape(5 * p, p * n)))
+        return rows, np.concatenate((attachment.bound_lows, cone_lows))
 
     def _enforce_unilateral(
         self, attachment: Attachment, q: np.ndarray, wrench: np.ndarray, solution: Solution

@@ -30,6 +30,8 @@ from ..exceptions import (
     SingularConfigurationError,
     suggestion,
 )
+from ..kinematics.snapshot import Snapshot
+from ..kinematics.tree import tree_of
 from ..robots.robot import Robot
 
 Actuator = VirtualActuator | ParallelVirtualActuator
@@ -321,16 +323,22 @@ class Controller:
             )
         return np.array(out, dtype=int)
 
-    def reset(self, names: Iterable[str], q: np.ndarray, time: float) -> None:
+    def reset(self, names: Iterable[str], q: np.ndarray | Snapshot, time: float) -> None:
         """Call every component's :meth:`~Component.reset` hook for the named attachments.
 
+        Args:
+            names: Attachment names.
+            q: Configuration, or the tick's :class:`~virtual_actuators.Snapshot`.
+            time: Controller time [s].
+
         Raises:
-            InvalidInputError: Unknown attachment name.
+            InvalidInputError: Unknown attachment name, or a bad ``q``.
 
         """
+        snapshot = q if isinstance(q, Snapshot) else Snapshot(self.robot, q)
         for name in names:
             attachment = self._get(name)
-            position = attachment.sensor.position(q)
+            position = attachment.sensor.position(snapshot)
             for component, index in zip(attachment.components, attachment.indices, strict=True):
                 component.reset(position[index], time)
 
@@ -344,17 +352,21 @@ class Controller:
 
     def compute(
         self,
-        q: np.ndarray,
-        v: np.ndarray,
+        q: np.ndarray | Snapshot,
+        v: np.ndarray | None = None,
         time: float = 0.0,
         active: Iterable[str] | None = None,
         limp: np.ndarray | Sequence[int] = (),
     ) -> ControlOutput:
         """Evaluate the components and return the joint efforts for one tick.
 
+        One kinematics pass serves the whole tick: every sensor and actuator reads the same
+        :class:`~virtual_actuators.Snapshot` (pass one built with ``v`` to share it with events
+        and your own code too).
+
         Args:
-            q: Configuration ``(nq,)``.
-            v: Velocity ``(nv,)``.
+            q: Configuration ``(nq,)``, or the tick's snapshot built with a velocity.
+            v: Velocity ``(nv,)`` (omit it when ``q`` is a snapshot).
             time: Controller time [s] (components such as the dogtrack bunny use it).
             active: Names of the attachments to evaluate (default: all).
             limp: Velocity indices forced to zero effort (see :meth:`joint_indices`).
@@ -369,6 +381,16 @@ class Controller:
 
         """
         nv = self.robot.model.nv
+        if isinstance(q, Snapshot):
+            snapshot = q
+            if snapshot.tree is not tree_of(self.robot) or snapshot.v is None:
+                raise InvalidInputError(
+                    "compute() needs a snapshot of this controller's robot built with v."
+                )
+        else:
+            if v is None:
+                raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
+            snapshot = Snapshot(self.robot, q, v)
         names = tuple(self.attachments) if active is None else tuple(active)
         if len(set(names)) != len(names):
             raise InvalidInputError(f"active names an attachment twice: {names}.")
@@ -379,7 +401,7 @@ class Controller:
         for name in names:
             attachment = self._get(name)
             sensor = attachment.sensor
-            reading = sensor.read(q, v)
+            reading = sensor.read(snapshot)
             position, velocity, jacobian = reading.position, reading.velocity, reading.jacobian
             wrench = np.zeros(len(attachment.axes))
             for component, index in zip(attachment.components, attachment.indices, strict=True):
@@ -391,14 +413,14 @@ class Controller:
             positions[name], velocities[name], wrenches[name] = position, velocity, wrench
             actuator = attachment.actuator
             if isinstance(actuator, VirtualActuator):
-                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(q)
+                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
                 tau += jacobian_act.T @ wrench
                 produced[name] = wrench
                 continue
             try:
-                solution = actuator.solve(q, wrench, free=attachment.free)
+                solution = actuator.solve(snapshot, wrench, free=attachment.free)
                 if attachment.yield_mask is not None:
-                    solution = self._enforce_unilateral(attachment, q, wrench, solution)
+                    solution = self._enforce_unilateral(attachment, snapshot, wrench, solution)
             except SingularConfigurationError as error:
                 if self.on_singular == "raise":
                     raise
@@ -427,25 +449,23 @@ class Controller:
         )
 
     @staticmethod
-    def _constraint_rows(attachment: Attachment) -> tuple[np.ndarray, np.ndarray]:
+    def _constraint_rows(
+        attachment: Attachment, snapshot: Snapshot
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Linear conditions ``rows @ forces.ravel() >= lows`` on the chains' shares.
 
         ``unilateral`` gives one row per chain and axis (built at declaration); a friction
         cone gives, per chain, the normal force (the reaction frame's z in {O}) ``>=
         min_normal`` and ``mu n.f -+ t.f >= 0`` for both tangents (a pyramid; a tangent outside
         the actuator's force axes gives a row implied by the normal one). The reaction frames'
-        orientations are those of the solve that just ran at this configuration.
+        orientations are read from the tick's snapshot.
         """
         if attachment.friction is None:
             return attachment.bound_rows, attachment.bound_lows
         actuator = attachment.actuator
         p, n = actuator.p, actuator.n
-        kinematics = actuator.kinematics
-        oMf = kinematics.data.oMf
-        rotation_o = oMf[kinematics.reference_id].rotation
-        rotations = np.array(
-            [oMf[frame_id].rotation for frame_id in kinematics.reaction_ids.tolist()]
-        )
+        state = actuator.kinematics.compute(snapshot)
+        rotation_o, rotations = state.rotation_o, state.rotation_a
         # reaction frames' axes in {O}, restricted to the actuator's force axes: (p, m, 3)
         frames_o = (rotation_o.T @ rotations)[:, attachment.force_components, :]
         normal, first, second = frames_o[..., 2], frames_o[..., 0], frames_o[..., 1]
@@ -462,7 +482,7 @@ class Controller:
         return rows, np.concatenate((attachment.bound_lows, cone_lows))
 
     def _enforce_unilateral(
-        self, attachment: Attachment, q: np.ndarray, wrench: np.ndarray, solution: Solution
+        self, attachment: Attachment, q: Snapshot, wrench: np.ndarray, solution: Solution
     ) -> Solution:
         """Scale the request on the yield axes until every chain's share is feasible.
 
@@ -471,7 +491,7 @@ class Controller:
         with ``base`` the request without its yield axes: the largest feasible ``alpha`` in
         ``[0, 1]`` comes from one extra solve and a ratio test.
         """
-        rows, lows = self._constraint_rows(attachment)
+        rows, lows = self._constraint_rows(attachment, q)
         full = rows @ solution.forces.ravel()
         if np.all(full >= lows - 1e-9):
             return solution

@@ -14,15 +14,18 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import pinocchio as pin
 
-from ..declaration.frames import resolve_frame
 from ..exceptions import InvalidInputError, suggestion
+from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
 
 
 class Context:
     """What events see at one tick: state, time, contacts and frame positions on demand.
+
+    Frame reads go through the tick's :class:`~virtual_actuators.Snapshot`, the same kinematics
+    pass that the controller's actuators and sensors read: events add no kinematics of their
+    own.
 
     Args:
         robot: The robot (frame names are resolved against its model).
@@ -31,9 +34,12 @@ class Context:
         time: Controller time [s].
         contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
         time_in_state: Seconds since the current state was entered (the machine fills it).
-        data: Pinocchio data to run the kinematics in (a controller passes the same one every
-            tick instead of allocating one); a new one by default.
-        frame_ids: Cache of resolved frame names, shared across ticks the same way.
+        data: Ignored (kept for compatibility: kinematics now come from ``snapshot``).
+        frame_ids: Ignored (kept for compatibility: frame names are resolved once per robot).
+        snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
+
+    Raises:
+        InvalidInputError: Bad ``q`` or ``v`` (when no snapshot is given).
 
     """
 
@@ -45,39 +51,25 @@ class Context:
         time: float,
         contacts: Mapping[str, bool] | None = None,
         time_in_state: float = 0.0,
-        data: pin.Data | None = None,
+        data: object | None = None,
         frame_ids: dict[str, int] | None = None,
+        snapshot: Snapshot | None = None,
     ) -> None:
         self.robot = robot
-        self.q, self.v, self.time = q, v, float(time)
+        self.snapshot = snapshot if snapshot is not None else Snapshot(robot, q, v)
+        self.q, self.v, self.time = self.snapshot.q, self.snapshot.v, float(time)
         self.contacts = dict(contacts or {})
         self.time_in_state = time_in_state
         self.state: str | None = None
-        self._data = data
-        self._frame_ids = {} if frame_ids is None else frame_ids
-        self._kinematics_done = False
-
-    def _placement(self, frame: str) -> tuple[int, pin.SE3]:
-        model = self.robot.model
-        frame_id = self._frame_ids.get(frame)
-        if frame_id is None:
-            frame_id = self._frame_ids[frame] = resolve_frame(model, frame, "event")
-        if not self._kinematics_done:
-            if self._data is None:
-                self._data = pin.Data(model)
-            pin.forwardKinematics(model, self._data, self.q, self.v)
-            pin.updateFramePlacements(model, self._data)
-            self._kinematics_done = True
-        return frame_id, self._data.oMf[frame_id]
 
     def frame_position(self, frame: str) -> np.ndarray:
-        """World position of a frame [m] (forward kinematics run once per context).
+        """World position of a frame [m] (from the tick's snapshot).
 
         Raises:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        return self._placement(frame)[1].translation.copy()
+        return self.snapshot.frame_position(frame)
 
     def frame_rotation(self, frame: str) -> np.ndarray:
         """World orientation of a frame, a 3x3 rotation matrix.
@@ -86,7 +78,7 @@ class Context:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        return self._placement(frame)[1].rotation.copy()
+        return self.snapshot.frame_rotation(frame)
 
     def frame_pitch(self, frame: str) -> float:
         """Rotation of a frame about the world y axis [rad] (planar robots in x-z).
@@ -95,7 +87,7 @@ class Context:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        rotation = self._placement(frame)[1].rotation
+        rotation = self.snapshot.placement(frame)[0]
         return float(np.arctan2(rotation[0, 2], rotation[0, 0]))
 
     def frame_velocity(self, frame: str) -> np.ndarray:
@@ -105,11 +97,7 @@ class Context:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        frame_id, _ = self._placement(frame)
-        velocity = pin.getFrameVelocity(
-            self.robot.model, self._data, frame_id, pin.LOCAL_WORLD_ALIGNED
-        )
-        return velocity.linear.copy()
+        return self.snapshot.frame_velocity(frame)
 
     def in_contact(self, frame: str) -> bool:
         """The contact switch of ``frame``.

@@ -24,7 +24,8 @@ from ..exceptions import (
     InadmissibleWrenchError,
     InvalidInputError,
 )
-from ..kinematics.relative import RelativeKinematics
+from ..kinematics.relative import KinematicState, RelativeKinematics
+from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
 
 
@@ -88,71 +89,95 @@ class VirtualActuator:
         self.axes = parse_axes(axes)
         model = robot.model
         self.kinematics = RelativeKinematics(
-            model,
+            robot,
             resolve_frame(model, action, "action"),
             [resolve_frame(model, reaction, "reaction")],
             resolve_frame(model, reference, "reference"),
             self.axes,
         )
 
-    def read(self, q: np.ndarray, v: np.ndarray) -> SensorReading:
+    def _jacobian(self, state: KinematicState) -> np.ndarray:
+        columns = self.kinematics.chain_columns[0]
+        out = np.zeros((len(self.axes), self.kinematics.nv))
+        out[:, columns] = state.jacobian_o[:, columns] * self.kinematics.chain_signs[0]
+        return out
+
+    def read(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> SensorReading:
         """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
 
         Args:
-            q: Configuration ``(nq,)``.
-            v: Velocity ``(nv,)``.
+            state: A :class:`~virtual_actuators.Snapshot` built with a velocity (the tick's
+                shared kinematics), or a configuration ``(nq,)``.
+            v: Velocity ``(nv,)`` when ``state`` is a configuration.
 
         Returns:
             The :class:`SensorReading`.
 
         Raises:
-            InvalidInputError: Bad ``q`` or ``v``.
+            InvalidInputError: Bad ``q`` or ``v``, no velocity given, or a snapshot of another
+                robot.
 
         """
-        q = self.kinematics.check_configuration(q)
-        v = self.kinematics.check_velocity(v)
-        state = self.kinematics.compute(q)
-        jacobian = state.jacobian_o * self.kinematics.signs[0]
-        position = self.kinematics.positions(state)[0]
-        return SensorReading(position=position, velocity=jacobian @ v, jacobian=jacobian)
+        if not isinstance(state, Snapshot):
+            if v is None:
+                raise InvalidInputError("read(q, v) needs a velocity v (or a Snapshot with v).")
+            state = Snapshot(self.robot, state, v)
+        snapshot = self.kinematics.snapshot(state, need_velocity=True)
+        kinematic = self.kinematics.compute(snapshot)
+        jacobian = self._jacobian(kinematic)
+        position = self.kinematics.positions(kinematic)[0]
+        return SensorReading(position=position, velocity=jacobian @ snapshot.v, jacobian=jacobian)
 
-    def position(self, q: np.ndarray) -> np.ndarray:
+    def position(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.
 
         Translations: ``R_O^T (p_B - p_A)`` [m]. Rotations: the rotation vector of {B} relative
         to {A}, ``log(R_A^T R_B)``, expressed in {O} [rad].
 
+        Args:
+            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(nq,)``.
+
         Raises:
-            InvalidInputError: Bad ``q``.
+            InvalidInputError: Bad ``q``, or a snapshot of another robot.
 
         """
-        q = self.kinematics.check_configuration(q)
-        return self.kinematics.positions(self.kinematics.compute(q))[0]
+        return self.kinematics.positions(self.kinematics.compute(state))[0]
 
-    def jacobian(self, q: np.ndarray) -> np.ndarray:
+    def jacobian(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
 
         Columns of joints outside the path between {A} and {B} are zero (a floating base
         cancels unless one frame is ``"world"``).
 
+        Args:
+            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(nq,)``.
+
         Raises:
-            InvalidInputError: Bad ``q``.
+            InvalidInputError: Bad ``q``, or a snapshot of another robot.
 
         """
-        q = self.kinematics.check_configuration(q)
-        return self.kinematics.compute(q).jacobian_o * self.kinematics.signs[0]
+        return self._jacobian(self.kinematics.compute(state))
 
-    def velocity(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s].
 
+        Args:
+            state: A :class:`~virtual_actuators.Snapshot` built with ``v``, or ``q``.
+            v: Velocity ``(nv,)`` when ``state`` is a configuration.
+
         Raises:
-            InvalidInputError: Bad ``q`` or ``v``.
+            InvalidInputError: Bad ``q`` or ``v``, or no velocity given.
 
         """
+        if isinstance(state, Snapshot):
+            snapshot = self.kinematics.snapshot(state, need_velocity=True)
+            return self.jacobian(snapshot) @ snapshot.v
+        if v is None:
+            raise InvalidInputError("velocity(q, v) needs a velocity v.")
         v = self.kinematics.check_velocity(v)
-        return self.jacobian(q) @ v
+        return self.jacobian(state) @ v
 
-    def torques(self, q: np.ndarray, wrench: np.ndarray) -> np.ndarray:
+    def torques(self, state: np.ndarray | Snapshot, wrench: np.ndarray) -> np.ndarray:
         """Joint torques ``J^T F`` that emulate ``wrench`` on {B} from {A} (VAC eq. 7).
 
         Raises:
@@ -160,9 +185,11 @@ class VirtualActuator:
 
         """
         wrench = _wrench_array(wrench, self.axes)
-        return self.jacobian(q).T @ wrench
+        return self.jacobian(state).T @ wrench
 
-    def is_admissible(self, q: np.ndarray, wrench: np.ndarray, tol: float = 1e-9) -> bool:
+    def is_admissible(
+        self, q: np.ndarray | Snapshot, wrench: np.ndarray, tol: float = 1e-9
+    ) -> bool:
         """Whether ``wrench`` lies in the range of the Jacobian (it can be produced).
 
         Args:
@@ -244,7 +271,7 @@ class ParallelVirtualActuator:
                 f"The action frame {action!r} is also a reaction frame; they must differ."
             )
         self.kinematics = RelativeKinematics(
-            model, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
+            robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
         self.design = tuple(design)
         self.problem = DistributionProblem(
@@ -295,7 +322,7 @@ class ParallelVirtualActuator:
 
     def solve(
         self,
-        q: np.ndarray,
+        q: np.ndarray | Snapshot,
         wrench: np.ndarray,
         free: Sequence[str] = (),
         strict: bool = False,
@@ -305,7 +332,8 @@ class ParallelVirtualActuator:
         """Distribute ``wrench`` over the chains and map it to joint efforts.
 
         Args:
-            q: Configuration ``(model.nq,)``.
+            q: Configuration ``(model.nq,)``, or the tick's :class:`~virtual_actuators.Snapshot`
+                (kinematics shared with the other actuators and sensors of the robot).
             wrench: ``(n,)`` wrench on {B}; entries of ``free`` axes are ignored.
             free: Axes left to the solver (their produced value is reported in the solution).
             strict: Raise :class:`InadmissibleWrenchError` if the wrench cannot be produced.
@@ -324,7 +352,7 @@ class ParallelVirtualActuator:
             InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
 
         """
-        q = self.kinematics.check_configuration(q)
+        snapshot = self.kinematics.snapshot(q)
         wrench = _wrench_array(wrench, self.axes)
         free, keep = self._keep(free)
         if method == "partitioned":
@@ -333,7 +361,7 @@ class ParallelVirtualActuator:
             solver = self.dense
         else:
             raise InvalidInputError(f"method must be 'partitioned' or 'dense', got {method!r}.")
-        ev = self.problem.evaluate(q)
+        ev = self.problem.evaluate(snapshot)
         raw = solver.solve(ev, wrench, keep)
         produced = raw.forces.sum(axis=0)
         error = (produced - wrench)[keep]
@@ -371,14 +399,13 @@ class ParallelVirtualActuator:
             )
         return solution
 
-    def torques(self, q: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    def torques(self, q: np.ndarray | Snapshot, forces: np.ndarray) -> np.ndarray:
         """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.
 
         Raises:
             InvalidInputError: Bad ``q`` or ``forces``.
 
         """
-        q = self.kinematics.check_configuration(q)
         forces = np.asarray(forces, dtype=float)
         if forces.shape != (self.p, self.n) or not np.all(np.isfinite(forces)):
             raise InvalidInputError(f"forces must be finite with shape ({self.p}, {self.n}).")

@@ -33,6 +33,7 @@ from ..exceptions import (
     SingularConfigurationError,
 )
 from ..kinematics.relative import KinematicState, RelativeKinematics, skew
+from ..kinematics.snapshot import Snapshot
 from .linalg import dependent_rows
 
 #: A chain is singular when its smallest needed singular value falls below this fraction of its
@@ -157,9 +158,8 @@ class DistributionProblem:
         self.n = len(self.axes)
         self.p = len(self.reactions)
         self.contacts = self._parse_contacts(contact)
-        signs = kinematics.signs
         for i, name in enumerate(self.reactions):
-            if not np.any(signs[i]):
+            if not len(kinematics.chain_columns[i]):
                 raise ConstraintError(
                     f"Reaction frame {name!r} is rigidly attached to the action frame "
                     f"{self.model.frames[kinematics.action_id].name!r}: no joint lies between "
@@ -169,6 +169,7 @@ class DistributionProblem:
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
         self._structural: dict[bytes, bool] = {}
+        self._sign_cache: dict[tuple[int, ...], np.ndarray] = {}
         self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
@@ -203,12 +204,15 @@ class DistributionProblem:
         joint_id = resolve_joint(self.model, name, role)
         joint = self.model.joints[joint_id]
         vs = np.arange(joint.idx_v, joint.idx_v + joint.nv)
-        if not np.any(self.kinematics.signs[:, vs]):
+        on_chains = np.zeros(self.model.nv, dtype=bool)
+        for columns in self.kinematics.chain_columns:
+            on_chains[columns] = True
+        if not np.any(on_chains[vs]):
             chain_joints = sorted(
                 {
                     self.model.names[j]
                     for j in range(1, self.model.njoints)
-                    if np.any(self.kinematics.signs[:, self.model.joints[j].idx_v])
+                    if on_chains[self.model.joints[j].idx_v]
                 }
             )
             raise JointNotFoundError(
@@ -250,15 +254,16 @@ class DistributionProblem:
         return limp, springs
 
     def _build_groups(self) -> None:
-        signs = self.kinematics.signs
-        counts = np.count_nonzero(signs, axis=0)
+        counts = np.zeros(self.model.nv, dtype=int)
+        for columns in self.kinematics.chain_columns:
+            counts[columns] += 1
         constrained_v = set(self.limp_v) | set(self.passive_v)
         #: velocity indices of limp/passive joints shared by several chains (coupling rows)
         self.coupled_v = sorted(v for v in constrained_v if counts[v] > 1)
         rot_axes = np.array([k for k in range(3) if AXES[3 + k] in self.axes], dtype=int)
         per_chain = []
         for i in range(self.p):
-            columns = np.flatnonzero(signs[i])
+            columns = self.kinematics.chain_columns[i]
             own = [j for j, v in enumerate(columns) if v in constrained_v and counts[v] == 1]
             ball = rot_axes if self.contacts[i] == "point" else np.array([], dtype=int)
             per_chain.append((columns, np.array(own, dtype=int), ball))
@@ -278,7 +283,9 @@ class DistributionProblem:
         for (k, _, ball, rank), members in keys.items():
             own = np.array([per_chain[i][1] for i in members], dtype=int).reshape(len(members), -1)
             columns = np.array([per_chain[i][0] for i in members], dtype=int).reshape(-1, k)
-            group_signs = np.take_along_axis(signs[members], columns, axis=1)
+            group_signs = np.array(
+                [self.kinematics.chain_signs[i] for i in members], dtype=float
+            ).reshape(-1, k)
             own_v = np.take_along_axis(columns, own, axis=1)
             springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
             stiffness = [[s[1] if s else 0.0 for s in row] for row in springs]
@@ -312,7 +319,7 @@ class DistributionProblem:
     def _full_jacobian(
         self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray
     ) -> np.ndarray:
-        jac = state.jacobian_o[:, columns] * self.kinematics.signs[chain, columns]
+        jac = state.jacobian_o[:, columns] * self.kinematics.chain_signs[chain]
         balls = self._ball_columns(state.offsets_o()[chain : chain + 1], ball)[0]
         return np.hstack((jac, balls))
 
@@ -491,11 +498,11 @@ class DistributionProblem:
             )
 
     # -- configuration-dependent -----------------------------------------------------------
-    def evaluate(self, q: np.ndarray, check_singular: bool = True) -> Evaluation:
-        """Evaluate the natural, coupling and design rows at ``q`` (already checked).
+    def evaluate(self, state: np.ndarray | Snapshot, check_singular: bool = True) -> Evaluation:
+        """Evaluate the natural, coupling and design rows at a snapshot (or a configuration).
 
         Args:
-            q: Configuration.
+            state: A :class:`~virtual_actuators.Snapshot` of the robot, or ``q``.
             check_singular: Raise when a chain's full Jacobian loses rank.
 
         Returns:
@@ -503,9 +510,11 @@ class DistributionProblem:
 
         Raises:
             SingularConfigurationError: A chain's Jacobian is singular at ``q``.
+            InvalidInputError: A bad ``q`` or a snapshot of another robot.
 
         """
-        state = self.kinematics.compute(q)
+        state = self.kinematics.compute(state)
+        q = state.snapshot.q
         jac = state.jacobian_o
         offsets = state.offsets_o()
         passive = np.zeros(self.model.nv)
@@ -549,17 +558,16 @@ class DistributionProblem:
             if c:
                 rhs[:, :c] = passive[group.columns[chain_index, group.constrained]]
             groups.append(GroupRows(rows=rows, rhs=rhs))
-        signs = self.kinematics.signs
         hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
         if self.coupled_v:
             cv = self.coupled_v
-            hard_rows.insert(0, np.einsum("ps,ns->spn", signs[:, cv], jac[:, cv]))
+            hard_rows.insert(0, np.einsum("ps,ns->spn", self._signs_at(cv), jac[:, cv]))
             hard_rhs.insert(0, passive[cv])
         if len(self.torque_pairs):
             va, vb = self.torque_pairs[:, 0], self.torque_pairs[:, 1]
             hard_rows.append(
-                np.einsum("ps,ns->spn", signs[:, va], jac[:, va])
-                - np.einsum("ps,ns->spn", signs[:, vb], jac[:, vb])
+                np.einsum("ps,ns->spn", self._signs_at(va), jac[:, va])
+                - np.einsum("ps,ns->spn", self._signs_at(vb), jac[:, vb])
             )
             hard_rhs.append(np.zeros(len(va)))
         if len(hard_rows) > 1:
@@ -572,6 +580,23 @@ class DistributionProblem:
             hard_rhs=hard_rhs[0],
             passive_torque=passive,
         )
+
+    def _signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
+        """``(p, len(velocity_indices))`` chain signs at those columns (cached per set)."""
+        key = tuple(int(v) for v in velocity_indices)
+        cached = self._sign_cache.get(key)
+        if cached is None:
+            cached = np.zeros((self.p, len(key)))
+            wanted = np.array(key, dtype=int)
+            for i, (columns, signs) in enumerate(
+                zip(self.kinematics.chain_columns, self.kinematics.chain_signs, strict=True)
+            ):
+                position = np.searchsorted(columns, wanted)
+                position = np.minimum(position, max(len(columns) - 1, 0))
+                hit = columns[position] == wanted if len(columns) else np.zeros(len(key), bool)
+                cached[i, hit] = signs[position[hit]]
+            self._sign_cache[key] = cached
+        return cached
 
     def structurally_singular(self, keep: np.ndarray) -> bool:
         """Whether the square system is singular at every configuration for these free axes.
@@ -642,5 +667,10 @@ class DistributionProblem:
             forces: ``(p, n)`` chain wrenches.
 
         """
-        weighted = self.kinematics.signs.T @ forces  # (nv, n)
-        return np.einsum("nv,vn->v", jacobian_o, weighted)
+        tau = np.zeros(self.model.nv)
+        for group in self.groups:
+            # (g, k): sign * J[:, column] . F_chain, scattered onto the columns
+            jac = jacobian_o[:, group.columns]  # (n, g, k)
+            share = np.einsum("ngk,gn->gk", jac, forces[group.chains]) * group.signs
+            tau += np.bincount(group.columns.ravel(), share.ravel(), minlength=self.model.nv)
+        return tau

@@ -19,6 +19,7 @@ from ..control.controller import Controller, ControlOutput
 from ..control.state_machine import Context, Event, StateMachine
 from ..declaration.frames import resolve_frame, resolve_joint
 from ..exceptions import InvalidInputError
+from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
 
 
@@ -47,8 +48,6 @@ class Gait:
         self.machine: StateMachine | None = None
         self.last: ControlOutput | None = None
         self._limp: dict[str, np.ndarray] = {}
-        self._data = pin.Data(robot.model)  # reused by every tick's Context
-        self._frame_ids: dict[str, int] = {}
 
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
@@ -93,14 +92,15 @@ class Gait:
             The :class:`ControlOutput` (its ``tau`` goes to the motors).
 
         """
-        context = Context(
-            self.robot, q, v, time, contacts, data=self._data, frame_ids=self._frame_ids
-        )
+        snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass
+        context = Context(self.robot, q, v, time, contacts, snapshot=snapshot)
         before = len(self.machine.history)
         state = self.machine.update(context)
         if len(self.machine.history) != before:
-            self.controller.reset(state.active, q, time)
-        self.last = self.controller.compute(q, v, time, state.active, self._limp[state.name])
+            self.controller.reset(state.active, snapshot, time)
+        self.last = self.controller.compute(
+            snapshot, None, time, state.active, self._limp[state.name]
+        )
         return self.last
 
     def __repr__(self) -> str:

@@ -3,7 +3,8 @@
 One :class:`RelativeKinematics` serves a serial actuator (one reaction frame) or a parallel one
 (several). Everything that depends only on the kinematic tree (which joints lie between {A_i}
 and {B}, with which sign) is computed once in the constructor; :meth:`RelativeKinematics.compute`
-does one Pinocchio pass per configuration and returns every chain's Jacobian at once.
+reads the tick's :class:`~virtual_actuators.Snapshot` (one kinematics pass shared by every
+actuator) and returns every chain's Jacobian at once.
 
 Conventions (VAC eq. 1-7): the twist of {B} relative to {A_i} is taken at {B}'s origin, with
 {A_i}'s velocity taken at the point of {A_i}'s body that coincides with {B}'s origin, and both
@@ -22,6 +23,8 @@ import pinocchio as pin
 
 from ..declaration.frames import AXES, axis_rows
 from ..exceptions import InvalidInputError
+from .snapshot import Snapshot
+from .tree import tree_of
 
 
 @dataclass(frozen=True)
@@ -37,6 +40,7 @@ class KinematicState:
         rotation_b: ``(3, 3)`` orientation of {B} in the world.
         position_a: ``(p, 3)`` positions of the reaction frames' origins in the world [m].
         rotation_a: ``(p, 3, 3)`` orientations of the reaction frames in the world.
+        snapshot: The :class:`~virtual_actuators.Snapshot` this was computed from.
 
     """
 
@@ -46,6 +50,7 @@ class KinematicState:
     rotation_b: np.ndarray
     position_a: np.ndarray
     rotation_a: np.ndarray
+    snapshot: Snapshot
 
     def offsets_o(self) -> np.ndarray:
         """Return ``(p, 3)`` vectors from each {A_i}'s origin to {B}'s origin, in {O} [m]."""
@@ -55,8 +60,12 @@ class KinematicState:
 class RelativeKinematics:
     """Jacobians and virtual sensors of {B} relative to each {A_i}, expressed in {O}.
 
+    Everything here reads a :class:`~virtual_actuators.Snapshot` (one kinematics pass per tick,
+    shared by every actuator of the robot); nothing holds per-call state, so one instance can
+    be used from several threads.
+
     Args:
-        model: Pinocchio model.
+        robot: The robot.
         action_id: Frame id of {B}.
         reaction_ids: Frame ids of the {A_i}.
         reference_id: Frame id of {O}.
@@ -66,132 +75,128 @@ class RelativeKinematics:
 
     def __init__(
         self,
-        model: pin.Model,
+        robot: object,
         action_id: int,
         reaction_ids: Sequence[int],
         reference_id: int,
         axes: Sequence[str],
     ) -> None:
+        model = robot.model
+        self.robot = robot
         self.model = model
-        self.data = pin.Data(model)
+        self.tree = tree_of(robot)
         self.action_id = int(action_id)
         self.reaction_ids = np.array(reaction_ids, dtype=int)
-        self._reaction_list = [int(r) for r in reaction_ids]
         self.reference_id = int(reference_id)
         self.axes = tuple(axes)
         self.rows = axis_rows(self.axes)
         self.nq, self.nv = model.nq, model.nv
-        self._quaternion_slices = _quaternion_slices(model)
+        self.tree.require([self.action_id, self.reference_id, *self.reaction_ids.tolist()])
+        frame_rows = self.tree.frame_tables[0]  # rows never move once assigned
+        self._row_b = frame_rows[self.action_id]
+        self._row_o = frame_rows[self.reference_id]
+        self._rows_a = np.array([frame_rows[int(r)] for r in self.reaction_ids], dtype=int)
         action_joint = model.frames[self.action_id].parentJoint
-        #: ``(p, nv)`` entries +1 for velocity indices between {A_i} and {B} on {B}'s side,
-        #: -1 on {A_i}'s side, 0 elsewhere (shared ancestors and other branches cancel).
-        self.signs = np.stack(
-            [
-                self._path_signs(model, action_joint, model.frames[int(r)].parentJoint)
-                for r in self.reaction_ids
-            ]
-        )
+        #: per chain, velocity indices between {A_i} and {B}, and +1 on {B}'s side of the
+        #: path, -1 on {A_i}'s side (shared ancestors and other branches cancel)
+        self.chain_columns: list[np.ndarray] = []
+        self.chain_signs: list[np.ndarray] = []
+        for r in self.reaction_ids:
+            columns, signs = self._path(model, action_joint, model.frames[int(r)].parentJoint)
+            self.chain_columns.append(columns)
+            self.chain_signs.append(signs)
+
+    @property
+    def signs(self) -> np.ndarray:
+        """``(p, nv)`` dense chain signs (declaration-time use only: memory ``p nv``)."""
+        out = np.zeros((len(self.reaction_ids), self.nv))
+        pairs = zip(self.chain_columns, self.chain_signs, strict=True)
+        for i, (columns, signs) in enumerate(pairs):
+            out[i, columns] = signs
+        return out
 
     @staticmethod
-    def _path_signs(model: pin.Model, joint_b: int, joint_a: int) -> np.ndarray:
+    def _path(model: pin.Model, joint_b: int, joint_a: int) -> tuple[np.ndarray, np.ndarray]:
         support_b = set(model.supports[joint_b])
         support_a = set(model.supports[joint_a])
-        signs = np.zeros(model.nv)
-        for joint_id, sign in [(j, 1.0) for j in support_b - support_a] + [
-            (j, -1.0) for j in support_a - support_b
-        ]:
+        columns, signs = [], []
+        for joint_id, sign in sorted(
+            [(j, 1.0) for j in support_b - support_a] + [(j, -1.0) for j in support_a - support_b]
+        ):
             joint = model.joints[joint_id]
-            signs[joint.idx_v : joint.idx_v + joint.nv] = sign
-        return signs
+            columns.extend(range(joint.idx_v, joint.idx_v + joint.nv))
+            signs.extend([sign] * joint.nv)
+        order = np.argsort(columns, kind="stable")
+        return np.array(columns, dtype=int)[order], np.array(signs, dtype=float)[order]
+
+    def snapshot(self, state: np.ndarray | Snapshot, need_velocity: bool = False) -> Snapshot:
+        """Return ``state`` if it is a snapshot of this robot, else a new snapshot of ``q``.
+
+        Raises:
+            InvalidInputError: A snapshot of another robot, or a bad ``q`` or ``v``.
+
+        """
+        if isinstance(state, Snapshot):
+            if state.tree is not self.tree:
+                raise InvalidInputError(
+                    f"The snapshot is of robot {getattr(state.robot, 'name', '?')!r}; this "
+                    f"actuator belongs to {getattr(self.robot, 'name', '?')!r}."
+                )
+            if need_velocity and state.v is None:
+                raise InvalidInputError("This call needs a velocity: build the snapshot with v.")
+            return state
+        return Snapshot(self.robot, state)
 
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
-        """Return ``q`` as a float array after checking its shape, values and quaternions.
-
-        Args:
-            q: Configuration, shape ``(model.nq,)``.
-
-        Returns:
-            ``q`` as a float64 array; quaternions and (cos, sin) pairs within 1e-3 of unit
-            norm are normalised (a copy is made then).
-
-        Raises:
-            InvalidInputError: Wrong shape, NaN or inf, or a quaternion far from unit norm.
-
-        """
-        q = np.asarray(q, dtype=float)
-        if q.shape != (self.nq,):
-            raise InvalidInputError(
-                f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
-                f"({self.nq},) (model.nq)."
-            )
-        if not np.all(np.isfinite(q)):
-            bad = np.flatnonzero(~np.isfinite(q)).tolist()
-            raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
-        normalized = False
-        for s in self._quaternion_slices:
-            norm = float(np.linalg.norm(q[s]))
-            if abs(norm - 1.0) > 1e-3:
-                kind = "(cos, sin) pair" if s.stop - s.start == 2 else "quaternion"
-                raise InvalidInputError(
-                    f"Configuration q[{s.start}:{s.stop}] is a {kind} of norm {norm:.6g}; "
-                    f"it must have unit norm (see pinocchio.normalize)."
-                )
-            if abs(norm - 1.0) > 1e-12:
-                if not normalized:
-                    q, normalized = q.copy(), True
-                q[s] /= norm  # integration drift: use the exact unit quaternion
-        return q
+        """Return ``q`` checked (see :meth:`KinematicTree.check_configuration`)."""
+        return self.tree.check_configuration(q)
 
     def check_velocity(self, v: np.ndarray) -> np.ndarray:
-        """Return ``v`` as a float array after checking its shape and values.
+        """Return ``v`` checked (see :meth:`KinematicTree.check_velocity`)."""
+        return self.tree.check_velocity(v)
 
-        Raises:
-            InvalidInputError: Wrong shape, NaN or inf.
-
-        """
-        v = np.asarray(v, dtype=float)
-        if v.shape != (self.nv,):
-            raise InvalidInputError(
-                f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
-                "(model.nv)."
-            )
-        if not np.all(np.isfinite(v)):
-            raise InvalidInputError("Velocity v has NaN or inf entries.")
-        return v
-
-    def compute(self, q: np.ndarray) -> KinematicState:
-        """Run the kinematics at ``q`` (already checked) and return the Jacobian rows in {O}.
+    def compute(self, state: np.ndarray | Snapshot) -> KinematicState:
+        """Return the Jacobian rows in {O} and the frames' placements at a snapshot (or ``q``).
 
         Args:
-            q: Configuration, shape ``(model.nq,)``.
+            state: A :class:`~virtual_actuators.Snapshot`, or a configuration ``(model.nq,)``.
 
         Returns:
             The :class:`KinematicState`.
 
         """
-        model, data = self.model, self.data
-        pin.computeJointJacobians(model, data, q)
-        pin.updateFramePlacements(model, data)
-        oMf = data.oMf
-        placement_b = oMf[self.action_id]
-        # data.J and the placements are views into Pinocchio's memory: copy what is kept
-        position_b = placement_b.translation.copy()
-        rotation_o = oMf[self.reference_id].rotation.copy()
-        jacobian_world = data.J.reshape(2, 3, -1)
+        snapshot = self.snapshot(state)
+        jacobian_world = snapshot.jacobian_world
+        frames = snapshot._frames
+        if frames.shape[0] <= max(self._row_b, self._row_o, self._rows_a.max()):
+            frames = self._frames_of(snapshot)  # frames required after that snapshot ran
+        position_b = frames[self._row_b, 9:]
+        rotation_o = frames[self._row_o, :9].reshape(3, 3)
+        # velocity of the point at {B}'s origin, v + w x p_B = v - skew(p_B) w, in {O}: one
+        # (n, 6) map applied to the world Jacobian
         x, y, z = position_b
-        # velocity of the point at {B}'s origin: v + w x p_B = v - skew(p_B) w
-        shift = np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
-        shifted = np.stack((jacobian_world[0] + shift @ jacobian_world[1], jacobian_world[1]))
-        jacobian_o = (rotation_o.T @ shifted).reshape(6, -1)[self.rows]
-        placements_a = [oMf[r] for r in self._reaction_list]
+        transform = np.zeros((6, 6))
+        transform[:3, :3] = transform[3:, 3:] = rotation_o.T
+        transform[:3, 3:] = rotation_o.T @ np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
+        reactions = frames[self._rows_a]
         return KinematicState(
-            jacobian_o=jacobian_o,
+            jacobian_o=transform[self.rows] @ jacobian_world,
             rotation_o=rotation_o,
             position_b=position_b,
-            rotation_b=placement_b.rotation.copy(),
-            position_a=np.array([m.translation for m in placements_a]),
-            rotation_a=np.array([m.rotation for m in placements_a]),
+            rotation_b=frames[self._row_b, :9].reshape(3, 3),
+            position_a=reactions[:, 9:],
+            rotation_a=reactions[:, :9].reshape(-1, 3, 3),
+            snapshot=snapshot,
         )
+
+    def _frames_of(self, snapshot: Snapshot) -> np.ndarray:
+        rows = {self._row_b: self.action_id, self._row_o: self.reference_id}
+        rows.update(zip(self._rows_a.tolist(), self.reaction_ids.tolist(), strict=True))
+        frames = np.zeros((max(rows) + 1, 12))
+        for row, frame_id in rows.items():
+            rotation, position = snapshot.placement(frame_id)
+            frames[row, :9], frames[row, 9:] = rotation.ravel(), position
+        return frames
 
     def positions(self, state: KinematicState) -> np.ndarray:
         """Virtual sensors: pose of {B} relative to each {A_i}, in {O}, on the selected axes.
@@ -203,7 +208,10 @@ class RelativeKinematics:
             ``(p, n)`` array.
 
         """
-        out = np.empty((len(self.reaction_ids), 6))
+        p = len(self.reaction_ids)
+        if self.rows[-1] < 3:  # translations only: no rotation vector to compute
+            return state.offsets_o()[:, self.rows]
+        out = np.empty((p, 6))
         out[:, :3] = state.offsets_o()
         for i, rotation_a in enumerate(state.rotation_a):
             relative = pin.log3(rotation_a.T @ state.rotation_b)
@@ -228,23 +236,6 @@ def skew(vector: np.ndarray) -> np.ndarray:
     out[..., 1, 0], out[..., 1, 2] = z, -x
     out[..., 2, 0], out[..., 2, 1] = -y, x
     return out
-
-
-def _quaternion_slices(model: pin.Model) -> list[slice]:
-    """Slices of ``q`` that must have unit norm.
-
-    Free-flyer and spherical joints hold quaternions; continuous (unbounded revolute) joints hold
-    a ``(cos, sin)`` pair.
-    """
-    slices = []
-    for joint in list(model.joints)[1:]:
-        if joint.shortname() == "JointModelFreeFlyer":
-            slices.append(slice(joint.idx_q + 3, joint.idx_q + 7))
-        elif joint.shortname() == "JointModelSpherical":
-            slices.append(slice(joint.idx_q, joint.idx_q + 4))
-        elif joint.nq == 2 and joint.nv == 1:
-            slices.append(slice(joint.idx_q, joint.idx_q + 2))
-    return slices
 
 
 __all__ = ["AXES", "KinematicState", "RelativeKinematics", "skew"]

@@ -1,0 +1,197 @@
+"""Compiled forward kinematics: joint placements, world joint Jacobian and frame placements.
+
+One call computes, for a configuration ``q``, what a control tick reads from the kinematic tree:
+every joint's placement in the world, the world joint Jacobian (the same matrix as Pinocchio's
+``data.J`` after ``computeJointJacobians``: column ``v`` is the spatial velocity of joint
+``v``'s motion subspace at the world origin, in world axes) and the placements of the frames the
+declared actuators need. It needs no ``pinocchio.Data``, so its memory is linear in the size of
+the tree, and it owns its outputs, so concurrent calls from several threads are independent.
+
+The kernels are compiled with numba when it is installed (``@njit(cache=True)``); without numba
+they run as plain Python (correct, slow) and :class:`~virtual_actuators.kinematics.tree.
+KinematicTree` prefers Pinocchio instead. They are checked against Pinocchio in the tests.
+
+Joint placements are stored as ``(n, 12)`` rows: the rotation matrix row by row (9 entries),
+then the translation (3 entries).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+try:  # pragma: no cover - exercised by whichever branch is installed
+    from numba import njit
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover
+    HAVE_NUMBA = False
+
+    def njit(*args, **kwargs):  # type: ignore[no-redef]
+        """Fallback decorator: run the kernel as plain Python."""
+        if args and callable(args[0]):
+            return args[0]
+        return lambda function: function
+
+
+#: Joint kinds understood by the kernels.
+REVOLUTE, REVOLUTE_UNBOUNDED, PRISMATIC, FREE_FLYER, SPHERICAL = 1, 2, 3, 4, 5
+
+
+@njit(cache=True)
+def _quaternion_rotation(x: float, y: float, z: float, w: float, out: np.ndarray) -> None:
+    """Write the rotation matrix of the unit quaternion ``(x, y, z, w)`` into ``out`` (3, 3)."""
+    out[0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    out[0, 1] = 2.0 * (x * y - z * w)
+    out[0, 2] = 2.0 * (x * z + y * w)
+    out[1, 0] = 2.0 * (x * y + z * w)
+    out[1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    out[1, 2] = 2.0 * (y * z - x * w)
+    out[2, 0] = 2.0 * (x * z - y * w)
+    out[2, 1] = 2.0 * (y * z + x * w)
+    out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
+
+
+@njit(cache=True)
+def _axis_rotation(ax: float, ay: float, az: float, c: float, s: float, out: np.ndarray) -> None:
+    """Write the rotation by angle (cos ``c``, sin ``s``) about the unit axis into ``out``."""
+    t = 1.0 - c
+    out[0, 0] = c + ax * ax * t
+    out[0, 1] = ax * ay * t - az * s
+    out[0, 2] = ax * az * t + ay * s
+    out[1, 0] = ay * ax * t + az * s
+    out[1, 1] = c + ay * ay * t
+    out[1, 2] = ay * az * t - ax * s
+    out[2, 0] = az * ax * t - ay * s
+    out[2, 1] = az * ay * t + ax * s
+    out[2, 2] = c + az * az * t
+
+
+@njit(cache=True)
+def forward_kinematics(
+    q: np.ndarray,
+    joint_ints: np.ndarray,
+    joint_floats: np.ndarray,
+    velocity_joint: np.ndarray,
+    velocity_subspace: np.ndarray,
+    frame_parents: np.ndarray,
+    frame_floats: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Joint placements, world joint Jacobian and frame placements at ``q``.
+
+    Args:
+        q: ``(nq,)`` configuration (quaternions and (cos, sin) pairs of unit norm).
+        joint_ints: ``(njoints, 3)`` parent joint, kind (see the constants) and ``idx_q`` of each
+            joint; row 0 is the universe.
+        joint_floats: ``(njoints, 15)`` placement in the parent (rotation row by row,
+            translation) and the joint axis of 1-dof joints.
+        velocity_joint: ``(nv,)`` joint of each velocity index.
+        velocity_subspace: ``(nv, 6)`` that velocity's motion subspace column in the joint's
+            frame (linear, angular).
+        frame_parents: ``(nf,)`` parent joint of each requested frame.
+        frame_floats: ``(nf, 12)`` placement of each requested frame in its parent joint.
+
+    Returns:
+        ``(joints, jacobian, frames)``: ``(njoints, 12)`` world placements of the joints,
+        ``(6, nv)`` world joint Jacobian (linear rows first), ``(nf, 12)`` world placements of
+        the requested frames.
+
+    """
+    njoints = joint_ints.shape[0]
+    joints = np.zeros((njoints, 12))
+    joints[0, 0] = 1.0
+    joints[0, 4] = 1.0
+    joints[0, 8] = 1.0
+    motion = np.empty((3, 3))
+    for j in range(1, njoints):
+        parent = joint_ints[j, 0]
+        kind = joint_ints[j, 1]
+        iq = joint_ints[j, 2]
+        ax, ay, az = joint_floats[j, 12], joint_floats[j, 13], joint_floats[j, 14]
+        tx, ty, tz = 0.0, 0.0, 0.0
+        if kind == REVOLUTE:
+            _axis_rotation(ax, ay, az, np.cos(q[iq]), np.sin(q[iq]), motion)
+        elif kind == REVOLUTE_UNBOUNDED:
+            _axis_rotation(ax, ay, az, q[iq], q[iq + 1], motion)
+        elif kind == PRISMATIC:
+            motion[:, :] = 0.0
+            motion[0, 0] = 1.0
+            motion[1, 1] = 1.0
+            motion[2, 2] = 1.0
+            tx, ty, tz = ax * q[iq], ay * q[iq], az * q[iq]
+        elif kind == FREE_FLYER:
+            tx, ty, tz = q[iq], q[iq + 1], q[iq + 2]
+            _quaternion_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6], motion)
+        else:  # SPHERICAL
+            _quaternion_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3], motion)
+        # local placement = joint placement * joint motion
+        local = np.empty(12)
+        for r in range(3):
+            p0 = joint_floats[j, 3 * r]
+            p1 = joint_floats[j, 3 * r + 1]
+            p2 = joint_floats[j, 3 * r + 2]
+            for c in range(3):
+                local[3 * r + c] = p0 * motion[0, c] + p1 * motion[1, c] + p2 * motion[2, c]
+            local[9 + r] = p0 * tx + p1 * ty + p2 * tz + joint_floats[j, 9 + r]
+        # world placement = parent's world placement * local placement
+        for r in range(3):
+            p0, p1, p2 = joints[parent, 3 * r], joints[parent, 3 * r + 1], joints[parent, 3 * r + 2]
+            for c in range(3):
+                joints[j, 3 * r + c] = p0 * local[c] + p1 * local[3 + c] + p2 * local[6 + c]
+            joints[j, 9 + r] = (
+                p0 * local[9] + p1 * local[10] + p2 * local[11] + joints[parent, 9 + r]
+            )
+    nv = velocity_joint.shape[0]
+    jacobian = np.empty((6, nv))
+    for v in range(nv):
+        j = velocity_joint[v]
+        lin = np.empty(3)
+        ang = np.empty(3)
+        for r in range(3):
+            lin[r] = (
+                joints[j, 3 * r] * velocity_subspace[v, 0]
+                + joints[j, 3 * r + 1] * velocity_subspace[v, 1]
+                + joints[j, 3 * r + 2] * velocity_subspace[v, 2]
+            )
+            ang[r] = (
+                joints[j, 3 * r] * velocity_subspace[v, 3]
+                + joints[j, 3 * r + 1] * velocity_subspace[v, 4]
+                + joints[j, 3 * r + 2] * velocity_subspace[v, 5]
+            )
+        px, py, pz = joints[j, 9], joints[j, 10], joints[j, 11]
+        # velocity of the point at the world origin: v_joint + p x omega
+        jacobian[0, v] = lin[0] + py * ang[2] - pz * ang[1]
+        jacobian[1, v] = lin[1] + pz * ang[0] - px * ang[2]
+        jacobian[2, v] = lin[2] + px * ang[1] - py * ang[0]
+        jacobian[3, v] = ang[0]
+        jacobian[4, v] = ang[1]
+        jacobian[5, v] = ang[2]
+    nf = frame_parents.shape[0]
+    frames = np.empty((nf, 12))
+    for f in range(nf):
+        j = frame_parents[f]
+        for r in range(3):
+            p0, p1, p2 = joints[j, 3 * r], joints[j, 3 * r + 1], joints[j, 3 * r + 2]
+            for c in range(3):
+                frames[f, 3 * r + c] = (
+                    p0 * frame_floats[f, c]
+                    + p1 * frame_floats[f, 3 + c]
+                    + p2 * frame_floats[f, 6 + c]
+                )
+            frames[f, 9 + r] = (
+                p0 * frame_floats[f, 9]
+                + p1 * frame_floats[f, 10]
+                + p2 * frame_floats[f, 11]
+                + joints[j, 9 + r]
+            )
+    return joints, jacobian, frames
+
+
+__all__ = [
+    "FREE_FLYER",
+    "HAVE_NUMBA",
+    "PRISMATIC",
+    "REVOLUTE",
+    "REVOLUTE_UNBOUNDED",
+    "SPHERICAL",
+    "forward_kinematics",
+]

@@ -1,0 +1,220 @@
+"""One kinematics pass per control tick: :class:`Snapshot`.
+
+A snapshot is built from a configuration ``q`` (and optionally a velocity ``v``) once per tick.
+Every actuator, sensor, event and component of that tick reads it, so the forward kinematics run
+once however many readers there are (pink's ``Configuration`` plays the same role). It computes
+lazily, on the first read: the world joint Jacobian (Pinocchio's ``data.J`` convention) and the
+placements of the frames that declared actuators need, in one call of the compiled kernel
+(:mod:`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
+kernel does not handle (``backend="pinocchio"`` forces it).
+
+A snapshot owns what it computed: snapshots of the same robot can be used from several threads
+at once. The Pinocchio backend uses one ``pinocchio.Data`` per model and thread.
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import FrameNotFoundError, InvalidInputError
+from .tree import KinematicTree, tree_of
+
+_BACKENDS = ("auto", "compiled", "pinocchio")
+_local = threading.local()
+
+
+def thread_data(model: pin.Model) -> pin.Data:
+    """The ``pinocchio.Data`` of ``model`` for the calling thread (one per model and thread)."""
+    pool = getattr(_local, "pool", None)
+    if pool is None:
+        pool = _local.pool = {}
+    entry = pool.get(id(model))
+    if entry is None or entry[0] is not model:
+        entry = pool[id(model)] = (model, pin.Data(model))
+    return entry[1]
+
+
+class Snapshot:
+    """The kinematics of a robot at one configuration, computed once and shared.
+
+    Args:
+        robot: The robot (a :class:`~virtual_actuators.Robot`).
+        q: Configuration ``(model.nq,)``.
+        v: Velocity ``(model.nv,)``, needed only for velocities.
+        backend: ``"auto"`` (the compiled kernel when it handles every joint of the model,
+            else Pinocchio), ``"compiled"`` or ``"pinocchio"``.
+
+    Raises:
+        InvalidInputError: Bad ``q``, ``v`` or ``backend``, or ``"compiled"`` for a model the
+            kernel does not handle.
+
+    Example:
+        >>> snapshot = va.Snapshot(robot, q, v)          # once per tick
+        >>> reading = leg.read(snapshot)                 # sensors, actuators, events share it
+        >>> solution = body.solve(snapshot, wrench)
+
+    """
+
+    __slots__ = (
+        "robot",
+        "tree",
+        "q",
+        "v",
+        "backend",
+        "_joints",
+        "_jacobian",
+        "_frames",
+        "_rows",
+        "_extra",
+    )
+
+    def __init__(
+        self,
+        robot: object,
+        q: np.ndarray,
+        v: np.ndarray | None = None,
+        backend: str = "auto",
+    ) -> None:
+        tree: KinematicTree = tree_of(robot)
+        if backend not in _BACKENDS:
+            raise InvalidInputError(f"backend must be one of {_BACKENDS}, got {backend!r}.")
+        if backend == "compiled" and not tree.compiled:
+            reason = (
+                f"joints {tree.unsupported}" if tree.unsupported else "numba is not installed"
+            )
+            raise InvalidInputError(
+                f"backend='compiled' is not available for model {tree.model.name!r}: {reason}."
+            )
+        self.robot = robot
+        self.tree = tree
+        self.q = tree.check_configuration(q)
+        self.v = None if v is None else tree.check_velocity(v)
+        self.backend = "compiled" if backend == "auto" and tree.compiled else backend
+        if self.backend == "auto":
+            self.backend = "pinocchio"
+        self._joints = None
+        self._jacobian = None
+        self._frames = None
+        self._rows: dict[int, int] = {}
+        self._extra: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    # -- computation -----------------------------------------------------------------------
+    def _run(self) -> None:
+        if self.backend == "compiled":
+            self._joints, self._jacobian, self._frames, self._rows = self.tree.compute(self.q)
+            return
+        model = self.tree.model
+        data = thread_data(model)
+        pin.computeJointJacobians(model, data, self.q)
+        pin.updateFramePlacements(model, data)
+        self._jacobian = data.J.copy()
+        rows, _, _ = self.tree.frame_tables
+        oMf = data.oMf
+        frames = np.empty((len(rows), 12))
+        for frame_id, row in rows.items():
+            placement = oMf[frame_id]
+            frames[row, :9] = placement.rotation.ravel()
+            frames[row, 9:] = placement.translation
+        self._frames, self._rows = frames, rows
+        oMi = data.oMi
+        self._joints = np.array(
+            [np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi]
+        )
+
+    @property
+    def jacobian_world(self) -> np.ndarray:
+        """``(6, nv)`` world joint Jacobian, linear rows first (Pinocchio's ``data.J``).
+
+        Column ``v`` is the twist of joint ``v``'s motion at the world origin, in world axes.
+        Do not modify it: every reader of the snapshot shares it.
+        """
+        if self._jacobian is None:
+            self._run()
+        return self._jacobian
+
+    def _placement(self, frame_id: int) -> tuple[np.ndarray, np.ndarray]:
+        if self._frames is None:
+            self._run()
+        row = self._rows.get(frame_id)
+        if row is not None:
+            entry = self._frames[row]
+            return entry[:9].reshape(3, 3), entry[9:]
+        cached = self._extra.get(frame_id)
+        if cached is None:
+            frame = self.tree.model.frames[frame_id]
+            joint = self._joints[frame.parentJoint]
+            rotation_j, position_j = joint[:9].reshape(3, 3), joint[9:]
+            cached = (
+                rotation_j @ frame.placement.rotation,
+                rotation_j @ frame.placement.translation + position_j,
+            )
+            self._extra[frame_id] = cached
+        return cached
+
+    def _frame_id(self, frame: int | str) -> int:
+        if isinstance(frame, str):
+            return self.tree.frame_id(frame)
+        model = self.tree.model
+        if not 0 <= int(frame) < len(model.frames):
+            raise FrameNotFoundError(
+                f"Frame id {frame} is out of range; model {model.name!r} has "
+                f"{len(model.frames)} frames."
+            )
+        return int(frame)
+
+    # -- reads -----------------------------------------------------------------------------
+    def placement(self, frame: int | str) -> tuple[np.ndarray, np.ndarray]:
+        """``(rotation (3, 3), position (3,))`` of a frame in the world (views: do not modify).
+
+        Raises:
+            FrameNotFoundError: Unknown frame name or id.
+
+        """
+        return self._placement(self._frame_id(frame))
+
+    def frame_position(self, frame: int | str) -> np.ndarray:
+        """World position of a frame's origin [m] (a copy).
+
+        Raises:
+            FrameNotFoundError: Unknown frame.
+
+        """
+        return self._placement(self._frame_id(frame))[1].copy()
+
+    def frame_rotation(self, frame: int | str) -> np.ndarray:
+        """World orientation of a frame, a 3x3 rotation matrix (a copy).
+
+        Raises:
+            FrameNotFoundError: Unknown frame.
+
+        """
+        return self._placement(self._frame_id(frame))[0].copy()
+
+    def frame_velocity(self, frame: int | str) -> np.ndarray:
+        """Linear velocity of a frame's origin in world axes [m/s].
+
+        Raises:
+            FrameNotFoundError: Unknown frame.
+            InvalidInputError: The snapshot was built without ``v``.
+
+        """
+        if self.v is None:
+            raise InvalidInputError("frame_velocity needs a snapshot built with v.")
+        frame_id = self._frame_id(frame)
+        position = self._placement(frame_id)[1]
+        columns = self.tree.support_columns(self.tree.model.frames[frame_id].parentJoint)
+        twist = self.jacobian_world[:, columns] @ self.v[columns]
+        return twist[:3] + np.cross(twist[3:], position)
+
+    def __repr__(self) -> str:
+        done = "computed" if self._jacobian is not None else "not computed yet"
+        return (
+            f"Snapshot(robot={getattr(self.robot, 'name', '?')!r}, backend={self.backend!r}, "
+            f"velocity={'yes' if self.v is not None else 'no'}, {done})"
+        )
+
+
+__all__ = ["Snapshot", "thread_data"]

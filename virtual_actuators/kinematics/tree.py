@@ -1,0 +1,276 @@
+"""Declaration-time tables of a robot's kinematic tree, shared by everything built on it.
+
+:class:`KinematicTree` reads a Pinocchio model once: joint kinds, placements and motion
+subspaces for the compiled kernel (:mod:`virtual_actuators.kinematics.kernels`), the frames
+that declared actuators and sensors need, the unit-norm slices of ``q``, and the columns that
+support each joint. One tree exists per robot (:func:`tree_of`); every snapshot of that robot
+uses it, so a control tick runs the kinematics once for all its readers.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Iterable
+
+import numpy as np
+import pinocchio as pin
+
+from ..declaration.frames import resolve_frame
+from ..exceptions import InvalidInputError
+from . import kernels
+from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
+
+_KINDS = {
+    "JointModelRX": REVOLUTE,
+    "JointModelRY": REVOLUTE,
+    "JointModelRZ": REVOLUTE,
+    "JointModelRevoluteUnaligned": REVOLUTE,
+    "JointModelRUBX": REVOLUTE_UNBOUNDED,
+    "JointModelRUBY": REVOLUTE_UNBOUNDED,
+    "JointModelRUBZ": REVOLUTE_UNBOUNDED,
+    "JointModelRevoluteUnboundedUnaligned": REVOLUTE_UNBOUNDED,
+    "JointModelPX": PRISMATIC,
+    "JointModelPY": PRISMATIC,
+    "JointModelPZ": PRISMATIC,
+    "JointModelPrismaticUnaligned": PRISMATIC,
+    "JointModelFreeFlyer": FREE_FLYER,
+    "JointModelSpherical": SPHERICAL,
+}
+
+
+def _placement_row(placement: pin.SE3) -> np.ndarray:
+    return np.concatenate((placement.rotation.ravel(), placement.translation))
+
+
+class KinematicTree:
+    """What the kinematics of one model needs, computed once.
+
+    Args:
+        model: The Pinocchio model.
+
+    Attributes:
+        model: The model.
+        compiled: Whether the compiled kernel handles every joint of the model (revolute,
+            continuous, prismatic, free-flyer and spherical joints); otherwise snapshots use
+            Pinocchio.
+        unsupported: Names of the joints the kernel does not handle.
+
+    """
+
+    def __init__(self, model: pin.Model) -> None:
+        self.model = model
+        self.nq, self.nv, self.njoints = model.nq, model.nv, model.njoints
+        joint_ints = np.zeros((model.njoints, 3), dtype=np.int64)
+        joint_floats = np.zeros((model.njoints, 15))
+        velocity_joint = np.zeros(model.nv, dtype=np.int64)
+        subspace = np.zeros((model.nv, 6))
+        self.unsupported: list[str] = []
+        unit_slices: list[tuple[int, int]] = []
+        q_zero = pin.neutral(model)
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            kind = _KINDS.get(joint.shortname())
+            if kind is None:
+                self.unsupported.append(model.names[j])
+                kind = 0
+            joint_ints[j] = (model.parents[j], kind, joint.idx_q)
+            joint_floats[j, :12] = _placement_row(model.jointPlacements[j])
+            velocity_joint[joint.idx_v : joint.idx_v + joint.nv] = j
+            joint_data = joint.createData()
+            joint.calc(joint_data, q_zero)
+            motion = np.asarray(joint_data.S).reshape(6, joint.nv)
+            subspace[joint.idx_v : joint.idx_v + joint.nv] = motion.T
+            if joint.nv == 1 and kind in (REVOLUTE, REVOLUTE_UNBOUNDED):
+                joint_floats[j, 12:] = motion[3:, 0]
+            elif joint.nv == 1 and kind == PRISMATIC:
+                joint_floats[j, 12:] = motion[:3, 0]
+            if kind == FREE_FLYER:
+                unit_slices.append((joint.idx_q + 3, joint.idx_q + 7))
+            elif joint.shortname() == "JointModelSpherical":
+                unit_slices.append((joint.idx_q, joint.idx_q + 4))
+            elif joint.nq == 2 and joint.nv == 1:
+                unit_slices.append((joint.idx_q, joint.idx_q + 2))
+        self.compiled = kernels.HAVE_NUMBA and not self.unsupported
+        self._joint_ints, self._joint_floats = joint_ints, joint_floats
+        self._velocity_joint, self._subspace = velocity_joint, subspace
+        self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)
+        self._unit_index = np.array([i for a, b in unit_slices for i in range(a, b)], dtype=int)
+        self._unit_groups = np.repeat(
+            np.arange(len(unit_slices)), [b - a for a, b in unit_slices]
+        ).astype(int)
+        self._lock = threading.Lock()
+        #: frame id -> row in the kernel's frame output; replaced (never mutated) on growth
+        self._frames: tuple[dict[int, int], np.ndarray, np.ndarray] = (
+            {},
+            np.zeros(0, dtype=np.int64),
+            np.zeros((0, 12)),
+        )
+        self._support: dict[int, np.ndarray] = {}
+        self._names: dict[str, int] = {}
+
+    def frame_id(self, name: str) -> int:
+        """Frame id of ``name`` (``"world"`` is 0), resolved once and computed every tick after.
+
+        Raises:
+            FrameNotFoundError: Unknown name (with the closest names).
+
+        """
+        frame_id = self._names.get(name)
+        if frame_id is None:
+            frame_id = resolve_frame(self.model, name)
+            self.require([frame_id])
+            self._names[name] = frame_id
+        return frame_id
+
+    # -- frames --------------------------------------------------------------------------
+    def require(self, frame_ids: Iterable[int]) -> None:
+        """Have the kernel compute these frames' placements at every tick (declaration time)."""
+        with self._lock:
+            rows, parents, floats = self._frames
+            new = [int(f) for f in frame_ids if int(f) not in rows]
+            if not new:
+                return
+            rows = dict(rows)
+            for f in dict.fromkeys(new):
+                rows[f] = len(rows)
+            frames = [self.model.frames[f] for f in rows]
+            parents = np.array([frame.parentJoint for frame in frames], dtype=np.int64)
+            floats = np.array([_placement_row(frame.placement) for frame in frames])
+            self._frames = (rows, parents, floats.reshape(-1, 12))
+
+    @property
+    def frame_tables(self) -> tuple[dict[int, int], np.ndarray, np.ndarray]:
+        """``(rows, parents, placements)`` of the frames computed at every tick."""
+        return self._frames
+
+    def support_columns(self, joint_id: int) -> np.ndarray:
+        """Velocity indices of the joints from the root to ``joint_id`` (its support)."""
+        columns = self._support.get(joint_id)
+        if columns is None:
+            model = self.model
+            columns = np.concatenate(
+                [
+                    np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv)
+                    for j in list(model.supports[joint_id])[1:]
+                ]
+                or [np.zeros(0, dtype=int)]
+            ).astype(int)
+            self._support[joint_id] = columns
+        return columns
+
+    # -- kernel ----------------------------------------------------------------------------
+    def compute(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[int, int]]:
+        """Run the compiled kernel at ``q`` (already checked).
+
+        Returns:
+            ``(joints, jacobian, frames, rows)``: see
+            :func:`~virtual_actuators.kinematics.kernels.forward_kinematics`; ``rows`` maps a
+            frame id to its row of ``frames``.
+
+        """
+        rows, parents, floats = self._frames
+        joints, jacobian, frames = kernels.forward_kinematics(
+            q,
+            self._joint_ints,
+            self._joint_floats,
+            self._velocity_joint,
+            self._subspace,
+            parents,
+            floats,
+        )
+        return joints, jacobian, frames, rows
+
+    # -- argument checks -------------------------------------------------------------------
+    def check_configuration(self, q: np.ndarray) -> np.ndarray:
+        """Return ``q`` as a float array after checking its shape, values and unit norms.
+
+        Args:
+            q: Configuration, shape ``(model.nq,)``.
+
+        Returns:
+            ``q`` as float64; quaternions and (cos, sin) pairs within 1e-3 of unit norm are
+            normalised (in a copy).
+
+        Raises:
+            InvalidInputError: Wrong shape, NaN or inf, or a quaternion far from unit norm.
+
+        """
+        if not (isinstance(q, np.ndarray) and q.dtype == np.float64):
+            try:
+                q = np.asarray(q, dtype=float)
+            except (TypeError, ValueError):
+                raise InvalidInputError(
+                    f"Configuration q must be an array of {self.nq} floats, got {type(q).__name__}."
+                ) from None
+        if q.shape != (self.nq,):
+            raise InvalidInputError(
+                f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
+                f"({self.nq},) (model.nq)."
+            )
+        if not np.isfinite(q).all():
+            bad = np.flatnonzero(~np.isfinite(q)).tolist()
+            raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
+        if len(self._unit_index):
+            values = q[self._unit_index]
+            norms = np.sqrt(np.bincount(self._unit_groups, weights=values * values))
+            error = np.abs(norms - 1.0)
+            if error.max() > 1e-12:
+                if error.max() > 1e-3:
+                    s = self.unit_slices[int(np.argmax(error))]
+                    kind = "(cos, sin) pair" if s.stop - s.start == 2 else "quaternion"
+                    raise InvalidInputError(
+                        f"Configuration q[{s.start}:{s.stop}] is a {kind} of norm "
+                        f"{norms[int(np.argmax(error))]:.6g}; it must have unit norm (see "
+                        "pinocchio.normalize)."
+                    )
+                q = q.copy()  # integration drift: use the exact unit quaternion
+                q[self._unit_index] = values / norms[self._unit_groups]
+        return q
+
+    def check_velocity(self, v: np.ndarray) -> np.ndarray:
+        """Return ``v`` as a float array after checking its shape and values.
+
+        Raises:
+            InvalidInputError: Wrong shape, NaN or inf.
+
+        """
+        if not (isinstance(v, np.ndarray) and v.dtype == np.float64):
+            try:
+                v = np.asarray(v, dtype=float)
+            except (TypeError, ValueError):
+                raise InvalidInputError(
+                    f"Velocity v must be an array of {self.nv} floats, got {type(v).__name__}."
+                ) from None
+        if v.shape != (self.nv,):
+            raise InvalidInputError(
+                f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
+                "(model.nv)."
+            )
+        if not np.isfinite(v).all():
+            raise InvalidInputError("Velocity v has NaN or inf entries.")
+        return v
+
+    def __repr__(self) -> str:
+        backend = "compiled" if self.compiled else "pinocchio"
+        return (
+            f"KinematicTree(model={self.model.name!r}, njoints={self.njoints}, nv={self.nv}, "
+            f"backend={backend!r}, frames per tick={len(self._frames[0])})"
+        )
+
+
+_TREES_LOCK = threading.Lock()
+
+
+def tree_of(robot: object) -> KinematicTree:
+    """Return the :class:`KinematicTree` of a robot, built on first use and kept on it."""
+    tree = getattr(robot, "_kinematic_tree", None)
+    if tree is None:
+        with _TREES_LOCK:
+            tree = getattr(robot, "_kinematic_tree", None)
+            if tree is None:
+                tree = KinematicTree(robot.model)
+                object.__setattr__(robot, "_kinematic_tree", tree)
+    return tree
+
+
+__all__ = ["KinematicTree", "tree_of"]

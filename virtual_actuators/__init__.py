@@ -19,6 +19,7 @@ from .declaration.actuators import ParallelVirtualActuator, SensorReading, Virtu
 from .declaration.constraints import DesignConstraint, Equal, EqualTorque, Linear
 from .declaration.frames import AXES, WORLD
 from .distribution.solution import Solution
+from .kinematics.snapshot import Snapshot
 from .exceptions import (
     ConstraintError,
     FrameNotFoundError,
@@ -79,6 +80,7 @@ __all__ = [
     "RobotDescriptionError",
     "RobotNotFoundError",
     "SingularConfigurationError",
+    "Snapshot",
     "Solution",
     "VirtualActuator",
     "VirtualActuatorError",

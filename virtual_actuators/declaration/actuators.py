@@ -8,6 +8,7 @@ frames, one serial chain each, and must distribute its wrench over the chains.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -15,6 +16,7 @@ import numpy as np
 
 from ..declaration.constraints import DesignConstraint, Equal, Linear
 from ..declaration.frames import check_axes_subset, parse_axes, resolve_frame
+from ..distribution.compiled import CompiledDistribution
 from ..distribution.dense import DenseSolver
 from ..distribution.partitioner import PartitionedSolver
 from ..distribution.problem import DistributionProblem
@@ -30,13 +32,20 @@ from ..robots.robot import Robot
 
 
 def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
-    wrench = np.asarray(wrench, dtype=float)
+    if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):
+        try:
+            wrench = np.asarray(wrench, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"The wrench must be an array of {len(axes)} floats (axes {tuple(axes)}), got "
+                f"{type(wrench).__name__}."
+            ) from None
     if wrench.shape != (len(axes),):
         raise InvalidInputError(
             f"The wrench has shape {wrench.shape}; this actuator's axes {tuple(axes)} need "
             f"({len(axes)},)."
         )
-    if not np.all(np.isfinite(wrench)):
+    if not math.isfinite(wrench @ wrench) and not np.all(np.isfinite(wrench)):
         raise InvalidInputError(f"The wrench has NaN or inf entries: {wrench}.")
     return wrench
 
@@ -283,6 +292,7 @@ class ParallelVirtualActuator:
                 for reaction, axis in constraint.labels():
                     preferred[self.reactions.index(reaction), self.axes.index(axis)] = 1e-3
         self.partitioner = PartitionedSolver(self.problem, preferred)
+        self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
@@ -328,6 +338,7 @@ class ParallelVirtualActuator:
         strict: bool = False,
         tol: float = 1e-6,
         method: str = "partitioned",
+        compiled: bool = True,
     ) -> Solution:
         """Distribute ``wrench`` over the chains and map it to joint efforts.
 
@@ -339,6 +350,10 @@ class ParallelVirtualActuator:
             strict: Raise :class:`InadmissibleWrenchError` if the wrench cannot be produced.
             tol: Residual tolerance, relative to ``max(1, |wrench|)``, for admissibility.
             method: ``"partitioned"`` (default) or ``"dense"`` (reference solver, eq. 10-11).
+            compiled: Use the compiled per-tick kernel for the partitioned method when it
+                applies (the default); False runs the numpy implementation, the reference the
+                kernel is tested against. Ticks the kernel cannot decide (a near-singular
+                chain, an ill-conditioned block, an inadmissible request) always go to numpy.
 
         Returns:
             The :class:`Solution`.
@@ -361,20 +376,28 @@ class ParallelVirtualActuator:
             solver = self.dense
         else:
             raise InvalidInputError(f"method must be 'partitioned' or 'dense', got {method!r}.")
-        ev = self.problem.evaluate(snapshot)
-        raw = solver.solve(ev, wrench, keep)
-        produced = raw.forces.sum(axis=0)
-        error = (produced - wrench)[keep]
-        residual = float(np.sqrt(error @ error))
+        fast = None
+        if compiled and solver is self.partitioner:
+            fast = self.compiled.solve(snapshot, wrench, keep)
+        if fast is not None:
+            raw, (tau, passive_torque, produced, requested, residual, scale) = fast
+        else:
+            ev = self.problem.evaluate(snapshot)
+            raw = solver.solve(ev, wrench, keep)
+            tau_total = self.problem.torques(ev.state.jacobian_o, raw.forces)
+            tau = np.where(self.problem.actuated_mask, tau_total, 0.0)
+            passive_torque = ev.passive_torque
+            produced = raw.forces.sum(axis=0)
+            error = (produced - wrench)[keep]
+            residual = float(np.sqrt(error @ error))
+            scale = float(np.sqrt(wrench[keep] @ wrench[keep]))
+            requested = np.where(keep, wrench, produced)
         kind = raw.method
-        if residual > tol * max(1.0, float(np.sqrt(wrench[keep] @ wrench[keep]))):
+        if residual > tol * max(1.0, scale):
             kind = "least-squares"
         elif kind == "least-squares":
             kind = "pseudo-inverse"
-        tau_total = self.problem.torques(ev.state.jacobian_o, raw.forces)
-        tau = np.where(self.problem.actuated_mask, tau_total, 0.0)
         base_effort = tau[:6].copy() if self._floating else np.zeros(0)
-        requested = np.where(keep, wrench, produced)
         solution = Solution(
             tau=tau,
             forces=raw.forces,
@@ -386,10 +409,11 @@ class ParallelVirtualActuator:
             reactions=self.reactions,
             axes=self.axes,
             free=free,
-            tau_passive=ev.passive_torque,
+            tau_passive=passive_torque,
             base_effort=base_effort,
             solver=method,
             systems=raw.systems,
+            compiled=fast is not None,
         )
         if strict and kind == "least-squares":
             raise InadmissibleWrenchError(

@@ -220,11 +220,7 @@ class PartitionedSolver:
         if k + s < m:
             forces = self._solve_projected(ev, wrench, keep)
             if forces is not None:
-                sets = self._reported_sets.get(free_key)
-                if sets is None:
-                    reduced = self._reduce(self._generic)
-                    sets = self._report_sets(reduced.wrench_rows[keep], reduced.hard_rows)
-                    self._reported_sets[free_key] = sets
+                sets = self.reported_sets(keep)
                 systems = tuple(
                     ("CFS", g.num_constraints, g.size)
                     for g in self.problem.groups
@@ -254,12 +250,29 @@ class PartitionedSolver:
             systems += (("least-squares", m, 1),)
         forces = self._forces(reduced, f)
         if sets is None:
-            sets = self._reported_sets.get(free_key)
-            if sets is None:
-                generic = self._reduce(self._generic)
-                sets = self._report_sets(generic.wrench_rows[keep], generic.hard_rows)
-                self._reported_sets[free_key] = sets
+            sets = self.reported_sets(keep)
         return RawSolution(forces=forces, method=method, sets=sets, systems=systems)
+
+    def reported_sets(self, keep: np.ndarray) -> dict[str, list[tuple[str, str]]]:
+        """MFS / RFS / CFS reported for a non-square system (chosen at a generic ``q``)."""
+        free_key = keep.tobytes()
+        sets = self._reported_sets.get(free_key)
+        if sets is None:
+            generic = self._reduce(self._generic)
+            sets = self._report_sets(generic.wrench_rows[keep], generic.hard_rows)
+            self._reported_sets[free_key] = sets
+        return sets
+
+    def square_plan(self, keep: np.ndarray) -> _SquarePlan:
+        """The RFS / MFS choice of the square system for these prescribed axes (cached)."""
+        free_key = keep.tobytes()
+        plan = self._plans.get(free_key)
+        if plan is None:
+            plan = self._plan_square(
+                self._reduce(self._generic).hard_rows, self.num_free_entries
+            )
+            self._plans[free_key] = plan
+        return plan
 
     def _forces(self, reduced: _Reduced, f: np.ndarray) -> np.ndarray:
         forces = np.empty((self.problem.p, self.problem.n))
@@ -280,8 +293,7 @@ class PartitionedSolver:
         m = a.shape[1]
         plan = self._plans.get(free_key)
         if plan is None:
-            plan = self._plan_square(self._reduce(self._generic).hard_rows, m)
-            self._plans[free_key] = plan
+            plan = self.square_plan(np.frombuffer(free_key, dtype=bool))
         if len(plan.rfs):
             if plan.gain is not None:
                 gain, bias = plan.gain, plan.bias

@@ -30,6 +30,9 @@ class Solution:
         systems: Linear systems inverted at this solve, as ``(what, size, count)``: e.g.
             ``(("CFS", 3, 3), ("MFS", 6, 1))`` for the seed's hexapod tripod (p 3x3 inverses,
             one 6x6); design blocks that do not depend on ``q`` are factored at construction.
+        compiled: Whether the compiled per-tick kernel computed this (False: the numpy
+            implementation, e.g. ``solve(..., compiled=False)`` or a tick the kernel handed
+            back).
 
     """
 
@@ -47,6 +50,7 @@ class Solution:
     base_effort: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solver: str = "partitioned"
     systems: tuple[tuple[str, int, int], ...] = ()
+    compiled: bool = False
 
     @property
     def admissible(self) -> bool:

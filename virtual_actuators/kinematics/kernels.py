@@ -102,6 +102,7 @@ def forward_kinematics(
     joints[0, 4] = 1.0
     joints[0, 8] = 1.0
     motion = np.empty((3, 3))
+    local = np.empty(12)
     for j in range(1, njoints):
         parent = joint_ints[j, 0]
         kind = joint_ints[j, 1]
@@ -124,7 +125,6 @@ def forward_kinematics(
         else:  # SPHERICAL
             _quaternion_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3], motion)
         # local placement = joint placement * joint motion
-        local = np.empty(12)
         for r in range(3):
             p0 = joint_floats[j, 3 * r]
             p1 = joint_floats[j, 3 * r + 1]
@@ -144,27 +144,23 @@ def forward_kinematics(
     jacobian = np.empty((6, nv))
     for v in range(nv):
         j = velocity_joint[v]
-        lin = np.empty(3)
-        ang = np.empty(3)
         for r in range(3):
-            lin[r] = (
+            jacobian[r, v] = (
                 joints[j, 3 * r] * velocity_subspace[v, 0]
                 + joints[j, 3 * r + 1] * velocity_subspace[v, 1]
                 + joints[j, 3 * r + 2] * velocity_subspace[v, 2]
             )
-            ang[r] = (
+            jacobian[3 + r, v] = (
                 joints[j, 3 * r] * velocity_subspace[v, 3]
                 + joints[j, 3 * r + 1] * velocity_subspace[v, 4]
                 + joints[j, 3 * r + 2] * velocity_subspace[v, 5]
             )
         px, py, pz = joints[j, 9], joints[j, 10], joints[j, 11]
+        wx, wy, wz = jacobian[3, v], jacobian[4, v], jacobian[5, v]
         # velocity of the point at the world origin: v_joint + p x omega
-        jacobian[0, v] = lin[0] + py * ang[2] - pz * ang[1]
-        jacobian[1, v] = lin[1] + pz * ang[0] - px * ang[2]
-        jacobian[2, v] = lin[2] + px * ang[1] - py * ang[0]
-        jacobian[3, v] = ang[0]
-        jacobian[4, v] = ang[1]
-        jacobian[5, v] = ang[2]
+        jacobian[0, v] += py * wz - pz * wy
+        jacobian[1, v] += pz * wx - px * wz
+        jacobian[2, v] += px * wy - py * wx
     nf = frame_parents.shape[0]
     frames = np.empty((nf, 12))
     for f in range(nf):

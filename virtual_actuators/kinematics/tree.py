@@ -9,6 +9,7 @@ uses it, so a control tick runs the kinematics once for all its readers.
 
 from __future__ import annotations
 
+import math
 import threading
 from collections.abc import Iterable
 
@@ -207,10 +208,15 @@ class KinematicTree:
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
                 f"({self.nq},) (model.nq)."
             )
-        if not np.isfinite(q).all():
+        if not math.isfinite(q @ q) and not np.isfinite(q).all():  # dot: one fast check
             bad = np.flatnonzero(~np.isfinite(q)).tolist()
             raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
-        if len(self._unit_index):
+        if self.unit_slices:
+            if len(self.unit_slices) == 1:
+                unit = self.unit_slices[0]
+                norm = math.sqrt(q[unit] @ q[unit])
+                if abs(norm - 1.0) <= 1e-12:
+                    return q
             values = q[self._unit_index]
             norms = np.sqrt(np.bincount(self._unit_groups, weights=values * values))
             error = np.abs(norms - 1.0)
@@ -246,7 +252,7 @@ class KinematicTree:
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
                 "(model.nv)."
             )
-        if not np.isfinite(v).all():
+        if not math.isfinite(v @ v) and not np.isfinite(v).all():
             raise InvalidInputError("Velocity v has NaN or inf entries.")
         return v
 

@@ -398,7 +398,6 @@ def _load_urdf(
     return Robot(
         name=name,
         model=model,
-        data=pin.Data(model),
         urdf_path=path,
         urdf_string=text,
         package_dirs=package_dirs,

@@ -331,7 +331,6 @@ def millipede(
     return Robot(
         name="millipede",
         model=model,
-        data=pin.Data(model),  # much faster than model.createData() for large models
         urdf_path=None,
         urdf_string=urdf,
         package_dirs=[],

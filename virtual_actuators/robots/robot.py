@@ -16,7 +16,9 @@ class Robot:
     Attributes:
         name: Short name (the URDF stem, or the name given to a generated robot).
         model: Pinocchio model (kinematics and inertias).
-        data: Pinocchio data matching ``model``; the library's computations use their own data.
+        data: Pinocchio data matching ``model``, created on first access (a ``pinocchio.Data``
+            holds ``nv^3`` tensors: 14 GB at ``nv = 1206``); the library's computations never
+            use it.
         urdf_path: Path of the URDF file, or None for a robot built from a string.
         urdf_string: The URDF text (kept so that viewers and simulators use the same source).
         package_dirs: Folders that ``package://`` mesh URIs are resolved against.
@@ -31,7 +33,7 @@ class Robot:
 
     name: str
     model: pin.Model
-    data: pin.Data
+    data: pin.Data | None = None
     urdf_path: Path | None = None
     urdf_string: str | None = None
     package_dirs: list[str] = field(default_factory=list)
@@ -67,3 +69,18 @@ class Robot:
             f"Robot(name={self.name!r}, nq={self.model.nq}, nv={self.model.nv}, "
             f"{base} base, {len(self.model.frames)} frames)"
         )
+
+
+def _get_data(self: Robot) -> pin.Data:
+    data = self.__dict__.get("_data")
+    if data is None:
+        data = self.__dict__["_data"] = pin.Data(self.model)
+    return data
+
+
+def _set_data(self: Robot, value: pin.Data | None) -> None:
+    self.__dict__["_data"] = value
+
+
+# ``data`` is created lazily: the dataclass's __init__ assigns through this property
+Robot.data = property(_get_data, _set_data, doc="Pinocchio data of ``model`` (created lazily).")

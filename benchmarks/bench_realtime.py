@@ -1,0 +1,452 @@
+"""Real-time figures of virtual_actuators, each beside a baseline timed in the same run.
+
+    python benchmarks/bench_realtime.py [--quick] [--json PATH] [--walk-seconds 3] [--only N]
+
+Figures (median and p90 per call after warm-up, in microseconds; ours and its baseline are timed
+interleaved, in blocks, over the same round-robin set of configurations):
+
+1. solo12 body ``solve`` vs the Pinocchio floor (joint Jacobians, frame placements, 5 frame
+   Jacobians).
+2. the same distribution as a proxsuite dense QP (kinematics + matrices + solve), without and
+   with 4-sided friction pyramids; the total wrenches are compared.
+3. millipede (100 legs) ``solve`` vs one dense 600x600 ``np.linalg.solve``.
+4. millipede scaling and memory (100, 400 legs solved, 1000 legs declared), one child process
+   each, 4 GiB address-space limit, peak RSS from ``VmHWM``.
+5. UR5 Cartesian spring-damper through ``va.Controller.compute`` vs raw Pinocchio and vs the
+   ``virtualmodelcontrol`` package (torques compared).
+6. turkey walk and flamingo in MuJoCo: real-time factor and a per-tick breakdown.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+import traceback
+from contextlib import nullcontext
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+from _baselines import (
+    Figure,
+    FootForceQP,
+    PinocchioFloor,
+    RawCartesianSpringDamper,
+    VMCCartesianSpringDamper,
+    blas_threads,
+    cycling,
+    dense_system,
+    instrumented_walk,
+    machine_info,
+    measure,
+    peak_rss_bytes,
+    perturbed,
+    print_table,
+    ratio_of,
+    row,
+    run_child,
+    us,
+)
+
+import virtual_actuators as va
+
+SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+SOLO_WRENCH = np.array([2.0, 1.0, 25.0, 0.1, -0.2, 0.05])  # [N, N m] on base_link, in base_link
+MU = 0.6
+UR5_Q = np.array([0.3, -1.2, 1.5, -0.8, -1.2, 0.4])  # [rad], away from singularities
+UR5_SETPOINT = np.array([0.35, 0.25, 0.45])  # [m], tool0 in the world
+UR5_K, UR5_D = 300.0, 30.0  # [N/m], [N s/m]
+GIB, MIB = 1 << 30, 1 << 20
+
+
+@dataclass
+class Settings:
+    """Repetitions and limits of one run."""
+
+    repeat: int  # calls per case, fast figures
+    repeat_slow: int  # calls per case, millipede and dense solve
+    child_repeat: int  # solves per child of figure 4
+    walk_seconds: float
+    child_timeout: float  # [s]
+    rounds: int = 10  # interleaved blocks
+
+
+def _fresh(count: int) -> int:
+    """How many configurations to cycle through so that no timed call repeats one: a real loop
+    never sees the same q twice, so caching on q must not help."""
+    return count + 32
+
+
+# -- figures 1 and 2: solo12 --------------------------------------------------------------------
+
+
+def _solo12(cfg: Settings):
+    robot = va.load_robot("solo12")
+    body = va.ParallelVirtualActuator(
+        robot, "base_link", SOLO_FEET, reference="base_link", contact="point"
+    )
+    configs = perturbed(robot.model, robot.neutral(), _fresh(cfg.repeat), 0.02, seed=12)
+    solve = cycling(lambda q: body.solve(q, SOLO_WRENCH), [(q,) for q in configs])
+    return robot, body, configs, solve
+
+
+def figure_solo12_floor(cfg: Settings) -> Figure:
+    """1. solo12 body solve vs the bare Pinocchio kinematics it needs."""
+    robot, body, configs, solve = _solo12(cfg)
+    floor = PinocchioFloor(robot.model, ["base_link", *SOLO_FEET])
+    floor_call = cycling(floor, [(q,) for q in configs])
+    cases = {"solve": (solve, cfg.repeat), "floor": (floor_call, cfg.repeat)}
+    stats = measure(cases, cfg.rounds)
+    ratio = ratio_of(stats["solve"], stats["floor"])
+    ours, base = us(stats["solve"]), us(stats["floor"])
+    rows = [
+        row("1a solo12 solve vs Pinocchio floor", ours, base, ratio, "<= 10x", ratio <= 10),
+        row("1b   (stretch)", ours, base, ratio, "<= 3x", ratio <= 3),
+    ]
+    method = body.solve(configs[0], SOLO_WRENCH).method
+    return Figure(rows, {**stats, "method": method, "configurations": len(configs)})
+
+
+def figure_solo12_qp(cfg: Settings) -> Figure:
+    """2. solo12 body solve vs the proxsuite QP a user would write instead."""
+    robot, body, configs, solve = _solo12(cfg)
+    qps = {
+        f"qp_{kind}_{mode}": FootForceQP(
+            robot.model, "base_link", SOLO_FEET, MU if kind == "cone" else None, mode
+        )
+        for kind in ("plain", "cone")
+        for mode in ("init", "update")
+    }
+    cases = {"solve": (solve, cfg.repeat)}
+    for name, qp in qps.items():
+        cases[name] = (cycling(qp.solve, [(q, SOLO_WRENCH) for q in configs]), cfg.repeat)
+    stats = measure(cases, cfg.rounds)
+    # the QP's total wrench (A f, A from Pinocchio's placements) against ours, at every q
+    wrench_diff = dict.fromkeys(qps, 0.0)
+    force_diff = requested_diff = 0.0
+    ours_in_cone, statuses = True, set()
+    for q in configs[:64]:
+        sol = body.solve(q, SOLO_WRENCH)
+        requested_diff = max(requested_diff, float(np.abs(sol.wrench - SOLO_WRENCH).max()))
+        for name, qp in qps.items():
+            forces = qp.solve(q, SOLO_WRENCH)
+            statuses.add(qp.status())
+            produced = qp.A @ forces.ravel()
+            wrench_diff[name] = max(wrench_diff[name], float(np.abs(produced - sol.wrench).max()))
+            if name == "qp_plain_init":
+                force_diff = max(force_diff, float(np.abs(forces - sol.forces[:, :3]).max()))
+            if name == "qp_cone_init":
+                ours_in_cone &= bool(np.all(qp.C @ sol.forces[:, :3].ravel() <= 1e-9))
+    rows = []
+    for label, kind, what in (("2a", "plain", "no cone"), ("2b", "cone", f"pyramids mu {MU}")):
+        best = min(("init", "update"), key=lambda m: stats[f"qp_{kind}_{m}"]["median_us"])
+        base = stats[f"qp_{kind}_{best}"]
+        ratio = ratio_of(stats["solve"], base)
+        target, met = ("< 1x", ratio < 1) if kind == "plain" else ("(info)", None)
+        figure = f"{label} solo12 solve vs proxsuite QP ({what}, {best})"
+        rows.append(row(figure, us(stats["solve"]), us(base), ratio, target, met))
+    worst = max(wrench_diff.values())
+    figure = "2c QP total wrench vs ours, max |diff|"
+    rows.append(row(figure, f"{worst:.1e}", "-", None, "<= 1e-6", worst <= 1e-6))
+    notes = [
+        f"2: proxsuite eps_abs 1e-9, statuses {sorted(statuses)}; max |ours - requested| "
+        f"{requested_diff:.1e}; max |QP min-norm force - our force| {force_diff:.2e} N "
+        f"(ours: {body.solve(configs[0], SOLO_WRENCH).method}); our forces inside the "
+        f"mu {MU} pyramids: {'yes' if ours_in_cone else 'no'}"
+    ]
+    raw = {
+        **stats,
+        "wrench_max_abs_diff": wrench_diff,
+        "force_max_abs_diff": force_diff,
+        "ours_requested_max_abs_diff": requested_diff,
+        "ours_in_pyramids": ours_in_cone,
+        "qp_statuses": sorted(statuses),
+    }
+    return Figure(rows, raw, notes)
+
+
+# -- figures 3 and 4: millipede -----------------------------------------------------------------
+
+
+def _millipede(legs: int):
+    robot = va.millipede(legs=legs)
+    feet = [f"foot_{i}" for i in range(1, legs + 1)]
+    body = va.ParallelVirtualActuator(robot, "body", feet, reference="body")
+    wrench = np.array([2.0, 0.0, pin.computeTotalMass(robot.model) * 9.81, 0.1, 0.3, 0.2])
+    return robot, body, wrench
+
+
+def figure_millipede(cfg: Settings) -> Figure:
+    """3. millipede (100 legs) solve vs one dense 600x600 linear solve."""
+    robot, body, wrench = _millipede(100)
+    q0, count = robot.neutral(), _fresh(2 * cfg.repeat_slow)  # two passes below
+    configs = [(q,) for q in perturbed(robot.model, q0, count, 0.02, seed=100)]
+    matrix, rhs, cond = dense_system(600)
+    solve = cycling(lambda q: body.solve(q, wrench), configs)
+    # two passes: numpy's BLAS threads as configured, then one thread (on a busy 2-core machine
+    # a multithreaded 600x600 solve can be 20x slower); the faster dense solve is the baseline
+    passes, default_threads = {}, None
+    for threads in ("default", "1"):
+        with blas_threads(1) if threads == "1" else nullcontext() as previous:
+            cases = {
+                "solve": (solve, cfg.repeat_slow),
+                "dense_600": (lambda: np.linalg.solve(matrix, rhs), cfg.repeat_slow),
+            }
+            passes[threads] = measure(cases, cfg.rounds, warmup=3)
+        default_threads = previous if threads == "1" else default_threads
+    best = min(passes, key=lambda k: passes[k]["dense_600"]["median_us"])
+    stats = passes[best]
+    ratio = ratio_of(stats["solve"], stats["dense_600"])
+    figure = f"3  millipede-100 solve vs dense 600x600 solve ({best} BLAS thr.)"
+    ours, base = us(stats["solve"]), us(stats["dense_600"])
+    line = row(figure, ours, base, ratio, "<= 0.01x (100x faster)", ratio <= 0.01)
+    method = body.solve(configs[0][0], wrench).method
+    note = "3: dense 600x600 by BLAS threads: " + ", ".join(
+        f"{k}: {p['dense_600']['median_us']:.0f} us (ours {p['solve']['median_us']:.0f} us)"
+        for k, p in passes.items()
+    )
+    note += f"; default = {default_threads} threads; condition number {cond:.1f}"
+    raw = {
+        **stats,
+        "blas_threads": best,
+        "default_blas_threads": default_threads,
+        "passes": passes,
+        "dense_condition": cond,
+    }
+    return Figure([line], {**raw, "method": method}, [note])
+
+
+def figure_scaling(cfg: Settings) -> Figure:
+    """4. millipede declaration, solve and peak memory at 100, 400 and 1000 legs, in children."""
+    limit = 4 * GIB
+    children = {"floor": run_child(["--child", "floor"], cfg.child_timeout, limit)}
+    for legs, extra in ((100, []), (400, []), (1000, ["--declare-only"])):
+        arguments = ["--child", "millipede", "--legs", str(legs), "--repeat", str(cfg.child_repeat)]
+        children[legs] = run_child(arguments + extra, cfg.child_timeout, limit)
+    floor, c100, c400, c1000 = (children[k] for k in ("floor", 100, 400, 1000))
+
+    def rss(child: dict) -> str:
+        return f"{child['peak_rss_bytes'] / MIB:.0f} MiB" if child["ok"] else failed(child)
+
+    def failed(child: dict) -> str:
+        return f"failed: {child['error'].split(' (')[0]}"[:60]
+
+    def declared(child: dict) -> str:
+        return f"{child['declare_s']:.2f} s" if child["ok"] else failed(child)
+
+    ok = c400["ok"] and floor["ok"]
+    ratio = c400["peak_rss_bytes"] / floor["peak_rss_bytes"] if ok else None
+    met = c400["ok"] and c400["peak_rss_bytes"] < GIB
+    figure = "4a peak RSS, 400 legs vs import-only"
+    rows = [row(figure, rss(c400), rss(floor), ratio, "< 1 GiB", met)]
+    ok = c100["ok"] and c400["ok"]
+    ratio = ratio_of(c400["solve"], c100["solve"]) if ok else None
+    ours = us(c400["solve"]) if c400["ok"] else failed(c400)
+    base = us(c100["solve"]) if c100["ok"] else failed(c100)
+    rows.append(row("4b t(400) / t(100) solve", ours, base, ratio, "<= 4.4", ok and ratio <= 4.4))
+    ratio = c1000["declare_s"] / c100["declare_s"] if c1000["ok"] and c100["ok"] else None
+    figure = "4c 1000 legs declare vs 100 legs"
+    rows.append(row(figure, declared(c1000), declared(c100), ratio, "declares", c1000["ok"]))
+    notes = [f"4: children (address space limited to 4 GiB, timeout {cfg.child_timeout:.0f} s):"]
+    for key, child in children.items():
+        if child["ok"]:
+            solve = f", solve {us(child['solve'])}" if "solve" in child else ""
+            declare = f", declare {child['declare_s']:.2f} s" if "declare_s" in child else ""
+            notes.append(f"   {key!s:>5}: peak RSS {rss(child)}{declare}{solve}")
+        else:
+            notes.append(f"   {key!s:>5}: FAILED after {child['wall_s']:.1f} s: {child['error']}")
+    return Figure(rows, {str(k): v for k, v in children.items()}, notes)
+
+
+def child_main(args: argparse.Namespace) -> None:
+    """Child process of figure 4: print one JSON line."""
+    out: dict[str, Any] = {}
+    if args.child == "millipede":
+        out["legs"] = args.legs
+        start = time.perf_counter()
+        robot, body, wrench = _millipede(args.legs)
+        out["declare_s"] = time.perf_counter() - start
+        if not args.declare_only:
+            q0, count = robot.neutral(), _fresh(args.repeat)
+            configs = [(q,) for q in perturbed(robot.model, q0, count, 0.02, seed=7)]
+            solve = cycling(lambda q: body.solve(q, wrench), configs)
+            out["solve"] = measure({"solve": (solve, args.repeat)}, rounds=1, warmup=2)["solve"]
+    out["peak_rss_bytes"] = peak_rss_bytes()
+    print(json.dumps(out))
+
+
+# -- figure 5: UR5 ------------------------------------------------------------------------------
+
+
+def figure_ur5(cfg: Settings) -> Figure:
+    """5. UR5 Cartesian spring-damper: controller vs raw Pinocchio vs virtualmodelcontrol."""
+    robot = va.load_robot("ur5_robot")
+    act = va.VirtualActuator(robot, "tool0", "world", "world", ("x", "y", "z"))
+    ctrl = va.Controller(robot)
+    spring = va.SpringDamper(("x", "y", "z"), stiffness=UR5_K, damping=UR5_D, setpoint=UR5_SETPOINT)
+    ctrl.add("ee", act, [spring])
+    rng = np.random.default_rng(5)
+    count = _fresh(cfg.repeat)
+    states = [(UR5_Q + rng.uniform(-0.3, 0.3, 6), rng.uniform(-0.5, 0.5, 6)) for _ in range(count)]
+    raw = RawCartesianSpringDamper(robot.model, "tool0", UR5_K, UR5_D, UR5_SETPOINT)
+    notes: list[str] = []
+    try:
+        vmc = VMCCartesianSpringDamper(UR5_K, UR5_D, UR5_SETPOINT)
+    except Exception as error:  # not installed, or does not import: skip that baseline only
+        vmc = None
+        notes.append(f"5: virtualmodelcontrol baseline skipped: {type(error).__name__}: {error}")
+        print(notes[-1], flush=True)
+    cases = {
+        "compute": (cycling(lambda q, v: ctrl.compute(q, v, 0.0), states), cfg.repeat),
+        "raw_pinocchio": (cycling(raw, states), cfg.repeat),
+    }
+    if vmc is not None:
+        cases["virtualmodelcontrol"] = (cycling(vmc, states), cfg.repeat)
+    stats = measure(cases, cfg.rounds)
+    raw_diff = vmc_diff = position_diff = 0.0
+    saturated, data, tool = False, pin.Data(robot.model), robot.model.getFrameId("tool0")
+    for q, v in states[:64]:
+        out = ctrl.compute(q, v, 0.0)
+        saturated |= bool(np.any(out.saturated))
+        raw_diff = max(raw_diff, float(np.abs(out.tau - raw(q, v)).max()))
+        if vmc is not None:
+            vmc_diff = max(vmc_diff, float(np.abs(out.tau - vmc(q, v)).max()))
+            pin.framesForwardKinematics(robot.model, data, q)
+            gap = np.abs(vmc.tool_position(q) - data.oMf[tool].translation).max()
+            position_diff = max(position_diff, float(gap))
+    ours = us(stats["compute"])
+    ratio = ratio_of(stats["compute"], stats["raw_pinocchio"])
+    figure = "5a UR5 ctrl.compute vs raw Pinocchio"
+    rows = [row(figure, ours, us(stats["raw_pinocchio"]), ratio, "<= 3x", ratio <= 3)]
+    figure = "5b UR5 ctrl.compute vs virtualmodelcontrol"
+    if vmc is not None:
+        ratio = ratio_of(stats["compute"], stats["virtualmodelcontrol"])
+        base = us(stats["virtualmodelcontrol"])
+        rows.append(row(figure, ours, base, ratio, "< 1x", ratio < 1))
+        figure = "5c torques, max |vmc - ours| [N m]"
+        rows.append(row(figure, f"{vmc_diff:.1e}", "-", None, "<= 1e-9", vmc_diff <= 1e-9))
+        notes.append(
+            "5: virtualmodelcontrol's UR5 is its DH table (robots.ur5.arm), base turned by pi "
+            f"about z from the URDF's; flange vs tool0 max |position diff| {position_diff:.1e} m "
+            "(the URDF writes pi/2 as 1.57079632679); "
+            f"CasADi compile {vmc.compile_s:.2f} s (not timed)"
+        )
+    else:
+        rows.append(row(figure, ours, "skipped (not importable)", None, "< 1x", None))
+    notes.append(
+        f"5: max |raw Pinocchio - ours| {raw_diff:.1e} N m; "
+        f"efforts saturated: {'yes' if saturated else 'no'}"
+    )
+    raw_json = {**stats, "raw_max_abs_diff": raw_diff, "saturated": saturated}
+    if vmc is not None:
+        raw_json |= {"vmc_max_abs_diff": vmc_diff, "vmc_position_max_abs_diff": position_diff}
+    return Figure(rows, raw_json, notes)
+
+
+# -- figure 6: walks ----------------------------------------------------------------------------
+
+
+def figure_walks(cfg: Settings) -> Figure:
+    """6. turkey walk and flamingo: real-time factor and per-tick breakdown."""
+    from virtual_actuators.gaits.flamingo import FlamingoWalker
+    from virtual_actuators.gaits.turkey import TurkeyWalker
+
+    rows, raw, notes = [], {}, []
+    walks = (("6a", "turkey-walk", TurkeyWalker), ("6b", "flamingo-slopes", FlamingoWalker))
+    for label, name, gait_class in walks:
+        walk = raw[name] = instrumented_walk(name, gait_class, cfg.walk_seconds)
+        rtf, ceiling = walk["realtime_factor"], walk["physics_only_factor"]
+        figure = f"{label} {name} x real time vs MuJoCo alone"
+        ours, base = f"{rtf:.2f}x", f"{ceiling:.1f}x"
+        rows.append(row(figure, ours, base, rtf / ceiling, ">= 10x", rtf >= 10))
+        notes.append(
+            f"6: {name}, {walk['simulated_s']:.2f} simulated s, {walk['ticks']} ticks, "
+            f"wall {walk['wall_s']:.2f} s, fell: {walk['fell']}"
+        )
+        notes.append(f"   {'per tick [us]':<22}{'mean':>10}{'median':>10}{'p90':>10}")
+        for stats in walk["per_tick"].values():
+            notes.append(
+                f"   {stats['label']:<22}{stats['mean_us']:>10.1f}"
+                f"{stats['median_us']:>10.1f}{stats['p90_us']:>10.1f}"
+            )
+        contacts = walk["per_tick"]["rest"]["contact_queries_mean_us"]
+        notes.append(f"   {'  of rest: contacts':<22}{contacts:>10.1f}")
+    return Figure(rows, raw, notes)
+
+
+# -- main ---------------------------------------------------------------------------------------
+
+FIGURES = {
+    "1": figure_solo12_floor,
+    "2": figure_solo12_qp,
+    "3": figure_millipede,
+    "4": figure_scaling,
+    "5": figure_ur5,
+    "6": figure_walks,
+}
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run every figure, print the table, optionally write JSON."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", help="write every figure and raw median/p90 to this file")
+    parser.add_argument("--quick", action="store_true", help="fewer repetitions (smoke run)")
+    parser.add_argument("--walk-seconds", type=float, default=None, help="simulated s (3)")
+    parser.add_argument("--only", action="append", choices=list(FIGURES), help="figure(s)")
+    parser.add_argument("--child", choices=("millipede", "floor"), help=argparse.SUPPRESS)
+    parser.add_argument("--legs", type=int, default=100, help=argparse.SUPPRESS)
+    parser.add_argument("--repeat", type=int, default=100, help=argparse.SUPPRESS)
+    parser.add_argument("--declare-only", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.child:
+        child_main(args)
+        return
+    if args.quick:
+        cfg = Settings(300, 20, 10, args.walk_seconds or 0.5, 60.0, rounds=5)
+    else:
+        cfg = Settings(3000, 200, 100, args.walk_seconds or 3.0, 300.0)
+    from tqdm import tqdm
+
+    start = time.perf_counter()
+    machine = machine_info()
+    rows, notes, raw = [], [], {}
+    chosen = [key for key in FIGURES if not args.only or key in args.only]
+    bar = tqdm(chosen, file=sys.stderr, disable=None, leave=False, desc="figures")
+    for key in bar:
+        bar.set_postfix_str(FIGURES[key].__doc__.split(".")[1].strip()[:40])
+        try:
+            figure = FIGURES[key](cfg)
+        except Exception as error:  # a figure that breaks is reported, the others still run
+            traceback.print_exc(file=sys.stderr)
+            message = f"{type(error).__name__}: {error}"
+            failed = row(f"{key}  FAILED", message[:70], "-", met=False)
+            figure = Figure([failed], {"error": message})
+        rows += figure.rows
+        notes += figure.notes
+        raw[key] = figure.raw
+    bar.close()
+    elapsed = time.perf_counter() - start
+    print_table(machine, rows, notes)
+    print(f"\ntotal wall time {elapsed:.1f} s{' (--quick)' if args.quick else ''}")
+    if args.json:
+        path = Path(args.json)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        payload = {
+            "machine": machine,
+            "settings": cfg.__dict__,
+            "quick": args.quick,
+            "wall_time_s": elapsed,
+            "rows": rows,
+            "figures": raw,
+            "notes": notes,
+        }
+        path.write_text(json.dumps(payload, indent=2, default=float))
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,217 @@
+"""The real-time path of a parallel actuator's solve: tables built once, one compiled call a tick.
+
+:class:`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
+its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
+Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
+into flat arrays, so that a tick is one call of
+:func:`~virtual_actuators.distribution.kernels.distribute` on the snapshot's arrays. When the
+kernel hands a tick back (a singular chain, an ill-conditioned block, more rows than unknowns),
+:class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` decides with numpy, as
+the reference implementation does; the tests check that both give the same answers.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import kernels
+from .partitioner import PartitionedSolver, RawSolution
+from .problem import DistributionProblem
+
+
+@dataclass(frozen=True)
+class _Tables:
+    chain_ints: np.ndarray
+    chain_signs: np.ndarray
+    layout: np.ndarray
+    cfs_version: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class _Mode:
+    mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
+    keep: np.ndarray  # int64 mask
+    plan: np.ndarray
+    sets: dict
+    systems: tuple
+    method: str
+
+
+class CompiledDistribution:
+    """Per-tick distribution of one parallel actuator through the compiled kernel.
+
+    Args:
+        problem: The declaration's structure.
+        partitioner: The numpy solver whose sets (and fallbacks) the kernel follows.
+
+    """
+
+    def __init__(self, problem: DistributionProblem, partitioner: PartitionedSolver) -> None:
+        self.problem = problem
+        self.partitioner = partitioner
+        kin = problem.kinematics
+        self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
+        self.frame_rows = np.array(
+            [kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64
+        )
+        self._max_row = int(self.frame_rows.max())
+        nv = problem.model.nv
+        springs = np.zeros((nv, 5))
+        springs[:, 2] = -1.0
+        springs[:, 4] = problem.actuated_mask
+        for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
+            springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
+        self.springs = springs
+        self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
+        self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
+        torque = [(v, -1, 0) for v in problem.coupled_v]
+        torque += [(int(a), int(b), 1) for a, b in problem.torque_pairs]
+        self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
+        signs = np.zeros((len(torque), 2, problem.p))
+        for t, (a, b, _) in enumerate(torque):
+            signs[t, 0] = problem._signs_at([a])[:, 0]
+            if b >= 0:
+                signs[t, 1] = problem._signs_at([b])[:, 0]
+        self.torque_signs = signs
+        self._tables: _Tables | None = None
+        self._modes: dict[tuple[bytes, tuple[int, ...]], _Mode] = {}
+        self._lock = threading.Lock()
+
+    def _cfs_version(self) -> tuple[int, ...]:
+        return tuple(id(c) for c in self.partitioner.cfs)
+
+    def _build_tables(self, version: tuple[int, ...]) -> _Tables:
+        problem, partitioner = self.problem, self.partitioner
+        p = problem.p
+        kin = problem.kinematics
+        width_k = max(len(c) for c in kin.chain_columns)
+        width_c = max(g.constrained.shape[1] for g in problem.groups)
+        width_l = max(g.num_constraints for g in problem.groups)
+        width_d = max(g.num_free for g in problem.groups)
+        header = kernels.HEADER
+        ints = np.zeros((p, header + width_k + width_c + 3 + width_l + width_d), dtype=np.int64)
+        chain_signs = np.zeros((p, width_k))
+        start = 0
+        for group, cfs, free in zip(
+            problem.groups, partitioner.cfs, partitioner.free_entries, strict=True
+        ):
+            for j, chain in enumerate(group.chains):
+                k = group.columns.shape[1]
+                c = group.constrained.shape[1]
+                nb = len(group.ball_axes)
+                row = ints[chain]
+                row[: kernels.HEADER] = (
+                    k,
+                    c,
+                    nb,
+                    group.rank,
+                    group.num_constraints,
+                    group.num_free,
+                    start,
+                )
+                start += group.num_free
+                at = header
+                row[at : at + k] = group.columns[j]
+                chain_signs[chain, :k] = group.signs[j]
+                at += width_k
+                row[at : at + c] = group.constrained[j]
+                at += width_c
+                row[at : at + nb] = group.ball_axes
+                at += 3
+                row[at : at + group.num_constraints] = cfs[j]
+                at += width_l
+                row[at : at + group.num_free] = free[j]
+        layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
+        return _Tables(ints, chain_signs, layout, version)
+
+    def _mode(self, keep: np.ndarray, version: tuple[int, ...]) -> _Mode:
+        key = (keep.tobytes(), version)
+        mode = self._modes.get(key)
+        if mode is not None:
+            return mode
+        problem, partitioner = self.problem, self.partitioner
+        m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
+        keep_int = keep.astype(np.int64)
+        cfs_systems = tuple(
+            ("CFS", g.num_constraints, g.size) for g in problem.groups if g.num_constraints
+        )
+        if k + s < m:
+            sets = partitioner.reported_sets(keep)
+            systems = cfs_systems + (("KKT", k + s, 1),)
+            mode = _Mode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
+        elif k + s == m and not problem.structurally_singular(keep):
+            plan = partitioner.square_plan(keep)
+            labels = partitioner.labels()
+            sets = {
+                "MFS": [labels[i] for i in plan.mfs],
+                "RFS": [labels[i] for i in plan.rfs],
+                "CFS": partitioner.cfs_labels(),
+            }
+            systems = cfs_systems
+            if len(plan.rfs) and plan.gain is None:
+                systems += (("RFS", len(plan.rfs), 1),)
+            systems += (("MFS", len(plan.mfs), 1),)
+            order = np.concatenate((plan.rfs, plan.mfs)).astype(np.int64)
+            mode = _Mode(1, keep_int, order, sets, systems, "partitioned")
+        else:
+            mode = _Mode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
+        self._modes[key] = mode
+        return mode
+
+    def solve(
+        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray
+    ) -> tuple[RawSolution, tuple] | None:
+        """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
+
+        Returns:
+            ``(raw solution, (tau, passive torques, produced, requested, residual, scale))``
+            with ``tau`` zero at limp and passive joints, or None.
+
+        """
+        version = self._cfs_version()
+        tables = self._tables
+        mode = self._modes.get((keep.tobytes(), version))
+        if mode is None or tables is None or tables.cfs_version != version:
+            with self._lock:
+                tables = self._tables
+                if tables is None or tables.cfs_version != version:
+                    tables = self._tables = self._build_tables(version)
+                mode = self._mode(keep, version)
+        if mode.mode < 0:
+            return None
+        jacobian_world = snapshot.jacobian_world
+        frames = snapshot._frames
+        if frames.shape[0] <= self._max_row:
+            return None  # frames required after this snapshot ran: the numpy path reads them
+        out = kernels.distribute(
+            jacobian_world,
+            frames,
+            snapshot.q,
+            wrench,
+            mode.keep,
+            mode.mode,
+            self.axis_rows,
+            self.frame_rows,
+            tables.chain_ints,
+            tables.chain_signs,
+            self.springs,
+            self.const_rows,
+            self.const_rhs,
+            self.torque_rows,
+            self.torque_signs,
+            mode.plan,
+            tables.layout,
+        )
+        if out[7]:
+            return None
+        raw = RawSolution(forces=out[0], method=mode.method, sets=mode.sets, systems=mode.systems)
+        return raw, out[1:7]
+
+    def __repr__(self) -> str:
+        return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
+
+
+__all__ = ["CompiledDistribution"]

@@ -16,11 +16,10 @@ import threading
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import random_configuration, relative_error
 
 import virtual_actuators as va
 from virtual_actuators.kinematics.tree import tree_of
-
-from conftest import random_configuration, relative_error
 
 KINEMATIC_ROBOTS = [
     "solo12",

@@ -19,7 +19,6 @@ from .declaration.actuators import ParallelVirtualActuator, SensorReading, Virtu
 from .declaration.constraints import DesignConstraint, Equal, EqualTorque, Linear
 from .declaration.frames import AXES, WORLD
 from .distribution.solution import Solution
-from .kinematics.snapshot import Snapshot
 from .exceptions import (
     ConstraintError,
     FrameNotFoundError,
@@ -32,6 +31,7 @@ from .exceptions import (
     SingularConfigurationError,
     VirtualActuatorError,
 )
+from .kinematics.snapshot import Snapshot
 from .robots import Robot, list_robots, load_robot, millipede
 
 __version__ = "0.1.0"

@@ -116,6 +116,7 @@ class SpringDamper(Component):
     @limit.setter
     def limit(self, value: Vector) -> None:
         self._limit = self._non_negative(value, "limit", allow_inf=True)
+        self._limited = bool(np.isfinite(self._limit).any())
 
     def _non_negative(self, value: Vector, what: str, allow_inf: bool = False) -> np.ndarray:
         array = self._per_axis(value, what, allow_inf)
@@ -128,7 +129,9 @@ class SpringDamper(Component):
         wrench = self._stiffness * (self._setpoint - position) + self._damping * (
             self._velocity_setpoint - velocity
         )
-        return np.clip(wrench, -self._limit, self._limit) + self._force
+        if self._limited:
+            wrench = np.minimum(np.maximum(wrench, -self._limit), self._limit)
+        return wrench + self._force
 
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:

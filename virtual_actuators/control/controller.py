@@ -432,7 +432,7 @@ class Controller:
         tau[np.asarray(limp, dtype=int)] = 0.0
         requested = tau.copy()
         if self.clip:
-            tau = np.clip(tau, -self.effort_limits, self.effort_limits)
+            tau = np.minimum(np.maximum(tau, -self.effort_limits), self.effort_limits)
         saturated = np.abs(requested) > self.effort_limits
         return ControlOutput(
             tau=tau,

@@ -26,7 +26,7 @@ from ..exceptions import (
     InadmissibleWrenchError,
     InvalidInputError,
 )
-from ..kinematics.relative import KinematicState, RelativeKinematics
+from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
 
@@ -105,12 +105,6 @@ class VirtualActuator:
             self.axes,
         )
 
-    def _jacobian(self, state: KinematicState) -> np.ndarray:
-        columns = self.kinematics.chain_columns[0]
-        out = np.zeros((len(self.axes), self.kinematics.nv))
-        out[:, columns] = state.jacobian_o[:, columns] * self.kinematics.chain_signs[0]
-        return out
-
     def read(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> SensorReading:
         """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
 
@@ -131,11 +125,8 @@ class VirtualActuator:
             if v is None:
                 raise InvalidInputError("read(q, v) needs a velocity v (or a Snapshot with v).")
             state = Snapshot(self.robot, state, v)
-        snapshot = self.kinematics.snapshot(state, need_velocity=True)
-        kinematic = self.kinematics.compute(snapshot)
-        jacobian = self._jacobian(kinematic)
-        position = self.kinematics.positions(kinematic)[0]
-        return SensorReading(position=position, velocity=jacobian @ snapshot.v, jacobian=jacobian)
+        jacobian, position, velocity = self.kinematics.sense(state, velocity=True)
+        return SensorReading(position=position, velocity=velocity, jacobian=jacobian)
 
     def position(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.
@@ -150,7 +141,7 @@ class VirtualActuator:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
 
         """
-        return self.kinematics.positions(self.kinematics.compute(state))[0]
+        return self.kinematics.sense(state)[1]
 
     def jacobian(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
@@ -165,7 +156,7 @@ class VirtualActuator:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
 
         """
-        return self._jacobian(self.kinematics.compute(state))
+        return self.kinematics.sense(state)[0]
 
     def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s].

@@ -182,6 +182,76 @@ def forward_kinematics(
     return joints, jacobian, frames
 
 
+@njit(cache=True)
+def relative_sensor(
+    jacobian_world: np.ndarray,
+    frames: np.ndarray,
+    v: np.ndarray,
+    axis_rows: np.ndarray,
+    rows: np.ndarray,
+    columns: np.ndarray,
+    signs: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A serial actuator's Jacobian, translation and velocity of {B} relative to {A} in {O}.
+
+    Args:
+        jacobian_world: ``(6, nv)`` world joint Jacobian.
+        frames: ``(nf, 12)`` frame placements.
+        v: ``(nv,)`` velocity (empty: no velocity).
+        axis_rows: ``(n,)`` rows of the selected axes among ``x y z rx ry rz``.
+        rows: ``(3,)`` rows of {B}, {O} and {A} in ``frames``.
+        columns: velocity indices of the chain between {A} and {B}.
+        signs: their +1 / -1.
+
+    Returns:
+        ``(jacobian (n, nv), translation (3,) R_O^T (p_B - p_A), velocity (n,),
+        relative rotation R_A^T R_B (3, 3))``.
+
+    """
+    b, o, a = rows[0], rows[1], rows[2]
+    n = axis_rows.shape[0]
+    nv = jacobian_world.shape[1]
+    x, y, z = frames[b, 9], frames[b, 10], frames[b, 11]
+    transform = np.zeros((6, 6))
+    for r in range(3):
+        for c in range(3):
+            value = frames[o, 3 * c + r]  # R_O^T
+            transform[r, c] = value
+            transform[3 + r, 3 + c] = value
+    # linear part at {B}'s origin: R_O^T (v - skew(p_B) w)
+    for r in range(3):
+        t0, t1, t2 = transform[r, 0], transform[r, 1], transform[r, 2]
+        transform[r, 3] = t2 * y - t1 * z
+        transform[r, 4] = t0 * z - t2 * x
+        transform[r, 5] = t1 * x - t0 * y
+    jacobian = np.zeros((n, nv))
+    velocity = np.zeros(n)
+    for j in range(columns.shape[0]):
+        col = columns[j]
+        for i in range(n):
+            acc = 0.0
+            for k in range(6):
+                acc += transform[axis_rows[i], k] * jacobian_world[k, col]
+            acc *= signs[j]
+            jacobian[i, col] = acc
+            if v.shape[0]:
+                velocity[i] += acc * v[col]
+    translation = np.zeros(3)
+    for r in range(3):
+        acc = 0.0
+        for k in range(3):
+            acc += frames[o, 3 * k + r] * (frames[b, 9 + k] - frames[a, 9 + k])
+        translation[r] = acc
+    relative = np.zeros((3, 3))
+    for r in range(3):
+        for c in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += frames[a, 3 * k + r] * frames[b, 3 * k + c]
+            relative[r, c] = acc
+    return jacobian, translation, velocity, relative
+
+
 __all__ = [
     "FREE_FLYER",
     "HAVE_NUMBA",
@@ -190,4 +260,5 @@ __all__ = [
     "REVOLUTE_UNBOUNDED",
     "SPHERICAL",
     "forward_kinematics",
+    "relative_sensor",
 ]

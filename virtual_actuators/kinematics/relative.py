@@ -23,6 +23,7 @@ import pinocchio as pin
 
 from ..declaration.frames import AXES, axis_rows
 from ..exceptions import InvalidInputError
+from . import kernels
 from .snapshot import Snapshot
 from .tree import tree_of
 
@@ -55,6 +56,9 @@ class KinematicState:
     def offsets_o(self) -> np.ndarray:
         """Return ``(p, 3)`` vectors from each {A_i}'s origin to {B}'s origin, in {O} [m]."""
         return (self.position_b[None, :] - self.position_a) @ self.rotation_o
+
+
+_NO_VELOCITY = np.zeros(0)
 
 
 class RelativeKinematics:
@@ -96,6 +100,8 @@ class RelativeKinematics:
         self._row_b = frame_rows[self.action_id]
         self._row_o = frame_rows[self.reference_id]
         self._rows_a = np.array([frame_rows[int(r)] for r in self.reaction_ids], dtype=int)
+        self._axis_rows = np.asarray(self.rows, dtype=np.int64)
+        self._sensor_rows = np.array([self._row_b, self._row_o, self._rows_a[0]], dtype=np.int64)
         action_joint = model.frames[self.action_id].parentJoint
         #: per chain, velocity indices between {A_i} and {B}, and +1 on {B}'s side of the
         #: path, -1 on {A_i}'s side (shared ancestors and other branches cancel)
@@ -188,6 +194,43 @@ class RelativeKinematics:
             rotation_a=reactions[:, :9].reshape(-1, 3, 3),
             snapshot=snapshot,
         )
+
+    def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> tuple:
+        """A serial actuator's reading in one compiled call: Jacobian, position, velocity.
+
+        Args:
+            state: A :class:`~virtual_actuators.Snapshot` (with ``v`` if ``velocity``) or ``q``.
+            velocity: Also compute ``jacobian @ v``.
+
+        Returns:
+            ``(jacobian (n, nv), position (n,), velocity (n,) or None)``; chain 0 only.
+
+        Raises:
+            InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
+
+        """
+        snapshot = self.snapshot(state, need_velocity=velocity)
+        jacobian_world = snapshot.jacobian_world
+        frames = snapshot._frames
+        if frames.shape[0] <= self._sensor_rows.max():
+            frames = self._frames_of(snapshot)
+        jacobian, translation, rate, relative = kernels.relative_sensor(
+            jacobian_world,
+            frames,
+            snapshot.v if velocity else _NO_VELOCITY,
+            self._axis_rows,
+            self._sensor_rows,
+            self.chain_columns[0],
+            self.chain_signs[0],
+        )
+        if self.rows[-1] < 3:
+            position = translation[self.rows]
+        else:
+            rotation_o = frames[self._row_o, :9].reshape(3, 3)
+            rotation_a = frames[self._rows_a[0], :9].reshape(3, 3)
+            rotation = rotation_o.T @ (rotation_a @ pin.log3(relative))
+            position = np.concatenate((translation, rotation))[self.rows]
+        return jacobian, position, rate if velocity else None
 
     def _frames_of(self, snapshot: Snapshot) -> np.ndarray:
         rows = {self._row_b: self.action_id, self._row_o: self.reference_id}

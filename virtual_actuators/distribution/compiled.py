@@ -27,7 +27,7 @@ class _Tables:
     chain_ints: np.ndarray
     chain_signs: np.ndarray
     layout: np.ndarray
-    cfs_version: tuple[int, ...]
+    cfs_version: int
 
 
 @dataclass(frozen=True)
@@ -77,13 +77,10 @@ class CompiledDistribution:
                 signs[t, 1] = problem._signs_at([b])[:, 0]
         self.torque_signs = signs
         self._tables: _Tables | None = None
-        self._modes: dict[tuple[bytes, tuple[int, ...]], _Mode] = {}
+        self._modes: dict[tuple[bytes, int], _Mode] = {}
         self._lock = threading.Lock()
 
-    def _cfs_version(self) -> tuple[int, ...]:
-        return tuple(id(c) for c in self.partitioner.cfs)
-
-    def _build_tables(self, version: tuple[int, ...]) -> _Tables:
+    def _build_tables(self, version: int) -> _Tables:
         problem, partitioner = self.problem, self.partitioner
         p = problem.p
         kin = problem.kinematics
@@ -127,7 +124,7 @@ class CompiledDistribution:
         layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
         return _Tables(ints, chain_signs, layout, version)
 
-    def _mode(self, keep: np.ndarray, version: tuple[int, ...]) -> _Mode:
+    def _mode(self, keep: np.ndarray, version: int) -> _Mode:
         key = (keep.tobytes(), version)
         mode = self._modes.get(key)
         if mode is not None:
@@ -171,7 +168,7 @@ class CompiledDistribution:
             with ``tau`` zero at limp and passive joints, or None.
 
         """
-        version = self._cfs_version()
+        version = self.partitioner.version
         tables = self._tables
         mode = self._modes.get((keep.tobytes(), version))
         if mode is None or tables is None or tables.cfs_version != version:

@@ -494,11 +494,8 @@ def distribute(
             angle = np.arctan2(q[iq + 1], q[iq]) if springs[v, 3] > 0 else q[iq]
             passive[v] = -springs[v, 0] * (angle - springs[v, 1])
     # -- natural constraint rows per chain -----------------------------------------------------
-    L = 0
-    for i in range(p):
-        L = max(L, chain_ints[i, L_ROWS])
-    rows = np.zeros((p, max(L, 1), n))
-    rhs = np.zeros((p, max(L, 1)))
+    rows = np.zeros((p, max(layout[2], 1), n))
+    rhs = np.zeros((p, max(layout[2], 1)))
     worst, worst_chain = np.inf, -1
     full_buffer = np.zeros((n, K + 3))
     null_buffer = np.zeros((n, n))

@@ -107,6 +107,8 @@ class PartitionedSolver:
         mask = np.ones((cfs.shape[0], n), dtype=bool)
         np.put_along_axis(mask, cfs, False, axis=1)
         free = np.array([np.flatnonzero(m) for m in mask], dtype=int).reshape(cfs.shape[0], -1)
+        #: bumped whenever the sets change (the compiled tables follow it)
+        self.version = getattr(self, "version", -1) + 1
         if index == len(self.cfs):
             self.cfs.append(cfs)
             self.free_entries.append(free)

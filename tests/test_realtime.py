@@ -114,9 +114,13 @@ def _declarations():
         va.Equal(("foot_1", "x"), ("foot_4", "x")),
     ]
     yield "hexapod tripod", va.ParallelVirtualActuator(hexapod, "body", tripod, design=design), ()
-    yield "millipede 8", va.ParallelVirtualActuator(
-        va.millipede(legs=8), "body", [f"foot_{i}" for i in range(1, 9)], "body"
-    ), ()
+    yield (
+        "millipede 8",
+        va.ParallelVirtualActuator(
+            va.millipede(legs=8), "body", [f"foot_{i}" for i in range(1, 9)], "body"
+        ),
+        (),
+    )
     turkey = va.load_robot("spring_turkey")
     yield (
         "turkey double support, equal hip torques",

@@ -865,3 +865,25 @@ def test_impossible_inertia_is_repaired_with_a_warning():
         mm = build_mujoco_model(rob)
     moments = np.sort(mm.model.body_inertia[1])
     assert moments[0] + moments[1] >= moments[2] - 1e-12
+
+
+def test_contact_queries_follow_steps_and_resets():
+    """Contact queries are cached per physics state: a reset or a step refreshes them, and the
+    cached answer equals a direct scan of MuJoCo's contact list."""
+    sim = Simulator(robot("spring_turkey"), Terrain.builtin("flat"))
+    for _ in range(50):
+        sim.step(np.zeros(sim.robot.model.nv), ignore_unactuated=True)
+    assert sim.in_contact("left_foot") and sim.in_contact("right_foot")
+    terrain = sim.mujoco_model.terrain_geoms
+    direct = {
+        int(geom)
+        for g1, g2 in zip(sim.data.contact.geom1, sim.data.contact.geom2, strict=True)
+        for geom in (g1, g2)
+        if (g1 in terrain) != (g2 in terrain) and geom not in terrain
+    }
+    assert {geom for _, geom, _ in sim._terrain_contacts()} == direct
+    q = sim.robot.neutral()
+    q[sim.robot.model.joints[sim.robot.model.getJointId("boom_z")].idx_q] += 0.5  # in the air
+    sim.reset(q)
+    assert not sim.in_contact("left_foot") and sim.touching_terrain() == set()
+    assert not np.any(sim.contact_force("left_foot"))

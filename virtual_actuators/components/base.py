@@ -20,6 +20,7 @@ To write your own component, subclass :class:`Component`, pass the axes it acts 
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 
@@ -72,6 +73,10 @@ class Component(ABC):
         self, value: float | Sequence[float] | np.ndarray, what: str, allow_inf: bool = False
     ) -> np.ndarray:
         """Broadcast a scalar or per-axis parameter to ``(len(axes),)`` finite floats."""
+        if isinstance(value, (float, int)) and not isinstance(value, bool):  # fast path
+            number = float(value)
+            if number == number and (allow_inf or math.isfinite(number)):
+                return np.full(len(self.axes), number)
         array = np.array(value, dtype=float)
         if array.ndim == 0:
             array = np.full(len(self.axes), float(array))

@@ -68,6 +68,8 @@ class Attachment:
     force_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
 
     def __post_init__(self) -> None:
+        # Each component's axes as a slice when contiguous (views instead of gathers per tick)
+        self.slots = [_as_slice(index) for index in self.indices]
         # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
         if self.yield_mask is None:
             return
@@ -92,6 +94,13 @@ class Attachment:
         kind = type(self.actuator).__name__
         names = ", ".join(c.name for c in self.components)
         return f"Attachment({self.name!r}, {kind} on {self.actuator.action!r}, [{names}])"
+
+
+def _as_slice(index: np.ndarray) -> slice | np.ndarray:
+    """``index`` as a slice if it is a contiguous increasing run, else unchanged."""
+    if index.size and np.array_equal(index, np.arange(index[0], index[0] + index.size)):
+        return slice(int(index[0]), int(index[0]) + index.size)
+    return index
 
 
 @dataclass(repr=False)
@@ -391,9 +400,12 @@ class Controller:
             if v is None:
                 raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
             snapshot = Snapshot(self.robot, q, v)
-        names = tuple(self.attachments) if active is None else tuple(active)
-        if len(set(names)) != len(names):
-            raise InvalidInputError(f"active names an attachment twice: {names}.")
+        if active is None:
+            names = tuple(self.attachments)
+        else:
+            names = tuple(active)
+            if len(set(names)) != len(names):
+                raise InvalidInputError(f"active names an attachment twice: {names}.")
         tau = np.zeros(nv)
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}
@@ -404,9 +416,9 @@ class Controller:
             reading = sensor.read(snapshot)
             position, velocity, jacobian = reading.position, reading.velocity, reading.jacobian
             wrench = np.zeros(len(attachment.axes))
-            for component, index in zip(attachment.components, attachment.indices, strict=True):
-                wrench[index] += component.compute_wrench(position[index], velocity[index], time)
-            if not np.all(np.isfinite(wrench)):
+            for component, slot in zip(attachment.components, attachment.slots, strict=True):
+                wrench[slot] += component.compute_wrench(position[slot], velocity[slot], time)
+            if not math.isfinite(wrench.sum()) and not np.all(np.isfinite(wrench)):
                 raise InvalidInputError(
                     f"Attachment {name!r}: a component returned a non-finite wrench {wrench}."
                 )
@@ -429,7 +441,8 @@ class Controller:
             tau += solution.tau
             solutions[name] = solution
             produced[name] = solution.wrench
-        tau[np.asarray(limp, dtype=int)] = 0.0
+        if len(limp):
+            tau[np.asarray(limp, dtype=int)] = 0.0
         requested = tau.copy()
         if self.clip:
             tau = np.minimum(np.maximum(tau, -self.effort_limits), self.effort_limits)

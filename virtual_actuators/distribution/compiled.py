@@ -54,9 +54,7 @@ class CompiledDistribution:
         self.partitioner = partitioner
         kin = problem.kinematics
         self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
-        self.frame_rows = np.array(
-            [kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64
-        )
+        self.frame_rows = np.array([kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64)
         self._max_row = int(self.frame_rows.max())
         nv = problem.model.nv
         springs = np.zeros((nv, 5))

@@ -270,9 +270,7 @@ class PartitionedSolver:
         free_key = keep.tobytes()
         plan = self._plans.get(free_key)
         if plan is None:
-            plan = self._plan_square(
-                self._reduce(self._generic).hard_rows, self.num_free_entries
-            )
+            plan = self._plan_square(self._reduce(self._generic).hard_rows, self.num_free_entries)
             self._plans[free_key] = plan
         return plan
 

@@ -102,6 +102,9 @@ class RelativeKinematics:
         self._rows_a = np.array([frame_rows[int(r)] for r in self.reaction_ids], dtype=int)
         self._axis_rows = np.asarray(self.rows, dtype=np.int64)
         self._sensor_rows = np.array([self._row_b, self._row_o, self._rows_a[0]], dtype=np.int64)
+        self._sensor_rows_end = int(self._sensor_rows.max()) + 1  # frame rows the sensor reads
+        self._translation_only = bool(self.rows[-1] < 3)
+        self._all_translations = self.rows.tolist() == [0, 1, 2]
         action_joint = model.frames[self.action_id].parentJoint
         #: per chain, velocity indices between {A_i} and {B}, and +1 on {B}'s side of the
         #: path, -1 on {A_i}'s side (shared ancestors and other branches cancel)
@@ -212,7 +215,7 @@ class RelativeKinematics:
         snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
         frames = snapshot._frames
-        if frames.shape[0] <= self._sensor_rows.max():
+        if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
         jacobian, translation, rate, relative = kernels.relative_sensor(
             jacobian_world,
@@ -223,7 +226,9 @@ class RelativeKinematics:
             self.chain_columns[0],
             self.chain_signs[0],
         )
-        if self.rows[-1] < 3:
+        if self._all_translations:
+            position = translation
+        elif self._translation_only:
             position = translation[self.rows]
         else:
             rotation_o = frames[self._row_o, :9].reshape(3, 3)

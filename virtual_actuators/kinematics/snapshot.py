@@ -82,9 +82,7 @@ class Snapshot:
         if backend not in _BACKENDS:
             raise InvalidInputError(f"backend must be one of {_BACKENDS}, got {backend!r}.")
         if backend == "compiled" and not tree.compiled:
-            reason = (
-                f"joints {tree.unsupported}" if tree.unsupported else "numba is not installed"
-            )
+            reason = f"joints {tree.unsupported}" if tree.unsupported else "numba is not installed"
             raise InvalidInputError(
                 f"backend='compiled' is not available for model {tree.model.name!r}: {reason}."
             )
@@ -120,9 +118,7 @@ class Snapshot:
             frames[row, 9:] = placement.translation
         self._frames, self._rows = frames, rows
         oMi = data.oMi
-        self._joints = np.array(
-            [np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi]
-        )
+        self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
 
     @property
     def jacobian_world(self) -> np.ndarray:

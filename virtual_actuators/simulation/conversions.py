@@ -24,6 +24,9 @@ linear block, which is the body rotation ``R``. Generalized forces transform wit
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
@@ -42,8 +45,72 @@ __all__ = [
 UNACTUATED_TOLERANCE = 1e-9
 
 
+@dataclass(frozen=True)
+class _Gathers:
+    """Index arrays of one model's copy-through joints, built once.
+
+    Per-tick conversions are then a few fancy-index copies plus a loop over the free, ball and
+    continuous joints.
+    """
+
+    copy_q: np.ndarray  # Pinocchio q indices of hinge and slide joints
+    copy_qpos: np.ndarray  # their MuJoCo qpos indices
+    copy_v: np.ndarray  # Pinocchio v indices of every non-free joint's dofs
+    copy_qvel: np.ndarray  # their MuJoCo qvel indices
+    special: tuple  # JointMap of the free, ball and continuous joints
+    free: tuple  # JointMap of the free joints
+    actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
+    actuator: np.ndarray  # its MuJoCo actuator id
+    unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
+
+
+def _gathers(mm: MujocoModel) -> _Gathers:
+    """The (cached) gathers of ``mm``."""
+    cached = mm.__dict__.get("_gathers")
+    if cached is not None:
+        return cached
+    copy_q, copy_qpos, copy_v, copy_qvel, unactuated = [], [], [], [], []
+    actuated_v, actuator = [], []
+    for joint in mm.joints:
+        if joint.kind in ("hinge", "slide"):
+            copy_q.append(joint.idx_q)
+            copy_qpos.append(joint.qpos_adr)
+        if joint.kind != "free":
+            copy_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
+            copy_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
+        if joint.actuator is not None:
+            actuated_v.append(joint.idx_v)
+            actuator.append(joint.actuator)
+        else:
+            unactuated.extend(range(joint.idx_v, joint.idx_v + joint.nv))
+    index = lambda values: np.array(values, dtype=np.intp)  # noqa: E731
+    gathers = _Gathers(
+        copy_q=index(copy_q),
+        copy_qpos=index(copy_qpos),
+        copy_v=index(copy_v),
+        copy_qvel=index(copy_qvel),
+        special=tuple(j for j in mm.joints if j.kind in ("free", "ball", "continuous")),
+        free=tuple(j for j in mm.joints if j.kind == "free"),
+        actuated_v=index(actuated_v),
+        actuator=index(actuator),
+        unactuated_v=index(unactuated),
+    )
+    mm.__dict__["_gathers"] = gathers  # frozen dataclass: cache beside its fields
+    return gathers
+
+
 def _vector(value: object, size: int, what: str) -> np.ndarray:
-    """A finite float vector of the given size, or InvalidInputError."""
+    """A finite float vector of the given size, or InvalidInputError.
+
+    A float64 array of the right shape is returned as is (not copied).
+    """
+    if (
+        type(value) is np.ndarray
+        and value.shape == (size,)
+        and value.dtype == np.float64
+        and math.isfinite(value.sum())
+    ):
+        return value
     try:
         array = np.array(value, dtype=float).reshape(-1)
     except (TypeError, ValueError) as exc:
@@ -148,8 +215,10 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
 
     """
     qpos = _vector(qpos, mm.model.nq, "qpos")
+    gathers = _gathers(mm)
     q = np.zeros(mm.robot.model.nq)
-    for joint in mm.joints:
+    q[gathers.copy_q] = qpos[gathers.copy_qpos]
+    for joint in gathers.special:
         a, i = joint.qpos_adr, joint.idx_q
         if joint.kind == "free":
             w, x, y, z = qpos[a + 3 : a + 7]
@@ -165,10 +234,9 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
         elif joint.kind == "ball":
             w, x, y, z = qpos[a : a + 4]
             q[i : i + 4] = (x, y, z, w)
-        elif joint.kind == "continuous":
-            q[i : i + 2] = (np.cos(qpos[a]), np.sin(qpos[a]))
-        else:
-            q[i] = qpos[a]
+        else:  # continuous
+            angle = float(qpos[a])
+            q[i : i + 2] = (math.cos(angle), math.sin(angle))
     return q
 
 
@@ -220,17 +288,15 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
     """
     qpos = _vector(qpos, mm.model.nq, "qpos")
     qvel = _vector(qvel, mm.model.nv, "qvel")
+    gathers = _gathers(mm)
     v = np.zeros(mm.robot.model.nv)
-    for joint in mm.joints:
-        d, i = joint.dof_adr, joint.idx_v
-        if joint.kind == "free":
-            a = joint.qpos_adr
-            w, x, y, z = qpos[a + 3 : a + 7]
-            rotation = _rotation_xyzw(np.array([x, y, z, w]))
-            v[i : i + 3] = rotation.T @ qvel[d : d + 3]
-            v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
-        else:
-            v[i : i + joint.nv] = qvel[d : d + joint.nv]
+    v[gathers.copy_v] = qvel[gathers.copy_qvel]
+    for joint in gathers.free:
+        d, i, a = joint.dof_adr, joint.idx_v, joint.qpos_adr
+        w, x, y, z = qpos[a + 3 : a + 7]
+        rotation = _rotation_xyzw(np.array([x, y, z, w]))
+        v[i : i + 3] = rotation.T @ qvel[d : d + 3]
+        v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
     return v
 
 
@@ -255,14 +321,16 @@ def torques_to_ctrl(
 
     """
     tau = _vector(tau, mm.robot.model.nv, "tau")
+    gathers = _gathers(mm)
     ctrl = np.zeros(mm.model.nu)
+    ctrl[gathers.actuator] = tau[gathers.actuated_v]
+    if ignore_unactuated or not gathers.unactuated_v.size:
+        return ctrl
+    if np.abs(tau[gathers.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
+        return ctrl
     for joint in mm.joints:
-        i = joint.idx_v
-        if joint.actuator is not None:
-            ctrl[joint.actuator] = tau[i]
-            continue
-        effort = tau[i : i + joint.nv]
-        if not ignore_unactuated and np.any(np.abs(effort) > UNACTUATED_TOLERANCE):
+        effort = tau[joint.idx_v : joint.idx_v + joint.nv]
+        if joint.actuator is None and np.any(np.abs(effort) > UNACTUATED_TOLERANCE):
             raise InvalidInputError(
                 f"tau asks for {effort.tolist()} on joint {joint.name!r}, which no actuator "
                 f"drives (actuated joints: {', '.join(mm.actuated) or 'none'}); pass "

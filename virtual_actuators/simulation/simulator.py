@@ -55,7 +55,9 @@ class Simulator:
         mujoco_model: The :class:`~virtual_actuators.simulation.model.MujocoModel` (MuJoCo model
             plus the Pinocchio index maps).
         model: The MuJoCo ``MjModel``.
-        data: The MuJoCo ``MjData`` (read it freely; write it only if you know MuJoCo).
+        data: The MuJoCo ``MjData`` (read it freely; write it only if you know MuJoCo: contact
+            queries are cached per ``(data.time, data.ncon)``, so after changing the state by
+            hand, call :meth:`reset` or step).
         control_period: Duration of one :meth:`step` [s].
         substeps: Physics steps per control period.
 
@@ -139,6 +141,9 @@ class Simulator:
         self._pushes: list[_Push] = []
         self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
         self._force = np.zeros(6)
+        self._owned_geoms: dict[str, frozenset[int]] = {}
+        self._contacts: list[tuple[int, int, float]] = []
+        self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -184,6 +189,7 @@ class Simulator:
         self._pushes.clear()
         self._applied[:] = 0.0
         mujoco.mj_forward(self.model, self.data)
+        self._contacts_time = None
 
     # -- stepping --------------------------------------------------------------------------------
 
@@ -259,32 +265,55 @@ class Simulator:
 
     # -- contacts --------------------------------------------------------------------------------
 
-    def _terrain_contacts(self, frame: str | None = None):
-        """Yield ``(contact index, robot geom, sign)`` for active robot-terrain contacts.
+    def _frame_geoms(self, frame: str) -> frozenset[int]:
+        """The robot geoms owned by ``frame`` (checked and cached on first use).
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+        """
+        geoms = self._owned_geoms.get(frame)
+        if geoms is None:
+            mm = self.mujoco_model
+            mm.check_frame(frame)
+            geoms = self._owned_geoms[frame] = frozenset(mm.frame_geoms.get(frame, ()))
+        return geoms
+
+    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
+        """``(contact index, robot geom, sign)`` of the active robot-terrain contacts.
 
         ``sign`` is +1 when the robot geom is the contact's second geom (MuJoCo's contact force
-        acts on the second geom along the normal) and -1 otherwise.
+        acts on the second geom along the normal) and -1 otherwise. The list of all of them is
+        built once per physics state.
         """
+        key = (self.data.time, self.data.ncon)
+        if self._contacts_time != key:
+            self._contacts = self._scan_contacts()
+            self._contacts_time = key
+        if frame is None:
+            return self._contacts
+        geoms = self._frame_geoms(frame)
+        return [hit for hit in self._contacts if hit[1] in geoms]
+
+    def _scan_contacts(self) -> list[tuple[int, int, float]]:
+        """Scan MuJoCo's contact list for robot-terrain contacts."""
         mm = self.mujoco_model
-        if frame is not None:
-            mm.check_frame(frame)
-            geoms = set(mm.frame_geoms.get(frame, ()))
-        terrain = mm.terrain_geoms
+        terrain, owned = mm.terrain_geoms, mm.geom_frames
         contacts = self.data.contact
-        for i in range(self.data.ncon):
-            if contacts.exclude[i] != 0:
+        hits = []
+        geom1, geom2 = contacts.geom1.tolist(), contacts.geom2.tolist()
+        rows = zip(geom1, geom2, contacts.exclude.tolist(), strict=True)
+        for i, (g1, g2, exclude) in enumerate(rows):
+            if exclude != 0:
                 continue
-            g1, g2 = int(contacts.geom1[i]), int(contacts.geom2[i])
             if g1 in terrain and g2 not in terrain:
                 robot_geom, sign = g2, 1.0
             elif g2 in terrain and g1 not in terrain:
                 robot_geom, sign = g1, -1.0
             else:
                 continue
-            if robot_geom not in mm.geom_frames:
-                continue
-            if frame is None or robot_geom in geoms:
-                yield i, robot_geom, sign
+            if robot_geom in owned:
+                hits.append((i, robot_geom, sign))
+        return hits
 
     def in_contact(self, frame: str) -> bool:
         """Whether a geom of a frame touches the terrain.
@@ -302,7 +331,7 @@ class Simulator:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
 
         """
-        return any(True for _ in self._terrain_contacts(frame))
+        return bool(self._terrain_contacts(frame))
 
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, in world axes [N].

@@ -8,7 +8,6 @@ frames, one serial chain each, and must distribute its wrench over the chains.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -18,6 +17,8 @@ from ..declaration.constraints import DesignConstraint, Equal, Linear
 from ..declaration.frames import check_axes_subset, parse_axes, resolve_frame
 from ..distribution.compiled import CompiledDistribution
 from ..distribution.dense import DenseSolver
+from ..distribution.linalg import JACOBIAN_FLOOR, stable_norm
+from ..distribution.numeric import solve_numpy
 from ..distribution.partitioner import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.solution import Solution
@@ -45,7 +46,7 @@ def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
             f"The wrench has shape {wrench.shape}; this actuator's axes {tuple(axes)} need "
             f"({len(axes)},)."
         )
-    if not math.isfinite(wrench @ wrench) and not np.all(np.isfinite(wrench)):
+    if not np.isfinite(wrench).all():  # (no squares: no overflow at 1e200)
         raise InvalidInputError(f"The wrench has NaN or inf entries: {wrench}.")
     return wrench
 
@@ -205,9 +206,10 @@ class VirtualActuator:
         wrench = _wrench_array(wrench, self.axes)
         jac = self.jacobian(q)
         u, s, _ = np.linalg.svd(jac, full_matrices=False)
-        rank = int(np.sum(s > 1e-10 * max(s[0], 1e-300))) if s.size and s[0] > 0 else 0
+        # relative rank, with an absolute floor: a direction produced by J < 1e-12 is not
+        rank = int(np.sum(s > max(1e-10 * s[0], JACOBIAN_FLOOR))) if s.size else 0
         inside = u[:, :rank] @ (u[:, :rank].T @ wrench)
-        return bool(np.linalg.norm(wrench - inside) <= tol * np.linalg.norm(wrench))
+        return stable_norm(wrench - inside) <= tol * stable_norm(wrench)
 
     def __repr__(self) -> str:
         return (
@@ -339,7 +341,9 @@ class ParallelVirtualActuator:
             wrench: ``(n,)`` wrench on {B}; entries of ``free`` axes are ignored.
             free: Axes left to the solver (their produced value is reported in the solution).
             strict: Raise :class:`InadmissibleWrenchError` if the wrench cannot be produced.
-            tol: Residual tolerance, relative to ``max(1, |wrench|)``, for admissibility.
+            tol: Admissibility tolerance on the residual, relative to the larger of ``|wrench|``
+                and ``|produced|`` on the prescribed axes (scale-free: ``solve(q, s * w)`` gets
+                the same label as ``solve(q, w)`` for any ``s > 0``).
             method: ``"partitioned"`` (default) or ``"dense"`` (reference solver, eq. 10-11).
             compiled: Use the compiled per-tick kernel for the partitioned method when it
                 applies (the default); False runs the numpy implementation, the reference the
@@ -370,21 +374,14 @@ class ParallelVirtualActuator:
         fast = None
         if compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)
-        if fast is not None:
-            raw, (tau, passive_torque, produced, requested, residual, scale) = fast
+        if fast is None:
+            fast_used = False
+            fast = solve_numpy(self.problem, solver, snapshot, wrench, keep)
         else:
-            ev = self.problem.evaluate(snapshot)
-            raw = solver.solve(ev, wrench, keep)
-            tau_total = self.problem.torques(ev.state.jacobian_o, raw.forces)
-            tau = np.where(self.problem.actuated_mask, tau_total, 0.0)
-            passive_torque = ev.passive_torque
-            produced = raw.forces.sum(axis=0)
-            error = (produced - wrench)[keep]
-            residual = float(np.sqrt(error @ error))
-            scale = float(np.sqrt(wrench[keep] @ wrench[keep]))
-            requested = np.where(keep, wrench, produced)
+            fast_used = True
+        raw, (tau, passive_torque, produced, requested, residual, scale) = fast
         kind = raw.method
-        if residual > tol * max(1.0, scale):
+        if residual > tol * scale:
             kind = "least-squares"
         elif kind == "least-squares":
             kind = "pseudo-inverse"
@@ -404,7 +401,7 @@ class ParallelVirtualActuator:
             base_effort=base_effort,
             solver=method,
             systems=raw.systems,
-            compiled=fast is not None,
+            compiled=fast_used,
         )
         if strict and kind == "least-squares":
             raise InadmissibleWrenchError(

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import constrained_min_norm
+from .linalg import backward_tolerance, constrained_min_norm
 from .partitioner import ILL_CONDITIONED, RawSolution
 from .problem import DistributionProblem, Evaluation
 
@@ -62,10 +62,12 @@ class DenseSolver:
             method = "partitioned"
         else:
             x, hard_residual = constrained_min_norm(hard, hard_rhs, soft, soft_rhs)
-            if hard_residual > 1e-8 * (1.0 + np.abs(hard_rhs).max(initial=0.0)):
+            if hard_residual > backward_tolerance(hard, x, hard_rhs):
+                names = ", ".join(["natural constraints", *self.problem.hard_names])
                 raise ConstraintError(
-                    "The constraints contradict each other at this configuration "
-                    f"(residual {hard_residual:.2e})."
+                    f"The constraints ({names}) contradict each other at this configuration "
+                    f"(residual {hard_residual:.2e}); a passive spring or limp joint that no "
+                    "selected axis loads cannot be balanced."
                 )
             method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
         return RawSolution(

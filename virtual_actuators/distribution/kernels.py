@@ -13,7 +13,8 @@ regular cases, on tables built once from the declaration (see :mod:`.compiled`):
 
 It never raises: a nonzero status hands the tick to the numpy path, which re-picks sets, falls
 back to least squares or raises the typed error with its message (status 1: a chain is singular
-or nearly so; status 2: an elimination block or the final system is ill-conditioned).
+or nearly so, or its Jacobian is below :data:`JACOBIAN_FLOOR`; status 2: an elimination block
+or the final system is ill-conditioned; status 3: a result overflowed).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
+from .linalg import JACOBIAN_FLOOR
 
 #: Same thresholds as the numpy path (a kernel status hands the decision to it).
 ILL_CONDITIONED = 1e10
@@ -153,7 +155,7 @@ def _null_rows(
             first = norm
         last = norm
         used[best] = True
-        if norm == 0.0:
+        if norm <= JACOBIAN_FLOOR:  # this direction is produced by nothing (absolute floor)
             return 0.0
         for r in range(n):
             basis[r, step] = work[r, best] / norm
@@ -607,23 +609,39 @@ def distribute(
             tau[v] += chain_signs[i, j] * acc * springs[v, 4]
         for a in range(n):
             produced[a] += forces[i, a]
-    residual, scale = 0.0, 0.0
+    # scale-free norms (no overflow or underflow at any magnitude of the request)
+    peak, force_peak = 0.0, 0.0
     for a in range(n):
         if keep[a]:
-            error = produced[a] - wrench[a]
-            residual += error * error
-            scale += wrench[a] * wrench[a]
+            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
             requested[a] = wrench[a]
         else:
             requested[a] = produced[a]
+    for i in range(p):
+        for a in range(n):
+            force_peak = max(force_peak, abs(forces[i, a]))
+    if not (np.isfinite(peak) and np.isfinite(force_peak)):
+        return forces, tau, passive, produced, requested, 0.0, 0.0, 3, worst, worst_chain
+    residual, request, output = 0.0, 0.0, 0.0
+    if peak > 0.0:
+        for a in range(n):
+            if keep[a]:
+                error = (produced[a] - wrench[a]) / peak
+                residual += error * error
+                request += (wrench[a] / peak) ** 2
+                output += (produced[a] / peak) ** 2
+    residual = peak * np.sqrt(residual)
+    # what the residual is compared with: the request or what was produced, whichever is
+    # larger, and the rounding of forces that cancel each other
+    scale = max(peak * np.sqrt(max(request, output)), 1e-9 * force_peak)
     return (
         forces,
         tau,
         passive,
         produced,
         requested,
-        np.sqrt(residual),
-        np.sqrt(scale),
+        residual,
+        scale,
         0,
         worst,
         worst_chain,

@@ -2,7 +2,61 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+#: Singular values of a chain's Jacobian below this [m/rad, m/m or rad/rad] mean the chain
+#: produces nothing in that direction, whatever their ratio to the largest one.
+JACOBIAN_FLOOR = 1e-12
+
+
+def stable_norm(x: np.ndarray) -> float:
+    """Euclidean norm without overflow or underflow at any magnitude (scaled by the peak).
+
+    Args:
+        x: Array of any shape.
+
+    Returns:
+        ``||x||_2`` (inf or NaN only if ``x`` holds them).
+
+    """
+    peak = float(np.abs(x).max(initial=0.0))
+    if peak == 0.0 or not math.isfinite(peak):
+        return peak
+    y = x / peak
+    return peak * math.sqrt(float(np.vdot(y, y)))
+
+
+def power_of_two_scale(*arrays: np.ndarray) -> float:
+    """A power of two ``f`` that brings the largest entry of ``arrays`` into ``[0.5, 1)``.
+
+    Multiplying by ``f`` is exact in floating point (away from subnormals), so solving a
+    linear problem with its right-hand sides times ``f`` and dividing the answer by ``f`` gives
+    the same bits as solving it directly, without overflow or underflow at extreme magnitudes.
+
+    Returns:
+        ``f`` (1.0 when every entry is zero or one is not finite).
+
+    """
+    peak = max((float(np.abs(a).max(initial=0.0)) for a in arrays), default=0.0)
+    if peak == 0.0 or not math.isfinite(peak):
+        return 1.0
+    return math.ldexp(1.0, -math.frexp(peak)[1])
+
+
+def backward_tolerance(
+    rows: np.ndarray, x: np.ndarray, rhs: np.ndarray, relative: float = 1e-8
+) -> float:
+    """Largest ``||rows x - rhs||`` that rounding explains: ``relative (|rhs| + |rows| |x|)``.
+
+    Scale-free (a backward-error test): a residual above it means the rows contradict each
+    other, not that the numbers are large.
+    """
+    size = float(np.abs(rhs).max(initial=0.0))
+    if rows.size and x.size:
+        size += float(np.abs(rows).sum(axis=1).max()) * float(np.abs(x).max())
+    return relative * size
 
 
 def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = None) -> np.ndarray:
@@ -77,8 +131,8 @@ def condition_estimate(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray
         ``(...)`` condition estimates (inf where an inverse is not finite).
 
     """
-    norm = np.abs(matrices).sum(axis=-1).max(axis=-1)
-    norm_inv = np.abs(inverses).sum(axis=-1).max(axis=-1)
+    norm = np.abs(matrices).sum(axis=-1).max(axis=-1, initial=0.0)  # 0 x 0: condition 0
+    norm_inv = np.abs(inverses).sum(axis=-1).max(axis=-1, initial=0.0)
     estimate = norm * norm_inv
     return np.where(np.isfinite(estimate), estimate, np.inf)
 
@@ -146,5 +200,5 @@ def constrained_min_norm(
         x = x_h + null @ z
     else:
         x = x_h
-    hard_residual = float(np.linalg.norm(hard @ x - hard_rhs)) if hard.shape[0] else 0.0
+    hard_residual = stable_norm(hard @ x - hard_rhs) if hard.shape[0] else 0.0
     return x, hard_residual

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import constrained_min_norm, safe_inverse, select_columns
+from .linalg import backward_tolerance, constrained_min_norm, safe_inverse, select_columns
 from .problem import DistributionProblem, Evaluation
 
 #: Condition estimate above which a block is considered ill-conditioned and re-picked.
@@ -56,6 +56,8 @@ class _Reduced:
     hard_rows: np.ndarray  # (s, m)
     hard_rhs: np.ndarray  # (s,)
     offset_sum: np.ndarray  # (n,)
+    cfs: list[np.ndarray]  # per group (g, l): the CFS used at this configuration
+    free: list[np.ndarray]  # per group (g, d): the other entries
 
 
 @dataclass
@@ -65,7 +67,7 @@ class _SquarePlan:
     rfs: np.ndarray
     mfs: np.ndarray
     gain: np.ndarray | None = None  # -H_r^-1 H_m when the hard rows are constant
-    bias: np.ndarray | None = None  # H_r^-1 h when the hard rows are constant
+    rfs_inverse: np.ndarray | None = None  # H_r^-1 when the hard rows are constant
 
 
 class PartitionedSolver:
@@ -103,10 +105,7 @@ class PartitionedSolver:
         return np.sort(select_columns(rows, count, weights))
 
     def _set_cfs(self, index: int, cfs: np.ndarray) -> None:
-        n = self.problem.n
-        mask = np.ones((cfs.shape[0], n), dtype=bool)
-        np.put_along_axis(mask, cfs, False, axis=1)
-        free = np.array([np.flatnonzero(m) for m in mask], dtype=int).reshape(cfs.shape[0], -1)
+        free = self._complement(cfs)
         #: bumped whenever the sets change (the compiled tables follow it)
         self.version = getattr(self, "version", -1) + 1
         if index == len(self.cfs):
@@ -118,18 +117,19 @@ class PartitionedSolver:
         self._plans = {}
         self._reported_sets = {}
 
-    def labels(self) -> list[tuple[str, str]]:
+    def labels(self, free_entries: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
         """Labels of the reduced unknowns ``f_a``, in the solver's order."""
         out = []
-        for group, free in zip(self.problem.groups, self.free_entries, strict=True):
+        entries = self.free_entries if free_entries is None else free_entries
+        for group, free in zip(self.problem.groups, entries, strict=True):
             for j, chain in enumerate(group.chains):
                 out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in free[j]]
         return out
 
-    def cfs_labels(self) -> list[tuple[str, str]]:
+    def cfs_labels(self, sets: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
         """Labels of the Constrained Force Set, chain by chain."""
         out = []
-        for group, cfs in zip(self.problem.groups, self.cfs, strict=True):
+        for group, cfs in zip(self.problem.groups, self.cfs if sets is None else sets, strict=True):
             for j, chain in enumerate(group.chains):
                 out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in cfs[j]]
         return out
@@ -139,6 +139,7 @@ class PartitionedSolver:
         problem = self.problem
         n = problem.n
         transforms, offsets, wrench_blocks, hard_blocks = [], [], [], []
+        used_cfs, used_free = [], []
         hard_rhs = ev.hard_rhs.copy()
         offset_sum = np.zeros(n)
         for index, (group, rows) in enumerate(zip(problem.groups, ev.groups, strict=True)):
@@ -146,11 +147,14 @@ class PartitionedSolver:
             transform = np.zeros((g, n, d))
             offset = np.zeros((g, n))
             chains = np.arange(g)[:, None]
+            cfs, free = self.cfs[index], self.free_entries[index]
             if l_:
-                q_matrix, u = self._eliminate(index, rows.rows, rows.rhs)
-                transform[chains, self.cfs[index], :] = q_matrix
-                offset[chains, self.cfs[index]] = u
-            transform[chains, self.free_entries[index], np.arange(d)[None, :]] = 1.0
+                q_matrix, u, cfs, free = self._eliminate(index, rows.rows, rows.rhs)
+                transform[chains, cfs, :] = q_matrix
+                offset[chains, cfs] = u
+            used_cfs.append(cfs)
+            used_free.append(free)
+            transform[chains, free, np.arange(d)[None, :]] = 1.0
             transforms.append(transform)
             offsets.append(offset)
             offset_sum += offset.sum(axis=0)
@@ -168,14 +172,24 @@ class PartitionedSolver:
             hard_rows=np.hstack(hard_blocks),
             hard_rhs=hard_rhs,
             offset_sum=offset_sum,
+            cfs=used_cfs,
+            free=used_free,
         )
 
     def _eliminate(
         self, index: int, rows: np.ndarray, rhs: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Return ``Q_i = -G_b^-1 G_a`` and ``u_i = G_b^-1 t_i`` for every chain of a group."""
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Return ``Q_i = -G_b^-1 G_a``, ``u_i = G_b^-1 t_i`` and the CFS / free entries used.
+
+        The declaration's CFS is used unless a chain's block is ill-conditioned here; that
+        chain's CFS is then re-picked for this call only (the declaration's sets never change,
+        so a call's result depends on its arguments alone).
+
+        Raises:
+            SingularConfigurationError: No well-conditioned CFS exists for some chain.
+        """
+        cfs, free = self.cfs[index], self.free_entries[index]
         for attempt in range(2):
-            cfs, free = self.cfs[index], self.free_entries[index]
             chains = np.arange(cfs.shape[0])[:, None, None]
             all_rows = np.arange(rows.shape[1])[None, :, None]
             blocks = rows[chains, all_rows, cfs[:, None, :]]
@@ -183,21 +197,27 @@ class PartitionedSolver:
             bad = np.flatnonzero(cond > ILL_CONDITIONED)
             if not len(bad):
                 others = rows[chains, all_rows, free[:, None, :]]
-                return -inverse @ others, np.einsum("gij,gj->gi", inverse, rhs)
+                return -inverse @ others, np.einsum("gij,gj->gi", inverse, rhs), cfs, free
             if attempt:
                 break
             group = self.problem.groups[index]
-            new = cfs.copy()
+            cfs = cfs.copy()
             for j in bad:
                 weights = self.preferred[group.chains[j]]
-                new[j] = self._pick_cfs(rows[j], cfs.shape[1], weights)
-            self._set_cfs(index, new)
+                cfs[j] = self._pick_cfs(rows[j], cfs.shape[1], weights)
+            free = self._complement(cfs)
         chain = self.problem.reactions[self.problem.groups[index].chains[bad[0]]]
         raise SingularConfigurationError(
             f"The natural constraints of the chain to {chain!r} are degenerate at this "
             "configuration (no well-conditioned Constrained Force Set, condition "
             f"{cond[bad[0]]:.1e})."
         )
+
+    def _complement(self, cfs: np.ndarray) -> np.ndarray:
+        """``(g, d)`` entries of each chain's wrench outside its CFS, increasing."""
+        mask = np.ones((cfs.shape[0], self.problem.n), dtype=bool)
+        np.put_along_axis(mask, cfs, False, axis=1)
+        return np.array([np.flatnonzero(m) for m in mask], dtype=int).reshape(cfs.shape[0], -1)
 
     # -- the reduced system ------------------------------------------------------------------
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
@@ -240,9 +260,8 @@ class PartitionedSolver:
             ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
         )
         if k + s == m and not self.problem.structurally_singular(keep):
-            f, sets = self._solve_square(reduced, a, rhs, free_key)
+            f, sets, plan = self._solve_square(reduced, a, rhs, free_key)
             method = "partitioned"
-            plan = self._plans[free_key]
             if len(plan.rfs) and plan.gain is None:
                 systems += (("RFS", len(plan.rfs), 1),)
             systems += (("MFS", len(plan.mfs), 1),)
@@ -287,21 +306,29 @@ class PartitionedSolver:
         return forces
 
     def _solve_square(
-        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, free_key: tuple
-    ) -> tuple[np.ndarray, dict]:
+        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, free_key: bytes
+    ) -> tuple[np.ndarray, dict, _SquarePlan]:
+        """Eliminate the RFS, solve for the MFS (eq. 16-18); returns ``(f, sets, plan used)``.
+
+        The plan is the declaration's (cached per set of prescribed axes) unless its design
+        block is ill-conditioned here: then a plan picked at this configuration serves this
+        call only.
+
+        Raises:
+            SingularConfigurationError: No RFS makes the design rows solvable here, or the MFS
+                system is singular.
+        """
         h, h_rhs = reduced.hard_rows, reduced.hard_rhs
         m = a.shape[1]
-        plan = self._plans.get(free_key)
-        if plan is None:
-            plan = self.square_plan(np.frombuffer(free_key, dtype=bool))
+        plan = self.square_plan(np.frombuffer(free_key, dtype=bool))
         if len(plan.rfs):
             if plan.gain is not None:
-                gain, bias = plan.gain, plan.bias
+                # constant hard rows avoid every CFS entry, so h_rhs is the design rhs here
+                gain, bias = plan.gain, plan.rfs_inverse @ h_rhs
             else:
                 gain, bias = self._rfs_gain(h, h_rhs, plan)
                 if gain is None:
                     plan = self._plan_square(h, m, constant=False)
-                    self._plans[free_key] = plan
                     gain, bias = self._rfs_gain(h, h_rhs, plan)
                     if gain is None:
                         raise SingularConfigurationError(
@@ -324,13 +351,13 @@ class PartitionedSolver:
         f[plan.mfs] = inverse @ mfs_rhs
         if len(plan.rfs):
             f[plan.rfs] = gain @ f[plan.mfs] + bias
-        labels = self.labels()
+        labels = self.labels(reduced.free)
         sets = {
             "MFS": [labels[i] for i in plan.mfs],
             "RFS": [labels[i] for i in plan.rfs],
-            "CFS": self.cfs_labels(),
+            "CFS": self.cfs_labels(reduced.cfs),
         }
-        return f, sets
+        return f, sets, plan
 
     def _plan_square(self, h: np.ndarray, m: int, constant: bool = True) -> _SquarePlan:
         s = h.shape[0]
@@ -341,7 +368,7 @@ class PartitionedSolver:
             inverse, cond = safe_inverse(h[:, rfs])
             if cond < ILL_CONDITIONED:
                 plan.gain = -inverse @ h[:, mfs]
-                plan.bias = inverse @ self.problem.constant_rhs
+                plan.rfs_inverse = inverse
         return plan
 
     def _hard_rows_constant(self) -> bool:
@@ -446,13 +473,16 @@ class PartitionedSolver:
                 l_inv_t[sl, sl] = chol_inv_t[j]
             w_lin[start : start + g * d] = np.einsum("gde,ge->gd", inverse, lin).ravel()
             start += g * d
+        hard_g, hard_g_rhs = h @ l_inv_t, h_rhs + h @ w_lin
         g_vec, hard_residual = constrained_min_norm(
-            h @ l_inv_t, h_rhs + h @ w_lin, a @ l_inv_t, rhs + a @ w_lin
+            hard_g, hard_g_rhs, a @ l_inv_t, rhs + a @ w_lin
         )
-        if hard_residual > 1e-8 * (1.0 + np.abs(h_rhs).max(initial=0.0)):
+        if hard_residual > backward_tolerance(hard_g, g_vec, hard_g_rhs):
             raise ConstraintError(
-                "The design and coupling constraints contradict each other at this "
-                f"configuration (residual {hard_residual:.2e})."
+                f"The design and coupling constraints ({', '.join(self.problem.hard_names)}) "
+                "contradict each other or the chains' natural constraints at this "
+                f"configuration (residual {hard_residual:.2e}); a passive spring or limp joint "
+                "that no selected axis loads cannot be balanced."
             )
         return l_inv_t @ g_vec - w_lin
 

@@ -34,7 +34,7 @@ from ..exceptions import (
 )
 from ..kinematics.relative import KinematicState, RelativeKinematics, skew
 from ..kinematics.snapshot import Snapshot
-from .linalg import dependent_rows
+from .linalg import JACOBIAN_FLOOR, dependent_rows
 
 #: A chain is singular when its smallest needed singular value falls below this fraction of its
 #: largest one.
@@ -536,11 +536,16 @@ class DistributionProblem:
             ratio = None
             if null_dim or (check_singular and full.shape[2] != group.rank):
                 u, s, _ = np.linalg.svd(full, full_matrices=True)
-                ratio = s[:, group.rank - 1] / np.maximum(s[:, 0], 1e-300) if group.rank else None
+                if group.rank:
+                    needed = s[:, group.rank - 1]
+                    ratio = needed / np.maximum(s[:, 0], 1e-300)
+                    ratio[needed <= JACOBIAN_FLOOR] = 0.0  # produces nothing: absolute floor
             elif check_singular and group.rank:
                 # square, full rank: Hadamard ratio |det| / prod(column norms) is 0 iff singular
-                norms = np.sqrt(np.einsum("gnk,gnk->gk", full, full)).prod(axis=1)
-                ratio = np.abs(np.linalg.det(full)) / np.maximum(norms, 1e-300)
+                norms = np.sqrt(np.einsum("gnk,gnk->gk", full, full))
+                ratio = np.abs(np.linalg.det(full)) / np.maximum(norms.prod(axis=1), 1e-300)
+                # a column below the floor produces nothing (absolute floor)
+                ratio[norms.min(axis=1) <= JACOBIAN_FLOOR] = 0.0
             if check_singular and ratio is not None:
                 if np.any(ratio < SINGULAR_TOL):
                     chain = int(group.chains[int(np.argmin(ratio))])

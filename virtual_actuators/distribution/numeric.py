@@ -1,0 +1,84 @@
+"""The numpy path of a parallel actuator's solve: any solver, any magnitude, typed errors only.
+
+:class:`~virtual_actuators.distribution.compiled.CompiledDistribution` serves the regular ticks;
+every other one (a near-singular chain, an ill-conditioned block, an inadmissible request, the
+dense reference, ``compiled=False``) comes here. The problem is linear in its right-hand sides
+(the request, passive spring torques and design right-hand sides), so they are first scaled by
+a power of two that brings the largest into ``[0.5, 1)``: exact in floating point, so the answer
+has the same bits as an unscaled solve, and no norm over- or underflows at 1e-200 or 1e200.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..exceptions import SingularConfigurationError
+from .linalg import power_of_two_scale, stable_norm
+from .partitioner import RawSolution
+from .problem import DistributionProblem, Evaluation
+
+
+def _scaled(ev: Evaluation, factor: float) -> Evaluation:
+    """``ev`` with every right-hand side multiplied by ``factor``."""
+    if factor == 1.0:
+        return ev
+    groups = [dataclasses.replace(rows, rhs=rows.rhs * factor) for rows in ev.groups]
+    return dataclasses.replace(ev, groups=groups, hard_rhs=ev.hard_rhs * factor)
+
+
+def solve_numpy(
+    problem: DistributionProblem,
+    solver: object,
+    snapshot: object,
+    wrench: np.ndarray,
+    keep: np.ndarray,
+) -> tuple[RawSolution, tuple]:
+    """Distribute ``wrench`` with a numpy solver (partitioned or dense) at a snapshot.
+
+    Args:
+        problem: The declaration-time problem.
+        solver: A :class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` or
+            :class:`~virtual_actuators.distribution.dense.DenseSolver` of that problem.
+        snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+        wrench: ``(n,)`` finite request.
+        keep: ``(n,)`` bool, the prescribed axes.
+
+    Returns:
+        ``(raw solution, (tau, passive torques, produced, requested, residual, scale))`` like
+        :meth:`CompiledDistribution.solve`: ``tau`` zero at limp and passive joints, ``scale``
+        the size the residual is judged against (the larger of the request and what was
+        produced on the prescribed axes, and the rounding of chain forces that cancel).
+
+    Raises:
+        SingularConfigurationError: No distribution can be solved at this configuration.
+        ConstraintError: The constraints contradict each other at this configuration.
+
+    """
+    ev = problem.evaluate(snapshot)
+    factor = power_of_two_scale(wrench, ev.passive_torque, ev.hard_rhs)
+    try:
+        raw = solver.solve(_scaled(ev, factor), wrench * factor, keep)
+    except np.linalg.LinAlgError as error:  # LAPACK gave up: as singular as it gets
+        raise SingularConfigurationError(
+            f"The force distribution of the chains to {list(problem.reactions)} cannot be "
+            f"computed at this configuration (linear algebra failed: {error})."
+        ) from error
+    forces_scaled = raw.forces
+    raw = dataclasses.replace(raw, forces=forces_scaled / factor)
+    tau_total = problem.torques(ev.state.jacobian_o, raw.forces)
+    tau = np.where(problem.actuated_mask, tau_total, 0.0)
+    produced_scaled = forces_scaled.sum(axis=0)
+    error = (produced_scaled - wrench * factor)[keep]
+    residual = stable_norm(error) / factor
+    request = stable_norm(wrench[keep])
+    output = stable_norm(produced_scaled[keep]) / factor
+    rounding = 1e-9 * float(np.abs(forces_scaled).max(initial=0.0)) / factor
+    produced = produced_scaled / factor
+    requested = np.where(keep, wrench, produced)
+    scale = max(request, output, rounding)
+    return raw, (tau, ev.passive_torque, produced, requested, residual, scale)
+
+
+__all__ = ["solve_numpy"]

@@ -199,3 +199,20 @@ def test_same_call_same_bits_from_four_threads(solo, kwargs):
         for _ in range(3):
             assert list(pool.map(run, cases)) == sequential
     assert sequential == [run(case) for case in reversed(cases)][::-1]  # order does not matter
+
+
+def test_dense_fallback_when_no_cfs_is_well_conditioned(solo):
+    """A natural constraint that vanishes at q: the partitioned closed form cannot decide, the
+    dense reference answers (and the solution says so) instead of an error."""
+    body = va.ParallelVirtualActuator(solo, "base_link", FEET, "base_link", unactuated=["FL_KFE"])
+    q = solo.neutral()
+    solver, dense = body.partitioner, body.dense
+    ev = body.problem.evaluate(q)
+    index = next(i for i, rows in enumerate(ev.groups) if rows.rows.shape[1])
+    ev.groups[index].rows[0] = 0.0  # every natural row of chain 0 vanishes (vacuous, rhs 0)
+    with pytest.raises(va.SingularConfigurationError):
+        solver.solve(ev, np.array([0.0, 0.0, 20.0, 0.0, 0.0, 0.0]), np.ones(6, dtype=bool))
+    reference = dense.solve(ev, np.array([0.0, 0.0, 20.0, 0.0, 0.0, 0.0]), np.ones(6, dtype=bool))
+    assert reference.solver == "dense" and np.all(np.isfinite(reference.forces))
+    # through the public path, a regular configuration stays partitioned
+    assert body.solve(q, np.array([0.0, 0.0, 20.0, 0.0, 0.0, 0.0])).solver == "partitioned"

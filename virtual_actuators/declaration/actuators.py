@@ -376,7 +376,8 @@ class ParallelVirtualActuator:
             fast = self.compiled.solve(snapshot, wrench, keep)
         if fast is None:
             fast_used = False
-            fast = solve_numpy(self.problem, solver, snapshot, wrench, keep)
+            fallback = self.dense if solver is self.partitioner else None
+            fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
         else:
             fast_used = True
         raw, (tau, passive_torque, produced, requested, residual, scale) = fast
@@ -399,7 +400,7 @@ class ParallelVirtualActuator:
             free=free,
             tau_passive=passive_torque,
             base_effort=base_effort,
-            solver=method,
+            solver=raw.solver,
             systems=raw.systems,
             compiled=fast_used,
         )

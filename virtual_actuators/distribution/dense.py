@@ -71,7 +71,11 @@ class DenseSolver:
                 )
             method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
         return RawSolution(
-            forces=x.reshape(p, n), method=method, sets={}, systems=(("dense", k.shape[1], 1),)
+            forces=x.reshape(p, n),
+            method=method,
+            sets={},
+            systems=(("dense", k.shape[1], 1),),
+            solver="dense",
         )
 
     def __repr__(self) -> str:

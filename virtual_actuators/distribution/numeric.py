@@ -34,6 +34,7 @@ def solve_numpy(
     snapshot: object,
     wrench: np.ndarray,
     keep: np.ndarray,
+    fallback: object | None = None,
 ) -> tuple[RawSolution, tuple]:
     """Distribute ``wrench`` with a numpy solver (partitioned or dense) at a snapshot.
 
@@ -44,6 +45,9 @@ def solve_numpy(
         snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
         wrench: ``(n,)`` finite request.
         keep: ``(n,)`` bool, the prescribed axes.
+        fallback: Solver tried when ``solver`` raises
+            :class:`~virtual_actuators.SingularConfigurationError` (the dense reference behind
+            the partitioned solver); ``raw.solver`` says which one answered.
 
     Returns:
         ``(raw solution, (tau, passive torques, produced, requested, residual, scale))`` like
@@ -58,8 +62,17 @@ def solve_numpy(
     """
     ev = problem.evaluate(snapshot)
     factor = power_of_two_scale(wrench, ev.passive_torque, ev.hard_rhs)
+    scaled = _scaled(ev, factor)
     try:
-        raw = solver.solve(_scaled(ev, factor), wrench * factor, keep)
+        try:
+            raw = solver.solve(scaled, wrench * factor, keep)
+        except SingularConfigurationError:
+            if fallback is None:
+                raise
+            # the closed form cannot decide (e.g. a natural constraint that vanishes here): the
+            # dense reference drops what is numerically void, and raises the same error when
+            # the distribution really is singular
+            raw = fallback.solve(scaled, wrench * factor, keep)
     except np.linalg.LinAlgError as error:  # LAPACK gave up: as singular as it gets
         raise SingularConfigurationError(
             f"The force distribution of the chains to {list(problem.reactions)} cannot be "

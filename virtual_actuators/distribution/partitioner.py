@@ -44,6 +44,8 @@ class RawSolution:
     sets: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
     #: linear systems inverted at this solve: ``(what, size, how many)``
     systems: tuple[tuple[str, int, int], ...] = ()
+    #: the algorithm that produced it (``"dense"`` when the partitioned one could not decide)
+    solver: str = "partitioned"
 
 
 @dataclass

@@ -26,7 +26,10 @@ class Solution:
         tau_passive: ``(nv,)`` torques that passive springs contribute at this configuration.
         base_effort: Efforts on a floating base's six coordinates: 0 unless the request needs
             the base to push on the world (a chain to ``"world"``); these cannot be commanded.
-        solver: ``"partitioned"`` or ``"dense"``: which algorithm computed this.
+        solver: ``"partitioned"`` or ``"dense"``: which algorithm computed this. A partitioned
+            solve whose closed form cannot decide at this configuration (a natural constraint
+            that vanishes, so no Constrained Force Set is well conditioned) is answered by the
+            dense reference rather than raising: then ``"dense"``.
         systems: Linear systems inverted at this solve, as ``(what, size, count)``: e.g.
             ``(("CFS", 3, 3), ("MFS", 6, 1))`` for the seed's hexapod tripod (p 3x3 inverses,
             one 6x6); design blocks that do not depend on ``q`` are factored at construction.

@@ -151,8 +151,9 @@ def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         inverses = np.linalg.inv(matrices)
     except np.linalg.LinAlgError:
         inverses = np.empty_like(matrices)
-        flat_in = matrices.reshape(-1, *matrices.shape[-2:])
-        flat_out = inverses.reshape(-1, *matrices.shape[-2:])
+        count = int(np.prod(matrices.shape[:-2]))  # (-1 fails on 0 x 0 blocks)
+        flat_in = matrices.reshape(count, *matrices.shape[-2:])
+        flat_out = inverses.reshape(count, *matrices.shape[-2:])
         for i, m in enumerate(flat_in):
             try:
                 flat_out[i] = np.linalg.inv(m)

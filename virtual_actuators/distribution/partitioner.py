@@ -163,7 +163,8 @@ class PartitionedSolver:
             wrench_blocks.append(transform.transpose(1, 0, 2).reshape(n, g * d))
             if len(hard_rhs):
                 hard = ev.hard_rows[:, group.chains, :]
-                hard_blocks.append(np.einsum("spn,pnd->spd", hard, transform).reshape(-1, g * d))
+                hard_block = np.einsum("spn,pnd->spd", hard, transform)
+                hard_blocks.append(hard_block.reshape(hard.shape[0], g * d))
                 hard_rhs -= np.einsum("spn,pn->s", hard, offset)
             else:
                 hard_blocks.append(np.zeros((0, g * d)))

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -221,6 +223,7 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
     )
     parser.add_argument(
         "--record",
+        type=output_path,
         default=None,
         metavar="PATH.html",
         help="write a standalone HTML page (a MeshCat animation of the whole run for walks, "
@@ -251,8 +254,95 @@ def example_view(args: argparse.Namespace, name: str, result: dict) -> None:
     _show_static(args, robot, robot.neutral(), solution, actuator, solution.requested)
 
 
+# -- argument types: a bad value is a usage error (exit 2), never a traceback ---------------------
+
+
+def _number(text: str, what: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{what} must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{what} must be a finite number, got {text!r}")
+    return value
+
+
+def positive_seconds(text: str) -> float:
+    """``--duration``: a finite number of seconds > 0.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise (argparse turns it into a usage error).
+    """
+    value = _number(text, "duration")
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"duration must be > 0 s, got {text!r}")
+    return value
+
+
+def walking_speed(text: str) -> float:
+    """``--speed``: a desired speed in (0, 1.5] m/s.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    value = _number(text, "speed")
+    if not 0.0 < value <= 1.5:
+        raise argparse.ArgumentTypeError(f"speed must be in (0, 1.5] m/s, got {text!r}")
+    return value
+
+
+def terrain_spec(text: str) -> str:
+    """``--terrain``: a spec :meth:`Terrain.parse` accepts (checked now, parsed again later).
+
+    Raises:
+        argparse.ArgumentTypeError: If the spec does not parse (with the parser's reason).
+    """
+    from .exceptions import VirtualActuatorError
+    from .simulation.terrain import Terrain
+
+    try:
+        Terrain.parse(text)
+    except VirtualActuatorError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return text
+
+
+def robot_name(text: str) -> str:
+    """``--robot``: a name ``load_robot`` knows or an existing URDF path.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise (with the closest names).
+    """
+    from .exceptions import suggestion
+    from .robots.loader import list_robots
+
+    names = list_robots()
+    if text in names or Path(text).is_file():
+        return text
+    raise argparse.ArgumentTypeError(
+        f"no robot named {text!r} and no such URDF file. {suggestion(text, names, 'robots')}"
+    )
+
+
+def output_path(text: str) -> str:
+    """An output file whose folder exists (checked before a run, not after it).
+
+    Raises:
+        argparse.ArgumentTypeError: If the folder does not exist or the path is a folder.
+    """
+    path = Path(text)
+    if path.is_dir() or not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is not a file path in an existing folder")
+    return text
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of ``python -m virtual_actuators``."""
+    """Entry point of ``python -m virtual_actuators``.
+
+    Every option is checked by its argparse type: a bad value prints the usage line and the
+    reason, with exit code 2. Errors of the library caused by the arguments (a
+    :class:`~virtual_actuators.VirtualActuatorError`) are reported the same way.
+    """
     parser = argparse.ArgumentParser(prog="python -m virtual_actuators", description=__doc__)
     sub = parser.add_subparsers(dest="command")
     demo = sub.add_parser(
@@ -263,18 +353,29 @@ def main(argv: Sequence[str] | None = None) -> int:
         "stand: a quadruped's body actuator and its force distribution.",
     )
     demo.add_argument("name", nargs="?", default="turkey-walk", choices=DEMOS)
-    demo.add_argument("--duration", type=float, default=None, help="simulated seconds")
-    demo.add_argument("--speed", type=float, default=None, help="desired speed [m/s]")
+    demo.add_argument(
+        "--duration", type=positive_seconds, default=None, help="simulated seconds (> 0)"
+    )
+    demo.add_argument(
+        "--speed", type=walking_speed, default=None, help="desired speed, (0, 1.5] m/s"
+    )
     demo.add_argument(
         "--terrain",
+        type=terrain_spec,
         default=None,
         help="'flat', a built-in profile (profile-one, profile-two, rolling) or points "
         "'x:z,x:z,...' in metres",
     )
-    demo.add_argument("--json", default=None, metavar="PATH", help="write the metrics as JSON")
-    demo.add_argument("--plot", default=None, metavar="PATH", help="save a PNG of the run")
+    demo.add_argument(
+        "--json", type=output_path, default=None, metavar="PATH", help="write the metrics as JSON"
+    )
+    demo.add_argument(
+        "--plot", type=output_path, default=None, metavar="PATH", help="save a PNG of the run"
+    )
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
-    demo.add_argument("--robot", default="solo12", help="stand: quadruped with *_FOOT frames")
+    demo.add_argument(
+        "--robot", type=robot_name, default="solo12", help="stand: quadruped with *_FOOT frames"
+    )
     _viewer_arguments(demo, walks=True)
     sub.add_parser("robots", help="list the robots load_robot accepts by name")
     example = sub.add_parser("example", help="run one of the seeds' worked examples")
@@ -285,6 +386,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.command is None:
         args = parser.parse_args(["demo", *(argv or [])])
+    from .exceptions import VirtualActuatorError
+
+    try:
+        return _run(args)
+    except VirtualActuatorError as error:  # caused by an argument: a usage error, exit 2
+        {"demo": demo, "example": example}.get(args.command, parser).error(str(error))
+    return 2  # (error() exits)
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.command == "demo":
         if args.name == "stand":
             demo_stand(args.robot, args=args)

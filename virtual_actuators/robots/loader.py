@@ -48,6 +48,7 @@ import functools
 import importlib.metadata
 import importlib.util
 import logging
+import math
 import os
 import re
 import sys
@@ -378,6 +379,10 @@ def _load_urdf(
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotDescriptionError(f"Cannot read the URDF file {path}: {exc}") from exc
     root = _validate_urdf(path, text) if validate else _parse_xml(path, text)
+    problems = _physics_problems(root, strict=validate)
+    if problems:
+        listed = "".join(f"\n  - {problem}" for problem in problems[:_MAX_PROBLEMS])
+        raise RobotDescriptionError(f"{path} describes an impossible robot:{listed}")
     if floating_base is None:
         floating_base = _guess_floating_base(root, path.stem)
 
@@ -608,6 +613,81 @@ def _element_problems(root: ET.Element) -> list[str]:
             element = joint.find(tag)
             if element is None or not element.get("link"):
                 problems.append(f'{label} has no <{tag} link="..."/>')
+    return problems
+
+
+def _floats(text: str | None, count: int) -> list[float] | None:
+    """``count`` numbers from an attribute (None when absent or malformed: yourdfpy says so)."""
+    try:
+        values = [float(x) for x in (text or "").split()]
+    except ValueError:
+        return None
+    return values if len(values) == count else None
+
+
+def _physics_problems(root: ET.Element, strict: bool = True) -> list[str]:
+    """What Pinocchio would load silently but no robot can be.
+
+    A zero joint axis, a negative or NaN mass, an inertia that is not finite and positive
+    semi-definite, a joint limit whose lower bound exceeds its upper bound, and mimic joints
+    (their coupling would be ignored). ``strict=False`` (the curated example-robot-data files)
+    skips the last two checks: several ship gripper fingers as mimic joints (loaded as
+    independent joints) and inertias that are not positive semi-definite by round-off.
+    """
+    problems = []
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        name = link.get("name")
+        mass = inertial.find("mass")
+        value = _floats(None if mass is None else mass.get("value"), 1)
+        if value is not None and not (math.isfinite(value[0]) and value[0] >= 0.0):
+            problems.append(f"link {name!r} has mass {value[0]}; a mass must be finite and >= 0 kg")
+        inertia = inertial.find("inertia")
+        if inertia is None or not strict:
+            continue
+        keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+        try:
+            xx, xy, xz, yy, yz, zz = (float(inertia.get(k, "0")) for k in keys)
+        except ValueError:
+            continue  # malformed numbers: yourdfpy reports them
+        matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        if not np.all(np.isfinite(matrix)):
+            problems.append(f"link {name!r} has a non-finite inertia; it must be finite")
+            continue
+        eigenvalues = np.linalg.eigvalsh(matrix)
+        if eigenvalues[0] < -1e-6 * max(1e-12, abs(eigenvalues[-1])):
+            problems.append(
+                f"link {name!r} has an inertia with a negative principal moment "
+                f"({eigenvalues[0]:.3g} kg m^2); an inertia must be positive semi-definite"
+            )
+    for joint in root.findall("joint"):
+        name, kind = joint.get("name"), joint.get("type")
+        axis = joint.find("axis")
+        if axis is not None and kind in ("revolute", "continuous", "prismatic"):
+            xyz = _floats(axis.get("xyz"), 3)
+            if xyz is not None and not (all(map(math.isfinite, xyz)) and any(xyz)):
+                problems.append(
+                    f"joint {name!r} has axis {axis.get('xyz')!r}; a {kind} joint needs a "
+                    "finite, nonzero axis"
+                )
+        limit = joint.find("limit")
+        if limit is not None and kind in ("revolute", "prismatic"):
+            lower = _floats(limit.get("lower", "0"), 1)
+            upper = _floats(limit.get("upper", "0"), 1)
+            if lower is not None and upper is not None and lower[0] > upper[0]:
+                problems.append(
+                    f"joint {name!r} has limits lower={lower[0]:g} > upper={upper[0]:g}; "
+                    "swap them (lower <= upper)"
+                )
+        mimic = joint.find("mimic")
+        if mimic is not None and strict:
+            problems.append(
+                f"joint {name!r} mimics joint {mimic.get('joint')!r}: mimic joints are not "
+                "supported (Pinocchio would load it as an independent joint); remove the "
+                "<mimic> tag, or lock or merge the joint"
+            )
     return problems
 
 

@@ -26,7 +26,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..declaration.frames import parse_axes
+from ..declaration.frames import as_float_array, check_name, parse_axes
 from ..exceptions import InvalidInputError
 
 
@@ -34,16 +34,20 @@ class Component(ABC):
     """A virtual component acting on some axes of a virtual actuator.
 
     Args:
-        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")`` the component acts on.
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")`` the component acts on, or
+            one axis name.
         name: Label used in reports; defaults to the class name.
 
     Raises:
         InvalidAxisError: Bad axes.
+        InvalidInputError: ``name`` is neither None nor a str.
 
     """
 
     def __init__(self, axes: Sequence[str], name: str | None = None) -> None:
-        self.axes: tuple[str, ...] = parse_axes(axes)
+        if name is not None:
+            check_name(name, f"{type(self).__name__}: name")
+        self.axes: tuple[str, ...] = parse_axes(axes, f"{type(self).__name__}: axes")
         self.name = name or type(self).__name__
 
     @abstractmethod
@@ -72,12 +76,19 @@ class Component(ABC):
     def _per_axis(
         self, value: float | Sequence[float] | np.ndarray, what: str, allow_inf: bool = False
     ) -> np.ndarray:
-        """Broadcast a scalar or per-axis parameter to ``(len(axes),)`` finite floats."""
+        """Broadcast a scalar or per-axis parameter to ``(len(axes),)`` finite floats.
+
+        Raises:
+            InvalidInputError: ``value`` is not a real number or one per axis (None, a str, a
+                dict, a bool, a complex number), or is NaN (or infinite unless ``allow_inf``).
+
+        """
         if isinstance(value, (float, int)) and not isinstance(value, bool):  # fast path
             number = float(value)
             if number == number and (allow_inf or math.isfinite(number)):
                 return np.full(len(self.axes), number)
-        array = np.array(value, dtype=float)
+        expected = f"a real number or one real number per axis {self.axes}"
+        array = as_float_array(value, f"{self.name}: {what}", expected, copy=True)
         if array.ndim == 0:
             array = np.full(len(self.axes), float(array))
         if array.shape != (len(self.axes),):

@@ -38,8 +38,9 @@ class SpringDamper(Component):
 
     Raises:
         InvalidAxisError: Bad axes.
-        InvalidInputError: A parameter has the wrong shape, is not finite, or a stiffness,
-            damping or limit is negative.
+        InvalidInputError: A parameter is not a real number or one per axis (None, a str, a
+            dict, a bool, a complex number), has the wrong shape, is not finite, or a stiffness,
+            damping or limit is negative; ``name`` is neither None nor a str.
 
     """
 

@@ -10,11 +10,12 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
 
-from ..declaration.frames import parse_axes
+from ..declaration.frames import as_float_array, check_number, parse_axes
 from ..exceptions import InvalidAxisError, InvalidInputError
 from .springs import SpringDamper, Vector
 
@@ -36,7 +37,8 @@ class GrannyWalker(SpringDamper):
 
     Raises:
         InvalidAxisError: ``axes`` is not one translation followed by one rotation.
-        InvalidInputError: Bad parameter shape or value.
+        InvalidInputError: ``height``, ``pitch`` or ``weight`` is not a finite real number, or
+            a bad ``stiffness`` or ``damping`` (shape, value, or a negative entry).
 
     """
 
@@ -50,7 +52,10 @@ class GrannyWalker(SpringDamper):
         axes: Sequence[str] = ("z", "ry"),
         name: str | None = None,
     ) -> None:
-        parsed = parse_axes(axes)
+        height = check_number(height, "GrannyWalker: height [m]")
+        pitch = check_number(pitch, "GrannyWalker: pitch [rad]")
+        weight = check_number(weight, "GrannyWalker: weight [N]")
+        parsed = parse_axes(axes, "GrannyWalker: axes")
         if len(parsed) != 2 or parsed[0].startswith("r") or not parsed[1].startswith("r"):
             raise InvalidAxisError(
                 f"GrannyWalker axes must be a height axis then a pitch axis such as "
@@ -67,6 +72,8 @@ class GrannyWalker(SpringDamper):
 
     @height.setter
     def height(self, value: float) -> None:
+        if not (isinstance(value, float) and math.isfinite(value)):
+            value = check_number(value, f"{self.name}: height [m]")
         self.setpoint = (value, self.setpoint[1])
 
     @property
@@ -76,6 +83,8 @@ class GrannyWalker(SpringDamper):
 
     @pitch.setter
     def pitch(self, value: float) -> None:
+        if not (isinstance(value, float) and math.isfinite(value)):
+            value = check_number(value, f"{self.name}: pitch [rad]")
         self.setpoint = (self.setpoint[0], value)
 
 
@@ -97,7 +106,8 @@ class DogtrackBunny(SpringDamper):
 
     Raises:
         InvalidAxisError: Bad axis.
-        InvalidInputError: Bad parameter value.
+        InvalidInputError: ``speed`` is not a finite real number, or a bad ``damping``,
+            ``stiffness`` or ``limit`` (not a real number, NaN, negative).
 
     """
 
@@ -122,8 +132,8 @@ class DogtrackBunny(SpringDamper):
 
     @speed.setter
     def speed(self, value: float) -> None:
-        if not np.isfinite(value):
-            raise InvalidInputError(f"{self.name}: speed must be finite, got {value}.")
+        if not (isinstance(value, float) and math.isfinite(value)):
+            value = check_number(value, f"{self.name}: speed [m/s]")
         self.velocity_setpoint = value
 
     def position_at(self, time: float) -> float:
@@ -131,9 +141,26 @@ class DogtrackBunny(SpringDamper):
         return self.start_position + self.speed * (time - self.start_time)
 
     def reset(self, position: np.ndarray, time: float) -> None:
-        """Put the bunny at ``position`` at ``time``."""
-        self.start_position = float(np.asarray(position).reshape(-1)[0])
-        self.start_time = float(time)
+        """Put the bunny at ``position`` at ``time``.
+
+        Args:
+            position: The sensor reading on the bunny's axis [m] (one number, or a one-entry
+                array).
+            time: Controller time [s].
+
+        Raises:
+            InvalidInputError: ``position`` is not one finite real number, or ``time`` is not a
+                finite real number.
+
+        """
+        time = check_number(time, f"{self.name}: time [s]")
+        values = as_float_array(position, f"{self.name}: position", "one real number [m]")
+        if values.size != 1 or not math.isfinite(float(values.reshape(-1)[0])):
+            raise InvalidInputError(
+                f"{self.name}: position must be one finite real number [m], got {values}."
+            )
+        self.start_position = float(values.reshape(-1)[0])
+        self.start_time = time
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Damper toward the bunny's speed plus spring toward its position."""
@@ -173,6 +200,11 @@ class SwingLegLinkage(SpringDamper):
         super().__init__(axes, stiffness, damping, setpoint=setpoint, name=name)
 
     def place(self, setpoint: Vector, velocity_setpoint: Vector = 0.0) -> None:
-        """Move the foot's set point [m] and its velocity [m/s]."""
+        """Move the foot's set point [m] and its velocity [m/s].
+
+        Raises:
+            InvalidInputError: A value is not a real number or one per axis, or not finite.
+
+        """
         self.setpoint = setpoint
         self.velocity_setpoint = velocity_setpoint

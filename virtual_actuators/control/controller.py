@@ -23,10 +23,21 @@ import numpy as np
 
 from ..components.base import Component
 from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
-from ..declaration.frames import WORLD, check_axes_subset, resolve_joint
+from ..declaration.frames import (
+    WORLD,
+    check_axes_subset,
+    check_flag,
+    check_name,
+    check_names,
+    check_number,
+    check_robot,
+    describe,
+    resolve_joint,
+)
 from ..distribution.solution import Solution
 from ..exceptions import (
     InvalidInputError,
+    JointNotFoundError,
     SingularConfigurationError,
     suggestion,
 )
@@ -103,6 +114,40 @@ def _as_slice(index: np.ndarray) -> slice | np.ndarray:
     return index
 
 
+_NO_LIMP = np.zeros(0, dtype=np.intp)
+_MAX_CHECKED_LIMP = 1024  # joint_indices arrays trusted by compute(); more are checked per call
+
+
+def _names_tuple(active: object) -> tuple:
+    """``active`` as a tuple, or an :class:`InvalidInputError` naming it."""
+    if not isinstance(active, (bytes, Mapping)):
+        try:
+            return tuple(active)
+        except TypeError:
+            pass
+    raise InvalidInputError(
+        f"active must be a sequence of attachment names (or one name), got {describe(active)}."
+    )
+
+
+def _check_components(components: object, where: str) -> list[Component]:
+    """``components`` as a list of :class:`Component` (one component is accepted alone)."""
+    if isinstance(components, Component):
+        return [components]
+    if isinstance(components, (str, bytes, Mapping)) or not isinstance(components, Iterable):
+        raise InvalidInputError(
+            f"{where}: components must be a sequence of va.Component (e.g. [va.Spring(...)]), "
+            f"got {describe(components)}."
+        )
+    components = list(components)
+    for i, component in enumerate(components):
+        if not isinstance(component, Component):
+            raise InvalidInputError(
+                f"{where}: components[{i}] must be a va.Component, got {describe(component)}."
+            )
+    return components
+
+
 @dataclass(repr=False)
 class ControlOutput:
     """What the controller computed in one tick.
@@ -171,17 +216,21 @@ class Controller:
             it in :attr:`ControlOutput.failed`.
 
     Raises:
-        InvalidInputError: Bad ``on_singular``.
+        InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, or a bad
+            ``on_singular``.
 
     """
 
     def __init__(self, robot: Robot, clip: bool = True, on_singular: str = "raise") -> None:
+        check_robot(robot, "Controller")
         if on_singular not in ("raise", "skip"):
             raise InvalidInputError(f"on_singular must be 'raise' or 'skip', got {on_singular!r}.")
         self.robot = robot
-        self.clip = clip
+        self.clip = check_flag(clip, "clip")
         self.on_singular = on_singular
         self.attachments: dict[str, Attachment] = {}
+        #: id -> index arrays made by joint_indices (read-only, in range): compute() trusts them
+        self._checked_limp: dict[int, np.ndarray] = {}
         model = robot.model
         self.joint_names = velocity_names(robot)
         limits = np.full(model.nv, np.inf)
@@ -212,7 +261,8 @@ class Controller:
             name: Unique name (states refer to it).
             actuator: A :class:`VirtualActuator` or :class:`ParallelVirtualActuator` of this
                 controller's robot.
-            components: Components whose axes are subsets of the actuator's axes.
+            components: Components whose axes are subsets of the actuator's axes (a sequence,
+                or one component).
             sensor: What the components read. Default: the actuator itself if serial; for a
                 parallel actuator, a serial actuator from ``"world"`` to its action frame on its
                 axes and reference (the body's pose in the world, as a state estimator gives).
@@ -238,25 +288,40 @@ class Controller:
             The :class:`Attachment`.
 
         Raises:
-            InvalidInputError: The name is taken, or the actuator or sensor belongs to another
-                robot, or the sensor's axes differ from the actuator's.
+            InvalidInputError: The name is not a str or is taken; the actuator or sensor is not
+                a virtual actuator or belongs to another robot; the sensor's axes differ from
+                the actuator's; a component is not a :class:`Component`; ``unilateral`` is not
+                a dict of finite numbers; ``friction`` is not a finite number > 0 or
+                ``min_normal`` not a finite number >= 0.
             InvalidAxisError: A component acts on an axis the actuator does not have, or
-                ``free``, ``unilateral`` or ``yield_axes`` name axes it does not have.
+                ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
 
         """
-        if friction is not None and not (math.isfinite(friction) and friction > 0.0):
+        check_name(name, "Controller.add: name")
+        where = f"Attachment {name!r}"
+        if not isinstance(actuator, (VirtualActuator, ParallelVirtualActuator)):
             raise InvalidInputError(
-                f"Attachment {name!r}: friction must be a positive number, got {friction}."
+                f"{where}: actuator must be a va.VirtualActuator or va.ParallelVirtualActuator, "
+                f"got {describe(actuator)}."
             )
-        if not (math.isfinite(min_normal) and min_normal >= 0.0):
+        if sensor is not None and not isinstance(sensor, VirtualActuator):
             raise InvalidInputError(
-                f"Attachment {name!r}: min_normal must be >= 0 N, got {min_normal}."
+                f"{where}: sensor must be a va.VirtualActuator or None, got {describe(sensor)}."
+            )
+        components = _check_components(components, where)
+        if friction is not None:
+            friction = check_number(friction, f"{where}: friction", positive=True)
+        min_normal = check_number(min_normal, f"{where}: min_normal [N]", minimum=0.0)
+        if unilateral is not None and not isinstance(unilateral, Mapping):
+            raise InvalidInputError(
+                f"{where}: unilateral must be a dict {{axis: minimum [N]}}, got "
+                f"{describe(unilateral)}."
             )
         if name in self.attachments:
             raise InvalidInputError(f"An attachment named {name!r} already exists.")
         if actuator.robot.model is not self.robot.model:
             raise InvalidInputError(f"Attachment {name!r}: the actuator is for another robot.")
-        free_axes = check_axes_subset(free, actuator.axes, "free") if free else ()
+        free_axes = check_axes_subset(free, actuator.axes, "free")
         if free_axes and isinstance(actuator, VirtualActuator):
             raise InvalidInputError(
                 f"Attachment {name!r}: free axes need a ParallelVirtualActuator; a serial "
@@ -283,8 +348,9 @@ class Controller:
         limits: dict[int, float] = {}
         yield_mask = None
         constrained = bool(unilateral) or friction is not None
-        if constrained or yield_axes:
-            if isinstance(actuator, VirtualActuator) or not constrained or not yield_axes:
+        yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
+        if constrained or yielded:
+            if isinstance(actuator, VirtualActuator) or not constrained or not yielded:
                 raise InvalidInputError(
                     f"Attachment {name!r}: unilateral (or friction) and yield_axes go "
                     "together, on a ParallelVirtualActuator."
@@ -295,34 +361,40 @@ class Controller:
                     f"{actuator.axes}."
                 )
             for axis in check_axes_subset(tuple(unilateral or {}), actuator.axes, "unilateral"):
-                limits[actuator.axes.index(axis)] = float(unilateral[axis])
-            yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
+                limits[actuator.axes.index(axis)] = check_number(
+                    unilateral[axis], f"{where}: unilateral[{axis!r}]"
+                )
             yield_mask = np.array([a in yielded for a in actuator.axes])
         attachment = Attachment(
             name,
             actuator,
             sensor,
-            list(components),
+            components,
             free_axes,
             indices,
             limits,
             yield_mask,
-            None if friction is None else float(friction),
-            float(min_normal),
+            friction,
+            min_normal,
         )
         self.attachments[name] = attachment
         return attachment
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
-        """Velocity indices of 1-dof joints given by name.
+        """Velocity indices of joints given by name (one name, or a collection of names).
+
+        Returns:
+            The indices, a read-only integer array that :meth:`compute` accepts as ``limp``
+            without checking it again.
 
         Raises:
+            InvalidInputError: ``joints`` is not a name or a collection of names.
             JointNotFoundError: A name is not a joint of the model (with close matches).
 
         """
         model = self.robot.model
         out = []
-        for joint in joints:
+        for joint in check_names(joints, "joints", JointNotFoundError, ordered=False):
             joint_id = resolve_joint(model, joint)
             out.extend(
                 range(
@@ -330,20 +402,28 @@ class Controller:
                     model.joints[joint_id].idx_v + model.joints[joint_id].nv,
                 )
             )
-        return np.array(out, dtype=int)
+        index = np.array(out, dtype=np.intp)
+        index.flags.writeable = False
+        if len(self._checked_limp) < _MAX_CHECKED_LIMP:
+            self._checked_limp[id(index)] = index  # kept alive: its id is never reused
+        return index
 
     def reset(self, names: Iterable[str], q: np.ndarray | Snapshot, time: float) -> None:
         """Call every component's :meth:`~Component.reset` hook for the named attachments.
 
         Args:
-            names: Attachment names.
+            names: Attachment names (or one name).
             q: Configuration, or the tick's :class:`~virtual_actuators.Snapshot`.
             time: Controller time [s].
 
         Raises:
-            InvalidInputError: Unknown attachment name, or a bad ``q``.
+            InvalidInputError: ``names`` is not a collection of names, an unknown attachment
+                name, a bad ``q``, or a ``time`` that is not a finite number.
 
         """
+        names = check_names(names, "names (attachment names)", ordered=False)
+        if not (isinstance(time, float) and -math.inf < time < math.inf):
+            time = check_number(time, "time [s]")
         snapshot = q if isinstance(q, Snapshot) else Snapshot(self.robot, q)
         for name in names:
             attachment = self._get(name)
@@ -354,10 +434,9 @@ class Controller:
     def _get(self, name: str) -> Attachment:
         try:
             return self.attachments[name]
-        except KeyError:
-            raise InvalidInputError(
-                f"No attachment named {name!r}. {suggestion(name, self.attachments, 'attachments')}"
-            ) from None
+        except (KeyError, TypeError):  # TypeError: an unhashable name
+            hint = suggestion(str(name), self.attachments, "attachments")
+            raise InvalidInputError(f"No attachment named {name!r}. {hint}") from None
 
     def compute(
         self,
@@ -376,20 +455,27 @@ class Controller:
         Args:
             q: Configuration ``(nq,)``, or the tick's snapshot built with a velocity.
             v: Velocity ``(nv,)`` (omit it when ``q`` is a snapshot).
-            time: Controller time [s] (components such as the dogtrack bunny use it).
-            active: Names of the attachments to evaluate (default: all).
-            limp: Velocity indices forced to zero effort (see :meth:`joint_indices`).
+            time: Controller time [s] (components such as the dogtrack bunny use it), a finite
+                number.
+            active: Names of the attachments to evaluate (default: all), or one name.
+            limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (an array
+                from :meth:`joint_indices` is used as is; anything else is checked).
 
         Returns:
             The :class:`ControlOutput`.
 
         Raises:
-            InvalidInputError: Bad ``q`` or ``v``, or an unknown or repeated attachment name.
+            InvalidInputError: Bad ``q``, ``v``, ``time`` or ``limp``, ``active`` that is not a
+                collection of names, or an unknown or repeated attachment name.
             SingularConfigurationError: A parallel actuator is singular here and
                 ``on_singular="raise"``.
 
         """
         nv = self.robot.model.nv
+        if not (isinstance(time, float) and -math.inf < time < math.inf):
+            time = check_number(time, "time [s]")
+        if self._checked_limp.get(id(limp)) is not limp:  # joint_indices' arrays: checked
+            limp = _NO_LIMP if type(limp) is tuple and not limp else self._check_limp(limp)
         if isinstance(q, Snapshot):
             snapshot = q
             if snapshot.tree is not tree_of(self.robot) or snapshot.v is None:
@@ -403,7 +489,9 @@ class Controller:
         if active is None:
             names = tuple(self.attachments)
         else:
-            names = tuple(active)
+            if type(active) is not tuple:  # a state's active names are a tuple already
+                active = (active,) if isinstance(active, str) else _names_tuple(active)
+            names = active
             if len(set(names)) != len(names):
                 raise InvalidInputError(f"active names an attachment twice: {names}.")
         tau = np.zeros(nv)
@@ -441,8 +529,8 @@ class Controller:
             tau += solution.tau
             solutions[name] = solution
             produced[name] = solution.wrench
-        if len(limp):
-            tau[np.asarray(limp, dtype=int)] = 0.0
+        if limp.size:
+            tau[limp] = 0.0
         requested = tau.copy()
         if self.clip:
             tau = np.minimum(np.maximum(tau, -self.effort_limits), self.effort_limits)
@@ -460,6 +548,24 @@ class Controller:
             active=names,
             joint_names=self.joint_names,
         )
+
+    def _check_limp(self, limp: object) -> np.ndarray:
+        """``limp`` as an integer index array with every entry in ``[0, nv)``."""
+        nv = self.robot.model.nv
+        expected = f"velocity indices, integers in [0, {nv}) (see Controller.joint_indices)"
+        if isinstance(limp, (str, bytes, Mapping)) or limp is None:
+            raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.")
+        try:
+            index = np.asarray(limp)
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.") from None
+        if index.size == 0:
+            return _NO_LIMP
+        if index.dtype.kind not in "iu" or index.ndim != 1:
+            raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.")
+        if index.min() < 0 or index.max() >= nv:
+            raise InvalidInputError(f"limp must be {expected}, got {index.tolist()}.")
+        return index
 
     @staticmethod
     def _constraint_rows(

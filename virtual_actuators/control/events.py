@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from ..declaration.frames import AXES
+from ..declaration.frames import AXES, check_flag, check_name, check_number, describe
 from ..exceptions import InvalidAxisError, InvalidInputError
 from .state_machine import Context, Event
 
@@ -16,20 +16,38 @@ _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 
 
 def _axis(axis: str) -> int:
-    if axis not in _AXIS_INDEX:
+    if not isinstance(axis, str) or axis not in _AXIS_INDEX:
         raise InvalidAxisError(f"Event axis must be one of x, y, z (of {AXES}), got {axis!r}.")
     return _AXIS_INDEX[axis]
+
+
+def _frames(frames: tuple, where: str) -> tuple[str, ...]:
+    if not frames:
+        raise InvalidInputError(f"{where} needs at least one frame name.")
+    for frame in frames:
+        check_name(frame, f"{where}: frames (each a frame name; pass them as separate arguments)")
+    return frames
+
+
+def _events(events: tuple, where: str) -> tuple[Event, ...]:
+    if not events:
+        raise InvalidInputError(f"{where} needs at least one event.")
+    for i, event in enumerate(events):
+        if not callable(event):
+            raise InvalidInputError(
+                f"{where}: events[{i}] must be a callable of the Context, got {describe(event)}."
+            )
+    return events
 
 
 def after(seconds: float) -> Event:
     """Fires once the current state has lasted ``seconds`` (a timer, e.g. the buffer states).
 
     Raises:
-        InvalidInputError: Negative or non-finite ``seconds``.
+        InvalidInputError: ``seconds`` is not a finite real number >= 0.
 
     """
-    if not seconds >= 0.0 or seconds == float("inf"):
-        raise InvalidInputError(f"after(): seconds must be finite and >= 0, got {seconds}.")
+    seconds = check_number(seconds, "after(): seconds", minimum=0.0)
     return lambda context: context.time_in_state >= seconds
 
 
@@ -40,9 +58,14 @@ def ahead_of(frame: str, reference: str, distance: float, axis: str = "x") -> Ev
     ``ahead_of("body", "left_foot", 0.12)`` its "body away from left foot".
 
     Raises:
+        InvalidInputError: ``frame`` or ``reference`` is not a str, or ``distance`` is not a
+            finite real number.
         InvalidAxisError: ``axis`` is not x, y or z.
 
     """
+    check_name(frame, "ahead_of(): frame")
+    check_name(reference, "ahead_of(): reference")
+    distance = check_number(distance, "ahead_of(): distance [m]")
     index = _axis(axis)
     return lambda context: (
         context.frame_position(frame)[index] - context.frame_position(reference)[index] > distance
@@ -53,12 +76,12 @@ def contact(*frames: str, require_all: bool = True) -> Event:
     """Fires when the contact switches of ``frames`` are closed (all of them, or any).
 
     Raises:
-        InvalidInputError: No frame given.
+        InvalidInputError: No frame given, a frame that is not a str, or ``require_all`` that
+            is not a bool.
 
     """
-    if not frames:
-        raise InvalidInputError("contact() needs at least one frame name.")
-    combine = all if require_all else any
+    frames = _frames(frames, "contact()")
+    combine = all if check_flag(require_all, "contact(): require_all") else any
     return lambda context: combine(context.in_contact(f) for f in frames)
 
 
@@ -66,24 +89,44 @@ def no_contact(*frames: str) -> Event:
     """Fires when none of the contact switches of ``frames`` is closed.
 
     Raises:
-        InvalidInputError: No frame given.
+        InvalidInputError: No frame given, or a frame that is not a str.
 
     """
-    if not frames:
-        raise InvalidInputError("no_contact() needs at least one frame name.")
+    frames = _frames(frames, "no_contact()")
     return lambda context: not any(context.in_contact(f) for f in frames)
 
 
 def any_of(*events: Event) -> Event:
-    """Fires when any of ``events`` fires."""
+    """Fires when any of ``events`` fires.
+
+    Raises:
+        InvalidInputError: No event given, or one that is not callable.
+
+    """
+    events = _events(events, "any_of()")
     return lambda context: any(event(context) for event in events)
 
 
 def all_of(*events: Event) -> Event:
-    """Fires when all of ``events`` fire."""
+    """Fires when all of ``events`` fire.
+
+    Raises:
+        InvalidInputError: No event given, or one that is not callable.
+
+    """
+    events = _events(events, "all_of()")
     return lambda context: all(event(context) for event in events)
 
 
 def when(predicate: Callable[[Context], bool]) -> Event:
-    """Wrap any callable of the context as an event (for symmetry in declarations)."""
+    """Wrap any callable of the context as an event (for symmetry in declarations).
+
+    Raises:
+        InvalidInputError: ``predicate`` is not callable.
+
+    """
+    if not callable(predicate):
+        raise InvalidInputError(
+            f"when(): predicate must be a callable of the Context, got {describe(predicate)}."
+        )
     return predicate

@@ -10,11 +10,13 @@ evaluated, so a transition costs nothing at run time.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..declaration.frames import check_name, check_names, check_number, check_robot, describe
 from ..exceptions import InvalidInputError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
@@ -39,7 +41,10 @@ class Context:
         snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
 
     Raises:
-        InvalidInputError: Bad ``q`` or ``v`` (when no snapshot is given).
+        InvalidInputError: ``robot`` is not a robot; ``time`` or ``time_in_state`` is not a
+            finite number; ``contacts`` is not a dict; ``snapshot`` is not a
+            :class:`~virtual_actuators.Snapshot` of ``robot``; bad ``q`` or ``v`` (when no
+            snapshot is given).
 
     """
 
@@ -55,9 +60,26 @@ class Context:
         frame_ids: dict[str, int] | None = None,
         snapshot: Snapshot | None = None,
     ) -> None:
+        check_robot(robot, "Context")
+        if not (isinstance(time, float) and -math.inf < time < math.inf):
+            time = check_number(time, "Context: time [s]")
+        if not (isinstance(time_in_state, float) and -math.inf < time_in_state < math.inf):
+            time_in_state = check_number(time_in_state, "Context: time_in_state [s]")
+        if contacts is not None and not isinstance(contacts, Mapping):
+            raise InvalidInputError(
+                f"Context: contacts must be a dict {{frame: bool}} or None, got "
+                f"{describe(contacts)}."
+            )
+        if snapshot is None:
+            snapshot = Snapshot(robot, q, v)
+        elif not isinstance(snapshot, Snapshot) or snapshot.tree.model is not robot.model:
+            raise InvalidInputError(
+                f"Context: snapshot must be a va.Snapshot of the context's robot or None, got "
+                f"{describe(snapshot)}."
+            )
         self.robot = robot
-        self.snapshot = snapshot if snapshot is not None else Snapshot(robot, q, v)
-        self.q, self.v, self.time = self.snapshot.q, self.snapshot.v, float(time)
+        self.snapshot = snapshot
+        self.q, self.v, self.time = snapshot.q, snapshot.v, float(time)
         self.contacts = dict(contacts or {})
         self.time_in_state = time_in_state
         self.state: str | None = None
@@ -108,17 +130,44 @@ class Context:
         """
         try:
             return bool(self.contacts[frame])
-        except KeyError:
-            raise InvalidInputError(
-                f"No contact switch for {frame!r}. "
-                + suggestion(frame, self.contacts, "contact switches")
-            ) from None
+        except (KeyError, TypeError):  # TypeError: an unhashable frame
+            hint = (
+                suggestion(str(frame), self.contacts, "contact switches")
+                if self.contacts
+                else "This context was given no contact switches (Context(..., contacts=...))."
+            )
+            raise InvalidInputError(f"No contact switch for {frame!r}. {hint}") from None
 
     def __repr__(self) -> str:
         return f"Context(time={self.time:.4f}, state={self.state!r}, contacts={self.contacts})"
 
 
 Event = Callable[[Context], bool]
+
+
+def _check_context(context: object) -> None:
+    if not isinstance(context, Context):
+        raise InvalidInputError(
+            f"context must be a va.Context (the tick's state, time and contacts), got "
+            f"{describe(context)}."
+        )
+
+
+def _sequence_of(values: object, kind: type, what: str) -> Sequence:
+    """``values`` as a sequence whose entries are all ``kind`` (a tuple if not a sequence)."""
+    if isinstance(values, (str, bytes, Mapping)) or not isinstance(values, Iterable):
+        raise InvalidInputError(
+            f"StateMachine: {what} must be a sequence of va.{kind.__name__}, got "
+            f"{describe(values)}."
+        )
+    if not isinstance(values, Sequence):
+        values = tuple(values)
+    for i, value in enumerate(values):
+        if not isinstance(value, kind):
+            raise InvalidInputError(
+                f"StateMachine: {what}[{i}] must be a va.{kind.__name__}, got {describe(value)}."
+            )
+    return values
 
 
 @dataclass(repr=False)
@@ -134,6 +183,10 @@ class State:
         on_update: Called with the context at every tick spent in the state, before the
             controller runs (e.g. to move set points).
 
+    Raises:
+        InvalidInputError: ``name`` is not a str; ``active``, ``support`` or ``limp`` is not a
+            name or a sequence of names; ``on_enter`` or ``on_update`` is not callable.
+
     """
 
     name: str
@@ -144,11 +197,18 @@ class State:
     on_update: Callable[[Context], None] | None = None
 
     def __post_init__(self) -> None:
-        self.active, self.support, self.limp = (
-            tuple(self.active),
-            tuple(self.support),
-            tuple(self.limp),
-        )
+        check_name(self.name, "State: name")
+        where = f"State {self.name!r}"
+        self.active = check_names(self.active, f"{where}: active")
+        self.support = check_names(self.support, f"{where}: support")
+        self.limp = check_names(self.limp, f"{where}: limp", ordered=False)
+        for hook in ("on_enter", "on_update"):
+            value = getattr(self, hook)
+            if value is not None and not callable(value):
+                raise InvalidInputError(
+                    f"{where}: {hook} must be a callable of the Context or None, got "
+                    f"{describe(value)}."
+                )
 
     def __repr__(self) -> str:
         return f"State({self.name!r}, active={self.active}, support={self.support})"
@@ -164,12 +224,26 @@ class Transition:
         event: Callable of the :class:`Context` returning a bool.
         label: Text for reports (the seed's Table 1 "trigger event").
 
+    Raises:
+        InvalidInputError: ``source``, ``target`` or ``label`` is not a str, or ``event`` is not
+            callable.
+
     """
 
     source: str
     target: str
     event: Event
     label: str = ""
+
+    def __post_init__(self) -> None:
+        check_name(self.source, "Transition: source (a state name)")
+        check_name(self.target, "Transition: target (a state name)")
+        check_name(self.label, "Transition: label")
+        if not callable(self.event):
+            raise InvalidInputError(
+                f"Transition {self.source!r} -> {self.target!r}: event must be a callable of "
+                f"the Context returning a bool (see va.events), got {describe(self.event)}."
+            )
 
     def __repr__(self) -> str:
         label = f", {self.label!r}" if self.label else ""
@@ -186,8 +260,9 @@ class StateMachine:
         initial: Name of the initial state.
 
     Raises:
-        InvalidInputError: Repeated state names, or a transition or ``initial`` naming an unknown
-            state.
+        InvalidInputError: ``states`` or ``transitions`` is not a sequence of :class:`State` or
+            :class:`Transition`; ``initial`` is not a str; repeated state names, or a transition
+            or ``initial`` naming an unknown state.
 
     """
 
@@ -197,6 +272,9 @@ class StateMachine:
     history: list[tuple[float, str]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
+        self.states = _sequence_of(self.states, State, "states")
+        self.transitions = _sequence_of(self.transitions, Transition, "transitions")
+        check_name(self.initial, "StateMachine: initial (a state name)")
         self._states = {}
         for state in self.states:
             if state.name in self._states:
@@ -214,6 +292,8 @@ class StateMachine:
         self.started = False
 
     def _check(self, name: str, where: str) -> None:
+        if not isinstance(name, str):
+            raise InvalidInputError(f"{where}: a state name must be a str, got {describe(name)}.")
         if name not in self._states:
             raise InvalidInputError(
                 f"{where}: unknown state {name!r}. {suggestion(name, self._states, 'states')}"
@@ -238,9 +318,12 @@ class StateMachine:
         """Enter the initial state (or ``state``) at ``context.time``.
 
         Raises:
-            InvalidInputError: Unknown state.
+            InvalidInputError: ``context`` is not a :class:`Context`, or an unknown state.
 
         """
+        _check_context(context)
+        if state is not None:
+            self._check(state, "start: state")
         self.history.clear()
         self.started = True
         self._enter(self.state(state or self.initial), context)
@@ -262,7 +345,12 @@ class StateMachine:
         Returns:
             The current state after the update.
 
+        Raises:
+            InvalidInputError: ``context`` is not a :class:`Context`.
+
         """
+        if context.__class__ is not Context:
+            _check_context(context)
         if not self.started:
             self.start(context)
         context.state = self.current.name

@@ -8,13 +8,25 @@ frames, one serial chain each, and must distribute its wrench over the chains.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import math
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..declaration.constraints import DesignConstraint, Equal, Linear
-from ..declaration.frames import check_axes_subset, parse_axes, resolve_frame
+from ..declaration.frames import (
+    as_float_array,
+    check_axes_subset,
+    check_flag,
+    check_name,
+    check_names,
+    check_number,
+    check_robot,
+    describe,
+    parse_axes,
+    resolve_frame,
+)
 from ..distribution.compiled import CompiledDistribution
 from ..distribution.dense import DenseSolver
 from ..distribution.linalg import JACOBIAN_FLOOR, stable_norm
@@ -24,8 +36,11 @@ from ..distribution.problem import DistributionProblem
 from ..distribution.solution import Solution
 from ..exceptions import (
     ConstraintError,
+    FrameNotFoundError,
     InadmissibleWrenchError,
+    InvalidAxisError,
     InvalidInputError,
+    JointNotFoundError,
 )
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
@@ -33,14 +48,10 @@ from ..robots.robot import Robot
 
 
 def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
-    if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):
-        try:
-            wrench = np.asarray(wrench, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidInputError(
-                f"The wrench must be an array of {len(axes)} floats (axes {tuple(axes)}), got "
-                f"{type(wrench).__name__}."
-            ) from None
+    if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):  # slow path only
+        wrench = as_float_array(
+            wrench, "wrench", f"an array of {len(axes)} real numbers (axes {tuple(axes)})"
+        )
     if wrench.shape != (len(axes),):
         raise InvalidInputError(
             f"The wrench has shape {wrench.shape}; this actuator's axes {tuple(axes)} need "
@@ -49,6 +60,65 @@ def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
     if not np.isfinite(wrench).all():  # (no squares: no overflow at 1e200)
         raise InvalidInputError(f"The wrench has NaN or inf entries: {wrench}.")
     return wrench
+
+
+def _tolerance(tol: object) -> float:
+    """``tol`` checked: a finite real number >= 0 (the caller skips plain floats in range)."""
+    return check_number(tol, "tol (the admissibility tolerance)", minimum=0.0)
+
+
+def _check_contact(contact: object) -> str | dict[str, object]:
+    """``contact`` as ``"point"``, ``"flat"`` or a dict keyed by reaction names (str)."""
+    if isinstance(contact, str):
+        return contact
+    if not isinstance(contact, Mapping):
+        raise ConstraintError(
+            "contact must be 'point', 'flat' or a dict {reaction_frame: 'point' | 'flat'}, "
+            f"got {describe(contact)}."
+        )
+    for name in contact:
+        check_name(name, "contact: a key (a reaction frame name)", ConstraintError)
+    return dict(contact)
+
+
+def _check_passive(passive: object) -> dict[str, tuple[float, float]]:
+    """``passive`` as ``{joint: (stiffness, rest)}`` with two finite real numbers per joint."""
+    if passive is None:
+        return {}
+    if not isinstance(passive, Mapping):
+        raise InvalidInputError(
+            "passive must be a dict {joint_name: (stiffness [N m/rad], rest angle [rad])}, got "
+            f"{describe(passive)}."
+        )
+    out: dict[str, tuple[float, float]] = {}
+    for name, params in passive.items():
+        check_name(name, "passive: a key (a joint name)", JointNotFoundError)
+        what = f"passive[{name!r}]"
+        if isinstance(params, (str, bytes, Mapping)) or not isinstance(params, Iterable):
+            params = (params,)  # reported below as a wrong number of values
+        params = tuple(params)
+        if len(params) != 2:
+            raise ConstraintError(
+                f"{what} must be (stiffness, rest_angle), two real numbers, got {params!r}."
+            )
+        stiffness, rest = (
+            check_number(x, f"{what}: {label}", error=ConstraintError)
+            for x, label in zip(params, ("stiffness", "rest angle"), strict=True)
+        )
+        out[name] = (stiffness, rest)
+    return out
+
+
+def _check_design(design: object) -> tuple[DesignConstraint, ...]:
+    """``design`` as a tuple of design constraints (one constraint is accepted alone)."""
+    if isinstance(design, DesignConstraint):
+        return (design,)
+    if isinstance(design, (str, bytes, Mapping)) or not isinstance(design, Iterable):
+        raise InvalidInputError(
+            "design must be a sequence of design constraints (va.Equal, va.Linear, "
+            f"va.EqualTorque), got {describe(design)}."
+        )
+    return tuple(design)
 
 
 @dataclass(frozen=True, repr=False)
@@ -78,10 +148,12 @@ class VirtualActuator:
         action: Name of the action frame {B} (the wrench acts on it).
         reaction: Name of the reaction frame {A} (minus the wrench acts on it), or ``"world"``.
         reference: Name of the reference frame {O} whose axes the wrench is expressed along.
-        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``.
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``, or one axis name.
 
     Raises:
-        FrameNotFoundError: A frame name is not in the model.
+        InvalidInputError: ``robot`` is not a robot (e.g. None or a robot's name).
+        FrameNotFoundError: A frame name is not a str or not in the model.
+        ConstraintError: The action and reaction frames are the same frame.
         InvalidAxisError: Bad axes.
 
     """
@@ -94,14 +166,23 @@ class VirtualActuator:
         reference: str = "world",
         axes: Sequence[str] = ("x", "y", "z", "rx", "ry", "rz"),
     ) -> None:
+        check_robot(robot, "VirtualActuator")
         self.robot = robot
         self.action, self.reaction, self.reference = action, reaction, reference
         self.axes = parse_axes(axes)
         model = robot.model
+        action_id = resolve_frame(model, action, "action")
+        reaction_id = resolve_frame(model, reaction, "reaction")
+        if action_id == reaction_id:
+            same = repr(action) if action == reaction else f"{action!r} (= {reaction!r})"
+            raise ConstraintError(
+                f"The action frame {same} is also the reaction frame; a virtual actuator acts "
+                "between two different frames."
+            )
         self.kinematics = RelativeKinematics(
             robot,
-            resolve_frame(model, action, "action"),
-            [resolve_frame(model, reaction, "reaction")],
+            action_id,
+            [reaction_id],
             resolve_frame(model, reference, "reference"),
             self.axes,
         )
@@ -182,7 +263,8 @@ class VirtualActuator:
         """Joint torques ``J^T F`` that emulate ``wrench`` on {B} from {A} (VAC eq. 7).
 
         Raises:
-            InvalidInputError: Bad ``q`` or ``wrench``.
+            InvalidInputError: Bad ``q``, or a ``wrench`` that is not ``len(axes)`` finite real
+                numbers (complex or bool entries included).
 
         """
         wrench = _wrench_array(wrench, self.axes)
@@ -197,12 +279,14 @@ class VirtualActuator:
             q: Configuration.
             wrench: Wrench over ``axes``.
             tol: Tolerance on the part of ``wrench`` outside the range, relative to ``|wrench|``
-                (scale-free: a zero wrench is admissible).
+                (scale-free: a zero wrench is admissible); a finite number >= 0.
 
         Raises:
-            InvalidInputError: Bad ``q`` or ``wrench``.
+            InvalidInputError: Bad ``q``, ``wrench`` or ``tol``.
 
         """
+        if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
+            tol = _tolerance(tol)
         wrench = _wrench_array(wrench, self.axes)
         jac = self.jacobian(q)
         u, s, _ = np.linalg.svd(jac, full_matrices=False)
@@ -224,22 +308,29 @@ class ParallelVirtualActuator:
     Args:
         robot: The robot.
         action: Name of the action frame {B}.
-        reactions: Names of the reaction frames, one serial chain each.
+        reactions: Names of the reaction frames, one serial chain each (a list or tuple; one
+            name for a single chain).
         reference: Name of the reference frame {O}.
-        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``.
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``, or one axis name.
         contact: ``"point"`` (no moment about a reaction frame's origin on the selected
             rotational axes), ``"flat"`` (any wrench), or a dict from reaction to either.
-        unactuated: Names of limp joints (torque 0).
+        unactuated: Names of limp joints (torque 0), or one name.
         passive: ``{joint: (stiffness [N m/rad], rest angle [rad])}``: torque
-            ``-stiffness * (angle - rest)``, measured, not commanded.
-        design: Design constraints (:class:`Equal`, :class:`Linear`, :class:`EqualTorque`).
+            ``-stiffness * (angle - rest)``, measured, not commanded; None for none.
+        design: Design constraints (:class:`Equal`, :class:`Linear`, :class:`EqualTorque`), or
+            one constraint.
 
     Raises:
-        FrameNotFoundError: A frame name is not in the model.
-        JointNotFoundError: A joint name is unknown or not on any chain.
+        InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``,
+            ``passive`` or ``design`` is not a collection of the documented kind (e.g. None,
+            a number, or ``passive`` given as a list).
+        FrameNotFoundError: A frame name is not a str or not in the model.
+        JointNotFoundError: A joint name is not a str, unknown or not on any chain.
         InvalidAxisError: Bad axes.
         ConstraintError: Constraints that contradict each other, repeat each other or are too
-            many; a reaction frame with no joint to the action frame; a repeated reaction.
+            many; a reaction frame with no joint to the action frame; a repeated reaction; a bad
+            ``contact``; a ``passive`` value that is not two finite real numbers; a design entry
+            that is not a design constraint.
 
     """
 
@@ -255,11 +346,10 @@ class ParallelVirtualActuator:
         passive: Mapping[str, tuple[float, float]] | None = None,
         design: Sequence[DesignConstraint] = (),
     ) -> None:
+        check_robot(robot, "ParallelVirtualActuator")
         self.robot = robot
         self.action, self.reference = action, reference
-        if isinstance(reactions, str):
-            reactions = [reactions]
-        self.reactions = tuple(reactions)
+        self.reactions = check_names(reactions, "reactions", FrameNotFoundError)
         if not self.reactions:
             raise ConstraintError("A parallel virtual actuator needs at least one reaction frame.")
         if len(set(self.reactions)) != len(self.reactions):
@@ -272,12 +362,15 @@ class ParallelVirtualActuator:
             raise ConstraintError(
                 f"The action frame {action!r} is also a reaction frame; they must differ."
             )
+        contact = _check_contact(contact)
+        unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
+        passive = _check_passive(passive)
+        self.design = _check_design(design)
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
-        self.design = tuple(design)
         self.problem = DistributionProblem(
-            self.kinematics, self.reactions, contact, unactuated, passive or {}, self.design
+            self.kinematics, self.reactions, contact, unactuated, passive, self.design
         )
         preferred = np.ones((len(self.reactions), len(self.axes)))
         for constraint in self.design:
@@ -314,10 +407,16 @@ class ParallelVirtualActuator:
         }
 
     def _keep(self, free: Sequence[str]) -> tuple[tuple[str, ...], np.ndarray]:
-        key = (free,) if isinstance(free, str) else tuple(free)
-        cached = self._keep_cache.get(key)
+        try:
+            key = (free,) if isinstance(free, str) else tuple(free)
+            cached = self._keep_cache.get(key)
+        except TypeError:  # not iterable, or unhashable entries
+            raise InvalidAxisError(
+                f"free must be an axis name or a sequence of axis names among this actuator's "
+                f"axes {self.axes}, got {describe(free)}."
+            ) from None
         if cached is None:
-            axes = check_axes_subset(free, self.axes, "free")
+            axes = check_axes_subset(key, self.axes, "free")
             keep = np.array([a not in axes for a in self.axes])
             self.problem.check_counts(keep)  # declaration-only: checked once per set of free axes
             cached = self._keep_cache[key] = (axes, keep)
@@ -339,11 +438,12 @@ class ParallelVirtualActuator:
             q: Configuration ``(model.nq,)``, or the tick's :class:`~virtual_actuators.Snapshot`
                 (kinematics shared with the other actuators and sensors of the robot).
             wrench: ``(n,)`` wrench on {B}; entries of ``free`` axes are ignored.
-            free: Axes left to the solver (their produced value is reported in the solution).
+            free: Axes left to the solver (their produced value is reported in the solution),
+                or one axis name.
             strict: Raise :class:`InadmissibleWrenchError` if the wrench cannot be produced.
             tol: Admissibility tolerance on the residual, relative to the larger of ``|wrench|``
                 and ``|produced|`` on the prescribed axes (scale-free: ``solve(q, s * w)`` gets
-                the same label as ``solve(q, w)`` for any ``s > 0``).
+                the same label as ``solve(q, w)`` for any ``s > 0``); a finite number >= 0.
             method: ``"partitioned"`` (default) or ``"dense"`` (reference solver, eq. 10-11).
             compiled: Use the compiled per-tick kernel for the partitioned method when it
                 applies (the default); False runs the numpy implementation, the reference the
@@ -354,14 +454,22 @@ class ParallelVirtualActuator:
             The :class:`Solution`.
 
         Raises:
-            InvalidInputError: Bad ``q``, ``wrench`` or ``method``.
-            InvalidAxisError: A ``free`` axis is not one of the actuator's axes.
+            InvalidInputError: Bad ``q``, ``wrench``, ``tol`` or ``method``, or ``strict`` or
+                ``compiled`` that is not a bool.
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes.
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: Too many constraints for the free axes (more design and coupling
                 constraints than redundancies), or constraints that contradict each other here.
             InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
 
         """
+        # cheap checks first (plain floats and bools skip the slow paths)
+        if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
+            tol = _tolerance(tol)
+        if strict is not False and strict is not True:
+            strict = check_flag(strict, "strict")
+        if compiled is not True and compiled is not False:
+            compiled = check_flag(compiled, "compiled")
         snapshot = self.kinematics.snapshot(q)
         wrench = _wrench_array(wrench, self.axes)
         free, keep = self._keep(free)
@@ -416,12 +524,16 @@ class ParallelVirtualActuator:
         """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.
 
         Raises:
-            InvalidInputError: Bad ``q`` or ``forces``.
+            InvalidInputError: Bad ``q``, or ``forces`` that are not ``(p, n)`` finite real
+                numbers.
 
         """
-        forces = np.asarray(forces, dtype=float)
+        expected = f"a ({self.p}, {self.n}) array of real numbers (chains x axes)"
+        forces = as_float_array(forces, "forces", expected)
         if forces.shape != (self.p, self.n) or not np.all(np.isfinite(forces)):
-            raise InvalidInputError(f"forces must be finite with shape ({self.p}, {self.n}).")
+            raise InvalidInputError(
+                f"forces must be finite with shape ({self.p}, {self.n}), got shape {forces.shape}."
+            )
         return self.problem.torques(self.kinematics.compute(q).jacobian_o, forces)
 
     def __repr__(self) -> str:

@@ -1,13 +1,27 @@
-"""Frame and axis names: resolved once, checked, with helpful errors."""
+"""Frame and axis names, resolved once and checked, and the argument checks shared by the API.
+
+Every check raises a :class:`~virtual_actuators.VirtualActuatorError` whose message names the
+argument, what was given and what would be valid. They run at declaration time, or on the slow
+path of a per-tick call (when an argument is not already what the fast path expects).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+import math
+import numbers
+from collections.abc import Iterable, Mapping, Sequence, Set
 
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import FrameNotFoundError, InvalidAxisError, JointNotFoundError, suggestion
+from ..exceptions import (
+    FrameNotFoundError,
+    InvalidAxisError,
+    InvalidInputError,
+    JointNotFoundError,
+    VirtualActuatorError,
+    suggestion,
+)
 
 #: All axes a virtual actuator can act along, in their canonical order: forces along and moments
 #: about the axes of the reference frame {O}.
@@ -69,39 +83,51 @@ def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
     )
 
 
-def parse_axes(axes: Iterable[str] | str) -> tuple[str, ...]:
+def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]:
     """Check that ``axes`` is a non-empty ordered subset of :data:`AXES`.
 
     Args:
-        axes: Axis names, e.g. ``("x", "z", "ry")``.
+        axes: Axis names, e.g. ``("x", "z", "ry")``, or one name such as ``"z"``.
+        what: The argument's name, used in error messages.
 
     Returns:
-        The axes as a tuple.
+        The axes as a tuple of str.
 
     Raises:
-        InvalidAxisError: For an unknown, repeated or out-of-order axis, or no axis at all.
+        InvalidAxisError: For axes that are not a str or an ordered collection of str (None, a
+            number, a set, a dict, bytes), an unknown, repeated or out-of-order axis, or no axis.
 
     """
-    if isinstance(axes, str):
-        axes = (axes,)
-    axes = tuple(axes)
+    axes = _axis_tuple(axes, what)
     if not axes:
-        raise InvalidAxisError(f"At least one axis is needed; valid axes are {AXES}.")
+        raise InvalidAxisError(f"At least one axis is needed in {what}; valid axes are {AXES}.")
     for axis in axes:
         if axis not in AXES:
             raise InvalidAxisError(
-                f"Unknown axis {axis!r}; valid axes are {AXES}. "
+                f"Unknown axis {axis!r} in {what}; valid axes are {AXES}. "
                 + suggestion(str(axis), AXES, "axes")
             )
     if len(set(axes)) != len(axes):
-        raise InvalidAxisError(f"Axes {axes} name an axis twice.")
+        raise InvalidAxisError(f"{what} {axes} name an axis twice.")
     order = [AXES.index(a) for a in axes]
     if order != sorted(order):
         expected = tuple(sorted(axes, key=AXES.index))
         raise InvalidAxisError(
-            f"Axes {axes} are out of order: give them in the order {AXES}, i.e. {expected}."
+            f"{what} {axes} are out of order: give them in the order {AXES}, i.e. {expected}."
         )
     return axes
+
+
+def _axis_tuple(axes: object, what: str) -> tuple:
+    """``axes`` as a tuple (a str is one axis); entries that are str become plain str."""
+    if isinstance(axes, str):
+        return (str(axes),)
+    if isinstance(axes, (bytes, Mapping, Set)) or not isinstance(axes, Iterable):
+        raise InvalidAxisError(
+            f"{what} must be an axis name or an ordered sequence of axis names from {AXES}, "
+            f"got {describe(axes)}."
+        )
+    return tuple(str(a) if isinstance(a, str) else a for a in axes)
 
 
 def axis_rows(axes: Sequence[str]) -> np.ndarray:
@@ -113,23 +139,204 @@ def check_axes_subset(requested: Iterable[str], axes: Sequence[str], what: str) 
     """Check that every axis in ``requested`` is one of the actuator's ``axes``.
 
     Args:
-        requested: Axis names given by the user (e.g. ``free=("x",)``).
+        requested: Axis names given by the user (e.g. ``free=("x",)``), or one name.
         axes: The actuator's axes.
-        what: What the names are for, used in the error message.
+        what: The argument's name, used in error messages.
 
     Returns:
         The requested axes, in the actuator's order.
 
     Raises:
-        InvalidAxisError: If an axis is not one of ``axes``.
+        InvalidAxisError: If ``requested`` is not a str or a collection of str, or an axis is
+            not one of ``axes``.
 
     """
     if isinstance(requested, str):
         requested = (requested,)
+    elif isinstance(requested, (bytes, Mapping)) or not isinstance(requested, Iterable):
+        raise InvalidAxisError(
+            f"{what} must be an axis name or a sequence of axis names among this actuator's "
+            f"axes {tuple(axes)}, got {describe(requested)}."
+        )
     requested = tuple(requested)
     for axis in requested:
-        if axis not in axes:
+        if not isinstance(axis, str) or axis not in axes:
             raise InvalidAxisError(
                 f"{what} axis {axis!r} is not one of this actuator's axes {tuple(axes)}."
             )
     return tuple(a for a in axes if a in requested)
+
+
+# -- argument checks ---------------------------------------------------------------------------
+def describe(value: object, limit: int = 60) -> str:
+    """``"<type> <repr>"`` of a user's argument for error messages, the repr on one short line."""
+    text = " ".join(repr(value).split())
+    if len(text) > limit:
+        text = text[: limit - 3] + "..."
+    return f"{type(value).__name__} {text}"
+
+
+def check_robot(robot: object, where: str) -> None:
+    """Check that ``robot`` is a robot (a :class:`~virtual_actuators.Robot` or alike).
+
+    Args:
+        robot: The argument.
+        where: The callee, used in the error message (``"VirtualActuator"``, ...).
+
+    Raises:
+        InvalidInputError: ``robot`` has no Pinocchio ``model`` (None, a name, a bare model).
+
+    """
+    if isinstance(getattr(robot, "model", None), pin.Model):
+        return
+    hint = ""
+    if isinstance(robot, str):
+        hint = f" Load it first: va.load_robot({robot!r})."
+    elif isinstance(robot, pin.Model):
+        hint = " Wrap a Pinocchio model in va.Robot(name, model)."
+    raise InvalidInputError(
+        f"{where}: robot must be a va.Robot (e.g. va.load_robot('solo12')), got "
+        f"{describe(robot)}.{hint}"
+    )
+
+
+def check_name(
+    value: object, what: str, error: type[VirtualActuatorError] = InvalidInputError
+) -> str:
+    """Return ``value`` if it is a str, else raise ``error`` naming ``what``.
+
+    Raises:
+        VirtualActuatorError: ``error`` (by default :class:`InvalidInputError`).
+
+    """
+    if not isinstance(value, str):
+        raise error(f"{what} must be a name (str), got {describe(value)}.")
+    return value
+
+
+def check_names(
+    value: object,
+    what: str,
+    error: type[VirtualActuatorError] = InvalidInputError,
+    ordered: bool = True,
+) -> tuple[str, ...]:
+    """Return a name or a collection of names as a tuple of str.
+
+    Args:
+        value: One name (a str) or an iterable of names.
+        what: The argument's name, used in error messages.
+        error: The exception raised for a bad entry.
+        ordered: Reject sets (their order is arbitrary).
+
+    Raises:
+        InvalidInputError: ``value`` is None, a number, a dict, bytes (or a set if ``ordered``).
+        VirtualActuatorError: ``error`` for an entry that is not a str.
+
+    """
+    if isinstance(value, str):
+        return (value,)
+    unordered = ordered and isinstance(value, Set)
+    if isinstance(value, (bytes, Mapping)) or unordered or not isinstance(value, Iterable):
+        kind = "an ordered sequence" if ordered else "a collection"
+        raise InvalidInputError(
+            f"{what} must be a name or {kind} of names (str), got {describe(value)}."
+        )
+    names = tuple(value)
+    for i, name in enumerate(names):
+        if not isinstance(name, str):
+            raise error(f"{what}[{i}] must be a name (str), got {describe(name)}.")
+    return tuple(str(name) for name in names)
+
+
+def check_number(
+    value: object,
+    what: str,
+    minimum: float | None = None,
+    positive: bool = False,
+    allow_inf: bool = False,
+    error: type[VirtualActuatorError] = InvalidInputError,
+) -> float:
+    """Return ``value`` as a float after checking that it is a real number in range.
+
+    Args:
+        value: The argument: an int or a float (numpy scalars included).
+        what: The argument's name, used in error messages.
+        minimum: Smallest valid value (inclusive), if any.
+        positive: Require ``value > 0``.
+        allow_inf: Accept ``inf`` (never NaN).
+        error: The exception raised.
+
+    Raises:
+        VirtualActuatorError: ``error`` (by default :class:`InvalidInputError`) for a bool, a
+            complex number, a str, None, NaN, an infinity unless ``allow_inf``, or a value out
+            of range.
+
+    """
+    valid = "a real number"
+    if positive:
+        valid += " > 0"
+    elif minimum is not None:
+        valid += f" >= {minimum:g}"
+    valid += "" if allow_inf else " (finite)"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise error(f"{what} must be {valid}, got {describe(value)}.")
+    number = float(value)
+    bad = (
+        math.isnan(number)
+        or (not allow_inf and math.isinf(number))
+        or (positive and not number > 0.0)
+        or (minimum is not None and number < minimum)
+    )
+    if bad:
+        shown = "NaN" if math.isnan(number) else repr(number)
+        raise error(f"{what} must be {valid}, got {shown}.")
+    return number
+
+
+def check_flag(value: object, what: str) -> bool:
+    """Return ``value`` as a bool if it is one (numpy's included).
+
+    Raises:
+        InvalidInputError: Anything else (a str such as ``"no"`` is not a flag).
+
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise InvalidInputError(f"{what} must be True or False, got {describe(value)}.")
+
+
+def as_float_array(value: object, what: str, expected: str, copy: bool = False) -> np.ndarray:
+    """Return an array-like of real numbers as float64 (the slow path of per-tick arguments).
+
+    Args:
+        value: The argument (a number, a list, a tuple, an array of ints or floats).
+        what: The argument's name, used in error messages.
+        expected: What would be valid, e.g. ``"an array of 6 floats"``.
+        copy: Never return ``value`` itself or a view of it (for values that are kept).
+
+    Raises:
+        InvalidInputError: None, a str, a dict, a set, ragged nesting, or entries that are
+            complex (the imaginary part would be lost), bool, str or other non-numbers.
+
+    """
+    if value is None or isinstance(value, (str, bytes, Mapping, Set)):
+        raise InvalidInputError(f"{what} must be {expected}, got {describe(value)}.")
+    try:
+        array = np.asarray(value)
+        kind = array.dtype.kind
+        if kind in "fiu":
+            return array.astype(np.float64, copy=copy and isinstance(value, np.ndarray))
+        if kind == "O":
+            if any(isinstance(x, (complex, bool, np.bool_, str)) for x in array.flat):
+                raise TypeError
+            return array.astype(np.float64)
+    except (TypeError, ValueError):
+        pass
+    else:
+        if kind == "c":
+            raise InvalidInputError(
+                f"{what} must be {expected}, got complex values (the imaginary part would be lost)."
+            )
+        if kind == "b":
+            raise InvalidInputError(f"{what} must be {expected}, got bool values.")
+    raise InvalidInputError(f"{what} must be {expected}, got {describe(value)}.")

@@ -3,13 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
+import os
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .robots.robot import Robot
 
 
 def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
@@ -43,18 +49,59 @@ def _print_solution(title: str, robot, body, q, wrench, sol) -> None:
     print(_joint_table(robot, sol.tau))
 
 
+def stand_robot(name: str = "solo12") -> Robot:
+    """Load the quadruped of ``demo stand`` and check that it has the frames the demo needs.
+
+    Args:
+        name: A robot name or URDF path for :func:`~virtual_actuators.load_robot`.
+
+    Returns:
+        The :class:`~virtual_actuators.Robot`.
+
+    Raises:
+        RobotNotFoundError: If no robot has this name or path.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If the robot lacks ``base_link`` or one of the frames ``FL_FOOT``,
+            ``FR_FOOT``, ``HL_FOOT``, ``HR_FOOT`` (it is not a quadruped like solo12).
+    """
+    import virtual_actuators as va
+
+    robot = va.load_robot(name)
+    needed = ("base_link", *STAND_FEET)
+    missing = [frame for frame in needed if not robot.model.existFrame(frame)]
+    if missing:
+        raise va.FrameNotFoundError(
+            f"robot {name!r} has no frame {', '.join(missing)}: the stand demo needs a "
+            f"quadruped with the frames {', '.join(needed)}, such as 'solo12' or 'solo'."
+        )
+    return robot
+
+
 def demo_stand(
-    robot_name: str = "solo12", repeat: int = 2000, args: argparse.Namespace | None = None
+    robot: str | os.PathLike[str] | Robot = "solo12",
+    repeat: int = 2000,
+    args: argparse.Namespace | None = None,
 ) -> None:
     """Load a quadruped, declare a body actuator on its four feet, print the distribution.
 
     With ``args.viz`` / ``args.record``, also show it in MeshCat / write it as HTML.
+
+    Args:
+        robot: A robot loaded by :func:`stand_robot`, or a name or path to load with it.
+        repeat: Solves per timing.
+        args: The parsed command line (for the viewer options), or None.
+
+    Raises:
+        RobotNotFoundError: If ``robot`` is a name that no robot has.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If it is not a quadruped with the frames of :func:`stand_robot`.
     """
     import virtual_actuators as va
 
-    robot = va.load_robot(robot_name)
+    if isinstance(robot, (str, os.PathLike)):
+        robot = stand_robot(os.fspath(robot))
     q = robot.neutral()
-    feet = [f for f in ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT") if robot.model.existFrame(f)]
+    feet = list(STAND_FEET)
     mass = sum(inertia.mass for inertia in robot.model.inertias)
     weight = mass * 9.81
     print(f"{robot}  mass {mass:.2f} kg, standing pose from its SRDF")
@@ -203,6 +250,28 @@ def demo_walk(args: argparse.Namespace) -> int:
 
 
 DEMOS = ("turkey-walk", "flamingo-slopes", "stand")
+WALK_DEMOS = ("turkey-walk", "flamingo-slopes")
+
+#: The frames that ``demo stand`` puts its body actuator on.
+STAND_FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
+
+#: Bounds of ``--duration`` [s]: a run needs a few 1 ms control ticks, and its log holds every
+#: tick in memory (and the simulation runs at about real time).
+MIN_DURATION = 0.01
+MAX_DURATION = 600.0
+
+#: ``--terrain`` points must lie within this many metres of the origin (x and z).
+MAX_TERRAIN_EXTENT = 1000.0
+
+#: Options of ``demo`` that only the walks use (argparse destination, option).
+WALK_OPTIONS = (
+    ("duration", "--duration"),
+    ("speed", "--speed"),
+    ("terrain", "--terrain"),
+    ("json", "--json"),
+    ("plot", "--plot"),
+    ("realtime", "--realtime"),
+)
 
 #: What the viewer needs to draw each example: robot, action frame, reference frame (the
 #: reaction frames and axes come from the example's solution; q is the robot's neutral pose).
@@ -258,6 +327,11 @@ def example_view(args: argparse.Namespace, name: str, result: dict) -> None:
 
 
 def _number(text: str, what: str) -> float:
+    """A finite float from ``text``.
+
+    Raises:
+        argparse.ArgumentTypeError: If ``text`` is not a number, or is NaN or infinite.
+    """
     try:
         value = float(text)
     except ValueError:
@@ -268,7 +342,7 @@ def _number(text: str, what: str) -> float:
 
 
 def positive_seconds(text: str) -> float:
-    """``--duration``: a finite number of seconds > 0.
+    """``--duration``: a finite number of seconds in [:data:`MIN_DURATION`, :data:`MAX_DURATION`].
 
     Raises:
         argparse.ArgumentTypeError: Otherwise (argparse turns it into a usage error).
@@ -276,6 +350,11 @@ def positive_seconds(text: str) -> float:
     value = _number(text, "duration")
     if value <= 0.0:
         raise argparse.ArgumentTypeError(f"duration must be > 0 s, got {text!r}")
+    if not MIN_DURATION <= value <= MAX_DURATION:
+        raise argparse.ArgumentTypeError(
+            f"duration must be between {MIN_DURATION:g} s (a run needs a few 1 ms control "
+            f"ticks) and {MAX_DURATION:g} s (the whole run is logged in memory), got {text!r}"
+        )
     return value
 
 
@@ -294,21 +373,37 @@ def walking_speed(text: str) -> float:
 def terrain_spec(text: str) -> str:
     """``--terrain``: a spec :meth:`Terrain.parse` accepts (checked now, parsed again later).
 
+    Its points must also lie within :data:`MAX_TERRAIN_EXTENT` metres of the origin. The terrain
+    module is imported here, only when the option is given (it brings in MuJoCo, which the
+    walks need anyway).
+
     Raises:
-        argparse.ArgumentTypeError: If the spec does not parse (with the parser's reason).
+        argparse.ArgumentTypeError: If the spec does not parse (with the parser's reason) or a
+            point lies too far away.
     """
     from .exceptions import VirtualActuatorError
     from .simulation.terrain import Terrain
 
     try:
-        Terrain.parse(text)
+        terrain = Terrain.parse(text)
     except VirtualActuatorError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
+    far = [
+        point for point in terrain.points if max(abs(point[0]), abs(point[1])) > MAX_TERRAIN_EXTENT
+    ]
+    if far:
+        x, z = (float(value) for value in far[0])
+        raise argparse.ArgumentTypeError(
+            f"terrain point ({x:g}, {z:g}) in {text!r} is too far away: x and z must be within "
+            f"+-{MAX_TERRAIN_EXTENT:g} m"
+        )
     return text
 
 
 def robot_name(text: str) -> str:
-    """``--robot``: a name ``load_robot`` knows or an existing URDF path.
+    """``--robot``: a name ``load_robot`` knows, or an existing URDF file or robot folder.
+
+    Whether the robot suits the demo (stand needs a quadruped) is checked when it is loaded.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise (with the closest names).
@@ -317,7 +412,8 @@ def robot_name(text: str) -> str:
     from .robots.loader import list_robots
 
     names = list_robots()
-    if text in names or Path(text).is_file():
+    path = Path(text).expanduser()
+    if text in names or path.is_file() or path.is_dir():
         return text
     raise argparse.ArgumentTypeError(
         f"no robot named {text!r} and no such URDF file. {suggestion(text, names, 'robots')}"
@@ -325,23 +421,53 @@ def robot_name(text: str) -> str:
 
 
 def output_path(text: str) -> str:
-    """An output file whose folder exists (checked before a run, not after it).
+    """An output file in an existing, writable folder (checked before a run, not after it).
 
     Raises:
-        argparse.ArgumentTypeError: If the folder does not exist or the path is a folder.
+        argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
+            exist, or it cannot be written.
     """
     path = Path(text)
-    if path.is_dir() or not path.parent.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is not a file path in an existing folder")
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a file path, got an empty string")
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a file path in an existing folder (no folder {str(path.parent)!r})"
+        )
+    if not os.access(path if path.exists() else path.parent, os.W_OK):
+        raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
     return text
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of ``python -m virtual_actuators``.
+class _OptionError(Exception):
+    """A command-line value that turned out unusable at run time (reported as a usage error)."""
 
-    Every option is checked by its argparse type: a bad value prints the usage line and the
-    reason, with exit code 2. Errors of the library caused by the arguments (a
-    :class:`~virtual_actuators.VirtualActuatorError`) are reported the same way.
+
+@contextlib.contextmanager
+def _blame(option: str) -> Iterator[None]:
+    """Turn a library error raised in the block into an :class:`_OptionError` naming ``option``.
+
+    Raises:
+        _OptionError: If the block raises a :class:`~virtual_actuators.VirtualActuatorError`.
+    """
+    from .exceptions import VirtualActuatorError
+
+    try:
+        yield
+    except VirtualActuatorError as error:
+        raise _OptionError(f"argument {option}: {error}") from error
+
+
+def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
+    """The parser of ``python -m virtual_actuators`` and its subcommands' parsers by name.
+
+    Every option has an argparse ``type`` that checks its value (so a bad one is a usage error);
+    the types import nothing heavy until their option is given.
+
+    Returns:
+        The top-level parser and ``{"demo": ..., "robots": ..., "example": ...}``.
     """
     parser = argparse.ArgumentParser(prog="python -m virtual_actuators", description=__doc__)
     sub = parser.add_subparsers(dest="command")
@@ -354,51 +480,109 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     demo.add_argument("name", nargs="?", default="turkey-walk", choices=DEMOS)
     demo.add_argument(
-        "--duration", type=positive_seconds, default=None, help="simulated seconds (> 0)"
+        "--duration",
+        type=positive_seconds,
+        default=None,
+        help=f"walks: simulated seconds, {MIN_DURATION:g} to {MAX_DURATION:g}",
     )
     demo.add_argument(
-        "--speed", type=walking_speed, default=None, help="desired speed, (0, 1.5] m/s"
+        "--speed", type=walking_speed, default=None, help="walks: desired speed, (0, 1.5] m/s"
     )
     demo.add_argument(
         "--terrain",
         type=terrain_spec,
         default=None,
-        help="'flat', a built-in profile (profile-one, profile-two, rolling) or points "
-        "'x:z,x:z,...' in metres",
+        help="walks: 'flat', 'flat:HEIGHT', a built-in profile (profile-one, profile-two, "
+        "rolling) or points 'x:z,x:z,...' in metres with increasing x",
     )
     demo.add_argument(
-        "--json", type=output_path, default=None, metavar="PATH", help="write the metrics as JSON"
+        "--json",
+        type=output_path,
+        default=None,
+        metavar="PATH",
+        help="walks: write the metrics as JSON",
     )
     demo.add_argument(
-        "--plot", type=output_path, default=None, metavar="PATH", help="save a PNG of the run"
+        "--plot",
+        type=output_path,
+        default=None,
+        metavar="PATH",
+        help="walks: save a PNG of the run",
     )
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
     demo.add_argument(
-        "--robot", type=robot_name, default="solo12", help="stand: quadruped with *_FOOT frames"
+        "--robot",
+        type=robot_name,
+        default=None,
+        help="stand: a quadruped with base_link and FL/FR/HL/HR_FOOT frames (default: solo12)",
     )
     _viewer_arguments(demo, walks=True)
-    sub.add_parser("robots", help="list the robots load_robot accepts by name")
+    robots = sub.add_parser("robots", help="list the robots load_robot accepts by name")
     example = sub.add_parser("example", help="run one of the seeds' worked examples")
-    example.add_argument(
-        "name", choices=["hexapod-tripod", "millipede", "single-leg", "double-support"]
-    )
+    example.add_argument("name", choices=list(EXAMPLE_VIEWS))
     _viewer_arguments(example)
-    args = parser.parse_args(argv)
-    if args.command is None:
-        args = parser.parse_args(["demo", *(argv or [])])
+    return parser, {"demo": demo, "robots": robots, "example": example}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``python -m virtual_actuators``.
+
+    Every option is checked by its argparse type: a bad value prints the usage line and the
+    reason, with exit code 2. An option that the chosen demo does not use is a usage error too.
+    Errors of the library raised at run time (a :class:`~virtual_actuators.VirtualActuatorError`,
+    caused by the values given) are reported the same way, naming the option when it is known;
+    any other exception is a bug and propagates.
+
+    Args:
+        argv: The arguments (default: ``sys.argv[1:]``); none, or options first, means
+            ``demo`` (with those options).
+
+    Returns:
+        The exit code: 0, or 1 when a walk ends with the robot fallen.
+
+    Raises:
+        SystemExit: With code 2 (and argparse's usage message on stderr) for a bad argument, or
+            with code 0 for ``--help``.
+    """
+    parser, subparsers = build_parser()
+    arguments = list(sys.argv[1:] if argv is None else argv)
+    if not arguments or (arguments[0].startswith("-") and arguments[0] not in ("-h", "--help")):
+        arguments.insert(0, "demo")  # the default command, with its options
+    args = parser.parse_args(arguments)
+    command_parser = subparsers.get(args.command, parser)
+    if args.command == "demo":
+        _check_demo_options(args, command_parser)
     from .exceptions import VirtualActuatorError
 
     try:
         return _run(args)
-    except VirtualActuatorError as error:  # caused by an argument: a usage error, exit 2
-        {"demo": demo, "example": example}.get(args.command, parser).error(str(error))
+    except _OptionError as error:  # a value that only failed when used: a usage error, exit 2
+        command_parser.error(str(error))
+    except VirtualActuatorError as error:  # caused by the arguments: a usage error, exit 2
+        command_parser.error(str(error))
     return 2  # (error() exits)
+
+
+def _check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
+    if args.name == "stand":
+        for dest, option in WALK_OPTIONS:
+            if getattr(args, dest) not in (None, False):
+                parser.error(
+                    f"argument {option}: only the walks ({', '.join(WALK_DEMOS)}) use it, not stand"
+                )
+    elif args.robot is not None:
+        parser.error(
+            f"argument --robot: only the stand demo uses it; {args.name} has its own robot"
+        )
 
 
 def _run(args: argparse.Namespace) -> int:
     if args.command == "demo":
         if args.name == "stand":
-            demo_stand(args.robot, args=args)
+            with _blame("--robot"):
+                robot = stand_robot(args.robot or "solo12")
+            demo_stand(robot, args=args)
             return 0
         return demo_walk(args)
     if args.command == "example":

@@ -40,6 +40,21 @@ A URDF given by path is checked before Pinocchio sees it (XML syntax, then the U
 ``yourdfpy``: names, joint types, parent and child links, limits, a single tree), so that a broken
 file gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` that says what is wrong.
 ``yourdfpy`` is only a validator here: it never loads meshes and never computes kinematics.
+
+Every URDF, by path or by name, is also checked for what Pinocchio would load silently but no
+robot can be, on the XML itself before Pinocchio reads it (Pinocchio loads a NaN mass as 0): a
+revolute, continuous, prismatic or planar joint with a zero or non-finite axis; a negative or
+non-finite mass; a non-finite inertia or a negative ``ixx``, ``iyy`` or ``izz``; a joint limit
+with ``lower > upper`` or a NaN bound; an inertia that is not positive semi-definite (beyond a
+round-off of ``max(1e-9 kg m^2, 1e-6 * largest principal moment)``); and ``<mimic>`` joints,
+which are not supported (remove the tag, or declare an
+:class:`~virtual_actuators.declaration.constraints.EqualTorque` design constraint to share the
+effort). Each gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` naming the link
+or joint, the bad value and what is valid. Zero masses, fixed joints with any axis, continuous
+joints without limits and ``lower == upper`` are valid. The curated example-robot-data files are
+exempt from the last two checks only: several ship gripper fingers as mimic joints (loaded as
+independent joints) and ``romeo_laas_small`` and the ``tiago`` family ship inertias that are not
+positive semi-definite; they load as Pinocchio loads them.
 """
 
 from __future__ import annotations
@@ -112,6 +127,10 @@ _DUPLICATE_NAMES = {
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _PATH_SUFFIXES = (".urdf", ".xml", ".xacro")
 _MAX_PROBLEMS = 10
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+#: Round-off allowed on moments of inertia: relative to the largest principal moment, and [kg m^2].
+_INERTIA_RTOL = 1e-6
+_INERTIA_ATOL = 1e-9
 
 
 # ---------------------------------------------------------------------------------------------
@@ -138,7 +157,12 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
         RobotNotFoundError: If the file does not exist, or no robot has this name (the message
             lists the closest names).
         RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF (the
-            message names the file and what is wrong), or Pinocchio cannot build a model from it.
+            message names the file and what is wrong), describes an impossible robot (a zero
+            joint axis, a negative or NaN mass, a non-finite, negative or not positive
+            semi-definite inertia, a limit with lower > upper, a mimic joint; the message names
+            each offending link or joint, its value and what is valid; see the module
+            documentation for the example-robot-data exemptions), or Pinocchio cannot build a
+            model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.
 
@@ -370,19 +394,34 @@ def _load_urdf(
 ) -> Robot:
     """Build the robot of one URDF file.
 
-    ``validate`` runs the checks of :func:`_validate_urdf` before Pinocchio (for URDF files
-    given by path); otherwise they run only to explain a file that Pinocchio rejects.
+    The physical checks of :func:`_physics_problems` always run first, on the XML (strictly,
+    except for the curated example-robot-data files). ``validate`` then runs the structural
+    checks of :func:`_validate_urdf` before Pinocchio (for URDF files given by path); otherwise
+    they run only to explain a file that Pinocchio rejects.
+
+    Raises:
+        RobotDescriptionError: If the file cannot be read, is not well-formed XML, describes an
+            impossible robot (the message names each offending link or joint), fails the
+            structural checks, or Pinocchio cannot build a model from it.
+
     """
     path = path.resolve()
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotDescriptionError(f"Cannot read the URDF file {path}: {exc}") from exc
-    root = _validate_urdf(path, text) if validate else _parse_xml(path, text)
-    problems = _physics_problems(root, strict=validate)
+    root = _parse_xml(path, text)
+    problems, tolerated = _physics_problems(root, strict=not _is_curated(path))
     if problems:
-        listed = "".join(f"\n  - {problem}" for problem in problems[:_MAX_PROBLEMS])
-        raise RobotDescriptionError(f"{path} describes an impossible robot:{listed}")
+        shown = problems[:_MAX_PROBLEMS]
+        more = len(problems) - len(shown)
+        listed = "".join(f"\n  - {problem}" for problem in shown)
+        tail = f"\n  ... and {more} more" if more else ""
+        raise RobotDescriptionError(f"{path} describes an impossible robot:{listed}{tail}")
+    for problem in tolerated:
+        _logger.debug("%s (tolerated in a curated example-robot-data file): %s", path, problem)
+    if validate:
+        _validate_urdf(path, text)
     if floating_base is None:
         floating_base = _guess_floating_base(root, path.stem)
 
@@ -445,6 +484,14 @@ def _load_module_robot(name: str, init: Path, floating_base: bool | None) -> Rob
             f"{init}: build_robot() returned {type(robot).__name__}, not a Robot."
         )
     return robot
+
+
+def _is_curated(path: Path) -> bool:
+    """Whether ``path`` (resolved) is one of the URDF files shipped by example-robot-data."""
+    index = _example_robot_data()
+    if index.share is None:
+        return False
+    return path.is_relative_to(index.share / "example-robot-data" / "robots")
 
 
 def _guess_floating_base(root: ET.Element, stem: str = "") -> bool:
@@ -625,70 +672,138 @@ def _floats(text: str | None, count: int) -> list[float] | None:
     return values if len(values) == count else None
 
 
-def _physics_problems(root: ET.Element, strict: bool = True) -> list[str]:
+def _inertia_tolerance(largest: float) -> float:
+    """How negative a moment of inertia [kg m^2] may be and still count as round-off.
+
+    URDF files print about six significant digits, so a principal moment down to
+    ``-1e-6 * largest`` is round-off; so is anything above ``-1e-9`` kg m^2 (tiny links print
+    their inertias as ``1e-20``-ish noise).
+    """
+    return max(_INERTIA_ATOL, _INERTIA_RTOL * abs(largest))
+
+
+def _link_problems(link: ET.Element) -> tuple[list[str], list[str]]:
+    """Problems of one link's ``<inertial>``: (always fatal, fatal unless curated)."""
+    fatal: list[str] = []
+    lenient: list[str] = []
+    inertial = link.find("inertial")
+    if inertial is None:
+        return fatal, lenient
+    name = link.get("name")
+    mass = inertial.find("mass")
+    text = None if mass is None else mass.get("value")
+    value = _floats(text, 1)
+    if value is not None and not (math.isfinite(value[0]) and value[0] >= 0.0):
+        fatal.append(
+            f"link {name!r} has <mass value={text!r}/>; a mass must be a finite number >= 0 kg "
+            "(0 is fine for a massless link)"
+        )
+    inertia = inertial.find("inertia")
+    if inertia is None:
+        return fatal, lenient
+    texts = {key: inertia.get(key, "0") for key in _INERTIA_KEYS}
+    try:
+        values = {key: float(text) for key, text in texts.items()}
+    except ValueError:
+        return fatal, lenient  # malformed numbers: yourdfpy (or Pinocchio) reports them
+    bad = [f"{key}={texts[key]!r}" for key, number in values.items() if not math.isfinite(number)]
+    if bad:
+        fatal.append(
+            f"link {name!r} has a non-finite inertia ({', '.join(bad)}); ixx, ixy, ixz, iyy, iyz "
+            "and izz must be finite numbers in kg m^2"
+        )
+        return fatal, lenient
+    xx, xy, xz, yy, yz, zz = (values[key] for key in _INERTIA_KEYS)
+    matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    eigenvalues = np.linalg.eigvalsh(matrix)
+    tolerance = _inertia_tolerance(max(abs(eigenvalues[0]), abs(eigenvalues[-1])))
+    negative = [f"{key}={texts[key]}" for key in ("ixx", "iyy", "izz") if values[key] < -tolerance]
+    if negative:
+        fatal.append(
+            f"link {name!r} has a negative moment of inertia ({', '.join(negative)} kg m^2); "
+            "ixx, iyy and izz must be >= 0"
+        )
+    elif eigenvalues[0] < -tolerance:
+        shown = " ".join(f"{key}={texts[key]}" for key in _INERTIA_KEYS)
+        lenient.append(
+            f"link {name!r} has an inertia that is not positive semi-definite ({shown}: "
+            f"smallest principal moment {eigenvalues[0]:.3g} kg m^2); the products of inertia "
+            "are too large for the moments: a valid inertia has principal moments >= 0"
+        )
+    return fatal, lenient
+
+
+def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
+    """Problems of one joint: (always fatal, fatal unless curated)."""
+    fatal: list[str] = []
+    lenient: list[str] = []
+    name, kind = joint.get("name"), joint.get("type")
+    axis = joint.find("axis")
+    if axis is not None and kind in ("revolute", "continuous", "prismatic", "planar"):
+        xyz = _floats(axis.get("xyz"), 3)
+        if xyz is not None and not (all(map(math.isfinite, xyz)) and any(xyz)):
+            fatal.append(
+                f"joint {name!r} ({kind}) has <axis xyz={axis.get('xyz')!r}/>; its axis must be "
+                "a finite, nonzero vector such as '0 0 1' (only fixed joints may have a zero axis)"
+            )
+    limit = joint.find("limit")
+    if limit is not None and kind in ("revolute", "prismatic"):
+        bounds = {key: _floats(limit.get(key, "0"), 1) for key in ("lower", "upper")}
+        lower, upper = bounds["lower"], bounds["upper"]
+        nan = [f"{key}={limit.get(key)!r}" for key, v in bounds.items() if v and math.isnan(v[0])]
+        if nan:
+            fatal.append(
+                f"joint {name!r} has a limit that is not a number ({', '.join(nan)}); lower and "
+                "upper must be numbers with lower <= upper"
+            )
+        elif lower is not None and upper is not None and lower[0] > upper[0]:
+            missing = [key for key in ("lower", "upper") if limit.get(key) is None]
+            note = f" (a missing {' and '.join(missing)} reads as 0)" if missing else ""
+            fatal.append(
+                f"joint {name!r} has limits lower={lower[0]:g} > upper={upper[0]:g}{note}; the "
+                "lower limit must be <= the upper one (swap them; lower == upper is fine)"
+            )
+    mimic = joint.find("mimic")
+    if mimic is not None:
+        leader = mimic.get("joint")
+        lenient.append(
+            f"joint {name!r} mimics joint {leader!r} (<mimic joint={leader!r}/>): mimic joints "
+            "are not supported (Pinocchio would load it as an independent joint); remove the "
+            "<mimic> tag, and if the two joints must share the effort, declare the design "
+            f"constraint EqualTorque({name!r}, {leader!r}) on the actuator"
+        )
+    return fatal, lenient
+
+
+def _physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], list[str]]:
     """What Pinocchio would load silently but no robot can be.
 
-    A zero joint axis, a negative or NaN mass, an inertia that is not finite and positive
-    semi-definite, a joint limit whose lower bound exceeds its upper bound, and mimic joints
-    (their coupling would be ignored). ``strict=False`` (the curated example-robot-data files)
-    skips the last two checks: several ship gripper fingers as mimic joints (loaded as
-    independent joints) and inertias that are not positive semi-definite by round-off.
+    Checked on the XML itself, before Pinocchio reads the file (it loads a NaN mass as 0): a
+    zero or non-finite axis of a moving joint, a negative or non-finite mass, a non-finite or
+    negative moment of inertia (beyond round-off), a limit with lower > upper or a NaN bound,
+    an inertia that is not positive semi-definite and a ``<mimic>`` joint. Zero masses, fixed
+    joints with any axis, continuous joints without limits and lower == upper are valid.
+
+    Args:
+        root: The ``<robot>`` element.
+        strict: False for the curated example-robot-data files: several ship gripper fingers
+            as mimic joints (loaded as independent joints, as Pinocchio does) and a few ship
+            inertias that are not positive semi-definite; these two problems are then tolerated.
+
+    Returns:
+        The problems that forbid loading, and those tolerated (empty when ``strict``: they are
+        in the first list then).
+
     """
-    problems = []
-    for link in root.findall("link"):
-        inertial = link.find("inertial")
-        if inertial is None:
-            continue
-        name = link.get("name")
-        mass = inertial.find("mass")
-        value = _floats(None if mass is None else mass.get("value"), 1)
-        if value is not None and not (math.isfinite(value[0]) and value[0] >= 0.0):
-            problems.append(f"link {name!r} has mass {value[0]}; a mass must be finite and >= 0 kg")
-        inertia = inertial.find("inertia")
-        if inertia is None or not strict:
-            continue
-        keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-        try:
-            xx, xy, xz, yy, yz, zz = (float(inertia.get(k, "0")) for k in keys)
-        except ValueError:
-            continue  # malformed numbers: yourdfpy reports them
-        matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-        if not np.all(np.isfinite(matrix)):
-            problems.append(f"link {name!r} has a non-finite inertia; it must be finite")
-            continue
-        eigenvalues = np.linalg.eigvalsh(matrix)
-        if eigenvalues[0] < -1e-6 * max(1e-12, abs(eigenvalues[-1])):
-            problems.append(
-                f"link {name!r} has an inertia with a negative principal moment "
-                f"({eigenvalues[0]:.3g} kg m^2); an inertia must be positive semi-definite"
-            )
-    for joint in root.findall("joint"):
-        name, kind = joint.get("name"), joint.get("type")
-        axis = joint.find("axis")
-        if axis is not None and kind in ("revolute", "continuous", "prismatic"):
-            xyz = _floats(axis.get("xyz"), 3)
-            if xyz is not None and not (all(map(math.isfinite, xyz)) and any(xyz)):
-                problems.append(
-                    f"joint {name!r} has axis {axis.get('xyz')!r}; a {kind} joint needs a "
-                    "finite, nonzero axis"
-                )
-        limit = joint.find("limit")
-        if limit is not None and kind in ("revolute", "prismatic"):
-            lower = _floats(limit.get("lower", "0"), 1)
-            upper = _floats(limit.get("upper", "0"), 1)
-            if lower is not None and upper is not None and lower[0] > upper[0]:
-                problems.append(
-                    f"joint {name!r} has limits lower={lower[0]:g} > upper={upper[0]:g}; "
-                    "swap them (lower <= upper)"
-                )
-        mimic = joint.find("mimic")
-        if mimic is not None and strict:
-            problems.append(
-                f"joint {name!r} mimics joint {mimic.get('joint')!r}: mimic joints are not "
-                "supported (Pinocchio would load it as an independent joint); remove the "
-                "<mimic> tag, or lock or merge the joint"
-            )
-    return problems
+    problems: list[str] = []
+    tolerated: list[str] = []
+    checks = [(_link_problems, link) for link in root.findall("link")]
+    checks += [(_joint_problems, joint) for joint in root.findall("joint")]
+    for check, element in checks:
+        fatal, lenient = check(element)
+        problems += fatal
+        (problems if strict else tolerated).extend(lenient)
+    return problems, tolerated
 
 
 def _yourdfpy_problems(path: Path) -> list[str]:

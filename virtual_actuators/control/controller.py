@@ -31,6 +31,7 @@ from ..declaration.frames import (
     check_names,
     check_number,
     check_robot,
+    check_sequence,
     describe,
     resolve_joint,
 )
@@ -128,24 +129,6 @@ def _names_tuple(active: object) -> tuple:
     raise InvalidInputError(
         f"active must be a sequence of attachment names (or one name), got {describe(active)}."
     )
-
-
-def _check_components(components: object, where: str) -> list[Component]:
-    """``components`` as a list of :class:`Component` (one component is accepted alone)."""
-    if isinstance(components, Component):
-        return [components]
-    if isinstance(components, (str, bytes, Mapping)) or not isinstance(components, Iterable):
-        raise InvalidInputError(
-            f"{where}: components must be a sequence of va.Component (e.g. [va.Spring(...)]), "
-            f"got {describe(components)}."
-        )
-    components = list(components)
-    for i, component in enumerate(components):
-        if not isinstance(component, Component):
-            raise InvalidInputError(
-                f"{where}: components[{i}] must be a va.Component, got {describe(component)}."
-            )
-    return components
 
 
 @dataclass(repr=False)
@@ -308,7 +291,11 @@ class Controller:
             raise InvalidInputError(
                 f"{where}: sensor must be a va.VirtualActuator or None, got {describe(sensor)}."
             )
-        components = _check_components(components, where)
+        components = list(
+            check_sequence(
+                components, f"{where}: components", "va.Component", Component, single=Component
+            )
+        )
         if friction is not None:
             friction = check_number(friction, f"{where}: friction", positive=True)
         min_normal = check_number(min_normal, f"{where}: min_normal [N]", minimum=0.0)

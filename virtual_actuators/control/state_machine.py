@@ -16,7 +16,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..declaration.frames import check_name, check_names, check_number, check_robot, describe
+from ..declaration.frames import (
+    check_name,
+    check_names,
+    check_number,
+    check_robot,
+    check_sequence,
+    describe,
+)
 from ..exceptions import InvalidInputError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
@@ -153,23 +160,6 @@ def _check_context(context: object) -> None:
         )
 
 
-def _sequence_of(values: object, kind: type, what: str) -> Sequence:
-    """``values`` as a sequence whose entries are all ``kind`` (a tuple if not a sequence)."""
-    if isinstance(values, (str, bytes, Mapping)) or not isinstance(values, Iterable):
-        raise InvalidInputError(
-            f"StateMachine: {what} must be a sequence of va.{kind.__name__}, got "
-            f"{describe(values)}."
-        )
-    if not isinstance(values, Sequence):
-        values = tuple(values)
-    for i, value in enumerate(values):
-        if not isinstance(value, kind):
-            raise InvalidInputError(
-                f"StateMachine: {what}[{i}] must be a va.{kind.__name__}, got {describe(value)}."
-            )
-    return values
-
-
 @dataclass(repr=False)
 class State:
     """One state of a gait.
@@ -272,8 +262,10 @@ class StateMachine:
     history: list[tuple[float, str]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.states = _sequence_of(self.states, State, "states")
-        self.transitions = _sequence_of(self.transitions, Transition, "transitions")
+        self.states = check_sequence(self.states, "StateMachine: states", "va.State", State)
+        self.transitions = check_sequence(
+            self.transitions, "StateMachine: transitions", "va.Transition", Transition
+        )
         check_name(self.initial, "StateMachine: initial (a state name)")
         self._states = {}
         for state in self.states:

@@ -23,6 +23,7 @@ from ..declaration.frames import (
     check_names,
     check_number,
     check_robot,
+    check_sequence,
     describe,
     parse_axes,
     resolve_frame,
@@ -107,18 +108,6 @@ def _check_passive(passive: object) -> dict[str, tuple[float, float]]:
         )
         out[name] = (stiffness, rest)
     return out
-
-
-def _check_design(design: object) -> tuple[DesignConstraint, ...]:
-    """``design`` as a tuple of design constraints (one constraint is accepted alone)."""
-    if isinstance(design, DesignConstraint):
-        return (design,)
-    if isinstance(design, (str, bytes, Mapping)) or not isinstance(design, Iterable):
-        raise InvalidInputError(
-            "design must be a sequence of design constraints (va.Equal, va.Linear, "
-            f"va.EqualTorque), got {describe(design)}."
-        )
-    return tuple(design)
 
 
 @dataclass(frozen=True, repr=False)
@@ -365,7 +354,14 @@ class ParallelVirtualActuator:
         contact = _check_contact(contact)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
         passive = _check_passive(passive)
-        self.design = _check_design(design)
+        self.design = tuple(
+            check_sequence(
+                design,
+                "design",
+                "design constraints (va.Equal, va.Linear, va.EqualTorque)",
+                single=DesignConstraint,
+            )
+        )
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )

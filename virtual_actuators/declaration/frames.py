@@ -176,6 +176,39 @@ def describe(value: object, limit: int = 60) -> str:
     return f"{type(value).__name__} {text}"
 
 
+def check_sequence(
+    value: object,
+    what: str,
+    label: str,
+    kind: type | tuple[type, ...] | None = None,
+    single: type | tuple[type, ...] | None = None,
+) -> Sequence:
+    """Return ``value`` as a sequence (a tuple unless it already is one).
+
+    Args:
+        value: The argument.
+        what: Its name, used in error messages.
+        label: What its entries are, for messages (e.g. ``"va.Component"``).
+        kind: When given, every entry must be an instance of it.
+        single: When ``value`` is an instance of it, it stands alone: ``(value,)``.
+
+    Raises:
+        InvalidInputError: ``value`` is a str, bytes, a mapping or not iterable, or an entry is
+            not a ``kind``.
+
+    """
+    if single is not None and isinstance(value, single):
+        return (value,)
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+        raise InvalidInputError(f"{what} must be a sequence of {label}, got {describe(value)}.")
+    values = value if isinstance(value, Sequence) else tuple(value)
+    if kind is not None:
+        for i, entry in enumerate(values):
+            if not isinstance(entry, kind):
+                raise InvalidInputError(f"{what}[{i}] must be a {label}, got {describe(entry)}.")
+    return values
+
+
 def check_robot(robot: object, where: str) -> None:
     """Check that ``robot`` is a robot (a :class:`~virtual_actuators.Robot` or alike).
 

@@ -413,11 +413,7 @@ def _load_urdf(
     root = _parse_xml(path, text)
     problems, tolerated = _physics_problems(root, strict=not _is_curated(path))
     if problems:
-        shown = problems[:_MAX_PROBLEMS]
-        more = len(problems) - len(shown)
-        listed = "".join(f"\n  - {problem}" for problem in shown)
-        tail = f"\n  ... and {more} more" if more else ""
-        raise RobotDescriptionError(f"{path} describes an impossible robot:{listed}{tail}")
+        raise RobotDescriptionError(f"{path} describes an impossible robot:{_listed(problems)}")
     for problem in tolerated:
         _logger.debug("%s (tolerated in a curated example-robot-data file): %s", path, problem)
     if validate:
@@ -603,6 +599,14 @@ def _parse_xml(path: Path, text: str) -> ET.Element:
     return root
 
 
+def _listed(problems: list[str]) -> str:
+    """The first problems as an indented list, with how many more were left out."""
+    shown = problems[:_MAX_PROBLEMS]
+    more = len(problems) - len(shown)
+    tail = f"\n  ... and {more} more" if more else ""
+    return "".join(f"\n  - {problem}" for problem in shown) + tail
+
+
 def _validate_urdf(path: Path, text: str) -> ET.Element:
     """Check a URDF thoroughly and return its root element.
 
@@ -616,11 +620,7 @@ def _validate_urdf(path: Path, text: str) -> ET.Element:
     if not problems:
         problems = _yourdfpy_problems(path)
     if problems:
-        shown = problems[:_MAX_PROBLEMS]
-        more = len(problems) - len(shown)
-        listed = "".join(f"\n  - {problem}" for problem in shown)
-        tail = f"\n  ... and {more} more" if more else ""
-        raise RobotDescriptionError(f"{path} is not a valid URDF:{listed}{tail}")
+        raise RobotDescriptionError(f"{path} is not a valid URDF:{_listed(problems)}")
     return root
 
 

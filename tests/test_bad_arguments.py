@@ -399,17 +399,8 @@ CASES: list[tuple[str, Call, str]] = [
     ("event-when-int", lambda e: events.when(5), "predicate"),
 ]
 
-# Fixes that belong in the kinematics layer, outside this change:
-# - kinematics/tree.py, KinematicTree.check_configuration / check_velocity cast q and v with
-#   ``np.asarray(x, dtype=float)``, which drops the imaginary part of a complex array and turns a
-#   bool array into 0.0 / 1.0 without an error;
-# - kinematics/tree.py tree_of (via va.Snapshot) reads ``robot.model``: AttributeError for None;
-# - kinematics/snapshot.py Snapshot._frame_id calls ``int(frame)`` on a non-str frame: TypeError.
-# Remove the marker once they raise va.InvalidInputError / va.FrameNotFoundError.
-KINEMATICS = pytest.mark.xfail(
-    strict=True,
-    reason="fix belongs in kinematics/tree.py and kinematics/snapshot.py (see comment above)",
-)
+# The kinematics layer's own checks: complex or bool q / v, a robot that is not a va.Robot, a
+# frame that is neither a name nor an id.
 KINEMATICS_CASES: list[tuple[str, Call, str]] = [
     ("solve-q-complex", lambda e: e.body.solve(e.q_solo + 0j, e.w6), "q"),
     ("position-q-bool", lambda e: e.arm.position(np.ones(6, dtype=bool)), "q"),
@@ -429,7 +420,7 @@ def test_bad_argument_raises_typed_error_naming_it(env, call, match):
 
 @pytest.mark.parametrize(
     ("call", "match"),
-    [pytest.param(c, m, id=i, marks=KINEMATICS) for i, c, m in KINEMATICS_CASES],
+    [pytest.param(c, m, id=i) for i, c, m in KINEMATICS_CASES],
 )
 def test_bad_configuration_in_kinematics_layer(env, call, match):
     with pytest.raises(va.VirtualActuatorError, match=match):

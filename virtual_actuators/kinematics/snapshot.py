@@ -154,6 +154,11 @@ class Snapshot:
         if isinstance(frame, str):
             return self.tree.frame_id(frame)
         model = self.tree.model
+        if isinstance(frame, bool) or not isinstance(frame, (int, np.integer)):
+            raise FrameNotFoundError(
+                f"Frame must be a frame name (str) or id (int), got {type(frame).__name__}; "
+                f"model {model.name!r} has {len(model.frames)} frames."
+            )
         if not 0 <= int(frame) < len(model.frames):
             raise FrameNotFoundError(
                 f"Frame id {frame} is out of range; model {model.name!r} has "

@@ -197,12 +197,7 @@ class KinematicTree:
 
         """
         if not (isinstance(q, np.ndarray) and q.dtype == np.float64):
-            try:
-                q = np.asarray(q, dtype=float)
-            except (TypeError, ValueError):
-                raise InvalidInputError(
-                    f"Configuration q must be an array of {self.nq} floats, got {type(q).__name__}."
-                ) from None
+            q = _as_real_array(q, "Configuration q", self.nq)
         if q.shape != (self.nq,):
             raise InvalidInputError(
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
@@ -241,12 +236,7 @@ class KinematicTree:
 
         """
         if not (isinstance(v, np.ndarray) and v.dtype == np.float64):
-            try:
-                v = np.asarray(v, dtype=float)
-            except (TypeError, ValueError):
-                raise InvalidInputError(
-                    f"Velocity v must be an array of {self.nv} floats, got {type(v).__name__}."
-                ) from None
+            v = _as_real_array(v, "Velocity v", self.nv)
         if v.shape != (self.nv,):
             raise InvalidInputError(
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
@@ -267,10 +257,33 @@ class KinematicTree:
 _TREES_LOCK = threading.Lock()
 
 
+def _as_real_array(values: object, what: str, size: int) -> np.ndarray:
+    """``values`` as a float64 array; complex, bool and non-numeric input is rejected.
+
+    Raises:
+        InvalidInputError: ``values`` is not an array of real numbers.
+
+    """
+    array = None
+    if not isinstance(values, (str, bytes, dict, set)):
+        try:
+            array = np.asarray(values)
+        except (TypeError, ValueError):
+            array = None
+    if array is None or array.dtype.kind not in "iuf":
+        got = type(values).__name__ if array is None else f"an array of dtype {array.dtype}"
+        raise InvalidInputError(f"{what} must be an array of {size} real numbers, got {got}.")
+    return array.astype(float, copy=False)
+
+
 def tree_of(robot: object) -> KinematicTree:
     """Return the :class:`KinematicTree` of a robot, built on first use and kept on it."""
     tree = getattr(robot, "_kinematic_tree", None)
     if tree is None:
+        if not isinstance(getattr(robot, "model", None), pin.Model):
+            raise InvalidInputError(
+                f"robot must be a va.Robot (from va.load_robot), got {type(robot).__name__}."
+            )
         with _TREES_LOCK:
             tree = getattr(robot, "_kinematic_tree", None)
             if tree is None:

@@ -254,6 +254,66 @@ def test_clipping_to_urdf_effort_limits():
     np.testing.assert_array_equal(controller.effort_limits, limit)
 
 
+def test_effort_limits_are_assigned_checked_and_read_only():
+    rob = robot(UR5)
+    q, v, _ = ur5_state(52)
+    controller = Controller(rob)
+    arm = va.VirtualActuator(rob, "tool0", "world", "world", AXES)
+    force = np.array([300.0, -200.0, 400.0, 30.0, -20.0, 25.0])
+    controller.add("arm", arm, [ConstantForce(AXES, force)])
+    with pytest.raises(ValueError):
+        controller.effort_limits[0] = 1.0  # read-only: an in-place edit would go unseen
+    controller.effort_limits = np.full(6, 5.0)
+    out = controller.compute(q, v)
+    np.testing.assert_allclose(out.tau, np.clip(out.tau_requested, -5.0, 5.0), rtol=0, atol=0)
+    np.testing.assert_array_equal(out.saturated, np.abs(out.tau_requested) > 5.0)
+    for bad in (np.full(5, 1.0), [1.0, 2.0, 3.0, 4.0, 5.0, -1.0], np.full(6, np.nan), "inf"):
+        with pytest.raises(va.InvalidInputError, match="effort_limits"):
+            controller.effort_limits = bad
+
+
+class _Returns(Component):
+    """A component returning a fixed object (to test how the controller takes it)."""
+
+    def __init__(self, axes, value):
+        super().__init__(axes)
+        self.value = value
+
+    def compute_wrench(self, position, velocity, time):
+        return self.value
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [
+        (2.0, [2.0, 2.0, 2.0]),  # a scalar on every axis
+        ([1, 2, 3], [1.0, 2.0, 3.0]),  # a list of ints
+        (np.array([1, 2, 3], dtype=np.int32), [1.0, 2.0, 3.0]),
+        (np.array([1.5, 2.5, 3.5]), [1.5, 2.5, 3.5]),
+    ],
+)
+def test_component_results_of_any_numeric_form_are_summed(value, expected):
+    rob = robot(UR5)
+    q, v, _ = ur5_state(53)
+    controller = Controller(rob, clip=False)
+    arm = va.VirtualActuator(rob, "tool0", "world", "world", ("x", "y", "z"))
+    controller.add("arm", arm, [_Returns(("x", "y", "z"), value)])
+    out = controller.compute(q, v)
+    np.testing.assert_array_equal(out.wrenches["arm"], expected)
+    np.testing.assert_allclose(out.tau, arm.jacobian(q).T @ np.array(expected), atol=1e-12)
+
+
+@pytest.mark.parametrize("value", [np.ones(2), "x", None, [np.nan, 0.0, 0.0]])
+def test_component_returning_a_bad_wrench_is_a_typed_error(value):
+    rob = robot(UR5)
+    q, v, _ = ur5_state(54)
+    controller = Controller(rob)
+    arm = va.VirtualActuator(rob, "tool0", "world", "world", ("x", "y", "z"))
+    controller.add("arm", arm, [_Returns(("x", "y", "z"), value)])
+    with pytest.raises(va.InvalidInputError, match="arm"):
+        controller.compute(q, v)
+
+
 def test_no_clipping_when_clip_false():
     rob = robot(UR5)
     model = rob.model

@@ -25,6 +25,7 @@ from ..components.base import Component
 from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
 from ..declaration.frames import (
     WORLD,
+    as_float_array,
     check_axes_subset,
     check_flag,
     check_name,
@@ -223,7 +224,31 @@ class Controller:
                 limit = float(model.effortLimit[joint.idx_v])
                 if np.isfinite(limit) and limit > 0.0:
                     limits[joint.idx_v] = limit
-        self.effort_limits = limits  # [N m or N], inf where unlimited
+        self.effort_limits = limits  # [N m or N], inf where unlimited (read-only; assign anew)
+
+    @property
+    def effort_limits(self) -> np.ndarray:
+        """``(nv,)`` effort limits [N m or N], ``inf`` where unlimited (read-only array).
+
+        Assign a new array to change them; it is checked and copied.
+
+        Raises:
+            InvalidInputError: (on assignment) not ``nv`` numbers, or a NaN or negative entry.
+
+        """
+        return self._upper_limits
+
+    @effort_limits.setter
+    def effort_limits(self, limits: object) -> None:
+        nv = self.robot.model.nv
+        expected = f"{nv} numbers >= 0 (inf where unlimited)"
+        upper = as_float_array(limits, "effort_limits", expected, copy=True)
+        if upper.shape != (nv,) or np.isnan(upper).any() or (upper < 0.0).any():
+            raise InvalidInputError(f"effort_limits must be {expected}, got {upper}.")
+        lower = -upper
+        upper.setflags(write=False)
+        lower.setflags(write=False)
+        self._upper_limits, self._lower_limits = upper, lower
 
     def add(
         self,
@@ -481,27 +506,21 @@ class Controller:
             names = active
             if len(set(names)) != len(names):
                 raise InvalidInputError(f"active names an attachment twice: {names}.")
-        tau = np.zeros(nv)
+        tau = None
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}
         failed: dict[str, str] = {}
         for name in names:
             attachment = self._get(name)
             sensor = attachment.sensor
-            reading = sensor.read(snapshot)
-            position, velocity, jacobian = reading.position, reading.velocity, reading.jacobian
-            wrench = np.zeros(len(attachment.axes))
-            for component, slot in zip(attachment.components, attachment.slots, strict=True):
-                wrench[slot] += component.compute_wrench(position[slot], velocity[slot], time)
-            if not math.isfinite(wrench.sum()) and not np.all(np.isfinite(wrench)):
-                raise InvalidInputError(
-                    f"Attachment {name!r}: a component returned a non-finite wrench {wrench}."
-                )
+            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+            wrench = self._evaluate(attachment, position, velocity, time)
             positions[name], velocities[name], wrenches[name] = position, velocity, wrench
             actuator = attachment.actuator
             if isinstance(actuator, VirtualActuator):
                 jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
-                tau += jacobian_act.T @ wrench
+                effort = jacobian_act.T @ wrench
+                tau = effort if tau is None else tau + effort
                 produced[name] = wrench
                 continue
             try:
@@ -513,15 +532,20 @@ class Controller:
                     raise
                 failed[name] = str(error)
                 continue
-            tau += solution.tau
+            tau = solution.tau.copy() if tau is None else tau + solution.tau
             solutions[name] = solution
             produced[name] = solution.wrench
+        if tau is None:
+            tau = np.zeros(nv)
         if limp.size:
             tau[limp] = 0.0
-        requested = tau.copy()
+        requested = tau  # a fresh array: the clipped efforts are another one
         if self.clip:
-            tau = np.minimum(np.maximum(tau, -self.effort_limits), self.effort_limits)
-        saturated = np.abs(requested) > self.effort_limits
+            tau = np.minimum(np.maximum(requested, self._lower_limits), self._upper_limits)
+            saturated = tau != requested  # clipped exactly where the request exceeds a limit
+        else:
+            tau = requested.copy()
+            saturated = np.abs(requested) > self._upper_limits
         return ControlOutput(
             tau=tau,
             tau_requested=requested,
@@ -535,6 +559,37 @@ class Controller:
             active=names,
             joint_names=self.joint_names,
         )
+
+    @staticmethod
+    def _evaluate(
+        attachment: Attachment, position: np.ndarray, velocity: np.ndarray, time: float
+    ) -> np.ndarray:
+        """Sum of the attachment's component wrenches on its actuator's axes (checked finite)."""
+        components = attachment.components
+        n = len(attachment.axes)
+        wrench = None
+        if len(components) == 1 and attachment.slots[0] == slice(0, n):  # one on every axis
+            wrench = components[0].compute_wrench(position, velocity, time)
+            if type(wrench) is not np.ndarray or wrench.shape != (n,) or wrench.dtype != float:
+                wrench = None  # a scalar, list or other dtype: the general path below
+        if wrench is None:
+            wrench = np.zeros(n)
+            for component, slot in zip(components, attachment.slots, strict=True):
+                result = component.compute_wrench(position[slot], velocity[slot], time)
+                try:
+                    wrench[slot] += result
+                except (TypeError, ValueError):
+                    raise InvalidInputError(
+                        f"Attachment {attachment.name!r}: component {component.name!r} returned "
+                        f"{describe(result)}; expected {len(component.axes)} numbers (its axes "
+                        f"{component.axes})."
+                    ) from None
+        if not math.isfinite(wrench @ wrench) and not np.all(np.isfinite(wrench)):
+            raise InvalidInputError(
+                f"Attachment {attachment.name!r}: a component returned a non-finite wrench "
+                f"{wrench}."
+            )
+        return wrench
 
     def _check_limp(self, limp: object) -> np.ndarray:
         """``limp`` as an integer index array with every entry in ``[0, nv)``."""

@@ -39,6 +39,9 @@ from .linalg import JACOBIAN_FLOOR, dependent_rows
 #: A chain is singular when its smallest needed singular value falls below this fraction of its
 #: largest one.
 SINGULAR_TOL = 1e-9
+#: A limp or passive joint's natural-constraint row is structurally zero (no selected axis loads
+#: the joint) when its norm stays below this fraction of the chain's largest Jacobian column.
+VACUOUS_TOL = 1e-10
 
 
 @dataclass
@@ -169,6 +172,8 @@ class DistributionProblem:
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
         self._structural: dict[bytes, bool] = {}
+        #: limp joints no selected axis loads: their (zero) natural rows are dropped
+        self.vacuous_v: tuple[int, ...] = ()
         self._sign_cache: dict[tuple[int, ...], np.ndarray] = {}
         self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
@@ -269,6 +274,7 @@ class DistributionProblem:
             per_chain.append((columns, np.array(own, dtype=int), ball))
         generic = self.generic_configurations()
         states = [self.kinematics.compute(q) for q in generic]
+        per_chain = self._drop_vacuous_joints(per_chain, states)
         ranks = []
         for i, (columns, _, ball) in enumerate(per_chain):
             rank = max(
@@ -315,6 +321,59 @@ class DistributionProblem:
                 self._springs[4].astype(int),
             )
         self._check_natural_rows(generic)
+
+    def _drop_vacuous_joints(self, per_chain: list, states: list) -> list:
+        """Drop limp joints that no selected axis loads; reject such passive springs.
+
+        A joint whose natural-constraint row (its Jacobian column on the selected axes) is
+        structurally zero, i.e. below ``VACUOUS_TOL`` times the chain's largest column at every
+        generic configuration, takes no torque from any wrench on these axes: as a limp joint it
+        constrains nothing (its row is dropped), as a spring its torque could never be balanced.
+
+        Raises:
+            ConstraintError: A passive joint with nonzero stiffness that no selected axis loads.
+
+        """
+        columns_norm = [
+            np.max(
+                [
+                    np.linalg.norm(s.jacobian_o[:, cols] * self.kinematics.chain_signs[i], axis=0)
+                    for s in states
+                ],
+                axis=0,
+            )
+            for i, (cols, _, _) in enumerate(per_chain)
+        ]
+        vacuous: set[int] = set()  # velocity indices
+        for i, (cols, own, _) in enumerate(per_chain):
+            norms = columns_norm[i]
+            floor = max(JACOBIAN_FLOOR, VACUOUS_TOL * float(norms.max(initial=0.0)))
+            vacuous.update(int(cols[j]) for j in own if norms[j] <= floor)
+        for v in self.coupled_v:
+            on = [(i, np.searchsorted(cols, v)) for i, (cols, _, _) in enumerate(per_chain)]
+            on = [(i, j) for i, j in on if j < len(per_chain[i][0]) and per_chain[i][0][j] == v]
+            if all(
+                columns_norm[i][j]
+                <= max(JACOBIAN_FLOOR, VACUOUS_TOL * float(columns_norm[i].max(initial=0.0)))
+                for i, j in on
+            ):
+                vacuous.add(int(v))
+        for v in sorted(vacuous):
+            spring = self.passive_v.get(v)
+            if spring is not None and spring[1] != 0.0:
+                raise ConstraintError(
+                    f"No selected axis {list(self.axes)} loads the passive joint {spring[0]!r} "
+                    "(its lever is structurally zero): its spring torque could never be balanced "
+                    "by the distribution. Select axes that load it, or declare it unactuated."
+                )
+        if not vacuous:
+            return per_chain
+        self.vacuous_v = tuple(sorted(vacuous))
+        self.coupled_v = [v for v in self.coupled_v if v not in vacuous]
+        return [
+            (cols, np.array([j for j in own if int(cols[j]) not in vacuous], dtype=int), ball)
+            for cols, own, ball in per_chain
+        ]
 
     def _full_jacobian(
         self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray

@@ -79,7 +79,7 @@ class Snapshot:
         backend: str = "auto",
     ) -> None:
         tree: KinematicTree = tree_of(robot)
-        if backend not in _BACKENDS:
+        if backend != "auto" and backend not in _BACKENDS:
             raise InvalidInputError(f"backend must be one of {_BACKENDS}, got {backend!r}.")
         if backend == "compiled" and not tree.compiled:
             reason = f"joints {tree.unsupported}" if tree.unsupported else "numba is not installed"

@@ -97,6 +97,7 @@ def note(text: str) -> None:
 TOL = 1e-8  # constraints and RNEA, relative
 HOMOGENEITY_TOL = 1e-9
 ADMISSIBILITY_TOL = 1e-6  # solve()'s default tol
+ROUNDING = 1e-12  # README: residuals below 1e-12 max|F| are rounding (forces that cancel)
 TYPED = va.VirtualActuatorError
 
 
@@ -501,10 +502,11 @@ def check_constraints(decl: Decl, q: np.ndarray, wrench: np.ndarray, sol: va.Sol
     np.testing.assert_array_equal(sol.requested[~keep], sol.wrench[~keep])
     miss = np.linalg.norm(wrench[keep] - sol.wrench[keep])
     assert abs(sol.residual - miss) <= TOL * scale_f, (sol.residual, miss)
-    # the label: admissible iff residual <= tol * (the larger of the request, the production
-    # and the rounding of chain forces that cancel, 1e-9 |F|); no verdict within 2x of the bar
-    bar = ADMISSIBILITY_TOL * max(
-        np.linalg.norm(wrench[keep]), np.linalg.norm(sol.wrench[keep]), 1e-9 * scale_f
+    # the label: admissible iff residual <= tol * (the larger of the request and the production)
+    # + the rounding of chain forces that cancel (1e-12 |F|); no verdict within 2x of the bar
+    bar = (
+        ADMISSIBILITY_TOL * max(np.linalg.norm(wrench[keep]), np.linalg.norm(sol.wrench[keep]))
+        + ROUNDING * np.abs(forces).max()
     )
     if sol.residual > 2 * bar:
         assert sol.method == "least-squares", (sol.method, sol.residual, bar)
@@ -769,7 +771,7 @@ def test_compiled_kernel_agrees_with_the_numpy_reference(decl, qseed, wseed, exp
     scale_t = max(scale, np.abs(reference.tau).max())
     np.testing.assert_allclose(fast.tau, reference.tau, rtol=0, atol=TOL * scale_t)
     if fast.method != reference.method:  # only when a residual is on the bar (rounding)
-        bar = ADMISSIBILITY_TOL * max(np.linalg.norm(wrench), 1e-9 * scale)
+        bar = ADMISSIBILITY_TOL * np.linalg.norm(wrench) + ROUNDING * scale
         near = [bar / 2 <= r <= 2 * bar for r in (fast.residual, reference.residual)]
         assert any(near), (fast.method, fast.residual, reference.method, reference.residual, bar)
 
@@ -973,33 +975,8 @@ PROPERTIES = (
 )
 
 
-# Regression cases that still fail (the library is being fixed in parallel): xfail, not strict.
-_AGREE = "compiled_kernel_agrees_with_the_numpy_reference"
-_CONSTRAINTS = "solution_satisfies_every_constraint_and_rnea"
-_CONSTRAINTS_OTHER = "dense_and_numpy_solutions_satisfy_every_constraint_and_rnea"
-_RESIDUAL = "partitioned_residual_is_at_most_the_dense_residual"
-_KNOWN = {  # case: (reason, properties that fail on it)
-    "ill-conditioned": (
-        "library: partitioned limp torques 1e-7 |F|, numpy-partitioned residual 0.068 vs 2.5e-10",
-        (
-            _AGREE,
-            _CONSTRAINTS,
-            _CONSTRAINTS_OTHER,
-            _RESIDUAL,
-        ),
-    ),
-    "label-flip": (
-        "library: compiled and numpy labels differ (admissibility bar 1e-15 |F| is rounding)",
-        (_AGREE,),
-    ),
-    "structural-lever": (
-        "library: a 1.8e-12 relative lever (URDF rounding) counts as producing a force",
-        (
-            _CONSTRAINTS,
-            _CONSTRAINTS_OTHER,
-        ),
-    ),
-}
+# Regression cases that still fail, if any (xfail, not strict): every case listed passes today.
+_KNOWN: dict[str, tuple[str, tuple[str, ...]]] = {}  # case: (reason, properties failing on it)
 KNOWN_FAILING: dict[tuple[str, str], str] = {
     (prop, case): reason for case, (reason, props) in _KNOWN.items() for prop in props
 }

@@ -484,9 +484,9 @@ class ParallelVirtualActuator:
             fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
         else:
             fast_used = True
-        raw, (tau, passive_torque, produced, requested, residual, scale) = fast
+        raw, (tau, passive_torque, produced, requested, residual, scale, rounding) = fast
         kind = raw.method
-        if residual > tol * scale:
+        if residual > tol * scale + rounding:
             kind = "least-squares"
         elif kind == "least-squares":
             kind = "pseudo-inverse"

@@ -162,7 +162,8 @@ class CompiledDistribution:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 
         Returns:
-            ``(raw solution, (tau, passive torques, produced, requested, residual, scale))``
+            ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
+            rounding))``
             with ``tau`` zero at limp and passive joints, or None.
 
         """
@@ -200,10 +201,10 @@ class CompiledDistribution:
             mode.plan,
             tables.layout,
         )
-        if out[7]:
+        if out[8]:
             return None
         raw = RawSolution(forces=out[0], method=mode.method, sets=mode.sets, systems=mode.systems)
-        return raw, out[1:7]
+        return raw, out[1:8]
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

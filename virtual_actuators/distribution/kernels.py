@@ -14,7 +14,8 @@ regular cases, on tables built once from the declaration (see :mod:`.compiled`):
 It never raises: a nonzero status hands the tick to the numpy path, which re-picks sets, falls
 back to least squares or raises the typed error with its message (status 1: a chain is singular
 or nearly so, or its Jacobian is below :data:`JACOBIAN_FLOOR`; status 2: an elimination block
-or the final system is ill-conditioned; status 3: a result overflowed).
+or the final system is ill-conditioned, or the answer misses an exact row by more than
+:data:`CONSTRAINT_TOL` of its scale; status 3: a result overflowed).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .linalg import JACOBIAN_FLOOR
+from .linalg import CONSTRAINT_TOL, JACOBIAN_FLOOR, ROUNDING
 
 #: Same thresholds as the numpy path (a kernel status hands the decision to it).
 ILL_CONDITIONED = 1e10
@@ -406,6 +407,40 @@ def _partitioned(
 
 
 @njit(cache=True)
+def _constraint_error(
+    rows: np.ndarray,
+    rhs: np.ndarray,
+    hard: np.ndarray,
+    hard_rhs: np.ndarray,
+    forces: np.ndarray,
+) -> float:
+    """Largest miss of an exact row (natural or hard), relative to ``|row| |F| + |rhs|``."""
+    p, n = forces.shape
+    peak = 0.0
+    for i in range(p):
+        for a in range(n):
+            peak = max(peak, abs(forces[i, a]))
+    worst = 0.0
+    for i in range(p):
+        for r in range(rows.shape[1]):
+            acc, size = -rhs[i, r], abs(rhs[i, r])
+            for a in range(n):
+                acc += rows[i, r, a] * forces[i, a]
+                size = max(size, abs(rows[i, r, a]) * peak)
+            if size > 0.0:
+                worst = max(worst, abs(acc) / size)
+    for t in range(hard.shape[0]):
+        acc, size = -hard_rhs[t], abs(hard_rhs[t])
+        for i in range(p):
+            for a in range(n):
+                acc += hard[t, i, a] * forces[i, a]
+                size = max(size, abs(hard[t, i, a]) * peak)
+        if size > 0.0:
+            worst = max(worst, abs(acc) / size)
+    return worst
+
+
+@njit(cache=True)
 def distribute(
     jacobian_world: np.ndarray,
     frames: np.ndarray,
@@ -560,7 +595,7 @@ def distribute(
                 rows[i, c_i + nb + j, a] = null[j, a]
     if worst < NEAR_SINGULAR:
         empty = np.zeros(n)
-        return forces, tau, passive, empty, empty, 0.0, 0.0, 1, worst, worst_chain
+        return forces, tau, passive, empty, empty, 0.0, 0.0, 0.0, 1, worst, worst_chain
     # -- hard rows: shared joints, constant design rows, equal torques --------------------------
     s0 = const_rows.shape[0]
     s1 = torque_rows.shape[0]
@@ -595,10 +630,12 @@ def distribute(
         status = _partitioned(
             rows, rhs, chain_ints, cfs_start, free_start, hard, hard_rhs, wrench, kept, plan, forces
         )
+    if status == 0 and _constraint_error(rows, rhs, hard, hard_rhs, forces) > CONSTRAINT_TOL:
+        status = 2  # an ill-conditioned elimination lost an exact row: numpy decides
     produced = np.zeros(n)
     requested = np.zeros(n)
     if status != 0:
-        return forces, tau, passive, produced, requested, 0.0, 0.0, status, worst, worst_chain
+        return forces, tau, passive, produced, requested, 0.0, 0.0, 0.0, status, worst, worst_chain
     for i in range(p):
         k_i = chain_ints[i, K_COLS]
         for j in range(k_i):
@@ -621,7 +658,7 @@ def distribute(
         for a in range(n):
             force_peak = max(force_peak, abs(forces[i, a]))
     if not (np.isfinite(peak) and np.isfinite(force_peak)):
-        return forces, tau, passive, produced, requested, 0.0, 0.0, 3, worst, worst_chain
+        return forces, tau, passive, produced, requested, 0.0, 0.0, 0.0, 3, worst, worst_chain
     residual, request, output = 0.0, 0.0, 0.0
     if peak > 0.0:
         for a in range(n):
@@ -631,9 +668,9 @@ def distribute(
                 request += (wrench[a] / peak) ** 2
                 output += (produced[a] / peak) ** 2
     residual = peak * np.sqrt(residual)
-    # what the residual is compared with: the request or what was produced, whichever is
-    # larger, and the rounding of forces that cancel each other
-    scale = max(peak * np.sqrt(max(request, output)), 1e-9 * force_peak)
+    # what the residual is compared with: tol times the request or what was produced,
+    # whichever is larger, plus the rounding of chain forces that cancel each other
+    scale = peak * np.sqrt(max(request, output))
     return (
         forces,
         tau,
@@ -642,6 +679,7 @@ def distribute(
         requested,
         residual,
         scale,
+        ROUNDING * force_peak,
         0,
         worst,
         worst_chain,

@@ -10,6 +10,15 @@ import numpy as np
 #: produces nothing in that direction, whatever their ratio to the largest one.
 JACOBIAN_FLOOR = 1e-12
 
+#: A residual below this fraction of the largest chain force is rounding, whatever the
+#: request: chain forces that cancel each other leave about ``cond * eps * |F|`` behind.
+ROUNDING = 1e-12
+
+#: A partitioned answer that misses an exact row (limp or spring torque, zero moment at a point
+#: foot, coupling or design row) by more than this fraction of ``|row| max|F| + |rhs|`` came
+#: from an ill-conditioned elimination: the dense reference solves that tick instead.
+CONSTRAINT_TOL = 1e-10
+
 
 def stable_norm(x: np.ndarray) -> float:
     """Euclidean norm without overflow or underflow at any magnitude (scaled by the peak).

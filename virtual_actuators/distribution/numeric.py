@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 
 from ..exceptions import SingularConfigurationError
-from .linalg import power_of_two_scale, stable_norm
+from .linalg import CONSTRAINT_TOL, ROUNDING, power_of_two_scale, stable_norm
 from .partitioner import RawSolution
 from .problem import DistributionProblem, Evaluation
 
@@ -26,6 +26,27 @@ def _scaled(ev: Evaluation, factor: float) -> Evaluation:
         return ev
     groups = [dataclasses.replace(rows, rhs=rows.rhs * factor) for rows in ev.groups]
     return dataclasses.replace(ev, groups=groups, hard_rhs=ev.hard_rhs * factor)
+
+
+def constraint_error(problem: DistributionProblem, ev: Evaluation, forces: np.ndarray) -> float:
+    """Largest miss of an exact row (natural or hard) by ``forces``, relative to its scale.
+
+    Each row ``g . F = t`` is judged against ``max(max|g| max|F|, |t|)``.
+    """
+    peak = float(np.abs(forces).max(initial=0.0))
+    blocks = [
+        (np.einsum("gln,gn->gl", rows.rows, forces[group.chains]), rows.rhs, rows.rows, 2)
+        for group, rows in zip(problem.groups, ev.groups, strict=True)
+    ]
+    blocks.append((np.einsum("spn,pn->s", ev.hard_rows, forces), ev.hard_rhs, ev.hard_rows, (1, 2)))
+    worst = 0.0
+    for lhs, rhs, rows, axes in blocks:
+        if not lhs.size:
+            continue
+        size = np.maximum(np.abs(rows).max(axis=axes) * peak, np.abs(rhs))
+        miss = np.abs(lhs - rhs)
+        worst = max(worst, float(np.max(miss / np.where(size > 0.0, size, 1.0))))
+    return worst
 
 
 def solve_numpy(
@@ -50,10 +71,11 @@ def solve_numpy(
             the partitioned solver); ``raw.solver`` says which one answered.
 
     Returns:
-        ``(raw solution, (tau, passive torques, produced, requested, residual, scale))`` like
-        :meth:`CompiledDistribution.solve`: ``tau`` zero at limp and passive joints, ``scale``
-        the size the residual is judged against (the larger of the request and what was
-        produced on the prescribed axes, and the rounding of chain forces that cancel).
+        ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
+        rounding))`` like :meth:`CompiledDistribution.solve`: ``tau`` zero at limp and passive
+        joints; the request is admissible when ``residual <= tol * scale + rounding``, with
+        ``scale`` the larger of the request and what was produced on the prescribed axes and
+        ``rounding`` that of chain forces that cancel (``ROUNDING * max |F|``).
 
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.
@@ -73,6 +95,10 @@ def solve_numpy(
             # dense reference drops what is numerically void, and raises the same error when
             # the distribution really is singular
             raw = fallback.solve(scaled, wrench * factor, keep)
+        if fallback is not None and raw.solver != "dense":
+            if constraint_error(problem, scaled, raw.forces) > CONSTRAINT_TOL:
+                # an ill-conditioned elimination lost an exact row: the dense reference keeps it
+                raw = fallback.solve(scaled, wrench * factor, keep)
     except np.linalg.LinAlgError as error:  # LAPACK gave up: as singular as it gets
         raise SingularConfigurationError(
             f"The force distribution of the chains to {list(problem.reactions)} cannot be "
@@ -87,11 +113,11 @@ def solve_numpy(
     residual = stable_norm(error) / factor
     request = stable_norm(wrench[keep])
     output = stable_norm(produced_scaled[keep]) / factor
-    rounding = 1e-9 * float(np.abs(forces_scaled).max(initial=0.0)) / factor
+    rounding = ROUNDING * float(np.abs(forces_scaled).max(initial=0.0)) / factor
     produced = produced_scaled / factor
     requested = np.where(keep, wrench, produced)
-    scale = max(request, output, rounding)
-    return raw, (tau, ev.passive_torque, produced, requested, residual, scale)
+    scale = max(request, output)
+    return raw, (tau, ev.passive_torque, produced, requested, residual, scale, rounding)
 
 
 __all__ = ["solve_numpy"]

@@ -44,6 +44,21 @@ SINGULAR_TOL = 1e-9
 VACUOUS_TOL = 1e-10
 
 
+def structural_rank(jacobian: np.ndarray) -> int:
+    """Rank of a chain's Jacobian at a generic configuration, as the distribution counts it.
+
+    A direction whose singular value is below ``SINGULAR_TOL`` times the largest is one the
+    chain cannot produce: at such a ratio every solve would call the chain singular, and ratios
+    this small come from rounding in the robot's description (an rpy of pi/2 written to 16
+    digits), not from its geometry. (A chain whose whole Jacobian is below ``JACOBIAN_FLOOR``
+    keeps its rank here and is called singular by every solve.)
+    """
+    s = np.linalg.svd(jacobian, compute_uv=False)
+    if not s.size or s[0] == 0.0:
+        return 0
+    return int(np.sum(s > SINGULAR_TOL * s[0]))
+
+
 @dataclass
 class ChainGroup:
     """Chains of identical structure, stacked for vectorised evaluation.
@@ -275,13 +290,10 @@ class DistributionProblem:
         generic = self.generic_configurations()
         states = [self.kinematics.compute(q) for q in generic]
         per_chain = self._drop_vacuous_joints(per_chain, states)
-        ranks = []
-        for i, (columns, _, ball) in enumerate(per_chain):
-            rank = max(
-                np.linalg.matrix_rank(self._full_jacobian(s, i, columns, ball), tol=None)
-                for s in states
-            )
-            ranks.append(int(rank))
+        ranks = [
+            max(structural_rank(self._full_jacobian(s, i, columns, ball)) for s in states)
+            for i, (columns, _, ball) in enumerate(per_chain)
+        ]
         keys: dict[tuple, list[int]] = {}
         for i, (columns, own, ball) in enumerate(per_chain):
             keys.setdefault((len(columns), len(own), tuple(ball), ranks[i]), []).append(i)

@@ -807,6 +807,7 @@ def test_dense_and_numpy_solutions_satisfy_every_constraint_and_rnea(decl, qseed
 @given(decl=declarations(), qseed=seeds, wseed=seeds, exponent=exponents)
 @examples(80)
 def test_partitioned_residual_is_at_most_the_dense_residual(decl, qseed, wseed, exponent):
+    """Residual <= the dense reference's; a pseudo-inverse answer is the minimum-norm one."""
     body, q, wrench = draw_case(decl, qseed, wseed, exponent)
     dense = solve(body, q, wrench, decl.free, method="dense")
     for kwargs in ({}, {"compiled": False}):
@@ -825,6 +826,16 @@ def test_partitioned_residual_is_at_most_the_dense_residual(decl, qseed, wseed, 
             dense.residual,
             scale,
         )
+        if part.method == "pseudo-inverse" and dense.method != "least-squares":
+            # the pseudo-inverse path is truly minimum norm: no larger than the dense reference's
+            # least-squares minimum-norm answer (eq. 10-11 by lstsq)
+            size_part, size_dense = np.linalg.norm(part.forces), np.linalg.norm(dense.forces)
+            event("pseudo-inverse: norm compared with dense")
+            assert size_part <= size_dense * (1 + 1e-6) + 1e-9 * scale, (
+                kwargs,
+                size_part,
+                size_dense,
+            )
 
 
 # -- 4. determinism --------------------------------------------------------------------------------

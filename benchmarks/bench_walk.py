@@ -18,7 +18,7 @@ import platform
 from pathlib import Path
 
 from virtual_actuators.demos import run_walk
-from virtual_actuators.simulation.plots import plot_walk
+from virtual_actuators.experiments.plots import plot_walk
 
 CASES = {
     "turkey-flat": ("turkey-walk", "flat", 20.0),

@@ -21,14 +21,14 @@ import numpy as np
 import pytest
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.simulation.metrics import (
+from virtual_actuators.experiments.metrics import (
     WalkMetrics,
     compute_metrics,
     default_step_states,
     write_json,
 )
-from virtual_actuators.simulation.plots import plot_terrain, plot_walk
-from virtual_actuators.simulation.recording import STANDARD_CHANNELS, Recorder, WalkLog
+from virtual_actuators.experiments.plots import plot_terrain, plot_walk
+from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, Recorder, WalkLog
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 STATES = ("double_support", "left_support", "left_support_2", "right_support", "right_support_2")
@@ -444,7 +444,7 @@ def test_importing_plots_does_not_import_matplotlib():
     code = (
         "import sys, virtual_actuators.simulation\n"
         "if 'matplotlib' in sys.modules: print('preloaded'); raise SystemExit\n"
-        "import virtual_actuators.simulation.plots, virtual_actuators.simulation.metrics\n"
+        "import virtual_actuators.experiments.plots, virtual_actuators.experiments.metrics\n"
         "print('matplotlib' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

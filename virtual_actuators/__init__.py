@@ -4,6 +4,7 @@ Declare virtual actuators between frames of a robot, distribute their wrenches o
 chains with the extended Partitioned Actuator Set method, and map them to joint efforts.
 """
 
+from .actuators import ParallelVirtualActuator, SensorReading, VirtualActuator
 from .components import (
     Component,
     ConstantForce,
@@ -15,9 +16,6 @@ from .components import (
     SwingLegLinkage,
 )
 from .control import Context, Controller, ControlOutput, State, StateMachine, Transition, events
-from .declaration.actuators import ParallelVirtualActuator, SensorReading, VirtualActuator
-from .declaration.constraints import DesignConstraint, Equal, EqualTorque, Linear
-from .declaration.frames import AXES, WORLD
 from .distribution.solution import Solution
 from .exceptions import (
     ConstraintError,
@@ -33,6 +31,8 @@ from .exceptions import (
 )
 from .kinematics.snapshot import Snapshot
 from .robots import Robot, list_robots, load_robot, millipede
+from .vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Linear
+from .vocabulary.frames import AXES, WORLD
 
 __version__ = "0.1.0"
 

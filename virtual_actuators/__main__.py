@@ -214,9 +214,9 @@ def _show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench)
 def demo_walk(args: argparse.Namespace) -> int:
     """Run one of the seeds' walks in MuJoCo, print its metrics, write JSON and a plot."""
     from .demos import WALKS, run_walk
+    from .experiments.metrics import write_json
+    from .experiments.plots import plot_walk
     from .robots.loader import load_robot
-    from .simulation.metrics import write_json
-    from .simulation.plots import plot_walk
 
     viewer = on_tick = None
     if _wants_viewer(args):

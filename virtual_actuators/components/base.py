@@ -26,8 +26,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..declaration.frames import as_float_array, check_name, parse_axes
 from ..exceptions import InvalidInputError
+from ..vocabulary.frames import as_float_array, check_name, parse_axes
 
 
 class Component(ABC):

@@ -15,8 +15,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..declaration.frames import as_float_array, check_number, parse_axes
 from ..exceptions import InvalidAxisError, InvalidInputError
+from ..vocabulary.frames import as_float_array, check_number, parse_axes
 from .springs import SpringDamper, Vector
 
 

@@ -21,9 +21,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component
-from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
-from ..declaration.frames import (
+from ..distribution.solution import Solution
+from ..exceptions import (
+    InvalidInputError,
+    JointNotFoundError,
+    SingularConfigurationError,
+    suggestion,
+)
+from ..kinematics.snapshot import Snapshot
+from ..kinematics.tree import tree_of
+from ..robots.robot import Robot
+from ..vocabulary.frames import (
     WORLD,
     as_float_array,
     check_axes_subset,
@@ -36,16 +46,6 @@ from ..declaration.frames import (
     describe,
     resolve_joint,
 )
-from ..distribution.solution import Solution
-from ..exceptions import (
-    InvalidInputError,
-    JointNotFoundError,
-    SingularConfigurationError,
-    suggestion,
-)
-from ..kinematics.snapshot import Snapshot
-from ..kinematics.tree import tree_of
-from ..robots.robot import Robot
 
 Actuator = VirtualActuator | ParallelVirtualActuator
 

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from ..declaration.frames import AXES, check_flag, check_name, check_number, describe
 from ..exceptions import InvalidAxisError, InvalidInputError
+from ..vocabulary.frames import AXES, check_flag, check_name, check_number, describe
 from .state_machine import Context, Event
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}

@@ -16,7 +16,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..declaration.frames import (
+from ..exceptions import InvalidInputError, suggestion
+from ..kinematics.snapshot import Snapshot
+from ..robots.robot import Robot
+from ..vocabulary.frames import (
     check_name,
     check_names,
     check_number,
@@ -24,9 +27,6 @@ from ..declaration.frames import (
     check_sequence,
     describe,
 )
-from ..exceptions import InvalidInputError, suggestion
-from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
 
 
 class Context:

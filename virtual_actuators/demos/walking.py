@@ -3,7 +3,7 @@
 :func:`run_walk` builds the robot, its gait and a :class:`~virtual_actuators.simulation.Simulator`,
 then runs the control loop at 1 kHz: read ``q``, ``v`` and the contact switches, let the gait
 compute the joint efforts, step the physics. Every tick is recorded (see
-:mod:`virtual_actuators.simulation.recording` for the channels); the result carries the log and
+:mod:`virtual_actuators.experiments.walk_log` for the channels); the result carries the log and
 its metrics (JSON-able), and can be plotted like the seed's Figs. 9 and 15.
 
 The robot is judged fallen when a part other than a foot touches the ground, when the hip drops
@@ -20,10 +20,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
-from ..gaits.base import Gait
+from ..experiments.metrics import WalkMetrics, compute_metrics
+from ..experiments.walk_log import STANDARD_CHANNELS, Recorder, WalkLog
+from ..gaits import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, TurkeyWalker
 from ..robots.loader import load_robot
-from ..simulation.metrics import WalkMetrics, compute_metrics
-from ..simulation.recording import STANDARD_CHANNELS, Recorder, WalkLog
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 
@@ -59,15 +59,11 @@ class WalkSpec:
 
 
 def _turkey(robot, speed: float | None) -> Gait:
-    from ..gaits.turkey import TurkeyParameters, TurkeyWalker
-
     parameters = TurkeyParameters() if speed is None else TurkeyParameters(speed=speed)
     return TurkeyWalker(robot, parameters, initial="double_support")
 
 
 def _flamingo(robot, speed: float | None) -> Gait:
-    from ..gaits.flamingo import FlamingoParameters, FlamingoWalker
-
     parameters = FlamingoParameters() if speed is None else FlamingoParameters(speed=speed)
     return FlamingoWalker(robot, parameters)
 

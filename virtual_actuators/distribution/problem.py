@@ -24,8 +24,6 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..declaration.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
-from ..declaration.frames import AXES, resolve_joint
 from ..exceptions import (
     ConstraintError,
     InvalidAxisError,
@@ -34,6 +32,8 @@ from ..exceptions import (
 )
 from ..kinematics.relative import KinematicState, RelativeKinematics, skew
 from ..kinematics.snapshot import Snapshot
+from ..vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
+from ..vocabulary.frames import AXES, resolve_joint
 from .linalg import JACOBIAN_FLOOR, dependent_rows
 
 #: A chain is singular when its smallest needed singular value falls below this fraction of its

@@ -17,10 +17,10 @@ import pinocchio as pin
 
 from ..control.controller import Controller, ControlOutput
 from ..control.state_machine import Context, Event, StateMachine
-from ..declaration.frames import resolve_frame, resolve_joint
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
+from ..vocabulary.frames import resolve_frame, resolve_joint
 
 
 class Gait:

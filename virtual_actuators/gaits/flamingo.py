@@ -32,12 +32,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ..control import events
 from ..control.state_machine import Context, State, StateMachine, Transition
-from ..declaration.actuators import ParallelVirtualActuator, VirtualActuator
-from ..declaration.constraints import EqualTorque
 from ..robots.robot import Robot
+from ..vocabulary.constraints import EqualTorque
 from .base import Gait, planar_standing_configuration
 from .turkey import PLANAR_AXES, SIDES, lift_profile, other, smoothstep
 

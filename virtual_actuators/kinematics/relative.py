@@ -21,8 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..declaration.frames import AXES, axis_rows
 from ..exceptions import InvalidInputError
+from ..vocabulary.frames import AXES, axis_rows
 from . import kernels
 from .snapshot import Snapshot
 from .tree import tree_of

@@ -16,8 +16,8 @@ from collections.abc import Iterable
 import numpy as np
 import pinocchio as pin
 
-from ..declaration.frames import resolve_frame
 from ..exceptions import InvalidInputError
+from ..vocabulary.frames import resolve_frame
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 

@@ -48,7 +48,7 @@ non-finite mass; a non-finite inertia or a negative ``ixx``, ``iyy`` or ``izz``;
 with ``lower > upper`` or a NaN bound; an inertia that is not positive semi-definite (beyond a
 round-off of ``max(1e-9 kg m^2, 1e-6 * largest principal moment)``); and ``<mimic>`` joints,
 which are not supported (remove the tag, or declare an
-:class:`~virtual_actuators.declaration.constraints.EqualTorque` design constraint to share the
+:class:`~virtual_actuators.vocabulary.constraints.EqualTorque` design constraint to share the
 effort). Each gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` naming the link
 or joint, the bad value and what is valid. Zero masses, fixed joints with any axis, continuous
 joints without limits and ``lower == upper`` are valid. The curated example-robot-data files are

@@ -35,10 +35,10 @@ import numpy as np
 import pinocchio as pin
 from meshcat.commands import SetProperty
 
-from ..declaration.frames import AXES, resolve_frame
 from ..distribution.solution import Solution
 from ..exceptions import InvalidInputError
 from ..robots.robot import Robot
+from ..vocabulary.frames import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .geometry import (
     Cone,

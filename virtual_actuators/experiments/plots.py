@@ -37,13 +37,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.simulation.recording import WalkLog, check_terrain_points
+from virtual_actuators.experiments.walk_log import WalkLog, check_terrain_points
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from virtual_actuators.simulation.metrics import WalkMetrics
+    from virtual_actuators.experiments.metrics import WalkMetrics
 
 __all__ = ["plot_terrain", "plot_walk"]
 
@@ -143,7 +143,7 @@ def _double_support_states(log: WalkLog) -> tuple[str, ...]:
 
 def _state_lines(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
     """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
-    from virtual_actuators.simulation.metrics import resolve_step_states
+    from virtual_actuators.experiments.metrics import resolve_step_states
 
     marks = (
         (log.entries(resolve_step_states(log)), "dashdot"),

@@ -1,4 +1,4 @@
-"""Summarise a recorded walking run (:class:`~virtual_actuators.simulation.recording.WalkLog`).
+"""Summarise a recorded walking run (:class:`~virtual_actuators.experiments.walk_log.WalkLog`).
 
 :func:`compute_metrics` reduces a log to the numbers the seed reports for its walkers (seed
 003, section 5: "walked continuously at approximately 0.5 m/s ... six steps in 4 s ... deviated a
@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.simulation.recording import WalkLog
+from virtual_actuators.experiments.walk_log import WalkLog
 
 __all__ = [
     "WalkMetrics",

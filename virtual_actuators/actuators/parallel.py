@@ -1,36 +1,19 @@
-"""Virtual actuators: serial (VAC 2.1-2.4) and parallel (VAC 2.5, VMC 4).
+"""Parallel virtual actuators (VAC 2.5, VMC 4): one action frame, several reaction chains.
 
-A virtual actuator exerts a wrench on an action frame {B} from a reaction frame {A} (minus that
-wrench acts on {A}), expressed in a reference frame {O}. The joint torques that emulate it are
-``tau = J^T F`` (VAC eq. 5-7). A parallel actuator has one action frame and several reaction
-frames, one serial chain each, and must distribute its wrench over the chains.
+A parallel actuator has one action frame {B} and several reaction frames {A_i}, one serial chain
+each, and distributes its wrench over the chains (the Partitioned Actuator Set method, or the
+dense reference of eq. 10-11) before mapping the chain forces to joint torques.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
-from ..declaration.constraints import DesignConstraint, Equal, Linear
-from ..declaration.frames import (
-    as_float_array,
-    check_axes_subset,
-    check_flag,
-    check_name,
-    check_names,
-    check_number,
-    check_robot,
-    check_sequence,
-    describe,
-    parse_axes,
-    resolve_frame,
-)
 from ..distribution.compiled import CompiledDistribution
 from ..distribution.dense import DenseSolver
-from ..distribution.linalg import JACOBIAN_FLOOR, stable_norm
 from ..distribution.numeric import solve_numpy
 from ..distribution.partitioner import PartitionedSolver
 from ..distribution.problem import DistributionProblem
@@ -46,26 +29,21 @@ from ..exceptions import (
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
-
-
-def _wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
-    if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):  # slow path only
-        wrench = as_float_array(
-            wrench, "wrench", f"an array of {len(axes)} real numbers (axes {tuple(axes)})"
-        )
-    if wrench.shape != (len(axes),):
-        raise InvalidInputError(
-            f"The wrench has shape {wrench.shape}; this actuator's axes {tuple(axes)} need "
-            f"({len(axes)},)."
-        )
-    if not np.isfinite(wrench).all():  # (no squares: no overflow at 1e200)
-        raise InvalidInputError(f"The wrench has NaN or inf entries: {wrench}.")
-    return wrench
-
-
-def _tolerance(tol: object) -> float:
-    """``tol`` checked: a finite real number >= 0 (the caller skips plain floats in range)."""
-    return check_number(tol, "tol (the admissibility tolerance)", minimum=0.0)
+from ..vocabulary.constraints import DesignConstraint, Equal, Linear
+from ..vocabulary.frames import (
+    as_float_array,
+    check_axes_subset,
+    check_flag,
+    check_name,
+    check_names,
+    check_number,
+    check_robot,
+    check_sequence,
+    describe,
+    parse_axes,
+    resolve_frame,
+)
+from .serial import check_tolerance, wrench_array
 
 
 def _check_contact(contact: object) -> str | dict[str, object]:
@@ -108,187 +86,6 @@ def _check_passive(passive: object) -> dict[str, tuple[float, float]]:
         )
         out[name] = (stiffness, rest)
     return out
-
-
-@dataclass(frozen=True, repr=False)
-class SensorReading:
-    """One reading of a serial actuator's virtual sensor.
-
-    Attributes:
-        position: Pose of {B} relative to {A} in {O} on the actuator's axes [m, rad].
-        velocity: Its rate ``jacobian @ v`` [m/s, rad/s].
-        jacobian: ``(len(axes), nv)`` Jacobian.
-
-    """
-
-    position: np.ndarray
-    velocity: np.ndarray
-    jacobian: np.ndarray
-
-    def __repr__(self) -> str:
-        return f"SensorReading(position={self.position}, velocity={self.velocity})"
-
-
-class VirtualActuator:
-    """A serial virtual actuator between an action frame {B} and a reaction frame {A}.
-
-    Args:
-        robot: The robot.
-        action: Name of the action frame {B} (the wrench acts on it).
-        reaction: Name of the reaction frame {A} (minus the wrench acts on it), or ``"world"``.
-        reference: Name of the reference frame {O} whose axes the wrench is expressed along.
-        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``, or one axis name.
-
-    Raises:
-        InvalidInputError: ``robot`` is not a robot (e.g. None or a robot's name).
-        FrameNotFoundError: A frame name is not a str or not in the model.
-        ConstraintError: The action and reaction frames are the same frame.
-        InvalidAxisError: Bad axes.
-
-    """
-
-    def __init__(
-        self,
-        robot: Robot,
-        action: str,
-        reaction: str,
-        reference: str = "world",
-        axes: Sequence[str] = ("x", "y", "z", "rx", "ry", "rz"),
-    ) -> None:
-        check_robot(robot, "VirtualActuator")
-        self.robot = robot
-        self.action, self.reaction, self.reference = action, reaction, reference
-        self.axes = parse_axes(axes)
-        model = robot.model
-        action_id = resolve_frame(model, action, "action")
-        reaction_id = resolve_frame(model, reaction, "reaction")
-        if action_id == reaction_id:
-            same = repr(action) if action == reaction else f"{action!r} (= {reaction!r})"
-            raise ConstraintError(
-                f"The action frame {same} is also the reaction frame; a virtual actuator acts "
-                "between two different frames."
-            )
-        self.kinematics = RelativeKinematics(
-            robot,
-            action_id,
-            [reaction_id],
-            resolve_frame(model, reference, "reference"),
-            self.axes,
-        )
-
-    def read(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> SensorReading:
-        """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
-
-        Args:
-            state: A :class:`~virtual_actuators.Snapshot` built with a velocity (the tick's
-                shared kinematics), or a configuration ``(nq,)``.
-            v: Velocity ``(nv,)`` when ``state`` is a configuration.
-
-        Returns:
-            The :class:`SensorReading`.
-
-        Raises:
-            InvalidInputError: Bad ``q`` or ``v``, no velocity given, or a snapshot of another
-                robot.
-
-        """
-        if not isinstance(state, Snapshot):
-            if v is None:
-                raise InvalidInputError("read(q, v) needs a velocity v (or a Snapshot with v).")
-            state = Snapshot(self.robot, state, v)
-        jacobian, position, velocity = self.kinematics.sense(state, velocity=True)
-        return SensorReading(position=position, velocity=velocity, jacobian=jacobian)
-
-    def position(self, state: np.ndarray | Snapshot) -> np.ndarray:
-        """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.
-
-        Translations: ``R_O^T (p_B - p_A)`` [m]. Rotations: the rotation vector of {B} relative
-        to {A}, ``log(R_A^T R_B)``, expressed in {O} [rad].
-
-        Args:
-            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(nq,)``.
-
-        Raises:
-            InvalidInputError: Bad ``q``, or a snapshot of another robot.
-
-        """
-        return self.kinematics.sense(state)[1]
-
-    def jacobian(self, state: np.ndarray | Snapshot) -> np.ndarray:
-        """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
-
-        Columns of joints outside the path between {A} and {B} are zero (a floating base
-        cancels unless one frame is ``"world"``).
-
-        Args:
-            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(nq,)``.
-
-        Raises:
-            InvalidInputError: Bad ``q``, or a snapshot of another robot.
-
-        """
-        return self.kinematics.sense(state)[0]
-
-    def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
-        """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s].
-
-        Args:
-            state: A :class:`~virtual_actuators.Snapshot` built with ``v``, or ``q``.
-            v: Velocity ``(nv,)`` when ``state`` is a configuration.
-
-        Raises:
-            InvalidInputError: Bad ``q`` or ``v``, or no velocity given.
-
-        """
-        if isinstance(state, Snapshot):
-            snapshot = self.kinematics.snapshot(state, need_velocity=True)
-            return self.jacobian(snapshot) @ snapshot.v
-        if v is None:
-            raise InvalidInputError("velocity(q, v) needs a velocity v.")
-        v = self.kinematics.check_velocity(v)
-        return self.jacobian(state) @ v
-
-    def torques(self, state: np.ndarray | Snapshot, wrench: np.ndarray) -> np.ndarray:
-        """Joint torques ``J^T F`` that emulate ``wrench`` on {B} from {A} (VAC eq. 7).
-
-        Raises:
-            InvalidInputError: Bad ``q``, or a ``wrench`` that is not ``len(axes)`` finite real
-                numbers (complex or bool entries included).
-
-        """
-        wrench = _wrench_array(wrench, self.axes)
-        return self.jacobian(state).T @ wrench
-
-    def is_admissible(
-        self, q: np.ndarray | Snapshot, wrench: np.ndarray, tol: float = 1e-9
-    ) -> bool:
-        """Whether ``wrench`` lies in the range of the Jacobian (it can be produced).
-
-        Args:
-            q: Configuration.
-            wrench: Wrench over ``axes``.
-            tol: Tolerance on the part of ``wrench`` outside the range, relative to ``|wrench|``
-                (scale-free: a zero wrench is admissible); a finite number >= 0.
-
-        Raises:
-            InvalidInputError: Bad ``q``, ``wrench`` or ``tol``.
-
-        """
-        if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
-            tol = _tolerance(tol)
-        wrench = _wrench_array(wrench, self.axes)
-        jac = self.jacobian(q)
-        u, s, _ = np.linalg.svd(jac, full_matrices=False)
-        # relative rank, with an absolute floor: a direction produced by J < 1e-12 is not
-        rank = int(np.sum(s > max(1e-10 * s[0], JACOBIAN_FLOOR))) if s.size else 0
-        inside = u[:, :rank] @ (u[:, :rank].T @ wrench)
-        return stable_norm(wrench - inside) <= tol * stable_norm(wrench)
-
-    def __repr__(self) -> str:
-        return (
-            f"VirtualActuator(action={self.action!r}, reaction={self.reaction!r}, "
-            f"reference={self.reference!r}, axes={self.axes})"
-        )
 
 
 class ParallelVirtualActuator:
@@ -461,13 +258,13 @@ class ParallelVirtualActuator:
         """
         # cheap checks first (plain floats and bools skip the slow paths)
         if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
-            tol = _tolerance(tol)
+            tol = check_tolerance(tol)
         if strict is not False and strict is not True:
             strict = check_flag(strict, "strict")
         if compiled is not True and compiled is not False:
             compiled = check_flag(compiled, "compiled")
         snapshot = self.kinematics.snapshot(q)
-        wrench = _wrench_array(wrench, self.axes)
+        wrench = wrench_array(wrench, self.axes)
         free, keep = self._keep(free)
         if method == "partitioned":
             solver = self.partitioner

@@ -1,1 +1,0 @@
-"""declaration layer of virtual_actuators."""

@@ -1,0 +1,1 @@
+"""Vocabulary: frame and axis names, argument checks, and design constraints."""

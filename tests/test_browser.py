@@ -25,7 +25,10 @@ from virtual_actuators.visualization.browser import find_chromium, screenshot
 CHROMIUM = find_chromium()
 if CHROMIUM is None and os.environ.get("CI"):
     pytest.fail("CI must provide Debian's chromium for the browser tests", pytrace=False)
-pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed")
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed"),
+]
 
 SIZE = (800, 600)
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]

@@ -17,6 +17,8 @@ import pytest
 import virtual_actuators.__main__ as cli
 from virtual_actuators.exceptions import InvalidInputError
 
+pytestmark = [pytest.mark.slow]  # subprocesses or simulation: run with -m slow
+
 MISSING = str(Path("/no/such/folder") / "out.json")
 
 #: (arguments, text that stderr must contain: the option, and the bad value or the reason)

@@ -93,6 +93,7 @@ def test_double_support_matches_closed_form_of_eq_14():
     assert result["library"]["left"][3] == pytest.approx(result["library"]["right"][3])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["single-leg", "double-support", "hexapod-tripod"])
 def test_examples_run_from_the_command_line(name):
     out = subprocess.run(

@@ -16,6 +16,8 @@ from virtual_actuators.__main__ import main
 from virtual_actuators.demos import WALKS, run_walk
 from virtual_actuators.gaits.turkey import TurkeyParameters, TurkeyWalker, lift_profile
 
+pytestmark = [pytest.mark.slow]  # subprocesses or simulation: run with -m slow
+
 JSON_KEYS = {
     "fell",
     "distance_m",

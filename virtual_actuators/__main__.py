@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from .examples import Example
     from .robots.robot import Robot
 
 
@@ -273,14 +274,8 @@ WALK_OPTIONS = (
     ("realtime", "--realtime"),
 )
 
-#: What the viewer needs to draw each example: robot, action frame, reference frame (the
-#: reaction frames and axes come from the example's solution; q is the robot's neutral pose).
-EXAMPLE_VIEWS = {
-    "hexapod-tripod": ("hexapod", "body", "world"),
-    "millipede": ("millipede", "body", "body"),
-    "single-leg": ("spring_flamingo", "body", "world"),
-    "double-support": ("spring_flamingo", "body", "world"),
-}
+#: The seeds' worked examples (``virtual_actuators.examples.EXAMPLES``, imported only when run).
+EXAMPLE_NAMES = ("hexapod-tripod", "millipede", "single-leg", "double-support")
 
 
 def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> None:
@@ -306,21 +301,15 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
         )
 
 
-def example_view(args: argparse.Namespace, name: str, result: dict) -> None:
-    """Show an example's configuration and solution (``--viz`` / ``--record``)."""
+def example_view(args: argparse.Namespace, example: Example) -> None:
+    """Show an example's configuration and solution (``--viz`` / ``--record``).
+
+    The example's robot, actuator, configuration and solution are drawn as they are.
+    """
     if not _wants_viewer(args):
         return
-    from types import SimpleNamespace
-
-    import virtual_actuators as va
-
-    robot_name, action, reference = EXAMPLE_VIEWS[name]
-    robot = va.millipede(legs=100) if robot_name == "millipede" else va.load_robot(robot_name)
-    solution = result["solution"]
-    actuator = SimpleNamespace(
-        action=action, reactions=solution.reactions, reference=reference, axes=solution.axes
-    )
-    _show_static(args, robot, robot.neutral(), solution, actuator, solution.requested)
+    solution = example.solution
+    _show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
 
 
 # -- argument types: a bad value is a usage error (exit 2), never a traceback ---------------------
@@ -519,7 +508,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     _viewer_arguments(demo, walks=True)
     robots = sub.add_parser("robots", help="list the robots load_robot accepts by name")
     example = sub.add_parser("example", help="run one of the seeds' worked examples")
-    example.add_argument("name", choices=list(EXAMPLE_VIEWS))
+    example.add_argument("name", choices=EXAMPLE_NAMES)
     _viewer_arguments(example)
     return parser, {"demo": demo, "robots": robots, "example": example}
 
@@ -588,8 +577,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.command == "example":
         from .examples import EXAMPLES
 
-        result = EXAMPLES[args.name]()
-        example_view(args, args.name, result)
+        example_view(args, EXAMPLES[args.name]())
     elif args.command == "robots":
         import virtual_actuators as va
 

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -46,75 +45,9 @@ from ..vocabulary.frames import (
     describe,
     resolve_joint,
 )
-
-Actuator = VirtualActuator | ParallelVirtualActuator
-
-
-@dataclass(repr=False)
-class Attachment:
-    """An actuator, the components attached to it and the sensor they read.
-
-    Attributes:
-        name: Unique name in its controller.
-        actuator: The serial or parallel virtual actuator that produces the wrench.
-        sensor: Serial actuator whose position and velocity the components read (for a serial
-            actuator, the actuator itself).
-        components: The virtual components.
-        free: Axes left to the distribution (parallel actuators only).
-        indices: For each component, the indices of its axes among the actuator's axes.
-
-    """
-
-    name: str
-    actuator: Actuator
-    sensor: VirtualActuator
-    components: list[Component]
-    free: tuple[str, ...] = ()
-    indices: list[np.ndarray] = field(default_factory=list)
-    unilateral: dict[int, float] = field(default_factory=dict)
-    yield_mask: np.ndarray | None = None
-    friction: float | None = None
-    min_normal: float = 0.0
-    bound_rows: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    bound_lows: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    force_columns: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
-    force_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
-
-    def __post_init__(self) -> None:
-        # Each component's axes as a slice when contiguous (views instead of gathers per tick)
-        self.slots = [_as_slice(index) for index in self.indices]
-        # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
-        if self.yield_mask is None:
-            return
-        p, n = self.actuator.p, self.actuator.n
-        rows = []
-        for axis in self.unilateral:
-            block = np.zeros((p, p, n))
-            block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
-            rows.append(block.reshape(p, p * n))
-        self.bound_rows = np.vstack(rows) if rows else np.zeros((0, p * n))
-        self.bound_lows = np.repeat(np.array(list(self.unilateral.values()), dtype=float), p)
-        force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
-        self.force_columns = np.array([i for i, _ in force_axes], dtype=int)
-        self.force_components = np.array([k for _, k in force_axes], dtype=int)
-
-    @property
-    def axes(self) -> tuple[str, ...]:
-        """The actuator's axes."""
-        return self.actuator.axes
-
-    def __repr__(self) -> str:
-        kind = type(self.actuator).__name__
-        names = ", ".join(c.name for c in self.components)
-        return f"Attachment({self.name!r}, {kind} on {self.actuator.action!r}, [{names}])"
-
-
-def _as_slice(index: np.ndarray) -> slice | np.ndarray:
-    """``index`` as a slice if it is a contiguous increasing run, else unchanged."""
-    if index.size and np.array_equal(index, np.arange(index[0], index[0] + index.size)):
-        return slice(int(index[0]), int(index[0]) + index.size)
-    return index
-
+from .attachment import Actuator, Attachment, check_contact_limits
+from .contact_limits import enforce_unilateral
+from .output import ControlOutput, velocity_names
 
 _NO_LIMP = np.zeros(0, dtype=np.intp)
 _MAX_CHECKED_LIMP = 1024  # joint_indices arrays trusted by compute(); more are checked per call
@@ -130,62 +63,6 @@ def _names_tuple(active: object) -> tuple:
     raise InvalidInputError(
         f"active must be a sequence of attachment names (or one name), got {describe(active)}."
     )
-
-
-@dataclass(repr=False)
-class ControlOutput:
-    """What the controller computed in one tick.
-
-    Attributes:
-        tau: ``(nv,)`` joint efforts after limp joints and clipping [N m or N].
-        tau_requested: ``(nv,)`` before clipping.
-        saturated: ``(nv,)`` bool, True where the request exceeds the effort limit (and was
-            clipped, unless the controller was built with ``clip=False``).
-        wrenches: Requested wrench per active attachment, on its actuator's axes.
-        produced: Wrench actually produced per attachment (differs from the request on free axes
-            and for inadmissible requests).
-        positions: Sensor position per active attachment [m, rad].
-        velocities: Sensor velocity per active attachment [m/s, rad/s].
-        solutions: Distribution per parallel attachment.
-        failed: Attachments whose distribution was singular at this configuration (they
-            contribute no torque) with the error message.
-        active: Names of the attachments evaluated.
-        joint_names: Names of the velocity entries (for reports).
-
-    """
-
-    tau: np.ndarray
-    tau_requested: np.ndarray
-    saturated: np.ndarray
-    wrenches: dict[str, np.ndarray]
-    produced: dict[str, np.ndarray]
-    positions: dict[str, np.ndarray]
-    velocities: dict[str, np.ndarray]
-    solutions: dict[str, Solution]
-    failed: dict[str, str]
-    active: tuple[str, ...]
-    joint_names: tuple[str, ...]
-
-    @property
-    def saturated_joints(self) -> list[str]:
-        """Names of the velocity entries whose effort was clipped."""
-        return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
-
-    def __repr__(self) -> str:
-        return (
-            f"ControlOutput(active={self.active}, |tau|={np.linalg.norm(self.tau):.3g}, "
-            f"saturated={self.saturated_joints}, failed={list(self.failed)})"
-        )
-
-
-def velocity_names(robot: Robot) -> tuple[str, ...]:
-    """Name of every velocity entry: the joint's name, with ``[i]`` for multi-dof joints."""
-    model = robot.model
-    names: list[str] = []
-    for joint_id in range(1, model.njoints):
-        name, nv = model.names[joint_id], model.joints[joint_id].nv
-        names.extend([name] if nv == 1 else [f"{name}[{i}]" for i in range(nv)])
-    return tuple(names)
 
 
 class Controller:
@@ -329,8 +206,6 @@ class Controller:
                 f"{where}: unilateral must be a dict {{axis: minimum [N]}}, got "
                 f"{describe(unilateral)}."
             )
-        if name in self.attachments:
-            raise InvalidInputError(f"An attachment named {name!r} already exists.")
         if actuator.robot.model is not self.robot.model:
             raise InvalidInputError(f"Attachment {name!r}: the actuator is for another robot.")
         free_axes = check_axes_subset(free, actuator.axes, "free")
@@ -357,26 +232,9 @@ class Controller:
         for component in components:
             check_axes_subset(component.axes, actuator.axes, f"{component.name} axes")
             indices.append(np.array([actuator.axes.index(a) for a in component.axes]))
-        limits: dict[int, float] = {}
-        yield_mask = None
-        constrained = bool(unilateral) or friction is not None
-        yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
-        if constrained or yielded:
-            if isinstance(actuator, VirtualActuator) or not constrained or not yielded:
-                raise InvalidInputError(
-                    f"Attachment {name!r}: unilateral (or friction) and yield_axes go "
-                    "together, on a ParallelVirtualActuator."
-                )
-            if friction is not None and not {"x", "y", "z"} & set(actuator.axes):
-                raise InvalidInputError(
-                    f"Attachment {name!r}: a friction cone needs force axes (x, y or z) among "
-                    f"{actuator.axes}."
-                )
-            for axis in check_axes_subset(tuple(unilateral or {}), actuator.axes, "unilateral"):
-                limits[actuator.axes.index(axis)] = check_number(
-                    unilateral[axis], f"{where}: unilateral[{axis!r}]"
-                )
-            yield_mask = np.array([a in yielded for a in actuator.axes])
+        limits, yield_mask = check_contact_limits(name, actuator, unilateral, yield_axes, friction)
+        if name in self.attachments:
+            raise InvalidInputError(f"An attachment named {name!r} already exists.")
         attachment = Attachment(
             name,
             actuator,
@@ -526,7 +384,7 @@ class Controller:
             try:
                 solution = actuator.solve(snapshot, wrench, free=attachment.free)
                 if attachment.yield_mask is not None:
-                    solution = self._enforce_unilateral(attachment, snapshot, wrench, solution)
+                    solution = enforce_unilateral(attachment, snapshot, wrench, solution)
             except SingularConfigurationError as error:
                 if self.on_singular == "raise":
                     raise
@@ -609,71 +467,11 @@ class Controller:
             raise InvalidInputError(f"limp must be {expected}, got {index.tolist()}.")
         return index
 
-    @staticmethod
-    def _constraint_rows(
-        attachment: Attachment, snapshot: Snapshot
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Linear conditions ``rows @ forces.ravel() >= lows`` on the chains' shares.
-
-        ``unilateral`` gives one row per chain and axis (built at declaration); a friction
-        cone gives, per chain, the normal force (the reaction frame's z in {O}) ``>=
-        min_normal`` and ``mu n.f -+ t.f >= 0`` for both tangents (a pyramid; a tangent outside
-        the actuator's force axes gives a row implied by the normal one). The reaction frames'
-        orientations are read from the tick's snapshot.
-        """
-        if attachment.friction is None:
-            return attachment.bound_rows, attachment.bound_lows
-        actuator = attachment.actuator
-        p, n = actuator.p, actuator.n
-        state = actuator.kinematics.compute(snapshot)
-        rotation_o, rotations = state.rotation_o, state.rotation_a
-        # reaction frames' axes in {O}, restricted to the actuator's force axes: (p, m, 3)
-        frames_o = (rotation_o.T @ rotations)[:, attachment.force_components, :]
-        normal, first, second = frames_o[..., 2], frames_o[..., 0], frames_o[..., 1]
-        mu_normal = attachment.friction * normal
-        vectors = np.stack(
-            (normal, mu_normal - first, mu_normal + first, mu_normal - second, mu_normal + second),
-            axis=1,
-        )  # (p, 5, m)
-        cone = np.zeros((p, 5, p, n))
-        chains = np.arange(p)[:, None, None]
-        cone[chains, np.arange(5)[None, :, None], chains, attachment.force_columns] = vectors
-        cone_lows = np.tile([attachment.min_normal, 0.0, 0.0, 0.0, 0.0], p)
-        rows = np.vstack((attachment.bound_rows, cone.reshape(5 * p, p * n)))
-        return rows, np.concatenate((attachment.bound_lows, cone_lows))
-
-    def _enforce_unilateral(
-        self, attachment: Attachment, q: Snapshot, wrench: np.ndarray, solution: Solution
-    ) -> Solution:
-        """Scale the request on the yield axes until every chain's share is feasible.
-
-        Feasible: ``unilateral`` minima and the friction cone (see :meth:`add`). The
-        distribution is linear in the wrench, so the shares are ``base + alpha (full - base)``
-        with ``base`` the request without its yield axes: the largest feasible ``alpha`` in
-        ``[0, 1]`` comes from one extra solve and a ratio test.
-        """
-        rows, lows = self._constraint_rows(attachment, q)
-        full = rows @ solution.forces.ravel()
-        if np.all(full >= lows - 1e-9):
-            return solution
-        base = np.where(attachment.yield_mask, 0.0, wrench)
-        fallback = attachment.actuator.solve(q, base, free=attachment.free)
-        start = rows @ fallback.forces.ravel()
-        slope = full - start
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = (lows - start) / slope
-        upper = np.where(slope < 0.0, ratio, np.inf).min(initial=1.0)
-        lower = np.where(slope > 0.0, ratio, -np.inf).max(initial=0.0)
-        stuck = np.any((slope == 0.0) & (start < lows))  # no alpha helps that condition
-        alpha = 0.0 if stuck or lower > upper else float(min(upper, 1.0))
-        if alpha <= 0.0:
-            return fallback
-        return attachment.actuator.solve(
-            q, np.where(attachment.yield_mask, alpha * wrench, wrench), free=attachment.free
-        )
-
     def __repr__(self) -> str:
         return (
             f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
             f"clip={self.clip})"
         )
+
+
+__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]

@@ -1,0 +1,138 @@
+"""Attachments: an actuator, the components on it and the sensor they read, checked once.
+
+An :class:`Attachment` precomputes what the tick needs (component axes as slices, the
+declaration-time rows of the unilateral limits); :func:`check_contact_limits` checks the contact
+limits ``Controller.add`` is given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..actuators import ParallelVirtualActuator, VirtualActuator
+from ..components.base import Component
+from ..exceptions import InvalidInputError
+from ..vocabulary.frames import (
+    check_axes_subset,
+    check_number,
+)
+
+Actuator = VirtualActuator | ParallelVirtualActuator
+
+
+@dataclass(repr=False)
+class Attachment:
+    """An actuator, the components attached to it and the sensor they read.
+
+    Attributes:
+        name: Unique name in its controller.
+        actuator: The serial or parallel virtual actuator that produces the wrench.
+        sensor: Serial actuator whose position and velocity the components read (for a serial
+            actuator, the actuator itself).
+        components: The virtual components.
+        free: Axes left to the distribution (parallel actuators only).
+        indices: For each component, the indices of its axes among the actuator's axes.
+
+    """
+
+    name: str
+    actuator: Actuator
+    sensor: VirtualActuator
+    components: list[Component]
+    free: tuple[str, ...] = ()
+    indices: list[np.ndarray] = field(default_factory=list)
+    unilateral: dict[int, float] = field(default_factory=dict)
+    yield_mask: np.ndarray | None = None
+    friction: float | None = None
+    min_normal: float = 0.0
+    bound_rows: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    bound_lows: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    force_columns: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    force_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+
+    def __post_init__(self) -> None:
+        # Each component's axes as a slice when contiguous (views instead of gathers per tick)
+        self.slots = [_as_slice(index) for index in self.indices]
+        # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
+        if self.yield_mask is None:
+            return
+        p, n = self.actuator.p, self.actuator.n
+        rows = []
+        for axis in self.unilateral:
+            block = np.zeros((p, p, n))
+            block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
+            rows.append(block.reshape(p, p * n))
+        self.bound_rows = np.vstack(rows) if rows else np.zeros((0, p * n))
+        self.bound_lows = np.repeat(np.array(list(self.unilateral.values()), dtype=float), p)
+        force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
+        self.force_columns = np.array([i for i, _ in force_axes], dtype=int)
+        self.force_components = np.array([k for _, k in force_axes], dtype=int)
+
+    @property
+    def axes(self) -> tuple[str, ...]:
+        """The actuator's axes."""
+        return self.actuator.axes
+
+    def __repr__(self) -> str:
+        kind = type(self.actuator).__name__
+        names = ", ".join(c.name for c in self.components)
+        return f"Attachment({self.name!r}, {kind} on {self.actuator.action!r}, [{names}])"
+
+
+def _as_slice(index: np.ndarray) -> slice | np.ndarray:
+    """``index`` as a slice if it is a contiguous increasing run, else unchanged."""
+    if index.size and np.array_equal(index, np.arange(index[0], index[0] + index.size)):
+        return slice(int(index[0]), int(index[0]) + index.size)
+    return index
+
+
+def check_contact_limits(
+    name: str,
+    actuator: VirtualActuator | ParallelVirtualActuator,
+    unilateral: Mapping[str, float] | None,
+    yield_axes: Sequence[str],
+    friction: float | None,
+) -> tuple[dict[int, float], np.ndarray | None]:
+    """An attachment's contact limits as ``({axis index: minimum}, yield mask or None)``.
+
+    Args:
+        name: The attachment's name (for messages).
+        actuator: Its actuator.
+        unilateral: ``{axis: minimum [N]}`` or None (a dict, checked by the caller).
+        yield_axes: Axes given up first to meet the limits.
+        friction: Friction coefficient (checked by the caller) or None.
+
+    Raises:
+        InvalidInputError: Limits without yield axes or the reverse, limits on a serial
+            actuator, a cone without force axes, or a minimum that is not a finite number.
+        InvalidAxisError: ``unilateral`` or ``yield_axes`` name an axis the actuator lacks.
+
+    """
+    where = f"Attachment {name!r}"
+    limits: dict[int, float] = {}
+    yield_mask = None
+    constrained = bool(unilateral) or friction is not None
+    yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
+    if constrained or yielded:
+        if isinstance(actuator, VirtualActuator) or not constrained or not yielded:
+            raise InvalidInputError(
+                f"Attachment {name!r}: unilateral (or friction) and yield_axes go "
+                "together, on a ParallelVirtualActuator."
+            )
+        if friction is not None and not {"x", "y", "z"} & set(actuator.axes):
+            raise InvalidInputError(
+                f"Attachment {name!r}: a friction cone needs force axes (x, y or z) among "
+                f"{actuator.axes}."
+            )
+        for axis in check_axes_subset(tuple(unilateral or {}), actuator.axes, "unilateral"):
+            limits[actuator.axes.index(axis)] = check_number(
+                unilateral[axis], f"{where}: unilateral[{axis!r}]"
+            )
+        yield_mask = np.array([a in yielded for a in actuator.axes])
+    return limits, yield_mask
+
+
+__all__ = ["Actuator", "Attachment", "check_contact_limits"]

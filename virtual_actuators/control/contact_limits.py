@@ -1,0 +1,79 @@
+"""Contact limits of a parallel attachment: unilateral minima and friction pyramids.
+
+The distribution is linear in the wrench, so a request that would make a chain pull or slip is
+scaled down on the attachment's yield axes by one extra solve and a ratio test
+(:func:`enforce_unilateral`), against the linear conditions of :func:`constraint_rows`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..distribution.solution import Solution
+from ..kinematics.snapshot import Snapshot
+from .attachment import Attachment
+
+
+def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarray]:
+    """Linear conditions ``rows @ forces.ravel() >= lows`` on the chains' shares.
+
+    ``unilateral`` gives one row per chain and axis (built at declaration); a friction
+    cone gives, per chain, the normal force (the reaction frame's z in {O}) ``>=
+    min_normal`` and ``mu n.f -+ t.f >= 0`` for both tangents (a pyramid; a tangent outside
+    the actuator's force axes gives a row implied by the normal one). The reaction frames'
+    orientations are read from the tick's snapshot.
+    """
+    if attachment.friction is None:
+        return attachment.bound_rows, attachment.bound_lows
+    actuator = attachment.actuator
+    p, n = actuator.p, actuator.n
+    state = actuator.kinematics.compute(snapshot)
+    rotation_o, rotations = state.rotation_o, state.rotation_a
+    # reaction frames' axes in {O}, restricted to the actuator's force axes: (p, m, 3)
+    frames_o = (rotation_o.T @ rotations)[:, attachment.force_components, :]
+    normal, first, second = frames_o[..., 2], frames_o[..., 0], frames_o[..., 1]
+    mu_normal = attachment.friction * normal
+    vectors = np.stack(
+        (normal, mu_normal - first, mu_normal + first, mu_normal - second, mu_normal + second),
+        axis=1,
+    )  # (p, 5, m)
+    cone = np.zeros((p, 5, p, n))
+    chains = np.arange(p)[:, None, None]
+    cone[chains, np.arange(5)[None, :, None], chains, attachment.force_columns] = vectors
+    cone_lows = np.tile([attachment.min_normal, 0.0, 0.0, 0.0, 0.0], p)
+    rows = np.vstack((attachment.bound_rows, cone.reshape(5 * p, p * n)))
+    return rows, np.concatenate((attachment.bound_lows, cone_lows))
+
+
+def enforce_unilateral(
+    attachment: Attachment, q: Snapshot, wrench: np.ndarray, solution: Solution
+) -> Solution:
+    """Scale the request on the yield axes until every chain's share is feasible.
+
+    Feasible: ``unilateral`` minima and the friction cone (see ``Controller.add``). The
+    distribution is linear in the wrench, so the shares are ``base + alpha (full - base)``
+    with ``base`` the request without its yield axes: the largest feasible ``alpha`` in
+    ``[0, 1]`` comes from one extra solve and a ratio test.
+    """
+    rows, lows = constraint_rows(attachment, q)
+    full = rows @ solution.forces.ravel()
+    if np.all(full >= lows - 1e-9):
+        return solution
+    base = np.where(attachment.yield_mask, 0.0, wrench)
+    fallback = attachment.actuator.solve(q, base, free=attachment.free)
+    start = rows @ fallback.forces.ravel()
+    slope = full - start
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = (lows - start) / slope
+    upper = np.where(slope < 0.0, ratio, np.inf).min(initial=1.0)
+    lower = np.where(slope > 0.0, ratio, -np.inf).max(initial=0.0)
+    stuck = np.any((slope == 0.0) & (start < lows))  # no alpha helps that condition
+    alpha = 0.0 if stuck or lower > upper else float(min(upper, 1.0))
+    if alpha <= 0.0:
+        return fallback
+    return attachment.actuator.solve(
+        q, np.where(attachment.yield_mask, alpha * wrench, wrench), free=attachment.free
+    )
+
+
+__all__ = ["constraint_rows", "enforce_unilateral"]

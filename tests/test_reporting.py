@@ -28,7 +28,8 @@ from virtual_actuators.experiments.metrics import (
     write_json,
 )
 from virtual_actuators.experiments.plots import plot_terrain, plot_walk
-from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, Recorder, WalkLog
+from virtual_actuators.experiments.recorder import Recorder
+from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 STATES = ("double_support", "left_support", "left_support_2", "right_support", "right_support_2")

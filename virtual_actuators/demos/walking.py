@@ -21,7 +21,8 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
 from ..experiments.metrics import WalkMetrics, compute_metrics
-from ..experiments.walk_log import STANDARD_CHANNELS, Recorder, WalkLog
+from ..experiments.recorder import Recorder
+from ..experiments.walk_log import STANDARD_CHANNELS, WalkLog
 from ..gaits import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, TurkeyWalker
 from ..robots.loader import load_robot
 from ..simulation.simulator import Simulator

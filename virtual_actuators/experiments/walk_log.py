@@ -1,14 +1,13 @@
-"""Record a walking run one control tick at a time, and keep it as a :class:`WalkLog`.
+"""A recorded walking run (:class:`WalkLog`): channels, states, metadata, ``.npz`` storage.
 
-A :class:`Recorder` holds a fixed set of named float channels declared at construction, plus a
-discrete state (an index into ``state_names``) and a metadata dict. Rows live in one preallocated
-``(capacity, channels)`` float64 array that doubles when full, so appending is amortised O(1):
-:meth:`Recorder.append` costs about 2-4 µs of Python for the sixteen standard channels and
-:meth:`Recorder.append_row` about 1 µs. A channel not given at a tick stays NaN.
+A :class:`~virtual_actuators.experiments.recorder.Recorder` holds a fixed set of named float
+channels declared at construction, plus a discrete state (an index into ``state_names``) and a
+metadata dict; appending a tick costs about 2-4 µs of Python for the sixteen standard channels
+(1 µs as a row). A channel not given at a tick stays NaN.
 
-:meth:`Recorder.to_log` returns a :class:`WalkLog`: one array per channel, the state indices,
-the state names and the metadata; :meth:`WalkLog.save_npz` and :meth:`WalkLog.load_npz` store it
-in a NumPy ``.npz`` file (no pickle).
+``Recorder.to_log`` returns a :class:`WalkLog`: one array per channel, the state indices, the
+state names and the metadata; :meth:`WalkLog.save_npz` and :meth:`WalkLog.load_npz` store it in
+a NumPy ``.npz`` file (no pickle).
 
 Standard channels
 -----------------
@@ -52,7 +51,6 @@ may be added.
 
 from __future__ import annotations
 
-import copy
 import json
 import os
 from collections.abc import Iterable, Mapping, Sequence
@@ -67,7 +65,6 @@ from virtual_actuators.exceptions import InvalidInputError, close_matches
 __all__ = [
     "STANDARD_CHANNELS",
     "UNITS",
-    "Recorder",
     "WalkLog",
     "check_terrain_points",
 ]
@@ -110,12 +107,12 @@ UNITS: dict[str, str] = {
     "fallen": "",
 }
 
-_STATE = "state"
+STATE_CHANNEL = "state"
 _NPZ_FORMAT = 1
 _META_ARRAY_PREFIX = "meta_array__"
 
 
-def _unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInputError:
+def unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInputError:
     """Build the error for a name that is not one of ``valid`` (names it, lists the valid ones)."""
     listed = ", ".join(repr(v) for v in valid)
     hint = close_matches(str(name), valid, n=3)
@@ -123,7 +120,7 @@ def _unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInput
     return InvalidInputError(f"Unknown {what} {name!r}; valid {what}s: {listed}.{did_you_mean}")
 
 
-def _check_names(names: Iterable[object], what: str) -> tuple[str, ...]:
+def check_names(names: Iterable[object], what: str) -> tuple[str, ...]:
     """Return ``names`` as a tuple of non-empty unique strings, or raise naming the bad one."""
     out: list[str] = []
     for name in names:
@@ -159,8 +156,8 @@ class WalkLog:
     def __post_init__(self) -> None:
         if not isinstance(self.data, Mapping):
             raise InvalidInputError(f"data must be a mapping of channel arrays, got {self.data!r}.")
-        names = _check_names(self.data.keys(), "channels")
-        if _STATE in names:
+        names = check_names(self.data.keys(), "channels")
+        if STATE_CHANNEL in names:
             raise InvalidInputError("data: 'state' is not a float channel; pass state=... instead.")
         if "time" not in names:
             raise InvalidInputError(
@@ -194,7 +191,7 @@ class WalkLog:
             bad = int(np.argmax(np.diff(time) < 0)) + 1
             raise InvalidInputError(f"channel 'time': decreases at tick {bad} ({time[bad]!r} s).")
         self.data = data
-        self.state_names = _check_names(self.state_names, "state_names")
+        self.state_names = check_names(self.state_names, "state_names")
         state = np.asarray(self.state)
         if state.size == 0 and n > 0:
             state = np.full(n, -1, dtype=np.int64)
@@ -256,7 +253,7 @@ class WalkLog:
         return int(self.data["time"].shape[0])
 
     def __contains__(self, name: object) -> bool:
-        return name == _STATE or name in self.data
+        return name == STATE_CHANNEL or name in self.data
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.channel(name)
@@ -290,16 +287,16 @@ class WalkLog:
             InvalidInputError: If the log has no such channel (the message lists the valid ones).
 
         """
-        if name == _STATE:
+        if name == STATE_CHANNEL:
             return self.state
         try:
             return self.data[name]
         except (KeyError, TypeError):
-            raise _unknown_name(name, (*self.data, _STATE), "channel") from None
+            raise unknown_name(name, (*self.data, STATE_CHANNEL), "channel") from None
 
     def has(self, name: str) -> bool:
         """Whether channel ``name`` exists and holds at least one finite value."""
-        if name == _STATE:
+        if name == STATE_CHANNEL:
             return bool(np.any(self.state >= 0))
         array = self.data.get(name)
         return array is not None and bool(np.any(np.isfinite(array)))
@@ -314,7 +311,7 @@ class WalkLog:
         try:
             return self.state_names.index(name)
         except ValueError:
-            raise _unknown_name(name, self.state_names, "state") from None
+            raise unknown_name(name, self.state_names, "state") from None
 
     def entries(self, states: Iterable[str]) -> np.ndarray:
         """Return the ticks at which the state changes into one of ``states``.
@@ -494,204 +491,3 @@ def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
 
 
 # -- the recorder -------------------------------------------------------------------------------
-class Recorder:
-    """Collect one row per control tick into preallocated, amortised-growth arrays.
-
-    Example:
-        >>> rec = Recorder(channels=("time", "x", "z"), state_names=("double", "single"),
-        ...                metadata={"robot": "spring_turkey"})
-        >>> rec.append(time=0.0, x=0.0, z=0.54, state="single")
-        >>> rec.append_row([0.001, 0.0005, 0.54], state=1)
-        >>> log = rec.to_log()
-        >>> log["x"].tolist()
-        [0.0, 0.0005]
-
-    Args:
-        channels: Float channel names; must include ``"time"``. ``"state"`` may be listed (it is
-            recorded separately either way). Defaults to :data:`STANDARD_CHANNELS`.
-        state_names: Names of the discrete states; ``state`` values index into them.
-        capacity: Rows allocated up front (the buffer doubles when full).
-        metadata: Run description, copied; more can be added through :attr:`metadata`.
-
-    Raises:
-        InvalidInputError: If a channel or state name is empty or repeated, ``"time"`` is
-            missing, or ``capacity`` is not a positive integer.
-
-    """
-
-    __slots__ = (
-        "_buffer",
-        "_channels",
-        "_index",
-        "_n",
-        "_nchan",
-        "_state",
-        "_state_index",
-        "_state_names",
-        "metadata",
-    )
-
-    def __init__(
-        self,
-        channels: Sequence[str] = STANDARD_CHANNELS,
-        *,
-        state_names: Sequence[str] = (),
-        capacity: int = 4096,
-        metadata: Mapping[str, Any] | None = None,
-    ) -> None:
-        if isinstance(channels, str):
-            raise InvalidInputError(f"channels: expected a sequence of names, got {channels!r}.")
-        names = tuple(c for c in _check_names(channels, "channels") if c != _STATE)
-        if "time" not in names:
-            raise InvalidInputError(
-                "channels: 'time' is required; given: " + ", ".join(repr(n) for n in names) + "."
-            )
-        if isinstance(state_names, str):
-            raise InvalidInputError(f"state_names: expected a sequence, got {state_names!r}.")
-        if isinstance(capacity, bool) or not isinstance(capacity, int | np.integer) or capacity < 1:
-            raise InvalidInputError(f"capacity: expected a positive int, got {capacity!r}.")
-        self._channels: tuple[str, ...] = names
-        self._nchan = len(names)
-        self._index: dict[str, int] = {n: j for j, n in enumerate(names)}
-        self._state_names: tuple[str, ...] = _check_names(state_names, "state_names")
-        self._state_index: dict[str, int] = {n: i for i, n in enumerate(self._state_names)}
-        self._buffer = np.full((int(capacity), self._nchan), np.nan)
-        self._state = np.full(int(capacity), -1, dtype=np.int64)
-        self._n = 0
-        #: Run description (see the module docstring for the standard keys); copied by to_log.
-        self.metadata: dict[str, Any] = dict(metadata or {})
-
-    def __len__(self) -> int:
-        return self._n
-
-    def __repr__(self) -> str:
-        return (
-            f"Recorder({self._n} rows, capacity {self.capacity}, channels={list(self._channels)})"
-        )
-
-    @property
-    def channels(self) -> tuple[str, ...]:
-        """The float channel names, in row order."""
-        return self._channels
-
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        """The discrete state names."""
-        return self._state_names
-
-    @property
-    def capacity(self) -> int:
-        """Rows currently allocated."""
-        return int(self._buffer.shape[0])
-
-    def _grow(self) -> None:
-        old = self._buffer.shape[0]
-        buffer = np.full((2 * old, self._nchan), np.nan)
-        buffer[:old] = self._buffer
-        state = np.full(2 * old, -1, dtype=np.int64)
-        state[:old] = self._state
-        self._buffer, self._state = buffer, state
-
-    def _state_value(self, state: int | str) -> int:
-        if isinstance(state, str):
-            try:
-                return self._state_index[state]
-            except KeyError:
-                raise _unknown_name(state, self._state_names, "state") from None
-        if isinstance(state, bool) or not isinstance(state, int | np.integer):
-            raise InvalidInputError(f"state: expected an int index or a state name, got {state!r}.")
-        value = int(state)
-        if value < -1 or (self._state_names and value >= len(self._state_names)):
-            raise InvalidInputError(
-                f"state: {value} is not an index into state_names "
-                f"(0..{len(self._state_names) - 1}, or -1 for unknown)."
-            )
-        return value
-
-    def append(self, state: int | str | None = None, **values: float) -> None:
-        """Record one tick: ``rec.append(time=t, x=x, ..., state=i)``.
-
-        Channels left out stay NaN for this tick.
-
-        Args:
-            state: Index into :attr:`state_names` (or the state's name); -1 (unknown) if omitted.
-            **values: Channel name -> value.
-
-        Raises:
-            InvalidInputError: If a channel or state is unknown (nothing is recorded then).
-
-        """
-        n = self._n
-        if n == self._buffer.shape[0]:
-            self._grow()
-        row = self._buffer[n]
-        index = self._index
-        try:
-            for name, value in values.items():
-                row[index[name]] = value
-        except KeyError as err:
-            row[:] = np.nan
-            raise _unknown_name(err.args[0], self._channels, "channel") from None
-        except (TypeError, ValueError) as err:
-            row[:] = np.nan
-            raise InvalidInputError(f"channel {name!r}: cannot record {value!r} ({err}).") from None
-        if state is not None:
-            if type(state) is not int or state < -1 or state >= len(self._state_names) > 0:
-                try:
-                    state = self._state_value(state)
-                except InvalidInputError:
-                    row[:] = np.nan
-                    raise
-            self._state[n] = state
-        self._n = n + 1
-
-    def append_row(self, row: Sequence[float] | np.ndarray, state: int | str | None = None) -> None:
-        """Record one tick from a full row of values in :attr:`channels` order.
-
-        Args:
-            row: ``(len(channels),)`` values.
-            state: Index into :attr:`state_names` (or the state's name); -1 (unknown) if omitted.
-
-        Raises:
-            InvalidInputError: If ``row`` has the wrong length or the state is unknown.
-
-        """
-        try:
-            length = len(row)
-        except TypeError:
-            length = -1
-        if length != self._nchan:
-            raise InvalidInputError(
-                f"row: expected {self._nchan} values ({', '.join(self._channels)}), got "
-                f"{'a scalar' if length < 0 else length}."
-            )
-        if state is not None and (
-            type(state) is not int or state < -1 or state >= len(self._state_names) > 0
-        ):
-            state = self._state_value(state)
-        n = self._n
-        if n == self._buffer.shape[0]:
-            self._grow()
-        try:
-            self._buffer[n] = row
-        except (TypeError, ValueError) as err:
-            self._buffer[n] = np.nan
-            raise InvalidInputError(f"row: cannot record {row!r} ({err}).") from None
-        if state is not None:
-            self._state[n] = state
-        self._n = n + 1
-
-    def to_log(self) -> WalkLog:
-        """Return the rows recorded so far as a :class:`WalkLog` (copies; recording may go on).
-
-        Raises:
-            InvalidInputError: If the recorded ``time`` is not finite and non-decreasing.
-
-        """
-        n = self._n
-        return WalkLog(
-            data={c: self._buffer[:n, j] for j, c in enumerate(self._channels)},  # copied
-            state=self._state[:n],  # copied by WalkLog
-            state_names=self._state_names,
-            metadata=copy.deepcopy(self.metadata),
-        )

@@ -15,7 +15,8 @@ import numpy as np
 from ..exceptions import ConstraintError, SingularConfigurationError
 from .linalg import backward_tolerance, constrained_min_norm
 from .partitioner import ILL_CONDITIONED, RawSolution
-from .problem import DistributionProblem, Evaluation
+from .problem import DistributionProblem
+from .structure import Evaluation
 
 
 class DenseSolver:

@@ -29,7 +29,8 @@ import numpy as np
 
 from ..exceptions import ConstraintError, SingularConfigurationError
 from .linalg import backward_tolerance, constrained_min_norm, safe_inverse, select_columns
-from .problem import DistributionProblem, Evaluation
+from .problem import DistributionProblem
+from .structure import Evaluation
 
 #: Condition estimate above which a block is considered ill-conditioned and re-picked.
 ILL_CONDITIONED = 1e10

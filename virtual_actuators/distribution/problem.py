@@ -19,127 +19,25 @@ Chains with the same structure form a :class:`ChainGroup` whose work is vectoris
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from ..exceptions import (
     ConstraintError,
-    InvalidAxisError,
-    JointNotFoundError,
     SingularConfigurationError,
 )
 from ..kinematics.relative import KinematicState, RelativeKinematics, skew
 from ..kinematics.snapshot import Snapshot
-from ..vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
-from ..vocabulary.frames import AXES, resolve_joint
+from ..vocabulary.constraints import DesignConstraint
+from ..vocabulary.frames import AXES
+from .declaration import design_rows, parse_contacts, parse_joints
 from .linalg import JACOBIAN_FLOOR, dependent_rows
+from .structure import SINGULAR_TOL, ChainGroup, Evaluation, GroupRows, structural_rank
 
-#: A chain is singular when its smallest needed singular value falls below this fraction of its
-#: largest one.
-SINGULAR_TOL = 1e-9
 #: A limp or passive joint's natural-constraint row is structurally zero (no selected axis loads
 #: the joint) when its norm stays below this fraction of the chain's largest Jacobian column.
 VACUOUS_TOL = 1e-10
-
-
-def structural_rank(jacobian: np.ndarray) -> int:
-    """Rank of a chain's Jacobian at a generic configuration, as the distribution counts it.
-
-    A direction whose singular value is below ``SINGULAR_TOL`` times the largest is one the
-    chain cannot produce: at such a ratio every solve would call the chain singular, and ratios
-    this small come from rounding in the robot's description (an rpy of pi/2 written to 16
-    digits), not from its geometry. (A chain whose whole Jacobian is below ``JACOBIAN_FLOOR``
-    keeps its rank here and is called singular by every solve.)
-    """
-    s = np.linalg.svd(jacobian, compute_uv=False)
-    if not s.size or s[0] == 0.0:
-        return 0
-    return int(np.sum(s > SINGULAR_TOL * s[0]))
-
-
-@dataclass
-class ChainGroup:
-    """Chains of identical structure, stacked for vectorised evaluation.
-
-    Attributes:
-        chains: ``(g,)`` chain indices (positions in the actuator's ``reactions``).
-        columns: ``(g, k)`` velocity indices of the joints on each chain.
-        signs: ``(g, k)`` +1 / -1: on {B}'s or {A}'s side of the path.
-        constrained: ``(g, c)`` positions (into ``columns``) of limp or passive joints that belong
-            to this chain only.
-        stiffness: ``(g, c)`` spring stiffness of those joints (0 for a limp joint) [N m/rad].
-        rest: ``(g, c)`` spring rest angles [rad].
-        angle_index: ``(g, c)`` index in ``q`` of those joints' angle (-1 for a limp joint).
-        ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
-            contact, restricted to the selected axes; empty for a flat contact.
-        rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
-        cfs: ``(g, l)`` entries of ``F_i`` in the Constrained Force Set (chosen by the partitioner).
-
-    """
-
-    chains: np.ndarray
-    columns: np.ndarray
-    signs: np.ndarray
-    constrained: np.ndarray
-    stiffness: np.ndarray
-    rest: np.ndarray
-    angle_index: np.ndarray
-    ball_axes: np.ndarray
-    rank: int
-    n: int
-
-    @property
-    def size(self) -> int:
-        """Number of chains in the group."""
-        return len(self.chains)
-
-    @property
-    def num_constraints(self) -> int:
-        """``l``: natural constraints per chain."""
-        return self.constrained.shape[1] + len(self.ball_axes) + (self.n - self.rank)
-
-    @property
-    def num_free(self) -> int:
-        """``d = n - l``: force entries per chain not fixed by natural constraints."""
-        return self.n - self.num_constraints
-
-
-@dataclass
-class GroupRows:
-    """Natural-constraint rows of one :class:`ChainGroup` at one configuration.
-
-    Attributes:
-        rows: ``(g, l, n)`` the ``G_i``.
-        rhs: ``(g, l)`` the ``t_i`` (measured or zero torques).
-
-    """
-
-    rows: np.ndarray
-    rhs: np.ndarray
-
-
-@dataclass
-class Evaluation:
-    """Everything configuration-dependent that the solvers need at one ``q``.
-
-    Attributes:
-        q: The configuration.
-        state: Kinematic state (Jacobian rows in {O}, frame placements).
-        groups: Natural-constraint rows per chain group.
-        hard_rows: ``(s, p, n)`` coupling and design rows over all chains' wrenches.
-        hard_rhs: ``(s,)`` their right-hand sides.
-        passive_torque: ``(nv,)`` torques of passive springs at ``q`` [N m].
-
-    """
-
-    q: np.ndarray
-    state: KinematicState
-    groups: list[GroupRows]
-    hard_rows: np.ndarray
-    hard_rhs: np.ndarray
-    passive_torque: np.ndarray
 
 
 class DistributionProblem:
@@ -175,7 +73,7 @@ class DistributionProblem:
         self.axes = kinematics.axes
         self.n = len(self.axes)
         self.p = len(self.reactions)
-        self.contacts = self._parse_contacts(contact)
+        self.contacts = parse_contacts(contact, self.reactions)
         for i, name in enumerate(self.reactions):
             if not len(kinematics.chain_columns[i]):
                 raise ConstraintError(
@@ -183,7 +81,9 @@ class DistributionProblem:
                     f"{self.model.frames[kinematics.action_id].name!r}: no joint lies between "
                     "them, so that chain cannot exert anything."
                 )
-        self.limp_v, self.passive_v = self._parse_joints(unactuated, passive)
+        self.limp_v, self.passive_v = parse_joints(
+            self.kinematics, self.reactions, unactuated, passive
+        )
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
         self._structural: dict[bytes, bool] = {}
@@ -198,81 +98,6 @@ class DistributionProblem:
         self._build_design(design)
 
     # -- declaration -----------------------------------------------------------------------
-    def _parse_contacts(self, contact: str | Mapping[str, str]) -> tuple[str, ...]:
-        kinds = ("point", "flat")
-        if isinstance(contact, str):
-            if contact not in kinds:
-                raise ConstraintError(
-                    f"contact must be 'point', 'flat' or a dict; got {contact!r}."
-                )
-            return (contact,) * self.p
-        unknown = set(contact) - set(self.reactions)
-        if unknown:
-            raise ConstraintError(
-                f"contact names {sorted(unknown)} which are not reaction frames; "
-                f"reactions are {list(self.reactions)}."
-            )
-        out = []
-        for name in self.reactions:
-            kind = contact.get(name, "point")
-            if kind not in kinds:
-                raise ConstraintError(f"contact[{name!r}] must be 'point' or 'flat', got {kind!r}.")
-            out.append(kind)
-        return tuple(out)
-
-    def _joint_columns(self, name: str, role: str) -> tuple[int, np.ndarray]:
-        joint_id = resolve_joint(self.model, name, role)
-        joint = self.model.joints[joint_id]
-        vs = np.arange(joint.idx_v, joint.idx_v + joint.nv)
-        on_chains = np.zeros(self.model.nv, dtype=bool)
-        for columns in self.kinematics.chain_columns:
-            on_chains[columns] = True
-        if not np.any(on_chains[vs]):
-            chain_joints = sorted(
-                {
-                    self.model.names[j]
-                    for j in range(1, self.model.njoints)
-                    if on_chains[self.model.joints[j].idx_v]
-                }
-            )
-            raise JointNotFoundError(
-                f"The {role} {name!r} is not on any chain between the action frame and the "
-                f"reaction frames {list(self.reactions)}; joints on the chains: {chain_joints}."
-            )
-        return joint_id, vs
-
-    def _parse_joints(
-        self, unactuated: Sequence[str], passive: Mapping[str, tuple[float, float]]
-    ) -> tuple[dict[int, str], dict[int, tuple[str, float, float, int, bool]]]:
-        if isinstance(unactuated, str):
-            unactuated = [unactuated]
-        limp: dict[int, str] = {}
-        for name in unactuated:
-            _, vs = self._joint_columns(name, "unactuated joint")
-            for v in vs:
-                limp[int(v)] = name
-        springs: dict[int, tuple[str, float, float, int, bool]] = {}
-        for name, params in dict(passive).items():
-            joint_id, vs = self._joint_columns(name, "passive joint")
-            joint = self.model.joints[joint_id]
-            try:
-                stiffness, rest = (float(x) for x in params)
-            except (TypeError, ValueError):
-                raise ConstraintError(
-                    f"passive[{name!r}] must be (stiffness, rest_angle), got {params!r}."
-                ) from None
-            if not (np.isfinite(stiffness) and np.isfinite(rest)):
-                raise ConstraintError(f"passive[{name!r}] has a NaN or inf value: {params!r}.")
-            if joint.nv != 1 or joint.nq not in (1, 2):
-                raise ConstraintError(
-                    f"passive joint {name!r} has {joint.nv} degrees of freedom; passive springs "
-                    "need a one-degree-of-freedom joint (revolute, prismatic or continuous)."
-                )
-            if int(vs[0]) in limp:
-                raise ConstraintError(f"joint {name!r} is declared both unactuated and passive.")
-            springs[int(vs[0])] = (name, stiffness, rest, joint.idx_q, joint.nq == 2)
-        return limp, springs
-
     def _build_groups(self) -> None:
         counts = np.zeros(self.model.nv, dtype=int)
         for columns in self.kinematics.chain_columns:
@@ -458,88 +283,15 @@ class DistributionProblem:
                 return self.model.names[j]
         raise IndexError(v)
 
-    def _label_index(self, label: Label, constraint: DesignConstraint) -> tuple[int, int]:
-        if not (
-            isinstance(label, tuple | list)
-            and len(label) == 2
-            and all(isinstance(x, str) for x in label)
-        ):
-            raise ConstraintError(
-                f"{constraint!r}: a label is a pair (reaction_frame, axis) such as "
-                f"('FL_FOOT', 'x'), got {label!r}."
-            )
-        reaction, axis = label
-        if reaction not in self.reactions:
-            raise ConstraintError(
-                f"{constraint!r} names {reaction!r}, which is not a reaction frame of this "
-                f"actuator; reactions are {list(self.reactions)}."
-            )
-        if axis not in self.axes:
-            raise InvalidAxisError(
-                f"{constraint!r} names axis {axis!r}, which is not one of this actuator's axes "
-                f"{self.axes}."
-            )
-        return self.reactions.index(reaction), self.axes.index(axis)
-
     def _build_design(self, design: Sequence[DesignConstraint]) -> None:
-        design = list(design)
-        constant_rows, constant_rhs, torque_pairs = [], [], []
-        self.design_names: list[str] = []
-        constant_names, torque_names = [], []
-        for constraint in design:
-            if isinstance(constraint, Equal):
-                row = np.zeros((self.p, self.n))
-                (ia, xa), (ib, xb) = (
-                    self._label_index(lbl, constraint) for lbl in (constraint.a, constraint.b)
-                )
-                if (ia, xa) == (ib, xb):
-                    raise ConstraintError(f"{constraint!r} equates an entry with itself.")
-                row[ia, xa] += 1.0
-                row[ib, xb] -= 1.0
-                constant_rows.append(row)
-                constant_rhs.append(0.0)
-                constant_names.append(repr(constraint))
-            elif isinstance(constraint, Linear):
-                row = np.zeros((self.p, self.n))
-                if not constraint.coefficients:
-                    raise ConstraintError(f"{constraint!r} has no coefficient.")
-                for label, coeff in constraint.coefficients.items():
-                    i, x = self._label_index(label, constraint)
-                    if not np.isfinite(coeff):
-                        raise ConstraintError(f"{constraint!r} has a NaN or inf coefficient.")
-                    row[i, x] += float(coeff)
-                if not np.isfinite(constraint.rhs):
-                    raise ConstraintError(f"{constraint!r} has a NaN or inf rhs.")
-                constant_rows.append(row)
-                constant_rhs.append(float(constraint.rhs))
-                constant_names.append(repr(constraint))
-            elif isinstance(constraint, EqualTorque):
-                vs = []
-                for name in (constraint.joint_a, constraint.joint_b):
-                    joint_id, v = self._joint_columns(name, "EqualTorque joint")
-                    if len(v) != 1:
-                        raise ConstraintError(
-                            f"{constraint!r}: joint {name!r} has {len(v)} degrees of freedom; "
-                            "EqualTorque needs one-degree-of-freedom joints."
-                        )
-                    vs.append(int(v[0]))
-                if vs[0] == vs[1]:
-                    raise ConstraintError(f"{constraint!r} names the same joint twice.")
-                torque_pairs.append(vs)
-                torque_names.append(repr(constraint))
-            else:
-                raise ConstraintError(
-                    f"Unknown design constraint {constraint!r}; use va.Equal, va.Linear or "
-                    "va.EqualTorque."
-                )
-        self.constant_rows = np.array(constant_rows).reshape(-1, self.p, self.n)
-        self.constant_rhs = np.array(constant_rhs, dtype=float)
-        self.torque_pairs = np.array(torque_pairs, dtype=int).reshape(-1, 2)
+        rows = design_rows(design, self.kinematics, self.reactions, self.axes)
+        self.constant_rows, self.constant_rhs = rows.constant_rows, rows.constant_rhs
+        self.torque_pairs = rows.torque_pairs
         coupled_names = [f"torque of shared joint {self._joint_name(v)!r}" for v in self.coupled_v]
-        self.hard_names = coupled_names + constant_names + torque_names
+        self.hard_names = coupled_names + rows.constant_names + rows.torque_names
         self.num_hard = len(self.hard_names)
         #: True when no hard row depends on the configuration
-        self.constant_hard = not self.coupled_v and not torque_pairs
+        self.constant_hard = not self.coupled_v and not len(rows.torque_pairs)
         total_free = sum(g.size * g.num_free for g in self.groups)
         if self.num_hard > total_free:
             raise ConstraintError(

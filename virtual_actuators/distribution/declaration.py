@@ -1,0 +1,255 @@
+"""Reading a parallel actuator's declaration: contacts, limp and passive joints, design rows.
+
+These checks run once, when a :class:`~virtual_actuators.ParallelVirtualActuator` is declared;
+:class:`~virtual_actuators.distribution.problem.DistributionProblem` builds on what they return.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import ConstraintError, InvalidAxisError, JointNotFoundError
+from ..kinematics.relative import RelativeKinematics
+from ..vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
+from ..vocabulary.frames import resolve_joint
+
+
+@dataclass
+class DesignRows:
+    """The design constraints as rows.
+
+    Attributes:
+        constant_rows: ``(s0, p, n)`` rows over the chains' forces (``Equal``, ``Linear``).
+        constant_rhs: ``(s0,)`` their right-hand sides.
+        torque_pairs: ``(s1, 2)`` velocity indices of ``EqualTorque`` joint pairs.
+        constant_names: A readable name per constant row.
+        torque_names: A readable name per torque pair.
+
+    """
+
+    constant_rows: np.ndarray
+    constant_rhs: np.ndarray
+    torque_pairs: np.ndarray
+    constant_names: list[str]
+    torque_names: list[str]
+
+
+def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -> tuple[str, ...]:
+    """Each reaction's contact kind, ``"point"`` or ``"flat"``.
+
+    Raises:
+        ConstraintError: An unknown kind, or a key that is not a reaction frame.
+
+    """
+    kinds = ("point", "flat")
+    if isinstance(contact, str):
+        if contact not in kinds:
+            raise ConstraintError(f"contact must be 'point', 'flat' or a dict; got {contact!r}.")
+        return (contact,) * len(reactions)
+    unknown = set(contact) - set(reactions)
+    if unknown:
+        raise ConstraintError(
+            f"contact names {sorted(unknown)} which are not reaction frames; "
+            f"reactions are {list(reactions)}."
+        )
+    out = []
+    for name in reactions:
+        kind = contact.get(name, "point")
+        if kind not in kinds:
+            raise ConstraintError(f"contact[{name!r}] must be 'point' or 'flat', got {kind!r}.")
+        out.append(kind)
+    return tuple(out)
+
+
+def joint_columns(
+    kinematics: RelativeKinematics, reactions: Sequence[str], name: str, role: str
+) -> tuple[int, np.ndarray]:
+    """A joint's id and velocity columns, checked to lie on a chain.
+
+    Raises:
+        JointNotFoundError: An unknown joint, or one on no chain (the message lists them).
+
+    """
+    joint_id = resolve_joint(kinematics.model, name, role)
+    joint = kinematics.model.joints[joint_id]
+    vs = np.arange(joint.idx_v, joint.idx_v + joint.nv)
+    on_chains = np.zeros(kinematics.model.nv, dtype=bool)
+    for columns in kinematics.chain_columns:
+        on_chains[columns] = True
+    if not np.any(on_chains[vs]):
+        chain_joints = sorted(
+            {
+                kinematics.model.names[j]
+                for j in range(1, kinematics.model.njoints)
+                if on_chains[kinematics.model.joints[j].idx_v]
+            }
+        )
+        raise JointNotFoundError(
+            f"The {role} {name!r} is not on any chain between the action frame and the "
+            f"reaction frames {list(reactions)}; joints on the chains: {chain_joints}."
+        )
+    return joint_id, vs
+
+
+def parse_joints(
+    kinematics: RelativeKinematics,
+    reactions: Sequence[str],
+    unactuated: Sequence[str],
+    passive: Mapping[str, tuple[float, float]],
+) -> tuple[dict[int, str], dict[int, tuple[str, float, float, int, bool]]]:
+    """Limp joints ``{v: name}`` and springs ``{v: (name, stiffness, rest, idx_q, is_cos_sin)}``.
+
+    Raises:
+        JointNotFoundError: A joint that is unknown or on no chain.
+        ConstraintError: Bad spring parameters, a multi-dof passive joint, or a joint both
+            limp and passive.
+
+    """
+    if isinstance(unactuated, str):
+        unactuated = [unactuated]
+    limp: dict[int, str] = {}
+    for name in unactuated:
+        _, vs = joint_columns(kinematics, reactions, name, "unactuated joint")
+        for v in vs:
+            limp[int(v)] = name
+    springs: dict[int, tuple[str, float, float, int, bool]] = {}
+    for name, params in dict(passive).items():
+        joint_id, vs = joint_columns(kinematics, reactions, name, "passive joint")
+        joint = kinematics.model.joints[joint_id]
+        try:
+            stiffness, rest = (float(x) for x in params)
+        except (TypeError, ValueError):
+            raise ConstraintError(
+                f"passive[{name!r}] must be (stiffness, rest_angle), got {params!r}."
+            ) from None
+        if not (np.isfinite(stiffness) and np.isfinite(rest)):
+            raise ConstraintError(f"passive[{name!r}] has a NaN or inf value: {params!r}.")
+        if joint.nv != 1 or joint.nq not in (1, 2):
+            raise ConstraintError(
+                f"passive joint {name!r} has {joint.nv} degrees of freedom; passive springs "
+                "need a one-degree-of-freedom joint (revolute, prismatic or continuous)."
+            )
+        if int(vs[0]) in limp:
+            raise ConstraintError(f"joint {name!r} is declared both unactuated and passive.")
+        springs[int(vs[0])] = (name, stiffness, rest, joint.idx_q, joint.nq == 2)
+    return limp, springs
+
+
+def label_index(
+    label: Label, constraint: DesignConstraint, reactions: Sequence[str], axes: Sequence[str]
+) -> tuple[int, int]:
+    """``(chain, axis)`` indices of a design label ``(reaction_frame, axis)``.
+
+    Raises:
+        ConstraintError: Not a pair of names, or an unknown reaction frame.
+        InvalidAxisError: An axis the actuator does not have.
+
+    """
+    if not (
+        isinstance(label, tuple | list)
+        and len(label) == 2
+        and all(isinstance(x, str) for x in label)
+    ):
+        raise ConstraintError(
+            f"{constraint!r}: a label is a pair (reaction_frame, axis) such as "
+            f"('FL_FOOT', 'x'), got {label!r}."
+        )
+    reaction, axis = label
+    if reaction not in reactions:
+        raise ConstraintError(
+            f"{constraint!r} names {reaction!r}, which is not a reaction frame of this "
+            f"actuator; reactions are {list(reactions)}."
+        )
+    if axis not in axes:
+        raise InvalidAxisError(
+            f"{constraint!r} names axis {axis!r}, which is not one of this actuator's axes {axes}."
+        )
+    return reactions.index(reaction), axes.index(axis)
+
+
+def design_rows(
+    design: Sequence[DesignConstraint],
+    kinematics: RelativeKinematics,
+    reactions: Sequence[str],
+    axes: Sequence[str],
+) -> DesignRows:
+    """The rows of the design constraints: constant rows over the forces, equal-torque pairs.
+
+    Raises:
+        ConstraintError: A malformed constraint (self-equality, no coefficient, NaN, a
+            multi-dof or repeated joint, an unknown type), or a label naming no reaction.
+        InvalidAxisError: A label naming an axis the actuator does not have.
+        JointNotFoundError: An EqualTorque joint that is unknown or on no chain.
+
+    """
+    design = list(design)
+    constant_rows, constant_rhs, torque_pairs = [], [], []
+    constant_names, torque_names = [], []
+    for constraint in design:
+        if isinstance(constraint, Equal):
+            row = np.zeros((len(reactions), len(axes)))
+            (ia, xa), (ib, xb) = (
+                label_index(lbl, constraint, reactions, axes)
+                for lbl in (constraint.a, constraint.b)
+            )
+            if (ia, xa) == (ib, xb):
+                raise ConstraintError(f"{constraint!r} equates an entry with itself.")
+            row[ia, xa] += 1.0
+            row[ib, xb] -= 1.0
+            constant_rows.append(row)
+            constant_rhs.append(0.0)
+            constant_names.append(repr(constraint))
+        elif isinstance(constraint, Linear):
+            row = np.zeros((len(reactions), len(axes)))
+            if not constraint.coefficients:
+                raise ConstraintError(f"{constraint!r} has no coefficient.")
+            for label, coeff in constraint.coefficients.items():
+                i, x = label_index(label, constraint, reactions, axes)
+                if not np.isfinite(coeff):
+                    raise ConstraintError(f"{constraint!r} has a NaN or inf coefficient.")
+                row[i, x] += float(coeff)
+            if not np.isfinite(constraint.rhs):
+                raise ConstraintError(f"{constraint!r} has a NaN or inf rhs.")
+            constant_rows.append(row)
+            constant_rhs.append(float(constraint.rhs))
+            constant_names.append(repr(constraint))
+        elif isinstance(constraint, EqualTorque):
+            vs = []
+            for name in (constraint.joint_a, constraint.joint_b):
+                joint_id, v = joint_columns(kinematics, reactions, name, "EqualTorque joint")
+                if len(v) != 1:
+                    raise ConstraintError(
+                        f"{constraint!r}: joint {name!r} has {len(v)} degrees of freedom; "
+                        "EqualTorque needs one-degree-of-freedom joints."
+                    )
+                vs.append(int(v[0]))
+            if vs[0] == vs[1]:
+                raise ConstraintError(f"{constraint!r} names the same joint twice.")
+            torque_pairs.append(vs)
+            torque_names.append(repr(constraint))
+        else:
+            raise ConstraintError(
+                f"Unknown design constraint {constraint!r}; use va.Equal, va.Linear or "
+                "va.EqualTorque."
+            )
+    p, n = len(reactions), len(axes)
+    return DesignRows(
+        constant_rows=np.array(constant_rows).reshape(-1, p, n),
+        constant_rhs=np.array(constant_rhs, dtype=float),
+        torque_pairs=np.array(torque_pairs, dtype=int).reshape(-1, 2),
+        constant_names=constant_names,
+        torque_names=torque_names,
+    )
+
+
+__all__ = [
+    "DesignRows",
+    "design_rows",
+    "joint_columns",
+    "label_index",
+    "parse_contacts",
+    "parse_joints",
+]

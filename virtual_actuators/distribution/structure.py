@@ -1,0 +1,120 @@
+"""The shapes of a distribution problem: chain groups, their rows at one configuration.
+
+Chains with the same structure (joint count, constrained joints, ball axes, generic rank) form a
+:class:`ChainGroup` whose work is vectorised; :class:`GroupRows` and :class:`Evaluation` hold
+what :meth:`~virtual_actuators.distribution.problem.DistributionProblem.evaluate` computes at one
+configuration.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kinematics.relative import KinematicState
+
+#: A chain is singular when its smallest needed singular value falls below this fraction of its
+#: largest one.
+SINGULAR_TOL = 1e-9
+
+
+def structural_rank(jacobian: np.ndarray) -> int:
+    """Rank of a chain's Jacobian at a generic configuration, as the distribution counts it.
+
+    A direction whose singular value is below ``SINGULAR_TOL`` times the largest is one the
+    chain cannot produce: at such a ratio every solve would call the chain singular, and ratios
+    this small come from rounding in the robot's description (an rpy of pi/2 written to 16
+    digits), not from its geometry. (A chain whose whole Jacobian is below ``JACOBIAN_FLOOR``
+    keeps its rank here and is called singular by every solve.)
+    """
+    s = np.linalg.svd(jacobian, compute_uv=False)
+    if not s.size or s[0] == 0.0:
+        return 0
+    return int(np.sum(s > SINGULAR_TOL * s[0]))
+
+
+@dataclass
+class ChainGroup:
+    """Chains of identical structure, stacked for vectorised evaluation.
+
+    Attributes:
+        chains: ``(g,)`` chain indices (positions in the actuator's ``reactions``).
+        columns: ``(g, k)`` velocity indices of the joints on each chain.
+        signs: ``(g, k)`` +1 / -1: on {B}'s or {A}'s side of the path.
+        constrained: ``(g, c)`` positions (into ``columns``) of limp or passive joints that belong
+            to this chain only.
+        stiffness: ``(g, c)`` spring stiffness of those joints (0 for a limp joint) [N m/rad].
+        rest: ``(g, c)`` spring rest angles [rad].
+        angle_index: ``(g, c)`` index in ``q`` of those joints' angle (-1 for a limp joint).
+        ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
+            contact, restricted to the selected axes; empty for a flat contact.
+        rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
+        cfs: ``(g, l)`` entries of ``F_i`` in the Constrained Force Set (chosen by the partitioner).
+
+    """
+
+    chains: np.ndarray
+    columns: np.ndarray
+    signs: np.ndarray
+    constrained: np.ndarray
+    stiffness: np.ndarray
+    rest: np.ndarray
+    angle_index: np.ndarray
+    ball_axes: np.ndarray
+    rank: int
+    n: int
+
+    @property
+    def size(self) -> int:
+        """Number of chains in the group."""
+        return len(self.chains)
+
+    @property
+    def num_constraints(self) -> int:
+        """``l``: natural constraints per chain."""
+        return self.constrained.shape[1] + len(self.ball_axes) + (self.n - self.rank)
+
+    @property
+    def num_free(self) -> int:
+        """``d = n - l``: force entries per chain not fixed by natural constraints."""
+        return self.n - self.num_constraints
+
+
+@dataclass
+class GroupRows:
+    """Natural-constraint rows of one :class:`ChainGroup` at one configuration.
+
+    Attributes:
+        rows: ``(g, l, n)`` the ``G_i``.
+        rhs: ``(g, l)`` the ``t_i`` (measured or zero torques).
+
+    """
+
+    rows: np.ndarray
+    rhs: np.ndarray
+
+
+@dataclass
+class Evaluation:
+    """Everything configuration-dependent that the solvers need at one ``q``.
+
+    Attributes:
+        q: The configuration.
+        state: Kinematic state (Jacobian rows in {O}, frame placements).
+        groups: Natural-constraint rows per chain group.
+        hard_rows: ``(s, p, n)`` coupling and design rows over all chains' wrenches.
+        hard_rhs: ``(s,)`` their right-hand sides.
+        passive_torque: ``(nv,)`` torques of passive springs at ``q`` [N m].
+
+    """
+
+    q: np.ndarray
+    state: KinematicState
+    groups: list[GroupRows]
+    hard_rows: np.ndarray
+    hard_rhs: np.ndarray
+    passive_torque: np.ndarray
+
+
+__all__ = ["SINGULAR_TOL", "ChainGroup", "Evaluation", "GroupRows", "structural_rank"]

@@ -120,7 +120,7 @@ def test_library_error_at_run_time_is_a_usage_error(
     def fail(args: object) -> int:
         raise InvalidInputError("speed 1.2 m/s is too fast for this terrain.")
 
-    monkeypatch.setattr(cli, "_run", fail)
+    monkeypatch.setattr(cli, "run", fail)
     with pytest.raises(SystemExit) as exit_info:
         cli.main(["demo", "turkey-walk", "--speed", "1.2"])
     assert exit_info.value.code == 2
@@ -134,6 +134,6 @@ def test_other_exceptions_propagate(monkeypatch: pytest.MonkeyPatch) -> None:
     def fail(args: object) -> int:
         raise ZeroDivisionError("a genuine bug")
 
-    monkeypatch.setattr(cli, "_run", fail)
+    monkeypatch.setattr(cli, "run", fail)
     with pytest.raises(ZeroDivisionError, match="a genuine bug"):
         cli.main(["demo", "turkey-walk", "--duration", "1"])

@@ -1,0 +1,1 @@
+"""The command line: options and parser (``options``), what each command runs (``commands``)."""

@@ -1,0 +1,306 @@
+"""What the command line runs: the demos, the worked examples, the viewer around them."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import sys
+import time
+from collections.abc import Iterator, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .options import STAND_FEET
+
+if TYPE_CHECKING:
+    from ...examples import Example
+    from ...robots.robot import Robot
+
+
+def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
+    model = robot.model
+    lines = [f"{'joint':<16}{'effort [N m]':>14}"]
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.shortname() == "JointModelFreeFlyer":
+            continue
+        for k in range(joint.nv):
+            name = model.names[j] + (f"[{k}]" if joint.nv > 1 else "")
+            note = "  (limp)" if model.names[j] in limp else ""
+            lines.append(f"{name:<16}{tau[joint.idx_v + k]:>14.4f}{note}")
+    return "\n".join(lines)
+
+
+def _print_solution(title: str, robot, body, q, wrench, sol) -> None:
+    print(f"\n== {title}")
+    sizes = body.sizes()
+    print(
+        f"n={sizes['n']} p={sizes['p']} natural constraints={sizes['l_total']} "
+        f"free entries={sizes['d_total']} redundancy r={sizes['r']} design={sizes['design']}"
+    )
+    print(f"method: {sol.method}   residual: {sol.residual:.2e}")
+    for key in ("MFS", "RFS", "CFS"):
+        labels = ", ".join(f"{r}.{a}" for r, a in sol.sets[key])
+        print(f"{key} ({len(sol.sets[key])}): {labels}")
+    print("\nforces on the body, per chain [N, N m]:")
+    print(sol.table())
+    print("\njoint efforts:")
+    print(_joint_table(robot, sol.tau))
+
+
+def stand_robot(name: str = "solo12") -> Robot:
+    """Load the quadruped of ``demo stand`` and check that it has the frames the demo needs.
+
+    Args:
+        name: A robot name or URDF path for :func:`~virtual_actuators.load_robot`.
+
+    Returns:
+        The :class:`~virtual_actuators.Robot`.
+
+    Raises:
+        RobotNotFoundError: If no robot has this name or path.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If the robot lacks ``base_link`` or one of the frames ``FL_FOOT``,
+            ``FR_FOOT``, ``HL_FOOT``, ``HR_FOOT`` (it is not a quadruped like solo12).
+    """
+    import virtual_actuators as va
+
+    robot = va.load_robot(name)
+    needed = ("base_link", *STAND_FEET)
+    missing = [frame for frame in needed if not robot.model.existFrame(frame)]
+    if missing:
+        raise va.FrameNotFoundError(
+            f"robot {name!r} has no frame {', '.join(missing)}: the stand demo needs a "
+            f"quadruped with the frames {', '.join(needed)}, such as 'solo12' or 'solo'."
+        )
+    return robot
+
+
+def demo_stand(
+    robot: str | os.PathLike[str] | Robot = "solo12",
+    repeat: int = 2000,
+    args: argparse.Namespace | None = None,
+) -> None:
+    """Load a quadruped, declare a body actuator on its four feet, print the distribution.
+
+    With ``args.viz`` / ``args.record``, also show it in MeshCat / write it as HTML.
+
+    Args:
+        robot: A robot loaded by :func:`stand_robot`, or a name or path to load with it.
+        repeat: Solves per timing.
+        args: The parsed command line (for the viewer options), or None.
+
+    Raises:
+        RobotNotFoundError: If ``robot`` is a name that no robot has.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If it is not a quadruped with the frames of :func:`stand_robot`.
+    """
+    import virtual_actuators as va
+
+    if isinstance(robot, (str, os.PathLike)):
+        robot = stand_robot(os.fspath(robot))
+    q = robot.neutral()
+    feet = list(STAND_FEET)
+    mass = sum(inertia.mass for inertia in robot.model.inertias)
+    weight = mass * 9.81
+    print(f"{robot}  mass {mass:.2f} kg, standing pose from its SRDF")
+    body = va.ParallelVirtualActuator(
+        robot, action="base_link", reactions=feet, reference="base_link", contact="point"
+    )
+    wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])
+    sol = body.solve(q, wrench)
+    _print_solution(
+        "body actuator, no design constraint (minimum-norm distribution)",
+        robot,
+        body,
+        q,
+        wrench,
+        sol,
+    )
+    # all x forces equal, y forces equal front and hind, diagonal z sums equal: r = 6
+    design = [
+        va.Equal((feet[0], "x"), (feet[1], "x")),
+        va.Equal((feet[0], "x"), (feet[2], "x")),
+        va.Equal((feet[0], "x"), (feet[3], "x")),
+        va.Equal((feet[0], "y"), (feet[1], "y")),
+        va.Equal((feet[2], "y"), (feet[3], "y")),
+        va.Linear({(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}),
+    ]
+    square = va.ParallelVirtualActuator(
+        robot, action="base_link", reactions=feet, reference="base_link", design=design
+    )
+    sol2 = square.solve(q, wrench)
+    _print_solution(
+        "with six design constraints (square, partitioned)", robot, square, q, wrench, sol2
+    )
+    for name, actuator in (("minimum-norm", body), ("partitioned", square)):
+        start = time.perf_counter()
+        for _ in range(repeat):
+            actuator.solve(q, wrench)
+        elapsed = (time.perf_counter() - start) / repeat * 1e6
+        print(f"\nsolve time ({name}): {elapsed:.1f} us per call (median of one run)")
+    if args is not None:
+        _show_static(args, robot, q, sol2, square, wrench)
+
+
+def _wants_viewer(args: argparse.Namespace) -> bool:
+    return bool(getattr(args, "viz", False) or getattr(args, "record", None))
+
+
+def _nice_scale(force: float, length: float) -> float:
+    """Arrow scale [m/N] drawing ``force`` about ``length`` long, at a round N per metre."""
+    per_metre = max(force, 1e-9) / max(length, 1e-3)
+    exponent = 10.0 ** np.floor(np.log10(per_metre))
+    step = next(m for m in (1.0, 2.0, 5.0, 10.0) if m * exponent >= per_metre)
+    return 1.0 / (step * exponent)
+
+
+def _robot_extent(robot, q: np.ndarray) -> float:
+    import pinocchio as pin
+
+    data = pin.Data(robot.model)
+    pin.framesForwardKinematics(robot.model, data, q)
+    points = np.array([f.translation for f in data.oMf])
+    return max(0.3, float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))))
+
+
+def _make_viewer(args: argparse.Namespace, robot, **options):
+    """A live viewer (``--viz``) or an offline one for ``--record`` only, or None."""
+    if not _wants_viewer(args):
+        return None
+    from ..viz import OfflineWindow, Viewer
+
+    window = None if args.viz else OfflineWindow()
+    return Viewer(robot, window=window, **options)
+
+
+def _pause(message: str) -> None:
+    """Wait for Enter when a person is at the terminal; return at once in scripts."""
+    if sys.stdin is not None and sys.stdin.isatty():
+        try:
+            input(message)
+        except EOFError:
+            pass
+
+
+def _finish_viewer(args: argparse.Namespace, viewer) -> None:
+    if args.record:
+        print(f"recording: {viewer.save_html(args.record)}")
+    if args.viz:
+        viewer.flush()
+        print(f"viewer: {viewer.url}")
+        _pause("Press Enter to stop the viewer. ")
+    viewer.close()
+
+
+def _show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:
+    """Show one configuration with an actuator's distribution (``--viz`` / ``--record``)."""
+    if not _wants_viewer(args):
+        return
+    force = float(
+        np.linalg.norm(
+            solution.forces[
+                :, [i for i, a in enumerate(solution.axes) if a in ("x", "y", "z")]
+            ].sum(axis=0)
+        )
+    )
+    extent = _robot_extent(robot, q)
+    viewer = _make_viewer(args, robot, force_scale=_nice_scale(force, 0.6 * extent))
+    viewer.show(q, solution, actuator=actuator)
+    _finish_viewer(args, viewer)
+
+
+def demo_walk(args: argparse.Namespace) -> int:
+    """Run one of the seeds' walks in MuJoCo, print its metrics, write JSON and a plot."""
+    from ..demos import WALKS, run_walk
+    from ..experiments.metrics import write_json
+    from ..experiments.plots import plot_walk
+    from ..robots.loader import load_robot
+
+    viewer = on_tick = None
+    if _wants_viewer(args):
+        viewer = _make_viewer(args, load_robot(WALKS[args.name].robot), force_scale=1 / 250)
+        if args.record:
+            viewer.start_recording(fps=30.0)
+        if args.viz:
+            _pause("Open the viewer, then press Enter to start. ")
+        on_tick = viewer.tick_callback(realtime=args.realtime)
+    result = run_walk(
+        args.name,
+        duration=args.duration,
+        speed=args.speed,
+        terrain=args.terrain,
+        progress=not args.quiet,
+        on_tick=on_tick,
+    )
+    metrics = result.metrics
+    print(metrics.summary())
+    if args.json:
+        print(f"metrics: {write_json(metrics, args.json)}")
+    if args.plot:
+        title = f"{args.name}: {result.log.metadata['robot']} on {result.log.metadata['terrain']}"
+        heights = result.log.terrain_points[:, 1]
+        layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
+        path = plot_walk(result.log, args.plot, title=title, metrics=metrics, layout=layout)
+        print(f"plot: {path}")
+    if viewer is not None:
+        _finish_viewer(args, viewer)
+    return 1 if metrics.fell else 0
+
+
+def example_view(args: argparse.Namespace, example: Example) -> None:
+    """Show an example's configuration and solution (``--viz`` / ``--record``).
+
+    The example's robot, actuator, configuration and solution are drawn as they are.
+    """
+    if not _wants_viewer(args):
+        return
+    solution = example.solution
+    _show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
+
+
+class OptionError(Exception):
+    """A command-line value that turned out unusable at run time (reported as a usage error)."""
+
+
+@contextlib.contextmanager
+def _blame(option: str) -> Iterator[None]:
+    """Turn a library error raised in the block into an :class:`OptionError` naming ``option``.
+
+    Raises:
+        OptionError: If the block raises a :class:`~virtual_actuators.VirtualActuatorError`.
+    """
+    from ..exceptions import VirtualActuatorError
+
+    try:
+        yield
+    except VirtualActuatorError as error:
+        raise OptionError(f"argument {option}: {error}") from error
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the parsed command; returns the exit code (1: a walk ended with the robot fallen).
+
+    Raises:
+        OptionError: A value that only failed when used (names its option).
+        VirtualActuatorError: A library error caused by the arguments.
+
+    """
+    if args.command == "demo":
+        if args.name == "stand":
+            with _blame("--robot"):
+                robot = stand_robot(args.robot or "solo12")
+            demo_stand(robot, args=args)
+            return 0
+        return demo_walk(args)
+    if args.command == "example":
+        from ..examples import EXAMPLES
+
+        example_view(args, EXAMPLES[args.name]())
+    elif args.command == "robots":
+        import virtual_actuators as va
+
+        print("\n".join(va.list_robots()))
+    return 0

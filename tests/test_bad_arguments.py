@@ -14,7 +14,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from conftest import robot
+from oracles import robot
 
 import virtual_actuators as va
 from virtual_actuators.control import events

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import robot
+from oracles import robot
 
 import virtual_actuators as va
 from virtual_actuators.components import (

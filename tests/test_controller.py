@@ -2,8 +2,8 @@
 
 Oracles: sensor positions from Pinocchio forward kinematics, velocities and Jacobians by central
 finite differences of forward kinematics, Pinocchio's analytic frame Jacobians, the RNEA
-external-force oracle of conftest (``tau = -rnea(q, 0, 0, fext)`` without gravity), and the
-conftest ``ReferenceDistribution`` (pinv of the distribution problem rebuilt from Pinocchio).
+external-force oracle of oracles.py (``tau = -rnea(q, 0, 0, fext)`` without gravity), and the
+oracles.py' ``ReferenceDistribution`` (pinv of the distribution problem rebuilt from Pinocchio).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import (
+from oracles import (
     AXES,
     ReferenceDistribution,
     external_forces,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import AXES, random_configuration, robot
+from oracles import AXES, random_configuration, robot
 
 import virtual_actuators as va
 

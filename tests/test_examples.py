@@ -5,7 +5,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import external_forces, rnea_torques, zero_gravity_model
+from oracles import external_forces, rnea_torques, zero_gravity_model
 
 from virtual_actuators import examples
 from virtual_actuators.__main__ import EXAMPLE_NAMES

@@ -19,7 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import (
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from oracles import (
     AXES,
     ReferenceDistribution,
     external_forces,
@@ -33,8 +35,6 @@ from conftest import (
     rnea_torques,
     robot,
 )
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import virtual_actuators as va
 

@@ -10,7 +10,7 @@ magnitude spans 21 orders of magnitude (10**-9 .. 10**12). Properties:
    subclass, and every returned array is finite;
 2. every constraint holds to 1e-8 relative (limp and passive joints, zero moment at point
    contacts, zero force along directions a chain cannot produce, design constraints) and ``tau``
-   equals Pinocchio's RNEA of the chain forces (oracle: ``tests/conftest.py``, no library code),
+   equals Pinocchio's RNEA of the chain forces (oracle: ``tests/oracles.py``, no library code),
    or, where the exact rows contradict each other at ``q`` (the oracle's least squares), a typed
    error is raised; the compiled kernel agrees with its numpy reference (``compiled=False``);
 3. the partitioned residual is no larger than the dense reference's;
@@ -34,7 +34,12 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import (
+from hypothesis import HealthCheck, Phase, assume, given, settings
+from hypothesis import event as _event
+from hypothesis import note as _note
+from hypothesis import strategies as st
+from hypothesis.errors import InvalidArgument
+from oracles import (
     AXES,
     ReferenceDistribution,
     external_forces,
@@ -43,11 +48,6 @@ from conftest import (
     joint_v,
     relative_jacobian,
 )
-from hypothesis import HealthCheck, Phase, assume, given, settings
-from hypothesis import event as _event
-from hypothesis import note as _note
-from hypothesis import strategies as st
-from hypothesis.errors import InvalidArgument
 
 import virtual_actuators as va
 
@@ -448,7 +448,7 @@ def unproducible_directions(decl: Decl, q: np.ndarray, reaction: str) -> np.ndar
 
 
 class StructuralReference(ReferenceDistribution):
-    """The conftest oracle's exact rows, with Jacobian entries below 1e-9 of the chain's largest
+    """The oracles.py oracle's exact rows, with Jacobian entries below 1e-9 of the chain's largest
     set to zero: rounding noise (1e-17) or URDF rounding (``rpy`` 1.5708: 5e-12) is no lever."""
 
     def chain_jacobians(self, q):

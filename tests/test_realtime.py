@@ -16,7 +16,7 @@ import threading
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import random_configuration, relative_error
+from oracles import random_configuration, relative_error
 
 import virtual_actuators as va
 from virtual_actuators.kinematics.tree import tree_of
@@ -196,7 +196,7 @@ def test_compiled_distribution_equals_numpy_reference(case):
 def test_compiled_solution_satisfies_rnea():
     """tau = -rnea(q, 0, 0, fext) with the chains' wrenches, gravity off (an oracle sharing no
     code with the kernel): +F_i on {B}, -F_i on {A_i}, forces from the compiled path."""
-    from conftest import external_forces, rnea_torques
+    from oracles import external_forces, rnea_torques
 
     robot = va.load_robot("solo12")
     feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]

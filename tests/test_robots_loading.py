@@ -18,7 +18,15 @@ from virtual_actuators.exceptions import (
     RobotNotFoundError,
     VirtualActuatorError,
 )
-from virtual_actuators.robots import Robot, list_robots, load_robot, loader, millipede, robots_dir
+from virtual_actuators.robots import (
+    Robot,
+    catalog,
+    list_robots,
+    load_robot,
+    loader,
+    millipede,
+    robots_dir,
+)
 
 ERD = Path(
     str(
@@ -577,4 +585,12 @@ def test_installed_robot_folder_is_searched() -> None:
     import sysconfig
 
     installed = Path(sysconfig.get_path("data")) / "share" / "virtual_actuators" / "robots"
-    assert installed in loader._local_dirs()
+    assert installed in catalog.local_dirs()
+
+
+def test_loader_module_keeps_its_public_names() -> None:
+    """The names once defined in ``robots.loader`` still import from there (the same objects)."""
+    assert loader.__all__ == ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
+    assert loader.robots_dir is catalog.robots_dir == robots_dir
+    assert loader.list_robots is catalog.list_robots is list_robots
+    assert loader.ROBOTS_PATH_ENV == catalog.ROBOTS_PATH_ENV == "VIRTUAL_ACTUATORS_ROBOTS"

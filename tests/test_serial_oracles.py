@@ -16,7 +16,9 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import (
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from oracles import (
     AXES,
     axis_rows,
     external_forces,
@@ -28,8 +30,6 @@ from conftest import (
     rnea_torques,
     robot,
 )
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import virtual_actuators as va
 

@@ -15,7 +15,7 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import random_configuration, relative_error
+from oracles import random_configuration, relative_error
 
 import virtual_actuators as va
 from virtual_actuators.simulation import (
@@ -887,3 +887,12 @@ def test_contact_queries_follow_steps_and_resets():
     sim.reset(q)
     assert not sim.in_contact("left_foot") and sim.touching_terrain() == set()
     assert not np.any(sim.contact_force("left_foot"))
+
+
+def test_model_module_keeps_the_names_imported_from_it() -> None:
+    """``simulation.model`` still exports what other modules import from it (same objects)."""
+    from virtual_actuators.simulation import contact, geometry, model
+
+    assert model.__all__ == ["ContactParameters", "JointMap", "MujocoModel", "build_mujoco_model"]
+    assert model.ContactParameters is contact.ContactParameters is ContactParameters
+    assert model.Collisions is geometry.Collisions

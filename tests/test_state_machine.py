@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import random_configuration, robot
+from oracles import random_configuration, robot
 
 import virtual_actuators as va
 from virtual_actuators.components import DogtrackBunny, GrannyWalker

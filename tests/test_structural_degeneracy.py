@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import external_forces, rnea_torques
+from oracles import external_forces, rnea_torques
 
 import virtual_actuators as va
 

@@ -16,9 +16,9 @@ import pinocchio as pin
 import pytest
 
 import virtual_actuators as va
-from virtual_actuators.robots import loader
+from virtual_actuators.robots import catalog
 
-PROJECT_URDFS = sorted(loader.robots_dir.glob("*/*.urdf"))
+PROJECT_URDFS = sorted(catalog.robots_dir.glob("*/*.urdf"))
 
 
 def link(name: str, mass: str = "1", inertia: dict[str, str] | None = None) -> str:
@@ -193,14 +193,14 @@ def test_robot_by_name_from_a_robots_folder_is_checked(
 ) -> None:
     """Robots found by name in ``VIRTUAL_ACTUATORS_ROBOTS`` get the same checks as paths."""
     two_joint_arm(tmp_path, mass="nan").rename(tmp_path / "nan_arm.urdf")
-    monkeypatch.setenv(loader.ROBOTS_PATH_ENV, str(tmp_path))
+    monkeypatch.setenv(catalog.ROBOTS_PATH_ENV, str(tmp_path))
     with pytest.raises(va.RobotDescriptionError, match="link 'upper'"):
         va.load_robot("nan_arm")
 
 
 def test_copied_example_robot_data_file_with_mimic_joints_is_rejected(tmp_path: Path) -> None:
     """Only the curated example-robot-data files are exempt from the mimic check."""
-    source = loader._example_robot_data().robots["panda"]
+    source = catalog.example_robot_data().robots["panda"]
     copy = tmp_path / "panda.urdf"
     shutil.copy(source, copy)
     message = rejected(copy)
@@ -256,7 +256,7 @@ def test_every_listed_robot_loads_by_name() -> None:
 
 def test_every_example_robot_data_file_loads_by_path() -> None:
     """By path (with the structural checks too), the curated files still load."""
-    for path in loader._example_robot_data().robots.values():
+    for path in catalog.example_robot_data().robots.values():
         va.load_robot(path)
 
 

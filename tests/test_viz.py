@@ -12,6 +12,7 @@ import functools
 import re
 from types import SimpleNamespace
 
+import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -28,7 +29,7 @@ from virtual_actuators.visualization.geometry import (
     rotation_y_to,
     span_matrix,
 )
-from virtual_actuators.visualization.windows import pack_transform
+from virtual_actuators.visualization.live import pack_transform
 
 ROOT = "/meshcat/virtual_actuators"
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
@@ -571,7 +572,7 @@ def test_throttled_updates_and_the_on_tick_adapter(turkey_control):
     rec = CommandRecorder()
     viewer = Viewer(tc.robot, window=rec, rate_hz=1e-3)  # one live update per 1000 s
     assert viewer.maybe_show(tc.q) is False  # the constructor's frame was the last update
-    viewer._last_live = -np.inf
+    viewer.pacer.last_live = -np.inf
     assert viewer.maybe_show(tc.q) is True and viewer.maybe_show(tc.q) is False
     viewer.start_recording(fps=10)
     updater = viewer.tick_callback()
@@ -583,9 +584,40 @@ def test_throttled_updates_and_the_on_tick_adapter(turkey_control):
     sent = len(rec.paths("set_transform"))
     for tick in range(1000):  # 1 s of 1 kHz ticks: 10 recorded frames, no live update
         updater(SimpleNamespace(time=tick * 1e-3, q=tc.q, terrain=None), gait)
-    assert updater.updates == 10 and viewer._recording.frames == 10
-    np.testing.assert_allclose(viewer._recording.times, np.arange(10) * 0.1, atol=1e-12)
+    assert updater.updates == 10 and viewer.pacer.recording.frames == 10
+    np.testing.assert_allclose(viewer.pacer.recording.times, np.arange(10) * 0.1, atol=1e-12)
     assert len(rec.paths("set_transform")) == sent  # recorded frames are not sent live
+
+
+def test_a_new_overlay_is_one_small_class(solo_view):
+    from virtual_actuators.visualization import FrameSnapshot, Overlay, RobotScene
+
+    class ActionMarker(Overlay):
+        """A ball at the drawn actuator's action frame."""
+
+        roots = ("marker",)
+
+        def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+            if frame.actuator is not None:
+                at = scene.data.oMf[scene.frame(frame.actuator.action, "action")].translation
+                scene.marker("marker/ball", lambda: (mg.Sphere(0.02), None), at)
+
+    rob, q, body, sol = solo_view.robot, solo_view.q, solo_view.body, solo_view.sol
+    rec = CommandRecorder()
+    viewer = Viewer(rob, window=rec, legend=False)
+    overlay = viewer.add_overlay(ActionMarker())
+    viewer.show(q, sol, actuator=body)
+    ball = rec.last_transform(f"{ROOT}/marker/ball")
+    base = frame_pose(rob, placements(rob, q), "base_link").translation
+    np.testing.assert_allclose(ball[:3, 3], base, atol=1e-12)
+    assert shown(rec, "marker/ball") and "ActionMarker(" in repr(overlay)
+    viewer.show(q)  # nothing to mark: hidden like every dynamic node not drawn
+    assert rec.visible(f"{ROOT}/marker/ball") is False
+    viewer.remove_overlay(overlay)
+    assert rec.lowered()[-1] == {"type": "delete", "path": f"{ROOT}/marker"}
+    assert overlay not in viewer.overlays
+    with pytest.raises(va.InvalidInputError, match="Overlay"):
+        viewer.add_overlay(object())
 
 
 # -- command line ----------------------------------------------------------------------------

@@ -173,6 +173,8 @@ class ParallelVirtualActuator:
         self.partitioner = PartitionedSolver(self.problem, preferred)
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
+        #: The solvers ``solve(method=...)`` chooses from, by name (the first is the default)
+        self.solvers = {"partitioned": self.partitioner, "dense": self.dense}
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
 
@@ -266,12 +268,11 @@ class ParallelVirtualActuator:
         snapshot = self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
         free, keep = self._keep(free)
-        if method == "partitioned":
-            solver = self.partitioner
-        elif method == "dense":
-            solver = self.dense
-        else:
-            raise InvalidInputError(f"method must be 'partitioned' or 'dense', got {method!r}.")
+        solver = self.solvers.get(method) if isinstance(method, str) else None
+        if solver is None:
+            raise InvalidInputError(
+                f"method must be one of {list(self.solvers)}, got {describe(method)}."
+            )
         fast = None
         if compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)

@@ -8,25 +8,41 @@ animated page. Modules:
 - :mod:`.geometry`: shapes (cone, plane, text, coil) and the pure functions that place them;
 - :mod:`.bodies`: the robot's URDF visuals or a skeleton of its kinematic tree;
 - :mod:`.scene`: node bookkeeping (created once, per-frame transforms and visibility);
-- :mod:`.windows`: where commands go (a server, a recorder, an offline mirror) and the HTML page;
+- :mod:`.robot_scene`: the robot in the scene (kinematics, sizes, camera, ground) and the
+  drawing primitives (arrows, triads, spans, markers);
+- :mod:`.snapshot`: :class:`FrameSnapshot`, what one frame draws, checked;
+- :mod:`.overlays`: what is drawn over the robot, one :class:`Overlay` each (wrenches,
+  components, effort gauges, support feet, state name, legend);
+- :mod:`.windows`, :mod:`.live`, :mod:`.page`: where commands go (a recorder, an offline mirror,
+  a server through a relay) and the standalone HTML page;
 - :mod:`.recording`: frames to a MeshCat animation;
 - :mod:`.legend`: colours and the legend;
 - :mod:`.viewer`: :class:`Viewer` and the ``on_tick`` adapter :class:`TickUpdater`.
+
+A new kind of drawing is a subclass of :class:`Overlay` (``draw(scene, frame)``) passed to
+:meth:`Viewer.add_overlay`.
 """
 
 from .legend import PALETTE, Palette
+from .live import LiveWindow
+from .overlays import Overlay
 from .recording import AnimationRecording
+from .robot_scene import RobotScene
+from .snapshot import FrameSnapshot
 from .viewer import TickUpdater, Viewer
-from .windows import CommandRecorder, ForwardingWindow, LiveWindow, OfflineWindow, SceneWindow
+from .windows import CommandRecorder, ForwardingWindow, OfflineWindow, SceneWindow
 
 __all__ = [
     "PALETTE",
     "AnimationRecording",
     "CommandRecorder",
     "ForwardingWindow",
+    "FrameSnapshot",
     "LiveWindow",
     "OfflineWindow",
+    "Overlay",
     "Palette",
+    "RobotScene",
     "SceneWindow",
     "TickUpdater",
     "Viewer",

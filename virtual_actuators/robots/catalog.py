@@ -1,0 +1,255 @@
+"""Find robots by name: the project's robot folders, example-robot-data, or a path.
+
+:func:`~virtual_actuators.robots.loader.load_robot` accepts a path to a URDF file or the name of a
+known robot. Names are resolved in this order:
+
+1. ``"millipede"``: the generated robot of :func:`~virtual_actuators.robots.millipede.millipede`
+   (100 legs).
+2. The folders listed in the environment variable ``VIRTUAL_ACTUATORS_ROBOTS`` (separated by
+   :data:`os.pathsep`), then the repository's top-level ``robots/`` folder (:data:`robots_dir`).
+   In each folder, robot ``NAME`` is ``NAME.urdf``, ``NAME/NAME.urdf``, ``NAME/urdf/NAME.urdf``
+   or ``NAME/robots/NAME.urdf``, with an optional SRDF beside it (see
+   :mod:`~virtual_actuators.robots.srdf`); or a Python package ``NAME/__init__.py`` (with no
+   ``NAME.urdf``) that defines ``build_robot(floating_base: bool | None = None) -> Robot`` for
+   robots generated in code.
+3. The URDF files shipped by example-robot-data, by file stem (``solo12``, ``talos_reduced``,
+   ``ur5_robot``, ...). Two files are called ``anymal.urdf``: ``anymal`` is ANYmal B and
+   ``anymal_c`` is ANYmal C. ``ur3.urdf`` is an empty xacro stub that no URDF parser can load:
+   such a stub is left out of :func:`list_robots` and its name resolves to ``<stem>_robot.urdf``
+   from the same folder when that exists (``ur3`` loads ``ur3_robot.urdf``).
+
+A string is a path rather than a name when it contains a path separator, starts with ``~`` or
+ends in ``.urdf``, ``.xml`` or ``.xacro`` (:func:`as_path`); a folder given as a path stands for
+the one URDF it holds (:func:`urdf_in_folder`).
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.metadata
+import os
+import sysconfig
+import xml.etree.ElementTree as ET
+from collections.abc import Mapping
+from pathlib import Path
+from types import MappingProxyType
+from typing import NamedTuple
+
+from virtual_actuators.exceptions import InvalidInputError, RobotNotFoundError
+
+__all__ = [
+    "ROBOTS_PATH_ENV",
+    "as_path",
+    "example_robot_data",
+    "find_local",
+    "is_curated",
+    "list_robots",
+    "local_dirs",
+    "package_dirs_for",
+    "robots_dir",
+    "urdf_in_folder",
+]
+
+#: The repository's top-level folder of robot descriptions.
+robots_dir: Path = Path(__file__).resolve().parents[2] / "robots"
+
+#: Environment variable with extra robot folders (separated by ``os.pathsep``), searched first.
+ROBOTS_PATH_ENV = "VIRTUAL_ACTUATORS_ROBOTS"
+
+#: Names of example-robot-data URDFs whose stem is shipped twice: (description folder, stem).
+_DUPLICATE_NAMES = {
+    ("anymal_b_simple_description", "anymal"): "anymal",
+    ("anymal_c_simple_description", "anymal"): "anymal_c",
+}
+
+_PATH_SUFFIXES = (".urdf", ".xml", ".xacro")
+
+
+def list_robots() -> list[str]:
+    """List the robot names that can be loaded without a path.
+
+    :func:`~virtual_actuators.robots.loader.load_robot` accepts each of them.
+
+    Returns:
+        Sorted names: the generated ``millipede``, the robots of :data:`robots_dir` and of the
+        folders in ``VIRTUAL_ACTUATORS_ROBOTS``, and every example-robot-data URDF that can be
+        loaded (its empty xacro stubs are left out).
+
+    """
+    names = {"millipede", *example_robot_data().robots}
+    for folder in local_dirs():
+        names.update(_local_names(folder))
+    return sorted(names)
+
+
+class _Index(NamedTuple):
+    """The URDF files shipped by example-robot-data."""
+
+    share: Path | None
+    robots: Mapping[str, Path]
+    broken: Mapping[str, str]
+
+
+@functools.cache
+def example_robot_data() -> _Index:
+    """Scan example-robot-data's robots folder once (the models themselves are not cached).
+
+    Returns:
+        The ``share`` folder that holds ``example-robot-data/robots`` (None when the package is
+        missing), the loadable URDF files by robot name, and why each other name cannot be
+        loaded.
+
+    """
+    try:
+        distribution = importlib.metadata.distribution("example-robot-data")
+    except importlib.metadata.PackageNotFoundError:
+        return _Index(None, MappingProxyType({}), MappingProxyType({}))
+    folder = Path(
+        str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots"))
+    ).resolve()
+    if not folder.is_dir():
+        return _Index(None, MappingProxyType({}), MappingProxyType({}))
+
+    robots: dict[str, Path] = {}
+    broken: dict[str, str] = {}
+    for urdf in sorted(folder.rglob("*.urdf")):
+        description = urdf.relative_to(folder).parts[0]
+        name = _DUPLICATE_NAMES.get((description, urdf.stem), urdf.stem)
+        if name in robots:
+            name = f"{description.removesuffix('_description')}_{urdf.stem}"
+        problem = _quick_check(urdf)
+        if problem is None:
+            robots[name] = urdf
+        else:
+            broken[name] = problem
+    for name in list(broken):
+        replacement = robots.get(f"{name}_robot")
+        if replacement is not None:
+            robots[name] = replacement
+            del broken[name]
+    return _Index(folder.parents[1], MappingProxyType(robots), MappingProxyType(broken))
+
+
+def _quick_check(urdf: Path) -> str | None:
+    """Return why a URDF surely cannot be loaded (no robot name, no link), or None."""
+    try:
+        for _, element in ET.iterparse(urdf, events=("start",)):
+            if element.tag == "robot" and not element.get("name"):
+                return "its <robot> element has no name (it is an unexpanded xacro stub)"
+            if element.tag == "link":
+                return None
+    except (ET.ParseError, OSError) as exc:
+        return f"it is not readable XML ({exc})"
+    return "it declares no <link>"
+
+
+def local_dirs() -> list[Path]:
+    """Folders searched for robots by name.
+
+    ``VIRTUAL_ACTUATORS_ROBOTS`` first, then the source tree's ``robots/`` (editable installs),
+    then ``<prefix>/share/virtual_actuators/robots`` (where a regular install puts them).
+    """
+    extra = os.environ.get(ROBOTS_PATH_ENV, "")
+    folders = [Path(entry).expanduser() for entry in extra.split(os.pathsep) if entry.strip()]
+    installed = Path(sysconfig.get_path("data")) / "share" / "virtual_actuators" / "robots"
+    return [*folders, robots_dir, installed]
+
+
+def find_local(folder: Path, name: str) -> Path | None:
+    """Return the URDF (or ``__init__.py`` hook) of robot ``name`` in ``folder``, or None."""
+    if not name or name.startswith((".", "_")):
+        return None
+    candidates = (
+        folder / f"{name}.urdf",
+        folder / name / f"{name}.urdf",
+        folder / name / "urdf" / f"{name}.urdf",
+        folder / name / "robots" / f"{name}.urdf",
+        folder / name / "__init__.py",
+    )
+    return next((path for path in candidates if path.is_file()), None)
+
+
+def _local_names(folder: Path) -> list[str]:
+    """Names of the robots in one robots folder."""
+    if not folder.is_dir():
+        return []
+    names = []
+    for entry in folder.iterdir():
+        if entry.is_dir():
+            name = entry.name
+        elif entry.suffix == ".urdf":
+            name = entry.stem
+        else:
+            continue
+        if find_local(folder, name) is not None:
+            names.append(name)
+    return names
+
+
+def as_path(name_or_path: object) -> Path | None:
+    """Return the path meant by ``name_or_path``, or None if it is a robot name.
+
+    Raises:
+        InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty.
+
+    """
+    if isinstance(name_or_path, os.PathLike):
+        return Path(os.fspath(name_or_path)).expanduser()
+    if not isinstance(name_or_path, str):
+        raise InvalidInputError(
+            f"load_robot() needs a robot name or a path to a URDF file, got {name_or_path!r}."
+        )
+    text = name_or_path.strip()
+    if not text:
+        raise InvalidInputError("load_robot() needs a robot name or a path, got an empty string.")
+    separators = {"/", os.sep, os.altsep} - {None}
+    if (
+        any(separator in text for separator in separators)
+        or text.startswith("~")
+        or Path(text).suffix.lower() in _PATH_SUFFIXES
+    ):
+        return Path(text).expanduser()
+    return None
+
+
+def package_dirs_for(urdf: Path) -> list[str]:
+    """Folders that ``package://`` URIs of a URDF outside example-robot-data may refer to."""
+    folders: list[str] = []
+    for folder in (urdf.parent, *urdf.parent.parents[:2]):
+        if str(folder) not in folders:
+            folders.append(str(folder))
+    return folders
+
+
+def urdf_in_folder(folder: Path) -> Path:
+    """Return the one URDF that a folder given as a path stands for.
+
+    Raises:
+        RobotNotFoundError: If the folder holds no URDF file, or several and none is named
+            after the folder.
+
+    """
+    for candidate in (
+        folder / f"{folder.name}.urdf",
+        folder / "urdf" / f"{folder.name}.urdf",
+        folder / "robots" / f"{folder.name}.urdf",
+    ):
+        if candidate.is_file():
+            return candidate
+    found = sorted(folder.glob("*.urdf")) or sorted(folder.glob("*/*.urdf"))
+    if len(found) == 1:
+        return found[0]
+    if not found:
+        raise RobotNotFoundError(f"The folder {folder} holds no URDF file.")
+    listed = ", ".join(str(path.relative_to(folder)) for path in found[:10])
+    raise RobotNotFoundError(
+        f"The folder {folder} holds several URDF files ({listed}): pass the file's path."
+    )
+
+
+def is_curated(path: Path) -> bool:
+    """Whether ``path`` (resolved) is one of the URDF files shipped by example-robot-data."""
+    index = example_robot_data()
+    if index.share is None:
+        return False
+    return path.is_relative_to(index.share / "example-robot-data" / "robots")

@@ -1,0 +1,366 @@
+"""Check a URDF's XML before Pinocchio reads it, with messages that say what is wrong.
+
+A URDF given by path is checked before Pinocchio sees it (:func:`validate_urdf`: XML syntax, then
+the URDF structure with ``yourdfpy``: names, joint types, parent and child links, limits, a single
+tree), so that a broken file gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError`
+that says what is wrong. ``yourdfpy`` is only a validator here: it never loads meshes and never
+computes kinematics.
+
+Every URDF, by path or by name, is also checked for what Pinocchio would load silently but no
+robot can be (:func:`physics_problems`), on the XML itself before Pinocchio reads it (Pinocchio
+loads a NaN mass as 0): a revolute, continuous, prismatic or planar joint with a zero or
+non-finite axis; a negative or non-finite mass; a non-finite inertia or a negative ``ixx``,
+``iyy`` or ``izz``; a joint limit with ``lower > upper`` or a NaN bound; an inertia that is not
+positive semi-definite (beyond a round-off of ``max(1e-9 kg m^2, 1e-6 * largest principal
+moment)``); and ``<mimic>`` joints, which are not supported (remove the tag, or declare an
+:class:`~virtual_actuators.vocabulary.constraints.EqualTorque` design constraint to share the
+effort). Each gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` naming the link
+or joint, the bad value and what is valid. Zero masses, fixed joints with any axis, continuous
+joints without limits and ``lower == upper`` are valid. The curated example-robot-data files are
+exempt from the last two checks only: several ship gripper fingers as mimic joints (loaded as
+independent joints) and ``romeo_laas_small`` and the ``tiago`` family ship inertias that are not
+positive semi-definite; they load as Pinocchio loads them.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from virtual_actuators.exceptions import RobotDescriptionError, suggestion
+
+__all__ = ["listed", "parse_xml", "physics_problems", "validate_urdf"]
+
+_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_MAX_PROBLEMS = 10
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+#: Round-off allowed on moments of inertia: relative to the largest principal moment, and [kg m^2].
+_INERTIA_RTOL = 1e-6
+_INERTIA_ATOL = 1e-9
+
+
+def parse_xml(path: Path, text: str) -> ET.Element:
+    """Parse the URDF text and check that its root is a ``<robot>``.
+
+    Raises:
+        RobotDescriptionError: If the text is not well-formed XML (the message gives the line
+            and column) or its root element is not ``<robot>``.
+
+    """
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        line, column = exc.position
+        reason = str(exc).split(":")[0]
+        raise RobotDescriptionError(
+            f"{path} is not well-formed XML: {reason} at line {line}, column {column + 1}."
+        ) from exc
+    if root.tag != "robot":
+        raise RobotDescriptionError(
+            f"{path} is not a URDF: its root element is <{root.tag}>, not <robot>."
+        )
+    return root
+
+
+def listed(problems: list[str]) -> str:
+    """The first problems as an indented list, with how many more were left out."""
+    shown = problems[:_MAX_PROBLEMS]
+    more = len(problems) - len(shown)
+    tail = f"\n  ... and {more} more" if more else ""
+    return "".join(f"\n  - {problem}" for problem in shown) + tail
+
+
+def validate_urdf(path: Path, text: str) -> ET.Element:
+    """Check a URDF thoroughly and return its root element.
+
+    Raises:
+        RobotDescriptionError: If the file is not well-formed XML or not a valid URDF; the message
+            names the file and lists what is wrong.
+
+    """
+    root = parse_xml(path, text)
+    problems = _element_problems(root)
+    if not problems:
+        problems = _yourdfpy_problems(path)
+    if problems:
+        raise RobotDescriptionError(f"{path} is not a valid URDF:{listed(problems)}")
+    return root
+
+
+def _element_problems(root: ET.Element) -> list[str]:
+    """Problems that would make yourdfpy fail with an unhelpful error (missing names, tags)."""
+    problems = []
+    if any(element.tag.startswith("{http://wiki.ros.org/xacro}") for element in root.iter()):
+        problems.append("it contains xacro elements: expand it with xacro first")
+    if not root.get("name"):
+        problems.append("the <robot> element has no 'name' attribute")
+    links = root.findall("link")
+    if not links:
+        problems.append("it declares no <link>")
+    for number, link in enumerate(links, start=1):
+        if not link.get("name"):
+            problems.append(f"link number {number} has no 'name' attribute")
+            continue
+        for kind in ("visual", "collision"):
+            for element in link.findall(kind):
+                geometry = element.find("geometry")
+                shapes = [] if geometry is None else list(geometry)
+                if len(shapes) != 1:
+                    problems.append(
+                        f"a <{kind}> of link {link.get('name')!r} needs a <geometry> with exactly "
+                        "one <box>, <cylinder>, <sphere> or <mesh>"
+                    )
+    for number, joint in enumerate(root.findall("joint"), start=1):
+        name = joint.get("name")
+        label = f"joint {name!r}" if name else f"joint number {number}"
+        if not name:
+            problems.append(f"{label} has no 'name' attribute")
+        if joint.get("type") not in _JOINT_TYPES:
+            problems.append(
+                f"{label} has type {joint.get('type')!r}; valid types: {', '.join(_JOINT_TYPES)}"
+            )
+        for tag in ("parent", "child"):
+            element = joint.find(tag)
+            if element is None or not element.get("link"):
+                problems.append(f'{label} has no <{tag} link="..."/>')
+    return problems
+
+
+def _floats(text: str | None, count: int) -> list[float] | None:
+    """``count`` numbers from an attribute (None when absent or malformed: yourdfpy says so)."""
+    try:
+        values = [float(x) for x in (text or "").split()]
+    except ValueError:
+        return None
+    return values if len(values) == count else None
+
+
+def _inertia_tolerance(largest: float) -> float:
+    """How negative a moment of inertia [kg m^2] may be and still count as round-off.
+
+    URDF files print about six significant digits, so a principal moment down to
+    ``-1e-6 * largest`` is round-off; so is anything above ``-1e-9`` kg m^2 (tiny links print
+    their inertias as ``1e-20``-ish noise).
+    """
+    return max(_INERTIA_ATOL, _INERTIA_RTOL * abs(largest))
+
+
+def _link_problems(link: ET.Element) -> tuple[list[str], list[str]]:
+    """Problems of one link's ``<inertial>``: (always fatal, fatal unless curated)."""
+    fatal: list[str] = []
+    lenient: list[str] = []
+    inertial = link.find("inertial")
+    if inertial is None:
+        return fatal, lenient
+    name = link.get("name")
+    mass = inertial.find("mass")
+    text = None if mass is None else mass.get("value")
+    value = _floats(text, 1)
+    if value is not None and not (math.isfinite(value[0]) and value[0] >= 0.0):
+        fatal.append(
+            f"link {name!r} has <mass value={text!r}/>; a mass must be a finite number >= 0 kg "
+            "(0 is fine for a massless link)"
+        )
+    inertia = inertial.find("inertia")
+    if inertia is None:
+        return fatal, lenient
+    texts = {key: inertia.get(key, "0") for key in _INERTIA_KEYS}
+    try:
+        values = {key: float(text) for key, text in texts.items()}
+    except ValueError:
+        return fatal, lenient  # malformed numbers: yourdfpy (or Pinocchio) reports them
+    bad = [f"{key}={texts[key]!r}" for key, number in values.items() if not math.isfinite(number)]
+    if bad:
+        fatal.append(
+            f"link {name!r} has a non-finite inertia ({', '.join(bad)}); ixx, ixy, ixz, iyy, iyz "
+            "and izz must be finite numbers in kg m^2"
+        )
+        return fatal, lenient
+    xx, xy, xz, yy, yz, zz = (values[key] for key in _INERTIA_KEYS)
+    matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    eigenvalues = np.linalg.eigvalsh(matrix)
+    tolerance = _inertia_tolerance(max(abs(eigenvalues[0]), abs(eigenvalues[-1])))
+    negative = [f"{key}={texts[key]}" for key in ("ixx", "iyy", "izz") if values[key] < -tolerance]
+    if negative:
+        fatal.append(
+            f"link {name!r} has a negative moment of inertia ({', '.join(negative)} kg m^2); "
+            "ixx, iyy and izz must be >= 0"
+        )
+    elif eigenvalues[0] < -tolerance:
+        shown = " ".join(f"{key}={texts[key]}" for key in _INERTIA_KEYS)
+        lenient.append(
+            f"link {name!r} has an inertia that is not positive semi-definite ({shown}: "
+            f"smallest principal moment {eigenvalues[0]:.3g} kg m^2); the products of inertia "
+            "are too large for the moments: a valid inertia has principal moments >= 0"
+        )
+    return fatal, lenient
+
+
+def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
+    """Problems of one joint: (always fatal, fatal unless curated)."""
+    fatal: list[str] = []
+    lenient: list[str] = []
+    name, kind = joint.get("name"), joint.get("type")
+    axis = joint.find("axis")
+    if axis is not None and kind in ("revolute", "continuous", "prismatic", "planar"):
+        xyz = _floats(axis.get("xyz"), 3)
+        if xyz is not None and not (all(map(math.isfinite, xyz)) and any(xyz)):
+            fatal.append(
+                f"joint {name!r} ({kind}) has <axis xyz={axis.get('xyz')!r}/>; its axis must be "
+                "a finite, nonzero vector such as '0 0 1' (only fixed joints may have a zero axis)"
+            )
+    limit = joint.find("limit")
+    if limit is not None and kind in ("revolute", "prismatic"):
+        bounds = {key: _floats(limit.get(key, "0"), 1) for key in ("lower", "upper")}
+        lower, upper = bounds["lower"], bounds["upper"]
+        nan = [f"{key}={limit.get(key)!r}" for key, v in bounds.items() if v and math.isnan(v[0])]
+        if nan:
+            fatal.append(
+                f"joint {name!r} has a limit that is not a number ({', '.join(nan)}); lower and "
+                "upper must be numbers with lower <= upper"
+            )
+        elif lower is not None and upper is not None and lower[0] > upper[0]:
+            missing = [key for key in ("lower", "upper") if limit.get(key) is None]
+            note = f" (a missing {' and '.join(missing)} reads as 0)" if missing else ""
+            fatal.append(
+                f"joint {name!r} has limits lower={lower[0]:g} > upper={upper[0]:g}{note}; the "
+                "lower limit must be <= the upper one (swap them; lower == upper is fine)"
+            )
+    mimic = joint.find("mimic")
+    if mimic is not None:
+        leader = mimic.get("joint")
+        lenient.append(
+            f"joint {name!r} mimics joint {leader!r} (<mimic joint={leader!r}/>): mimic joints "
+            "are not supported (Pinocchio would load it as an independent joint); remove the "
+            "<mimic> tag, and if the two joints must share the effort, declare the design "
+            f"constraint EqualTorque({name!r}, {leader!r}) on the actuator"
+        )
+    return fatal, lenient
+
+
+def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], list[str]]:
+    """What Pinocchio would load silently but no robot can be.
+
+    Checked on the XML itself, before Pinocchio reads the file (it loads a NaN mass as 0): a
+    zero or non-finite axis of a moving joint, a negative or non-finite mass, a non-finite or
+    negative moment of inertia (beyond round-off), a limit with lower > upper or a NaN bound,
+    an inertia that is not positive semi-definite and a ``<mimic>`` joint. Zero masses, fixed
+    joints with any axis, continuous joints without limits and lower == upper are valid.
+
+    Args:
+        root: The ``<robot>`` element.
+        strict: False for the curated example-robot-data files: several ship gripper fingers
+            as mimic joints (loaded as independent joints, as Pinocchio does) and a few ship
+            inertias that are not positive semi-definite; these two problems are then tolerated.
+
+    Returns:
+        The problems that forbid loading, and those tolerated (empty when ``strict``: they are
+        in the first list then).
+
+    """
+    problems: list[str] = []
+    tolerated: list[str] = []
+    checks = [(_link_problems, link) for link in root.findall("link")]
+    checks += [(_joint_problems, joint) for joint in root.findall("joint")]
+    for check, element in checks:
+        fatal, lenient = check(element)
+        problems += fatal
+        (problems if strict else tolerated).extend(lenient)
+    return problems, tolerated
+
+
+def _yourdfpy_problems(path: Path) -> list[str]:
+    """Parse the URDF with yourdfpy (no meshes, no scene graph) and list what is wrong."""
+    import yourdfpy  # imported here: it takes half a second (trimesh)
+
+    try:
+        urdf = yourdfpy.URDF.load(
+            str(path),
+            build_scene_graph=False,
+            build_collision_scene_graph=False,
+            load_meshes=False,
+            load_collision_meshes=False,
+        )
+    except Exception as exc:  # yourdfpy raises ValueError, KeyError... on malformed values
+        return [f"yourdfpy cannot parse it: {type(exc).__name__}: {exc}"]
+
+    robot = urdf.robot
+    problems = _tree_problems(
+        [link.name for link in robot.links],
+        [
+            (joint.name, joint.type, joint.parent, joint.child, joint.limit)
+            for joint in robot.joints
+        ],
+    )
+    try:
+        urdf.validate()
+        errors = list(urdf.errors)
+    except Exception as exc:
+        errors = [f"{type(exc).__name__}: {exc}"]
+    for error in errors:
+        message = str(error)
+        # urdfdom (hence Pinocchio) reads a missing lower/upper bound as 0, and limit problems
+        # are reported above with the joint's name.
+        if "<limit>" in message or "'lower'" in message or "'upper'" in message:
+            continue
+        if message not in problems:
+            problems.append(message)
+    return problems
+
+
+def _tree_problems(links: list[str], joints: list[tuple[str, str, str, str, Any]]) -> list[str]:
+    """Check that links and joints form one tree and that joints have the limits they need."""
+    problems = []
+    link_set = set(links)
+    for name in sorted(link for link, count in Counter(links).items() if count > 1):
+        problems.append(f"link {name!r} is declared more than once")
+    parent_of: dict[str, str] = {}
+    joint_names: set[str] = set()
+    for name, kind, parent, child, limit in joints:
+        if name in joint_names:
+            problems.append(f"joint {name!r} is declared more than once")
+        joint_names.add(name)
+        for role, link in (("parent", parent), ("child", child)):
+            if link not in link_set:
+                problems.append(
+                    f"joint {name!r} names the {role} link {link!r}, which is not declared. "
+                    + suggestion(link, links, "links")
+                )
+        if child in parent_of:
+            problems.append(
+                f"link {child!r} is the child of two joints ({parent_of[child]!r} and {name!r})"
+            )
+        parent_of.setdefault(child, name)
+        if kind in ("revolute", "prismatic") and limit is None:
+            problems.append(f"joint {name!r} ({kind}) has no <limit> element")
+        elif limit is not None and (limit.effort is None or limit.velocity is None):
+            problems.append(f"the <limit> of joint {name!r} needs 'effort' and 'velocity'")
+    roots = [link for link in dict.fromkeys(links) if link not in parent_of]
+    parent_link = {child: parent for _, _, parent, child, _ in joints}
+    looped = []
+    for link in dict.fromkeys(links):
+        seen = {link}
+        while link in parent_link and parent_link[link] in link_set:
+            link = parent_link[link]
+            if link in seen:
+                looped.append(link)
+                break
+            seen.add(link)
+    if looped:
+        problems.append(
+            "its joints form a loop (through links "
+            + ", ".join(repr(link) for link in dict.fromkeys(looped))
+            + "): a URDF must be a tree"
+        )
+    elif len(roots) > 1:
+        problems.append(
+            "its links do not form a single tree: several links have no parent joint ("
+            + ", ".join(repr(link) for link in roots[:8])
+            + ")"
+        )
+    return problems

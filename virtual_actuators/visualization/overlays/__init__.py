@@ -1,0 +1,38 @@
+"""What is drawn over the robot, one :class:`Overlay` per kind of thing.
+
+A new overlay is a subclass of :class:`Overlay` with a :meth:`~Overlay.draw` method, added with
+:meth:`Viewer.add_overlay <virtual_actuators.visualization.Viewer.add_overlay>`.
+"""
+
+from .base import Overlay
+from .components import ComponentOverlay
+from .efforts import EffortOverlay
+from .hud import LegendOverlay, StateOverlay
+from .support import SupportOverlay
+from .wrenches import WrenchOverlay
+
+
+def default_overlays(legend: bool = True) -> list[Overlay]:
+    """The viewer's overlays, in drawing order: wrenches, components, efforts, state, support.
+
+    Args:
+        legend: Put the legend first.
+
+    """
+    overlays: list[Overlay] = [LegendOverlay()] if legend else []
+    return [
+        *overlays, WrenchOverlay(), ComponentOverlay(), EffortOverlay(), StateOverlay(),
+        SupportOverlay(),
+    ]  # fmt: skip
+
+
+__all__ = [
+    "ComponentOverlay",
+    "EffortOverlay",
+    "LegendOverlay",
+    "Overlay",
+    "StateOverlay",
+    "SupportOverlay",
+    "WrenchOverlay",
+    "default_overlays",
+]

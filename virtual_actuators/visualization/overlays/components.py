@@ -1,0 +1,111 @@
+"""Virtual components of a controller's attachments: springs, dampers and set points.
+
+Springs are drawn as coils and dampers as a cylinder and a rod, from their reaction-side anchor
+to the action frame (side by side when a component is both); a spring's set point is a small
+sphere; a damper alone has its other end on its set point (a dogtrack bunny). Only the
+translational axes of a component are drawn: rotational ones show through the moment arrows.
+"""
+
+from __future__ import annotations
+
+import meshcat.geometry as mg
+import numpy as np
+
+from ...components.base import Component
+from ...control import Attachment
+from ..geometry import coil_mesh, material
+from ..robot_scene import RobotScene, cross, safe
+from ..snapshot import FrameSnapshot
+from .base import Overlay
+
+
+def parameter(component: Component, attribute: str, size: int) -> np.ndarray:
+    """A component's per-axis parameter (``stiffness``, ``damping``) as ``size`` floats.
+
+    Missing: zeros; a scalar or a mismatched shape: its first value on every axis.
+    """
+    value = getattr(component, attribute, None)
+    if value is None:
+        return np.zeros(size)
+    array = np.asarray(value, dtype=float)
+    if array.shape != (size,):
+        array = np.full(size, float(array.reshape(-1)[0]) if array.size else 0.0)
+    return array
+
+
+class ComponentOverlay(Overlay):
+    """The components of every attachment of the frame's controller output."""
+
+    roots = ("components",)
+
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Draw the components of ``frame.attachments()``.
+
+        Raises:
+            FrameNotFoundError: A sensor frame is not in the robot.
+
+        """
+        for key, attachment in frame.attachments():
+            self.draw_attachment(scene, key, attachment)
+
+    @staticmethod
+    def draw_attachment(scene: RobotScene, key: str, attachment: Attachment) -> None:
+        """Draw the components of one attachment under ``components/<key>``.
+
+        Raises:
+            FrameNotFoundError: A sensor frame is not in the robot.
+
+        """
+        sensor = attachment.sensor
+        data, palette, sizes = scene.data, scene.palette, scene.sizes
+        action = data.oMf[scene.frame(sensor.action, "action")].translation
+        reaction = data.oMf[scene.frame(sensor.reaction, "reaction")].translation
+        rotation = data.oMf[scene.frame(sensor.reference, "reference")].rotation
+        for index, component in enumerate(attachment.components):
+            axes = tuple(component.axes)
+            picks = [(i, "xyz".index(a)) for i, a in enumerate(axes) if a in ("x", "y", "z")]
+            if not picks:
+                continue  # rotational components show through the moment arrows
+            columns = [i for i, _ in picks]
+            directions = rotation[:, [k for _, k in picks]]  # (3, t) world directions
+            relative = directions.T @ (action - reaction)  # sensor reading on these axes [m]
+            anchor = action - directions @ relative
+            stiffness = parameter(component, "stiffness", len(axes))[columns]
+            damping = parameter(component, "damping", len(axes))[columns]
+            setpoint = getattr(component, "setpoint", None)
+            target = None
+            if setpoint is not None and np.shape(setpoint) == (len(axes),):
+                target = action + directions @ (
+                    np.asarray(setpoint, dtype=float)[columns] - relative
+                )
+            spring, damper = bool(np.any(stiffness > 0)), bool(np.any(damping > 0))
+            if damper and not spring and target is not None:
+                anchor = target  # a damper's other end moves with its set point (the bunny)
+            name = f"components/{safe(key)}/{index}"
+            offset = np.zeros(3)
+            if spring and damper:
+                side = cross(action - anchor, scene.view)
+                norm = np.linalg.norm(side)
+                if norm > 1e-9:
+                    offset = side / norm * 1.3 * sizes["coil"]
+            if spring:
+                scene.span(
+                    f"{name}/spring", anchor + offset, action + offset,
+                    lambda: coil_mesh(radius=sizes["coil"]), palette.spring,
+                )  # fmt: skip
+                if target is not None:
+                    scene.marker(
+                        f"{name}/setpoint",
+                        lambda: (mg.Sphere(sizes["setpoint"]), material(palette.setpoint)),
+                        target,
+                    )
+            if damper:
+                start, end = anchor - offset, action - offset
+                scene.span(
+                    f"{name}/damper_housing", start, start + 0.6 * (end - start),
+                    lambda: mg.Cylinder(1.0, sizes["damper"]), palette.damper,
+                )  # fmt: skip
+                scene.span(
+                    f"{name}/damper_rod", start + 0.45 * (end - start), end,
+                    lambda: mg.Cylinder(1.0, 0.35 * sizes["damper"]), palette.damper,
+                )  # fmt: skip

@@ -1,0 +1,60 @@
+"""Text beside the robot, facing the camera: the legend (once) and the gait's state name."""
+
+from __future__ import annotations
+
+import meshcat.geometry as mg
+
+from ..geometry import material, text_object
+from ..legend import legend_entries
+from ..robot_scene import RobotScene, safe
+from ..snapshot import FrameSnapshot
+from .base import Overlay
+
+
+class LegendOverlay(Overlay):
+    """The legend of colours and scales, drawn once at the robot's left."""
+
+    roots = ("hud/legend",)
+
+    def setup(self, scene: RobotScene) -> None:
+        """Draw the legend's lines and colour swatches."""
+        entries = legend_entries(
+            scene.palette, scene.force_scale, scene.moment_scale, scene.effort_reference
+        )
+        size = min(1.5, max(0.35, 0.75 * scene.extent))
+        spacing = 0.105 * size
+        left = -(0.6 * scene.extent + 0.5 * size)
+        top = 0.5 * scene.extent
+        nodes = scene.nodes
+        for k, (color, text) in enumerate(entries):
+            up = top - k * spacing
+            name = f"hud/legend/line_{k:02d}"
+            nodes.create(name, text_object(text, size, font_size=24))
+            nodes.place(name, scene.hud_matrix(left, up))
+            if color is not None:
+                swatch = f"hud/legend/swatch_{k:02d}"
+                nodes.create(swatch, mg.Box([0.06 * size] * 3), material(color))
+                nodes.place(swatch, scene.hud_matrix(left - 0.56 * size, up))
+
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Nothing: the legend does not change."""
+
+
+class StateOverlay(Overlay):
+    """The name of the gait's state, at the robot's upper right."""
+
+    roots = ("hud/state",)
+
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Show ``frame.state`` (each name is created once, then shown or hidden)."""
+        if frame.state is None:
+            return
+        nodes = scene.nodes
+        name = f"hud/state/{safe(frame.state)}"
+        if not nodes.has(name):
+            size = min(2.0, max(0.4, 0.8 * scene.extent))
+            nodes.create(name, text_object(frame.state, size, font_size=30))
+            nodes.declare(name)
+            right, up = 0.45 * scene.extent, 0.7 * scene.extent + 0.12 * size  # beside the arrows
+            nodes.place(name, scene.hud_matrix(right, up))
+        nodes.use(name)

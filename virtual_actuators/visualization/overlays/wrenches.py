@@ -1,0 +1,135 @@
+"""Virtual actuators: triads at their frames, the requested, produced and shared wrenches.
+
+For an actuator: triads at its action, reaction and reference frames; the requested wrench on
+the action frame as a force arrow and a double-headed moment arrow (``force_scale`` metres per
+newton and ``moment_scale`` metres per newton-metre, along the force and the moment axis in the
+world); each chain's share at its reaction frame (its force and its moment about the reaction
+frame's origin, on the actuator's rotational axes); and the produced wrench when it differs from
+the request (orange when adjusted on free axes or scaled to keep the feet on the ground, red when
+the request was inadmissible). A controller's output draws every active attachment so.
+
+Wrenches of a :class:`~virtual_actuators.Solution` are expressed along the reference frame's
+axes with moments about the action frame's origin; they are turned into the world with the
+scene's forward kinematics at ``q``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..robot_scene import RobotScene, cross, safe
+from ..snapshot import Actuator, FrameSnapshot, reactions_of
+from .base import Overlay
+
+
+class WrenchOverlay(Overlay):
+    """The actuator of a frame (with its solution or wrench) and the controller's attachments."""
+
+    roots = ("frames", "wrench")
+
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Draw ``frame.actuator`` and every attachment of ``frame.output`` that has a wrench.
+
+        Raises:
+            FrameNotFoundError: A frame of an actuator is not in the robot.
+
+        """
+        actuator, solution = frame.actuator, frame.solution
+        if actuator is not None:
+            if solution is not None:
+                self.draw_actuator(
+                    scene, "actuator", actuator, solution.requested, solution.wrench,
+                    solution.forces, not solution.admissible,
+                )  # fmt: skip
+            elif frame.wrench is None:
+                self.draw_actuator(scene, "actuator", actuator, None, None, None, False)
+            else:
+                wrench = frame.wrench
+                forces = wrench[None, :] if len(reactions_of(actuator)) == 1 else None
+                self.draw_actuator(scene, "actuator", actuator, wrench, wrench, forces, False)
+        if frame.output is None:
+            return
+        output = frame.output
+        for name, attachment in frame.attachments():
+            solution = output.solutions.get(name)
+            requested = np.asarray(output.wrenches[name], dtype=float)
+            produced = np.asarray(output.produced.get(name, requested), dtype=float)
+            if solution is not None:
+                forces, inadmissible = solution.forces, not solution.admissible
+            else:  # a serial actuator: one chain carries the whole wrench
+                forces, inadmissible = produced[None, :], False
+            self.draw_actuator(
+                scene, name, attachment.actuator, requested, produced, forces, inadmissible
+            )
+
+    @staticmethod
+    def draw_actuator(
+        scene: RobotScene,
+        key: str,
+        actuator: Actuator,
+        requested: np.ndarray | None,
+        produced: np.ndarray | None,
+        forces: np.ndarray | None,
+        inadmissible: bool,
+    ) -> None:
+        """Triads of the actuator's frames, then its wrenches under ``wrench/<key>``.
+
+        Args:
+            scene: The robot's scene.
+            key: Name of the actuator in the scene.
+            actuator: The actuator.
+            requested: Requested wrench on its axes (None: the triads only).
+            produced: Produced wrench (drawn when it differs from the request).
+            forces: ``(chains, axes)`` share of each chain (None: not drawn).
+            inadmissible: Whether the request was inadmissible.
+
+        Raises:
+            FrameNotFoundError: A frame of the actuator is not in the robot.
+
+        """
+        data, palette = scene.data, scene.palette
+        axes = tuple(actuator.axes)
+        reactions = reactions_of(actuator)
+        action_id = scene.frame(actuator.action, "action")
+        reference_id = scene.frame(actuator.reference, "reference")
+        reaction_ids = [scene.frame(r, "reaction") for r in reactions]
+        scene.triad("action", actuator.action)
+        scene.triad("reference", actuator.reference)
+        for reaction in reactions:
+            scene.triad("reaction", reaction)
+        if requested is None:
+            return
+        origin = data.oMf[action_id].translation
+        rotation = data.oMf[reference_id].rotation
+        name = f"wrench/{safe(key)}"
+        scene.wrench(
+            f"{name}/requested", origin, rotation, axes, requested,
+            (palette.requested_force, palette.requested_moment),
+        )  # fmt: skip
+        if produced is not None:
+            scale = max(1.0, float(np.max(np.abs(requested))))
+            if inadmissible or not np.allclose(produced, requested, rtol=0.0, atol=1e-6 * scale):
+                kind, color = (
+                    ("inadmissible", palette.inadmissible)
+                    if inadmissible
+                    else ("produced", palette.produced)
+                )
+                scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, (color, color))
+        if forces is None:
+            return
+        mask = scene.rotational_mask(axes)
+        for reaction, reaction_id, share in zip(reactions, reaction_ids, forces, strict=True):
+            force, moment = scene.split(axes, share)
+            force_w = rotation @ force
+            at = data.oMf[reaction_id].translation
+            moment_w = rotation @ moment + cross(origin - at, force_w)  # about the reaction
+            moment_w = rotation @ (mask * (rotation.T @ moment_w))  # on the actuator's axes
+            share_name = f"{name}/share/{safe(reaction)}"
+            scene.arrow(
+                f"{share_name}/force", at, force_w * scene.force_scale, palette.share_force, 1,
+                0.75,
+            )  # fmt: skip
+            scene.arrow(
+                f"{share_name}/moment", at, moment_w * scene.moment_scale, palette.share_moment,
+                2, 0.75,
+            )  # fmt: skip

@@ -1,0 +1,430 @@
+"""The robot in the MeshCat scene, and the drawing primitives that overlays share.
+
+:class:`RobotScene` owns the robot's geometry and kinematics as drawn: its bodies, the Pinocchio
+data at the drawn configuration, the sizes of arrows and markers (from the robot's typical link
+length), the camera, the ground and the HUD (the plane facing the camera, where text stands).
+Overlays (:mod:`.overlays`) draw on it with :meth:`RobotScene.arrow`, :meth:`RobotScene.wrench`,
+:meth:`RobotScene.triad` and :meth:`RobotScene.span`, into its node bookkeeping
+:attr:`RobotScene.nodes` (a :class:`~.scene.Scene`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+import meshcat.geometry as mg
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import InvalidInputError
+from ..robots.robot import Robot
+from ..vocabulary.frames import AXES, resolve_frame
+from .bodies import RobotBodies, typical_link_length
+from .geometry import (
+    Cone,
+    arrow_matrices,
+    frame_on_plane,
+    material,
+    span_matrix,
+    terrain_boxes,
+    translation,
+    triad_parts,
+)
+from .legend import Palette
+from .scene import Scene
+
+if TYPE_CHECKING:
+    from ..simulation.terrain import Terrain
+
+#: Roles of the frames drawn as triads, with their length relative to a typical link.
+TRIAD_LENGTHS = {"action": 0.5, "reaction": 0.3, "reference": 0.65, "frame": 0.4}
+
+_CAMERA_SIDE = np.array([0.0, -1.0, 0.25])
+_CAMERA_ISO = np.array([0.8, -1.0, 0.55])
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """3-vector cross product (``np.cross`` costs ten times more on 3-vectors)."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
+def safe(name: str) -> str:
+    """A frame or joint name as one MeshCat path element."""
+    return str(name).replace("/", "_") or "_"
+
+
+class RobotScene:
+    """The robot drawn under one node of a MeshCat scene.
+
+    Args:
+        robot: The robot.
+        bodies: Its bodies (URDF visuals or a skeleton).
+        nodes: The node bookkeeping to draw into.
+        palette: Colours.
+        force_scale: Arrow length per newton [m/N].
+        moment_scale: Arrow length per newton-metre [m/(N m)].
+        effort_reference: Effort drawn as a full gauge at joints without an effort limit.
+        camera: ``"auto"``, ``"side"``, ``"iso"`` or None (checked by the viewer).
+        follow: Keep a travelling robot at the centre of the view (None: when it can travel).
+
+    Attributes:
+        data: Pinocchio data at the last configuration drawn (:meth:`pose`).
+        extent: Size of the robot at its neutral configuration [m].
+        detail: Typical link length, the unit of every marker's size [m].
+        sizes: Sizes of shafts, heads, gauges, coils... [m].
+        view: Unit vector from the robot's centre to the camera (world axes).
+        planar: Whether every joint moves in the x-z plane.
+        follow: Whether the view follows the robot.
+        effort_joints: ``(name, joint id, velocity index, limit or None, local axis)`` per
+            actuated 1-dof joint.
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        bodies: RobotBodies,
+        nodes: Scene,
+        palette: Palette,
+        force_scale: float,
+        moment_scale: float,
+        effort_reference: float,
+        camera: str | None = "auto",
+        follow: bool | None = None,
+    ) -> None:
+        self.robot = robot
+        self.model = robot.model
+        self.data = pin.Data(self.model)
+        self.bodies = bodies
+        self.nodes = nodes
+        self.palette = palette
+        self.force_scale = force_scale
+        self.moment_scale = moment_scale
+        self.effort_reference = effort_reference
+        self.hud_rotation = np.eye(3)
+        self._frame_ids: dict[tuple[str, str], int] = {}
+        self._axis_index: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
+        q0 = robot.neutral()
+        pin.forwardKinematics(self.model, self.data, q0)
+        pin.updateFramePlacements(self.model, self.data)
+        self._sizes(camera, follow)
+        self.effort_joints = self._actuated_joints(q0)
+
+    # -- set-up ------------------------------------------------------------------------------
+
+    def _sizes(self, camera: str | None, follow: bool | None) -> None:
+        model, data = self.model, self.data
+        points = np.array([f.translation for f in data.oMf] + [m.translation for m in data.oMi])
+        low, high = points.min(axis=0), points.max(axis=0)
+        self.extent = max(0.3, float(np.linalg.norm(high - low)))
+        self.detail = min(typical_link_length(model), 0.5 * self.extent)
+        self._target0 = (low + high) / 2.0
+        floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
+        self._ground = float(low[2]) if floating else 0.0  # feet of a free robot, else z = 0
+        self._centroid0 = self._centroid()
+        d = self.detail
+        self.sizes = {
+            "shaft": max(1e-3, 0.035 * d),
+            "head_length": 0.2 * d,
+            "head_radius": max(2.5e-3, 0.085 * d),
+            "triad_radius": max(8e-4, 0.018 * d),
+            "effort": 0.16 * d,
+            "support": 0.14 * d,
+            "coil": 0.09 * d,
+            "damper": 0.07 * d,
+            "setpoint": 0.07 * d,
+        }
+        self.planar = self._planar()
+        mode = camera if camera != "auto" else ("side" if self.planar else "iso")
+        self._camera_mode = mode
+        direction = _CAMERA_SIDE if mode == "side" else _CAMERA_ISO
+        self.view = direction / np.linalg.norm(direction)  # from the target to the camera
+        first = model.joints[1].shortname() if model.njoints > 1 else ""
+        travels = first == "JointModelFreeFlyer" or first.startswith("JointModelP")
+        self.follow = travels if follow is None else bool(follow)
+
+    def _planar(self) -> bool:
+        """Whether every joint moves in the x-z plane (rotations about y, translations in x-z)."""
+        model, data = self.model, self.data
+        if model.njoints <= 1:
+            return False
+        pin.computeJointJacobians(model, data, pin.neutral(model))
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            if joint.nv != 1:
+                return False
+            column = pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:, joint.idx_v]
+            linear, angular = column[:3], column[3:]
+            if np.linalg.norm(angular) > 1e-9:
+                if abs(abs(angular[1]) - np.linalg.norm(angular)) > 1e-6:
+                    return False
+            elif abs(linear[1]) > 1e-6:
+                return False
+        return True
+
+    def _actuated_joints(
+        self, q0: np.ndarray
+    ) -> list[tuple[str, int, int, float | None, np.ndarray]]:
+        model, data = self.model, self.data
+        pin.computeJointJacobians(model, data, q0)
+        out = []
+        passive = set(self.robot.passive_joints)
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            name = model.names[j]
+            if joint.nv != 1 or name in passive:
+                continue
+            column = pin.getJointJacobian(model, data, j, pin.LOCAL)[:, joint.idx_v]
+            axis = column[3:] if np.linalg.norm(column[3:]) > 1e-9 else column[:3]
+            axis = axis / max(np.linalg.norm(axis), 1e-12)
+            limit = float(model.effortLimit[joint.idx_v])
+            limit = limit if math.isfinite(limit) and 0 < limit < 1e300 else None
+            out.append((name, j, joint.idx_v, limit, axis))
+        pin.forwardKinematics(model, data, q0)
+        pin.updateFramePlacements(model, data)
+        return out
+
+    def _centroid(self) -> np.ndarray:
+        return (
+            np.mean([m.translation for m in self.data.oMi[1:]], axis=0)
+            if len(self.data.oMi) > 1
+            else np.zeros(3)
+        )
+
+    def build(self) -> None:
+        """Empty the node, then send the background, the robot's bodies, the ground and camera.
+
+        MeshCat's orbit controls look at the world origin and cannot be retargeted (MeshCat
+        0.3.2), so the whole node is shifted to put the robot's centre there (and keeps
+        shifting with a travelling robot, see ``follow``). MeshCat's grid and axes, which would
+        no longer lie on the robot's ground, are replaced by a grid inside the node.
+        """
+        nodes = self.nodes
+        nodes.node("").delete()
+        nodes.set_property("/Background", "top_color", [0.98, 0.98, 0.98])
+        nodes.set_property("/Background", "bottom_color", [0.78, 0.8, 0.84])
+        self.bodies.create(nodes, "robot")
+        nodes.place("", translation(-self._target0))
+        self.hud_rotation = frame_on_plane(np.array([self.view[0], self.view[1], 0.0]))
+        nodes.place("hud", translation(self._target0))
+        nodes.set_property("/Grid", "visible", False)
+        nodes.set_property("/Axes", "visible", False)
+        # short segments: some renderers (SwiftShader) drop a whole line that passes behind
+        # the camera, and the camera stands inside the grid
+        half, step = 10.0, 0.5
+        ticks = np.arange(-half, half + step / 2, step)
+        starts, ends = np.meshgrid(ticks, ticks[:-1], indexing="ij")
+        starts, ends = starts.ravel(), ends.ravel()
+        along_y = np.stack((starts, ends, starts, ends + step), axis=1)
+        along_x = np.stack((ends, starts, ends + step, starts), axis=1)
+        points = np.vstack((along_y, along_x)).reshape(-1, 2) + self._target0[:2]
+        vertices = np.column_stack((points, np.full(len(points), self._ground))).T
+        nodes.create(
+            "ground/grid",
+            mg.LineSegments(
+                mg.PointsGeometry(vertices.astype(np.float32)),
+                mg.LineBasicMaterial(color=0x9A9A9A),
+            ),
+        )
+        if self._camera_mode is None:
+            return
+        distance = max(0.8, 1.5 * self.extent)
+        offset = self.view * distance  # from the robot's centre to the camera, world axes
+        local = [float(offset[0]), float(offset[2]), float(-offset[1])]  # three.js is y-up
+        nodes.set_property("/Cameras/default/rotated/<object>", "position", local)
+
+    def set_terrain(
+        self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
+    ) -> None:
+        """Draw a planar ground profile instead of the grid (see :meth:`Viewer.set_terrain`).
+
+        Raises:
+            InvalidInputError: The points are not an ``(n, 2)`` finite array.
+
+        """
+        if width is None:
+            width = float(getattr(terrain, "width", 1.0))
+        if hasattr(terrain, "segments"):
+            segments = terrain.segments(run)
+        else:
+            points = np.asarray(terrain, dtype=float)
+            if points.ndim != 2 or points.shape[1] != 2 or not np.all(np.isfinite(points)):
+                raise InvalidInputError(
+                    f"terrain must be a Terrain or (n, 2) finite (x, z) points, got {terrain!r}."
+                )
+            first, last = points[0], points[-1]
+            segments = [((first[0] - run, first[1]), tuple(first))]
+            segments += [(tuple(a), tuple(b)) for a, b in zip(points[:-1], points[1:], strict=True)]
+            segments += [(tuple(last), (last[0] + run, last[1]))]
+        self.nodes.remove("terrain")
+        for k, (lengths, matrix) in enumerate(terrain_boxes(segments, width)):
+            name = f"terrain/slab_{k:03d}"
+            self.nodes.create(name, mg.Box(lengths.tolist()), material(0xB0A58C))
+            self.nodes.place(name, matrix)
+        self.nodes.set_property("ground", "visible", False)  # the terrain replaces the grid
+
+    def hud_matrix(self, offset_right: float, offset_up: float) -> np.ndarray:
+        """Placement in the HUD plane (facing the camera), beside the robot's centre."""
+        rotation = self.hud_rotation
+        matrix = np.eye(4)
+        matrix[:3, :3] = rotation
+        matrix[:3, 3] = rotation[:, 0] * offset_right + rotation[:, 1] * offset_up
+        return matrix
+
+    # -- per frame ---------------------------------------------------------------------------
+
+    def pose(self, q: np.ndarray) -> None:
+        """Forward kinematics at ``q`` (checked by the caller); place the bodies and the view."""
+        model, data, nodes = self.model, self.data, self.nodes
+        pin.forwardKinematics(model, data, q)
+        pin.updateFramePlacements(model, data)
+        for part, matrix in zip(self.bodies.parts, self.bodies.matrices(data), strict=True):
+            nodes.place(f"robot/{part.name}", matrix)
+        if self.follow:  # keep the robot at the centre of the view (see build)
+            centre = self._target0 + self._centroid() - self._centroid0
+            centre[2] = self._target0[2]
+            nodes.place("", translation(-centre))
+            nodes.place("hud", translation(centre))
+
+    def frame(self, name: str, role: str) -> int:
+        """Id of the frame ``name`` (cached).
+
+        Raises:
+            FrameNotFoundError: The robot has no such frame (``role`` names it in the message).
+
+        """
+        key = (name, role)
+        frame_id = self._frame_ids.get(key)
+        if frame_id is None:
+            frame_id = self._frame_ids[key] = resolve_frame(self.model, name, role)
+        return frame_id
+
+    def split(self, axes: tuple[str, ...], values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Force and moment 3-vectors (reference axes) of a wrench on ``axes``."""
+        full = np.zeros(6)
+        full[self._axis_rows(axes)[0]] = values
+        return full[:3], full[3:]
+
+    def rotational_mask(self, axes: tuple[str, ...]) -> np.ndarray:
+        """1 on the rotational axes among ``axes``, 0 elsewhere (a 3-vector)."""
+        return self._axis_rows(axes)[1]
+
+    def _axis_rows(self, axes: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
+        index = self._axis_index.get(axes)
+        if index is None:
+            rows = np.array([AXES.index(a) for a in axes], dtype=int)
+            rotational = np.zeros(3)
+            rotational[[r - 3 for r in rows if r >= 3]] = 1.0
+            index = self._axis_index[axes] = (rows, rotational)
+        return index
+
+    def arrow(
+        self,
+        name: str,
+        origin: np.ndarray,
+        vector: np.ndarray,
+        color: int,
+        heads: int,
+        thin: float = 1.0,
+    ) -> bool:
+        """Show the dynamic arrow ``name`` from ``origin`` along ``vector`` (False if zero)."""
+        head_length = self.sizes["head_length"] * thin
+        matrices = arrow_matrices(origin, vector, head_length, heads)
+        if matrices is None:
+            return False
+        nodes = self.nodes
+        if not nodes.has(f"{name}/shaft"):
+            mat = material(color)
+            nodes.create(f"{name}/shaft", mg.Cylinder(1.0, self.sizes["shaft"] * thin), mat)
+            for k in range(heads):
+                nodes.create(
+                    f"{name}/head{k}", Cone(head_length, self.sizes["head_radius"] * thin), mat
+                )
+            nodes.declare(name)
+        nodes.use(name)
+        nodes.place(f"{name}/shaft", matrices[0])
+        for k in range(heads):
+            nodes.place(f"{name}/head{k}", matrices[k + 1])
+        return True
+
+    def wrench(
+        self,
+        name: str,
+        origin: np.ndarray,
+        rotation: np.ndarray,
+        axes: tuple[str, ...],
+        values: np.ndarray,
+        colors: tuple[int, int],
+        thin: float = 1.0,
+    ) -> None:
+        """A force arrow and a double-headed moment arrow of a wrench on ``axes``."""
+        force, moment = self.split(axes, values)
+        self.arrow(f"{name}/force", origin, rotation @ force * self.force_scale, colors[0], 1, thin)
+        self.arrow(
+            f"{name}/moment", origin, rotation @ moment * self.moment_scale, colors[1], 2, thin
+        )
+
+    def triad(self, role: str, frame: str) -> None:
+        """Show the axes of ``frame``, sized by its role (:data:`TRIAD_LENGTHS`).
+
+        Raises:
+            FrameNotFoundError: The robot has no such frame.
+
+        """
+        frame_id = self.frame(frame, role)
+        name = f"frames/{role}/{safe(frame)}"
+        nodes = self.nodes
+        if not nodes.has(f"{name}/x"):
+            length = TRIAD_LENGTHS[role] * self.detail
+            for axis, geometry, color in triad_parts(length, self.sizes["triad_radius"]):
+                nodes.create(f"{name}/{axis}", geometry, material(color))
+            nodes.declare(name)
+        nodes.use(name)
+        nodes.place(name, self.data.oMf[frame_id].homogeneous)
+
+    def span(
+        self,
+        name: str,
+        start: np.ndarray,
+        end: np.ndarray,
+        geometry_factory: Callable[[], object],
+        color: int,
+    ) -> bool:
+        """Show the dynamic unit shape ``name`` stretched from ``start`` to ``end``."""
+        matrix = span_matrix(start, end)
+        if matrix is None:
+            return False
+        if not self.nodes.has(name):
+            self.nodes.create(name, geometry_factory(), material(color))
+            self.nodes.declare(name)
+        self.nodes.use(name)
+        self.nodes.place(name, matrix)
+        return True
+
+    def marker(
+        self, name: str, make: Callable[[], tuple[object, object]], position: np.ndarray
+    ) -> None:
+        """Show the dynamic object ``name`` at ``position``.
+
+        Args:
+            name: The node.
+            make: Gives ``(geometry, material)``; called once, when the object is created.
+            position: Its centre in the world [m].
+
+        """
+        nodes = self.nodes
+        if not nodes.has(name):
+            nodes.create(name, *make())
+            nodes.declare(name)
+        nodes.use(name)
+        nodes.place(name, translation(position))
+
+    def __repr__(self) -> str:
+        return (
+            f"RobotScene({self.robot.name!r}, {self.bodies.kind}, extent={self.extent:.3g} m, "
+            f"camera={self._camera_mode!r}, follow={self.follow})"
+        )

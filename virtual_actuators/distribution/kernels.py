@@ -28,6 +28,9 @@ from .linalg import CONSTRAINT_TOL, JACOBIAN_FLOOR, ROUNDING
 #: Same thresholds as the numpy path (a kernel status hands the decision to it).
 ILL_CONDITIONED = 1e10
 NEAR_SINGULAR = 1e-7
+#: Fewest chains for which mode 0 runs the chains of full column rank side by side
+#: (:func:`_full_rank_batch`); with fewer, its fixed cost outweighs what it saves.
+BATCH_CHAINS = 8
 
 # columns of the per-chain integer table
 K_COLS, C_CON, NB_BALL, RANK, L_ROWS, D_FREE, START = 0, 1, 2, 3, 4, 5, 6
@@ -189,6 +192,173 @@ def _null_rows(
     return last / first if first > 0.0 else 0.0
 
 
+@njit(cache=True, error_model="numpy")
+def _full_rank_batch(
+    q: np.ndarray,
+    c: int,
+    m_c: int,
+    t: np.ndarray,
+    ratio: np.ndarray,
+    bound: np.ndarray,
+    proj: np.ndarray,
+    part: np.ndarray,
+    null: np.ndarray,
+) -> None:
+    """Mode 0 for ``B`` chains of one shape whose ``full`` (n x c) has full column rank.
+
+    ``q`` (>= c, n, B) holds each chain's ``c`` columns, the ``m_c`` constraint columns (own
+    constrained joints, then ball axes) first, then the free joints; the chains run side by side
+    (last axis) so every loop is over independent chains. Modified Gram-Schmidt gives ``full P =
+    Q R`` (``q[:c]`` is overwritten with ``Q^T``), and
+
+    - ``proj`` (n, n, B): the projector ``Q_F Q_F^T`` onto the forces the rows allow (``G F =
+      0``, ``G`` the constraint columns and the left null space of ``full``);
+    - ``part`` (n, B): the least-norm solution ``Q_C R_CC^-T t`` of the constraint rows
+      (right-hand sides ``t`` (m_c, B));
+    - ``null`` (n - c, n, B): the left null space (rows kept for the constraint check), ``Q``
+      completed by the unit vectors of largest residual;
+    - ``ratio`` (B,): a lower bound of the rank-revealing ratio of :func:`_null_rows`
+      (``sigma_min >= 1 / ||R^-1||_F`` over its first pivot, the largest column norm; 0 for a
+      pivot under :data:`JACOBIAN_FLOOR` or a non-finite value);
+    - ``bound`` (B,): an upper bound of the condition estimate of the rows' Gram matrix that
+      :func:`_minimum_norm` compares with :data:`ILL_CONDITIONED` (``l max(||C||_F^2, 1)
+      max(||R_CC^-1||_F^2, 1)``, the 1 only with null rows).
+
+    Both bounds err on the side of handing the tick to the numpy path.
+    """
+    n, count = q.shape[1], q.shape[2]
+    first2 = np.zeros(count)
+    c_fro = np.zeros(count)
+    acc = np.empty(count)
+    bad = np.zeros(count, dtype=np.bool_)
+    rr = np.empty((c, c, count))
+    x = np.empty((c, c, count))
+    for j in range(c):
+        acc[:] = 0.0
+        for r in range(n):
+            for i in range(count):
+                acc[i] += q[j, r, i] * q[j, r, i]
+        for i in range(count):
+            first2[i] = max(first2[i], acc[i])
+            if j < m_c:
+                c_fro[i] += acc[i]
+    for j in range(c):
+        for b in range(j):
+            acc[:] = 0.0
+            for r in range(n):
+                for i in range(count):
+                    acc[i] += q[b, r, i] * q[j, r, i]
+            for i in range(count):
+                rr[b, j, i] = acc[i]
+            for r in range(n):
+                for i in range(count):
+                    q[j, r, i] -= acc[i] * q[b, r, i]
+        acc[:] = 0.0
+        for r in range(n):
+            for i in range(count):
+                acc[i] += q[j, r, i] * q[j, r, i]
+        for i in range(count):
+            norm = np.sqrt(acc[i])
+            rr[j, j, i] = norm
+            bad[i] |= not norm > JACOBIAN_FLOOR
+            acc[i] = 1.0 / norm
+        for r in range(n):
+            for i in range(count):
+                q[j, r, i] *= acc[i]
+    inv_fro = np.zeros(count)
+    inv_c = np.zeros(count)
+    for j in range(c):  # X = R^-1, column by column
+        for i in range(count):
+            x[j, j, i] = 1.0 / rr[j, j, i]
+        for row in range(j - 1, -1, -1):
+            acc[:] = 0.0
+            for k in range(row + 1, j + 1):
+                for i in range(count):
+                    acc[i] += rr[row, k, i] * x[k, j, i]
+            for i in range(count):
+                x[row, j, i] = -acc[i] / rr[row, row, i]
+        for row in range(j + 1):
+            for i in range(count):
+                inv_fro[i] += x[row, j, i] * x[row, j, i]
+                if j < m_c:
+                    inv_c[i] += x[row, j, i] * x[row, j, i]
+    l_rows = m_c + n - c
+    for i in range(count):
+        sigma = 1.0 / np.sqrt(inv_fro[i])
+        value = sigma / np.sqrt(first2[i])
+        if bad[i] or not sigma > JACOBIAN_FLOOR or not np.isfinite(value):
+            value = 0.0
+        ratio[i] = value
+        estimate = 0.0
+        if l_rows > 0:
+            big, small = c_fro[i], inv_c[i]
+            if n > c:
+                big, small = max(big, 1.0), max(small, 1.0)
+            estimate = l_rows * big * small
+            if not estimate < np.inf:
+                estimate = np.inf
+        bound[i] = estimate
+    for r in range(n):
+        for a in range(r, n):
+            acc[:] = 0.0
+            for j in range(m_c, c):
+                for i in range(count):
+                    acc[i] += q[j, r, i] * q[j, a, i]
+            for i in range(count):
+                proj[r, a, i] = acc[i]
+                proj[a, r, i] = acc[i]
+    part[:, :] = 0.0
+    for j in range(m_c):
+        acc[:] = 0.0
+        for k in range(j + 1):
+            for i in range(count):
+                acc[i] += x[k, j, i] * t[k, i]
+        for a in range(n):
+            for i in range(count):
+                part[a, i] += acc[i] * q[j, a, i]
+    if c < n:  # left null space: complete Q with the unit vectors of largest residual
+        rows2 = np.zeros((n, count))  # squared row norms of the basis so far
+        for j in range(c):
+            for e in range(n):
+                for i in range(count):
+                    rows2[e, i] += q[j, e, i] * q[j, e, i]
+        best = np.empty(count, dtype=np.int64)
+        best_sum = np.empty(count)
+        coef = np.empty((c + n, count))
+        for step in range(n - c):
+            best[:] = 0
+            best_sum[:] = np.inf
+            for e in range(n):
+                for i in range(count):
+                    if rows2[e, i] < best_sum[i]:
+                        best[i], best_sum[i] = e, rows2[e, i]
+            for i in range(count):
+                e = best[i]
+                for j in range(c):
+                    coef[j, i] = q[j, e, i]
+                for b in range(step):
+                    coef[c + b, i] = null[b, e, i]
+            for a in range(n):
+                for i in range(count):
+                    null[step, a, i] = 1.0 if a == best[i] else 0.0
+                for j in range(c):
+                    for i in range(count):
+                        null[step, a, i] -= coef[j, i] * q[j, a, i]
+                for b in range(step):
+                    for i in range(count):
+                        null[step, a, i] -= coef[c + b, i] * null[b, a, i]
+            acc[:] = 0.0
+            for a in range(n):
+                for i in range(count):
+                    acc[i] += null[step, a, i] * null[step, a, i]
+            for i in range(count):
+                acc[i] = 1.0 / np.sqrt(acc[i])
+            for a in range(n):
+                for i in range(count):
+                    null[step, a, i] *= acc[i]
+                    rows2[a, i] += null[step, a, i] * null[step, a, i]
+
+
 @njit(cache=True)
 def _minimum_norm(
     rows: np.ndarray,
@@ -199,21 +369,30 @@ def _minimum_norm(
     wrench: np.ndarray,
     kept: np.ndarray,
     forces: np.ndarray,
+    projectors: np.ndarray,
+    particular: np.ndarray,
+    state: np.ndarray,
 ) -> int:
-    """Least ``sum ||F_i||^2`` meeting every constraint: projectors and one KKT solve."""
+    """Least ``sum ||F_i||^2`` meeting every constraint: projectors and one KKT solve.
+
+    Chains whose ``state`` is -2 come with their projector and particular solution (from
+    :func:`_full_rank_batch`); the others get them here from their rows.
+    """
     p, n = forces.shape
     s = hard.shape[0]
     k = kept.shape[0]
-    projectors = np.empty((p, n, n))
-    particular = np.zeros((p, n))
     width = rows.shape[1]
     gram = np.empty((width, width))
     gram_inv = np.empty((width, width))
     scratch = np.empty((width, width))
     pseudo = np.empty((n, width))
     for i in range(p):
+        if state[i] == -2:
+            continue
         l_i = chain_ints[i, L_ROWS]
         projector = projectors[i]
+        for a in range(n):
+            particular[i, a] = 0.0
         for r in range(n):
             for c in range(n):
                 projector[r, c] = 1.0 if r == c else 0.0
@@ -248,13 +427,23 @@ def _minimum_norm(
         target[r] = wrench[kept[r]]
     for t in range(s):
         target[k + t] = hard_rhs[t]
-    hp = np.zeros((p, s, n))  # C_i P_i
+    # sum of the projectors and the particular solutions over the chains (in chain order, so
+    # the same sums as entry by entry), then the kept block
+    sums = np.zeros((n + 1, n))  # rows: the projectors' sum, then the wrench left
+    for r in range(k):
+        sums[n, kept[r]] = wrench[kept[r]]
     for i in range(p):
+        for a in range(n):
+            sums[n, a] -= particular[i, a]
+            for c in range(n):
+                sums[a, c] += projectors[i, a, c]
+    for r in range(k):
+        target[r] = sums[n, kept[r]]
+        for c in range(k):
+            kkt[r, c] = sums[kept[r], kept[c]]
+    hp = np.zeros((p, s, n))  # C_i P_i
+    for i in range(p if s else 0):
         proj = projectors[i]
-        for r in range(k):
-            target[r] -= particular[i, kept[r]]
-            for c in range(k):
-                kkt[r, c] += proj[kept[r], kept[c]]
         for t in range(s):
             for a in range(n):
                 acc = 0.0
@@ -279,11 +468,10 @@ def _minimum_norm(
         return 2
     multipliers = _mv(kkt_inv, target)
     for i in range(p):
-        proj = projectors[i]
         for a in range(n):
             value = particular[i, a]
             for r in range(k):
-                value += proj[a, kept[r]] * multipliers[r]
+                value += projectors[i, a, kept[r]] * multipliers[r]
             for t in range(s):
                 value += hp[i, t, a] * multipliers[k + t]
             forces[i, a] = value
@@ -517,14 +705,14 @@ def distribute(
             for k in range(3):
                 s += rot_o[k, r] * shift[k, c]
             transform[r, 3 + c] = s
-    jac_o = np.empty((n, nv))
-    for a in range(n):
-        row = axis_rows[a]
-        for v in range(nv):
+    jac_t = np.empty((nv, n))  # the Jacobian in {O}, one row per velocity index
+    for v in range(nv):
+        for a in range(n):
+            row = axis_rows[a]
             s = 0.0
             for k in range(6):
                 s += transform[row, k] * jacobian_world[k, v]
-            jac_o[a, v] = s
+            jac_t[v, a] = s
     for v in range(nv):
         if springs[v, 2] >= 0:
             iq = int(springs[v, 2])
@@ -534,7 +722,7 @@ def distribute(
     rows = np.zeros((p, max(layout[2], 1), n))
     rhs = np.zeros((p, max(layout[2], 1)))
     worst, worst_chain = np.inf, -1
-    full_buffer = np.zeros((n, K + 3))
+    columns = np.zeros((K + 3, n))  # a chain's columns, one per row
     null_buffer = np.zeros((n, n))
     column = np.zeros(6)
     work = np.empty((n, K + 3))
@@ -542,16 +730,24 @@ def distribute(
     used = np.zeros(K + 3, dtype=np.bool_)
     vec = np.empty(n)
     best_vec = np.empty(n)
+    # mode 0, chains of full column rank: projector and particular solution from one QR, the
+    # chains of one shape (columns, constraint columns) side by side in _full_rank_batch
+    projectors = np.empty((p, n, n))
+    particular = np.zeros((p, n))
+    state = np.full(p, -1, dtype=np.int64)  # -1 general, key >= 0 awaiting batch, -2 done
+    batch = mode == 0 and p >= BATCH_CHAINS
+    batch_size = p if batch else 0
+    # fast chains: columns in QR order, chains last; row K + 3: right-hand sides of the rows
+    fulls = np.empty((K + 4, n, batch_size))
     for i in range(p):
         k_i = chain_ints[i, K_COLS]
         c_i = chain_ints[i, C_CON]
         nb = chain_ints[i, NB_BALL]
         rank = chain_ints[i, RANK]
-        cols = chain_ints[i, HEADER : HEADER + k_i]
-        full = full_buffer[:, : k_i + nb]
         for j in range(k_i):
+            v, sign = chain_ints[i, HEADER + j], chain_signs[i, j]
             for a in range(n):
-                full[a, j] = jac_o[a, cols[j]] * chain_signs[i, j]
+                columns[j, a] = jac_t[v, a] * sign
         # offset from {A_i} to {B} in {O}
         a_row = frame_rows[2 + i]
         dx = frames[b, 9] - frames[a_row, 9]
@@ -564,7 +760,8 @@ def distribute(
         ball_start = con_start + layout[1]
         for j in range(nb):
             axis = chain_ints[i, ball_start + j]
-            column[:] = 0.0
+            for a in range(6):
+                column[a] = 0.0
             # e_axis x d
             if axis == 0:
                 column[1], column[2] = -d2, d1
@@ -574,25 +771,101 @@ def distribute(
                 column[0], column[1] = -d1, d0
             column[3 + axis] = 1.0
             for a in range(n):
-                full[a, k_i + j] = column[axis_rows[a]]
-        null = null_buffer[: n - rank]
+                columns[k_i + j, a] = column[axis_rows[a]]
         ratio = 1.0
-        if rank > 0:
+        fast = batch and rank > 0 and rank == k_i + nb
+        if fast:  # QR order: own constrained joints, ball axes, then the free joints
+            m_c = c_i + nb
+            for j in range(c_i):
+                position = chain_ints[i, con_start + j]
+                for a in range(n):
+                    fulls[j, a, i] = columns[position, a]
+                fulls[K + 3, j, i] = passive[chain_ints[i, HEADER + position]]
+            for j in range(nb):
+                for a in range(n):
+                    fulls[c_i + j, a, i] = columns[k_i + j, a]
+                fulls[K + 3, c_i + j, i] = 0.0
+            at = m_c
+            for j in range(k_i):
+                constrained = False
+                for jj in range(c_i):
+                    if chain_ints[i, con_start + jj] == j:
+                        constrained = True
+                if not constrained and at < rank:
+                    for a in range(n):
+                        fulls[at, a, i] = columns[j, a]
+                    at += 1
+            fast = at == rank
+        if fast:
+            state[i] = rank * (K + 4) + m_c
+            ratio = 1.0  # from the batch below
+        elif rank > 0:
+            null = null_buffer[: n - rank]
+            full = columns[: k_i + nb].T
             ratio = _null_rows(full, rank, null, work, basis, used, vec, best_vec)
-        if ratio < worst:
+        if not fast and ratio < worst:
             worst, worst_chain = ratio, i
         # rows: own constrained joints, ball axes, null directions
         for j in range(c_i):
             position = chain_ints[i, con_start + j]
             for a in range(n):
-                rows[i, j, a] = full[a, position]
-            rhs[i, j] = passive[cols[position]]
+                rows[i, j, a] = columns[position, a]
+            rhs[i, j] = passive[chain_ints[i, HEADER + position]]
         for j in range(nb):
             for a in range(n):
-                rows[i, c_i + j, a] = full[a, k_i + j]
-        for j in range(n - rank):
-            for a in range(n):
-                rows[i, c_i + nb + j, a] = null[j, a]
+                rows[i, c_i + j, a] = columns[k_i + j, a]
+        if not fast:
+            for j in range(n - rank):
+                for a in range(n):
+                    rows[i, c_i + nb + j, a] = null_buffer[j, a]
+    ill = False
+    for i in range(batch_size):
+        key = state[i]
+        if key < 0:
+            continue
+        count = 0
+        for i2 in range(i, p):
+            count += state[i2] == key
+        members = np.empty(count, dtype=np.int64)
+        count = 0
+        for i2 in range(i, p):
+            if state[i2] == key:
+                members[count] = i2
+                count += 1
+        c_b = chain_ints[i, RANK]
+        m_c = chain_ints[i, C_CON] + chain_ints[i, NB_BALL]
+        if count == p:
+            q_b = fulls  # every chain: no copy (overwritten by the QR)
+        else:
+            q_b = np.empty((c_b, n, count))
+            for j in range(c_b):
+                for a in range(n):
+                    for b in range(count):
+                        q_b[j, a, b] = fulls[j, a, members[b]]
+        t_b = np.empty((m_c, count))
+        for j in range(m_c):
+            for b in range(count):
+                t_b[j, b] = fulls[K + 3, j, members[b]]
+        ratio_b = np.empty(count)
+        bound_b = np.empty(count)
+        proj_b = np.empty((n, n, count))
+        part_b = np.empty((n, count))
+        null_b = np.empty((n - c_b, n, count))
+        _full_rank_batch(q_b, c_b, m_c, t_b, ratio_b, bound_b, proj_b, part_b, null_b)
+        for b in range(count):
+            chain = members[b]
+            state[chain] = -2
+            if ratio_b[b] < worst:
+                worst, worst_chain = ratio_b[b], chain
+            if bound_b[b] > ILL_CONDITIONED:
+                ill = True
+            for r in range(n):
+                particular[chain, r] = part_b[r, b]
+                for a in range(n):
+                    projectors[chain, r, a] = proj_b[r, a, b]
+            for j in range(n - c_b):
+                for a in range(n):
+                    rows[chain, m_c + j, a] = null_b[j, a, b]
     if worst < NEAR_SINGULAR:
         empty = np.zeros(n)
         return forces, tau, passive, empty, empty, 0.0, 0.0, 0.0, 1, worst, worst_chain
@@ -615,15 +888,29 @@ def distribute(
             va, vb = torque_rows[t, 0], torque_rows[t, 1]
             for i in range(p):
                 for a in range(n):
-                    value = torque_signs[t, 0, i] * jac_o[a, va]
+                    value = torque_signs[t, 0, i] * jac_t[va, a]
                     if vb >= 0:
-                        value -= torque_signs[t, 1, i] * jac_o[a, vb]
+                        value -= torque_signs[t, 1, i] * jac_t[vb, a]
                     hard[index, i, a] = value
             hard_rhs[index] = passive[va] if kind == 0 else 0.0
             index += 1
     kept = np.flatnonzero(keep)
-    if mode == 0:
-        status = _minimum_norm(rows, rhs, chain_ints, hard, hard_rhs, wrench, kept, forces)
+    if ill:
+        status = 2  # a chain's rows are ill-conditioned: numpy decides
+    elif mode == 0:
+        status = _minimum_norm(
+            rows,
+            rhs,
+            chain_ints,
+            hard,
+            hard_rhs,
+            wrench,
+            kept,
+            forces,
+            projectors,
+            particular,
+            state,
+        )
     else:
         cfs_start = HEADER + K + layout[1] + 3
         free_start = cfs_start + layout[2]
@@ -642,7 +929,7 @@ def distribute(
             v = chain_ints[i, HEADER + j]
             acc = 0.0
             for a in range(n):
-                acc += jac_o[a, v] * forces[i, a]
+                acc += jac_t[v, a] * forces[i, a]
             tau[v] += chain_signs[i, j] * acc * springs[v, 4]
         for a in range(n):
             produced[a] += forces[i, a]

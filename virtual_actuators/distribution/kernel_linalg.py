@@ -1,0 +1,217 @@
+"""Small dense linear algebra for the compiled distribution (numba, plain loops, no BLAS).
+
+Products, Gauss-Jordan inverses with a condition estimate, the left null space of a chain's
+Jacobian by pivoted Gram-Schmidt, and the a-posteriori check of the exact rows.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..kinematics.kernels import njit
+from .linalg import JACOBIAN_FLOOR
+
+#: Same thresholds as the numpy path (a kernel status hands the decision to it).
+ILL_CONDITIONED = 1e10
+NEAR_SINGULAR = 1e-7
+
+
+@njit(cache=True)
+def mm(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Small matrix product with plain loops (no BLAS: tiny sizes, no SciPy needed)."""
+    rows, inner = a.shape
+    cols = b.shape[1]
+    out = np.zeros((rows, cols))
+    for r in range(rows):
+        for k in range(inner):
+            value = a[r, k]
+            if value != 0.0:
+                for c in range(cols):
+                    out[r, c] += value * b[k, c]
+    return out
+
+
+@njit(cache=True)
+def mv(a: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Small matrix-vector product with plain loops."""
+    out = np.zeros(a.shape[0])
+    for r in range(a.shape[0]):
+        acc = 0.0
+        for k in range(a.shape[1]):
+            acc += a[r, k] * x[k]
+        out[r] = acc
+    return out
+
+
+@njit(cache=True)
+def invert(matrix: np.ndarray) -> tuple[np.ndarray, float]:
+    """Inverse by Gauss-Jordan with partial pivoting and ``||A||_inf ||A^-1||_inf``."""
+    m = matrix.shape[0]
+    inv = np.empty((m, m))
+    cond = inverse_into(matrix, m, np.empty((m, m)), inv)
+    return inv, cond
+
+
+@njit(cache=True)
+def inverse_into(matrix: np.ndarray, m: int, a: np.ndarray, inv: np.ndarray) -> float:
+    """Invert the leading ``m x m`` block of ``matrix`` into ``inv`` (``a``: scratch).
+
+    Returns the condition estimate ``||A||_inf ||A^-1||_inf`` (inf when exactly singular).
+    """
+    for i in range(m):
+        for j in range(m):
+            a[i, j] = matrix[i, j]
+            inv[i, j] = 1.0 if i == j else 0.0
+    norm = 0.0
+    for i in range(m):
+        row = 0.0
+        for j in range(m):
+            row += abs(matrix[i, j])
+        norm = max(norm, row)
+    for col in range(m):
+        pivot = col
+        for r in range(col + 1, m):
+            if abs(a[r, col]) > abs(a[pivot, col]):
+                pivot = r
+        if a[pivot, col] == 0.0:
+            return np.inf
+        if pivot != col:
+            for j in range(m):
+                a[col, j], a[pivot, j] = a[pivot, j], a[col, j]
+                inv[col, j], inv[pivot, j] = inv[pivot, j], inv[col, j]
+        scale = 1.0 / a[col, col]
+        for j in range(m):
+            a[col, j] *= scale
+            inv[col, j] *= scale
+        for r in range(m):
+            if r != col and a[r, col] != 0.0:
+                factor = a[r, col]
+                for j in range(m):
+                    a[r, j] -= factor * a[col, j]
+                    inv[r, j] -= factor * inv[col, j]
+    norm_inv = 0.0
+    for i in range(m):
+        row = 0.0
+        for j in range(m):
+            row += abs(inv[i, j])
+        norm_inv = max(norm_inv, row)
+    estimate = norm * norm_inv
+    if not np.isfinite(estimate):
+        estimate = np.inf
+    return estimate
+
+
+@njit(cache=True)
+def null_rows(
+    full: np.ndarray,
+    rank: int,
+    out: np.ndarray,
+    work: np.ndarray,
+    basis: np.ndarray,
+    used: np.ndarray,
+    vec: np.ndarray,
+    best_vec: np.ndarray,
+) -> float:
+    """Orthonormal rows spanning the left null space of ``full`` (n x c) into ``out``.
+
+    Pivoted modified Gram-Schmidt on the columns (``rank`` steps), then the unit vectors with the
+    largest residuals complete the basis. Returns the rank-revealing ratio of the last pivot to
+    the first (0 for an exactly singular chain).
+    """
+    n, c = full.shape
+    for r in range(n):
+        for j in range(c):
+            work[r, j] = full[r, j]
+    used[:c] = False
+    first, last = 0.0, 0.0
+    for step in range(rank):
+        best, best_norm = -1, -1.0
+        for j in range(c):
+            if not used[j]:
+                s = 0.0
+                for r in range(n):
+                    s += work[r, j] * work[r, j]
+                if s > best_norm:
+                    best, best_norm = j, s
+        norm = np.sqrt(best_norm)
+        if step == 0:
+            first = norm
+        last = norm
+        used[best] = True
+        if norm <= JACOBIAN_FLOOR:  # this direction is produced by nothing (absolute floor)
+            return 0.0
+        for r in range(n):
+            basis[r, step] = work[r, best] / norm
+        for j in range(c):
+            if not used[j]:
+                dot = 0.0
+                for r in range(n):
+                    dot += basis[r, step] * work[r, j]
+                for r in range(n):
+                    work[r, j] -= dot * basis[r, step]
+    for step in range(rank, n):
+        best_norm = -1.0
+        for e in range(n):
+            vec[:] = 0.0
+            vec[e] = 1.0
+            for b in range(step):
+                dot = basis[e, b]
+                for r in range(n):
+                    vec[r] -= dot * basis[r, b]
+            s = 0.0
+            for r in range(n):
+                s += vec[r] * vec[r]
+            if s > best_norm:
+                best_norm = s
+                best_vec[:] = vec
+        norm = np.sqrt(best_norm)
+        for r in range(n):
+            basis[r, step] = best_vec[r] / norm
+            out[step - rank, r] = basis[r, step]
+    return last / first if first > 0.0 else 0.0
+
+
+@njit(cache=True)
+def constraint_error(
+    rows: np.ndarray,
+    rhs: np.ndarray,
+    hard: np.ndarray,
+    hard_rhs: np.ndarray,
+    forces: np.ndarray,
+) -> float:
+    """Largest miss of an exact row (natural or hard), relative to ``|row| |F| + |rhs|``."""
+    p, n = forces.shape
+    peak = 0.0
+    for i in range(p):
+        for a in range(n):
+            peak = max(peak, abs(forces[i, a]))
+    worst = 0.0
+    for i in range(p):
+        for r in range(rows.shape[1]):
+            acc, size = -rhs[i, r], abs(rhs[i, r])
+            for a in range(n):
+                acc += rows[i, r, a] * forces[i, a]
+                size = max(size, abs(rows[i, r, a]) * peak)
+            if size > 0.0:
+                worst = max(worst, abs(acc) / size)
+    for t in range(hard.shape[0]):
+        acc, size = -hard_rhs[t], abs(hard_rhs[t])
+        for i in range(p):
+            for a in range(n):
+                acc += hard[t, i, a] * forces[i, a]
+                size = max(size, abs(hard[t, i, a]) * peak)
+        if size > 0.0:
+            worst = max(worst, abs(acc) / size)
+    return worst
+
+
+__all__ = [
+    "ILL_CONDITIONED",
+    "NEAR_SINGULAR",
+    "constraint_error",
+    "invert",
+    "inverse_into",
+    "mm",
+    "mv",
+    "null_rows",
+]

@@ -179,7 +179,7 @@ class CompiledDistribution:
         if mode.mode < 0:
             return None
         jacobian_world = snapshot.jacobian_world
-        frames = snapshot._frames
+        frames = snapshot.frame_table
         if frames.shape[0] <= self._max_row:
             return None  # frames required after this snapshot ran: the numpy path reads them
         out = kernels.distribute(

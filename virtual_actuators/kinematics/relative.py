@@ -176,7 +176,7 @@ class RelativeKinematics:
         """
         snapshot = self.snapshot(state)
         jacobian_world = snapshot.jacobian_world
-        frames = snapshot._frames
+        frames = snapshot.frame_table
         if frames.shape[0] <= max(self._row_b, self._row_o, self._rows_a.max()):
             frames = self._frames_of(snapshot)  # frames required after that snapshot ran
         position_b = frames[self._row_b, 9:]
@@ -214,7 +214,7 @@ class RelativeKinematics:
         """
         snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
-        frames = snapshot._frames
+        frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
         jacobian, translation, rate, relative = kernels.relative_sensor(

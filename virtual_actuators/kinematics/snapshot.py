@@ -131,6 +131,18 @@ class Snapshot:
             self._run()
         return self._jacobian
 
+    @property
+    def frame_table(self) -> np.ndarray:
+        """``(rows, 12)`` placements of the frames the robot's actuators read, one row each.
+
+        Row ``r`` holds a rotation (row-major, 9 entries) then a position [m], in the world; the
+        tree's frame table says which frame each row is. The compiled kernels read it whole.
+        Do not modify it: every reader of the snapshot shares it.
+        """
+        if self._frames is None:
+            self._run()
+        return self._frames
+
     def _placement(self, frame_id: int) -> tuple[np.ndarray, np.ndarray]:
         if self._frames is None:
             self._run()

@@ -232,7 +232,7 @@ CASES: list[tuple[str, Call, str]] = [
     ("solve-strict-str", lambda e: e.body.solve(e.q_solo, e.w6, strict="yes"), "strict"),
     ("solve-compiled-None", lambda e: e.body.solve(e.q_solo, e.w6, compiled=None), "compiled"),
     ("solve-method-int", lambda e: e.body.solve(e.q_solo, e.w6, method=5), "method"),
-    ("solve-method-unknown", lambda e: e.body.solve(e.q_solo, e.w6, method="qp"), "method"),
+    ("solve-method-unknown", lambda e: e.body.solve(e.q_solo, e.w6, method="simplex"), "method"),
     ("ptorques-forces-str", lambda e: e.body.torques(e.q_solo, "abc"), "forces"),
     ("ptorques-forces-complex", lambda e: e.body.torques(e.q_solo, np.ones((4, 6)) * 1j), "forces"),
     ("ptorques-forces-shape", lambda e: e.body.torques(e.q_solo, np.ones(6)), "forces"),

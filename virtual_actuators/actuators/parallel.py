@@ -17,6 +17,7 @@ from ..distribution.dense import DenseSolver
 from ..distribution.numeric import solve_numpy
 from ..distribution.partitioner import PartitionedSolver
 from ..distribution.problem import DistributionProblem
+from ..distribution.qp import ContactLimits, QPDistribution
 from ..distribution.solution import Solution
 from ..exceptions import (
     ConstraintError,
@@ -105,6 +106,14 @@ class ParallelVirtualActuator:
             ``-stiffness * (angle - rest)``, measured, not commanded; None for none.
         design: Design constraints (:class:`Equal`, :class:`Linear`, :class:`EqualTorque`), or
             one constraint.
+        friction: ``method="qp"``: friction coefficient ``mu`` of a pyramid at every contact
+            (about ``normals``, world z by default); None for no cone.
+        min_normal: ``method="qp"``: least normal force of every contact [N].
+        torque_limits: ``method="qp"``: ``True`` for ``|tau| <=`` the URDF effort limits at the
+            actuated joints, or ``(nv,)`` limits; False for none.
+        normals: ``method="qp"``: world-frame contact normal per reaction frame (default z).
+        soles: ``method="qp"``: ``(half_length, half_width)`` [m] of a flat contact's sole, by
+            reaction frame: its centre of pressure stays inside, its yaw moment is bounded.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``,
@@ -117,6 +126,8 @@ class ParallelVirtualActuator:
             many; a reaction frame with no joint to the action frame; a repeated reaction; a bad
             ``contact``; a ``passive`` value that is not two finite real numbers; a design entry
             that is not a design constraint.
+        InvalidInputError: (also) a bad ``friction``, ``min_normal``, ``torque_limits``,
+            ``normals`` or ``soles``.
 
     """
 
@@ -131,6 +142,11 @@ class ParallelVirtualActuator:
         unactuated: Sequence[str] = (),
         passive: Mapping[str, tuple[float, float]] | None = None,
         design: Sequence[DesignConstraint] = (),
+        friction: float | None = None,
+        min_normal: float = 0.0,
+        torque_limits: bool | Sequence[float] | np.ndarray = False,
+        normals: Mapping[str, Sequence[float]] | None = None,
+        soles: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
         check_robot(robot, "ParallelVirtualActuator")
         self.robot = robot
@@ -174,7 +190,14 @@ class ParallelVirtualActuator:
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
         #: The solvers ``solve(method=...)`` chooses from, by name (the first is the default)
-        self.solvers = {"partitioned": self.partitioner, "dense": self.dense}
+        if friction is not None:
+            friction = check_number(friction, "friction", positive=True)
+        min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
+        self.contact_limits = ContactLimits(
+            self.problem, friction, min_normal, normals, soles, torque_limits
+        )
+        self.qp = QPDistribution(self.problem, self.contact_limits)
+        self.solvers = {"partitioned": self.partitioner, "dense": self.dense, "qp": self.qp}
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
 
@@ -239,7 +262,9 @@ class ParallelVirtualActuator:
             tol: Admissibility tolerance on the residual, relative to the larger of ``|wrench|``
                 and ``|produced|`` on the prescribed axes (scale-free: ``solve(q, s * w)`` gets
                 the same label as ``solve(q, w)`` for any ``s > 0``); a finite number >= 0.
-            method: ``"partitioned"`` (default) or ``"dense"`` (reference solver, eq. 10-11).
+            method: ``"partitioned"`` (default), ``"dense"`` (reference solver, eq. 10-11) or
+                ``"qp"`` (friction cones, unilateral contacts, soles and torque limits declared
+                on the actuator as inequalities; see :mod:`virtual_actuators.distribution.qp`).
             compiled: Use the compiled per-tick kernel for the partitioned method when it
                 applies (the default); False runs the numpy implementation, the reference the
                 kernel is tested against. Ticks the kernel cannot decide (a near-singular
@@ -274,17 +299,22 @@ class ParallelVirtualActuator:
                 f"method must be one of {list(self.solvers)}, got {describe(method)}."
             )
         fast = None
-        if compiled and solver is self.partitioner:
+        if solver is self.qp:
+            fast = self.qp.solve(snapshot, wrench, keep)
+        elif compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)
         if fast is None:
             fast_used = False
             fallback = self.dense if solver is self.partitioner else None
             fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
         else:
-            fast_used = True
+            fast_used = solver is not self.qp
         raw, (tau, passive_torque, produced, requested, residual, scale, rounding) = fast
         kind = raw.method
-        if residual > tol * scale + rounding:
+        missed = residual > tol * scale + rounding
+        if kind == "qp":
+            pass  # the QP's answer is always "qp": its residual says how close it came
+        elif missed:
             kind = "least-squares"
         elif kind == "least-squares":
             kind = "pseudo-inverse"
@@ -305,8 +335,9 @@ class ParallelVirtualActuator:
             solver=raw.solver,
             systems=raw.systems,
             compiled=fast_used,
+            active=raw.active,
         )
-        if strict and kind == "least-squares":
+        if strict and missed:
             raise InadmissibleWrenchError(
                 f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "
                 f"configuration: residual {residual:.3g} (produced {produced.round(6).tolist()}).",

@@ -48,6 +48,7 @@ class Attachment:
     yield_mask: np.ndarray | None = None
     friction: float | None = None
     min_normal: float = 0.0
+    method: str = "partitioned"
     bound_rows: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     bound_lows: np.ndarray = field(default_factory=lambda: np.zeros(0))
     force_columns: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))

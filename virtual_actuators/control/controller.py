@@ -139,6 +139,7 @@ class Controller:
         yield_axes: Sequence[str] = (),
         friction: float | None = None,
         min_normal: float = 0.0,
+        method: str = "partitioned",
     ) -> Attachment:
         """Attach components to an actuator under a unique name.
 
@@ -168,6 +169,10 @@ class Controller:
                 lying on a slope tells it from the joint angles alone. Violations are met by
                 scaling ``yield_axes`` like ``unilateral``. None: no cone.
             min_normal: Least normal force of the cone [N] (with ``friction``).
+            method: Parallel actuators: the distribution, ``"partitioned"`` (default),
+                ``"dense"`` or ``"qp"`` (the actuator's own friction, min_normal, soles and
+                torque limits as inequalities; then ``unilateral``, ``friction`` and
+                ``yield_axes`` here are not used and must be left out).
 
         Returns:
             The :class:`Attachment`.
@@ -246,9 +251,28 @@ class Controller:
             yield_mask,
             friction,
             min_normal,
+            self._check_method(name, actuator, method, limits or friction is not None),
         )
         self.attachments[name] = attachment
         return attachment
+
+    @staticmethod
+    def _check_method(name: str, actuator: Actuator, method: object, limited: bool) -> str:
+        """``method`` checked against the actuator's solvers (a serial one has none)."""
+        if method == "partitioned":
+            return method
+        solvers = list(getattr(actuator, "solvers", {}))
+        if method not in solvers:
+            raise InvalidInputError(
+                f"Attachment {name!r}: method must be one of {solvers or ['partitioned']} for "
+                f"this actuator, got {describe(method)}."
+            )
+        if method == "qp" and limited:
+            raise InvalidInputError(
+                f"Attachment {name!r}: with method='qp' the contact limits are the actuator's "
+                "own (friction, min_normal, torque_limits); leave out unilateral and friction."
+            )
+        return str(method)
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
         """Velocity indices of joints given by name (one name, or a collection of names).
@@ -382,7 +406,9 @@ class Controller:
                 produced[name] = wrench
                 continue
             try:
-                solution = actuator.solve(snapshot, wrench, free=attachment.free)
+                solution = actuator.solve(
+                    snapshot, wrench, free=attachment.free, method=attachment.method
+                )
                 if attachment.yield_mask is not None:
                     solution = enforce_unilateral(attachment, snapshot, wrench, solution)
             except SingularConfigurationError as error:

@@ -47,6 +47,8 @@ class RawSolution:
     systems: tuple[tuple[str, int, int], ...] = ()
     #: the algorithm that produced it (``"dense"`` when the partitioned one could not decide)
     solver: str = "partitioned"
+    #: the QP's active inequalities, by name (empty for the other solvers)
+    active: tuple[str, ...] = ()
 
 
 @dataclass

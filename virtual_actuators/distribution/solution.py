@@ -18,7 +18,8 @@ class Solution:
         wrench: ``(n,)`` the wrench actually produced on {B}: ``forces.sum(axis=0)``.
         sets: ``{"MFS": [...], "RFS": [...], "CFS": [...]}`` with labels ``(reaction, axis)``.
         residual: Norm of the part of the requested wrench (prescribed axes) not produced.
-        method: ``"partitioned"``, ``"pseudo-inverse"`` or ``"least-squares"``.
+        method: ``"partitioned"``, ``"pseudo-inverse"`` or ``"least-squares"``; ``"qp"`` for
+            ``solve(..., method="qp")`` (then ``residual`` says how close the request came).
         requested: ``(n,)`` the wrench that was asked for (free axes hold the produced value).
         reactions: Reaction frame names, one per row of ``forces``.
         axes: Axis names, one per column of ``forces``.
@@ -26,13 +27,15 @@ class Solution:
         tau_passive: ``(nv,)`` torques that passive springs contribute at this configuration.
         base_effort: Efforts on a floating base's six coordinates: 0 unless the request needs
             the base to push on the world (a chain to ``"world"``); these cannot be commanded.
-        solver: ``"partitioned"`` or ``"dense"``: which algorithm computed this. A partitioned
-            solve whose closed form cannot decide at this configuration (a natural constraint
-            that vanishes, so no Constrained Force Set is well conditioned) is answered by the
-            dense reference rather than raising: then ``"dense"``.
+        solver: ``"partitioned"``, ``"dense"`` or ``"qp"``: which algorithm computed this. A
+            partitioned solve whose closed form cannot decide at this configuration (a natural
+            constraint that vanishes, so no Constrained Force Set is well conditioned) is
+            answered by the dense reference rather than raising: then ``"dense"``.
         systems: Linear systems inverted at this solve, as ``(what, size, count)``: e.g.
             ``(("CFS", 3, 3), ("MFS", 6, 1))`` for the seed's hexapod tripod (p 3x3 inverses,
             one 6x6); design blocks that do not depend on ``q`` are factored at construction.
+        active: ``method="qp"``: the inequalities active at the answer, by name (e.g.
+            ``"FL_FOOT: friction +t1"``, ``"torque FL_KFE <= 2.7"``); empty otherwise.
         compiled: Whether the compiled per-tick kernel computed this (False: the numpy
             implementation, e.g. ``solve(..., compiled=False)`` or a tick the kernel handed
             back).
@@ -54,6 +57,7 @@ class Solution:
     solver: str = "partitioned"
     systems: tuple[tuple[str, int, int], ...] = ()
     compiled: bool = False
+    active: tuple[str, ...] = ()
 
     @property
     def admissible(self) -> bool:

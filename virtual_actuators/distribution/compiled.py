@@ -56,6 +56,7 @@ class CompiledDistribution:
         self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
         self.frame_rows = np.array([kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64)
         self._max_row = int(self.frame_rows.max())
+        self._shape = (problem.p, len(self.axis_rows))
         nv = problem.model.nv
         springs = np.zeros((nv, 5))
         springs[:, 2] = -1.0
@@ -201,10 +202,15 @@ class CompiledDistribution:
             mode.plan,
             tables.layout,
         )
-        if out[8]:
+        if out[4]:
             return None
-        raw = RawSolution(forces=out[0], method=mode.method, sets=mode.sets, systems=mode.systems)
-        return raw, out[1:8]
+        buffer, (p, n), nv = out[0], self._shape, self.springs.shape[0]
+        at = p * n
+        forces = buffer[:at].reshape(p, n)
+        raw = RawSolution(forces=forces, method=mode.method, sets=mode.sets, systems=mode.systems)
+        tau, passive = buffer[at : at + nv], buffer[at + nv : at + 2 * nv]
+        produced, requested = buffer[at + 2 * nv : at + 2 * nv + n], buffer[at + 2 * nv + n :]
+        return raw, (tau, passive, produced, requested, out[1], out[2], out[3])
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

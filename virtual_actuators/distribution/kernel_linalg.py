@@ -179,21 +179,31 @@ def constraint_error(
     hard_rhs: np.ndarray,
     forces: np.ndarray,
 ) -> float:
-    """Largest miss of an exact row (natural or hard), relative to ``|row| |F| + |rhs|``."""
+    """Largest miss of an exact row (natural or hard), relative to ``|row| |F| + |rhs|``.
+
+    ``rows`` (l, n, p) and ``rhs`` (l, p) have the chain index last.
+    """
     p, n = forces.shape
     peak = 0.0
     for i in range(p):
         for a in range(n):
             peak = max(peak, abs(forces[i, a]))
     worst = 0.0
-    for i in range(p):
-        for r in range(rows.shape[1]):
-            acc, size = -rhs[i, r], abs(rhs[i, r])
-            for a in range(n):
-                acc += rows[i, r, a] * forces[i, a]
-                size = max(size, abs(rows[i, r, a]) * peak)
-            if size > 0.0:
-                worst = max(worst, abs(acc) / size)
+    forces_t = forces.T.copy()  # side by side over the chains
+    acc = np.empty(p)
+    size = np.empty(p)
+    for r in range(rows.shape[0]):
+        for i in range(p):
+            acc[i] = -rhs[r, i]
+            size[i] = abs(rhs[r, i])
+        for a in range(n):
+            row, force = rows[r, a], forces_t[a]
+            for i in range(p):
+                acc[i] += row[i] * force[i]
+                size[i] = max(size[i], abs(row[i]) * peak)
+        for i in range(p):
+            if size[i] > 0.0:
+                worst = max(worst, abs(acc[i]) / size[i])
     for t in range(hard.shape[0]):
         acc, size = -hard_rhs[t], abs(hard_rhs[t])
         for i in range(p):

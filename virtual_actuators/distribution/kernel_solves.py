@@ -206,13 +206,14 @@ def minimum_norm(
 ) -> int:
     """Least ``sum ||F_i||^2`` meeting every constraint: projectors and one KKT solve.
 
-    Chains whose ``state`` is -2 come with their projector and particular solution (from
-    :func:`full_rank_batch`); the others get them here from their rows.
+    ``rows`` (l, n, p), ``rhs`` (l, p), ``projectors`` (n, n, p) and ``particular`` (n, p) have
+    the chain index last. Chains whose ``state`` is -2 come with their projector and particular
+    solution (from :func:`full_rank_batch`); the others get them here from their rows.
     """
     p, n = forces.shape
     s = hard.shape[0]
     k = kept.shape[0]
-    width = rows.shape[1]
+    width = rows.shape[0]
     gram = np.empty((width, width))
     gram_inv = np.empty((width, width))
     scratch = np.empty((width, width))
@@ -221,19 +222,18 @@ def minimum_norm(
         if state[i] == -2:
             continue
         l_i = chain_ints[i, L_ROWS]
-        projector = projectors[i]
         for a in range(n):
-            particular[i, a] = 0.0
+            particular[a, i] = 0.0
         for r in range(n):
             for c in range(n):
-                projector[r, c] = 1.0 if r == c else 0.0
+                projectors[r, c, i] = 1.0 if r == c else 0.0
         if l_i == 0:
             continue
         for r in range(l_i):
             for c in range(l_i):
                 acc = 0.0
                 for a in range(n):
-                    acc += rows[i, r, a] * rows[i, c, a]
+                    acc += rows[r, a, i] * rows[c, a, i]
                 gram[r, c] = acc
         if inverse_into(gram, l_i, scratch, gram_inv) > ILL_CONDITIONED:
             return 2
@@ -241,72 +241,86 @@ def minimum_norm(
             for c in range(l_i):
                 acc = 0.0
                 for r in range(l_i):
-                    acc += rows[i, r, a] * gram_inv[r, c]
+                    acc += rows[r, a, i] * gram_inv[r, c]
                 pseudo[a, c] = acc
         for r in range(n):  # P = I - pseudo G, particular = pseudo t
             acc_t = 0.0
             for c in range(l_i):
-                acc_t += pseudo[r, c] * rhs[i, c]
+                acc_t += pseudo[r, c] * rhs[c, i]
                 value = pseudo[r, c]
                 for a in range(n):
-                    projector[r, a] -= value * rows[i, c, a]
-            particular[i, r] = acc_t
+                    projectors[r, a, i] -= value * rows[c, a, i]
+            particular[r, i] = acc_t
     size = k + s
     kkt = np.zeros((size, size))
     target = np.zeros(size)
+    # the kept block of the projectors' sum over the chains, and the wrench left by the
+    # particular solutions (four partial sums over the chains, then in order)
     for r in range(k):
-        target[r] = wrench[kept[r]]
+        a = kept[r]
+        target[r] = wrench[a] - _chain_sum(particular[a])
+        for c in range(r, k):
+            value = _chain_sum(projectors[a, kept[c]])
+            kkt[r, c] = value
+            kkt[c, r] = value
     for t in range(s):
         target[k + t] = hard_rhs[t]
-    # sum of the projectors and the particular solutions over the chains (in chain order, so
-    # the same sums as entry by entry), then the kept block
-    sums = np.zeros((n + 1, n))  # rows: the projectors' sum, then the wrench left
-    for r in range(k):
-        sums[n, kept[r]] = wrench[kept[r]]
-    for i in range(p):
-        for a in range(n):
-            sums[n, a] -= particular[i, a]
-            for c in range(n):
-                sums[a, c] += projectors[i, a, c]
-    for r in range(k):
-        target[r] = sums[n, kept[r]]
-        for c in range(k):
-            kkt[r, c] = sums[kept[r], kept[c]]
-    hp = np.zeros((p, s, n))  # C_i P_i
+    hp = np.zeros((s, n, p))  # C_i P_i
     for i in range(p if s else 0):
-        proj = projectors[i]
         for t in range(s):
             for a in range(n):
                 acc = 0.0
                 for b in range(n):
-                    acc += hard[t, i, b] * proj[b, a]
-                hp[i, t, a] = acc
-                target[k + t] -= hard[t, i, a] * particular[i, a]
+                    acc += hard[t, i, b] * projectors[b, a, i]
+                hp[t, a, i] = acc
+                target[k + t] -= hard[t, i, a] * particular[a, i]
             for r in range(k):
-                value = hp[i, t, kept[r]]  # (P C^T)[kept r, t] by symmetry of P
+                value = hp[t, kept[r], i]  # (P C^T)[kept r, t] by symmetry of P
                 kkt[r, k + t] += value
                 kkt[k + t, r] += value
             for u in range(s):
                 acc = 0.0
                 for a in range(n):
-                    acc += hp[i, t, a] * hard[u, i, a]
+                    acc += hp[t, a, i] * hard[u, i, a]
                 kkt[k + t, k + u] += acc
     if size == 0:
-        forces[:, :] = particular
+        forces[:, :] = particular.T
         return 0
     kkt_inv, cond = invert(kkt)
     if cond > ILL_CONDITIONED:
         return 2
     multipliers = mv(kkt_inv, target)
-    for i in range(p):
-        for a in range(n):
-            value = particular[i, a]
-            for r in range(k):
-                value += projectors[i, a, kept[r]] * multipliers[r]
-            for t in range(s):
-                value += hp[i, t, a] * multipliers[k + t]
-            forces[i, a] = value
+    value = np.empty(p)
+    for a in range(n):  # side by side over the chains
+        value[:] = particular[a]
+        for r in range(k):
+            m = multipliers[r]
+            proj = projectors[a, kept[r]]
+            for i in range(p):
+                value[i] += proj[i] * m
+        for t in range(s):
+            m = multipliers[k + t]
+            for i in range(p):
+                value[i] += hp[t, a, i] * m
+        for i in range(p):
+            forces[i, a] = value[i]
     return 0
+
+
+@njit(cache=True)
+def _chain_sum(values: np.ndarray) -> float:
+    """Sum of ``values`` in four interleaved partial sums (independent additions)."""
+    count = values.shape[0]
+    s0, s1, s2, s3 = 0.0, 0.0, 0.0, 0.0
+    end = count - count % 4
+    for i in range(0, end, 4):
+        s0 += values[i]
+        s1 += values[i + 1]
+        s2 += values[i + 2]
+        s3 += values[i + 3]
+    for i in range(end, count):
+        s0 += values[i]
+    return (s0 + s1) + (s2 + s3)
 
 
 @njit(cache=True)
@@ -330,7 +344,7 @@ def partitioned_solve(
     m = plan.shape[0]
     transforms = np.zeros((p, n, n))  # F_i = T_i f_i + w_i, T_i (n, d_i) padded to n columns
     offsets = np.zeros((p, n))
-    width = rows.shape[1]
+    width = rows.shape[0]
     block = np.empty((width, width))
     scratch = np.empty((width, width))
     inverse = np.empty((width, width))
@@ -343,18 +357,18 @@ def partitioned_solve(
         if l_i:
             for r in range(l_i):
                 for c in range(l_i):
-                    block[r, c] = rows[i, r, cfs[c]]
+                    block[r, c] = rows[r, cfs[c], i]
             if inverse_into(block, l_i, scratch, inverse) > ILL_CONDITIONED:
                 return 2
             for r in range(l_i):  # Q = -G_b^-1 G_a, u = G_b^-1 t
                 acc = 0.0
                 for c in range(l_i):
-                    acc += inverse[r, c] * rhs[i, c]
+                    acc += inverse[r, c] * rhs[c, i]
                 offsets[i, cfs[r]] = acc
                 for c in range(d_i):
                     acc = 0.0
                     for t in range(l_i):
-                        acc += inverse[r, t] * rows[i, t, free[c]]
+                        acc += inverse[r, t] * rows[t, free[c], i]
                     transforms[i, cfs[r], c] = -acc
     a_rows = np.zeros((k, m))
     a_rhs = np.empty(k)

@@ -39,6 +39,55 @@ from .linalg import CONSTRAINT_TOL, ROUNDING
 
 
 @njit(cache=True)
+def _ball_entry(axis: int, row: int, d0: float, d1: float, d2: float) -> float:
+    """Entry ``row`` (``x y z rx ry rz``) of a point contact's column ``(e_axis x d, e_axis)``."""
+    if row >= 3:
+        return 1.0 if row - 3 == axis else 0.0
+    if axis == 0:
+        return (0.0, -d2, d1)[row]
+    if axis == 1:
+        return (d2, 0.0, -d0)[row]
+    return (-d1, d0, 0.0)[row]
+
+
+@njit(cache=True)
+def _shared_ball_columns(
+    header: np.ndarray,
+    ball_start: int,
+    axis_rows: np.ndarray,
+    offsets: np.ndarray,
+    fulls: np.ndarray,
+    rows: np.ndarray,
+) -> None:
+    """The ball columns of chains that share their ball axes, side by side over the chains.
+
+    ``header`` is the first chain's row of the chain table; ``offsets`` (3, p) each chain's
+    offset ``d`` from {A_i} to {B} in {O}. Writes the columns (QR order, after the own
+    constrained joints) into ``fulls`` and the chains' rows.
+    """
+    c_i, nb = header[C_CON], header[NB_BALL]
+    K = fulls.shape[0] - 4
+    for j in range(nb):
+        axis = header[ball_start + j]
+        slot = c_i + j
+        fulls[K + 3, slot, :] = 0.0
+        for a in range(axis_rows.shape[0]):
+            row = axis_rows[a]
+            out, out_rows = fulls[slot, a], rows[slot, a]
+            if row >= 3 or row == axis:
+                value = 1.0 if row - 3 == axis else 0.0
+                out[:] = value
+                out_rows[:] = value
+                continue
+            # e_axis x d: entry row of (0, -d2, d1), (d2, 0, -d0) or (-d1, d0, 0)
+            sign = 1.0 if (row - axis) % 3 == 2 else -1.0
+            values = offsets[3 - axis - row]
+            for i in range(values.shape[0]):
+                out[i] = sign * values[i]
+                out_rows[i] = out[i]
+
+
+@njit(cache=True)
 def distribute(
     jacobian_world: np.ndarray,
     frames: np.ndarray,
@@ -86,18 +135,23 @@ def distribute(
         layout: ``(4,)`` widths K, C, L, D of the column blocks of ``chain_ints``.
 
     Returns:
-        ``(forces (p, n), tau (nv, 0 at limp and passive joints), passive (nv), produced (n),
-        requested (n, free axes: produced), residual, |wrench| on prescribed axes, status,
-        worst chain ratio, worst chain)``.
+        ``(out, residual, |wrench| on prescribed axes, rounding, status, worst chain ratio,
+        worst chain)``; ``out`` holds, one after the other, the forces (p x n, row-major), tau
+        (nv, 0 at limp and passive joints), the passive torques (nv), produced (n) and
+        requested (n, free axes: produced).
 
     """
     n = axis_rows.shape[0]
     p = chain_ints.shape[0]
     nv = jacobian_world.shape[1]
     K = chain_signs.shape[1]
-    forces = np.zeros((p, n))
-    tau = np.zeros(nv)
-    passive = np.zeros(nv)
+    # one output buffer (one array to hand back): forces, tau, passive, produced, requested
+    out = np.zeros(p * n + 2 * nv + 2 * n)
+    forces = out[: p * n].reshape((p, n))
+    tau = out[p * n : p * n + nv]
+    passive = out[p * n + nv : p * n + 2 * nv]
+    produced = out[p * n + 2 * nv : p * n + 2 * nv + n]
+    requested = out[p * n + 2 * nv + n :]
     # -- the tick's kinematics, in {O} at {B}'s origin ---------------------------------------
     b, o = frame_rows[0], frame_rows[1]
     rot_o = np.empty((3, 3))
@@ -115,26 +169,32 @@ def distribute(
             for k in range(3):
                 s += rot_o[k, r] * shift[k, c]
             transform[r, 3 + c] = s
-    jac_t = np.empty((nv, n))  # the Jacobian in {O}, one row per velocity index
-    for v in range(nv):
-        for a in range(n):
-            row = axis_rows[a]
-            s = 0.0
-            for k in range(6):
-                s += transform[row, k] * jacobian_world[k, v]
-            jac_t[v, a] = s
+    jac_t = np.empty((n, nv))  # the Jacobian in {O}, one row per selected axis
+    for a in range(n):
+        row = axis_rows[a]
+        t0, t1, t2 = transform[row, 0], transform[row, 1], transform[row, 2]
+        t3, t4, t5 = transform[row, 3], transform[row, 4], transform[row, 5]
+        for v in range(nv):
+            jac_t[a, v] = (
+                t0 * jacobian_world[0, v]
+                + t1 * jacobian_world[1, v]
+                + t2 * jacobian_world[2, v]
+                + t3 * jacobian_world[3, v]
+                + t4 * jacobian_world[4, v]
+                + t5 * jacobian_world[5, v]
+            )
     for v in range(nv):
         if springs[v, 2] >= 0:
             iq = int(springs[v, 2])
             angle = np.arctan2(q[iq + 1], q[iq]) if springs[v, 3] > 0 else q[iq]
             passive[v] = -springs[v, 0] * (angle - springs[v, 1])
-    # -- natural constraint rows per chain -----------------------------------------------------
-    rows = np.zeros((p, max(layout[2], 1), n))
-    rhs = np.zeros((p, max(layout[2], 1)))
+    # -- natural constraint rows per chain (chain index last, like the batch) -----------------
+    width = max(layout[2], 1)
+    rows = np.zeros((width, n, p))
+    rhs = np.zeros((width, p))
     worst, worst_chain = np.inf, -1
     columns = np.zeros((K + 3, n))  # a chain's columns, one per row
     null_buffer = np.zeros((n, n))
-    column = np.zeros(6)
     work = np.empty((n, K + 3))
     basis = np.empty((n, n))
     used = np.zeros(K + 3, dtype=np.bool_)
@@ -142,92 +202,111 @@ def distribute(
     best_vec = np.empty(n)
     # mode 0, chains of full column rank: projector and particular solution from one QR, the
     # chains of one shape (columns, constraint columns) side by side in full_rank_batch
-    projectors = np.empty((p, n, n))
-    particular = np.zeros((p, n))
+    projectors = np.empty((n, n, p))
+    particular = np.zeros((n, p))
     state = np.full(p, -1, dtype=np.int64)  # -1 general, key >= 0 awaiting batch, -2 done
     batch = mode == 0 and p >= BATCH_CHAINS
     batch_size = p if batch else 0
     # fast chains: columns in QR order, chains last; row K + 3: right-hand sides of the rows
     fulls = np.empty((K + 4, n, batch_size))
+    con_start = HEADER + K
+    ball_start = con_start + layout[1]
+    # every chain fast with the same constrained count and ball axes: the ball columns are
+    # written side by side over the chains after the loop, from the offsets
+    shared = batch
+    for i in range(p if batch else 0):
+        nb = chain_ints[i, NB_BALL]
+        if not (
+            chain_ints[i, RANK] == chain_ints[i, K_COLS] + nb
+            and chain_ints[i, C_CON] == chain_ints[0, C_CON]
+            and nb == chain_ints[0, NB_BALL]
+        ):
+            shared = False
+            break
+        for j in range(nb):
+            if chain_ints[i, ball_start + j] != chain_ints[0, ball_start + j]:
+                shared = False
+    offsets = np.empty((3, p if shared else 0))
     for i in range(p):
         k_i = chain_ints[i, K_COLS]
         c_i = chain_ints[i, C_CON]
         nb = chain_ints[i, NB_BALL]
         rank = chain_ints[i, RANK]
+        fast = batch and rank > 0 and rank == k_i + nb
+        d0, d1, d2 = 0.0, 0.0, 0.0
+        if nb:  # offset from {A_i} to {B} in {O}
+            a_row = frame_rows[2 + i]
+            dx = frames[b, 9] - frames[a_row, 9]
+            dy = frames[b, 10] - frames[a_row, 10]
+            dz = frames[b, 11] - frames[a_row, 11]
+            d0 = rot_o[0, 0] * dx + rot_o[1, 0] * dy + rot_o[2, 0] * dz
+            d1 = rot_o[0, 1] * dx + rot_o[1, 1] * dy + rot_o[2, 1] * dz
+            d2 = rot_o[0, 2] * dx + rot_o[1, 2] * dy + rot_o[2, 2] * dz
+        if fast:
+            # QR order: own constrained joints, ball axes, then the free joints; the
+            # constraint columns are also the chain's first rows
+            m_c = c_i + nb
+            at = m_c
+            for j in range(k_i):
+                v, sign = chain_ints[i, HEADER + j], chain_signs[i, j]
+                slot = -1
+                for jj in range(c_i):
+                    if chain_ints[i, con_start + jj] == j:
+                        slot = jj
+                if slot < 0:
+                    slot = at
+                    at += 1
+                else:
+                    value = passive[v]
+                    rhs[slot, i] = value
+                    fulls[K + 3, slot, i] = value
+                for a in range(n):
+                    value = jac_t[a, v] * sign
+                    fulls[slot, a, i] = value
+                    if slot < c_i:
+                        rows[slot, a, i] = value
+            if shared:
+                offsets[0, i], offsets[1, i], offsets[2, i] = d0, d1, d2
+                state[i] = rank * (K + 4) + m_c
+                continue
+            for j in range(nb):
+                axis = chain_ints[i, ball_start + j]
+                fulls[K + 3, c_i + j, i] = 0.0
+                for a in range(n):
+                    value = _ball_entry(axis, axis_rows[a], d0, d1, d2)
+                    fulls[c_i + j, a, i] = value
+                    rows[c_i + j, a, i] = value
+            state[i] = rank * (K + 4) + m_c
+            continue
         for j in range(k_i):
             v, sign = chain_ints[i, HEADER + j], chain_signs[i, j]
             for a in range(n):
-                columns[j, a] = jac_t[v, a] * sign
-        # offset from {A_i} to {B} in {O}
-        a_row = frame_rows[2 + i]
-        dx = frames[b, 9] - frames[a_row, 9]
-        dy = frames[b, 10] - frames[a_row, 10]
-        dz = frames[b, 11] - frames[a_row, 11]
-        d0 = rot_o[0, 0] * dx + rot_o[1, 0] * dy + rot_o[2, 0] * dz
-        d1 = rot_o[0, 1] * dx + rot_o[1, 1] * dy + rot_o[2, 1] * dz
-        d2 = rot_o[0, 2] * dx + rot_o[1, 2] * dy + rot_o[2, 2] * dz
-        con_start = HEADER + K
-        ball_start = con_start + layout[1]
+                columns[j, a] = jac_t[a, v] * sign
         for j in range(nb):
             axis = chain_ints[i, ball_start + j]
-            for a in range(6):
-                column[a] = 0.0
-            # e_axis x d
-            if axis == 0:
-                column[1], column[2] = -d2, d1
-            elif axis == 1:
-                column[0], column[2] = d2, -d0
-            else:
-                column[0], column[1] = -d1, d0
-            column[3 + axis] = 1.0
             for a in range(n):
-                columns[k_i + j, a] = column[axis_rows[a]]
-        ratio = 1.0
-        fast = batch and rank > 0 and rank == k_i + nb
-        if fast:  # QR order: own constrained joints, ball axes, then the free joints
-            m_c = c_i + nb
-            for j in range(c_i):
-                position = chain_ints[i, con_start + j]
-                for a in range(n):
-                    fulls[j, a, i] = columns[position, a]
-                fulls[K + 3, j, i] = passive[chain_ints[i, HEADER + position]]
-            for j in range(nb):
-                for a in range(n):
-                    fulls[c_i + j, a, i] = columns[k_i + j, a]
-                fulls[K + 3, c_i + j, i] = 0.0
-            at = m_c
-            for j in range(k_i):
-                constrained = False
-                for jj in range(c_i):
-                    if chain_ints[i, con_start + jj] == j:
-                        constrained = True
-                if not constrained and at < rank:
-                    for a in range(n):
-                        fulls[at, a, i] = columns[j, a]
-                    at += 1
-            fast = at == rank
-        if fast:
-            state[i] = rank * (K + 4) + m_c
-            ratio = 1.0  # from the batch below
-        elif rank > 0:
-            null = null_buffer[: n - rank]
-            full = columns[: k_i + nb].T
-            ratio = null_rows(full, rank, null, work, basis, used, vec, best_vec)
-        if not fast and ratio < worst:
-            worst, worst_chain = ratio, i
+                columns[k_i + j, a] = _ball_entry(axis, axis_rows[a], d0, d1, d2)
         # rows: own constrained joints, ball axes, null directions
         for j in range(c_i):
             position = chain_ints[i, con_start + j]
+            rhs[j, i] = passive[chain_ints[i, HEADER + position]]
             for a in range(n):
-                rows[i, j, a] = columns[position, a]
-            rhs[i, j] = passive[chain_ints[i, HEADER + position]]
+                rows[j, a, i] = columns[position, a]
         for j in range(nb):
             for a in range(n):
-                rows[i, c_i + j, a] = columns[k_i + j, a]
-        if not fast:
-            for j in range(n - rank):
-                for a in range(n):
-                    rows[i, c_i + nb + j, a] = null_buffer[j, a]
+                rows[c_i + j, a, i] = columns[k_i + j, a]
+        ratio = 1.0
+        if rank > 0:
+            null = null_buffer[: n - rank]
+            full = columns[: k_i + nb].T
+            ratio = null_rows(full, rank, null, work, basis, used, vec, best_vec)
+        if ratio < worst:
+            worst, worst_chain = ratio, i
+        for j in range(n - rank):
+            for a in range(n):
+                rows[c_i + nb + j, a, i] = null_buffer[j, a]
+    if shared:
+        _shared_ball_columns(chain_ints[0], ball_start, axis_rows, offsets, fulls, rows)
     ill = False
     for i in range(batch_size):
         key = state[i]
@@ -244,24 +323,43 @@ def distribute(
                 count += 1
         c_b = chain_ints[i, RANK]
         m_c = chain_ints[i, C_CON] + chain_ints[i, NB_BALL]
-        if count == p:
-            q_b = fulls  # every chain: no copy (overwritten by the QR)
+        ratio_b = np.empty(count)
+        bound_b = np.empty(count)
+        if count == p:  # every chain: in place (fulls is overwritten by the QR)
+            full_rank_batch(
+                fulls,
+                c_b,
+                m_c,
+                fulls[K + 3],
+                ratio_b,
+                bound_b,
+                projectors,
+                particular,
+                rows[m_c : m_c + n - c_b],
+            )
         else:
             q_b = np.empty((c_b, n, count))
             for j in range(c_b):
                 for a in range(n):
                     for b in range(count):
                         q_b[j, a, b] = fulls[j, a, members[b]]
-        t_b = np.empty((m_c, count))
-        for j in range(m_c):
+            t_b = np.empty((m_c, count))
+            for j in range(m_c):
+                for b in range(count):
+                    t_b[j, b] = fulls[K + 3, j, members[b]]
+            proj_b = np.empty((n, n, count))
+            part_b = np.empty((n, count))
+            null_b = np.empty((n - c_b, n, count))
+            full_rank_batch(q_b, c_b, m_c, t_b, ratio_b, bound_b, proj_b, part_b, null_b)
             for b in range(count):
-                t_b[j, b] = fulls[K + 3, j, members[b]]
-        ratio_b = np.empty(count)
-        bound_b = np.empty(count)
-        proj_b = np.empty((n, n, count))
-        part_b = np.empty((n, count))
-        null_b = np.empty((n - c_b, n, count))
-        full_rank_batch(q_b, c_b, m_c, t_b, ratio_b, bound_b, proj_b, part_b, null_b)
+                chain = members[b]
+                for r in range(n):
+                    particular[r, chain] = part_b[r, b]
+                    for a in range(n):
+                        projectors[r, a, chain] = proj_b[r, a, b]
+                for j in range(n - c_b):
+                    for a in range(n):
+                        rows[m_c + j, a, chain] = null_b[j, a, b]
         for b in range(count):
             chain = members[b]
             state[chain] = -2
@@ -269,16 +367,8 @@ def distribute(
                 worst, worst_chain = ratio_b[b], chain
             if bound_b[b] > ILL_CONDITIONED:
                 ill = True
-            for r in range(n):
-                particular[chain, r] = part_b[r, b]
-                for a in range(n):
-                    projectors[chain, r, a] = proj_b[r, a, b]
-            for j in range(n - c_b):
-                for a in range(n):
-                    rows[chain, m_c + j, a] = null_b[j, a, b]
     if worst < NEAR_SINGULAR:
-        empty = np.zeros(n)
-        return forces, tau, passive, empty, empty, 0.0, 0.0, 0.0, 1, worst, worst_chain
+        return out, 0.0, 0.0, 0.0, 1, worst, worst_chain
     # -- hard rows: shared joints, constant design rows, equal torques --------------------------
     s0 = const_rows.shape[0]
     s1 = torque_rows.shape[0]
@@ -298,9 +388,9 @@ def distribute(
             va, vb = torque_rows[t, 0], torque_rows[t, 1]
             for i in range(p):
                 for a in range(n):
-                    value = torque_signs[t, 0, i] * jac_t[va, a]
+                    value = torque_signs[t, 0, i] * jac_t[a, va]
                     if vb >= 0:
-                        value -= torque_signs[t, 1, i] * jac_t[vb, a]
+                        value -= torque_signs[t, 1, i] * jac_t[a, vb]
                     hard[index, i, a] = value
             hard_rhs[index] = passive[va] if kind == 0 else 0.0
             index += 1
@@ -329,17 +419,15 @@ def distribute(
         )
     if status == 0 and constraint_error(rows, rhs, hard, hard_rhs, forces) > CONSTRAINT_TOL:
         status = 2  # an ill-conditioned elimination lost an exact row: numpy decides
-    produced = np.zeros(n)
-    requested = np.zeros(n)
     if status != 0:
-        return forces, tau, passive, produced, requested, 0.0, 0.0, 0.0, status, worst, worst_chain
+        return out, 0.0, 0.0, 0.0, status, worst, worst_chain
     for i in range(p):
         k_i = chain_ints[i, K_COLS]
         for j in range(k_i):
             v = chain_ints[i, HEADER + j]
             acc = 0.0
             for a in range(n):
-                acc += jac_t[v, a] * forces[i, a]
+                acc += jac_t[a, v] * forces[i, a]
             tau[v] += chain_signs[i, j] * acc * springs[v, 4]
         for a in range(n):
             produced[a] += forces[i, a]
@@ -355,7 +443,7 @@ def distribute(
         for a in range(n):
             force_peak = max(force_peak, abs(forces[i, a]))
     if not (np.isfinite(peak) and np.isfinite(force_peak)):
-        return forces, tau, passive, produced, requested, 0.0, 0.0, 0.0, 3, worst, worst_chain
+        return out, 0.0, 0.0, 0.0, 3, worst, worst_chain
     residual, request, output = 0.0, 0.0, 0.0
     if peak > 0.0:
         for a in range(n):
@@ -368,19 +456,7 @@ def distribute(
     # what the residual is compared with: tol times the request or what was produced,
     # whichever is larger, plus the rounding of chain forces that cancel each other
     scale = peak * np.sqrt(max(request, output))
-    return (
-        forces,
-        tau,
-        passive,
-        produced,
-        requested,
-        residual,
-        scale,
-        ROUNDING * force_peak,
-        0,
-        worst,
-        worst_chain,
-    )
+    return out, residual, scale, ROUNDING * force_peak, 0, worst, worst_chain
 
 
 __all__ = ["HEADER", "distribute"]

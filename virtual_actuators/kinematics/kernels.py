@@ -66,6 +66,19 @@ def _axis_rotation(ax: float, ay: float, az: float, c: float, s: float, out: np.
     out[2, 2] = c + az * az * t
 
 
+def revolute_terms(rotation: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """``P [axis]x`` (row by row) and ``P axis`` of a revolute joint: columns 15-26 of its row.
+
+    Args:
+        rotation: ``(3, 3)`` rotation ``P`` of the joint's placement in its parent.
+        axis: ``(3,)`` unit axis.
+
+    """
+    ax, ay, az = axis
+    skew = np.array(((0.0, -az, ay), (az, 0.0, -ax), (-ay, ax, 0.0)))
+    return np.concatenate(((rotation @ skew).ravel(), rotation @ axis))
+
+
 @njit(cache=True)
 def forward_kinematics(
     q: np.ndarray,
@@ -82,8 +95,9 @@ def forward_kinematics(
         q: ``(nq,)`` configuration (quaternions and (cos, sin) pairs of unit norm).
         joint_ints: ``(njoints, 3)`` parent joint, kind (see the constants) and ``idx_q`` of each
             joint; row 0 is the universe.
-        joint_floats: ``(njoints, 15)`` placement in the parent (rotation row by row,
-            translation) and the joint axis of 1-dof joints.
+        joint_floats: ``(njoints, 27)`` placement ``P`` in the parent (rotation row by row,
+            translation), the joint axis of 1-dof joints, and for revolute joints ``P [axis]x``
+            (row by row) and ``P axis`` (see :func:`revolute_terms`).
         velocity_joint: ``(nv,)`` joint of each velocity index.
         velocity_subspace: ``(nv, 6)`` that velocity's motion subspace column in the joint's
             frame (linear, angular).
@@ -97,7 +111,8 @@ def forward_kinematics(
 
     """
     njoints = joint_ints.shape[0]
-    joints = np.zeros((njoints, 12))
+    joints = np.empty((njoints, 12))
+    joints[0] = 0.0
     joints[0, 0] = 1.0
     joints[0, 4] = 1.0
     joints[0, 8] = 1.0
@@ -107,31 +122,48 @@ def forward_kinematics(
         parent = joint_ints[j, 0]
         kind = joint_ints[j, 1]
         iq = joint_ints[j, 2]
-        ax, ay, az = joint_floats[j, 12], joint_floats[j, 13], joint_floats[j, 14]
-        tx, ty, tz = 0.0, 0.0, 0.0
-        if kind == REVOLUTE:
-            _axis_rotation(ax, ay, az, np.cos(q[iq]), np.sin(q[iq]), motion)
-        elif kind == REVOLUTE_UNBOUNDED:
-            _axis_rotation(ax, ay, az, q[iq], q[iq + 1], motion)
-        elif kind == PRISMATIC:
-            motion[:, :] = 0.0
-            motion[0, 0] = 1.0
-            motion[1, 1] = 1.0
-            motion[2, 2] = 1.0
-            tx, ty, tz = ax * q[iq], ay * q[iq], az * q[iq]
-        elif kind == FREE_FLYER:
-            tx, ty, tz = q[iq], q[iq + 1], q[iq + 2]
-            _quaternion_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6], motion)
-        else:  # SPHERICAL
-            _quaternion_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3], motion)
-        # local placement = joint placement * joint motion
-        for r in range(3):
-            p0 = joint_floats[j, 3 * r]
-            p1 = joint_floats[j, 3 * r + 1]
-            p2 = joint_floats[j, 3 * r + 2]
-            for c in range(3):
-                local[3 * r + c] = p0 * motion[0, c] + p1 * motion[1, c] + p2 * motion[2, c]
-            local[9 + r] = p0 * tx + p1 * ty + p2 * tz + joint_floats[j, 9 + r]
+        if kind == REVOLUTE or kind == REVOLUTE_UNBOUNDED:
+            # P R(axis, angle) = c P + s P [axis]x + (1 - c) (P axis) axis^T, from the tables
+            if kind == REVOLUTE:
+                c, s = np.cos(q[iq]), np.sin(q[iq])
+            else:
+                c, s = q[iq], q[iq + 1]
+            t = 1.0 - c
+            ax, ay, az = joint_floats[j, 12], joint_floats[j, 13], joint_floats[j, 14]
+            for r in range(3):
+                tu = t * joint_floats[j, 24 + r]
+                local[3 * r] = (
+                    c * joint_floats[j, 3 * r] + s * joint_floats[j, 15 + 3 * r] + tu * ax
+                )
+                local[3 * r + 1] = (
+                    c * joint_floats[j, 3 * r + 1] + s * joint_floats[j, 16 + 3 * r] + tu * ay
+                )
+                local[3 * r + 2] = (
+                    c * joint_floats[j, 3 * r + 2] + s * joint_floats[j, 17 + 3 * r] + tu * az
+                )
+                local[9 + r] = joint_floats[j, 9 + r]
+        else:
+            ax, ay, az = joint_floats[j, 12], joint_floats[j, 13], joint_floats[j, 14]
+            tx, ty, tz = 0.0, 0.0, 0.0
+            if kind == PRISMATIC:
+                motion[:, :] = 0.0
+                motion[0, 0] = 1.0
+                motion[1, 1] = 1.0
+                motion[2, 2] = 1.0
+                tx, ty, tz = ax * q[iq], ay * q[iq], az * q[iq]
+            elif kind == FREE_FLYER:
+                tx, ty, tz = q[iq], q[iq + 1], q[iq + 2]
+                _quaternion_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6], motion)
+            else:  # SPHERICAL
+                _quaternion_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3], motion)
+            # local placement = joint placement * joint motion
+            for r in range(3):
+                p0 = joint_floats[j, 3 * r]
+                p1 = joint_floats[j, 3 * r + 1]
+                p2 = joint_floats[j, 3 * r + 2]
+                for c in range(3):
+                    local[3 * r + c] = p0 * motion[0, c] + p1 * motion[1, c] + p2 * motion[2, c]
+                local[9 + r] = p0 * tx + p1 * ty + p2 * tz + joint_floats[j, 9 + r]
         # world placement = parent's world placement * local placement
         for r in range(3):
             p0, p1, p2 = joints[parent, 3 * r], joints[parent, 3 * r + 1], joints[parent, 3 * r + 2]
@@ -180,6 +212,21 @@ def forward_kinematics(
                 + joints[j, 9 + r]
             )
     return joints, jacobian, frames
+
+
+@njit(cache=True)
+def unit_norm_error(q: np.ndarray, bounds: np.ndarray) -> float:
+    """Largest ``| ||q[a:b]|| - 1 |`` over the ``(m, 2)`` slices ``bounds`` (-1: q not finite)."""
+    for i in range(q.shape[0]):
+        if not np.isfinite(q[i]):
+            return -1.0
+    worst = 0.0
+    for s in range(bounds.shape[0]):
+        acc = 0.0
+        for i in range(bounds[s, 0], bounds[s, 1]):
+            acc += q[i] * q[i]
+        worst = max(worst, abs(np.sqrt(acc) - 1.0))
+    return worst
 
 
 @njit(cache=True)
@@ -261,4 +308,6 @@ __all__ = [
     "SPHERICAL",
     "forward_kinematics",
     "relative_sensor",
+    "revolute_terms",
+    "unit_norm_error",
 ]

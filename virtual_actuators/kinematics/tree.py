@@ -62,7 +62,7 @@ class KinematicTree:
         self.model = model
         self.nq, self.nv, self.njoints = model.nq, model.nv, model.njoints
         joint_ints = np.zeros((model.njoints, 3), dtype=np.int64)
-        joint_floats = np.zeros((model.njoints, 15))
+        joint_floats = np.zeros((model.njoints, 27))
         velocity_joint = np.zeros(model.nv, dtype=np.int64)
         subspace = np.zeros((model.nv, 6))
         self.unsupported: list[str] = []
@@ -82,9 +82,12 @@ class KinematicTree:
             motion = np.asarray(joint_data.S).reshape(6, joint.nv)
             subspace[joint.idx_v : joint.idx_v + joint.nv] = motion.T
             if joint.nv == 1 and kind in (REVOLUTE, REVOLUTE_UNBOUNDED):
-                joint_floats[j, 12:] = motion[3:, 0]
+                joint_floats[j, 12:15] = motion[3:, 0]
+                joint_floats[j, 15:] = kernels.revolute_terms(
+                    model.jointPlacements[j].rotation, motion[3:, 0]
+                )
             elif joint.nv == 1 and kind == PRISMATIC:
-                joint_floats[j, 12:] = motion[:3, 0]
+                joint_floats[j, 12:15] = motion[:3, 0]
             if kind == FREE_FLYER:
                 unit_slices.append((joint.idx_q + 3, joint.idx_q + 7))
             elif joint.shortname() == "JointModelSpherical":
@@ -95,6 +98,7 @@ class KinematicTree:
         self._joint_ints, self._joint_floats = joint_ints, joint_floats
         self._velocity_joint, self._subspace = velocity_joint, subspace
         self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)
+        self._unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
         self._unit_index = np.array([i for a, b in unit_slices for i in range(a, b)], dtype=int)
         self._unit_groups = np.repeat(
             np.arange(len(unit_slices)), [b - a for a, b in unit_slices]
@@ -203,6 +207,10 @@ class KinematicTree:
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
                 f"({self.nq},) (model.nq)."
             )
+        if kernels.HAVE_NUMBA:  # finiteness and unit norms in one compiled pass
+            error = kernels.unit_norm_error(q, self._unit_bounds)
+            if error <= 1e-12 and error >= 0.0:
+                return q
         if not math.isfinite(q @ q) and not np.isfinite(q).all():  # dot: one fast check
             bad = np.flatnonzero(~np.isfinite(q)).tolist()
             raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")

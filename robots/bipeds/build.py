@@ -24,7 +24,7 @@ back relative to the thigh and the knee points forward, like a human knee.
 
 Sources quoted in the constants: ``[seed]`` is the seed paper (IJRR 2001); ``[IHMC]`` is the
 public reproduction of Spring Flamingo in IHMC's open robotics software ("springflamingo"
-example), as transcribed in /work/shared/REFERENCES.md; ``[estimate]`` marks our own choices.
+example, github.com/ihmcrobotics/ihmc-open-robotics-software); ``[estimate]`` marks our own choices.
 """
 
 from __future__ import annotations

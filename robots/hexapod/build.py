@@ -3,10 +3,10 @@
 This script is the single source of truth of the robot: run ``python robots/hexapod/build.py``
 to regenerate both files next to it. Every number is a named constant with its source:
 
-- "seed": /work/shared/seeds/000_68e77149977e5344.txt, section 3 ("Implementation on a
-  Hexapod") and the table of the seeds' numbers (3.8 kg, 45 cm long, stands 15 cm tall);
+- "seed": Pratt, Torres, Dilworth & Pratt, *Virtual Actuator Control* (1996), section 3
+  ("Implementation on a Hexapod"): 3.8 kg, 45 cm long, stands 15 cm tall;
 - "IHMC": the public reproduction of the 1996 hexapod (IHMC open robotics software,
-  "agileHexapod" example), whose numbers are transcribed in /work/shared/REFERENCES.md;
+  "agileHexapod" example, github.com/ihmcrobotics/ihmc-open-robotics-software);
 - "chosen": an assumption of this description, documented where it is made.
 
 Leg numbering (chosen): odd legs form one support tripod, even legs the other, so

@@ -303,12 +303,10 @@ class ParallelVirtualActuator:
             fast = self.qp.solve(snapshot, wrench, keep)
         elif compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)
+        fast_used = fast is not None and solver is self.partitioner  # the compiled kernel
         if fast is None:
-            fast_used = False
             fallback = self.dense if solver is self.partitioner else None
             fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
-        else:
-            fast_used = solver is not self.qp
         raw, (tau, passive_torque, produced, requested, residual, scale, rounding) = fast
         kind = raw.method
         missed = residual > tol * scale + rounding

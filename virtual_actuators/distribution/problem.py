@@ -171,30 +171,22 @@ class DistributionProblem:
             ConstraintError: A passive joint with nonzero stiffness that no selected axis loads.
 
         """
-        columns_norm = [
-            np.max(
-                [
-                    np.linalg.norm(s.jacobian_o[:, cols] * self.kinematics.chain_signs[i], axis=0)
-                    for s in states
-                ],
-                axis=0,
-            )
-            for i, (cols, _, _) in enumerate(per_chain)
-        ]
-        vacuous: set[int] = set()  # velocity indices
-        for i, (cols, own, _) in enumerate(per_chain):
-            norms = columns_norm[i]
+        unloaded = []  # per chain: the velocity columns no selected axis loads
+        for cols, _, _ in per_chain:
+            norms = np.max([np.linalg.norm(s.jacobian_o[:, cols], axis=0) for s in states], axis=0)
             floor = max(JACOBIAN_FLOOR, VACUOUS_TOL * float(norms.max(initial=0.0)))
-            vacuous.update(int(cols[j]) for j in own if norms[j] <= floor)
-        for v in self.coupled_v:
-            on = [(i, np.searchsorted(cols, v)) for i, (cols, _, _) in enumerate(per_chain)]
-            on = [(i, j) for i, j in on if j < len(per_chain[i][0]) and per_chain[i][0][j] == v]
-            if all(
-                columns_norm[i][j]
-                <= max(JACOBIAN_FLOOR, VACUOUS_TOL * float(columns_norm[i].max(initial=0.0)))
-                for i, j in on
-            ):
-                vacuous.add(int(v))
+            unloaded.append(set(cols[norms <= floor].tolist()))
+        vacuous = {  # velocity indices: own joints, and shared ones that no chain loads
+            int(cols[j])
+            for (cols, own, _), gone in zip(per_chain, unloaded, strict=True)
+            for j in own
+            if int(cols[j]) in gone
+        }
+        vacuous.update(
+            v
+            for v in self.coupled_v
+            if all(v in gone for (c, _, _), gone in zip(per_chain, unloaded, strict=True) if v in c)
+        )
         for v in sorted(vacuous):
             spring = self.passive_v.get(v)
             if spring is not None and spring[1] != 0.0:
@@ -271,12 +263,13 @@ class DistributionProblem:
         c = group.constrained.shape[1]
         if row < c:
             v = group.columns[j, group.constrained[j, row]]
-            return f"the torque constraint of joint {self._joint_name(v)!r}"
+            return f"the torque constraint of joint {self.joint_name(v)!r}"
         if row < c + len(group.ball_axes):
             return f"zero moment {AXES[3 + group.ball_axes[row - c]]} at the point contact"
         return "a direction the chain cannot produce"
 
-    def _joint_name(self, v: int) -> str:
+    def joint_name(self, v: int) -> str:
+        """Name of the joint that owns velocity index ``v``."""
         for j in range(1, self.model.njoints):
             joint = self.model.joints[j]
             if joint.idx_v <= v < joint.idx_v + joint.nv:
@@ -287,7 +280,7 @@ class DistributionProblem:
         rows = design_rows(design, self.kinematics, self.reactions, self.axes)
         self.constant_rows, self.constant_rhs = rows.constant_rows, rows.constant_rhs
         self.torque_pairs = rows.torque_pairs
-        coupled_names = [f"torque of shared joint {self._joint_name(v)!r}" for v in self.coupled_v]
+        coupled_names = [f"torque of shared joint {self.joint_name(v)!r}" for v in self.coupled_v]
         self.hard_names = coupled_names + rows.constant_names + rows.torque_names
         self.num_hard = len(self.hard_names)
         #: True when no hard row depends on the configuration

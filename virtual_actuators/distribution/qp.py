@@ -129,6 +129,15 @@ class ContactLimits:
             self.friction is not None or self.min_normal > 0.0 or bool(self.soles)
         )
         self._row_names: list[str] | None = None
+        # the cone's scatter into (chain, face, p n) and its bounds depend on the declaration only
+        faces = 5 if self.friction is not None else 1
+        chains = np.arange(problem.p)[:, None, None]
+        self._cone_index = (
+            chains,
+            np.arange(faces)[None, :, None],
+            chains * problem.n + np.asarray(self.force_axes, dtype=int)[None, None, :],
+        )
+        self._cone_lows = np.tile([self.min_normal] + [0.0] * (faces - 1), problem.p)
 
     def _reaction(self, name: object, what: str) -> int:
         if name not in self.problem.reactions:
@@ -165,7 +174,7 @@ class ContactLimits:
                 names.append(f"{self.names[i]}: moment {label} <= {half:g} f_n")
                 names.append(f"{self.names[i]}: moment {label} >= -{half:g} f_n")
         for v, limit in zip(self.limited_v, self.limits, strict=True):
-            names.append(f"torque {self.problem._joint_name(int(v))}: |tau| <= {limit:g}")
+            names.append(f"torque {self.problem.joint_name(int(v))}: |tau| <= {limit:g}")
         return names
 
     def rows(
@@ -193,16 +202,11 @@ class ContactLimits:
                 mu_normal = self.friction * normals_o
                 vectors += [mu_normal - tangent1, mu_normal + tangent1]
                 vectors += [mu_normal - tangent2, mu_normal + tangent2]
-            stacked = np.stack(vectors, axis=1)  # (p, m, 3)
-            m = stacked.shape[1]
-            cone = np.zeros((p, m, p * n))
-            chains = np.arange(p)[:, None, None]
-            columns = chains * n + np.asarray(self.force_axes)[None, None, :]
-            cone[chains, np.arange(m)[None, :, None], columns] = stacked[
-                :, :, self.force_components
-            ]
-            blocks.append(cone.reshape(p * m, p * n))
-            lows.append(np.tile([self.min_normal] + [0.0] * (m - 1), p))
+            stacked = np.stack(vectors, axis=1)  # (p, faces, 3)
+            cone = np.zeros((p, stacked.shape[1], p * n))
+            cone[self._cone_index] = stacked[:, :, self.force_components]
+            blocks.append(cone.reshape(-1, p * n))
+            lows.append(self._cone_lows)
         if self.soles and self.moment_axes:
             offsets = state.offsets_o()  # (p, 3): from {A_i} to {B} in {O}
             for i, sole in self.soles.items():
@@ -295,6 +299,9 @@ class QPDistribution:
         self.problem = problem
         self.limits = limits
         self._local = threading.local()
+        self._identity = np.eye(problem.p * problem.n)
+        #: per set of prescribed axes: the rows summing the chains' forces on them
+        self._selects: dict[bytes, np.ndarray] = {}
 
     def _workspace(self, stage: str, n_var: int, n_eq: int, n_in: int) -> list:
         from proxsuite import proxqp
@@ -380,10 +387,13 @@ class QPDistribution:
             1e-300,
         )
         target = wrench[kept] / scale
-        select = np.zeros((len(kept), p * n))
-        for r, axis in enumerate(kept):
-            select[r, axis::n] = 1.0
-        identity = np.eye(p * n)
+        select = self._selects.get(keep.tobytes())
+        if select is None:
+            select = np.zeros((len(kept), p * n))
+            for r, axis in enumerate(kept):
+                select[r, axis::n] = 1.0
+            self._selects[keep.tobytes()] = select
+        identity = self._identity
         # 1. the request exactly, least force norm (the usual case: one solve)
         qp = self._run(
             "exact", identity, np.zeros(p * n), np.vstack((equality, select)),

@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import resolve_frame
+from ..vocabulary.frames import as_float_array, resolve_frame
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 
@@ -201,7 +201,7 @@ class KinematicTree:
 
         """
         if not (isinstance(q, np.ndarray) and q.dtype == np.float64):
-            q = _as_real_array(q, "Configuration q", self.nq)
+            q = as_float_array(q, "Configuration q", f"an array of {self.nq} real numbers")
         if q.shape != (self.nq,):
             raise InvalidInputError(
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
@@ -244,7 +244,7 @@ class KinematicTree:
 
         """
         if not (isinstance(v, np.ndarray) and v.dtype == np.float64):
-            v = _as_real_array(v, "Velocity v", self.nv)
+            v = as_float_array(v, "Velocity v", f"an array of {self.nv} real numbers")
         if v.shape != (self.nv,):
             raise InvalidInputError(
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
@@ -263,25 +263,6 @@ class KinematicTree:
 
 
 _TREES_LOCK = threading.Lock()
-
-
-def _as_real_array(values: object, what: str, size: int) -> np.ndarray:
-    """``values`` as a float64 array; complex, bool and non-numeric input is rejected.
-
-    Raises:
-        InvalidInputError: ``values`` is not an array of real numbers.
-
-    """
-    array = None
-    if not isinstance(values, (str, bytes, dict, set)):
-        try:
-            array = np.asarray(values)
-        except (TypeError, ValueError):
-            array = None
-    if array is None or array.dtype.kind not in "iuf":
-        got = type(values).__name__ if array is None else f"an array of dtype {array.dtype}"
-        raise InvalidInputError(f"{what} must be an array of {size} real numbers, got {got}.")
-    return array.astype(float, copy=False)
 
 
 def tree_of(robot: object) -> KinematicTree:

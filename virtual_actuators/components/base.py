@@ -29,6 +29,8 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..vocabulary.frames import as_float_array, check_name, parse_axes
 
+_REALS = frozenset((float, int, np.float64))  # entries taken without conversion checks
+
 
 class Component(ABC):
     """A virtual component acting on some axes of a virtual actuator.
@@ -83,10 +85,21 @@ class Component(ABC):
                 dict, a bool, a complex number), or is NaN (or infinite unless ``allow_inf``).
 
         """
-        if isinstance(value, (float, int)) and not isinstance(value, bool):  # fast path
+        kind = type(value)
+        if kind is float or kind is int:  # fast paths: set points move every tick
             number = float(value)
             if number == number and (allow_inf or math.isfinite(number)):
                 return np.full(len(self.axes), number)
+        elif (kind is tuple or kind is list) and len(value) == len(self.axes):
+            if all(type(x) in _REALS for x in value):
+                array = np.array(value, dtype=float)
+                total = float(array.sum())  # NaN or inf if any entry is
+                if math.isfinite(total) or (allow_inf and total == total):
+                    return array
+        elif kind is np.ndarray and value.shape == (len(self.axes),) and value.dtype == float:
+            total = float(value.sum())
+            if math.isfinite(total) or (allow_inf and total == total):
+                return value.copy()
         expected = f"a real number or one real number per axis {self.axes}"
         array = as_float_array(value, f"{self.name}: {what}", expected, copy=True)
         if array.ndim == 0:

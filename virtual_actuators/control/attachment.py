@@ -71,6 +71,24 @@ class Attachment:
         force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
         self.force_columns = np.array([i for i, _ in force_axes], dtype=int)
         self.force_components = np.array([k for _, k in force_axes], dtype=int)
+        if self.friction is None:
+            return
+        # Friction pyramid per chain: rows (normal, mu n -+ t1, mu n -+ t2) of the reaction
+        # frame's axes, i.e. ``pyramid @ [t1 t2 n]``; written into a (5 p, p n) block whose
+        # entries sit at ``cone_index`` (chain c's rows only touch chain c's force columns).
+        mu = self.friction
+        self.pyramid = np.array(
+            ((0.0, 0.0, 1.0), (-1.0, 0.0, mu), (1.0, 0.0, mu), (0.0, -1.0, mu), (0.0, 1.0, mu))
+        )
+        chain = np.arange(p)[:, None, None]
+        row = 5 * chain + np.arange(5)[None, :, None]
+        column = chain * n + self.force_columns[None, None, :]
+        bound = self.bound_rows.shape[0]
+        self.cone_index = ((bound + row) * (p * n) + column).ravel()
+        self.cone_template = np.vstack((self.bound_rows, np.zeros((5 * p, p * n))))
+        self.cone_lows = np.concatenate(
+            (self.bound_lows, np.tile([self.min_normal, 0.0, 0.0, 0.0, 0.0], p))
+        )
 
     @property
     def axes(self) -> tuple[str, ...]:

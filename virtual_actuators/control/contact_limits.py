@@ -25,24 +25,13 @@ def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndar
     """
     if attachment.friction is None:
         return attachment.bound_rows, attachment.bound_lows
-    actuator = attachment.actuator
-    p, n = actuator.p, actuator.n
-    state = actuator.kinematics.compute(snapshot)
-    rotation_o, rotations = state.rotation_o, state.rotation_a
-    # reaction frames' axes in {O}, restricted to the actuator's force axes: (p, m, 3)
+    rotation_o, rotations = attachment.actuator.kinematics.rotations(snapshot)
+    # reaction frames' axes (columns t1, t2, n) in {O}, on the actuator's force axes: (p, m, 3)
     frames_o = (rotation_o.T @ rotations)[:, attachment.force_components, :]
-    normal, first, second = frames_o[..., 2], frames_o[..., 0], frames_o[..., 1]
-    mu_normal = attachment.friction * normal
-    vectors = np.stack(
-        (normal, mu_normal - first, mu_normal + first, mu_normal - second, mu_normal + second),
-        axis=1,
-    )  # (p, 5, m)
-    cone = np.zeros((p, 5, p, n))
-    chains = np.arange(p)[:, None, None]
-    cone[chains, np.arange(5)[None, :, None], chains, attachment.force_columns] = vectors
-    cone_lows = np.tile([attachment.min_normal, 0.0, 0.0, 0.0, 0.0], p)
-    rows = np.vstack((attachment.bound_rows, cone.reshape(5 * p, p * n)))
-    return rows, np.concatenate((attachment.bound_lows, cone_lows))
+    vectors = attachment.pyramid @ frames_o.transpose(0, 2, 1)  # (p, 5, m)
+    rows = attachment.cone_template.copy()
+    rows.flat[attachment.cone_index] = vectors.ravel()
+    return rows, attachment.cone_lows
 
 
 def enforce_unilateral(

@@ -117,7 +117,7 @@ class Context:
 
         """
         rotation = self.snapshot.placement(frame)[0]
-        return float(np.arctan2(rotation[0, 2], rotation[0, 0]))
+        return math.atan2(float(rotation[0, 2]), float(rotation[0, 0]))
 
     def frame_velocity(self, frame: str) -> np.ndarray:
         """Linear velocity of a frame's origin in world axes [m/s].

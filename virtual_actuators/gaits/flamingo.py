@@ -339,7 +339,7 @@ class FlamingoWalker(Gait):
 
     def _update_height(self, context: Context) -> None:
         p = self.parameters
-        body = context.frame_position("body")
+        body_x = float(context.frame_position("body")[0])
         single = context.state != "double_support"
         if single and p.level_single_support:
             # Climb (or descend) in double support only: with x free over a limp ankle, every
@@ -347,10 +347,10 @@ class FlamingoWalker(Gait):
             self.granny.velocity_setpoint = (0.0, 0.0)
             self._height_time = context.time
             return
-        target = self.slope_height(body[0]) + self.hip_height
+        target = self.slope_height(body_x) + self.hip_height
         step = p.height_rate * max(context.time - self._height_time, 0.0)
         current = self.granny.height
-        self.granny.height = current + float(np.clip(target - current, -step, step))
+        self.granny.height = current + min(max(target - current, -step), step)
         self._height_time = context.time
         xdot = float(context.frame_velocity("body")[0])
         self.granny.velocity_setpoint = (xdot * math.tan(self.slope), 0.0)
@@ -422,8 +422,8 @@ class FlamingoWalker(Gait):
             # longer steps when too fast: longer double support (braking) and a hip further
             # behind the next stance ankle; shorter when too slow (Raibert-like)
             xdot = float(context.frame_velocity("body")[0])
-            target_x += float(
-                np.clip(p.step_gain * (xdot - p.speed), -0.4 * p.step_length, 0.6 * p.step_length)
+            target_x += min(
+                max(p.step_gain * (xdot - p.speed), -0.4 * p.step_length), 0.6 * p.step_length
             )
         x_target = self._swing_start[0] + (target_x - self._swing_start[0]) * (smoothstep(reach))
         surface = self.slope_height(x_target)
@@ -443,4 +443,6 @@ class FlamingoWalker(Gait):
         # The linkage works relative to the body, along world axes; the foot stays parallel
         # to the global slope: its pitch relative to the body is -slope - body pitch.
         body_pitch = context.frame_pitch("body")
-        self.swing[swing].place((x_target - body[0], z_target - body[2], -self.slope - body_pitch))
+        self.swing[swing].place(
+            (x_target - float(body[0]), z_target - float(body[2]), -self.slope - body_pitch)
+        )

@@ -23,6 +23,7 @@ falls to the ground (the turkey has no foot switches). Foot placement is never u
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,8 +59,8 @@ def lift_profile(phase: float, peak: float) -> float:
     """
     phase = min(max(phase, 0.0), 1.0)
     if phase < peak:
-        return float(np.sin(0.5 * np.pi * phase / peak))
-    return float(np.cos(0.5 * np.pi * (phase - peak) / (1.0 - peak)))
+        return math.sin(0.5 * math.pi * phase / peak)
+    return math.cos(0.5 * math.pi * (phase - peak) / (1.0 - peak))
 
 
 @dataclass
@@ -242,8 +243,8 @@ class TurkeyWalker(Gait):
         return self.state.split("_")[0] if self.state != "double_support" else "left"
 
     def _update_ground(self, context: Context, feet: list[str]) -> None:
-        heights = [context.frame_position(f"{side}_foot")[2] for side in feet]
-        self.ground = float(np.mean(heights)) - self.parameters.foot_radius
+        heights = [float(context.frame_position(f"{side}_foot")[2]) for side in feet]
+        self.ground = sum(heights) / len(heights) - self.parameters.foot_radius
         self.granny.height = self.ground + self.parameters.height
 
     def _enter_double(self, context: Context) -> None:
@@ -275,5 +276,5 @@ class TurkeyWalker(Gait):
             1.6 * phase
         )
         foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
-        z_rel = self.ground + p.foot_radius + foot_height - body[2]
+        z_rel = self.ground + p.foot_radius + foot_height - float(body[2])
         self.swing[other(stance)].place((x_rel, z_rel))

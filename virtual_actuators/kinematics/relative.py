@@ -103,8 +103,6 @@ class RelativeKinematics:
         self._axis_rows = np.asarray(self.rows, dtype=np.int64)
         self._sensor_rows = np.array([self._row_b, self._row_o, self._rows_a[0]], dtype=np.int64)
         self._sensor_rows_end = int(self._sensor_rows.max()) + 1  # frame rows the sensor reads
-        self._translation_only = bool(self.rows[-1] < 3)
-        self._all_translations = self.rows.tolist() == [0, 1, 2]
         action_joint = model.frames[self.action_id].parentJoint
         #: per chain, velocity indices between {A_i} and {B}, and +1 on {B}'s side of the
         #: path, -1 on {A_i}'s side (shared ancestors and other branches cancel)
@@ -198,6 +196,26 @@ class RelativeKinematics:
             snapshot=snapshot,
         )
 
+    def rotations(self, state: np.ndarray | Snapshot) -> tuple[np.ndarray, np.ndarray]:
+        """World orientations of {O} and of every {A_i}, without any Jacobian.
+
+        Args:
+            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(model.nq,)``.
+
+        Returns:
+            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views of the snapshot: do not
+            modify).
+
+        Raises:
+            InvalidInputError: A bad ``q``, or a snapshot of another robot.
+
+        """
+        snapshot = self.snapshot(state)
+        frames = snapshot.frame_table
+        if frames.shape[0] <= max(self._row_o, self._rows_a.max()):
+            frames = self._frames_of(snapshot)
+        return frames[self._row_o, :9].reshape(3, 3), frames[self._rows_a, :9].reshape(-1, 3, 3)
+
     def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> tuple:
         """A serial actuator's reading in one compiled call: Jacobian, position, velocity.
 
@@ -217,7 +235,7 @@ class RelativeKinematics:
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
-        jacobian, translation, rate, relative = kernels.relative_sensor(
+        jacobian, position, rate = kernels.relative_sensor(
             jacobian_world,
             frames,
             snapshot.v if velocity else _NO_VELOCITY,
@@ -226,15 +244,6 @@ class RelativeKinematics:
             self.chain_columns[0],
             self.chain_signs[0],
         )
-        if self._all_translations:
-            position = translation
-        elif self._translation_only:
-            position = translation[self.rows]
-        else:
-            rotation_o = frames[self._row_o, :9].reshape(3, 3)
-            rotation_a = frames[self._rows_a[0], :9].reshape(3, 3)
-            rotation = rotation_o.T @ (rotation_a @ pin.log3(relative))
-            position = np.concatenate((translation, rotation))[self.rows]
         return jacobian, position, rate if velocity else None
 
     def _frames_of(self, snapshot: Snapshot) -> np.ndarray:

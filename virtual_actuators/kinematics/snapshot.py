@@ -69,6 +69,7 @@ class Snapshot:
         "_frames",
         "_rows",
         "_extra",
+        "_velocities",
     )
 
     def __init__(
@@ -98,6 +99,7 @@ class Snapshot:
         self._frames = None
         self._rows: dict[int, int] = {}
         self._extra: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._velocities: dict[int, np.ndarray] = {}
 
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
@@ -195,6 +197,11 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
+        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
+        if frame_id is not None and self._frames is not None:  # fast path: a computed frame
+            row = self._rows.get(frame_id)
+            if row is not None:
+                return self._frames[row, 9:].copy()
         return self._placement(self._frame_id(frame))[1].copy()
 
     def frame_rotation(self, frame: int | str) -> np.ndarray:
@@ -217,10 +224,16 @@ class Snapshot:
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
         frame_id = self._frame_id(frame)
-        position = self._placement(frame_id)[1]
-        columns = self.tree.support_columns(self.tree.model.frames[frame_id].parentJoint)
-        twist = self.jacobian_world[:, columns] @ self.v[columns]
-        return twist[:3] + np.cross(twist[3:], position)
+        cached = self._velocities.get(frame_id)
+        if cached is None:
+            x, y, z = self._placement(frame_id)[1]
+            columns = self.tree.frame_columns(frame_id)
+            vx, vy, vz, wx, wy, wz = self.jacobian_world[:, columns] @ self.v[columns]
+            # the twist is at the world origin: the frame origin moves at v + w x p
+            cached = self._velocities[frame_id] = np.array(
+                (vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x)
+            )
+        return cached.copy()
 
     def __repr__(self) -> str:
         done = "computed" if self._jacobian is not None else "not computed yet"

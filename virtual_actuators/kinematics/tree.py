@@ -111,6 +111,7 @@ class KinematicTree:
             np.zeros((0, 12)),
         )
         self._support: dict[int, np.ndarray] = {}
+        self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
 
     def frame_id(self, name: str) -> int:
@@ -147,6 +148,14 @@ class KinematicTree:
     def frame_tables(self) -> tuple[dict[int, int], np.ndarray, np.ndarray]:
         """``(rows, parents, placements)`` of the frames computed at every tick."""
         return self._frames
+
+    def frame_columns(self, frame_id: int) -> np.ndarray:
+        """Velocity indices that move frame ``frame_id`` (its parent joint's support)."""
+        columns = self._frame_columns.get(frame_id)
+        if columns is None:
+            joint_id = self.model.frames[frame_id].parentJoint
+            columns = self._frame_columns[frame_id] = self.support_columns(joint_id)
+        return columns
 
     def support_columns(self, joint_id: int) -> np.ndarray:
         """Velocity indices of the joints from the root to ``joint_id`` (its support)."""

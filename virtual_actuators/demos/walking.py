@@ -12,6 +12,7 @@ below half its nominal height above the terrain, or when the body pitches beyond
 
 from __future__ import annotations
 
+import functools
 import math
 import time as wallclock
 from collections.abc import Callable
@@ -189,6 +190,7 @@ def run_walk(
     pitch_index = _index(robot, "boom_pitch")
     v_x = robot.model.joints[robot.model.getJointId("boom_x")].idx_v
     contact_frames = gait.contact_frames
+    nominal = gait.nominal_height()  # [m]
     bar = _progress(duration) if progress else None
     fall_time = None
     start = wallclock.perf_counter()
@@ -203,7 +205,7 @@ def run_walk(
         tick += 1
         x, z_world, pitch = q[x_index], q[z_index], q[pitch_index]
         ground = float(terrain_model.height(x))
-        fallen = fall_time is not None or _fallen(simulator, z_world - ground, pitch, gait)
+        fallen = fall_time is not None or _fallen(simulator, z_world - ground, pitch, nominal)
         if fallen and fall_time is None:
             fall_time = now
         wrench = _body_wrench(output)
@@ -264,11 +266,15 @@ def _body_wrench(output) -> np.ndarray:
     return np.zeros(3)
 
 
-def _fallen(simulator: Simulator, height: float, pitch: float, gait: Gait) -> bool:
-    if height < 0.5 * gait.nominal_height() or abs(pitch) > FALL_PITCH:
+def _fallen(simulator: Simulator, height: float, pitch: float, nominal: float) -> bool:
+    if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
         return True
-    touching = simulator.touching_terrain()
-    return any(not any(word in frame for word in FOOT_WORDS) for frame in touching)
+    return not all(map(_is_foot, simulator.touching_terrain()))
+
+
+@functools.cache
+def _is_foot(frame: str) -> bool:
+    return any(word in frame for word in FOOT_WORDS)
 
 
 def _progress(duration: float):

@@ -140,6 +140,7 @@ class Simulator:
         self.substeps = int(substeps)
         self._pushes: list[_Push] = []
         self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
+        self._pushing = False  # whether _applied holds anything
         self._force = np.zeros(6)
         self._owned_geoms: dict[str, frozenset[int]] = {}
         self._contacts: list[tuple[int, int, float]] = []
@@ -188,6 +189,7 @@ class Simulator:
         self.data.qvel[:] = qvel
         self._pushes.clear()
         self._applied[:] = 0.0
+        self._pushing = False
         mujoco.mj_forward(self.model, self.data)
         self._contacts_time = None
 
@@ -210,7 +212,7 @@ class Simulator:
         """
         ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
         self.data.ctrl[:] = ctrl
-        if not self._pushes and not np.any(self._applied):
+        if not self._pushes and not self._pushing:
             mujoco.mj_step(self.model, self.data, nstep=self.substeps)
             return
         for _ in range(self.substeps):
@@ -262,6 +264,7 @@ class Simulator:
             self._applied[push.body, :3] += push.force
             self._applied[push.body, 3:] += np.cross(lever, push.force)
         self.data.xfrc_applied[:] += self._applied
+        self._pushing = bool(self._pushes)
 
     # -- contacts --------------------------------------------------------------------------------
 

@@ -1,6 +1,9 @@
 """Virtual components (VMC section 3): springs, dampers and forces that act through actuators."""
 
 from .base import Component
+from .energy_tank import EnergyTank
+from .gravity import GravityCompensation
+from .inertance import Inertance
 from .springs import ConstantForce, Damper, Spring, SpringDamper
 from .walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 
@@ -9,7 +12,10 @@ __all__ = [
     "ConstantForce",
     "Damper",
     "DogtrackBunny",
+    "EnergyTank",
+    "GravityCompensation",
     "GrannyWalker",
+    "Inertance",
     "Spring",
     "SpringDamper",
     "SwingLegLinkage",

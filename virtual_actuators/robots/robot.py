@@ -8,6 +8,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
+from ..vocabulary.frames import as_float_array, check_number
+
 
 @dataclass(repr=False)
 class Robot:
@@ -52,6 +55,67 @@ class Robot:
         if self.default_pose is not None:
             return self.reference_configurations[self.default_pose].copy()
         return pin.neutral(self.model)
+
+    @property
+    def mass(self) -> float:
+        """Total mass of the robot [kg] (every link's inertia, the floating base's included)."""
+        return float(sum(inertia.mass for inertia in self.model.inertias))
+
+    def q(self, base: object = None, **joint_values: float) -> np.ndarray:
+        """A configuration from joint names: ``robot.q(knee_1=0.5, hip2_1=-0.2)``.
+
+        Joints not named keep their value in :meth:`neutral` (the standing / home pose).
+
+        Args:
+            base: Floating base pose: 7 numbers ``x y z qx qy qz qw`` (a unit quaternion), or
+                None to keep the neutral pose's.
+            **joint_values: Angle [rad] or position [m] per one-degree-of-freedom joint; a
+                continuous joint takes its angle (stored as ``cos, sin``).
+
+        Returns:
+            ``q`` of size ``model.nq``.
+
+        Raises:
+            JointNotFoundError: An unknown joint name (with close matches), or a joint with
+                more than one degree of freedom (the free-flyer: use ``base``).
+            InvalidInputError: A value that is not a finite real number, or a bad ``base``.
+
+        """
+        model = self.model
+        q = self.neutral()
+        if base is not None:
+            if not self.floating_base:
+                raise InvalidInputError(
+                    f"Robot {self.name!r} has a fixed base: base= does not apply."
+                )
+            pose = as_float_array(base, "base", "7 numbers x y z qx qy qz qw")
+            if pose.shape != (7,) or not np.all(np.isfinite(pose)):
+                raise InvalidInputError(f"base must be 7 finite numbers, got {base!r}.")
+            norm = float(np.linalg.norm(pose[3:]))
+            if abs(norm - 1.0) > 1e-6:
+                raise InvalidInputError(
+                    f"base: the quaternion (qx, qy, qz, qw) must have unit norm, got {norm:.6g}."
+                )
+            q[:7] = pose
+        names = list(model.names)
+        for name, value in joint_values.items():
+            if name not in names[1:]:
+                raise JointNotFoundError(
+                    f"Robot {self.name!r} has no joint {name!r}. "
+                    f"{suggestion(name, names[1:], 'joints')}"
+                )
+            joint = model.joints[names.index(name)]
+            angle = check_number(value, f"q(): {name}")
+            if joint.nq == 1:
+                q[joint.idx_q] = angle
+            elif joint.nq == 2 and joint.nv == 1:  # continuous: (cos, sin)
+                q[joint.idx_q : joint.idx_q + 2] = (np.cos(angle), np.sin(angle))
+            else:
+                raise JointNotFoundError(
+                    f"Joint {name!r} has {joint.nv} degrees of freedom: set it through q "
+                    "directly (or base= for the free-flyer)."
+                )
+        return q
 
     @property
     def frame_names(self) -> list[str]:

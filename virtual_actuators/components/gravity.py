@@ -1,0 +1,107 @@
+"""Gravity compensation: the joint efforts that hold (some of) the robot's links against gravity.
+
+``GravityCompensation(robot).torques(q)`` is Pinocchio's generalized gravity ``g(q)``: the
+efforts that make every link weightless. With ``links=[...]`` only those rigid bodies are
+compensated: each name (a link or a joint) selects the moving body it belongs to, i.e. the body
+of its parent joint, with every link welded to it by fixed joints (Pinocchio merges those into
+one inertia). The others keep their weight (a leg's gravity is compensated, the body's weight is
+left to the body's virtual actuator, for instance).
+
+The selection is declared once: a copy of the model with the inertias of the other bodies
+zeroed, so that one ``computeGeneralizedGravity`` call per tick gives exactly
+``sum_i m_i J_ci^T g`` over the selected bodies.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import InvalidInputError
+from ..kinematics.snapshot import Snapshot, thread_data
+from ..robots.robot import Robot
+from ..vocabulary.frames import check_names, check_robot, resolve_frame, resolve_joint
+
+
+class GravityCompensation:
+    """Joint efforts that cancel gravity on all links, or on some of them.
+
+    Args:
+        robot: The robot.
+        links: Names of links or joints whose bodies are compensated (see the module docstring);
+            None for the whole robot.
+
+    Raises:
+        InvalidInputError: ``robot`` is not a robot, or ``links`` is not a collection of names.
+        FrameNotFoundError: A name is neither a joint nor a frame of the model (with close
+            matches).
+
+    Example:
+        >>> gravity = va.GravityCompensation(robot)
+        >>> tau = controller.compute(q, v).tau + gravity.torques(q)
+
+    """
+
+    def __init__(self, robot: Robot, links: Sequence[str] | None = None) -> None:
+        check_robot(robot, "GravityCompensation")
+        self.robot = robot
+        model = robot.model
+        if links is None:
+            self.bodies: tuple[str, ...] = tuple(model.names[1:])
+            self.model = model
+        else:
+            names = check_names(links, "GravityCompensation: links (link or joint names)")
+            joints = sorted({_body_joint(model, name) for name in names})
+            self.bodies = tuple(model.names[j] for j in joints)
+            self.model = model.copy()
+            for j in range(model.njoints):
+                if j not in joints:
+                    self.model.inertias[j] = pin.Inertia.Zero()
+        self._floating = bool(robot.floating_base)
+
+    @property
+    def mass(self) -> float:
+        """Mass of the compensated bodies [kg]."""
+        return float(sum(inertia.mass for inertia in self.model.inertias))
+
+    def torques(self, q: np.ndarray | Snapshot) -> np.ndarray:
+        """Efforts ``(nv,)`` that hold the selected bodies against gravity [N m or N].
+
+        On a floating-base robot the first six entries are the wrench the base would need
+        (no joint can produce it: a legged robot carries its weight through its legs, e.g.
+        with the body actuator's z force).
+
+        Args:
+            q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+
+        Raises:
+            InvalidInputError: A bad ``q``, or a snapshot of another robot.
+
+        """
+        if isinstance(q, Snapshot):
+            if q.tree.model is not self.robot.model:
+                raise InvalidInputError(
+                    f"GravityCompensation: the snapshot is of robot "
+                    f"{getattr(q.robot, 'name', '?')!r}, not {self.robot.name!r}."
+                )
+            configuration = q.q
+        else:
+            configuration = Snapshot(self.robot, q).q  # checked: size, finite, numbers
+        data = thread_data(self.model)
+        return pin.computeGeneralizedGravity(self.model, data, configuration).copy()
+
+    def __repr__(self) -> str:
+        what = "all bodies" if self.model is self.robot.model else f"bodies {list(self.bodies)}"
+        return f"GravityCompensation(robot={self.robot.name!r}, {what}, {self.mass:.3f} kg)"
+
+
+def _body_joint(model: pin.Model, name: str) -> int:
+    """The joint whose moving body ``name`` (a joint or a link) belongs to."""
+    if name in list(model.names)[1:]:
+        return resolve_joint(model, name)
+    return int(model.frames[resolve_frame(model, name, "link")].parentJoint)
+
+
+__all__ = ["GravityCompensation"]

@@ -18,7 +18,17 @@ from .components import (
     SpringDamper,
     SwingLegLinkage,
 )
-from .control import Context, Controller, ControlOutput, State, StateMachine, Transition, events
+from .control import (
+    Context,
+    Controller,
+    ControlOutput,
+    RunStats,
+    State,
+    StateMachine,
+    Transition,
+    events,
+    run,
+)
 from .distribution.solution import Solution
 from .exceptions import (
     ConstraintError,
@@ -63,6 +73,7 @@ __all__ = [
     "GrannyWalker",
     "GravityCompensation",
     "Inertance",
+    "RunStats",
     "SensorReading",
     "Spring",
     "SpringDamper",
@@ -71,6 +82,7 @@ __all__ = [
     "SwingLegLinkage",
     "Transition",
     "events",
+    "run",
     "ConstraintError",
     "DesignConstraint",
     "Equal",

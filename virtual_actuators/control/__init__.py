@@ -2,6 +2,7 @@
 
 from . import events
 from .controller import Attachment, Controller, ControlOutput, velocity_names
+from .run_loop import RunStats, run
 from .state_machine import Context, State, StateMachine, Transition
 
 __all__ = [
@@ -9,9 +10,11 @@ __all__ = [
     "Context",
     "ControlOutput",
     "Controller",
+    "RunStats",
     "State",
     "StateMachine",
     "Transition",
     "events",
+    "run",
     "velocity_names",
 ]

@@ -14,6 +14,7 @@ from .conversions import (
     velocity_from_mujoco,
     velocity_to_mujoco,
 )
+from .hardware import MujocoHardware
 from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model
 from .simulator import Simulator
 from .terrain import Terrain
@@ -21,6 +22,7 @@ from .terrain import Terrain
 __all__ = [
     "ContactParameters",
     "JointMap",
+    "MujocoHardware",
     "MujocoModel",
     "Simulator",
     "Terrain",

@@ -56,6 +56,10 @@ class InadmissibleWrenchError(VirtualActuatorError, ValueError):
         self.solution = solution
 
 
+class MissingDependencyError(VirtualActuatorError, ImportError):
+    """An optional package this feature needs is missing (the message says what to install)."""
+
+
 def close_matches(name: str, candidates: Iterable[str], n: int = 5) -> list[str]:
     """Return the candidates closest to ``name``, best first.
 

@@ -132,6 +132,7 @@ def run_walk(
     progress: bool = True,
     on_tick: Callable[[Simulator, Gait], None] | None = None,
     stop_on_fall: bool = True,
+    seed: int | None = None,
 ) -> WalkResult:
     """Simulate one of the seeds' walks and measure it.
 
@@ -145,12 +146,15 @@ def run_walk(
         progress: Show a tqdm progress bar.
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
         stop_on_fall: End the run at the first fallen tick (plus 0.5 s to see the fall).
+        seed: None for the walk's nominal start; an int varies the start-up push (its force
+            and duration each scaled by a factor drawn uniformly in [0.7, 1.3]) so that sweeps
+            see several starts per setting.
 
     Returns:
         The :class:`WalkResult`.
 
     Raises:
-        InvalidInputError: Unknown walk, bad duration, speed or terrain.
+        InvalidInputError: Unknown walk, bad duration, speed, terrain or seed.
 
     """
     spec = _spec(name)
@@ -168,7 +172,13 @@ def run_walk(
     q0 = gait.initial_configuration()
     q0[_index(robot, "boom_z")] += float(terrain_model.height(0.0))
     simulator.reset(q0)
-    simulator.push(np.array([spec.push, 0.0, 0.0]), frame="body", duration=spec.push_time)
+    push, push_time = spec.push, spec.push_time  # [N], [s]
+    if seed is not None:
+        if isinstance(seed, bool) or not isinstance(seed, int | np.integer):
+            raise InvalidInputError(f"seed must be an int or None, got {seed!r}.")
+        force_scale, time_scale = np.random.default_rng(int(seed)).uniform(0.7, 1.3, size=2)
+        push, push_time = push * float(force_scale), push_time * float(time_scale)
+    simulator.push(np.array([push, 0.0, 0.0]), frame="body", duration=push_time)
 
     machine = gait.machine
     recorder = Recorder(

@@ -1,0 +1,299 @@
+"""Parameter sweeps of the walks on an existing parallel engine.
+
+``python -m virtual_actuators sweep flamingo-slopes --speed 0.3:0.6:0.05 --terrain
+profile-one,profile-two --seeds 5`` runs every (speed, terrain, seed) walk of the grid in
+parallel and writes a results table (CSV or JSON) and a success map (fraction of seeds that did
+not fall, per speed and terrain).
+
+Engines: ``"process"`` (a :class:`concurrent.futures.ProcessPoolExecutor`, the default),
+``"dask"`` (``dask.distributed``: the scheduler given by ``DASK_SCHEDULER_ADDRESS``, or a local
+cluster) and ``"ray"`` (``ray.init()``, which joins ``RAY_ADDRESS`` when set): the same command
+runs on one machine or on a cluster. Dask and Ray are optional: install ``dask[distributed]`` or
+``ray``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import InvalidInputError, MissingDependencyError
+from .walking import WALKS, run_walk
+
+ENGINES = ("process", "dask", "ray")
+
+
+@dataclass(frozen=True)
+class SweepCase:
+    """One walk of a sweep."""
+
+    walk: str
+    speed: float  # [m/s]
+    terrain: str
+    seed: int
+    duration: float | None = None  # [s], None: the walk's default
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """What one walk of a sweep gave (``error`` is set, and the rest NaN, if it raised)."""
+
+    walk: str
+    speed: float
+    terrain: str
+    seed: int
+    fell: bool
+    fall_time: float
+    distance: float  # [m]
+    mean_speed: float  # [m/s]
+    steps: int
+    realtime_factor: float
+    error: str = ""
+
+
+def parse_range(text: str) -> list[float]:
+    """``"0.3:0.6:0.05"`` (start:stop:step, stop included) or ``"0.3,0.4"`` or ``"0.5"``.
+
+    Raises:
+        InvalidInputError: Not numbers, a step <= 0, or more than 1000 values.
+
+    """
+    try:
+        if ":" in text:
+            start, stop, step = (float(part) for part in text.split(":"))
+            if not (step > 0 and math.isfinite(start) and math.isfinite(stop)):
+                raise ValueError("step must be > 0")
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            if count > 1000:
+                raise ValueError(f"{count} values (at most 1000)")
+            values = [round(start + k * step, 10) for k in range(max(count, 0))]
+        else:
+            values = [float(part) for part in text.split(",")]
+    except ValueError as error:
+        raise InvalidInputError(
+            f"expected START:STOP:STEP or comma-separated numbers, got {text!r} ({error})."
+        ) from None
+    if not values or not all(math.isfinite(v) for v in values):
+        raise InvalidInputError(f"no finite values in {text!r}.")
+    return values
+
+
+def grid(
+    walk: str,
+    speeds: Sequence[float],
+    terrains: Sequence[str],
+    seeds: int,
+    duration: float | None = None,
+) -> list[SweepCase]:
+    """Every (speed, terrain, seed) case, seeds ``0 .. seeds - 1``.
+
+    Raises:
+        InvalidInputError: Unknown walk, or ``seeds`` < 1.
+
+    """
+    if walk not in WALKS:
+        raise InvalidInputError(f"Unknown walk {walk!r}; sweeps run {sorted(WALKS)}.")
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
+        raise InvalidInputError(f"seeds must be an int >= 1, got {seeds!r}.")
+    return [
+        SweepCase(walk, float(speed), terrain, seed, duration)
+        for speed in speeds
+        for terrain in terrains
+        for seed in range(seeds)
+    ]
+
+
+def run_case(case: SweepCase) -> SweepResult:
+    """Run one walk (in a worker); a library error is recorded, not raised."""
+    from ..exceptions import VirtualActuatorError
+
+    try:
+        result = run_walk(
+            case.walk,
+            duration=case.duration,
+            speed=case.speed,
+            terrain=case.terrain,
+            progress=False,
+            seed=case.seed,
+        )
+    except VirtualActuatorError as error:
+        nan = float("nan")
+        return SweepResult(
+            case.walk, case.speed, case.terrain, case.seed, True, nan, nan, nan, 0, nan, str(error)
+        )
+    metrics = result.metrics
+
+    def number(value: float | None) -> float:
+        return float("nan") if value is None else float(value)
+
+    return SweepResult(
+        case.walk,
+        case.speed,
+        case.terrain,
+        case.seed,
+        bool(metrics.fell),
+        number(metrics.fall_time_s),
+        number(metrics.distance_m),
+        number(metrics.mean_speed_mps),
+        int(metrics.steps),
+        float(result.simulator.time / max(result.wall_time, 1e-9)),
+    )
+
+
+def run_sweep(
+    cases: Sequence[SweepCase],
+    engine: str = "process",
+    workers: int | None = None,
+    on_result: Callable[[SweepResult], None] | None = None,
+) -> list[SweepResult]:
+    """Run the cases in parallel; results come back in the order of ``cases``.
+
+    Args:
+        cases: From :func:`grid`.
+        engine: ``"process"``, ``"dask"`` or ``"ray"``.
+        workers: Parallel workers for ``"process"`` (default: the CPU count).
+        on_result: Called as each result arrives (a progress bar).
+
+    Raises:
+        InvalidInputError: Unknown engine, or ``workers`` < 1.
+        MissingDependencyError: Dask or Ray is not installed.
+
+    """
+    if engine not in ENGINES:
+        raise InvalidInputError(f"engine must be one of {ENGINES}, got {engine!r}.")
+    if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
+        raise InvalidInputError(f"workers must be >= 1, got {workers!r}.")
+    done = on_result or (lambda result: None)
+    results: dict[int, SweepResult] = {}
+    if engine == "process":
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        count = workers or os.cpu_count() or 1
+        with ProcessPoolExecutor(max_workers=min(count, max(len(cases), 1))) as pool:
+            futures = {pool.submit(run_case, case): i for i, case in enumerate(cases)}
+            for future in as_completed(futures):
+                results[futures[future]] = future.result()
+                done(results[futures[future]])
+    elif engine == "dask":
+        results = _run_dask(cases, done)
+    else:
+        results = _run_ray(cases, done)
+    return [results[i] for i in range(len(cases))]
+
+
+def _run_dask(cases, done) -> dict[int, SweepResult]:
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise MissingDependencyError(
+            "engine='dask' needs dask.distributed: pip install 'dask[distributed]'."
+        ) from None
+    address = os.environ.get("DASK_SCHEDULER_ADDRESS")
+    cluster = None if address else LocalCluster(processes=True, threads_per_worker=1)
+    with Client(address or cluster) as client:
+        futures = client.map(run_case, cases, pure=False)
+        index = {future.key: i for i, future in enumerate(futures)}
+        results = {}
+        for future in as_completed(futures):
+            results[index[future.key]] = future.result()
+            done(results[index[future.key]])
+    if cluster is not None:
+        cluster.close()
+    return results
+
+
+def _run_ray(cases, done) -> dict[int, SweepResult]:
+    try:
+        import ray
+    except ImportError:
+        raise MissingDependencyError("engine='ray' needs ray: pip install ray.") from None
+    ray.init(ignore_reinit_error=True, include_dashboard=False)
+    remote = ray.remote(run_case)
+    pending = {remote.remote(case): i for i, case in enumerate(cases)}
+    results = {}
+    while pending:
+        ready, _ = ray.wait(list(pending), num_returns=1)
+        for reference in ready:
+            i = pending.pop(reference)
+            results[i] = ray.get(reference)
+            done(results[i])
+    return results
+
+
+def write_results(results: Iterable[SweepResult], path: str | Path) -> Path:
+    """Write the table as CSV (``.csv``) or JSON (any other suffix); returns the path."""
+    path = Path(path)
+    rows = [asdict(result) for result in results]
+    if path.suffix.lower() == ".csv":
+        with path.open("w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(SweepResult.__dataclass_fields__))
+            writer.writeheader()
+            writer.writerows(rows)
+    else:
+        clean = [
+            {k: (None if isinstance(v, float) and v != v else v) for k, v in row.items()}
+            for row in rows
+        ]
+        path.write_text(json.dumps({"results": clean}, indent=1))
+    return path
+
+
+def success_map(results: Sequence[SweepResult]) -> tuple[list[float], list[str], np.ndarray]:
+    """``(speeds, terrains, rate)``: the fraction of seeds that did not fall, per cell."""
+    speeds = sorted({r.speed for r in results})
+    terrains = list(dict.fromkeys(r.terrain for r in results))
+    rate = np.full((len(terrains), len(speeds)), np.nan)
+    for i, terrain in enumerate(terrains):
+        for j, speed in enumerate(speeds):
+            cell = [r for r in results if r.terrain == terrain and r.speed == speed]
+            if cell:
+                rate[i, j] = sum(not r.fell for r in cell) / len(cell)
+    return speeds, terrains, rate
+
+
+def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
+    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    speeds, terrains, rate = success_map(results)
+    walk = results[0].walk if results else ""
+    seeds = len({r.seed for r in results})
+    figure, axes = plt.subplots(figsize=(1.0 + 0.7 * len(speeds), 1.2 + 0.6 * len(terrains)))
+    image = axes.imshow(rate, vmin=0.0, vmax=1.0, cmap="RdYlGn", aspect="auto")
+    axes.set_xticks(range(len(speeds)), [f"{s:g}" for s in speeds])
+    axes.set_yticks(range(len(terrains)), terrains)
+    axes.set_xlabel("desired speed [m/s]")
+    for i in range(len(terrains)):
+        for j in range(len(speeds)):
+            if rate[i, j] == rate[i, j]:
+                axes.text(j, i, f"{rate[i, j]:.0%}", ha="center", va="center", fontsize=8)
+    axes.set_title(f"{walk}: walks that did not fall ({seeds} seeds per cell)")
+    figure.colorbar(image, ax=axes, fraction=0.04)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return Path(path)
+
+
+__all__ = [
+    "ENGINES",
+    "SweepCase",
+    "SweepResult",
+    "grid",
+    "parse_range",
+    "plot_success_map",
+    "run_case",
+    "run_sweep",
+    "success_map",
+    "write_results",
+]

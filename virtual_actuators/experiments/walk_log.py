@@ -313,6 +313,38 @@ class WalkLog:
         except ValueError:
             raise unknown_name(name, self.state_names, "state") from None
 
+    def window(self, start: float | None = None, stop: float | None = None) -> WalkLog:
+        """The ticks with ``start <= time <= stop`` as a new log (same channels and metadata).
+
+        Args:
+            start: First time kept [s] (None: from the beginning).
+            stop: Last time kept [s] (None: to the end).
+
+        Raises:
+            InvalidInputError: A bound that is not a finite number, ``start > stop``, or a
+                window that holds no tick (the message gives the log's time span).
+
+        """
+        from ..vocabulary.frames import check_number
+
+        time = self.data["time"]
+        low = -np.inf if start is None else check_number(start, "window start [s]")
+        high = np.inf if stop is None else check_number(stop, "window stop [s]")
+        if low > high:
+            raise InvalidInputError(f"window: start {low} s is after stop {high} s.")
+        keep = (time >= low) & (time <= high)
+        if not np.any(keep):
+            span = f"{time[0]:.3f}..{time[-1]:.3f} s" if len(time) else "empty"
+            raise InvalidInputError(
+                f"window {low:g}:{high:g} s holds no tick; the log covers {span}."
+            )
+        return WalkLog(
+            data={name: values[keep] for name, values in self.data.items()},
+            state=self.state[keep],
+            state_names=self.state_names,
+            metadata=dict(self.metadata),
+        )
+
     def entries(self, states: Iterable[str]) -> np.ndarray:
         """Return the ticks at which the state changes into one of ``states``.
 

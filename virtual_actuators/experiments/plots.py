@@ -21,7 +21,8 @@ right. ``layout="auto"`` picks ``"terrain"`` when the log has terrain points, el
 
 Vertical lines mark entries into the step (single-support, dash-dot) and double-support (dotted)
 states, as in Fig. 15; when there are more than :data:`MAX_FULL_LINES` (a long run), short marks
-along the top edge of each panel instead. ``window=(t0, t1)`` plots part of a run. Ticks after a fall are shaded red.
+along the top edge of each panel instead. ``window=(t0, t1)`` plots part of a run. Ticks after a
+fall are shaded red.
 
 Matplotlib is imported inside the functions (importing this module stays cheap) and draws on a
 ``FigureCanvasAgg`` of its own: no pyplot, so the global backend and open figures are untouched.

@@ -250,6 +250,53 @@ def demo_walk(args: argparse.Namespace) -> int:
     return 1 if metrics.fell else 0
 
 
+def demo_hexapod(args: argparse.Namespace) -> int:
+    """Walk the 1996 hexapod in MuJoCo, print its figures, write JSON and a plot."""
+    import math
+
+    from ..demos.hexapod_walk import HexapodWalkConfig, run_hexapod_walk
+    from ..experiments.hexapod_plots import plot_hexapod
+    from ..experiments.metrics import write_json
+
+    defaults = HexapodWalkConfig()
+    speed = args.speed
+    if speed is None:
+        speed = 0.2 if (args.pendulum or args.track) else defaults.speed
+    config = HexapodWalkConfig(
+        speed=speed,
+        direction=math.radians(args.direction or 0.0),
+        yaw_rate=args.yaw_rate or 0.0,
+        path=args.path or "line",
+        amplitude=defaults.amplitude if args.amplitude is None else args.amplitude,
+        wavelength=defaults.wavelength if args.wavelength is None else args.wavelength,
+        pendulum=args.pendulum,
+        track=args.track,
+        terrain=args.terrain or "flat",
+        duration=args.duration or defaults.duration,
+        seed=args.seed,
+        distribution=args.distribution or defaults.distribution,
+    )
+    viewer = on_tick = None
+    if _wants_viewer(args):
+        from ..demos.hexapod_walk import hexapod_robot
+
+        viewer = _make_viewer(args, hexapod_robot(config.pendulum), force_scale=1 / 100)
+        if args.record:
+            viewer.start_recording(fps=30.0)
+        if args.viz:
+            _pause("Open the viewer, then press Enter to start. ")
+        on_tick = viewer.tick_callback(realtime=args.realtime)
+    result = run_hexapod_walk(config, progress=not args.quiet, on_tick=on_tick)
+    print(result.metrics.summary())
+    if args.json:
+        print(f"trace: {write_json(result.to_json(), args.json)}")
+    if args.plot:
+        print(f"plot: {plot_hexapod(result.log, args.plot, summary=result.metrics.summary())}")
+    if viewer is not None:
+        _finish_viewer(args, viewer)
+    return 1 if result.metrics.fell else 0
+
+
 def example_view(args: argparse.Namespace, example: Example) -> None:
     """Show an example's configuration and solution (``--viz`` / ``--record``).
 
@@ -294,6 +341,8 @@ def run(args: argparse.Namespace) -> int:
                 robot = stand_robot(args.robot or "solo12")
             demo_stand(robot, args=args)
             return 0
+        if args.name == "hexapod-walk":
+            return demo_hexapod(args)
         return demo_walk(args)
     if args.command == "example":
         from ..examples import EXAMPLES

@@ -12,8 +12,8 @@ import math
 import os
 from pathlib import Path
 
-DEMOS = ("turkey-walk", "flamingo-slopes", "stand")
-WALK_DEMOS = ("turkey-walk", "flamingo-slopes")
+DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "stand")
+WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk")
 
 #: The frames that ``demo stand`` puts its body actuator on.
 STAND_FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
@@ -35,6 +35,24 @@ WALK_OPTIONS = (
     ("plot", "--plot"),
     ("realtime", "--realtime"),
 )
+
+#: Options of ``demo`` that only ``hexapod-walk`` uses (argparse destination, option).
+HEXAPOD_OPTIONS = (
+    ("direction", "--direction"),
+    ("yaw_rate", "--yaw-rate"),
+    ("path", "--path"),
+    ("amplitude", "--amplitude"),
+    ("wavelength", "--wavelength"),
+    ("pendulum", "--pendulum"),
+    ("track", "--track"),
+    ("seed", "--seed"),
+    ("distribution", "--distribution"),
+)
+
+#: Bounds of ``--yaw-rate`` [rad/s] and ``--amplitude`` / ``--wavelength`` [m].
+MAX_YAW_RATE = 3.0
+MAX_AMPLITUDE = 2.0
+MAX_WAVELENGTH = 50.0
 
 #: What ``python -m virtual_actuators --help`` says first.
 DESCRIPTION = "Command line: ``python -m virtual_actuators demo`` and friends."
@@ -78,15 +96,78 @@ def positive_seconds(text: str) -> float:
     return value
 
 
+def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low: bool = False):
+    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    value = _number(text, what)
+    if not ((low < value if open_low else low <= value) and value <= high):
+        bracket = "(" if open_low else "["
+        raise argparse.ArgumentTypeError(
+            f"{what} must be in {bracket}{low:g}, {high:g}] {unit}, got {text!r}"
+        )
+    return value
+
+
 def walking_speed(text: str) -> float:
     """``--speed``: a desired speed in (0, 1.5] m/s.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
     """
-    value = _number(text, "speed")
-    if not 0.0 < value <= 1.5:
-        raise argparse.ArgumentTypeError(f"speed must be in (0, 1.5] m/s, got {text!r}")
+    return _in_range(text, "speed", 0.0, 1.5, "m/s", open_low=True)
+
+
+def direction_degrees(text: str) -> float:
+    """``--direction``: the travel direction relative to the heading, in degrees (-360 to 360).
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "direction", -360.0, 360.0, "degrees")
+
+
+def yaw_rate(text: str) -> float:
+    """``--yaw-rate``: rad/s within +-:data:`MAX_YAW_RATE`.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
+
+
+def amplitude(text: str) -> float:
+    """``--amplitude``: the sine's amplitude in [0, :data:`MAX_AMPLITUDE`] m.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "amplitude", 0.0, MAX_AMPLITUDE, "m")
+
+
+def wavelength(text: str) -> float:
+    """``--wavelength``: the sine's wavelength in (0, :data:`MAX_WAVELENGTH`] m.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
+
+
+def seed(text: str) -> int:
+    """``--seed``: a non-negative integer.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"seed must be an integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"seed must be >= 0, got {text!r}")
     return value
 
 
@@ -184,6 +265,57 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
         )
 
 
+def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
+    hexapod = "hexapod-walk: "
+    demo.add_argument(
+        "--direction",
+        type=direction_degrees,
+        default=None,
+        metavar="DEG",
+        help=hexapod + "travel direction relative to the heading, degrees (90: crab left)",
+    )
+    demo.add_argument(
+        "--yaw-rate",
+        type=yaw_rate,
+        default=None,
+        metavar="RAD/S",
+        help=hexapod + "yaw rate; the velocity is fixed in the body frame, so the body traces "
+        "a circle of radius speed / yaw rate",
+    )
+    demo.add_argument(
+        "--path",
+        choices=("line", "sine"),
+        default=None,
+        help=hexapod + "line (default) or sine: y = A sin(2 pi x / L) from the start, "
+        "holding the initial heading",
+    )
+    demo.add_argument(
+        "--amplitude", type=amplitude, default=None, metavar="M", help=hexapod + "sine A, m"
+    )
+    demo.add_argument(
+        "--wavelength", type=wavelength, default=None, metavar="M", help=hexapod + "sine L, m"
+    )
+    demo.add_argument(
+        "--pendulum",
+        action="store_true",
+        help=hexapod + "balance a 0.30 m, 0.18 kg pendulum on the back with an LQR",
+    )
+    demo.add_argument(
+        "--track",
+        action="store_true",
+        help=hexapod + "face an object circling the start while walking",
+    )
+    demo.add_argument(
+        "--seed", type=seed, default=None, help=hexapod + "random initial disturbance"
+    )
+    demo.add_argument(
+        "--distribution",
+        choices=("qp", "partitioned"),
+        default=None,
+        help=hexapod + "how the body wrench is split over the support feet (default qp)",
+    )
+
+
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
     """The parser of ``python -m virtual_actuators`` and its subcommands' parsers by name.
 
@@ -200,6 +332,8 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         help="run a demo (default: Spring Turkey walking in MuJoCo)",
         description="turkey-walk: Spring Turkey on level ground (VMC section 5); "
         "flamingo-slopes: Spring Flamingo blind over unknown slopes (VMC section 6); "
+        "hexapod-walk: the 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
+        "tracking an object (VAC section 4); "
         "stand: a quadruped's body actuator and its force distribution.",
     )
     demo.add_argument("name", nargs="?", default="turkey-walk", choices=DEMOS)
@@ -233,6 +367,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         metavar="PATH",
         help="walks: save a PNG of the run",
     )
+    _hexapod_arguments(demo)
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
     demo.add_argument(
         "--robot",
@@ -250,6 +385,12 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
 
 def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
     """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
+    if args.name != "hexapod-walk":
+        for dest, option in HEXAPOD_OPTIONS:
+            if getattr(args, dest) not in (None, False):
+                parser.error(f"argument {option}: only hexapod-walk uses it, not {args.name}")
+    elif args.path != "sine" and (args.amplitude is not None or args.wavelength is not None):
+        parser.error("argument --amplitude/--wavelength: only --path sine uses them")
     if args.name == "stand":
         for dest, option in WALK_OPTIONS:
             if getattr(args, dest) not in (None, False):

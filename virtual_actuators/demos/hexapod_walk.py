@@ -1,0 +1,429 @@
+"""The 1996 hexapod walking in MuJoCo: lines, circles, sine waves, a pendulum, tracking.
+
+:func:`run_hexapod_walk` builds the hexapod (with the pendulum on its back for
+``pendulum=True``), its :class:`~virtual_actuators.gaits.HexapodWalker`, a guidance that turns the
+requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod_guidance`) and
+a :class:`~virtual_actuators.simulation.Simulator`, then runs the control loop at 1 kHz. The body
+state is sampled at :data:`TRACE_RATE` into a :class:`~virtual_actuators.experiments.WalkLog`;
+:class:`~virtual_actuators.experiments.hexapod_metrics.HexapodMetrics` summarises it (the
+issue's targets are checked on these figures) and
+:meth:`HexapodResult.to_json` is what ``--json`` writes.
+
+The robot is judged fallen when a part other than a foot touches the ground, when the body drops
+below half its nominal height above the terrain, when it rolls or pitches beyond 0.8 rad, or when
+the pendulum leans beyond ``HexapodParameters.pendulum_fall``.
+"""
+
+from __future__ import annotations
+
+import math
+import time as wallclock
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from ..experiments.hexapod_metrics import HexapodMetrics, compute_hexapod_metrics
+from ..experiments.recorder import Recorder
+from ..experiments.walk_log import WalkLog
+from ..gaits.hexapod import DISTRIBUTIONS, TRIPODS, HexapodParameters, HexapodWalker
+from ..gaits.hexapod_body import yaw_pitch_roll
+from ..gaits.hexapod_guidance import (
+    Guidance,
+    PlanarState,
+    SinePath,
+    TrackObject,
+    VelocityCommand,
+    wrap,
+)
+from ..robots.catalog import robots_dir
+from ..robots.loader import load_robot
+from ..robots.robot import Robot
+from ..simulation.simulator import Simulator
+from ..simulation.terrain import Terrain
+from .walking import _fallen, _progress, _terrain_points
+
+TRACE_RATE = 100.0  # [Hz] samples of the trace and the log
+NORMAL_FLOOR = 1.0  # [N] friction ratios are taken where the normal force is at least this
+PATHS = ("line", "sine")
+CHANNELS = (
+    "time",
+    "x",
+    "y",
+    "z",
+    "roll",
+    "pitch",
+    "yaw",
+    "vx",
+    "vy",
+    "vx_heading",
+    "vx_command",
+    "yaw_rate",
+    "fx",
+    "pendulum",
+    "target_x",
+    "target_y",
+    "fallen",
+)
+
+
+@dataclass(frozen=True)
+class HexapodWalkConfig:
+    """What to walk (SI units, angles in radians).
+
+    Attributes:
+        speed: Body speed [m/s].
+        direction: Travel direction relative to the heading [rad].
+        yaw_rate: [rad/s] (line path only: a circle of radius ``speed / yaw_rate``).
+        path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``.
+        amplitude: Sine amplitude [m].
+        wavelength: Sine wavelength [m].
+        pendulum: Balance the pendulum (its LQR owns the x motion).
+        track: Face an object circling the start while walking.
+        terrain: A :meth:`Terrain.parse` spec (profiles run along the world x axis).
+        duration: Simulated time [s].
+        seed: Random initial disturbance (body velocity, pendulum angle); None for none.
+        distribution: ``"qp"`` or ``"partitioned"``.
+
+    """
+
+    speed: float = 0.4
+    direction: float = 0.0
+    yaw_rate: float = 0.0
+    path: str = "line"
+    amplitude: float = 0.2
+    wavelength: float = 2.0
+    pendulum: bool = False
+    track: bool = False
+    terrain: str = "flat"
+    duration: float = 10.0
+    seed: int | None = None
+    distribution: str = "qp"
+
+    def __post_init__(self) -> None:
+        numbers = {k: getattr(self, k) for k in ("speed", "direction", "yaw_rate", "duration")}
+        numbers.update(amplitude=self.amplitude, wavelength=self.wavelength)
+        for name, value in numbers.items():
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
+        if not 0.0 <= self.speed <= 1.5:
+            raise InvalidInputError(f"speed must be in [0, 1.5] m/s, got {self.speed}.")
+        if self.duration <= 0.0:
+            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
+        if self.path not in PATHS:
+            raise InvalidInputError(f"path must be one of {PATHS}, got {self.path!r}.")
+        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0):
+            raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
+        if self.distribution not in DISTRIBUTIONS:
+            raise InvalidInputError(
+                f"distribution must be one of {DISTRIBUTIONS}, got {self.distribution!r}."
+            )
+        if self.path == "sine" and (self.track or self.yaw_rate != 0.0):
+            raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
+        if self.track and self.yaw_rate != 0.0:
+            raise InvalidInputError("tracking sets the yaw rate itself: leave yaw_rate at 0.")
+
+    def guidance(self) -> Guidance:
+        """The guidance for this configuration."""
+        if self.path == "sine":
+            return SinePath(self.speed, self.amplitude, self.wavelength)
+        if self.track:
+            return TrackObject(self.speed, self.direction)
+        return VelocityCommand(self.speed, self.direction, self.yaw_rate)
+
+
+@dataclass
+class HexapodResult:
+    """What a hexapod walk produced.
+
+    Attributes:
+        config: The configuration.
+        log: The body state at :data:`TRACE_RATE` (channels :data:`CHANNELS`).
+        metrics: The summary figures.
+        gait: The walker (its state machine history included).
+        simulator: The simulator in its final state.
+        wall_time: Wall-clock seconds of the loop.
+        ticks: Control ticks run.
+
+    """
+
+    config: HexapodWalkConfig
+    log: WalkLog
+    metrics: HexapodMetrics
+    gait: HexapodWalker
+    simulator: Simulator
+    wall_time: float
+    ticks: int
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def trace(self) -> dict[str, list[float]]:
+        """The trace: a dict of equal-length lists sampled at :data:`TRACE_RATE`.
+
+        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame; ``z`` above the terrain, ``yaw``
+        unwrapped), ``vx_command``, ``fx`` (virtual force along the heading), ``state`` names,
+        plus ``pendulum`` (rad, from the vertical) or ``target_x, target_y``.
+        """
+        log = self.log
+        names = ["x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vx_command", "fx"]
+        if self.config.pendulum:
+            names.append("pendulum")
+        if self.config.track:
+            names += ["target_x", "target_y"]
+        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
+        trace["state"] = [log.state_names[i] for i in log.state]
+        return trace
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, ``steps``, the summary figures, config and ``trace``."""
+        figures = asdict(self.metrics)
+        return {
+            **figures,
+            "ticks": self.ticks,
+            "config": asdict(self.config),
+            "trace": self.trace(),
+        }
+
+    def __repr__(self) -> str:
+        return f"HexapodResult({self.metrics.summary()})"
+
+
+def hexapod_robot(pendulum: bool = False) -> Robot:
+    """The hexapod, or its variant with the pendulum on its back (``hexapod_pendulum``).
+
+    Args:
+        pendulum: Load ``robots/hexapod/hexapod_pendulum.urdf`` (generated by ``build.py``).
+
+    Returns:
+        The :class:`~virtual_actuators.Robot` (free-flyer base).
+
+    """
+    if pendulum:
+        return load_robot(robots_dir / "hexapod" / "hexapod_pendulum.urdf", floating_base=True)
+    return load_robot("hexapod")
+
+
+def run_hexapod_walk(
+    config: HexapodWalkConfig | None = None,
+    parameters: HexapodParameters | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, HexapodWalker], None] | None = None,
+    stop_on_fall: bool = True,
+) -> HexapodResult:
+    """Simulate the hexapod walking and measure it.
+
+    Args:
+        config: What to walk (default: a 0.4 m/s line for 10 s).
+        parameters: Gait constants (default :class:`HexapodParameters` with the config's
+            distribution).
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step (e.g. a viewer's throttled update).
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+
+    Returns:
+        The :class:`HexapodResult`.
+
+    Raises:
+        InvalidInputError: A bad terrain spec.
+
+    """
+    config = config or HexapodWalkConfig()
+    parameters = parameters or HexapodParameters(distribution=config.distribution)
+    terrain = Terrain.parse(config.terrain)
+    robot = hexapod_robot(config.pendulum)
+    gait = HexapodWalker(robot, parameters)
+    simulator = Simulator(robot, terrain)
+    q0 = gait.initial_configuration()
+    q0[2] += float(terrain.height(0.0))
+    v0 = np.zeros(robot.model.nv)
+    if config.seed is not None:
+        rng = np.random.default_rng(config.seed)
+        v0[:6] = rng.uniform(-1.0, 1.0, 6) * (0.02, 0.02, 0.01, 0.05, 0.05, 0.05)
+        if config.pendulum:
+            q0[-1] = rng.uniform(-0.01, 0.01)
+    simulator.reset(q0, v0)
+    guidance = config.guidance()
+    guidance.begin(PlanarState(0.0, float(q0[0]), float(q0[1]), 0.0, 0.0, 0.0))
+    machine = gait.machine
+    recorder = Recorder(
+        CHANNELS,
+        state_names=machine.names,
+        capacity=int(config.duration * TRACE_RATE) + 16,
+        metadata={
+            "robot": robot.name,
+            "walk": "hexapod-walk",
+            "terrain": config.terrain,
+            "terrain_points": _terrain_points(terrain, config.duration),
+            "speed_setpoint_mps": config.speed,
+            "nominal_height_m": parameters.height,
+            "step_states": list(gait.step_states),
+            "double_support_states": ["double_a", "double_b"],
+            "config": asdict(config),
+        },
+    )
+    stance = _StanceForces(simulator, terrain)
+    every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+    bar = _progress(config.duration) if progress else None
+    fall_time = None
+    physics = 0.0
+    yaw_unwrapped, yaw_last = 0.0, 0.0
+    tick = 0
+    start = wallclock.perf_counter()
+    while simulator.time < config.duration - 1e-9:
+        q, v = simulator.q, simulator.v
+        now = simulator.time
+        rotation = _rotation(q)
+        yaw, pitch, roll = yaw_pitch_roll(rotation)
+        velocity = rotation @ v[:3]
+        state = PlanarState(now, float(q[0]), float(q[1]), yaw, velocity[0], velocity[1])
+        command, yaw_rate = guidance.command(state)
+        gait.set_command(command, yaw_rate)
+        output = gait.compute(q, v, now)
+        mark = wallclock.perf_counter()
+        simulator.step(output.tau, ignore_unactuated=True)
+        physics += wallclock.perf_counter() - mark
+        tick += 1
+        if gait.state in gait.step_states:
+            stance.sample(gait.support)
+        height = float(q[2] - terrain.height(q[0]))
+        tilt = max(abs(roll), abs(pitch))
+        fallen = fall_time is not None or _fallen(simulator, height, tilt, parameters.height)
+        if gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall:
+            fallen = True
+        if fallen and fall_time is None:
+            fall_time = now
+        if tick % every == 1 or every == 1:
+            yaw_unwrapped += wrap(yaw - yaw_last)
+            yaw_last = yaw
+            target = guidance.target(now) or (np.nan, np.nan)
+            wrench = _body_wrench(output)
+            c, s = math.cos(yaw), math.sin(yaw)
+            recorder.append(
+                state=machine.index[machine.current.name],
+                time=now,
+                x=q[0],
+                y=q[1],
+                z=height,
+                roll=roll,
+                pitch=pitch,
+                yaw=yaw_unwrapped,
+                vx=velocity[0],
+                vy=velocity[1],
+                vx_heading=c * velocity[0] + s * velocity[1],
+                vx_command=float(command[0]),
+                yaw_rate=float(rotation[2] @ (rotation @ v[3:6])),
+                fx=c * wrench[0] + s * wrench[1],
+                pendulum=gait.pendulum_angle if gait.pendulum is not None else np.nan,
+                target_x=target[0],
+                target_y=target[1],
+                fallen=float(fallen),
+            )
+        if on_tick is not None:
+            on_tick(simulator, gait)
+        if bar is not None and tick % 100 == 0:
+            bar.update(0.1)
+        if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
+            break
+    wall = wallclock.perf_counter() - start
+    if bar is not None:
+        bar.close()
+    recorder.metadata["wall_time_s"] = wall
+    recorder.metadata["command_path"] = _command_path(config, guidance)
+    log = recorder.to_log()
+    steps = machine.steps_into(gait.step_states)
+    metrics = compute_hexapod_metrics(
+        log, guidance, steps, fall_time, *stance.figures() if stance.samples else (None, None)
+    )
+    metrics = _with_timing(metrics, simulator.time, wall, physics)
+    return HexapodResult(config, log, metrics, gait, simulator, wall, tick)
+
+
+def _rotation(q: np.ndarray) -> np.ndarray:
+    """Body rotation from the free-flyer quaternion ``(x, y, z, w)`` of ``q[3:7]``."""
+    x, y, z, w = q[3:7]
+    return np.array(
+        (
+            (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
+            (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
+            (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
+        )
+    )
+
+
+def _body_wrench(output) -> np.ndarray:
+    """The virtual wrench the body's components ask for this tick (world axes)."""
+    for name in ("support_a", "support_b", "support_all"):
+        if name in output.wrenches:
+            return output.wrenches[name]
+    return np.zeros(6)
+
+
+class _StanceForces:
+    """Least normal force and largest friction ratio of the support feet, from MuJoCo."""
+
+    def __init__(self, simulator: Simulator, terrain: Terrain) -> None:
+        self.simulator, self.terrain = simulator, terrain
+        self.flat = terrain.is_flat
+        self.normal_min = math.inf
+        self.ratio_max = 0.0
+        self.samples = 0
+
+    def sample(self, support: str) -> None:
+        """Read the contact forces of the feet of tripod ``support`` (``"a"`` or ``"b"``)."""
+        simulator = self.simulator
+        for leg in TRIPODS[support]:
+            frame = f"foot_{leg}"
+            force = simulator.contact_force(frame)
+            x = float(simulator.data.site_xpos[simulator.mujoco_model.frame_sites[frame], 0])
+            slope = float(self.terrain.slope(x)) if not self.flat else 0.0
+            normal_axis = np.array((-math.sin(slope), 0.0, math.cos(slope)))
+            normal = float(force @ normal_axis)
+            tangential = float(np.linalg.norm(force - normal * normal_axis))
+            self.normal_min = min(self.normal_min, normal)
+            if normal >= NORMAL_FLOOR:
+                self.ratio_max = max(self.ratio_max, tangential / normal)
+            self.samples += 1
+
+    def figures(self) -> tuple[float, float]:
+        """``(least normal force [N], largest friction ratio)`` so far."""
+        return float(self.normal_min), float(self.ratio_max)
+
+
+def _with_timing(
+    metrics: HexapodMetrics, simulated: float, wall: float, physics: float
+) -> HexapodMetrics:
+    return replace(
+        metrics,
+        realtime_factor=simulated / wall if wall > 0 else None,
+        physics_realtime_factor=simulated / physics if physics > 0 else None,
+    )
+
+
+def _command_path(config: HexapodWalkConfig, guidance: Guidance) -> np.ndarray:
+    """The commanded path, ``(n, 2)`` world points [m] (the object's circle when tracking)."""
+    x0, y0, yaw0 = guidance.start
+    reach = max(config.speed * config.duration, 1e-3)
+    if isinstance(guidance, TrackObject):
+        angles = np.linspace(0.0, 2.0 * np.pi, 181)
+        return np.c_[x0 + guidance.radius * np.cos(angles), y0 + guidance.radius * np.sin(angles)]
+    if isinstance(guidance, SinePath):
+        along = np.linspace(0.0, reach, 400)
+        across = guidance.curve(along)
+    elif config.yaw_rate != 0.0 and config.speed > 0.0:
+        radius = config.speed / abs(config.yaw_rate)
+        sweep = min(abs(config.yaw_rate) * config.duration, 2.0 * np.pi)
+        angles = np.linspace(0.0, sweep, 181) * np.sign(config.yaw_rate)
+        # start at the origin heading along the travel direction, centre on the turning side
+        local = np.c_[
+            radius * np.sin(np.abs(angles)),
+            np.sign(config.yaw_rate) * radius * (1 - np.cos(angles)),
+        ]
+        c, s = math.cos(config.direction), math.sin(config.direction)
+        along, across = c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1]
+    else:
+        distances = np.linspace(0.0, reach, 2)
+        along = distances * math.cos(config.direction)
+        across = distances * math.sin(config.direction)
+    c, s = math.cos(yaw0), math.sin(yaw0)
+    return np.c_[x0 + c * along - s * across, y0 + s * along + c * across]

@@ -1,0 +1,163 @@
+"""Plot a hexapod walk (:func:`~virtual_actuators.demos.hexapod_walk.run_hexapod_walk`).
+
+:func:`plot_hexapod` draws one of two layouts into a PNG:
+
+``"pendulum"`` (the seed's Fig. 6, VAC 1996), against time: the pendulum angle; the body's x
+velocity (along its heading) with the desired one dashed; the virtual x force of the body's
+components; the walking state.
+
+``"path"``: the body's x-y path with heading arrows every half second, the commanded path
+dashed (``metadata["command_path"]``), and for tracking runs the object's path and where it was
+at the arrows' times.
+
+Matplotlib is imported inside the functions and draws on a canvas of its own (no pyplot), as in
+:mod:`virtual_actuators.experiments.plots`, whose helpers this module shares.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.experiments.plots import (
+    _ACTUAL,
+    _FORCE,
+    _SETPOINT,
+    _new_figure,
+    _save,
+    _series,
+    _state_panel,
+)
+from virtual_actuators.experiments.walk_log import WalkLog
+
+__all__ = ["plot_hexapod"]
+
+_LAYOUTS = ("auto", "pendulum", "path")
+ARROW_PERIOD = 0.5  # [s] between heading arrows
+
+
+def plot_hexapod(
+    log: WalkLog,
+    path: str | os.PathLike[str],
+    *,
+    layout: str = "auto",
+    title: str | None = None,
+    summary: str | None = None,
+    dpi: float = 120,
+) -> Path:
+    """Plot a hexapod walk and save a PNG.
+
+    Args:
+        log: The run's log (``HexapodResult.log``).
+        path: Destination PNG; parents are created.
+        layout: ``"pendulum"`` (Fig. 6), ``"path"`` or ``"auto"`` (``"pendulum"`` when the log
+            has pendulum angles).
+        title: Figure title (default from the metadata).
+        summary: A line under the title (e.g. ``HexapodMetrics.summary()``).
+        dpi: Resolution.
+
+    Returns:
+        The path written.
+
+    Raises:
+        InvalidInputError: An unknown layout, an empty log, or ``"pendulum"`` for a log without
+            pendulum angles.
+
+    """
+    if layout not in _LAYOUTS:
+        raise InvalidInputError(f"layout: {layout!r} is not one of {', '.join(_LAYOUTS)}.")
+    if not isinstance(log, WalkLog) or len(log) < 2:
+        raise InvalidInputError(
+            "log: expected a WalkLog of a hexapod walk with two samples or more."
+        )
+    has_pendulum = log.has("pendulum") and bool(np.any(np.isfinite(log["pendulum"])))
+    if layout == "auto":
+        layout = "pendulum" if has_pendulum else "path"
+    if layout == "pendulum" and not has_pendulum:
+        raise InvalidInputError("layout 'pendulum' needs a log with pendulum angles.")
+    fig = _pendulum_figure(log) if layout == "pendulum" else _path_figure(log)
+    config = log.metadata.get("config", {})
+    heading = title or (
+        f"hexapod-walk: {log.metadata.get('robot', 'hexapod')}, "
+        f"{config.get('speed', float('nan')):.2f} m/s on {log.metadata.get('terrain', 'flat')}"
+    )
+    if summary:
+        heading += "\n" + summary
+    fig.suptitle(heading, fontsize=10)
+    return _save(fig, path, dpi)
+
+
+def _pendulum_figure(log: WalkLog):
+    fig = _new_figure(8.0, 8.0)
+    axes = fig.subplots(4, 1, sharex=True)
+    t = log.time
+    _series(axes[0], t, log, "pendulum", "pendulum [rad]")
+    _series(
+        axes[1],
+        t,
+        log,
+        "vx_heading",
+        "x velocity [m/s]",
+        setpoint="vx_command",
+        setpoint_style=_SETPOINT,
+        setpoint_label="desired",
+    )
+    _series(axes[2], t, log, "fx", "virtual x force [N]", style=_FORCE)
+    _state_panel(axes[3], t, log)
+    axes[3].set_xlabel("time [s]")
+    for ax in axes[:3]:
+        ax.axhline(0.0, color="0.6", lw=0.6)
+    return fig
+
+
+def _path_figure(log: WalkLog):
+    fig = _new_figure(7.5, 7.0)
+    ax = fig.subplots()
+    x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
+    command = log.metadata.get("command_path")
+    if command is not None and len(command):
+        command = np.asarray(command, dtype=float)
+        style = {**_SETPOINT, "color": "0.35"}
+        label = "object's path" if log.has("target_x") and _finite(log["target_x"]) else "command"
+        ax.plot(command[:, 0], command[:, 1], label=label, **style)
+    ax.plot(x, y, label="body", **_ACTUAL)
+    step = max(1, round(ARROW_PERIOD / max(float(np.median(np.diff(t))), 1e-6)))
+    marks = slice(0, None, step)
+    extent = max(float(np.ptp(x)), float(np.ptp(y)), 0.3)
+    length = 0.05 * extent
+    ax.quiver(
+        x[marks],
+        y[marks],
+        np.cos(yaw[marks]) * length,
+        np.sin(yaw[marks]) * length,
+        angles="xy",
+        scale_units="xy",
+        scale=1.0,
+        width=0.004,
+        color="C1",
+        label="heading",
+    )
+    if log.has("target_x") and _finite(log["target_x"]):
+        ax.plot(
+            log["target_x"][marks], log["target_y"][marks], "o", ms=3, color="C3", label="object"
+        )
+    fallen = log["fallen"] > 0.5 if log.has("fallen") else np.zeros(len(t), bool)
+    if np.any(fallen):
+        first = int(np.argmax(fallen))
+        ax.plot(x[first], y[first], "x", color="red", ms=10, mew=2, label="fell")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(loc="best", fontsize=8)
+    span = math.hypot(float(np.ptp(x)), float(np.ptp(y)))
+    ax.set_title(f"path: {span:.2f} m across, {t[-1] - t[0]:.1f} s", fontsize=9)
+    return fig
+
+
+def _finite(values: np.ndarray) -> bool:
+    return bool(np.any(np.isfinite(values)))

@@ -1,0 +1,229 @@
+"""High-level inputs of the hexapod: paths and tracking turned into the seed's three inputs.
+
+The walker (:class:`~virtual_actuators.gaits.hexapod.HexapodWalker`) takes the body velocity in
+its heading frame and a yaw rate. A :class:`Guidance` computes them every tick from the body's
+planar state (:class:`PlanarState`):
+
+* :class:`VelocityCommand`: fixed inputs; the velocity is fixed in the body frame, so a yaw rate
+  ``w`` traces a circle of radius ``speed / w`` (the seed's line and circle);
+* :class:`SinePath`: the body travels ``y = A sin(2 pi x / L)`` from its start (axes of its
+  initial heading) while holding its initial heading (the seed's sine wave, "facing a direction
+  independent of its travel direction");
+* :class:`TrackObject`: an object moves on a circle; the body walks its commanded velocity while
+  turning to face the object (yaw rate = bearing rate feed-forward + a proportional term).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+
+
+@dataclass(frozen=True)
+class PlanarState:
+    """The body's planar state in the world.
+
+    Attributes:
+        time: [s].
+        x: [m].
+        y: [m].
+        yaw: Heading [rad].
+        vx: World x velocity [m/s].
+        vy: World y velocity [m/s].
+
+    """
+
+    time: float
+    x: float
+    y: float
+    yaw: float
+    vx: float
+    vy: float
+
+
+def wrap(angle: float) -> float:
+    """``angle`` wrapped to ``[-pi, pi)`` [rad]."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _finite(what: str, **values: float) -> None:
+    for name, value in values.items():
+        if not (isinstance(value, (int, float)) and math.isfinite(value)):
+            raise InvalidInputError(f"{what}: {name} must be a finite number, got {value!r}.")
+
+
+class Guidance:
+    """Computes the walker's inputs from the body's state (subclasses implement :meth:`command`).
+
+    Attributes:
+        start: ``(x, y, yaw)`` of the body at :meth:`begin` [m, m, rad].
+
+    """
+
+    def __init__(self) -> None:
+        self.start = (0.0, 0.0, 0.0)
+
+    def begin(self, state: PlanarState) -> None:
+        """Remember where the body starts (called once before the first tick)."""
+        self.start = (state.x, state.y, state.yaw)
+
+    def command(self, state: PlanarState) -> tuple[np.ndarray, float]:
+        """``(velocity in the heading frame (2,) [m/s], yaw rate [rad/s])``."""
+        raise NotImplementedError
+
+    def target(self, time: float) -> tuple[float, float] | None:
+        """Position of a tracked object at ``time`` [m], or None."""
+        return None
+
+
+class VelocityCommand(Guidance):
+    """Fixed inputs: ``speed`` at ``direction`` from the heading, and ``yaw_rate``.
+
+    Args:
+        speed: [m/s], >= 0.
+        direction: Travel direction relative to the heading [rad] (pi/2: crab to the left).
+        yaw_rate: [rad/s].
+
+    Raises:
+        InvalidInputError: A value that is not finite, or a negative speed.
+
+    """
+
+    def __init__(self, speed: float, direction: float = 0.0, yaw_rate: float = 0.0) -> None:
+        super().__init__()
+        _finite("VelocityCommand", speed=speed, direction=direction, yaw_rate=yaw_rate)
+        if speed < 0.0:
+            raise InvalidInputError(f"VelocityCommand: speed must be >= 0, got {speed}.")
+        self.velocity = speed * np.array((math.cos(direction), math.sin(direction)))
+        self.yaw_rate = float(yaw_rate)
+
+    def command(self, state: PlanarState) -> tuple[np.ndarray, float]:
+        """The fixed inputs."""
+        return self.velocity, self.yaw_rate
+
+
+class SinePath(Guidance):
+    """Travel ``y = A sin(2 pi x / L)`` (start-pose axes) at ``speed``, holding the heading.
+
+    Args:
+        speed: Speed along the path [m/s], > 0.
+        amplitude: ``A`` [m].
+        wavelength: ``L`` [m], > 0.
+        lateral_gain: Steering toward the curve: lateral velocity per metre off it [1/s].
+        heading_gain: Yaw rate per radian of heading error [1/s].
+
+    Raises:
+        InvalidInputError: A value that is not finite, or a speed or wavelength <= 0.
+
+    """
+
+    def __init__(
+        self,
+        speed: float,
+        amplitude: float,
+        wavelength: float,
+        lateral_gain: float = 3.0,
+        heading_gain: float = 4.0,
+    ) -> None:
+        super().__init__()
+        _finite("SinePath", speed=speed, amplitude=amplitude, wavelength=wavelength)
+        if speed <= 0.0 or wavelength <= 0.0:
+            raise InvalidInputError(
+                f"SinePath: speed and wavelength must be > 0, got {speed}, {wavelength}."
+            )
+        self.speed, self.amplitude, self.wavelength = float(speed), float(amplitude), wavelength
+        self.lateral_gain, self.heading_gain = lateral_gain, heading_gain
+
+    def curve(self, along: np.ndarray | float) -> np.ndarray | float:
+        """Lateral offset of the path at ``along`` metres from the start [m]."""
+        return self.amplitude * np.sin(2.0 * np.pi * np.asarray(along) / self.wavelength)
+
+    def to_path(self, x: float, y: float) -> tuple[float, float]:
+        """World ``(x, y)`` in the path's axes (start pose) [m]."""
+        x0, y0, yaw0 = self.start
+        c, s = math.cos(yaw0), math.sin(yaw0)
+        return c * (x - x0) + s * (y - y0), -s * (x - x0) + c * (y - y0)
+
+    def command(self, state: PlanarState) -> tuple[np.ndarray, float]:
+        """Velocity along the tangent, steered back to the curve; yaw held at the start's."""
+        along, across = self.to_path(state.x, state.y)
+        k = 2.0 * math.pi / self.wavelength
+        slope = self.amplitude * k * math.cos(k * along)
+        error = across - float(self.curve(along))
+        tangent = np.array((1.0, slope)) / math.hypot(1.0, slope)
+        normal = np.array((-tangent[1], tangent[0]))
+        velocity_path = self.speed * tangent - self.lateral_gain * error * normal
+        yaw0 = self.start[2]
+        heading = wrap(state.yaw - yaw0)  # body heading in path axes
+        c, s = math.cos(heading), math.sin(heading)
+        velocity_body = np.array(
+            (
+                c * velocity_path[0] + s * velocity_path[1],
+                -s * velocity_path[0] + c * velocity_path[1],
+            )
+        )
+        return velocity_body, -self.heading_gain * heading
+
+
+class TrackObject(Guidance):
+    """Walk a fixed body-frame velocity while facing an object moving on a circle.
+
+    The object circles the body's start at ``radius``, starting straight ahead of it, at
+    ``angular_speed``. The yaw rate is the bearing's rate (from the object's velocity and the
+    body's) plus ``gain`` times the bearing error.
+
+    Args:
+        speed: Body speed [m/s], >= 0.
+        direction: Travel direction relative to the heading [rad].
+        radius: Object's circle [m], > 0.
+        angular_speed: Object's angular speed about the start [rad/s].
+        gain: Yaw rate per radian of bearing error [1/s].
+
+    Raises:
+        InvalidInputError: A value that is not finite, a negative speed or a radius <= 0.
+
+    """
+
+    def __init__(
+        self,
+        speed: float,
+        direction: float = 0.0,
+        radius: float = 1.5,
+        angular_speed: float = 0.25,
+        gain: float = 6.0,
+    ) -> None:
+        super().__init__()
+        _finite("TrackObject", radius=radius, angular_speed=angular_speed, gain=gain)
+        if radius <= 0.0:
+            raise InvalidInputError(f"TrackObject: radius must be > 0, got {radius}.")
+        self.walk = VelocityCommand(speed, direction)
+        self.radius, self.angular_speed, self.gain = float(radius), angular_speed, gain
+
+    def target(self, time: float) -> tuple[float, float]:
+        """The object's position at ``time`` [m]."""
+        x0, y0, yaw0 = self.start
+        angle = yaw0 + self.angular_speed * time
+        return x0 + self.radius * math.cos(angle), y0 + self.radius * math.sin(angle)
+
+    def bearing_error(self, state: PlanarState) -> float:
+        """Direction of the object minus the heading [rad]."""
+        tx, ty = self.target(state.time)
+        return wrap(math.atan2(ty - state.y, tx - state.x) - state.yaw)
+
+    def command(self, state: PlanarState) -> tuple[np.ndarray, float]:
+        """The walk's velocity and the yaw rate that keeps the object ahead."""
+        tx, ty = self.target(state.time)
+        x0, y0, yaw0 = self.start
+        angle = yaw0 + self.angular_speed * state.time
+        rx, ry = tx - state.x, ty - state.y
+        # relative velocity of the object: its own minus the body's
+        wx = -self.radius * self.angular_speed * math.sin(angle) - state.vx
+        wy = self.radius * self.angular_speed * math.cos(angle) - state.vy
+        distance2 = max(rx * rx + ry * ry, 1e-4)
+        bearing_rate = (rx * wy - ry * wx) / distance2
+        yaw_rate = bearing_rate + self.gain * self.bearing_error(state)
+        return self.walk.velocity, yaw_rate

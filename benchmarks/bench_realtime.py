@@ -8,7 +8,8 @@ interleaved, in blocks, over the same round-robin set of configurations):
 1. solo12 body ``solve`` vs the Pinocchio floor (joint Jacobians, frame placements, 5 frame
    Jacobians).
 2. the same distribution as a proxsuite dense QP (kinematics + matrices + solve), without and
-   with 4-sided friction pyramids; the total wrenches are compared.
+   with 4-sided friction pyramids; the total wrenches are compared. Our ``method="qp"`` beside
+   the QP with pyramids, for solo12 and for the hexapod on six feet.
 3. millipede (100 legs) ``solve`` vs one dense 600x600 ``np.linalg.solve``.
 4. millipede scaling and memory (100, 400 legs solved, 1000 legs declared), one child process
    each, 4 GiB address-space limit, peak RSS from ``VmHWM``.
@@ -164,6 +165,8 @@ def figure_solo12_qp(cfg: Settings) -> Figure:
     ratio = ratio_of(stats["solve_qp"], stats["solve"])
     figure = "2e solo12 method='qp' vs our partitioned solve"
     rows.append(row(figure, us(stats["solve_qp"]), us(stats["solve"]), ratio, "(info)", None))
+    hexapod_rows, hexapod_raw = _hexapod_qp(cfg)
+    rows += hexapod_rows
     worst = max(wrench_diff.values())
     figure = "2c QP total wrench vs ours, max |diff|"
     rows.append(row(figure, f"{worst:.1e}", "-", None, "<= 1e-6", worst <= 1e-6))
@@ -180,8 +183,48 @@ def figure_solo12_qp(cfg: Settings) -> Figure:
         "ours_requested_max_abs_diff": requested_diff,
         "ours_in_pyramids": ours_in_cone,
         "qp_statuses": sorted(statuses),
+        "hexapod": hexapod_raw,
     }
     return Figure(rows, raw, notes)
+
+
+def _hexapod_qp(cfg: Settings) -> tuple[list, dict]:
+    """2f/2g: the hexapod on all six point feet, method='qp' beside the plain proxsuite QP with
+    pyramids of the same size and beside our partitioned solve."""
+    robot = va.load_robot("hexapod")
+    feet = [f"foot_{i}" for i in range(1, 7)]
+    wrench = np.array([1.0, 0.5, pin.computeTotalMass(robot.model) * 9.81, 0.05, -0.1, 0.02])
+    body = va.ParallelVirtualActuator(robot, "body", feet, reference="body", contact="point")
+    body_qp = va.ParallelVirtualActuator(
+        robot, "body", feet, reference="body", contact="point", friction=MU
+    )
+    configs = perturbed(robot.model, robot.neutral(), _fresh(cfg.repeat), 0.02, seed=6)
+    plain = FootForceQP(robot.model, "body", feet, MU, "update")
+    cases = {
+        "hexapod_solve": (cycling(lambda q: body.solve(q, wrench), [(q,) for q in configs]),
+                          cfg.repeat),
+        "hexapod_solve_qp": (
+            cycling(lambda q: body_qp.solve(q, wrench, method="qp"), [(q,) for q in configs]),
+            cfg.repeat,
+        ),
+        "hexapod_qp_cone_update": (cycling(plain.solve, [(q, wrench) for q in configs]),
+                                   cfg.repeat),
+    }  # fmt: skip
+    stats = measure(cases, cfg.rounds)
+    diff = 0.0
+    for q in configs[:64]:
+        ours = body_qp.solve(q, wrench, method="qp")
+        forces = plain.solve(q, wrench)
+        diff = max(diff, float(np.abs(plain.A @ forces.ravel() - ours.wrench).max()))
+    ours, base = stats["hexapod_solve_qp"], stats["hexapod_qp_cone_update"]
+    ratio = ratio_of(ours, base)
+    rows = [
+        row(f"2f hexapod method='qp' vs proxsuite QP (pyramids mu {MU}, update)", us(ours),
+            us(base), ratio, "<= 2x", ratio <= 2),
+        row("2g hexapod method='qp' vs our partitioned solve", us(ours),
+            us(stats["hexapod_solve"]), ratio_of(ours, stats["hexapod_solve"]), "(info)", None),
+    ]  # fmt: skip
+    return rows, {**stats, "wrench_max_abs_diff": diff, "configurations": len(configs)}
 
 
 # -- figures 3 and 4: millipede -----------------------------------------------------------------

@@ -265,10 +265,11 @@ class ParallelVirtualActuator:
             method: ``"partitioned"`` (default), ``"dense"`` (reference solver, eq. 10-11) or
                 ``"qp"`` (friction cones, unilateral contacts, soles and torque limits declared
                 on the actuator as inequalities; see :mod:`virtual_actuators.distribution.qp`).
-            compiled: Use the compiled per-tick kernel for the partitioned method when it
-                applies (the default); False runs the numpy implementation, the reference the
-                kernel is tested against. Ticks the kernel cannot decide (a near-singular
-                chain, an ill-conditioned block, an inadmissible request) always go to numpy.
+            compiled: Use the compiled per-tick kernels when they apply (the default): the
+                partitioned method's, and the QP's matrices; False runs the numpy
+                implementations, the references the kernels are tested against. Ticks a kernel
+                cannot decide (a near-singular chain, an ill-conditioned block, an inadmissible
+                request) always go to numpy.
 
         Returns:
             The :class:`Solution`.
@@ -300,7 +301,7 @@ class ParallelVirtualActuator:
             )
         fast = None
         if solver is self.qp:
-            fast = self.qp.solve(snapshot, wrench, keep)
+            fast = self.qp.solve(snapshot, wrench, keep, compiled=compiled)
         elif compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)
         fast_used = fast is not None and solver is self.partitioner  # the compiled kernel

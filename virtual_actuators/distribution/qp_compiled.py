@@ -1,0 +1,186 @@
+"""The QP distribution's per-tick matrices through the compiled kernel: tables built once.
+
+:class:`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and
+passive joints and point-contact axes; the springs; the constant design rows; the contact
+normals, pyramid, soles and torque limits) into flat arrays at declaration, so that a tick is
+one call of :func:`~virtual_actuators.distribution.qp_kernels.reduced_qp` on the snapshot's
+arrays. It applies when every chain's columns ``[J_i, ball_i]`` are independent (generic rank
+``k_i + nb_i``) and no hard row depends on the configuration (no joint shared by several chains,
+no ``EqualTorque``); otherwise, and on ticks where a chain is nearly rank deficient, the QP
+builds its rows with numpy (the reference the tests compare this path with).
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+from ..kinematics.kernels import HAVE_NUMBA
+from . import qp_kernels
+from .problem import DistributionProblem
+
+
+class Workspace:
+    """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
+
+    Attributes:
+        buffer: The flat buffer :func:`~.qp_kernels.reduced_qp` writes.
+        layout: Offsets and sizes of the arrays in it.
+        kept: ``(k,)`` indices of the prescribed axes.
+        equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
+            sides and bounds), ``equality`` with the ``design_rows`` design rows first.
+        hessian, gradient: ``I`` and ``0`` over ``z`` (the least-norm objective).
+        design_rows: How many design rows.
+
+    """
+
+    def __init__(self, p_n: int, nv: int, free: int, design: int, kept: np.ndarray,
+                 rows_in: int) -> None:  # fmt: skip
+        rows_eq = design + len(kept)
+        sizes = (p_n * free, p_n, rows_eq * free, rows_eq, rows_in * free, rows_in, rows_in,
+                 nv * free, nv, nv)  # fmt: skip
+        offsets = np.concatenate(([0], np.cumsum(sizes)))
+        self.layout = np.array([*offsets[:-1], free, rows_eq, rows_in, design], dtype=np.int64)
+        self.buffer = np.zeros(int(offsets[-1]))
+        self.kept = kept
+        self.design_rows = design
+        self.pn, self.nv = p_n, nv
+        (_, _, self.equality, self.equality_rhs, self.inequality, self.lows, self.uppers, _, _,
+         _) = qp_kernels.views(self.buffer, self.layout, p_n, nv)  # fmt: skip
+        self.hessian, self.gradient = np.eye(free), np.zeros(free)
+        self.scale = 1.0
+
+
+class CompiledQPMatrices:
+    """Per-tick QP matrices of one parallel actuator, from tables built at declaration.
+
+    Args:
+        problem: The distribution problem.
+        normals_world: ``(p, 3)`` unit contact normals in the world.
+        cone: ``(3,)``: friction (< 0 for none), least normal force [N], 1 to keep the normal
+            row (0: no pyramid rows at all when friction < 0).
+        static_scale: The declaration's part of the tick's scale (bounds, constant right-hand
+            sides).
+        rows_in: Number of inequality rows.
+        soles: ``(p, 3)``: 1 for a sole, its half length and half width [m].
+        limited_v: ``(t,)`` velocity indices of the torque-limited joints.
+        limits: ``(t,)`` their limits [N m, N].
+
+    """
+
+    def __init__(
+        self,
+        problem: DistributionProblem,
+        normals_world: np.ndarray,
+        cone: np.ndarray,
+        soles: np.ndarray,
+        limited_v: np.ndarray,
+        limits: np.ndarray,
+        static_scale: float,
+        rows_in: int,
+    ) -> None:
+        self.problem = problem
+        self.rows_in = rows_in
+        self._local = threading.local()
+        kin = problem.kinematics
+        #: whether the compiled path can build this declaration's ticks
+        self.applicable = (
+            HAVE_NUMBA
+            and all(g.rank == g.columns.shape[1] + len(g.ball_axes) for g in problem.groups)
+            and not problem.coupled_v
+            and not len(problem.torque_pairs)
+        )
+        self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
+        self.frame_rows = np.array([kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64)
+        self._max_row = int(self.frame_rows.max())
+        width_k = max(len(c) for c in kin.chain_columns)
+        width_c = max(g.constrained.shape[1] for g in problem.groups)
+        header = qp_kernels.HEADER
+        ints = np.zeros((problem.p, header + width_k + width_c + 3), dtype=np.int64)
+        signs = np.zeros((problem.p, width_k))
+        for group in problem.groups:
+            k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
+            for j, chain in enumerate(group.chains):
+                ints[chain, :header] = (k, c, nb)
+                ints[chain, header : header + k] = group.columns[j]
+                ints[chain, header + width_k : header + width_k + c] = group.constrained[j]
+                ints[chain, header + width_k + width_c : header + width_k + width_c + nb] = (
+                    group.ball_axes
+                )
+                signs[chain, :k] = group.signs[j]
+        self.chain_ints, self.chain_signs = ints, signs
+        springs = np.zeros((problem.model.nv, 5))
+        springs[:, 2] = -1.0
+        springs[:, 4] = problem.actuated_mask
+        for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
+            springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
+        self.springs = springs
+        self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
+        self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
+        self.normals_world = np.ascontiguousarray(normals_world, dtype=float)
+        self.settings = np.array([*np.asarray(cone, dtype=float), static_scale])
+        self.soles = np.ascontiguousarray(soles, dtype=float)
+        self.limited_v = np.asarray(limited_v, dtype=np.int64)
+        self.limits = np.asarray(limits, dtype=float)
+
+    def workspace(self, keep: np.ndarray) -> Workspace:
+        """This thread's workspace for these prescribed axes (made once)."""
+        cache = getattr(self._local, "workspaces", None)
+        if cache is None:
+            cache = self._local.workspaces = {}
+        key = keep.tobytes()
+        workspace = cache.get(key)
+        if workspace is None:
+            problem = self.problem
+            free = sum(g.size * (g.columns.shape[1] - g.constrained.shape[1])
+                       for g in problem.groups)  # fmt: skip
+            workspace = cache[key] = Workspace(
+                problem.p * problem.n, problem.model.nv, free, len(self.const_rhs),
+                np.flatnonzero(keep).astype(np.int64), self.rows_in,
+            )  # fmt: skip
+        return workspace
+
+    def build(self, snapshot: object, wrench: np.ndarray, keep: np.ndarray) -> Workspace | None:
+        """The tick's reduced QP in this thread's workspace, or None to build it with numpy.
+
+        None: a chain is nearly rank deficient, or the snapshot lacks a frame.
+
+        Args:
+            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            wrench: ``(n,)`` requested wrench.
+            keep: ``(n,)`` bool, the prescribed axes.
+
+        """
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self._max_row:
+            return None  # frames required after this snapshot ran: the numpy path reads them
+        workspace = self.workspace(keep)
+        status, _, scale = qp_kernels.reduced_qp(
+            snapshot.jacobian_world,
+            frames,
+            snapshot.q,
+            wrench,
+            workspace.kept,
+            self.axis_rows,
+            self.frame_rows,
+            self.chain_ints,
+            self.chain_signs,
+            self.springs,
+            self.const_rows,
+            self.const_rhs,
+            self.normals_world,
+            self.settings,
+            self.soles,
+            self.limited_v,
+            self.limits,
+            workspace.buffer,
+            workspace.layout,
+        )
+        if status:
+            return None
+        workspace.scale = scale
+        return workspace
+
+
+__all__ = ["CompiledQPMatrices", "Workspace"]

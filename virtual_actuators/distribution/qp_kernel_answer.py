@@ -1,0 +1,133 @@
+"""Compiled checks and read-out of a solved reduced QP (see :mod:`.qp_kernels`).
+
+:func:`violation` measures how far ProxQP's answer misses the rows it must meet (an infeasible
+request can look solved to the solver's accuracy); :func:`finish` turns the answer in free
+coordinates into the chains' forces, the joint torques, the produced wrench, the residual and the
+active inequalities, in one call and one output array.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..kinematics.kernels import njit
+from .linalg import ROUNDING
+from .qp_kernels import views
+
+
+@njit(cache=True)
+def violation(
+    buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int, z: np.ndarray, equalities: int
+) -> float:
+    """Largest miss of ``z`` (scaled) on the rows it must meet.
+
+    Those are the first ``equalities`` equality rows and every inequality row (``-inf`` for
+    none; a non-finite ``z`` gives ``inf``).
+    """
+    _, _, equality, equality_rhs, inequality, lows, uppers, _, _, _ = views(buffer, layout, pn, nv)
+    worst = -np.inf
+    for r in range(equalities):
+        acc = -equality_rhs[r]
+        for j in range(z.shape[0]):
+            acc += equality[r, j] * z[j]
+        worst = max(worst, abs(acc))
+    for r in range(lows.shape[0]):
+        acc = 0.0
+        for j in range(z.shape[0]):
+            acc += inequality[r, j] * z[j]
+        worst = max(worst, lows[r] - acc, acc - uppers[r])
+    for j in range(z.shape[0]):
+        if not np.isfinite(z[j]):
+            return np.inf
+    return worst
+
+
+@njit(cache=True)
+def finish(
+    buffer: np.ndarray,
+    layout: np.ndarray,
+    pn: int,
+    nv: int,
+    z: np.ndarray,
+    multipliers: np.ndarray,
+    scale: float,
+    wrench: np.ndarray,
+    keep: np.ndarray,
+    active_tol: float,
+    accuracy: float,
+) -> tuple[np.ndarray, float, float, float, np.ndarray]:
+    """Forces and torques of the answer ``z`` (scaled) and what the solution reports.
+
+    Args:
+        buffer: The tick's workspace (see :func:`reduced_qp`).
+        layout: Its layout.
+        pn: ``p n``.
+        nv: Velocity dimension.
+        z: ``(d,)`` the QP's answer (scaled).
+        multipliers: ``(m,)`` the inequalities' multipliers.
+        scale: The tick's scale.
+        wrench: ``(n,)`` the request.
+        keep: ``(n,)`` 1 for prescribed axes.
+        active_tol: A multiplier above this marks its row active.
+        accuracy: The solver's absolute accuracy on the scaled problem.
+
+    Returns:
+        ``(out, residual, larger of |wrench| and |produced| on the prescribed axes, rounding,
+        active rows)``; ``out`` holds the forces (p x n, row-major), tau (nv), the spring
+        torques (nv), produced (n) and requested (n, free axes: produced), like the partitioned
+        kernel's.
+
+    """
+    n = wrench.shape[0]
+    basis, x0, _, _, _, _, _, tmap, tau0, passive = views(buffer, layout, pn, nv)
+    out = np.zeros(pn + 2 * nv + 2 * n)
+    forces = out[:pn]
+    tau = out[pn : pn + nv]
+    produced = out[pn + 2 * nv : pn + 2 * nv + n]
+    requested = out[pn + 2 * nv + n :]
+    free = z.shape[0]
+    force_peak = 0.0
+    for r in range(pn):
+        acc = 0.0
+        for j in range(free):
+            acc += basis[r, j] * z[j]
+        forces[r] = x0[r] + acc * scale
+        force_peak = max(force_peak, abs(forces[r]))
+        produced[r % n] += forces[r]
+    for v in range(nv):
+        acc = 0.0
+        for j in range(free):
+            acc += tmap[v, j] * z[j]
+        tau[v] = tau0[v] + acc * scale
+        out[pn + nv + v] = passive[v]
+    peak = 0.0
+    for a in range(n):
+        if keep[a]:
+            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
+            requested[a] = wrench[a]
+        else:
+            requested[a] = produced[a]
+    residual, request, output = 0.0, 0.0, 0.0
+    if not np.isfinite(peak):
+        peak, residual = np.inf, np.inf
+    elif peak > 0.0:  # scale-free norms: no overflow at any magnitude
+        for a in range(n):
+            if keep[a]:
+                residual += ((produced[a] - wrench[a]) / peak) ** 2
+                request += (wrench[a] / peak) ** 2
+                output += (produced[a] / peak) ** 2
+    count = 0
+    for r in range(multipliers.shape[0]):
+        count += abs(multipliers[r]) > active_tol
+    active = np.empty(count, dtype=np.int64)
+    count = 0
+    for r in range(multipliers.shape[0]):
+        if abs(multipliers[r]) > active_tol:
+            active[count] = r
+            count += 1
+    rounding = ROUNDING * force_peak + accuracy * 10.0 * scale
+    return (out, peak * np.sqrt(residual), peak * np.sqrt(max(request, output)), rounding,
+            active)  # fmt: skip
+
+
+__all__ = ["finish", "violation"]

@@ -1,0 +1,274 @@
+"""The inequalities of the QP distribution, declared once (see :mod:`.qp`).
+
+:class:`ContactLimits` checks and stores the friction pyramid, least normal force, soles and
+torque limits of a parallel actuator, names every inequality row, and builds the rows with numpy
+over all ``p n`` force entries (the reference path); :mod:`.qp_compiled` reads its tables.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from ..vocabulary.frames import AXES
+from .problem import DistributionProblem
+
+#: ProxQP's "no bound".
+INFINITY = 1e20
+#: Effort limits at or above this [N m, N] mean "unlimited".
+UNLIMITED = 1e30
+
+
+class ContactLimits:
+    """The inequalities of a parallel actuator's QP, declared once.
+
+    Args:
+        problem: The distribution problem.
+        friction: Friction coefficient ``mu`` of every contact, or None for no cone.
+        min_normal: Least normal force of every contact [N].
+        normals: World-frame contact normal per reaction frame (default: world z).
+        soles: ``(half_length, half_width)`` [m] of flat contacts' soles, by reaction frame.
+        torque_limits: False (none), True (URDF effort limits) or ``(nv,)`` limits [N m, N].
+
+    Raises:
+        InvalidInputError: Bad values (a negative limit, a zero normal, an unknown reaction).
+
+    """
+
+    def __init__(
+        self,
+        problem: DistributionProblem,
+        friction: float | None,
+        min_normal: float,
+        normals: Mapping[str, Sequence[float]] | None,
+        soles: Mapping[str, Sequence[float]] | None,
+        torque_limits: bool | Sequence[float] | np.ndarray,
+    ) -> None:
+        self.problem = problem
+        self.friction = friction
+        self.min_normal = float(min_normal)
+        reactions = problem.reactions
+        self.normals_world = np.tile([0.0, 0.0, 1.0], (problem.p, 1))
+        for name, normal in dict(normals or {}).items():
+            index = self._reaction(name, "normals")
+            vector = np.asarray(normal, dtype=float).reshape(-1)
+            size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
+            if not size or not np.isfinite(size):
+                raise InvalidInputError(
+                    f"normals[{name!r}] must be a nonzero 3-vector (world frame), got {normal!r}."
+                )
+            self.normals_world[index] = vector / size
+        self.soles: dict[int, tuple[float, float]] = {}
+        for name, sole in dict(soles or {}).items():
+            index = self._reaction(name, "soles")
+            values = np.asarray(sole, dtype=float).reshape(-1)
+            if values.shape != (2,) or not np.all(np.isfinite(values)) or np.any(values <= 0):
+                raise InvalidInputError(
+                    f"soles[{name!r}] must be (half_length, half_width) > 0 [m], got {sole!r}."
+                )
+            if problem.contacts[index] != "flat":
+                raise InvalidInputError(
+                    f"soles[{name!r}]: {name!r} is a point contact; a sole needs contact='flat'."
+                )
+            self.soles[index] = (float(values[0]), float(values[1]))
+        self.soles = dict(sorted(self.soles.items()))  # chain order: the rows' order
+        model = problem.model
+        if torque_limits is True:
+            limits = np.asarray(model.effortLimit, dtype=float).copy()
+            limits[(limits <= 0) | ~np.isfinite(limits)] = np.inf
+        elif torque_limits is False or torque_limits is None:
+            limits = np.full(model.nv, np.inf)
+        else:
+            limits = np.asarray(torque_limits, dtype=float).reshape(-1)
+            if limits.shape != (model.nv,) or np.any(np.isnan(limits)) or np.any(limits < 0):
+                raise InvalidInputError(
+                    f"torque_limits must be True, False or {model.nv} numbers >= 0, got "
+                    f"{torque_limits!r}."
+                )
+        limits = np.where(limits >= UNLIMITED, np.inf, limits)  # URDFs write "none" as 1e308
+        limited = problem.actuated_mask & np.isfinite(limits)
+        self.limited_v = np.flatnonzero(limited)
+        self.limits = limits[self.limited_v]
+        axes = problem.axes
+        self.force_axes = [axes.index(a) for a in AXES[:3] if a in axes]
+        self.force_components = [AXES.index(a) for a in AXES[:3] if a in axes]
+        self.moment_axes = [axes.index(a) for a in AXES[3:] if a in axes]
+        self.moment_components = [AXES.index(a) - 3 for a in AXES[3:] if a in axes]
+        self.names = reactions
+        #: rows of the cone (normal bound, friction faces) when the actuator has force axes
+        self._cone = bool(self.force_axes) and (
+            self.friction is not None or self.min_normal > 0.0 or bool(self.soles)
+        )
+        #: the normal row ``n . f >= min_normal``; with a pyramid and no least normal force it is
+        #: implied by the faces (``(mu n - t) + (mu n + t) = 2 mu n``) and left out
+        self.normal_row = self._cone and (self.friction is None or self.min_normal > 0.0)
+        # the cone's scatter into (chain, face, p n) and its bounds depend on the declaration only
+        faces = int(self.normal_row) + (4 if self.friction is not None else 0)
+        chains = np.arange(problem.p)[:, None, None]
+        self._cone_index = (
+            chains,
+            np.arange(faces)[None, :, None],
+            chains * problem.n + np.asarray(self.force_axes, dtype=int)[None, None, :],
+        )
+        self._cone_lows = np.tile(
+            [self.min_normal] * self.normal_row + [0.0] * (faces - self.normal_row), problem.p
+        )
+        soles_table = np.zeros((problem.p, 3))
+        for i, sole in self.soles.items():
+            soles_table[i] = (1.0, *sole)
+        #: the declaration's tables for the compiled path
+        self.tables = {
+            "normals_world": self.normals_world,
+            "cone": np.array(
+                [-1.0 if friction is None else friction, self.min_normal, self.normal_row]
+            ),
+            "soles": soles_table,
+            "limited_v": self.limited_v,
+            "limits": self.limits,
+        }
+        self._row_names = self._names()
+
+    def row_names(self) -> list[str]:
+        """The inequality rows' names, in the order both paths build the rows."""
+        return self._row_names
+
+    def _reaction(self, name: object, what: str) -> int:
+        if name not in self.problem.reactions:
+            raise InvalidInputError(
+                f"{what} names {name!r}, not a reaction frame; reactions are "
+                f"{list(self.problem.reactions)}."
+            )
+        return self.problem.reactions.index(name)
+
+    @property
+    def any(self) -> bool:
+        """Whether there is at least one inequality."""
+        return (
+            self.friction is not None
+            or bool(self.soles)
+            or bool(self.limited_v.size)
+            or (self.min_normal > 0.0)
+        )
+
+    def _names(self) -> list[str]:
+        """The inequality rows' names, in the order :meth:`rows` builds them."""
+        names: list[str] = []
+        if self._cone:
+            for reaction in self.names:
+                if self.normal_row:
+                    names.append(f"{reaction}: normal >= {self.min_normal:g} N")
+                if self.friction is not None:
+                    names += [f"{reaction}: friction {w}" for w in ("+t1", "-t1", "+t2", "-t2")]
+        for i, (half_length, half_width) in self.soles.items():
+            if not self.moment_axes:
+                continue
+            mu = self.friction if self.friction is not None else 0.0
+            for label, half in (("x", half_width), ("y", half_length), ("z", mu * min(
+                half_length, half_width))):  # fmt: skip
+                names.append(f"{self.names[i]}: moment {label} <= {half:g} f_n")
+                names.append(f"{self.names[i]}: moment {label} >= -{half:g} f_n")
+        for v, limit in zip(self.limited_v, self.limits, strict=True):
+            names.append(f"torque {self.problem.joint_name(int(v))}: |tau| <= {limit:g}")
+        return names
+
+    def rows(
+        self, state: object, torque_map: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+        """``lows <= C x <= uppers`` over ``x = forces.ravel()``, with a name per row.
+
+        Args:
+            state: The tick's kinematic state (rotations, offsets, Jacobian rows in {O}).
+            torque_map: ``(nv, p n)`` joint torques of ``x``.
+
+        """
+        p, n = self.problem.p, self.problem.n
+        blocks: list[np.ndarray] = []
+        lows: list[np.ndarray] = []
+        rotation_o = state.rotation_o
+        normals_o = self.normals_world @ rotation_o  # rows: R_O^T n, per chain
+        if self._cone:
+            helper = np.where(np.abs(normals_o[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+            tangent1 = _cross(normals_o, helper)
+            tangent1 /= np.linalg.norm(tangent1, axis=1, keepdims=True)
+            tangent2 = _cross(normals_o, tangent1)
+            vectors = [normals_o] if self.normal_row else []
+            if self.friction is not None:
+                mu_normal = self.friction * normals_o
+                vectors += [mu_normal - tangent1, mu_normal + tangent1]
+                vectors += [mu_normal - tangent2, mu_normal + tangent2]
+            stacked = np.stack(vectors, axis=1)  # (p, faces, 3)
+            cone = np.zeros((p, stacked.shape[1], p * n))
+            cone[self._cone_index] = stacked[:, :, self.force_components]
+            blocks.append(cone.reshape(-1, p * n))
+            lows.append(self._cone_lows)
+        if self.soles and self.moment_axes:
+            offsets = state.offsets_o()  # (p, 3): from {A_i} to {B} in {O}
+            for i, sole in self.soles.items():
+                sole_rows = self._sole_rows(i, sole, normals_o[i], offsets[i], rotation_o, state)
+                blocks.append(sole_rows)
+                lows.append(np.zeros(len(sole_rows)))
+        one_sided = sum(len(low) for low in lows)
+        if self.limited_v.size:
+            blocks.append(torque_map[self.limited_v])  # two-sided: -limit <= tau <= limit
+            lows.append(-self.limits)
+        if not blocks:
+            return np.zeros((0, p * n)), np.zeros(0), np.zeros(0), []
+        low = np.concatenate(lows)
+        upper = np.full(len(low), INFINITY)
+        upper[one_sided:] = self.limits
+        return np.vstack(blocks), low, upper, self._row_names
+
+    def _sole_rows(self, i, sole, normal, offset, rotation_o, state) -> np.ndarray:
+        """Centre of pressure inside the sole and a bounded yaw moment (flat contact ``i``)."""
+        p, n = self.problem.p, self.problem.n
+        half_length, half_width = sole
+        # the reaction frame's axes in {O}; moments about {A_i}'s origin: m_A = m_B + d x f
+        frame_o = rotation_o.T @ state.rotation_a[i]  # columns: the frame's x, y, z in {O}
+        force_cols = i * n + np.array(self.force_axes)
+        moment_cols = i * n + np.array(self.moment_axes)
+        normal_row = np.zeros(p * n)  # the force along the sole's normal (its frame's z)
+        normal_row[force_cols] = frame_o[self.force_components, 2]
+        mu = self.friction if self.friction is not None else 0.0
+        out = []
+        for column, half in ((0, half_width), (1, half_length), (2, mu * min(sole))):
+            axis_o = frame_o[:, column]
+            row = np.zeros(p * n)  # axis . m_A = axis . m_B + f . (axis x d)
+            row[moment_cols] = axis_o[self.moment_components]
+            row[force_cols] += _cross(axis_o, offset)[self.force_components]
+            out += [half * normal_row - row, half * normal_row + row]
+        return np.array(out)
+
+
+def kinds(names: Sequence[str]) -> list[str]:
+    """The kinds of inequality among row names: friction, normal, moment, torque."""
+    words = ("friction", "normal", "moment", "torque")
+    return [word for name in names for word in words if word in name] or ["none"]
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross products of ``(..., 3)`` arrays (np.cross costs ~10 us a call)."""
+    return np.stack(
+        (
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ),
+        axis=-1,
+    )
+
+
+def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarray:
+    """``(nv, p n)``: the joint torques ``sum_i J_i^T F_i`` as a matrix over ``F.ravel()``."""
+    p, n = problem.p, problem.n
+    matrix = np.zeros((problem.model.nv, p * n))
+    for group in problem.groups:
+        columns = group.columns  # (g, k): each chain's velocity columns
+        targets = group.chains[:, None, None] * n + np.arange(n)[None, None, :]
+        share = jacobian_o[:, columns].transpose(1, 2, 0) * group.signs[:, :, None]  # (g, k, n)
+        matrix[columns[:, :, None], targets] += share
+    return matrix
+
+
+__all__ = ["INFINITY", "UNLIMITED", "ContactLimits", "kinds", "torque_map"]

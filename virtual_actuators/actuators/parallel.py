@@ -318,23 +318,23 @@ class ParallelVirtualActuator:
         elif kind == "least-squares":
             kind = "pseudo-inverse"
         base_effort = tau[:6].copy() if self._floating else np.zeros(0)
-        solution = Solution(
-            tau=tau,
-            forces=raw.forces,
-            wrench=produced,
-            sets=raw.sets,
-            residual=residual,
-            method=kind,
-            requested=requested,
-            reactions=self.reactions,
-            axes=self.axes,
-            free=free,
-            tau_passive=passive_torque,
-            base_effort=base_effort,
-            solver=raw.solver,
-            systems=raw.systems,
-            compiled=fast_used,
-            active=raw.active,
+        solution = Solution(  # positional (a tick's cost): the fields in declaration order
+            tau,
+            raw.forces,
+            produced,
+            raw.sets,
+            residual,
+            kind,
+            requested,
+            self.reactions,
+            self.axes,
+            free,
+            passive_torque,
+            base_effort,
+            raw.solver,
+            raw.systems,
+            fast_used,
+            raw.active,
         )
         if strict and missed:
             raise InadmissibleWrenchError(

@@ -29,6 +29,8 @@ from ..vocabulary.frames import (
     resolve_frame,
 )
 
+_FLOAT64 = np.dtype(np.float64)
+
 
 def wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
     """``wrench`` as a finite float64 array of one entry per axis (the fast path: as given).
@@ -37,6 +39,13 @@ def wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
         InvalidInputError: Not real numbers, the wrong shape, or a NaN or inf entry.
 
     """
+    if (
+        wrench.__class__ is np.ndarray
+        and wrench.dtype is _FLOAT64
+        and wrench.shape == (len(axes),)
+        and math.isfinite(sum(wrench.tolist()))  # (an overflowing sum: the checks below)
+    ):
+        return wrench  # the fast path: a finite float64 vector of the right size
     if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):  # slow path only
         wrench = as_float_array(
             wrench, "wrench", f"an array of {len(axes)} real numbers (axes {tuple(axes)})"

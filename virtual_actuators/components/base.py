@@ -66,6 +66,20 @@ class Component(ABC):
 
         """
 
+    def _wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """:meth:`compute_wrench` on plain floats (the controller's per-tick fast path).
+
+        A subclass may implement it alongside :meth:`compute_wrench`, with the same arithmetic
+        entry by entry (the same bits); the controller uses it only for a component whose most
+        derived ``compute_wrench`` is defined in a class that also defines this method (see
+        :func:`has_float_path`). Default: the array method.
+        """
+        return np.asarray(
+            self.compute_wrench(np.array(position), np.array(velocity), time), dtype=float
+        ).tolist()
+
     def reset(self, position: np.ndarray, time: float) -> None:  # noqa: B027 (optional hook)
         """Hook called when the component becomes active (a state is entered). Default: nothing.
 
@@ -89,15 +103,14 @@ class Component(ABC):
         if kind is float or kind is int:  # fast paths: set points move every tick
             number = float(value)
             if number == number and (allow_inf or math.isfinite(number)):
-                return np.full(len(self.axes), number)
+                return np.array((number,) * len(self.axes))
         elif (kind is tuple or kind is list) and len(value) == len(self.axes):
-            if all(type(x) in _REALS for x in value):
-                array = np.array(value, dtype=float)
-                total = float(array.sum())  # NaN or inf if any entry is
+            if _REALS.issuperset(map(type, value)):
+                total = sum(value)  # NaN or inf if any entry is (or on overflow: slow path)
                 if math.isfinite(total) or (allow_inf and total == total):
-                    return array
+                    return np.array(value, dtype=float)
         elif kind is np.ndarray and value.shape == (len(self.axes),) and value.dtype == float:
-            total = float(value.sum())
+            total = sum(value.tolist())
             if math.isfinite(total) or (allow_inf and total == total):
                 return value.copy()
         expected = f"a real number or one real number per axis {self.axes}"
@@ -119,3 +132,15 @@ class Component(ABC):
     def __repr__(self) -> str:
         extra = self._parameters()
         return f"{type(self).__name__}(axes={self.axes}{', ' + extra if extra else ''})"
+
+
+def has_float_path(component: Component) -> bool:
+    """Whether ``component``'s float method computes what its ``compute_wrench`` does.
+
+    True when the most derived class defining ``compute_wrench`` defines ``_wrench_floats``
+    too (a subclass overriding only ``compute_wrench`` is not trusted).
+    """
+    for klass in type(component).__mro__:
+        if "compute_wrench" in klass.__dict__:
+            return "_wrench_floats" in klass.__dict__ and klass is not Component
+    return False

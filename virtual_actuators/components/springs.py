@@ -20,6 +20,7 @@ from ..exceptions import InvalidInputError
 from .base import Component
 
 Vector = float | Sequence[float] | np.ndarray
+_FLOAT64 = np.dtype(np.float64)
 
 
 class SpringDamper(Component):
@@ -56,6 +57,7 @@ class SpringDamper(Component):
         name: str | None = None,
     ) -> None:
         super().__init__(axes, name)
+        self._shape = (len(self.axes),)
         self.stiffness = stiffness
         self.damping = damping
         self.setpoint = setpoint
@@ -127,12 +129,53 @@ class SpringDamper(Component):
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """``clip(k (x0 - x) + b (v0 - v), -limit, limit) + f`` per axis (module docstring)."""
+        if (
+            position.__class__ is np.ndarray
+            and velocity.__class__ is np.ndarray
+            and position.dtype is _FLOAT64
+            and velocity.dtype is _FLOAT64
+            and position.shape == self._shape
+            and velocity.shape == self._shape
+        ):
+            return np.array(
+                SpringDamper._wrench_floats(self, position.tolist(), velocity.tolist(), time)
+            )
         wrench = self._stiffness * (self._setpoint - position) + self._damping * (
             self._velocity_setpoint - velocity
         )
         if self._limited:
             wrench = np.minimum(np.maximum(wrench, -self._limit), self._limit)
         return wrench + self._force
+
+    def _wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """:meth:`compute_wrench` on plain floats, entry by entry.
+
+        The same IEEE operations in the same order as the array formula (so the same bits),
+        without numpy's per-call cost on a few axes. The parameters are read from the arrays
+        at every call (an array changed in place is seen).
+        """
+        wrench = [
+            k * (x0 - x) + b * (v0 - v)
+            for k, x0, x, b, v0, v in zip(
+                self._stiffness.tolist(),
+                self._setpoint.tolist(),
+                position,
+                self._damping.tolist(),
+                self._velocity_setpoint.tolist(),
+                velocity,
+                strict=True,
+            )
+        ]
+        if self._limited:
+            return [
+                min(max(w, -limit), limit) + f
+                for w, limit, f in zip(
+                    wrench, self._limit.tolist(), self._force.tolist(), strict=True
+                )
+            ]
+        return [w + f for w, f in zip(wrench, self._force.tolist(), strict=True)]
 
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:

@@ -7,13 +7,14 @@ limits ``Controller.add`` is given.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.base import Component
+from ..components.base import Component, has_float_path
 from ..exceptions import InvalidInputError
 from ..vocabulary.frames import (
     check_axes_subset,
@@ -57,6 +58,16 @@ class Attachment:
     def __post_init__(self) -> None:
         # Each component's axes as a slice when contiguous (views instead of gathers per tick)
         self.slots = [_as_slice(index) for index in self.indices]
+        # Components computed on plain floats per tick (see Component._wrench_floats): all of
+        # them must have the float path and contiguous axes; valid while ``components`` holds
+        # the same objects (checked per tick against the copy kept here)
+        self.float_components: list[Component] | None = None
+        if self.components and all(
+            isinstance(slot, slice) and has_float_path(component)
+            for component, slot in zip(self.components, self.slots, strict=False)
+        ):
+            self.float_components = list(self.components)
+            self.float_slots = [(slot.start, slot.stop) for slot in self.slots]
         # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
         if self.yield_mask is None:
             return
@@ -89,6 +100,35 @@ class Attachment:
         self.cone_lows = np.concatenate(
             (self.bound_lows, np.tile([self.min_normal, 0.0, 0.0, 0.0, 0.0], p))
         )
+
+    def wrench_floats(
+        self, position: np.ndarray, velocity: np.ndarray, time: float
+    ) -> np.ndarray | None:
+        """The controller's sum of component wrenches, on plain floats (the per-tick fast path).
+
+        For attachments whose components all have a float path and contiguous axes
+        (:attr:`float_components`). The same sums in the same order as the array path
+        (``0.0 + share`` per component and axis, or one component's wrench as is when it covers
+        every axis). None when the sum is not finite or a component returns the wrong number
+        of entries: the array path then raises its error.
+        """
+        xs, vs = position.tolist(), velocity.tolist()
+        components, slots = self.float_components, self.float_slots
+        if len(components) == 1 and slots[0] == (0, len(xs)):
+            total = components[0]._wrench_floats(xs, vs, time)
+            if len(total) != len(xs):
+                return None
+        else:
+            total = [0.0] * len(xs)
+            for component, (start, stop) in zip(components, slots, strict=True):
+                share = component._wrench_floats(xs[start:stop], vs[start:stop], time)
+                if len(share) != stop - start:
+                    return None  # the array path names the component and what it returned
+                for i, value in enumerate(share, start):
+                    total[i] += value
+        if not math.isfinite(sum(total)):
+            return None
+        return np.array(total)
 
     @property
     def axes(self) -> tuple[str, ...]:

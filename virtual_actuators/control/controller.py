@@ -430,18 +430,18 @@ class Controller:
         else:
             tau = requested.copy()
             saturated = np.abs(requested) > self._upper_limits
-        return ControlOutput(
-            tau=tau,
-            tau_requested=requested,
-            saturated=saturated,
-            wrenches=wrenches,
-            produced=produced,
-            positions=positions,
-            velocities=velocities,
-            solutions=solutions,
-            failed=failed,
-            active=names,
-            joint_names=self.joint_names,
+        return ControlOutput(  # positional (a tick's cost): the fields in declaration order
+            tau,
+            requested,
+            saturated,
+            wrenches,
+            produced,
+            positions,
+            velocities,
+            solutions,
+            failed,
+            names,
+            self.joint_names,
         )
 
     @staticmethod
@@ -450,6 +450,10 @@ class Controller:
     ) -> np.ndarray:
         """Sum of the attachment's component wrenches on its actuator's axes (checked finite)."""
         components = attachment.components
+        if components == attachment.float_components:  # plain floats, the same arithmetic
+            wrench = attachment.wrench_floats(position, velocity, time)
+            if wrench is not None:
+                return wrench
         n = len(attachment.axes)
         wrench = None
         if len(components) == 1 and attachment.slots[0] == slice(0, n):  # one on every axis

@@ -207,7 +207,7 @@ class CompiledDistribution:
         buffer, (p, n), nv = out[0], self._shape, self.springs.shape[0]
         at = p * n
         forces = buffer[:at].reshape(p, n)
-        raw = RawSolution(forces=forces, method=mode.method, sets=mode.sets, systems=mode.systems)
+        raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         tau, passive = buffer[at : at + nv], buffer[at + nv : at + 2 * nv]
         produced, requested = buffer[at + 2 * nv : at + 2 * nv + n], buffer[at + 2 * nv + n :]
         return raw, (tau, passive, produced, requested, out[1], out[2], out[3])

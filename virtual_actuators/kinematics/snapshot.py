@@ -223,12 +223,15 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
-        frame_id = self._frame_id(frame)
+        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
+        if frame_id is None:
+            frame_id = self._frame_id(frame)
         cached = self._velocities.get(frame_id)
         if cached is None:
-            x, y, z = self._placement(frame_id)[1]
+            x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
-            vx, vy, vz, wx, wy, wz = self.jacobian_world[:, columns] @ self.v[columns]
+            twist = self.jacobian_world[:, columns] @ self.v[columns]
+            vx, vy, vz, wx, wy, wz = twist.tolist()  # plain floats: the same arithmetic
             # the twist is at the world origin: the frame origin moves at v + w x p
             cached = self._velocities[frame_id] = np.array(
                 (vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x)

@@ -62,6 +62,22 @@ class _Gathers:
     actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
     actuator: np.ndarray  # its MuJoCo actuator id
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
+    direct_q: np.ndarray | None = None  # q = qpos[direct_q] when every joint is copied
+    direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
+    direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
+    unactuated: tuple[int, ...] = ()  # unactuated_v as ints
+
+
+def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
+    """The one-gather form of ``out[target] = values[source]``, or None.
+
+    ``out = values[index]`` equals it when ``target`` covers ``0 .. size - 1`` exactly once.
+    """
+    if sorted(target) != list(range(size)):
+        return None
+    index = np.zeros(size, dtype=np.intp)
+    index[np.array(target, dtype=np.intp)] = source
+    return index
 
 
 def _gathers(mm: MujocoModel) -> _Gathers:
@@ -94,6 +110,14 @@ def _gathers(mm: MujocoModel) -> _Gathers:
         actuated_v=index(actuated_v),
         actuator=index(actuator),
         unactuated_v=index(unactuated),
+        direct_q=None
+        if any(j.kind in ("free", "ball", "continuous") for j in mm.joints)
+        else _direct(copy_q, copy_qpos, mm.robot.model.nq),
+        direct_v=None
+        if any(j.kind == "free" for j in mm.joints)
+        else _direct(copy_v, copy_qvel, mm.robot.model.nv),
+        direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
+        unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = gathers  # frozen dataclass: cache beside its fields
     return gathers
@@ -216,6 +240,8 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
     """
     qpos = _vector(qpos, mm.model.nq, "qpos")
     gathers = _gathers(mm)
+    if gathers.direct_q is not None:  # hinges and slides only: one gather
+        return qpos[gathers.direct_q]
     q = np.zeros(mm.robot.model.nq)
     q[gathers.copy_q] = qpos[gathers.copy_qpos]
     for joint in gathers.special:
@@ -289,6 +315,8 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
     qpos = _vector(qpos, mm.model.nq, "qpos")
     qvel = _vector(qvel, mm.model.nv, "qvel")
     gathers = _gathers(mm)
+    if gathers.direct_v is not None:  # no free joint: one gather
+        return qvel[gathers.direct_v]
     v = np.zeros(mm.robot.model.nv)
     v[gathers.copy_v] = qvel[gathers.copy_qvel]
     for joint in gathers.free:
@@ -322,11 +350,17 @@ def torques_to_ctrl(
     """
     tau = _vector(tau, mm.robot.model.nv, "tau")
     gathers = _gathers(mm)
-    ctrl = np.zeros(mm.model.nu)
-    ctrl[gathers.actuator] = tau[gathers.actuated_v]
-    if ignore_unactuated or not gathers.unactuated_v.size:
+    if gathers.direct_ctrl is not None:  # every motor drives one joint: one gather
+        ctrl = tau[gathers.direct_ctrl]
+    else:
+        ctrl = np.zeros(mm.model.nu)
+        ctrl[gathers.actuator] = tau[gathers.actuated_v]
+    if ignore_unactuated or not gathers.unactuated:
         return ctrl
-    if np.abs(tau[gathers.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
+    if len(gathers.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
+        if max(abs(tau.item(i)) for i in gathers.unactuated) <= UNACTUATED_TOLERANCE:
+            return ctrl
+    elif np.abs(tau[gathers.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
         return ctrl
     for joint in mm.joints:
         effort = tau[joint.idx_v : joint.idx_v + joint.nv]

@@ -145,6 +145,8 @@ class Simulator:
         self._owned_geoms: dict[str, frozenset[int]] = {}
         self._contacts: list[tuple[int, int, float]] = []
         self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
+        self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
+        self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -292,6 +294,8 @@ class Simulator:
         if self._contacts_time != key:
             self._contacts = self._scan_contacts()
             self._contacts_time = key
+            self._switches = {}
+            self._touching = None
         if frame is None:
             return self._contacts
         geoms = self._frame_geoms(frame)
@@ -303,9 +307,8 @@ class Simulator:
         terrain, owned = mm.terrain_geoms, mm.geom_frames
         contacts = self.data.contact
         hits = []
-        geom1, geom2 = contacts.geom1.tolist(), contacts.geom2.tolist()
-        rows = zip(geom1, geom2, contacts.exclude.tolist(), strict=True)
-        for i, (g1, g2, exclude) in enumerate(rows):
+        rows = zip(contacts.geom.tolist(), contacts.exclude.tolist(), strict=True)
+        for i, ((g1, g2), exclude) in enumerate(rows):
             if exclude != 0:
                 continue
             if g1 in terrain and g2 not in terrain:
@@ -334,7 +337,14 @@ class Simulator:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
 
         """
-        return bool(self._terrain_contacts(frame))
+        data = self.data
+        if self._contacts_time == (data.time, data.ncon):  # same physics state: cached
+            switch = self._switches.get(frame)
+            if switch is not None:
+                return switch
+        switch = bool(self._terrain_contacts(frame))
+        self._switches[frame] = switch  # a known frame (unknown ones raised above)
+        return switch
 
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, in world axes [N].
@@ -363,8 +373,11 @@ class Simulator:
             Frame names (a geom counts for its parent frame and every frame that owns it).
 
         """
-        owners = self.mujoco_model.geom_frames
-        return {name for _, geom, _ in self._terrain_contacts() for name in owners[geom]}
+        contacts = self._terrain_contacts()
+        if self._touching is None:  # once per physics state
+            owners = self.mujoco_model.geom_frames
+            self._touching = frozenset(name for _, geom, _ in contacts for name in owners[geom])
+        return set(self._touching)
 
     def __repr__(self) -> str:
         return (

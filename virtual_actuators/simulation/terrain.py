@@ -29,6 +29,7 @@ segments, plus 50 m long level boxes before the first and after the last point.
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Iterable, Sequence
 
@@ -91,6 +92,27 @@ _PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
 }
 
 _BUILTIN_NAMES = ("flat", *_PROFILES)
+
+
+def _interp(x: float, xs: list[float], zs: list[float]) -> float:
+    """``np.interp(x, xs, zs)`` for one float, with numpy's arithmetic (the same bits)."""
+    if not x == x:
+        return x  # NaN
+    if x <= xs[0]:
+        return zs[0]
+    last = len(xs) - 1
+    if x >= xs[last]:
+        return zs[last]
+    j = bisect.bisect_right(xs, x) - 1  # xs[j] <= x < xs[j + 1]
+    if xs[j] == x:
+        return zs[j]
+    slope = (zs[j + 1] - zs[j]) / (xs[j + 1] - xs[j])
+    height = slope * (x - xs[j]) + zs[j]
+    if height != height:  # numpy's retry from the other end
+        height = slope * (x - xs[j + 1]) + zs[j + 1]
+        if height != height and zs[j] == zs[j + 1]:
+            height = zs[j]
+    return height
 
 
 def _profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
@@ -171,6 +193,8 @@ class Terrain:
             )
         array.setflags(write=False)
         self._points = array
+        # plain floats for height() at one number (the control loop's query)
+        self._xs, self._zs = array[:, 0].tolist(), array[:, 1].tolist()
         self.name = str(name)
         self.width = float(width)
 
@@ -333,6 +357,8 @@ class Terrain:
             Height(s) [m]: a float for a number, an array of the shape of ``x`` otherwise.
 
         """
+        if x.__class__ is float or x.__class__ is np.float64:  # one number: no array round trip
+            return _interp(float(x), self._xs, self._zs)
         xs, zs = self._points[:, 0], self._points[:, 1]
         heights = np.interp(np.asarray(x, dtype=float), xs, zs)
         return float(heights) if np.ndim(x) == 0 else heights

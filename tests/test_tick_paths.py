@@ -1,0 +1,247 @@
+"""The control tick's fast paths against the checked (numpy) paths they stand in for.
+
+Every fast path must give the same bits as the path it skips (the walks' trajectories may not
+move), and anything it does not handle must take the checked path with its typed error.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import virtual_actuators as va
+from virtual_actuators.actuators.serial import wrench_array
+from virtual_actuators.components.base import has_float_path
+from virtual_actuators.components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.gaits import FlamingoWalker, TurkeyWalker
+from virtual_actuators.kinematics.snapshot import Snapshot
+from virtual_actuators.simulation import Simulator
+from virtual_actuators.simulation.conversions import (
+    _gathers,
+    configuration_from_mujoco,
+    torques_to_ctrl,
+    velocity_from_mujoco,
+)
+from virtual_actuators.simulation.terrain import Terrain
+
+AXES3 = ("x", "z", "ry")
+
+
+def _array_formula(spring: va.SpringDamper, position: np.ndarray, velocity: np.ndarray):
+    """The component formula written with numpy arrays (the reference of the float path)."""
+    wrench = spring.stiffness * (spring.setpoint - position) + spring.damping * (
+        spring.velocity_setpoint - velocity
+    )
+    wrench = np.minimum(np.maximum(wrench, -spring.limit), spring.limit)
+    return wrench + spring.force
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_spring_damper_float_path_gives_the_array_formula_bits(seed):
+    rng = np.random.default_rng(seed)
+    for limit in (np.inf, rng.uniform(0.1, 5.0, 3)):
+        spring = va.SpringDamper(
+            AXES3,
+            stiffness=rng.uniform(0, 1e3, 3),
+            damping=rng.uniform(0, 50, 3),
+            setpoint=rng.normal(size=3),
+            velocity_setpoint=rng.normal(size=3),
+            force=rng.normal(size=3) * 10,
+            limit=limit,
+        )
+        for _ in range(50):
+            position, velocity = rng.normal(size=3), rng.normal(size=3) * 3
+            fast = spring.compute_wrench(position, velocity, 0.0)
+            assert type(fast) is np.ndarray and fast.dtype == np.float64
+            np.testing.assert_array_equal(fast, _array_formula(spring, position, velocity))
+            floats = spring._wrench_floats(position.tolist(), velocity.tolist(), 0.0)
+            np.testing.assert_array_equal(np.array(floats), fast)
+        # other inputs (lists, ints, a float32 array) take the array path: same values
+        np.testing.assert_allclose(
+            spring.compute_wrench([0.1, 0.2, 0.3], [0, 0, 0], 0.0),
+            _array_formula(spring, np.array([0.1, 0.2, 0.3]), np.zeros(3)),
+            rtol=1e-15,
+        )
+
+
+def test_parameters_changed_in_place_are_seen_by_the_float_path():
+    spring = va.SpringDamper(("x", "z"), stiffness=10.0, setpoint=(1.0, 2.0))
+    spring.setpoint[1] = 5.0  # an in-place edit of the returned array
+    np.testing.assert_array_equal(spring.compute_wrench(np.zeros(2), np.zeros(2), 0.0), [10, 50])
+
+
+def test_bunny_float_path_equals_its_array_path():
+    bunny = DogtrackBunny(0.5, 80.0, stiffness=30.0, limit=60.0)
+    bunny.reset(np.array([0.2]), 1.0)
+    for time, x, v in ((1.1, 0.25, 0.3), (1.5, 0.1, -2.0), (3.0, 0.4, 0.7)):
+        fast = bunny._wrench_floats([x], [v], time)
+        slow = bunny.compute_wrench(np.array([x]), np.array([v]), time)
+        assert fast == slow.tolist()
+        assert bunny.setpoint.tolist() == [bunny.position_at(time)]
+
+
+def test_only_classes_defining_both_methods_take_the_float_path():
+    class Pushy(va.SpringDamper):  # overrides compute_wrench only: not trusted
+        def compute_wrench(self, position, velocity, time):
+            return super().compute_wrench(position, velocity, time) + 1.0
+
+    assert has_float_path(va.SpringDamper("x", stiffness=1.0))
+    assert has_float_path(GrannyWalker(0.5, (1.0, 1.0), (1.0, 1.0)))
+    assert has_float_path(DogtrackBunny(0.5, 1.0))
+    assert has_float_path(SwingLegLinkage(1.0, 1.0))
+    assert not has_float_path(Pushy("x", stiffness=1.0))
+
+
+def test_per_axis_fast_paths_keep_the_checks():
+    spring = va.SpringDamper(("x", "z"))
+    spring.setpoint = (1, np.float64(2.0))
+    assert spring.setpoint.dtype == np.float64 and spring.setpoint.tolist() == [1.0, 2.0]
+    spring.setpoint = (1e308, 1e308)  # the sum overflows: the checked path accepts it
+    assert spring.setpoint.tolist() == [1e308, 1e308]
+    spring.setpoint = 0.25
+    assert spring.setpoint.tolist() == [0.25, 0.25]
+    for bad in ((np.nan, 0.0), (np.inf, 0.0), np.array([0.0, np.nan]), np.nan, None, "x"):
+        with pytest.raises(InvalidInputError):
+            spring.setpoint = bad
+    spring.limit = (np.inf, 1.0)
+    assert spring.limit.tolist() == [np.inf, 1.0]
+    with pytest.raises(InvalidInputError):
+        spring.limit = (np.nan, 1.0)
+
+
+def test_wrench_array_fast_path_and_its_errors():
+    wrench = np.array([1.0, -2.0, 3.0])
+    assert wrench_array(wrench, AXES3) is wrench
+    np.testing.assert_array_equal(
+        wrench_array(np.array([1e308, 1e308, 0.0]), AXES3), [1e308] * 2 + [0]
+    )
+    for bad in (np.array([1.0, np.nan, 0.0]), np.array([np.inf, 0.0, 0.0]), np.zeros(2)):
+        with pytest.raises(InvalidInputError):
+            wrench_array(bad, AXES3)
+
+
+@pytest.fixture(scope="module")
+def turkey():
+    return TurkeyWalker(va.load_robot("spring_turkey"), initial="double_support")
+
+
+@pytest.fixture(scope="module")
+def flamingo():
+    return FlamingoWalker(va.load_robot("spring_flamingo"))
+
+
+@pytest.mark.parametrize("walker", ["turkey", "flamingo"])
+def test_controller_float_evaluation_equals_the_array_path(walker, request):
+    gait = request.getfixturevalue(walker)
+    controller = gait.controller
+    rng = np.random.default_rng(3)
+    gait.bunny.reset(np.array([0.0]), 0.0)
+    for attachment in controller.attachments.values():
+        assert attachment.float_components is not None  # every seed component has it
+        for _ in range(20):
+            n = len(attachment.axes)
+            position, velocity = rng.normal(size=n), rng.normal(size=n)
+            fast = controller._evaluate(attachment, position, velocity, 0.3)
+            saved, attachment.float_components = attachment.float_components, None
+            try:
+                slow = controller._evaluate(attachment, position, velocity, 0.3)
+            finally:
+                attachment.float_components = saved
+            np.testing.assert_array_equal(fast, slow)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_terrain_height_of_one_number_is_numpys_interp(seed):
+    rng = np.random.default_rng(seed)
+    terrains = [Terrain.flat(0.3), Terrain.builtin("profile-one"), Terrain.builtin("profile-two")]
+    terrains.append(Terrain([(0.0, 1.0)]))
+    for terrain in terrains:
+        xs = terrain.points[:, 0]
+        samples = np.concatenate(
+            (xs, rng.uniform(xs[0] - 3, xs[-1] + 3, 200), [np.nextafter(xs[0], -1), -1e9])
+        )
+        for x in samples:
+            expected = np.interp(x, terrain.points[:, 0], terrain.points[:, 1])
+            for value in (float(x), np.float64(x)):
+                height = terrain.height(value)
+                assert type(height) is float and height == expected
+        assert np.isnan(terrain.height(float("nan")))
+        np.testing.assert_array_equal(
+            terrain.height(samples), np.interp(samples, terrain.points[:, 0], terrain.points[:, 1])
+        )
+
+
+@pytest.mark.parametrize("robot", ["spring_turkey", "spring_flamingo", "solo12"])
+def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
+    simulator = Simulator(va.load_robot(robot))
+    mm = simulator.mujoco_model
+    gathers = _gathers(mm)
+    rng = np.random.default_rng(0)
+    qpos = simulator.data.qpos + 0.01 * rng.normal(size=simulator.model.nq)
+    qvel = rng.normal(size=simulator.model.nv)
+    if gathers.direct_q is not None:
+        q = np.zeros(mm.robot.model.nq)
+        q[gathers.copy_q] = qpos[gathers.copy_qpos]
+        np.testing.assert_array_equal(configuration_from_mujoco(mm, qpos), q)
+    if gathers.direct_v is not None:
+        v = np.zeros(mm.robot.model.nv)
+        v[gathers.copy_v] = qvel[gathers.copy_qvel]
+        np.testing.assert_array_equal(velocity_from_mujoco(mm, qpos, qvel), v)
+    tau = np.zeros(mm.robot.model.nv)
+    tau[gathers.actuated_v] = rng.normal(size=len(gathers.actuated_v))
+    ctrl = np.zeros(simulator.model.nu)
+    ctrl[gathers.actuator] = tau[gathers.actuated_v]
+    np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
+    if gathers.unactuated:
+        tau[gathers.unactuated[0]] = 1e-6  # more than the tolerance on an unactuated dof
+        with pytest.raises(InvalidInputError, match="no actuator"):
+            torques_to_ctrl(mm, tau)
+        np.testing.assert_array_equal(torques_to_ctrl(mm, tau, ignore_unactuated=True), ctrl)
+        tau[gathers.unactuated[0]] = 1e-10  # within it
+        np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
+
+
+def test_turkey_direct_gathers_are_used():
+    gathers = _gathers(Simulator(va.load_robot("spring_turkey")).mujoco_model)
+    assert gathers.direct_q is not None and gathers.direct_v is not None
+    assert gathers.direct_ctrl is not None
+
+
+def test_cached_contact_queries_equal_a_fresh_scan():
+    robot = va.load_robot("spring_flamingo")
+    simulator = Simulator(robot, Terrain.builtin("profile-one"))
+    frames = ("left_heel", "left_toe", "right_heel", "right_toe", "body")
+    for _ in range(200):
+        simulator.step(np.zeros(robot.model.nv))
+        for _ in range(2):  # the second round reads the cache
+            for frame in frames:
+                assert simulator.in_contact(frame) == bool(simulator._terrain_contacts(frame))
+        touching = simulator.touching_terrain()
+        owners = simulator.mujoco_model.geom_frames
+        fresh = {n for _, g, _ in simulator._scan_contacts() for n in owners[g]}
+        assert touching == fresh
+        touching.add("not a frame")  # the caller's copy: the next answer is unchanged
+        assert "not a frame" not in simulator.touching_terrain()
+    assert simulator.in_contact("left_heel") or simulator.in_contact("right_heel")
+    with pytest.raises(va.FrameNotFoundError):
+        simulator.in_contact("no_such_frame")
+
+
+def test_frame_velocity_equals_the_array_formula():
+    robot = va.load_robot("spring_flamingo")
+    rng = np.random.default_rng(1)
+    q = robot.neutral() + 0.05 * rng.normal(size=robot.model.nq)
+    v = rng.normal(size=robot.model.nv)
+    snapshot = Snapshot(robot, q, v)
+    for frame in ("body", "left_foot", "right_toe"):
+        frame_id = snapshot.tree.frame_id(frame)
+        x, y, z = snapshot.placement(frame_id)[1]
+        columns = snapshot.tree.frame_columns(frame_id)
+        vx, vy, vz, wx, wy, wz = snapshot.jacobian_world[:, columns] @ v[columns]
+        expected = np.array((vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x))
+        np.testing.assert_array_equal(snapshot.frame_velocity(frame), expected)
+        np.testing.assert_array_equal(snapshot.frame_velocity(frame_id), expected)
+        first = snapshot.frame_velocity(frame)
+        first[:] = 0.0  # a copy: the cache is unchanged
+        np.testing.assert_array_equal(snapshot.frame_velocity(frame), expected)

@@ -22,7 +22,15 @@ from meshcat.path import Path as MeshcatPath
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
-from virtual_actuators.visualization import CommandRecorder, OfflineWindow, Viewer
+from virtual_actuators.visualization import PALETTE, CommandRecorder, OfflineWindow, Viewer
+from virtual_actuators.visualization.colors import (
+    OVERLAY_MIN_CHROMA,
+    ROBOT_MAX_CHROMA,
+    chroma,
+    color_distance,
+    to_lab,
+)
+from virtual_actuators.visualization.framing import visible_points
 from virtual_actuators.visualization.geometry import (
     HEAD_SPACING,
     arrow_matrices,
@@ -320,15 +328,15 @@ def test_springs_dampers_and_set_points_between_their_frames(turkey_control):
     assert abs(offset[2]) < 1e-12 and np.linalg.norm(offset) > 0  # side by side with the damper
     marker = rec.last_transform(f"{ROOT}/components/double/0/setpoint")
     np.testing.assert_allclose(marker[:3, 3], [body[0], body[1], 0.6], atol=1e-12)
-    housing = rec.last_transform(f"{ROOT}/components/double/0/damper_housing")
-    rod = rec.last_transform(f"{ROOT}/components/double/0/damper_rod")
+    housing = rec.last_transform(f"{ROOT}/components/double/0/damper/housing")
+    rod = rec.last_transform(f"{ROOT}/components/double/0/damper/rod")
     np.testing.assert_allclose(
         housing[:3, 3] + offset, [body[0], body[1], 0.3 * body[2]], atol=1e-12
     )
     np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2 + offset, body, atol=1e-12)
     # dogtrack bunny (a damper only): from the bunny, 20 cm behind x = 0, to the body
-    rod = rec.last_transform(f"{ROOT}/components/double/1/damper_rod")
-    housing = rec.last_transform(f"{ROOT}/components/double/1/damper_housing")
+    rod = rec.last_transform(f"{ROOT}/components/double/1/damper/rod")
+    housing = rec.last_transform(f"{ROOT}/components/double/1/damper/housing")
     np.testing.assert_allclose(
         housing[:3, 3] - housing[:3, 1] / 2, [-0.2, body[1], body[2]], atol=1e-12
     )
@@ -443,7 +451,17 @@ def test_urdf_primitives_are_drawn_with_their_colours():
             rec.last_transform(path), geometry_data.oMg[k].homogeneous, atol=1e-12
         )
         red, green, blue = (int(round(c * 255)) for c in geometry_object.meshColor[:3])
-        assert objects[path]["materials"][0]["color"] == (red << 16) | (green << 8) | blue
+        urdf_color = (red << 16) | (green << 8) | blue
+        drawn = objects[path]["materials"][0]["color"]
+        # the URDF colour with its chroma limited: same lightness and hue
+        urdf_lab, drawn_lab = to_lab(urdf_color), to_lab(drawn)
+        assert abs(urdf_lab[0] - drawn_lab[0]) < 1.0
+        assert chroma(drawn) <= ROBOT_MAX_CHROMA + 1.5
+        if chroma(urdf_color) <= ROBOT_MAX_CHROMA:
+            assert drawn == urdf_color
+        else:
+            cosine = urdf_lab[1:] @ drawn_lab[1:] / np.hypot(*urdf_lab[1:]) / chroma(drawn)
+            assert cosine > 0.99
 
 
 def test_a_urdf_without_visuals_gets_a_skeleton(tmp_path):
@@ -680,3 +698,183 @@ def test_reprs_and_the_lazy_viz_module(solo_view):
     assert "Scene(" in repr(solo_view.viewer.scene)
     assert "Palette(" in repr(solo_view.viewer.palette)
     assert "#1E88E5" in solo_view.viewer.legend() and "N" in solo_view.viewer.legend()
+
+
+# -- palette, legend, dashpots, framing, one-joint robots ------------------------------------
+
+
+def test_lab_conversion_matches_published_values():
+    # CIELAB (D65) of sRGB primaries and greys, from the CIE / sRGB reference tables
+    for color, expected in (
+        (0xFFFFFF, [100.0, 0.0, 0.0]), (0x000000, [0.0, 0.0, 0.0]),
+        (0xFF0000, [53.24, 80.09, 67.20]), (0x00FF00, [87.73, -86.18, 83.18]),
+        (0x0000FF, [32.30, 79.19, -107.86]), (0x808080, [53.59, 0.0, 0.0]),
+    ):  # fmt: skip
+        np.testing.assert_allclose(to_lab(color), expected, atol=0.05)
+
+
+def test_palette_colours_are_distinguishable_and_far_from_robot_colours():
+    colors = {name: getattr(PALETTE, name) for name in PALETTE.__dataclass_fields__}
+    assert len(set(colors.values())) == len(colors)
+    names = sorted(colors)
+    for i, first in enumerate(names):
+        assert chroma(colors[first]) >= OVERLAY_MIN_CHROMA, first
+        for second in names[i + 1 :]:
+            assert color_distance(colors[first], colors[second]) >= 25.0, (first, second)
+    # the three former oranges (produced, spring, positive effort) are now far apart
+    for a, b in (("produced", "spring"), ("produced", "effort_positive"),
+                 ("spring", "effort_positive")):  # fmt: skip
+        assert color_distance(colors[a], colors[b]) > 40.0
+
+
+def robot_colors(rec: CommandRecorder) -> list[int]:
+    """Colours of every object drawn for the robot (URDF visuals or skeleton)."""
+    return [
+        material["color"]
+        for path, obj in rec.objects().items()
+        if f"{ROOT}/robot/" in path
+        for material in obj.get("materials", [])
+        if "color" in material
+    ]
+
+
+def test_robot_colours_never_come_close_to_overlay_colours():
+    # hexapod and turkey: saturated URDF primitives; talos: STL meshes; ur5: Collada meshes
+    for name in ("hexapod", "spring_turkey", "talos", "ur5"):
+        rec = CommandRecorder()
+        Viewer(robot(name), window=rec, legend=False)
+        drawn = robot_colors(rec)
+        assert drawn, name
+        for color in set(drawn):
+            assert chroma(color) <= ROBOT_MAX_CHROMA + 1.5, (name, hex(color))
+            for key in PALETTE.__dataclass_fields__:
+                assert color_distance(color, getattr(PALETTE, key)) > 25.0, (name, key)
+
+
+def legend_keys(viewer: Viewer) -> set[str]:
+    words = {
+        "force:": "requested_force", "moment:": "requested_moment",
+        "chain share": "share_force", "chain moment": "share_moment",
+        "virtual spring": "spring", "virtual damper": "damper", "set point": "setpoint",
+        "effort +": "effort_positive", "effort -": "effort_negative",
+        "saturated": "saturated", "support": "support", "frames:": "frames",
+        "no limit": "no_limit", "(adjusted)": "produced", "(inadmissible)": "inadmissible",
+    }  # fmt: skip
+    text = viewer.legend()
+    return {key for word, key in words.items() if word in text}
+
+
+def test_the_legend_lists_only_what_is_drawn(turkey_control):
+    rob, q = rotated_solo12()
+    viewer = Viewer(rob, window=CommandRecorder())
+    assert viewer.legend() == ""  # nothing drawn over the robot yet
+    body = va.VirtualActuator(rob, "base_link", "FL_FOOT", "world", ("z",))
+    viewer.show(q, actuator=body, wrench=np.array([20.0]))
+    assert legend_keys(viewer) == {"requested_force", "share_force", "frames"}
+    scene_lines = [p for p in viewer.window.objects() if "/hud/legend/line_" in p]
+    assert len(scene_lines) == 3  # the legend in the scene has the same lines
+    tc = turkey_control
+    viewer = Viewer(tc.robot, window=CommandRecorder())
+    viewer.show(
+        tc.q, controller=tc.controller, output=tc.outputs["double_support"],
+        state=tc.states["double_support"],
+    )  # fmt: skip
+    keys = legend_keys(viewer)
+    assert {"spring", "damper", "setpoint", "support", "frames", "requested_force"} <= keys
+    assert "inadmissible" not in keys and "produced" not in keys
+    signs = np.sign(tc.outputs["double_support"].tau[np.abs(tc.outputs["double_support"].tau) > 0])
+    assert ("effort_positive" in keys) == bool(np.any(signs > 0))
+    assert ("effort_negative" in keys) == bool(np.any(signs < 0))
+
+
+def test_dampers_are_dashpots_distinct_from_springs_and_legs(turkey_control):
+    tc = turkey_control
+    rec = CommandRecorder()
+    viewer = Viewer(tc.robot, window=rec)
+    viewer.show(tc.q, controller=tc.controller, output=tc.outputs["double_support"])
+    damper = f"{ROOT}/components/double/1/damper"
+    parts = {name: rec.last_transform(f"{damper}/{name}") for name in ("housing", "cap", "piston")}
+    parts["rod"] = rec.last_transform(f"{damper}/rod")
+    radius = {
+        name: rec.objects()[f"{damper}/{name}"]["geometries"][0]["radiusTop"] for name in parts
+    }
+    assert radius["rod"] < radius["piston"] < radius["housing"] == radius["cap"]
+    housing = rec.objects()[f"{damper}/housing"]["materials"][0]
+    assert housing["opacity"] < 1.0 and housing["transparent"]  # the piston shows through
+    # the piston sits inside the housing, on the rod, between the cap and the open end
+    axis = parts["housing"][:3, 1] / np.linalg.norm(parts["housing"][:3, 1])
+    start = parts["housing"][:3, 3] - parts["housing"][:3, 1] / 2
+    along = {name: (m[:3, 3] - start) @ axis for name, m in parts.items()}
+    length = np.linalg.norm(parts["housing"][:3, 1])
+    assert 0 < along["cap"] < along["piston"] < length
+    rod_start = parts["rod"][:3, 3] - parts["rod"][:3, 1] / 2
+    np.testing.assert_allclose((rod_start - start) @ axis, along["piston"] * 0 + 0.75 * length)
+    assert not any("damper" in p for p in rec.objects() if "/robot/" in p)
+
+
+def test_a_robot_with_a_single_joint_is_drawn_with_its_effort_gauge(tmp_path):
+    urdf = tmp_path / "pendulum.urdf"
+    urdf.write_text(
+        '<robot name="pendulum"><link name="base"/>'
+        '<link name="arm"><inertial><origin xyz="0 0 -0.25"/><mass value="1"/>'
+        '<inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+        '<link name="tip"/><joint name="hinge" type="revolute"><parent link="base"/>'
+        '<child link="arm"/><axis xyz="0 1 0"/>'
+        '<limit lower="-3" upper="3" effort="5" velocity="10"/></joint>'
+        '<joint name="tip_joint" type="fixed"><parent link="arm"/><child link="tip"/>'
+        '<origin xyz="0 0 -0.5"/></joint></robot>',
+        encoding="utf-8",
+    )
+    rob = va.load_robot(urdf)
+    assert rob.model.nv == 1
+    rec = CommandRecorder()
+    viewer = Viewer(rob, window=rec)
+    assert viewer.planar  # a hinge about y moves in the x-z plane
+    tip = va.VirtualActuator(rob, "tip", "base", "world", ("x",))
+    controller = va.Controller(rob)
+    controller.add("tip", tip, [va.Spring(("x",), 40.0, setpoint=0.1)])
+    q, v = np.array([0.2]), np.zeros(1)
+    output = controller.compute(q, v, 0.0, ["tip"])
+    viewer.show(q, controller=controller, output=output)
+    assert shown(rec, "efforts/hinge") and shown(rec, "components/tip/0/spring")
+    sign = "positive" if output.tau[0] > 0 else "negative"
+    assert shown(rec, f"efforts/hinge/{sign}")
+
+
+def camera_and_offset(commands: list[dict]) -> tuple[np.ndarray, np.ndarray]:
+    """The page's last camera position (world axes) and the offset of ``/meshcat``."""
+    camera = [c for c in commands if c["type"] == "set_property" and c["property"] == "position"]
+    local = np.array(camera[-1]["value"], dtype=float)
+    shift = [c for c in commands if c["type"] == "set_transform" and c["path"] == "/meshcat"]
+    matrix = np.array(shift[-1]["matrix"], dtype=float).reshape(4, 4).T  # column-major
+    return np.array([local[0], -local[2], local[1]]), matrix[:3, 3]
+
+
+@pytest.mark.slow
+def test_a_recorded_walk_is_framed_on_its_whole_run(tmp_path):
+    from virtual_actuators.demos import WALKS, run_walk
+
+    rob = va.load_robot(WALKS["flamingo-slopes"].robot)
+    viewer = Viewer(rob, window=OfflineWindow(), force_scale=1 / 250)
+    viewer.start_recording(fps=30.0)
+    points: list[np.ndarray] = []
+    updater = viewer.tick_callback()
+
+    def on_tick(simulator, gait):  # the viewer's own callback, then what it left visible
+        recorded = viewer.pacer.recording.frames
+        updater(simulator, gait)
+        if viewer.pacer.recording.frames != recorded:
+            points.append(visible_points(viewer.scene))
+
+    run_walk("flamingo-slopes", duration=1.5, progress=False, on_tick=on_tick)
+    page = open(viewer.save_html(str(tmp_path / "walk.html")), encoding="utf-8").read()
+    camera, offset = camera_and_offset(decode_page(page))
+    every = np.vstack(points) + offset  # what the page shows, in the camera's world
+    assert len(points) > 30  # 1.5 s at 30 fps
+    # every point of every frame lies inside the view cone (vertical half-angle 37.5 deg)
+    to_target = -camera / np.linalg.norm(camera)
+    rays = every - camera
+    cosines = rays @ to_target / np.linalg.norm(rays, axis=1)
+    assert np.all(cosines > np.cos(np.radians(37.5)))
+    # and the run fills the view: the farthest point is beyond half the half-angle
+    assert np.min(cosines) < np.cos(np.radians(37.5 / 2))

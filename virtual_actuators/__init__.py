@@ -37,6 +37,7 @@ from .exceptions import (
     InvalidAxisError,
     InvalidInputError,
     JointNotFoundError,
+    MissingDependencyError,
     RobotDescriptionError,
     RobotNotFoundError,
     SingularConfigurationError,
@@ -44,6 +45,7 @@ from .exceptions import (
 )
 from .kinematics.snapshot import Snapshot
 from .robots import Robot, list_robots, load_robot, millipede
+from .robots.directory import RobotInfo, describe_robots
 from .vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Linear
 from .vocabulary.frames import AXES, WORLD
 
@@ -51,7 +53,14 @@ __version__ = "0.1.0"
 
 
 def __getattr__(name: str) -> object:
-    """Load ``va.viz`` (MeshCat) on first use, keeping ``import virtual_actuators`` light."""
+    """Load ``va.viz`` (MeshCat) on first use, keeping ``import virtual_actuators`` light.
+
+    Raises:
+        MissingDependencyError: ``va.viz`` without MeshCat (``pip install
+            "virtual_actuators[viz]"``).
+        AttributeError: Any other unknown name.
+
+    """
     if name == "viz":
         import importlib
 
@@ -93,15 +102,18 @@ __all__ = [
     "InvalidInputError",
     "JointNotFoundError",
     "Linear",
+    "MissingDependencyError",
     "ParallelVirtualActuator",
     "Robot",
     "RobotDescriptionError",
+    "RobotInfo",
     "RobotNotFoundError",
     "SingularConfigurationError",
     "Snapshot",
     "Solution",
     "VirtualActuator",
     "VirtualActuatorError",
+    "describe_robots",
     "list_robots",
     "load_robot",
     "millipede",

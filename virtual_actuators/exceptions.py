@@ -8,7 +8,9 @@ would be valid.
 from __future__ import annotations
 
 import difflib
+import importlib
 from collections.abc import Iterable
+from types import ModuleType
 
 
 class VirtualActuatorError(Exception):
@@ -57,7 +59,54 @@ class InadmissibleWrenchError(VirtualActuatorError, ValueError):
 
 
 class MissingDependencyError(VirtualActuatorError, ImportError):
-    """An optional package this feature needs is missing (the message says what to install)."""
+    """An optional package this feature needs is missing (the message says what to install).
+
+    Args:
+        message: What is missing and the ``pip install`` command that brings it.
+        package: The missing package's import name (``"meshcat"``), when known.
+        extra: The extra of ``virtual_actuators`` that installs it (``"viz"``), when there is
+            one.
+
+    Attributes:
+        package: The missing package, or None.
+        extra: The extra that installs it, or None.
+
+    """
+
+    def __init__(self, message: str, *, package: str | None = None, extra: str | None = None):
+        super().__init__(message, name=package)
+        self.package = package
+        self.extra = extra
+
+
+def import_optional(module: str, extra: str, feature: str) -> ModuleType:
+    """Import an optional dependency, or raise a :class:`MissingDependencyError`.
+
+    Args:
+        module: The module to import (``"meshcat"``, ``"mujoco"``...).
+        extra: The extra of ``virtual_actuators`` that installs it (``"viz"``, ``"sim"``...).
+        feature: What needs it, for the message (``"The MeshCat viewer"``).
+
+    Returns:
+        The module.
+
+    Raises:
+        MissingDependencyError: If the module (or its top-level package) is not installed.
+            Other import errors (a broken installation) propagate unchanged.
+
+    """
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as error:
+        if error.name is not None and module.split(".")[0] != error.name.split(".")[0]:
+            raise  # the package is there but one of its own imports is missing
+        package = module.split(".")[0]
+        raise MissingDependencyError(
+            f"{feature} needs the package {package!r}, which is not installed: "
+            f'pip install "virtual_actuators[{extra}]" (or "virtual_actuators[all]").',
+            package=package,
+            extra=extra,
+        ) from error
 
 
 def close_matches(name: str, candidates: Iterable[str], n: int = 5) -> list[str]:

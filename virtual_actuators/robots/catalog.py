@@ -13,7 +13,9 @@ known robot. Names are resolved in this order:
    ``NAME.urdf``) that defines ``build_robot(floating_base: bool | None = None) -> Robot`` for
    robots generated in code.
 3. The URDF files shipped by example-robot-data, by file stem (``solo12``, ``talos_reduced``,
-   ``ur5_robot``, ...). Two files are called ``anymal.urdf``: ``anymal`` is ANYmal B and
+   ``ur5_robot``, ...), then by common name (``talos``, ``ur5``, ``hyq``, ``g1``...: the aliases
+   of :data:`~virtual_actuators.robots.names.ALIASES`, which also explains which variant each
+   one picks). Two files are called ``anymal.urdf``: ``anymal`` is ANYmal B and
    ``anymal_c`` is ANYmal C. ``ur3.urdf`` is an empty xacro stub that no URDF parser can load:
    such a stub is left out of :func:`list_robots` and its name resolves to ``<stem>_robot.urdf``
    from the same folder when that exists (``ur3`` loads ``ur3_robot.urdf``).
@@ -36,9 +38,11 @@ from types import MappingProxyType
 from typing import NamedTuple
 
 from virtual_actuators.exceptions import InvalidInputError, RobotNotFoundError
+from virtual_actuators.robots.names import ALIASES, closest_names
 
 __all__ = [
     "ROBOTS_PATH_ENV",
+    "aliases",
     "as_path",
     "example_robot_data",
     "find_local",
@@ -47,6 +51,7 @@ __all__ = [
     "local_dirs",
     "package_dirs_for",
     "robots_dir",
+    "suggest_robots",
     "urdf_in_folder",
 ]
 
@@ -65,21 +70,70 @@ _DUPLICATE_NAMES = {
 _PATH_SUFFIXES = (".urdf", ".xml", ".xacro")
 
 
-def list_robots() -> list[str]:
+def list_robots(include_aliases: bool = False) -> list[str]:
     """List the robot names that can be loaded without a path.
 
     :func:`~virtual_actuators.robots.loader.load_robot` accepts each of them.
 
+    Args:
+        include_aliases: Also list the common names of :func:`aliases` (``talos``, ``ur5``...).
+
     Returns:
         Sorted names: the generated ``millipede``, the robots of :data:`robots_dir` and of the
         folders in ``VIRTUAL_ACTUATORS_ROBOTS``, and every example-robot-data URDF that can be
-        loaded (its empty xacro stubs are left out).
+        loaded (its empty xacro stubs are left out); with ``include_aliases``, the aliases too.
 
     """
     names = {"millipede", *example_robot_data().robots}
     for folder in local_dirs():
         names.update(_local_names(folder))
+    if include_aliases:
+        names.update(aliases())
     return sorted(names)
+
+
+def aliases() -> dict[str, str]:
+    """The common names that resolve to an example-robot-data robot, with its file-stem name.
+
+    Returns:
+        ``{alias: name}`` for the aliases of :data:`~virtual_actuators.robots.names.ALIASES`
+        whose URDF the installed example-robot-data ships and that no robot file or folder
+        shadows (a local robot named ``talos`` is loaded instead of the alias).
+
+    """
+    index = example_robot_data()
+    shadowing = {"millipede", *index.robots, *index.broken}
+    for folder in local_dirs():
+        shadowing.update(_local_names(folder))
+    return {
+        alias: target
+        for alias, target in ALIASES.items()
+        if target in index.robots and alias not in shadowing
+    }
+
+
+def suggest_robots(name: str) -> str:
+    """A sentence naming the known robots closest to ``name`` (names and aliases, by edit distance).
+
+    Args:
+        name: The name that was not found.
+
+    Returns:
+        For instance ``"Closest robots: 'talos' (talos_reduced), 'tiago'."``, or, when nothing is
+        close, ``"Known robots: ..."`` followed by how to list them all.
+
+    """
+    targets = aliases()
+    names = list_robots()
+    matches = closest_names(name, [*names, *targets])
+    if matches:
+        shown = [f"{m!r} ({targets[m]})" if m in targets else repr(m) for m in matches]
+        return f"Closest robots: {', '.join(shown)}."
+    more = f" and {len(names) - 12} more" if len(names) > 12 else ""
+    return (
+        f"Known robots: {', '.join(repr(n) for n in names[:12])}{more} "
+        "(virtual_actuators.list_robots(include_aliases=True) lists them with their aliases)."
+    )
 
 
 class _Index(NamedTuple):

@@ -24,10 +24,10 @@ from virtual_actuators.exceptions import (
     RobotDescriptionError,
     RobotNotFoundError,
     VirtualActuatorError,
-    suggestion,
 )
 from virtual_actuators.robots.catalog import (
     ROBOTS_PATH_ENV,
+    aliases,
     as_path,
     example_robot_data,
     find_local,
@@ -36,6 +36,7 @@ from virtual_actuators.robots.catalog import (
     local_dirs,
     package_dirs_for,
     robots_dir,
+    suggest_robots,
     urdf_in_folder,
 )
 from virtual_actuators.robots.floating_base import guess_floating_base
@@ -60,7 +61,9 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
     Args:
         name_or_path: A path to a URDF file (a :class:`os.PathLike`, or a string that contains a
             path separator, starts with ``~`` or ends in ``.urdf`` / ``.xml``; a folder works
-            when it holds one URDF), or a name from :func:`list_robots`.
+            when it holds one URDF), or a name from :func:`list_robots` (with
+            ``include_aliases=True``: common names such as ``"talos"``, ``"ur5"``, ``"hyq"``,
+            ``"g1"``, see :mod:`~virtual_actuators.robots.names`).
         floating_base: True for a free-flyer root joint (``q`` starts with the base position
             and quaternion ``x y z qx qy qz qw``), False for a base welded to the world, None to
             guess: legged and flying robots float, arms and hands are fixed (see
@@ -68,11 +71,13 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
 
     Returns:
         The robot with its Pinocchio model and data, its URDF text and its SRDF poses;
-        ``robot.name`` is the name asked for, or the file stem for a path.
+        ``robot.name`` is the name asked for (an alias included: ``load_robot("talos").name``
+        is ``"talos"``, its ``urdf_path`` that of ``talos_reduced``), or the file stem for a
+        path.
 
     Raises:
         RobotNotFoundError: If the file does not exist, or no robot has this name (the message
-            lists the closest names).
+            lists the closest names and aliases, by edit distance).
         RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF (the
             message names the file and what is wrong), describes an impossible robot (a zero
             joint axis, a negative or NaN mass, a non-finite, negative or not positive
@@ -105,16 +110,16 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             return _load_urdf(name, found, floating_base, package_dirs_for(found), validate=False)
 
     index = example_robot_data()
-    if name in index.robots:
-        share = [str(index.share)] if index.share is not None else []
-        return _load_urdf(name, index.robots[name], floating_base, share, validate=False)
     if name in index.broken:
         raise RobotDescriptionError(
             f"example-robot-data ships {name}.urdf but it cannot be loaded: {index.broken[name]}."
         )
+    stem = name if name in index.robots else aliases().get(name)
+    if stem is not None:
+        share = [str(index.share)] if index.share is not None else []
+        return _load_urdf(name, index.robots[stem], floating_base, share, validate=False)
     raise RobotNotFoundError(
-        f"No robot named {name!r}. {suggestion(name, list_robots(), 'robots')} "
-        "Pass a path to load any other URDF file."
+        f"No robot named {name!r}. {suggest_robots(name)} Pass a path to load any other URDF file."
     )
 
 

@@ -1,10 +1,12 @@
 """Check a URDF's XML before Pinocchio reads it, with messages that say what is wrong.
 
 A URDF given by path is checked before Pinocchio sees it (:func:`validate_urdf`: XML syntax, then
-the URDF structure with ``yourdfpy``: names, joint types, parent and child links, limits, a single
-tree), so that a broken file gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError`
-that says what is wrong. ``yourdfpy`` is only a validator here: it never loads meshes and never
-computes kinematics.
+the URDF structure: names, joint types, parent and child links, numbers, limits, a single tree),
+so that a broken file gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` that
+says what is wrong. The structure is read from the XML by this module; when the optional
+``yourdfpy`` is installed (``pip install "virtual_actuators[urdf]"``) its parser and validator
+run as well and add what they find. ``yourdfpy`` is only a validator here: it never loads meshes
+and never computes kinematics. Pinocchio's own parser remains the final check.
 
 Every URDF, by path or by name, is also checked for what Pinocchio would load silently but no
 robot can be (:func:`physics_problems`), on the XML itself before Pinocchio reads it (Pinocchio
@@ -28,7 +30,7 @@ import math
 import xml.etree.ElementTree as ET
 from collections import Counter
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -86,6 +88,8 @@ def validate_urdf(path: Path, text: str) -> ET.Element:
     root = parse_xml(path, text)
     problems = _element_problems(root)
     if not problems:
+        problems = _number_problems(root) or _xml_tree_problems(root)
+    if not problems:
         problems = _yourdfpy_problems(path)
     if problems:
         raise RobotDescriptionError(f"{path} is not a valid URDF:{listed(problems)}")
@@ -129,6 +133,79 @@ def _element_problems(root: ET.Element) -> list[str]:
             if element is None or not element.get("link"):
                 problems.append(f'{label} has no <{tag} link="..."/>')
     return problems
+
+
+class _Limit(NamedTuple):
+    """A joint's ``<limit>``: its effort and velocity bounds (None when absent)."""
+
+    effort: str | None
+    velocity: str | None
+
+
+#: Numeric attributes of URDF elements (path from a link or joint, attribute, how many numbers).
+_NUMBERS = {
+    "joint": [
+        ("origin", "xyz", 3), ("origin", "rpy", 3), ("axis", "xyz", 3),
+        ("limit", "lower", 1), ("limit", "upper", 1), ("limit", "effort", 1),
+        ("limit", "velocity", 1), ("dynamics", "damping", 1), ("dynamics", "friction", 1),
+    ],
+    "link": [
+        ("inertial/origin", "xyz", 3), ("inertial/origin", "rpy", 3),
+        ("inertial/mass", "value", 1),
+        *[("inertial/inertia", key, 1) for key in _INERTIA_KEYS],
+        *[(f"{kind}/origin", key, 3) for kind in ("visual", "collision") for key in ("xyz", "rpy")],
+        *[(f"{kind}/geometry/box", "size", 3) for kind in ("visual", "collision")],
+        *[(f"{kind}/geometry/sphere", "radius", 1) for kind in ("visual", "collision")],
+        *[(f"{kind}/geometry/cylinder", key, 1) for kind in ("visual", "collision")
+          for key in ("radius", "length")],
+    ],
+}  # fmt: skip
+
+
+def _number_problems(root: ET.Element) -> list[str]:
+    """Attributes that must hold numbers but do not (``xyz="0 one 0"``)."""
+    problems = []
+    for tag, entries in _NUMBERS.items():
+        for element in root.findall(tag):
+            label = f"{tag} {element.get('name')!r}"
+            for path, attribute, count in entries:
+                for child in element.findall(path):
+                    text = child.get(attribute)
+                    if text is None:
+                        continue
+                    words = text.split()
+                    bad = [word for word in words if not _is_number(word)]
+                    if bad or len(words) != count:
+                        what = f"{bad[0]!r} is not a number" if bad else f"needs {count} numbers"
+                        problems.append(
+                            f"{label} has <{path.split('/')[-1]} {attribute}={text!r}>: {what}"
+                        )
+    return problems
+
+
+def _is_number(word: str) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
+
+
+def _xml_tree_problems(root: ET.Element) -> list[str]:
+    """:func:`_tree_problems` on the links and joints read from the XML."""
+    joints = []
+    for joint in root.findall("joint"):
+        limit = joint.find("limit")
+        joints.append(
+            (
+                joint.get("name", ""),
+                joint.get("type", ""),
+                joint.find("parent").get("link", ""),  # type: ignore[union-attr]
+                joint.find("child").get("link", ""),  # type: ignore[union-attr]
+                None if limit is None else _Limit(limit.get("effort"), limit.get("velocity")),
+            )
+        )
+    return _tree_problems([link.get("name", "") for link in root.findall("link")], joints)
 
 
 def _floats(text: str | None, count: int) -> list[float] | None:
@@ -275,8 +352,16 @@ def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], 
 
 
 def _yourdfpy_problems(path: Path) -> list[str]:
-    """Parse the URDF with yourdfpy (no meshes, no scene graph) and list what is wrong."""
-    import yourdfpy  # imported here: it takes half a second (trimesh)
+    """Parse the URDF with yourdfpy (no meshes, no scene graph) and list what is wrong.
+
+    Returns no problem when yourdfpy is not installed (it is optional: the ``urdf`` extra).
+    """
+    try:
+        import yourdfpy  # half a second to import (trimesh)
+    except ModuleNotFoundError as error:
+        if error.name is None or error.name.split(".")[0] != "yourdfpy":
+            raise
+        return []
 
     try:
         urdf = yourdfpy.URDF.load(

@@ -23,14 +23,19 @@ A new kind of drawing is a subclass of :class:`Overlay` (``draw(scene, frame)``)
 :meth:`Viewer.add_overlay`.
 """
 
-from .legend import PALETTE, Palette
-from .live import LiveWindow
-from .overlays import Overlay
-from .recording import AnimationRecording
-from .robot_scene import RobotScene
-from .snapshot import FrameSnapshot
-from .viewer import TickUpdater, Viewer
-from .windows import CommandRecorder, ForwardingWindow, OfflineWindow, SceneWindow
+from ..exceptions import import_optional
+
+# MeshCat is optional (the viz extra): say which extra installs it before any module needs it.
+import_optional("meshcat", "viz", "The MeshCat viewer (virtual_actuators.visualization)")
+
+from .legend import PALETTE, Palette  # noqa: E402
+from .live import LiveWindow  # noqa: E402
+from .overlays import Overlay  # noqa: E402
+from .recording import AnimationRecording  # noqa: E402
+from .robot_scene import RobotScene  # noqa: E402
+from .snapshot import FrameSnapshot  # noqa: E402
+from .viewer import TickUpdater, Viewer  # noqa: E402
+from .windows import CommandRecorder, ForwardingWindow, OfflineWindow, SceneWindow  # noqa: E402
 
 __all__ = [
     "PALETTE",

@@ -4,10 +4,12 @@ Every shape is a :class:`Part`: a MeshCat object attached to a Pinocchio joint w
 placement (scale included). After forward kinematics its world matrix is
 ``data.oMi[joint].homogeneous @ placement``.
 
-- URDF visuals (``geometry="urdf"``): meshes (STL, OBJ, Collada) are loaded by Pinocchio's
-  ``MeshcatVisualizer`` (imported only for robots that have meshes); primitive shapes (boxes,
-  spheres, cylinders, capsules, cones, ellipsoids: the seeds' robots and the millipede) are
-  built here with the URDF's colours.
+- URDF visuals (``geometry="urdf"``): mesh files (STL, OBJ, Collada) are sent as MeshCat mesh
+  geometries and primitive shapes (boxes, spheres, cylinders, capsules, cones, ellipsoids: the
+  seeds' robots and the millipede) are built here; any other geometry is left to Pinocchio's
+  ``MeshcatVisualizer``. Every part is drawn in its URDF colour desaturated
+  (:func:`~.colors.desaturate`), so that no overlay colour equals a robot colour; Collada meshes
+  too (their embedded materials and textures are replaced by that colour).
 - Skeleton (``geometry="skeleton"``, or ``"auto"`` for a URDF without any ``<visual>``): a
   sphere at every joint, a cylinder from each joint to its children, a cylinder and a sphere to
   every fixed frame away from its joint (feet, tools), a box around a floating base's joints.
@@ -25,6 +27,7 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..robots.robot import Robot
+from .colors import desaturate
 from .geometry import Cone, Placed, material, span_matrix, to_hex, translation, y_to_z
 
 GEOMETRY_MODES = ("auto", "urdf", "skeleton")
@@ -67,6 +70,20 @@ class Part:
 
 def _has_mesh_file(geometry_object: pin.GeometryObject) -> bool:
     return str(geometry_object.meshPath).lower().endswith(_MESH_SUFFIXES)
+
+
+def _mesh(geometry_object: pin.GeometryObject) -> list[tuple[object, np.ndarray]] | None:
+    """The MeshCat geometry of a mesh file (drawn in the part's colour), or None."""
+    path = str(geometry_object.meshPath)
+    loaders = {".stl": mg.StlMeshGeometry, ".obj": mg.ObjMeshGeometry, ".dae": mg.DaeMeshGeometry}
+    loader = loaders.get(path[-4:].lower())
+    if loader is None:
+        return None
+    try:
+        return [(loader.from_file(path), np.eye(4))]
+    except (OSError, UnicodeDecodeError) as error:
+        warnings.warn(f"Cannot read the mesh {path}: {error}; left out.", stacklevel=4)
+        return []
 
 
 def _primitive(shape: object) -> list[tuple[object, np.ndarray]] | None:
@@ -130,16 +147,20 @@ def urdf_parts(geometry_model: pin.GeometryModel) -> list[Part]:
         base = geometry_object.placement.homogeneous @ scale
         color = np.asarray(geometry_object.meshColor, dtype=float)
         opacity = float(color[3]) if color.size > 3 else 1.0
+        color = desaturate(to_hex(color))
         name = f"visuals/{geometry_object.name}"
-        pieces = None if _has_mesh_file(geometry_object) else _primitive(geometry_object.geometry)
-        if pieces is None:  # a mesh: Pinocchio's MeshcatVisualizer loads it
+        if _has_mesh_file(geometry_object):
+            pieces = _mesh(geometry_object)
+        else:
+            pieces = _primitive(geometry_object.geometry)
+        if pieces is None:  # another geometry: Pinocchio's MeshcatVisualizer loads it
             parts.append(
                 Part(
                     name,
                     int(geometry_object.parentJoint),
                     base,
                     None,
-                    to_hex(color),
+                    color,
                     opacity,
                     geometry_object,
                 )
@@ -152,7 +173,7 @@ def urdf_parts(geometry_model: pin.GeometryModel) -> list[Part]:
                     int(geometry_object.parentJoint),
                     base @ offset,
                     geometry,
-                    to_hex(color),
+                    color,
                     opacity,
                     geometry_object,
                 )
@@ -298,8 +319,8 @@ class RobotBodies:
 
     @property
     def has_meshes(self) -> bool:
-        """Whether some parts are mesh files (loaded through Pinocchio's visualizer)."""
-        return any(p.geometry is None for p in self.parts)
+        """Whether some parts are mesh files."""
+        return any(p.source is not None and _has_mesh_file(p.source) for p in self.parts)
 
     def create(self, scene: object, node: str = "robot") -> None:
         """Send every part's object to the scene (under ``node``)."""
@@ -312,9 +333,12 @@ class RobotBodies:
             loader.viewerRootNodeName = node
             loader.viewerVisualGroupName = "visuals"  # Pinocchio's node: visuals/<geometry name>
             for part in meshes:
+                rgba = [*(((part.color >> s) & 255) / 255.0 for s in (16, 8, 0)), part.opacity]
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", UserWarning)
-                    loader.loadViewerGeometryObject(part.source, pin.GeometryType.VISUAL)
+                    loader.loadViewerGeometryObject(
+                        part.source, pin.GeometryType.VISUAL, np.array(rgba)
+                    )
         for part in self.parts:
             if part.geometry is not None:
                 scene.create(

@@ -1,14 +1,24 @@
-"""Colours and the legend: what each colour and size means, as text, HTML and scene objects."""
+"""Colours and the legend: what each colour and size means, as text, HTML and scene objects.
+
+The legend lists only what was drawn: overlays mark the palette entries they use on the scene
+(:meth:`~.robot_scene.RobotScene.mark`), and :func:`legend_entries` keeps those.
+"""
 
 from __future__ import annotations
 
 import html
+from collections.abc import Collection
 from dataclasses import dataclass, fields
 
 
 @dataclass(frozen=True)
 class Palette:
-    """Colours (``0xRRGGBB``) of everything the viewer draws.
+    """Colours (``0xRRGGBB``) of everything the viewer draws over the robot.
+
+    Every default colour has a CIELAB chroma of at least
+    :data:`~.colors.OVERLAY_MIN_CHROMA` (the robot is drawn with at most
+    :data:`~.colors.ROBOT_MAX_CHROMA`, so no overlay colour equals a robot colour) and any two
+    differ by a CIE76 Delta E of at least 25 (no two near-identical oranges).
 
     Attributes:
         requested_force: Requested force on the action frame.
@@ -29,20 +39,20 @@ class Palette:
 
     """
 
-    requested_force: int = 0x1E88E5
-    requested_moment: int = 0x8E24AA
-    share_force: int = 0x43A047
-    share_moment: int = 0x00ACC1
-    produced: int = 0xFB8C00
-    inadmissible: int = 0xE53935
-    spring: int = 0xE6A100
-    damper: int = 0x795548
-    setpoint: int = 0xFFD600
-    effort_positive: int = 0xFF9800
-    effort_negative: int = 0x5E35B1
-    effort_limit: int = 0x9E9E9E
-    saturated: int = 0xD50000
-    support: int = 0x00C853
+    requested_force: int = 0x1E88E5  # blue
+    requested_moment: int = 0x651FFF  # violet
+    share_force: int = 0x2E7D32  # dark green
+    share_moment: int = 0x1DE9B6  # aquamarine
+    produced: int = 0xFB8C00  # orange
+    inadmissible: int = 0xE53935  # red
+    spring: int = 0xD500F9  # magenta
+    damper: int = 0x880E4F  # wine
+    setpoint: int = 0xFFD600  # yellow
+    effort_positive: int = 0xC6FF00  # lime
+    effort_negative: int = 0x00E5FF  # cyan
+    effort_limit: int = 0x3D5AFE  # indigo (a translucent shell)
+    saturated: int = 0x8D1F00  # rust
+    support: int = 0x00E676  # bright green
 
     def __repr__(self) -> str:
         items = ", ".join(f"{f.name}=0x{getattr(self, f.name):06X}" for f in fields(self))
@@ -56,8 +66,16 @@ def _number(value: float) -> str:
     return f"{value:.3g}"
 
 
+#: Legend lines without a colour, after the coloured ones: (key, text).
+_NOTES = ("no_limit", "frames")
+
+
 def legend_entries(
-    palette: Palette, force_scale: float, moment_scale: float, effort_reference: float
+    palette: Palette,
+    force_scale: float,
+    moment_scale: float,
+    effort_reference: float,
+    drawn: Collection[str] | None = None,
 ) -> list[tuple[int | None, str]]:
     """The legend as ``(colour or None, short line)`` pairs.
 
@@ -66,26 +84,30 @@ def legend_entries(
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
         effort_reference: Effort shown as a full gauge at joints without a limit [N m or N].
+        drawn: Keys of what was drawn: :class:`Palette` field names, ``"no_limit"`` (a gauge
+            at a joint without an effort limit) and ``"frames"`` (triads). None: every entry.
 
     """
     p = palette
-    return [
-        (p.requested_force, f"force: 1 m = {_number(1 / force_scale)} N"),
-        (p.requested_moment, f"moment: 1 m = {_number(1 / moment_scale)} N m"),
-        (p.share_force, "chain share at reaction"),
-        (p.share_moment, "chain moment at reaction"),
-        (p.produced, "produced (adjusted)"),
-        (p.inadmissible, "produced (inadmissible)"),
-        (p.spring, "virtual spring"),
-        (p.damper, "virtual damper"),
-        (p.setpoint, "spring set point"),
-        (p.effort_positive, "effort + (|tau| / limit)"),
-        (p.effort_negative, "effort -"),
-        (p.saturated, "saturated joint"),
-        (p.support, "support foot"),
-        (None, f"no limit: full = {_number(effort_reference)}"),
-        (None, "frames: x y z = red green blue"),
-    ]
+    entries = [
+        ("requested_force", p.requested_force, f"force: 1 m = {_number(1 / force_scale)} N"),
+        ("requested_moment", p.requested_moment,
+         f"moment: 1 m = {_number(1 / moment_scale)} N m"),
+        ("share_force", p.share_force, "chain share at reaction"),
+        ("share_moment", p.share_moment, "chain moment at reaction"),
+        ("produced", p.produced, "produced (adjusted)"),
+        ("inadmissible", p.inadmissible, "produced (inadmissible)"),
+        ("spring", p.spring, "virtual spring"),
+        ("damper", p.damper, "virtual damper (dashpot)"),
+        ("setpoint", p.setpoint, "spring set point"),
+        ("effort_positive", p.effort_positive, "effort + (|tau| / limit)"),
+        ("effort_negative", p.effort_negative, "effort -"),
+        ("saturated", p.saturated, "saturated joint"),
+        ("support", p.support, "support foot"),
+        ("no_limit", None, f"no limit: full = {_number(effort_reference)}"),
+        ("frames", None, "frames: x y z = red green blue"),
+    ]  # fmt: skip
+    return [(color, text) for key, color, text in entries if drawn is None or key in drawn]
 
 
 def legend_text(entries: list[tuple[int | None, str]]) -> str:

@@ -12,6 +12,7 @@ import time as wallclock
 
 from meshcat.commands import SetProperty
 
+from .framing import RunBounds
 from .recording import AnimationRecording
 from .scene import Scene
 from .windows import SceneWindow
@@ -29,6 +30,7 @@ class FramePacer:
         last_live: Wall-clock time of the last live update (``perf_counter``).
         recording: The running recording, or None.
         last_recording: The last recording stopped, or None.
+        bounds: Box of everything shown in the frames of the (last) recording.
 
     """
 
@@ -41,6 +43,7 @@ class FramePacer:
         self.last_recording: AnimationRecording | None = None
         self._record_start = 0.0
         self._next_record = -math.inf
+        self.bounds = RunBounds()
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
         """Whether a live update and a recorded frame are due (cheap: two comparisons).
@@ -86,6 +89,7 @@ class FramePacer:
 
         """
         self.recording = AnimationRecording(fps)
+        self.bounds = RunBounds()
         self._record_start = wallclock.perf_counter()
         self._next_record = -math.inf
 
@@ -103,14 +107,16 @@ class FramePacer:
         if recording.times and time <= recording.times[-1]:
             return  # the same instant again (a paused simulation): keep the first frame
         recording.add(time, dict(self.scene.matrices), dict(self.scene.visible))
+        self.bounds.add(self.scene)
         self._next_record = time + 1.0 / recording.fps
 
-    def page(self, title: str, overlay: str) -> str:
+    def page(self, title: str, overlay: str, framing: list[object] = ()) -> str:
         """A standalone page of the scene, animated with the (last) recording if there is one.
 
         Args:
             title: Page title.
             overlay: HTML over the view (the legend: the one drawn in the scene is hidden).
+            framing: Commands that frame the recording (camera, offset), applied with it.
 
         Returns:
             The page.
@@ -120,7 +126,7 @@ class FramePacer:
         recording = self.recording or self.last_recording
         extra: list[object] = [SetProperty("visible", False, self.scene.node("hud/legend").path)]
         if recording is not None and recording.frames >= 2:
-            extra.append(recording.command(self.scene.path))
+            extra += [*framing, recording.command(self.scene.path)]
         return self.window.static_html(extra, title=title, overlay=overlay)
 
     def __repr__(self) -> str:

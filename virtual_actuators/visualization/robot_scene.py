@@ -52,6 +52,11 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
+def _jacobian(model: pin.Model, data: pin.Data, joint: int, frame: object) -> np.ndarray:
+    """Joint Jacobian ``(6, nv)`` (Pinocchio returns a flat array for a robot with one dof)."""
+    return np.asarray(pin.getJointJacobian(model, data, joint, frame)).reshape(6, model.nv)
+
+
 def safe(name: str) -> str:
     """A frame or joint name as one MeshCat path element."""
     return str(name).replace("/", "_") or "_"
@@ -81,6 +86,8 @@ class RobotScene:
         follow: Whether the view follows the robot.
         effort_joints: ``(name, joint id, velocity index, limit or None, local axis)`` per
             actuated 1-dof joint.
+        drawn: Keys of what has been drawn so far (:class:`~.legend.Palette` field names,
+            ``"no_limit"``, ``"frames"``): the legend lists these (see :meth:`mark`).
 
     """
 
@@ -106,6 +113,7 @@ class RobotScene:
         self.moment_scale = moment_scale
         self.effort_reference = effort_reference
         self.hud_rotation = np.eye(3)
+        self.drawn: set[str] = set()
         self._frame_ids: dict[tuple[str, str], int] = {}
         self._axis_index: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
         q0 = robot.neutral()
@@ -157,7 +165,7 @@ class RobotScene:
             joint = model.joints[j]
             if joint.nv != 1:
                 return False
-            column = pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:, joint.idx_v]
+            column = _jacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:, joint.idx_v]
             linear, angular = column[:3], column[3:]
             if np.linalg.norm(angular) > 1e-9:
                 if abs(abs(angular[1]) - np.linalg.norm(angular)) > 1e-6:
@@ -178,7 +186,7 @@ class RobotScene:
             name = model.names[j]
             if joint.nv != 1 or name in passive:
                 continue
-            column = pin.getJointJacobian(model, data, j, pin.LOCAL)[:, joint.idx_v]
+            column = _jacobian(model, data, j, pin.LOCAL)[:, joint.idx_v]
             axis = column[3:] if np.linalg.norm(column[3:]) > 1e-9 else column[:3]
             axis = axis / max(np.linalg.norm(axis), 1e-12)
             limit = float(model.effortLimit[joint.idx_v])
@@ -290,6 +298,15 @@ class RobotScene:
             nodes.place("", translation(-centre))
             nodes.place("hud", translation(centre))
 
+    def mark(self, *keys: str) -> None:
+        """Record that what ``keys`` stand for was drawn (the legend lists only that).
+
+        Args:
+            keys: :class:`~.legend.Palette` field names, ``"no_limit"`` or ``"frames"``.
+
+        """
+        self.drawn.update(keys)
+
     def frame(self, name: str, role: str) -> int:
         """Id of the frame ``name`` (cached).
 
@@ -360,12 +377,19 @@ class RobotScene:
         values: np.ndarray,
         colors: tuple[int, int],
         thin: float = 1.0,
-    ) -> None:
-        """A force arrow and a double-headed moment arrow of a wrench on ``axes``."""
+    ) -> tuple[bool, bool]:
+        """A force arrow and a double-headed moment arrow of a wrench on ``axes``.
+
+        Returns:
+            Whether the force and the moment arrows were drawn (not zero).
+
+        """
         force, moment = self.split(axes, values)
-        self.arrow(f"{name}/force", origin, rotation @ force * self.force_scale, colors[0], 1, thin)
-        self.arrow(
-            f"{name}/moment", origin, rotation @ moment * self.moment_scale, colors[1], 2, thin
+        scaled_force = rotation @ force * self.force_scale
+        scaled_moment = rotation @ moment * self.moment_scale
+        return (
+            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1, thin),
+            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2, thin),
         )
 
     def triad(self, role: str, frame: str) -> None:
@@ -385,6 +409,7 @@ class RobotScene:
             nodes.declare(name)
         nodes.use(name)
         nodes.place(name, self.data.oMf[frame_id].homogeneous)
+        self.drawn.add("frames")
 
     def span(
         self,
@@ -393,13 +418,15 @@ class RobotScene:
         end: np.ndarray,
         geometry_factory: Callable[[], object],
         color: int,
+        opacity: float = 1.0,
     ) -> bool:
         """Show the dynamic unit shape ``name`` stretched from ``start`` to ``end``."""
         matrix = span_matrix(start, end)
         if matrix is None:
             return False
         if not self.nodes.has(name):
-            self.nodes.create(name, geometry_factory(), material(color))
+            extra = {"depthWrite": False} if opacity < 1.0 else {}
+            self.nodes.create(name, geometry_factory(), material(color, opacity, **extra))
             self.nodes.declare(name)
         self.nodes.use(name)
         self.nodes.place(name, matrix)

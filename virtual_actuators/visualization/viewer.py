@@ -24,6 +24,7 @@ from ..distribution.solution import Solution
 from ..exceptions import InvalidInputError
 from ..robots.robot import Robot
 from .bodies import RobotBodies, typical_link_length
+from .framing import framing_commands
 from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
@@ -199,10 +200,11 @@ class Viewer:
         return self.pacer.recording is not None
 
     def legend_entries(self) -> list[tuple[int | None, str]]:
-        """The legend as ``(colour or None, text)`` pairs."""
+        """The legend as ``(colour or None, text)`` pairs: what has been drawn so far."""
         return legend_entries(
-            self.palette, self.force_scale, self.moment_scale, self.effort_reference
-        )
+            self.palette, self.force_scale, self.moment_scale, self.effort_reference,
+            self.robot_scene.drawn,
+        )  # fmt: skip
 
     def legend(self) -> str:
         """The legend as plain text (colours as ``#RRGGBB``)."""
@@ -405,12 +407,17 @@ class Viewer:
     def static_html(self, title: str | None = None) -> str:
         """A standalone HTML page of the scene, animated with the recording if there is one.
 
+        A recording is framed on the whole run: the camera sees everything drawn in any of its
+        frames (see :mod:`.framing`).
+
         Returns:
             The page (MeshCat's viewer inlined: it opens offline).
 
         """
         title = title or f"virtual_actuators: {self.robot.name}"
-        return self.pacer.page(title, legend_html(self.legend_entries(), title))
+        scene = self.robot_scene
+        framing = framing_commands(self.pacer.bounds, scene.view, 0.75 * scene.detail)
+        return self.pacer.page(title, legend_html(self.legend_entries(), title), framing)
 
     def save_html(self, path: str, title: str | None = None) -> str:
         """Write :meth:`static_html` to ``path`` (the whole recorded run, if any).

@@ -16,14 +16,13 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     """The viewer's overlays, in drawing order: wrenches, components, efforts, state, support.
 
     Args:
-        legend: Put the legend first.
+        legend: Add the legend, last (it lists what the others drew).
 
     """
-    overlays: list[Overlay] = [LegendOverlay()] if legend else []
-    return [
-        *overlays, WrenchOverlay(), ComponentOverlay(), EffortOverlay(), StateOverlay(),
-        SupportOverlay(),
+    overlays: list[Overlay] = [
+        WrenchOverlay(), ComponentOverlay(), EffortOverlay(), StateOverlay(), SupportOverlay(),
     ]  # fmt: skip
+    return [*overlays, LegendOverlay()] if legend else overlays
 
 
 __all__ = [

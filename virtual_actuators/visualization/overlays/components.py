@@ -1,6 +1,7 @@
 """Virtual components of a controller's attachments: springs, dampers and set points.
 
-Springs are drawn as coils and dampers as a cylinder and a rod, from their reaction-side anchor
+Springs are drawn as coils and dampers as dashpots (a translucent cylinder closed at the anchor,
+with a piston inside on a thin rod reaching the action frame), from their reaction-side anchor
 to the action frame (side by side when a component is both); a spring's set point is a small
 sphere; a damper alone has its other end on its set point (a dogtrack bunny). Only the
 translational axes of a component are drawn: rotational ones show through the moment arrows.
@@ -93,19 +94,40 @@ class ComponentOverlay(Overlay):
                     f"{name}/spring", anchor + offset, action + offset,
                     lambda: coil_mesh(radius=sizes["coil"]), palette.spring,
                 )  # fmt: skip
+                scene.mark("spring")
                 if target is not None:
+                    scene.mark("setpoint")
                     scene.marker(
                         f"{name}/setpoint",
                         lambda: (mg.Sphere(sizes["setpoint"]), material(palette.setpoint)),
                         target,
                     )
             if damper:
-                start, end = anchor - offset, action - offset
-                scene.span(
-                    f"{name}/damper_housing", start, start + 0.6 * (end - start),
-                    lambda: mg.Cylinder(1.0, sizes["damper"]), palette.damper,
-                )  # fmt: skip
-                scene.span(
-                    f"{name}/damper_rod", start + 0.45 * (end - start), end,
-                    lambda: mg.Cylinder(1.0, 0.35 * sizes["damper"]), palette.damper,
-                )  # fmt: skip
+                draw_dashpot(scene, f"{name}/damper", anchor - offset, action - offset)
+
+
+def draw_dashpot(scene: RobotScene, name: str, start: np.ndarray, end: np.ndarray) -> None:
+    """A dashpot from ``start`` (the housing's closed end) to ``end`` (the rod's end).
+
+    The housing (a translucent cylinder over 60 % of the length, closed by a cap at ``start``)
+    holds a piston (a disc at 45 % of the length) on a thin rod that reaches ``end``.
+    """
+    length = float(np.linalg.norm(end - start))
+    if length < 1e-9:
+        return
+    axis = (end - start) / length
+    radius = scene.sizes["damper"]
+    color = scene.palette.damper
+    housing_end = start + 0.6 * (end - start)
+    piston = start + 0.45 * (end - start)
+    thickness = min(0.3 * radius, 0.05 * length)
+    scene.span(f"{name}/housing", start, housing_end, lambda: mg.Cylinder(1.0, radius), color, 0.35)
+    scene.span(
+        f"{name}/cap", start, start + axis * thickness, lambda: mg.Cylinder(1.0, radius), color
+    )
+    scene.span(
+        f"{name}/piston", piston - axis * thickness, piston,
+        lambda: mg.Cylinder(1.0, 0.85 * radius), color,
+    )  # fmt: skip
+    scene.span(f"{name}/rod", piston, end, lambda: mg.Cylinder(1.0, 0.25 * radius), color)
+    scene.mark("damper")

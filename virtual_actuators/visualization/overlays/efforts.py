@@ -74,11 +74,15 @@ class EffortOverlay(Overlay):
                 is_saturated = limit is not None and abs(value) > limit * (1.0 + 1e-9)
             nodes.use(node)
             nodes.use(f"{node}/shell")
+            if limit is None:
+                scene.mark("no_limit")
             nodes.place(f"{node}/shell/ball", translation(centre))
             if fraction > 1e-6:
                 sign = "positive" if value > 0 else "negative"
                 nodes.use(f"{node}/{sign}")
+                scene.mark(f"effort_{sign}")
                 nodes.place(f"{node}/{sign}/ball", translation(centre, fraction * radius))
             if is_saturated:
                 nodes.use(f"{node}/saturated")
+                scene.mark("saturated")
                 nodes.place(f"{node}/saturated/ball", translation(centre))

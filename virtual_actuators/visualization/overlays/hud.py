@@ -12,14 +12,30 @@ from .base import Overlay
 
 
 class LegendOverlay(Overlay):
-    """The legend of colours and scales, drawn once at the robot's left."""
+    """The legend of colours and scales at the robot's left: only what has been drawn.
+
+    Drawn after the other overlays; laid out again when something new has been drawn.
+    """
 
     roots = ("hud/legend",)
 
-    def setup(self, scene: RobotScene) -> None:
-        """Draw the legend's lines and colour swatches."""
+    def __init__(self) -> None:
+        self._shown: frozenset[str] | None = None
+
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Lay the legend out again if the set of drawn things has grown."""
+        drawn = frozenset(scene.drawn)
+        if drawn == self._shown:
+            return
+        self._shown = drawn
+        scene.nodes.remove("hud/legend")
+        self.layout(scene, drawn)
+
+    @staticmethod
+    def layout(scene: RobotScene, drawn: frozenset[str]) -> None:
+        """Draw the legend's lines and colour swatches for the ``drawn`` keys."""
         entries = legend_entries(
-            scene.palette, scene.force_scale, scene.moment_scale, scene.effort_reference
+            scene.palette, scene.force_scale, scene.moment_scale, scene.effort_reference, drawn
         )
         size = min(1.5, max(0.35, 0.75 * scene.extent))
         spacing = 0.105 * size
@@ -35,9 +51,6 @@ class LegendOverlay(Overlay):
                 swatch = f"hud/legend/swatch_{k:02d}"
                 nodes.create(swatch, mg.Box([0.06 * size] * 3), material(color))
                 nodes.place(swatch, scene.hud_matrix(left - 0.56 * size, up))
-
-    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
-        """Nothing: the legend does not change."""
 
 
 class StateOverlay(Overlay):

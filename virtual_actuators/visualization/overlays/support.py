@@ -24,6 +24,7 @@ class SupportOverlay(Overlay):
         """
         for name in frame.support:
             frame_id = scene.frame(name, "support")
+            scene.mark("support")
             scene.marker(
                 f"support/{safe(name)}",
                 lambda: (

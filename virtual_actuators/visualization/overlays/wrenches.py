@@ -102,10 +102,14 @@ class WrenchOverlay(Overlay):
         origin = data.oMf[action_id].translation
         rotation = data.oMf[reference_id].rotation
         name = f"wrench/{safe(key)}"
-        scene.wrench(
+        force_drawn, moment_drawn = scene.wrench(
             f"{name}/requested", origin, rotation, axes, requested,
             (palette.requested_force, palette.requested_moment),
         )  # fmt: skip
+        if force_drawn:
+            scene.mark("requested_force")
+        if moment_drawn:
+            scene.mark("requested_moment")
         if produced is not None:
             scale = max(1.0, float(np.max(np.abs(requested))))
             if inadmissible or not np.allclose(produced, requested, rtol=0.0, atol=1e-6 * scale):
@@ -114,7 +118,10 @@ class WrenchOverlay(Overlay):
                     if inadmissible
                     else ("produced", palette.produced)
                 )
-                scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, (color, color))
+                if any(
+                    scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, (color,) * 2)
+                ):
+                    scene.mark(kind)
         if forces is None:
             return
         mask = scene.rotational_mask(axes)
@@ -125,11 +132,13 @@ class WrenchOverlay(Overlay):
             moment_w = rotation @ moment + cross(origin - at, force_w)  # about the reaction
             moment_w = rotation @ (mask * (rotation.T @ moment_w))  # on the actuator's axes
             share_name = f"{name}/share/{safe(reaction)}"
-            scene.arrow(
+            if scene.arrow(
                 f"{share_name}/force", at, force_w * scene.force_scale, palette.share_force, 1,
                 0.75,
-            )  # fmt: skip
-            scene.arrow(
+            ):  # fmt: skip
+                scene.mark("share_force")
+            if scene.arrow(
                 f"{share_name}/moment", at, moment_w * scene.moment_scale, palette.share_moment,
                 2, 0.75,
-            )  # fmt: skip
+            ):  # fmt: skip
+                scene.mark("share_moment")

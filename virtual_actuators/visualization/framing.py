@@ -1,0 +1,120 @@
+"""Frame a recording on the whole run: the box holding everything drawn in any recorded frame.
+
+A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
+RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up, an
+arrow grows). While recording, :class:`RunBounds` accumulates the box of every visible node of
+the robot and its overlays in the view's coordinates (the scene node's own placement included,
+which keeps a travelling robot centred); :func:`framing_commands` then places the camera so that
+a sphere around that box fits the view, and shifts the scene so that the box is centred on the
+point MeshCat's orbit controls look at (the origin: they cannot be retargeted).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from meshcat.commands import SetProperty, SetTransform
+from meshcat.path import Path as MeshcatPath
+
+from .geometry import translation
+from .scene import Scene
+
+#: Vertical field of view of MeshCat's default camera [deg].
+CAMERA_FOV_DEG = 75.0
+
+#: Top-level nodes that are not part of the run's box: the text beside the robot (hidden in
+#: pages), the ground grid and the terrain (they extend far beyond the run).
+_EXCLUDED = ("hud", "ground", "terrain")
+
+
+class RunBounds:
+    """Bounding box of what the recorded frames show, in the view's coordinates [m].
+
+    Attributes:
+        low: Smallest ``x y z`` of a visible node's origin over the frames (None: no frame).
+        high: Largest ``x y z``.
+
+    """
+
+    def __init__(self) -> None:
+        self.low: np.ndarray | None = None
+        self.high: np.ndarray | None = None
+
+    def add(self, scene: Scene) -> None:
+        """Grow the box with the origins of the scene's visible nodes in their current pose."""
+        points = visible_points(scene)
+        if len(points) == 0:
+            return
+        low, high = points.min(axis=0), points.max(axis=0)
+        self.low = low if self.low is None else np.minimum(self.low, low)
+        self.high = high if self.high is None else np.maximum(self.high, high)
+
+    def __repr__(self) -> str:
+        if self.low is None:
+            return "RunBounds(empty)"
+        return f"RunBounds(low={np.round(self.low, 3)}, high={np.round(self.high, 3)})"
+
+
+def visible_points(scene: Scene) -> np.ndarray:
+    """Origins ``(n, 3)`` of the placed, visible nodes in the view's coordinates.
+
+    A node's pose is the product of the placements along its path (the scene node's first);
+    a node is visible unless it or one of its parents is hidden.
+    """
+    matrices, visible = scene.matrices, scene.visible
+    root = matrices.get("", np.eye(4))
+    composed: dict[str, np.ndarray | None] = {"": root}
+
+    def pose(name: str) -> np.ndarray | None:
+        if name in composed:
+            return composed[name]
+        parent, _, _ = name.rpartition("/")
+        above = pose(parent)
+        if above is None or visible.get(name) is False:
+            result = None
+        else:
+            own = matrices.get(name)
+            result = above if own is None else above @ own
+        composed[name] = result
+        return result
+
+    points = []
+    for name in matrices:
+        if not name or name.split("/", 1)[0] in _EXCLUDED:
+            continue
+        matrix = pose(name)
+        if matrix is not None:
+            points.append(matrix[:3, 3])
+    return np.array(points) if points else np.zeros((0, 3))
+
+
+#: MeshCat's camera object, and the node above every drawn scene (shifted to centre the run).
+CAMERA_PATH = MeshcatPath(("Cameras", "default", "rotated", "<object>"))
+SCENES_PATH = MeshcatPath(("meshcat",))
+
+
+def framing_commands(bounds: RunBounds, view: np.ndarray, margin: float) -> list[object]:
+    """Commands that frame the run's box: the camera's distance and the scene's offset.
+
+    Args:
+        bounds: The run's box.
+        view: Unit vector from the target to the camera (world axes).
+        margin: Added around the box (shapes extend beyond their nodes' origins) [m].
+
+    Returns:
+        ``SetTransform`` of ``/meshcat`` (the parent of the scene's node) and ``SetProperty``
+        of the camera's position (none for an empty box).
+
+    """
+    if bounds.low is None or bounds.high is None:
+        return []
+    centre = (bounds.low + bounds.high) / 2.0
+    radius = 0.5 * float(np.linalg.norm(bounds.high - bounds.low)) + margin
+    distance = max(0.8, radius / math.sin(math.radians(CAMERA_FOV_DEG) / 2.0))
+    offset = view * distance  # world axes; three.js is y-up
+    local = [float(offset[0]), float(offset[2]), float(-offset[1])]
+    return [
+        SetTransform(translation(-centre), SCENES_PATH),
+        SetProperty("position", local, CAMERA_PATH),
+    ]

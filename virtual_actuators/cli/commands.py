@@ -349,7 +349,7 @@ def run(args: argparse.Namespace) -> int:
 
         example_view(args, EXAMPLES[args.name]())
     elif args.command == "robots":
-        import virtual_actuators as va
+        from ..robots.directory import describe_robots, robot_table
 
-        print("\n".join(va.list_robots()))
+        print(robot_table(describe_robots()))
     return 0

@@ -209,15 +209,14 @@ def robot_name(text: str) -> str:
     Raises:
         argparse.ArgumentTypeError: Otherwise (with the closest names).
     """
-    from ..exceptions import suggestion
-    from ..robots.loader import list_robots
+    from ..robots.catalog import list_robots, suggest_robots
 
-    names = list_robots()
+    names = list_robots(include_aliases=True)
     path = Path(text).expanduser()
     if text in names or path.is_file() or path.is_dir():
         return text
     raise argparse.ArgumentTypeError(
-        f"no robot named {text!r} and no such URDF file. {suggestion(text, names, 'robots')}"
+        f"no robot named {text!r} and no such URDF file. {suggest_robots(text)}"
     )
 
 

@@ -12,6 +12,7 @@ below half its nominal height above the terrain, or when the body pitches beyond
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time as wallclock
@@ -21,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
+from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics, compute_metrics
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import STANDARD_CHANNELS, WalkLog
@@ -28,6 +30,7 @@ from ..gaits import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, 
 from ..robots.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
+from .progress import Progress
 
 FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]
@@ -201,7 +204,8 @@ def run_walk(
     v_x = robot.model.joints[robot.model.getJointId("boom_x")].idx_v
     contact_frames = gait.contact_frames
     nominal = gait.nominal_height()  # [m]
-    bar = _progress(duration) if progress else None
+    stance = StanceForces(simulator, terrain_model)
+    bar = Progress(duration) if progress else None
     fall_time = None
     start = wallclock.perf_counter()
     ticks_per_update = 100
@@ -213,6 +217,8 @@ def run_walk(
         output = gait.compute(q, v, now, contacts)
         simulator.step(output.tau)
         tick += 1
+        if fall_time is None:
+            stance.sample(gait.support_contacts())
         x, z_world, pitch = q[x_index], q[z_index], q[pitch_index]
         ground = float(terrain_model.height(x))
         fallen = fall_time is not None or _fallen(simulator, z_world - ground, pitch, nominal)
@@ -241,15 +247,19 @@ def run_walk(
         if on_tick is not None:
             on_tick(simulator, gait)
         if bar is not None and tick % ticks_per_update == 0:
-            bar.update(ticks_per_update * 1e-3)
+            bar.set(simulator.time)
         if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
             break
     wall = wallclock.perf_counter() - start
     if bar is not None:
-        bar.close()
+        bar.close(simulator.time)
     recorder.metadata["wall_time_s"] = wall
     log = recorder.to_log()
     metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=wall)
+    normal_min, ratio_max = stance.figures()
+    metrics = dataclasses.replace(
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
+    )
     return WalkResult(log, metrics, gait, simulator, wall)
 
 

@@ -64,6 +64,10 @@ class WalkMetrics:
         window_end_s: Time of the last tick of the statistics window [s].
         samples: Number of ticks in the log.
         step_states: The state names whose entries were counted as steps.
+        stance_normal_min_n: Least normal force of a foot in support, measured in the
+            simulation [N] (see :mod:`~virtual_actuators.experiments.contact_stats`); None when
+            not measured.
+        stance_friction_ratio_max: Largest tangential / normal force of a foot in support.
 
     """
 
@@ -86,6 +90,8 @@ class WalkMetrics:
     window_end_s: float | None
     samples: int
     step_states: tuple[str, ...] = ()
+    stance_normal_min_n: float | None = None
+    stance_friction_ratio_max: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Return the metrics as a JSON-able dict (bools, ints, floats, None, lists of str)."""

@@ -35,12 +35,16 @@ class Gait:
         machine: States and transitions.
         step_states: States whose entries count as steps (single support).
         contact_frames: Frames whose contact switches the gait reads.
+        foot_contacts: Contact frames per support frame (see :meth:`support_contacts`).
         last: The last :class:`ControlOutput`.
 
     """
 
     step_states: tuple[str, ...] = ()
     contact_frames: tuple[str, ...] = ()
+    #: The contact frames that make up each support frame whose geoms are elsewhere (a flat
+    #: foot's heel and toe); a support frame not listed is its own contact frame.
+    foot_contacts: Mapping[str, tuple[str, ...]] = {}
 
     def __init__(self, robot: Robot) -> None:
         self.robot = robot
@@ -67,6 +71,11 @@ class Gait:
         if hasattr(parameters, "hip_height"):
             return float(parameters.hip_height(0.0))
         return float(parameters.height)
+
+    def support_contacts(self) -> list[tuple[str, ...]]:
+        """Per foot in support in the current state, the contact frames that make it up."""
+        contacts = self.foot_contacts
+        return [contacts.get(foot, (foot,)) for foot in self.machine.current.support]
 
     @property
     def state(self) -> str:
@@ -105,6 +114,24 @@ class Gait:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(robot={self.robot.name!r}, state={self.state!r})"
+
+
+#: The ways a gait's double support can share the body's wrench (``distribution=``).
+DISTRIBUTIONS = ("partitioned", "qp")
+
+
+def check_distribution(distribution: object) -> bool:
+    """Whether ``distribution`` asks for the QP (checked: one of :data:`DISTRIBUTIONS`).
+
+    Raises:
+        InvalidInputError: Any other value.
+
+    """
+    if distribution not in DISTRIBUTIONS:
+        raise InvalidInputError(
+            f"distribution must be one of {DISTRIBUTIONS}, got {distribution!r}."
+        )
+    return distribution == "qp"
 
 
 def planar_leg_ik(dx: float, dz: float, thigh: float, shin: float) -> tuple[float, float]:

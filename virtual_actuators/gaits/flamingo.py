@@ -171,6 +171,7 @@ class FlamingoWalker(Gait):
 
     step_states = ("left_support", "right_support")
     contact_frames = ("left_heel", "left_toe", "right_heel", "right_toe")
+    foot_contacts = {f"{side}_foot": (f"{side}_heel", f"{side}_toe") for side in SIDES}
 
     def __init__(
         self,

@@ -34,7 +34,7 @@ from ..control import events
 from ..control.state_machine import Context, State, StateMachine, Transition
 from ..robots.robot import Robot
 from ..vocabulary.constraints import EqualTorque
-from .base import Gait
+from .base import Gait, check_distribution
 
 SIDES = ("left", "right")
 PLANAR_AXES = ("x", "z", "ry")
@@ -91,6 +91,12 @@ class TurkeyParameters:
         touchdown_depth: How far below the ground the swing set point ends [m].
         buffer_delay: Time the swing leg stays limp in the buffer states [s].
         foot_radius: Height of the foot frame above the ground when in contact [m].
+        distribution: How double support shares the body's wrench between the feet:
+            ``"partitioned"`` (the seed's: matched hip torques, the bunny's force scaled down
+            when a foot would pull) or ``"qp"`` (the same matched hip torques as an equality;
+            each foot's normal force >= ``min_normal_force`` and its force inside a friction
+            pyramid of ``friction`` as inequalities; x gives way first).
+        friction: Friction coefficient assumed by ``distribution="qp"``.
 
     """
 
@@ -115,6 +121,8 @@ class TurkeyParameters:
     touchdown_depth: float = 0.02
     buffer_delay: float = 0.04
     foot_radius: float = 0.02
+    distribution: str = "partitioned"
+    friction: float = 0.6
 
 
 class TurkeyWalker(Gait):
@@ -157,6 +165,7 @@ class TurkeyWalker(Gait):
             for side in SIDES
         }
         feet = [f"{side}_foot" for side in SIDES]
+        qp = check_distribution(p.distribution)
         double = ParallelVirtualActuator(
             robot,
             "body",
@@ -165,15 +174,11 @@ class TurkeyWalker(Gait):
             PLANAR_AXES,
             contact="point",
             design=[EqualTorque("left_hip", "right_hip")],
+            **({"friction": p.friction, "min_normal": p.min_normal_force} if qp else {}),
         )
         c = self.controller
-        c.add(
-            "double",
-            double,
-            [self.granny, self.bunny],
-            unilateral={"z": p.min_normal_force},
-            yield_axes=("x",),
-        )
+        limits = {"method": "qp"} if qp else {"unilateral": {"z": p.min_normal_force}}
+        c.add("double", double, [self.granny, self.bunny], yield_axes=("x",), **limits)
         for side in SIDES:
             stance = ParallelVirtualActuator(
                 robot, "body", [f"{side}_foot"], "world", PLANAR_AXES, contact="point"

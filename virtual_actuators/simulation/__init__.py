@@ -6,7 +6,11 @@ conventions and its contacts by frame name; :class:`Terrain` describes the groun
 ``conversions`` functions map configurations, velocities and torques between the two libraries.
 """
 
-from .conversions import (
+from ..exceptions import import_optional
+
+import_optional("mujoco", "sim", "MuJoCo simulation (virtual_actuators.simulation)")
+
+from .conversions import (  # noqa: E402
     configuration_from_mujoco,
     configuration_to_mujoco,
     ctrl_to_torques,
@@ -14,10 +18,10 @@ from .conversions import (
     velocity_from_mujoco,
     velocity_to_mujoco,
 )
-from .hardware import MujocoHardware
-from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model
-from .simulator import Simulator
-from .terrain import Terrain
+from .hardware import MujocoHardware  # noqa: E402
+from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model  # noqa: E402
+from .simulator import Simulator  # noqa: E402
+from .terrain import Terrain  # noqa: E402
 
 __all__ = [
     "ContactParameters",

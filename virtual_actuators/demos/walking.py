@@ -27,6 +27,7 @@ from ..experiments.metrics import WalkMetrics, compute_metrics
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import STANDARD_CHANNELS, WalkLog
 from ..gaits import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, TurkeyWalker
+from ..gaits.base import check_distribution
 from ..robots.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
@@ -63,14 +64,17 @@ class WalkSpec:
     description: str
 
 
-def _turkey(robot, speed: float | None) -> Gait:
-    parameters = TurkeyParameters() if speed is None else TurkeyParameters(speed=speed)
+def _turkey(robot, speed: float | None, parameters: TurkeyParameters | None = None) -> Gait:
+    parameters = _with_speed(parameters or TurkeyParameters(), speed)
     return TurkeyWalker(robot, parameters, initial="double_support")
 
 
-def _flamingo(robot, speed: float | None) -> Gait:
-    parameters = FlamingoParameters() if speed is None else FlamingoParameters(speed=speed)
-    return FlamingoWalker(robot, parameters)
+def _flamingo(robot, speed: float | None, parameters: FlamingoParameters | None = None) -> Gait:
+    return FlamingoWalker(robot, _with_speed(parameters or FlamingoParameters(), speed))
+
+
+def _with_speed(parameters, speed: float | None):
+    return parameters if speed is None else dataclasses.replace(parameters, speed=speed)
 
 
 WALKS: dict[str, WalkSpec] = {
@@ -136,6 +140,8 @@ def run_walk(
     on_tick: Callable[[Simulator, Gait], None] | None = None,
     stop_on_fall: bool = True,
     seed: int | None = None,
+    parameters: TurkeyParameters | FlamingoParameters | None = None,
+    distribution: str | None = None,
 ) -> WalkResult:
     """Simulate one of the seeds' walks and measure it.
 
@@ -152,12 +158,18 @@ def run_walk(
         seed: None for the walk's nominal start; an int varies the start-up push (its force
             and duration each scaled by a factor drawn uniformly in [0.7, 1.3]) so that sweeps
             see several starts per setting.
+        parameters: The gait's parameters (a :class:`TurkeyParameters` for the turkey, a
+            :class:`FlamingoParameters` for the flamingo; default: the gait's); ``speed``
+            overrides theirs.
+        distribution: ``"partitioned"`` or ``"qp"``: how double support shares the body's
+            wrench (overrides ``parameters.distribution``; default: the gait's).
 
     Returns:
         The :class:`WalkResult`.
 
     Raises:
-        InvalidInputError: Unknown walk, bad duration, speed, terrain or seed.
+        InvalidInputError: Unknown walk, bad duration, speed, terrain, seed, parameters or
+            distribution.
 
     """
     spec = _spec(name)
@@ -169,8 +181,16 @@ def run_walk(
     if terrain is None:
         terrain = spec.terrain
     terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
+    expected = TurkeyParameters if spec.make_gait is _turkey else FlamingoParameters
+    if parameters is not None and not isinstance(parameters, expected):
+        raise InvalidInputError(
+            f"{name}: parameters must be a {expected.__name__}, got {type(parameters).__name__}."
+        )
+    if distribution is not None:
+        check_distribution(distribution)
+        parameters = dataclasses.replace(parameters or expected(), distribution=distribution)
     robot = load_robot(spec.robot)
-    gait = spec.make_gait(robot, speed)
+    gait = spec.make_gait(robot, speed, parameters)
     simulator = Simulator(robot, terrain_model)
     q0 = gait.initial_configuration()
     q0[_index(robot, "boom_z")] += float(terrain_model.height(0.0))

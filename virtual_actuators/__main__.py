@@ -31,7 +31,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     parser, subparsers = build_parser()
     arguments = list(sys.argv[1:] if argv is None else argv)
-    if not arguments or (arguments[0].startswith("-") and arguments[0] not in ("-h", "--help")):
+    if not arguments or (
+        arguments[0].startswith("-") and arguments[0] not in ("-h", "--help", "--version")
+    ):
         arguments.insert(0, "demo")  # the default command, with its options
     args = parser.parse_args(arguments)
     command_parser = subparsers.get(args.command, parser)

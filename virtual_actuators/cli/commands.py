@@ -4,19 +4,14 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import os
 import sys
-import time
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .options import STAND_FEET
-
 if TYPE_CHECKING:
     from ...examples import Example
-    from ...robots.robot import Robot
 
 
 def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
@@ -48,101 +43,6 @@ def _print_solution(title: str, robot, body, q, wrench, sol) -> None:
     print(sol.table())
     print("\njoint efforts:")
     print(_joint_table(robot, sol.tau))
-
-
-def stand_robot(name: str = "solo12") -> Robot:
-    """Load the quadruped of ``demo stand`` and check that it has the frames the demo needs.
-
-    Args:
-        name: A robot name or URDF path for :func:`~virtual_actuators.load_robot`.
-
-    Returns:
-        The :class:`~virtual_actuators.Robot`.
-
-    Raises:
-        RobotNotFoundError: If no robot has this name or path.
-        RobotDescriptionError: If its URDF cannot be loaded.
-        FrameNotFoundError: If the robot lacks ``base_link`` or one of the frames ``FL_FOOT``,
-            ``FR_FOOT``, ``HL_FOOT``, ``HR_FOOT`` (it is not a quadruped like solo12).
-    """
-    import virtual_actuators as va
-
-    robot = va.load_robot(name)
-    needed = ("base_link", *STAND_FEET)
-    missing = [frame for frame in needed if not robot.model.existFrame(frame)]
-    if missing:
-        raise va.FrameNotFoundError(
-            f"robot {name!r} has no frame {', '.join(missing)}: the stand demo needs a "
-            f"quadruped with the frames {', '.join(needed)}, such as 'solo12' or 'solo'."
-        )
-    return robot
-
-
-def demo_stand(
-    robot: str | os.PathLike[str] | Robot = "solo12",
-    repeat: int = 2000,
-    args: argparse.Namespace | None = None,
-) -> None:
-    """Load a quadruped, declare a body actuator on its four feet, print the distribution.
-
-    With ``args.viz`` / ``args.record``, also show it in MeshCat / write it as HTML.
-
-    Args:
-        robot: A robot loaded by :func:`stand_robot`, or a name or path to load with it.
-        repeat: Solves per timing.
-        args: The parsed command line (for the viewer options), or None.
-
-    Raises:
-        RobotNotFoundError: If ``robot`` is a name that no robot has.
-        RobotDescriptionError: If its URDF cannot be loaded.
-        FrameNotFoundError: If it is not a quadruped with the frames of :func:`stand_robot`.
-    """
-    import virtual_actuators as va
-
-    if isinstance(robot, (str, os.PathLike)):
-        robot = stand_robot(os.fspath(robot))
-    q = robot.neutral()
-    feet = list(STAND_FEET)
-    mass = sum(inertia.mass for inertia in robot.model.inertias)
-    weight = mass * 9.81
-    print(f"{robot}  mass {mass:.2f} kg, standing pose from its SRDF")
-    body = va.ParallelVirtualActuator(
-        robot, action="base_link", reactions=feet, reference="base_link", contact="point"
-    )
-    wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])
-    sol = body.solve(q, wrench)
-    _print_solution(
-        "body actuator, no design constraint (minimum-norm distribution)",
-        robot,
-        body,
-        q,
-        wrench,
-        sol,
-    )
-    # all x forces equal, y forces equal front and hind, diagonal z sums equal: r = 6
-    design = [
-        va.Equal((feet[0], "x"), (feet[1], "x")),
-        va.Equal((feet[0], "x"), (feet[2], "x")),
-        va.Equal((feet[0], "x"), (feet[3], "x")),
-        va.Equal((feet[0], "y"), (feet[1], "y")),
-        va.Equal((feet[2], "y"), (feet[3], "y")),
-        va.Linear({(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}),
-    ]
-    square = va.ParallelVirtualActuator(
-        robot, action="base_link", reactions=feet, reference="base_link", design=design
-    )
-    sol2 = square.solve(q, wrench)
-    _print_solution(
-        "with six design constraints (square, partitioned)", robot, square, q, wrench, sol2
-    )
-    for name, actuator in (("minimum-norm", body), ("partitioned", square)):
-        start = time.perf_counter()
-        for _ in range(repeat):
-            actuator.solve(q, wrench)
-        elapsed = (time.perf_counter() - start) / repeat * 1e6
-        print(f"\nsolve time ({name}): {elapsed:.1f} us per call (median of one run)")
-    if args is not None:
-        _show_static(args, robot, q, sol2, square, wrench)
 
 
 def _wants_viewer(args: argparse.Namespace) -> bool:
@@ -234,6 +134,8 @@ def demo_walk(args: argparse.Namespace) -> int:
         terrain=args.terrain,
         progress=not args.quiet,
         on_tick=on_tick,
+        seed=args.seed,
+        distribution=args.distribution,
     )
     metrics = result.metrics
     print(metrics.summary())
@@ -243,7 +145,9 @@ def demo_walk(args: argparse.Namespace) -> int:
         title = f"{args.name}: {result.log.metadata['robot']} on {result.log.metadata['terrain']}"
         heights = result.log.terrain_points[:, 1]
         layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
-        path = plot_walk(result.log, args.plot, title=title, metrics=metrics, layout=layout)
+        path = plot_walk(
+            result.log, args.plot, title=title, metrics=metrics, layout=layout, window=args.window
+        )
         print(f"plot: {path}")
     if viewer is not None:
         _finish_viewer(args, viewer)
@@ -337,9 +241,11 @@ def run(args: argparse.Namespace) -> int:
     """
     if args.command == "demo":
         if args.name == "stand":
-            with _blame("--robot"):
-                robot = stand_robot(args.robot or "solo12")
-            demo_stand(robot, args=args)
+            from .stand import demo_stand, stand_robot
+
+            with _blame("--feet" if args.feet else "--robot"):
+                loaded = stand_robot(args.robot or "solo12", args.feet)
+            demo_stand(loaded, args=args)
             return 0
         if args.name == "hexapod-walk":
             return demo_hexapod(args)
@@ -348,6 +254,10 @@ def run(args: argparse.Namespace) -> int:
         from ..examples import EXAMPLES
 
         example_view(args, EXAMPLES[args.name]())
+    elif args.command == "sweep":
+        from .sweep import sweep_command
+
+        return sweep_command(args)
     elif args.command == "robots":
         from ..robots.directory import describe_robots, robot_table
 

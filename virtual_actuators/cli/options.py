@@ -8,23 +8,30 @@ their option is given.
 from __future__ import annotations
 
 import argparse
-import math
-import os
-from pathlib import Path
+
+from .types import (
+    MAX_DURATION,
+    MIN_DURATION,
+    amplitude,
+    direction_degrees,
+    frame_list,
+    output_path,
+    positive_int,
+    positive_seconds,
+    robot_name,
+    seed,
+    terrain_list,
+    terrain_spec,
+    time_window,
+    value_range,
+    walking_speed,
+    wavelength,
+    yaw_rate,
+)
 
 DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "stand")
 WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk")
 
-#: The frames that ``demo stand`` puts its body actuator on.
-STAND_FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
-
-#: Bounds of ``--duration`` [s]: a run needs a few 1 ms control ticks, and its log holds every
-#: tick in memory (and the simulation runs at about real time).
-MIN_DURATION = 0.01
-MAX_DURATION = 600.0
-
-#: ``--terrain`` points must lie within this many metres of the origin (x and z).
-MAX_TERRAIN_EXTENT = 1000.0
 
 #: Options of ``demo`` that only the walks use (argparse destination, option).
 WALK_OPTIONS = (
@@ -34,6 +41,9 @@ WALK_OPTIONS = (
     ("json", "--json"),
     ("plot", "--plot"),
     ("realtime", "--realtime"),
+    ("seed", "--seed"),
+    ("distribution", "--distribution"),
+    ("window", "--window"),
 )
 
 #: Options of ``demo`` that only ``hexapod-walk`` uses (argparse destination, option).
@@ -45,200 +55,14 @@ HEXAPOD_OPTIONS = (
     ("wavelength", "--wavelength"),
     ("pendulum", "--pendulum"),
     ("track", "--track"),
-    ("seed", "--seed"),
-    ("distribution", "--distribution"),
 )
 
-#: Bounds of ``--yaw-rate`` [rad/s] and ``--amplitude`` / ``--wavelength`` [m].
-MAX_YAW_RATE = 3.0
-MAX_AMPLITUDE = 2.0
-MAX_WAVELENGTH = 50.0
 
 #: What ``python -m virtual_actuators --help`` says first.
 DESCRIPTION = "Command line: ``python -m virtual_actuators demo`` and friends."
 
 #: The seeds' worked examples (``virtual_actuators.examples.EXAMPLES``, imported only when run).
 EXAMPLE_NAMES = ("hexapod-tripod", "millipede", "single-leg", "double-support")
-
-
-# -- argument types: a bad value is a usage error (exit 2), never a traceback ---------------------
-
-
-def _number(text: str, what: str) -> float:
-    """A finite float from ``text``.
-
-    Raises:
-        argparse.ArgumentTypeError: If ``text`` is not a number, or is NaN or infinite.
-    """
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{what} must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"{what} must be a finite number, got {text!r}")
-    return value
-
-
-def positive_seconds(text: str) -> float:
-    """``--duration``: a finite number of seconds in [:data:`MIN_DURATION`, :data:`MAX_DURATION`].
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise (argparse turns it into a usage error).
-    """
-    value = _number(text, "duration")
-    if value <= 0.0:
-        raise argparse.ArgumentTypeError(f"duration must be > 0 s, got {text!r}")
-    if not MIN_DURATION <= value <= MAX_DURATION:
-        raise argparse.ArgumentTypeError(
-            f"duration must be between {MIN_DURATION:g} s (a run needs a few 1 ms control "
-            f"ticks) and {MAX_DURATION:g} s (the whole run is logged in memory), got {text!r}"
-        )
-    return value
-
-
-def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low: bool = False):
-    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    value = _number(text, what)
-    if not ((low < value if open_low else low <= value) and value <= high):
-        bracket = "(" if open_low else "["
-        raise argparse.ArgumentTypeError(
-            f"{what} must be in {bracket}{low:g}, {high:g}] {unit}, got {text!r}"
-        )
-    return value
-
-
-def walking_speed(text: str) -> float:
-    """``--speed``: a desired speed in (0, 1.5] m/s.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "speed", 0.0, 1.5, "m/s", open_low=True)
-
-
-def direction_degrees(text: str) -> float:
-    """``--direction``: the travel direction relative to the heading, in degrees (-360 to 360).
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "direction", -360.0, 360.0, "degrees")
-
-
-def yaw_rate(text: str) -> float:
-    """``--yaw-rate``: rad/s within +-:data:`MAX_YAW_RATE`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
-
-
-def amplitude(text: str) -> float:
-    """``--amplitude``: the sine's amplitude in [0, :data:`MAX_AMPLITUDE`] m.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "amplitude", 0.0, MAX_AMPLITUDE, "m")
-
-
-def wavelength(text: str) -> float:
-    """``--wavelength``: the sine's wavelength in (0, :data:`MAX_WAVELENGTH`] m.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
-
-
-def seed(text: str) -> int:
-    """``--seed``: a non-negative integer.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"seed must be an integer, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"seed must be >= 0, got {text!r}")
-    return value
-
-
-def terrain_spec(text: str) -> str:
-    """``--terrain``: a spec :meth:`Terrain.parse` accepts (checked now, parsed again later).
-
-    Its points must also lie within :data:`MAX_TERRAIN_EXTENT` metres of the origin. The terrain
-    module is imported here, only when the option is given (it brings in MuJoCo, which the
-    walks need anyway).
-
-    Raises:
-        argparse.ArgumentTypeError: If the spec does not parse (with the parser's reason) or a
-            point lies too far away.
-    """
-    from ..exceptions import VirtualActuatorError
-    from ..simulation.terrain import Terrain
-
-    try:
-        terrain = Terrain.parse(text)
-    except VirtualActuatorError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
-    far = [
-        point for point in terrain.points if max(abs(point[0]), abs(point[1])) > MAX_TERRAIN_EXTENT
-    ]
-    if far:
-        x, z = (float(value) for value in far[0])
-        raise argparse.ArgumentTypeError(
-            f"terrain point ({x:g}, {z:g}) in {text!r} is too far away: x and z must be within "
-            f"+-{MAX_TERRAIN_EXTENT:g} m"
-        )
-    return text
-
-
-def robot_name(text: str) -> str:
-    """``--robot``: a name ``load_robot`` knows, or an existing URDF file or robot folder.
-
-    Whether the robot suits the demo (stand needs a quadruped) is checked when it is loaded.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise (with the closest names).
-    """
-    from ..robots.catalog import list_robots, suggest_robots
-
-    names = list_robots(include_aliases=True)
-    path = Path(text).expanduser()
-    if text in names or path.is_file() or path.is_dir():
-        return text
-    raise argparse.ArgumentTypeError(
-        f"no robot named {text!r} and no such URDF file. {suggest_robots(text)}"
-    )
-
-
-def output_path(text: str) -> str:
-    """An output file in an existing, writable folder (checked before a run, not after it).
-
-    Raises:
-        argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
-            exist, or it cannot be written.
-    """
-    path = Path(text)
-    if not text.strip():
-        raise argparse.ArgumentTypeError("expected a file path, got an empty string")
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
-    if not path.parent.is_dir():
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not a file path in an existing folder (no folder {str(path.parent)!r})"
-        )
-    if not os.access(path if path.exists() else path.parent, os.W_OK):
-        raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
-    return text
 
 
 def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> None:
@@ -305,13 +129,24 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         help=hexapod + "face an object circling the start while walking",
     )
     demo.add_argument(
-        "--seed", type=seed, default=None, help=hexapod + "random initial disturbance"
+        "--seed",
+        type=seed,
+        default=None,
+        help="walks: a random start (the start-up push; the hexapod's initial disturbance)",
     )
     demo.add_argument(
         "--distribution",
         choices=("qp", "partitioned"),
         default=None,
-        help=hexapod + "how the body wrench is split over the support feet (default qp)",
+        help="walks: how the body wrench is split over the support feet (default: qp for the "
+        "hexapod, partitioned for the bipeds)",
+    )
+    demo.add_argument(
+        "--window",
+        type=time_window,
+        default=None,
+        metavar="T0:T1",
+        help="walks with --plot: plot only simulated seconds T0 to T1 (either may be empty)",
     )
 
 
@@ -324,7 +159,10 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     Returns:
         The top-level parser and ``{"demo": ..., "robots": ..., "example": ...}``.
     """
+    from .. import __version__
+
     parser = argparse.ArgumentParser(prog="python -m virtual_actuators", description=DESCRIPTION)
+    parser.add_argument("--version", action="version", version=f"virtual_actuators {__version__}")
     sub = parser.add_subparsers(dest="command")
     demo = sub.add_parser(
         "demo",
@@ -372,14 +210,55 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         "--robot",
         type=robot_name,
         default=None,
-        help="stand: a quadruped with base_link and FL/FR/HL/HR_FOOT frames (default: solo12)",
+        help="stand: a legged robot by name or URDF path (default: solo12; feet from its SRDF "
+        "or frame names, see `robots`)",
+    )
+    demo.add_argument(
+        "--feet",
+        type=frame_list,
+        default=None,
+        metavar="FRAME,FRAME,...",
+        help="stand: the foot frames (when the robot's own cannot be found)",
     )
     _viewer_arguments(demo, walks=True)
-    robots = sub.add_parser("robots", help="list the robots load_robot accepts by name")
+    robots = sub.add_parser(
+        "robots", help="list the robots load_robot accepts by name (kind, DoF, feet, aliases)"
+    )
     example = sub.add_parser("example", help="run one of the seeds' worked examples")
     example.add_argument("name", choices=EXAMPLE_NAMES)
     _viewer_arguments(example)
-    return parser, {"demo": demo, "robots": robots, "example": example}
+    sweep = _sweep_parser(sub)
+    return parser, {"demo": demo, "robots": robots, "example": example, "sweep": sweep}
+
+
+def _sweep_parser(sub) -> argparse.ArgumentParser:
+    sweep = sub.add_parser(
+        "sweep",
+        help="run a walk over a grid of speeds, terrains and seeds, in parallel",
+        description="Every (speed, terrain, seed) walk of the grid, on a process pool (or Dask / "
+        "Ray with --engine, e.g. on a cluster); writes a table and a success map.",
+    )
+    sweep.add_argument("walk", choices=WALK_DEMOS[:2])
+    sweep.add_argument(
+        "--speed", type=value_range, default=None, metavar="A:B:STEP", help="desired speeds"
+    )
+    sweep.add_argument(
+        "--terrain", type=terrain_list, default=None, metavar="T1,T2", help="terrains"
+    )
+    sweep.add_argument("--seeds", type=positive_int, default=3, help="starts per cell")
+    sweep.add_argument(
+        "--duration", type=positive_seconds, default=None, help="simulated seconds per walk"
+    )
+    sweep.add_argument("--engine", choices=("process", "dask", "ray"), default="process")
+    sweep.add_argument("--workers", type=positive_int, default=None, help="process pool size")
+    sweep.add_argument(
+        "--out", type=output_path, default="sweep.csv", metavar="PATH", help=".csv or .json"
+    )
+    sweep.add_argument(
+        "--plot", type=output_path, default=None, metavar="PATH.png", help="success map"
+    )
+    sweep.add_argument("--quiet", action="store_true", help="no progress bar")
+    return sweep
 
 
 def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
@@ -396,7 +275,12 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
                 parser.error(
                     f"argument {option}: only the walks ({', '.join(WALK_DEMOS)}) use it, not stand"
                 )
-    elif args.robot is not None:
+    elif args.robot is not None or args.feet is not None:
+        option = "--robot" if args.robot is not None else "--feet"
         parser.error(
-            f"argument --robot: only the stand demo uses it; {args.name} has its own robot"
+            f"argument {option}: only the stand demo uses it; {args.name} has its own robot"
         )
+    if args.window is not None and args.name == "hexapod-walk":
+        parser.error("argument --window: the turkey and flamingo plots take it, not hexapod-walk")
+    if args.window is not None and args.plot is None:
+        parser.error("argument --window: it selects what --plot draws; give --plot PATH too")

@@ -27,7 +27,7 @@ BODY_NAMES = ("body", "base_link", "base", "pelvis", "trunk", "torso")
 #: Words that make a frame (or an SRDF end effector) a foot, as whole words of its name.
 FOOT_WORDS = ("foot", "feet", "sole", "toe", "ankle")
 
-__all__ = ["BODY_NAMES", "FOOT_WORDS", "Feet", "find_feet"]
+__all__ = ["BODY_NAMES", "FOOT_WORDS", "Feet", "body_frame", "find_feet"]
 
 
 @dataclass(frozen=True)
@@ -61,7 +61,7 @@ def find_feet(robot: Robot) -> Feet:
 
     """
     model = robot.model
-    body = _body_frame(model, bool(getattr(robot, "floating_base", False)))
+    body = body_frame(model, bool(getattr(robot, "floating_base", False)))
     feet = _srdf_feet(robot, model)
     source = "srdf"
     if len(feet) < 2:
@@ -80,7 +80,7 @@ def _is_foot(name: str) -> bool:
     return any(word in FOOT_WORDS for word in words)
 
 
-def _body_frame(model: pin.Model, floating: bool) -> str:
+def body_frame(model: pin.Model, floating: bool) -> str:
     """The link the floating base carries; else a link called like a body; else the first."""
     bodies = [f for f in model.frames if f.type == pin.FrameType.BODY and f.name != "universe"]
     if floating:

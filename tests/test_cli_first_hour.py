@@ -1,0 +1,60 @@
+"""The command line a newcomer tries first: version, robots, stand on any legged robot, sweeps,
+walks with a distribution, a seed and a plot window."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import pytest
+
+import virtual_actuators as va
+from virtual_actuators.__main__ import main
+
+pytestmark = pytest.mark.slow  # each runs the command line (and walks)
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"virtual_actuators {va.__version__}"
+
+
+def test_robots_table_lists_aliases(capsys):
+    assert main(["robots"]) == 0
+    out = capsys.readouterr().out
+    for name in ("solo12", "talos", "ur5", "go2", "hexapod"):
+        assert name in out
+
+
+@pytest.mark.parametrize(("robot", "feet"), [("go2", 4), ("talos", 2), ("hexapod", 6)])
+def test_stand_on_any_legged_robot(capsys, robot, feet):
+    assert main(["demo", "stand", "--robot", robot]) == 0
+    out = capsys.readouterr().out
+    assert f"on {feet} feet" in out and "residual" in out
+
+
+def test_stand_with_named_feet(capsys):
+    assert main(["demo", "stand", "--robot", "solo12", "--feet", "FL_FOOT,FR_FOOT,HL_FOOT"]) == 0
+    assert "on 3 feet" in capsys.readouterr().out
+
+
+def test_walk_with_distribution_seed_and_window(tmp_path, capsys):
+    plot, report = tmp_path / "w.png", tmp_path / "w.json"
+    arguments = ["demo", "turkey-walk", "--duration", "1.5", "--seed", "2", "--quiet"]
+    arguments += ["--distribution", "partitioned", "--plot", str(plot), "--window", "0.5:1.5"]
+    assert main([*arguments, "--json", str(report)]) == 0
+    data = json.loads(report.read_text())
+    assert data["stance_normal_min_n"] > 0 and data["stance_friction_ratio_max"] < 1.0
+    assert plot.stat().st_size > 10_000
+
+
+def test_sweep_with_two_workers(tmp_path, capsys):
+    out, plot = tmp_path / "s.csv", tmp_path / "s.png"
+    arguments = ["sweep", "turkey-walk", "--speed", "0.4:0.5:0.1", "--terrain", "flat"]
+    arguments += ["--seeds", "2", "--duration", "1.0", "--workers", "2", "--quiet"]
+    assert main([*arguments, "--out", str(out), "--plot", str(plot)]) == 0
+    rows = list(csv.DictReader(out.open()))
+    assert len(rows) == 4 and {row["fell"] for row in rows} == {"False"}
+    assert "100%" in capsys.readouterr().out and plot.stat().st_size > 1000

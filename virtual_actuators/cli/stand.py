@@ -1,0 +1,112 @@
+"""``demo stand``: any legged robot standing, its body actuator and force distribution.
+
+The feet come from the robot's SRDF or frame names (:func:`~virtual_actuators.robots.feet.
+find_feet`), or from ``--feet``. Three or more feet are point contacts; two feet (a biped) are
+flat contacts, so that the body's moments have somewhere to go.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from .commands import _print_solution, _show_static
+
+
+def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
+    """Load the robot of ``demo stand`` and find its body and feet.
+
+    Args:
+        name: A robot name, alias or URDF path for :func:`~virtual_actuators.load_robot`.
+        feet: Foot frame names (default: found on the robot).
+
+    Returns:
+        ``(robot, body frame, foot frames)``.
+
+    Raises:
+        RobotNotFoundError: If no robot has this name or path.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If it has no feet (an arm, a hand: the message says so), or a frame
+            given in ``feet`` is not in the model.
+    """
+    import virtual_actuators as va
+    from virtual_actuators.robots.feet import body_frame, find_feet
+    from virtual_actuators.vocabulary.frames import resolve_frame
+
+    robot = va.load_robot(name)
+    if feet is None:
+        found = find_feet(robot)
+        return robot, found.body, list(found.feet)
+    for frame in feet:
+        resolve_frame(robot.model, frame, "foot")
+    return robot, body_frame(robot.model, robot.floating_base), list(feet)
+
+
+def demo_stand(
+    robot: object = "solo12",
+    repeat: int = 2000,
+    args: argparse.Namespace | None = None,
+    feet: Sequence[str] | None = None,
+) -> None:
+    """Print a legged robot's body actuator distribution (and show it with ``--viz``).
+
+    Args:
+        robot: A name or path, or ``(robot, body, feet)`` from :func:`stand_robot`.
+        repeat: Solves per timing.
+        args: The parsed command line (for the viewer options), or None.
+        feet: Foot frames when ``robot`` is a name (default: found on the robot).
+
+    Raises:
+        RobotNotFoundError: If ``robot`` is a name that no robot has.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If it has no feet.
+        SingularConfigurationError: If its standing pose has a straight leg.
+    """
+    import virtual_actuators as va
+
+    robot, body_frame, feet = robot if isinstance(robot, tuple) else stand_robot(robot, feet)
+    q = robot.neutral()
+    weight = robot.mass * 9.81  # [N]
+    contact = "point" if len(feet) >= 3 else "flat"
+    print(
+        f"{robot}  mass {robot.mass:.2f} kg; body {body_frame!r} on {len(feet)} feet "
+        f"({', '.join(feet)}), {contact} contacts"
+    )
+    body = va.ParallelVirtualActuator(
+        robot, action=body_frame, reactions=feet, reference=body_frame, contact=contact
+    )
+    wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])  # [N, N m] in the body frame
+    sol = body.solve(q, wrench)
+    _print_solution("body actuator (minimum-norm distribution)", robot, body, q, wrench, sol)
+    shown, actuator = sol, body
+    timed = [("minimum-norm", body)]
+    if len(feet) == 4 and contact == "point":
+        # all x forces equal, y forces equal front and hind, diagonal z sums equal: r = 6
+        design = [
+            va.Equal((feet[0], "x"), (feet[1], "x")),
+            va.Equal((feet[0], "x"), (feet[2], "x")),
+            va.Equal((feet[0], "x"), (feet[3], "x")),
+            va.Equal((feet[0], "y"), (feet[1], "y")),
+            va.Equal((feet[2], "y"), (feet[3], "y")),
+            va.Linear(
+                {(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}
+            ),
+        ]
+        square = va.ParallelVirtualActuator(
+            robot, action=body_frame, reactions=feet, reference=body_frame, design=design
+        )
+        shown, actuator = square.solve(q, wrench), square
+        title = "with six design constraints (square, partitioned)"
+        _print_solution(title, robot, square, q, wrench, shown)
+        timed.append(("partitioned", square))
+    for name, timed_actuator in timed:
+        start = time.perf_counter()
+        for _ in range(repeat):
+            timed_actuator.solve(q, wrench)
+        elapsed = (time.perf_counter() - start) / repeat * 1e6
+        print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
+    if args is not None:
+        _show_static(args, robot, q, shown, actuator, wrench)

@@ -1,0 +1,276 @@
+"""Argument types of the command line: a bad value is a usage error (exit 2), never a traceback.
+
+Each function parses one option's text and raises :class:`argparse.ArgumentTypeError` with the
+reason; heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their
+option is given.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from pathlib import Path
+
+#: Bounds of ``--duration`` [s]: a run needs a few 1 ms control ticks, and its log holds every
+#: tick in memory (and the simulation runs at about real time).
+MIN_DURATION = 0.01
+MAX_DURATION = 600.0
+
+#: ``--terrain`` points must lie within this many metres of the origin (x and z).
+MAX_TERRAIN_EXTENT = 1000.0
+
+#: Bounds of ``--yaw-rate`` [rad/s] and ``--amplitude`` / ``--wavelength`` [m].
+MAX_YAW_RATE = 3.0
+MAX_AMPLITUDE = 2.0
+MAX_WAVELENGTH = 50.0
+
+
+def _number(text: str, what: str) -> float:
+    """A finite float from ``text``.
+
+    Raises:
+        argparse.ArgumentTypeError: If ``text`` is not a number, or is NaN or infinite.
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{what} must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{what} must be a finite number, got {text!r}")
+    return value
+
+
+def positive_seconds(text: str) -> float:
+    """``--duration``: a finite number of seconds in [:data:`MIN_DURATION`, :data:`MAX_DURATION`].
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise (argparse turns it into a usage error).
+    """
+    value = _number(text, "duration")
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"duration must be > 0 s, got {text!r}")
+    if not MIN_DURATION <= value <= MAX_DURATION:
+        raise argparse.ArgumentTypeError(
+            f"duration must be between {MIN_DURATION:g} s (a run needs a few 1 ms control "
+            f"ticks) and {MAX_DURATION:g} s (the whole run is logged in memory), got {text!r}"
+        )
+    return value
+
+
+def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low: bool = False):
+    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    value = _number(text, what)
+    if not ((low < value if open_low else low <= value) and value <= high):
+        bracket = "(" if open_low else "["
+        raise argparse.ArgumentTypeError(
+            f"{what} must be in {bracket}{low:g}, {high:g}] {unit}, got {text!r}"
+        )
+    return value
+
+
+def walking_speed(text: str) -> float:
+    """``--speed``: a desired speed in (0, 1.5] m/s.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "speed", 0.0, 1.5, "m/s", open_low=True)
+
+
+def direction_degrees(text: str) -> float:
+    """``--direction``: the travel direction relative to the heading, in degrees (-360 to 360).
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "direction", -360.0, 360.0, "degrees")
+
+
+def yaw_rate(text: str) -> float:
+    """``--yaw-rate``: rad/s within +-:data:`MAX_YAW_RATE`.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
+
+
+def amplitude(text: str) -> float:
+    """``--amplitude``: the sine's amplitude in [0, :data:`MAX_AMPLITUDE`] m.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "amplitude", 0.0, MAX_AMPLITUDE, "m")
+
+
+def wavelength(text: str) -> float:
+    """``--wavelength``: the sine's wavelength in (0, :data:`MAX_WAVELENGTH`] m.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _in_range(text, "wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
+
+
+def time_window(text: str) -> tuple[float | None, float | None]:
+    """``--window``: ``T0:T1`` seconds, either side may be empty (``:5``, ``10:``).
+
+    Raises:
+        argparse.ArgumentTypeError: Not two numbers (or empty) around one colon, or T0 >= T1.
+    """
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"window must be T0:T1 in seconds, got {text!r}")
+    start, stop = (_number(p, "window") if p.strip() else None for p in parts)
+    if start is not None and stop is not None and start >= stop:
+        raise argparse.ArgumentTypeError(f"window start must be before its end, got {text!r}")
+    return start, stop
+
+
+def _whole(text: str, what: str, minimum: int) -> int:
+    """A whole number >= ``minimum``, or a usage error naming ``what``."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{what} must be a whole number, got {text!r}") from None
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"{what} must be >= {minimum}, got {text!r}")
+    return value
+
+
+def seed(text: str) -> int:
+    """``--seed``: a non-negative integer.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _whole(text, "seed", 0)
+
+
+def terrain_spec(text: str) -> str:
+    """``--terrain``: a spec :meth:`Terrain.parse` accepts (checked now, parsed again later).
+
+    Its points must also lie within :data:`MAX_TERRAIN_EXTENT` metres of the origin. The terrain
+    module is imported here, only when the option is given (it brings in MuJoCo, which the
+    walks need anyway).
+
+    Raises:
+        argparse.ArgumentTypeError: If the spec does not parse (with the parser's reason) or a
+            point lies too far away.
+    """
+    from ..exceptions import VirtualActuatorError
+    from ..simulation.terrain import Terrain
+
+    try:
+        terrain = Terrain.parse(text)
+    except VirtualActuatorError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    far = [
+        point for point in terrain.points if max(abs(point[0]), abs(point[1])) > MAX_TERRAIN_EXTENT
+    ]
+    if far:
+        x, z = (float(value) for value in far[0])
+        raise argparse.ArgumentTypeError(
+            f"terrain point ({x:g}, {z:g}) in {text!r} is too far away: x and z must be within "
+            f"+-{MAX_TERRAIN_EXTENT:g} m"
+        )
+    return text
+
+
+def robot_name(text: str) -> str:
+    """``--robot``: a name ``load_robot`` knows, or an existing URDF file or robot folder.
+
+    Whether the robot suits the demo (stand needs a quadruped) is checked when it is loaded.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise (with the closest names).
+    """
+    from ..robots.catalog import list_robots, suggest_robots
+
+    names = list_robots(include_aliases=True)
+    path = Path(text).expanduser()
+    if text in names or path.is_file() or path.is_dir():
+        return text
+    raise argparse.ArgumentTypeError(
+        f"no robot named {text!r} and no such URDF file. {suggest_robots(text)}"
+    )
+
+
+def frame_list(text: str) -> tuple[str, ...]:
+    """``--feet``: two or more comma-separated frame names (checked when the robot loads).
+
+    Raises:
+        argparse.ArgumentTypeError: Fewer than two names, or an empty one.
+    """
+    names = tuple(name.strip() for name in text.split(","))
+    if len(names) < 2 or not all(names):
+        raise argparse.ArgumentTypeError(
+            f"expected two or more frame names separated by commas, got {text!r}"
+        )
+    return names
+
+
+def value_range(text: str) -> list[float]:
+    """``sweep --speed``: ``START:STOP:STEP`` (stop included) or ``a,b,c``.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise (with the reason).
+    """
+    from ..demos.sweep import parse_range
+    from ..exceptions import VirtualActuatorError
+
+    try:
+        values = parse_range(text)
+    except VirtualActuatorError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    for value in values:
+        walking_speed(repr(value))
+    return values
+
+
+def terrain_list(text: str) -> list[str]:
+    """``sweep --terrain``: comma-separated built-in terrains (``profile-one,rolling``).
+
+    Raises:
+        argparse.ArgumentTypeError: An unknown terrain.
+    """
+    names = [name.strip() for name in text.split(",")]
+    for name in names:
+        terrain_spec(name)
+    return names
+
+
+def positive_int(text: str) -> int:
+    """A whole number >= 1 (``--seeds``, ``--workers``).
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _whole(text, "value", 1)
+
+
+def output_path(text: str) -> str:
+    """An output file in an existing, writable folder (checked before a run, not after it).
+
+    Raises:
+        argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
+            exist, or it cannot be written.
+    """
+    path = Path(text)
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a file path, got an empty string")
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a file path in an existing folder (no folder {str(path.parent)!r})"
+        )
+    if not os.access(path if path.exists() else path.parent, os.W_OK):
+        raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
+    return text

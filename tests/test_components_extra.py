@@ -89,3 +89,74 @@ def test_tank_rejects_bad_arguments():
     with pytest.raises(va.InvalidInputError, match="capacity"):
         EnergyTank(Pump(1.0), capacity=-1.0)
     assert "Pump" in repr(EnergyTank(Pump(1.0), 1.0))
+
+
+def test_spring_with_a_force_law():
+    cubic = va.Spring(("x", "z"), setpoint=[0.1, 0.5], law=lambda d: 2000.0 * d**3)
+    wrench = cubic.compute_wrench(np.array([0.0, 0.3]), np.zeros(2), 0.0)
+    assert np.allclose(wrench, 2000.0 * np.array([0.1, 0.2]) ** 3)
+    one_way = va.Spring(("z",), setpoint=0.2, law=lambda d: np.where(d > 0.0, 500.0 * d, 0.0))
+    assert one_way.compute_wrench(np.array([0.1]), np.zeros(1), 0.0) == pytest.approx([50.0])
+    assert one_way.compute_wrench(np.array([0.3]), np.zeros(1), 0.0) == pytest.approx([0.0])
+    # a linear law equals the linear spring, on the float path too
+    linear = va.Spring(("x", "z"), 300.0, setpoint=[0.1, 0.5])
+    as_law = va.Spring(("x", "z"), setpoint=[0.1, 0.5], law=lambda d: 300.0 * d)
+    position = np.array([0.04, 0.61])
+    assert np.allclose(
+        linear.compute_wrench(position, np.zeros(2), 0.0),
+        as_law.compute_wrench(position, np.zeros(2), 0.0),
+        rtol=1e-15,
+    )
+    assert as_law._wrench_floats(position.tolist(), [0.0, 0.0], 0.0) == pytest.approx(
+        linear._wrench_floats(position.tolist(), [0.0, 0.0], 0.0)
+    )
+    assert "law=<lambda>" in repr(as_law)
+
+
+def test_spring_law_errors():
+    with pytest.raises(va.InvalidInputError, match="exactly one"):
+        va.Spring(("x",))
+    with pytest.raises(va.InvalidInputError, match="exactly one"):
+        va.Spring(("x",), 100.0, law=lambda d: d)
+    with pytest.raises(va.InvalidInputError, match="callable"):
+        va.Spring(("x",), law="hard")
+    wrong = va.Spring(("x", "z"), law=lambda d: [1.0, 2.0, 3.0])
+    with pytest.raises(va.InvalidInputError, match="expected 2 numbers"):
+        wrong.compute_wrench(np.zeros(2), np.zeros(2), 0.0)
+    nan = va.Spring(("x",), law=lambda d: np.nan)
+    with pytest.raises(va.InvalidInputError, match="non-finite"):
+        nan.compute_wrench(np.zeros(1), np.zeros(1), 0.0)
+
+
+def test_a_law_spring_in_a_controller_matches_rnea():
+    import pinocchio as pin
+
+    robot = va.load_robot("ur5")
+    tool = va.VirtualActuator(robot, "tool0", "world", "world", ("x", "y", "z"))
+    q = robot.q(shoulder_lift_joint=-1.0, elbow_joint=1.2)
+    target = tool.position(q) + np.array([0.02, -0.01, 0.03])
+    controller = va.Controller(robot, clip=False)
+    controller.add(
+        "tool",
+        tool,
+        [va.Spring(("x", "y", "z"), setpoint=target, law=lambda d: 1e4 * d * np.abs(d))],
+    )
+    tau = controller.compute(q, np.zeros(robot.model.nv), 0.0).tau
+    deflection = target - tool.position(q)
+    force = 1e4 * deflection * np.abs(deflection)  # [N] on tool0, world axes
+    model = robot.model.copy()
+    model.gravity.setZero()
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    frame = model.frames[model.getFrameId("tool0")]
+    fext = [pin.Force.Zero() for _ in range(model.njoints)]
+    placement = data.oMi[frame.parentJoint]  # force at tool0's origin, in the joint frame
+    lever = data.oMf[model.getFrameId("tool0")].translation - placement.translation
+    world = pin.Force(force, np.cross(lever, force))
+    fext[frame.parentJoint] = pin.Force(
+        placement.rotation.T @ world.linear, placement.rotation.T @ world.angular
+    )
+    oracle = -pin.rnea(
+        model, data, q, np.zeros(model.nv), np.zeros(model.nv), pin.StdVec_Force(fext)
+    )
+    assert np.allclose(tau, oracle, atol=1e-9 * np.abs(oracle).max())

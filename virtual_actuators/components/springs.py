@@ -12,7 +12,7 @@ section 3) without rebuilding anything.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -188,28 +188,79 @@ class SpringDamper(Component):
 
 
 class Spring(SpringDamper):
-    """A linear spring: ``stiffness (setpoint - position)``.
+    """A spring: ``stiffness (setpoint - position)``, or any force law of the deflection.
 
     Args:
         axes: Axes the spring acts on.
-        stiffness: [N/m or N m/rad], >= 0.
+        stiffness: [N/m or N m/rad], >= 0 (a linear spring); None with ``law``.
         setpoint: Rest position [m or rad].
         name: Label used in reports.
+        law: A callable ``law(deflection) -> force``: ``deflection = setpoint - position``, an
+            array over the spring's axes [m or rad], to the force on each axis [N or N m]
+            (e.g. ``lambda d: 2000 * d**3`` for a hardening spring, ``lambda d: np.where(d > 0,
+            k * d, 0.0)`` for a one-way spring). Called every tick; it must return one finite
+            number per axis (or a scalar for all of them).
 
     Raises:
         InvalidAxisError: Bad axes.
-        InvalidInputError: Bad parameter shape or value.
+        InvalidInputError: Bad parameter shape or value; both or neither of ``stiffness`` and
+            ``law`` given; ``law`` not callable; (per tick) a law that returns the wrong
+            number of values or a non-finite one.
 
     """
 
     def __init__(
         self,
         axes: Sequence[str],
-        stiffness: Vector,
+        stiffness: Vector | None = None,
         setpoint: Vector = 0.0,
         name: str | None = None,
+        law: Callable[[np.ndarray], Vector] | None = None,
     ) -> None:
-        super().__init__(axes, stiffness=stiffness, setpoint=setpoint, name=name)
+        if (stiffness is None) == (law is None):
+            raise InvalidInputError(
+                f"{name or 'Spring'}: give a stiffness (a linear spring) or a law (a callable "
+                "of the deflection), exactly one of them."
+            )
+        if law is not None and not callable(law):
+            raise InvalidInputError(
+                f"{name or 'Spring'}: law must be a callable of the deflection, got "
+                f"{type(law).__name__}."
+            )
+        super().__init__(
+            axes, stiffness=0.0 if law is not None else stiffness, setpoint=setpoint, name=name
+        )
+        self.law = law
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """The linear spring's force, or ``law(setpoint - position)``."""
+        if self.law is None:
+            return SpringDamper.compute_wrench(self, position, velocity, time)
+        result = self.law(self._setpoint - np.asarray(position, dtype=float))
+        try:
+            force = np.broadcast_to(np.asarray(result, dtype=float), self._shape).copy()
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"{self.name}: law returned {result!r}; expected {len(self.axes)} numbers (axes "
+                f"{self.axes}) or one."
+            ) from None
+        if not np.all(np.isfinite(force)):
+            raise InvalidInputError(f"{self.name}: law returned a non-finite force {force}.")
+        return force
+
+    def _wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """The linear spring on plain floats; a law goes through :meth:`compute_wrench`."""
+        if self.law is None:
+            return SpringDamper._wrench_floats(self, position, velocity, time)
+        return self.compute_wrench(np.array(position), np.array(velocity), time).tolist()
+
+    def _parameters(self) -> str:
+        if self.law is None:
+            return super()._parameters()
+        law = getattr(self.law, "__name__", type(self.law).__name__)
+        return f"law={law}, setpoint={self._setpoint.tolist()}"
 
 
 class Damper(SpringDamper):

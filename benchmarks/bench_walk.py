@@ -7,7 +7,9 @@ Prints a table and can write JSON (and the plots):
 Cases: Spring Turkey 20 s on level ground at 0.5 m/s (seed: about 0.5 m/s, height within 3 cm,
 pitch within 0.1 rad, steps of about 0.5 s); Spring Flamingo 40 s over profile-one and
 profile-two at 0.4 m/s (seed: 12 m of slopes between -20 and +20 degrees without falling), and
-on level ground.
+on level ground; and at 0.5 m/s over both profiles. Two columns say whether the feet in
+support pushed and held: the least normal force and the largest tangential / normal ratio,
+measured on MuJoCo's contact forces (its friction coefficient is 1).
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ CASES = {
     "flamingo-flat": ("flamingo-slopes", "flat", 30.0),
     "flamingo-profile-one": ("flamingo-slopes", "profile-one", 40.0),
     "flamingo-profile-two": ("flamingo-slopes", "profile-two", 45.0),
+    "flamingo-one-0.5": ("flamingo-slopes", "profile-one", 40.0, 0.5),
+    "flamingo-two-0.5": ("flamingo-slopes", "profile-two", 40.0, 0.5),
 }
 COLUMNS = (
     ("fell", "fell", "{}"),
@@ -34,6 +38,8 @@ COLUMNS = (
     ("pitch_max_abs_rad", "|pitch| [rad]", "{:.3f}"),
     ("steps", "steps", "{}"),
     ("step_time_mean_s", "step [s]", "{:.2f}"),
+    ("stance_normal_min_n", "min Fn [N]", "{:.1f}"),
+    ("stance_friction_ratio_max", "max Ft/Fn", "{:.2f}"),
     ("realtime_factor", "x real time", "{:.2f}"),
 )
 
@@ -44,13 +50,21 @@ def main() -> None:
     parser.add_argument("--only", choices=sorted(CASES), action="append")
     parser.add_argument("--json", default=None)
     parser.add_argument("--plots", default=None, help="folder for one PNG per case")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     args = parser.parse_args()
     results = {}
     header = f"{'case':<22}" + "".join(f"{title:>14}" for _, title, _ in COLUMNS)
+    print("each walk shows a progress bar on stderr; the table goes to stdout", flush=True)
     print(header)
     for case in args.only or CASES:
-        walk, terrain, duration = CASES[case]
-        result = run_walk(walk, duration=duration, terrain=terrain, progress=False)
+        walk, terrain, duration, *speed = CASES[case]
+        result = run_walk(
+            walk,
+            duration=duration,
+            terrain=terrain,
+            speed=speed[0] if speed else None,
+            progress=not args.quiet,
+        )
         metrics = result.metrics.to_dict()
         results[case] = metrics
         cells = []

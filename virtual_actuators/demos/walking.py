@@ -36,6 +36,7 @@ from .progress import Progress
 FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
+STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
 
 
 @dataclass(frozen=True)
@@ -237,7 +238,7 @@ def run_walk(
         output = gait.compute(q, v, now, contacts)
         simulator.step(output.tau)
         tick += 1
-        if fall_time is None:
+        if fall_time is None and tick % STANCE_SAMPLING == 0:
             stance.sample(gait.support_contacts())
         x, z_world, pitch = q[x_index], q[z_index], q[pitch_index]
         ground = float(terrain_model.height(x))

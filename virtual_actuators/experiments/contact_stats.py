@@ -1,11 +1,12 @@
 """Are the feet in support pushing and not sliding? Measured on MuJoCo's contact forces.
 
-Per tick, for each foot the gait has in support, the total terrain force on its geoms is split
-into its component along the terrain's normal under the foot (the slope at the foot's x, in the
-x-z plane) and the rest. The run's figures are the least normal force of a supporting foot (0:
-a foot that should carry load is off the ground or unloaded; negative is impossible in MuJoCo)
-and the largest tangential / normal ratio among supporting feet carrying at least
-:data:`NORMAL_FLOOR` newtons (a ratio at MuJoCo's friction coefficient means the foot slides).
+At each sample (every few ticks: the walks read them at 250 Hz), for each foot the gait has in
+support, the total terrain force on its geoms is split into its component along the terrain's normal
+under the foot (the slope at the foot's x, in the x-z plane) and the rest. The run's figures are the
+least normal force of a supporting foot (0: a foot that should carry load is off the ground or
+unloaded; negative is impossible in MuJoCo) and the largest tangential / normal ratio among
+supporting feet carrying at least :data:`NORMAL_FLOOR` newtons (a ratio at MuJoCo's friction
+coefficient means the foot slides).
 
 A foot is read from :data:`SETTLE_TIME` after it enters the support set: a touchdown is an
 impact (the swing foot arrives with some velocity and its first millisecond slides whatever the

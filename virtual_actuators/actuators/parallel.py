@@ -18,6 +18,7 @@ from ..distribution.numeric import solve_numpy
 from ..distribution.partitioner import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.qp import ContactLimits, QPDistribution
+from ..distribution.qp_weights import check_weights
 from ..distribution.solution import Solution
 from ..exceptions import (
     ConstraintError,
@@ -114,6 +115,10 @@ class ParallelVirtualActuator:
         normals: ``method="qp"``: world-frame contact normal per reaction frame (default z).
         soles: ``method="qp"``: ``(half_length, half_width)`` [m] of a flat contact's sole, by
             reaction frame: its centre of pressure stays inside, its yaw moment is bounded.
+        weights: ``method="qp"``: per-axis weights of the closest reachable wrench when a
+            request cannot be met, ``min sum_a weight_a (produced_a - requested_a)^2``: a
+            dict by axis name (``{"x": 0.01}``: x gives way first; 1 for the axes not named)
+            or one finite number > 0 per axis; None for 1 on every axis.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``,
@@ -127,7 +132,8 @@ class ParallelVirtualActuator:
             ``contact``; a ``passive`` value that is not two finite real numbers; a design entry
             that is not a design constraint.
         InvalidInputError: (also) a bad ``friction``, ``min_normal``, ``torque_limits``,
-            ``normals`` or ``soles``.
+            ``normals``, ``soles`` or ``weights`` (the message names the axis).
+        InvalidAxisError: (also) ``weights`` names an axis the actuator lacks.
 
     """
 
@@ -147,6 +153,7 @@ class ParallelVirtualActuator:
         torque_limits: bool | Sequence[float] | np.ndarray = False,
         normals: Mapping[str, Sequence[float]] | None = None,
         soles: Mapping[str, Sequence[float]] | None = None,
+        weights: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
     ) -> None:
         check_robot(robot, "ParallelVirtualActuator")
         self.robot = robot
@@ -196,7 +203,7 @@ class ParallelVirtualActuator:
         self.contact_limits = ContactLimits(
             self.problem, friction, min_normal, normals, soles, torque_limits
         )
-        self.qp = QPDistribution(self.problem, self.contact_limits)
+        self.qp = QPDistribution(self.problem, self.contact_limits, weights)
         self.solvers = {"partitioned": self.partitioner, "dense": self.dense, "qp": self.qp}
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
@@ -249,6 +256,7 @@ class ParallelVirtualActuator:
         tol: float = 1e-6,
         method: str = "partitioned",
         compiled: bool = True,
+        weights: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
     ) -> Solution:
         """Distribute ``wrench`` over the chains and map it to joint efforts.
 
@@ -270,14 +278,17 @@ class ParallelVirtualActuator:
                 implementations, the references the kernels are tested against. Ticks a kernel
                 cannot decide (a near-singular chain, an ill-conditioned block, an inadmissible
                 request) always go to numpy.
+            weights: ``method="qp"``: this solve's per-axis weights of the closest reachable
+                wrench (like the constructor's ``weights``, which None keeps).
 
         Returns:
             The :class:`Solution`.
 
         Raises:
-            InvalidInputError: Bad ``q``, ``wrench``, ``tol`` or ``method``, or ``strict`` or
-                ``compiled`` that is not a bool.
-            InvalidAxisError: ``free`` is not a collection of the actuator's axes.
+            InvalidInputError: Bad ``q``, ``wrench``, ``tol``, ``method`` or ``weights``, or
+                ``strict`` or ``compiled`` that is not a bool.
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
+                ``weights`` names an axis it lacks.
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: Too many constraints for the free axes (more design and coupling
                 constraints than redundancies), or constraints that contradict each other here.
@@ -300,8 +311,10 @@ class ParallelVirtualActuator:
                 f"method must be one of {list(self.solvers)}, got {describe(method)}."
             )
         fast = None
+        if weights is not None:
+            weights = check_weights(weights, self.axes)
         if solver is self.qp:
-            fast = self.qp.solve(snapshot, wrench, keep, compiled=compiled)
+            fast = self.qp.solve(snapshot, wrench, keep, compiled, weights)
         elif compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)
         fast_used = fast is not None and solver is self.partitioner  # the compiled kernel

@@ -2,7 +2,7 @@
 
 An :class:`Attachment` precomputes what the tick needs (component axes as slices, the
 declaration-time rows of the unilateral limits); :func:`check_contact_limits` checks the contact
-limits ``Controller.add`` is given.
+limits ``Controller.add`` is given, :func:`check_qp_yield` the yield axes of ``method="qp"``.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component, has_float_path
+from ..distribution.qp_weights import check_weights
 from ..exceptions import InvalidInputError
 from ..vocabulary.frames import (
     check_axes_subset,
@@ -22,6 +23,11 @@ from ..vocabulary.frames import (
 )
 
 Actuator = VirtualActuator | ParallelVirtualActuator
+
+#: ``Controller.add(method="qp", yield_axes=...)``: the yield axes' weight in the QP's
+#: closest-wrench stage (the other axes weigh 1): a miss on them costs 1000 times less, so an
+#: infeasible request gives way on them first (the others move by about this fraction of it).
+YIELD_WEIGHT = 1e-3
 
 
 @dataclass(repr=False)
@@ -36,6 +42,8 @@ class Attachment:
         components: The virtual components.
         free: Axes left to the distribution (parallel actuators only).
         indices: For each component, the indices of its axes among the actuator's axes.
+        weights: ``method="qp"``: the per-axis weights of the QP's closest wrench passed to
+            every solve (None: the actuator's own).
 
     """
 
@@ -54,6 +62,7 @@ class Attachment:
     bound_lows: np.ndarray = field(default_factory=lambda: np.zeros(0))
     force_columns: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     force_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    weights: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         # Each component's axes as a slice when contiguous (views instead of gathers per tick)
@@ -194,4 +203,54 @@ def check_contact_limits(
     return limits, yield_mask
 
 
-__all__ = ["Actuator", "Attachment", "check_contact_limits"]
+def check_qp_yield(
+    name: str,
+    actuator: Actuator,
+    method: object,
+    unilateral: Mapping[str, float] | None,
+    yield_axes: Sequence[str],
+    friction: float | None,
+    yield_weight: float | None,
+) -> tuple[np.ndarray | None, Sequence[str]]:
+    """``method="qp"``: the closest-wrench weights that make ``yield_axes`` give way first.
+
+    Args:
+        name: The attachment's name (for messages).
+        actuator: Its actuator.
+        method: The attachment's distribution method.
+        unilateral: With ``method="qp"``, must be empty: the QP's limits are the actuator's.
+        yield_axes: Axes given up first when a request cannot be met.
+        friction: With ``method="qp"``, must be None (likewise).
+        yield_weight: Their weight (the others weigh 1); None for :data:`YIELD_WEIGHT`.
+
+    Returns:
+        ``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` on a parallel
+        actuator, ``(n,)`` weights (None without yield axes: the actuator's own) and ``()``;
+        otherwise ``(None, yield_axes)``.
+
+    Raises:
+        InvalidInputError: With ``method="qp"``, ``unilateral`` or ``friction`` given;
+            ``yield_weight`` without ``method="qp"`` or not a finite number > 0.
+        InvalidAxisError: ``yield_axes`` names an axis the actuator lacks.
+
+    """
+    if method != "qp" or not isinstance(actuator, ParallelVirtualActuator):
+        if yield_weight is not None:
+            raise InvalidInputError(
+                f"Attachment {name!r}: yield_weight goes with method='qp' (a parallel actuator)."
+            )
+        return None, yield_axes
+    if unilateral or friction is not None:
+        raise InvalidInputError(
+            f"Attachment {name!r}: with method='qp' the contact limits are the actuator's "
+            "own (friction, min_normal, torque_limits); leave out unilateral and friction."
+        )
+    yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
+    weight = YIELD_WEIGHT if yield_weight is None else yield_weight
+    weight = check_number(weight, f"Attachment {name!r}: yield_weight", positive=True)
+    if not yielded:
+        return None, ()
+    return check_weights(dict.fromkeys(yielded, weight), actuator.axes), ()
+
+
+__all__ = ["YIELD_WEIGHT", "Actuator", "Attachment", "check_contact_limits", "check_qp_yield"]

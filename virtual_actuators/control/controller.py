@@ -45,7 +45,7 @@ from ..vocabulary.frames import (
     describe,
     resolve_joint,
 )
-from .attachment import Actuator, Attachment, check_contact_limits
+from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
 from .contact_limits import enforce_unilateral
 from .output import ControlOutput, velocity_names
 
@@ -140,6 +140,7 @@ class Controller:
         friction: float | None = None,
         min_normal: float = 0.0,
         method: str = "partitioned",
+        yield_weight: float | None = None,
     ) -> Attachment:
         """Attach components to an actuator under a unique name.
 
@@ -160,7 +161,9 @@ class Controller:
                 is scaled down (the most that keeps every share feasible; the distribution is
                 linear in the wrench) and :attr:`ControlOutput.produced` shows the result.
             yield_axes: Axes of the request given up first to meet ``unilateral`` and the
-                friction cone.
+                friction cone; with ``method="qp"``, the axes that give way first when the
+                actuator's inequalities cannot meet a request (their weight in the QP's
+                closest wrench is ``yield_weight``, the others' 1; the actuator is unchanged).
             friction: Parallel actuators: friction coefficient ``mu`` of a contact cone at
                 every reaction frame: each chain's share, seen in its reaction frame (a foot on
                 sloped ground: normal along the frame's z), must keep its tangential part
@@ -171,8 +174,11 @@ class Controller:
             min_normal: Least normal force of the cone [N] (with ``friction``).
             method: Parallel actuators: the distribution, ``"partitioned"`` (default),
                 ``"dense"`` or ``"qp"`` (the actuator's own friction, min_normal, soles and
-                torque limits as inequalities; then ``unilateral``, ``friction`` and
-                ``yield_axes`` here are not used and must be left out).
+                torque limits as inequalities; then ``unilateral`` and ``friction`` here are
+                not used and must be left out).
+            yield_weight: ``method="qp"`` with ``yield_axes``: their weight, a finite number
+                > 0; None for :data:`~virtual_actuators.control.attachment.YIELD_WEIGHT`
+                (1e-3).
 
         Returns:
             The :class:`Attachment`.
@@ -182,7 +188,8 @@ class Controller:
                 a virtual actuator or belongs to another robot; the sensor's axes differ from
                 the actuator's; a component is not a :class:`Component`; ``unilateral`` is not
                 a dict of finite numbers; ``friction`` is not a finite number > 0 or
-                ``min_normal`` not a finite number >= 0.
+                ``min_normal`` not a finite number >= 0; ``yield_weight`` without
+                ``method="qp"`` or not a finite number > 0.
             InvalidAxisError: A component acts on an axis the actuator does not have, or
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
 
@@ -237,6 +244,9 @@ class Controller:
         for component in components:
             check_axes_subset(component.axes, actuator.axes, f"{component.name} axes")
             indices.append(np.array([actuator.axes.index(a) for a in component.axes]))
+        weights, yield_axes = check_qp_yield(
+            name, actuator, method, unilateral, yield_axes, friction, yield_weight
+        )
         limits, yield_mask = check_contact_limits(name, actuator, unilateral, yield_axes, friction)
         if name in self.attachments:
             raise InvalidInputError(f"An attachment named {name!r} already exists.")
@@ -252,6 +262,7 @@ class Controller:
             friction,
             min_normal,
             self._check_method(name, actuator, method, limits or friction is not None),
+            weights=weights,
         )
         self.attachments[name] = attachment
         return attachment
@@ -407,8 +418,9 @@ class Controller:
                 continue
             try:
                 solution = actuator.solve(
-                    snapshot, wrench, free=attachment.free, method=attachment.method
-                )
+                    snapshot, wrench, attachment.free, method=attachment.method,
+                    weights=attachment.weights,
+                )  # fmt: skip
                 if attachment.yield_mask is not None:
                     solution = enforce_unilateral(attachment, snapshot, wrench, solution)
             except SingularConfigurationError as error:

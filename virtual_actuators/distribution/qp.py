@@ -12,12 +12,24 @@ The natural and design constraints stay equalities; the contacts add inequalitie
 - **torque limits** ``|tau_j| <= limit_j`` at the actuated joints (the URDF effort limits, or an
   array).
 
-Objective, on a problem scaled to ``|w| ~ 1``: first the request exactly with the least force
-norm, ``min |F|^2`` subject to ``sum_i F_i = w`` on the prescribed axes (the usual case: one
-solve, and with no inequality active exactly the partitioned minimum-norm answer); if that has no
-solution, the closest feasible wrench, ``min |sum_i F_i - w|^2 + DELTA |F|^2``, and
-``sol.residual`` reports the miss. Solved by ProxQP (proxsuite, dense), warm-started from the
-previous solve of the same thread.
+Objective, on a problem scaled to ``|w| ~ 1``, lexicographic:
+
+1. the request exactly with the least force norm, ``min |F|^2`` subject to ``sum_i F_i = w`` on
+   the prescribed axes (the usual case: one solve, and with no inequality active exactly the
+   partitioned minimum-norm answer);
+2. if that has no solution, the closest reachable wrench in the weighted least-squares sense,
+   ``min sum_a weight_a (sum_i F_ia - w_a)^2`` subject to the other rows (a convex QP whose
+   Hessian is singular in ``F``; its wrench ``A F*`` is unique because the weights are > 0, its
+   forces need not be);
+3. the least force norm that produces that wrench exactly, ``min |F|^2`` subject to
+   ``sum_i F_i = A F*`` and the inequalities whose multipliers stage 2 found nonzero held as
+   equalities (they hold at every closest answer, so the feasible set is unchanged, but without
+   them ProxQP meets the rows only at the cones' edges); ``sol.residual`` reports the miss.
+
+No stage mixes the miss and the force norm in one objective (the former ``|A F - w|^2 +
+1e-6 |F|^2`` did, and left the two matrix paths 3e-4 apart). Solved by ProxQP (proxsuite,
+dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
+infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check.
 """
 
 from __future__ import annotations
@@ -33,13 +45,15 @@ from .problem import DistributionProblem
 from .qp_compiled import CompiledQPMatrices
 from .qp_kernel_answer import finish, violation
 from .qp_limits import INFINITY, ContactLimits, kinds, torque_map
+from .qp_weights import check_weights
 
-#: Weight of the force norm against the miss when the request is infeasible (scaled problem).
-DELTA = 1e-6
 #: An answer that misses a row by more than this (scaled) is not feasible.
 FEASIBILITY_TOL = 1e-8
 #: ProxQP's absolute accuracy on the scaled problem.
 EPS_ABS = 1e-10
+#: ProxQP's absolute accuracy (residuals and duality gap) in the closest-wrench stages (cold
+#: starts, on infeasible requests only): the closest wrench to ~1e-10 of the request.
+CLOSEST_EPS_ABS = 1e-12
 #: ProxQP's iteration budget (outer and inner): a tick never waits on a degenerate problem.
 MAX_ITER = 300
 #: A multiplier above this (scaled) marks its inequality active.
@@ -57,13 +71,18 @@ class QPDistribution:
     Args:
         problem: The distribution problem.
         limits: The inequalities.
+        weights: Per-axis weights of the closest-wrench stage (:func:`.qp_weights.check_weights`:
+            a dict by axis name or an array over the axes); None for 1 on every axis.
 
     Raises:
-        InvalidInputError: proxsuite is not installed.
+        InvalidInputError: proxsuite is not installed; bad ``weights``.
+        InvalidAxisError: ``weights`` names an axis the actuator lacks.
 
     """
 
-    def __init__(self, problem: DistributionProblem, limits: ContactLimits) -> None:
+    def __init__(
+        self, problem: DistributionProblem, limits: ContactLimits, weights: object = None
+    ) -> None:
         try:
             from proxsuite import proxqp
         except ImportError as error:  # pragma: no cover - proxsuite is a dependency
@@ -73,6 +92,8 @@ class QPDistribution:
         self._proxqp = proxqp
         self.problem = problem
         self.limits = limits
+        #: the closest-wrench stage's weight per axis (read-only)
+        self.weights = check_weights({} if weights is None else weights, problem.axes)
         self._local = threading.local()
         self._identities: dict[int, np.ndarray] = {}
         #: per set of prescribed axes: the rows summing the chains' forces on them
@@ -101,44 +122,61 @@ class QPDistribution:
         workspace = cache.get(key)
         if workspace is None:
             qp = self._proxqp.dense.QP(*key[2:])
-            qp.settings.eps_abs = EPS_ABS
+            qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
             qp.settings.eps_rel = 0.0
             qp.settings.max_iter = MAX_ITER
             qp.settings.max_iter_in = MAX_ITER
             qp.settings.verbose = False
+            if key[1] != "exact":  # residuals alone can stop with inactive rows held
+                qp.settings.check_duality_gap = True
+                qp.settings.eps_duality_gap_abs = CLOSEST_EPS_ABS
+                qp.settings.eps_duality_gap_rel = 0.0
+            if key[1] == "reached":  # feasible by construction (the closest answer meets it):
+                qp.settings.eps_primal_inf = 0.0  # no heuristic infeasibility verdicts
             workspace = cache[key] = [qp, True]  # the workspace, and whether it needs init()
         return workspace
 
     def _run(self, key, objective, equality, equality_rhs, inequality, lows, uppers, miss):
-        """Solve one QP in this thread's workspace (warm-started); None if it has no solution.
+        """Solve one QP in this thread's workspace; None if it has no solution.
 
-        The workspace of ``key`` (path, stage, sizes) lives between ticks: ``update`` (the
-        objective only in the closest-wrench stage) and a warm start from the previous answer;
-        ``init`` only the first time and after a failure. ``miss(x)`` is the largest violation
+        The exact stage's workspace lives between ticks: ``update`` and a warm start from the
+        previous answer, ``init`` only the first time and after a failure. The closest-wrench
+        stages start cold every time (``init`` from the equality-constrained guess): warm-started
+        from another tick's multipliers, ProxQP can stop at a point whose residuals are below
+        its accuracy but whose multipliers hold inactive rows (a wrong wrench by up to 1e-2 of
+        the request on solo12); the closest stage without Ruiz preconditioning (the scaled
+        problem needs none: half the cost and as accurate). ``miss(x)`` is the largest violation
         of the rows ``x`` must meet.
         """
         proxqp = self._proxqp
         workspace = self._workspace(key)
         qp, fresh = workspace
-        if fresh:
+        warm = key[1] == "exact"
+        if fresh or not warm:
             qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
-            qp.init(*objective, equality, equality_rhs, inequality, lows, uppers)
-        elif key[1] != "closest":  # the objective (I, 0) never changes
+            qp.init(
+                *objective,
+                equality,
+                equality_rhs,
+                inequality,
+                lows,
+                uppers,
+                compute_preconditioner=key[1] != "closest",
+            )
+        else:  # the objective (I, 0) never changes
             qp.update(None, None, equality, equality_rhs, inequality, lows, uppers)
-        else:
-            qp.update(*objective, equality, equality_rhs, inequality, lows, uppers)
         qp.solve()
         results = qp.results
         status = results.info.status
-        # the closest wrench is an approximation anyway: a feasible answer out of iterations is
-        # kept (the request exactly, never: it goes on to the closest wrench)
+        # a feasible closest answer out of iterations is kept (the closest wrench approximately
+        # rather than no answer); the request exactly, never: it goes on to the closest wrench
         if not (
             status == proxqp.QPSolverOutput.PROXQP_SOLVED
             or (key[1] == "closest" and status == proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED)
         ):
             workspace[1] = True  # start the next solve afresh
             return None
-        if fresh:  # only after a solve: there is a previous result to start from
+        if fresh and warm:  # only after a solve: there is a previous result to start from
             qp.settings.initial_guess = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
             workspace[1] = False
         # ProxQP's answer meets the rows to EPS_ABS: an infeasible request can look solved
@@ -146,38 +184,57 @@ class QPDistribution:
             return None
         return results
 
-    def _stages(self, path, equality, equality_rhs, design, inequality, lows, uppers, miss):
+    def _stages(
+        self, path, equality, equality_rhs, design, inequality, lows, uppers, miss, weights
+    ):
         """The request exactly with the least norm, else the closest wrench (scaled rows).
+
+        Returns ``(x, inequality multipliers)``, or None when no ``x`` meets the rows.
 
         ``equality``: the ``design`` rows that always hold, then the request's rows;
         ``miss(x, rows)``: the largest violation of the first ``rows`` equality rows and the
-        inequalities.
+        inequalities; ``weights``: the request rows' weights in the closest-wrench stage.
         """
         size = equality.shape[1]
-        sizes = (size, len(equality_rhs), len(lows))
+        identity = (self._identity(size), np.zeros(size))
         results = self._run(
-            (path, "exact", *sizes), (self._identity(size), np.zeros(size)), equality,
+            (path, "exact", size, len(equality_rhs), len(lows)), identity, equality,
             equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)),
         )  # fmt: skip
         if results is not None:
-            return results
-        # infeasible: the closest wrench (its least-norm weight DELTA is too small to fix the
-        # forces well), then the least force norm that produces that wrench exactly
+            return results.x, results.z
+        # infeasible: the closest reachable wrench alone (weighted least squares: a singular
+        # Hessian in x, one wrench), then the least force norm that produces it exactly
         request, target = equality[design:], equality_rhs[design:]
-        objective = (request.T @ request + DELTA * self._identity(size), -(request.T @ target))
+        weighted = request * weights[:, None]
         closest = self._run(
-            (path, "closest", size, design, len(lows)), objective, equality[:design],
-            equality_rhs[:design], inequality, lows, uppers, lambda x: miss(x, design),
+            (path, "closest", size, design, len(lows)), (request.T @ weighted,
+            -(weighted.T @ target)), equality[:design], equality_rhs[:design], inequality,
+            lows, uppers, lambda x: miss(x, design),
         )  # fmt: skip
         if closest is None:
             return None
-        answer = closest.x.copy()
+        answer, multipliers = closest.x.copy(), closest.z.copy()
         equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
+        # a row with a nonzero multiplier holds at every closest answer (complementarity with
+        # any dual solution): as equalities they leave the third stage's feasible set as it is
+        # and make it well posed (without them its rows meet only at the cones' edges)
+        # (at their values at the closest answer, within EPS_ABS of the bounds: rows that the
+        # answer meets exactly, so that ProxQP does not see an inconsistent system)
+        held = np.flatnonzero(np.abs(multipliers) > ACTIVE_TOL)
+        tight = np.vstack((equality, inequality[held]))
+        bounds = tight[len(equality_rhs) :] @ answer
         reached = self._run(
-            (path, "reached", *sizes), (self._identity(size), np.zeros(size)), equality,
-            equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)),
+            (path, "reached", size, len(tight), len(lows)), identity, tight,
+            np.concatenate((equality_rhs, bounds)), inequality, lows, uppers,
+            lambda x: miss(x, len(equality_rhs)),
         )  # fmt: skip
-        return reached if reached is not None else closest
+        if reached is None:
+            return closest.x, closest.z
+        # the held rows' multipliers are the equality rows' now: they stay active
+        multipliers = reached.z.copy()
+        multipliers[held] += reached.y[len(equality_rhs) :]
+        return reached.x, multipliers
 
     def _refuse(self) -> ConstraintError:
         names = self.limits.row_names()
@@ -189,7 +246,12 @@ class QPDistribution:
         )
 
     def solve(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, compiled: bool = True
+        self,
+        snapshot: object,
+        wrench: np.ndarray,
+        keep: np.ndarray,
+        compiled: bool = True,
+        weights: np.ndarray | None = None,
     ) -> tuple[RawSolution, tuple]:
         """Distribute ``wrench`` with the QP at a snapshot.
 
@@ -199,6 +261,8 @@ class QPDistribution:
             keep: ``(n,)`` bool, the prescribed axes.
             compiled: Build the matrices with the compiled kernel when it applies (False: with
                 numpy over all force entries, the reference).
+            weights: ``(n,)`` checked per-axis weights of the closest-wrench stage for this
+                solve (:func:`.qp_weights.check_weights`); None: the declaration's.
 
         Returns:
             ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
@@ -209,21 +273,22 @@ class QPDistribution:
             ConstraintError: No distribution meets the equalities and the inequalities here.
 
         """
+        weights = (self.weights if weights is None else weights)[keep]
         work = None
         if compiled and self.matrices.applicable:
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
-            return self._solve_numpy(snapshot, wrench, keep)
+            return self._solve_numpy(snapshot, wrench, keep, weights)
         buffer, layout, pn, nv = work.buffer, work.layout, work.pn, work.nv
         results = self._stages(
             "free", work.equality, work.equality_rhs, work.design_rows, work.inequality,
             work.lows, work.uppers,
-            lambda z, rows: violation(buffer, layout, pn, nv, z, rows),
+            lambda z, rows: violation(buffer, layout, pn, nv, z, rows), weights,
         )  # fmt: skip
         if results is None:  # the reference decides (and raises) what the fast path cannot
-            return self._solve_numpy(snapshot, wrench, keep)
+            return self._solve_numpy(snapshot, wrench, keep, weights)
         out, residual, scale, rounding, active = finish(
-            buffer, layout, pn, nv, results.x, results.z, work.scale, wrench, keep, ACTIVE_TOL,
+            buffer, layout, pn, nv, results[0], results[1], work.scale, wrench, keep, ACTIVE_TOL,
             EPS_ABS,
         )  # fmt: skip
         names = self.limits.row_names()
@@ -237,7 +302,7 @@ class QPDistribution:
         return raw, (tau, passive, produced, requested, residual, scale, rounding)
 
     def _solve_numpy(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray
+        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, weights: np.ndarray
     ) -> tuple[RawSolution, tuple]:
         """:meth:`solve` with numpy over all ``p n`` force entries, natural rows as equalities."""
         problem = self.problem
@@ -270,13 +335,13 @@ class QPDistribution:
 
         results = self._stages(
             "forces", equality, equality_rhs, len(equality_rhs) - len(select), inequality,
-            lows, uppers, miss,
+            lows, uppers, miss, weights,
         )  # fmt: skip
         if results is None:
             raise self._refuse()
         names = self.limits.row_names()
-        x = np.array(results.x) * scale
-        active = tuple(names[i] for i in np.flatnonzero(np.abs(results.z) > ACTIVE_TOL))
+        x = results[0] * scale
+        active = tuple(names[i] for i in np.flatnonzero(np.abs(results[1]) > ACTIVE_TOL))
         forces = x.reshape(p, n)
         tau = np.where(problem.actuated_mask, tmap @ x, 0.0)
         produced = forces.sum(axis=0)

@@ -19,8 +19,10 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
+from virtual_actuators.control.state_machine import Context
 from virtual_actuators.demos.hexapod_walk import (
     HexapodWalkConfig,
+    _attitude_and_velocity,
     hexapod_robot,
     run_hexapod_walk,
 )
@@ -41,6 +43,14 @@ def walk(**options) -> va.demos.hexapod_walk.HexapodResult:
     result = run_hexapod_walk(HexapodWalkConfig(**options), progress=False)
     assert not result.metrics.fell, result.metrics.summary()
     return result
+
+
+def assert_support_feet_push_and_stick(metrics) -> None:
+    """MuJoCo's contact forces on the feet the gait has in support (from 20 ms after they
+    enter support, every tick): pushing with at least 1 N (never pulling, never unloaded) and
+    well inside MuJoCo's friction coefficient of 1 (a ratio of 1 is a sliding foot)."""
+    assert metrics.stance_normal_min_n >= 1.0, metrics
+    assert metrics.stance_friction_ratio_max < 0.9, metrics
 
 
 # -- fast: the robot variant, the components and the LQR ------------------------------------------
@@ -156,6 +166,42 @@ def test_walker_needs_the_hexapod_frames():
         HexapodWalker(va.load_robot("spring_turkey"))
 
 
+def test_stance_ends_when_the_swing_tripod_is_down_or_a_step_is_done():
+    robot = hexapod_robot()
+    gait = HexapodWalker(robot)
+    q, v = gait.initial_configuration(), np.zeros(robot.model.nv)
+    swing = ("foot_2", "foot_4", "foot_6")
+    down = {f"foot_{i}": True for i in range(1, 7)}
+
+    def over(phase: float, contacts: dict[str, bool] | None) -> bool:
+        gait.phase = phase
+        return gait._stance_over(Context(robot, q, v, 0.0, contacts), swing)
+
+    assert over(0.6, down)  # all three swing feet touched down
+    assert not over(0.4, down)  # first half of the swing: the contacts are the lift-off's
+    assert not over(0.9, {**down, "foot_4": False})  # one still in the air
+    assert not over(0.9, None)  # no switches: the step decides
+    assert over(1.0, None)
+
+
+def test_support_feet_are_read_from_their_nominal_places_along_their_motion():
+    gait = HexapodWalker(hexapod_robot())
+    gait.support = "a"
+    p = gait.parameters
+    # walking along +x: the feet move backward relative to the body; half a step behind = 0.5
+    speed = np.full(3, 0.5)
+    offsets = np.zeros((3, 3))
+    offsets[:, 0] = -0.5 * p.step_length
+    assert gait._behind(offsets, speed, np.zeros(3)) == pytest.approx(0.5)
+    offsets[:, 0] = 0.5 * p.step_length  # just landed, half a step ahead
+    assert gait._behind(offsets, speed, np.zeros(3)) == pytest.approx(-0.5)
+    # crabbing along +y: the step width is the stride
+    offsets[:] = 0.0
+    offsets[2, 1] = -0.25 * p.step_width  # one foot a quarter stride behind
+    assert gait._behind(offsets, np.zeros(3), speed) == pytest.approx(0.25)
+    assert gait._behind(offsets, np.zeros(3), np.zeros(3)) == 0.0  # standing: no progress
+
+
 # -- slow: closed-loop MuJoCo runs ----------------------------------------------------------------
 
 
@@ -167,9 +213,7 @@ def test_line_at_0p8_mps():
     assert metrics.heading_drift_rad < 0.15
     assert metrics.roll_max_rad < 0.15 and metrics.pitch_max_rad < 0.15
     assert metrics.steps >= 10  # a tripod gait, not a slide
-    # MuJoCo's contact forces: the support feet push (never pull) within the friction cone
-    assert metrics.stance_normal_min_n >= 0.0
-    assert metrics.stance_friction_ratio_max <= 1.0 + 1e-6
+    assert_support_feet_push_and_stick(metrics)
 
 
 @pytest.mark.slow
@@ -180,6 +224,7 @@ def test_crab_walk_direction_90():
     assert metrics.direction_error_rad < 0.15
     assert metrics.heading_drift_rad < 0.15
     assert result.log["y"][-1] > 0.5  # it went left, facing +x
+    assert_support_feet_push_and_stick(metrics)
 
 
 @pytest.mark.slow
@@ -189,6 +234,7 @@ def test_circle_radius_is_speed_over_yaw_rate():
     assert metrics.circle_radius_m == pytest.approx(0.5, rel=0.15)
     assert metrics.yaw_rate_radps == pytest.approx(0.6, rel=0.15)
     assert result.log["yaw"][-1] > 1.8  # most of a half turn, unwrapped
+    assert_support_feet_push_and_stick(metrics)
 
 
 @pytest.mark.slow
@@ -200,6 +246,7 @@ def test_sine_path_holding_the_heading():
     assert metrics.heading_drift_rad < 0.15
     assert np.max(result.log["y"]) > 0.8 * amplitude  # it did swing out to the crest
     assert np.min(result.log["y"]) < -0.8 * amplitude
+    assert_support_feet_push_and_stick(metrics)
 
 
 @pytest.mark.slow
@@ -213,6 +260,7 @@ def test_pendulum_balanced_while_walking_at_0p2():
     # the angle in the trace is MuJoCo's own (joint angle plus body pitch), and it moved
     assert np.ptp(result.log["pendulum"]) > 0.01
     assert result.metrics.steps >= 8  # walking all along
+    assert_support_feet_push_and_stick(metrics)
 
 
 @pytest.mark.slow
@@ -222,6 +270,7 @@ def test_tracking_an_object():
     assert metrics.bearing_error_max_rad < 0.2
     assert metrics.bearing_error_rms_rad < 0.08
     assert abs(result.log["yaw"][-1]) > 0.5  # the body turned to follow it
+    assert_support_feet_push_and_stick(metrics)
 
 
 @pytest.mark.slow
@@ -253,3 +302,16 @@ def test_cli_writes_trace_and_plot(tmp_path):
     assert len({len(values) for values in trace.values()}) == 1
     assert np.max(np.diff(trace["t"])) <= 1 / 50 + 1e-9
     assert plot_path.stat().st_size > 10_000
+
+
+def test_loop_attitude_and_velocity_match_pinocchio():
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        quaternion = pin.Quaternion(*rng.normal(size=4)).normalized()  # (w, x, y, z)
+        q = np.r_[rng.normal(size=3), quaternion.coeffs()]  # coeffs: (x, y, z, w)
+        v = rng.normal(size=6)
+        rotation = quaternion.toRotationMatrix()
+        roll, pitch, yaw = pin.rpy.matrixToRpy(rotation)
+        got = _attitude_and_velocity(q, v)
+        assert got[:3] == pytest.approx((yaw, pitch, roll), abs=1e-12)
+        assert got[3:] == pytest.approx((rotation @ v[:3])[:2], abs=1e-12)

@@ -7,7 +7,11 @@ a :class:`~virtual_actuators.simulation.Simulator`, then runs the control loop a
 state is sampled at :data:`TRACE_RATE` into a :class:`~virtual_actuators.experiments.WalkLog`;
 :class:`~virtual_actuators.experiments.hexapod_metrics.HexapodMetrics` summarises it (the
 issue's targets are checked on these figures) and
-:meth:`HexapodResult.to_json` is what ``--json`` writes.
+:meth:`HexapodResult.to_json` is what ``--json`` writes. Every tick the feet's contact switches
+(MuJoCo's contacts) go to the walker, whose stance ends when its swing tripod is down, and
+:class:`~virtual_actuators.experiments.contact_stats.StanceForces` reads MuJoCo's contact forces
+on the feet the current state has in support (``stance_normal_min_n``,
+``stance_friction_ratio_max`` in the JSON).
 
 The robot is judged fallen when a part other than a foot touches the ground, when the body drops
 below half its nominal height above the terrain, when it rolls or pitches beyond 0.8 rad, or when
@@ -25,11 +29,11 @@ from typing import Any
 import numpy as np
 
 from ..exceptions import InvalidInputError
+from ..experiments.contact_stats import StanceForces
 from ..experiments.hexapod_metrics import HexapodMetrics, compute_hexapod_metrics
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import WalkLog
-from ..gaits.hexapod import DISTRIBUTIONS, TRIPODS, HexapodParameters, HexapodWalker
-from ..gaits.hexapod_body import yaw_pitch_roll
+from ..gaits.hexapod import DISTRIBUTIONS, HexapodParameters, HexapodWalker
 from ..gaits.hexapod_guidance import (
     Guidance,
     PlanarState,
@@ -46,7 +50,6 @@ from ..simulation.terrain import Terrain
 from .walking import _fallen, _progress, _terrain_points
 
 TRACE_RATE = 100.0  # [Hz] samples of the trace and the log
-NORMAL_FLOOR = 1.0  # [N] friction ratios are taken where the normal force is at least this
 PATHS = ("line", "sine")
 CHANNELS = (
     "time",
@@ -262,7 +265,9 @@ def run_hexapod_walk(
             "config": asdict(config),
         },
     )
-    stance = _StanceForces(simulator, terrain)
+    stance = StanceForces(simulator, terrain)
+    feet = gait.contact_frames
+    supports = {state.name: [(foot,) for foot in state.support] for state in machine.states}
     every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
     bar = _progress(config.duration) if progress else None
     fall_time = None
@@ -273,19 +278,19 @@ def run_hexapod_walk(
     while simulator.time < config.duration - 1e-9:
         q, v = simulator.q, simulator.v
         now = simulator.time
-        rotation = _rotation(q)
-        yaw, pitch, roll = yaw_pitch_roll(rotation)
-        velocity = rotation @ v[:3]
-        state = PlanarState(now, float(q[0]), float(q[1]), yaw, velocity[0], velocity[1])
+        yaw, pitch, roll, vx, vy = _attitude_and_velocity(q, v)
+        state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
         command, yaw_rate = guidance.command(state)
         gait.set_command(command, yaw_rate)
-        output = gait.compute(q, v, now)
+        touching = simulator.touching_terrain()
+        contacts = {foot: foot in touching for foot in feet}
+        output = gait.compute(q, v, now, contacts)
         mark = wallclock.perf_counter()
         simulator.step(output.tau, ignore_unactuated=True)
         physics += wallclock.perf_counter() - mark
         tick += 1
-        if gait.state in gait.step_states:
-            stance.sample(gait.support)
+        if fall_time is None:
+            stance.sample(supports[machine.current.name])
         height = float(q[2] - terrain.height(q[0]))
         tilt = max(abs(roll), abs(pitch))
         fallen = fall_time is not None or _fallen(simulator, height, tilt, parameters.height)
@@ -298,6 +303,7 @@ def run_hexapod_walk(
             yaw_last = yaw
             target = guidance.target(now) or (np.nan, np.nan)
             wrench = _body_wrench(output)
+            rotation = _rotation(q)
             c, s = math.cos(yaw), math.sin(yaw)
             recorder.append(
                 state=machine.index[machine.current.name],
@@ -308,9 +314,9 @@ def run_hexapod_walk(
                 roll=roll,
                 pitch=pitch,
                 yaw=yaw_unwrapped,
-                vx=velocity[0],
-                vy=velocity[1],
-                vx_heading=c * velocity[0] + s * velocity[1],
+                vx=vx,
+                vy=vy,
+                vx_heading=c * vx + s * vy,
                 vx_command=float(command[0]),
                 yaw_rate=float(rotation[2] @ (rotation @ v[3:6])),
                 fx=c * wrench[0] + s * wrench[1],
@@ -332,9 +338,7 @@ def run_hexapod_walk(
     recorder.metadata["command_path"] = _command_path(config, guidance)
     log = recorder.to_log()
     steps = machine.steps_into(gait.step_states)
-    metrics = compute_hexapod_metrics(
-        log, guidance, steps, fall_time, *stance.figures() if stance.samples else (None, None)
-    )
+    metrics = compute_hexapod_metrics(log, guidance, steps, fall_time, *stance.figures())
     metrics = _with_timing(metrics, simulator.time, wall, physics)
     return HexapodResult(config, log, metrics, gait, simulator, wall, tick)
 
@@ -351,43 +355,34 @@ def _rotation(q: np.ndarray) -> np.ndarray:
     )
 
 
+def _attitude_and_velocity(
+    q: np.ndarray, v: np.ndarray
+) -> tuple[float, float, float, float, float]:
+    """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
+
+    As :func:`~virtual_actuators.gaits.hexapod_body.yaw_pitch_roll` of :func:`_rotation`, and
+    ``(_rotation(q) @ v[:3])[:2]``, on floats.
+    """
+    x, y, z, w = q[3:7].tolist()
+    u, s, t = v[:3].tolist()  # body axes [m/s]
+    r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)
+    r10, r11, r12 = 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)
+    r20, r21, r22 = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
+    return (
+        math.atan2(r10, r00),
+        math.asin(max(-1.0, min(1.0, -r20))),
+        math.atan2(r21, r22),
+        r00 * u + r01 * s + r02 * t,
+        r10 * u + r11 * s + r12 * t,
+    )
+
+
 def _body_wrench(output) -> np.ndarray:
     """The virtual wrench the body's components ask for this tick (world axes)."""
     for name in ("support_a", "support_b", "support_all"):
         if name in output.wrenches:
             return output.wrenches[name]
     return np.zeros(6)
-
-
-class _StanceForces:
-    """Least normal force and largest friction ratio of the support feet, from MuJoCo."""
-
-    def __init__(self, simulator: Simulator, terrain: Terrain) -> None:
-        self.simulator, self.terrain = simulator, terrain
-        self.flat = terrain.is_flat
-        self.normal_min = math.inf
-        self.ratio_max = 0.0
-        self.samples = 0
-
-    def sample(self, support: str) -> None:
-        """Read the contact forces of the feet of tripod ``support`` (``"a"`` or ``"b"``)."""
-        simulator = self.simulator
-        for leg in TRIPODS[support]:
-            frame = f"foot_{leg}"
-            force = simulator.contact_force(frame)
-            x = float(simulator.data.site_xpos[simulator.mujoco_model.frame_sites[frame], 0])
-            slope = float(self.terrain.slope(x)) if not self.flat else 0.0
-            normal_axis = np.array((-math.sin(slope), 0.0, math.cos(slope)))
-            normal = float(force @ normal_axis)
-            tangential = float(np.linalg.norm(force - normal * normal_axis))
-            self.normal_min = min(self.normal_min, normal)
-            if normal >= NORMAL_FLOOR:
-                self.ratio_max = max(self.ratio_max, tangential / normal)
-            self.samples += 1
-
-    def figures(self) -> tuple[float, float]:
-        """``(least normal force [N], largest friction ratio)`` so far."""
-        return float(self.normal_min), float(self.ratio_max)
 
 
 def _with_timing(

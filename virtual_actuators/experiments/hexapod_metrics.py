@@ -58,9 +58,13 @@ class HexapodMetrics:
         vx_min_early_mps: Least heading-frame x velocity over the first second [m/s].
         bearing_error_max_rad: Tracking: largest bearing error after 3 s [rad].
         bearing_error_rms_rad: Tracking: RMS bearing error after 3 s [rad].
-        stance_normal_min_n: Least normal force of a support-tripod foot (MuJoCo) [N].
-        stance_friction_ratio_max: Largest tangential / normal force of a support foot carrying
-            at least 1 N [-].
+        stance_normal_min_n: Least normal force of a foot the gait has in support, measured in
+            MuJoCo every tick until a fall [N]: the support tripod's three feet, all six in
+            double support, each from 20 ms after it entered support (its touchdown impact
+            excluded; a swing foot is never counted). See
+            :mod:`~virtual_actuators.experiments.contact_stats`.
+        stance_friction_ratio_max: Largest tangential / normal force of those feet where they
+            carry at least 1 N [-] (MuJoCo's friction coefficient is 1: a foot at 1 slides).
         realtime_factor: Simulated time / wall-clock time of the whole loop.
         physics_realtime_factor: Simulated time / wall-clock time of MuJoCo's stepping alone,
             timed in the same loop.
@@ -146,8 +150,8 @@ def compute_hexapod_metrics(
             (line or circle), :class:`SinePath` or :class:`TrackObject`.
         steps: Tripod swaps.
         fall_time: Time of the fall [s], or None.
-        stance_normal_min: Least normal force of a support foot [N], or None.
-        stance_ratio_max: Largest friction ratio of a loaded support foot, or None.
+        stance_normal_min: Least normal force of a supporting foot [N], or None.
+        stance_ratio_max: Largest friction ratio of a loaded supporting foot, or None.
 
     Returns:
         The metrics (timing fields None).

@@ -10,8 +10,11 @@ distance between the body and the tripods."
 =============  ========================================  =====================================
 state          active attachments                        left when
 =============  ========================================  =====================================
-``tripod_a``   body on feet 1, 3, 5; legs 2, 4, 6 swing   the body has travelled a step over
-                                                          the support tripod (or a time limit)
+``tripod_a``   body on feet 1, 3, 5; legs 2, 4, 6 swing   the swing feet have all touched down
+                                                          (contact switches, from half the
+                                                          swing on) or the support feet are
+                                                          half a step behind their nominal
+                                                          places (or a time limit)
 ``double_b``   body on all six feet                      after ``double_support_time``
 ``tripod_b``   body on feet 2, 4, 6; legs 1, 3, 5 swing   as ``tripod_a``
 ``double_a``   body on all six feet                      after ``double_support_time``
@@ -24,14 +27,36 @@ friction pyramids and a least normal force, or ``"partitioned"``, the minimum-no
 normal forces kept up by scaling the horizontal request). Each swing foot has a spring-damper
 relative to the body (a serial :class:`~virtual_actuators.VirtualActuator` from the body to the
 foot, body axes) whose set point lifts the foot and carries it to where it lands: its nominal
-place plus half the distance the body travels over a stance. The three inputs are the body
-velocity in the heading frame and the yaw rate (:meth:`HexapodWalker.set_command`).
+place plus half the distance the body travels over the tripod stance, plus what it travels in
+a double support (so that the support tripod's stance is centred under the body). The three
+inputs are the body velocity in the heading frame and the yaw rate
+(:meth:`HexapodWalker.set_command`); the velocity set point follows them at a bounded
+acceleration.
+
+Contacts (measured per foot from MuJoCo): a tripod carries the body with a static margin of
+only ``0.075 m - step / 2`` (the centre of mass crosses that close to the triangle's edge at
+either end of a stance), so the gait keeps every support foot loaded and inside MuJoCo's friction
+cone by construction:
+
+* the tripod's stance is centred under the body (the landing place leads by the double
+  support's travel too) and ends when its feet are half a step behind their nominal places,
+  however far they started (the first stance starts from the standing pose);
+* a swing tripod whose three contact switches close ends the stance at once (before, its feet
+  were pressed 1 cm into the ground by their springs for ~10 ms, carrying up to 19 N outside the
+  distribution, and the support tripod's rear foot went to 0 N);
+* all six feet share the body during ``double_support_time``;
+* the velocity set point is acceleration-limited (a step to 0.8 m/s asked 120 N of a body whose
+  feet can give 19 N) and the feet land ``height / g`` times that acceleration further back
+  (where the centre of pressure goes);
+* the QP keeps ``min_normal`` on every support foot, and its pyramid
+  ``|f_x|, |f_y| <= mu f_z`` fits inside MuJoCo's pyramidal cone
+  (``|f_t1| + |f_t2| <= 1.0 f_n`` whatever the contact's tangent axes) for ``mu <= 0.5``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -49,86 +74,17 @@ from .hexapod_body import (
     PendulumModel,
     lqr_gain,
     pendulum_model,
-    yaw_pitch_roll,
 )
+from .hexapod_parameters import DISTRIBUTIONS, HexapodParameters
 from .turkey import lift_profile, smoothstep
 
 LEGS = (1, 2, 3, 4, 5, 6)
 TRIPODS = {"a": (1, 3, 5), "b": (2, 4, 6)}
 OTHER = {"a": "b", "b": "a"}
 PENDULUM_JOINT = "pendulum_joint"
-DISTRIBUTIONS = ("qp", "partitioned")
+GRAVITY = 9.81  # [m/s^2]
 
-
-@dataclass
-class HexapodParameters:
-    """Gait variables and virtual component constants (SI units).
-
-    Defaults start from the public reproduction's constants (IHMC "agileHexapod": height 0.13 m,
-    x, y damping 30, yaw damping 8, lift 0.05 m, 0.05 s double support), made stiffer where the
-    seed's 0.8 m/s needs it.
-
-    Attributes:
-        height: Body height set point above the ground under the support feet [m].
-        stiffness_z: [N/m].
-        damping_z: [N s/m].
-        stiffness_attitude: Roll, pitch springs [N m/rad].
-        damping_attitude: Roll, pitch, yaw dampers [N m s/rad].
-        damping_xy: Dampers along and across the heading [N s/m].
-        step_length: Distance the body travels over the support tripod per stance, along the
-            heading [m].
-        step_width: The same across the heading (the legs reach less sideways) [m]; in other
-            directions the ellipse of these two axes.
-        max_stance_time: A stance ends after this long even if the body has not travelled a
-            step (slow walking and turning on the spot still step) [s].
-        double_support_time: All six feet support between two tripods [s].
-        lift: Swing foot lift [m].
-        lift_peak: Phase of the swing (0 to 1) at which the foot is highest.
-        swing_stiffness: Swing-foot springs (x, y, z), body axes [N/m].
-        swing_damping: Swing-foot dampers (x, y, z) [N s/m].
-        touchdown_depth: How far below the support feet's level the swing set point ends [m].
-        placement_gain: Raibert term: the landing point moves this many seconds times the
-            velocity error (measured minus commanded) further [s].
-        velocity_filter: Time constant of the low-pass filters on the measured body velocity
-            (foot placement) and on the swing set points' velocity [s].
-        distribution: ``"qp"`` or ``"partitioned"``.
-        friction: Friction coefficient assumed for the feet (the distribution's cone) [-].
-        min_normal: Least normal force of a support foot [N].
-        pendulum_weights: LQR state weights (angle, rate, velocity) [1/rad^2, s^2/rad^2, s^2/m^2].
-        pendulum_effort: LQR input weight [1/N^2].
-        pendulum_fall: A pendulum beyond this angle from the vertical has fallen [rad].
-
-    """
-
-    height: float = 0.13
-    stiffness_z: float = 600.0
-    damping_z: float = 40.0
-    stiffness_attitude: tuple[float, float] = (30.0, 40.0)
-    damping_attitude: tuple[float, float, float] = (1.0, 2.0, 8.0)
-    damping_xy: tuple[float, float] = (150.0, 150.0)
-    step_length: float = 0.12
-    step_width: float = 0.07
-    max_stance_time: float = 0.35
-    double_support_time: float = 0.02
-    lift: float = 0.04
-    lift_peak: float = 0.4
-    swing_stiffness: tuple[float, float, float] = (800.0, 800.0, 800.0)
-    swing_damping: tuple[float, float, float] = (12.0, 12.0, 12.0)
-    touchdown_depth: float = 0.01
-    placement_gain: float = 0.05
-    velocity_filter: float = 0.02
-    distribution: str = "qp"
-    friction: float = 0.8
-    min_normal: float = 1.0
-    pendulum_weights: tuple[float, float, float] = (100.0, 1.0, 300.0)
-    pendulum_effort: float = 0.01
-    pendulum_fall: float = 0.6
-
-    def __post_init__(self) -> None:
-        if self.distribution not in DISTRIBUTIONS:
-            raise InvalidInputError(
-                f"distribution must be one of {DISTRIBUTIONS}, got {self.distribution!r}."
-            )
+__all__ = ["DISTRIBUTIONS", "LEGS", "TRIPODS", "HexapodParameters", "HexapodWalker"]
 
 
 class HexapodWalker(Gait):
@@ -160,6 +116,7 @@ class HexapodWalker(Gait):
         model = robot.model
         mass = float(sum(inertia.mass for inertia in model.inertias))  # [kg]
         self.velocity = np.zeros(2)
+        self.velocity_setpoint = np.zeros(2)  # the command, acceleration-limited [m/s]
         self.yaw_rate = 0.0
         self.height = SpringDamper(
             ("z",), p.stiffness_z, p.damping_z, setpoint=p.height, force=mass * 9.81, name="height"
@@ -209,18 +166,28 @@ class HexapodWalker(Gait):
         self.foot_radius = float(p.height + self.nominal[:, 2].mean())  # foot centre height [m]
         self._body_frame = model.getFrameId("body")
         self._foot_frames = [model.getFrameId(f"foot_{i}") for i in LEGS]
-        self._rows = {name: np.array(legs) - 1 for name, legs in TRIPODS.items()}
+        self._nominal = self.nominal.tolist()
+        self._rows = {name: tuple(leg - 1 for leg in legs) for name, legs in TRIPODS.items()}
+        self._table_rows = None  # the kinematics' frame-table rows (cached on first use)
+        self._feet_rows = np.zeros(6, dtype=int)
+        self._body_row = 0
+        frame = model.frames[self._body_frame]
+        #: the body frame is the free flyer's (its velocity is read from v directly)
+        self._body_is_root = (
+            frame.parentJoint == 1 and model.joints[1].nq == 7 and frame.placement.isIdentity()
+        )
         self.ground = 0.0  # ground height under the body [m]
         #: ground plane z = a x + b y + c in body axes through the support feet (a, b, c)
-        self.plane = np.array((0.0, 0.0, float(self.nominal[:, 2].mean())))
+        self.plane = (0.0, 0.0, float(self.nominal[:, 2].mean()))
         self.support = "a"
         self.phase = 0.0  # swing progress, 0 to 1
-        self._stance_start = np.zeros((3, 3))
-        self._swing_start = np.zeros((3, 3))
+        self._swing_start = [[0.0, 0.0, 0.0]] * 3
         self._targets = np.zeros((3, 3))
         self._target_time = 0.0
-        self._velocity_body = np.zeros(2)  # measured, heading frame [m/s]
-        self._velocity_filtered = np.zeros(2)  # low-passed, for foot placement [m/s]
+        self._velocity_body = (0.0, 0.0)  # measured, heading frame [m/s]
+        self._velocity_filtered = (0.0, 0.0)  # low-passed, for foot placement [m/s]
+        self._setpoint = (0.0, 0.0)  # velocity_setpoint as floats [m/s]
+        self._acceleration = (0.0, 0.0)  # of the velocity set point [m/s^2]
         self._filter_time = 0.0
         self._rates = np.zeros((3, 3))  # swing set point velocities, low-passed [m/s]
         self.pendulum: PendulumModel | None = None
@@ -248,12 +215,13 @@ class HexapodWalker(Gait):
                     on_update=self._update_double,
                 ),
             ]
+            swing_feet = tuple(f"foot_{i}" for i in TRIPODS[other])
             transitions += [
                 Transition(
                     f"tripod_{name}",
                     f"double_{other}",
-                    events.when(lambda context: self.phase >= 1.0),
-                    f"body a step over tripod {name}",
+                    events.when(lambda context, feet=swing_feet: self._stance_over(context, feet)),
+                    f"tripod {other} down or the body a step over tripod {name}",
                 ),
                 Transition(
                     f"double_{name}",
@@ -283,7 +251,8 @@ class HexapodWalker(Gait):
             raise InvalidInputError(
                 f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
             )
-        self.velocity = np.array((vx, vy))
+        if vx != self.velocity[0] or vy != self.velocity[1]:
+            self.velocity = np.array((vx, vy))
         self.yaw_rate = yaw_rate
 
     # --- pendulum ------------------------------------------------------------------------------
@@ -310,52 +279,85 @@ class HexapodWalker(Gait):
         iq, iv = self._pendulum_index
         self.pendulum_angle = float(context.q[iq]) + pitch
         rate = float(context.v[iv]) + pitch_rate
-        error = np.array((self.pendulum_angle, rate, self._velocity_body[0] - self.velocity[0]))
-        self.planar.force = np.array((-float(self.gain[0] @ error), 0.0))
+        error = (self.pendulum_angle, rate, self._velocity_body[0] - self.velocity_setpoint[0])
+        self.planar.force = np.array((-float(self.gain[0] @ np.array(error)), 0.0))
 
     # --- per-tick updates ----------------------------------------------------------------------
 
-    def _body_state(self, context: Context) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Heading inputs, measured velocity, pendulum; body position, rotation, feet.
+    def _stance_over(self, context: Context, swing_feet: tuple[str, ...]) -> bool:
+        """The body has travelled a step, or the swing feet have all touched down."""
+        if self.phase >= 1.0:
+            return True
+        contacts = context.contacts
+        if contacts is None or self.phase < self.parameters.touchdown_phase:
+            return False
+        return all(contacts.get(foot, False) for foot in swing_feet)
+
+    def _body_state(self, context: Context) -> tuple[float, list[list[float]]]:
+        """Heading inputs, measured velocity, pendulum; the body's height and the feet.
 
         Returns:
-            Body position [m], rotation, and the six feet relative to the body in body axes
-            ``(6, 3)`` [m].
+            The body's height [m] and the six feet relative to the body in body axes, row
+            ``i - 1`` for leg ``i`` [m].
 
         """
         snapshot = context.snapshot
         table = snapshot.frame_table
         rows = snapshot.tree.frame_tables[0]
-        body = table[rows[self._body_frame]]
+        if rows is not self._table_rows:  # the frames' rows in the kinematics' frame table
+            self._table_rows = rows
+            self._feet_rows = np.array([rows[f] for f in self._foot_frames])
+            self._body_row = rows[self._body_frame]
+        body = table[self._body_row]
         rotation, position = body[:9].reshape(3, 3), body[9:]
-        feet = (table[[rows[f] for f in self._foot_frames], 9:] - position) @ rotation
-        yaw, pitch, _ = yaw_pitch_roll(rotation)
+        feet = ((table[self._feet_rows, 9:] - position) @ rotation).tolist()
+        r = rotation.tolist()
+        yaw = math.atan2(r[1][0], r[0][0])
+        pitch = math.asin(max(-1.0, min(1.0, -r[2][0])))
         c, s = math.cos(yaw), math.sin(yaw)
-        velocity = snapshot.frame_velocity(self._body_frame)
-        vx = c * velocity[0] + s * velocity[1]
-        vy = -s * velocity[0] + c * velocity[1]
-        self._velocity_body = np.array((vx, vy))
-        dt = context.time - self._filter_time
+        if self._body_is_root:  # v[:3] is the body's velocity in body axes
+            u, v, w = context.v[:3].tolist()
+            world_x = r[0][0] * u + r[0][1] * v + r[0][2] * w
+            world_y = r[1][0] * u + r[1][1] * v + r[1][2] * w
+        else:
+            world_x, world_y, _ = snapshot.frame_velocity(self._body_frame).tolist()
+        vx, vy = c * world_x + s * world_y, -s * world_x + c * world_y  # heading frame
+        self._velocity_body = (vx, vy)
+        dt = max(context.time - self._filter_time, 0.0)
         self._filter_time = context.time
-        blend = min(1.0, max(dt, 0.0) / self.parameters.velocity_filter)
-        self._velocity_filtered += blend * (self._velocity_body - self._velocity_filtered)
+        p = self.parameters
+        blend = min(1.0, dt / p.velocity_filter)
+        fx, fy = self._velocity_filtered
+        self._velocity_filtered = (fx + blend * (vx - fx), fy + blend * (vy - fy))
+        cx, cy = self.velocity.tolist()
+        sx, sy = self._setpoint
+        if (cx, cy) != (sx, sy):  # the set point follows the command at a bounded acceleration
+            ex, ey = cx - sx, cy - sy
+            size, most = math.hypot(ex, ey), p.acceleration * dt
+            scale = 1.0 if size <= most else most / size
+            self._setpoint = (sx + scale * ex, sy + scale * ey)
+            self.velocity_setpoint = np.array(self._setpoint)
+            self.planar.velocity = self.velocity_setpoint
+            if dt > 0.0:
+                self._acceleration = (scale * ex / dt, scale * ey / dt)
+        elif dt > 0.0:
+            self._acceleration = (0.0, 0.0)
         self.planar.yaw = yaw
-        self.planar.velocity = self.velocity
         self.attitude.yaw_rate = self.yaw_rate
         if self._pendulum_index is not None:
             world_omega = rotation @ context.v[3:6]  # free-flyer angular velocity: body axes
             self._balance(context, pitch, -s * world_omega[0] + c * world_omega[1])
-        return position, rotation, feet
+        return float(position[2]), feet
 
-    def _set_ground(self, position: np.ndarray, stance: np.ndarray) -> None:
+    def _set_ground(self, height: float, stance: list[list[float]]) -> None:
         """Ground plane through the support tripod (body axes); the height set point from it."""
-        (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stance.tolist()
+        (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stance
         ux, uy, uz, vx, vy, vz = x2 - x1, y2 - y1, z2 - z1, x3 - x1, y3 - y1, z3 - z1
         nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # normal
         if abs(nz) > 1e-9:  # else the feet are in a line: keep the previous plane
             a, b = -nx / nz, -ny / nz
-            self.plane = np.array((a, b, z1 - a * x1 - b * y1))
-        self.ground = float(position[2] + self.plane[2]) - self.foot_radius
+            self.plane = (a, b, z1 - a * x1 - b * y1)
+        self.ground = height + self.plane[2] - self.foot_radius
         self.height.setpoint = self.ground + self.parameters.height
 
     def _update_double(self, context: Context) -> None:
@@ -363,66 +365,121 @@ class HexapodWalker(Gait):
 
     def _enter_tripod(self, context: Context) -> None:
         self.support = context.state[-1]
-        _, _, feet = self._body_state(context)
-        self._stance_start = feet[self._rows[self.support]]
-        self._swing_start = feet[self._rows[OTHER[self.support]]]
-        self._targets = self._swing_start.copy()
+        _, feet = self._body_state(context)
+        rows = self._rows[OTHER[self.support]]
+        self._swing_start = [feet[r] for r in rows]
+        self._targets = np.array(self._swing_start)
         self._target_time = context.time
         self.phase = 0.0
-        self._rates[:] = 0.0
-        for i in TRIPODS[OTHER[self.support]]:
-            self.swing[i].velocity_setpoint = 0.0
+        # the lifting feet leave the ground at its velocity relative to the body
+        ground = self._ground_velocity()
+        self._rates = np.array([(-ground[r][0], -ground[r][1], 0.0) for r in rows])
+        for k, i in enumerate(TRIPODS[OTHER[self.support]]):
+            self.swing[i].velocity_setpoint = self._rates[k]
 
-    def _strides(self, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
-        """Horizontal displacements in strides: the ellipse of axes step length and width is 1."""
-        p = self.parameters
-        return np.sqrt((dx / p.step_length) ** 2 + (dy / p.step_width) ** 2)
+    def _ground_velocity(self) -> list[tuple[float, float]]:
+        """Velocity over the ground of the six nominal foot points, body axes [m/s].
 
-    def _landing(self, nominal: np.ndarray) -> np.ndarray:
-        """Where the swing feet land relative to the body (body axes) [m].
-
-        Half a stance's travel ahead of their nominal place (the support feet then end half a
-        stance behind theirs), with the body's measured velocity and the commanded yaw rate,
-        plus the Raibert term; within 0.6 strides of the nominal place.
+        From the measured (low-passed) body velocity and the commanded yaw rate; a support foot
+        moves at minus this relative to the body.
         """
-        p = self.parameters
         vx, vy = self._velocity_filtered
         w = self.yaw_rate
-        sx = vx - w * nominal[:, 1]  # velocity over the ground of the nominal foot points
-        sy = vy + w * nominal[:, 0]
-        rate = float(np.max(self._strides(sx, sy)))  # strides per second
+        return [(vx - w * y, vy + w * x) for x, y, _ in self._nominal]
+
+    def _strides(self, dx: float, dy: float) -> float:
+        """A horizontal displacement in strides: the ellipse of axes step length and width is 1."""
+        p = self.parameters
+        return math.sqrt((dx / p.step_length) ** 2 + (dy / p.step_width) ** 2)
+
+    def _behind(
+        self,
+        offsets: Sequence[Sequence[float]],
+        sx: Sequence[float],
+        sy: Sequence[float],
+    ) -> float:
+        """How far the support feet are behind their nominal places, in strides (largest).
+
+        Measured along each foot's motion relative to the body (against its velocity over the
+        ground at the nominal place): -0.5 where the feet land, 0.5 where the stance ends (the
+        tripod's static margin is spent beyond). 0 when the body does not move.
+
+        Args:
+            offsets: Support feet minus their nominal places, body axes, one row each [m].
+            sx: Velocity over the ground of their nominal places along body x [m/s].
+            sy: The same along body y.
+
+        """
+        behind = None
+        for (dx, dy, *_), vx, vy in zip(offsets, sx, sy, strict=True):
+            speed = math.hypot(vx, vy)
+            if speed > 1e-3:
+                ux, uy = vx / speed, vy / speed
+                value = -(dx * ux + dy * uy) * self._strides(ux, uy)
+                behind = value if behind is None else max(behind, value)
+        return 0.0 if behind is None else float(behind)
+
+    def _landing(self, rows: Sequence[int], ground: list[tuple[float, float]]) -> list[list[float]]:
+        """Where the swing feet land relative to the body (body axes, x and y) [m].
+
+        Half a stance's travel plus a double support's ahead of their nominal place (the
+        tripod's stance is then centred under the body: its feet go from half a stance ahead of
+        their nominal places to half a stance behind), with the body's measured velocity and
+        the commanded yaw rate, plus the Raibert term, minus ``height / g`` times the velocity
+        set point's acceleration (the centre of pressure trails the centre of mass by that much
+        while the body accelerates: without it the front foot of the next tripod unloads);
+        within 0.6 strides of the nominal place.
+
+        Args:
+            rows: The swing legs' rows (leg - 1).
+            ground: :meth:`_ground_velocity`.
+
+        """
+        p = self.parameters
+        rate = max(self._strides(*ground[r]) for r in rows)  # strides per second
         stance = p.max_stance_time if rate * p.max_stance_time <= 1.0 else 1.0 / rate
-        ex, ey = p.placement_gain * (self._velocity_filtered - self.velocity)
-        ox, oy = 0.5 * stance * sx + ex, 0.5 * stance * sy + ey
-        factor = np.minimum(1.0, 0.6 / np.maximum(self._strides(ox, oy), 1e-9))
-        landing = nominal.copy()
-        landing[:, 0] += ox * factor
-        landing[:, 1] += oy * factor
+        (fx, fy), (cx, cy) = self._velocity_filtered, self._setpoint
+        ax, ay = self._acceleration
+        lean = p.height / GRAVITY  # the centre of pressure trails by lean * acceleration [s^2]
+        ex = p.placement_gain * (fx - cx) - lean * ax
+        ey = p.placement_gain * (fy - cy) - lean * ay
+        lead = 0.5 * stance + p.double_support_time  # [s]
+        landing = []
+        for r in rows:
+            sx, sy = ground[r]
+            ox, oy = lead * sx + ex, lead * sy + ey
+            factor = min(1.0, 0.6 / max(self._strides(ox, oy), 1e-9))
+            x, y, _ = self._nominal[r]
+            landing.append([x + ox * factor, y + oy * factor])
         return landing
 
     def _update_tripod(self, context: Context) -> None:
         p = self.parameters
-        position, rotation, feet = self._body_state(context)
-        stance = feet[self._rows[self.support]]
+        height, feet = self._body_state(context)
+        stance_rows = self._rows[self.support]
         swing_rows = self._rows[OTHER[self.support]]
-        self._set_ground(position, stance)
-        moved = stance - self._stance_start
-        drift = float(np.max(self._strides(moved[:, 0], moved[:, 1])))
-        progress = max(drift, context.time_in_state / p.max_stance_time)
-        self.phase = max(self.phase, min(progress, 1.0))
-        landing = self._landing(self.nominal[swing_rows])
-        reach = smoothstep(min(1.0, 1.25 * self.phase))
-        start = self._swing_start
-        targets = start + (landing - start) * reach
-        a, b, c = self.plane
-        ground = a * targets[:, 0] + b * targets[:, 1] + c  # under the feet, body axes [m]
-        start_height = start[:, 2] - (a * start[:, 0] + b * start[:, 1] + c)
-        targets[:, 2] = (
-            ground
-            + (1.0 - smoothstep(self.phase)) * start_height
-            + p.lift * lift_profile(self.phase, p.lift_peak)
-            - p.touchdown_depth * self.phase
+        stance = [feet[r] for r in stance_rows]
+        self._set_ground(height, stance)
+        ground = self._ground_velocity()
+        nominal = self._nominal
+        behind = self._behind(
+            [(feet[r][0] - nominal[r][0], feet[r][1] - nominal[r][1]) for r in stance_rows],
+            [ground[r][0] for r in stance_rows],
+            [ground[r][1] for r in stance_rows],
         )
+        progress = max(0.5 + behind, context.time_in_state / p.max_stance_time)
+        phase = self.phase = max(self.phase, min(progress, 1.0))
+        reach = smoothstep(min(1.0, 1.25 * phase))
+        rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
+        up = p.lift * lift_profile(phase, p.lift_peak) - p.touchdown_depth * phase
+        a, b, c = self.plane
+        targets = []
+        landing = self._landing(swing_rows, ground)
+        for (sx, sy, sz), (lx, ly) in zip(self._swing_start, landing, strict=True):
+            x, y = sx + (lx - sx) * reach, sy + (ly - sy) * reach
+            above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
+            targets.append((x, y, a * x + b * y + c + rest * above + up))
+        targets = np.array(targets)
         dt = context.time - self._target_time
         if dt > 0.0:
             blend = min(1.0, dt / p.velocity_filter)

@@ -321,11 +321,26 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
     v[gathers.copy_v] = qvel[gathers.copy_qvel]
     for joint in gathers.free:
         d, i, a = joint.dof_adr, joint.idx_v, joint.qpos_adr
-        w, x, y, z = qpos[a + 3 : a + 7]
-        rotation = _rotation_xyzw(np.array([x, y, z, w]))
-        v[i : i + 3] = rotation.T @ qvel[d : d + 3]
+        v[i : i + 3] = _rotate_back(qpos[a + 3 : a + 7].tolist(), qvel[d : d + 3].tolist())
         v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
     return v
+
+
+def _rotate_back(quat_wxyz: list[float], vector: list[float]) -> tuple[float, float, float]:
+    """``R^T vector`` for the rotation of a MuJoCo quaternion ``(w, x, y, z)`` (normalised).
+
+    The world-frame linear velocity of a free joint into its body frame, on plain floats (a
+    tick's cost; the same matrix as :func:`_rotation_xyzw`).
+    """
+    w, x, y, z = quat_wxyz
+    scale = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w * scale, x * scale, y * scale, z * scale
+    a, b, c = vector
+    return (
+        (1.0 - 2.0 * (y * y + z * z)) * a + 2.0 * (x * y + w * z) * b + 2.0 * (x * z - w * y) * c,
+        2.0 * (x * y - w * z) * a + (1.0 - 2.0 * (x * x + z * z)) * b + 2.0 * (y * z + w * x) * c,
+        2.0 * (x * z + w * y) * a + 2.0 * (y * z - w * x) * b + (1.0 - 2.0 * (x * x + y * y)) * c,
+    )
 
 
 def torques_to_ctrl(

@@ -143,6 +143,7 @@ class Simulator:
         self._pushing = False  # whether _applied holds anything
         self._force = np.zeros(6)
         self._owned_geoms: dict[str, frozenset[int]] = {}
+        self._force_rows: dict[tuple[str, ...], dict[int, list[int]]] = {}  # contact_forces
         self._contacts: list[tuple[int, int, float]] = []
         self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
         self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
@@ -382,15 +383,22 @@ class Simulator:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
 
         """
-        owned = [self._frame_geoms(frame) for frame in frames]
-        out = np.zeros((len(owned), 3))
+        key = tuple(frames)
+        rows_of = self._force_rows.get(key)
+        if rows_of is None:  # geom -> the rows of the frames that own it, once per frame list
+            rows_of = {}
+            for k, frame in enumerate(key):
+                for geom in self._frame_geoms(frame):
+                    rows_of.setdefault(geom, []).append(k)
+            self._force_rows[key] = rows_of
+        out = np.zeros((len(key), 3))
         contacts = self._terrain_contacts()
         if not contacts:
             return out
         data, force = self.data, self._force
         axes_all = data.contact.frame  # (ncon, 9): normal, tangent 1, tangent 2 (rows)
         for i, geom, sign in contacts:
-            rows = [k for k, geoms in enumerate(owned) if geom in geoms]
+            rows = rows_of.get(geom)
             if rows:
                 mujoco.mj_contactForce(self.model, data, i, force)
                 world = (force[:3] @ axes_all[i].reshape(3, 3)) * sign  # axes^T f

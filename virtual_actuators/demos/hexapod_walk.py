@@ -47,7 +47,8 @@ from ..robots.loader import load_robot
 from ..robots.robot import Robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-from .walking import _fallen, _progress, _terrain_points
+from .progress import Progress
+from .walking import has_fallen, terrain_points
 
 TRACE_RATE = 100.0  # [Hz] samples of the trace and the log
 PATHS = ("line", "sine")
@@ -257,7 +258,7 @@ def run_hexapod_walk(
             "robot": robot.name,
             "walk": "hexapod-walk",
             "terrain": config.terrain,
-            "terrain_points": _terrain_points(terrain, config.duration),
+            "terrain_points": terrain_points(terrain, config.duration),
             "speed_setpoint_mps": config.speed,
             "nominal_height_m": parameters.height,
             "step_states": list(gait.step_states),
@@ -269,7 +270,7 @@ def run_hexapod_walk(
     feet = gait.contact_frames
     supports = {state.name: [(foot,) for foot in state.support] for state in machine.states}
     every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
-    bar = _progress(config.duration) if progress else None
+    bar = Progress(config.duration) if progress else None
     fall_time = None
     physics = 0.0
     yaw_unwrapped, yaw_last = 0.0, 0.0
@@ -293,7 +294,7 @@ def run_hexapod_walk(
             stance.sample(supports[machine.current.name])
         height = float(q[2] - terrain.height(q[0]))
         tilt = max(abs(roll), abs(pitch))
-        fallen = fall_time is not None or _fallen(simulator, height, tilt, parameters.height)
+        fallen = fall_time is not None or has_fallen(simulator, height, tilt, parameters.height)
         if gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall:
             fallen = True
         if fallen and fall_time is None:
@@ -328,12 +329,12 @@ def run_hexapod_walk(
         if on_tick is not None:
             on_tick(simulator, gait)
         if bar is not None and tick % 100 == 0:
-            bar.update(0.1)
+            bar.set(simulator.time)
         if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
             break
     wall = wallclock.perf_counter() - start
     if bar is not None:
-        bar.close()
+        bar.close(simulator.time)
     recorder.metadata["wall_time_s"] = wall
     recorder.metadata["command_path"] = _command_path(config, guidance)
     log = recorder.to_log()

@@ -213,7 +213,7 @@ def run_walk(
             "robot": robot.name,
             "walk": name,
             "terrain": terrain if isinstance(terrain, str) else repr(terrain),
-            "terrain_points": _terrain_points(terrain_model, duration),
+            "terrain_points": terrain_points(terrain_model, duration),
             "speed_setpoint_mps": float(gait.bunny.speed),
             "nominal_height_m": float(gait.nominal_height()),
             "step_states": list(gait.step_states),
@@ -242,7 +242,7 @@ def run_walk(
             stance.sample(gait.support_contacts())
         x, z_world, pitch = q[x_index], q[z_index], q[pitch_index]
         ground = float(terrain_model.height(x))
-        fallen = fall_time is not None or _fallen(simulator, z_world - ground, pitch, nominal)
+        fallen = fall_time is not None or has_fallen(simulator, z_world - ground, pitch, nominal)
         if fallen and fall_time is None:
             fall_time = now
         wrench = _body_wrench(output)
@@ -284,7 +284,7 @@ def run_walk(
     return WalkResult(log, metrics, gait, simulator, wall)
 
 
-def _terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
+def terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
     """Terrain vertices for plots: at least two, covering the walk's likely reach."""
     points = np.asarray(terrain.points, dtype=float)
     reach = max(1.5 * duration, float(points[-1, 0]) + 1.0)  # [m], 1.5 m/s at most
@@ -307,7 +307,19 @@ def _body_wrench(output) -> np.ndarray:
     return np.zeros(3)
 
 
-def _fallen(simulator: Simulator, height: float, pitch: float, nominal: float) -> bool:
+def has_fallen(simulator: Simulator, height: float, pitch: float, nominal: float) -> bool:
+    """Whether a walker fell (hip low, body tilted, or something else than a foot down).
+
+    Fallen: the hip below half its ``nominal`` height above the terrain, the body tilted beyond
+    :data:`FALL_PITCH`, or a part other than a foot touching the ground.
+
+    Args:
+        simulator: The simulation (its terrain contacts).
+        height: Hip height above the terrain [m].
+        pitch: Body tilt [rad].
+        nominal: Nominal hip height [m].
+
+    """
     if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
         return True
     return not all(map(_is_foot, simulator.touching_terrain()))
@@ -316,13 +328,3 @@ def _fallen(simulator: Simulator, height: float, pitch: float, nominal: float) -
 @functools.cache
 def _is_foot(frame: str) -> bool:
     return any(word in frame for word in FOOT_WORDS)
-
-
-def _progress(duration: float):
-    from tqdm import tqdm
-
-    return tqdm(
-        total=duration,
-        unit="sim s",
-        bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s [{elapsed}<{remaining}, {rate_fmt}]",
-    )

@@ -44,7 +44,7 @@ def test_window_keeps_the_ticks_in_range():
 
 
 def _mark_heights(log: WalkLog) -> list[float]:
-    fig = plots._new_figure(7, 3)
+    fig = plots.new_figure(7, 3)
     ax = fig.add_subplot()
     plots._state_lines([ax], log.time, log)
     heights = []

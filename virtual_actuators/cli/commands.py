@@ -28,7 +28,8 @@ def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
     return "\n".join(lines)
 
 
-def _print_solution(title: str, robot, body, q, wrench, sol) -> None:
+def print_solution(title: str, robot, body, q, wrench, sol) -> None:
+    """Print a parallel actuator's sizes, partition, per-chain forces and joint efforts."""
     print(f"\n== {title}")
     sizes = body.sizes()
     print(
@@ -95,7 +96,7 @@ def _finish_viewer(args: argparse.Namespace, viewer) -> None:
     viewer.close()
 
 
-def _show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:
+def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:
     """Show one configuration with an actuator's distribution (``--viz`` / ``--record``)."""
     if not _wants_viewer(args):
         return
@@ -209,7 +210,7 @@ def example_view(args: argparse.Namespace, example: Example) -> None:
     if not _wants_viewer(args):
         return
     solution = example.solution
-    _show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
+    show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
 
 
 class OptionError(Exception):

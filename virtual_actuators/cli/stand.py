@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .commands import _print_solution, _show_static
+from .commands import print_solution, show_static
 
 
 def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
@@ -80,7 +80,7 @@ def demo_stand(
     )
     wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])  # [N, N m] in the body frame
     sol = body.solve(q, wrench)
-    _print_solution("body actuator (minimum-norm distribution)", robot, body, q, wrench, sol)
+    print_solution("body actuator (minimum-norm distribution)", robot, body, q, wrench, sol)
     shown, actuator = sol, body
     timed = [("minimum-norm", body)]
     if len(feet) == 4 and contact == "point":
@@ -100,7 +100,7 @@ def demo_stand(
         )
         shown, actuator = square.solve(q, wrench), square
         title = "with six design constraints (square, partitioned)"
-        _print_solution(title, robot, square, q, wrench, shown)
+        print_solution(title, robot, square, q, wrench, shown)
         timed.append(("partitioned", square))
     for name, timed_actuator in timed:
         start = time.perf_counter()
@@ -109,4 +109,4 @@ def demo_stand(
         elapsed = (time.perf_counter() - start) / repeat * 1e6
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
     if args is not None:
-        _show_static(args, robot, q, shown, actuator, wrench)
+        show_static(args, robot, q, shown, actuator, wrench)

@@ -24,13 +24,13 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.plots import (
-    _ACTUAL,
-    _FORCE,
-    _SETPOINT,
-    _new_figure,
-    _save,
-    _series,
-    _state_panel,
+    ACTUAL_STYLE,
+    FORCE_STYLE,
+    SETPOINT_STYLE,
+    draw_series,
+    draw_state_panel,
+    new_figure,
+    save_figure,
 )
 from virtual_actuators.experiments.walk_log import WalkLog
 
@@ -88,26 +88,26 @@ def plot_hexapod(
     if summary:
         heading += "\n" + summary
     fig.suptitle(heading, fontsize=10)
-    return _save(fig, path, dpi)
+    return save_figure(fig, path, dpi)
 
 
 def _pendulum_figure(log: WalkLog):
-    fig = _new_figure(8.0, 8.0)
+    fig = new_figure(8.0, 8.0)
     axes = fig.subplots(4, 1, sharex=True)
     t = log.time
-    _series(axes[0], t, log, "pendulum", "pendulum [rad]")
-    _series(
+    draw_series(axes[0], t, log, "pendulum", "pendulum [rad]")
+    draw_series(
         axes[1],
         t,
         log,
         "vx_heading",
         "x velocity [m/s]",
         setpoint="vx_command",
-        setpoint_style=_SETPOINT,
+        setpoint_style=SETPOINT_STYLE,
         setpoint_label="desired",
     )
-    _series(axes[2], t, log, "fx", "virtual x force [N]", style=_FORCE)
-    _state_panel(axes[3], t, log)
+    draw_series(axes[2], t, log, "fx", "virtual x force [N]", style=FORCE_STYLE)
+    draw_state_panel(axes[3], t, log)
     axes[3].set_xlabel("time [s]")
     for ax in axes[:3]:
         ax.axhline(0.0, color="0.6", lw=0.6)
@@ -115,16 +115,16 @@ def _pendulum_figure(log: WalkLog):
 
 
 def _path_figure(log: WalkLog):
-    fig = _new_figure(7.5, 7.0)
+    fig = new_figure(7.5, 7.0)
     ax = fig.subplots()
     x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
     command = log.metadata.get("command_path")
     if command is not None and len(command):
         command = np.asarray(command, dtype=float)
-        style = {**_SETPOINT, "color": "0.35"}
+        style = {**SETPOINT_STYLE, "color": "0.35"}
         label = "object's path" if log.has("target_x") and _finite(log["target_x"]) else "command"
         ax.plot(command[:, 0], command[:, 1], label=label, **style)
-    ax.plot(x, y, label="body", **_ACTUAL)
+    ax.plot(x, y, label="body", **ACTUAL_STYLE)
     step = max(1, round(ARROW_PERIOD / max(float(np.median(np.diff(t))), 1e-6)))
     marks = slice(0, None, step)
     extent = max(float(np.ptp(x)), float(np.ptp(y)), 0.3)

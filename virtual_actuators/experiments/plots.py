@@ -50,17 +50,17 @@ if TYPE_CHECKING:
 __all__ = ["plot_terrain", "plot_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
-_ACTUAL = {"color": "C0", "lw": 1.2}
-_SETPOINT = {"color": "C3", "lw": 1.1, "ls": "--"}
+ACTUAL_STYLE = {"color": "C0", "lw": 1.2}
+SETPOINT_STYLE = {"color": "C3", "lw": 1.1, "ls": "--"}
 _DESIRED_SPEED = {"color": "C3", "lw": 1.3, "ls": ":"}
-_FORCE = {"color": "C2", "lw": 1.0}
+FORCE_STYLE = {"color": "C2", "lw": 1.0}
 
 
 #: Above this many state transitions, they are marked along the top edge instead of full lines.
 MAX_FULL_LINES = 60
 
 
-def _new_figure(width: float, height: float) -> Figure:
+def new_figure(width: float, height: float) -> Figure:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -69,7 +69,7 @@ def _new_figure(width: float, height: float) -> Figure:
     return fig
 
 
-def _save(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi, format="png")
@@ -89,16 +89,16 @@ def _not_recorded(ax: Axes, name: str) -> None:
     )
 
 
-def _series(
+def draw_series(
     ax: Axes,
     xs: np.ndarray,
     log: WalkLog,
     name: str,
     ylabel: str,
     *,
-    style: dict[str, Any] = _ACTUAL,
+    style: dict[str, Any] = ACTUAL_STYLE,
     setpoint: str | None = None,
-    setpoint_style: dict[str, Any] = _SETPOINT,
+    setpoint_style: dict[str, Any] = SETPOINT_STYLE,
     setpoint_label: str = "set point",
     stride: slice = slice(None),
 ) -> None:
@@ -114,7 +114,7 @@ def _series(
         ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
 
 
-def _state_panel(ax: Axes, xs: np.ndarray, log: WalkLog) -> None:
+def draw_state_panel(ax: Axes, xs: np.ndarray, log: WalkLog) -> None:
     """Draw the state machine state as a step plot with the state names as y tick labels."""
     ax.set_ylabel("state")
     ax.grid(True, axis="x", lw=0.4, alpha=0.5)
@@ -230,7 +230,7 @@ def _terrain_panel(
     ax.fill_between(tx, tz, bottom - 2 * pad, color="0.85", lw=0)
     ax.plot(tx, tz, color="0.3", lw=1.2, label="terrain")
     if body_x is not None and body_z is not None:
-        ax.plot(body_x, body_z, label="body (hip) path", **_ACTUAL)
+        ax.plot(body_x, body_z, label="body (hip) path", **ACTUAL_STYLE)
         ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
     ax.set_xlim(lo, hi)
     ax.set_ylim(bottom - pad, top + pad)
@@ -326,7 +326,7 @@ def plot_walk(
     if metrics is not None:
         heading += "\n" + metrics.summary()
     fig.suptitle(heading, fontsize=11)
-    return _save(fig, path, dpi)
+    return save_figure(fig, path, dpi)
 
 
 def _time_layout(
@@ -334,17 +334,17 @@ def _time_layout(
 ) -> tuple[Figure, list[Axes], np.ndarray]:
     """Fig. 9: positions, velocity (left) and forces, state (right) against time."""
     rows = 5 if terrain is not None else 4
-    fig = _new_figure(12, 11 if terrain is not None else 9)
+    fig = new_figure(12, 11 if terrain is not None else 9)
     grid = fig.add_gridspec(rows, 2, height_ratios=[1, 1, 1, 1, 1.3][:rows])
     t = log.time
     first = fig.add_subplot(grid[0, 0])
     left = [first] + [fig.add_subplot(grid[r, 0], sharex=first) for r in range(1, 4)]
     right = [fig.add_subplot(grid[r, 1], sharex=first) for r in range(4)]
     axes = left + right
-    _series(left[0], t, log, "x", "x [m]", setpoint="x_setpoint", stride=stride)
-    _series(left[1], t, log, "z", "hip height z [m]", setpoint="z_setpoint", stride=stride)
-    _series(left[2], t, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
-    _series(
+    draw_series(left[0], t, log, "x", "x [m]", setpoint="x_setpoint", stride=stride)
+    draw_series(left[1], t, log, "z", "hip height z [m]", setpoint="z_setpoint", stride=stride)
+    draw_series(left[2], t, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
+    draw_series(
         left[3],
         t,
         log,
@@ -355,10 +355,10 @@ def _time_layout(
         setpoint_label="bunny (desired)",
         stride=stride,
     )
-    _series(right[0], t, log, "fx", "Fx [N]", style=_FORCE, stride=stride)
-    _series(right[1], t, log, "fz", "Fz [N]", style=_FORCE, stride=stride)
-    _series(right[2], t, log, "m_pitch", "M_pitch [N m]", style=_FORCE, stride=stride)
-    _state_panel(right[3], t, log)
+    draw_series(right[0], t, log, "fx", "Fx [N]", style=FORCE_STYLE, stride=stride)
+    draw_series(right[1], t, log, "fz", "Fz [N]", style=FORCE_STYLE, stride=stride)
+    draw_series(right[2], t, log, "m_pitch", "M_pitch [N m]", style=FORCE_STYLE, stride=stride)
+    draw_state_panel(right[3], t, log)
     for ax in (left[3], right[3]):
         ax.set_xlabel("time [s]")
     for ax in left[:3] + right[:3]:
@@ -373,7 +373,7 @@ def _time_layout(
         ax_t.set_xlabel("x [m]")
         if has_slope:
             ax_s = fig.add_subplot(grid[4, 1], sharex=ax_t)
-            _series(ax_s, x, log, "global_slope", "global slope [rad]", stride=stride)
+            draw_series(ax_s, x, log, "global_slope", "global slope [rad]", stride=stride)
             ax_s.set_xlabel("x [m]")
     return fig, axes, t
 
@@ -396,7 +396,7 @@ def _terrain_layout(
     Terrain and body path, global slope, height, xdot and pitch on the left; Fz, Fx, M_pitch and
     the state on the right (equal widths, so the columns line up along x).
     """
-    fig = _new_figure(12, 11)
+    fig = new_figure(12, 11)
     columns = fig.add_gridspec(1, 2)
     left_grid = columns[0, 0].subgridspec(5, 1, height_ratios=[1.4, 1, 1, 1, 1])
     right_grid = columns[0, 1].subgridspec(4, 1)
@@ -405,9 +405,11 @@ def _terrain_layout(
     _terrain_panel(top, terrain, x, _body_height_world(log, terrain), xlim=_x_range(x, terrain))
     left = [fig.add_subplot(left_grid[r, 0], sharex=top) for r in range(1, 5)]
     right = [fig.add_subplot(right_grid[r, 0], sharex=top) for r in range(4)]
-    _series(left[0], x, log, "global_slope", "global slope [rad]", stride=stride)
-    _series(left[1], x, log, "z", "height above terrain [m]", setpoint="z_setpoint", stride=stride)
-    _series(
+    draw_series(left[0], x, log, "global_slope", "global slope [rad]", stride=stride)
+    draw_series(
+        left[1], x, log, "z", "height above terrain [m]", setpoint="z_setpoint", stride=stride
+    )
+    draw_series(
         left[2],
         x,
         log,
@@ -418,11 +420,11 @@ def _terrain_layout(
         setpoint_label="desired",
         stride=stride,
     )
-    _series(left[3], x, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
-    _series(right[0], x, log, "fz", "Fz [N]", style=_FORCE, stride=stride)
-    _series(right[1], x, log, "fx", "Fx [N]", style=_FORCE, stride=stride)
-    _series(right[2], x, log, "m_pitch", "M_pitch [N m]", style=_FORCE, stride=stride)
-    _state_panel(right[3], x, log)
+    draw_series(left[3], x, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
+    draw_series(right[0], x, log, "fz", "Fz [N]", style=FORCE_STYLE, stride=stride)
+    draw_series(right[1], x, log, "fx", "Fx [N]", style=FORCE_STYLE, stride=stride)
+    draw_series(right[2], x, log, "m_pitch", "M_pitch [N m]", style=FORCE_STYLE, stride=stride)
+    draw_state_panel(right[3], x, log)
     for ax in [top, *left[:3], *right[:3]]:
         ax.tick_params(labelbottom=False)
     for ax in (left[3], right[3]):
@@ -469,7 +471,7 @@ def plot_terrain(
             raise InvalidInputError(
                 f"body_x, body_z: expected two (k,) arrays, got {body_x.shape} and {body_z.shape}."
             )
-    fig = _new_figure(12, 3.8)
+    fig = new_figure(12, 3.8)
     ax = fig.add_subplot()
     _terrain_panel(ax, terrain, body_x, body_z)
     order = np.argsort(terrain[:, 0], kind="stable")
@@ -492,4 +494,4 @@ def plot_terrain(
     ax.set_xlabel("x [m]")
     if title:
         fig.suptitle(title, fontsize=11)
-    return _save(fig, path, dpi)
+    return save_figure(fig, path, dpi)

@@ -112,7 +112,10 @@ class ParallelVirtualActuator:
         min_normal: ``method="qp"``: least normal force of every contact [N].
         torque_limits: ``method="qp"``: ``True`` for ``|tau| <=`` the URDF effort limits at the
             actuated joints, or ``(nv,)`` limits; False for none.
-        normals: ``method="qp"``: world-frame contact normal per reaction frame (default z).
+        normals: ``method="qp"``: contact normal per reaction frame: a fixed world-frame
+            vector, or ``"frame"`` for the reaction frame's own z axis in the world, read every
+            tick (a flat foot lying on the ground); ``"frames"`` for that at every reaction.
+            Default: world z.
         soles: ``method="qp"``: ``(half_length, half_width)`` [m] of a flat contact's sole, by
             reaction frame: its centre of pressure stays inside, its yaw moment is bounded.
         weights: ``method="qp"``: per-axis weights of the closest reachable wrench when a
@@ -151,7 +154,7 @@ class ParallelVirtualActuator:
         friction: float | None = None,
         min_normal: float = 0.0,
         torque_limits: bool | Sequence[float] | np.ndarray = False,
-        normals: Mapping[str, Sequence[float]] | None = None,
+        normals: Mapping[str, Sequence[float] | str] | str | None = None,
         soles: Mapping[str, Sequence[float]] | None = None,
         weights: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
     ) -> None:

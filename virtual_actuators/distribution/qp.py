@@ -2,9 +2,11 @@
 
 The natural and design constraints stay equalities; the contacts add inequalities:
 
-- a **friction pyramid** at each chain: with ``n`` the contact normal (world z unless one is given
-  per reaction, expressed in {O}) and ``t1, t2`` two tangents, ``n . f >= min_normal`` and
-  ``|t_k . f| <= mu n . f`` (four faces: an inner pyramid of the cone, exact along ``t1``, ``t2``);
+- a **friction pyramid** at each chain: with ``n`` the contact normal (world z; or a world vector
+  given per reaction; or, ``"frame"``, the reaction frame's z axis at this tick; expressed in
+  {O}) and ``t1, t2`` two tangents, ``n . f >= min_normal`` and ``|t_k . f| <= mu n . f`` (four
+  faces: the pyramid circumscribing the cone, exact along ``t1``, ``t2``, up to ``sqrt(2) mu``
+  on the diagonals between them);
 - a **centre of pressure inside the sole** for flat contacts given a sole ``(half_length,
   half_width)``: the moment about the reaction frame's origin, in that frame, satisfies
   ``|m_x| <= half_width f_n`` and ``|m_y| <= half_length f_n``, and the yaw moment

@@ -58,6 +58,7 @@ class CompiledQPMatrices:
     Args:
         problem: The distribution problem.
         normals_world: ``(p, 3)`` unit contact normals in the world.
+        frame_normals: ``(p,)`` 1 where the normal is the reaction frame's z axis (each tick).
         cone: ``(3,)``: friction (< 0 for none), least normal force [N], 1 to keep the normal
             row (0: no pyramid rows at all when friction < 0).
         static_scale: The declaration's part of the tick's scale (bounds, constant right-hand
@@ -73,6 +74,7 @@ class CompiledQPMatrices:
         self,
         problem: DistributionProblem,
         normals_world: np.ndarray,
+        frame_normals: np.ndarray,
         cone: np.ndarray,
         soles: np.ndarray,
         limited_v: np.ndarray,
@@ -119,6 +121,7 @@ class CompiledQPMatrices:
         self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
         self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
         self.normals_world = np.ascontiguousarray(normals_world, dtype=float)
+        self.frame_normals = np.asarray(frame_normals, dtype=np.int64)
         self.settings = np.array([*np.asarray(cone, dtype=float), static_scale])
         self.soles = np.ascontiguousarray(soles, dtype=float)
         self.limited_v = np.asarray(limited_v, dtype=np.int64)
@@ -170,6 +173,7 @@ class CompiledQPMatrices:
             self.const_rows,
             self.const_rhs,
             self.normals_world,
+            self.frame_normals,
             self.settings,
             self.soles,
             self.limited_v,

@@ -132,6 +132,7 @@ def reduced_qp(
     const_rows: np.ndarray,
     const_rhs: np.ndarray,
     normals_world: np.ndarray,
+    frame_normals: np.ndarray,
     settings: np.ndarray,
     soles: np.ndarray,
     limited_v: np.ndarray,
@@ -157,6 +158,8 @@ def reduced_qp(
         const_rows: ``(s, p, n)`` constant design rows.
         const_rhs: ``(s,)`` their right-hand sides.
         normals_world: ``(p, 3)`` unit contact normals in the world.
+        frame_normals: ``(p,)`` 1 where the contact normal is the reaction frame's own z axis
+            (read from ``frames`` this tick; ``normals_world`` ignored there), else 0.
         settings: ``(4,)``: friction (< 0: none), least normal force, 1 to keep the normal row,
             the declaration's part of the scale (largest bound and constant right-hand side).
         soles: ``(p, 3)``: 1 for a sole, its half length and half width [m].
@@ -314,12 +317,12 @@ def reduced_qp(
                 acc += const_rows[t, i, a] * chain_x0[a]
             equality_rhs[t] -= acc
         # the pyramid about the normal in {O}, on the chain's force entries
+        if frame_normals[i]:  # the frame's z axis in the world: column 2 of its rotation
+            n0, n1, n2 = frames[a_row, 2], frames[a_row, 5], frames[a_row, 8]
+        else:
+            n0, n1, n2 = normals_world[i, 0], normals_world[i, 1], normals_world[i, 2]
         for c in range(3):
-            normal_o[c] = (
-                rot_o[0, c] * normals_world[i, 0]
-                + rot_o[1, c] * normals_world[i, 1]
-                + rot_o[2, c] * normals_world[i, 2]
-            )
+            normal_o[c] = rot_o[0, c] * n0 + rot_o[1, c] * n1 + rot_o[2, c] * n2
         if faces:
             _face_rows(normal_o, friction, with_normal, face_o)
             for f in range(faces):

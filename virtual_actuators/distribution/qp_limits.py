@@ -19,6 +19,10 @@ from .problem import DistributionProblem
 INFINITY = 1e20
 #: Effort limits at or above this [N m, N] mean "unlimited".
 UNLIMITED = 1e30
+#: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
+FRAME = "frame"
+#: ``normals`` value: every contact's normal is its reaction frame's z axis.
+FRAMES = "frames"
 
 
 class ContactLimits:
@@ -28,7 +32,10 @@ class ContactLimits:
         problem: The distribution problem.
         friction: Friction coefficient ``mu`` of every contact, or None for no cone.
         min_normal: Least normal force of every contact [N].
-        normals: World-frame contact normal per reaction frame (default: world z).
+        normals: Contact normal per reaction frame: a world-frame vector (fixed), or
+            ``"frame"`` for the reaction frame's own z axis in the world, read every tick (a
+            flat foot lying on the ground); ``"frames"`` for that at every reaction. Default:
+            world z.
         soles: ``(half_length, half_width)`` [m] of flat contacts' soles, by reaction frame.
         torque_limits: False (none), True (URDF effort limits) or ``(nv,)`` limits [N m, N].
 
@@ -42,7 +49,7 @@ class ContactLimits:
         problem: DistributionProblem,
         friction: float | None,
         min_normal: float,
-        normals: Mapping[str, Sequence[float]] | None,
+        normals: Mapping[str, Sequence[float] | str] | str | None,
         soles: Mapping[str, Sequence[float]] | None,
         torque_limits: bool | Sequence[float] | np.ndarray,
     ) -> None:
@@ -51,13 +58,35 @@ class ContactLimits:
         self.min_normal = float(min_normal)
         reactions = problem.reactions
         self.normals_world = np.tile([0.0, 0.0, 1.0], (problem.p, 1))
+        #: ``(p,)`` whether each contact's normal is its reaction frame's z axis (each tick)
+        self.frame_normals = np.zeros(problem.p, dtype=bool)
+        if isinstance(normals, str):
+            if normals != FRAMES:
+                raise InvalidInputError(
+                    f"normals must be {FRAMES!r} (every reaction frame's z axis) or a mapping "
+                    f"by reaction frame, got {normals!r}."
+                )
+            normals = dict.fromkeys(reactions, FRAME)
+        elif normals is not None and not isinstance(normals, Mapping):
+            raise InvalidInputError(
+                f"normals must be None, {FRAMES!r} or a mapping by reaction frame, got {normals!r}."
+            )
         for name, normal in dict(normals or {}).items():
             index = self._reaction(name, "normals")
+            if isinstance(normal, str):
+                if normal != FRAME:
+                    raise InvalidInputError(
+                        f"normals[{name!r}] must be {FRAME!r} (the frame's z axis) or a nonzero "
+                        f"3-vector (world frame), got {normal!r}."
+                    )
+                self.frame_normals[index] = True
+                continue
             vector = np.asarray(normal, dtype=float).reshape(-1)
             size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
             if not size or not np.isfinite(size):
                 raise InvalidInputError(
-                    f"normals[{name!r}] must be a nonzero 3-vector (world frame), got {normal!r}."
+                    f"normals[{name!r}] must be a nonzero 3-vector (world frame) or {FRAME!r}, "
+                    f"got {normal!r}."
                 )
             self.normals_world[index] = vector / size
         self.soles: dict[int, tuple[float, float]] = {}
@@ -121,6 +150,7 @@ class ContactLimits:
         #: the declaration's tables for the compiled path
         self.tables = {
             "normals_world": self.normals_world,
+            "frame_normals": self.frame_normals.astype(np.int64),
             "cone": np.array(
                 [-1.0 if friction is None else friction, self.min_normal, self.normal_row]
             ),
@@ -187,7 +217,7 @@ class ContactLimits:
         blocks: list[np.ndarray] = []
         lows: list[np.ndarray] = []
         rotation_o = state.rotation_o
-        normals_o = self.normals_world @ rotation_o  # rows: R_O^T n, per chain
+        normals_o = self.normals_world_at(state) @ rotation_o  # rows: R_O^T n, per chain
         if self._cone:
             helper = np.where(np.abs(normals_o[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
             tangent1 = _cross(normals_o, helper)
@@ -219,6 +249,14 @@ class ContactLimits:
         upper = np.full(len(low), INFINITY)
         upper[one_sided:] = self.limits
         return np.vstack(blocks), low, upper, self._row_names
+
+    def normals_world_at(self, state: object) -> np.ndarray:
+        """``(p, 3)`` the contact normals in the world at this tick (frames' z axes read)."""
+        if not self.frame_normals.any():
+            return self.normals_world
+        normals = self.normals_world.copy()
+        normals[self.frame_normals] = state.rotation_a[self.frame_normals, :, 2]
+        return normals
 
     def _sole_rows(self, i, sole, normal, offset, rotation_o, state) -> np.ndarray:
         """Centre of pressure inside the sole and a bounded yaw moment (flat contact ``i``)."""
@@ -271,4 +309,4 @@ def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarr
     return matrix
 
 
-__all__ = ["INFINITY", "UNLIMITED", "ContactLimits", "kinds", "torque_map"]
+__all__ = ["FRAME", "FRAMES", "INFINITY", "UNLIMITED", "ContactLimits", "kinds", "torque_map"]

@@ -1,12 +1,15 @@
 """Are the feet in support pushing and not sliding? Measured on MuJoCo's contact forces.
 
 At each sample (every few ticks: the walks read them at 250 Hz), for each foot the gait has in
-support, the total terrain force on its geoms is split into its component along the terrain's normal
-under the foot (the slope at the foot's x, in the x-z plane) and the rest. The run's figures are the
-least normal force of a supporting foot (0: a foot that should carry load is off the ground or
-unloaded; negative is impossible in MuJoCo) and the largest tangential / normal ratio among
-supporting feet carrying at least :data:`NORMAL_FLOOR` newtons (a ratio at MuJoCo's friction
-coefficient means the foot slides).
+support, every MuJoCo contact between the foot's geoms and the terrain is split, in that
+contact's own frame (the normal MuJoCo reports, not the terrain's slope: a foot straddling a
+corner touches two slopes at once), into its normal force ``f_n,c`` and the magnitude of its
+tangential force ``|f_t,c|``. A foot's figures are its normal force ``sum_c f_n,c`` and its
+friction ratio ``sum_c |f_t,c| / sum_c f_n,c``: a load-weighted mean of its contacts' ratios,
+at most MuJoCo's friction coefficient, reaching it only when every loaded contact of the foot
+slides. The run's figures are the least normal force of a supporting foot (0: a foot that should
+carry load is off the ground or unloaded; negative is impossible in MuJoCo) and the largest
+friction ratio among supporting feet carrying at least :data:`NORMAL_FLOOR` newtons.
 
 A foot is read from :data:`SETTLE_TIME` after it enters the support set: a touchdown is an
 impact (the swing foot arrives with some velocity and its first millisecond slides whatever the
@@ -15,9 +18,11 @@ distribution asks); what is measured is the stance the controller is responsible
 
 from __future__ import annotations
 
-import bisect
 import math
 from collections.abc import Iterable
+
+import mujoco
+import numpy as np
 
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
@@ -34,8 +39,8 @@ class StanceForces:
     """Least normal force and largest friction ratio of the supporting feet over a run.
 
     Args:
-        simulator: The simulation (contact forces, frame sites).
-        terrain: The terrain (its slope gives the normal under each foot).
+        simulator: The simulation (MuJoCo's contacts and their forces).
+        terrain: The terrain (kept for the callers: the normals are the contacts' own).
 
     Attributes:
         normal_min: Least normal force of a supporting foot so far [N] (inf before a sample).
@@ -46,14 +51,11 @@ class StanceForces:
 
     def __init__(self, simulator: Simulator, terrain: Terrain) -> None:
         self.simulator, self.terrain = simulator, terrain
-        self.flat = terrain.is_flat
         self.normal_min = math.inf
         self.ratio_max = 0.0
         self.samples = 0
         self._since: dict[tuple[str, ...], float] = {}  # foot -> time it entered support [s]
-        self._xs = [float(x) for x in terrain.points[:, 0]]
-        angles = [0.0, *terrain.slopes.tolist(), 0.0]  # before, per segment, after the points
-        self._trig = [(math.sin(a), math.cos(a)) for a in angles]
+        self._force = np.zeros(6)  # mj_contactForce's output, in the contact frame
 
     def sample(self, feet: Iterable[Iterable[str]]) -> None:
         """Read the supporting feet; each foot is the frames whose geoms touch for it.
@@ -61,6 +63,9 @@ class StanceForces:
         Args:
             feet: Per supporting foot, the contact frames that make it up (a point foot is one
                 frame; a flat foot its heel and toe).
+
+        Raises:
+            FrameNotFoundError: A foot names a frame the robot lacks.
 
         """
         simulator = self.simulator
@@ -70,26 +75,34 @@ class StanceForces:
         settled = [foot for foot, entered in since.items() if now - entered >= SETTLE_TIME - 1e-9]
         if not settled:
             return
-        frames = [frame for foot in settled for frame in foot]
-        forces = simulator.contact_forces(frames)
-        sites = simulator.mujoco_model.frame_sites
-        row = 0
-        for foot in settled:
-            fx, fy, fz = forces[row : row + len(foot)].sum(axis=0).tolist()
-            x = float(simulator.data.site_xpos[sites[foot[0]], 0])
-            row += len(foot)
-            sine, cosine = (0.0, 1.0) if self.flat else self._slope_at(x)
-            normal = -sine * fx + cosine * fz  # along (-sin, 0, cos) [N]
-            tangential = math.sqrt((fx + sine * normal) ** 2 + fy**2 + (fz - cosine * normal) ** 2)
-            self.normal_min = min(self.normal_min, normal)
-            if normal >= NORMAL_FLOOR:
-                self.ratio_max = max(self.ratio_max, tangential / normal)
+        mm = simulator.mujoco_model
+        for frame in {frame for foot in settled for frame in foot}:
+            mm.check_frame(frame)
+        owner: dict[int, int] = {}  # robot geom -> index of the settled foot owning it
+        for index, foot in enumerate(settled):
+            for frame in foot:
+                for geom in mm.frame_geoms.get(frame, ()):
+                    owner.setdefault(geom, index)
+        normal = [0.0] * len(settled)  # [N]
+        tangential = [0.0] * len(settled)  # sum of the contacts' |f_t| [N]
+        model, data, force = simulator.model, simulator.data, self._force
+        terrain_geoms = mm.terrain_geoms
+        contacts = data.contact
+        rows = zip(contacts.geom.tolist(), contacts.exclude.tolist(), strict=True)
+        for c, ((g1, g2), exclude) in enumerate(rows):
+            if exclude != 0 or (g1 in terrain_geoms) == (g2 in terrain_geoms):
+                continue
+            index = owner.get(g2 if g1 in terrain_geoms else g1)
+            if index is None:
+                continue
+            mujoco.mj_contactForce(model, data, c, force)  # (normal, tangent 1, tangent 2, ...)
+            normal[index] += float(force[0])
+            tangential[index] += math.hypot(float(force[1]), float(force[2]))
+        for foot_normal, foot_tangential in zip(normal, tangential, strict=True):
+            self.normal_min = min(self.normal_min, foot_normal)
+            if foot_normal >= NORMAL_FLOOR:
+                self.ratio_max = max(self.ratio_max, foot_tangential / foot_normal)
             self.samples += 1
-
-    def _slope_at(self, x: float) -> tuple[float, float]:
-        """``(sin, cos)`` of the terrain's slope at ``x`` (as :meth:`Terrain.slope`)."""
-        index = bisect.bisect_right(self._xs, x)
-        return self._trig[index]
 
     def figures(self) -> tuple[float | None, float | None]:
         """``(least normal force [N], largest friction ratio)``, None before any sample."""

@@ -113,8 +113,18 @@ class FlamingoParameters:
             early landing is handled, section 6.2). False: the seed's global slope only.
         distribution: How double support shares the body's wrench: ``"partitioned"`` (the
             minimum-norm split, the bunny's force scaled down when a foot would pull or leave
-            its friction cone about its sole's normal) or ``"qp"`` (the cone, about world z,
-            and the least normal force as inequalities; x gives way first).
+            its friction cone about its sole's normal) or ``"qp"`` (the cone and the least
+            normal force as inequalities, about each sole's normal: see ``sole_normals``; x
+            gives way first).
+        sole_normals: ``distribution="qp"``: the cones' normals are the feet frames' z axes,
+            read every tick (a limp-ankled foot lies flat on the slope); False: world z.
+        qp_min_normal_force: ``distribution="qp"``: each foot's least normal force [N] (None:
+            ``min_normal_force``), a hard bound: set above the forces the quasi-static split
+            does not see (foot and leg inertia at touchdown): 10 and 20 N let feet unload. A
+            trade: at 0.6 m/s the back leg's least force pushes the body on, and it falls.
+        qp_friction: ``distribution="qp"``: the QP's cone coefficient (None: ``friction``). The
+            QP uses a cone to its edge when the bunny asks for more than the feet can give, so
+            its margin below the ground's (MuJoCo: 1) absorbs those forces: 0.45 beat 0.6.
 
     """
 
@@ -148,6 +158,9 @@ class FlamingoParameters:
     weight: float | None = None
     stance_slope: bool = True
     distribution: str = "partitioned"
+    sole_normals: bool = True
+    qp_min_normal_force: float | None = 25.0
+    qp_friction: float | None = 0.45
 
     @classmethod
     def seed(cls, **changes: object) -> FlamingoParameters:
@@ -237,6 +250,12 @@ class FlamingoWalker(Gait):
         c = self.controller
         qp = check_distribution(p.distribution)
         limits = {"friction": p.friction, "min_normal": p.min_normal_force}
+        cones = {
+            "friction": p.friction if p.qp_friction is None else p.qp_friction,
+            "min_normal": p.min_normal_force if p.qp_min_normal_force is None
+            else p.qp_min_normal_force,
+            "normals": "frames" if p.sole_normals else None,
+        }  # fmt: skip
         double = ParallelVirtualActuator(
             robot,
             "body",
@@ -246,7 +265,7 @@ class FlamingoWalker(Gait):
             contact="flat",
             unactuated=ankles,
             design=[EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
-            **(limits if qp else {}),
+            **(cones if qp else {}),
         )
         rule = {"method": "qp"} if qp else limits
         c.add("double", double, [self.granny, self.bunny], yield_axes=("x",), **rule)

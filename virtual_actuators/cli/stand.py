@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .commands import print_solution, show_static
+from .views import print_solution, show_static
 
 
 def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):

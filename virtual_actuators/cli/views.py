@@ -1,0 +1,110 @@
+"""What the command line prints and shows: solution tables and the viewer around a demo."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+import numpy as np
+
+
+def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
+    model = robot.model
+    lines = [f"{'joint':<16}{'effort [N m]':>14}"]
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.shortname() == "JointModelFreeFlyer":
+            continue
+        for k in range(joint.nv):
+            name = model.names[j] + (f"[{k}]" if joint.nv > 1 else "")
+            note = "  (limp)" if model.names[j] in limp else ""
+            lines.append(f"{name:<16}{tau[joint.idx_v + k]:>14.4f}{note}")
+    return "\n".join(lines)
+
+
+def print_solution(title: str, robot, body, q, wrench, sol) -> None:
+    """Print a parallel actuator's sizes, partition, per-chain forces and joint efforts."""
+    print(f"\n== {title}")
+    sizes = body.sizes()
+    print(
+        f"n={sizes['n']} p={sizes['p']} natural constraints={sizes['l_total']} "
+        f"free entries={sizes['d_total']} redundancy r={sizes['r']} design={sizes['design']}"
+    )
+    print(f"method: {sol.method}   residual: {sol.residual:.2e}")
+    for key in ("MFS", "RFS", "CFS"):
+        labels = ", ".join(f"{r}.{a}" for r, a in sol.sets[key])
+        print(f"{key} ({len(sol.sets[key])}): {labels}")
+    print("\nforces on the body, per chain [N, N m]:")
+    print(sol.table())
+    print("\njoint efforts:")
+    print(_joint_table(robot, sol.tau))
+
+
+def wants_viewer(args: argparse.Namespace) -> bool:
+    """Whether the command asked for a viewer (``--viz`` or ``--record``)."""
+    return bool(getattr(args, "viz", False) or getattr(args, "record", None))
+
+
+def _nice_scale(force: float, length: float) -> float:
+    """Arrow scale [m/N] drawing ``force`` about ``length`` long, at a round N per metre."""
+    per_metre = max(force, 1e-9) / max(length, 1e-3)
+    exponent = 10.0 ** np.floor(np.log10(per_metre))
+    step = next(m for m in (1.0, 2.0, 5.0, 10.0) if m * exponent >= per_metre)
+    return 1.0 / (step * exponent)
+
+
+def _robot_extent(robot, q: np.ndarray) -> float:
+    import pinocchio as pin
+
+    data = pin.Data(robot.model)
+    pin.framesForwardKinematics(robot.model, data, q)
+    points = np.array([f.translation for f in data.oMf])
+    return max(0.3, float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))))
+
+
+def make_viewer(args: argparse.Namespace, robot, **options):
+    """A live viewer (``--viz``) or an offline one for ``--record`` only, or None."""
+    if not wants_viewer(args):
+        return None
+    from ..viz import OfflineWindow, Viewer
+
+    window = None if args.viz else OfflineWindow()
+    return Viewer(robot, window=window, **options)
+
+
+def pause(message: str) -> None:
+    """Wait for Enter when a person is at the terminal; return at once in scripts."""
+    if sys.stdin is not None and sys.stdin.isatty():
+        try:
+            input(message)
+        except EOFError:
+            pass
+
+
+def finish_viewer(args: argparse.Namespace, viewer) -> None:
+    """Write the recording (``--record``), keep a live view open until Enter, close."""
+    if args.record:
+        print(f"recording: {viewer.save_html(args.record)}")
+    if args.viz:
+        viewer.flush()
+        print(f"viewer: {viewer.url}")
+        pause("Press Enter to stop the viewer. ")
+    viewer.close()
+
+
+def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:
+    """Show one configuration with an actuator's distribution (``--viz`` / ``--record``)."""
+    if not wants_viewer(args):
+        return
+    force = float(
+        np.linalg.norm(
+            solution.forces[
+                :, [i for i, a in enumerate(solution.axes) if a in ("x", "y", "z")]
+            ].sum(axis=0)
+        )
+    )
+    extent = _robot_extent(robot, q)
+    viewer = make_viewer(args, robot, force_scale=_nice_scale(force, 0.6 * extent))
+    viewer.show(q, solution, actuator=actuator)
+    finish_viewer(args, viewer)

@@ -32,6 +32,15 @@ No stage mixes the miss and the force norm in one objective (the former ``|A F -
 1e-6 |F|^2`` did, and left the two matrix paths 3e-4 apart). Solved by ProxQP (proxsuite,
 dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
 infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check.
+Inequality rows that are zero at a tick (torque limits of joints in no chain) are left out.
+
+Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over its
+stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
+and half the budget.
+When the budget runs out, the solve returns the feasible answer of least weighted miss found so
+far (stage 2's or stage 3's iterate, which meet every row to ``FEASIBILITY_TOL``), its residual
+in ``sol.residual`` and ``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
+feasible point was found. ``QPDistribution.iterations`` reads the count of the last solve.
 """
 
 from __future__ import annotations
@@ -56,8 +65,18 @@ EPS_ABS = 1e-10
 #: ProxQP's absolute accuracy (residuals and duality gap) in the closest-wrench stages (cold
 #: starts, on infeasible requests only): the closest wrench to ~1e-10 of the request.
 CLOSEST_EPS_ABS = 1e-12
-#: ProxQP's iteration budget (outer and inner): a tick never waits on a degenerate problem.
-MAX_ITER = 300
+#: ProxQP iterations (outer, its ``max_iter`` count) of one solve, all stages together: a tick
+#: never waits on a degenerate problem. Out of it, the best feasible answer so far is returned
+#: with :data:`BUDGET_EXHAUSTED` in ``sol.active``.
+ITERATION_BUDGET = 300
+#: The request exactly (stage 1) stops after this many, and after half the budget: an
+#: infeasible request (ProxQP does not always call it infeasible) leaves the rest to the
+#: closest-wrench stages. Solved requests take 4 (median) to 107 (largest seen) iterations.
+EXACT_MAX_ITER = 120
+#: ProxQP's inner (semismooth Newton) steps per outer iteration, at most.
+MAX_ITER_IN = 30
+#: In ``sol.active`` when the iteration budget ran out before the last stage converged.
+BUDGET_EXHAUSTED = "iteration budget exhausted"
 #: A multiplier above this (scaled) marks its inequality active.
 ACTIVE_TOL = 1e-9
 
@@ -97,6 +116,8 @@ class QPDistribution:
         #: the closest-wrench stage's weight per axis (read-only)
         self.weights = check_weights({} if weights is None else weights, problem.axes)
         self._local = threading.local()
+        #: ProxQP iterations one solve may use, all stages together (:data:`ITERATION_BUDGET`)
+        self.iteration_budget = ITERATION_BUDGET
         self._identities: dict[int, np.ndarray] = {}
         #: per set of prescribed axes: the rows summing the chains' forces on them
         self._selects: dict[bytes, np.ndarray] = {}
@@ -126,8 +147,7 @@ class QPDistribution:
             qp = self._proxqp.dense.QP(*key[2:])
             qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
             qp.settings.eps_rel = 0.0
-            qp.settings.max_iter = MAX_ITER
-            qp.settings.max_iter_in = MAX_ITER
+            qp.settings.max_iter_in = MAX_ITER_IN
             qp.settings.verbose = False
             if key[1] != "exact":  # residuals alone can stop with inactive rows held
                 qp.settings.check_duality_gap = True
@@ -138,7 +158,12 @@ class QPDistribution:
             workspace = cache[key] = [qp, True]  # the workspace, and whether it needs init()
         return workspace
 
-    def _run(self, key, objective, equality, equality_rhs, inequality, lows, uppers, miss):
+    @property
+    def iterations(self) -> int:
+        """ProxQP iterations (outer) of this thread's last solve, all stages together."""
+        return getattr(self._local, "iterations", 0)
+
+    def _run(self, key, objective, equality, equality_rhs, inequality, lows, uppers, miss, budget):
         """Solve one QP in this thread's workspace; None if it has no solution.
 
         The exact stage's workspace lives between ticks: ``update`` and a warm start from the
@@ -148,12 +173,13 @@ class QPDistribution:
         its accuracy but whose multipliers hold inactive rows (a wrong wrench by up to 1e-2 of
         the request on solo12); the closest stage without Ruiz preconditioning (the scaled
         problem needs none: half the cost and as accurate). ``miss(x)`` is the largest violation
-        of the rows ``x`` must meet.
+        of the rows ``x`` must meet; ``budget``: ``[iterations left]``, charged here.
         """
         proxqp = self._proxqp
         workspace = self._workspace(key)
         qp, fresh = workspace
         warm = key[1] == "exact"
+        qp.settings.max_iter = min(EXACT_MAX_ITER, (budget[0] + 1) // 2) if warm else budget[0]
         if fresh or not warm:
             qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
             qp.init(
@@ -169,12 +195,13 @@ class QPDistribution:
             qp.update(None, None, equality, equality_rhs, inequality, lows, uppers)
         qp.solve()
         results = qp.results
+        budget[0] -= min(results.info.iter_ext, budget[0])
         status = results.info.status
         # a feasible closest answer out of iterations is kept (the closest wrench approximately
         # rather than no answer); the request exactly, never: it goes on to the closest wrench
         if not (
             status == proxqp.QPSolverOutput.PROXQP_SOLVED
-            or (key[1] == "closest" and status == proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED)
+            or (key[1] != "exact" and status == proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED)
         ):
             workspace[1] = True  # start the next solve afresh
             return None
@@ -187,36 +214,64 @@ class QPDistribution:
         return results
 
     def _stages(
-        self, path, equality, equality_rhs, design, inequality, lows, uppers, miss, weights
-    ):
+        self, path, equality, equality_rhs, design, inequality, lows, uppers, miss, weights,
+        budget,
+    ):  # fmt: skip
         """The request exactly with the least norm, else the closest wrench (scaled rows).
 
-        Returns ``(x, inequality multipliers)``, or None when no ``x`` meets the rows.
+        Returns ``(x, inequality multipliers, exhausted)``, or None when no ``x`` meets the
+        rows; ``exhausted``: the budget ran out before the last stage converged (``x`` is then
+        the feasible point of least weighted miss found).
 
         ``equality``: the ``design`` rows that always hold, then the request's rows;
         ``miss(x, rows)``: the largest violation of the first ``rows`` equality rows and the
-        inequalities; ``weights``: the request rows' weights in the closest-wrench stage.
+        inequalities; ``weights``: the request rows' weights in the closest-wrench stage;
+        ``budget``: ``[ProxQP iterations left]``, charged. Inequality rows that are zero at this
+        tick (the torque limits of joints in no chain) always hold and are left out of ProxQP's
+        problems (all-zero rows stall its closest-wrench stage for hundreds of iterations); their
+        multipliers are zero.
         """
+        rows = len(lows)
+        kept = np.flatnonzero(np.any(inequality != 0.0, axis=1))
+        if len(kept) < rows:
+            inequality, lows, uppers = inequality[kept], lows[kept], uppers[kept]
         size = equality.shape[1]
         identity = (self._identity(size), np.zeros(size))
+
+        def full(z: np.ndarray) -> np.ndarray:
+            if len(kept) == rows:
+                return z
+            out = np.zeros(rows)
+            out[kept] = z
+            return out
+
         results = self._run(
             (path, "exact", size, len(equality_rhs), len(lows)), identity, equality,
-            equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)),
+            equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if results is not None:
-            return results.x, results.z
+            return results.x, full(results.z), False
         # infeasible: the closest reachable wrench alone (weighted least squares: a singular
         # Hessian in x, one wrench), then the least force norm that produces it exactly
         request, target = equality[design:], equality_rhs[design:]
         weighted = request * weights[:, None]
+        candidate = None  # the exact stage's last iterate, when it meets the other rows
+        if budget[0] == 0:
+            qp = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0]
+            if miss(qp.results.x, design) <= FEASIBILITY_TOL:
+                candidate = (qp.results.x.copy(), full(qp.results.z.copy()), True)
+            return candidate
         closest = self._run(
             (path, "closest", size, design, len(lows)), (request.T @ weighted,
             -(weighted.T @ target)), equality[:design], equality_rhs[:design], inequality,
-            lows, uppers, lambda x: miss(x, design),
+            lows, uppers, lambda x: miss(x, design), budget,
         )  # fmt: skip
         if closest is None:
             return None
         answer, multipliers = closest.x.copy(), closest.z.copy()
+        solved = closest.info.status == self._proxqp.QPSolverOutput.PROXQP_SOLVED
+        if budget[0] == 0:  # out of iterations: stage 3 (the least norm) cannot run
+            return answer, full(multipliers), True
         equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
         # a row with a nonzero multiplier holds at every closest answer (complementarity with
         # any dual solution): as equalities they leave the third stage's feasible set as it is
@@ -229,17 +284,24 @@ class QPDistribution:
         reached = self._run(
             (path, "reached", size, len(tight), len(lows)), identity, tight,
             np.concatenate((equality_rhs, bounds)), inequality, lows, uppers,
-            lambda x: miss(x, len(equality_rhs)),
+            lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if reached is None:
-            return closest.x, closest.z
+            return answer, full(multipliers), budget[0] == 0
+        exhausted = reached.info.status != self._proxqp.QPSolverOutput.PROXQP_SOLVED
         # the held rows' multipliers are the equality rows' now: they stay active
         multipliers = reached.z.copy()
         multipliers[held] += reached.y[len(equality_rhs) :]
-        return reached.x, multipliers
+        return reached.x, full(multipliers), exhausted or not solved
 
-    def _refuse(self) -> ConstraintError:
+    def _refuse(self, exhausted: bool = False) -> ConstraintError:
         names = self.limits.row_names()
+        if exhausted:
+            return ConstraintError(
+                f"No distribution over the chains to {list(self.problem.reactions)} meeting "
+                f"every constraint was found within the iteration budget "
+                f"({self.iteration_budget} ProxQP iterations; raise `qp.iteration_budget`)."
+            )
         return ConstraintError(
             f"No distribution over the chains to {list(self.problem.reactions)} meets every "
             "constraint at this configuration: the natural and design equalities and the "
@@ -272,41 +334,62 @@ class QPDistribution:
             of the active inequalities.
 
         Raises:
-            ConstraintError: No distribution meets the equalities and the inequalities here.
+            ConstraintError: No distribution meets the equalities and the inequalities here, or
+                none was found within ``iteration_budget`` ProxQP iterations.
 
         """
         weights = (self.weights if weights is None else weights)[keep]
+        budget = [max(int(self.iteration_budget), 1)]
+        try:
+            return self._solve(snapshot, wrench, keep, compiled, weights, budget)
+        finally:
+            self._local.iterations = max(int(self.iteration_budget), 1) - budget[0]
+
+    def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
+        """:meth:`solve` with its checked weights and ``[iterations left]``."""
         work = None
         if compiled and self.matrices.applicable:
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
-            return self._solve_numpy(snapshot, wrench, keep, weights)
+            return self._solve_numpy(snapshot, wrench, keep, weights, budget)
         buffer, layout, pn, nv = work.buffer, work.layout, work.pn, work.nv
         results = self._stages(
             "free", work.equality, work.equality_rhs, work.design_rows, work.inequality,
             work.lows, work.uppers,
-            lambda z, rows: violation(buffer, layout, pn, nv, z, rows), weights,
+            lambda z, rows: violation(buffer, layout, pn, nv, z, rows), weights, budget,
         )  # fmt: skip
         if results is None:  # the reference decides (and raises) what the fast path cannot
-            return self._solve_numpy(snapshot, wrench, keep, weights)
+            return self._solve_numpy(snapshot, wrench, keep, weights, budget)
         out, residual, scale, rounding, active = finish(
             buffer, layout, pn, nv, results[0], results[1], work.scale, wrench, keep, ACTIVE_TOL,
             EPS_ABS,
         )  # fmt: skip
         names = self.limits.row_names()
         forces = out[:pn].reshape(self.problem.p, self.problem.n)
-        raw = RawSolution(
-            forces=forces, method="qp", solver="qp", active=tuple(names[i] for i in active)
-        )
+        active = tuple(names[i] for i in active) + ((BUDGET_EXHAUSTED,) if results[2] else ())
+        raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
         n = len(wrench)
         tau, passive = out[pn : pn + nv], out[pn + nv : pn + 2 * nv]
         produced, requested = out[pn + 2 * nv : pn + 2 * nv + n], out[pn + 2 * nv + n :]
         return raw, (tau, passive, produced, requested, residual, scale, rounding)
 
     def _solve_numpy(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, weights: np.ndarray
+        self,
+        snapshot: object,
+        wrench: np.ndarray,
+        keep: np.ndarray,
+        weights: np.ndarray,
+        budget: list[int],
     ) -> tuple[RawSolution, tuple]:
-        """:meth:`solve` with numpy over all ``p n`` force entries, natural rows as equalities."""
+        """:meth:`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
+
+        Raises:
+            ConstraintError: No distribution meets the rows, or none was found before the
+                iteration budget ran out.
+
+        """
+        if budget[0] == 0:
+            raise self._refuse(exhausted=True)
         problem = self.problem
         p, n = problem.p, problem.n
         ev = problem.evaluate(snapshot, check_singular=False)
@@ -337,13 +420,14 @@ class QPDistribution:
 
         results = self._stages(
             "forces", equality, equality_rhs, len(equality_rhs) - len(select), inequality,
-            lows, uppers, miss, weights,
+            lows, uppers, miss, weights, budget,
         )  # fmt: skip
         if results is None:
-            raise self._refuse()
+            raise self._refuse(exhausted=budget[0] == 0)
         names = self.limits.row_names()
         x = results[0] * scale
         active = tuple(names[i] for i in np.flatnonzero(np.abs(results[1]) > ACTIVE_TOL))
+        active += (BUDGET_EXHAUSTED,) if results[2] else ()
         forces = x.reshape(p, n)
         tau = np.where(problem.actuated_mask, tmap @ x, 0.0)
         produced = forces.sum(axis=0)

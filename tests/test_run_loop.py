@@ -101,3 +101,35 @@ def test_bad_arguments():
         va.run(object(), io.read_state, io.write_effort, duration=1.0)
     with pytest.raises(va.InvalidInputError, match="write_effort"):
         va.run(Constant(), io.read_state, None, duration=1.0)
+
+
+def test_any_controller_failure_sends_zero_and_the_end_is_zero_even_on_interrupt():
+    class Flaky:
+        def __init__(self):
+            self.calls = 0
+
+        def compute(self, q, v, time):
+            self.calls += 1
+            if self.calls == 2:
+                raise TypeError("a bug in the law")
+            if self.calls == 4:
+                return np.ones(5)  # wrong size
+            if self.calls == 6:
+                raise KeyboardInterrupt
+            return np.ones(2)
+
+    io = Scripted([(np.zeros(2), np.zeros(2), 0.001 * k) for k in range(100)])
+    with pytest.raises(KeyboardInterrupt):
+        va.run(Flaky(), io.read_state, io.write_effort, rate_hz=1000.0, duration=1.0)
+    written = [tau.tolist() for tau in io.written]
+    assert written[:5] == [[1, 1], [0, 0], [1, 1], [0, 0], [1, 1]]
+    assert written[-1] == [0.0, 0.0]  # the interrupt still ends on zero effort
+
+
+def test_a_nan_stamp_is_not_taken_as_the_clock():
+    states = [(np.zeros(1), np.zeros(1), float("nan"))]
+    states += [(np.zeros(1), np.zeros(1), 0.001 * k) for k in range(1, 40)]
+    io = Scripted(states)
+    stats = va.run(Constant(), io.read_state, io.write_effort, rate_hz=1000.0, duration=0.03)
+    assert stats.reasons == {"non-finite": 1}
+    assert stats.zero_ticks == 1

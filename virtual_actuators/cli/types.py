@@ -194,8 +194,7 @@ def robot_name(text: str) -> str:
     from ..robots.catalog import list_robots, suggest_robots
 
     names = list_robots(include_aliases=True)
-    path = Path(text).expanduser()
-    if text in names or path.is_file() or path.is_dir():
+    if text in names or _existing_path(text):
         return text
     raise argparse.ArgumentTypeError(
         f"no robot named {text!r} and no such URDF file. {suggest_robots(text)}"
@@ -255,6 +254,15 @@ def positive_int(text: str) -> int:
     return _whole(text, "value", 1)
 
 
+def _existing_path(text: str) -> bool:
+    """Whether ``text`` names an existing file or folder (False for anything unusable)."""
+    try:
+        path = Path(text).expanduser()
+        return path.is_file() or path.is_dir()
+    except (OSError, RuntimeError, ValueError):  # ~nosuchuser, a name too long, a NUL byte
+        return False
+
+
 def output_path(text: str) -> str:
     """An output file in an existing, writable folder (checked before a run, not after it).
 
@@ -262,15 +270,21 @@ def output_path(text: str) -> str:
         argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
             exist, or it cannot be written.
     """
-    path = Path(text)
-    if not text.strip():
-        raise argparse.ArgumentTypeError("expected a file path, got an empty string")
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
-    if not path.parent.is_dir():
+    try:
+        path = Path(text)
+        if not text.strip():
+            raise argparse.ArgumentTypeError("expected a file path, got an empty string")
+        if path.is_dir():
+            raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
+        if not path.parent.is_dir():
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not a file path in an existing folder "
+                f"(no folder {str(path.parent)!r})"
+            )
+        if not os.access(path if path.exists() else path.parent, os.W_OK):
+            raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
+    except (OSError, RuntimeError, ValueError) as error:  # a name too long, a NUL byte...
         raise argparse.ArgumentTypeError(
-            f"{text!r} is not a file path in an existing folder (no folder {str(path.parent)!r})"
-        )
-    if not os.access(path if path.exists() else path.parent, os.W_OK):
-        raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
+            f"{text[:80]!r} is not a usable file path ({error})"
+        ) from None
     return text

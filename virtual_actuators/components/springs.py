@@ -199,7 +199,8 @@ class Spring(SpringDamper):
             array over the spring's axes [m or rad], to the force on each axis [N or N m]
             (e.g. ``lambda d: 2000 * d**3`` for a hardening spring, ``lambda d: np.where(d > 0,
             k * d, 0.0)`` for a one-way spring). Called every tick; it must return one finite
-            number per axis (or a scalar for all of them).
+            number per axis (or a scalar for all of them). With a law, :attr:`stiffness`
+            (and the inherited damping and force) are not used.
 
     Raises:
         InvalidAxisError: Bad axes.

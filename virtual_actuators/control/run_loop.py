@@ -3,7 +3,9 @@
 Each tick reads the robot's state, computes the efforts and writes them, then sleeps until the
 next period. Safety first: a reading that is stale (its timestamp did not advance for
 ``stale_after`` seconds) or not finite, or a controller that raises, sends **zero effort** for that
-tick, and the loop always ends by sending zero effort. A tick that takes longer than the period is
+tick (the reason is counted), and the loop always ends by sending zero effort, whatever ended it
+(Ctrl-C included). With :class:`~virtual_actuators.simulation.hardware.MujocoHardware` that last
+zero command steps the simulation one more period. A tick that takes longer than the period is
 an overrun: the loop does not try to catch up (the next tick starts at once), and counts it.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
@@ -16,15 +18,19 @@ from __future__ import annotations
 
 import math
 import time as clock
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, VirtualActuatorError
+from ..exceptions import InvalidInputError
 from ..vocabulary.frames import check_number, describe
 
 State = tuple[np.ndarray, np.ndarray, float]
+
+#: Tick durations kept for the statistics (the last ones: memory stays bounded on long runs).
+TICK_HISTORY = 100_000
 
 
 @dataclass
@@ -36,7 +42,7 @@ class RunStats:
         overruns: Ticks that took longer than the period.
         zero_ticks: Ticks that sent zero effort (stale, non-finite or failed).
         reasons: Why, per kind: ``{"stale": n, "non-finite": n, "error: ...": n}``.
-        tick_times: Duration of every tick, read to write [s].
+        tick_times: Duration of the last :data:`TICK_HISTORY` ticks, read to write [s].
         wall_time: Duration of the loop [s].
 
     """
@@ -45,7 +51,7 @@ class RunStats:
     overruns: int = 0
     zero_ticks: int = 0
     reasons: dict[str, int] = field(default_factory=dict)
-    tick_times: list[float] = field(default_factory=list)
+    tick_times: deque[float] = field(default_factory=lambda: deque(maxlen=TICK_HISTORY))
     wall_time: float = 0.0
 
     def summary(self) -> str:
@@ -78,7 +84,9 @@ def run(
         read_state: Returns ``(q, v, stamp)``: configuration, velocity, time of the reading [s].
         write_effort: Sends ``(nv,)`` efforts to the motors.
         rate_hz: Control rate [Hz].
-        duration: Loop time [s] (None: until ``should_stop``).
+        duration: Wall-clock time of the loop [s] (None: until ``should_stop``). On a
+            simulation run with ``realtime=False``, stop on the simulated time with
+            ``should_stop`` instead.
         stale_after: A reading whose stamp did not advance for this long is stale [s]
             (default: three periods).
         realtime: Sleep to hold the rate (False: run ticks back to back, e.g. on a simulation).
@@ -113,37 +121,43 @@ def run(
 
     stats = RunStats()
     last_stamp, last_fresh = None, None
-    zero = None
+    size = None  # efforts per command, from the first reading
     start = clock.perf_counter()
     deadline = start
     try:
         while True:
             now = clock.perf_counter()
-            elapsed = now - start
-            if duration is not None and elapsed >= duration - 1e-12:
+            if duration is not None and now - start >= duration - 1e-12:
                 break
             if should_stop is not None and should_stop():
                 break
             q, v, stamp = read_state()
+            if size is None:
+                size = len(v)
             tau, reason = None, None
-            stamp = float(stamp)
-            if last_stamp is None or stamp > last_stamp:
-                last_stamp, last_fresh = stamp, now
-            if now - last_fresh > stale_after:
-                reason = "stale"
-            elif not (_finite(q) and _finite(v)):
-                reason = "non-finite"
+            try:
+                stamp = float(stamp)
+            except (TypeError, ValueError):
+                stamp = math.nan
+            if not math.isfinite(stamp):
+                reason = "non-finite"  # a bad clock never becomes the reference
             else:
+                if last_stamp is None or stamp > last_stamp:
+                    last_stamp, last_fresh = stamp, now
+                if now - last_fresh > stale_after:
+                    reason = "stale"
+                elif not (_finite(q) and _finite(v)):
+                    reason = "non-finite"
+            if reason is None:
                 try:
                     output = controller.compute(q, v, stamp)
                     tau = np.asarray(getattr(output, "tau", output), dtype=float)
-                    if not _finite(tau):
-                        tau, reason = None, "non-finite effort"
-                except (VirtualActuatorError, FloatingPointError, ValueError) as error:
-                    reason = f"error: {type(error).__name__}"
+                    if tau.shape != (size,) or not _finite(tau):
+                        tau, reason = None, "bad effort (shape or non-finite)"
+                except Exception as error:  # any failure of the law: this tick sends zero
+                    tau, reason = None, f"error: {type(error).__name__}"
             if tau is None:
-                zero = np.zeros(len(v)) if zero is None else zero
-                tau = zero
+                tau = np.zeros(size)
                 stats.zero_ticks += 1
                 stats.reasons[reason] = stats.reasons.get(reason, 0) + 1
             write_effort(tau)
@@ -157,8 +171,8 @@ def run(
             elif realtime:
                 clock.sleep(max(deadline - clock.perf_counter(), 0.0))
     finally:
-        if zero is not None or stats.ticks:
-            write_effort(np.zeros(len(zero) if zero is not None else len(tau)))
+        if size is not None:  # whatever ended the loop (Ctrl-C included): motors to zero
+            write_effort(np.zeros(size))
         stats.wall_time = clock.perf_counter() - start
     return stats
 

@@ -70,9 +70,12 @@ def parse_range(text: str) -> list[float]:
             start, stop, step = (float(part) for part in text.split(":"))
             if not (step > 0 and math.isfinite(start) and math.isfinite(stop)):
                 raise ValueError("step must be > 0")
-            count = math.floor((stop - start) / step + 1e-9) + 1
-            if count > 1000:
-                raise ValueError(f"{count} values (at most 1000)")
+            if stop < start:
+                raise ValueError("stop is below start")
+            span = (stop - start) / step
+            if not math.isfinite(span) or span > 1000:
+                raise ValueError("more than 1000 values")
+            count = math.floor(span + 1e-9) + 1
             values = [round(start + k * step, 10) for k in range(max(count, 0))]
         else:
             values = [float(part) for part in text.split(",")]
@@ -123,7 +126,10 @@ def run_case(case: SweepCase) -> SweepResult:
             progress=False,
             seed=case.seed,
         )
-    except VirtualActuatorError as error:
+    except Exception as error:  # recorded in the table: one broken walk never loses the sweep
+        error = (
+            error if isinstance(error, VirtualActuatorError) else f"{type(error).__name__}: {error}"
+        )
         nan = float("nan")
         return SweepResult(
             case.walk, case.speed, case.terrain, case.seed, True, nan, nan, nan, 0, nan, str(error)
@@ -168,19 +174,26 @@ def run_sweep(
     """
     if engine not in ENGINES:
         raise InvalidInputError(f"engine must be one of {ENGINES}, got {engine!r}.")
-    if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
-        raise InvalidInputError(f"workers must be >= 1, got {workers!r}.")
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+    ):
+        raise InvalidInputError(f"workers must be an int >= 1, got {workers!r}.")
     done = on_result or (lambda result: None)
     results: dict[int, SweepResult] = {}
     if engine == "process":
         from concurrent.futures import ProcessPoolExecutor, as_completed
 
         count = workers or os.cpu_count() or 1
-        with ProcessPoolExecutor(max_workers=min(count, max(len(cases), 1))) as pool:
+        pool = ProcessPoolExecutor(max_workers=min(count, max(len(cases), 1)))
+        try:
             futures = {pool.submit(run_case, case): i for i, case in enumerate(cases)}
             for future in as_completed(futures):
                 results[futures[future]] = future.result()
                 done(results[futures[future]])
+        except BaseException:  # Ctrl-C or a crashed worker: drop the queued walks at once
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown()
     elif engine == "dask":
         results = _run_dask(cases, done)
     else:
@@ -193,19 +206,23 @@ def _run_dask(cases, done) -> dict[int, SweepResult]:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
         raise MissingDependencyError(
-            "engine='dask' needs dask.distributed: pip install 'dask[distributed]'."
+            "engine='dask' needs dask.distributed: pip install 'virtual_actuators[dask]'.",
+            package="dask",
+            extra="dask",
         ) from None
     address = os.environ.get("DASK_SCHEDULER_ADDRESS")
     cluster = None if address else LocalCluster(processes=True, threads_per_worker=1)
-    with Client(address or cluster) as client:
-        futures = client.map(run_case, cases, pure=False)
-        index = {future.key: i for i, future in enumerate(futures)}
-        results = {}
-        for future in as_completed(futures):
-            results[index[future.key]] = future.result()
-            done(results[index[future.key]])
-    if cluster is not None:
-        cluster.close()
+    try:
+        with Client(address or cluster) as client:
+            futures = client.map(run_case, cases, pure=False)
+            index = {future.key: i for i, future in enumerate(futures)}
+            results = {}
+            for future in as_completed(futures):
+                results[index[future.key]] = future.result()
+                done(results[index[future.key]])
+    finally:
+        if cluster is not None:
+            cluster.close()
     return results
 
 
@@ -213,17 +230,26 @@ def _run_ray(cases, done) -> dict[int, SweepResult]:
     try:
         import ray
     except ImportError:
-        raise MissingDependencyError("engine='ray' needs ray: pip install ray.") from None
+        raise MissingDependencyError(
+            "engine='ray' needs ray: pip install 'virtual_actuators[ray]'.",
+            package="ray",
+            extra="ray",
+        ) from None
+    started = not ray.is_initialized()
     ray.init(ignore_reinit_error=True, include_dashboard=False)
-    remote = ray.remote(run_case)
-    pending = {remote.remote(case): i for i, case in enumerate(cases)}
-    results = {}
-    while pending:
-        ready, _ = ray.wait(list(pending), num_returns=1)
-        for reference in ready:
-            i = pending.pop(reference)
-            results[i] = ray.get(reference)
-            done(results[i])
+    try:
+        remote = ray.remote(run_case)
+        pending = {remote.remote(case): i for i, case in enumerate(cases)}
+        results = {}
+        while pending:
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for reference in ready:
+                i = pending.pop(reference)
+                results[i] = ray.get(reference)
+                done(results[i])
+    finally:
+        if started:
+            ray.shutdown()
     return results
 
 

@@ -76,7 +76,9 @@ def find_feet(robot: Robot) -> Feet:
 
 
 def _is_foot(name: str) -> bool:
-    words = re.split(r"[^a-z]+", name.lower())
+    spaced = re.sub(r"([a-z])([A-Z])", r"\1_\2", name)  # LeftFoot -> Left_Foot
+    spaced = re.sub(r"([A-Z])([A-Z][a-z])", r"\1_\2", spaced)  # RAnkle -> R_Ankle
+    words = re.split(r"[^a-z]+", spaced.lower())
     return any(word in FOOT_WORDS for word in words)
 
 

@@ -55,3 +55,12 @@ def test_a_body_actuator_on_the_feet_found_carries_the_weight():
 
 def test_generated_millipede():
     assert find_feet(va.millipede(legs=7)).feet == tuple(f"foot_{i}" for i in range(1, 8))
+
+
+def test_foot_words_in_any_naming_style():
+    from virtual_actuators.robots.feet import _is_foot
+
+    for name in ("LeftFoot", "RAnkle", "FL_FOOT", "l_sole", "left_toe_link", "ankleRoll"):
+        assert _is_foot(name), name
+    for name in ("Football", "footprint_x", "base_link", "FL_KFE"):
+        assert not _is_foot(name), name

@@ -65,3 +65,16 @@ def test_two_workers_table_and_map(tmp_path):
     assert speeds == [0.4, 0.6] and terrains == ["flat"]
     assert np.array_equal(rate, [[1.0, 1.0]])
     assert plot_success_map(results, tmp_path / "map.png").stat().st_size > 1000
+
+
+def test_a_walk_that_crashes_is_recorded_not_raised(monkeypatch):
+    from virtual_actuators.demos import sweep
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("a bug in a gait")
+
+    monkeypatch.setattr(sweep, "run_walk", broken)
+    result = sweep.run_case(grid("turkey-walk", [0.5], ["flat"], 1)[0])
+    assert result.fell and "RuntimeError: a bug in a gait" in result.error
+    with pytest.raises(va.InvalidInputError, match="workers"):
+        run_sweep(grid("turkey-walk", [0.5], ["flat"], 1), workers=2.5)

@@ -464,6 +464,8 @@ def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, 
         "simulator.step": (Simulator, "step"),
         "in_contact": (Simulator, "in_contact"),
         "touching_terrain": (Simulator, "touching_terrain"),
+        "contact_switches": (Simulator, "contact_switches"),
+        "touching_frames": (Simulator, "touching_frames"),
     }
     with WalkProbe(targets, tick="simulator.step") as probe:
         result = run_walk(name, duration=seconds, progress=False)
@@ -482,7 +484,8 @@ def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, 
     for label, values in parts.items():
         mean = float(np.mean(values)) if values.size else float("nan")
         breakdown[label.strip()] = {**summarize(values), "mean_us": mean, "label": label}
-    contacts = sum(np.sum(probe.per_tick(k)) for k in ("in_contact", "touching_terrain"))
+    queries = ("in_contact", "touching_terrain", "contact_switches", "touching_frames")
+    contacts = sum(np.sum(probe.per_tick(k)) for k in queries)
     breakdown["rest"]["contact_queries_mean_us"] = float(contacts / max(ticks, 1))
     simulated, period = float(result.simulator.time), result.simulator.control_period
     return {

@@ -245,3 +245,107 @@ def test_frame_velocity_equals_the_array_formula():
         first = snapshot.frame_velocity(frame)
         first[:] = 0.0  # a copy: the cache is unchanged
         np.testing.assert_array_equal(snapshot.frame_velocity(frame), expected)
+
+
+def test_contact_switches_and_touching_frames_equal_a_scan_of_mujocos_contacts():
+    robot = va.load_robot("spring_flamingo")
+    simulator = Simulator(robot, Terrain.builtin("profile-one"))
+    mm = simulator.mujoco_model
+    frames = ("left_heel", "left_toe", "right_heel", "right_toe", "body")
+    rng = np.random.default_rng(3)
+    seen = set()
+    for tick in range(300):
+        tau = np.zeros(robot.model.nv)
+        tau[3:] = 20.0 * rng.normal(size=robot.model.nv - 3)  # kick the legs about
+        simulator.step(tau)
+        data = simulator.data
+        touched = set()  # oracle: MuJoCo's contact list read directly
+        for i in range(data.ncon):
+            g1, g2 = (int(g) for g in data.contact.geom[i])
+            if data.contact.exclude[i] != 0 or (g1 in mm.terrain_geoms) == (g2 in mm.terrain_geoms):
+                continue
+            touched.add(g2 if g1 in mm.terrain_geoms else g1)
+        expected = {f: bool(touched & set(mm.frame_geoms.get(f, ()))) for f in frames}
+        order = frames if tick % 2 else tuple(reversed(frames))
+        switches = simulator.contact_switches(order)
+        assert switches == expected and tuple(switches) == order
+        assert {f: simulator.in_contact(f) for f in frames} == expected
+        assert simulator.contact_switches(list(frames)) == expected  # a list: not cached
+        owners = {n for g in touched if g in mm.geom_frames for n in mm.geom_frames[g]}
+        assert simulator.touching_frames() == owners == simulator.touching_terrain()
+        seen.add(tuple(expected.values()))
+    assert len(seen) > 1  # the switches did change
+    with pytest.raises(va.FrameNotFoundError, match="no_such_frame"):
+        simulator.contact_switches(("left_heel", "no_such_frame"))
+
+
+def test_fall_test_on_contact_sets_equals_the_frame_rule():
+    from virtual_actuators.demos.walking import FOOT_WORDS, _only_feet
+
+    for frames in (set(), {"left_heel"}, {"left_toe", "right_foot"}, {"body"}, {"left_shin"}):
+        expected = all(any(w in f for w in FOOT_WORDS) for f in frames)
+        assert _only_feet(frozenset(frames)) is expected
+
+
+def test_walk_rows_are_written_in_the_standard_channel_order():
+    from virtual_actuators.demos.walking import _ROW_CHANNELS
+    from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS
+
+    assert tuple(STANDARD_CHANNELS) == _ROW_CHANNELS
+
+
+def test_granny_setters_equal_the_setpoint_path():
+    granny = GrannyWalker(0.8, (1000.0, 100.0), (50.0, 5.0), pitch=0.1)
+    reference = GrannyWalker(0.8, (1000.0, 100.0), (50.0, 5.0), pitch=0.1)
+    held = granny.setpoint
+    granny.height, granny.pitch = 0.7312, -0.043
+    reference.setpoint = (0.7312, -0.043)
+    np.testing.assert_array_equal(granny.setpoint, reference.setpoint)
+    assert granny.setpoint is not held and held.tolist() == [0.8, 0.1]  # a new array
+    granny.height = 1  # an int: the checked path
+    assert granny.setpoint.tolist() == [1.0, -0.043]
+    for bad in (np.nan, np.inf, "1", None):
+        with pytest.raises(InvalidInputError, match="height"):
+            granny.height = bad
+        with pytest.raises(InvalidInputError, match="pitch"):
+            granny.pitch = bad
+    assert granny.setpoint.tolist() == [1.0, -0.043]
+
+
+def test_event_combinators_equal_all_and_any():
+    from itertools import product
+
+    from virtual_actuators.control import events
+    from virtual_actuators.control.state_machine import Context
+
+    robot = va.load_robot("spring_flamingo")
+    frames = ("left_heel", "left_toe", "right_heel")
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    for values in product((False, True), repeat=3):
+        context = Context(robot, q, v, 0.0, dict(zip(frames, values, strict=True)))
+        assert events.contact(*frames)(context) is all(values)
+        assert events.contact(*frames, require_all=False)(context) is any(values)
+        assert events.no_contact(*frames)(context) is (not any(values))
+        calls = []
+        flags = [lambda c, x=x, calls=calls: calls.append(x) or x for x in values]
+        assert events.all_of(*flags)(context) is all(values)
+        assert calls == list(values[: values.index(False) + 1] if False in values else values)
+        calls.clear()
+        assert events.any_of(*flags)(context) is any(values)
+        assert calls == list(values[: values.index(True) + 1] if True in values else values)
+
+
+def test_context_checks_stay_with_a_snapshot():
+    from virtual_actuators.control.state_machine import Context
+
+    flamingo, turkey = va.load_robot("spring_flamingo"), va.load_robot("spring_turkey")
+    q, v = flamingo.neutral(), np.zeros(flamingo.model.nv)
+    snapshot = Snapshot(flamingo, q, v)
+    context = Context(flamingo, q, v, 0.5, {"left_heel": True}, snapshot=snapshot)
+    assert context.snapshot is snapshot and context.in_contact("left_heel") is True
+    with pytest.raises(InvalidInputError, match="snapshot"):
+        Context(turkey, turkey.neutral(), np.zeros(turkey.model.nv), 0.0, snapshot=snapshot)
+    with pytest.raises(InvalidInputError):
+        Context(flamingo.model, q, v, 0.0, snapshot=snapshot)  # a bare model is not a robot
+    with pytest.raises(InvalidInputError, match="contacts"):
+        Context(flamingo, q, v, 0.0, [("left_heel", True)], snapshot=snapshot)

@@ -74,7 +74,9 @@ class GrannyWalker(SpringDamper):
     def height(self, value: float) -> None:
         if not (isinstance(value, float) and math.isfinite(value)):
             value = check_number(value, f"{self.name}: height [m]")
-        self.setpoint = (value, self.setpoint[1])
+        setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
+        setpoint[0] = value
+        self._setpoint = setpoint
 
     @property
     def pitch(self) -> float:
@@ -85,7 +87,9 @@ class GrannyWalker(SpringDamper):
     def pitch(self, value: float) -> None:
         if not (isinstance(value, float) and math.isfinite(value)):
             value = check_number(value, f"{self.name}: pitch [rad]")
-        self.setpoint = (self.setpoint[0], value)
+        setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
+        setpoint[1] = value
+        self._setpoint = setpoint
 
 
 class DogtrackBunny(SpringDamper):

@@ -81,8 +81,23 @@ def contact(*frames: str, require_all: bool = True) -> Event:
 
     """
     frames = _frames(frames, "contact()")
-    combine = all if check_flag(require_all, "contact(): require_all") else any
-    return lambda context: combine(context.in_contact(f) for f in frames)
+    if check_flag(require_all, "contact(): require_all"):
+
+        def event(context: Context) -> bool:  # all(...) without a generator (per tick)
+            for frame in frames:
+                if not context.in_contact(frame):
+                    return False
+            return True
+
+    else:
+
+        def event(context: Context) -> bool:  # any(...) without a generator (per tick)
+            for frame in frames:
+                if context.in_contact(frame):
+                    return True
+            return False
+
+    return event
 
 
 def no_contact(*frames: str) -> Event:
@@ -104,7 +119,14 @@ def any_of(*events: Event) -> Event:
 
     """
     events = _events(events, "any_of()")
-    return lambda context: any(event(context) for event in events)
+
+    def event(context: Context) -> bool:  # any(...) without a generator (per tick)
+        for each in events:
+            if each(context):
+                return True
+        return False
+
+    return event
 
 
 def all_of(*events: Event) -> Event:
@@ -115,7 +137,14 @@ def all_of(*events: Event) -> Event:
 
     """
     events = _events(events, "all_of()")
-    return lambda context: all(event(context) for event in events)
+
+    def event(context: Context) -> bool:  # all(...) without a generator (per tick)
+        for each in events:
+            if not each(context):
+                return False
+        return True
+
+    return event
 
 
 def when(predicate: Callable[[Context], bool]) -> Event:

@@ -67,19 +67,30 @@ class Context:
         frame_ids: dict[str, int] | None = None,
         snapshot: Snapshot | None = None,
     ) -> None:
-        check_robot(robot, "Context")
+        # the per-tick case: a Snapshot of this robot's model (which proves the robot one)
+        known = snapshot.__class__ is Snapshot and snapshot.tree.model is getattr(
+            robot, "model", None
+        )
+        if not known:
+            check_robot(robot, "Context")
         if not (isinstance(time, float) and -math.inf < time < math.inf):
             time = check_number(time, "Context: time [s]")
         if not (isinstance(time_in_state, float) and -math.inf < time_in_state < math.inf):
             time_in_state = check_number(time_in_state, "Context: time_in_state [s]")
-        if contacts is not None and not isinstance(contacts, Mapping):
+        if (
+            contacts is not None
+            and contacts.__class__ is not dict
+            and not isinstance(contacts, Mapping)
+        ):
             raise InvalidInputError(
                 f"Context: contacts must be a dict {{frame: bool}} or None, got "
                 f"{describe(contacts)}."
             )
         if snapshot is None:
             snapshot = Snapshot(robot, q, v)
-        elif not isinstance(snapshot, Snapshot) or snapshot.tree.model is not robot.model:
+        elif not known and (
+            not isinstance(snapshot, Snapshot) or snapshot.tree.model is not robot.model
+        ):
             raise InvalidInputError(
                 f"Context: snapshot must be a va.Snapshot of the context's robot or None, got "
                 f"{describe(snapshot)}."

@@ -37,6 +37,23 @@ FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
 STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
+_ROW_CHANNELS = (  # the order in which run_walk writes its rows (STANDARD_CHANNELS' order)
+    "time",
+    "x",
+    "z",
+    "z_world",
+    "pitch",
+    "xdot",
+    "x_setpoint",
+    "z_setpoint",
+    "pitch_setpoint",
+    "xdot_setpoint",
+    "fx",
+    "fz",
+    "m_pitch",
+    "global_slope",
+    "fallen",
+)
 
 
 @dataclass(frozen=True)
@@ -231,39 +248,52 @@ def run_walk(
     start = wallclock.perf_counter()
     ticks_per_update = 100
     tick = 0
+    if recorder.channels != _ROW_CHANNELS:  # the row below is written in this order
+        raise RuntimeError(f"STANDARD_CHANNELS changed: {recorder.channels} != {_ROW_CHANNELS}.")
+    append_row, state_index, bunny, granny = (
+        recorder.append_row,
+        machine.index,
+        gait.bunny,
+        gait.granny,
+    )
+    height_at = terrain_model.height
+    has_slope = hasattr(gait, "slope")
+    nan = math.nan
     while simulator.time < duration - 1e-9:
         q, v = simulator.q, simulator.v
         now = simulator.time
-        contacts = {frame: simulator.in_contact(frame) for frame in contact_frames}
+        contacts = simulator.contact_switches(contact_frames)
         output = gait.compute(q, v, now, contacts)
         simulator.step(output.tau)
         tick += 1
         if fall_time is None and tick % STANCE_SAMPLING == 0:
             stance.sample(gait.support_contacts())
         x, z_world, pitch = q[x_index], q[z_index], q[pitch_index]
-        ground = float(terrain_model.height(x))
+        ground = float(height_at(x))
         fallen = fall_time is not None or has_fallen(simulator, z_world - ground, pitch, nominal)
         if fallen and fall_time is None:
             fall_time = now
         wrench = _body_wrench(output)
         double = "double" in output.active
-        recorder.append(
-            state=machine.index[machine.current.name],
-            time=now,
-            x=x,
-            z=z_world - ground,
-            z_world=z_world,
-            pitch=pitch,
-            xdot=v[v_x],
-            x_setpoint=gait.bunny.position_at(now) if double else np.nan,
-            z_setpoint=gait.granny.height - ground,
-            pitch_setpoint=gait.granny.pitch,
-            xdot_setpoint=gait.bunny.speed if double else np.nan,
-            fx=wrench[0],
-            fz=wrench[1],
-            m_pitch=wrench[2],
-            global_slope=getattr(gait, "slope", np.nan),
-            fallen=float(fallen),
+        append_row(
+            (
+                now,
+                x,
+                z_world - ground,
+                z_world,
+                pitch,
+                v[v_x],
+                bunny.position_at(now) if double else nan,
+                granny.height - ground,
+                granny.pitch,
+                bunny.speed if double else nan,
+                wrench[0],
+                wrench[1],
+                wrench[2],
+                gait.slope if has_slope else nan,
+                float(fallen),
+            ),
+            state_index[machine.current.name],
         )
         if on_tick is not None:
             on_tick(simulator, gait)
@@ -322,7 +352,13 @@ def has_fallen(simulator: Simulator, height: float, pitch: float, nominal: float
     """
     if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
         return True
-    return not all(map(_is_foot, simulator.touching_terrain()))
+    return not _only_feet(simulator.touching_frames())
+
+
+@functools.lru_cache(maxsize=256)
+def _only_feet(frames: frozenset[str]) -> bool:
+    """Whether every frame of a contact set is a foot's (cached: the sets recur tick after tick)."""
+    return all(map(_is_foot, frames))
 
 
 @functools.cache

@@ -147,6 +147,7 @@ class Simulator:
         self._contacts: list[tuple[int, int, float]] = []
         self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
         self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
+        self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self.reset()
 
@@ -347,6 +348,34 @@ class Simulator:
         self._switches[frame] = switch  # a known frame (unknown ones raised above)
         return switch
 
+    def contact_switches(self, frames: Sequence[str]) -> dict[str, bool]:
+        """Whether each of several frames touches the terrain, in one pass over the contacts.
+
+        The same answers as :meth:`in_contact` for each frame (cheaper for several frames).
+
+        Args:
+            frames: Pinocchio frame names.
+
+        Returns:
+            ``{frame: in contact}`` in the order of ``frames``.
+
+        Raises:
+            FrameNotFoundError: If a frame is not the robot's (with the closest names).
+
+        """
+        cache = frames.__class__ is tuple and all(frame.__class__ is str for frame in frames)
+        pairs = self._switch_geoms.get(frames) if cache else None
+        if pairs is None:  # checked (unknown frames raise) and cached per tuple of names
+            pairs = tuple((frame, self._frame_geoms(frame)) for frame in frames)
+            if cache:
+                if len(self._switch_geoms) >= 64:
+                    self._switch_geoms.clear()
+                self._switch_geoms[frames] = pairs
+        touched = {geom for _, geom, _ in self._terrain_contacts()}
+        out = {frame: not geoms.isdisjoint(touched) for frame, geoms in pairs}
+        self._switches.update(out)  # in_contact's cache (reset by _terrain_contacts)
+        return out
+
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, in world axes [N].
 
@@ -413,11 +442,22 @@ class Simulator:
             Frame names (a geom counts for its parent frame and every frame that owns it).
 
         """
+        return set(self.touching_frames())
+
+    def touching_frames(self) -> frozenset[str]:
+        """:meth:`touching_terrain` as a frozenset, built once per physics state (not copied).
+
+        Returns:
+            Frame names (a geom counts for its parent frame and every frame that owns it).
+
+        """
         contacts = self._terrain_contacts()
-        if self._touching is None:  # once per physics state
+        touching = self._touching
+        if touching is None:  # once per physics state
             owners = self.mujoco_model.geom_frames
-            self._touching = frozenset(name for _, geom, _ in contacts for name in owners[geom])
-        return set(self._touching)
+            touching = frozenset(name for _, geom, _ in contacts for name in owners[geom])
+            self._touching = touching
+        return touching
 
     def __repr__(self) -> str:
         return (

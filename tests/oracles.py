@@ -92,6 +92,21 @@ def external_forces(model: pin.Model, q: np.ndarray, pairs) -> list:
     return fext
 
 
+def chain_forces_world(body, q: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """``(p, 3)`` each chain's force on {B} in world axes (``R_O f``), from Pinocchio's {O}."""
+    model = body.robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    rotation_o = (
+        np.eye(3)
+        if body.reference == "world"
+        else data.oMf[model.getFrameId(body.reference)].rotation
+    )
+    full = np.zeros((body.p, 6))
+    full[:, [AXES.index(a) for a in body.axes]] = forces
+    return full[:, :3] @ rotation_o.T
+
+
 def rnea_torques(name_or_model, q: np.ndarray, fext) -> np.ndarray:
     """``-rnea(q, 0, 0, fext)`` without gravity: joint torques that balance ``fext``."""
     model = zero_gravity_model(name_or_model) if isinstance(name_or_model, str) else name_or_model

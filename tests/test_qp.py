@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import external_forces, rnea_torques, zero_gravity_model
+from oracles import chain_forces_world, external_forces, rnea_torques, zero_gravity_model
 
 import virtual_actuators as va
 
@@ -34,17 +34,7 @@ def _weight(robot: va.Robot) -> float:
 
 def _check_cone(body, q, sol, mu, min_normal) -> None:
     """Each chain's force against the pyramid about world z (expressed in {O})."""
-    model = body.robot.model
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, q)
-    rotation_o = (
-        np.eye(3)
-        if body.reference == "world"
-        else data.oMf[model.getFrameId(body.reference)].rotation
-    )
-    full = np.zeros((body.p, 6))
-    full[:, [va.AXES.index(a) for a in body.axes]] = sol.forces
-    force_world = full[:, :3] @ rotation_o.T  # rows: R_O f
+    force_world = chain_forces_world(body, q, sol.forces)  # rows: R_O f
     scale = max(np.abs(sol.forces).max(), 1.0)
     normal = force_world[:, 2]
     assert np.all(normal >= min_normal - TOL * scale), normal

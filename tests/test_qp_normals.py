@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from oracles import chain_forces_world
 from test_qp import TOL, _check_torques, _weight
 from test_qp_paths import SOLES, _check_paths, _check_soles, _request
 
@@ -41,17 +42,7 @@ def _check_frame_cone(body, q, sol, mu, min_normal) -> None:
     The pyramid's tangents as documented: ``t1 = n x e`` normalised (``e`` the world x axis, or
     y when ``|n_x| >= 0.9``), ``t2 = n x t1``.
     """
-    model = body.robot.model
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, q)
-    rotation_o = (
-        np.eye(3)
-        if body.reference == "world"
-        else data.oMf[model.getFrameId(body.reference)].rotation
-    )
-    full = np.zeros((body.p, 6))
-    full[:, [va.AXES.index(a) for a in body.axes]] = sol.forces
-    force_world = full[:, :3] @ rotation_o.T
+    force_world = chain_forces_world(body, q, sol.forces)  # rows: R_O f
     scale = max(np.abs(sol.forces).max(), 1.0)
     for normal, force in zip(_frame_normals(body, q), force_world, strict=True):
         helper = np.array([1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])

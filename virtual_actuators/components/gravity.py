@@ -21,6 +21,7 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot, thread_data
+from ..kinematics.tree import tree_of
 from ..robots.robot import Robot
 from ..vocabulary.frames import check_names, check_robot, resolve_frame, resolve_joint
 
@@ -88,7 +89,7 @@ class GravityCompensation:
                 )
             configuration = q.q
         else:
-            configuration = Snapshot(self.robot, q).q  # checked: size, finite, numbers
+            configuration = tree_of(self.robot).check_configuration(q)
         data = thread_data(self.model)
         return pin.computeGeneralizedGravity(self.model, data, configuration).copy()
 

@@ -33,7 +33,8 @@ from ..experiments.contact_stats import StanceForces
 from ..experiments.hexapod_metrics import HexapodMetrics, compute_hexapod_metrics
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import WalkLog
-from ..gaits.hexapod import DISTRIBUTIONS, HexapodParameters, HexapodWalker
+from ..gaits.base import check_distribution
+from ..gaits.hexapod import HexapodParameters, HexapodWalker
 from ..gaits.hexapod_guidance import (
     Guidance,
     PlanarState,
@@ -120,10 +121,7 @@ class HexapodWalkConfig:
             raise InvalidInputError(f"path must be one of {PATHS}, got {self.path!r}.")
         if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0):
             raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
-        if self.distribution not in DISTRIBUTIONS:
-            raise InvalidInputError(
-                f"distribution must be one of {DISTRIBUTIONS}, got {self.distribution!r}."
-            )
+        check_distribution(self.distribution)
         if self.path == "sine" and (self.track or self.yaw_rate != 0.0):
             raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
         if self.track and self.yaw_rate != 0.0:

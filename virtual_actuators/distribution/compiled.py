@@ -22,6 +22,20 @@ from .partitioner import PartitionedSolver, RawSolution
 from .problem import DistributionProblem
 
 
+def spring_table(problem: DistributionProblem) -> np.ndarray:
+    """The kernels' ``(nv, 5)`` table of the passive and limp joints.
+
+    Per joint: spring stiffness, rest angle, q index (-1: no spring), 1 for a continuous joint,
+    1 if actuated.
+    """
+    springs = np.zeros((problem.model.nv, 5))
+    springs[:, 2] = -1.0
+    springs[:, 4] = problem.actuated_mask
+    for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
+        springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
+    return springs
+
+
 @dataclass(frozen=True)
 class _Tables:
     chain_ints: np.ndarray
@@ -57,13 +71,7 @@ class CompiledDistribution:
         self.frame_rows = np.array([kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64)
         self._max_row = int(self.frame_rows.max())
         self._shape = (problem.p, len(self.axis_rows))
-        nv = problem.model.nv
-        springs = np.zeros((nv, 5))
-        springs[:, 2] = -1.0
-        springs[:, 4] = problem.actuated_mask
-        for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
-            springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
-        self.springs = springs
+        self.springs = spring_table(problem)
         self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
         self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
         torque = [(v, -1, 0) for v in problem.coupled_v]

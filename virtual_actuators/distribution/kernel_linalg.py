@@ -215,13 +215,63 @@ def constraint_error(
     return worst
 
 
+@njit(cache=True)
+def ball_entry(axis: int, row: int, d0: float, d1: float, d2: float) -> float:
+    """Entry ``row`` (``x y z rx ry rz``) of a point contact's column ``(e_axis x d, e_axis)``."""
+    if row >= 3:
+        return 1.0 if row - 3 == axis else 0.0
+    if axis == 0:
+        return (0.0, -d2, d1)[row]
+    if axis == 1:
+        return (d2, 0.0, -d0)[row]
+    return (-d1, d0, 0.0)[row]
+
+
+@njit(cache=True)
+def wrench_transform(frames: np.ndarray, b: int, o: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(R_O, T)``: {O}'s rotation and the map of world twists to {B}'s twist in {O}.
+
+    ``T`` (6, 6) takes a twist at the world origin to ``(R_O^T (v - skew(p_B) w), R_O^T w)``,
+    the twist of {B}'s origin in {O}; ``b``, ``o`` are rows of the frame table.
+    """
+    rot_o = np.empty((3, 3))
+    for r in range(3):
+        for c in range(3):
+            rot_o[r, c] = frames[o, 3 * r + c]
+    x, y, z = frames[b, 9], frames[b, 10], frames[b, 11]
+    shift = np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
+    transform = np.zeros((6, 6))
+    for r in range(3):
+        for c in range(3):
+            transform[r, c] = rot_o[c, r]
+            transform[3 + r, 3 + c] = rot_o[c, r]
+            acc = 0.0
+            for k in range(3):
+                acc += rot_o[k, r] * shift[k, c]
+            transform[r, 3 + c] = acc
+    return rot_o, transform
+
+
+@njit(cache=True)
+def passive_torques(springs: np.ndarray, q: np.ndarray, passive: np.ndarray) -> None:
+    """``passive[v] = -k (angle - rest)`` at the spring joints of the ``springs`` table."""
+    for v in range(springs.shape[0]):
+        if springs[v, 2] >= 0:
+            iq = int(springs[v, 2])
+            angle = np.arctan2(q[iq + 1], q[iq]) if springs[v, 3] > 0 else q[iq]
+            passive[v] = -springs[v, 0] * (angle - springs[v, 1])
+
+
 __all__ = [
     "ILL_CONDITIONED",
     "NEAR_SINGULAR",
+    "ball_entry",
     "constraint_error",
     "invert",
     "inverse_into",
     "mm",
     "mv",
     "null_rows",
+    "passive_torques",
+    "wrench_transform",
 ]

@@ -23,7 +23,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .kernel_linalg import ILL_CONDITIONED, NEAR_SINGULAR, constraint_error, null_rows
+from .kernel_linalg import (
+    ILL_CONDITIONED,
+    NEAR_SINGULAR,
+    ball_entry,
+    constraint_error,
+    null_rows,
+    passive_torques,
+    wrench_transform,
+)
 from .kernel_solves import (
     BATCH_CHAINS,
     C_CON,
@@ -36,18 +44,6 @@ from .kernel_solves import (
     partitioned_solve,
 )
 from .linalg import CONSTRAINT_TOL, ROUNDING
-
-
-@njit(cache=True)
-def _ball_entry(axis: int, row: int, d0: float, d1: float, d2: float) -> float:
-    """Entry ``row`` (``x y z rx ry rz``) of a point contact's column ``(e_axis x d, e_axis)``."""
-    if row >= 3:
-        return 1.0 if row - 3 == axis else 0.0
-    if axis == 0:
-        return (0.0, -d2, d1)[row]
-    if axis == 1:
-        return (d2, 0.0, -d0)[row]
-    return (-d1, d0, 0.0)[row]
 
 
 @njit(cache=True)
@@ -154,21 +150,7 @@ def distribute(
     requested = out[p * n + 2 * nv + n :]
     # -- the tick's kinematics, in {O} at {B}'s origin ---------------------------------------
     b, o = frame_rows[0], frame_rows[1]
-    rot_o = np.empty((3, 3))
-    for r in range(3):
-        for c in range(3):
-            rot_o[r, c] = frames[o, 3 * r + c]
-    x, y, z = frames[b, 9], frames[b, 10], frames[b, 11]
-    shift = np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
-    transform = np.zeros((6, 6))
-    for r in range(3):
-        for c in range(3):
-            transform[r, c] = rot_o[c, r]
-            transform[3 + r, 3 + c] = rot_o[c, r]
-            s = 0.0
-            for k in range(3):
-                s += rot_o[k, r] * shift[k, c]
-            transform[r, 3 + c] = s
+    rot_o, transform = wrench_transform(frames, b, o)
     jac_t = np.empty((n, nv))  # the Jacobian in {O}, one row per selected axis
     for a in range(n):
         row = axis_rows[a]
@@ -183,11 +165,7 @@ def distribute(
                 + t4 * jacobian_world[4, v]
                 + t5 * jacobian_world[5, v]
             )
-    for v in range(nv):
-        if springs[v, 2] >= 0:
-            iq = int(springs[v, 2])
-            angle = np.arctan2(q[iq + 1], q[iq]) if springs[v, 3] > 0 else q[iq]
-            passive[v] = -springs[v, 0] * (angle - springs[v, 1])
+    passive_torques(springs, q, passive)
     # -- natural constraint rows per chain (chain index last, like the batch) -----------------
     width = max(layout[2], 1)
     rows = np.zeros((width, n, p))
@@ -273,7 +251,7 @@ def distribute(
                 axis = chain_ints[i, ball_start + j]
                 fulls[K + 3, c_i + j, i] = 0.0
                 for a in range(n):
-                    value = _ball_entry(axis, axis_rows[a], d0, d1, d2)
+                    value = ball_entry(axis, axis_rows[a], d0, d1, d2)
                     fulls[c_i + j, a, i] = value
                     rows[c_i + j, a, i] = value
             state[i] = rank * (K + 4) + m_c
@@ -285,7 +263,7 @@ def distribute(
         for j in range(nb):
             axis = chain_ints[i, ball_start + j]
             for a in range(n):
-                columns[k_i + j, a] = _ball_entry(axis, axis_rows[a], d0, d1, d2)
+                columns[k_i + j, a] = ball_entry(axis, axis_rows[a], d0, d1, d2)
         # rows: own constrained joints, ball axes, null directions
         for j in range(c_i):
             position = chain_ints[i, con_start + j]

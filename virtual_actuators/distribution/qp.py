@@ -32,7 +32,7 @@ No stage mixes the miss and the force norm in one objective (the former ``|A F -
 1e-6 |F|^2`` did, and left the two matrix paths 3e-4 apart). Solved by ProxQP (proxsuite,
 dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
 infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check.
-Inequality rows that are zero at a tick (torque limits of joints in no chain) are left out.
+Joints that no chain moves get no torque-limit row (it would be all zero: always met).
 
 Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over its
 stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
@@ -226,31 +226,19 @@ class QPDistribution:
         ``equality``: the ``design`` rows that always hold, then the request's rows;
         ``miss(x, rows)``: the largest violation of the first ``rows`` equality rows and the
         inequalities; ``weights``: the request rows' weights in the closest-wrench stage;
-        ``budget``: ``[ProxQP iterations left]``, charged. Inequality rows that are zero at this
-        tick (the torque limits of joints in no chain) always hold and are left out of ProxQP's
-        problems (all-zero rows stall its closest-wrench stage for hundreds of iterations); their
-        multipliers are zero.
+        ``budget``: ``[ProxQP iterations left]``, charged. (No inequality row is identically
+        zero: the torque limits of joints that no chain moves are left out at declaration, see
+        :class:`~virtual_actuators.distribution.qp_limits.ContactLimits`; all-zero rows stall
+        ProxQP's closest-wrench stage for hundreds of iterations.)
         """
-        rows = len(lows)
-        kept = np.flatnonzero(np.any(inequality != 0.0, axis=1))
-        if len(kept) < rows:
-            inequality, lows, uppers = inequality[kept], lows[kept], uppers[kept]
         size = equality.shape[1]
         identity = (self._identity(size), np.zeros(size))
-
-        def full(z: np.ndarray) -> np.ndarray:
-            if len(kept) == rows:
-                return z
-            out = np.zeros(rows)
-            out[kept] = z
-            return out
-
         results = self._run(
             (path, "exact", size, len(equality_rhs), len(lows)), identity, equality,
             equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if results is not None:
-            return results.x, full(results.z), False
+            return results.x, results.z, False
         # infeasible: the closest reachable wrench alone (weighted least squares: a singular
         # Hessian in x, one wrench), then the least force norm that produces it exactly
         request, target = equality[design:], equality_rhs[design:]
@@ -259,7 +247,7 @@ class QPDistribution:
         if budget[0] == 0:
             qp = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0]
             if miss(qp.results.x, design) <= FEASIBILITY_TOL:
-                candidate = (qp.results.x.copy(), full(qp.results.z.copy()), True)
+                candidate = (qp.results.x.copy(), qp.results.z.copy(), True)
             return candidate
         closest = self._run(
             (path, "closest", size, design, len(lows)), (request.T @ weighted,
@@ -271,7 +259,7 @@ class QPDistribution:
         answer, multipliers = closest.x.copy(), closest.z.copy()
         solved = closest.info.status == self._proxqp.QPSolverOutput.PROXQP_SOLVED
         if budget[0] == 0:  # out of iterations: stage 3 (the least norm) cannot run
-            return answer, full(multipliers), True
+            return answer, multipliers, True
         equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
         # a row with a nonzero multiplier holds at every closest answer (complementarity with
         # any dual solution): as equalities they leave the third stage's feasible set as it is
@@ -287,12 +275,12 @@ class QPDistribution:
             lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if reached is None:
-            return answer, full(multipliers), budget[0] == 0
+            return answer, multipliers, budget[0] == 0
         exhausted = reached.info.status != self._proxqp.QPSolverOutput.PROXQP_SOLVED
         # the held rows' multipliers are the equality rows' now: they stay active
         multipliers = reached.z.copy()
         multipliers[held] += reached.y[len(equality_rhs) :]
-        return reached.x, full(multipliers), exhausted or not solved
+        return reached.x, multipliers, exhausted or not solved
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
         names = self.limits.row_names()

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..kinematics.kernels import HAVE_NUMBA
 from . import qp_kernels
+from .compiled import spring_table
 from .problem import DistributionProblem
 
 
@@ -112,12 +113,7 @@ class CompiledQPMatrices:
                 )
                 signs[chain, :k] = group.signs[j]
         self.chain_ints, self.chain_signs = ints, signs
-        springs = np.zeros((problem.model.nv, 5))
-        springs[:, 2] = -1.0
-        springs[:, 4] = problem.actuated_mask
-        for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
-            springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
-        self.springs = springs
+        self.springs = spring_table(problem)
         self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
         self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
         self.normals_world = np.ascontiguousarray(normals_world, dtype=float)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
+from .kernel_linalg import ball_entry, passive_torques, wrench_transform
 
 # columns of the per-chain integer table: counts, then the column blocks
 K_COLS, C_CON, NB_BALL = 0, 1, 2
@@ -36,18 +37,6 @@ LAYOUT = 14
 RANK_TOL = 1e-7
 #: ProxQP's "no bound".
 INFINITY = 1e20
-
-
-@njit(cache=True)
-def _ball_entry(axis: int, row: int, d0: float, d1: float, d2: float) -> float:
-    """Entry ``row`` (``x y z rx ry rz``) of a point contact's column ``(e_axis x d, e_axis)``."""
-    if row >= 3:
-        return 1.0 if row - 3 == axis else 0.0
-    if axis == 0:
-        return (0.0, -d2, d1)[row]
-    if axis == 1:
-        return (d2, 0.0, -d0)[row]
-    return (-d1, d0, 0.0)[row]
 
 
 @njit(cache=True)
@@ -201,21 +190,7 @@ def reduced_qp(
     uppers[:] = INFINITY
     # -- the Jacobian in {O} at {B}'s origin, and the spring torques ---------------------------
     b, o = frame_rows[0], frame_rows[1]
-    rot_o = np.empty((3, 3))
-    for r in range(3):
-        for c in range(3):
-            rot_o[r, c] = frames[o, 3 * r + c]
-    x, y, z = frames[b, 9], frames[b, 10], frames[b, 11]
-    shift = np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
-    transform = np.zeros((6, 6))
-    for r in range(3):
-        for c in range(3):
-            transform[r, c] = rot_o[c, r]
-            transform[3 + r, 3 + c] = rot_o[c, r]
-            acc = 0.0
-            for k in range(3):
-                acc += rot_o[k, r] * shift[k, c]
-            transform[r, 3 + c] = acc
+    rot_o, transform = wrench_transform(frames, b, o)
     jac_t = np.zeros((n, nv))
     for a in range(n):
         row = axis_rows[a]
@@ -224,11 +199,7 @@ def reduced_qp(
             if t != 0.0:
                 for v in range(nv):
                     jac_t[a, v] += t * jacobian_world[w, v]
-    for v in range(nv):
-        if springs[v, 2] >= 0:
-            iq = int(springs[v, 2])
-            angle = np.arctan2(q[iq + 1], q[iq]) if springs[v, 3] > 0 else q[iq]
-            passive[v] = -springs[v, 0] * (angle - springs[v, 1])
+    passive_torques(springs, q, passive)
     # -- per chain: free basis, particular solution, its rows ---------------------------------
     columns = np.empty((K + 3, n))
     r_mat = np.empty((K + 3, K + 3))
@@ -267,7 +238,7 @@ def reduced_qp(
             axis = chain_ints[i, HEADER + K + C + j]
             targets[c_i + j] = 0.0
             for a in range(n):
-                columns[c_i + j, a] = _ball_entry(axis, axis_rows[a], d0, d1, d2)
+                columns[c_i + j, a] = ball_entry(axis, axis_rows[a], d0, d1, d2)
         ratio = _orthonormalise(columns, k_i + nb, r_mat)
         worst = min(worst, ratio)
         if not ratio >= RANK_TOL:

@@ -117,7 +117,12 @@ class ContactLimits:
                     f"{torque_limits!r}."
                 )
         limits = np.where(limits >= UNLIMITED, np.inf, limits)  # URDFs write "none" as 1e308
-        limited = problem.actuated_mask & np.isfinite(limits)
+        # a joint that no chain moves carries no share of any force: its limit row would be all
+        # zero (always met, and a stall for ProxQP), so it is left out here, once
+        on_chain = np.zeros(model.nv, dtype=bool)
+        for columns in problem.kinematics.chain_columns:
+            on_chain[columns] = True
+        limited = problem.actuated_mask & np.isfinite(limits) & on_chain
         self.limited_v = np.flatnonzero(limited)
         self.limits = limits[self.limited_v]
         axes = problem.axes

@@ -222,7 +222,7 @@ class FlamingoWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or FlamingoParameters()
-        mass = float(sum(inertia.mass for inertia in robot.model.inertias))  # [kg]
+        mass = robot.mass  # [kg]
         weight = mass * 9.81 if p.weight is None else p.weight  # [N]
         self.slope = 0.0  # global slope estimate [rad]
         self.slope_origin = np.zeros(2)  # a point (x, z) of the global slope line [m]

@@ -67,7 +67,7 @@ from ..control.state_machine import Context, State, StateMachine, Transition
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
-from .base import Gait
+from .base import DISTRIBUTIONS, Gait
 from .hexapod_body import (
     HeadingAttitude,
     HeadingDamper,
@@ -75,7 +75,7 @@ from .hexapod_body import (
     lqr_gain,
     pendulum_model,
 )
-from .hexapod_parameters import DISTRIBUTIONS, HexapodParameters
+from .hexapod_parameters import HexapodParameters
 from .turkey import lift_profile, smoothstep
 
 LEGS = (1, 2, 3, 4, 5, 6)
@@ -114,7 +114,7 @@ class HexapodWalker(Gait):
         super().__init__(robot)
         self.parameters = p = parameters or HexapodParameters()
         model = robot.model
-        mass = float(sum(inertia.mass for inertia in model.inertias))  # [kg]
+        mass = robot.mass  # [kg]
         self.velocity = np.zeros(2)
         self.velocity_setpoint = np.zeros(2)  # the command, acceleration-limited [m/s]
         self.yaw_rate = 0.0

@@ -9,9 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..exceptions import InvalidInputError
-
-DISTRIBUTIONS = ("qp", "partitioned")
+from .base import check_distribution
 
 
 @dataclass
@@ -87,7 +85,4 @@ class HexapodParameters:
     pendulum_fall: float = 0.6
 
     def __post_init__(self) -> None:
-        if self.distribution not in DISTRIBUTIONS:
-            raise InvalidInputError(
-                f"distribution must be one of {DISTRIBUTIONS}, got {self.distribution!r}."
-            )
+        check_distribution(self.distribution)

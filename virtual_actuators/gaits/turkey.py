@@ -150,7 +150,7 @@ class TurkeyWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or TurkeyParameters()
-        mass = float(sum(inertia.mass for inertia in robot.model.inertias))  # [kg]
+        mass = robot.mass  # [kg]
         weight = mass * 9.81 if p.weight is None else p.weight  # [N]
         self.granny = GrannyWalker(
             p.height,

@@ -218,3 +218,14 @@ def test_controller_attachment_with_the_qp():
         controller.add("other", body, method="simplex")
     with pytest.raises(va.InvalidInputError, match="unilateral"):
         controller.add("limits", body, method="qp", unilateral={"z": 0.0}, yield_axes=("z",))
+
+
+def test_every_method_reports_the_three_sets():
+    # API: sol.sets is {"MFS": [...], "RFS": [...], "CFS": [...]}; empty for the QP and dense
+    robot = va.load_robot("solo12")
+    body = va.ParallelVirtualActuator(robot, "base_link", SOLO_FEET, "world", friction=0.6)
+    wrench = np.array([0.0, 0.0, _weight(robot), 0.0, 0.0, 0.0])
+    for method in ("qp", "dense"):
+        sets = body.solve(robot.neutral(), wrench, method=method).sets
+        assert sets == {"MFS": [], "RFS": [], "CFS": []}, method
+    assert set(body.solve(robot.neutral(), wrench).sets) == {"MFS", "RFS", "CFS"}

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..exceptions import ConstraintError, SingularConfigurationError
 from .linalg import backward_tolerance, constrained_min_norm
-from .partitioner import ILL_CONDITIONED, RawSolution
+from .partitioner import ILL_CONDITIONED, RawSolution, no_sets
 from .problem import DistributionProblem
 from .structure import Evaluation
 
@@ -74,7 +74,7 @@ class DenseSolver:
         return RawSolution(
             forces=x.reshape(p, n),
             method=method,
-            sets={},
+            sets=no_sets(),
             systems=(("dense", k.shape[1], 1),),
             solver="dense",
         )

@@ -36,13 +36,19 @@ from .structure import Evaluation
 ILL_CONDITIONED = 1e10
 
 
+def no_sets() -> dict[str, list[tuple[str, str]]]:
+    """The ``sets`` of a solution built without a partition: every key, no label."""
+    return {"MFS": [], "RFS": [], "CFS": []}
+
+
 @dataclass
 class RawSolution:
     """Solver output before it is wrapped into a :class:`~virtual_actuators.Solution`."""
 
     forces: np.ndarray
     method: str
-    sets: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
+    #: MFS / RFS / CFS labels; empty lists for the solvers that build no partition (dense, QP)
+    sets: dict[str, list[tuple[str, str]]] = field(default_factory=lambda: no_sets())
     #: linear systems inverted at this solve: ``(what, size, how many)``
     systems: tuple[tuple[str, int, int], ...] = ()
     #: the algorithm that produced it (``"dense"`` when the partitioned one could not decide)

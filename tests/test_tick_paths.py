@@ -240,8 +240,12 @@ def test_frame_velocity_equals_the_array_formula():
         columns = snapshot.tree.frame_columns(frame_id)
         vx, vy, vz, wx, wy, wz = snapshot.jacobian_world[:, columns] @ v[columns]
         expected = np.array((vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x))
-        np.testing.assert_array_equal(snapshot.frame_velocity(frame), expected)
-        np.testing.assert_array_equal(snapshot.frame_velocity(frame_id), expected)
+        # the compiled kernel sums the columns in its own order: equal to rounding
+        np.testing.assert_allclose(snapshot.frame_velocity(frame), expected, rtol=0, atol=1e-14)
+        np.testing.assert_array_equal(
+            snapshot.frame_velocity(frame_id), snapshot.frame_velocity(frame)
+        )
+        expected = snapshot.frame_velocity(frame)
         first = snapshot.frame_velocity(frame)
         first[:] = 0.0  # a copy: the cache is unchanged
         np.testing.assert_array_equal(snapshot.frame_velocity(frame), expected)

@@ -275,6 +275,28 @@ def rotation_log(rotation: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
+def point_velocity(
+    jacobian_world: np.ndarray, v: np.ndarray, columns: np.ndarray, x: float, y: float, z: float
+) -> tuple[float, float, float]:
+    """Linear velocity [m/s] in world axes of the point ``(x, y, z)`` [m] fixed to a body.
+
+    The body moves with the joints of ``columns`` (its support): the twist
+    ``J[:, columns] v[columns]`` is at the world origin, so the point moves at ``v + w x p``.
+    """
+    vx = vy = vz = wx = wy = wz = 0.0
+    for j in range(columns.shape[0]):
+        c = columns[j]
+        rate = v[c]
+        vx += jacobian_world[0, c] * rate
+        vy += jacobian_world[1, c] * rate
+        vz += jacobian_world[2, c] * rate
+        wx += jacobian_world[3, c] * rate
+        wy += jacobian_world[4, c] * rate
+        wz += jacobian_world[5, c] * rate
+    return vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x
+
+
+@njit(cache=True)
 def relative_sensor(
     jacobian_world: np.ndarray,
     frames: np.ndarray,
@@ -365,6 +387,7 @@ __all__ = [
     "REVOLUTE_UNBOUNDED",
     "SPHERICAL",
     "forward_kinematics",
+    "point_velocity",
     "relative_sensor",
     "revolute_terms",
     "rotation_log",

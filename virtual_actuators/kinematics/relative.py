@@ -101,6 +101,8 @@ class RelativeKinematics:
         self._row_o = frame_rows[self.reference_id]
         self._rows_a = np.array([frame_rows[int(r)] for r in self.reaction_ids], dtype=int)
         self._axis_rows = np.asarray(self.rows, dtype=np.int64)
+        #: Rows of {O} then of every {A_i} in the snapshot's frame table (compiled readers).
+        self.orientation_rows = np.array([self._row_o, *self._rows_a.tolist()], dtype=np.int64)
         self._sensor_rows = np.array([self._row_b, self._row_o, self._rows_a[0]], dtype=np.int64)
         self._sensor_rows_end = int(self._sensor_rows.max()) + 1  # frame rows the sensor reads
         action_joint = model.frames[self.action_id].parentJoint

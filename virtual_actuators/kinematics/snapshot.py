@@ -20,6 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
+from .kernels import point_velocity
 from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
@@ -227,7 +228,13 @@ class Snapshot:
         if frame_id is None:
             frame_id = self._frame_id(frame)
         cached = self._velocities.get(frame_id)
-        if cached is None:
+        if cached is None and self.backend == "compiled":  # one kernel call
+            x, y, z = self._placement(frame_id)[1].tolist()
+            columns = self.tree.frame_columns(frame_id)
+            cached = self._velocities[frame_id] = np.array(
+                point_velocity(self._jacobian, self.v, columns, x, y, z)
+            )
+        elif cached is None:
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
             twist = self.jacobian_world[:, columns] @ self.v[columns]

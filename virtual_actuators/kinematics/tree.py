@@ -216,6 +216,8 @@ class KinematicTree:
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
                 f"({self.nq},) (model.nq)."
             )
+        if not self.unit_slices and math.isfinite(q @ q):  # no unit norms: one dot suffices
+            return q
         if kernels.HAVE_NUMBA:  # finiteness and unit norms in one compiled pass
             error = kernels.unit_norm_error(q, self._unit_bounds)
             if error <= 1e-12 and error >= 0.0:

@@ -21,6 +21,7 @@ from virtual_actuators.robots.robot import Robot
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
+    direct_indices,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
@@ -149,6 +150,7 @@ class Simulator:
         self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
         self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
+        self._direct_q, self._direct_v = direct_indices(self.mujoco_model)  # one-gather reads
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -161,7 +163,10 @@ class Simulator:
     @property
     def q(self) -> np.ndarray:
         """Configuration in Pinocchio's convention (a fresh array of size ``model.nq``)."""
-        return configuration_from_mujoco(self.mujoco_model, self.data.qpos)
+        direct, qpos = self._direct_q, self.data.qpos
+        if direct is not None and math.isfinite(np.dot(qpos, qpos)):  # hinges and slides
+            return qpos[direct]
+        return configuration_from_mujoco(self.mujoco_model, qpos)
 
     @property
     def v(self) -> np.ndarray:
@@ -169,7 +174,10 @@ class Simulator:
 
         The free-flyer's linear and angular velocities are in its body frame.
         """
-        return velocity_from_mujoco(self.mujoco_model, self.data.qpos, self.data.qvel)
+        direct, qvel = self._direct_v, self.data.qvel
+        if direct is not None and math.isfinite(np.dot(qvel, qvel)):  # no free joint
+            return qvel[direct]
+        return velocity_from_mujoco(self.mujoco_model, self.data.qpos, qvel)
 
     def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
         """Restart at time 0 from a state given in Pinocchio's conventions.
@@ -258,17 +266,20 @@ class Simulator:
 
     def _apply_pushes(self) -> None:
         """Write the active pushes into ``xfrc_applied`` (removing the ones that ended)."""
-        self.data.xfrc_applied[:] -= self._applied
-        self._applied[:] = 0.0
-        now = self.time
-        self._pushes = [push for push in self._pushes if now < push.end]
-        for push in self._pushes:
-            point = self.data.site_xpos[push.site]
-            lever = point - self.data.xipos[push.body]
-            self._applied[push.body, :3] += push.force
-            self._applied[push.body, 3:] += np.cross(lever, push.force)
-        self.data.xfrc_applied[:] += self._applied
-        self._pushing = bool(self._pushes)
+        data, applied = self.data, self._applied
+        if self._pushing:  # else our share is zero already
+            data.xfrc_applied[:] -= applied
+            applied[:] = 0.0
+        now = float(data.time)
+        pushes = self._pushes = [push for push in self._pushes if now < push.end]
+        for push in pushes:
+            x, y, z = (data.site_xpos[push.site] - data.xipos[push.body]).tolist()  # lever [m]
+            fx, fy, fz = push.force.tolist()  # [N]
+            applied[push.body, :3] += push.force
+            applied[push.body, 3:] += (y * fz - z * fy, z * fx - x * fz, x * fy - y * fx)
+        if pushes:
+            data.xfrc_applied[:] += applied
+        self._pushing = bool(pushes)
 
     # -- contacts --------------------------------------------------------------------------------
 

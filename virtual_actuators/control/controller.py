@@ -48,6 +48,7 @@ from ..vocabulary.frames import (
 from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
 from .contact_limits import enforce_unilateral
 from .output import ControlOutput, velocity_names
+from .warm_up import warm_up
 
 _NO_LIMP = np.zeros(0, dtype=np.intp)
 _MAX_CHECKED_LIMP = 1024  # joint_indices arrays trusted by compute(); more are checked per call
@@ -335,6 +336,18 @@ class Controller:
             position = attachment.sensor.position(snapshot)
             for component, index in zip(attachment.components, attachment.indices, strict=True):
                 component.reset(position[index], time)
+
+    def warm_up(self, q: np.ndarray) -> None:
+        """Compile (or load from numba's cache) every kernel the ticks use, at ``q``.
+
+        Call it before a timed loop: otherwise the first ticks pay tens of milliseconds per
+        kernel. Nothing is evaluated for real: no component runs and no state changes.
+
+        Raises:
+            InvalidInputError: A bad ``q``.
+
+        """
+        warm_up(self, q)
 
     def _get(self, name: str) -> Attachment:
         try:

@@ -1,0 +1,72 @@
+"""Load a controller's compiled kernels before its first tick (:func:`warm_up`).
+
+numba compiles a kernel, or reads it from its on-disk cache, the first time it is called with
+a given set of argument types: tens of milliseconds per kernel, which would land in the first
+control ticks. :func:`warm_up` calls every kernel an attachment's tick uses once, on results it
+throws away: no component is evaluated, no controller state changes, and the QP's warm start
+(kept per thread) is left alone by solving on a short-lived thread of its own.
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+from ..actuators import ParallelVirtualActuator
+from ..exceptions import VirtualActuatorError
+from ..kinematics.snapshot import Snapshot
+from .contact_limits import least_margin
+
+
+def warm_up(controller: object, q: np.ndarray) -> None:
+    """Run every compiled kernel the controller's ticks use once, at configuration ``q``.
+
+    Args:
+        controller: A :class:`~virtual_actuators.Controller`.
+        q: A configuration ``(nq,)`` (e.g. the one the run starts from).
+
+    Raises:
+        InvalidInputError: A bad ``q``.
+
+    """
+    robot = controller.robot
+    snapshot = Snapshot(robot, q, np.zeros(robot.model.nv))
+    for attachment in controller.attachments.values():
+        kinematics = attachment.sensor.kinematics
+        kinematics.sense(snapshot, velocity=True)
+        snapshot.frame_velocity(kinematics.action_id)
+        actuator = attachment.actuator
+        if not isinstance(actuator, ParallelVirtualActuator):
+            continue
+        try:
+            if attachment.method == "qp":
+                _on_own_thread(actuator, snapshot, attachment)
+                continue
+            solution = actuator.solve(
+                snapshot, np.zeros(actuator.n), attachment.free, method=attachment.method
+            )
+        except VirtualActuatorError:  # singular at q, say: the kernels load on the first tick
+            continue
+        if attachment.yield_mask is not None:
+            least_margin(attachment, snapshot, solution.forces)
+
+
+def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attachment) -> None:
+    """A QP solve on a new thread: its kernels load, this thread's warm start is untouched."""
+
+    def solve() -> None:
+        try:
+            actuator.solve(
+                snapshot, np.zeros(actuator.n), attachment.free, method="qp",
+                weights=attachment.weights,
+            )  # fmt: skip
+        except VirtualActuatorError:
+            pass
+
+    worker = threading.Thread(target=solve, name="va-warm-up")
+    worker.start()
+    worker.join()
+
+
+__all__ = ["warm_up"]

@@ -69,7 +69,7 @@ def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray)
     kinematics = attachment.actuator.kinematics
     frames = snapshot.frame_table
     rows = kinematics.orientation_rows
-    if not HAVE_NUMBA or frames.shape[0] <= rows.max():
+    if not HAVE_NUMBA or frames.shape[0] < kinematics.orientation_rows_end:
         return None
     cones = attachment.friction is not None
     return _least_margin(

@@ -93,6 +93,8 @@ class Controller:
         self.attachments: dict[str, Attachment] = {}
         #: id -> index arrays made by joint_indices (read-only, in range): compute() trusts them
         self._checked_limp: dict[int, np.ndarray] = {}
+        self._tree = tree_of(robot)
+        self._distinct: set[tuple] = set()  # active tuples seen without a repeated name
         model = robot.model
         self.joint_names = velocity_names(robot)
         limits = np.full(model.nv, np.inf)
@@ -396,7 +398,7 @@ class Controller:
             limp = _NO_LIMP if type(limp) is tuple and not limp else self._check_limp(limp)
         if isinstance(q, Snapshot):
             snapshot = q
-            if snapshot.tree is not tree_of(self.robot) or snapshot.v is None:
+            if snapshot.tree is not self._tree or snapshot.v is None:
                 raise InvalidInputError(
                     "compute() needs a snapshot of this controller's robot built with v."
                 )
@@ -410,8 +412,11 @@ class Controller:
             if type(active) is not tuple:  # a state's active names are a tuple already
                 active = (active,) if isinstance(active, str) else _names_tuple(active)
             names = active
-            if len(set(names)) != len(names):
-                raise InvalidInputError(f"active names an attachment twice: {names}.")
+            if names not in self._distinct:
+                if len(set(names)) != len(names):
+                    raise InvalidInputError(f"active names an attachment twice: {names}.")
+                if len(self._distinct) < _MAX_CHECKED_LIMP:
+                    self._distinct.add(names)
         tau = None
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}

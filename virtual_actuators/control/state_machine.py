@@ -97,6 +97,10 @@ class Context:
             )
         self.robot = robot
         self.snapshot = snapshot
+        # the snapshot's reads directly (a tick's cost: no second call per read)
+        self.frame_position = snapshot.frame_position
+        self.frame_velocity = snapshot.frame_velocity
+        self.frame_rotation = snapshot.frame_rotation
         self.q, self.v, self.time = snapshot.q, snapshot.v, float(time)
         self.contacts = dict(contacts or {})
         self.time_in_state = time_in_state
@@ -128,7 +132,7 @@ class Context:
 
         """
         rotation = self.snapshot.placement(frame)[0]
-        return math.atan2(float(rotation[0, 2]), float(rotation[0, 0]))
+        return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
 
     def frame_velocity(self, frame: str) -> np.ndarray:
         """Linear velocity of a frame's origin in world axes [m/s].

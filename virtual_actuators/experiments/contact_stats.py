@@ -56,6 +56,7 @@ class StanceForces:
         self.samples = 0
         self._since: dict[tuple[str, ...], float] = {}  # foot -> time it entered support [s]
         self._force = np.zeros(6)  # mj_contactForce's output, in the contact frame
+        self._owners: dict[tuple, dict[int, int]] = {}  # settled feet -> geom owners
 
     def sample(self, feet: Iterable[Iterable[str]]) -> None:
         """Read the supporting feet; each foot is the frames whose geoms touch for it.
@@ -72,17 +73,22 @@ class StanceForces:
         now = simulator.time
         since = {foot: self._since.get(foot, now) for foot in map(tuple, feet)}
         self._since = since
-        settled = [foot for foot, entered in since.items() if now - entered >= SETTLE_TIME - 1e-9]
+        settled = tuple(
+            foot for foot, entered in since.items() if now - entered >= SETTLE_TIME - 1e-9
+        )
         if not settled:
             return
         mm = simulator.mujoco_model
-        for frame in {frame for foot in settled for frame in foot}:
-            mm.check_frame(frame)
-        owner: dict[int, int] = {}  # robot geom -> index of the settled foot owning it
-        for index, foot in enumerate(settled):
-            for frame in foot:
-                for geom in mm.frame_geoms.get(frame, ()):
-                    owner.setdefault(geom, index)
+        owner = self._owners.get(settled)
+        if owner is None:  # robot geom -> index of the settled foot owning it, once per set
+            for frame in {frame for foot in settled for frame in foot}:
+                mm.check_frame(frame)
+            owner = {}
+            for index, foot in enumerate(settled):
+                for frame in foot:
+                    for geom in mm.frame_geoms.get(frame, ()):
+                        owner.setdefault(geom, index)
+            self._owners[settled] = owner
         normal = [0.0] * len(settled)  # [N]
         tangential = [0.0] * len(settled)  # sum of the contacts' |f_t| [N]
         model, data, force = simulator.model, simulator.data, self._force

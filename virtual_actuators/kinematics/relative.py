@@ -103,6 +103,8 @@ class RelativeKinematics:
         self._axis_rows = np.asarray(self.rows, dtype=np.int64)
         #: Rows of {O} then of every {A_i} in the snapshot's frame table (compiled readers).
         self.orientation_rows = np.array([self._row_o, *self._rows_a.tolist()], dtype=np.int64)
+        self.orientation_rows_end = int(self.orientation_rows.max()) + 1  # table rows read
+        self._rows_end = max(self.orientation_rows_end, self._row_b + 1)  # compute() reads
         self._sensor_rows = np.array([self._row_b, self._row_o, self._rows_a[0]], dtype=np.int64)
         self._sensor_rows_end = int(self._sensor_rows.max()) + 1  # frame rows the sensor reads
         action_joint = model.frames[self.action_id].parentJoint
@@ -177,7 +179,7 @@ class RelativeKinematics:
         snapshot = self.snapshot(state)
         jacobian_world = snapshot.jacobian_world
         frames = snapshot.frame_table
-        if frames.shape[0] <= max(self._row_b, self._row_o, self._rows_a.max()):
+        if frames.shape[0] < self._rows_end:
             frames = self._frames_of(snapshot)  # frames required after that snapshot ran
         position_b = frames[self._row_b, 9:]
         rotation_o = frames[self._row_o, :9].reshape(3, 3)
@@ -214,7 +216,7 @@ class RelativeKinematics:
         """
         snapshot = self.snapshot(state)
         frames = snapshot.frame_table
-        if frames.shape[0] <= max(self._row_o, self._rows_a.max()):
+        if frames.shape[0] < self.orientation_rows_end:
             frames = self._frames_of(snapshot)
         return frames[self._row_o, :9].reshape(3, 3), frames[self._rows_a, :9].reshape(-1, 3, 3)
 

@@ -189,7 +189,8 @@ class Snapshot:
             FrameNotFoundError: Unknown frame name or id.
 
         """
-        return self._placement(self._frame_id(frame))
+        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
+        return self._placement(self._frame_id(frame) if frame_id is None else frame_id)
 
     def frame_position(self, frame: int | str) -> np.ndarray:
         """World position of a frame's origin [m] (a copy).
@@ -212,7 +213,8 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        return self._placement(self._frame_id(frame))[0].copy()
+        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
+        return self._placement(self._frame_id(frame) if frame_id is None else frame_id)[0].copy()
 
     def frame_velocity(self, frame: int | str) -> np.ndarray:
         """Linear velocity of a frame's origin in world axes [m/s].

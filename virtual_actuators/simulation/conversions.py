@@ -383,7 +383,8 @@ def torques_to_ctrl(
     if ignore_unactuated or not gathers.unactuated:
         return ctrl
     if len(gathers.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
-        if max(abs(tau.item(i)) for i in gathers.unactuated) <= UNACTUATED_TOLERANCE:
+        efforts = tau[gathers.unactuated_v].tolist()
+        if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
             return ctrl
     elif np.abs(tau[gathers.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
         return ctrl

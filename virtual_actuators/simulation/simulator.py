@@ -36,6 +36,8 @@ from virtual_actuators.simulation.terrain import Terrain
 
 __all__ = ["Simulator"]
 
+_NOTHING: frozenset[int] = frozenset()
+
 
 @dataclass
 class _Push:
@@ -151,6 +153,7 @@ class Simulator:
         self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self._direct_q, self._direct_v = direct_indices(self.mujoco_model)  # one-gather reads
+        self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -382,7 +385,8 @@ class Simulator:
                 if len(self._switch_geoms) >= 64:
                     self._switch_geoms.clear()
                 self._switch_geoms[frames] = pairs
-        touched = {geom for _, geom, _ in self._terrain_contacts()}
+        contacts = self._terrain_contacts()
+        touched = {hit[1] for hit in contacts} if contacts else _NOTHING
         out = {frame: not geoms.isdisjoint(touched) for frame, geoms in pairs}
         self._switches.update(out)  # in_contact's cache (reset by _terrain_contacts)
         return out
@@ -464,9 +468,15 @@ class Simulator:
         """
         contacts = self._terrain_contacts()
         touching = self._touching
-        if touching is None:  # once per physics state
-            owners = self.mujoco_model.geom_frames
-            touching = frozenset(name for _, geom, _ in contacts for name in owners[geom])
+        if touching is None:  # once per physics state; the same geoms give the same set object
+            geoms = tuple(geom for _, geom, _ in contacts)
+            touching = self._touching_sets.get(geoms)
+            if touching is None:
+                owners = self.mujoco_model.geom_frames
+                touching = frozenset(name for geom in geoms for name in owners[geom])
+                if len(self._touching_sets) >= 256:
+                    self._touching_sets.clear()
+                self._touching_sets[geoms] = touching
             self._touching = touching
         return touching
 

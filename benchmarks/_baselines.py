@@ -449,6 +449,19 @@ class WalkProbe:
         return np.diff(np.asarray(self.tick_ends, dtype=float)) / 1e3
 
 
+def timed_walks(name: str, seconds: float, runs: int = 3) -> list[float]:
+    """Real-time factors of ``runs`` plain ``run_walk(name)`` calls (nothing wrapped), after a
+    short warm-up run (imports, first allocations)."""
+    from virtual_actuators.demos.walking import run_walk
+
+    run_walk(name, duration=min(seconds, 0.3), progress=False)
+    factors = []
+    for _ in range(runs):
+        result = run_walk(name, duration=seconds, progress=False)
+        factors.append(float(result.simulator.time / result.wall_time))
+    return factors
+
+
 def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, Any]:
     """``run_walk(name)`` with the gait's ``compute``, the state machine's ``update``, the
     controller's ``compute``, the simulator's ``step`` and its contact queries wrapped by a

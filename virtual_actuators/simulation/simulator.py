@@ -36,8 +36,6 @@ from virtual_actuators.simulation.terrain import Terrain
 
 __all__ = ["Simulator"]
 
-_NOTHING: frozenset[int] = frozenset()
-
 
 @dataclass
 class _Push:
@@ -154,6 +152,8 @@ class Simulator:
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self._direct_q, self._direct_v = direct_indices(self.mujoco_model)  # one-gather reads
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
+        self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms
+        self._touched: tuple[int, ...] = ()
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -309,6 +309,7 @@ class Simulator:
         key = (self.data.time, self.data.ncon)
         if self._contacts_time != key:
             self._contacts = self._scan_contacts()
+            self._touched = tuple(hit[1] for hit in self._contacts)  # robot geoms touching
             self._contacts_time = key
             self._switches = {}
             self._touching = None
@@ -385,11 +386,17 @@ class Simulator:
                 if len(self._switch_geoms) >= 64:
                     self._switch_geoms.clear()
                 self._switch_geoms[frames] = pairs
-        contacts = self._terrain_contacts()
-        touched = {hit[1] for hit in contacts} if contacts else _NOTHING
-        out = {frame: not geoms.isdisjoint(touched) for frame, geoms in pairs}
+        self._terrain_contacts()
+        key = (pairs, self._touched)
+        out = self._switch_answers.get(key)  # the same geoms touching: the same answers
+        if out is None:
+            touched = set(self._touched)
+            out = {frame: not geoms.isdisjoint(touched) for frame, geoms in pairs}
+            if len(self._switch_answers) >= 256:
+                self._switch_answers.clear()
+            self._switch_answers[key] = out
         self._switches.update(out)  # in_contact's cache (reset by _terrain_contacts)
-        return out
+        return dict(out)
 
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, in world axes [N].
@@ -466,10 +473,10 @@ class Simulator:
             Frame names (a geom counts for its parent frame and every frame that owns it).
 
         """
-        contacts = self._terrain_contacts()
+        self._terrain_contacts()
         touching = self._touching
         if touching is None:  # once per physics state; the same geoms give the same set object
-            geoms = tuple(geom for _, geom, _ in contacts)
+            geoms = self._touched
             touching = self._touching_sets.get(geoms)
             if touching is None:
                 owners = self.mujoco_model.geom_frames

@@ -89,8 +89,8 @@ class Attachment:
         self.bound_rows = np.vstack(rows) if rows else np.zeros((0, p * n))
         self.bound_lows = np.repeat(np.array(list(self.unilateral.values()), dtype=float), p)
         force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
-        self.force_columns = np.array([i for i, _ in force_axes], dtype=int)
-        self.force_components = np.array([k for _, k in force_axes], dtype=int)
+        self.force_columns = np.array([i for i, _ in force_axes], dtype=np.int64)
+        self.force_components = np.array([k for _, k in force_axes], dtype=np.int64)
         if self.friction is None:
             return
         # Friction pyramid per chain: rows (normal, mu n -+ t1, mu n -+ t2) of the reaction

@@ -228,6 +228,20 @@ def ball_entry(axis: int, row: int, d0: float, d1: float, d2: float) -> float:
 
 
 @njit(cache=True)
+def offset_in_o(
+    frames: np.ndarray, b: int, a: int, rot_o: np.ndarray
+) -> tuple[float, float, float]:
+    """``R_O^T (p_B - p_A)``: the offset from {A} to {B} in {O} (``b``, ``a``: frame rows)."""
+    dx = frames[b, 9] - frames[a, 9]
+    dy = frames[b, 10] - frames[a, 10]
+    dz = frames[b, 11] - frames[a, 11]
+    d0 = rot_o[0, 0] * dx + rot_o[1, 0] * dy + rot_o[2, 0] * dz
+    d1 = rot_o[0, 1] * dx + rot_o[1, 1] * dy + rot_o[2, 1] * dz
+    d2 = rot_o[0, 2] * dx + rot_o[1, 2] * dy + rot_o[2, 2] * dz
+    return d0, d1, d2
+
+
+@njit(cache=True)
 def wrench_transform(frames: np.ndarray, b: int, o: int) -> tuple[np.ndarray, np.ndarray]:
     """``(R_O, T)``: {O}'s rotation and the map of world twists to {B}'s twist in {O}.
 
@@ -272,6 +286,7 @@ __all__ = [
     "mm",
     "mv",
     "null_rows",
+    "offset_in_o",
     "passive_torques",
     "wrench_transform",
 ]

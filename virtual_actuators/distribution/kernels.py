@@ -29,6 +29,7 @@ from .kernel_linalg import (
     ball_entry,
     constraint_error,
     null_rows,
+    offset_in_o,
     passive_torques,
     wrench_transform,
 )
@@ -213,13 +214,7 @@ def distribute(
         fast = batch and rank > 0 and rank == k_i + nb
         d0, d1, d2 = 0.0, 0.0, 0.0
         if nb:  # offset from {A_i} to {B} in {O}
-            a_row = frame_rows[2 + i]
-            dx = frames[b, 9] - frames[a_row, 9]
-            dy = frames[b, 10] - frames[a_row, 10]
-            dz = frames[b, 11] - frames[a_row, 11]
-            d0 = rot_o[0, 0] * dx + rot_o[1, 0] * dy + rot_o[2, 0] * dz
-            d1 = rot_o[0, 1] * dx + rot_o[1, 1] * dy + rot_o[2, 1] * dz
-            d2 = rot_o[0, 2] * dx + rot_o[1, 2] * dy + rot_o[2, 2] * dz
+            d0, d1, d2 = offset_in_o(frames, b, frame_rows[2 + i], rot_o)
         if fast:
             # QR order: own constrained joints, ball axes, then the free joints; the
             # constraint columns are also the chain's first rows

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .kernel_linalg import ball_entry, passive_torques, wrench_transform
+from .kernel_linalg import ball_entry, offset_in_o, passive_torques, wrench_transform
 
 # columns of the per-chain integer table: counts, then the column blocks
 K_COLS, C_CON, NB_BALL = 0, 1, 2
@@ -213,12 +213,7 @@ def reduced_qp(
         k_i, c_i, nb = chain_ints[i, K_COLS], chain_ints[i, C_CON], chain_ints[i, NB_BALL]
         d_i = k_i - c_i
         a_row = frame_rows[2 + i]
-        dx = frames[b, 9] - frames[a_row, 9]
-        dy = frames[b, 10] - frames[a_row, 10]
-        dz = frames[b, 11] - frames[a_row, 11]
-        d0 = rot_o[0, 0] * dx + rot_o[1, 0] * dy + rot_o[2, 0] * dz
-        d1 = rot_o[0, 1] * dx + rot_o[1, 1] * dy + rot_o[2, 1] * dz
-        d2 = rot_o[0, 2] * dx + rot_o[1, 2] * dy + rot_o[2, 2] * dz
+        d0, d1, d2 = offset_in_o(frames, b, a_row, rot_o)
         # columns in order: own constrained joints, ball axes, free joints
         at = c_i + nb
         for j in range(k_i):

@@ -166,6 +166,9 @@ class Snapshot:
         return cached
 
     def _frame_id(self, frame: int | str) -> int:
+        if frame.__class__ is str:  # names resolved before: one dict read
+            frame_id = self.tree._names.get(frame)
+            return self.tree.frame_id(frame) if frame_id is None else frame_id
         if isinstance(frame, str):
             return self.tree.frame_id(frame)
         model = self.tree.model
@@ -189,8 +192,7 @@ class Snapshot:
             FrameNotFoundError: Unknown frame name or id.
 
         """
-        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
-        return self._placement(self._frame_id(frame) if frame_id is None else frame_id)
+        return self._placement(self._frame_id(frame))
 
     def frame_position(self, frame: int | str) -> np.ndarray:
         """World position of a frame's origin [m] (a copy).
@@ -199,11 +201,6 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
-        if frame_id is not None and self._frames is not None:  # fast path: a computed frame
-            row = self._rows.get(frame_id)
-            if row is not None:
-                return self._frames[row, 9:].copy()
         return self._placement(self._frame_id(frame))[1].copy()
 
     def frame_rotation(self, frame: int | str) -> np.ndarray:
@@ -213,8 +210,7 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
-        return self._placement(self._frame_id(frame) if frame_id is None else frame_id)[0].copy()
+        return self._placement(self._frame_id(frame))[0].copy()
 
     def frame_velocity(self, frame: int | str) -> np.ndarray:
         """Linear velocity of a frame's origin in world axes [m/s].
@@ -226,24 +222,13 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
-        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
-        if frame_id is None:
-            frame_id = self._frame_id(frame)
+        frame_id = self._frame_id(frame)
         cached = self._velocities.get(frame_id)
-        if cached is None and self.backend == "compiled":  # one kernel call
+        if cached is None:  # the kernel runs as plain Python without numba
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
             cached = self._velocities[frame_id] = np.array(
-                point_velocity(self._jacobian, self.v, columns, x, y, z)
-            )
-        elif cached is None:
-            x, y, z = self._placement(frame_id)[1].tolist()
-            columns = self.tree.frame_columns(frame_id)
-            twist = self.jacobian_world[:, columns] @ self.v[columns]
-            vx, vy, vz, wx, wy, wz = twist.tolist()  # plain floats: the same arithmetic
-            # the twist is at the world origin: the frame origin moves at v + w x p
-            cached = self._velocities[frame_id] = np.array(
-                (vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x)
+                point_velocity(self.jacobian_world, self.v, columns, x, y, z)
             )
         return cached.copy()
 

@@ -123,16 +123,6 @@ def _gathers(mm: MujocoModel) -> _Gathers:
     return gathers
 
 
-def direct_indices(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """``(index_q, index_v)`` with ``q = qpos[index_q]`` and ``v = qvel[index_v]``, or None.
-
-    ``index_q`` exists when every joint is a hinge or a slide, ``index_v`` when none is free: the
-    conversions are then one gather (see :func:`configuration_from_mujoco`).
-    """
-    gathers = _gathers(mm)
-    return gathers.direct_q, gathers.direct_v
-
-
 def _vector(value: object, size: int, what: str) -> np.ndarray:
     """A finite float vector of the given size, or InvalidInputError.
 

@@ -21,7 +21,6 @@ from virtual_actuators.robots.robot import Robot
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
-    direct_indices,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
@@ -150,7 +149,6 @@ class Simulator:
         self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
         self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
-        self._direct_q, self._direct_v = direct_indices(self.mujoco_model)  # one-gather reads
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
         self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms
         self._touched: tuple[int, ...] = ()
@@ -166,10 +164,7 @@ class Simulator:
     @property
     def q(self) -> np.ndarray:
         """Configuration in Pinocchio's convention (a fresh array of size ``model.nq``)."""
-        direct, qpos = self._direct_q, self.data.qpos
-        if direct is not None and math.isfinite(np.dot(qpos, qpos)):  # hinges and slides
-            return qpos[direct]
-        return configuration_from_mujoco(self.mujoco_model, qpos)
+        return configuration_from_mujoco(self.mujoco_model, self.data.qpos)
 
     @property
     def v(self) -> np.ndarray:
@@ -177,10 +172,7 @@ class Simulator:
 
         The free-flyer's linear and angular velocities are in its body frame.
         """
-        direct, qvel = self._direct_v, self.data.qvel
-        if direct is not None and math.isfinite(np.dot(qvel, qvel)):  # no free joint
-            return qvel[direct]
-        return velocity_from_mujoco(self.mujoco_model, self.data.qpos, qvel)
+        return velocity_from_mujoco(self.mujoco_model, self.data.qpos, self.data.qvel)
 
     def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
         """Restart at time 0 from a state given in Pinocchio's conventions.

@@ -2,7 +2,10 @@
 
 ``least_margin`` decides, without building the constraint rows, whether a tick's distribution
 already meets the friction cones and unilateral minima (the usual tick). It must equal the
-smallest margin computed from Pinocchio's sole orientations, and the rows' own margins.
+smallest margin computed from Pinocchio's sole orientations, and the rows' own margins. When a
+request must be scaled, ``largest_scale`` (compiled ratio test) must agree with the numpy ratio
+test on the rows and with a bisection on the oracle margins, and the interpolated solution must
+equal a solve of the scaled request.
 """
 
 from __future__ import annotations
@@ -15,7 +18,14 @@ from oracles import robot
 import virtual_actuators as va
 from virtual_actuators.components import ConstantForce
 from virtual_actuators.control import Controller
-from virtual_actuators.control.contact_limits import constraint_rows, least_margin
+from virtual_actuators.control.contact_limits import (
+    constraint_rows,
+    enforce_unilateral,
+    interpolate,
+    largest_scale,
+    least_margin,
+    ratio_test,
+)
 
 PLANAR = ("x", "z", "ry")
 ANKLES = ["left_ankle", "right_ankle"]
@@ -86,3 +96,93 @@ def test_least_margin_of_unilateral_minima_is_the_least_share_above_its_floor():
         forces = rng.normal(0.0, 40.0, (2, 3))
         margin = least_margin(attachment, snapshot, forces)
         assert margin == pytest.approx((forces[:, 1] - 12.0).min(), rel=1e-12, abs=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_largest_scale_equals_the_ratio_test_and_a_bisection_on_the_oracle(seed):
+    rng = np.random.default_rng(100 + seed)
+    mu, min_normal = rng.uniform(0.3, 1.0), rng.uniform(0.0, 15.0)
+    rob, attachment = _flamingo(mu, min_normal)
+    checked = 0
+    for _ in range(60):
+        q = _tilted(rob, rng)
+        snapshot = va.Snapshot(rob, q, np.zeros(rob.model.nv))
+        base = rng.normal(0.0, 20.0, (2, 3)) + [0.0, 80.0, 0.0]  # inside the cones, mostly
+        full = base + rng.normal(0.0, 80.0, (2, 3))
+        alpha = largest_scale(attachment, snapshot, full, base)
+        rows, lows = constraint_rows(attachment, snapshot)
+        reference = ratio_test(rows @ full.ravel(), rows @ base.ravel(), lows)
+        assert alpha == pytest.approx(reference, rel=1e-12, abs=1e-12)
+        assert 0.0 <= alpha <= 1.0
+
+        def feasible(a, q=q, full=full, base=base):
+            shares = base + a * (full - base)
+            margins = _oracle_margins(rob, q, shares, mu, min_normal)
+            return margins.min() >= 0.0
+
+        if not feasible(0.0) or feasible(1.0):
+            continue  # the bisection below needs a feasible base and an infeasible full
+        low, high = 0.0, 1.0  # the feasible set in alpha is an interval from 0
+        for _ in range(60):
+            middle = 0.5 * (low + high)
+            low, high = (middle, high) if feasible(middle) else (low, middle)
+        assert alpha == pytest.approx(low, abs=1e-9)
+        checked += 1
+    assert checked >= 10
+
+
+def test_ratio_test_is_zero_when_a_condition_cannot_be_met():
+    lows = np.array([1.0, 0.0])
+    assert ratio_test(np.array([0.5, 3.0]), np.array([0.5, 2.0]), lows) == 0.0  # flat, short
+    assert ratio_test(np.array([2.0, -1.0]), np.array([2.0, 1.0]), lows) == 0.5
+    assert ratio_test(np.array([3.0, 2.0]), np.array([-1.0, 1.0]), lows) == 1.0  # the end meets
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_interpolated_solution_equals_a_solve_of_the_scaled_request(seed):
+    rng = np.random.default_rng(200 + seed)
+    rob, attachment = _flamingo(0.6, 5.0)
+    actuator = attachment.actuator
+    for _ in range(20):
+        snapshot = va.Snapshot(rob, _tilted(rob, rng), np.zeros(rob.model.nv))
+        request = rng.normal(0.0, 60.0, 3) + [0.0, 150.0, 0.0]
+        base = np.where(attachment.yield_mask, 0.0, request)
+        start = actuator.solve(snapshot, base, attachment.free)
+        end = actuator.solve(snapshot, request, attachment.free)
+        alpha = rng.uniform(0.0, 1.0)
+        blend = interpolate(start, end, alpha)
+        direct = actuator.solve(snapshot, base + alpha * (request - base), attachment.free)
+        scale = np.abs(direct.forces).max() + np.abs(direct.tau).max()
+        for name in ("forces", "tau", "wrench", "requested", "base_effort"):
+            np.testing.assert_allclose(
+                getattr(blend, name), getattr(direct, name), rtol=0, atol=1e-11 * scale
+            )
+        assert blend.residual == pytest.approx(direct.residual, abs=1e-9 * scale)
+        assert blend.method == direct.method
+        assert blend.reactions == direct.reactions and blend.free == direct.free
+
+
+def test_enforce_unilateral_answers_the_scaled_request_on_the_cone_boundary():
+    rng = np.random.default_rng(11)
+    rob, attachment = _flamingo(0.5, 10.0)
+    actuator = attachment.actuator
+    scaled = 0
+    for _ in range(40):
+        q = _tilted(rob, rng)
+        snapshot = va.Snapshot(rob, q, np.zeros(rob.model.nv))
+        request = np.array([rng.uniform(-300.0, 300.0), rng.uniform(100.0, 300.0), 0.0])
+        full = actuator.solve(snapshot, request, attachment.free)
+        answer = enforce_unilateral(attachment, snapshot, request, full)
+        margins = _oracle_margins(rob, q, answer.forces, 0.5, 10.0)
+        base_margins = _oracle_margins(
+            rob, q, actuator.solve(snapshot, request * [0.0, 1.0, 1.0]).forces, 0.5, 10.0
+        )
+        if answer is full or base_margins.min() < 0.0:
+            continue  # feasible as asked, or not even the base is (then the base is answered)
+        scaled += 1
+        scale = np.abs(answer.forces).max()
+        assert margins.min() == pytest.approx(0.0, abs=1e-9 * scale)  # on the boundary
+        direct = actuator.solve(snapshot, answer.requested, attachment.free)
+        np.testing.assert_allclose(answer.tau, direct.tau, rtol=0, atol=1e-10 * scale)
+        assert answer.requested[1:] == pytest.approx(request[1:], abs=1e-12 * scale)
+    assert scaled >= 5

@@ -2,7 +2,9 @@
 
 The distribution is linear in the wrench, so a request that would make a chain pull or slip is
 scaled down on the attachment's yield axes by one extra solve and a ratio test
-(:func:`enforce_unilateral`), against the linear conditions of :func:`constraint_rows`.
+(:func:`enforce_unilateral`), against the linear conditions of :func:`constraint_rows`; the
+compiled kernels evaluate those conditions from the snapshot's frame table without building
+the rows.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from .attachment import Attachment
 
 
 @njit(cache=True)
-def _least_margin(
+def _row_values(
     frames: np.ndarray,
     orientation_rows: np.ndarray,
     pyramid: np.ndarray,
@@ -24,24 +26,23 @@ def _least_margin(
     force_components: np.ndarray,
     forces: np.ndarray,
     bound_rows: np.ndarray,
-    lows: np.ndarray,
     cones: bool,
-) -> float:
-    """Smallest ``rows @ forces.ravel() - lows`` of :func:`constraint_rows`, without the rows.
+    out: np.ndarray,
+) -> None:
+    """``rows @ forces.ravel()`` of :func:`constraint_rows` into ``out``, without the rows.
 
     ``frames`` is the snapshot's frame table, ``orientation_rows`` the rows of {O} then of each
     reaction frame; the cone rows are ``pyramid @ (R_O^T R_A)[force_components].T`` per chain.
     """
     p, n = forces.shape
-    worst = np.inf
     bound = bound_rows.shape[0]
     for r in range(bound):
         total = 0.0
         for j in range(p * n):
             total += bound_rows[r, j] * forces[j // n, j % n]
-        worst = min(worst, total - lows[r])
+        out[r] = total
     if not cones:
-        return worst
+        return
     o = orientation_rows[0]
     for c in range(p):
         a = orientation_rows[1 + c]
@@ -56,8 +57,74 @@ def _least_margin(
                         entry += frames[o, 3 * m + row] * frames[a, 3 * m + axis]
                     vector += pyramid[k, axis] * entry
                 total += vector * forces[c, force_columns[i]]
-            worst = min(worst, total - lows[bound + 5 * c + k])
+            out[bound + 5 * c + k] = total
+
+
+@njit(cache=True)
+def _least_margin(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    pyramid: np.ndarray,
+    force_columns: np.ndarray,
+    force_components: np.ndarray,
+    forces: np.ndarray,
+    bound_rows: np.ndarray,
+    lows: np.ndarray,
+    cones: bool,
+) -> float:
+    """Smallest ``rows @ forces.ravel() - lows`` of :func:`constraint_rows`."""
+    values = np.empty(lows.shape[0])
+    _row_values(
+        frames, orientation_rows, pyramid, force_columns, force_components, forces, bound_rows,
+        cones, values,
+    )  # fmt: skip
+    worst = np.inf
+    for r in range(lows.shape[0]):
+        worst = min(worst, values[r] - lows[r])
     return worst
+
+
+@njit(cache=True)
+def _largest_scale(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    pyramid: np.ndarray,
+    force_columns: np.ndarray,
+    force_components: np.ndarray,
+    full: np.ndarray,
+    base: np.ndarray,
+    bound_rows: np.ndarray,
+    lows: np.ndarray,
+    cones: bool,
+) -> float:
+    """The ratio test of :func:`enforce_unilateral` on the shares ``base`` and ``full``.
+
+    The largest ``alpha`` in ``[0, 1]`` with ``rows @ (base + alpha (full - base)) >= lows``
+    on every row, 0 when none is (see :func:`_ratio_test`, its numpy twin).
+    """
+    count = lows.shape[0]
+    at_full, at_base = np.empty(count), np.empty(count)
+    _row_values(
+        frames, orientation_rows, pyramid, force_columns, force_components, full, bound_rows,
+        cones, at_full,
+    )  # fmt: skip
+    _row_values(
+        frames, orientation_rows, pyramid, force_columns, force_components, base, bound_rows,
+        cones, at_base,
+    )  # fmt: skip
+    upper, lower = 1.0, 0.0
+    for r in range(count):
+        slope = at_full[r] - at_base[r]
+        if slope == 0.0:
+            if at_base[r] < lows[r]:
+                return 0.0  # no alpha helps that condition
+            continue
+        ratio = (lows[r] - at_base[r]) / slope
+        if slope < 0.0:
+            upper = min(upper, ratio)
+        else:
+            lower = max(lower, ratio)
+    return 0.0 if lower > upper else min(upper, 1.0)
 
 
 def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray) -> float | None:
@@ -108,38 +175,114 @@ def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndar
     return rows, attachment.cone_lows
 
 
+def largest_scale(
+    attachment: Attachment, snapshot: Snapshot, full: np.ndarray, base: np.ndarray
+) -> float:
+    """The largest ``alpha`` in ``[0, 1]`` for which the shares meet the contact conditions.
+
+    The shares are ``base + alpha (full - base)``, the conditions :func:`constraint_rows`'; 0
+    when no ``alpha`` meets them. One compiled call when the snapshot's frame table holds the
+    frames the conditions read; else the rows are built and :func:`ratio_test` answers.
+    """
+    kinematics = attachment.actuator.kinematics
+    frames = snapshot.frame_table
+    if not HAVE_NUMBA or frames.shape[0] < kinematics.orientation_rows_end:
+        rows, lows = constraint_rows(attachment, snapshot)
+        return ratio_test(rows @ full.ravel(), rows @ base.ravel(), lows)
+    cones = attachment.friction is not None
+    return _largest_scale(
+        frames,
+        kinematics.orientation_rows,
+        attachment.pyramid if cones else _NO_PYRAMID,
+        attachment.force_columns,
+        attachment.force_components,
+        full,
+        base,
+        attachment.bound_rows,
+        attachment.cone_lows if cones else attachment.bound_lows,
+        cones,
+    )
+
+
+def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:
+    """The largest ``alpha`` in ``[0, 1]`` with ``at_base + alpha (at_full - at_base) >= lows``.
+
+    The conditions' values at the full request and at its base (no yield axes); 0 when no
+    ``alpha`` meets them all.
+    """
+    slope = at_full - at_base
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = (lows - at_base) / slope
+    upper = np.where(slope < 0.0, ratio, np.inf).min(initial=1.0)
+    lower = np.where(slope > 0.0, ratio, -np.inf).max(initial=0.0)
+    stuck = np.any((slope == 0.0) & (at_base < lows))  # no alpha helps that condition
+    return 0.0 if stuck or lower > upper else float(min(upper, 1.0))
+
+
 def enforce_unilateral(
     attachment: Attachment, q: Snapshot, wrench: np.ndarray, solution: Solution
 ) -> Solution:
     """Scale the request on the yield axes until every chain's share is feasible.
 
     Feasible: ``unilateral`` minima and the friction cone (see ``Controller.add``). The
-    distribution is linear in the wrench, so the shares are ``base + alpha (full - base)``
-    with ``base`` the request without its yield axes: the largest feasible ``alpha`` in
-    ``[0, 1]`` comes from one extra solve and a ratio test.
+    distribution is affine in the wrench (linear, plus what passive springs contribute), so
+    the solution at ``base + alpha (wrench - base)``, ``base`` the request without its yield
+    axes, is ``base``'s solution plus ``alpha`` times the difference: one extra solve and a
+    ratio test find the largest feasible ``alpha`` in ``[0, 1]``, and the two solutions give
+    the answer (:func:`interpolate`).
     """
     margin = least_margin(attachment, q, solution.forces)
     if margin is not None and margin >= -1e-9:  # the usual tick: nothing to scale
         return solution
-    rows, lows = constraint_rows(attachment, q)
-    full = rows @ solution.forces.ravel()
-    if np.all(full >= lows - 1e-9):
-        return solution
+    if margin is None:
+        rows, lows = constraint_rows(attachment, q)
+        if np.all(rows @ solution.forces.ravel() >= lows - 1e-9):
+            return solution
     base = np.where(attachment.yield_mask, 0.0, wrench)
     fallback = attachment.actuator.solve(q, base, free=attachment.free)
-    start = rows @ fallback.forces.ravel()
-    slope = full - start
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = (lows - start) / slope
-    upper = np.where(slope < 0.0, ratio, np.inf).min(initial=1.0)
-    lower = np.where(slope > 0.0, ratio, -np.inf).max(initial=0.0)
-    stuck = np.any((slope == 0.0) & (start < lows))  # no alpha helps that condition
-    alpha = 0.0 if stuck or lower > upper else float(min(upper, 1.0))
+    alpha = largest_scale(attachment, q, solution.forces, fallback.forces)
     if alpha <= 0.0:
         return fallback
-    return attachment.actuator.solve(
-        q, np.where(attachment.yield_mask, alpha * wrench, wrench), free=attachment.free
+    return interpolate(fallback, solution, alpha)
+
+
+def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
+    """The solution of the request ``start + alpha (end - start)`` of one actuator.
+
+    Exact for distributions affine in the request (every method but ``"qp"``): forces,
+    efforts, produced and requested wrenches are interpolated; the residual is that of the
+    interpolated request (``requested`` equals ``wrench`` on free axes), and the method the
+    end's unless either solve missed its request (then ``"least-squares"``).
+    """
+    forces = start.forces + alpha * (end.forces - start.forces)
+    produced = start.wrench + alpha * (end.wrench - start.wrench)
+    requested = start.requested + alpha * (end.requested - start.requested)
+    missed = "least-squares" in (start.method, end.method)
+    return Solution(  # positional (a tick's cost): the fields in declaration order
+        start.tau + alpha * (end.tau - start.tau),
+        forces,
+        produced,
+        end.sets,
+        float(np.linalg.norm(produced - requested)),
+        "least-squares" if missed else end.method,
+        requested,
+        end.reactions,
+        end.axes,
+        end.free,
+        end.tau_passive,
+        start.base_effort + alpha * (end.base_effort - start.base_effort),
+        end.solver,
+        end.systems,
+        start.compiled and end.compiled,
+        end.active,
     )
 
 
-__all__ = ["constraint_rows", "enforce_unilateral"]
+__all__ = [
+    "constraint_rows",
+    "enforce_unilateral",
+    "interpolate",
+    "largest_scale",
+    "least_margin",
+    "ratio_test",
+]

@@ -16,7 +16,7 @@ import numpy as np
 from ..actuators import ParallelVirtualActuator
 from ..exceptions import VirtualActuatorError
 from ..kinematics.snapshot import Snapshot
-from .contact_limits import least_margin
+from .contact_limits import largest_scale, least_margin
 
 
 def warm_up(controller: object, q: np.ndarray) -> None:
@@ -50,6 +50,7 @@ def warm_up(controller: object, q: np.ndarray) -> None:
             continue
         if attachment.yield_mask is not None:
             least_margin(attachment, snapshot, solution.forces)
+            largest_scale(attachment, snapshot, solution.forces, solution.forces)
 
 
 def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attachment) -> None:

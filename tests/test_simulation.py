@@ -770,6 +770,15 @@ def test_unknown_frames():
     ):
         with pytest.raises(va.FrameNotFoundError, match="left_fot.*Closest frames: 'left_foot'"):
             call()
+    for call in (
+        lambda: sim.in_contact(["left_foot"]),
+        lambda: sim.contact_force(3),
+        lambda: sim.contact_switches(("left_foot", ["right_foot"])),
+        lambda: sim.contact_forces([["left_foot"]]),
+        lambda: sim.push([1.0, 0.0, 0.0], frame={"left_foot": 1}),
+    ):  # not a name (unhashable ones too): a typed error, never a TypeError
+        with pytest.raises(va.FrameNotFoundError, match="named by a str"):
+            call()
     with pytest.raises(va.InvalidInputError, match="world"):
         sim.push([1.0, 0.0, 0.0], frame="world")
     assert not sim.in_contact("body") and not np.any(sim.contact_force("body"))

@@ -89,38 +89,34 @@ class Component(ABC):
 
         """
 
-    def _per_axis_fast(self, value: object, allow_inf: bool) -> np.ndarray | None:
-        """The per-tick fast paths of :meth:`_per_axis` (None: take the checked path)."""
-        kind = type(value)
-        if kind is float or kind is int:  # set points move every tick
-            number = float(value)
-            if number == number and (allow_inf or math.isfinite(number)):
-                return np.array((number,) * len(self.axes))
-        elif (kind is tuple or kind is list) and len(value) == len(self.axes):
-            if _REALS.issuperset(map(type, value)):
-                total = float(sum(value))  # NaN or inf if any entry is (or on overflow)
-                if math.isfinite(total) or (allow_inf and total == total):
-                    return np.array(value, dtype=float)
-        elif kind is np.ndarray and value.shape == (len(self.axes),) and value.dtype == float:
-            total = sum(value.tolist())
-            if math.isfinite(total) or (allow_inf and total == total):
-                return value.copy()
-        return None
-
     def _per_axis(
         self, value: float | Sequence[float] | np.ndarray, what: str, allow_inf: bool = False
     ) -> np.ndarray:
         """Broadcast a scalar or per-axis parameter to ``(len(axes),)`` finite floats.
+
+        Plain floats, tuples and lists of reals, and float arrays of the right shape take a
+        fast path first (set points move every tick).
 
         Raises:
             InvalidInputError: ``value`` is not a real number or one per axis (None, a str, a
                 dict, a bool, a complex number), or is NaN (or infinite unless ``allow_inf``).
 
         """
+        kind = value.__class__
         try:
-            fast = self._per_axis_fast(value, allow_inf)
-            if fast is not None:
-                return fast
+            if kind is float or kind is int:
+                number = float(value)
+                if number == number and (allow_inf or math.isfinite(number)):
+                    return np.array((number,) * len(self.axes))
+            elif (kind is tuple or kind is list) and len(value) == len(self.axes):
+                if _REALS.issuperset(map(type, value)):
+                    total = float(sum(value))  # NaN or inf if any entry is (or on overflow)
+                    if math.isfinite(total) or (allow_inf and total == total):
+                        return np.array(value, dtype=float)
+            elif kind is np.ndarray and value.shape == (len(self.axes),) and value.dtype == float:
+                total = sum(value.tolist())
+                if math.isfinite(total) or (allow_inf and total == total):
+                    return value.copy()
             expected = f"a real number or one real number per axis {self.axes}"
             array = as_float_array(value, f"{self.name}: {what}", expected, copy=True)
         except OverflowError:  # an int beyond any float

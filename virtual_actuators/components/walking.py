@@ -68,7 +68,7 @@ class GrannyWalker(SpringDamper):
     @property
     def height(self) -> float:
         """Height set point [m]."""
-        return float(self.setpoint[0])
+        return self._setpoint.item(0)
 
     @height.setter
     def height(self, value: float) -> None:
@@ -81,7 +81,7 @@ class GrannyWalker(SpringDamper):
     @property
     def pitch(self) -> float:
         """Pitch set point [rad]."""
-        return float(self.setpoint[1])
+        return self._setpoint.item(1)
 
     @pitch.setter
     def pitch(self, value: float) -> None:
@@ -132,7 +132,7 @@ class DogtrackBunny(SpringDamper):
     @property
     def speed(self) -> float:
         """Desired speed [m/s]."""
-        return float(self.velocity_setpoint[0])
+        return self._velocity_setpoint.item(0)
 
     @speed.setter
     def speed(self, value: float) -> None:

@@ -84,16 +84,20 @@ def contact(*frames: str, require_all: bool = True) -> Event:
     if check_flag(require_all, "contact(): require_all"):
 
         def event(context: Context) -> bool:  # all(...) without a generator (per tick)
+            switches = context.contacts
             for frame in frames:
-                if not context.in_contact(frame):
+                switch = switches.get(frame)
+                if not (context.in_contact(frame) if switch is None else switch):
                     return False
             return True
 
     else:
 
         def event(context: Context) -> bool:  # any(...) without a generator (per tick)
+            switches = context.contacts
             for frame in frames:
-                if context.in_contact(frame):
+                switch = switches.get(frame)
+                if context.in_contact(frame) if switch is None else switch:
                     return True
             return False
 

@@ -36,6 +36,7 @@ __all__ = [
     "configuration_from_mujoco",
     "configuration_to_mujoco",
     "ctrl_to_torques",
+    "direct_gathers",
     "torques_to_ctrl",
     "velocity_from_mujoco",
     "velocity_to_mujoco",
@@ -66,6 +67,16 @@ class _Gathers:
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
     direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
     unactuated: tuple[int, ...] = ()  # unactuated_v as ints
+
+
+def direct_gathers(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The one-gather conversions of MuJoCo's state, ``(direct_q, direct_v)``, where they hold.
+
+    ``q = qpos[direct_q]`` when every joint is a hinge or a slide, ``v = qvel[direct_v]`` when
+    no joint is free; None otherwise (then convert joint by joint).
+    """
+    gathers = _gathers(mm)
+    return gathers.direct_q, gathers.direct_v
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -132,7 +143,7 @@ def _vector(value: object, size: int, what: str) -> np.ndarray:
         type(value) is np.ndarray
         and value.shape == (size,)
         and value.dtype == np.float64
-        and math.isfinite(np.dot(value, value))  # inf or nan if any entry is (or on overflow)
+        and math.isfinite(value @ value)  # inf or nan if any entry is (or on overflow)
     ):
         return value
     try:

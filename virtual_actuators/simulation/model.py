@@ -182,6 +182,11 @@ class MujocoModel:
             FrameNotFoundError: If it does not (with the closest frame names).
 
         """
+        if not isinstance(frame, str):
+            raise FrameNotFoundError(
+                f"A frame is named by a str, got {frame!r} ({type(frame).__name__}); robot "
+                f"{self.robot.name!r} has frames such as {self.robot.frame_names[:4]}."
+            )
         if frame not in self.frame_sites:
             raise FrameNotFoundError(
                 f"Robot {self.robot.name!r} has no frame {frame!r}. "

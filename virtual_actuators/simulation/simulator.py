@@ -21,6 +21,7 @@ from virtual_actuators.robots.robot import Robot
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
+    direct_gathers,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
@@ -152,6 +153,10 @@ class Simulator:
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
         self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms
         self._touched: tuple[int, ...] = ()
+        # the state read every tick: MuJoCo's arrays (views, allocated once with the data) and,
+        # for hinge-and-slide robots, the one gather that converts them
+        self._qpos, self._qvel = self.data.qpos, self.data.qvel
+        self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -164,7 +169,9 @@ class Simulator:
     @property
     def q(self) -> np.ndarray:
         """Configuration in Pinocchio's convention (a fresh array of size ``model.nq``)."""
-        return configuration_from_mujoco(self.mujoco_model, self.data.qpos)
+        if self._direct_q is not None:  # MuJoCo keeps its state finite (it resets a diverged one)
+            return self._qpos[self._direct_q]
+        return configuration_from_mujoco(self.mujoco_model, self._qpos)
 
     @property
     def v(self) -> np.ndarray:
@@ -172,7 +179,9 @@ class Simulator:
 
         The free-flyer's linear and angular velocities are in its body frame.
         """
-        return velocity_from_mujoco(self.mujoco_model, self.data.qpos, self.data.qvel)
+        if self._direct_v is not None:  # no free joint: one gather
+            return self._qvel[self._direct_v]
+        return velocity_from_mujoco(self.mujoco_model, self._qpos, self._qvel)
 
     def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
         """Restart at time 0 from a state given in Pinocchio's conventions.
@@ -284,7 +293,7 @@ class Simulator:
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
         """
-        geoms = self._owned_geoms.get(frame)
+        geoms = self._owned_geoms.get(frame) if frame.__class__ is str else None
         if geoms is None:
             mm = self.mujoco_model
             mm.check_frame(frame)
@@ -301,7 +310,7 @@ class Simulator:
         key = (self.data.time, self.data.ncon)
         if self._contacts_time != key:
             self._contacts = self._scan_contacts()
-            self._touched = tuple(hit[1] for hit in self._contacts)  # robot geoms touching
+            self._touched = tuple([hit[1] for hit in self._contacts])  # robot geoms touching
             self._contacts_time = key
             self._switches = {}
             self._touching = None
@@ -347,7 +356,7 @@ class Simulator:
 
         """
         data = self.data
-        if self._contacts_time == (data.time, data.ncon):  # same physics state: cached
+        if frame.__class__ is str and self._contacts_time == (data.time, data.ncon):  # cached
             switch = self._switches.get(frame)
             if switch is not None:
                 return switch
@@ -370,11 +379,15 @@ class Simulator:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
 
         """
-        cache = frames.__class__ is tuple and all(frame.__class__ is str for frame in frames)
-        pairs = self._switch_geoms.get(frames) if cache else None
+        pairs = None
+        if frames.__class__ is tuple:
+            try:
+                pairs = self._switch_geoms.get(frames)
+            except TypeError:  # an unhashable entry: _frame_geoms names it below
+                pass
         if pairs is None:  # checked (unknown frames raise) and cached per tuple of names
             pairs = tuple((frame, self._frame_geoms(frame)) for frame in frames)
-            if cache:
+            if frames.__class__ is tuple and all(frame.__class__ is str for frame in frames):
                 if len(self._switch_geoms) >= 64:
                     self._switch_geoms.clear()
                 self._switch_geoms[frames] = pairs
@@ -427,13 +440,16 @@ class Simulator:
 
         """
         key = tuple(frames)
-        rows_of = self._force_rows.get(key)
+        try:
+            rows_of = self._force_rows.get(key)
+        except TypeError:  # an unhashable entry: _frame_geoms names it below
+            rows_of = None
         if rows_of is None:  # geom -> the rows of the frames that own it, once per frame list
             rows_of = {}
             for k, frame in enumerate(key):
                 for geom in self._frame_geoms(frame):
                     rows_of.setdefault(geom, []).append(k)
-            self._force_rows[key] = rows_of
+            self._force_rows[key] = rows_of  # every entry a known frame name: hashable
         out = np.zeros((len(key), 3))
         contacts = self._terrain_contacts()
         if not contacts:

@@ -307,15 +307,53 @@ class ParallelVirtualActuator:
             compiled = check_flag(compiled, "compiled")
         snapshot = self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
-        free, keep = self._keep(free)
-        solver = self.solvers.get(method) if isinstance(method, str) else None
-        if solver is None:
-            raise InvalidInputError(
-                f"method must be one of {list(self.solvers)}, got {describe(method)}."
-            )
-        fast = None
+        free, keep, solver = self.plan(free, method)
         if weights is not None:
             weights = check_weights(weights, self.axes)
+        solution, missed = self.solve_checked(
+            snapshot, wrench, free, keep, solver, compiled, weights, tol
+        )
+        if strict and missed:
+            raise InadmissibleWrenchError(
+                f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "
+                f"configuration: residual {solution.residual:.3g} (produced "
+                f"{solution.wrench.round(6).tolist()}).",
+                solution,
+            )
+        return solution
+
+    def solve_checked(
+        self,
+        snapshot: Snapshot,
+        wrench: np.ndarray,
+        free: tuple[str, ...],
+        keep: np.ndarray,
+        solver: object,
+        compiled: bool = True,
+        weights: np.ndarray | None = None,
+        tol: float = 1e-6,
+    ) -> tuple[Solution, bool]:
+        """:meth:`solve` on arguments checked already (a controller's per-tick call).
+
+        Args:
+            snapshot: The tick's snapshot of this actuator's robot.
+            wrench: ``(n,)`` finite float request.
+            free: The free axes, as :meth:`plan` returns them.
+            keep: ``(n,)`` bool, the prescribed axes (from :meth:`plan`).
+            solver: One of :attr:`solvers`' values.
+            compiled: Use the compiled kernels where they apply.
+            weights: Checked QP weights, or None.
+            tol: Admissibility tolerance (see :meth:`solve`).
+
+        Returns:
+            ``(solution, missed)``: ``missed`` when the residual exceeds ``tol``.
+
+        Raises:
+            SingularConfigurationError: No distribution can be solved at this configuration.
+            ConstraintError: Constraints that contradict each other here.
+
+        """
+        fast = None
         if solver is self.qp:
             fast = self.qp.solve(snapshot, wrench, keep, compiled, weights)
         elif compiled and solver is self.partitioner:
@@ -352,13 +390,27 @@ class ParallelVirtualActuator:
             fast_used,
             raw.active,
         )
-        if strict and missed:
-            raise InadmissibleWrenchError(
-                f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "
-                f"configuration: residual {residual:.3g} (produced {produced.round(6).tolist()}).",
-                solution,
+        return solution, missed
+
+    def plan(self, free: Sequence[str] = (), method: str = "partitioned") -> tuple:
+        """The checked ``(free, keep, solver)`` of a set of free axes and a method.
+
+        What :meth:`solve` derives from ``free`` and ``method`` on every call, for callers that
+        solve the same way every tick (:meth:`solve_checked`).
+
+        Raises:
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes.
+            InvalidInputError: Unknown ``method``.
+            ConstraintError: Too many constraints for those free axes.
+
+        """
+        free, keep = self._keep(free)
+        solver = self.solvers.get(method) if isinstance(method, str) else None
+        if solver is None:
+            raise InvalidInputError(
+                f"method must be one of {list(self.solvers)}, got {describe(method)}."
             )
-        return solution
+        return free, keep, solver
 
     def torques(self, q: np.ndarray | Snapshot, forces: np.ndarray) -> np.ndarray:
         """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.

@@ -239,7 +239,7 @@ def enforce_unilateral(
         if np.all(rows @ solution.forces.ravel() >= lows - 1e-9):
             return solution
     base = np.where(attachment.yield_mask, 0.0, wrench)
-    fallback = attachment.actuator.solve(q, base, free=attachment.free)
+    fallback = attachment.actuator.solve_checked(q, base, *attachment.plan)[0]
     alpha = largest_scale(attachment, q, solution.forces, fallback.forces)
     if alpha <= 0.0:
         return fallback

@@ -434,11 +434,10 @@ class Controller:
                 tau = effort if tau is None else tau + effort
                 produced[name] = wrench
                 continue
-            try:
-                solution = actuator.solve(
-                    snapshot, wrench, attachment.free, method=attachment.method,
-                    weights=attachment.weights,
-                )  # fmt: skip
+            try:  # free axes, method and weights checked at add(); the wrench by _evaluate
+                solution = actuator.solve_checked(
+                    snapshot, wrench, *attachment.plan, weights=attachment.weights
+                )[0]
                 if attachment.yield_mask is not None:
                     solution = enforce_unilateral(attachment, snapshot, wrench, solution)
             except SingularConfigurationError as error:

@@ -65,6 +65,41 @@ def test_compiled_kinematics_equal_pinocchio(name):
             np.testing.assert_allclose(compiled.frame_velocity(f), expected, atol=1e-10)
 
 
+@pytest.mark.parametrize("name", ["solo12", "anymal", "ur5_robot", "spring_flamingo"])
+def test_tabled_frame_velocities_equal_pinocchio_and_the_point_kernel(name):
+    """The forward-kinematics pass computes the tabled frames' velocities with the kinematics.
+
+    They equal Pinocchio's (``LOCAL_WORLD_ALIGNED`` linear velocity) and, bit for bit, the
+    point-velocity kernel that answers for frames outside the table (the same sums in the same
+    order).
+    """
+    from virtual_actuators.kinematics.kernels import point_velocity
+
+    robot = va.load_robot(name)
+    model = robot.model
+    data = pin.Data(model)
+    tree = tree_of(robot)
+    picked = list(range(1, len(model.frames), max(1, len(model.frames) // 10)))
+    tree.require(picked)  # what declaring actuators on these frames does
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        q = random_configuration(robot, rng, scale=1.5)
+        v = rng.normal(size=model.nv)
+        snapshot = va.Snapshot(robot, q, v, backend="compiled")
+        pin.forwardKinematics(model, data, q, v)
+        pin.updateFramePlacements(model, data)
+        for f in picked:
+            velocity = snapshot.frame_velocity(f)
+            expected = pin.getFrameVelocity(model, data, f, pin.LOCAL_WORLD_ALIGNED).linear
+            scale = 1.0 + np.abs(expected).max()
+            np.testing.assert_allclose(velocity, expected, rtol=0, atol=1e-12 * scale)
+            x, y, z = snapshot.placement(f)[1].tolist()
+            columns = tree.frame_columns(f)
+            kernel = point_velocity(snapshot.jacobian_world, v, columns, x, y, z)
+            np.testing.assert_array_equal(velocity, np.array(kernel))
+    assert snapshot._frame_velocities is not None  # the table answered, not the kernel
+
+
 def test_snapshot_rejects_other_robots_and_bad_input():
     solo, ur5 = va.load_robot("solo12"), va.load_robot("ur5_robot")
     arm = va.VirtualActuator(ur5, "tool0", "world")
@@ -254,9 +289,9 @@ def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
     calls = []
     original = type(tree).compute
 
-    def counting(self, q):
+    def counting(self, q, v=None):
         calls.append(1)
-        return original(self, q)
+        return original(self, q, v)
 
     q, v = gait.initial_configuration(), np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)  # first use: declaration-time checks run once per set of free axes

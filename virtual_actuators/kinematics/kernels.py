@@ -82,6 +82,7 @@ def revolute_terms(rotation: np.ndarray, axis: np.ndarray) -> np.ndarray:
 @njit(cache=True)
 def forward_kinematics(
     q: np.ndarray,
+    velocity: np.ndarray,
     joint_ints: np.ndarray,
     joint_floats: np.ndarray,
     velocity_joint: np.ndarray,
@@ -89,25 +90,29 @@ def forward_kinematics(
     frame_parents: np.ndarray,
     frame_floats: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Joint placements, world joint Jacobian and frame placements at ``q``.
+    """Joint placements, world joint Jacobian, frame placements and velocities at ``q``, ``v``.
 
     Args:
         q: ``(nq,)`` configuration (quaternions and (cos, sin) pairs of unit norm).
+        velocity: ``(nv,)`` velocity ``v``, or empty for no velocities.
         joint_ints: ``(njoints, 3)`` parent joint, kind (see the constants) and ``idx_q`` of each
             joint; row 0 is the universe.
         joint_floats: ``(njoints, 27)`` placement ``P`` in the parent (rotation row by row,
             translation), the joint axis of 1-dof joints, and for revolute joints ``P [axis]x``
             (row by row) and ``P axis`` (see :func:`revolute_terms`).
-        velocity_joint: ``(nv,)`` joint of each velocity index.
+        velocity_joint: ``(nv,)`` joint of each velocity index (non-decreasing: a joint's
+            velocity indices follow its parent's, as in Pinocchio).
         velocity_subspace: ``(nv, 6)`` that velocity's motion subspace column in the joint's
             frame (linear, angular).
         frame_parents: ``(nf,)`` parent joint of each requested frame.
         frame_floats: ``(nf, 12)`` placement of each requested frame in its parent joint.
 
     Returns:
-        ``(joints, jacobian, frames)``: ``(njoints, 12)`` world placements of the joints,
-        ``(6, nv)`` world joint Jacobian (linear rows first), ``(nf, 12)`` world placements of
-        the requested frames.
+        ``(joints, jacobian, frames, velocities)``: ``(njoints, 12)`` world placements of the
+        joints, ``(6, nv)`` world joint Jacobian (linear rows first), ``(nf, 12)`` world
+        placements of the requested frames, and ``(nf, 3)`` the linear velocities of their
+        origins in world axes (``(0, 3)`` without a velocity): :func:`point_velocity`'s sums, in
+        its order, with each joint's twist accumulated once from its parent's.
 
     """
     njoints = joint_ints.shape[0]
@@ -211,7 +216,28 @@ def forward_kinematics(
                 + p2 * frame_floats[f, 11]
                 + joints[j, 9 + r]
             )
-    return joints, jacobian, frames
+    if velocity.shape[0] == 0:
+        return joints, jacobian, frames, np.empty((0, 3))
+    twists = np.zeros((njoints, 6))  # J[:, support] v[support] of each joint, at the origin
+    column = 0
+    for j in range(1, njoints):
+        parent = joint_ints[j, 0]
+        for k in range(6):
+            twists[j, k] = twists[parent, k]
+        while column < nv and velocity_joint[column] == j:
+            rate = velocity[column]
+            for k in range(6):
+                twists[j, k] += jacobian[k, column] * rate
+            column += 1
+    velocities = np.empty((nf, 3))
+    for f in range(nf):
+        j = frame_parents[f]
+        x, y, z = frames[f, 9], frames[f, 10], frames[f, 11]
+        wx, wy, wz = twists[j, 3], twists[j, 4], twists[j, 5]
+        velocities[f, 0] = twists[j, 0] + wy * z - wz * y
+        velocities[f, 1] = twists[j, 1] + wz * x - wx * z
+        velocities[f, 2] = twists[j, 2] + wx * y - wy * x
+    return joints, jacobian, frames, velocities
 
 
 @njit(cache=True)

@@ -71,6 +71,7 @@ class Snapshot:
         "_rows",
         "_extra",
         "_velocities",
+        "_frame_velocities",
     )
 
     def __init__(
@@ -100,12 +101,19 @@ class Snapshot:
         self._frames = None
         self._rows: dict[int, int] = {}
         self._extra: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._velocities: dict[int, np.ndarray] = {}
+        self._velocities: dict[int, np.ndarray] = {}  # of frames outside the table
+        self._frame_velocities: np.ndarray | None = None  # (rows, 3): the table's, with v
 
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            self._joints, self._jacobian, self._frames, self._rows = self.tree.compute(self.q)
+            (
+                self._joints,
+                self._jacobian,
+                self._frames,
+                self._frame_velocities,
+                self._rows,
+            ) = self.tree.compute(self.q, self.v)
             return
         model = self.tree.model
         data = thread_data(model)
@@ -231,6 +239,13 @@ class Snapshot:
         frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
         if frame_id is None:
             frame_id = self._frame_id(frame)
+        if self._frames is None:
+            self._run()
+        table = self._frame_velocities  # the compiled pass computed the table's
+        if table is not None:
+            row = self._rows.get(frame_id)
+            if row is not None:
+                return table[row].copy()
         cached = self._velocities.get(frame_id)
         if cached is None:  # the kernel runs as plain Python without numba
             x, y, z = self._placement(frame_id)[1].tolist()

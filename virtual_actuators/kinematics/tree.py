@@ -21,6 +21,8 @@ from ..vocabulary.frames import as_float_array, resolve_frame
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 
+_NO_VELOCITY = np.zeros(0)  # the kernel's "no v"
+
 _KINDS = {
     "JointModelRX": REVOLUTE,
     "JointModelRY": REVOLUTE,
@@ -173,18 +175,19 @@ class KinematicTree:
         return columns
 
     # -- kernel ----------------------------------------------------------------------------
-    def compute(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[int, int]]:
-        """Run the compiled kernel at ``q`` (already checked).
+    def compute(self, q: np.ndarray, v: np.ndarray | None = None) -> tuple:
+        """Run the compiled kernel at ``q`` (and ``v``), both already checked.
 
         Returns:
-            ``(joints, jacobian, frames, rows)``: see
-            :func:`~virtual_actuators.kinematics.kernels.forward_kinematics`; ``rows`` maps a
-            frame id to its row of ``frames``.
+            ``(joints, jacobian, frames, velocities, rows)``: see
+            :func:`~virtual_actuators.kinematics.kernels.forward_kinematics` (``velocities``
+            None without ``v``); ``rows`` maps a frame id to its row of ``frames``.
 
         """
         rows, parents, floats = self._frames
-        joints, jacobian, frames = kernels.forward_kinematics(
+        joints, jacobian, frames, velocities = kernels.forward_kinematics(
             q,
+            _NO_VELOCITY if v is None else v,
             self._joint_ints,
             self._joint_floats,
             self._velocity_joint,
@@ -192,7 +195,7 @@ class KinematicTree:
             parents,
             floats,
         )
-        return joints, jacobian, frames, rows
+        return joints, jacobian, frames, None if v is None else velocities, rows
 
     # -- argument checks -------------------------------------------------------------------
     def check_configuration(self, q: np.ndarray) -> np.ndarray:

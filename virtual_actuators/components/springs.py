@@ -156,26 +156,22 @@ class SpringDamper(Component):
         without numpy's per-call cost on a few axes. The parameters are read from the arrays
         at every call (an array changed in place is seen).
         """
-        wrench = [
-            k * (x0 - x) + b * (v0 - v)
-            for k, x0, x, b, v0, v in zip(
-                self._stiffness.tolist(),
-                self._setpoint.tolist(),
-                position,
-                self._damping.tolist(),
-                self._velocity_setpoint.tolist(),
-                velocity,
-                strict=True,
-            )
-        ]
+        terms = zip(
+            self._stiffness.tolist(),
+            self._setpoint.tolist(),
+            position,
+            self._damping.tolist(),
+            self._velocity_setpoint.tolist(),
+            velocity,
+            self._force.tolist(),
+            strict=True,
+        )
         if self._limited:
             return [
-                min(max(w, -limit), limit) + f
-                for w, limit, f in zip(
-                    wrench, self._limit.tolist(), self._force.tolist(), strict=True
-                )
+                min(max(k * (x0 - x) + b * (v0 - v), -limit), limit) + f
+                for (k, x0, x, b, v0, v, f), limit in zip(terms, self._limit.tolist(), strict=True)
             ]
-        return [w + f for w, f in zip(wrench, self._force.tolist(), strict=True)]
+        return [k * (x0 - x) + b * (v0 - v) + f for k, x0, x, b, v0, v, f in terms]
 
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:

@@ -41,6 +41,17 @@ from ..vocabulary.constraints import EqualTorque
 from .base import Gait, check_distribution, planar_standing_configuration
 from .turkey import PLANAR_AXES, SIDES, lift_profile, other, smoothstep
 
+_FOOT = {side: f"{side}_foot" for side in SIDES}
+
+
+def _sides(state: str) -> tuple[str, str]:
+    """``(stance, swing)`` of a single-support state named ``"<stance side>_..."``."""
+    stance = state.split("_")[0]
+    return stance, other(stance)
+
+
+_SIDES = {f"{side}_support{end}": _sides(f"{side}_support") for side in SIDES for end in ("", "_2")}
+
 
 @dataclass
 class FlamingoParameters:
@@ -371,7 +382,8 @@ class FlamingoWalker(Gait):
 
     def slope_height(self, x: float) -> float:
         """Height of the global slope line at ``x`` [m]."""
-        return float(self.slope_origin[1] + (x - self.slope_origin[0]) * math.tan(self.slope))
+        origin_x, origin_z = self.slope_origin.tolist()
+        return origin_z + (float(x) - origin_x) * math.tan(self.slope)
 
     def _set_slope(self, back: np.ndarray, front: np.ndarray) -> None:
         dx = float(front[0] - back[0])
@@ -384,7 +396,7 @@ class FlamingoWalker(Gait):
 
     def _update_height(self, context: Context) -> None:
         p = self.parameters
-        body_x = float(context.frame_position("body")[0])
+        body_x = context.frame_position("body").item(0)
         single = context.state != "double_support"
         if single and p.level_single_support:
             # Climb (or descend) in double support only: with x free over a limp ankle, every
@@ -397,7 +409,7 @@ class FlamingoWalker(Gait):
         current = self.granny.height
         self.granny.height = current + min(max(target - current, -step), step)
         self._height_time = context.time
-        xdot = float(context.frame_velocity("body")[0])
+        xdot = context.frame_velocity("body").item(0)
         self.granny.velocity_setpoint = (xdot * math.tan(self.slope), 0.0)
 
     def _can_vault(self, side: str) -> events.Event:
@@ -407,15 +419,17 @@ class FlamingoWalker(Gait):
         # global slope). Double support lasts until that speed is at least ``min_speed`` and,
         # while the hip is still behind the front ankle (the bunny can still brake there; past
         # it, nothing can), at most ``speed + max_overspeed``.
+        foot = f"{side}_foot"
+
         def event(context: Context) -> bool:
             p = self.parameters
-            body = context.frame_position("body")
-            ankle = context.frame_position(f"{side}_foot")
-            xdot = float(context.frame_velocity("body")[0])
-            behind = float(ankle[0] - body[0])
+            body_x, _, body_z = context.frame_position("body").tolist()
+            ankle_x, _, ankle_z = context.frame_position(foot).tolist()
+            xdot = context.frame_velocity("body").item(0)
+            behind = ankle_x - body_x
             if xdot <= 0.0:
                 return False
-            height = max(float(body[2] - ankle[2]), 0.3)
+            height = max(body_z - ankle_z, 0.3)
             vault = xdot**2 - 9.81 / height * max(behind, 0.0) ** 2
             if vault < p.min_speed**2:
                 return False
@@ -436,9 +450,8 @@ class FlamingoWalker(Gait):
         self._update_height(context)
 
     def _enter_single(self, context: Context) -> None:
-        stance = context.state.split("_")[0]
+        stance, swing = _SIDES.get(context.state) or _sides(context.state)
         self._swing_started = context.time  # support_2 continues the same swing
-        swing = other(stance)
         ankle = context.frame_position(f"{swing}_foot")
         stance_ankle = context.frame_position(f"{stance}_foot")
         self._swing_start = ankle[[0, 2]]
@@ -453,12 +466,13 @@ class FlamingoWalker(Gait):
 
     def _update_single(self, context: Context) -> None:
         p = self.parameters
-        stance = context.state.split("_")[0]
-        swing = other(stance)
+        stance, swing = _SIDES.get(context.state) or _sides(context.state)
         self._update_height(context)
         body = context.frame_position("body")
-        ankle = context.frame_position(f"{swing}_foot")
-        stance_ankle = context.frame_position(f"{stance}_foot")
+        ankle = context.frame_position(_FOOT.get(swing) or f"{swing}_foot")
+        stance_ankle = context.frame_position(_FOOT.get(stance) or f"{stance}_foot")
+        body_x, _, body_z = body.tolist()
+        start_x, start_z = self._swing_start.tolist()
         elapsed = context.time - self._swing_started
         phase = elapsed / p.swing_time
         reach = phase
@@ -466,18 +480,18 @@ class FlamingoWalker(Gait):
             # the foot reaches forward no faster than the hip travels: a hip slowed down (by a
             # slope) does not have the swing leg take its momentum (mirror-like, as the seed's
             # swing-leg linkage "mirrors the stance leg")
-            reach = min(phase, (float(body[0]) - self._swing_hip_x) / p.swing_hip_travel)
+            reach = min(phase, (body_x - self._swing_hip_x) / p.swing_hip_travel)
         target_x = self._swing_target_x
         if p.step_gain:
             # longer steps when too fast: longer double support (braking) and a hip further
             # behind the next stance ankle; shorter when too slow (Raibert-like)
-            xdot = float(context.frame_velocity("body")[0])
+            xdot = context.frame_velocity("body").item(0)
             target_x += min(
                 max(p.step_gain * (xdot - p.speed), -0.4 * p.step_length), 0.6 * p.step_length
             )
-        x_target = self._swing_start[0] + (target_x - self._swing_start[0]) * (smoothstep(reach))
+        x_target = start_x + (target_x - start_x) * (smoothstep(reach))
         surface = self.slope_height(x_target)
-        start_height = self._swing_start[1] - self.slope_height(self._swing_start[0])
+        start_height = start_z - self.slope_height(start_x)
         if phase <= 1.0:
             z_target = (
                 surface
@@ -493,6 +507,4 @@ class FlamingoWalker(Gait):
         # The linkage works relative to the body, along world axes; the foot stays parallel
         # to the global slope: its pitch relative to the body is -slope - body pitch.
         body_pitch = context.frame_pitch("body")
-        self.swing[swing].place(
-            (x_target - float(body[0]), z_target - float(body[2]), -self.slope - body_pitch)
-        )
+        self.swing[swing].place((x_target - body_x, z_target - body_z, -self.slope - body_pitch))

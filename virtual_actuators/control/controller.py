@@ -44,6 +44,7 @@ from ..vocabulary.frames import (
     check_sequence,
     describe,
     resolve_joint,
+    sums_finite,
 )
 from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
 from .contact_limits import enforce_unilateral
@@ -501,7 +502,7 @@ class Controller:
                         f"{describe(result)}; expected {len(component.axes)} numbers (its axes "
                         f"{component.axes})."
                     ) from None
-        if not math.isfinite(wrench @ wrench) and not np.all(np.isfinite(wrench)):
+        if not sums_finite(wrench) and not np.all(np.isfinite(wrench)):
             raise InvalidInputError(
                 f"Attachment {attachment.name!r}: a component returned a non-finite wrench "
                 f"{wrench}."

@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import as_float_array, resolve_frame
+from ..vocabulary.frames import as_float_array, resolve_frame, sums_finite
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 
@@ -219,13 +219,13 @@ class KinematicTree:
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
                 f"({self.nq},) (model.nq)."
             )
-        if not self.unit_slices and math.isfinite(q @ q):  # no unit norms: one dot suffices
+        if not self.unit_slices and sums_finite(q):  # no unit norms: one sum suffices
             return q
         if kernels.HAVE_NUMBA:  # finiteness and unit norms in one compiled pass
             error = kernels.unit_norm_error(q, self._unit_bounds)
             if error <= 1e-12 and error >= 0.0:
                 return q
-        if not math.isfinite(q @ q) and not np.isfinite(q).all():  # dot: one fast check
+        if not sums_finite(q) and not np.isfinite(q).all():  # one fast check first
             bad = np.flatnonzero(~np.isfinite(q)).tolist()
             raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
         if self.unit_slices:
@@ -264,7 +264,7 @@ class KinematicTree:
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
                 "(model.nv)."
             )
-        if not math.isfinite(v @ v) and not np.isfinite(v).all():
+        if not sums_finite(v) and not np.isfinite(v).all():
             raise InvalidInputError("Velocity v has NaN or inf entries.")
         return v
 

@@ -31,6 +31,7 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.model import MujocoModel
+from virtual_actuators.vocabulary.frames import sums_finite
 
 __all__ = [
     "configuration_from_mujoco",
@@ -143,7 +144,7 @@ def _vector(value: object, size: int, what: str) -> np.ndarray:
         type(value) is np.ndarray
         and value.shape == (size,)
         and value.dtype == np.float64
-        and math.isfinite(value @ value)  # inf or nan if any entry is (or on overflow)
+        and sums_finite(value)  # False if any entry is inf or nan (or on overflow)
     ):
         return value
     try:

@@ -373,3 +373,19 @@ def as_float_array(value: object, what: str, expected: str, copy: bool = False) 
         if kind == "b":
             raise InvalidInputError(f"{what} must be {expected}, got bool values.")
     raise InvalidInputError(f"{what} must be {expected}, got {describe(value)}.")
+
+
+#: Vectors at most this long are summed on plain floats by :func:`sums_finite`.
+_SHORT = 64
+
+
+def sums_finite(values: np.ndarray) -> bool:
+    """Whether a float64 vector's entries have a finite sum (then every entry is finite).
+
+    The per-tick finiteness check: False when an entry is NaN or infinite, and also when finite
+    entries overflow (check entry by entry then). A control tick's vectors are short, and a sum
+    of plain floats costs less there than a BLAS call; long vectors take a dot product.
+    """
+    if values.size <= _SHORT:
+        return math.isfinite(sum(values.tolist()))
+    return math.isfinite(values @ values)

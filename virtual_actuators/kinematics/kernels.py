@@ -89,7 +89,7 @@ def forward_kinematics(
     velocity_subspace: np.ndarray,
     frame_parents: np.ndarray,
     frame_floats: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> np.ndarray:
     """Joint placements, world joint Jacobian, frame placements and velocities at ``q``, ``v``.
 
     Args:
@@ -108,15 +108,20 @@ def forward_kinematics(
         frame_floats: ``(nf, 12)`` placement of each requested frame in its parent joint.
 
     Returns:
-        ``(joints, jacobian, frames, velocities)``: ``(njoints, 12)`` world placements of the
-        joints, ``(6, nv)`` world joint Jacobian (linear rows first), ``(nf, 12)`` world
-        placements of the requested frames, and ``(nf, 3)`` the linear velocities of their
-        origins in world axes (``(0, 3)`` without a velocity): :func:`point_velocity`'s sums, in
-        its order, with each joint's twist accumulated once from its parent's.
+        One buffer holding, in order: ``(njoints, 12)`` world placements of the joints,
+        ``(6, nv)`` world joint Jacobian (linear rows first), ``(nf, 12)`` world placements of
+        the requested frames and, with a velocity, ``(nf, 3)`` the linear velocities of their
+        origins in world axes (:func:`point_velocity`'s sums, in its order, with each joint's
+        twist accumulated once from its parent's). :func:`split_kinematics` cuts it.
 
     """
     njoints = joint_ints.shape[0]
-    joints = np.empty((njoints, 12))
+    nv = velocity_joint.shape[0]
+    nf = frame_parents.shape[0]
+    with_velocity = velocity.shape[0] > 0
+    # one buffer for the four results (one array to hand back: a fourth of the call's cost)
+    buffer = np.empty(njoints * 12 + 6 * nv + nf * 12 + (nf * 3 if with_velocity else 0))
+    joints = buffer[: njoints * 12].reshape(njoints, 12)
     joints[0] = 0.0
     joints[0, 0] = 1.0
     joints[0, 4] = 1.0
@@ -177,8 +182,8 @@ def forward_kinematics(
             joints[j, 9 + r] = (
                 p0 * local[9] + p1 * local[10] + p2 * local[11] + joints[parent, 9 + r]
             )
-    nv = velocity_joint.shape[0]
-    jacobian = np.empty((6, nv))
+    at = njoints * 12
+    jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
     for v in range(nv):
         j = velocity_joint[v]
         for r in range(3):
@@ -198,8 +203,8 @@ def forward_kinematics(
         jacobian[0, v] += py * wz - pz * wy
         jacobian[1, v] += pz * wx - px * wz
         jacobian[2, v] += px * wy - py * wx
-    nf = frame_parents.shape[0]
-    frames = np.empty((nf, 12))
+    at += 6 * nv
+    frames = buffer[at : at + nf * 12].reshape(nf, 12)
     for f in range(nf):
         j = frame_parents[f]
         for r in range(3):
@@ -216,8 +221,8 @@ def forward_kinematics(
                 + p2 * frame_floats[f, 11]
                 + joints[j, 9 + r]
             )
-    if velocity.shape[0] == 0:
-        return joints, jacobian, frames, np.empty((0, 3))
+    if not with_velocity:
+        return buffer
     twists = np.zeros((njoints, 6))  # J[:, support] v[support] of each joint, at the origin
     column = 0
     for j in range(1, njoints):
@@ -229,7 +234,7 @@ def forward_kinematics(
             for k in range(6):
                 twists[j, k] += jacobian[k, column] * rate
             column += 1
-    velocities = np.empty((nf, 3))
+    velocities = buffer[at + nf * 12 :].reshape(nf, 3)
     for f in range(nf):
         j = frame_parents[f]
         x, y, z = frames[f, 9], frames[f, 10], frames[f, 11]
@@ -237,6 +242,23 @@ def forward_kinematics(
         velocities[f, 0] = twists[j, 0] + wy * z - wz * y
         velocities[f, 1] = twists[j, 1] + wz * x - wx * z
         velocities[f, 2] = twists[j, 2] + wx * y - wy * x
+    return buffer
+
+
+def split_kinematics(
+    buffer: np.ndarray, njoints: int, nv: int, nf: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    """Views of :func:`forward_kinematics`' buffer: joints, jacobian, frames, velocities.
+
+    ``velocities`` is None when the buffer holds none (no velocity was given).
+    """
+    at = njoints * 12
+    joints = buffer[:at].reshape(njoints, 12)
+    jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
+    at += 6 * nv
+    frames = buffer[at : at + nf * 12].reshape(nf, 12)
+    at += nf * 12
+    velocities = buffer[at:].reshape(nf, 3) if buffer.shape[0] > at else None
     return joints, jacobian, frames, velocities
 
 
@@ -331,7 +353,7 @@ def relative_sensor(
     rows: np.ndarray,
     columns: np.ndarray,
     signs: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> np.ndarray:
     """A serial actuator's Jacobian, position and velocity of {B} relative to {A} in {O}.
 
     Args:
@@ -344,8 +366,9 @@ def relative_sensor(
         signs: their +1 / -1.
 
     Returns:
-        ``(jacobian (n, nv), position (n,), velocity (n,))``: the position's translations are
-        ``R_O^T (p_B - p_A)``, its rotations ``R_O^T R_A log(R_A^T R_B)``, on the selected axes.
+        One buffer holding ``jacobian (n, nv)``, ``position (n,)`` and ``velocity (n,)`` (zero
+        without ``v``), in that order: the position's translations are ``R_O^T (p_B - p_A)``,
+        its rotations ``R_O^T R_A log(R_A^T R_B)``, on the selected axes.
 
     """
     b, o, a = rows[0], rows[1], rows[2]
@@ -364,8 +387,11 @@ def relative_sensor(
         transform[r, 3] = t2 * y - t1 * z
         transform[r, 4] = t0 * z - t2 * x
         transform[r, 5] = t1 * x - t0 * y
-    jacobian = np.zeros((n, nv))
-    velocity = np.zeros(n)
+    # one buffer for the three results (one array to hand back: a cheaper call)
+    buffer = np.zeros(n * nv + 2 * n)
+    jacobian = buffer[: n * nv].reshape(n, nv)
+    position = buffer[n * nv : n * nv + n]
+    velocity = buffer[n * nv + n :]
     for j in range(columns.shape[0]):
         col = columns[j]
         for i in range(n):
@@ -399,10 +425,9 @@ def relative_sensor(
                     in_world += frames[a, 3 * k + m] * log_a[m]  # (R_A log)_k
                 acc += frames[o, 3 * k + r] * in_world
             pose[3 + r] = acc
-    position = np.empty(n)
     for i in range(n):
         position[i] = pose[axis_rows[i]]
-    return jacobian, position, velocity
+    return buffer
 
 
 __all__ = [
@@ -414,6 +439,7 @@ __all__ = [
     "SPHERICAL",
     "forward_kinematics",
     "point_velocity",
+    "split_kinematics",
     "relative_sensor",
     "revolute_terms",
     "rotation_log",

@@ -239,7 +239,7 @@ class RelativeKinematics:
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
-        jacobian, position, rate = kernels.relative_sensor(
+        buffer = kernels.relative_sensor(
             jacobian_world,
             frames,
             snapshot.v if velocity else _NO_VELOCITY,
@@ -248,7 +248,10 @@ class RelativeKinematics:
             self.chain_columns[0],
             self.chain_signs[0],
         )
-        return jacobian, position, rate if velocity else None
+        n, nv = self._axis_rows.shape[0], jacobian_world.shape[1]
+        jacobian = buffer[: n * nv].reshape(n, nv)
+        position = buffer[n * nv : n * nv + n]
+        return jacobian, position, buffer[n * nv + n :] if velocity else None
 
     def _frames_of(self, snapshot: Snapshot) -> np.ndarray:
         rows = {self._row_b: self.action_id, self._row_o: self.reference_id}

@@ -185,7 +185,7 @@ class KinematicTree:
 
         """
         rows, parents, floats = self._frames
-        joints, jacobian, frames, velocities = kernels.forward_kinematics(
+        buffer = kernels.forward_kinematics(
             q,
             _NO_VELOCITY if v is None else v,
             self._joint_ints,
@@ -195,7 +195,7 @@ class KinematicTree:
             parents,
             floats,
         )
-        return joints, jacobian, frames, None if v is None else velocities, rows
+        return (*kernels.split_kinematics(buffer, self.njoints, self.nv, len(rows)), rows)
 
     # -- argument checks -------------------------------------------------------------------
     def check_configuration(self, q: np.ndarray) -> np.ndarray:

@@ -92,18 +92,14 @@ class StanceForces:
         normal = [0.0] * len(settled)  # [N]
         tangential = [0.0] * len(settled)  # sum of the contacts' |f_t| [N]
         model, data, force = simulator.model, simulator.data, self._force
-        terrain_geoms = mm.terrain_geoms
-        contacts = data.contact
-        rows = zip(contacts.geom.tolist(), contacts.exclude.tolist(), strict=True)
-        for c, ((g1, g2), exclude) in enumerate(rows):
-            if exclude != 0 or (g1 in terrain_geoms) == (g2 in terrain_geoms):
-                continue
-            index = owner.get(g2 if g1 in terrain_geoms else g1)
+        for c, geom, _ in simulator.terrain_contacts():  # scanned once per physics state
+            index = owner.get(geom)
             if index is None:
                 continue
             mujoco.mj_contactForce(model, data, c, force)  # (normal, tangent 1, tangent 2, ...)
-            normal[index] += float(force[0])
-            tangential[index] += math.hypot(float(force[1]), float(force[2]))
+            f_normal, f_t1, f_t2 = force[:3].tolist()
+            normal[index] += f_normal
+            tangential[index] += math.hypot(f_t1, f_t2)
         for foot_normal, foot_tangential in zip(normal, tangential, strict=True):
             self.normal_min = min(self.normal_min, foot_normal)
             if foot_normal >= NORMAL_FLOOR:

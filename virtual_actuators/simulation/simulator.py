@@ -300,6 +300,17 @@ class Simulator:
             geoms = self._owned_geoms[frame] = frozenset(mm.frame_geoms.get(frame, ()))
         return geoms
 
+    def terrain_contacts(self) -> list[tuple[int, int, float]]:
+        """The active robot-terrain contacts, scanned once per physics state (do not modify).
+
+        Returns:
+            ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when
+            the robot geom is the contact's second geom (MuJoCo's contact force acts on the
+            second geom along the normal), -1 otherwise.
+
+        """
+        return self._terrain_contacts()
+
     def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
         """``(contact index, robot geom, sign)`` of the active robot-terrain contacts.
 

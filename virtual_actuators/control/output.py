@@ -10,7 +10,7 @@ from ..distribution.solution import Solution
 from ..robots.robot import Robot
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, slots=True)
 class ControlOutput:
     """What the controller computed in one tick.
 

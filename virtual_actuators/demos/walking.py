@@ -241,22 +241,24 @@ def run_walk(
     height_at = terrain_model.height
     has_slope = hasattr(gait, "slope")
     nan = math.nan
-    while simulator.time < duration - 1e-9:
+    data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
+    while data.time < duration - 1e-9:
         q, v = simulator.q, simulator.v
-        now = simulator.time
+        now = data.time
         contacts = simulator.contact_switches(contact_frames)
         output = gait.compute(q, v, now, contacts)
         simulator.step(output.tau)
         tick += 1
         if fall_time is None and tick % STANCE_SAMPLING == 0:
             stance.sample(gait.support_contacts())
-        x, z_world, pitch = q[x_index], q[z_index], q[pitch_index]
+        x, z_world, pitch = q.item(x_index), q.item(z_index), q.item(pitch_index)
         ground = float(height_at(x))
         fallen = fall_time is not None or has_fallen(simulator, z_world - ground, pitch, nominal)
         if fallen and fall_time is None:
             fall_time = now
         wrench = _body_wrench(output)
         double = "double" in output.active
+        set_height, set_pitch = granny.setpoint.tolist()  # [m], [rad]
         append_row(  # one value per STANDARD_CHANNELS entry, in its order
             (
                 now,
@@ -264,10 +266,10 @@ def run_walk(
                 z_world - ground,
                 z_world,
                 pitch,
-                v[v_x],
+                v.item(v_x),
                 bunny.position_at(now) if double else nan,
-                granny.height - ground,
-                granny.pitch,
+                set_height - ground,
+                set_pitch,
                 bunny.speed if double else nan,
                 wrench[0],
                 wrench[1],

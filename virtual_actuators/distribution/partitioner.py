@@ -41,7 +41,7 @@ def no_sets() -> dict[str, list[tuple[str, str]]]:
     return {"MFS": [], "RFS": [], "CFS": []}
 
 
-@dataclass
+@dataclass(slots=True)
 class RawSolution:
     """Solver output before it is wrapped into a :class:`~virtual_actuators.Solution`."""
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, slots=True)
 class Solution:
     """A force distribution and the joint efforts that produce it.
 

@@ -234,7 +234,10 @@ class RelativeKinematics:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
 
         """
-        snapshot = self.snapshot(state, need_velocity=velocity)
+        if state.__class__ is Snapshot and state.tree is self.tree and (state.v is not None):
+            snapshot = state  # the tick's snapshot of this robot, with a velocity
+        else:
+            snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:

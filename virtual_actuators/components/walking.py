@@ -175,7 +175,10 @@ class DogtrackBunny(SpringDamper):
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
         """:meth:`compute_wrench` on plain floats (the same arithmetic)."""
-        self.setpoint = self.position_at(time)
+        bunny = self.position_at(time)
+        if not math.isfinite(bunny):  # the setter's error
+            self.setpoint = bunny
+        self._setpoint = np.array((bunny,))  # what the setpoint setter stores
         return SpringDamper._wrench_floats(self, position, velocity, time)
 
 

@@ -422,8 +422,11 @@ class Controller:
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}
         failed: dict[str, str] = {}
+        get = self.attachments.get
         for name in names:
-            attachment = self._get(name)
+            attachment = get(name) if name.__class__ is str else None
+            if attachment is None:
+                attachment = self._get(name)  # raises, naming the close matches
             sensor = attachment.sensor
             jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
             wrench = self._evaluate(attachment, position, velocity, time)

@@ -12,6 +12,7 @@ the reference implementation does; the tests check that both give the same answe
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 from dataclasses import dataclass
 
@@ -52,6 +53,7 @@ class _Mode:
     sets: dict
     systems: tuple
     method: str
+    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
 
 
 class CompiledDistribution:
@@ -162,6 +164,24 @@ class CompiledDistribution:
             mode = _Mode(1, keep_int, order, sets, systems, "partitioned")
         else:
             mode = _Mode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
+        if mode.mode >= 0:
+            tables = self._tables
+            packed = kernels.pack_arguments(
+                mode.mode,
+                mode.keep,
+                self.axis_rows,
+                self.frame_rows,
+                tables.chain_ints,
+                tables.chain_signs,
+                self.springs,
+                self.const_rows,
+                self.const_rhs,
+                self.torque_rows,
+                self.torque_signs,
+                mode.plan,
+                tables.layout,
+            )
+            mode = dataclasses.replace(mode, packed=packed)
         self._modes[key] = mode
         return mode
 
@@ -191,25 +211,7 @@ class CompiledDistribution:
         frames = snapshot.frame_table
         if frames.shape[0] <= self._max_row:
             return None  # frames required after this snapshot ran: the numpy path reads them
-        out = kernels.distribute(
-            jacobian_world,
-            frames,
-            snapshot.q,
-            wrench,
-            mode.keep,
-            mode.mode,
-            self.axis_rows,
-            self.frame_rows,
-            tables.chain_ints,
-            tables.chain_signs,
-            self.springs,
-            self.const_rows,
-            self.const_rhs,
-            self.torque_rows,
-            self.torque_signs,
-            mode.plan,
-            tables.layout,
-        )
+        out = kernels.distribute_packed(jacobian_world, frames, snapshot.q, wrench, *mode.packed)
         if out[4]:
             return None
         buffer, (p, n), nv = out[0], self._shape, self.springs.shape[0]

@@ -155,7 +155,7 @@ class Simulator:
         self._touched: tuple[int, ...] = ()
         # the state read every tick: MuJoCo's arrays (views, allocated once with the data) and,
         # for hinge-and-slide robots, the one gather that converts them
-        self._qpos, self._qvel = self.data.qpos, self.data.qvel
+        self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
         self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
         self.reset()
 
@@ -227,7 +227,7 @@ class Simulator:
 
         """
         ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
-        self.data.ctrl[:] = ctrl
+        self._ctrl[:] = ctrl
         if not self._pushes and not self._pushing:
             mujoco.mj_step(self.model, self.data, nstep=self.substeps)
             return

@@ -175,10 +175,7 @@ class DogtrackBunny(SpringDamper):
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
         """:meth:`compute_wrench` on plain floats (the same arithmetic)."""
-        bunny = self.position_at(time)
-        if not math.isfinite(bunny):  # the setter's error
-            self.setpoint = bunny
-        self._setpoint = np.array((bunny,))  # what the setpoint setter stores
+        self.setpoint = self.position_at(time)
         return SpringDamper._wrench_floats(self, position, velocity, time)
 
 

@@ -29,6 +29,8 @@ Actuator = VirtualActuator | ParallelVirtualActuator
 #: infeasible request gives way on them first (the others move by about this fraction of it).
 YIELD_WEIGHT = 1e-3
 
+_NO_PYRAMID = np.zeros((5, 3))  # the cone rows' place holder without a friction cone
+
 
 @dataclass(repr=False)
 class Attachment:
@@ -94,6 +96,15 @@ class Attachment:
         force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
         self.force_columns = np.array([i for i, _ in force_axes], dtype=np.int64)
         self.force_components = np.array([k for _, k in force_axes], dtype=np.int64)
+        # the compiled conditions' declaration-time arguments (see contact_limits)
+        self.limit_tables = (
+            _NO_PYRAMID,
+            self.force_columns,
+            self.force_components,
+            self.bound_rows,
+            self.bound_lows,
+            False,
+        )
         if self.friction is None:
             return
         # Friction pyramid per chain: rows (normal, mu n -+ t1, mu n -+ t2) of the reaction
@@ -111,6 +122,14 @@ class Attachment:
         self.cone_template = np.vstack((self.bound_rows, np.zeros((5 * p, p * n))))
         self.cone_lows = np.concatenate(
             (self.bound_lows, np.tile([self.min_normal, 0.0, 0.0, 0.0, 0.0], p))
+        )
+        self.limit_tables = (
+            self.pyramid,
+            self.force_columns,
+            self.force_components,
+            self.bound_rows,
+            self.cone_lows,
+            True,
         )
 
     def wrench_floats(

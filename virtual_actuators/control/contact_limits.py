@@ -21,10 +21,10 @@ from .attachment import Attachment
 def _row_values(
     frames: np.ndarray,
     orientation_rows: np.ndarray,
+    forces: np.ndarray,
     pyramid: np.ndarray,
     force_columns: np.ndarray,
     force_components: np.ndarray,
-    forces: np.ndarray,
     bound_rows: np.ndarray,
     cones: bool,
     out: np.ndarray,
@@ -64,10 +64,10 @@ def _row_values(
 def _least_margin(
     frames: np.ndarray,
     orientation_rows: np.ndarray,
+    forces: np.ndarray,
     pyramid: np.ndarray,
     force_columns: np.ndarray,
     force_components: np.ndarray,
-    forces: np.ndarray,
     bound_rows: np.ndarray,
     lows: np.ndarray,
     cones: bool,
@@ -75,7 +75,7 @@ def _least_margin(
     """Smallest ``rows @ forces.ravel() - lows`` of :func:`constraint_rows`."""
     values = np.empty(lows.shape[0])
     _row_values(
-        frames, orientation_rows, pyramid, force_columns, force_components, forces, bound_rows,
+        frames, orientation_rows, forces, pyramid, force_columns, force_components, bound_rows,
         cones, values,
     )  # fmt: skip
     worst = np.inf
@@ -88,11 +88,11 @@ def _least_margin(
 def _largest_scale(
     frames: np.ndarray,
     orientation_rows: np.ndarray,
+    full: np.ndarray,
+    base: np.ndarray,
     pyramid: np.ndarray,
     force_columns: np.ndarray,
     force_components: np.ndarray,
-    full: np.ndarray,
-    base: np.ndarray,
     bound_rows: np.ndarray,
     lows: np.ndarray,
     cones: bool,
@@ -100,18 +100,13 @@ def _largest_scale(
     """The ratio test of :func:`enforce_unilateral` on the shares ``base`` and ``full``.
 
     The largest ``alpha`` in ``[0, 1]`` with ``rows @ (base + alpha (full - base)) >= lows``
-    on every row, 0 when none is (see :func:`_ratio_test`, its numpy twin).
+    on every row, 0 when none is (see :func:`ratio_test`, its numpy twin).
     """
     count = lows.shape[0]
     at_full, at_base = np.empty(count), np.empty(count)
-    _row_values(
-        frames, orientation_rows, pyramid, force_columns, force_components, full, bound_rows,
-        cones, at_full,
-    )  # fmt: skip
-    _row_values(
-        frames, orientation_rows, pyramid, force_columns, force_components, base, bound_rows,
-        cones, at_base,
-    )  # fmt: skip
+    tables = (pyramid, force_columns, force_components, bound_rows, cones)
+    _row_values(frames, orientation_rows, full, *tables, at_full)
+    _row_values(frames, orientation_rows, base, *tables, at_base)
     upper, lower = 1.0, 0.0
     for r in range(count):
         slope = at_full[r] - at_base[r]
@@ -133,26 +128,19 @@ def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray)
     One compiled call (None when numba is missing or the snapshot's frame table lacks a frame
     the conditions read: then build the rows).
     """
-    kinematics = attachment.actuator.kinematics
-    frames = snapshot.frame_table
-    rows = kinematics.orientation_rows
-    if not HAVE_NUMBA or frames.shape[0] < kinematics.orientation_rows_end:
+    frames = _frame_table(attachment, snapshot)
+    if frames is None:
         return None
-    cones = attachment.friction is not None
-    return _least_margin(
-        frames,
-        rows,
-        attachment.pyramid if cones else _NO_PYRAMID,
-        attachment.force_columns,
-        attachment.force_components,
-        forces,
-        attachment.bound_rows,
-        attachment.cone_lows if cones else attachment.bound_lows,
-        cones,
-    )
+    rows = attachment.actuator.kinematics.orientation_rows
+    return _least_margin(frames, rows, forces, *attachment.limit_tables)
 
 
-_NO_PYRAMID = np.zeros((5, 3))
+def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | None:
+    """The snapshot's frame table if the compiled conditions can read it, else None."""
+    frames = snapshot.frame_table
+    if not HAVE_NUMBA or frames.shape[0] < attachment.actuator.kinematics.orientation_rows_end:
+        return None
+    return frames
 
 
 def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarray]:
@@ -184,24 +172,12 @@ def largest_scale(
     when no ``alpha`` meets them. One compiled call when the snapshot's frame table holds the
     frames the conditions read; else the rows are built and :func:`ratio_test` answers.
     """
-    kinematics = attachment.actuator.kinematics
-    frames = snapshot.frame_table
-    if not HAVE_NUMBA or frames.shape[0] < kinematics.orientation_rows_end:
+    frames = _frame_table(attachment, snapshot)
+    if frames is None:
         rows, lows = constraint_rows(attachment, snapshot)
         return ratio_test(rows @ full.ravel(), rows @ base.ravel(), lows)
-    cones = attachment.friction is not None
-    return _largest_scale(
-        frames,
-        kinematics.orientation_rows,
-        attachment.pyramid if cones else _NO_PYRAMID,
-        attachment.force_columns,
-        attachment.force_components,
-        full,
-        base,
-        attachment.bound_rows,
-        attachment.cone_lows if cones else attachment.bound_lows,
-        cones,
-    )
+    rows = attachment.actuator.kinematics.orientation_rows
+    return _largest_scale(frames, rows, full, base, *attachment.limit_tables)
 
 
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:
@@ -234,13 +210,17 @@ def enforce_unilateral(
     margin = least_margin(attachment, q, solution.forces)
     if margin is not None and margin >= -1e-9:  # the usual tick: nothing to scale
         return solution
-    if margin is None:
+    if margin is None:  # no compiled conditions: the rows, once
         rows, lows = constraint_rows(attachment, q)
-        if np.all(rows @ solution.forces.ravel() >= lows - 1e-9):
+        at_full = rows @ solution.forces.ravel()
+        if np.all(at_full >= lows - 1e-9):
             return solution
     base = np.where(attachment.yield_mask, 0.0, wrench)
     fallback = attachment.actuator.solve_checked(q, base, *attachment.plan)[0]
-    alpha = largest_scale(attachment, q, solution.forces, fallback.forces)
+    if margin is None:
+        alpha = ratio_test(at_full, rows @ fallback.forces.ravel(), lows)
+    else:
+        alpha = largest_scale(attachment, q, solution.forces, fallback.forces)
     if alpha <= 0.0:
         return fallback
     return interpolate(fallback, solution, alpha)

@@ -211,7 +211,7 @@ class CompiledDistribution:
         frames = snapshot.frame_table
         if frames.shape[0] <= self._max_row:
             return None  # frames required after this snapshot ran: the numpy path reads them
-        out = kernels.distribute_packed(jacobian_world, frames, snapshot.q, wrench, *mode.packed)
+        out = kernels.distribute(jacobian_world, frames, snapshot.q, wrench, *mode.packed)
         if out[4]:
             return None
         buffer, (p, n), nv = out[0], self._shape, self.springs.shape[0]

@@ -31,6 +31,7 @@ from .kernel_linalg import (
     null_rows,
     offset_in_o,
     passive_torques,
+    request_norms,
     wrench_transform,
 )
 from .kernel_solves import (
@@ -84,14 +85,14 @@ def _shared_ball_columns(
                 out_rows[i] = out[i]
 
 
-@njit(cache=True)
-def distribute(
-    jacobian_world: np.ndarray,
-    frames: np.ndarray,
-    q: np.ndarray,
-    wrench: np.ndarray,
-    keep: np.ndarray,
+#: Entries of :func:`pack_arguments`' integer header: mode, n, p, chain table width, torque
+#: rows, plan length, chain columns, velocity indices, constant rows.
+PACK_HEADER = 9
+
+
+def pack_arguments(
     mode: int,
+    keep: np.ndarray,
     axis_rows: np.ndarray,
     frame_rows: np.ndarray,
     chain_ints: np.ndarray,
@@ -103,16 +104,16 @@ def distribute(
     torque_signs: np.ndarray,
     plan: np.ndarray,
     layout: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
-    """One tick of the force distribution (see the module docstring).
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`distribute`'s declaration-time arguments as one integer and one float array.
+
+    Built once per mode (the arrays do not change between ticks); :func:`distribute` unpacks
+    them as views. Handing a compiled function two arrays instead of thirteen halves the cost
+    of the call.
 
     Args:
-        jacobian_world: ``(6, nv)`` world joint Jacobian of the snapshot.
-        frames: ``(nf, 12)`` frame placements of the snapshot.
-        q: ``(nq,)`` configuration (passive spring angles).
-        wrench: ``(n,)`` requested wrench.
-        keep: ``(n,)`` 1 for prescribed axes, 0 for free ones.
         mode: 0 minimum norm, 1 partitioned (square).
+        keep: ``(n,)`` 1 for prescribed axes, 0 for free ones.
         axis_rows: ``(n,)`` rows of the selected axes among ``x y z rx ry rz``.
         frame_rows: ``(2 + p,)`` rows of {B}, {O} and each {A_i} in ``frames``.
         chain_ints: ``(p, HEADER + K + C + 3 + L + D)`` per chain: the header (columns, own
@@ -131,6 +132,47 @@ def distribute(
         plan: ``(m,)`` mode 1: the RFS indices first (``s`` of them), then the MFS.
         layout: ``(4,)`` widths K, C, L, D of the column blocks of ``chain_ints``.
 
+    """
+    n, (p, width), s1 = keep.shape[0], chain_ints.shape, torque_rows.shape[0]
+    header = [mode, n, p, width, s1, plan.shape[0], chain_signs.shape[1], springs.shape[0]]
+    header.append(const_rows.shape[0])
+    ints = np.concatenate(
+        [
+            np.array(header, dtype=np.int64),
+            *(
+                np.asarray(part, dtype=np.int64).ravel()
+                for part in (keep, axis_rows, frame_rows, chain_ints, torque_rows, plan, layout)
+            ),
+        ]
+    )
+    floats = np.concatenate(
+        [
+            np.asarray(part, dtype=np.float64).ravel()
+            for part in (chain_signs, springs, const_rows, const_rhs, torque_signs)
+        ]
+    )
+    return ints, floats
+
+
+@njit(cache=True)
+def distribute(
+    jacobian_world: np.ndarray,
+    frames: np.ndarray,
+    q: np.ndarray,
+    wrench: np.ndarray,
+    ints: np.ndarray,
+    floats: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
+    """One tick of the force distribution (see the module docstring).
+
+    Args:
+        jacobian_world: ``(6, nv)`` world joint Jacobian of the snapshot.
+        frames: ``(nf, 12)`` frame placements of the snapshot.
+        q: ``(nq,)`` configuration (passive spring angles).
+        wrench: ``(n,)`` requested wrench.
+        ints: The declaration-time integers of :func:`pack_arguments`.
+        floats: Its declaration-time floats.
+
     Returns:
         ``(out, residual, |wrench| on prescribed axes, rounding, status, worst chain ratio,
         worst chain)``; ``out`` holds, one after the other, the forces (p x n, row-major), tau
@@ -138,10 +180,29 @@ def distribute(
         requested (n, free axes: produced).
 
     """
-    n = axis_rows.shape[0]
-    p = chain_ints.shape[0]
+    mode, n, p, width, s1, m, K, nv_springs, s0 = ints[:PACK_HEADER]
+    at = PACK_HEADER
+    keep = ints[at : at + n]
+    at += n
+    axis_rows = ints[at : at + n]
+    at += n
+    frame_rows = ints[at : at + 2 + p]
+    at += 2 + p
+    chain_ints = ints[at : at + p * width].reshape((p, width))
+    at += p * width
+    torque_rows = ints[at : at + 3 * s1].reshape((s1, 3))
+    at += 3 * s1
+    plan = ints[at : at + m]
+    layout = ints[at + m : at + m + 4]
+    chain_signs = floats[: p * K].reshape((p, K))
+    at = p * K
+    springs = floats[at : at + 5 * nv_springs].reshape((nv_springs, 5))
+    at += 5 * nv_springs
+    const_rows = floats[at : at + s0 * p * n].reshape((s0, p, n))
+    at += s0 * p * n
+    const_rhs = floats[at : at + s0]
+    torque_signs = floats[at + s0 : at + s0 + 2 * p * s1].reshape((s1, 2, p))
     nv = jacobian_world.shape[1]
-    K = chain_signs.shape[1]
     # one output buffer (one array to hand back): forces, tau, passive, produced, requested
     out = np.zeros(p * n + 2 * nv + 2 * n)
     forces = out[: p * n].reshape((p, n))
@@ -405,26 +466,13 @@ def distribute(
         for a in range(n):
             produced[a] += forces[i, a]
     # scale-free norms (no overflow or underflow at any magnitude of the request)
-    peak, force_peak = 0.0, 0.0
-    for a in range(n):
-        if keep[a]:
-            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
-            requested[a] = wrench[a]
-        else:
-            requested[a] = produced[a]
+    peak, residual, request, output = request_norms(keep, wrench, produced, requested)
+    force_peak = 0.0
     for i in range(p):
         for a in range(n):
             force_peak = max(force_peak, abs(forces[i, a]))
     if not (np.isfinite(peak) and np.isfinite(force_peak)):
         return out, 0.0, 0.0, 0.0, 3, worst, worst_chain
-    residual, request, output = 0.0, 0.0, 0.0
-    if peak > 0.0:
-        for a in range(n):
-            if keep[a]:
-                error = (produced[a] - wrench[a]) / peak
-                residual += error * error
-                request += (wrench[a] / peak) ** 2
-                output += (produced[a] / peak) ** 2
     residual = peak * np.sqrt(residual)
     # what the residual is compared with: tol times the request or what was produced,
     # whichever is larger, plus the rounding of chain forces that cancel each other
@@ -432,104 +480,4 @@ def distribute(
     return out, residual, scale, ROUNDING * force_peak, 0, worst, worst_chain
 
 
-#: Entries of :func:`pack_arguments`' integer header: mode, n, p, chain table width, torque
-#: rows, plan length, chain columns, velocity indices, constant rows.
-PACK_HEADER = 9
-
-
-def pack_arguments(
-    mode: int,
-    keep: np.ndarray,
-    axis_rows: np.ndarray,
-    frame_rows: np.ndarray,
-    chain_ints: np.ndarray,
-    chain_signs: np.ndarray,
-    springs: np.ndarray,
-    const_rows: np.ndarray,
-    const_rhs: np.ndarray,
-    torque_rows: np.ndarray,
-    torque_signs: np.ndarray,
-    plan: np.ndarray,
-    layout: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`distribute`'s declaration-time arguments as one integer and one float array.
-
-    Built once per mode (the arrays do not change between ticks); :func:`distribute_packed`
-    unpacks them as views. Handing a compiled function two arrays instead of thirteen halves
-    the cost of the call.
-    """
-    n, (p, width), s1 = keep.shape[0], chain_ints.shape, torque_rows.shape[0]
-    header = [mode, n, p, width, s1, plan.shape[0], chain_signs.shape[1], springs.shape[0]]
-    header.append(const_rows.shape[0])
-    ints = np.concatenate(
-        [
-            np.array(header, dtype=np.int64),
-            *(
-                np.asarray(part, dtype=np.int64).ravel()
-                for part in (keep, axis_rows, frame_rows, chain_ints, torque_rows, plan, layout)
-            ),
-        ]
-    )
-    floats = np.concatenate(
-        [
-            np.asarray(part, dtype=np.float64).ravel()
-            for part in (chain_signs, springs, const_rows, const_rhs, torque_signs)
-        ]
-    )
-    return ints, floats
-
-
-@njit(cache=True)
-def distribute_packed(
-    jacobian_world: np.ndarray,
-    frames: np.ndarray,
-    q: np.ndarray,
-    wrench: np.ndarray,
-    ints: np.ndarray,
-    floats: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
-    """:func:`distribute` with the arguments of :func:`pack_arguments` (the same results)."""
-    mode, n, p, width, s1, m, k, nv, s0 = ints[:PACK_HEADER]
-    at = PACK_HEADER
-    keep = ints[at : at + n]
-    at += n
-    axis_rows = ints[at : at + n]
-    at += n
-    frame_rows = ints[at : at + 2 + p]
-    at += 2 + p
-    chain_ints = ints[at : at + p * width].reshape((p, width))
-    at += p * width
-    torque_rows = ints[at : at + 3 * s1].reshape((s1, 3))
-    at += 3 * s1
-    plan = ints[at : at + m]
-    layout = ints[at + m : at + m + 4]
-    chain_signs = floats[: p * k].reshape((p, k))
-    at = p * k
-    springs = floats[at : at + 5 * nv].reshape((nv, 5))
-    at += 5 * nv
-    const_rows = floats[at : at + s0 * p * n].reshape((s0, p, n))
-    at += s0 * p * n
-    const_rhs = floats[at : at + s0]
-    torque_signs = floats[at + s0 : at + s0 + 2 * p * s1].reshape((s1, 2, p))
-    return distribute(
-        jacobian_world,
-        frames,
-        q,
-        wrench,
-        keep,
-        mode,
-        axis_rows,
-        frame_rows,
-        chain_ints,
-        chain_signs,
-        springs,
-        const_rows,
-        const_rhs,
-        torque_rows,
-        torque_signs,
-        plan,
-        layout,
-    )
-
-
-__all__ = ["HEADER", "PACK_HEADER", "distribute", "distribute_packed", "pack_arguments"]
+__all__ = ["HEADER", "PACK_HEADER", "distribute", "pack_arguments"]

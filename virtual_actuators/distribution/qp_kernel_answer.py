@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
+from .kernel_linalg import request_norms
 from .linalg import ROUNDING
 from .qp_kernels import views
 
@@ -100,22 +101,9 @@ def finish(
             acc += tmap[v, j] * z[j]
         tau[v] = tau0[v] + acc * scale
         out[pn + nv + v] = passive[v]
-    peak = 0.0
-    for a in range(n):
-        if keep[a]:
-            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
-            requested[a] = wrench[a]
-        else:
-            requested[a] = produced[a]
-    residual, request, output = 0.0, 0.0, 0.0
+    peak, residual, request, output = request_norms(keep, wrench, produced, requested)
     if not np.isfinite(peak):
         peak, residual = np.inf, np.inf
-    elif peak > 0.0:  # scale-free norms: no overflow at any magnitude
-        for a in range(n):
-            if keep[a]:
-                residual += ((produced[a] - wrench[a]) / peak) ** 2
-                request += (wrench[a] / peak) ** 2
-                output += (produced[a] / peak) ** 2
     count = 0
     for r in range(multipliers.shape[0]):
         count += abs(multipliers[r]) > active_tol

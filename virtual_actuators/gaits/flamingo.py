@@ -41,8 +41,6 @@ from ..vocabulary.constraints import EqualTorque
 from .base import Gait, check_distribution, planar_standing_configuration
 from .turkey import PLANAR_AXES, SIDES, lift_profile, other, smoothstep
 
-_FOOT = {side: f"{side}_foot" for side in SIDES}
-
 
 def _sides(state: str) -> tuple[str, str]:
     """``(stance, swing)`` of a single-support state named ``"<stance side>_..."``."""
@@ -469,8 +467,8 @@ class FlamingoWalker(Gait):
         stance, swing = _SIDES.get(context.state) or _sides(context.state)
         self._update_height(context)
         body = context.frame_position("body")
-        ankle = context.frame_position(_FOOT.get(swing) or f"{swing}_foot")
-        stance_ankle = context.frame_position(_FOOT.get(stance) or f"{stance}_foot")
+        ankle = context.frame_position(f"{swing}_foot")
+        stance_ankle = context.frame_position(f"{stance}_foot")
         body_x, _, body_z = body.tolist()
         start_x, start_z = self._swing_start.tolist()
         elapsed = context.time - self._swing_started

@@ -209,13 +209,13 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        if frame.__class__ is str:  # a tabled frame by name: one row read (a tick's cost)
-            if self._frames is None:
-                self._run()
-            row = self._rows.get(self.tree._names.get(frame))
-            if row is not None:
-                return self._frames[row, 9:].copy()
-        return self._placement(self._frame_id(frame))[1].copy()
+        frame_id = self._frame_id(frame)
+        if self._frames is None:
+            self._run()
+        row = self._rows.get(frame_id)
+        if row is not None:  # a tabled frame: one row read (a tick's cost)
+            return self._frames[row, 9:].copy()
+        return self._placement(frame_id)[1].copy()
 
     def frame_rotation(self, frame: int | str) -> np.ndarray:
         """World orientation of a frame, a 3x3 rotation matrix (a copy).
@@ -236,9 +236,7 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
-        frame_id = self.tree._names.get(frame) if frame.__class__ is str else None
-        if frame_id is None:
-            frame_id = self._frame_id(frame)
+        frame_id = self._frame_id(frame)
         if self._frames is None:
             self._run()
         table = self._frame_velocities  # the compiled pass computed the table's

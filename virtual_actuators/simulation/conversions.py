@@ -375,15 +375,8 @@ def torques_to_ctrl(
             actuator drives (the message names the joint).
 
     """
+    tau = _vector(tau, mm.robot.model.nv, "tau")
     gathers = _gathers(mm)
-    nv = mm.robot.model.nv
-    values = None
-    if type(tau) is np.ndarray and tau.shape == (nv,) and tau.dtype == np.float64 and nv <= 64:
-        values = tau.tolist()  # a tick's short vector: its checks on plain floats
-        if not math.isfinite(sum(values)):
-            values = None
-    if values is None:
-        tau = _vector(tau, nv, "tau")
     if gathers.direct_ctrl is not None:  # every motor drives one joint: one gather
         ctrl = tau[gathers.direct_ctrl]
     else:
@@ -391,8 +384,8 @@ def torques_to_ctrl(
         ctrl[gathers.actuator] = tau[gathers.actuated_v]
     if ignore_unactuated or not gathers.unactuated:
         return ctrl
-    if values is not None:  # tau is finite
-        efforts = [values[i] for i in gathers.unactuated]
+    if len(gathers.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
+        efforts = tau[gathers.unactuated_v].tolist()
         if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
             return ctrl
     elif np.abs(tau[gathers.unactuated_v]).max() <= UNACTUATED_TOLERANCE:

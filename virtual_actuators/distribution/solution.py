@@ -44,7 +44,8 @@ class Solution:
         sets: ``{"MFS": [...], "RFS": [...], "CFS": [...]}`` with labels ``(reaction, axis)``.
         residual: Norm of the part of the requested wrench (prescribed axes) not produced.
         method: ``"partitioned"``, ``"pseudo-inverse"`` or ``"least-squares"``; ``"qp"`` for
-            ``solve(..., method="qp")`` (then ``residual`` says how close the request came).
+            ``solve(..., method="qp")`` (then ``residual`` says how close the request came and
+            ``admissible`` whether it was produced).
         requested: ``(n,)`` the wrench that was asked for (free axes hold the produced value).
         reactions: Reaction frame names, one per row of ``forces``.
         axes: Axis names, one per column of ``forces``.
@@ -66,7 +67,8 @@ class Solution:
             back).
         tolerance: The residual up to which the request counts as produced: ``tol *
             max(|requested|, |produced|)`` on the prescribed axes plus the rounding of the
-            chain forces (:func:`tolerance`); :attr:`admissible` compares ``residual`` with it.
+            chain forces (``distribution.solution.tolerance``); :attr:`admissible` compares
+            ``residual`` with it.
 
     """
 

@@ -19,7 +19,7 @@ from ..distribution.partitioner import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.qp import ContactLimits, QPDistribution
 from ..distribution.qp_weights import check_weights
-from ..distribution.solution import Solution
+from ..distribution.solution import Solution, label, tolerance
 from ..exceptions import (
     ConstraintError,
     FrameNotFoundError,
@@ -346,7 +346,8 @@ class ParallelVirtualActuator:
             tol: Admissibility tolerance (see :meth:`solve`).
 
         Returns:
-            ``(solution, missed)``: ``missed`` when the residual exceeds ``tol``.
+            ``(solution, missed)``: ``missed`` when the residual exceeds ``tol`` (``not
+            solution.admissible``).
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
@@ -363,14 +364,8 @@ class ParallelVirtualActuator:
             fallback = self.dense if solver is self.partitioner else None
             fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
         raw, (tau, passive_torque, produced, requested, residual, scale, rounding) = fast
-        kind = raw.method
-        missed = residual > tol * scale + rounding
-        if kind == "qp":
-            pass  # the QP's answer is always "qp": its residual says how close it came
-        elif missed:
-            kind = "least-squares"
-        elif kind == "least-squares":
-            kind = "pseudo-inverse"
+        limit = tolerance(tol, scale, rounding)  # Solution.admissible's rule, on every path
+        missed = not residual <= limit
         base_effort = tau[:6].copy() if self._floating else np.zeros(0)
         solution = Solution(  # positional (a tick's cost): the fields in declaration order
             tau,
@@ -378,7 +373,7 @@ class ParallelVirtualActuator:
             produced,
             raw.sets,
             residual,
-            kind,
+            label(raw.method, not missed),
             requested,
             self.reactions,
             self.axes,
@@ -389,6 +384,7 @@ class ParallelVirtualActuator:
             raw.systems,
             fast_used,
             raw.active,
+            limit,
         )
         return solution, missed
 

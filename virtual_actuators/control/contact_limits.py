@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..distribution.solution import Solution
+from ..distribution.solution import Solution, label
 from ..kinematics.kernels import HAVE_NUMBA, njit
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment
@@ -231,20 +231,22 @@ def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
 
     Exact for distributions affine in the request (every method but ``"qp"``): forces,
     efforts, produced and requested wrenches are interpolated; the residual is that of the
-    interpolated request (``requested`` equals ``wrench`` on free axes), and the method the
-    end's unless either solve missed its request (then ``"least-squares"``).
+    interpolated request (``requested`` equals ``wrench`` on free axes), its tolerance the
+    interpolated tolerance (the residual is at most the interpolation of the two), and the method
+    the end's, labelled by the one admissibility rule (``Solution.admissible``).
     """
     forces = start.forces + alpha * (end.forces - start.forces)
     produced = start.wrench + alpha * (end.wrench - start.wrench)
     requested = start.requested + alpha * (end.requested - start.requested)
-    missed = "least-squares" in (start.method, end.method)
+    residual = float(np.linalg.norm(produced - requested))
+    limit = start.tolerance + alpha * (end.tolerance - start.tolerance)
     return Solution(  # positional (a tick's cost): the fields in declaration order
         start.tau + alpha * (end.tau - start.tau),
         forces,
         produced,
         end.sets,
-        float(np.linalg.norm(produced - requested)),
-        "least-squares" if missed else end.method,
+        residual,
+        label(end.method, residual <= limit),
         requested,
         end.reactions,
         end.axes,
@@ -255,6 +257,7 @@ def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
         end.systems,
         start.compiled and end.compiled,
         end.active,
+        limit,
     )
 
 

@@ -3,10 +3,13 @@
 The natural and design constraints stay equalities; the contacts add inequalities:
 
 - a **friction pyramid** at each chain: with ``n`` the contact normal (world z; or a world vector
-  given per reaction; or, ``"frame"``, the reaction frame's z axis at this tick; expressed in
-  {O}) and ``t1, t2`` two tangents, ``n . f >= min_normal`` and ``|t_k . f| <= mu n . f`` (four
-  faces: the pyramid circumscribing the cone, exact along ``t1``, ``t2``, up to ``sqrt(2) mu``
-  on the diagonals between them);
+  given per reaction; or, ``"frame"``, the reaction frame's z axis at this tick) and ``t1, t2``
+  two tangents fixed in the world (``t1 = n x e`` normalised, ``e`` the world x axis, or y when
+  ``|n_x| >= 0.9``; ``t2 = n x t1``: world y and -x about world z), ``n . f >= min_normal`` and
+  ``|t_k . f| <= mu n . f`` (four faces: the pyramid circumscribing the cone, exact along
+  ``t1``, ``t2``, up to ``sqrt(2) mu`` on the diagonals between them). The pyramid is built in
+  world axes and then turned into {O}'s: it is the contact's, and the same physical request
+  gives the same forces whatever frame {O} the wrench is written in;
 - a **centre of pressure inside the sole** for flat contacts given a sole ``(half_length,
   half_width)``: the moment about the reaction frame's origin, in that frame, satisfies
   ``|m_x| <= half_width f_n`` and ``|m_y| <= half_length f_n``, and the yaw moment

@@ -80,7 +80,10 @@ def _orthonormalise(columns: np.ndarray, count: int, r: np.ndarray) -> float:
 
 @njit(cache=True)
 def _face_rows(normal: np.ndarray, friction: float, with_normal: bool, out: np.ndarray) -> int:
-    """The pyramid's rows (``>= 0``, in {O}) about ``normal``: returns how many."""
+    """The pyramid's rows (``>= 0``, in the world) about ``normal``: returns how many.
+
+    Tangents from the world x axis (y when the normal is near x): fixed in the world.
+    """
     count = 0
     if with_normal:
         out[0, :] = normal
@@ -104,6 +107,15 @@ def _face_rows(normal: np.ndarray, friction: float, with_normal: bool, out: np.n
             out[count, c] = friction * normal[c] + sign * tangent[c]
         count += 1
     return count
+
+
+@njit(cache=True)
+def _to_o(rot_o: np.ndarray, rows: np.ndarray, count: int) -> None:
+    """``rows[:count]`` (world vectors) into {O}'s axes in place: ``R_O^T v`` for each row."""
+    for f in range(count):
+        v0, v1, v2 = rows[f, 0], rows[f, 1], rows[f, 2]
+        for c in range(3):
+            rows[f, c] = rot_o[0, c] * v0 + rot_o[1, c] * v1 + rot_o[2, c] * v2
 
 
 @njit(cache=True)
@@ -205,7 +217,7 @@ def reduced_qp(
     r_mat = np.empty((K + 3, K + 3))
     targets = np.empty(K + 3)
     face_o = np.empty((5, 3))
-    normal_o = np.empty(3)
+    normal_w = np.empty(3)
     worst = np.inf
     start = 0
     sole_row = p * faces
@@ -282,15 +294,12 @@ def reduced_qp(
             for a in range(n):
                 acc += const_rows[t, i, a] * chain_x0[a]
             equality_rhs[t] -= acc
-        # the pyramid about the normal in {O}, on the chain's force entries
-        if frame_normals[i]:  # the frame's z axis in the world: column 2 of its rotation
-            n0, n1, n2 = frames[a_row, 2], frames[a_row, 5], frames[a_row, 8]
-        else:
-            n0, n1, n2 = normals_world[i, 0], normals_world[i, 1], normals_world[i, 2]
-        for c in range(3):
-            normal_o[c] = rot_o[0, c] * n0 + rot_o[1, c] * n1 + rot_o[2, c] * n2
+        # the pyramid about the normal, built in the world (the contact's, whatever {O} is) and
+        # turned into {O}, on the chain's force entries
+        for c in range(3):  # a frame normal: its z axis in the world, column 2 of its rotation
+            normal_w[c] = frames[a_row, 3 * c + 2] if frame_normals[i] else normals_world[i, c]
         if faces:
-            _face_rows(normal_o, friction, with_normal, face_o)
+            _to_o(rot_o, face_o, _face_rows(normal_w, friction, with_normal, face_o))
             for f in range(faces):
                 row = i * faces + f
                 _force_row(face_o[f], axis_rows, chain_x0, chain_basis, inequality[row, start:],

@@ -222,12 +222,16 @@ class ContactLimits:
         blocks: list[np.ndarray] = []
         lows: list[np.ndarray] = []
         rotation_o = state.rotation_o
-        normals_o = self.normals_world_at(state) @ rotation_o  # rows: R_O^T n, per chain
+        normals_world = self.normals_world_at(state)
+        normals_o = normals_world @ rotation_o  # rows: R_O^T n, per chain
         if self._cone:
-            helper = np.where(np.abs(normals_o[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-            tangent1 = _cross(normals_o, helper)
+            # the pyramid is the contact's: tangents fixed in the world, then turned into {O}
+            helper = np.where(np.abs(normals_world[:, :1]) < 0.9, [[1.0, 0.0, 0.0]],
+                              [[0.0, 1.0, 0.0]])  # fmt: skip
+            tangent1 = _cross(normals_world, helper)
             tangent1 /= np.linalg.norm(tangent1, axis=1, keepdims=True)
-            tangent2 = _cross(normals_o, tangent1)
+            tangent2 = _cross(normals_world, tangent1) @ rotation_o
+            tangent1 = tangent1 @ rotation_o
             vectors = [normals_o] if self.normal_row else []
             if self.friction is not None:
                 mu_normal = self.friction * normals_o

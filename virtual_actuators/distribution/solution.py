@@ -7,6 +7,31 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def tolerance(tol: float, scale: float, rounding: float) -> float:
+    """The residual up to which a request counts as produced: ``tol * scale + rounding``.
+
+    Args:
+        tol: Relative tolerance (``solve(..., tol=)``).
+        scale: The larger of the request's and the produced wrench's norms, prescribed axes.
+        rounding: The rounding of chain forces that cancel (the path's own estimate).
+
+    """
+    return tol * scale + rounding
+
+
+def label(method: str, admissible: bool) -> str:
+    """A solve's ``method`` from what its solver did and whether the request was produced.
+
+    ``"qp"`` stays ``"qp"``; otherwise a missed request is ``"least-squares"`` and a produced
+    one answered by least squares is ``"pseudo-inverse"``.
+    """
+    if method == "qp":
+        return method
+    if not admissible:
+        return "least-squares"
+    return "pseudo-inverse" if method == "least-squares" else method
+
+
 @dataclass(repr=False, slots=True)
 class Solution:
     """A force distribution and the joint efforts that produce it.
@@ -19,7 +44,8 @@ class Solution:
         sets: ``{"MFS": [...], "RFS": [...], "CFS": [...]}`` with labels ``(reaction, axis)``.
         residual: Norm of the part of the requested wrench (prescribed axes) not produced.
         method: ``"partitioned"``, ``"pseudo-inverse"`` or ``"least-squares"``; ``"qp"`` for
-            ``solve(..., method="qp")`` (then ``residual`` says how close the request came).
+            ``solve(..., method="qp")`` (then ``residual`` says how close the request came and
+            ``admissible`` whether it was produced).
         requested: ``(n,)`` the wrench that was asked for (free axes hold the produced value).
         reactions: Reaction frame names, one per row of ``forces``.
         axes: Axis names, one per column of ``forces``.
@@ -39,6 +65,10 @@ class Solution:
         compiled: Whether the compiled per-tick kernel computed this (False: the numpy
             implementation, e.g. ``solve(..., compiled=False)`` or a tick the kernel handed
             back).
+        tolerance: The residual up to which the request counts as produced: ``tol *
+            max(|requested|, |produced|)`` on the prescribed axes plus the rounding of the
+            chain forces (``distribution.solution.tolerance``); :attr:`admissible` compares
+            ``residual`` with it.
 
     """
 
@@ -58,11 +88,17 @@ class Solution:
     systems: tuple[tuple[str, int, int], ...] = ()
     compiled: bool = False
     active: tuple[str, ...] = ()
+    tolerance: float = 0.0
 
     @property
     def admissible(self) -> bool:
-        """Whether the requested wrench was produced (``method != "least-squares"``)."""
-        return self.method != "least-squares"
+        """Whether the requested wrench was produced: ``residual <= tolerance``, on every path.
+
+        The one rule of ``solve(..., strict=True)``, which raises exactly when this is False
+        (every method and both paths, ``"qp"`` included; then ``method`` is
+        ``"least-squares"``, except for ``"qp"`` which keeps its name).
+        """
+        return self.residual <= self.tolerance
 
     def force(self, reaction: str) -> np.ndarray:
         """Return the ``(n,)`` wrench that the chain ending at ``reaction`` exerts on {B}.

@@ -113,14 +113,17 @@ def test_serial_spring_damper_gives_jt_f_with_f_by_hand(seed):
     np.testing.assert_allclose(out.positions["arm"], position, rtol=0, atol=1e-12)
     np.testing.assert_allclose(out.velocities["arm"], velocity_fd, rtol=0, atol=1e-8)
 
-    force_fd = k * (x0 - position) + b * (v0 - velocity_fd) + f
+    # the rotational set point is an orientation: the deflection is log(R_set R^T) in {O}
+    deflection = x0 - position
+    deflection[3:] = pin.log3(pin.exp3(x0[3:]) @ pin.exp3(position[3:]).T)
+    force_fd = k * deflection + b * (v0 - velocity_fd) + f
     np.testing.assert_allclose(out.wrenches["arm"], force_fd, rtol=0, atol=1e-6)
     np.testing.assert_allclose(out.tau, jac_fd.T @ force_fd, rtol=0, atol=1e-6)
 
     # the same with Pinocchio's analytic Jacobian: tight
     jac = analytic_jacobian(model, q, "tool0")
     np.testing.assert_allclose(jac, jac_fd, rtol=0, atol=1e-8)
-    force = k * (x0 - position) + b * (v0 - jac @ v) + f
+    force = k * deflection + b * (v0 - jac @ v) + f
     np.testing.assert_allclose(out.wrenches["arm"], force, rtol=0, atol=1e-10)
     np.testing.assert_allclose(out.tau, jac.T @ force, rtol=0, atol=1e-10)
     np.testing.assert_array_equal(out.produced["arm"], out.wrenches["arm"])

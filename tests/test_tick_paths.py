@@ -6,6 +6,8 @@ move), and anything it does not handle must take the checked path with its typed
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -29,10 +31,14 @@ AXES3 = ("x", "z", "ry")
 
 
 def _array_formula(spring: va.SpringDamper, position: np.ndarray, velocity: np.ndarray):
-    """The component formula written with numpy arrays (the reference of the float path)."""
-    wrench = spring.stiffness * (spring.setpoint - position) + spring.damping * (
-        spring.velocity_setpoint - velocity
-    )
+    """The component formula written with numpy arrays (the reference of the float path).
+
+    The one rotational axis (``ry``) takes the angle difference wrapped to ``[-pi, pi]``.
+    """
+    deflection = spring.setpoint - position
+    if abs(deflection[2]) > math.pi:
+        deflection[2] = math.remainder(deflection[2], 2.0 * math.pi)
+    wrench = spring.stiffness * deflection + spring.damping * (spring.velocity_setpoint - velocity)
     wrench = np.minimum(np.maximum(wrench, -spring.limit), spring.limit)
     return wrench + spring.force
 

@@ -70,8 +70,10 @@ class SensorReading:
     """One reading of a serial actuator's virtual sensor.
 
     Attributes:
-        position: Pose of {B} relative to {A} in {O} on the actuator's axes [m, rad].
-        velocity: Its rate ``jacobian @ v`` [m/s, rad/s].
+        position: Pose of {B} relative to {A} in {O} on the actuator's axes [m, rad]: the
+            orientation as a rotation vector in {O}'s axes (norm at most pi).
+        velocity: Its rate ``jacobian @ v`` [m/s, rad/s]: on rotational axes the angular
+            velocity of {B} relative to {A} in {O}'s axes.
         jacobian: ``(len(axes), nv)`` Jacobian.
 
     """
@@ -185,7 +187,7 @@ class VirtualActuator:
         return self.kinematics.sense(state)[0]
 
     def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
-        """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s].
+        """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s] (angular velocity on rotations).
 
         Args:
             state: A :class:`~virtual_actuators.Snapshot` built with ``v``, or ``q``.

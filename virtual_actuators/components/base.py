@@ -57,8 +57,10 @@ class Component(ABC):
         """Wrench on the action frame from the sensor reading on this component's axes.
 
         Args:
-            position: Pose of {B} relative to {A} along ``self.axes`` [m, rad].
-            velocity: Its rate [m/s, rad/s].
+            position: Pose of {B} relative to {A} along ``self.axes`` [m, rad]; on rotational
+                axes the entries of the rotation vector of the orientation, in {O}'s axes.
+            velocity: Its rate [m/s, rad/s]; on rotational axes the angular velocity in {O}'s
+                axes (not the rate of the rotation vector).
             time: Controller time [s].
 
         Returns:

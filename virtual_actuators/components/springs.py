@@ -2,12 +2,18 @@
 
 All of them are one formula, per axis ``i``::
 
-    wrench_i = stiffness_i (setpoint_i - position_i) + damping_i (velocity_setpoint_i - velocity_i)
-               + force_i
+    wrench_i = stiffness_i deflection_i + damping_i (velocity_setpoint_i - velocity_i) + force_i
 
-with positions in metres or radians and wrenches in newtons or newton-metres. Set points are
-attributes: a state machine or a gait moves them between ticks ("hints and suggestions", VMC
-section 3) without rebuilding anything.
+with positions in metres or radians and wrenches in newtons or newton-metres. On a translation
+axis ``deflection_i = setpoint_i - position_i``. On the rotational axes the set point is an
+orientation, ``R_set = exp(setpoint)`` (``setpoint`` a rotation vector in {O}'s axes, like the
+sensor's reading), and the deflection is the rotation from the current orientation to it,
+``log(R_set R^T)`` in {O}'s axes: continuous through ``|r| = pi``, ``setpoint - position`` to
+first order near the set point. The velocity on rotational axes is the angular velocity in
+{O}'s axes. See :mod:`~virtual_actuators.components.orientation` for the rule on components
+that act on only some rotational axes (one axis: the angle difference wrapped to
+``[-pi, pi]``). Set points are attributes: a state machine or a gait moves them between ticks
+("hints and suggestions", VMC section 3) without rebuilding anything.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from .base import Component
+from .orientation import deflection, rotation_axes
 
 Vector = float | Sequence[float] | np.ndarray
 _FLOAT64 = np.dtype(np.float64)
@@ -30,8 +37,10 @@ class SpringDamper(Component):
         axes: Axes the component acts on.
         stiffness: Per axis or scalar, >= 0 [N/m or N m/rad].
         damping: Per axis or scalar, >= 0 [N s/m or N m s/rad].
-        setpoint: Rest position of the spring [m or rad].
-        velocity_setpoint: Velocity the damper pulls toward [m/s or rad/s].
+        setpoint: Rest position of the spring [m or rad]; on the rotational axes, a rotation
+            vector in {O}'s axes read as the orientation ``exp(setpoint)`` (module docstring).
+        velocity_setpoint: Velocity the damper pulls toward [m/s or rad/s]; on the rotational
+            axes, an angular velocity in {O}'s axes.
         force: Constant force added (a feed-forward, e.g. the weight) [N or N m].
         limit: Largest magnitude of the spring-damper's output per axis, before ``force`` is
             added (a saturating component) [N or N m]; ``inf`` for none.
@@ -58,6 +67,7 @@ class SpringDamper(Component):
     ) -> None:
         super().__init__(axes, name)
         self._shape = (len(self.axes),)
+        self._rotations = rotation_axes(self.axes)  # None: translations only
         self.stiffness = stiffness
         self.damping = damping
         self.setpoint = setpoint
@@ -86,7 +96,7 @@ class SpringDamper(Component):
 
     @property
     def setpoint(self) -> np.ndarray:
-        """Spring rest positions [m or rad]."""
+        """Spring rest positions [m or rad] (rotational axes: a rotation vector in {O})."""
         return self._setpoint
 
     @setpoint.setter
@@ -128,7 +138,12 @@ class SpringDamper(Component):
         return array
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """``clip(k (x0 - x) + b (v0 - v), -limit, limit) + f`` per axis (module docstring)."""
+        """``clip(k deflection + b (v0 - v), -limit, limit) + f`` per axis (module docstring).
+
+        ``deflection = x0 - x`` on translation axes; on rotational axes, the rotation from the
+        current orientation to the set point's (see
+        :mod:`~virtual_actuators.components.orientation`).
+        """
         if (
             position.__class__ is np.ndarray
             and velocity.__class__ is np.ndarray
@@ -140,12 +155,20 @@ class SpringDamper(Component):
             return np.array(
                 SpringDamper._wrench_floats(self, position.tolist(), velocity.tolist(), time)
             )
-        wrench = self._stiffness * (self._setpoint - position) + self._damping * (
+        wrench = self._stiffness * self._deflection(position) + self._damping * (
             self._velocity_setpoint - velocity
         )
         if self._limited:
             wrench = np.minimum(np.maximum(wrench, -self._limit), self._limit)
         return wrench + self._force
+
+    def _deflection(self, position: np.ndarray) -> np.ndarray:
+        """``setpoint - position``, the orientation's deflection on rotational axes [m, rad]."""
+        bent = self._setpoint - position
+        if self._rotations is not None and bent.shape == self._shape:
+            position = np.asarray(position, dtype=float).tolist()
+            bent = np.array(deflection(self._setpoint.tolist(), position, self._rotations))
+        return bent
 
     def _wrench_floats(
         self, position: list[float], velocity: list[float], time: float
@@ -156,6 +179,10 @@ class SpringDamper(Component):
         without numpy's per-call cost on a few axes. The parameters are read from the arrays
         at every call (an array changed in place is seen).
         """
+        if self._rotations is not None:  # the deflection first (orientation on SO(3))
+            return self._deflected_floats(
+                deflection(self._setpoint.tolist(), position, self._rotations), velocity
+            )
         terms = zip(
             self._stiffness.tolist(),
             self._setpoint.tolist(),
@@ -173,6 +200,24 @@ class SpringDamper(Component):
             ]
         return [k * (x0 - x) + b * (v0 - v) + f for k, x0, x, b, v0, v, f in terms]
 
+    def _deflected_floats(self, bent: list[float], velocity: list[float]) -> list[float]:
+        """:meth:`_wrench_floats` from the deflection per axis (the same operations)."""
+        terms = zip(
+            self._stiffness.tolist(),
+            bent,
+            self._damping.tolist(),
+            self._velocity_setpoint.tolist(),
+            velocity,
+            self._force.tolist(),
+            strict=True,
+        )
+        if self._limited:
+            return [
+                min(max(k * d + b * (v0 - v), -limit), limit) + f
+                for (k, d, b, v0, v, f), limit in zip(terms, self._limit.tolist(), strict=True)
+            ]
+        return [k * d + b * (v0 - v) + f for k, d, b, v0, v, f in terms]
+
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:
             return np.array2string(array, precision=4, separator=", ")
@@ -184,7 +229,7 @@ class SpringDamper(Component):
 
 
 class Spring(SpringDamper):
-    """A spring: ``stiffness (setpoint - position)``, or any force law of the deflection.
+    """A spring: ``stiffness * deflection``, or any force law of the deflection.
 
     Args:
         axes: Axes the spring acts on.
@@ -192,11 +237,12 @@ class Spring(SpringDamper):
         setpoint: Rest position [m or rad].
         name: Label used in reports.
         law: A callable ``law(deflection) -> force``: ``deflection = setpoint - position``, an
-            array over the spring's axes [m or rad], to the force on each axis [N or N m]
-            (e.g. ``lambda d: 2000 * d**3`` for a hardening spring, ``lambda d: np.where(d > 0,
-            k * d, 0.0)`` for a one-way spring). Called every tick; it must return one finite
-            number per axis (or a scalar for all of them). With a law, :attr:`stiffness`
-            (and the inherited damping and force) are not used.
+            array over the spring's axes [m or rad] (on rotational axes, the rotation from the
+            current orientation to the set point's, as in :class:`SpringDamper`), to the force
+            on each axis [N or N m] (e.g. ``lambda d: 2000 * d**3`` for a hardening spring,
+            ``lambda d: np.where(d > 0, k * d, 0.0)`` for a one-way spring). Called every tick;
+            it must return one finite number per axis (or a scalar for all of them). With a
+            law, :attr:`stiffness` (and the inherited damping and force) are not used.
 
     Raises:
         InvalidAxisError: Bad axes.
@@ -230,10 +276,10 @@ class Spring(SpringDamper):
         self.law = law
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The linear spring's force, or ``law(setpoint - position)``."""
+        """The linear spring's force, or ``law(deflection)`` (:class:`SpringDamper`)."""
         if self.law is None:
             return SpringDamper.compute_wrench(self, position, velocity, time)
-        result = self.law(self._setpoint - np.asarray(position, dtype=float))
+        result = self.law(self._deflection(np.asarray(position, dtype=float)))
         try:
             force = np.broadcast_to(np.asarray(result, dtype=float), self._shape).copy()
         except (TypeError, ValueError):

@@ -1,0 +1,139 @@
+"""How springs read an orientation: the deflection on SO(3), not per component.
+
+A serial actuator's rotational axes read the orientation of {B} relative to {A} as a rotation
+vector ``r`` in {O}'s axes (``|r| <= pi``; the orientation is ``R = exp(r)``). A rotation vector
+wraps: a tool pointing straight down sits at ``|r| = pi``, where a small turn sends ``r`` to
+about ``-r``. So a spring's rotational ``setpoint`` is read as an orientation,
+``R_set = exp(setpoint)``, and the spring acts on the rotation between the two orientations, in
+{O}'s axes, never on the difference of the vectors::
+
+    error      = R_set log(R_set^T R) = log(R R_set^T)      (set point to current, in {O})
+    deflection = -error = log(R_set R^T)                     (current to set point, in {O})
+
+The deflection is continuous through ``|r| = pi`` and equal to ``setpoint - position`` to first
+order near the set point; a linear spring's moment is ``stiffness * deflection`` per {O} axis
+(for one stiffness on all three axes, the gradient of ``k/2 |log(R R_set^T)|^2``). The rate
+that dampers read is the angular velocity of {B} relative to {A} in {O}'s axes (the sensor's
+``J v``), not the rate of ``r``.
+
+A component on all three rotational axes uses the full SO(3) deflection. A component on fewer
+of them sees only those entries of the rotation vectors, and takes the rotation as being about
+its own axes (the missing entries zero): with one rotational axis the deflection is the angle
+difference wrapped to ``[-pi, pi]`` (exact for a planar robot's pitch, unchanged near the set
+point); with two, the SO(3) deflection of the completed vectors on those two axes. To hold a
+general 3-D orientation, put the spring on all three rotational axes.
+
+Everything here is on plain floats (the controller's per-tick path): a rotation vector becomes
+a unit quaternion, the two are composed and the result turned back into a rotation vector with
+``atan2`` (full precision near 0 and near pi).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+_PI = math.pi
+_TAU = math.tau
+
+
+@dataclass(frozen=True)
+class RotationAxes:
+    """Where a component's rotational axes sit among its axes.
+
+    Attributes:
+        start: Index of the first rotational axis (axes are ordered: translations first).
+        which: For each rotational axis, its component of a rotation vector (0, 1, 2 for
+            ``rx, ry, rz``).
+
+    """
+
+    start: int
+    which: tuple[int, ...]
+
+
+def rotation_axes(axes: Sequence[str]) -> RotationAxes | None:
+    """The rotational axes of an ordered axis tuple (None when there are none)."""
+    which = tuple("xyz".index(axis[1]) for axis in axes if axis.startswith("r"))
+    return RotationAxes(len(axes) - len(which), which) if which else None
+
+
+def _quaternion(x: float, y: float, z: float) -> tuple[float, float, float, float]:
+    """``exp`` of the rotation vector ``(x, y, z)`` [rad] as a unit quaternion ``(w, v)``."""
+    angle2 = x * x + y * y + z * z
+    if angle2 < 1e-8:  # |r| < 1e-4: series of cos(a/2) and sin(a/2)/a (error < 1e-18)
+        w = 1.0 - angle2 / 8.0
+        s = 0.5 - angle2 / 48.0
+    else:
+        angle = math.sqrt(angle2)
+        w = math.cos(0.5 * angle)
+        s = math.sin(0.5 * angle) / angle
+    return w, s * x, s * y, s * z
+
+
+def rotation_deflection(
+    setpoint: Sequence[float], position: Sequence[float]
+) -> tuple[float, float, float]:
+    """``log(R_set R^T)`` for ``R_set = exp(setpoint)`` and ``R = exp(position)`` [rad].
+
+    The rotation that takes the current orientation to the set point, as a rotation vector in
+    the axes both vectors are written in ({O}'s), of norm at most pi.
+
+    Args:
+        setpoint: Rotation vector of the set point ``(3,)`` [rad].
+        position: Rotation vector of the current orientation ``(3,)`` [rad].
+
+    Returns:
+        The deflection ``(3,)`` [rad].
+
+    """
+    ws, xs, ys, zs = _quaternion(setpoint[0], setpoint[1], setpoint[2])
+    wc, xc, yc, zc = _quaternion(position[0], position[1], position[2])
+    # q_set * conj(q): (ws, vs)(wc, -vc) = (ws wc + vs.vc, wc vs - ws vc - vs x vc)
+    w = ws * wc + xs * xc + ys * yc + zs * zc
+    x = wc * xs - ws * xc - (ys * zc - zs * yc)
+    y = wc * ys - ws * yc - (zs * xc - xs * zc)
+    z = wc * zs - ws * zc - (xs * yc - ys * xc)
+    if w < 0.0:  # q and -q are the same rotation: take the angle in [0, pi]
+        w, x, y, z = -w, -x, -y, -z
+    norm = math.hypot(x, y, z)  # sin(angle / 2)
+    if norm == 0.0:
+        return 0.0, 0.0, 0.0
+    factor = 2.0 * math.atan2(norm, w) / norm
+    return factor * x, factor * y, factor * z
+
+
+def deflection(
+    setpoint: list[float], position: list[float], rotations: RotationAxes | None
+) -> list[float]:
+    """``setpoint - position`` per axis, with the orientation deflection on rotational axes.
+
+    Args:
+        setpoint: Set point per axis [m, rad].
+        position: Sensor reading per axis [m, rad].
+        rotations: The component's :func:`rotation_axes`.
+
+    Returns:
+        The deflection per axis [m, rad] (see the module docstring for the rotational axes).
+
+    """
+    out = [x0 - x for x0, x in zip(setpoint, position, strict=True)]
+    if rotations is None:
+        return out
+    start, which = rotations.start, rotations.which
+    if len(which) == 1:  # the angle difference, wrapped (unchanged within [-pi, pi])
+        angle = out[start]
+        if not -_PI <= angle <= _PI:
+            out[start] = math.remainder(angle, _TAU)
+        return out
+    target, current = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    for i, k in enumerate(which, start):
+        target[k], current[k] = setpoint[i], position[i]
+    turn = rotation_deflection(target, current)
+    for i, k in enumerate(which, start):
+        out[i] = turn[k]
+    return out
+
+
+__all__ = ["RotationAxes", "deflection", "rotation_axes", "rotation_deflection"]

@@ -23,8 +23,9 @@ singular or infeasible distribution) are its own ``on_failure`` policy's, and co
 :attr:`RunStats.attachment_failures`.
 
 The loop **always ends by writing zero effort** of the robot's size, whatever ended it: the
-duration, ``should_stop``, an error of ``write_effort``, or Ctrl-C (``KeyboardInterrupt`` and
-other exceptions that are not per-tick failures are re-raised after that write). With
+duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C
+(``KeyboardInterrupt`` and the other exceptions that are not per-tick failures are re-raised
+after that write). With
 :class:`~virtual_actuators.simulation.hardware.MujocoHardware` that last zero command steps the
 simulation one more period. A tick that takes longer than the period is an overrun: the loop
 does not try to catch up (the next tick starts at once), and counts it.
@@ -161,8 +162,9 @@ def run(
             ``should_stop``) that are not callable; neither ``duration`` nor ``should_stop``;
             no robot (neither ``robot`` nor ``controller.robot``), or a ``robot`` that is not
             the controller's.
-        KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are errors of
-            ``write_effort`` and exceptions that are not :class:`Exception`).
+        KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
+            of ``write_effort`` and ``should_stop``, and exceptions that are not
+            :class:`Exception`; if the final write fails too, a note on the error says so).
 
     """
     rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)

@@ -238,7 +238,8 @@ CASES: list[tuple[str, Call, str]] = [
     ("ptorques-forces-shape", lambda e: e.body.torques(e.q_solo, np.ones(6)), "forces"),
     # -- controller --------------------------------------------------------------------------
     ("controller-clip-str", lambda e: va.Controller(e.ur5, clip="no"), "clip"),
-    ("controller-on-singular", lambda e: va.Controller(e.ur5, on_singular=None), "on_singular"),
+    ("controller-on-singular", lambda e: va.Controller(e.ur5, on_singular=0), "on_singular"),
+    ("controller-on-failure", lambda e: va.Controller(e.ur5, on_failure="ignore"), "on_failure"),
     ("add-name-int", lambda e: add(e, name=5), "name"),
     ("add-name-None", lambda e: add(e, name=None), "name"),
     ("add-actuator-None", lambda e: add(e, actuator=None), "actuator"),

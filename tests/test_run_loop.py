@@ -13,6 +13,7 @@ class ArmController:
     """UR5: a Cartesian spring-damper on the tool plus gravity compensation."""
 
     def __init__(self, robot: va.Robot, target: np.ndarray) -> None:
+        self.robot = robot  # va.run writes this robot's (nv,) efforts
         self.controller = va.Controller(robot)
         tool = va.VirtualActuator(robot, "tool0", "world", "world", ("x", "y", "z"))
         self.spring = va.SpringDamper(("x", "y", "z"), 400.0, 40.0, setpoint=target)
@@ -40,7 +41,7 @@ def test_runs_an_arm_to_its_target_in_mujoco():
         realtime=False,
         should_stop=lambda: simulator.time >= 2.0 - 1e-9,
     )
-    assert stats.ticks == 2000 and stats.zero_ticks == 0
+    assert stats.ticks == 2000 and stats.zero_ticks == stats.failed_ticks == 0
     assert hardware.efforts_written == 2001  # and one zero effort at the end
     assert np.linalg.norm(tool.position(simulator.q) - target) < 1e-3  # [m] (0.3 mm measured)
     assert "ticks" in stats.summary()
@@ -61,7 +62,12 @@ class Scripted:
         self.written.append(np.array(tau))
 
 
+PENDULUM = va.load_robot("double_pendulum")  # nq = nv = 2
+
+
 class Constant:
+    robot = PENDULUM
+
     def compute(self, q, v, time):
         return np.ones(len(v))
 
@@ -82,17 +88,20 @@ def test_zero_effort_on_stale_and_non_finite_readings_and_at_the_end():
 
 def test_a_failing_controller_sends_zero():
     class Failing:
+        robot = PENDULUM
+
         def compute(self, q, v, time):
             raise va.SingularConfigurationError("straight knee")
 
-    io = Scripted([(np.zeros(3), np.zeros(3), 0.001 * k) for k in range(100)])
+    io = Scripted([(np.zeros(2), np.zeros(2), 0.001 * k) for k in range(100)])
     stats = va.run(Failing(), io.read_state, io.write_effort, rate_hz=2000.0, duration=0.01)
-    assert stats.zero_ticks == stats.ticks > 0
-    assert all(not tau.any() for tau in io.written)
+    assert stats.zero_ticks == stats.failed_ticks == stats.ticks > 0
+    assert stats.reasons == {"controller error: SingularConfigurationError": stats.ticks}
+    assert all(tau.shape == (2,) and not tau.any() for tau in io.written)
 
 
 def test_bad_arguments():
-    io = Scripted([(np.zeros(1), np.zeros(1), 0.0)])
+    io = Scripted([(np.zeros(2), np.zeros(2), 0.0)])
     with pytest.raises(va.InvalidInputError, match="rate_hz"):
         va.run(Constant(), io.read_state, io.write_effort, rate_hz=0.0, duration=1.0)
     with pytest.raises(va.InvalidInputError, match="duration or a should_stop"):
@@ -105,6 +114,8 @@ def test_bad_arguments():
 
 def test_any_controller_failure_sends_zero_and_the_end_is_zero_even_on_interrupt():
     class Flaky:
+        robot = PENDULUM
+
         def __init__(self):
             self.calls = 0
 
@@ -127,8 +138,8 @@ def test_any_controller_failure_sends_zero_and_the_end_is_zero_even_on_interrupt
 
 
 def test_a_nan_stamp_is_not_taken_as_the_clock():
-    states = [(np.zeros(1), np.zeros(1), float("nan"))]
-    states += [(np.zeros(1), np.zeros(1), 0.001 * k) for k in range(1, 40)]
+    states = [(np.zeros(2), np.zeros(2), float("nan"))]
+    states += [(np.zeros(2), np.zeros(2), 0.001 * k) for k in range(1, 40)]
     io = Scripted(states)
     stats = va.run(Constant(), io.read_state, io.write_effort, rate_hz=1000.0, duration=0.03)
     assert stats.reasons == {"non-finite": 1}

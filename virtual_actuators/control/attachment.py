@@ -157,7 +157,10 @@ class Attachment:
                     return None  # the array path names the component and what it returned
                 for i, value in enumerate(share, start):
                     total[i] += value
-        if not math.isfinite(sum(total)):
+        try:
+            if not math.isfinite(sum(total)):
+                return None
+        except TypeError:  # a complex or non-numeric entry: the array path names it
             return None
         return np.array(total)
 

@@ -26,7 +26,6 @@ from ..distribution.solution import Solution
 from ..exceptions import (
     InvalidInputError,
     JointNotFoundError,
-    SingularConfigurationError,
     suggestion,
 )
 from ..kinematics.snapshot import Snapshot
@@ -48,23 +47,20 @@ from ..vocabulary.frames import (
 )
 from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
 from .contact_limits import enforce_unilateral
+from .failures import (
+    CAUGHT,
+    AttachmentFailure,
+    check_policy,
+    drop_non_finite,
+    reason_of,
+    recover,
+    urdf_effort_limits,
+)
 from .output import ControlOutput, velocity_names
+from .tick_arguments import NO_LIMP, check_active, check_limp, check_same_velocity, names_tuple
 from .warm_up import warm_up
 
-_NO_LIMP = np.zeros(0, dtype=np.intp)
 _MAX_CHECKED_LIMP = 1024  # joint_indices arrays trusted by compute(); more are checked per call
-
-
-def _names_tuple(active: object) -> tuple:
-    """``active`` as a tuple, or an :class:`InvalidInputError` naming it."""
-    if not isinstance(active, (bytes, Mapping)):
-        try:
-            return tuple(active)
-        except TypeError:
-            pass
-    raise InvalidInputError(
-        f"active must be a sequence of attachment names (or one name), got {describe(active)}."
-    )
 
 
 class Controller:
@@ -74,38 +70,47 @@ class Controller:
         robot: The robot.
         clip: Clip the efforts to the URDF's effort limits (joints without a positive finite
             limit are never clipped).
-        on_singular: ``"raise"`` (default) re-raises :class:`SingularConfigurationError` from a
-            parallel actuator; ``"skip"`` drops that actuator's torques for the tick and reports
-            it in :attr:`ControlOutput.failed`.
+        on_singular: The former name of ``on_failure`` (kept for compatibility; the same
+            values, and it now covers every failure: ``on_singular="skip"`` also skips a
+            contact QP that cannot be solved). Give one of the two.
+        on_failure: What a failing attachment does (a singular or infeasible distribution,
+            a QP out of iterations, a component's non-finite wrench, non-finite efforts):
+            ``"raise"`` (default) raises the typed error; ``"skip"`` drops that attachment's
+            efforts for the tick; ``"fallback"`` uses the partitioned least-squares answer to
+            the same request, clipped to :attr:`effort_limits` (zero when there is none). Every
+            firing is reported in :attr:`ControlOutput.failures`; see
+            :mod:`~virtual_actuators.control.failures`.
 
     Raises:
-        InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, or a bad
-            ``on_singular``.
+        InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, a bad
+            ``on_failure`` or ``on_singular``, or both given with different values.
 
     """
 
-    def __init__(self, robot: Robot, clip: bool = True, on_singular: str = "raise") -> None:
+    def __init__(
+        self,
+        robot: Robot,
+        clip: bool = True,
+        on_singular: str | None = None,
+        on_failure: str | None = None,
+    ) -> None:
         check_robot(robot, "Controller")
-        if on_singular not in ("raise", "skip"):
-            raise InvalidInputError(f"on_singular must be 'raise' or 'skip', got {on_singular!r}.")
+        self.on_failure = check_policy(on_failure, on_singular)
         self.robot = robot
         self.clip = check_flag(clip, "clip")
-        self.on_singular = on_singular
         self.attachments: dict[str, Attachment] = {}
         #: id -> index arrays made by joint_indices (read-only, in range): compute() trusts them
         self._checked_limp: dict[int, np.ndarray] = {}
         self._tree = tree_of(robot)
         self._distinct: set[tuple] = set()  # active tuples seen without a repeated name
-        model = robot.model
         self.joint_names = velocity_names(robot)
-        limits = np.full(model.nv, np.inf)
-        for joint_id in range(1, model.njoints):
-            joint = model.joints[joint_id]
-            if joint.nv == 1:
-                limit = float(model.effortLimit[joint.idx_v])
-                if np.isfinite(limit) and limit > 0.0:
-                    limits[joint.idx_v] = limit
-        self.effort_limits = limits  # [N m or N], inf where unlimited (read-only; assign anew)
+        # [N m or N], inf where unlimited (read-only; assign anew)
+        self.effort_limits = urdf_effort_limits(robot)
+
+    @property
+    def on_singular(self) -> str:
+        """The failure policy under its former name (the same as :attr:`on_failure`)."""
+        return self.on_failure
 
     @property
     def effort_limits(self) -> np.ndarray:
@@ -375,7 +380,8 @@ class Controller:
 
         Args:
             q: Configuration ``(nq,)``, or the tick's snapshot built with a velocity.
-            v: Velocity ``(nv,)`` (omit it when ``q`` is a snapshot).
+            v: Velocity ``(nv,)``. Omit it when ``q`` is a snapshot (the snapshot's is used;
+                a ``v`` that differs from it is an error).
             time: Controller time [s] (components such as the dogtrack bunny use it), a finite
                 number.
             active: Names of the attachments to evaluate (default: all), or one name.
@@ -386,23 +392,29 @@ class Controller:
             The :class:`ControlOutput`.
 
         Raises:
-            InvalidInputError: Bad ``q``, ``v``, ``time`` or ``limp``, ``active`` that is not a
-                collection of names, or an unknown or repeated attachment name.
+            InvalidInputError: Bad ``q``, ``v``, ``time`` or ``limp``; a snapshot with a ``v``
+                that differs from its own; ``active`` that is not a collection of names; an
+                unknown or repeated attachment name. With ``on_failure="raise"``, also a
+                component's non-finite or malformed wrench, or non-finite efforts.
             SingularConfigurationError: A parallel actuator is singular here and
-                ``on_singular="raise"``.
+                ``on_failure="raise"``.
+            ConstraintError: A distribution that cannot be solved here (e.g. an infeasible
+                contact QP, or one out of iterations) and ``on_failure="raise"``.
 
         """
         nv = self.robot.model.nv
         if not (isinstance(time, float) and -math.inf < time < math.inf):
             time = check_number(time, "time [s]")
         if self._checked_limp.get(id(limp)) is not limp:  # joint_indices' arrays: checked
-            limp = _NO_LIMP if type(limp) is tuple and not limp else self._check_limp(limp)
+            limp = NO_LIMP if type(limp) is tuple and not limp else check_limp(limp, nv)
         if isinstance(q, Snapshot):
             snapshot = q
             if snapshot.tree is not self._tree or snapshot.v is None:
                 raise InvalidInputError(
                     "compute() needs a snapshot of this controller's robot built with v."
                 )
+            if v is not None and v is not snapshot.v:
+                check_same_velocity(v, snapshot.v)
         else:
             if v is None:
                 raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
@@ -411,47 +423,76 @@ class Controller:
             names = tuple(self.attachments)
         else:
             if type(active) is not tuple:  # a state's active names are a tuple already
-                active = (active,) if isinstance(active, str) else _names_tuple(active)
+                active = (active,) if isinstance(active, str) else names_tuple(active)
             names = active
-            if names not in self._distinct:
-                if len(set(names)) != len(names):
-                    raise InvalidInputError(f"active names an attachment twice: {names}.")
+            try:
+                seen = names in self._distinct
+            except TypeError:  # an unhashable entry: the check below names it
+                seen = False
+            if not seen:
+                check_active(names)
                 if len(self._distinct) < _MAX_CHECKED_LIMP:
                     self._distinct.add(names)
         tau = None
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}
         failed: dict[str, str] = {}
+        failures: dict[str, AttachmentFailure] = {}
+        parts = []  # (name, efforts) per attachment: read only when the sum is not finite
         get = self.attachments.get
         for name in names:
             attachment = get(name) if name.__class__ is str else None
             if attachment is None:
                 attachment = self._get(name)  # raises, naming the close matches
             sensor = attachment.sensor
-            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
-            wrench = self._evaluate(attachment, position, velocity, time)
-            positions[name], velocities[name], wrenches[name] = position, velocity, wrench
-            actuator = attachment.actuator
-            if isinstance(actuator, VirtualActuator):
-                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
-                effort = jacobian_act.T @ wrench
-                tau = effort if tau is None else tau + effort
-                produced[name] = wrench
-                continue
-            try:  # free axes, method and weights checked at add(); the wrench by _evaluate
+            wrench = None
+            try:
+                jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+                positions[name], velocities[name] = position, velocity
+                wrench = self._evaluate(attachment, position, velocity, time)
+                wrenches[name] = wrench
+                actuator = attachment.actuator
+                if isinstance(actuator, VirtualActuator):
+                    jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
+                    effort = jacobian_act.T @ wrench
+                    tau = effort if tau is None else tau + effort
+                    produced[name] = wrench
+                    parts.append((name, effort))
+                    continue
+                # free axes, method and weights checked at add(); the wrench by _evaluate
                 solution = actuator.solve_checked(
                     snapshot, wrench, *attachment.plan, weights=attachment.weights
                 )[0]
                 if attachment.yield_mask is not None:
                     solution = enforce_unilateral(attachment, snapshot, wrench, solution)
-            except SingularConfigurationError as error:
-                if self.on_singular == "raise":
+            except CAUGHT as error:
+                if self.on_failure == "raise":
                     raise
-                failed[name] = str(error)
+                solution, effort = recover(
+                    self.on_failure,
+                    attachment,
+                    snapshot,
+                    wrench,
+                    reason_of(error, wrench),
+                    error,
+                    (self._lower_limits, self._upper_limits),
+                    failures,
+                    failed,
+                )
+                if effort is None:
+                    continue
+                solutions[name], produced[name] = solution, solution.wrench
+                tau = effort.copy() if tau is None else tau + effort
+                parts.append((name, effort))
                 continue
             tau = solution.tau.copy() if tau is None else tau + solution.tau
             solutions[name] = solution
             produced[name] = solution.wrench
+            parts.append((name, solution.tau))
+        if tau is not None and not sums_finite(tau) and not np.isfinite(tau).all():
+            tau = drop_non_finite(
+                self, snapshot, parts, wrenches, produced, solutions, failures, failed
+            )
         if tau is None:
             tau = np.zeros(nv)
         if limp.size:
@@ -475,6 +516,7 @@ class Controller:
             failed,
             names,
             self.joint_names,
+            failures,
         )
 
     @staticmethod
@@ -498,12 +540,12 @@ class Controller:
             for component, slot in zip(components, attachment.slots, strict=True):
                 result = component.compute_wrench(position[slot], velocity[slot], time)
                 try:
-                    wrench[slot] += result
+                    wrench[slot] += result  # complex entries: a TypeError (same_kind casting)
                 except (TypeError, ValueError):
                     raise InvalidInputError(
                         f"Attachment {attachment.name!r}: component {component.name!r} returned "
-                        f"{describe(result)}; expected {len(component.axes)} numbers (its axes "
-                        f"{component.axes})."
+                        f"{describe(result)}; expected {len(component.axes)} real numbers (its "
+                        f"axes {component.axes})."
                     ) from None
         if not sums_finite(wrench) and not np.all(np.isfinite(wrench)):
             raise InvalidInputError(
@@ -511,24 +553,6 @@ class Controller:
                 f"{wrench}."
             )
         return wrench
-
-    def _check_limp(self, limp: object) -> np.ndarray:
-        """``limp`` as an integer index array with every entry in ``[0, nv)``."""
-        nv = self.robot.model.nv
-        expected = f"velocity indices, integers in [0, {nv}) (see Controller.joint_indices)"
-        if isinstance(limp, (str, bytes, Mapping)) or limp is None:
-            raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.")
-        try:
-            index = np.asarray(limp)
-        except (TypeError, ValueError):
-            raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.") from None
-        if index.size == 0:
-            return _NO_LIMP
-        if index.dtype.kind not in "iu" or index.ndim != 1:
-            raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.")
-        if index.min() < 0 or index.max() >= nv:
-            raise InvalidInputError(f"limp must be {expected}, got {index.tolist()}.")
-        return index
 
     def __repr__(self) -> str:
         return (

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..distribution.solution import Solution
 from ..robots.robot import Robot
+from .failures import AttachmentFailure
 
 
 @dataclass(repr=False, slots=True)
@@ -25,10 +26,15 @@ class ControlOutput:
         positions: Sensor position per active attachment [m, rad].
         velocities: Sensor velocity per active attachment [m/s, rad/s].
         solutions: Distribution per parallel attachment.
-        failed: Attachments whose distribution was singular at this configuration (they
-            contribute no torque) with the error message.
+        failed: Attachments that failed and contribute no effort this tick (the controller's
+            ``on_failure="skip"``, or a fallback that could not be used), with the error
+            message.
         active: Names of the attachments evaluated.
         joint_names: Names of the velocity entries (for reports).
+        failures: Every attachment whose failure policy fired this tick: what failed and what
+            the controller did (an :class:`~virtual_actuators.control.failures.
+            AttachmentFailure`: ``reason``, ``error``, ``message``, ``action`` ``"skip"`` or
+            ``"fallback"``). A fallback's unclipped solution is in ``solutions``.
 
     """
 
@@ -43,6 +49,7 @@ class ControlOutput:
     failed: dict[str, str]
     active: tuple[str, ...]
     joint_names: tuple[str, ...]
+    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
 
     @property
     def saturated_joints(self) -> list[str]:
@@ -50,9 +57,11 @@ class ControlOutput:
         return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
 
     def __repr__(self) -> str:
+        fallback = [name for name, f in self.failures.items() if f.action == "fallback"]
         return (
             f"ControlOutput(active={self.active}, |tau|={np.linalg.norm(self.tau):.3g}, "
-            f"saturated={self.saturated_joints}, failed={list(self.failed)})"
+            f"saturated={self.saturated_joints}, failed={list(self.failed)}"
+            + (f", fallback={fallback})" if fallback else ")")
         )
 
 

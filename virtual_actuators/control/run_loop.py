@@ -1,12 +1,34 @@
 """A fixed-rate control loop for real hardware: ``va.run(controller, read_state, write_effort)``.
 
 Each tick reads the robot's state, computes the efforts and writes them, then sleeps until the
-next period. Safety first: a reading that is stale (its timestamp did not advance for
-``stale_after`` seconds) or not finite, or a controller that raises, sends **zero effort** for that
-tick (the reason is counted), and the loop always ends by sending zero effort, whatever ended it
-(Ctrl-C included). With :class:`~virtual_actuators.simulation.hardware.MujocoHardware` that last
-zero command steps the simulation one more period. A tick that takes longer than the period is
-an overrun: the loop does not try to catch up (the next tick starts at once), and counts it.
+next period. The efforts always have the robot's size and order: ``(model.nv,)``, one per
+velocity entry (the robot is the controller's, or ``robot=``), whatever the readings hold.
+
+Safety first. A tick fails when:
+
+- ``read_state`` raises (``"read error: <type>"``), or returns something that is not
+  ``(q, v, stamp)`` with ``q`` of ``nq`` and ``v`` of ``nv`` real numbers (``"malformed
+  reading"``), values that are not finite (``"non-finite"``), or a quaternion far from unit
+  norm (``"non-unit quaternion"``);
+- the reading is stale: its stamp did not advance for ``stale_after`` seconds (``"stale"``);
+- the controller raises (``"controller error: <type>"``) or returns efforts that are not
+  ``nv`` finite real numbers (``"bad effort"``: another size, complex, NaN...).
+
+A failed tick sends the **safe action** instead (``safe_action=``): ``"zero"`` effort (the
+default), ``"hold"`` the last good effort for at most ``hold_time`` (then zero), or ``"damp"``,
+joint damping ``-damping * v`` clipped to the URDF's effort limits (zero when the tick has no
+valid velocity: a failed, malformed or stale reading). :class:`RunStats` counts every failed
+tick by reason. Failures inside a :class:`~virtual_actuators.Controller` (one attachment's
+singular or infeasible distribution) are its own ``on_failure`` policy's, and counted in
+:attr:`RunStats.attachment_failures`.
+
+The loop **always ends by writing zero effort** of the robot's size, whatever ended it: the
+duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C
+(``KeyboardInterrupt`` and the other exceptions that are not per-tick failures are re-raised
+after that write). With
+:class:`~virtual_actuators.simulation.hardware.MujocoHardware` that last zero command steps the
+simulation one more period. A tick that takes longer than the period is an overrun: the loop
+does not try to catch up (the next tick starts at once), and counts it.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
@@ -25,12 +47,25 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import check_number, describe
+from ..kinematics.tree import tree_of
+from ..robots.robot import Robot
+from ..vocabulary.frames import check_flag, check_number, check_robot, describe
+from .safe_action import (
+    DEFAULT_DAMPING,
+    DEFAULT_HOLD_TIME,
+    SafeAction,
+    check_effort,
+    check_reading,
+    check_state,
+)
 
 State = tuple[np.ndarray, np.ndarray, float]
 
 #: Tick durations kept for the statistics (the last ones: memory stays bounded on long runs).
 TICK_HISTORY = 100_000
+
+#: The slowest rate ``run`` accepts [Hz] (a period of at most 1000 s).
+MIN_RATE_HZ = 1e-3
 
 
 @dataclass
@@ -40,8 +75,13 @@ class RunStats:
     Attributes:
         ticks: Ticks run.
         overruns: Ticks that took longer than the period.
-        zero_ticks: Ticks that sent zero effort (stale, non-finite or failed).
-        reasons: Why, per kind: ``{"stale": n, "non-finite": n, "error: ...": n}``.
+        failed_ticks: Ticks that sent the safe action instead of the controller's effort.
+        zero_ticks: Ticks that sent zero effort (a failed tick whose safe action gave zero).
+        reasons: Failed ticks per reason: ``{"stale": n, "non-finite": n, "controller error:
+            ConstraintError": n, ...}`` (see :mod:`~virtual_actuators.control.run_loop`).
+        attachment_failures: Ticks in which a :class:`~virtual_actuators.Controller`'s failure
+            policy fired, per ``"attachment: reason -> action"`` (e.g. ``"stance: constraint
+            -> fallback"``).
         tick_times: Duration of the last :data:`TICK_HISTORY` ticks, read to write [s].
         wall_time: Duration of the loop [s].
 
@@ -49,19 +89,23 @@ class RunStats:
 
     ticks: int = 0
     overruns: int = 0
+    failed_ticks: int = 0
     zero_ticks: int = 0
     reasons: dict[str, int] = field(default_factory=dict)
+    attachment_failures: dict[str, int] = field(default_factory=dict)
     tick_times: deque[float] = field(default_factory=lambda: deque(maxlen=TICK_HISTORY))
     wall_time: float = 0.0
 
     def summary(self) -> str:
-        """One line: ticks, rate, overruns and the tick-time percentiles."""
+        """One line: ticks, rate, overruns, failed ticks and the tick-time percentiles."""
         times = np.array(self.tick_times) * 1e6 if self.tick_times else np.zeros(1)
         rate = self.ticks / self.wall_time if self.wall_time > 0 else 0.0
+        reasons = ", ".join(f"{reason}: {n}" for reason, n in self.reasons.items())
         return (
             f"{self.ticks} ticks at {rate:.0f} Hz, {self.overruns} overruns, "
-            f"{self.zero_ticks} zero-effort ticks, tick median {np.median(times):.0f} us, "
-            f"p99 {np.percentile(times, 99):.0f} us, max {times.max():.0f} us"
+            f"{self.failed_ticks} failed ticks{f' ({reasons})' if reasons else ''}, "
+            f"tick median {np.median(times):.0f} us, p99 {np.percentile(times, 99):.0f} us, "
+            f"max {times.max():.0f} us"
         )
 
 
@@ -74,6 +118,11 @@ def run(
     stale_after: float | None = None,
     realtime: bool = True,
     should_stop: Callable[[], bool] | None = None,
+    *,
+    robot: Robot | None = None,
+    safe_action: str = "zero",
+    damping: float | np.ndarray = DEFAULT_DAMPING,
+    hold_time: float = DEFAULT_HOLD_TIME,
 ) -> RunStats:
     """Run ``controller`` at ``rate_hz`` until ``duration`` elapses or ``should_stop()``.
 
@@ -82,31 +131,57 @@ def run(
             returning efforts or an object with ``tau`` (a
             :class:`~virtual_actuators.Controller`, a gait, your own class).
         read_state: Returns ``(q, v, stamp)``: configuration, velocity, time of the reading [s].
-        write_effort: Sends ``(nv,)`` efforts to the motors.
-        rate_hz: Control rate [Hz].
-        duration: Wall-clock time of the loop [s] (None: until ``should_stop``). On a
-            simulation run with ``realtime=False``, stop on the simulated time with
-            ``should_stop`` instead.
+        write_effort: Sends ``(nv,)`` efforts to the motors, in the robot's velocity order
+            (:func:`~virtual_actuators.velocity_names`).
+        rate_hz: Control rate [Hz], at least :data:`MIN_RATE_HZ`.
+        duration: Wall-clock time of the loop [s] (None: until ``should_stop``); the loop ends
+            then, even within a long period. On a simulation run with ``realtime=False``, stop
+            on the simulated time with ``should_stop`` instead.
         stale_after: A reading whose stamp did not advance for this long is stale [s]
             (default: three periods).
         realtime: Sleep to hold the rate (False: run ticks back to back, e.g. on a simulation).
         should_stop: Polled every tick; True ends the loop.
+        robot: The robot whose efforts are written (default: ``controller.robot``, which a
+            :class:`~virtual_actuators.Controller` and a gait have). Give it for a controller
+            of your own without one.
+        safe_action: What a failed tick sends: ``"zero"``, ``"hold"`` or ``"damp"`` (see
+            :mod:`~virtual_actuators.control.run_loop`).
+        damping: ``safe_action="damp"``: joint damping [N m s/rad, N s/m], one number for every
+            velocity entry but a floating base's and the passive joints' (default
+            :data:`~virtual_actuators.control.safe_action.DEFAULT_DAMPING`, 1), or ``(nv,)``
+            numbers used as given.
+        hold_time: ``safe_action="hold"``: the longest run of failed ticks that holds the last
+            good effort [s] (``hold_time * rate_hz`` ticks); then zero effort.
 
     Returns:
         The :class:`RunStats`.
 
     Raises:
-        InvalidInputError: A bad rate, duration or stale time, a controller without
-            ``compute``, callbacks that are not callable, or neither ``duration`` nor
-            ``should_stop``.
+        InvalidInputError: A bad rate, duration, stale time, ``realtime``, ``safe_action``,
+            ``damping`` or ``hold_time``; a controller without ``compute``; callbacks (or
+            ``should_stop``) that are not callable; neither ``duration`` nor ``should_stop``;
+            no robot (neither ``robot`` nor ``controller.robot``), or a ``robot`` that is not
+            the controller's.
+        KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
+            of ``write_effort`` and ``should_stop``, and exceptions that are not
+            :class:`Exception`; if the final write fails too, a note on the error says so).
 
     """
     rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)
-    if rate_hz <= 0.0:
-        raise InvalidInputError("run(): rate_hz must be > 0.")
+    if rate_hz < MIN_RATE_HZ:
+        raise InvalidInputError(
+            f"run(): rate_hz must be >= {MIN_RATE_HZ:g} Hz (a period of at most "
+            f"{1.0 / MIN_RATE_HZ:g} s), got {rate_hz!r}."
+        )
     period = 1.0 / rate_hz
     stale_after = 3.0 * period if stale_after is None else stale_after
     stale_after = check_number(stale_after, "run(): stale_after [s]", minimum=0.0)
+    realtime = check_flag(realtime, "run(): realtime")
+    if should_stop is not None and not callable(should_stop):
+        raise InvalidInputError(
+            f"run(): should_stop must be callable (returning True to stop) or None, got "
+            f"{describe(should_stop)}."
+        )
     if duration is not None:
         duration = check_number(duration, "run(): duration [s]", minimum=0.0)
     elif should_stop is None:
@@ -118,48 +193,64 @@ def run(
     for what, callback in (("read_state", read_state), ("write_effort", write_effort)):
         if not callable(callback):
             raise InvalidInputError(f"run(): {what} must be callable, got {describe(callback)}.")
+    robot = _robot_of(controller, robot)
+    hold_time = check_number(hold_time, "run(): hold_time [s]", minimum=0.0)
+    safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
+    tree = tree_of(robot)
+    nv = tree.nv
 
     stats = RunStats()
     last_stamp, last_fresh = None, None
-    size = None  # efforts per command, from the first reading
     start = clock.perf_counter()
+    end = math.inf if duration is None else start + duration
     deadline = start
+    ending: BaseException | None = None
     try:
         while True:
             now = clock.perf_counter()
-            if duration is not None and now - start >= duration - 1e-12:
+            if now >= end - 1e-12:
                 break
             if should_stop is not None and should_stop():
                 break
-            q, v, stamp = read_state()
-            if size is None:
-                size = len(v)
-            tau, reason = None, None
+            tau, velocity, reason = None, None, None
             try:
-                stamp = float(stamp)
-            except (TypeError, ValueError):
-                stamp = math.nan
-            if not math.isfinite(stamp):
-                reason = "non-finite"  # a bad clock never becomes the reference
-            else:
-                if last_stamp is None or stamp > last_stamp:
-                    last_stamp, last_fresh = stamp, now
-                if now - last_fresh > stale_after:
-                    reason = "stale"
-                elif not (_finite(q) and _finite(v)):
-                    reason = "non-finite"
+                reading = read_state()
+            except Exception as error:  # a driver's failure: this tick sends the safe action
+                reading, reason = None, f"read error: {type(error).__name__}"
             if reason is None:
+                q, v, stamp, reason = check_reading(reading)
+            if reason is None:
+                if not math.isfinite(stamp):
+                    reason = "non-finite"  # a bad clock never becomes the reference
+                else:
+                    if last_stamp is None or stamp > last_stamp:
+                        last_stamp, last_fresh = stamp, now
+                    if now - last_fresh > stale_after:
+                        reason = "stale"
+                    else:
+                        q, v, reason = check_state(q, v, tree)
+            if reason is None:
+                velocity = v
                 try:
                     output = controller.compute(q, v, stamp)
-                    tau = np.asarray(getattr(output, "tau", output), dtype=float)
-                    if tau.shape != (size,) or not _finite(tau):
-                        tau, reason = None, "bad effort (shape or non-finite)"
-                except Exception as error:  # any failure of the law: this tick sends zero
-                    tau, reason = None, f"error: {type(error).__name__}"
-            if tau is None:
-                tau = np.zeros(size)
-                stats.zero_ticks += 1
+                    tau = check_effort(output, nv)
+                except Exception as error:  # any failure of the law
+                    reason = f"controller error: {type(error).__name__}"
+                else:
+                    if tau is None:
+                        reason = "bad effort"
+                    else:
+                        failures = getattr(output, "failures", None)
+                        if failures:
+                            _count_attachment_failures(stats, failures)
+            if reason is None:
+                safe.good(tau)
+            else:
+                tau = safe.effort(velocity)
+                stats.failed_ticks += 1
                 stats.reasons[reason] = stats.reasons.get(reason, 0) + 1
+                if not tau.any():
+                    stats.zero_ticks += 1
             write_effort(tau)
             done = clock.perf_counter()
             stats.ticks += 1
@@ -169,21 +260,47 @@ def run(
                 stats.overruns += 1
                 deadline = done  # no catching up
             elif realtime:
-                clock.sleep(max(deadline - clock.perf_counter(), 0.0))
+                clock.sleep(max(min(deadline, end) - clock.perf_counter(), 0.0))
+    except BaseException as error:
+        ending = error
+        raise
     finally:
-        if size is not None:  # whatever ended the loop (Ctrl-C included): motors to zero
-            write_effort(np.zeros(size))
+        try:  # whatever ended the loop (Ctrl-C included): motors to zero
+            write_effort(np.zeros(nv))
+        except Exception as error:
+            if ending is None:
+                raise
+            ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
         stats.wall_time = clock.perf_counter() - start
     return stats
 
 
-def _finite(values: object) -> bool:
-    """Whether ``values`` are real numbers, all finite (False for anything malformed)."""
-    try:
-        array = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        return False
-    return bool(math.isfinite(float(array.sum())) or np.isfinite(array).all())
+def _robot_of(controller: object, robot: object) -> Robot:
+    """The robot whose efforts ``run`` writes: ``robot``, else ``controller.robot``."""
+    own = getattr(controller, "robot", None)
+    if robot is None:
+        if own is None:
+            raise InvalidInputError(
+                "run(): the efforts' size and order come from the robot: give robot=..., or a "
+                f"controller with a robot attribute (a va.Controller, a gait); "
+                f"{describe(controller)} has none."
+            )
+        check_robot(own, "run(): controller.robot")
+        return own
+    check_robot(robot, "run()")
+    if own is not None and getattr(own, "model", None) is not robot.model:
+        raise InvalidInputError(
+            f"run(): robot is {getattr(robot, 'name', '?')!r} but the controller's robot is "
+            f"{getattr(own, 'name', describe(own))!r}; leave robot out to use the controller's."
+        )
+    return robot
 
 
-__all__ = ["RunStats", "run"]
+def _count_attachment_failures(stats: RunStats, failures: dict) -> None:
+    """Count a controller output's failure records (``ControlOutput.failures``)."""
+    for name, failure in failures.items():
+        key = f"{name}: {getattr(failure, 'reason', '?')} -> {getattr(failure, 'action', '?')}"
+        stats.attachment_failures[key] = stats.attachment_failures.get(key, 0) + 1
+
+
+__all__ = ["MIN_RATE_HZ", "RunStats", "run"]

@@ -43,10 +43,16 @@ class Snapshot:
 
     Args:
         robot: The robot (a :class:`~virtual_actuators.Robot`).
-        q: Configuration ``(model.nq,)``.
-        v: Velocity ``(model.nv,)``, needed only for velocities.
+        q: Configuration ``(model.nq,)``; the snapshot keeps a copy (:attr:`q`), so the
+            caller may reuse its array.
+        v: Velocity ``(model.nv,)``, needed only for velocities; copied likewise (:attr:`v`).
         backend: ``"auto"`` (the compiled kernel when it handles every joint of the model,
             else Pinocchio), ``"compiled"`` or ``"pinocchio"``.
+
+    Attributes:
+        q: The snapshot's own copy of the configuration (checked; near-unit quaternions
+            normalised). Do not modify it: the kinematics were computed from it.
+        v: Its own copy of the velocity, or None.
 
     Raises:
         InvalidInputError: Bad ``q``, ``v`` or ``backend``, or ``"compiled"`` for a model the
@@ -91,8 +97,14 @@ class Snapshot:
             )
         self.robot = robot
         self.tree = tree
-        self.q = tree.check_configuration(q)
-        self.v = None if v is None else tree.check_velocity(v)
+        # private copies: a driver that reuses its buffers cannot change q or v under the
+        # kinematics computed from them (a check returns the caller's array when it is fine)
+        checked = tree.check_configuration(q)
+        self.q = checked.copy() if checked is q or checked.base is not None else checked
+        if v is not None:
+            checked = tree.check_velocity(v)
+            v = checked.copy() if checked is v or checked.base is not None else checked
+        self.v = v
         self.backend = "compiled" if backend == "auto" and tree.compiled else backend
         if self.backend == "auto":
             self.backend = "pinocchio"

@@ -1,0 +1,179 @@
+"""What ``va.run`` checks each tick and what it sends when a tick fails.
+
+:func:`check_reading` checks a driver's ``(q, v, stamp)`` against the robot; :func:`check_effort`
+checks a controller's efforts; :class:`SafeAction` is the effort sent instead when something
+failed: ``"zero"``, ``"hold"`` (the last good effort, for a bounded time) or ``"damp"`` (joint
+damping ``-d v``, clipped to the URDF's effort limits).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from ..kinematics.tree import KinematicTree
+from ..robots.robot import Robot
+from ..vocabulary.frames import as_float_array, check_number, describe, sums_finite
+from .failures import urdf_effort_limits
+
+#: The values of ``run(safe_action=...)``.
+SAFE_ACTIONS = ("zero", "hold", "damp")
+
+#: ``run(safe_action="damp")``'s default joint damping [N m s/rad, or N s/m for a prismatic
+#: joint], on every velocity entry but a floating base's and the passive joints'.
+DEFAULT_DAMPING = 1.0
+
+#: ``run(safe_action="hold")``'s default longest hold [s] (then zero effort).
+DEFAULT_HOLD_TIME = 0.1
+
+
+def _vector(value: object, size: int) -> np.ndarray | None:
+    """``value`` as a float64 ``(size,)`` array, or None if it is not ``size`` real numbers."""
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        return value if value.shape == (size,) else None
+    try:
+        array = as_float_array(value, "state", f"{size} real numbers")
+    except InvalidInputError:
+        return None
+    return array if array.shape == (size,) else None
+
+
+def check_reading(reading: object) -> tuple[object, object, float, str | None]:
+    """Unpack a ``(q, v, stamp)`` reading; the arrays are checked by :func:`check_state`.
+
+    Returns:
+        ``(q, v, stamp, reason)``: ``reason`` is ``"malformed reading"`` when ``reading`` is
+        not three values or the stamp is not a real number, else None (a NaN stamp is
+        returned as is).
+
+    """
+    try:
+        q, v, stamp = reading
+        if isinstance(stamp, (str, bytes)):
+            raise TypeError
+        stamp = float(stamp)
+    except (TypeError, ValueError, OverflowError):
+        return None, None, math.nan, "malformed reading"
+    return q, v, stamp, None
+
+
+def check_state(
+    q: object, v: object, tree: KinematicTree
+) -> tuple[np.ndarray | None, np.ndarray | None, str | None]:
+    """Check a reading's ``q`` and ``v`` against the robot.
+
+    Returns:
+        ``(q, v, reason)``: the arrays (``q`` with near-unit quaternions normalised) and None;
+        or a reason: ``"malformed reading"`` (not ``nq`` and ``nv`` real numbers),
+        ``"non-finite"`` (NaN or inf), ``"non-unit quaternion"`` (a quaternion or (cos, sin)
+        pair more than 1e-3 from unit norm).
+
+    """
+    q_array, v_array = _vector(q, tree.nq), _vector(v, tree.nv)
+    if q_array is None or v_array is None:
+        return None, None, "malformed reading"
+    if not (sums_finite(q_array) and sums_finite(v_array)):
+        if not (np.isfinite(q_array).all() and np.isfinite(v_array).all()):
+            return None, None, "non-finite"
+    try:
+        q_array = tree.check_configuration(q_array)
+    except InvalidInputError:
+        return None, None, "non-unit quaternion"
+    return q_array, v_array, None
+
+
+def check_effort(output: object, nv: int) -> np.ndarray | None:
+    """A controller's efforts (an array, or an object with ``tau``) as ``(nv,)`` finite floats.
+
+    Returns:
+        The efforts, or None for anything else (another size, complex, bool or non-numeric
+        entries, NaN or inf).
+
+    """
+    tau = getattr(output, "tau", output)
+    if type(tau) is not np.ndarray or tau.dtype != np.float64:
+        try:
+            tau = np.asarray(tau)
+        except (TypeError, ValueError):
+            return None
+        if tau.dtype.kind not in "fiu":  # complex, bool, object, str: not efforts
+            return None
+        tau = tau.astype(np.float64)
+    if tau.shape != (nv,):
+        return None
+    if not sums_finite(tau) and not np.isfinite(tau).all():
+        return None
+    return tau
+
+
+class SafeAction:
+    """The effort ``va.run`` sends on a failed tick.
+
+    Args:
+        robot: The robot (size of the efforts, floating base, passive joints, effort limits).
+        action: One of :data:`SAFE_ACTIONS`.
+        damping: ``"damp"``: a number >= 0 for every velocity entry but a floating base's and
+            the passive joints', or ``(nv,)`` numbers >= 0 used as given [N m s/rad, N s/m].
+        hold_ticks: ``"hold"``: the most consecutive failed ticks that hold the last good
+            effort (then zero).
+
+    Raises:
+        InvalidInputError: A bad ``action`` or ``damping``.
+
+    """
+
+    def __init__(self, robot: Robot, action: object, damping: object, hold_ticks: int) -> None:
+        if not isinstance(action, str) or action not in SAFE_ACTIONS:
+            raise InvalidInputError(
+                f"run(): safe_action must be one of {SAFE_ACTIONS}, got {describe(action)}."
+            )
+        model = robot.model
+        nv = model.nv
+        self.action, self.nv, self.hold_ticks = action, nv, hold_ticks
+        if np.ndim(damping) == 0:
+            gain = check_number(damping, "run(): damping [N m s/rad]", minimum=0.0)
+            self.damping = np.full(nv, gain)
+            passive = set(getattr(robot, "passive_joints", ()))
+            for joint_id in range(1, model.njoints):
+                joint = model.joints[joint_id]
+                floating = joint_id == 1 and joint.shortname() == "JointModelFreeFlyer"
+                if floating or model.names[joint_id] in passive:
+                    self.damping[joint.idx_v : joint.idx_v + joint.nv] = 0.0
+        else:
+            expected = f"a number >= 0 or {nv} numbers >= 0 (one per velocity entry)"
+            self.damping = as_float_array(damping, "run(): damping", expected, copy=True)
+            bad = self.damping.shape != (nv,) or not np.isfinite(self.damping).all()
+            if bad or (self.damping < 0.0).any():
+                raise InvalidInputError(f"run(): damping must be {expected}, got {damping!r}.")
+        self.limits = urdf_effort_limits(robot)
+        self.last: np.ndarray | None = None  # the last good effort ("hold")
+        self.failed_ticks = 0  # consecutive
+
+    def good(self, tau: np.ndarray) -> None:
+        """A tick sent the controller's ``tau``."""
+        self.failed_ticks = 0
+        if self.action == "hold":
+            self.last = tau.copy()
+
+    def effort(self, v: np.ndarray | None) -> np.ndarray:
+        """The effort of a failed tick; ``v``: the tick's checked velocity, or None."""
+        self.failed_ticks += 1
+        if self.action == "hold" and self.last is not None:
+            if self.failed_ticks <= self.hold_ticks:
+                return self.last.copy()
+        elif self.action == "damp" and v is not None:
+            return np.clip(-self.damping * v, -self.limits, self.limits)
+        return np.zeros(self.nv)
+
+
+__all__ = [
+    "DEFAULT_DAMPING",
+    "DEFAULT_HOLD_TIME",
+    "SAFE_ACTIONS",
+    "SafeAction",
+    "check_effort",
+    "check_reading",
+    "check_state",
+]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import backward_tolerance, constrained_min_norm
+from .linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
 from .partitioner import ILL_CONDITIONED, RawSolution, no_sets
 from .problem import DistributionProblem
 from .structure import Evaluation
@@ -44,6 +44,10 @@ class DenseSolver:
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
         """Distribute ``wrench``; see :meth:`PartitionedSolver.solve` for the arguments.
 
+        A square ``K`` that is singular here because some exact rows are implied by the others
+        (a design row the natural constraints imply at this configuration) gets the
+        minimum-norm answer, as if those rows were not declared.
+
         Raises:
             SingularConfigurationError: The square system is singular at this configuration.
             ConstraintError: The constraints contradict each other at this configuration.
@@ -52,13 +56,17 @@ class DenseSolver:
         p, n = self.problem.p, self.problem.n
         soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)
         k = np.vstack((soft, hard))
-        if k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep):
+        square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
+        if square:
             cond = np.linalg.cond(k)
             if not np.isfinite(cond) or cond > ILL_CONDITIONED:
-                raise SingularConfigurationError(
-                    f"The {k.shape[0]} x {k.shape[1]} constraint matrix K (eq. 10) is singular "
-                    f"at this configuration (condition {cond:.1e})."
-                )
+                if not dependent_rows_at_scale(hard):
+                    raise SingularConfigurationError(
+                        f"The {k.shape[0]} x {k.shape[1]} constraint matrix K (eq. 10) is "
+                        f"singular at this configuration (condition {cond:.1e})."
+                    )
+                square = False  # exact rows implied by the others here: the minimum norm
+        if square:
             x = np.linalg.solve(k, np.concatenate((soft_rhs, hard_rhs)))
             method = "partitioned"
         else:

@@ -9,10 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .linalg import JACOBIAN_FLOOR
+from .linalg import ILL_CONDITIONED, JACOBIAN_FLOOR
 
 #: Same thresholds as the numpy path (a kernel status hands the decision to it).
-ILL_CONDITIONED = 1e10
 NEAR_SINGULAR = 1e-7
 
 
@@ -96,6 +95,30 @@ def inverse_into(matrix: np.ndarray, m: int, a: np.ndarray, inv: np.ndarray) -> 
             row += abs(inv[i, j])
         norm_inv = max(norm_inv, row)
     estimate = norm * norm_inv
+    if not np.isfinite(estimate):
+        estimate = np.inf
+    return estimate
+
+
+@njit(cache=True)
+def scaled_condition(matrix: np.ndarray, inverse: np.ndarray, row_scale: np.ndarray) -> float:
+    """``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` with ``D = diag(row_scale)``.
+
+    The rows of ``matrix`` measured against their sizes before a reduction, as in numpy's
+    :func:`~virtual_actuators.distribution.linalg.scaled_condition` (inf for a zero scale).
+    """
+    m = matrix.shape[0]
+    norm, norm_inv = 0.0, 0.0
+    for i in range(m):
+        if not row_scale[i] > 0.0:
+            return np.inf
+        row, row_inv = 0.0, 0.0
+        for j in range(m):
+            row += abs(matrix[i, j])
+            row_inv += abs(inverse[i, j]) * row_scale[j]
+        norm = max(norm, row / row_scale[i])
+        norm_inv = max(norm_inv, row_inv)
+    estimate = max(norm, 1.0) * norm_inv
     if not np.isfinite(estimate):
         estimate = np.inf
     return estimate
@@ -320,5 +343,6 @@ __all__ = [
     "offset_in_o",
     "passive_torques",
     "request_norms",
+    "scaled_condition",
     "wrench_transform",
 ]

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .kernel_linalg import ILL_CONDITIONED, inverse_into, invert, mm, mv
+from .kernel_linalg import ILL_CONDITIONED, inverse_into, invert, mm, mv, scaled_condition
 from .linalg import JACOBIAN_FLOOR
 
 # columns of the per-chain integer table
@@ -337,7 +337,12 @@ def partitioned_solve(
     plan: np.ndarray,
     forces: np.ndarray,
 ) -> int:
-    """The Partitioned Actuator Set solve with the declaration's CFS, RFS and MFS."""
+    """The Partitioned Actuator Set solve with the declaration's CFS, RFS and MFS.
+
+    Returns 2 (numpy decides) for an ill-conditioned block, the RFS block included when it is
+    well conditioned only relative to itself: measured against the hard rows' size before the
+    CFS was eliminated, a row that the natural constraints imply here is rounding.
+    """
     p, n = forces.shape
     s = hard.shape[0]
     k = kept.shape[0]
@@ -376,8 +381,19 @@ def partitioned_solve(
         a_rhs[r] = wrench[kept[r]]
     h_rows = np.zeros((s, m))
     h_rhs = hard_rhs.copy()
+    h_scale = np.zeros(s)  # sum_i |c_i|_1 max|T_i|: what cancels in a reduced hard row
     for i in range(p):
         d_i, start = chain_ints[i, D_FREE], chain_ints[i, START]
+        if s:
+            t_max = 0.0
+            for a in range(n):
+                for j in range(d_i):
+                    t_max = max(t_max, abs(transforms[i, a, j]))
+            for t in range(s):
+                acc = 0.0
+                for a in range(n):
+                    acc += abs(hard[t, i, a])
+                h_scale[t] += acc * t_max
         for r in range(k):
             a_rhs[r] -= offsets[i, kept[r]]
             for j in range(d_i):
@@ -401,8 +417,8 @@ def partitioned_solve(
             for c in range(m - s):
                 h_m[t, c] = h_rows[t, mfs[c]]
         h_inv, cond = invert(h_r)
-        if cond > ILL_CONDITIONED:
-            return 2
+        if cond > ILL_CONDITIONED or scaled_condition(h_r, h_inv, h_scale) > ILL_CONDITIONED:
+            return 2  # singular here, or hard rows the natural ones imply: numpy decides
         gain = -mm(h_inv, h_m)
         bias = mv(h_inv, h_rhs)
     else:

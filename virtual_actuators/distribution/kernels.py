@@ -14,8 +14,14 @@ regular cases, on tables built once from the declaration (see :mod:`.compiled`):
 It never raises: a nonzero status hands the tick to the numpy path, which re-picks sets, falls
 back to least squares or raises the typed error with its message (status 1: a chain is singular
 or nearly so, or its Jacobian is below :data:`JACOBIAN_FLOOR`; status 2: an elimination block
-or the final system is ill-conditioned, or the answer misses an exact row by more than
-:data:`CONSTRAINT_TOL` of its scale; status 3: a result overflowed).
+or the final system is ill-conditioned, a design or coupling row is (nearly) implied by the
+natural constraints at this configuration, judged against the row's size before the
+elimination, or the answer misses an exact row by more than :data:`CONSTRAINT_TOL` of its
+scale; status 3: a result overflowed).
+
+numba's on-disk cache of :func:`distribute` does not follow edits of the kernels it calls from
+other modules (:mod:`.kernel_solves`, :mod:`.kernel_linalg`): an edit there goes with an edit
+of this file, so that the cache is rebuilt.
 """
 
 from __future__ import annotations

@@ -14,6 +14,10 @@ JACOBIAN_FLOOR = 1e-12
 #: request: chain forces that cancel each other leave about ``cond * eps * |F|`` behind.
 ROUNDING = 1e-12
 
+#: Condition estimate above which a system is treated as singular (the partitioner re-picks its
+#: sets, the compiled kernel hands the tick to numpy).
+ILL_CONDITIONED = 1e10
+
 #: A partitioned answer that misses an exact row (limp or spring torque, zero moment at a point
 #: foot, coupling or design row) by more than this fraction of ``|row| max|F| + |rhs|`` came
 #: from an ill-conditioned elimination: the dense reference solves that tick instead.
@@ -129,6 +133,21 @@ def dependent_rows(matrix: np.ndarray, tol: float = 1e-9) -> list[int]:
     return dependent
 
 
+def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = 1e-10) -> bool:
+    """Whether the rows of ``matrix`` are linearly dependent, each measured against its norm.
+
+    The rows are scaled to unit norm (zero rows count as dependent), and the rank is the number
+    of singular values above ``rcond`` times the largest.
+    """
+    if not matrix.shape[0]:
+        return False
+    norms = np.linalg.norm(matrix, axis=1)
+    if not norms.all() or matrix.shape[0] > matrix.shape[1]:
+        return True
+    s = np.linalg.svd(matrix / norms[:, None], compute_uv=False)
+    return bool(s[-1] <= rcond * s[0])
+
+
 def condition_estimate(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray:
     """Cheap condition numbers ``||A||_inf ||A^-1||_inf`` of stacked square matrices.
 
@@ -171,12 +190,37 @@ def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return inverses, condition_estimate(matrices, inverses)
 
 
+def scaled_condition(matrix: np.ndarray, inverse: np.ndarray, row_scale: np.ndarray) -> float:
+    """Condition of ``matrix`` with its rows measured against ``row_scale``, not themselves.
+
+    ``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` with ``D = diag(row_scale)``: the size each row
+    had before a reduction (the rounding it carries is of order ``eps * row_scale``). A row
+    reduced to rounding makes it large even when the reduced matrix, scaled by its own norm,
+    looks well conditioned (a 1 x 1 block of rounding has condition 1).
+
+    Args:
+        matrix: ``(k, k)``.
+        inverse: Its inverse.
+        row_scale: ``(k,)`` positive sizes of the rows.
+
+    Returns:
+        The estimate (inf when it is not finite).
+
+    """
+    scaled = float(np.abs(matrix / row_scale[:, None]).sum(axis=1).max(initial=0.0))
+    scaled_inverse = float(np.abs(inverse * row_scale[None, :]).sum(axis=1).max(initial=0.0))
+    estimate = max(scaled, 1.0) * scaled_inverse
+    return estimate if np.isfinite(estimate) else np.inf
+
+
 def constrained_min_norm(
     hard: np.ndarray,
     hard_rhs: np.ndarray,
     soft: np.ndarray,
     soft_rhs: np.ndarray,
     rcond: float = 1e-10,
+    hard_scale: float = 0.0,
+    soft_scale: float = 0.0,
 ) -> tuple[np.ndarray, float]:
     """Minimise ``||x||`` among minimisers of ``||soft x - soft_rhs||`` with ``hard x = hard_rhs``.
 
@@ -189,6 +233,12 @@ def constrained_min_norm(
         soft: ``(s, m)`` rows met in the least-squares sense.
         soft_rhs: ``(s,)``.
         rcond: Relative singular-value cut-off.
+        hard_scale: Singular values of ``hard`` at most ``rcond * max(largest, hard_scale)``
+            are dropped: the size of the rows before a reduction (rows reduced to rounding, e.g.
+            a design row that the eliminated natural constraints imply, are then dropped instead
+            of being measured against themselves); 0 for the rows' own scale.
+        soft_scale: The same floor for the soft rows (restricted to the null space of
+            ``hard``).
 
     Returns:
         ``(x, hard_residual)``: the solution and ``||hard x - hard_rhs||`` (0 unless the hard
@@ -198,7 +248,8 @@ def constrained_min_norm(
     m = soft.shape[1] if soft.size else hard.shape[1]
     if hard.shape[0]:
         u, s, vt = np.linalg.svd(hard, full_matrices=True)
-        rank = int(np.sum(s > rcond * max(s[0], 1e-300))) if s.size else 0
+        floor = rcond * max(float(s[0]) if s.size else 0.0, hard_scale, 1e-300)
+        rank = int(np.sum(s > floor))
         x_h = vt[:rank].T @ ((u[:, :rank].T @ hard_rhs) / s[:rank])
         null = vt[rank:].T
     else:
@@ -206,7 +257,13 @@ def constrained_min_norm(
         null = np.eye(m)
     if soft.shape[0] and null.shape[1]:
         reduced = soft @ null
-        z = np.linalg.lstsq(reduced, soft_rhs - soft @ x_h, rcond=rcond)[0]
+        target = soft_rhs - soft @ x_h
+        if soft_scale > 0.0:
+            u, s, vt = np.linalg.svd(reduced, full_matrices=False)
+            rank = int(np.sum(s > rcond * max(float(s[0]) if s.size else 0.0, soft_scale)))
+            z = vt[:rank].T @ ((u[:, :rank].T @ target) / s[:rank])
+        else:
+            z = np.linalg.lstsq(reduced, target, rcond=rcond)[0]
         x = x_h + null @ z
     else:
         x = x_h

@@ -14,7 +14,12 @@ the wrench rows (eq. 14) and the design / coupling rows.
   a KKT system of size ``n + s`` (never the ``pn x pn`` matrix), using that the weight
   ``T_i^T T_i`` is block diagonal.
 - More rows than unknowns (an inadmissible request) or rank loss: constraints exact, wrench in
-  the least-squares sense, then minimum norm.
+  the least-squares sense, then minimum norm (:mod:`.least_norm`, on orthonormal bases of the
+  chains' null spaces).
+- A design or coupling row that the natural constraints imply at the current configuration
+  (consistent with them) is dropped, so that it cannot change the answer: every rank decision
+  measures a reduced row against its size before the reduction, never against what is left of
+  it (rounding, once the natural constraints are eliminated).
 
 When a chosen block becomes ill-conditioned at the current configuration the sets are re-picked
 there; :class:`~virtual_actuators.SingularConfigurationError` is raised only when the whole
@@ -27,13 +32,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import backward_tolerance, constrained_min_norm, safe_inverse, select_columns
+from ..exceptions import SingularConfigurationError
+from .least_norm import least_norm_forces
+from .linalg import ILL_CONDITIONED, safe_inverse, scaled_condition, select_columns
 from .problem import DistributionProblem
 from .structure import Evaluation
-
-#: Condition estimate above which a block is considered ill-conditioned and re-picked.
-ILL_CONDITIONED = 1e10
 
 
 def no_sets() -> dict[str, list[tuple[str, str]]]:
@@ -69,6 +72,10 @@ class _Reduced:
     offset_sum: np.ndarray  # (n,)
     cfs: list[np.ndarray]  # per group (g, l): the CFS used at this configuration
     free: list[np.ndarray]  # per group (g, d): the other entries
+    #: (s,) per hard row ``c``, ``sum_i |c_i|_1 max|T_i|``: the size of what cancels in its
+    #: reduced entries (their rounding is about eps times this, times the CFS block's condition)
+    hard_scale: np.ndarray
+    repicked: bool  # True when some chain's CFS was re-picked at this configuration
 
 
 @dataclass
@@ -153,6 +160,8 @@ class PartitionedSolver:
         used_cfs, used_free = [], []
         hard_rhs = ev.hard_rhs.copy()
         offset_sum = np.zeros(n)
+        hard_scale = np.zeros(len(hard_rhs))
+        repicked = False
         for index, (group, rows) in enumerate(zip(problem.groups, ev.groups, strict=True)):
             g, l_, d = group.size, group.num_constraints, group.num_free
             transform = np.zeros((g, n, d))
@@ -161,6 +170,7 @@ class PartitionedSolver:
             cfs, free = self.cfs[index], self.free_entries[index]
             if l_:
                 q_matrix, u, cfs, free = self._eliminate(index, rows.rows, rows.rhs)
+                repicked |= cfs is not self.cfs[index]
                 transform[chains, cfs, :] = q_matrix
                 offset[chains, cfs] = u
             used_cfs.append(cfs)
@@ -175,6 +185,8 @@ class PartitionedSolver:
                 hard_block = np.einsum("spn,pnd->spd", hard, transform)
                 hard_blocks.append(hard_block.reshape(hard.shape[0], g * d))
                 hard_rhs -= np.einsum("spn,pn->s", hard, offset)
+                size = np.abs(transform).max(axis=(1, 2), initial=0.0)  # (g,) max |T_i|
+                hard_scale += np.einsum("spn,p->s", np.abs(hard), size)
             else:
                 hard_blocks.append(np.zeros((0, g * d)))
         return _Reduced(
@@ -186,6 +198,8 @@ class PartitionedSolver:
             offset_sum=offset_sum,
             cfs=used_cfs,
             free=used_free,
+            hard_scale=hard_scale,
+            repicked=repicked,
         )
 
     def _eliminate(
@@ -235,6 +249,10 @@ class PartitionedSolver:
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
         """Distribute ``wrench`` over the chains.
 
+        A design or coupling row that the natural constraints (and the other hard rows) imply at
+        this configuration is dropped when it is consistent with them: the answer is then the
+        minimum-norm one, as without it, even when the counts are square.
+
         Args:
             ev: Evaluation at the current configuration.
             wrench: ``(n,)`` requested wrench (entries of free axes are ignored).
@@ -263,28 +281,27 @@ class PartitionedSolver:
                 return RawSolution(
                     forces=forces, method="pseudo-inverse", sets=sets, systems=systems
                 )
-        reduced = self._reduce(ev)
-        a = reduced.wrench_rows[keep]
-        rhs = wrench[keep] - reduced.offset_sum[keep]
-        h, h_rhs = reduced.hard_rows, reduced.hard_rhs
-        sets = None
         systems = tuple(
             ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
         )
         if k + s == m and not self.problem.structurally_singular(keep):
-            f, sets, plan = self._solve_square(reduced, a, rhs, free_key)
-            method = "partitioned"
-            if len(plan.rfs) and plan.gain is None:
-                systems += (("RFS", len(plan.rfs), 1),)
-            systems += (("MFS", len(plan.mfs), 1),)
-        else:
-            f = self._solve_least_squares(reduced, a, rhs, h, h_rhs)
-            method = "least-squares"
-            systems += (("least-squares", m, 1),)
-        forces = self._forces(reduced, f)
-        if sets is None:
-            sets = self.reported_sets(keep)
-        return RawSolution(forces=forces, method=method, sets=sets, systems=systems)
+            reduced = self._reduce(ev)
+            a = reduced.wrench_rows[keep]
+            rhs = wrench[keep] - reduced.offset_sum[keep]
+            square = self._solve_square(reduced, a, rhs, free_key)
+            if square is not None:  # None: the hard rows are dependent here
+                f, sets, plan, rfs_solved = square
+                if rfs_solved:
+                    systems += (("RFS", len(plan.rfs), 1),)
+                systems += (("MFS", len(plan.mfs), 1),)
+                forces = self._forces(reduced, f)
+                return RawSolution(forces=forces, method="partitioned", sets=sets, systems=systems)
+        # constraints exact (those implied here dropped), the request as close as possible,
+        # then the least norm; "least-squares" until the residual says it was met
+        forces = least_norm_forces(self.problem, ev, wrench, keep)
+        systems += (("least-squares", m, 1),)
+        sets = self.reported_sets(keep)
+        return RawSolution(forces=forces, method="least-squares", sets=sets, systems=systems)
 
     def reported_sets(self, keep: np.ndarray) -> dict[str, list[tuple[str, str]]]:
         """MFS / RFS / CFS reported for a non-square system (chosen at a generic ``q``)."""
@@ -319,34 +336,40 @@ class PartitionedSolver:
 
     def _solve_square(
         self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, free_key: bytes
-    ) -> tuple[np.ndarray, dict, _SquarePlan]:
-        """Eliminate the RFS, solve for the MFS (eq. 16-18); returns ``(f, sets, plan used)``.
+    ) -> tuple[np.ndarray, dict, _SquarePlan, bool] | None:
+        """Eliminate the RFS, solve for the MFS (eq. 16-18).
 
         The plan is the declaration's (cached per set of prescribed axes) unless its design
         block is ill-conditioned here: then a plan picked at this configuration serves this
-        call only.
+        call only. A block is judged against the size of the hard rows before the CFS was
+        eliminated (:func:`~.linalg.scaled_condition`): rows that the natural constraints imply
+        here are reduced to rounding, which no Redundant Force Set can invert.
+
+        Returns:
+            ``(f, sets, plan used, whether an RFS block was inverted here)``, or None when no
+            RFS makes the hard rows solvable here (they are dependent at this configuration:
+            the minimum-norm solve decides).
 
         Raises:
-            SingularConfigurationError: No RFS makes the design rows solvable here, or the MFS
-                system is singular.
+            SingularConfigurationError: The MFS system is singular.
         """
         h, h_rhs = reduced.hard_rows, reduced.hard_rhs
         m = a.shape[1]
         plan = self.square_plan(np.frombuffer(free_key, dtype=bool))
+        rfs_solved = False
         if len(plan.rfs):
-            if plan.gain is not None:
+            if plan.gain is not None and not reduced.repicked:
                 # constant hard rows avoid every CFS entry, so h_rhs is the design rhs here
                 gain, bias = plan.gain, plan.rfs_inverse @ h_rhs
             else:
-                gain, bias = self._rfs_gain(h, h_rhs, plan)
+                rfs_solved = True
+                scale = reduced.hard_scale
+                gain, bias = self._rfs_gain(h, h_rhs, plan, scale)
                 if gain is None:
                     plan = self._plan_square(h, m, constant=False)
-                    gain, bias = self._rfs_gain(h, h_rhs, plan)
+                    gain, bias = self._rfs_gain(h, h_rhs, plan, scale)
                     if gain is None:
-                        raise SingularConfigurationError(
-                            "The design constraints are degenerate at this configuration: no "
-                            "Redundant Force Set makes them solvable."
-                        )
+                        return None
             a_r = a[:, plan.rfs]
             mfs_matrix = a[:, plan.mfs] + a_r @ gain
             mfs_rhs = rhs - a_r @ bias
@@ -369,7 +392,7 @@ class PartitionedSolver:
             "RFS": [labels[i] for i in plan.rfs],
             "CFS": self.cfs_labels(reduced.cfs),
         }
-        return f, sets, plan
+        return f, sets, plan, rfs_solved
 
     def _plan_square(self, h: np.ndarray, m: int, constant: bool = True) -> _SquarePlan:
         s = h.shape[0]
@@ -397,21 +420,15 @@ class PartitionedSolver:
 
     @staticmethod
     def _rfs_gain(
-        h: np.ndarray, h_rhs: np.ndarray, plan: _SquarePlan
+        h: np.ndarray, h_rhs: np.ndarray, plan: _SquarePlan, scale: np.ndarray
     ) -> tuple[np.ndarray | None, np.ndarray | None]:
-        inverse, cond = safe_inverse(h[:, plan.rfs])
-        if cond > ILL_CONDITIONED:
+        block = h[:, plan.rfs]
+        inverse, cond = safe_inverse(block)
+        if cond > ILL_CONDITIONED or not scale.all():
+            return None, None
+        if scaled_condition(block, inverse, scale) > ILL_CONDITIONED:
             return None, None
         return -inverse @ h[:, plan.mfs], inverse @ h_rhs
-
-    @staticmethod
-    def _weights(reduced: _Reduced) -> tuple[list[np.ndarray], list[np.ndarray]]:
-        """Per group: ``T_i^T T_i`` and ``T_i^T w_i``, so ``||F_i||^2 = f^T W f + 2 b^T f + c``."""
-        grams, linear = [], []
-        for transform, offset in zip(reduced.transforms, reduced.offsets, strict=True):
-            grams.append(np.einsum("gnd,gne->gde", transform, transform))
-            linear.append(np.einsum("gnd,gn->gd", transform, offset))
-        return grams, linear
 
     def _solve_projected(
         self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
@@ -424,7 +441,9 @@ class PartitionedSolver:
         ``F_i = P_i R_i^T lambda + G_i^+ t_i`` where ``(sum_i R_i P_i R_i^T) lambda`` equals the
         targets minus ``sum_i R_i G_i^+ t_i``: one ``(n + s)`` square solve, plus ``p`` small
         ``l x l`` inverses, never the ``pn x pn`` matrix. Returns None when that system is
-        ill-conditioned (then the least-squares path decides).
+        ill-conditioned (then the least-squares path decides), as a row that the natural
+        constraints imply here makes it beside other rows (alone, such a row only adds
+        rounding: its ``P R^T`` is rounding and its multiplier finite).
         """
         problem = self.problem
         n, p = problem.n, problem.p
@@ -466,37 +485,6 @@ class PartitionedSolver:
         if len(ev.hard_rhs):
             forces += np.einsum("psm,s->pm", hp, multipliers[k:])
         return forces
-
-    def _solve_least_squares(
-        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, h: np.ndarray, h_rhs: np.ndarray
-    ) -> np.ndarray:
-        grams, linear = self._weights(reduced)
-        # change of variables g = L^T f + L^-1 b with W = L L^T, so that ||all F_i||^2 = ||g||^2 + c
-        m = a.shape[1]
-        l_inv_t = np.zeros((m, m))
-        w_lin = np.empty(m)
-        start = 0
-        for group, gram, lin in zip(self.problem.groups, grams, linear, strict=True):
-            g, d = group.size, group.num_free
-            inverse = np.linalg.inv(gram)
-            chol_inv_t = np.linalg.inv(np.linalg.cholesky(gram)).transpose(0, 2, 1)
-            for j in range(g):
-                sl = slice(start + j * d, start + (j + 1) * d)
-                l_inv_t[sl, sl] = chol_inv_t[j]
-            w_lin[start : start + g * d] = np.einsum("gde,ge->gd", inverse, lin).ravel()
-            start += g * d
-        hard_g, hard_g_rhs = h @ l_inv_t, h_rhs + h @ w_lin
-        g_vec, hard_residual = constrained_min_norm(
-            hard_g, hard_g_rhs, a @ l_inv_t, rhs + a @ w_lin
-        )
-        if hard_residual > backward_tolerance(hard_g, g_vec, hard_g_rhs):
-            raise ConstraintError(
-                f"The design and coupling constraints ({', '.join(self.problem.hard_names)}) "
-                "contradict each other or the chains' natural constraints at this "
-                f"configuration (residual {hard_residual:.2e}); a passive spring or limp joint "
-                "that no selected axis loads cannot be balanced."
-            )
-        return l_inv_t @ g_vec - w_lin
 
     def _report_sets(self, a: np.ndarray, h: np.ndarray) -> dict[str, list[tuple[str, str]]]:
         """MFS / RFS of a non-square system: the MFS spans the wrench rows, the RFS the rest."""

@@ -1,0 +1,138 @@
+"""The minimum-norm distribution on the chains' null spaces, rank decided at the problem's scale.
+
+Each chain's natural constraints ``G_i F_i = t_i`` are solved by one SVD:
+``F_i = F0_i + N_i y_i`` with ``F0_i = G_i^+ t_i`` and ``N_i`` an orthonormal basis of their null
+space. ``F0_i`` is orthogonal to ``N_i``, so ``sum ||F_i||^2 = sum ||F0_i||^2 + ||y||^2``: the
+least-norm distribution is the least-norm ``y`` that meets the hard rows (design and coupling)
+exactly and the request as closely as possible.
+
+In these coordinates a hard row ``c`` becomes ``c N``, whose rounding is of order
+``eps |c|`` whatever the chains' conditioning. Rank decisions compare it with ``|c|``, the row's
+size before the elimination, not with what is left of it: a design row that the natural
+constraints imply at this configuration (``ry`` of a planar leg at a pose where the leg cannot
+produce it) leaves only rounding behind and is dropped, so it cannot change the answer; one that
+contradicts them raises :class:`~virtual_actuators.ConstraintError`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import ConstraintError, SingularConfigurationError
+from .linalg import backward_tolerance, constrained_min_norm, stable_norm
+from .problem import DistributionProblem
+from .structure import Evaluation
+
+#: Relative singular-value cut-off of the rank decisions (as in the dense reference).
+RCOND = 1e-10
+#: A chain whose natural rows' smallest singular value is below this fraction of the largest
+#: has degenerate natural constraints here (the partitioned closed form cannot decide).
+DEGENERATE = 1e-10
+
+
+@dataclass
+class NullSpaceForm:
+    """Every chain's admissible wrenches ``F_i = F0_i + N_i y_i`` at one configuration.
+
+    Attributes:
+        bases: Per chain group, ``(g, n, d)`` orthonormal bases ``N_i`` of the null space of the
+            natural rows.
+        particular: ``(p, n)`` the least-norm solutions ``F0_i`` of the natural rows.
+
+    """
+
+    bases: list[np.ndarray]
+    particular: np.ndarray
+
+
+def null_space_form(problem: DistributionProblem, ev: Evaluation) -> NullSpaceForm:
+    """Solve each chain's natural constraints by an SVD (see the module docstring).
+
+    Raises:
+        SingularConfigurationError: A chain's natural rows are degenerate here (their smallest
+            singular value below ``DEGENERATE`` times the largest).
+
+    """
+    bases = []
+    particular = np.zeros((problem.p, problem.n))
+    for group, rows in zip(problem.groups, ev.groups, strict=True):
+        g_rows, l_ = rows.rows, group.num_constraints
+        if not l_:
+            bases.append(np.broadcast_to(np.eye(problem.n), (group.size, problem.n, problem.n)))
+            continue
+        u, s, vt = np.linalg.svd(g_rows, full_matrices=True)
+        bad = np.flatnonzero(~(s[:, -1] > DEGENERATE * s[:, 0]))
+        if len(bad):
+            chain = problem.reactions[group.chains[bad[0]]]
+            raise SingularConfigurationError(
+                f"The natural constraints of the chain to {chain!r} are degenerate at this "
+                f"configuration (singular values {s[bad[0], -1]:.1e} and {s[bad[0], 0]:.1e})."
+            )
+        bases.append(vt[:, l_:, :].transpose(0, 2, 1))
+        coefficients = np.einsum("gji,gj->gi", u, rows.rhs) / s
+        particular[group.chains] = np.einsum("gin,gi->gn", vt[:, :l_, :], coefficients)
+    return NullSpaceForm(bases=bases, particular=particular)
+
+
+def least_norm_forces(
+    problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
+) -> np.ndarray:
+    """Least ``sum ||F_i||^2`` with every exact row met and the request as close as possible.
+
+    Args:
+        problem: The declaration's structure.
+        ev: Evaluation at the current configuration.
+        wrench: ``(n,)`` requested wrench.
+        keep: ``(n,)`` bool, the prescribed axes.
+
+    Returns:
+        ``(p, n)`` chain wrenches.
+
+    Raises:
+        SingularConfigurationError: A chain's natural rows are degenerate here.
+        ConstraintError: The design and coupling rows contradict each other or the natural
+            ones at this configuration.
+
+    """
+    form = null_space_form(problem, ev)
+    n, p, k = problem.n, problem.p, int(keep.sum())
+    hard = ev.hard_rows  # (s, p, n)
+    soft_blocks, hard_blocks = [], []
+    for group, basis in zip(problem.groups, form.bases, strict=True):
+        g, d = group.size, basis.shape[2]
+        soft_blocks.append(basis[:, keep, :].transpose(1, 0, 2).reshape(k, g * d))
+        block = np.einsum("spn,pnd->spd", hard[:, group.chains, :], basis)
+        hard_blocks.append(block.reshape(hard.shape[0], g * d))
+    soft = np.hstack(soft_blocks)
+    soft_rhs = wrench[keep] - form.particular[:, keep].sum(axis=0)
+    # each hard row measured against its own size before the elimination
+    norms = np.sqrt(np.einsum("spn,spn->s", hard, hard))
+    norms = np.where(norms > 0.0, norms, 1.0)
+    hard_y = np.hstack(hard_blocks) / norms[:, None]
+    hard_rhs = (ev.hard_rhs - np.einsum("spn,pn->s", hard, form.particular)) / norms
+    y, _ = constrained_min_norm(
+        hard_y, hard_rhs, soft, soft_rhs, RCOND, hard_scale=1.0, soft_scale=float(np.sqrt(p))
+    )
+    forces = form.particular.copy()
+    start = 0
+    for group, basis in zip(problem.groups, form.bases, strict=True):
+        g, d = group.size, basis.shape[2]
+        local = y[start : start + g * d].reshape(g, d)
+        forces[group.chains] += np.einsum("gnd,gd->gn", basis, local)
+        start += g * d
+    if hard.shape[0]:
+        rows = hard.reshape(hard.shape[0], p * n)
+        residual = stable_norm(rows @ forces.ravel() - ev.hard_rhs)
+        if residual > backward_tolerance(rows, forces.ravel(), ev.hard_rhs):
+            raise ConstraintError(
+                f"The design and coupling constraints ({', '.join(problem.hard_names)}) "
+                "contradict each other or the chains' natural constraints at this "
+                f"configuration (residual {residual:.2e}); a passive spring or limp joint "
+                "that no selected axis loads cannot be balanced."
+            )
+    return forces
+
+
+__all__ = ["NullSpaceForm", "least_norm_forces", "null_space_form"]

@@ -10,10 +10,16 @@ no work, is kept.
 Power is ``wrench . velocity`` on the component's axes (forces times the relative velocity of
 {B} with respect to {A}, moments times the relative angular velocity), accounted once per tick
 over the time since the previous tick (a first tick, after construction or :meth:`reset`, may
-not inject).
+not inject). The arithmetic holds at any scale of the velocity (from subnormal to near the
+float range): the power is compared with the energy left as a product of mantissas and powers of
+two, and the velocity's norm is taken on the velocity divided by its largest entry, so nothing
+squares, overflows or underflows on the way; the tank never goes negative, and once it is empty
+the wrench keeps no part along the velocity.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -73,27 +79,44 @@ class EnergyTank(Component):
         self._last_time = None
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The wrapped component's wrench, without its injecting part once the tank is empty."""
+        """The wrapped component's wrench, without its injecting part once the tank is empty.
+
+        Raises:
+            InvalidInputError: If ``velocity`` holds NaN or an infinity.
+
+        """
         wrench = np.array(self.component.compute_wrench(position, velocity, time), dtype=float)
         velocity = np.asarray(velocity, dtype=float)
         dt = 0.0 if self._last_time is None else max(time - self._last_time, 0.0)
         self._last_time = time
-        power = float(wrench @ velocity)  # [W], > 0: injected into the robot
-        if power > 0.0 and (dt == 0.0 or power * dt > self.energy):
+        scale = float(np.max(np.abs(velocity))) if velocity.size else 0.0
+        if not math.isfinite(scale):
+            raise InvalidInputError(f"{self.name}: velocity must be finite, got {velocity}.")
+        if scale == 0.0:
+            return wrench  # no motion, no work
+        unit = velocity / scale  # largest entry +-1: its norm neither overflows nor underflows
+        norm = math.hypot(*unit.tolist())
+        direction = unit / norm  # the velocity's direction; |velocity| = scale * norm
+        along = float(wrench @ direction)  # [N or N m] the wrench along the velocity
+        # the work over this tick, along * |velocity| * dt, as mantissa * 2**exponent
+        mantissa, exponent = _product(along, scale, norm, dt)
+        work = _value(mantissa, exponent)  # [J], > 0: injected into the robot
+        if along > 0.0 and (dt == 0.0 or self.energy == 0.0 or work > self.energy):
             # Only what is left may be injected over this tick (nothing on a first tick, whose
-            # duration is unknown): scale the power down by removing wrench along the velocity
-            # (the orthogonal part does no work).
-            allowed = self.energy / dt if dt > 0.0 else 0.0
-            speed2 = float(velocity @ velocity)
-            wrench = wrench - ((power - allowed) / speed2) * velocity
-            power = allowed
-        energy = power * dt
-        if energy > 0.0:
-            self.injected += energy
-            self.energy = max(self.energy - energy, 0.0)
+            # duration is unknown): keep the fraction energy / work of the wrench along the
+            # velocity (the orthogonal part does no work).
+            kept = 0.0
+            if dt > 0.0 and self.energy > 0.0:
+                energy_mantissa, energy_exponent = math.frexp(self.energy)
+                kept = math.ldexp(energy_mantissa / mantissa, energy_exponent - exponent)  # < 1
+            wrench = wrench - (along * (1.0 - kept)) * direction
+            work = self.energy if kept > 0.0 else 0.0
+        if work > 0.0:
+            self.injected += work
+            self.energy = max(self.energy - work, 0.0)
         else:
-            self.dissipated -= energy
-            self.energy = min(self.energy - energy, self.capacity)
+            self.dissipated -= work
+            self.energy = min(self.energy - work, self.capacity)
         return wrench
 
     def _parameters(self) -> str:
@@ -101,6 +124,29 @@ class EnergyTank(Component):
             f"component={self.component.name!r}, energy={self.energy:.4g} J, "
             f"capacity={self.capacity:.4g} J"
         )
+
+
+def _product(*factors: float) -> tuple[float, int]:
+    """The product of finite floats as ``(mantissa, exponent)``, never overflowing on the way.
+
+    Returns:
+        ``mantissa * 2**exponent`` equals the product (to rounding), with ``|mantissa|`` in
+        ``[2**-k, 1)`` for ``k`` nonzero factors, or ``(0.0, 0)`` when a factor is zero.
+    """
+    mantissa, exponent = 1.0, 0
+    for factor in factors:
+        factor_mantissa, factor_exponent = math.frexp(factor)
+        mantissa *= factor_mantissa
+        exponent += factor_exponent
+    return mantissa, exponent
+
+
+def _value(mantissa: float, exponent: int) -> float:
+    """``mantissa * 2**exponent``: an infinity beyond the float range, 0 below it."""
+    try:
+        return math.ldexp(mantissa, exponent)
+    except OverflowError:
+        return math.copysign(math.inf, mantissa)
 
 
 __all__ = ["EnergyTank"]

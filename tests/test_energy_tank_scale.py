@@ -156,8 +156,10 @@ def test_a_damper_passes_through_unchanged_at_any_speed() -> None:
             assert 0.0 <= tank.energy <= 1.0 and tank.injected == 0.0
 
 
-def test_a_velocity_that_is_not_finite_is_refused() -> None:
+def test_a_velocity_that_is_not_finite_or_the_wrong_size_is_refused() -> None:
     tank = EnergyTank(Push(np.ones(3)), capacity=1.0)
     for bad in (np.array([np.nan, 0.0, 0.0]), np.array([0.0, np.inf, 0.0])):
         with pytest.raises(va.InvalidInputError, match="velocity"):
             tank.compute_wrench(np.zeros(3), bad, 0.0)
+    with pytest.raises(va.InvalidInputError, match="one per axis"):
+        tank.compute_wrench(np.zeros(3), np.ones(2), 0.0)

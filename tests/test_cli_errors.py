@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -25,10 +26,17 @@ BAD = [
     (["demo", "--record", "/no/such/folder/run.html"], "--record"),
     (["demo", "no-such-demo"], "name"),
     (["example", "no-such-example"], "name"),
+    (["demo", "stand", "--robot", ""], "--robot"),
+    (["demo", "stand", "--robot", "   "], "--robot"),
+    (["sweep", "turkey-walk", "--seeds", "100000000000"], "--seeds"),
+    (["sweep", "turkey-walk", "--seeds", "1001"], "--seeds"),
+    (["sweep", "turkey-walk", "--seeds", "9" * 5000], "--seeds"),
+    (["sweep", "turkey-walk", "--workers", "100000"], "--workers"),
+    (["sweep", "turkey-walk", "--plot", "map.nosuchformat"], "--plot"),
 ]
 
 
-@pytest.mark.parametrize(("argv", "option"), BAD, ids=[" ".join(a) for a, _ in BAD])
+@pytest.mark.parametrize(("argv", "option"), BAD, ids=[" ".join(a)[:60] for a, _ in BAD])
 def test_bad_option_is_a_usage_error(argv, option, capsys):
     with pytest.raises(SystemExit) as exit_info:
         cli.main(argv)
@@ -57,3 +65,87 @@ def test_documented_example_in_a_subprocess():
     assert run.returncode == 2
     assert "usage:" in run.stderr and "--duration" in run.stderr
     assert "Traceback" not in run.stderr
+
+
+# -- outputs: tried before the run, a usage error when they cannot be written ----------------------
+UNWRITABLE = [
+    (["demo", "turkey-walk", "--json", "/dev/full"], "--json", "/dev/full"),
+    (["demo", "hexapod-walk", "--json", "/dev/full"], "--json", "/dev/full"),
+    (["demo", "turkey-walk", "--json", "/proc/version"], "--json", "/proc/version"),
+    (["demo", "turkey-walk", "--plot", "/proc/x.png"], "--plot", "/proc/x.png"),
+    (["demo", "turkey-walk", "--record", "/proc/x.html"], "--record", "/proc/x.html"),
+    (["example", "millipede", "--record", "/proc/x.html"], "--record", "/proc/x.html"),
+    (["sweep", "turkey-walk", "--out", "/proc/s.csv"], "--out", "/proc/s.csv"),
+    (["sweep", "turkey-walk", "--plot", "/proc/s.png"], "--plot", "/proc/s.png"),
+]
+
+
+@pytest.mark.skipif(
+    not (os.path.exists("/dev/full") and os.path.exists("/proc/version")), reason="Linux paths"
+)
+@pytest.mark.parametrize(
+    ("argv", "option", "path"), UNWRITABLE, ids=[" ".join(a[:2] + a[-2:]) for a, _, _ in UNWRITABLE]
+)
+def test_an_output_that_cannot_be_written_is_a_usage_error(argv, option, path, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    last = err.strip().splitlines()[-1]  # one line: the option, the path and the reason
+    assert f"error: argument {option}: " in last and repr(path) in last and "cannot" in last
+
+
+def test_trying_the_outputs_leaves_no_file_and_changes_none(tmp_path, capsys):
+    """New outputs are not left behind; an existing one keeps its content (not truncated)."""
+    new, kept = tmp_path / "new.json", tmp_path / "kept.png"
+    kept.write_bytes(b"an earlier plot")
+    parser, _ = cli.build_parser()
+    args = parser.parse_args(["demo", "turkey-walk", "--json", str(new), "--plot", str(kept)])
+    assert args.json == str(new) and args.plot == str(kept)
+    assert not new.exists() and kept.read_bytes() == b"an earlier plot"
+    with pytest.raises(SystemExit) as exit_info:  # a later option fails: nothing is written
+        cli.main(["demo", "turkey-walk", "--json", str(new), "--plot", "/proc/x.png"])
+    assert exit_info.value.code == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept.png"]
+    assert kept.read_bytes() == b"an earlier plot"
+
+
+def test_a_sweep_grid_too_large_is_a_usage_error(capsys):
+    """1000 seeds pass alone, but 141 speeds x 2 terrains x 1000 seeds is refused before a walk."""
+    argv = ["sweep", "turkey-walk", "--speed", "0.1:1.5:0.01", "--terrain", "flat,rolling"]
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([*argv, "--seeds", "1000", "--out", os.devnull])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "--seeds" in err and "282000 walks" in err and "100000" in err
+    assert "Traceback" not in err
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="POSIX resource limits")
+def test_a_write_that_fails_after_the_run_is_a_usage_error(tmp_path):
+    """The file size limit lets the output be tried (an empty write) but not written at the end:
+    exit 2 and one line naming --json and the path, not a traceback with exit 1 ("fell")."""
+    import resource
+    import signal
+
+    def limit_file_size() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails with EFBIG
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8, 8))
+
+    path = tmp_path / "metrics.json"
+    run = subprocess.run(
+        [sys.executable, "-m", "virtual_actuators", "demo", "turkey-walk", "--duration", "0.01"]
+        + ["--quiet", "--json", str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=limit_file_size,
+        check=False,
+    )
+    assert run.returncode == 2, run.stderr
+    assert "Traceback" not in run.stderr
+    last = run.stderr.strip().splitlines()[-1]
+    assert f"error: argument --json: cannot write {str(path)!r}: File too large" in last
+    assert "m in 0.01 s" in run.stdout  # the run itself went through and printed its summary

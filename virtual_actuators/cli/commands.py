@@ -43,14 +43,21 @@ def demo_walk(args: argparse.Namespace) -> int:
     metrics = result.metrics
     print(metrics.summary())
     if args.json:
-        print(f"metrics: {write_json(metrics, args.json)}")
+        with writing("--json", args.json):
+            print(f"metrics: {write_json(metrics, args.json)}")
     if args.plot:
         title = f"{args.name}: {result.log.metadata['robot']} on {result.log.metadata['terrain']}"
         heights = result.log.terrain_points[:, 1]
         layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
-        path = plot_walk(
-            result.log, args.plot, title=title, metrics=metrics, layout=layout, window=args.window
-        )
+        with writing("--plot", args.plot):
+            path = plot_walk(
+                result.log,
+                args.plot,
+                title=title,
+                metrics=metrics,
+                layout=layout,
+                window=args.window,
+            )
         print(f"plot: {path}")
     if viewer is not None:
         finish_viewer(args, viewer)
@@ -96,9 +103,12 @@ def demo_hexapod(args: argparse.Namespace) -> int:
     result = run_hexapod_walk(config, progress=not args.quiet, on_tick=on_tick)
     print(result.metrics.summary())
     if args.json:
-        print(f"trace: {write_json(result.to_json(), args.json)}")
+        with writing("--json", args.json):
+            print(f"trace: {write_json(result.to_json(), args.json)}")
     if args.plot:
-        print(f"plot: {plot_hexapod(result.log, args.plot, summary=result.metrics.summary())}")
+        with writing("--plot", args.plot):
+            path = plot_hexapod(result.log, args.plot, summary=result.metrics.summary())
+        print(f"plot: {path}")
     if viewer is not None:
         finish_viewer(args, viewer)
     return 1 if result.metrics.fell else 0
@@ -120,7 +130,7 @@ class OptionError(Exception):
 
 
 @contextlib.contextmanager
-def _blame(option: str) -> Iterator[None]:
+def blame(option: str) -> Iterator[None]:
     """Turn a library error raised in the block into an :class:`OptionError` naming ``option``.
 
     Raises:
@@ -132,6 +142,25 @@ def _blame(option: str) -> Iterator[None]:
         yield
     except VirtualActuatorError as error:
         raise OptionError(f"argument {option}: {error}") from error
+
+
+@contextlib.contextmanager
+def writing(option: str, path: str) -> Iterator[None]:
+    """Turn an :class:`OSError` raised while writing ``path`` into an :class:`OptionError`.
+
+    Every output is tried before the run (:func:`~virtual_actuators.cli.types.output_path`);
+    this reports one that still fails at the end (the disk filled up) on one line, never as a
+    traceback whose exit code 1 would read as "the robot fell".
+
+    Raises:
+        OptionError: If the block raises an :class:`OSError` (names ``option``, the path and the
+            reason).
+    """
+    try:
+        yield
+    except OSError as error:
+        reason = error.strerror or str(error)
+        raise OptionError(f"argument {option}: cannot write {path!r}: {reason}") from error
 
 
 def run(args: argparse.Namespace) -> int:
@@ -146,8 +175,8 @@ def run(args: argparse.Namespace) -> int:
         if args.name == "stand":
             from .stand import demo_stand, stand_robot
 
-            with _blame("--feet" if args.feet else "--robot"):
-                loaded = stand_robot(args.robot or "solo12", args.feet)
+            with blame("--feet" if args.feet else "--robot"):
+                loaded = stand_robot("solo12" if args.robot is None else args.robot, args.feet)
             demo_stand(loaded, args=args)
             return 0
         if args.name == "hexapod-walk":

@@ -14,18 +14,20 @@ from .types import (
     MIN_DURATION,
     amplitude,
     direction_degrees,
+    figure_path,
     frame_list,
     output_path,
-    positive_int,
     positive_seconds,
     robot_name,
     seed,
+    seed_count,
     terrain_list,
     terrain_spec,
     time_window,
     value_range,
     walking_speed,
     wavelength,
+    worker_count,
     yaw_rate,
 )
 
@@ -245,17 +247,21 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
     sweep.add_argument(
         "--terrain", type=terrain_list, default=None, metavar="T1,T2", help="terrains"
     )
-    sweep.add_argument("--seeds", type=positive_int, default=3, help="starts per cell")
+    sweep.add_argument(
+        "--seeds", type=seed_count, default=3, help="starts per cell (1 to 1000)"
+    )
     sweep.add_argument(
         "--duration", type=positive_seconds, default=None, help="simulated seconds per walk"
     )
     sweep.add_argument("--engine", choices=("process", "dask", "ray"), default="process")
-    sweep.add_argument("--workers", type=positive_int, default=None, help="process pool size")
+    sweep.add_argument(
+        "--workers", type=worker_count, default=None, help="process pool size (1 to 256)"
+    )
     sweep.add_argument(
         "--out", type=output_path, default="sweep.csv", metavar="PATH", help=".csv or .json"
     )
     sweep.add_argument(
-        "--plot", type=output_path, default=None, metavar="PATH.png", help="success map"
+        "--plot", type=figure_path, default=None, metavar="PATH.png", help="success map"
     )
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     return sweep

@@ -17,11 +17,13 @@ def sweep_command(args: argparse.Namespace) -> int:
     from ..demos.progress import Progress
     from ..demos.sweep import grid, plot_success_map, run_sweep, success_map, write_results
     from ..demos.walking import WALKS
+    from .commands import blame, writing
 
     spec = WALKS[args.walk]
     speeds = args.speed or [0.4]
     terrains = args.terrain or [spec.terrain]
-    cases = grid(args.walk, speeds, terrains, args.seeds, duration=args.duration)
+    with blame("--speed/--terrain/--seeds"):
+        cases = grid(args.walk, speeds, terrains, args.seeds, duration=args.duration)
     print(
         f"{len(cases)} walks of {args.walk}: speeds {speeds}, terrains {terrains}, "
         f"{args.seeds} seeds, engine {args.engine}"
@@ -45,9 +47,11 @@ def sweep_command(args: argparse.Namespace) -> int:
     for i, terrain in enumerate(terrains_):
         cells = " ".join(f"{value:>6.0%}" if value == value else "     -" for value in rate[i])
         print(f"{terrain:{width}}  {cells}")
-    print(f"results: {write_results(results, args.out)}")
+    with writing("--out", args.out):
+        print(f"results: {write_results(results, args.out)}")
     if args.plot:
-        print(f"success map: {plot_success_map(results, args.plot)}")
+        with writing("--plot", args.plot):
+            print(f"success map: {plot_success_map(results, args.plot)}")
     errors = [r for r in results if r.error]
     for result in errors[:5]:
         print(f"error at speed {result.speed} on {result.terrain}: {result.error}")

@@ -25,6 +25,9 @@ MAX_YAW_RATE = 3.0
 MAX_AMPLITUDE = 2.0
 MAX_WAVELENGTH = 50.0
 
+#: Most processes of ``sweep --workers`` (each holds MuJoCo and a robot: about 150 MiB).
+MAX_WORKERS = 256
+
 
 def _number(text: str, what: str) -> float:
     """A finite float from ``text``.
@@ -189,15 +192,19 @@ def robot_name(text: str) -> str:
     Whether the robot suits the demo (stand needs a quadruped) is checked when it is loaded.
 
     Raises:
-        argparse.ArgumentTypeError: Otherwise (with the closest names).
+        argparse.ArgumentTypeError: An empty name, or otherwise (with the closest names).
     """
-    from ..robots.catalog import list_robots, suggest_robots
+    from ..robots.catalog import list_robots, shown_name, suggest_robots
 
+    if not text.strip():
+        raise argparse.ArgumentTypeError(
+            f"expected a robot name or a URDF path, got {text!r} (leave --robot out for solo12)"
+        )
     names = list_robots(include_aliases=True)
     if text in names or _existing_path(text):
         return text
     raise argparse.ArgumentTypeError(
-        f"no robot named {text!r} and no such URDF file. {suggest_robots(text)}"
+        f"no robot named {shown_name(text)} and no such URDF file. {suggest_robots(text)}"
     )
 
 
@@ -245,13 +252,32 @@ def terrain_list(text: str) -> list[str]:
     return names
 
 
-def positive_int(text: str) -> int:
-    """A whole number >= 1 (``--seeds``, ``--workers``).
+def _bounded_whole(text: str, what: str, maximum: int, why: str) -> int:
+    """A whole number from 1 to ``maximum``, or a usage error naming ``what`` and ``why``."""
+    value = _whole(text, what, 1)
+    if value > maximum:
+        raise argparse.ArgumentTypeError(f"{what} must be at most {maximum} ({why}), got {text!r}")
+    return value
+
+
+def seed_count(text: str) -> int:
+    """``sweep --seeds``: starts per cell, 1 to :data:`~virtual_actuators.demos.sweep.MAX_SEEDS`.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
     """
-    return _whole(text, "value", 1)
+    from ..demos.sweep import MAX_SEEDS
+
+    return _bounded_whole(text, "seeds", MAX_SEEDS, "every walk of the grid is queued at once")
+
+
+def worker_count(text: str) -> int:
+    """``sweep --workers``: process pool size, 1 to :data:`MAX_WORKERS`.
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    return _bounded_whole(text, "workers", MAX_WORKERS, "each worker is a process with MuJoCo")
 
 
 def _existing_path(text: str) -> bool:
@@ -264,11 +290,16 @@ def _existing_path(text: str) -> bool:
 
 
 def output_path(text: str) -> str:
-    """An output file in an existing, writable folder (checked before a run, not after it).
+    """An output file that can be written now (checked before a run, not after it).
+
+    A run writes its outputs only at its end, so each is opened here as it will be written
+    (:func:`_try_writing`): a path that passes can be written unless the disk fills up during
+    the run.
 
     Raises:
         argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
-            exist, or it cannot be written.
+            exist, or it cannot be created, opened for writing or written (``/dev/full``, a
+            file under ``/proc``, a read-only file system, permission denied).
     """
     try:
         path = Path(text)
@@ -287,4 +318,50 @@ def output_path(text: str) -> str:
         raise argparse.ArgumentTypeError(
             f"{text[:80]!r} is not a usable file path ({error})"
         ) from None
+    try:
+        _try_writing(path)
+    except OSError as error:
+        reason = error.strerror or str(error)
+        raise argparse.ArgumentTypeError(f"{text[:80]!r} cannot be written ({reason})") from None
     return text
+
+
+def figure_path(text: str) -> str:
+    """``sweep --plot``: an :func:`output_path` whose suffix is an image format matplotlib writes.
+
+    Raises:
+        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), or
+            a path that :func:`output_path` refuses.
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = sorted(FigureCanvasBase.get_supported_filetypes())
+    suffix = Path(text).suffix.lower().removeprefix(".")
+    if suffix not in formats:
+        raise argparse.ArgumentTypeError(
+            f"{text[:80]!r}: its suffix names the image format, one of "
+            f"{', '.join('.' + name for name in formats)}"
+        )
+    return output_path(text)
+
+
+def _try_writing(path: Path) -> None:
+    """Open ``path`` for writing now, as the run will at its end, and leave it as it was.
+
+    An existing file is opened for appending (never truncated) and given an empty write, which
+    a device or a file that takes no writes refuses (``/dev/full``, ``/proc/version``). A new
+    file is created, given the same empty write and removed again.
+
+    Raises:
+        OSError: If the file cannot be created, opened for writing or written (the operating
+            system's error: permission denied, no such file or directory, no space left...).
+    """
+    existed = path.exists()
+    flags = os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
+    descriptor = os.open(path, flags | (0 if existed else os.O_CREAT), 0o666)
+    try:
+        os.write(descriptor, b"")
+    finally:
+        os.close(descriptor)
+        if not existed:  # through a dangling symbolic link, the file created is its target
+            Path(os.path.realpath(path)).unlink(missing_ok=True)

@@ -83,14 +83,23 @@ def pause(message: str) -> None:
 
 
 def finish_viewer(args: argparse.Namespace, viewer) -> None:
-    """Write the recording (``--record``), keep a live view open until Enter, close."""
-    if args.record:
-        print(f"recording: {viewer.save_html(args.record)}")
-    if args.viz:
-        viewer.flush()
-        print(f"viewer: {viewer.url}")
-        pause("Press Enter to stop the viewer. ")
-    viewer.close()
+    """Write the recording (``--record``), keep a live view open until Enter, close.
+
+    Raises:
+        OptionError: The recording cannot be written (the viewer is closed all the same).
+    """
+    from .commands import writing
+
+    try:
+        if args.record:
+            with writing("--record", args.record):
+                print(f"recording: {viewer.save_html(args.record)}")
+        if args.viz:
+            viewer.flush()
+            print(f"viewer: {viewer.url}")
+            pause("Press Enter to stop the viewer. ")
+    finally:
+        viewer.close()
 
 
 def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:

@@ -248,7 +248,7 @@ class Spring(SpringDamper):
         InvalidAxisError: Bad axes.
         InvalidInputError: Bad parameter shape or value; both or neither of ``stiffness`` and
             ``law`` given; ``law`` not callable; (per tick) a law that returns the wrong
-            number of values or a non-finite one.
+            number of values, complex values or a non-finite one.
 
     """
 
@@ -281,11 +281,14 @@ class Spring(SpringDamper):
             return SpringDamper.compute_wrench(self, position, velocity, time)
         result = self.law(self._deflection(np.asarray(position, dtype=float)))
         try:
-            force = np.broadcast_to(np.asarray(result, dtype=float), self._shape).copy()
+            values = np.asarray(result)
+            if values.dtype.kind == "c":  # a cast to float would drop the imaginary part
+                raise TypeError
+            force = np.broadcast_to(values.astype(float), self._shape).copy()
         except (TypeError, ValueError):
             raise InvalidInputError(
                 f"{self.name}: law returned {result!r}; expected {len(self.axes)} numbers (axes "
-                f"{self.axes}) or one."
+                f"{self.axes}) or one, real and finite."
             ) from None
         if not np.all(np.isfinite(force)):
             raise InvalidInputError(f"{self.name}: law returned a non-finite force {force}.")

@@ -28,6 +28,10 @@ from ..exceptions import InvalidInputError, MissingDependencyError
 from .walking import WALKS, run_walk
 
 ENGINES = ("process", "dask", "ray")
+#: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is
+#: held in memory and queued at once, and each walk takes seconds.
+MAX_SEEDS = 1000
+MAX_WALKS = 100_000
 
 
 @dataclass(frozen=True)
@@ -98,13 +102,20 @@ def grid(
     """Every (speed, terrain, seed) case, seeds ``0 .. seeds - 1``.
 
     Raises:
-        InvalidInputError: Unknown walk, or ``seeds`` < 1.
+        InvalidInputError: Unknown walk, ``seeds`` not an int from 1 to :data:`MAX_SEEDS`, or
+            more than :data:`MAX_WALKS` cases in all.
 
     """
     if walk not in WALKS:
         raise InvalidInputError(f"Unknown walk {walk!r}; sweeps run {sorted(WALKS)}.")
-    if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
-        raise InvalidInputError(f"seeds must be an int >= 1, got {seeds!r}.")
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
+        raise InvalidInputError(f"seeds must be an int from 1 to {MAX_SEEDS}, got {seeds!r}.")
+    count = len(speeds) * len(terrains) * seeds
+    if count > MAX_WALKS:
+        raise InvalidInputError(
+            f"A sweep of {len(speeds)} speeds x {len(terrains)} terrains x {seeds} seeds = "
+            f"{count} walks is more than {MAX_WALKS}: fewer speeds, terrains or seeds."
+        )
     return [
         SweepCase(walk, float(speed), terrain, seed, duration)
         for speed in speeds
@@ -313,6 +324,8 @@ def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
 
 __all__ = [
     "ENGINES",
+    "MAX_SEEDS",
+    "MAX_WALKS",
     "SweepCase",
     "SweepResult",
     "grid",

@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import AXES
+from ..vocabulary.frames import AXES, as_float_array
 from .problem import DistributionProblem
 
 #: ProxQP's "no bound".
@@ -81,7 +81,8 @@ class ContactLimits:
                     )
                 self.frame_normals[index] = True
                 continue
-            vector = np.asarray(normal, dtype=float).reshape(-1)
+            valid = f"a nonzero 3-vector (world frame) or {FRAME!r}"
+            vector = as_float_array(normal, f"normals[{name!r}]", valid).reshape(-1)
             size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
             if not size or not np.isfinite(size):
                 raise InvalidInputError(
@@ -92,7 +93,8 @@ class ContactLimits:
         self.soles: dict[int, tuple[float, float]] = {}
         for name, sole in dict(soles or {}).items():
             index = self._reaction(name, "soles")
-            values = np.asarray(sole, dtype=float).reshape(-1)
+            valid = "(half_length, half_width) > 0 [m]"
+            values = as_float_array(sole, f"soles[{name!r}]", valid).reshape(-1)
             if values.shape != (2,) or not np.all(np.isfinite(values)) or np.any(values <= 0):
                 raise InvalidInputError(
                     f"soles[{name!r}] must be (half_length, half_width) > 0 [m], got {sole!r}."
@@ -110,7 +112,8 @@ class ContactLimits:
         elif torque_limits is False or torque_limits is None:
             limits = np.full(model.nv, np.inf)
         else:
-            limits = np.asarray(torque_limits, dtype=float).reshape(-1)
+            valid = f"True, False or {model.nv} numbers >= 0 [N m, N]"
+            limits = as_float_array(torque_limits, "torque_limits", valid).reshape(-1)
             if limits.shape != (model.nv,) or np.any(np.isnan(limits)) or np.any(limits < 0):
                 raise InvalidInputError(
                     f"torque_limits must be True, False or {model.nv} numbers >= 0, got "

@@ -51,6 +51,7 @@ __all__ = [
     "local_dirs",
     "package_dirs_for",
     "robots_dir",
+    "shown_name",
     "suggest_robots",
     "urdf_in_folder",
 ]
@@ -204,9 +205,25 @@ def local_dirs() -> list[Path]:
     then ``<prefix>/share/virtual_actuators/robots`` (where a regular install puts them).
     """
     extra = os.environ.get(ROBOTS_PATH_ENV, "")
-    folders = [Path(entry).expanduser() for entry in extra.split(os.pathsep) if entry.strip()]
+    folders = [_expanded(Path(entry)) for entry in extra.split(os.pathsep) if entry.strip()]
     installed = Path(sysconfig.get_path("data")) / "share" / "virtual_actuators" / "robots"
     return [*folders, robots_dir, installed]
+
+
+def _expanded(path: Path) -> Path:
+    """``path`` with a leading ``~`` or ``~user`` expanded, or as it is when that is impossible."""
+    try:
+        return path.expanduser()
+    except RuntimeError:  # no such user, no home folder: a folder that does not exist
+        return path
+
+
+def _is_file(path: Path) -> bool:
+    """Whether ``path`` is a file (False when the file system refuses to say)."""
+    try:
+        return path.is_file()
+    except (OSError, ValueError):  # a name too long, a folder that cannot be searched
+        return False
 
 
 def find_local(folder: Path, name: str) -> Path | None:
@@ -220,15 +237,17 @@ def find_local(folder: Path, name: str) -> Path | None:
         folder / name / "robots" / f"{name}.urdf",
         folder / name / "__init__.py",
     )
-    return next((path for path in candidates if path.is_file()), None)
+    return next((path for path in candidates if _is_file(path)), None)
 
 
 def _local_names(folder: Path) -> list[str]:
-    """Names of the robots in one robots folder."""
-    if not folder.is_dir():
+    """Names of the robots in one robots folder (none when it cannot be listed)."""
+    try:
+        entries = list(folder.iterdir()) if folder.is_dir() else []
+    except (OSError, ValueError):  # a name too long, a folder that cannot be read
         return []
     names = []
-    for entry in folder.iterdir():
+    for entry in entries:
         if entry.is_dir():
             name = entry.name
         elif entry.suffix == ".urdf":
@@ -240,15 +259,49 @@ def _local_names(folder: Path) -> list[str]:
     return names
 
 
+def shown_name(name_or_path: object, limit: int = 80) -> str:
+    """The repr of a name or path for error messages, shortened to about ``limit`` characters."""
+    if isinstance(name_or_path, os.PathLike):
+        name_or_path = os.fspath(name_or_path)
+    text = repr(name_or_path)
+    if len(text) <= limit:
+        return text
+    return f"{text[: limit - 3]}... ({len(name_or_path)} characters)"
+
+
+def _expand_user(path: Path, name_or_path: object) -> Path:
+    """``path`` with its leading ``~`` or ``~user`` expanded.
+
+    Raises:
+        RobotNotFoundError: If the user or the home folder is unknown.
+    """
+    try:
+        return path.expanduser()
+    except RuntimeError as exc:  # ~nosuchuser, or no HOME and no password entry
+        raise RobotNotFoundError(
+            f"load_robot(name_or_path={shown_name(name_or_path)}): no URDF file there, "
+            f"{path.parts[0]!r} names no known home folder ({exc}). Pass a robot name or the "
+            "path of an existing URDF file."
+        ) from None
+
+
 def as_path(name_or_path: object) -> Path | None:
     """Return the path meant by ``name_or_path``, or None if it is a robot name.
 
     Raises:
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty.
+        RobotNotFoundError: If it starts with ``~user`` and that user (or the home folder) is
+            unknown.
 
     """
     if isinstance(name_or_path, os.PathLike):
-        return Path(os.fspath(name_or_path)).expanduser()
+        text = os.fspath(name_or_path)
+        if not isinstance(text, str):
+            raise InvalidInputError(
+                "load_robot(name_or_path=...) needs a str path, got a path of "
+                f"{type(text).__name__}."
+            )
+        return _expand_user(Path(text), name_or_path)
     if not isinstance(name_or_path, str):
         raise InvalidInputError(
             f"load_robot() needs a robot name or a path to a URDF file, got {name_or_path!r}."
@@ -262,7 +315,7 @@ def as_path(name_or_path: object) -> Path | None:
         or text.startswith("~")
         or Path(text).suffix.lower() in _PATH_SUFFIXES
     ):
-        return Path(text).expanduser()
+        return _expand_user(Path(text), name_or_path)
     return None
 
 

@@ -36,6 +36,7 @@ from virtual_actuators.robots.catalog import (
     local_dirs,
     package_dirs_for,
     robots_dir,
+    shown_name,
     suggest_robots,
     urdf_in_folder,
 )
@@ -76,8 +77,9 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
         path.
 
     Raises:
-        RobotNotFoundError: If the file does not exist, or no robot has this name (the message
-            lists the closest names and aliases, by edit distance).
+        RobotNotFoundError: If the file does not exist or the file system refuses to look it up
+            (a name too long, an unknown ``~user``, a folder that cannot be read), or no robot
+            has this name (the message lists the closest names and aliases, by edit distance).
         RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF (the
             message names the file and what is wrong), describes an impossible robot (a zero
             joint axis, a negative or NaN mass, a non-finite, negative or not positive
@@ -119,17 +121,24 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
         share = [str(index.share)] if index.share is not None else []
         return _load_urdf(name, index.robots[stem], floating_base, share, validate=False)
     raise RobotNotFoundError(
-        f"No robot named {name!r}. {suggest_robots(name)} Pass a path to load any other URDF file."
+        f"No robot named {shown_name(name)}. {suggest_robots(name)} Pass a path to load any "
+        "other URDF file."
     )
 
 
 def _load_path(path: Path, floating_base: bool | None) -> Robot:
     """Load a URDF given by path, validating it first."""
-    if not path.exists():
-        where = "" if path.is_absolute() else f" (absolute path {path.absolute()})"
-        raise RobotNotFoundError(f"No URDF file at {path}{where}.")
-    if path.is_dir():
-        path = urdf_in_folder(path)
+    try:
+        if not path.exists():
+            where = "" if path.is_absolute() else f" (absolute path {path.absolute()})"
+            raise RobotNotFoundError(f"No URDF file at {path}{where}.")
+        if path.is_dir():
+            path = urdf_in_folder(path)
+    except OSError as exc:  # a name too long for the file system, a folder that cannot be read
+        raise RobotNotFoundError(
+            f"load_robot(name_or_path={shown_name(path)}): no URDF file can be read there "
+            f"({exc.strerror or exc})."
+        ) from None
     if path.suffix.lower() == ".xacro":
         raise RobotDescriptionError(
             f"{path} is a xacro file: expand it into a URDF first (xacro {path.name} > robot.urdf)."

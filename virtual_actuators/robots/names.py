@@ -127,8 +127,11 @@ def closest_names(name: str, candidates: Iterable[str], n: int = 5) -> list[str]
     ranked = []
     for candidate in dict.fromkeys(candidates):
         key = _key(candidate)
-        distance = edit_distance(wanted, key)
         contained = bool(wanted) and bool(key) and (wanted in key or key in wanted)
-        if contained or distance <= max(2, max(len(wanted), len(key)) // 2):
+        close = max(2, max(len(wanted), len(key)) // 2)
+        if not contained and abs(len(wanted) - len(key)) > close:
+            continue  # the distance is at least the difference in length: too far, not computed
+        distance = edit_distance(wanted, key)
+        if contained or distance <= close:
             ranked.append((distance, not contained, abs(len(key) - len(wanted)), candidate))
     return [candidate for *_, candidate in sorted(ranked)[:n]]

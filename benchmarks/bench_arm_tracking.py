@@ -117,6 +117,7 @@ def track(name: str, duration: float, turn: bool) -> dict[str, float]:
         tracker,
         read_state,
         hardware.write_effort,
+        robot=robot,
         rate_hz=1000.0,
         realtime=False,
         should_stop=lambda: simulator.time >= duration - 1e-9,

@@ -27,12 +27,13 @@ from virtual_actuators.demos.hexapod_walk import (
     run_hexapod_walk,
 )
 from virtual_actuators.gaits.hexapod import HexapodWalker
-from virtual_actuators.gaits.hexapod_body import (
+from virtual_actuators.gaits.hexapod.body import (
     HeadingAttitude,
     HeadingDamper,
     lqr_gain,
     pendulum_model,
 )
+from virtual_actuators.gaits.hexapod.footholds import behind
 from virtual_actuators.simulation import Simulator
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -192,14 +193,14 @@ def test_support_feet_are_read_from_their_nominal_places_along_their_motion():
     speed = np.full(3, 0.5)
     offsets = np.zeros((3, 3))
     offsets[:, 0] = -0.5 * p.step_length
-    assert gait._behind(offsets, speed, np.zeros(3)) == pytest.approx(0.5)
+    assert behind(p, offsets, speed, np.zeros(3)) == pytest.approx(0.5)
     offsets[:, 0] = 0.5 * p.step_length  # just landed, half a step ahead
-    assert gait._behind(offsets, speed, np.zeros(3)) == pytest.approx(-0.5)
+    assert behind(p, offsets, speed, np.zeros(3)) == pytest.approx(-0.5)
     # crabbing along +y: the step width is the stride
     offsets[:] = 0.0
     offsets[2, 1] = -0.25 * p.step_width  # one foot a quarter stride behind
-    assert gait._behind(offsets, np.zeros(3), speed) == pytest.approx(0.25)
-    assert gait._behind(offsets, np.zeros(3), np.zeros(3)) == 0.0  # standing: no progress
+    assert behind(p, offsets, np.zeros(3), speed) == pytest.approx(0.25)
+    assert behind(p, offsets, np.zeros(3), np.zeros(3)) == 0.0  # standing: no progress
 
 
 # -- slow: closed-loop MuJoCo runs ----------------------------------------------------------------

@@ -2,7 +2,7 @@
 
 :func:`run_hexapod_walk` builds the hexapod (with the pendulum on its back for
 ``pendulum=True``), its :class:`~virtual_actuators.gaits.HexapodWalker`, a guidance that turns the
-requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod_guidance`) and
+requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod.guidance`) and
 a :class:`~virtual_actuators.simulation.Simulator`, then runs the control loop at 1 kHz. The body
 state is sampled at :data:`TRACE_RATE` into a :class:`~virtual_actuators.experiments.WalkLog`;
 :class:`~virtual_actuators.experiments.hexapod_metrics.HexapodMetrics` summarises it (the
@@ -35,7 +35,7 @@ from ..experiments.recorder import Recorder
 from ..experiments.walk_log import WalkLog
 from ..gaits.base import check_distribution
 from ..gaits.hexapod import HexapodParameters, HexapodWalker
-from ..gaits.hexapod_guidance import (
+from ..gaits.hexapod.guidance import (
     Guidance,
     PlanarState,
     SinePath,
@@ -360,7 +360,7 @@ def _attitude_and_velocity(
 ) -> tuple[float, float, float, float, float]:
     """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
 
-    As :func:`~virtual_actuators.gaits.hexapod_body.yaw_pitch_roll` of :func:`_rotation`, and
+    As :func:`~virtual_actuators.gaits.hexapod.body.yaw_pitch_roll` of :func:`_rotation`, and
     ``(_rotation(q) @ v[:3])[:2]``, on floats.
     """
     x, y, z, w = q[3:7].tolist()

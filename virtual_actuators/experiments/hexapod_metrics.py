@@ -18,7 +18,7 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.walk_log import WalkLog
-from virtual_actuators.gaits.hexapod_guidance import (
+from virtual_actuators.gaits.hexapod.guidance import (
     Guidance,
     SinePath,
     TrackObject,

@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..components.base import Component
-from ..exceptions import InvalidInputError
+from ...components.base import Component
+from ...exceptions import InvalidInputError
 
 GRAVITY = 9.81  # [m/s^2]
 

@@ -20,12 +20,6 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.control.state_machine import Context
-from virtual_actuators.demos.hexapod_walk import (
-    HexapodWalkConfig,
-    _attitude_and_velocity,
-    hexapod_robot,
-    run_hexapod_walk,
-)
 from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import (
     HeadingAttitude,
@@ -34,13 +28,19 @@ from virtual_actuators.gaits.hexapod.body import (
     pendulum_model,
 )
 from virtual_actuators.gaits.hexapod.footholds import behind
+from virtual_actuators.gaits.hexapod.walk import (
+    HexapodWalkConfig,
+    _attitude_and_velocity,
+    hexapod_robot,
+    run_hexapod_walk,
+)
 from virtual_actuators.simulation import Simulator
 
 ROOT = Path(__file__).resolve().parents[1]
 BUILD = ROOT / "robots" / "hexapod" / "build.py"
 
 
-def walk(**options) -> va.demos.hexapod_walk.HexapodResult:
+def walk(**options) -> va.gaits.hexapod.walk.HexapodResult:
     result = run_hexapod_walk(HexapodWalkConfig(**options), progress=False)
     assert not result.metrics.fell, result.metrics.summary()
     return result

@@ -68,9 +68,9 @@ def demo_hexapod(args: argparse.Namespace) -> int:
     """Walk the 1996 hexapod in MuJoCo, print its figures, write JSON and a plot."""
     import math
 
-    from ..demos.hexapod_walk import HexapodWalkConfig, run_hexapod_walk
-    from ..experiments.hexapod_plots import plot_hexapod
     from ..experiments.metrics import write_json
+    from ..gaits.hexapod.plots import plot_hexapod
+    from ..gaits.hexapod.walk import HexapodWalkConfig, run_hexapod_walk
 
     defaults = HexapodWalkConfig()
     speed = args.speed
@@ -92,7 +92,7 @@ def demo_hexapod(args: argparse.Namespace) -> int:
     )
     viewer = on_tick = None
     if wants_viewer(args):
-        from ..demos.hexapod_walk import hexapod_robot
+        from ..gaits.hexapod.walk import hexapod_robot
 
         viewer = make_viewer(args, hexapod_robot(config.pendulum), force_scale=1 / 100)
         if args.record:

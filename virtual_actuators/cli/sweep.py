@@ -14,9 +14,9 @@ def sweep_command(args: argparse.Namespace) -> int:
     Raises:
         VirtualActuatorError: A bad grid, or a missing engine (Dask, Ray).
     """
-    from ..demos.progress import Progress
+    from ..demos import WALKS
     from ..demos.sweep import grid, plot_success_map, run_sweep, success_map, write_results
-    from ..demos.walking import WALKS
+    from ..experiments.progress import Progress
     from .commands import blame, writing
 
     spec = WALKS[args.walk]

@@ -1,5 +1,5 @@
 """Runnable demos: the seeds' walking robots in MuJoCo (``python -m virtual_actuators demo``)."""
 
-from .walking import WALKS, WalkResult, WalkSpec, run_walk
+from ..gaits.runner import WALKS, WalkResult, WalkSpec, run_walk
 
 __all__ = ["WALKS", "WalkResult", "WalkSpec", "run_walk"]

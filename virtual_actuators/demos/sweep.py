@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..exceptions import InvalidInputError, MissingDependencyError
-from .walking import WALKS, run_walk
+from ..gaits.runner import WALKS, run_walk
 
 ENGINES = ("process", "dask", "ray")
 #: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is

@@ -5,7 +5,7 @@
 requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod.guidance`) and
 a :class:`~virtual_actuators.simulation.Simulator`, then runs the control loop at 1 kHz. The body
 state is sampled at :data:`TRACE_RATE` into a :class:`~virtual_actuators.experiments.WalkLog`;
-:class:`~virtual_actuators.experiments.hexapod_metrics.HexapodMetrics` summarises it (the
+:class:`~virtual_actuators.gaits.hexapod.metrics.HexapodMetrics` summarises it (the
 issue's targets are checked on these figures) and
 :meth:`HexapodResult.to_json` is what ``--json`` writes. Every tick the feet's contact switches
 (MuJoCo's contacts) go to the walker, whose stance ends when its swing tripod is down, and
@@ -28,14 +28,19 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
-from ..experiments.contact_stats import StanceForces
-from ..experiments.hexapod_metrics import HexapodMetrics, compute_hexapod_metrics
-from ..experiments.recorder import Recorder
-from ..experiments.walk_log import WalkLog
-from ..gaits.base import check_distribution
-from ..gaits.hexapod import HexapodParameters, HexapodWalker
-from ..gaits.hexapod.guidance import (
+from ...exceptions import InvalidInputError
+from ...experiments.contact_stats import StanceForces
+from ...experiments.progress import Progress
+from ...experiments.recorder import Recorder
+from ...experiments.walk_log import WalkLog
+from ...robots.catalog import robots_dir
+from ...robots.loader import load_robot
+from ...robots.robot import Robot
+from ...simulation.simulator import Simulator
+from ...simulation.terrain import Terrain
+from ..base import check_distribution
+from ..runner import has_fallen, terrain_points
+from .guidance import (
     Guidance,
     PlanarState,
     SinePath,
@@ -43,13 +48,9 @@ from ..gaits.hexapod.guidance import (
     VelocityCommand,
     wrap,
 )
-from ..robots.catalog import robots_dir
-from ..robots.loader import load_robot
-from ..robots.robot import Robot
-from ..simulation.simulator import Simulator
-from ..simulation.terrain import Terrain
-from .progress import Progress
-from .walking import has_fallen, terrain_points
+from .metrics import HexapodMetrics, compute_hexapod_metrics
+from .parameters import HexapodParameters
+from .walker import HexapodWalker
 
 TRACE_RATE = 100.0  # [Hz] samples of the trace and the log
 PATHS = ("line", "sine")

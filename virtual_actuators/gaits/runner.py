@@ -24,14 +24,14 @@ import numpy as np
 from ..exceptions import InvalidInputError, suggestion
 from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics, compute_metrics
+from ..experiments.progress import Progress
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import STANDARD_CHANNELS, WalkLog
-from ..gaits import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, TurkeyWalker
-from ..gaits.base import check_distribution
 from ..robots.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-from .progress import Progress
+from . import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, TurkeyWalker
+from .base import check_distribution
 
 FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]

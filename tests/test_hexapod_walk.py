@@ -24,13 +24,13 @@ from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import (
     HeadingAttitude,
     HeadingDamper,
+    attitude_and_velocity,
     lqr_gain,
     pendulum_model,
 )
 from virtual_actuators.gaits.hexapod.footholds import behind
 from virtual_actuators.gaits.hexapod.walk import (
     HexapodWalkConfig,
-    _attitude_and_velocity,
     hexapod_robot,
     run_hexapod_walk,
 )
@@ -313,6 +313,6 @@ def test_loop_attitude_and_velocity_match_pinocchio():
         v = rng.normal(size=6)
         rotation = quaternion.toRotationMatrix()
         roll, pitch, yaw = pin.rpy.matrixToRpy(rotation)
-        got = _attitude_and_velocity(q, v)
+        got = attitude_and_velocity(q, v)
         assert got[:3] == pytest.approx((yaw, pitch, roll), abs=1e-12)
         assert got[3:] == pytest.approx((rotation @ v[:3])[:2], abs=1e-12)

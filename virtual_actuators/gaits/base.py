@@ -1,15 +1,19 @@
-"""Common machinery of the planar walking gaits: a controller driven by a state machine.
+"""Common machinery of the gaits: a controller driven by a state machine, and a walk's record.
 
 A :class:`Gait` owns a :class:`~virtual_actuators.control.Controller` (actuators and components,
 declared once) and a :class:`~virtual_actuators.control.StateMachine` whose states select which
 attachments run. :meth:`Gait.compute` is the whole per-tick control law: update the machine on
 the tick's :class:`~virtual_actuators.control.Context`, reset the components of attachments that
-just became active, evaluate the active ones and return the joint efforts.
+just became active, evaluate the active ones and return the joint efforts. A :class:`Walk` is
+what a gait's folder registers (its ``walk.py``): the robot, the defaults, the closed loop that
+runs it and how its result is plotted; :mod:`~virtual_actuators.gaits.registry` collects them.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -129,3 +133,46 @@ def check_distribution(distribution: object) -> bool:
             f"distribution must be one of {DISTRIBUTIONS}, got {distribution!r}."
         )
     return distribution == "qp"
+
+
+@dataclass(frozen=True, slots=True)
+class Walk:
+    """How to run one of the walks (a gait folder's registration, see ``WALKS``).
+
+    Attributes:
+        name: Demo name on the command line.
+        robot: Robot name for :func:`~virtual_actuators.load_robot`.
+        run: The closed loop, called by :func:`~virtual_actuators.gaits.registry.run_walk` as
+            ``run(walk, duration=, speed=, terrain=, progress=, on_tick=, stop_on_fall=, seed=,
+            parameters=, distribution=, **options)`` with the duration and terrain resolved.
+        parameters: The gait's parameters dataclass.
+        terrain: Default terrain (a :meth:`~virtual_actuators.simulation.Terrain.parse` spec).
+        duration: Default simulated time [s].
+        plot: Draws a result: ``plot(result, path, window)`` returns the path written.
+        description: One line for the command-line help.
+        make_gait: Builds the gait from the robot, the desired speed and the parameters (the
+            planar bipeds; None when ``run`` builds its own).
+        push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
+        push_time: [s].
+        options: The walk's own keyword options of ``run`` (and command-line options).
+        plot_window: Whether ``plot`` draws a time window (``--window``).
+        force_scale: Viewer arrow length per newton [m/N].
+        viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
+
+    """
+
+    name: str
+    robot: str
+    run: Callable[..., Any]
+    parameters: type
+    terrain: str
+    duration: float
+    plot: Callable[..., Any]
+    description: str
+    make_gait: Callable[..., Gait] | None = None
+    push: float = 0.0
+    push_time: float = 0.0
+    options: tuple[str, ...] = ()
+    plot_window: bool = False
+    force_scale: float = 1 / 250
+    viewer_robot: Callable[..., Robot] | None = None

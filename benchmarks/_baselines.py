@@ -452,7 +452,7 @@ class WalkProbe:
 def timed_walks(name: str, seconds: float, runs: int = 3) -> list[float]:
     """Real-time factors of ``runs`` plain ``run_walk(name)`` calls (nothing wrapped), after a
     short warm-up run (imports, first allocations)."""
-    from virtual_actuators.demos.walking import run_walk
+    from virtual_actuators.demos import run_walk
 
     run_walk(name, duration=min(seconds, 0.3), progress=False)
     factors = []
@@ -467,7 +467,7 @@ def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, 
     controller's ``compute``, the simulator's ``step`` and its contact queries wrapped by a
     :class:`WalkProbe`; returns the real-time factor and the per-tick breakdown [us]."""
     import virtual_actuators as va
-    from virtual_actuators.demos.walking import run_walk
+    from virtual_actuators.demos import run_walk
     from virtual_actuators.simulation import Simulator
 
     targets = {

@@ -19,8 +19,7 @@ import json
 import platform
 from pathlib import Path
 
-from virtual_actuators.demos import run_walk
-from virtual_actuators.experiments.plots import plot_walk
+from virtual_actuators.demos import WALKS, run_walk
 
 CASES = {
     "turkey-flat": ("turkey-walk", "flat", 20.0),
@@ -29,6 +28,7 @@ CASES = {
     "flamingo-profile-two": ("flamingo-slopes", "profile-two", 45.0),
     "flamingo-one-0.5": ("flamingo-slopes", "profile-one", 40.0, 0.5),
     "flamingo-two-0.5": ("flamingo-slopes", "profile-two", 40.0, 0.5),
+    "hexapod-line": ("hexapod-walk", "flat", 10.0),
 }
 COLUMNS = (
     ("fell", "fell", "{}"),
@@ -65,7 +65,9 @@ def main() -> None:
             speed=speed[0] if speed else None,
             progress=not args.quiet,
         )
-        metrics = result.metrics.to_dict()
+        metrics = {k: v for k, v in result.to_json().items() if k not in ("trace", "config")}
+        figures = result.figures()  # the same columns for every walk
+        metrics.update(distance_m=figures.distance, mean_speed_mps=figures.mean_speed)
         results[case] = metrics
         cells = []
         for key, _, fmt in COLUMNS:
@@ -75,8 +77,7 @@ def main() -> None:
         if args.plots:
             folder = Path(args.plots)
             folder.mkdir(parents=True, exist_ok=True)
-            layout = "time" if terrain == "flat" else "terrain"
-            plot_walk(result.log, folder / f"{case}.png", title=case, layout=layout)
+            WALKS[walk].plot(result, folder / f"{case}.png", None)
     if args.json:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         payload = {"machine": platform.platform(), "python": platform.python_version(), **results}

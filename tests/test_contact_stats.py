@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from virtual_actuators.demos.walking import run_walk
+from virtual_actuators.demos import run_walk
 
 
 def test_contact_forces_equal_the_per_frame_query():

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import pytest
 
-from virtual_actuators.demos.walking import run_walk
+from virtual_actuators.demos import run_walk
 
 
 @pytest.mark.slow

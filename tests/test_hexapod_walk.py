@@ -20,18 +20,19 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.control.state_machine import Context
-from virtual_actuators.demos.hexapod_walk import (
-    HexapodWalkConfig,
-    _attitude_and_velocity,
-    hexapod_robot,
-    run_hexapod_walk,
-)
 from virtual_actuators.gaits.hexapod import HexapodWalker
-from virtual_actuators.gaits.hexapod_body import (
+from virtual_actuators.gaits.hexapod.body import (
     HeadingAttitude,
     HeadingDamper,
+    attitude_and_velocity,
     lqr_gain,
     pendulum_model,
+)
+from virtual_actuators.gaits.hexapod.footholds import behind
+from virtual_actuators.gaits.hexapod.walk import (
+    HexapodWalkConfig,
+    hexapod_robot,
+    run_hexapod_walk,
 )
 from virtual_actuators.simulation import Simulator
 
@@ -39,7 +40,7 @@ ROOT = Path(__file__).resolve().parents[1]
 BUILD = ROOT / "robots" / "hexapod" / "build.py"
 
 
-def walk(**options) -> va.demos.hexapod_walk.HexapodResult:
+def walk(**options) -> va.gaits.hexapod.walk.HexapodResult:
     result = run_hexapod_walk(HexapodWalkConfig(**options), progress=False)
     assert not result.metrics.fell, result.metrics.summary()
     return result
@@ -192,14 +193,14 @@ def test_support_feet_are_read_from_their_nominal_places_along_their_motion():
     speed = np.full(3, 0.5)
     offsets = np.zeros((3, 3))
     offsets[:, 0] = -0.5 * p.step_length
-    assert gait._behind(offsets, speed, np.zeros(3)) == pytest.approx(0.5)
+    assert behind(p, offsets, speed, np.zeros(3)) == pytest.approx(0.5)
     offsets[:, 0] = 0.5 * p.step_length  # just landed, half a step ahead
-    assert gait._behind(offsets, speed, np.zeros(3)) == pytest.approx(-0.5)
+    assert behind(p, offsets, speed, np.zeros(3)) == pytest.approx(-0.5)
     # crabbing along +y: the step width is the stride
     offsets[:] = 0.0
     offsets[2, 1] = -0.25 * p.step_width  # one foot a quarter stride behind
-    assert gait._behind(offsets, np.zeros(3), speed) == pytest.approx(0.25)
-    assert gait._behind(offsets, np.zeros(3), np.zeros(3)) == 0.0  # standing: no progress
+    assert behind(p, offsets, np.zeros(3), speed) == pytest.approx(0.25)
+    assert behind(p, offsets, np.zeros(3), np.zeros(3)) == 0.0  # standing: no progress
 
 
 # -- slow: closed-loop MuJoCo runs ----------------------------------------------------------------
@@ -312,6 +313,6 @@ def test_loop_attitude_and_velocity_match_pinocchio():
         v = rng.normal(size=6)
         rotation = quaternion.toRotationMatrix()
         roll, pitch, yaw = pin.rpy.matrixToRpy(rotation)
-        got = _attitude_and_velocity(q, v)
+        got = attitude_and_velocity(q, v)
         assert got[:3] == pytest.approx((yaw, pitch, roll), abs=1e-12)
         assert got[3:] == pytest.approx((rotation @ v[:3])[:2], abs=1e-12)

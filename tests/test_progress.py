@@ -7,7 +7,7 @@ import warnings
 
 import pytest
 
-from virtual_actuators.demos.progress import Progress
+from virtual_actuators.experiments.progress import Progress
 
 
 def test_no_drift_no_clamping_warning_and_one_final_line(monkeypatch):

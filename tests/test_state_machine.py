@@ -17,7 +17,8 @@ from oracles import random_configuration, robot
 import virtual_actuators as va
 from virtual_actuators.components import DogtrackBunny, GrannyWalker
 from virtual_actuators.control import Context, Controller, State, StateMachine, Transition, events
-from virtual_actuators.gaits.base import Gait, planar_leg_ik, planar_standing_configuration
+from virtual_actuators.gaits.base import Gait
+from virtual_actuators.gaits.planar import planar_leg_ik, planar_standing_configuration
 
 TURKEY = "spring_turkey"
 FLAMINGO = "spring_flamingo"

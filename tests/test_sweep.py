@@ -78,3 +78,23 @@ def test_a_walk_that_crashes_is_recorded_not_raised(monkeypatch):
     assert result.fell and "RuntimeError: a bug in a gait" in result.error
     with pytest.raises(va.InvalidInputError, match="workers"):
         run_sweep(grid("turkey-walk", [0.5], ["flat"], 1), workers=2.5)
+
+
+def test_the_hexapod_sweeps_like_the_bipeds(tmp_path, capsys):
+    from virtual_actuators.__main__ import main
+
+    out = tmp_path / "hexapod.json"
+    arguments = ["sweep", "hexapod-walk", "--speed", "0.3", "--seeds", "1", "--duration", "0.5"]
+    assert main([*arguments, "--workers", "1", "--quiet", "--out", str(out)]) == 0
+    (row,) = json.loads(out.read_text())["results"]
+    assert row["walk"] == "hexapod-walk" and row["speed"] == 0.3 and row["terrain"] == "flat"
+    assert not row["fell"] and not row["error"] and row["steps"] >= 1
+    assert 0.0 < row["distance"] < 0.3  # at most 0.3 m/s for 0.5 s
+    assert "1 walks of hexapod-walk" in capsys.readouterr().out
+
+
+def test_the_cli_names_every_registered_walk():
+    from virtual_actuators.cli.options import WALK_DEMOS
+    from virtual_actuators.demos import WALKS
+
+    assert WALK_DEMOS == tuple(WALKS)

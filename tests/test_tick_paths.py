@@ -290,7 +290,7 @@ def test_contact_switches_and_touching_frames_equal_a_scan_of_mujocos_contacts()
 
 
 def test_fall_test_on_contact_sets_equals_the_frame_rule():
-    from virtual_actuators.demos.walking import FOOT_WORDS, _only_feet
+    from virtual_actuators.gaits.runner import FOOT_WORDS, _only_feet
 
     for frames in (set(), {"left_heel"}, {"left_toe", "right_foot"}, {"body"}, {"left_shin"}):
         expected = all(any(w in f for w in FOOT_WORDS) for f in frames)
@@ -298,7 +298,7 @@ def test_fall_test_on_contact_sets_equals_the_frame_rule():
 
 
 def test_walk_rows_land_in_their_channels():
-    from virtual_actuators.demos.walking import run_walk
+    from virtual_actuators.demos import run_walk
 
     log = run_walk("turkey-walk", duration=0.4, progress=False, terrain="flat:0.1").log
     time = log["time"]

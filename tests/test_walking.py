@@ -14,7 +14,8 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.demos import WALKS, run_walk
-from virtual_actuators.gaits.turkey import TurkeyParameters, TurkeyWalker, lift_profile
+from virtual_actuators.gaits.planar import lift_profile
+from virtual_actuators.gaits.turkey import TurkeyParameters, TurkeyWalker
 
 pytestmark = [pytest.mark.slow]  # subprocesses or simulation: run with -m slow
 

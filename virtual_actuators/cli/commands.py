@@ -7,8 +7,6 @@ import contextlib
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 if TYPE_CHECKING:
     from ..examples import Example
 
@@ -16,15 +14,17 @@ from .views import finish_viewer, make_viewer, pause, show_static, wants_viewer
 
 
 def demo_walk(args: argparse.Namespace) -> int:
-    """Run one of the seeds' walks in MuJoCo, print its metrics, write JSON and a plot."""
+    """Run one of the walks in MuJoCo, print its figures, write JSON and a plot."""
     from ..demos import WALKS, run_walk
     from ..experiments.metrics import write_json
-    from ..experiments.plots import plot_walk
     from ..robots.loader import load_robot
 
+    walk = WALKS[args.name]
+    options = walk_options(args, walk.options)
     viewer = on_tick = None
     if wants_viewer(args):
-        viewer = make_viewer(args, load_robot(WALKS[args.name].robot), force_scale=1 / 250)
+        robot = (walk.viewer_robot or (lambda **_: load_robot(walk.robot)))(**options)
+        viewer = make_viewer(args, robot, force_scale=walk.force_scale)
         if args.record:
             viewer.start_recording(fps=30.0)
         if args.viz:
@@ -39,79 +39,85 @@ def demo_walk(args: argparse.Namespace) -> int:
         on_tick=on_tick,
         seed=args.seed,
         distribution=args.distribution,
+        **options,
     )
     metrics = result.metrics
     print(metrics.summary())
     if args.json:
+        data = result.to_json()
+        label = "trace" if "trace" in data else "metrics"
         with writing("--json", args.json):
-            print(f"metrics: {write_json(metrics, args.json)}")
+            print(f"{label}: {write_json(data, args.json)}")
     if args.plot:
-        title = f"{args.name}: {result.log.metadata['robot']} on {result.log.metadata['terrain']}"
-        heights = result.log.terrain_points[:, 1]
-        layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
         with writing("--plot", args.plot):
-            path = plot_walk(
-                result.log,
-                args.plot,
-                title=title,
-                metrics=metrics,
-                layout=layout,
-                window=args.window,
-            )
+            path = walk.plot(result, args.plot, args.window)
         print(f"plot: {path}")
     if viewer is not None:
         finish_viewer(args, viewer)
     return 1 if metrics.fell else 0
 
 
-def demo_hexapod(args: argparse.Namespace) -> int:
-    """Walk the 1996 hexapod in MuJoCo, print its figures, write JSON and a plot."""
+def walk_options(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, object]:
+    """The walk's own options that were given (``--direction`` in degrees becomes radians)."""
     import math
 
-    from ..demos.hexapod_walk import HexapodWalkConfig, run_hexapod_walk
-    from ..experiments.hexapod_plots import plot_hexapod
-    from ..experiments.metrics import write_json
+    options = {name: getattr(args, name) for name in names}
+    options = {name: value for name, value in options.items() if value not in (None, False)}
+    if "direction" in options:
+        options["direction"] = math.radians(options["direction"])
+    return options
 
-    defaults = HexapodWalkConfig()
-    speed = args.speed
-    if speed is None:
-        speed = 0.2 if (args.pendulum or args.track) else defaults.speed
-    config = HexapodWalkConfig(
-        speed=speed,
-        direction=math.radians(args.direction or 0.0),
-        yaw_rate=args.yaw_rate or 0.0,
-        path=args.path or "line",
-        amplitude=defaults.amplitude if args.amplitude is None else args.amplitude,
-        wavelength=defaults.wavelength if args.wavelength is None else args.wavelength,
-        pendulum=args.pendulum,
-        track=args.track,
-        terrain=args.terrain or "flat",
-        duration=args.duration or defaults.duration,
-        seed=args.seed,
-        distribution=args.distribution or defaults.distribution,
+
+def sweep_command(args: argparse.Namespace) -> int:
+    """Run the grid, print a per-cell table, write the results (and the success map).
+
+    Returns:
+        0, or 1 when any walk fell.
+
+    Raises:
+        VirtualActuatorError: A bad grid, or a missing engine (Dask, Ray).
+    """
+    from ..demos import WALKS
+    from ..demos.sweep import grid, plot_success_map, run_sweep, success_map, write_results
+    from ..experiments.progress import Progress
+
+    spec = WALKS[args.walk]
+    speeds = args.speed or [0.4]
+    terrains = args.terrain or [spec.terrain]
+    with blame("--speed/--terrain/--seeds"):
+        cases = grid(args.walk, speeds, terrains, args.seeds, duration=args.duration)
+    print(
+        f"{len(cases)} walks of {args.walk}: speeds {speeds}, terrains {terrains}, "
+        f"{args.seeds} seeds, engine {args.engine}"
     )
-    viewer = on_tick = None
-    if wants_viewer(args):
-        from ..demos.hexapod_walk import hexapod_robot
+    bar = None if args.quiet else Progress(len(cases), unit="walks", description=args.walk)
+    done = []
 
-        viewer = make_viewer(args, hexapod_robot(config.pendulum), force_scale=1 / 100)
-        if args.record:
-            viewer.start_recording(fps=30.0)
-        if args.viz:
-            pause("Open the viewer, then press Enter to start. ")
-        on_tick = viewer.tick_callback(realtime=args.realtime)
-    result = run_hexapod_walk(config, progress=not args.quiet, on_tick=on_tick)
-    print(result.metrics.summary())
-    if args.json:
-        with writing("--json", args.json):
-            print(f"trace: {write_json(result.to_json(), args.json)}")
+    def arrived(result) -> None:
+        done.append(result)
+        if bar is not None:
+            bar.set(len(done))
+
+    try:
+        results = run_sweep(cases, engine=args.engine, workers=args.workers, on_result=arrived)
+    finally:
+        if bar is not None:
+            bar.close()
+    speeds_, terrains_, rate = success_map(results)
+    width = max(len(t) for t in terrains_)
+    print(f"{'':{width}}  " + " ".join(f"{s:>6g}" for s in speeds_) + "   (speed [m/s])")
+    for i, terrain in enumerate(terrains_):
+        cells = " ".join(f"{value:>6.0%}" if value == value else "     -" for value in rate[i])
+        print(f"{terrain:{width}}  {cells}")
+    with writing("--out", args.out):
+        print(f"results: {write_results(results, args.out)}")
     if args.plot:
         with writing("--plot", args.plot):
-            path = plot_hexapod(result.log, args.plot, summary=result.metrics.summary())
-        print(f"plot: {path}")
-    if viewer is not None:
-        finish_viewer(args, viewer)
-    return 1 if result.metrics.fell else 0
+            print(f"success map: {plot_success_map(results, args.plot)}")
+    errors = [r for r in results if r.error]
+    for result in errors[:5]:
+        print(f"error at speed {result.speed} on {result.terrain}: {result.error}")
+    return 1 if any(r.fell for r in results) else 0
 
 
 def example_view(args: argparse.Namespace, example: Example) -> None:
@@ -179,16 +185,12 @@ def run(args: argparse.Namespace) -> int:
                 loaded = stand_robot("solo12" if args.robot is None else args.robot, args.feet)
             demo_stand(loaded, args=args)
             return 0
-        if args.name == "hexapod-walk":
-            return demo_hexapod(args)
         return demo_walk(args)
     if args.command == "example":
         from ..examples import EXAMPLES
 
         example_view(args, EXAMPLES[args.name]())
     elif args.command == "sweep":
-        from .sweep import sweep_command
-
         return sweep_command(args)
     elif args.command == "robots":
         from ..robots.directory import describe_robots, robot_table

@@ -31,8 +31,10 @@ from .types import (
     yaw_rate,
 )
 
-DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "stand")
+#: The walks (``virtual_actuators.gaits.registry.WALKS``, named here so that ``--help`` imports
+#: no simulation; tests/test_cli_usage checks the two agree).
 WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk")
+DEMOS = (*WALK_DEMOS, "stand")
 
 
 #: Options of ``demo`` that only the walks use (argparse destination, option).
@@ -48,8 +50,9 @@ WALK_OPTIONS = (
     ("window", "--window"),
 )
 
-#: Options of ``demo`` that only ``hexapod-walk`` uses (argparse destination, option).
-HEXAPOD_OPTIONS = (
+#: Options of ``demo`` that only some walks use (argparse destination, option): a walk takes
+#: those in its ``Walk.options``.
+WALK_OWN_OPTIONS = (
     ("direction", "--direction"),
     ("yaw_rate", "--yaw-rate"),
     ("path", "--path"),
@@ -240,7 +243,7 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
         description="Every (speed, terrain, seed) walk of the grid, on a process pool (or Dask / "
         "Ray with --engine, e.g. on a cluster); writes a table and a success map.",
     )
-    sweep.add_argument("walk", choices=WALK_DEMOS[:2])
+    sweep.add_argument("walk", choices=WALK_DEMOS)
     sweep.add_argument(
         "--speed", type=value_range, default=None, metavar="A:B:STEP", help="desired speeds"
     )
@@ -269,24 +272,34 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
 
 def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
     """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
-    if args.name != "hexapod-walk":
-        for dest, option in HEXAPOD_OPTIONS:
-            if getattr(args, dest) not in (None, False):
-                parser.error(f"argument {option}: only hexapod-walk uses it, not {args.name}")
-    elif args.path != "sine" and (args.amplitude is not None or args.wavelength is not None):
-        parser.error("argument --amplitude/--wavelength: only --path sine uses them")
     if args.name == "stand":
-        for dest, option in WALK_OPTIONS:
+        for dest, option in WALK_OPTIONS + WALK_OWN_OPTIONS:
             if getattr(args, dest) not in (None, False):
                 parser.error(
                     f"argument {option}: only the walks ({', '.join(WALK_DEMOS)}) use it, not stand"
                 )
-    elif args.robot is not None or args.feet is not None:
+    else:
+        _check_walk_options(args, parser)
+    if args.name != "stand" and (args.robot is not None or args.feet is not None):
         option = "--robot" if args.robot is not None else "--feet"
         parser.error(
             f"argument {option}: only the stand demo uses it; {args.name} has its own robot"
         )
-    if args.window is not None and args.name == "hexapod-walk":
-        parser.error("argument --window: the turkey and flamingo plots take it, not hexapod-walk")
     if args.window is not None and args.plot is None:
         parser.error("argument --window: it selects what --plot draws; give --plot PATH too")
+
+
+def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    from ..gaits.registry import WALKS
+
+    walk = WALKS[args.name]
+    for dest, option in WALK_OWN_OPTIONS:
+        if dest not in walk.options and getattr(args, dest) not in (None, False):
+            users = [name for name, other in WALKS.items() if dest in other.options]
+            parser.error(f"argument {option}: only {', '.join(users)} uses it, not {args.name}")
+    if "path" in walk.options and args.path != "sine":
+        if args.amplitude is not None or args.wavelength is not None:
+            parser.error("argument --amplitude/--wavelength: only --path sine uses them")
+    if args.window is not None and not walk.plot_window:
+        windowed = " and ".join(name for name, other in WALKS.items() if other.plot_window)
+        parser.error(f"argument --window: the plots of {windowed} take it, not {args.name}")

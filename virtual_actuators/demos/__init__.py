@@ -1,5 +1,13 @@
-"""Runnable demos: the seeds' walking robots in MuJoCo (``python -m virtual_actuators demo``)."""
+"""Runnable demos: the walks in MuJoCo (``python -m virtual_actuators demo``) and their sweeps.
 
-from .walking import WALKS, WalkResult, WalkSpec, run_walk
+The walks themselves are registered by the gaits (:mod:`virtual_actuators.gaits.registry`);
+``WalkSpec`` is the former name of :class:`~virtual_actuators.gaits.base.Walk`.
+"""
 
-__all__ = ["WALKS", "WalkResult", "WalkSpec", "run_walk"]
+from ..gaits.base import Walk
+from ..gaits.registry import WALKS, run_walk
+from ..gaits.runner import WalkResult
+
+WalkSpec = Walk
+
+__all__ = ["WALKS", "Walk", "WalkResult", "WalkSpec", "run_walk"]

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..exceptions import InvalidInputError, MissingDependencyError
-from .walking import WALKS, run_walk
+from ..gaits.registry import WALKS, run_walk
 
 ENGINES = ("process", "dask", "ray")
 #: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is
@@ -145,21 +145,17 @@ def run_case(case: SweepCase) -> SweepResult:
         return SweepResult(
             case.walk, case.speed, case.terrain, case.seed, True, nan, nan, nan, 0, nan, str(error)
         )
-    metrics = result.metrics
-
-    def number(value: float | None) -> float:
-        return float("nan") if value is None else float(value)
-
+    figures = result.figures()
     return SweepResult(
         case.walk,
         case.speed,
         case.terrain,
         case.seed,
-        bool(metrics.fell),
-        number(metrics.fall_time_s),
-        number(metrics.distance_m),
-        number(metrics.mean_speed_mps),
-        int(metrics.steps),
+        figures.fell,
+        figures.fall_time,
+        figures.distance,
+        figures.mean_speed,
+        figures.steps,
         float(result.simulator.time / max(result.wall_time, 1e-9)),
     )
 

@@ -9,8 +9,7 @@ hexapod's paths and tracking are :class:`VelocityCommand`, :class:`SinePath` and
 
 from .base import Gait
 from .flamingo import FlamingoParameters, FlamingoWalker
-from .hexapod import HexapodParameters, HexapodWalker
-from .hexapod_guidance import SinePath, TrackObject, VelocityCommand
+from .hexapod import HexapodParameters, HexapodWalker, SinePath, TrackObject, VelocityCommand
 from .turkey import TurkeyParameters, TurkeyWalker
 
 __all__ = [

@@ -1,26 +1,27 @@
-"""Common machinery of the planar walking gaits: a controller driven by a state machine.
+"""Common machinery of the gaits: a controller driven by a state machine, and a walk's record.
 
 A :class:`Gait` owns a :class:`~virtual_actuators.control.Controller` (actuators and components,
 declared once) and a :class:`~virtual_actuators.control.StateMachine` whose states select which
 attachments run. :meth:`Gait.compute` is the whole per-tick control law: update the machine on
 the tick's :class:`~virtual_actuators.control.Context`, reset the components of attachments that
-just became active, evaluate the active ones and return the joint efforts.
+just became active, evaluate the active ones and return the joint efforts. A :class:`Walk` is
+what a gait's folder registers (its ``walk.py``): the robot, the defaults, the closed loop that
+runs it and how its result is plotted; :mod:`~virtual_actuators.gaits.registry` collects them.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
 from ..control.controller import Controller, ControlOutput
 from ..control.state_machine import Context, Event, StateMachine
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..robots.robot import Robot
-from ..vocabulary.frames import resolve_frame, resolve_joint
 
 
 class Gait:
@@ -134,79 +135,44 @@ def check_distribution(distribution: object) -> bool:
     return distribution == "qp"
 
 
-def planar_leg_ik(dx: float, dz: float, thigh: float, shin: float) -> tuple[float, float]:
-    """Hip and knee angles that put a planar two-link leg's end at ``(dx, dz)`` from the hip.
+@dataclass(frozen=True, slots=True)
+class Walk:
+    """How to run one of the walks (a gait folder's registration, see ``WALKS``).
 
-    Joints turn about +y (a positive angle swings the distal link backward), the knee bends
-    positively (it points forward), the body is upright.
-
-    Args:
-        dx: Foot x minus hip x [m].
-        dz: Foot z minus hip z [m] (negative below the hip).
-        thigh: Hip-to-knee length [m].
-        shin: Knee-to-foot length [m].
-
-    Returns:
-        ``(hip, knee)`` [rad].
-
-    Raises:
-        InvalidInputError: The point is out of reach.
-
-    """
-    u, w = -dx, -dz
-    cos_knee = (u * u + w * w - thigh**2 - shin**2) / (2.0 * thigh * shin)
-    if not -1.0 - 1e-12 <= cos_knee <= 1.0 + 1e-12:
-        raise InvalidInputError(
-            f"Foot offset ({dx:.3f}, {dz:.3f}) m is out of reach of a {thigh:.3f} + {shin:.3f} m "
-            "leg."
-        )
-    knee = math.acos(min(1.0, max(-1.0, cos_knee)))  # rounding at full extension
-    hip = math.atan2(u, w) - math.atan2(shin * math.sin(knee), thigh + shin * math.cos(knee))
-    return hip, knee
-
-
-def planar_standing_configuration(
-    robot: Robot,
-    height: float,
-    feet: Mapping[str, float],
-    foot_frame: str = "{side}_foot",
-    ground: float = 0.0,
-) -> np.ndarray:
-    """A standing configuration of a planar biped on a boom at a given hip height.
-
-    Args:
-        robot: A planar biped with joints ``boom_x``, ``boom_z``, ``boom_pitch``,
-            ``SIDE_hip``, ``SIDE_knee`` (and optionally ``SIDE_ankle``, set so the foot is flat).
-        height: Hip height above the foot frames [m].
-        feet: Foot frame x relative to the hip, per side, e.g. ``{"left": 0.1, "right": -0.1}``.
-        foot_frame: Name pattern of the frame at the end of the shin (ankle or point foot).
-        ground: Height of the foot frames [m].
-
-    Returns:
-        ``q`` of size ``nq`` (Pinocchio convention).
-
-    Raises:
-        JointNotFoundError: A joint above is missing.
-        InvalidInputError: A foot is out of reach.
+    Attributes:
+        name: Demo name on the command line.
+        robot: Robot name for :func:`~virtual_actuators.load_robot`.
+        run: The closed loop, called by :func:`~virtual_actuators.gaits.registry.run_walk` as
+            ``run(walk, duration=, speed=, terrain=, progress=, on_tick=, stop_on_fall=, seed=,
+            parameters=, distribution=, **options)`` with the duration and terrain resolved.
+        parameters: The gait's parameters dataclass.
+        terrain: Default terrain (a :meth:`~virtual_actuators.simulation.Terrain.parse` spec).
+        duration: Default simulated time [s].
+        plot: Draws a result: ``plot(result, path, window)`` returns the path written.
+        description: One line for the command-line help.
+        make_gait: Builds the gait from the robot, the desired speed and the parameters (the
+            planar bipeds; None when ``run`` builds its own).
+        push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
+        push_time: [s].
+        options: The walk's own keyword options of ``run`` (and command-line options).
+        plot_window: Whether ``plot`` draws a time window (``--window``).
+        force_scale: Viewer arrow length per newton [m/N].
+        viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
 
     """
-    model = robot.model
-    q = robot.neutral()
-    data = pin.Data(model)
-    pin.framesForwardKinematics(model, data, q)
 
-    def index(joint: str) -> int:
-        return model.joints[resolve_joint(model, joint)].idx_q
-
-    q[index("boom_z")] = ground + height
-    q[index("boom_pitch")] = 0.0
-    for side, dx in feet.items():
-        hip = data.oMi[resolve_joint(model, f"{side}_hip")].translation
-        knee = data.oMi[resolve_joint(model, f"{side}_knee")].translation
-        end = data.oMf[resolve_frame(model, foot_frame.format(side=side), "foot")].translation
-        thigh, shin = np.linalg.norm(knee - hip), np.linalg.norm(end - knee)
-        hip_angle, knee_angle = planar_leg_ik(dx, -height, thigh, shin)
-        q[index(f"{side}_hip")], q[index(f"{side}_knee")] = hip_angle, knee_angle
-        if f"{side}_ankle" in model.names:
-            q[index(f"{side}_ankle")] = -(hip_angle + knee_angle)
-    return q
+    name: str
+    robot: str
+    run: Callable[..., Any]
+    parameters: type
+    terrain: str
+    duration: float
+    plot: Callable[..., Any]
+    description: str
+    make_gait: Callable[..., Gait] | None = None
+    push: float = 0.0
+    push_time: float = 0.0
+    options: tuple[str, ...] = ()
+    plot_window: bool = False
+    force_scale: float = 1 / 250
+    viewer_robot: Callable[..., Robot] | None = None

@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..components.base import Component
-from ..exceptions import InvalidInputError
+from ...components.base import Component
+from ...exceptions import InvalidInputError
 
 GRAVITY = 9.81  # [m/s^2]
 
@@ -239,3 +239,37 @@ def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.n
         )
     p = np.real(stable[n:] @ np.linalg.inv(stable[:n]))
     return r_inv @ b.T @ (0.5 * (p + p.T))
+
+
+def rotation(q: np.ndarray) -> np.ndarray:
+    """Body rotation from the free-flyer quaternion ``(x, y, z, w)`` of ``q[3:7]``."""
+    x, y, z, w = q[3:7]
+    return np.array(
+        (
+            (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
+            (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
+            (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
+        )
+    )
+
+
+def attitude_and_velocity(
+    q: np.ndarray, v: np.ndarray
+) -> tuple[float, float, float, float, float]:
+    """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
+
+    As :func:`~virtual_actuators.gaits.hexapod.body.yaw_pitch_roll` of :func:`_rotation`, and
+    ``(rotation(q) @ v[:3])[:2]``, on floats.
+    """
+    x, y, z, w = q[3:7].tolist()
+    u, s, t = v[:3].tolist()  # body axes [m/s]
+    r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)
+    r10, r11, r12 = 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)
+    r20, r21, r22 = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
+    return (
+        math.atan2(r10, r00),
+        math.asin(max(-1.0, min(1.0, -r20))),
+        math.atan2(r21, r22),
+        r00 * u + r01 * s + r02 * t,
+        r10 * u + r11 * s + r12 * t,
+    )

@@ -20,7 +20,7 @@ state          active attachments                        left when
 ``double_a``   body on all six feet                      after ``double_support_time``
 =============  ========================================  =====================================
 
-The body's virtual components (:mod:`~virtual_actuators.gaits.hexapod_body`) act in its heading
+The body's virtual components (:mod:`~virtual_actuators.gaits.hexapod.body`) act in its heading
 frame; its wrench is distributed over the support feet by a
 :class:`~virtual_actuators.ParallelVirtualActuator` (point feet; ``distribution="qp"`` with
 friction pyramids and a least normal force, or ``"partitioned"``, the minimum-norm split with the
@@ -56,35 +56,34 @@ cone by construction:
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
 import numpy as np
 
-from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.springs import SpringDamper
-from ..control import events
-from ..control.state_machine import Context, State, StateMachine, Transition
-from ..exceptions import InvalidInputError
-from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
-from .base import DISTRIBUTIONS, Gait
-from .hexapod_body import (
+from ...actuators import ParallelVirtualActuator, VirtualActuator
+from ...components.springs import SpringDamper
+from ...control import events
+from ...control.state_machine import Context, State, StateMachine, Transition
+from ...exceptions import InvalidInputError
+from ...kinematics.snapshot import Snapshot
+from ...robots.robot import Robot
+from ..base import Gait
+from ..planar import lift_profile, smoothstep
+from .body import (
     HeadingAttitude,
     HeadingDamper,
     PendulumModel,
     lqr_gain,
     pendulum_model,
 )
-from .hexapod_parameters import HexapodParameters
-from .turkey import lift_profile, smoothstep
+from .footholds import behind, ground_velocity, landing
+from .parameters import HexapodParameters
 
 LEGS = (1, 2, 3, 4, 5, 6)
 TRIPODS = {"a": (1, 3, 5), "b": (2, 4, 6)}
 OTHER = {"a": "b", "b": "a"}
 PENDULUM_JOINT = "pendulum_joint"
-GRAVITY = 9.81  # [m/s^2]
 
-__all__ = ["DISTRIBUTIONS", "LEGS", "TRIPODS", "HexapodParameters", "HexapodWalker"]
+__all__ = ["LEGS", "TRIPODS", "HexapodWalker"]
 
 
 class HexapodWalker(Gait):
@@ -372,86 +371,10 @@ class HexapodWalker(Gait):
         self._target_time = context.time
         self.phase = 0.0
         # the lifting feet leave the ground at its velocity relative to the body
-        ground = self._ground_velocity()
+        ground = ground_velocity(self._velocity_filtered, self.yaw_rate, self._nominal)
         self._rates = np.array([(-ground[r][0], -ground[r][1], 0.0) for r in rows])
         for k, i in enumerate(TRIPODS[OTHER[self.support]]):
             self.swing[i].velocity_setpoint = self._rates[k]
-
-    def _ground_velocity(self) -> list[tuple[float, float]]:
-        """Velocity over the ground of the six nominal foot points, body axes [m/s].
-
-        From the measured (low-passed) body velocity and the commanded yaw rate; a support foot
-        moves at minus this relative to the body.
-        """
-        vx, vy = self._velocity_filtered
-        w = self.yaw_rate
-        return [(vx - w * y, vy + w * x) for x, y, _ in self._nominal]
-
-    def _strides(self, dx: float, dy: float) -> float:
-        """A horizontal displacement in strides: the ellipse of axes step length and width is 1."""
-        p = self.parameters
-        return math.sqrt((dx / p.step_length) ** 2 + (dy / p.step_width) ** 2)
-
-    def _behind(
-        self,
-        offsets: Sequence[Sequence[float]],
-        sx: Sequence[float],
-        sy: Sequence[float],
-    ) -> float:
-        """How far the support feet are behind their nominal places, in strides (largest).
-
-        Measured along each foot's motion relative to the body (against its velocity over the
-        ground at the nominal place): -0.5 where the feet land, 0.5 where the stance ends (the
-        tripod's static margin is spent beyond). 0 when the body does not move.
-
-        Args:
-            offsets: Support feet minus their nominal places, body axes, one row each [m].
-            sx: Velocity over the ground of their nominal places along body x [m/s].
-            sy: The same along body y.
-
-        """
-        behind = None
-        for (dx, dy, *_), vx, vy in zip(offsets, sx, sy, strict=True):
-            speed = math.hypot(vx, vy)
-            if speed > 1e-3:
-                ux, uy = vx / speed, vy / speed
-                value = -(dx * ux + dy * uy) * self._strides(ux, uy)
-                behind = value if behind is None else max(behind, value)
-        return 0.0 if behind is None else float(behind)
-
-    def _landing(self, rows: Sequence[int], ground: list[tuple[float, float]]) -> list[list[float]]:
-        """Where the swing feet land relative to the body (body axes, x and y) [m].
-
-        Half a stance's travel plus a double support's ahead of their nominal place (the
-        tripod's stance is then centred under the body: its feet go from half a stance ahead of
-        their nominal places to half a stance behind), with the body's measured velocity and
-        the commanded yaw rate, plus the Raibert term, minus ``height / g`` times the velocity
-        set point's acceleration (the centre of pressure trails the centre of mass by that much
-        while the body accelerates: without it the front foot of the next tripod unloads);
-        within 0.6 strides of the nominal place.
-
-        Args:
-            rows: The swing legs' rows (leg - 1).
-            ground: :meth:`_ground_velocity`.
-
-        """
-        p = self.parameters
-        rate = max(self._strides(*ground[r]) for r in rows)  # strides per second
-        stance = p.max_stance_time if rate * p.max_stance_time <= 1.0 else 1.0 / rate
-        (fx, fy), (cx, cy) = self._velocity_filtered, self._setpoint
-        ax, ay = self._acceleration
-        lean = p.height / GRAVITY  # the centre of pressure trails by lean * acceleration [s^2]
-        ex = p.placement_gain * (fx - cx) - lean * ax
-        ey = p.placement_gain * (fy - cy) - lean * ay
-        lead = 0.5 * stance + p.double_support_time  # [s]
-        landing = []
-        for r in rows:
-            sx, sy = ground[r]
-            ox, oy = lead * sx + ex, lead * sy + ey
-            factor = min(1.0, 0.6 / max(self._strides(ox, oy), 1e-9))
-            x, y, _ = self._nominal[r]
-            landing.append([x + ox * factor, y + oy * factor])
-        return landing
 
     def _update_tripod(self, context: Context) -> None:
         p = self.parameters
@@ -460,22 +383,30 @@ class HexapodWalker(Gait):
         swing_rows = self._rows[OTHER[self.support]]
         stance = [feet[r] for r in stance_rows]
         self._set_ground(height, stance)
-        ground = self._ground_velocity()
+        ground = ground_velocity(self._velocity_filtered, self.yaw_rate, self._nominal)
         nominal = self._nominal
-        behind = self._behind(
+        lag = behind(
+            p,
             [(feet[r][0] - nominal[r][0], feet[r][1] - nominal[r][1]) for r in stance_rows],
             [ground[r][0] for r in stance_rows],
             [ground[r][1] for r in stance_rows],
         )
-        progress = max(0.5 + behind, context.time_in_state / p.max_stance_time)
+        progress = max(0.5 + lag, context.time_in_state / p.max_stance_time)
         phase = self.phase = max(self.phase, min(progress, 1.0))
         reach = smoothstep(min(1.0, 1.25 * phase))
         rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
         up = p.lift * lift_profile(phase, p.lift_peak) - p.touchdown_depth * phase
         a, b, c = self.plane
         targets = []
-        landing = self._landing(swing_rows, ground)
-        for (sx, sy, sz), (lx, ly) in zip(self._swing_start, landing, strict=True):
+        places = landing(
+            p,
+            [ground[r] for r in swing_rows],
+            [nominal[r] for r in swing_rows],
+            self._velocity_filtered,
+            self._setpoint,
+            self._acceleration,
+        )
+        for (sx, sy, sz), (lx, ly) in zip(self._swing_start, places, strict=True):
             x, y = sx + (lx - sx) * reach, sy + (ly - sy) * reach
             above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
             targets.append((x, y, a * x + b * y + c + rest * above + up))

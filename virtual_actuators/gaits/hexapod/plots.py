@@ -1,4 +1,4 @@
-"""Plot a hexapod walk (:func:`~virtual_actuators.demos.hexapod_walk.run_hexapod_walk`).
+"""Plot a hexapod walk (:func:`~virtual_actuators.gaits.hexapod.walk.run_hexapod_walk`).
 
 :func:`plot_hexapod` draws one of two layouts into a PNG:
 
@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.plots import (
+from ...exceptions import InvalidInputError
+from ...experiments.plots import (
     ACTUAL_STYLE,
     FORCE_STYLE,
     SETPOINT_STYLE,
@@ -32,7 +32,7 @@ from virtual_actuators.experiments.plots import (
     new_figure,
     save_figure,
 )
-from virtual_actuators.experiments.walk_log import WalkLog
+from ...experiments.walk_log import WalkLog
 
 __all__ = ["plot_hexapod"]
 

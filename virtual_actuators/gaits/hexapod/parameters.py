@@ -2,14 +2,14 @@
 
 :class:`HexapodParameters` configures :class:`~virtual_actuators.gaits.hexapod.HexapodWalker`;
 the contact-related choices (``step_length``, ``touchdown_phase``, ``acceleration``, ``friction``,
-``min_normal``) are explained in :mod:`virtual_actuators.gaits.hexapod`.
+``min_normal``) are explained in :mod:`virtual_actuators.gaits.hexapod.walker`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .base import check_distribution
+from ..base import check_distribution
 
 
 @dataclass

@@ -1,4 +1,4 @@
-"""Figures of a hexapod walk (:func:`~virtual_actuators.demos.hexapod_walk.run_hexapod_walk`).
+"""Figures of a hexapod walk (:func:`~virtual_actuators.gaits.hexapod.walk.run_hexapod_walk`).
 
 :func:`compute_hexapod_metrics` reduces the walk's log (the body state sampled from MuJoCo) to
 the figures the issue's targets are stated in: speed and travel direction of a line, heading
@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.walk_log import WalkLog
-from virtual_actuators.gaits.hexapod_guidance import (
+from ...exceptions import InvalidInputError
+from ...experiments.walk_log import WalkLog
+from .guidance import (
     Guidance,
     SinePath,
     TrackObject,
@@ -145,7 +145,7 @@ def compute_hexapod_metrics(
     """Reduce a hexapod walk's log to :class:`HexapodMetrics` (see its attributes).
 
     Args:
-        log: The run (channels of ``virtual_actuators.demos.hexapod_walk.CHANNELS``).
+        log: The run (channels of ``virtual_actuators.gaits.hexapod.walk.CHANNELS``).
         guidance: Its guidance (after :meth:`Guidance.begin`): a :class:`VelocityCommand`
             (line or circle), :class:`SinePath` or :class:`TrackObject`.
         steps: Tripod swaps.

@@ -2,10 +2,10 @@
 
 :func:`run_hexapod_walk` builds the hexapod (with the pendulum on its back for
 ``pendulum=True``), its :class:`~virtual_actuators.gaits.HexapodWalker`, a guidance that turns the
-requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod_guidance`) and
+requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod.guidance`) and
 a :class:`~virtual_actuators.simulation.Simulator`, then runs the control loop at 1 kHz. The body
 state is sampled at :data:`TRACE_RATE` into a :class:`~virtual_actuators.experiments.WalkLog`;
-:class:`~virtual_actuators.experiments.hexapod_metrics.HexapodMetrics` summarises it (the
+:class:`~virtual_actuators.gaits.hexapod.metrics.HexapodMetrics` summarises it (the
 issue's targets are checked on these figures) and
 :meth:`HexapodResult.to_json` is what ``--json`` writes. Every tick the feet's contact switches
 (MuJoCo's contacts) go to the walker, whose stance ends when its swing tripod is down, and
@@ -24,18 +24,25 @@ import math
 import time as wallclock
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
-from ..experiments.contact_stats import StanceForces
-from ..experiments.hexapod_metrics import HexapodMetrics, compute_hexapod_metrics
-from ..experiments.recorder import Recorder
-from ..experiments.walk_log import WalkLog
-from ..gaits.base import check_distribution
-from ..gaits.hexapod import HexapodParameters, HexapodWalker
-from ..gaits.hexapod_guidance import (
+from ...exceptions import InvalidInputError
+from ...experiments.contact_stats import StanceForces
+from ...experiments.progress import Progress
+from ...experiments.recorder import Recorder
+from ...experiments.walk_log import WalkLog
+from ...robots.catalog import robots_dir
+from ...robots.loader import load_robot
+from ...robots.robot import Robot
+from ...simulation.simulator import Simulator
+from ...simulation.terrain import Terrain
+from ..base import Walk, check_distribution
+from ..runner import WalkFigures, has_fallen, number, terrain_points
+from .body import attitude_and_velocity, rotation
+from .guidance import (
     Guidance,
     PlanarState,
     SinePath,
@@ -43,13 +50,9 @@ from ..gaits.hexapod_guidance import (
     VelocityCommand,
     wrap,
 )
-from ..robots.catalog import robots_dir
-from ..robots.loader import load_robot
-from ..robots.robot import Robot
-from ..simulation.simulator import Simulator
-from ..simulation.terrain import Terrain
-from .progress import Progress
-from .walking import has_fallen, terrain_points
+from .metrics import HexapodMetrics, compute_hexapod_metrics
+from .parameters import HexapodParameters
+from .walker import HexapodWalker
 
 TRACE_RATE = 100.0  # [Hz] samples of the trace and the log
 PATHS = ("line", "sine")
@@ -177,6 +180,14 @@ class HexapodResult:
         trace["state"] = [log.state_names[i] for i in log.state]
         return trace
 
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
     def to_json(self) -> dict[str, Any]:
         """``fell``, ``realtime_factor``, ``steps``, the summary figures, config and ``trace``."""
         figures = asdict(self.metrics)
@@ -278,7 +289,7 @@ def run_hexapod_walk(
     while simulator.time < config.duration - 1e-9:
         q, v = simulator.q, simulator.v
         now = simulator.time
-        yaw, pitch, roll, vx, vy = _attitude_and_velocity(q, v)
+        yaw, pitch, roll, vx, vy = attitude_and_velocity(q, v)
         state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
         command, yaw_rate = guidance.command(state)
         gait.set_command(command, yaw_rate)
@@ -303,7 +314,7 @@ def run_hexapod_walk(
             yaw_last = yaw
             target = guidance.target(now) or (np.nan, np.nan)
             wrench = _body_wrench(output)
-            rotation = _rotation(q)
+            axes = rotation(q)
             c, s = math.cos(yaw), math.sin(yaw)
             recorder.append(
                 state=machine.index[machine.current.name],
@@ -318,7 +329,7 @@ def run_hexapod_walk(
                 vy=vy,
                 vx_heading=c * vx + s * vy,
                 vx_command=float(command[0]),
-                yaw_rate=float(rotation[2] @ (rotation @ v[3:6])),
+                yaw_rate=float(axes[2] @ (axes @ v[3:6])),
                 fx=c * wrench[0] + s * wrench[1],
                 pendulum=gait.pendulum_angle if gait.pendulum is not None else np.nan,
                 target_x=target[0],
@@ -341,40 +352,6 @@ def run_hexapod_walk(
     metrics = compute_hexapod_metrics(log, guidance, steps, fall_time, *stance.figures())
     metrics = _with_timing(metrics, simulator.time, wall, physics)
     return HexapodResult(config, log, metrics, gait, simulator, wall, tick)
-
-
-def _rotation(q: np.ndarray) -> np.ndarray:
-    """Body rotation from the free-flyer quaternion ``(x, y, z, w)`` of ``q[3:7]``."""
-    x, y, z, w = q[3:7]
-    return np.array(
-        (
-            (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
-            (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
-            (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
-        )
-    )
-
-
-def _attitude_and_velocity(
-    q: np.ndarray, v: np.ndarray
-) -> tuple[float, float, float, float, float]:
-    """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
-
-    As :func:`~virtual_actuators.gaits.hexapod_body.yaw_pitch_roll` of :func:`_rotation`, and
-    ``(_rotation(q) @ v[:3])[:2]``, on floats.
-    """
-    x, y, z, w = q[3:7].tolist()
-    u, s, t = v[:3].tolist()  # body axes [m/s]
-    r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)
-    r10, r11, r12 = 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)
-    r20, r21, r22 = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
-    return (
-        math.atan2(r10, r00),
-        math.asin(max(-1.0, min(1.0, -r20))),
-        math.atan2(r21, r22),
-        r00 * u + r01 * s + r02 * t,
-        r10 * u + r11 * s + r12 * t,
-    )
 
 
 def _body_wrench(output) -> np.ndarray:
@@ -422,3 +399,76 @@ def _command_path(config: HexapodWalkConfig, guidance: Guidance) -> np.ndarray:
         across = distances * math.sin(config.direction)
     c, s = math.cos(yaw0), math.sin(yaw0)
     return np.c_[x0 + c * along - s * across, y0 + s * along + c * across]
+
+
+def run_registered(
+    walk: Walk,
+    duration: float,
+    speed: float | None = None,
+    terrain: str | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, HexapodWalker], None] | None = None,
+    stop_on_fall: bool = True,
+    seed: int | None = None,
+    parameters: HexapodParameters | None = None,
+    distribution: str | None = None,
+    **options: Any,
+) -> HexapodResult:
+    """The hexapod's walk as a :class:`~virtual_actuators.gaits.base.Walk` runs it.
+
+    ``speed`` defaults to 0.2 m/s with the pendulum or tracking, else 0.4 m/s; ``options`` are
+    :class:`HexapodWalkConfig`'s path fields (``direction``, ``yaw_rate``, ``path``,
+    ``amplitude``, ``wavelength``, ``pendulum``, ``track``); ``distribution`` overrides
+    ``parameters.distribution`` (default: ``"qp"``).
+
+    Raises:
+        InvalidInputError: A bad configuration or parameters.
+
+    """
+    if speed is None:
+        speed = 0.2 if (options.get("pendulum") or options.get("track")) else 0.4
+    if parameters is not None and not isinstance(parameters, HexapodParameters):
+        raise InvalidInputError(
+            f"{walk.name}: parameters must be a HexapodParameters, got "
+            f"{type(parameters).__name__}."
+        )
+    if distribution is None:
+        distribution = "qp" if parameters is None else parameters.distribution
+    elif parameters is not None:
+        parameters = replace(parameters, distribution=distribution)
+    config = HexapodWalkConfig(
+        speed=speed,
+        terrain=walk.terrain if terrain is None else terrain,
+        duration=duration,
+        seed=seed,
+        distribution=distribution,
+        **options,
+    )
+    return run_hexapod_walk(config, parameters, progress, on_tick, stop_on_fall)
+
+
+def plot_hexapod_walk(result: HexapodResult, path: str, window: None = None) -> Path:
+    """Draw a hexapod walk (:func:`~virtual_actuators.gaits.hexapod.plots.plot_hexapod`)."""
+    from .plots import plot_hexapod
+
+    return plot_hexapod(result.log, path, summary=result.metrics.summary())
+
+
+def _viewer_robot(pendulum: bool = False, **options: Any) -> Robot:
+    return hexapod_robot(pendulum)
+
+
+WALK = Walk(
+    name="hexapod-walk",
+    robot="hexapod",
+    run=run_registered,
+    parameters=HexapodParameters,
+    terrain="flat",
+    duration=10.0,
+    plot=plot_hexapod_walk,
+    description="The 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
+    "tracking an object (VAC section 4)",
+    options=("direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track"),
+    force_scale=1 / 100,
+    viewer_robot=_viewer_robot,
+)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
+from ...exceptions import InvalidInputError
 
 
 @dataclass(frozen=True)

@@ -21,108 +21,20 @@ about a stride ahead; in the buffer states the swing leg is limp for a short del
 falls to the ground (the turkey has no foot switches). Foot placement is never used for speed.
 """
 
-from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from __future__ import annotations
 
 import numpy as np
 
-from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
-from ..control import events
-from ..control.state_machine import Context, State, StateMachine, Transition
-from ..robots.robot import Robot
-from ..vocabulary.constraints import EqualTorque
-from .base import Gait, check_distribution
-
-SIDES = ("left", "right")
-PLANAR_AXES = ("x", "z", "ry")
-
-
-def other(side: str) -> str:
-    """The other leg."""
-    return "right" if side == "left" else "left"
-
-
-def smoothstep(s: float) -> float:
-    """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest."""
-    s = min(max(s, 0.0), 1.0)
-    return s * s * (3.0 - 2.0 * s)
-
-
-def lift_profile(phase: float, peak: float) -> float:
-    """Swing foot height over the swing, 0 at both ends and 1 at ``peak`` (a phase in (0, 1)).
-
-    A quarter sine up to the peak, a quarter cosine down after it: an early peak clears the
-    ground quickly after lift-off and leaves a long, gentle descent.
-    """
-    phase = min(max(phase, 0.0), 1.0)
-    if phase < peak:
-        return math.sin(0.5 * math.pi * phase / peak)
-    return math.cos(0.5 * math.pi * (phase - peak) / (1.0 - peak))
-
-
-@dataclass
-class TurkeyParameters:
-    """Gait variables and virtual component constants of turkey walking (SI units).
-
-    Attributes:
-        speed: Dogtrack bunny speed [m/s].
-        height: Granny walker height set point, hip above the ground [m].
-        pitch: Granny walker pitch set point [rad].
-        stiffness_z: [N/m].
-        damping_z: [N s/m].
-        stiffness_pitch: [N m/rad].
-        damping_pitch: [N m s/rad].
-        bunny_damping: Dogtrack bunny damper [N s/m].
-        bunny_limit: Largest bunny force [N].
-        min_normal_force: In double support, each foot pushes at least this much [N]; the
-            bunny's force is scaled down when it would make a foot pull (lift off).
-        weight: Feed-forward on z [N]; None: total mass times g.
-        over_distance: "Body nearly over the foot": body x minus front foot x above this [m].
-        away_distance: "Body away from the stance foot": body x minus stance foot x above this
-            [m]; the swing foot lands about this far ahead of the body.
-        swing_reach: Swing foot x relative to the body at the end of the swing [m].
-        lift: Swing foot lift above the ground [m].
-        lift_peak: Phase of the swing (0 to 1) at which the foot is highest.
-        swing_stiffness: Swing-leg linkage springs (x, z) [N/m].
-        swing_damping: Swing-leg linkage dampers (x, z) [N s/m].
-        touchdown_depth: How far below the ground the swing set point ends [m].
-        buffer_delay: Time the swing leg stays limp in the buffer states [s].
-        foot_radius: Height of the foot frame above the ground when in contact [m].
-        distribution: How double support shares the body's wrench between the feet:
-            ``"partitioned"`` (the seed's: matched hip torques, the bunny's force scaled down
-            when a foot would pull) or ``"qp"`` (the same matched hip torques as an equality;
-            each foot's normal force >= ``min_normal_force`` and its force inside a friction
-            pyramid of ``friction`` as inequalities; x gives way first).
-        friction: Friction coefficient assumed by ``distribution="qp"``.
-
-    """
-
-    speed: float = 0.5
-    height: float = 0.54
-    pitch: float = 0.0
-    stiffness_z: float = 1500.0
-    damping_z: float = 150.0
-    stiffness_pitch: float = 200.0
-    damping_pitch: float = 20.0
-    bunny_damping: float = 80.0
-    bunny_limit: float = 60.0
-    min_normal_force: float = 10.0
-    weight: float | None = None
-    over_distance: float = -0.075
-    away_distance: float = 0.075
-    swing_reach: float = 0.19
-    lift: float = 0.05
-    lift_peak: float = 0.35
-    swing_stiffness: tuple[float, float] = (400.0, 600.0)
-    swing_damping: tuple[float, float] = (20.0, 25.0)
-    touchdown_depth: float = 0.02
-    buffer_delay: float = 0.04
-    foot_radius: float = 0.02
-    distribution: str = "partitioned"
-    friction: float = 0.6
+from ...actuators import ParallelVirtualActuator, VirtualActuator
+from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from ...control import events
+from ...control.state_machine import Context, State, StateMachine, Transition
+from ...robots.robot import Robot
+from ...vocabulary.constraints import EqualTorque
+from ..base import Gait, check_distribution
+from ..planar import PLANAR_AXES, SIDES, lift_profile, other, smoothstep
+from .parameters import TurkeyParameters
 
 
 class TurkeyWalker(Gait):

@@ -1,0 +1,6 @@
+"""Blind slope walking (VMC section 6): Spring Flamingo over unknown slopes and its walk."""
+
+from .parameters import FlamingoParameters
+from .walker import FlamingoWalker
+
+__all__ = ["FlamingoParameters", "FlamingoWalker"]

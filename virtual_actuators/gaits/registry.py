@@ -1,0 +1,106 @@
+"""The walk registry: every gait folder's ``walk.py`` registers one :class:`Walk`.
+
+:data:`WALKS` feeds the command line (``demo``, ``sweep``), the sweeps and the benchmarks;
+:func:`run_walk` runs any of them by name.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from ..exceptions import InvalidInputError, suggestion
+from ..simulation.simulator import Simulator
+from ..simulation.terrain import Terrain
+from .base import Gait, Walk
+from .flamingo.walk import WALK as FLAMINGO
+from .hexapod.walk import WALK as HEXAPOD
+from .turkey.walk import WALK as TURKEY
+
+#: The walks by name, in the command line's order.
+WALKS: dict[str, Walk] = {walk.name: walk for walk in (TURKEY, FLAMINGO, HEXAPOD)}
+
+
+def find_walk(name: str) -> Walk:
+    """The walk called ``name``.
+
+    Raises:
+        InvalidInputError: No such walk (with the closest names).
+
+    """
+    if name not in WALKS:
+        raise InvalidInputError(f"Unknown walk {name!r}. {suggestion(name, WALKS, 'walks')}")
+    return WALKS[name]
+
+
+def run_walk(
+    name: str,
+    duration: float | None = None,
+    speed: float | None = None,
+    terrain: str | Terrain | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, Gait], None] | None = None,
+    stop_on_fall: bool = True,
+    seed: int | None = None,
+    parameters: object | None = None,
+    distribution: str | None = None,
+    **options: Any,
+) -> Any:
+    """Simulate one of the walks and measure it.
+
+    Args:
+        name: A key of :data:`WALKS` (``"turkey-walk"``, ``"flamingo-slopes"``,
+            ``"hexapod-walk"``).
+        duration: Simulated time [s] (default: the walk's).
+        speed: Desired speed [m/s] (default: the gait's).
+        terrain: A :class:`Terrain` or a spec for :meth:`Terrain.parse`: ``"flat"``, a built-in
+            name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step (e.g. a viewer's throttled update).
+        stop_on_fall: End the run at the first fallen tick (plus 0.5 s to see the fall).
+        seed: None for the walk's nominal start; an int varies the start (the bipeds'
+            start-up push, the hexapod's initial disturbance) so that sweeps see several
+            starts per setting.
+        parameters: The gait's parameters (a ``WALKS[name].parameters``; default: the gait's);
+            ``speed`` overrides theirs.
+        distribution: ``"partitioned"`` or ``"qp"``: how the support feet share the body's
+            wrench (overrides ``parameters.distribution``; default: the gait's).
+        **options: The walk's own options (``WALKS[name].options``, e.g. the hexapod's
+            ``path``, ``yaw_rate``, ``pendulum``).
+
+    Returns:
+        The walk's result: a :class:`~virtual_actuators.gaits.runner.WalkResult` (the
+        hexapod's :class:`~virtual_actuators.gaits.hexapod.walk.HexapodResult` has the same
+        ``log``, ``metrics``, ``gait``, ``simulator``, ``wall_time``, ``figures()`` and
+        ``to_json()``).
+
+    Raises:
+        InvalidInputError: Unknown walk or option, bad duration, speed, terrain, seed,
+            parameters or distribution.
+
+    """
+    walk = find_walk(name)
+    duration = walk.duration if duration is None else float(duration)
+    if not (math.isfinite(duration) and duration > 0.0):
+        raise InvalidInputError(f"duration must be a positive number of seconds, got {duration}.")
+    unknown = sorted(set(options) - set(walk.options))
+    if unknown:
+        known = ", ".join(walk.options) or "none"
+        raise InvalidInputError(f"{name} takes no option {unknown[0]!r} (its options: {known}).")
+    return walk.run(
+        walk,
+        duration=duration,
+        speed=speed,
+        terrain=terrain,
+        progress=progress,
+        on_tick=on_tick,
+        stop_on_fall=stop_on_fall,
+        seed=seed,
+        parameters=parameters,
+        distribution=distribution,
+        **options,
+    )
+
+
+__all__ = ["WALKS", "Walk", "find_walk", "run_walk"]

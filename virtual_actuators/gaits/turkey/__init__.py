@@ -1,0 +1,6 @@
+"""Turkey walking (VMC section 5): Spring Turkey's level-ground gait and its walk."""
+
+from .parameters import TurkeyParameters
+from .walker import TurkeyWalker
+
+__all__ = ["TurkeyParameters", "TurkeyWalker"]

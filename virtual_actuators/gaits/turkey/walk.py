@@ -1,0 +1,33 @@
+"""``turkey-walk``: Spring Turkey walks on level ground (its registration in ``WALKS``)."""
+
+from __future__ import annotations
+
+from ...robots.robot import Robot
+from ..base import Gait, Walk
+from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
+from .parameters import TurkeyParameters
+from .walker import TurkeyWalker
+
+
+def make_gait(
+    robot: Robot, speed: float | None, parameters: TurkeyParameters | None = None
+) -> Gait:
+    """The walker, started in double support, at ``speed`` (None: the parameters')."""
+    parameters = with_speed(parameters or TurkeyParameters(), speed)
+    return TurkeyWalker(robot, parameters, initial="double_support")
+
+
+WALK = Walk(
+    name="turkey-walk",
+    robot="spring_turkey",
+    run=run_planar_walk,
+    parameters=TurkeyParameters,
+    terrain="flat",
+    duration=20.0,
+    plot=plot_planar_walk,
+    description="Spring Turkey walks on level ground (VMC section 5, Table 1)",
+    make_gait=make_gait,
+    push=15.0,
+    push_time=0.2,
+    plot_window=True,
+)

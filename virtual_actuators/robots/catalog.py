@@ -37,8 +37,8 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import NamedTuple
 
-from virtual_actuators.exceptions import InvalidInputError, RobotNotFoundError
-from virtual_actuators.robots.names import ALIASES, closest_names
+from virtual_actuators.exceptions import InvalidInputError, RobotNotFoundError, closest_names
+from virtual_actuators.robots.names import ALIASES
 
 __all__ = [
     "ROBOTS_PATH_ENV",

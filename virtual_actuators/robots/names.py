@@ -19,18 +19,17 @@ A file stem is never shadowed by an alias (``iris`` is ``iris.urdf``, not ``iris
 robot of a local folder (see :mod:`~virtual_actuators.robots.catalog`) named like an alias wins
 over the alias.
 
-:func:`closest_names` ranks known names and aliases by edit distance (Damerau-Levenshtein:
-insertions, deletions, substitutions and swaps of two neighbouring letters each cost 1; case,
-``-`` and ``_`` are ignored), so ``"talso"`` suggests ``talos`` and ``"ur_5"`` suggests
-``ur5``.
+:func:`~virtual_actuators.exceptions.closest_names` ranks known names and aliases by edit
+distance (case, ``-`` and ``_`` ignored), so ``"talso"`` suggests ``talos`` and ``"ur_5"``
+suggests ``ur5``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from types import MappingProxyType
 
-__all__ = ["ALIASES", "closest_names", "edit_distance"]
+__all__ = ["ALIASES"]
 
 #: Common name -> example-robot-data file stem (see the module documentation for the choices).
 ALIASES: Mapping[str, str] = MappingProxyType(
@@ -73,65 +72,3 @@ ALIASES: Mapping[str, str] = MappingProxyType(
         "hextilt": "hextilt_flying_arm_5",
     }
 )
-
-
-def _key(name: str) -> str:
-    """A name as compared by :func:`closest_names`: lower case, without ``-`` and ``_``."""
-    return name.lower().replace("-", "").replace("_", "")
-
-
-def edit_distance(a: str, b: str) -> int:
-    """Damerau-Levenshtein distance (optimal string alignment) between two strings.
-
-    Args:
-        a: A string.
-        b: Another string.
-
-    Returns:
-        The least number of insertions, deletions, substitutions and swaps of two neighbouring
-        characters that turn ``a`` into ``b``.
-
-    """
-    previous2: list[int] = []
-    previous = list(range(len(b) + 1))
-    for i, char_a in enumerate(a, start=1):
-        current = [i] + [0] * len(b)
-        for j, char_b in enumerate(b, start=1):
-            cost = 0 if char_a == char_b else 1
-            current[j] = min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
-            if i > 1 and j > 1 and char_a == b[j - 2] and a[i - 2] == char_b:
-                current[j] = min(current[j], previous2[j - 2] + 1)
-        previous2, previous = previous, current
-    return previous[-1]
-
-
-def closest_names(name: str, candidates: Iterable[str], n: int = 5) -> list[str]:
-    """The candidates closest to ``name`` by edit distance, best first.
-
-    A candidate is close when its distance is at most half the length of the longer of the two
-    (at least 2), or when one name contains the other (``"panda"`` in ``"panda_arm"``). Ties go
-    to a candidate that contains ``name`` or is contained in it (``"anymall"`` suggests
-    ``anymal`` before ``anymal_c``), then to the one whose length is closest, then
-    alphabetically.
-
-    Args:
-        name: The name that was not found.
-        candidates: Known names.
-        n: How many names at most.
-
-    Returns:
-        Up to ``n`` names (possibly none).
-
-    """
-    wanted = _key(name)
-    ranked = []
-    for candidate in dict.fromkeys(candidates):
-        key = _key(candidate)
-        contained = bool(wanted) and bool(key) and (wanted in key or key in wanted)
-        close = max(2, max(len(wanted), len(key)) // 2)
-        if not contained and abs(len(wanted) - len(key)) > close:
-            continue  # the distance is at least the difference in length: too far, not computed
-        distance = edit_distance(wanted, key)
-        if contained or distance <= close:
-            ranked.append((distance, not contained, abs(len(key) - len(wanted)), candidate))
-    return [candidate for *_, candidate in sorted(ranked)[:n]]

@@ -17,7 +17,7 @@ from oracles import robot
 
 import virtual_actuators as va
 from virtual_actuators.exceptions import closest_names, edit_distance
-from virtual_actuators.robots.millipede import MAX_LEGS, millipede_urdf
+from virtual_actuators.models.millipede import MAX_LEGS, millipede_urdf
 
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 NO_USER = "~va_no_such_user_x9"  # a home folder that no account has

@@ -12,9 +12,9 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.exceptions import closest_names, edit_distance
-from virtual_actuators.robots import catalog
-from virtual_actuators.robots.directory import describe_robot, describe_robots, robot_table
-from virtual_actuators.robots.names import ALIASES
+from virtual_actuators.models import catalog
+from virtual_actuators.models.directory import describe_robot, describe_robots, robot_table
+from virtual_actuators.models.names import ALIASES
 
 AVAILABLE = catalog.aliases()
 

@@ -20,7 +20,7 @@ def demo_walk(args: argparse.Namespace) -> int:
     from ..demos import WALKS, run_walk
     from ..experiments.metrics import write_json
     from ..experiments.plots import plot_walk
-    from ..robots.loader import load_robot
+    from ..models.loader import load_robot
 
     viewer = on_tick = None
     if wants_viewer(args):
@@ -191,7 +191,7 @@ def run(args: argparse.Namespace) -> int:
 
         return sweep_command(args)
     elif args.command == "robots":
-        from ..robots.directory import describe_robots, robot_table
+        from ..models.directory import describe_robots, robot_table
 
         print(robot_table(describe_robots()))
     return 0

@@ -43,9 +43,9 @@ from ..gaits.hexapod_guidance import (
     VelocityCommand,
     wrap,
 )
-from ..robots.catalog import robots_dir
-from ..robots.loader import load_robot
-from ..robots.robot import Robot
+from ..models.catalog import robots_dir
+from ..models.loader import load_robot
+from ..models.robot import Robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .progress import Progress

@@ -28,7 +28,7 @@ from ..experiments.recorder import Recorder
 from ..experiments.walk_log import STANDARD_CHANNELS, WalkLog
 from ..gaits import FlamingoParameters, FlamingoWalker, Gait, TurkeyParameters, TurkeyWalker
 from ..gaits.base import check_distribution
-from ..robots.loader import load_robot
+from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .progress import Progress

@@ -66,7 +66,7 @@ from ..control import events
 from ..control.state_machine import Context, State, StateMachine, Transition
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from .base import DISTRIBUTIONS, Gait
 from .hexapod_body import (
     HeadingAttitude,

@@ -1,6 +1,6 @@
 """Guess whether a URDF describes a robot with a floating base or one welded to the world.
 
-``floating_base=None`` in :func:`~virtual_actuators.robots.loader.load_robot` guesses from the
+``floating_base=None`` in :func:`~virtual_actuators.models.loader.load_robot` guesses from the
 description. The base floats (a free-flyer root joint) when a link or joint name, the robot's name
 or the file stem contains a leg word (foot, feet, sole, toe, ankle, leg, knee, hip, thigh, shin,
 shank, calf) or a flying word (flying, quadrotor, quadcopter, multirotor, hexarotor, hexacopter,

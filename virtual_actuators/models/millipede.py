@@ -30,7 +30,7 @@ import numpy as np
 import pinocchio as pin
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.robots.robot import Robot
+from virtual_actuators.models.robot import Robot
 
 __all__ = ["MAX_LEGS", "millipede"]
 

@@ -1,12 +1,12 @@
 """Load robots by name or from any URDF file, with Pinocchio.
 
 :func:`load_robot` accepts a path to a URDF file or the name of a known robot. How names and paths
-are resolved is described in :mod:`~virtual_actuators.robots.catalog` (``"millipede"``, the
+are resolved is described in :mod:`~virtual_actuators.models.catalog` (``"millipede"``, the
 folders of ``VIRTUAL_ACTUATORS_ROBOTS`` and the repository's ``robots/`` folder, then
 example-robot-data); how ``floating_base=None`` is guessed in
-:mod:`~virtual_actuators.robots.floating_base`; where the standing poses and passive joints come
-from in :mod:`~virtual_actuators.robots.srdf`; and which checks a URDF must pass before Pinocchio
-reads it (and the example-robot-data exemptions) in :mod:`~virtual_actuators.robots.validation`.
+:mod:`~virtual_actuators.models.floating_base`; where the standing poses and passive joints come
+from in :mod:`~virtual_actuators.models.srdf`; and which checks a URDF must pass before Pinocchio
+reads it (and the example-robot-data exemptions) in :mod:`~virtual_actuators.models.validation`.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from virtual_actuators.exceptions import (
     RobotNotFoundError,
     VirtualActuatorError,
 )
-from virtual_actuators.robots.catalog import (
+from virtual_actuators.models.catalog import (
     ROBOTS_PATH_ENV,
     aliases,
     as_path,
@@ -40,16 +40,16 @@ from virtual_actuators.robots.catalog import (
     suggest_robots,
     urdf_in_folder,
 )
-from virtual_actuators.robots.floating_base import guess_floating_base
-from virtual_actuators.robots.millipede import millipede
-from virtual_actuators.robots.robot import Robot
-from virtual_actuators.robots.srdf import (
+from virtual_actuators.models.floating_base import guess_floating_base
+from virtual_actuators.models.millipede import millipede
+from virtual_actuators.models.robot import Robot
+from virtual_actuators.models.srdf import (
     default_pose,
     find_srdf,
     passive_joints,
     reference_configurations,
 )
-from virtual_actuators.robots.validation import listed, parse_xml, physics_problems, validate_urdf
+from virtual_actuators.models.validation import listed, parse_xml, physics_problems, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
@@ -64,11 +64,11 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             path separator, starts with ``~`` or ends in ``.urdf`` / ``.xml``; a folder works
             when it holds one URDF), or a name from :func:`list_robots` (with
             ``include_aliases=True``: common names such as ``"talos"``, ``"ur5"``, ``"hyq"``,
-            ``"g1"``, see :mod:`~virtual_actuators.robots.names`).
+            ``"g1"``, see :mod:`~virtual_actuators.models.names`).
         floating_base: True for a free-flyer root joint (``q`` starts with the base position
             and quaternion ``x y z qx qy qz qw``), False for a base welded to the world, None to
             guess: legged and flying robots float, arms and hands are fixed (see
-            :mod:`~virtual_actuators.robots.floating_base`).
+            :mod:`~virtual_actuators.models.floating_base`).
 
     Returns:
         The robot with its Pinocchio model and data, its URDF text and its SRDF poses;
@@ -85,7 +85,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             joint axis, a negative or NaN mass, a non-finite, negative or not positive
             semi-definite inertia, a limit with lower > upper, a mimic joint; the message names
             each offending link or joint, its value and what is valid; see
-            :mod:`~virtual_actuators.robots.validation` for the example-robot-data exemptions),
+            :mod:`~virtual_actuators.models.validation` for the example-robot-data exemptions),
             or Pinocchio cannot build a model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.

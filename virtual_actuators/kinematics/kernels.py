@@ -51,21 +51,6 @@ def _quaternion_rotation(x: float, y: float, z: float, w: float, out: np.ndarray
     out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
-@njit(cache=True)
-def _axis_rotation(ax: float, ay: float, az: float, c: float, s: float, out: np.ndarray) -> None:
-    """Write the rotation by angle (cos ``c``, sin ``s``) about the unit axis into ``out``."""
-    t = 1.0 - c
-    out[0, 0] = c + ax * ax * t
-    out[0, 1] = ax * ay * t - az * s
-    out[0, 2] = ax * az * t + ay * s
-    out[1, 0] = ay * ax * t + az * s
-    out[1, 1] = c + ay * ay * t
-    out[1, 2] = ay * az * t - ax * s
-    out[2, 0] = az * ax * t - ay * s
-    out[2, 1] = az * ay * t + ax * s
-    out[2, 2] = c + az * az * t
-
-
 def revolute_terms(rotation: np.ndarray, axis: np.ndarray) -> np.ndarray:
     """``P [axis]x`` (row by row) and ``P axis`` of a revolute joint: columns 15-26 of its row.
 
@@ -245,23 +230,6 @@ def forward_kinematics(
     return buffer
 
 
-def split_kinematics(
-    buffer: np.ndarray, njoints: int, nv: int, nf: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-    """Views of :func:`forward_kinematics`' buffer: joints, jacobian, frames, velocities.
-
-    ``velocities`` is None when the buffer holds none (no velocity was given).
-    """
-    at = njoints * 12
-    joints = buffer[:at].reshape(njoints, 12)
-    jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
-    at += 6 * nv
-    frames = buffer[at : at + nf * 12].reshape(nf, 12)
-    at += nf * 12
-    velocities = buffer[at:].reshape(nf, 3) if buffer.shape[0] > at else None
-    return joints, jacobian, frames, velocities
-
-
 @njit(cache=True)
 def unit_norm_error(q: np.ndarray, bounds: np.ndarray) -> float:
     """Largest ``| ||q[a:b]|| - 1 |`` over the ``(m, 2)`` slices ``bounds`` (-1: q not finite)."""
@@ -439,7 +407,6 @@ __all__ = [
     "SPHERICAL",
     "forward_kinematics",
     "point_velocity",
-    "split_kinematics",
     "relative_sensor",
     "revolute_terms",
     "rotation_log",

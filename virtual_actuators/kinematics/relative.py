@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError
 from ..vocabulary.frames import AXES, axis_rows
-from . import kernels
+from .sensor_kernels import relative_sensor
 from .snapshot import Snapshot
 from .tree import tree_of
 
@@ -241,7 +241,7 @@ class RelativeKinematics:
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
-        buffer = kernels.relative_sensor(
+        buffer = relative_sensor(
             jacobian_world,
             frames,
             snapshot.v if velocity else _NO_VELOCITY,

@@ -3,10 +3,10 @@
 :func:`load_robot` accepts a path to a URDF file or the name of a known robot. How names and paths
 are resolved is described in :mod:`~virtual_actuators.models.catalog` (``"millipede"``, the
 folders of ``VIRTUAL_ACTUATORS_ROBOTS`` and the repository's ``robots/`` folder, then
-example-robot-data); how ``floating_base=None`` is guessed in :func:`guess_floating_base`;
-where the standing poses and passive joints come
-from in :mod:`~virtual_actuators.models.srdf`; and which checks a URDF must pass before Pinocchio
-reads it (and the example-robot-data exemptions) in :mod:`~virtual_actuators.models.validation`.
+example-robot-data); how ``floating_base=None`` is guessed in :func:`guess_floating_base`; where the
+standing poses and passive joints come from in :mod:`~virtual_actuators.models.srdf`; and which
+checks a URDF must pass before Pinocchio reads it in :mod:`~virtual_actuators.models.validation` and
+:mod:`~virtual_actuators.models.physics_checks` (with the example-robot-data exemptions).
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ from virtual_actuators.models.catalog import (
     urdf_in_folder,
 )
 from virtual_actuators.models.millipede import millipede
+from virtual_actuators.models.physics_checks import physics_problems
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.models.srdf import (
     default_pose,
@@ -50,7 +51,7 @@ from virtual_actuators.models.srdf import (
     passive_joints,
     reference_configurations,
 )
-from virtual_actuators.models.validation import listed, parse_xml, physics_problems, validate_urdf
+from virtual_actuators.models.validation import listed, parse_xml, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
@@ -97,7 +98,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             joint axis, a negative or NaN mass, a non-finite, negative or not positive
             semi-definite inertia, a limit with lower > upper, a mimic joint; the message names
             each offending link or joint, its value and what is valid; see
-            :mod:`~virtual_actuators.models.validation` for the example-robot-data exemptions),
+            :mod:`~virtual_actuators.models.physics_checks` for the example-robot-data exemptions),
             or Pinocchio cannot build a model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.

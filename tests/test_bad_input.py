@@ -16,8 +16,8 @@ import pytest
 from oracles import robot
 
 import virtual_actuators as va
-from virtual_actuators.robots.millipede import MAX_LEGS, millipede_urdf
-from virtual_actuators.robots.names import closest_names, edit_distance
+from virtual_actuators.exceptions import closest_names, edit_distance
+from virtual_actuators.models.millipede import MAX_LEGS, millipede_urdf
 
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 NO_USER = "~va_no_such_user_x9"  # a home folder that no account has
@@ -128,7 +128,10 @@ def test_closest_names_skips_only_names_that_cannot_be_close() -> None:
             distance = edit_distance(wanted, key)
             contained = bool(wanted) and bool(key) and (wanted in key or key in wanted)
             if contained or distance <= max(2, max(len(wanted), len(key)) // 2):
-                ranked.append((distance, not contained, abs(len(key) - len(wanted)), candidate))
+                first = candidate.lower() != name.lower()  # equal but for case
+                ranked.append(
+                    (first, distance, not contained, abs(len(key) - len(wanted)), candidate)
+                )
         return [candidate for *_, candidate in sorted(ranked)[:5]]
 
     for name in ["sol12", "talo", "ur5", "pand", "a", "go", "x" * 40, "solo12_extra_long", "t"]:

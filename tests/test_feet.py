@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
-from virtual_actuators.robots.feet import find_feet
+from virtual_actuators.models.feet import find_feet
 
 LEGGED = {
     "solo12": ("base_link", 4, "srdf"),
@@ -58,7 +58,7 @@ def test_generated_millipede():
 
 
 def test_foot_words_in_any_naming_style():
-    from virtual_actuators.robots.feet import _is_foot
+    from virtual_actuators.models.feet import _is_foot
 
     for name in ("LeftFoot", "RAnkle", "FL_FOOT", "l_sole", "left_toe_link", "ankleRoll"):
         assert _is_foot(name), name

@@ -11,9 +11,10 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
-from virtual_actuators.robots import catalog
-from virtual_actuators.robots.directory import describe_robot, describe_robots, robot_table
-from virtual_actuators.robots.names import ALIASES, closest_names, edit_distance
+from virtual_actuators.exceptions import closest_names, edit_distance
+from virtual_actuators.models import catalog
+from virtual_actuators.models.directory import describe_robot, describe_robots, robot_table
+from virtual_actuators.models.names import ALIASES
 
 AVAILABLE = catalog.aliases()
 
@@ -172,3 +173,9 @@ def test_the_table_has_a_line_per_robot_with_its_aliases():
     assert table[2].startswith("talos_reduced") and " talos " in table[2]
     assert "humanoid (PAL Robotics TALOS)" in table[2]
     assert "franka" in table[4] and "arm (Franka Emika Panda), 9 DoF" in table[4]
+
+
+def test_a_name_equal_but_for_case_comes_first():
+    candidates = ["FR_FOOT", "FLfoot", "FL_FOOT", "HL_FOOT"]
+    assert closest_names("FL_foot", candidates)[:2] == ["FL_FOOT", "FLfoot"]
+    assert closest_names("go2", ["GO_2", "Go2"])[0] == "Go2"

@@ -18,7 +18,7 @@ from virtual_actuators.exceptions import (
     RobotNotFoundError,
     VirtualActuatorError,
 )
-from virtual_actuators.robots import (
+from virtual_actuators.models import (
     Robot,
     catalog,
     list_robots,
@@ -461,7 +461,7 @@ def test_extra_robot_folders_from_the_environment(
 def test_module_hook_in_a_robot_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "centipede").mkdir()
     (tmp_path / "centipede" / "__init__.py").write_text(
-        "from virtual_actuators.robots import millipede\n\n"
+        "from virtual_actuators.models import millipede\n\n"
         "def build_robot(floating_base=None):\n"
         "    return millipede(legs=3, floating_base=floating_base is not False)\n"
     )
@@ -589,7 +589,7 @@ def test_installed_robot_folder_is_searched() -> None:
 
 
 def test_loader_module_keeps_its_public_names() -> None:
-    """The names once defined in ``robots.loader`` still import from there (the same objects)."""
+    """The names once defined in ``models.loader`` still import from there (the same objects)."""
     assert loader.__all__ == ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
     assert loader.robots_dir is catalog.robots_dir == robots_dir
     assert loader.list_robots is catalog.list_robots is list_robots

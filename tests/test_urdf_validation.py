@@ -16,7 +16,7 @@ import pinocchio as pin
 import pytest
 
 import virtual_actuators as va
-from virtual_actuators.robots import catalog
+from virtual_actuators.models import catalog
 
 PROJECT_URDFS = sorted(catalog.robots_dir.glob("*/*.urdf"))
 

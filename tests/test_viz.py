@@ -465,7 +465,7 @@ def test_urdf_primitives_are_drawn_with_their_colours():
 
 
 def test_a_urdf_without_visuals_gets_a_skeleton(tmp_path):
-    source = (va.robots.loader.robots_dir / "spring_flamingo" / "spring_flamingo.urdf").read_text()
+    source = (va.models.loader.robots_dir / "spring_flamingo" / "spring_flamingo.urdf").read_text()
     bare = re.sub(r"<visual>.*?</visual>", "", source, flags=re.S)
     assert "<visual" not in bare
     path = tmp_path / "bare_flamingo.urdf"

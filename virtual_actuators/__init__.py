@@ -44,8 +44,8 @@ from .exceptions import (
     VirtualActuatorError,
 )
 from .kinematics.snapshot import Snapshot
-from .robots import Robot, list_robots, load_robot, millipede
-from .robots.directory import RobotInfo, describe_robots
+from .models import Robot, list_robots, load_robot, millipede
+from .models.directory import RobotInfo, describe_robots
 from .vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Linear
 from .vocabulary.frames import AXES, WORLD
 

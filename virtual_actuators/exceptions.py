@@ -7,7 +7,6 @@ would be valid.
 
 from __future__ import annotations
 
-import difflib
 import importlib
 from collections.abc import Iterable
 from types import ModuleType
@@ -109,24 +108,74 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
         ) from error
 
 
-def close_matches(name: str, candidates: Iterable[str], n: int = 5) -> list[str]:
-    """Return the candidates closest to ``name``, best first.
+def _key(name: str) -> str:
+    """A name as compared by :func:`closest_names`: lower case, without ``-`` and ``_``."""
+    return name.lower().replace("-", "").replace("_", "")
+
+
+def edit_distance(a: str, b: str) -> int:
+    """Damerau-Levenshtein distance (optimal string alignment) between two strings.
+
+    Args:
+        a: A string.
+        b: Another string.
+
+    Returns:
+        The least number of insertions, deletions, substitutions and swaps of two neighbouring
+        characters that turn ``a`` into ``b``.
+
+    """
+    previous2: list[int] = []
+    previous = list(range(len(b) + 1))
+    for i, char_a in enumerate(a, start=1):
+        current = [i] + [0] * len(b)
+        for j, char_b in enumerate(b, start=1):
+            cost = 0 if char_a == char_b else 1
+            current[j] = min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
+            if i > 1 and j > 1 and char_a == b[j - 2] and a[i - 2] == char_b:
+                current[j] = min(current[j], previous2[j - 2] + 1)
+        previous2, previous = previous, current
+    return previous[-1]
+
+
+def closest_names(name: str, candidates: Iterable[str], n: int = 5) -> list[str]:
+    """The candidates closest to ``name``, best first: the one "did you mean" of the library.
+
+    Names are compared in lower case without ``-`` and ``_``, by edit distance
+    (Damerau-Levenshtein: insertions, deletions, substitutions and swaps of two neighbouring
+    letters each cost 1), so ``"talso"`` suggests ``talos`` and ``"ur_5"`` suggests ``ur5``.
+    A candidate is close when its distance is at most half the length of the longer of the two
+    (at least 2), or when one name contains the other (``"panda"`` in ``"panda_arm"``). A
+    candidate equal to ``name`` but for case comes first (``"FL_foot"`` suggests ``FL_FOOT``
+    first); then the smallest distance; ties go to a candidate that contains ``name`` or is
+    contained in it (``"anymall"`` suggests ``anymal`` before ``anymal_c``), then to the one
+    whose length is closest, then alphabetically.
 
     Args:
         name: The name that was not found.
-        candidates: The valid names.
-        n: How many matches at most.
+        candidates: Known names.
+        n: How many names at most.
 
     Returns:
-        Up to ``n`` close matches (possibly none).
+        Up to ``n`` names (possibly none).
 
     """
-    candidates = list(candidates)
-    matches = difflib.get_close_matches(name, candidates, n=n, cutoff=0.4)
-    if len(matches) < n:
-        lowered = name.lower()
-        matches += [c for c in candidates if lowered in c.lower() and c not in matches]
-    return matches[:n]
+    lowered = name.lower()
+    wanted = _key(name)
+    ranked = []
+    for candidate in dict.fromkeys(candidates):
+        key = _key(candidate)
+        contained = bool(wanted) and bool(key) and (wanted in key or key in wanted)
+        close = max(2, max(len(wanted), len(key)) // 2)
+        if not contained and abs(len(wanted) - len(key)) > close:
+            continue  # the distance is at least the difference in length: too far, not computed
+        distance = edit_distance(wanted, key)
+        if contained or distance <= close:
+            same_but_case = candidate.lower() == lowered
+            ranked.append(
+                (not same_but_case, distance, not contained, abs(len(key) - len(wanted)), candidate)
+            )
+    return [candidate for *_, candidate in sorted(ranked)[:n]]
 
 
 def suggestion(name: str, candidates: Iterable[str], what: str) -> str:
@@ -142,7 +191,7 @@ def suggestion(name: str, candidates: Iterable[str], what: str) -> str:
 
     """
     candidates = list(candidates)
-    matches = close_matches(name, candidates)
+    matches = closest_names(name, candidates)
     if matches:
         return f"Closest {what}: " + ", ".join(repr(m) for m in matches) + "."
     shown = ", ".join(repr(c) for c in candidates[:12])

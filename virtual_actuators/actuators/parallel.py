@@ -30,7 +30,7 @@ from ..exceptions import (
 )
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from ..vocabulary.frames import (
     as_float_array,

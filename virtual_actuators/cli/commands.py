@@ -17,7 +17,7 @@ def demo_walk(args: argparse.Namespace) -> int:
     """Run one of the walks in MuJoCo, print its figures, write JSON and a plot."""
     from ..demos import WALKS, run_walk
     from ..experiments.metrics import write_json
-    from ..robots.loader import load_robot
+    from ..models.loader import load_robot
 
     walk = WALKS[args.name]
     options = walk_options(args, walk.options)
@@ -193,7 +193,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.command == "sweep":
         return sweep_command(args)
     elif args.command == "robots":
-        from ..robots.directory import describe_robots, robot_table
+        from ..models.directory import describe_robots, robot_table
 
         print(robot_table(describe_robots()))
     return 0

@@ -1,6 +1,6 @@
 """``demo stand``: any legged robot standing, its body actuator and force distribution.
 
-The feet come from the robot's SRDF or frame names (:func:`~virtual_actuators.robots.feet.
+The feet come from the robot's SRDF or frame names (:func:`~virtual_actuators.models.feet.
 find_feet`), or from ``--feet``. Three or more feet are point contacts; two feet (a biped) are
 flat contacts, so that the body's moments have somewhere to go.
 """
@@ -33,7 +33,7 @@ def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
             given in ``feet`` is not in the model.
     """
     import virtual_actuators as va
-    from virtual_actuators.robots.feet import body_frame, find_feet
+    from virtual_actuators.models.feet import body_frame, find_feet
     from virtual_actuators.vocabulary.frames import resolve_frame
 
     robot = va.load_robot(name)

@@ -194,7 +194,7 @@ def robot_name(text: str) -> str:
     Raises:
         argparse.ArgumentTypeError: An empty name, or otherwise (with the closest names).
     """
-    from ..robots.catalog import list_robots, shown_name, suggest_robots
+    from ..models.catalog import list_robots, shown_name, suggest_robots
 
     if not text.strip():
         raise argparse.ArgumentTypeError(

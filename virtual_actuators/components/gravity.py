@@ -22,7 +22,7 @@ import pinocchio as pin
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot, thread_data
 from ..kinematics.tree import tree_of
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import check_names, check_robot, resolve_frame, resolve_joint
 
 

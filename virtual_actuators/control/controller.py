@@ -30,7 +30,7 @@ from ..exceptions import (
 )
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import tree_of
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import (
     WORLD,
     as_float_array,

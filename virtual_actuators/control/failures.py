@@ -33,7 +33,7 @@ from ..exceptions import (
     VirtualActuatorError,
 )
 from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import sums_finite
 from .attachment import Attachment
 

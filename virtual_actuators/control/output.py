@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..distribution.solution import Solution
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from .failures import AttachmentFailure
 
 

@@ -48,7 +48,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..kinematics.tree import tree_of
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import check_flag, check_number, check_robot, describe
 from .safe_action import (
     DEFAULT_DAMPING,

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import as_float_array, check_number, describe, sums_finite
 from .failures import urdf_effort_limits
 

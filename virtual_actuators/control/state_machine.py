@@ -18,7 +18,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
 from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import (
     check_name,
     check_names,

@@ -70,7 +70,7 @@ class CompiledDistribution:
         self.partitioner = partitioner
         kin = problem.kinematics
         self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
-        self.frame_rows = np.array([kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64)
+        self.frame_rows = kin.frame_rows
         self._max_row = int(self.frame_rows.max())
         self._shape = (problem.p, len(self.axis_rows))
         self.springs = spring_table(problem)

@@ -95,7 +95,7 @@ class CompiledQPMatrices:
             and not len(problem.torque_pairs)
         )
         self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
-        self.frame_rows = np.array([kin._row_b, kin._row_o, *kin._rows_a.tolist()], dtype=np.int64)
+        self.frame_rows = kin.frame_rows
         self._max_row = int(self.frame_rows.max())
         width_k = max(len(c) for c in kin.chain_columns)
         width_c = max(g.constrained.shape[1] for g in problem.groups)

@@ -60,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-from virtual_actuators.exceptions import InvalidInputError, close_matches
+from virtual_actuators.exceptions import InvalidInputError, closest_names
 
 __all__ = [
     "STANDARD_CHANNELS",
@@ -115,7 +115,7 @@ _META_ARRAY_PREFIX = "meta_array__"
 def unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInputError:
     """Build the error for a name that is not one of ``valid`` (names it, lists the valid ones)."""
     listed = ", ".join(repr(v) for v in valid)
-    hint = close_matches(str(name), valid, n=3)
+    hint = closest_names(str(name), valid, n=3)
     did_you_mean = f" Did you mean {', '.join(repr(h) for h in hint)}?" if hint else ""
     return InvalidInputError(f"Unknown {what} {name!r}; valid {what}s: {listed}.{did_you_mean}")
 

@@ -21,7 +21,7 @@ from ..control.controller import Controller, ControlOutput
 from ..control.state_machine import Context, Event, StateMachine
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
-from ..robots.robot import Robot
+from ..models.robot import Robot
 
 
 class Gait:

@@ -13,7 +13,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import resolve_frame, resolve_joint
 
 SIDES = ("left", "right")

@@ -25,7 +25,7 @@ from ..experiments.metrics import compute_metrics
 from ..experiments.progress import Progress
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import STANDARD_CHANNELS
-from ..robots.loader import load_robot
+from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, check_distribution

@@ -51,21 +51,6 @@ def _quaternion_rotation(x: float, y: float, z: float, w: float, out: np.ndarray
     out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
-@njit(cache=True)
-def _axis_rotation(ax: float, ay: float, az: float, c: float, s: float, out: np.ndarray) -> None:
-    """Write the rotation by angle (cos ``c``, sin ``s``) about the unit axis into ``out``."""
-    t = 1.0 - c
-    out[0, 0] = c + ax * ax * t
-    out[0, 1] = ax * ay * t - az * s
-    out[0, 2] = ax * az * t + ay * s
-    out[1, 0] = ay * ax * t + az * s
-    out[1, 1] = c + ay * ay * t
-    out[1, 2] = ay * az * t - ax * s
-    out[2, 0] = az * ax * t - ay * s
-    out[2, 1] = az * ay * t + ax * s
-    out[2, 2] = c + az * az * t
-
-
 def revolute_terms(rotation: np.ndarray, axis: np.ndarray) -> np.ndarray:
     """``P [axis]x`` (row by row) and ``P axis`` of a revolute joint: columns 15-26 of its row.
 
@@ -245,23 +230,6 @@ def forward_kinematics(
     return buffer
 
 
-def split_kinematics(
-    buffer: np.ndarray, njoints: int, nv: int, nf: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-    """Views of :func:`forward_kinematics`' buffer: joints, jacobian, frames, velocities.
-
-    ``velocities`` is None when the buffer holds none (no velocity was given).
-    """
-    at = njoints * 12
-    joints = buffer[:at].reshape(njoints, 12)
-    jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
-    at += 6 * nv
-    frames = buffer[at : at + nf * 12].reshape(nf, 12)
-    at += nf * 12
-    velocities = buffer[at:].reshape(nf, 3) if buffer.shape[0] > at else None
-    return joints, jacobian, frames, velocities
-
-
 @njit(cache=True)
 def unit_norm_error(q: np.ndarray, bounds: np.ndarray) -> float:
     """Largest ``| ||q[a:b]|| - 1 |`` over the ``(m, 2)`` slices ``bounds`` (-1: q not finite)."""
@@ -275,51 +243,6 @@ def unit_norm_error(q: np.ndarray, bounds: np.ndarray) -> float:
             acc += q[i] * q[i]
         worst = max(worst, abs(np.sqrt(acc) - 1.0))
     return worst
-
-
-@njit(cache=True)
-def rotation_log(rotation: np.ndarray) -> np.ndarray:
-    """Rotation vector ``log(R)`` of a 3x3 rotation matrix [rad] (angle in ``[0, pi]``).
-
-    Near ``pi`` the axis comes from the symmetric part (the skew part vanishes there), its sign
-    from the skew part; near 0 a series keeps full precision.
-    """
-    trace = rotation[0, 0] + rotation[1, 1] + rotation[2, 2]
-    cosine = min(max(0.5 * (trace - 1.0), -1.0), 1.0)
-    theta = np.arccos(cosine)
-    skew = np.empty(3)  # vee(R - R^T) = 2 sin(theta) axis
-    skew[0] = rotation[2, 1] - rotation[1, 2]
-    skew[1] = rotation[0, 2] - rotation[2, 0]
-    skew[2] = rotation[1, 0] - rotation[0, 1]
-    out = np.empty(3)
-    if theta < 1e-4:
-        factor = 0.5 * (1.0 + theta * theta / 6.0)  # theta / (2 sin theta)
-        for i in range(3):
-            out[i] = factor * skew[i]
-        return out
-    if np.pi - theta > 1e-3:
-        factor = 0.5 * theta / np.sin(theta)
-        for i in range(3):
-            out[i] = factor * skew[i]
-        return out
-    # near pi: (R + R^T) / 2 - cos I = (1 - cos) a a^T; take the largest diagonal entry
-    k = 0
-    for i in range(1, 3):
-        if rotation[i, i] > rotation[k, k]:
-            k = i
-    scale = 1.0 - cosine
-    a_k = np.sqrt(max(rotation[k, k] - cosine, 0.0) / scale)
-    dot = 0.0
-    for i in range(3):
-        if i == k:
-            out[i] = a_k
-        else:
-            out[i] = 0.5 * (rotation[k, i] + rotation[i, k]) / (scale * a_k)
-        dot += out[i] * skew[i]
-    sign = -1.0 if dot < 0.0 else 1.0
-    for i in range(3):
-        out[i] *= sign * theta
-    return out
 
 
 @njit(cache=True)
@@ -344,92 +267,6 @@ def point_velocity(
     return vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x
 
 
-@njit(cache=True)
-def relative_sensor(
-    jacobian_world: np.ndarray,
-    frames: np.ndarray,
-    v: np.ndarray,
-    axis_rows: np.ndarray,
-    rows: np.ndarray,
-    columns: np.ndarray,
-    signs: np.ndarray,
-) -> np.ndarray:
-    """A serial actuator's Jacobian, position and velocity of {B} relative to {A} in {O}.
-
-    Args:
-        jacobian_world: ``(6, nv)`` world joint Jacobian.
-        frames: ``(nf, 12)`` frame placements.
-        v: ``(nv,)`` velocity (empty: no velocity).
-        axis_rows: ``(n,)`` rows of the selected axes among ``x y z rx ry rz``.
-        rows: ``(3,)`` rows of {B}, {O} and {A} in ``frames``.
-        columns: velocity indices of the chain between {A} and {B}.
-        signs: their +1 / -1.
-
-    Returns:
-        One buffer holding ``jacobian (n, nv)``, ``position (n,)`` and ``velocity (n,)`` (zero
-        without ``v``), in that order: the position's translations are ``R_O^T (p_B - p_A)``,
-        its rotations ``R_O^T R_A log(R_A^T R_B)``, on the selected axes.
-
-    """
-    b, o, a = rows[0], rows[1], rows[2]
-    n = axis_rows.shape[0]
-    nv = jacobian_world.shape[1]
-    x, y, z = frames[b, 9], frames[b, 10], frames[b, 11]
-    transform = np.zeros((6, 6))
-    for r in range(3):
-        for c in range(3):
-            value = frames[o, 3 * c + r]  # R_O^T
-            transform[r, c] = value
-            transform[3 + r, 3 + c] = value
-    # linear part at {B}'s origin: R_O^T (v - skew(p_B) w)
-    for r in range(3):
-        t0, t1, t2 = transform[r, 0], transform[r, 1], transform[r, 2]
-        transform[r, 3] = t2 * y - t1 * z
-        transform[r, 4] = t0 * z - t2 * x
-        transform[r, 5] = t1 * x - t0 * y
-    # one buffer for the three results (one array to hand back: a cheaper call)
-    buffer = np.zeros(n * nv + 2 * n)
-    jacobian = buffer[: n * nv].reshape(n, nv)
-    position = buffer[n * nv : n * nv + n]
-    velocity = buffer[n * nv + n :]
-    for j in range(columns.shape[0]):
-        col = columns[j]
-        for i in range(n):
-            acc = 0.0
-            for k in range(6):
-                acc += transform[axis_rows[i], k] * jacobian_world[k, col]
-            acc *= signs[j]
-            jacobian[i, col] = acc
-            if v.shape[0]:
-                velocity[i] += acc * v[col]
-    pose = np.zeros(6)
-    for r in range(3):
-        acc = 0.0
-        for k in range(3):
-            acc += frames[o, 3 * k + r] * (frames[b, 9 + k] - frames[a, 9 + k])
-        pose[r] = acc
-    if axis_rows[n - 1] >= 3:  # a rotation axis: log of R_A^T R_B, expressed in {O}
-        relative = np.zeros((3, 3))
-        for r in range(3):
-            for c in range(3):
-                acc = 0.0
-                for k in range(3):
-                    acc += frames[a, 3 * k + r] * frames[b, 3 * k + c]
-                relative[r, c] = acc
-        log_a = rotation_log(relative)  # in {A}
-        for r in range(3):
-            acc = 0.0
-            for k in range(3):
-                in_world = 0.0
-                for m in range(3):
-                    in_world += frames[a, 3 * k + m] * log_a[m]  # (R_A log)_k
-                acc += frames[o, 3 * k + r] * in_world
-            pose[3 + r] = acc
-    for i in range(n):
-        position[i] = pose[axis_rows[i]]
-    return buffer
-
-
 __all__ = [
     "FREE_FLYER",
     "HAVE_NUMBA",
@@ -439,9 +276,6 @@ __all__ = [
     "SPHERICAL",
     "forward_kinematics",
     "point_velocity",
-    "split_kinematics",
-    "relative_sensor",
     "revolute_terms",
-    "rotation_log",
     "unit_norm_error",
 ]

@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError
 from ..vocabulary.frames import AXES, axis_rows
-from . import kernels
+from .sensor_kernels import relative_sensor
 from .snapshot import Snapshot
 from .tree import tree_of
 
@@ -100,6 +100,8 @@ class RelativeKinematics:
         self._row_b = frame_rows[self.action_id]
         self._row_o = frame_rows[self.reference_id]
         self._rows_a = np.array([frame_rows[int(r)] for r in self.reaction_ids], dtype=int)
+        #: Rows of {B}, {O}, then every {A_i} in the snapshot's frame table (compiled readers).
+        self.frame_rows = np.array([self._row_b, self._row_o, *self._rows_a.tolist()], np.int64)
         self._axis_rows = np.asarray(self.rows, dtype=np.int64)
         #: Rows of {O} then of every {A_i} in the snapshot's frame table (compiled readers).
         self.orientation_rows = np.array([self._row_o, *self._rows_a.tolist()], dtype=np.int64)
@@ -234,15 +236,12 @@ class RelativeKinematics:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
 
         """
-        if state.__class__ is Snapshot and state.tree is self.tree and (state.v is not None):
-            snapshot = state  # the tick's snapshot of this robot, with a velocity
-        else:
-            snapshot = self.snapshot(state, need_velocity=velocity)
+        snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
-        buffer = kernels.relative_sensor(
+        buffer = relative_sensor(
             jacobian_world,
             frames,
             snapshot.v if velocity else _NO_VELOCITY,

@@ -119,16 +119,13 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            (
-                self._joints,
-                self._jacobian,
-                self._frames,
-                self._frame_velocities,
-                self._rows,
-            ) = self.tree.compute(self.q, self.v)
+            kinematics = self.tree.compute(self.q, self.v)
+            self._joints, self._jacobian = kinematics.joints, kinematics.jacobian
+            self._frames, self._rows = kinematics.frames, kinematics.rows
+            self._frame_velocities = kinematics.velocities
             return
         model = self.tree.model
-        data = thread_data(model)
+        data = self.tree.thread_data()
         pin.computeJointJacobians(model, data, self.q)
         pin.updateFramePlacements(model, data)
         self._jacobian = data.J.copy()
@@ -186,9 +183,6 @@ class Snapshot:
         return cached
 
     def _frame_id(self, frame: int | str) -> int:
-        if frame.__class__ is str:  # names resolved before: one dict read
-            frame_id = self.tree._names.get(frame)
-            return self.tree.frame_id(frame) if frame_id is None else frame_id
         if isinstance(frame, str):
             return self.tree.frame_id(frame)
         model = self.tree.model

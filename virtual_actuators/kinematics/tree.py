@@ -12,12 +12,13 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Iterable
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import as_float_array, resolve_frame, sums_finite
+from ..vocabulary.frames import as_float_array, resolve_frame
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 
@@ -39,6 +40,27 @@ _KINDS = {
     "JointModelFreeFlyer": FREE_FLYER,
     "JointModelSpherical": SPHERICAL,
 }
+
+
+class Kinematics(NamedTuple):
+    """What one pass of the compiled kernel computes (views of one buffer: do not modify).
+
+    Attributes:
+        joints: ``(njoints, 12)`` joint placements in the world (rotation row by row, then
+            position).
+        jacobian: ``(6, nv)`` world joint Jacobian (Pinocchio's ``data.J``).
+        frames: ``(rows, 12)`` placements of the frames computed at every tick.
+        velocities: ``(rows, 3)`` linear velocities of those frames' origins, or None without
+            ``v``.
+        rows: Frame id -> row of ``frames``.
+
+    """
+
+    joints: np.ndarray
+    jacobian: np.ndarray
+    frames: np.ndarray
+    velocities: np.ndarray | None
+    rows: dict[int, int]
 
 
 def _placement_row(placement: pin.SE3) -> np.ndarray:
@@ -106,6 +128,7 @@ class KinematicTree:
             np.arange(len(unit_slices)), [b - a for a, b in unit_slices]
         ).astype(int)
         self._lock = threading.Lock()
+        self._local = threading.local()  # one pinocchio.Data per thread (the Pinocchio backend)
         #: frame id -> row in the kernel's frame output; replaced (never mutated) on growth
         self._frames: tuple[dict[int, int], np.ndarray, np.ndarray] = (
             {},
@@ -175,13 +198,12 @@ class KinematicTree:
         return columns
 
     # -- kernel ----------------------------------------------------------------------------
-    def compute(self, q: np.ndarray, v: np.ndarray | None = None) -> tuple:
+    def compute(self, q: np.ndarray, v: np.ndarray | None = None) -> Kinematics:
         """Run the compiled kernel at ``q`` (and ``v``), both already checked.
 
         Returns:
-            ``(joints, jacobian, frames, velocities, rows)``: see
-            :func:`~virtual_actuators.kinematics.kernels.forward_kinematics` (``velocities``
-            None without ``v``); ``rows`` maps a frame id to its row of ``frames``.
+            The :class:`Kinematics` (see
+            :func:`~virtual_actuators.kinematics.kernels.forward_kinematics`).
 
         """
         rows, parents, floats = self._frames
@@ -195,7 +217,22 @@ class KinematicTree:
             parents,
             floats,
         )
-        return (*kernels.split_kinematics(buffer, self.njoints, self.nv, len(rows)), rows)
+        nv, nf = self.nv, len(rows)
+        at = self.njoints * 12
+        joints = buffer[:at].reshape(self.njoints, 12)
+        jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
+        at += 6 * nv
+        frames = buffer[at : at + nf * 12].reshape(nf, 12)
+        at += nf * 12
+        velocities = buffer[at:].reshape(nf, 3) if buffer.shape[0] > at else None
+        return Kinematics(joints, jacobian, frames, velocities, rows)
+
+    def thread_data(self) -> pin.Data:
+        """The ``pinocchio.Data`` of this tree's model for the calling thread (made once)."""
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = pin.Data(self.model)
+        return data
 
     # -- argument checks -------------------------------------------------------------------
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
@@ -219,13 +256,11 @@ class KinematicTree:
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
                 f"({self.nq},) (model.nq)."
             )
-        if not self.unit_slices and sums_finite(q):  # no unit norms: one sum suffices
-            return q
         if kernels.HAVE_NUMBA:  # finiteness and unit norms in one compiled pass
             error = kernels.unit_norm_error(q, self._unit_bounds)
-            if error <= 1e-12 and error >= 0.0:
+            if 0.0 <= error <= 1e-12:
                 return q
-        if not sums_finite(q) and not np.isfinite(q).all():  # one fast check first
+        if not np.isfinite(q).all():
             bad = np.flatnonzero(~np.isfinite(q)).tolist()
             raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
         if self.unit_slices:
@@ -264,7 +299,7 @@ class KinematicTree:
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
                 "(model.nv)."
             )
-        if not sums_finite(v) and not np.isfinite(v).all():
+        if not np.isfinite(v).all():
             raise InvalidInputError("Velocity v has NaN or inf entries.")
         return v
 
@@ -280,19 +315,24 @@ _TREES_LOCK = threading.Lock()
 
 
 def tree_of(robot: object) -> KinematicTree:
-    """Return the :class:`KinematicTree` of a robot, built on first use and kept on it."""
-    tree = getattr(robot, "_kinematic_tree", None)
+    """Return the :class:`KinematicTree` of a robot, built on first use and kept in its caches.
+
+    Raises:
+        InvalidInputError: ``robot`` is not a :class:`~virtual_actuators.Robot`.
+
+    """
+    caches = getattr(robot, "caches", None)
+    if not isinstance(caches, dict) or not isinstance(getattr(robot, "model", None), pin.Model):
+        raise InvalidInputError(
+            f"robot must be a va.Robot (from va.load_robot), got {type(robot).__name__}."
+        )
+    tree = caches.get("kinematic_tree")
     if tree is None:
-        if not isinstance(getattr(robot, "model", None), pin.Model):
-            raise InvalidInputError(
-                f"robot must be a va.Robot (from va.load_robot), got {type(robot).__name__}."
-            )
         with _TREES_LOCK:
-            tree = getattr(robot, "_kinematic_tree", None)
+            tree = caches.get("kinematic_tree")
             if tree is None:
-                tree = KinematicTree(robot.model)
-                object.__setattr__(robot, "_kinematic_tree", tree)
+                tree = caches["kinematic_tree"] = KinematicTree(robot.model)
     return tree
 
 
-__all__ = ["KinematicTree", "tree_of"]
+__all__ = ["KinematicTree", "Kinematics", "tree_of"]

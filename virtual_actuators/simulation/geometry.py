@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from virtual_actuators.exceptions import RobotDescriptionError
-from virtual_actuators.robots.robot import Robot
+from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.contact import (
     ROBOT_BITS,
     ROBOT_SELF_BITS,

@@ -22,7 +22,7 @@ from virtual_actuators.exceptions import (
     RobotDescriptionError,
     suggestion,
 )
-from virtual_actuators.robots.robot import Robot
+from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.geometry import quat_wxyz
 
 __all__ = [

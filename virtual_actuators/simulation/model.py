@@ -55,7 +55,7 @@ from virtual_actuators.exceptions import (
     RobotDescriptionError,
     suggestion,
 )
-from virtual_actuators.robots.robot import Robot
+from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.contact import ContactParameters
 from virtual_actuators.simulation.geometry import (
     COLLISION_CHOICES,

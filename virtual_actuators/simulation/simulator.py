@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.robots.robot import Robot
+from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,

@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError, RobotDescriptionError
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from .colors import desaturate
 from .geometry import Cone, Placed, material, span_matrix, to_hex, translation, y_to_z
 

@@ -19,7 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from ..vocabulary.frames import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .geometry import (

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from ..control import Controller, ControlOutput
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from .pacing import FramePacer
 from .snapshot import FrameSnapshot
 

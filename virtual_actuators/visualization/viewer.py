@@ -22,7 +22,7 @@ import numpy as np
 from ..control import Controller, ControlOutput, State
 from ..distribution.solution import Solution
 from ..exceptions import InvalidInputError
-from ..robots.robot import Robot
+from ..models.robot import Robot
 from .bodies import RobotBodies, typical_link_length
 from .framing import framing_commands
 from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...robots.robot import Robot
+from ...models.robot import Robot
 from ..base import Gait, Walk
 from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
 from .parameters import FlamingoParameters

@@ -35,7 +35,7 @@ from ...actuators import ParallelVirtualActuator, VirtualActuator
 from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ...control import events
 from ...control.state_machine import Context, State, StateMachine, Transition
-from ...robots.robot import Robot
+from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ..base import Gait, check_distribution
 from ..planar import (

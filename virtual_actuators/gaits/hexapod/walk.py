@@ -34,9 +34,9 @@ from ...experiments.contact_stats import StanceForces
 from ...experiments.progress import Progress
 from ...experiments.recorder import Recorder
 from ...experiments.walk_log import WalkLog
-from ...robots.catalog import robots_dir
-from ...robots.loader import load_robot
-from ...robots.robot import Robot
+from ...models.catalog import robots_dir
+from ...models.loader import load_robot
+from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution

@@ -65,7 +65,7 @@ from ...control import events
 from ...control.state_machine import Context, State, StateMachine, Transition
 from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
-from ...robots.robot import Robot
+from ...models.robot import Robot
 from ..base import Gait
 from ..planar import lift_profile, smoothstep
 from .body import (

@@ -1,12 +1,12 @@
 """Load robots by name or from any URDF file, with Pinocchio.
 
 :func:`load_robot` accepts a path to a URDF file or the name of a known robot. How names and paths
-are resolved is described in :mod:`~virtual_actuators.robots.catalog` (``"millipede"``, the
+are resolved is described in :mod:`~virtual_actuators.models.catalog` (``"millipede"``, the
 folders of ``VIRTUAL_ACTUATORS_ROBOTS`` and the repository's ``robots/`` folder, then
-example-robot-data); how ``floating_base=None`` is guessed in
-:mod:`~virtual_actuators.robots.floating_base`; where the standing poses and passive joints come
-from in :mod:`~virtual_actuators.robots.srdf`; and which checks a URDF must pass before Pinocchio
-reads it (and the example-robot-data exemptions) in :mod:`~virtual_actuators.robots.validation`.
+example-robot-data); how ``floating_base=None`` is guessed in :func:`guess_floating_base`; where the
+standing poses and passive joints come from in :mod:`~virtual_actuators.models.srdf`; and which
+checks a URDF must pass before Pinocchio reads it in :mod:`~virtual_actuators.models.validation` and
+:mod:`~virtual_actuators.models.physics_checks` (with the example-robot-data exemptions).
 """
 
 from __future__ import annotations
@@ -14,7 +14,9 @@ from __future__ import annotations
 import importlib.util
 import logging
 import os
+import re
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pinocchio as pin
@@ -25,7 +27,7 @@ from virtual_actuators.exceptions import (
     RobotNotFoundError,
     VirtualActuatorError,
 )
-from virtual_actuators.robots.catalog import (
+from virtual_actuators.models.catalog import (
     ROBOTS_PATH_ENV,
     aliases,
     as_path,
@@ -40,20 +42,31 @@ from virtual_actuators.robots.catalog import (
     suggest_robots,
     urdf_in_folder,
 )
-from virtual_actuators.robots.floating_base import guess_floating_base
-from virtual_actuators.robots.millipede import millipede
-from virtual_actuators.robots.robot import Robot
-from virtual_actuators.robots.srdf import (
+from virtual_actuators.models.millipede import millipede
+from virtual_actuators.models.physics_checks import physics_problems
+from virtual_actuators.models.robot import Robot
+from virtual_actuators.models.srdf import (
     default_pose,
     find_srdf,
     passive_joints,
     reference_configurations,
 )
-from virtual_actuators.robots.validation import listed, parse_xml, physics_problems, validate_urdf
+from virtual_actuators.models.validation import listed, parse_xml, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
 _logger = logging.getLogger(__name__)
+
+# The words that make guess_floating_base float a robot's base.
+_LEG_WORDS = frozenset(
+    "foot feet sole soles toe toes ankle ankles leg legs knee knees hip hips thigh thighs "
+    "shin shins shank shanks calf calves".split()
+)
+_FLYING_WORDS = frozenset(
+    "flying quadrotor quadcopter multirotor hexarotor hexacopter octocopter drone uav "
+    "rotor rotors propeller propellers".split()
+)
+_WORD = re.compile(r"[A-Z]+(?=[A-Z][a-z])|[A-Z]?[a-z]+|[A-Z]+")
 
 
 def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None = None) -> Robot:
@@ -64,11 +77,11 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             path separator, starts with ``~`` or ends in ``.urdf`` / ``.xml``; a folder works
             when it holds one URDF), or a name from :func:`list_robots` (with
             ``include_aliases=True``: common names such as ``"talos"``, ``"ur5"``, ``"hyq"``,
-            ``"g1"``, see :mod:`~virtual_actuators.robots.names`).
+            ``"g1"``, see :mod:`~virtual_actuators.models.names`).
         floating_base: True for a free-flyer root joint (``q`` starts with the base position
             and quaternion ``x y z qx qy qz qw``), False for a base welded to the world, None to
             guess: legged and flying robots float, arms and hands are fixed (see
-            :mod:`~virtual_actuators.robots.floating_base`).
+            :func:`guess_floating_base`).
 
     Returns:
         The robot with its Pinocchio model and data, its URDF text and its SRDF poses;
@@ -85,7 +98,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             joint axis, a negative or NaN mass, a non-finite, negative or not positive
             semi-definite inertia, a limit with lower > upper, a mimic joint; the message names
             each offending link or joint, its value and what is valid; see
-            :mod:`~virtual_actuators.robots.validation` for the example-robot-data exemptions),
+            :mod:`~virtual_actuators.models.physics_checks` for the example-robot-data exemptions),
             or Pinocchio cannot build a model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.
@@ -243,3 +256,33 @@ def _load_module_robot(name: str, init: Path, floating_base: bool | None) -> Rob
             f"{init}: build_robot() returned {type(robot).__name__}, not a Robot."
         )
     return robot
+
+
+def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
+    """Guess whether a URDF describes a legged or flying robot (``floating_base=None``).
+
+    The base floats (a free-flyer root joint) when a link or joint name, the robot's name or the
+    file stem contains a leg word (foot, feet, sole, toe, ankle, leg, knee, hip, thigh, shin,
+    shank, calf) or a flying word (flying, quadrotor, quadcopter, multirotor, hexarotor,
+    hexacopter, octocopter, drone, uav, rotor, propeller), and is fixed otherwise (arms, hands,
+    grippers, pendulums, wheeled bases). Names are split into words at ``_``, digits and
+    camel-case humps, so ``base_footprint`` or ``allegro`` do not count. A URDF whose root link
+    is ``world`` is always fixed. Pass ``floating_base`` explicitly to override the guess.
+
+    Args:
+        root: The ``<robot>`` element of the URDF.
+        stem: The URDF file stem, whose words count as well.
+
+    Returns:
+        True for a floating base, False for a fixed one.
+
+    """
+    links = [link.get("name", "") for link in root.iter("link")]
+    joints = root.findall("joint")
+    children = {child.get("link") for joint in joints for child in joint.iter("child")}
+    roots = [link for link in links if link not in children]
+    if roots == ["world"]:
+        return False
+    names = [*links, *(joint.get("name", "") for joint in joints), root.get("name", ""), stem]
+    words = {word.lower() for name in names for word in _WORD.findall(name)}
+    return bool(words & (_LEG_WORDS | _FLYING_WORDS))

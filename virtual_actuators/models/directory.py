@@ -1,6 +1,6 @@
 """The robots that load by name, described: kind, degrees of freedom, legs and feet, aliases.
 
-:func:`describe_robots` loads each robot of :func:`~virtual_actuators.robots.catalog.list_robots`
+:func:`describe_robots` loads each robot of :func:`~virtual_actuators.models.catalog.list_robots`
 and returns one :class:`RobotInfo` per robot; :func:`robot_table` formats them as the table of
 ``python -m virtual_actuators robots``. The kind of an example-robot-data robot comes from the
 description folder it ships in (:data:`KINDS`: ``go2_description`` holds a quadruped); the kind
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import pinocchio as pin
 
-from virtual_actuators.robots.catalog import aliases, example_robot_data, list_robots
-from virtual_actuators.robots.loader import load_robot
-from virtual_actuators.robots.robot import Robot
+from virtual_actuators.models.catalog import aliases, example_robot_data, list_robots
+from virtual_actuators.models.loader import load_robot
+from virtual_actuators.models.robot import Robot
 
 __all__ = ["KINDS", "RobotInfo", "describe_robot", "describe_robots", "find_feet", "robot_table"]
 
@@ -84,7 +84,7 @@ class RobotInfo:
 
     Attributes:
         name: The name :func:`~virtual_actuators.load_robot` takes.
-        aliases: Its common names (:data:`~virtual_actuators.robots.names.ALIASES`).
+        aliases: Its common names (:data:`~virtual_actuators.models.names.ALIASES`).
         kind: ``quadruped``, ``biped``, ``humanoid``, ``arm``, ``hand``, ``aerial``...
         maker: Maker and model, when known (example-robot-data robots), else ``""``.
         dof: Actuated degrees of freedom.
@@ -150,7 +150,7 @@ def describe_robot(name: str) -> RobotInfo:
     """Load robot ``name`` and describe it.
 
     Args:
-        name: A name of :func:`~virtual_actuators.robots.catalog.list_robots` or an alias.
+        name: A name of :func:`~virtual_actuators.models.catalog.list_robots` or an alias.
 
     Returns:
         Its description.
@@ -204,7 +204,7 @@ def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:
 
     Args:
         names: Names to describe (default: every name of
-            :func:`~virtual_actuators.robots.catalog.list_robots`, aliases listed with their
+            :func:`~virtual_actuators.models.catalog.list_robots`, aliases listed with their
             robot rather than on their own).
 
     Returns:

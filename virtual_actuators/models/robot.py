@@ -31,6 +31,8 @@ class Robot:
         default_pose: Key of ``reference_configurations`` that :meth:`neutral` returns, or None.
         passive_joints: Names of the joints that no actuator drives (the SRDF's
             ``passive_joint`` entries, e.g. the boom of a planar biped); empty by default.
+        caches: What the library computes once per robot and keeps (its kinematic tree);
+            not an argument, not compared, not shown.
 
     """
 
@@ -44,6 +46,7 @@ class Robot:
     reference_configurations: dict[str, np.ndarray] = field(default_factory=dict)
     default_pose: str | None = None
     passive_joints: tuple[str, ...] = ()
+    caches: dict[str, object] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def neutral(self) -> np.ndarray:
         """Return a standing / home configuration if the robot has one, else Pinocchio's neutral.

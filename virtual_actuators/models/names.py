@@ -1,0 +1,74 @@
+"""Common names of the example-robot-data robots, and suggestions for a name that is not known.
+
+:func:`~virtual_actuators.models.loader.load_robot` finds a robot by the stem of its URDF file
+(``talos_reduced``, ``ur5_robot``, ``hyq_no_sensors``...) and also by the common names of
+:data:`ALIASES` (``talos``, ``ur5``, ``hyq``...). Each alias names one file stem; where a robot
+ships in several variants the alias picks the one example-robot-data's own Python loader picks
+(``example_robot_data.load("talos")``), so a model loaded here matches the one other
+Pinocchio tools load by the same name:
+
+- ``talos`` is ``talos_reduced`` (the legs, torso and arms with their grippers, 32 actuated
+  joints: the model used for whole-body control); ``talos_full`` is ``talos_full_v2`` (also
+  the head and the fingers, 44);
+- ``ur3``, ``ur5``, ``ur10`` are the arms without a gripper and with their full joint range
+  (``*_robot``); ``*_limited`` the joint-limited variants;
+- ``g1`` is the Unitree G1 with 29 degrees of freedom and no hands (``g1_with_hand`` with
+  them); ``hyq`` is ``hyq_no_sensors``; ``solo8`` is ``solo``.
+
+A file stem is never shadowed by an alias (``iris`` is ``iris.urdf``, not ``iris_simple``), and a
+robot of a local folder (see :mod:`~virtual_actuators.models.catalog`) named like an alias wins
+over the alias.
+
+:func:`~virtual_actuators.exceptions.closest_names` ranks known names and aliases by edit
+distance (case, ``-`` and ``_`` ignored), so ``"talso"`` suggests ``talos`` and ``"ur_5"``
+suggests ``ur5``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+
+__all__ = ["ALIASES"]
+
+#: Common name -> example-robot-data file stem (see the module documentation for the choices).
+ALIASES: Mapping[str, str] = MappingProxyType(
+    {
+        # PAL Robotics TALOS (example_robot_data.load names)
+        "talos": "talos_reduced",
+        "talos_box": "talos_reduced_box",
+        "talos_full": "talos_full_v2",
+        "talos_full_box": "talos_full_v2_box",
+        "talos_arm": "talos_left_arm",
+        # Universal Robots arms
+        "ur3_limited": "ur3_joint_limited_robot",
+        "ur5": "ur5_robot",
+        "ur5_limited": "ur5_joint_limited_robot",
+        "ur10": "ur10_robot",
+        "ur10_limited": "ur10_joint_limited_robot",
+        # legged robots
+        "hyq": "hyq_no_sensors",
+        "solo8": "solo",
+        "anymal_b": "anymal",
+        "anymal_kinova": "anymal-kinova",
+        "b1_z1": "b1-z1",
+        "g1": "g1_29dof_rev_1_0",
+        "g1_with_hand": "g1_29dof_with_hand_rev_1_0",
+        "alexander": "alexander_v1.lowerBodyOnly",
+        "alex": "alex_nub_hands",
+        # arms and hands
+        "franka": "panda",
+        "franka_panda": "panda",
+        "xarm": "xarm7",
+        "so_arm_100": "so100",
+        "so_arm_101": "so101",
+        "allegro": "allegro_right_hand",
+        "allegro_hand": "allegro_right_hand",
+        "asr_twodof": "TwoDofs",
+        # flying robots
+        "hector": "quadrotor_base",
+        "quadrotor": "quadrotor_base",
+        "borinot": "borinot_flying_arm_2",
+        "hextilt": "hextilt_flying_arm_5",
+    }
+)

@@ -15,7 +15,8 @@ interleaved, in blocks, over the same round-robin set of configurations):
    each, 4 GiB address-space limit, peak RSS from ``VmHWM``.
 5. UR5 Cartesian spring-damper through ``va.Controller.compute`` vs raw Pinocchio and vs the
    ``virtualmodelcontrol`` package (torques compared).
-6. turkey walk and flamingo in MuJoCo: real-time factor and a per-tick breakdown.
+6. every registered walk in MuJoCo (turkey, flamingo, hexapod: ``gaits.registry.WALKS``):
+   real-time factor and a per-tick breakdown.
 """
 
 from __future__ import annotations
@@ -410,15 +411,15 @@ def figure_ur5(cfg: Settings) -> Figure:
 
 
 def figure_walks(cfg: Settings) -> Figure:
-    """6. turkey walk and flamingo: real-time factor and per-tick breakdown."""
-    from virtual_actuators.gaits.flamingo import FlamingoWalker
-    from virtual_actuators.gaits.turkey import TurkeyWalker
+    """6. every registered walk: real-time factor and per-tick breakdown (6a, 6b, ...)."""
+    from virtual_actuators.gaits import Gait
+    from virtual_actuators.gaits.registry import WALKS
 
     rows, raw, notes = [], {}, []
-    walks = (("6a", "turkey-walk", TurkeyWalker), ("6b", "flamingo-slopes", FlamingoWalker))
-    for label, name, gait_class in walks:
+    for index, name in enumerate(WALKS):
+        label = f"6{chr(ord('a') + index)}"
         factors = timed_walks(name, cfg.walk_seconds, runs=3)
-        walk = raw[name] = instrumented_walk(name, gait_class, cfg.walk_seconds)
+        walk = raw[name] = instrumented_walk(name, Gait, cfg.walk_seconds)  # every gait's compute
         rtf, ceiling = float(np.median(factors)), walk["physics_only_factor"]
         walk["plain_realtime_factors"] = factors
         figure = f"{label} {name} x real time vs MuJoCo alone"

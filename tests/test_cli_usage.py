@@ -124,6 +124,50 @@ def test_parsing_imports_nothing_heavy() -> None:
     assert run.stdout.strip() == "[]"
 
 
+def test_parser_imports_no_optional_package() -> None:
+    """The CLI's parser module, ``--help`` and ``robots`` load no MuJoCo, matplotlib or tqdm."""
+    code = (
+        "import sys, contextlib, io\n"
+        "import virtual_actuators.cli.options as options\n"
+        "options.build_parser()\n"
+        "from virtual_actuators.__main__ import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    main(['robots'])\n"
+        "optional = ('mujoco', 'matplotlib', 'tqdm', 'meshcat')\n"
+        "print([m for m in optional if m in sys.modules])\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [
+        ["demo", "turkey-walk", "--duration", "0.1"],
+        ["demo", "hexapod-walk", "--terrain", "rolling"],
+        ["sweep", "turkey-walk", "--speed", "0.3", "--seeds", "1"],
+    ],
+    ids=["demo", "terrain", "sweep"],
+)
+def test_missing_mujoco_is_a_usage_error(arguments: list[str]) -> None:
+    """Without MuJoCo a walk is a usage error (exit 2) naming the extra, never a traceback."""
+    code = (
+        "import sys\n"
+        "sys.modules['mujoco'] = None  # as if it were not installed\n"
+        "from virtual_actuators.__main__ import main\n"
+        f"sys.exit(main({arguments!r}))\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert run.returncode == 2, run.stderr
+    assert "usage:" in run.stderr and "Traceback" not in run.stderr, run.stderr
+    assert "virtual_actuators[sim]" in run.stderr
+
+
 def test_library_error_at_run_time_is_a_usage_error(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -270,6 +270,23 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
     return sweep
 
 
+def registered_walks(parser: argparse.ArgumentParser) -> dict:
+    """The walk registry, imported now (it brings MuJoCo, absent from a core-only install).
+
+    Raises:
+        SystemExit: With code 2 and a usage message naming the extra to install when an
+            optional package the walks need (``mujoco``: ``virtual_actuators[sim]``) is missing.
+
+    """
+    from ..exceptions import MissingDependencyError
+
+    try:
+        from ..gaits.registry import WALKS
+    except MissingDependencyError as error:
+        parser.error(str(error))
+    return WALKS
+
+
 def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
     """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
     if args.name == "stand":
@@ -290,16 +307,15 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
 
 
 def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
-    from ..gaits.registry import WALKS
-
-    walk = WALKS[args.name]
+    walks = registered_walks(parser)
+    walk = walks[args.name]
     for dest, option in WALK_OWN_OPTIONS:
         if dest not in walk.options and getattr(args, dest) not in (None, False):
-            users = [name for name, other in WALKS.items() if dest in other.options]
+            users = [name for name, other in walks.items() if dest in other.options]
             parser.error(f"argument {option}: only {', '.join(users)} uses it, not {args.name}")
     if "path" in walk.options and args.path != "sine":
         if args.amplitude is not None or args.wavelength is not None:
             parser.error("argument --amplitude/--wavelength: only --path sine uses them")
     if args.window is not None and not walk.plot_window:
-        windowed = " and ".join(name for name, other in WALKS.items() if other.plot_window)
+        windowed = " and ".join(name for name, other in walks.items() if other.plot_window)
         parser.error(f"argument --window: the plots of {windowed} take it, not {args.name}")

@@ -168,9 +168,10 @@ def terrain_spec(text: str) -> str:
             point lies too far away.
     """
     from ..exceptions import VirtualActuatorError
-    from ..simulation.terrain import Terrain
 
-    try:
+    try:  # without MuJoCo, the import's MissingDependencyError names the extra to install
+        from ..simulation.terrain import Terrain
+
         terrain = Terrain.parse(text)
     except VirtualActuatorError as error:
         raise argparse.ArgumentTypeError(str(error)) from None

@@ -1,13 +1,36 @@
 """Runnable demos: the walks in MuJoCo (``python -m virtual_actuators demo``) and their sweeps.
 
 The walks themselves are registered by the gaits (:mod:`virtual_actuators.gaits.registry`);
-``WalkSpec`` is the former name of :class:`~virtual_actuators.gaits.base.Walk`.
+``WalkSpec`` is the former name of :class:`~virtual_actuators.gaits.base.Walk`. The names are
+imported on first use (they bring MuJoCo), so that the command line's option parsing, which
+uses :mod:`virtual_actuators.demos.sweep`, works on a core-only install.
 """
 
-from ..gaits.base import Walk
-from ..gaits.registry import WALKS, run_walk
-from ..gaits.runner import WalkResult
+from __future__ import annotations
 
-WalkSpec = Walk
+from typing import Any
 
 __all__ = ["WALKS", "Walk", "WalkResult", "WalkSpec", "run_walk"]
+
+
+def __getattr__(name: str) -> Any:
+    """``WALKS``, ``Walk``, ``WalkSpec``, ``WalkResult`` and ``run_walk``, imported when asked.
+
+    Raises:
+        AttributeError: Any other name.
+        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+
+    """
+    if name in ("Walk", "WalkSpec"):
+        from ..gaits.base import Walk
+
+        return Walk
+    if name in ("WALKS", "run_walk"):
+        from ..gaits import registry
+
+        return getattr(registry, name)
+    if name == "WalkResult":
+        from ..gaits.runner import WalkResult
+
+        return WalkResult
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -21,11 +21,11 @@ import os
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ..exceptions import InvalidInputError, MissingDependencyError
-from ..gaits.registry import WALKS, run_walk
 
 ENGINES = ("process", "dask", "ray")
 #: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is
@@ -106,6 +106,8 @@ def grid(
             more than :data:`MAX_WALKS` cases in all.
 
     """
+    from ..gaits.registry import WALKS  # MuJoCo: not needed to parse a sweep's options
+
     if walk not in WALKS:
         raise InvalidInputError(f"Unknown walk {walk!r}; sweeps run {sorted(WALKS)}.")
     if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
@@ -122,6 +124,19 @@ def grid(
         for terrain in terrains
         for seed in range(seeds)
     ]
+
+
+def run_walk(name: str, **options: Any) -> Any:
+    """:func:`virtual_actuators.gaits.registry.run_walk`, imported when first run (MuJoCo).
+
+    Raises:
+        InvalidInputError: As the registry's ``run_walk``.
+        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+
+    """
+    from ..gaits.registry import run_walk as run
+
+    return run(name, **options)
 
 
 def run_case(case: SweepCase) -> SweepResult:

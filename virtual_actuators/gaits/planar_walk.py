@@ -1,11 +1,12 @@
 """The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes.
 
 :func:`run_planar_walk` builds the robot, its gait and a
-:class:`~virtual_actuators.simulation.Simulator`, then runs the control loop at 1 kHz: read
-``q``, ``v`` and the contact switches, let the gait compute the joint efforts, step the physics.
-Every tick is recorded (see :mod:`virtual_actuators.experiments.walk_log` for the channels); the
-result carries the log and its metrics (JSON-able), and can be plotted like the seed's Figs. 9
-and 15 (:func:`plot_planar_walk`). The robot is judged fallen by
+:class:`~virtual_actuators.simulation.Simulator` (a :class:`PlanarEpisode`), then runs the
+control loop at 1 kHz (:func:`~virtual_actuators.gaits.runner.drive`): read ``q``, ``v`` and the
+contact switches, let the gait compute the joint efforts, step the physics. Every tick is
+recorded (see :mod:`virtual_actuators.experiments.walk_log` for the channels); the result
+carries the log and its metrics (JSON-able), and can be plotted like the seed's Figs. 9 and 15
+(:func:`plot_planar_walk`). The robot is judged fallen by
 :func:`~virtual_actuators.gaits.runner.has_fallen`.
 """
 
@@ -13,23 +14,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time as wallclock
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
+from ..control.controller import ControlOutput
 from ..exceptions import InvalidInputError
-from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import compute_metrics
-from ..experiments.progress import Progress
 from ..experiments.recorder import Recorder
 from ..experiments.walk_log import STANDARD_CHANNELS
 from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, check_distribution
-from .runner import WalkResult, has_fallen, terrain_points
+from .runner import Episode, WalkResult, drive, has_fallen, terrain_points
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
 STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
@@ -83,7 +82,6 @@ def run_planar_walk(
         raise InvalidInputError(f"speed must be in (0, 1.5] m/s, got {speed}.")
     if terrain is None:
         terrain = walk.terrain
-    terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     expected = walk.parameters
     if parameters is not None and not isinstance(parameters, expected):
         raise InvalidInputError(
@@ -93,6 +91,27 @@ def run_planar_walk(
     if distribution is not None:
         check_distribution(distribution)
         parameters = dataclasses.replace(parameters or expected(), distribution=distribution)
+    episode = _prepare(walk, duration, speed, terrain, seed, parameters)
+    end = drive(episode, duration, progress, on_tick, stop_on_fall)
+    log = episode.recorder.to_log()
+    metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
+    normal_min, ratio_max = episode.stance.figures()
+    metrics = dataclasses.replace(
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
+    )
+    return WalkResult(log, metrics, episode.gait, episode.simulator, end.wall)
+
+
+def _prepare(
+    walk: Walk,
+    duration: float,
+    speed: float | None,
+    terrain: str | Terrain,
+    seed: int | None,
+    parameters: object | None,
+) -> PlanarEpisode:
+    """The robot, its gait, the terrain, the simulator (reset and pushed) and the recorder."""
+    terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     robot = load_robot(walk.robot)
     gait = walk.make_gait(robot, speed, parameters)
     simulator = Simulator(robot, terrain_model)
@@ -116,22 +135,7 @@ def run_planar_walk(
             "double_support_states": ["double_support"],
         },
     )
-    stance = StanceForces(simulator, terrain_model)
-    bar = Progress(duration) if progress else None
-    gait.controller.warm_up(simulator.q)  # kernels loaded before the clock starts
-    start = wallclock.perf_counter()
-    _loop(gait, simulator, terrain_model, recorder, stance, duration, bar, on_tick, stop_on_fall)
-    wall = wallclock.perf_counter() - start
-    if bar is not None:
-        bar.close(simulator.time)
-    recorder.metadata["wall_time_s"] = wall
-    log = recorder.to_log()
-    metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=wall)
-    normal_min, ratio_max = stance.figures()
-    metrics = dataclasses.replace(
-        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
-    )
-    return WalkResult(log, metrics, gait, simulator, wall)
+    return PlanarEpisode(gait, simulator, terrain_model, recorder)
 
 
 def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
@@ -150,61 +154,54 @@ def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
     return push, push_time
 
 
-def _loop(
-    gait: Gait,
-    simulator: Simulator,
-    terrain: Terrain,
-    recorder: Recorder,
-    stance: StanceForces,
-    duration: float,
-    bar: Progress | None,
-    on_tick: Callable[[Simulator, Gait], None] | None,
-    stop_on_fall: bool,
-) -> None:
-    """The control loop at 1 kHz: read, compute, step, record every tick."""
-    robot, machine = gait.robot, gait.machine
-    x_index, z_index = _index(robot, "boom_x"), _index(robot, "boom_z")
-    pitch_index = _index(robot, "boom_pitch")
-    v_x = robot.model.joints[robot.model.getJointId("boom_x")].idx_v
-    contact_frames = gait.contact_frames
-    nominal = gait.nominal_height()  # [m]
-    fall_time = None
-    tick = 0
-    append_row, state_index, bunny, granny = (
-        recorder.append_row,
-        machine.index,
-        gait.bunny,
-        gait.granny,
-    )
-    height_at = terrain.height
-    has_slope = hasattr(gait, "slope")
-    nan = math.nan
-    data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
-    while data.time < duration - 1e-9:
-        q, v = simulator.q, simulator.v
-        now = data.time
-        contacts = simulator.contact_switches(contact_frames)
-        output = gait.compute(q, v, now, contacts)
-        simulator.step(output.tau)
-        tick += 1
-        if fall_time is None and tick % STANCE_SAMPLING == 0:
-            stance.sample(gait.support_contacts())
-        x, z_world, pitch = q.item(x_index), q.item(z_index), q.item(pitch_index)
-        ground = float(height_at(x))
-        fallen = fall_time is not None or has_fallen(simulator, z_world - ground, pitch, nominal)
-        if fallen and fall_time is None:
-            fall_time = now
+class PlanarEpisode(Episode):
+    """A planar biped's walk under :func:`~virtual_actuators.gaits.runner.drive`.
+
+    Every tick is recorded (:data:`STANDARD_CHANNELS`); the stance forces are read every
+    :data:`STANCE_SAMPLING` ticks.
+    """
+
+    stance_every = STANCE_SAMPLING
+
+    def __init__(
+        self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder
+    ) -> None:
+        super().__init__(gait, simulator, terrain, recorder)
+        robot = gait.robot
+        self.x_index, self.z_index = _index(robot, "boom_x"), _index(robot, "boom_z")
+        self.pitch_index = _index(robot, "boom_pitch")
+        self.v_x = robot.model.joints[robot.model.getJointId("boom_x")].idx_v
+        self.nominal = gait.nominal_height()  # [m]
+        self.has_slope = hasattr(gait, "slope")
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
+        """The feet's contact switches."""
+        return self.simulator.contact_switches(self.gait.contact_frames)
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Hip low, body tilted or something else than a foot down."""
+        height = q.item(self.z_index) - float(self.terrain.height(q.item(self.x_index)))
+        return has_fallen(self.simulator, height, q.item(self.pitch_index), self.nominal)
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """One row of :data:`STANDARD_CHANNELS`."""
+        gait, nan = self.gait, math.nan
+        x, z_world = q.item(self.x_index), q.item(self.z_index)
+        ground = float(self.terrain.height(x))
         wrench = _body_wrench(output)
         double = "double" in output.active
-        set_height, set_pitch = granny.setpoint.tolist()  # [m], [rad]
-        append_row(  # one value per STANDARD_CHANNELS entry, in its order
+        set_height, set_pitch = gait.granny.setpoint.tolist()  # [m], [rad]
+        bunny = gait.bunny
+        self.recorder.append_row(  # one value per STANDARD_CHANNELS entry, in its order
             (
                 now,
                 x,
                 z_world - ground,
                 z_world,
-                pitch,
-                v.item(v_x),
+                q.item(self.pitch_index),
+                v.item(self.v_x),
                 bunny.position_at(now) if double else nan,
                 set_height - ground,
                 set_pitch,
@@ -212,17 +209,11 @@ def _loop(
                 wrench[0],
                 wrench[1],
                 wrench[2],
-                gait.slope if has_slope else nan,
+                gait.slope if self.has_slope else nan,
                 float(fallen),
             ),
-            state_index[machine.current.name],
+            gait.machine.index[gait.machine.current.name],
         )
-        if on_tick is not None:
-            on_tick(simulator, gait)
-        if bar is not None and tick % 100 == 0:
-            bar.set(simulator.time)
-        if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
-            break
 
 
 def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:

@@ -1,20 +1,30 @@
-"""What every walk shares: its result, the fall test and the terrain drawn under it.
+"""The generic gait runner: every walk's closed loop, its result, the fall test and terrain.
 
-A walk's closed loop (the planar bipeds' in :mod:`~virtual_actuators.gaits.planar_walk`, the
-hexapod's in :mod:`~virtual_actuators.gaits.hexapod.walk`) judges the robot fallen with
-:func:`has_fallen`: a part other than a foot touches the ground, the hip drops below half its
-nominal height above the terrain, or the body tilts beyond :data:`FALL_PITCH`.
+A walk prepares an :class:`Episode` (its robot, terrain, gait, simulator with the start-up push,
+recorder and stance-force reader: the planar bipeds' in :mod:`~virtual_actuators.gaits.planar_walk`,
+the hexapod's in :mod:`~virtual_actuators.gaits.hexapod.walk`); :func:`drive` runs it at the
+control rate (read ``q``, ``v`` and the contact switches, let the gait compute the efforts, step
+the physics, sample the stance forces, test for a fall, record) and the walk summarises the log.
+Walks judge the robot fallen with :func:`has_fallen`: a part other than a foot touches the
+ground, the hip drops below half its nominal height above the terrain, or the body tilts beyond
+:data:`FALL_PITCH`.
 """
 
 from __future__ import annotations
 
 import functools
+import time as wallclock
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
 
+from ..control.controller import ControlOutput
+from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics
+from ..experiments.progress import Progress
+from ..experiments.recorder import Recorder
 from ..experiments.walk_log import WalkLog
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
@@ -116,3 +126,137 @@ def _only_feet(frames: frozenset[str]) -> bool:
 @functools.cache
 def _is_foot(frame: str) -> bool:
     return any(word in frame for word in FOOT_WORDS)
+
+
+class Episode:
+    """One walk being run: what :func:`drive` steps, and the walk's own hooks.
+
+    A walk subclasses it with :meth:`sense`, :meth:`fallen` and :meth:`record`.
+
+    Args:
+        gait: The gait (its controller warmed up by :func:`drive`).
+        simulator: The simulation, reset and pushed.
+        terrain: The terrain.
+        recorder: Where :meth:`record` writes.
+
+    Attributes:
+        stance_every: Ticks between two readings of the stance forces.
+        record_every: Ticks between two calls of :meth:`record`.
+        ignore_unactuated: Passed to :meth:`Simulator.step`.
+        stance: The stance forces read so far.
+
+    """
+
+    stance_every = 1
+    record_every = 1
+    ignore_unactuated = False
+
+    def __init__(
+        self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder
+    ) -> None:
+        self.gait = gait
+        self.simulator = simulator
+        self.terrain = terrain
+        self.recorder = recorder
+        self.stance = StanceForces(simulator, terrain)
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
+        """Before the gait computes: steer it if need be; the contact switches it reads."""
+        raise NotImplementedError
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Whether the robot has fallen (asked until it first has)."""
+        raise NotImplementedError
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """Record a tick (every :attr:`record_every` ticks)."""
+        raise NotImplementedError
+
+
+@dataclass(slots=True)
+class LoopEnd:
+    """How a run of :func:`drive` ended.
+
+    Attributes:
+        ticks: Control ticks run.
+        fall_time: Simulated time of the first fallen tick [s], None if none.
+        wall: Wall-clock seconds of the loop.
+        physics: Wall-clock seconds of it in the physics steps.
+
+    """
+
+    ticks: int = 0
+    fall_time: float | None = None
+    wall: float = 0.0
+    physics: float = 0.0
+
+
+def drive(
+    episode: Episode,
+    duration: float,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, Gait], None] | None = None,
+    stop_on_fall: bool = True,
+) -> LoopEnd:
+    """Run an episode's closed loop for ``duration`` simulated seconds.
+
+    Args:
+        episode: The prepared walk.
+        duration: Simulated time [s].
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step (e.g. a viewer's throttled update).
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+
+    Returns:
+        The :class:`LoopEnd` (the recorder's metadata gets ``wall_time_s``).
+
+    """
+    simulator = episode.simulator
+    bar = Progress(duration) if progress else None
+    episode.gait.controller.warm_up(simulator.q)  # kernels loaded before the clock starts
+    start = wallclock.perf_counter()
+    end = _loop(episode, duration, bar, on_tick, stop_on_fall)
+    end.wall = wallclock.perf_counter() - start
+    if bar is not None:
+        bar.close(simulator.time)
+    episode.recorder.metadata["wall_time_s"] = end.wall
+    return end
+
+
+def _loop(
+    episode: Episode,
+    duration: float,
+    bar: Progress | None,
+    on_tick: Callable[[Simulator, Gait], None] | None,
+    stop_on_fall: bool,
+) -> LoopEnd:
+    """The control loop: read, contacts, compute, step, stance forces, fall test, record."""
+    gait, simulator, end = episode.gait, episode.simulator, LoopEnd()
+    stance_every, record_every = episode.stance_every, episode.record_every
+    ignore = episode.ignore_unactuated
+    data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
+    while data.time < duration - 1e-9:
+        q, v = simulator.q, simulator.v
+        now = data.time
+        output = gait.compute(q, v, now, episode.sense(q, v, now))
+        mark = wallclock.perf_counter()
+        simulator.step(output.tau, ignore_unactuated=ignore)
+        end.physics += wallclock.perf_counter() - mark
+        end.ticks += 1
+        tick = end.ticks
+        if end.fall_time is None and tick % stance_every == 0:
+            episode.stance.sample(gait.support_contacts())
+        fallen = end.fall_time is not None or episode.fallen(q)
+        if fallen and end.fall_time is None:
+            end.fall_time = now
+        if record_every == 1 or tick % record_every == 1:
+            episode.record(now, q, v, output, fallen)
+        if on_tick is not None:
+            on_tick(simulator, gait)
+        if bar is not None and tick % 100 == 0:
+            bar.set(simulator.time)
+        if stop_on_fall and end.fall_time is not None and now > end.fall_time + 0.5:
+            break
+    return end

@@ -241,6 +241,31 @@ def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.n
     return r_inv @ b.T @ (0.5 * (p + p.T))
 
 
+def pendulum_lqr(
+    model: pin.Model, joint_name: str, weights: Sequence[float], effort: float
+) -> tuple[PendulumModel, np.ndarray, tuple[int, int]]:
+    """The pendulum's linear model and LQR from the robot's own inertias (the controller's model).
+
+    Args:
+        model: The robot's Pinocchio model (with the pendulum's joint).
+        joint_name: The pendulum's joint, about the body's y axis.
+        weights: The LQR's state weights (angle, rate, velocity error).
+        effort: The LQR's effort weight.
+
+    Returns:
+        The :class:`PendulumModel`, the gain ``(1, 3)`` and the joint's ``(q index, v index)``.
+
+    """
+    joint = model.getJointId(joint_name)
+    inertia = model.inertias[joint]
+    com = float(np.linalg.norm(inertia.lever))
+    about_pivot = float(inertia.inertia[1, 1]) + inertia.mass * com**2  # about y [kg m^2]
+    total = float(sum(i.mass for i in model.inertias))
+    pendulum = pendulum_model(total - inertia.mass, inertia.mass, com, about_pivot)
+    gain = lqr_gain(pendulum.a, pendulum.b, np.diag(weights), np.array([[effort]]))
+    return pendulum, gain, (model.joints[joint].idx_q, model.joints[joint].idx_v)
+
+
 def rotation(q: np.ndarray) -> np.ndarray:
     """Body rotation from the free-flyer quaternion ``(x, y, z, w)`` of ``q[3:7]``."""
     x, y, z, w = q[3:7]

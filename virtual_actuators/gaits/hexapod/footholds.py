@@ -112,3 +112,50 @@ def landing(
         factor = min(1.0, 0.6 / max(strides(p, ox, oy), 1e-9))
         places.append([x + ox * factor, y + oy * factor])
     return places
+
+
+def support_plane(
+    stance: Sequence[Sequence[float]], previous: tuple[float, float, float]
+) -> tuple[float, float, float]:
+    """The ground plane ``z = a x + b y + c`` through three support feet, ``(a, b, c)``.
+
+    Args:
+        stance: The three feet ``(x, y, z)`` relative to the body, body axes [m].
+        previous: The plane kept when the feet are in a line.
+
+    """
+    (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stance
+    ux, uy, uz, vx, vy, vz = x2 - x1, y2 - y1, z2 - z1, x3 - x1, y3 - y1, z3 - z1
+    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # normal
+    if abs(nz) > 1e-9:  # else the feet are in a line: keep the previous plane
+        a, b = -nx / nz, -ny / nz
+        return (a, b, z1 - a * x1 - b * y1)
+    return previous
+
+
+def swing_targets(
+    starts: Sequence[Sequence[float]],
+    places: Sequence[Pair],
+    plane: tuple[float, float, float],
+    reach: float,
+    rest: float,
+    up: float,
+) -> list[tuple[float, float, float]]:
+    """Where the swing feet are carried this tick, body axes [m].
+
+    Args:
+        starts: The feet's lift-off points ``(x, y, z)``.
+        places: Their landing places ``(x, y)``.
+        plane: The ground plane ``(a, b, c)`` (:func:`support_plane`).
+        reach: How far along from lift-off to landing, 0 to 1.
+        rest: How much of the lift-off height above the plane is left, 1 to 0.
+        up: The lift above the plane [m].
+
+    """
+    a, b, c = plane
+    targets = []
+    for (sx, sy, sz), (lx, ly) in zip(starts, places, strict=True):
+        x, y = sx + (lx - sx) * reach, sy + (ly - sy) * reach
+        above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
+        targets.append((x, y, a * x + b * y + c + rest * above + up))
+    return targets

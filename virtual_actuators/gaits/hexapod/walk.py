@@ -21,7 +21,6 @@ the pendulum leans beyond ``HexapodParameters.pendulum_fall``.
 from __future__ import annotations
 
 import math
-import time as wallclock
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -29,9 +28,8 @@ from typing import Any
 
 import numpy as np
 
+from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
-from ...experiments.contact_stats import StanceForces
-from ...experiments.progress import Progress
 from ...experiments.recorder import Recorder
 from ...experiments.walk_log import WalkLog
 from ...models.catalog import robots_dir
@@ -39,23 +37,16 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, check_distribution
-from ..runner import WalkFigures, has_fallen, number, terrain_points
+from ..base import Walk
+from ..runner import Episode, WalkFigures, drive, has_fallen, number, terrain_points
 from .body import attitude_and_velocity, rotation
-from .guidance import (
-    Guidance,
-    PlanarState,
-    SinePath,
-    TrackObject,
-    VelocityCommand,
-    wrap,
-)
+from .config import HexapodWalkConfig, command_path
+from .guidance import Guidance, PlanarState, wrap
 from .metrics import HexapodMetrics, compute_hexapod_metrics
 from .parameters import HexapodParameters
 from .walker import HexapodWalker
 
 TRACE_RATE = 100.0  # [Hz] samples of the trace and the log
-PATHS = ("line", "sine")
 CHANNELS = (
     "time",
     "x",
@@ -75,68 +66,6 @@ CHANNELS = (
     "target_y",
     "fallen",
 )
-
-
-@dataclass(frozen=True)
-class HexapodWalkConfig:
-    """What to walk (SI units, angles in radians).
-
-    Attributes:
-        speed: Body speed [m/s].
-        direction: Travel direction relative to the heading [rad].
-        yaw_rate: [rad/s] (line path only: a circle of radius ``speed / yaw_rate``).
-        path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``.
-        amplitude: Sine amplitude [m].
-        wavelength: Sine wavelength [m].
-        pendulum: Balance the pendulum (its LQR owns the x motion).
-        track: Face an object circling the start while walking.
-        terrain: A :meth:`Terrain.parse` spec (profiles run along the world x axis).
-        duration: Simulated time [s].
-        seed: Random initial disturbance (body velocity, pendulum angle); None for none.
-        distribution: ``"qp"`` or ``"partitioned"``.
-
-    """
-
-    speed: float = 0.4
-    direction: float = 0.0
-    yaw_rate: float = 0.0
-    path: str = "line"
-    amplitude: float = 0.2
-    wavelength: float = 2.0
-    pendulum: bool = False
-    track: bool = False
-    terrain: str = "flat"
-    duration: float = 10.0
-    seed: int | None = None
-    distribution: str = "qp"
-
-    def __post_init__(self) -> None:
-        numbers = {k: getattr(self, k) for k in ("speed", "direction", "yaw_rate", "duration")}
-        numbers.update(amplitude=self.amplitude, wavelength=self.wavelength)
-        for name, value in numbers.items():
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
-        if not 0.0 <= self.speed <= 1.5:
-            raise InvalidInputError(f"speed must be in [0, 1.5] m/s, got {self.speed}.")
-        if self.duration <= 0.0:
-            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
-        if self.path not in PATHS:
-            raise InvalidInputError(f"path must be one of {PATHS}, got {self.path!r}.")
-        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0):
-            raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
-        check_distribution(self.distribution)
-        if self.path == "sine" and (self.track or self.yaw_rate != 0.0):
-            raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
-        if self.track and self.yaw_rate != 0.0:
-            raise InvalidInputError("tracking sets the yaw rate itself: leave yaw_rate at 0.")
-
-    def guidance(self) -> Guidance:
-        """The guidance for this configuration."""
-        if self.path == "sine":
-            return SinePath(self.speed, self.amplitude, self.wavelength)
-        if self.track:
-            return TrackObject(self.speed, self.direction)
-        return VelocityCommand(self.speed, self.direction, self.yaw_rate)
 
 
 @dataclass
@@ -243,6 +172,20 @@ def run_hexapod_walk(
     """
     config = config or HexapodWalkConfig()
     parameters = parameters or HexapodParameters(distribution=config.distribution)
+    episode = _prepare(config, parameters)
+    end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
+    gait, simulator, guidance = episode.gait, episode.simulator, episode.guidance
+    episode.recorder.metadata["command_path"] = command_path(config, guidance)
+    log = episode.recorder.to_log()
+    steps = gait.machine.steps_into(gait.step_states)
+    normal_min, ratio_max = episode.stance.figures()
+    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, normal_min, ratio_max)
+    metrics = _with_timing(metrics, simulator.time, end.wall, end.physics)
+    return HexapodResult(config, log, metrics, gait, simulator, end.wall, end.ticks)
+
+
+def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> HexapodEpisode:
+    """The robot, its walker, the terrain, the simulator (reset, disturbed), the recorder."""
     terrain = Terrain.parse(config.terrain)
     robot = hexapod_robot(config.pendulum)
     gait = HexapodWalker(robot, parameters)
@@ -258,10 +201,9 @@ def run_hexapod_walk(
     simulator.reset(q0, v0)
     guidance = config.guidance()
     guidance.begin(PlanarState(0.0, float(q0[0]), float(q0[1]), 0.0, 0.0, 0.0))
-    machine = gait.machine
     recorder = Recorder(
         CHANNELS,
-        state_names=machine.names,
+        state_names=gait.machine.names,
         capacity=int(config.duration * TRACE_RATE) + 16,
         metadata={
             "robot": robot.name,
@@ -275,83 +217,84 @@ def run_hexapod_walk(
             "config": asdict(config),
         },
     )
-    stance = StanceForces(simulator, terrain)
-    feet = gait.contact_frames
-    supports = {state.name: [(foot,) for foot in state.support] for state in machine.states}
-    every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
-    bar = Progress(config.duration) if progress else None
-    fall_time = None
-    physics = 0.0
-    yaw_unwrapped, yaw_last = 0.0, 0.0
-    tick = 0
-    gait.controller.warm_up(simulator.q)  # kernels loaded before the clock starts
-    start = wallclock.perf_counter()
-    while simulator.time < config.duration - 1e-9:
-        q, v = simulator.q, simulator.v
-        now = simulator.time
-        yaw, pitch, roll, vx, vy = attitude_and_velocity(q, v)
+    return HexapodEpisode(gait, simulator, terrain, recorder, guidance)
+
+
+class HexapodEpisode(Episode):
+    """The hexapod's walk under :func:`~virtual_actuators.gaits.runner.drive`.
+
+    Every tick the guidance steers the walker and the feet's contact switches are read; the body
+    state is recorded at :data:`TRACE_RATE`.
+    """
+
+    ignore_unactuated = True
+
+    def __init__(
+        self,
+        gait: HexapodWalker,
+        simulator: Simulator,
+        terrain: Terrain,
+        recorder: Recorder,
+        guidance: Guidance,
+    ) -> None:
+        super().__init__(gait, simulator, terrain, recorder)
+        self.guidance = guidance
+        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)  # yaw, pitch, roll, vx, vy this tick
+        self.command = np.zeros(2)
+        self.yaw_unwrapped, self.yaw_last = 0.0, 0.0
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
+        """Steer the walker along the guidance; the feet's contact switches."""
+        self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
         state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
-        command, yaw_rate = guidance.command(state)
-        gait.set_command(command, yaw_rate)
-        touching = simulator.touching_terrain()
-        contacts = {foot: foot in touching for foot in feet}
-        output = gait.compute(q, v, now, contacts)
-        mark = wallclock.perf_counter()
-        simulator.step(output.tau, ignore_unactuated=True)
-        physics += wallclock.perf_counter() - mark
-        tick += 1
-        if fall_time is None:
-            stance.sample(supports[machine.current.name])
-        height = float(q[2] - terrain.height(q[0]))
+        self.command, yaw_rate = self.guidance.command(state)
+        self.gait.set_command(self.command, yaw_rate)
+        touching = self.simulator.touching_terrain()
+        return {foot: foot in touching for foot in self.gait.contact_frames}
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Body low or tilted, something else than a foot down, or the pendulum leaning."""
+        _, pitch, roll, _, _ = self.attitude
+        gait, parameters = self.gait, self.gait.parameters
+        height = float(q[2] - self.terrain.height(q[0]))
         tilt = max(abs(roll), abs(pitch))
-        fallen = fall_time is not None or has_fallen(simulator, height, tilt, parameters.height)
-        if gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall:
-            fallen = True
-        if fallen and fall_time is None:
-            fall_time = now
-        if tick % every == 1 or every == 1:
-            yaw_unwrapped += wrap(yaw - yaw_last)
-            yaw_last = yaw
-            target = guidance.target(now) or (np.nan, np.nan)
-            wrench = _body_wrench(output)
-            axes = rotation(q)
-            c, s = math.cos(yaw), math.sin(yaw)
-            recorder.append(
-                state=machine.index[machine.current.name],
-                time=now,
-                x=q[0],
-                y=q[1],
-                z=height,
-                roll=roll,
-                pitch=pitch,
-                yaw=yaw_unwrapped,
-                vx=vx,
-                vy=vy,
-                vx_heading=c * vx + s * vy,
-                vx_command=float(command[0]),
-                yaw_rate=float(axes[2] @ (axes @ v[3:6])),
-                fx=c * wrench[0] + s * wrench[1],
-                pendulum=gait.pendulum_angle if gait.pendulum is not None else np.nan,
-                target_x=target[0],
-                target_y=target[1],
-                fallen=float(fallen),
-            )
-        if on_tick is not None:
-            on_tick(simulator, gait)
-        if bar is not None and tick % 100 == 0:
-            bar.set(simulator.time)
-        if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
-            break
-    wall = wallclock.perf_counter() - start
-    if bar is not None:
-        bar.close(simulator.time)
-    recorder.metadata["wall_time_s"] = wall
-    recorder.metadata["command_path"] = _command_path(config, guidance)
-    log = recorder.to_log()
-    steps = machine.steps_into(gait.step_states)
-    metrics = compute_hexapod_metrics(log, guidance, steps, fall_time, *stance.figures())
-    metrics = _with_timing(metrics, simulator.time, wall, physics)
-    return HexapodResult(config, log, metrics, gait, simulator, wall, tick)
+        fallen = has_fallen(self.simulator, height, tilt, parameters.height)
+        leaning = gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall
+        return fallen or leaning
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """One sample of :data:`CHANNELS`."""
+        gait, machine = self.gait, self.gait.machine
+        yaw, pitch, roll, vx, vy = self.attitude
+        self.yaw_unwrapped += wrap(yaw - self.yaw_last)
+        self.yaw_last = yaw
+        target = self.guidance.target(now) or (np.nan, np.nan)
+        wrench = _body_wrench(output)
+        axes = rotation(q)
+        c, s = math.cos(yaw), math.sin(yaw)
+        self.recorder.append(
+            state=machine.index[machine.current.name],
+            time=now,
+            x=q[0],
+            y=q[1],
+            z=float(q[2] - self.terrain.height(q[0])),
+            roll=roll,
+            pitch=pitch,
+            yaw=self.yaw_unwrapped,
+            vx=vx,
+            vy=vy,
+            vx_heading=c * vx + s * vy,
+            vx_command=float(self.command[0]),
+            yaw_rate=float(axes[2] @ (axes @ v[3:6])),
+            fx=c * wrench[0] + s * wrench[1],
+            pendulum=gait.pendulum_angle if gait.pendulum is not None else np.nan,
+            target_x=target[0],
+            target_y=target[1],
+            fallen=float(fallen),
+        )
 
 
 def _body_wrench(output) -> np.ndarray:
@@ -370,35 +313,6 @@ def _with_timing(
         realtime_factor=simulated / wall if wall > 0 else None,
         physics_realtime_factor=simulated / physics if physics > 0 else None,
     )
-
-
-def _command_path(config: HexapodWalkConfig, guidance: Guidance) -> np.ndarray:
-    """The commanded path, ``(n, 2)`` world points [m] (the object's circle when tracking)."""
-    x0, y0, yaw0 = guidance.start
-    reach = max(config.speed * config.duration, 1e-3)
-    if isinstance(guidance, TrackObject):
-        angles = np.linspace(0.0, 2.0 * np.pi, 181)
-        return np.c_[x0 + guidance.radius * np.cos(angles), y0 + guidance.radius * np.sin(angles)]
-    if isinstance(guidance, SinePath):
-        along = np.linspace(0.0, reach, 400)
-        across = guidance.curve(along)
-    elif config.yaw_rate != 0.0 and config.speed > 0.0:
-        radius = config.speed / abs(config.yaw_rate)
-        sweep = min(abs(config.yaw_rate) * config.duration, 2.0 * np.pi)
-        angles = np.linspace(0.0, sweep, 181) * np.sign(config.yaw_rate)
-        # start at the origin heading along the travel direction, centre on the turning side
-        local = np.c_[
-            radius * np.sin(np.abs(angles)),
-            np.sign(config.yaw_rate) * radius * (1 - np.cos(angles)),
-        ]
-        c, s = math.cos(config.direction), math.sin(config.direction)
-        along, across = c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1]
-    else:
-        distances = np.linspace(0.0, reach, 2)
-        along = distances * math.cos(config.direction)
-        across = distances * math.sin(config.direction)
-    c, s = math.cos(yaw0), math.sin(yaw0)
-    return np.c_[x0 + c * along - s * across, y0 + s * along + c * across]
 
 
 def run_registered(

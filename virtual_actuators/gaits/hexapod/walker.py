@@ -72,10 +72,9 @@ from .body import (
     HeadingAttitude,
     HeadingDamper,
     PendulumModel,
-    lqr_gain,
-    pendulum_model,
+    pendulum_lqr,
 )
-from .footholds import behind, ground_velocity, landing
+from .footholds import behind, ground_velocity, landing, support_plane, swing_targets
 from .parameters import HexapodParameters
 
 LEGS = (1, 2, 3, 4, 5, 6)
@@ -194,8 +193,15 @@ class HexapodWalker(Gait):
         self.pendulum_angle = 0.0  # from the vertical, in the heading x-z plane [rad]
         self._pendulum_index = None
         if model.existJointName(PENDULUM_JOINT):
-            self._design_pendulum()
+            self.pendulum, self.gain, self._pendulum_index = pendulum_lqr(
+                model, PENDULUM_JOINT, p.pendulum_weights, p.pendulum_effort
+            )
+            self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x: the LQR's
 
+        self._finish(self._machine(p.double_support_time))
+
+    def _machine(self, double_support_time: float) -> StateMachine:
+        """The four states (a tripod's stance, then a double support, per tripod)."""
         states, transitions = [], []
         for name, legs in TRIPODS.items():
             other = "b" if name == "a" else "a"
@@ -225,11 +231,11 @@ class HexapodWalker(Gait):
                 Transition(
                     f"double_{name}",
                     f"tripod_{name}",
-                    events.after(p.double_support_time),
+                    events.after(double_support_time),
                     "double support time",
                 ),
             ]
-        self._finish(StateMachine(states, transitions, "double_a"))
+        return StateMachine(states, transitions, "double_a")
 
     # --- inputs --------------------------------------------------------------------------------
 
@@ -255,24 +261,6 @@ class HexapodWalker(Gait):
         self.yaw_rate = yaw_rate
 
     # --- pendulum ------------------------------------------------------------------------------
-
-    def _design_pendulum(self) -> None:
-        """The LQR of the pendulum from the robot's own inertias (the controller's model)."""
-        p, model = self.parameters, self.robot.model
-        joint = model.getJointId(PENDULUM_JOINT)
-        inertia = model.inertias[joint]
-        com = float(np.linalg.norm(inertia.lever))
-        about_pivot = float(inertia.inertia[1, 1]) + inertia.mass * com**2  # about y [kg m^2]
-        total = float(sum(i.mass for i in model.inertias))
-        self.pendulum = pendulum_model(total - inertia.mass, inertia.mass, com, about_pivot)
-        self.gain = lqr_gain(
-            self.pendulum.a,
-            self.pendulum.b,
-            np.diag(p.pendulum_weights),
-            np.array([[p.pendulum_effort]]),
-        )
-        self._pendulum_index = (model.joints[joint].idx_q, model.joints[joint].idx_v)
-        self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x belongs to the LQR
 
     def _balance(self, context: Context, pitch: float, pitch_rate: float) -> None:
         iq, iv = self._pendulum_index
@@ -350,12 +338,7 @@ class HexapodWalker(Gait):
 
     def _set_ground(self, height: float, stance: list[list[float]]) -> None:
         """Ground plane through the support tripod (body axes); the height set point from it."""
-        (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stance
-        ux, uy, uz, vx, vy, vz = x2 - x1, y2 - y1, z2 - z1, x3 - x1, y3 - y1, z3 - z1
-        nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # normal
-        if abs(nz) > 1e-9:  # else the feet are in a line: keep the previous plane
-            a, b = -nx / nz, -ny / nz
-            self.plane = (a, b, z1 - a * x1 - b * y1)
+        self.plane = support_plane(stance, self.plane)
         self.ground = height + self.plane[2] - self.foot_radius
         self.height.setpoint = self.ground + self.parameters.height
 
@@ -396,8 +379,6 @@ class HexapodWalker(Gait):
         reach = smoothstep(min(1.0, 1.25 * phase))
         rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
         up = p.lift * lift_profile(phase, p.lift_peak) - p.touchdown_depth * phase
-        a, b, c = self.plane
-        targets = []
         places = landing(
             p,
             [ground[r] for r in swing_rows],
@@ -406,11 +387,7 @@ class HexapodWalker(Gait):
             self._setpoint,
             self._acceleration,
         )
-        for (sx, sy, sz), (lx, ly) in zip(self._swing_start, places, strict=True):
-            x, y = sx + (lx - sx) * reach, sy + (ly - sy) * reach
-            above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
-            targets.append((x, y, a * x + b * y + c + rest * above + up))
-        targets = np.array(targets)
+        targets = np.array(swing_targets(self._swing_start, places, self.plane, reach, rest, up))
         dt = context.time - self._target_time
         if dt > 0.0:
             blend = min(1.0, dt / p.velocity_filter)

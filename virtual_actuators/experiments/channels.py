@@ -1,4 +1,4 @@
-"""The channels of a walk log: the standard ones with their units, and name checks.
+"""What a walk log holds: the standard channels and their units, the states that are steps.
 
 Standard channels
 -----------------
@@ -43,10 +43,22 @@ may be added.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING
 
 from virtual_actuators.exceptions import InvalidInputError, close_matches
 
-__all__ = ["STANDARD_CHANNELS", "STATE_CHANNEL", "UNITS", "check_names", "unknown_name"]
+if TYPE_CHECKING:
+    from virtual_actuators.experiments.walk_log import WalkLog
+
+__all__ = [
+    "STANDARD_CHANNELS",
+    "STATE_CHANNEL",
+    "UNITS",
+    "check_names",
+    "default_step_states",
+    "resolve_step_states",
+    "unknown_name",
+]
 
 #: The float channels recorded by the walking demos (the discrete ``state`` is always recorded).
 STANDARD_CHANNELS: tuple[str, ...] = (
@@ -107,3 +119,61 @@ def check_names(names: Iterable[object], what: str) -> tuple[str, ...]:
             raise InvalidInputError(f"{what}: {name!r} is given twice.")
         out.append(name)
     return tuple(out)
+
+
+def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
+    """Guess the single-support states from their names.
+
+    A name counts when it contains ``single``, or contains ``support`` but neither ``double`` nor
+    ends in ``2`` (the seed's buffer states "Left Support 2" and "Right Support 2" follow a step,
+    they do not start one). Prefer giving ``metadata["step_states"]`` explicitly.
+
+    Args:
+        state_names: The log's state names.
+
+    Returns:
+        The names that look like single-support states.
+
+    """
+    out = []
+    for name in state_names:
+        low = name.lower()
+        if "single" in low or (
+            "support" in low and "double" not in low and not low.rstrip().endswith("2")
+        ):
+            out.append(name)
+    return tuple(out)
+
+
+def resolve_step_states(log: WalkLog, step_states: Iterable[str] | None = None) -> tuple[str, ...]:
+    """Return the step-state names: ``step_states``, else metadata, else the default guess.
+
+    Args:
+        log: The run.
+        step_states: Explicit names, or None.
+
+    Returns:
+        Names from ``step_states``, else ``metadata["step_states"]``, else
+        :func:`default_step_states` of the log's state names.
+
+    Raises:
+        InvalidInputError: If a given name is not a state of the log (the message names it and
+            lists the valid ones).
+
+    """
+    source = "step_states"
+    if step_states is None:
+        step_states = log.metadata.get("step_states")
+        source = "metadata['step_states']"
+    if step_states is None:
+        return default_step_states(log.state_names)
+    if isinstance(step_states, str):
+        step_states = (step_states,)
+    names = tuple(str(s) for s in step_states)
+    for name in names:
+        if name not in log.state_names:
+            listed = ", ".join(repr(s) for s in log.state_names) or "none"
+            raise InvalidInputError(
+                f"{source}: {name!r} is not a state of the log; valid states: {listed}."
+            )
+    return names

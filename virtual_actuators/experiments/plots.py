@@ -149,7 +149,7 @@ def _double_support_states(log: WalkLog) -> tuple[str, ...]:
 
 def _state_lines(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
     """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
-    from virtual_actuators.experiments.metrics import resolve_step_states
+    from virtual_actuators.experiments.channels import resolve_step_states
 
     marks = (
         (log.entries(resolve_step_states(log)), "dashdot"),

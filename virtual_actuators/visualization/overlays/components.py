@@ -14,8 +14,8 @@ import numpy as np
 
 from ...components.base import Component
 from ...control import Attachment
-from ..geometry import coil_mesh, material
 from ..robot_scene import RobotScene, cross, safe
+from ..shapes import coil_mesh, material
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 

@@ -7,8 +7,8 @@ import pytest
 from matplotlib.collections import LineCollection
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments import plots
-from virtual_actuators.experiments.plots import MAX_FULL_LINES, plot_walk
+from virtual_actuators.experiments.plot_panels import MAX_FULL_LINES, mark_states, new_figure
+from virtual_actuators.experiments.plots import plot_walk
 from virtual_actuators.experiments.walk_log import WalkLog
 
 STATES = ("double_support", "left_support", "right_support")
@@ -44,9 +44,9 @@ def test_window_keeps_the_ticks_in_range():
 
 
 def _mark_heights(log: WalkLog) -> list[float]:
-    fig = plots.new_figure(7, 3)
+    fig = new_figure(7, 3)
     ax = fig.add_subplot()
-    plots._state_lines([ax], log.time, log)
+    mark_states([ax], log.time, log)
     heights = []
     for collection in ax.collections:
         if isinstance(collection, LineCollection):

@@ -21,12 +21,8 @@ import numpy as np
 import pytest
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.metrics import (
-    WalkMetrics,
-    compute_metrics,
-    default_step_states,
-    write_json,
-)
+from virtual_actuators.experiments.channels import default_step_states
+from virtual_actuators.experiments.metrics import WalkMetrics, compute_metrics, write_json
 from virtual_actuators.experiments.plots import plot_terrain, plot_walk
 from virtual_actuators.experiments.recorder import Recorder
 from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog

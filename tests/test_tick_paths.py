@@ -19,10 +19,10 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.gaits import FlamingoWalker, TurkeyWalker
 from virtual_actuators.kinematics.snapshot import Snapshot
 from virtual_actuators.simulation import Simulator
+from virtual_actuators.simulation.actuation import torques_to_ctrl
 from virtual_actuators.simulation.conversions import (
-    _gathers,
     configuration_from_mujoco,
-    torques_to_ctrl,
+    gathers,
     velocity_from_mujoco,
 )
 from virtual_actuators.simulation.terrain import Terrain
@@ -182,36 +182,36 @@ def test_terrain_height_of_one_number_is_numpys_interp(seed):
 def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
     simulator = Simulator(va.load_robot(robot))
     mm = simulator.mujoco_model
-    gathers = _gathers(mm)
+    maps = gathers(mm)
     rng = np.random.default_rng(0)
     qpos = simulator.data.qpos + 0.01 * rng.normal(size=simulator.model.nq)
     qvel = rng.normal(size=simulator.model.nv)
-    if gathers.direct_q is not None:
+    if maps.direct_q is not None:
         q = np.zeros(mm.robot.model.nq)
-        q[gathers.copy_q] = qpos[gathers.copy_qpos]
+        q[maps.copy_q] = qpos[maps.copy_qpos]
         np.testing.assert_array_equal(configuration_from_mujoco(mm, qpos), q)
-    if gathers.direct_v is not None:
+    if maps.direct_v is not None:
         v = np.zeros(mm.robot.model.nv)
-        v[gathers.copy_v] = qvel[gathers.copy_qvel]
+        v[maps.copy_v] = qvel[maps.copy_qvel]
         np.testing.assert_array_equal(velocity_from_mujoco(mm, qpos, qvel), v)
     tau = np.zeros(mm.robot.model.nv)
-    tau[gathers.actuated_v] = rng.normal(size=len(gathers.actuated_v))
+    tau[maps.actuated_v] = rng.normal(size=len(maps.actuated_v))
     ctrl = np.zeros(simulator.model.nu)
-    ctrl[gathers.actuator] = tau[gathers.actuated_v]
+    ctrl[maps.actuator] = tau[maps.actuated_v]
     np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
-    if gathers.unactuated:
-        tau[gathers.unactuated[0]] = 1e-6  # more than the tolerance on an unactuated dof
+    if maps.unactuated:
+        tau[maps.unactuated[0]] = 1e-6  # more than the tolerance on an unactuated dof
         with pytest.raises(InvalidInputError, match="no actuator"):
             torques_to_ctrl(mm, tau)
         np.testing.assert_array_equal(torques_to_ctrl(mm, tau, ignore_unactuated=True), ctrl)
-        tau[gathers.unactuated[0]] = 1e-10  # within it
+        tau[maps.unactuated[0]] = 1e-10  # within it
         np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
 
 
 def test_turkey_direct_gathers_are_used():
-    gathers = _gathers(Simulator(va.load_robot("spring_turkey")).mujoco_model)
-    assert gathers.direct_q is not None and gathers.direct_v is not None
-    assert gathers.direct_ctrl is not None
+    maps = gathers(Simulator(va.load_robot("spring_turkey")).mujoco_model)
+    assert maps.direct_q is not None and maps.direct_v is not None
+    assert maps.direct_ctrl is not None
 
 
 def test_cached_contact_queries_equal_a_fresh_scan():

@@ -27,13 +27,12 @@ from typing import Any
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.experiments.channels import resolve_step_states
 from virtual_actuators.experiments.walk_log import WalkLog
 
 __all__ = [
     "WalkMetrics",
     "compute_metrics",
-    "default_step_states",
-    "resolve_step_states",
     "write_json",
 ]
 
@@ -145,64 +144,6 @@ def _nanmax_abs(values: np.ndarray) -> float | None:
     return float(np.max(np.abs(finite))) if finite.size else None
 
 
-def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
-    """Guess the single-support states from their names.
-
-    A name counts when it contains ``single``, or contains ``support`` but neither ``double`` nor
-    ends in ``2`` (the seed's buffer states "Left Support 2" and "Right Support 2" follow a step,
-    they do not start one). Prefer giving ``metadata["step_states"]`` explicitly.
-
-    Args:
-        state_names: The log's state names.
-
-    Returns:
-        The names that look like single-support states.
-
-    """
-    out = []
-    for name in state_names:
-        low = name.lower()
-        if "single" in low or (
-            "support" in low and "double" not in low and not low.rstrip().endswith("2")
-        ):
-            out.append(name)
-    return tuple(out)
-
-
-def resolve_step_states(log: WalkLog, step_states: Iterable[str] | None = None) -> tuple[str, ...]:
-    """Return the step-state names: ``step_states``, else metadata, else the default guess.
-
-    Args:
-        log: The run.
-        step_states: Explicit names, or None.
-
-    Returns:
-        Names from ``step_states``, else ``metadata["step_states"]``, else
-        :func:`default_step_states` of the log's state names.
-
-    Raises:
-        InvalidInputError: If a given name is not a state of the log (the message names it and
-            lists the valid ones).
-
-    """
-    source = "step_states"
-    if step_states is None:
-        step_states = log.metadata.get("step_states")
-        source = "metadata['step_states']"
-    if step_states is None:
-        return default_step_states(log.state_names)
-    if isinstance(step_states, str):
-        step_states = (step_states,)
-    names = tuple(str(s) for s in step_states)
-    for name in names:
-        if name not in log.state_names:
-            listed = ", ".join(repr(s) for s in log.state_names) or "none"
-            raise InvalidInputError(
-                f"{source}: {name!r} is not a state of the log; valid states: {listed}."
-            )
-    return names
-
-
 def _positive_or_none(value: Any, what: str) -> float | None:
     if value is None:
         return None
@@ -213,6 +154,111 @@ def _positive_or_none(value: Any, what: str) -> float | None:
     if not math.isfinite(number) or number <= 0:
         raise InvalidInputError(f"{what}: expected a positive finite number, got {value!r}.")
     return number
+
+
+def _checked_startup(log: WalkLog, startup_s: float) -> float:
+    """``startup_s`` as a float, after checking it and the log.
+
+    Raises:
+        InvalidInputError: If the log is not a ``WalkLog`` of two ticks or more with an ``x``
+            channel, or ``startup_s`` is not a finite number >= 0.
+
+    """
+    if not isinstance(log, WalkLog):
+        raise InvalidInputError(f"log: expected a WalkLog, got {type(log).__name__}.")
+    n = len(log)
+    if n < 2:
+        raise InvalidInputError(f"log: an empty run ({n} tick{'s' * (n != 1)}); need at least 2.")
+    if "x" not in log.data:
+        log.channel("x")  # raises, listing the channels the log has
+    try:
+        startup_s = float(startup_s)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"startup_s: expected a number, got {startup_s!r}.") from None
+    if not math.isfinite(startup_s) or startup_s < 0:
+        raise InvalidInputError(f"startup_s: expected a finite number >= 0, got {startup_s!r}.")
+    return startup_s
+
+
+def _fall(log: WalkLog) -> tuple[bool, float | None, int]:
+    """Whether the robot fell, when, and the end of the walking ticks (the first fallen tick)."""
+    if "fallen" in log.data:
+        fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
+        if np.any(fallen):
+            end = int(np.argmax(fallen))
+            return True, float(log.time[end]), end
+    return False, None, len(log)
+
+
+def _window(t: np.ndarray, end: int, startup_s: float) -> np.ndarray:
+    """The statistics window: walking ticks at or after ``startup_s`` (all if too few)."""
+    walking = np.arange(t.size) < end
+    window = walking & (t - t[0] >= startup_s)
+    if np.count_nonzero(window) < 2 or np.ptp(t[window]) <= 0:
+        return walking
+    return window
+
+
+def _speeds(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | None]:
+    """Mean speed over the window (from ``x``) and the deviation of ``xdot`` in it."""
+    t, x = log.time, log["x"]
+    mean_speed = None
+    usable = np.flatnonzero(window & np.isfinite(x))
+    if usable.size >= 2 and t[usable[-1]] > t[usable[0]]:
+        i, j = usable[0], usable[-1]
+        mean_speed = float((x[j] - x[i]) / (t[j] - t[i]))
+    if log.has("xdot"):
+        xdot = log["xdot"][window]
+    elif usable.size >= 2:
+        xdot = np.gradient(x[usable], t[usable]) if np.all(np.diff(t[usable]) > 0) else np.zeros(0)
+    else:
+        xdot = np.zeros(0)
+    xdot = xdot[np.isfinite(xdot)]
+    return mean_speed, float(np.std(xdot)) if xdot.size else None
+
+
+def _heights(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | None]:
+    """Mean height over the window, and its largest deviation from the set point."""
+    if "z" not in log.data:
+        return None, None
+    z = log["z"][window]
+    finite = z[np.isfinite(z)]
+    height_mean = float(np.mean(finite)) if finite.size else None
+    if "z_setpoint" not in log.data:
+        return height_mean, None
+    return height_mean, _nanmax_abs(z - log["z_setpoint"][window])
+
+
+def _pitches(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | None]:
+    """Largest pitch over the window, and its largest deviation from the set point."""
+    if "pitch" not in log.data:
+        return None, None
+    pitch = log["pitch"][window]
+    if "pitch_setpoint" not in log.data:
+        return _nanmax_abs(pitch), None
+    return _nanmax_abs(pitch), _nanmax_abs(pitch - log["pitch_setpoint"][window])
+
+
+def _speed_setpoint(log: WalkLog, window: np.ndarray) -> float | None:
+    """The desired speed: the metadata's, else the median dogtrack-bunny speed in the window.
+
+    Raises:
+        InvalidInputError: If ``metadata["speed_setpoint_mps"]`` is not a number.
+
+    """
+    setpoint = log.metadata.get("speed_setpoint_mps")
+    if setpoint is not None:
+        try:
+            return _float_or_none(setpoint)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"metadata['speed_setpoint_mps']: expected a number, got {setpoint!r}."
+            ) from None
+    if "xdot_setpoint" in log.data:
+        bunny = log["xdot_setpoint"][window]
+        bunny = bunny[np.isfinite(bunny)]
+        return float(np.median(bunny)) if bunny.size else None
+    return None
 
 
 def compute_metrics(
@@ -232,7 +278,8 @@ def compute_metrics(
         wall_time_s: Wall-clock seconds the run took (else ``metadata["wall_time_s"]``), for
             ``realtime_factor``.
         step_states: Names of the states whose entries count as steps (else
-            ``metadata["step_states"]``, else :func:`default_step_states`).
+            ``metadata["step_states"]``, else
+            :func:`~virtual_actuators.experiments.channels.default_step_states`).
 
     Returns:
         The metrics.
@@ -242,97 +289,30 @@ def compute_metrics(
             argument is invalid (the message names it).
 
     """
-    if not isinstance(log, WalkLog):
-        raise InvalidInputError(f"log: expected a WalkLog, got {type(log).__name__}.")
+    startup_s = _checked_startup(log, startup_s)
     n = len(log)
-    if n < 2:
-        raise InvalidInputError(f"log: an empty run ({n} tick{'s' * (n != 1)}); need at least 2.")
-    if "x" not in log.data:
-        log.channel("x")  # raises, listing the channels the log has
-    try:
-        startup_s = float(startup_s)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"startup_s: expected a number, got {startup_s!r}.") from None
-    if not math.isfinite(startup_s) or startup_s < 0:
-        raise InvalidInputError(f"startup_s: expected a finite number >= 0, got {startup_s!r}.")
     wall = _positive_or_none(
         wall_time_s if wall_time_s is not None else log.metadata.get("wall_time_s"),
         "wall_time_s" if wall_time_s is not None else "metadata['wall_time_s']",
     )
 
-    t = log.time
-    x = log["x"]
+    t, x = log.time, log["x"]
     duration = float(t[-1] - t[0])
+    fell, fall_time, end = _fall(log)
 
-    # Fall: the walking ticks are those before the first fallen tick.
-    fell, fall_time, end = False, None, n
-    if "fallen" in log.data:
-        fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
-        if np.any(fallen):
-            end = int(np.argmax(fallen))
-            fell, fall_time = True, float(t[end])
-
-    # Statistics window: walking ticks at or after startup_s (all walking ticks if too few).
-    ticks = np.arange(n)
-    walking = ticks < end
-    window = walking & (t - t[0] >= startup_s)
-    if np.count_nonzero(window) < 2 or np.ptp(t[window]) <= 0:
-        window = walking
-
+    window = _window(t, end, startup_s)
     finite_x = np.flatnonzero(np.isfinite(x))
     distance = float(x[finite_x[-1]] - x[finite_x[0]]) if finite_x.size else None
 
-    mean_speed = None
-    usable = np.flatnonzero(window & np.isfinite(x))
-    if usable.size >= 2 and t[usable[-1]] > t[usable[0]]:
-        i, j = usable[0], usable[-1]
-        mean_speed = float((x[j] - x[i]) / (t[j] - t[i]))
-
-    speed_std = None
-    if log.has("xdot"):
-        xdot = log["xdot"][window]
-    elif usable.size >= 2:
-        xdot = np.gradient(x[usable], t[usable]) if np.all(np.diff(t[usable]) > 0) else np.zeros(0)
-    else:
-        xdot = np.zeros(0)
-    xdot = xdot[np.isfinite(xdot)]
-    if xdot.size:
-        speed_std = float(np.std(xdot))
-
-    height_dev = height_mean = None
-    if "z" in log.data:
-        z = log["z"][window]
-        finite = z[np.isfinite(z)]
-        height_mean = float(np.mean(finite)) if finite.size else None
-        if "z_setpoint" in log.data:
-            height_dev = _nanmax_abs(z - log["z_setpoint"][window])
-
-    pitch_max = pitch_dev = None
-    if "pitch" in log.data:
-        pitch = log["pitch"][window]
-        pitch_max = _nanmax_abs(pitch)
-        if "pitch_setpoint" in log.data:
-            pitch_dev = _nanmax_abs(pitch - log["pitch_setpoint"][window])
+    mean_speed, speed_std = _speeds(log, window)
+    height_mean, height_dev = _heights(log, window)
+    pitch_max, pitch_dev = _pitches(log, window)
 
     names = resolve_step_states(log, step_states)
     entries = log.entries(names)
     entries = entries[entries < end]
     steps = int(entries.size)
     step_time = float(np.mean(np.diff(t[entries]))) if entries.size >= 2 else None
-
-    setpoint = log.metadata.get("speed_setpoint_mps")
-    if setpoint is not None:
-        try:
-            setpoint = _float_or_none(setpoint)
-        except (TypeError, ValueError):
-            raise InvalidInputError(
-                f"metadata['speed_setpoint_mps']: expected a number, got {setpoint!r}."
-            ) from None
-    elif "xdot_setpoint" in log.data:
-        bunny = log["xdot_setpoint"][window]
-        bunny = bunny[np.isfinite(bunny)]
-        setpoint = float(np.median(bunny)) if bunny.size else None
-
     return WalkMetrics(
         fell=fell,
         fall_time_s=fall_time,
@@ -347,7 +327,7 @@ def compute_metrics(
         steps=steps,
         step_time_mean_s=step_time,
         realtime_factor=duration / wall if wall is not None else None,
-        speed_setpoint_mps=setpoint,
+        speed_setpoint_mps=_speed_setpoint(log, window),
         startup_s=startup_s,
         window_start_s=float(t[window][0]) if np.any(window) else None,
         window_end_s=float(t[window][-1]) if np.any(window) else None,

@@ -20,9 +20,10 @@ its set point, xdot with its set point and pitch on the left; Fz, Fx, M_pitch an
 right. ``layout="auto"`` picks ``"terrain"`` when the log has terrain points, else ``"time"``.
 
 Vertical lines mark entries into the step (single-support, dash-dot) and double-support (dotted)
-states, as in Fig. 15; when there are more than :data:`MAX_FULL_LINES` (a long run), short marks
-along the top edge of each panel instead. ``window=(t0, t1)`` plots part of a run. Ticks after a
-fall are shaded red.
+states, as in Fig. 15; when there are more than ``MAX_FULL_LINES`` (a long run), short marks
+along the top edge of each panel instead (the panels are drawn by
+:mod:`~virtual_actuators.experiments.plot_panels`). ``window=(t0, t1)`` plots part of a run.
+Ticks after a fall are shaded red.
 
 Matplotlib is imported inside the functions (importing this module stays cheap) and draws on a
 ``FigureCanvasAgg`` of its own: no pyplot, so the global backend and open figures are untouched.
@@ -34,11 +35,27 @@ import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
+
+# ACTUAL_STYLE and SETPOINT_STYLE: re-exported for hexapod_plots until it moves (issue 25, G2)
+from virtual_actuators.experiments.plot_panels import ACTUAL_STYLE as ACTUAL_STYLE
+from virtual_actuators.experiments.plot_panels import (
+    DESIRED_SPEED,
+    FORCE_STYLE,
+    body_height_world,
+    draw_series,
+    draw_state_panel,
+    fall_marks,
+    mark_states,
+    new_figure,
+    save_figure,
+    terrain_panel,
+)
+from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
 from virtual_actuators.experiments.walk_log import WalkLog, check_terrain_points
 
 if TYPE_CHECKING:
@@ -50,194 +67,6 @@ if TYPE_CHECKING:
 __all__ = ["plot_terrain", "plot_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
-ACTUAL_STYLE = {"color": "C0", "lw": 1.2}
-SETPOINT_STYLE = {"color": "C3", "lw": 1.1, "ls": "--"}
-_DESIRED_SPEED = {"color": "C3", "lw": 1.3, "ls": ":"}
-FORCE_STYLE = {"color": "C2", "lw": 1.0}
-
-
-#: Above this many state transitions, they are marked along the top edge instead of full lines.
-MAX_FULL_LINES = 60
-
-
-def new_figure(width: float, height: float) -> Figure:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
-
-
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, format="png")
-    return path
-
-
-def _not_recorded(ax: Axes, name: str) -> None:
-    ax.text(
-        0.5,
-        0.5,
-        f"{name}: not recorded",
-        transform=ax.transAxes,
-        ha="center",
-        va="center",
-        color="0.5",
-        fontsize=8,
-    )
-
-
-def draw_series(
-    ax: Axes,
-    xs: np.ndarray,
-    log: WalkLog,
-    name: str,
-    ylabel: str,
-    *,
-    style: dict[str, Any] = ACTUAL_STYLE,
-    setpoint: str | None = None,
-    setpoint_style: dict[str, Any] = SETPOINT_STYLE,
-    setpoint_label: str = "set point",
-    stride: slice = slice(None),
-) -> None:
-    """Plot channel ``name`` (and its set point) against ``xs``, or say it was not recorded."""
-    ax.set_ylabel(ylabel)
-    ax.grid(True, lw=0.4, alpha=0.5)
-    if not log.has(name):
-        _not_recorded(ax, name)
-        return
-    ax.plot(xs[stride], log[name][stride], label=name, **style)
-    if setpoint is not None and log.has(setpoint):
-        ax.plot(xs[stride], log[setpoint][stride], label=setpoint_label, **setpoint_style)
-        ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
-
-
-def draw_state_panel(ax: Axes, xs: np.ndarray, log: WalkLog) -> None:
-    """Draw the state machine state as a step plot with the state names as y tick labels."""
-    ax.set_ylabel("state")
-    ax.grid(True, axis="x", lw=0.4, alpha=0.5)
-    state = log.state
-    if not np.any(state >= 0):
-        _not_recorded(ax, "state")
-        return
-    # Exact step plot from the change points only (no decimation can hide a short state).
-    change = np.flatnonzero(state[1:] != state[:-1]) + 1
-    keep = np.concatenate(([0], change, [len(state) - 1]))
-    ax.step(xs[keep], state[keep].astype(float), where="post", color="C4", lw=1.3)
-    ticks = list(range(len(log.state_names)))
-    labels = list(log.state_names)
-    if np.any(state < 0):
-        ticks.insert(0, -1)
-        labels.insert(0, "(unknown)")
-    ax.set_yticks(ticks, labels, fontsize=7)
-    ax.set_ylim(min(ticks) - 0.5, max(ticks) + 0.5)
-
-
-def _double_support_states(log: WalkLog) -> tuple[str, ...]:
-    names = log.metadata.get("double_support_states")
-    if names is None:
-        return tuple(s for s in log.state_names if "double" in s.lower())
-    if isinstance(names, str):
-        names = (names,)
-    names = tuple(str(s) for s in names)
-    for name in names:
-        log.state_index(name)  # raises on an unknown state, listing the valid ones
-    return names
-
-
-def _state_lines(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
-    """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
-    from virtual_actuators.experiments.metrics import resolve_step_states
-
-    marks = (
-        (log.entries(resolve_step_states(log)), "dashdot"),
-        (log.entries(_double_support_states(log)), "dotted"),
-    )
-    count = sum(ticks.size for ticks, _ in marks)
-    # Full-height lines while they stay apart (about one per 8 mm of a 7-inch axis); beyond that
-    # (a 60 s run has ~150 transitions) they would hatch the panels solid: short marks along the
-    # top edge instead, one row per kind, and the data stays readable.
-    dense = count > MAX_FULL_LINES
-    for ax in axes:
-        for row, (ticks, style) in enumerate(marks):
-            if ticks.size:
-                low, high = (0.955 - 0.045 * row, 0.995 - 0.045 * row) if dense else (0.0, 1.0)
-                ax.vlines(
-                    xs[ticks],
-                    low,
-                    high,
-                    transform=ax.get_xaxis_transform(),
-                    colors="0.45" if dense else "0.55",
-                    linestyles="solid" if dense else style,
-                    lw=0.6 if dense else 0.7,
-                    zorder=0.5,
-                )
-
-
-def _fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool) -> None:
-    """Shade (or mark with a line) everything from the first fallen tick on."""
-    if not log.has("fallen"):
-        return
-    fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
-    if not np.any(fallen):
-        return
-    i = int(np.argmax(fallen))
-    for ax in axes:
-        if span:
-            ax.axvspan(xs[i], xs[-1], color="red", alpha=0.08, lw=0)
-        ax.axvline(xs[i], color="red", lw=1.0, alpha=0.7)
-    axes[0].text(
-        xs[i],
-        1.0,
-        " fell",
-        color="red",
-        fontsize=8,
-        va="bottom",
-        transform=axes[0].get_xaxis_transform(),
-    )
-
-
-def _body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:
-    """The hip's world height: ``z_world``, else terrain height below plus ``z``."""
-    if log.has("z_world"):
-        return log["z_world"]
-    if log.has("z"):
-        return np.interp(log["x"], terrain[:, 0], terrain[:, 1]) + log["z"]
-    return None
-
-
-def _terrain_panel(
-    ax: Axes,
-    terrain: np.ndarray,
-    body_x: np.ndarray | None,
-    body_z: np.ndarray | None,
-    *,
-    xlim: tuple[float, float] | None = None,
-) -> None:
-    """Draw the terrain profile (filled) and the body path above it."""
-    order = np.argsort(terrain[:, 0], kind="stable")
-    tx, tz = terrain[order, 0], terrain[order, 1]
-    lo, hi = xlim if xlim is not None else (float(tx[0]), float(tx[-1]))
-    inside = (tx >= lo) & (tx <= hi)
-    visible = np.concatenate((tz[inside], np.interp([lo, hi], tx, tz)))
-    tops = [float(np.max(visible))]
-    if body_z is not None and np.any(np.isfinite(body_z)):
-        tops.append(float(np.nanmax(body_z)))
-    bottom, top = float(np.min(visible)), max(tops)
-    pad = 0.08 * max(top - bottom, 0.1)
-    ax.fill_between(tx, tz, bottom - 2 * pad, color="0.85", lw=0)
-    ax.plot(tx, tz, color="0.3", lw=1.2, label="terrain")
-    if body_x is not None and body_z is not None:
-        ax.plot(body_x, body_z, label="body (hip) path", **ACTUAL_STYLE)
-        ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
-    ax.set_xlim(lo, hi)
-    ax.set_ylim(bottom - pad, top + pad)
-    ax.set_ylabel("world z [m]")
-    ax.grid(True, lw=0.4, alpha=0.5)
-
-
 def _default_title(log: WalkLog) -> str:
     meta = log.metadata
     parts = [str(meta.get("robot", "walking run"))]
@@ -320,8 +149,8 @@ def plot_walk(
     else:
         fig, axes, xs = _terrain_layout(log, terrain, stride)
     if state_lines:
-        _state_lines(axes, xs, log)
-    _fall_marks(axes, xs, log, span=layout == "time")
+        mark_states(axes, xs, log)
+    fall_marks(axes, xs, log, span=layout == "time")
     heading = title if title is not None else _default_title(log)
     if metrics is not None:
         heading += "\n" + metrics.summary()
@@ -351,7 +180,7 @@ def _time_layout(
         "xdot",
         "xdot [m/s]",
         setpoint="xdot_setpoint",
-        setpoint_style=_DESIRED_SPEED,
+        setpoint_style=DESIRED_SPEED,
         setpoint_label="bunny (desired)",
         stride=stride,
     )
@@ -369,7 +198,7 @@ def _time_layout(
         xlim = _x_range(x, terrain)
         has_slope = log.has("global_slope")
         ax_t = fig.add_subplot(grid[4, 0] if has_slope else grid[4, :])
-        _terrain_panel(ax_t, terrain, x, _body_height_world(log, terrain), xlim=xlim)
+        terrain_panel(ax_t, terrain, x, body_height_world(log, terrain), xlim=xlim)
         ax_t.set_xlabel("x [m]")
         if has_slope:
             ax_s = fig.add_subplot(grid[4, 1], sharex=ax_t)
@@ -402,7 +231,7 @@ def _terrain_layout(
     right_grid = columns[0, 1].subgridspec(4, 1)
     x = log["x"]
     top = fig.add_subplot(left_grid[0, 0])
-    _terrain_panel(top, terrain, x, _body_height_world(log, terrain), xlim=_x_range(x, terrain))
+    terrain_panel(top, terrain, x, body_height_world(log, terrain), xlim=_x_range(x, terrain))
     left = [fig.add_subplot(left_grid[r, 0], sharex=top) for r in range(1, 5)]
     right = [fig.add_subplot(right_grid[r, 0], sharex=top) for r in range(4)]
     draw_series(left[0], x, log, "global_slope", "global slope [rad]", stride=stride)
@@ -416,7 +245,7 @@ def _terrain_layout(
         "xdot",
         "xdot [m/s]",
         setpoint="xdot_setpoint",
-        setpoint_style=_DESIRED_SPEED,
+        setpoint_style=DESIRED_SPEED,
         setpoint_label="desired",
         stride=stride,
     )
@@ -473,7 +302,7 @@ def plot_terrain(
             )
     fig = new_figure(12, 3.8)
     ax = fig.add_subplot()
-    _terrain_panel(ax, terrain, body_x, body_z)
+    terrain_panel(ax, terrain, body_x, body_z)
     order = np.argsort(terrain[:, 0], kind="stable")
     tx, tz = terrain[order, 0], terrain[order, 1]
     if len(tx) <= 31:

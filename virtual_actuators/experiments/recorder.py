@@ -14,13 +14,13 @@ from typing import Any
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.walk_log import (
+from virtual_actuators.experiments.channels import (
     STANDARD_CHANNELS,
     STATE_CHANNEL,
-    WalkLog,
     check_names,
     unknown_name,
 )
+from virtual_actuators.experiments.walk_log import WalkLog
 
 
 class Recorder:

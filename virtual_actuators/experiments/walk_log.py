@@ -7,51 +7,15 @@ metadata dict; appending a tick costs about 2-4 µs of Python for the sixteen st
 
 ``Recorder.to_log`` returns a :class:`WalkLog`: one array per channel, the state indices, the
 state names and the metadata; :meth:`WalkLog.save_npz` and :meth:`WalkLog.load_npz` store it in
-a NumPy ``.npz`` file (no pickle).
+a NumPy ``.npz`` file (no pickle; the format is in
+:mod:`~virtual_actuators.experiments.walk_log_io`).
 
-Standard channels
------------------
-
-The walking demos record these (:data:`STANDARD_CHANNELS`); all SI, world frame, planar robots
-moving along ``x`` with ``z`` up and pitch about ``y``:
-
-====================  ======  ===========================================================
-channel               unit    meaning
-====================  ======  ===========================================================
-``time``              s       simulation time of the control tick (required in every log)
-``x``                 m       body (hip) x
-``z``                 m       hip height above the terrain directly below the hip
-``z_world``           m       hip height in the world frame
-``pitch``             rad     body pitch (positive nose down, about +y)
-``xdot``              m/s     body (hip) horizontal velocity
-``x_setpoint``        m       set point of the x virtual spring (NaN when none)
-``z_setpoint``        m       set point of the height spring, same reference as ``z``
-``pitch_setpoint``    rad     set point of the pitch spring
-``xdot_setpoint``     m/s     dogtrack bunny speed; NaN when the bunny is inactive
-``fx``                N       virtual force along x applied to the body by the components
-``fz``                N       virtual force along z applied to the body by the components
-``m_pitch``           N m     virtual moment about y applied to the body by the components
-``global_slope``      rad     global slope estimate (seed section 6); NaN for level walkers
-``fallen``            0/1     1 from the tick the robot is judged fallen
-====================  ======  ===========================================================
-
-plus the discrete ``state`` (int index into ``state_names``, -1 when unknown), always recorded.
-Extra channels (joint torques, saturation counts, ...) may be declared beside them.
-
-Standard metadata keys
-----------------------
-
-``robot`` (str), ``terrain`` (str, a name), ``terrain_points`` (``(n, 2)`` array of terrain
-``(x, z)`` vertices in the world frame), ``speed_setpoint_mps`` (float), ``nominal_height_m``
-(float), ``step_states`` (names of the single-support states whose entries count as steps),
-``double_support_states`` (names of the double-support states), ``control_dt_s`` (float),
-``wall_time_s`` (float, wall-clock time of the run). Any other JSON-able values or NumPy arrays
-may be added.
+The channels the walking demos record and the standard metadata keys are listed in
+:mod:`~virtual_actuators.experiments.channels`.
 """
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -60,7 +24,15 @@ from typing import Any
 
 import numpy as np
 
-from virtual_actuators.exceptions import InvalidInputError, closest_names
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.experiments.channels import (
+    STANDARD_CHANNELS,
+    STATE_CHANNEL,
+    UNITS,
+    check_names,
+    unknown_name,
+)
+from virtual_actuators.experiments.walk_log_io import read_npz, write_npz
 
 __all__ = [
     "STANDARD_CHANNELS",
@@ -68,69 +40,6 @@ __all__ = [
     "WalkLog",
     "check_terrain_points",
 ]
-
-#: The float channels recorded by the walking demos (the discrete ``state`` is always recorded).
-STANDARD_CHANNELS: tuple[str, ...] = (
-    "time",
-    "x",
-    "z",
-    "z_world",
-    "pitch",
-    "xdot",
-    "x_setpoint",
-    "z_setpoint",
-    "pitch_setpoint",
-    "xdot_setpoint",
-    "fx",
-    "fz",
-    "m_pitch",
-    "global_slope",
-    "fallen",
-)
-
-#: Units of the standard channels, for labels.
-UNITS: dict[str, str] = {
-    "time": "s",
-    "x": "m",
-    "z": "m",
-    "z_world": "m",
-    "pitch": "rad",
-    "xdot": "m/s",
-    "x_setpoint": "m",
-    "z_setpoint": "m",
-    "pitch_setpoint": "rad",
-    "xdot_setpoint": "m/s",
-    "fx": "N",
-    "fz": "N",
-    "m_pitch": "N m",
-    "global_slope": "rad",
-    "fallen": "",
-}
-
-STATE_CHANNEL = "state"
-_NPZ_FORMAT = 1
-_META_ARRAY_PREFIX = "meta_array__"
-
-
-def unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInputError:
-    """Build the error for a name that is not one of ``valid`` (names it, lists the valid ones)."""
-    listed = ", ".join(repr(v) for v in valid)
-    hint = closest_names(str(name), valid, n=3)
-    did_you_mean = f" Did you mean {', '.join(repr(h) for h in hint)}?" if hint else ""
-    return InvalidInputError(f"Unknown {what} {name!r}; valid {what}s: {listed}.{did_you_mean}")
-
-
-def check_names(names: Iterable[object], what: str) -> tuple[str, ...]:
-    """Return ``names`` as a tuple of non-empty unique strings, or raise naming the bad one."""
-    out: list[str] = []
-    for name in names:
-        if not isinstance(name, str) or not name:
-            raise InvalidInputError(f"{what}: every name must be a non-empty str, got {name!r}.")
-        if name in out:
-            raise InvalidInputError(f"{what}: {name!r} is given twice.")
-        out.append(name)
-    return tuple(out)
-
 
 # -- the log ------------------------------------------------------------------------------------
 @dataclass(eq=False)
@@ -399,43 +308,7 @@ class WalkLog:
             InvalidInputError: If a metadata value cannot be stored (the message names its key).
 
         """
-        path = Path(path)
-        arrays: dict[str, np.ndarray] = {}
-        plain: dict[str, Any] = {}
-        for key, value in self.metadata.items():
-            if not isinstance(key, str):
-                raise InvalidInputError(f"metadata: keys must be str, got {key!r}.")
-            if isinstance(value, np.ndarray):
-                if value.dtype == object:
-                    raise InvalidInputError(f"metadata[{key!r}]: object arrays cannot be saved.")
-                arrays[_META_ARRAY_PREFIX + key] = value
-            else:
-                try:
-                    json.dumps(value, default=_json_default)
-                except (TypeError, ValueError) as err:
-                    raise InvalidInputError(
-                        f"metadata[{key!r}]: cannot be saved ({err})."
-                    ) from None
-                plain[key] = value
-        names = self.channels
-        matrix = (
-            np.column_stack([self.data[n] for n in names])
-            if len(self)
-            else np.zeros((0, len(names)))
-        )
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with path.open("wb") as f:
-            np.savez_compressed(
-                f,
-                format=np.asarray(_NPZ_FORMAT),
-                channels=np.asarray(names, dtype=str),
-                data=matrix,
-                state=self.state,
-                state_names=np.asarray(self.state_names, dtype=str),
-                metadata_json=np.asarray(json.dumps(plain, default=_json_default)),
-                **arrays,
-            )
-        return path
+        return write_npz(self, path)
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:
@@ -451,46 +324,17 @@ class WalkLog:
             InvalidInputError: If the file is not a walk log.
 
         """
-        path = Path(path)
-        with np.load(path, allow_pickle=False) as npz:
-            missing = [k for k in ("channels", "data", "state") if k not in npz.files]
-            if missing:
-                raise InvalidInputError(f"{path}: not a walk log (no {', '.join(missing)}).")
-            names = [str(n) for n in npz["channels"]]
-            matrix = npz["data"]
-            metadata = json.loads(str(npz["metadata_json"])) if "metadata_json" in npz else {}
-            for key in npz.files:
-                if key.startswith(_META_ARRAY_PREFIX):
-                    metadata[key[len(_META_ARRAY_PREFIX) :]] = npz[key]
-            state_names = tuple(str(s) for s in npz["state_names"]) if "state_names" in npz else ()
-            state = npz["state"]
-        if matrix.ndim != 2 or matrix.shape[1] != len(names):
-            raise InvalidInputError(
-                f"{path}: 'data' has shape {matrix.shape}, expected (n, {len(names)})."
-            )
+        stored = read_npz(path)
         return cls(
-            data={n: np.ascontiguousarray(matrix[:, j]) for j, n in enumerate(names)},
-            state=state,
-            state_names=state_names,
-            metadata=metadata,
+            data=stored.data,
+            state=stored.state,
+            state_names=stored.state_names,
+            metadata=stored.metadata,
         )
 
 
 def _first_bad(array: np.ndarray) -> int:
     return int(np.argmax(~np.isfinite(array)))
-
-
-def _json_default(value: Any) -> Any:
-    """Convert NumPy values and sets for :func:`json.dumps`."""
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, set | frozenset):
-        return sorted(value, key=str)
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    raise TypeError(f"{type(value).__name__} is not JSON serialisable")
 
 
 def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
@@ -520,6 +364,3 @@ def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
     if not np.all(np.isfinite(array)):
         raise InvalidInputError(f"{what}: non-finite value in row {_first_bad(array) // 2}.")
     return array
-
-
-# -- the recorder -------------------------------------------------------------------------------

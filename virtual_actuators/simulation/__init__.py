@@ -3,18 +3,18 @@
 :class:`Simulator` steps a robot driven by joint torques and reports its state in Pinocchio's
 conventions and its contacts by frame name; :class:`Terrain` describes the ground;
 :func:`build_mujoco_model` builds the MuJoCo model in code from the Pinocchio model; the
-``conversions`` functions map configurations, velocities and torques between the two libraries.
+``conversions`` functions map configurations and velocities between the two libraries, the
+``actuation`` ones joint torques and actuator controls.
 """
 
 from ..exceptions import import_optional
 
 import_optional("mujoco", "sim", "MuJoCo simulation (virtual_actuators.simulation)")
 
+from .actuation import ctrl_to_torques, torques_to_ctrl  # noqa: E402
 from .conversions import (  # noqa: E402
     configuration_from_mujoco,
     configuration_to_mujoco,
-    ctrl_to_torques,
-    torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
 )

@@ -31,24 +31,19 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.model import MujocoModel
-from virtual_actuators.vocabulary.frames import sums_finite
 
 __all__ = [
     "configuration_from_mujoco",
     "configuration_to_mujoco",
-    "ctrl_to_torques",
     "direct_gathers",
-    "torques_to_ctrl",
+    "finite_vector",
+    "gathers",
     "velocity_from_mujoco",
     "velocity_to_mujoco",
 ]
 
-#: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
-UNACTUATED_TOLERANCE = 1e-9
-
-
 @dataclass(frozen=True)
-class _Gathers:
+class Gathers:
     """Index arrays of one model's copy-through joints, built once.
 
     Per-tick conversions are then a few fancy-index copies plus a loop over the free, ball and
@@ -76,8 +71,8 @@ def direct_gathers(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | Non
     ``q = qpos[direct_q]`` when every joint is a hinge or a slide, ``v = qvel[direct_v]`` when
     no joint is free; None otherwise (then convert joint by joint).
     """
-    gathers = _gathers(mm)
-    return gathers.direct_q, gathers.direct_v
+    maps = gathers(mm)
+    return maps.direct_q, maps.direct_v
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -92,8 +87,16 @@ def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | Non
     return index
 
 
-def _gathers(mm: MujocoModel) -> _Gathers:
-    """The (cached) gathers of ``mm``."""
+def gathers(mm: MujocoModel) -> Gathers:
+    """The index arrays of ``mm``'s conversions, built on first use and kept with ``mm``.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+
+    Returns:
+        Its :class:`Gathers`.
+
+    """
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
         return cached
@@ -112,7 +115,7 @@ def _gathers(mm: MujocoModel) -> _Gathers:
         else:
             unactuated.extend(range(joint.idx_v, joint.idx_v + joint.nv))
     index = lambda values: np.array(values, dtype=np.intp)  # noqa: E731
-    gathers = _Gathers(
+    maps = Gathers(
         copy_q=index(copy_q),
         copy_qpos=index(copy_qpos),
         copy_v=index(copy_v),
@@ -131,20 +134,32 @@ def _gathers(mm: MujocoModel) -> _Gathers:
         direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
         unactuated=tuple(unactuated),
     )
-    mm.__dict__["_gathers"] = gathers  # frozen dataclass: cache beside its fields
-    return gathers
+    mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
+    return maps
 
 
-def _vector(value: object, size: int, what: str) -> np.ndarray:
-    """A finite float vector of the given size, or InvalidInputError.
+def finite_vector(value: object, size: int, what: str) -> np.ndarray:
+    """A finite float vector of the given size.
 
-    A float64 array of the right shape is returned as is (not copied).
+    A finite float64 array of the right shape is returned as is (not copied).
+
+    Args:
+        value: The vector, any array-like.
+        size: Its required number of entries.
+        what: Its name, for the error message.
+
+    Returns:
+        The float64 vector.
+
+    Raises:
+        InvalidInputError: If ``value`` is not ``size`` finite numbers.
+
     """
     if (
-        type(value) is np.ndarray
+        isinstance(value, np.ndarray)
         and value.shape == (size,)
         and value.dtype == np.float64
-        and sums_finite(value)  # False if any entry is inf or nan (or on overflow)
+        and np.isfinite(value).all()
     ):
         return value
     try:
@@ -215,7 +230,7 @@ def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
         InvalidInputError: If ``q`` has the wrong size or non-finite entries.
 
     """
-    q = _vector(q, mm.robot.model.nq, "q")
+    q = finite_vector(q, mm.robot.model.nq, "q")
     qpos = np.array(mm.model.qpos0, dtype=float)
     for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
@@ -250,13 +265,13 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
         InvalidInputError: If ``qpos`` has the wrong size or non-finite entries.
 
     """
-    qpos = _vector(qpos, mm.model.nq, "qpos")
-    gathers = _gathers(mm)
-    if gathers.direct_q is not None:  # hinges and slides only: one gather
-        return qpos[gathers.direct_q]
+    qpos = finite_vector(qpos, mm.model.nq, "qpos")
+    maps = gathers(mm)
+    if maps.direct_q is not None:  # hinges and slides only: one gather
+        return qpos[maps.direct_q]
     q = np.zeros(mm.robot.model.nq)
-    q[gathers.copy_q] = qpos[gathers.copy_qpos]
-    for joint in gathers.special:
+    q[maps.copy_q] = qpos[maps.copy_qpos]
+    for joint in maps.special:
         a, i = joint.qpos_adr, joint.idx_q
         if joint.kind == "free":
             w, x, y, z = qpos[a + 3 : a + 7]
@@ -294,8 +309,8 @@ def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndar
         InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
 
     """
-    q = _vector(q, mm.robot.model.nq, "q")
-    v = _vector(v, mm.robot.model.nv, "v")
+    q = finite_vector(q, mm.robot.model.nq, "q")
+    v = finite_vector(v, mm.robot.model.nv, "v")
     qvel = np.zeros(mm.model.nv)
     for joint in mm.joints:
         d, i = joint.dof_adr, joint.idx_v
@@ -324,14 +339,14 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
         InvalidInputError: If ``qpos`` or ``qvel`` has the wrong size or non-finite entries.
 
     """
-    qpos = _vector(qpos, mm.model.nq, "qpos")
-    qvel = _vector(qvel, mm.model.nv, "qvel")
-    gathers = _gathers(mm)
-    if gathers.direct_v is not None:  # no free joint: one gather
-        return qvel[gathers.direct_v]
+    qpos = finite_vector(qpos, mm.model.nq, "qpos")
+    qvel = finite_vector(qvel, mm.model.nv, "qvel")
+    maps = gathers(mm)
+    if maps.direct_v is not None:  # no free joint: one gather
+        return qvel[maps.direct_v]
     v = np.zeros(mm.robot.model.nv)
-    v[gathers.copy_v] = qvel[gathers.copy_qvel]
-    for joint in gathers.free:
+    v[maps.copy_v] = qvel[maps.copy_qvel]
+    for joint in maps.free:
         d, i, a = joint.dof_adr, joint.idx_v, joint.qpos_adr
         v[i : i + 3] = _rotate_back(qpos[a + 3 : a + 7].tolist(), qvel[d : d + 3].tolist())
         v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
@@ -353,71 +368,3 @@ def _rotate_back(quat_wxyz: list[float], vector: list[float]) -> tuple[float, fl
         2.0 * (x * y - w * z) * a + (1.0 - 2.0 * (x * x + z * z)) * b + 2.0 * (y * z + w * x) * c,
         2.0 * (x * z + w * y) * a + 2.0 * (y * z - w * x) * b + (1.0 - 2.0 * (x * x + y * y)) * c,
     )
-
-
-def torques_to_ctrl(
-    mm: MujocoModel, tau: np.ndarray, *, ignore_unactuated: bool = False
-) -> np.ndarray:
-    """The actuators' controls for joint efforts ``tau`` (Pinocchio velocity order).
-
-    Args:
-        mm: The MuJoCo model and its maps.
-        tau: Joint efforts [N m or N], shape ``(model.nv,)``.
-        ignore_unactuated: Drop efforts on unactuated degrees of freedom (free-flyer, passive
-            joints) instead of raising.
-
-    Returns:
-        ``ctrl``, shape ``(mj_model.nu,)`` (not clipped: MuJoCo clips to ``ctrlrange``).
-
-    Raises:
-        InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or (unless
-            ``ignore_unactuated``) asks for more than 1e-9 on a degree of freedom that no
-            actuator drives (the message names the joint).
-
-    """
-    tau = _vector(tau, mm.robot.model.nv, "tau")
-    gathers = _gathers(mm)
-    if gathers.direct_ctrl is not None:  # every motor drives one joint: one gather
-        ctrl = tau[gathers.direct_ctrl]
-    else:
-        ctrl = np.zeros(mm.model.nu)
-        ctrl[gathers.actuator] = tau[gathers.actuated_v]
-    if ignore_unactuated or not gathers.unactuated:
-        return ctrl
-    if len(gathers.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
-        efforts = tau[gathers.unactuated_v].tolist()
-        if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
-            return ctrl
-    elif np.abs(tau[gathers.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
-        return ctrl
-    for joint in mm.joints:
-        effort = tau[joint.idx_v : joint.idx_v + joint.nv]
-        if joint.actuator is None and np.any(np.abs(effort) > UNACTUATED_TOLERANCE):
-            raise InvalidInputError(
-                f"tau asks for {effort.tolist()} on joint {joint.name!r}, which no actuator "
-                f"drives (actuated joints: {', '.join(mm.actuated) or 'none'}); pass "
-                "ignore_unactuated=True to drop it."
-            )
-    return ctrl
-
-
-def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
-    """Joint efforts (Pinocchio velocity order) of an actuator control vector.
-
-    Args:
-        mm: The MuJoCo model and its maps.
-        ctrl: Actuator controls, shape ``(mj_model.nu,)``.
-
-    Returns:
-        ``tau``, shape ``(model.nv,)``, zero on unactuated degrees of freedom.
-
-    Raises:
-        InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
-
-    """
-    ctrl = _vector(ctrl, mm.model.nu, "ctrl")
-    tau = np.zeros(mm.robot.model.nv)
-    for joint in mm.joints:
-        if joint.actuator is not None:
-            tau[joint.idx_v] = ctrl[joint.actuator]
-    return tau

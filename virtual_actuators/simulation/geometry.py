@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import warnings
 from pathlib import Path
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import mujoco
 import numpy as np
@@ -83,6 +83,51 @@ def _geometry_model(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
     return pin.GeometryModel()
 
 
+class _Shape(NamedTuple):
+    """A MuJoCo geom type with its size (primitives) or mesh name (meshes)."""
+
+    geom_type: mujoco.mjtGeom
+    size: list[float] | None = None
+    mesh: str | None = None
+
+
+def _primitive(shape: object) -> _Shape | None:
+    """The MuJoCo primitive of a coal shape, or None for an unsupported one."""
+    shape_type = type(shape).__name__
+    if shape_type == "Box":
+        return _Shape(mujoco.mjtGeom.mjGEOM_BOX, list(shape.halfSide))
+    if shape_type == "Sphere":
+        return _Shape(mujoco.mjtGeom.mjGEOM_SPHERE, [shape.radius, 0.0, 0.0])
+    if shape_type == "Cylinder":
+        return _Shape(mujoco.mjtGeom.mjGEOM_CYLINDER, [shape.radius, shape.halfLength, 0])
+    if shape_type == "Capsule":
+        return _Shape(mujoco.mjtGeom.mjGEOM_CAPSULE, [shape.radius, shape.halfLength, 0])
+    if shape_type == "Ellipsoid":
+        return _Shape(mujoco.mjtGeom.mjGEOM_ELLIPSOID, list(shape.radii))
+    return None
+
+
+def _mesh(
+    spec: mujoco.MjSpec, obj: pin.GeometryObject, meshes: dict[tuple[str, tuple], str]
+) -> _Shape | None:
+    """The MuJoCo mesh of a geometry object (added to ``spec`` once per file and scale).
+
+    None when MuJoCo cannot read the file.
+    """
+    path = Path(obj.meshPath)
+    if not _readable_mesh(path):
+        return None
+    scale = tuple(float(s) for s in obj.meshScale)
+    key = (str(path), scale)
+    if key not in meshes:
+        meshes[key] = f"mesh_{len(meshes)}_{path.stem}"
+        mesh = spec.add_mesh(name=meshes[key], file=str(path), scale=list(scale))
+        # Mesh inertia is unused (inertias come from Pinocchio); a surface inertia compiles
+        # even for open or flat meshes.
+        mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+    return _Shape(mujoco.mjtGeom.mjGEOM_MESH, mesh=meshes[key])
+
+
 def add_geometry(
     spec: mujoco.MjSpec,
     robot: Robot,
@@ -108,69 +153,33 @@ def add_geometry(
     meshes: dict[tuple[str, tuple[float, ...]], str] = {}
     used = set()
     for obj in geometry.geometryObjects:
-        shape = obj.geometry
-        shape_type = type(shape).__name__
-        size: list[float] | None = None
-        mesh_name = None
-        if shape_type == "Box":
-            geom_type, size = mujoco.mjtGeom.mjGEOM_BOX, list(shape.halfSide)
-        elif shape_type == "Sphere":
-            geom_type, size = mujoco.mjtGeom.mjGEOM_SPHERE, [shape.radius, 0.0, 0.0]
-        elif shape_type == "Cylinder":
-            geom_type, size = mujoco.mjtGeom.mjGEOM_CYLINDER, [shape.radius, shape.halfLength, 0]
-        elif shape_type == "Capsule":
-            geom_type, size = mujoco.mjtGeom.mjGEOM_CAPSULE, [shape.radius, shape.halfLength, 0]
-        elif shape_type == "Ellipsoid":
-            geom_type, size = mujoco.mjtGeom.mjGEOM_ELLIPSOID, list(shape.radii)
-        elif shape_type.startswith(("BVHModel", "Convex")) and collisions != "primitives":
-            path = Path(obj.meshPath)
-            if _readable_mesh(path):
-                scale = tuple(float(s) for s in obj.meshScale)
-                key = (str(path), scale)
-                if key not in meshes:
-                    meshes[key] = f"mesh_{len(meshes)}_{path.stem}"
-                    mesh = spec.add_mesh(name=meshes[key], file=str(path), scale=list(scale))
-                    # Mesh inertia is unused (inertias come from Pinocchio); a surface inertia
-                    # compiles even for open or flat meshes.
-                    mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-                geom_type, mesh_name = mujoco.mjtGeom.mjGEOM_MESH, meshes[key]
-            else:
-                geom_type = None
-        elif shape_type.startswith(("BVHModel", "Convex")):
-            continue  # "primitives": meshes are left out on purpose
+        if not type(obj.geometry).__name__.startswith(("BVHModel", "Convex")):
+            shape = _primitive(obj.geometry)
+        elif collisions == "primitives":
+            continue  # meshes are left out on purpose
         else:
-            geom_type = None
-        if geom_type is None:
+            shape = _mesh(spec, obj, meshes)
+        if shape is None:
             skipped.append(obj.name)
             continue
         name = obj.name
         while name in used or name.startswith(TERRAIN_PREFIX):
             name = f"robot_{name}"
         used.add(name)
-        placement = obj.placement
         geom = bodies[obj.parentJoint].add_geom(
             name=name,
-            type=geom_type,
-            pos=np.array(placement.translation, dtype=float),
-            quat=quat_wxyz(placement.rotation),
+            type=shape.geom_type,
+            pos=np.array(obj.placement.translation, dtype=float),
+            quat=quat_wxyz(obj.placement.rotation),
         )
-        if size is not None:
-            geom.size = np.array(size, dtype=float)
-        if mesh_name is not None:
-            geom.meshname = mesh_name
+        if shape.size is not None:
+            geom.size = np.array(shape.size, dtype=float)
+        if shape.mesh is not None:
+            geom.meshname = shape.mesh
         set_contact(geom, contact, contype, conaffinity)
         geom.group = ROBOT_GROUP
         geom.rgba = [0.6, 0.6, 0.65, 1.0]
-        parent = model.frames[obj.parentFrame].name
-        located = [
-            frame
-            for frame, (joint, point) in placements.items()
-            if joint == obj.parentJoint
-            and frame != parent
-            and size is not None
-            and _inside(geom_type, size, placement.actInv(point))
-        ]
-        owners[name] = (parent, *located)
+        owners[name] = _owners(model, obj, shape, placements)
     if skipped:
         warnings.warn(
             f"Robot {robot.name!r}: {len(skipped)} geometries cannot be simulated and are left "
@@ -179,6 +188,25 @@ def add_geometry(
             stacklevel=3,
         )
     return owners, skipped
+
+
+def _owners(
+    model: pin.Model,
+    obj: pin.GeometryObject,
+    shape: _Shape,
+    placements: dict[str, tuple[int, np.ndarray]],
+) -> tuple[str, ...]:
+    """The frames owning a geom: its parent frame, then the frames of its joint inside it."""
+    parent = model.frames[obj.parentFrame].name
+    located = [
+        frame
+        for frame, (joint, point) in placements.items()
+        if joint == obj.parentJoint
+        and frame != parent
+        and shape.size is not None
+        and _inside(shape.geom_type, shape.size, obj.placement.actInv(point))
+    ]
+    return (parent, *located)
 
 
 def _readable_mesh(path: Path) -> bool:

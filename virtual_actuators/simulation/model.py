@@ -246,6 +246,60 @@ def build_mujoco_model(
             freedom, or ``timestep`` or ``collisions`` is invalid.
 
     """
+    terrain = _checked_options(timestep, collisions, terrain)
+    contact = ContactParameters() if contact is None else contact
+    model = robot.model
+    kinds = [joint_kind(model, j) for j in range(1, model.njoints)]
+    actuated_names = actuated_joints(robot, kinds, actuated)
+
+    spec = _new_spec(robot, timestep, contact)
+    bodies = add_bodies(spec, robot, kinds)
+    balance_inertias(spec, robot)
+    add_actuators(spec, model, actuated_names)
+    geom_parents, skipped = add_geometry(spec, robot, bodies, contact, collisions)
+    sites = add_sites(spec, robot, bodies)
+    terrain_names = add_terrain(spec, terrain, contact)
+
+    try:
+        compiled = spec.compile()
+    except Exception as exc:  # MuJoCo raises ValueError with its compiler message
+        raise RobotDescriptionError(
+            f"MuJoCo cannot compile the model of robot {robot.name!r}: {exc}"
+        ) from exc
+
+    geom_frames, frame_geoms = _geom_maps(compiled, geom_parents)
+    return MujocoModel(
+        robot=robot,
+        terrain=terrain,
+        spec=spec,
+        model=compiled,
+        contact=contact,
+        joints=_joint_maps(compiled, model, kinds, actuated_names),
+        actuated=tuple(actuated_names),
+        joint_bodies=tuple(
+            0 if j == 0 else _id(compiled, mujoco.mjtObj.mjOBJ_BODY, bodies[j].name)
+            for j in range(model.njoints)
+        ),
+        geom_frames=MappingProxyType(geom_frames),
+        frame_geoms=MappingProxyType(frame_geoms),
+        frame_sites=MappingProxyType(
+            {frame: _id(compiled, mujoco.mjtObj.mjOBJ_SITE, site) for frame, site in sites.items()}
+        ),
+        terrain_geoms=frozenset(
+            _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, name) for name in terrain_names
+        ),
+        skipped_geometries=tuple(skipped),
+    )
+
+
+def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) -> Terrain:
+    """The terrain (level ground when None), after checking the options.
+
+    Raises:
+        InvalidInputError: If ``timestep`` is not a positive number, ``collisions`` not one of
+            :data:`COLLISION_CHOICES` or ``terrain`` not a :class:`Terrain`.
+
+    """
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
         raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
     if collisions not in COLLISION_CHOICES:
@@ -256,11 +310,16 @@ def build_mujoco_model(
     terrain = Terrain.flat() if terrain is None else terrain
     if not isinstance(terrain, Terrain):
         raise InvalidInputError(f"terrain must be a Terrain, got {type(terrain).__name__}.")
-    contact = ContactParameters() if contact is None else contact
-    model = robot.model
-    kinds = [joint_kind(model, j) for j in range(1, model.njoints)]
-    actuated_names = actuated_joints(robot, kinds, actuated)
+    return terrain
 
+
+def _id(compiled: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
+    """The id of a named object of the compiled model (-1 when there is none)."""
+    return mujoco.mj_name2id(compiled, kind, name)
+
+
+def _new_spec(robot: Robot, timestep: float, contact: ContactParameters) -> mujoco.MjSpec:
+    """An empty MjSpec with the compiler settings and the options (step, gravity, cone)."""
     spec = mujoco.MjSpec()
     spec.modelname = robot.name
     spec.compiler.degree = False
@@ -270,35 +329,25 @@ def build_mujoco_model(
     spec.compiler.boundmass = BOUND_MASS
     spec.compiler.boundinertia = BOUND_INERTIA
     spec.option.timestep = float(timestep)
-    spec.option.gravity = np.array(model.gravity.linear, dtype=float)
+    spec.option.gravity = np.array(robot.model.gravity.linear, dtype=float)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.cone = (
         mujoco.mjtCone.mjCONE_ELLIPTIC
         if contact.cone == "elliptic"
         else mujoco.mjtCone.mjCONE_PYRAMIDAL
     )
+    return spec
 
-    bodies = add_bodies(spec, robot, kinds)
-    balance_inertias(spec, robot)
-    add_actuators(spec, model, actuated_names)
 
-    geom_parents, skipped = add_geometry(spec, robot, bodies, contact, collisions)
-    site_names = add_sites(spec, robot, bodies)
-    terrain_names = add_terrain(spec, terrain, contact)
-
-    try:
-        compiled = spec.compile()
-    except Exception as exc:  # MuJoCo raises ValueError with its compiler message
-        raise RobotDescriptionError(
-            f"MuJoCo cannot compile the model of robot {robot.name!r}: {exc}"
-        ) from exc
-
+def _joint_maps(
+    compiled: mujoco.MjModel, model: pin.Model, kinds: list[str], actuated: list[str]
+) -> tuple[JointMap, ...]:
+    """The index maps of every Pinocchio joint but the universe, by name."""
     joints = []
     for j, kind in enumerate(kinds, start=1):
         name = model.names[j]
         joint = model.joints[j]
-        mj_id = mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_JOINT, name)
-        act = mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
+        mj_id = _id(compiled, mujoco.mjtObj.mjOBJ_JOINT, name)
         joints.append(
             JointMap(
                 name=name,
@@ -311,40 +360,24 @@ def build_mujoco_model(
                 mj_id=mj_id,
                 qpos_adr=int(compiled.jnt_qposadr[mj_id]),
                 dof_adr=int(compiled.jnt_dofadr[mj_id]),
-                actuator=act if name in actuated_names else None,
+                actuator=_id(compiled, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
+                if name in actuated
+                else None,
                 placement=model.jointPlacements[j].copy(),
             )
         )
-    joint_bodies = tuple(
-        0 if j == 0 else mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_BODY, bodies[j].name)
-        for j in range(model.njoints)
-    )
+    return tuple(joints)
+
+
+def _geom_maps(
+    compiled: mujoco.MjModel, geom_parents: dict[str, tuple[str, ...]]
+) -> tuple[dict[int, tuple[str, ...]], dict[str, tuple[int, ...]]]:
+    """Geom id -> owning frames, and frame -> its geom ids."""
     geom_frames: dict[int, tuple[str, ...]] = {}
     frame_geoms: dict[str, list[int]] = {}
     for geom_name, owners in geom_parents.items():
-        gid = mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_GEOM, geom_name)
+        gid = _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, geom_name)
         geom_frames[gid] = owners
         for owner in owners:
             frame_geoms.setdefault(owner, []).append(gid)
-    frame_sites = {
-        frame: mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_SITE, site)
-        for frame, site in site_names.items()
-    }
-    terrain_ids = frozenset(
-        mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_GEOM, name) for name in terrain_names
-    )
-    return MujocoModel(
-        robot=robot,
-        terrain=terrain,
-        spec=spec,
-        model=compiled,
-        contact=contact,
-        joints=tuple(joints),
-        actuated=tuple(actuated_names),
-        joint_bodies=joint_bodies,
-        geom_frames=MappingProxyType(geom_frames),
-        frame_geoms=MappingProxyType({k: tuple(v) for k, v in frame_geoms.items()}),
-        frame_sites=MappingProxyType(frame_sites),
-        terrain_geoms=terrain_ids,
-        skipped_geometries=tuple(skipped),
-    )
+    return geom_frames, {k: tuple(v) for k, v in frame_geoms.items()}

@@ -4,23 +4,8 @@ A :class:`Terrain` is a list of points ``(x, z)`` in metres with strictly increa
 height is linear between consecutive points and flat (constant) before the first point and after
 the last one, so a profile never has vertical steps. The profile does not depend on ``y``.
 
-Built-in profiles (all slopes within +-20 degrees, level for the first 2 m so a robot can start
-standing at ``x = 0``):
-
-``flat``
-    Level ground at height 0 (a plane in MuJoCo).
-``profile-one``
-    The style of Profile One of the seed (Chew, Pratt et al., "Virtual model control: an
-    intuitive approach for bipedal locomotion", IJRR 2001, section 6.3, Fig. 15), about 14 m:
-    2 m level, up 15 degrees, level, down 15 degrees, level, up 20 degrees, level, down 20
-    degrees, level; segments of 1.2 m to 1.8 m.
-``profile-two``
-    The style of the seed's Profile Two (Fig. 16), rougher: after 2 m level, a series of slopes
-    between -18 and +18 degrees, 0.6 m to 1.5 m long, with gradient changes of at most 18 degrees
-    at each transition; 16.4 m in all. Hard-coded, hence the same in every run.
-``rolling``
-    Gentle rolling ground: after 2 m level, slopes of 5 and 10 degrees up and down over 1 m
-    segments, 14 m in all.
+The built-in profiles (``flat``, ``profile-one``, ``profile-two``, ``rolling``) and the text
+form of a terrain are in :mod:`~virtual_actuators.simulation.terrain_profiles`.
 
 In MuJoCo (:func:`~virtual_actuators.simulation.model.build_mujoco_model`) a flat terrain is a
 plane and any other profile is a chain of thin boxes, one per segment, whose top faces lie on the
@@ -36,63 +21,19 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError, suggestion
+from virtual_actuators.simulation.terrain_profiles import (
+    BUILTIN_NAMES,
+    PROFILES,
+    VALID_SPECS,
+    flat_height,
+    parse_points,
+    profile_points,
+)
 
 __all__ = ["Terrain"]
 
-#: Length of the level ground that every built-in profile starts with [m].
-LEVEL_START = 2.0
-
 #: Default width of the terrain boxes along y in MuJoCo [m].
 DEFAULT_WIDTH = 2.0
-
-# Built-in profiles as (horizontal length [m], slope [deg]) segments after LEVEL_START m of level
-# ground starting at x = 0; the height starts at 0.
-_PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
-    "profile-one": (
-        (1.5, 15.0),
-        (1.6, 0.0),
-        (1.5, -15.0),
-        (1.6, 0.0),
-        (1.2, 20.0),
-        (1.6, 0.0),
-        (1.2, -20.0),
-        (1.8, 0.0),
-    ),
-    "profile-two": (
-        (1.0, 10.0),
-        (0.8, 18.0),
-        (1.2, 5.0),
-        (0.7, -10.0),
-        (1.0, -18.0),
-        (0.6, -5.0),
-        (1.5, 8.0),
-        (0.9, 15.0),
-        (0.8, 0.0),
-        (1.1, -14.0),
-        (0.7, 3.0),
-        (1.3, 12.0),
-        (0.6, -6.0),
-        (1.0, -16.0),
-        (1.2, 0.0),
-    ),
-    "rolling": (
-        (1.0, 5.0),
-        (1.0, 10.0),
-        (1.0, 5.0),
-        (1.0, -5.0),
-        (1.0, -10.0),
-        (1.0, -5.0),
-        (1.0, 5.0),
-        (1.0, 10.0),
-        (1.0, 5.0),
-        (1.0, -5.0),
-        (1.0, -10.0),
-        (1.0, -5.0),
-    ),
-}
-
-_BUILTIN_NAMES = ("flat", *_PROFILES)
-
 
 def _interp(x: float, xs: list[float], zs: list[float]) -> float:
     """``np.interp(x, xs, zs)`` for one float, with numpy's arithmetic (the same bits)."""
@@ -113,17 +54,6 @@ def _interp(x: float, xs: list[float], zs: list[float]) -> float:
         if height != height and zs[j] == zs[j + 1]:
             height = zs[j]
     return height
-
-
-def _profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Points of a built-in profile: (0, 0), (LEVEL_START, 0), then one point per segment."""
-    points = [(0.0, 0.0), (LEVEL_START, 0.0)]
-    x, z = LEVEL_START, 0.0
-    for length, slope_deg in segments:
-        x += length
-        z += length * math.tan(math.radians(slope_deg))
-        points.append((round(x, 12), z))
-    return points
 
 
 def _pair(point: np.ndarray) -> str:
@@ -255,15 +185,15 @@ class Terrain:
         """
         if name == "flat":
             return cls.flat(width=width)
-        if name not in _PROFILES:
-            hint = suggestion(str(name), _BUILTIN_NAMES, "terrains")
+        if name not in PROFILES:
+            hint = suggestion(str(name), BUILTIN_NAMES, "terrains")
             raise InvalidInputError(f"No built-in terrain named {name!r}. {hint}")
-        return cls(_profile_points(_PROFILES[name]), name=name, width=width)
+        return cls(profile_points(PROFILES[name]), name=name, width=width)
 
     @staticmethod
     def names() -> tuple[str, ...]:
         """Names of the built-in profiles accepted by :meth:`builtin` and :meth:`parse`."""
-        return _BUILTIN_NAMES
+        return BUILTIN_NAMES
 
     @classmethod
     def parse(cls, spec: str, *, width: float = DEFAULT_WIDTH) -> Terrain:
@@ -288,45 +218,13 @@ class Terrain:
         if not isinstance(spec, str):
             raise InvalidInputError(f"A terrain spec must be a string, got {type(spec).__name__}.")
         text = spec.strip()
-        valid = (
-            f"valid terrains: {', '.join(_BUILTIN_NAMES)}, 'flat:HEIGHT', or points 'x:z,x:z,...' "
-            "in metres with increasing x (e.g. '0:0,2:0,3:0.27')"
-        )
         if not text:
-            raise InvalidInputError(f"Empty terrain spec; {valid}.")
-        if text in _BUILTIN_NAMES:
+            raise InvalidInputError(f"Empty terrain spec; {VALID_SPECS}.")
+        if text in BUILTIN_NAMES:
             return cls.builtin(text, width=width)
         if text.startswith("flat:"):
-            height = text.removeprefix("flat:").strip()
-            try:
-                value = float(height)
-            except ValueError:
-                value = math.nan
-            if not math.isfinite(value):
-                raise InvalidInputError(
-                    f"Bad terrain height {height!r} in {spec!r}: 'flat:HEIGHT' needs a finite "
-                    f"number of metres; {valid}."
-                )
-            return cls.flat(value, width=width)
-        points = []
-        for token in text.split(","):
-            parts = token.split(":")
-            values: list[float] = []
-            if len(parts) == 2:
-                try:
-                    values = [float(part) for part in parts]
-                except ValueError:
-                    values = []
-            if len(values) != 2 or not all(math.isfinite(v) for v in values):
-                hint = ""
-                if ":" not in token and token.strip():
-                    hint = " " + suggestion(token.strip(), _BUILTIN_NAMES, "terrains")
-                raise InvalidInputError(
-                    f"Bad terrain token {token.strip()!r} in {spec!r}: expected a point 'x:z' "
-                    f"with two finite numbers in metres; {valid}.{hint}"
-                )
-            points.append(values)
-        return cls(points, name="custom", width=width)
+            return cls.flat(flat_height(text, spec), width=width)
+        return cls(parse_points(text, spec), name="custom", width=width)
 
     # -- queries ---------------------------------------------------------------------------------
 
@@ -357,7 +255,7 @@ class Terrain:
             Height(s) [m]: a float for a number, an array of the shape of ``x`` otherwise.
 
         """
-        if x.__class__ is float or x.__class__ is np.float64:  # one number: no array round trip
+        if isinstance(x, float):  # one number (np.float64 too): no array round trip
             return _interp(float(x), self._xs, self._zs)
         xs, zs = self._points[:, 0], self._points[:, 1]
         heights = np.interp(np.asarray(x, dtype=float), xs, zs)

@@ -28,7 +28,8 @@ import pinocchio as pin
 from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
 from .colors import desaturate
-from .geometry import Cone, Placed, material, span_matrix, to_hex, translation, y_to_z
+from .geometry import span_matrix, translation, y_to_z
+from .shapes import Cone, Placed, material, to_hex
 
 GEOMETRY_MODES = ("auto", "urdf", "skeleton")
 
@@ -218,19 +219,7 @@ def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bo
                     LINK_COLOR,
                 )
             )
-    # frames away from their joint (feet, toes, tools), one per point: named after the link
-    # (BODY frame) when there is one, else the operational or fixed-joint frame
-    priority = {pin.FrameType.BODY: 0, pin.FrameType.OP_FRAME: 1, pin.FrameType.FIXED_JOINT: 2}
-    tips: dict[tuple, pin.Frame] = {}
-    for frame in model.frames:
-        joint = int(frame.parentJoint)
-        offset = np.asarray(frame.placement.translation, dtype=float)
-        if frame.type not in priority or joint == 0 or np.linalg.norm(offset) < 1e-6:
-            continue
-        key = (joint, *np.round(offset, 6))
-        if key not in tips or priority[frame.type] < priority[tips[key].type]:
-            tips[key] = frame
-    for frame in tips.values():
+    for frame in _tip_frames(model):
         joint = int(frame.parentJoint)
         offset = np.asarray(frame.placement.translation, dtype=float)
         children.setdefault(joint, []).append(offset)
@@ -254,19 +243,36 @@ def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bo
             )
         )
     if floating and model.njoints > 1:
-        points = np.array(children.get(1, [np.zeros(3)]) + [np.zeros(3)])
-        low, high = points.min(axis=0), points.max(axis=0)
-        size = np.maximum(high - low, 2.0 * joint_radius) + joint_radius
-        parts.append(
-            Part(
-                "skeleton/base",
-                1,
-                translation((low + high) / 2.0),
-                mg.Box(size.tolist()),
-                BASE_COLOR,
-            )
-        )
+        parts.append(_base_part(children.get(1, [np.zeros(3)]), joint_radius))
     return parts
+
+
+def _tip_frames(model: pin.Model) -> list[pin.Frame]:
+    """The frames away from their joint (feet, toes, tools), one per point.
+
+    A point is named after its link (BODY frame) when there is one, else after the operational
+    or fixed-joint frame there.
+    """
+    priority = {pin.FrameType.BODY: 0, pin.FrameType.OP_FRAME: 1, pin.FrameType.FIXED_JOINT: 2}
+    tips: dict[tuple, pin.Frame] = {}
+    for frame in model.frames:
+        joint = int(frame.parentJoint)
+        offset = np.asarray(frame.placement.translation, dtype=float)
+        if frame.type not in priority or joint == 0 or np.linalg.norm(offset) < 1e-6:
+            continue
+        key = (joint, *np.round(offset, 6))
+        if key not in tips or priority[frame.type] < priority[tips[key].type]:
+            tips[key] = frame
+    return list(tips.values())
+
+
+def _base_part(children: list[np.ndarray], joint_radius: float) -> Part:
+    """A box around a floating base's joint and the origins of its children."""
+    points = np.array([*children, np.zeros(3)])
+    low, high = points.min(axis=0), points.max(axis=0)
+    size = np.maximum(high - low, 2.0 * joint_radius) + joint_radius
+    centre = translation((low + high) / 2.0)
+    return Part("skeleton/base", 1, centre, mg.Box(size.tolist()), BASE_COLOR)
 
 
 class RobotBodies:

@@ -106,7 +106,7 @@ def legend_entries(
         ("support", p.support, "support foot"),
         ("no_limit", None, f"no limit: full = {_number(effort_reference)}"),
         ("frames", None, "frames: x y z = red green blue"),
-    ]  # fmt: skip
+    ]
     return [(color, text) for key, color, text in entries if drawn is None or key in drawn]
 
 

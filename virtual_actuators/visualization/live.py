@@ -116,7 +116,7 @@ class LiveWindow(SceneWindow):
             prefix = _FRAME_PREFIXES[path] = (
                 _LENGTH.pack(13) + b"set_transform" + _LENGTH.pack(len(encoded)) + encoded
                 + _LENGTH.pack(size) + header
-            )  # fmt: skip
+            )
         self._batch += prefix + _matrix_bytes(matrix)
         self.sent += 1
 

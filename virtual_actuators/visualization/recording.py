@@ -29,6 +29,11 @@ def _float32(values: np.ndarray) -> umsgpack.Ext:
     return umsgpack.Ext(FLOAT32_ARRAY, np.ascontiguousarray(values, dtype=np.float32).tobytes())
 
 
+def _track(name: str, kind: str, times: np.ndarray, values: object) -> dict:
+    """One keyframe track of a three.js animation clip."""
+    return {"name": name, "type": kind, "times": _float32(times), "values": values}
+
+
 def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Split ``[R diag(s) | p]`` into position, quaternion ``(x, y, z, w)`` and scale.
 
@@ -187,23 +192,17 @@ class AnimationRecording:
                     quaternions[i] = -quaternions[i]
             scales = np.array([s for _, _, s in parts])
             tracks = [
-                {"name": ".position", "type": "vector3", "times": _float32(times),
-                 "values": _float32(positions.ravel())},
-                {"name": ".quaternion", "type": "quaternion", "times": _float32(times),
-                 "values": _float32(quaternions.ravel())},
-            ]  # fmt: skip
+                _track(".position", "vector3", times, _float32(positions.ravel())),
+                _track(".quaternion", "quaternion", times, _float32(quaternions.ravel())),
+            ]
             if np.any(np.abs(scales - 1.0) > 1e-9):
-                tracks.append(
-                    {"name": ".scale", "type": "vector3", "times": _float32(times),
-                     "values": _float32(scales.ravel())}
-                )  # fmt: skip
+                tracks.append(_track(".scale", "vector3", times, _float32(scales.ravel())))
             clips.setdefault(name, []).extend(tracks)
         for name, keys in self._visible.items():
             times = frame_times[[k for k, _ in keys]]
             clips.setdefault(name, []).append(
-                {"name": ".visible", "type": "boolean", "times": _float32(times),
-                 "values": [v for _, v in keys]}
-            )  # fmt: skip
+                _track(".visible", "boolean", times, [v for _, v in keys])
+            )
         animations = [
             {"path": path_of(name), "clip": {"fps": self.fps, "name": "default", "tracks": tracks}}
             for name, tracks in clips.items()

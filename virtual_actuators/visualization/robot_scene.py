@@ -10,7 +10,6 @@ Overlays (:mod:`.overlays`) draw on it with :meth:`RobotScene.arrow`, :meth:`Rob
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -18,22 +17,20 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.frames import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
-from .geometry import (
-    Cone,
-    arrow_matrices,
-    frame_on_plane,
-    material,
-    span_matrix,
-    terrain_boxes,
-    translation,
-    triad_parts,
-)
+from .geometry import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
 from .legend import Palette
+from .robot_layout import (
+    effort_joints,
+    ground_grid,
+    is_planar,
+    marker_sizes,
+    terrain_segments,
+)
 from .scene import Scene
+from .shapes import Cone, material, triad_parts
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
@@ -50,11 +47,6 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array(
         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
     )
-
-
-def _jacobian(model: pin.Model, data: pin.Data, joint: int, frame: object) -> np.ndarray:
-    """Joint Jacobian ``(6, nv)`` (Pinocchio returns a flat array for a robot with one dof)."""
-    return np.asarray(pin.getJointJacobian(model, data, joint, frame)).reshape(6, model.nv)
 
 
 def safe(name: str) -> str:
@@ -84,8 +76,7 @@ class RobotScene:
         view: Unit vector from the robot's centre to the camera (world axes).
         planar: Whether every joint moves in the x-z plane.
         follow: Whether the view follows the robot.
-        effort_joints: ``(name, joint id, velocity index, limit or None, local axis)`` per
-            actuated 1-dof joint.
+        effort_joints: An :class:`~.robot_layout.EffortJoint` per actuated 1-dof joint.
         drawn: Keys of what has been drawn so far (:class:`~.legend.Palette` field names,
             ``"no_limit"``, ``"frames"``): the legend lists these (see :meth:`mark`).
 
@@ -120,7 +111,7 @@ class RobotScene:
         pin.forwardKinematics(self.model, self.data, q0)
         pin.updateFramePlacements(self.model, self.data)
         self._sizes(camera, follow)
-        self.effort_joints = self._actuated_joints(q0)
+        self.effort_joints = effort_joints(robot, self.data, q0)
 
     # -- set-up ------------------------------------------------------------------------------
 
@@ -134,19 +125,8 @@ class RobotScene:
         floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
         self._ground = float(low[2]) if floating else 0.0  # feet of a free robot, else z = 0
         self._centroid0 = self._centroid()
-        d = self.detail
-        self.sizes = {
-            "shaft": max(1e-3, 0.035 * d),
-            "head_length": 0.2 * d,
-            "head_radius": max(2.5e-3, 0.085 * d),
-            "triad_radius": max(8e-4, 0.018 * d),
-            "effort": 0.16 * d,
-            "support": 0.14 * d,
-            "coil": 0.09 * d,
-            "damper": 0.07 * d,
-            "setpoint": 0.07 * d,
-        }
-        self.planar = self._planar()
+        self.sizes = marker_sizes(self.detail)
+        self.planar = is_planar(model, data)
         mode = camera if camera != "auto" else ("side" if self.planar else "iso")
         self._camera_mode = mode
         direction = _CAMERA_SIDE if mode == "side" else _CAMERA_ISO
@@ -154,47 +134,6 @@ class RobotScene:
         first = model.joints[1].shortname() if model.njoints > 1 else ""
         travels = first == "JointModelFreeFlyer" or first.startswith("JointModelP")
         self.follow = travels if follow is None else bool(follow)
-
-    def _planar(self) -> bool:
-        """Whether every joint moves in the x-z plane (rotations about y, translations in x-z)."""
-        model, data = self.model, self.data
-        if model.njoints <= 1:
-            return False
-        pin.computeJointJacobians(model, data, pin.neutral(model))
-        for j in range(1, model.njoints):
-            joint = model.joints[j]
-            if joint.nv != 1:
-                return False
-            column = _jacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:, joint.idx_v]
-            linear, angular = column[:3], column[3:]
-            if np.linalg.norm(angular) > 1e-9:
-                if abs(abs(angular[1]) - np.linalg.norm(angular)) > 1e-6:
-                    return False
-            elif abs(linear[1]) > 1e-6:
-                return False
-        return True
-
-    def _actuated_joints(
-        self, q0: np.ndarray
-    ) -> list[tuple[str, int, int, float | None, np.ndarray]]:
-        model, data = self.model, self.data
-        pin.computeJointJacobians(model, data, q0)
-        out = []
-        passive = set(self.robot.passive_joints)
-        for j in range(1, model.njoints):
-            joint = model.joints[j]
-            name = model.names[j]
-            if joint.nv != 1 or name in passive:
-                continue
-            column = _jacobian(model, data, j, pin.LOCAL)[:, joint.idx_v]
-            axis = column[3:] if np.linalg.norm(column[3:]) > 1e-9 else column[:3]
-            axis = axis / max(np.linalg.norm(axis), 1e-12)
-            limit = float(model.effortLimit[joint.idx_v])
-            limit = limit if math.isfinite(limit) and 0 < limit < 1e300 else None
-            out.append((name, j, joint.idx_v, limit, axis))
-        pin.forwardKinematics(model, data, q0)
-        pin.updateFramePlacements(model, data)
-        return out
 
     def _centroid(self) -> np.ndarray:
         return (
@@ -221,23 +160,7 @@ class RobotScene:
         nodes.place("hud", translation(self._target0))
         nodes.set_property("/Grid", "visible", False)
         nodes.set_property("/Axes", "visible", False)
-        # short segments: some renderers (SwiftShader) drop a whole line that passes behind
-        # the camera, and the camera stands inside the grid
-        half, step = 10.0, 0.5
-        ticks = np.arange(-half, half + step / 2, step)
-        starts, ends = np.meshgrid(ticks, ticks[:-1], indexing="ij")
-        starts, ends = starts.ravel(), ends.ravel()
-        along_y = np.stack((starts, ends, starts, ends + step), axis=1)
-        along_x = np.stack((ends, starts, ends + step, starts), axis=1)
-        points = np.vstack((along_y, along_x)).reshape(-1, 2) + self._target0[:2]
-        vertices = np.column_stack((points, np.full(len(points), self._ground))).T
-        nodes.create(
-            "ground/grid",
-            mg.LineSegments(
-                mg.PointsGeometry(vertices.astype(np.float32)),
-                mg.LineBasicMaterial(color=0x9A9A9A),
-            ),
-        )
+        nodes.create("ground/grid", ground_grid(self._target0[:2], self._ground))
         if self._camera_mode is None:
             return
         distance = max(0.8, 1.5 * self.extent)
@@ -256,18 +179,7 @@ class RobotScene:
         """
         if width is None:
             width = float(getattr(terrain, "width", 1.0))
-        if hasattr(terrain, "segments"):
-            segments = terrain.segments(run)
-        else:
-            points = np.asarray(terrain, dtype=float)
-            if points.ndim != 2 or points.shape[1] != 2 or not np.all(np.isfinite(points)):
-                raise InvalidInputError(
-                    f"terrain must be a Terrain or (n, 2) finite (x, z) points, got {terrain!r}."
-                )
-            first, last = points[0], points[-1]
-            segments = [((first[0] - run, first[1]), tuple(first))]
-            segments += [(tuple(a), tuple(b)) for a, b in zip(points[:-1], points[1:], strict=True)]
-            segments += [(tuple(last), (last[0] + run, last[1]))]
+        segments = terrain_segments(terrain, run)
         self.nodes.remove("terrain")
         for k, (lengths, matrix) in enumerate(terrain_boxes(segments, width)):
             name = f"terrain/slab_{k:03d}"

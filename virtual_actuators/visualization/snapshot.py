@@ -131,10 +131,8 @@ class FrameSnapshot:
                 raise InvalidInputError(f"state must be a State or a state name, got {state!r}.")
             if not isinstance(state, str):
                 frames = [*getattr(state, "support", ()), *frames]
-        return cls(
-            q, actuator, solution, wrench, controller, output, name, tuple(dict.fromkeys(frames)),
-            time,
-        )  # fmt: skip
+        support_frames = tuple(dict.fromkeys(frames))
+        return cls(q, actuator, solution, wrench, controller, output, name, support_frames, time)
 
     @property
     def tau(self) -> np.ndarray | None:

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import meshcat
@@ -24,16 +23,15 @@ from ..distribution.solution import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from .bodies import RobotBodies, typical_link_length
-from .framing import framing_commands
-from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
+from .legend import PALETTE, Palette, legend_entries, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
 from .pacing import FramePacer
-from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
 from .snapshot import Actuator, FrameSnapshot
 from .ticks import TickUpdater
+from .viewer_output import ViewerOutput
 from .windows import ForwardingWindow, SceneWindow
 
 if TYPE_CHECKING:
@@ -64,7 +62,7 @@ def _forward(name: str, doc: str, settable: bool = False) -> property:
     return property(get, put if settable else None, doc=doc)
 
 
-class Viewer:
+class Viewer(ViewerOutput):
     """Show a robot and its virtual actuators in MeshCat.
 
     Args:
@@ -117,15 +115,6 @@ class Viewer:
     sizes = _forward("sizes", "Sizes of arrows and markers [m].")
     planar = _forward("planar", "Whether the robot moves in the x-z plane.")
     follow = _forward("follow", "Whether the view follows the robot.", settable=True)
-
-    @property
-    def rate_hz(self) -> float:
-        """Live updates per wall-clock second."""
-        return self.pacer.rate_hz
-
-    @rate_hz.setter
-    def rate_hz(self, value: float) -> None:
-        self.pacer.rate_hz = value
 
     def __init__(
         self,
@@ -189,22 +178,16 @@ class Viewer:
         if open:
             self.window.open()
 
-    @property
-    def url(self) -> str | None:
-        """URL of the live viewer (None without a server)."""
-        return self.window.web_url
-
-    @property
-    def recording(self) -> bool:
-        """Whether frames are being recorded."""
-        return self.pacer.recording is not None
-
     def legend_entries(self) -> list[tuple[int | None, str]]:
         """The legend as ``(colour or None, text)`` pairs: what has been drawn so far."""
+        scene = self.robot_scene
         return legend_entries(
-            self.palette, self.force_scale, self.moment_scale, self.effort_reference,
-            self.robot_scene.drawn,
-        )  # fmt: skip
+            scene.palette,
+            scene.force_scale,
+            scene.moment_scale,
+            scene.effort_reference,
+            scene.drawn,
+        )
 
     def legend(self) -> str:
         """The legend as plain text (colours as ``#RRGGBB``)."""
@@ -301,23 +284,20 @@ class Viewer:
 
         """
         frame = FrameSnapshot.build(
-            self.model.nq, self.robot.name, q, solution, actuator=actuator, wrench=wrench,
-            controller=controller, output=output, state=state, support=support, time=time,
-        )  # fmt: skip
+            self.model.nq,
+            self.robot.name,
+            q,
+            solution,
+            actuator=actuator,
+            wrench=wrench,
+            controller=controller,
+            output=output,
+            state=state,
+            support=support,
+            time=time,
+        )
         self.draw(frame)
         self.pacer.publish(self.window.live, self.pacer.recording is not None, time)
-
-    def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """Whether a live update and a recorded frame are due (cheap: two comparisons).
-
-        Args:
-            time: Simulated time [s] (recordings are paced by it), or None for wall time.
-
-        Returns:
-            ``(live, record)``.
-
-        """
-        return self.pacer.due(time)
 
     def maybe_show(
         self,
@@ -350,9 +330,18 @@ class Viewer:
         if not (live or record):
             return False
         frame = FrameSnapshot.build(
-            self.model.nq, self.robot.name, q, solution, actuator=actuator, wrench=wrench,
-            controller=controller, output=output, state=state, support=support, time=time,
-        )  # fmt: skip
+            self.model.nq,
+            self.robot.name,
+            q,
+            solution,
+            actuator=actuator,
+            wrench=wrench,
+            controller=controller,
+            output=output,
+            state=state,
+            support=support,
+            time=time,
+        )
         self.draw(frame)
         self.pacer.publish(live, record, time)
         return True
@@ -385,67 +374,6 @@ class Viewer:
 
         """
         return TickUpdater(self, realtime=realtime, terrain=terrain)
-
-    def start_recording(self, fps: float = 30.0) -> None:
-        """Record every following :meth:`show` (and due :meth:`maybe_show`) as animation frames.
-
-        Args:
-            fps: Frames per second of :meth:`maybe_show` / :meth:`tick_callback` (paced by the
-                frames' ``time``, e.g. simulated time), and of :meth:`show` calls without a
-                time.
-
-        Raises:
-            InvalidInputError: ``fps`` is not a positive number.
-
-        """
-        self.pacer.start_recording(fps)
-
-    def stop_recording(self) -> AnimationRecording | None:
-        """Stop recording; return the recording (None if none was running)."""
-        return self.pacer.stop_recording()
-
-    def static_html(self, title: str | None = None) -> str:
-        """A standalone HTML page of the scene, animated with the recording if there is one.
-
-        A recording is framed on the whole run: the camera sees everything drawn in any of its
-        frames (see :mod:`.framing`).
-
-        Returns:
-            The page (MeshCat's viewer inlined: it opens offline).
-
-        """
-        title = title or f"virtual_actuators: {self.robot.name}"
-        scene = self.robot_scene
-        framing = framing_commands(self.pacer.bounds, scene.view, 0.75 * scene.detail)
-        return self.pacer.page(title, legend_html(self.legend_entries(), title), framing)
-
-    def save_html(self, path: str, title: str | None = None) -> str:
-        """Write :meth:`static_html` to ``path`` (the whole recorded run, if any).
-
-        Args:
-            path: File to write (``.html``).
-            title: Page title.
-
-        Returns:
-            The path written.
-
-        Raises:
-            InvalidInputError: The folder of ``path`` does not exist.
-
-        """
-        target = Path(path).expanduser()
-        if not target.parent.is_dir():
-            raise InvalidInputError(f"Cannot write {str(path)!r}: its folder does not exist.")
-        target.write_text(self.static_html(title), encoding="utf-8")
-        return str(target)
-
-    def flush(self, timeout: float | None = 10.0) -> bool:
-        """Wait until the live viewer received everything sent (True if it did in time)."""
-        return self.window.flush(timeout)
-
-    def close(self) -> None:
-        """Stop the sender and the MeshCat server this viewer started."""
-        self.window.close()
 
     def __repr__(self) -> str:
         running = self.pacer.recording

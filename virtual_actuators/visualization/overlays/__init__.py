@@ -20,8 +20,12 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
 
     """
     overlays: list[Overlay] = [
-        WrenchOverlay(), ComponentOverlay(), EffortOverlay(), StateOverlay(), SupportOverlay(),
-    ]  # fmt: skip
+        WrenchOverlay(),
+        ComponentOverlay(),
+        EffortOverlay(),
+        StateOverlay(),
+        SupportOverlay(),
+    ]
     return [*overlays, LegendOverlay()] if legend else overlays
 
 

@@ -14,8 +14,8 @@ import numpy as np
 
 from ...components.base import Component
 from ...control import Attachment
-from ..geometry import coil_mesh, material
 from ..robot_scene import RobotScene, cross, safe
+from ..shapes import coil_mesh, material
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 
@@ -91,9 +91,12 @@ class ComponentOverlay(Overlay):
                     offset = side / norm * 1.3 * sizes["coil"]
             if spring:
                 scene.span(
-                    f"{name}/spring", anchor + offset, action + offset,
-                    lambda: coil_mesh(radius=sizes["coil"]), palette.spring,
-                )  # fmt: skip
+                    f"{name}/spring",
+                    anchor + offset,
+                    action + offset,
+                    lambda: coil_mesh(radius=sizes["coil"]),
+                    palette.spring,
+                )
                 scene.mark("spring")
                 if target is not None:
                     scene.mark("setpoint")
@@ -126,8 +129,11 @@ def draw_dashpot(scene: RobotScene, name: str, start: np.ndarray, end: np.ndarra
         f"{name}/cap", start, start + axis * thickness, lambda: mg.Cylinder(1.0, radius), color
     )
     scene.span(
-        f"{name}/piston", piston - axis * thickness, piston,
-        lambda: mg.Cylinder(1.0, 0.85 * radius), color,
-    )  # fmt: skip
+        f"{name}/piston",
+        piston - axis * thickness,
+        piston,
+        lambda: mg.Cylinder(1.0, 0.85 * radius),
+        color,
+    )
     scene.span(f"{name}/rod", piston, end, lambda: mg.Cylinder(1.0, 0.25 * radius), color)
     scene.mark("damper")

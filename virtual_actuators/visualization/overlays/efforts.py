@@ -12,8 +12,9 @@ import meshcat.geometry as mg
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ..geometry import material, translation
+from ..geometry import translation
 from ..robot_scene import RobotScene, safe
+from ..shapes import material
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import meshcat.geometry as mg
 
-from ..geometry import material, text_object
 from ..legend import legend_entries
 from ..robot_scene import RobotScene, safe
+from ..shapes import material, text_object
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 

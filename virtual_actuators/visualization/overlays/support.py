@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import meshcat.geometry as mg
 
-from ..geometry import material
 from ..robot_scene import RobotScene, safe
+from ..shapes import material
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 

@@ -38,9 +38,14 @@ class WrenchOverlay(Overlay):
         if actuator is not None:
             if solution is not None:
                 self.draw_actuator(
-                    scene, "actuator", actuator, solution.requested, solution.wrench,
-                    solution.forces, not solution.admissible,
-                )  # fmt: skip
+                    scene,
+                    "actuator",
+                    actuator,
+                    solution.requested,
+                    solution.wrench,
+                    solution.forces,
+                    not solution.admissible,
+                )
             elif frame.wrench is None:
                 self.draw_actuator(scene, "actuator", actuator, None, None, None, False)
             else:
@@ -102,10 +107,10 @@ class WrenchOverlay(Overlay):
         origin = data.oMf[action_id].translation
         rotation = data.oMf[reference_id].rotation
         name = f"wrench/{safe(key)}"
+        colors = (palette.requested_force, palette.requested_moment)
         force_drawn, moment_drawn = scene.wrench(
-            f"{name}/requested", origin, rotation, axes, requested,
-            (palette.requested_force, palette.requested_moment),
-        )  # fmt: skip
+            f"{name}/requested", origin, rotation, axes, requested, colors
+        )
         if force_drawn:
             scene.mark("requested_force")
         if moment_drawn:
@@ -132,13 +137,9 @@ class WrenchOverlay(Overlay):
             moment_w = rotation @ moment + cross(origin - at, force_w)  # about the reaction
             moment_w = rotation @ (mask * (rotation.T @ moment_w))  # on the actuator's axes
             share_name = f"{name}/share/{safe(reaction)}"
-            if scene.arrow(
-                f"{share_name}/force", at, force_w * scene.force_scale, palette.share_force, 1,
-                0.75,
-            ):  # fmt: skip
+            force_arrow = force_w * scene.force_scale
+            if scene.arrow(f"{share_name}/force", at, force_arrow, palette.share_force, 1, 0.75):
                 scene.mark("share_force")
-            if scene.arrow(
-                f"{share_name}/moment", at, moment_w * scene.moment_scale, palette.share_moment,
-                2, 0.75,
-            ):  # fmt: skip
+            moment_arrow = moment_w * scene.moment_scale
+            if scene.arrow(f"{share_name}/moment", at, moment_arrow, palette.share_moment, 2, 0.75):
                 scene.mark("share_moment")

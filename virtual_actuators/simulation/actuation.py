@@ -1,0 +1,89 @@
+"""Joint efforts to MuJoCo actuator controls, and back.
+
+Every actuated joint has one ``motor`` actuator of gear 1 named after it (see
+:func:`~virtual_actuators.simulation.model.build_mujoco_model`), so a control is the joint's
+effort; the maps go through the joint names of a
+:class:`~virtual_actuators.simulation.model.MujocoModel`. A free-flyer and passive joints have no
+actuator: an effort asked of them is an error unless the caller says to drop it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.simulation.conversions import finite_vector, gathers
+from virtual_actuators.simulation.model import MujocoModel
+
+__all__ = ["UNACTUATED_TOLERANCE", "ctrl_to_torques", "torques_to_ctrl"]
+
+#: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
+UNACTUATED_TOLERANCE = 1e-9
+
+
+def torques_to_ctrl(
+    mm: MujocoModel, tau: np.ndarray, *, ignore_unactuated: bool = False
+) -> np.ndarray:
+    """The actuators' controls for joint efforts ``tau`` (Pinocchio velocity order).
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        tau: Joint efforts [N m or N], shape ``(model.nv,)``.
+        ignore_unactuated: Drop efforts on unactuated degrees of freedom (free-flyer, passive
+            joints) instead of raising.
+
+    Returns:
+        ``ctrl``, shape ``(mj_model.nu,)`` (not clipped: MuJoCo clips to ``ctrlrange``).
+
+    Raises:
+        InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or (unless
+            ``ignore_unactuated``) asks for more than 1e-9 on a degree of freedom that no
+            actuator drives (the message names the joint).
+
+    """
+    tau = finite_vector(tau, mm.robot.model.nv, "tau")
+    maps = gathers(mm)
+    if maps.direct_ctrl is not None:  # every motor drives one joint: one gather
+        ctrl = tau[maps.direct_ctrl]
+    else:
+        ctrl = np.zeros(mm.model.nu)
+        ctrl[maps.actuator] = tau[maps.actuated_v]
+    if ignore_unactuated or not maps.unactuated:
+        return ctrl
+    if len(maps.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
+        efforts = tau[maps.unactuated_v].tolist()
+        if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
+            return ctrl
+    elif np.abs(tau[maps.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
+        return ctrl
+    for joint in mm.joints:
+        effort = tau[joint.idx_v : joint.idx_v + joint.nv]
+        if joint.actuator is None and np.any(np.abs(effort) > UNACTUATED_TOLERANCE):
+            raise InvalidInputError(
+                f"tau asks for {effort.tolist()} on joint {joint.name!r}, which no actuator "
+                f"drives (actuated joints: {', '.join(mm.actuated) or 'none'}); pass "
+                "ignore_unactuated=True to drop it."
+            )
+    return ctrl
+
+
+def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
+    """Joint efforts (Pinocchio velocity order) of an actuator control vector.
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        ctrl: Actuator controls, shape ``(mj_model.nu,)``.
+
+    Returns:
+        ``tau``, shape ``(model.nv,)``, zero on unactuated degrees of freedom.
+
+    Raises:
+        InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
+
+    """
+    ctrl = finite_vector(ctrl, mm.model.nu, "ctrl")
+    tau = np.zeros(mm.robot.model.nv)
+    for joint in mm.joints:
+        if joint.actuator is not None:
+            tau[joint.idx_v] = ctrl[joint.actuator]
+    return tau

@@ -1,0 +1,263 @@
+"""Contact queries of a simulation: which frames touch the terrain, and with what force.
+
+:class:`ContactQueries` is the part of :class:`~virtual_actuators.simulation.Simulator` that
+reads MuJoCo's contact list by Pinocchio frame name. The robot-terrain contacts are scanned once
+per physics state, keyed by ``(data.time, data.ncon)``; the answers derived from them (switches,
+touching frames) are cached with that scan.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mujoco
+import numpy as np
+
+from virtual_actuators.simulation.model import MujocoModel
+
+__all__ = ["ContactQueries"]
+
+
+class ContactQueries:
+    """Terrain-contact queries by frame name, over a MuJoCo model and its data.
+
+    A base of :class:`~virtual_actuators.simulation.Simulator`: the subclass sets
+    ``mujoco_model``, ``model`` and ``data``, then calls :meth:`_init_contact_queries`.
+    """
+
+    mujoco_model: MujocoModel
+    model: mujoco.MjModel
+    data: mujoco.MjData
+
+    def _init_contact_queries(self) -> None:
+        """Empty the caches (once, at construction)."""
+        self._force = np.zeros(6)
+        self._owned_geoms: dict[str, frozenset[int]] = {}
+        self._force_rows: dict[tuple[str, ...], dict[int, list[int]]] = {}  # contact_forces
+        self._contacts: list[tuple[int, int, float]] = []
+        self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
+        self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
+        self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
+        self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
+        self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
+        self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms
+        self._touched: tuple[int, ...] = ()
+
+    def _frame_geoms(self, frame: str) -> frozenset[int]:
+        """The robot geoms owned by ``frame`` (checked and cached on first use).
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+        """
+        geoms = self._owned_geoms.get(frame) if isinstance(frame, str) else None
+        if geoms is None:
+            mm = self.mujoco_model
+            mm.check_frame(frame)
+            geoms = self._owned_geoms[frame] = frozenset(mm.frame_geoms.get(frame, ()))
+        return geoms
+
+    def terrain_contacts(self) -> list[tuple[int, int, float]]:
+        """The active robot-terrain contacts, scanned once per physics state (do not modify).
+
+        Returns:
+            ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when
+            the robot geom is the contact's second geom (MuJoCo's contact force acts on the
+            second geom along the normal), -1 otherwise.
+
+        """
+        return self._terrain_contacts()
+
+    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
+        """``(contact index, robot geom, sign)`` of the active robot-terrain contacts.
+
+        ``sign`` is +1 when the robot geom is the contact's second geom (MuJoCo's contact force
+        acts on the second geom along the normal) and -1 otherwise. The list of all of them is
+        built once per physics state.
+        """
+        key = (self.data.time, self.data.ncon)
+        if self._contacts_time != key:
+            self._contacts = self._scan_contacts()
+            self._touched = tuple([hit[1] for hit in self._contacts])  # robot geoms touching
+            self._contacts_time = key
+            self._switches = {}
+            self._touching = None
+        if frame is None:
+            return self._contacts
+        geoms = self._frame_geoms(frame)
+        return [hit for hit in self._contacts if hit[1] in geoms]
+
+    def _scan_contacts(self) -> list[tuple[int, int, float]]:
+        """Scan MuJoCo's contact list for robot-terrain contacts."""
+        mm = self.mujoco_model
+        terrain, owned = mm.terrain_geoms, mm.geom_frames
+        contacts = self.data.contact
+        hits = []
+        rows = zip(contacts.geom.tolist(), contacts.exclude.tolist(), strict=True)
+        for i, ((g1, g2), exclude) in enumerate(rows):
+            if exclude != 0:
+                continue
+            if g1 in terrain and g2 not in terrain:
+                robot_geom, sign = g2, 1.0
+            elif g2 in terrain and g1 not in terrain:
+                robot_geom, sign = g1, -1.0
+            else:
+                continue
+            if robot_geom in owned:
+                hits.append((i, robot_geom, sign))
+        return hits
+
+    def in_contact(self, frame: str) -> bool:
+        """Whether a geom of a frame touches the terrain.
+
+        A frame's geoms are those attached to it plus those its origin lies on (a heel frame
+        on a heel sphere); see :attr:`MujocoModel.frame_geoms`.
+
+        Args:
+            frame: Pinocchio frame name.
+
+        Returns:
+            True if any of its geoms is in contact with a terrain geom.
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+
+        """
+        data = self.data
+        if isinstance(frame, str) and self._contacts_time == (data.time, data.ncon):  # cached
+            switch = self._switches.get(frame)
+            if switch is not None:
+                return switch
+        switch = bool(self._terrain_contacts(frame))
+        self._switches[frame] = switch  # a known frame (unknown ones raised above)
+        return switch
+
+    def contact_switches(self, frames: Sequence[str]) -> dict[str, bool]:
+        """Whether each of several frames touches the terrain, in one pass over the contacts.
+
+        The same answers as :meth:`in_contact` for each frame (cheaper for several frames).
+
+        Args:
+            frames: Pinocchio frame names.
+
+        Returns:
+            ``{frame: in contact}`` in the order of ``frames``.
+
+        Raises:
+            FrameNotFoundError: If a frame is not the robot's (with the closest names).
+
+        """
+        pairs = None
+        if isinstance(frames, tuple):
+            try:
+                pairs = self._switch_geoms.get(frames)
+            except TypeError:  # an unhashable entry: _frame_geoms names it below
+                pass
+        if pairs is None:  # checked (unknown frames raise) and cached per tuple of names
+            pairs = tuple((frame, self._frame_geoms(frame)) for frame in frames)
+            if isinstance(frames, tuple) and all(isinstance(frame, str) for frame in frames):
+                if len(self._switch_geoms) >= 64:
+                    self._switch_geoms.clear()
+                self._switch_geoms[frames] = pairs
+        self._terrain_contacts()
+        key = (pairs, self._touched)
+        out = self._switch_answers.get(key)  # the same geoms touching: the same answers
+        if out is None:
+            touched = set(self._touched)
+            out = {frame: not geoms.isdisjoint(touched) for frame, geoms in pairs}
+            if len(self._switch_answers) >= 256:
+                self._switch_answers.clear()
+            self._switch_answers[key] = out
+        self._switches.update(out)  # in_contact's cache (reset by _terrain_contacts)
+        return dict(out)
+
+    def contact_force(self, frame: str) -> np.ndarray:
+        """Total force of the terrain on a frame's geoms, in world axes [N].
+
+        Args:
+            frame: Pinocchio frame name.
+
+        Returns:
+            The force, shape ``(3,)`` (zero without contact).
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+
+        """
+        total = np.zeros(3)
+        for i, _, sign in self._terrain_contacts(frame):
+            mujoco.mj_contactForce(self.model, self.data, i, self._force)
+            axes = self.data.contact.frame[i].reshape(3, 3)  # rows: normal, tangent 1, tangent 2
+            total += sign * (axes.T @ self._force[:3])
+        return total
+
+    def contact_forces(self, frames: Sequence[str]) -> np.ndarray:
+        """Total terrain force on each of several frames' geoms, in world axes [N].
+
+        One pass over the contacts for all of them (cheaper than :meth:`contact_force` per
+        frame when a foot is made of several frames).
+
+        Args:
+            frames: Pinocchio frame names.
+
+        Returns:
+            ``(len(frames), 3)`` forces (zero rows without contact).
+
+        Raises:
+            FrameNotFoundError: If the robot has no such frame (with the closest names).
+
+        """
+        key = tuple(frames)
+        try:
+            rows_of = self._force_rows.get(key)
+        except TypeError:  # an unhashable entry: _frame_geoms names it below
+            rows_of = None
+        if rows_of is None:  # geom -> the rows of the frames that own it, once per frame list
+            rows_of = {}
+            for k, frame in enumerate(key):
+                for geom in self._frame_geoms(frame):
+                    rows_of.setdefault(geom, []).append(k)
+            self._force_rows[key] = rows_of  # every entry a known frame name: hashable
+        out = np.zeros((len(key), 3))
+        contacts = self._terrain_contacts()
+        if not contacts:
+            return out
+        data, force = self.data, self._force
+        axes_all = data.contact.frame  # (ncon, 9): normal, tangent 1, tangent 2 (rows)
+        for i, geom, sign in contacts:
+            rows = rows_of.get(geom)
+            if rows:
+                mujoco.mj_contactForce(self.model, data, i, force)
+                world = (force[:3] @ axes_all[i].reshape(3, 3)) * sign  # axes^T f
+                for k in rows:
+                    out[k] += world
+        return out
+
+    def touching_terrain(self) -> set[str]:
+        """Names of the frames whose geoms touch the terrain (e.g. to detect a fall).
+
+        Returns:
+            Frame names (a geom counts for its parent frame and every frame that owns it).
+
+        """
+        return set(self.touching_frames())
+
+    def touching_frames(self) -> frozenset[str]:
+        """:meth:`touching_terrain` as a frozenset, built once per physics state (not copied).
+
+        Returns:
+            Frame names (a geom counts for its parent frame and every frame that owns it).
+
+        """
+        self._terrain_contacts()
+        touching = self._touching
+        if touching is None:  # once per physics state; the same geoms give the same set object
+            geoms = self._touched
+            touching = self._touching_sets.get(geoms)
+            if touching is None:
+                owners = self.mujoco_model.geom_frames
+                touching = frozenset(name for geom in geoms for name in owners[geom])
+                if len(self._touching_sets) >= 256:
+                    self._touching_sets.clear()
+                self._touching_sets[geoms] = touching
+            self._touching = touching
+        return touching

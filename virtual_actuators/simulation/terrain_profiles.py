@@ -1,0 +1,181 @@
+"""The built-in terrain profiles, and the text form of a terrain (``--terrain`` on the CLI).
+
+Built-in profiles (all slopes within +-20 degrees, level for the first 2 m so a robot can start
+standing at ``x = 0``):
+
+``flat``
+    Level ground at height 0 (a plane in MuJoCo).
+``profile-one``
+    The style of Profile One of the seed (Chew, Pratt et al., "Virtual model control: an
+    intuitive approach for bipedal locomotion", IJRR 2001, section 6.3, Fig. 15), about 14 m:
+    2 m level, up 15 degrees, level, down 15 degrees, level, up 20 degrees, level, down 20
+    degrees, level; segments of 1.2 m to 1.8 m.
+``profile-two``
+    The style of the seed's Profile Two (Fig. 16), rougher: after 2 m level, a series of slopes
+    between -18 and +18 degrees, 0.6 m to 1.5 m long, with gradient changes of at most 18 degrees
+    at each transition; 16.4 m in all. Hard-coded, hence the same in every run.
+``rolling``
+    Gentle rolling ground: after 2 m level, slopes of 5 and 10 degrees up and down over 1 m
+    segments, 14 m in all.
+
+A terrain as text (:meth:`Terrain.parse <virtual_actuators.simulation.terrain.Terrain.parse>`)
+is ``"flat"``, ``"flat:HEIGHT"``, a built-in name, or points ``"x:z,x:z,..."`` in metres.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from virtual_actuators.exceptions import InvalidInputError, suggestion
+
+__all__ = [
+    "BUILTIN_NAMES",
+    "LEVEL_START",
+    "PROFILES",
+    "VALID_SPECS",
+    "flat_height",
+    "parse_points",
+    "profile_points",
+]
+
+#: Length of the level ground that every built-in profile starts with [m].
+LEVEL_START = 2.0
+
+# Built-in profiles as (horizontal length [m], slope [deg]) segments after LEVEL_START m of level
+# ground starting at x = 0; the height starts at 0.
+PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
+    "profile-one": (
+        (1.5, 15.0),
+        (1.6, 0.0),
+        (1.5, -15.0),
+        (1.6, 0.0),
+        (1.2, 20.0),
+        (1.6, 0.0),
+        (1.2, -20.0),
+        (1.8, 0.0),
+    ),
+    "profile-two": (
+        (1.0, 10.0),
+        (0.8, 18.0),
+        (1.2, 5.0),
+        (0.7, -10.0),
+        (1.0, -18.0),
+        (0.6, -5.0),
+        (1.5, 8.0),
+        (0.9, 15.0),
+        (0.8, 0.0),
+        (1.1, -14.0),
+        (0.7, 3.0),
+        (1.3, 12.0),
+        (0.6, -6.0),
+        (1.0, -16.0),
+        (1.2, 0.0),
+    ),
+    "rolling": (
+        (1.0, 5.0),
+        (1.0, 10.0),
+        (1.0, 5.0),
+        (1.0, -5.0),
+        (1.0, -10.0),
+        (1.0, -5.0),
+        (1.0, 5.0),
+        (1.0, 10.0),
+        (1.0, 5.0),
+        (1.0, -5.0),
+        (1.0, -10.0),
+        (1.0, -5.0),
+    ),
+}
+
+#: Names accepted by :meth:`Terrain.builtin <virtual_actuators.simulation.terrain.Terrain.builtin>`.
+BUILTIN_NAMES = ("flat", *PROFILES)
+
+#: What a terrain spec may be, for error messages.
+VALID_SPECS = (
+    f"valid terrains: {', '.join(BUILTIN_NAMES)}, 'flat:HEIGHT', or points 'x:z,x:z,...' "
+    "in metres with increasing x (e.g. '0:0,2:0,3:0.27')"
+)
+
+
+def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Points of a built-in profile: (0, 0), (LEVEL_START, 0), then one point per segment.
+
+    Args:
+        segments: ``(horizontal length [m], slope [deg])`` per segment, as in :data:`PROFILES`.
+
+    Returns:
+        The points ``(x, z)`` [m].
+
+    """
+    points = [(0.0, 0.0), (LEVEL_START, 0.0)]
+    x, z = LEVEL_START, 0.0
+    for length, slope_deg in segments:
+        x += length
+        z += length * math.tan(math.radians(slope_deg))
+        points.append((round(x, 12), z))
+    return points
+
+
+def flat_height(text: str, spec: str) -> float:
+    """The height of a ``"flat:HEIGHT"`` spec.
+
+    Args:
+        text: The stripped spec, starting with ``"flat:"``.
+        spec: The spec as given (quoted in the error).
+
+    Returns:
+        The height [m].
+
+    Raises:
+        InvalidInputError: If ``HEIGHT`` is not a finite number.
+
+    """
+    height = text.removeprefix("flat:").strip()
+    try:
+        value = float(height)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise InvalidInputError(
+            f"Bad terrain height {height!r} in {spec!r}: 'flat:HEIGHT' needs a finite "
+            f"number of metres; {VALID_SPECS}."
+        )
+    return value
+
+
+def parse_points(text: str, spec: str) -> list[list[float]]:
+    """The points of an ``"x:z,x:z,..."`` spec.
+
+    Args:
+        text: The stripped spec.
+        spec: The spec as given (quoted in the error).
+
+    Returns:
+        The points ``[x, z]`` [m], in the order given (:class:`Terrain` checks that x
+        increases).
+
+    Raises:
+        InvalidInputError: If a token is not two finite numbers ``x:z`` (the message quotes
+            it, and suggests a built-in name for a word).
+
+    """
+    points = []
+    for token in text.split(","):
+        parts = token.split(":")
+        values: list[float] = []
+        if len(parts) == 2:
+            try:
+                values = [float(part) for part in parts]
+            except ValueError:
+                values = []
+        if len(values) != 2 or not all(math.isfinite(v) for v in values):
+            hint = ""
+            if ":" not in token and token.strip():
+                hint = " " + suggestion(token.strip(), BUILTIN_NAMES, "terrains")
+            raise InvalidInputError(
+                f"Bad terrain token {token.strip()!r} in {spec!r}: expected a point 'x:z' "
+                f"with two finite numbers in metres; {VALID_SPECS}.{hint}"
+            )
+        points.append(values)
+    return points

@@ -1,0 +1,238 @@
+"""Shapes for the MeshCat scene: materials, the geometries MeshCat lacks, composite shapes.
+
+MeshCat 0.3.2 has boxes, spheres, cylinders, lines and meshes but no cone, no plane and no text;
+:class:`Cone`, :class:`Plane` and :class:`TextTexture` add them in the JSON format of three.js
+r132 (the version bundled with MeshCat), and :class:`Placed` gives any geometry a fixed offset
+inside its node (MeshCat's ``intrinsic_transform``). Like three.js's own, the elongated shapes
+lie along their local y axis (see :mod:`~virtual_actuators.visualization.geometry`, which places
+them).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import meshcat.geometry as mg
+import numpy as np
+
+from .geometry import span_matrix
+
+# -- colours -------------------------------------------------------------------------------------
+
+
+def rgb(color: int) -> tuple[float, float, float]:
+    """Split a ``0xRRGGBB`` colour into three floats in ``[0, 1]``."""
+    return ((color >> 16) & 0xFF) / 255.0, ((color >> 8) & 0xFF) / 255.0, (color & 0xFF) / 255.0
+
+
+def to_hex(rgba: Sequence[float]) -> int:
+    """Pack the first three entries of an RGB(A) colour in ``[0, 1]`` into ``0xRRGGBB``."""
+    r, g, b = (min(255, max(0, int(round(float(c) * 255.0)))) for c in rgba[:3])
+    return (r << 16) | (g << 8) | b
+
+
+def material(color: int, opacity: float = 1.0, **properties: object) -> mg.MeshPhongMaterial:
+    """A shaded material of one colour; ``opacity < 1`` makes it translucent."""
+    return mg.MeshPhongMaterial(color=int(color), opacity=float(opacity), **properties)
+
+
+# -- geometries MeshCat 0.3.2 lacks --------------------------------------------------------------
+
+
+class Cone(mg.Geometry):
+    """A cone along the local y axis, centred on the origin, apex at ``+height / 2``.
+
+    Args:
+        height: Length along y [m].
+        radius: Radius of the base [m].
+        radial_segments: Facets around the axis.
+
+    """
+
+    def __init__(self, height: float, radius: float, radial_segments: int = 24) -> None:
+        super().__init__()
+        self.height, self.radius, self.radial_segments = (
+            float(height),
+            float(radius),
+            radial_segments,
+        )
+
+    def lower(self, object_data: object) -> dict:
+        """The three.js ``ConeGeometry`` JSON."""
+        return {
+            "uuid": self.uuid,
+            "type": "ConeGeometry",
+            "radius": self.radius,
+            "height": self.height,
+            "radialSegments": self.radial_segments,
+            "heightSegments": 1,
+            "openEnded": False,
+        }
+
+    def __repr__(self) -> str:
+        return f"Cone(height={self.height:g}, radius={self.radius:g})"
+
+
+class Plane(mg.Geometry):
+    """A rectangle in the local x-y plane, centred on the origin, facing +z.
+
+    Args:
+        width: Size along x [m].
+        height: Size along y [m].
+
+    """
+
+    def __init__(self, width: float, height: float) -> None:
+        super().__init__()
+        self.width, self.height = float(width), float(height)
+
+    def lower(self, object_data: object) -> dict:
+        """The three.js ``PlaneGeometry`` JSON."""
+        return {
+            "uuid": self.uuid,
+            "type": "PlaneGeometry",
+            "width": self.width,
+            "height": self.height,
+            "widthSegments": 1,
+            "heightSegments": 1,
+        }
+
+    def __repr__(self) -> str:
+        return f"Plane(width={self.width:g}, height={self.height:g})"
+
+
+class TextTexture(mg.Texture):
+    """One line of black text drawn by the browser on a 256 x 256 transparent canvas.
+
+    MeshCat's viewer turns a texture of type ``"_text"`` into a canvas texture; the text is
+    centred and shrunk until it fits the canvas width.
+
+    Args:
+        text: The line of text.
+        font_size: Font size in canvas pixels (the canvas is 256 pixels wide).
+        font_face: CSS font family.
+
+    """
+
+    def __init__(self, text: str, font_size: int = 28, font_face: str = "sans-serif") -> None:
+        super().__init__()
+        self.text, self.font_size, self.font_face = str(text), int(font_size), str(font_face)
+
+    def lower(self, object_data: object) -> dict:
+        """The ``_text`` texture JSON of MeshCat's viewer."""
+        return {
+            "uuid": self.uuid,
+            "type": "_text",
+            "text": self.text,
+            "font_size": self.font_size,
+            "font_face": self.font_face,
+        }
+
+    def __repr__(self) -> str:
+        return f"TextTexture({self.text!r}, font_size={self.font_size})"
+
+
+class Placed(mg.Geometry):
+    """A geometry with a fixed placement inside its node (a rotated cylinder, an offset box).
+
+    Args:
+        geometry: The geometry.
+        matrix: ``(4, 4)`` placement of the geometry in its node's frame.
+
+    """
+
+    def __init__(self, geometry: mg.Geometry, matrix: np.ndarray) -> None:
+        super().__init__()
+        self.geometry = geometry
+        self.matrix = np.array(matrix, dtype=float)
+        self.uuid = geometry.uuid
+
+    def lower(self, object_data: object) -> dict:
+        """The wrapped geometry's JSON."""
+        return self.geometry.lower(object_data)
+
+    def intrinsic_transform(self) -> np.ndarray:
+        """The placement, transposed: MeshCat flattens it row by row, three.js reads columns."""
+        return self.matrix.T
+
+    def __repr__(self) -> str:
+        return f"Placed({self.geometry!r})"
+
+
+def text_object(text: str, size: float, font_size: int = 28) -> mg.Mesh:
+    """A square plane of side ``size`` [m] showing ``text`` (unlit, transparent background).
+
+    Transparent texels are discarded (``alphaTest``) so that overlapping text planes do not hide
+    each other.
+    """
+    texture = TextTexture(text, font_size=font_size)
+    return mg.Mesh(Plane(size, size), mg.MeshBasicMaterial(map=texture, alphaTest=0.5))
+
+
+# -- composite shapes ----------------------------------------------------------------------------
+
+
+def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
+    """Three thin cylinders from the origin along x, y and z (red, green, blue).
+
+    Returns:
+        ``(axis name, placed geometry, colour)`` for each axis.
+
+    """
+    parts = []
+    for index, (axis, color) in enumerate(zip("xyz", (0xE53935, 0x2E9E3E, 0x1E5BD8), strict=True)):
+        direction = np.zeros(3)
+        direction[index] = 1.0
+        matrix = span_matrix(np.zeros(3), direction * length)  # unit cylinder, stretched
+        parts.append((axis, Placed(mg.Cylinder(1.0, radius), matrix), color))
+    return parts
+
+
+def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.TriangularMeshGeometry:
+    """A helical spring of unit length along y (from -0.5 to 0.5) around the y axis.
+
+    Args:
+        turns: Number of coils.
+        radius: Coil radius (the placement's x and z scale it) [m].
+        wire: Wire radius, relative to the coil radius.
+
+    Returns:
+        A triangle mesh (a tube swept along the helix, straight leads at both ends).
+
+    """
+    samples = turns * 16
+    lead = 0.08
+    t = np.linspace(0.0, 1.0, samples + 1)
+    centre = np.column_stack(
+        (
+            radius * np.cos(2 * np.pi * turns * t),
+            -0.5 + lead + (1.0 - 2 * lead) * t,
+            radius * np.sin(2 * np.pi * turns * t),
+        )
+    )
+    centre = np.vstack(([0.0, -0.5, 0.0], [radius, -0.5 + lead, 0.0], centre[1:], [0.0, 0.5, 0.0]))
+    sides = 6
+    rings = []
+    for i in range(len(centre)):
+        tangent = centre[min(i + 1, len(centre) - 1)] - centre[max(i - 1, 0)]
+        tangent /= np.linalg.norm(tangent)
+        normal = np.cross(tangent, [0.0, 1.0, 0.0])
+        if np.linalg.norm(normal) < 1e-9:
+            normal = np.array([1.0, 0.0, 0.0])
+        normal /= np.linalg.norm(normal)
+        binormal = np.cross(tangent, normal)
+        angles = 2 * np.pi * np.arange(sides) / sides
+        rings.append(
+            centre[i]
+            + wire
+            * radius
+            * (np.outer(np.cos(angles), normal) + np.outer(np.sin(angles), binormal))
+        )
+    vertices = np.vstack(rings)
+    faces = []
+    for i in range(len(rings) - 1):
+        for k in range(sides):
+            a, b = i * sides + k, i * sides + (k + 1) % sides
+            c, d = a + sides, b + sides
+            faces += [(a, b, d), (a, d, c)]
+    return mg.TriangularMeshGeometry(vertices.astype(np.float32), np.array(faces, dtype=np.uint32))

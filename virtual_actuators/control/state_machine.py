@@ -43,8 +43,6 @@ class Context:
         time: Controller time [s].
         contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
         time_in_state: Seconds since the current state was entered (the machine fills it).
-        data: Ignored (kept for compatibility: kinematics now come from ``snapshot``).
-        frame_ids: Ignored (kept for compatibility: frame names are resolved once per robot).
         snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
 
     Raises:
@@ -63,8 +61,7 @@ class Context:
         time: float,
         contacts: Mapping[str, bool] | None = None,
         time_in_state: float = 0.0,
-        data: object | None = None,
-        frame_ids: dict[str, int] | None = None,
+        *,
         snapshot: Snapshot | None = None,
     ) -> None:
         # the per-tick case: a Snapshot of this robot's model (which proves the robot one)

@@ -7,20 +7,16 @@ limits ``Controller.add`` is given, :func:`check_qp_yield` the yield axes of ``m
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.base import Component, has_float_path
+from ..components.base import Component
 from ..distribution.qp_weights import check_weights
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import (
-    check_axes_subset,
-    check_number,
-)
+from ..vocabulary.frames import check_axes_subset, check_number, describe
 
 Actuator = VirtualActuator | ParallelVirtualActuator
 
@@ -69,16 +65,6 @@ class Attachment:
     def __post_init__(self) -> None:
         # Each component's axes as a slice when contiguous (views instead of gathers per tick)
         self.slots = [_as_slice(index) for index in self.indices]
-        # Components computed on plain floats per tick (see Component._wrench_floats): all of
-        # them must have the float path and contiguous axes; valid while ``components`` holds
-        # the same objects (checked per tick against the copy kept here)
-        self.float_components: list[Component] | None = None
-        if self.components and all(
-            isinstance(slot, slice) and has_float_path(component)
-            for component, slot in zip(self.components, self.slots, strict=False)
-        ):
-            self.float_components = list(self.components)
-            self.float_slots = [(slot.start, slot.stop) for slot in self.slots]
         # A parallel actuator's checked (free axes, prescribed axes, solver) for its solves
         plan = getattr(self.actuator, "plan", None)
         self.plan = plan(self.free, self.method) if plan is not None else None
@@ -132,37 +118,46 @@ class Attachment:
             True,
         )
 
-    def wrench_floats(
-        self, position: np.ndarray, velocity: np.ndarray, time: float
-    ) -> np.ndarray | None:
-        """The controller's sum of component wrenches, on plain floats (the per-tick fast path).
+    def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """Sum of the component wrenches on the actuator's axes, checked finite.
 
-        For attachments whose components all have a float path and contiguous axes
-        (:attr:`float_components`). The same sums in the same order as the array path
-        (``0.0 + share`` per component and axis, or one component's wrench as is when it covers
-        every axis). None when the sum is not finite or a component returns the wrong number
-        of entries: the array path then raises its error.
+        Args:
+            position: The sensor's position on the actuator's axes [m, rad].
+            velocity: Its velocity [m/s, rad/s].
+            time: Controller time [s].
+
+        Returns:
+            ``(n,)`` forces [N] and moments [N m]: one component acting on every axis gives its
+            wrench as is; otherwise ``0.0 + share`` per component and axis.
+
+        Raises:
+            InvalidInputError: A component returned the wrong number of entries, complex ones,
+                or the sum is not finite.
+
         """
-        xs, vs = position.tolist(), velocity.tolist()
-        components, slots = self.float_components, self.float_slots
-        if len(components) == 1 and slots[0] == (0, len(xs)):
-            total = components[0]._wrench_floats(xs, vs, time)
-            if len(total) != len(xs):
-                return None
-        else:
-            total = [0.0] * len(xs)
-            for component, (start, stop) in zip(components, slots, strict=True):
-                share = component._wrench_floats(xs[start:stop], vs[start:stop], time)
-                if len(share) != stop - start:
-                    return None  # the array path names the component and what it returned
-                for i, value in enumerate(share, start):
-                    total[i] += value
-        try:
-            if not math.isfinite(sum(total)):
-                return None
-        except TypeError:  # a complex or non-numeric entry: the array path names it
-            return None
-        return np.array(total)
+        components, n = self.components, len(self.actuator.axes)
+        wrench = None
+        if len(components) == 1 and self.slots[0] == slice(0, n):  # one on every axis
+            wrench = components[0].compute_wrench(position, velocity, time)
+            if not isinstance(wrench, np.ndarray) or wrench.shape != (n,) or wrench.dtype != float:
+                wrench = None  # a scalar, list or other dtype: the general path below
+        if wrench is None:
+            wrench = np.zeros(n)
+            for component, slot in zip(components, self.slots, strict=True):
+                result = component.compute_wrench(position[slot], velocity[slot], time)
+                try:
+                    wrench[slot] += result  # complex entries: a TypeError (same_kind casting)
+                except (TypeError, ValueError):
+                    raise InvalidInputError(
+                        f"Attachment {self.name!r}: component {component.name!r} returned "
+                        f"{describe(result)}; expected {len(component.axes)} real numbers (its "
+                        f"axes {component.axes})."
+                    ) from None
+        if not np.isfinite(wrench).all():
+            raise InvalidInputError(
+                f"Attachment {self.name!r}: a component returned a non-finite wrench {wrench}."
+            )
+        return wrench
 
     @property
     def axes(self) -> tuple[str, ...]:

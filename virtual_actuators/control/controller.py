@@ -449,7 +449,7 @@ class Controller:
             try:
                 jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
                 positions[name], velocities[name] = position, velocity
-                wrench = self._evaluate(attachment, position, velocity, time)
+                wrench = attachment.wrench(position, velocity, time)
                 wrenches[name] = wrench
                 actuator = attachment.actuator
                 if isinstance(actuator, VirtualActuator):
@@ -459,7 +459,7 @@ class Controller:
                     produced[name] = wrench
                     parts.append((name, effort))
                     continue
-                # free axes, method and weights checked at add(); the wrench by _evaluate
+                # free axes, method and weights checked at add(); the wrench by Attachment.wrench
                 solution = actuator.solve_checked(
                     snapshot, wrench, *attachment.plan, weights=attachment.weights
                 )[0]
@@ -518,41 +518,6 @@ class Controller:
             self.joint_names,
             failures,
         )
-
-    @staticmethod
-    def _evaluate(
-        attachment: Attachment, position: np.ndarray, velocity: np.ndarray, time: float
-    ) -> np.ndarray:
-        """Sum of the attachment's component wrenches on its actuator's axes (checked finite)."""
-        components = attachment.components
-        if components == attachment.float_components:  # plain floats, the same arithmetic
-            wrench = attachment.wrench_floats(position, velocity, time)
-            if wrench is not None:
-                return wrench
-        n = len(attachment.axes)
-        wrench = None
-        if len(components) == 1 and attachment.slots[0] == slice(0, n):  # one on every axis
-            wrench = components[0].compute_wrench(position, velocity, time)
-            if type(wrench) is not np.ndarray or wrench.shape != (n,) or wrench.dtype != float:
-                wrench = None  # a scalar, list or other dtype: the general path below
-        if wrench is None:
-            wrench = np.zeros(n)
-            for component, slot in zip(components, attachment.slots, strict=True):
-                result = component.compute_wrench(position[slot], velocity[slot], time)
-                try:
-                    wrench[slot] += result  # complex entries: a TypeError (same_kind casting)
-                except (TypeError, ValueError):
-                    raise InvalidInputError(
-                        f"Attachment {attachment.name!r}: component {component.name!r} returned "
-                        f"{describe(result)}; expected {len(component.axes)} real numbers (its "
-                        f"axes {component.axes})."
-                    ) from None
-        if not sums_finite(wrench) and not np.all(np.isfinite(wrench)):
-            raise InvalidInputError(
-                f"Attachment {attachment.name!r}: a component returned a non-finite wrench "
-                f"{wrench}."
-            )
-        return wrench
 
     def __repr__(self) -> str:
         return (

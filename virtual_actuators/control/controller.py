@@ -15,7 +15,6 @@ robot automatically generate the desired torques").
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
@@ -43,7 +42,6 @@ from ..vocabulary.frames import (
     check_sequence,
     describe,
     resolve_joint,
-    sums_finite,
 )
 from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
 from .contact_limits import enforce_unilateral
@@ -57,10 +55,8 @@ from .failures import (
     urdf_effort_limits,
 )
 from .output import ControlOutput, velocity_names
-from .tick_arguments import NO_LIMP, check_active, check_limp, check_same_velocity, names_tuple
+from .tick_arguments import check_active, check_limp, check_same_velocity, names_tuple
 from .warm_up import warm_up
-
-_MAX_CHECKED_LIMP = 1024  # joint_indices arrays trusted by compute(); more are checked per call
 
 
 class Controller:
@@ -99,10 +95,7 @@ class Controller:
         self.robot = robot
         self.clip = check_flag(clip, "clip")
         self.attachments: dict[str, Attachment] = {}
-        #: id -> index arrays made by joint_indices (read-only, in range): compute() trusts them
-        self._checked_limp: dict[int, np.ndarray] = {}
         self._tree = tree_of(robot)
-        self._distinct: set[tuple] = set()  # active tuples seen without a repeated name
         self.joint_names = velocity_names(robot)
         # [N m or N], inf where unlimited (read-only; assign anew)
         self.effort_limits = urdf_effort_limits(robot)
@@ -298,8 +291,7 @@ class Controller:
         """Velocity indices of joints given by name (one name, or a collection of names).
 
         Returns:
-            The indices, a read-only integer array that :meth:`compute` accepts as ``limp``
-            without checking it again.
+            The indices, a read-only integer array (:meth:`compute`'s ``limp``).
 
         Raises:
             InvalidInputError: ``joints`` is not a name or a collection of names.
@@ -318,8 +310,6 @@ class Controller:
             )
         index = np.array(out, dtype=np.intp)
         index.flags.writeable = False
-        if len(self._checked_limp) < _MAX_CHECKED_LIMP:
-            self._checked_limp[id(index)] = index  # kept alive: its id is never reused
         return index
 
     def reset(self, names: Iterable[str], q: np.ndarray | Snapshot, time: float) -> None:
@@ -336,8 +326,7 @@ class Controller:
 
         """
         names = check_names(names, "names (attachment names)", ordered=False)
-        if not (isinstance(time, float) and -math.inf < time < math.inf):
-            time = check_number(time, "time [s]")
+        time = check_number(time, "time [s]")
         snapshot = q if isinstance(q, Snapshot) else Snapshot(self.robot, q)
         for name in names:
             attachment = self._get(name)
@@ -385,8 +374,8 @@ class Controller:
             time: Controller time [s] (components such as the dogtrack bunny use it), a finite
                 number.
             active: Names of the attachments to evaluate (default: all), or one name.
-            limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (an array
-                from :meth:`joint_indices` is used as is; anything else is checked).
+            limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (e.g. from
+                :meth:`joint_indices`).
 
         Returns:
             The :class:`ControlOutput`.
@@ -403,10 +392,8 @@ class Controller:
 
         """
         nv = self.robot.model.nv
-        if not (isinstance(time, float) and -math.inf < time < math.inf):
-            time = check_number(time, "time [s]")
-        if self._checked_limp.get(id(limp)) is not limp:  # joint_indices' arrays: checked
-            limp = NO_LIMP if type(limp) is tuple and not limp else check_limp(limp, nv)
+        time = check_number(time, "time [s]")
+        limp = check_limp(limp, nv)
         if isinstance(q, Snapshot):
             snapshot = q
             if snapshot.tree is not self._tree or snapshot.v is None:
@@ -422,28 +409,16 @@ class Controller:
         if active is None:
             names = tuple(self.attachments)
         else:
-            if type(active) is not tuple:  # a state's active names are a tuple already
-                active = (active,) if isinstance(active, str) else names_tuple(active)
-            names = active
-            try:
-                seen = names in self._distinct
-            except TypeError:  # an unhashable entry: the check below names it
-                seen = False
-            if not seen:
-                check_active(names)
-                if len(self._distinct) < _MAX_CHECKED_LIMP:
-                    self._distinct.add(names)
+            names = (active,) if isinstance(active, str) else names_tuple(active)
+            check_active(names)
         tau = None
         wrenches, produced, positions, velocities = {}, {}, {}, {}
         solutions: dict[str, Solution] = {}
         failed: dict[str, str] = {}
         failures: dict[str, AttachmentFailure] = {}
         parts = []  # (name, efforts) per attachment: read only when the sum is not finite
-        get = self.attachments.get
         for name in names:
-            attachment = get(name) if name.__class__ is str else None
-            if attachment is None:
-                attachment = self._get(name)  # raises, naming the close matches
+            attachment = self._get(name)
             sensor = attachment.sensor
             wrench = None
             try:
@@ -489,7 +464,7 @@ class Controller:
             solutions[name] = solution
             produced[name] = solution.wrench
             parts.append((name, solution.tau))
-        if tau is not None and not sums_finite(tau) and not np.isfinite(tau).all():
+        if tau is not None and not np.isfinite(tau).all():
             tau = drop_non_finite(
                 self, snapshot, parts, wrenches, produced, solutions, failures, failed
             )

@@ -1,8 +1,7 @@
-"""Checks of :meth:`Controller.compute`'s per-tick arguments (the slow paths: bad values).
+"""Checks of :meth:`Controller.compute`'s per-tick arguments.
 
-The controller trusts what it checked before (a state's tuple of names, the index arrays of
-:meth:`Controller.joint_indices`); these functions check everything else and raise an
-:class:`~virtual_actuators.InvalidInputError` that names the argument.
+Every tick checks its ``limp`` indices and ``active`` names with these functions; a bad value
+raises an :class:`~virtual_actuators.InvalidInputError` that names the argument.
 """
 
 from __future__ import annotations

@@ -54,8 +54,14 @@ from .failures import (
     recover,
     urdf_effort_limits,
 )
-from .output import ControlOutput, velocity_names
-from .tick_arguments import check_active, check_limp, check_same_velocity, names_tuple
+from .tick import (
+    ControlOutput,
+    check_active,
+    check_limp,
+    check_same_velocity,
+    names_tuple,
+    velocity_names,
+)
 from .warm_up import warm_up
 
 

@@ -16,6 +16,7 @@ robot automatically generate the desired torques").
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -400,111 +401,151 @@ class Controller:
         nv = self.robot.model.nv
         time = check_number(time, "time [s]")
         limp = check_limp(limp, nv)
-        if isinstance(q, Snapshot):
-            snapshot = q
-            if snapshot.tree is not self._tree or snapshot.v is None:
-                raise InvalidInputError(
-                    "compute() needs a snapshot of this controller's robot built with v."
-                )
-            if v is not None and v is not snapshot.v:
-                check_same_velocity(v, snapshot.v)
-        else:
-            if v is None:
-                raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
-            snapshot = Snapshot(self.robot, q, v)
-        if active is None:
-            names = tuple(self.attachments)
-        else:
-            names = (active,) if isinstance(active, str) else names_tuple(active)
-            check_active(names)
-        tau = None
-        wrenches, produced, positions, velocities = {}, {}, {}, {}
-        solutions: dict[str, Solution] = {}
-        failed: dict[str, str] = {}
-        failures: dict[str, AttachmentFailure] = {}
-        parts = []  # (name, efforts) per attachment: read only when the sum is not finite
+        snapshot = self._snapshot(q, v)
+        names = tuple(self.attachments) if active is None else _names(active)
+        sums = _Sums()
         for name in names:
-            attachment = self._get(name)
-            sensor = attachment.sensor
-            wrench = None
-            try:
-                jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
-                positions[name], velocities[name] = position, velocity
-                wrench = attachment.wrench(position, velocity, time)
-                wrenches[name] = wrench
-                actuator = attachment.actuator
-                if isinstance(actuator, VirtualActuator):
-                    jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
-                    effort = jacobian_act.T @ wrench
-                    tau = effort if tau is None else tau + effort
-                    produced[name] = wrench
-                    parts.append((name, effort))
-                    continue
-                # free axes, method and weights checked at add(); the wrench by Attachment.wrench
-                solution = actuator.solve_checked(
-                    snapshot, wrench, *attachment.plan, weights=attachment.weights
-                )[0]
-                if attachment.yield_mask is not None:
-                    solution = enforce_unilateral(attachment, snapshot, wrench, solution)
-            except CAUGHT as error:
-                if self.on_failure == "raise":
-                    raise
-                solution, effort = recover(
-                    self.on_failure,
-                    attachment,
-                    snapshot,
-                    wrench,
-                    reason_of(error, wrench),
-                    error,
-                    (self._lower_limits, self._upper_limits),
-                    failures,
-                    failed,
-                )
-                if effort is None:
-                    continue
-                solutions[name], produced[name] = solution, solution.wrench
-                tau = effort.copy() if tau is None else tau + effort
-                parts.append((name, effort))
-                continue
-            tau = solution.tau.copy() if tau is None else tau + solution.tau
-            solutions[name] = solution
-            produced[name] = solution.wrench
-            parts.append((name, solution.tau))
+            self._attachment_tick(name, self._get(name), snapshot, time, sums)
+        tau = sums.tau
         if tau is not None and not np.isfinite(tau).all():
             tau = drop_non_finite(
-                self, snapshot, parts, wrenches, produced, solutions, failures, failed
+                self,
+                snapshot,
+                sums.parts,
+                sums.wrenches,
+                sums.produced,
+                sums.solutions,
+                sums.failures,
+                sums.failed,
             )
         if tau is None:
             tau = np.zeros(nv)
         if limp.size:
             tau[limp] = 0.0
-        requested = tau  # a fresh array: the clipped efforts are another one
-        if self.clip:
-            tau = np.minimum(np.maximum(requested, self._lower_limits), self._upper_limits)
-            saturated = tau != requested  # clipped exactly where the request exceeds a limit
-        else:
-            tau = requested.copy()
-            saturated = np.abs(requested) > self._upper_limits
+        clipped, saturated = self._clip(tau)  # tau: a fresh array, the request
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
+            clipped,
             tau,
-            requested,
             saturated,
-            wrenches,
-            produced,
-            positions,
-            velocities,
-            solutions,
-            failed,
+            sums.wrenches,
+            sums.produced,
+            sums.positions,
+            sums.velocities,
+            sums.solutions,
+            sums.failed,
             names,
             self.joint_names,
-            failures,
+            sums.failures,
         )
+
+    def _snapshot(self, q: np.ndarray | Snapshot, v: np.ndarray | None) -> Snapshot:
+        """The tick's snapshot: ``q`` itself (checked against the robot and ``v``), or built."""
+        if not isinstance(q, Snapshot):
+            if v is None:
+                raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
+            return Snapshot(self.robot, q, v)
+        if q.tree is not self._tree or q.v is None:
+            raise InvalidInputError(
+                "compute() needs a snapshot of this controller's robot built with v."
+            )
+        if v is not None and v is not q.v:
+            check_same_velocity(v, q.v)
+        return q
+
+    def _attachment_tick(
+        self, name: str, attachment: Attachment, snapshot: Snapshot, time: float, sums: _Sums
+    ) -> None:
+        """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
+
+        Raises:
+            VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
+
+        """
+        sensor = attachment.sensor
+        wrench = None
+        try:
+            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+            sums.positions[name], sums.velocities[name] = position, velocity
+            wrench = attachment.wrench(position, velocity, time)
+            sums.wrenches[name] = wrench
+            actuator = attachment.actuator
+            if isinstance(actuator, VirtualActuator):
+                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
+                sums.add(name, jacobian_act.T @ wrench, fresh=True)
+                sums.produced[name] = wrench
+                return
+            # free axes, method and weights checked at add(); the wrench by Attachment.wrench
+            solution = actuator.solve_checked(
+                snapshot, wrench, *attachment.plan, weights=attachment.weights
+            )[0]
+            if attachment.yield_mask is not None:
+                solution = enforce_unilateral(attachment, snapshot, wrench, solution)
+        except CAUGHT as error:
+            if self.on_failure == "raise":
+                raise
+            solution, effort = recover(
+                self.on_failure,
+                attachment,
+                snapshot,
+                wrench,
+                reason_of(error, wrench),
+                error,
+                (self._lower_limits, self._upper_limits),
+                sums.failures,
+                sums.failed,
+            )
+            if effort is None:
+                return
+        else:
+            effort = solution.tau
+        sums.solutions[name], sums.produced[name] = solution, solution.wrench
+        sums.add(name, effort, fresh=False)
+
+    def _clip(self, requested: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(efforts, saturated)``: clipped to the effort limits (a copy with ``clip=False``)."""
+        if self.clip:
+            tau = np.minimum(np.maximum(requested, self._lower_limits), self._upper_limits)
+            return tau, tau != requested  # clipped exactly where the request exceeds a limit
+        return requested.copy(), np.abs(requested) > self._upper_limits
 
     def __repr__(self) -> str:
         return (
             f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
             f"clip={self.clip})"
         )
+
+
+@dataclass(slots=True)
+class _Sums:
+    """One tick's results attachment by attachment (:class:`ControlOutput`'s dicts) and the sum.
+
+    ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
+    """
+
+    tau: np.ndarray | None = None
+    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
+    produced: dict[str, np.ndarray] = field(default_factory=dict)
+    positions: dict[str, np.ndarray] = field(default_factory=dict)
+    velocities: dict[str, np.ndarray] = field(default_factory=dict)
+    solutions: dict[str, Solution] = field(default_factory=dict)
+    failed: dict[str, str] = field(default_factory=dict)
+    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
+    parts: list[tuple[str, np.ndarray]] = field(default_factory=list)
+
+    def add(self, name: str, effort: np.ndarray, fresh: bool) -> None:
+        """Add an attachment's efforts (``fresh``: an array of its own, kept as the first sum)."""
+        if self.tau is None:
+            self.tau = effort if fresh else effort.copy()
+        else:
+            self.tau = self.tau + effort
+        self.parts.append((name, effort))
+
+
+def _names(active: Iterable[str] | str) -> tuple[str, ...]:
+    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection)."""
+    names = (active,) if isinstance(active, str) else names_tuple(active)
+    check_active(names)
+    return names
 
 
 __all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]

@@ -235,7 +235,7 @@ def test_damper_reads_the_angular_velocity_not_the_rate_of_the_rotation_vector()
     assert np.linalg.norm(rate - angular) > 0.1 * np.linalg.norm(angular)  # a real difference
 
 
-# -- fewer than three rotational axes; laws -----------------------------------------------------
+# -- fewer than three rotational axes; laws; the float path ------------------------------------
 def test_one_rotational_axis_wraps_the_angle_and_is_unchanged_near_the_set_point():
     spring = va.SpringDamper(("z", "ry"), stiffness=(100.0, 30.0), setpoint=(0.5, 3.0))
     for pitch in (-3.0, -2.0, 0.4, 2.9):
@@ -296,7 +296,7 @@ def test_float_path_and_array_path_give_the_same_bits():
     controller = va.Controller(ur5, clip=False)
     controller.add("tool", tool, [spring])
     v = np.linspace(-0.5, 0.5, 6)
-    out = controller.compute(q, v)
+    out = controller.compute(q, v)  # the plain-float path
     reading = tool.read(va.Snapshot(ur5, q, v))
     array_path = spring.compute_wrench(list(reading.position), list(reading.velocity), 0.0)
     assert np.array_equal(out.wrenches["tool"], array_path)

@@ -65,6 +65,20 @@ class Component(ABC):
 
         """
 
+    def _wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """:meth:`compute_wrench` on plain floats (the controller's per-tick fast path).
+
+        A subclass may implement it alongside :meth:`compute_wrench`, with the same arithmetic
+        entry by entry (the same bits); the controller uses it only for a component whose most
+        derived ``compute_wrench`` is defined in a class that also defines this method (see
+        :func:`has_float_path`). Default: the array method.
+        """
+        return np.asarray(
+            self.compute_wrench(np.array(position), np.array(velocity), time), dtype=float
+        ).tolist()
+
     def reset(self, position: np.ndarray, time: float) -> None:  # noqa: B027 (optional hook)
         """Hook called when the component becomes active (a state is entered). Default: nothing.
 
@@ -109,3 +123,14 @@ class Component(ABC):
         extra = self._parameters()
         return f"{type(self).__name__}(axes={self.axes}{', ' + extra if extra else ''})"
 
+
+def has_float_path(component: Component) -> bool:
+    """Whether ``component``'s float method computes what its ``compute_wrench`` does.
+
+    True when the most derived class defining ``compute_wrench`` defines ``_wrench_floats``
+    too (a subclass overriding only ``compute_wrench`` is not trusted).
+    """
+    for klass in type(component).__mro__:
+        if "compute_wrench" in klass.__dict__:
+            return "_wrench_floats" in klass.__dict__ and klass is not Component
+    return False

@@ -34,6 +34,7 @@ from .base import Component
 from .orientation import deflection, rotation_axes
 
 Vector = float | Sequence[float] | np.ndarray
+_FLOAT64 = np.dtype(np.float64)
 
 
 class SpringDamper(Component):
@@ -150,6 +151,17 @@ class SpringDamper(Component):
         current orientation to the set point's (see
         :mod:`~virtual_actuators.components.orientation`).
         """
+        if (
+            position.__class__ is np.ndarray
+            and velocity.__class__ is np.ndarray
+            and position.dtype is _FLOAT64
+            and velocity.dtype is _FLOAT64
+            and position.shape == self._shape
+            and velocity.shape == self._shape
+        ):
+            return np.array(
+                SpringDamper._wrench_floats(self, position.tolist(), velocity.tolist(), time)
+            )
         wrench = self._stiffness * self._deflection(position) + self._damping * (
             self._velocity_setpoint - velocity
         )
@@ -164,6 +176,54 @@ class SpringDamper(Component):
             position = np.asarray(position, dtype=float).tolist()
             bent = np.array(deflection(self._setpoint.tolist(), position, self._rotations))
         return bent
+
+    def _wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """:meth:`compute_wrench` on plain floats, entry by entry.
+
+        The same IEEE operations in the same order as the array formula (so the same bits),
+        without numpy's per-call cost on a few axes. The parameters are read from the arrays
+        at every call (an array changed in place is seen).
+        """
+        if self._rotations is not None:  # the deflection first (orientation on SO(3))
+            return self._deflected_floats(
+                deflection(self._setpoint.tolist(), position, self._rotations), velocity
+            )
+        terms = zip(
+            self._stiffness.tolist(),
+            self._setpoint.tolist(),
+            position,
+            self._damping.tolist(),
+            self._velocity_setpoint.tolist(),
+            velocity,
+            self._force.tolist(),
+            strict=True,
+        )
+        if self._limited:
+            return [
+                min(max(k * (x0 - x) + b * (v0 - v), -limit), limit) + f
+                for (k, x0, x, b, v0, v, f), limit in zip(terms, self._limit.tolist(), strict=True)
+            ]
+        return [k * (x0 - x) + b * (v0 - v) + f for k, x0, x, b, v0, v, f in terms]
+
+    def _deflected_floats(self, bent: list[float], velocity: list[float]) -> list[float]:
+        """:meth:`_wrench_floats` from the deflection per axis (the same operations)."""
+        terms = zip(
+            self._stiffness.tolist(),
+            bent,
+            self._damping.tolist(),
+            self._velocity_setpoint.tolist(),
+            velocity,
+            self._force.tolist(),
+            strict=True,
+        )
+        if self._limited:
+            return [
+                min(max(k * d + b * (v0 - v), -limit), limit) + f
+                for (k, d, b, v0, v, f), limit in zip(terms, self._limit.tolist(), strict=True)
+            ]
+        return [k * d + b * (v0 - v) + f for k, d, b, v0, v, f in terms]
 
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:
@@ -240,6 +300,14 @@ class Spring(SpringDamper):
         if not np.all(np.isfinite(force)):
             raise InvalidInputError(f"{self.name}: law returned a non-finite force {force}.")
         return force
+
+    def _wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """The linear spring on plain floats; a law goes through :meth:`compute_wrench`."""
+        if self.law is None:
+            return SpringDamper._wrench_floats(self, position, velocity, time)
+        return self.compute_wrench(np.array(position), np.array(velocity), time).tolist()
 
     def _parameters(self) -> str:
         if self.law is None:

@@ -7,7 +7,6 @@ wrench acts on {A}), expressed in a reference frame {O}. The joint torques that 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -29,24 +28,15 @@ from ..vocabulary.frames import (
     resolve_frame,
 )
 
-_FLOAT64 = np.dtype(np.float64)
-
 
 def wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
-    """``wrench`` as a finite float64 array of one entry per axis (the fast path: as given).
+    """``wrench`` as a finite float64 array of one entry per axis (a float64 array: as given).
 
     Raises:
         InvalidInputError: Not real numbers, the wrong shape, or a NaN or inf entry.
 
     """
-    if (
-        wrench.__class__ is np.ndarray
-        and wrench.dtype is _FLOAT64
-        and wrench.shape == (len(axes),)
-        and math.isfinite(sum(wrench.tolist()))  # (an overflowing sum: the checks below)
-    ):
-        return wrench  # the fast path: a finite float64 vector of the right size
-    if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):  # slow path only
+    if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):
         wrench = as_float_array(
             wrench, "wrench", f"an array of {len(axes)} real numbers (axes {tuple(axes)})"
         )
@@ -61,7 +51,7 @@ def wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
 
 
 def check_tolerance(tol: object) -> float:
-    """``tol`` checked: a finite real number >= 0 (the caller skips plain floats in range)."""
+    """``tol`` checked: a finite real number >= 0."""
     return check_number(tol, "tol (the admissibility tolerance)", minimum=0.0)
 
 
@@ -231,8 +221,7 @@ class VirtualActuator:
             InvalidInputError: Bad ``q``, ``wrench`` or ``tol``.
 
         """
-        if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
-            tol = check_tolerance(tol)
+        tol = check_tolerance(tol)
         wrench = wrench_array(wrench, self.axes)
         jac = self.jacobian(q)
         u, s, _ = np.linalg.svd(jac, full_matrices=False)

@@ -72,8 +72,7 @@ class GrannyWalker(SpringDamper):
 
     @height.setter
     def height(self, value: float) -> None:
-        if not (isinstance(value, float) and math.isfinite(value)):
-            value = check_number(value, f"{self.name}: height [m]")
+        value = check_number(value, f"{self.name}: height [m]")
         setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
         setpoint[0] = value
         self._setpoint = setpoint
@@ -85,8 +84,7 @@ class GrannyWalker(SpringDamper):
 
     @pitch.setter
     def pitch(self, value: float) -> None:
-        if not (isinstance(value, float) and math.isfinite(value)):
-            value = check_number(value, f"{self.name}: pitch [rad]")
+        value = check_number(value, f"{self.name}: pitch [rad]")
         setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
         setpoint[1] = value
         self._setpoint = setpoint
@@ -136,8 +134,7 @@ class DogtrackBunny(SpringDamper):
 
     @speed.setter
     def speed(self, value: float) -> None:
-        if not (isinstance(value, float) and math.isfinite(value)):
-            value = check_number(value, f"{self.name}: speed [m/s]")
+        value = check_number(value, f"{self.name}: speed [m/s]")
         self.velocity_setpoint = value
 
     def position_at(self, time: float) -> float:

@@ -15,8 +15,8 @@ robot automatically generate the desired torques").
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -43,7 +43,6 @@ from ..vocabulary.frames import (
     check_sequence,
     describe,
     resolve_joint,
-    sums_finite,
 )
 from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
 from .contact_limits import enforce_unilateral
@@ -56,11 +55,15 @@ from .failures import (
     recover,
     urdf_effort_limits,
 )
-from .output import ControlOutput, velocity_names
-from .tick_arguments import NO_LIMP, check_active, check_limp, check_same_velocity, names_tuple
+from .tick import (
+    ControlOutput,
+    check_active,
+    check_limp,
+    check_same_velocity,
+    names_tuple,
+    velocity_names,
+)
 from .warm_up import warm_up
-
-_MAX_CHECKED_LIMP = 1024  # joint_indices arrays trusted by compute(); more are checked per call
 
 
 class Controller:
@@ -99,10 +102,7 @@ class Controller:
         self.robot = robot
         self.clip = check_flag(clip, "clip")
         self.attachments: dict[str, Attachment] = {}
-        #: id -> index arrays made by joint_indices (read-only, in range): compute() trusts them
-        self._checked_limp: dict[int, np.ndarray] = {}
         self._tree = tree_of(robot)
-        self._distinct: set[tuple] = set()  # active tuples seen without a repeated name
         self.joint_names = velocity_names(robot)
         # [N m or N], inf where unlimited (read-only; assign anew)
         self.effort_limits = urdf_effort_limits(robot)
@@ -298,8 +298,7 @@ class Controller:
         """Velocity indices of joints given by name (one name, or a collection of names).
 
         Returns:
-            The indices, a read-only integer array that :meth:`compute` accepts as ``limp``
-            without checking it again.
+            The indices, a read-only integer array (:meth:`compute`'s ``limp``).
 
         Raises:
             InvalidInputError: ``joints`` is not a name or a collection of names.
@@ -318,8 +317,6 @@ class Controller:
             )
         index = np.array(out, dtype=np.intp)
         index.flags.writeable = False
-        if len(self._checked_limp) < _MAX_CHECKED_LIMP:
-            self._checked_limp[id(index)] = index  # kept alive: its id is never reused
         return index
 
     def reset(self, names: Iterable[str], q: np.ndarray | Snapshot, time: float) -> None:
@@ -336,8 +333,7 @@ class Controller:
 
         """
         names = check_names(names, "names (attachment names)", ordered=False)
-        if not (isinstance(time, float) and -math.inf < time < math.inf):
-            time = check_number(time, "time [s]")
+        time = check_number(time, "time [s]")
         snapshot = q if isinstance(q, Snapshot) else Snapshot(self.robot, q)
         for name in names:
             attachment = self._get(name)
@@ -385,8 +381,8 @@ class Controller:
             time: Controller time [s] (components such as the dogtrack bunny use it), a finite
                 number.
             active: Names of the attachments to evaluate (default: all), or one name.
-            limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (an array
-                from :meth:`joint_indices` is used as is; anything else is checked).
+            limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (e.g. from
+                :meth:`joint_indices`).
 
         Returns:
             The :class:`ControlOutput`.
@@ -403,162 +399,153 @@ class Controller:
 
         """
         nv = self.robot.model.nv
-        if not (isinstance(time, float) and -math.inf < time < math.inf):
-            time = check_number(time, "time [s]")
-        if self._checked_limp.get(id(limp)) is not limp:  # joint_indices' arrays: checked
-            limp = NO_LIMP if type(limp) is tuple and not limp else check_limp(limp, nv)
-        if isinstance(q, Snapshot):
-            snapshot = q
-            if snapshot.tree is not self._tree or snapshot.v is None:
-                raise InvalidInputError(
-                    "compute() needs a snapshot of this controller's robot built with v."
-                )
-            if v is not None and v is not snapshot.v:
-                check_same_velocity(v, snapshot.v)
-        else:
-            if v is None:
-                raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
-            snapshot = Snapshot(self.robot, q, v)
-        if active is None:
-            names = tuple(self.attachments)
-        else:
-            if type(active) is not tuple:  # a state's active names are a tuple already
-                active = (active,) if isinstance(active, str) else names_tuple(active)
-            names = active
-            try:
-                seen = names in self._distinct
-            except TypeError:  # an unhashable entry: the check below names it
-                seen = False
-            if not seen:
-                check_active(names)
-                if len(self._distinct) < _MAX_CHECKED_LIMP:
-                    self._distinct.add(names)
-        tau = None
-        wrenches, produced, positions, velocities = {}, {}, {}, {}
-        solutions: dict[str, Solution] = {}
-        failed: dict[str, str] = {}
-        failures: dict[str, AttachmentFailure] = {}
-        parts = []  # (name, efforts) per attachment: read only when the sum is not finite
-        get = self.attachments.get
+        time = check_number(time, "time [s]")
+        limp = check_limp(limp, nv)
+        snapshot = self._snapshot(q, v)
+        names = tuple(self.attachments) if active is None else _names(active)
+        sums = _Sums()
         for name in names:
-            attachment = get(name) if name.__class__ is str else None
-            if attachment is None:
-                attachment = self._get(name)  # raises, naming the close matches
-            sensor = attachment.sensor
-            wrench = None
-            try:
-                jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
-                positions[name], velocities[name] = position, velocity
-                wrench = self._evaluate(attachment, position, velocity, time)
-                wrenches[name] = wrench
-                actuator = attachment.actuator
-                if isinstance(actuator, VirtualActuator):
-                    jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
-                    effort = jacobian_act.T @ wrench
-                    tau = effort if tau is None else tau + effort
-                    produced[name] = wrench
-                    parts.append((name, effort))
-                    continue
-                # free axes, method and weights checked at add(); the wrench by _evaluate
-                solution = actuator.solve_checked(
-                    snapshot, wrench, *attachment.plan, weights=attachment.weights
-                )[0]
-                if attachment.yield_mask is not None:
-                    solution = enforce_unilateral(attachment, snapshot, wrench, solution)
-            except CAUGHT as error:
-                if self.on_failure == "raise":
-                    raise
-                solution, effort = recover(
-                    self.on_failure,
-                    attachment,
-                    snapshot,
-                    wrench,
-                    reason_of(error, wrench),
-                    error,
-                    (self._lower_limits, self._upper_limits),
-                    failures,
-                    failed,
-                )
-                if effort is None:
-                    continue
-                solutions[name], produced[name] = solution, solution.wrench
-                tau = effort.copy() if tau is None else tau + effort
-                parts.append((name, effort))
-                continue
-            tau = solution.tau.copy() if tau is None else tau + solution.tau
-            solutions[name] = solution
-            produced[name] = solution.wrench
-            parts.append((name, solution.tau))
-        if tau is not None and not sums_finite(tau) and not np.isfinite(tau).all():
+            self._attachment_tick(name, self._get(name), snapshot, time, sums)
+        tau = sums.tau
+        if tau is not None and not np.isfinite(tau).all():
             tau = drop_non_finite(
-                self, snapshot, parts, wrenches, produced, solutions, failures, failed
+                self,
+                snapshot,
+                sums.parts,
+                sums.wrenches,
+                sums.produced,
+                sums.solutions,
+                sums.failures,
+                sums.failed,
             )
         if tau is None:
             tau = np.zeros(nv)
         if limp.size:
             tau[limp] = 0.0
-        requested = tau  # a fresh array: the clipped efforts are another one
-        if self.clip:
-            tau = np.minimum(np.maximum(requested, self._lower_limits), self._upper_limits)
-            saturated = tau != requested  # clipped exactly where the request exceeds a limit
-        else:
-            tau = requested.copy()
-            saturated = np.abs(requested) > self._upper_limits
+        clipped, saturated = self._clip(tau)  # tau: a fresh array, the request
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
+            clipped,
             tau,
-            requested,
             saturated,
-            wrenches,
-            produced,
-            positions,
-            velocities,
-            solutions,
-            failed,
+            sums.wrenches,
+            sums.produced,
+            sums.positions,
+            sums.velocities,
+            sums.solutions,
+            sums.failed,
             names,
             self.joint_names,
-            failures,
+            sums.failures,
         )
 
-    @staticmethod
-    def _evaluate(
-        attachment: Attachment, position: np.ndarray, velocity: np.ndarray, time: float
-    ) -> np.ndarray:
-        """Sum of the attachment's component wrenches on its actuator's axes (checked finite)."""
-        components = attachment.components
-        if components == attachment.float_components:  # plain floats, the same arithmetic
-            wrench = attachment.wrench_floats(position, velocity, time)
-            if wrench is not None:
-                return wrench
-        n = len(attachment.axes)
-        wrench = None
-        if len(components) == 1 and attachment.slots[0] == slice(0, n):  # one on every axis
-            wrench = components[0].compute_wrench(position, velocity, time)
-            if type(wrench) is not np.ndarray or wrench.shape != (n,) or wrench.dtype != float:
-                wrench = None  # a scalar, list or other dtype: the general path below
-        if wrench is None:
-            wrench = np.zeros(n)
-            for component, slot in zip(components, attachment.slots, strict=True):
-                result = component.compute_wrench(position[slot], velocity[slot], time)
-                try:
-                    wrench[slot] += result  # complex entries: a TypeError (same_kind casting)
-                except (TypeError, ValueError):
-                    raise InvalidInputError(
-                        f"Attachment {attachment.name!r}: component {component.name!r} returned "
-                        f"{describe(result)}; expected {len(component.axes)} real numbers (its "
-                        f"axes {component.axes})."
-                    ) from None
-        if not sums_finite(wrench) and not np.all(np.isfinite(wrench)):
+    def _snapshot(self, q: np.ndarray | Snapshot, v: np.ndarray | None) -> Snapshot:
+        """The tick's snapshot: ``q`` itself (checked against the robot and ``v``), or built."""
+        if not isinstance(q, Snapshot):
+            if v is None:
+                raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
+            return Snapshot(self.robot, q, v)
+        if q.tree is not self._tree or q.v is None:
             raise InvalidInputError(
-                f"Attachment {attachment.name!r}: a component returned a non-finite wrench "
-                f"{wrench}."
+                "compute() needs a snapshot of this controller's robot built with v."
             )
-        return wrench
+        if v is not None and v is not q.v:
+            check_same_velocity(v, q.v)
+        return q
+
+    def _attachment_tick(
+        self, name: str, attachment: Attachment, snapshot: Snapshot, time: float, sums: _Sums
+    ) -> None:
+        """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
+
+        Raises:
+            VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
+
+        """
+        sensor = attachment.sensor
+        wrench = None
+        try:
+            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+            sums.positions[name], sums.velocities[name] = position, velocity
+            wrench = attachment.wrench(position, velocity, time)
+            sums.wrenches[name] = wrench
+            actuator = attachment.actuator
+            if isinstance(actuator, VirtualActuator):
+                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
+                sums.add(name, jacobian_act.T @ wrench, fresh=True)
+                sums.produced[name] = wrench
+                return
+            # free axes, method and weights checked at add(); the wrench by Attachment.wrench
+            solution = actuator.solve_checked(
+                snapshot, wrench, *attachment.plan, weights=attachment.weights
+            )[0]
+            if attachment.yield_mask is not None:
+                solution = enforce_unilateral(attachment, snapshot, wrench, solution)
+        except CAUGHT as error:
+            if self.on_failure == "raise":
+                raise
+            solution, effort = recover(
+                self.on_failure,
+                attachment,
+                snapshot,
+                wrench,
+                reason_of(error, wrench),
+                error,
+                (self._lower_limits, self._upper_limits),
+                sums.failures,
+                sums.failed,
+            )
+            if effort is None:
+                return
+        else:
+            effort = solution.tau
+        sums.solutions[name], sums.produced[name] = solution, solution.wrench
+        sums.add(name, effort, fresh=False)
+
+    def _clip(self, requested: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(efforts, saturated)``: clipped to the effort limits (a copy with ``clip=False``)."""
+        if self.clip:
+            tau = np.minimum(np.maximum(requested, self._lower_limits), self._upper_limits)
+            return tau, tau != requested  # clipped exactly where the request exceeds a limit
+        return requested.copy(), np.abs(requested) > self._upper_limits
 
     def __repr__(self) -> str:
         return (
             f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
             f"clip={self.clip})"
         )
+
+
+@dataclass(slots=True)
+class _Sums:
+    """One tick's results attachment by attachment (:class:`ControlOutput`'s dicts) and the sum.
+
+    ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
+    """
+
+    tau: np.ndarray | None = None
+    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
+    produced: dict[str, np.ndarray] = field(default_factory=dict)
+    positions: dict[str, np.ndarray] = field(default_factory=dict)
+    velocities: dict[str, np.ndarray] = field(default_factory=dict)
+    solutions: dict[str, Solution] = field(default_factory=dict)
+    failed: dict[str, str] = field(default_factory=dict)
+    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
+    parts: list[tuple[str, np.ndarray]] = field(default_factory=list)
+
+    def add(self, name: str, effort: np.ndarray, fresh: bool) -> None:
+        """Add an attachment's efforts (``fresh``: an array of its own, kept as the first sum)."""
+        if self.tau is None:
+            self.tau = effort if fresh else effort.copy()
+        else:
+            self.tau = self.tau + effort
+        self.parts.append((name, effort))
+
+
+def _names(active: Iterable[str] | str) -> tuple[str, ...]:
+    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection)."""
+    names = (active,) if isinstance(active, str) else names_tuple(active)
+    check_active(names)
+    return names
 
 
 __all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]

@@ -34,7 +34,6 @@ from ..exceptions import (
 )
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.frames import sums_finite
 from .attachment import Attachment
 
 #: The values of ``Controller(on_failure=...)``.
@@ -171,7 +170,7 @@ def recover(
                 solution = actuator.solve_checked(
                     snapshot, wrench, *actuator.plan(attachment.free, "partitioned")
                 )[0]
-                if sums_finite(solution.tau) or np.isfinite(solution.tau).all():
+                if np.isfinite(solution.tau).all():
                     tau = np.minimum(np.maximum(solution.tau, limits[0]), limits[1])
                     failures[name] = AttachmentFailure(reason, error_name, message, "fallback")
                     return solution, tau

@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..kinematics.tree import tree_of
+from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
 from ..vocabulary.frames import check_flag, check_number, check_robot, describe
 from .safe_action import (
@@ -167,6 +167,66 @@ def run(
             :class:`Exception`; if the final write fails too, a note on the error says so).
 
     """
+    settings = _check_run(
+        controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
+        should_stop, robot, safe_action, damping, hold_time,
+    )
+    stats = RunStats()
+    start = clock.perf_counter()
+    ending: BaseException | None = None
+    try:
+        _loop(controller, read_state, write_effort, should_stop, settings, stats, start)
+    except BaseException as error:
+        ending = error
+        raise
+    finally:  # whatever ended the loop (Ctrl-C included): motors to zero
+        _end_safe(write_effort, settings.tree.nv, ending)
+        stats.wall_time = clock.perf_counter() - start
+    return stats
+
+
+@dataclass(frozen=True, slots=True)
+class _Settings:
+    """:func:`run`'s checked arguments."""
+
+    period: float  # [s]
+    duration: float | None  # [s]
+    stale_after: float  # [s]
+    realtime: bool
+    safe: SafeAction
+    tree: KinematicTree
+
+
+@dataclass(slots=True)
+class _Freshness:
+    """The newest stamp read and when it arrived (``perf_counter`` time) [s]."""
+
+    stale_after: float
+    last_stamp: float | None = None
+    last_fresh: float = 0.0
+
+    def stale(self, stamp: float, now: float) -> bool:
+        """Whether the stamps have not advanced for ``stale_after`` at ``now`` (``stamp`` read)."""
+        if self.last_stamp is None or stamp > self.last_stamp:
+            self.last_stamp, self.last_fresh = stamp, now
+        return now - self.last_fresh > self.stale_after
+
+
+def _check_run(
+    controller: object,
+    read_state: object,
+    write_effort: object,
+    rate_hz: object,
+    duration: object,
+    stale_after: object,
+    realtime: object,
+    should_stop: object,
+    robot: object,
+    safe_action: object,
+    damping: object,
+    hold_time: object,
+) -> _Settings:
+    """:func:`run`'s arguments checked (its Raises: InvalidInputError, in this order)."""
     rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)
     if rate_hz < MIN_RATE_HZ:
         raise InvalidInputError(
@@ -196,83 +256,101 @@ def run(
     robot = _robot_of(controller, robot)
     hold_time = check_number(hold_time, "run(): hold_time [s]", minimum=0.0)
     safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
-    tree = tree_of(robot)
-    nv = tree.nv
+    return _Settings(period, duration, stale_after, realtime, safe, tree_of(robot))
 
-    stats = RunStats()
-    last_stamp, last_fresh = None, None
-    start = clock.perf_counter()
-    end = math.inf if duration is None else start + duration
+
+def _loop(
+    controller: object,
+    read_state: Callable[[], State],
+    write_effort: Callable[[np.ndarray], None],
+    should_stop: Callable[[], bool] | None,
+    settings: _Settings,
+    stats: RunStats,
+    start: float,
+) -> None:
+    """Tick until the duration elapses or ``should_stop()``: read, compute or fail, write."""
+    freshness = _Freshness(settings.stale_after)
+    end = math.inf if settings.duration is None else start + settings.duration
     deadline = start
-    ending: BaseException | None = None
+    while True:
+        now = clock.perf_counter()
+        if now >= end - 1e-12 or (should_stop is not None and should_stop()):
+            break
+        tau, velocity, reason = _tick(controller, read_state, settings.tree, freshness, stats, now)
+        if reason is None:
+            settings.safe.good(tau)
+        else:
+            tau = settings.safe.effort(velocity)
+            stats.failed_ticks += 1
+            stats.reasons[reason] = stats.reasons.get(reason, 0) + 1
+            if not tau.any():
+                stats.zero_ticks += 1
+        write_effort(tau)
+        done = clock.perf_counter()
+        stats.ticks += 1
+        stats.tick_times.append(done - now)
+        deadline += settings.period
+        if done > deadline:
+            stats.overruns += 1
+            deadline = done  # no catching up
+        elif settings.realtime:
+            clock.sleep(max(min(deadline, end) - clock.perf_counter(), 0.0))
+
+
+def _tick(
+    controller: object,
+    read_state: Callable[[], State],
+    tree: KinematicTree,
+    freshness: _Freshness,
+    stats: RunStats,
+    now: float,
+) -> tuple[np.ndarray | None, np.ndarray | None, str | None]:
+    """One tick: ``(efforts, velocity, None)``, or ``(None, checked velocity or None, reason)``.
+
+    The velocity is the reading's when it passed the checks (the safe action may damp it).
+    """
     try:
-        while True:
-            now = clock.perf_counter()
-            if now >= end - 1e-12:
-                break
-            if should_stop is not None and should_stop():
-                break
-            tau, velocity, reason = None, None, None
-            try:
-                reading = read_state()
-            except Exception as error:  # a driver's failure: this tick sends the safe action
-                reading, reason = None, f"read error: {type(error).__name__}"
-            if reason is None:
-                q, v, stamp, reason = check_reading(reading)
-            if reason is None:
-                if not math.isfinite(stamp):
-                    reason = "non-finite"  # a bad clock never becomes the reference
-                else:
-                    if last_stamp is None or stamp > last_stamp:
-                        last_stamp, last_fresh = stamp, now
-                    if now - last_fresh > stale_after:
-                        reason = "stale"
-                    else:
-                        q, v, reason = check_state(q, v, tree)
-            if reason is None:
-                velocity = v
-                try:
-                    output = controller.compute(q, v, stamp)
-                    tau = check_effort(output, nv)
-                except Exception as error:  # any failure of the law
-                    reason = f"controller error: {type(error).__name__}"
-                else:
-                    if tau is None:
-                        reason = "bad effort"
-                    else:
-                        failures = getattr(output, "failures", None)
-                        if failures:
-                            _count_attachment_failures(stats, failures)
-            if reason is None:
-                safe.good(tau)
-            else:
-                tau = safe.effort(velocity)
-                stats.failed_ticks += 1
-                stats.reasons[reason] = stats.reasons.get(reason, 0) + 1
-                if not tau.any():
-                    stats.zero_ticks += 1
-            write_effort(tau)
-            done = clock.perf_counter()
-            stats.ticks += 1
-            stats.tick_times.append(done - now)
-            deadline += period
-            if done > deadline:
-                stats.overruns += 1
-                deadline = done  # no catching up
-            elif realtime:
-                clock.sleep(max(min(deadline, end) - clock.perf_counter(), 0.0))
-    except BaseException as error:
-        ending = error
-        raise
-    finally:
-        try:  # whatever ended the loop (Ctrl-C included): motors to zero
-            write_effort(np.zeros(nv))
-        except Exception as error:
-            if ending is None:
-                raise
-            ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
-        stats.wall_time = clock.perf_counter() - start
-    return stats
+        reading = read_state()
+    except Exception as error:  # a driver's failure: this tick sends the safe action
+        return None, None, f"read error: {type(error).__name__}"
+    q, v, stamp, reason = check_reading(reading)
+    if reason is not None:
+        return None, None, reason
+    if not math.isfinite(stamp):
+        return None, None, "non-finite"  # a bad clock never becomes the reference
+    if freshness.stale(stamp, now):
+        return None, None, "stale"
+    q, v, reason = check_state(q, v, tree)
+    if reason is not None:
+        return None, None, reason
+    try:
+        output = controller.compute(q, v, stamp)
+        tau = check_effort(output, tree.nv)
+    except Exception as error:  # any failure of the law
+        return None, v, f"controller error: {type(error).__name__}"
+    if tau is None:
+        return None, v, "bad effort"
+    failures = getattr(output, "failures", None)
+    if failures:
+        _count_attachment_failures(stats, failures)
+    return tau, v, None
+
+
+def _end_safe(
+    write_effort: Callable[[np.ndarray], None], nv: int, ending: BaseException | None
+) -> None:
+    """Write zero effort; if that fails while ``ending`` propagates, note it on ``ending``.
+
+    Raises:
+        Exception: The write's error when nothing else is propagating.
+
+    """
+    try:
+        write_effort(np.zeros(nv))
+    except Exception as error:
+        if ending is None:
+            raise
+        ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
 
 
 def _robot_of(controller: object, robot: object) -> Robot:

@@ -15,7 +15,7 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
-from ..vocabulary.frames import as_float_array, check_number, describe, sums_finite
+from ..vocabulary.frames import as_float_array, check_number, describe
 from .failures import urdf_effort_limits
 
 #: The values of ``run(safe_action=...)``.
@@ -31,7 +31,7 @@ DEFAULT_HOLD_TIME = 0.1
 
 def _vector(value: object, size: int) -> np.ndarray | None:
     """``value`` as a float64 ``(size,)`` array, or None if it is not ``size`` real numbers."""
-    if type(value) is np.ndarray and value.dtype == np.float64:
+    if isinstance(value, np.ndarray) and value.dtype == np.float64:
         return value if value.shape == (size,) else None
     try:
         array = as_float_array(value, "state", f"{size} real numbers")
@@ -74,9 +74,8 @@ def check_state(
     q_array, v_array = _vector(q, tree.nq), _vector(v, tree.nv)
     if q_array is None or v_array is None:
         return None, None, "malformed reading"
-    if not (sums_finite(q_array) and sums_finite(v_array)):
-        if not (np.isfinite(q_array).all() and np.isfinite(v_array).all()):
-            return None, None, "non-finite"
+    if not (np.isfinite(q_array).all() and np.isfinite(v_array).all()):
+        return None, None, "non-finite"
     try:
         q_array = tree.check_configuration(q_array)
     except InvalidInputError:
@@ -93,7 +92,7 @@ def check_effort(output: object, nv: int) -> np.ndarray | None:
 
     """
     tau = getattr(output, "tau", output)
-    if type(tau) is not np.ndarray or tau.dtype != np.float64:
+    if not isinstance(tau, np.ndarray) or tau.dtype != np.float64:
         try:
             tau = np.asarray(tau)
         except (TypeError, ValueError):
@@ -103,7 +102,7 @@ def check_effort(output: object, nv: int) -> np.ndarray | None:
         tau = tau.astype(np.float64)
     if tau.shape != (nv,):
         return None
-    if not sums_finite(tau) and not np.isfinite(tau).all():
+    if not np.isfinite(tau).all():
         return None
     return tau
 

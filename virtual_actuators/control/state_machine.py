@@ -43,8 +43,6 @@ class Context:
         time: Controller time [s].
         contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
         time_in_state: Seconds since the current state was entered (the machine fills it).
-        data: Ignored (kept for compatibility: kinematics now come from ``snapshot``).
-        frame_ids: Ignored (kept for compatibility: frame names are resolved once per robot).
         snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
 
     Raises:
@@ -63,25 +61,18 @@ class Context:
         time: float,
         contacts: Mapping[str, bool] | None = None,
         time_in_state: float = 0.0,
-        data: object | None = None,
-        frame_ids: dict[str, int] | None = None,
+        *,
         snapshot: Snapshot | None = None,
     ) -> None:
         # the per-tick case: a Snapshot of this robot's model (which proves the robot one)
-        known = snapshot.__class__ is Snapshot and snapshot.tree.model is getattr(
+        known = isinstance(snapshot, Snapshot) and snapshot.tree.model is getattr(
             robot, "model", None
         )
         if not known:
             check_robot(robot, "Context")
-        if not (isinstance(time, float) and -math.inf < time < math.inf):
-            time = check_number(time, "Context: time [s]")
-        if not (isinstance(time_in_state, float) and -math.inf < time_in_state < math.inf):
-            time_in_state = check_number(time_in_state, "Context: time_in_state [s]")
-        if (
-            contacts is not None
-            and contacts.__class__ is not dict
-            and not isinstance(contacts, Mapping)
-        ):
+        time = check_number(time, "Context: time [s]")
+        time_in_state = check_number(time_in_state, "Context: time_in_state [s]")
+        if contacts is not None and not isinstance(contacts, Mapping):
             raise InvalidInputError(
                 f"Context: contacts must be a dict {{frame: bool}} or None, got "
                 f"{describe(contacts)}."
@@ -356,8 +347,7 @@ class StateMachine:
             InvalidInputError: ``context`` is not a :class:`Context`.
 
         """
-        if context.__class__ is not Context:
-            _check_context(context)
+        _check_context(context)
         if not self.started:
             self.start(context)
         context.state = self.current.name

@@ -1,17 +1,25 @@
 """What the planar bipeds (turkey, flamingo) share, and the swing profiles every gait uses.
 
-Side names and axes, the swing foot's lift and set-point profiles, and the standing pose of a
-planar biped on a boom (two-link leg inverse kinematics).
+Side names and axes, the swing foot's lift and set-point profiles, the standing pose of a
+planar biped on a boom (two-link leg inverse kinematics), and the biped declaration both walkers
+make: the granny walker, the swing-leg linkages, the ``double``, ``SIDE_stance`` and
+``SIDE_swing`` attachments and the five states of double and single support.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any, Protocol
 
 import numpy as np
 import pinocchio as pin
 
+from ..actuators import ParallelVirtualActuator, VirtualActuator
+from ..components.base import Component
+from ..components.walking import GrannyWalker, SwingLegLinkage
+from ..control.controller import Controller
+from ..control.state_machine import Context, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.frames import resolve_frame, resolve_joint
@@ -41,7 +49,6 @@ def lift_profile(phase: float, peak: float) -> float:
     if phase < peak:
         return math.sin(0.5 * math.pi * phase / peak)
     return math.cos(0.5 * math.pi * (phase - peak) / (1.0 - peak))
-
 
 
 def planar_leg_ik(dx: float, dz: float, thigh: float, shin: float) -> tuple[float, float]:
@@ -120,3 +127,145 @@ def planar_standing_configuration(
         if f"{side}_ankle" in model.names:
             q[index(f"{side}_ankle")] = -(hip_angle + knee_angle)
     return q
+
+
+# --- the biped declaration turkey and flamingo share ---------------------------------------------
+
+
+class GrannyConstants(Protocol):
+    """The granny walker's constants, as both bipeds' parameters carry them."""
+
+    pitch: float
+    stiffness_z: float
+    damping_z: float
+    stiffness_pitch: float
+    damping_pitch: float
+    weight: float | None
+
+
+def biped_weight(robot: Robot, weight: float | None) -> float:
+    """The z feed-forward [N]: ``weight``, or the robot's mass times g when None."""
+    return robot.mass * 9.81 if weight is None else weight
+
+
+def granny_walker(parameters: GrannyConstants, height: float, weight: float) -> GrannyWalker:
+    """The body's spring-dampers on height and pitch, with ``weight`` [N] fed forward on z."""
+    p = parameters
+    return GrannyWalker(
+        height,
+        stiffness=(p.stiffness_z, p.stiffness_pitch),
+        damping=(p.damping_z, p.damping_pitch),
+        pitch=p.pitch,
+        weight=weight,
+    )
+
+
+def swing_linkages(
+    stiffness: Sequence[float], damping: Sequence[float], axes: Sequence[str]
+) -> dict[str, SwingLegLinkage]:
+    """One swing-leg linkage per side, named ``SIDE_swing_linkage``."""
+    return {
+        side: SwingLegLinkage(stiffness, damping, axes=axes, name=f"{side}_swing_linkage")
+        for side in SIDES
+    }
+
+
+def declare_biped(
+    controller: Controller,
+    body: Sequence[Component],
+    swing: Mapping[str, SwingLegLinkage],
+    contact: str,
+    double: Mapping[str, Any],
+    rule: Mapping[str, Any],
+    ankles: bool = False,
+) -> None:
+    """Add a planar biped's five attachments to ``controller``.
+
+    ``double`` holds the body (``body``: the granny walker first, then the bunny) on both feet,
+    x yielding first; ``SIDE_stance`` holds it with the granny walker on one foot, x free;
+    ``SIDE_swing`` moves a foot relative to the body with ``swing[SIDE]`` along its axes.
+
+    Args:
+        controller: The gait's controller (its robot is the biped).
+        body: The double support's components, the granny walker first.
+        swing: Swing-leg linkage per side.
+        contact: The feet's contact kind (``"point"`` or ``"flat"``).
+        double: Further arguments of the double support's ``ParallelVirtualActuator``.
+        rule: Further arguments of ``controller.add`` for the double support.
+        ankles: The ankles (``SIDE_ankle``) are unactuated in support.
+
+    Raises:
+        FrameNotFoundError: The robot lacks ``body`` or ``SIDE_foot``.
+        JointNotFoundError: The robot lacks a joint named above.
+
+    """
+    robot = controller.robot
+
+    def support(sides: Sequence[str]) -> ParallelVirtualActuator:
+        feet = [f"{side}_foot" for side in sides]
+        limp = {"unactuated": [f"{side}_ankle" for side in sides]} if ankles else {}
+        extra = double if len(sides) == 2 else {}
+        return ParallelVirtualActuator(
+            robot, "body", feet, "world", PLANAR_AXES, contact=contact, **limp, **extra
+        )
+
+    controller.add("double", support(SIDES), body, yield_axes=("x",), **rule)
+    for side in SIDES:
+        controller.add(f"{side}_stance", support((side,)), [body[0]], free=("x",))
+        axes = swing[side].axes
+        actuator = VirtualActuator(robot, f"{side}_foot", "body", "world", axes)
+        controller.add(f"{side}_swing", actuator, [swing[side]])
+
+
+Hook = Callable[[Context], None]
+
+
+def biped_states(
+    double: tuple[Hook, Hook],
+    single: tuple[Hook, Hook],
+    limp: Mapping[str, tuple[str, ...]],
+    landing_swings: bool = False,
+) -> list[State]:
+    """``double_support``, then ``SIDE_support`` and ``SIDE_support_2`` per side.
+
+    Args:
+        double: The double support's ``(on_enter, on_update)``.
+        single: ``SIDE_support``'s ``(on_enter, on_update)``; ``SIDE_support_2`` continues the
+            same swing (``on_update`` only).
+        limp: Limp joints per state name (a state not listed has none).
+        landing_swings: ``SIDE_support_2`` keeps the swing leg's linkage on.
+
+    Returns:
+        The five states, in that order.
+
+    """
+    states = [
+        State(
+            "double_support",
+            ("double",),
+            ("left_foot", "right_foot"),
+            limp=limp.get("double_support", ()),
+            on_enter=double[0],
+            on_update=double[1],
+        )
+    ]
+    for side in SIDES:
+        stance, swing = f"{side}_stance", f"{other(side)}_swing"
+        states += [
+            State(
+                f"{side}_support",
+                (stance, swing),
+                (f"{side}_foot",),
+                limp=limp.get(f"{side}_support", ()),
+                on_enter=single[0],
+                on_update=single[1],
+            ),
+            State(
+                f"{side}_support_2",
+                (stance, swing) if landing_swings else (stance,),
+                (f"{side}_foot",),
+                limp=limp.get(f"{side}_support_2", ()),
+                on_update=single[1],
+            ),
+        ]
+    return states

@@ -70,10 +70,9 @@ def run_walk(
             ``path``, ``yaw_rate``, ``pendulum``).
 
     Returns:
-        The walk's result: a :class:`~virtual_actuators.gaits.runner.WalkResult` (the
-        hexapod's :class:`~virtual_actuators.gaits.hexapod.walk.HexapodResult` has the same
-        ``log``, ``metrics``, ``gait``, ``simulator``, ``wall_time``, ``figures()`` and
-        ``to_json()``).
+        The walk's :class:`~virtual_actuators.gaits.runner.WalkResult` (the hexapod's is its
+        subclass :class:`~virtual_actuators.gaits.hexapod.walk.HexapodResult`: its own
+        metrics, ``figures()`` and ``to_json()``, plus ``config``, ``ticks`` and ``trace()``).
 
     Raises:
         InvalidInputError: Unknown walk or option, bad duration, speed, terrain, seed,

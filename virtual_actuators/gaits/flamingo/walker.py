@@ -31,20 +31,24 @@ import math
 
 import numpy as np
 
-from ...actuators import ParallelVirtualActuator, VirtualActuator
-from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from ...components.walking import DogtrackBunny
 from ...control import events
-from ...control.state_machine import Context, State, StateMachine, Transition
+from ...control.state_machine import Context, StateMachine, Transition
 from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ..base import Gait, check_distribution
 from ..planar import (
     PLANAR_AXES,
     SIDES,
+    biped_states,
+    biped_weight,
+    declare_biped,
+    granny_walker,
     lift_profile,
     other,
     planar_standing_configuration,
     smoothstep,
+    swing_linkages,
 )
 from .parameters import FlamingoParameters
 
@@ -88,103 +92,60 @@ class FlamingoWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or FlamingoParameters()
-        mass = robot.mass  # [kg]
-        weight = mass * 9.81 if p.weight is None else p.weight  # [N]
+        weight = biped_weight(robot, p.weight)  # [N]
         self.slope = 0.0  # global slope estimate [rad]
         self.slope_origin = np.zeros(2)  # a point (x, z) of the global slope line [m]
         self.hip_height = p.hip_height(0.0)  # set point above the global slope [m]
         self._height_time = 0.0  # last update of the height set point [s]
-        self.granny = GrannyWalker(
-            self.hip_height,
-            stiffness=(p.stiffness_z, p.stiffness_pitch),
-            damping=(p.damping_z, p.damping_pitch),
-            pitch=p.pitch,
-            weight=weight,
-        )
+        self.granny = granny_walker(p, self.hip_height, weight)
         self.granny.limit = ((1.0 - p.min_lift) * weight, np.inf)
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
-        self.swing = {
-            side: SwingLegLinkage(
-                p.swing_stiffness,
-                p.swing_damping,
-                axes=PLANAR_AXES,
-                name=f"{side}_swing_linkage",
-            )
-            for side in SIDES
-        }
-        ankles = [f"{side}_ankle" for side in SIDES]
-        c = self.controller
+        self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, PLANAR_AXES)
+        self._declare_actuators()
+        self.front = "left"
+        self._swing_start = np.zeros(2)  # swing ankle (x, z) in the world at lift-off [m]
+        self._swing_target_x = 0.0  # planned touchdown x [m]
+        self._swing_started = 0.0  # time the current swing began [s]
+        self._swing_hip_x = 0.0  # hip x when the current swing began [m]
+        self._finish(self._machine(initial))
+
+    def _declare_actuators(self) -> None:
+        """``double`` on both flat feet over limp ankles, ``SIDE_stance``, ``SIDE_swing``."""
+        p = self.parameters
         qp = check_distribution(p.distribution)
-        limits = {"friction": p.friction, "min_normal": p.min_normal_force}
         cones = {
             "friction": p.friction if p.qp_friction is None else p.qp_friction,
             "min_normal": p.min_normal_force if p.qp_min_normal_force is None
             else p.qp_min_normal_force,
             "normals": "frames" if p.sole_normals else None,
         }  # fmt: skip
-        double = ParallelVirtualActuator(
-            robot,
-            "body",
-            [f"{side}_foot" for side in SIDES],
-            "world",
-            PLANAR_AXES,
-            contact="flat",
-            unactuated=ankles,
-            design=[EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
+        double = {
+            "design": [EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
             **(cones if qp else {}),
-        )
+        }
+        limits = {"friction": p.friction, "min_normal": p.min_normal_force}
         rule = {"method": "qp"} if qp else limits
-        c.add("double", double, [self.granny, self.bunny], yield_axes=("x",), **rule)
-        for side in SIDES:
-            stance = ParallelVirtualActuator(
-                robot,
-                "body",
-                [f"{side}_foot"],
-                "world",
-                PLANAR_AXES,
-                contact="flat",
-                unactuated=[f"{side}_ankle"],
-            )
-            c.add(f"{side}_stance", stance, [self.granny], free=("x",))
-            swing = VirtualActuator(robot, f"{side}_foot", "body", "world", PLANAR_AXES)
-            c.add(f"{side}_swing", swing, [self.swing[side]])
+        body = [self.granny, self.bunny]
+        declare_biped(self.controller, body, self.swing, "flat", double, rule, ankles=True)
 
-        self.front = "left"
-        self._swing_start = np.zeros(2)  # swing ankle (x, z) in the world at lift-off [m]
-        self._swing_target_x = 0.0  # planned touchdown x [m]
-        self._swing_started = 0.0  # time the current swing began [s]
-        self._swing_hip_x = 0.0  # hip x when the current swing began [m]
-        states = [
-            State(
-                "double_support",
-                ("double",),
-                ("left_foot", "right_foot"),
-                limp=tuple(ankles),
-                on_enter=self._enter_double,
-                on_update=self._update_height,
-            )
-        ]
+    def _machine(self, initial: str) -> StateMachine:
+        """Double support, single support and its landing per side (section 6.2)."""
+        p = self.parameters
+        ankles = tuple(f"{side}_ankle" for side in SIDES)
+        limp = {"double_support": ankles}
+        for side in SIDES:
+            limp |= {f"{side}_support": (f"{side}_ankle",), f"{side}_support_2": ankles}
+        states = biped_states(
+            (self._enter_double, self._update_height),
+            (self._enter_single, self._update_single),
+            limp,
+            landing_swings=True,
+        )
         transitions = []
         for side in SIDES:
             swing_side = other(side)
-            states += [
-                State(
-                    f"{side}_support",
-                    (f"{side}_stance", f"{swing_side}_swing"),
-                    (f"{side}_foot",),
-                    limp=(f"{side}_ankle",),
-                    on_enter=self._enter_single,
-                    on_update=self._update_single,
-                ),
-                State(
-                    f"{side}_support_2",
-                    (f"{side}_stance", f"{swing_side}_swing"),
-                    (f"{side}_foot",),
-                    limp=tuple(ankles),
-                    on_update=self._update_single,
-                ),
-            ]
             swing_switches = (f"{swing_side}_heel", f"{swing_side}_toe")
+            swing_ahead = events.ahead_of(f"{swing_side}_foot", f"{side}_foot", 0.0)
             transitions += [
                 Transition(
                     "double_support",
@@ -204,7 +165,7 @@ class FlamingoWalker(Gait):
                     events.all_of(
                         events.contact(*swing_switches),
                         events.after(0.5 * p.swing_time),
-                        events.ahead_of(f"{swing_side}_foot", f"{side}_foot", 0.0),
+                        swing_ahead,
                     ),
                     f"{swing_side} heel and toe down",
                 ),
@@ -214,7 +175,7 @@ class FlamingoWalker(Gait):
                     events.all_of(
                         events.contact(*swing_switches, require_all=False),
                         events.after(0.3 * p.swing_time),
-                        events.ahead_of(f"{swing_side}_foot", f"{side}_foot", 0.0),
+                        swing_ahead,
                     ),
                     f"{swing_side} foot lands early",
                 ),
@@ -225,7 +186,7 @@ class FlamingoWalker(Gait):
                     f"{swing_side} heel and toe down",
                 ),
             ]
-        self._finish(StateMachine(states, transitions, initial))
+        return StateMachine(states, transitions, initial)
 
     def initial_configuration(self, stance: float = 0.15) -> np.ndarray:
         """Standing at the level-ground hip height, left ankle ``stance`` ahead, right behind."""

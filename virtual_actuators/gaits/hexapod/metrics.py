@@ -129,9 +129,59 @@ def _circle_fit(x: np.ndarray, y: np.ndarray) -> float:
     return float(math.sqrt(max(c + 0.25 * (cx2 * cx2 + cy2 * cy2), 0.0)))
 
 
-def _float(value: float) -> float | None:
-    value = float(value)
-    return value if math.isfinite(value) else None
+#: The figures only some runs measure (None otherwise)
+OPTIONAL_FIGURES = (
+    "direction_error_rad",
+    "heading_drift_rad",
+    "circle_radius_m",
+    "circle_radius_command_m",
+    "path_error_max_m",
+    "pendulum_peak_rad",
+    "pendulum_rms_rad",
+    "vx_second_half_mps",
+    "vx_min_early_mps",
+    "bearing_error_max_rad",
+    "bearing_error_rms_rad",
+)
+
+
+def _command(guidance: Guidance) -> tuple[float, float, float]:
+    """Commanded speed [m/s], travel direction [rad] and yaw rate [rad/s] of ``guidance``."""
+    command = guidance.walk if isinstance(guidance, TrackObject) else guidance
+    if isinstance(command, VelocityCommand):
+        direction = math.atan2(command.velocity[1], command.velocity[0])
+        return float(np.hypot(*command.velocity)), direction, command.yaw_rate
+    return float(guidance.speed), 0.0, 0.0
+
+
+def _pendulum_figures(log: WalkLog, walking: np.ndarray) -> dict[str, float]:
+    """The pendulum's peak and RMS angle and the body's heading x velocity (none: no pendulum)."""
+    if not (log.has("pendulum") and np.any(np.isfinite(log["pendulum"]))):
+        return {}
+    t = log.time
+    angle, vx = log["pendulum"][walking], log["vx_heading"][walking]
+    second = t[walking] >= t[0] + 0.5 * (t[walking][-1] - t[0])
+    return {
+        "pendulum_peak_rad": float(np.max(np.abs(angle))),
+        "pendulum_rms_rad": float(np.sqrt(np.mean(angle[second] ** 2))),
+        "vx_second_half_mps": float(np.mean(vx[second])),
+        "vx_min_early_mps": float(np.min(vx[t[walking] <= t[0] + 1.0])),
+    }
+
+
+def _bearing_figures(log: WalkLog, walking: np.ndarray) -> dict[str, float]:
+    """The largest and RMS bearing error to the tracked object after :data:`TRACK_SETTLE`."""
+    t = log.time
+    settled = walking & (t >= t[0] + TRACK_SETTLE)
+    if not np.any(settled):
+        return {}
+    x, y = log["x"], log["y"]
+    bearing = np.arctan2(log["target_y"] - y, log["target_x"] - x) - log["yaw"]
+    error = np.abs((bearing[settled] + np.pi) % (2.0 * np.pi) - np.pi)
+    return {
+        "bearing_error_max_rad": float(np.max(error)),
+        "bearing_error_rms_rad": float(np.sqrt(np.mean(error**2))),
+    }
 
 
 def compute_hexapod_metrics(
@@ -171,29 +221,9 @@ def compute_hexapod_metrics(
     tw, xw, yw = t[window], x[window], y[window]
     span = float(tw[-1] - tw[0]) if len(tw) > 1 else 0.0
     track = isinstance(guidance, TrackObject)
-    command = guidance.walk if track else guidance
-    if isinstance(command, VelocityCommand):
-        speed_command = float(np.hypot(*command.velocity))
-        direction = math.atan2(command.velocity[1], command.velocity[0])
-        yaw_rate_command = command.yaw_rate
-    else:
-        speed_command, direction, yaw_rate_command = float(guidance.speed), 0.0, 0.0
+    speed_command, direction, yaw_rate_command = _command(guidance)
     straight = isinstance(guidance, VelocityCommand) and yaw_rate_command == 0.0
-    figures: dict[str, Any] = dict.fromkeys(
-        (
-            "direction_error_rad",
-            "heading_drift_rad",
-            "circle_radius_m",
-            "circle_radius_command_m",
-            "path_error_max_m",
-            "pendulum_peak_rad",
-            "pendulum_rms_rad",
-            "vx_second_half_mps",
-            "vx_min_early_mps",
-            "bearing_error_max_rad",
-            "bearing_error_rms_rad",
-        )
-    )
+    figures: dict[str, Any] = dict.fromkeys(OPTIONAL_FIGURES)
     speed = None
     if span > 0.0:
         displacement = math.hypot(xw[-1] - xw[0], yw[-1] - yw[0])
@@ -210,21 +240,9 @@ def compute_hexapod_metrics(
     if isinstance(guidance, SinePath):
         along, across = guidance.to_path(xw, yw)
         figures["path_error_max_m"] = float(np.max(np.abs(across - guidance.curve(along))))
-    if log.has("pendulum") and np.any(np.isfinite(log["pendulum"])):
-        angle, vx = log["pendulum"][walking], log["vx_heading"][walking]
-        second = t[walking] >= t[0] + 0.5 * (t[walking][-1] - t[0])
-        figures["pendulum_peak_rad"] = float(np.max(np.abs(angle)))
-        figures["pendulum_rms_rad"] = float(np.sqrt(np.mean(angle[second] ** 2)))
-        figures["vx_second_half_mps"] = float(np.mean(vx[second]))
-        figures["vx_min_early_mps"] = float(np.min(vx[t[walking] <= t[0] + 1.0]))
+    figures |= _pendulum_figures(log, walking)
     if track:
-        settled = walking & (t >= t[0] + TRACK_SETTLE)
-        if np.any(settled):
-            bearing = np.arctan2(log["target_y"] - y, log["target_x"] - x) - yaw
-            error = np.abs((bearing[settled] + np.pi) % (2.0 * np.pi) - np.pi)
-            figures["bearing_error_max_rad"] = float(np.max(error))
-            figures["bearing_error_rms_rad"] = float(np.sqrt(np.mean(error**2)))
-    yaw_rate = log["yaw_rate"][window]
+        figures |= _bearing_figures(log, walking)
     return HexapodMetrics(
         fell=fall_time is not None,
         fall_time_s=fall_time,
@@ -234,7 +252,7 @@ def compute_hexapod_metrics(
         speed_command_mps=speed_command,
         roll_max_rad=float(np.max(np.abs(log["roll"][window]))),
         pitch_max_rad=float(np.max(np.abs(log["pitch"][window]))),
-        yaw_rate_radps=float(np.mean(yaw_rate)),
+        yaw_rate_radps=float(np.mean(log["yaw_rate"][window])),
         stance_normal_min_n=stance_normal_min,
         stance_friction_ratio_max=stance_ratio_max,
         realtime_factor=None,

@@ -31,14 +31,21 @@ import numpy as np
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
-from ...experiments.walk_log import WalkLog
 from ...models.catalog import robots_dir
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk
-from ..runner import Episode, WalkFigures, drive, has_fallen, number, terrain_points
+from ..runner import (
+    Episode,
+    WalkFigures,
+    WalkResult,
+    drive,
+    has_fallen,
+    number,
+    terrain_points,
+)
 from .body import attitude_and_velocity, rotation
 from .config import HexapodWalkConfig, command_path
 from .guidance import Guidance, PlanarState, wrap
@@ -69,28 +76,28 @@ CHANNELS = (
 
 
 @dataclass
-class HexapodResult:
-    """What a hexapod walk produced.
+class HexapodResult(WalkResult):
+    """What a hexapod walk produced: a walk's result with the hexapod's metrics and trace.
+
+    A :class:`~virtual_actuators.gaits.runner.WalkResult` whose ``figures()`` and ``to_json()``
+    are the hexapod's own, with its configuration and tick count.
 
     Attributes:
-        config: The configuration.
         log: The body state at :data:`TRACE_RATE` (channels :data:`CHANNELS`).
         metrics: The summary figures.
         gait: The walker (its state machine history included).
         simulator: The simulator in its final state.
         wall_time: Wall-clock seconds of the loop.
+        extra: Anything a caller attaches.
+        config: The configuration.
         ticks: Control ticks run.
 
     """
 
-    config: HexapodWalkConfig
-    log: WalkLog
     metrics: HexapodMetrics
     gait: HexapodWalker
-    simulator: Simulator
-    wall_time: float
-    ticks: int
-    extra: dict[str, Any] = field(default_factory=dict)
+    config: HexapodWalkConfig = field(default_factory=HexapodWalkConfig)
+    ticks: int = 0
 
     def trace(self) -> dict[str, list[float]]:
         """The trace: a dict of equal-length lists sampled at :data:`TRACE_RATE`.
@@ -181,7 +188,7 @@ def run_hexapod_walk(
     normal_min, ratio_max = episode.stance.figures()
     metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, normal_min, ratio_max)
     metrics = _with_timing(metrics, simulator.time, end.wall, end.physics)
-    return HexapodResult(config, log, metrics, gait, simulator, end.wall, end.ticks)
+    return HexapodResult(log, metrics, gait, simulator, end.wall, config=config, ticks=end.ticks)
 
 
 def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> HexapodEpisode:

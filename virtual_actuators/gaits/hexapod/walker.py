@@ -112,68 +112,21 @@ class HexapodWalker(Gait):
         super().__init__(robot)
         self.parameters = p = parameters or HexapodParameters()
         model = robot.model
-        mass = robot.mass  # [kg]
         self.velocity = np.zeros(2)
         self.velocity_setpoint = np.zeros(2)  # the command, acceleration-limited [m/s]
         self.yaw_rate = 0.0
+        weight = robot.mass * 9.81  # [N]
         self.height = SpringDamper(
-            ("z",), p.stiffness_z, p.damping_z, setpoint=p.height, force=mass * 9.81, name="height"
+            ("z",), p.stiffness_z, p.damping_z, setpoint=p.height, force=weight, name="height"
         )
         self.attitude = HeadingAttitude(p.stiffness_attitude, p.damping_attitude, name="attitude")
         self.planar = HeadingDamper(p.damping_xy, name="planar")
-        body = [self.height, self.planar, self.attitude]
-        c = self.controller
-        supports = {**{name: legs for name, legs in TRIPODS.items()}, "all": LEGS}
-        for name, legs in supports.items():
-            feet = [f"foot_{i}" for i in legs]
-            if p.distribution == "qp":
-                actuator = ParallelVirtualActuator(
-                    robot,
-                    "body",
-                    feet,
-                    "world",
-                    contact="point",
-                    friction=p.friction,
-                    min_normal=p.min_normal,
-                    torque_limits=True,
-                )
-                c.add(f"support_{name}", actuator, body, method="qp")
-            else:
-                actuator = ParallelVirtualActuator(robot, "body", feet, "world", contact="point")
-                c.add(
-                    f"support_{name}",
-                    actuator,
-                    body,
-                    unilateral={"z": p.min_normal},
-                    yield_axes=("x", "y"),
-                )
-        self.swing = {}
-        for i in LEGS:
-            self.swing[i] = SpringDamper(
-                ("x", "y", "z"), p.swing_stiffness, p.swing_damping, name=f"swing_{i}"
-            )
-            leg = VirtualActuator(robot, f"foot_{i}", "body", "body", ("x", "y", "z"))
-            c.add(f"swing_{i}", leg, [self.swing[i]])
-
-        standing = Snapshot(robot, self.initial_configuration())
-        body_position = standing.frame_position("body")
-        #: Feet relative to the body when standing (body axes) [m], row i - 1 for leg i
-        self.nominal = np.array(
-            [standing.frame_position(f"foot_{i}") - body_position for i in LEGS]
-        )
-        self.foot_radius = float(p.height + self.nominal[:, 2].mean())  # foot centre height [m]
-        self._body_frame = model.getFrameId("body")
-        self._foot_frames = [model.getFrameId(f"foot_{i}") for i in LEGS]
-        self._nominal = self.nominal.tolist()
-        self._rows = {name: tuple(leg - 1 for leg in legs) for name, legs in TRIPODS.items()}
-        self._table_rows = None  # the kinematics' frame-table rows (cached on first use)
-        self._feet_rows = np.zeros(6, dtype=int)
-        self._body_row = 0
-        frame = model.frames[self._body_frame]
-        #: the body frame is the free flyer's (its velocity is read from v directly)
-        self._body_is_root = (
-            frame.parentJoint == 1 and model.joints[1].nq == 7 and frame.placement.isIdentity()
-        )
+        self.swing = {
+            i: SpringDamper(("x", "y", "z"), p.swing_stiffness, p.swing_damping, name=f"swing_{i}")
+            for i in LEGS
+        }
+        self._declare_actuators()
+        self._standing()
         self.ground = 0.0  # ground height under the body [m]
         #: ground plane z = a x + b y + c in body axes through the support feet (a, b, c)
         self.plane = (0.0, 0.0, float(self.nominal[:, 2].mean()))
@@ -197,8 +150,47 @@ class HexapodWalker(Gait):
                 model, PENDULUM_JOINT, p.pendulum_weights, p.pendulum_effort
             )
             self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x: the LQR's
-
         self._finish(self._machine(p.double_support_time))
+
+    def _declare_actuators(self) -> None:
+        """``support_a``, ``support_b``, ``support_all`` (point feet) and ``swing_1`` ... ``6``."""
+        p, robot, c = self.parameters, self.robot, self.controller
+        if p.distribution == "qp":
+            point = {"friction": p.friction, "min_normal": p.min_normal, "torque_limits": True}
+            rule = {"method": "qp"}
+        else:
+            point, rule = {}, {"unilateral": {"z": p.min_normal}, "yield_axes": ("x", "y")}
+        body = [self.height, self.planar, self.attitude]
+        for name, legs in {**TRIPODS, "all": LEGS}.items():
+            feet = [f"foot_{i}" for i in legs]
+            actuator = ParallelVirtualActuator(robot, "body", feet, contact="point", **point)
+            c.add(f"support_{name}", actuator, body, **rule)
+        for i in LEGS:
+            leg = VirtualActuator(robot, f"foot_{i}", "body", "body", ("x", "y", "z"))
+            c.add(f"swing_{i}", leg, [self.swing[i]])
+
+    def _standing(self) -> None:
+        """The feet's nominal places and the frames :meth:`_body_state` reads."""
+        model = self.robot.model
+        standing = Snapshot(self.robot, self.initial_configuration())
+        body_position = standing.frame_position("body")
+        #: Feet relative to the body when standing (body axes) [m], row i - 1 for leg i
+        self.nominal = np.array(
+            [standing.frame_position(f"foot_{i}") - body_position for i in LEGS]
+        )
+        self.foot_radius = float(self.parameters.height + self.nominal[:, 2].mean())  # [m]
+        self._body_frame = model.getFrameId("body")
+        self._foot_frames = [model.getFrameId(f"foot_{i}") for i in LEGS]
+        self._nominal = self.nominal.tolist()
+        self._rows = {name: tuple(leg - 1 for leg in legs) for name, legs in TRIPODS.items()}
+        self._table_rows = None  # the kinematics' frame-table rows (cached on first use)
+        self._feet_rows = np.zeros(6, dtype=int)
+        self._body_row = 0
+        frame = model.frames[self._body_frame]
+        #: the body frame is the free flyer's (its velocity is read from v directly)
+        self._body_is_root = (
+            frame.parentJoint == 1 and model.joints[1].nq == 7 and frame.placement.isIdentity()
+        )
 
     def _machine(self, double_support_time: float) -> StateMachine:
         """The four states (a tripod's stance, then a double support, per tripod)."""

@@ -26,14 +26,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...actuators import ParallelVirtualActuator, VirtualActuator
-from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from ...components.walking import DogtrackBunny
 from ...control import events
-from ...control.state_machine import Context, State, StateMachine, Transition
+from ...control.state_machine import Context, StateMachine, Transition
 from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ..base import Gait, check_distribution
-from ..planar import PLANAR_AXES, SIDES, lift_profile, other, smoothstep
+from ..planar import (
+    SIDES,
+    biped_states,
+    biped_weight,
+    declare_biped,
+    granny_walker,
+    lift_profile,
+    other,
+    smoothstep,
+    swing_linkages,
+)
 from .parameters import TurkeyParameters
 
 
@@ -62,75 +71,39 @@ class TurkeyWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or TurkeyParameters()
-        mass = robot.mass  # [kg]
-        weight = mass * 9.81 if p.weight is None else p.weight  # [N]
-        self.granny = GrannyWalker(
-            p.height,
-            stiffness=(p.stiffness_z, p.stiffness_pitch),
-            damping=(p.damping_z, p.damping_pitch),
-            pitch=p.pitch,
-            weight=weight,
-        )
+        weight = biped_weight(robot, p.weight)  # [N]
+        self.granny = granny_walker(p, p.height, weight)
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
-        self.swing = {
-            side: SwingLegLinkage(p.swing_stiffness, p.swing_damping, name=f"{side}_swing_linkage")
-            for side in SIDES
-        }
-        feet = [f"{side}_foot" for side in SIDES]
-        qp = check_distribution(p.distribution)
-        double = ParallelVirtualActuator(
-            robot,
-            "body",
-            feet,
-            "world",
-            PLANAR_AXES,
-            contact="point",
-            design=[EqualTorque("left_hip", "right_hip")],
-            **({"friction": p.friction, "min_normal": p.min_normal_force} if qp else {}),
-        )
-        c = self.controller
-        limits = {"method": "qp"} if qp else {"unilateral": {"z": p.min_normal_force}}
-        c.add("double", double, [self.granny, self.bunny], yield_axes=("x",), **limits)
-        for side in SIDES:
-            stance = ParallelVirtualActuator(
-                robot, "body", [f"{side}_foot"], "world", PLANAR_AXES, contact="point"
-            )
-            c.add(f"{side}_stance", stance, [self.granny], free=("x",))
-            swing = VirtualActuator(robot, f"{side}_foot", "body", "world", ("x", "z"))
-            c.add(f"{side}_swing", swing, [self.swing[side]])
-
+        self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, ("x", "z"))
+        self._declare_actuators()
         self.front = "left"  # foot ahead in double support
         self._swing_start = np.zeros(2)  # swing foot relative to the body at lift-off [m]
         self._progress_start = 0.0  # body x minus stance x at lift-off [m]
         self.ground = 0.0  # ground height estimate under the stance foot [m]
-        states = [
-            State(
-                "double_support",
-                ("double",),
-                ("left_foot", "right_foot"),
-                on_enter=self._enter_double,
-                on_update=self._update_double,
-            )
-        ]
+        self._finish(self._machine(initial))
+
+    def _declare_actuators(self) -> None:
+        """``double`` on both point feet (matched hip torques), ``SIDE_stance``, ``SIDE_swing``."""
+        p = self.parameters
+        qp = check_distribution(p.distribution)
+        double = {
+            "design": [EqualTorque("left_hip", "right_hip")],
+            **({"friction": p.friction, "min_normal": p.min_normal_force} if qp else {}),
+        }
+        rule = {"method": "qp"} if qp else {"unilateral": {"z": p.min_normal_force}}
+        declare_biped(self.controller, [self.granny, self.bunny], self.swing, "point", double, rule)
+
+    def _machine(self, initial: str) -> StateMachine:
+        """Table 1: double support, then single support and its buffer per side."""
+        p = self.parameters
+        limp = {f"{s}_support_2": (f"{other(s)}_hip", f"{other(s)}_knee") for s in SIDES}
+        states = biped_states(
+            (self._enter_double, self._update_double),
+            (self._enter_single, self._update_single),
+            limp,
+        )
         transitions = []
         for side in SIDES:
-            swing_side = other(side)
-            states += [
-                State(
-                    f"{side}_support",
-                    (f"{side}_stance", f"{swing_side}_swing"),
-                    (f"{side}_foot",),
-                    on_enter=self._enter_single,
-                    on_update=self._update_single,
-                ),
-                State(
-                    f"{side}_support_2",
-                    (f"{side}_stance",),
-                    (f"{side}_foot",),
-                    limp=(f"{swing_side}_hip", f"{swing_side}_knee"),
-                    on_update=self._update_single,
-                ),
-            ]
             transitions += [
                 Transition(
                     "double_support",
@@ -151,7 +124,7 @@ class TurkeyWalker(Gait):
                     f"delay after {side} support 2",
                 ),
             ]
-        self._finish(StateMachine(states, transitions, initial))
+        return StateMachine(states, transitions, initial)
 
     # --- events and state callbacks ------------------------------------------------------------
 

@@ -17,35 +17,20 @@ KERNEL_DECORATORS = {"njit", "jit"}
 #: Modules of 400 lines or more, path under virtual_actuators/ -> why it is still that long
 LONG_MODULES = {
     "actuators/parallel.py": "lane K (K2, K5) moves the contact parsing out",
-    "control/controller.py": "lane C (C5, C6)",
+    "control/controller.py": "lane C (C5: Controller.add into Attachment.declare)",
     "distribution/kernel_solves.py": "lane D (D8)",
     "distribution/kernels.py": "lane D (D8)",
     "distribution/partitioner.py": "lane D (D4, D8)",
     "distribution/problem.py": "lane D (D2)",
     "distribution/qp.py": "lane D (D6)",
     "distribution/qp_kernels.py": "lane D (D6), lane K (K2, K3)",
-    "experiments/plots.py": "lane Z (panels into plot_panels.py)",
-    "experiments/walk_log.py": "lane Z (npz and json io into walk_log_io.py)",
-    "simulation/conversions.py": "lane Z (actuation.py)",
-    "simulation/simulator.py": "lane Z (contact queries into contact.py)",
-    "simulation/terrain.py": "lane Z (built-in profiles into terrain_profiles.py)",
-    "visualization/geometry.py": "lane Z (meshcat shapes into shapes.py)",
-    "visualization/robot_scene.py": "lane Z",
-    "visualization/viewer.py": "lane Z",
 }
 
 #: Functions of 80 lines or more outside numba kernels, "path::qualified name" -> why
 LONG_FUNCTIONS = {
     "control/controller.py::Controller.add": "lane C (C5: Attachment.declare)",
-    "control/controller.py::Controller.compute": "lane C (C6)",
-    "control/run_loop.py::run": "lane C (C7)",
     "distribution/problem.py::DistributionProblem.evaluate": "lane D (D2)",
     "distribution/qp_limits.py::ContactLimits.__init__": "lane K (K2)",
-    "experiments/metrics.py::compute_metrics": "lane Z",
-    "simulation/geometry.py::add_geometry": "lane Z",
-    "simulation/model.py::build_mujoco_model": "lane Z",
-    "simulation/simulator.py::Simulator.__init__": "lane Z",
-    "visualization/bodies.py::skeleton_parts": "lane Z",
 }
 
 

@@ -56,8 +56,9 @@ Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iteration
 stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
 and half the budget, the check of the other rows at most ``CONFLICT_MAX_ITER``.
 When the budget runs out, the solve returns the feasible answer of least weighted miss found so
-far (stage 2's or stage 3's iterate, which meet every row to ``FEASIBILITY_TOL``), its residual
-in ``sol.residual`` and ``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
+far (stage 2's or stage 3's iterate, which meet every row to ``FEASIBILITY_TOL``; the exact
+answer when the KKT check passes on its active set), its residual in ``sol.residual`` and
+``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
 feasible point was found. ``QPDistribution.iterations`` reads the count of the last solve.
 """
 
@@ -282,12 +283,18 @@ class QPDistribution:
         # Hessian in x, one wrench), then the least force norm that produces it exactly
         request, target = equality[design:], equality_rhs[design:].copy()
         weighted = request * weights[:, None]
-        candidate = None  # the exact stage's last iterate, when it meets the other rows
-        if budget[0] == 0:
+
+        def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> tuple:
+            """The exact closest answer on the active set ``guess`` names, else ``x``."""
+            equality_rhs[design:] = target  # the request (the exact step finds the wrench)
+            return (*exact_answer(equality, equality_rhs, design, weights, inequality, lows,
+                                  uppers, x, guess, False, ACTIVE_TOL), exhausted)  # fmt: skip
+
+        if budget[0] == 0:  # the exact stage's last iterate, when it meets the other rows
             qp = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0]
             if miss(qp.results.x, design) <= FEASIBILITY_TOL:
-                candidate = (qp.results.x.copy(), qp.results.z.copy(), True)
-            return candidate
+                return exact(qp.results.x.copy(), qp.results.z.copy(), True)
+            return None
         closest = self._run(
             (path, "closest", size, design, len(lows)), (request.T @ weighted,
             -(weighted.T @ target)), equality[:design], equality_rhs[:design], inequality,
@@ -298,7 +305,7 @@ class QPDistribution:
         answer, multipliers = closest.x.copy(), closest.z.copy()
         solved = closest.info.status == converged
         if budget[0] == 0:  # out of iterations: stage 3 (the least norm) cannot run
-            return answer, multipliers, True
+            return exact(answer, multipliers, True)
         equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
         # a row with a nonzero multiplier holds at every closest answer (complementarity with
         # any dual solution): as equalities they leave the third stage's feasible set as it is
@@ -314,21 +321,11 @@ class QPDistribution:
             lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if reached is None:
-            return answer, multipliers, budget[0] == 0
-        exhausted = reached.info.status != converged
-        if solved and not exhausted:  # exact on the active set (held rows: stage 2's sides)
-            guess = reached.z.copy()
-            guess[held] = multipliers[held]
-            equality_rhs[design:] = target  # the request again: the exact step finds the wrench
-            x, multipliers = exact_answer(
-                equality, equality_rhs, design, weights, inequality, lows, uppers, reached.x,
-                guess, False, ACTIVE_TOL,
-            )  # fmt: skip
-            return x, multipliers, False
-        # the held rows' multipliers are the equality rows' now: they stay active
-        multipliers = reached.z.copy()
-        multipliers[held] += reached.y[len(equality_rhs) :]
-        return reached.x, multipliers, exhausted or not solved
+            return exact(answer, multipliers, budget[0] == 0)
+        # the active set: stage 3's rows, and the held rows on stage 2's sides
+        guess = reached.z.copy()
+        guess[held] = multipliers[held]
+        return exact(reached.x, guess, reached.info.status != converged or not solved)
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
         names = self.limits.row_names()

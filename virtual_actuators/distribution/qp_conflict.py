@@ -58,7 +58,8 @@ def conflict_error(
     if not largest > tolerance:
         return None
     moved = np.flatnonzero(size >= CONFLICT_SHARE * largest)
-    rows = [names[i] for i in moved[np.argsort(-size[moved], kind="stable")]]
+    rank = np.round(size[moved] / largest, 6)  # equal shifts (a symmetric robot): row order
+    rows = [names[i] for i in moved[np.argsort(-rank, kind="stable")]]
     return ConstraintError(
         f"No distribution over the chains to {list(reactions)} meets every constraint at this "
         "configuration, whatever the request: these inequalities cannot hold together with the "

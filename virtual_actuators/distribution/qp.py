@@ -43,7 +43,9 @@ algebra, kept only when the KKT conditions hold to ``EXACT_TOL`` of the scale (e
 every active row's multiplier of the right sign; up to ``EXACT_STEPS`` corrections of the active
 set, else ProxQP's answer stands). An answer is then the optimum to rounding: within 1e-8 of
 ``max(|w|, the active bounds)`` for requests from 1e-6 to 1e6, and the same, to 1e-9 ``|w|``,
-whatever was solved before (warm or cold start, any thread).
+whatever was solved before (warm or cold start, any thread). When stage 1 fails, its last
+iterate mostly names the closest answer's active set already: certified there, that answer ends
+the solve (stages 2 and 3 run only when it is not).
 
 **Rows that cannot hold.** When stage 1 fails, the other rows are checked first
 (:mod:`.qp_conflict`: the least squared shift of the inequalities' bounds that lets them hold
@@ -55,10 +57,10 @@ error is kept for a solve that did not converge.
 Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over its
 stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
 and half the budget, the check of the other rows at most ``CONFLICT_MAX_ITER``.
-When the budget runs out, the solve returns the feasible answer of least weighted miss found so
-far (stage 2's or stage 3's iterate, which meet every row to ``FEASIBILITY_TOL``; the exact
-answer when the KKT check passes on its active set), its residual in ``sol.residual`` and
-``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
+When the budget runs out, the solve returns the exact answer if the KKT check passes on the
+active set of the last feasible iterate, else that iterate (the feasible answer of least
+weighted miss found so far, meeting every row to ``FEASIBILITY_TOL``) with its residual in
+``sol.residual`` and ``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
 feasible point was found. ``QPDistribution.iterations`` reads the count of the last solve.
 """
 
@@ -264,8 +266,15 @@ class QPDistribution:
             equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if results is not None:  # exact on its active set (the same whatever the start)
-            x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
-                                uppers, results.x, results.z, True, ACTIVE_TOL)  # fmt: skip
+            _, x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
+                                   uppers, results.x, results.z, True, ACTIVE_TOL)  # fmt: skip
+            return x, z, False
+        # stage 1's last iterate mostly names the closest answer's active set already: that
+        # answer, certified exact, makes the other stages (and the check below) unnecessary
+        last = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0].results
+        certified, x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
+                                       uppers, last.x, last.z, False, ACTIVE_TOL)  # fmt: skip
+        if certified:
             return x, z, False
         converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
         if budget[0] >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
@@ -285,15 +294,18 @@ class QPDistribution:
         weighted = request * weights[:, None]
 
         def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> tuple:
-            """The exact closest answer on the active set ``guess`` names, else ``x``."""
+            """The exact closest answer on the active set ``guess`` names, else ``x``.
+
+            ``exhausted`` stands only for ``x`` (an iterate): an exact answer is final.
+            """
             equality_rhs[design:] = target  # the request (the exact step finds the wrench)
-            return (*exact_answer(equality, equality_rhs, design, weights, inequality, lows,
-                                  uppers, x, guess, False, ACTIVE_TOL), exhausted)  # fmt: skip
+            certified, x, z = exact_answer(equality, equality_rhs, design, weights, inequality,
+                                           lows, uppers, x, guess, False, ACTIVE_TOL)  # fmt: skip
+            return x, z, exhausted and not certified
 
         if budget[0] == 0:  # the exact stage's last iterate, when it meets the other rows
-            qp = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0]
-            if miss(qp.results.x, design) <= FEASIBILITY_TOL:
-                return exact(qp.results.x.copy(), qp.results.z.copy(), True)
+            if miss(last.x, design) <= FEASIBILITY_TOL:
+                return exact(last.x.copy(), last.z.copy(), True)
             return None
         closest = self._run(
             (path, "closest", size, design, len(lows)), (request.T @ weighted,

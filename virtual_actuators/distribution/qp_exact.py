@@ -93,7 +93,9 @@ def _factor(
         if norm == 0.0:
             continue
         coefficients[:rank] = 0.0
-        for _ in range(2):
+        rest = norm
+        for _ in range(3):  # Gram-Schmidt, again while a sweep removes much of the row
+            before = rest
             for b in range(rank):
                 dot = 0.0
                 for j in range(size):
@@ -101,10 +103,12 @@ def _factor(
                 coefficients[b] += dot
                 for j in range(size):
                     row[j] -= dot * basis[b, j]
-        rest = 0.0
-        for j in range(size):
-            rest += row[j] * row[j]
-        rest = np.sqrt(rest)
+            rest = 0.0
+            for j in range(size):
+                rest += row[j] * row[j]
+            rest = np.sqrt(rest)
+            if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT * norm:
+                break
         if rest <= DEPENDENT * norm:
             continue
         for j in range(size):
@@ -136,6 +140,7 @@ def _solve(
     inequality: np.ndarray,
     bounds: np.ndarray,
     side: np.ndarray,
+    exact: bool,
     x: np.ndarray,
     fit: np.ndarray,
     norm: np.ndarray,
@@ -143,8 +148,8 @@ def _solve(
     """The answer on one active set, and its multipliers (see the module docstring).
 
     Writes ``x``, ``fit`` (the weighted least squares' multipliers of the design and active
-    rows) and ``norm`` (the least norm's: ``x = sum rows^T norm``), both over ``[equality;
-    inequality]``, 0 for the rows dropped or inactive.
+    rows; 0 when ``exact``) and ``norm`` (the least norm's: ``x = sum rows^T norm``), both over
+    ``[equality; inequality]``, 0 for the rows dropped or inactive.
     """
     k, size = equality.shape[0], equality.shape[1]
     basis = np.zeros((size, size))
@@ -211,6 +216,9 @@ def _solve(
     norm[:] = 0.0
     for r in range(rank):
         norm[kept[r]] = multipliers[r]
+    fit[:] = 0.0
+    if exact:  # the request met: no miss, no multipliers of it
+        return
     gradient = np.zeros(size)  # the weighted miss's gradient on the fixed rows' basis
     for i in range(requests):
         acc = -equality_rhs[design + i]
@@ -219,7 +227,6 @@ def _solve(
         for b in range(fixed):
             gradient[b] += weights[i] * acc * spread[i, b]
     _back(lower, 0, fixed, gradient, multipliers)
-    fit[:] = 0.0
     for r in range(fixed):
         fit[kept[r]] = multipliers[r]
 
@@ -272,11 +279,11 @@ def exact_step(
     fit = np.zeros(k + m)
     norm = np.zeros(k + m)
     bounds = np.empty(m)
-    row = np.empty(size)
     for _ in range(max_steps + 1):
         for r in range(m):
             bounds[r] = lows[r] if side[r] < 0 else uppers[r]
-        _solve(equality, equality_rhs, design, weights, inequality, bounds, side, x, fit, norm)
+        _solve(equality, equality_rhs, design, weights, inequality, bounds, side, exact, x, fit,
+               norm)  # fmt: skip
         # a multiplier of the wrong sign (>= 0 at a lower bound, <= 0 at an upper one): that
         # row leaves. Exactly: the least norm's. Closest: the weighted miss's, then the least
         # norm's of the rows that do not bound the miss.
@@ -298,10 +305,13 @@ def exact_step(
         worst, enter, enter_side = tol, -1, 0
         consistent = True
         for r in range(k + m):
-            _row(equality, inequality, r, row)
             acc = 0.0
-            for j in range(size):
-                acc += row[j] * x[j]
+            if r < k:
+                for j in range(size):
+                    acc += equality[r, j] * x[j]
+            else:
+                for j in range(size):
+                    acc += inequality[r - k, j] * x[j]
             if r < design or (r < k and exact):
                 consistent &= abs(acc - equality_rhs[r]) <= tol
             elif r < k:
@@ -336,17 +346,17 @@ def exact_answer(
     guess: np.ndarray,
     exact: bool,
     active_tol: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """``(x, z)``: :func:`exact_step`'s answer if its KKT checks pass, else ProxQP's answer.
+) -> tuple[bool, np.ndarray, np.ndarray]:
+    """``(True, x, z)``: :func:`exact_step`'s answer if its KKT checks pass, else ProxQP's.
 
-    ProxQP's answer is ``x`` with the multipliers ``guess``; the other arguments are
-    :func:`exact_step`'s.
+    ProxQP's answer is ``(False, x, guess)``: its ``x`` and multipliers ``guess``; the other
+    arguments are :func:`exact_step`'s.
     """
     ok, exact_x, z = exact_step(
         equality, equality_rhs, design, weights, inequality, lows, uppers, guess, exact,
         active_tol, EXACT_TOL, EXACT_STEPS,
     )  # fmt: skip
-    return (exact_x, z) if ok else (x, guess)
+    return (True, exact_x, z) if ok else (False, x, guess)
 
 
 __all__ = ["DEPENDENT", "EXACT_STEPS", "EXACT_TOL", "exact_answer", "exact_step"]

@@ -10,15 +10,16 @@ inequalities held at their bounds (rows ``C_W x = b_W``):
 - the closest wrench (``exact=False``): ``x`` minimises ``sum_a omega_a (A x - w)_a^2`` on
   ``D``, ``C_W``, and among those minimisers has the least norm.
 
-:func:`exact_step` computes that ``x`` exactly (Gram-Schmidt, twice, on the rows ``D``, ``C_W``
-then ``A``, in a fixed order: a row that depends on earlier ones is dropped from the solve and
-only checked; the weighted least squares on what ``A`` adds, by Gram-Schmidt on its columns),
-then checks the KKT conditions to ``tol``: every row met, every other inequality inside its
-bounds, and each active row's multiplier of the right sign (``>= 0`` at a lower bound, ``<= 0``
-at an upper one; for the closest wrench, in the weighted least squares, and for the rows that do
-not bound it, in the least norm). A failed check changes the active set by one row (the
-multiplier of the wrong sign leaves, else the most violated row enters) and solves again, at most
-``max_steps`` times; if it does not settle, the caller keeps ProxQP's answer.
+:func:`exact_step` computes that ``x`` exactly (Gram-Schmidt on the rows ``D``, ``C_W`` then
+``A`` in a fixed order, a row swept again while a sweep removes most of it; a row that depends
+on earlier ones is dropped from the solve and only checked; the weighted least squares on what
+``A`` adds, by Gram-Schmidt on its columns), then checks the KKT conditions to ``tol``: every
+row met, every other inequality inside its bounds, and each active row's multiplier of the right
+sign (``>= 0`` at a lower bound, ``<= 0`` at an upper one; for the closest wrench, in the
+weighted least squares, and for the rows that do not bound it, in the least norm). A failed
+check changes the active set by one row (the multiplier of the wrong sign leaves, else the most
+violated row enters) and solves again, at most ``max_steps`` times; if it does not settle, the
+caller keeps ProxQP's answer.
 
 When the checks pass, ``x`` is the QP's answer to rounding (the least norm is strictly convex,
 the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: the answer

@@ -28,6 +28,7 @@ LONG_MODULES = {
 
 #: Functions of 80 lines or more outside numba kernels, "path::qualified name" -> why
 LONG_FUNCTIONS = {
+    "distribution/qp.py::QPDistribution._stages": "lane D (D6: qp/stages.py)",
     "control/controller.py::Controller.add": "lane C (C5: Attachment.declare)",
     "distribution/problem.py::DistributionProblem.evaluate": "lane D (D2)",
     "distribution/qp_limits.py::ContactLimits.__init__": "lane K (K2)",

@@ -17,7 +17,9 @@ The natural and design constraints stay equalities; the contacts add inequalitie
 - **torque limits** ``|tau_j| <= limit_j`` at the actuated joints (the URDF effort limits, or an
   array).
 
-Objective, on a problem scaled to ``|w| ~ 1``, lexicographic:
+Objective, lexicographic, on the problem divided by its scale (the largest of the request, the
+spring torques, the least normal force and the constant design right-hand sides; not the torque
+limits, which may lie far from every answer):
 
 1. the request exactly with the least force norm, ``min |F|^2`` subject to ``sum_i F_i = w`` on
    the prescribed axes (the usual case: one solve, and with no inequality active exactly the
@@ -37,12 +39,31 @@ dense): stage 1 warm-started from the previous solve of the same thread, stages 
 infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check.
 Joints that no chain moves get no torque-limit row (it would be all zero: always met).
 
+**Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
+thread's previous solve. Its multipliers name the active inequalities, and on that active set
+:func:`~.qp_exact.exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
+algebra, kept only when the KKT conditions hold to ``EXACT_TOL`` of the scale (every row met,
+every active row's multiplier of the right sign; up to ``EXACT_STEPS`` corrections of the active
+set, else ProxQP's answer stands). An answer is then the optimum to rounding: within 1e-8 of
+``max(|w|, the active bounds)`` for requests from 1e-6 to 1e6, and the same, to 1e-9 ``|w|``,
+whatever was solved before (warm or cold start, any thread). When stage 1 fails, its last
+iterate mostly names the closest answer's active set already: certified there, that answer ends
+the solve (stages 2 and 3 run only when it is not).
+
+**Rows that cannot hold.** When stage 1 fails, the other rows are checked first
+(:mod:`.qp_conflict`: the least squared shift of the inequalities' bounds that lets them hold
+with the equalities, ``CONFLICT_MAX_ITER`` iterations at most, run when twice that is left): if
+they cannot hold together, whatever the request, ``ConstraintError`` names the rows that conflict
+(each foot's least normal force and the knees' torque limits, say), at once; the iteration-budget
+error is kept for a solve that did not converge.
+
 Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over its
 stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
-and half the budget.
-When the budget runs out, the solve returns the feasible answer of least weighted miss found so
-far (stage 2's or stage 3's iterate, which meet every row to ``FEASIBILITY_TOL``), its residual
-in ``sol.residual`` and ``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
+and half the budget, the check of the other rows at most ``CONFLICT_MAX_ITER``.
+When the budget runs out, the solve returns the exact answer if the KKT check passes on the
+active set of the last feasible iterate, else that iterate (the feasible answer of least
+weighted miss found so far, meeting every row to ``FEASIBILITY_TOL``) with its residual in
+``sol.residual`` and ``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
 feasible point was found. ``QPDistribution.iterations`` reads the count of the last solve.
 """
 
@@ -57,6 +78,8 @@ from .linalg import ROUNDING, stable_norm
 from .partitioner import RawSolution
 from .problem import DistributionProblem
 from .qp_compiled import CompiledQPMatrices
+from .qp_conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
+from .qp_exact import exact_answer
 from .qp_kernel_answer import finish, violation
 from .qp_limits import INFINITY, ContactLimits, kinds, torque_map
 from .qp_weights import check_weights
@@ -124,10 +147,11 @@ class QPDistribution:
         self._identities: dict[int, np.ndarray] = {}
         #: per set of prescribed axes: the rows summing the chains' forces on them
         self._selects: dict[bytes, np.ndarray] = {}
-        #: the part of the scale that the declaration fixes: least normal force, limits
+        #: the part of the scale that the declaration fixes: the least normal force and the
+        #: constant right-hand sides (not the torque limits: a limit that does not bind would
+        #: set the accuracy of every answer below it)
         self._static_scale = max(
             limits.min_normal if limits.normal_row else 0.0,
-            float(np.abs(limits.limits).max(initial=0.0)),
             float(np.abs(problem.constant_rhs).max(initial=0.0)),
         )
         self.matrices = CompiledQPMatrices(
@@ -156,8 +180,10 @@ class QPDistribution:
                 qp.settings.check_duality_gap = True
                 qp.settings.eps_duality_gap_abs = CLOSEST_EPS_ABS
                 qp.settings.eps_duality_gap_rel = 0.0
-            if key[1] == "reached":  # feasible by construction (the closest answer meets it):
-                qp.settings.eps_primal_inf = 0.0  # no heuristic infeasibility verdicts
+            # feasible by construction (the closest answer meets it; shifted bounds hold for
+            # any x): no heuristic infeasibility verdicts
+            if key[1] in ("reached", "conflict"):
+                qp.settings.eps_primal_inf = 0.0
             workspace = cache[key] = [qp, True]  # the workspace, and whether it needs init()
         return workspace
 
@@ -183,6 +209,8 @@ class QPDistribution:
         qp, fresh = workspace
         warm = key[1] == "exact"
         qp.settings.max_iter = min(EXACT_MAX_ITER, (budget[0] + 1) // 2) if warm else budget[0]
+        if key[1] == "conflict":
+            qp.settings.max_iter = min(CONFLICT_MAX_ITER, budget[0])
         if fresh or not warm:
             qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
             qp.init(
@@ -240,18 +268,48 @@ class QPDistribution:
             (path, "exact", size, len(equality_rhs), len(lows)), identity, equality,
             equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
-        if results is not None:
-            return results.x, results.z, False
+        if results is not None:  # exact on its active set (the same whatever the start)
+            _, x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
+                                   uppers, results.x, results.z, True, ACTIVE_TOL)  # fmt: skip
+            return x, z, False
+        # stage 1's last iterate mostly names the closest answer's active set already: that
+        # answer, certified exact, makes the other stages (and the check below) unnecessary
+        last = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0].results
+        certified, x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
+                                       uppers, last.x, last.z, False, ACTIVE_TOL)  # fmt: skip
+        if certified:
+            return x, z, False
+        converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
+        if budget[0] >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
+            objective, shifted_eq, shifted_in = least_shift_problem(equality[:design], inequality)
+            shifted = self._run(
+                (path, "conflict", len(objective[1]), design, len(lows)), objective, shifted_eq,
+                equality_rhs[:design], shifted_in, lows, uppers, lambda x: 0.0, budget,
+            )  # fmt: skip
+            if shifted is not None and shifted.info.status == converged:
+                error = conflict_error(shifted.x[size:], self.limits.row_names(),
+                                       self.problem.reactions, FEASIBILITY_TOL)  # fmt: skip
+                if error is not None:
+                    raise error
         # infeasible: the closest reachable wrench alone (weighted least squares: a singular
         # Hessian in x, one wrench), then the least force norm that produces it exactly
-        request, target = equality[design:], equality_rhs[design:]
+        request, target = equality[design:], equality_rhs[design:].copy()
         weighted = request * weights[:, None]
-        candidate = None  # the exact stage's last iterate, when it meets the other rows
-        if budget[0] == 0:
-            qp = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0]
-            if miss(qp.results.x, design) <= FEASIBILITY_TOL:
-                candidate = (qp.results.x.copy(), qp.results.z.copy(), True)
-            return candidate
+
+        def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> tuple:
+            """The exact closest answer on the active set ``guess`` names, else ``x``.
+
+            ``exhausted`` stands only for ``x`` (an iterate): an exact answer is final.
+            """
+            equality_rhs[design:] = target  # the request (the exact step finds the wrench)
+            certified, x, z = exact_answer(equality, equality_rhs, design, weights, inequality,
+                                           lows, uppers, x, guess, False, ACTIVE_TOL)  # fmt: skip
+            return x, z, exhausted and not certified
+
+        if budget[0] == 0:  # the exact stage's last iterate, when it meets the other rows
+            if miss(last.x, design) <= FEASIBILITY_TOL:
+                return exact(last.x.copy(), last.z.copy(), True)
+            return None
         closest = self._run(
             (path, "closest", size, design, len(lows)), (request.T @ weighted,
             -(weighted.T @ target)), equality[:design], equality_rhs[:design], inequality,
@@ -260,9 +318,9 @@ class QPDistribution:
         if closest is None:
             return None
         answer, multipliers = closest.x.copy(), closest.z.copy()
-        solved = closest.info.status == self._proxqp.QPSolverOutput.PROXQP_SOLVED
+        solved = closest.info.status == converged
         if budget[0] == 0:  # out of iterations: stage 3 (the least norm) cannot run
-            return answer, multipliers, True
+            return exact(answer, multipliers, True)
         equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
         # a row with a nonzero multiplier holds at every closest answer (complementarity with
         # any dual solution): as equalities they leave the third stage's feasible set as it is
@@ -278,12 +336,11 @@ class QPDistribution:
             lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
         if reached is None:
-            return answer, multipliers, budget[0] == 0
-        exhausted = reached.info.status != self._proxqp.QPSolverOutput.PROXQP_SOLVED
-        # the held rows' multipliers are the equality rows' now: they stay active
-        multipliers = reached.z.copy()
-        multipliers[held] += reached.y[len(equality_rhs) :]
-        return reached.x, multipliers, exhausted or not solved
+            return exact(answer, multipliers, budget[0] == 0)
+        # the active set: stage 3's rows, and the held rows on stage 2's sides
+        guess = reached.z.copy()
+        guess[held] = multipliers[held]
+        return exact(reached.x, guess, reached.info.status != converged or not solved)
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
         names = self.limits.row_names()
@@ -325,8 +382,10 @@ class QPDistribution:
             of the active inequalities.
 
         Raises:
-            ConstraintError: No distribution meets the equalities and the inequalities here, or
-                none was found within ``iteration_budget`` ProxQP iterations.
+            ConstraintError: No distribution meets the equalities and the inequalities here
+                (the message names the inequalities that conflict when they cannot hold
+                whatever the request), or none was found within ``iteration_budget`` ProxQP
+                iterations.
 
         """
         weights = (self.weights if weights is None else weights)[keep]
@@ -400,7 +459,7 @@ class QPDistribution:
         )
 
         equality_rhs = equality_rhs / scale
-        lows, uppers = lows / scale, np.minimum(uppers / scale, INFINITY)
+        lows, uppers = np.maximum(lows / scale, -INFINITY), np.minimum(uppers / scale, INFINITY)
 
         def miss(x: np.ndarray, rows: int) -> float:
             slack = float(np.abs(equality[:rows] @ x - equality_rhs[:rows]).max(initial=0.0))

@@ -328,8 +328,8 @@ def reduced_qp(
     scale = max(scale, 1e-300)  # the request, spring torques and bounds to ~1
     for r in range(equality_rhs.shape[0]):
         equality_rhs[r] /= scale
-    for r in range(m_in):
-        lows[r] /= scale
+    for r in range(m_in):  # bounds that do not set the scale may exceed "no bound": clipped
+        lows[r] = max(lows[r] / scale, -INFINITY)
         uppers[r] = min(uppers[r] / scale, INFINITY) if uppers[r] < INFINITY else INFINITY
     return 0, worst, scale
 

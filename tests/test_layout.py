@@ -21,7 +21,6 @@ LONG_MODULES = {
     "distribution/kernel_solves.py": "lane D (D8)",
     "distribution/kernels.py": "lane D (D8)",
     "distribution/partitioner.py": "lane D (D4, D8)",
-    "distribution/problem.py": "lane D (D2)",
     "distribution/qp.py": "lane D (D6)",
     "distribution/qp_kernels.py": "lane D (D6), lane K (K2, K3)",
 }
@@ -29,7 +28,6 @@ LONG_MODULES = {
 #: Functions of 80 lines or more outside numba kernels, "path::qualified name" -> why
 LONG_FUNCTIONS = {
     "control/controller.py::Controller.add": "lane C (C5: Attachment.declare)",
-    "distribution/problem.py::DistributionProblem.evaluate": "lane D (D2)",
     "distribution/qp_limits.py::ContactLimits.__init__": "lane K (K2)",
 }
 

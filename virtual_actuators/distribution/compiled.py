@@ -21,6 +21,7 @@ import numpy as np
 from . import kernels
 from .partitioner import PartitionedSolver, RawSolution
 from .problem import DistributionProblem
+from .problem.checks import structurally_singular
 
 
 def spring_table(problem: DistributionProblem) -> np.ndarray:
@@ -81,9 +82,9 @@ class CompiledDistribution:
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
         signs = np.zeros((len(torque), 2, problem.p))
         for t, (a, b, _) in enumerate(torque):
-            signs[t, 0] = problem._signs_at([a])[:, 0]
+            signs[t, 0] = problem.signs_at([a])[:, 0]
             if b >= 0:
-                signs[t, 1] = problem._signs_at([b])[:, 0]
+                signs[t, 1] = problem.signs_at([b])[:, 0]
         self.torque_signs = signs
         self._tables: _Tables | None = None
         self._modes: dict[tuple[bytes, int], _Mode] = {}
@@ -148,7 +149,7 @@ class CompiledDistribution:
             sets = partitioner.reported_sets(keep)
             systems = cfs_systems + (("KKT", k + s, 1),)
             mode = _Mode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
-        elif k + s == m and not problem.structurally_singular(keep):
+        elif k + s == m and not structurally_singular(problem, keep):
             plan = partitioner.square_plan(keep)
             labels = partitioner.labels()
             sets = {

@@ -16,7 +16,8 @@ from ..exceptions import ConstraintError, SingularConfigurationError
 from .linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
 from .partitioner import ILL_CONDITIONED, RawSolution, no_sets
 from .problem import DistributionProblem
-from .structure import Evaluation
+from .problem.checks import structurally_singular
+from .problem.structure import Evaluation
 
 
 class DenseSolver:
@@ -56,7 +57,7 @@ class DenseSolver:
         p, n = self.problem.p, self.problem.n
         soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)
         k = np.vstack((soft, hard))
-        square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
+        square = k.shape[0] == k.shape[1] and not structurally_singular(self.problem, keep)
         if square:
             cond = np.linalg.cond(k)
             if not np.isfinite(cond) or cond > ILL_CONDITIONED:

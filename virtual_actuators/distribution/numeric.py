@@ -18,7 +18,7 @@ from ..exceptions import SingularConfigurationError
 from .linalg import CONSTRAINT_TOL, ROUNDING, power_of_two_scale, stable_norm
 from .partitioner import RawSolution
 from .problem import DistributionProblem
-from .structure import Evaluation
+from .problem.structure import Evaluation
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:

@@ -36,7 +36,8 @@ from ..exceptions import SingularConfigurationError
 from .least_norm import least_norm_forces
 from .linalg import ILL_CONDITIONED, safe_inverse, scaled_condition, select_columns
 from .problem import DistributionProblem
-from .structure import Evaluation
+from .problem.checks import structurally_singular
+from .problem.structure import Evaluation
 
 
 def no_sets() -> dict[str, list[tuple[str, str]]]:
@@ -284,7 +285,7 @@ class PartitionedSolver:
         systems = tuple(
             ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
         )
-        if k + s == m and not self.problem.structurally_singular(keep):
+        if k + s == m and not structurally_singular(self.problem, keep):
             reduced = self._reduce(ev)
             a = reduced.wrench_rows[keep]
             rhs = wrench[keep] - reduced.offset_sum[keep]

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kinematics.relative import KinematicState
+from ...kinematics.relative import KinematicState
 
 #: A chain is singular when its smallest needed singular value falls below this fraction of its
 #: largest one.

@@ -12,10 +12,10 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ..distribution.compiled import CompiledDistribution
-from ..distribution.dense import DenseSolver
-from ..distribution.numeric import solve_numpy
-from ..distribution.partitioner import PartitionedSolver
+from ..distribution.partitioned.compiled import CompiledDistribution
+from ..distribution.partitioned.dense import DenseSolver
+from ..distribution.partitioned.numeric import solve_numpy
+from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.checks import check_counts
 from ..distribution.qp import ContactLimits, QPDistribution

@@ -54,7 +54,7 @@ import numpy as np
 
 from ..exceptions import ConstraintError, InvalidInputError
 from .linalg import ROUNDING, stable_norm
-from .partitioner import RawSolution
+from .partitioned.reference import RawSolution
 from .problem import DistributionProblem
 from .qp_compiled import CompiledQPMatrices
 from .qp_kernel_answer import finish, violation

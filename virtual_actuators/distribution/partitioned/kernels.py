@@ -2,7 +2,8 @@
 
 :func:`distribute` does at one configuration what
 :class:`~virtual_actuators.distribution.problem.DistributionProblem` (``evaluate``) and
-:class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` do with numpy, for the two
+:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` do with numpy,
+for the two
 regular cases, on tables built once from the declaration (see :mod:`.compiled`):
 
 - ``mode 0``, fewer constraints than unknowns: the minimum of ``sum ||F_i||^2`` through the
@@ -28,7 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
+from ...kinematics.kernels import njit
+from ..linalg import CONSTRAINT_TOL, ROUNDING
 from .kernel_linalg import (
     ILL_CONDITIONED,
     NEAR_SINGULAR,
@@ -51,7 +53,6 @@ from .kernel_solves import (
     minimum_norm,
     partitioned_solve,
 )
-from .linalg import CONSTRAINT_TOL, ROUNDING
 
 
 @njit(cache=True)

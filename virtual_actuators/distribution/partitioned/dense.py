@@ -3,7 +3,8 @@
 It forms the whole matrix ``K`` (wrench rows, block-diagonal natural constraints, coupling and
 design rows) and solves it with plain dense linear algebra. It is slow on purpose-free grounds:
 it is the baseline of the benchmarks and the oracle the partitioned solver is tested against.
-Semantics match :class:`~virtual_actuators.distribution.partitioner.PartitionedSolver`: square
+Semantics match
+:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver`: square
 systems are solved exactly, others by the minimum-norm solution that meets every constraint
 exactly and the wrench as closely as possible.
 """
@@ -12,12 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
-from .partitioner import ILL_CONDITIONED, RawSolution, no_sets
-from .problem import DistributionProblem
-from .problem.checks import structurally_singular
-from .problem.structure import Evaluation
+from ...exceptions import ConstraintError, SingularConfigurationError
+from ..linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
+from ..problem import DistributionProblem
+from ..problem.checks import structurally_singular
+from ..problem.structure import Evaluation
+from .reference import ILL_CONDITIONED, RawSolution, no_sets
 
 
 class DenseSolver:

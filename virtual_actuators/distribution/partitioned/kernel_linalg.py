@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
-from .linalg import ILL_CONDITIONED, JACOBIAN_FLOOR
+from ...kinematics.kernels import njit
+from ..linalg import ILL_CONDITIONED, JACOBIAN_FLOOR
 
 #: Same thresholds as the numpy path (a kernel status hands the decision to it).
 NEAR_SINGULAR = 1e-7

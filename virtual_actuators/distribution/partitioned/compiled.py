@@ -4,9 +4,10 @@
 its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
 Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
 into flat arrays, so that a tick is one call of
-:func:`~virtual_actuators.distribution.kernels.distribute` on the snapshot's arrays. When the
-kernel hands a tick back (a singular chain, an ill-conditioned block, more rows than unknowns),
-:class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` decides with numpy, as
+:func:`~virtual_actuators.distribution.partitioned.kernels.distribute` on the snapshot's
+arrays. When the kernel hands a tick back (a singular chain, an ill-conditioned block, more rows
+than unknowns), :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver`
+decides with numpy, as
 the reference implementation does; the tests check that both give the same answers.
 """
 
@@ -18,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..problem import DistributionProblem
+from ..problem.checks import structurally_singular
 from . import kernels
-from .partitioner import PartitionedSolver, RawSolution
-from .problem import DistributionProblem
-from .problem.checks import structurally_singular
+from .reference import PartitionedSolver, RawSolution
 
 
 def spring_table(problem: DistributionProblem) -> np.ndarray:

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
+from ...kinematics.kernels import njit
+from ..linalg import JACOBIAN_FLOOR
 from .kernel_linalg import ILL_CONDITIONED, inverse_into, invert, mm, mv, scaled_condition
-from .linalg import JACOBIAN_FLOOR
 
 # columns of the per-chain integer table
 K_COLS, C_CON, NB_BALL, RANK, L_ROWS, D_FREE, START = 0, 1, 2, 3, 4, 5, 6

@@ -32,12 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import SingularConfigurationError
+from ...exceptions import SingularConfigurationError
+from ..linalg import ILL_CONDITIONED, safe_inverse, scaled_condition, select_columns
+from ..problem import DistributionProblem
+from ..problem.checks import structurally_singular
+from ..problem.structure import Evaluation
 from .least_norm import least_norm_forces
-from .linalg import ILL_CONDITIONED, safe_inverse, scaled_condition, select_columns
-from .problem import DistributionProblem
-from .problem.checks import structurally_singular
-from .problem.structure import Evaluation
 
 
 def no_sets() -> dict[str, list[tuple[str, str]]]:

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import backward_tolerance, constrained_min_norm, stable_norm
-from .problem import DistributionProblem
-from .problem.structure import Evaluation
+from ...exceptions import ConstraintError, SingularConfigurationError
+from ..linalg import backward_tolerance, constrained_min_norm, stable_norm
+from ..problem import DistributionProblem
+from ..problem.structure import Evaluation
 
 #: Relative singular-value cut-off of the rank decisions (as in the dense reference).
 RCOND = 1e-10

@@ -14,7 +14,6 @@ the reference implementation does; the tests check that both give the same answe
 from __future__ import annotations
 
 import dataclasses
-import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,7 +43,6 @@ class _Tables:
     chain_ints: np.ndarray
     chain_signs: np.ndarray
     layout: np.ndarray
-    cfs_version: int
 
 
 @dataclass(frozen=True)
@@ -87,11 +85,11 @@ class CompiledDistribution:
             if b >= 0:
                 signs[t, 1] = problem.signs_at([b])[:, 0]
         self.torque_signs = signs
-        self._tables: _Tables | None = None
-        self._modes: dict[tuple[bytes, int], _Mode] = {}
-        self._lock = threading.Lock()
+        #: the chain tables: the partitioner's sets never change after its __init__
+        self._tables = self._build_tables()
+        self._modes: dict[bytes, _Mode] = {}
 
-    def _build_tables(self, version: int) -> _Tables:
+    def _build_tables(self) -> _Tables:
         problem, partitioner = self.problem, self.partitioner
         p = problem.p
         kin = problem.kinematics
@@ -133,13 +131,9 @@ class CompiledDistribution:
                 at += width_l
                 row[at : at + group.num_free] = free[j]
         layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
-        return _Tables(ints, chain_signs, layout, version)
+        return _Tables(ints, chain_signs, layout)
 
-    def _mode(self, keep: np.ndarray, version: int) -> _Mode:
-        key = (keep.tobytes(), version)
-        mode = self._modes.get(key)
-        if mode is not None:
-            return mode
+    def _mode(self, keep: np.ndarray) -> _Mode:
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
         keep_int = keep.astype(np.int64)
@@ -184,7 +178,7 @@ class CompiledDistribution:
                 tables.layout,
             )
             mode = dataclasses.replace(mode, packed=packed)
-        self._modes[key] = mode
+        self._modes[keep.tobytes()] = mode
         return mode
 
     def solve(
@@ -198,15 +192,9 @@ class CompiledDistribution:
             with ``tau`` zero at limp and passive joints, or None.
 
         """
-        version = self.partitioner.version
-        tables = self._tables
-        mode = self._modes.get((keep.tobytes(), version))
-        if mode is None or tables is None or tables.cfs_version != version:
-            with self._lock:
-                tables = self._tables
-                if tables is None or tables.cfs_version != version:
-                    tables = self._tables = self._build_tables(version)
-                mode = self._mode(keep, version)
+        mode = self._modes.get(keep.tobytes())
+        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
+            mode = self._mode(keep)
         if mode.mode < 0:
             return None
         jacobian_world = snapshot.jacobian_world

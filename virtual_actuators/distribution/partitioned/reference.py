@@ -113,7 +113,9 @@ class PartitionedSolver:
                 self._pick_cfs(rows.rows[j], group.num_constraints, preferred[chain])
                 for j, chain in enumerate(group.chains)
             ]
-            self._set_cfs(len(self.cfs), np.array(picks, dtype=int).reshape(group.size, -1))
+            cfs = np.array(picks, dtype=int).reshape(group.size, -1)
+            self.cfs.append(cfs)  # fixed from here on: a re-pick serves one call only
+            self.free_entries.append(self._complement(cfs))
         self._plans: dict[tuple, _SquarePlan] = {}
         self._reported_sets: dict[tuple, dict] = {}
         self.num_free_entries = sum(g.size * g.num_free for g in problem.groups)
@@ -122,19 +124,6 @@ class PartitionedSolver:
     @staticmethod
     def _pick_cfs(rows: np.ndarray, count: int, weights: np.ndarray) -> np.ndarray:
         return np.sort(select_columns(rows, count, weights))
-
-    def _set_cfs(self, index: int, cfs: np.ndarray) -> None:
-        free = self._complement(cfs)
-        #: bumped whenever the sets change (the compiled tables follow it)
-        self.version = getattr(self, "version", -1) + 1
-        if index == len(self.cfs):
-            self.cfs.append(cfs)
-            self.free_entries.append(free)
-        else:
-            self.cfs[index] = cfs
-            self.free_entries[index] = free
-        self._plans = {}
-        self._reported_sets = {}
 
     def labels(self, free_entries: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
         """Labels of the reduced unknowns ``f_a``, in the solver's order."""

@@ -18,9 +18,6 @@ KERNEL_DECORATORS = {"njit", "jit"}
 LONG_MODULES = {
     "actuators/parallel.py": "lane K (K2, K5) moves the contact parsing out",
     "control/controller.py": "lane C (C5: Controller.add into Attachment.declare)",
-    "distribution/partitioned/kernel_solves.py": "lane D (D8)",
-    "distribution/partitioned/kernels.py": "lane D (D8)",
-    "distribution/partitioned/reference.py": "lane D (D8)",
     "distribution/qp.py": "lane D (D6)",
     "distribution/qp_kernels.py": "lane D (D6), lane K (K2, K3)",
 }

@@ -54,12 +54,12 @@ import numpy as np
 
 from ..exceptions import ConstraintError, InvalidInputError
 from .linalg import ROUNDING, stable_norm
-from .partitioned.reference import RawSolution
 from .problem import DistributionProblem
 from .qp_compiled import CompiledQPMatrices
 from .qp_kernel_answer import finish, violation
 from .qp_limits import INFINITY, ContactLimits, kinds, torque_map
 from .qp_weights import check_weights
+from .solution import RawSolution
 
 #: An answer that misses a row by more than this (scaled) is not feasible.
 FEASIBILITY_TOL = 1e-8

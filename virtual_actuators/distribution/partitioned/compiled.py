@@ -20,8 +20,9 @@ import numpy as np
 
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
-from . import kernels
-from .reference import PartitionedSolver, RawSolution
+from ..solution import RawSolution
+from . import kernel_tables, kernels
+from .reference import PartitionedSolver
 
 
 def spring_table(problem: DistributionProblem) -> np.ndarray:
@@ -97,7 +98,7 @@ class CompiledDistribution:
         width_c = max(g.constrained.shape[1] for g in problem.groups)
         width_l = max(g.num_constraints for g in problem.groups)
         width_d = max(g.num_free for g in problem.groups)
-        header = kernels.HEADER
+        header = kernel_tables.HEADER
         ints = np.zeros((p, header + width_k + width_c + 3 + width_l + width_d), dtype=np.int64)
         chain_signs = np.zeros((p, width_k))
         start = 0
@@ -109,7 +110,7 @@ class CompiledDistribution:
                 c = group.constrained.shape[1]
                 nb = len(group.ball_axes)
                 row = ints[chain]
-                row[: kernels.HEADER] = (
+                row[: kernel_tables.HEADER] = (
                     k,
                     c,
                     nb,
@@ -162,7 +163,7 @@ class CompiledDistribution:
             mode = _Mode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
         if mode.mode >= 0:
             tables = self._tables
-            packed = kernels.pack_arguments(
+            packed = kernel_tables.pack_arguments(
                 mode.mode,
                 mode.keep,
                 self.axis_rows,

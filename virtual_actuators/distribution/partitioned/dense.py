@@ -14,11 +14,16 @@ from __future__ import annotations
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ..linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
+from ..linalg import (
+    ILL_CONDITIONED,
+    backward_tolerance,
+    constrained_min_norm,
+    dependent_rows_at_scale,
+)
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
-from .reference import ILL_CONDITIONED, RawSolution, no_sets
+from ..solution import RawSolution, no_sets
 
 
 class DenseSolver:

@@ -19,7 +19,7 @@ from ...exceptions import SingularConfigurationError
 from ..linalg import CONSTRAINT_TOL, ROUNDING, power_of_two_scale, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from .reference import RawSolution
+from ..solution import RawSolution
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:

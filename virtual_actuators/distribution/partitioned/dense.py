@@ -15,7 +15,6 @@ import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
 from ..linalg import (
-    ILL_CONDITIONED,
     backward_tolerance,
     constrained_min_norm,
     dependent_rows_at_scale,
@@ -24,6 +23,7 @@ from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
 from ..solution import RawSolution, no_sets
+from ..tolerances import ILL_CONDITIONED
 
 
 class DenseSolver:

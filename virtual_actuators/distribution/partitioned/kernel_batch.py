@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...kinematics.kernels import njit
-from ..linalg import JACOBIAN_FLOOR
+from ..tolerances import JACOBIAN_FLOOR
 
 #: Fewest chains for which mode 0 runs the chains of full column rank side by side
 #: (:func:`full_rank_batch`); with fewer, its fixed cost outweighs what it saves.

@@ -9,11 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...kinematics.kernels import njit
-from ..linalg import ILL_CONDITIONED, JACOBIAN_FLOOR
+from ..tolerances import JACOBIAN_FLOOR
 from .kernel_tables import C_CON, NB_BALL
-
-#: Same thresholds as the numpy path (a kernel status hands the decision to it).
-NEAR_SINGULAR = 1e-7
 
 
 @njit(cache=True)
@@ -369,8 +366,6 @@ def shared_ball_columns(
 
 
 __all__ = [
-    "ILL_CONDITIONED",
-    "NEAR_SINGULAR",
     "ball_entry",
     "constraint_error",
     "invert",

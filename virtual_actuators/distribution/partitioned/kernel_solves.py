@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...kinematics.kernels import njit
-from .kernel_linalg import ILL_CONDITIONED, inverse_into, invert, mm, mv, scaled_condition
+from ..tolerances import ILL_CONDITIONED
+from .kernel_linalg import inverse_into, invert, mm, mv, scaled_condition
 from .kernel_tables import D_FREE, L_ROWS, START
 
 

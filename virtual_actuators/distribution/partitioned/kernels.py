@@ -30,11 +30,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...kinematics.kernels import njit
-from ..linalg import CONSTRAINT_TOL, ROUNDING
+from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED, NEAR_SINGULAR, ROUNDING
 from .kernel_batch import BATCH_CHAINS, full_rank_batch
 from .kernel_linalg import (
-    ILL_CONDITIONED,
-    NEAR_SINGULAR,
     ball_entry,
     constraint_error,
     null_rows,

@@ -22,7 +22,6 @@ import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
 from ..linalg import (
-    ILL_CONDITIONED,
     backward_tolerance,
     constrained_min_norm,
     safe_inverse,
@@ -30,12 +29,7 @@ from ..linalg import (
 )
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-
-#: Relative singular-value cut-off of the rank decisions (as in the dense reference).
-RCOND = 1e-10
-#: A chain whose natural rows' smallest singular value is below this fraction of the largest
-#: has degenerate natural constraints here (the partitioned closed form cannot decide).
-DEGENERATE = 1e-10
+from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
 
 
 @dataclass

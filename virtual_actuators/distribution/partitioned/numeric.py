@@ -16,10 +16,11 @@ import dataclasses
 import numpy as np
 
 from ...exceptions import SingularConfigurationError
-from ..linalg import CONSTRAINT_TOL, ROUNDING, power_of_two_scale, stable_norm
+from ..linalg import power_of_two_scale, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
 from ..solution import RawSolution
+from ..tolerances import CONSTRAINT_TOL, ROUNDING
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:

@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..linalg import ILL_CONDITIONED, safe_inverse, scaled_condition, select_columns
+from ..linalg import safe_inverse, scaled_condition, select_columns
+from ..tolerances import ILL_CONDITIONED
 
 
 @dataclass

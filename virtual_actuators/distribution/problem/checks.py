@@ -14,16 +14,12 @@ import numpy as np
 
 from ...exceptions import ConstraintError
 from ...vocabulary.frames import AXES
-from ..linalg import JACOBIAN_FLOOR, dependent_rows
+from ..linalg import dependent_rows
+from ..tolerances import IMPLIED_TOL, JACOBIAN_FLOOR, VACUOUS_TOL
 from .structure import ChainGroup
 
 if TYPE_CHECKING:
     from .problem import DistributionProblem
-
-#: A limp or passive joint's natural-constraint row is structurally zero (no selected axis loads
-#: the joint) when its norm stays below this fraction of the chain's largest Jacobian column.
-VACUOUS_TOL = 1e-10
-
 
 def vacuous_joints(problem: DistributionProblem, per_chain: list, states: list) -> set[int]:
     """Velocity indices of the limp joints no selected axis loads (their rows are dropped).
@@ -116,7 +112,8 @@ def check_hard_rows(problem: DistributionProblem) -> None:
     if bad:
         rhs = np.concatenate((natural_rhs, ev.hard_rhs))
         solution = np.linalg.lstsq(stacked, rhs, rcond=None)[0]
-        consistent = np.allclose(stacked @ solution, rhs, atol=1e-9 * (1 + np.abs(rhs).max()))
+        atol = IMPLIED_TOL * (1 + np.abs(rhs).max())
+        consistent = np.allclose(stacked @ solution, rhs, atol=atol)
         verb = "is implied by" if consistent else "contradicts"
         raise ConstraintError(
             f"Design constraint {problem.hard_names[bad[0]]} {verb} the other constraints "

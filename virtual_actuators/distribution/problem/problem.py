@@ -31,10 +31,10 @@ from ...kinematics.relative import KinematicState, RelativeKinematics, skew
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.constraints import DesignConstraint
 from ...vocabulary.frames import AXES
-from ..linalg import JACOBIAN_FLOOR
+from ..tolerances import JACOBIAN_FLOOR, SINGULAR_TOL, TINY
 from .checks import check_hard_rows, check_natural_rows, vacuous_joints
 from .declaration import design_rows, parse_contacts, parse_joints
-from .structure import SINGULAR_TOL, ChainGroup, Evaluation, GroupRows, structural_rank
+from .structure import ChainGroup, Evaluation, GroupRows, structural_rank
 
 
 class DistributionProblem:
@@ -298,12 +298,12 @@ class DistributionProblem:
             u, s, _ = np.linalg.svd(full, full_matrices=True)
             if group.rank:
                 needed = s[:, group.rank - 1]
-                ratio = needed / np.maximum(s[:, 0], 1e-300)
+                ratio = needed / np.maximum(s[:, 0], TINY)
                 ratio[needed <= JACOBIAN_FLOOR] = 0.0  # produces nothing: absolute floor
         elif check_singular and group.rank:
             # square, full rank: Hadamard ratio |det| / prod(column norms) is 0 iff singular
             norms = np.sqrt(np.einsum("gnk,gnk->gk", full, full))
-            ratio = np.abs(np.linalg.det(full)) / np.maximum(norms.prod(axis=1), 1e-300)
+            ratio = np.abs(np.linalg.det(full)) / np.maximum(norms.prod(axis=1), TINY)
             # a column below the floor produces nothing (absolute floor)
             ratio[norms.min(axis=1) <= JACOBIAN_FLOOR] = 0.0
         if check_singular and ratio is not None and np.any(ratio < SINGULAR_TOL):

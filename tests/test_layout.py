@@ -18,10 +18,6 @@ KERNEL_DECORATORS = {"njit", "jit"}
 LONG_MODULES = {
     "actuators/parallel.py": "lane K (K2, K5) moves the contact parsing out",
     "control/controller.py": "lane C (C5: Controller.add into Attachment.declare)",
-    "distribution/kernel_solves.py": "lane D (D8)",
-    "distribution/kernels.py": "lane D (D8)",
-    "distribution/partitioner.py": "lane D (D4, D8)",
-    "distribution/problem.py": "lane D (D2)",
     "distribution/qp.py": "lane D (D6)",
     "distribution/qp_kernels.py": "lane D (D6), lane K (K2, K3)",
 }
@@ -30,7 +26,6 @@ LONG_MODULES = {
 LONG_FUNCTIONS = {
     "distribution/qp.py::QPDistribution._stages": "lane D (D6: qp/stages.py)",
     "control/controller.py::Controller.add": "lane C (C5: Attachment.declare)",
-    "distribution/problem.py::DistributionProblem.evaluate": "lane D (D2)",
     "distribution/qp_limits.py::ContactLimits.__init__": "lane K (K2)",
 }
 

@@ -12,11 +12,12 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ..distribution.compiled import CompiledDistribution
-from ..distribution.dense import DenseSolver
-from ..distribution.numeric import solve_numpy
-from ..distribution.partitioner import PartitionedSolver
+from ..distribution.partitioned.compiled import CompiledDistribution
+from ..distribution.partitioned.dense import DenseSolver
+from ..distribution.partitioned.numeric import solve_numpy
+from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
+from ..distribution.problem.checks import check_counts
 from ..distribution.qp import ContactLimits, QPDistribution
 from ..distribution.qp_weights import check_weights
 from ..distribution.solution import Solution, label, tolerance
@@ -246,7 +247,7 @@ class ParallelVirtualActuator:
         if cached is None:
             axes = check_axes_subset(key, self.axes, "free")
             keep = np.array([a not in axes for a in self.axes])
-            self.problem.check_counts(keep)  # declaration-only: checked once per set of free axes
+            check_counts(self.problem, keep)  # declaration-only: checked once per set of free axes
             cached = self._keep_cache[key] = (axes, keep)
         return cached
 

@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..distribution.linalg import JACOBIAN_FLOOR, stable_norm
+from ..distribution.linalg import stable_norm
+from ..distribution.tolerances import JACOBIAN_FLOOR, RCOND
 from ..exceptions import (
     ConstraintError,
     InvalidInputError,
@@ -226,7 +227,7 @@ class VirtualActuator:
         jac = self.jacobian(q)
         u, s, _ = np.linalg.svd(jac, full_matrices=False)
         # relative rank, with an absolute floor: a direction produced by J < 1e-12 is not
-        rank = int(np.sum(s > max(1e-10 * s[0], JACOBIAN_FLOOR))) if s.size else 0
+        rank = int(np.sum(s > max(RCOND * s[0], JACOBIAN_FLOOR))) if s.size else 0
         inside = u[:, :rank] @ (u[:, :rank].T @ wrench)
         return stable_norm(wrench - inside) <= tol * stable_norm(wrench)
 

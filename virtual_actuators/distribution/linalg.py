@@ -6,22 +6,16 @@ import math
 
 import numpy as np
 
-#: Singular values of a chain's Jacobian below this [m/rad, m/m or rad/rad] mean the chain
-#: produces nothing in that direction, whatever their ratio to the largest one.
-JACOBIAN_FLOOR = 1e-12
-
-#: A residual below this fraction of the largest chain force is rounding, whatever the
-#: request: chain forces that cancel each other leave about ``cond * eps * |F|`` behind.
-ROUNDING = 1e-12
-
-#: Condition estimate above which a system is treated as singular (the partitioner re-picks its
-#: sets, the compiled kernel hands the tick to numpy).
-ILL_CONDITIONED = 1e10
-
-#: A partitioned answer that misses an exact row (limp or spring torque, zero moment at a point
-#: foot, coupling or design row) by more than this fraction of ``|row| max|F| + |rhs|`` came
-#: from an ill-conditioned elimination: the dense reference solves that tick instead.
-CONSTRAINT_TOL = 1e-10
+# the qp modules (and issue 24's qp_exact, qp_conflict) import these from here until D6
+from .tolerances import (  # noqa: F401
+    CONSTRAINT_TOL,
+    DEPENDENT_TOL,
+    ILL_CONDITIONED,
+    JACOBIAN_FLOOR,
+    RCOND,
+    ROUNDING,
+    TINY,
+)
 
 
 def stable_norm(x: np.ndarray) -> float:
@@ -107,7 +101,7 @@ def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = 
     return np.array(picked, dtype=int)
 
 
-def dependent_rows(matrix: np.ndarray, tol: float = 1e-9) -> list[int]:
+def dependent_rows(matrix: np.ndarray, tol: float = DEPENDENT_TOL) -> list[int]:
     """Return the indices of rows that are linear combinations of the rows before them.
 
     Args:
@@ -133,7 +127,7 @@ def dependent_rows(matrix: np.ndarray, tol: float = 1e-9) -> list[int]:
     return dependent
 
 
-def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = 1e-10) -> bool:
+def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = RCOND) -> bool:
     """Whether the rows of ``matrix`` are linearly dependent, each measured against its norm.
 
     The rows are scaled to unit norm (zero rows count as dependent), and the rank is the number
@@ -218,7 +212,7 @@ def constrained_min_norm(
     hard_rhs: np.ndarray,
     soft: np.ndarray,
     soft_rhs: np.ndarray,
-    rcond: float = 1e-10,
+    rcond: float = RCOND,
     hard_scale: float = 0.0,
     soft_scale: float = 0.0,
 ) -> tuple[np.ndarray, float]:
@@ -248,7 +242,7 @@ def constrained_min_norm(
     m = soft.shape[1] if soft.size else hard.shape[1]
     if hard.shape[0]:
         u, s, vt = np.linalg.svd(hard, full_matrices=True)
-        floor = rcond * max(float(s[0]) if s.size else 0.0, hard_scale, 1e-300)
+        floor = rcond * max(float(s[0]) if s.size else 0.0, hard_scale, TINY)
         rank = int(np.sum(s > floor))
         x_h = vt[:rank].T @ ((u[:, :rank].T @ hard_rhs) / s[:rank])
         null = vt[rank:].T

@@ -75,7 +75,6 @@ import numpy as np
 
 from ..exceptions import ConstraintError, InvalidInputError
 from .linalg import ROUNDING, stable_norm
-from .partitioner import RawSolution
 from .problem import DistributionProblem
 from .qp_compiled import CompiledQPMatrices
 from .qp_conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
@@ -83,6 +82,7 @@ from .qp_exact import exact_answer
 from .qp_kernel_answer import finish, violation
 from .qp_limits import INFINITY, ContactLimits, kinds, torque_map
 from .qp_weights import check_weights
+from .solution import RawSolution
 
 #: An answer that misses a row by more than this (scaled) is not feasible.
 FEASIBILITY_TOL = 1e-8

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..kinematics.kernels import HAVE_NUMBA
 from . import qp_kernels
-from .compiled import spring_table
+from .partitioned.compiled import spring_table
 from .problem import DistributionProblem
 
 

@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .kernel_linalg import request_norms
 from .linalg import ROUNDING
+from .partitioned.kernel_linalg import request_norms
 from .qp_kernels import views
 
 

@@ -7,6 +7,28 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def no_sets() -> dict[str, list[tuple[str, str]]]:
+    """The ``sets`` of a solution built without a partition: every key, no label."""
+    return {"MFS": [], "RFS": [], "CFS": []}
+
+
+@dataclass(slots=True)
+class RawSolution:
+    """Solver output before it is wrapped into a :class:`~virtual_actuators.Solution`."""
+
+    forces: np.ndarray
+    method: str
+    #: MFS / RFS / CFS labels; empty lists for the solvers that build no partition (dense, QP)
+    sets: dict[str, list[tuple[str, str]]] = field(default_factory=lambda: no_sets())
+    #: linear systems inverted at this solve: ``(what, size, how many)``
+    systems: tuple[tuple[str, int, int], ...] = ()
+    #: the algorithm that produced it (``"dense"`` when the partitioned one could not decide)
+    solver: str = "partitioned"
+    #: the QP's active inequalities, by name (empty for the other solvers)
+    active: tuple[str, ...] = ()
+
+
+
 def tolerance(tol: float, scale: float, rounding: float) -> float:
     """The residual up to which a request counts as produced: ``tol * scale + rounding``.
 

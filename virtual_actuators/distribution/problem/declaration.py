@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ConstraintError, InvalidAxisError, JointNotFoundError
-from ..kinematics.relative import RelativeKinematics
-from ..vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
-from ..vocabulary.frames import resolve_joint
+from ...exceptions import ConstraintError, InvalidAxisError, JointNotFoundError
+from ...kinematics.relative import RelativeKinematics
+from ...vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
+from ...vocabulary.frames import resolve_joint
 
 
 @dataclass

@@ -20,16 +20,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import backward_tolerance, constrained_min_norm, stable_norm
-from .problem import DistributionProblem
-from .structure import Evaluation
-
-#: Relative singular-value cut-off of the rank decisions (as in the dense reference).
-RCOND = 1e-10
-#: A chain whose natural rows' smallest singular value is below this fraction of the largest
-#: has degenerate natural constraints here (the partitioned closed form cannot decide).
-DEGENERATE = 1e-10
+from ...exceptions import ConstraintError, SingularConfigurationError
+from ..linalg import (
+    backward_tolerance,
+    constrained_min_norm,
+    safe_inverse,
+    stable_norm,
+)
+from ..problem import DistributionProblem
+from ..problem.structure import Evaluation
+from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
 
 
 @dataclass
@@ -135,4 +135,61 @@ def least_norm_forces(
     return forces
 
 
-__all__ = ["NullSpaceForm", "least_norm_forces", "null_space_form"]
+
+def projected_forces(
+    problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
+) -> np.ndarray | None:
+    """Minimum of ``sum ||F_i||^2`` subject to every constraint (VAC 2.5.2), or None.
+
+    Each chain's admissible wrenches are ``F_i = G_i^+ t_i + P_i y`` with the projector
+    ``P_i = I - G_i^+ G_i`` onto the null space of its natural constraints. With ``R_i`` the
+    rows (prescribed wrench axes and hard rows) that involve ``F_i``, the optimum is
+    ``F_i = P_i R_i^T lambda + G_i^+ t_i`` where ``(sum_i R_i P_i R_i^T) lambda`` equals the
+    targets minus ``sum_i R_i G_i^+ t_i``: one ``(n + s)`` square solve, plus ``p`` small
+    ``l x l`` inverses, never the ``pn x pn`` matrix. Returns None when that system is
+    ill-conditioned (then the least-squares path decides), as a row that the natural
+    constraints imply here makes it beside other rows (alone, such a row only adds
+    rounding: its ``P R^T`` is rounding and its multiplier finite).
+    """
+    n, p = problem.n, problem.p
+    projectors = np.empty((p, n, n))
+    particular = np.empty((p, n))
+    for group, rows in zip(problem.groups, ev.groups, strict=True):
+        g_rows = rows.rows
+        if g_rows.shape[1]:
+            gram_inv, cond = safe_inverse(g_rows @ g_rows.transpose(0, 2, 1))
+            if np.any(cond > ILL_CONDITIONED):
+                return None
+            pseudo = g_rows.transpose(0, 2, 1) @ gram_inv
+            projectors[group.chains] = np.eye(n) - pseudo @ g_rows
+            particular[group.chains] = (pseudo @ rows.rhs[:, :, None])[:, :, 0]
+        else:
+            projectors[group.chains] = np.eye(n)
+            particular[group.chains] = 0.0
+    hard = ev.hard_rows  # (s, p, n)
+    kept = projectors[:, keep, :]  # (p, k, n) = S P_i
+    top_left = kept[:, :, keep].sum(axis=0)
+    target = wrench[keep] - particular[:, keep].sum(axis=0)
+    if len(ev.hard_rhs):
+        hp = np.einsum("spn,pnm->psm", hard, projectors)  # C_i P_i
+        top_right = np.einsum("pkn,spn->ks", kept, hard)
+        bottom_right = np.einsum("psm,tpm->st", hp, hard)
+        kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
+        target = np.concatenate(
+            (target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular))
+        )
+    else:
+        kkt = top_left
+    kkt_inverse, cond = safe_inverse(kkt)
+    if cond > ILL_CONDITIONED:
+        return None
+    multipliers = kkt_inverse @ target
+    k = int(keep.sum())
+    # F_i = P_i (S^T lambda_w + C_i^T lambda_h) + G_i^+ t_i
+    forces = kept.transpose(0, 2, 1) @ multipliers[:k] + particular
+    if len(ev.hard_rhs):
+        forces += np.einsum("psm,s->pm", hp, multipliers[k:])
+    return forces
+
+
+__all__ = ["NullSpaceForm", "least_norm_forces", "null_space_form", "projected_forces"]

@@ -8,11 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
-from .linalg import ILL_CONDITIONED, JACOBIAN_FLOOR
-
-#: Same thresholds as the numpy path (a kernel status hands the decision to it).
-NEAR_SINGULAR = 1e-7
+from ...kinematics.kernels import njit
+from ..tolerances import JACOBIAN_FLOOR
+from .kernel_tables import C_CON, NB_BALL
 
 
 @njit(cache=True)
@@ -330,9 +328,44 @@ def request_norms(
     return peak, residual, request, output
 
 
+@njit(cache=True)
+def shared_ball_columns(
+    header: np.ndarray,
+    ball_start: int,
+    axis_rows: np.ndarray,
+    offsets: np.ndarray,
+    fulls: np.ndarray,
+    rows: np.ndarray,
+) -> None:
+    """The ball columns of chains that share their ball axes, side by side over the chains.
+
+    ``header`` is the first chain's row of the chain table; ``offsets`` (3, p) each chain's
+    offset ``d`` from {A_i} to {B} in {O}. Writes the columns (QR order, after the own
+    constrained joints) into ``fulls`` and the chains' rows.
+    """
+    c_i, nb = header[C_CON], header[NB_BALL]
+    K = fulls.shape[0] - 4
+    for j in range(nb):
+        axis = header[ball_start + j]
+        slot = c_i + j
+        fulls[K + 3, slot, :] = 0.0
+        for a in range(axis_rows.shape[0]):
+            row = axis_rows[a]
+            out, out_rows = fulls[slot, a], rows[slot, a]
+            if row >= 3 or row == axis:
+                value = 1.0 if row - 3 == axis else 0.0
+                out[:] = value
+                out_rows[:] = value
+                continue
+            # e_axis x d: entry row of (0, -d2, d1), (d2, 0, -d0) or (-d1, d0, 0)
+            sign = 1.0 if (row - axis) % 3 == 2 else -1.0
+            values = offsets[3 - axis - row]
+            for i in range(values.shape[0]):
+                out[i] = sign * values[i]
+                out_rows[i] = out[i]
+
+
 __all__ = [
-    "ILL_CONDITIONED",
-    "NEAR_SINGULAR",
     "ball_entry",
     "constraint_error",
     "invert",
@@ -342,6 +375,7 @@ __all__ = [
     "null_rows",
     "offset_in_o",
     "passive_torques",
+    "shared_ball_columns",
     "request_norms",
     "scaled_condition",
     "wrench_transform",

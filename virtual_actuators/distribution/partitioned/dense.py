@@ -3,7 +3,8 @@
 It forms the whole matrix ``K`` (wrench rows, block-diagonal natural constraints, coupling and
 design rows) and solves it with plain dense linear algebra. It is slow on purpose-free grounds:
 it is the baseline of the benchmarks and the oracle the partitioned solver is tested against.
-Semantics match :class:`~virtual_actuators.distribution.partitioner.PartitionedSolver`: square
+Semantics match
+:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver`: square
 systems are solved exactly, others by the minimum-norm solution that meets every constraint
 exactly and the wrench as closely as possible.
 """
@@ -12,11 +13,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import ConstraintError, SingularConfigurationError
-from .linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
-from .partitioner import ILL_CONDITIONED, RawSolution, no_sets
-from .problem import DistributionProblem
-from .structure import Evaluation
+from ...exceptions import ConstraintError, SingularConfigurationError
+from ..linalg import (
+    backward_tolerance,
+    constrained_min_norm,
+    dependent_rows_at_scale,
+)
+from ..problem import DistributionProblem
+from ..problem.checks import structurally_singular
+from ..problem.structure import Evaluation
+from ..solution import RawSolution, no_sets
+from ..tolerances import ILL_CONDITIONED
 
 
 class DenseSolver:
@@ -56,7 +63,7 @@ class DenseSolver:
         p, n = self.problem.p, self.problem.n
         soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)
         k = np.vstack((soft, hard))
-        square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
+        square = k.shape[0] == k.shape[1] and not structurally_singular(self.problem, keep)
         if square:
             cond = np.linalg.cond(k)
             if not np.isfinite(cond) or cond > ILL_CONDITIONED:

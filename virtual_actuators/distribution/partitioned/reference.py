@@ -28,36 +28,19 @@ system is singular.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import SingularConfigurationError
-from .least_norm import least_norm_forces
-from .linalg import ILL_CONDITIONED, safe_inverse, scaled_condition, select_columns
-from .problem import DistributionProblem
-from .structure import Evaluation
-
-
-def no_sets() -> dict[str, list[tuple[str, str]]]:
-    """The ``sets`` of a solution built without a partition: every key, no label."""
-    return {"MFS": [], "RFS": [], "CFS": []}
-
-
-@dataclass(slots=True)
-class RawSolution:
-    """Solver output before it is wrapped into a :class:`~virtual_actuators.Solution`."""
-
-    forces: np.ndarray
-    method: str
-    #: MFS / RFS / CFS labels; empty lists for the solvers that build no partition (dense, QP)
-    sets: dict[str, list[tuple[str, str]]] = field(default_factory=lambda: no_sets())
-    #: linear systems inverted at this solve: ``(what, size, how many)``
-    systems: tuple[tuple[str, int, int], ...] = ()
-    #: the algorithm that produced it (``"dense"`` when the partitioned one could not decide)
-    solver: str = "partitioned"
-    #: the QP's active inequalities, by name (empty for the other solvers)
-    active: tuple[str, ...] = ()
+from ...exceptions import SingularConfigurationError
+from ..linalg import safe_inverse, select_columns
+from ..problem import DistributionProblem
+from ..problem.checks import structurally_singular
+from ..problem.structure import Evaluation
+from ..solution import RawSolution
+from ..tolerances import ILL_CONDITIONED
+from .least_norm import least_norm_forces, projected_forces
+from .square import SquarePlan, plan_square, rfs_gain
 
 
 @dataclass
@@ -76,16 +59,6 @@ class _Reduced:
     #: reduced entries (their rounding is about eps times this, times the CFS block's condition)
     hard_scale: np.ndarray
     repicked: bool  # True when some chain's CFS was re-picked at this configuration
-
-
-@dataclass
-class _SquarePlan:
-    """Cached RFS/MFS choice for a square reduced system and one set of free axes."""
-
-    rfs: np.ndarray
-    mfs: np.ndarray
-    gain: np.ndarray | None = None  # -H_r^-1 H_m when the hard rows are constant
-    rfs_inverse: np.ndarray | None = None  # H_r^-1 when the hard rows are constant
 
 
 class PartitionedSolver:
@@ -112,8 +85,10 @@ class PartitionedSolver:
                 self._pick_cfs(rows.rows[j], group.num_constraints, preferred[chain])
                 for j, chain in enumerate(group.chains)
             ]
-            self._set_cfs(len(self.cfs), np.array(picks, dtype=int).reshape(group.size, -1))
-        self._plans: dict[tuple, _SquarePlan] = {}
+            cfs = np.array(picks, dtype=int).reshape(group.size, -1)
+            self.cfs.append(cfs)  # fixed from here on: a re-pick serves one call only
+            self.free_entries.append(self._complement(cfs))
+        self._plans: dict[tuple, SquarePlan] = {}
         self._reported_sets: dict[tuple, dict] = {}
         self.num_free_entries = sum(g.size * g.num_free for g in problem.groups)
 
@@ -122,34 +97,19 @@ class PartitionedSolver:
     def _pick_cfs(rows: np.ndarray, count: int, weights: np.ndarray) -> np.ndarray:
         return np.sort(select_columns(rows, count, weights))
 
-    def _set_cfs(self, index: int, cfs: np.ndarray) -> None:
-        free = self._complement(cfs)
-        #: bumped whenever the sets change (the compiled tables follow it)
-        self.version = getattr(self, "version", -1) + 1
-        if index == len(self.cfs):
-            self.cfs.append(cfs)
-            self.free_entries.append(free)
-        else:
-            self.cfs[index] = cfs
-            self.free_entries[index] = free
-        self._plans = {}
-        self._reported_sets = {}
-
     def labels(self, free_entries: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
         """Labels of the reduced unknowns ``f_a``, in the solver's order."""
-        out = []
-        entries = self.free_entries if free_entries is None else free_entries
-        for group, free in zip(self.problem.groups, entries, strict=True):
-            for j, chain in enumerate(group.chains):
-                out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in free[j]]
-        return out
+        return self._labels(self.free_entries if free_entries is None else free_entries)
 
     def cfs_labels(self, sets: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
         """Labels of the Constrained Force Set, chain by chain."""
+        return self._labels(self.cfs if sets is None else sets)
+
+    def _labels(self, entries: list[np.ndarray]) -> list[tuple[str, str]]:
         out = []
-        for group, cfs in zip(self.problem.groups, self.cfs if sets is None else sets, strict=True):
+        for group, chosen in zip(self.problem.groups, entries, strict=True):
             for j, chain in enumerate(group.chains):
-                out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in cfs[j]]
+                out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in chosen[j]]
         return out
 
     # -- elimination of the CFS (eq. 12-15) --------------------------------------------------
@@ -270,7 +230,7 @@ class PartitionedSolver:
         m, s, k = self.num_free_entries, len(ev.hard_rhs), int(keep.sum())
         free_key = keep.tobytes()
         if k + s < m:
-            forces = self._solve_projected(ev, wrench, keep)
+            forces = projected_forces(self.problem, ev, wrench, keep)
             if forces is not None:
                 sets = self.reported_sets(keep)
                 systems = tuple(
@@ -284,7 +244,7 @@ class PartitionedSolver:
         systems = tuple(
             ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
         )
-        if k + s == m and not self.problem.structurally_singular(keep):
+        if k + s == m and not structurally_singular(self.problem, keep):
             reduced = self._reduce(ev)
             a = reduced.wrench_rows[keep]
             rhs = wrench[keep] - reduced.offset_sum[keep]
@@ -313,12 +273,13 @@ class PartitionedSolver:
             self._reported_sets[free_key] = sets
         return sets
 
-    def square_plan(self, keep: np.ndarray) -> _SquarePlan:
+    def square_plan(self, keep: np.ndarray) -> SquarePlan:
         """The RFS / MFS choice of the square system for these prescribed axes (cached)."""
         free_key = keep.tobytes()
         plan = self._plans.get(free_key)
         if plan is None:
-            plan = self._plan_square(self._reduce(self._generic).hard_rows, self.num_free_entries)
+            hard_rows = self._reduce(self._generic).hard_rows
+            plan = plan_square(hard_rows, self.num_free_entries, self._hard_rows_constant())
             self._plans[free_key] = plan
         return plan
 
@@ -336,7 +297,7 @@ class PartitionedSolver:
 
     def _solve_square(
         self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, free_key: bytes
-    ) -> tuple[np.ndarray, dict, _SquarePlan, bool] | None:
+    ) -> tuple[np.ndarray, dict, SquarePlan, bool] | None:
         """Eliminate the RFS, solve for the MFS (eq. 16-18).
 
         The plan is the declaration's (cached per set of prescribed axes) unless its design
@@ -364,10 +325,10 @@ class PartitionedSolver:
             else:
                 rfs_solved = True
                 scale = reduced.hard_scale
-                gain, bias = self._rfs_gain(h, h_rhs, plan, scale)
+                gain, bias = rfs_gain(h, h_rhs, plan, scale)
                 if gain is None:
-                    plan = self._plan_square(h, m, constant=False)
-                    gain, bias = self._rfs_gain(h, h_rhs, plan, scale)
+                    plan = plan_square(h, m, constant=False)
+                    gain, bias = rfs_gain(h, h_rhs, plan, scale)
                     if gain is None:
                         return None
             a_r = a[:, plan.rfs]
@@ -394,18 +355,6 @@ class PartitionedSolver:
         }
         return f, sets, plan, rfs_solved
 
-    def _plan_square(self, h: np.ndarray, m: int, constant: bool = True) -> _SquarePlan:
-        s = h.shape[0]
-        rfs = np.sort(select_columns(h, s)) if s else np.array([], dtype=int)
-        mfs = np.setdiff1d(np.arange(m), rfs)
-        plan = _SquarePlan(rfs=rfs, mfs=mfs)
-        if s and constant and self._hard_rows_constant():
-            inverse, cond = safe_inverse(h[:, rfs])
-            if cond < ILL_CONDITIONED:
-                plan.gain = -inverse @ h[:, mfs]
-                plan.rfs_inverse = inverse
-        return plan
-
     def _hard_rows_constant(self) -> bool:
         """Hard rows are constant if they are declaration-only and avoid every CFS entry."""
         problem = self.problem
@@ -417,74 +366,6 @@ class PartitionedSolver:
             if np.any(np.take_along_axis(rows, index, axis=2)):
                 return False
         return True
-
-    @staticmethod
-    def _rfs_gain(
-        h: np.ndarray, h_rhs: np.ndarray, plan: _SquarePlan, scale: np.ndarray
-    ) -> tuple[np.ndarray | None, np.ndarray | None]:
-        block = h[:, plan.rfs]
-        inverse, cond = safe_inverse(block)
-        if cond > ILL_CONDITIONED or not scale.all():
-            return None, None
-        if scaled_condition(block, inverse, scale) > ILL_CONDITIONED:
-            return None, None
-        return -inverse @ h[:, plan.mfs], inverse @ h_rhs
-
-    def _solve_projected(
-        self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
-    ) -> np.ndarray | None:
-        """Minimum of ``sum ||F_i||^2`` subject to every constraint (VAC 2.5.2), or None.
-
-        Each chain's admissible wrenches are ``F_i = G_i^+ t_i + P_i y`` with the projector
-        ``P_i = I - G_i^+ G_i`` onto the null space of its natural constraints. With ``R_i`` the
-        rows (prescribed wrench axes and hard rows) that involve ``F_i``, the optimum is
-        ``F_i = P_i R_i^T lambda + G_i^+ t_i`` where ``(sum_i R_i P_i R_i^T) lambda`` equals the
-        targets minus ``sum_i R_i G_i^+ t_i``: one ``(n + s)`` square solve, plus ``p`` small
-        ``l x l`` inverses, never the ``pn x pn`` matrix. Returns None when that system is
-        ill-conditioned (then the least-squares path decides), as a row that the natural
-        constraints imply here makes it beside other rows (alone, such a row only adds
-        rounding: its ``P R^T`` is rounding and its multiplier finite).
-        """
-        problem = self.problem
-        n, p = problem.n, problem.p
-        projectors = np.empty((p, n, n))
-        particular = np.empty((p, n))
-        for group, rows in zip(problem.groups, ev.groups, strict=True):
-            g_rows = rows.rows
-            if g_rows.shape[1]:
-                gram_inv, cond = safe_inverse(g_rows @ g_rows.transpose(0, 2, 1))
-                if np.any(cond > ILL_CONDITIONED):
-                    return None
-                pseudo = g_rows.transpose(0, 2, 1) @ gram_inv
-                projectors[group.chains] = np.eye(n) - pseudo @ g_rows
-                particular[group.chains] = (pseudo @ rows.rhs[:, :, None])[:, :, 0]
-            else:
-                projectors[group.chains] = np.eye(n)
-                particular[group.chains] = 0.0
-        hard = ev.hard_rows  # (s, p, n)
-        kept = projectors[:, keep, :]  # (p, k, n) = S P_i
-        top_left = kept[:, :, keep].sum(axis=0)
-        target = wrench[keep] - particular[:, keep].sum(axis=0)
-        if len(ev.hard_rhs):
-            hp = np.einsum("spn,pnm->psm", hard, projectors)  # C_i P_i
-            top_right = np.einsum("pkn,spn->ks", kept, hard)
-            bottom_right = np.einsum("psm,tpm->st", hp, hard)
-            kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
-            target = np.concatenate(
-                (target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular))
-            )
-        else:
-            kkt = top_left
-        kkt_inverse, cond = safe_inverse(kkt)
-        if cond > ILL_CONDITIONED:
-            return None
-        multipliers = kkt_inverse @ target
-        k = int(keep.sum())
-        # F_i = P_i (S^T lambda_w + C_i^T lambda_h) + G_i^+ t_i
-        forces = kept.transpose(0, 2, 1) @ multipliers[:k] + particular
-        if len(ev.hard_rhs):
-            forces += np.einsum("psm,s->pm", hp, multipliers[k:])
-        return forces
 
     def _report_sets(self, a: np.ndarray, h: np.ndarray) -> dict[str, list[tuple[str, str]]]:
         """MFS / RFS of a non-square system: the MFS spans the wrench rows, the RFS the rest."""

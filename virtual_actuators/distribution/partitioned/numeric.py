@@ -1,6 +1,7 @@
 """The numpy path of a parallel actuator's solve: any solver, any magnitude, typed errors only.
 
-:class:`~virtual_actuators.distribution.compiled.CompiledDistribution` serves the regular ticks;
+:class:`~virtual_actuators.distribution.partitioned.compiled.CompiledDistribution` serves the
+regular ticks;
 every other one (a near-singular chain, an ill-conditioned block, an inadmissible request, the
 dense reference, ``compiled=False``) comes here. The problem is linear in its right-hand sides
 (the request, passive spring torques and design right-hand sides), so they are first scaled by
@@ -14,11 +15,12 @@ import dataclasses
 
 import numpy as np
 
-from ..exceptions import SingularConfigurationError
-from .linalg import CONSTRAINT_TOL, ROUNDING, power_of_two_scale, stable_norm
-from .partitioner import RawSolution
-from .problem import DistributionProblem
-from .structure import Evaluation
+from ...exceptions import SingularConfigurationError
+from ..linalg import power_of_two_scale, stable_norm
+from ..problem import DistributionProblem
+from ..problem.structure import Evaluation
+from ..solution import RawSolution
+from ..tolerances import CONSTRAINT_TOL, ROUNDING
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:
@@ -62,8 +64,9 @@ def solve_numpy(
 
     Args:
         problem: The declaration-time problem.
-        solver: A :class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` or
-            :class:`~virtual_actuators.distribution.dense.DenseSolver` of that problem.
+        solver: A
+            :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` or
+            :class:`~virtual_actuators.distribution.partitioned.dense.DenseSolver` of that problem.
         snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
         wrench: ``(n,)`` finite request.
         keep: ``(n,)`` bool, the prescribed axes.

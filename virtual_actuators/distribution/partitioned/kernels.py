@@ -2,7 +2,8 @@
 
 :func:`distribute` does at one configuration what
 :class:`~virtual_actuators.distribution.problem.DistributionProblem` (``evaluate``) and
-:class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` do with numpy, for the two
+:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` do with numpy,
+for the two
 regular cases, on tables built once from the declaration (see :mod:`.compiled`):
 
 - ``mode 0``, fewer constraints than unknowns: the minimum of ``sum ||F_i||^2`` through the
@@ -20,144 +21,29 @@ elimination, or the answer misses an exact row by more than :data:`CONSTRAINT_TO
 scale; status 3: a result overflowed).
 
 numba's on-disk cache of :func:`distribute` does not follow edits of the kernels it calls from
-other modules (:mod:`.kernel_solves`, :mod:`.kernel_linalg`): an edit there goes with an edit
-of this file, so that the cache is rebuilt.
+other modules (:mod:`.kernel_solves`, :mod:`.kernel_batch`, :mod:`.kernel_linalg`): an edit
+there goes with an edit of this file, so that the cache is rebuilt.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
+from ...kinematics.kernels import njit
+from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED, NEAR_SINGULAR, ROUNDING
+from .kernel_batch import BATCH_CHAINS, full_rank_batch
 from .kernel_linalg import (
-    ILL_CONDITIONED,
-    NEAR_SINGULAR,
     ball_entry,
     constraint_error,
     null_rows,
     offset_in_o,
     passive_torques,
     request_norms,
+    shared_ball_columns,
     wrench_transform,
 )
-from .kernel_solves import (
-    BATCH_CHAINS,
-    C_CON,
-    HEADER,
-    K_COLS,
-    NB_BALL,
-    RANK,
-    full_rank_batch,
-    minimum_norm,
-    partitioned_solve,
-)
-from .linalg import CONSTRAINT_TOL, ROUNDING
-
-
-@njit(cache=True)
-def _shared_ball_columns(
-    header: np.ndarray,
-    ball_start: int,
-    axis_rows: np.ndarray,
-    offsets: np.ndarray,
-    fulls: np.ndarray,
-    rows: np.ndarray,
-) -> None:
-    """The ball columns of chains that share their ball axes, side by side over the chains.
-
-    ``header`` is the first chain's row of the chain table; ``offsets`` (3, p) each chain's
-    offset ``d`` from {A_i} to {B} in {O}. Writes the columns (QR order, after the own
-    constrained joints) into ``fulls`` and the chains' rows.
-    """
-    c_i, nb = header[C_CON], header[NB_BALL]
-    K = fulls.shape[0] - 4
-    for j in range(nb):
-        axis = header[ball_start + j]
-        slot = c_i + j
-        fulls[K + 3, slot, :] = 0.0
-        for a in range(axis_rows.shape[0]):
-            row = axis_rows[a]
-            out, out_rows = fulls[slot, a], rows[slot, a]
-            if row >= 3 or row == axis:
-                value = 1.0 if row - 3 == axis else 0.0
-                out[:] = value
-                out_rows[:] = value
-                continue
-            # e_axis x d: entry row of (0, -d2, d1), (d2, 0, -d0) or (-d1, d0, 0)
-            sign = 1.0 if (row - axis) % 3 == 2 else -1.0
-            values = offsets[3 - axis - row]
-            for i in range(values.shape[0]):
-                out[i] = sign * values[i]
-                out_rows[i] = out[i]
-
-
-#: Entries of :func:`pack_arguments`' integer header: mode, n, p, chain table width, torque
-#: rows, plan length, chain columns, velocity indices, constant rows.
-PACK_HEADER = 9
-
-
-def pack_arguments(
-    mode: int,
-    keep: np.ndarray,
-    axis_rows: np.ndarray,
-    frame_rows: np.ndarray,
-    chain_ints: np.ndarray,
-    chain_signs: np.ndarray,
-    springs: np.ndarray,
-    const_rows: np.ndarray,
-    const_rhs: np.ndarray,
-    torque_rows: np.ndarray,
-    torque_signs: np.ndarray,
-    plan: np.ndarray,
-    layout: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`distribute`'s declaration-time arguments as one integer and one float array.
-
-    Built once per mode (the arrays do not change between ticks); :func:`distribute` unpacks
-    them as views. Handing a compiled function two arrays instead of thirteen halves the cost
-    of the call.
-
-    Args:
-        mode: 0 minimum norm, 1 partitioned (square).
-        keep: ``(n,)`` 1 for prescribed axes, 0 for free ones.
-        axis_rows: ``(n,)`` rows of the selected axes among ``x y z rx ry rz``.
-        frame_rows: ``(2 + p,)`` rows of {B}, {O} and each {A_i} in ``frames``.
-        chain_ints: ``(p, HEADER + K + C + 3 + L + D)`` per chain: the header (columns, own
-            constrained joints, ball axes, rank, natural rows, free entries, start of its free
-            entries in the reduced unknowns), then its velocity columns, the positions of its
-            constrained joints among them, its ball axes (0-2), its CFS and its free entries.
-        chain_signs: ``(p, K)`` +1/-1 of each chain column.
-        springs: ``(nv, 5)`` per velocity index: stiffness, rest angle, ``idx_q`` (-1: no
-            spring), 1 for a (cos, sin) joint, and 1 if the joint is actuated (0: limp or
-            passive, its effort is zeroed).
-        const_rows: ``(s0, p, n)`` constant design rows.
-        const_rhs: ``(s0,)`` their right-hand sides.
-        torque_rows: ``(s1, 3)`` torque rows: joint a, joint b (-1: none), kind (0: shared
-            limp/passive joint, ahead of the constant rows; 1: equal torques, after them).
-        torque_signs: ``(s1, 2, p)`` chain signs at joints a and b.
-        plan: ``(m,)`` mode 1: the RFS indices first (``s`` of them), then the MFS.
-        layout: ``(4,)`` widths K, C, L, D of the column blocks of ``chain_ints``.
-
-    """
-    n, (p, width), s1 = keep.shape[0], chain_ints.shape, torque_rows.shape[0]
-    header = [mode, n, p, width, s1, plan.shape[0], chain_signs.shape[1], springs.shape[0]]
-    header.append(const_rows.shape[0])
-    ints = np.concatenate(
-        [
-            np.array(header, dtype=np.int64),
-            *(
-                np.asarray(part, dtype=np.int64).ravel()
-                for part in (keep, axis_rows, frame_rows, chain_ints, torque_rows, plan, layout)
-            ),
-        ]
-    )
-    floats = np.concatenate(
-        [
-            np.asarray(part, dtype=np.float64).ravel()
-            for part in (chain_signs, springs, const_rows, const_rhs, torque_signs)
-        ]
-    )
-    return ints, floats
+from .kernel_solves import minimum_norm, partitioned_solve
+from .kernel_tables import C_CON, HEADER, K_COLS, NB_BALL, PACK_HEADER, RANK
 
 
 @njit(cache=True)
@@ -346,7 +232,7 @@ def distribute(
             for a in range(n):
                 rows[c_i + nb + j, a, i] = null_buffer[j, a]
     if shared:
-        _shared_ball_columns(chain_ints[0], ball_start, axis_rows, offsets, fulls, rows)
+        shared_ball_columns(chain_ints[0], ball_start, axis_rows, offsets, fulls, rows)
     ill = False
     for i in range(batch_size):
         key = state[i]
@@ -486,4 +372,4 @@ def distribute(
     return out, residual, scale, ROUNDING * force_peak, 0, worst, worst_chain
 
 
-__all__ = ["HEADER", "PACK_HEADER", "distribute", "pack_arguments"]
+__all__ = ["distribute"]

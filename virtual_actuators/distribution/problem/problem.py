@@ -23,21 +23,18 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
+from ...exceptions import (
     ConstraintError,
     SingularConfigurationError,
 )
-from ..kinematics.relative import KinematicState, RelativeKinematics, skew
-from ..kinematics.snapshot import Snapshot
-from ..vocabulary.constraints import DesignConstraint
-from ..vocabulary.frames import AXES
+from ...kinematics.relative import KinematicState, RelativeKinematics, skew
+from ...kinematics.snapshot import Snapshot
+from ...vocabulary.constraints import DesignConstraint
+from ...vocabulary.frames import AXES
+from ..tolerances import JACOBIAN_FLOOR, SINGULAR_TOL, TINY
+from .checks import check_hard_rows, check_natural_rows, vacuous_joints
 from .declaration import design_rows, parse_contacts, parse_joints
-from .linalg import JACOBIAN_FLOOR, dependent_rows
-from .structure import SINGULAR_TOL, ChainGroup, Evaluation, GroupRows, structural_rank
-
-#: A limp or passive joint's natural-constraint row is structurally zero (no selected axis loads
-#: the joint) when its norm stays below this fraction of the chain's largest Jacobian column.
-VACUOUS_TOL = 1e-10
+from .structure import ChainGroup, Evaluation, GroupRows, structural_rank
 
 
 class DistributionProblem:
@@ -86,7 +83,8 @@ class DistributionProblem:
         )
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
-        self._structural: dict[bytes, bool] = {}
+        #: prescribed axes (``keep.tobytes()``) -> structurally singular (checks.py)
+        self.structural: dict[bytes, bool] = {}
         #: limp joints no selected axis loads: their (zero) natural rows are dropped
         self.vacuous_v: tuple[int, ...] = ()
         self._sign_cache: dict[tuple[int, ...], np.ndarray] = {}
@@ -114,7 +112,14 @@ class DistributionProblem:
             per_chain.append((columns, np.array(own, dtype=int), ball))
         generic = self.generic_configurations()
         states = [self.kinematics.compute(q) for q in generic]
-        per_chain = self._drop_vacuous_joints(per_chain, states)
+        vacuous = vacuous_joints(self, per_chain, states)
+        if vacuous:
+            self.vacuous_v = tuple(sorted(vacuous))
+            self.coupled_v = [v for v in self.coupled_v if v not in vacuous]
+            per_chain = [
+                (cols, np.array([j for j in own if int(cols[j]) not in vacuous], dtype=int), ball)
+                for cols, own, ball in per_chain
+            ]
         ranks = [
             max(structural_rank(self._full_jacobian(s, i, columns, ball)) for s in states)
             for i, (columns, _, ball) in enumerate(per_chain)
@@ -157,52 +162,7 @@ class DistributionProblem:
                 self._springs[3].astype(int),
                 self._springs[4].astype(int),
             )
-        self._check_natural_rows(generic)
-
-    def _drop_vacuous_joints(self, per_chain: list, states: list) -> list:
-        """Drop limp joints that no selected axis loads; reject such passive springs.
-
-        A joint whose natural-constraint row (its Jacobian column on the selected axes) is
-        structurally zero, i.e. below ``VACUOUS_TOL`` times the chain's largest column at every
-        generic configuration, takes no torque from any wrench on these axes: as a limp joint it
-        constrains nothing (its row is dropped), as a spring its torque could never be balanced.
-
-        Raises:
-            ConstraintError: A passive joint with nonzero stiffness that no selected axis loads.
-
-        """
-        unloaded = []  # per chain: the velocity columns no selected axis loads
-        for cols, _, _ in per_chain:
-            norms = np.max([np.linalg.norm(s.jacobian_o[:, cols], axis=0) for s in states], axis=0)
-            floor = max(JACOBIAN_FLOOR, VACUOUS_TOL * float(norms.max(initial=0.0)))
-            unloaded.append(set(cols[norms <= floor].tolist()))
-        vacuous = {  # velocity indices: own joints, and shared ones that no chain loads
-            int(cols[j])
-            for (cols, own, _), gone in zip(per_chain, unloaded, strict=True)
-            for j in own
-            if int(cols[j]) in gone
-        }
-        vacuous.update(
-            v
-            for v in self.coupled_v
-            if all(v in gone for (c, _, _), gone in zip(per_chain, unloaded, strict=True) if v in c)
-        )
-        for v in sorted(vacuous):
-            spring = self.passive_v.get(v)
-            if spring is not None and spring[1] != 0.0:
-                raise ConstraintError(
-                    f"No selected axis {list(self.axes)} loads the passive joint {spring[0]!r} "
-                    "(its lever is structurally zero): its spring torque could never be balanced "
-                    "by the distribution. Select axes that load it, or declare it unactuated."
-                )
-        if not vacuous:
-            return per_chain
-        self.vacuous_v = tuple(sorted(vacuous))
-        self.coupled_v = [v for v in self.coupled_v if v not in vacuous]
-        return [
-            (cols, np.array([j for j in own if int(cols[j]) not in vacuous], dtype=int), ball)
-            for cols, own, ball in per_chain
-        ]
+        check_natural_rows(self, generic)
 
     def _full_jacobian(
         self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray
@@ -246,28 +206,6 @@ class DistributionProblem:
             out.append(pin.normalize(model, q))
         return out
 
-    def _check_natural_rows(self, generic: Sequence[np.ndarray]) -> None:
-        ev = self.evaluate(generic[0], check_singular=False)
-        for group, rows in zip(self.groups, ev.groups, strict=True):
-            for j, chain in enumerate(group.chains):
-                bad = dependent_rows(rows.rows[j])
-                if bad:
-                    raise ConstraintError(
-                        f"The natural constraints of the chain to {self.reactions[chain]!r} "
-                        f"are redundant: {self._describe_natural(group, j, bad[0])} repeats what "
-                        "the others already impose (e.g. a limp joint at a point contact: use "
-                        "contact='flat' for that reaction, or drop the joint from unactuated)."
-                    )
-
-    def _describe_natural(self, group: ChainGroup, j: int, row: int) -> str:
-        c = group.constrained.shape[1]
-        if row < c:
-            v = group.columns[j, group.constrained[j, row]]
-            return f"the torque constraint of joint {self.joint_name(v)!r}"
-        if row < c + len(group.ball_axes):
-            return f"zero moment {AXES[3 + group.ball_axes[row - c]]} at the point contact"
-        return "a direction the chain cannot produce"
-
     def joint_name(self, v: int) -> str:
         """Name of the joint that owns velocity index ``v``."""
         for j in range(1, self.model.njoints):
@@ -292,26 +230,7 @@ class DistributionProblem:
                 f"natural constraints leave only {total_free} free force entries (sum of d over "
                 f"the chains). Remove {self.num_hard - total_free}."
             )
-        self._check_hard_rows()
-
-    def _check_hard_rows(self) -> None:
-        """Reject hard rows that are implied by, or contradict, the natural ones and each other."""
-        if not self.num_hard:
-            return
-        ev = self.evaluate(self.generic_configurations()[1], check_singular=False)
-        natural, natural_rhs = self.block_natural(ev)
-        hard = ev.hard_rows.reshape(self.num_hard, -1)
-        stacked = np.vstack((natural, hard))
-        bad = [i - natural.shape[0] for i in dependent_rows(stacked) if i >= natural.shape[0]]
-        if bad:
-            rhs = np.concatenate((natural_rhs, ev.hard_rhs))
-            solution = np.linalg.lstsq(stacked, rhs, rcond=None)[0]
-            consistent = np.allclose(stacked @ solution, rhs, atol=1e-9 * (1 + np.abs(rhs).max()))
-            verb = "is implied by" if consistent else "contradicts"
-            raise ConstraintError(
-                f"Design constraint {self.hard_names[bad[0]]} {verb} the other constraints "
-                "(natural and design); remove it."
-            )
+        check_hard_rows(self)
 
     # -- configuration-dependent -----------------------------------------------------------
     def evaluate(self, state: np.ndarray | Snapshot, check_singular: bool = True) -> Evaluation:
@@ -338,71 +257,91 @@ class DistributionProblem:
             v, stiffness, rest, idx_q, continuous = self._springs
             angle = np.where(continuous, np.arctan2(q[idx_q + continuous], q[idx_q]), q[idx_q])
             passive[v] = -stiffness * (angle - rest)
-        groups = []
-        for group in self.groups:
-            jacobians = jac[:, group.columns].transpose(1, 0, 2) * group.signs[:, None, :]
-            balls = self._ball_columns(offsets[group.chains], group.ball_axes)
-            full = np.concatenate((jacobians, balls), axis=2)
-            chain_index = np.arange(group.size)[:, None]
-            blocks = [
-                jacobians.transpose(0, 2, 1)[chain_index, group.constrained],
-                balls.transpose(0, 2, 1),
-            ]
-            null_dim = self.n - group.rank
-            ratio = None
-            if null_dim or (check_singular and full.shape[2] != group.rank):
-                u, s, _ = np.linalg.svd(full, full_matrices=True)
-                if group.rank:
-                    needed = s[:, group.rank - 1]
-                    ratio = needed / np.maximum(s[:, 0], 1e-300)
-                    ratio[needed <= JACOBIAN_FLOOR] = 0.0  # produces nothing: absolute floor
-            elif check_singular and group.rank:
-                # square, full rank: Hadamard ratio |det| / prod(column norms) is 0 iff singular
-                norms = np.sqrt(np.einsum("gnk,gnk->gk", full, full))
-                ratio = np.abs(np.linalg.det(full)) / np.maximum(norms.prod(axis=1), 1e-300)
-                # a column below the floor produces nothing (absolute floor)
-                ratio[norms.min(axis=1) <= JACOBIAN_FLOOR] = 0.0
-            if check_singular and ratio is not None:
-                if np.any(ratio < SINGULAR_TOL):
-                    chain = int(group.chains[int(np.argmin(ratio))])
-                    raise SingularConfigurationError(
-                        f"The chain from {self.reactions[chain]!r} to the action frame is "
-                        f"singular at this configuration (its Jacobian loses rank: ratio "
-                        f"{float(ratio.min()):.2e}), e.g. a straight knee; the distribution is "
-                        "not determined. Bend the chain or change the axes."
-                    )
-            if null_dim:
-                blocks.append(u[:, :, group.rank :].transpose(0, 2, 1))
-            rows = np.concatenate(blocks, axis=1)
-            rhs = np.zeros(rows.shape[:2])
-            c = group.constrained.shape[1]
-            if c:
-                rhs[:, :c] = passive[group.columns[chain_index, group.constrained]]
-            groups.append(GroupRows(rows=rows, rhs=rhs))
-        hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
-        if self.coupled_v:
-            cv = self.coupled_v
-            hard_rows.insert(0, np.einsum("ps,ns->spn", self._signs_at(cv), jac[:, cv]))
-            hard_rhs.insert(0, passive[cv])
-        if len(self.torque_pairs):
-            va, vb = self.torque_pairs[:, 0], self.torque_pairs[:, 1]
-            hard_rows.append(
-                np.einsum("ps,ns->spn", self._signs_at(va), jac[:, va])
-                - np.einsum("ps,ns->spn", self._signs_at(vb), jac[:, vb])
-            )
-            hard_rhs.append(np.zeros(len(va)))
-        if len(hard_rows) > 1:
-            hard_rows, hard_rhs = [np.concatenate(hard_rows, axis=0)], [np.concatenate(hard_rhs)]
+        groups = [
+            self._group_rows(group, jac, offsets, passive, check_singular) for group in self.groups
+        ]
+        hard_rows, hard_rhs = self._hard_rows(jac, passive)
         return Evaluation(
             q=q,
             state=state,
             groups=groups,
-            hard_rows=hard_rows[0],
-            hard_rhs=hard_rhs[0],
+            hard_rows=hard_rows,
+            hard_rhs=hard_rhs,
             passive_torque=passive,
         )
 
-    def _signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
+    def _group_rows(
+        self,
+        group: ChainGroup,
+        jac: np.ndarray,
+        offsets: np.ndarray,
+        passive: np.ndarray,
+        check_singular: bool,
+    ) -> GroupRows:
+        """One group's natural rows and right-hand sides (eq. 11) at a configuration.
+
+        Raises:
+            SingularConfigurationError: ``check_singular`` and a chain's Jacobian loses rank.
+
+        """
+        jacobians = jac[:, group.columns].transpose(1, 0, 2) * group.signs[:, None, :]
+        balls = self._ball_columns(offsets[group.chains], group.ball_axes)
+        full = np.concatenate((jacobians, balls), axis=2)
+        chain_index = np.arange(group.size)[:, None]
+        blocks = [
+            jacobians.transpose(0, 2, 1)[chain_index, group.constrained],
+            balls.transpose(0, 2, 1),
+        ]
+        null_dim = self.n - group.rank
+        ratio = None
+        if null_dim or (check_singular and full.shape[2] != group.rank):
+            u, s, _ = np.linalg.svd(full, full_matrices=True)
+            if group.rank:
+                needed = s[:, group.rank - 1]
+                ratio = needed / np.maximum(s[:, 0], TINY)
+                ratio[needed <= JACOBIAN_FLOOR] = 0.0  # produces nothing: absolute floor
+        elif check_singular and group.rank:
+            # square, full rank: Hadamard ratio |det| / prod(column norms) is 0 iff singular
+            norms = np.sqrt(np.einsum("gnk,gnk->gk", full, full))
+            ratio = np.abs(np.linalg.det(full)) / np.maximum(norms.prod(axis=1), TINY)
+            # a column below the floor produces nothing (absolute floor)
+            ratio[norms.min(axis=1) <= JACOBIAN_FLOOR] = 0.0
+        if check_singular and ratio is not None and np.any(ratio < SINGULAR_TOL):
+            chain = int(group.chains[int(np.argmin(ratio))])
+            raise SingularConfigurationError(
+                f"The chain from {self.reactions[chain]!r} to the action frame is "
+                f"singular at this configuration (its Jacobian loses rank: ratio "
+                f"{float(ratio.min()):.2e}), e.g. a straight knee; the distribution is "
+                "not determined. Bend the chain or change the axes."
+            )
+        if null_dim:
+            blocks.append(u[:, :, group.rank :].transpose(0, 2, 1))
+        rows = np.concatenate(blocks, axis=1)
+        rhs = np.zeros(rows.shape[:2])
+        c = group.constrained.shape[1]
+        if c:
+            rhs[:, :c] = passive[group.columns[chain_index, group.constrained]]
+        return GroupRows(rows=rows, rhs=rhs)
+
+    def _hard_rows(self, jac: np.ndarray, passive: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(s, p, n)`` coupling and design rows over the chains' forces, and their rhs."""
+        hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
+        if self.coupled_v:
+            cv = self.coupled_v
+            hard_rows.insert(0, np.einsum("ps,ns->spn", self.signs_at(cv), jac[:, cv]))
+            hard_rhs.insert(0, passive[cv])
+        if len(self.torque_pairs):
+            va, vb = self.torque_pairs[:, 0], self.torque_pairs[:, 1]
+            hard_rows.append(
+                np.einsum("ps,ns->spn", self.signs_at(va), jac[:, va])
+                - np.einsum("ps,ns->spn", self.signs_at(vb), jac[:, vb])
+            )
+            hard_rhs.append(np.zeros(len(va)))
+        if len(hard_rows) > 1:
+            return np.concatenate(hard_rows, axis=0), np.concatenate(hard_rhs)
+        return hard_rows[0], hard_rhs[0]
+
+    def signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
         """``(p, len(velocity_indices))`` chain signs at those columns (cached per set)."""
         key = tuple(int(v) for v in velocity_indices)
         cached = self._sign_cache.get(key)
@@ -418,53 +357,6 @@ class DistributionProblem:
                 cached[i, hit] = signs[position[hit]]
             self._sign_cache[key] = cached
         return cached
-
-    def structurally_singular(self, keep: np.ndarray) -> bool:
-        """Whether the square system is singular at every configuration for these free axes.
-
-        Some declarations can never determine the distribution uniquely (two point feet cannot
-        push a moment about the line between them); those get the minimum-norm least-squares
-        solution instead of a :class:`SingularConfigurationError`. Checked once per set of
-        prescribed axes at random configurations, densely (declaration-time cost only).
-
-        Args:
-            keep: ``(n,)`` bool, the prescribed (not free) axes.
-        """
-        key = keep.tobytes()
-        cached = self._structural.get(key)
-        if cached is None:
-            cached = True
-            for q in self.generic_configurations():
-                ev = self.evaluate(q, check_singular=False)
-                natural, _ = self.block_natural(ev)
-                k = np.vstack(
-                    (
-                        np.tile(np.eye(self.n), (1, self.p))[keep],
-                        natural,
-                        ev.hard_rows.reshape(-1, self.p * self.n),
-                    )
-                )
-                if k.shape[0] == k.shape[1] and np.linalg.matrix_rank(k) == k.shape[0]:
-                    cached = False
-                    break
-            self._structural[key] = cached
-        return cached
-
-    def check_counts(self, keep: np.ndarray) -> None:
-        """Raise if there are more design/coupling constraints than redundancies for ``keep``.
-
-        Raises:
-            ConstraintError: ``s > sum(d) - (number of prescribed axes)``.
-        """
-        m = sum(g.size * g.num_free for g in self.groups)
-        k, s = int(keep.sum()), self.num_hard
-        if s and s > m - k:
-            names = [a for a, kept in zip(self.axes, keep, strict=True) if kept]
-            raise ConstraintError(
-                f"Too many constraints: {s} design/coupling constraints but only {m - k} "
-                f"redundancies (sum of d = {m} minus the {k} prescribed axes {names}). Remove "
-                f"{s - (m - k)} or leave more axes free."
-            )
 
     def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
         """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""

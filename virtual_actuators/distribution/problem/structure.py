@@ -12,11 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kinematics.relative import KinematicState
-
-#: A chain is singular when its smallest needed singular value falls below this fraction of its
-#: largest one.
-SINGULAR_TOL = 1e-9
+from ...kinematics.relative import KinematicState
+from ..tolerances import SINGULAR_TOL
 
 
 def structural_rank(jacobian: np.ndarray) -> int:
@@ -117,4 +114,4 @@ class Evaluation:
     passive_torque: np.ndarray
 
 
-__all__ = ["SINGULAR_TOL", "ChainGroup", "Evaluation", "GroupRows", "structural_rank"]
+__all__ = ["ChainGroup", "Evaluation", "GroupRows", "structural_rank"]

@@ -4,23 +4,25 @@
 its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
 Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
 into flat arrays, so that a tick is one call of
-:func:`~virtual_actuators.distribution.kernels.distribute` on the snapshot's arrays. When the
-kernel hands a tick back (a singular chain, an ill-conditioned block, more rows than unknowns),
-:class:`~virtual_actuators.distribution.partitioner.PartitionedSolver` decides with numpy, as
+:func:`~virtual_actuators.distribution.partitioned.kernels.distribute` on the snapshot's
+arrays. When the kernel hands a tick back (a singular chain, an ill-conditioned block, more rows
+than unknowns), :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver`
+decides with numpy, as
 the reference implementation does; the tests check that both give the same answers.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import threading
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import kernels
-from .partitioner import PartitionedSolver, RawSolution
-from .problem import DistributionProblem
+from ..problem import DistributionProblem
+from ..problem.checks import structurally_singular
+from ..solution import RawSolution
+from . import kernel_tables, kernels
+from .reference import PartitionedSolver
 
 
 def spring_table(problem: DistributionProblem) -> np.ndarray:
@@ -42,7 +44,6 @@ class _Tables:
     chain_ints: np.ndarray
     chain_signs: np.ndarray
     layout: np.ndarray
-    cfs_version: int
 
 
 @dataclass(frozen=True)
@@ -81,15 +82,15 @@ class CompiledDistribution:
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
         signs = np.zeros((len(torque), 2, problem.p))
         for t, (a, b, _) in enumerate(torque):
-            signs[t, 0] = problem._signs_at([a])[:, 0]
+            signs[t, 0] = problem.signs_at([a])[:, 0]
             if b >= 0:
-                signs[t, 1] = problem._signs_at([b])[:, 0]
+                signs[t, 1] = problem.signs_at([b])[:, 0]
         self.torque_signs = signs
-        self._tables: _Tables | None = None
-        self._modes: dict[tuple[bytes, int], _Mode] = {}
-        self._lock = threading.Lock()
+        #: the chain tables: the partitioner's sets never change after its __init__
+        self._tables = self._build_tables()
+        self._modes: dict[bytes, _Mode] = {}
 
-    def _build_tables(self, version: int) -> _Tables:
+    def _build_tables(self) -> _Tables:
         problem, partitioner = self.problem, self.partitioner
         p = problem.p
         kin = problem.kinematics
@@ -97,7 +98,7 @@ class CompiledDistribution:
         width_c = max(g.constrained.shape[1] for g in problem.groups)
         width_l = max(g.num_constraints for g in problem.groups)
         width_d = max(g.num_free for g in problem.groups)
-        header = kernels.HEADER
+        header = kernel_tables.HEADER
         ints = np.zeros((p, header + width_k + width_c + 3 + width_l + width_d), dtype=np.int64)
         chain_signs = np.zeros((p, width_k))
         start = 0
@@ -109,7 +110,7 @@ class CompiledDistribution:
                 c = group.constrained.shape[1]
                 nb = len(group.ball_axes)
                 row = ints[chain]
-                row[: kernels.HEADER] = (
+                row[: kernel_tables.HEADER] = (
                     k,
                     c,
                     nb,
@@ -131,13 +132,9 @@ class CompiledDistribution:
                 at += width_l
                 row[at : at + group.num_free] = free[j]
         layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
-        return _Tables(ints, chain_signs, layout, version)
+        return _Tables(ints, chain_signs, layout)
 
-    def _mode(self, keep: np.ndarray, version: int) -> _Mode:
-        key = (keep.tobytes(), version)
-        mode = self._modes.get(key)
-        if mode is not None:
-            return mode
+    def _mode(self, keep: np.ndarray) -> _Mode:
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
         keep_int = keep.astype(np.int64)
@@ -148,7 +145,7 @@ class CompiledDistribution:
             sets = partitioner.reported_sets(keep)
             systems = cfs_systems + (("KKT", k + s, 1),)
             mode = _Mode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
-        elif k + s == m and not problem.structurally_singular(keep):
+        elif k + s == m and not structurally_singular(problem, keep):
             plan = partitioner.square_plan(keep)
             labels = partitioner.labels()
             sets = {
@@ -166,7 +163,7 @@ class CompiledDistribution:
             mode = _Mode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
         if mode.mode >= 0:
             tables = self._tables
-            packed = kernels.pack_arguments(
+            packed = kernel_tables.pack_arguments(
                 mode.mode,
                 mode.keep,
                 self.axis_rows,
@@ -182,7 +179,7 @@ class CompiledDistribution:
                 tables.layout,
             )
             mode = dataclasses.replace(mode, packed=packed)
-        self._modes[key] = mode
+        self._modes[keep.tobytes()] = mode
         return mode
 
     def solve(
@@ -196,15 +193,9 @@ class CompiledDistribution:
             with ``tau`` zero at limp and passive joints, or None.
 
         """
-        version = self.partitioner.version
-        tables = self._tables
-        mode = self._modes.get((keep.tobytes(), version))
-        if mode is None or tables is None or tables.cfs_version != version:
-            with self._lock:
-                tables = self._tables
-                if tables is None or tables.cfs_version != version:
-                    tables = self._tables = self._build_tables(version)
-                mode = self._mode(keep, version)
+        mode = self._modes.get(keep.tobytes())
+        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
+            mode = self._mode(keep)
         if mode.mode < 0:
             return None
         jacobian_world = snapshot.jacobian_world

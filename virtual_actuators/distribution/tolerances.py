@@ -1,0 +1,56 @@
+"""Every threshold of the force distribution, once, with its reason.
+
+The numpy paths and the compiled kernels read the same names, so that a tick the kernel hands
+back is decided by the same numbers. Solver budgets (iteration counts, batch sizes) stay with
+their solver; the QP's own thresholds move here with the qp/ package (plan step D6).
+"""
+
+from __future__ import annotations
+
+#: Singular values of a chain's Jacobian below this [m/rad, m/m or rad/rad] mean the chain
+#: produces nothing in that direction, whatever their ratio to the largest one.
+JACOBIAN_FLOOR = 1e-12
+
+#: A residual below this fraction of the largest chain force is rounding, whatever the
+#: request: chain forces that cancel each other leave about ``cond * eps * |F|`` behind.
+ROUNDING = 1e-12
+
+#: Condition estimate above which a system is treated as singular (the partitioner re-picks its
+#: sets, the compiled kernel hands the tick to numpy).
+ILL_CONDITIONED = 1e10
+
+#: A partitioned answer that misses an exact row (limp or spring torque, zero moment at a point
+#: foot, coupling or design row) by more than this fraction of ``|row| max|F| + |rhs|`` came
+#: from an ill-conditioned elimination: the dense reference solves that tick instead.
+CONSTRAINT_TOL = 1e-10
+
+#: A chain is singular when its smallest needed singular value falls below this fraction of its
+#: largest one (the problem's evaluation raises SingularConfigurationError).
+SINGULAR_TOL = 1e-9
+
+#: The compiled path hands a tick to numpy when a chain's worst singular-value ratio is below
+#: this: closer to singular than the kernels decide alone (numpy re-picks or raises).
+NEAR_SINGULAR = 1e-7
+
+#: Relative singular-value cut-off of the rank decisions (least norm, the dense reference, the
+#: serial actuator's pseudo-inverse): below it a direction counts as missing.
+RCOND = 1e-10
+
+#: A chain whose natural rows' smallest singular value is below this fraction of the largest
+#: has degenerate natural constraints here (the partitioned closed form cannot decide).
+DEGENERATE = 1e-10
+
+#: A limp or passive joint's natural-constraint row is structurally zero (no selected axis loads
+#: the joint) when its norm stays below this fraction of the chain's largest Jacobian column.
+VACUOUS_TOL = 1e-10
+
+#: A row depends on the rows before it when pivoted QR leaves less than this fraction of its
+#: norm (declaration-time checks of the natural and design rows).
+DEPENDENT_TOL = 1e-9
+
+#: A dependent design row is implied by the others (rather than contradicting them) when their
+#: least-squares solution meets it within this fraction of ``1 + max|rhs|``.
+IMPLIED_TOL = 1e-9
+
+#: Floor of a denominator that may be zero (a ratio of norms of an all-zero matrix is 0).
+TINY = 1e-300

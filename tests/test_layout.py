@@ -17,7 +17,6 @@ KERNEL_DECORATORS = {"njit", "jit"}
 #: Modules of 400 lines or more, path under virtual_actuators/ -> why it is still that long
 LONG_MODULES = {
     "actuators/parallel.py": "lane K (K2, K5) moves the contact parsing out",
-    "control/controller.py": "lane C (C5: Controller.add into Attachment.declare)",
     "distribution/qp.py": "lane D (D6)",
     "distribution/qp_kernels.py": "lane D (D6), lane K (K2, K3)",
 }
@@ -25,7 +24,6 @@ LONG_MODULES = {
 #: Functions of 80 lines or more outside numba kernels, "path::qualified name" -> why
 LONG_FUNCTIONS = {
     "distribution/qp.py::QPDistribution._stages": "lane D (D6: qp/stages.py)",
-    "control/controller.py::Controller.add": "lane C (C5: Attachment.declare)",
     "distribution/qp_limits.py::ContactLimits.__init__": "lane K (K2)",
 }
 

@@ -1,30 +1,36 @@
 """Attachments: an actuator, the components on it and the sensor they read, checked once.
 
-An :class:`Attachment` precomputes what the tick needs (component axes as slices, the
-declaration-time rows of the unilateral limits); :func:`check_contact_limits` checks the contact
-limits ``Controller.add`` is given, :func:`check_qp_yield` the yield axes of ``method="qp"``.
+:meth:`Attachment.declare` builds one from what ``Controller.add`` is given, every argument
+checked (the checks are in :mod:`~virtual_actuators.control.declaration`); an
+:class:`Attachment` precomputes what the tick needs (component axes as slices, the
+declaration-time rows of the unilateral limits) and sums its components' wrenches.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Container, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..actuators import ParallelVirtualActuator, VirtualActuator
+from ..actuators import VirtualActuator
 from ..components.base import Component, has_float_path
-from ..distribution.qp_weights import check_weights
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import check_axes_subset, check_number, describe
-
-Actuator = VirtualActuator | ParallelVirtualActuator
-
-#: ``Controller.add(method="qp", yield_axes=...)``: the yield axes' weight in the QP's
-#: closest-wrench stage (the other axes weigh 1): a miss on them costs 1000 times less, so an
-#: infeasible request gives way on them first (the others move by about this fraction of it).
-YIELD_WEIGHT = 1e-3
+from ..models.robot import Robot
+from ..vocabulary.frames import check_name, describe
+from .declaration import (
+    YIELD_WEIGHT,
+    Actuator,
+    check_contact_limits,
+    check_free,
+    check_limit_values,
+    check_method,
+    check_parts,
+    check_qp_yield,
+    component_indices,
+    sensor_of,
+)
 
 _NO_PYRAMID = np.zeros((5, 3))  # the cone rows' place holder without a friction cone
 
@@ -131,6 +137,69 @@ class Attachment:
             True,
         )
 
+    @classmethod
+    def declare(
+        cls,
+        robot: Robot,
+        name: str,
+        actuator: Actuator,
+        components: Sequence[Component] = (),
+        *,
+        sensor: VirtualActuator | None = None,
+        free: Sequence[str] = (),
+        unilateral: Mapping[str, float] | None = None,
+        yield_axes: Sequence[str] = (),
+        friction: float | None = None,
+        min_normal: float = 0.0,
+        method: str = "partitioned",
+        yield_weight: float | None = None,
+        taken: Container[str] = (),
+    ) -> Attachment:
+        """An attachment from what :meth:`Controller.add` is given, every argument checked.
+
+        Args:
+            robot: The controller's robot.
+            name: Unique name.
+            actuator: The actuator (of ``robot``).
+            components: Its components (a sequence, or one component).
+            sensor: What the components read (None: the default sensor, see
+                :func:`~virtual_actuators.control.declaration.sensor_of`).
+            free: Axes left to the distribution.
+            unilateral: ``{axis: minimum [N]}`` per chain, or None.
+            yield_axes: Axes given up first to meet the limits (or, with ``method="qp"``,
+                weighted down by ``yield_weight``).
+            friction: The contact cone's friction coefficient, or None.
+            min_normal: The cone's least normal force [N].
+            method: The distribution: ``"partitioned"``, ``"dense"`` or ``"qp"``.
+            yield_weight: ``method="qp"``: the yield axes' weight (None: :data:`YIELD_WEIGHT`).
+            taken: The names already used in the controller.
+
+        Returns:
+            The :class:`Attachment`.
+
+        Raises:
+            InvalidInputError: As :meth:`Controller.add`.
+            InvalidAxisError: As :meth:`Controller.add`.
+
+        """
+        check_name(name, "Controller.add: name")
+        components = check_parts(name, actuator, sensor, components)
+        friction, min_normal = check_limit_values(name, friction, min_normal, unilateral)
+        free_axes = check_free(name, robot, actuator, free)
+        sensor = sensor_of(name, robot, actuator, sensor)
+        indices = component_indices(components, actuator.axes)
+        weights, yield_axes = check_qp_yield(
+            name, actuator, method, unilateral, yield_axes, friction, yield_weight
+        )
+        limits, yield_mask = check_contact_limits(name, actuator, unilateral, yield_axes, friction)
+        if name in taken:
+            raise InvalidInputError(f"An attachment named {name!r} already exists.")
+        method = check_method(name, actuator, method, bool(limits) or friction is not None)
+        return cls(
+            name, actuator, sensor, components, free_axes, indices, limits, yield_mask,
+            friction, min_normal, method, weights=weights,
+        )
+
     def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Sum of the component wrenches on the actuator's axes, checked finite.
 
@@ -226,100 +295,4 @@ def _as_slice(index: np.ndarray) -> slice | np.ndarray:
     return index
 
 
-def check_contact_limits(
-    name: str,
-    actuator: VirtualActuator | ParallelVirtualActuator,
-    unilateral: Mapping[str, float] | None,
-    yield_axes: Sequence[str],
-    friction: float | None,
-) -> tuple[dict[int, float], np.ndarray | None]:
-    """An attachment's contact limits as ``({axis index: minimum}, yield mask or None)``.
-
-    Args:
-        name: The attachment's name (for messages).
-        actuator: Its actuator.
-        unilateral: ``{axis: minimum [N]}`` or None (a dict, checked by the caller).
-        yield_axes: Axes given up first to meet the limits.
-        friction: Friction coefficient (checked by the caller) or None.
-
-    Raises:
-        InvalidInputError: Limits without yield axes or the reverse, limits on a serial
-            actuator, a cone without force axes, or a minimum that is not a finite number.
-        InvalidAxisError: ``unilateral`` or ``yield_axes`` name an axis the actuator lacks.
-
-    """
-    where = f"Attachment {name!r}"
-    limits: dict[int, float] = {}
-    yield_mask = None
-    constrained = bool(unilateral) or friction is not None
-    yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
-    if constrained or yielded:
-        if isinstance(actuator, VirtualActuator) or not constrained or not yielded:
-            raise InvalidInputError(
-                f"Attachment {name!r}: unilateral (or friction) and yield_axes go "
-                "together, on a ParallelVirtualActuator."
-            )
-        if friction is not None and not {"x", "y", "z"} & set(actuator.axes):
-            raise InvalidInputError(
-                f"Attachment {name!r}: a friction cone needs force axes (x, y or z) among "
-                f"{actuator.axes}."
-            )
-        for axis in check_axes_subset(tuple(unilateral or {}), actuator.axes, "unilateral"):
-            limits[actuator.axes.index(axis)] = check_number(
-                unilateral[axis], f"{where}: unilateral[{axis!r}]"
-            )
-        yield_mask = np.array([a in yielded for a in actuator.axes])
-    return limits, yield_mask
-
-
-def check_qp_yield(
-    name: str,
-    actuator: Actuator,
-    method: object,
-    unilateral: Mapping[str, float] | None,
-    yield_axes: Sequence[str],
-    friction: float | None,
-    yield_weight: float | None,
-) -> tuple[np.ndarray | None, Sequence[str]]:
-    """``method="qp"``: the closest-wrench weights that make ``yield_axes`` give way first.
-
-    Args:
-        name: The attachment's name (for messages).
-        actuator: Its actuator.
-        method: The attachment's distribution method.
-        unilateral: With ``method="qp"``, must be empty: the QP's limits are the actuator's.
-        yield_axes: Axes given up first when a request cannot be met.
-        friction: With ``method="qp"``, must be None (likewise).
-        yield_weight: Their weight (the others weigh 1); None for :data:`YIELD_WEIGHT`.
-
-    Returns:
-        ``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` on a parallel
-        actuator, ``(n,)`` weights (None without yield axes: the actuator's own) and ``()``;
-        otherwise ``(None, yield_axes)``.
-
-    Raises:
-        InvalidInputError: With ``method="qp"``, ``unilateral`` or ``friction`` given;
-            ``yield_weight`` without ``method="qp"`` or not a finite number > 0.
-        InvalidAxisError: ``yield_axes`` names an axis the actuator lacks.
-
-    """
-    if method != "qp" or not isinstance(actuator, ParallelVirtualActuator):
-        if yield_weight is not None:
-            raise InvalidInputError(
-                f"Attachment {name!r}: yield_weight goes with method='qp' (a parallel actuator)."
-            )
-        return None, yield_axes
-    if unilateral or friction is not None:
-        raise InvalidInputError(
-            f"Attachment {name!r}: with method='qp' the contact limits are the actuator's "
-            "own (friction, min_normal, torque_limits); leave out unilateral and friction."
-        )
-    yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
-    weight = YIELD_WEIGHT if yield_weight is None else yield_weight
-    weight = check_number(weight, f"Attachment {name!r}: yield_weight", positive=True)
-    if not yielded:
-        return None, ()
-    return check_weights(dict.fromkeys(yielded, weight), actuator.axes), ()
-
-
-__all__ = ["YIELD_WEIGHT", "Actuator", "Attachment", "check_contact_limits", "check_qp_yield"]
+__all__ = ["YIELD_WEIGHT", "Actuator", "Attachment"]

@@ -16,53 +16,27 @@ robot automatically generate the desired torques").
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..actuators import ParallelVirtualActuator, VirtualActuator
+from ..actuators import VirtualActuator
 from ..components.base import Component
-from ..distribution.solution import Solution
-from ..exceptions import (
-    InvalidInputError,
-    JointNotFoundError,
-    suggestion,
-)
+from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
 from ..vocabulary.frames import (
-    WORLD,
-    as_float_array,
-    check_axes_subset,
     check_flag,
-    check_name,
     check_names,
     check_number,
     check_robot,
-    check_sequence,
-    describe,
     resolve_joint,
 )
-from .attachment import Actuator, Attachment, check_contact_limits, check_qp_yield
+from .attachment import Actuator, Attachment
 from .contact_limits import enforce_unilateral
-from .failures import (
-    CAUGHT,
-    AttachmentFailure,
-    check_policy,
-    drop_non_finite,
-    reason_of,
-    recover,
-    urdf_effort_limits,
-)
-from .tick import (
-    ControlOutput,
-    check_active,
-    check_limp,
-    check_same_velocity,
-    names_tuple,
-    velocity_names,
-)
+from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
+from .failures import CAUGHT, check_policy, drop_non_finite, reason_of, recover
+from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
 
 
@@ -126,15 +100,8 @@ class Controller:
 
     @effort_limits.setter
     def effort_limits(self, limits: object) -> None:
-        nv = self.robot.model.nv
-        expected = f"{nv} numbers >= 0 (inf where unlimited)"
-        upper = as_float_array(limits, "effort_limits", expected, copy=True)
-        if upper.shape != (nv,) or np.isnan(upper).any() or (upper < 0.0).any():
-            raise InvalidInputError(f"effort_limits must be {expected}, got {upper}.")
-        lower = -upper
-        upper.setflags(write=False)
-        lower.setflags(write=False)
-        self._upper_limits, self._lower_limits = upper, lower
+        limits = check_effort_limits(limits, self.robot.model.nv)
+        self._lower_limits, self._upper_limits = limits
 
     def add(
         self,
@@ -186,7 +153,7 @@ class Controller:
                 torque limits as inequalities; then ``unilateral`` and ``friction`` here are
                 not used and must be left out).
             yield_weight: ``method="qp"`` with ``yield_axes``: their weight, a finite number
-                > 0; None for :data:`~virtual_actuators.control.attachment.YIELD_WEIGHT`
+                > 0; None for :data:`~virtual_actuators.control.declaration.YIELD_WEIGHT`
                 (1e-3).
 
         Returns:
@@ -203,96 +170,14 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
 
         """
-        check_name(name, "Controller.add: name")
-        where = f"Attachment {name!r}"
-        if not isinstance(actuator, (VirtualActuator, ParallelVirtualActuator)):
-            raise InvalidInputError(
-                f"{where}: actuator must be a va.VirtualActuator or va.ParallelVirtualActuator, "
-                f"got {describe(actuator)}."
-            )
-        if sensor is not None and not isinstance(sensor, VirtualActuator):
-            raise InvalidInputError(
-                f"{where}: sensor must be a va.VirtualActuator or None, got {describe(sensor)}."
-            )
-        components = list(
-            check_sequence(
-                components, f"{where}: components", "va.Component", Component, single=Component
-            )
-        )
-        if friction is not None:
-            friction = check_number(friction, f"{where}: friction", positive=True)
-        min_normal = check_number(min_normal, f"{where}: min_normal [N]", minimum=0.0)
-        if unilateral is not None and not isinstance(unilateral, Mapping):
-            raise InvalidInputError(
-                f"{where}: unilateral must be a dict {{axis: minimum [N]}}, got "
-                f"{describe(unilateral)}."
-            )
-        if actuator.robot.model is not self.robot.model:
-            raise InvalidInputError(f"Attachment {name!r}: the actuator is for another robot.")
-        free_axes = check_axes_subset(free, actuator.axes, "free")
-        if free_axes and isinstance(actuator, VirtualActuator):
-            raise InvalidInputError(
-                f"Attachment {name!r}: free axes need a ParallelVirtualActuator; a serial "
-                "actuator produces every axis."
-            )
-        if sensor is None:
-            if isinstance(actuator, VirtualActuator):
-                sensor = actuator
-            else:
-                sensor = VirtualActuator(
-                    self.robot, actuator.action, WORLD, actuator.reference, actuator.axes
-                )
-        if sensor.robot.model is not self.robot.model:
-            raise InvalidInputError(f"Attachment {name!r}: the sensor is for another robot.")
-        if sensor.axes != actuator.axes:
-            raise InvalidInputError(
-                f"Attachment {name!r}: sensor axes {sensor.axes} differ from the actuator's "
-                f"{actuator.axes}."
-            )
-        indices = []
-        for component in components:
-            check_axes_subset(component.axes, actuator.axes, f"{component.name} axes")
-            indices.append(np.array([actuator.axes.index(a) for a in component.axes]))
-        weights, yield_axes = check_qp_yield(
-            name, actuator, method, unilateral, yield_axes, friction, yield_weight
-        )
-        limits, yield_mask = check_contact_limits(name, actuator, unilateral, yield_axes, friction)
-        if name in self.attachments:
-            raise InvalidInputError(f"An attachment named {name!r} already exists.")
-        attachment = Attachment(
-            name,
-            actuator,
-            sensor,
-            components,
-            free_axes,
-            indices,
-            limits,
-            yield_mask,
-            friction,
-            min_normal,
-            self._check_method(name, actuator, method, limits or friction is not None),
-            weights=weights,
+        attachment = Attachment.declare(
+            self.robot, name, actuator, components, sensor=sensor, free=free,
+            unilateral=unilateral, yield_axes=yield_axes, friction=friction,
+            min_normal=min_normal, method=method, yield_weight=yield_weight,
+            taken=self.attachments,
         )
         self.attachments[name] = attachment
         return attachment
-
-    @staticmethod
-    def _check_method(name: str, actuator: Actuator, method: object, limited: bool) -> str:
-        """``method`` checked against the actuator's solvers (a serial one has none)."""
-        if method == "partitioned":
-            return method
-        solvers = list(getattr(actuator, "solvers", {}))
-        if method not in solvers:
-            raise InvalidInputError(
-                f"Attachment {name!r}: method must be one of {solvers or ['partitioned']} for "
-                f"this actuator, got {describe(method)}."
-            )
-        if method == "qp" and limited:
-            raise InvalidInputError(
-                f"Attachment {name!r}: with method='qp' the contact limits are the actuator's "
-                "own (friction, min_normal, torque_limits); leave out unilateral and friction."
-            )
-        return str(method)
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
         """Velocity indices of joints given by name (one name, or a collection of names).
@@ -401,9 +286,9 @@ class Controller:
         nv = self.robot.model.nv
         time = check_number(time, "time [s]")
         limp = check_limp(limp, nv)
-        snapshot = self._snapshot(q, v)
-        names = tuple(self.attachments) if active is None else _names(active)
-        sums = _Sums()
+        snapshot = tick_snapshot(self.robot, self._tree, q, v)
+        names = tuple(self.attachments) if active is None else active_names(active)
+        sums = TickSums()
         for name in names:
             self._attachment_tick(name, self._get(name), snapshot, time, sums)
         tau = sums.tau
@@ -422,7 +307,9 @@ class Controller:
             tau = np.zeros(nv)
         if limp.size:
             tau[limp] = 0.0
-        clipped, saturated = self._clip(tau)  # tau: a fresh array, the request
+        clipped, saturated = clip_efforts(  # tau: a fresh array, the request
+            tau, self._lower_limits, self._upper_limits, self.clip
+        )
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
             clipped,
             tau,
@@ -438,22 +325,8 @@ class Controller:
             sums.failures,
         )
 
-    def _snapshot(self, q: np.ndarray | Snapshot, v: np.ndarray | None) -> Snapshot:
-        """The tick's snapshot: ``q`` itself (checked against the robot and ``v``), or built."""
-        if not isinstance(q, Snapshot):
-            if v is None:
-                raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
-            return Snapshot(self.robot, q, v)
-        if q.tree is not self._tree or q.v is None:
-            raise InvalidInputError(
-                "compute() needs a snapshot of this controller's robot built with v."
-            )
-        if v is not None and v is not q.v:
-            check_same_velocity(v, q.v)
-        return q
-
     def _attachment_tick(
-        self, name: str, attachment: Attachment, snapshot: Snapshot, time: float, sums: _Sums
+        self, name: str, attachment: Attachment, snapshot: Snapshot, time: float, sums: TickSums
     ) -> None:
         """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
 
@@ -501,51 +374,11 @@ class Controller:
         sums.solutions[name], sums.produced[name] = solution, solution.wrench
         sums.add(name, effort, fresh=False)
 
-    def _clip(self, requested: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(efforts, saturated)``: clipped to the effort limits (a copy with ``clip=False``)."""
-        if self.clip:
-            tau = np.minimum(np.maximum(requested, self._lower_limits), self._upper_limits)
-            return tau, tau != requested  # clipped exactly where the request exceeds a limit
-        return requested.copy(), np.abs(requested) > self._upper_limits
-
     def __repr__(self) -> str:
         return (
             f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
             f"clip={self.clip})"
         )
-
-
-@dataclass(slots=True)
-class _Sums:
-    """One tick's results attachment by attachment (:class:`ControlOutput`'s dicts) and the sum.
-
-    ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
-    """
-
-    tau: np.ndarray | None = None
-    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
-    produced: dict[str, np.ndarray] = field(default_factory=dict)
-    positions: dict[str, np.ndarray] = field(default_factory=dict)
-    velocities: dict[str, np.ndarray] = field(default_factory=dict)
-    solutions: dict[str, Solution] = field(default_factory=dict)
-    failed: dict[str, str] = field(default_factory=dict)
-    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
-    parts: list[tuple[str, np.ndarray]] = field(default_factory=list)
-
-    def add(self, name: str, effort: np.ndarray, fresh: bool) -> None:
-        """Add an attachment's efforts (``fresh``: an array of its own, kept as the first sum)."""
-        if self.tau is None:
-            self.tau = effort if fresh else effort.copy()
-        else:
-            self.tau = self.tau + effort
-        self.parts.append((name, effort))
-
-
-def _names(active: Iterable[str] | str) -> tuple[str, ...]:
-    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection)."""
-    names = (active,) if isinstance(active, str) else names_tuple(active)
-    check_active(names)
-    return names
 
 
 __all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]

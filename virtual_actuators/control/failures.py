@@ -33,7 +33,6 @@ from ..exceptions import (
     VirtualActuatorError,
 )
 from ..kinematics.snapshot import Snapshot
-from ..models.robot import Robot
 from .attachment import Attachment
 
 #: The values of ``Controller(on_failure=...)``.
@@ -96,23 +95,6 @@ def check_policy(on_failure: object, on_singular: object) -> str:
             f"on_failure={on_failure!r} and on_singular={on_singular!r}."
         )
     return on_failure or on_singular or "raise"
-
-
-def urdf_effort_limits(robot: Robot) -> np.ndarray:
-    """``(nv,)`` effort limits of the URDF [N m or N], ``inf`` where unlimited.
-
-    A 1-dof joint's positive finite ``effortLimit``; ``inf`` elsewhere (multi-dof joints,
-    missing or zero limits).
-    """
-    model = robot.model
-    limits = np.full(model.nv, np.inf)
-    for joint_id in range(1, model.njoints):
-        joint = model.joints[joint_id]
-        if joint.nv == 1:
-            limit = float(model.effortLimit[joint.idx_v])
-            if np.isfinite(limit) and limit > 0.0:
-                limits[joint.idx_v] = limit
-    return limits
 
 
 def reason_of(error: BaseException, wrench: np.ndarray | None) -> str:
@@ -253,5 +235,4 @@ __all__ = [
     "drop_non_finite",
     "reason_of",
     "recover",
-    "urdf_effort_limits",
 ]

@@ -16,7 +16,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
 from ..vocabulary.frames import as_float_array, check_number, describe
-from .failures import urdf_effort_limits
+from .effort_limits import urdf_effort_limits
 
 #: The values of ``run(safe_action=...)``.
 SAFE_ACTIONS = ("zero", "hold", "damp")

@@ -1,20 +1,23 @@
 """One tick of the controller: the checks of its arguments and what it computed.
 
 :meth:`Controller.compute` checks its ``limp`` indices and ``active`` names every tick with
-:func:`check_limp` and :func:`check_active` (a bad value raises an
-:class:`~virtual_actuators.InvalidInputError` that names the argument) and returns a
+:func:`check_limp` and :func:`active_names` (a bad value raises an
+:class:`~virtual_actuators.InvalidInputError` that names the argument), reads one
+:func:`tick_snapshot`, gathers the attachments' results in :class:`TickSums` and returns a
 :class:`ControlOutput`; :func:`velocity_names` names the velocity entries.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..distribution.solution import Solution
 from ..exceptions import InvalidInputError
+from ..kinematics.snapshot import Snapshot
+from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
 from ..vocabulary.frames import describe
 from .failures import AttachmentFailure
@@ -74,6 +77,32 @@ class ControlOutput:
         )
 
 
+@dataclass(slots=True)
+class TickSums:
+    """One tick's results attachment by attachment (:class:`ControlOutput`'s dicts) and the sum.
+
+    ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
+    """
+
+    tau: np.ndarray | None = None
+    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
+    produced: dict[str, np.ndarray] = field(default_factory=dict)
+    positions: dict[str, np.ndarray] = field(default_factory=dict)
+    velocities: dict[str, np.ndarray] = field(default_factory=dict)
+    solutions: dict[str, Solution] = field(default_factory=dict)
+    failed: dict[str, str] = field(default_factory=dict)
+    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
+    parts: list[tuple[str, np.ndarray]] = field(default_factory=list)
+
+    def add(self, name: str, effort: np.ndarray, fresh: bool) -> None:
+        """Add an attachment's efforts (``fresh``: an array of its own, kept as the first sum)."""
+        if self.tau is None:
+            self.tau = effort if fresh else effort.copy()
+        else:
+            self.tau = self.tau + effort
+        self.parts.append((name, effort))
+
+
 def velocity_names(robot: Robot) -> tuple[str, ...]:
     """Name of every velocity entry: the joint's name, with ``[i]`` for multi-dof joints."""
     model = robot.model
@@ -114,6 +143,41 @@ def check_active(names: tuple) -> None:
             )
     if len(set(names)) != len(names):
         raise InvalidInputError(f"active names an attachment twice: {names}.")
+
+
+def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
+    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection).
+
+    Raises:
+        InvalidInputError: Not a name or a collection of names, or a name repeated.
+
+    """
+    names = (active,) if isinstance(active, str) else names_tuple(active)
+    check_active(names)
+    return names
+
+
+def tick_snapshot(
+    robot: Robot, tree: KinematicTree, q: np.ndarray | Snapshot, v: np.ndarray | None
+) -> Snapshot:
+    """The tick's snapshot: ``q`` itself (checked against ``tree`` and ``v``), or built.
+
+    Raises:
+        InvalidInputError: No ``v`` beside a configuration; a snapshot of another robot, or
+            built without a velocity, or with one that differs from ``v``; a bad ``q`` or ``v``.
+
+    """
+    if not isinstance(q, Snapshot):
+        if v is None:
+            raise InvalidInputError("compute(q, v, ...) needs a velocity v.")
+        return Snapshot(robot, q, v)
+    if q.tree is not tree or q.v is None:
+        raise InvalidInputError(
+            "compute() needs a snapshot of this controller's robot built with v."
+        )
+    if v is not None and v is not q.v:
+        check_same_velocity(v, q.v)
+    return q
 
 
 def check_same_velocity(v: object, own: np.ndarray) -> None:
@@ -160,9 +224,12 @@ def check_limp(limp: object, nv: int) -> np.ndarray:
 __all__ = [
     "NO_LIMP",
     "ControlOutput",
+    "TickSums",
+    "active_names",
     "check_active",
     "check_limp",
     "check_same_velocity",
     "names_tuple",
+    "tick_snapshot",
     "velocity_names",
 ]

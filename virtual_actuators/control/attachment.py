@@ -15,7 +15,7 @@ import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component, has_float_path
-from ..distribution.qp_weights import check_weights
+from ..distribution.qp import check_weights
 from ..exceptions import InvalidInputError
 from ..vocabulary.frames import check_axes_subset, check_number, describe
 

@@ -2,7 +2,7 @@
 
 :class:`ContactLimits` checks and stores the friction pyramid, least normal force, soles and
 torque limits of a parallel actuator, names every inequality row, and builds the rows with numpy
-over all ``p n`` force entries (the reference path); :mod:`.qp_compiled` reads its tables.
+over all ``p n`` force entries (the reference path); :mod:`.compiled` reads its tables.
 """
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
-from ..vocabulary.frames import AXES, as_float_array
-from .problem import DistributionProblem
+from ...exceptions import InvalidInputError
+from ...vocabulary.frames import AXES, as_float_array
+from ..problem import DistributionProblem
 
 #: ProxQP's "no bound".
 INFINITY = 1e20

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
-from .partitioned.kernel_linalg import ball_entry, offset_in_o, passive_torques, wrench_transform
+from ...kinematics.kernels import njit
+from ..partitioned.kernel_linalg import ball_entry, offset_in_o, passive_torques, wrench_transform
 
 # columns of the per-chain integer table: counts, then the column blocks
 K_COLS, C_CON, NB_BALL = 0, 1, 2

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..exceptions import ConstraintError
+from ...exceptions import ConstraintError
 
 #: The check gets at most this many ProxQP iterations (charged to the solve's budget), and runs
 #: only when at least twice as many are left.

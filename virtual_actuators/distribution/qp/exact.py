@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
+from ...kinematics.kernels import njit
 
 #: A row whose part orthogonal to the earlier rows is below this fraction of its norm depends on
 #: them: dropped from the solve, its residual checked.

@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...kinematics.kernels import njit
-from ..linalg import ROUNDING
 from ..partitioned.kernel_linalg import request_norms
+from ..tolerances import ROUNDING
 from .kernels import views
 
 

@@ -74,16 +74,15 @@ import threading
 import numpy as np
 
 from ...exceptions import ConstraintError, InvalidInputError
-from ..linalg import ROUNDING, stable_norm
+from ..linalg import stable_norm
 from ..problem import DistributionProblem
 from ..solution import RawSolution
+from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY, ROUNDING
 from .compiled import CompiledQPMatrices
 from .kernel_answer import finish, violation
-from .limits import INFINITY, ContactLimits, kinds, torque_map
+from .limits import ContactLimits, kinds, torque_map
 from .stages import (
-    ACTIVE_TOL,
     BUDGET_EXHAUSTED,
-    EPS_ABS,
     ITERATION_BUDGET,
     Budget,
     ProxStages,

@@ -12,16 +12,10 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
 from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
 from .exact import exact_answer
 
-#: An answer that misses a row by more than this (scaled) is not feasible.
-FEASIBILITY_TOL = 1e-8
-#: ProxQP's absolute accuracy on the scaled problem.
-EPS_ABS = 1e-10
-#: ProxQP's absolute accuracy (residuals and duality gap) in the closest-wrench stages (cold
-#: starts, on infeasible requests only): the closest wrench to ~1e-10 of the request.
-CLOSEST_EPS_ABS = 1e-12
 #: ProxQP iterations (outer, its ``max_iter`` count) of one solve, all stages together: a tick
 #: never waits on a degenerate problem. Out of it, the best feasible answer so far is returned
 #: with :data:`BUDGET_EXHAUSTED` in ``sol.active``.
@@ -34,8 +28,6 @@ EXACT_MAX_ITER = 120
 MAX_ITER_IN = 30
 #: In ``sol.active`` when the iteration budget ran out before the last stage converged.
 BUDGET_EXHAUSTED = "iteration budget exhausted"
-#: A multiplier above this (scaled) marks its inequality active.
-ACTIVE_TOL = 1e-9
 
 
 class Budget:
@@ -326,12 +318,8 @@ class ProxStages:
 
 
 __all__ = [
-    "ACTIVE_TOL",
     "BUDGET_EXHAUSTED",
-    "CLOSEST_EPS_ABS",
-    "EPS_ABS",
     "EXACT_MAX_ITER",
-    "FEASIBILITY_TOL",
     "ITERATION_BUDGET",
     "MAX_ITER_IN",
     "Budget",

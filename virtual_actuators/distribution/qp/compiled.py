@@ -31,7 +31,6 @@ class Workspace:
         kept: ``(k,)`` indices of the prescribed axes.
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
             sides and bounds), ``equality`` with the ``design_rows`` design rows first.
-        hessian, gradient: ``I`` and ``0`` over ``z`` (the least-norm objective).
         design_rows: How many design rows.
 
     """
@@ -49,7 +48,6 @@ class Workspace:
         self.pn, self.nv = p_n, nv
         (_, _, self.equality, self.equality_rhs, self.inequality, self.lows, self.uppers, _, _,
          _) = kernels.views(self.buffer, self.layout, p_n, nv)  # fmt: skip
-        self.hessian, self.gradient = np.eye(free), np.zeros(free)
         self.scale = 1.0
 
 

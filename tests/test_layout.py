@@ -17,14 +17,12 @@ KERNEL_DECORATORS = {"njit", "jit"}
 #: Modules of 400 lines or more, path under virtual_actuators/ -> why it is still that long
 LONG_MODULES = {
     "actuators/parallel.py": "lane K (K2, K5) moves the contact parsing out",
-    "distribution/qp.py": "lane D (D6)",
-    "distribution/qp_kernels.py": "lane D (D6), lane K (K2, K3)",
+    "distribution/qp/kernels.py": "lane K (K2, K3) moves the contact rows out",
 }
 
 #: Functions of 80 lines or more outside numba kernels, "path::qualified name" -> why
 LONG_FUNCTIONS = {
-    "distribution/qp.py::QPDistribution._stages": "lane D (D6: qp/stages.py)",
-    "distribution/qp_limits.py::ContactLimits.__init__": "lane K (K2)",
+    "distribution/qp/limits.py::ContactLimits.__init__": "lane K (K2)",
 }
 
 

@@ -3,7 +3,7 @@
 The case (a walk's tick: foot_2 at its least normal force, the request out of reach) once took
 the compiled path's closest-wrench stage hundreds of ProxQP iterations (all-zero torque-limit
 rows of the swing legs). Now ProxQP's first iterates already name its active set, and the exact
-step on it (:mod:`virtual_actuators.distribution.qp_exact`) gives the closest answer within any
+step on it (:mod:`virtual_actuators.distribution.qp.exact`) gives the closest answer within any
 budget. A six-footed tick whose first iterates do not gets the budget's error. Oracles: the numpy
 path at the default budget (all force entries, the natural rows as equalities) and Pinocchio
 (cones and torques, :mod:`test_qp`'s checks).

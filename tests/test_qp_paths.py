@@ -64,7 +64,7 @@ def _check_paths(body, q, wrench, sol) -> None:
     """The compiled path's answer against the numpy path's (a different formulation).
 
     A feasible request: the same forces to 1e-9 of the request (both end with the exact step
-    on the active set, :mod:`virtual_actuators.distribution.qp_exact`). An infeasible one: the
+    on the active set, :mod:`virtual_actuators.distribution.qp.exact`). An infeasible one: the
     same closest wrench, residual and forces to 1e-8 of the request.
     """
     keep = np.ones(body.n, dtype=bool)
@@ -196,7 +196,7 @@ def test_warm_start_gives_the_cold_start_answer():
         q = pin.integrate(robot.model, base_q, np.r_[np.zeros(6), rng.normal(size=12) * 0.01])
         wrench = _request(robot, rng, 0.2)
         hot = warm.solve(q, wrench, method="qp")
-        cold.qp._local.__dict__.clear()  # drop this thread's ProxQP workspaces: a cold start
+        cold.qp.reset()  # drop this thread's ProxQP workspaces: a cold start
         fresh = cold.solve(q, wrench, method="qp")
         scale = max(np.abs(wrench).max(), 1.0)
         if fresh.residual <= 1e-9 * scale:

@@ -18,8 +18,7 @@ from ..distribution.partitioned.numeric import solve_numpy
 from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.checks import check_counts
-from ..distribution.qp import ContactLimits, QPDistribution
-from ..distribution.qp_weights import check_weights
+from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.solution import Solution, label, tolerance
 from ..exceptions import (
     ConstraintError,

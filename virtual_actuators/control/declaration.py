@@ -16,7 +16,7 @@ import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component
-from ..distribution.qp_weights import check_weights
+from ..distribution.qp import check_weights
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.frames import WORLD, check_axes_subset, check_number, check_sequence, describe

@@ -6,16 +6,7 @@ import math
 
 import numpy as np
 
-# the qp modules (and issue 24's qp_exact, qp_conflict) import these from here until D6
-from .tolerances import (  # noqa: F401
-    CONSTRAINT_TOL,
-    DEPENDENT_TOL,
-    ILL_CONDITIONED,
-    JACOBIAN_FLOOR,
-    RCOND,
-    ROUNDING,
-    TINY,
-)
+from .tolerances import DEPENDENT_TOL, RCOND, TINY
 
 
 def stable_norm(x: np.ndarray) -> float:

@@ -2,7 +2,7 @@
 
 The numpy paths and the compiled kernels read the same names, so that a tick the kernel hands
 back is decided by the same numbers. Solver budgets (iteration counts, batch sizes) stay with
-their solver; the QP's own thresholds move here with the qp/ package (plan step D6).
+their solver (the QP's in :mod:`.qp.stages`, :mod:`.qp.exact`, :mod:`.qp.conflict`).
 """
 
 from __future__ import annotations
@@ -45,7 +45,8 @@ DEGENERATE = 1e-10
 VACUOUS_TOL = 1e-10
 
 #: A row depends on the rows before it when pivoted QR leaves less than this fraction of its
-#: norm (declaration-time checks of the natural and design rows).
+#: norm (declaration-time checks of the natural and design rows; the QP's exact step drops such
+#: a row from its solve and checks its residual).
 DEPENDENT_TOL = 1e-9
 
 #: A dependent design row is implied by the others (rather than contradicting them) when their
@@ -54,3 +55,37 @@ IMPLIED_TOL = 1e-9
 
 #: Floor of a denominator that may be zero (a ratio of norms of an all-zero matrix is 0).
 TINY = 1e-300
+
+# -- the QP (qp/): on the problem divided by its scale, so rows, bounds and multipliers are ~1 --
+
+#: ProxQP's "no bound" (its dense API takes finite bounds): bounds beyond it are clipped to it.
+INFINITY = 1e20
+
+#: Effort limits at or above this [N m, N] mean "unlimited" (URDFs write "none" as 1e308).
+UNLIMITED = 1e30
+
+#: ProxQP's absolute accuracy on the scaled problem (the exact stage, warm-started).
+EPS_ABS = 1e-10
+
+#: ProxQP's absolute accuracy (residuals and duality gap) in the closest-wrench stages (cold
+#: starts, on infeasible requests only): the closest wrench to ~1e-10 of the request.
+CLOSEST_EPS_ABS = 1e-12
+
+#: An answer that misses a row by more than this (scaled) is not feasible: ProxQP meets the rows
+#: only to its accuracy, and an infeasible request can look solved.
+FEASIBILITY_TOL = 1e-8
+
+#: A multiplier above this (scaled) marks its inequality active.
+ACTIVE_TOL = 1e-9
+
+#: The KKT checks' tolerance of the exact step on an active set (rows, bounds and multipliers
+#: ~1): an answer that passes is the optimum to rounding, else ProxQP's answer stands.
+EXACT_TOL = 1e-11
+
+#: A row that cannot hold is named when its bound moves by at least this share of the largest
+#: shift (the least squared shift that lets the rows hold together).
+CONFLICT_SHARE = 1e-6
+
+#: The compiled QP hands a tick to numpy when a pivot of a chain's elimination falls below this
+#: fraction of the chain's largest column (closer to singular than the kernel decides alone).
+RANK_TOL = 1e-7

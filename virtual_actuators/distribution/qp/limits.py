@@ -2,7 +2,7 @@
 
 :class:`ContactLimits` checks and stores the friction pyramid, least normal force, soles and
 torque limits of a parallel actuator, names every inequality row, and builds the rows with numpy
-over all ``p n`` force entries (the reference path); :mod:`.qp_compiled` reads its tables.
+over all ``p n`` force entries (the reference path); :mod:`.compiled` reads its tables.
 """
 
 from __future__ import annotations
@@ -11,14 +11,11 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
-from ..vocabulary.frames import AXES, as_float_array
-from .problem import DistributionProblem
+from ...exceptions import InvalidInputError
+from ...vocabulary.frames import AXES, as_float_array
+from ..problem import DistributionProblem
+from ..tolerances import INFINITY, UNLIMITED
 
-#: ProxQP's "no bound".
-INFINITY = 1e20
-#: Effort limits at or above this [N m, N] mean "unlimited".
-UNLIMITED = 1e30
 #: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
 FRAME = "frame"
 #: ``normals`` value: every contact's normal is its reaction frame's z axis.
@@ -321,4 +318,4 @@ def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarr
     return matrix
 
 
-__all__ = ["FRAME", "FRAMES", "INFINITY", "UNLIMITED", "ContactLimits", "kinds", "torque_map"]
+__all__ = ["FRAME", "FRAMES", "ContactLimits", "kinds", "torque_map"]

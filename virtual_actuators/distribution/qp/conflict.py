@@ -17,13 +17,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..exceptions import ConstraintError
+from ...exceptions import ConstraintError
+from ..tolerances import CONFLICT_SHARE
 
 #: The check gets at most this many ProxQP iterations (charged to the solve's budget), and runs
 #: only when at least twice as many are left.
 CONFLICT_MAX_ITER = 40
-#: A row is named when it moves by at least this share of the largest shift.
-CONFLICT_SHARE = 1e-6
 
 
 def least_shift_problem(
@@ -68,4 +67,4 @@ def conflict_error(
     )
 
 
-__all__ = ["CONFLICT_MAX_ITER", "CONFLICT_SHARE", "conflict_error", "least_shift_problem"]
+__all__ = ["CONFLICT_MAX_ITER", "conflict_error", "least_shift_problem"]

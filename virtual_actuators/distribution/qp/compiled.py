@@ -3,7 +3,7 @@
 :class:`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and
 passive joints and point-contact axes; the springs; the constant design rows; the contact
 normals, pyramid, soles and torque limits) into flat arrays at declaration, so that a tick is
-one call of :func:`~virtual_actuators.distribution.qp_kernels.reduced_qp` on the snapshot's
+one call of :func:`~virtual_actuators.distribution.kernels.reduced_qp` on the snapshot's
 arrays. It applies when every chain's columns ``[J_i, ball_i]`` are independent (generic rank
 ``k_i + nb_i``) and no hard row depends on the configuration (no joint shared by several chains,
 no ``EqualTorque``); otherwise, and on ticks where a chain is nearly rank deficient, the QP
@@ -16,22 +16,21 @@ import threading
 
 import numpy as np
 
-from ..kinematics.kernels import HAVE_NUMBA
-from . import qp_kernels
-from .partitioned.compiled import spring_table
-from .problem import DistributionProblem
+from ...kinematics.kernels import HAVE_NUMBA
+from ..partitioned.compiled import spring_table
+from ..problem import DistributionProblem
+from . import kernels
 
 
 class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
     Attributes:
-        buffer: The flat buffer :func:`~.qp_kernels.reduced_qp` writes.
+        buffer: The flat buffer :func:`~.kernels.reduced_qp` writes.
         layout: Offsets and sizes of the arrays in it.
         kept: ``(k,)`` indices of the prescribed axes.
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
             sides and bounds), ``equality`` with the ``design_rows`` design rows first.
-        hessian, gradient: ``I`` and ``0`` over ``z`` (the least-norm objective).
         design_rows: How many design rows.
 
     """
@@ -48,8 +47,7 @@ class Workspace:
         self.design_rows = design
         self.pn, self.nv = p_n, nv
         (_, _, self.equality, self.equality_rhs, self.inequality, self.lows, self.uppers, _, _,
-         _) = qp_kernels.views(self.buffer, self.layout, p_n, nv)  # fmt: skip
-        self.hessian, self.gradient = np.eye(free), np.zeros(free)
+         _) = kernels.views(self.buffer, self.layout, p_n, nv)  # fmt: skip
         self.scale = 1.0
 
 
@@ -99,7 +97,7 @@ class CompiledQPMatrices:
         self._max_row = int(self.frame_rows.max())
         width_k = max(len(c) for c in kin.chain_columns)
         width_c = max(g.constrained.shape[1] for g in problem.groups)
-        header = qp_kernels.HEADER
+        header = kernels.HEADER
         ints = np.zeros((problem.p, header + width_k + width_c + 3), dtype=np.int64)
         signs = np.zeros((problem.p, width_k))
         for group in problem.groups:
@@ -155,7 +153,7 @@ class CompiledQPMatrices:
         if frames.shape[0] <= self._max_row:
             return None  # frames required after this snapshot ran: the numpy path reads them
         workspace = self.workspace(keep)
-        status, _, scale = qp_kernels.reduced_qp(
+        status, _, scale = kernels.reduced_qp(
             snapshot.jacobian_world,
             frames,
             snapshot.q,

@@ -30,13 +30,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
+from ...kinematics.kernels import njit
+from ..tolerances import DEPENDENT_TOL, EXACT_TOL
 
-#: A row whose part orthogonal to the earlier rows is below this fraction of its norm depends on
-#: them: dropped from the solve, its residual checked.
-DEPENDENT = 1e-9
-#: The KKT checks' tolerance on the scaled problem (rows, bounds and multipliers ~1).
-EXACT_TOL = 1e-11
 #: Active-set changes allowed before ProxQP's answer is kept.
 EXACT_STEPS = 16
 
@@ -108,9 +104,9 @@ def _factor(
             for j in range(size):
                 rest += row[j] * row[j]
             rest = np.sqrt(rest)
-            if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT * norm:
+            if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT_TOL * norm:
                 break
-        if rest <= DEPENDENT * norm:
+        if rest <= DEPENDENT_TOL * norm:
             continue
         for j in range(size):
             basis[rank, j] = row[j] / rest
@@ -360,4 +356,4 @@ def exact_answer(
     return (True, exact_x, z) if ok else (False, x, guess)
 
 
-__all__ = ["DEPENDENT", "EXACT_STEPS", "EXACT_TOL", "exact_answer", "exact_step"]
+__all__ = ["EXACT_STEPS", "exact_answer", "exact_step"]

@@ -1,4 +1,4 @@
-"""Compiled checks and read-out of a solved reduced QP (see :mod:`.qp_kernels`).
+"""Compiled checks and read-out of a solved reduced QP (see :mod:`.kernels`).
 
 :func:`violation` measures how far ProxQP's answer misses the rows it must meet (an infeasible
 request can look solved to the solver's accuracy); :func:`finish` turns the answer in free
@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
-from .linalg import ROUNDING
-from .partitioned.kernel_linalg import request_norms
-from .qp_kernels import views
+from ...kinematics.kernels import njit
+from ..partitioned.kernel_linalg import request_norms
+from ..tolerances import ROUNDING
+from .kernels import views
 
 
 @njit(cache=True)

@@ -41,7 +41,7 @@ Joints that no chain moves get no torque-limit row (it would be all zero: always
 
 **Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
 thread's previous solve. Its multipliers name the active inequalities, and on that active set
-:func:`~.qp_exact.exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
+:func:`~.exact.exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
 algebra, kept only when the KKT conditions hold to ``EXACT_TOL`` of the scale (every row met,
 every active row's multiplier of the right sign; up to ``EXACT_STEPS`` corrections of the active
 set, else ProxQP's answer stands). An answer is then the optimum to rounding: within 1e-8 of
@@ -51,7 +51,7 @@ iterate mostly names the closest answer's active set already: certified there, t
 the solve (stages 2 and 3 run only when it is not).
 
 **Rows that cannot hold.** When stage 1 fails, the other rows are checked first
-(:mod:`.qp_conflict`: the least squared shift of the inequalities' bounds that lets them hold
+(:mod:`.conflict`: the least squared shift of the inequalities' bounds that lets them hold
 with the equalities, ``CONFLICT_MAX_ITER`` iterations at most, run when twice that is left): if
 they cannot hold together, whatever the request, ``ConstraintError`` names the rows that conflict
 (each foot's least normal force and the knees' torque limits, say), at once; the iteration-budget
@@ -73,52 +73,36 @@ import threading
 
 import numpy as np
 
-from ..exceptions import ConstraintError, InvalidInputError
-from .linalg import ROUNDING, stable_norm
-from .problem import DistributionProblem
-from .qp_compiled import CompiledQPMatrices
-from .qp_conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
-from .qp_exact import exact_answer
-from .qp_kernel_answer import finish, violation
-from .qp_limits import INFINITY, ContactLimits, kinds, torque_map
-from .qp_weights import check_weights
-from .solution import RawSolution
-
-#: An answer that misses a row by more than this (scaled) is not feasible.
-FEASIBILITY_TOL = 1e-8
-#: ProxQP's absolute accuracy on the scaled problem.
-EPS_ABS = 1e-10
-#: ProxQP's absolute accuracy (residuals and duality gap) in the closest-wrench stages (cold
-#: starts, on infeasible requests only): the closest wrench to ~1e-10 of the request.
-CLOSEST_EPS_ABS = 1e-12
-#: ProxQP iterations (outer, its ``max_iter`` count) of one solve, all stages together: a tick
-#: never waits on a degenerate problem. Out of it, the best feasible answer so far is returned
-#: with :data:`BUDGET_EXHAUSTED` in ``sol.active``.
-ITERATION_BUDGET = 300
-#: The request exactly (stage 1) stops after this many, and after half the budget: an
-#: infeasible request (ProxQP does not always call it infeasible) leaves the rest to the
-#: closest-wrench stages. Solved requests take 4 (median) to 107 (largest seen) iterations.
-EXACT_MAX_ITER = 120
-#: ProxQP's inner (semismooth Newton) steps per outer iteration, at most.
-MAX_ITER_IN = 30
-#: In ``sol.active`` when the iteration budget ran out before the last stage converged.
-BUDGET_EXHAUSTED = "iteration budget exhausted"
-#: A multiplier above this (scaled) marks its inequality active.
-ACTIVE_TOL = 1e-9
+from ...exceptions import ConstraintError, InvalidInputError
+from ..linalg import stable_norm
+from ..problem import DistributionProblem
+from ..solution import RawSolution
+from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY, ROUNDING
+from .compiled import CompiledQPMatrices
+from .kernel_answer import finish, violation
+from .limits import ContactLimits, kinds, torque_map
+from .stages import (
+    BUDGET_EXHAUSTED,
+    ITERATION_BUDGET,
+    Budget,
+    ProxStages,
+    StageRows,
+)
+from .weights import check_weights
 
 
 class QPDistribution:
     """The QP distribution of one parallel actuator (one ProxQP workspace per thread).
 
     Each tick's matrices come from the compiled kernel in the chains' free coordinates when the
-    declaration allows it (:mod:`.qp_compiled`: ``F = x0 + N z``, the natural rows eliminated,
+    declaration allows it (:mod:`.compiled`: ``F = x0 + N z``, the natural rows eliminated,
     ``|F|^2 = |x0|^2 + |z|^2``), else from numpy over all ``p n`` force entries with the natural
     rows as equalities; both are the same convex program with one answer.
 
     Args:
         problem: The distribution problem.
         limits: The inequalities.
-        weights: Per-axis weights of the closest-wrench stage (:func:`.qp_weights.check_weights`:
+        weights: Per-axis weights of the closest-wrench stage (:func:`.weights.check_weights`:
             a dict by axis name or an array over the axes); None for 1 on every axis.
 
     Raises:
@@ -142,9 +126,10 @@ class QPDistribution:
         #: the closest-wrench stage's weight per axis (read-only)
         self.weights = check_weights({} if weights is None else weights, problem.axes)
         self._local = threading.local()
+        #: this thread's ProxQP workspaces and the stages run on them
+        self.stages = ProxStages(proxqp, limits.row_names(), problem.reactions)
         #: ProxQP iterations one solve may use, all stages together (:data:`ITERATION_BUDGET`)
         self.iteration_budget = ITERATION_BUDGET
-        self._identities: dict[int, np.ndarray] = {}
         #: per set of prescribed axes: the rows summing the chains' forces on them
         self._selects: dict[bytes, np.ndarray] = {}
         #: the part of the scale that the declaration fixes: the least normal force and the
@@ -159,188 +144,15 @@ class QPDistribution:
             rows_in=len(limits.row_names()),
         )  # fmt: skip
 
-    def _identity(self, size: int) -> np.ndarray:
-        identity = self._identities.get(size)
-        if identity is None:
-            identity = self._identities[size] = np.eye(size)
-        return identity
-
-    def _workspace(self, key: tuple) -> list:
-        cache = getattr(self._local, "qps", None)
-        if cache is None:
-            cache = self._local.qps = {}
-        workspace = cache.get(key)
-        if workspace is None:
-            qp = self._proxqp.dense.QP(*key[2:])
-            qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
-            qp.settings.eps_rel = 0.0
-            qp.settings.max_iter_in = MAX_ITER_IN
-            qp.settings.verbose = False
-            if key[1] != "exact":  # residuals alone can stop with inactive rows held
-                qp.settings.check_duality_gap = True
-                qp.settings.eps_duality_gap_abs = CLOSEST_EPS_ABS
-                qp.settings.eps_duality_gap_rel = 0.0
-            # feasible by construction (the closest answer meets it; shifted bounds hold for
-            # any x): no heuristic infeasibility verdicts
-            if key[1] in ("reached", "conflict"):
-                qp.settings.eps_primal_inf = 0.0
-            workspace = cache[key] = [qp, True]  # the workspace, and whether it needs init()
-        return workspace
-
     @property
     def iterations(self) -> int:
         """ProxQP iterations (outer) of this thread's last solve, all stages together."""
         return getattr(self._local, "iterations", 0)
 
-    def _run(self, key, objective, equality, equality_rhs, inequality, lows, uppers, miss, budget):
-        """Solve one QP in this thread's workspace; None if it has no solution.
-
-        The exact stage's workspace lives between ticks: ``update`` and a warm start from the
-        previous answer, ``init`` only the first time and after a failure. The closest-wrench
-        stages start cold every time (``init`` from the equality-constrained guess): warm-started
-        from another tick's multipliers, ProxQP can stop at a point whose residuals are below
-        its accuracy but whose multipliers hold inactive rows (a wrong wrench by up to 1e-2 of
-        the request on solo12); the closest stage without Ruiz preconditioning (the scaled
-        problem needs none: half the cost and as accurate). ``miss(x)`` is the largest violation
-        of the rows ``x`` must meet; ``budget``: ``[iterations left]``, charged here.
-        """
-        proxqp = self._proxqp
-        workspace = self._workspace(key)
-        qp, fresh = workspace
-        warm = key[1] == "exact"
-        qp.settings.max_iter = min(EXACT_MAX_ITER, (budget[0] + 1) // 2) if warm else budget[0]
-        if key[1] == "conflict":
-            qp.settings.max_iter = min(CONFLICT_MAX_ITER, budget[0])
-        if fresh or not warm:
-            qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
-            qp.init(
-                *objective,
-                equality,
-                equality_rhs,
-                inequality,
-                lows,
-                uppers,
-                compute_preconditioner=key[1] != "closest",
-            )
-        else:  # the objective (I, 0) never changes
-            qp.update(None, None, equality, equality_rhs, inequality, lows, uppers)
-        qp.solve()
-        results = qp.results
-        budget[0] -= min(results.info.iter_ext, budget[0])
-        status = results.info.status
-        # a feasible closest answer out of iterations is kept (the closest wrench approximately
-        # rather than no answer); the request exactly, never: it goes on to the closest wrench
-        if not (
-            status == proxqp.QPSolverOutput.PROXQP_SOLVED
-            or (key[1] != "exact" and status == proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED)
-        ):
-            workspace[1] = True  # start the next solve afresh
-            return None
-        if fresh and warm:  # only after a solve: there is a previous result to start from
-            qp.settings.initial_guess = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
-            workspace[1] = False
-        # ProxQP's answer meets the rows to EPS_ABS: an infeasible request can look solved
-        if miss(results.x) > FEASIBILITY_TOL:
-            return None
-        return results
-
-    def _stages(
-        self, path, equality, equality_rhs, design, inequality, lows, uppers, miss, weights,
-        budget,
-    ):  # fmt: skip
-        """The request exactly with the least norm, else the closest wrench (scaled rows).
-
-        Returns ``(x, inequality multipliers, exhausted)``, or None when no ``x`` meets the
-        rows; ``exhausted``: the budget ran out before the last stage converged (``x`` is then
-        the feasible point of least weighted miss found).
-
-        ``equality``: the ``design`` rows that always hold, then the request's rows;
-        ``miss(x, rows)``: the largest violation of the first ``rows`` equality rows and the
-        inequalities; ``weights``: the request rows' weights in the closest-wrench stage;
-        ``budget``: ``[ProxQP iterations left]``, charged. (No inequality row is identically
-        zero: the torque limits of joints that no chain moves are left out at declaration, see
-        :class:`~virtual_actuators.distribution.qp_limits.ContactLimits`; all-zero rows stall
-        ProxQP's closest-wrench stage for hundreds of iterations.)
-        """
-        size = equality.shape[1]
-        identity = (self._identity(size), np.zeros(size))
-        results = self._run(
-            (path, "exact", size, len(equality_rhs), len(lows)), identity, equality,
-            equality_rhs, inequality, lows, uppers, lambda x: miss(x, len(equality_rhs)), budget,
-        )  # fmt: skip
-        if results is not None:  # exact on its active set (the same whatever the start)
-            _, x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
-                                   uppers, results.x, results.z, True, ACTIVE_TOL)  # fmt: skip
-            return x, z, False
-        # stage 1's last iterate mostly names the closest answer's active set already: that
-        # answer, certified exact, makes the other stages (and the check below) unnecessary
-        last = self._local.qps[(path, "exact", size, len(equality_rhs), len(lows))][0].results
-        certified, x, z = exact_answer(equality, equality_rhs, design, weights, inequality, lows,
-                                       uppers, last.x, last.z, False, ACTIVE_TOL)  # fmt: skip
-        if certified:
-            return x, z, False
-        converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
-        if budget[0] >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
-            objective, shifted_eq, shifted_in = least_shift_problem(equality[:design], inequality)
-            shifted = self._run(
-                (path, "conflict", len(objective[1]), design, len(lows)), objective, shifted_eq,
-                equality_rhs[:design], shifted_in, lows, uppers, lambda x: 0.0, budget,
-            )  # fmt: skip
-            if shifted is not None and shifted.info.status == converged:
-                error = conflict_error(shifted.x[size:], self.limits.row_names(),
-                                       self.problem.reactions, FEASIBILITY_TOL)  # fmt: skip
-                if error is not None:
-                    raise error
-        # infeasible: the closest reachable wrench alone (weighted least squares: a singular
-        # Hessian in x, one wrench), then the least force norm that produces it exactly
-        request, target = equality[design:], equality_rhs[design:].copy()
-        weighted = request * weights[:, None]
-
-        def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> tuple:
-            """The exact closest answer on the active set ``guess`` names, else ``x``.
-
-            ``exhausted`` stands only for ``x`` (an iterate): an exact answer is final.
-            """
-            equality_rhs[design:] = target  # the request (the exact step finds the wrench)
-            certified, x, z = exact_answer(equality, equality_rhs, design, weights, inequality,
-                                           lows, uppers, x, guess, False, ACTIVE_TOL)  # fmt: skip
-            return x, z, exhausted and not certified
-
-        if budget[0] == 0:  # the exact stage's last iterate, when it meets the other rows
-            if miss(last.x, design) <= FEASIBILITY_TOL:
-                return exact(last.x.copy(), last.z.copy(), True)
-            return None
-        closest = self._run(
-            (path, "closest", size, design, len(lows)), (request.T @ weighted,
-            -(weighted.T @ target)), equality[:design], equality_rhs[:design], inequality,
-            lows, uppers, lambda x: miss(x, design), budget,
-        )  # fmt: skip
-        if closest is None:
-            return None
-        answer, multipliers = closest.x.copy(), closest.z.copy()
-        solved = closest.info.status == converged
-        if budget[0] == 0:  # out of iterations: stage 3 (the least norm) cannot run
-            return exact(answer, multipliers, True)
-        equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
-        # a row with a nonzero multiplier holds at every closest answer (complementarity with
-        # any dual solution): as equalities they leave the third stage's feasible set as it is
-        # and make it well posed (without them its rows meet only at the cones' edges)
-        # (at their values at the closest answer, within EPS_ABS of the bounds: rows that the
-        # answer meets exactly, so that ProxQP does not see an inconsistent system)
-        held = np.flatnonzero(np.abs(multipliers) > ACTIVE_TOL)
-        tight = np.vstack((equality, inequality[held]))
-        bounds = tight[len(equality_rhs) :] @ answer
-        reached = self._run(
-            (path, "reached", size, len(tight), len(lows)), identity, tight,
-            np.concatenate((equality_rhs, bounds)), inequality, lows, uppers,
-            lambda x: miss(x, len(equality_rhs)), budget,
-        )  # fmt: skip
-        if reached is None:
-            return exact(answer, multipliers, budget[0] == 0)
-        # the active set: stage 3's rows, and the held rows on stage 2's sides
-        guess = reached.z.copy()
-        guess[held] = multipliers[held]
-        return exact(reached.x, guess, reached.info.status != converged or not solved)
+    def reset(self) -> None:
+        """Drop this thread's ProxQP workspaces and count: the next solve starts cold."""
+        self._local.__dict__.clear()
+        self.stages.reset()
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
         names = self.limits.row_names()
@@ -374,7 +186,7 @@ class QPDistribution:
             compiled: Build the matrices with the compiled kernel when it applies (False: with
                 numpy over all force entries, the reference).
             weights: ``(n,)`` checked per-axis weights of the closest-wrench stage for this
-                solve (:func:`.qp_weights.check_weights`); None: the declaration's.
+                solve (:func:`.weights.check_weights`); None: the declaration's.
 
         Returns:
             ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
@@ -389,25 +201,26 @@ class QPDistribution:
 
         """
         weights = (self.weights if weights is None else weights)[keep]
-        budget = [max(int(self.iteration_budget), 1)]
+        budget = Budget(max(int(self.iteration_budget), 1))
         try:
             return self._solve(snapshot, wrench, keep, compiled, weights, budget)
         finally:
-            self._local.iterations = max(int(self.iteration_budget), 1) - budget[0]
+            self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
-        """:meth:`solve` with its checked weights and ``[iterations left]``."""
+        """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
         work = None
         if compiled and self.matrices.applicable:
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
         buffer, layout, pn, nv = work.buffer, work.layout, work.pn, work.nv
-        results = self._stages(
-            "free", work.equality, work.equality_rhs, work.design_rows, work.inequality,
-            work.lows, work.uppers,
-            lambda z, rows: violation(buffer, layout, pn, nv, z, rows), weights, budget,
-        )  # fmt: skip
+        rows = StageRows(work.equality, work.equality_rhs, work.design_rows, work.inequality,
+                         work.lows, work.uppers)  # fmt: skip
+        results = self.stages.solve(
+            "free", rows, lambda z, count: violation(buffer, layout, pn, nv, z, count), weights,
+            budget,
+        )
         if results is None:  # the reference decides (and raises) what the fast path cannot
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
         out, residual, scale, rounding, active = finish(
@@ -429,7 +242,7 @@ class QPDistribution:
         wrench: np.ndarray,
         keep: np.ndarray,
         weights: np.ndarray,
-        budget: list[int],
+        budget: Budget,
     ) -> tuple[RawSolution, tuple]:
         """:meth:`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
 
@@ -438,7 +251,7 @@ class QPDistribution:
                 iteration budget ran out.
 
         """
-        if budget[0] == 0:
+        if budget.left == 0:
             raise self._refuse(exhausted=True)
         problem = self.problem
         p, n = problem.p, problem.n
@@ -468,12 +281,11 @@ class QPDistribution:
                 slack = max(slack, float(np.max(lows - values)), float(np.max(values - uppers)))
             return slack if np.all(np.isfinite(x)) else np.inf
 
-        results = self._stages(
-            "forces", equality, equality_rhs, len(equality_rhs) - len(select), inequality,
-            lows, uppers, miss, weights, budget,
-        )  # fmt: skip
+        rows = StageRows(equality, equality_rhs, len(equality_rhs) - len(select), inequality,
+                         lows, uppers)  # fmt: skip
+        results = self.stages.solve("forces", rows, miss, weights, budget)
         if results is None:
-            raise self._refuse(exhausted=budget[0] == 0)
+            raise self._refuse(exhausted=budget.left == 0)
         names = self.limits.row_names()
         x = results[0] * scale
         active = tuple(names[i] for i in np.flatnonzero(np.abs(results[1]) > ACTIVE_TOL))

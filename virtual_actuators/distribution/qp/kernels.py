@@ -25,18 +25,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kinematics.kernels import njit
-from .partitioned.kernel_linalg import ball_entry, offset_in_o, passive_torques, wrench_transform
+from ...kinematics.kernels import njit
+from ..partitioned.kernel_linalg import ball_entry, offset_in_o, passive_torques, wrench_transform
+from ..tolerances import INFINITY, RANK_TOL
 
 # columns of the per-chain integer table: counts, then the column blocks
 K_COLS, C_CON, NB_BALL = 0, 1, 2
 HEADER = 3
 #: entries of the buffer layout: ten offsets, then d, s + k, m and s
 LAYOUT = 14
-#: A pivot below this fraction of the chain's largest column sends the tick to numpy.
-RANK_TOL = 1e-7
-#: ProxQP's "no bound".
-INFINITY = 1e20
 
 
 @njit(cache=True)
@@ -433,4 +430,4 @@ def _sole_rows(
             lows[row] = -constant
 
 
-__all__ = ["HEADER", "INFINITY", "LAYOUT", "RANK_TOL", "reduced_qp", "views"]
+__all__ = ["HEADER", "LAYOUT", "reduced_qp", "views"]

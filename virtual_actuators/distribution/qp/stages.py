@@ -1,0 +1,329 @@
+"""The QP's ProxQP stages: the request exactly, else the closest wrench (see :mod:`.solver`).
+
+One :class:`ProxStages` per distribution holds this thread's ProxQP workspaces (one per path,
+stage and size) and runs the lexicographic stages on scaled rows within an iteration
+:class:`Budget`.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
+from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
+from .exact import exact_answer
+
+#: ProxQP iterations (outer, its ``max_iter`` count) of one solve, all stages together: a tick
+#: never waits on a degenerate problem. Out of it, the best feasible answer so far is returned
+#: with :data:`BUDGET_EXHAUSTED` in ``sol.active``.
+ITERATION_BUDGET = 300
+#: The request exactly (stage 1) stops after this many, and after half the budget: an
+#: infeasible request (ProxQP does not always call it infeasible) leaves the rest to the
+#: closest-wrench stages. Solved requests take 4 (median) to 107 (largest seen) iterations.
+EXACT_MAX_ITER = 120
+#: ProxQP's inner (semismooth Newton) steps per outer iteration, at most.
+MAX_ITER_IN = 30
+#: In ``sol.active`` when the iteration budget ran out before the last stage converged.
+BUDGET_EXHAUSTED = "iteration budget exhausted"
+
+
+class Budget:
+    """ProxQP (outer) iterations one solve has left, all stages together.
+
+    Args:
+        left: The iterations left.
+
+    """
+
+    __slots__ = ("left",)
+
+    def __init__(self, left: int) -> None:
+        self.left = left
+
+    def charge(self, used: int) -> None:
+        """Take ``used`` iterations off (never below zero)."""
+        self.left -= min(used, self.left)
+
+
+class ProxSlot:
+    """One ProxQP workspace of this thread, and whether its next solve needs ``init``.
+
+    Args:
+        qp: The ``proxqp.dense.QP``.
+        fresh: True until a solve succeeded (and after a failure): start from ``init``.
+
+    """
+
+    __slots__ = ("fresh", "qp")
+
+    def __init__(self, qp: object, fresh: bool = True) -> None:
+        self.qp = qp
+        self.fresh = fresh
+
+
+class StageRows:
+    """The scaled rows of one solve, shared by its stages.
+
+    Args:
+        equality: The ``design`` rows that always hold, then the request's rows.
+        equality_rhs: Their right-hand sides (the request's part is rewritten in place by the
+            closest-wrench stages: ``miss`` reads it).
+        design: How many of ``equality``'s rows always hold.
+        inequality: The inequality rows.
+        lows: Their lower bounds.
+        uppers: Their upper bounds.
+
+    """
+
+    __slots__ = ("design", "equality", "equality_rhs", "inequality", "lows", "uppers")
+
+    def __init__(self, equality, equality_rhs, design, inequality, lows, uppers) -> None:
+        self.equality, self.equality_rhs, self.design = equality, equality_rhs, design
+        self.inequality, self.lows, self.uppers = inequality, lows, uppers
+
+
+class ProxStages:
+    """This thread's ProxQP workspaces of one distribution, and the stages run on them.
+
+    Args:
+        proxqp: proxsuite's ``proxqp`` module.
+        row_names: The inequalities' names (for the conflict error).
+        reactions: The reaction frames' names (for the conflict error).
+
+    """
+
+    def __init__(self, proxqp: object, row_names: Sequence[str], reactions: Sequence[str]):
+        self._proxqp = proxqp
+        self._row_names = row_names
+        self._reactions = reactions
+        self._local = threading.local()
+        self._identities: dict[int, np.ndarray] = {}
+
+    def reset(self) -> None:
+        """Drop this thread's workspaces: the next solve starts cold."""
+        self._local.__dict__.clear()
+
+    def _identity(self, size: int) -> np.ndarray:
+        identity = self._identities.get(size)
+        if identity is None:
+            identity = self._identities[size] = np.eye(size)
+        return identity
+
+    def _slot(self, key: tuple) -> ProxSlot:
+        cache = getattr(self._local, "qps", None)
+        if cache is None:
+            cache = self._local.qps = {}
+        slot = cache.get(key)
+        if slot is None:
+            qp = self._proxqp.dense.QP(*key[2:])
+            qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
+            qp.settings.eps_rel = 0.0
+            qp.settings.max_iter_in = MAX_ITER_IN
+            qp.settings.verbose = False
+            if key[1] != "exact":  # residuals alone can stop with inactive rows held
+                qp.settings.check_duality_gap = True
+                qp.settings.eps_duality_gap_abs = CLOSEST_EPS_ABS
+                qp.settings.eps_duality_gap_rel = 0.0
+            # feasible by construction (the closest answer meets it; shifted bounds hold for
+            # any x): no heuristic infeasibility verdicts
+            if key[1] in ("reached", "conflict"):
+                qp.settings.eps_primal_inf = 0.0
+            slot = cache[key] = ProxSlot(qp)
+        return slot
+
+    def _run(self, key, objective, equality, equality_rhs, rows, miss, budget: Budget):
+        """Solve one QP in this thread's workspace; None if it has no solution.
+
+        The exact stage's workspace lives between ticks: ``update`` and a warm start from the
+        previous answer, ``init`` only the first time and after a failure. The closest-wrench
+        stages start cold every time (``init`` from the equality-constrained guess): warm-started
+        from another tick's multipliers, ProxQP can stop at a point whose residuals are below
+        its accuracy but whose multipliers hold inactive rows (a wrong wrench by up to 1e-2 of
+        the request on solo12); the closest stage without Ruiz preconditioning (the scaled
+        problem needs none: half the cost and as accurate). ``rows`` gives the inequalities;
+        ``miss(x)`` is the largest violation of the rows ``x`` must meet; ``budget`` is charged.
+        """
+        proxqp = self._proxqp
+        slot = self._slot(key)
+        qp, fresh = slot.qp, slot.fresh
+        warm = key[1] == "exact"
+        qp.settings.max_iter = min(EXACT_MAX_ITER, (budget.left + 1) // 2) if warm else budget.left
+        if key[1] == "conflict":
+            qp.settings.max_iter = min(CONFLICT_MAX_ITER, budget.left)
+        inequality, lows, uppers = rows.inequality, rows.lows, rows.uppers
+        if fresh or not warm:
+            qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
+            qp.init(
+                *objective,
+                equality,
+                equality_rhs,
+                inequality,
+                lows,
+                uppers,
+                compute_preconditioner=key[1] != "closest",
+            )
+        else:  # the objective (I, 0) never changes
+            qp.update(None, None, equality, equality_rhs, inequality, lows, uppers)
+        qp.solve()
+        results = qp.results
+        budget.charge(results.info.iter_ext)
+        status = results.info.status
+        # a feasible closest answer out of iterations is kept (the closest wrench approximately
+        # rather than no answer); the request exactly, never: it goes on to the closest wrench
+        if not (
+            status == proxqp.QPSolverOutput.PROXQP_SOLVED
+            or (key[1] != "exact" and status == proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED)
+        ):
+            slot.fresh = True  # start the next solve afresh
+            return None
+        if fresh and warm:  # only after a solve: there is a previous result to start from
+            qp.settings.initial_guess = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+            slot.fresh = False
+        # ProxQP's answer meets the rows to EPS_ABS: an infeasible request can look solved
+        if miss(results.x) > FEASIBILITY_TOL:
+            return None
+        return results
+
+    def _exact(self, rows: StageRows, weights, x, guess, certify: bool) -> tuple:
+        """:func:`.exact.exact_answer` on ``rows``: ``(certified, x, z)``."""
+        return exact_answer(
+            rows.equality, rows.equality_rhs, rows.design, weights, rows.inequality, rows.lows,
+            rows.uppers, x, guess, certify, ACTIVE_TOL,
+        )  # fmt: skip
+
+    def solve(self, path: str, rows: StageRows, miss: Callable, weights, budget: Budget):
+        """The request exactly with the least norm, else the closest wrench (scaled rows).
+
+        Returns ``(x, inequality multipliers, exhausted)``, or None when no ``x`` meets the
+        rows; ``exhausted``: the budget ran out before the last stage converged (``x`` is then
+        the feasible point of least weighted miss found).
+
+        ``path``: the workspaces' family (``"free"`` or ``"forces"``); ``miss(x, rows)``: the
+        largest violation of the first ``rows`` equality rows and the inequalities;
+        ``weights``: the request rows' weights in the closest-wrench stage; ``budget``:
+        charged. (No inequality row is identically zero: the torque limits of joints that no
+        chain moves are left out at declaration, see
+        :class:`~virtual_actuators.distribution.qp.limits.ContactLimits`; all-zero rows stall
+        ProxQP's closest-wrench stage for hundreds of iterations.)
+
+        Raises:
+            ConstraintError: The rows other than the request cannot hold together (named).
+
+        """
+        equality, equality_rhs = rows.equality, rows.equality_rhs
+        size = equality.shape[1]
+        key = (path, "exact", size, len(equality_rhs), len(rows.lows))
+        identity = (self._identity(size), np.zeros(size))
+        results = self._run(
+            key, identity, equality, equality_rhs, rows,
+            lambda x: miss(x, len(equality_rhs)), budget,
+        )  # fmt: skip
+        if results is not None:  # exact on its active set (the same whatever the start)
+            _, x, z = self._exact(rows, weights, results.x, results.z, True)
+            return x, z, False
+        # stage 1's last iterate mostly names the closest answer's active set already: that
+        # answer, certified exact, makes the other stages (and the check below) unnecessary
+        last = self._local.qps[key].qp.results
+        certified, x, z = self._exact(rows, weights, last.x, last.z, False)
+        if certified:
+            return x, z, False
+        if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
+            self._check_conflict(path, rows, size, budget)
+        return self._closest(path, rows, miss, weights, budget, last)
+
+    def _check_conflict(self, path: str, rows: StageRows, size: int, budget: Budget) -> None:
+        """Raise the named conflict when the rows other than the request cannot hold.
+
+        Raises:
+            ConstraintError: The least shift of the bounds that lets them hold is not zero.
+
+        """
+        design = rows.design
+        objective, shifted_eq, shifted_in = least_shift_problem(
+            rows.equality[:design], rows.inequality
+        )
+        shifted_rows = StageRows(
+            shifted_eq, rows.equality_rhs[:design], design, shifted_in, rows.lows, rows.uppers
+        )
+        shifted = self._run(
+            (path, "conflict", len(objective[1]), design, len(rows.lows)), objective, shifted_eq,
+            rows.equality_rhs[:design], shifted_rows, lambda x: 0.0, budget,
+        )  # fmt: skip
+        if shifted is not None and shifted.info.status == self._proxqp.QPSolverOutput.PROXQP_SOLVED:
+            error = conflict_error(shifted.x[size:], self._row_names, self._reactions,
+                                   FEASIBILITY_TOL)  # fmt: skip
+            if error is not None:
+                raise error
+
+    def _closest(self, path, rows: StageRows, miss, weights, budget: Budget, last) -> tuple | None:
+        """Stages 2 and 3: the closest reachable wrench, then its least force norm.
+
+        Infeasible: the closest reachable wrench alone (weighted least squares: a singular
+        Hessian in x, one wrench), then the least force norm that produces it exactly.
+        ``last``: stage 1's results (its last iterate). Returns like :meth:`solve`.
+        """
+        equality, equality_rhs, design = rows.equality, rows.equality_rhs, rows.design
+        size = equality.shape[1]
+        request, target = equality[design:], equality_rhs[design:].copy()
+        weighted = request * weights[:, None]
+        converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
+
+        def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> tuple:
+            """The exact closest answer on the active set ``guess`` names, else ``x``.
+
+            ``exhausted`` stands only for ``x`` (an iterate): an exact answer is final.
+            """
+            equality_rhs[design:] = target  # the request (the exact step finds the wrench)
+            certified, x, z = self._exact(rows, weights, x, guess, False)
+            return x, z, exhausted and not certified
+
+        if budget.left == 0:  # the exact stage's last iterate, when it meets the other rows
+            if miss(last.x, design) <= FEASIBILITY_TOL:
+                return exact(last.x.copy(), last.z.copy(), True)
+            return None
+        closest = self._run(
+            (path, "closest", size, design, len(rows.lows)), (request.T @ weighted,
+            -(weighted.T @ target)), equality[:design], equality_rhs[:design], rows,
+            lambda x: miss(x, design), budget,
+        )  # fmt: skip
+        if closest is None:
+            return None
+        answer, multipliers = closest.x.copy(), closest.z.copy()
+        solved = closest.info.status == converged
+        if budget.left == 0:  # out of iterations: stage 3 (the least norm) cannot run
+            return exact(answer, multipliers, True)
+        equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
+        # a row with a nonzero multiplier holds at every closest answer (complementarity with
+        # any dual solution): as equalities they leave the third stage's feasible set as it is
+        # and make it well posed (without them its rows meet only at the cones' edges)
+        # (at their values at the closest answer, within EPS_ABS of the bounds: rows that the
+        # answer meets exactly, so that ProxQP does not see an inconsistent system)
+        held = np.flatnonzero(np.abs(multipliers) > ACTIVE_TOL)
+        tight = np.vstack((equality, rows.inequality[held]))
+        bounds = tight[len(equality_rhs) :] @ answer
+        reached = self._run(
+            (path, "reached", size, len(tight), len(rows.lows)), (self._identity(size),
+            np.zeros(size)), tight, np.concatenate((equality_rhs, bounds)), rows,
+            lambda x: miss(x, len(equality_rhs)), budget,
+        )  # fmt: skip
+        if reached is None:
+            return exact(answer, multipliers, budget.left == 0)
+        # the active set: stage 3's rows, and the held rows on stage 2's sides
+        guess = reached.z.copy()
+        guess[held] = multipliers[held]
+        return exact(reached.x, guess, reached.info.status != converged or not solved)
+
+
+__all__ = [
+    "BUDGET_EXHAUSTED",
+    "EXACT_MAX_ITER",
+    "ITERATION_BUDGET",
+    "MAX_ITER_IN",
+    "Budget",
+    "ProxSlot",
+    "ProxStages",
+    "StageRows",
+]

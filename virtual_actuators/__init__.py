@@ -46,8 +46,8 @@ from .exceptions import (
 from .kinematics.snapshot import Snapshot
 from .models import Robot, list_robots, load_robot, millipede
 from .models.directory import RobotInfo, describe_robots
+from .vocabulary.axes import AXES, WORLD
 from .vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Linear
-from .vocabulary.frames import AXES, WORLD
 
 __version__ = "0.1.0"
 

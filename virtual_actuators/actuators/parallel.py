@@ -31,10 +31,8 @@ from ..exceptions import (
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.constraints import DesignConstraint, Equal, Linear
-from ..vocabulary.frames import (
+from ..vocabulary.arguments import (
     as_float_array,
-    check_axes_subset,
     check_flag,
     check_name,
     check_names,
@@ -42,9 +40,9 @@ from ..vocabulary.frames import (
     check_robot,
     check_sequence,
     describe,
-    parse_axes,
-    resolve_frame,
 )
+from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
+from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from .serial import check_tolerance, wrench_array
 
 

@@ -21,13 +21,8 @@ from ..exceptions import (
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.frames import (
-    as_float_array,
-    check_number,
-    check_robot,
-    parse_axes,
-    resolve_frame,
-)
+from ..vocabulary.arguments import as_float_array, check_number, check_robot
+from ..vocabulary.axes import parse_axes, resolve_frame
 
 
 def wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:

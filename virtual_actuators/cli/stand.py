@@ -34,7 +34,7 @@ def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
     """
     import virtual_actuators as va
     from virtual_actuators.models.feet import body_frame, find_feet
-    from virtual_actuators.vocabulary.frames import resolve_frame
+    from virtual_actuators.vocabulary.axes import resolve_frame
 
     robot = va.load_robot(name)
     if feet is None:

@@ -26,7 +26,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import as_float_array, check_name, parse_axes
+from ..vocabulary.arguments import as_float_array, check_name
+from ..vocabulary.axes import parse_axes
 
 
 class Component(ABC):

@@ -27,7 +27,7 @@ import sys
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import check_number, describe
+from ..vocabulary.arguments import check_number, describe
 from .base import Component
 
 #: The least positive normal float: below it a float holds fewer bits.

@@ -23,7 +23,8 @@ from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot, thread_data
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
-from ..vocabulary.frames import check_names, check_robot, resolve_frame, resolve_joint
+from ..vocabulary.arguments import check_names, check_robot
+from ..vocabulary.axes import resolve_frame, resolve_joint
 
 
 class GravityCompensation:

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import check_number
+from ..vocabulary.arguments import check_number
 from .base import Component
 
 

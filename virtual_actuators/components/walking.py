@@ -16,7 +16,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..exceptions import InvalidAxisError, InvalidInputError
-from ..vocabulary.frames import as_float_array, check_number, parse_axes
+from ..vocabulary.arguments import as_float_array, check_number
+from ..vocabulary.axes import parse_axes
 from .springs import SpringDamper, Vector
 
 

@@ -18,7 +18,7 @@ from ..actuators import VirtualActuator
 from ..components.base import Component, has_float_path
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.frames import check_name, describe
+from ..vocabulary.arguments import check_name, describe
 from .declaration import (
     YIELD_WEIGHT,
     Actuator,

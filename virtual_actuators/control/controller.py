@@ -25,13 +25,8 @@ from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
-from ..vocabulary.frames import (
-    check_flag,
-    check_names,
-    check_number,
-    check_robot,
-    resolve_joint,
-)
+from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
+from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
 from .contact_limits import enforce_unilateral
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits

@@ -19,7 +19,8 @@ from ..components.base import Component
 from ..distribution.qp import check_weights
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.frames import WORLD, check_axes_subset, check_number, check_sequence, describe
+from ..vocabulary.arguments import check_number, check_sequence, describe
+from ..vocabulary.axes import WORLD, check_axes_subset
 
 Actuator = VirtualActuator | ParallelVirtualActuator
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.frames import as_float_array
+from ..vocabulary.arguments import as_float_array
 
 
 def urdf_effort_limits(robot: Robot) -> np.ndarray:

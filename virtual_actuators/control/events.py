@@ -9,7 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ..exceptions import InvalidAxisError, InvalidInputError
-from ..vocabulary.frames import AXES, check_flag, check_name, check_number, describe
+from ..vocabulary.arguments import check_flag, check_name, check_number, describe
+from ..vocabulary.axes import AXES
 from .state_machine import Context, Event
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}

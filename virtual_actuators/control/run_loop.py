@@ -49,7 +49,7 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
-from ..vocabulary.frames import check_flag, check_number, check_robot, describe
+from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
 from .safe_action import (
     DEFAULT_DAMPING,
     DEFAULT_HOLD_TIME,

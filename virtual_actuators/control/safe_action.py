@@ -15,7 +15,7 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
-from ..vocabulary.frames import as_float_array, check_number, describe
+from ..vocabulary.arguments import as_float_array, check_number, describe
 from .effort_limits import urdf_effort_limits
 
 #: The values of ``run(safe_action=...)``.

@@ -19,7 +19,7 @@ import numpy as np
 from ..exceptions import InvalidInputError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.frames import (
+from ..vocabulary.arguments import (
     check_name,
     check_names,
     check_number,

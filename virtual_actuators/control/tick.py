@@ -19,7 +19,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
-from ..vocabulary.frames import describe
+from ..vocabulary.arguments import describe
 from .failures import AttachmentFailure
 
 

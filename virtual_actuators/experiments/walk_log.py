@@ -234,7 +234,7 @@ class WalkLog:
                 window that holds no tick (the message gives the log's time span).
 
         """
-        from ..vocabulary.frames import check_number
+        from ..vocabulary.arguments import check_number
 
         time = self.data["time"]
         low = -np.inf if start is None else check_number(start, "window start [s]")

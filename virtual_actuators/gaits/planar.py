@@ -22,7 +22,7 @@ from ..control.controller import Controller
 from ..control.state_machine import Context, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.frames import resolve_frame, resolve_joint
+from ..vocabulary.axes import resolve_frame, resolve_joint
 
 SIDES = ("left", "right")
 PLANAR_AXES = ("x", "z", "ry")

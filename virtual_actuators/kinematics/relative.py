@@ -22,7 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import AXES, axis_rows
+from ..vocabulary.axes import AXES, axis_rows
 from .sensor_kernels import relative_sensor
 from .snapshot import Snapshot
 from .tree import tree_of

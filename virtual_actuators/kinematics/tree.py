@@ -18,7 +18,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
-from ..vocabulary.frames import as_float_array, resolve_frame
+from ..vocabulary.arguments import as_float_array
+from ..vocabulary.axes import resolve_frame
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 

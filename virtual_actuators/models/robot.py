@@ -9,7 +9,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
-from ..vocabulary.frames import as_float_array, check_number
+from ..vocabulary.arguments import as_float_array, check_number
 
 
 @dataclass(repr=False)

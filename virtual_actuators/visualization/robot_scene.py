@@ -18,7 +18,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..models.robot import Robot
-from ..vocabulary.frames import AXES, resolve_frame
+from ..vocabulary.axes import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .geometry import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
 from .legend import Palette

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import ConstraintError, InvalidAxisError
-from .frames import AXES, check_name, describe
+from .arguments import check_name, describe
+from .axes import AXES
 
 Label = tuple[str, str]
 

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...exceptions import ConstraintError
-from ...vocabulary.frames import AXES
+from ...vocabulary.axes import AXES
 from ..linalg import dependent_rows
 from ..tolerances import IMPLIED_TOL, JACOBIAN_FLOOR, VACUOUS_TOL
 from .structure import ChainGroup

@@ -13,8 +13,8 @@ import numpy as np
 
 from ...exceptions import ConstraintError, InvalidAxisError, JointNotFoundError
 from ...kinematics.relative import RelativeKinematics
+from ...vocabulary.axes import resolve_joint
 from ...vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
-from ...vocabulary.frames import resolve_joint
 
 
 @dataclass

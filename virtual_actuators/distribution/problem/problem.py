@@ -29,8 +29,8 @@ from ...exceptions import (
 )
 from ...kinematics.relative import KinematicState, RelativeKinematics, skew
 from ...kinematics.snapshot import Snapshot
+from ...vocabulary.axes import AXES
 from ...vocabulary.constraints import DesignConstraint
-from ...vocabulary.frames import AXES
 from ..tolerances import JACOBIAN_FLOOR, SINGULAR_TOL, TINY
 from .checks import check_hard_rows, check_natural_rows, vacuous_joints
 from .declaration import design_rows, parse_contacts, parse_joints

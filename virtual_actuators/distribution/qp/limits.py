@@ -12,7 +12,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ...vocabulary.frames import AXES, as_float_array
+from ...vocabulary.arguments import as_float_array
+from ...vocabulary.axes import AXES
 from ..problem import DistributionProblem
 from ..tolerances import INFINITY, UNLIMITED
 

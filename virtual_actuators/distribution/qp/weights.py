@@ -13,7 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 import numpy as np
 
 from ...exceptions import InvalidAxisError, InvalidInputError
-from ...vocabulary.frames import describe
+from ...vocabulary.arguments import describe
 
 
 def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -> np.ndarray:

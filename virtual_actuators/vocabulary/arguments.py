@@ -1,8 +1,8 @@
-"""Frame and axis names, resolved once and checked, and the argument checks shared by the API.
+"""Argument checks shared by the API.
 
 Every check raises a :class:`~virtual_actuators.VirtualActuatorError` whose message names the
 argument, what was given and what would be valid. They run at declaration time, or on the slow
-path of a per-tick call (when an argument is not already what the fast path expects).
+path of a per-tick call.
 """
 
 from __future__ import annotations
@@ -15,156 +15,9 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import (
-    FrameNotFoundError,
-    InvalidAxisError,
     InvalidInputError,
-    JointNotFoundError,
     VirtualActuatorError,
-    suggestion,
 )
-
-#: All axes a virtual actuator can act along, in their canonical order: forces along and moments
-#: about the axes of the reference frame {O}.
-AXES: tuple[str, ...] = ("x", "y", "z", "rx", "ry", "rz")
-
-#: Name of the inertial frame (Pinocchio's ``universe`` frame).
-WORLD = "world"
-
-
-def resolve_frame(model: pin.Model, name: str, role: str = "frame") -> int:
-    """Return the Pinocchio frame id of ``name`` (``"world"`` is the universe frame).
-
-    Args:
-        model: The Pinocchio model.
-        name: Frame name in the model (a link, a joint or a fixed frame), or ``"world"``.
-        role: What the frame is for, used in the error message (``"action"``, ...).
-
-    Returns:
-        The frame id.
-
-    Raises:
-        FrameNotFoundError: If no frame has that name; the message lists the closest names.
-
-    """
-    if not isinstance(name, str):
-        raise FrameNotFoundError(f"The {role} frame must be a frame name (str), got {name!r}.")
-    if name in (WORLD, "universe"):
-        return 0
-    if model.existFrame(name):
-        return int(model.getFrameId(name))
-    names = [WORLD] + [f.name for f in model.frames][1:]
-    raise FrameNotFoundError(
-        f"The {role} frame {name!r} is not in the model {model.name!r}. "
-        + suggestion(name, names, "frames")
-    )
-
-
-def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
-    """Return the Pinocchio joint id of ``name``.
-
-    Args:
-        model: The Pinocchio model.
-        name: Joint name in the model.
-        role: What the joint is for, used in the error message.
-
-    Returns:
-        The joint id (>= 1).
-
-    Raises:
-        JointNotFoundError: If no joint with degrees of freedom has that name.
-
-    """
-    names = list(model.names)[1:]
-    if isinstance(name, str) and name in names:
-        return int(model.getJointId(name))
-    raise JointNotFoundError(
-        f"The {role} {name!r} is not a joint of the model {model.name!r}. "
-        + suggestion(str(name), names, "joints")
-    )
-
-
-def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]:
-    """Check that ``axes`` is a non-empty ordered subset of :data:`AXES`.
-
-    Args:
-        axes: Axis names, e.g. ``("x", "z", "ry")``, or one name such as ``"z"``.
-        what: The argument's name, used in error messages.
-
-    Returns:
-        The axes as a tuple of str.
-
-    Raises:
-        InvalidAxisError: For axes that are not a str or an ordered collection of str (None, a
-            number, a set, a dict, bytes), an unknown, repeated or out-of-order axis, or no axis.
-
-    """
-    axes = _axis_tuple(axes, what)
-    if not axes:
-        raise InvalidAxisError(f"At least one axis is needed in {what}; valid axes are {AXES}.")
-    for axis in axes:
-        if axis not in AXES:
-            raise InvalidAxisError(
-                f"Unknown axis {axis!r} in {what}; valid axes are {AXES}. "
-                + suggestion(str(axis), AXES, "axes")
-            )
-    if len(set(axes)) != len(axes):
-        raise InvalidAxisError(f"{what} {axes} name an axis twice.")
-    order = [AXES.index(a) for a in axes]
-    if order != sorted(order):
-        expected = tuple(sorted(axes, key=AXES.index))
-        raise InvalidAxisError(
-            f"{what} {axes} are out of order: give them in the order {AXES}, i.e. {expected}."
-        )
-    return axes
-
-
-def _axis_tuple(axes: object, what: str) -> tuple:
-    """``axes`` as a tuple (a str is one axis); entries that are str become plain str."""
-    if isinstance(axes, str):
-        return (str(axes),)
-    if isinstance(axes, (bytes, Mapping, Set)) or not isinstance(axes, Iterable):
-        raise InvalidAxisError(
-            f"{what} must be an axis name or an ordered sequence of axis names from {AXES}, "
-            f"got {describe(axes)}."
-        )
-    return tuple(str(a) if isinstance(a, str) else a for a in axes)
-
-
-def axis_rows(axes: Sequence[str]) -> np.ndarray:
-    """Return the indices of ``axes`` among the six rows ``x y z rx ry rz`` of a spatial vector."""
-    return np.array([AXES.index(a) for a in axes], dtype=int)
-
-
-def check_axes_subset(requested: Iterable[str], axes: Sequence[str], what: str) -> tuple[str, ...]:
-    """Check that every axis in ``requested`` is one of the actuator's ``axes``.
-
-    Args:
-        requested: Axis names given by the user (e.g. ``free=("x",)``), or one name.
-        axes: The actuator's axes.
-        what: The argument's name, used in error messages.
-
-    Returns:
-        The requested axes, in the actuator's order.
-
-    Raises:
-        InvalidAxisError: If ``requested`` is not a str or a collection of str, or an axis is
-            not one of ``axes``.
-
-    """
-    if isinstance(requested, str):
-        requested = (requested,)
-    elif isinstance(requested, (bytes, Mapping)) or not isinstance(requested, Iterable):
-        raise InvalidAxisError(
-            f"{what} must be an axis name or a sequence of axis names among this actuator's "
-            f"axes {tuple(axes)}, got {describe(requested)}."
-        )
-    requested = tuple(requested)
-    for axis in requested:
-        if not isinstance(axis, str) or axis not in axes:
-            raise InvalidAxisError(
-                f"{what} axis {axis!r} is not one of this actuator's axes {tuple(axes)}."
-            )
-    return tuple(a for a in axes if a in requested)
 
 
 # -- argument checks ---------------------------------------------------------------------------
@@ -373,19 +226,3 @@ def as_float_array(value: object, what: str, expected: str, copy: bool = False) 
         if kind == "b":
             raise InvalidInputError(f"{what} must be {expected}, got bool values.")
     raise InvalidInputError(f"{what} must be {expected}, got {describe(value)}.")
-
-
-#: Vectors at most this long are summed on plain floats by :func:`sums_finite`.
-_SHORT = 64
-
-
-def sums_finite(values: np.ndarray) -> bool:
-    """Whether a float64 vector's entries have a finite sum (then every entry is finite).
-
-    The per-tick finiteness check: False when an entry is NaN or infinite, and also when finite
-    entries overflow (check entry by entry then). A control tick's vectors are short, and a sum
-    of plain floats costs less there than a BLAS call; long vectors take a dot product.
-    """
-    if values.size <= _SHORT:
-        return math.isfinite(sum(values.tolist()))
-    return math.isfinite(values @ values)

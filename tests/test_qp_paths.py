@@ -68,12 +68,12 @@ def _check_paths(body, q, wrench, sol) -> None:
     same closest wrench, residual and forces to 1e-8 of the request.
     """
     keep = np.ones(body.n, dtype=bool)
-    raw, numbers = body.qp.solve(body.kinematics.snapshot(q), wrench, keep, compiled=False)
+    tick = body.qp.solve(body.kinematics.snapshot(q), wrench, keep, compiled=False)
     scale = max(np.abs(wrench).max(), 1.0)
     if sol.residual <= 1e-9 * scale:
-        np.testing.assert_allclose(sol.forces, raw.forces, rtol=0, atol=1e-9 * scale)
+        np.testing.assert_allclose(sol.forces, tick.raw.forces, rtol=0, atol=1e-9 * scale)
     else:
-        _check_same_closest(sol, raw.forces, numbers[2], numbers[4], scale)
+        _check_same_closest(sol, tick.raw.forces, tick.produced, tick.residual, scale)
 
 
 def _check_same_closest(sol, forces, produced, residual, scale) -> None:

@@ -357,30 +357,29 @@ class ParallelVirtualActuator:
             fast = self.qp.solve(snapshot, wrench, keep, compiled, weights)
         elif compiled and solver is self.partitioner:
             fast = self.compiled.solve(snapshot, wrench, keep)
-        fast_used = fast is not None and solver is self.partitioner  # the compiled kernel
         if fast is None:
             fallback = self.dense if solver is self.partitioner else None
             fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
-        raw, (tau, passive_torque, produced, requested, residual, scale, rounding) = fast
-        limit = tolerance(tol, scale, rounding)  # Solution.admissible's rule, on every path
-        missed = not residual <= limit
+        raw, tau = fast.raw, fast.tau
+        limit = tolerance(tol, fast.scale, fast.rounding)  # Solution.admissible's rule, always
+        missed = not fast.residual <= limit
         base_effort = tau[:6].copy() if self._floating else np.zeros(0)
         solution = Solution(  # positional (a tick's cost): the fields in declaration order
             tau,
             raw.forces,
-            produced,
+            fast.produced,
             raw.sets,
-            residual,
+            fast.residual,
             label(raw.method, not missed),
-            requested,
+            fast.requested,
             self.reactions,
             self.axes,
             free,
-            passive_torque,
+            fast.tau_passive,
             base_effort,
             raw.solver,
             raw.systems,
-            fast_used,
+            fast.compiled,
             raw.active,
             limit,
         )

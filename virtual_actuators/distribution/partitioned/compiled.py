@@ -20,7 +20,7 @@ import numpy as np
 
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
-from ..solution import RawSolution
+from ..solution import RawSolution, TickResult
 from . import kernel_tables, kernels
 from .reference import PartitionedSolver
 
@@ -184,13 +184,11 @@ class CompiledDistribution:
 
     def solve(
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray
-    ) -> tuple[RawSolution, tuple] | None:
+    ) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 
         Returns:
-            ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
-            rounding))``
-            with ``tau`` zero at limp and passive joints, or None.
+            The tick's result (``tau`` zero at limp and passive joints), or None.
 
         """
         mode = self._modes.get(keep.tobytes())
@@ -211,7 +209,7 @@ class CompiledDistribution:
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         tau, passive = buffer[at : at + nv], buffer[at + nv : at + 2 * nv]
         produced, requested = buffer[at + 2 * nv : at + 2 * nv + n], buffer[at + 2 * nv + n :]
-        return raw, (tau, passive, produced, requested, out[1], out[2], out[3])
+        return TickResult(raw, tau, passive, produced, requested, out[1], out[2], out[3], True)
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
+from ..registry import Request
 from ..solution import RawSolution, TickResult
 from . import kernel_tables, kernels
 from .reference import PartitionedSolver
@@ -182,15 +183,19 @@ class CompiledDistribution:
         self._modes[keep.tobytes()] = mode
         return mode
 
-    def solve(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray
-    ) -> TickResult | None:
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
+
+        The ``"compiled"`` backend of :data:`~virtual_actuators.distribution.registry.METHODS`
+        (None too when ``request.compiled`` is False).
 
         Returns:
             The tick's result (``tau`` zero at limp and passive joints), or None.
 
         """
+        if not request.compiled:
+            return None
+        keep = request.keep
         mode = self._modes.get(keep.tobytes())
         if mode is None:  # once per set of free axes (two threads may both build it: same mode)
             mode = self._mode(keep)

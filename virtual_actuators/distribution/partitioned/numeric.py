@@ -19,6 +19,7 @@ from ...exceptions import SingularConfigurationError
 from ..linalg import power_of_two_scale, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
+from ..registry import Request
 from ..solution import TickResult
 from ..tolerances import CONSTRAINT_TOL, ROUNDING
 
@@ -123,4 +124,30 @@ def solve_numpy(
     return TickResult(raw, tau, ev.passive_torque, produced, requested, residual, scale, rounding)
 
 
-__all__ = ["solve_numpy"]
+class NumpyBackend:
+    """A numpy solver as a backend: the ``"reference"`` (partitioned, dense behind) or ``"dense"``.
+
+    Args:
+        problem: The declaration-time problem.
+        solver: The partitioned or dense solver of that problem.
+        fallback: The dense solver behind the partitioned one, or None.
+
+    """
+
+    def __init__(self, problem: DistributionProblem, solver: object, fallback: object = None):
+        self.problem, self.solver, self.fallback = problem, solver, fallback
+
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult:
+        """:func:`solve_numpy` with this backend's solvers (always answers).
+
+        Raises:
+            SingularConfigurationError: No distribution can be solved at this configuration.
+            ConstraintError: The constraints contradict each other at this configuration.
+
+        """
+        return solve_numpy(
+            self.problem, self.solver, snapshot, wrench, request.keep, self.fallback
+        )
+
+
+__all__ = ["NumpyBackend", "solve_numpy"]

@@ -76,6 +76,7 @@ import numpy as np
 from ...exceptions import ConstraintError, InvalidInputError
 from ..linalg import stable_norm
 from ..problem import DistributionProblem
+from ..registry import Request
 from ..solution import RawSolution, TickResult
 from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY, ROUNDING
 from .compiled import CompiledQPMatrices
@@ -169,24 +170,17 @@ class QPDistribution:
             "min_normal with tight torque limits)."
         )
 
-    def solve(
-        self,
-        snapshot: object,
-        wrench: np.ndarray,
-        keep: np.ndarray,
-        compiled: bool = True,
-        weights: np.ndarray | None = None,
-    ) -> TickResult:
-        """Distribute ``wrench`` with the QP at a snapshot.
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult:
+        """Distribute ``wrench`` with the QP at a snapshot (the ``"qp"`` backend).
 
         Args:
             snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
             wrench: ``(n,)`` requested wrench.
-            keep: ``(n,)`` bool, the prescribed axes.
-            compiled: Build the matrices with the compiled kernel when it applies (False: with
-                numpy over all force entries, the reference).
-            weights: ``(n,)`` checked per-axis weights of the closest-wrench stage for this
-                solve (:func:`.weights.check_weights`); None: the declaration's.
+            request: The prescribed axes (``keep``); ``compiled``: build the matrices with the
+                compiled kernel when it applies (False: with numpy over all force entries, the
+                reference); ``weights``: ``(n,)`` checked per-axis weights of the
+                closest-wrench stage for this solve (:func:`.weights.check_weights`), None: the
+                declaration's.
 
         Returns:
             The :class:`~virtual_actuators.distribution.solution.TickResult`, like the other
@@ -199,10 +193,11 @@ class QPDistribution:
                 iterations.
 
         """
+        keep, weights = request.keep, request.weights
         weights = (self.weights if weights is None else weights)[keep]
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, compiled, weights, budget)
+            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget)
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 

@@ -17,6 +17,7 @@ from oracles import external_forces, rnea_torques, zero_gravity_model
 from test_qp import HEX_FEET, SOLO_FEET, TOL, _check_cone, _check_torques, _q, _weight
 
 import virtual_actuators as va
+from virtual_actuators.distribution.registry import Request
 
 ALL_HEX_FEET = [f"foot_{i}" for i in range(1, 7)]
 SOLES = {"left_sole_link": (0.1, 0.05), "right_sole_link": (0.1, 0.05)}
@@ -32,6 +33,11 @@ def _body(name: str, soles: bool = True, **kwargs) -> va.ParallelVirtualActuator
     feet = SOLO_FEET if name == "solo12" else ALL_HEX_FEET
     action = "base_link" if name == "solo12" else "body"
     return va.ParallelVirtualActuator(robot, action, feet, "world", **kwargs)
+
+
+def _numpy_request(keep: np.ndarray) -> Request:
+    """The QP on its numpy path (the reference of the compiled one), every axis as given."""
+    return Request("qp", (), keep, compiled=False)
 
 
 def _request(robot: va.Robot, rng: np.random.Generator, spread: float) -> np.ndarray:
@@ -68,12 +74,12 @@ def _check_paths(body, q, wrench, sol) -> None:
     same closest wrench, residual and forces to 1e-8 of the request.
     """
     keep = np.ones(body.n, dtype=bool)
-    raw, numbers = body.qp.solve(body.kinematics.snapshot(q), wrench, keep, compiled=False)
+    tick = body.qp.solve(body.kinematics.snapshot(q), wrench, _numpy_request(keep))
     scale = max(np.abs(wrench).max(), 1.0)
     if sol.residual <= 1e-9 * scale:
-        np.testing.assert_allclose(sol.forces, raw.forces, rtol=0, atol=1e-9 * scale)
+        np.testing.assert_allclose(sol.forces, tick.raw.forces, rtol=0, atol=1e-9 * scale)
     else:
-        _check_same_closest(sol, raw.forces, numbers[2], numbers[4], scale)
+        _check_same_closest(sol, tick.raw.forces, tick.produced, tick.residual, scale)
 
 
 def _check_same_closest(sol, forces, produced, residual, scale) -> None:
@@ -111,7 +117,7 @@ def test_inequalities_hold_and_both_paths_agree(name, mu, min_normal, limit, cou
         except va.ConstraintError as error:  # the least normal force and the limits clash
             assert "torque" in str(error)
             with pytest.raises(va.ConstraintError):
-                body.qp.solve(body.kinematics.snapshot(q), wrench, keep, compiled=False)
+                body.qp.solve(body.kinematics.snapshot(q), wrench, _numpy_request(keep))
             continue
         solved += 1
         active += bool(sol.active)

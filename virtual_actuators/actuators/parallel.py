@@ -7,6 +7,7 @@ dense reference of eq. 10-11) before mapping the chain forces to joint torques.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 
@@ -14,11 +15,12 @@ import numpy as np
 
 from ..distribution.partitioned.compiled import CompiledDistribution
 from ..distribution.partitioned.dense import DenseSolver
-from ..distribution.partitioned.numeric import solve_numpy
+from ..distribution.partitioned.numeric import NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.checks import check_counts
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
+from ..distribution.registry import METHODS, Backend, Request, dispatch
 from ..distribution.solution import Solution, label, tolerance
 from ..exceptions import (
     ConstraintError,
@@ -305,12 +307,8 @@ class ParallelVirtualActuator:
             compiled = check_flag(compiled, "compiled")
         snapshot = self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
-        free, keep, solver = self.plan(free, method)
-        if weights is not None:
-            weights = check_weights(weights, self.axes)
-        solution, missed = self.solve_checked(
-            snapshot, wrench, free, keep, solver, compiled, weights, tol
-        )
+        request = self.plan(free, method, compiled, weights)
+        solution, missed = self.solve_checked(snapshot, wrench, request, tol)
         if strict and missed:
             raise InadmissibleWrenchError(
                 f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "
@@ -321,26 +319,14 @@ class ParallelVirtualActuator:
         return solution
 
     def solve_checked(
-        self,
-        snapshot: Snapshot,
-        wrench: np.ndarray,
-        free: tuple[str, ...],
-        keep: np.ndarray,
-        solver: object,
-        compiled: bool = True,
-        weights: np.ndarray | None = None,
-        tol: float = 1e-6,
+        self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6
     ) -> tuple[Solution, bool]:
         """:meth:`solve` on arguments checked already (a controller's per-tick call).
 
         Args:
             snapshot: The tick's snapshot of this actuator's robot.
             wrench: ``(n,)`` finite float request.
-            free: The free axes, as :meth:`plan` returns them.
-            keep: ``(n,)`` bool, the prescribed axes (from :meth:`plan`).
-            solver: One of :attr:`solvers`' values.
-            compiled: Use the compiled kernels where they apply.
-            weights: Checked QP weights, or None.
+            request: The checked method, free axes, path and weights (from :meth:`plan`).
             tol: Admissibility tolerance (see :meth:`solve`).
 
         Returns:
@@ -352,59 +338,77 @@ class ParallelVirtualActuator:
             ConstraintError: Constraints that contradict each other here.
 
         """
-        fast = None
-        if solver is self.qp:
-            fast = self.qp.solve(snapshot, wrench, keep, compiled, weights)
-        elif compiled and solver is self.partitioner:
-            fast = self.compiled.solve(snapshot, wrench, keep)
-        fast_used = fast is not None and solver is self.partitioner  # the compiled kernel
-        if fast is None:
-            fallback = self.dense if solver is self.partitioner else None
-            fast = solve_numpy(self.problem, solver, snapshot, wrench, keep, fallback)
-        raw, (tau, passive_torque, produced, requested, residual, scale, rounding) = fast
-        limit = tolerance(tol, scale, rounding)  # Solution.admissible's rule, on every path
-        missed = not residual <= limit
+        fast = dispatch(self.backends, snapshot, wrench, request)
+        raw, tau = fast.raw, fast.tau
+        limit = tolerance(tol, fast.scale, fast.rounding)  # Solution.admissible's rule, always
+        missed = not fast.residual <= limit
         base_effort = tau[:6].copy() if self._floating else np.zeros(0)
         solution = Solution(  # positional (a tick's cost): the fields in declaration order
             tau,
             raw.forces,
-            produced,
+            fast.produced,
             raw.sets,
-            residual,
+            fast.residual,
             label(raw.method, not missed),
-            requested,
+            fast.requested,
             self.reactions,
             self.axes,
-            free,
-            passive_torque,
+            request.free,
+            fast.tau_passive,
             base_effort,
             raw.solver,
             raw.systems,
-            fast_used,
+            fast.compiled,
             raw.active,
             limit,
         )
         return solution, missed
 
-    def plan(self, free: Sequence[str] = (), method: str = "partitioned") -> tuple:
-        """The checked ``(free, keep, solver)`` of a set of free axes and a method.
+    def plan(
+        self,
+        free: Sequence[str] = (),
+        method: str = "partitioned",
+        compiled: bool = True,
+        weights: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
+    ) -> Request:
+        """The checked :class:`~virtual_actuators.distribution.registry.Request` of a solve.
 
-        What :meth:`solve` derives from ``free`` and ``method`` on every call, for callers that
-        solve the same way every tick (:meth:`solve_checked`).
+        What :meth:`solve` derives from ``free``, ``method`` and ``weights`` on every call, for
+        callers that solve the same way every tick (:meth:`solve_checked`).
 
         Raises:
-            InvalidAxisError: ``free`` is not a collection of the actuator's axes.
-            InvalidInputError: Unknown ``method``.
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
+                ``weights`` names an axis it lacks.
+            InvalidInputError: Unknown ``method``, or bad ``weights``.
             ConstraintError: Too many constraints for those free axes.
 
         """
         free, keep = self._keep(free)
-        solver = self.solvers.get(method) if isinstance(method, str) else None
-        if solver is None:
+        if not isinstance(method, str) or method not in METHODS:
             raise InvalidInputError(
-                f"method must be one of {list(self.solvers)}, got {describe(method)}."
+                f"method must be one of {list(METHODS)}, got {describe(method)}."
             )
-        return free, keep, solver
+        if weights is not None:
+            weights = check_weights(weights, self.axes)
+        return Request(method, free, keep, compiled, weights)
+
+    @functools.cached_property
+    def backends(self) -> dict[str, Backend]:
+        """The solver backends by name.
+
+        :data:`~virtual_actuators.distribution.registry.METHODS` lists each method's, in order.
+        """
+        return {
+            "compiled": self.compiled,
+            "reference": NumpyBackend(self.problem, self.partitioner, self.dense),
+            "dense": NumpyBackend(self.problem, self.dense),
+            "qp": self.qp,
+        }
+
+    @property
+    def methods(self) -> tuple[str, ...]:
+        """The names ``solve(method=...)`` accepts (the first is the default)."""
+        return tuple(METHODS)
 
     def torques(self, q: np.ndarray | Snapshot, forces: np.ndarray) -> np.ndarray:
         """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.

@@ -84,9 +84,9 @@ class Attachment:
         ):
             self.float_components = list(self.components)
             self.float_slots = [(slot.start, slot.stop) for slot in self.slots]
-        # A parallel actuator's checked (free axes, prescribed axes, solver) for its solves
+        # A parallel actuator's checked request (method, free axes, weights) for its solves
         plan = getattr(self.actuator, "plan", None)
-        self.plan = plan(self.free, self.method) if plan is not None else None
+        self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
         # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
         if self.yield_mask is None:
             return

@@ -9,6 +9,8 @@ the rows.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..distribution.solution import Solution, label
@@ -216,7 +218,8 @@ def enforce_unilateral(
         if np.all(at_full >= lows - 1e-9):
             return solution
     base = np.where(attachment.yield_mask, 0.0, wrench)
-    fallback = attachment.actuator.solve_checked(q, base, *attachment.plan)[0]
+    request = dataclasses.replace(attachment.plan, weights=None)  # the declaration's weights
+    fallback = attachment.actuator.solve_checked(q, base, request)[0]
     if margin is None:
         alpha = ratio_test(at_full, rows @ fallback.forces.ravel(), lows)
     else:

@@ -343,9 +343,7 @@ class Controller:
                 sums.produced[name] = wrench
                 return
             # free axes, method and weights checked at add(); the wrench by Attachment.wrench
-            solution = actuator.solve_checked(
-                snapshot, wrench, *attachment.plan, weights=attachment.weights
-            )[0]
+            solution = actuator.solve_checked(snapshot, wrench, attachment.plan)[0]
             if attachment.yield_mask is not None:
                 solution = enforce_unilateral(attachment, snapshot, wrench, solution)
         except CAUGHT as error:

@@ -250,10 +250,10 @@ def check_method(name: str, actuator: Actuator, method: object, limited: bool) -
     """
     if method == "partitioned":
         return method
-    solvers = list(getattr(actuator, "solvers", {}))
-    if method not in solvers:
+    methods = list(getattr(actuator, "methods", ()))
+    if method not in methods:
         raise InvalidInputError(
-            f"Attachment {name!r}: method must be one of {solvers or ['partitioned']} for "
+            f"Attachment {name!r}: method must be one of {methods or ['partitioned']} for "
             f"this actuator, got {describe(method)}."
         )
     if method == "qp" and limited:

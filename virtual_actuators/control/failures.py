@@ -149,9 +149,8 @@ def recover(
             why = "no fallback for a serial actuator"
         else:
             try:
-                solution = actuator.solve_checked(
-                    snapshot, wrench, *actuator.plan(attachment.free, "partitioned")
-                )[0]
+                request = actuator.plan(attachment.free, "partitioned")
+                solution = actuator.solve_checked(snapshot, wrench, request)[0]
                 if np.isfinite(solution.tau).all():
                     tau = np.minimum(np.maximum(solution.tau, limits[0]), limits[1])
                     failures[name] = AttachmentFailure(reason, error_name, message, "fallback")

@@ -28,6 +28,33 @@ class RawSolution:
     active: tuple[str, ...] = ()
 
 
+@dataclass(slots=True)
+class TickResult:
+    """What every solver backend returns for one tick (before :class:`Solution` wraps it).
+
+    Attributes:
+        raw: The distribution, its method, partition, systems, solver and active rows.
+        tau: ``(nv,)`` joint efforts, zero at limp and passive joints.
+        tau_passive: ``(nv,)`` torques of the passive springs.
+        produced: ``(n,)`` the wrench produced.
+        requested: ``(n,)`` the request (free axes hold the produced value).
+        residual: Norm of the prescribed part of the request not produced.
+        scale: The larger of the request's and the produced wrench's norms, prescribed axes.
+        rounding: The rounding of chain forces that cancel (the path's own estimate).
+        compiled: Whether a compiled kernel computed it.
+
+    """
+
+    raw: RawSolution
+    tau: np.ndarray
+    tau_passive: np.ndarray
+    produced: np.ndarray
+    requested: np.ndarray
+    residual: float
+    scale: float
+    rounding: float
+    compiled: bool = False
+
 
 def tolerance(tol: float, scale: float, rounding: float) -> float:
     """The residual up to which a request counts as produced: ``tol * scale + rounding``.

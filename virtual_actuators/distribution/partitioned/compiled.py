@@ -20,7 +20,8 @@ import numpy as np
 
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
-from ..solution import RawSolution
+from ..registry import Request
+from ..solution import RawSolution, TickResult
 from . import kernel_tables, kernels
 from .reference import PartitionedSolver
 
@@ -182,17 +183,19 @@ class CompiledDistribution:
         self._modes[keep.tobytes()] = mode
         return mode
 
-    def solve(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray
-    ) -> tuple[RawSolution, tuple] | None:
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 
+        The ``"compiled"`` backend of :data:`~virtual_actuators.distribution.registry.METHODS`
+        (None too when ``request.compiled`` is False).
+
         Returns:
-            ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
-            rounding))``
-            with ``tau`` zero at limp and passive joints, or None.
+            The tick's result (``tau`` zero at limp and passive joints), or None.
 
         """
+        if not request.compiled:
+            return None
+        keep = request.keep
         mode = self._modes.get(keep.tobytes())
         if mode is None:  # once per set of free axes (two threads may both build it: same mode)
             mode = self._mode(keep)
@@ -211,7 +214,7 @@ class CompiledDistribution:
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         tau, passive = buffer[at : at + nv], buffer[at + nv : at + 2 * nv]
         produced, requested = buffer[at + 2 * nv : at + 2 * nv + n], buffer[at + 2 * nv + n :]
-        return raw, (tau, passive, produced, requested, out[1], out[2], out[3])
+        return TickResult(raw, tau, passive, produced, requested, out[1], out[2], out[3], True)
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

@@ -19,7 +19,8 @@ from ...exceptions import SingularConfigurationError
 from ..linalg import power_of_two_scale, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..solution import RawSolution
+from ..registry import Request
+from ..solution import TickResult
 from ..tolerances import CONSTRAINT_TOL, ROUNDING
 
 
@@ -59,7 +60,7 @@ def solve_numpy(
     wrench: np.ndarray,
     keep: np.ndarray,
     fallback: object | None = None,
-) -> tuple[RawSolution, tuple]:
+) -> TickResult:
     """Distribute ``wrench`` with a numpy solver (partitioned or dense) at a snapshot.
 
     Args:
@@ -75,11 +76,10 @@ def solve_numpy(
             the partitioned solver); ``raw.solver`` says which one answered.
 
     Returns:
-        ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
-        rounding))`` like :meth:`CompiledDistribution.solve`: ``tau`` zero at limp and passive
-        joints; the request is admissible when ``residual <= tol * scale + rounding``, with
-        ``scale`` the larger of the request and what was produced on the prescribed axes and
-        ``rounding`` that of chain forces that cancel (``ROUNDING * max |F|``).
+        The :class:`~virtual_actuators.distribution.solution.TickResult`: ``tau`` zero at limp
+        and passive joints; the request is admissible when ``residual <= tol * scale +
+        rounding``, with ``scale`` the larger of the request and what was produced on the
+        prescribed axes and ``rounding`` that of chain forces that cancel (``ROUNDING * max |F|``).
 
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.
@@ -121,7 +121,33 @@ def solve_numpy(
     produced = produced_scaled / factor
     requested = np.where(keep, wrench, produced)
     scale = max(request, output)
-    return raw, (tau, ev.passive_torque, produced, requested, residual, scale, rounding)
+    return TickResult(raw, tau, ev.passive_torque, produced, requested, residual, scale, rounding)
 
 
-__all__ = ["solve_numpy"]
+class NumpyBackend:
+    """A numpy solver as a backend: the ``"reference"`` (partitioned, dense behind) or ``"dense"``.
+
+    Args:
+        problem: The declaration-time problem.
+        solver: The partitioned or dense solver of that problem.
+        fallback: The dense solver behind the partitioned one, or None.
+
+    """
+
+    def __init__(self, problem: DistributionProblem, solver: object, fallback: object = None):
+        self.problem, self.solver, self.fallback = problem, solver, fallback
+
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult:
+        """:func:`solve_numpy` with this backend's solvers (always answers).
+
+        Raises:
+            SingularConfigurationError: No distribution can be solved at this configuration.
+            ConstraintError: The constraints contradict each other at this configuration.
+
+        """
+        return solve_numpy(
+            self.problem, self.solver, snapshot, wrench, request.keep, self.fallback
+        )
+
+
+__all__ = ["NumpyBackend", "solve_numpy"]

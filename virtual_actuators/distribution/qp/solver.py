@@ -76,7 +76,8 @@ import numpy as np
 from ...exceptions import ConstraintError, InvalidInputError
 from ..linalg import stable_norm
 from ..problem import DistributionProblem
-from ..solution import RawSolution
+from ..registry import Request
+from ..solution import RawSolution, TickResult
 from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY, ROUNDING
 from .compiled import CompiledQPMatrices
 from .kernel_answer import finish, violation
@@ -169,29 +170,21 @@ class QPDistribution:
             "min_normal with tight torque limits)."
         )
 
-    def solve(
-        self,
-        snapshot: object,
-        wrench: np.ndarray,
-        keep: np.ndarray,
-        compiled: bool = True,
-        weights: np.ndarray | None = None,
-    ) -> tuple[RawSolution, tuple]:
-        """Distribute ``wrench`` with the QP at a snapshot.
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult:
+        """Distribute ``wrench`` with the QP at a snapshot (the ``"qp"`` backend).
 
         Args:
             snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
             wrench: ``(n,)`` requested wrench.
-            keep: ``(n,)`` bool, the prescribed axes.
-            compiled: Build the matrices with the compiled kernel when it applies (False: with
-                numpy over all force entries, the reference).
-            weights: ``(n,)`` checked per-axis weights of the closest-wrench stage for this
-                solve (:func:`.weights.check_weights`); None: the declaration's.
+            request: The prescribed axes (``keep``); ``compiled``: build the matrices with the
+                compiled kernel when it applies (False: with numpy over all force entries, the
+                reference); ``weights``: ``(n,)`` checked per-axis weights of the
+                closest-wrench stage for this solve (:func:`.weights.check_weights`), None: the
+                declaration's.
 
         Returns:
-            ``(raw solution, (tau, passive torques, produced, requested, residual, scale,
-            rounding))`` like the other paths, ``raw.method == "qp"``, ``raw.active`` the names
-            of the active inequalities.
+            The :class:`~virtual_actuators.distribution.solution.TickResult`, like the other
+            paths: ``raw.method == "qp"``, ``raw.active`` the names of the active inequalities.
 
         Raises:
             ConstraintError: No distribution meets the equalities and the inequalities here
@@ -200,10 +193,11 @@ class QPDistribution:
                 iterations.
 
         """
+        keep, weights = request.keep, request.weights
         weights = (self.weights if weights is None else weights)[keep]
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, compiled, weights, budget)
+            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget)
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
@@ -234,7 +228,7 @@ class QPDistribution:
         n = len(wrench)
         tau, passive = out[pn : pn + nv], out[pn + nv : pn + 2 * nv]
         produced, requested = out[pn + 2 * nv : pn + 2 * nv + n], out[pn + 2 * nv + n :]
-        return raw, (tau, passive, produced, requested, residual, scale, rounding)
+        return TickResult(raw, tau, passive, produced, requested, residual, scale, rounding)
 
     def _solve_numpy(
         self,
@@ -243,7 +237,7 @@ class QPDistribution:
         keep: np.ndarray,
         weights: np.ndarray,
         budget: Budget,
-    ) -> tuple[RawSolution, tuple]:
+    ) -> TickResult:
         """:meth:`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
 
         Raises:
@@ -299,8 +293,8 @@ class QPDistribution:
         rounding = ROUNDING * float(np.abs(x).max(initial=0.0)) + EPS_ABS * 10 * scale
         requested = np.where(keep, wrench, produced)
         raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
-        return raw, (tau, ev.passive_torque, produced, requested, residual,
-                     max(request, output), rounding)  # fmt: skip
+        size, passive = max(request, output), ev.passive_torque
+        return TickResult(raw, tau, passive, produced, requested, residual, size, rounding)
 
     def _select(self, keep: np.ndarray) -> np.ndarray:
         """``(k, p n)``: the rows summing the chains' forces on the prescribed axes."""

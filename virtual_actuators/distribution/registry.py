@@ -1,0 +1,84 @@
+"""The solvers of a parallel actuator by name: a checked request, and each method's backends.
+
+Every backend has one signature, ``solve(snapshot, wrench, request) -> TickResult | None``
+(qpsolvers' pattern): None hands the tick on to the method's next backend. A method names its
+backends in order (:data:`METHODS`); the last one always answers, or raises a typed error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from .solution import TickResult
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Request:
+    """How to solve, checked once (``ParallelVirtualActuator.plan``), then reused per tick.
+
+    Attributes:
+        method: ``"partitioned"``, ``"dense"`` or ``"qp"`` (a key of :data:`METHODS`).
+        free: The axes left to the solver.
+        keep: ``(n,)`` bool, the prescribed axes.
+        compiled: Use the compiled kernels where they apply.
+        weights: ``method="qp"``: checked per-axis weights of the closest wrench; None: the
+            declaration's.
+
+    """
+
+    method: str
+    free: tuple[str, ...]
+    keep: np.ndarray
+    compiled: bool = True
+    weights: np.ndarray | None = None
+
+
+class Backend(Protocol):
+    """One way to solve a tick."""
+
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
+        """The tick's result, or None to hand the tick to the method's next backend."""
+
+
+#: Each method's backends, tried in order: the compiled partitioned kernel hands the ticks it
+#: cannot decide to the numpy reference (which falls back on the dense solver itself)
+METHODS: dict[str, tuple[str, ...]] = {
+    "partitioned": ("compiled", "reference"),
+    "dense": ("dense",),
+    "qp": ("qp",),
+}
+
+
+def dispatch(
+    backends: Mapping[str, Backend], snapshot: object, wrench: np.ndarray, request: Request
+) -> TickResult:
+    """Solve with the request's method: its backends in order, until one answers.
+
+    Args:
+        backends: The actuator's backends by name (every name :data:`METHODS` lists).
+        snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+        wrench: ``(n,)`` finite request.
+        request: The checked request.
+
+    Returns:
+        The first backend's answer that is not None.
+
+    Raises:
+        SingularConfigurationError: No distribution can be solved at this configuration.
+        ConstraintError: Constraints that contradict each other here.
+        RuntimeError: Every backend of the method handed the tick on (a bug: the last one
+            always answers).
+
+    """
+    for name in METHODS[request.method]:
+        tick = backends[name].solve(snapshot, wrench, request)
+        if tick is not None:
+            return tick
+    raise RuntimeError(f"No backend of method {request.method!r} answered.")
+
+
+__all__ = ["METHODS", "Backend", "Request", "dispatch"]

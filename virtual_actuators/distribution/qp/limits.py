@@ -11,11 +11,12 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ...contacts import Constraint, TorqueLimits
 from ...exceptions import InvalidInputError
 from ...vocabulary.arguments import as_float_array
 from ...vocabulary.axes import AXES
 from ..problem import DistributionProblem
-from ..tolerances import INFINITY, UNLIMITED
+from ..tolerances import INFINITY
 
 #: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
 FRAME = "frame"
@@ -103,29 +104,14 @@ class ContactLimits:
                 )
             self.soles[index] = (float(values[0]), float(values[1]))
         self.soles = dict(sorted(self.soles.items()))  # chain order: the rows' order
-        model = problem.model
-        if torque_limits is True:
-            limits = np.asarray(model.effortLimit, dtype=float).copy()
-            limits[(limits <= 0) | ~np.isfinite(limits)] = np.inf
-        elif torque_limits is False or torque_limits is None:
-            limits = np.full(model.nv, np.inf)
-        else:
-            valid = f"True, False or {model.nv} numbers >= 0 [N m, N]"
-            limits = as_float_array(torque_limits, "torque_limits", valid).reshape(-1)
-            if limits.shape != (model.nv,) or np.any(np.isnan(limits)) or np.any(limits < 0):
-                raise InvalidInputError(
-                    f"torque_limits must be True, False or {model.nv} numbers >= 0, got "
-                    f"{torque_limits!r}."
-                )
-        limits = np.where(limits >= UNLIMITED, np.inf, limits)  # URDFs write "none" as 1e308
-        # a joint that no chain moves carries no share of any force: its limit row would be all
-        # zero (always met, and a stall for ProxQP), so it is left out here, once
-        on_chain = np.zeros(model.nv, dtype=bool)
+        on_chain = np.zeros(problem.model.nv, dtype=bool)
         for columns in problem.kinematics.chain_columns:
             on_chain[columns] = True
-        limited = problem.actuated_mask & np.isfinite(limits) & on_chain
-        self.limited_v = np.flatnonzero(limited)
-        self.limits = limits[self.limited_v]
+        self.torque_limits = TorqueLimits(
+            problem.model, torque_limits, on_chain, problem.actuated_mask
+        )
+        self.limited_v = self.torque_limits.limited_v
+        self.limits = self.torque_limits.limits
         axes = problem.axes
         self.force_axes = [axes.index(a) for a in AXES[:3] if a in axes]
         self.force_components = [AXES.index(a) for a in AXES[:3] if a in axes]
@@ -205,14 +191,12 @@ class ContactLimits:
                 half_length, half_width))):  # fmt: skip
                 names.append(f"{self.names[i]}: moment {label} <= {half:g} f_n")
                 names.append(f"{self.names[i]}: moment {label} >= -{half:g} f_n")
-        for v, limit in zip(self.limited_v, self.limits, strict=True):
-            names.append(f"torque {self.problem.joint_name(int(v))}: |tau| <= {limit:g}")
-        return names
+        return names + self.torque_limits.names(self.problem.joint_name)
 
     def rows(
         self, state: object, torque_map: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
-        """``lows <= C x <= uppers`` over ``x = forces.ravel()``, with a name per row.
+    ) -> Constraint:
+        """``lows <= G x <= uppers`` over ``x = forces.ravel()``, with a name per row.
 
         Args:
             state: The tick's kinematic state (rotations, offsets, Jacobian rows in {O}).
@@ -251,14 +235,15 @@ class ContactLimits:
                 lows.append(np.zeros(len(sole_rows)))
         one_sided = sum(len(low) for low in lows)
         if self.limited_v.size:
-            blocks.append(torque_map[self.limited_v])  # two-sided: -limit <= tau <= limit
-            lows.append(-self.limits)
+            rows, low, upper = self.torque_limits.rows(torque_map)  # two-sided
+            blocks.append(rows)
+            lows.append(low)
         if not blocks:
-            return np.zeros((0, p * n)), np.zeros(0), np.zeros(0), []
+            return Constraint.empty(p * n)
         low = np.concatenate(lows)
         upper = np.full(len(low), INFINITY)
         upper[one_sided:] = self.limits
-        return np.vstack(blocks), low, upper, self._row_names
+        return Constraint(np.vstack(blocks), low, upper, self._row_names)
 
     def normals_world_at(self, state: object) -> np.ndarray:
         """``(p, 3)`` the contact normals in the world at this tick (frames' z axes read)."""

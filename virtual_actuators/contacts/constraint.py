@@ -31,4 +31,18 @@ class Constraint:
         return Constraint(np.zeros((0, width)), np.zeros(0), np.zeros(0), [])
 
 
-__all__ = ["Constraint"]
+
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross products of ``(..., 3)`` arrays (np.cross costs ~10 us a call)."""
+    return np.stack(
+        (
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ),
+        axis=-1,
+    )
+
+__all__ = ["Constraint", "cross"]

@@ -11,17 +11,14 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ...contacts import Constraint, TorqueLimits
+from ...contacts import Constraint, TorqueLimits, point
+from ...contacts.constraint import cross
+from ...contacts.declare import parse_normals, reaction_index
 from ...exceptions import InvalidInputError
 from ...vocabulary.arguments import as_float_array
 from ...vocabulary.axes import AXES
 from ..problem import DistributionProblem
 from ..tolerances import INFINITY
-
-#: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
-FRAME = "frame"
-#: ``normals`` value: every contact's normal is its reaction frame's z axis.
-FRAMES = "frames"
 
 
 class ContactLimits:
@@ -55,43 +52,10 @@ class ContactLimits:
         self.problem = problem
         self.friction = friction
         self.min_normal = float(min_normal)
-        reactions = problem.reactions
-        self.normals_world = np.tile([0.0, 0.0, 1.0], (problem.p, 1))
-        #: ``(p,)`` whether each contact's normal is its reaction frame's z axis (each tick)
-        self.frame_normals = np.zeros(problem.p, dtype=bool)
-        if isinstance(normals, str):
-            if normals != FRAMES:
-                raise InvalidInputError(
-                    f"normals must be {FRAMES!r} (every reaction frame's z axis) or a mapping "
-                    f"by reaction frame, got {normals!r}."
-                )
-            normals = dict.fromkeys(reactions, FRAME)
-        elif normals is not None and not isinstance(normals, Mapping):
-            raise InvalidInputError(
-                f"normals must be None, {FRAMES!r} or a mapping by reaction frame, got {normals!r}."
-            )
-        for name, normal in dict(normals or {}).items():
-            index = self._reaction(name, "normals")
-            if isinstance(normal, str):
-                if normal != FRAME:
-                    raise InvalidInputError(
-                        f"normals[{name!r}] must be {FRAME!r} (the frame's z axis) or a nonzero "
-                        f"3-vector (world frame), got {normal!r}."
-                    )
-                self.frame_normals[index] = True
-                continue
-            valid = f"a nonzero 3-vector (world frame) or {FRAME!r}"
-            vector = as_float_array(normal, f"normals[{name!r}]", valid).reshape(-1)
-            size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
-            if not size or not np.isfinite(size):
-                raise InvalidInputError(
-                    f"normals[{name!r}] must be a nonzero 3-vector (world frame) or {FRAME!r}, "
-                    f"got {normal!r}."
-                )
-            self.normals_world[index] = vector / size
+        self.normals_world, self.frame_normals = parse_normals(normals, problem.reactions)
         self.soles: dict[int, tuple[float, float]] = {}
         for name, sole in dict(soles or {}).items():
-            index = self._reaction(name, "soles")
+            index = reaction_index(name, problem.reactions, "soles")
             valid = "(half_length, half_width) > 0 [m]"
             values = as_float_array(sole, f"soles[{name!r}]", valid).reshape(-1)
             if values.shape != (2,) or not np.all(np.isfinite(values)) or np.any(values <= 0):
@@ -117,7 +81,7 @@ class ContactLimits:
         self.force_components = [AXES.index(a) for a in AXES[:3] if a in axes]
         self.moment_axes = [axes.index(a) for a in AXES[3:] if a in axes]
         self.moment_components = [AXES.index(a) - 3 for a in AXES[3:] if a in axes]
-        self.names = reactions
+        self.names = problem.reactions
         #: rows of the cone (normal bound, friction faces) when the actuator has force axes
         self._cone = bool(self.force_axes) and (
             self.friction is not None or self.min_normal > 0.0 or bool(self.soles)
@@ -126,7 +90,7 @@ class ContactLimits:
         #: implied by the faces (``(mu n - t) + (mu n + t) = 2 mu n``) and left out
         self.normal_row = self._cone and (self.friction is None or self.min_normal > 0.0)
         # the cone's scatter into (chain, face, p n) and its bounds depend on the declaration only
-        faces = int(self.normal_row) + (4 if self.friction is not None else 0)
+        faces = point.faces(self.friction, self.normal_row)
         chains = np.arange(problem.p)[:, None, None]
         self._cone_index = (
             chains,
@@ -156,14 +120,6 @@ class ContactLimits:
         """The inequality rows' names, in the order both paths build the rows."""
         return self._row_names
 
-    def _reaction(self, name: object, what: str) -> int:
-        if name not in self.problem.reactions:
-            raise InvalidInputError(
-                f"{what} names {name!r}, not a reaction frame; reactions are "
-                f"{list(self.problem.reactions)}."
-            )
-        return self.problem.reactions.index(name)
-
     @property
     def any(self) -> bool:
         """Whether there is at least one inequality."""
@@ -179,10 +135,7 @@ class ContactLimits:
         names: list[str] = []
         if self._cone:
             for reaction in self.names:
-                if self.normal_row:
-                    names.append(f"{reaction}: normal >= {self.min_normal:g} N")
-                if self.friction is not None:
-                    names += [f"{reaction}: friction {w}" for w in ("+t1", "-t1", "+t2", "-t2")]
+                names += point.names(reaction, self.friction, self.min_normal, self.normal_row)
         for i, (half_length, half_width) in self.soles.items():
             if not self.moment_axes:
                 continue
@@ -211,18 +164,9 @@ class ContactLimits:
         normals_o = normals_world @ rotation_o  # rows: R_O^T n, per chain
         if self._cone:
             # the pyramid is the contact's: tangents fixed in the world, then turned into {O}
-            helper = np.where(np.abs(normals_world[:, :1]) < 0.9, [[1.0, 0.0, 0.0]],
-                              [[0.0, 1.0, 0.0]])  # fmt: skip
-            tangent1 = _cross(normals_world, helper)
-            tangent1 /= np.linalg.norm(tangent1, axis=1, keepdims=True)
-            tangent2 = _cross(normals_world, tangent1) @ rotation_o
-            tangent1 = tangent1 @ rotation_o
-            vectors = [normals_o] if self.normal_row else []
-            if self.friction is not None:
-                mu_normal = self.friction * normals_o
-                vectors += [mu_normal - tangent1, mu_normal + tangent1]
-                vectors += [mu_normal - tangent2, mu_normal + tangent2]
-            stacked = np.stack(vectors, axis=1)  # (p, faces, 3)
+            stacked = point.pyramid(
+                normals_world, normals_o, rotation_o, self.friction, self.normal_row
+            )  # (p, faces, 3)
             cone = np.zeros((p, stacked.shape[1], p * n))
             cone[self._cone_index] = stacked[:, :, self.force_components]
             blocks.append(cone.reshape(-1, p * n))
@@ -269,7 +213,7 @@ class ContactLimits:
             axis_o = frame_o[:, column]
             row = np.zeros(p * n)  # axis . m_A = axis . m_B + f . (axis x d)
             row[moment_cols] = axis_o[self.moment_components]
-            row[force_cols] += _cross(axis_o, offset)[self.force_components]
+            row[force_cols] += cross(axis_o, offset)[self.force_components]
             out += [half * normal_row - row, half * normal_row + row]
         return np.array(out)
 
@@ -278,18 +222,6 @@ def kinds(names: Sequence[str]) -> list[str]:
     """The kinds of inequality among row names: friction, normal, moment, torque."""
     words = ("friction", "normal", "moment", "torque")
     return [word for name in names for word in words if word in name] or ["none"]
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross products of ``(..., 3)`` arrays (np.cross costs ~10 us a call)."""
-    return np.stack(
-        (
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ),
-        axis=-1,
-    )
 
 
 def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarray:
@@ -304,4 +236,4 @@ def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarr
     return matrix
 
 
-__all__ = ["FRAME", "FRAMES", "ContactLimits", "kinds", "torque_map"]
+__all__ = ["ContactLimits", "kinds", "torque_map"]

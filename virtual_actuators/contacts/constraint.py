@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -34,6 +35,21 @@ class Constraint:
 
 
 
+class Entries(NamedTuple):
+    """Where one contact's force and moment entries sit in ``x = forces.ravel()``."""
+
+    #: positions in ``x`` of the contact's force entries
+    force: np.ndarray
+    #: positions in ``x`` of its moment entries
+    moment: np.ndarray
+    #: which of x, y, z each force entry is (0-2)
+    force_components: list[int]
+    #: which of rx, ry, rz each moment entry is (0-2)
+    moment_components: list[int]
+    #: the length of ``x`` (``p n``)
+    width: int
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross products of ``(..., 3)`` arrays (np.cross costs ~10 us a call)."""
     return np.stack(
@@ -45,4 +61,4 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         axis=-1,
     )
 
-__all__ = ["Constraint", "cross"]
+__all__ = ["Constraint", "Entries", "cross"]

@@ -11,11 +11,9 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ...contacts import Constraint, TorqueLimits, point
-from ...contacts.constraint import cross
-from ...contacts.declare import parse_normals, reaction_index
-from ...exceptions import InvalidInputError
-from ...vocabulary.arguments import as_float_array
+from ...contacts import Constraint, TorqueLimits, flat, point
+from ...contacts.constraint import Entries
+from ...contacts.declare import parse_normals
 from ...vocabulary.axes import AXES
 from ..problem import DistributionProblem
 from ..tolerances import INFINITY
@@ -53,21 +51,7 @@ class ContactLimits:
         self.friction = friction
         self.min_normal = float(min_normal)
         self.normals_world, self.frame_normals = parse_normals(normals, problem.reactions)
-        self.soles: dict[int, tuple[float, float]] = {}
-        for name, sole in dict(soles or {}).items():
-            index = reaction_index(name, problem.reactions, "soles")
-            valid = "(half_length, half_width) > 0 [m]"
-            values = as_float_array(sole, f"soles[{name!r}]", valid).reshape(-1)
-            if values.shape != (2,) or not np.all(np.isfinite(values)) or np.any(values <= 0):
-                raise InvalidInputError(
-                    f"soles[{name!r}] must be (half_length, half_width) > 0 [m], got {sole!r}."
-                )
-            if problem.contacts[index] != "flat":
-                raise InvalidInputError(
-                    f"soles[{name!r}]: {name!r} is a point contact; a sole needs contact='flat'."
-                )
-            self.soles[index] = (float(values[0]), float(values[1]))
-        self.soles = dict(sorted(self.soles.items()))  # chain order: the rows' order
+        self.soles = flat.parse_soles(soles, problem.reactions, problem.contacts)
         on_chain = np.zeros(problem.model.nv, dtype=bool)
         for columns in problem.kinematics.chain_columns:
             on_chain[columns] = True
@@ -100,9 +84,6 @@ class ContactLimits:
         self._cone_lows = np.tile(
             [self.min_normal] * self.normal_row + [0.0] * (faces - self.normal_row), problem.p
         )
-        soles_table = np.zeros((problem.p, 3))
-        for i, sole in self.soles.items():
-            soles_table[i] = (1.0, *sole)
         #: the declaration's tables for the compiled path
         self.tables = {
             "normals_world": self.normals_world,
@@ -110,7 +91,7 @@ class ContactLimits:
             "cone": np.array(
                 [-1.0 if friction is None else friction, self.min_normal, self.normal_row]
             ),
-            "soles": soles_table,
+            "soles": flat.table(self.soles, problem.p),
             "limited_v": self.limited_v,
             "limits": self.limits,
         }
@@ -136,14 +117,9 @@ class ContactLimits:
         if self._cone:
             for reaction in self.names:
                 names += point.names(reaction, self.friction, self.min_normal, self.normal_row)
-        for i, (half_length, half_width) in self.soles.items():
-            if not self.moment_axes:
-                continue
-            mu = self.friction if self.friction is not None else 0.0
-            for label, half in (("x", half_width), ("y", half_length), ("z", mu * min(
-                half_length, half_width))):  # fmt: skip
-                names.append(f"{self.names[i]}: moment {label} <= {half:g} f_n")
-                names.append(f"{self.names[i]}: moment {label} >= -{half:g} f_n")
+        if self.moment_axes:
+            for i, sole in self.soles.items():
+                names += flat.names(self.names[i], sole, self.friction)
         return names + self.torque_limits.names(self.problem.joint_name)
 
     def rows(
@@ -174,7 +150,9 @@ class ContactLimits:
         if self.soles and self.moment_axes:
             offsets = state.offsets_o()  # (p, 3): from {A_i} to {B} in {O}
             for i, sole in self.soles.items():
-                sole_rows = self._sole_rows(i, sole, normals_o[i], offsets[i], rotation_o, state)
+                # the reaction frame's axes in {O}: columns, its x, y, z
+                frame_o = rotation_o.T @ state.rotation_a[i]
+                sole_rows = flat.rows(sole, self.friction, frame_o, offsets[i], self._entries(i))
                 blocks.append(sole_rows)
                 lows.append(np.zeros(len(sole_rows)))
         one_sided = sum(len(low) for low in lows)
@@ -197,25 +175,13 @@ class ContactLimits:
         normals[self.frame_normals] = state.rotation_a[self.frame_normals, :, 2]
         return normals
 
-    def _sole_rows(self, i, sole, normal, offset, rotation_o, state) -> np.ndarray:
-        """Centre of pressure inside the sole and a bounded yaw moment (flat contact ``i``)."""
-        p, n = self.problem.p, self.problem.n
-        half_length, half_width = sole
-        # the reaction frame's axes in {O}; moments about {A_i}'s origin: m_A = m_B + d x f
-        frame_o = rotation_o.T @ state.rotation_a[i]  # columns: the frame's x, y, z in {O}
-        force_cols = i * n + np.array(self.force_axes)
-        moment_cols = i * n + np.array(self.moment_axes)
-        normal_row = np.zeros(p * n)  # the force along the sole's normal (its frame's z)
-        normal_row[force_cols] = frame_o[self.force_components, 2]
-        mu = self.friction if self.friction is not None else 0.0
-        out = []
-        for column, half in ((0, half_width), (1, half_length), (2, mu * min(sole))):
-            axis_o = frame_o[:, column]
-            row = np.zeros(p * n)  # axis . m_A = axis . m_B + f . (axis x d)
-            row[moment_cols] = axis_o[self.moment_components]
-            row[force_cols] += cross(axis_o, offset)[self.force_components]
-            out += [half * normal_row - row, half * normal_row + row]
-        return np.array(out)
+    def _entries(self, i: int) -> Entries:
+        """Where contact ``i``'s force and moment entries sit in ``x = forces.ravel()``."""
+        n = self.problem.n
+        force = i * n + np.array(self.force_axes)
+        moment = i * n + np.array(self.moment_axes)
+        width = self.problem.p * n
+        return Entries(force, moment, self.force_components, self.moment_components, width)
 
 
 def kinds(names: Sequence[str]) -> list[str]:

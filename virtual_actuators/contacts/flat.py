@@ -24,6 +24,11 @@ from .declare import reaction_index
 ROWS = 6
 
 
+def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
+    """A sole transmits moments: no natural-constraint column."""
+    return np.array([], dtype=int)
+
+
 def parse_soles(
     soles: Mapping[str, Sequence[float]] | None, reactions: Sequence[str], kinds: Sequence[str]
 ) -> dict[int, tuple[float, float]]:
@@ -159,4 +164,4 @@ def sole_rows(
             lows[row] = -constant
 
 
-__all__ = ["ROWS", "names", "parse_soles", "rows", "sole_rows", "table"]
+__all__ = ["ROWS", "ball_axes", "names", "parse_soles", "rows", "sole_rows", "table"]

@@ -15,6 +15,11 @@ from ..kinematics.kernels import njit
 from .constraint import cross
 
 
+def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
+    """A point transmits no moment about its origin: every selected rotational axis (0-2)."""
+    return rotation_axes
+
+
 def faces(friction: float | None, normal_row: bool) -> int:
     """How many rows a contact's pyramid has."""
     return int(normal_row) + (4 if friction is not None else 0)
@@ -125,4 +130,4 @@ def force_row(
     lows[row] = low - constant
 
 
-__all__ = ["face_rows", "faces", "force_row", "names", "pyramid", "to_o"]
+__all__ = ["ball_axes", "face_rows", "faces", "force_row", "names", "pyramid", "to_o"]

@@ -17,12 +17,10 @@ KERNEL_DECORATORS = {"njit", "jit"}
 #: Modules of 400 lines or more, path under virtual_actuators/ -> why it is still that long
 LONG_MODULES = {
     "actuators/parallel.py": "lane K (K2, K5) moves the contact parsing out",
-    "distribution/qp/kernels.py": "lane K (K2, K3) moves the contact rows out",
 }
 
 #: Functions of 80 lines or more outside numba kernels, "path::qualified name" -> why
 LONG_FUNCTIONS = {
-    "distribution/qp/limits.py::ContactLimits.__init__": "lane K (K2)",
 }
 
 

@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
+from ..contacts.declare import check_contact
 from ..distribution.partitioned.compiled import CompiledDistribution
 from ..distribution.partitioned.dense import DenseSolver
 from ..distribution.partitioned.numeric import NumpyBackend
@@ -46,20 +47,6 @@ from ..vocabulary.arguments import (
 from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from .serial import check_tolerance, wrench_array
-
-
-def _check_contact(contact: object) -> str | dict[str, object]:
-    """``contact`` as ``"point"``, ``"flat"`` or a dict keyed by reaction names (str)."""
-    if isinstance(contact, str):
-        return contact
-    if not isinstance(contact, Mapping):
-        raise ConstraintError(
-            "contact must be 'point', 'flat' or a dict {reaction_frame: 'point' | 'flat'}, "
-            f"got {describe(contact)}."
-        )
-    for name in contact:
-        check_name(name, "contact: a key (a reaction frame name)", ConstraintError)
-    return dict(contact)
 
 
 def _check_passive(passive: object) -> dict[str, tuple[float, float]]:
@@ -174,7 +161,7 @@ class ParallelVirtualActuator:
             raise ConstraintError(
                 f"The action frame {action!r} is also a reaction frame; they must differ."
             )
-        contact = _check_contact(contact)
+        contact = check_contact(contact)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
         passive = _check_passive(passive)
         self.design = tuple(

@@ -61,9 +61,6 @@ TINY = 1e-300
 #: ProxQP's "no bound" (its dense API takes finite bounds): bounds beyond it are clipped to it.
 INFINITY = 1e20
 
-#: Effort limits at or above this [N m, N] mean "unlimited" (URDFs write "none" as 1e308).
-UNLIMITED = 1e30
-
 #: ProxQP's absolute accuracy on the scaled problem (the exact stage, warm-started).
 EPS_ABS = 1e-10
 

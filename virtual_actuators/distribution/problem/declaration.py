@@ -1,4 +1,4 @@
-"""Reading a parallel actuator's declaration: contacts, limp and passive joints, design rows.
+"""Reading a parallel actuator's declaration: limp and passive joints, design rows.
 
 These checks run once, when a :class:`~virtual_actuators.ParallelVirtualActuator` is declared;
 :class:`~virtual_actuators.distribution.problem.DistributionProblem` builds on what they return.
@@ -35,33 +35,6 @@ class DesignRows:
     torque_pairs: np.ndarray
     constant_names: list[str]
     torque_names: list[str]
-
-
-def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -> tuple[str, ...]:
-    """Each reaction's contact kind, ``"point"`` or ``"flat"``.
-
-    Raises:
-        ConstraintError: An unknown kind, or a key that is not a reaction frame.
-
-    """
-    kinds = ("point", "flat")
-    if isinstance(contact, str):
-        if contact not in kinds:
-            raise ConstraintError(f"contact must be 'point', 'flat' or a dict; got {contact!r}.")
-        return (contact,) * len(reactions)
-    unknown = set(contact) - set(reactions)
-    if unknown:
-        raise ConstraintError(
-            f"contact names {sorted(unknown)} which are not reaction frames; "
-            f"reactions are {list(reactions)}."
-        )
-    out = []
-    for name in reactions:
-        kind = contact.get(name, "point")
-        if kind not in kinds:
-            raise ConstraintError(f"contact[{name!r}] must be 'point' or 'flat', got {kind!r}.")
-        out.append(kind)
-    return tuple(out)
 
 
 def joint_columns(
@@ -250,6 +223,5 @@ __all__ = [
     "design_rows",
     "joint_columns",
     "label_index",
-    "parse_contacts",
     "parse_joints",
 ]

@@ -23,6 +23,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pinocchio as pin
 
+from ...contacts.kinds import ball_axes, parse_contacts
 from ...exceptions import (
     ConstraintError,
     SingularConfigurationError,
@@ -33,7 +34,7 @@ from ...vocabulary.axes import AXES
 from ...vocabulary.constraints import DesignConstraint
 from ..tolerances import JACOBIAN_FLOOR, SINGULAR_TOL, TINY
 from .checks import check_hard_rows, check_natural_rows, vacuous_joints
-from .declaration import design_rows, parse_contacts, parse_joints
+from .declaration import design_rows, parse_joints
 from .structure import ChainGroup, Evaluation, GroupRows, structural_rank
 
 
@@ -108,7 +109,7 @@ class DistributionProblem:
         for i in range(self.p):
             columns = self.kinematics.chain_columns[i]
             own = [j for j, v in enumerate(columns) if v in constrained_v and counts[v] == 1]
-            ball = rot_axes if self.contacts[i] == "point" else np.array([], dtype=int)
+            ball = ball_axes(self.contacts[i], rot_axes)
             per_chain.append((columns, np.array(own, dtype=int), ball))
         generic = self.generic_configurations()
         states = [self.kinematics.compute(q) for q in generic]

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...contacts.flat import sole_rows
+from ...contacts.point import face_rows, force_row, to_o
 from ...kinematics.kernels import njit
 from ..partitioned.kernel_linalg import ball_entry, offset_in_o, passive_torques, wrench_transform
 from ..tolerances import INFINITY, RANK_TOL
@@ -73,46 +75,6 @@ def _orthonormalise(columns: np.ndarray, count: int, r: np.ndarray) -> float:
         for a in range(n):
             columns[j, a] /= norm
     return worst
-
-
-@njit(cache=True)
-def _face_rows(normal: np.ndarray, friction: float, with_normal: bool, out: np.ndarray) -> int:
-    """The pyramid's rows (``>= 0``, in the world) about ``normal``: returns how many.
-
-    Tangents from the world x axis (y when the normal is near x): fixed in the world.
-    """
-    count = 0
-    if with_normal:
-        out[0, :] = normal
-        count = 1
-    if friction < 0.0:
-        return count
-    helper = (1.0, 0.0, 0.0) if abs(normal[0]) < 0.9 else (0.0, 1.0, 0.0)
-    t1 = np.empty(3)
-    t1[0] = normal[1] * helper[2] - normal[2] * helper[1]
-    t1[1] = normal[2] * helper[0] - normal[0] * helper[2]
-    t1[2] = normal[0] * helper[1] - normal[1] * helper[0]
-    t1 /= np.sqrt(t1[0] ** 2 + t1[1] ** 2 + t1[2] ** 2)
-    t2 = np.empty(3)
-    t2[0] = normal[1] * t1[2] - normal[2] * t1[1]
-    t2[1] = normal[2] * t1[0] - normal[0] * t1[2]
-    t2[2] = normal[0] * t1[1] - normal[1] * t1[0]
-    for face in range(4):
-        tangent = t1 if face < 2 else t2
-        sign = -1.0 if face % 2 == 0 else 1.0
-        for c in range(3):
-            out[count, c] = friction * normal[c] + sign * tangent[c]
-        count += 1
-    return count
-
-
-@njit(cache=True)
-def _to_o(rot_o: np.ndarray, rows: np.ndarray, count: int) -> None:
-    """``rows[:count]`` (world vectors) into {O}'s axes in place: ``R_O^T v`` for each row."""
-    for f in range(count):
-        v0, v1, v2 = rows[f, 0], rows[f, 1], rows[f, 2]
-        for c in range(3):
-            rows[f, c] = rot_o[0, c] * v0 + rot_o[1, c] * v1 + rot_o[2, c] * v2
 
 
 @njit(cache=True)
@@ -296,13 +258,13 @@ def reduced_qp(
         for c in range(3):  # a frame normal: its z axis in the world, column 2 of its rotation
             normal_w[c] = frames[a_row, 3 * c + 2] if frame_normals[i] else normals_world[i, c]
         if faces:
-            _to_o(rot_o, face_o, _face_rows(normal_w, friction, with_normal, face_o))
+            to_o(rot_o, face_o, face_rows(normal_w, friction, with_normal, face_o))
             for f in range(faces):
                 row = i * faces + f
-                _force_row(face_o[f], axis_rows, chain_x0, chain_basis, inequality[row, start:],
+                force_row(face_o[f], axis_rows, chain_x0, chain_basis, inequality[row, start:],
                            lows, row, min_normal if (with_normal and f == 0) else 0.0)  # fmt: skip
         if moment_axes and soles[i, 0] > 0.0:
-            _sole_rows(frames[a_row], rot_o, soles[i], friction, (d0, d1, d2), axis_rows,
+            sole_rows(frames[a_row], rot_o, soles[i], friction, (d0, d1, d2), axis_rows,
                        chain_x0, chain_basis, inequality[sole_row : sole_row + 6, start:],
                        lows[sole_row : sole_row + 6])  # fmt: skip
             sole_row += 6
@@ -351,83 +313,6 @@ def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> tuple:
         buffer[layout[8] : layout[8] + nv],
         buffer[layout[9] : layout[9] + nv],
     )
-
-
-@njit(cache=True)
-def _force_row(
-    vector: np.ndarray,
-    axis_rows: np.ndarray,
-    chain_x0: np.ndarray,
-    chain_basis: np.ndarray,
-    out: np.ndarray,
-    lows: np.ndarray,
-    row: int,
-    low: float,
-) -> None:
-    """``vector . f_i >= low`` over ``z_i``: the row into ``out``, the bound into ``lows``."""
-    constant = 0.0
-    for a in range(axis_rows.shape[0]):
-        component = axis_rows[a]
-        if component >= 3:
-            continue
-        weight = vector[component]
-        constant += weight * chain_x0[a]
-        for j in range(chain_basis.shape[1]):
-            out[j] += weight * chain_basis[a, j]
-    lows[row] = low - constant
-
-
-@njit(cache=True)
-def _sole_rows(
-    placement: np.ndarray,
-    rot_o: np.ndarray,
-    sole: np.ndarray,
-    friction: float,
-    offset: tuple,
-    axis_rows: np.ndarray,
-    chain_x0: np.ndarray,
-    chain_basis: np.ndarray,
-    out: np.ndarray,
-    lows: np.ndarray,
-) -> None:
-    """Centre of pressure in the sole and a bounded yaw moment: six rows ``>= 0`` over ``z_i``.
-
-    With the reaction frame's axes ``e_c`` in {O} and ``d`` from {A_i} to {B}: ``e_c . m_A =
-    e_c . m_B + f . (e_c x d)``, bounded by ``half_c (e_z . f)`` on both sides.
-    """
-    n = axis_rows.shape[0]
-    frame_o = np.zeros((3, 3))  # columns: the reaction frame's axes in {O}
-    for r in range(3):
-        for c in range(3):
-            acc = 0.0
-            for k in range(3):
-                acc += rot_o[k, r] * placement[3 * k + c]
-            frame_o[r, c] = acc
-    mu = friction if friction >= 0.0 else 0.0
-    halves = (sole[2], sole[1], mu * min(sole[1], sole[2]))
-    entry = np.zeros(n)  # the moment row over F_i
-    normal = np.zeros(n)  # the force along the sole's normal over F_i
-    for c in range(3):
-        e0, e1, e2 = frame_o[0, c], frame_o[1, c], frame_o[2, c]
-        lever = (e1 * offset[2] - e2 * offset[1], e2 * offset[0] - e0 * offset[2],
-                 e0 * offset[1] - e1 * offset[0])  # fmt: skip
-        for a in range(n):
-            component = axis_rows[a]
-            if component >= 3:
-                entry[a] = frame_o[component - 3, c]
-            else:
-                entry[a] = lever[component]
-                normal[a] = frame_o[component, 2]
-        for side in range(2):
-            sign = -1.0 if side == 0 else 1.0
-            row = 2 * c + side
-            constant = 0.0
-            for a in range(n):
-                weight = halves[c] * normal[a] + sign * entry[a]
-                constant += weight * chain_x0[a]
-                for j in range(chain_basis.shape[1]):
-                    out[row, j] += weight * chain_basis[a, j]
-            lows[row] = -constant
 
 
 __all__ = ["HEADER", "LAYOUT", "reduced_qp", "views"]

@@ -11,16 +11,12 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ...exceptions import InvalidInputError
-from ...vocabulary.arguments import as_float_array
+from ...contacts import Constraint, TorqueLimits, flat, point
+from ...contacts.constraint import Entries
+from ...contacts.declare import parse_normals
 from ...vocabulary.axes import AXES
 from ..problem import DistributionProblem
-from ..tolerances import INFINITY, UNLIMITED
-
-#: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
-FRAME = "frame"
-#: ``normals`` value: every contact's normal is its reaction frame's z axis.
-FRAMES = "frames"
+from ..tolerances import INFINITY
 
 
 class ContactLimits:
@@ -54,84 +50,22 @@ class ContactLimits:
         self.problem = problem
         self.friction = friction
         self.min_normal = float(min_normal)
-        reactions = problem.reactions
-        self.normals_world = np.tile([0.0, 0.0, 1.0], (problem.p, 1))
-        #: ``(p,)`` whether each contact's normal is its reaction frame's z axis (each tick)
-        self.frame_normals = np.zeros(problem.p, dtype=bool)
-        if isinstance(normals, str):
-            if normals != FRAMES:
-                raise InvalidInputError(
-                    f"normals must be {FRAMES!r} (every reaction frame's z axis) or a mapping "
-                    f"by reaction frame, got {normals!r}."
-                )
-            normals = dict.fromkeys(reactions, FRAME)
-        elif normals is not None and not isinstance(normals, Mapping):
-            raise InvalidInputError(
-                f"normals must be None, {FRAMES!r} or a mapping by reaction frame, got {normals!r}."
-            )
-        for name, normal in dict(normals or {}).items():
-            index = self._reaction(name, "normals")
-            if isinstance(normal, str):
-                if normal != FRAME:
-                    raise InvalidInputError(
-                        f"normals[{name!r}] must be {FRAME!r} (the frame's z axis) or a nonzero "
-                        f"3-vector (world frame), got {normal!r}."
-                    )
-                self.frame_normals[index] = True
-                continue
-            valid = f"a nonzero 3-vector (world frame) or {FRAME!r}"
-            vector = as_float_array(normal, f"normals[{name!r}]", valid).reshape(-1)
-            size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
-            if not size or not np.isfinite(size):
-                raise InvalidInputError(
-                    f"normals[{name!r}] must be a nonzero 3-vector (world frame) or {FRAME!r}, "
-                    f"got {normal!r}."
-                )
-            self.normals_world[index] = vector / size
-        self.soles: dict[int, tuple[float, float]] = {}
-        for name, sole in dict(soles or {}).items():
-            index = self._reaction(name, "soles")
-            valid = "(half_length, half_width) > 0 [m]"
-            values = as_float_array(sole, f"soles[{name!r}]", valid).reshape(-1)
-            if values.shape != (2,) or not np.all(np.isfinite(values)) or np.any(values <= 0):
-                raise InvalidInputError(
-                    f"soles[{name!r}] must be (half_length, half_width) > 0 [m], got {sole!r}."
-                )
-            if problem.contacts[index] != "flat":
-                raise InvalidInputError(
-                    f"soles[{name!r}]: {name!r} is a point contact; a sole needs contact='flat'."
-                )
-            self.soles[index] = (float(values[0]), float(values[1]))
-        self.soles = dict(sorted(self.soles.items()))  # chain order: the rows' order
-        model = problem.model
-        if torque_limits is True:
-            limits = np.asarray(model.effortLimit, dtype=float).copy()
-            limits[(limits <= 0) | ~np.isfinite(limits)] = np.inf
-        elif torque_limits is False or torque_limits is None:
-            limits = np.full(model.nv, np.inf)
-        else:
-            valid = f"True, False or {model.nv} numbers >= 0 [N m, N]"
-            limits = as_float_array(torque_limits, "torque_limits", valid).reshape(-1)
-            if limits.shape != (model.nv,) or np.any(np.isnan(limits)) or np.any(limits < 0):
-                raise InvalidInputError(
-                    f"torque_limits must be True, False or {model.nv} numbers >= 0, got "
-                    f"{torque_limits!r}."
-                )
-        limits = np.where(limits >= UNLIMITED, np.inf, limits)  # URDFs write "none" as 1e308
-        # a joint that no chain moves carries no share of any force: its limit row would be all
-        # zero (always met, and a stall for ProxQP), so it is left out here, once
-        on_chain = np.zeros(model.nv, dtype=bool)
+        self.normals_world, self.frame_normals = parse_normals(normals, problem.reactions)
+        self.soles = flat.parse_soles(soles, problem.reactions, problem.contacts)
+        on_chain = np.zeros(problem.model.nv, dtype=bool)
         for columns in problem.kinematics.chain_columns:
             on_chain[columns] = True
-        limited = problem.actuated_mask & np.isfinite(limits) & on_chain
-        self.limited_v = np.flatnonzero(limited)
-        self.limits = limits[self.limited_v]
+        self.torque_limits = TorqueLimits(
+            problem.model, torque_limits, on_chain, problem.actuated_mask
+        )
+        self.limited_v = self.torque_limits.limited_v
+        self.limits = self.torque_limits.limits
         axes = problem.axes
         self.force_axes = [axes.index(a) for a in AXES[:3] if a in axes]
         self.force_components = [AXES.index(a) for a in AXES[:3] if a in axes]
         self.moment_axes = [axes.index(a) for a in AXES[3:] if a in axes]
         self.moment_components = [AXES.index(a) - 3 for a in AXES[3:] if a in axes]
-        self.names = reactions
+        self.names = problem.reactions
         #: rows of the cone (normal bound, friction faces) when the actuator has force axes
         self._cone = bool(self.force_axes) and (
             self.friction is not None or self.min_normal > 0.0 or bool(self.soles)
@@ -140,7 +74,7 @@ class ContactLimits:
         #: implied by the faces (``(mu n - t) + (mu n + t) = 2 mu n``) and left out
         self.normal_row = self._cone and (self.friction is None or self.min_normal > 0.0)
         # the cone's scatter into (chain, face, p n) and its bounds depend on the declaration only
-        faces = int(self.normal_row) + (4 if self.friction is not None else 0)
+        faces = point.faces(self.friction, self.normal_row)
         chains = np.arange(problem.p)[:, None, None]
         self._cone_index = (
             chains,
@@ -150,9 +84,6 @@ class ContactLimits:
         self._cone_lows = np.tile(
             [self.min_normal] * self.normal_row + [0.0] * (faces - self.normal_row), problem.p
         )
-        soles_table = np.zeros((problem.p, 3))
-        for i, sole in self.soles.items():
-            soles_table[i] = (1.0, *sole)
         #: the declaration's tables for the compiled path
         self.tables = {
             "normals_world": self.normals_world,
@@ -160,7 +91,7 @@ class ContactLimits:
             "cone": np.array(
                 [-1.0 if friction is None else friction, self.min_normal, self.normal_row]
             ),
-            "soles": soles_table,
+            "soles": flat.table(self.soles, problem.p),
             "limited_v": self.limited_v,
             "limits": self.limits,
         }
@@ -169,14 +100,6 @@ class ContactLimits:
     def row_names(self) -> list[str]:
         """The inequality rows' names, in the order both paths build the rows."""
         return self._row_names
-
-    def _reaction(self, name: object, what: str) -> int:
-        if name not in self.problem.reactions:
-            raise InvalidInputError(
-                f"{what} names {name!r}, not a reaction frame; reactions are "
-                f"{list(self.problem.reactions)}."
-            )
-        return self.problem.reactions.index(name)
 
     @property
     def any(self) -> bool:
@@ -193,26 +116,16 @@ class ContactLimits:
         names: list[str] = []
         if self._cone:
             for reaction in self.names:
-                if self.normal_row:
-                    names.append(f"{reaction}: normal >= {self.min_normal:g} N")
-                if self.friction is not None:
-                    names += [f"{reaction}: friction {w}" for w in ("+t1", "-t1", "+t2", "-t2")]
-        for i, (half_length, half_width) in self.soles.items():
-            if not self.moment_axes:
-                continue
-            mu = self.friction if self.friction is not None else 0.0
-            for label, half in (("x", half_width), ("y", half_length), ("z", mu * min(
-                half_length, half_width))):  # fmt: skip
-                names.append(f"{self.names[i]}: moment {label} <= {half:g} f_n")
-                names.append(f"{self.names[i]}: moment {label} >= -{half:g} f_n")
-        for v, limit in zip(self.limited_v, self.limits, strict=True):
-            names.append(f"torque {self.problem.joint_name(int(v))}: |tau| <= {limit:g}")
-        return names
+                names += point.names(reaction, self.friction, self.min_normal, self.normal_row)
+        if self.moment_axes:
+            for i, sole in self.soles.items():
+                names += flat.names(self.names[i], sole, self.friction)
+        return names + self.torque_limits.names(self.problem.joint_name)
 
     def rows(
         self, state: object, torque_map: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
-        """``lows <= C x <= uppers`` over ``x = forces.ravel()``, with a name per row.
+    ) -> Constraint:
+        """``lows <= G x <= uppers`` over ``x = forces.ravel()``, with a name per row.
 
         Args:
             state: The tick's kinematic state (rotations, offsets, Jacobian rows in {O}).
@@ -227,18 +140,9 @@ class ContactLimits:
         normals_o = normals_world @ rotation_o  # rows: R_O^T n, per chain
         if self._cone:
             # the pyramid is the contact's: tangents fixed in the world, then turned into {O}
-            helper = np.where(np.abs(normals_world[:, :1]) < 0.9, [[1.0, 0.0, 0.0]],
-                              [[0.0, 1.0, 0.0]])  # fmt: skip
-            tangent1 = _cross(normals_world, helper)
-            tangent1 /= np.linalg.norm(tangent1, axis=1, keepdims=True)
-            tangent2 = _cross(normals_world, tangent1) @ rotation_o
-            tangent1 = tangent1 @ rotation_o
-            vectors = [normals_o] if self.normal_row else []
-            if self.friction is not None:
-                mu_normal = self.friction * normals_o
-                vectors += [mu_normal - tangent1, mu_normal + tangent1]
-                vectors += [mu_normal - tangent2, mu_normal + tangent2]
-            stacked = np.stack(vectors, axis=1)  # (p, faces, 3)
+            stacked = point.pyramid(
+                normals_world, normals_o, rotation_o, self.friction, self.normal_row
+            )  # (p, faces, 3)
             cone = np.zeros((p, stacked.shape[1], p * n))
             cone[self._cone_index] = stacked[:, :, self.force_components]
             blocks.append(cone.reshape(-1, p * n))
@@ -246,19 +150,22 @@ class ContactLimits:
         if self.soles and self.moment_axes:
             offsets = state.offsets_o()  # (p, 3): from {A_i} to {B} in {O}
             for i, sole in self.soles.items():
-                sole_rows = self._sole_rows(i, sole, normals_o[i], offsets[i], rotation_o, state)
+                # the reaction frame's axes in {O}: columns, its x, y, z
+                frame_o = rotation_o.T @ state.rotation_a[i]
+                sole_rows = flat.rows(sole, self.friction, frame_o, offsets[i], self._entries(i))
                 blocks.append(sole_rows)
                 lows.append(np.zeros(len(sole_rows)))
         one_sided = sum(len(low) for low in lows)
         if self.limited_v.size:
-            blocks.append(torque_map[self.limited_v])  # two-sided: -limit <= tau <= limit
-            lows.append(-self.limits)
+            rows, low, upper = self.torque_limits.rows(torque_map)  # two-sided
+            blocks.append(rows)
+            lows.append(low)
         if not blocks:
-            return np.zeros((0, p * n)), np.zeros(0), np.zeros(0), []
+            return Constraint.empty(p * n)
         low = np.concatenate(lows)
         upper = np.full(len(low), INFINITY)
         upper[one_sided:] = self.limits
-        return np.vstack(blocks), low, upper, self._row_names
+        return Constraint(np.vstack(blocks), low, upper, self._row_names)
 
     def normals_world_at(self, state: object) -> np.ndarray:
         """``(p, 3)`` the contact normals in the world at this tick (frames' z axes read)."""
@@ -268,43 +175,19 @@ class ContactLimits:
         normals[self.frame_normals] = state.rotation_a[self.frame_normals, :, 2]
         return normals
 
-    def _sole_rows(self, i, sole, normal, offset, rotation_o, state) -> np.ndarray:
-        """Centre of pressure inside the sole and a bounded yaw moment (flat contact ``i``)."""
-        p, n = self.problem.p, self.problem.n
-        half_length, half_width = sole
-        # the reaction frame's axes in {O}; moments about {A_i}'s origin: m_A = m_B + d x f
-        frame_o = rotation_o.T @ state.rotation_a[i]  # columns: the frame's x, y, z in {O}
-        force_cols = i * n + np.array(self.force_axes)
-        moment_cols = i * n + np.array(self.moment_axes)
-        normal_row = np.zeros(p * n)  # the force along the sole's normal (its frame's z)
-        normal_row[force_cols] = frame_o[self.force_components, 2]
-        mu = self.friction if self.friction is not None else 0.0
-        out = []
-        for column, half in ((0, half_width), (1, half_length), (2, mu * min(sole))):
-            axis_o = frame_o[:, column]
-            row = np.zeros(p * n)  # axis . m_A = axis . m_B + f . (axis x d)
-            row[moment_cols] = axis_o[self.moment_components]
-            row[force_cols] += _cross(axis_o, offset)[self.force_components]
-            out += [half * normal_row - row, half * normal_row + row]
-        return np.array(out)
+    def _entries(self, i: int) -> Entries:
+        """Where contact ``i``'s force and moment entries sit in ``x = forces.ravel()``."""
+        n = self.problem.n
+        force = i * n + np.array(self.force_axes)
+        moment = i * n + np.array(self.moment_axes)
+        width = self.problem.p * n
+        return Entries(force, moment, self.force_components, self.moment_components, width)
 
 
 def kinds(names: Sequence[str]) -> list[str]:
     """The kinds of inequality among row names: friction, normal, moment, torque."""
     words = ("friction", "normal", "moment", "torque")
     return [word for name in names for word in words if word in name] or ["none"]
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross products of ``(..., 3)`` arrays (np.cross costs ~10 us a call)."""
-    return np.stack(
-        (
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ),
-        axis=-1,
-    )
 
 
 def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarray:
@@ -319,4 +202,4 @@ def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarr
     return matrix
 
 
-__all__ = ["FRAME", "FRAMES", "ContactLimits", "kinds", "torque_map"]
+__all__ = ["ContactLimits", "kinds", "torque_map"]

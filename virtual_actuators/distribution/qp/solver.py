@@ -256,7 +256,8 @@ class QPDistribution:
         equality = np.vstack((natural, hard, select))
         equality_rhs = np.concatenate((natural_rhs, ev.hard_rhs, wrench[keep]))
         tmap = torque_map(problem, ev.state.jacobian_o)
-        inequality, lows, uppers = self.limits.rows(ev.state, tmap)[:3]
+        limits = self.limits.rows(ev.state, tmap)
+        inequality, lows, uppers = limits.G, limits.lows, limits.uppers
         # scale: the request, spring torques and bounds to ~1 (homogeneous answers)
         scale = max(
             float(np.abs(wrench[keep]).max(initial=0.0)),

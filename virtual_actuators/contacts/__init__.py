@@ -1,0 +1,16 @@
+"""Contacts, one concept: what each kind of contact demands of the forces, as rows.
+
+``constraint.py`` the rows ``lows <= G x <= uppers`` over ``x = forces.ravel()`` (mink's
+``Limit`` -> ``Constraint`` pattern); ``declare.py`` the declaration (normals, reactions); one
+file per kind, each with its natural-constraint columns (``ball_axes``), row names, numpy rows
+and compiled (njit) rows: ``point.py`` the friction pyramid and least normal force, ``flat.py``
+the sole (centre of pressure, yaw moment); ``kinds.py`` the kinds by name and each reaction's
+kind; ``torque_limits.py`` the joints' torque limits. The distribution layer stacks the rows
+into its QP; contacts take what they need (the torque map, the kinematic state) as arguments
+and import nothing from it.
+"""
+
+from .constraint import Constraint
+from .torque_limits import TorqueLimits
+
+__all__ = ["Constraint", "TorqueLimits"]

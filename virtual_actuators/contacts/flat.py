@@ -1,0 +1,167 @@
+"""The flat contact: a sole whose centre of pressure stays inside it, with a bounded yaw moment.
+
+A sole ``(half_length, half_width)`` [m] along its reaction frame's x and y axes, its normal the
+frame's z axis. With the frame's axes ``e_c`` in {O} and ``d`` from {A_i} to {B}, the moment about
+the frame's origin is ``e_c . m_A = e_c . m_B + f . (e_c x d)``, and six rows ``>= 0`` bound it by
+``half_c (e_z . f)`` on both sides: ``half_width`` about x, ``half_length`` about y and
+``mu min(half_length, half_width)`` about z (``mu`` the friction, 0 without one). The numpy rows
+(:func:`rows`) are the reference; the njit ones (:func:`sole_rows`) build the compiled path's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from ..kinematics.kernels import njit
+from ..vocabulary.arguments import as_float_array
+from .constraint import Entries, cross
+from .declare import reaction_index
+
+#: rows per sole: each of three moments bounded on both sides
+ROWS = 6
+
+
+def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
+    """A sole transmits moments: no natural-constraint column."""
+    return np.array([], dtype=int)
+
+
+def parse_soles(
+    soles: Mapping[str, Sequence[float]] | None, reactions: Sequence[str], kinds: Sequence[str]
+) -> dict[int, tuple[float, float]]:
+    """``{reaction index: (half_length, half_width)}`` in chain order (the rows' order).
+
+    Args:
+        soles: ``(half_length, half_width)`` [m] by reaction frame, or None.
+        reactions: The reaction frames' names.
+        kinds: ``"point"`` or ``"flat"`` per reaction.
+
+    Raises:
+        InvalidInputError: Not two positive finite numbers, an unknown reaction, a sole on a
+            point contact.
+
+    """
+    parsed: dict[int, tuple[float, float]] = {}
+    for name, sole in dict(soles or {}).items():
+        index = reaction_index(name, reactions, "soles")
+        valid = "(half_length, half_width) > 0 [m]"
+        values = as_float_array(sole, f"soles[{name!r}]", valid).reshape(-1)
+        if values.shape != (2,) or not np.all(np.isfinite(values)) or np.any(values <= 0):
+            raise InvalidInputError(
+                f"soles[{name!r}] must be (half_length, half_width) > 0 [m], got {sole!r}."
+            )
+        if kinds[index] != "flat":
+            raise InvalidInputError(
+                f"soles[{name!r}]: {name!r} is a point contact; a sole needs contact='flat'."
+            )
+        parsed[index] = (float(values[0]), float(values[1]))
+    return dict(sorted(parsed.items()))
+
+
+def names(reaction: str, sole: tuple[float, float], friction: float | None) -> list[str]:
+    """The sole's six row names, in the order :func:`rows` builds them."""
+    half_length, half_width = sole
+    mu = friction if friction is not None else 0.0
+    out = []
+    for label, half in (("x", half_width), ("y", half_length), ("z", mu * min(sole))):
+        out.append(f"{reaction}: moment {label} <= {half:g} f_n")
+        out.append(f"{reaction}: moment {label} >= -{half:g} f_n")
+    return out
+
+
+def rows(
+    sole: tuple[float, float],
+    friction: float | None,
+    frame_o: np.ndarray,
+    offset: np.ndarray,
+    entries: Entries,
+) -> np.ndarray:
+    """``(6, p n)``: the sole's rows ``>= 0`` over ``x = forces.ravel()``.
+
+    Args:
+        sole: ``(half_length, half_width)`` [m].
+        friction: Friction coefficient ``mu`` (the yaw bound), or None (no yaw moment).
+        frame_o: ``(3, 3)`` columns: the reaction frame's x, y, z axes in {O}.
+        offset: ``(3,)`` from the reaction frame's origin to {B}'s, in {O}.
+        entries: Where the contact's force and moment entries sit in ``x``.
+
+    """
+    half_length, half_width = sole
+    normal_row = np.zeros(entries.width)  # the force along the sole's normal (its frame's z)
+    normal_row[entries.force] = frame_o[entries.force_components, 2]
+    mu = friction if friction is not None else 0.0
+    out = []
+    for column, half in ((0, half_width), (1, half_length), (2, mu * min(sole))):
+        axis_o = frame_o[:, column]
+        row = np.zeros(entries.width)  # axis . m_A = axis . m_B + f . (axis x d)
+        row[entries.moment] = axis_o[entries.moment_components]
+        row[entries.force] += cross(axis_o, offset)[entries.force_components]
+        out += [half * normal_row - row, half * normal_row + row]
+    return np.array(out)
+
+
+def table(soles: Mapping[int, tuple[float, float]], p: int) -> np.ndarray:
+    """``(p, 3)`` the compiled path's table: 1 for a sole, its half length and half width."""
+    out = np.zeros((p, 3))
+    for i, sole in soles.items():
+        out[i] = (1.0, *sole)
+    return out
+
+
+@njit(cache=True)
+def sole_rows(
+    placement: np.ndarray,
+    rot_o: np.ndarray,
+    sole: np.ndarray,
+    friction: float,
+    offset: tuple,
+    axis_rows: np.ndarray,
+    chain_x0: np.ndarray,
+    chain_basis: np.ndarray,
+    out: np.ndarray,
+    lows: np.ndarray,
+) -> None:
+    """The six rows ``>= 0`` over ``z_i`` (``f_i = x0_i + N_i z_i``) into ``out`` and ``lows``.
+
+    ``placement`` is the reaction frame's row of the snapshot's frames, ``sole`` its
+    :func:`table` row, ``friction`` < 0 for none.
+    """
+    n = axis_rows.shape[0]
+    frame_o = np.zeros((3, 3))  # columns: the reaction frame's axes in {O}
+    for r in range(3):
+        for c in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += rot_o[k, r] * placement[3 * k + c]
+            frame_o[r, c] = acc
+    mu = friction if friction >= 0.0 else 0.0
+    halves = (sole[2], sole[1], mu * min(sole[1], sole[2]))
+    entry = np.zeros(n)  # the moment row over F_i
+    normal = np.zeros(n)  # the force along the sole's normal over F_i
+    for c in range(3):
+        e0, e1, e2 = frame_o[0, c], frame_o[1, c], frame_o[2, c]
+        lever = (e1 * offset[2] - e2 * offset[1], e2 * offset[0] - e0 * offset[2],
+                 e0 * offset[1] - e1 * offset[0])  # fmt: skip
+        for a in range(n):
+            component = axis_rows[a]
+            if component >= 3:
+                entry[a] = frame_o[component - 3, c]
+            else:
+                entry[a] = lever[component]
+                normal[a] = frame_o[component, 2]
+        for side in range(2):
+            sign = -1.0 if side == 0 else 1.0
+            row = 2 * c + side
+            constant = 0.0
+            for a in range(n):
+                weight = halves[c] * normal[a] + sign * entry[a]
+                constant += weight * chain_x0[a]
+                for j in range(chain_basis.shape[1]):
+                    out[row, j] += weight * chain_basis[a, j]
+            lows[row] = -constant
+
+
+__all__ = ["ROWS", "ball_axes", "names", "parse_soles", "rows", "sole_rows", "table"]

@@ -1,0 +1,54 @@
+"""The contact kinds by name, and each reaction's kind as declared.
+
+A new kind is one file (its ``ball_axes``, row names, numpy rows and njit rows) and one entry in
+:data:`KINDS`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..exceptions import ConstraintError
+from . import flat, point
+
+#: the contact kinds, by the name ``contact=`` gives them
+KINDS = {"point": point, "flat": flat}
+
+
+def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -> tuple[str, ...]:
+    """Each reaction's contact kind, ``"point"`` or ``"flat"``.
+
+    Raises:
+        ConstraintError: An unknown kind, or a key that is not a reaction frame.
+
+    """
+    if isinstance(contact, str):
+        if contact not in KINDS:
+            raise ConstraintError(f"contact must be 'point', 'flat' or a dict; got {contact!r}.")
+        return (contact,) * len(reactions)
+    unknown = set(contact) - set(reactions)
+    if unknown:
+        raise ConstraintError(
+            f"contact names {sorted(unknown)} which are not reaction frames; "
+            f"reactions are {list(reactions)}."
+        )
+    out = []
+    for name in reactions:
+        kind = contact.get(name, "point")
+        if kind not in KINDS:
+            raise ConstraintError(f"contact[{name!r}] must be 'point' or 'flat', got {kind!r}.")
+        out.append(kind)
+    return tuple(out)
+
+
+def ball_axes(kind: str, rotation_axes: np.ndarray) -> np.ndarray:
+    """The natural-constraint columns of a contact of ``kind``.
+
+    The selected rotational axes (0-2) about which it transmits no moment.
+    """
+    return KINDS[kind].ball_axes(rotation_axes)
+
+
+__all__ = ["KINDS", "ball_axes", "parse_contacts"]

@@ -186,7 +186,6 @@ class ParallelVirtualActuator:
         self.partitioner = PartitionedSolver(self.problem, preferred)
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
-        #: The solvers ``solve(method=...)`` chooses from, by name (the first is the default)
         if friction is not None:
             friction = check_number(friction, "friction", positive=True)
         min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
@@ -194,7 +193,6 @@ class ParallelVirtualActuator:
             self.problem, friction, min_normal, normals, soles, torque_limits
         )
         self.qp = QPDistribution(self.problem, self.contact_limits, weights)
-        self.solvers = {"partitioned": self.partitioner, "dense": self.dense, "qp": self.qp}
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
 

@@ -30,6 +30,8 @@ from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array, check_name
 from ..vocabulary.axes import parse_axes
 
+_REALS = frozenset((float, int, np.float64))  # list entries taken without conversion checks
+
 
 class Component(ABC):
     """A virtual component acting on some axes of a virtual actuator.
@@ -127,9 +129,9 @@ class Component(ABC):
         Kept on purpose (issue 25's rule: a speed trick outside the kernels stays only if it is
         worth >= 5 % of a walking tick): gaits move set points every tick, and the generic
         check costs ~27 us of a ~180 us flamingo tick (15 %, cProfile of a 3 s walk). A plain
-        float, a list or tuple of plain floats, or a float64 array of the right shape whose sum
-        is finite (or not NaN, with ``allow_inf``) is taken as it is; anything else (and any
-        bad value) goes through the full check and its errors.
+        float, a list or tuple of plain floats or ints, or a float64 array of the right shape
+        whose sum is finite (or not NaN, with ``allow_inf``) is taken as it is; anything else
+        (and any bad value) goes through the full check and its errors.
         """
         kind, size = type(value), len(self.axes)
         if kind is float or kind is int:
@@ -138,9 +140,9 @@ class Component(ABC):
                 return np.full(size, number)
             return None
         if kind is tuple or kind is list:
-            if len(value) != size or not all(type(v) is float for v in value):
+            if len(value) != size or not _REALS.issuperset(map(type, value)):
                 return None
-            array = np.array(value)
+            array = np.array(value, dtype=float)
         elif kind is np.ndarray and value.dtype == np.float64 and value.shape == (size,):
             array = value.copy()
         else:

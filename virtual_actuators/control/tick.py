@@ -205,20 +205,29 @@ def check_limp(limp: object, nv: int) -> np.ndarray:
         InvalidInputError: Not a 1-D collection of integers in range.
 
     """
-    expected = f"velocity indices, integers in [0, {nv}) (see Controller.joint_indices)"
-    if isinstance(limp, (str, bytes, Mapping)) or limp is None:
-        raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.")
-    try:
-        index = np.asarray(limp)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.") from None
+    if type(limp) is np.ndarray:  # the usual case (Controller.joint_indices): no conversion
+        index = limp
+    elif isinstance(limp, (str, bytes, Mapping)) or limp is None:
+        raise _bad_limp(limp, nv)
+    else:
+        try:
+            index = np.asarray(limp)
+        except (TypeError, ValueError):
+            raise _bad_limp(limp, nv) from None
     if index.size == 0:
         return NO_LIMP
     if index.dtype.kind not in "iu" or index.ndim != 1:
-        raise InvalidInputError(f"limp must be {expected}, got {describe(limp)}.")
-    if index.min() < 0 or index.max() >= nv:
-        raise InvalidInputError(f"limp must be {expected}, got {index.tolist()}.")
+        raise _bad_limp(limp, nv)
+    entries = index.tolist()  # a few entries: Python's min and max beat numpy's reductions
+    if min(entries) < 0 or max(entries) >= nv:
+        raise _bad_limp(entries, nv)
     return index
+
+
+def _bad_limp(limp: object, nv: int) -> InvalidInputError:
+    expected = f"velocity indices, integers in [0, {nv}) (see Controller.joint_indices)"
+    shown = limp if isinstance(limp, list) else describe(limp)
+    return InvalidInputError(f"limp must be {expected}, got {shown}.")
 
 
 __all__ = [

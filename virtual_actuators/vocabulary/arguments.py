@@ -134,6 +134,16 @@ def check_names(
     return tuple(str(name) for name in names)
 
 
+def _valid(minimum: float | None, positive: bool, allow_inf: bool) -> str:
+    """What :func:`check_number` accepts, in words (for its messages)."""
+    valid = "a real number"
+    if positive:
+        valid += " > 0"
+    elif minimum is not None:
+        valid += f" >= {minimum:g}"
+    return valid + ("" if allow_inf else " (finite)")
+
+
 def check_number(
     value: object,
     what: str,
@@ -158,13 +168,11 @@ def check_number(
             of range.
 
     """
-    valid = "a real number"
-    if positive:
-        valid += " > 0"
-    elif minimum is not None:
-        valid += f" >= {minimum:g}"
-    valid += "" if allow_inf else " (finite)"
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+    # a plain float is a real number: the abstract-class checks run only for other types
+    if type(value) is not float and (
+        isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real)
+    ):
+        valid = _valid(minimum, positive, allow_inf)
         raise error(f"{what} must be {valid}, got {describe(value)}.")
     number = float(value)
     bad = (
@@ -175,7 +183,7 @@ def check_number(
     )
     if bad:
         shown = "NaN" if math.isnan(number) else repr(number)
-        raise error(f"{what} must be {valid}, got {shown}.")
+        raise error(f"{what} must be {_valid(minimum, positive, allow_inf)}, got {shown}.")
     return number
 
 

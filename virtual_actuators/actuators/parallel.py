@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
+from ..contacts import declare
 from ..contacts.declare import check_contact
 from ..distribution.partitioned.compiled import CompiledDistribution
 from ..distribution.partitioned.dense import DenseSolver
@@ -161,7 +162,6 @@ class ParallelVirtualActuator:
             raise ConstraintError(
                 f"The action frame {action!r} is also a reaction frame; they must differ."
             )
-        contact = check_contact(contact)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
         passive = _check_passive(passive)
         self.design = tuple(
@@ -175,9 +175,19 @@ class ParallelVirtualActuator:
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
+        if friction is not None:
+            friction = check_number(friction, "friction", positive=True)
+        min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
+        #: the contacts as declared (kinds, normals, pyramid, soles), read by the QP and by a
+        #: controller's yield policy
+        self.contacts = declare(
+            self.reactions, self.axes, check_contact(contact), friction, min_normal, normals,
+            soles,
+        )  # fmt: skip
         self.problem = DistributionProblem(
-            self.kinematics, self.reactions, contact, unactuated, passive, self.design
-        )
+            self.kinematics, self.reactions, self.contacts.contact,
+            unactuated, passive, self.design,
+        )  # fmt: skip
         preferred = np.ones((len(self.reactions), len(self.axes)))
         for constraint in self.design:
             if isinstance(constraint, (Equal, Linear)):
@@ -186,12 +196,7 @@ class ParallelVirtualActuator:
         self.partitioner = PartitionedSolver(self.problem, preferred)
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
-        if friction is not None:
-            friction = check_number(friction, "friction", positive=True)
-        min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
-        self.contact_limits = ContactLimits(
-            self.problem, friction, min_normal, normals, soles, torque_limits
-        )
+        self.contact_limits = ContactLimits(self.problem, self.contacts, torque_limits)
         self.qp = QPDistribution(self.problem, self.contact_limits, weights)
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"

@@ -11,6 +11,7 @@ and import nothing from it.
 """
 
 from .constraint import Constraint
+from .contact_set import ContactSet, declare
 from .torque_limits import TorqueLimits
 
-__all__ = ["Constraint", "TorqueLimits"]
+__all__ = ["Constraint", "ContactSet", "TorqueLimits", "declare"]

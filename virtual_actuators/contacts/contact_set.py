@@ -1,0 +1,374 @@
+"""The contacts of one parallel actuator as declared: one :class:`ContactSet`, one builder.
+
+:func:`declare` checks what ``ParallelVirtualActuator(contact=, friction=, min_normal=,
+normals=, soles=)`` or ``Controller.add(unilateral=, friction=, min_normal=)`` gives and returns
+a frozen :class:`ContactSet`: the kind of each reaction, its contact normal (world z unless
+declared), the friction pyramid and least normal force, the soles and the unilateral minima.
+Both layers read the same rows from it (:meth:`ContactSet.rows`, ``lows <= G x`` over ``x =
+forces.ravel()``): the QP stacks them with the torque limits, the controller's yield policy
+tests and scales a request against them, through :func:`margins`, the compiled evaluation of
+the same rows (the point kind's njit face rows, written once).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kinematics.kernels import njit
+from ..vocabulary.axes import AXES
+from . import flat, point
+from .constraint import Constraint, Entries
+from .declare import Normals, parse_normals
+from .kinds import parse_contacts
+from .point import face_rows, to_o
+
+#: the least normal force's and the pyramid faces' rows of the compiled margins, at most
+MAX_FACES = 5
+
+
+@dataclass(frozen=True, slots=True)
+class ContactSet:
+    """The contacts of one parallel actuator's chains, declared once (see :func:`declare`).
+
+    Attributes:
+        reactions: The reaction frames' names, one contact each.
+        axes: The actuator's axes (the columns of a chain's force).
+        kinds: ``"point"`` or ``"flat"`` per reaction (:data:`~.kinds.KINDS`).
+        normals: The contact normals (world z unless declared).
+        friction: The pyramid's ``mu`` at every contact, or None for no faces.
+        min_normal: Least normal force of every contact [N].
+        soles: ``{reaction index: (half_length, half_width)}`` of the flat contacts' soles.
+        minima: ``{axis index: minimum}``: every chain's share on that axis ``>= minimum``.
+        cone: Whether each contact has pyramid rows (a normal row or faces).
+        normal_row: Whether the pyramid starts with ``n . f >= min_normal`` (left out with
+            faces and no least normal force: the faces imply it).
+        names: The rows' names, in the order :meth:`rows` builds them.
+        lows: The rows' lower bounds (no upper bound).
+
+    """
+
+    reactions: tuple[str, ...]
+    axes: tuple[str, ...]
+    kinds: tuple[str, ...]
+    normals: Normals
+    friction: float | None
+    min_normal: float
+    soles: Mapping[int, tuple[float, float]]
+    minima: Mapping[int, float]
+    cone: bool
+    normal_row: bool
+    names: tuple[str, ...]
+    lows: np.ndarray
+
+    @property
+    def contact(self) -> dict[str, str]:
+        """The kinds by reaction frame (what ``contact=`` declares)."""
+        return dict(zip(self.reactions, self.kinds, strict=True))
+
+    @property
+    def any(self) -> bool:
+        """Whether there is at least one row."""
+        return bool(self.names)
+
+    @property
+    def sole_rows(self) -> bool:
+        """Whether the soles give rows (they need moment axes)."""
+        return bool(self.soles) and any(a in self.axes for a in AXES[3:])
+
+    def normals_at(self, rotation_a: np.ndarray) -> np.ndarray:
+        """``(p, 3)`` contact normals in the world; the frames' z axes from ``rotation_a``."""
+        if not self.normals.frame.any():
+            return self.normals.world
+        normals = self.normals.world.copy()
+        normals[self.normals.frame] = rotation_a[self.normals.frame, :, 2]
+        return normals
+
+    def rows(
+        self,
+        rotation_o: np.ndarray,
+        rotation_a: np.ndarray,
+        offsets_o: np.ndarray | None = None,
+    ) -> Constraint:
+        """``lows <= G x`` over ``x = forces.ravel()`` (``uppers`` infinite), a name a row.
+
+        The unilateral minima (axis by axis, chain by chain), each contact's pyramid, then the
+        soles' rows.
+
+        Args:
+            rotation_o: ``(3, 3)`` {O}'s rotation in the world.
+            rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
+            offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (read only
+                with soles).
+
+        """
+        p, n = len(self.reactions), len(self.axes)
+        blocks = []
+        for axis in self.minima:
+            block = np.zeros((p, p, n))
+            block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
+            blocks.append(block.reshape(p, p * n))
+        force_axes, components = _force_entries(self.axes)
+        if self.cone:
+            normals_world = self.normals_at(rotation_a)
+            stacked = point.pyramid(
+                normals_world, normals_world @ rotation_o, rotation_o, self.friction,
+                self.normal_row,
+            )  # fmt: skip
+            chains = np.arange(p)[:, None, None]
+            cone = np.zeros((p, stacked.shape[1], p * n))
+            columns = chains * n + np.asarray(force_axes, dtype=int)[None, None, :]
+            cone[chains, np.arange(stacked.shape[1])[None, :, None], columns] = stacked[
+                :, :, components
+            ]
+            blocks.append(cone.reshape(-1, p * n))
+        if self.sole_rows:
+            for i, sole in self.soles.items():
+                frame_o = rotation_o.T @ rotation_a[i]  # the reaction frame's axes in {O}
+                entries = self._entries(i)
+                blocks.append(flat.rows(sole, self.friction, frame_o, offsets_o[i], entries))
+        if not blocks:
+            return Constraint.empty(p * n)
+        G = np.vstack(blocks)
+        return Constraint(G, self.lows, np.full(len(self.lows), np.inf), self.names)
+
+    def _entries(self, i: int) -> Entries:
+        """Where contact ``i``'s force and moment entries sit in ``x = forces.ravel()``."""
+        n = len(self.axes)
+        force_axes, force_components = _force_entries(self.axes)
+        moment_axes = [self.axes.index(a) for a in AXES[3:] if a in self.axes]
+        moment_components = [AXES.index(a) - 3 for a in AXES[3:] if a in self.axes]
+        return Entries(
+            i * n + np.array(force_axes, dtype=int),
+            i * n + np.array(moment_axes, dtype=int),
+            force_components,
+            moment_components,
+            len(self.reactions) * n,
+        )
+
+    def tables(self) -> dict[str, np.ndarray]:
+        """The declaration's tables for the compiled QP matrices (normals, pyramid, soles)."""
+        friction = -1.0 if self.friction is None else self.friction
+        return {
+            "normals_world": self.normals.world,
+            "frame_normals": self.normals.frame.astype(np.int64),
+            "cone": np.array([friction, self.min_normal, self.normal_row]),
+            "soles": flat.table(self.soles, len(self.reactions)),
+        }
+
+    def compiled(self) -> CompiledMargins | None:
+        """The arguments of :func:`margins` (None with sole rows: build :meth:`rows` then)."""
+        if self.sole_rows:
+            return None
+        force_axes, components = _force_entries(self.axes)
+        friction = -1.0 if self.friction is None else self.friction
+        return CompiledMargins(
+            self.normals.world,
+            self.normals.frame,
+            np.array([friction, float(self.cone), float(self.normal_row)]),
+            np.array(force_axes, dtype=np.int64),
+            np.array(components, dtype=np.int64),
+            np.array(list(self.minima), dtype=np.int64),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class CompiledMargins:
+    """A :class:`ContactSet`'s tables for :func:`margins` (see :meth:`ContactSet.compiled`)."""
+
+    normals_world: np.ndarray
+    frame_normals: np.ndarray
+    #: ``(3,)``: friction (< 0 for none), 1 for pyramid rows, 1 for the normal row
+    settings: np.ndarray
+    force_columns: np.ndarray
+    force_components: np.ndarray
+    minima_axes: np.ndarray
+
+
+def _force_entries(axes: Sequence[str]) -> tuple[list[int], list[int]]:
+    """The positions of the force axes among ``axes``, and which of x, y, z each is."""
+    return [axes.index(a) for a in AXES[:3] if a in axes], [
+        AXES.index(a) for a in AXES[:3] if a in axes
+    ]
+
+
+def declare(
+    reactions: Sequence[str],
+    axes: Sequence[str],
+    contact: str | Mapping[str, str] = "point",
+    friction: float | None = None,
+    min_normal: float = 0.0,
+    normals: Mapping[str, Sequence[float] | str] | str | Normals | None = None,
+    soles: Mapping[str, Sequence[float]] | None = None,
+    minima: Mapping[int, float] | None = None,
+) -> ContactSet:
+    """The :class:`ContactSet` of ``reactions``' contacts (values already checked as numbers).
+
+    Args:
+        reactions: The reaction frames' names.
+        axes: The actuator's axes.
+        contact: ``"point"``, ``"flat"`` or a dict by reaction (:func:`~.kinds.parse_contacts`).
+        friction: Friction coefficient ``mu`` > 0 of every contact's pyramid, or None.
+        min_normal: Least normal force >= 0 of every contact [N].
+        normals: None (world z), ``"frames"``, a mapping by reaction (see
+            :func:`~.declare.parse_normals`) or normals already parsed.
+        soles: ``(half_length, half_width)`` [m] of flat contacts, by reaction frame.
+        minima: ``{axis index: minimum}`` of every chain's share (the controller's
+            ``unilateral``).
+
+    Raises:
+        ConstraintError: A bad ``contact``.
+        InvalidInputError: Bad ``normals`` or ``soles``.
+
+    """
+    reactions, axes = tuple(reactions), tuple(axes)
+    kinds = parse_contacts(contact, reactions)
+    if not isinstance(normals, Normals):
+        normals = parse_normals(normals, reactions)
+    soles = flat.parse_soles(soles, reactions, kinds)
+    minima = dict(minima or {})
+    min_normal = float(min_normal)
+    cone = any(a in axes for a in AXES[:3]) and (
+        friction is not None or min_normal > 0.0 or bool(soles)
+    )
+    normal_row = cone and (friction is None or min_normal > 0.0)
+    names: list[str] = []
+    lows: list[float] = []
+    for axis, minimum in minima.items():
+        names += [f"{reaction}: {axes[axis]} >= {minimum:g}" for reaction in reactions]
+        lows += [minimum] * len(reactions)
+    if cone:
+        faces = point.faces(friction, normal_row)
+        for reaction in reactions:
+            names += point.names(reaction, friction, min_normal, normal_row)
+            lows += [min_normal] * normal_row + [0.0] * (faces - normal_row)
+    if soles and any(a in axes for a in AXES[3:]):
+        for i, sole in soles.items():
+            names += flat.names(reactions[i], sole, friction)
+            lows += [0.0] * flat.ROWS
+    return ContactSet(
+        reactions, axes, kinds, normals, friction, min_normal, soles, minima, cone, normal_row,
+        tuple(names), np.array(lows, dtype=float),
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def margins(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    forces: np.ndarray,
+    normals_world: np.ndarray,
+    frame_normals: np.ndarray,
+    settings: np.ndarray,
+    force_columns: np.ndarray,
+    force_components: np.ndarray,
+    minima_axes: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """``G @ forces.ravel()`` of :meth:`ContactSet.rows` (no sole rows) into ``out``.
+
+    ``frames`` is the snapshot's frame table (row ``f``: ``R.ravel()``), ``orientation_rows``
+    the rows of {O} then of each reaction frame; the pyramid rows are the point kind's
+    :func:`~.point.face_rows` turned into {O} (:func:`~.point.to_o`).
+    """
+    p = forces.shape[0]
+    row = 0
+    for k in range(minima_axes.shape[0]):
+        for c in range(p):
+            out[row] = forces[c, minima_axes[k]]
+            row += 1
+    if settings[1] == 0.0:
+        return
+    rot_o = np.empty((3, 3))
+    o = orientation_rows[0]
+    for m in range(3):
+        for c in range(3):
+            rot_o[m, c] = frames[o, 3 * m + c]
+    normal = np.empty(3)
+    faces = np.empty((MAX_FACES, 3))
+    for c in range(p):
+        a = orientation_rows[1 + c]
+        for k in range(3):  # a frame normal: its z axis in the world
+            normal[k] = frames[a, 3 * k + 2] if frame_normals[c] else normals_world[c, k]
+        count = face_rows(normal, settings[0], settings[2] > 0.0, faces)
+        to_o(rot_o, faces, count)
+        for f in range(count):
+            total = 0.0
+            for i in range(force_columns.shape[0]):
+                total += faces[f, force_components[i]] * forces[c, force_columns[i]]
+            out[row] = total
+            row += 1
+
+
+@njit(cache=True)
+def least_margin(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    forces: np.ndarray,
+    normals_world: np.ndarray,
+    frame_normals: np.ndarray,
+    settings: np.ndarray,
+    force_columns: np.ndarray,
+    force_components: np.ndarray,
+    minima_axes: np.ndarray,
+    lows: np.ndarray,
+) -> float:
+    """Smallest ``G @ forces.ravel() - lows`` of :meth:`ContactSet.rows` (no sole rows)."""
+    values = np.empty(lows.shape[0])
+    margins(frames, orientation_rows, forces, normals_world, frame_normals, settings,
+            force_columns, force_components, minima_axes, values)  # fmt: skip
+    worst = np.inf
+    for r in range(lows.shape[0]):
+        worst = min(worst, values[r] - lows[r])
+    return worst
+
+
+@njit(cache=True)
+def largest_scale(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    full: np.ndarray,
+    base: np.ndarray,
+    normals_world: np.ndarray,
+    frame_normals: np.ndarray,
+    settings: np.ndarray,
+    force_columns: np.ndarray,
+    force_components: np.ndarray,
+    minima_axes: np.ndarray,
+    lows: np.ndarray,
+) -> float:
+    """The largest ``alpha`` in ``[0, 1]`` with ``G (base + alpha (full - base)) >= lows``.
+
+    On every row of :meth:`ContactSet.rows` (no sole rows); 0 when none is.
+    """
+    count = lows.shape[0]
+    at_full, at_base = np.empty(count), np.empty(count)
+    margins(frames, orientation_rows, full, normals_world, frame_normals, settings,
+            force_columns, force_components, minima_axes, at_full)  # fmt: skip
+    margins(frames, orientation_rows, base, normals_world, frame_normals, settings,
+            force_columns, force_components, minima_axes, at_base)  # fmt: skip
+    upper, lower = 1.0, 0.0
+    for r in range(count):
+        slope = at_full[r] - at_base[r]
+        if slope == 0.0:
+            if at_base[r] < lows[r]:
+                return 0.0  # no alpha helps that condition
+            continue
+        ratio = (lows[r] - at_base[r]) / slope
+        if slope < 0.0:
+            upper = min(upper, ratio)
+        else:
+            lower = max(lower, ratio)
+    return 0.0 if lower > upper else min(upper, 1.0)
+
+
+__all__ = [
+    "CompiledMargins",
+    "ContactSet",
+    "declare",
+    "largest_scale",
+    "least_margin",
+    "margins",
+]

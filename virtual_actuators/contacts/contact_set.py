@@ -18,10 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kinematics.kernels import njit
+from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import AXES
 from . import flat, point
-from .constraint import Constraint, Entries
-from .declare import Normals, parse_normals
+from .constraint import Constraint, force_entries
+from .declare import Normals, check_contact, parse_normals
 from .kinds import parse_contacts
 from .point import face_rows, to_o
 
@@ -76,7 +77,7 @@ class ContactSet:
     @property
     def sole_rows(self) -> bool:
         """Whether the soles give rows (they need moment axes)."""
-        return bool(self.soles) and any(a in self.axes for a in AXES[3:])
+        return flat.active(self.soles, self.axes)
 
     def normals_at(self, rotation_a: np.ndarray) -> np.ndarray:
         """``(p, 3)`` contact normals in the world; the frames' z axes from ``rotation_a``."""
@@ -110,7 +111,7 @@ class ContactSet:
             block = np.zeros((p, p, n))
             block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
             blocks.append(block.reshape(p, p * n))
-        force_axes, components = _force_entries(self.axes)
+        force_axes, components = force_entries(self.axes)
         if self.cone:
             normals_world = self.normals_at(rotation_a)
             stacked = point.pyramid(
@@ -125,28 +126,13 @@ class ContactSet:
             ]
             blocks.append(cone.reshape(-1, p * n))
         if self.sole_rows:
-            for i, sole in self.soles.items():
-                frame_o = rotation_o.T @ rotation_a[i]  # the reaction frame's axes in {O}
-                entries = self._entries(i)
-                blocks.append(flat.rows(sole, self.friction, frame_o, offsets_o[i], entries))
+            blocks.append(
+                flat.block(self.soles, self.friction, rotation_o, rotation_a, offsets_o, self.axes)
+            )
         if not blocks:
             return Constraint.empty(p * n)
         G = np.vstack(blocks)
         return Constraint(G, self.lows, np.full(len(self.lows), np.inf), self.names)
-
-    def _entries(self, i: int) -> Entries:
-        """Where contact ``i``'s force and moment entries sit in ``x = forces.ravel()``."""
-        n = len(self.axes)
-        force_axes, force_components = _force_entries(self.axes)
-        moment_axes = [self.axes.index(a) for a in AXES[3:] if a in self.axes]
-        moment_components = [AXES.index(a) - 3 for a in AXES[3:] if a in self.axes]
-        return Entries(
-            i * n + np.array(force_axes, dtype=int),
-            i * n + np.array(moment_axes, dtype=int),
-            force_components,
-            moment_components,
-            len(self.reactions) * n,
-        )
 
     def tables(self) -> dict[str, np.ndarray]:
         """The declaration's tables for the compiled QP matrices (normals, pyramid, soles)."""
@@ -162,7 +148,7 @@ class ContactSet:
         """The arguments of :func:`margins` (None with sole rows: build :meth:`rows` then)."""
         if self.sole_rows:
             return None
-        force_axes, components = _force_entries(self.axes)
+        force_axes, components = force_entries(self.axes)
         friction = -1.0 if self.friction is None else self.friction
         return CompiledMargins(
             self.normals.world,
@@ -187,13 +173,6 @@ class CompiledMargins:
     minima_axes: np.ndarray
 
 
-def _force_entries(axes: Sequence[str]) -> tuple[list[int], list[int]]:
-    """The positions of the force axes among ``axes``, and which of x, y, z each is."""
-    return [axes.index(a) for a in AXES[:3] if a in axes], [
-        AXES.index(a) for a in AXES[:3] if a in axes
-    ]
-
-
 def declare(
     reactions: Sequence[str],
     axes: Sequence[str],
@@ -204,14 +183,15 @@ def declare(
     soles: Mapping[str, Sequence[float]] | None = None,
     minima: Mapping[int, float] | None = None,
 ) -> ContactSet:
-    """The :class:`ContactSet` of ``reactions``' contacts (values already checked as numbers).
+    """The :class:`ContactSet` of ``reactions``' contacts, every argument checked.
 
     Args:
         reactions: The reaction frames' names.
         axes: The actuator's axes.
         contact: ``"point"``, ``"flat"`` or a dict by reaction (:func:`~.kinds.parse_contacts`).
-        friction: Friction coefficient ``mu`` > 0 of every contact's pyramid, or None.
-        min_normal: Least normal force >= 0 of every contact [N].
+        friction: Friction coefficient ``mu``, a finite number > 0, of every contact's pyramid,
+            or None.
+        min_normal: Least normal force, a finite number >= 0, of every contact [N].
         normals: None (world z), ``"frames"``, a mapping by reaction (see
             :func:`~.declare.parse_normals`) or normals already parsed.
         soles: ``(half_length, half_width)`` [m] of flat contacts, by reaction frame.
@@ -220,20 +200,22 @@ def declare(
 
     Raises:
         ConstraintError: A bad ``contact``.
-        InvalidInputError: Bad ``normals`` or ``soles``.
+        InvalidInputError: Bad ``friction``, ``min_normal``, ``normals`` or ``soles``.
 
     """
+    if friction is not None:
+        friction = check_number(friction, "friction", positive=True)
+    min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
     reactions, axes = tuple(reactions), tuple(axes)
-    kinds = parse_contacts(contact, reactions)
+    kinds = parse_contacts(check_contact(contact), reactions)
     if not isinstance(normals, Normals):
         normals = parse_normals(normals, reactions)
     soles = flat.parse_soles(soles, reactions, kinds)
     minima = dict(minima or {})
-    min_normal = float(min_normal)
     cone = any(a in axes for a in AXES[:3]) and (
         friction is not None or min_normal > 0.0 or bool(soles)
     )
-    normal_row = cone and (friction is None or min_normal > 0.0)
+    normal_row = cone and point.normal_row(friction, min_normal)
     names: list[str] = []
     lows: list[float] = []
     for axis, minimum in minima.items():
@@ -244,10 +226,9 @@ def declare(
         for reaction in reactions:
             names += point.names(reaction, friction, min_normal, normal_row)
             lows += [min_normal] * normal_row + [0.0] * (faces - normal_row)
-    if soles and any(a in axes for a in AXES[3:]):
-        for i, sole in soles.items():
-            names += flat.names(reactions[i], sole, friction)
-            lows += [0.0] * flat.ROWS
+    sole_names = flat.declared_names(soles, reactions, friction, axes)
+    names += sole_names
+    lows += [0.0] * len(sole_names)
     return ContactSet(
         reactions, axes, kinds, normals, friction, min_normal, soles, minima, cone, normal_row,
         tuple(names), np.array(lows, dtype=float),

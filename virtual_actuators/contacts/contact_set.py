@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -157,11 +158,11 @@ class ContactSet:
             np.array(force_axes, dtype=np.int64),
             np.array(components, dtype=np.int64),
             np.array(list(self.minima), dtype=np.int64),
+            self.lows,
         )
 
 
-@dataclass(frozen=True, slots=True)
-class CompiledMargins:
+class CompiledMargins(NamedTuple):
     """A :class:`ContactSet`'s tables for :func:`margins` (see :meth:`ContactSet.compiled`)."""
 
     normals_world: np.ndarray
@@ -171,6 +172,7 @@ class CompiledMargins:
     force_columns: np.ndarray
     force_components: np.ndarray
     minima_axes: np.ndarray
+    lows: np.ndarray
 
 
 def declare(
@@ -240,12 +242,7 @@ def margins(
     frames: np.ndarray,
     orientation_rows: np.ndarray,
     forces: np.ndarray,
-    normals_world: np.ndarray,
-    frame_normals: np.ndarray,
-    settings: np.ndarray,
-    force_columns: np.ndarray,
-    force_components: np.ndarray,
-    minima_axes: np.ndarray,
+    tables: CompiledMargins,
     out: np.ndarray,
 ) -> None:
     """``G @ forces.ravel()`` of :meth:`ContactSet.rows` (no sole rows) into ``out``.
@@ -256,54 +253,40 @@ def margins(
     """
     p = forces.shape[0]
     row = 0
-    for k in range(minima_axes.shape[0]):
+    for axis in tables.minima_axes:
         for c in range(p):
-            out[row] = forces[c, minima_axes[k]]
+            out[row] = forces[c, axis]
             row += 1
-    if settings[1] == 0.0:
+    friction, cone, with_normal = tables.settings[0], tables.settings[1], tables.settings[2]
+    if cone == 0.0:
         return
-    rot_o = np.empty((3, 3))
-    o = orientation_rows[0]
-    for m in range(3):
-        for c in range(3):
-            rot_o[m, c] = frames[o, 3 * m + c]
+    rot_o = frames[orientation_rows[0], :9].copy().reshape(3, 3)
     normal = np.empty(3)
     faces = np.empty((MAX_FACES, 3))
+    columns, components = tables.force_columns, tables.force_components
+    normals_world, frame_normals = tables.normals_world, tables.frame_normals
     for c in range(p):
         a = orientation_rows[1 + c]
         for k in range(3):  # a frame normal: its z axis in the world
             normal[k] = frames[a, 3 * k + 2] if frame_normals[c] else normals_world[c, k]
-        count = face_rows(normal, settings[0], settings[2] > 0.0, faces)
+        count = face_rows(normal, friction, with_normal > 0.0, faces)
         to_o(rot_o, faces, count)
         for f in range(count):
             total = 0.0
-            for i in range(force_columns.shape[0]):
-                total += faces[f, force_components[i]] * forces[c, force_columns[i]]
+            for i in range(columns.shape[0]):
+                total += faces[f, components[i]] * forces[c, columns[i]]
             out[row] = total
             row += 1
 
 
 @njit(cache=True)
 def least_margin(
-    frames: np.ndarray,
-    orientation_rows: np.ndarray,
-    forces: np.ndarray,
-    normals_world: np.ndarray,
-    frame_normals: np.ndarray,
-    settings: np.ndarray,
-    force_columns: np.ndarray,
-    force_components: np.ndarray,
-    minima_axes: np.ndarray,
-    lows: np.ndarray,
+    frames: np.ndarray, orientation_rows: np.ndarray, forces: np.ndarray, tables: CompiledMargins
 ) -> float:
     """Smallest ``G @ forces.ravel() - lows`` of :meth:`ContactSet.rows` (no sole rows)."""
-    values = np.empty(lows.shape[0])
-    margins(frames, orientation_rows, forces, normals_world, frame_normals, settings,
-            force_columns, force_components, minima_axes, values)  # fmt: skip
-    worst = np.inf
-    for r in range(lows.shape[0]):
-        worst = min(worst, values[r] - lows[r])
-    return worst
+    values = np.empty(tables.lows.shape[0])
+    margins(frames, orientation_rows, forces, tables, values)
+    return (values - tables.lows).min() if values.shape[0] else np.inf
 
 
 @njit(cache=True)
@@ -312,26 +295,18 @@ def largest_scale(
     orientation_rows: np.ndarray,
     full: np.ndarray,
     base: np.ndarray,
-    normals_world: np.ndarray,
-    frame_normals: np.ndarray,
-    settings: np.ndarray,
-    force_columns: np.ndarray,
-    force_components: np.ndarray,
-    minima_axes: np.ndarray,
-    lows: np.ndarray,
+    tables: CompiledMargins,
 ) -> float:
     """The largest ``alpha`` in ``[0, 1]`` with ``G (base + alpha (full - base)) >= lows``.
 
     On every row of :meth:`ContactSet.rows` (no sole rows); 0 when none is.
     """
-    count = lows.shape[0]
-    at_full, at_base = np.empty(count), np.empty(count)
-    margins(frames, orientation_rows, full, normals_world, frame_normals, settings,
-            force_columns, force_components, minima_axes, at_full)  # fmt: skip
-    margins(frames, orientation_rows, base, normals_world, frame_normals, settings,
-            force_columns, force_components, minima_axes, at_base)  # fmt: skip
+    lows = tables.lows
+    at_full, at_base = np.empty(lows.shape[0]), np.empty(lows.shape[0])
+    margins(frames, orientation_rows, full, tables, at_full)
+    margins(frames, orientation_rows, base, tables, at_base)
     upper, lower = 1.0, 0.0
-    for r in range(count):
+    for r in range(lows.shape[0]):
         slope = at_full[r] - at_base[r]
         if slope == 0.0:
             if at_base[r] < lows[r]:

@@ -14,7 +14,6 @@ import dataclasses
 import numpy as np
 
 from ..contacts import contact_set
-from ..contacts.contact_set import CompiledMargins
 from ..distribution.solution import Solution, label
 from ..kinematics.kernels import HAVE_NUMBA
 from ..kinematics.snapshot import Snapshot
@@ -31,13 +30,7 @@ def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray)
     if frames is None:
         return None
     rows = attachment.actuator.kinematics.orientation_rows
-    return contact_set.least_margin(
-        frames, rows, forces, *_tables(attachment.margins), attachment.contacts.lows
-    )
-
-
-def _tables(margins: CompiledMargins) -> tuple:
-    return tuple(getattr(margins, name) for name in CompiledMargins.__slots__)
+    return contact_set.least_margin(frames, rows, forces, attachment.margins)
 
 
 def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | None:
@@ -81,9 +74,7 @@ def largest_scale(
         rows, lows = constraint_rows(attachment, snapshot)
         return ratio_test(rows @ full.ravel(), rows @ base.ravel(), lows)
     rows = attachment.actuator.kinematics.orientation_rows
-    return contact_set.largest_scale(
-        frames, rows, full, base, *_tables(attachment.margins), attachment.contacts.lows
-    )
+    return contact_set.largest_scale(frames, rows, full, base, attachment.margins)
 
 
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:

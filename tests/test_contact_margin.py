@@ -2,7 +2,8 @@
 
 ``least_margin`` decides, without building the constraint rows, whether a tick's distribution
 already meets the friction cones and unilateral minima (the usual tick). It must equal the
-smallest margin computed from Pinocchio's sole orientations, and the rows' own margins. When a
+smallest margin of an oracle (cones about world z, or with ``normals="frames"`` about the soles'
+axes from Pinocchio's placements), and the rows' own margins. When a
 request must be scaled, ``largest_scale`` (compiled ratio test) must agree with the numpy ratio
 test on the rows and with a bisection on the oracle margins, and the interpolated solution must
 equal a solve of the scaled request.

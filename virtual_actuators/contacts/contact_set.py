@@ -22,13 +22,11 @@ from ..kinematics.kernels import njit
 from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import AXES
 from . import flat, point
-from .constraint import Constraint, force_entries
+from .constraint import Constraint, Contact, force_entries
 from .declare import Normals, check_contact, parse_normals
 from .kinds import parse_contacts
-from .point import face_rows, to_o
-
-#: the least normal force's and the pyramid faces' rows of the compiled margins, at most
-MAX_FACES = 5
+from .point import MAX_ROWS as POINT_ROWS
+from .point import kernel_rows as point_rows
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,14 +147,16 @@ class ContactSet:
         """The arguments of :func:`margins` (None with sole rows: build :meth:`rows` then)."""
         if self.sole_rows:
             return None
-        force_axes, components = force_entries(self.axes)
-        friction = -1.0 if self.friction is None else self.friction
+        contacts = [
+            Contact(reaction, self.friction, self.min_normal, normal, bool(frame), None)
+            for reaction, normal, frame in zip(
+                self.reactions, self.normals.world, self.normals.frame, strict=True
+            )
+        ]
+        points = np.array([point.parameters(contact) for contact in contacts])
         return CompiledMargins(
-            self.normals.world,
-            self.normals.frame,
-            np.array([friction, float(self.cone), float(self.normal_row)]),
-            np.array(force_axes, dtype=np.int64),
-            np.array(components, dtype=np.int64),
+            points if self.cone else points[:0],
+            np.array([AXES.index(a) for a in self.axes], dtype=np.int64),
             np.array(list(self.minima), dtype=np.int64),
             self.lows,
         )
@@ -165,13 +165,13 @@ class ContactSet:
 class CompiledMargins(NamedTuple):
     """A :class:`ContactSet`'s tables for :func:`margins` (see :meth:`ContactSet.compiled`)."""
 
-    normals_world: np.ndarray
-    frame_normals: np.ndarray
-    #: ``(3,)``: friction (< 0 for none), 1 for pyramid rows, 1 for the normal row
-    settings: np.ndarray
-    force_columns: np.ndarray
-    force_components: np.ndarray
+    #: ``(p, k)`` each contact's :func:`~.point.parameters` row (no row: no pyramid)
+    points: np.ndarray
+    #: ``(n,)`` the component (0-5) of each axis
+    axis_rows: np.ndarray
+    #: the axes with a unilateral minimum
     minima_axes: np.ndarray
+    #: the rows' lower bounds
     lows: np.ndarray
 
 
@@ -248,33 +248,27 @@ def margins(
     """``G @ forces.ravel()`` of :meth:`ContactSet.rows` (no sole rows) into ``out``.
 
     ``frames`` is the snapshot's frame table (row ``f``: ``R.ravel()``), ``orientation_rows``
-    the rows of {O} then of each reaction frame; the pyramid rows are the point kind's
-    :func:`~.point.face_rows` turned into {O} (:func:`~.point.to_o`).
+    the rows of {O} then of each reaction frame; the pyramid rows are the point kind's compiled
+    rows (:func:`~.point.kernel_rows`).
     """
-    p = forces.shape[0]
+    p, n = forces.shape
     row = 0
     for axis in tables.minima_axes:
         for c in range(p):
             out[row] = forces[c, axis]
             row += 1
-    friction, cone, with_normal = tables.settings[0], tables.settings[1], tables.settings[2]
-    if cone == 0.0:
+    if tables.points.shape[0] == 0:
         return
     rot_o = frames[orientation_rows[0], :9].copy().reshape(3, 3)
-    normal = np.empty(3)
-    faces = np.empty((MAX_FACES, 3))
-    columns, components = tables.force_columns, tables.force_components
-    normals_world, frame_normals = tables.normals_world, tables.frame_normals
+    rows, lows, offset = np.empty((POINT_ROWS, n)), np.empty(POINT_ROWS), np.zeros(3)
     for c in range(p):
-        a = orientation_rows[1 + c]
-        for k in range(3):  # a frame normal: its z axis in the world
-            normal[k] = frames[a, 3 * k + 2] if frame_normals[c] else normals_world[c, k]
-        count = face_rows(normal, friction, with_normal > 0.0, faces)
-        to_o(rot_o, faces, count)
+        rows[:] = 0.0
+        placement = frames[orientation_rows[1 + c]]
+        count = point_rows(tables.points[c], placement, rot_o, offset, tables.axis_rows, rows, lows)
         for f in range(count):
             total = 0.0
-            for i in range(columns.shape[0]):
-                total += faces[f, components[i]] * forces[c, columns[i]]
+            for a in range(n):
+                total += rows[f, a] * forces[c, a]
             out[row] = total
             row += 1
 

@@ -2,7 +2,8 @@
 
 ``least_margin`` decides, without building the constraint rows, whether a tick's distribution
 already meets the friction cones and unilateral minima (the usual tick). It must equal the
-smallest margin computed from Pinocchio's sole orientations, and the rows' own margins. When a
+smallest margin of an oracle (cones about world z, or with ``normals="frames"`` about the soles'
+axes from Pinocchio's placements), and the rows' own margins. When a
 request must be scaled, ``largest_scale`` (compiled ratio test) must agree with the numpy ratio
 test on the rows and with a bisection on the oracle margins, and the interpolated solution must
 equal a solve of the scaled request.
@@ -31,11 +32,14 @@ PLANAR = ("x", "z", "ry")
 ANKLES = ["left_ankle", "right_ankle"]
 
 
-def _flamingo(mu: float | None, min_normal: float, unilateral: dict | None = None):
+def _flamingo(
+    mu: float | None, min_normal: float, unilateral: dict | None = None, normals=None
+):
     rob = robot("spring_flamingo")
     double = va.ParallelVirtualActuator(
-        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, contact="flat", unactuated=ANKLES
-    )
+        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, contact="flat",
+        unactuated=ANKLES, normals=normals,
+    )  # fmt: skip
     controller = Controller(rob, clip=False)
     limits = {"friction": mu, "min_normal": min_normal} if mu is not None else {}
     controller.add(
@@ -56,32 +60,40 @@ def _tilted(rob: va.Robot, rng: np.random.Generator) -> np.ndarray:
     return q
 
 
-def _oracle_margins(rob: va.Robot, q: np.ndarray, forces: np.ndarray, mu, min_normal):
-    """Normal minus its minimum and ``mu n -+ t`` per sole, from Pinocchio's placements."""
+def _oracle_margins(
+    rob: va.Robot, q: np.ndarray, forces: np.ndarray, mu, min_normal, frames: bool = False
+):
+    """``mu n -+ t`` per foot (and the normal minus its minimum when > 0).
+
+    About world z with the world's x and y as tangents by default; about the soles' axes from
+    Pinocchio's placements with ``frames`` (``normals="frames"``).
+    """
     model = rob.model
     data = model.createData()
     pin.framesForwardKinematics(model, data, q)
     margins = []
     for chain, foot in enumerate(("left_foot", "right_foot")):
-        rotation = data.oMf[model.getFrameId(foot)].rotation  # sole axes in the world
+        rotation = data.oMf[model.getFrameId(foot)].rotation if frames else np.eye(3)
         force_world = np.array([forces[chain, 0], 0.0, forces[chain, 1]])
         normal = rotation[:, 2] @ force_world
         t1, t2 = rotation[:, 0] @ force_world, rotation[:, 1] @ force_world
-        margins += [normal - min_normal, mu * normal - t1, mu * normal + t1]
-        margins += [mu * normal - t2, mu * normal + t2]
+        margins += [normal - min_normal] if min_normal > 0.0 else []
+        margins += [mu * normal - t1, mu * normal + t1, mu * normal - t2, mu * normal + t2]
     return np.array(margins)
 
 
+@pytest.mark.parametrize("normals", [None, "frames"])
 @pytest.mark.parametrize("seed", range(6))
-def test_least_margin_equals_the_forward_kinematics_cone_margins(seed):
+def test_least_margin_equals_the_forward_kinematics_cone_margins(seed, normals):
     rng = np.random.default_rng(seed)
-    mu, min_normal = rng.uniform(0.2, 1.2), rng.uniform(0.0, 20.0)
-    rob, attachment = _flamingo(mu, min_normal)
+    mu, min_normal = rng.uniform(0.2, 1.2), rng.uniform(0.0, 20.0) * (seed % 3 > 0)
+    rob, attachment = _flamingo(mu, min_normal, normals=normals)
     for _ in range(40):
         q = _tilted(rob, rng)
         snapshot = va.Snapshot(rob, q, np.zeros(rob.model.nv))
         forces = rng.normal(0.0, 60.0, (2, 3)) + [0.0, 50.0, 0.0]
-        expected = _oracle_margins(rob, q, forces, mu, min_normal).min()
+        frames = normals == "frames"
+        expected = _oracle_margins(rob, q, forces, mu, min_normal, frames).min()
         margin = least_margin(attachment, snapshot, forces)
         assert margin == pytest.approx(expected, rel=1e-12, abs=1e-10 * np.abs(forces).max())
         rows, lows = constraint_rows(attachment, snapshot)
@@ -102,7 +114,8 @@ def test_least_margin_of_unilateral_minima_is_the_least_share_above_its_floor():
 def test_largest_scale_equals_the_ratio_test_and_a_bisection_on_the_oracle(seed):
     rng = np.random.default_rng(100 + seed)
     mu, min_normal = rng.uniform(0.3, 1.0), rng.uniform(0.0, 15.0)
-    rob, attachment = _flamingo(mu, min_normal)
+    rob, attachment = _flamingo(mu, min_normal, normals="frames" if seed % 2 else None)
+    frames = seed % 2 == 1
     checked = 0
     for _ in range(60):
         q = _tilted(rob, rng)
@@ -117,7 +130,7 @@ def test_largest_scale_equals_the_ratio_test_and_a_bisection_on_the_oracle(seed)
 
         def feasible(a, q=q, full=full, base=base):
             shares = base + a * (full - base)
-            margins = _oracle_margins(rob, q, shares, mu, min_normal)
+            margins = _oracle_margins(rob, q, shares, mu, min_normal, frames)
             return margins.min() >= 0.0
 
         if not feasible(0.0) or feasible(1.0):

@@ -758,13 +758,14 @@ def test_repeated_active_name_is_rejected():
         controller.compute(q, v, active=["tool", "tool"])
 
 
-def _flamingo_cone(mu: float, min_normal: float, fx: float, tilt: float):
+def _flamingo_cone(mu: float, min_normal: float, fx: float, tilt: float, normals=None):
     """Flamingo double support (limp ankles, flat feet) with both soles pitched by ``tilt``."""
     rob = robot(FLAMINGO)
     ankles = ["left_ankle", "right_ankle"]
     double = va.ParallelVirtualActuator(
-        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, contact="flat", unactuated=ankles
-    )
+        rob, "body", ["left_foot", "right_foot"], "world", PLANAR, contact="flat",
+        unactuated=ankles, normals=normals,
+    )  # fmt: skip
     controller = Controller(rob, clip=False)
     controller.add(
         "double",
@@ -783,29 +784,39 @@ def _flamingo_cone(mu: float, min_normal: float, fx: float, tilt: float):
     return rob, controller, reference, q
 
 
-def _cone_margins(model, q, forces, mu, min_normal) -> np.ndarray:
-    """Normal minus its minimum, and mu * normal -+ tangential, per foot, from the soles' FK."""
+def _cone_margins(model, q, forces, mu, min_normal, frames=False) -> np.ndarray:
+    """Normal minus its minimum, and mu * normal -+ tangential, per foot.
+
+    About world z (tangent world x) by default; about the soles' axes from their FK with
+    ``frames`` (the actuator's ``normals="frames"``).
+    """
     margins = []
     for chain, foot in enumerate(("left_foot", "right_foot")):
-        rotation = placement(model, q, foot).rotation  # sole axes in the world
+        rotation = placement(model, q, foot).rotation if frames else np.eye(3)
         force_world = np.array([forces[chain, 0], 0.0, forces[chain, 1]])
         normal, tangent = rotation[:, 2] @ force_world, rotation[:, 0] @ force_world
         margins += [normal - min_normal, mu * normal - tangent, mu * normal + tangent]
     return np.array(margins)
 
 
+@pytest.mark.parametrize("normals", [None, "frames"])
 @pytest.mark.parametrize(("fx", "tilt"), [(80.0, 0.0), (-90.0, 0.0), (60.0, 0.25), (-50.0, -0.3)])
-def test_friction_cone_scales_the_yield_axis_to_the_largest_feasible_request(fx, tilt):
+def test_friction_cone_scales_the_yield_axis_to_the_largest_feasible_request(fx, tilt, normals):
     mu, min_normal = 0.4, 10.0
-    rob, controller, reference, q = _flamingo_cone(mu, min_normal, fx, tilt)
+    rob, controller, reference, q = _flamingo_cone(mu, min_normal, fx, tilt, normals)
+    frames = normals == "frames"
+
+    def margins_of(forces):
+        return _cone_margins(rob.model, q, forces, mu, min_normal, frames)
+
     request = np.array([fx, 110.0, 1.0])
-    assert _cone_margins(rob.model, q, reference.solve(q, request), mu, min_normal).min() < 0.0
+    assert margins_of(reference.solve(q, request)).min() < 0.0
     base = np.array([0.0, 110.0, 1.0])
-    assert _cone_margins(rob.model, q, reference.solve(q, base), mu, min_normal).min() > 0.0
+    assert margins_of(reference.solve(q, base)).min() > 0.0
 
     def feasible(alpha: float) -> bool:
         forces = reference.solve(q, np.array([alpha * fx, 110.0, 1.0]))
-        return _cone_margins(rob.model, q, forces, mu, min_normal).min() >= -1e-12
+        return margins_of(forces).min() >= -1e-12
 
     low, high = 0.0, 1.0  # bisection on the independent distribution (a convex set of alphas)
     for _ in range(60):
@@ -815,7 +826,7 @@ def test_friction_cone_scales_the_yield_axis_to_the_largest_feasible_request(fx,
     produced = out.produced["double"]
     assert produced[0] == pytest.approx(low * fx, abs=1e-8)
     np.testing.assert_allclose(produced[1:], [110.0, 1.0], rtol=0, atol=1e-9)
-    margins = _cone_margins(rob.model, q, out.solutions["double"].forces, mu, min_normal)
+    margins = margins_of(out.solutions["double"].forces)
     assert margins.min() == pytest.approx(0.0, abs=1e-8)  # one condition is active
 
 

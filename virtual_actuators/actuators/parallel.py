@@ -9,17 +9,18 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..contacts.declare import check_contact
+from ..contacts import declare
 from ..distribution.partitioned.compiled import CompiledDistribution
 from ..distribution.partitioned.dense import DenseSolver
 from ..distribution.partitioned.numeric import NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.checks import check_counts
+from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.registry import METHODS, Backend, Request, dispatch
 from ..distribution.solution import Solution, label, tolerance
@@ -37,9 +38,7 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import (
     as_float_array,
     check_flag,
-    check_name,
     check_names,
-    check_number,
     check_robot,
     check_sequence,
     describe,
@@ -47,34 +46,6 @@ from ..vocabulary.arguments import (
 from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from .serial import check_tolerance, wrench_array
-
-
-def _check_passive(passive: object) -> dict[str, tuple[float, float]]:
-    """``passive`` as ``{joint: (stiffness, rest)}`` with two finite real numbers per joint."""
-    if passive is None:
-        return {}
-    if not isinstance(passive, Mapping):
-        raise InvalidInputError(
-            "passive must be a dict {joint_name: (stiffness [N m/rad], rest angle [rad])}, got "
-            f"{describe(passive)}."
-        )
-    out: dict[str, tuple[float, float]] = {}
-    for name, params in passive.items():
-        check_name(name, "passive: a key (a joint name)", JointNotFoundError)
-        what = f"passive[{name!r}]"
-        if isinstance(params, (str, bytes, Mapping)) or not isinstance(params, Iterable):
-            params = (params,)  # reported below as a wrong number of values
-        params = tuple(params)
-        if len(params) != 2:
-            raise ConstraintError(
-                f"{what} must be (stiffness, rest_angle), two real numbers, got {params!r}."
-            )
-        stiffness, rest = (
-            check_number(x, f"{what}: {label}", error=ConstraintError)
-            for x, label in zip(params, ("stiffness", "rest angle"), strict=True)
-        )
-        out[name] = (stiffness, rest)
-    return out
 
 
 class ParallelVirtualActuator:
@@ -99,10 +70,11 @@ class ParallelVirtualActuator:
         min_normal: ``method="qp"``: least normal force of every contact [N].
         torque_limits: ``method="qp"``: ``True`` for ``|tau| <=`` the URDF effort limits at the
             actuated joints, or ``(nv,)`` limits; False for none.
-        normals: ``method="qp"``: contact normal per reaction frame: a fixed world-frame
-            vector, or ``"frame"`` for the reaction frame's own z axis in the world, read every
-            tick (a flat foot lying on the ground); ``"frames"`` for that at every reaction.
-            Default: world z.
+        normals: Contact normal per reaction frame, the axis of the QP's pyramids and of a
+            controller's ``friction=`` cone (``Controller.add``): a fixed world-frame vector, or
+            ``"frame"`` for the reaction frame's own z axis in the world, read every tick (a
+            flat foot lying on the ground); ``"frames"`` for that at every reaction. Default:
+            world z, whatever the reaction frame's orientation.
         soles: ``method="qp"``: ``(half_length, half_width)`` [m] of a flat contact's sole, by
             reaction frame: its centre of pressure stays inside, its yaw moment is bounded.
         weights: ``method="qp"``: per-axis weights of the closest reachable wrench when a
@@ -161,9 +133,8 @@ class ParallelVirtualActuator:
             raise ConstraintError(
                 f"The action frame {action!r} is also a reaction frame; they must differ."
             )
-        contact = check_contact(contact)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
-        passive = _check_passive(passive)
+        passive = check_passive(passive)
         self.design = tuple(
             check_sequence(
                 design,
@@ -175,9 +146,16 @@ class ParallelVirtualActuator:
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
+        #: the contacts as declared (kinds, normals, pyramid, soles), read by the QP and by a
+        #: controller's yield policy
+        self.contacts = declare(
+            self.reactions, self.axes, contact, friction, min_normal, normals,
+            soles,
+        )  # fmt: skip
         self.problem = DistributionProblem(
-            self.kinematics, self.reactions, contact, unactuated, passive, self.design
-        )
+            self.kinematics, self.reactions, self.contacts.contact,
+            unactuated, passive, self.design,
+        )  # fmt: skip
         preferred = np.ones((len(self.reactions), len(self.axes)))
         for constraint in self.design:
             if isinstance(constraint, (Equal, Linear)):
@@ -186,12 +164,7 @@ class ParallelVirtualActuator:
         self.partitioner = PartitionedSolver(self.problem, preferred)
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
-        if friction is not None:
-            friction = check_number(friction, "friction", positive=True)
-        min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
-        self.contact_limits = ContactLimits(
-            self.problem, friction, min_normal, normals, soles, torque_limits
-        )
+        self.contact_limits = ContactLimits(self.problem, self.contacts, torque_limits)
         self.qp = QPDistribution(self.problem, self.contact_limits, weights)
         self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"

@@ -17,11 +17,13 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..kinematics.kernels import njit
 from ..vocabulary.arguments import as_float_array
-from .constraint import Entries, cross
+from .constraint import Constraint, Contact, Entries, cross, force_entries, moment_entries
 from .declare import reaction_index
 
 #: rows per sole: each of three moments bounded on both sides
 ROWS = 6
+#: the most rows of one contact (its sole's; the pyramid is the point kind's, at every contact)
+MAX_ROWS = ROWS
 
 
 def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
@@ -103,6 +105,90 @@ def rows(
     return np.array(out)
 
 
+def entries(axes: Sequence[str], chain: int, p: int) -> Entries:
+    """Where chain ``chain``'s force and moment entries sit in ``x = forces.ravel()``."""
+    n = len(axes)
+    (force, force_components), (moment, moment_components) = (
+        force_entries(axes), moment_entries(axes)
+    )
+    return Entries(
+        chain * n + np.array(force, dtype=int), chain * n + np.array(moment, dtype=int),
+        force_components, moment_components, p * n,
+    )  # fmt: skip
+
+
+def active(soles: Mapping[int, tuple[float, float]], axes: Sequence[str]) -> bool:
+    """Whether the soles give rows: they bound moments, so they need moment axes."""
+    return bool(soles) and bool(moment_entries(axes)[0])
+
+
+def declared_names(
+    soles: Mapping[int, tuple[float, float]],
+    reactions: Sequence[str],
+    friction: float | None,
+    axes: Sequence[str],
+) -> list[str]:
+    """Every sole's row names, in the order :func:`block` builds the rows."""
+    if not active(soles, axes):
+        return []
+    return [name for i, sole in soles.items() for name in names(reactions[i], sole, friction)]
+
+
+def block(
+    soles: Mapping[int, tuple[float, float]],
+    friction: float | None,
+    rotation_o: np.ndarray,
+    rotation_a: np.ndarray,
+    offsets_o: np.ndarray,
+    axes: Sequence[str],
+) -> np.ndarray:
+    """``(6 s, p n)``: every sole's rows ``>= 0`` over ``x = forces.ravel()``, in chain order.
+
+    Args:
+        soles: ``{reaction index: (half_length, half_width)}``.
+        friction: The yaw bound's ``mu``, or None.
+        rotation_o: ``(3, 3)`` {O}'s rotation in the world.
+        rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
+        offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O}.
+        axes: The actuator's axes.
+
+    """
+    p = len(rotation_a)
+    return np.vstack([
+        rows(sole, friction, rotation_o.T @ rotation_a[i], offsets_o[i], entries(axes, i, p))
+        for i, sole in soles.items()
+    ])  # fmt: skip
+
+
+def parameters(contact: Contact) -> np.ndarray:
+    """The float row :func:`kernel_rows` reads: friction (< 0 none), 1, the sole's halves."""
+    friction = -1.0 if contact.friction is None else contact.friction
+    return np.array([friction, 1.0, *contact.sole], dtype=float)
+
+
+def contact_rows(
+    contact: Contact,
+    frame_world: np.ndarray,
+    rotation_o: np.ndarray,
+    offset_o: np.ndarray,
+    axes: Sequence[str],
+) -> Constraint:
+    """The sole's rows ``>= 0`` over its chain's wrench ``F_i`` (``n`` entries, in {O}).
+
+    Args:
+        contact: The declaration (with its ``sole``).
+        frame_world: ``(3, 3)`` the reaction frame's rotation in the world.
+        rotation_o: ``(3, 3)`` {O}'s rotation in the world.
+        offset_o: ``(3,)`` from the reaction frame's origin to {B}'s, in {O}.
+        axes: The actuator's axes.
+
+    """
+    G = rows(contact.sole, contact.friction, rotation_o.T @ frame_world, offset_o,
+             entries(axes, 0, 1))  # fmt: skip
+    row_names = names(contact.reaction, contact.sole, contact.friction)
+    return Constraint(G, np.zeros(ROWS), np.full(ROWS, np.inf), row_names)
+
+
 def table(soles: Mapping[int, tuple[float, float]], p: int) -> np.ndarray:
     """``(p, 3)`` the compiled path's table: 1 for a sole, its half length and half width."""
     out = np.zeros((p, 3))
@@ -164,4 +250,42 @@ def sole_rows(
             lows[row] = -constant
 
 
-__all__ = ["ROWS", "ball_axes", "names", "parse_soles", "rows", "sole_rows", "table"]
+@njit(cache=True)
+def kernel_rows(
+    parameters: np.ndarray,
+    placement: np.ndarray,
+    rot_o: np.ndarray,
+    offset_o: np.ndarray,
+    axis_rows: np.ndarray,
+    out: np.ndarray,
+    lows: np.ndarray,
+) -> int:
+    """:func:`contact_rows` compiled: the six rows over ``F_i`` into ``out`` (zeros), ``lows``.
+
+    ``parameters`` is :func:`parameters`' row, ``placement`` the reaction frame's row of the
+    snapshot's frames, ``axis_rows`` the component (0-5) of each axis; returns how many rows.
+    """
+    n = axis_rows.shape[0]
+    offset = (offset_o[0], offset_o[1], offset_o[2])
+    sole_rows(placement, rot_o, parameters[1:4], parameters[0], offset, axis_rows,
+              np.zeros(n), np.eye(n), out, lows)  # fmt: skip
+    return ROWS
+
+
+__all__ = [
+    "MAX_ROWS",
+    "ROWS",
+    "active",
+    "ball_axes",
+    "block",
+    "contact_rows",
+    "declared_names",
+    "entries",
+    "kernel_rows",
+    "names",
+    "parameters",
+    "parse_soles",
+    "rows",
+    "sole_rows",
+    "table",
+]

@@ -1,7 +1,8 @@
 """The contact kinds by name, and each reaction's kind as declared.
 
-A new kind is one file (its ``ball_axes``, row names, numpy rows and njit rows) and one entry in
-:data:`KINDS`.
+A new kind is one file (its ``ball_axes``, ``parameters``, ``contact_rows`` in numpy,
+``kernel_rows`` compiled, ``MAX_ROWS``) and one entry in :data:`KINDS`; see
+``docs/contributing.md``, "Adding a contact kind".
 """
 
 from __future__ import annotations
@@ -26,7 +27,9 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
     """
     if isinstance(contact, str):
         if contact not in KINDS:
-            raise ConstraintError(f"contact must be 'point', 'flat' or a dict; got {contact!r}.")
+            raise ConstraintError(
+                f"contact must be one of {list(KINDS)} or a dict; got {contact!r}."
+            )
         return (contact,) * len(reactions)
     unknown = set(contact) - set(reactions)
     if unknown:
@@ -38,7 +41,7 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
     for name in reactions:
         kind = contact.get(name, "point")
         if kind not in KINDS:
-            raise ConstraintError(f"contact[{name!r}] must be 'point' or 'flat', got {kind!r}.")
+            raise ConstraintError(f"contact[{name!r}] must be one of {list(KINDS)}, got {kind!r}.")
         out.append(kind)
     return tuple(out)
 

@@ -9,10 +9,15 @@ the reference; the njit ones (:func:`face_rows`, :func:`force_row`) build the co
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from ..kinematics.kernels import njit
-from .constraint import cross
+from .constraint import Constraint, Contact, cross, force_entries
+
+#: the most rows of one contact: the least normal force and four faces
+MAX_ROWS = 5
 
 
 def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
@@ -61,6 +66,53 @@ def pyramid(
         vectors += [mu_normal - tangent1, mu_normal + tangent1]
         vectors += [mu_normal - tangent2, mu_normal + tangent2]
     return np.stack(vectors, axis=1)
+
+
+def normal_row(friction: float | None, min_normal: float) -> bool:
+    """Whether the rows start with ``n . f >= min_normal`` (the faces imply ``n . f >= 0``)."""
+    return friction is None or min_normal > 0.0
+
+
+def parameters(contact: Contact) -> np.ndarray:
+    """The float row :func:`kernel_rows` reads.
+
+    Friction (< 0 for none), least normal force, 1 for the normal row, 1 for a frame normal,
+    then the world normal.
+    """
+    friction = -1.0 if contact.friction is None else contact.friction
+    with_normal = normal_row(contact.friction, contact.min_normal)
+    flags = (float(with_normal), float(contact.frame_normal))
+    return np.array([friction, contact.min_normal, *flags, *contact.normal], dtype=float)
+
+
+def contact_rows(
+    contact: Contact,
+    frame_world: np.ndarray,
+    rotation_o: np.ndarray,
+    offset_o: np.ndarray,
+    axes: Sequence[str],
+) -> Constraint:
+    """The contact's rows ``>= lows`` over its chain's force ``F_i`` (``n`` entries, in {O}).
+
+    Args:
+        contact: The declaration.
+        frame_world: ``(3, 3)`` the reaction frame's rotation in the world.
+        rotation_o: ``(3, 3)`` {O}'s rotation in the world.
+        offset_o: ``(3,)`` from the reaction frame's origin to {B}'s, in {O} (unused).
+        axes: The actuator's axes.
+
+    """
+    normal = frame_world[:, 2] if contact.frame_normal else np.asarray(contact.normal, float)
+    with_normal = normal_row(contact.friction, contact.min_normal)
+    vectors = pyramid(normal[None], (normal @ rotation_o)[None], rotation_o, contact.friction,
+                      with_normal)[0]  # fmt: skip
+    positions, components = force_entries(axes)
+    G = np.zeros((len(vectors), len(axes)))
+    G[:, positions] = vectors[:, components]
+    lows = np.zeros(len(vectors))
+    lows[:with_normal] = contact.min_normal
+    row_names = names(contact.reaction, contact.friction, contact.min_normal, with_normal)
+    return Constraint(G, lows, np.full(len(lows), np.inf), row_names)
 
 
 @njit(cache=True)
@@ -130,4 +182,48 @@ def force_row(
     lows[row] = low - constant
 
 
-__all__ = ["ball_axes", "face_rows", "faces", "force_row", "names", "pyramid", "to_o"]
+@njit(cache=True)
+def kernel_rows(
+    parameters: np.ndarray,
+    placement: np.ndarray,
+    rot_o: np.ndarray,
+    offset_o: np.ndarray,
+    axis_rows: np.ndarray,
+    out: np.ndarray,
+    lows: np.ndarray,
+) -> int:
+    """:func:`contact_rows` compiled: the rows over ``F_i`` into ``out``, bounds into ``lows``.
+
+    ``parameters`` is :func:`parameters`' row, ``placement`` the reaction frame's row of the
+    snapshot's frames (``R.ravel()`` first), ``axis_rows`` the component (0-5) of each axis;
+    returns how many rows.
+    """
+    normal = np.empty(3)
+    for c in range(3):  # a frame normal: its z axis in the world, column 2 of its rotation
+        normal[c] = placement[3 * c + 2] if parameters[3] > 0.0 else parameters[4 + c]
+    faces = np.empty((MAX_ROWS, 3))
+    with_normal = parameters[2] > 0.0
+    count = face_rows(normal, parameters[0], with_normal, faces)
+    to_o(rot_o, faces, count)
+    n = axis_rows.shape[0]
+    particular, basis = np.zeros(n), np.eye(n)
+    for f in range(count):
+        low = parameters[1] if with_normal and f == 0 else 0.0
+        force_row(faces[f], axis_rows, particular, basis, out[f], lows, f, low)
+    return count
+
+
+__all__ = [
+    "MAX_ROWS",
+    "ball_axes",
+    "contact_rows",
+    "face_rows",
+    "faces",
+    "force_row",
+    "kernel_rows",
+    "names",
+    "normal_row",
+    "parameters",
+    "pyramid",
+    "to_o",
+]

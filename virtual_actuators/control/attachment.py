@@ -2,8 +2,9 @@
 
 :meth:`Attachment.declare` builds one from what ``Controller.add`` is given, every argument
 checked (the checks are in :mod:`~virtual_actuators.control.declaration`); an
-:class:`Attachment` precomputes what the tick needs (component axes as slices, the
-declaration-time rows of the unilateral limits) and sums its components' wrenches.
+:class:`Attachment` precomputes what the tick needs (component axes as slices, its contacts:
+the actuator's, with the unilateral minima and friction cone given to ``Controller.add``) and
+sums its components' wrenches.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component, has_float_path
+from ..contacts import ContactSet, declare
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_name, describe
@@ -32,8 +34,6 @@ from .declaration import (
     sensor_of,
 )
 
-_NO_PYRAMID = np.zeros((5, 3))  # the cone rows' place holder without a friction cone
-
 
 @dataclass(repr=False)
 class Attachment:
@@ -47,6 +47,10 @@ class Attachment:
         components: The virtual components.
         free: Axes left to the distribution (parallel actuators only).
         indices: For each component, the indices of its axes among the actuator's axes.
+        contacts: The contacts whose rows the yield policy keeps (``unilateral``, the friction
+            cone, the actuator's normals), or None.
+        yield_mask: ``(n,)`` the yield axes (None without contact limits).
+        method: The distribution method.
         weights: ``method="qp"``: the per-axis weights of the QP's closest wrench passed to
             every solve (None: the actuator's own).
 
@@ -58,15 +62,9 @@ class Attachment:
     components: list[Component]
     free: tuple[str, ...] = ()
     indices: list[np.ndarray] = field(default_factory=list)
-    unilateral: dict[int, float] = field(default_factory=dict)
+    contacts: ContactSet | None = None
     yield_mask: np.ndarray | None = None
-    friction: float | None = None
-    min_normal: float = 0.0
     method: str = "partitioned"
-    bound_rows: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    bound_lows: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    force_columns: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
-    force_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     weights: np.ndarray | None = None
 
     def __post_init__(self) -> None:
@@ -87,55 +85,8 @@ class Attachment:
         # A parallel actuator's checked request (method, free axes, weights) for its solves
         plan = getattr(self.actuator, "plan", None)
         self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
-        # Declaration-time parts of the feasibility conditions (see Controller._constraint_rows)
-        if self.yield_mask is None:
-            return
-        p, n = self.actuator.p, self.actuator.n
-        rows = []
-        for axis in self.unilateral:
-            block = np.zeros((p, p, n))
-            block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
-            rows.append(block.reshape(p, p * n))
-        self.bound_rows = np.vstack(rows) if rows else np.zeros((0, p * n))
-        self.bound_lows = np.repeat(np.array(list(self.unilateral.values()), dtype=float), p)
-        force_axes = [(i, "xyz".index(a)) for i, a in enumerate(self.axes) if a in "xyz"]
-        self.force_columns = np.array([i for i, _ in force_axes], dtype=np.int64)
-        self.force_components = np.array([k for _, k in force_axes], dtype=np.int64)
-        # the compiled conditions' declaration-time arguments (see contact_limits)
-        self.limit_tables = (
-            _NO_PYRAMID,
-            self.force_columns,
-            self.force_components,
-            self.bound_rows,
-            self.bound_lows,
-            False,
-        )
-        if self.friction is None:
-            return
-        # Friction pyramid per chain: rows (normal, mu n -+ t1, mu n -+ t2) of the reaction
-        # frame's axes, i.e. ``pyramid @ [t1 t2 n]``; written into a (5 p, p n) block whose
-        # entries sit at ``cone_index`` (chain c's rows only touch chain c's force columns).
-        mu = self.friction
-        self.pyramid = np.array(
-            ((0.0, 0.0, 1.0), (-1.0, 0.0, mu), (1.0, 0.0, mu), (0.0, -1.0, mu), (0.0, 1.0, mu))
-        )
-        chain = np.arange(p)[:, None, None]
-        row = 5 * chain + np.arange(5)[None, :, None]
-        column = chain * n + self.force_columns[None, None, :]
-        bound = self.bound_rows.shape[0]
-        self.cone_index = ((bound + row) * (p * n) + column).ravel()
-        self.cone_template = np.vstack((self.bound_rows, np.zeros((5 * p, p * n))))
-        self.cone_lows = np.concatenate(
-            (self.bound_lows, np.tile([self.min_normal, 0.0, 0.0, 0.0, 0.0], p))
-        )
-        self.limit_tables = (
-            self.pyramid,
-            self.force_columns,
-            self.force_components,
-            self.bound_rows,
-            self.cone_lows,
-            True,
-        )
+        # The contact rows' compiled tables (None: the rows are built with numpy)
+        self.margins = self.contacts.compiled() if self.contacts is not None else None
 
     @classmethod
     def declare(
@@ -195,9 +146,16 @@ class Attachment:
         if name in taken:
             raise InvalidInputError(f"An attachment named {name!r} already exists.")
         method = check_method(name, actuator, method, bool(limits) or friction is not None)
+        contacts = None
+        if yield_mask is not None:  # the actuator's contacts (kinds, normals) with these limits
+            declared = actuator.contacts
+            contacts = declare(
+                actuator.reactions, actuator.axes, declared.contact, friction,
+                min_normal if friction is not None else 0.0, declared.normals, minima=limits,
+            )  # fmt: skip
         return cls(
-            name, actuator, sensor, components, free_axes, indices, limits, yield_mask,
-            friction, min_normal, method, weights=weights,
+            name, actuator, sensor, components, free_axes, indices, contacts, yield_mask,
+            method, weights=weights,
         )
 
     def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:

@@ -135,13 +135,15 @@ class Controller:
                 friction cone; with ``method="qp"``, the axes that give way first when the
                 actuator's inequalities cannot meet a request (their weight in the QP's
                 closest wrench is ``yield_weight``, the others' 1; the actuator is unchanged).
-            friction: Parallel actuators: friction coefficient ``mu`` of a contact cone at
-                every reaction frame: each chain's share, seen in its reaction frame (a foot on
-                sloped ground: normal along the frame's z), must keep its tangential part
-                within ``mu`` times its normal part, the normal part at least ``min_normal``.
-                The ground's slope comes from the reaction frame's orientation, so a limp foot
-                lying on a slope tells it from the joint angles alone. Violations are met by
-                scaling ``yield_axes`` like ``unilateral``. None: no cone.
+            friction: Parallel actuators: friction coefficient ``mu`` of a contact cone (a
+                pyramid) at every reaction frame, about the actuator's contact normals (its
+                ``normals``: world z by default, whatever the reaction frame's orientation;
+                ``normals="frames"`` for each reaction frame's z, e.g. a limp flat foot lying
+                on a slope): each chain's share must keep its tangential part within ``mu``
+                times its normal part, the normal part at least ``min_normal``. The rows are
+                the ones the actuator's QP reads (:mod:`virtual_actuators.contacts`).
+                Violations are met by scaling ``yield_axes`` like ``unilateral``. None: no
+                cone.
             min_normal: Least normal force of the cone [N] (with ``friction``).
             method: Parallel actuators: the distribution, ``"partitioned"`` (default),
                 ``"dense"`` or ``"qp"`` (the actuator's own friction, min_normal, soles and

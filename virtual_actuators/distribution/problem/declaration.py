@@ -6,13 +6,14 @@ These checks run once, when a :class:`~virtual_actuators.ParallelVirtualActuator
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from ...exceptions import ConstraintError, InvalidAxisError, JointNotFoundError
+from ...exceptions import ConstraintError, InvalidAxisError, InvalidInputError, JointNotFoundError
 from ...kinematics.relative import RelativeKinematics
+from ...vocabulary.arguments import check_name, check_number, describe
 from ...vocabulary.axes import resolve_joint
 from ...vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
 
@@ -65,6 +66,34 @@ def joint_columns(
             f"reaction frames {list(reactions)}; joints on the chains: {chain_joints}."
         )
     return joint_id, vs
+
+
+def check_passive(passive: object) -> dict[str, tuple[float, float]]:
+    """``passive`` as ``{joint: (stiffness, rest)}`` with two finite real numbers per joint."""
+    if passive is None:
+        return {}
+    if not isinstance(passive, Mapping):
+        raise InvalidInputError(
+            "passive must be a dict {joint_name: (stiffness [N m/rad], rest angle [rad])}, got "
+            f"{describe(passive)}."
+        )
+    out: dict[str, tuple[float, float]] = {}
+    for name, params in passive.items():
+        check_name(name, "passive: a key (a joint name)", JointNotFoundError)
+        what = f"passive[{name!r}]"
+        if isinstance(params, (str, bytes, Mapping)) or not isinstance(params, Iterable):
+            params = (params,)  # reported below as a wrong number of values
+        params = tuple(params)
+        if len(params) != 2:
+            raise ConstraintError(
+                f"{what} must be (stiffness, rest_angle), two real numbers, got {params!r}."
+            )
+        stiffness, rest = (
+            check_number(x, f"{what}: {label}", error=ConstraintError)
+            for x, label in zip(params, ("stiffness", "rest angle"), strict=True)
+        )
+        out[name] = (stiffness, rest)
+    return out
 
 
 def parse_joints(
@@ -220,6 +249,7 @@ def design_rows(
 
 __all__ = [
     "DesignRows",
+    "check_passive",
     "design_rows",
     "joint_columns",
     "label_index",

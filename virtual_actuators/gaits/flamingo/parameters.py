@@ -77,11 +77,12 @@ class FlamingoParameters:
             early landing is handled, section 6.2). False: the seed's global slope only.
         distribution: How double support shares the body's wrench: ``"partitioned"`` (the
             minimum-norm split, the bunny's force scaled down when a foot would pull or leave
-            its friction cone about its sole's normal) or ``"qp"`` (the cone and the least
-            normal force as inequalities, about each sole's normal: see ``sole_normals``; x
-            gives way first).
-        sole_normals: ``distribution="qp"``: the cones' normals are the feet frames' z axes,
-            read every tick (a limp-ankled foot lies flat on the slope); False: world z.
+            its friction cone) or ``"qp"`` (the cone and the least normal force as
+            inequalities; x gives way first); both about each sole's normal, see
+            ``sole_normals``.
+        sole_normals: The cones' normals are the feet frames' z axes, read every tick (a
+            limp-ankled foot lies flat on the slope; the actuator's ``normals="frames"``);
+            False: world z.
         qp_min_normal_force: ``distribution="qp"``: each foot's least normal force [N] (None:
             ``min_normal_force``), a hard bound: set above the forces the quasi-static split
             does not see (foot and leg inertia at touchdown): 10 and 20 N let feet unload. A

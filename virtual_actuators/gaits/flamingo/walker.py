@@ -121,7 +121,7 @@ class FlamingoWalker(Gait):
         }  # fmt: skip
         double = {
             "design": [EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
-            **(cones if qp else {}),
+            **(cones if qp else {"normals": cones["normals"]}),  # the controller's cones too
         }
         limits = {"friction": p.friction, "min_normal": p.min_normal_force}
         rule = {"method": "qp"} if qp else limits

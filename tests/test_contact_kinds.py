@@ -1,0 +1,107 @@
+"""Every contact kind in ``contacts.KINDS``: its numpy rows, its compiled rows and an oracle agree.
+
+A kind is one file with ``parameters``, ``contact_rows`` (numpy), ``kernel_rows`` (njit) and
+``MAX_ROWS``. For each kind, on random frames, {O} rotations, offsets, axes and declarations:
+the compiled rows equal the numpy rows, and the rows' margins on a random wrench equal an oracle
+written here by hand from the kind's physics (a kind without an oracle fails
+:func:`test_every_kind_has_an_oracle`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from virtual_actuators.contacts.constraint import Contact
+from virtual_actuators.contacts.kinds import KINDS
+
+SPATIAL = ("x", "y", "z", "rx", "ry", "rz")
+AXES_SETS = [SPATIAL, ("x", "z", "ry"), ("z", "rx", "ry"), ("x", "y", "z")]
+
+
+def _world_wrench(wrench: np.ndarray, axes, rotation_o: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The chain's force and moment in the world (an axis left out is a zero entry in {O})."""
+    full = np.zeros(6)
+    for value, axis in zip(wrench, axes, strict=True):
+        full[SPATIAL.index(axis)] = value
+    return rotation_o @ full[:3], rotation_o @ full[3:]
+
+
+def _point_oracle(contact, frame_world, rotation_o, offset_o, axes, wrench):
+    """``n.f - min`` (when a least normal force is asked, or without friction) and the faces
+    ``mu n.f -+ t.f`` about the normal, tangents from the world x axis (y near x)."""
+    force, _ = _world_wrench(wrench, axes, rotation_o)
+    normal = frame_world[:, 2] if contact.frame_normal else contact.normal
+    margins = []
+    if contact.friction is None or contact.min_normal > 0.0:
+        margins.append(normal @ force - contact.min_normal)
+    if contact.friction is not None:
+        helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        t1 = np.cross(normal, helper)
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(normal, t1)
+        mu_n = contact.friction * (normal @ force)
+        margins += [mu_n - t1 @ force, mu_n + t1 @ force, mu_n - t2 @ force, mu_n + t2 @ force]
+    return np.array(margins)
+
+
+def _flat_oracle(contact, frame_world, rotation_o, offset_o, axes, wrench):
+    """The centre of pressure inside the sole and the bounded yaw moment, in the sole's frame."""
+    force, moment_b = _world_wrench(wrench, axes, rotation_o)
+    moment = moment_b + np.cross(rotation_o @ offset_o, force)  # about the sole's origin
+    f_local, m_local = frame_world.T @ force, frame_world.T @ moment
+    half_length, half_width = contact.sole
+    mu = 0.0 if contact.friction is None else contact.friction
+    halves = (half_width, half_length, mu * min(half_length, half_width))
+    return np.array([h * f_local[2] + s * m for h, m in zip(halves, m_local, strict=True)
+                     for s in (-1.0, 1.0)])  # fmt: skip
+
+
+ORACLES = {"point": _point_oracle, "flat": _flat_oracle}
+
+
+def test_every_kind_has_an_oracle():
+    assert set(KINDS) == set(ORACLES)
+    for module in KINDS.values():
+        for name in ("parameters", "contact_rows", "kernel_rows", "MAX_ROWS", "ball_axes"):
+            assert hasattr(module, name), f"{module.__name__} lacks {name}"
+
+
+def _contact(rng: np.random.Generator) -> Contact:
+    normal = rng.normal(size=3) if rng.uniform() < 0.5 else np.array([0.0, 0.0, 1.0])
+    return Contact(
+        "foot",
+        None if rng.uniform() < 0.25 else float(rng.uniform(0.2, 1.2)),
+        0.0 if rng.uniform() < 0.4 else float(rng.uniform(0.0, 30.0)),
+        normal / np.linalg.norm(normal),
+        bool(rng.uniform() < 0.4),
+        (float(rng.uniform(0.02, 0.2)), float(rng.uniform(0.02, 0.2))),
+    )
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+@pytest.mark.parametrize("seed", range(6))
+def test_numpy_rows_equal_the_kernel_rows_and_the_oracle(kind, seed):
+    module, oracle = KINDS[kind], ORACLES[kind]
+    rng = np.random.default_rng(seed)
+    for trial in range(20):
+        axes = AXES_SETS[trial % len(AXES_SETS)]
+        contact = _contact(rng)
+        frame_world, rotation_o = pin.SE3.Random().rotation, pin.SE3.Random().rotation
+        offset_o = rng.normal(size=3) * 0.3
+        rows = module.contact_rows(contact, frame_world, rotation_o, offset_o, axes)
+        assert len(rows.names) == len(rows.lows) == rows.G.shape[0] <= module.MAX_ROWS
+        out, lows = np.zeros((module.MAX_ROWS, len(axes))), np.zeros(module.MAX_ROWS)
+        placement = np.concatenate((frame_world.ravel(), np.zeros(3)))
+        axis_rows = np.array([SPATIAL.index(a) for a in axes])
+        count = module.kernel_rows(
+            module.parameters(contact), placement, rotation_o, offset_o, axis_rows, out, lows
+        )
+        assert count == len(rows.lows)
+        np.testing.assert_allclose(out[:count], rows.G, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(lows[:count], rows.lows, rtol=0, atol=1e-13)
+        wrench = rng.normal(size=len(axes)) * 20.0
+        margins = rows.G @ wrench - rows.lows
+        expected = oracle(contact, frame_world, rotation_o, offset_o, axes, wrench)
+        np.testing.assert_allclose(margins, expected, rtol=0, atol=1e-10)

@@ -1,0 +1,324 @@
+"""The contacts of one parallel actuator as declared: one :class:`ContactSet`, one builder.
+
+:func:`declare` checks what ``ParallelVirtualActuator(contact=, friction=, min_normal=,
+normals=, soles=)`` or ``Controller.add(unilateral=, friction=, min_normal=)`` gives and returns
+a frozen :class:`ContactSet`: the kind of each reaction, its contact normal (world z unless
+declared), the friction pyramid and least normal force, the soles and the unilateral minima.
+Both layers read the same rows from it (:meth:`ContactSet.rows`, ``lows <= G x`` over ``x =
+forces.ravel()``): the QP stacks them with the torque limits, the controller's yield policy
+tests and scales a request against them, through :func:`margins`, the compiled evaluation of
+the same rows (the point kind's njit face rows, written once).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from ..kinematics.kernels import njit
+from ..vocabulary.arguments import check_number
+from ..vocabulary.axes import AXES
+from . import flat, point
+from .constraint import Constraint, Contact, force_entries
+from .declare import Normals, check_contact, parse_normals
+from .kinds import parse_contacts
+from .point import MAX_ROWS as POINT_ROWS
+from .point import kernel_rows as point_rows
+
+
+@dataclass(frozen=True, slots=True)
+class ContactSet:
+    """The contacts of one parallel actuator's chains, declared once (see :func:`declare`).
+
+    Attributes:
+        reactions: The reaction frames' names, one contact each.
+        axes: The actuator's axes (the columns of a chain's force).
+        kinds: ``"point"`` or ``"flat"`` per reaction (:data:`~.kinds.KINDS`).
+        normals: The contact normals (world z unless declared).
+        friction: The pyramid's ``mu`` at every contact, or None for no faces.
+        min_normal: Least normal force of every contact [N].
+        soles: ``{reaction index: (half_length, half_width)}`` of the flat contacts' soles.
+        minima: ``{axis index: minimum}``: every chain's share on that axis ``>= minimum``.
+        cone: Whether each contact has pyramid rows (a normal row or faces).
+        normal_row: Whether the pyramid starts with ``n . f >= min_normal`` (left out with
+            faces and no least normal force: the faces imply it).
+        names: The rows' names, in the order :meth:`rows` builds them.
+        lows: The rows' lower bounds (no upper bound).
+
+    """
+
+    reactions: tuple[str, ...]
+    axes: tuple[str, ...]
+    kinds: tuple[str, ...]
+    normals: Normals
+    friction: float | None
+    min_normal: float
+    soles: Mapping[int, tuple[float, float]]
+    minima: Mapping[int, float]
+    cone: bool
+    normal_row: bool
+    names: tuple[str, ...]
+    lows: np.ndarray
+
+    @property
+    def contact(self) -> dict[str, str]:
+        """The kinds by reaction frame (what ``contact=`` declares)."""
+        return dict(zip(self.reactions, self.kinds, strict=True))
+
+    @property
+    def any(self) -> bool:
+        """Whether there is at least one row."""
+        return bool(self.names)
+
+    @property
+    def sole_rows(self) -> bool:
+        """Whether the soles give rows (they need moment axes)."""
+        return flat.active(self.soles, self.axes)
+
+    def normals_at(self, rotation_a: np.ndarray) -> np.ndarray:
+        """``(p, 3)`` contact normals in the world; the frames' z axes from ``rotation_a``."""
+        if not self.normals.frame.any():
+            return self.normals.world
+        normals = self.normals.world.copy()
+        normals[self.normals.frame] = rotation_a[self.normals.frame, :, 2]
+        return normals
+
+    def rows(
+        self,
+        rotation_o: np.ndarray,
+        rotation_a: np.ndarray,
+        offsets_o: np.ndarray | None = None,
+    ) -> Constraint:
+        """``lows <= G x`` over ``x = forces.ravel()`` (``uppers`` infinite), a name a row.
+
+        The unilateral minima (axis by axis, chain by chain), each contact's pyramid, then the
+        soles' rows.
+
+        Args:
+            rotation_o: ``(3, 3)`` {O}'s rotation in the world.
+            rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
+            offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (read only
+                with soles).
+
+        """
+        p, n = len(self.reactions), len(self.axes)
+        blocks = []
+        for axis in self.minima:
+            block = np.zeros((p, p, n))
+            block[np.arange(p), np.arange(p), axis] = 1.0  # chain c's share on the axis
+            blocks.append(block.reshape(p, p * n))
+        force_axes, components = force_entries(self.axes)
+        if self.cone:
+            normals_world = self.normals_at(rotation_a)
+            stacked = point.pyramid(
+                normals_world, normals_world @ rotation_o, rotation_o, self.friction,
+                self.normal_row,
+            )  # fmt: skip
+            chains = np.arange(p)[:, None, None]
+            cone = np.zeros((p, stacked.shape[1], p * n))
+            columns = chains * n + np.asarray(force_axes, dtype=int)[None, None, :]
+            cone[chains, np.arange(stacked.shape[1])[None, :, None], columns] = stacked[
+                :, :, components
+            ]
+            blocks.append(cone.reshape(-1, p * n))
+        if self.sole_rows:
+            blocks.append(
+                flat.block(self.soles, self.friction, rotation_o, rotation_a, offsets_o, self.axes)
+            )
+        if not blocks:
+            return Constraint.empty(p * n)
+        G = np.vstack(blocks)
+        return Constraint(G, self.lows, np.full(len(self.lows), np.inf), self.names)
+
+    def tables(self) -> dict[str, np.ndarray]:
+        """The declaration's tables for the compiled QP matrices (normals, pyramid, soles)."""
+        friction = -1.0 if self.friction is None else self.friction
+        return {
+            "normals_world": self.normals.world,
+            "frame_normals": self.normals.frame.astype(np.int64),
+            "cone": np.array([friction, self.min_normal, self.normal_row]),
+            "soles": flat.table(self.soles, len(self.reactions)),
+        }
+
+    def compiled(self) -> CompiledMargins | None:
+        """The arguments of :func:`margins` (None with sole rows: build :meth:`rows` then)."""
+        if self.sole_rows:
+            return None
+        contacts = [
+            Contact(reaction, self.friction, self.min_normal, normal, bool(frame), None)
+            for reaction, normal, frame in zip(
+                self.reactions, self.normals.world, self.normals.frame, strict=True
+            )
+        ]
+        points = np.array([point.parameters(contact) for contact in contacts])
+        return CompiledMargins(
+            points if self.cone else points[:0],
+            np.array([AXES.index(a) for a in self.axes], dtype=np.int64),
+            np.array(list(self.minima), dtype=np.int64),
+            self.lows,
+        )
+
+
+class CompiledMargins(NamedTuple):
+    """A :class:`ContactSet`'s tables for :func:`margins` (see :meth:`ContactSet.compiled`)."""
+
+    #: ``(p, k)`` each contact's :func:`~.point.parameters` row (no row: no pyramid)
+    points: np.ndarray
+    #: ``(n,)`` the component (0-5) of each axis
+    axis_rows: np.ndarray
+    #: the axes with a unilateral minimum
+    minima_axes: np.ndarray
+    #: the rows' lower bounds
+    lows: np.ndarray
+
+
+def declare(
+    reactions: Sequence[str],
+    axes: Sequence[str],
+    contact: str | Mapping[str, str] = "point",
+    friction: float | None = None,
+    min_normal: float = 0.0,
+    normals: Mapping[str, Sequence[float] | str] | str | Normals | None = None,
+    soles: Mapping[str, Sequence[float]] | None = None,
+    minima: Mapping[int, float] | None = None,
+) -> ContactSet:
+    """The :class:`ContactSet` of ``reactions``' contacts, every argument checked.
+
+    Args:
+        reactions: The reaction frames' names.
+        axes: The actuator's axes.
+        contact: ``"point"``, ``"flat"`` or a dict by reaction (:func:`~.kinds.parse_contacts`).
+        friction: Friction coefficient ``mu``, a finite number > 0, of every contact's pyramid,
+            or None.
+        min_normal: Least normal force, a finite number >= 0, of every contact [N].
+        normals: None (world z), ``"frames"``, a mapping by reaction (see
+            :func:`~.declare.parse_normals`) or normals already parsed.
+        soles: ``(half_length, half_width)`` [m] of flat contacts, by reaction frame.
+        minima: ``{axis index: minimum}`` of every chain's share (the controller's
+            ``unilateral``).
+
+    Raises:
+        ConstraintError: A bad ``contact``.
+        InvalidInputError: Bad ``friction``, ``min_normal``, ``normals`` or ``soles``.
+
+    """
+    if friction is not None:
+        friction = check_number(friction, "friction", positive=True)
+    min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
+    reactions, axes = tuple(reactions), tuple(axes)
+    kinds = parse_contacts(check_contact(contact), reactions)
+    if not isinstance(normals, Normals):
+        normals = parse_normals(normals, reactions)
+    soles = flat.parse_soles(soles, reactions, kinds)
+    minima = dict(minima or {})
+    cone = any(a in axes for a in AXES[:3]) and (
+        friction is not None or min_normal > 0.0 or bool(soles)
+    )
+    normal_row = cone and point.normal_row(friction, min_normal)
+    names: list[str] = []
+    lows: list[float] = []
+    for axis, minimum in minima.items():
+        names += [f"{reaction}: {axes[axis]} >= {minimum:g}" for reaction in reactions]
+        lows += [minimum] * len(reactions)
+    if cone:
+        faces = point.faces(friction, normal_row)
+        for reaction in reactions:
+            names += point.names(reaction, friction, min_normal, normal_row)
+            lows += [min_normal] * normal_row + [0.0] * (faces - normal_row)
+    sole_names = flat.declared_names(soles, reactions, friction, axes)
+    names += sole_names
+    lows += [0.0] * len(sole_names)
+    return ContactSet(
+        reactions, axes, kinds, normals, friction, min_normal, soles, minima, cone, normal_row,
+        tuple(names), np.array(lows, dtype=float),
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def margins(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    forces: np.ndarray,
+    tables: CompiledMargins,
+    out: np.ndarray,
+) -> None:
+    """``G @ forces.ravel()`` of :meth:`ContactSet.rows` (no sole rows) into ``out``.
+
+    ``frames`` is the snapshot's frame table (row ``f``: ``R.ravel()``), ``orientation_rows``
+    the rows of {O} then of each reaction frame; the pyramid rows are the point kind's compiled
+    rows (:func:`~.point.kernel_rows`).
+    """
+    p, n = forces.shape
+    row = 0
+    for axis in tables.minima_axes:
+        for c in range(p):
+            out[row] = forces[c, axis]
+            row += 1
+    if tables.points.shape[0] == 0:
+        return
+    rot_o = frames[orientation_rows[0], :9].copy().reshape(3, 3)
+    rows, lows, offset = np.empty((POINT_ROWS, n)), np.empty(POINT_ROWS), np.zeros(3)
+    for c in range(p):
+        rows[:] = 0.0
+        placement = frames[orientation_rows[1 + c]]
+        count = point_rows(tables.points[c], placement, rot_o, offset, tables.axis_rows, rows, lows)
+        for f in range(count):
+            total = 0.0
+            for a in range(n):
+                total += rows[f, a] * forces[c, a]
+            out[row] = total
+            row += 1
+
+
+@njit(cache=True)
+def least_margin(
+    frames: np.ndarray, orientation_rows: np.ndarray, forces: np.ndarray, tables: CompiledMargins
+) -> float:
+    """Smallest ``G @ forces.ravel() - lows`` of :meth:`ContactSet.rows` (no sole rows)."""
+    values = np.empty(tables.lows.shape[0])
+    margins(frames, orientation_rows, forces, tables, values)
+    return (values - tables.lows).min() if values.shape[0] else np.inf
+
+
+@njit(cache=True)
+def largest_scale(
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    full: np.ndarray,
+    base: np.ndarray,
+    tables: CompiledMargins,
+) -> float:
+    """The largest ``alpha`` in ``[0, 1]`` with ``G (base + alpha (full - base)) >= lows``.
+
+    On every row of :meth:`ContactSet.rows` (no sole rows); 0 when none is.
+    """
+    lows = tables.lows
+    at_full, at_base = np.empty(lows.shape[0]), np.empty(lows.shape[0])
+    margins(frames, orientation_rows, full, tables, at_full)
+    margins(frames, orientation_rows, base, tables, at_base)
+    upper, lower = 1.0, 0.0
+    for r in range(lows.shape[0]):
+        slope = at_full[r] - at_base[r]
+        if slope == 0.0:
+            if at_base[r] < lows[r]:
+                return 0.0  # no alpha helps that condition
+            continue
+        ratio = (lows[r] - at_base[r]) / slope
+        if slope < 0.0:
+            upper = min(upper, ratio)
+        else:
+            lower = max(lower, ratio)
+    return 0.0 if lower > upper else min(upper, 1.0)
+
+
+__all__ = [
+    "CompiledMargins",
+    "ContactSet",
+    "declare",
+    "largest_scale",
+    "least_margin",
+    "margins",
+]

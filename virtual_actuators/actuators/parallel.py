@@ -22,7 +22,7 @@ from ..distribution.problem import DistributionProblem
 from ..distribution.problem.checks import check_counts
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.registry import METHODS, Backend, Request, dispatch
-from ..distribution.solution import Solution, label, tolerance
+from ..distribution.result import Solution, label, tolerance
 from ..exceptions import (
     ConstraintError,
     FrameNotFoundError,

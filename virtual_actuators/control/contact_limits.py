@@ -13,7 +13,7 @@ import dataclasses
 
 import numpy as np
 
-from ..distribution.solution import Solution, label
+from ..distribution.result import Solution, label
 from ..kinematics.kernels import HAVE_NUMBA, njit
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment

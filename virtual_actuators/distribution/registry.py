@@ -13,7 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .solution import TickResult
+from .result import TickResult
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -22,7 +22,7 @@ from ..linalg import (
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
-from ..solution import RawSolution, no_sets
+from ..result import RawSolution, no_sets
 from ..tolerances import ILL_CONDITIONED
 
 

@@ -12,16 +12,17 @@ has the same bits as an unscaled solve, and no norm over- or underflows at 1e-20
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
 from ...exceptions import SingularConfigurationError
-from ..linalg import power_of_two_scale, stable_norm
+from ..linalg import power_of_two_scale
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
 from ..registry import Request
-from ..solution import TickResult
-from ..tolerances import CONSTRAINT_TOL, ROUNDING
+from ..result import TickResult, close_tick
+from ..tolerances import CONSTRAINT_TOL
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:
@@ -76,7 +77,7 @@ def solve_numpy(
             the partitioned solver); ``raw.solver`` says which one answered.
 
     Returns:
-        The :class:`~virtual_actuators.distribution.solution.TickResult`: ``tau`` zero at limp
+        The :class:`~virtual_actuators.distribution.result.TickResult`: ``tau`` zero at limp
         and passive joints; the request is admissible when ``residual <= tol * scale +
         rounding``, with ``scale`` the larger of the request and what was produced on the
         prescribed axes and ``rounding`` that of chain forces that cancel (``ROUNDING * max |F|``).
@@ -108,20 +109,8 @@ def solve_numpy(
             f"The force distribution of the chains to {list(problem.reactions)} cannot be "
             f"computed at this configuration (linear algebra failed: {error})."
         ) from error
-    forces_scaled = raw.forces
-    raw = dataclasses.replace(raw, forces=forces_scaled / factor)
-    tau_total = problem.torques(ev.state.jacobian_o, raw.forces)
-    tau = np.where(problem.actuated_mask, tau_total, 0.0)
-    produced_scaled = forces_scaled.sum(axis=0)
-    error = (produced_scaled - wrench * factor)[keep]
-    residual = stable_norm(error) / factor
-    request = stable_norm(wrench[keep])
-    output = stable_norm(produced_scaled[keep]) / factor
-    rounding = ROUNDING * float(np.abs(forces_scaled).max(initial=0.0)) / factor
-    produced = produced_scaled / factor
-    requested = np.where(keep, wrench, produced)
-    scale = max(request, output)
-    return TickResult(raw, tau, ev.passive_torque, produced, requested, residual, scale, rounding)
+    torques = functools.partial(problem.torques, ev.state.jacobian_o)
+    return close_tick(raw, wrench, keep, torques, problem.actuated_mask, ev.passive_torque, factor)
 
 
 class NumpyBackend:

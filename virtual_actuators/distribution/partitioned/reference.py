@@ -37,7 +37,7 @@ from ..linalg import safe_inverse, select_columns
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
-from ..solution import RawSolution
+from ..result import RawSolution
 from ..tolerances import ILL_CONDITIONED
 from .least_norm import least_norm_forces, projected_forces
 from .square import SquarePlan, plan_square, rfs_gain

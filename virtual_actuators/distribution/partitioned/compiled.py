@@ -35,8 +35,8 @@ def spring_table(problem: DistributionProblem) -> np.ndarray:
     springs = np.zeros((problem.model.nv, 5))
     springs[:, 2] = -1.0
     springs[:, 4] = problem.actuated_mask
-    for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
-        springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
+    for v, spring in problem.passive_v.items():
+        springs[v, :4] = (spring.stiffness, spring.rest, spring.idx_q, float(spring.continuous))
     return springs
 
 

@@ -217,13 +217,22 @@ class QPDistribution:
         if results is None:  # the reference decides (and raises) what the fast path cannot
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
         answer = finish(
-            buffer, layout, pn, nv, results[0], results[1], work.scale, wrench, keep, ACTIVE_TOL,
+            buffer,
+            layout,
+            pn,
+            nv,
+            results.x,
+            results.multipliers,
+            work.scale,
+            wrench,
+            keep,
+            ACTIVE_TOL,
             EPS_ABS,
-        )  # fmt: skip
+        )
         names = self.limits.row_names()
         forces = answer.out[:pn].reshape(self.problem.p, self.problem.n)
         active = tuple(names[i] for i in answer.active)
-        active += (BUDGET_EXHAUSTED,) if results[2] else ()
+        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
         raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
         # compiled=False: the matrices are compiled, the solve is ProxQP's (as before)
         return TickResult.from_buffer(
@@ -282,9 +291,9 @@ class QPDistribution:
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)
         names = self.limits.row_names()
-        x = results[0] * scale
-        active = tuple(names[i] for i in np.flatnonzero(np.abs(results[1]) > ACTIVE_TOL))
-        active += (BUDGET_EXHAUSTED,) if results[2] else ()
+        x = results.x * scale
+        active = tuple(names[i] for i in np.flatnonzero(np.abs(results.multipliers) > ACTIVE_TOL))
+        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
         raw = RawSolution(forces=x.reshape(p, n), method="qp", solver="qp", active=active)
         return close_tick(
             raw,

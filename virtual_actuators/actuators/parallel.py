@@ -365,7 +365,7 @@ class ParallelVirtualActuator:
         """
         return {
             "compiled": self.compiled,
-            "reference": NumpyBackend(self.problem, self.partitioner, self.dense),
+            "reference": NumpyBackend(self.problem, self.partitioner, hand_on=True),
             "dense": NumpyBackend(self.problem, self.dense),
             "qp": self.qp,
         }

@@ -52,17 +52,8 @@ from .kernel_tables import C_CON, HEADER, K_COLS, NB_BALL, PACK_HEADER, RANK
 class Distributed(NamedTuple):
     """What :func:`distribute` hands back.
 
-    Attributes:
-        out: Forces (p x n, row-major), tau (nv, 0 at limp and passive joints), the passive
-            torques (nv), produced (n) and requested (n, free axes: produced), one after the
-            other.
-        residual: Norm of the prescribed part of the request not produced.
-        scale: The larger of the request's and the produced wrench's norms, prescribed axes.
-        rounding: The rounding of chain forces that cancel.
-        status: 0, or why the numpy path decides this tick (see the module docstring).
-        worst: The worst chain's condition ratio.
-        worst_chain: That chain.
-
+    The tick's buffer and norms (:meth:`.TickResult.from_buffer`), its status (0, or why the
+    numpy path decides, see the module docstring) and the worst chain's condition ratio.
     """
 
     out: np.ndarray

@@ -50,14 +50,8 @@ def violation(
 class Answer(NamedTuple):
     """What :func:`finish` hands back.
 
-    Attributes:
-        out: Forces (p x n, row-major), tau (nv), the spring torques (nv), produced (n) and
-            requested (n, free axes: produced), like the partitioned kernel's.
-        residual: Norm of the prescribed part of the request not produced.
-        scale: The larger of the request's and the produced wrench's norms, prescribed axes.
-        rounding: The rounding of chain forces that cancel, plus the solver's accuracy.
-        active: Indices of the active inequalities.
-
+    The tick's buffer and norms (:meth:`.TickResult.from_buffer`; the rounding includes the
+    solver's accuracy) and the indices of the active inequalities.
     """
 
     out: np.ndarray

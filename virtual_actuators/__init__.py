@@ -29,7 +29,7 @@ from .control import (
     events,
     run,
 )
-from .distribution.solution import Solution
+from .distribution.result import Solution
 from .exceptions import (
     ConstraintError,
     FrameNotFoundError,

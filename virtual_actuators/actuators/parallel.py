@@ -23,7 +23,7 @@ from ..distribution.problem.checks import check_counts
 from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.registry import METHODS, Backend, Request, dispatch
-from ..distribution.solution import Solution, label, tolerance
+from ..distribution.result import Solution
 from ..exceptions import (
     ConstraintError,
     FrameNotFoundError,
@@ -296,31 +296,11 @@ class ParallelVirtualActuator:
             ConstraintError: Constraints that contradict each other here.
 
         """
-        fast = dispatch(self.backends, snapshot, wrench, request)
-        raw, tau = fast.raw, fast.tau
-        limit = tolerance(tol, fast.scale, fast.rounding)  # Solution.admissible's rule, always
-        missed = not fast.residual <= limit
-        base_effort = tau[:6].copy() if self._floating else np.zeros(0)
-        solution = Solution(  # positional (a tick's cost): the fields in declaration order
-            tau,
-            raw.forces,
-            fast.produced,
-            raw.sets,
-            fast.residual,
-            label(raw.method, not missed),
-            fast.requested,
-            self.reactions,
-            self.axes,
-            request.free,
-            fast.tau_passive,
-            base_effort,
-            raw.solver,
-            raw.systems,
-            fast.compiled,
-            raw.active,
-            limit,
+        tick = dispatch(self.backends, snapshot, wrench, request)
+        solution = Solution.from_tick(
+            tick, tol, self.reactions, self.axes, request.free, self._floating
         )
-        return solution, missed
+        return solution, not solution.admissible
 
     def plan(
         self,
@@ -358,7 +338,7 @@ class ParallelVirtualActuator:
         """
         return {
             "compiled": self.compiled,
-            "reference": NumpyBackend(self.problem, self.partitioner, self.dense),
+            "reference": NumpyBackend(self.problem, self.partitioner, hand_on=True),
             "dense": NumpyBackend(self.problem, self.dense),
             "qp": self.qp,
         }

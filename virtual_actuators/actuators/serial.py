@@ -155,7 +155,7 @@ class VirtualActuator:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
 
         """
-        return self.kinematics.sense(state)[1]
+        return self.kinematics.sense(state).position
 
     def jacobian(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
@@ -170,7 +170,7 @@ class VirtualActuator:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
 
         """
-        return self.kinematics.sense(state)[0]
+        return self.kinematics.sense(state).jacobian
 
     def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s] (angular velocity on rotations).

@@ -14,7 +14,7 @@ import dataclasses
 import numpy as np
 
 from ..contacts import contact_set
-from ..distribution.solution import Solution, label
+from ..distribution.result import Solution, label
 from ..kinematics.kernels import HAVE_NUMBA
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment

@@ -9,6 +9,7 @@ damping ``-d v``, clipped to the URDF's effort limits).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -40,23 +41,34 @@ def _vector(value: object, size: int) -> np.ndarray | None:
     return array if array.shape == (size,) else None
 
 
-def check_reading(reading: object) -> tuple[object, object, float, str | None]:
-    """Unpack a ``(q, v, stamp)`` reading; the arrays are checked by :func:`check_state`.
+class Reading(NamedTuple):
+    """A driver's ``(q, v, stamp)`` reading, unpacked (:func:`check_reading`).
 
-    Returns:
-        ``(q, v, stamp, reason)``: ``reason`` is ``"malformed reading"`` when ``reading`` is
-        not three values or the stamp is not a real number, else None (a NaN stamp is
-        returned as is).
+    Attributes:
+        q: The configuration as read (checked by :func:`check_state`).
+        v: The velocity as read.
+        stamp: The time stamp as a float (a NaN stamp as is).
+        reason: ``"malformed reading"`` when the reading is not three values or the stamp not
+            a real number (then ``q`` and ``v`` are None and ``stamp`` NaN), else None.
 
     """
+
+    q: object
+    v: object
+    stamp: float
+    reason: str | None
+
+
+def check_reading(reading: object) -> Reading:
+    """Unpack a ``(q, v, stamp)`` reading; the arrays are checked by :func:`check_state`."""
     try:
         q, v, stamp = reading
         if isinstance(stamp, (str, bytes)):
             raise TypeError
         stamp = float(stamp)
     except (TypeError, ValueError, OverflowError):
-        return None, None, math.nan, "malformed reading"
-    return q, v, stamp, None
+        return Reading(None, None, math.nan, "malformed reading")
+    return Reading(q, v, stamp, None)
 
 
 def check_state(
@@ -171,6 +183,7 @@ __all__ = [
     "DEFAULT_DAMPING",
     "DEFAULT_HOLD_TIME",
     "SAFE_ACTIONS",
+    "Reading",
     "SafeAction",
     "check_effort",
     "check_reading",

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..distribution.solution import Solution
+from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import KinematicTree

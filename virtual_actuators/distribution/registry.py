@@ -13,7 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .solution import TickResult
+from .result import TickResult
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -45,9 +45,9 @@ class Backend(Protocol):
 
 
 #: Each method's backends, tried in order: the compiled partitioned kernel hands the ticks it
-#: cannot decide to the numpy reference (which falls back on the dense solver itself)
+#: cannot decide to the numpy reference, which hands those it cannot to the dense solver
 METHODS: dict[str, tuple[str, ...]] = {
-    "partitioned": ("compiled", "reference"),
+    "partitioned": ("compiled", "reference", "dense"),
     "dense": ("dense",),
     "qp": ("qp",),
 }

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -59,6 +60,21 @@ class KinematicState:
 
 
 _NO_VELOCITY = np.zeros(0)
+
+
+class Sensed(NamedTuple):
+    """A serial actuator's reading (:meth:`RelativeKinematics.sense`).
+
+    Attributes:
+        jacobian: ``(n, nv)`` twist of {B} relative to {A} at {B}'s origin, in {O}.
+        position: ``(n,)`` pose of {B} relative to {A} on the selected axes.
+        velocity: ``(n,)`` ``jacobian @ v``, or None when not asked for.
+
+    """
+
+    jacobian: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray | None
 
 
 class RelativeKinematics:
@@ -222,7 +238,7 @@ class RelativeKinematics:
             frames = self._frames_of(snapshot)
         return frames[self._row_o, :9].reshape(3, 3), frames[self._rows_a, :9].reshape(-1, 3, 3)
 
-    def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> tuple:
+    def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> Sensed:
         """A serial actuator's reading in one compiled call: Jacobian, position, velocity.
 
         Args:
@@ -230,7 +246,7 @@ class RelativeKinematics:
             velocity: Also compute ``jacobian @ v``.
 
         Returns:
-            ``(jacobian (n, nv), position (n,), velocity (n,) or None)``; chain 0 only.
+            The :class:`Sensed` reading of chain 0.
 
         Raises:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
@@ -253,7 +269,7 @@ class RelativeKinematics:
         n, nv = self._axis_rows.shape[0], jacobian_world.shape[1]
         jacobian = buffer[: n * nv].reshape(n, nv)
         position = buffer[n * nv : n * nv + n]
-        return jacobian, position, buffer[n * nv + n :] if velocity else None
+        return Sensed(jacobian, position, buffer[n * nv + n :] if velocity else None)
 
     def _frames_of(self, snapshot: Snapshot) -> np.ndarray:
         rows = {self._row_b: self.action_id, self._row_o: self.reference_id}
@@ -304,4 +320,4 @@ def skew(vector: np.ndarray) -> np.ndarray:
     return out
 
 
-__all__ = ["AXES", "KinematicState", "RelativeKinematics", "skew"]
+__all__ = ["AXES", "KinematicState", "RelativeKinematics", "Sensed", "skew"]

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..control import Attachment, Controller, ControlOutput, State
-from ..distribution.solution import Solution
+from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 
 #: What the viewer draws as a virtual actuator.

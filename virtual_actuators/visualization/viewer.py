@@ -19,7 +19,7 @@ import meshcat
 import numpy as np
 
 from ..control import Controller, ControlOutput, State
-from ..distribution.solution import Solution
+from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from .bodies import RobotBodies, typical_link_length

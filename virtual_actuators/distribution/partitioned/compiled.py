@@ -21,7 +21,7 @@ import numpy as np
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..registry import Request
-from ..solution import RawSolution, TickResult
+from ..result import RawSolution, TickResult
 from . import kernel_tables, kernels
 from .reference import PartitionedSolver
 
@@ -35,8 +35,8 @@ def spring_table(problem: DistributionProblem) -> np.ndarray:
     springs = np.zeros((problem.model.nv, 5))
     springs[:, 2] = -1.0
     springs[:, 4] = problem.actuated_mask
-    for v, (_, stiffness, rest, idx_q, continuous) in problem.passive_v.items():
-        springs[v, :4] = (stiffness, rest, idx_q, 1.0 if continuous else 0.0)
+    for v, spring in problem.passive_v.items():
+        springs[v, :4] = (spring.stiffness, spring.rest, spring.idx_q, float(spring.continuous))
     return springs
 
 
@@ -205,16 +205,14 @@ class CompiledDistribution:
         frames = snapshot.frame_table
         if frames.shape[0] <= self._max_row:
             return None  # frames required after this snapshot ran: the numpy path reads them
-        out = kernels.distribute(jacobian_world, frames, snapshot.q, wrench, *mode.packed)
-        if out[4]:
+        tick = kernels.distribute(jacobian_world, frames, snapshot.q, wrench, *mode.packed)
+        if tick.status:
             return None
-        buffer, (p, n), nv = out[0], self._shape, self.springs.shape[0]
-        at = p * n
-        forces = buffer[:at].reshape(p, n)
+        forces = tick.out[: self._shape[0] * self._shape[1]].reshape(self._shape)
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
-        tau, passive = buffer[at : at + nv], buffer[at + nv : at + 2 * nv]
-        produced, requested = buffer[at + 2 * nv : at + 2 * nv + n], buffer[at + 2 * nv + n :]
-        return TickResult(raw, tau, passive, produced, requested, out[1], out[2], out[3], True)
+        return TickResult.from_buffer(
+            raw, tick.out, tick.residual, tick.scale, tick.rounding, compiled=True
+        )
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

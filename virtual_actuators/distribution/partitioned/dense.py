@@ -11,6 +11,8 @@ exactly and the wrench as closely as possible.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
@@ -22,8 +24,25 @@ from ..linalg import (
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
-from ..solution import RawSolution, no_sets
+from ..result import RawSolution, no_sets
 from ..tolerances import ILL_CONDITIONED
+
+
+class DenseSystem(NamedTuple):
+    """The rows of K (eq. 10) over the ``p n`` force entries, and their right-hand sides.
+
+    Attributes:
+        soft: ``(k, p n)`` the request's rows (the prescribed axes of ``sum_i F_i``).
+        soft_rhs: ``(k,)`` the request on them.
+        hard: ``(r, p n)`` the natural rows, then the design rows.
+        hard_rhs: ``(r,)`` their right-hand sides.
+
+    """
+
+    soft: np.ndarray
+    soft_rhs: np.ndarray
+    hard: np.ndarray
+    hard_rhs: np.ndarray
 
 
 class DenseSolver:
@@ -37,16 +56,14 @@ class DenseSolver:
     def __init__(self, problem: DistributionProblem) -> None:
         self.problem = problem
 
-    def system(
-        self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Return ``(soft, soft_rhs, hard, hard_rhs)``: wrench rows and constraint rows of K."""
+    def system(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> DenseSystem:
+        """The wrench rows and the constraint rows of K (eq. 10) at this evaluation."""
         p, n = self.problem.p, self.problem.n
         soft = np.tile(np.eye(n), (1, p))[keep]
         natural, natural_rhs = self.problem.block_natural(ev)
         hard = np.vstack((natural, ev.hard_rows.reshape(-1, p * n)))
         hard_rhs = np.concatenate((natural_rhs, ev.hard_rhs))
-        return soft, wrench[keep], hard, hard_rhs
+        return DenseSystem(soft, wrench[keep], hard, hard_rhs)
 
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
         """Distribute ``wrench``; see :meth:`PartitionedSolver.solve` for the arguments.

@@ -298,37 +298,6 @@ def passive_torques(springs: np.ndarray, q: np.ndarray, passive: np.ndarray) -> 
 
 
 @njit(cache=True)
-def request_norms(
-    keep: np.ndarray, wrench: np.ndarray, produced: np.ndarray, requested: np.ndarray
-) -> tuple[float, float, float, float]:
-    """Fill ``requested`` and return the scale-free squared norms of a tick's answer.
-
-    ``requested`` gets the request on the prescribed axes (``keep``) and what was produced on
-    the free ones. Returns ``(peak, residual, request, output)``: ``peak`` the largest of
-    ``|wrench|``, ``|produced|`` and ``|produced - wrench|`` on the prescribed axes (not finite
-    when one of them is not), and the squared norms of ``produced - wrench``, ``wrench`` and
-    ``produced`` there divided by ``peak`` (0 when ``peak`` is 0 or not finite): no overflow
-    at any magnitude.
-    """
-    peak = 0.0
-    for a in range(keep.shape[0]):
-        if keep[a]:
-            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
-            requested[a] = wrench[a]
-        else:
-            requested[a] = produced[a]
-    residual, request, output = 0.0, 0.0, 0.0
-    if np.isfinite(peak) and peak > 0.0:
-        for a in range(keep.shape[0]):
-            if keep[a]:
-                error = (produced[a] - wrench[a]) / peak
-                residual += error * error
-                request += (wrench[a] / peak) ** 2
-                output += (produced[a] / peak) ** 2
-    return peak, residual, request, output
-
-
-@njit(cache=True)
 def shared_ball_columns(
     header: np.ndarray,
     ball_start: int,
@@ -376,7 +345,6 @@ __all__ = [
     "offset_in_o",
     "passive_torques",
     "shared_ball_columns",
-    "request_norms",
     "scaled_condition",
     "wrench_transform",
 ]

@@ -21,16 +21,20 @@ elimination, or the answer misses an exact row by more than :data:`CONSTRAINT_TO
 scale; status 3: a result overflowed).
 
 numba's on-disk cache of :func:`distribute` does not follow edits of the kernels it calls from
-other modules (:mod:`.kernel_solves`, :mod:`.kernel_batch`, :mod:`.kernel_linalg`): an edit
-there goes with an edit of this file, so that the cache is rebuilt.
+other modules (:mod:`.kernel_solves`, :mod:`.kernel_batch`, :mod:`.kernel_linalg`, the tail
+in :mod:`virtual_actuators.distribution.result`): an edit there goes with an edit of this file,
+so that the cache is rebuilt.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ...kinematics.kernels import njit
-from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED, NEAR_SINGULAR, ROUNDING
+from ..result import close_norms
+from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED, NEAR_SINGULAR
 from .kernel_batch import BATCH_CHAINS, full_rank_batch
 from .kernel_linalg import (
     ball_entry,
@@ -38,12 +42,27 @@ from .kernel_linalg import (
     null_rows,
     offset_in_o,
     passive_torques,
-    request_norms,
     shared_ball_columns,
     wrench_transform,
 )
 from .kernel_solves import minimum_norm, partitioned_solve
 from .kernel_tables import C_CON, HEADER, K_COLS, NB_BALL, PACK_HEADER, RANK
+
+
+class Distributed(NamedTuple):
+    """What :func:`distribute` hands back.
+
+    The tick's buffer and norms (:meth:`.TickResult.from_buffer`), its status (0, or why the
+    numpy path decides, see the module docstring) and the worst chain's condition ratio.
+    """
+
+    out: np.ndarray
+    residual: float
+    scale: float
+    rounding: float
+    status: int
+    worst: float
+    worst_chain: int
 
 
 @njit(cache=True)
@@ -54,7 +73,7 @@ def distribute(
     wrench: np.ndarray,
     ints: np.ndarray,
     floats: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
+) -> Distributed:
     """One tick of the force distribution (see the module docstring).
 
     Args:
@@ -66,10 +85,8 @@ def distribute(
         floats: Its declaration-time floats.
 
     Returns:
-        ``(out, residual, |wrench| on prescribed axes, rounding, status, worst chain ratio,
-        worst chain)``; ``out`` holds, one after the other, the forces (p x n, row-major), tau
-        (nv, 0 at limp and passive joints), the passive torques (nv), produced (n) and
-        requested (n, free axes: produced).
+        The :class:`Distributed` tick (its tail by
+        :func:`~virtual_actuators.distribution.result.close_norms`).
 
     """
     mode, n, p, width, s1, m, K, nv_springs, s0 = ints[:PACK_HEADER]
@@ -294,7 +311,7 @@ def distribute(
             if bound_b[b] > ILL_CONDITIONED:
                 ill = True
     if worst < NEAR_SINGULAR:
-        return out, 0.0, 0.0, 0.0, 1, worst, worst_chain
+        return Distributed(out, 0.0, 0.0, 0.0, 1, worst, worst_chain)
     # -- hard rows: shared joints, constant design rows, equal torques --------------------------
     s0 = const_rows.shape[0]
     s1 = torque_rows.shape[0]
@@ -346,7 +363,7 @@ def distribute(
     if status == 0 and constraint_error(rows, rhs, hard, hard_rhs, forces) > CONSTRAINT_TOL:
         status = 2  # an ill-conditioned elimination lost an exact row: numpy decides
     if status != 0:
-        return out, 0.0, 0.0, 0.0, status, worst, worst_chain
+        return Distributed(out, 0.0, 0.0, 0.0, status, worst, worst_chain)
     for i in range(p):
         k_i = chain_ints[i, K_COLS]
         for j in range(k_i):
@@ -357,19 +374,9 @@ def distribute(
             tau[v] += chain_signs[i, j] * acc * springs[v, 4]
         for a in range(n):
             produced[a] += forces[i, a]
-    # scale-free norms (no overflow or underflow at any magnitude of the request)
-    peak, residual, request, output = request_norms(keep, wrench, produced, requested)
-    force_peak = 0.0
-    for i in range(p):
-        for a in range(n):
-            force_peak = max(force_peak, abs(forces[i, a]))
-    if not (np.isfinite(peak) and np.isfinite(force_peak)):
-        return out, 0.0, 0.0, 0.0, 3, worst, worst_chain
-    residual = peak * np.sqrt(residual)
-    # what the residual is compared with: tol times the request or what was produced,
-    # whichever is larger, plus the rounding of chain forces that cancel each other
-    scale = peak * np.sqrt(max(request, output))
-    return out, residual, scale, ROUNDING * force_peak, 0, worst, worst_chain
+    residual, scale, rounding = close_norms(keep, wrench, out[: p * n], produced, requested)
+    if not (np.isfinite(residual) and np.isfinite(rounding)):
+        return Distributed(out, 0.0, 0.0, 0.0, 3, worst, worst_chain)
+    return Distributed(out, residual, scale, rounding, 0, worst, worst_chain)
 
-
-__all__ = ["distribute"]
+__all__ = ["Distributed", "distribute"]

@@ -12,16 +12,17 @@ has the same bits as an unscaled solve, and no norm over- or underflows at 1e-20
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
 from ...exceptions import SingularConfigurationError
-from ..linalg import power_of_two_scale, stable_norm
+from ..linalg import power_of_two_scale
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
 from ..registry import Request
-from ..solution import TickResult
-from ..tolerances import CONSTRAINT_TOL, ROUNDING
+from ..result import TickResult, close_tick
+from ..tolerances import CONSTRAINT_TOL
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:
@@ -59,8 +60,8 @@ def solve_numpy(
     snapshot: object,
     wrench: np.ndarray,
     keep: np.ndarray,
-    fallback: object | None = None,
-) -> TickResult:
+    hand_on: bool = False,
+) -> TickResult | None:
     """Distribute ``wrench`` with a numpy solver (partitioned or dense) at a snapshot.
 
     Args:
@@ -71,15 +72,16 @@ def solve_numpy(
         snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
         wrench: ``(n,)`` finite request.
         keep: ``(n,)`` bool, the prescribed axes.
-        fallback: Solver tried when ``solver`` raises
-            :class:`~virtual_actuators.SingularConfigurationError` (the dense reference behind
-            the partitioned solver); ``raw.solver`` says which one answered.
+        hand_on: Return None, for the method's next backend (the dense reference), when
+            ``solver`` raises :class:`~virtual_actuators.SingularConfigurationError` or its
+            answer misses an exact row by more than ``CONSTRAINT_TOL``.
 
     Returns:
-        The :class:`~virtual_actuators.distribution.solution.TickResult`: ``tau`` zero at limp
-        and passive joints; the request is admissible when ``residual <= tol * scale +
-        rounding``, with ``scale`` the larger of the request and what was produced on the
-        prescribed axes and ``rounding`` that of chain forces that cancel (``ROUNDING * max |F|``).
+        The :class:`~virtual_actuators.distribution.result.TickResult` (or None, see
+        ``hand_on``): ``tau`` zero at limp and passive joints; the request is admissible when
+        ``residual <= tol * scale + rounding``, with ``scale`` the larger of the request and
+        what was produced on the prescribed axes and ``rounding`` that of chain forces that
+        cancel (``ROUNDING * max |F|``).
 
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.
@@ -90,55 +92,41 @@ def solve_numpy(
     factor = power_of_two_scale(wrench, ev.passive_torque, ev.hard_rhs)
     scaled = _scaled(ev, factor)
     try:
-        try:
-            raw = solver.solve(scaled, wrench * factor, keep)
-        except SingularConfigurationError:
-            if fallback is None:
-                raise
-            # the closed form cannot decide (e.g. a natural constraint that vanishes here): the
-            # dense reference drops what is numerically void, and raises the same error when
-            # the distribution really is singular
-            raw = fallback.solve(scaled, wrench * factor, keep)
-        if fallback is not None and raw.solver != "dense":
-            if constraint_error(problem, scaled, raw.forces) > CONSTRAINT_TOL:
-                # an ill-conditioned elimination lost an exact row: the dense reference keeps it
-                raw = fallback.solve(scaled, wrench * factor, keep)
+        raw = solver.solve(scaled, wrench * factor, keep)
+    except SingularConfigurationError:
+        # the closed form cannot decide (e.g. a natural constraint that vanishes here): the
+        # dense reference drops what is numerically void, and raises the same error when
+        # the distribution really is singular
+        if hand_on:
+            return None
+        raise
     except np.linalg.LinAlgError as error:  # LAPACK gave up: as singular as it gets
         raise SingularConfigurationError(
             f"The force distribution of the chains to {list(problem.reactions)} cannot be "
             f"computed at this configuration (linear algebra failed: {error})."
         ) from error
-    forces_scaled = raw.forces
-    raw = dataclasses.replace(raw, forces=forces_scaled / factor)
-    tau_total = problem.torques(ev.state.jacobian_o, raw.forces)
-    tau = np.where(problem.actuated_mask, tau_total, 0.0)
-    produced_scaled = forces_scaled.sum(axis=0)
-    error = (produced_scaled - wrench * factor)[keep]
-    residual = stable_norm(error) / factor
-    request = stable_norm(wrench[keep])
-    output = stable_norm(produced_scaled[keep]) / factor
-    rounding = ROUNDING * float(np.abs(forces_scaled).max(initial=0.0)) / factor
-    produced = produced_scaled / factor
-    requested = np.where(keep, wrench, produced)
-    scale = max(request, output)
-    return TickResult(raw, tau, ev.passive_torque, produced, requested, residual, scale, rounding)
+    if hand_on and constraint_error(problem, scaled, raw.forces) > CONSTRAINT_TOL:
+        return None  # an ill-conditioned elimination lost an exact row: the dense one keeps it
+    torques = functools.partial(problem.torques, ev.state.jacobian_o)
+    return close_tick(raw, wrench, keep, torques, problem.actuated_mask, ev.passive_torque, factor)
 
 
 class NumpyBackend:
-    """A numpy solver as a backend: the ``"reference"`` (partitioned, dense behind) or ``"dense"``.
+    """A numpy solver as a backend: ``"reference"`` (partitioned) or ``"dense"``.
 
     Args:
         problem: The declaration-time problem.
         solver: The partitioned or dense solver of that problem.
-        fallback: The dense solver behind the partitioned one, or None.
+        hand_on: Hand the ticks ``solver`` cannot decide to the method's next backend
+            (:func:`solve_numpy`); False: always answer, or raise.
 
     """
 
-    def __init__(self, problem: DistributionProblem, solver: object, fallback: object = None):
-        self.problem, self.solver, self.fallback = problem, solver, fallback
+    def __init__(self, problem: DistributionProblem, solver: object, hand_on: bool = False):
+        self.problem, self.solver, self.hand_on = problem, solver, hand_on
 
-    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult:
-        """:func:`solve_numpy` with this backend's solvers (always answers).
+    def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
+        """:func:`solve_numpy` with this backend's solver.
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
@@ -146,7 +134,7 @@ class NumpyBackend:
 
         """
         return solve_numpy(
-            self.problem, self.solver, snapshot, wrench, request.keep, self.fallback
+            self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on
         )
 
 

@@ -29,6 +29,7 @@ system is singular.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -37,7 +38,7 @@ from ..linalg import safe_inverse, select_columns
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
-from ..solution import RawSolution
+from ..result import RawSolution
 from ..tolerances import ILL_CONDITIONED
 from .least_norm import least_norm_forces, projected_forces
 from .square import SquarePlan, plan_square, rfs_gain
@@ -59,6 +60,15 @@ class _Reduced:
     #: reduced entries (their rounding is about eps times this, times the CFS block's condition)
     hard_scale: np.ndarray
     repicked: bool  # True when some chain's CFS was re-picked at this configuration
+
+
+class Elimination(NamedTuple):
+    """A group's natural rows solved for its CFS: ``Q_i``, ``u_i``, CFS and free entries used."""
+
+    q_matrix: np.ndarray
+    u: np.ndarray
+    cfs: np.ndarray
+    free: np.ndarray
 
 
 class PartitionedSolver:
@@ -129,7 +139,7 @@ class PartitionedSolver:
             chains = np.arange(g)[:, None]
             cfs, free = self.cfs[index], self.free_entries[index]
             if l_:
-                q_matrix, u, cfs, free = self._eliminate(index, rows.rows, rows.rhs)
+                q_matrix, u, cfs, free = self.eliminate(index, rows.rows, rows.rhs)
                 repicked |= cfs is not self.cfs[index]
                 transform[chains, cfs, :] = q_matrix
                 offset[chains, cfs] = u
@@ -162,10 +172,8 @@ class PartitionedSolver:
             repicked=repicked,
         )
 
-    def _eliminate(
-        self, index: int, rows: np.ndarray, rhs: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Return ``Q_i = -G_b^-1 G_a``, ``u_i = G_b^-1 t_i`` and the CFS / free entries used.
+    def eliminate(self, index: int, rows: np.ndarray, rhs: np.ndarray) -> Elimination:
+        """``Q_i = -G_b^-1 G_a``, ``u_i = G_b^-1 t_i`` and the CFS / free entries used.
 
         The declaration's CFS is used unless a chain's block is ill-conditioned here; that
         chain's CFS is then re-picked for this call only (the declaration's sets never change,
@@ -183,7 +191,8 @@ class PartitionedSolver:
             bad = np.flatnonzero(cond > ILL_CONDITIONED)
             if not len(bad):
                 others = rows[chains, all_rows, free[:, None, :]]
-                return -inverse @ others, np.einsum("gij,gj->gi", inverse, rhs), cfs, free
+                u = np.einsum("gij,gj->gi", inverse, rhs)
+                return Elimination(-inverse @ others, u, cfs, free)
             if attempt:
                 break
             group = self.problem.groups[index]

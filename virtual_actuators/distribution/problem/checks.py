@@ -56,9 +56,9 @@ def vacuous_joints(problem: DistributionProblem, per_chain: list, states: list) 
     )
     for v in sorted(vacuous):
         spring = problem.passive_v.get(v)
-        if spring is not None and spring[1] != 0.0:
+        if spring is not None and spring.stiffness != 0.0:
             raise ConstraintError(
-                f"No selected axis {list(problem.axes)} loads the passive joint {spring[0]!r} "
+                f"No selected axis {list(problem.axes)} loads the passive joint {spring.name!r} "
                 "(its lever is structurally zero): its spring torque could never be balanced "
                 "by the distribution. Select axes that load it, or declare it unactuated."
             )

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -96,13 +97,32 @@ def check_passive(passive: object) -> dict[str, tuple[float, float]]:
     return out
 
 
+class Spring(NamedTuple):
+    """A passive joint's spring, ``tau = -stiffness (angle - rest)``.
+
+    Attributes:
+        name: The joint.
+        stiffness: [N m/rad or N/m].
+        rest: Rest angle or position [rad or m].
+        idx_q: The joint's first configuration index.
+        continuous: Whether the joint is continuous (its angle is ``(cos, sin)`` at ``idx_q``).
+
+    """
+
+    name: str
+    stiffness: float
+    rest: float
+    idx_q: int
+    continuous: bool
+
+
 def parse_joints(
     kinematics: RelativeKinematics,
     reactions: Sequence[str],
     unactuated: Sequence[str],
     passive: Mapping[str, tuple[float, float]],
-) -> tuple[dict[int, str], dict[int, tuple[str, float, float, int, bool]]]:
-    """Limp joints ``{v: name}`` and springs ``{v: (name, stiffness, rest, idx_q, is_cos_sin)}``.
+) -> tuple[dict[int, str], dict[int, Spring]]:
+    """Limp joints ``{v: name}`` and passive springs ``{v: Spring}``.
 
     Raises:
         JointNotFoundError: A joint that is unknown or on no chain.
@@ -117,7 +137,7 @@ def parse_joints(
         _, vs = joint_columns(kinematics, reactions, name, "unactuated joint")
         for v in vs:
             limp[int(v)] = name
-    springs: dict[int, tuple[str, float, float, int, bool]] = {}
+    springs: dict[int, Spring] = {}
     for name, params in dict(passive).items():
         joint_id, vs = joint_columns(kinematics, reactions, name, "passive joint")
         joint = kinematics.model.joints[joint_id]
@@ -136,7 +156,7 @@ def parse_joints(
             )
         if int(vs[0]) in limp:
             raise ConstraintError(f"joint {name!r} is declared both unactuated and passive.")
-        springs[int(vs[0])] = (name, stiffness, rest, joint.idx_q, joint.nq == 2)
+        springs[int(vs[0])] = Spring(name, stiffness, rest, joint.idx_q, joint.nq == 2)
     return limp, springs
 
 
@@ -249,6 +269,7 @@ def design_rows(
 
 __all__ = [
     "DesignRows",
+    "Spring",
     "check_passive",
     "design_rows",
     "joint_columns",

@@ -137,9 +137,9 @@ class DistributionProblem:
             ).reshape(-1, k)
             own_v = np.take_along_axis(columns, own, axis=1)
             springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
-            stiffness = [[s[1] if s else 0.0 for s in row] for row in springs]
-            rest = [[s[2] if s else 0.0 for s in row] for row in springs]
-            angle = [[s[3] if s else -1 for s in row] for row in springs]
+            stiffness = [[s.stiffness if s else 0.0 for s in row] for row in springs]
+            rest = [[s.rest if s else 0.0 for s in row] for row in springs]
+            angle = [[s.idx_q if s else -1 for s in row] for row in springs]
             group = ChainGroup(
                 chains=np.array(members, dtype=int),
                 columns=columns,

@@ -46,8 +46,9 @@ class Workspace:
         self.kept = kept
         self.design_rows = design
         self.pn, self.nv = p_n, nv
-        (_, _, self.equality, self.equality_rhs, self.inequality, self.lows, self.uppers, _, _,
-         _) = kernels.views(self.buffer, self.layout, p_n, nv)  # fmt: skip
+        arrays = kernels.views(self.buffer, self.layout, p_n, nv)
+        self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
+        self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
         self.scale = 1.0
 
 

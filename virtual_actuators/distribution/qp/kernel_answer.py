@@ -2,17 +2,19 @@
 
 :func:`violation` measures how far ProxQP's answer misses the rows it must meet (an infeasible
 request can look solved to the solver's accuracy); :func:`finish` turns the answer in free
-coordinates into the chains' forces, the joint torques, the produced wrench, the residual and the
-active inequalities, in one call and one output array.
+coordinates into the chains' forces, the joint torques and the active inequalities, in one call
+and one output array, and closes the tick with the shared tail
+(:func:`~virtual_actuators.distribution.result.close_norms`).
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ...kinematics.kernels import njit
-from ..partitioned.kernel_linalg import request_norms
-from ..tolerances import ROUNDING
+from ..result import close_norms
 from .kernels import views
 
 
@@ -25,7 +27,9 @@ def violation(
     Those are the first ``equalities`` equality rows and every inequality row (``-inf`` for
     none; a non-finite ``z`` gives ``inf``).
     """
-    _, _, equality, equality_rhs, inequality, lows, uppers, _, _, _ = views(buffer, layout, pn, nv)
+    arrays = views(buffer, layout, pn, nv)
+    equality, equality_rhs = arrays.equality, arrays.equality_rhs
+    inequality, lows, uppers = arrays.inequality, arrays.lows, arrays.uppers
     worst = -np.inf
     for r in range(equalities):
         acc = -equality_rhs[r]
@@ -43,6 +47,20 @@ def violation(
     return worst
 
 
+class Answer(NamedTuple):
+    """What :func:`finish` hands back.
+
+    The tick's buffer and norms (:meth:`.TickResult.from_buffer`; the rounding includes the
+    solver's accuracy) and the indices of the active inequalities.
+    """
+
+    out: np.ndarray
+    residual: float
+    scale: float
+    rounding: float
+    active: np.ndarray
+
+
 @njit(cache=True)
 def finish(
     buffer: np.ndarray,
@@ -56,7 +74,7 @@ def finish(
     keep: np.ndarray,
     active_tol: float,
     accuracy: float,
-) -> tuple[np.ndarray, float, float, float, np.ndarray]:
+) -> Answer:
     """Forces and torques of the answer ``z`` (scaled) and what the solution reports.
 
     Args:
@@ -73,27 +91,25 @@ def finish(
         accuracy: The solver's absolute accuracy on the scaled problem.
 
     Returns:
-        ``(out, residual, larger of |wrench| and |produced| on the prescribed axes, rounding,
-        active rows)``; ``out`` holds the forces (p x n, row-major), tau (nv), the spring
-        torques (nv), produced (n) and requested (n, free axes: produced), like the partitioned
-        kernel's.
+        The :class:`Answer` (its tail by
+        :func:`~virtual_actuators.distribution.result.close_norms`).
 
     """
     n = wrench.shape[0]
-    basis, x0, _, _, _, _, _, tmap, tau0, passive = views(buffer, layout, pn, nv)
+    arrays = views(buffer, layout, pn, nv)
+    basis, x0, tmap, tau0 = arrays.basis, arrays.x0, arrays.tmap, arrays.tau0
+    passive = arrays.passive
     out = np.zeros(pn + 2 * nv + 2 * n)
     forces = out[:pn]
     tau = out[pn : pn + nv]
     produced = out[pn + 2 * nv : pn + 2 * nv + n]
     requested = out[pn + 2 * nv + n :]
     free = z.shape[0]
-    force_peak = 0.0
     for r in range(pn):
         acc = 0.0
         for j in range(free):
             acc += basis[r, j] * z[j]
         forces[r] = x0[r] + acc * scale
-        force_peak = max(force_peak, abs(forces[r]))
         produced[r % n] += forces[r]
     for v in range(nv):
         acc = 0.0
@@ -101,9 +117,7 @@ def finish(
             acc += tmap[v, j] * z[j]
         tau[v] = tau0[v] + acc * scale
         out[pn + nv + v] = passive[v]
-    peak, residual, request, output = request_norms(keep, wrench, produced, requested)
-    if not np.isfinite(peak):
-        peak, residual = np.inf, np.inf
+    residual, size, rounding = close_norms(keep, wrench, forces, produced, requested)
     count = 0
     for r in range(multipliers.shape[0]):
         count += abs(multipliers[r]) > active_tol
@@ -113,9 +127,6 @@ def finish(
         if abs(multipliers[r]) > active_tol:
             active[count] = r
             count += 1
-    rounding = ROUNDING * force_peak + accuracy * 10.0 * scale
-    return (out, peak * np.sqrt(residual), peak * np.sqrt(max(request, output)), rounding,
-            active)  # fmt: skip
+    return Answer(out, residual, size, rounding + accuracy * 10.0 * scale, active)
 
-
-__all__ = ["finish", "violation"]
+__all__ = ["Answer", "finish", "violation"]

@@ -23,6 +23,8 @@ also the reference the tests compare this one with.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ...contacts.flat import sole_rows
@@ -293,15 +295,40 @@ def reduced_qp(
     return 0, worst, scale
 
 
-@njit(cache=True)
-def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> tuple:
-    """The arrays of :func:`reduced_qp` in ``buffer``, as views.
+class QPViews(NamedTuple):
+    """The arrays of :func:`reduced_qp` in its buffer, as views.
 
-    In order: basis, x0, equality, its right-hand side, inequality, lows, uppers, torque map,
-    torques of x0, spring torques.
+    Attributes:
+        basis: ``(p n, d)`` the chains' null-space bases ``N``.
+        x0: ``(p n,)`` the particular forces.
+        equality: ``(s + k, d)`` the design rows, then the request's.
+        equality_rhs: ``(s + k,)`` their right-hand sides (scaled).
+        inequality: ``(m, d)`` the contact and torque-limit rows.
+        lows: ``(m,)`` their lower bounds (scaled).
+        uppers: ``(m,)`` their upper bounds (scaled).
+        tmap: ``(nv, d)`` the torque map.
+        tau0: ``(nv,)`` the torques of ``x0``.
+        passive: ``(nv,)`` the spring torques.
+
     """
+
+    basis: np.ndarray
+    x0: np.ndarray
+    equality: np.ndarray
+    equality_rhs: np.ndarray
+    inequality: np.ndarray
+    lows: np.ndarray
+    uppers: np.ndarray
+    tmap: np.ndarray
+    tau0: np.ndarray
+    passive: np.ndarray
+
+
+@njit(cache=True)
+def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> QPViews:
+    """The arrays of :func:`reduced_qp` in ``buffer``, as views (:class:`QPViews`)."""
     free, rows_eq, m_in = layout[LAYOUT - 4], layout[LAYOUT - 3], layout[LAYOUT - 2]
-    return (
+    return QPViews(
         buffer[layout[0] : layout[0] + pn * free].reshape((pn, free)),
         buffer[layout[1] : layout[1] + pn],
         buffer[layout[2] : layout[2] + rows_eq * free].reshape((rows_eq, free)),
@@ -314,5 +341,4 @@ def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> tuple:
         buffer[layout[9] : layout[9] + nv],
     )
 
-
-__all__ = ["HEADER", "LAYOUT", "reduced_qp", "views"]
+__all__ = ["HEADER", "LAYOUT", "QPViews", "reduced_qp", "views"]

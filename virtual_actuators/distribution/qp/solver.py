@@ -74,11 +74,10 @@ import threading
 import numpy as np
 
 from ...exceptions import ConstraintError, InvalidInputError
-from ..linalg import stable_norm
 from ..problem import DistributionProblem
 from ..registry import Request
-from ..solution import RawSolution, TickResult
-from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY, ROUNDING
+from ..result import RawSolution, TickResult, close_tick
+from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
 from .compiled import CompiledQPMatrices
 from .kernel_answer import finish, violation
 from .limits import ContactLimits, kinds, torque_map
@@ -183,7 +182,7 @@ class QPDistribution:
                 declaration's.
 
         Returns:
-            The :class:`~virtual_actuators.distribution.solution.TickResult`, like the other
+            The :class:`~virtual_actuators.distribution.result.TickResult`, like the other
             paths: ``raw.method == "qp"``, ``raw.active`` the names of the active inequalities.
 
         Raises:
@@ -217,18 +216,28 @@ class QPDistribution:
         )
         if results is None:  # the reference decides (and raises) what the fast path cannot
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
-        out, residual, scale, rounding, active = finish(
-            buffer, layout, pn, nv, results[0], results[1], work.scale, wrench, keep, ACTIVE_TOL,
+        answer = finish(
+            buffer,
+            layout,
+            pn,
+            nv,
+            results.x,
+            results.multipliers,
+            work.scale,
+            wrench,
+            keep,
+            ACTIVE_TOL,
             EPS_ABS,
-        )  # fmt: skip
+        )
         names = self.limits.row_names()
-        forces = out[:pn].reshape(self.problem.p, self.problem.n)
-        active = tuple(names[i] for i in active) + ((BUDGET_EXHAUSTED,) if results[2] else ())
+        forces = answer.out[:pn].reshape(self.problem.p, self.problem.n)
+        active = tuple(names[i] for i in answer.active)
+        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
         raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
-        n = len(wrench)
-        tau, passive = out[pn : pn + nv], out[pn + nv : pn + 2 * nv]
-        produced, requested = out[pn + 2 * nv : pn + 2 * nv + n], out[pn + 2 * nv + n :]
-        return TickResult(raw, tau, passive, produced, requested, residual, scale, rounding)
+        # compiled=False: the matrices are compiled, the solve is ProxQP's (as before)
+        return TickResult.from_buffer(
+            raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False
+        )
 
     def _solve_numpy(
         self,
@@ -282,20 +291,19 @@ class QPDistribution:
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)
         names = self.limits.row_names()
-        x = results[0] * scale
-        active = tuple(names[i] for i in np.flatnonzero(np.abs(results[1]) > ACTIVE_TOL))
-        active += (BUDGET_EXHAUSTED,) if results[2] else ()
-        forces = x.reshape(p, n)
-        tau = np.where(problem.actuated_mask, tmap @ x, 0.0)
-        produced = forces.sum(axis=0)
-        residual = stable_norm((produced - wrench)[keep])
-        request = stable_norm(wrench[keep])
-        output = stable_norm(produced[keep])
-        rounding = ROUNDING * float(np.abs(x).max(initial=0.0)) + EPS_ABS * 10 * scale
-        requested = np.where(keep, wrench, produced)
-        raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
-        size, passive = max(request, output), ev.passive_torque
-        return TickResult(raw, tau, passive, produced, requested, residual, size, rounding)
+        x = results.x * scale
+        active = tuple(names[i] for i in np.flatnonzero(np.abs(results.multipliers) > ACTIVE_TOL))
+        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
+        raw = RawSolution(forces=x.reshape(p, n), method="qp", solver="qp", active=active)
+        return close_tick(
+            raw,
+            wrench,
+            keep,
+            lambda forces: tmap @ forces.ravel(),
+            problem.actuated_mask,
+            ev.passive_torque,
+            accuracy=EPS_ABS * 10 * scale,
+        )
 
     def _select(self, keep: np.ndarray) -> np.ndarray:
         """``(k, p n)``: the rows summing the chains' forces on the prescribed axes."""

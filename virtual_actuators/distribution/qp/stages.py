@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -83,6 +84,22 @@ class StageRows:
     def __init__(self, equality, equality_rhs, design, inequality, lows, uppers) -> None:
         self.equality, self.equality_rhs, self.design = equality, equality_rhs, design
         self.inequality, self.lows, self.uppers = inequality, lows, uppers
+
+
+class StageAnswer(NamedTuple):
+    """What :meth:`ProxStages.solve` hands back.
+
+    Attributes:
+        x: The answer (scaled).
+        multipliers: The inequalities' multipliers.
+        exhausted: The budget ran out before the last stage converged (``x`` is then the
+            feasible point of least weighted miss found).
+
+    """
+
+    x: np.ndarray
+    multipliers: np.ndarray
+    exhausted: bool
 
 
 class ProxStages:
@@ -194,12 +211,12 @@ class ProxStages:
             rows.uppers, x, guess, certify, ACTIVE_TOL,
         )  # fmt: skip
 
-    def solve(self, path: str, rows: StageRows, miss: Callable, weights, budget: Budget):
+    def solve(
+        self, path: str, rows: StageRows, miss: Callable, weights, budget: Budget
+    ) -> StageAnswer | None:
         """The request exactly with the least norm, else the closest wrench (scaled rows).
 
-        Returns ``(x, inequality multipliers, exhausted)``, or None when no ``x`` meets the
-        rows; ``exhausted``: the budget ran out before the last stage converged (``x`` is then
-        the feasible point of least weighted miss found).
+        Returns a :class:`StageAnswer`, or None when no ``x`` meets the rows.
 
         ``path``: the workspaces' family (``"free"`` or ``"forces"``); ``miss(x, rows)``: the
         largest violation of the first ``rows`` equality rows and the inequalities;
@@ -223,13 +240,13 @@ class ProxStages:
         )  # fmt: skip
         if results is not None:  # exact on its active set (the same whatever the start)
             _, x, z = self._exact(rows, weights, results.x, results.z, True)
-            return x, z, False
+            return StageAnswer(x, z, False)
         # stage 1's last iterate mostly names the closest answer's active set already: that
         # answer, certified exact, makes the other stages (and the check below) unnecessary
         last = self._local.qps[key].qp.results
         certified, x, z = self._exact(rows, weights, last.x, last.z, False)
         if certified:
-            return x, z, False
+            return StageAnswer(x, z, False)
         if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
             self._check_conflict(path, rows, size, budget)
         return self._closest(path, rows, miss, weights, budget, last)
@@ -258,7 +275,9 @@ class ProxStages:
             if error is not None:
                 raise error
 
-    def _closest(self, path, rows: StageRows, miss, weights, budget: Budget, last) -> tuple | None:
+    def _closest(
+        self, path, rows: StageRows, miss, weights, budget: Budget, last
+    ) -> StageAnswer | None:
         """Stages 2 and 3: the closest reachable wrench, then its least force norm.
 
         Infeasible: the closest reachable wrench alone (weighted least squares: a singular
@@ -271,14 +290,14 @@ class ProxStages:
         weighted = request * weights[:, None]
         converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
 
-        def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> tuple:
+        def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> StageAnswer:
             """The exact closest answer on the active set ``guess`` names, else ``x``.
 
             ``exhausted`` stands only for ``x`` (an iterate): an exact answer is final.
             """
             equality_rhs[design:] = target  # the request (the exact step finds the wrench)
             certified, x, z = self._exact(rows, weights, x, guess, False)
-            return x, z, exhausted and not certified
+            return StageAnswer(x, z, exhausted and not certified)
 
         if budget.left == 0:  # the exact stage's last iterate, when it meets the other rows
             if miss(last.x, design) <= FEASIBILITY_TOL:
@@ -325,5 +344,6 @@ __all__ = [
     "Budget",
     "ProxSlot",
     "ProxStages",
+    "StageAnswer",
     "StageRows",
 ]

@@ -1,10 +1,23 @@
-"""The result of a parallel virtual actuator's solve."""
+"""The result of a parallel virtual actuator's solve, and the per-tick tail every solver shares.
+
+Every backend hands back a :class:`TickResult`; :meth:`Solution.from_tick` turns it into the
+user's :class:`Solution`. The tail of a tick (what was produced and requested, the residual, the
+scale it is judged against and the rounding of the chain forces) is written once here: in numpy
+(:func:`close_tick`, the numpy paths) and as a compiled kernel (:func:`close_norms`, the compiled
+partitioned and QP paths, which fill their own output buffers).
+"""
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from ..kinematics.kernels import njit
+from .linalg import stable_norm
+from .tolerances import ROUNDING
 
 
 def no_sets() -> dict[str, list[tuple[str, str]]]:
@@ -54,6 +67,127 @@ class TickResult:
     scale: float
     rounding: float
     compiled: bool = False
+
+    @classmethod
+    def from_buffer(
+        cls,
+        raw: RawSolution,
+        out: np.ndarray,
+        residual: float,
+        scale: float,
+        rounding: float,
+        compiled: bool = True,
+    ) -> TickResult:
+        """The tick of a compiled kernel's output buffer (its arrays as views).
+
+        Args:
+            raw: The solution, its ``forces`` the ``(p, n)`` view of the buffer's start.
+            out: Forces (``p n``), tau (``nv``), the spring torques (``nv``), produced (``n``)
+                and requested (``n``), one after the other.
+            residual: Norm of the prescribed part of the request not produced.
+            scale: The larger of the request's and the produced wrench's norms.
+            rounding: The rounding of chain forces that cancel.
+            compiled: Whether a compiled kernel computed it.
+
+        """
+        pn, n = raw.forces.size, raw.forces.shape[1]
+        nv = (out.shape[0] - pn - 2 * n) // 2
+        tau, passive = out[pn : pn + nv], out[pn + nv : pn + 2 * nv]
+        produced, requested = out[pn + 2 * nv : pn + 2 * nv + n], out[pn + 2 * nv + n :]
+        return cls(raw, tau, passive, produced, requested, residual, scale, rounding, compiled)
+
+
+def close_tick(
+    raw: RawSolution,
+    wrench: np.ndarray,
+    keep: np.ndarray,
+    torques: Callable[[np.ndarray], np.ndarray],
+    actuated: np.ndarray,
+    passive: np.ndarray,
+    factor: float = 1.0,
+    accuracy: float = 0.0,
+) -> TickResult:
+    """The tail of a numpy solve: efforts, produced and requested wrenches, residual, norms.
+
+    Args:
+        raw: The solver's answer, its forces scaled by ``factor`` (the returned ``raw`` holds
+            them unscaled).
+        wrench: ``(n,)`` the request (unscaled).
+        keep: ``(n,)`` bool, the prescribed axes.
+        torques: ``(p, n)`` forces -> ``(nv,)`` joint torques ``sum_i J_i^T F_i``.
+        actuated: ``(nv,)`` bool, the joints that get a torque (0 at limp and passive ones).
+        passive: ``(nv,)`` torques of the passive springs.
+        factor: The power of two the solve's right-hand sides were multiplied by (exact).
+        accuracy: Added to the rounding (a solver's own accuracy, e.g. the QP's).
+
+    Returns:
+        The :class:`TickResult` (``compiled`` False). The norms are taken on the scaled forces,
+        so that none over- or underflows at any magnitude of the request.
+
+    """
+    forces_scaled = raw.forces
+    raw = dataclasses.replace(raw, forces=forces_scaled / factor)
+    tau = np.where(actuated, torques(raw.forces), 0.0)
+    produced_scaled = forces_scaled.sum(axis=0)
+    residual = stable_norm((produced_scaled - wrench * factor)[keep]) / factor
+    request = stable_norm(wrench[keep])
+    output = stable_norm(produced_scaled[keep]) / factor
+    rounding = ROUNDING * float(np.abs(forces_scaled).max(initial=0.0)) / factor + accuracy
+    produced = produced_scaled / factor
+    requested = np.where(keep, wrench, produced)
+    scale = max(request, output)
+    return TickResult(raw, tau, passive, produced, requested, residual, scale, rounding)
+
+
+@njit(cache=True)
+def close_norms(
+    keep: np.ndarray,
+    wrench: np.ndarray,
+    forces: np.ndarray,
+    produced: np.ndarray,
+    requested: np.ndarray,
+) -> tuple[float, float, float]:
+    """The tail of a compiled solve: fill ``requested``, return residual, scale and rounding.
+
+    ``requested`` gets the request on the prescribed axes (``keep``) and what was produced
+    (``produced``, filled by the caller) on the free ones. The norms are scale-free: each term is
+    divided by ``peak``, the largest of ``|wrench|``, ``|produced|`` and ``|produced - wrench|``
+    on the prescribed axes, so that none over- or underflows at any magnitude.
+
+    Args:
+        keep: ``(n,)`` 1 for the prescribed axes.
+        wrench: ``(n,)`` the request.
+        forces: ``(p n,)`` the chains' forces, flat.
+        produced: ``(n,)`` their sum.
+        requested: ``(n,)`` written.
+
+    Returns:
+        ``(residual, scale, rounding)``: the norm of ``produced - wrench`` on the prescribed
+        axes (inf when ``peak`` is not finite), the larger of the norms of ``wrench`` and
+        ``produced`` there, and ``ROUNDING * max |F|`` (not finite when a force is not).
+
+    """
+    peak = 0.0
+    for a in range(keep.shape[0]):
+        if keep[a]:
+            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
+            requested[a] = wrench[a]
+        else:
+            requested[a] = produced[a]
+    residual, request, output = 0.0, 0.0, 0.0
+    if np.isfinite(peak) and peak > 0.0:
+        for a in range(keep.shape[0]):
+            if keep[a]:
+                error = (produced[a] - wrench[a]) / peak
+                residual += error * error
+                request += (wrench[a] / peak) ** 2
+                output += (produced[a] / peak) ** 2
+    elif not np.isfinite(peak):
+        peak, residual = np.inf, np.inf
+    force_peak = 0.0
+    for r in range(forces.shape[0]):
+        force_peak = max(force_peak, abs(forces[r]))
+    return peak * np.sqrt(residual), peak * np.sqrt(max(request, output)), ROUNDING * force_peak
 
 
 def tolerance(tol: float, scale: float, rounding: float) -> float:
@@ -116,7 +250,7 @@ class Solution:
             back).
         tolerance: The residual up to which the request counts as produced: ``tol *
             max(|requested|, |produced|)`` on the prescribed axes plus the rounding of the
-            chain forces (``distribution.solution.tolerance``); :attr:`admissible` compares
+            chain forces (``distribution.result.tolerance``); :attr:`admissible` compares
             ``residual`` with it.
 
     """
@@ -138,6 +272,49 @@ class Solution:
     compiled: bool = False
     active: tuple[str, ...] = ()
     tolerance: float = 0.0
+
+    @classmethod
+    def from_tick(
+        cls,
+        tick: TickResult,
+        tol: float,
+        reactions: tuple[str, ...],
+        axes: tuple[str, ...],
+        free: tuple[str, ...],
+        floating: bool,
+    ) -> Solution:
+        """The solution of a backend's tick, labelled by the one admissibility rule.
+
+        Args:
+            tick: What the backend returned.
+            tol: Relative tolerance of the request (``solve(..., tol=)``).
+            reactions: The actuator's reaction frames.
+            axes: Its axes.
+            free: The axes left to the solver.
+            floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
+
+        """
+        raw, tau = tick.raw, tick.tau
+        limit = tolerance(tol, tick.scale, tick.rounding)
+        return cls(  # positional (a tick's cost): the fields in declaration order
+            tau,
+            raw.forces,
+            tick.produced,
+            raw.sets,
+            tick.residual,
+            label(raw.method, tick.residual <= limit),
+            tick.requested,
+            reactions,
+            axes,
+            free,
+            tick.tau_passive,
+            tau[:6].copy() if floating else np.zeros(0),
+            raw.solver,
+            raw.systems,
+            tick.compiled,
+            raw.active,
+            limit,
+        )
 
     @property
     def admissible(self) -> bool:

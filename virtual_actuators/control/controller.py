@@ -22,6 +22,7 @@ import numpy as np
 from ..actuators import VirtualActuator
 from ..components.base import Component
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
+from ..kinematics.kernels import finite
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
@@ -287,7 +288,7 @@ class Controller:
         for name in names:
             self._attachment_tick(name, self._get(name), snapshot, time, sums)
         tau = sums.tau
-        if tau is not None and not np.isfinite(tau).all():
+        if tau is not None and not finite(tau):
             tau = drop_non_finite(
                 self,
                 snapshot,

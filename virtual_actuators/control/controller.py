@@ -279,11 +279,28 @@ class Controller:
                 contact QP, or one out of iterations) and ``on_failure="raise"``.
 
         """
-        nv = self.robot.model.nv
         time = check_number(time, "time [s]")
-        limp = check_limp(limp, nv)
+        limp = check_limp(limp, self.robot.model.nv)
         snapshot = tick_snapshot(self.robot, self._tree, q, v)
         names = tuple(self.attachments) if active is None else active_names(active)
+        return self.compute_checked(snapshot, time, names, limp)
+
+    def compute_checked(
+        self, snapshot: Snapshot, time: float, names: tuple[str, ...], limp: np.ndarray
+    ) -> ControlOutput:
+        """:meth:`compute` on arguments checked already (a gait's per-tick call).
+
+        The tick's snapshot with a velocity, a finite ``time``, distinct ``names`` (as
+        :func:`~virtual_actuators.control.tick.active_names` returns them) and ``limp`` from
+        :meth:`joint_indices`.
+
+        Raises:
+            InvalidInputError: An unknown attachment name, or as :meth:`compute`.
+            SingularConfigurationError: As :meth:`compute`.
+            ConstraintError: As :meth:`compute`.
+
+        """
+        nv = self.robot.model.nv
         sums = TickSums()
         for name in names:
             self._attachment_tick(name, self._get(name), snapshot, time, sums)

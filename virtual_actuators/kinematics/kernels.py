@@ -258,14 +258,14 @@ def all_finite(values: np.ndarray) -> bool:
     return True
 
 
-def finite(values: np.ndarray) -> bool:
-    """Whether every entry of a 1-D float64 array is finite.
-
-    :func:`all_finite` when numba is installed, else numpy's ``isfinite``.
-    """
-    if HAVE_NUMBA:
-        return all_finite(values)
+def _numpy_finite(values: np.ndarray) -> bool:
+    """:func:`all_finite` without numba: numpy's ``isfinite``."""
     return bool(np.isfinite(values).all())
+
+
+#: Whether every entry of a 1-D float64 array is finite: :func:`all_finite` when numba is
+#: installed, else numpy's ``isfinite`` (the plain-Python loop would be slower).
+finite = all_finite if HAVE_NUMBA else _numpy_finite
 
 
 @njit(cache=True)

@@ -157,10 +157,7 @@ def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
         InvalidInputError: Not a name or a collection of names, or a name repeated.
 
     """
-    if type(active) is tuple:  # a state's active names
-        names = active
-    else:
-        names = (active,) if isinstance(active, str) else names_tuple(active)
+    names = (active,) if isinstance(active, str) else names_tuple(active)
     check_active(names)
     return names
 

@@ -464,7 +464,7 @@ def timed_walks(name: str, seconds: float, runs: int = 3) -> list[float]:
 
 def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, Any]:
     """``run_walk(name)`` with the gait's ``compute``, the state machine's ``update``, the
-    controller's ``compute``, the simulator's ``step`` and its contact queries wrapped by a
+    controller's ``compute_checked``, the simulator's ``step`` and its contact queries wrapped by a
     :class:`WalkProbe`; returns the real-time factor and the per-tick breakdown [us]."""
     import virtual_actuators as va
     from virtual_actuators.demos import run_walk
@@ -473,7 +473,7 @@ def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, 
     targets = {
         "gait.compute": (gait_class, "compute"),
         "machine.update": (va.StateMachine, "update"),
-        "controller.compute": (va.Controller, "compute"),
+        "controller.compute": (va.Controller, "compute_checked"),  # compute() calls it too
         "simulator.step": (Simulator, "step"),
         "in_contact": (Simulator, "in_contact"),
         "touching_terrain": (Simulator, "touching_terrain"),

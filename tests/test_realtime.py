@@ -100,6 +100,26 @@ def test_tabled_frame_velocities_equal_pinocchio_and_the_point_kernel(name):
     assert snapshot._frame_velocities is not None  # the table answered, not the kernel
 
 
+def test_all_finite_kernel_agrees_with_numpy() -> None:
+    """The per-tick finiteness check (velocities, efforts, the simulator's tau) says what
+    ``np.isfinite(...).all()`` says: NaN or an infinity at any place, strided views too."""
+    from virtual_actuators.kinematics.kernels import all_finite, finite
+
+    rng = np.random.default_rng(3)
+    for size in (0, 1, 7, 40):
+        values = rng.normal(scale=1e300, size=size)
+        for check in (all_finite, finite):
+            assert check(values) is True
+            assert check(values[::2]) is True
+        for place in range(size):
+            for bad in (np.nan, np.inf, -np.inf):
+                broken = values.copy()
+                broken[place] = bad
+                assert all_finite(broken) is False and finite(broken) is False
+                view = broken[place % 2 :: 2]
+                assert finite(view) is bool(np.isfinite(view).all())
+
+
 def test_snapshot_rejects_other_robots_and_bad_input():
     solo, ur5 = va.load_robot("solo12"), va.load_robot("ur5_robot")
     arm = va.VirtualActuator(ur5, "tool0", "world")

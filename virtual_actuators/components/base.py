@@ -102,11 +102,11 @@ class Component(ABC):
                 dict, a bool, a complex number), or is NaN (or infinite unless ``allow_inf``).
 
         """
-        fast = self._per_axis_fast(value, allow_inf)
-        if fast is not None:
-            return fast
-        expected = f"a real number or one real number per axis {self.axes}"
         try:
+            fast = self._per_axis_fast(value, allow_inf)
+            if fast is not None:
+                return fast
+            expected = f"a real number or one real number per axis {self.axes}"
             array = as_float_array(value, f"{self.name}: {what}", expected, copy=True)
         except OverflowError:  # an int beyond any float
             raise InvalidInputError(
@@ -137,17 +137,18 @@ class Component(ABC):
         if kind is float or kind is int:
             number = float(value)
             if math.isfinite(number) or (allow_inf and number == number):
-                return np.full(size, number)
+                return np.array((number,) * size)  # np.full costs twice as much
             return None
         if kind is tuple or kind is list:
             if len(value) != size or not _REALS.issuperset(map(type, value)):
                 return None
             array = np.array(value, dtype=float)
+            total = sum(value)  # NaN or inf if an entry is (or on overflow)
         elif kind is np.ndarray and value.dtype == np.float64 and value.shape == (size,):
             array = value.copy()
+            total = sum(array.tolist())
         else:
             return None
-        total = sum(array.tolist())  # NaN or inf if an entry is (or on overflow)
         if math.isfinite(total) or (allow_inf and not np.isnan(array).any()):
             return array
         return None

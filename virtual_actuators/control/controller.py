@@ -22,6 +22,7 @@ import numpy as np
 from ..actuators import VirtualActuator
 from ..components.base import Component
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
+from ..kinematics.kernels import finite
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
@@ -280,16 +281,33 @@ class Controller:
                 contact QP, or one out of iterations) and ``on_failure="raise"``.
 
         """
-        nv = self.robot.model.nv
         time = check_number(time, "time [s]")
-        limp = check_limp(limp, nv)
+        limp = check_limp(limp, self.robot.model.nv)
         snapshot = tick_snapshot(self.robot, self._tree, q, v)
         names = tuple(self.attachments) if active is None else active_names(active)
+        return self.compute_checked(snapshot, time, names, limp)
+
+    def compute_checked(
+        self, snapshot: Snapshot, time: float, names: tuple[str, ...], limp: np.ndarray
+    ) -> ControlOutput:
+        """:meth:`compute` on arguments checked already (a gait's per-tick call).
+
+        The tick's snapshot with a velocity, a finite ``time``, distinct ``names`` (as
+        :func:`~virtual_actuators.control.tick.active_names` returns them) and ``limp`` from
+        :meth:`joint_indices`.
+
+        Raises:
+            InvalidInputError: An unknown attachment name, or as :meth:`compute`.
+            SingularConfigurationError: As :meth:`compute`.
+            ConstraintError: As :meth:`compute`.
+
+        """
+        nv = self.robot.model.nv
         sums = TickSums()
         for name in names:
             self._attachment_tick(name, self._get(name), snapshot, time, sums)
         tau = sums.tau
-        if tau is not None and not np.isfinite(tau).all():
+        if tau is not None and not finite(tau):
             tau = drop_non_finite(
                 self,
                 snapshot,

@@ -77,22 +77,27 @@ class ControlOutput:
         )
 
 
-@dataclass(slots=True)
 class TickSums:
     """One tick's results attachment by attachment (:class:`ControlOutput`'s dicts) and the sum.
 
     ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
     """
 
-    tau: np.ndarray | None = None
-    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
-    produced: dict[str, np.ndarray] = field(default_factory=dict)
-    positions: dict[str, np.ndarray] = field(default_factory=dict)
-    velocities: dict[str, np.ndarray] = field(default_factory=dict)
-    solutions: dict[str, Solution] = field(default_factory=dict)
-    failed: dict[str, str] = field(default_factory=dict)
-    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
-    parts: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    __slots__ = (
+        "tau", "wrenches", "produced", "positions", "velocities", "solutions", "failed",
+        "failures", "parts",
+    )
+
+    def __init__(self) -> None:
+        self.tau: np.ndarray | None = None
+        self.wrenches: dict[str, np.ndarray] = {}
+        self.produced: dict[str, np.ndarray] = {}
+        self.positions: dict[str, np.ndarray] = {}
+        self.velocities: dict[str, np.ndarray] = {}
+        self.solutions: dict[str, Solution] = {}
+        self.failed: dict[str, str] = {}
+        self.failures: dict[str, AttachmentFailure] = {}
+        self.parts: list[tuple[str, np.ndarray]] = []
 
     def add(self, name: str, effort: np.ndarray, fresh: bool) -> None:
         """Add an attachment's efforts (``fresh``: an array of its own, kept as the first sum)."""

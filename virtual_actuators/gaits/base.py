@@ -19,6 +19,7 @@ import numpy as np
 
 from ..control.controller import Controller, ControlOutput
 from ..control.state_machine import Context, Event, StateMachine
+from ..control.tick import active_names
 from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
@@ -57,6 +58,8 @@ class Gait:
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
         self._limp = {s.name: self.controller.joint_indices(s.limp) for s in machine.states}
+        for state in machine.states:  # checked once: compute() passes them on unchecked
+            active_names(state.active)
 
     def _front_is(self, side: str, event: Event) -> Event:
         """``event``, but only while ``side`` is the front foot (``self.front``)."""
@@ -108,8 +111,8 @@ class Gait:
         state = self.machine.update(context)
         if len(self.machine.history) != before:
             self.controller.reset(state.active, snapshot, time)
-        self.last = self.controller.compute(
-            snapshot, None, time, state.active, self._limp[state.name]
+        self.last = self.controller.compute_checked(
+            snapshot, context.time, state.active, self._limp[state.name]
         )
         return self.last
 

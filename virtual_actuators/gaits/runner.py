@@ -233,30 +233,30 @@ def _loop(
     stop_on_fall: bool,
 ) -> LoopEnd:
     """The control loop: read, contacts, compute, step, stance forces, fall test, record."""
-    gait, simulator, end = episode.gait, episode.simulator, LoopEnd()
+    gait, simulator = episode.gait, episode.simulator
     stance_every, record_every = episode.stance_every, episode.record_every
     ignore = episode.ignore_unactuated
     data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
+    tick, physics, fall_time = 0, 0.0, None
     while data.time < duration - 1e-9:
         q, v = simulator.q, simulator.v
         now = data.time
         output = gait.compute(q, v, now, episode.sense(q, v, now))
         mark = wallclock.perf_counter()
         simulator.step(output.tau, ignore_unactuated=ignore)
-        end.physics += wallclock.perf_counter() - mark
-        end.ticks += 1
-        tick = end.ticks
-        if end.fall_time is None and tick % stance_every == 0:
+        physics += wallclock.perf_counter() - mark
+        tick += 1
+        if fall_time is None and tick % stance_every == 0:
             episode.stance.sample(gait.support_contacts())
-        fallen = end.fall_time is not None or episode.fallen(q)
-        if fallen and end.fall_time is None:
-            end.fall_time = now
+        fallen = fall_time is not None or episode.fallen(q)
+        if fallen and fall_time is None:
+            fall_time = now
         if record_every == 1 or tick % record_every == 1:
             episode.record(now, q, v, output, fallen)
         if on_tick is not None:
             on_tick(simulator, gait)
         if bar is not None and tick % 100 == 0:
             bar.set(simulator.time)
-        if stop_on_fall and end.fall_time is not None and now > end.fall_time + 0.5:
+        if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
             break
-    return end
+    return LoopEnd(tick, fall_time, 0.0, physics)

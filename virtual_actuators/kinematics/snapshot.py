@@ -215,7 +215,7 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        frame_id = self._frame_id(frame)
+        frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
         if self._frames is None:
             self._run()
         row = self._rows.get(frame_id)

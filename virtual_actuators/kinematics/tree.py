@@ -300,7 +300,7 @@ class KinematicTree:
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
                 "(model.nv)."
             )
-        if not np.isfinite(v).all():
+        if not kernels.finite(v):
             raise InvalidInputError("Velocity v has NaN or inf entries.")
         return v
 

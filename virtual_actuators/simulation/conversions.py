@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.kinematics.kernels import finite
 from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = [
@@ -159,7 +160,7 @@ def finite_vector(value: object, size: int, what: str) -> np.ndarray:
         isinstance(value, np.ndarray)
         and value.shape == (size,)
         and value.dtype == np.float64
-        and np.isfinite(value).all()
+        and finite(value)
     ):
         return value
     try:

@@ -175,16 +175,14 @@ def check_number(
         valid = _valid(minimum, positive, allow_inf)
         raise error(f"{what} must be {valid}, got {describe(value)}.")
     number = float(value)
-    bad = (
-        math.isnan(number)
-        or (not allow_inf and math.isinf(number))
-        or (positive and not number > 0.0)
-        or (minimum is not None and number < minimum)
-    )
-    if bad:
-        shown = "NaN" if math.isnan(number) else repr(number)
-        raise error(f"{what} must be {_valid(minimum, positive, allow_inf)}, got {shown}.")
-    return number
+    if (
+        (-math.inf < number < math.inf or (allow_inf and number == number))
+        and (not positive or number > 0.0)
+        and (minimum is None or number >= minimum)
+    ):
+        return number
+    shown = "NaN" if math.isnan(number) else repr(number)
+    raise error(f"{what} must be {_valid(minimum, positive, allow_inf)}, got {shown}.")
 
 
 def check_flag(value: object, what: str) -> bool:

@@ -107,8 +107,8 @@ def test_spring_with_a_force_law():
         as_law.compute_wrench(position, np.zeros(2), 0.0),
         rtol=1e-15,
     )
-    assert as_law._wrench_floats(position.tolist(), [0.0, 0.0], 0.0) == pytest.approx(
-        linear._wrench_floats(position.tolist(), [0.0, 0.0], 0.0)
+    assert as_law.compute_wrench_floats(position.tolist(), [0.0, 0.0], 0.0) == pytest.approx(
+        linear.compute_wrench_floats(position.tolist(), [0.0, 0.0], 0.0)
     )
     assert "law=<lambda>" in repr(as_law)
 

@@ -73,11 +73,7 @@ def test_functions_are_short():
 
 
 #: Private names reached from another module, "path::name" -> why it is still there
-PRIVATE_USES = {
-    "components/walking.py::SpringDamper._wrench_floats": (
-        "the components' float path, also read by control/attachment.py: made public with it"
-    ),
-}
+PRIVATE_USES: dict[str, str] = {}
 
 
 def _private_uses(text: str) -> set[str]:

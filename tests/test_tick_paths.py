@@ -61,7 +61,7 @@ def test_spring_damper_float_path_gives_the_array_formula_bits(seed):
             fast = spring.compute_wrench(position, velocity, 0.0)
             assert type(fast) is np.ndarray and fast.dtype == np.float64
             np.testing.assert_array_equal(fast, _array_formula(spring, position, velocity))
-            floats = spring._wrench_floats(position.tolist(), velocity.tolist(), 0.0)
+            floats = spring.compute_wrench_floats(position.tolist(), velocity.tolist(), 0.0)
             np.testing.assert_array_equal(np.array(floats), fast)
         # other inputs (lists, ints, a float32 array) take the array path: same values
         np.testing.assert_allclose(
@@ -81,7 +81,7 @@ def test_bunny_float_path_equals_its_array_path():
     bunny = DogtrackBunny(0.5, 80.0, stiffness=30.0, limit=60.0)
     bunny.reset(np.array([0.2]), 1.0)
     for time, x, v in ((1.1, 0.25, 0.3), (1.5, 0.1, -2.0), (3.0, 0.4, 0.7)):
-        fast = bunny._wrench_floats([x], [v], time)
+        fast = bunny.compute_wrench_floats([x], [v], time)
         slow = bunny.compute_wrench(np.array([x]), np.array([v]), time)
         assert fast == slow.tolist()
         assert bunny.setpoint.tolist() == [bunny.position_at(time)]

@@ -69,7 +69,7 @@ class Component(ABC):
 
         """
 
-    def _wrench_floats(
+    def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
         """:meth:`compute_wrench` on plain floats (the controller's per-tick fast path).
@@ -164,10 +164,10 @@ class Component(ABC):
 def has_float_path(component: Component) -> bool:
     """Whether ``component``'s float method computes what its ``compute_wrench`` does.
 
-    True when the most derived class defining ``compute_wrench`` defines ``_wrench_floats``
+    True when the most derived class defining ``compute_wrench`` defines ``compute_wrench_floats``
     too (a subclass overriding only ``compute_wrench`` is not trusted).
     """
     for klass in type(component).__mro__:
         if "compute_wrench" in klass.__dict__:
-            return "_wrench_floats" in klass.__dict__ and klass is not Component
+            return "compute_wrench_floats" in klass.__dict__ and klass is not Component
     return False

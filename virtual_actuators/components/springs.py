@@ -154,7 +154,7 @@ class SpringDamper(Component):
             and velocity.shape == self._shape
         ):
             return np.array(
-                SpringDamper._wrench_floats(self, position.tolist(), velocity.tolist(), time)
+                SpringDamper.compute_wrench_floats(self, position.tolist(), velocity.tolist(), time)
             )
         wrench = self._stiffness * self._deflection(position) + self._damping * (
             self._velocity_setpoint - velocity
@@ -171,7 +171,7 @@ class SpringDamper(Component):
             bent = np.array(deflection(self._setpoint.tolist(), position, self._rotations))
         return bent
 
-    def _wrench_floats(
+    def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
         """:meth:`compute_wrench` on plain floats, entry by entry.
@@ -202,7 +202,7 @@ class SpringDamper(Component):
         return [k * (x0 - x) + b * (v0 - v) + f for k, x0, x, b, v0, v, f in terms]
 
     def _deflected_floats(self, bent: list[float], velocity: list[float]) -> list[float]:
-        """:meth:`_wrench_floats` from the deflection per axis (the same operations)."""
+        """:meth:`compute_wrench_floats` from the deflection per axis (the same operations)."""
         terms = zip(
             self._stiffness.tolist(),
             bent,
@@ -295,12 +295,12 @@ class Spring(SpringDamper):
             raise InvalidInputError(f"{self.name}: law returned a non-finite force {force}.")
         return force
 
-    def _wrench_floats(
+    def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
         """The linear spring on plain floats; a law goes through :meth:`compute_wrench`."""
         if self.law is None:
-            return SpringDamper._wrench_floats(self, position, velocity, time)
+            return SpringDamper.compute_wrench_floats(self, position, velocity, time)
         return self.compute_wrench(np.array(position), np.array(velocity), time).tolist()
 
     def _parameters(self) -> str:

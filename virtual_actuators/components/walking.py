@@ -169,12 +169,12 @@ class DogtrackBunny(SpringDamper):
         self.setpoint = self.position_at(time)
         return super().compute_wrench(position, velocity, time)
 
-    def _wrench_floats(
+    def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
         """:meth:`compute_wrench` on plain floats (the same arithmetic)."""
         self.setpoint = self.position_at(time)
-        return SpringDamper._wrench_floats(self, position, velocity, time)
+        return SpringDamper.compute_wrench_floats(self, position, velocity, time)
 
 
 class SwingLegLinkage(SpringDamper):

@@ -70,7 +70,7 @@ class Attachment:
     def __post_init__(self) -> None:
         # Each component's axes as a slice when contiguous (views instead of gathers per tick)
         self.slots = [_as_slice(index) for index in self.indices]
-        # Components computed on plain floats per tick (see Component._wrench_floats): all of
+        # Components computed on plain floats per tick (see Component.compute_wrench_floats): all of
         # them must have the float path and contiguous axes; valid while ``components`` holds
         # the same objects (checked per tick against the copy kept here). A speed trick kept
         # by issue 25's rule: without it controller.compute costs 7 us more per turkey-walk
@@ -217,13 +217,13 @@ class Attachment:
         xs, vs = position.tolist(), velocity.tolist()
         components, slots = self.float_components, self.float_slots
         if len(components) == 1 and slots[0] == (0, len(xs)):
-            total = components[0]._wrench_floats(xs, vs, time)
+            total = components[0].compute_wrench_floats(xs, vs, time)
             if len(total) != len(xs):
                 return None
         else:
             total = [0.0] * len(xs)
             for component, (start, stop) in zip(components, slots, strict=True):
-                share = component._wrench_floats(xs[start:stop], vs[start:stop], time)
+                share = component.compute_wrench_floats(xs[start:stop], vs[start:stop], time)
                 if len(share) != stop - start:
                     return None  # the array path names the component and what it returned
                 for i, value in enumerate(share, start):

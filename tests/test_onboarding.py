@@ -7,6 +7,7 @@ import pinocchio as pin
 import pytest
 
 import virtual_actuators as va
+from virtual_actuators.components.gains import joint_gains
 from virtual_actuators.models.feet import find_feet
 from virtual_actuators.models.standing import leg_joints, standing_pose
 from virtual_actuators.simulation import Simulator
@@ -119,3 +120,75 @@ def test_on_ground_moves_any_pose():
         assert abs(placed[2] - simulator.on_ground(q)[2]) < 1e-9
     with pytest.raises(va.InvalidInputError, match="floating base"):
         Simulator(va.load_robot("ur5")).on_ground(va.load_robot("ur5").neutral())
+
+
+def test_sole_frames_read_their_links_geometry():
+    robot = va.load_robot("talos")
+    simulator = Simulator(robot)
+    joints = [name for name in robot.joint_names if name != "root_joint"]
+    stiffness, damping = joint_gains(robot, joints, 2 * np.pi * 5.0)
+    controller = va.Controller(robot)
+    controller.add("hold", va.Posture(joints, stiffness, damping, robot.neutral()[7:]))
+    for _ in range(300):  # a rigid statue for 0.3 s
+        simulator.step(controller.compute(simulator.q, simulator.v).tau)
+    soles = simulator.contact_forces(["left_sole_link", "right_sole_link"])
+    assert np.all(soles[:, 2] > 0.2 * robot.mass * 9.81)  # both soles carry weight
+    assert soles[:, 2].sum() == pytest.approx(robot.mass * 9.81, rel=0.05)
+    assert np.allclose(soles[0], simulator.contact_force("leg_left_6_link"))
+    with pytest.raises(va.FrameNotFoundError, match="no collision geometry"):
+        simulator.contact_force("universe")
+
+
+def test_implausible_effort_limits_reported_and_set():
+    from virtual_actuators.models.efforts import implausible_effort_limits, set_effort_limits
+
+    robot = va.load_robot("solo12")
+    found = implausible_effort_limits(robot)
+    assert len(found) == 12 and set(found.values()) == {1000.0}  # 1000 N m on a 2.5 kg robot
+    for name in ("go2", "talos", "g1", "anymal", "ur5"):  # real limits pass
+        assert implausible_effort_limits(va.load_robot(name)) == {}, name
+    set_effort_limits(robot, 2.7)
+    assert implausible_effort_limits(robot) == {}
+    set_effort_limits(robot, {"FL_KFE": 3.0})
+    assert va.Controller(robot).effort_limits[6 + 2] == 3.0  # what controllers clip to
+    assert Simulator(robot).model.actuator_ctrlrange[2].tolist() == [-3.0, 3.0]  # and motors
+    with pytest.raises(va.JointNotFoundError, match="FL_KFE"):
+        set_effort_limits(robot, {"FL_KEF": 3.0})
+    with pytest.raises(va.InvalidInputError, match="FL_HAA"):
+        set_effort_limits(robot, {"FL_HAA": -1.0})
+
+
+BOX_FOOT = """<robot name="boxfoot">
+  <link name="shin"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"
+    ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="foot"><inertial><mass value="0.5"/><inertia ixx="0.001" iyy="0.001" izz="0.001"
+    ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0.03 -0.01 -0.02" rpy="0 0 0"/>
+      <geometry><box size="0.2 0.08 0.04"/></geometry></collision>
+    <collision><origin xyz="0 0 0.05"/><geometry><sphere radius="0.02"/></geometry></collision>
+  </link>
+  <link name="sole"/>
+  <joint name="ankle" type="revolute"><parent link="shin"/><child link="foot"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+  <joint name="sole_fixed" type="fixed"><parent link="foot"/><child link="sole"/>
+    <origin xyz="0 0 -0.04"/></joint>
+</robot>
+"""
+
+
+def test_sole_from_a_box(tmp_path):
+    from virtual_actuators.models.soles import find_sole
+
+    path = tmp_path / "boxfoot.urdf"
+    path.write_text(BOX_FOOT)
+    robot = va.load_robot(path, floating_base=False)
+    sole = find_sole(robot, "sole")  # the box's bottom: x in [-0.07, 0.13], y in [-0.05, 0.03]
+    assert sole.height == pytest.approx(0.0, abs=1e-12)
+    assert np.allclose(sole.lower, (-0.07, -0.05)) and np.allclose(sole.upper, (0.13, 0.03))
+    assert (sole.half_length, sole.half_width) == pytest.approx((0.07, 0.03))
+    assert sole.centre == pytest.approx((0.03, -0.01))
+    assert find_sole(robot, "foot").height == pytest.approx(-0.04)
+    with pytest.raises(va.FrameNotFoundError, match="no collision geometry"):
+        find_sole(robot, "shin")
+    talos = find_sole(va.load_robot("talos"), "left_sole_link")  # a mesh
+    assert 0.09 < talos.half_length < 0.12 and 0.05 < talos.half_width < 0.08

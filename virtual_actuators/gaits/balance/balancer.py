@@ -1,0 +1,194 @@
+"""Standing balance for any legged robot: the body on its feet, the rest held by a posture.
+
+A :class:`Balancer` is a :class:`~virtual_actuators.gaits.base.Gait` with one state, ``stand``:
+
+- a body actuator from the feet to the body frame (world axes), distributed by the contact QP:
+  flat soles for two feet (their size from the collision geometry, the centre of pressure kept
+  inside, friction cones, the URDF's torque limits), point feet with friction cones for three or
+  more; a spring-damper on its six axes holds the body's pose, with the robot's weight acting at
+  its centre of mass as a feed-forward;
+- a :class:`~virtual_actuators.Posture` on every joint off the legs (torso, arms, head), holding
+  the pose the robot starts in;
+- gravity compensation of every link (the legs carry the body, the body carries the rest).
+
+Gains come from :class:`~virtual_actuators.gaits.balance.parameters.BalanceParameters`'
+frequencies and the robot's inertia. Pushes are recovered without stepping: when a push asks
+for more than the soles allow, the QP gives way on the rotations first (weight
+``yield_weight``), so the body tilts rather than the feet roll.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pinocchio as pin
+
+from ...actuators import ParallelVirtualActuator
+from ...components.gains import body_gains, joint_gains
+from ...components.gravity import GravityCompensation
+from ...components.posture import Posture
+from ...components.springs import SpringDamper
+from ...control.controller import ControlOutput
+from ...control.state_machine import State, StateMachine
+from ...kinematics.snapshot import Snapshot
+from ...models.feet import find_feet
+from ...models.robot import Robot
+from ...models.soles import find_sole
+from ...models.standing import leg_joints, standing_pose
+from ..base import Gait
+from .parameters import BalanceParameters
+
+#: Axes of the body actuator, world-aligned.
+BODY_AXES = ("x", "y", "z", "rx", "ry", "rz")
+
+__all__ = ["BODY_AXES", "Balancer"]
+
+
+class Balancer(Gait):
+    """A legged robot standing on all its feet (see the module docstring).
+
+    Args:
+        robot: A floating-base legged robot (sole frames are added to its model for flat feet).
+        parameters: The constants.
+        feet: Foot frames (default: found on the robot).
+
+    Raises:
+        FrameNotFoundError: No feet found.
+        SingularConfigurationError: No standing pose can be built.
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        parameters: BalanceParameters | None = None,
+        feet: tuple[str, ...] | None = None,
+    ) -> None:
+        parameters = parameters or BalanceParameters()
+        found = find_feet(robot)
+        feet = tuple(feet or found.feet)
+        self.parameters, self.body, self.feet = parameters, found.body, feet
+        self.flat = len(feet) == 2
+        self.contacts, soles = self._contact_frames(robot, feet) if self.flat else (feet, None)
+        # the centre of mass over the soles' centres (robots without a standing pose)
+        self.q0 = standing_pose(robot, self.contacts, parameters.height_ratio)
+        super().__init__(robot)
+        self.contact_frames = self.contacts
+        self.spring = self._body(soles)
+        active = ["body", *self._posture(feet)]
+        self.gravity = GravityCompensation(robot)
+        self._data = robot.model.createData()
+        self._body_id = robot.model.getFrameId(self.body)
+        stand = State("stand", active=active, support=self.contacts)
+        self._finish(StateMachine([stand], [], "stand"))
+
+    def _body(self, soles: dict[str, tuple[float, float]] | None) -> SpringDamper:
+        """The body actuator on the contact QP with its spring-damper; returns the spring."""
+        robot, parameters = self.robot, self.parameters
+        weight = robot.mass * 9.81
+        actuator = ParallelVirtualActuator(
+            robot,
+            self.body,
+            list(self.contacts),
+            "world",
+            BODY_AXES,
+            contact="flat" if self.flat else "point",
+            friction=parameters.friction,
+            min_normal=parameters.min_normal * weight / len(self.contacts),
+            torque_limits=True,
+            soles=soles,
+            weights={"rx": parameters.yield_weight, "ry": parameters.yield_weight},
+        )
+        damping_ratio, q0 = parameters.body_damping, self.q0
+        move = body_gains(robot, parameters.body_frequency, damping_ratio, BODY_AXES, q0)
+        tilt = body_gains(robot, parameters.tilt_frequency, damping_ratio, BODY_AXES, q0)
+        stiffness = np.concatenate((move.stiffness[:3], tilt.stiffness[3:]))
+        damping = np.concatenate((move.damping[:3], tilt.damping[3:]))
+        spring = SpringDamper(BODY_AXES, stiffness, damping, name="body")
+        self.controller.add("body", actuator, [spring], method="qp")
+        return spring
+
+    def _posture(self, feet: tuple[str, ...]) -> list[str]:
+        """A posture on every driven joint off the legs; the attachments' names."""
+        robot, parameters, model = self.robot, self.parameters, self.robot.model
+        legs = {j for foot in feet for j in leg_joints(model, model.getFrameId(foot))}
+        upper = [
+            model.names[j]
+            for j in range(2, model.njoints)
+            if j not in legs
+            and model.joints[j].nv == 1
+            and model.names[j] not in robot.passive_joints
+        ]
+        if not upper:
+            return []
+        frequency, ratio = parameters.posture_frequency, parameters.posture_damping
+        gains = joint_gains(robot, upper, frequency, ratio, self.q0)
+        self.controller.add("posture", Posture(upper, gains.stiffness, gains.damping))
+        return ["posture"]
+
+    def _contact_frames(
+        self, robot: Robot, feet: tuple[str, ...]
+    ) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
+        """A frame at the centre of each sole (added to the model), with its half sizes."""
+        model, names, soles = robot.model, [], {}
+        for foot in feet:
+            sole = find_sole(robot, foot)
+            name = f"{foot}_sole_centre"
+            if not model.existFrame(name):
+                parent = model.frames[model.getFrameId(foot)]
+                centre = pin.SE3(np.eye(3), np.array([*sole.centre, sole.height]))
+                model.addFrame(
+                    pin.Frame(
+                        name,
+                        parent.parentJoint,
+                        model.getFrameId(foot),
+                        parent.placement * centre,
+                        pin.FrameType.OP_FRAME,
+                    )
+                )
+            halves = 0.5 * (np.array(sole.upper) - np.array(sole.lower))
+            soles[name] = tuple(float(h) * self.parameters.sole_margin for h in halves)
+            names.append(name)
+        robot.caches.clear()  # the kinematic tree is rebuilt with the new frames
+        return tuple(names), soles
+
+    def initial_configuration(self) -> np.ndarray:
+        """The standing pose (the SRDF's, or built from the legs)."""
+        return self.q0.copy()
+
+    def nominal_height(self) -> float:
+        """The body's height above the feet in the standing pose [m]."""
+        return float(self.q0[2])
+
+    def start(self, q: np.ndarray) -> None:
+        """Hold the body's pose and the posture found at ``q`` (the simulation's start)."""
+        sensor = self.controller.attachments["body"].sensor
+        snapshot = Snapshot(self.robot, q)
+        self.spring.setpoint = sensor.position(snapshot)
+        self.controller.reset(self.machine.current.active, snapshot, 0.0)
+
+    def compute(
+        self,
+        q: np.ndarray,
+        v: np.ndarray,
+        time: float,
+        contacts: Mapping[str, bool] | None = None,
+    ) -> ControlOutput:
+        """One tick: the weight at the centre of mass, the controller, gravity compensation.
+
+        The weight acts on the body as the spring-damper's feed-forward; the efforts, with
+        every link's gravity compensated, are clipped to the effort limits.
+        """
+        robot, data = self.robot, self._data
+        pin.forwardKinematics(robot.model, data, q)
+        body = pin.updateFramePlacement(robot.model, data, self._body_id).translation
+        weight = np.array([0.0, 0.0, robot.mass * 9.81])
+        lever = robot.center_of_mass(q) - body
+        self.spring.force = np.concatenate((weight, np.cross(lever, weight)))
+        output = super().compute(q, v, time, contacts)
+        tau = output.tau + self.gravity.torques(q)
+        tau[:6] = 0.0
+        limits = self.controller.effort_limits
+        output.tau[:] = np.clip(tau, -limits, limits)
+        return output

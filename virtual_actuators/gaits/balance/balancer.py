@@ -45,6 +45,46 @@ BODY_AXES = ("x", "y", "z", "rx", "ry", "rz")
 __all__ = ["BODY_AXES", "Balancer"]
 
 
+class SupportedSpring(SpringDamper):
+    """The body's spring-damper, its request kept within what the support can produce.
+
+    Before each tick the balancer sets :attr:`lever` (from the support's centre to the body
+    origin, world axes [m]) and :attr:`reach` (the support's half extents along world x and y
+    [m], margins taken). The wrench asked of the feet is then moved, when it must be, to the
+    nearest one whose centre of pressure lies within ``reach`` of the support's centre and whose
+    horizontal force lies within ``friction`` times its vertical one: the horizontal force and
+    the moment that move the centre of pressure share the change (least squares, weighted
+    1 : :attr:`moment_weight`). The contact QP then solves the request exactly instead of
+    settling between its inequalities (where the split between the feet is not unique).
+    """
+
+    lever = np.zeros(3)
+    reach = np.full(2, np.inf)
+    friction = np.inf
+    moment_weight = 1.0
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """The spring-damper's wrench, then limited (see the class docstring)."""
+        wrench = np.asarray(super().compute_wrench(position, velocity, time), dtype=float)
+        force, moment = wrench[:3], wrench[3:]
+        normal = max(float(force[2]), 0.0)
+        horizontal = float(np.hypot(force[0], force[1]))
+        if horizontal > self.friction * normal:
+            force[:2] *= self.friction * normal / horizontal
+        about_support = moment + np.cross(self.lever, force)
+        bound = np.array([self.reach[1], self.reach[0]]) * normal  # |M_x| by y, |M_y| by x
+        miss = about_support[:2] - np.clip(about_support[:2], -bound, bound)
+        height, w = float(self.lever[2]), self.moment_weight
+        # M_x about the support moves with -height F_y, M_y with +height F_x: each miss is
+        # shared between that force and that moment, least squares weighted 1 : moment_weight
+        for axis, force_axis, sign in ((0, 1, -1.0), (1, 0, 1.0)):
+            if miss[axis]:
+                share = miss[axis] / (height * height + 1.0 / w)
+                force[force_axis] -= share * sign * height
+                moment[axis] -= share / w
+        return wrench
+
+
 class Balancer(Gait):
     """A legged robot standing on all its feet (see the module docstring).
 
@@ -75,15 +115,17 @@ class Balancer(Gait):
         self.q0 = standing_pose(robot, self.contacts, parameters.height_ratio)
         super().__init__(robot)
         self.contact_frames = self.contacts
+        self.soles = soles or {}
         self.spring = self._body(soles)
         active = ["body", *self._posture(feet)]
         self.gravity = GravityCompensation(robot)
         self._data = robot.model.createData()
         self._body_id = robot.model.getFrameId(self.body)
+        self._contact_ids = [robot.model.getFrameId(frame) for frame in self.contacts]
         stand = State("stand", active=active, support=self.contacts)
         self._finish(StateMachine([stand], [], "stand"))
 
-    def _body(self, soles: dict[str, tuple[float, float]] | None) -> SpringDamper:
+    def _body(self, soles: dict[str, tuple[float, float]] | None) -> SupportedSpring:
         """The body actuator on the contact QP with its spring-damper; returns the spring."""
         robot, parameters = self.robot, self.parameters
         weight = robot.mass * 9.81
@@ -105,7 +147,9 @@ class Balancer(Gait):
         tilt = body_gains(robot, parameters.tilt_frequency, damping_ratio, BODY_AXES, q0)
         stiffness = np.concatenate((move.stiffness[:3], tilt.stiffness[3:]))
         damping = np.concatenate((move.damping[:3], tilt.damping[3:]))
-        spring = SpringDamper(BODY_AXES, stiffness, damping, name="body")
+        spring = SupportedSpring(BODY_AXES, stiffness, damping, name="body")
+        spring.friction = 0.9 * parameters.friction
+        spring.moment_weight = parameters.yield_weight
         self.controller.add("body", actuator, [spring], method="qp")
         return spring
 
@@ -126,6 +170,22 @@ class Balancer(Gait):
         gains = joint_gains(robot, upper, frequency, ratio, self.q0)
         self.controller.add("posture", Posture(upper, gains.stiffness, gains.damping))
         return ["posture"]
+
+    def _support(self, body: np.ndarray) -> None:
+        """The spring's support figures: lever from the feet's centre, half extents (x, y)."""
+        model, data = self.robot.model, self._data
+        points = []
+        for frame, frame_id in zip(self.contacts, self._contact_ids, strict=True):
+            placement = pin.updateFramePlacement(model, data, frame_id)
+            half = self.soles.get(frame, (0.0, 0.0))
+            for corner in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+                local = np.array([corner[0] * half[0], corner[1] * half[1], 0.0])
+                points.append(placement.act(local))
+        points = np.array(points)
+        low, high = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
+        centre = np.array([*(0.5 * (low + high)), float(points[:, 2].mean())])
+        self.spring.lever = body - centre
+        self.spring.reach = 0.5 * (high - low) * self.parameters.support_margin
 
     def _contact_frames(
         self, robot: Robot, feet: tuple[str, ...]
@@ -186,6 +246,7 @@ class Balancer(Gait):
         weight = np.array([0.0, 0.0, robot.mass * 9.81])
         lever = robot.center_of_mass(q) - body
         self.spring.force = np.concatenate((weight, np.cross(lever, weight)))
+        self._support(body)
         output = super().compute(q, v, time, contacts)
         tau = output.tau + self.gravity.torques(q)
         tau[:6] = 0.0

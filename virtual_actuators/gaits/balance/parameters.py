@@ -26,10 +26,12 @@ class BalanceParameters:
         friction: Friction coefficient of the contact QP's cones.
         sole_margin: Fraction of each sole (from its collision geometry) that the centre of
             pressure may use.
+        support_margin: Fraction of the support's half extents (the soles' rectangle, or the
+            feet's) within which the body's request keeps its centre of pressure.
         min_normal: Least normal force of a contact, as a fraction of its share of the weight.
-        yield_weight: Weight of the rotations in the QP's closest wrench when a push asks for
-            more than the soles allow (the translations weigh 1): the body tilts before it
-            slides.
+        yield_weight: Weight of the body's moments against its horizontal forces (1) when a
+            push asks for more than the support allows: both give way, in this proportion
+            (smaller: the body tilts more and drifts less).
         height_ratio: Hip-to-foot height of a generated standing pose (robots without an SRDF
             pose), see :func:`~virtual_actuators.models.standing.standing_pose`.
         push_duration: How long a ``--push`` lasts [s].
@@ -42,7 +44,8 @@ class BalanceParameters:
     posture_frequency: float = 2.0 * math.pi * 3.0
     posture_damping: float = 1.0
     friction: float = 0.6
-    sole_margin: float = 0.7
+    sole_margin: float = 0.9
+    support_margin: float = 0.9
     min_normal: float = 0.05
     yield_weight: float = 1.0
     height_ratio: float = 0.9

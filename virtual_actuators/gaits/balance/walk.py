@@ -36,7 +36,9 @@ from .balancer import Balancer
 from .parameters import BalanceParameters
 
 TRACE_RATE = 100.0  # [Hz]
-CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
+CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min", "fallen")
+#: The first seconds, while the robot settles on the ground, are left out of the contact figures.
+SETTLE_TIME = 0.1
 
 __all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "run_balance"]
 
@@ -86,7 +88,8 @@ class BalanceMetrics:
         max_drift_m: Largest horizontal distance of the body from its start [m].
         final_drift_m: That distance at the end [m].
         height_error_m: Mean body height over the last second minus the standing pose's [m].
-        stance_normal_min_n: Least normal force on a foot while standing [N].
+        stance_normal_min_n: Least normal force of the terrain on a foot (MuJoCo's contacts),
+            after :data:`SETTLE_TIME` [N]: zero when a foot lifted.
 
     """
 
@@ -127,9 +130,13 @@ class BalanceResult(WalkResult):
     gait: Balancer
 
     def trace(self) -> dict[str, list]:
-        """``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body) and ``state``."""
+        """The trace: equal-length lists at :data:`TRACE_RATE`.
+
+        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body), ``normal_min`` (the least
+        normal force on a foot [N]) and ``state``.
+        """
         log = self.log
-        names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
+        names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min")
         trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
         trace["state"] = [log.state_names[i] for i in log.state]
         return trace
@@ -187,9 +194,11 @@ class BalanceEpisode(Episode):
     ) -> None:
         """One sample of :data:`CHANNELS`."""
         yaw, pitch, roll, vx, vy = self.attitude
+        normal = float(self.simulator.contact_forces(self.gait.contacts)[:, 2].min())
         self.recorder.append(
             state=0, time=now, x=q[0], y=q[1], z=float(q[2] - self.terrain.height(q[0])),
-            roll=roll, pitch=pitch, yaw=yaw, vx=vx, vy=vy, fallen=float(fallen),
+            roll=roll, pitch=pitch, yaw=yaw, vx=vx, vy=vy, normal_min=normal,
+            fallen=float(fallen),
         )
 
 
@@ -258,7 +267,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
     drift = np.hypot(log["x"] - episode.start[0], log["y"] - episode.start[1])
     tilt = np.hypot(log["roll"], log["pitch"])
     last = log.time >= log.time[-1] - 1.0
-    normal_min, _ = episode.stance.figures()
+    settled = log["normal_min"][log.time >= SETTLE_TIME]
     return BalanceMetrics(
         robot=gait.robot.name,
         feet=tuple(gait.feet),
@@ -271,7 +280,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
         max_drift_m=float(drift.max()),
         final_drift_m=float(drift[-1]),
         height_error_m=float(log["z"][last].mean() - episode.height),
-        stance_normal_min_n=number(normal_min),
+        stance_normal_min_n=float(settled.min()) if len(settled) else math.nan,
     )
 
 

@@ -89,3 +89,22 @@ def test_registered_and_on_the_command_line(tmp_path):
     assert json.loads(out.read_text())["fell"] is True
     bad = subprocess.run(command[:-4] + ["--push", "150"], capture_output=True, text=True)
     assert bad.returncode == 2 and "N@T" in bad.stderr
+
+
+def test_the_humanoid_tutorial_runs():
+    """docs/tutorials/humanoid.md's program, run for 2 s instead of 4."""
+    import contextlib
+    import io
+    import re
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[1] / "docs" / "tutorials" / "humanoid.md"
+    code = re.findall(r"```python\n(.*?)```", page.read_text(), re.S)[0]
+    assert code.count("simulator.time < 4.0") == 1
+    namespace: dict = {}
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        exec(compile(code.replace("simulator.time < 4.0", "simulator.time < 2.0"), "tut", "exec"),
+             namespace)
+    assert "pelvis at" in out.getvalue()
+    assert namespace["drift"] < 0.02 and max(namespace["tilt"]) < 0.1
+    assert abs(namespace["simulator"].q[2] - namespace["q0"][2]) < 0.01

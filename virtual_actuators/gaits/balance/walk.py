@@ -25,6 +25,7 @@ import numpy as np
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
+from ...models.efforts import implausible_effort_limits
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
@@ -90,6 +91,9 @@ class BalanceMetrics:
         height_error_m: Mean body height over the last second minus the standing pose's [m].
         stance_normal_min_n: Least normal force of the terrain on a foot (MuJoCo's contacts),
             after :data:`SETTLE_TIME` [N]: zero when a foot lifted.
+        implausible_limits: Joints whose URDF effort limit no motor of this robot could have
+            (:func:`~virtual_actuators.models.efforts.implausible_effort_limits`: then neither
+            the QP's torque limits nor clipping act; set real ones with ``set_effort_limits``).
 
     """
 
@@ -105,21 +109,26 @@ class BalanceMetrics:
     final_drift_m: float
     height_error_m: float
     stance_normal_min_n: float
+    implausible_limits: tuple[str, ...] = ()
 
     def summary(self) -> str:
         """One line for the terminal."""
         state = f"FELL at {self.fall_time_s:.2f} s" if self.fell else "stood"
         push = f", push {self.push}" if self.push else ""
         rate = f", {self.realtime_factor:.2f}x real time" if self.realtime_factor else ""
+        limits = self.implausible_limits
+        note = f" (implausible URDF effort limits on {len(limits)} joints)" if limits else ""
         return (
             f"{self.robot} {state} for {self.duration_s:.2f} s{push}: tilt <= "
             f"{self.max_tilt_rad:.3f} rad, drift <= {self.max_drift_m:.3f} m, height error "
-            f"{self.height_error_m * 1000:+.1f} mm{rate}"
+            f"{self.height_error_m * 1000:+.1f} mm{rate}{note}"
         )
 
     def to_dict(self) -> dict[str, Any]:
         """The figures as a JSON-able dict."""
-        return {**asdict(self), "feet": list(self.feet)}
+        data = asdict(self)
+        data["feet"], data["implausible_limits"] = list(self.feet), list(self.implausible_limits)
+        return data
 
 
 @dataclass
@@ -281,6 +290,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
         final_drift_m=float(drift[-1]),
         height_error_m=float(log["z"][last].mean() - episode.height),
         stance_normal_min_n=float(settled.min()) if len(settled) else math.nan,
+        implausible_limits=tuple(implausible_effort_limits(gait.robot)),
     )
 
 

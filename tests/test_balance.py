@@ -108,3 +108,13 @@ def test_the_humanoid_tutorial_runs():
     assert "pelvis at" in out.getvalue()
     assert namespace["drift"] < 0.02 and max(namespace["tilt"]) < 0.1
     assert abs(namespace["simulator"].q[2] - namespace["q0"][2]) < 0.01
+
+
+def test_a_quadruped_with_paws_and_no_srdf_stands(tmp_path):
+    """solo12 renamed (feet *_paw, no SRDF beside it): feet by structure, a generated pose."""
+    text = va.load_robot("solo12").urdf_string.replace("_FOOT", "_paw").replace("_ANKLE", "_tip")
+    path = tmp_path / "paws.urdf"
+    path.write_text(text)
+    result = run_balance(path.as_posix(), 1.5, "20@0.5:0", progress=False)
+    assert sorted(result.metrics.feet) == ["FL_paw", "FR_paw", "HL_paw", "HR_paw"]
+    assert not result.metrics.fell and _settled(result, 0.02)

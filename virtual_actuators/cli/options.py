@@ -313,8 +313,8 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
                 )
     else:
         _check_walk_options(args, parser)
-    if args.name == "balance" and args.feet is not None:
-        parser.error("argument --feet: balance finds the feet itself")
+    if args.name == "balance" and (args.feet is not None or args.speed is not None):
+        parser.error(f"argument {'--feet' if args.feet else '--speed'}: balance does not use it")
     if args.name not in ("stand", "balance") and (args.robot is not None or args.feet is not None):
         option = "--robot" if args.robot is not None else "--feet"
         parser.error(

@@ -307,14 +307,17 @@ def run_registered(
     distribution: str | None = None,
     **options: Any,
 ) -> BalanceResult:
-    """``balance`` as the walk registry runs it (``robot``, ``push`` options; no speed).
+    """``balance`` as the walk registry runs it (``robot``, ``push`` options).
+
+    The robot stands: ``speed`` is not used (a sweep's speed axis leaves it unchanged) and the
+    distribution is the contact QP.
 
     Raises:
-        InvalidInputError: A speed, a distribution other than ``"qp"``, or bad parameters.
+        InvalidInputError: A distribution other than ``"qp"``, or bad parameters.
 
     """
-    if speed is not None or distribution not in (None, "qp"):
-        raise InvalidInputError("balance stands: it takes no --speed and uses the contact QP.")
+    if distribution not in (None, "qp"):
+        raise InvalidInputError("balance stands on the contact QP: --distribution qp only.")
     if parameters is not None and not isinstance(parameters, BalanceParameters):
         raise InvalidInputError(
             f"balance: parameters must be a BalanceParameters, got {type(parameters).__name__}."

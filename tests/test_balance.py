@@ -118,3 +118,8 @@ def test_a_quadruped_with_paws_and_no_srdf_stands(tmp_path):
     result = run_balance(path.as_posix(), 1.5, "20@0.5:0", progress=False)
     assert sorted(result.metrics.feet) == ["FL_paw", "FR_paw", "HL_paw", "HR_paw"]
     assert not result.metrics.fell and _settled(result, 0.02)
+
+
+def test_go2_sideways():
+    result = run_balance("go2", 2.0, "120@0.5:90", progress=False)
+    assert not result.metrics.fell and _settled(result, 0.02)

@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...actuators import ParallelVirtualActuator
-from ...components.gains import body_gains, joint_gains
+from ...components.gains import body_gains, gains, joint_gains
 from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
 from ...components.springs import SpringDamper
@@ -147,6 +147,12 @@ class Balancer(Gait):
         tilt = body_gains(robot, parameters.tilt_frequency, damping_ratio, BODY_AXES, q0)
         stiffness = np.concatenate((move.stiffness[:3], tilt.stiffness[3:]))
         damping = np.concatenate((move.damping[:3], tilt.damping[3:]))
+        about_feet = parameters.tilt_about_feet
+        if about_feet or (about_feet is None and not self.flat):  # the inertia about the feet
+            height = float(robot.center_of_mass(q0)[2] - _lowest(robot, self.contacts, q0))
+            pendulum = gains(robot.mass * height**2, parameters.tilt_frequency, damping_ratio)
+            stiffness[3:5] += pendulum.stiffness
+            damping[3:5] += pendulum.damping
         spring = SupportedSpring(BODY_AXES, stiffness, damping, name="body")
         spring.friction = 0.9 * parameters.friction
         spring.moment_weight = parameters.yield_weight
@@ -253,3 +259,11 @@ class Balancer(Gait):
         limits = self.controller.effort_limits
         output.tau[:] = np.clip(tau, -limits, limits)
         return output
+
+
+def _lowest(robot: Robot, frames: tuple[str, ...], q: np.ndarray) -> float:
+    """The lowest of some frames' heights at ``q`` [m]."""
+    model = robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    return min(float(data.oMf[model.getFrameId(frame)].translation[2]) for frame in frames)

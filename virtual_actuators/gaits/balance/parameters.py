@@ -19,6 +19,11 @@ class BalanceParameters:
     Attributes:
         body_frequency: Natural frequency of the body's translations [rad/s].
         tilt_frequency: Natural frequency of the body's rotations [rad/s].
+        tilt_about_feet: Roll and pitch gains from the inertia about the feet (the centroidal
+            inertia plus mass times the centre of mass's height squared) instead of the
+            centroidal inertia alone; None: on point feet (a quadruped's body leans on its
+            legs' spread), not on flat soles (a humanoid's pelvis gives way to a push, a hip
+            strategy).
         body_damping: Damping ratio of the body's translations and rotations.
         posture_frequency: Natural frequency of the posture's joints (arms, head, torso)
             [rad/s].
@@ -40,6 +45,7 @@ class BalanceParameters:
 
     body_frequency: float = 2.0 * math.pi * 1.0
     tilt_frequency: float = 2.0 * math.pi * 1.5
+    tilt_about_feet: bool | None = None
     body_damping: float = 1.0
     posture_frequency: float = 2.0 * math.pi * 3.0
     posture_damping: float = 1.0

@@ -32,10 +32,11 @@ from ...components.springs import SpringDamper
 from ...control.controller import ControlOutput
 from ...control.state_machine import State, StateMachine
 from ...kinematics.snapshot import Snapshot
-from ...models.feet import find_feet
+from ...models.feet import body_frame, find_feet
 from ...models.robot import Robot
 from ...models.soles import find_sole
 from ...models.standing import leg_joints, standing_pose
+from ...vocabulary.axes import resolve_frame
 from ..base import Gait
 from .parameters import BalanceParameters
 
@@ -94,7 +95,8 @@ class Balancer(Gait):
         feet: Foot frames (default: found on the robot).
 
     Raises:
-        FrameNotFoundError: No feet found.
+        FrameNotFoundError: No feet found, or a name in ``feet`` that is not a frame (with
+            close matches).
         SingularConfigurationError: No standing pose can be built.
 
     """
@@ -106,9 +108,14 @@ class Balancer(Gait):
         feet: tuple[str, ...] | None = None,
     ) -> None:
         parameters = parameters or BalanceParameters()
-        found = find_feet(robot)
-        feet = tuple(feet or found.feet)
-        self.parameters, self.body, self.feet = parameters, found.body, feet
+        if feet is None:
+            found = find_feet(robot)
+            body, feet = found.body, found.feet
+        else:
+            body, feet = body_frame(robot.model, True), tuple(feet)
+            for foot in feet:
+                resolve_frame(robot.model, foot, "foot")
+        self.parameters, self.body, self.feet = parameters, body, tuple(feet)
         self.flat = len(feet) == 2
         self.contacts, soles = self._contact_frames(robot, feet) if self.flat else (feet, None)
         # the centre of mass over the soles' centres (robots without a standing pose)

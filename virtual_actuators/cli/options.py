@@ -18,6 +18,7 @@ from .types import (
     frame_list,
     output_path,
     positive_seconds,
+    push_spec,
     robot_name,
     seed,
     seed_count,
@@ -33,7 +34,7 @@ from .types import (
 
 #: The walks (``virtual_actuators.gaits.registry.WALKS``, named here so that ``--help`` imports
 #: no simulation; tests/test_cli_usage checks the two agree).
-WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk")
+WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "balance")
 DEMOS = (*WALK_DEMOS, "stand")
 
 
@@ -60,6 +61,7 @@ WALK_OWN_OPTIONS = (
     ("wavelength", "--wavelength"),
     ("pendulum", "--pendulum"),
     ("track", "--track"),
+    ("push", "--push"),
 )
 
 
@@ -91,6 +93,32 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
             action="store_true",
             help="with --viz, slow the simulation down to wall-clock time",
         )
+
+
+def _robot_arguments(demo: argparse.ArgumentParser) -> None:
+    """``--robot``, ``--feet`` (stand, balance) and ``--push`` (balance)."""
+    demo.add_argument(
+        "--robot",
+        type=robot_name,
+        default=None,
+        help="stand, balance: a legged robot by name or URDF path (default: solo12, talos; "
+        "feet from its SRDF, frame names or structure, see `robots`)",
+    )
+    demo.add_argument(
+        "--push",
+        type=push_spec,
+        default=None,
+        metavar="N@T[:DEG]",
+        help="balance: push the body with N newtons for 0.1 s from T seconds, along DEG degrees "
+        "in the ground plane (0 = +x)",
+    )
+    demo.add_argument(
+        "--feet",
+        type=frame_list,
+        default=None,
+        metavar="FRAME,FRAME,...",
+        help="stand: the foot frames (when the robot's own cannot be found)",
+    )
 
 
 def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
@@ -176,7 +204,8 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         "flamingo-slopes: Spring Flamingo blind over unknown slopes (VMC section 6); "
         "hexapod-walk: the 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
         "tracking an object (VAC section 4); "
-        "stand: a quadruped's body actuator and its force distribution.",
+        "stand: a quadruped's body actuator and its force distribution; "
+        "balance: any legged robot standing on the contact QP, pushed (--robot, --push).",
     )
     demo.add_argument("name", nargs="?", default="turkey-walk", choices=DEMOS)
     demo.add_argument(
@@ -211,20 +240,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     )
     _hexapod_arguments(demo)
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
-    demo.add_argument(
-        "--robot",
-        type=robot_name,
-        default=None,
-        help="stand: a legged robot by name or URDF path (default: solo12; feet from its SRDF "
-        "or frame names, see `robots`)",
-    )
-    demo.add_argument(
-        "--feet",
-        type=frame_list,
-        default=None,
-        metavar="FRAME,FRAME,...",
-        help="stand: the foot frames (when the robot's own cannot be found)",
-    )
+    _robot_arguments(demo)
     _viewer_arguments(demo, walks=True)
     robots = sub.add_parser(
         "robots", help="list the robots load_robot accepts by name (kind, DoF, feet, aliases)"
@@ -297,10 +313,12 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
                 )
     else:
         _check_walk_options(args, parser)
-    if args.name != "stand" and (args.robot is not None or args.feet is not None):
+    if args.name == "balance" and (args.feet is not None or args.speed is not None):
+        parser.error(f"argument {'--feet' if args.feet else '--speed'}: balance does not use it")
+    if args.name not in ("stand", "balance") and (args.robot is not None or args.feet is not None):
         option = "--robot" if args.robot is not None else "--feet"
         parser.error(
-            f"argument {option}: only the stand demo uses it; {args.name} has its own robot"
+            f"argument {option}: only stand and balance use it; {args.name} has its own robot"
         )
     if args.window is not None and args.plot is None:
         parser.error("argument --window: it selects what --plot draws; give --plot PATH too")

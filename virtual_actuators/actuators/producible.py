@@ -1,0 +1,124 @@
+"""Which wrenches a parallel actuator can produce here, and letting the others give way.
+
+A parallel actuator's chains each exert a wrench ``F_i`` on the action frame {B}; the natural
+constraints of the declaration (a point foot transmits no moment about its origin, a limp joint
+carries no torque, a chain cannot push along a direction its Jacobian does not reach) and its
+design rows confine them to a subspace, and {B} receives their sum ``W = sum_i F_i``. The
+*producible* wrenches are the column space of that map, from the chain wrenches that meet every
+homogeneous constraint to their sum:
+
+* two point feet cannot produce a moment about the line through them;
+* one point foot produces only a force through its origin (three directions);
+* three point feet not in a line produce every wrench;
+* a chain adds only directions its joints (and a point contact's virtual ball joint) can move
+  {B} along: one flat foot on a six-joint leg produces any wrench, on a three-joint leg three.
+
+:func:`producible_basis` returns an orthonormal basis of that space at a configuration (the
+method :meth:`ParallelVirtualActuator.producible <virtual_actuators.ParallelVirtualActuator.\
+producible>`), derived from the kinematics and the declaration alone; :func:`give_way` turns a
+request into a producible one that differs from it only along the given yielding directions
+(moments by default: with two point feet, only the moment about the line between them), the
+others kept exact. Passive springs' measured torques (the non-homogeneous right-hand sides)
+shift the producible set without changing its directions and are not part of the basis.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..kinematics.snapshot import Snapshot
+
+if TYPE_CHECKING:  # the actuator imports this module
+    from .parallel import ParallelVirtualActuator
+
+#: Singular values below this fraction of the largest count as zero (the rank decision).
+RANK_TOL = 1e-9
+
+
+def _null_space(matrix: np.ndarray) -> np.ndarray:
+    """Orthonormal basis ``(columns, k)`` of the null space of ``matrix``."""
+    columns = matrix.shape[1]
+    if matrix.shape[0] == 0:
+        return np.eye(columns)
+    _, s, vt = np.linalg.svd(matrix, full_matrices=True)
+    rank = int(np.sum(s > RANK_TOL * max(float(s[0]) if s.size else 0.0, 1e-300)))
+    return vt[rank:].T
+
+
+def _range(matrix: np.ndarray) -> np.ndarray:
+    """Orthonormal basis ``(rows, r)`` of the column space of ``matrix``."""
+    if matrix.size == 0:
+        return np.zeros((matrix.shape[0], 0))
+    u, s, _ = np.linalg.svd(matrix, full_matrices=False)
+    if not s.size or s[0] == 0.0:
+        return np.zeros((matrix.shape[0], 0))
+    return u[:, s > RANK_TOL * s[0]]
+
+
+def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot) -> np.ndarray:
+    """Orthonormal basis of the wrenches the actuator can produce at a configuration.
+
+    Args:
+        actuator: The parallel actuator.
+        q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+
+    Returns:
+        ``(n, r)`` over the actuator's axes (forces [N] and moments [N m] about {B}'s origin, in
+        {O}'s axes), ``r`` the number of independent producible directions (``n`` when every
+        wrench can be produced).
+
+    Raises:
+        InvalidInputError: A bad ``q`` or a snapshot of another robot.
+
+    """
+    problem = actuator.problem
+    evaluation = problem.evaluate(actuator.kinematics.snapshot(q), check_singular=False)
+    natural, _ = problem.block_natural(evaluation)
+    p, n = problem.p, problem.n
+    hard = np.asarray(evaluation.hard_rows, dtype=float).reshape(-1, p * n)
+    allowed = _null_space(np.vstack((natural, hard)))  # chain wrenches meeting every row
+    total = np.tile(np.eye(n), p)  # (n, p n): the stacked chain wrenches to their sum
+    return _range(total @ allowed)
+
+
+def give_way(
+    basis: np.ndarray, wrench: np.ndarray, yielding: np.ndarray | None = None
+) -> np.ndarray:
+    """The producible wrench closest to ``wrench`` that differs from it along ``yielding`` only.
+
+    The request moves along the yielding directions (the least such move, in their
+    coordinates) until it lies in the span of ``basis``; whatever the yielding directions
+    cannot absorb is then removed by the orthogonal projection onto that span. With two point
+    feet and the moments yielding, only the moment about the line between the feet changes.
+
+    Args:
+        basis: ``(n, r)`` orthonormal producible directions (:func:`producible_basis`).
+        wrench: ``(n,)`` request.
+        yielding: ``(n, m)`` directions allowed to give way first; None for none (the
+            orthogonal projection alone).
+
+    Returns:
+        ``(n,)`` a producible wrench (``wrench`` itself when it already is).
+
+    """
+    n, r = basis.shape
+    if r == n:
+        return np.array(wrench, dtype=float)
+    wrench = np.asarray(wrench, dtype=float)
+    if yielding is not None and yielding.shape[1]:
+        u, _, _ = np.linalg.svd(basis, full_matrices=True)
+        complement = u[:, r:]  # the unproducible directions
+        shift, *_ = np.linalg.lstsq(complement.T @ yielding, complement.T @ wrench, rcond=None)
+        wrench = wrench - yielding @ shift
+    return basis @ (basis.T @ wrench)
+
+
+def moment_directions(axes: tuple[str, ...]) -> np.ndarray:
+    """``(n, m)`` unit columns of the rotational axes among ``axes`` (the default yielding)."""
+    rotational = [i for i, axis in enumerate(axes) if axis.startswith("r")]
+    return np.eye(len(axes))[:, rotational]
+
+
+__all__ = ["RANK_TOL", "give_way", "moment_directions", "producible_basis"]

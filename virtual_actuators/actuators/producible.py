@@ -74,13 +74,44 @@ def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
 
     """
     problem = actuator.problem
-    evaluation = problem.evaluate(actuator.kinematics.snapshot(q), check_singular=False)
+    snapshot = actuator.kinematics.snapshot(q)
+    if _points_only(problem):
+        return _range(_point_columns(actuator.kinematics.compute(snapshot).offsets_o()))
+    evaluation = problem.evaluate(snapshot, check_singular=False)
     natural, _ = problem.block_natural(evaluation)
     p, n = problem.p, problem.n
     hard = np.asarray(evaluation.hard_rows, dtype=float).reshape(-1, p * n)
     allowed = _null_space(np.vstack((natural, hard)))  # chain wrenches meeting every row
     total = np.tile(np.eye(n), p)  # (n, p n): the stacked chain wrenches to their sum
     return _range(total @ allowed)
+
+
+def _points_only(problem: object) -> bool:
+    """Every chain a point contact on a full-rank leg, six axes, no limp joint, no design row.
+
+    Then chain ``i`` exerts exactly the forces through its contact point: ``(f, r_i x f)``.
+    """
+    return (
+        len(problem.axes) == 6
+        and problem.num_hard == 0
+        and all(kind == "point" for kind in problem.contacts)
+        and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
+    )
+
+
+def _point_columns(offsets: np.ndarray) -> np.ndarray:
+    """``(6, 3 p)``: per chain, the wrenches about {B} of unit forces at its contact point.
+
+    Args:
+        offsets: ``(p, 3)`` from each contact to {B}, in {O} [m] (the lever is minus it).
+
+    """
+    columns = np.zeros((6, 3 * len(offsets)))
+    for i, (x, y, z) in enumerate(offsets):
+        block = columns[:, 3 * i : 3 * i + 3]
+        block[:3] = np.eye(3)
+        block[3:] = ((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0))  # (-d) x f = -skew(d) f
+    return columns
 
 
 def give_way(
@@ -108,9 +139,15 @@ def give_way(
         return np.array(wrench, dtype=float)
     wrench = np.asarray(wrench, dtype=float)
     if yielding is not None and yielding.shape[1]:
-        u, _, _ = np.linalg.svd(basis, full_matrices=True)
-        complement = u[:, r:]  # the unproducible directions
-        shift, *_ = np.linalg.lstsq(complement.T @ yielding, complement.T @ wrench, rcond=None)
+        # the unproducible directions: I - B B^T has rank n - r, its leading eigenvectors
+        values, vectors = np.linalg.eigh(np.eye(n) - basis @ basis.T)
+        complement = vectors[:, values > 0.5]
+        across = complement.T @ yielding  # (n - r, m)
+        gram = across @ across.T
+        if np.linalg.cond(gram) < 1e12:  # full row rank: the least move along the yielding
+            shift = across.T @ np.linalg.solve(gram, complement.T @ wrench)
+        else:
+            shift, *_ = np.linalg.lstsq(across, complement.T @ wrench, rcond=None)
         wrench = wrench - yielding @ shift
     return basis @ (basis.T @ wrench)
 

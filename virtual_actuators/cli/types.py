@@ -209,6 +209,26 @@ def robot_name(text: str) -> str:
     )
 
 
+def push_spec(text: str) -> tuple[float, float, float]:
+    """``--push``: ``N@T[:DEG]``, N newtons from T seconds along DEG degrees (default 0).
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    try:
+        newtons, rest = text.split("@")
+        start, _, degrees = rest.partition(":")
+        values = (float(newtons), float(start), float(degrees or 0.0))
+    except ValueError:
+        values = None
+    if values is None or not all(math.isfinite(v) for v in values) or values[1] < 0.0:
+        raise argparse.ArgumentTypeError(
+            f"expected N@T[:DEG] (newtons, start time >= 0 s, degrees), e.g. 120@2:90, got "
+            f"{text!r}"
+        )
+    return values
+
+
 def frame_list(text: str) -> tuple[str, ...]:
     """``--feet``: two or more comma-separated frame names (checked when the robot loads).
 

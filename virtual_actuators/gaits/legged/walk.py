@@ -1,0 +1,341 @@
+"""Any legged robot walking in MuJoCo: ``demo legged`` and :func:`run_legged_walk`.
+
+:func:`run_legged_walk` loads the robot (a name or a URDF path), builds its
+:class:`~virtual_actuators.gaits.legged.LeggedWalker`, a :class:`~virtual_actuators.simulation.
+Simulator` on the terrain and runs the closed loop at 1 kHz under
+:func:`~virtual_actuators.gaits.runner.drive`: every tick the command goes to the walker with
+the feet's contact switches, a push (``push=(N, T, DEG)``: N newtons on the base for 0.1 s from
+T seconds along DEG degrees in the ground plane) is applied when its time comes, and the base is
+sampled at :data:`TRACE_RATE`. The robot has fallen when its base drops below half its standing
+height above the ground, tilts beyond 0.8 rad, or a part other than a foot's link touches the
+ground. :class:`LeggedResult` holds the log, the :class:`~.metrics.LeggedMetrics` and the JSON.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...control.controller import ControlOutput
+from ...exceptions import InvalidInputError
+from ...experiments.recorder import Recorder
+from ...models.loader import load_robot
+from ...models.robot import Robot
+from ...simulation.simulator import Simulator
+from ...simulation.terrain import Terrain
+from ..base import Walk, check_distribution
+from ..hexapod.body import attitude_and_velocity
+from ..hexapod.guidance import wrap
+from ..runner import FALL_PITCH, Episode, WalkResult, drive, terrain_points
+from .metrics import LeggedMetrics, legged_metrics
+from .parameters import LeggedParameters
+from .patterns import PATTERNS
+from .walker import LeggedWalker
+
+TRACE_RATE = 100.0  # [Hz]
+PUSH_TIME = 0.1  # [s]
+CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
+
+__all__ = ["LeggedResult", "LeggedWalkConfig", "run_legged_walk"]
+
+
+@dataclass(frozen=True)
+class LeggedWalkConfig:
+    """What to walk (SI units, angles in radians except the push's).
+
+    Attributes:
+        robot: A robot name or URDF path for :func:`~virtual_actuators.load_robot`.
+        gait: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.
+        feet: Foot frames (None: found on the robot).
+        speed: [m/s].
+        direction: Travel direction relative to the heading [rad].
+        yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
+        push: ``(newtons, start time [s], direction [deg])`` on the base, or None.
+        terrain: A :meth:`Terrain.parse` spec.
+        duration: Simulated time [s].
+        distribution: ``"qp"`` or ``"partitioned"``.
+
+    Raises:
+        InvalidInputError: A value out of its range.
+
+    """
+
+    robot: str = "solo12"
+    gait: str = "trot"
+    feet: tuple[str, ...] | None = None
+    speed: float = 0.4
+    direction: float = 0.0
+    yaw_rate: float = 0.0
+    push: tuple[float, float, float] | None = None
+    terrain: str = "flat"
+    duration: float = 4.0
+    distribution: str = "qp"
+
+    def __post_init__(self) -> None:
+        for name in ("speed", "direction", "yaw_rate", "duration"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
+        if not 0.0 <= self.speed <= 1.5 or self.duration <= 0.0:
+            raise InvalidInputError(
+                f"speed must be in [0, 1.5] m/s and duration > 0 s, got {self.speed}, "
+                f"{self.duration}."
+            )
+        if self.gait not in PATTERNS:
+            raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
+        if self.push is not None and (
+            len(self.push) != 3 or not all(math.isfinite(float(v)) for v in self.push)
+        ):
+            raise InvalidInputError(f"push must be (N, T, DEG), got {self.push!r}.")
+        check_distribution(self.distribution)
+
+
+@dataclass
+class LeggedResult(WalkResult):
+    """A legged walk: the log, :class:`LeggedMetrics`, the walker, the simulator, the config.
+
+    Attributes:
+        config: What was walked.
+        ticks: Control ticks run.
+
+    """
+
+    metrics: LeggedMetrics
+    gait: LeggedWalker
+    config: LeggedWalkConfig = field(default_factory=LeggedWalkConfig)
+    ticks: int = 0
+
+    def trace(self) -> dict[str, list]:
+        """``t, x, y, z, roll, pitch, yaw, vx, vy`` at :data:`TRACE_RATE` (world frame, base
+        link; ``z`` above the terrain, ``yaw`` unwrapped) and the ``state`` names.
+        """
+        log = self.log
+        names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
+        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
+        trace["state"] = [log.state_names[i] for i in log.state]
+        return trace
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, the summary figures, the config and ``trace``."""
+        return {**asdict(self.metrics), "ticks": self.ticks, "config": asdict(self.config),
+                "trace": self.trace()}
+
+    def __repr__(self) -> str:
+        return f"LeggedResult({self.metrics.summary()})"
+
+
+def run_legged_walk(
+    config: LeggedWalkConfig | None = None,
+    parameters: LeggedParameters | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, LeggedWalker], None] | None = None,
+    stop_on_fall: bool = True,
+) -> LeggedResult:
+    """Simulate a legged robot walking and measure it.
+
+    Args:
+        config: What to walk (default: solo12 trotting at 0.4 m/s for 4 s).
+        parameters: Gait choices (default :class:`LeggedParameters` with the config's
+            distribution).
+        progress: Show a progress bar.
+        on_tick: Called after every physics step (e.g. a viewer's update).
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+
+    Returns:
+        The :class:`LeggedResult`.
+
+    Raises:
+        InvalidInputError: A bad terrain spec or pattern for this robot.
+        RobotNotFoundError: No such robot.
+        FrameNotFoundError: No feet found (give ``feet``).
+
+    """
+    config = config or LeggedWalkConfig()
+    parameters = parameters or LeggedParameters(distribution=config.distribution)
+    terrain = Terrain.parse(config.terrain)
+    robot = load_robot(config.robot)
+    gait = LeggedWalker(robot, config.feet, config.gait, parameters)
+    simulator = Simulator(robot, terrain)
+    q0 = gait.initial_configuration()
+    q0[2] += float(terrain.height(float(q0[0])))
+    simulator.reset(q0, np.zeros(robot.model.nv))
+    recorder = Recorder(
+        CHANNELS,
+        state_names=gait.machine.names,
+        capacity=int(config.duration * TRACE_RATE) + 16,
+        metadata={"robot": robot.name, "walk": "legged", "config": asdict(config),
+                  "terrain_points": terrain_points(terrain, config.duration)},
+    )
+    episode = LeggedEpisode(gait, simulator, terrain, recorder, config)
+    end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
+    log = recorder.to_log()
+    result = LeggedResult(log, None, gait, simulator, end.wall, config=config, ticks=end.ticks)
+    steps = gait.machine.steps_into(gait.step_states)
+    metrics = legged_metrics(
+        result.trace(), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
+    )
+    result.metrics = replace(
+        metrics,
+        realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
+        physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
+    )
+    return result
+
+
+class LeggedEpisode(Episode):
+    """A legged walk under :func:`~virtual_actuators.gaits.runner.drive`."""
+
+    ignore_unactuated = True
+
+    def __init__(
+        self,
+        gait: LeggedWalker,
+        simulator: Simulator,
+        terrain: Terrain,
+        recorder: Recorder,
+        config: LeggedWalkConfig,
+    ) -> None:
+        super().__init__(gait, simulator, terrain, recorder)
+        self.config = config
+        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        c, s = math.cos(config.direction), math.sin(config.direction)
+        gait.set_command((config.speed * c, config.speed * s), config.yaw_rate)
+        self.pushed = config.push is None
+        model = simulator.mujoco_model
+        #: frames that may touch the ground: those sharing a geometry with a foot
+        self.allowed = frozenset(
+            name
+            for foot in gait.feet
+            for geom in model.frame_geoms.get(foot, ())
+            for name in model.geom_frames[geom]
+        ) | frozenset(gait.feet)
+        self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
+        self.yaw_unwrapped = self.yaw_last = 0.0
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
+        """The push when its time comes; the feet's contact switches."""
+        self.attitude = attitude_and_velocity(q, v)
+        if not self.pushed and now >= self.config.push[1]:
+            newtons, _, degrees = self.config.push
+            angle = math.radians(degrees)
+            force = (newtons * math.cos(angle), newtons * math.sin(angle), 0.0)
+            self.simulator.push(force, self.gait.body_frame, PUSH_TIME)
+            self.pushed = True
+        return self.simulator.contact_switches(self.gait.feet)
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Base low or tilted, or a part other than a foot's link on the ground."""
+        _, pitch, roll, _, _ = self.attitude
+        height = float(q[2] - self.terrain.height(float(q[0])))
+        if height < 0.5 * self.gait.stand_height or max(abs(roll), abs(pitch)) > FALL_PITCH:
+            return True
+        return not self.simulator.touching_frames() <= self.allowed
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """One sample of :data:`CHANNELS`."""
+        machine = self.gait.machine
+        yaw, pitch, roll, vx, vy = self.attitude
+        self.yaw_unwrapped += wrap(yaw - self.yaw_last)
+        self.yaw_last = yaw
+        self.recorder.append(
+            state=machine.index[machine.current.name],
+            time=now,
+            x=q[0],
+            y=q[1],
+            z=float(q[2] - self.terrain.height(float(q[0]))),
+            roll=roll,
+            pitch=pitch,
+            yaw=self.yaw_unwrapped,
+            vx=vx,
+            vy=vy,
+            fallen=float(fallen),
+        )
+
+
+def run_registered(
+    walk: Walk,
+    duration: float,
+    speed: float | None = None,
+    terrain: str | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, LeggedWalker], None] | None = None,
+    stop_on_fall: bool = True,
+    seed: int | None = None,
+    parameters: LeggedParameters | None = None,
+    distribution: str | None = None,
+    **options: Any,
+) -> LeggedResult:
+    """The legged walk as :func:`~virtual_actuators.gaits.registry.run_walk` runs it.
+
+    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``.
+
+    Raises:
+        InvalidInputError: A bad configuration, parameters, or a seed (not used here).
+
+    """
+    if seed is not None:
+        raise InvalidInputError("legged: --seed is not used by this walk; leave it out.")
+    if parameters is not None and not isinstance(parameters, LeggedParameters):
+        raise InvalidInputError(
+            f"legged: parameters must be a LeggedParameters, got {type(parameters).__name__}."
+        )
+    if distribution is None:
+        distribution = "qp" if parameters is None else parameters.distribution
+    elif parameters is not None:
+        parameters = replace(parameters, distribution=distribution)
+    config = LeggedWalkConfig(
+        speed=0.4 if speed is None else speed,
+        terrain=walk.terrain if terrain is None else terrain,
+        duration=duration,
+        distribution=distribution,
+        **options,
+    )
+    return run_legged_walk(config, parameters, progress, on_tick, stop_on_fall)
+
+
+def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
+    """Draw the path and the attitude of a legged walk (a PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    trace = result.trace()
+    figure, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7))
+    top.plot(trace["x"], trace["y"])
+    top.set(xlabel="x [m]", ylabel="y [m]", title=result.metrics.summary()[:90], aspect="equal")
+    for name in ("roll", "pitch", "yaw"):
+        bottom.plot(trace["t"], trace[name], label=name)
+    bottom.set(xlabel="t [s]", ylabel="[rad]")
+    bottom.legend()
+    figure.tight_layout()
+    figure.savefig(path)
+    plt.close(figure)
+    return Path(path)
+
+
+def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:
+    return load_robot(robot)
+
+
+WALK = Walk(
+    name="legged",
+    robot="solo12",
+    run=run_registered,
+    parameters=LeggedParameters,
+    terrain="flat",
+    duration=4.0,
+    plot=plot_legged_walk,
+    description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "
+    "the public gait layer",
+    options=("robot", "gait", "feet", "direction", "yaw_rate", "push"),
+    force_scale=1 / 250,
+    viewer_robot=_viewer_robot,
+)

@@ -111,8 +111,10 @@ class LeggedResult(WalkResult):
     ticks: int = 0
 
     def trace(self) -> dict[str, list]:
-        """``t, x, y, z, roll, pitch, yaw, vx, vy`` at :data:`TRACE_RATE` (world frame, base
-        link; ``z`` above the terrain, ``yaw`` unwrapped) and the ``state`` names.
+        """The trace: equal-length lists at :data:`TRACE_RATE` and the state names.
+
+        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, base link; ``z`` above the
+        terrain, ``yaw`` unwrapped) and ``state``.
         """
         log = self.log
         names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")

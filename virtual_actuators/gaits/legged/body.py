@@ -12,8 +12,13 @@ world, action the body), acting in the body's *heading frame* (its yaw alone):
 
 When the gait gives it the support's producible directions (:attr:`BodyModel.basis`, from
 :meth:`ParallelVirtualActuator.producible <virtual_actuators.ParallelVirtualActuator.producible>`),
-the request gives way along the moments the support cannot produce and stays exact on the rest
-(:func:`~virtual_actuators.actuators.producible.give_way`).
+the request gives way along :attr:`BodyModel.yielding` (by default the horizontal force) just
+enough to become producible, and stays exact on the rest
+(:func:`~virtual_actuators.actuators.producible.give_way`). With two point feet the moment about
+the line between them cannot be produced: yielding the horizontal force lets the centre of mass
+move away from that line as an inverted pendulum does (``m g e / h`` for an offset ``e``) while
+height, roll, pitch and yaw stay exact; yielding the moments instead would spin the body against
+its legs.
 """
 
 from __future__ import annotations
@@ -23,12 +28,11 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ...actuators.producible import give_way, moment_directions
+from ...actuators.producible import give_way
 from ...components.base import Component
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
-MOMENTS = moment_directions(AXES)
 
 
 def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
@@ -48,6 +52,7 @@ class BodyModel(Component):
     Args:
         mass: The robot's mass [kg] (its weight is carried).
         gains: The stiffnesses and dampings.
+        yielding: Axes that give way first when the support cannot produce the request.
         name: Label used in reports.
 
     Attributes:
@@ -57,12 +62,20 @@ class BodyModel(Component):
         yaw_rate: Yaw rate set point [rad/s].
         lever: Centre of mass minus the body's origin, world axes [m].
         basis: ``(6, r)`` producible directions, or None (every wrench producible).
+        yielding: ``(6, m)`` unit columns of the yielding axes.
         yaw: The body's yaw at the last evaluation [rad].
 
     """
 
-    def __init__(self, mass: float, gains: LeggedGains, name: str = "body") -> None:
+    def __init__(
+        self,
+        mass: float,
+        gains: LeggedGains,
+        yielding: tuple[str, ...] = ("x", "y"),
+        name: str = "body",
+    ) -> None:
         super().__init__(AXES, name)
+        self.yielding = np.eye(6)[:, [AXES.index(axis) for axis in yielding]]
         self.mass = float(mass)
         self.gains = gains
         self.height = 0.0
@@ -74,7 +87,7 @@ class BodyModel(Component):
         self.yaw = 0.0
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The wrench on the body, world axes (given way along the unproducible moments)."""
+        """The wrench on the body, world axes (given way where the support cannot produce it)."""
         g = self.gains
         yaw, pitch, roll = yaw_pitch_roll(pin.exp3(position[3:]))
         self.yaw = yaw
@@ -104,7 +117,7 @@ class BodyModel(Component):
             )
         )
         if self.basis is not None:
-            wrench = give_way(self.basis, wrench, MOMENTS)
+            wrench = give_way(self.basis, wrench, self.yielding)
         return wrench
 
 

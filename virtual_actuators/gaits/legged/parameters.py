@@ -38,15 +38,20 @@ class LeggedParameters:
         touchdown_depth: How far below the ground the swing ends, fraction of ``h`` [-].
         placement_gain: Capture term: the foothold moves this many ``sqrt(h / g)`` times the
             velocity error (measured minus set point) further [-]; 1 is the capture point.
+        integral_time: The footholds also move by the velocity error's integral over this
+            many ``sqrt(h / g)`` (removes the steady speed error) [-].
+        integral_limit: That integral stays within this many ``sqrt(g h)`` [-].
         acceleration: The velocity set point follows the command at most this fast, in g [-].
         distribution: ``"qp"`` (friction pyramids, least normal force, torque limits) or
             ``"partitioned"``.
         friction: The distribution's pyramid ``|f_t| <= mu f_n`` [-].
         min_normal: Least normal force of a support foot, a fraction of the weight shared by
             all feet [-].
-        give_way: The body's request gives way along the directions its support cannot
-            produce (moments first: with two point feet, the moment about the line between
-            them), computed every tick by ``ParallelVirtualActuator.producible``.
+        give_way: Axes along which the body's request gives way, every tick, just enough to
+            become producible by the support (``ParallelVirtualActuator.producible``); the
+            horizontal force by default (with two point feet the centre of mass then moves
+            away from the line between them as an inverted pendulum, attitude and height
+            exact); ``()`` to leave unproducible requests to the distribution.
         stand_time: Standing on all feet before the first swing [s].
 
     """
@@ -64,11 +69,13 @@ class LeggedParameters:
     lift_peak: float = 0.4
     touchdown_depth: float = 0.02
     placement_gain: float = 1.0
+    integral_time: float = 4.0
+    integral_limit: float = 0.3
     acceleration: float = 0.2
     distribution: str = "qp"
     friction: float = 0.5
     min_normal: float = 0.05
-    give_way: bool = True
+    give_way: tuple[str, ...] = ("x", "y")
     stand_time: float = 0.2
 
     def __post_init__(self) -> None:

@@ -119,6 +119,8 @@ class LeggedWalker(Gait):
         self.velocity = (0.0, 0.0)
         self.yaw_rate = 0.0
         self._setpoint = (0.0, 0.0)
+        self._error_integral = (0.0, 0.0)  # velocity error integral per integral time [m/s]
+        self._dt = 0.0
         self._last_time: float | None = None
         self._starts: dict[str, np.ndarray] = {}
         self._targets: dict[str, np.ndarray] = {}
@@ -159,7 +161,7 @@ class LeggedWalker(Gait):
     def _declare(self) -> None:
         """``support_k`` (all feet but group k), ``support_all`` and ``swing_F`` per foot."""
         p, robot, c, g = self.parameters, self.robot, self.controller, self.gains
-        self.body = BodyModel(self.mass_model.mass, g)
+        self.body = BodyModel(self.mass_model.mass, g, p.give_way or ("x", "y"))
         weight = self.mass_model.mass * GRAVITY
         min_normal = p.min_normal * weight / len(self.feet)
         if p.distribution == "qp":
@@ -284,12 +286,23 @@ class LeggedWalker(Gait):
         body.basis = None
         if self.parameters.give_way and len(support) < 3:
             body.basis = self.supports[current.active[0]].producible(snapshot)
-        if not state.startswith("swing"):
-            return
         measured = (c * linear[0] + s * linear[1], -s * linear[0] + c * linear[1])
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
-        motion = Motion(self._setpoint, error, self.yaw_rate)
+        self._integrate(error)
+        if not state.startswith("swing"):
+            return
+        bias = self._error_integral
+        motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
         self._move_swing(context, motion, (com, base, linear, angular, yaw), ground)
+
+    def _integrate(self, error: tuple[float, float]) -> None:
+        """The velocity error's integral (the footholds' slow correction), bounded [m/s]."""
+        rate = self._dt / (self.parameters.integral_time * self.gains.time_scale)
+        limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
+        self._error_integral = tuple(
+            max(-limit, min(limit, total + rate * e))
+            for total, e in zip(self._error_integral, error, strict=True)
+        )
 
     def _ramp(self, time: float, moving: bool) -> None:
         """Move the velocity set point toward the command at the bounded acceleration.
@@ -297,6 +310,7 @@ class LeggedWalker(Gait):
         It stays at rest while the robot stands before its first step.
         """
         dt = 0.0 if self._last_time is None or not moving else max(0.0, time - self._last_time)
+        self._dt = dt
         self._last_time = time
         limit = self.parameters.acceleration * GRAVITY * dt
         (sx, sy), (cx, cy) = self._setpoint, self.velocity

@@ -36,7 +36,8 @@ def test_pace_swings_one_side_then_the_other():
 def test_walk_lifts_one_foot_at_a_time_in_the_lateral_sequence():
     pattern = named_pattern("walk", QUAD, QUAD_XY)
     assert pattern.groups() == (("LH",), ("LF",), ("RH",), ("RF",))
-    assert [pattern.swinging(k / 4 + 0.01) for k in range(4)] == [("LH",), ("LF",), ("RH",), ("RF",)]
+    order = [pattern.swinging(k / 4 + 0.01) for k in range(4)]
+    assert order == [("LH",), ("LF",), ("RH",), ("RF",)]
     assert pattern.duty_factor() == 0.75
 
 

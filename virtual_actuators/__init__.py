@@ -44,6 +44,7 @@ from .exceptions import (
     SingularConfigurationError,
     VirtualActuatorError,
 )
+from .gaits.legged import GaitPattern, LeggedParameters, LeggedWalker, npod
 from .kinematics.snapshot import Snapshot
 from .models import Robot, list_robots, load_robot, millipede
 from .models.directory import RobotInfo, describe_robots
@@ -80,9 +81,12 @@ __all__ = [
     "Damper",
     "DogtrackBunny",
     "EnergyTank",
+    "GaitPattern",
     "GrannyWalker",
     "GravityCompensation",
     "Inertance",
+    "LeggedParameters",
+    "LeggedWalker",
     "MachineController",
     "RunStats",
     "SensorReading",
@@ -119,4 +123,5 @@ __all__ = [
     "list_robots",
     "load_robot",
     "millipede",
+    "npod",
 ]

@@ -178,6 +178,23 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     )
 
 
+def _robot_arguments(demo: argparse.ArgumentParser) -> None:
+    demo.add_argument(
+        "--robot",
+        type=robot_name,
+        default=None,
+        help="stand, legged: a legged robot by name or URDF path (default: solo12; feet from "
+        "its SRDF or frame names, see `robots`)",
+    )
+    demo.add_argument(
+        "--feet",
+        type=frame_list,
+        default=None,
+        metavar="FRAME,FRAME,...",
+        help="stand, legged: the foot frames (when the robot's own cannot be found)",
+    )
+
+
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
     """The parser of ``python -m virtual_actuators`` and its subcommands' parsers by name.
 
@@ -235,20 +252,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     )
     _hexapod_arguments(demo)
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
-    demo.add_argument(
-        "--robot",
-        type=robot_name,
-        default=None,
-        help="stand, legged: a legged robot by name or URDF path (default: solo12; feet from "
-        "its SRDF or frame names, see `robots`)",
-    )
-    demo.add_argument(
-        "--feet",
-        type=frame_list,
-        default=None,
-        metavar="FRAME,FRAME,...",
-        help="stand, legged: the foot frames (when the robot's own cannot be found)",
-    )
+    _robot_arguments(demo)
     _viewer_arguments(demo, walks=True)
     robots = sub.add_parser(
         "robots", help="list the robots load_robot accepts by name (kind, DoF, feet, aliases)"
@@ -332,7 +336,10 @@ def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParse
         if dest not in walk.options and getattr(args, dest) not in (None, False):
             users = [name for name, other in walks.items() if dest in other.options]
             if dest in STAND_OPTIONS:
-                users.insert(0, "stand")
+                parser.error(
+                    f"argument {option}: only the stand demo and {', '.join(users)} use it, "
+                    f"not {args.name}"
+                )
             parser.error(f"argument {option}: only {', '.join(users)} uses it, not {args.name}")
     if "path" in walk.options and args.path != "sine":
         if args.amplitude is not None or args.wavelength is not None:

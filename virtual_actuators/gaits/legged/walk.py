@@ -31,7 +31,15 @@ from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution
 from ..hexapod.body import attitude_and_velocity
 from ..hexapod.guidance import wrap
-from ..runner import FALL_PITCH, Episode, WalkResult, drive, terrain_points
+from ..runner import (
+    FALL_PITCH,
+    Episode,
+    WalkFigures,
+    WalkResult,
+    drive,
+    number,
+    terrain_points,
+)
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
 from .patterns import PATTERNS
@@ -59,6 +67,8 @@ class LeggedWalkConfig:
         terrain: A :meth:`Terrain.parse` spec.
         duration: Simulated time [s].
         distribution: ``"qp"`` or ``"partitioned"``.
+        seed: None for a start at rest; an int for a random initial base velocity (up to
+            0.05 m/s and 0.1 rad/s per axis), so that sweeps see several starts.
 
     Raises:
         InvalidInputError: A value out of its range.
@@ -75,6 +85,7 @@ class LeggedWalkConfig:
     terrain: str = "flat"
     duration: float = 4.0
     distribution: str = "qp"
+    seed: int | None = None
 
     def __post_init__(self) -> None:
         for name in ("speed", "direction", "yaw_rate", "duration"):
@@ -122,6 +133,14 @@ class LeggedResult(WalkResult):
         trace["state"] = [log.state_names[i] for i in log.state]
         return trace
 
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
     def to_json(self) -> dict[str, Any]:
         """``fell``, ``realtime_factor``, the summary figures, the config and ``trace``."""
         return {**asdict(self.metrics), "ticks": self.ticks, "config": asdict(self.config),
@@ -165,7 +184,11 @@ def run_legged_walk(
     simulator = Simulator(robot, terrain)
     q0 = gait.initial_configuration()
     q0[2] += float(terrain.height(float(q0[0])))
-    simulator.reset(q0, np.zeros(robot.model.nv))
+    v0 = np.zeros(robot.model.nv)
+    if config.seed is not None:
+        scale = np.array((0.05, 0.05, 0.05, 0.1, 0.1, 0.1))  # [m/s, rad/s]
+        v0[:6] = np.random.default_rng(config.seed).uniform(-1.0, 1.0, 6) * scale
+    simulator.reset(q0, v0)
     recorder = Recorder(
         CHANNELS,
         state_names=gait.machine.names,
@@ -279,11 +302,9 @@ def run_registered(
     ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``.
 
     Raises:
-        InvalidInputError: A bad configuration, parameters, or a seed (not used here).
+        InvalidInputError: A bad configuration or parameters.
 
     """
-    if seed is not None:
-        raise InvalidInputError("legged: --seed is not used by this walk; leave it out.")
     if parameters is not None and not isinstance(parameters, LeggedParameters):
         raise InvalidInputError(
             f"legged: parameters must be a LeggedParameters, got {type(parameters).__name__}."
@@ -297,6 +318,7 @@ def run_registered(
         terrain=walk.terrain if terrain is None else terrain,
         duration=duration,
         distribution=distribution,
+        seed=seed,
         **options,
     )
     return run_legged_walk(config, parameters, progress, on_tick, stop_on_fall)

@@ -76,7 +76,7 @@ def test_the_body_gives_way_only_where_its_support_cannot_push():
         state = walker.machine.current
         if state.name.startswith("swing") and walker.body.basis is not None:
             name = state.active[0]
-            ticks.append((walker.body.basis, walker.last.wrenches[name],
+            ticks.append((walker.body.basis.producible, walker.last.wrenches[name],
                           walker.last.produced[name]))
 
     config = LeggedWalkConfig(robot="solo12", speed=0.4, duration=1.5)

@@ -146,3 +146,23 @@ def test_give_way_leaves_producible_requests_alone(solo):
     basis = body.producible(solo.neutral())
     wrench = np.array([1.0, -2.0, 24.0, 0.1, 0.2, -0.3])
     assert np.array_equal(give_way(basis, wrench, moment_directions(AXES)), wrench)
+
+
+def test_yielding_the_horizontal_force_keeps_height_and_attitude_exact(solo):
+    """Two point feet, forces x, y yielding: the centre of mass's pendulum force, moments kept."""
+    from virtual_actuators.actuators.producible import producible_directions
+
+    feet = ["FL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(solo, "base_link", feet, "world", contact="point")
+    q = _configuration(solo, 7)
+    directions = producible_directions(body, q)
+    assert np.allclose(directions.producible, body.producible(q))
+    assert np.allclose(directions.producible.T @ directions.missing, 0.0, atol=1e-12)
+    wrench = np.array([5.0, 2.0, 25.0, 0.4, -0.3, 0.2])
+    horizontal = np.eye(6)[:, :2]
+    produced = give_way(directions.producible, wrench, horizontal, directions.missing)
+    assert np.allclose(produced[2:], wrench[2:], atol=1e-12)  # z and every moment exact
+    basis = directions.producible
+    assert np.allclose(basis @ (basis.T @ produced), produced, atol=1e-9)
+    assert np.allclose(give_way(basis, wrench, horizontal), produced, atol=1e-9)
+    assert body.solve(q, produced).residual < 1e-6 * np.linalg.norm(produced)

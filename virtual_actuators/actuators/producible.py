@@ -24,7 +24,7 @@ shift the producible set without changing its directions and are not part of the
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -47,14 +47,53 @@ def _null_space(matrix: np.ndarray) -> np.ndarray:
     return vt[rank:].T
 
 
-def _range(matrix: np.ndarray) -> np.ndarray:
-    """Orthonormal basis ``(rows, r)`` of the column space of ``matrix``."""
+class Directions(NamedTuple):
+    """The wrench space of an actuator split in two (orthonormal columns, together a basis).
+
+    Attributes:
+        producible: ``(n, r)`` what the chains can produce here.
+        missing: ``(n, n - r)`` the rest (the orthogonal complement).
+
+    """
+
+    producible: np.ndarray
+    missing: np.ndarray
+
+
+def _split(matrix: np.ndarray) -> Directions:
+    """The column space of ``matrix`` and its orthogonal complement."""
+    rows = matrix.shape[0]
     if matrix.size == 0:
-        return np.zeros((matrix.shape[0], 0))
-    u, s, _ = np.linalg.svd(matrix, full_matrices=False)
-    if not s.size or s[0] == 0.0:
-        return np.zeros((matrix.shape[0], 0))
-    return u[:, s > RANK_TOL * s[0]]
+        return Directions(np.zeros((rows, 0)), np.eye(rows))
+    u, s, _ = np.linalg.svd(matrix, full_matrices=True)
+    rank = int(np.sum(s > RANK_TOL * s[0])) if s.size and s[0] > 0.0 else 0
+    return Directions(u[:, :rank], u[:, rank:])
+
+
+def producible_directions(
+    actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
+) -> Directions:
+    """:func:`producible_basis` and its orthogonal complement (what :func:`give_way` needs).
+
+    Raises:
+        InvalidInputError: A bad ``q`` or a snapshot of another robot.
+
+    """
+    problem = actuator.problem
+    snapshot = actuator.kinematics.snapshot(q)
+    if _points_only(problem):
+        kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
+        action = snapshot.frame_position(kinematics.action_id)
+        reactions = np.array([snapshot.frame_position(int(r)) for r in kinematics.reaction_ids])
+        offsets = (action - reactions) @ snapshot.frame_rotation(kinematics.reference_id)
+        return _split(_point_columns(offsets))
+    evaluation = problem.evaluate(snapshot, check_singular=False)
+    natural, _ = problem.block_natural(evaluation)
+    p, n = problem.p, problem.n
+    hard = np.asarray(evaluation.hard_rows, dtype=float).reshape(-1, p * n)
+    allowed = _null_space(np.vstack((natural, hard)))  # chain wrenches meeting every row
+    total = np.tile(np.eye(n), p)  # (n, p n): the stacked chain wrenches to their sum
+    return _split(total @ allowed)
 
 
 def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot) -> np.ndarray:
@@ -73,17 +112,7 @@ def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
         InvalidInputError: A bad ``q`` or a snapshot of another robot.
 
     """
-    problem = actuator.problem
-    snapshot = actuator.kinematics.snapshot(q)
-    if _points_only(problem):
-        return _range(_point_columns(actuator.kinematics.compute(snapshot).offsets_o()))
-    evaluation = problem.evaluate(snapshot, check_singular=False)
-    natural, _ = problem.block_natural(evaluation)
-    p, n = problem.p, problem.n
-    hard = np.asarray(evaluation.hard_rows, dtype=float).reshape(-1, p * n)
-    allowed = _null_space(np.vstack((natural, hard)))  # chain wrenches meeting every row
-    total = np.tile(np.eye(n), p)  # (n, p n): the stacked chain wrenches to their sum
-    return _range(total @ allowed)
+    return producible_directions(actuator, q).producible
 
 
 def _points_only(problem: object) -> bool:
@@ -106,29 +135,39 @@ def _point_columns(offsets: np.ndarray) -> np.ndarray:
         offsets: ``(p, 3)`` from each contact to {B}, in {O} [m] (the lever is minus it).
 
     """
-    columns = np.zeros((6, 3 * len(offsets)))
-    for i, (x, y, z) in enumerate(offsets):
-        block = columns[:, 3 * i : 3 * i + 3]
-        block[:3] = np.eye(3)
-        block[3:] = ((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0))  # (-d) x f = -skew(d) f
+    count = len(offsets)
+    x, y, z = offsets[:, 0], offsets[:, 1], offsets[:, 2]
+    moments = np.zeros((count, 3, 3))  # -skew(d): the moment (-d) x f about {B}
+    moments[:, 0, 1], moments[:, 0, 2] = z, -y
+    moments[:, 1, 0], moments[:, 1, 2] = -z, x
+    moments[:, 2, 0], moments[:, 2, 1] = y, -x
+    columns = np.empty((6, 3 * count))
+    columns[:3] = np.tile(np.eye(3), count)
+    columns[3:] = moments.transpose(1, 0, 2).reshape(3, 3 * count)
     return columns
 
 
 def give_way(
-    basis: np.ndarray, wrench: np.ndarray, yielding: np.ndarray | None = None
+    basis: np.ndarray,
+    wrench: np.ndarray,
+    yielding: np.ndarray | None = None,
+    missing: np.ndarray | None = None,
 ) -> np.ndarray:
     """The producible wrench closest to ``wrench`` that differs from it along ``yielding`` only.
 
     The request moves along the yielding directions (the least such move, in their
     coordinates) until it lies in the span of ``basis``; whatever the yielding directions
     cannot absorb is then removed by the orthogonal projection onto that span. With two point
-    feet and the moments yielding, only the moment about the line between the feet changes.
+    feet and the horizontal force yielding, only the force across the line between the feet
+    changes (by the weight times the centre of mass's offset from the line over its height).
 
     Args:
         basis: ``(n, r)`` orthonormal producible directions (:func:`producible_basis`).
         wrench: ``(n,)`` request.
         yielding: ``(n, m)`` directions allowed to give way first; None for none (the
             orthogonal projection alone).
+        missing: ``(n, n - r)`` the orthogonal complement of ``basis``, if known
+            (:func:`producible_directions`); computed otherwise.
 
     Returns:
         ``(n,)`` a producible wrench (``wrench`` itself when it already is).
@@ -139,16 +178,16 @@ def give_way(
         return np.array(wrench, dtype=float)
     wrench = np.asarray(wrench, dtype=float)
     if yielding is not None and yielding.shape[1]:
-        # the unproducible directions: I - B B^T has rank n - r, its leading eigenvectors
-        values, vectors = np.linalg.eigh(np.eye(n) - basis @ basis.T)
-        complement = vectors[:, values > 0.5]
-        across = complement.T @ yielding  # (n - r, m)
-        gram = across @ across.T
-        if np.linalg.cond(gram) < 1e12:  # full row rank: the least move along the yielding
-            shift = across.T @ np.linalg.solve(gram, complement.T @ wrench)
-        else:
-            shift, *_ = np.linalg.lstsq(across, complement.T @ wrench, rcond=None)
-        wrench = wrench - yielding @ shift
+        if missing is None:
+            missing = np.linalg.svd(basis, full_matrices=True)[0][:, r:]
+        across = missing.T @ yielding  # (n - r, m): how the yielding move the missing part
+        gap = missing.T @ wrench
+        norm2 = float(across[0] @ across[0]) if across.shape[0] == 1 else 0.0
+        if norm2 > 1e-12:  # one missing direction: the closed form of the least move
+            wrench = wrench - yielding @ (across[0] * (gap[0] / norm2))
+        else:  # the least move (least squares when the yielding cannot absorb it all)
+            shift, *_ = np.linalg.lstsq(across, gap, rcond=None)
+            wrench = wrench - yielding @ shift
     return basis @ (basis.T @ wrench)
 
 
@@ -158,4 +197,11 @@ def moment_directions(axes: tuple[str, ...]) -> np.ndarray:
     return np.eye(len(axes))[:, rotational]
 
 
-__all__ = ["RANK_TOL", "give_way", "moment_directions", "producible_basis"]
+__all__ = [
+    "RANK_TOL",
+    "Directions",
+    "give_way",
+    "moment_directions",
+    "producible_basis",
+    "producible_directions",
+]

@@ -28,7 +28,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ...actuators.producible import give_way
+from ...actuators.producible import Directions, give_way
 from ...components.base import Component
 from .parameters import GRAVITY, LeggedGains
 
@@ -61,7 +61,8 @@ class BodyModel(Component):
         acceleration: Its rate, in the heading frame [m/s^2].
         yaw_rate: Yaw rate set point [rad/s].
         lever: Centre of mass minus the body's origin, world axes [m].
-        basis: ``(6, r)`` producible directions, or None (every wrench producible).
+        basis: The support's :class:`~virtual_actuators.actuators.producible.Directions`, or
+            None (every wrench producible).
         yielding: ``(6, m)`` unit columns of the yielding axes.
         yaw: The body's yaw at the last evaluation [rad].
 
@@ -83,7 +84,7 @@ class BodyModel(Component):
         self.acceleration = (0.0, 0.0)
         self.yaw_rate = 0.0
         self.lever = np.zeros(3)
-        self.basis: np.ndarray | None = None
+        self.basis: Directions | None = None
         self.yaw = 0.0
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
@@ -117,7 +118,7 @@ class BodyModel(Component):
             )
         )
         if self.basis is not None:
-            wrench = give_way(self.basis, wrench, self.yielding)
+            wrench = give_way(self.basis.producible, wrench, self.yielding, self.basis.missing)
         return wrench
 
 

@@ -38,6 +38,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
+from ...actuators.producible import producible_directions
 from ...components.springs import SpringDamper
 from ...control import events
 from ...control.state_machine import Context, State, StateMachine, Transition
@@ -285,7 +286,7 @@ class LeggedWalker(Gait):
         body.height = ground + self.stand_height
         body.basis = None
         if self.parameters.give_way and len(support) < 3:
-            body.basis = self.supports[current.active[0]].producible(snapshot)
+            body.basis = producible_directions(self.supports[current.active[0]], snapshot)
         measured = (c * linear[0] + s * linear[1], -s * linear[0] + c * linear[1])
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
         self._integrate(error)

@@ -99,3 +99,12 @@ def test_walk_pattern_lifts_one_foot_at_a_time():
     assert abs(m.speed_mps / 0.2 - 1.0) < 0.2, m.summary()
     states = set(result.trace()["state"])
     assert {"swing_0", "swing_1", "swing_2", "swing_3"} <= states
+
+
+def test_the_hexapod_tripod_is_one_instance_of_the_layer():
+    """The 1996 hexapod, walked by the generic layer's tripod: the seed's line to 0.8 m/s."""
+    result = _walk(robot="hexapod", gait="tripod", speed=0.8)
+    _assert_line(result, 0.8)
+    tripods = {frozenset(group) for group in result.gait.groups}
+    assert tripods == {frozenset(("foot_1", "foot_3", "foot_5")),
+                       frozenset(("foot_2", "foot_4", "foot_6"))}

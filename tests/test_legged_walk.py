@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("mujoco")
+pytestmark = [pytest.mark.slow]  # MuJoCo walking runs (a few seconds each)
 
 from virtual_actuators.gaits.legged.walk import LeggedWalkConfig, run_legged_walk  # noqa: E402
 

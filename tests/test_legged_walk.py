@@ -116,3 +116,18 @@ def test_the_hexapod_tripod_is_one_instance_of_the_layer():
     tripods = {frozenset(group) for group in result.gait.groups}
     assert tripods == {frozenset(("foot_1", "foot_3", "foot_5")),
                        frozenset(("foot_2", "foot_4", "foot_6"))}
+
+
+def test_the_tutorial_program_trots():
+    """docs/tutorials/quadruped-walk.md's program, run for 2 s instead of 4."""
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[1] / "docs" / "tutorials" / "quadruped-walk.md"
+    program = page.read_text().split("```python\n")[1].split("```")[0]
+    assert len(program.strip().splitlines()) < 30
+    assert "DURATION = 4.0" in program
+    scope: dict = {}
+    exec(program.replace("DURATION = 4.0", "DURATION = 2.0"), scope)  # noqa: S102
+    simulator, walker = scope["simulator"], scope["walker"]
+    assert simulator.q[0] > 0.6  # 0.8 m/s after the stand and the ramp
+    assert walker.machine.steps_into(walker.step_states) >= 8

@@ -86,7 +86,8 @@ def producible_directions(
         action = snapshot.frame_position(kinematics.action_id)
         reactions = np.array([snapshot.frame_position(int(r)) for r in kinematics.reaction_ids])
         offsets = (action - reactions) @ snapshot.frame_rotation(kinematics.reference_id)
-        return _split(_point_columns(offsets))
+        pair = _two_points(offsets) if len(offsets) == 2 else None
+        return pair if pair is not None else _split(_point_columns(offsets))
     evaluation = problem.evaluate(snapshot, check_singular=False)
     natural, _ = problem.block_natural(evaluation)
     p, n = problem.p, problem.n
@@ -126,6 +127,28 @@ def _points_only(problem: object) -> bool:
         and all(kind == "point" for kind in problem.contacts)
         and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
     )
+
+
+def _two_points(offsets: np.ndarray) -> Directions | None:
+    """Two point contacts in closed form: the missing direction ``(r_1 x d, d)``, normalised.
+
+    ``d`` runs from one contact to the other and ``r_1`` from {B} to the first: a wrench
+    ``(a, b)`` is orthogonal to every ``(f, r_i x f)`` exactly when ``a = r_1 x b`` and ``b`` is
+    along ``d``. The producible directions are the other columns of the Householder reflection
+    that takes a unit axis to it. None when the two contacts coincide (the general path).
+    """
+    lever = -offsets[0]  # from {B} to the first contact
+    line = offsets[0] - offsets[1]  # from the first contact to the second
+    if float(line @ line) <= RANK_TOL * max(float(lever @ lever), 1e-300):
+        return None
+    (x, y, z), (dx, dy, dz) = lever.tolist(), line.tolist()
+    missing = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
+    missing /= np.linalg.norm(missing)
+    k = int(np.argmax(np.abs(missing)))
+    v = missing.copy()
+    v[k] += 1.0 if missing[k] >= 0.0 else -1.0
+    reflection = np.eye(6) - (2.0 / float(v @ v)) * np.outer(v, v)  # column k: -+ missing
+    return Directions(np.delete(reflection, k, axis=1), missing[:, None])
 
 
 def _point_columns(offsets: np.ndarray) -> np.ndarray:
@@ -188,6 +211,8 @@ def give_way(
         else:  # the least move (least squares when the yielding cannot absorb it all)
             shift, *_ = np.linalg.lstsq(across, gap, rcond=None)
             wrench = wrench - yielding @ shift
+    if missing is not None:
+        return wrench - missing @ (missing.T @ wrench)
     return basis @ (basis.T @ wrench)
 
 

@@ -282,7 +282,7 @@ class LeggedWalker(Gait):
         body.velocity, body.yaw_rate, body.lever = self._setpoint, self.yaw_rate, com - base
         current = self.machine.state(state)
         support = current.support
-        ground = float(np.mean([snapshot.frame_position(f)[2] for f in support]))
+        ground = sum(snapshot.frame_position(f)[2] for f in support) / len(support)
         body.height = ground + self.stand_height
         body.basis = None
         if self.parameters.give_way and len(support) < 3:

@@ -61,7 +61,7 @@ def test_circle_turns_at_the_commanded_rate():
     result = _walk(robot="go2", speed=0.5, yaw_rate=0.5, duration=4.0)
     m = result.metrics
     assert not m.fell, m.summary()
-    assert abs(m.yaw_rate_radps / 0.5 - 1.0) < 0.2, m.summary()
+    assert abs(m.yaw_rate_radps / 0.5 - 1.0) < 0.1, m.summary()
     assert abs(m.speed_mps / 0.5 - 1.0) < 0.2, m.summary()
     assert m.roll_max_rad < 0.3 and m.pitch_max_rad < 0.3, m.summary()
 

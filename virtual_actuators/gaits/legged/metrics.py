@@ -115,7 +115,7 @@ def legged_metrics(
         every = max(1, int(round(0.25 / max(t[1] - t[0], 1e-9))))
         xs, ys = x[half::every], y[half::every]
         path = float(np.hypot(np.diff(xs), np.diff(ys)).sum())
-        span = max(t[half::every][-1] - t[half], 1e-9)
+        path *= span / max(t[half::every][-1] - t[half], 1e-9)  # over the whole half
     measured = float(path / span)
     direction_error = drift = None
     if yaw_rate == 0.0 and len(t) > 1:

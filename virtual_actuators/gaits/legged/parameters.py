@@ -39,8 +39,10 @@ class LeggedParameters:
         placement_gain: Capture term: the foothold moves this many ``sqrt(h / g)`` times the
             velocity error (measured minus set point) further [-]; 1 is the capture point.
         integral_time: The footholds also move by the velocity error's integral over this
-            many ``sqrt(h / g)`` (removes the steady speed error) [-].
-        integral_limit: That integral stays within this many ``sqrt(g h)`` [-].
+            many ``sqrt(h / g)``, and the yaw damper's set point by the yaw rate error's
+            (they remove the steady speed and turning errors) [-].
+        integral_limit: Those integrals stay within this many ``sqrt(g h)`` (velocity) and
+            this many ``1 / sqrt(h / g)`` (yaw rate) [-].
         acceleration: The velocity set point follows the command at most this fast, in g [-].
         distribution: ``"qp"`` (friction pyramids, least normal force, torque limits) or
             ``"partitioned"``.

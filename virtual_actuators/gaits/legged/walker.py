@@ -121,6 +121,7 @@ class LeggedWalker(Gait):
         self.yaw_rate = 0.0
         self._setpoint = (0.0, 0.0)
         self._error_integral = (0.0, 0.0)  # velocity error integral per integral time [m/s]
+        self._yaw_integral = 0.0  # the same for the yaw rate [rad/s]
         self._dt = 0.0
         self._last_time: float | None = None
         self._starts: dict[str, np.ndarray] = {}
@@ -279,7 +280,8 @@ class LeggedWalker(Gait):
         c, s = math.cos(yaw), math.sin(yaw)
         self._ramp(context.time, state != "stand")
         body = self.body
-        body.velocity, body.yaw_rate, body.lever = self._setpoint, self.yaw_rate, com - base
+        body.velocity, body.lever = self._setpoint, com - base
+        body.yaw_rate = self.yaw_rate + self._yaw_integral
         current = self.machine.state(state)
         support = current.support
         ground = sum(snapshot.frame_position(f)[2] for f in support) / len(support)
@@ -289,21 +291,30 @@ class LeggedWalker(Gait):
             body.basis = producible_directions(self.supports[current.active[0]], snapshot)
         measured = (c * linear[0] + s * linear[1], -s * linear[0] + c * linear[1])
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
-        self._integrate(error)
+        self._integrate(error, self.yaw_rate - float(angular[2]))
         if not state.startswith("swing"):
             return
         bias = self._error_integral
         motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
         self._move_swing(context, motion, (com, base, linear, angular, yaw), ground)
 
-    def _integrate(self, error: tuple[float, float]) -> None:
-        """The velocity error's integral (the footholds' slow correction), bounded [m/s]."""
-        rate = self._dt / (self.parameters.integral_time * self.gains.time_scale)
+    def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
+        """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
+
+        Args:
+            error: Measured minus set velocity, heading frame [m/s].
+            yaw_error: Commanded minus measured yaw rate [rad/s].
+
+        """
+        scale = self.gains.time_scale
+        rate = self._dt / (self.parameters.integral_time * scale)
         limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
         self._error_integral = tuple(
             max(-limit, min(limit, total + rate * e))
             for total, e in zip(self._error_integral, error, strict=True)
         )
+        turn = self.parameters.integral_limit / scale  # [rad/s]
+        self._yaw_integral = max(-turn, min(turn, self._yaw_integral + rate * yaw_error))
 
     def _ramp(self, time: float, moving: bool) -> None:
         """Move the velocity set point toward the command at the bounded acceleration.

@@ -131,3 +131,25 @@ def test_the_tutorial_program_trots():
     simulator, walker = scope["simulator"], scope["walker"]
     assert simulator.q[0] > 0.6  # 0.8 m/s after the stand and the ramp
     assert walker.machine.steps_into(walker.step_states) >= 8
+
+
+def test_demo_legged_writes_the_trace_and_exits_1_when_the_robot_falls(tmp_path):
+    import json
+
+    from virtual_actuators.__main__ import main
+
+    walked = tmp_path / "trot.json"
+    code = main(["demo", "legged", "--robot", "solo12", "--speed", "0.3", "--duration", "1.5",
+                 "--quiet", "--json", str(walked)])
+    data = json.loads(walked.read_text())
+    assert code == 0 and data["fell"] is False
+    assert data["realtime_factor"] > 0 and data["physics_realtime_factor"] > 0
+    trace = data["trace"]
+    names = ("t", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "state")
+    assert all(len(trace[name]) == len(trace["t"]) > 100 for name in names)
+    assert set(trace["state"]) >= {"stand", "swing_0", "swing_1"}
+    # a pace starts on one side's feet, half a stance width from the centre of mass: it falls
+    paced = tmp_path / "pace.json"
+    code = main(["demo", "legged", "--robot", "go2", "--gait", "pace", "--speed", "0.3",
+                 "--duration", "1.5", "--quiet", "--json", str(paced)])
+    assert code == 1 and json.loads(paced.read_text())["fell"] is True

@@ -24,6 +24,7 @@ import numpy as np
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
+from ...experiments.walk_log import WalkLog
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
@@ -49,7 +50,7 @@ TRACE_RATE = 100.0  # [Hz]
 PUSH_TIME = 0.1  # [s]
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
-__all__ = ["LeggedResult", "LeggedWalkConfig", "run_legged_walk"]
+__all__ = ["LeggedResult", "LeggedWalkConfig", "run_legged_walk", "trace_of"]
 
 
 @dataclass(frozen=True)
@@ -127,11 +128,7 @@ class LeggedResult(WalkResult):
         ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, base link; ``z`` above the
         terrain, ``yaw`` unwrapped) and ``state``.
         """
-        log = self.log
-        names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
-        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-        trace["state"] = [log.state_names[i] for i in log.state]
-        return trace
+        return trace_of(self.log)
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates (the distance is the straight line from start to end)."""
@@ -199,17 +196,24 @@ def run_legged_walk(
     episode = LeggedEpisode(gait, simulator, terrain, recorder, config)
     end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
     log = recorder.to_log()
-    result = LeggedResult(log, None, gait, simulator, end.wall, config=config, ticks=end.ticks)
     steps = gait.machine.steps_into(gait.step_states)
     metrics = legged_metrics(
-        result.trace(), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
+        trace_of(log), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
     )
-    result.metrics = replace(
+    metrics = replace(
         metrics,
         realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
         physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
     )
-    return result
+    return LeggedResult(log, metrics, gait, simulator, end.wall, config=config, ticks=end.ticks)
+
+
+def trace_of(log: WalkLog) -> dict[str, list]:
+    """A walk log's trace: ``t, x, y, z, roll, pitch, yaw, vx, vy`` and ``state`` lists."""
+    names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
+    trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
+    trace["state"] = [log.state_names[i] for i in log.state]
+    return trace
 
 
 class LeggedEpisode(Episode):

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -53,7 +54,26 @@ from .footholds import Motion, foothold, swing_point
 from .parameters import GRAVITY, LeggedParameters, derive_gains
 from .patterns import GaitPattern, named_pattern
 
-__all__ = ["LeggedWalker"]
+__all__ = ["BodyState", "LeggedWalker"]
+
+
+class BodyState(NamedTuple):
+    """The body as the swing feet's set points need it this tick (world frame).
+
+    Attributes:
+        com: Centre of mass [m].
+        base: The body frame's origin [m].
+        linear: Its velocity [m/s].
+        angular: The body's angular velocity [rad/s].
+        yaw: Its heading [rad].
+
+    """
+
+    com: np.ndarray
+    base: np.ndarray
+    linear: np.ndarray
+    angular: np.ndarray
+    yaw: float
 
 
 class LeggedWalker(Gait):
@@ -127,8 +147,10 @@ class LeggedWalker(Gait):
         self._starts: dict[str, np.ndarray] = {}
         self._targets: dict[str, np.ndarray] = {}
         self._rates: dict[str, np.ndarray] = {}
+        self._target_time = 0.0  # of the swing set points last set [s]
         self._declare()
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
+        self._swinging = dict(zip(self.step_states, self.groups, strict=True))
         self._finish(self._machine())
 
     # --- declaration ---------------------------------------------------------------------------
@@ -263,10 +285,10 @@ class LeggedWalker(Gait):
             self._starts[foot] = context.frame_position(foot).copy()
             self._targets[foot] = self._starts[foot].copy()
             self._rates[foot] = np.zeros(3)
-        self._swing_entered = context.time
 
     def _group(self, context: Context) -> tuple[str, ...]:
-        return self.groups[int(context.state.rsplit("_", 1)[1])]
+        """The feet swinging in the current state."""
+        return self._swinging[context.state]
 
     def _update(self, context: Context) -> None:
         """Body set points, the producible directions, and the swing feet."""
@@ -282,7 +304,7 @@ class LeggedWalker(Gait):
         body = self.body
         body.velocity, body.lever = self._setpoint, com - base
         body.yaw_rate = self.yaw_rate + self._yaw_integral
-        current = self.machine.state(state)
+        current = self.machine.current
         support = current.support
         ground = sum(snapshot.frame_position(f)[2] for f in support) / len(support)
         body.height = ground + self.stand_height
@@ -296,7 +318,7 @@ class LeggedWalker(Gait):
             return
         bias = self._error_integral
         motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
-        self._move_swing(context, motion, (com, base, linear, angular, yaw), ground)
+        self._move_swing(context, motion, BodyState(com, base, linear, angular, yaw), ground)
 
     def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
         """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
@@ -334,7 +356,7 @@ class LeggedWalker(Gait):
         self.body.acceleration = (rate * dx / norm, rate * dy / norm)
 
     def _move_swing(
-        self, context: Context, motion: Motion, body: tuple, ground: float
+        self, context: Context, motion: Motion, body: BodyState, ground: float
     ) -> None:
         """The swing feet's set points along their curves to the footholds."""
         p, g = self.parameters, self.gains
@@ -364,7 +386,7 @@ class LeggedWalker(Gait):
             )
             land = np.array((centre[0] + c * x - s * y, centre[1] + s * x + c * y, ground - depth))
             target = swing_point(self._starts[foot], land, phase, p.lift * g.height, p.lift_peak)
-            dt = context.time - getattr(self, "_target_time", context.time)
+            dt = context.time - self._target_time
             if 0.0 < dt:
                 blend = min(1.0, dt / 0.02)
                 rate = (target - self._targets[foot]) / dt

@@ -166,3 +166,18 @@ def test_yielding_the_horizontal_force_keeps_height_and_attitude_exact(solo):
     assert np.allclose(basis @ (basis.T @ produced), produced, atol=1e-9)
     assert np.allclose(give_way(basis, wrench, horizontal), produced, atol=1e-9)
     assert body.solve(q, produced).residual < 1e-6 * np.linalg.norm(produced)
+
+
+def test_the_actuator_gives_way_on_request(solo):
+    feet = ["FL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(solo, "base_link", feet, "world", contact="point")
+    q = _configuration(solo, 8)
+    wrench = np.array([5.0, 2.0, 25.0, 0.4, -0.3, 0.2])
+    request = body.give_way(q, wrench)  # the horizontal force yields
+    assert np.allclose(request[2:], wrench[2:], atol=1e-12)
+    assert body.solve(q, request).residual < 1e-6 * np.linalg.norm(request)
+    moments = body.give_way(q, wrench, axes=("rx", "ry", "rz"))
+    assert np.allclose(moments[:3], wrench[:3], atol=1e-12)
+    assert body.solve(q, moments).residual < 1e-6 * np.linalg.norm(moments)
+    with pytest.raises(va.InvalidAxisError):
+        body.give_way(q, wrench, axes=("w",))

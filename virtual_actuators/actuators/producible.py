@@ -24,11 +24,14 @@ shift the producible set without changing its directions and are not part of the
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from ..kinematics.snapshot import Snapshot
+from ..vocabulary.axes import check_axes_subset
+from .serial import wrench_array
 
 if TYPE_CHECKING:  # the actuator imports this module
     from .parallel import ParallelVirtualActuator
@@ -216,6 +219,35 @@ def give_way(
     return basis @ (basis.T @ wrench)
 
 
+def yielding_request(
+    actuator: ParallelVirtualActuator,
+    q: np.ndarray | Snapshot,
+    wrench: np.ndarray,
+    axes: Sequence[str] = ("x", "y"),
+) -> np.ndarray:
+    """``wrench`` made producible at ``q`` by giving way along ``axes`` only (:func:`give_way`).
+
+    Args:
+        actuator: The parallel actuator.
+        q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+        wrench: ``(n,)`` request on the actuator's axes.
+        axes: The axes that give way, among the actuator's.
+
+    Returns:
+        ``(n,)`` the request to solve for.
+
+    Raises:
+        InvalidAxisError: ``axes`` not among the actuator's axes.
+        InvalidInputError: A bad ``q`` or ``wrench``.
+
+    """
+    chosen = check_axes_subset(axes, actuator.axes, "give way axes")
+    wrench = wrench_array(wrench, actuator.axes)
+    directions = producible_directions(actuator, q)
+    yielding = np.eye(len(actuator.axes))[:, [actuator.axes.index(a) for a in chosen]]
+    return give_way(directions.producible, wrench, yielding, directions.missing)
+
+
 def moment_directions(axes: tuple[str, ...]) -> np.ndarray:
     """``(n, m)`` unit columns of the rotational axes among ``axes`` (the default yielding)."""
     rotational = [i for i, axis in enumerate(axes) if axis.startswith("r")]
@@ -229,4 +261,5 @@ __all__ = [
     "moment_directions",
     "producible_basis",
     "producible_directions",
+    "yielding_request",
 ]

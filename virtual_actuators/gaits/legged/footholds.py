@@ -20,6 +20,25 @@ from ..planar import lift_profile, smoothstep
 Pair = tuple[float, float]
 
 
+class BodyState(NamedTuple):
+    """The body as the swing feet's set points need it this tick (world frame).
+
+    Attributes:
+        com: Centre of mass [m].
+        base: The body frame's origin [m].
+        linear: Its velocity [m/s].
+        angular: The body's angular velocity [rad/s].
+        yaw: Its heading [rad].
+
+    """
+
+    com: np.ndarray
+    base: np.ndarray
+    linear: np.ndarray
+    angular: np.ndarray
+    yaw: float
+
+
 class Motion(NamedTuple):
     """The body's planar motion the footholds are placed for (heading frame, set points).
 
@@ -80,4 +99,4 @@ def swing_point(
     return point
 
 
-__all__ = ["Motion", "foothold", "swing_point"]
+__all__ = ["BodyState", "Motion", "foothold", "swing_point"]

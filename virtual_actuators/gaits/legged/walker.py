@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import NamedTuple
 
 import numpy as np
 
@@ -50,30 +49,11 @@ from ...models.robot import Robot
 from ..base import Gait
 from .body import BodyModel
 from .com import MassModel
-from .footholds import Motion, foothold, swing_point
+from .footholds import BodyState, Motion, foothold, swing_point
 from .parameters import GRAVITY, LeggedParameters, derive_gains
 from .patterns import GaitPattern, named_pattern
 
-__all__ = ["BodyState", "LeggedWalker"]
-
-
-class BodyState(NamedTuple):
-    """The body as the swing feet's set points need it this tick (world frame).
-
-    Attributes:
-        com: Centre of mass [m].
-        base: The body frame's origin [m].
-        linear: Its velocity [m/s].
-        angular: The body's angular velocity [rad/s].
-        yaw: Its heading [rad].
-
-    """
-
-    com: np.ndarray
-    base: np.ndarray
-    linear: np.ndarray
-    angular: np.ndarray
-    yaw: float
+__all__ = ["LeggedWalker"]
 
 
 class LeggedWalker(Gait):

@@ -36,6 +36,7 @@ class LeggedParameters:
         lift: Swing height as a fraction of the standing height ``h`` [-].
         lift_peak: Phase of the swing at which the foot is highest [-].
         touchdown_depth: How far below the ground the swing ends, fraction of ``h`` [-].
+        reach: A foothold lies within this fraction of ``h`` of the foot's nominal place [-].
         placement_gain: Capture term: the foothold moves this many ``sqrt(h / g)`` times the
             velocity error (measured minus set point) further [-]; 1 is the capture point.
         integral_time: The footholds also move by the velocity error's integral over this
@@ -70,6 +71,7 @@ class LeggedParameters:
     lift: float = 0.15
     lift_peak: float = 0.4
     touchdown_depth: float = 0.02
+    reach: float = 0.6
     placement_gain: float = 1.0
     integral_time: float = 4.0
     integral_limit: float = 0.3

@@ -53,7 +53,10 @@ from .footholds import BodyState, Motion, foothold, swing_point
 from .parameters import GRAVITY, LeggedParameters, derive_gains
 from .patterns import GaitPattern, named_pattern
 
-__all__ = ["LeggedWalker"]
+__all__ = ["RATE_FILTER", "LeggedWalker"]
+
+#: Time constant of the low-pass filter on the swing set points' velocity [s].
+RATE_FILTER = 0.02
 
 
 class LeggedWalker(Gait):
@@ -349,7 +352,8 @@ class LeggedWalker(Gait):
         cy, sy = math.cos(yaw), math.sin(yaw)
         vx, vy = motion.velocity
         centre = com[:2] + remaining * np.array((cy * vx - sy * vy, sy * vx + cy * vy))
-        depth = p.touchdown_depth * g.height * (1.0 + max(0.0, phase - 1.0) / 0.25)
+        # past the planned touchdown the set point keeps going down, a depth per quarter swing
+        depth = p.touchdown_depth * g.height * (1.0 + 4.0 * max(0.0, phase - 1.0))
         contacts = context.contacts or {}
         late = phase >= p.touchdown_phase
         for foot in self._group(context):
@@ -362,13 +366,13 @@ class LeggedWalker(Gait):
             k = self.feet.index(foot)
             x, y = foothold(
                 tuple(self.nominal[k]), motion, self.stance_time, g.time_scale * p.placement_gain,
-                0.6 * g.height,
+                p.reach * g.height,
             )
             land = np.array((centre[0] + c * x - s * y, centre[1] + s * x + c * y, ground - depth))
             target = swing_point(self._starts[foot], land, phase, p.lift * g.height, p.lift_peak)
             dt = context.time - self._target_time
             if 0.0 < dt:
-                blend = min(1.0, dt / 0.02)
+                blend = min(1.0, dt / RATE_FILTER)
                 rate = (target - self._targets[foot]) / dt
                 self._rates[foot] += blend * (rate - self._rates[foot])
             self._targets[foot] = target

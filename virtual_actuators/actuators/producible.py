@@ -24,6 +24,7 @@ shift the producible set without changing its directions and are not part of the
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -38,6 +39,9 @@ if TYPE_CHECKING:  # the actuator imports this module
 
 #: Singular values below this fraction of the largest count as zero (the rank decision).
 RANK_TOL = 1e-9
+
+_EYE6 = np.eye(6)
+_OTHERS = [np.array([j for j in range(6) if j != k]) for k in range(6)]  # columns but k
 
 
 def _null_space(matrix: np.ndarray) -> np.ndarray:
@@ -140,18 +144,19 @@ def _two_points(offsets: np.ndarray) -> Directions | None:
     along ``d``. The producible directions are the other columns of the Householder reflection
     that takes a unit axis to it. None when the two contacts coincide (the general path).
     """
-    lever = -offsets[0]  # from {B} to the first contact
-    line = offsets[0] - offsets[1]  # from the first contact to the second
-    if float(line @ line) <= RANK_TOL * max(float(lever @ lever), 1e-300):
+    (ax, ay, az), (bx, by, bz) = offsets.tolist()
+    x, y, z = -ax, -ay, -az  # from {B} to the first contact
+    dx, dy, dz = ax - bx, ay - by, az - bz  # from the first contact to the second
+    if dx * dx + dy * dy + dz * dz <= RANK_TOL * max(x * x + y * y + z * z, 1e-300):
         return None
-    (x, y, z), (dx, dy, dz) = lever.tolist(), line.tolist()
-    missing = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
-    missing /= np.linalg.norm(missing)
+    values = [y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz]
+    norm = math.sqrt(sum(v * v for v in values))
+    missing = np.array(values) / norm
     k = int(np.argmax(np.abs(missing)))
     v = missing.copy()
     v[k] += 1.0 if missing[k] >= 0.0 else -1.0
-    reflection = np.eye(6) - (2.0 / float(v @ v)) * np.outer(v, v)  # column k: -+ missing
-    return Directions(np.delete(reflection, k, axis=1), missing[:, None])
+    reflection = _EYE6 - (2.0 / float(v @ v)) * np.outer(v, v)  # column k: -+ missing
+    return Directions(reflection[:, _OTHERS[k]], missing[:, None])
 
 
 def _point_columns(offsets: np.ndarray) -> np.ndarray:

@@ -110,6 +110,7 @@ def test_walk_pattern_lifts_one_foot_at_a_time():
     m = result.metrics
     assert not m.fell, m.summary()
     assert abs(m.speed_mps / 0.2 - 1.0) < 0.2, m.summary()
+    assert m.roll_max_rad < 0.1 and m.pitch_max_rad < 0.1, m.summary()  # attitude kept
     states = set(result.trace()["state"])
     assert {"swing_0", "swing_1", "swing_2", "swing_3"} <= states
 

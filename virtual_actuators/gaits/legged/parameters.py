@@ -54,7 +54,10 @@ class LeggedParameters:
             become producible by the support (``ParallelVirtualActuator.producible``); the
             horizontal force by default (with two point feet the centre of mass then moves
             away from the line between them as an inverted pendulum, attitude and height
-            exact); ``()`` to leave unproducible requests to the distribution.
+            exact); ``()`` to leave unproducible requests to the distribution. With
+            ``distribution="qp"`` the same axes give way first when the friction pyramids or
+            the least normal force bind (the QP's closest wrench, ``yield_axes``): three feet
+            with the centre of mass outside their triangle keep the attitude too.
         stand_time: Standing on all feet before the first swing [s].
 
     """

@@ -173,7 +173,7 @@ class LeggedWalker(Gait):
         min_normal = p.min_normal * weight / len(self.feet)
         if p.distribution == "qp":
             point = {"friction": p.friction, "min_normal": min_normal, "torque_limits": True}
-            rule = {"method": "qp"}
+            rule = {"method": "qp", "yield_axes": p.give_way}
         else:
             point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": ("x", "y")}
         self.supports: dict[str, ParallelVirtualActuator] = {}

@@ -38,6 +38,9 @@ class LeggedMetrics:
         yaw_rate_command_radps: Commanded yaw rate [rad/s].
         roll_max_rad: Largest ``|roll|`` [rad].
         pitch_max_rad: Largest ``|pitch|`` [rad].
+        stance_normal_min_n: Least normal force MuJoCo measured on a foot in support (sampled
+            at the trace's rate, after each foot's first 20 ms) [N].
+        stance_friction_ratio_max: Largest tangential over normal force on such a foot [-].
         realtime_factor: Simulated over wall-clock time of the loop.
         physics_realtime_factor: Simulated over wall-clock time of MuJoCo's steps alone.
 
@@ -56,6 +59,8 @@ class LeggedMetrics:
     yaw_rate_command_radps: float
     roll_max_rad: float
     pitch_max_rad: float
+    stance_normal_min_n: float | None = None
+    stance_friction_ratio_max: float | None = None
     realtime_factor: float | None = None
     physics_realtime_factor: float | None = None
 

@@ -200,8 +200,11 @@ def run_legged_walk(
     metrics = legged_metrics(
         trace_of(log), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
     )
+    normal_min, ratio_max = episode.stance.figures()
     metrics = replace(
         metrics,
+        stance_normal_min_n=normal_min,
+        stance_friction_ratio_max=ratio_max,
         realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
         physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
     )
@@ -232,6 +235,7 @@ class LeggedEpisode(Episode):
         super().__init__(gait, simulator, terrain, recorder)
         self.config = config
         self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
         c, s = math.cos(config.direction), math.sin(config.direction)
         gait.set_command((config.speed * c, config.speed * s), config.yaw_rate)
         self.pushed = config.push is None

@@ -105,6 +105,17 @@ def test_the_body_gives_way_only_where_its_support_cannot_push():
     assert exact >= 0.95 * len(ticks)
 
 
+def test_sine_path_is_followed_holding_the_heading():
+    result = _walk(robot="go2", speed=0.5, path="sine", amplitude=0.2, wavelength=2.0,
+                   duration=4.0)
+    m = result.metrics
+    assert not m.fell, m.summary()
+    assert m.path_error_max_m < 0.05, m.summary()
+    assert m.heading_drift_rad < 0.1, m.summary()
+    trace = result.trace()
+    assert max(trace["y"]) - min(trace["y"]) > 0.25  # it did weave
+
+
 def test_walk_pattern_lifts_one_foot_at_a_time():
     result = _walk(robot="go2", gait="walk", speed=0.2, duration=3.0)
     m = result.metrics

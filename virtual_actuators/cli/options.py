@@ -137,14 +137,14 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         "--path",
         choices=("line", "sine"),
         default=None,
-        help=hexapod + "line (default) or sine: y = A sin(2 pi x / L) from the start, "
-        "holding the initial heading",
+        help="hexapod-walk, legged: line (default) or sine: y = A sin(2 pi x / L) from the "
+        "start, holding the initial heading",
     )
     demo.add_argument(
-        "--amplitude", type=amplitude, default=None, metavar="M", help=hexapod + "sine A, m"
+        "--amplitude", type=amplitude, default=None, metavar="M", help="--path sine: A, m"
     )
     demo.add_argument(
-        "--wavelength", type=wavelength, default=None, metavar="M", help=hexapod + "sine L, m"
+        "--wavelength", type=wavelength, default=None, metavar="M", help="--path sine: L, m"
     )
     demo.add_argument(
         "--pendulum",

@@ -38,6 +38,7 @@ class LeggedMetrics:
         yaw_rate_command_radps: Commanded yaw rate [rad/s].
         roll_max_rad: Largest ``|roll|`` [rad].
         pitch_max_rad: Largest ``|pitch|`` [rad].
+        path_error_max_m: A sine path: the largest distance across from it, second half [m].
         stance_normal_min_n: Least normal force MuJoCo measured on a foot in support (sampled
             at the trace's rate, after each foot's first 20 ms) [N].
         stance_friction_ratio_max: Largest tangential over normal force on such a foot [-].
@@ -59,6 +60,7 @@ class LeggedMetrics:
     yaw_rate_command_radps: float
     roll_max_rad: float
     pitch_max_rad: float
+    path_error_max_m: float | None = None
     stance_normal_min_n: float | None = None
     stance_friction_ratio_max: float | None = None
     realtime_factor: float | None = None
@@ -75,6 +77,7 @@ class LeggedMetrics:
             ("heading drift", self.heading_drift_rad),
             ("roll max", self.roll_max_rad),
             ("pitch max", self.pitch_max_rad),
+            ("path error", self.path_error_max_m),
         ):
             if value is not None:
                 parts.append(f"{label} {value:.3f}")

@@ -21,7 +21,6 @@ from typing import Any
 
 import numpy as np
 
-from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
 from ...experiments.walk_log import WalkLog
@@ -30,27 +29,23 @@ from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution
-from ..hexapod.body import attitude_and_velocity
-from ..hexapod.guidance import wrap
+from ..hexapod.guidance import SinePath
 from ..runner import (
-    FALL_PITCH,
-    Episode,
     WalkFigures,
     WalkResult,
     drive,
     number,
     terrain_points,
 )
+from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
 from .patterns import PATTERNS
 from .walker import LeggedWalker
 
-TRACE_RATE = 100.0  # [Hz]
-PUSH_TIME = 0.1  # [s]
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
-__all__ = ["LeggedResult", "LeggedWalkConfig", "run_legged_walk", "trace_of"]
+__all__ = ["LeggedResult", "LeggedWalkConfig", "run_legged_walk", "sine_error", "trace_of"]
 
 
 @dataclass(frozen=True)
@@ -65,6 +60,10 @@ class LeggedWalkConfig:
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
         push: ``(newtons, start time [s], direction [deg])`` on the base, or None.
+        path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``: ``y = A sin(2 pi
+            x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
+        amplitude: The sine's ``A`` [m].
+        wavelength: The sine's ``L`` [m].
         terrain: A :meth:`Terrain.parse` spec.
         duration: Simulated time [s].
         distribution: ``"qp"`` or ``"partitioned"``.
@@ -83,6 +82,9 @@ class LeggedWalkConfig:
     direction: float = 0.0
     yaw_rate: float = 0.0
     push: tuple[float, float, float] | None = None
+    path: str = "line"
+    amplitude: float = 0.2
+    wavelength: float = 2.0
     terrain: str = "flat"
     duration: float = 4.0
     distribution: str = "qp"
@@ -97,6 +99,13 @@ class LeggedWalkConfig:
             raise InvalidInputError(
                 f"speed must be in [0, 1.5] m/s and duration > 0 s, got {self.speed}, "
                 f"{self.duration}."
+            )
+        if self.path not in ("line", "sine"):
+            raise InvalidInputError(f"path must be 'line' or 'sine', got {self.path!r}.")
+        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0 or self.yaw_rate):
+            raise InvalidInputError(
+                "path 'sine' needs a speed > 0 and a wavelength > 0, and holds the heading "
+                "(no yaw rate)."
             )
         if self.gait not in PATTERNS:
             raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
@@ -201,6 +210,12 @@ def run_legged_walk(
         trace_of(log), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
     )
     normal_min, ratio_max = episode.stance.figures()
+    if episode.guidance is not None:  # a sine: how far from the curve, not which direction
+        metrics = replace(
+            metrics,
+            direction_error_rad=None,
+            path_error_max_m=sine_error(episode.guidance, trace_of(log)),
+        )
     metrics = replace(
         metrics,
         stance_normal_min_n=normal_min,
@@ -211,85 +226,22 @@ def run_legged_walk(
     return LeggedResult(log, metrics, gait, simulator, end.wall, config=config, ticks=end.ticks)
 
 
+def sine_error(guidance: SinePath, trace: dict[str, list]) -> float:
+    """Largest distance across from the commanded sine over the trace's second half [m]."""
+    half = len(trace["t"]) // 2
+    points = [guidance.to_path(x, y) for x, y in zip(trace["x"], trace["y"], strict=True)]
+    return max(
+        (abs(across - float(guidance.curve(along))) for along, across in points[half:]),
+        default=0.0,
+    )
+
+
 def trace_of(log: WalkLog) -> dict[str, list]:
     """A walk log's trace: ``t, x, y, z, roll, pitch, yaw, vx, vy`` and ``state`` lists."""
     names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
     trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
     trace["state"] = [log.state_names[i] for i in log.state]
     return trace
-
-
-class LeggedEpisode(Episode):
-    """A legged walk under :func:`~virtual_actuators.gaits.runner.drive`."""
-
-    ignore_unactuated = True
-
-    def __init__(
-        self,
-        gait: LeggedWalker,
-        simulator: Simulator,
-        terrain: Terrain,
-        recorder: Recorder,
-        config: LeggedWalkConfig,
-    ) -> None:
-        super().__init__(gait, simulator, terrain, recorder)
-        self.config = config
-        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
-        self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
-        c, s = math.cos(config.direction), math.sin(config.direction)
-        gait.set_command((config.speed * c, config.speed * s), config.yaw_rate)
-        self.pushed = config.push is None
-        model = simulator.mujoco_model
-        #: frames that may touch the ground: those sharing a geometry with a foot
-        self.allowed = frozenset(
-            name
-            for foot in gait.feet
-            for geom in model.frame_geoms.get(foot, ())
-            for name in model.geom_frames[geom]
-        ) | frozenset(gait.feet)
-        self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
-        self.yaw_unwrapped = self.yaw_last = 0.0
-
-    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """The push when its time comes; the feet's contact switches."""
-        self.attitude = attitude_and_velocity(q, v)
-        if not self.pushed and now >= self.config.push[1]:
-            newtons, _, degrees = self.config.push
-            angle = math.radians(degrees)
-            force = (newtons * math.cos(angle), newtons * math.sin(angle), 0.0)
-            self.simulator.push(force, self.gait.body_frame, PUSH_TIME)
-            self.pushed = True
-        return self.simulator.contact_switches(self.gait.feet)
-
-    def fallen(self, q: np.ndarray) -> bool:
-        """Base low or tilted, or a part other than a foot's link on the ground."""
-        _, pitch, roll, _, _ = self.attitude
-        height = float(q[2] - self.terrain.height(float(q[0])))
-        if height < 0.5 * self.gait.stand_height or max(abs(roll), abs(pitch)) > FALL_PITCH:
-            return True
-        return not self.simulator.touching_frames() <= self.allowed
-
-    def record(
-        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
-    ) -> None:
-        """One sample of :data:`CHANNELS`."""
-        machine = self.gait.machine
-        yaw, pitch, roll, vx, vy = self.attitude
-        self.yaw_unwrapped += wrap(yaw - self.yaw_last)
-        self.yaw_last = yaw
-        self.recorder.append(
-            state=machine.index[machine.current.name],
-            time=now,
-            x=q[0],
-            y=q[1],
-            z=float(q[2] - self.terrain.height(float(q[0]))),
-            roll=roll,
-            pitch=pitch,
-            yaw=self.yaw_unwrapped,
-            vx=vx,
-            vy=vy,
-            fallen=float(fallen),
-        )
 
 
 def run_registered(
@@ -307,7 +259,8 @@ def run_registered(
 ) -> LeggedResult:
     """The legged walk as :func:`~virtual_actuators.gaits.registry.run_walk` runs it.
 
-    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``.
+    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``,
+    ``path``, ``amplitude``, ``wavelength``.
 
     Raises:
         InvalidInputError: A bad configuration or parameters.
@@ -367,7 +320,10 @@ WALK = Walk(
     plot=plot_legged_walk,
     description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "
     "the public gait layer",
-    options=("robot", "gait", "feet", "direction", "yaw_rate", "push"),
+    options=(
+        "robot", "gait", "feet", "direction", "yaw_rate", "push", "path", "amplitude",
+        "wavelength",
+    ),
     force_scale=1 / 250,
     viewer_robot=_viewer_robot,
 )

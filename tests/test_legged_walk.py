@@ -116,6 +116,15 @@ def test_sine_path_is_followed_holding_the_heading():
     assert max(trace["y"]) - min(trace["y"]) > 0.25  # it did weave
 
 
+def test_tracking_faces_an_object_circling_the_start():
+    result = _walk(robot="go2", speed=0.3, track=True, duration=5.0)
+    m = result.metrics
+    assert not m.fell, m.summary()
+    assert m.bearing_error_max_rad < 0.05, m.summary()
+    yaw = result.trace()["yaw"]
+    assert yaw[-1] - yaw[0] > 0.5  # it turned with the object (0.25 rad/s)
+
+
 def test_walk_pattern_lifts_one_foot_at_a_time():
     result = _walk(robot="go2", gait="walk", speed=0.2, duration=3.0)
     m = result.metrics

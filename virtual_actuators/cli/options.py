@@ -154,7 +154,7 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--track",
         action="store_true",
-        help=hexapod + "face an object circling the start while walking",
+        help="hexapod-walk, legged: face an object circling the start while walking",
     )
     demo.add_argument(
         "--seed",

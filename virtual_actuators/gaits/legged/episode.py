@@ -1,7 +1,7 @@
 """One legged walk being run under :func:`~virtual_actuators.gaits.runner.drive`.
 
-:class:`LeggedEpisode` gives the walker its command every tick (fixed, or steered along a sine
-path by the hexapod's :class:`~virtual_actuators.gaits.hexapod.guidance.SinePath`), pushes the
+:class:`LeggedEpisode` gives the walker its command every tick (fixed, or steered by the hexapod's
+guidance: along a sine path, or facing an object that circles the start), pushes the
 base when the push's time comes, reads the feet's contact switches, judges a fall (the base below
 half its standing height, roll or pitch beyond 0.8 rad, a part other than a foot's link on the
 ground) and records the base at the trace's rate.
@@ -19,7 +19,7 @@ from ...experiments.recorder import Recorder
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..hexapod.body import attitude_and_velocity
-from ..hexapod.guidance import PlanarState, SinePath, wrap
+from ..hexapod.guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
 from ..runner import FALL_PITCH, Episode
 from .walker import LeggedWalker
 
@@ -51,13 +51,15 @@ class LeggedEpisode(Episode):
         self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
         c, s = math.cos(config.direction), math.sin(config.direction)
         gait.set_command((config.speed * c, config.speed * s), config.yaw_rate)
-        self.guidance = None
+        self.guidance: Guidance | None = None
         if config.path == "sine":
             self.guidance = SinePath(config.speed, config.amplitude, config.wavelength)
-            x, y, yaw = simulator.q[0], simulator.q[1], attitude_and_velocity(
-                simulator.q, simulator.v
-            )[0]
-            self.guidance.begin(PlanarState(0.0, float(x), float(y), yaw, 0.0, 0.0))
+        elif config.track:
+            self.guidance = TrackObject(config.speed, config.direction)
+        if self.guidance is not None:
+            q = simulator.q
+            yaw = attitude_and_velocity(q, simulator.v)[0]
+            self.guidance.begin(PlanarState(0.0, float(q[0]), float(q[1]), yaw, 0.0, 0.0))
         self.pushed = config.push is None
         model = simulator.mujoco_model
         #: frames that may touch the ground: those sharing a geometry with a foot

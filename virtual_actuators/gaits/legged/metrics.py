@@ -39,6 +39,8 @@ class LeggedMetrics:
         roll_max_rad: Largest ``|roll|`` [rad].
         pitch_max_rad: Largest ``|pitch|`` [rad].
         path_error_max_m: A sine path: the largest distance across from it, second half [m].
+        bearing_error_max_rad: Tracking: the largest bearing error to the object after 3 s
+            [rad].
         stance_normal_min_n: Least normal force MuJoCo measured on a foot in support (sampled
             at the trace's rate, after each foot's first 20 ms) [N].
         stance_friction_ratio_max: Largest tangential over normal force on such a foot [-].
@@ -61,6 +63,7 @@ class LeggedMetrics:
     roll_max_rad: float
     pitch_max_rad: float
     path_error_max_m: float | None = None
+    bearing_error_max_rad: float | None = None
     stance_normal_min_n: float | None = None
     stance_friction_ratio_max: float | None = None
     realtime_factor: float | None = None
@@ -78,6 +81,7 @@ class LeggedMetrics:
             ("roll max", self.roll_max_rad),
             ("pitch max", self.pitch_max_rad),
             ("path error", self.path_error_max_m),
+            ("bearing error max", self.bearing_error_max_rad),
         ):
             if value is not None:
                 parts.append(f"{label} {value:.3f}")

@@ -29,7 +29,7 @@ from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution
-from ..hexapod.guidance import SinePath
+from ..hexapod.guidance import PlanarState, SinePath, TrackObject
 from ..runner import (
     WalkFigures,
     WalkResult,
@@ -45,7 +45,14 @@ from .walker import LeggedWalker
 
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
-__all__ = ["LeggedResult", "LeggedWalkConfig", "run_legged_walk", "sine_error", "trace_of"]
+__all__ = [
+    "LeggedResult",
+    "LeggedWalkConfig",
+    "bearing_error",
+    "run_legged_walk",
+    "sine_error",
+    "trace_of",
+]
 
 
 @dataclass(frozen=True)
@@ -64,6 +71,8 @@ class LeggedWalkConfig:
             x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
         amplitude: The sine's ``A`` [m].
         wavelength: The sine's ``L`` [m].
+        track: Walk the commanded velocity while facing an object circling the start (the
+            yaw rate is the guidance's; line path only).
         terrain: A :meth:`Terrain.parse` spec.
         duration: Simulated time [s].
         distribution: ``"qp"`` or ``"partitioned"``.
@@ -85,6 +94,7 @@ class LeggedWalkConfig:
     path: str = "line"
     amplitude: float = 0.2
     wavelength: float = 2.0
+    track: bool = False
     terrain: str = "flat"
     duration: float = 4.0
     distribution: str = "qp"
@@ -107,6 +117,8 @@ class LeggedWalkConfig:
                 "path 'sine' needs a speed > 0 and a wavelength > 0, and holds the heading "
                 "(no yaw rate)."
             )
+        if self.track and (self.path != "line" or self.yaw_rate):
+            raise InvalidInputError("track sets the yaw rate itself: a line path, no yaw rate.")
         if self.gait not in PATTERNS:
             raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
         if self.push is not None and (
@@ -210,11 +222,18 @@ def run_legged_walk(
         trace_of(log), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
     )
     normal_min, ratio_max = episode.stance.figures()
-    if episode.guidance is not None:  # a sine: how far from the curve, not which direction
+    if isinstance(episode.guidance, SinePath):  # how far from the curve, not which direction
         metrics = replace(
             metrics,
             direction_error_rad=None,
             path_error_max_m=sine_error(episode.guidance, trace_of(log)),
+        )
+    elif isinstance(episode.guidance, TrackObject):  # facing the object, turning at will
+        metrics = replace(
+            metrics,
+            direction_error_rad=None,
+            heading_drift_rad=None,
+            bearing_error_max_rad=bearing_error(episode.guidance, trace_of(log)),
         )
     metrics = replace(
         metrics,
@@ -232,6 +251,18 @@ def sine_error(guidance: SinePath, trace: dict[str, list]) -> float:
     points = [guidance.to_path(x, y) for x, y in zip(trace["x"], trace["y"], strict=True)]
     return max(
         (abs(across - float(guidance.curve(along))) for along, across in points[half:]),
+        default=0.0,
+    )
+
+
+def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float = 3.0) -> float:
+    """Largest ``|bearing to the tracked object - heading|`` after ``settle`` seconds [rad]."""
+    return max(
+        (
+            abs(guidance.bearing_error(PlanarState(t, x, y, yaw, 0.0, 0.0)))
+            for t, x, y, yaw in zip(trace["t"], trace["x"], trace["y"], trace["yaw"], strict=True)
+            if t >= settle
+        ),
         default=0.0,
     )
 
@@ -260,7 +291,7 @@ def run_registered(
     """The legged walk as :func:`~virtual_actuators.gaits.registry.run_walk` runs it.
 
     ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``,
-    ``path``, ``amplitude``, ``wavelength``.
+    ``path``, ``amplitude``, ``wavelength``, ``track``.
 
     Raises:
         InvalidInputError: A bad configuration or parameters.
@@ -322,7 +353,7 @@ WALK = Walk(
     "the public gait layer",
     options=(
         "robot", "gait", "feet", "direction", "yaw_rate", "push", "path", "amplitude",
-        "wavelength",
+        "wavelength", "track",
     ),
     force_scale=1 / 250,
     viewer_robot=_viewer_robot,

@@ -142,6 +142,8 @@ class LeggedWalker(Gait):
         """Nominal stance, standing height and gains from the standing pose."""
         robot, model = self.robot, self.robot.model
         frame = model.frames[model.getFrameId(self.body_frame)]
+        #: the floating base's angular velocity (its own axes) into the body frame's axes
+        self._to_body = frame.placement.rotation.T.copy()
         if frame.parentJoint != 1:
             raise InvalidInputError(
                 f"LeggedWalker: the body frame {self.body_frame!r} must be on the floating base."
@@ -279,7 +281,7 @@ class LeggedWalker(Gait):
         base = snapshot.frame_position(self.body_frame)
         rotation = snapshot.frame_rotation(self.body_frame)
         linear = snapshot.frame_velocity(self.body_frame)
-        angular = rotation @ context.v[3:6]
+        angular = rotation @ (self._to_body @ context.v[3:6])  # world axes [rad/s]
         com = self.mass_model.center_of_mass(context.q)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)

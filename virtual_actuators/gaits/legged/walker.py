@@ -164,6 +164,7 @@ class LeggedWalker(Gait):
                 f"LeggedWalker: the body of {robot.name!r} is not above its feet when standing."
             )
         inertia = rotation.T @ self.mass_model.centroidal_inertia(q0) @ rotation
+        # a leg's mass sets its swing spring; a floor of 5 % of the robot for massless links
         legs = tuple(max(self.mass_model.chain_mass(f), 0.05 * robot.mass) for f in self.feet)
         self.gains = derive_gains(p, self.mass_model.mass, inertia, legs, self.stand_height)
 
@@ -177,7 +178,8 @@ class LeggedWalker(Gait):
             point = {"friction": p.friction, "min_normal": min_normal, "torque_limits": True}
             rule = {"method": "qp", "yield_axes": p.give_way}
         else:
-            point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": ("x", "y")}
+            yielding = p.give_way or ("x", "y")  # the scaling rule needs axes to scale
+            point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": yielding}
         self.supports: dict[str, ParallelVirtualActuator] = {}
         sets = {f"support_{k}": [f for f in self.feet if f not in group]
                 for k, group in enumerate(self.groups)}

@@ -55,6 +55,11 @@ def test_trot_reaches_the_commanded_speed(robot, speed):
     assert np.all(np.diff(trace["t"]) <= 1 / 50 + 1e-9)  # at 50 Hz or faster
 
 
+def test_trot_with_the_partitioned_split():
+    result = _walk(robot="go2", speed=1.0, distribution="partitioned")
+    _assert_line(result, 1.0)
+
+
 def test_crab_walk_goes_sideways_facing_forward():
     result = _walk(robot="go2", speed=0.5, direction=math.pi / 2)
     _assert_line(result, 0.5, math.pi / 2)

@@ -16,9 +16,12 @@ homogeneous constraint to their sum:
 :func:`producible_basis` returns an orthonormal basis of that space at a configuration (the
 method :meth:`ParallelVirtualActuator.producible <virtual_actuators.ParallelVirtualActuator.\
 producible>`), derived from the kinematics and the declaration alone; :func:`give_way` turns a
-request into a producible one that differs from it only along the given yielding directions
-(moments by default: with two point feet, only the moment about the line between them), the
-others kept exact. Passive springs' measured torques (the non-homogeneous right-hand sides)
+request into a producible one that differs from it only along the given yielding directions,
+the others kept exact (:meth:`ParallelVirtualActuator.give_way <virtual_actuators.\
+ParallelVirtualActuator.give_way>` with axes names, the horizontal force by default: with two
+point feet the centre of mass then leaves the line between them as an inverted pendulum, and the
+height and every moment stay as asked; yielding the moments instead would keep the forces and
+spin the body about that line). Passive springs' measured torques (the non-homogeneous right-hand sides)
 shift the producible set without changing its directions and are not part of the basis.
 """
 

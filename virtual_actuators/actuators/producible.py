@@ -21,8 +21,9 @@ the others kept exact (:meth:`ParallelVirtualActuator.give_way <virtual_actuator
 ParallelVirtualActuator.give_way>` with axes names, the horizontal force by default: with two
 point feet the centre of mass then leaves the line between them as an inverted pendulum, and the
 height and every moment stay as asked; yielding the moments instead would keep the forces and
-spin the body about that line). Passive springs' measured torques (the non-homogeneous right-hand sides)
-shift the producible set without changing its directions and are not part of the basis.
+spin the body about that line). Passive springs' measured torques (the non-homogeneous
+right-hand sides) shift the producible set without changing its directions and are not part of
+the basis.
 """
 
 from __future__ import annotations

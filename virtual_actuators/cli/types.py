@@ -209,26 +209,24 @@ def robot_name(text: str) -> str:
     )
 
 
-def push_spec(text: str) -> str:
+def push_spec(text: str) -> tuple[float, float, float]:
     """``--push N@T[:DEG]``: N newtons >= 0 from T >= 0 seconds along DEG degrees (0 = +x).
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
     """
-    import math
-
     force, at, rest = text.partition("@")
     when, _, angle = rest.partition(":")
     try:
-        values = [float(force), float(when), float(angle) if angle else 0.0]
+        values = (float(force), float(when), float(angle) if angle else 0.0)
     except ValueError:
-        values = []
+        values = ()
     if not at or len(values) != 3 or not all(map(math.isfinite, values)) or min(values[:2]) < 0:
         raise argparse.ArgumentTypeError(
             f"expected N@T[:DEG], newtons >= 0 at T >= 0 seconds along DEG degrees (e.g. "
             f"250@1.0:90), got {text!r}"
         )
-    return text
+    return values
 
 
 def frame_list(text: str) -> tuple[str, ...]:

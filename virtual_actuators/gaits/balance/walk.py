@@ -227,7 +227,7 @@ def run_balance(
     Args:
         robot: A name or URDF path for :func:`~virtual_actuators.load_robot`, or a robot.
         duration: Simulated time [s].
-        push: ``"N@T[:DEG]"`` or a :class:`Push`, or None.
+        push: ``"N@T[:DEG]"``, a :class:`Push` or ``(N, T, DEG)``, or None.
         terrain: A :class:`~virtual_actuators.simulation.Terrain` or its spec.
         parameters: The balancer's constants.
         progress: Show a progress bar.
@@ -245,7 +245,7 @@ def run_balance(
         InvalidInputError: A bad push, terrain or duration.
 
     """
-    push = Push.parse(push) if isinstance(push, str) else push
+    push = Push.parse(push) if isinstance(push, str) else push if push is None else Push(*push)
     robot = load_robot(robot) if not isinstance(robot, Robot) else robot
     terrain = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     if push is None and seed is not None:

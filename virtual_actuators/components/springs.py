@@ -25,7 +25,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from .base import Component
-from .orientation import deflection, rotation_axes
+from .orientation import deflection, is_difference, rotation_axes
 
 Vector = float | Sequence[float] | np.ndarray
 _FLOAT64 = np.dtype(np.float64)
@@ -180,13 +180,14 @@ class SpringDamper(Component):
         without numpy's per-call cost on a few axes. The parameters are read from the arrays
         at every call (an array changed in place is seen).
         """
-        if self._rotations is not None:  # the deflection first (orientation on SO(3))
+        setpoint = self._setpoint.tolist()
+        if not is_difference(setpoint, position, self._rotations):  # an orientation on SO(3)
             return self._deflected_floats(
-                deflection(self._setpoint.tolist(), position, self._rotations), velocity
+                deflection(setpoint, position, self._rotations), velocity
             )
         terms = zip(
             self._stiffness.tolist(),
-            self._setpoint.tolist(),
+            setpoint,
             position,
             self._damping.tolist(),
             self._velocity_setpoint.tolist(),

@@ -242,29 +242,33 @@ def margins(
     frames: np.ndarray,
     orientation_rows: np.ndarray,
     forces: np.ndarray,
-    tables: CompiledMargins,
+    points: np.ndarray,
+    axis_rows: np.ndarray,
+    minima_axes: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """``G @ forces.ravel()`` of :meth:`ContactSet.rows` (no sole rows) into ``out``.
 
     ``frames`` is the snapshot's frame table (row ``f``: ``R.ravel()``), ``orientation_rows``
-    the rows of {O} then of each reaction frame; the pyramid rows are the point kind's compiled
-    rows (:func:`~.point.kernel_rows`).
+    the rows of {O} then of each reaction frame; ``points``, ``axis_rows`` and ``minima_axes``
+    are :class:`CompiledMargins`' (the kernels take its arrays one by one: a NamedTuple
+    argument costs numba ~1.4 us of dispatch per call, ~1 % of a flamingo tick); the pyramid
+    rows are the point kind's compiled rows (:func:`~.point.kernel_rows`).
     """
     p, n = forces.shape
     row = 0
-    for axis in tables.minima_axes:
+    for axis in minima_axes:
         for c in range(p):
             out[row] = forces[c, axis]
             row += 1
-    if tables.points.shape[0] == 0:
+    if points.shape[0] == 0:
         return
     rot_o = frames[orientation_rows[0], :9].copy().reshape(3, 3)
     rows, lows, offset = np.empty((POINT_ROWS, n)), np.empty(POINT_ROWS), np.zeros(3)
     for c in range(p):
         rows[:] = 0.0
         placement = frames[orientation_rows[1 + c]]
-        count = point_rows(tables.points[c], placement, rot_o, offset, tables.axis_rows, rows, lows)
+        count = point_rows(points[c], placement, rot_o, offset, axis_rows, rows, lows)
         for f in range(count):
             total = 0.0
             for a in range(n):
@@ -275,12 +279,24 @@ def margins(
 
 @njit(cache=True)
 def least_margin(
-    frames: np.ndarray, orientation_rows: np.ndarray, forces: np.ndarray, tables: CompiledMargins
+    frames: np.ndarray,
+    orientation_rows: np.ndarray,
+    forces: np.ndarray,
+    points: np.ndarray,
+    axis_rows: np.ndarray,
+    minima_axes: np.ndarray,
+    lows: np.ndarray,
 ) -> float:
-    """Smallest ``G @ forces.ravel() - lows`` of :meth:`ContactSet.rows` (no sole rows)."""
-    values = np.empty(tables.lows.shape[0])
-    margins(frames, orientation_rows, forces, tables, values)
-    return (values - tables.lows).min() if values.shape[0] else np.inf
+    """Smallest ``G @ forces.ravel() - lows`` of :meth:`ContactSet.rows` (no sole rows).
+
+    The tables are :class:`CompiledMargins`' arrays in its order (see :func:`margins`).
+    """
+    values = np.empty(lows.shape[0])
+    margins(frames, orientation_rows, forces, points, axis_rows, minima_axes, values)
+    least = np.inf
+    for r in range(lows.shape[0]):
+        least = min(least, values[r] - lows[r])
+    return least
 
 
 @njit(cache=True)
@@ -289,16 +305,19 @@ def largest_scale(
     orientation_rows: np.ndarray,
     full: np.ndarray,
     base: np.ndarray,
-    tables: CompiledMargins,
+    points: np.ndarray,
+    axis_rows: np.ndarray,
+    minima_axes: np.ndarray,
+    lows: np.ndarray,
 ) -> float:
     """The largest ``alpha`` in ``[0, 1]`` with ``G (base + alpha (full - base)) >= lows``.
 
-    On every row of :meth:`ContactSet.rows` (no sole rows); 0 when none is.
+    On every row of :meth:`ContactSet.rows` (no sole rows); 0 when none is. The tables are
+    :class:`CompiledMargins`' arrays in its order (see :func:`margins`).
     """
-    lows = tables.lows
     at_full, at_base = np.empty(lows.shape[0]), np.empty(lows.shape[0])
-    margins(frames, orientation_rows, full, tables, at_full)
-    margins(frames, orientation_rows, base, tables, at_base)
+    margins(frames, orientation_rows, full, points, axis_rows, minima_axes, at_full)
+    margins(frames, orientation_rows, base, points, axis_rows, minima_axes, at_base)
     upper, lower = 1.0, 0.0
     for r in range(lows.shape[0]):
         slope = at_full[r] - at_base[r]

@@ -30,7 +30,7 @@ def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray)
     if frames is None:
         return None
     rows = attachment.actuator.kinematics.orientation_rows
-    return contact_set.least_margin(frames, rows, forces, attachment.margins)
+    return contact_set.least_margin(frames, rows, forces, *attachment.margins)
 
 
 def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | None:
@@ -74,7 +74,7 @@ def largest_scale(
         rows, lows = constraint_rows(attachment, snapshot)
         return ratio_test(rows @ full.ravel(), rows @ base.ravel(), lows)
     rows = attachment.actuator.kinematics.orientation_rows
-    return contact_set.largest_scale(frames, rows, full, base, attachment.margins)
+    return contact_set.largest_scale(frames, rows, full, base, *attachment.margins)
 
 
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:

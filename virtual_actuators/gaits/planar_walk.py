@@ -173,14 +173,16 @@ class PlanarEpisode(Episode):
         self.v_x = robot.model.joints[robot.model.getJointId("boom_x")].idx_v
         self.nominal = gait.nominal_height()  # [m]
         self.has_slope = hasattr(gait, "slope")
+        self.ground = 0.0  # [m], the terrain's height under the hip at this tick
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """The feet's contact switches."""
+        """The feet's contact switches (and the tick's :attr:`ground`)."""
+        self.ground = float(self.terrain.height(q.item(self.x_index)))
         return self.simulator.contact_switches(self.gait.contact_frames)
 
     def fallen(self, q: np.ndarray) -> bool:
         """Hip low, body tilted or something else than a foot down."""
-        height = q.item(self.z_index) - float(self.terrain.height(q.item(self.x_index)))
+        height = q.item(self.z_index) - self.ground
         return has_fallen(self.simulator, height, q.item(self.pitch_index), self.nominal)
 
     def record(
@@ -188,8 +190,7 @@ class PlanarEpisode(Episode):
     ) -> None:
         """One row of :data:`STANDARD_CHANNELS`."""
         gait, nan = self.gait, math.nan
-        x, z_world = q.item(self.x_index), q.item(self.z_index)
-        ground = float(self.terrain.height(x))
+        x, z_world, ground = q.item(self.x_index), q.item(self.z_index), self.ground
         wrench = _body_wrench(output)
         double = "double" in output.active
         set_height, set_pitch = gait.granny.setpoint.tolist()  # [m], [rad]

@@ -323,16 +323,17 @@ def tree_of(robot: object) -> KinematicTree:
 
     """
     caches = getattr(robot, "caches", None)
+    tree = caches.get("kinematic_tree") if isinstance(caches, dict) else None
+    if tree is not None:  # a robot checked when its tree was built
+        return tree
     if not isinstance(caches, dict) or not isinstance(getattr(robot, "model", None), pin.Model):
         raise InvalidInputError(
             f"robot must be a va.Robot (from va.load_robot), got {type(robot).__name__}."
         )
-    tree = caches.get("kinematic_tree")
-    if tree is None:
-        with _TREES_LOCK:
-            tree = caches.get("kinematic_tree")
-            if tree is None:
-                tree = caches["kinematic_tree"] = KinematicTree(robot.model)
+    with _TREES_LOCK:
+        tree = caches.get("kinematic_tree")
+        if tree is None:
+            tree = caches["kinematic_tree"] = KinematicTree(robot.model)
     return tree
 
 

@@ -175,13 +175,11 @@ class Controller:
         """
         if isinstance(actuator, Posture):
             return add_posture(self, name, actuator, components)
-        if isinstance(name, str) and name in self.postures:
-            raise InvalidInputError(f"Attachment {name!r}: the name is taken by a posture.")
         attachment = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,
             unilateral=unilateral, yield_axes=yield_axes, friction=friction,
             min_normal=min_normal, method=method, yield_weight=yield_weight,
-            taken=self.attachments,
+            taken={**self.attachments, **self.postures},
         )
         self.attachments[name] = attachment
         return attachment
@@ -200,13 +198,8 @@ class Controller:
         model = self.robot.model
         out = []
         for joint in check_names(joints, "joints", JointNotFoundError, ordered=False):
-            joint_id = resolve_joint(model, joint)
-            out.extend(
-                range(
-                    model.joints[joint_id].idx_v,
-                    model.joints[joint_id].idx_v + model.joints[joint_id].nv,
-                )
-            )
+            joint_model = model.joints[resolve_joint(model, joint)]
+            out.extend(range(joint_model.idx_v, joint_model.idx_v + joint_model.nv))
         index = np.array(out, dtype=np.intp)
         index.flags.writeable = False
         return index
@@ -323,14 +316,8 @@ class Controller:
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(
-                self,
-                snapshot,
-                sums.parts,
-                sums.wrenches,
-                sums.produced,
-                sums.solutions,
-                sums.failures,
-                sums.failed,
+                self, snapshot, sums.parts, sums.wrenches, sums.produced, sums.solutions,
+                sums.failures, sums.failed,
             )
         if tau is None:
             tau = np.zeros(nv)
@@ -340,18 +327,8 @@ class Controller:
             tau, self._lower_limits, self._upper_limits, self.clip
         )
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
-            clipped,
-            tau,
-            saturated,
-            sums.wrenches,
-            sums.produced,
-            sums.positions,
-            sums.velocities,
-            sums.solutions,
-            sums.failed,
-            names,
-            self.joint_names,
-            sums.failures,
+            clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions,
+            sums.velocities, sums.solutions, sums.failed, names, self.joint_names, sums.failures,
         )
 
     def _attachment_tick(

@@ -130,8 +130,8 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         type=push_spec,
         default=None,
         metavar="N@T[:DEG]",
-        help="legged, balance: push the base with N newtons for 0.1 s from T seconds along DEG degrees "
-        "in the ground plane (0 = +x, default 0)",
+        help="legged, balance: push the base with N newtons for 0.1 s from T seconds along DEG "
+        "degrees in the ground plane (0 = +x, default 0)",
     )
     demo.add_argument(
         "--path",

@@ -30,8 +30,8 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
+from ..attitude import attitude_and_velocity
 from ..base import Walk
-from ..hexapod.body import attitude_and_velocity
 from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number
 from .balancer import Balancer
 from .parameters import BalanceParameters

@@ -18,8 +18,8 @@ from ...control.controller import ControlOutput
 from ...experiments.recorder import Recorder
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..hexapod.body import attitude_and_velocity
-from ..hexapod.guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
+from ..attitude import attitude_and_velocity
+from ..guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
 from ..runner import FALL_PITCH, Episode
 from .walker import LeggedWalker
 

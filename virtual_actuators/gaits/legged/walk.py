@@ -29,7 +29,7 @@ from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution
-from ..hexapod.guidance import PlanarState, SinePath, TrackObject
+from ..guidance import PlanarState, SinePath, TrackObject
 from ..runner import (
     WalkFigures,
     WalkResult,

@@ -30,6 +30,7 @@ from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution
 from ..guidance import PlanarState, SinePath, TrackObject
+from ..push import Push
 from ..runner import (
     WalkFigures,
     WalkResult,
@@ -66,7 +67,8 @@ class LeggedWalkConfig:
         speed: [m/s].
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
-        push: ``(newtons, start time [s], direction [deg])`` on the base, or None.
+        push: A :class:`~virtual_actuators.gaits.push.Push` on the base (or its text,
+            ``(newtons, start time [s], direction [deg])``), or None.
         path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``: ``y = A sin(2 pi
             x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
         amplitude: The sine's ``A`` [m].
@@ -90,7 +92,7 @@ class LeggedWalkConfig:
     speed: float = 0.4
     direction: float = 0.0
     yaw_rate: float = 0.0
-    push: tuple[float, float, float] | None = None
+    push: Push | None = None
     path: str = "line"
     amplitude: float = 0.2
     wavelength: float = 2.0
@@ -121,10 +123,8 @@ class LeggedWalkConfig:
             raise InvalidInputError("track sets the yaw rate itself: a line path, no yaw rate.")
         if self.gait not in PATTERNS:
             raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
-        if self.push is not None and (
-            len(self.push) != 3 or not all(math.isfinite(float(v)) for v in self.push)
-        ):
-            raise InvalidInputError(f"push must be (N, T, DEG), got {self.push!r}.")
+        if self.push is not None:
+            object.__setattr__(self, "push", Push.of(self.push))
         check_distribution(self.distribution)
 
 
@@ -200,8 +200,7 @@ def run_legged_walk(
     robot = load_robot(config.robot)
     gait = LeggedWalker(robot, config.feet, config.gait, parameters)
     simulator = Simulator(robot, terrain)
-    q0 = gait.initial_configuration()
-    q0[2] += float(terrain.height(float(q0[0])))
+    q0 = simulator.on_ground(gait.initial_configuration())
     v0 = np.zeros(robot.model.nv)
     if config.seed is not None:
         scale = np.array((0.05, 0.05, 0.05, 0.1, 0.1, 0.1))  # [m/s, rad/s]

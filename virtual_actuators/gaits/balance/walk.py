@@ -18,7 +18,7 @@ import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
@@ -30,9 +30,10 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
+from ..attitude import attitude_and_velocity
 from ..base import Walk
-from ..hexapod.body import attitude_and_velocity
-from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number
+from ..push import Push
+from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number, trace_of
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
@@ -42,35 +43,6 @@ CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_m
 SETTLE_TIME = 0.1
 
 __all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "run_balance"]
-
-
-class Push(NamedTuple):
-    """A push on the body: ``force`` newtons from ``time`` seconds along ``direction`` degrees."""
-
-    force: float
-    time: float
-    direction: float = 0.0
-
-    @classmethod
-    def parse(cls, text: str) -> Push:
-        """``"N@T"`` or ``"N@T:DEG"`` (``250@1.0:90``: 250 N at 1 s along +y).
-
-        Raises:
-            InvalidInputError: Not of that form, or not finite numbers with ``N, T >= 0``.
-
-        """
-        try:
-            force, rest = str(text).split("@")
-            when, _, angle = rest.partition(":")
-            push = cls(float(force), float(when), float(angle) if angle else 0.0)
-        except ValueError:
-            push = None
-        if push is None or not all(map(math.isfinite, push)) or min(push[:2]) < 0:
-            raise InvalidInputError(
-                f"push must be N@T[:DEG] (newtons >= 0 at T >= 0 seconds, along DEG degrees), "
-                f"got {text!r}."
-            )
-        return push
 
 
 @dataclass(frozen=True)
@@ -144,11 +116,7 @@ class BalanceResult(WalkResult):
         ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body), ``normal_min`` (the least
         normal force on a foot [N]) and ``state``.
         """
-        log = self.log
-        names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min")
-        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-        trace["state"] = [log.state_names[i] for i in log.state]
-        return trace
+        return trace_of(self.log, ("normal_min",))
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates (the distance is the final drift)."""
@@ -183,9 +151,7 @@ class BalanceEpisode(Episode):
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> None:
         """Start the push when its time comes; read the body's attitude."""
         if not self.pushed and now >= self.push.time - 1e-9:
-            angle = math.radians(self.push.direction)
-            force = self.push.force * np.array([math.cos(angle), math.sin(angle), 0.0])
-            self.simulator.push(force, self.gait.body, self.gait.parameters.push_duration)
+            self.push.apply(self.simulator, self.gait.body, self.gait.parameters.push_duration)
             self.pushed = True
         self.attitude = attitude_and_velocity(q, v)
         return None
@@ -245,7 +211,7 @@ def run_balance(
         InvalidInputError: A bad push, terrain or duration.
 
     """
-    push = Push.parse(push) if isinstance(push, str) else push if push is None else Push(*push)
+    push = None if push is None else Push.of(push)
     robot = load_robot(robot) if not isinstance(robot, Robot) else robot
     terrain = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     if push is None and seed is not None:
@@ -284,7 +250,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
         fall_time_s=fall_time,
         duration_s=float(log.time[-1]) if len(log) else 0.0,
         realtime_factor=realtime,
-        push=f"{push.force:g}@{push.time:g}:{push.direction:g}" if push else None,
+        push=str(push) if push else None,
         max_tilt_rad=float(tilt.max()),
         max_drift_m=float(drift.max()),
         final_drift_m=float(drift[-1]),

@@ -30,17 +30,10 @@ import pinocchio as pin
 
 from ...actuators.producible import Directions, give_way
 from ...components.base import Component
+from ..attitude import yaw_pitch_roll
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
-
-
-def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
-    """Z-Y-X angles of a rotation matrix ``R = Rz(yaw) Ry(pitch) Rx(roll)`` [rad]."""
-    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-    pitch = math.asin(max(-1.0, min(1.0, -rotation[2, 0])))
-    roll = math.atan2(rotation[2, 1], rotation[2, 2])
-    return yaw, pitch, roll
 
 
 class BodyModel(Component):

@@ -18,8 +18,8 @@ from ...control.controller import ControlOutput
 from ...experiments.recorder import Recorder
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..hexapod.body import attitude_and_velocity
-from ..hexapod.guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
+from ..attitude import attitude_and_velocity
+from ..guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
 from ..runner import FALL_PITCH, Episode
 from .walker import LeggedWalker
 
@@ -27,9 +27,8 @@ if TYPE_CHECKING:  # walk.py runs the episodes
     from .walk import LeggedWalkConfig
 
 TRACE_RATE = 100.0  # [Hz]
-PUSH_TIME = 0.1  # [s]
 
-__all__ = ["PUSH_TIME", "TRACE_RATE", "LeggedEpisode"]
+__all__ = ["TRACE_RATE", "LeggedEpisode"]
 
 
 class LeggedEpisode(Episode):
@@ -78,11 +77,8 @@ class LeggedEpisode(Episode):
         if self.guidance is not None:
             state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
             self.gait.set_command(*self.guidance.command(state))
-        if not self.pushed and now >= self.config.push[1]:
-            newtons, _, degrees = self.config.push
-            angle = math.radians(degrees)
-            force = (newtons * math.cos(angle), newtons * math.sin(angle), 0.0)
-            self.simulator.push(force, self.gait.body_frame, PUSH_TIME)
+        if not self.pushed and now >= self.config.push.time:
+            self.config.push.apply(self.simulator, self.gait.body_frame)
             self.pushed = True
         return self.simulator.contact_switches(self.gait.feet)
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..hexapod.guidance import wrap
+from ..guidance import wrap
 
 __all__ = ["LeggedMetrics", "legged_metrics"]
 

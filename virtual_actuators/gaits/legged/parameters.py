@@ -3,8 +3,8 @@
 :class:`LeggedParameters` holds the choices (natural frequencies, damping ratios, timings as
 multiples of the robot's own time scale ``sqrt(h / g)``, lengths as fractions of its standing
 height ``h``); :func:`derive_gains` turns them into stiffnesses and dampings from the robot's
-mass, centroidal inertia and leg masses, so the same defaults serve a 2.5 kg solo12 and a
-50 kg anymal_c.
+mass, centroidal inertia and leg masses (through :mod:`~virtual_actuators.components.gains`),
+so the same defaults serve a 2.5 kg solo12 and a 50 kg anymal_c.
 """
 
 from __future__ import annotations
@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...components.gains import body_gains, gains
+from ...models.robot import Robot
 from ..base import check_distribution
 
 GRAVITY = 9.81  # [m/s^2]
@@ -29,7 +31,8 @@ class LeggedParameters:
         velocity_time: Time constant of the x, y and yaw-rate dampers toward the command [s].
         swing_frequency: Natural frequency of a swing foot's spring on its leg's mass [Hz].
         swing_damping_ratio: Its damping ratio [-].
-        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-].
+        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-]; None: the pattern's
+            (:attr:`~.patterns.GaitPattern.swing_time`: 1, a pace 0.3).
         double_support_time: All feet down between two swings, in the same units [-].
         max_swing: A swing ends after this many swing times even without touchdown [-].
         touchdown_phase: From this swing phase on, the swing feet all touching end it [-].
@@ -67,7 +70,7 @@ class LeggedParameters:
     velocity_time: float = 0.05
     swing_frequency: float = 10.0
     swing_damping_ratio: float = 0.7
-    swing_time: float = 1.0
+    swing_time: float | None = None
     double_support_time: float = 0.1
     max_swing: float = 1.2
     touchdown_phase: float = 0.6
@@ -119,40 +122,54 @@ class LeggedGains:
 
 def derive_gains(
     parameters: LeggedParameters,
-    mass: float,
-    inertia: np.ndarray,
+    robot: Robot,
+    q: np.ndarray,
     leg_masses: tuple[float, ...],
     height: float,
 ) -> LeggedGains:
     """Stiffness ``m w^2`` and damping ``2 zeta m w`` per axis; dampers ``m / tau``.
 
+    The masses and inertias are :func:`~virtual_actuators.components.gains.body_gains`'s: the
+    robot's mass for forces, its centroidal inertia at ``q`` for moments.
+
     Args:
         parameters: The choices.
-        mass: The robot's mass [kg].
-        inertia: ``(3, 3)`` centroidal inertia in body axes [kg m^2].
+        robot: The robot.
+        q: Its standing configuration.
         leg_masses: Mass of each foot's leg [kg].
         height: Standing height of the body above its feet [m].
 
     """
     p = parameters
     w = 2.0 * math.pi * p.frequency
-    ws = 2.0 * math.pi * p.swing_frequency
-    ix, iy, iz = (float(inertia[k, k]) for k in range(3))
+    body = body_gains(robot, w, p.damping_ratio, ("z", "rx", "ry"), q)
+    # a damper of time constant tau on an inertia m: m / tau (the inertias: gains at 1 rad/s)
+    mass, _, yaw_inertia = body_gains(robot, 1.0, 0.0, ("x", "y", "rz"), q).stiffness
+    swing = gains(leg_masses, 2.0 * math.pi * p.swing_frequency, p.swing_damping_ratio)
     return LeggedGains(
         height=height,
         time_scale=math.sqrt(height / GRAVITY),
-        stiffness_z=mass * w * w,
-        damping_z=2.0 * p.damping_ratio * mass * w,
-        stiffness_attitude=(ix * w * w, iy * w * w),
+        stiffness_z=float(body.stiffness[0]),
+        damping_z=float(body.damping[0]),
+        stiffness_attitude=(float(body.stiffness[1]), float(body.stiffness[2])),
         damping_attitude=(
-            2.0 * p.damping_ratio * ix * w,
-            2.0 * p.damping_ratio * iy * w,
-            iz / p.velocity_time,
+            float(body.damping[1]), float(body.damping[2]), float(yaw_inertia) / p.velocity_time
         ),
-        damping_xy=(mass / p.velocity_time, mass / p.velocity_time),
-        swing_stiffness=tuple(m * ws * ws for m in leg_masses),
-        swing_damping=tuple(2.0 * p.swing_damping_ratio * m * ws for m in leg_masses),
+        damping_xy=(float(mass) / p.velocity_time, float(mass) / p.velocity_time),
+        swing_stiffness=tuple(swing.stiffness.tolist()),
+        swing_damping=tuple(swing.damping.tolist()),
     )
 
 
-__all__ = ["GRAVITY", "LeggedGains", "LeggedParameters", "derive_gains"]
+def leg_mass(robot: Robot, frame: str) -> float:
+    """Mass of the moving bodies from the floating base's first child down to ``frame`` [kg]."""
+    model = robot.model
+    joint = model.frames[model.getFrameId(frame)].parentJoint
+    total = 0.0
+    while joint > 1:  # 0: universe, 1: the floating base
+        total += float(model.inertias[joint].mass)
+        joint = model.parents[joint]
+    return total
+
+
+__all__ = ["GRAVITY", "LeggedGains", "LeggedParameters", "derive_gains", "leg_mass"]

@@ -22,20 +22,22 @@ from typing import Any
 import numpy as np
 
 from ...exceptions import InvalidInputError
+from ...experiments.plot_panels import new_figure, save_figure
 from ...experiments.recorder import Recorder
-from ...experiments.walk_log import WalkLog
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution
-from ..hexapod.guidance import PlanarState, SinePath, TrackObject
+from ..guidance import PlanarState, SinePath, TrackObject
+from ..push import Push
 from ..runner import (
     WalkFigures,
     WalkResult,
     drive,
     number,
     terrain_points,
+    trace_of,
 )
 from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
@@ -51,7 +53,6 @@ __all__ = [
     "bearing_error",
     "run_legged_walk",
     "sine_error",
-    "trace_of",
 ]
 
 
@@ -66,7 +67,8 @@ class LeggedWalkConfig:
         speed: [m/s].
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
-        push: ``(newtons, start time [s], direction [deg])`` on the base, or None.
+        push: A :class:`~virtual_actuators.gaits.push.Push` on the base (or its text,
+            ``(newtons, start time [s], direction [deg])``), or None.
         path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``: ``y = A sin(2 pi
             x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
         amplitude: The sine's ``A`` [m].
@@ -90,7 +92,7 @@ class LeggedWalkConfig:
     speed: float = 0.4
     direction: float = 0.0
     yaw_rate: float = 0.0
-    push: tuple[float, float, float] | None = None
+    push: Push | None = None
     path: str = "line"
     amplitude: float = 0.2
     wavelength: float = 2.0
@@ -121,10 +123,8 @@ class LeggedWalkConfig:
             raise InvalidInputError("track sets the yaw rate itself: a line path, no yaw rate.")
         if self.gait not in PATTERNS:
             raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
-        if self.push is not None and (
-            len(self.push) != 3 or not all(math.isfinite(float(v)) for v in self.push)
-        ):
-            raise InvalidInputError(f"push must be (N, T, DEG), got {self.push!r}.")
+        if self.push is not None:
+            object.__setattr__(self, "push", Push.of(self.push))
         check_distribution(self.distribution)
 
 
@@ -200,8 +200,7 @@ def run_legged_walk(
     robot = load_robot(config.robot)
     gait = LeggedWalker(robot, config.feet, config.gait, parameters)
     simulator = Simulator(robot, terrain)
-    q0 = gait.initial_configuration()
-    q0[2] += float(terrain.height(float(q0[0])))
+    q0 = simulator.on_ground(gait.initial_configuration())
     v0 = np.zeros(robot.model.nv)
     if config.seed is not None:
         scale = np.array((0.05, 0.05, 0.05, 0.1, 0.1, 0.1))  # [m/s, rad/s]
@@ -267,14 +266,6 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
     )
 
 
-def trace_of(log: WalkLog) -> dict[str, list]:
-    """A walk log's trace: ``t, x, y, z, roll, pitch, yaw, vx, vy`` and ``state`` lists."""
-    names = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
-    trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-    trace["state"] = [log.state_names[i] for i in log.state]
-    return trace
-
-
 def run_registered(
     walk: Walk,
     duration: float,
@@ -317,24 +308,19 @@ def run_registered(
 
 
 def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
-    """Draw the path and the attitude of a legged walk (a PNG)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    """Draw the path and the attitude of a legged walk (a PNG, no pyplot)."""
     trace = result.trace()
-    figure, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7))
+    figure = new_figure(8.0, 7.0)
+    top, bottom = figure.subplots(2, 1)
     top.plot(trace["x"], trace["y"])
-    top.set(xlabel="x [m]", ylabel="y [m]", title=result.metrics.summary()[:90], aspect="equal")
+    top.set(xlabel="x [m]", ylabel="y [m]")
+    top.set_aspect("equal", adjustable="datalim")
+    figure.suptitle(result.metrics.summary(), fontsize=7, wrap=True)
     for name in ("roll", "pitch", "yaw"):
         bottom.plot(trace["t"], trace[name], label=name)
     bottom.set(xlabel="t [s]", ylabel="[rad]")
     bottom.legend()
-    figure.tight_layout()
-    figure.savefig(path)
-    plt.close(figure)
-    return Path(path)
+    return save_figure(figure, path, dpi=100)
 
 
 def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:

@@ -46,11 +46,11 @@ from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.feet import find_feet
 from ...models.robot import Robot
+from ...models.standing import standing_pose
 from ..base import Gait
 from .body import BodyModel
-from .com import MassModel
 from .footholds import BodyState, Motion, foothold, swing_point
-from .parameters import GRAVITY, LeggedParameters, derive_gains
+from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
 from .patterns import GaitPattern, named_pattern
 
 __all__ = ["RATE_FILTER", "LeggedWalker"]
@@ -74,7 +74,8 @@ class LeggedWalker(Gait):
         pattern: The :class:`GaitPattern`.
         groups: Its swing groups, in cycle order.
         gains: The physical gains (:class:`~.parameters.LeggedGains`).
-        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame.
+        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame
+            (its width the pattern's fraction of the standing pose's).
         stand_height: The body's origin above its feet when standing [m].
         swing_time: [s].
         stance_time: How long a foot stands per cycle [s].
@@ -106,7 +107,6 @@ class LeggedWalker(Gait):
         if len(self.feet) < 2:
             raise InvalidInputError(f"LeggedWalker needs two or more feet, got {self.feet}.")
         self.contact_frames = self.feet
-        self.mass_model = MassModel(robot)
         self._stance(p)
         if isinstance(pattern, str):
             pattern = named_pattern(pattern, self.feet, self.nominal)
@@ -116,8 +116,9 @@ class LeggedWalker(Gait):
             )
         self.pattern = pattern
         self.groups = pattern.groups()
+        self.nominal = self.nominal * np.array((1.0, pattern.width))
         scale = self.gains.time_scale
-        self.swing_time = p.swing_time * scale
+        self.swing_time = (pattern.swing_time if p.swing_time is None else p.swing_time) * scale
         self.double_time = p.double_support_time * scale
         self.stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
         self.velocity = (0.0, 0.0)
@@ -152,7 +153,7 @@ class LeggedWalker(Gait):
         snapshot = Snapshot(robot, q0)
         rotation = snapshot.frame_rotation(self.body_frame)
         feet = np.array([snapshot.frame_position(f) for f in self.feet])
-        com = self.mass_model.center_of_mass(q0)
+        com = robot.center_of_mass(q0)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         heading = np.array(((math.cos(yaw), math.sin(yaw)), (-math.sin(yaw), math.cos(yaw))))
         relative = (feet[:, :2] - com[:2]) @ heading.T
@@ -163,16 +164,15 @@ class LeggedWalker(Gait):
             raise InvalidInputError(
                 f"LeggedWalker: the body of {robot.name!r} is not above its feet when standing."
             )
-        inertia = rotation.T @ self.mass_model.centroidal_inertia(q0) @ rotation
         # a leg's mass sets its swing spring; a floor of 5 % of the robot for massless links
-        legs = tuple(max(self.mass_model.chain_mass(f), 0.05 * robot.mass) for f in self.feet)
-        self.gains = derive_gains(p, self.mass_model.mass, inertia, legs, self.stand_height)
+        legs = tuple(max(leg_mass(robot, f), 0.05 * robot.mass) for f in self.feet)
+        self.gains = derive_gains(p, robot, q0, legs, self.stand_height)
 
     def _declare(self) -> None:
         """``support_k`` (all feet but group k), ``support_all`` and ``swing_F`` per foot."""
         p, robot, c, g = self.parameters, self.robot, self.controller, self.gains
-        self.body = BodyModel(self.mass_model.mass, g, p.give_way or ("x", "y"))
-        weight = self.mass_model.mass * GRAVITY
+        self.body = BodyModel(robot.mass, g, p.give_way or ("x", "y"))
+        weight = robot.mass * GRAVITY
         min_normal = p.min_normal * weight / len(self.feet)
         if p.distribution == "qp":
             point = {"friction": p.friction, "min_normal": min_normal, "torque_limits": True}
@@ -249,6 +249,10 @@ class LeggedWalker(Gait):
             )
         self.velocity, self.yaw_rate = (vx, vy), yaw_rate
 
+    def initial_configuration(self) -> np.ndarray:
+        """The SRDF's standing pose, else one built from the legs (``va.standing_pose``)."""
+        return standing_pose(self.robot, self.feet)
+
     def nominal_height(self) -> float:
         """The body's standing height above its feet [m]."""
         return self.stand_height
@@ -284,7 +288,7 @@ class LeggedWalker(Gait):
         rotation = snapshot.frame_rotation(self.body_frame)
         linear = snapshot.frame_velocity(self.body_frame)
         angular = rotation @ (self._to_body @ context.v[3:6])  # world axes [rad/s]
-        com = self.mass_model.center_of_mass(context.q)
+        com = self.robot.center_of_mass(context.q)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)
         self._ramp(context.time, state != "stand")

@@ -49,6 +49,9 @@ set, else ProxQP's answer stands). An answer is then the optimum to rounding: wi
 whatever was solved before (warm or cold start, any thread). When stage 1 fails, its last
 iterate mostly names the closest answer's active set already: certified there, that answer ends
 the solve (stages 2 and 3 run only when it is not).
+Before ProxQP, the active set of the thread's last certified answer is tried on the tick's rows:
+certified, it gives the same answer without ProxQP (the KKT conditions name one optimum), and a
+walking tick whose active set did not change solves by linear algebra alone.
 
 **Rows that cannot hold.** When stage 1 fails, the other rows are checked first
 (:mod:`.conflict`: the least squared shift of the inequalities' bounds that lets them hold

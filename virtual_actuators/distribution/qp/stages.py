@@ -50,8 +50,7 @@ class Budget:
 
 
 class ProxSlot:
-    """One ProxQP workspace of this thread, whether its next solve needs ``init``, and the
-    active set of its last answer.
+    """One ProxQP workspace of this thread, and whether its next solve needs ``init``.
 
     Args:
         qp: The ``proxqp.dense.QP``.

@@ -11,9 +11,8 @@ reach from lift-off to the foothold and a lift profile above the line between th
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import NamedTuple
-
-import numpy as np
 
 from ..planar import lift_profile, smoothstep
 
@@ -32,10 +31,10 @@ class BodyState(NamedTuple):
 
     """
 
-    com: np.ndarray
-    base: np.ndarray
-    linear: np.ndarray
-    angular: np.ndarray
+    com: Sequence[float]
+    base: Sequence[float]
+    linear: Sequence[float]
+    angular: Sequence[float]
     yaw: float
 
 
@@ -83,20 +82,18 @@ def foothold(
 
 
 def swing_point(
-    start: np.ndarray, land: np.ndarray, phase: float, lift: float, peak: float
-) -> np.ndarray:
+    start: Sequence[float], land: Sequence[float], phase: float, lift: float, peak: float
+) -> list[float]:
     """The swing foot's set point at ``phase`` (0 at lift-off, 1 at touchdown), world [m].
 
     Horizontally a smooth step that arrives at 80 % of the swing; vertically a smooth step
     between the two heights plus ``lift`` times :func:`~virtual_actuators.gaits.planar.
     lift_profile`. Past phase 1 it stays at the foothold (the gait lowers ``land`` instead).
     """
+    (x0, y0, z0), (x1, y1, z1) = start, land
     reach = smoothstep(min(1.0, 1.25 * phase))
-    point = start + (land - start) * reach
-    point[2] = start[2] + (land[2] - start[2]) * smoothstep(phase) + lift * lift_profile(
-        phase, peak
-    )
-    return point
+    height = z0 + (z1 - z0) * smoothstep(phase) + lift * lift_profile(phase, peak)
+    return [x0 + (x1 - x0) * reach, y0 + (y1 - y0) * reach, height]
 
 
 __all__ = ["BodyState", "Motion", "foothold", "swing_point"]

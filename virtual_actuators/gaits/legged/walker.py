@@ -127,9 +127,10 @@ class LeggedWalker(Gait):
         self._yaw_integral = 0.0  # the same for the yaw rate [rad/s]
         self._dt = 0.0
         self._last_time: float | None = None
-        self._starts: dict[str, np.ndarray] = {}
-        self._targets: dict[str, np.ndarray] = {}
-        self._rates: dict[str, np.ndarray] = {}
+        self._nominal = dict(zip(self.feet, map(tuple, self.nominal.tolist()), strict=True))
+        self._starts: dict[str, list[float]] = {}  # per swing foot, world [m]
+        self._targets: dict[str, list[float]] = {}
+        self._rates: dict[str, list[float]] = {}  # [m/s]
         self._target_time = 0.0  # of the swing set points last set [s]
         self._declare()
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
@@ -269,9 +270,8 @@ class LeggedWalker(Gait):
 
     def _enter_swing(self, context: Context) -> None:
         for foot in self._group(context):
-            self._starts[foot] = context.frame_position(foot).copy()
-            self._targets[foot] = self._starts[foot].copy()
-            self._rates[foot] = np.zeros(3)
+            self._starts[foot] = self._targets[foot] = context.frame_position(foot).tolist()
+            self._rates[foot] = [0.0, 0.0, 0.0]
 
     def _group(self, context: Context) -> tuple[str, ...]:
         """The feet swinging in the current state."""
@@ -280,16 +280,16 @@ class LeggedWalker(Gait):
     def _update(self, context: Context) -> None:
         """Body set points, the producible directions, and the swing feet."""
         snapshot, state = context.snapshot, context.state
-        base = snapshot.frame_position(self.body_frame)
-        rotation = snapshot.frame_rotation(self.body_frame)
-        linear = snapshot.frame_velocity(self.body_frame)
-        angular = rotation @ (self._to_body @ context.v[3:6])  # world axes [rad/s]
+        rotation, origin = snapshot.placement(self.body_frame)  # views
+        base = origin.tolist()
+        linear = snapshot.frame_velocity(self.body_frame).tolist()
+        angular = (rotation @ (self._to_body @ context.v[3:6])).tolist()  # world axes [rad/s]
         com = self.mass_model.center_of_mass(context.q)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)
         self._ramp(context.time, state != "stand")
         body = self.body
-        body.velocity, body.lever = self._setpoint, com - base
+        body.velocity, body.lever = self._setpoint, com - origin
         body.yaw_rate = self.yaw_rate + self._yaw_integral
         current = self.machine.current
         support = current.support
@@ -300,12 +300,13 @@ class LeggedWalker(Gait):
             body.basis = producible_directions(self.supports[current.active[0]], snapshot)
         measured = (c * linear[0] + s * linear[1], -s * linear[0] + c * linear[1])
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
-        self._integrate(error, self.yaw_rate - float(angular[2]))
+        self._integrate(error, self.yaw_rate - angular[2])
         if not state.startswith("swing"):
             return
         bias = self._error_integral
         motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
-        self._move_swing(context, motion, BodyState(com, base, linear, angular, yaw), ground)
+        com = com.tolist()
+        self._move_swing(context, motion, BodyState(com, base, linear, angular, yaw), float(ground))
 
     def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
         """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
@@ -318,9 +319,9 @@ class LeggedWalker(Gait):
         scale = self.gains.time_scale
         rate = self._dt / (self.parameters.integral_time * scale)
         limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
-        self._error_integral = tuple(
-            max(-limit, min(limit, total + rate * e))
-            for total, e in zip(self._error_integral, error, strict=True)
+        (x, y), (ex, ey) = self._error_integral, error
+        self._error_integral = (
+            max(-limit, min(limit, x + rate * ex)), max(-limit, min(limit, y + rate * ey))
         )
         turn = self.parameters.integral_limit / scale  # [rad/s]
         self._yaw_integral = max(-turn, min(turn, self._yaw_integral + rate * yaw_error))
@@ -345,7 +346,7 @@ class LeggedWalker(Gait):
     def _move_swing(
         self, context: Context, motion: Motion, body: BodyState, ground: float
     ) -> None:
-        """The swing feet's set points along their curves to the footholds."""
+        """The swing feet's set points along their curves to the footholds (plain floats)."""
         p, g = self.parameters, self.gains
         com, base, linear, angular, yaw = body
         elapsed = context.time_in_state
@@ -355,38 +356,41 @@ class LeggedWalker(Gait):
         c, s = math.cos(heading), math.sin(heading)
         cy, sy = math.cos(yaw), math.sin(yaw)
         vx, vy = motion.velocity
-        centre = com[:2] + remaining * np.array((cy * vx - sy * vy, sy * vx + cy * vy))
+        centre_x = com[0] + remaining * (cy * vx - sy * vy)  # the centre of mass at touchdown
+        centre_y = com[1] + remaining * (sy * vx + cy * vy)
         # past the planned touchdown the set point keeps going down, a depth per quarter swing
         depth = p.touchdown_depth * g.height * (1.0 + 4.0 * max(0.0, phase - 1.0))
         contacts = context.contacts or {}
         late = phase >= p.touchdown_phase
+        dt = context.time - self._target_time
+        blend = min(1.0, dt / RATE_FILTER) if dt > 0.0 else 0.0
         for foot in self._group(context):
             spring = self.swing[foot]
             if late and contacts.get(foot, False):  # down: held where it is, still in the world
-                offset = context.frame_position(foot) - base
-                spring.setpoint = offset
-                spring.velocity_setpoint = -linear - _cross(angular, offset)
+                spring.setpoint = offset = (context.frame_position(foot) - base).tolist()
+                turning = zip(linear, _cross(angular, offset), strict=True)
+                spring.velocity_setpoint = [-a - b for a, b in turning]
                 continue
-            k = self.feet.index(foot)
             x, y = foothold(
-                tuple(self.nominal[k]), motion, self.stance_time, g.time_scale * p.placement_gain,
+                self._nominal[foot], motion, self.stance_time, g.time_scale * p.placement_gain,
                 p.reach * g.height,
-            )
-            land = np.array((centre[0] + c * x - s * y, centre[1] + s * x + c * y, ground - depth))
+            )  # fmt: skip
+            land = (centre_x + c * x - s * y, centre_y + s * x + c * y, ground - depth)
             target = swing_point(self._starts[foot], land, phase, p.lift * g.height, p.lift_peak)
-            dt = context.time - self._target_time
-            if 0.0 < dt:
-                blend = min(1.0, dt / RATE_FILTER)
-                rate = (target - self._targets[foot]) / dt
-                self._rates[foot] += blend * (rate - self._rates[foot])
+            rates = self._rates[foot]
+            if dt > 0.0:  # the set point's velocity, low-pass filtered
+                moved = zip(rates, target, self._targets[foot], strict=True)
+                rates = self._rates[foot] = [r + blend * ((t - t0) / dt - r) for r, t, t0 in moved]
             self._targets[foot] = target
-            offset = target - base
-            spring.setpoint = offset
-            spring.velocity_setpoint = self._rates[foot] - linear - _cross(angular, offset)
+            offset = [t - b for t, b in zip(target, base, strict=True)]
+            turning = zip(rates, linear, _cross(angular, offset), strict=True)
+            # in place (the spring reads its arrays every tick; finite: from the snapshot)
+            spring.setpoint[:] = offset
+            spring.velocity_setpoint[:] = [r - v - w for r, v, w in turning]
         self._target_time = context.time
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a x b`` of two 3-vectors (np.cross costs ~40 us a call, a tenth of a tick)."""
-    (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
-    return np.array((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
+def _cross(a: Sequence[float], b: Sequence[float]) -> list[float]:
+    """``a x b`` of two 3-vectors of plain floats."""
+    (a0, a1, a2), (b0, b1, b2) = a, b
+    return [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]

@@ -139,6 +139,22 @@ class CompiledQPMatrices:
             )  # fmt: skip
         return workspace
 
+    def arguments(self, snapshot: object, wrench: np.ndarray, workspace: Workspace) -> tuple | None:
+        """:func:`~.kernels.reduced_qp`'s arguments for this tick, or None.
+
+        None: the snapshot lacks a frame (frames required after it ran: the numpy path reads
+        them).
+        """
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self._max_row:
+            return None
+        return (
+            snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept, self.axis_rows,
+            self.frame_rows, self.chain_ints, self.chain_signs, self.springs, self.const_rows,
+            self.const_rhs, self.normals_world, self.frame_normals, self.settings, self.soles,
+            self.limited_v, self.limits, workspace.buffer, workspace.layout,
+        )  # fmt: skip
+
     def build(self, snapshot: object, wrench: np.ndarray, keep: np.ndarray) -> Workspace | None:
         """The tick's reduced QP in this thread's workspace, or None to build it with numpy.
 
@@ -150,32 +166,11 @@ class CompiledQPMatrices:
             keep: ``(n,)`` bool, the prescribed axes.
 
         """
-        frames = snapshot.frame_table
-        if frames.shape[0] <= self._max_row:
-            return None  # frames required after this snapshot ran: the numpy path reads them
         workspace = self.workspace(keep)
-        status, _, scale = kernels.reduced_qp(
-            snapshot.jacobian_world,
-            frames,
-            snapshot.q,
-            wrench,
-            workspace.kept,
-            self.axis_rows,
-            self.frame_rows,
-            self.chain_ints,
-            self.chain_signs,
-            self.springs,
-            self.const_rows,
-            self.const_rhs,
-            self.normals_world,
-            self.frame_normals,
-            self.settings,
-            self.soles,
-            self.limited_v,
-            self.limits,
-            workspace.buffer,
-            workspace.layout,
-        )
+        arguments = self.arguments(snapshot, wrench, workspace)
+        if arguments is None:
+            return None
+        status, _, scale = kernels.reduced_qp(*arguments)
         if status:
             return None
         workspace.scale = scale

@@ -15,7 +15,8 @@ import numpy as np
 
 from ...kinematics.kernels import njit
 from ..result import close_norms
-from .kernels import views
+from .exact import EXACT_STEPS, exact_step
+from .kernels import LAYOUT, reduced_qp, views
 
 
 @njit(cache=True)
@@ -129,4 +130,48 @@ def finish(
             count += 1
     return Answer(out, residual, size, rounding + accuracy * 10.0 * scale, active)
 
-__all__ = ["Answer", "finish", "violation"]
+@njit(cache=True)
+def again(
+    jacobian: np.ndarray, frames: np.ndarray, q: np.ndarray, wrench: np.ndarray,
+    kept: np.ndarray, axis_rows: np.ndarray, frame_rows: np.ndarray, chain_ints: np.ndarray,
+    chain_signs: np.ndarray, springs: np.ndarray, const_rows: np.ndarray,
+    const_rhs: np.ndarray, normals_world: np.ndarray, frame_normals: np.ndarray,
+    settings: np.ndarray, soles: np.ndarray, limited_v: np.ndarray, limits: np.ndarray,
+    buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int, keep: np.ndarray,
+    weights: np.ndarray, guess: np.ndarray, active_tol: float, exact_tol: float,
+    accuracy: float,
+) -> tuple[bool, np.ndarray, Answer]:
+    """A tick on a known active set in one call: the matrices, the exact step, the read-out.
+
+    :func:`~.kernels.reduced_qp` (its arguments first, then ``pn``, ``nv``), then
+    :func:`~.exact.exact_step` of the request exactly on the active set that ``guess`` names
+    (the multipliers of the last certified answer), then :func:`finish`.
+
+    Returns:
+        ``(certified, z, answer)``: whether the exact step certified the answer (False when
+        the matrices need the numpy path, too: nothing else is then meaningful), the
+        inequalities' multipliers (the next tick's ``guess``) and the :class:`Answer`.
+
+    """
+    status, _, scale = reduced_qp(
+        jacobian, frames, q, wrench, kept, axis_rows, frame_rows, chain_ints, chain_signs,
+        springs, const_rows, const_rhs, normals_world, frame_normals, settings, soles,
+        limited_v, limits, buffer, layout,
+    )  # fmt: skip
+    nothing = Answer(np.zeros(0), 0.0, 0.0, 0.0, np.zeros(0, dtype=np.int64))
+    if status != 0:
+        return False, guess, nothing
+    rows = views(buffer, layout, pn, nv)
+    certified, z, multipliers = exact_step(
+        rows.equality, rows.equality_rhs, layout[LAYOUT - 1], weights, rows.inequality,
+        rows.lows, rows.uppers, guess, True, active_tol, exact_tol, EXACT_STEPS,
+    )  # fmt: skip
+    if not certified:
+        return False, guess, nothing
+    answer = finish(
+        buffer, layout, pn, nv, z, multipliers, scale, wrench, keep, active_tol, accuracy
+    )
+    return True, multipliers, answer
+
+
+__all__ = ["Answer", "again", "finish", "violation"]

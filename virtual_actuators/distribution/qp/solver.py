@@ -80,9 +80,9 @@ from ...exceptions import ConstraintError, InvalidInputError
 from ..problem import DistributionProblem
 from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
-from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
+from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
 from .compiled import CompiledQPMatrices
-from .kernel_answer import finish, violation
+from .kernel_answer import Answer, again, finish, violation
 from .limits import ContactLimits, kinds, torque_map
 from .stages import (
     BUDGET_EXHAUSTED,
@@ -207,6 +207,9 @@ class QPDistribution:
         """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
         work = None
         if compiled and self.matrices.applicable:
+            tick = self._again(snapshot, wrench, keep, weights)
+            if tick is not None:
+                return tick
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
@@ -232,11 +235,45 @@ class QPDistribution:
             ACTIVE_TOL,
             EPS_ABS,
         )
+        return self._tick(answer, results.exhausted)
+
+    def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
+        """The tick on the last certified answer's active set, in one compiled call, or None.
+
+        :func:`.kernel_answer.again` builds the matrices, certifies that active set on them and
+        reads the answer out: the first try of :meth:`.stages.ProxStages.solve` without its
+        Python (most ticks of a walk). None: no certified answer yet in this thread's
+        workspace, an active set that changed, or matrices that need the numpy path; the
+        stages decide then.
+        """
+        work = self.matrices.workspace(keep)
+        slot = self.stages.exact_slot(
+            "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
+        )
+        if slot.active is None:
+            return None
+        arguments = self.matrices.arguments(snapshot, wrench, work)
+        if arguments is None:
+            return None
+        certified, multipliers, answer = again(
+            *arguments, work.pn, work.nv, keep, weights, slot.active, ACTIVE_TOL, EXACT_TOL,
+            EPS_ABS,
+        )  # fmt: skip
+        if not certified:
+            return None
+        slot.active = multipliers
+        return self._tick(answer, False)
+
+    def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
+        """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""
         names = self.limits.row_names()
-        forces = answer.out[:pn].reshape(self.problem.p, self.problem.n)
-        active = tuple(names[i] for i in answer.active)
-        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
-        raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
+        forces = answer.out[: self.problem.p * self.problem.n]
+        active = tuple([names[i] for i in answer.active.tolist()])
+        active += (BUDGET_EXHAUSTED,) if exhausted else ()
+        raw = RawSolution(
+            forces=forces.reshape(self.problem.p, self.problem.n), method="qp", solver="qp",
+            active=active,
+        )  # fmt: skip
         # compiled=False: the matrices are compiled, the solve is ProxQP's (as before)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False

@@ -134,6 +134,10 @@ class ProxStages:
             identity = self._identities[size] = np.eye(size)
         return identity
 
+    def exact_slot(self, path: str, size: int, equalities: int, inequalities: int) -> ProxSlot:
+        """This thread's workspace of stage 1 for a family and sizes (made on first use)."""
+        return self._slot((path, "exact", size, equalities, inequalities))
+
     def _slot(self, key: tuple) -> ProxSlot:
         cache = getattr(self._local, "qps", None)
         if cache is None:
@@ -243,7 +247,7 @@ class ProxStages:
         equality, equality_rhs = rows.equality, rows.equality_rhs
         size = equality.shape[1]
         key = (path, "exact", size, len(equality_rhs), len(rows.lows))
-        slot = self._slot(key)
+        slot = self.exact_slot(*key[:1], *key[2:])
         if slot.active is not None:  # the last answer's active set, certified again
             certified, x, z = self._exact(rows, weights, None, slot.active, True)
             if certified:

@@ -93,20 +93,21 @@ class BodyModel(Component):
         yaw, pitch, roll = yaw_pitch_roll(pin.exp3(position[3:]))
         self.yaw = yaw
         c, s = math.cos(yaw), math.sin(yaw)
-        vx = c * velocity[0] + s * velocity[1]
-        vy = -s * velocity[0] + c * velocity[1]
-        wx = c * velocity[3] + s * velocity[4]
-        wy = -s * velocity[3] + c * velocity[4]
+        v0, v1, v2, w0, w1, w2 = velocity.tolist()
+        vx = c * v0 + s * v1
+        vy = -s * v0 + c * v1
+        wx = c * w0 + s * w1
+        wy = -s * w0 + c * w1
         ax, ay = self.acceleration
         fx = g.damping_xy[0] * (self.velocity[0] - vx) + self.mass * ax
         fy = g.damping_xy[1] * (self.velocity[1] - vy) + self.mass * ay
         weight = self.mass * GRAVITY
-        fz = weight + g.stiffness_z * (self.height - position[2]) - g.damping_z * velocity[2]
+        fz = weight + g.stiffness_z * (self.height - float(position[2])) - g.damping_z * v2
         k, b = g.stiffness_attitude, g.damping_attitude
         mx = -k[0] * roll - b[0] * wx
         my = -k[1] * pitch - b[1] * wy
-        mz = b[2] * (self.yaw_rate - velocity[5])
-        lever = self.lever
+        mz = b[2] * (self.yaw_rate - w2)
+        lever = np.asarray(self.lever, dtype=float).tolist()
         wrench = np.array(
             (
                 c * fx - s * fy,

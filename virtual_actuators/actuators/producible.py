@@ -28,6 +28,7 @@ the basis.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -91,10 +92,9 @@ def producible_directions(
     snapshot = actuator.kinematics.snapshot(q)
     if _points_only(problem):
         kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
-        frames, rows = snapshot.frame_table, kinematics.frame_rows
-        if len(rows) == 4 and frames.shape[0] > rows.max():  # two contacts, tabled frames
-            producible, missing = np.empty((6, 5)), np.empty((6, 1))
-            if _two_points(frames, rows, producible, missing):
+        if len(kinematics.reaction_ids) == 2:
+            found, producible, missing = _two_points(snapshot.frame_table, kinematics.frame_rows)
+            if found:
                 return Directions(producible, missing)
         action = snapshot.frame_position(kinematics.action_id)
         reactions = np.array([snapshot.frame_position(int(r)) for r in kinematics.reaction_ids])
@@ -132,19 +132,25 @@ def _points_only(problem: object) -> bool:
     """Every chain a point contact on a full-rank leg, six axes, no limp joint, no design row.
 
     Then chain ``i`` exerts exactly the forces through its contact point: ``(f, r_i x f)``.
+    Decided once per problem (the declaration fixes it).
     """
-    return (
-        len(problem.axes) == 6
-        and problem.num_hard == 0
-        and all(kind == "point" for kind in problem.contacts)
-        and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
-    )
+    known = _POINTS_ONLY.get(problem)
+    if known is None:
+        known = _POINTS_ONLY[problem] = (
+            len(problem.axes) == 6
+            and problem.num_hard == 0
+            and all(kind == "point" for kind in problem.contacts)
+            and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
+        )
+    return known
+
+
+#: :func:`_points_only` per declared problem.
+_POINTS_ONLY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @njit(cache=True)
-def _two_points(
-    frames: np.ndarray, rows: np.ndarray, producible: np.ndarray, missing: np.ndarray
-) -> bool:
+def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray, np.ndarray]:
     """Two point contacts in closed form: the missing direction ``(r_1 x d, d)``, normalised.
 
     ``d`` runs from one contact to the other and ``r_1`` from {B} to the first, in {O}'s axes:
@@ -155,13 +161,16 @@ def _two_points(
     Args:
         frames: The snapshot's frame table (rotation row by row, then position, per row).
         rows: Rows of {B}, {O}, then the two contacts in it (``kinematics.frame_rows``).
-        producible: ``(6, 5)`` written: the producible directions.
-        missing: ``(6, 1)`` written: the missing one.
 
     Returns:
-        False when the two contacts coincide (nothing written: the general path decides).
+        ``(found, producible (6, 5), missing (6, 1))``; not found when the two contacts
+        coincide or a row is not in the table (the general path decides).
 
     """
+    producible, missing = np.empty((6, 5)), np.empty((6, 1))
+    for row in rows:
+        if row >= frames.shape[0]:
+            return False, producible, missing
     b, o = rows[0], rows[1]
     offsets = np.empty((2, 3))  # from each contact to {B}, in {O}
     for i in range(2):
@@ -176,7 +185,7 @@ def _two_points(
     dy = offsets[0, 1] - offsets[1, 1]
     dz = offsets[0, 2] - offsets[1, 2]
     if dx * dx + dy * dy + dz * dz <= RANK_TOL * max(x * x + y * y + z * z, 1e-300):
-        return False
+        return False, producible, missing
     values = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
     norm = 0.0
     for value in values:
@@ -194,7 +203,7 @@ def _two_points(
             producible[r, column] = (1.0 if r == c else 0.0) - scale * (v[r] * v[c])
         column += 1
     missing[:, 0] = values
-    return True
+    return True, producible, missing
 
 
 @njit(cache=True)

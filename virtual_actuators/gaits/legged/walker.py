@@ -143,8 +143,9 @@ class LeggedWalker(Gait):
         """Nominal stance, standing height and gains from the standing pose."""
         robot, model = self.robot, self.robot.model
         frame = model.frames[model.getFrameId(self.body_frame)]
-        #: the floating base's angular velocity (its own axes) into the body frame's axes
-        self._to_body = frame.placement.rotation.T.copy()
+        #: the floating base's angular velocity (its own axes) into the body frame's (None: same)
+        turn = frame.placement.rotation
+        self._to_body = None if np.array_equal(turn, np.eye(3)) else turn.T.copy()
         if frame.parentJoint != 1:
             raise InvalidInputError(
                 f"LeggedWalker: the body frame {self.body_frame!r} must be on the floating base."
@@ -283,7 +284,8 @@ class LeggedWalker(Gait):
         rotation, origin = snapshot.placement(self.body_frame)  # views
         base = origin.tolist()
         linear = snapshot.frame_velocity(self.body_frame).tolist()
-        angular = (rotation @ (self._to_body @ context.v[3:6])).tolist()  # world axes [rad/s]
+        spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
+        angular = (rotation @ spin).tolist()  # world axes [rad/s]
         com = self.mass_model.center_of_mass(context.q)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)

@@ -19,7 +19,9 @@ import numpy as np
 from ...kinematics.kernels import HAVE_NUMBA
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
+from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from . import kernels
+from .kernel_answer import Answer, again
 
 
 class Workspace:
@@ -139,7 +141,9 @@ class CompiledQPMatrices:
             )  # fmt: skip
         return workspace
 
-    def arguments(self, snapshot: object, wrench: np.ndarray, workspace: Workspace) -> tuple | None:
+    def _arguments(
+        self, snapshot: object, wrench: np.ndarray, workspace: Workspace
+    ) -> tuple | None:
         """:func:`~.kernels.reduced_qp`'s arguments for this tick, or None.
 
         None: the snapshot lacks a frame (frames required after it ran: the numpy path reads
@@ -167,7 +171,7 @@ class CompiledQPMatrices:
 
         """
         workspace = self.workspace(keep)
-        arguments = self.arguments(snapshot, wrench, workspace)
+        arguments = self._arguments(snapshot, wrench, workspace)
         if arguments is None:
             return None
         status, _, scale = kernels.reduced_qp(*arguments)
@@ -175,6 +179,32 @@ class CompiledQPMatrices:
             return None
         workspace.scale = scale
         return workspace
+
+    def again(
+        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
+        weights: np.ndarray, guess: np.ndarray,
+    ) -> tuple[bool, np.ndarray, Answer] | None:
+        """:func:`.kernel_answer.again` on this tick: ``(certified, multipliers, answer)``.
+
+        Args:
+            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            wrench: ``(n,)`` requested wrench.
+            keep: ``(n,)`` bool, the prescribed axes.
+            workspace: This thread's workspace for them (:meth:`workspace`).
+            weights: The request rows' weights.
+            guess: The inequalities' multipliers of the last certified answer.
+
+        Returns:
+            The kernel's answer, or None when the snapshot lacks a frame.
+
+        """
+        arguments = self._arguments(snapshot, wrench, workspace)
+        if arguments is None:
+            return None
+        return again(
+            *arguments, workspace.pn, workspace.nv, keep, weights, guess,
+            ACTIVE_TOL, EXACT_TOL, EPS_ABS,
+        )  # fmt: skip
 
 
 __all__ = ["CompiledQPMatrices", "Workspace"]

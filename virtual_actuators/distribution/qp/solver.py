@@ -80,9 +80,9 @@ from ...exceptions import ConstraintError, InvalidInputError
 from ..problem import DistributionProblem
 from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
-from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
+from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
 from .compiled import CompiledQPMatrices
-from .kernel_answer import Answer, again, finish, violation
+from .kernel_answer import Answer, finish, violation
 from .limits import ContactLimits, kinds, torque_map
 from .stages import (
     BUDGET_EXHAUSTED,
@@ -252,15 +252,10 @@ class QPDistribution:
         )
         if slot.active is None:
             return None
-        arguments = self.matrices.arguments(snapshot, wrench, work)
-        if arguments is None:
+        found = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
+        if found is None or not found[0]:
             return None
-        certified, multipliers, answer = again(
-            *arguments, work.pn, work.nv, keep, weights, slot.active, ACTIVE_TOL, EXACT_TOL,
-            EPS_ABS,
-        )  # fmt: skip
-        if not certified:
-            return None
+        _, multipliers, answer = found
         slot.active = multipliers
         return self._tick(answer, False)
 

@@ -49,7 +49,7 @@ from ...models.robot import Robot
 from ..base import Gait
 from .body import BodyModel
 from .com import MassModel
-from .footholds import BodyState, Motion, foothold, swing_point
+from .footholds import BodyState, Motion, SwingFeet
 from .parameters import GRAVITY, LeggedParameters, derive_gains
 from .patterns import GaitPattern, named_pattern
 
@@ -127,12 +127,12 @@ class LeggedWalker(Gait):
         self._yaw_integral = 0.0  # the same for the yaw rate [rad/s]
         self._dt = 0.0
         self._last_time: float | None = None
-        self._nominal = dict(zip(self.feet, map(tuple, self.nominal.tolist()), strict=True))
-        self._starts: dict[str, list[float]] = {}  # per swing foot, world [m]
-        self._targets: dict[str, list[float]] = {}
-        self._rates: dict[str, list[float]] = {}  # [m/s]
-        self._target_time = 0.0  # of the swing set points last set [s]
         self._declare()
+        g = self.gains
+        shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
+                 p.reach * g.height, p.lift * g.height, p.lift_peak,
+                 p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
+        self._swing_feet = SwingFeet(self.feet, self.nominal, self.swing.values(), shape)
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
         self._swinging = dict(zip(self.step_states, self.groups, strict=True))
         self._finish(self._machine())
@@ -271,8 +271,7 @@ class LeggedWalker(Gait):
 
     def _enter_swing(self, context: Context) -> None:
         for foot in self._group(context):
-            self._starts[foot] = self._targets[foot] = context.frame_position(foot).tolist()
-            self._rates[foot] = [0.0, 0.0, 0.0]
+            self._swing_feet.lift_off(foot, context.frame_position(foot))
 
     def _group(self, context: Context) -> tuple[str, ...]:
         """The feet swinging in the current state."""
@@ -282,10 +281,9 @@ class LeggedWalker(Gait):
         """Body set points, the producible directions, and the swing feet."""
         snapshot, state = context.snapshot, context.state
         rotation, origin = snapshot.placement(self.body_frame)  # views
-        base = origin.tolist()
-        linear = snapshot.frame_velocity(self.body_frame).tolist()
+        linear = snapshot.frame_velocity(self.body_frame)
         spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
-        angular = (rotation @ spin).tolist()  # world axes [rad/s]
+        angular = rotation @ spin  # world axes [rad/s]
         com = self.mass_model.center_of_mass(context.q)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)
@@ -300,15 +298,15 @@ class LeggedWalker(Gait):
         body.basis = None
         if self.parameters.give_way and len(support) < 3:
             body.basis = producible_directions(self.supports[current.active[0]], snapshot)
-        measured = (c * linear[0] + s * linear[1], -s * linear[0] + c * linear[1])
+        vx, vy, _ = linear.tolist()
+        measured = (c * vx + s * vy, -s * vx + c * vy)
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
-        self._integrate(error, self.yaw_rate - angular[2])
+        self._integrate(error, self.yaw_rate - float(angular[2]))
         if not state.startswith("swing"):
             return
         bias = self._error_integral
         motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
-        com = com.tolist()
-        self._move_swing(context, motion, BodyState(com, base, linear, angular, yaw), float(ground))
+        self._move_swing(context, motion, BodyState(com, origin, linear, angular, yaw), ground)
 
     def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
         """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
@@ -348,51 +346,21 @@ class LeggedWalker(Gait):
     def _move_swing(
         self, context: Context, motion: Motion, body: BodyState, ground: float
     ) -> None:
-        """The swing feet's set points along their curves to the footholds (plain floats)."""
-        p, g = self.parameters, self.gains
-        com, base, linear, angular, yaw = body
+        """The swing feet's set points along their curves to the footholds."""
+        feet = self._group(context)
         elapsed = context.time_in_state
-        phase = elapsed / self.swing_time
-        remaining = max(0.0, self.swing_time - elapsed)
-        heading = yaw + self.yaw_rate * remaining
-        c, s = math.cos(heading), math.sin(heading)
-        cy, sy = math.cos(yaw), math.sin(yaw)
-        vx, vy = motion.velocity
-        centre_x = com[0] + remaining * (cy * vx - sy * vy)  # the centre of mass at touchdown
-        centre_y = com[1] + remaining * (sy * vx + cy * vy)
-        # past the planned touchdown the set point keeps going down, a depth per quarter swing
-        depth = p.touchdown_depth * g.height * (1.0 + 4.0 * max(0.0, phase - 1.0))
-        contacts = context.contacts or {}
-        late = phase >= p.touchdown_phase
-        dt = context.time - self._target_time
-        blend = min(1.0, dt / RATE_FILTER) if dt > 0.0 else 0.0
-        for foot in self._group(context):
-            spring = self.swing[foot]
-            if late and contacts.get(foot, False):  # down: held where it is, still in the world
-                spring.setpoint = offset = (context.frame_position(foot) - base).tolist()
-                turning = zip(linear, _cross(angular, offset), strict=True)
+        if elapsed / self.swing_time >= self.parameters.touchdown_phase and context.contacts:
+            down = tuple(foot for foot in feet if context.contacts.get(foot, False))
+            for foot in down:  # held where it is, still in the world
+                spring = self.swing[foot]
+                spring.setpoint = offset = (context.frame_position(foot) - body.base).tolist()
+                turning = zip(body.linear.tolist(), _cross(body.angular, offset), strict=True)
                 spring.velocity_setpoint = [-a - b for a, b in turning]
-                continue
-            x, y = foothold(
-                self._nominal[foot], motion, self.stance_time, g.time_scale * p.placement_gain,
-                p.reach * g.height,
-            )  # fmt: skip
-            land = (centre_x + c * x - s * y, centre_y + s * x + c * y, ground - depth)
-            target = swing_point(self._starts[foot], land, phase, p.lift * g.height, p.lift_peak)
-            rates = self._rates[foot]
-            if dt > 0.0:  # the set point's velocity, low-pass filtered
-                moved = zip(rates, target, self._targets[foot], strict=True)
-                rates = self._rates[foot] = [r + blend * ((t - t0) / dt - r) for r, t, t0 in moved]
-            self._targets[foot] = target
-            offset = [t - b for t, b in zip(target, base, strict=True)]
-            turning = zip(rates, linear, _cross(angular, offset), strict=True)
-            # in place (the spring reads its arrays every tick; finite: from the snapshot)
-            spring.setpoint[:] = offset
-            spring.velocity_setpoint[:] = [r - v - w for r, v, w in turning]
-        self._target_time = context.time
+            feet = tuple(foot for foot in feet if foot not in down)
+        self._swing_feet.move(feet, motion, body, float(ground), elapsed, context.time)
 
 
 def _cross(a: Sequence[float], b: Sequence[float]) -> list[float]:
-    """``a x b`` of two 3-vectors of plain floats."""
+    """``a x b`` of two 3-vectors."""
     (a0, a1, a2), (b0, b1, b2) = a, b
     return [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]

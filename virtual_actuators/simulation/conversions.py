@@ -62,6 +62,7 @@ class Gathers:
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
     direct_q: np.ndarray | None = None  # q = qpos[direct_q] when every joint is reordered
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
+    gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
     direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
     unactuated: tuple[int, ...] = ()  # unactuated_v as ints
 
@@ -154,6 +155,11 @@ def gathers(mm: MujocoModel) -> Gathers:
         if any(j.kind == "free" for j in mm.joints)
         else _direct(copy_v, copy_qvel, mm.robot.model.nv),
         direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
+        gather_v=_direct(
+            [i for j in mm.joints for i in range(j.idx_v, j.idx_v + j.nv)],
+            [d for j in mm.joints for d in range(j.dof_adr, j.dof_adr + j.nv)],
+            mm.robot.model.nv,
+        ),
         unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
@@ -366,12 +372,10 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
     maps = gathers(mm)
     if maps.direct_v is not None:  # no free joint: one gather
         return qvel[maps.direct_v]
-    v = np.zeros(mm.robot.model.nv)
-    v[maps.copy_v] = qvel[maps.copy_qvel]
+    v = qvel[maps.gather_v]  # the free joints' angular velocities included
     for joint in maps.free:
         d, i, a = joint.dof_adr, joint.idx_v, joint.qpos_adr
         v[i : i + 3] = _rotate_back(qpos[a + 3 : a + 7].tolist(), qvel[d : d + 3].tolist())
-        v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
     return v
 
 

@@ -51,6 +51,7 @@ class Workspace:
         arrays = kernels.views(self.buffer, self.layout, p_n, nv)
         self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
         self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
+        self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
         self.scale = 1.0
 
 
@@ -183,8 +184,8 @@ class CompiledQPMatrices:
     def again(
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
         weights: np.ndarray, guess: np.ndarray,
-    ) -> tuple[bool, np.ndarray, Answer] | None:
-        """:func:`.kernel_answer.again` on this tick: ``(certified, multipliers, answer)``.
+    ) -> Answer | None:
+        """:func:`.kernel_answer.again` on this tick: the answer, or None.
 
         Args:
             snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
@@ -192,19 +193,26 @@ class CompiledQPMatrices:
             keep: ``(n,)`` bool, the prescribed axes.
             workspace: This thread's workspace for them (:meth:`workspace`).
             weights: The request rows' weights.
-            guess: The inequalities' multipliers of the last certified answer.
+            guess: The inequalities' multipliers of the last certified answer (replaced in
+                place by this answer's when it is certified).
 
         Returns:
-            The kernel's answer, or None when the snapshot lacks a frame.
+            The :class:`~.kernel_answer.Answer`; None when the exact step did not certify the
+            active set, the matrices need the numpy path or the snapshot lacks a frame.
 
         """
         arguments = self._arguments(snapshot, wrench, workspace)
         if arguments is None:
             return None
-        return again(
-            *arguments, workspace.pn, workspace.nv, keep, weights, guess,
-            ACTIVE_TOL, EXACT_TOL, EPS_ABS,
+        out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
+        active = workspace.active
+        count, norms = again(
+            *arguments, workspace.pn, workspace.nv, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
+            EPS_ABS, out, active,
         )  # fmt: skip
+        if count < 0:
+            return None
+        return Answer(out, *norms, active[:count].copy())
 
 
 __all__ = ["CompiledQPMatrices", "Workspace"]

@@ -252,12 +252,8 @@ class QPDistribution:
         )
         if slot.active is None:
             return None
-        found = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
-        if found is None or not found[0]:
-            return None
-        _, multipliers, answer = found
-        slot.active = multipliers
-        return self._tick(answer, False)
+        answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
+        return None if answer is None else self._tick(answer, False)
 
     def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
         """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""

@@ -135,10 +135,10 @@ class _Spring:
         self.setpoint, self.velocity_setpoint = np.zeros(3), np.zeros(3)
 
 
-def _swing_oracle(start, nominal, body, motion, shape, elapsed, ground):
+def _swing_oracle(start, nominal, body, motion, shape):
     """The swing set point from the definitions (module docstring of ``footholds``), numpy."""
-    com, yaw = body.com, body.yaw
-    (vx, vy), (ex, ey), wz = motion.velocity, motion.error, motion.yaw_rate
+    com = body[:3]
+    vx, vy, ex, ey, wz, yaw, elapsed, ground = motion
     swing_time, stance_time, capture, reach, lift, peak, depth, _ = shape
 
     def turn(angle):
@@ -169,7 +169,7 @@ def _swing_oracle(start, nominal, body, motion, shape, elapsed, ground):
 @pytest.mark.parametrize("elapsed", [0.0, 0.07, 0.16, 0.25, 0.3])
 def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
     """The compiled set points against the definitions, one tick then the next (the rate)."""
-    from virtual_actuators.gaits.legged.footholds import BodyState, Motion, SwingFeet
+    from virtual_actuators.gaits.legged.footholds import SwingFeet
 
     rng = np.random.default_rng(3)
     shape = (0.25, 0.4, 0.12, 0.1, 0.05, 0.4, 0.004, 0.02)  # touchdown at 0.25 s
@@ -179,25 +179,23 @@ def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
     starts = rng.normal(size=(2, 3)) * 0.1
     for foot, start in zip(swinging, starts, strict=True):
         feet.lift_off(foot, start)
-    body = BodyState(rng.normal(size=3) * 0.1, rng.normal(size=3) * 0.1 + [0, 0, 0.3],
-                     rng.normal(size=3) * 0.2, rng.normal(size=3) * 0.3, 0.4)  # fmt: skip
-    motion = Motion((0.5, 0.1), (0.05, -0.02), 0.3)
-    ground, previous = -0.01, []
+    body = rng.normal(size=12) * 0.2  # centre of mass, origin, velocity, angular velocity
+    base, linear, angular = body[3:6], body[6:9], body[9:]
+    previous = []
     for tick, now in enumerate((1.0, 1.001)):  # the first at rest (no time since the last)
         feet.time = 1.0 if tick == 0 else feet.time
-        feet.move(swinging, motion, body, ground, elapsed + now - 1.0, now)
+        motion = np.array((0.5, 0.1, 0.05, -0.02, 0.3, 0.4, elapsed + now - 1.0, -0.01))
+        feet.move(swinging, body, motion, now)
         for k, (foot, start) in enumerate(zip(swinging, starts, strict=True)):
             index = QUAD.index(foot)
-            point = _swing_oracle(
-                start, QUAD_XY[index], body, motion, shape, elapsed + now - 1.0, ground
-            )
+            point = _swing_oracle(start, QUAD_XY[index], body, motion, shape)
             # the second tick's rate: the new one low-passed, dt / filter of it
             rate = 0.05 * (point - previous[k]) / 0.001 if tick else np.zeros(3)
-            spin = rate - body.linear - np.cross(body.angular, point - body.base)
-            np.testing.assert_allclose(springs[index].setpoint, point - body.base, atol=1e-12)
+            spin = rate - linear - np.cross(angular, point - base)
+            np.testing.assert_allclose(springs[index].setpoint, point - base, atol=1e-12)
             np.testing.assert_allclose(springs[index].velocity_setpoint, spin, atol=1e-9)
             if elapsed == 0.0 and tick == 0:  # lift-off: where the foot is
-                np.testing.assert_allclose(springs[index].setpoint + body.base, start, atol=1e-15)
+                np.testing.assert_allclose(springs[index].setpoint + base, start, atol=1e-15)
             previous.append(point)
         previous = previous[-2:]
     untouched = springs[QUAD.index("RF")]

@@ -15,48 +15,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import NamedTuple
 
 import numpy as np
 
 from ...kinematics.kernels import njit
 from ..planar import lift_profile, smoothstep
-
-Pair = tuple[float, float]
-
-
-class BodyState(NamedTuple):
-    """The body as the swing feet's set points need it this tick (world frame).
-
-    Attributes:
-        com: Centre of mass [m].
-        base: The body frame's origin [m].
-        linear: Its velocity [m/s].
-        angular: The body's angular velocity [rad/s].
-        yaw: Its heading [rad].
-
-    """
-
-    com: np.ndarray
-    base: np.ndarray
-    linear: np.ndarray
-    angular: np.ndarray
-    yaw: float
-
-
-class Motion(NamedTuple):
-    """The body's planar motion the footholds are placed for (heading frame, set points).
-
-    Attributes:
-        velocity: Velocity set point ``(vx, vy)`` in the heading frame [m/s].
-        error: Measured minus set point velocity, heading frame [m/s].
-        yaw_rate: Yaw rate set point [rad/s].
-
-    """
-
-    velocity: Pair
-    error: Pair
-    yaw_rate: float
 
 
 @njit(cache=True)
@@ -112,7 +75,7 @@ def swing_point(
 @njit(cache=True)
 def swing_setpoints(
     feet: np.ndarray, swing: np.ndarray, nominal: np.ndarray, body: np.ndarray,
-    motion: np.ndarray, shape: np.ndarray, out: np.ndarray,
+    motion: np.ndarray, dt: float, shape: np.ndarray, out: np.ndarray,
 ) -> None:
     """The set points of the feet ``feet`` index, relative to the body, and their velocities.
 
@@ -129,16 +92,17 @@ def swing_setpoints(
         nominal: ``(f, 2)`` the feet's nominal places (:func:`foothold`'s ``x``, ``y``) [m].
         body: ``(12,)`` centre of mass, the body's origin, its velocity and angular velocity,
             world [m, m/s, rad/s].
-        motion: ``(9,)`` velocity set point and error in the heading frame (``vx, vy, ex,
-            ey``), yaw rate set point, yaw, time in the swing, ground height and time since
-            the last set points [m/s, rad/s, rad, s, m, s].
+        motion: ``(8,)`` velocity set point and its error (measured minus set) in the
+            heading frame (``vx, vy, ex, ey``), yaw rate set point, yaw, time in the swing and
+            ground height [m/s, rad/s, rad, s, m].
+        dt: Time since the last set points [s] (0: their velocities are kept).
         shape: ``(8,)`` swing time, stance time, capture time, reach, lift, lift peak (a
             phase), touchdown depth, rate filter [s, s, s, m, m, -, m, s].
         out: ``(k, 6)`` written: the set points minus the body's origin and their velocities
             relative to the body, world axes.
 
     """
-    vx, vy, ex, ey, yaw_rate, yaw, elapsed, ground, dt = motion
+    vx, vy, ex, ey, yaw_rate, yaw, elapsed, ground = motion
     swing_time, stance_time, capture, reach, lift, peak, depth, rate_filter = shape
     phase = elapsed / swing_time
     remaining = max(0.0, swing_time - elapsed)
@@ -206,29 +170,23 @@ class SwingFeet:
         row[6:] = 0.0
 
     def move(
-        self, feet: tuple[str, ...], motion: Motion, body: BodyState, ground: float,
-        elapsed: float, time: float,
+        self, feet: tuple[str, ...], body: np.ndarray, motion: np.ndarray, time: float
     ) -> None:
         """Set the springs of ``feet`` along their curves (:func:`swing_setpoints`).
 
         Args:
             feet: The feet swinging, not yet down.
-            motion: The body's velocity set point, its error and the yaw rate set point.
-            body: The body this tick.
-            ground: Height of the ground under the support [m].
-            elapsed: Time in the swing [s].
+            body: :func:`swing_setpoints`'s ``body``.
+            motion: Its ``motion``.
             time: Controller time [s].
 
         """
         indices = self._indices.get(feet)
         if indices is None:
             indices = self._indices[feet] = np.array([self.index[f] for f in feet], np.int64)
-        (vx, vy), (ex, ey) = motion.velocity, motion.error
-        state = np.concatenate((body.com, body.base, body.linear, body.angular))
-        steering = np.array((vx, vy, ex, ey, motion.yaw_rate, body.yaw, elapsed, ground,
-                             time - self.time))  # fmt: skip
         out = self._out
-        swing_setpoints(indices, self.swing, self.nominal, state, steering, self.shape, out)
+        dt = time - self.time
+        swing_setpoints(indices, self.swing, self.nominal, body, motion, dt, self.shape, out)
         for j, k in enumerate(indices.tolist()):
             spring = self.springs[k]
             spring.setpoint[:] = out[j, :3]
@@ -236,4 +194,4 @@ class SwingFeet:
         self.time = time
 
 
-__all__ = ["BodyState", "Motion", "SwingFeet", "foothold", "swing_point", "swing_setpoints"]
+__all__ = ["SwingFeet", "foothold", "swing_point", "swing_setpoints"]

@@ -49,7 +49,7 @@ from ...models.robot import Robot
 from ..base import Gait
 from .body import BodyModel
 from .com import MassModel
-from .footholds import BodyState, Motion, SwingFeet
+from .footholds import SwingFeet
 from .parameters import GRAVITY, LeggedParameters, derive_gains
 from .patterns import GaitPattern, named_pattern
 
@@ -292,21 +292,23 @@ class LeggedWalker(Gait):
         body.velocity, body.lever = self._setpoint, com - origin
         body.yaw_rate = self.yaw_rate + self._yaw_integral
         current = self.machine.current
-        support = current.support
-        ground = sum(snapshot.frame_position(f)[2] for f in support) / len(support)
+        support, actuator = current.support, self.supports[current.active[0]]
+        feet = actuator.kinematics.frame_rows[2:]  # the support feet's rows in the frame table
+        ground = float(snapshot.frame_table[feet, 11].sum()) / len(support)
         body.height = ground + self.stand_height
         body.basis = None
         if self.parameters.give_way and len(support) < 3:
-            body.basis = producible_directions(self.supports[current.active[0]], snapshot)
+            body.basis = producible_directions(actuator, snapshot)
         vx, vy, _ = linear.tolist()
         measured = (c * vx + s * vy, -s * vx + c * vy)
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
         self._integrate(error, self.yaw_rate - float(angular[2]))
         if not state.startswith("swing"):
             return
-        bias = self._error_integral
-        motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
-        self._move_swing(context, motion, BodyState(com, origin, linear, angular, yaw), ground)
+        (sx, sy), (bx, by) = self._setpoint, self._error_integral
+        motion = np.array((sx, sy, error[0] + bx, error[1] + by, self.yaw_rate, yaw,
+                           context.time_in_state, ground))  # fmt: skip
+        self._move_swing(context, np.concatenate((com, origin, linear, angular)), motion)
 
     def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
         """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
@@ -343,21 +345,21 @@ class LeggedWalker(Gait):
         norm = max(math.hypot(dx, dy), 1e-12)
         self.body.acceleration = (rate * dx / norm, rate * dy / norm)
 
-    def _move_swing(
-        self, context: Context, motion: Motion, body: BodyState, ground: float
-    ) -> None:
-        """The swing feet's set points along their curves to the footholds."""
+    def _move_swing(self, context: Context, body: np.ndarray, motion: np.ndarray) -> None:
+        """The swing feet's set points along their curves to the footholds.
+
+        ``body`` and ``motion`` as :func:`~.footholds.swing_setpoints` reads them.
+        """
         feet = self._group(context)
-        elapsed = context.time_in_state
-        if elapsed / self.swing_time >= self.parameters.touchdown_phase and context.contacts:
+        if context.time_in_state / self.swing_time >= self.parameters.touchdown_phase:
             down = tuple(foot for foot in feet if context.contacts.get(foot, False))
             for foot in down:  # held where it is, still in the world
                 spring = self.swing[foot]
-                spring.setpoint = offset = (context.frame_position(foot) - body.base).tolist()
-                turning = zip(body.linear.tolist(), _cross(body.angular, offset), strict=True)
+                spring.setpoint = offset = (context.frame_position(foot) - body[3:6]).tolist()
+                turning = zip(body[6:9].tolist(), _cross(body[9:], offset), strict=True)
                 spring.velocity_setpoint = [-a - b for a, b in turning]
             feet = tuple(foot for foot in feet if foot not in down)
-        self._swing_feet.move(feet, motion, body, float(ground), elapsed, context.time)
+        self._swing_feet.move(feet, body, motion, context.time)
 
 
 def _cross(a: Sequence[float], b: Sequence[float]) -> list[float]:

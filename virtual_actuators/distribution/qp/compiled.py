@@ -52,6 +52,7 @@ class Workspace:
         self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
         self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
         self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
+        self.tables: tuple | None = None  # the kernel's arguments that the declaration fixes
         self.scale = 1.0
 
 
@@ -153,12 +154,15 @@ class CompiledQPMatrices:
         frames = snapshot.frame_table
         if frames.shape[0] <= self._max_row:
             return None
-        return (
-            snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept, self.axis_rows,
-            self.frame_rows, self.chain_ints, self.chain_signs, self.springs, self.const_rows,
-            self.const_rhs, self.normals_world, self.frame_normals, self.settings, self.soles,
-            self.limited_v, self.limits, workspace.buffer, workspace.layout,
-        )  # fmt: skip
+        tables = workspace.tables
+        if tables is None:  # what the declaration fixes, once per workspace
+            tables = workspace.tables = (
+                workspace.kept, self.axis_rows, self.frame_rows, self.chain_ints,
+                self.chain_signs, self.springs, self.const_rows, self.const_rhs,
+                self.normals_world, self.frame_normals, self.settings, self.soles,
+                self.limited_v, self.limits, workspace.buffer, workspace.layout,
+            )  # fmt: skip
+        return (snapshot.jacobian_world, frames, snapshot.q, wrench, *tables)
 
     def build(self, snapshot: object, wrench: np.ndarray, keep: np.ndarray) -> Workspace | None:
         """The tick's reduced QP in this thread's workspace, or None to build it with numpy.

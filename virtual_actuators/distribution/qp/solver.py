@@ -195,13 +195,17 @@ class QPDistribution:
                 iterations.
 
         """
-        keep, weights = request.keep, request.weights
-        weights = (self.weights if weights is None else weights)[keep]
+        keep = request.keep
+        local = self._local
+        hot = getattr(local, "request", None)  # this thread's last request and its weights
+        if hot is None or hot[0] is not request:
+            weights = (self.weights if request.weights is None else request.weights)[keep]
+            hot = local.request = (request, weights)
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget)
+            return self._solve(snapshot, wrench, keep, request.compiled, hot[1], budget)
         finally:
-            self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
+            local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
@@ -246,10 +250,15 @@ class QPDistribution:
         workspace, an active set that changed, or matrices that need the numpy path; the
         stages decide then.
         """
-        work = self.matrices.workspace(keep)
-        slot = self.stages.exact_slot(
-            "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
-        )
+        local = self._local
+        hot = getattr(local, "workspace", None)  # this thread's for the last prescribed axes
+        if hot is None or hot[0] is not keep:
+            work = self.matrices.workspace(keep)
+            slot = self.stages.exact_slot(
+                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
+            )  # the stage-1 workspace of the same sizes
+            hot = local.workspace = (keep, work, slot)
+        _, work, slot = hot
         if slot.active is None:
             return None
         answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)

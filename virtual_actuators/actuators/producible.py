@@ -28,12 +28,13 @@ the basis.
 
 from __future__ import annotations
 
-import math
+import weakref
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from ..kinematics.kernels import njit
 from ..kinematics.snapshot import Snapshot
 from ..vocabulary.axes import check_axes_subset
 from .serial import wrench_array
@@ -43,9 +44,6 @@ if TYPE_CHECKING:  # the actuator imports this module
 
 #: Singular values below this fraction of the largest count as zero (the rank decision).
 RANK_TOL = 1e-9
-
-_EYE6 = np.eye(6)
-_OTHERS = [np.array([j for j in range(6) if j != k]) for k in range(6)]  # columns but k
 
 
 def _null_space(matrix: np.ndarray) -> np.ndarray:
@@ -94,11 +92,14 @@ def producible_directions(
     snapshot = actuator.kinematics.snapshot(q)
     if _points_only(problem):
         kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
+        if len(kinematics.reaction_ids) == 2:
+            found, producible, missing = _two_points(snapshot.frame_table, kinematics.frame_rows)
+            if found:
+                return Directions(producible, missing)
         action = snapshot.frame_position(kinematics.action_id)
         reactions = np.array([snapshot.frame_position(int(r)) for r in kinematics.reaction_ids])
         offsets = (action - reactions) @ snapshot.frame_rotation(kinematics.reference_id)
-        pair = _two_points(offsets) if len(offsets) == 2 else None
-        return pair if pair is not None else _split(_point_columns(offsets))
+        return _split(_point_columns(offsets))
     evaluation = problem.evaluate(snapshot, check_singular=False)
     natural, _ = problem.block_natural(evaluation)
     p, n = problem.p, problem.n
@@ -131,36 +132,112 @@ def _points_only(problem: object) -> bool:
     """Every chain a point contact on a full-rank leg, six axes, no limp joint, no design row.
 
     Then chain ``i`` exerts exactly the forces through its contact point: ``(f, r_i x f)``.
+    Decided once per problem (the declaration fixes it).
     """
-    return (
-        len(problem.axes) == 6
-        and problem.num_hard == 0
-        and all(kind == "point" for kind in problem.contacts)
-        and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
-    )
+    known = _POINTS_ONLY.get(problem)
+    if known is None:
+        known = _POINTS_ONLY[problem] = (
+            len(problem.axes) == 6
+            and problem.num_hard == 0
+            and all(kind == "point" for kind in problem.contacts)
+            and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
+        )
+    return known
 
 
-def _two_points(offsets: np.ndarray) -> Directions | None:
+#: :func:`_points_only` per declared problem.
+_POINTS_ONLY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+@njit(cache=True)
+def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray, np.ndarray]:
     """Two point contacts in closed form: the missing direction ``(r_1 x d, d)``, normalised.
 
-    ``d`` runs from one contact to the other and ``r_1`` from {B} to the first: a wrench
-    ``(a, b)`` is orthogonal to every ``(f, r_i x f)`` exactly when ``a = r_1 x b`` and ``b`` is
-    along ``d``. The producible directions are the other columns of the Householder reflection
-    that takes a unit axis to it. None when the two contacts coincide (the general path).
+    ``d`` runs from one contact to the other and ``r_1`` from {B} to the first, in {O}'s axes:
+    a wrench ``(a, b)`` is orthogonal to every ``(f, r_i x f)`` exactly when ``a = r_1 x b``
+    and ``b`` is along ``d``. The producible directions are the other columns of the
+    Householder reflection that takes a unit axis to it.
+
+    Args:
+        frames: The snapshot's frame table (rotation row by row, then position, per row).
+        rows: Rows of {B}, {O}, then the two contacts in it (``kinematics.frame_rows``).
+
+    Returns:
+        ``(found, producible (6, 5), missing (6, 1))``; not found when the two contacts
+        coincide or a row is not in the table (the general path decides).
+
     """
-    (ax, ay, az), (bx, by, bz) = offsets.tolist()
-    x, y, z = -ax, -ay, -az  # from {B} to the first contact
-    dx, dy, dz = ax - bx, ay - by, az - bz  # from the first contact to the second
+    producible, missing = np.empty((6, 5)), np.empty((6, 1))
+    for row in rows:
+        if row >= frames.shape[0]:
+            return False, producible, missing
+    b, o = rows[0], rows[1]
+    offsets = np.empty((2, 3))  # from each contact to {B}, in {O}
+    for i in range(2):
+        a = rows[2 + i]
+        for j in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += (frames[b, 9 + k] - frames[a, 9 + k]) * frames[o, 3 * k + j]
+            offsets[i, j] = acc
+    x, y, z = -offsets[0, 0], -offsets[0, 1], -offsets[0, 2]  # from {B} to the first contact
+    dx = offsets[0, 0] - offsets[1, 0]  # from the first contact to the second
+    dy = offsets[0, 1] - offsets[1, 1]
+    dz = offsets[0, 2] - offsets[1, 2]
     if dx * dx + dy * dy + dz * dz <= RANK_TOL * max(x * x + y * y + z * z, 1e-300):
-        return None
-    values = [y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz]
-    norm = math.sqrt(sum(v * v for v in values))
-    missing = np.array(values) / norm
-    k = int(np.argmax(np.abs(missing)))
-    v = missing.copy()
-    v[k] += 1.0 if missing[k] >= 0.0 else -1.0
-    reflection = _EYE6 - (2.0 / float(v @ v)) * np.outer(v, v)  # column k: -+ missing
-    return Directions(reflection[:, _OTHERS[k]], missing[:, None])
+        return False, producible, missing
+    values = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
+    norm = 0.0
+    for value in values:
+        norm += value * value
+    values /= np.sqrt(norm)
+    k = int(np.argmax(np.abs(values)))
+    v = values.copy()
+    v[k] += 1.0 if values[k] >= 0.0 else -1.0
+    scale = 2.0 / (v @ v)
+    column = 0
+    for c in range(6):  # the reflection's columns but k (column k: -+ missing)
+        if c == k:
+            continue
+        for r in range(6):
+            producible[r, column] = (1.0 if r == c else 0.0) - scale * (v[r] * v[c])
+        column += 1
+    missing[:, 0] = values
+    return True, producible, missing
+
+
+@njit(cache=True)
+def _give_way_one(
+    wrench: np.ndarray, yielding: np.ndarray, missing: np.ndarray, out: np.ndarray
+) -> bool:
+    """:func:`give_way` with one missing direction, in closed form, into ``out``.
+
+    Returns False (nothing written) when the yielding directions cannot move the request
+    along it (the least-squares path decides).
+    """
+    n, m = yielding.shape
+    across = np.zeros(m)  # how each yielding direction moves the missing part
+    gap = 0.0
+    for r in range(n):
+        gap += missing[r, 0] * wrench[r]
+        for j in range(m):
+            across[j] += missing[r, 0] * yielding[r, j]
+    norm2 = 0.0
+    for j in range(m):
+        norm2 += across[j] * across[j]
+    if norm2 <= 1e-12:
+        return False
+    ratio = gap / norm2
+    rest = 0.0
+    for r in range(n):
+        shift = 0.0
+        for j in range(m):
+            shift += yielding[r, j] * (across[j] * ratio)
+        out[r] = wrench[r] - shift
+        rest += missing[r, 0] * out[r]
+    for r in range(n):  # what the yielding could not absorb: rounding
+        out[r] -= missing[r, 0] * rest
+    return True
 
 
 def _point_columns(offsets: np.ndarray) -> np.ndarray:
@@ -212,6 +289,10 @@ def give_way(
     if r == n:
         return np.array(wrench, dtype=float)
     wrench = np.asarray(wrench, dtype=float)
+    if missing is not None and missing.shape[1] == 1 and yielding is not None:
+        out = np.empty(n)
+        if _give_way_one(wrench, yielding, missing, out):
+            return out
     if yielding is not None and yielding.shape[1]:
         if missing is None:
             missing = np.linalg.svd(basis, full_matrices=True)[0][:, r:]

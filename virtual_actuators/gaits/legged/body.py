@@ -30,6 +30,7 @@ import pinocchio as pin
 
 from ...actuators.producible import Directions, give_way
 from ...components.base import Component
+from ...kinematics.kernels import njit
 from ..attitude import yaw_pitch_roll
 from .parameters import GRAVITY, LeggedGains
 
@@ -80,39 +81,92 @@ class BodyModel(Component):
         self.basis: Directions | None = None
         self.yaw = 0.0
 
+    @property
+    def gains(self) -> LeggedGains:
+        """The stiffnesses and dampings."""
+        return self._gains
+
+    @gains.setter
+    def gains(self, gains: LeggedGains) -> None:
+        self._gains = gains
+        self._pack()
+
+    @property
+    def mass(self) -> float:
+        """The robot's mass [kg]."""
+        return self._mass
+
+    @mass.setter
+    def mass(self, mass: float) -> None:
+        self._mass = float(mass)
+        self._pack()
+
+    def _pack(self) -> None:
+        """The gains as :func:`body_wrench` reads them."""
+        g, mass = getattr(self, "_gains", None), getattr(self, "_mass", None)
+        if g is not None and mass is not None:
+            self._packed = np.array((
+                *g.damping_xy, g.stiffness_z, g.damping_z, *g.stiffness_attitude,
+                *g.damping_attitude, mass, mass * GRAVITY,
+            ))  # fmt: skip
+
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The wrench on the body, world axes (given way where the support cannot produce it)."""
-        g = self.gains
-        yaw, pitch, roll = yaw_pitch_roll(pin.exp3(position[3:]))
-        self.yaw = yaw
-        c, s = math.cos(yaw), math.sin(yaw)
-        vx = c * velocity[0] + s * velocity[1]
-        vy = -s * velocity[0] + c * velocity[1]
-        wx = c * velocity[3] + s * velocity[4]
-        wy = -s * velocity[3] + c * velocity[4]
-        ax, ay = self.acceleration
-        fx = g.damping_xy[0] * (self.velocity[0] - vx) + self.mass * ax
-        fy = g.damping_xy[1] * (self.velocity[1] - vy) + self.mass * ay
-        weight = self.mass * GRAVITY
-        fz = weight + g.stiffness_z * (self.height - position[2]) - g.damping_z * velocity[2]
-        k, b = g.stiffness_attitude, g.damping_attitude
-        mx = -k[0] * roll - b[0] * wx
-        my = -k[1] * pitch - b[1] * wy
-        mz = b[2] * (self.yaw_rate - velocity[5])
         lever = self.lever
-        wrench = np.array(
-            (
-                c * fx - s * fy,
-                s * fx + c * fy,
-                fz,
-                c * mx - s * my + lever[1] * weight,
-                s * mx + c * my - lever[0] * weight,
-                mz,
-            )
-        )
+        setpoints = np.array((
+            self.height, *self.velocity, *self.acceleration, self.yaw_rate, lever[0], lever[1]
+        ))  # fmt: skip
+        wrench = np.empty(6)
+        rotation = pin.exp3(position[3:])
+        self.yaw = body_wrench(rotation, position, velocity, self._packed, setpoints, wrench)
         if self.basis is not None:
             wrench = give_way(self.basis.producible, wrench, self.yielding, self.basis.missing)
         return wrench
 
 
-__all__ = ["AXES", "BodyModel", "yaw_pitch_roll"]
+@njit(cache=True)
+def body_wrench(
+    rotation: np.ndarray, position: np.ndarray, velocity: np.ndarray, gains: np.ndarray,
+    setpoints: np.ndarray, out: np.ndarray,
+) -> float:
+    """The body model's wrench (module docstring) into ``out``; returns the body's yaw.
+
+    Args:
+        rotation: ``(3, 3)`` the body's orientation in the world.
+        position: ``(6,)`` the sensor's position (its height at index 2) [m].
+        velocity: ``(6,)`` linear and angular velocity, world axes [m/s, rad/s].
+        gains: ``(11,)`` damping along and across the heading, stiffness and damping of the
+            height, stiffness of roll and pitch, damping of roll, pitch and yaw, the mass and
+            the weight (SI units).
+        setpoints: ``(8,)`` height [m], velocity in the heading frame (2) [m/s], its rate (2)
+            [m/s^2], yaw rate [rad/s], and the lever's x and y [m].
+        out: ``(6,)`` written: the wrench, world axes, about the body's origin [N, N m].
+
+    """
+    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
+    pitch = math.asin(max(-1.0, min(1.0, -rotation[2, 0])))
+    roll = math.atan2(rotation[2, 1], rotation[2, 2])
+    c, s = math.cos(yaw), math.sin(yaw)
+    v0, v1, v2, w0, w1, w2 = velocity
+    vx = c * v0 + s * v1
+    vy = -s * v0 + c * v1
+    wx = c * w0 + s * w1
+    wy = -s * w0 + c * w1
+    height, set_x, set_y, ax, ay, yaw_rate, lever_x, lever_y = setpoints
+    mass, weight = gains[9], gains[10]
+    fx = gains[0] * (set_x - vx) + mass * ax
+    fy = gains[1] * (set_y - vy) + mass * ay
+    fz = weight + gains[2] * (height - position[2]) - gains[3] * v2
+    mx = -gains[4] * roll - gains[6] * wx
+    my = -gains[5] * pitch - gains[7] * wy
+    mz = gains[8] * (yaw_rate - w2)
+    out[0] = c * fx - s * fy
+    out[1] = s * fx + c * fy
+    out[2] = fz
+    out[3] = c * mx - s * my + lever_y * weight
+    out[4] = s * mx + c * my - lever_x * weight
+    out[5] = mz
+    return yaw
+
+
+__all__ = ["AXES", "BodyModel", "body_wrench", "yaw_pitch_roll"]

@@ -49,7 +49,7 @@ from ...models.robot import Robot
 from ...models.standing import standing_pose
 from ..base import Gait
 from .body import BodyModel
-from .footholds import BodyState, Motion, foothold, swing_point
+from .footholds import SwingFeet
 from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
 from .patterns import GaitPattern, named_pattern
 
@@ -128,11 +128,12 @@ class LeggedWalker(Gait):
         self._yaw_integral = 0.0  # the same for the yaw rate [rad/s]
         self._dt = 0.0
         self._last_time: float | None = None
-        self._starts: dict[str, np.ndarray] = {}
-        self._targets: dict[str, np.ndarray] = {}
-        self._rates: dict[str, np.ndarray] = {}
-        self._target_time = 0.0  # of the swing set points last set [s]
         self._declare()
+        g = self.gains
+        shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
+                 p.reach * g.height, p.lift * g.height, p.lift_peak,
+                 p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
+        self._swing_feet = SwingFeet(self.feet, self.nominal, self.swing.values(), shape)
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
         self._swinging = dict(zip(self.step_states, self.groups, strict=True))
         self._finish(self._machine())
@@ -143,8 +144,9 @@ class LeggedWalker(Gait):
         """Nominal stance, standing height and gains from the standing pose."""
         robot, model = self.robot, self.robot.model
         frame = model.frames[model.getFrameId(self.body_frame)]
-        #: the floating base's angular velocity (its own axes) into the body frame's axes
-        self._to_body = frame.placement.rotation.T.copy()
+        #: the floating base's angular velocity (its own axes) into the body frame's (None: same)
+        turn = frame.placement.rotation
+        self._to_body = None if np.array_equal(turn, np.eye(3)) else turn.T.copy()
         if frame.parentJoint != 1:
             raise InvalidInputError(
                 f"LeggedWalker: the body frame {self.body_frame!r} must be on the floating base."
@@ -273,9 +275,7 @@ class LeggedWalker(Gait):
 
     def _enter_swing(self, context: Context) -> None:
         for foot in self._group(context):
-            self._starts[foot] = context.frame_position(foot).copy()
-            self._targets[foot] = self._starts[foot].copy()
-            self._rates[foot] = np.zeros(3)
+            self._swing_feet.lift_off(foot, context.frame_position(foot))
 
     def _group(self, context: Context) -> tuple[str, ...]:
         """The feet swinging in the current state."""
@@ -284,32 +284,35 @@ class LeggedWalker(Gait):
     def _update(self, context: Context) -> None:
         """Body set points, the producible directions, and the swing feet."""
         snapshot, state = context.snapshot, context.state
-        base = snapshot.frame_position(self.body_frame)
-        rotation = snapshot.frame_rotation(self.body_frame)
+        rotation, origin = snapshot.placement(self.body_frame)  # views
         linear = snapshot.frame_velocity(self.body_frame)
-        angular = rotation @ (self._to_body @ context.v[3:6])  # world axes [rad/s]
+        spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
+        angular = rotation @ spin  # world axes [rad/s]
         com = self.robot.center_of_mass(context.q)
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)
         self._ramp(context.time, state != "stand")
         body = self.body
-        body.velocity, body.lever = self._setpoint, com - base
+        body.velocity, body.lever = self._setpoint, com - origin
         body.yaw_rate = self.yaw_rate + self._yaw_integral
         current = self.machine.current
-        support = current.support
-        ground = sum(snapshot.frame_position(f)[2] for f in support) / len(support)
+        support, actuator = current.support, self.supports[current.active[0]]
+        feet = actuator.kinematics.frame_rows[2:]  # the support feet's rows in the frame table
+        ground = float(snapshot.frame_table[feet, 11].sum()) / len(support)
         body.height = ground + self.stand_height
         body.basis = None
         if self.parameters.give_way and len(support) < 3:
-            body.basis = producible_directions(self.supports[current.active[0]], snapshot)
-        measured = (c * linear[0] + s * linear[1], -s * linear[0] + c * linear[1])
+            body.basis = producible_directions(actuator, snapshot)
+        vx, vy, _ = linear.tolist()
+        measured = (c * vx + s * vy, -s * vx + c * vy)
         error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
         self._integrate(error, self.yaw_rate - float(angular[2]))
         if not state.startswith("swing"):
             return
-        bias = self._error_integral
-        motion = Motion(self._setpoint, (error[0] + bias[0], error[1] + bias[1]), self.yaw_rate)
-        self._move_swing(context, motion, BodyState(com, base, linear, angular, yaw), ground)
+        (sx, sy), (bx, by) = self._setpoint, self._error_integral
+        motion = np.array((sx, sy, error[0] + bx, error[1] + by, self.yaw_rate, yaw,
+                           context.time_in_state, ground))  # fmt: skip
+        self._move_swing(context, np.concatenate((com, origin, linear, angular)), motion)
 
     def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
         """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
@@ -322,9 +325,9 @@ class LeggedWalker(Gait):
         scale = self.gains.time_scale
         rate = self._dt / (self.parameters.integral_time * scale)
         limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
-        self._error_integral = tuple(
-            max(-limit, min(limit, total + rate * e))
-            for total, e in zip(self._error_integral, error, strict=True)
+        (x, y), (ex, ey) = self._error_integral, error
+        self._error_integral = (
+            max(-limit, min(limit, x + rate * ex)), max(-limit, min(limit, y + rate * ey))
         )
         turn = self.parameters.integral_limit / scale  # [rad/s]
         self._yaw_integral = max(-turn, min(turn, self._yaw_integral + rate * yaw_error))
@@ -346,51 +349,24 @@ class LeggedWalker(Gait):
         norm = max(math.hypot(dx, dy), 1e-12)
         self.body.acceleration = (rate * dx / norm, rate * dy / norm)
 
-    def _move_swing(
-        self, context: Context, motion: Motion, body: BodyState, ground: float
-    ) -> None:
-        """The swing feet's set points along their curves to the footholds."""
-        p, g = self.parameters, self.gains
-        com, base, linear, angular, yaw = body
-        elapsed = context.time_in_state
-        phase = elapsed / self.swing_time
-        remaining = max(0.0, self.swing_time - elapsed)
-        heading = yaw + self.yaw_rate * remaining
-        c, s = math.cos(heading), math.sin(heading)
-        cy, sy = math.cos(yaw), math.sin(yaw)
-        vx, vy = motion.velocity
-        centre = com[:2] + remaining * np.array((cy * vx - sy * vy, sy * vx + cy * vy))
-        # past the planned touchdown the set point keeps going down, a depth per quarter swing
-        depth = p.touchdown_depth * g.height * (1.0 + 4.0 * max(0.0, phase - 1.0))
-        contacts = context.contacts or {}
-        late = phase >= p.touchdown_phase
-        for foot in self._group(context):
-            spring = self.swing[foot]
-            if late and contacts.get(foot, False):  # down: held where it is, still in the world
-                offset = context.frame_position(foot) - base
-                spring.setpoint = offset
-                spring.velocity_setpoint = -linear - _cross(angular, offset)
-                continue
-            k = self.feet.index(foot)
-            x, y = foothold(
-                tuple(self.nominal[k]), motion, self.stance_time, g.time_scale * p.placement_gain,
-                p.reach * g.height,
-            )
-            land = np.array((centre[0] + c * x - s * y, centre[1] + s * x + c * y, ground - depth))
-            target = swing_point(self._starts[foot], land, phase, p.lift * g.height, p.lift_peak)
-            dt = context.time - self._target_time
-            if 0.0 < dt:
-                blend = min(1.0, dt / RATE_FILTER)
-                rate = (target - self._targets[foot]) / dt
-                self._rates[foot] += blend * (rate - self._rates[foot])
-            self._targets[foot] = target
-            offset = target - base
-            spring.setpoint = offset
-            spring.velocity_setpoint = self._rates[foot] - linear - _cross(angular, offset)
-        self._target_time = context.time
+    def _move_swing(self, context: Context, body: np.ndarray, motion: np.ndarray) -> None:
+        """The swing feet's set points along their curves to the footholds.
+
+        ``body`` and ``motion`` as :func:`~.footholds.swing_setpoints` reads them.
+        """
+        feet = self._group(context)
+        if context.time_in_state / self.swing_time >= self.parameters.touchdown_phase:
+            down = tuple(foot for foot in feet if context.contacts.get(foot, False))
+            for foot in down:  # held where it is, still in the world
+                spring = self.swing[foot]
+                spring.setpoint = offset = (context.frame_position(foot) - body[3:6]).tolist()
+                turning = zip(body[6:9].tolist(), _cross(body[9:], offset), strict=True)
+                spring.velocity_setpoint = [-a - b for a, b in turning]
+            feet = tuple(foot for foot in feet if foot not in down)
+        self._swing_feet.move(feet, body, motion, context.time)
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a x b`` of two 3-vectors (np.cross costs ~40 us a call, a tenth of a tick)."""
-    (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
-    return np.array((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
+def _cross(a: Sequence[float], b: Sequence[float]) -> list[float]:
+    """``a x b`` of two 3-vectors."""
+    (a0, a1, a2), (b0, b1, b2) = a, b
+    return [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]

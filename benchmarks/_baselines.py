@@ -449,23 +449,26 @@ class WalkProbe:
         return np.diff(np.asarray(self.tick_ends, dtype=float)) / 1e3
 
 
-def timed_walks(name: str, seconds: float, runs: int = 3) -> list[float]:
-    """Real-time factors of ``runs`` plain ``run_walk(name)`` calls (nothing wrapped), after a
-    short warm-up run (imports, first allocations)."""
+def timed_walks(name: str, seconds: float, runs: int = 3, **options: Any) -> list[float]:
+    """Real-time factors of ``runs`` plain ``run_walk(name, **options)`` calls (nothing
+    wrapped), after a short warm-up run (imports, first allocations)."""
     from virtual_actuators.demos import run_walk
 
-    run_walk(name, duration=min(seconds, 0.3), progress=False)
+    run_walk(name, duration=min(seconds, 0.3), progress=False, **options)
     factors = []
     for _ in range(runs):
-        result = run_walk(name, duration=seconds, progress=False)
+        result = run_walk(name, duration=seconds, progress=False, **options)
         factors.append(float(result.simulator.time / result.wall_time))
     return factors
 
 
-def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, Any]:
-    """``run_walk(name)`` with the gait's ``compute``, the state machine's ``update``, the
-    controller's ``compute_checked``, the simulator's ``step`` and its contact queries wrapped by a
-    :class:`WalkProbe`; returns the real-time factor and the per-tick breakdown [us]."""
+def instrumented_walk(
+    name: str, gait_class: type, seconds: float, **options: Any
+) -> dict[str, Any]:
+    """``run_walk(name, **options)`` with the gait's ``compute``, the state machine's
+    ``update``, the controller's ``compute_checked``, the simulator's ``step`` and its contact
+    queries wrapped by a :class:`WalkProbe`; returns the real-time factor and the per-tick
+    breakdown [us]."""
     import virtual_actuators as va
     from virtual_actuators.demos import run_walk
     from virtual_actuators.simulation import Simulator
@@ -481,7 +484,7 @@ def instrumented_walk(name: str, gait_class: type, seconds: float) -> dict[str, 
         "touching_frames": (Simulator, "touching_frames"),
     }
     with WalkProbe(targets, tick="simulator.step") as probe:
-        result = run_walk(name, duration=seconds, progress=False)
+        result = run_walk(name, duration=seconds, progress=False, **options)
     ticks = len(probe.samples["simulator.step"])
     total = probe.tick_totals()
     gait, step = probe.per_tick("gait.compute"), probe.per_tick("simulator.step")

@@ -63,6 +63,9 @@ BAD = [
     (["example", "no-such-example"], ["name", "'no-such-example'"]),
     (["example", "millipede", "--record", ""], ["--record", "empty"]),
     (["--duration", "-5"], ["--duration", "'-5'"]),  # options alone mean `demo`
+    (["demo", "legged", "--push", "120"], ["--push", "N@T[:DEG]"]),
+    (["demo", "legged", "--gait", "gallop"], ["--gait", "'gallop'"]),
+    (["demo", "turkey-walk", "--gait", "trot"], ["--gait", "legged"]),
 ]
 
 

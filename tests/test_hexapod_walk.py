@@ -20,11 +20,11 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.control.state_machine import Context
+from virtual_actuators.gaits.attitude import attitude_and_velocity
 from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import (
     HeadingAttitude,
     HeadingDamper,
-    attitude_and_velocity,
     lqr_gain,
     pendulum_model,
 )

@@ -214,6 +214,30 @@ def test_warm_start_gives_the_cold_start_answer():
     assert exact >= 50 and closest >= 10
 
 
+def test_a_walk_of_nearby_ticks_reuses_the_active_set_without_proxqp():
+    """Slowly changing ticks (some with a friction face active): after the first, ProxQP does
+    not run (no iteration used) and every answer is the cold start's."""
+    robot = va.load_robot("solo12")
+    warm = _body("solo12", friction=0.5, min_normal=1.0, torque_limits=True)
+    cold = _body("solo12", friction=0.5, min_normal=1.0, torque_limits=True)
+    rng = np.random.default_rng(7)
+    q, weight = _q(robot, rng), _weight(robot)
+    wrench = np.array([0.45 * weight, 0.1 * weight, weight, 0.0, 0.0, 0.02 * weight])
+    skipped = held = 0
+    for tick in range(60):
+        q = pin.integrate(robot.model, q, np.r_[np.zeros(6), rng.normal(size=12) * 1e-3])
+        wrench = wrench + rng.normal(size=6) * 1e-3 * weight
+        hot = warm.solve(q, wrench, method="qp")
+        cold.qp.reset()
+        fresh = cold.solve(q, wrench, method="qp")
+        assert fresh.residual <= 1e-9 * weight  # feasible: the request exactly
+        np.testing.assert_allclose(hot.forces, fresh.forces, rtol=0, atol=1e-9 * weight)
+        assert hot.active == fresh.active
+        skipped += tick > 0 and warm.qp.iterations == 0
+        held += tick > 0 and warm.qp.iterations == 0 and bool(hot.active)
+    assert skipped >= 55 and held >= 10
+
+
 def test_the_qp_from_two_threads_at_once():
     """Two threads solving different ticks on one actuator get the single-thread answers."""
     robot = va.load_robot("hexapod")

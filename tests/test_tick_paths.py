@@ -186,9 +186,17 @@ def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
     rng = np.random.default_rng(0)
     qpos = simulator.data.qpos + 0.01 * rng.normal(size=simulator.model.nq)
     qvel = rng.normal(size=simulator.model.nv)
-    if maps.direct_q is not None:
+    if maps.direct_q is not None:  # the joint-by-joint map, written out here
         q = np.zeros(mm.robot.model.nq)
         q[maps.copy_q] = qpos[maps.copy_qpos]
+        for joint in maps.special:
+            a, i = joint.qpos_adr, joint.idx_q
+            if joint.kind == "free":  # a direct gather only when the placement is the identity
+                assert joint.placement.isIdentity()
+                q[i : i + 3] = qpos[a : a + 3]
+                q[i + 3 : i + 7] = qpos[[a + 4, a + 5, a + 6, a + 3]]  # wxyz -> xyzw
+            elif joint.kind == "ball":
+                q[i : i + 4] = qpos[[a + 1, a + 2, a + 3, a]]
         np.testing.assert_array_equal(configuration_from_mujoco(mm, qpos), q)
     if maps.direct_v is not None:
         v = np.zeros(mm.robot.model.nv)

@@ -14,6 +14,7 @@ from .components import (
     GrannyWalker,
     GravityCompensation,
     Inertance,
+    Posture,
     Spring,
     SpringDamper,
     SwingLegLinkage,
@@ -22,6 +23,7 @@ from .control import (
     Context,
     Controller,
     ControlOutput,
+    MachineController,
     RunStats,
     State,
     StateMachine,
@@ -43,6 +45,7 @@ from .exceptions import (
     SingularConfigurationError,
     VirtualActuatorError,
 )
+from .gaits.legged import GaitPattern, LeggedParameters, LeggedWalker, npod
 from .kinematics.snapshot import Snapshot
 from .models import Robot, list_robots, load_robot, millipede
 from .models.directory import RobotInfo, describe_robots
@@ -79,9 +82,14 @@ __all__ = [
     "Damper",
     "DogtrackBunny",
     "EnergyTank",
+    "GaitPattern",
     "GrannyWalker",
     "GravityCompensation",
     "Inertance",
+    "LeggedParameters",
+    "LeggedWalker",
+    "MachineController",
+    "Posture",
     "RunStats",
     "SensorReading",
     "Spring",
@@ -117,4 +125,5 @@ __all__ = [
     "list_robots",
     "load_robot",
     "millipede",
+    "npod",
 ]

@@ -45,6 +45,7 @@ from ..vocabulary.arguments import (
 )
 from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint, Equal, Linear
+from .producible import producible_basis, yielding_request
 from .serial import check_tolerance, wrench_array
 
 
@@ -347,6 +348,16 @@ class ParallelVirtualActuator:
     def methods(self) -> tuple[str, ...]:
         """The names ``solve(method=...)`` accepts (the first is the default)."""
         return tuple(METHODS)
+
+    def producible(self, q: np.ndarray | Snapshot) -> np.ndarray:
+        """``(n, r)`` orthonormal basis of the wrenches producible here (see :mod:`.producible`)."""
+        return producible_basis(self, q)
+
+    def give_way(
+        self, q: np.ndarray | Snapshot, wrench: np.ndarray, axes: Sequence[str] = ("x", "y")
+    ) -> np.ndarray:
+        """``wrench`` made producible by moving it along ``axes`` only (see :mod:`.producible`)."""
+        return yielding_request(self, q, wrench, axes)
 
     def torques(self, q: np.ndarray | Snapshot, forces: np.ndarray) -> np.ndarray:
         """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.

@@ -18,6 +18,7 @@ from .types import (
     frame_list,
     output_path,
     positive_seconds,
+    push_spec,
     robot_name,
     seed,
     seed_count,
@@ -33,7 +34,7 @@ from .types import (
 
 #: The walks (``virtual_actuators.gaits.registry.WALKS``, named here so that ``--help`` imports
 #: no simulation; tests/test_cli_usage checks the two agree).
-WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk")
+WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "legged", "balance")
 DEMOS = (*WALK_DEMOS, "stand")
 
 
@@ -60,7 +61,14 @@ WALK_OWN_OPTIONS = (
     ("wavelength", "--wavelength"),
     ("pendulum", "--pendulum"),
     ("track", "--track"),
+    ("robot", "--robot"),
+    ("feet", "--feet"),
+    ("gait", "--gait"),
+    ("push", "--push"),
 )
+
+#: Options of ``demo stand`` (also walk options of ``legged``).
+STAND_OPTIONS = ("robot", "feet")
 
 
 #: What ``python -m virtual_actuators --help`` says first.
@@ -100,28 +108,43 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         type=direction_degrees,
         default=None,
         metavar="DEG",
-        help=hexapod + "travel direction relative to the heading, degrees (90: crab left)",
+        help="hexapod-walk, legged: travel direction relative to the heading, degrees (90: crab "
+        "left)",
     )
     demo.add_argument(
         "--yaw-rate",
         type=yaw_rate,
         default=None,
         metavar="RAD/S",
-        help=hexapod + "yaw rate; the velocity is fixed in the body frame, so the body traces "
-        "a circle of radius speed / yaw rate",
+        help="hexapod-walk, legged: yaw rate; the velocity is fixed in the body frame, so the "
+        "body traces a circle of radius speed / yaw rate",
+    )
+    demo.add_argument(
+        "--gait",
+        choices=("trot", "pace", "walk", "tripod"),
+        default=None,
+        help="legged: the pattern (default trot; tripod for six legs)",
+    )
+    demo.add_argument(
+        "--push",
+        type=push_spec,
+        default=None,
+        metavar="N@T[:DEG]",
+        help="legged, balance: push the base with N newtons for 0.1 s from T seconds along DEG "
+        "degrees in the ground plane (0 = +x, default 0)",
     )
     demo.add_argument(
         "--path",
         choices=("line", "sine"),
         default=None,
-        help=hexapod + "line (default) or sine: y = A sin(2 pi x / L) from the start, "
-        "holding the initial heading",
+        help="hexapod-walk, legged: line (default) or sine: y = A sin(2 pi x / L) from the "
+        "start, holding the initial heading",
     )
     demo.add_argument(
-        "--amplitude", type=amplitude, default=None, metavar="M", help=hexapod + "sine A, m"
+        "--amplitude", type=amplitude, default=None, metavar="M", help="--path sine: A, m"
     )
     demo.add_argument(
-        "--wavelength", type=wavelength, default=None, metavar="M", help=hexapod + "sine L, m"
+        "--wavelength", type=wavelength, default=None, metavar="M", help="--path sine: L, m"
     )
     demo.add_argument(
         "--pendulum",
@@ -131,7 +154,7 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--track",
         action="store_true",
-        help=hexapod + "face an object circling the start while walking",
+        help="hexapod-walk, legged: face an object circling the start while walking",
     )
     demo.add_argument(
         "--seed",
@@ -152,6 +175,23 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         default=None,
         metavar="T0:T1",
         help="walks with --plot: plot only simulated seconds T0 to T1 (either may be empty)",
+    )
+
+
+def _robot_arguments(demo: argparse.ArgumentParser) -> None:
+    demo.add_argument(
+        "--robot",
+        type=robot_name,
+        default=None,
+        help="stand, legged, balance: a legged robot by name or URDF path (default: solo12; "
+        "balance: talos; feet from its SRDF, frame names or structure, see `robots`)",
+    )
+    demo.add_argument(
+        "--feet",
+        type=frame_list,
+        default=None,
+        metavar="FRAME,FRAME,...",
+        help="stand, legged: the foot frames (when the robot's own cannot be found)",
     )
 
 
@@ -176,7 +216,9 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         "flamingo-slopes: Spring Flamingo blind over unknown slopes (VMC section 6); "
         "hexapod-walk: the 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
         "tracking an object (VAC section 4); "
-        "stand: a quadruped's body actuator and its force distribution.",
+        "legged: any legged robot (--robot NAME_OR_URDF) trotting, pacing or walking; "
+        "stand: a quadruped's body actuator and its force distribution; "
+        "balance: any legged robot standing on the contact QP, pushed (--robot, --push).",
     )
     demo.add_argument("name", nargs="?", default="turkey-walk", choices=DEMOS)
     demo.add_argument(
@@ -211,20 +253,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     )
     _hexapod_arguments(demo)
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
-    demo.add_argument(
-        "--robot",
-        type=robot_name,
-        default=None,
-        help="stand: a legged robot by name or URDF path (default: solo12; feet from its SRDF "
-        "or frame names, see `robots`)",
-    )
-    demo.add_argument(
-        "--feet",
-        type=frame_list,
-        default=None,
-        metavar="FRAME,FRAME,...",
-        help="stand: the foot frames (when the robot's own cannot be found)",
-    )
+    _robot_arguments(demo)
     _viewer_arguments(demo, walks=True)
     robots = sub.add_parser(
         "robots", help="list the robots load_robot accepts by name (kind, DoF, feet, aliases)"
@@ -291,17 +320,14 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
     """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
     if args.name == "stand":
         for dest, option in WALK_OPTIONS + WALK_OWN_OPTIONS:
-            if getattr(args, dest) not in (None, False):
+            if dest not in STAND_OPTIONS and getattr(args, dest) not in (None, False):
                 parser.error(
                     f"argument {option}: only the walks ({', '.join(WALK_DEMOS)}) use it, not stand"
                 )
     else:
         _check_walk_options(args, parser)
-    if args.name != "stand" and (args.robot is not None or args.feet is not None):
-        option = "--robot" if args.robot is not None else "--feet"
-        parser.error(
-            f"argument {option}: only the stand demo uses it; {args.name} has its own robot"
-        )
+    if args.name == "balance" and args.speed is not None:
+        parser.error("argument --speed: balance does not use it")
     if args.window is not None and args.plot is None:
         parser.error("argument --window: it selects what --plot draws; give --plot PATH too")
 
@@ -312,6 +338,11 @@ def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParse
     for dest, option in WALK_OWN_OPTIONS:
         if dest not in walk.options and getattr(args, dest) not in (None, False):
             users = [name for name, other in walks.items() if dest in other.options]
+            if dest in STAND_OPTIONS:
+                parser.error(
+                    f"argument {option}: only the stand demo and {', '.join(users)} use it, "
+                    f"not {args.name}"
+                )
             parser.error(f"argument {option}: only {', '.join(users)} uses it, not {args.name}")
     if "path" in walk.options and args.path != "sine":
         if args.amplitude is not None or args.wavelength is not None:

@@ -11,6 +11,10 @@ import argparse
 import math
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..gaits.push import Push
 
 #: Bounds of ``--duration`` [s]: a run needs a few 1 ms control ticks, and its log holds every
 #: tick in memory (and the simulation runs at about real time).
@@ -207,6 +211,24 @@ def robot_name(text: str) -> str:
     raise argparse.ArgumentTypeError(
         f"no robot named {shown_name(text)} and no such URDF file. {suggest_robots(text)}"
     )
+
+
+def push_spec(text: str) -> Push:
+    """``--push N@T[:DEG]``: N newtons >= 0 from T >= 0 seconds along DEG degrees (0 = +x).
+
+    Raises:
+        argparse.ArgumentTypeError: Otherwise.
+    """
+    from ..exceptions import InvalidInputError
+    from ..gaits.push import Push
+
+    try:
+        return Push.parse(text)
+    except InvalidInputError:
+        raise argparse.ArgumentTypeError(
+            f"expected N@T[:DEG], newtons >= 0 at T >= 0 seconds along DEG degrees (e.g. "
+            f"250@1.0:90), got {text!r}"
+        ) from None
 
 
 def frame_list(text: str) -> tuple[str, ...]:

@@ -4,6 +4,7 @@ from .base import Component
 from .energy_tank import EnergyTank
 from .gravity import GravityCompensation
 from .inertance import Inertance
+from .posture import Posture
 from .springs import ConstantForce, Damper, Spring, SpringDamper
 from .walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 
@@ -16,6 +17,7 @@ __all__ = [
     "GravityCompensation",
     "GrannyWalker",
     "Inertance",
+    "Posture",
     "Spring",
     "SpringDamper",
     "SwingLegLinkage",

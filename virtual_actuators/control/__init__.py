@@ -3,6 +3,7 @@
 from . import events
 from .controller import Attachment, Controller, ControlOutput, velocity_names
 from .failures import FAILURE_POLICIES, AttachmentFailure
+from .machine_controller import MachineController
 from .run_loop import RunStats, run
 from .safe_action import SAFE_ACTIONS
 from .state_machine import Context, State, StateMachine, Transition
@@ -15,6 +16,7 @@ __all__ = [
     "Context",
     "ControlOutput",
     "Controller",
+    "MachineController",
     "RunStats",
     "State",
     "StateMachine",

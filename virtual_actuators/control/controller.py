@@ -21,6 +21,7 @@ import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component
+from ..components.posture import Posture
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.kernels import finite
 from ..kinematics.snapshot import Snapshot
@@ -32,6 +33,7 @@ from .attachment import Actuator, Attachment
 from .contact_limits import enforce_unilateral
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .failures import CAUGHT, check_policy, drop_non_finite, reason_of, recover
+from .postures import add_posture, tick_names
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
 
@@ -72,6 +74,9 @@ class Controller:
         self.robot = robot
         self.clip = check_flag(clip, "clip")
         self.attachments: dict[str, Attachment] = {}
+        #: Joint-space terms (:class:`~virtual_actuators.Posture`) by name, evaluated like
+        #: attachments.
+        self.postures: dict[str, Posture] = {}
         self._tree = tree_of(robot)
         self.joint_names = velocity_names(robot)
         # [N m or N], inf where unlimited (read-only; assign anew)
@@ -102,7 +107,7 @@ class Controller:
     def add(
         self,
         name: str,
-        actuator: Actuator,
+        actuator: Actuator | Posture,
         components: Sequence[Component] = (),
         *,
         sensor: VirtualActuator | None = None,
@@ -113,13 +118,13 @@ class Controller:
         min_normal: float = 0.0,
         method: str = "partitioned",
         yield_weight: float | None = None,
-    ) -> Attachment:
-        """Attach components to an actuator under a unique name.
+    ) -> Attachment | Posture:
+        """Attach components to an actuator (or a joint-space posture) under a unique name.
 
         Args:
             name: Unique name (states refer to it).
             actuator: A :class:`VirtualActuator` or :class:`ParallelVirtualActuator` of this
-                controller's robot.
+                robot, or a :class:`~virtual_actuators.Posture` (bound here; nothing else given).
             components: Components whose axes are subsets of the actuator's axes (a sequence,
                 or one component).
             sensor: What the components read. Default: the actuator itself if serial; for a
@@ -155,7 +160,7 @@ class Controller:
                 (1e-3).
 
         Returns:
-            The :class:`Attachment`.
+            The :class:`Attachment` (the posture itself for a posture).
 
         Raises:
             InvalidInputError: The name is not a str or is taken; the actuator or sensor is not
@@ -168,11 +173,13 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
 
         """
+        if isinstance(actuator, Posture):
+            return add_posture(self, name, actuator, components)
         attachment = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,
             unilateral=unilateral, yield_axes=yield_axes, friction=friction,
             min_normal=min_normal, method=method, yield_weight=yield_weight,
-            taken=self.attachments,
+            taken={**self.attachments, **self.postures},
         )
         self.attachments[name] = attachment
         return attachment
@@ -191,13 +198,8 @@ class Controller:
         model = self.robot.model
         out = []
         for joint in check_names(joints, "joints", JointNotFoundError, ordered=False):
-            joint_id = resolve_joint(model, joint)
-            out.extend(
-                range(
-                    model.joints[joint_id].idx_v,
-                    model.joints[joint_id].idx_v + model.joints[joint_id].nv,
-                )
-            )
+            joint_model = model.joints[resolve_joint(model, joint)]
+            out.extend(range(joint_model.idx_v, joint_model.idx_v + joint_model.nv))
         index = np.array(out, dtype=np.intp)
         index.flags.writeable = False
         return index
@@ -219,6 +221,9 @@ class Controller:
         time = check_number(time, "time [s]")
         snapshot = q if isinstance(q, Snapshot) else Snapshot(self.robot, q)
         for name in names:
+            if name in self.postures:
+                self.postures[name].reset(snapshot)
+                continue
             attachment = self._get(name)
             position = attachment.sensor.position(snapshot)
             for component, index in zip(attachment.components, attachment.indices, strict=True):
@@ -254,16 +259,13 @@ class Controller:
         """Evaluate the components and return the joint efforts for one tick.
 
         One kinematics pass serves the whole tick: every sensor and actuator reads the same
-        :class:`~virtual_actuators.Snapshot` (pass one built with ``v`` to share it with events
-        and your own code too).
+        :class:`~virtual_actuators.Snapshot` (pass one built with ``v`` to share it).
 
         Args:
             q: Configuration ``(nq,)``, or the tick's snapshot built with a velocity.
-            v: Velocity ``(nv,)``. Omit it when ``q`` is a snapshot (the snapshot's is used;
-                a ``v`` that differs from it is an error).
-            time: Controller time [s] (components such as the dogtrack bunny use it), a finite
-                number.
-            active: Names of the attachments to evaluate (default: all), or one name.
+            v: Velocity ``(nv,)``; omit it with a snapshot (a different ``v`` is an error).
+            time: Controller time [s] (the dogtrack bunny uses it), a finite number.
+            active: Names of the attachments (postures too) to evaluate (default: all).
             limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (e.g. from
                 :meth:`joint_indices`).
 
@@ -271,10 +273,9 @@ class Controller:
             The :class:`ControlOutput`.
 
         Raises:
-            InvalidInputError: Bad ``q``, ``v``, ``time`` or ``limp``; a snapshot with a ``v``
-                that differs from its own; ``active`` that is not a collection of names; an
-                unknown or repeated attachment name. With ``on_failure="raise"``, also a
-                component's non-finite or malformed wrench, or non-finite efforts.
+            InvalidInputError: Bad ``q``, ``v``, ``time``, ``limp`` or ``active`` (an unknown
+                or repeated name); a snapshot with another ``v``. With ``on_failure="raise"``,
+                also a component's non-finite or malformed wrench, or non-finite efforts.
             SingularConfigurationError: A parallel actuator is singular here and
                 ``on_failure="raise"``.
             ConstraintError: A distribution that cannot be solved here (e.g. an infeasible
@@ -284,7 +285,9 @@ class Controller:
         time = check_number(time, "time [s]")
         limp = check_limp(limp, self.robot.model.nv)
         snapshot = tick_snapshot(self.robot, self._tree, q, v)
-        names = tuple(self.attachments) if active is None else active_names(active)
+        names = (
+            tick_names(self.attachments, self.postures) if active is None else active_names(active)
+        )
         return self.compute_checked(snapshot, time, names, limp)
 
     def compute_checked(
@@ -303,20 +306,18 @@ class Controller:
 
         """
         nv = self.robot.model.nv
+        postures = self.postures
         sums = TickSums()
         for name in names:
-            self._attachment_tick(name, self._get(name), snapshot, time, sums)
+            if postures and name in postures:  # a joint-space term
+                sums.add(name, postures[name].torques(snapshot), fresh=True)
+            else:
+                self._attachment_tick(name, self._get(name), snapshot, time, sums)
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(
-                self,
-                snapshot,
-                sums.parts,
-                sums.wrenches,
-                sums.produced,
-                sums.solutions,
-                sums.failures,
-                sums.failed,
+                self, snapshot, sums.parts, sums.wrenches, sums.produced, sums.solutions,
+                sums.failures, sums.failed,
             )
         if tau is None:
             tau = np.zeros(nv)
@@ -326,18 +327,8 @@ class Controller:
             tau, self._lower_limits, self._upper_limits, self.clip
         )
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
-            clipped,
-            tau,
-            saturated,
-            sums.wrenches,
-            sums.produced,
-            sums.positions,
-            sums.velocities,
-            sums.solutions,
-            sums.failed,
-            names,
-            self.joint_names,
-            sums.failures,
+            clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions,
+            sums.velocities, sums.solutions, sums.failed, names, self.joint_names, sums.failures,
         )
 
     def _attachment_tick(

@@ -18,10 +18,9 @@ from typing import Any
 import numpy as np
 
 from ..control.controller import Controller, ControlOutput
-from ..control.state_machine import Context, Event, StateMachine
-from ..control.tick import active_names
+from ..control.machine_controller import MachineController
+from ..control.state_machine import Event, StateMachine
 from ..exceptions import InvalidInputError
-from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 
 
@@ -35,6 +34,7 @@ class Gait:
         robot: The robot.
         controller: Actuators and components.
         machine: States and transitions.
+        wiring: The :class:`~virtual_actuators.MachineController` of the two (the tick).
         step_states: States whose entries count as steps (single support).
         contact_frames: Frames whose contact switches the gait reads.
         foot_contacts: Contact frames per support frame (see :meth:`support_contacts`).
@@ -52,14 +52,12 @@ class Gait:
         self.robot = robot
         self.controller = Controller(robot, clip=True, on_singular="skip")
         self.machine: StateMachine | None = None
+        self.wiring: MachineController | None = None
         self.last: ControlOutput | None = None
-        self._limp: dict[str, np.ndarray] = {}
 
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
-        self._limp = {s.name: self.controller.joint_indices(s.limp) for s in machine.states}
-        for state in machine.states:  # checked once: compute() passes them on unchecked
-            active_names(state.active)
+        self.wiring = MachineController(self.controller, machine)
 
     def _front_is(self, side: str, event: Event) -> Event:
         """``event``, but only while ``side`` is the front foot (``self.front``)."""
@@ -93,7 +91,7 @@ class Gait:
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
-        """One control tick: update the state machine, then evaluate the active attachments.
+        """One control tick: :meth:`MachineController.compute` of :attr:`wiring`.
 
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention).
@@ -105,15 +103,7 @@ class Gait:
             The :class:`ControlOutput` (its ``tau`` goes to the motors).
 
         """
-        snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass
-        context = Context(self.robot, q, v, time, contacts, snapshot=snapshot)
-        before = len(self.machine.history)
-        state = self.machine.update(context)
-        if len(self.machine.history) != before:
-            self.controller.reset(state.active, snapshot, time)
-        self.last = self.controller.compute_checked(
-            snapshot, context.time, state.active, self._limp[state.name]
-        )
+        self.last = self.wiring.compute(q, v, time, contacts)
         return self.last
 
     def __repr__(self) -> str:

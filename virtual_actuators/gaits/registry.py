@@ -13,13 +13,15 @@ from typing import Any
 from ..exceptions import InvalidInputError, suggestion
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
+from .balance.walk import WALK as BALANCE
 from .base import Gait, Walk
 from .flamingo.walk import WALK as FLAMINGO
 from .hexapod.walk import WALK as HEXAPOD
+from .legged.walk import WALK as LEGGED
 from .turkey.walk import WALK as TURKEY
 
 #: The walks by name, in the command line's order.
-WALKS: dict[str, Walk] = {walk.name: walk for walk in (TURKEY, FLAMINGO, HEXAPOD)}
+WALKS: dict[str, Walk] = {walk.name: walk for walk in (TURKEY, FLAMINGO, HEXAPOD, LEGGED, BALANCE)}
 
 
 def find_walk(name: str) -> Walk:
@@ -51,7 +53,7 @@ def run_walk(
 
     Args:
         name: A key of :data:`WALKS` (``"turkey-walk"``, ``"flamingo-slopes"``,
-            ``"hexapod-walk"``).
+            ``"hexapod-walk"``, ``"legged"``, ``"balance"``).
         duration: Simulated time [s] (default: the walk's).
         speed: Desired speed [m/s] (default: the gait's).
         terrain: A :class:`Terrain` or a spec for :meth:`Terrain.parse`: ``"flat"``, a built-in

@@ -89,6 +89,18 @@ class WalkResult:
         return f"WalkResult({self.metrics.summary()})"
 
 
+#: The base's channels of a JSON trace (``demo legged``, ``demo balance``).
+TRACE_CHANNELS = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
+
+
+def trace_of(log: WalkLog, extra: tuple[str, ...] = ()) -> dict[str, list]:
+    """A walk log's trace: ``t``, :data:`TRACE_CHANNELS` and ``extra`` lists, and ``state``."""
+    trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in TRACE_CHANNELS}}
+    trace.update({name: log[name].tolist() for name in extra})
+    trace["state"] = [log.state_names[i] for i in log.state]
+    return trace
+
+
 def terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
     """Terrain vertices for plots: at least two, covering the walk's likely reach."""
     points = np.asarray(terrain.points, dtype=float)

@@ -320,9 +320,14 @@ def as_path(name_or_path: object) -> Path | None:
 
 
 def package_dirs_for(urdf: Path) -> list[str]:
-    """Folders that ``package://`` URIs of a URDF outside example-robot-data may refer to."""
+    """Folders that ``package://`` URIs of a URDF outside example-robot-data may refer to.
+
+    The URDF's folder and the two above it, then example-robot-data's (when installed): a copy
+    of one of its URDFs, edited elsewhere, still finds its meshes.
+    """
     folders: list[str] = []
-    for folder in (urdf.parent, *urdf.parent.parents[:2]):
+    share = example_robot_data().share
+    for folder in (urdf.parent, *urdf.parent.parents[:2], *([share] if share else [])):
         if str(folder) not in folders:
             folders.append(str(folder))
     return folders

@@ -3,9 +3,11 @@
 :func:`find_feet` answers from the robot's SRDF when it names them (``<end_effector>`` entries
 whose name or link says foot, sole or ankle), else from the frame names: frames called like a
 foot (``foot``, ``sole``, ``toe``; the ``FOOT`` frames of solo, ANYmal's ``LF_FOOT``...), keeping
-one per leg (the most distal foot-like frame of each chain from the body). The body is the link
-carried by the floating base (``base_link``, ``pelvis``, ``trunk``...), or the first link of a
-fixed-base robot.
+one per leg (the most distal foot-like frame of each chain from the body), else from the robot's
+structure (:func:`structural_feet`: the most distal link with collision geometry of each chain,
+keeping the chains that reach down to the ground at the robot's standing pose, so feet named
+``*_paw`` are found). The body is the link carried by the floating base (``base_link``,
+``pelvis``, ``trunk``...), or the first link of a fixed-base robot.
 """
 
 from __future__ import annotations
@@ -27,7 +29,20 @@ BODY_NAMES = ("body", "base_link", "base", "pelvis", "trunk", "torso")
 #: Words that make a frame (or an SRDF end effector) a foot, as whole words of its name.
 FOOT_WORDS = ("foot", "feet", "sole", "toe", "ankle")
 
-__all__ = ["BODY_NAMES", "FOOT_WORDS", "Feet", "body_frame", "find_feet"]
+#: A distal link is a foot when it lies this close to the lowest one, as a fraction of the
+#: lowest one's depth below the body at the standing pose (arms hang higher than the feet).
+FOOT_DEPTH_FRACTION = 0.25
+
+__all__ = [
+    "BODY_NAMES",
+    "FOOT_DEPTH_FRACTION",
+    "FOOT_WORDS",
+    "Feet",
+    "body_frame",
+    "collision_links",
+    "find_feet",
+    "structural_feet",
+]
 
 
 @dataclass(frozen=True)
@@ -37,7 +52,7 @@ class Feet:
     Attributes:
         body: The frame carried by the floating base (the action frame of a body actuator).
         feet: One frame per leg, in the model's order.
-        source: ``"srdf"`` or ``"names"``: where the feet were found.
+        source: ``"srdf"``, ``"names"`` or ``"structure"``: where the feet were found.
 
     """
 
@@ -66,10 +81,13 @@ def find_feet(robot: Robot) -> Feet:
     source = "srdf"
     if len(feet) < 2:
         feet, source = _named_feet(model), "names"
+    if len(feet) < 2 and robot.floating_base:
+        feet, source = structural_feet(robot), "structure"
     if len(feet) < 2:
         raise FrameNotFoundError(
-            f"Robot {robot.name!r} has no feet: no SRDF end effector and no frame named with "
-            f"{', '.join(FOOT_WORDS)} on two or more legs (found {list(feet) or 'none'}). "
+            f"Robot {robot.name!r} has no feet: no SRDF end effector, no frame named with "
+            f"{', '.join(FOOT_WORDS)} on two or more legs and no two legs ending in collision "
+            f"geometry at the bottom (found {list(feet) or 'none'}). "
             "Name the feet yourself (the stand demo takes --feet FRAME,FRAME,...)."
         )
     return Feet(body, tuple(feet), source)
@@ -135,3 +153,69 @@ def _named_feet(model: pin.Model) -> list[str]:
         if current is None or (current[0] and not not_link):
             feet[joint] = (not_link, name)
     return [feet[joint][1] for joint in sorted(feet)]
+
+
+def collision_links(robot: Robot) -> frozenset[str]:
+    """Names of the URDF links that have ``<collision>`` geometry (empty without URDF text)."""
+    text = getattr(robot, "urdf_string", None)
+    if not text:
+        return frozenset()
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError:
+        return frozenset()
+    return frozenset(
+        link.get("name", "") for link in root.iter("link") if link.find("collision") is not None
+    )
+
+
+def structural_feet(robot: Robot) -> list[str]:
+    """Feet found by structure: the lowest distal links with collision geometry.
+
+    Of the links with collision geometry, a distal one has no other such link further down its
+    chain (on a descendant joint, or welded below it on the same joint). At the standing pose
+    (:meth:`Robot.neutral`), the distal links within :data:`FOOT_DEPTH_FRACTION` of the lowest
+    one's depth below the body are the feet (a humanoid's hands hang higher than its feet).
+
+    Args:
+        robot: The robot.
+
+    Returns:
+        The feet in the model's joint order (fewer than two when the structure shows no legs).
+
+    """
+    model = robot.model
+    colliding = collision_links(robot)
+    ids = [
+        i
+        for i, frame in enumerate(model.frames)
+        if frame.type == pin.FrameType.BODY and frame.name in colliding and frame.parentJoint > 0
+    ]
+    distal = [i for i in ids if not any(j != i and _below(model, j, i) for j in ids)]
+    if len(distal) < 2:
+        return []
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, robot.neutral())
+    body = model.getFrameId(body_frame(model, bool(robot.floating_base)))
+    heights = {i: float(data.oMf[i].translation[2] - data.oMf[body].translation[2]) for i in distal}
+    lowest = min(heights.values())
+    if not lowest < 0.0:
+        return []
+    feet: dict[int, int] = {}  # one per leg: joint -> its lowest distal link
+    for i in sorted(distal, key=lambda i: heights[i]):
+        if heights[i] <= lowest * (1.0 - FOOT_DEPTH_FRACTION):
+            feet.setdefault(model.frames[i].parentJoint, i)
+    return [model.frames[feet[joint]].name for joint in sorted(feet)]
+
+
+def _below(model: pin.Model, lower: int, upper: int) -> bool:
+    """Whether frame ``lower`` lies further down the chain of frame ``upper``."""
+    joint_lower, joint_upper = model.frames[lower].parentJoint, model.frames[upper].parentJoint
+    if joint_lower != joint_upper:
+        return joint_upper in model.supports[joint_lower]
+    frame = model.frames[lower].parentFrame
+    while frame != 0 and model.frames[frame].parentJoint == joint_lower:
+        if frame == upper:
+            return True
+        frame = model.frames[frame].parentFrame
+    return False

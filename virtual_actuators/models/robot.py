@@ -64,6 +64,37 @@ class Robot:
         """Total mass of the robot [kg] (every link's inertia, the floating base's included)."""
         return float(sum(inertia.mass for inertia in self.model.inertias))
 
+    def center_of_mass(self, q: object) -> np.ndarray:
+        """Centre of mass of the whole robot at configuration ``q``, in the world frame [m].
+
+        The mass-weighted mean of every link's centre of mass (Pinocchio's ``centerOfMass``,
+        on a data of its own: :attr:`data` is left untouched).
+
+        Args:
+            q: Configuration, ``model.nq`` finite numbers.
+
+        Returns:
+            ``(3,)`` position [m] in world axes.
+
+        Raises:
+            InvalidInputError: ``q`` is not ``model.nq`` finite numbers, or the robot has no
+                mass.
+
+        """
+        model = self.model
+        configuration = as_float_array(q, "center_of_mass: q", f"{model.nq} numbers")
+        if configuration.shape != (model.nq,) or not np.isfinite(configuration).all():
+            raise InvalidInputError(
+                f"center_of_mass: q must be {model.nq} finite numbers (model.nq) for robot "
+                f"{self.name!r}, got shape {configuration.shape}."
+            )
+        data = self.caches.get("center_of_mass_data")
+        if data is None:  # the mass checked once: summing it costs ~13 us, gaits call this per tick
+            if not self.mass > 0.0:
+                raise InvalidInputError(f"Robot {self.name!r} has no mass: no centre of mass.")
+            data = self.caches["center_of_mass_data"] = pin.Data(model)
+        return np.array(pin.centerOfMass(model, data, configuration, False), dtype=float)
+
     def q(self, base: object = None, **joint_values: float) -> np.ndarray:
         """A configuration from joint names: ``robot.q(knee_1=0.5, hip2_1=-0.2)``.
 

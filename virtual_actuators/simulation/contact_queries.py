@@ -13,6 +13,7 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
+from virtual_actuators.exceptions import FrameNotFoundError
 from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = ["ContactQueries"]
@@ -44,7 +45,10 @@ class ContactQueries:
         self._touched: tuple[int, ...] = ()
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
-        """The robot geoms owned by ``frame`` (checked and cached on first use).
+        """The robot geoms of ``frame`` (checked and cached on first use).
+
+        Those it owns; for a frame that owns none (a sole frame welded to an ankle link), the
+        geoms of the body it is attached to.
 
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
@@ -53,7 +57,28 @@ class ContactQueries:
         if geoms is None:
             mm = self.mujoco_model
             mm.check_frame(frame)
-            geoms = self._owned_geoms[frame] = frozenset(mm.frame_geoms.get(frame, ()))
+            owned = mm.frame_geoms.get(frame, ())
+            if not owned:
+                body = mm.frame_body(frame)
+                owned = [g for g in mm.geom_frames if int(self.model.geom_bodyid[g]) == body]
+            geoms = self._owned_geoms[frame] = frozenset(owned)
+        return geoms
+
+    def _geoms_for_forces(self, frame: str) -> frozenset[int]:
+        """:meth:`_frame_geoms`, which must not be empty for a force.
+
+        Raises:
+            FrameNotFoundError: No such frame, or neither it nor its body has geometry.
+        """
+        geoms = self._frame_geoms(frame)
+        if not geoms:
+            with_geometry = sorted({names[0] for names in self.mujoco_model.geom_frames.values()})
+            raise FrameNotFoundError(
+                f"Frame {frame!r} of robot {self.mujoco_model.robot.name!r} has no collision "
+                "geometry, nor has the link it is attached to: no terrain force can act on it. "
+                f"Frames with geometry: {with_geometry[:12]}"
+                f"{' ...' if len(with_geometry) > 12 else ''}."
+            )
         return geoms
 
     def terrain_contacts(self) -> list[tuple[int, int, float]]:
@@ -174,15 +199,18 @@ class ContactQueries:
         """Total force of the terrain on a frame's geoms, in world axes [N].
 
         Args:
-            frame: Pinocchio frame name.
+            frame: Pinocchio frame name (a frame without geometry of its own, such as a sole
+                frame, reads the geometry of the link it is attached to).
 
         Returns:
             The force, shape ``(3,)`` (zero without contact).
 
         Raises:
-            FrameNotFoundError: If the robot has no such frame (with the closest names).
+            FrameNotFoundError: If the robot has no such frame (with the closest names), or
+                neither the frame nor its link has geometry.
 
         """
+        self._geoms_for_forces(frame)
         total = np.zeros(3)
         for i, _, sign in self._terrain_contacts(frame):
             mujoco.mj_contactForce(self.model, self.data, i, self._force)
@@ -203,7 +231,8 @@ class ContactQueries:
             ``(len(frames), 3)`` forces (zero rows without contact).
 
         Raises:
-            FrameNotFoundError: If the robot has no such frame (with the closest names).
+            FrameNotFoundError: If the robot has no such frame (with the closest names), or
+                neither a frame nor its link has geometry.
 
         """
         key = tuple(frames)
@@ -214,7 +243,7 @@ class ContactQueries:
         if rows_of is None:  # geom -> the rows of the frames that own it, once per frame list
             rows_of = {}
             for k, frame in enumerate(key):
-                for geom in self._frame_geoms(frame):
+                for geom in self._geoms_for_forces(frame):
                     rows_of.setdefault(geom, []).append(k)
             self._force_rows[key] = rows_of  # every entry a known frame name: hashable
         out = np.zeros((len(key), 3))

@@ -60,8 +60,9 @@ class Gathers:
     actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
     actuator: np.ndarray  # its MuJoCo actuator id
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
-    direct_q: np.ndarray | None = None  # q = qpos[direct_q] when every joint is copied
+    direct_q: np.ndarray | None = None  # q = qpos[direct_q] when every joint is reordered
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
+    gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
     direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
     unactuated: tuple[int, ...] = ()  # unactuated_v as ints
 
@@ -69,8 +70,9 @@ class Gathers:
 def direct_gathers(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | None]:
     """The one-gather conversions of MuJoCo's state, ``(direct_q, direct_v)``, where they hold.
 
-    ``q = qpos[direct_q]`` when every joint is a hinge or a slide, ``v = qvel[direct_v]`` when
-    no joint is free; None otherwise (then convert joint by joint).
+    ``q = qpos[direct_q]`` when every joint is a hinge, a slide, a ball or a free joint at its
+    parent's origin, ``v = qvel[direct_v]`` when no joint is free; None otherwise (then convert
+    joint by joint).
     """
     maps = gathers(mm)
     return maps.direct_q, maps.direct_v
@@ -86,6 +88,28 @@ def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | Non
     index = np.zeros(size, dtype=np.intp)
     index[np.array(target, dtype=np.intp)] = source
     return index
+
+
+def _direct_q(mm: MujocoModel) -> np.ndarray | None:
+    """``direct_q``: ``q = qpos[direct_q]`` when every joint's ``q`` is its ``qpos`` reordered.
+
+    Hinges and slides copy; a ball joint and a free joint placed at its parent's origin
+    (Pinocchio's ``(x, y, z, w)`` from MuJoCo's ``(w, x, y, z)``) reorder; a continuous joint
+    or an offset free joint needs arithmetic: None.
+    """
+    target, source = [], []
+    for joint in mm.joints:
+        a, i = joint.qpos_adr, joint.idx_q
+        if joint.kind in ("hinge", "slide"):
+            target.append(i)
+            source.append(a)
+        elif joint.kind == "ball" or (joint.kind == "free" and joint.placement.isIdentity()):
+            w = a + (3 if joint.kind == "free" else 0)  # a free joint's position first
+            target += range(i, i + joint.nq)
+            source += [*range(a, w), w + 1, w + 2, w + 3, w]
+        else:
+            return None
+    return _direct(target, source, mm.robot.model.nq)
 
 
 def gathers(mm: MujocoModel) -> Gathers:
@@ -126,13 +150,16 @@ def gathers(mm: MujocoModel) -> Gathers:
         actuated_v=index(actuated_v),
         actuator=index(actuator),
         unactuated_v=index(unactuated),
-        direct_q=None
-        if any(j.kind in ("free", "ball", "continuous") for j in mm.joints)
-        else _direct(copy_q, copy_qpos, mm.robot.model.nq),
+        direct_q=_direct_q(mm),
         direct_v=None
         if any(j.kind == "free" for j in mm.joints)
         else _direct(copy_v, copy_qvel, mm.robot.model.nv),
         direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
+        gather_v=_direct(
+            [i for j in mm.joints for i in range(j.idx_v, j.idx_v + j.nv)],
+            [d for j in mm.joints for d in range(j.dof_adr, j.dof_adr + j.nv)],
+            mm.robot.model.nv,
+        ),
         unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
@@ -268,7 +295,7 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
     """
     qpos = finite_vector(qpos, mm.model.nq, "qpos")
     maps = gathers(mm)
-    if maps.direct_q is not None:  # hinges and slides only: one gather
+    if maps.direct_q is not None:  # every joint's q is its qpos reordered: one gather
         return qpos[maps.direct_q]
     q = np.zeros(mm.robot.model.nq)
     q[maps.copy_q] = qpos[maps.copy_qpos]
@@ -345,12 +372,10 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
     maps = gathers(mm)
     if maps.direct_v is not None:  # no free joint: one gather
         return qvel[maps.direct_v]
-    v = np.zeros(mm.robot.model.nv)
-    v[maps.copy_v] = qvel[maps.copy_qvel]
+    v = qvel[maps.gather_v]  # the free joints' angular velocities included
     for joint in maps.free:
         d, i, a = joint.dof_adr, joint.idx_v, joint.qpos_adr
         v[i : i + 3] = _rotate_back(qpos[a + 3 : a + 7].tolist(), qvel[d : d + 3].tolist())
-        v[i + 3 : i + 6] = qvel[d + 3 : d + 6]
     return v
 
 

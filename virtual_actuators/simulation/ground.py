@@ -8,6 +8,7 @@ of :data:`TERRAIN_RUN` before the first and after the last profile point.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 import mujoco
 import numpy as np
@@ -15,7 +16,18 @@ import numpy as np
 from virtual_actuators.simulation.contact import TERRAIN_BITS, ContactParameters, set_contact
 from virtual_actuators.simulation.terrain import Terrain
 
-__all__ = ["TERRAIN_GROUP", "TERRAIN_PREFIX", "TERRAIN_RUN", "TERRAIN_THICKNESS", "add_terrain"]
+__all__ = [
+    "CLEARANCE_RANGE",
+    "TERRAIN_GROUP",
+    "TERRAIN_PREFIX",
+    "TERRAIN_RUN",
+    "TERRAIN_THICKNESS",
+    "add_terrain",
+    "ground_clearance",
+]
+
+#: Farthest distance between the robot and the terrain that :func:`ground_clearance` measures [m].
+CLEARANCE_RANGE = 100.0
 
 #: Thickness of the terrain boxes, perpendicular to the surface [m].
 TERRAIN_THICKNESS = 0.2
@@ -76,3 +88,20 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
         geom.rgba = [0.45, 0.5, 0.45, 1.0] if i % 2 else [0.5, 0.55, 0.5, 1.0]
         names.append(geom.name)
     return names
+
+
+def ground_clearance(
+    model: mujoco.MjModel, data: mujoco.MjData, robot_geoms: Iterable[int], terrain: Iterable[int]
+) -> float:
+    """Least signed distance between the robot's geoms and the terrain's [m] (negative: inside).
+
+    ``data`` must hold the geoms' placements (after ``mj_forward`` or ``mj_kinematics``).
+    Distances beyond :data:`CLEARANCE_RANGE` count as that range.
+    """
+    terrain = tuple(terrain)
+    clearance = CLEARANCE_RANGE
+    for geom in robot_geoms:
+        for ground in terrain:
+            distance = mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None)
+            clearance = min(clearance, float(distance))
+    return clearance

@@ -27,6 +27,7 @@ from virtual_actuators.simulation.conversions import (
     velocity_from_mujoco,
     velocity_to_mujoco,
 )
+from virtual_actuators.simulation.ground import ground_clearance
 from virtual_actuators.simulation.model import (
     Collisions,
     ContactParameters,
@@ -190,8 +191,9 @@ class Simulator(ContactQueries):
         """Restart at time 0 from a state given in Pinocchio's conventions.
 
         Args:
-            q: Configuration, size ``model.nq``; ``robot.neutral()`` (the standing pose when the
-                robot has one) when None.
+            q: Configuration, size ``model.nq``; when None, ``robot.neutral()`` (the standing
+                pose when the robot has one), a floating base moved up or down so that its
+                lowest geometry rests on the terrain (:meth:`on_ground`).
             v: Velocity, size ``model.nv``; zero when None.
 
         Raises:
@@ -199,7 +201,10 @@ class Simulator(ContactQueries):
 
         """
         pin_model = self.robot.model
-        q = self.robot.neutral() if q is None else q
+        if q is None:
+            q = self.robot.neutral()
+            if self.robot.floating_base and self.mujoco_model.geom_frames:
+                q = self.on_ground(q)
         v = np.zeros(pin_model.nv) if v is None else v
         qpos = configuration_to_mujoco(self.mujoco_model, q)
         qvel = velocity_to_mujoco(self.mujoco_model, q, v)
@@ -211,6 +216,37 @@ class Simulator(ContactQueries):
         self._pushing = False
         mujoco.mj_forward(self.model, self.data)
         self._contacts_time = None  # ContactQueries scans again
+
+    def on_ground(self, q: np.ndarray) -> np.ndarray:
+        """``q`` with the floating base moved vertically so the lowest geometry touches the terrain.
+
+        The robot's collision geoms are measured against the terrain's (MuJoCo's signed
+        distances); the simulation's state is left as it was.
+
+        Args:
+            q: Configuration of a floating-base robot, size ``model.nq``.
+
+        Returns:
+            A copy of ``q`` with its base height changed.
+
+        Raises:
+            InvalidInputError: A fixed-base robot, a robot without collision geometry, or a bad
+                ``q``.
+
+        """
+        if not self.robot.floating_base or not self.mujoco_model.geom_frames:
+            raise InvalidInputError(
+                f"on_ground: robot {self.robot.name!r} needs a floating base and collision "
+                "geometry to be set on the ground."
+            )
+        mm = self.mujoco_model
+        scratch = mujoco.MjData(self.model)
+        scratch.qpos[:] = configuration_to_mujoco(mm, q)
+        mujoco.mj_kinematics(self.model, scratch)
+        clearance = ground_clearance(self.model, scratch, mm.geom_frames, mm.terrain_geoms)
+        placed = np.array(q, dtype=float)
+        placed[2] -= clearance
+        return placed
 
     # -- stepping --------------------------------------------------------------------------------
 

@@ -19,7 +19,9 @@ import numpy as np
 from ...kinematics.kernels import HAVE_NUMBA
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
+from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from . import kernels
+from .kernel_answer import Answer, again
 
 
 class Workspace:
@@ -49,6 +51,8 @@ class Workspace:
         arrays = kernels.views(self.buffer, self.layout, p_n, nv)
         self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
         self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
+        self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
+        self.tables: tuple | None = None  # the kernel's arguments that the declaration fixes
         self.scale = 1.0
 
 
@@ -139,6 +143,27 @@ class CompiledQPMatrices:
             )  # fmt: skip
         return workspace
 
+    def _arguments(
+        self, snapshot: object, wrench: np.ndarray, workspace: Workspace
+    ) -> tuple | None:
+        """:func:`~.kernels.reduced_qp`'s arguments for this tick, or None.
+
+        None: the snapshot lacks a frame (frames required after it ran: the numpy path reads
+        them).
+        """
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self._max_row:
+            return None
+        tables = workspace.tables
+        if tables is None:  # what the declaration fixes, once per workspace
+            tables = workspace.tables = (
+                workspace.kept, self.axis_rows, self.frame_rows, self.chain_ints,
+                self.chain_signs, self.springs, self.const_rows, self.const_rhs,
+                self.normals_world, self.frame_normals, self.settings, self.soles,
+                self.limited_v, self.limits, workspace.buffer, workspace.layout,
+            )  # fmt: skip
+        return (snapshot.jacobian_world, frames, snapshot.q, wrench, *tables)
+
     def build(self, snapshot: object, wrench: np.ndarray, keep: np.ndarray) -> Workspace | None:
         """The tick's reduced QP in this thread's workspace, or None to build it with numpy.
 
@@ -150,36 +175,48 @@ class CompiledQPMatrices:
             keep: ``(n,)`` bool, the prescribed axes.
 
         """
-        frames = snapshot.frame_table
-        if frames.shape[0] <= self._max_row:
-            return None  # frames required after this snapshot ran: the numpy path reads them
         workspace = self.workspace(keep)
-        status, _, scale = kernels.reduced_qp(
-            snapshot.jacobian_world,
-            frames,
-            snapshot.q,
-            wrench,
-            workspace.kept,
-            self.axis_rows,
-            self.frame_rows,
-            self.chain_ints,
-            self.chain_signs,
-            self.springs,
-            self.const_rows,
-            self.const_rhs,
-            self.normals_world,
-            self.frame_normals,
-            self.settings,
-            self.soles,
-            self.limited_v,
-            self.limits,
-            workspace.buffer,
-            workspace.layout,
-        )
+        arguments = self._arguments(snapshot, wrench, workspace)
+        if arguments is None:
+            return None
+        status, _, scale = kernels.reduced_qp(*arguments)
         if status:
             return None
         workspace.scale = scale
         return workspace
+
+    def again(
+        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
+        weights: np.ndarray, guess: np.ndarray,
+    ) -> Answer | None:
+        """:func:`.kernel_answer.again` on this tick: the answer, or None.
+
+        Args:
+            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            wrench: ``(n,)`` requested wrench.
+            keep: ``(n,)`` bool, the prescribed axes.
+            workspace: This thread's workspace for them (:meth:`workspace`).
+            weights: The request rows' weights.
+            guess: The inequalities' multipliers of the last certified answer (replaced in
+                place by this answer's when it is certified).
+
+        Returns:
+            The :class:`~.kernel_answer.Answer`; None when the exact step did not certify the
+            active set, the matrices need the numpy path or the snapshot lacks a frame.
+
+        """
+        arguments = self._arguments(snapshot, wrench, workspace)
+        if arguments is None:
+            return None
+        out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
+        active = workspace.active
+        count, norms = again(
+            *arguments, workspace.pn, workspace.nv, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
+            EPS_ABS, out, active,
+        )  # fmt: skip
+        if count < 0:
+            return None
+        return Answer(out, *norms, active[:count].copy())
 
 
 __all__ = ["CompiledQPMatrices", "Workspace"]

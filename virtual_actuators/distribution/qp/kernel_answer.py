@@ -15,7 +15,8 @@ import numpy as np
 
 from ...kinematics.kernels import njit
 from ..result import close_norms
-from .kernels import views
+from .exact import EXACT_STEPS, exact_step
+from .kernels import LAYOUT, reduced_qp, views
 
 
 @njit(cache=True)
@@ -95,11 +96,34 @@ def finish(
         :func:`~virtual_actuators.distribution.result.close_norms`).
 
     """
+    out = np.zeros(pn + 2 * nv + 2 * wrench.shape[0])
+    active = np.empty(multipliers.shape[0], dtype=np.int64)
+    count, norms = read_out(
+        buffer, layout, pn, nv, z, multipliers, scale, wrench, keep, active_tol, accuracy, out,
+        active,
+    )  # fmt: skip
+    return Answer(out, norms[0], norms[1], norms[2], active[:count].copy())
+
+
+@njit(cache=True)
+def read_out(
+    buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int, z: np.ndarray,
+    multipliers: np.ndarray, scale: float, wrench: np.ndarray, keep: np.ndarray,
+    active_tol: float, accuracy: float, out: np.ndarray, active: np.ndarray,
+) -> tuple[int, tuple[float, float, float]]:
+    """:func:`finish` into ``out`` and ``active``.
+
+    ``out`` (zeros) receives the forces, tau, the spring torques, the produced and the
+    requested wrench; ``active`` the active rows first.
+
+    Returns:
+        ``(count of active rows, (residual, scale, rounding))``.
+
+    """
     n = wrench.shape[0]
     arrays = views(buffer, layout, pn, nv)
     basis, x0, tmap, tau0 = arrays.basis, arrays.x0, arrays.tmap, arrays.tau0
     passive = arrays.passive
-    out = np.zeros(pn + 2 * nv + 2 * n)
     forces = out[:pn]
     tau = out[pn : pn + nv]
     produced = out[pn + 2 * nv : pn + 2 * nv + n]
@@ -120,13 +144,54 @@ def finish(
     residual, size, rounding = close_norms(keep, wrench, forces, produced, requested)
     count = 0
     for r in range(multipliers.shape[0]):
-        count += abs(multipliers[r]) > active_tol
-    active = np.empty(count, dtype=np.int64)
-    count = 0
-    for r in range(multipliers.shape[0]):
         if abs(multipliers[r]) > active_tol:
             active[count] = r
             count += 1
-    return Answer(out, residual, size, rounding + accuracy * 10.0 * scale, active)
+    return count, (residual, size, rounding + accuracy * 10.0 * scale)
 
-__all__ = ["Answer", "finish", "violation"]
+
+@njit(cache=True)
+def again(
+    jacobian: np.ndarray, frames: np.ndarray, q: np.ndarray, wrench: np.ndarray,
+    kept: np.ndarray, axis_rows: np.ndarray, frame_rows: np.ndarray, chain_ints: np.ndarray,
+    chain_signs: np.ndarray, springs: np.ndarray, const_rows: np.ndarray,
+    const_rhs: np.ndarray, normals_world: np.ndarray, frame_normals: np.ndarray,
+    settings: np.ndarray, soles: np.ndarray, limited_v: np.ndarray, limits: np.ndarray,
+    buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int, keep: np.ndarray,
+    weights: np.ndarray, guess: np.ndarray, active_tol: float, exact_tol: float,
+    accuracy: float, out: np.ndarray, active: np.ndarray,
+) -> tuple[int, tuple[float, float, float]]:
+    """A tick on a known active set in one call: the matrices, the exact step, the read-out.
+
+    :func:`~.kernels.reduced_qp` (its arguments first, then ``pn``, ``nv``), then
+    :func:`~.exact.exact_step` of the request exactly on the active set that ``guess`` names
+    (the multipliers of the last certified answer, replaced in place by the new ones when
+    certified), then :func:`read_out` into ``out`` (zeros) and ``active``.
+
+    Returns:
+        :func:`read_out`'s, with a count of -1 when the exact step did not certify the answer
+        (or the matrices need the numpy path): nothing else is then meaningful.
+
+    """
+    status, _, scale = reduced_qp(
+        jacobian, frames, q, wrench, kept, axis_rows, frame_rows, chain_ints, chain_signs,
+        springs, const_rows, const_rhs, normals_world, frame_normals, settings, soles,
+        limited_v, limits, buffer, layout,
+    )  # fmt: skip
+    if status != 0:
+        return -1, (0.0, 0.0, 0.0)
+    rows = views(buffer, layout, pn, nv)
+    certified, z, multipliers = exact_step(
+        rows.equality, rows.equality_rhs, layout[LAYOUT - 1], weights, rows.inequality,
+        rows.lows, rows.uppers, guess, True, active_tol, exact_tol, EXACT_STEPS,
+    )  # fmt: skip
+    if not certified:
+        return -1, (0.0, 0.0, 0.0)
+    guess[:] = multipliers
+    return read_out(
+        buffer, layout, pn, nv, z, multipliers, scale, wrench, keep, active_tol, accuracy, out,
+        active,
+    )  # fmt: skip
+
+
+__all__ = ["Answer", "again", "finish", "read_out", "violation"]

@@ -49,6 +49,9 @@ set, else ProxQP's answer stands). An answer is then the optimum to rounding: wi
 whatever was solved before (warm or cold start, any thread). When stage 1 fails, its last
 iterate mostly names the closest answer's active set already: certified there, that answer ends
 the solve (stages 2 and 3 run only when it is not).
+Before ProxQP, the active set of the thread's last certified answer is tried on the tick's rows:
+certified, it gives the same answer without ProxQP (the KKT conditions name one optimum), and a
+walking tick whose active set did not change solves by linear algebra alone.
 
 **Rows that cannot hold.** When stage 1 fails, the other rows are checked first
 (:mod:`.conflict`: the least squared shift of the inequalities' bounds that lets them hold
@@ -79,7 +82,7 @@ from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
 from .compiled import CompiledQPMatrices
-from .kernel_answer import finish, violation
+from .kernel_answer import Answer, finish, violation
 from .limits import ContactLimits, kinds, torque_map
 from .stages import (
     BUDGET_EXHAUSTED,
@@ -192,18 +195,25 @@ class QPDistribution:
                 iterations.
 
         """
-        keep, weights = request.keep, request.weights
-        weights = (self.weights if weights is None else weights)[keep]
+        keep = request.keep
+        local = self._local
+        hot = getattr(local, "request", None)  # this thread's last request and its weights
+        if hot is None or hot[0] is not request:
+            weights = (self.weights if request.weights is None else request.weights)[keep]
+            hot = local.request = (request, weights)
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget)
+            return self._solve(snapshot, wrench, keep, request.compiled, hot[1], budget)
         finally:
-            self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
+            local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
         work = None
         if compiled and self.matrices.applicable:
+            tick = self._again(snapshot, wrench, keep, weights)
+            if tick is not None:
+                return tick
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
@@ -229,11 +239,41 @@ class QPDistribution:
             ACTIVE_TOL,
             EPS_ABS,
         )
+        return self._tick(answer, results.exhausted)
+
+    def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
+        """The tick on the last certified answer's active set, in one compiled call, or None.
+
+        :func:`.kernel_answer.again` builds the matrices, certifies that active set on them and
+        reads the answer out: the first try of :meth:`.stages.ProxStages.solve` without its
+        Python (most ticks of a walk). None: no certified answer yet in this thread's
+        workspace, an active set that changed, or matrices that need the numpy path; the
+        stages decide then.
+        """
+        local = self._local
+        hot = getattr(local, "workspace", None)  # this thread's for the last prescribed axes
+        if hot is None or hot[0] is not keep:
+            work = self.matrices.workspace(keep)
+            slot = self.stages.exact_slot(
+                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
+            )  # the stage-1 workspace of the same sizes
+            hot = local.workspace = (keep, work, slot)
+        _, work, slot = hot
+        if slot.active is None:
+            return None
+        answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
+        return None if answer is None else self._tick(answer, False)
+
+    def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
+        """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""
         names = self.limits.row_names()
-        forces = answer.out[:pn].reshape(self.problem.p, self.problem.n)
-        active = tuple(names[i] for i in answer.active)
-        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
-        raw = RawSolution(forces=forces, method="qp", solver="qp", active=active)
+        forces = answer.out[: self.problem.p * self.problem.n]
+        active = tuple([names[i] for i in answer.active.tolist()])
+        active += (BUDGET_EXHAUSTED,) if exhausted else ()
+        raw = RawSolution(
+            forces=forces.reshape(self.problem.p, self.problem.n), method="qp", solver="qp",
+            active=active,
+        )  # fmt: skip
         # compiled=False: the matrices are compiled, the solve is ProxQP's (as before)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False

@@ -56,13 +56,18 @@ class ProxSlot:
         qp: The ``proxqp.dense.QP``.
         fresh: True until a solve succeeded (and after a failure): start from ``init``.
 
+    Attributes:
+        active: The inequalities' multipliers of the last answer certified exact (nonzero:
+            active), or None.
+
     """
 
-    __slots__ = ("fresh", "qp")
+    __slots__ = ("active", "fresh", "qp")
 
     def __init__(self, qp: object, fresh: bool = True) -> None:
         self.qp = qp
         self.fresh = fresh
+        self.active: np.ndarray | None = None
 
 
 class StageRows:
@@ -128,6 +133,10 @@ class ProxStages:
         if identity is None:
             identity = self._identities[size] = np.eye(size)
         return identity
+
+    def exact_slot(self, path: str, size: int, equalities: int, inequalities: int) -> ProxSlot:
+        """This thread's workspace of stage 1 for a family and sizes (made on first use)."""
+        return self._slot((path, "exact", size, equalities, inequalities))
 
     def _slot(self, key: tuple) -> ProxSlot:
         cache = getattr(self._local, "qps", None)
@@ -218,6 +227,11 @@ class ProxStages:
 
         Returns a :class:`StageAnswer`, or None when no ``x`` meets the rows.
 
+        The active set of the last answer certified exact is tried first: when the exact step
+        certifies it on this tick's rows (the KKT checks of :func:`.exact.exact_step`), that is
+        the answer and ProxQP does not run (most ticks of a walk: the active set changes rarely
+        from one tick to the next); otherwise stage 1 runs in ProxQP as described.
+
         ``path``: the workspaces' family (``"free"`` or ``"forces"``); ``miss(x, rows)``: the
         largest violation of the first ``rows`` equality rows and the inequalities;
         ``weights``: the request rows' weights in the closest-wrench stage; ``budget``:
@@ -233,13 +247,21 @@ class ProxStages:
         equality, equality_rhs = rows.equality, rows.equality_rhs
         size = equality.shape[1]
         key = (path, "exact", size, len(equality_rhs), len(rows.lows))
+        slot = self.exact_slot(*key[:1], *key[2:])
+        if slot.active is not None:  # the last answer's active set, certified again
+            certified, x, z = self._exact(rows, weights, None, slot.active, True)
+            if certified:
+                slot.active = z
+                return StageAnswer(x, z, False)
         identity = (self._identity(size), np.zeros(size))
         results = self._run(
             key, identity, equality, equality_rhs, rows,
             lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
+        slot.active = None
         if results is not None:  # exact on its active set (the same whatever the start)
-            _, x, z = self._exact(rows, weights, results.x, results.z, True)
+            certified, x, z = self._exact(rows, weights, results.x, results.z, True)
+            slot.active = z if certified else None
             return StageAnswer(x, z, False)
         # stage 1's last iterate mostly names the closest answer's active set already: that
         # answer, certified exact, makes the other stages (and the check below) unnecessary

@@ -29,16 +29,9 @@ import pinocchio as pin
 
 from ...components.base import Component
 from ...exceptions import InvalidInputError
+from ..attitude import yaw_pitch_roll
 
 GRAVITY = 9.81  # [m/s^2]
-
-
-def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
-    """Z-Y-X angles of a rotation matrix ``R = Rz(yaw) Ry(pitch) Rx(roll)`` [rad]."""
-    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-    pitch = math.asin(max(-1.0, min(1.0, -rotation[2, 0])))
-    roll = math.atan2(rotation[2, 1], rotation[2, 2])
-    return yaw, pitch, roll
 
 
 class HeadingAttitude(Component):
@@ -264,37 +257,3 @@ def pendulum_lqr(
     pendulum = pendulum_model(total - inertia.mass, inertia.mass, com, about_pivot)
     gain = lqr_gain(pendulum.a, pendulum.b, np.diag(weights), np.array([[effort]]))
     return pendulum, gain, (model.joints[joint].idx_q, model.joints[joint].idx_v)
-
-
-def rotation(q: np.ndarray) -> np.ndarray:
-    """Body rotation from the free-flyer quaternion ``(x, y, z, w)`` of ``q[3:7]``."""
-    x, y, z, w = q[3:7]
-    return np.array(
-        (
-            (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
-            (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
-            (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
-        )
-    )
-
-
-def attitude_and_velocity(
-    q: np.ndarray, v: np.ndarray
-) -> tuple[float, float, float, float, float]:
-    """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
-
-    As :func:`~virtual_actuators.gaits.hexapod.body.yaw_pitch_roll` of :func:`_rotation`, and
-    ``(rotation(q) @ v[:3])[:2]``, on floats.
-    """
-    x, y, z, w = q[3:7].tolist()
-    u, s, t = v[:3].tolist()  # body axes [m/s]
-    r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)
-    r10, r11, r12 = 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)
-    r20, r21, r22 = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
-    return (
-        math.atan2(r10, r00),
-        math.asin(max(-1.0, min(1.0, -r20))),
-        math.atan2(r21, r22),
-        r00 * u + r01 * s + r02 * t,
-        r10 * u + r11 * s + r12 * t,
-    )

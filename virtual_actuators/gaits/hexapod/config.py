@@ -9,7 +9,7 @@ import numpy as np
 
 from ...exceptions import InvalidInputError
 from ..base import check_distribution
-from .guidance import Guidance, SinePath, TrackObject, VelocityCommand
+from ..guidance import Guidance, SinePath, TrackObject, VelocityCommand
 
 PATHS = ("line", "sine")
 

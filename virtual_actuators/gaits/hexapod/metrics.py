@@ -18,7 +18,7 @@ import numpy as np
 
 from ...exceptions import InvalidInputError
 from ...experiments.walk_log import WalkLog
-from .guidance import (
+from ..guidance import (
     Guidance,
     SinePath,
     TrackObject,

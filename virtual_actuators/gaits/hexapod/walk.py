@@ -2,7 +2,7 @@
 
 :func:`run_hexapod_walk` builds the hexapod (with the pendulum on its back for
 ``pendulum=True``), its :class:`~virtual_actuators.gaits.HexapodWalker`, a guidance that turns the
-requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.hexapod.guidance`) and
+requested path into the seed's three inputs (:mod:`~virtual_actuators.gaits.guidance`) and
 a :class:`~virtual_actuators.simulation.Simulator`, then runs the control loop at 1 kHz. The body
 state is sampled at :data:`TRACE_RATE` into a :class:`~virtual_actuators.experiments.WalkLog`;
 :class:`~virtual_actuators.gaits.hexapod.metrics.HexapodMetrics` summarises it (the
@@ -36,7 +36,9 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
+from ..attitude import attitude_and_velocity, rotation
 from ..base import Walk
+from ..guidance import Guidance, PlanarState, wrap
 from ..runner import (
     Episode,
     WalkFigures,
@@ -46,9 +48,7 @@ from ..runner import (
     number,
     terrain_points,
 )
-from .body import attitude_and_velocity, rotation
 from .config import HexapodWalkConfig, command_path
-from .guidance import Guidance, PlanarState, wrap
 from .metrics import HexapodMetrics, compute_hexapod_metrics
 from .parameters import HexapodParameters
 from .walker import HexapodWalker

@@ -1,7 +1,8 @@
-"""High-level inputs of the hexapod: paths and tracking turned into the seed's three inputs.
+"""High-level inputs of a walk: paths and tracking turned into a velocity and a yaw rate.
 
-The walker (:class:`~virtual_actuators.gaits.hexapod.HexapodWalker`) takes the body velocity in
-its heading frame and a yaw rate. A :class:`Guidance` computes them every tick from the body's
+The hexapod's and the legged walkers (:class:`~virtual_actuators.gaits.hexapod.HexapodWalker`,
+:class:`~virtual_actuators.LeggedWalker`) take the body velocity in their heading frame and a
+yaw rate (the seed's three inputs). A :class:`Guidance` computes them every tick from the body's
 planar state (:class:`PlanarState`):
 
 * :class:`VelocityCommand`: fixed inputs; the velocity is fixed in the body frame, so a yaw rate
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...exceptions import InvalidInputError
+from ..exceptions import InvalidInputError
 
 
 @dataclass(frozen=True)

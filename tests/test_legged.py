@@ -1,0 +1,202 @@
+"""The legged gait layer without physics: patterns, the tick wiring, gains in physical units."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import virtual_actuators as va
+from virtual_actuators.gaits.legged import LeggedParameters, LeggedWalker, named_pattern, npod
+from virtual_actuators.gaits.legged.patterns import GaitPattern
+
+QUAD = ("LF", "RF", "LH", "RH")
+QUAD_XY = np.array([(0.3, 0.2), (0.3, -0.2), (-0.3, 0.2), (-0.3, -0.2)])
+HEX = ("L1", "L2", "L3", "R1", "R2", "R3")
+HEX_XY = np.array([(0.2, 0.1), (0.0, 0.12), (-0.2, 0.1), (0.2, -0.1), (0.0, -0.12), (-0.2, -0.1)])
+
+
+def _as_sets(groups):
+    return [set(group) for group in groups]
+
+
+def test_trot_swings_diagonal_pairs_in_turn():
+    pattern = named_pattern("trot", QUAD, QUAD_XY)
+    assert _as_sets(pattern.groups()) == [{"LF", "RH"}, {"RF", "LH"}]
+    assert set(pattern.swinging(0.1)) == {"LF", "RH"}
+    assert set(pattern.swinging(0.6)) == {"RF", "LH"}
+    assert set(pattern.swinging(1.1)) == {"LF", "RH"}  # the cycle repeats
+    assert pattern.duty_factor() == 0.5
+
+
+def test_pace_swings_one_side_then_the_other():
+    pattern = named_pattern("pace", QUAD, QUAD_XY)
+    assert _as_sets(pattern.groups()) == [{"LF", "LH"}, {"RF", "RH"}]
+
+
+def test_walk_lifts_one_foot_at_a_time_in_the_lateral_sequence():
+    pattern = named_pattern("walk", QUAD, QUAD_XY)
+    assert pattern.groups() == (("LH",), ("LF",), ("RH",), ("RF",))
+    order = [pattern.swinging(k / 4 + 0.01) for k in range(4)]
+    assert order == [("LH",), ("LF",), ("RH",), ("RF",)]
+    assert pattern.duty_factor() == 0.75
+
+
+def test_tripod_alternates_along_each_side_and_across():
+    pattern = named_pattern("tripod", HEX, HEX_XY)
+    assert _as_sets(pattern.groups()) == [{"L1", "L3", "R2"}, {"R1", "R3", "L2"}]
+    # on a quadruped the alternating pattern is the trot
+    assert _as_sets(named_pattern("tripod", QUAD, QUAD_XY).groups()) == [{"LF", "RH"}, {"RF", "LH"}]
+
+
+@pytest.mark.parametrize("name", ["trot", "pace", "walk", "tripod"])
+def test_every_foot_swings_once_per_cycle(name):
+    feet, xy = (HEX, HEX_XY) if name == "tripod" else (QUAD, QUAD_XY)
+    pattern = named_pattern(name, feet, xy)
+    swung = [foot for group in pattern.groups() for foot in group]
+    assert sorted(swung) == sorted(feet)
+    phases = np.linspace(0.0, 1.0, 400, endpoint=False)
+    for foot in feet:
+        # its swing is one contiguous slot of 1 / groups of the cycle
+        swinging = np.array([foot in pattern.swinging(p) for p in phases])
+        assert swinging.mean() == pytest.approx(1.0 / len(pattern.groups()), abs=1e-9)
+        assert np.count_nonzero(np.diff(swinging.astype(int)) == 1) <= 1
+
+
+def test_npod_takes_groups_as_data_and_rejects_bad_ones():
+    pattern = npod([["a", "b"], ["c"], ["d", "e", "f"]])
+    assert pattern.groups() == (("a", "b"), ("c",), ("d", "e", "f"))
+    assert pattern.offsets["c"] == pytest.approx(1 / 3)
+    with pytest.raises(va.InvalidInputError, match="two groups"):
+        npod([["a"], ["a", "b"]])
+    with pytest.raises(va.InvalidInputError, match=r"\[0, 1\)"):
+        GaitPattern("bad", {"a": 0.0, "b": 1.0})
+    with pytest.raises(va.InvalidInputError, match="Unknown gait pattern"):
+        named_pattern("gallop", QUAD, QUAD_XY)
+
+
+def test_machine_controller_is_the_gait_tick():
+    """MachineController: the state's attachments, limp joints and resets, as written by hand."""
+    robot = va.load_robot("solo12")
+    controller = va.Controller(robot)
+    spring = va.SpringDamper(("x", "y", "z"), 300.0, 5.0)
+    controller.add("leg", va.VirtualActuator(robot, "FL_FOOT", "base_link", "world"), [spring])
+    controller.add("other", va.VirtualActuator(robot, "FR_FOOT", "base_link", "world"),
+                   [va.SpringDamper(("x", "y", "z"), 100.0, 1.0)])
+    states = [va.State("a", ("leg",), limp=("FL_KFE",)), va.State("b", ("leg", "other"))]
+    machine = va.StateMachine(states, [va.Transition("a", "b", va.events.after(0.01))], "a")
+    wiring = va.MachineController(controller, machine)
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    first = wiring.compute(q, v, 0.0)
+    assert first.active == ("leg",)
+    knee = controller.joint_indices("FL_KFE")
+    assert first.tau[knee] == 0.0
+    hand = controller.compute(q, v, 0.0, ["leg"], knee)
+    assert np.array_equal(first.tau, hand.tau)
+    later = wiring.compute(q, v, 0.02)
+    assert wiring.state.name == "b" and later.active == ("leg", "other")
+    with pytest.raises(va.InvalidInputError, match="not an attachment"):
+        va.MachineController(controller, va.StateMachine([va.State("c", ("nope",))], [], "c"))
+
+
+def test_gains_scale_with_mass_and_inertia():
+    """The same choices give each robot its own gains: stiffness m w^2, damping 2 zeta m w."""
+    parameters = LeggedParameters()
+    small, large = (LeggedWalker(va.load_robot(name)) for name in ("solo12", "anymal"))
+    w = 2 * np.pi * parameters.frequency
+    for walker in (small, large):
+        mass = walker.robot.mass
+        assert walker.gains.stiffness_z == pytest.approx(mass * w * w)
+        assert walker.gains.damping_z == pytest.approx(2 * parameters.damping_ratio * mass * w)
+        assert walker.gains.time_scale == pytest.approx(np.sqrt(walker.stand_height / 9.81))
+    ratio = large.robot.mass / small.robot.mass
+    assert large.gains.stiffness_z / small.gains.stiffness_z == pytest.approx(ratio)
+    # the stance is centred under the centre of mass
+    for walker in (small, large):
+        assert np.allclose(walker.nominal.mean(axis=0), 0.0, atol=1e-12)
+
+
+def test_walker_rejects_what_it_cannot_walk():
+    robot = va.load_robot("solo12")
+    with pytest.raises(va.InvalidInputError, match="two or more feet"):
+        LeggedWalker(robot, feet=["FL_FOOT"], body="base_link")
+    with pytest.raises(va.FrameNotFoundError):
+        LeggedWalker(robot, feet=["FL_FOOT", "nope"])
+    with pytest.raises(va.InvalidInputError, match="not the walker's"):
+        LeggedWalker(robot, pattern=npod([["FL_FOOT"], ["FR_FOOT"]]))
+    walker = LeggedWalker(robot)
+    with pytest.raises(va.InvalidInputError, match="finite"):
+        walker.set_command((float("nan"), 0.0), 0.0)
+
+
+class _Spring:
+    """What :class:`SwingFeet` writes: a set point and a velocity set point, in place."""
+
+    def __init__(self) -> None:
+        self.setpoint, self.velocity_setpoint = np.zeros(3), np.zeros(3)
+
+
+def _swing_oracle(start, nominal, body, motion, shape):
+    """The swing set point from the definitions (module docstring of ``footholds``), numpy."""
+    com = body[:3]
+    vx, vy, ex, ey, wz, yaw, elapsed, ground = motion
+    swing_time, stance_time, capture, reach, lift, peak, depth, _ = shape
+
+    def turn(angle):
+        return np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+
+    def smooth(s):
+        s = np.clip(s, 0.0, 1.0)
+        return s * s * (3.0 - 2.0 * s)
+
+    phase = elapsed / swing_time
+    remaining = max(0.0, swing_time - elapsed)
+    centre = com[:2] + remaining * turn(yaw) @ np.array([vx, vy])
+    half = 0.5 * stance_time
+    move = turn(wz * half) @ nominal - nominal + np.array([vx, vy]) * half
+    move = move + capture * np.array([ex, ey])
+    move *= min(1.0, reach / np.linalg.norm(move))
+    land = centre + turn(yaw + wz * remaining) @ (nominal + move)
+    land_z = ground - depth * (1.0 + 4.0 * max(0.0, phase - 1.0))
+    s = np.clip(phase, 0.0, 1.0)
+    up = 0.5 * np.pi * (s / peak if s < peak else (s - peak) / (1 - peak))
+    rise = np.sin(up) if s < peak else np.cos(up)
+    point = np.empty(3)
+    point[:2] = start[:2] + (land - start[:2]) * smooth(min(1.0, 1.25 * phase))
+    point[2] = start[2] + (land_z - start[2]) * smooth(phase) + lift * rise
+    return point
+
+
+@pytest.mark.parametrize("elapsed", [0.0, 0.07, 0.16, 0.25, 0.3])
+def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
+    """The compiled set points against the definitions, one tick then the next (the rate)."""
+    from virtual_actuators.gaits.legged.footholds import SwingFeet
+
+    rng = np.random.default_rng(3)
+    shape = (0.25, 0.4, 0.12, 0.1, 0.05, 0.4, 0.004, 0.02)  # touchdown at 0.25 s
+    springs = [_Spring() for _ in QUAD]
+    feet = SwingFeet(QUAD, QUAD_XY, springs, shape)
+    swinging = ("LF", "RH")
+    starts = rng.normal(size=(2, 3)) * 0.1
+    for foot, start in zip(swinging, starts, strict=True):
+        feet.lift_off(foot, start)
+    body = rng.normal(size=12) * 0.2  # centre of mass, origin, velocity, angular velocity
+    base, linear, angular = body[3:6], body[6:9], body[9:]
+    previous = []
+    for tick, now in enumerate((1.0, 1.001)):  # the first at rest (no time since the last)
+        feet.time = 1.0 if tick == 0 else feet.time
+        motion = np.array((0.5, 0.1, 0.05, -0.02, 0.3, 0.4, elapsed + now - 1.0, -0.01))
+        feet.move(swinging, body, motion, now)
+        for k, (foot, start) in enumerate(zip(swinging, starts, strict=True)):
+            index = QUAD.index(foot)
+            point = _swing_oracle(start, QUAD_XY[index], body, motion, shape)
+            # the second tick's rate: the new one low-passed, dt / filter of it
+            rate = 0.05 * (point - previous[k]) / 0.001 if tick else np.zeros(3)
+            spin = rate - linear - np.cross(angular, point - base)
+            np.testing.assert_allclose(springs[index].setpoint, point - base, atol=1e-12)
+            np.testing.assert_allclose(springs[index].velocity_setpoint, spin, atol=1e-9)
+            if elapsed == 0.0 and tick == 0:  # lift-off: where the foot is
+                np.testing.assert_allclose(springs[index].setpoint + base, start, atol=1e-15)
+            previous.append(point)
+        previous = previous[-2:]
+    untouched = springs[QUAD.index("RF")]
+    assert not untouched.setpoint.any() and not untouched.velocity_setpoint.any()

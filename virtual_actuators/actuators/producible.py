@@ -1,0 +1,355 @@
+"""Which wrenches a parallel actuator can produce here, and letting the others give way.
+
+A parallel actuator's chains each exert a wrench ``F_i`` on the action frame {B}; the natural
+constraints of the declaration (a point foot transmits no moment about its origin, a limp joint
+carries no torque, a chain cannot push along a direction its Jacobian does not reach) and its
+design rows confine them to a subspace, and {B} receives their sum ``W = sum_i F_i``. The
+*producible* wrenches are the column space of that map, from the chain wrenches that meet every
+homogeneous constraint to their sum:
+
+* two point feet cannot produce a moment about the line through them;
+* one point foot produces only a force through its origin (three directions);
+* three point feet not in a line produce every wrench;
+* a chain adds only directions its joints (and a point contact's virtual ball joint) can move
+  {B} along: one flat foot on a six-joint leg produces any wrench, on a three-joint leg three.
+
+:func:`producible_basis` returns an orthonormal basis of that space at a configuration (the
+method :meth:`ParallelVirtualActuator.producible <virtual_actuators.ParallelVirtualActuator.\
+producible>`), derived from the kinematics and the declaration alone; :func:`give_way` turns a
+request into a producible one that differs from it only along the given yielding directions,
+the others kept exact (:meth:`ParallelVirtualActuator.give_way <virtual_actuators.\
+ParallelVirtualActuator.give_way>` with axes names, the horizontal force by default: with two
+point feet the centre of mass then leaves the line between them as an inverted pendulum, and the
+height and every moment stay as asked; yielding the moments instead would keep the forces and
+spin the body about that line). Passive springs' measured torques (the non-homogeneous
+right-hand sides) shift the producible set without changing its directions and are not part of
+the basis.
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from ..kinematics.kernels import njit
+from ..kinematics.snapshot import Snapshot
+from ..vocabulary.axes import check_axes_subset
+from .serial import wrench_array
+
+if TYPE_CHECKING:  # the actuator imports this module
+    from .parallel import ParallelVirtualActuator
+
+#: Singular values below this fraction of the largest count as zero (the rank decision).
+RANK_TOL = 1e-9
+
+
+def _null_space(matrix: np.ndarray) -> np.ndarray:
+    """Orthonormal basis ``(columns, k)`` of the null space of ``matrix``."""
+    columns = matrix.shape[1]
+    if matrix.shape[0] == 0:
+        return np.eye(columns)
+    _, s, vt = np.linalg.svd(matrix, full_matrices=True)
+    rank = int(np.sum(s > RANK_TOL * max(float(s[0]) if s.size else 0.0, 1e-300)))
+    return vt[rank:].T
+
+
+class Directions(NamedTuple):
+    """The wrench space of an actuator split in two (orthonormal columns, together a basis).
+
+    Attributes:
+        producible: ``(n, r)`` what the chains can produce here.
+        missing: ``(n, n - r)`` the rest (the orthogonal complement).
+
+    """
+
+    producible: np.ndarray
+    missing: np.ndarray
+
+
+def _split(matrix: np.ndarray) -> Directions:
+    """The column space of ``matrix`` and its orthogonal complement."""
+    rows = matrix.shape[0]
+    if matrix.size == 0:
+        return Directions(np.zeros((rows, 0)), np.eye(rows))
+    u, s, _ = np.linalg.svd(matrix, full_matrices=True)
+    rank = int(np.sum(s > RANK_TOL * s[0])) if s.size and s[0] > 0.0 else 0
+    return Directions(u[:, :rank], u[:, rank:])
+
+
+def producible_directions(
+    actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
+) -> Directions:
+    """:func:`producible_basis` and its orthogonal complement (what :func:`give_way` needs).
+
+    Raises:
+        InvalidInputError: A bad ``q`` or a snapshot of another robot.
+
+    """
+    problem = actuator.problem
+    snapshot = actuator.kinematics.snapshot(q)
+    if _points_only(problem):
+        kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
+        if len(kinematics.reaction_ids) == 2:
+            found, producible, missing = _two_points(snapshot.frame_table, kinematics.frame_rows)
+            if found:
+                return Directions(producible, missing)
+        action = snapshot.frame_position(kinematics.action_id)
+        reactions = np.array([snapshot.frame_position(int(r)) for r in kinematics.reaction_ids])
+        offsets = (action - reactions) @ snapshot.frame_rotation(kinematics.reference_id)
+        return _split(_point_columns(offsets))
+    evaluation = problem.evaluate(snapshot, check_singular=False)
+    natural, _ = problem.block_natural(evaluation)
+    p, n = problem.p, problem.n
+    hard = np.asarray(evaluation.hard_rows, dtype=float).reshape(-1, p * n)
+    allowed = _null_space(np.vstack((natural, hard)))  # chain wrenches meeting every row
+    total = np.tile(np.eye(n), p)  # (n, p n): the stacked chain wrenches to their sum
+    return _split(total @ allowed)
+
+
+def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot) -> np.ndarray:
+    """Orthonormal basis of the wrenches the actuator can produce at a configuration.
+
+    Args:
+        actuator: The parallel actuator.
+        q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+
+    Returns:
+        ``(n, r)`` over the actuator's axes (forces [N] and moments [N m] about {B}'s origin, in
+        {O}'s axes), ``r`` the number of independent producible directions (``n`` when every
+        wrench can be produced).
+
+    Raises:
+        InvalidInputError: A bad ``q`` or a snapshot of another robot.
+
+    """
+    return producible_directions(actuator, q).producible
+
+
+def _points_only(problem: object) -> bool:
+    """Every chain a point contact on a full-rank leg, six axes, no limp joint, no design row.
+
+    Then chain ``i`` exerts exactly the forces through its contact point: ``(f, r_i x f)``.
+    Decided once per problem (the declaration fixes it).
+    """
+    known = _POINTS_ONLY.get(problem)
+    if known is None:
+        known = _POINTS_ONLY[problem] = (
+            len(problem.axes) == 6
+            and problem.num_hard == 0
+            and all(kind == "point" for kind in problem.contacts)
+            and all(g.rank == 6 and not g.constrained.shape[1] for g in problem.groups)
+        )
+    return known
+
+
+#: :func:`_points_only` per declared problem.
+_POINTS_ONLY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+@njit(cache=True)
+def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray, np.ndarray]:
+    """Two point contacts in closed form: the missing direction ``(r_1 x d, d)``, normalised.
+
+    ``d`` runs from one contact to the other and ``r_1`` from {B} to the first, in {O}'s axes:
+    a wrench ``(a, b)`` is orthogonal to every ``(f, r_i x f)`` exactly when ``a = r_1 x b``
+    and ``b`` is along ``d``. The producible directions are the other columns of the
+    Householder reflection that takes a unit axis to it.
+
+    Args:
+        frames: The snapshot's frame table (rotation row by row, then position, per row).
+        rows: Rows of {B}, {O}, then the two contacts in it (``kinematics.frame_rows``).
+
+    Returns:
+        ``(found, producible (6, 5), missing (6, 1))``; not found when the two contacts
+        coincide or a row is not in the table (the general path decides).
+
+    """
+    producible, missing = np.empty((6, 5)), np.empty((6, 1))
+    for row in rows:
+        if row >= frames.shape[0]:
+            return False, producible, missing
+    b, o = rows[0], rows[1]
+    offsets = np.empty((2, 3))  # from each contact to {B}, in {O}
+    for i in range(2):
+        a = rows[2 + i]
+        for j in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += (frames[b, 9 + k] - frames[a, 9 + k]) * frames[o, 3 * k + j]
+            offsets[i, j] = acc
+    x, y, z = -offsets[0, 0], -offsets[0, 1], -offsets[0, 2]  # from {B} to the first contact
+    dx = offsets[0, 0] - offsets[1, 0]  # from the first contact to the second
+    dy = offsets[0, 1] - offsets[1, 1]
+    dz = offsets[0, 2] - offsets[1, 2]
+    if dx * dx + dy * dy + dz * dz <= RANK_TOL * max(x * x + y * y + z * z, 1e-300):
+        return False, producible, missing
+    values = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
+    norm = 0.0
+    for value in values:
+        norm += value * value
+    values /= np.sqrt(norm)
+    k = int(np.argmax(np.abs(values)))
+    v = values.copy()
+    v[k] += 1.0 if values[k] >= 0.0 else -1.0
+    scale = 2.0 / (v @ v)
+    column = 0
+    for c in range(6):  # the reflection's columns but k (column k: -+ missing)
+        if c == k:
+            continue
+        for r in range(6):
+            producible[r, column] = (1.0 if r == c else 0.0) - scale * (v[r] * v[c])
+        column += 1
+    missing[:, 0] = values
+    return True, producible, missing
+
+
+@njit(cache=True)
+def _give_way_one(
+    wrench: np.ndarray, yielding: np.ndarray, missing: np.ndarray, out: np.ndarray
+) -> bool:
+    """:func:`give_way` with one missing direction, in closed form, into ``out``.
+
+    Returns False (nothing written) when the yielding directions cannot move the request
+    along it (the least-squares path decides).
+    """
+    n, m = yielding.shape
+    across = np.zeros(m)  # how each yielding direction moves the missing part
+    gap = 0.0
+    for r in range(n):
+        gap += missing[r, 0] * wrench[r]
+        for j in range(m):
+            across[j] += missing[r, 0] * yielding[r, j]
+    norm2 = 0.0
+    for j in range(m):
+        norm2 += across[j] * across[j]
+    if norm2 <= 1e-12:
+        return False
+    ratio = gap / norm2
+    rest = 0.0
+    for r in range(n):
+        shift = 0.0
+        for j in range(m):
+            shift += yielding[r, j] * (across[j] * ratio)
+        out[r] = wrench[r] - shift
+        rest += missing[r, 0] * out[r]
+    for r in range(n):  # what the yielding could not absorb: rounding
+        out[r] -= missing[r, 0] * rest
+    return True
+
+
+def _point_columns(offsets: np.ndarray) -> np.ndarray:
+    """``(6, 3 p)``: per chain, the wrenches about {B} of unit forces at its contact point.
+
+    Args:
+        offsets: ``(p, 3)`` from each contact to {B}, in {O} [m] (the lever is minus it).
+
+    """
+    count = len(offsets)
+    x, y, z = offsets[:, 0], offsets[:, 1], offsets[:, 2]
+    moments = np.zeros((count, 3, 3))  # -skew(d): the moment (-d) x f about {B}
+    moments[:, 0, 1], moments[:, 0, 2] = z, -y
+    moments[:, 1, 0], moments[:, 1, 2] = -z, x
+    moments[:, 2, 0], moments[:, 2, 1] = y, -x
+    columns = np.empty((6, 3 * count))
+    columns[:3] = np.tile(np.eye(3), count)
+    columns[3:] = moments.transpose(1, 0, 2).reshape(3, 3 * count)
+    return columns
+
+
+def give_way(
+    basis: np.ndarray,
+    wrench: np.ndarray,
+    yielding: np.ndarray | None = None,
+    missing: np.ndarray | None = None,
+) -> np.ndarray:
+    """The producible wrench closest to ``wrench`` that differs from it along ``yielding`` only.
+
+    The request moves along the yielding directions (the least such move, in their
+    coordinates) until it lies in the span of ``basis``; whatever the yielding directions
+    cannot absorb is then removed by the orthogonal projection onto that span. With two point
+    feet and the horizontal force yielding, only the force across the line between the feet
+    changes (by the weight times the centre of mass's offset from the line over its height).
+
+    Args:
+        basis: ``(n, r)`` orthonormal producible directions (:func:`producible_basis`).
+        wrench: ``(n,)`` request.
+        yielding: ``(n, m)`` directions allowed to give way first; None for none (the
+            orthogonal projection alone).
+        missing: ``(n, n - r)`` the orthogonal complement of ``basis``, if known
+            (:func:`producible_directions`); computed otherwise.
+
+    Returns:
+        ``(n,)`` a producible wrench (``wrench`` itself when it already is).
+
+    """
+    n, r = basis.shape
+    if r == n:
+        return np.array(wrench, dtype=float)
+    wrench = np.asarray(wrench, dtype=float)
+    if missing is not None and missing.shape[1] == 1 and yielding is not None:
+        out = np.empty(n)
+        if _give_way_one(wrench, yielding, missing, out):
+            return out
+    if yielding is not None and yielding.shape[1]:
+        if missing is None:
+            missing = np.linalg.svd(basis, full_matrices=True)[0][:, r:]
+        across = missing.T @ yielding  # (n - r, m): how the yielding move the missing part
+        gap = missing.T @ wrench
+        norm2 = float(across[0] @ across[0]) if across.shape[0] == 1 else 0.0
+        if norm2 > 1e-12:  # one missing direction: the closed form of the least move
+            wrench = wrench - yielding @ (across[0] * (gap[0] / norm2))
+        else:  # the least move (least squares when the yielding cannot absorb it all)
+            shift, *_ = np.linalg.lstsq(across, gap, rcond=None)
+            wrench = wrench - yielding @ shift
+    if missing is not None:
+        return wrench - missing @ (missing.T @ wrench)
+    return basis @ (basis.T @ wrench)
+
+
+def yielding_request(
+    actuator: ParallelVirtualActuator,
+    q: np.ndarray | Snapshot,
+    wrench: np.ndarray,
+    axes: Sequence[str] = ("x", "y"),
+) -> np.ndarray:
+    """``wrench`` made producible at ``q`` by giving way along ``axes`` only (:func:`give_way`).
+
+    Args:
+        actuator: The parallel actuator.
+        q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+        wrench: ``(n,)`` request on the actuator's axes.
+        axes: The axes that give way, among the actuator's.
+
+    Returns:
+        ``(n,)`` the request to solve for.
+
+    Raises:
+        InvalidAxisError: ``axes`` not among the actuator's axes.
+        InvalidInputError: A bad ``q`` or ``wrench``.
+
+    """
+    chosen = check_axes_subset(axes, actuator.axes, "give way axes")
+    wrench = wrench_array(wrench, actuator.axes)
+    directions = producible_directions(actuator, q)
+    yielding = np.eye(len(actuator.axes))[:, [actuator.axes.index(a) for a in chosen]]
+    return give_way(directions.producible, wrench, yielding, directions.missing)
+
+
+def moment_directions(axes: tuple[str, ...]) -> np.ndarray:
+    """``(n, m)`` unit columns of the rotational axes among ``axes`` (the default yielding)."""
+    rotational = [i for i, axis in enumerate(axes) if axis.startswith("r")]
+    return np.eye(len(axes))[:, rotational]
+
+
+__all__ = [
+    "RANK_TOL",
+    "Directions",
+    "give_way",
+    "moment_directions",
+    "producible_basis",
+    "producible_directions",
+    "yielding_request",
+]

@@ -1,0 +1,234 @@
+"""A joint-space spring-damper: hold named joints (arms, head, a redundant arm's null space).
+
+``Posture(joints, stiffness, damping, setpoint)`` gives each named joint the effort
+
+    tau_j = stiffness_j (setpoint_j - q_j) - damping_j v_j          [N m or N]
+
+and zero on every other joint. Joint names are resolved once, when the posture meets its robot
+(``robot=`` here, or ``Controller.add``); unknown names raise with the closest names. With
+``setpoint=None`` the posture holds the pose it finds when it is reset (a state entered,
+``Controller.reset``) or first evaluated. With ``null_space=`` a serial virtual actuator, the
+efforts are projected so that they produce no wrench at that actuator
+(``(I - J^T (J^T)^+) tau``): a redundant arm keeps its posture without disturbing its
+end-effector's impedance.
+
+Added to a :class:`~virtual_actuators.Controller` under a name, it is evaluated like an
+attachment (``controller.add("arms", va.Posture([...], 100.0, 5.0))``; ``active`` names it).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
+from ..kinematics.snapshot import Snapshot
+from ..models.robot import Robot
+from ..vocabulary.arguments import as_float_array, check_names, check_robot, describe
+
+__all__ = ["Posture"]
+
+
+class Posture:
+    """Joint-space spring-damper on named one-degree-of-freedom joints.
+
+    Args:
+        joints: Joint names (revolute or prismatic joints).
+        stiffness: [N m/rad or N/m], a number or one per joint (>= 0).
+        damping: [N m s/rad or N s/m], a number or one per joint (>= 0).
+        setpoint: Target positions [rad or m]: one number per joint, a dict ``{joint: value}``
+            (joints not named hold their reset pose), or None to hold the reset pose.
+        robot: Bind now (else ``Controller.add`` binds it to the controller's robot).
+        null_space: A serial :class:`~virtual_actuators.VirtualActuator` whose wrench the
+            efforts must not disturb (the redundant arm's end-effector), or None.
+        name: Label used in reports.
+
+    Raises:
+        InvalidInputError: Empty or repeated joints, negative or non-finite gains, a setpoint
+            of the wrong size or naming a joint not in ``joints``.
+        JointNotFoundError: (when bound) A name that is not a joint of the robot (with the
+            closest names), or a joint with more than one degree of freedom.
+
+    Example:
+        >>> arms = va.Posture(["arm_left_1_joint", "arm_left_2_joint"], 200.0, 10.0)
+        >>> controller.add("arms", arms)
+
+    """
+
+    def __init__(
+        self,
+        joints: Sequence[str],
+        stiffness: float | Sequence[float],
+        damping: float | Sequence[float],
+        setpoint: float | Sequence[float] | Mapping[str, float] | None = None,
+        *,
+        robot: Robot | None = None,
+        null_space: object | None = None,
+        name: str | None = None,
+    ) -> None:
+        names = check_names(joints, "Posture: joints", JointNotFoundError)
+        if not names:
+            raise InvalidInputError("Posture: joints must name at least one joint.")
+        if len(set(names)) != len(names):
+            raise InvalidInputError(f"Posture: joints names a joint twice: {list(names)}.")
+        self.joints: tuple[str, ...] = tuple(names)
+        self.name = name or "Posture"
+        self.stiffness = self._gains(stiffness, "stiffness")
+        self.damping = self._gains(damping, "damping")
+        self._targets = self._setpoint(setpoint)
+        self.setpoint: np.ndarray | None = None  # [rad or m], once bound and reset
+        self.null_space = null_space
+        self.robot: Robot | None = None
+        self._q_rows = self._v_rows = np.zeros(0, dtype=np.intp)
+        if robot is not None:
+            self.bind(robot)
+
+    def _gains(self, value: object, what: str) -> np.ndarray:
+        gains = as_float_array(value, f"Posture: {what}", "a number or one per joint", copy=True)
+        if gains.ndim == 0:
+            gains = np.full(len(self.joints), float(gains))
+        if gains.shape != (len(self.joints),) or not np.isfinite(gains).all() or (gains < 0).any():
+            raise InvalidInputError(
+                f"Posture: {what} must be a finite number >= 0 or one per joint "
+                f"{list(self.joints)}, got {describe(value)}."
+            )
+        return gains
+
+    def _setpoint(self, setpoint: object) -> dict[str, float] | np.ndarray | None:
+        if setpoint is None:
+            return None
+        if isinstance(setpoint, Mapping):
+            unknown = [key for key in setpoint if key not in self.joints]
+            if unknown:
+                raise InvalidInputError(
+                    f"Posture: setpoint names {unknown[0]!r}, not one of its joints. "
+                    f"{suggestion(str(unknown[0]), self.joints, 'joints')}"
+                )
+            values = {
+                key: float(as_float_array(value, f"Posture: setpoint[{key!r}]", "a number"))
+                for key, value in setpoint.items()
+            }
+            if not all(np.isfinite(list(values.values()))):
+                raise InvalidInputError(f"Posture: setpoint must be finite, got {setpoint}.")
+            return values
+        target = as_float_array(setpoint, "Posture: setpoint", "numbers", copy=True)
+        if target.ndim == 0:
+            target = np.full(len(self.joints), float(target))
+        if target.shape != (len(self.joints),) or not np.isfinite(target).all():
+            raise InvalidInputError(
+                f"Posture: setpoint must be finite numbers, one per joint {list(self.joints)}, "
+                f"got {describe(setpoint)}."
+            )
+        return target
+
+    def bind(self, robot: Robot) -> Posture:
+        """Resolve the joint names on ``robot`` (once); returns ``self``.
+
+        Raises:
+            InvalidInputError: Bound to another robot already, or ``robot`` is not a robot.
+            JointNotFoundError: An unknown joint (with the closest names), or one with more
+                than one degree of freedom.
+
+        """
+        check_robot(robot, "Posture")
+        if self.robot is not None:
+            if self.robot.model is robot.model:
+                return self
+            raise InvalidInputError(
+                f"{self.name}: already bound to robot {self.robot.name!r}; make one per robot."
+            )
+        model = robot.model
+        known = list(model.names)[1:]
+        q_rows, v_rows = [], []
+        for joint in self.joints:
+            if joint not in known:
+                raise JointNotFoundError(
+                    f"{self.name}: robot {robot.name!r} has no joint {joint!r}. "
+                    f"{suggestion(joint, known, 'joints')}"
+                )
+            data = model.joints[model.getJointId(joint)]
+            if data.nq != 1 or data.nv != 1:
+                raise JointNotFoundError(
+                    f"{self.name}: joint {joint!r} has {data.nv} degrees of freedom; a posture "
+                    "holds revolute and prismatic joints."
+                )
+            q_rows.append(data.idx_q)
+            v_rows.append(data.idx_v)
+        self._q_rows = np.array(q_rows, dtype=np.intp)
+        self._v_rows = np.array(v_rows, dtype=np.intp)
+        if self.null_space is not None and (
+            getattr(self.null_space, "robot", None) is None
+            or self.null_space.robot.model is not model
+            or not hasattr(self.null_space, "jacobian")
+        ):
+            raise InvalidInputError(
+                f"{self.name}: null_space must be a serial va.VirtualActuator of robot "
+                f"{robot.name!r}, got {describe(self.null_space)}."
+            )
+        self.robot = robot
+        if isinstance(self._targets, np.ndarray):
+            self.setpoint = self._targets.copy()
+        return self
+
+    def reset(self, q: np.ndarray | Snapshot) -> None:
+        """Take the current pose as the setpoint of the joints not given one.
+
+        Raises:
+            InvalidInputError: Not bound to a robot yet.
+
+        """
+        self._check_bound()
+        configuration = q.q if isinstance(q, Snapshot) else np.asarray(q, dtype=float)
+        current = configuration[self._q_rows].copy()
+        if isinstance(self._targets, np.ndarray):
+            self.setpoint = self._targets.copy()
+        elif isinstance(self._targets, dict):
+            targets = self._targets
+            self.setpoint = np.array(
+                [targets.get(j, c) for j, c in zip(self.joints, current.tolist(), strict=True)]
+            )
+        else:
+            self.setpoint = current
+
+    def torques(self, q: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
+        """The efforts ``(nv,)`` [N m or N]: the spring-damper on its joints, zero elsewhere.
+
+        Args:
+            q: Configuration ``(nq,)``, or a snapshot built with a velocity.
+            v: Velocity ``(nv,)`` (omit it with a snapshot).
+
+        Raises:
+            InvalidInputError: Not bound, or no velocity.
+
+        """
+        self._check_bound()
+        if isinstance(q, Snapshot):
+            snapshot, configuration, velocity = q, q.q, q.v
+        else:
+            snapshot, configuration, velocity = None, np.asarray(q, dtype=float), v
+        if velocity is None:
+            raise InvalidInputError(f"{self.name}: torques() needs a velocity v.")
+        if self.setpoint is None:
+            self.reset(configuration)
+        tau = np.zeros(self.robot.model.nv)
+        tau[self._v_rows] = self.stiffness * (
+            self.setpoint - configuration[self._q_rows]
+        ) - self.damping * np.asarray(velocity, dtype=float)[self._v_rows]
+        if self.null_space is not None:
+            if snapshot is None:
+                snapshot = Snapshot(self.robot, configuration)
+            jacobian = self.null_space.jacobian(snapshot)  # (axes, nv)
+            tau = tau - jacobian.T @ (np.linalg.pinv(jacobian.T, rcond=1e-8) @ tau)
+        return tau
+
+    def _check_bound(self) -> None:
+        if self.robot is None:
+            raise InvalidInputError(
+                f"{self.name}: not bound to a robot: give robot= or add it to a va.Controller."
+            )
+
+    def __repr__(self) -> str:
+        bound = f", robot={self.robot.name!r}" if self.robot is not None else ""
+        return f"Posture(joints={list(self.joints)}{bound})"
+

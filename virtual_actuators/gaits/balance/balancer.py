@@ -1,0 +1,276 @@
+"""Standing balance for any legged robot: the body on its feet, the rest held by a posture.
+
+A :class:`Balancer` is a :class:`~virtual_actuators.gaits.base.Gait` with one state, ``stand``:
+
+- a body actuator from the feet to the body frame (world axes), distributed by the contact QP:
+  flat soles for two feet (their size from the collision geometry, the centre of pressure kept
+  inside, friction cones, the URDF's torque limits), point feet with friction cones for three or
+  more; a spring-damper on its six axes holds the body's pose, with the robot's weight acting at
+  its centre of mass as a feed-forward;
+- a :class:`~virtual_actuators.Posture` on every joint off the legs (torso, arms, head), holding
+  the pose the robot starts in;
+- gravity compensation of every link (the legs carry the body, the body carries the rest).
+
+Gains come from :class:`~virtual_actuators.gaits.balance.parameters.BalanceParameters`'
+frequencies and the robot's inertia. Pushes are recovered without stepping: when a push asks
+for more than the soles allow, the QP gives way on the rotations first (weight
+``yield_weight``), so the body tilts rather than the feet roll.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pinocchio as pin
+
+from ...actuators import ParallelVirtualActuator
+from ...components.gains import body_gains, gains, joint_gains
+from ...components.gravity import GravityCompensation
+from ...components.posture import Posture
+from ...components.springs import SpringDamper
+from ...control.controller import ControlOutput
+from ...control.state_machine import State, StateMachine
+from ...kinematics.snapshot import Snapshot
+from ...models.feet import body_frame, find_feet
+from ...models.robot import Robot
+from ...models.soles import find_sole
+from ...models.standing import leg_joints, standing_pose
+from ...vocabulary.axes import resolve_frame
+from ..base import Gait
+from .parameters import BalanceParameters
+
+#: Axes of the body actuator, world-aligned.
+BODY_AXES = ("x", "y", "z", "rx", "ry", "rz")
+
+__all__ = ["BODY_AXES", "Balancer"]
+
+
+class SupportedSpring(SpringDamper):
+    """The body's spring-damper, its request kept within what the support can produce.
+
+    Before each tick the balancer sets :attr:`lever` (from the support's centre to the body
+    origin, world axes [m]) and :attr:`reach` (the support's half extents along world x and y
+    [m], margins taken). The wrench asked of the feet is then moved, when it must be, to the
+    nearest one whose centre of pressure lies within ``reach`` of the support's centre and whose
+    horizontal force lies within ``friction`` times its vertical one: the horizontal force and
+    the moment that move the centre of pressure share the change (least squares, weighted
+    1 : :attr:`moment_weight`). The contact QP then solves the request exactly instead of
+    settling between its inequalities (where the split between the feet is not unique).
+    """
+
+    lever = np.zeros(3)
+    reach = np.full(2, np.inf)
+    friction = np.inf
+    moment_weight = 1.0
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """The spring-damper's wrench, then limited (see the class docstring)."""
+        wrench = np.asarray(super().compute_wrench(position, velocity, time), dtype=float)
+        force, moment = wrench[:3], wrench[3:]
+        normal = max(float(force[2]), 0.0)
+        horizontal = float(np.hypot(force[0], force[1]))
+        if horizontal > self.friction * normal:
+            force[:2] *= self.friction * normal / horizontal
+        about_support = moment + np.cross(self.lever, force)
+        bound = np.array([self.reach[1], self.reach[0]]) * normal  # |M_x| by y, |M_y| by x
+        miss = about_support[:2] - np.clip(about_support[:2], -bound, bound)
+        height, w = float(self.lever[2]), self.moment_weight
+        # M_x about the support moves with -height F_y, M_y with +height F_x: each miss is
+        # shared between that force and that moment, least squares weighted 1 : moment_weight
+        for axis, force_axis, sign in ((0, 1, -1.0), (1, 0, 1.0)):
+            if miss[axis]:
+                share = miss[axis] / (height * height + 1.0 / w)
+                force[force_axis] -= share * sign * height
+                moment[axis] -= share / w
+        return wrench
+
+
+class Balancer(Gait):
+    """A legged robot standing on all its feet (see the module docstring).
+
+    Args:
+        robot: A floating-base legged robot (sole frames are added to its model for flat feet).
+        parameters: The constants.
+        feet: Foot frames (default: found on the robot).
+
+    Raises:
+        FrameNotFoundError: No feet found, or a name in ``feet`` that is not a frame (with
+            close matches).
+        SingularConfigurationError: No standing pose can be built.
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        parameters: BalanceParameters | None = None,
+        feet: tuple[str, ...] | None = None,
+    ) -> None:
+        parameters = parameters or BalanceParameters()
+        if feet is None:
+            found = find_feet(robot)
+            body, feet = found.body, found.feet
+        else:
+            body, feet = body_frame(robot.model, True), tuple(feet)
+            for foot in feet:
+                resolve_frame(robot.model, foot, "foot")
+        self.parameters, self.body, self.feet = parameters, body, tuple(feet)
+        self.flat = len(feet) == 2
+        self.contacts, soles = self._contact_frames(robot, feet) if self.flat else (feet, None)
+        # the centre of mass over the soles' centres (robots without a standing pose)
+        self.q0 = standing_pose(robot, self.contacts, parameters.height_ratio)
+        super().__init__(robot)
+        self.contact_frames = self.contacts
+        self.soles = soles or {}
+        self.spring = self._body(soles)
+        active = ["body", *self._posture(feet)]
+        self.gravity = GravityCompensation(robot)
+        self._data = robot.model.createData()
+        self._body_id = robot.model.getFrameId(self.body)
+        self._contact_ids = [robot.model.getFrameId(frame) for frame in self.contacts]
+        stand = State("stand", active=active, support=self.contacts)
+        self._finish(StateMachine([stand], [], "stand"))
+
+    def _body(self, soles: dict[str, tuple[float, float]] | None) -> SupportedSpring:
+        """The body actuator on the contact QP with its spring-damper; returns the spring."""
+        robot, parameters = self.robot, self.parameters
+        weight = robot.mass * 9.81
+        actuator = ParallelVirtualActuator(
+            robot,
+            self.body,
+            list(self.contacts),
+            "world",
+            BODY_AXES,
+            contact="flat" if self.flat else "point",
+            friction=parameters.friction,
+            min_normal=parameters.min_normal * weight / len(self.contacts),
+            torque_limits=True,
+            soles=soles,
+            weights={"rx": parameters.yield_weight, "ry": parameters.yield_weight},
+        )
+        damping_ratio, q0 = parameters.body_damping, self.q0
+        move = body_gains(robot, parameters.body_frequency, damping_ratio, BODY_AXES, q0)
+        tilt = body_gains(robot, parameters.tilt_frequency, damping_ratio, BODY_AXES, q0)
+        stiffness = np.concatenate((move.stiffness[:3], tilt.stiffness[3:]))
+        damping = np.concatenate((move.damping[:3], tilt.damping[3:]))
+        about_feet = parameters.tilt_about_feet
+        if about_feet or (about_feet is None and not self.flat):  # the inertia about the feet
+            height = float(robot.center_of_mass(q0)[2] - _lowest(robot, self.contacts, q0))
+            pendulum = gains(robot.mass * height**2, parameters.tilt_frequency, damping_ratio)
+            stiffness[3:5] += pendulum.stiffness
+            damping[3:5] += pendulum.damping
+        spring = SupportedSpring(BODY_AXES, stiffness, damping, name="body")
+        spring.friction = 0.9 * parameters.friction
+        spring.moment_weight = parameters.yield_weight
+        self.controller.add("body", actuator, [spring], method="qp")
+        return spring
+
+    def _posture(self, feet: tuple[str, ...]) -> list[str]:
+        """A posture on every driven joint off the legs; the attachments' names."""
+        robot, parameters, model = self.robot, self.parameters, self.robot.model
+        legs = {j for foot in feet for j in leg_joints(model, model.getFrameId(foot))}
+        upper = [
+            model.names[j]
+            for j in range(2, model.njoints)
+            if j not in legs
+            and model.joints[j].nv == 1
+            and model.names[j] not in robot.passive_joints
+        ]
+        if not upper:
+            return []
+        frequency, ratio = parameters.posture_frequency, parameters.posture_damping
+        gains = joint_gains(robot, upper, frequency, ratio, self.q0)
+        self.controller.add("posture", Posture(upper, gains.stiffness, gains.damping))
+        return ["posture"]
+
+    def _support(self, body: np.ndarray) -> None:
+        """The spring's support figures: lever from the feet's centre, half extents (x, y)."""
+        model, data = self.robot.model, self._data
+        points = []
+        for frame, frame_id in zip(self.contacts, self._contact_ids, strict=True):
+            placement = pin.updateFramePlacement(model, data, frame_id)
+            half = self.soles.get(frame, (0.0, 0.0))
+            for corner in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+                local = np.array([corner[0] * half[0], corner[1] * half[1], 0.0])
+                points.append(placement.act(local))
+        points = np.array(points)
+        low, high = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
+        centre = np.array([*(0.5 * (low + high)), float(points[:, 2].mean())])
+        self.spring.lever = body - centre
+        self.spring.reach = 0.5 * (high - low) * self.parameters.support_margin
+
+    def _contact_frames(
+        self, robot: Robot, feet: tuple[str, ...]
+    ) -> tuple[tuple[str, ...], dict[str, tuple[float, float]]]:
+        """A frame at the centre of each sole (added to the model), with its half sizes."""
+        model, names, soles = robot.model, [], {}
+        for foot in feet:
+            sole = find_sole(robot, foot)
+            name = f"{foot}_sole_centre"
+            if not model.existFrame(name):
+                parent = model.frames[model.getFrameId(foot)]
+                centre = pin.SE3(np.eye(3), np.array([*sole.centre, sole.height]))
+                model.addFrame(
+                    pin.Frame(
+                        name,
+                        parent.parentJoint,
+                        model.getFrameId(foot),
+                        parent.placement * centre,
+                        pin.FrameType.OP_FRAME,
+                    )
+                )
+            halves = 0.5 * (np.array(sole.upper) - np.array(sole.lower))
+            soles[name] = tuple(float(h) * self.parameters.sole_margin for h in halves)
+            names.append(name)
+        robot.caches.clear()  # the kinematic tree is rebuilt with the new frames
+        return tuple(names), soles
+
+    def initial_configuration(self) -> np.ndarray:
+        """The standing pose (the SRDF's, or built from the legs)."""
+        return self.q0.copy()
+
+    def nominal_height(self) -> float:
+        """The body's height above the feet in the standing pose [m]."""
+        return float(self.q0[2])
+
+    def start(self, q: np.ndarray) -> None:
+        """Hold the body's pose and the posture found at ``q`` (the simulation's start)."""
+        sensor = self.controller.attachments["body"].sensor
+        snapshot = Snapshot(self.robot, q)
+        self.spring.setpoint = sensor.position(snapshot)
+        self.controller.reset(self.machine.current.active, snapshot, 0.0)
+
+    def compute(
+        self,
+        q: np.ndarray,
+        v: np.ndarray,
+        time: float,
+        contacts: Mapping[str, bool] | None = None,
+    ) -> ControlOutput:
+        """One tick: the weight at the centre of mass, the controller, gravity compensation.
+
+        The weight acts on the body as the spring-damper's feed-forward; the efforts, with
+        every link's gravity compensated, are clipped to the effort limits.
+        """
+        robot, data = self.robot, self._data
+        pin.forwardKinematics(robot.model, data, q)
+        body = pin.updateFramePlacement(robot.model, data, self._body_id).translation
+        weight = np.array([0.0, 0.0, robot.mass * 9.81])
+        lever = robot.center_of_mass(q) - body
+        self.spring.force = np.concatenate((weight, np.cross(lever, weight)))
+        self._support(body)
+        output = super().compute(q, v, time, contacts)
+        tau = output.tau + self.gravity.torques(q)
+        tau[:6] = 0.0
+        limits = self.controller.effort_limits
+        output.tau[:] = np.clip(tau, -limits, limits)
+        return output
+
+
+def _lowest(robot: Robot, frames: tuple[str, ...], q: np.ndarray) -> float:
+    """The lowest of some frames' heights at ``q`` [m]."""
+    model = robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    return min(float(data.oMf[model.getFrameId(frame)].translation[2]) for frame in frames)

@@ -1,0 +1,46 @@
+"""Plot a balance run: the body's drift, height, tilt and velocity against time.
+
+Matplotlib is imported inside the helpers of :mod:`virtual_actuators.experiments.plot_panels`
+and draws on a canvas of its own (no pyplot).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ...experiments.plot_panels import FORCE_STYLE, new_figure, save_figure
+from ...experiments.walk_log import WalkLog
+
+__all__ = ["plot_balance_log"]
+
+PANELS = (
+    (("x", "y"), "drift [m]", True),
+    (("z",), "height [m]", False),
+    (("roll", "pitch"), "tilt [rad]", False),
+    (("vx", "vy"), "velocity [m/s]", False),
+)
+
+
+def plot_balance_log(log: WalkLog, path: str | os.PathLike[str], summary: str = "") -> Path:
+    """Draw the body's drift, height, roll and pitch, and horizontal velocity to a PNG.
+
+    Returns:
+        The path written.
+
+    """
+    figure = new_figure(8.0, 8.0)
+    axes = figure.subplots(len(PANELS), 1, sharex=True)
+    t = log.time
+    for ax, (names, label, relative) in zip(axes, PANELS, strict=True):
+        for k, name in enumerate(names):
+            values = log[name] - log[name][0] if relative else log[name]
+            style = FORCE_STYLE if k else {"color": "C0", "lw": 1.2}
+            ax.plot(t, values, label=name, **style)
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.legend(loc="upper right", fontsize=7)
+    axes[-1].set_xlabel("time [s]")
+    if summary:
+        figure.suptitle(summary, fontsize=8)
+    return save_figure(figure, path, dpi=110)

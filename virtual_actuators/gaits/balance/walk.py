@@ -1,0 +1,322 @@
+"""``demo balance``: any legged robot standing in MuJoCo, pushed, without stepping.
+
+:func:`run_balance` loads the robot (a name or a URDF path), builds its
+:class:`~virtual_actuators.gaits.balance.balancer.Balancer`, starts the simulation with the
+standing pose resting on the terrain and runs the loop at 1 kHz under
+:func:`~virtual_actuators.gaits.runner.drive`. A push (``--push N@T[:DEG]``) is ``N`` newtons on
+the body frame for ``BalanceParameters.push_duration`` seconds from ``T``, along ``DEG``
+degrees in the ground plane (0 = +x). The robot has fallen when its body tilts beyond
+:data:`~virtual_actuators.gaits.runner.FALL_PITCH`, drops below half its starting height above
+the terrain, or touches the ground with anything but its feet. The JSON holds ``fell``,
+``realtime_factor``, the summary figures and ``trace`` (``t, x, y, z, roll, pitch, yaw, vx, vy``
+of the body in the world at :data:`TRACE_RATE`, plus ``state``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...control.controller import ControlOutput
+from ...exceptions import InvalidInputError
+from ...experiments.recorder import Recorder
+from ...models.efforts import implausible_effort_limits
+from ...models.loader import load_robot
+from ...models.robot import Robot
+from ...simulation.simulator import Simulator
+from ...simulation.terrain import Terrain
+from ..attitude import attitude_and_velocity
+from ..base import Walk
+from ..push import Push
+from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number, trace_of
+from .balancer import Balancer
+from .parameters import BalanceParameters
+
+TRACE_RATE = 100.0  # [Hz]
+CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min", "fallen")
+#: The first seconds, while the robot settles on the ground, are left out of the contact figures.
+SETTLE_TIME = 0.1
+
+__all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "run_balance"]
+
+
+@dataclass(frozen=True)
+class BalanceMetrics:
+    """The summary figures of a balance run (NaN: not measured).
+
+    Attributes:
+        robot: The robot's name.
+        feet: Its foot frames.
+        fell: Whether it fell.
+        fall_time_s: When it first fell [s].
+        duration_s: Simulated time [s].
+        realtime_factor: Simulated time over wall time.
+        push: ``"N@T:DEG"`` or None.
+        max_tilt_rad: Largest body tilt (roll and pitch combined) [rad].
+        max_drift_m: Largest horizontal distance of the body from its start [m].
+        final_drift_m: That distance at the end [m].
+        height_error_m: Mean body height over the last second minus the standing pose's [m].
+        stance_normal_min_n: Least normal force of the terrain on a foot (MuJoCo's contacts),
+            after :data:`SETTLE_TIME` [N]: zero when a foot lifted.
+        implausible_limits: Joints whose URDF effort limit no motor of this robot could have
+            (:func:`~virtual_actuators.models.efforts.implausible_effort_limits`: then neither
+            the QP's torque limits nor clipping act; set real ones with ``set_effort_limits``).
+
+    """
+
+    robot: str
+    feet: tuple[str, ...]
+    fell: bool
+    fall_time_s: float | None
+    duration_s: float
+    realtime_factor: float | None
+    push: str | None
+    max_tilt_rad: float
+    max_drift_m: float
+    final_drift_m: float
+    height_error_m: float
+    stance_normal_min_n: float
+    implausible_limits: tuple[str, ...] = ()
+
+    def summary(self) -> str:
+        """One line for the terminal."""
+        state = f"FELL at {self.fall_time_s:.2f} s" if self.fell else "stood"
+        push = f", push {self.push}" if self.push else ""
+        rate = f", {self.realtime_factor:.2f}x real time" if self.realtime_factor else ""
+        limits = self.implausible_limits
+        note = f" (implausible URDF effort limits on {len(limits)} joints)" if limits else ""
+        return (
+            f"{self.robot} {state} for {self.duration_s:.2f} s{push}: tilt <= "
+            f"{self.max_tilt_rad:.3f} rad, drift <= {self.max_drift_m:.3f} m, height error "
+            f"{self.height_error_m * 1000:+.1f} mm{rate}{note}"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """The figures as a JSON-able dict."""
+        data = asdict(self)
+        data["feet"], data["implausible_limits"] = list(self.feet), list(self.implausible_limits)
+        return data
+
+
+@dataclass
+class BalanceResult(WalkResult):
+    """A balance run: the log at :data:`TRACE_RATE`, the metrics, the balancer, the simulator."""
+
+    metrics: BalanceMetrics
+    gait: Balancer
+
+    def trace(self) -> dict[str, list]:
+        """The trace: equal-length lists at :data:`TRACE_RATE`.
+
+        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body), ``normal_min`` (the least
+        normal force on a foot [N]) and ``state``.
+        """
+        return trace_of(self.log, ("normal_min",))
+
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the final drift)."""
+        m = self.metrics
+        return WalkFigures(bool(m.fell), number(m.fall_time_s), m.final_drift_m, 0.0, 0)
+
+    def to_json(self) -> dict[str, Any]:
+        """The figures and ``trace``."""
+        return {**self.metrics.to_dict(), "trace": self.trace()}
+
+    def __repr__(self) -> str:
+        return f"BalanceResult({self.metrics.summary()})"
+
+
+class BalanceEpisode(Episode):
+    """A balance run under :func:`~virtual_actuators.gaits.runner.drive`: push, judge, record."""
+
+    def __init__(
+        self, gait: Balancer, simulator: Simulator, terrain: Terrain, recorder: Recorder,
+        push: Push | None,
+    ) -> None:
+        super().__init__(gait, simulator, terrain, recorder)
+        self.push, self.pushed = push, push is None
+        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        self.start = simulator.q.copy()
+        self.height = float(self.start[2] - terrain.height(self.start[0]))
+        model = gait.robot.model
+        joints = {model.frames[model.getFrameId(f)].parentJoint for f in gait.contacts}
+        self.feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
+        self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> None:
+        """Start the push when its time comes; read the body's attitude."""
+        if not self.pushed and now >= self.push.time - 1e-9:
+            self.push.apply(self.simulator, self.gait.body, self.gait.parameters.push_duration)
+            self.pushed = True
+        self.attitude = attitude_and_velocity(q, v)
+        return None
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Tilted, low, or touching the ground with something else than a foot."""
+        _, pitch, roll, _, _ = self.attitude
+        height = float(q[2] - self.terrain.height(q[0]))
+        if height < 0.5 * self.height or math.hypot(roll, pitch) > FALL_PITCH:
+            return True
+        return not self.simulator.touching_frames() <= self.feet
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """One sample of :data:`CHANNELS`."""
+        yaw, pitch, roll, vx, vy = self.attitude
+        normal = float(self.simulator.contact_forces(self.gait.contacts)[:, 2].min())
+        self.recorder.append(
+            state=0, time=now, x=q[0], y=q[1], z=float(q[2] - self.terrain.height(q[0])),
+            roll=roll, pitch=pitch, yaw=yaw, vx=vx, vy=vy, normal_min=normal,
+            fallen=float(fallen),
+        )
+
+
+def run_balance(
+    robot: str | Robot = "talos",
+    duration: float = 5.0,
+    push: str | Push | None = None,
+    terrain: str | Terrain = "flat",
+    parameters: BalanceParameters | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, Balancer], None] | None = None,
+    stop_on_fall: bool = True,
+    seed: int | None = None,
+) -> BalanceResult:
+    """Simulate a legged robot standing (and pushed) and measure it.
+
+    Args:
+        robot: A name or URDF path for :func:`~virtual_actuators.load_robot`, or a robot.
+        duration: Simulated time [s].
+        push: ``"N@T[:DEG]"``, a :class:`Push` or ``(N, T, DEG)``, or None.
+        terrain: A :class:`~virtual_actuators.simulation.Terrain` or its spec.
+        parameters: The balancer's constants.
+        progress: Show a progress bar.
+        on_tick: Called after every physics step (a viewer).
+        stop_on_fall: End the run 0.5 s after a fall.
+        seed: Without ``push``, an int draws one: a tenth of the robot's weight, at a random
+            time in [0.5, 1] s and a random direction (sweeps see several starts).
+
+    Returns:
+        The :class:`BalanceResult`.
+
+    Raises:
+        RobotNotFoundError: No such robot.
+        FrameNotFoundError: A robot without feet.
+        InvalidInputError: A bad push, terrain or duration.
+
+    """
+    push = None if push is None else Push.of(push)
+    robot = load_robot(robot) if not isinstance(robot, Robot) else robot
+    terrain = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
+    if push is None and seed is not None:
+        rng = np.random.default_rng(seed)
+        weight = robot.mass * 9.81
+        push = Push(0.1 * weight, float(rng.uniform(0.5, 1.0)), float(rng.uniform(0.0, 360.0)))
+    gait = Balancer(robot, parameters)
+    simulator = Simulator(robot, terrain)
+    q0 = gait.initial_configuration()
+    q0[:2] = 0.0
+    q0 = simulator.on_ground(q0)
+    simulator.reset(q0)
+    gait.start(q0)
+    recorder = Recorder(
+        CHANNELS, state_names=("stand",), capacity=int(duration * TRACE_RATE) + 16,
+        metadata={"robot": robot.name, "walk": "balance", "push": push and list(push)},
+    )
+    episode = BalanceEpisode(gait, simulator, terrain, recorder, push)
+    end = drive(episode, duration, progress, on_tick, stop_on_fall)
+    log = recorder.to_log()
+    metrics = _metrics(episode, log, end.fall_time, simulator.time / end.wall if end.wall else None)
+    return BalanceResult(log, metrics, gait, simulator, end.wall)
+
+
+def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetrics:
+    """The summary figures of a finished run."""
+    gait, push = episode.gait, episode.push
+    drift = np.hypot(log["x"] - episode.start[0], log["y"] - episode.start[1])
+    tilt = np.hypot(log["roll"], log["pitch"])
+    last = log.time >= log.time[-1] - 1.0
+    settled = log["normal_min"][log.time >= SETTLE_TIME]
+    return BalanceMetrics(
+        robot=gait.robot.name,
+        feet=tuple(gait.feet),
+        fell=fall_time is not None,
+        fall_time_s=fall_time,
+        duration_s=float(log.time[-1]) if len(log) else 0.0,
+        realtime_factor=realtime,
+        push=str(push) if push else None,
+        max_tilt_rad=float(tilt.max()),
+        max_drift_m=float(drift.max()),
+        final_drift_m=float(drift[-1]),
+        height_error_m=float(log["z"][last].mean() - episode.height),
+        stance_normal_min_n=float(settled.min()) if len(settled) else math.nan,
+        implausible_limits=tuple(implausible_effort_limits(gait.robot)),
+    )
+
+
+def run_registered(
+    walk: Walk,
+    duration: float,
+    speed: float | None = None,
+    terrain: str | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, Balancer], None] | None = None,
+    stop_on_fall: bool = True,
+    seed: int | None = None,
+    parameters: BalanceParameters | None = None,
+    distribution: str | None = None,
+    **options: Any,
+) -> BalanceResult:
+    """``balance`` as the walk registry runs it (``robot``, ``push`` options).
+
+    The robot stands: ``speed`` is not used (a sweep's speed axis leaves it unchanged) and the
+    distribution is the contact QP.
+
+    Raises:
+        InvalidInputError: A distribution other than ``"qp"``, or bad parameters.
+
+    """
+    if distribution not in (None, "qp"):
+        raise InvalidInputError("balance stands on the contact QP: --distribution qp only.")
+    if parameters is not None and not isinstance(parameters, BalanceParameters):
+        raise InvalidInputError(
+            f"balance: parameters must be a BalanceParameters, got {type(parameters).__name__}."
+        )
+    return run_balance(
+        options.get("robot", walk.robot), duration, options.get("push"),
+        walk.terrain if terrain is None else terrain, parameters, progress, on_tick,
+        stop_on_fall, seed,
+    )
+
+
+def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
+    """Draw a balance run (:func:`~virtual_actuators.gaits.balance.plots.plot_balance_log`)."""
+    from .plots import plot_balance_log
+
+    return plot_balance_log(result.log, path, summary=result.metrics.summary())
+
+
+def _viewer_robot(robot: str = "talos", **options: Any) -> Robot:
+    return load_robot(robot)
+
+
+WALK = Walk(
+    name="balance",
+    robot="talos",
+    run=run_registered,
+    parameters=BalanceParameters,
+    terrain="flat",
+    duration=5.0,
+    plot=plot_balance,
+    description="Any legged robot standing on the contact QP, pushed, without stepping",
+    options=("robot", "push"),
+    force_scale=1 / 400,
+    viewer_robot=_viewer_robot,
+)
+

@@ -1,0 +1,346 @@
+"""Any legged robot walking in MuJoCo: ``demo legged`` and :func:`run_legged_walk`.
+
+:func:`run_legged_walk` loads the robot (a name or a URDF path), builds its
+:class:`~virtual_actuators.gaits.legged.LeggedWalker`, a :class:`~virtual_actuators.simulation.
+Simulator` on the terrain and runs the closed loop at 1 kHz under
+:func:`~virtual_actuators.gaits.runner.drive`: every tick the command goes to the walker with
+the feet's contact switches, a push (``push=(N, T, DEG)``: N newtons on the base for 0.1 s from
+T seconds along DEG degrees in the ground plane) is applied when its time comes, and the base is
+sampled at :data:`TRACE_RATE`. The robot has fallen when its base drops below half its standing
+height above the ground, tilts beyond 0.8 rad, or a part other than a foot's link touches the
+ground. :class:`LeggedResult` holds the log, the :class:`~.metrics.LeggedMetrics` and the JSON.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...exceptions import InvalidInputError
+from ...experiments.plot_panels import new_figure, save_figure
+from ...experiments.recorder import Recorder
+from ...models.loader import load_robot
+from ...models.robot import Robot
+from ...simulation.simulator import Simulator
+from ...simulation.terrain import Terrain
+from ..base import Walk, check_distribution
+from ..guidance import PlanarState, SinePath, TrackObject
+from ..push import Push
+from ..runner import (
+    WalkFigures,
+    WalkResult,
+    drive,
+    number,
+    terrain_points,
+    trace_of,
+)
+from .episode import TRACE_RATE, LeggedEpisode
+from .metrics import LeggedMetrics, legged_metrics
+from .parameters import LeggedParameters
+from .patterns import PATTERNS
+from .walker import LeggedWalker
+
+CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
+
+__all__ = [
+    "LeggedResult",
+    "LeggedWalkConfig",
+    "bearing_error",
+    "run_legged_walk",
+    "sine_error",
+]
+
+
+@dataclass(frozen=True)
+class LeggedWalkConfig:
+    """What to walk (SI units, angles in radians except the push's).
+
+    Attributes:
+        robot: A robot name or URDF path for :func:`~virtual_actuators.load_robot`.
+        gait: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.
+        feet: Foot frames (None: found on the robot).
+        speed: [m/s].
+        direction: Travel direction relative to the heading [rad].
+        yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
+        push: A :class:`~virtual_actuators.gaits.push.Push` on the base (or its text,
+            ``(newtons, start time [s], direction [deg])``), or None.
+        path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``: ``y = A sin(2 pi
+            x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
+        amplitude: The sine's ``A`` [m].
+        wavelength: The sine's ``L`` [m].
+        track: Walk the commanded velocity while facing an object circling the start (the
+            yaw rate is the guidance's; line path only).
+        terrain: A :meth:`Terrain.parse` spec.
+        duration: Simulated time [s].
+        distribution: ``"qp"`` or ``"partitioned"``.
+        seed: None for a start at rest; an int for a random initial base velocity (up to
+            0.05 m/s and 0.1 rad/s per axis), so that sweeps see several starts.
+
+    Raises:
+        InvalidInputError: A value out of its range.
+
+    """
+
+    robot: str = "solo12"
+    gait: str = "trot"
+    feet: tuple[str, ...] | None = None
+    speed: float = 0.4
+    direction: float = 0.0
+    yaw_rate: float = 0.0
+    push: Push | None = None
+    path: str = "line"
+    amplitude: float = 0.2
+    wavelength: float = 2.0
+    track: bool = False
+    terrain: str = "flat"
+    duration: float = 4.0
+    distribution: str = "qp"
+    seed: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("speed", "direction", "yaw_rate", "duration"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
+        if not 0.0 <= self.speed <= 1.5 or self.duration <= 0.0:
+            raise InvalidInputError(
+                f"speed must be in [0, 1.5] m/s and duration > 0 s, got {self.speed}, "
+                f"{self.duration}."
+            )
+        if self.path not in ("line", "sine"):
+            raise InvalidInputError(f"path must be 'line' or 'sine', got {self.path!r}.")
+        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0 or self.yaw_rate):
+            raise InvalidInputError(
+                "path 'sine' needs a speed > 0 and a wavelength > 0, and holds the heading "
+                "(no yaw rate)."
+            )
+        if self.track and (self.path != "line" or self.yaw_rate):
+            raise InvalidInputError("track sets the yaw rate itself: a line path, no yaw rate.")
+        if self.gait not in PATTERNS:
+            raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
+        if self.push is not None:
+            object.__setattr__(self, "push", Push.of(self.push))
+        check_distribution(self.distribution)
+
+
+@dataclass
+class LeggedResult(WalkResult):
+    """A legged walk: the log, :class:`LeggedMetrics`, the walker, the simulator, the config.
+
+    Attributes:
+        config: What was walked.
+        ticks: Control ticks run.
+
+    """
+
+    metrics: LeggedMetrics
+    gait: LeggedWalker
+    config: LeggedWalkConfig = field(default_factory=LeggedWalkConfig)
+    ticks: int = 0
+
+    def trace(self) -> dict[str, list]:
+        """The trace: equal-length lists at :data:`TRACE_RATE` and the state names.
+
+        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, base link; ``z`` above the
+        terrain, ``yaw`` unwrapped) and ``state``.
+        """
+        return trace_of(self.log)
+
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, the summary figures, the config and ``trace``."""
+        return {**asdict(self.metrics), "ticks": self.ticks, "config": asdict(self.config),
+                "trace": self.trace()}
+
+    def __repr__(self) -> str:
+        return f"LeggedResult({self.metrics.summary()})"
+
+
+def run_legged_walk(
+    config: LeggedWalkConfig | None = None,
+    parameters: LeggedParameters | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, LeggedWalker], None] | None = None,
+    stop_on_fall: bool = True,
+) -> LeggedResult:
+    """Simulate a legged robot walking and measure it.
+
+    Args:
+        config: What to walk (default: solo12 trotting at 0.4 m/s for 4 s).
+        parameters: Gait choices (default :class:`LeggedParameters` with the config's
+            distribution).
+        progress: Show a progress bar.
+        on_tick: Called after every physics step (e.g. a viewer's update).
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+
+    Returns:
+        The :class:`LeggedResult`.
+
+    Raises:
+        InvalidInputError: A bad terrain spec or pattern for this robot.
+        RobotNotFoundError: No such robot.
+        FrameNotFoundError: No feet found (give ``feet``).
+
+    """
+    config = config or LeggedWalkConfig()
+    parameters = parameters or LeggedParameters(distribution=config.distribution)
+    terrain = Terrain.parse(config.terrain)
+    robot = load_robot(config.robot)
+    gait = LeggedWalker(robot, config.feet, config.gait, parameters)
+    simulator = Simulator(robot, terrain)
+    q0 = simulator.on_ground(gait.initial_configuration())
+    v0 = np.zeros(robot.model.nv)
+    if config.seed is not None:
+        scale = np.array((0.05, 0.05, 0.05, 0.1, 0.1, 0.1))  # [m/s, rad/s]
+        v0[:6] = np.random.default_rng(config.seed).uniform(-1.0, 1.0, 6) * scale
+    simulator.reset(q0, v0)
+    recorder = Recorder(
+        CHANNELS,
+        state_names=gait.machine.names,
+        capacity=int(config.duration * TRACE_RATE) + 16,
+        metadata={"robot": robot.name, "walk": "legged", "config": asdict(config),
+                  "terrain_points": terrain_points(terrain, config.duration)},
+    )
+    episode = LeggedEpisode(gait, simulator, terrain, recorder, config)
+    end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
+    log = recorder.to_log()
+    steps = gait.machine.steps_into(gait.step_states)
+    metrics = legged_metrics(
+        trace_of(log), config.speed, config.direction, config.yaw_rate, steps, end.fall_time
+    )
+    normal_min, ratio_max = episode.stance.figures()
+    if isinstance(episode.guidance, SinePath):  # how far from the curve, not which direction
+        metrics = replace(
+            metrics,
+            direction_error_rad=None,
+            path_error_max_m=sine_error(episode.guidance, trace_of(log)),
+        )
+    elif isinstance(episode.guidance, TrackObject):  # facing the object, turning at will
+        metrics = replace(
+            metrics,
+            direction_error_rad=None,
+            heading_drift_rad=None,
+            bearing_error_max_rad=bearing_error(episode.guidance, trace_of(log)),
+        )
+    metrics = replace(
+        metrics,
+        stance_normal_min_n=normal_min,
+        stance_friction_ratio_max=ratio_max,
+        realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
+        physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
+    )
+    return LeggedResult(log, metrics, gait, simulator, end.wall, config=config, ticks=end.ticks)
+
+
+def sine_error(guidance: SinePath, trace: dict[str, list]) -> float:
+    """Largest distance across from the commanded sine over the trace's second half [m]."""
+    half = len(trace["t"]) // 2
+    points = [guidance.to_path(x, y) for x, y in zip(trace["x"], trace["y"], strict=True)]
+    return max(
+        (abs(across - float(guidance.curve(along))) for along, across in points[half:]),
+        default=0.0,
+    )
+
+
+def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float = 3.0) -> float:
+    """Largest ``|bearing to the tracked object - heading|`` after ``settle`` seconds [rad]."""
+    return max(
+        (
+            abs(guidance.bearing_error(PlanarState(t, x, y, yaw, 0.0, 0.0)))
+            for t, x, y, yaw in zip(trace["t"], trace["x"], trace["y"], trace["yaw"], strict=True)
+            if t >= settle
+        ),
+        default=0.0,
+    )
+
+
+def run_registered(
+    walk: Walk,
+    duration: float,
+    speed: float | None = None,
+    terrain: str | None = None,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, LeggedWalker], None] | None = None,
+    stop_on_fall: bool = True,
+    seed: int | None = None,
+    parameters: LeggedParameters | None = None,
+    distribution: str | None = None,
+    **options: Any,
+) -> LeggedResult:
+    """The legged walk as :func:`~virtual_actuators.gaits.registry.run_walk` runs it.
+
+    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``,
+    ``path``, ``amplitude``, ``wavelength``, ``track``.
+
+    Raises:
+        InvalidInputError: A bad configuration or parameters.
+
+    """
+    if parameters is not None and not isinstance(parameters, LeggedParameters):
+        raise InvalidInputError(
+            f"legged: parameters must be a LeggedParameters, got {type(parameters).__name__}."
+        )
+    if distribution is None:
+        distribution = "qp" if parameters is None else parameters.distribution
+    elif parameters is not None:
+        parameters = replace(parameters, distribution=distribution)
+    config = LeggedWalkConfig(
+        speed=0.4 if speed is None else speed,
+        terrain=walk.terrain if terrain is None else terrain,
+        duration=duration,
+        distribution=distribution,
+        seed=seed,
+        **options,
+    )
+    return run_legged_walk(config, parameters, progress, on_tick, stop_on_fall)
+
+
+def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
+    """Draw the path and the attitude of a legged walk (a PNG, no pyplot)."""
+    trace = result.trace()
+    figure = new_figure(8.0, 7.0)
+    top, bottom = figure.subplots(2, 1)
+    top.plot(trace["x"], trace["y"])
+    top.set(xlabel="x [m]", ylabel="y [m]")
+    top.set_aspect("equal", adjustable="datalim")
+    figure.suptitle(result.metrics.summary(), fontsize=7, wrap=True)
+    for name in ("roll", "pitch", "yaw"):
+        bottom.plot(trace["t"], trace[name], label=name)
+    bottom.set(xlabel="t [s]", ylabel="[rad]")
+    bottom.legend()
+    return save_figure(figure, path, dpi=100)
+
+
+def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:
+    return load_robot(robot)
+
+
+WALK = Walk(
+    name="legged",
+    robot="solo12",
+    run=run_registered,
+    parameters=LeggedParameters,
+    terrain="flat",
+    duration=4.0,
+    plot=plot_legged_walk,
+    description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "
+    "the public gait layer",
+    options=(
+        "robot", "gait", "feet", "direction", "yaw_rate", "push", "path", "amplitude",
+        "wavelength", "track",
+    ),
+    force_scale=1 / 250,
+    viewer_robot=_viewer_robot,
+)

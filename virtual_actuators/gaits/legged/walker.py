@@ -1,0 +1,372 @@
+"""A gait for any robot with two or more legs: the hexapod's design, for every pattern.
+
+The body is a spaceship (VAC 1996, section 4): its :class:`~.body.BodyModel` holds z, roll and
+pitch with spring-dampers and steers x, y and yaw with dampers in its heading frame, and a
+:class:`~virtual_actuators.ParallelVirtualActuator` per support set distributes that wrench over
+the feet in support (point contacts; the contact QP with friction pyramids, a least normal
+force and the torque limits, or the partitioned split). Every swing foot has a spring-damper
+from the body (a serial :class:`~virtual_actuators.VirtualActuator`, world axes) whose set point
+runs along a swing curve to a foothold placed under the centre of mass
+(:mod:`~.footholds`). The states come from the pattern's swing groups
+(:mod:`~.patterns`):
+
+=============  ==========================================  ===================================
+state          active attachments                          left when
+=============  ==========================================  ===================================
+``stand``      ``support_all``                             after ``stand_time``
+``swing_k``    ``support_k`` (all feet but group k),       group k's feet all touch down (from
+               ``swing_F`` for each foot F of group k      ``touchdown_phase`` on), or after
+                                                           ``max_swing`` swing times
+``double_k``   ``support_all``                             after the double support time,
+                                                           to ``swing_k+1``
+=============  ==========================================  ===================================
+
+Every tick (each state's ``on_update``) the walker reads the body, its centre of mass and the
+support feet from the tick's snapshot; moves the velocity set point toward the command at a
+bounded acceleration; sets the body's height above the support feet; asks the state's support
+actuator which wrenches it can produce (:meth:`~virtual_actuators.ParallelVirtualActuator.\
+producible`: with two point feet, not the moment about the line between them) so that the body
+gives way exactly there; and moves the swing feet's set points. The whole tick runs through
+:class:`~virtual_actuators.MachineController`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from ...actuators import ParallelVirtualActuator, VirtualActuator
+from ...actuators.producible import producible_directions
+from ...components.springs import SpringDamper
+from ...control import events
+from ...control.state_machine import Context, State, StateMachine, Transition
+from ...exceptions import InvalidInputError
+from ...kinematics.snapshot import Snapshot
+from ...models.feet import find_feet
+from ...models.robot import Robot
+from ...models.standing import standing_pose
+from ..base import Gait
+from .body import BodyModel
+from .footholds import SwingFeet
+from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
+from .patterns import GaitPattern, named_pattern
+
+__all__ = ["RATE_FILTER", "LeggedWalker"]
+
+#: Time constant of the low-pass filter on the swing set points' velocity [s].
+RATE_FILTER = 0.02
+
+
+class LeggedWalker(Gait):
+    """Walk any legged robot with a pattern, from a velocity and yaw-rate command.
+
+    Args:
+        robot: A floating-base robot.
+        feet: Foot frames (default: found on the robot, see ``va.find_feet``).
+        pattern: ``"trot"``, ``"pace"``, ``"walk"``, ``"tripod"`` or a :class:`GaitPattern`.
+        parameters: Choices and dimensionless gains (default :class:`LeggedParameters`).
+        body: The body frame (default: the floating base's).
+
+    Attributes:
+        feet: The foot frames.
+        pattern: The :class:`GaitPattern`.
+        groups: Its swing groups, in cycle order.
+        gains: The physical gains (:class:`~.parameters.LeggedGains`).
+        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame
+            (its width the pattern's fraction of the standing pose's).
+        stand_height: The body's origin above its feet when standing [m].
+        swing_time: [s].
+        stance_time: How long a foot stands per cycle [s].
+        velocity: The command ``(vx, vy)`` in the heading frame [m/s].
+        yaw_rate: The commanded yaw rate [rad/s].
+
+    Raises:
+        InvalidInputError: A robot without a floating base, fewer than two feet, or a body
+            frame not on the floating base.
+        FrameNotFoundError: A foot or body frame the robot lacks (or no feet found).
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        feet: Sequence[str] | None = None,
+        pattern: str | GaitPattern = "trot",
+        parameters: LeggedParameters | None = None,
+        body: str | None = None,
+    ) -> None:
+        super().__init__(robot)
+        self.parameters = p = parameters or LeggedParameters()
+        if not robot.floating_base:
+            raise InvalidInputError(f"LeggedWalker: robot {robot.name!r} has no floating base.")
+        found = find_feet(robot) if feet is None or body is None else None
+        self.feet = tuple(found.feet if feet is None else feet)
+        self.body_frame = found.body if body is None else body
+        if len(self.feet) < 2:
+            raise InvalidInputError(f"LeggedWalker needs two or more feet, got {self.feet}.")
+        self.contact_frames = self.feet
+        self._stance(p)
+        if isinstance(pattern, str):
+            pattern = named_pattern(pattern, self.feet, self.nominal)
+        if set(pattern.feet) != set(self.feet):
+            raise InvalidInputError(
+                f"LeggedWalker: the pattern's feet {pattern.feet} are not the walker's {self.feet}."
+            )
+        self.pattern = pattern
+        self.groups = pattern.groups()
+        self.nominal = self.nominal * np.array((1.0, pattern.width))
+        scale = self.gains.time_scale
+        self.swing_time = (pattern.swing_time if p.swing_time is None else p.swing_time) * scale
+        self.double_time = p.double_support_time * scale
+        self.stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
+        self.velocity = (0.0, 0.0)
+        self.yaw_rate = 0.0
+        self._setpoint = (0.0, 0.0)
+        self._error_integral = (0.0, 0.0)  # velocity error integral per integral time [m/s]
+        self._yaw_integral = 0.0  # the same for the yaw rate [rad/s]
+        self._dt = 0.0
+        self._last_time: float | None = None
+        self._declare()
+        g = self.gains
+        shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
+                 p.reach * g.height, p.lift * g.height, p.lift_peak,
+                 p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
+        self._swing_feet = SwingFeet(self.feet, self.nominal, self.swing.values(), shape)
+        self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
+        self._swinging = dict(zip(self.step_states, self.groups, strict=True))
+        self._finish(self._machine())
+
+    # --- declaration ---------------------------------------------------------------------------
+
+    def _stance(self, p: LeggedParameters) -> None:
+        """Nominal stance, standing height and gains from the standing pose."""
+        robot, model = self.robot, self.robot.model
+        frame = model.frames[model.getFrameId(self.body_frame)]
+        #: the floating base's angular velocity (its own axes) into the body frame's (None: same)
+        turn = frame.placement.rotation
+        self._to_body = None if np.array_equal(turn, np.eye(3)) else turn.T.copy()
+        if frame.parentJoint != 1:
+            raise InvalidInputError(
+                f"LeggedWalker: the body frame {self.body_frame!r} must be on the floating base."
+            )
+        q0 = self.initial_configuration()
+        snapshot = Snapshot(robot, q0)
+        rotation = snapshot.frame_rotation(self.body_frame)
+        feet = np.array([snapshot.frame_position(f) for f in self.feet])
+        com = robot.center_of_mass(q0)
+        yaw = math.atan2(rotation[1, 0], rotation[0, 0])
+        heading = np.array(((math.cos(yaw), math.sin(yaw)), (-math.sin(yaw), math.cos(yaw))))
+        relative = (feet[:, :2] - com[:2]) @ heading.T
+        #: the stance centred under the centre of mass (heading frame) [m]
+        self.nominal = relative - relative.mean(axis=0)
+        self.stand_height = float(snapshot.frame_position(self.body_frame)[2] - feet[:, 2].mean())
+        if self.stand_height <= 0.0:
+            raise InvalidInputError(
+                f"LeggedWalker: the body of {robot.name!r} is not above its feet when standing."
+            )
+        # a leg's mass sets its swing spring; a floor of 5 % of the robot for massless links
+        legs = tuple(max(leg_mass(robot, f), 0.05 * robot.mass) for f in self.feet)
+        self.gains = derive_gains(p, robot, q0, legs, self.stand_height)
+
+    def _declare(self) -> None:
+        """``support_k`` (all feet but group k), ``support_all`` and ``swing_F`` per foot."""
+        p, robot, c, g = self.parameters, self.robot, self.controller, self.gains
+        self.body = BodyModel(robot.mass, g, p.give_way or ("x", "y"))
+        weight = robot.mass * GRAVITY
+        min_normal = p.min_normal * weight / len(self.feet)
+        if p.distribution == "qp":
+            point = {"friction": p.friction, "min_normal": min_normal, "torque_limits": True}
+            rule = {"method": "qp", "yield_axes": p.give_way}
+        else:
+            yielding = p.give_way or ("x", "y")  # the scaling rule needs axes to scale
+            point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": yielding}
+        self.supports: dict[str, ParallelVirtualActuator] = {}
+        sets = {f"support_{k}": [f for f in self.feet if f not in group]
+                for k, group in enumerate(self.groups)}
+        sets["support_all"] = list(self.feet)
+        for name, feet in sets.items():
+            actuator = ParallelVirtualActuator(
+                robot, self.body_frame, feet, "world", contact="point", **point
+            )
+            self.supports[name] = actuator
+            c.add(name, actuator, [self.body], **rule)
+        self.swing = {}
+        for k, foot in enumerate(self.feet):
+            spring = SpringDamper(
+                ("x", "y", "z"), g.swing_stiffness[k], g.swing_damping[k], name=f"swing_{foot}"
+            )
+            self.swing[foot] = spring
+            leg = VirtualActuator(robot, foot, self.body_frame, "world", ("x", "y", "z"))
+            c.add(f"swing_{foot}", leg, [spring])
+
+    def _machine(self) -> StateMachine:
+        """``stand``, then ``swing_k`` and ``double_k`` for each group in turn."""
+        n = len(self.groups)
+        states = [State("stand", ("support_all",), self.feet, on_update=self._update)]
+        transitions = [Transition("stand", "swing_0", events.after(self.parameters.stand_time))]
+        for k, group in enumerate(self.groups):
+            support = tuple(f for f in self.feet if f not in group)
+            states += [
+                State(
+                    f"swing_{k}",
+                    (f"support_{k}", *(f"swing_{f}" for f in group)),
+                    support,
+                    on_enter=self._enter_swing,
+                    on_update=self._update,
+                ),
+                State(f"double_{k}", ("support_all",), self.feet, on_update=self._update),
+            ]
+            transitions += [
+                Transition(
+                    f"swing_{k}",
+                    f"double_{k}",
+                    events.when(lambda context, feet=group: self._landed(context, feet)),
+                    f"{'+'.join(group)} down",
+                ),
+                Transition(
+                    f"double_{k}",
+                    f"swing_{(k + 1) % n}",
+                    events.after(self.double_time),
+                    "double support time",
+                ),
+            ]
+        return StateMachine(states, transitions, "stand")
+
+    # --- inputs --------------------------------------------------------------------------------
+
+    def set_command(self, velocity: Sequence[float], yaw_rate: float) -> None:
+        """Body velocity ``(vx, vy)`` in the heading frame [m/s] and the yaw rate [rad/s].
+
+        Raises:
+            InvalidInputError: Values that are not finite.
+
+        """
+        vx, vy = (float(v) for v in velocity)
+        yaw_rate = float(yaw_rate)
+        if not all(math.isfinite(v) for v in (vx, vy, yaw_rate)):
+            raise InvalidInputError(
+                f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
+            )
+        self.velocity, self.yaw_rate = (vx, vy), yaw_rate
+
+    def initial_configuration(self) -> np.ndarray:
+        """The SRDF's standing pose, else one built from the legs (``va.standing_pose``)."""
+        return standing_pose(self.robot, self.feet)
+
+    def nominal_height(self) -> float:
+        """The body's standing height above its feet [m]."""
+        return self.stand_height
+
+    # --- per tick ------------------------------------------------------------------------------
+
+    def _landed(self, context: Context, group: tuple[str, ...]) -> bool:
+        """The group's feet all touch down late enough in the swing, or the swing is too long."""
+        elapsed = context.time_in_state
+        if elapsed >= self.parameters.max_swing * self.swing_time:
+            return True
+        contacts = context.contacts
+        if not contacts:
+            return elapsed >= self.swing_time
+        if elapsed < self.parameters.touchdown_phase * self.swing_time:
+            return False
+        return all(contacts.get(foot, False) for foot in group)
+
+    def _enter_swing(self, context: Context) -> None:
+        for foot in self._group(context):
+            self._swing_feet.lift_off(foot, context.frame_position(foot))
+
+    def _group(self, context: Context) -> tuple[str, ...]:
+        """The feet swinging in the current state."""
+        return self._swinging[context.state]
+
+    def _update(self, context: Context) -> None:
+        """Body set points, the producible directions, and the swing feet."""
+        snapshot, state = context.snapshot, context.state
+        rotation, origin = snapshot.placement(self.body_frame)  # views
+        linear = snapshot.frame_velocity(self.body_frame)
+        spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
+        angular = rotation @ spin  # world axes [rad/s]
+        com = self.robot.center_of_mass(context.q)
+        yaw = math.atan2(rotation[1, 0], rotation[0, 0])
+        c, s = math.cos(yaw), math.sin(yaw)
+        self._ramp(context.time, state != "stand")
+        body = self.body
+        body.velocity, body.lever = self._setpoint, com - origin
+        body.yaw_rate = self.yaw_rate + self._yaw_integral
+        current = self.machine.current
+        support, actuator = current.support, self.supports[current.active[0]]
+        feet = actuator.kinematics.frame_rows[2:]  # the support feet's rows in the frame table
+        ground = float(snapshot.frame_table[feet, 11].sum()) / len(support)
+        body.height = ground + self.stand_height
+        body.basis = None
+        if self.parameters.give_way and len(support) < 3:
+            body.basis = producible_directions(actuator, snapshot)
+        vx, vy, _ = linear.tolist()
+        measured = (c * vx + s * vy, -s * vx + c * vy)
+        error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
+        self._integrate(error, self.yaw_rate - float(angular[2]))
+        if not state.startswith("swing"):
+            return
+        (sx, sy), (bx, by) = self._setpoint, self._error_integral
+        motion = np.array((sx, sy, error[0] + bx, error[1] + by, self.yaw_rate, yaw,
+                           context.time_in_state, ground))  # fmt: skip
+        self._move_swing(context, np.concatenate((com, origin, linear, angular)), motion)
+
+    def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
+        """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
+
+        Args:
+            error: Measured minus set velocity, heading frame [m/s].
+            yaw_error: Commanded minus measured yaw rate [rad/s].
+
+        """
+        scale = self.gains.time_scale
+        rate = self._dt / (self.parameters.integral_time * scale)
+        limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
+        (x, y), (ex, ey) = self._error_integral, error
+        self._error_integral = (
+            max(-limit, min(limit, x + rate * ex)), max(-limit, min(limit, y + rate * ey))
+        )
+        turn = self.parameters.integral_limit / scale  # [rad/s]
+        self._yaw_integral = max(-turn, min(turn, self._yaw_integral + rate * yaw_error))
+
+    def _ramp(self, time: float, moving: bool) -> None:
+        """Move the velocity set point toward the command at the bounded acceleration.
+
+        It stays at rest while the robot stands before its first step.
+        """
+        dt = 0.0 if self._last_time is None or not moving else max(0.0, time - self._last_time)
+        self._dt = dt
+        self._last_time = time
+        limit = self.parameters.acceleration * GRAVITY * dt
+        (sx, sy), (cx, cy) = self._setpoint, self.velocity
+        dx, dy = cx - sx, cy - sy
+        scale = min(1.0, limit / max(math.hypot(dx, dy), 1e-12))
+        self._setpoint = (sx + scale * dx, sy + scale * dy)
+        rate = self.parameters.acceleration * GRAVITY * (scale < 1.0)
+        norm = max(math.hypot(dx, dy), 1e-12)
+        self.body.acceleration = (rate * dx / norm, rate * dy / norm)
+
+    def _move_swing(self, context: Context, body: np.ndarray, motion: np.ndarray) -> None:
+        """The swing feet's set points along their curves to the footholds.
+
+        ``body`` and ``motion`` as :func:`~.footholds.swing_setpoints` reads them.
+        """
+        feet = self._group(context)
+        if context.time_in_state / self.swing_time >= self.parameters.touchdown_phase:
+            down = tuple(foot for foot in feet if context.contacts.get(foot, False))
+            for foot in down:  # held where it is, still in the world
+                spring = self.swing[foot]
+                spring.setpoint = offset = (context.frame_position(foot) - body[3:6]).tolist()
+                turning = zip(body[6:9].tolist(), _cross(body[9:], offset), strict=True)
+                spring.velocity_setpoint = [-a - b for a, b in turning]
+            feet = tuple(foot for foot in feet if foot not in down)
+        self._swing_feet.move(feet, body, motion, context.time)
+
+
+def _cross(a: Sequence[float], b: Sequence[float]) -> list[float]:
+    """``a x b`` of two 3-vectors."""
+    (a0, a1, a2), (b0, b1, b2) = a, b
+    return [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]

@@ -1,0 +1,75 @@
+"""A push on a robot's body: ``--push N@T[:DEG]`` of ``demo legged`` and ``demo balance``."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+from ..exceptions import InvalidInputError
+
+if TYPE_CHECKING:  # no MuJoCo import for the command line's parsing
+    from ..simulation.simulator import Simulator
+
+#: How long a push lasts unless told otherwise [s].
+PUSH_DURATION = 0.1
+
+__all__ = ["PUSH_DURATION", "Push"]
+
+
+class Push(NamedTuple):
+    """A push on the body: ``force`` newtons from ``time`` seconds along ``direction`` degrees.
+
+    The direction is in the ground plane, 0 = +x, 90 = +y.
+    """
+
+    force: float
+    time: float
+    direction: float = 0.0
+
+    @classmethod
+    def parse(cls, text: str) -> Push:
+        """``"N@T"`` or ``"N@T:DEG"`` (``250@1.0:90``: 250 N at 1 s along +y).
+
+        Raises:
+            InvalidInputError: Not of that form, or not finite numbers with ``N, T >= 0``.
+
+        """
+        try:
+            force, rest = str(text).split("@")
+            when, _, angle = rest.partition(":")
+            return cls.of((float(force), float(when), float(angle) if angle else 0.0))
+        except (ValueError, InvalidInputError):
+            raise InvalidInputError(
+                f"push must be N@T[:DEG] (newtons >= 0 at T >= 0 seconds, along DEG degrees), "
+                f"got {text!r}."
+            ) from None
+
+    @classmethod
+    def of(cls, value: str | Push | tuple[float, ...]) -> Push:
+        """A push from its text, a :class:`Push` or ``(N, T)`` / ``(N, T, DEG)``.
+
+        Raises:
+            InvalidInputError: Not finite numbers with ``N, T >= 0``, or a bad text.
+
+        """
+        if isinstance(value, str):
+            return cls.parse(value)
+        try:
+            push = cls(*(float(v) for v in value))
+        except (TypeError, ValueError):
+            push = None
+        if push is None or not all(map(math.isfinite, push)) or min(push[:2]) < 0:
+            raise InvalidInputError(
+                f"push must be (N, T[, DEG]): newtons >= 0 at T >= 0 seconds along DEG degrees, "
+                f"got {value!r}."
+            )
+        return push
+
+    def apply(self, simulator: Simulator, frame: str, duration: float = PUSH_DURATION) -> None:
+        """Start the push on ``frame`` in ``simulator`` for ``duration`` seconds."""
+        angle = math.radians(self.direction)
+        force = (self.force * math.cos(angle), self.force * math.sin(angle), 0.0)
+        simulator.push(force, frame, duration)
+
+    def __str__(self) -> str:
+        return f"{self.force:g}@{self.time:g}:{self.direction:g}"

@@ -1,0 +1,156 @@
+"""Sole sizes from a foot's collision geometry.
+
+:func:`find_sole` reads the collision shapes of the link a foot frame is attached to (Pinocchio's
+geometry model: boxes, spheres, cylinders, capsules and meshes), expresses their points in the
+foot frame, keeps the lowest ones (within :data:`SOLE_THICKNESS` of the lowest, along the frame's
+z: the sole's contact surface; a sphere counts by its lowest point) and returns the rectangle
+they span. A flat contact's sole is centred at its reaction frame, so :class:`Sole` also gives
+the largest rectangle centred at the frame origin that lies inside the footprint
+(``half_length``, ``half_width``: what ``ParallelVirtualActuator(soles=...)`` takes), and the
+footprint's centre (where a frame added for the contact would sit).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import FrameNotFoundError, RobotDescriptionError, suggestion
+from .robot import Robot
+
+#: Points within this height of a foot's lowest point make up its sole [m].
+SOLE_THICKNESS = 0.005
+
+__all__ = ["SOLE_THICKNESS", "Sole", "find_sole"]
+
+
+@dataclass(frozen=True, slots=True)
+class Sole:
+    """A foot's footprint in its frame's x-y plane [m].
+
+    Attributes:
+        half_length: Largest half-length along x of a rectangle centred at the frame origin
+            inside the footprint (0 when the origin is outside it).
+        half_width: Likewise along y.
+        lower: ``(x, y)`` of the footprint's back right corner.
+        upper: ``(x, y)`` of its front left corner.
+        height: The sole's z in the frame (0 when the frame lies on the sole).
+
+    """
+
+    half_length: float
+    half_width: float
+    lower: tuple[float, float]
+    upper: tuple[float, float]
+    height: float
+
+    @property
+    def centre(self) -> tuple[float, float]:
+        """``(x, y)`` of the footprint's centre in the frame [m]."""
+        return (0.5 * (self.lower[0] + self.upper[0]), 0.5 * (self.lower[1] + self.upper[1]))
+
+
+def find_sole(robot: Robot, foot: str) -> Sole:
+    """The footprint of ``foot``'s link from its collision geometry (module docstring).
+
+    Args:
+        robot: The robot (its URDF is read again for the geometry).
+        foot: The foot frame (its link's geometry counts, the link's fixed children included).
+
+    Returns:
+        The :class:`Sole`.
+
+    Raises:
+        FrameNotFoundError: No such frame (with close matches), or its link has no collision
+            geometry.
+        RobotDescriptionError: Pinocchio cannot read the geometry.
+
+    """
+    model = robot.model
+    if not isinstance(foot, str) or not model.existFrame(foot):
+        raise FrameNotFoundError(
+            f"Robot {robot.name!r} has no frame {foot!r}. "
+            f"{suggestion(str(foot), robot.frame_names, 'frames')}"
+        )
+    frame = model.frames[model.getFrameId(foot)]
+    frame_in_joint = frame.placement
+    points = [
+        frame_in_joint.actInv(obj.placement.act(point))
+        for obj in _geometry(robot).geometryObjects
+        if obj.parentJoint == frame.parentJoint
+        for point in _points(obj, frame_in_joint)
+    ]
+    if not points:
+        raise FrameNotFoundError(
+            f"Frame {foot!r} of robot {robot.name!r}: its link has no collision geometry to "
+            "take a sole from; give the sole's size yourself."
+        )
+    points = np.array(points)
+    lowest = float(points[:, 2].min())
+    sole = points[points[:, 2] <= lowest + SOLE_THICKNESS, :2]
+    low, high = sole.min(axis=0), sole.max(axis=0)
+    halves = np.maximum(np.minimum(high, -low), 0.0)
+    return Sole(
+        float(halves[0]),
+        float(halves[1]),
+        (float(low[0]), float(low[1])),
+        (float(high[0]), float(high[1])),
+        lowest,
+    )
+
+
+def _geometry(robot: Robot) -> pin.GeometryModel:
+    """The robot's collision geometry (cached on the robot).
+
+    Raises:
+        RobotDescriptionError: Pinocchio cannot read it.
+
+    """
+    geometry = robot.caches.get("collision_geometry")
+    if geometry is None:
+        kind, dirs = pin.GeometryType.COLLISION, list(robot.package_dirs)
+        try:
+            if robot.urdf_path is not None:
+                geometry = pin.buildGeomFromUrdf(
+                    robot.model, str(robot.urdf_path), kind, package_dirs=dirs
+                )
+            else:
+                geometry = pin.buildGeomFromUrdfString(
+                    robot.model, robot.urdf_string or "", kind, package_dirs=dirs
+                )
+        except Exception as exc:
+            raise RobotDescriptionError(
+                f"Pinocchio cannot read the collision geometry of robot {robot.name!r}: {exc}"
+            ) from exc
+        robot.caches["collision_geometry"] = geometry
+    return geometry
+
+
+def _points(obj: pin.GeometryObject, frame: pin.SE3) -> list[np.ndarray]:
+    """Points of a shape, in its own frame, that can touch a plane below the foot frame.
+
+    A box or a mesh: its corners or vertices; a cylinder: 16 points of each rim; a sphere or a
+    capsule: its lowest point(s) along the foot frame's -z.
+    """
+    shape = obj.geometry
+    kind = type(shape).__name__
+    down = obj.placement.rotation.T @ frame.rotation @ np.array([0.0, 0.0, -1.0])  # in shape
+    if kind == "Box":
+        half = np.asarray(shape.halfSide, dtype=float)
+        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+        return list(signs * half)
+    if kind == "Sphere":
+        return [float(shape.radius) * down]
+    if kind == "Capsule":
+        ends = [np.array([0.0, 0.0, h]) for h in (-shape.halfLength, shape.halfLength)]
+        return [end + float(shape.radius) * down for end in ends]
+    if kind == "Cylinder":
+        angles = np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)
+        r, h = float(shape.radius), float(shape.halfLength)
+        return [np.array([r * np.cos(a), r * np.sin(a), z]) for a in angles for z in (-h, h)]
+    if kind.startswith(("BVHModel", "Convex")):
+        vertices = shape.vertices() if callable(shape.vertices) else shape.vertices
+        return list(np.asarray(vertices, dtype=float) * np.asarray(obj.meshScale, dtype=float))
+    return []

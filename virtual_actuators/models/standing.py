@@ -1,0 +1,186 @@
+"""A standing pose for a legged robot whose description gives none.
+
+:func:`standing_pose` returns the SRDF's standing pose when the robot has one
+(:meth:`Robot.neutral`). Otherwise it builds one from the structure: each leg (the chain from the
+body to a foot of :func:`~virtual_actuators.models.feet.find_feet`) is folded so that its foot
+stays where it is in the all-zero pose horizontally (under the hip for the usual legs hanging
+down) and rises by ``1 - height_ratio`` of the hip-to-foot distance, knees bent the way the joint
+limits allow (a leg starts folded towards the larger side of each joint's range near zero). A
+leg with six or more joints also keeps its foot's orientation (flat soles stay flat). The body is
+level, and it stands at the height that puts the lowest foot frame at ``z = 0`` (the simulator
+then rests the lowest geometry on the terrain).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import (
+    FrameNotFoundError,
+    InvalidInputError,
+    SingularConfigurationError,
+    suggestion,
+)
+from ..vocabulary.arguments import check_number
+from .feet import find_feet
+from .robot import Robot
+
+#: Hip-to-foot height of the generated pose, as a fraction of the all-zero pose's.
+HEIGHT_RATIO = 0.9
+
+#: Initial fold of each leg joint [rad], towards the larger side of its range near zero.
+_FOLD = 0.3
+
+__all__ = ["HEIGHT_RATIO", "leg_joints", "standing_pose"]
+
+
+def standing_pose(
+    robot: Robot,
+    feet: Sequence[str] | None = None,
+    height_ratio: float = HEIGHT_RATIO,
+    use_srdf: bool = True,
+) -> np.ndarray:
+    """A standing configuration: the SRDF's, else one built from the legs (module docstring).
+
+    Args:
+        robot: A floating-base legged robot.
+        feet: Foot frames (default: :func:`~virtual_actuators.models.feet.find_feet`).
+        height_ratio: Hip-to-foot height as a fraction of the all-zero pose's, in (0.3, 1].
+        use_srdf: Return the SRDF's standing pose when the robot has one.
+
+    Returns:
+        ``q`` of size ``model.nq``.
+
+    Raises:
+        InvalidInputError: A fixed-base robot, or ``height_ratio`` out of range.
+        FrameNotFoundError: No feet found (or a name in ``feet`` that is not a frame).
+        SingularConfigurationError: A leg that cannot reach its target (the message names it).
+
+    """
+    if not robot.floating_base:
+        raise InvalidInputError(f"standing_pose: robot {robot.name!r} has a fixed base.")
+    height_ratio = check_number(height_ratio, "standing_pose: height_ratio")
+    if not 0.3 < height_ratio <= 1.0:
+        raise InvalidInputError(
+            f"standing_pose: height_ratio must be in (0.3, 1], got {height_ratio}."
+        )
+    if use_srdf and robot.default_pose is not None:
+        return robot.neutral()
+    model = robot.model
+    if feet is None:
+        feet = find_feet(robot).feet
+    ids = [_frame_id(robot, foot) for foot in feet]
+    shift = np.zeros(2)  # of the feet, to bring the centre of mass over their middle
+    for _ in range(3):
+        q = pin.neutral(model)
+        for foot in ids:
+            _fold_leg(robot, q, foot, height_ratio, shift)
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, q)
+        middle = np.mean([data.oMf[foot].translation[:2] for foot in ids], axis=0)
+        shift += robot.center_of_mass(q)[:2] - middle
+    q[2] -= min(float(data.oMf[foot].translation[2]) for foot in ids)
+    return q
+
+
+def _frame_id(robot: Robot, frame: str) -> int:
+    """The id of frame ``frame``.
+
+    Raises:
+        FrameNotFoundError: No such frame (with close matches).
+
+    """
+    if not robot.model.existFrame(frame):
+        raise FrameNotFoundError(
+            f"Robot {robot.name!r} has no frame {frame!r}. "
+            f"{suggestion(frame, robot.frame_names, 'frames')}"
+        )
+    return int(robot.model.getFrameId(frame))
+
+
+def leg_joints(model: pin.Model, foot: int) -> list[int]:
+    """The joints (one degree of freedom each) from the body down to frame ``foot``."""
+    joints = [j for j in model.supports[model.frames[foot].parentJoint] if j > 1]
+    return [j for j in joints if model.joints[j].nv == 1 and model.joints[j].nq == 1]
+
+
+def _fold_leg(robot: Robot, q: np.ndarray, foot: int, ratio: float, shift: np.ndarray) -> None:
+    """Move one leg's joints in ``q`` so its foot reaches the folded target (damped IK).
+
+    Raises:
+        SingularConfigurationError: The leg has no joints or misses its target.
+
+    """
+    model = robot.model
+    name = model.frames[foot].name
+    joints = leg_joints(model, foot)
+    if not joints:
+        raise SingularConfigurationError(f"standing_pose: foot {name!r} has no leg joints.")
+    columns = [model.joints[j].idx_v for j in joints]
+    rows = [model.joints[j].idx_q for j in joints]
+    lower = model.lowerPositionLimit[rows]
+    upper = model.upperPositionLimit[rows]
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    start = data.oMf[foot].copy()
+    hip = data.oMi[joints[0]].translation
+    target = start.translation.copy()
+    target[2] = hip[2] - ratio * (hip[2] - start.translation[2])
+    target[:2] += shift
+    orient = len(joints) >= 6
+    miss = np.inf
+    for fold in (0.0, _FOLD, -_FOLD):  # legs straight at zero fold one way, then the other
+        q[rows] = _folded_start(lower, upper, fold)
+        miss = _reach(model, q, foot, start.rotation, target, orient, (rows, columns))
+        if miss < 1e-4 * max(1.0, abs(hip[2] - target[2])):
+            return
+    raise SingularConfigurationError(
+        f"standing_pose: the leg of foot {name!r} cannot reach {target.round(3).tolist()} "
+        f"within its joint limits (left {miss:.3g} m away)."
+    )
+
+
+def _reach(
+    model: pin.Model,
+    q: np.ndarray,
+    foot: int,
+    rotation: np.ndarray,
+    target: np.ndarray,
+    orient: bool,
+    indices: tuple[list[int], list[int]],
+) -> float:
+    """Damped least squares on one leg's joints (in place in ``q``); the position miss [m]."""
+    rows, columns = indices
+    lower, upper = model.lowerPositionLimit[rows], model.upperPositionLimit[rows]
+    data = model.createData()
+    error = np.full(3, np.inf)
+    for _ in range(200):
+        pin.framesForwardKinematics(model, data, q)
+        here = data.oMf[foot]
+        error = np.concatenate((target - here.translation, pin.log3(rotation @ here.rotation.T)))
+        if not orient:
+            error = error[:3]
+        if np.linalg.norm(error) < 1e-9:
+            break
+        jacobian = pin.computeFrameJacobian(
+            model, data, q, foot, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        )[: len(error), columns]
+        step = jacobian.T @ np.linalg.solve(
+            jacobian @ jacobian.T + 1e-6 * np.eye(len(error)), error
+        )
+        q[rows] = np.clip(q[rows] + np.clip(step, -0.2, 0.2), lower, upper)
+    return float(np.linalg.norm(error[:3]))
+
+
+def _folded_start(lower: np.ndarray, upper: np.ndarray, fold: float) -> np.ndarray:
+    """Each joint's start: the middle of its range within ``+-_FOLD``, else its bound nearest 0.
+
+    A symmetric range (middle zero) starts at ``fold`` instead.
+    """
+    low, high = np.maximum(lower, -_FOLD), np.minimum(upper, _FOLD)
+    middle = 0.5 * (low + high)
+    middle = np.where(np.abs(middle) < 1e-9, fold, middle)
+    return np.clip(np.where(low <= high, middle, 0.0), lower, upper)

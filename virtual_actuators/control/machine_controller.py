@@ -82,16 +82,17 @@ class MachineController:
 
     def compute(
         self,
-        q: np.ndarray,
-        v: np.ndarray,
+        q: np.ndarray | Snapshot,
+        v: np.ndarray | None,
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
         """One tick: snapshot, context, machine update, resets on a change, the controller.
 
         Args:
-            q: Configuration ``(nq,)`` (Pinocchio convention).
-            v: Velocity ``(nv,)``.
+            q: Configuration ``(nq,)`` (Pinocchio convention), or the tick's
+                :class:`~virtual_actuators.Snapshot` (with a velocity) to share its pass.
+            v: Velocity ``(nv,)`` (ignored with a snapshot).
             time: Controller time [s].
             contacts: Contact switches by frame name (for events that read them).
 
@@ -104,7 +105,10 @@ class MachineController:
 
         """
         controller = self.controller
-        snapshot = Snapshot(controller.robot, q, v)  # the tick's one kinematics pass
+        if isinstance(q, Snapshot):  # the caller's pass of this tick, shared
+            snapshot, q, v = q, q.q, q.v
+        else:
+            snapshot = Snapshot(controller.robot, q, v)  # the tick's one kinematics pass
         context = Context(controller.robot, q, v, time, contacts, snapshot=snapshot)
         machine = self.machine
         before = len(machine.history)

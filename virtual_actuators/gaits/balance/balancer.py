@@ -126,9 +126,11 @@ class Balancer(Gait):
         self.spring = self._body(soles)
         active = ["body", *self._posture(feet)]
         self.gravity = GravityCompensation(robot)
-        self._data = robot.model.createData()
-        self._body_id = robot.model.getFrameId(self.body)
-        self._contact_ids = [robot.model.getFrameId(frame) for frame in self.contacts]
+        self._weight = np.array([0.0, 0.0, robot.mass * 9.81])  # [N], world axes
+        signs = np.array([[1.0, 1.0, 0.0], [1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [-1.0, -1.0, 0.0]])
+        self._corners = [  # each support frame's sole corners in its own axes [m], (4, 3)
+            signs * np.array([*self.soles.get(frame, (0.0, 0.0)), 0.0]) for frame in self.contacts
+        ]
         stand = State("stand", active=active, support=self.contacts)
         self._finish(StateMachine([stand], [], "stand"))
 
@@ -184,17 +186,13 @@ class Balancer(Gait):
         self.controller.add("posture", Posture(upper, gains.stiffness, gains.damping))
         return ["posture"]
 
-    def _support(self, body: np.ndarray) -> None:
+    def _support(self, snapshot: Snapshot, body: np.ndarray) -> None:
         """The spring's support figures: lever from the feet's centre, half extents (x, y)."""
-        model, data = self.robot.model, self._data
         points = []
-        for frame, frame_id in zip(self.contacts, self._contact_ids, strict=True):
-            placement = pin.updateFramePlacement(model, data, frame_id)
-            half = self.soles.get(frame, (0.0, 0.0))
-            for corner in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
-                local = np.array([corner[0] * half[0], corner[1] * half[1], 0.0])
-                points.append(placement.act(local))
-        points = np.array(points)
+        for frame, corners in zip(self.contacts, self._corners, strict=True):
+            rotation, origin = snapshot.placement(frame)
+            points.append(corners @ rotation.T + origin)
+        points = np.concatenate(points)
         low, high = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
         centre = np.array([*(0.5 * (low + high)), float(points[:, 2].mean())])
         self.spring.lever = body - centre
@@ -253,14 +251,12 @@ class Balancer(Gait):
         The weight acts on the body as the spring-damper's feed-forward; the efforts, with
         every link's gravity compensated, are clipped to the effort limits.
         """
-        robot, data = self.robot, self._data
-        pin.forwardKinematics(robot.model, data, q)
-        body = pin.updateFramePlacement(robot.model, data, self._body_id).translation
-        weight = np.array([0.0, 0.0, robot.mass * 9.81])
-        lever = robot.center_of_mass(q) - body
-        self.spring.force = np.concatenate((weight, np.cross(lever, weight)))
-        self._support(body)
-        output = super().compute(q, v, time, contacts)
+        snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass, shared
+        body = snapshot.frame_position(self.body)
+        lever = self.robot.center_of_mass(q) - body
+        self.spring.force = np.concatenate((self._weight, np.cross(lever, self._weight)))
+        self._support(snapshot, body)
+        output = super().compute(snapshot, None, time, contacts)
         tau = output.tau + self.gravity.torques(q)
         tau[:6] = 0.0
         limits = self.controller.effort_limits

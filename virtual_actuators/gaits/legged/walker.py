@@ -288,7 +288,7 @@ class LeggedWalker(Gait):
         linear = snapshot.frame_velocity(self.body_frame)
         spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
         angular = rotation @ spin  # world axes [rad/s]
-        com = self.robot.center_of_mass(context.q)
+        com = snapshot.center_of_mass()
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)
         self._ramp(context.time, state != "stand")

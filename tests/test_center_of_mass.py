@@ -1,8 +1,10 @@
-"""``Robot.center_of_mass``: against MuJoCo's own centre of mass of the same robot."""
+"""``Robot.center_of_mass`` against MuJoCo's centre of mass; ``Snapshot.center_of_mass`` against
+Pinocchio's."""
 
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from oracles import random_configuration
 
@@ -38,3 +40,18 @@ def test_center_of_mass_bad_configuration():
     q[8] = np.nan
     with pytest.raises(va.InvalidInputError, match="finite"):
         robot.center_of_mass(q)
+
+
+@pytest.mark.parametrize("name", ["solo12", "go2", "talos", "g1"])
+@pytest.mark.parametrize("backend", ["compiled", "pinocchio"])
+def test_snapshot_center_of_mass_matches_pinocchio(name, backend):
+    """The tick's reading (from the snapshot's joint placements) is Pinocchio's centerOfMass."""
+    robot = va.load_robot(name)
+    data = pin.Data(robot.model)
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        q = random_configuration(robot, rng, scale=0.8)
+        q[:3] += rng.uniform(-2.0, 2.0, 3)  # away from the origin: the base's position counts
+        snapshot = va.Snapshot(robot, q, backend=backend)
+        expected = pin.centerOfMass(robot.model, data, snapshot.q, False)
+        assert np.abs(snapshot.center_of_mass() - expected).max() <= 1e-12

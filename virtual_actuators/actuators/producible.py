@@ -93,9 +93,9 @@ def producible_directions(
     if _points_only(problem):
         kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
         if len(kinematics.reaction_ids) == 2:
-            found, producible, missing = _two_points(snapshot.frame_table, kinematics.frame_rows)
-            if found:
-                return Directions(producible, missing)
+            found = _two_points(snapshot.frame_table, kinematics.frame_rows)
+            if found.size:
+                return Directions(found[:30].reshape(6, 5), found[30:].reshape(6, 1))
         action = snapshot.frame_position(kinematics.action_id)
         reactions = np.array([snapshot.frame_position(int(r)) for r in kinematics.reaction_ids])
         offsets = (action - reactions) @ snapshot.frame_rotation(kinematics.reference_id)
@@ -150,7 +150,7 @@ _POINTS_ONLY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @njit(cache=True)
-def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray, np.ndarray]:
+def _two_points(frames: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """Two point contacts in closed form: the missing direction ``(r_1 x d, d)``, normalised.
 
     ``d`` runs from one contact to the other and ``r_1`` from {B} to the first, in {O}'s axes:
@@ -163,14 +163,14 @@ def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray,
         rows: Rows of {B}, {O}, then the two contacts in it (``kinematics.frame_rows``).
 
     Returns:
-        ``(found, producible (6, 5), missing (6, 1))``; not found when the two contacts
-        coincide or a row is not in the table (the general path decides).
+        ``(36,)`` the producible directions ``(6, 5)`` then the missing one ``(6, 1)``, row by
+        row (one array to hand back: a cheaper call); empty when the two contacts coincide or
+        a row is not in the table (the general path decides).
 
     """
-    producible, missing = np.empty((6, 5)), np.empty((6, 1))
     for row in rows:
         if row >= frames.shape[0]:
-            return False, producible, missing
+            return np.empty(0)
     b, o = rows[0], rows[1]
     offsets = np.empty((2, 3))  # from each contact to {B}, in {O}
     for i in range(2):
@@ -185,7 +185,9 @@ def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray,
     dy = offsets[0, 1] - offsets[1, 1]
     dz = offsets[0, 2] - offsets[1, 2]
     if dx * dx + dy * dy + dz * dz <= RANK_TOL * max(x * x + y * y + z * z, 1e-300):
-        return False, producible, missing
+        return np.empty(0)
+    buffer = np.empty(36)
+    producible, missing = buffer[:30].reshape(6, 5), buffer[30:].reshape(6, 1)
     values = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
     norm = 0.0
     for value in values:
@@ -203,7 +205,7 @@ def _two_points(frames: np.ndarray, rows: np.ndarray) -> tuple[bool, np.ndarray,
             producible[r, column] = (1.0 if r == c else 0.0) - scale * (v[r] * v[c])
         column += 1
     missing[:, 0] = values
-    return True, producible, missing
+    return buffer
 
 
 @njit(cache=True)

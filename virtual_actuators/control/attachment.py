@@ -19,6 +19,7 @@ from ..actuators import VirtualActuator
 from ..components.base import Component, has_float_path
 from ..contacts import ContactSet, declare
 from ..exceptions import InvalidInputError
+from ..kinematics.kernels import finite
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_name, describe
 from .declaration import (
@@ -197,7 +198,7 @@ class Attachment:
                         f"{describe(result)}; expected {len(component.axes)} real numbers (its "
                         f"axes {component.axes})."
                     ) from None
-        if not np.isfinite(wrench).all():
+        if not finite(wrench):
             raise InvalidInputError(
                 f"Attachment {self.name!r}: a component returned a non-finite wrench {wrench}."
             )

@@ -290,6 +290,34 @@ def point_velocity(
     return vx + wy * z - wz * y, vy + wz * x - wx * z, vz + wx * y - wy * x
 
 
+@njit(cache=True)
+def center_of_mass(
+    joints: np.ndarray, masses: np.ndarray, levers: np.ndarray
+) -> tuple[float, float, float]:
+    """Centre of mass [m] in the world of the bodies carried by the joints.
+
+    Args:
+        joints: ``(njoints, 12)`` world placements of the joints (:func:`forward_kinematics`).
+        masses: ``(njoints,)`` mass of each joint's body [kg] (positive sum).
+        levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
+
+    Returns:
+        The mass-weighted mean of the bodies' centres of mass in world axes.
+
+    """
+    x = y = z = total = 0.0
+    for j in range(joints.shape[0]):
+        m = masses[j]
+        if m == 0.0:
+            continue
+        cx, cy, cz = levers[j, 0], levers[j, 1], levers[j, 2]
+        x += m * (joints[j, 0] * cx + joints[j, 1] * cy + joints[j, 2] * cz + joints[j, 9])
+        y += m * (joints[j, 3] * cx + joints[j, 4] * cy + joints[j, 5] * cz + joints[j, 10])
+        z += m * (joints[j, 6] * cx + joints[j, 7] * cy + joints[j, 8] * cz + joints[j, 11])
+        total += m
+    return x / total, y / total, z / total
+
+
 __all__ = [
     "FREE_FLYER",
     "HAVE_NUMBA",
@@ -298,6 +326,7 @@ __all__ = [
     "REVOLUTE_UNBOUNDED",
     "SPHERICAL",
     "all_finite",
+    "center_of_mass",
     "finite",
     "forward_kinematics",
     "point_velocity",

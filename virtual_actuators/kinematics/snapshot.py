@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .kernels import point_velocity
+from .kernels import center_of_mass, point_velocity
 from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
@@ -258,6 +258,26 @@ class Snapshot:
                 point_velocity(self.jacobian_world, self.v, columns, x, y, z)
             )
         return cached.copy()
+
+    def center_of_mass(self) -> np.ndarray:
+        """Centre of mass of the whole robot in the world [m], from this snapshot's kinematics.
+
+        The same point as :meth:`Robot.center_of_mass <virtual_actuators.Robot.center_of_mass>`
+        at :attr:`q`, without a second kinematics pass: the per-tick reading.
+
+        Returns:
+            ``(3,)`` position [m] in world axes.
+
+        Raises:
+            InvalidInputError: The robot has no mass.
+
+        """
+        tree = self.tree
+        if not tree.mass > 0.0:
+            raise InvalidInputError(f"Robot {tree.model.name!r} has no mass: no centre of mass.")
+        if self._joints is None:
+            self._run()
+        return np.array(center_of_mass(self._joints, tree.masses, tree.levers))
 
     def __repr__(self) -> str:
         done = "computed" if self._jacobian is not None else "not computed yet"

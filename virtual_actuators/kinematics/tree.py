@@ -80,6 +80,9 @@ class KinematicTree:
             continuous, prismatic, free-flyer and spherical joints); otherwise snapshots use
             Pinocchio.
         unsupported: Names of the joints the kernel does not handle.
+        masses: ``(njoints,)`` mass of each joint's body [kg] (Pinocchio's ``model.inertias``).
+        levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
+        mass: The robot's total mass [kg].
 
     """
 
@@ -120,6 +123,9 @@ class KinematicTree:
             elif joint.nq == 2 and joint.nv == 1:
                 unit_slices.append((joint.idx_q, joint.idx_q + 2))
         self.compiled = kernels.HAVE_NUMBA and not self.unsupported
+        self.masses = np.array([inertia.mass for inertia in model.inertias], dtype=float)
+        self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
+        self.mass = float(self.masses.sum())
         self._joint_ints, self._joint_floats = joint_ints, joint_floats
         self._velocity_joint, self._subspace = velocity_joint, subspace
         self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)

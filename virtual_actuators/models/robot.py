@@ -68,7 +68,8 @@ class Robot:
         """Centre of mass of the whole robot at configuration ``q``, in the world frame [m].
 
         The mass-weighted mean of every link's centre of mass (Pinocchio's ``centerOfMass``,
-        on a data of its own: :attr:`data` is left untouched).
+        on a data of its own: :attr:`data` is left untouched). In a control tick, read
+        ``Snapshot.center_of_mass()`` instead: the same point from the tick's kinematics pass.
 
         Args:
             q: Configuration, ``model.nq`` finite numbers.

@@ -39,6 +39,7 @@ __all__ = [
     "direct_gathers",
     "finite_vector",
     "gathers",
+    "state_velocity",
     "velocity_from_mujoco",
     "velocity_to_mujoco",
 ]
@@ -360,17 +361,19 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
         qvel: MuJoCo velocities, shape ``(mj_model.nv,)``.
 
     Returns:
-        ``v``, shape ``(model.nv,)``: the free-flyer's linear and angular velocities in its
-        body frame.
+        ``v``, shape ``(model.nv,)``: the free-flyer's velocities in its body frame.
 
     Raises:
         InvalidInputError: If ``qpos`` or ``qvel`` has the wrong size or non-finite entries.
 
     """
     qpos = finite_vector(qpos, mm.model.nq, "qpos")
-    qvel = finite_vector(qvel, mm.model.nv, "qvel")
-    maps = gathers(mm)
-    if maps.direct_v is not None:  # no free joint: one gather
+    return state_velocity(mm, qpos, finite_vector(qvel, mm.model.nv, "qvel"))
+
+
+def state_velocity(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+    """:func:`velocity_from_mujoco` of MuJoCo's own state, unchecked (MuJoCo keeps it finite)."""
+    if (maps := gathers(mm)).direct_v is not None:  # no free joint: one gather
         return qvel[maps.direct_v]
     v = qvel[maps.gather_v]  # the free joints' angular velocities included
     for joint in maps.free:

@@ -24,7 +24,7 @@ from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
     direct_gathers,
-    velocity_from_mujoco,
+    state_velocity,
     velocity_to_mujoco,
 )
 from virtual_actuators.simulation.ground import ground_clearance
@@ -185,7 +185,7 @@ class Simulator(ContactQueries):
         """
         if self._direct_v is not None:  # no free joint: one gather
             return self._qvel[self._direct_v]
-        return velocity_from_mujoco(self.mujoco_model, self._qpos, self._qvel)
+        return state_velocity(self.mujoco_model, self._qpos, self._qvel)
 
     def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
         """Restart at time 0 from a state given in Pinocchio's conventions.

@@ -112,9 +112,9 @@ class BodyModel(Component):
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The wrench on the body, world axes (given way where the support cannot produce it)."""
-        lever = self.lever
+        lever_x, lever_y, _ = self.lever.tolist()
         setpoints = np.array((
-            self.height, *self.velocity, *self.acceleration, self.yaw_rate, lever[0], lever[1]
+            self.height, *self.velocity, *self.acceleration, self.yaw_rate, lever_x, lever_y
         ))  # fmt: skip
         wrench = np.empty(6)
         rotation = pin.exp3(position[3:])

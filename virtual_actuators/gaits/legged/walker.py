@@ -183,6 +183,7 @@ class LeggedWalker(Gait):
             yielding = p.give_way or ("x", "y")  # the scaling rule needs axes to scale
             point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": yielding}
         self.supports: dict[str, ParallelVirtualActuator] = {}
+        self._feet_rows: dict[str, list[int]] = {}  # per support: its feet's frame-table rows
         sets = {f"support_{k}": [f for f in self.feet if f not in group]
                 for k, group in enumerate(self.groups)}
         sets["support_all"] = list(self.feet)
@@ -191,6 +192,7 @@ class LeggedWalker(Gait):
                 robot, self.body_frame, feet, "world", contact="point", **point
             )
             self.supports[name] = actuator
+            self._feet_rows[name] = actuator.kinematics.frame_rows[2:].tolist()
             c.add(name, actuator, [self.body], **rule)
         self.swing = {}
         for k, foot in enumerate(self.feet):
@@ -288,7 +290,7 @@ class LeggedWalker(Gait):
         linear = snapshot.frame_velocity(self.body_frame)
         spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
         angular = rotation @ spin  # world axes [rad/s]
-        com = self.robot.center_of_mass(context.q)
+        com = snapshot.center_of_mass()
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         c, s = math.cos(yaw), math.sin(yaw)
         self._ramp(context.time, state != "stand")
@@ -297,8 +299,8 @@ class LeggedWalker(Gait):
         body.yaw_rate = self.yaw_rate + self._yaw_integral
         current = self.machine.current
         support, actuator = current.support, self.supports[current.active[0]]
-        feet = actuator.kinematics.frame_rows[2:]  # the support feet's rows in the frame table
-        ground = float(snapshot.frame_table[feet, 11].sum()) / len(support)
+        heights = snapshot.frame_table[:, 11]  # of the frames in the table, the feet's rows:
+        ground = sum([heights[row] for row in self._feet_rows[current.active[0]]]) / len(support)
         body.height = ground + self.stand_height
         body.basis = None
         if self.parameters.give_way and len(support) < 3:

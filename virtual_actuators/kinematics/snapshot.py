@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .kernels import point_velocity
+from .kernels import velocity_of_point
 from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
@@ -255,7 +255,7 @@ class Snapshot:
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
             cached = self._velocities[frame_id] = np.array(
-                point_velocity(self.jacobian_world, self.v, columns, x, y, z)
+                velocity_of_point(self.jacobian_world, self.v, columns, x, y, z)
             )
         return cached.copy()
 

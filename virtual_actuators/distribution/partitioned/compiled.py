@@ -135,6 +135,13 @@ class CompiledDistribution:
         layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
         return _Tables(ints, chain_signs, layout)
 
+    def mode_for(self, keep: np.ndarray) -> _Mode:
+        """The packed tables of the set of prescribed axes ``keep`` (built on first use)."""
+        mode = self._modes.get(keep.tobytes())
+        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
+            mode = self._mode(keep)
+        return mode
+
     def _mode(self, keep: np.ndarray) -> _Mode:
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
@@ -195,10 +202,7 @@ class CompiledDistribution:
         """
         if not request.compiled:
             return None
-        keep = request.keep
-        mode = self._modes.get(keep.tobytes())
-        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
-            mode = self._mode(keep)
+        mode = self.mode_for(request.keep)
         if mode.mode < 0:
             return None
         jacobian_world = snapshot.jacobian_world

@@ -57,6 +57,7 @@ def test_forward_kinematics_is_bit_identical(name, kinematics_calls):
         q = random_configuration(robot, rng, scale=1.0)
         v = rng.normal(size=robot.model.nv) if k % 2 else None
         snapshot = va.Snapshot(robot, q, v)
+        assert snapshot.jacobian_world.shape == (6, robot.model.nv)  # the kinematics pass
         body.solve(snapshot, rng.normal(size=body.n), compiled=True)
         if v is not None:
             snapshot.frame_velocity(feet[0])

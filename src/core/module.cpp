@@ -215,6 +215,9 @@ class Distribution {
 NB_MODULE(_core, m) {
   m.doc() = "Compiled kernels of virtual_actuators (C++, built at install); see "
             "virtual_actuators.native.";
+  // Trees and distributions live in the robots' caches (module-level registries) until the
+  // interpreter's teardown, which may free the module first: not a leak worth a report.
+  nb::set_leak_warnings(false);
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")

@@ -141,6 +141,11 @@ class Snapshot:
         self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
 
     @property
+    def computed(self) -> bool:
+        """Whether the kinematics pass ran (a reader asked for the Jacobian or placements)."""
+        return self._jacobian is not None
+
+    @property
     def jacobian_world(self) -> np.ndarray:
         """``(6, nv)`` world joint Jacobian, linear rows first (Pinocchio's ``data.J``).
 

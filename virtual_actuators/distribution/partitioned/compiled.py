@@ -196,6 +196,29 @@ class CompiledDistribution:
         self._modes[keep.tobytes()] = mode
         return mode
 
+    def solve_configuration(
+        self, q: np.ndarray, wrench: np.ndarray, request: Request
+    ) -> TickResult | None:
+        """A solve from a checked configuration alone: kinematics and distribution in one call.
+
+        The compiled core's ``Distribution.tick`` (the same kernels, hence the same bits, as
+        :meth:`solve` on a snapshot of ``q``), with no snapshot built; None when the core is
+        not built, the request is not this path's, or the kernel hands the tick on (the caller
+        then builds the snapshot and dispatches as usual).
+        """
+        if not request.compiled or request.method != "partitioned":
+            return None
+        mode = self.mode_for(request.keep)
+        core, tree = mode.core, self.problem.kinematics.tree.core_tree
+        if core is None or tree is None or tree.nf <= self._max_row:
+            return None
+        out, residual, scale, rounding, status, _, _ = core.tick(tree, q, wrench)
+        if status:
+            return None
+        forces = out[: self._shape[0] * self._shape[1]].reshape(self._shape)
+        raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
+        return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
+
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 

@@ -1,6 +1,16 @@
-"""pytest set-up: the suite's hypothesis profile (the oracles live in ``oracles.py``)."""
+"""pytest set-up: the suite's hypothesis profile (the oracles live in ``oracles.py``).
 
+Under CI (``CI=true``) the session fails when the compiled core (``virtual_actuators._core``) is
+not built: the suite would otherwise test the reference kernels only, and the parity tests of
+``test_core_parity.py`` would be skipped.
+"""
+
+import os
+
+import pytest
 from hypothesis import HealthCheck, settings
+
+from virtual_actuators import native
 
 settings.register_profile(
     "ci",
@@ -11,3 +21,17 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile("ci")
+
+
+def pytest_sessionstart(session: pytest.Session) -> None:
+    """Stop a CI session without the compiled core (``VA_CORE=0`` asks for the reference)."""
+    if (
+        os.environ.get("CI", "").lower() == "true"
+        and native.CORE is None
+        and os.environ.get("VA_CORE", "1") != "0"
+    ):
+        pytest.exit(
+            "CI=true but virtual_actuators._core is not built: install the package with pip "
+            "(pip install -e .) or run tools/build_core.sh",
+            returncode=1,
+        )

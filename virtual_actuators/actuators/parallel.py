@@ -264,10 +264,19 @@ class ParallelVirtualActuator:
             strict = check_flag(strict, "strict")
         if compiled is not True and compiled is not False:
             compiled = check_flag(compiled, "compiled")
-        snapshot = self.kinematics.snapshot(q)
+        plain = not isinstance(q, Snapshot)  # a configuration: no snapshot unless one is needed
+        state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
         request = self.plan(free, method, compiled, weights)
-        solution, missed = self.solve_checked(snapshot, wrench, request, tol)
+        tick = self.compiled.solve_configuration(state, wrench, request) if plain else None
+        if tick is None:  # kernels on a snapshot, or the numpy path
+            snapshot = Snapshot(self.robot, state) if plain else state
+            solution, missed = self.solve_checked(snapshot, wrench, request, tol)
+        else:
+            solution = Solution.from_tick(
+                tick, tol, self.reactions, self.axes, request.free, self._floating
+            )
+            missed = not solution.admissible
         if strict and missed:
             raise InadmissibleWrenchError(
                 f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..actuators import ParallelVirtualActuator
 from ..exceptions import VirtualActuatorError
-from ..kinematics.kernels import point_velocity
+from ..kinematics.kernels import velocity_of_point
 from ..kinematics.snapshot import Snapshot
 from .contact_limits import largest_scale, least_margin
 
@@ -34,7 +34,8 @@ def warm_up(controller: object, q: np.ndarray) -> None:
     robot = controller.robot
     snapshot = Snapshot(robot, q, np.zeros(robot.model.nv))
     # a frame's velocity outside the tick's table (a frame first named mid-run)
-    point_velocity(snapshot.jacobian_world, snapshot.v, np.zeros(0, dtype=np.int64), 0.0, 0.0, 0.0)
+    no_columns = np.zeros(0, dtype=np.int64)
+    velocity_of_point(snapshot.jacobian_world, snapshot.v, no_columns, 0.0, 0.0, 0.0)
     for attachment in controller.attachments.values():
         kinematics = attachment.sensor.kinematics
         kinematics.sense(snapshot, velocity=True)

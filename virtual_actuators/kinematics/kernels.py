@@ -10,6 +10,10 @@ the tree, and it owns its outputs, so concurrent calls from several threads are 
 The kernels are compiled with numba when it is installed (``@njit(cache=True)``); without numba
 they run as plain Python (correct, slow) and :class:`~virtual_actuators.kinematics.tree.
 KinematicTree` prefers Pinocchio instead. They are checked against Pinocchio in the tests.
+They are also the reference of the compiled core's C++ ports (``src/core/kinematics.hpp``),
+which the library calls when the core is built (:data:`finite`, :data:`velocity_of_point`,
+:class:`~virtual_actuators.kinematics.tree.KinematicTree`): both agree bit for bit
+(``tests/test_core_parity.py``), and an edit here goes with the same edit there.
 
 Joint placements are stored as ``(n, 12)`` rows: the rotation matrix row by row (9 entries),
 then the translation (3 entries).
@@ -18,6 +22,8 @@ then the translation (3 entries).
 from __future__ import annotations
 
 import numpy as np
+
+from ..native import CORE
 
 try:  # pragma: no cover - exercised by whichever branch is installed
     from numba import njit
@@ -263,9 +269,12 @@ def _numpy_finite(values: np.ndarray) -> bool:
     return bool(np.isfinite(values).all())
 
 
-#: Whether every entry of a 1-D float64 array is finite: :func:`all_finite` when numba is
-#: installed, else numpy's ``isfinite`` (the plain-Python loop would be slower).
-finite = all_finite if HAVE_NUMBA else _numpy_finite
+#: Whether every entry of a 1-D float64 array is finite: the compiled core's ``all_finite``
+#: when it is built, else :func:`all_finite` when numba is installed, else numpy's ``isfinite``
+#: (the plain-Python loop would be slower).
+finite = (
+    CORE.all_finite if CORE is not None else all_finite if HAVE_NUMBA else _numpy_finite
+)  # fmt: skip
 
 
 @njit(cache=True)
@@ -317,6 +326,8 @@ def center_of_mass(
         total += m
     return x / total, y / total, z / total
 
+#: :func:`point_velocity` as the library calls it: the compiled core's port when it is built.
+velocity_of_point = CORE.point_velocity if CORE is not None else point_velocity
 
 __all__ = [
     "FREE_FLYER",
@@ -332,4 +343,5 @@ __all__ = [
     "point_velocity",
     "revolute_terms",
     "unit_norm_error",
+    "velocity_of_point",
 ]

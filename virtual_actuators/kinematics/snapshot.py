@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .kernels import center_of_mass, point_velocity
+from .kernels import center_of_mass, velocity_of_point
 from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
@@ -141,6 +141,11 @@ class Snapshot:
         self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
 
     @property
+    def computed(self) -> bool:
+        """Whether the kinematics pass ran (a reader asked for the Jacobian or placements)."""
+        return self._jacobian is not None
+
+    @property
     def jacobian_world(self) -> np.ndarray:
         """``(6, nv)`` world joint Jacobian, linear rows first (Pinocchio's ``data.J``).
 
@@ -255,7 +260,7 @@ class Snapshot:
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
             cached = self._velocities[frame_id] = np.array(
-                point_velocity(self.jacobian_world, self.v, columns, x, y, z)
+                velocity_of_point(self.jacobian_world, self.v, columns, x, y, z)
             )
         return cached.copy()
 

@@ -18,12 +18,18 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
+from ..native import CORE
 from ..vocabulary.arguments import as_float_array
 from ..vocabulary.axes import resolve_frame
 from . import kernels
 from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
 
 _NO_VELOCITY = np.zeros(0)  # the kernel's "no v"
+#: finiteness and unit norms of q in one compiled pass: the core's (C++), numba's, or None
+_UNIT_NORM_ERROR = (
+    CORE.unit_norm_error if CORE is not None
+    else kernels.unit_norm_error if kernels.HAVE_NUMBA else None
+)  # fmt: skip
 
 _KINDS = {
     "JointModelRX": REVOLUTE,
@@ -64,6 +70,23 @@ class Kinematics(NamedTuple):
     rows: dict[int, int]
 
 
+class JointTables(NamedTuple):
+    """The joint tables of :func:`~virtual_actuators.kinematics.kernels.forward_kinematics`.
+
+    Attributes:
+        joint_ints: ``(njoints, 3)`` parent, kind, ``idx_q``.
+        joint_floats: ``(njoints, 27)`` placement in the parent, axis and revolute terms.
+        velocity_joint: ``(nv,)`` joint of each velocity index.
+        velocity_subspace: ``(nv, 6)`` motion subspace columns.
+
+    """
+
+    joint_ints: np.ndarray
+    joint_floats: np.ndarray
+    velocity_joint: np.ndarray
+    velocity_subspace: np.ndarray
+
+
 def _placement_row(placement: pin.SE3) -> np.ndarray:
     return np.concatenate((placement.rotation.ravel(), placement.translation))
 
@@ -78,7 +101,7 @@ class KinematicTree:
         model: The model.
         compiled: Whether the compiled kernel handles every joint of the model (revolute,
             continuous, prismatic, free-flyer and spherical joints); otherwise snapshots use
-            Pinocchio.
+            Pinocchio. The kernel is the compiled core's (C++) when built, else numba's.
         unsupported: Names of the joints the kernel does not handle.
         masses: ``(njoints,)`` mass of each joint's body [kg] (Pinocchio's ``model.inertias``).
         levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
@@ -122,7 +145,7 @@ class KinematicTree:
                 unit_slices.append((joint.idx_q, joint.idx_q + 4))
             elif joint.nq == 2 and joint.nv == 1:
                 unit_slices.append((joint.idx_q, joint.idx_q + 2))
-        self.compiled = kernels.HAVE_NUMBA and not self.unsupported
+        self.compiled = (CORE is not None or kernels.HAVE_NUMBA) and not self.unsupported
         self.masses = np.array([inertia.mass for inertia in model.inertias], dtype=float)
         self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
         self.mass = float(self.masses.sum())
@@ -142,6 +165,8 @@ class KinematicTree:
             np.zeros(0, dtype=np.int64),
             np.zeros((0, 12)),
         )
+        #: the compiled core's tables (C++), rebuilt with the frame table; None: numba kernel
+        self.core_tree = self._core_tree(*self._frames[1:])
         self._support: dict[int, np.ndarray] = {}
         self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
@@ -174,7 +199,29 @@ class KinematicTree:
             frames = [self.model.frames[f] for f in rows]
             parents = np.array([frame.parentJoint for frame in frames], dtype=np.int64)
             floats = np.array([_placement_row(frame.placement) for frame in frames])
-            self._frames = (rows, parents, floats.reshape(-1, 12))
+            floats = floats.reshape(-1, 12)
+            # the core's tree first: a reader that gets the new rows gets a tree with them
+            self.core_tree = self._core_tree(parents, floats)
+            self._frames = (rows, parents, floats)
+
+    def _core_tree(self, parents: np.ndarray, floats: np.ndarray) -> object | None:
+        """The compiled core's ``Tree`` for this frame table, or None.
+
+        None without the core, or for a model with joints the kernel does not handle.
+        """
+        if CORE is None or self.unsupported:
+            return None
+        return CORE.Tree(
+            self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace, parents,
+            floats,
+        )  # fmt: skip
+
+    @property
+    def joint_tables(self) -> JointTables:
+        """The kernel's joint tables (its arguments after ``q`` and ``v``)."""
+        return JointTables(
+            self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace
+        )
 
     @property
     def frame_tables(self) -> tuple[dict[int, int], np.ndarray, np.ndarray]:
@@ -214,17 +261,23 @@ class KinematicTree:
 
         """
         rows, parents, floats = self._frames
-        buffer = kernels.forward_kinematics(
-            q,
-            _NO_VELOCITY if v is None else v,
-            self._joint_ints,
-            self._joint_floats,
-            self._velocity_joint,
-            self._subspace,
-            parents,
-            floats,
-        )
-        nv, nf = self.nv, len(rows)
+        core_tree = self.core_tree
+        if core_tree is not None:  # C++ (its frame table may have grown since rows was read)
+            buffer = core_tree.compute(q, v)
+            nf = core_tree.nf
+        else:
+            buffer = kernels.forward_kinematics(
+                q,
+                _NO_VELOCITY if v is None else v,
+                self._joint_ints,
+                self._joint_floats,
+                self._velocity_joint,
+                self._subspace,
+                parents,
+                floats,
+            )
+            nf = len(rows)
+        nv = self.nv
         at = self.njoints * 12
         joints = buffer[:at].reshape(self.njoints, 12)
         jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
@@ -263,8 +316,8 @@ class KinematicTree:
                 f"Configuration q has shape {q.shape}; model {self.model.name!r} needs "
                 f"({self.nq},) (model.nq)."
             )
-        if kernels.HAVE_NUMBA:  # finiteness and unit norms in one compiled pass
-            error = kernels.unit_norm_error(q, self._unit_bounds)
+        if _UNIT_NORM_ERROR is not None:  # finiteness and unit norms in one compiled pass
+            error = _UNIT_NORM_ERROR(q, self._unit_bounds)
             if 0.0 <= error <= 1e-12:
                 return q
         if not np.isfinite(q).all():
@@ -343,4 +396,4 @@ def tree_of(robot: object) -> KinematicTree:
     return tree
 
 
-__all__ = ["KinematicTree", "Kinematics", "tree_of"]
+__all__ = ["JointTables", "KinematicTree", "Kinematics", "tree_of"]

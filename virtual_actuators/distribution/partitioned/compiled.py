@@ -5,10 +5,13 @@ its limp and passive joints, point-contact axes, generic rank, the partitioner's
 Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
 into flat arrays, so that a tick is one call of
 :func:`~virtual_actuators.distribution.partitioned.kernels.distribute` on the snapshot's
-arrays. When the kernel hands a tick back (a singular chain, an ill-conditioned block, more rows
-than unknowns), :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver`
-decides with numpy, as
-the reference implementation does; the tests check that both give the same answers.
+arrays: the compiled core's (C++, :data:`~virtual_actuators.native.CORE`) when it is built,
+which holds the packed tables of each mode (``_core.Distribution``) and, for a snapshot whose
+kinematics are not computed yet (a solve from ``q``), runs the kinematics and the distribution in
+one call; else the reference kernel (numba). When the kernel hands a tick back (a singular
+chain, an ill-conditioned block, more rows than unknowns),
+:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` decides with
+numpy, as the reference implementation does; the tests check that both give the same answers.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...native import CORE
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..registry import Request
@@ -56,6 +60,7 @@ class _Mode:
     systems: tuple
     method: str
     packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
+    core: object = None  # the compiled core's Distribution of these tables, or None
 
 
 class CompiledDistribution:
@@ -135,6 +140,13 @@ class CompiledDistribution:
         layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
         return _Tables(ints, chain_signs, layout)
 
+    def mode_for(self, keep: np.ndarray) -> _Mode:
+        """The packed tables of the set of prescribed axes ``keep`` (built on first use)."""
+        mode = self._modes.get(keep.tobytes())
+        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
+            mode = self._mode(keep)
+        return mode
+
     def _mode(self, keep: np.ndarray) -> _Mode:
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
@@ -179,9 +191,33 @@ class CompiledDistribution:
                 mode.plan,
                 tables.layout,
             )
-            mode = dataclasses.replace(mode, packed=packed)
+            core = None if CORE is None else CORE.Distribution(*packed, problem.model.nv)
+            mode = dataclasses.replace(mode, packed=packed, core=core)
         self._modes[keep.tobytes()] = mode
         return mode
+
+    def solve_configuration(
+        self, q: np.ndarray, wrench: np.ndarray, request: Request
+    ) -> TickResult | None:
+        """A solve from a checked configuration alone: kinematics and distribution in one call.
+
+        The compiled core's ``Distribution.tick`` (the same kernels, hence the same bits, as
+        :meth:`solve` on a snapshot of ``q``), with no snapshot built; None when the core is
+        not built, the request is not this path's, or the kernel hands the tick on (the caller
+        then builds the snapshot and dispatches as usual).
+        """
+        if not request.compiled or request.method != "partitioned":
+            return None
+        mode = self.mode_for(request.keep)
+        core, tree = mode.core, self.problem.kinematics.tree.core_tree
+        if core is None or tree is None or tree.nf <= self._max_row:
+            return None
+        out, residual, scale, rounding, status, _, _ = core.tick(tree, q, wrench)
+        if status:
+            return None
+        forces = out[: self._shape[0] * self._shape[1]].reshape(self._shape)
+        raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
+        return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
@@ -195,24 +231,30 @@ class CompiledDistribution:
         """
         if not request.compiled:
             return None
-        keep = request.keep
-        mode = self._modes.get(keep.tobytes())
-        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
-            mode = self._mode(keep)
+        mode = self.mode_for(request.keep)
         if mode.mode < 0:
             return None
-        jacobian_world = snapshot.jacobian_world
-        frames = snapshot.frame_table
-        if frames.shape[0] <= self._max_row:
-            return None  # frames required after this snapshot ran: the numpy path reads them
-        tick = kernels.distribute(jacobian_world, frames, snapshot.q, wrench, *mode.packed)
-        if tick.status:
+        tick = None
+        core = mode.core
+        if core is not None and not snapshot.computed and snapshot.backend == "compiled":
+            tree = snapshot.tree.core_tree  # a snapshot of q alone: kinematics + distribution
+            if tree.nf > self._max_row:
+                tick = core.tick(tree, snapshot.q, wrench)
+        if tick is None:
+            frames = snapshot.frame_table
+            if frames.shape[0] <= self._max_row:
+                return None  # frames required after this snapshot ran: the numpy path reads them
+            arguments = (snapshot.jacobian_world, frames, snapshot.q, wrench)
+            if core is not None:
+                tick = core.solve(*arguments)
+            else:
+                tick = kernels.distribute(*arguments, *mode.packed)
+        out, residual, scale, rounding, status = tick[:5]
+        if status:
             return None
-        forces = tick.out[: self._shape[0] * self._shape[1]].reshape(self._shape)
+        forces = out[: self._shape[0] * self._shape[1]].reshape(self._shape)
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
-        return TickResult.from_buffer(
-            raw, tick.out, tick.residual, tick.scale, tick.rounding, compiled=True
-        )
+        return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

@@ -1,0 +1,214 @@
+"""Worst-case ticks for ``bench_realtime.py`` figure 7: the tail of the tick-time distribution.
+
+Two durations per tick, both in microseconds, from ``perf_counter_ns``:
+
+* **controller**: the controller's compute between reading the state and writing the efforts.
+  In a walk (``run_walk``), the gait's outermost ``compute(q, v, t, contacts)`` call; in a
+  ``va.run`` loop, from the end of ``read_state`` to the start of ``write_effort`` (the loop's
+  checks of the reading and of the efforts included). This is what a controller on hardware
+  pays.
+* **loop**: one whole iteration of the loop. In a walk, from the end of one iteration's physics
+  step to the end of the next (the first from the gait's first ``compute``): the contact
+  switches, the gait, MuJoCo's step, the stance forces, the fall test and the recording. In a
+  ``va.run`` loop, from one ``read_state`` call to the next (the last to the end of its
+  ``write_effort``): read, checks, compute, MuJoCo's step, the loop's bookkeeping.
+
+Beside them, MuJoCo's own ``Simulator.step`` (one control period of physics) in the same ticks:
+the baseline of the same run.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+#: Percentiles reported for each duration.
+TAIL = {"p50": 50.0, "p99": 99.0, "p99.9": 99.9}
+
+
+def tail(samples_us: Any) -> dict[str, float]:
+    """p50, p99, p99.9, max, the tick of the max (0: the first), the max of the ticks after the
+    first, how many took 1 ms or more, and the count of tick durations [us]."""
+    values = np.asarray(samples_us, dtype=float)
+    if values.size == 0:
+        empty = dict.fromkeys([*TAIL, "max", "max_after_first"], float("nan"))
+        return {**empty, "max_at": -1, "over_1ms": 0, "n": 0}
+    out = {key: float(np.percentile(values, q)) for key, q in TAIL.items()}
+    worst = int(np.argmax(values))
+    out |= {"max": float(values[worst]), "max_at": worst}
+    out["max_after_first"] = float(values[1:].max()) if values.size > 1 else float("nan")
+    return {**out, "over_1ms": int(np.sum(values >= 1e3)), "n": int(values.size)}
+
+
+def tail_text(stats: dict[str, float]) -> str:
+    """``p50 / p99 / p99.9 / max us``."""
+    return " / ".join(f"{stats[k]:.0f}" for k in (*TAIL, "max")) + " us"
+
+
+class _Outermost:
+    """Times the outermost call of some methods (a subclass's ``compute`` calling its base's
+    counts once); ``last`` holds the latest duration [ns], ``first_start`` when the first call
+    started."""
+
+    def __init__(self, targets: list[tuple[type, str]]) -> None:
+        self.targets, self.last, self.depth = targets, 0, 0
+        self.first_start: int | None = None  # the first outermost call's start [ns]
+        self._saved: list[tuple[type, str, object]] = []
+
+    def _wrap(self, function: Callable[..., Any]) -> Callable[..., Any]:
+        clock = time.perf_counter_ns
+
+        def wrapped(*args: Any, **kwargs: Any) -> Any:
+            self.depth += 1
+            start = clock()
+            if self.first_start is None:
+                self.first_start = start
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self.depth -= 1
+                if self.depth == 0:
+                    self.last = clock() - start
+
+        return wrapped
+
+    def __enter__(self) -> _Outermost:
+        for cls, name in self.targets:
+            original = cls.__dict__[name]
+            self._saved.append((cls, name, original))
+            setattr(cls, name, self._wrap(original))
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for cls, name, original in reversed(self._saved):
+            setattr(cls, name, original)
+        self._saved.clear()
+
+
+def _classes_defining(base: type, name: str) -> list[tuple[type, str]]:
+    """``(class, name)`` for ``base`` and every subclass that defines ``name`` itself."""
+    found, todo = [], [base]
+    while todo:
+        cls = todo.pop()
+        todo.extend(cls.__subclasses__())
+        if name in cls.__dict__ and (cls, name) not in found:
+            found.append((cls, name))
+    return found
+
+
+def walk_ticks(name: str, seconds: float, **options: Any) -> dict[str, Any]:
+    """``run_walk(name, duration=seconds, **options)`` with its ticks timed (controller, loop,
+    MuJoCo step); returns their :func:`tail` and the run's facts."""
+    from virtual_actuators.demos import run_walk
+    from virtual_actuators.gaits import Gait
+    from virtual_actuators.simulation import Simulator
+
+    controller, physics, ends = [], [], []
+    clock = time.perf_counter_ns
+    gait_probe = _Outermost(_classes_defining(Gait, "compute"))
+    step_probe = _Outermost([(Simulator, "step")])
+
+    def on_tick(simulator: object, gait: object) -> None:  # after every physics step
+        ends.append(clock())
+        controller.append(gait_probe.last)
+        physics.append(step_probe.last)
+
+    run_walk(name, duration=min(seconds, 0.3), progress=False, **options)  # imports, caches
+    with gait_probe, step_probe:
+        result = run_walk(name, duration=seconds, progress=False, on_tick=on_tick, **options)
+    # the first iteration starts at the gait's first compute (its reading of q, v and the
+    # contact switches just before is left out)
+    loop = np.diff(np.asarray([gait_probe.first_start or 0, *ends], dtype=float)) / 1e3
+    return {
+        "ticks": len(ends),
+        "simulated_s": float(result.simulator.time),
+        "fell": bool(result.metrics.fell),
+        "controller": tail(np.asarray(controller, dtype=float) / 1e3),
+        "loop": tail(loop),
+        "mujoco_step": tail(np.asarray(physics, dtype=float) / 1e3),
+    }
+
+
+def run_loop_ticks(
+    controller: Any, simulator: Any, q0: np.ndarray, ticks: int, robot: Any = None
+) -> dict[str, Any]:
+    """``va.run(controller, ...)`` for ``ticks`` ticks on ``MujocoHardware(simulator)`` (reset
+    to ``q0``, ``realtime=False``, 1 kHz), each tick timed (controller, loop, MuJoCo step)."""
+    import virtual_actuators as va
+    from virtual_actuators.simulation import MujocoHardware
+
+    simulator.reset(q0)
+    hardware = MujocoHardware(simulator)
+    clock = time.perf_counter_ns
+    starts, read_done, write_start, write_done = [], [], [], []
+
+    def read_state() -> tuple[np.ndarray, np.ndarray, float]:
+        starts.append(clock())
+        state = hardware.read_state()
+        read_done.append(clock())
+        return state
+
+    def write_effort(tau: np.ndarray) -> None:
+        write_start.append(clock())
+        hardware.write_effort(tau)
+        write_done.append(clock())
+
+    stats = va.run(
+        controller, read_state, write_effort, rate_hz=1000.0, realtime=False,
+        should_stop=lambda: len(starts) >= ticks, robot=robot,
+    )  # fmt: skip
+    n = len(starts)  # the loop's final zero effort is one more write, not a tick
+    start, read, write, done = (np.asarray(a[:n], dtype=float) for a in
+                                (starts, read_done, write_start, write_done))  # fmt: skip
+    return {
+        "ticks": n,
+        "failed_ticks": stats.failed_ticks,
+        "overruns_of_1ms": stats.overruns,
+        "controller": tail((write - read) / 1e3),
+        "loop": tail(np.diff(np.append(start, done[-1:])) / 1e3),  # start to start
+        "mujoco_step": tail((done - write) / 1e3),
+        "run_stats_tick_times": tail(np.asarray(stats.tick_times) * 1e6),
+    }
+
+
+def ur5_tracking(ticks: int) -> dict[str, Any]:
+    """The UR5's tool tracking a moving target (``bench_arm_tracking``'s 6-axis impedance with
+    gravity compensation, the ``turn`` case) under ``va.run``."""
+    from bench_arm_tracking import ToolTracker, start_pose
+
+    import virtual_actuators as va
+    from virtual_actuators.simulation import Simulator
+
+    robot = va.load_robot("ur5")
+    q0 = start_pose(robot)
+    tracker = ToolTracker(robot, "tool0", q0, turn=True)
+    tracker.controller.warm_up(q0)  # kernels loaded before the first tick
+    return run_loop_ticks(tracker, Simulator(robot), q0, ticks, robot=robot)
+
+
+def go2_standing(ticks: int) -> dict[str, Any]:
+    """go2 standing on its four feet (the ``balance`` walk's :class:`Balancer`, no push) under
+    ``va.run``."""
+    import virtual_actuators as va
+    from virtual_actuators.gaits.balance import Balancer
+    from virtual_actuators.simulation import Simulator
+
+    robot = va.load_robot("go2")
+    gait = Balancer(robot)
+    simulator = Simulator(robot)
+    q0 = gait.initial_configuration()
+    q0[:2] = 0.0
+    q0 = simulator.on_ground(q0)
+    gait.start(q0)
+    gait.controller.warm_up(q0)
+    return run_loop_ticks(gait, simulator, q0, ticks)
+
+
+#: The ``va.run`` loops of figure 7: title -> runner(ticks).
+RUN_LOOPS: dict[str, Callable[[int], dict[str, Any]]] = {
+    "va.run UR5 tool tracking": ur5_tracking,
+    "va.run go2 standing": go2_standing,
+}

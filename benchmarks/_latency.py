@@ -22,6 +22,7 @@ the baseline of the same run.
 
 from __future__ import annotations
 
+import gc
 import time
 from collections.abc import Callable
 from typing import Any
@@ -93,6 +94,32 @@ class _Outermost:
         self._saved.clear()
 
 
+class _GarbageCollections:
+    """Python's garbage collections while the block runs: count per generation and the longest
+    pause [us] (``gc.callbacks``), to tell a collection from the code in a long tick."""
+
+    def __init__(self) -> None:
+        self.counts, self.longest_us, self._start = [0, 0, 0], 0.0, 0
+
+    def _callback(self, phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            self._start = time.perf_counter_ns()
+            return
+        self.counts[info["generation"]] += 1
+        self.longest_us = max(self.longest_us, (time.perf_counter_ns() - self._start) / 1e3)
+
+    def __enter__(self) -> _GarbageCollections:
+        gc.callbacks.append(self._callback)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        gc.callbacks.remove(self._callback)
+
+    def summary(self) -> dict[str, Any]:
+        """``{"collections": [gen 0, gen 1, gen 2], "longest_pause_us": ...}``."""
+        return {"collections": list(self.counts), "longest_pause_us": self.longest_us}
+
+
 def _classes_defining(base: type, name: str) -> list[tuple[type, str]]:
     """``(class, name)`` for ``base`` and every subclass that defines ``name`` itself."""
     found, todo = [], [base]
@@ -123,7 +150,7 @@ def walk_ticks(name: str, seconds: float, **options: Any) -> dict[str, Any]:
         physics.append(step_probe.last)
 
     run_walk(name, duration=min(seconds, 0.3), progress=False, **options)  # imports, caches
-    with gait_probe, step_probe:
+    with gait_probe, step_probe, _GarbageCollections() as collections:
         result = run_walk(name, duration=seconds, progress=False, on_tick=on_tick, **options)
     # the first iteration starts at the gait's first compute (its reading of q, v and the
     # contact switches just before is left out)
@@ -136,6 +163,7 @@ def walk_ticks(name: str, seconds: float, **options: Any) -> dict[str, Any]:
         "controller_cpu": tail(np.asarray(cpu, dtype=float) / 1e3),
         "loop": tail(loop),
         "mujoco_step": tail(np.asarray(physics, dtype=float) / 1e3),
+        "gc": collections.summary(),
     }
 
 
@@ -165,10 +193,11 @@ def run_loop_ticks(
         hardware.write_effort(tau)
         write_done.append(clock())
 
-    stats = va.run(
-        controller, read_state, write_effort, rate_hz=1000.0, realtime=False,
-        should_stop=lambda: len(starts) >= ticks, robot=robot,
-    )  # fmt: skip
+    with _GarbageCollections() as collections:
+        stats = va.run(
+            controller, read_state, write_effort, rate_hz=1000.0, realtime=False,
+            should_stop=lambda: len(starts) >= ticks, robot=robot,
+        )  # fmt: skip
     n = len(starts)  # the loop's final zero effort is one more write, not a tick
     start, read, write, done, cpu_start, cpu_end = (
         np.asarray(a[:n], dtype=float)
@@ -183,6 +212,7 @@ def run_loop_ticks(
         "loop": tail(np.diff(np.append(start, done[-1:])) / 1e3),  # start to start
         "mujoco_step": tail((done - write) / 1e3),
         "run_stats_tick_times": tail(np.asarray(stats.tick_times) * 1e6),
+        "gc": collections.summary(),
     }
 
 

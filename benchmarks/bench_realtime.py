@@ -529,7 +529,10 @@ def figure_worst_case(cfg: Settings) -> Figure:
         notes.append(
             f"   {title}: {run['ticks']} ticks{extra}; the controller's max at tick "
             f"{worst['max_at']} (after the first tick {worst['max_after_first']:.0f} us), "
-            f"{worst['over_1ms']} of its ticks >= 1 ms"
+            f"{worst['over_1ms']} of its ticks >= 1 ms (CPU time: "
+            f"{run['controller_cpu']['over_1ms']}); garbage collections (gen 0/1/2) "
+            f"{'/'.join(map(str, run['gc']['collections']))}, the longest "
+            f"{run['gc']['longest_pause_us']:.0f} us"
         )  # fmt: skip
     return Figure(rows, runs, notes, list(rows))
 

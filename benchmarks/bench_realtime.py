@@ -587,8 +587,8 @@ def figure_cold_start(cfg: Settings) -> Figure:
         rows.append(row(figure, ours_text, f"warm cache: {base_text}", ratio, target, met))
     notes = [
         "8: new processes (python + PYTHONPATH of this tree), numba's cache (NUMBA_CACHE_DIR) a "
-        "new empty directory (cold), then the same directory again (warm); "
-        f"{'cold not measured (--quick): warm = the cache as it is' if not cfg.cold else ''}"
+        "new empty directory (cold), then the same directory again (warm)"
+        + ("" if cfg.cold else "; --quick: no cold runs, warm = numba's cache as it is")
     ]
     for name, run in (("cold", cold), ("warm", warm), ("cold demo", cold_demo),
                       ("warm demo", warm_demo)):  # fmt: skip

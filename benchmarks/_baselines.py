@@ -119,6 +119,8 @@ def machine_info() -> dict[str, Any]:
         "virtualmodelcontrol": _version("virtualmodelcontrol"),
         "casadi": _version("casadi"),
         "platform": platform.platform(),
+        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+        "load_average": [round(x, 2) for x in os.getloadavg()],
     }
 
 
@@ -520,11 +522,13 @@ def instrumented_walk(
 
 @dataclass
 class Figure:
-    """One figure's table rows, raw numbers (JSON) and notes printed under the table."""
+    """One figure's table rows, raw numbers (JSON), notes printed under the table, and its rows
+    of issue 27's table (with the issue's goals)."""
 
     rows: list[dict[str, Any]]
     raw: dict[str, Any]
     notes: list[str] = field(default_factory=list)
+    issue: list[dict[str, Any]] = field(default_factory=list)
 
 
 def us(stats: dict[str, float]) -> str:
@@ -549,15 +553,8 @@ def ratio_of(ours: dict[str, float], baseline: dict[str, float]) -> float:
     return ours["median_us"] / baseline["median_us"]
 
 
-def print_table(machine: dict[str, Any], rows: list[dict[str, Any]], notes: list[str]) -> None:
-    """The machine, the table (ours | baseline | ratio = ours / baseline | target | met), notes."""
-    print(
-        f"machine: {machine['cpu']}, {machine['cores']} cores; Python {machine['python']}, "
-        f"numpy {machine['numpy']}, pinocchio {machine['pinocchio']}, mujoco "
-        f"{machine['mujoco']}, proxsuite {machine['proxsuite']}, virtualmodelcontrol "
-        f"{machine['virtualmodelcontrol']}; BLAS {machine['blas']}"
-    )
-    print("times: median / p90 per call; ratio = ours / baseline\n")
+def print_rows(rows: list[dict[str, Any]]) -> None:
+    """A table: ours | baseline | ratio = ours / baseline | target | met."""
     cells = [
         [
             r["figure"],
@@ -576,6 +573,28 @@ def print_table(machine: dict[str, Any], rows: list[dict[str, Any]], notes: list
     print("-+-".join("-" * w for w in widths))
     for c in cells:
         print(" | ".join(f"{x:<{w}}" for x, w in zip(c, widths, strict=True)))
+
+
+def print_table(
+    machine: dict[str, Any],
+    rows: list[dict[str, Any]],
+    notes: list[str],
+    issue: list[dict[str, Any]] = (),
+) -> None:
+    """The machine, the table, issue 27's rows (when any) and the notes."""
+    print(
+        f"machine: {machine['cpu']}, {machine['cores']} cores; Python {machine['python']}, "
+        f"numpy {machine['numpy']}, pinocchio {machine['pinocchio']}, mujoco "
+        f"{machine['mujoco']}, proxsuite {machine['proxsuite']}, virtualmodelcontrol "
+        f"{machine['virtualmodelcontrol']}; BLAS {machine['blas']}"
+    )
+    load = ", ".join(f"{x:g}" for x in machine["load_average"])
+    print(f"date: {machine['date']}; load average at the start {load}")
+    print("times: median / p90 per call; ratio = ours / baseline\n")
+    print_rows(rows)
+    if issue:
+        print("\nissue 27's rows, each beside its same-run baseline (target: the issue's goal)")
+        print_rows(issue)
     print()
     for note in notes:
         print(note)

@@ -1,6 +1,7 @@
 """Real-time figures of virtual_actuators, each beside a baseline timed in the same run.
 
-    python benchmarks/bench_realtime.py [--quick] [--json PATH] [--walk-seconds 3] [--only N]
+    python benchmarks/bench_realtime.py [--quick] [--json PATH] [--walk-seconds 3]
+                                        [--worst-seconds 20] [--only N]
 
 Figures (median and p90 per call after warm-up, in microseconds; ours and its baseline are timed
 interleaved, in blocks, over the same round-robin set of configurations):
@@ -18,6 +19,19 @@ interleaved, in blocks, over the same round-robin set of configurations):
 6. every registered walk in MuJoCo (``gaits.registry.WALKS``; the legged walk as trots of
    solo12 and go2): real-time factor beside MuJoCo stepping the same robot alone (their
    ratio) and a per-tick breakdown.
+7. worst case: p50, p99, p99.9 and the maximum tick of each walk of figure 6 (``--worst-seconds``
+   simulated seconds each, 20 by default) and of 10,000-tick ``va.run`` loops on the UR5 (tool
+   tracking) and on go2 standing; the controller's compute and the whole loop iteration, beside
+   MuJoCo's step in the same ticks (definitions in ``_latency.py``).
+8. cold start: a new process with numba's cache empty (``NUMBA_CACHE_DIR``, a new temporary
+   directory) times ``import virtual_actuators``, the solo12 declaration of figure 1, the first
+   ``solve`` and the first ``solve(method="qp")``; and the README's demo command is launched the
+   same way, timed until its progress bar first moves. Beside each, the same in a new process
+   reading the cache the cold one wrote (``_cold_start.py``). ``--quick`` runs the warm ones only.
+
+After the table, the rows of issue 27's table (each beside its same-run baseline and the issue's
+goal) are printed again on their own. Figure 2 uses friction 0.7 as the issue does (0.6 before
+2026-11-25).
 """
 
 from __future__ import annotations
@@ -60,7 +74,7 @@ import virtual_actuators as va
 
 SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 SOLO_WRENCH = np.array([2.0, 1.0, 25.0, 0.1, -0.2, 0.05])  # [N, N m] on base_link, in base_link
-MU = 0.6
+MU = 0.7  # friction of figure 2's pyramids and of figure 8's qp solve
 UR5_Q = np.array([0.3, -1.2, 1.5, -0.8, -1.2, 0.4])  # [rad], away from singularities
 UR5_SETPOINT = np.array([0.35, 0.25, 0.45])  # [m], tool0 in the world
 UR5_K, UR5_D = 300.0, 30.0  # [N/m], [N s/m]
@@ -77,6 +91,9 @@ class Settings:
     walk_seconds: float
     child_timeout: float  # [s]
     rounds: int = 10  # interleaved blocks
+    worst_seconds: float = 20.0  # simulated s of each walk of figure 7
+    loop_ticks: int = 10_000  # ticks of each va.run loop of figure 7
+    cold: bool = True  # figure 8 measures a cold start (False: the warm ones only)
 
 
 def _fresh(count: int) -> int:
@@ -112,7 +129,8 @@ def figure_solo12_floor(cfg: Settings) -> Figure:
         row("1b   (stretch)", ours, base, ratio, "<= 3x", ratio <= 3),
     ]
     method = body.solve(configs[0], SOLO_WRENCH).method
-    return Figure(rows, {**stats, "method": method, "configurations": len(configs)})
+    issue = [row("solo12 solve / Pinocchio Jacobian floor", ours, base, ratio, "<= 3x", ratio <= 3)]
+    return Figure(rows, {**stats, "method": method, "configurations": len(configs)}, [], issue)
 
 
 def figure_solo12_qp(cfg: Settings) -> Figure:
@@ -165,6 +183,8 @@ def figure_solo12_qp(cfg: Settings) -> Figure:
     ratio = ratio_of(stats["solve_qp"], base)
     figure = f"2d solo12 method='qp' vs proxsuite QP (pyramids mu {MU}, {best})"
     rows.append(row(figure, us(stats["solve_qp"]), us(base), ratio, "<= 2x", ratio <= 2))
+    figure = f"solo12 solve(method='qp'), friction {MU:g} / plain ProxQP cone QP ({best})"
+    issue = [row(figure, us(stats["solve_qp"]), us(base), ratio, "<= 0.5x", ratio <= 0.5)]
     ratio = ratio_of(stats["solve_qp"], stats["solve"])
     figure = "2e solo12 method='qp' vs our partitioned solve"
     rows.append(row(figure, us(stats["solve_qp"]), us(stats["solve"]), ratio, "(info)", None))
@@ -188,7 +208,7 @@ def figure_solo12_qp(cfg: Settings) -> Figure:
         "qp_statuses": sorted(statuses),
         "hexapod": hexapod_raw,
     }
-    return Figure(rows, raw, notes)
+    return Figure(rows, raw, notes, issue)
 
 
 def _hexapod_qp(cfg: Settings) -> tuple[list, dict]:
@@ -435,7 +455,7 @@ def figure_walks(cfg: Settings) -> Figure:
     """6. every registered walk: real-time factor and per-tick breakdown (6a, 6b, ...)."""
     from virtual_actuators.gaits import Gait
 
-    rows, raw, notes = [], {}, []
+    rows, raw, notes, issue = [], {}, [], []
     for index, (title, name, options, target) in enumerate(_walk_cases()):
         label = f"6{chr(ord('a') + index)}"
         factors = timed_walks(name, cfg.walk_seconds, runs=3, **options)
@@ -446,6 +466,12 @@ def figure_walks(cfg: Settings) -> Figure:
         figure = f"{label} {title} x real time vs MuJoCo alone"
         ours, base = f"{rtf:.2f}x", f"{ceiling:.1f}x"
         rows.append(row(figure, ours, base, rtf / ceiling, f">= {target:g}x", rtf >= target))
+        if name == "turkey-walk":
+            figure = "turkey walk real-time factor / MuJoCo alone stepping the same robot"
+            issue.append(row(figure, ours, base, rtf / ceiling, ">= 0.5", rtf / ceiling >= 0.5))
+        elif name == "hexapod-walk":
+            figure = "hexapod walk x real time (beside MuJoCo alone)"
+            issue.append(row(figure, ours, base, rtf / ceiling, ">= 10x", rtf >= 10))
         notes.append(
             f"6: {title}, x real time of 3 plain runs of {cfg.walk_seconds:.2f} simulated s: "
             f"{', '.join(f'{f:.2f}' for f in factors)} (median in the table; the ratio column "
@@ -464,7 +490,116 @@ def figure_walks(cfg: Settings) -> Figure:
             )
         contacts = walk["per_tick"]["rest"]["contact_queries_mean_us"]
         notes.append(f"   {'  of rest: contacts':<22}{contacts:>10.1f}")
-    return Figure(rows, raw, notes)
+        step = walk["per_tick"]["simulator.step"]["mean_us"]
+        share = step / walk["per_tick"]["total"]["mean_us"]
+        notes.append(f"   {'  MuJoCo share':<22}{100 * share:>9.0f}%  (step / total, means)")
+    return Figure(rows, raw, notes, issue)
+
+
+# -- figure 7: worst case -----------------------------------------------------------------------
+
+
+def figure_worst_case(cfg: Settings) -> Figure:
+    """7. worst case: p50, p99, p99.9 and max tick of each walk and of two va.run loops."""
+    from _latency import RUN_LOOPS, tail_text, walk_ticks
+
+    runs = {}
+    for title, name, options, _ in _walk_cases():
+        runs[f"{title}, {cfg.worst_seconds:g} s"] = walk_ticks(name, cfg.worst_seconds, **options)
+    for title, loop in RUN_LOOPS.items():
+        runs[f"{title}, {cfg.loop_ticks} ticks"] = loop(cfg.loop_ticks)
+    rows, notes = [], [
+        "7: ticks p50 / p99 / p99.9 / max; controller = its compute between reading the state "
+        "and writing the efforts (wall clock, and the thread's CPU time: without the time it "
+        "was preempted), loop = the whole iteration with MuJoCo's step (see _latency.py); "
+        "baseline = MuJoCo's step in the same ticks; ratio = max / its max"
+    ]
+    for index, (title, run) in enumerate(runs.items()):
+        label, step = f"7{chr(ord('a') + index)}", run["mujoco_step"]
+        base = f"MuJoCo {tail_text(step)}"
+        for part in ("controller", "controller_cpu", "loop"):
+            stats = run[part]
+            figure = f"{label} {title}: {part.replace('_cpu', ', thread CPU time')}"
+            met = stats["max"] < 1000.0
+            rows.append(row(figure, tail_text(stats), base, stats["max"] / step["max"],
+                            "max < 1 ms", met))  # fmt: skip
+        worst = run["controller"]
+        extra = f", fell: {run['fell']}" if "fell" in run else (
+            f", failed ticks {run['failed_ticks']}, overruns of 1 ms {run['overruns_of_1ms']}")
+        notes.append(
+            f"   {title}: {run['ticks']} ticks{extra}; the controller's max at tick "
+            f"{worst['max_at']} (after the first tick {worst['max_after_first']:.0f} us), "
+            f"{worst['over_1ms']} of its ticks >= 1 ms (CPU time: "
+            f"{run['controller_cpu']['over_1ms']}); garbage collections (gen 0/1/2) "
+            f"{'/'.join(map(str, run['gc']['collections']))}, the longest "
+            f"{run['gc']['longest_pause_us']:.0f} us"
+        )  # fmt: skip
+    return Figure(rows, runs, notes, list(rows))
+
+
+# -- figure 8: cold start -----------------------------------------------------------------------
+
+#: Figure 8's steps in a new process: key, what, goal [s].
+COLD_STEPS = (
+    ("import", "import virtual_actuators", 1.0),
+    ("declare", "solo12 body actuator declaration (figure 1's)", 1.0),
+    ("first_solve", "first solve", 1.0),
+    ("first_qp", f"first solve(method='qp'), friction {MU:g}", 1.0),
+    ("second_qp", "second solve(method='qp') (its warm-started path)", 1.0),
+)
+
+
+def _seconds(run: dict | None, key: str, quick: bool) -> str:
+    if run is None:
+        return "not measured (--quick)" if quick else "-"
+    if not run["ok"]:
+        return f"failed: {run['error']}"[:60]
+    return f"{run[key]:.3f} s"
+
+
+def figure_cold_start(cfg: Settings) -> Figure:
+    """8. cold start: a new process with an empty JIT cache; the README demo's first tick."""
+    import tempfile
+
+    from _cold_start import demo_first_tick, first_calls
+
+    spec = {"feet": SOLO_FEET, "wrench": SOLO_WRENCH.tolist(), "mu": MU}
+    timeout = max(cfg.child_timeout, 300.0)
+    cold = cold_demo = None
+    with tempfile.TemporaryDirectory(prefix="va-numba-") as calls, \
+            tempfile.TemporaryDirectory(prefix="va-numba-") as demo:  # fmt: skip
+        if cfg.cold:  # empty caches, then the same caches again (warm)
+            cold, cold_demo = first_calls(calls, spec, timeout), demo_first_tick(demo, timeout)
+        else:  # --quick: numba's cache where it is (warm after any earlier run)
+            calls = demo = None
+        warm, warm_demo = first_calls(calls, spec, timeout), demo_first_tick(demo, timeout)
+    rows = []
+    steps = [(cold, warm, *step) for step in COLD_STEPS]
+    steps.append((cold_demo, warm_demo, "first_progress_s",
+                  "README demo's first tick after launch (upper bound)", 2.0))  # fmt: skip
+    for index, (ours, base, key, what, goal) in enumerate(steps):
+        figure = f"8{chr(ord('a') + index)} cold start: {what}"
+        ok = ours is not None and ours["ok"] and base["ok"]
+        ratio = ours[key] / base[key] if ok else None
+        met = ours[key] < goal if ok else (None if ours is None else False)
+        ours_text, base_text = _seconds(ours, key, not cfg.cold), _seconds(base, key, False)
+        target = f"< {goal:g} s"
+        rows.append(row(figure, ours_text, f"warm cache: {base_text}", ratio, target, met))
+    notes = [
+        "8: new processes (python + PYTHONPATH of this tree), numba's cache (NUMBA_CACHE_DIR) a "
+        "new empty directory (cold), then the same directory again (warm)"
+        + ("" if cfg.cold else "; --quick: no cold runs, warm = numba's cache as it is")
+    ]
+    for name, run in (("cold", cold), ("warm", warm), ("cold demo", cold_demo),
+                      ("warm demo", warm_demo)):  # fmt: skip
+        if run is not None and run["ok"]:
+            times = ", ".join(f"{k} {v:.3f}" for k, v in run.items() if k not in ("ok",)
+                              and isinstance(v, float))  # fmt: skip
+            notes.append(f"   {name} [s]: {times}")
+        elif run is not None:
+            notes.append(f"   {name}: FAILED: {run['error']}")
+    raw = {"cold": cold, "warm": warm, "cold_demo": cold_demo, "warm_demo": warm_demo}
+    return Figure(rows, raw, notes, list(rows))
 
 
 # -- main ---------------------------------------------------------------------------------------
@@ -476,6 +611,8 @@ FIGURES = {
     "4": figure_scaling,
     "5": figure_ur5,
     "6": figure_walks,
+    "7": figure_worst_case,
+    "8": figure_cold_start,
 }
 
 
@@ -485,6 +622,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--json", help="write every figure and raw median/p90 to this file")
     parser.add_argument("--quick", action="store_true", help="fewer repetitions (smoke run)")
     parser.add_argument("--walk-seconds", type=float, default=None, help="simulated s (3)")
+    parser.add_argument(
+        "--worst-seconds", type=float, default=None, help="simulated s of figure 7's walks (20)"
+    )
     parser.add_argument("--only", action="append", choices=list(FIGURES), help="figure(s)")
     parser.add_argument("--child", choices=("millipede", "floor"), help=argparse.SUPPRESS)
     parser.add_argument("--legs", type=int, default=100, help=argparse.SUPPRESS)
@@ -495,14 +635,16 @@ def main(argv: list[str] | None = None) -> None:
         child_main(args)
         return
     if args.quick:
-        cfg = Settings(300, 20, 10, args.walk_seconds or 0.5, 60.0, rounds=5)
+        cfg = Settings(300, 20, 10, args.walk_seconds or 0.5, 60.0, rounds=5,
+                       worst_seconds=args.worst_seconds or 0.5, loop_ticks=500, cold=False)
     else:
-        cfg = Settings(3000, 200, 100, args.walk_seconds or 3.0, 300.0)
+        cfg = Settings(3000, 200, 100, args.walk_seconds or 3.0, 300.0,
+                       worst_seconds=args.worst_seconds or 20.0)  # fmt: skip
     from tqdm import tqdm
 
     start = time.perf_counter()
     machine = machine_info()
-    rows, notes, raw = [], [], {}
+    rows, notes, raw, issue = [], [], {}, []
     chosen = [key for key in FIGURES if not args.only or key in args.only]
     bar = tqdm(chosen, file=sys.stderr, disable=None, leave=False, desc="figures")
     for key in bar:
@@ -516,10 +658,11 @@ def main(argv: list[str] | None = None) -> None:
             figure = Figure([failed], {"error": message})
         rows += figure.rows
         notes += figure.notes
+        issue += figure.issue
         raw[key] = figure.raw
     bar.close()
     elapsed = time.perf_counter() - start
-    print_table(machine, rows, notes)
+    print_table(machine, rows, notes, issue)
     print(f"\ntotal wall time {elapsed:.1f} s{' (--quick)' if args.quick else ''}")
     if args.json:
         path = Path(args.json)
@@ -530,6 +673,7 @@ def main(argv: list[str] | None = None) -> None:
             "quick": args.quick,
             "wall_time_s": elapsed,
             "rows": rows,
+            "issue27": issue,
             "figures": raw,
             "notes": notes,
         }

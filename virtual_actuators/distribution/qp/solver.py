@@ -82,7 +82,7 @@ from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
 from .compiled import CompiledQPMatrices
-from .kernel_answer import Answer, finish, violation
+from .kernel_answer import Answer
 from .limits import ContactLimits, kinds, torque_map
 from .stages import (
     BUDGET_EXHAUSTED,
@@ -217,28 +217,12 @@ class QPDistribution:
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
-        buffer, layout, pn, nv = work.buffer, work.layout, work.pn, work.nv
         rows = StageRows(work.equality, work.equality_rhs, work.design_rows, work.inequality,
                          work.lows, work.uppers)  # fmt: skip
-        results = self.stages.solve(
-            "free", rows, lambda z, count: violation(buffer, layout, pn, nv, z, count), weights,
-            budget,
-        )
+        results = self.stages.solve("free", rows, work.violation, weights, budget)
         if results is None:  # the reference decides (and raises) what the fast path cannot
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
-        answer = finish(
-            buffer,
-            layout,
-            pn,
-            nv,
-            results.x,
-            results.multipliers,
-            work.scale,
-            wrench,
-            keep,
-            ACTIVE_TOL,
-            EPS_ABS,
-        )
+        answer = work.finish(results.x, results.multipliers, wrench, keep)
         return self._tick(answer, results.exhausted)
 
     def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:

@@ -2,7 +2,8 @@
 
 The reference kernels (numba; plain Python without numba) of the QP distribution are
 ``qp.kernels.reduced_qp`` (with the point and flat contacts' rows), ``qp.exact.exact_step``,
-``qp.kernel_answer.violation``, ``read_out`` (``finish``) and ``again``. Their arguments are
+``qp.kernel_answer.violation``, ``read_out`` (``finish``) and ``again``, and the serial
+actuators' virtual sensor (``kinematics.sensor_kernels.relative_sensor``). Their arguments are
 recorded from real ``method="qp"`` solves: solo12's point feet with friction (feasible and
 infeasible requests, a least normal force, torque limits), talos' soles (flat contacts), the
 hexapod, and walking ticks of the legged trot (solo12) and of talos' balance. Both kernels then
@@ -21,6 +22,7 @@ import virtual_actuators as va
 from virtual_actuators.distribution.qp import compiled, exact, kernel_answer, kernels, stages
 from virtual_actuators.distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from virtual_actuators.gaits.registry import run_walk
+from virtual_actuators.kinematics import relative, sensor_kernels
 from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
@@ -188,3 +190,51 @@ def test_walking_qp_ticks_are_bit_identical(walk, options, recorder):
     run_walk(walk, duration=0.4, progress=False, stop_on_fall=False, **options)
     counts = _check(recorder)
     assert counts["again"] + counts["ticks"] > 100
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    axis = axis / np.linalg.norm(axis)
+    skew = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(angle) * skew + (1 - np.cos(angle)) * skew @ skew
+
+
+def test_the_virtual_sensor_is_bit_identical_on_every_branch():
+    """Relative rotations near 0, generic and near pi (rotation_log's three branches)."""
+    rng = np.random.default_rng(5)
+    nv = 9
+    angles = [0.0, 1e-6, 5e-5, 0.3, 2.0, np.pi - 2e-3, np.pi - 1e-5, np.pi]
+    for k in range(200):
+        frames = np.zeros((4, 12))
+        for row in range(4):
+            angle = angles[k % len(angles)] if row == 1 else rng.uniform(0, np.pi)
+            frames[row, :9] = _rotation(rng.normal(size=3), angle).ravel()
+            frames[row, 9:] = rng.normal(size=3)
+        if k % 2:  # {A} = row 2 and {B} = row 1 related by the chosen angle
+            frames[1, :9] = (frames[2, :9].reshape(3, 3) @ frames[1, :9].reshape(3, 3)).ravel()
+        jacobian = rng.normal(size=(6, nv))
+        n = rng.integers(1, 7)
+        axis_rows = np.sort(rng.choice(6, size=n, replace=False)).astype(np.int64)
+        columns = rng.choice(nv, size=4, replace=False).astype(np.int64)
+        signs = rng.choice([-1.0, 1.0], size=4)
+        v = rng.normal(size=nv) if k % 3 else np.zeros(0)
+        rows = np.array([1, 3, 2], dtype=np.int64)
+        arguments = (jacobian, frames, v, axis_rows, rows, columns, signs)
+        reference = sensor_kernels.relative_sensor(*arguments)
+        assert np.array_equal(CORE.relative_sensor(*arguments), reference)
+
+
+def test_walking_sensor_readings_are_bit_identical(monkeypatch):
+    calls = []
+    original = relative._relative_sensor
+
+    def recording(*arguments):
+        calls.append(tuple(np.array(a) for a in arguments))
+        return original(*arguments)
+
+    monkeypatch.setattr(relative, "_relative_sensor", recording)
+    run_walk("balance", duration=0.2, progress=False, stop_on_fall=False)
+    run_walk("turkey-walk", duration=0.2, progress=False, stop_on_fall=False)
+    assert len(calls) > 100
+    for arguments in calls:
+        reference = sensor_kernels.relative_sensor(*arguments)
+        assert np.array_equal(CORE.relative_sensor(*arguments), reference)

@@ -45,10 +45,22 @@ class Recorder:
             self.ticks.append((matrices, matrices.workspace(keep), *snap(snapshot, wrench)))
             return build(matrices, snapshot, wrench, keep)
 
-        def record_again(matrices, snapshot, wrench, keep, workspace, weights, guess):
-            self.agains.append((matrices, workspace, *snap(snapshot, wrench), keep.copy(),
-                                weights.copy(), guess.copy()))  # fmt: skip
-            return again(matrices, snapshot, wrench, keep, workspace, weights, guess)
+        def record_again(matrices, snapshot, wrench, keep, workspace, weights, guess,
+                         tree=None):  # fmt: skip
+            if tree is None:
+                state = snap(snapshot, wrench)
+            else:
+                state = kinematics(matrices, tree, snapshot, wrench)
+            self.agains.append((matrices, workspace, *state, keep.copy(), weights.copy(),
+                                guess.copy()))  # fmt: skip
+            return again(matrices, snapshot, wrench, keep, workspace, weights, guess, tree)
+
+        def kinematics(matrices, tree, q, wrench):  # a configuration: the tree's kinematics
+            buffer, njoints = tree.compute(q), matrices.problem.model.njoints
+            nv = matrices.problem.model.nv
+            jacobian = buffer[12 * njoints : 12 * njoints + 6 * nv].reshape(6, nv)
+            frames = buffer[12 * njoints + 6 * nv :].reshape(-1, 12)
+            return jacobian.copy(), frames.copy(), q.copy(), np.array(wrench, dtype=float)
 
         def record_miss(workspace, z, count):
             self.misses.append((workspace, workspace.buffer.copy(), np.array(z), count))
@@ -238,3 +250,33 @@ def test_walking_sensor_readings_are_bit_identical(monkeypatch):
     for arguments in calls:
         reference = sensor_kernels.relative_sensor(*arguments)
         assert np.array_equal(CORE.relative_sensor(*arguments), reference)
+
+
+@pytest.mark.parametrize("name", sorted(DECLARATIONS))
+def test_qp_solves_from_q_equal_solves_from_snapshots(name):
+    """``solve(q)`` (kinematics and the certified tick in one compiled call) and ``solve`` on a
+    snapshot of ``q`` (the kinematics first), with the same history: the same bits."""
+    robot_name, base, feet, options = DECLARATIONS[name]
+    robot = va.load_robot(robot_name)
+    from_q, from_snapshot = (va.ParallelVirtualActuator(robot, base, feet, "world", **options)
+                             for _ in range(2))  # fmt: skip
+    rng = np.random.default_rng(2)
+    weight = 9.81 * sum(inertia.mass for inertia in robot.model.inertias)
+    q = robot.neutral()
+    for k in range(60):
+        q = q if k % 2 else random_configuration(robot, rng, scale=0.05)
+        wrench = np.zeros(from_q.n)
+        wrench[2] = weight * rng.uniform(0.5, 1.2)
+        wrench += rng.normal(scale=0.05 * weight, size=from_q.n)
+        solutions = []
+        for body, state in ((from_q, q), (from_snapshot, va.Snapshot(robot, q))):
+            try:
+                solutions.append(body.solve(state, wrench, method="qp"))
+            except va.ConstraintError as error:
+                solutions.append(str(error))
+        ours, theirs = solutions
+        if isinstance(ours, str):
+            assert ours == theirs
+            continue
+        for field in ("forces", "tau", "wrench", "residual", "active"):
+            assert np.array_equal(getattr(ours, field), getattr(theirs, field)), field

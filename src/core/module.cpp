@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "daqp_stage.hpp"
 #include "distribute.hpp"
 #include "kinematics.hpp"
 #include "qp.hpp"
@@ -404,7 +405,8 @@ class QP {
   // qp.kernels.reduced_qp into the workspace: (status, worst ratio, scale).
   nb::tuple reduced(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,
                     const I1& kept, MF1 buffer, const I1& layout) const {
-    check(jacobian_world, frames, q, wrench, kept, buffer, layout);
+    check_snapshot(jacobian_world, frames);
+    check(q, wrench, kept, buffer, layout);
     va::Reduced r;
     {
       nb::gil_scoped_release release;
@@ -422,7 +424,46 @@ class QP {
                   const I1& kept, MF1 buffer, const I1& layout, const B1& keep,
                   const F1& weights, MF1 guess, double active_tol, double exact_tol,
                   double accuracy, MF1 out, MI1 active) const {
-    const va::QPViews V = check(jacobian_world, frames, q, wrench, kept, buffer, layout);
+    check_snapshot(jacobian_world, frames);
+    const va::QPViews V = check(q, wrench, kept, buffer, layout);
+    return again_on(
+        [&](const double*& jac, const double*& fr) {
+          jac = jacobian_world.data();
+          fr = frames.data();
+        },
+        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol,
+        accuracy, out, active);
+  }
+
+  // again() from q alone: the tree's kinematics first, in the same call (no snapshot).
+  nb::tuple again_tick(const Tree& tree, const F1& q, const F1& wrench, const I1& kept,
+                       MF1 buffer, const I1& layout, const B1& keep, const F1& weights,
+                       MF1 guess, double active_tol, double exact_tol, double accuracy, MF1 out,
+                       MI1 active) const {
+    const va::Tree& t = *tree.tree();
+    require(t.tables().nv == t_.nv, "the tree's nv differs from the QP's");
+    require(t.tables().nf > max_frame_, "the tree's frame table lacks rows the QP reads");
+    require(length(q) >= tree.nq(), "q is shorter than the tree's configuration");
+    const va::QPViews V = check(q, wrench, kept, buffer, layout);
+    std::vector<double> kinematics(static_cast<std::size_t>(t.size(false)));
+    return again_on(
+        [&](const double*& jac, const double*& fr) {
+          t.compute(q.data(), nullptr, kinematics.data());
+          jac = kinematics.data() + t.jacobian_offset();
+          fr = kinematics.data() + t.frames_offset();
+        },
+        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol,
+        accuracy, out, active);
+  }
+
+ private:
+  // The matrices, the exact step on guess's active set, the read-out (GIL released);
+  // kinematics(jac, frames) points both at the tick's arrays (computing them if need be).
+  template <typename Kinematics>
+  nb::tuple again_on(Kinematics kinematics, const va::QPViews& V, const F1& q, const F1& wrench,
+                     const I1& kept, MF1& buffer, const I1& layout, const B1& keep,
+                     const F1& weights, MF1& guess, double active_tol, double exact_tol,
+                     double accuracy, MF1& out, MI1& active) const {
     const std::int64_t n = t_.n, pn = t_.p * t_.n, nv = t_.nv;
     require(length(weights) >= len(kept), "weights must be (k,)");
     require(length(guess) == V.m_in, "guess must be (m,)");
@@ -433,10 +474,12 @@ class QP {
     std::int64_t count = -1;
     {
       nb::gil_scoped_release release;
-      const va::Reduced r =
-          va::reduced_qp(jacobian_world.data(), frames.data(), q.data(), wrench.data(),
-                         kept.data(), len(kept), t_, buffer.data(), length(buffer),
-                         layout.data());
+      const double* jacobian_world = nullptr;
+      const double* frames = nullptr;
+      kinematics(jacobian_world, frames);
+      const va::Reduced r = va::reduced_qp(jacobian_world, frames, q.data(), wrench.data(),
+                                           kept.data(), len(kept), t_, buffer.data(),
+                                           length(buffer), layout.data());
       if (r.status == 0) {
         std::vector<double> z(static_cast<std::size_t>(V.free)),
             multipliers(static_cast<std::size_t>(V.m_in));
@@ -455,15 +498,17 @@ class QP {
     return norms_tuple(count, d);
   }
 
- private:
-  va::QPViews check(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,
-                    const I1& kept, const MF1& buffer, const I1& layout) const {
-    const va::QPTables& T = t_;
+  void check_snapshot(const F2& jacobian_world, const F2& frames) const {
     require(jacobian_world.shape(0) == 6 &&
-                static_cast<std::int64_t>(jacobian_world.shape(1)) == T.nv,
+                static_cast<std::int64_t>(jacobian_world.shape(1)) == t_.nv,
             "jacobian_world must be (6, nv)");
     require(frames.shape(1) == 12 && static_cast<std::int64_t>(frames.shape(0)) > max_frame_,
             "frames must be (nf, 12) with every row the QP reads");
+  }
+
+  va::QPViews check(const F1& q, const F1& wrench, const I1& kept, const MF1& buffer,
+                    const I1& layout) const {
+    const va::QPTables& T = t_;
     require(length(q) > max_q_, "q is shorter than the springs' indices");
     require(length(wrench) == T.n, "wrench must be (n,)");
     for (std::int64_t r = 0; r < len(kept); ++r)
@@ -524,6 +569,33 @@ Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v,
                         buffer.get());
   }
   return owned(std::move(buffer), size);
+}
+
+// -- DAQP ------------------------------------------------------------------------------------
+
+// The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
+nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
+                          const F1& lows, const F1& uppers, int iter_limit) {
+  const auto k = static_cast<std::int64_t>(equality.shape(0));
+  const auto size = static_cast<std::int64_t>(equality.shape(1));
+  const auto m = static_cast<std::int64_t>(inequality.shape(0));
+  require(size >= 1, "at least one variable");
+  require(length(equality_rhs) == k, "equality_rhs must be (k,)");
+  require(m == 0 || static_cast<std::int64_t>(inequality.shape(1)) == size,
+          "inequality must be (m, d)");
+  require(length(lows) == m && length(uppers) == m, "lows and uppers must be (m,)");
+  require(iter_limit >= 1, "iter_limit must be >= 1");
+  std::unique_ptr<double[]> x(new double[static_cast<std::size_t>(size)]());
+  std::unique_ptr<double[]> lam(new double[static_cast<std::size_t>(m)]());
+  va::DaqpAnswer answer;
+  {
+    nb::gil_scoped_release release;
+    answer = va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
+                                 inequality.data(), lows.data(), uppers.data(), m, iter_limit,
+                                 x.get(), lam.get());
+  }
+  return nb::make_tuple(answer.exitflag, owned(std::move(x), static_cast<std::size_t>(size)),
+                        owned(std::move(lam), static_cast<std::size_t>(m)), answer.iterations);
 }
 
 }  // namespace
@@ -588,8 +660,17 @@ NB_MODULE(_core, m) {
            "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(),
            "active"_a.noconvert(),
            "qp.kernel_answer.again: (count, (residual, scale, rounding)), count -1: not "
-           "certified.");
+           "certified.")
+      .def("again_tick", &QP::again_tick, "tree"_a, "q"_a, "wrench"_a, "kept"_a,
+           "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
+           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(),
+           "active"_a.noconvert(),
+           "again() from q alone: the tree's forward kinematics in the same call.");
   m.def("relative_sensor", &relative_sensor, "jacobian_world"_a, "frames"_a, "v"_a,
         "axis_rows"_a, "rows"_a, "columns"_a, "signs"_a,
         "kinematics.sensor_kernels.relative_sensor: jacobian, position, velocity in one buffer.");
+  m.def("daqp_least_norm", &daqp_least_norm, "equality"_a, "equality_rhs"_a,
+        "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a,
+        "The QP's first stage on DAQP (vendored, MIT) from cold, min |x|^2 on the rows: "
+        "(exitflag, x, inequality multipliers, iterations).");
 }

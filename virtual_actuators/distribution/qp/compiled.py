@@ -226,29 +226,40 @@ class CompiledQPMatrices:
 
     def again(
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
-        weights: np.ndarray, guess: np.ndarray,
+        weights: np.ndarray, guess: np.ndarray, tree: object = None,
     ) -> Answer | None:
         """:func:`.kernel_answer.again` on this tick: the answer, or None.
 
         Args:
-            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            snapshot: The tick's :class:`~virtual_actuators.Snapshot`, or with ``tree`` (the
+                core's ``Tree`` of the robot; the core only) a checked configuration: its
+                kinematics then run in the same compiled call.
             wrench: ``(n,)`` requested wrench.
             keep: ``(n,)`` bool, the prescribed axes.
             workspace: This thread's workspace for them (:meth:`workspace`).
             weights: The request rows' weights.
             guess: The inequalities' multipliers of the last certified answer (replaced in
                 place by this answer's when it is certified).
+            tree: None, or the core's ``Tree`` when ``snapshot`` is a configuration.
 
         Returns:
             The :class:`~.kernel_answer.Answer`; None when the exact step did not certify the
             active set, the matrices need the numpy path or the snapshot lacks a frame.
 
         """
+        out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
+        active = workspace.active
+        if tree is not None:
+            if tree.nf <= self._max_row:
+                return None
+            count, norms = self.core.again_tick(
+                tree, snapshot, wrench, workspace.kept, workspace.buffer, workspace.layout, keep,
+                weights, guess, ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
+            )  # fmt: skip
+            return None if count < 0 else Answer(out, *norms, active[:count].copy())
         arguments = self._arguments(snapshot, wrench, workspace)
         if arguments is None:
             return None
-        out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
-        active = workspace.active
         if self.core is not None:
             count, norms = self.core.again(
                 *arguments[:5], workspace.buffer, workspace.layout, keep, weights, guess,

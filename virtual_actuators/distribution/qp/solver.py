@@ -196,16 +196,43 @@ class QPDistribution:
 
         """
         keep = request.keep
-        local = self._local
-        hot = getattr(local, "request", None)  # this thread's last request and its weights
-        if hot is None or hot[0] is not request:
-            weights = (self.weights if request.weights is None else request.weights)[keep]
-            hot = local.request = (request, weights)
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, hot[1], budget)
+            return self._solve(snapshot, wrench, keep, request.compiled, self._weights(request),
+                               budget)  # fmt: skip
         finally:
-            local.iterations = max(int(self.iteration_budget), 1) - budget.left
+            self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
+
+    def _weights(self, request: Request) -> np.ndarray:
+        """The request rows' weights of ``request`` (this thread's last, kept)."""
+        hot = getattr(self._local, "request", None)  # this thread's last request and weights
+        if hot is None or hot[0] is not request:
+            weights = (self.weights if request.weights is None else request.weights)
+            hot = self._local.request = (request, weights[request.keep])
+        return hot[1]
+
+    def solve_configuration(
+        self, q: np.ndarray, wrench: np.ndarray, request: Request
+    ) -> TickResult | None:
+        """:meth:`solve` at a checked configuration in one compiled call, or None.
+
+        The compiled core's kinematics and :meth:`_again` in one call (the same kernels, hence
+        the same bits, as :meth:`solve` on a snapshot of ``q``); None when the core does not
+        apply or the last certified active set does not hold (the caller builds the snapshot
+        and calls :meth:`solve`).
+        """
+        matrices, tree = self.matrices, self.problem.kinematics.tree.core_tree
+        if not request.compiled or matrices.core is None or tree is None:
+            return None
+        work, slot = self._hot(request.keep)
+        if slot.active is None:
+            return None
+        answer = matrices.again(q, wrench, request.keep, work, self._weights(request),
+                                slot.active, tree)  # fmt: skip
+        if answer is None:
+            return None
+        self._local.iterations = 0
+        return self._tick(answer, False)
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
@@ -234,19 +261,22 @@ class QPDistribution:
         workspace, an active set that changed, or matrices that need the numpy path; the
         stages decide then.
         """
-        local = self._local
-        hot = getattr(local, "workspace", None)  # this thread's for the last prescribed axes
-        if hot is None or hot[0] is not keep:
-            work = self.matrices.workspace(keep)
-            slot = self.stages.exact_slot(
-                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
-            )  # the stage-1 workspace of the same sizes
-            hot = local.workspace = (keep, work, slot)
-        _, work, slot = hot
+        work, slot = self._hot(keep)
         if slot.active is None:
             return None
         answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
         return None if answer is None else self._tick(answer, False)
+
+    def _hot(self, keep: np.ndarray) -> tuple:
+        """This thread's workspace for ``keep`` and the stage-1 slot of the same sizes."""
+        hot = getattr(self._local, "workspace", None)  # for the last prescribed axes
+        if hot is None or hot[0] is not keep:
+            work = self.matrices.workspace(keep)
+            slot = self.stages.exact_slot(
+                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
+            )
+            hot = self._local.workspace = (keep, work, slot)
+        return hot[1], hot[2]
 
     def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
         """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""

@@ -36,7 +36,10 @@ limits, which may lie far from every answer):
 No stage mixes the miss and the force norm in one objective (the former ``|A F - w|^2 +
 1e-6 |F|^2`` did, and left the two matrix paths 3e-4 apart). Solved by ProxQP (proxsuite,
 dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
-infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check.
+infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check. With
+the compiled core, stage 1 runs first in DAQP (a dense dual active-set solver built into the
+core) from cold, at most ``DAQP_MAX_ITER`` iterations; ProxQP's stage 1 runs only when DAQP
+finds no certified answer (ProxQP remains the reference: ``VA_CORE=0``).
 Joints that no chain moves get no torque-limit row (it would be all zero: always met).
 
 **Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the

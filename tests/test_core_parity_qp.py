@@ -3,7 +3,9 @@
 The reference kernels (numba; plain Python without numba) of the QP distribution are
 ``qp.kernels.reduced_qp`` (with the point and flat contacts' rows), ``qp.exact.exact_step``,
 ``qp.kernel_answer.violation``, ``read_out`` (``finish``) and ``again``, and the serial
-actuators' virtual sensor (``kinematics.sensor_kernels.relative_sensor``). Their arguments are
+actuators' virtual sensor (``kinematics.sensor_kernels.relative_sensor``) and the contact
+margins of the controller's yield policy (``contacts.contact_set.least_margin``,
+``largest_scale``). Their arguments are
 recorded from real ``method="qp"`` solves: solo12's point feet with friction (feasible and
 infeasible requests, a least normal force, torque limits), talos' soles (flat contacts), the
 hexapod, and walking ticks of the legged trot (solo12) and of talos' balance. Both kernels then
@@ -19,6 +21,8 @@ import pytest
 from oracles import random_configuration
 
 import virtual_actuators as va
+from virtual_actuators.contacts import contact_set
+from virtual_actuators.control import contact_limits
 from virtual_actuators.distribution.qp import compiled, exact, kernel_answer, kernels, stages
 from virtual_actuators.distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from virtual_actuators.gaits.registry import run_walk
@@ -280,3 +284,48 @@ def test_qp_solves_from_q_equal_solves_from_snapshots(name):
             continue
         for field in ("forces", "tau", "wrench", "residual", "active"):
             assert np.array_equal(getattr(ours, field), getattr(theirs, field)), field
+
+
+def test_contact_margins_are_bit_identical(monkeypatch):
+    """The yield policy's margins: recorded from walking ticks (the turkey's and the flamingo's
+    unilateral feet and cones), and on random forces with every kind of contact row."""
+    calls = {"least": [], "largest": []}
+    for kind, name in (("least", "_least_margin"), ("largest", "_largest_scale")):
+        original = getattr(contact_limits, name)
+
+        def recording(*arguments, original=original, kind=kind):
+            calls[kind].append(tuple(np.array(a) for a in arguments))
+            return original(*arguments)
+
+        monkeypatch.setattr(contact_limits, name, recording)
+    run_walk("turkey-walk", duration=0.3, progress=False, stop_on_fall=False)
+    run_walk("flamingo-slopes", duration=0.3, progress=False, stop_on_fall=False)
+    assert len(calls["least"]) > 100
+    rng = np.random.default_rng(8)
+    for k in range(300):  # random tables: minima, pyramids with and without normal rows
+        p, n = rng.integers(1, 5), rng.integers(3, 7)
+        frames = np.zeros((p + 2, 12))
+        for row in range(p + 2):
+            frames[row, :9] = _rotation(rng.normal(size=3), rng.uniform(0, np.pi)).ravel()
+        points = np.zeros((p, 7))
+        points[:, 0] = rng.uniform(0.2, 1.0) if k % 3 else -1.0  # friction (< 0: none)
+        points[:, 1] = rng.uniform(0.0, 2.0)
+        points[:, 2] = 1.0 if k % 3 == 0 or k % 2 else 0.0  # the normal row
+        points[:, 3] = k % 2  # a frame normal
+        points[:, 4:] = rng.normal(size=(p, 3))
+        points[:, 4:] /= np.linalg.norm(points[:, 4:], axis=1, keepdims=True)
+        points = points if k % 5 else points[:0]
+        axis_rows = np.sort(rng.choice(6, size=n, replace=False)).astype(np.int64)
+        minima = rng.choice(n, size=rng.integers(0, 3), replace=False).astype(np.int64)
+        count = len(minima) * p + sum(int(r[2] > 0) + 4 * int(r[0] >= 0) for r in points)
+        lows = rng.normal(size=count)
+        rows = np.arange(p + 1, dtype=np.int64)[::-1].copy()
+        full, base = rng.normal(size=(p, n)), rng.normal(size=(p, n))
+        calls["least"].append((frames, rows, full, points, axis_rows, minima, lows))
+        calls["largest"].append((frames, rows, full, base, points, axis_rows, minima, lows))
+    for arguments in calls["least"]:
+        reference = contact_set.least_margin(*arguments)
+        assert CORE.contact_least_margin(*arguments) == reference
+    for arguments in calls["largest"]:
+        reference = contact_set.largest_scale(*arguments)
+        assert CORE.contact_largest_scale(*arguments) == reference

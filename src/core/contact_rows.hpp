@@ -1,10 +1,14 @@
 // The contacts' rows over a chain's free coordinates, in the compiled QP: the C++ port of
 // virtual_actuators.contacts.point (face_rows, to_o, force_row) and
-// virtual_actuators.contacts.flat (sole_rows), operation by operation (bit for bit).
+// virtual_actuators.contacts.flat (sole_rows), and the contact margins of the controller's
+// yield policy (point.kernel_rows; contact_set.margins, least_margin, largest_scale), operation
+// by operation (bit for bit).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "linalg.hpp"
 
@@ -123,6 +127,92 @@ inline void sole_rows(const double* placement, const double rot_o[3][3], const d
       lows[row] = -constant;
     }
   }
+}
+
+}  // namespace va
+
+namespace va {
+
+// point.kernel_rows: a contact's pyramid rows over its force F_i (n entries) into out (5, n),
+// zeros, and lows; parameters: point.parameters' row (friction, least normal force, normal row,
+// frame normal, world normal); placement: the reaction frame's row of the frames. Returns how
+// many rows.
+inline std::int64_t point_kernel_rows(const double* parameters, const double* placement,
+                                      const double rot_o[3][3], const std::int64_t* axis_rows,
+                                      std::int64_t n, const double* identity, double* out,
+                                      double* lows) {
+  double normal[3];
+  for (int c = 0; c < 3; ++c)
+    normal[c] = parameters[3] > 0.0 ? placement[3 * c + 2] : parameters[4 + c];
+  double faces[5][3];
+  const bool with_normal = parameters[2] > 0.0;
+  const std::int64_t count = face_rows(normal, parameters[0], with_normal, faces);
+  to_o(rot_o, faces, count);
+  std::vector<double> particular(static_cast<std::size_t>(n), 0.0);
+  const BasisView basis{identity, n};
+  for (std::int64_t f = 0; f < count; ++f) {
+    const double low = with_normal && f == 0 ? parameters[1] : 0.0;
+    force_row(faces[f], axis_rows, n, particular.data(), basis, n, out + f * n, lows, f, low);
+  }
+  return count;
+}
+
+// The contact rows' values G @ forces.ravel() (no sole rows) into out: contact_set.margins.
+// forces (p, n); points (np = p or 0, 7); orientation_rows: {O} then each reaction frame.
+inline void contact_margins(const double* frames, const std::int64_t* orientation_rows,
+                            const double* forces, std::int64_t p, std::int64_t n,
+                            const double* points, std::int64_t np, const std::int64_t* axis_rows,
+                            const std::int64_t* minima_axes, std::int64_t nm, double* out) {
+  std::int64_t row = 0;
+  for (std::int64_t m = 0; m < nm; ++m)
+    for (std::int64_t c = 0; c < p; ++c) out[row++] = forces[c * n + minima_axes[m]];
+  if (np == 0) return;
+  double rot_o[3][3];
+  const double* o = frames + 12 * orientation_rows[0];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) rot_o[r][c] = o[3 * r + c];
+  std::vector<double> identity(static_cast<std::size_t>(n * n), 0.0);
+  for (std::int64_t a = 0; a < n; ++a) identity[a * n + a] = 1.0;
+  std::vector<double> rows(static_cast<std::size_t>(5 * n));
+  double lows[5];
+  for (std::int64_t c = 0; c < p; ++c) {
+    std::fill(rows.begin(), rows.end(), 0.0);
+    const double* placement = frames + 12 * orientation_rows[1 + c];
+    const std::int64_t count = point_kernel_rows(points + 7 * c, placement, rot_o, axis_rows, n,
+                                                 identity.data(), rows.data(), lows);
+    for (std::int64_t f = 0; f < count; ++f) {
+      double total = 0.0;
+      for (std::int64_t a = 0; a < n; ++a) total += rows[f * n + a] * forces[c * n + a];
+      out[row++] = total;
+    }
+  }
+}
+
+// Smallest G @ forces.ravel() - lows (contact_set.least_margin); values: scratch of nl.
+inline double contact_least_margin(const double* values, const double* lows, std::int64_t nl) {
+  double least = INF;
+  for (std::int64_t r = 0; r < nl; ++r) least = pmin(least, values[r] - lows[r]);
+  return least;
+}
+
+// The largest alpha in [0, 1] with at_base + alpha (at_full - at_base) >= lows; 0 when none
+// (contact_set.largest_scale, from the margins at the full request and at its base).
+inline double contact_largest_scale(const double* at_full, const double* at_base,
+                                    const double* lows, std::int64_t nl) {
+  double upper = 1.0, lower = 0.0;
+  for (std::int64_t r = 0; r < nl; ++r) {
+    const double slope = at_full[r] - at_base[r];
+    if (slope == 0.0) {
+      if (at_base[r] < lows[r]) return 0.0;
+      continue;
+    }
+    const double ratio = (lows[r] - at_base[r]) / slope;
+    if (slope < 0.0)
+      upper = pmin(upper, ratio);
+    else
+      lower = pmax(lower, ratio);
+  }
+  return lower > upper ? 0.0 : pmin(upper, 1.0);
 }
 
 }  // namespace va

@@ -16,8 +16,11 @@
 #include <stdexcept>
 #include <vector>
 
+#include "daqp_stage.hpp"
 #include "distribute.hpp"
 #include "kinematics.hpp"
+#include "qp.hpp"
+#include "sensor.hpp"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -28,6 +31,11 @@ using F1 = nb::ndarray<const double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::d
 using F2 = nb::ndarray<const double, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using I1 = nb::ndarray<const std::int64_t, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using I2 = nb::ndarray<const std::int64_t, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using F3 = nb::ndarray<const double, nb::numpy, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+using B1 = nb::ndarray<const bool, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+// Arrays the kernels write into: never converted (a converted copy would take the writes).
+using MF1 = nb::ndarray<double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using MI1 = nb::ndarray<std::int64_t, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Owned = nb::ndarray<nb::numpy, double, nb::ndim<1>>;
 
 void require(bool ok, const char* what) {
@@ -35,6 +43,7 @@ void require(bool ok, const char* what) {
 }
 
 std::int64_t length(const F1& a) { return static_cast<std::int64_t>(a.shape(0)); }
+std::int64_t length(const MF1& a) { return static_cast<std::int64_t>(a.shape(0)); }
 
 // A new numpy array of `size` doubles that owns `data` (allocated with new[]).
 Owned owned(std::unique_ptr<double[]> data, std::size_t size) {
@@ -210,6 +219,449 @@ class Distribution {
   va::Packed packed_;
 };
 
+// -- the QP distribution ---------------------------------------------------------------------
+
+std::int64_t len(const I1& a) { return static_cast<std::int64_t>(a.shape(0)); }
+
+// The views of a workspace's buffer after checking its layout (qp.compiled.Workspace): the ten
+// arrays back to back from 0, then free, rows_eq, m_in and design.
+va::QPViews checked_views(const MF1& buffer, const I1& layout, std::int64_t pn, std::int64_t nv) {
+  require(len(layout) == va::QP_LAYOUT, "layout must have 14 entries");
+  const std::int64_t* L = layout.data();
+  const std::int64_t free = L[10], rows_eq = L[11], m_in = L[12], design = L[13];
+  require(pn >= 0 && nv >= 0 && free >= 0 && rows_eq >= 0 && m_in >= 0 && design >= 0 &&
+              design <= rows_eq,
+          "layout: negative sizes, or more design rows than equality rows");
+  const std::int64_t sizes[10] = {pn * free, pn, rows_eq * free, rows_eq, m_in * free,
+                                  m_in,      m_in, nv * free,     nv,      nv};
+  std::int64_t at = 0;
+  for (int k = 0; k < 10; ++k) {
+    require(L[k] == at, "layout: offsets do not match the sizes");
+    at += sizes[k];
+  }
+  require(length(buffer) == at, "buffer: length does not match the layout");
+  return va::QPViews(buffer.data(), L);
+}
+
+nb::tuple norms_tuple(std::int64_t count, const va::Distributed& d) {
+  return nb::make_tuple(count, nb::make_tuple(d.residual, d.scale, d.rounding));
+}
+
+std::vector<std::int64_t> keep_ints(const B1& keep, std::int64_t n) {
+  require(static_cast<std::int64_t>(keep.shape(0)) == n, "keep must be (n,)");
+  std::vector<std::int64_t> out(static_cast<std::size_t>(n));
+  for (std::int64_t a = 0; a < n; ++a) out[a] = keep.data()[a] ? 1 : 0;
+  return out;
+}
+
+// The QP's answer on an active set (qp.exact.exact_step): (ok, x, z).
+nb::tuple exact_step(const F2& equality, const F1& equality_rhs, std::int64_t design,
+                     const F1& weights, const F2& inequality, const F1& lows, const F1& uppers,
+                     const F1& guess, bool exact, double active_tol, double tol,
+                     std::int64_t max_steps) {
+  const auto k = static_cast<std::int64_t>(equality.shape(0));
+  const auto size = static_cast<std::int64_t>(equality.shape(1));
+  const auto m = static_cast<std::int64_t>(inequality.shape(0));
+  require(length(equality_rhs) == k, "equality_rhs must be (k,)");
+  require(design >= 0 && design <= k, "design must be in [0, k]");
+  require(length(weights) >= k - design, "weights must have k - design entries");
+  require(m == 0 || static_cast<std::int64_t>(inequality.shape(1)) == size,
+          "inequality must be (m, d)");
+  require(length(lows) == m && length(uppers) == m && length(guess) == m,
+          "lows, uppers and guess must be (m,)");
+  require(max_steps >= 0, "max_steps must be >= 0");
+  const va::ExactRows rows{equality.data(), equality_rhs.data(), k, size, design,
+                           weights.data(), inequality.data(), lows.data(), uppers.data(), m};
+  std::unique_ptr<double[]> x(new double[static_cast<std::size_t>(size)]());
+  std::unique_ptr<double[]> z(new double[static_cast<std::size_t>(m)]());
+  bool ok;
+  {
+    nb::gil_scoped_release release;
+    ok = va::exact_step(rows, guess.data(), exact, active_tol, tol, max_steps, x.get(),
+                        z.get());
+  }
+  return nb::make_tuple(ok, owned(std::move(x), static_cast<std::size_t>(size)),
+                        owned(std::move(z), static_cast<std::size_t>(m)));
+}
+
+double qp_violation(const MF1& buffer, const I1& layout, std::int64_t pn, std::int64_t nv,
+                    const F1& z, std::int64_t equalities) {
+  const va::QPViews V = checked_views(buffer, layout, pn, nv);
+  require(length(z) == V.free, "z must be (d,)");
+  require(equalities >= 0 && equalities <= V.rows_eq, "equalities out of range");
+  return va::violation(V, z.data(), length(z), equalities);
+}
+
+// Forces, torques and norms of an answer (qp.kernel_answer.read_out).
+nb::tuple qp_read_out(const MF1& buffer, const I1& layout, std::int64_t pn, std::int64_t nv,
+                      const F1& z, const F1& multipliers, double scale, const F1& wrench,
+                      const B1& keep, double active_tol, double accuracy, MF1 out, MI1 active) {
+  const va::QPViews V = checked_views(buffer, layout, pn, nv);
+  const std::int64_t n = length(wrench);
+  require(n >= 1 && pn % n == 0, "wrench must be (n,) with pn a multiple of n");
+  require(length(z) == V.free, "z must be (d,)");
+  require(length(multipliers) == V.m_in, "multipliers must be (m,)");
+  require(length(out) == pn + 2 * nv + 2 * n, "out must be (pn + 2 nv + 2 n,)");
+  require(static_cast<std::int64_t>(active.shape(0)) >= V.m_in, "active must be (m,)");
+  const std::vector<std::int64_t> kept = keep_ints(keep, n);
+  va::Distributed d;
+  std::int64_t count;
+  {
+    nb::gil_scoped_release release;
+    count = va::read_out(V, pn, nv, z.data(), length(z), multipliers.data(), V.m_in, scale,
+                         wrench.data(), n, kept.data(), active_tol, accuracy, out.data(),
+                         active.data(), d);
+  }
+  return norms_tuple(count, d);
+}
+
+// What a QP declaration fixes (qp.compiled.CompiledQPMatrices), owned: a tick passes the
+// snapshot's arrays, the request and its workspace.
+class QP {
+ public:
+  QP(const I1& axis_rows, const I1& frame_rows, const I2& chain_ints, const F2& chain_signs,
+     const F2& springs, const F3& const_rows, const F1& const_rhs, const F2& normals_world,
+     const I1& frame_normals, const F1& settings, const F2& soles, const I1& limited_v,
+     const F1& limits)
+      : axis_rows_(copy<std::int64_t>(axis_rows)), frame_rows_(copy<std::int64_t>(frame_rows)),
+        chain_ints_(copy<std::int64_t>(chain_ints)), chain_signs_(copy<double>(chain_signs)),
+        springs_(copy<double>(springs)), const_rows_(copy<double>(const_rows)),
+        const_rhs_(copy<double>(const_rhs)), normals_world_(copy<double>(normals_world)),
+        frame_normals_(copy<std::int64_t>(frame_normals)), settings_(copy<double>(settings)),
+        soles_(copy<double>(soles)), limited_v_(copy<std::int64_t>(limited_v)),
+        limits_(copy<double>(limits)) {
+    va::QPTables& T = t_;
+    T.n = len(axis_rows);
+    T.p = static_cast<std::int64_t>(chain_ints.shape(0));
+    T.nv = static_cast<std::int64_t>(springs.shape(0));
+    T.K = static_cast<std::int64_t>(chain_signs.shape(1));
+    T.C = static_cast<std::int64_t>(chain_ints.shape(1)) - va::QP_HEADER - T.K - 3;
+    T.s = static_cast<std::int64_t>(const_rows.shape(0));
+    T.t = len(limited_v);
+    require(T.n >= 1 && T.n <= 6, "axis_rows must have 1 to 6 entries");
+    for (std::int64_t a = 0; a < T.n; ++a)
+      require(axis_rows_[a] >= 0 && axis_rows_[a] < 6, "axis_rows must be in 0..5");
+    require(T.p >= 1 && len(frame_rows) == 2 + T.p, "frame_rows must be (2 + p,)");
+    for (std::int64_t r = 0; r < 2 + T.p; ++r)
+      require(frame_rows_[r] >= 0, "frame_rows must be >= 0");
+    require(static_cast<std::int64_t>(chain_signs.shape(0)) == T.p && T.C >= 0,
+            "chain_ints must be (p, 3 + K + C + 3), chain_signs (p, K)");
+    require(springs.shape(1) == 5, "springs must be (nv, 5)");
+    require(static_cast<std::int64_t>(const_rows.shape(1)) == T.p &&
+                static_cast<std::int64_t>(const_rows.shape(2)) == T.n &&
+                length(const_rhs) == T.s,
+            "const_rows must be (s, p, n), const_rhs (s,)");
+    require(static_cast<std::int64_t>(normals_world.shape(0)) == T.p &&
+                normals_world.shape(1) == 3 && len(frame_normals) == T.p,
+            "normals_world must be (p, 3), frame_normals (p,)");
+    require(length(settings) == 4, "settings must be (4,)");
+    require(static_cast<std::int64_t>(soles.shape(0)) == T.p && soles.shape(1) == 3,
+            "soles must be (p, 3)");
+    require(length(limits) == T.t, "limits must be (t,) like limited_v");
+    for (std::int64_t t = 0; t < T.t; ++t)
+      require(limited_v_[t] >= 0 && limited_v_[t] < T.nv, "limited_v out of range");
+    const std::int64_t width = T.width();
+    for (std::int64_t i = 0; i < T.p; ++i) {
+      const std::int64_t* row = chain_ints_.data() + i * width;
+      const std::int64_t k_i = row[0], c_i = row[1], nb = row[2];
+      require(k_i >= 0 && k_i <= T.K && c_i >= 0 && c_i <= T.C && c_i <= k_i && nb >= 0 &&
+                  nb <= 3,
+              "chain_ints: chain header");
+      for (std::int64_t j = 0; j < k_i; ++j)
+        require(row[va::QP_HEADER + j] >= 0 && row[va::QP_HEADER + j] < T.nv,
+                "chain_ints: chain columns");
+      for (std::int64_t j = 0; j < c_i; ++j)
+        require(row[va::QP_HEADER + T.K + j] >= 0 && row[va::QP_HEADER + T.K + j] < k_i,
+                "chain_ints: constrained joints");
+      for (std::int64_t j = 0; j < nb; ++j)
+        require(row[va::QP_HEADER + T.K + T.C + j] >= 0 &&
+                    row[va::QP_HEADER + T.K + T.C + j] < 3,
+                "chain_ints: ball axes");
+      free_ += k_i - c_i;
+    }
+    max_q_ = -1;
+    for (std::int64_t v = 0; v < T.nv; ++v) {
+      const double* sp = springs_.data() + 5 * v;
+      require(sp[2] < 0 || sp[2] >= 0, "springs: NaN index");
+      if (sp[2] >= 0)
+        max_q_ = std::max(max_q_, static_cast<std::int64_t>(sp[2]) + (sp[3] > 0 ? 1 : 0));
+    }
+    max_frame_ = *std::max_element(frame_rows_.begin(), frame_rows_.end());
+    T.axis_rows = axis_rows_.data();
+    T.frame_rows = frame_rows_.data();
+    T.chain_ints = chain_ints_.data();
+    T.chain_signs = chain_signs_.data();
+    T.springs = springs_.data();
+    T.const_rows = const_rows_.data();
+    T.const_rhs = const_rhs_.data();
+    T.normals_world = normals_world_.data();
+    T.frame_normals = frame_normals_.data();
+    T.settings = settings_.data();
+    T.soles = soles_.data();
+    T.limited_v = limited_v_.data();
+    T.limits = limits_.data();
+  }
+
+  // qp.kernels.reduced_qp into the workspace: (status, worst ratio, scale).
+  nb::tuple reduced(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,
+                    const I1& kept, MF1 buffer, const I1& layout) const {
+    check_snapshot(jacobian_world, frames);
+    check(q, wrench, kept, buffer, layout);
+    va::Reduced r;
+    {
+      nb::gil_scoped_release release;
+      r = va::reduced_qp(jacobian_world.data(), frames.data(), q.data(), wrench.data(),
+                         kept.data(), len(kept), t_, buffer.data(), length(buffer),
+                         layout.data());
+    }
+    return nb::make_tuple(r.status, r.worst, r.scale);
+  }
+
+  // qp.kernel_answer.again: the matrices, the exact step on guess's active set (guess replaced
+  // by the new multipliers when certified), the read-out: (count, (residual, scale, rounding)),
+  // count -1 when not certified.
+  nb::tuple again(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,
+                  const I1& kept, MF1 buffer, const I1& layout, const B1& keep,
+                  const F1& weights, MF1 guess, double active_tol, double exact_tol,
+                  double accuracy, MF1 out, MI1 active) const {
+    check_snapshot(jacobian_world, frames);
+    const va::QPViews V = check(q, wrench, kept, buffer, layout);
+    return again_on(
+        [&](const double*& jac, const double*& fr) {
+          jac = jacobian_world.data();
+          fr = frames.data();
+        },
+        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol,
+        accuracy, out, active);
+  }
+
+  // again() from q alone: the tree's kinematics first, in the same call (no snapshot).
+  nb::tuple again_tick(const Tree& tree, const F1& q, const F1& wrench, const I1& kept,
+                       MF1 buffer, const I1& layout, const B1& keep, const F1& weights,
+                       MF1 guess, double active_tol, double exact_tol, double accuracy, MF1 out,
+                       MI1 active) const {
+    const va::Tree& t = *tree.tree();
+    require(t.tables().nv == t_.nv, "the tree's nv differs from the QP's");
+    require(t.tables().nf > max_frame_, "the tree's frame table lacks rows the QP reads");
+    require(length(q) >= tree.nq(), "q is shorter than the tree's configuration");
+    const va::QPViews V = check(q, wrench, kept, buffer, layout);
+    std::vector<double> kinematics(static_cast<std::size_t>(t.size(false)));
+    return again_on(
+        [&](const double*& jac, const double*& fr) {
+          t.compute(q.data(), nullptr, kinematics.data());
+          jac = kinematics.data() + t.jacobian_offset();
+          fr = kinematics.data() + t.frames_offset();
+        },
+        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol,
+        accuracy, out, active);
+  }
+
+ private:
+  // The matrices, the exact step on guess's active set, the read-out (GIL released);
+  // kinematics(jac, frames) points both at the tick's arrays (computing them if need be).
+  template <typename Kinematics>
+  nb::tuple again_on(Kinematics kinematics, const va::QPViews& V, const F1& q, const F1& wrench,
+                     const I1& kept, MF1& buffer, const I1& layout, const B1& keep,
+                     const F1& weights, MF1& guess, double active_tol, double exact_tol,
+                     double accuracy, MF1& out, MI1& active) const {
+    const std::int64_t n = t_.n, pn = t_.p * t_.n, nv = t_.nv;
+    require(length(weights) >= len(kept), "weights must be (k,)");
+    require(length(guess) == V.m_in, "guess must be (m,)");
+    require(length(out) == pn + 2 * nv + 2 * n, "out must be (pn + 2 nv + 2 n,)");
+    require(static_cast<std::int64_t>(active.shape(0)) >= V.m_in, "active must be (m,)");
+    const std::vector<std::int64_t> keep_i = keep_ints(keep, n);
+    va::Distributed d;
+    std::int64_t count = -1;
+    {
+      nb::gil_scoped_release release;
+      const double* jacobian_world = nullptr;
+      const double* frames = nullptr;
+      kinematics(jacobian_world, frames);
+      const va::Reduced r = va::reduced_qp(jacobian_world, frames, q.data(), wrench.data(),
+                                           kept.data(), len(kept), t_, buffer.data(),
+                                           length(buffer), layout.data());
+      if (r.status == 0) {
+        std::vector<double> z(static_cast<std::size_t>(V.free)),
+            multipliers(static_cast<std::size_t>(V.m_in));
+        const bool certified =
+            va::exact_step(V.rows(weights.data()), guess.data(), true, active_tol, exact_tol,
+                           va::EXACT_STEPS, z.data(), multipliers.data());
+        if (certified) {
+          std::copy(multipliers.begin(), multipliers.end(), guess.data());
+          count = va::read_out(V, pn, nv, z.data(), V.free, multipliers.data(), V.m_in, r.scale,
+                               wrench.data(), n, keep_i.data(), active_tol, accuracy,
+                               out.data(), active.data(), d);
+        }
+      }
+    }
+    if (count < 0) return norms_tuple(-1, va::Distributed{0.0, 0.0, 0.0});
+    return norms_tuple(count, d);
+  }
+
+  void check_snapshot(const F2& jacobian_world, const F2& frames) const {
+    require(jacobian_world.shape(0) == 6 &&
+                static_cast<std::int64_t>(jacobian_world.shape(1)) == t_.nv,
+            "jacobian_world must be (6, nv)");
+    require(frames.shape(1) == 12 && static_cast<std::int64_t>(frames.shape(0)) > max_frame_,
+            "frames must be (nf, 12) with every row the QP reads");
+  }
+
+  va::QPViews check(const F1& q, const F1& wrench, const I1& kept, const MF1& buffer,
+                    const I1& layout) const {
+    const va::QPTables& T = t_;
+    require(length(q) > max_q_, "q is shorter than the springs' indices");
+    require(length(wrench) == T.n, "wrench must be (n,)");
+    for (std::int64_t r = 0; r < len(kept); ++r)
+      require(kept.data()[r] >= 0 && kept.data()[r] < T.n, "kept out of range");
+    const va::QPViews V = checked_views(buffer, layout, T.p * T.n, T.nv);
+    require(V.free == free_, "layout: free must be the chains' free columns");
+    require(V.rows_eq == T.s + len(kept) && V.design == T.s,
+            "layout: equality rows must be the design rows and the kept axes");
+    std::int64_t force_axes = 0, moment_axes = 0, soles = 0;
+    for (std::int64_t a = 0; a < T.n; ++a) {
+      force_axes += T.axis_rows[a] < 3;
+      moment_axes += T.axis_rows[a] >= 3;
+    }
+    for (std::int64_t i = 0; i < T.p; ++i) soles += T.soles[3 * i] > 0.0;
+    const bool with_normal = T.settings[2] > 0.0;
+    const std::int64_t faces =
+        force_axes ? (with_normal ? 1 : 0) + (T.settings[0] >= 0.0 ? 4 : 0) : 0;
+    require(V.m_in >= T.p * faces + (moment_axes ? 6 * soles : 0) + T.t,
+            "layout: fewer inequality rows than the contacts and limits give");
+    return V;
+  }
+
+  std::vector<std::int64_t> axis_rows_, frame_rows_, chain_ints_;
+  std::vector<double> chain_signs_, springs_, const_rows_, const_rhs_, normals_world_;
+  std::vector<std::int64_t> frame_normals_;
+  std::vector<double> settings_, soles_;
+  std::vector<std::int64_t> limited_v_;
+  std::vector<double> limits_;
+  va::QPTables t_;
+  std::int64_t free_ = 0, max_q_ = -1, max_frame_ = 0;
+};
+
+// -- sensors ---------------------------------------------------------------------------------
+
+// sensor_kernels.relative_sensor: one buffer, jacobian (n, nv), position (n), velocity (n).
+Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v,
+                      const I1& axis_rows, const I1& rows, const I1& columns, const F1& signs) {
+  require(jacobian_world.shape(0) == 6, "jacobian_world must be (6, nv)");
+  const auto nv = static_cast<std::int64_t>(jacobian_world.shape(1));
+  const std::int64_t n = len(axis_rows), nc = len(columns);
+  require(n >= 1 && n <= 6, "axis_rows must have 1 to 6 entries");
+  for (std::int64_t a = 0; a < n; ++a)
+    require(axis_rows.data()[a] >= 0 && axis_rows.data()[a] < 6, "axis_rows must be in 0..5");
+  require(len(rows) == 3 && frames.shape(1) == 12, "rows must be (3,), frames (nf, 12)");
+  for (std::int64_t r = 0; r < 3; ++r)
+    require(rows.data()[r] >= 0 && rows.data()[r] < static_cast<std::int64_t>(frames.shape(0)),
+            "rows out of the frame table");
+  require(length(signs) == nc, "signs must be like columns");
+  for (std::int64_t j = 0; j < nc; ++j)
+    require(columns.data()[j] >= 0 && columns.data()[j] < nv, "columns out of range");
+  require(length(v) == 0 || length(v) == nv, "v must be (nv,) or empty");
+  const auto size = static_cast<std::size_t>(n * nv + 2 * n);
+  std::unique_ptr<double[]> buffer(new double[size]());
+  {
+    nb::gil_scoped_release release;
+    va::relative_sensor(jacobian_world.data(), nv, frames.data(), length(v) ? v.data() : nullptr,
+                        axis_rows.data(), n, rows.data(), columns.data(), signs.data(), nc,
+                        buffer.get());
+  }
+  return owned(std::move(buffer), size);
+}
+
+// -- DAQP ------------------------------------------------------------------------------------
+
+// The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
+nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
+                          const F1& lows, const F1& uppers, int iter_limit) {
+  const auto k = static_cast<std::int64_t>(equality.shape(0));
+  const auto size = static_cast<std::int64_t>(equality.shape(1));
+  const auto m = static_cast<std::int64_t>(inequality.shape(0));
+  require(size >= 1, "at least one variable");
+  require(length(equality_rhs) == k, "equality_rhs must be (k,)");
+  require(m == 0 || static_cast<std::int64_t>(inequality.shape(1)) == size,
+          "inequality must be (m, d)");
+  require(length(lows) == m && length(uppers) == m, "lows and uppers must be (m,)");
+  require(iter_limit >= 1, "iter_limit must be >= 1");
+  std::unique_ptr<double[]> x(new double[static_cast<std::size_t>(size)]());
+  std::unique_ptr<double[]> lam(new double[static_cast<std::size_t>(m)]());
+  va::DaqpAnswer answer;
+  {
+    nb::gil_scoped_release release;
+    answer = va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
+                                 inequality.data(), lows.data(), uppers.data(), m, iter_limit,
+                                 x.get(), lam.get());
+  }
+  return nb::make_tuple(answer.exitflag, owned(std::move(x), static_cast<std::size_t>(size)),
+                        owned(std::move(lam), static_cast<std::size_t>(m)), answer.iterations);
+}
+
+// -- contact margins (the controller's yield policy) -----------------------------------------
+
+// The margins' arguments checked; returns the number of rows.
+std::int64_t margin_rows(const F2& frames, const I1& orientation_rows, const F2& forces,
+                         const F2& points, const I1& axis_rows, const I1& minima_axes,
+                         const F1& lows) {
+  const auto p = static_cast<std::int64_t>(forces.shape(0));
+  const auto n = static_cast<std::int64_t>(forces.shape(1));
+  require(n >= 1 && n <= 6 && len(axis_rows) == n, "forces must be (p, n), axis_rows (n,)");
+  for (std::int64_t a = 0; a < n; ++a)
+    require(axis_rows.data()[a] >= 0 && axis_rows.data()[a] < 6, "axis_rows must be in 0..5");
+  for (std::int64_t m = 0; m < len(minima_axes); ++m)
+    require(minima_axes.data()[m] >= 0 && minima_axes.data()[m] < n, "minima_axes out of range");
+  const auto np = static_cast<std::int64_t>(points.shape(0));
+  require((np == 0 || np == p) && points.shape(1) == 7, "points must be (p, 7) or (0, 7)");
+  require(frames.shape(1) == 12 && len(orientation_rows) >= 1 + (np ? p : 0),
+          "frames must be (nf, 12), orientation_rows ({O}, then each reaction frame)");
+  for (std::int64_t r = 0; r < (np ? 1 + p : 0); ++r)
+    require(orientation_rows.data()[r] >= 0 &&
+                orientation_rows.data()[r] < static_cast<std::int64_t>(frames.shape(0)),
+            "orientation_rows out of the frame table");
+  std::int64_t rows = len(minima_axes) * p;
+  for (std::int64_t c = 0; c < np; ++c) {
+    const double* row = points.data() + 7 * c;
+    rows += (row[2] > 0.0 ? 1 : 0) + (row[0] < 0.0 ? 0 : 4);
+  }
+  require(length(lows) == rows, "lows must have one entry per contact row");
+  return rows;
+}
+
+double contact_least_margin(const F2& frames, const I1& orientation_rows, const F2& forces,
+                            const F2& points, const I1& axis_rows, const I1& minima_axes,
+                            const F1& lows) {
+  const std::int64_t rows =
+      margin_rows(frames, orientation_rows, forces, points, axis_rows, minima_axes, lows);
+  std::vector<double> values(static_cast<std::size_t>(rows));
+  nb::gil_scoped_release release;
+  va::contact_margins(frames.data(), orientation_rows.data(), forces.data(),
+                      static_cast<std::int64_t>(forces.shape(0)), len(axis_rows), points.data(),
+                      static_cast<std::int64_t>(points.shape(0)), axis_rows.data(),
+                      minima_axes.data(), len(minima_axes), values.data());
+  return va::contact_least_margin(values.data(), lows.data(), rows);
+}
+
+double contact_largest_scale(const F2& frames, const I1& orientation_rows, const F2& full,
+                             const F2& base, const F2& points, const I1& axis_rows,
+                             const I1& minima_axes, const F1& lows) {
+  const std::int64_t rows =
+      margin_rows(frames, orientation_rows, full, points, axis_rows, minima_axes, lows);
+  require(base.shape(0) == full.shape(0) && base.shape(1) == full.shape(1),
+          "base must be shaped like full");
+  std::vector<double> at_full(static_cast<std::size_t>(rows)), at_base(at_full.size());
+  const auto p = static_cast<std::int64_t>(full.shape(0));
+  const auto np = static_cast<std::int64_t>(points.shape(0));
+  nb::gil_scoped_release release;
+  va::contact_margins(frames.data(), orientation_rows.data(), full.data(), p, len(axis_rows),
+                      points.data(), np, axis_rows.data(), minima_axes.data(), len(minima_axes),
+                      at_full.data());
+  va::contact_margins(frames.data(), orientation_rows.data(), base.data(), p, len(axis_rows),
+                      points.data(), np, axis_rows.data(), minima_axes.data(), len(minima_axes),
+                      at_base.data());
+  return va::contact_largest_scale(at_full.data(), at_base.data(), lows.data(), rows);
+}
+
 }  // namespace
 
 NB_MODULE(_core, m) {
@@ -245,4 +697,50 @@ NB_MODULE(_core, m) {
            "rounding, status, worst, worst_chain).")
       .def("tick", &Distribution::tick, "tree"_a, "q"_a, "wrench"_a,
            "Forward kinematics and the distribution in one call (q as the tree needs it).");
+
+  m.def("exact_step", &exact_step, "equality"_a, "equality_rhs"_a, "design"_a, "weights"_a,
+        "inequality"_a, "lows"_a, "uppers"_a, "guess"_a, "exact"_a, "active_tol"_a, "tol"_a,
+        "max_steps"_a,
+        "qp.exact.exact_step: the QP's answer on the active set guess names, (ok, x, z).");
+  m.def("qp_violation", &qp_violation, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a,
+        "z"_a, "equalities"_a, "qp.kernel_answer.violation: the largest miss of z.");
+  m.def("qp_read_out", &qp_read_out, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a,
+        "z"_a, "multipliers"_a, "scale"_a, "wrench"_a, "keep"_a, "active_tol"_a,
+        "accuracy"_a, "out"_a.noconvert(), "active"_a.noconvert(),
+        "qp.kernel_answer.read_out: (count of active rows, (residual, scale, rounding)).");
+
+  nb::class_<QP>(m, "QP", "What a QP declaration fixes (CompiledQPMatrices).")
+      .def(nb::init<const I1&, const I1&, const I2&, const F2&, const F2&, const F3&,
+                    const F1&, const F2&, const I1&, const F1&, const F2&, const I1&,
+                    const F1&>(),
+           "axis_rows"_a, "frame_rows"_a, "chain_ints"_a, "chain_signs"_a, "springs"_a,
+           "const_rows"_a, "const_rhs"_a, "normals_world"_a, "frame_normals"_a, "settings"_a,
+           "soles"_a, "limited_v"_a, "limits"_a)
+      .def("reduced", &QP::reduced, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a,
+           "kept"_a, "buffer"_a.noconvert(), "layout"_a,
+           "qp.kernels.reduced_qp into buffer: (status, worst ratio, scale).")
+      .def("again", &QP::again, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a, "kept"_a,
+           "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
+           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(),
+           "active"_a.noconvert(),
+           "qp.kernel_answer.again: (count, (residual, scale, rounding)), count -1: not "
+           "certified.")
+      .def("again_tick", &QP::again_tick, "tree"_a, "q"_a, "wrench"_a, "kept"_a,
+           "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
+           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(),
+           "active"_a.noconvert(),
+           "again() from q alone: the tree's forward kinematics in the same call.");
+  m.def("relative_sensor", &relative_sensor, "jacobian_world"_a, "frames"_a, "v"_a,
+        "axis_rows"_a, "rows"_a, "columns"_a, "signs"_a,
+        "kinematics.sensor_kernels.relative_sensor: jacobian, position, velocity in one buffer.");
+  m.def("daqp_least_norm", &daqp_least_norm, "equality"_a, "equality_rhs"_a,
+        "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a,
+        "The QP's first stage on DAQP (vendored, MIT) from cold, min |x|^2 on the rows: "
+        "(exitflag, x, inequality multipliers, iterations).");
+  m.def("contact_least_margin", &contact_least_margin, "frames"_a, "orientation_rows"_a,
+        "forces"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
+        "contacts.contact_set.least_margin: smallest G @ forces.ravel() - lows.");
+  m.def("contact_largest_scale", &contact_largest_scale, "frames"_a, "orientation_rows"_a,
+        "full"_a, "base"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
+        "contacts.contact_set.largest_scale: the largest alpha in [0, 1] meeting the rows.");
 }

@@ -268,7 +268,10 @@ class ParallelVirtualActuator:
         state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
         request = self.plan(free, method, compiled, weights)
-        tick = self.compiled.solve_configuration(state, wrench, request) if plain else None
+        tick = None
+        if plain:  # the compiled core's one-call tick, when it applies
+            solver = self.qp if request.method == "qp" else self.compiled
+            tick = solver.solve_configuration(state, wrench, request)
         if tick is None:  # kernels on a snapshot, or the numpy path
             snapshot = Snapshot(self.robot, state) if plain else state
             solution, missed = self.solve_checked(snapshot, wrench, request, tol)

@@ -23,6 +23,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import InvalidInputError
+from ..native import CORE
 from ..vocabulary.axes import AXES, axis_rows
 from .sensor_kernels import relative_sensor
 from .snapshot import Snapshot
@@ -60,6 +61,8 @@ class KinematicState:
 
 
 _NO_VELOCITY = np.zeros(0)
+#: the sensor kernel: the compiled core's when built, else the reference (numba) kernel
+_relative_sensor = relative_sensor if CORE is None else CORE.relative_sensor
 
 
 class Sensed(NamedTuple):
@@ -257,7 +260,7 @@ class RelativeKinematics:
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
-        buffer = relative_sensor(
+        buffer = _relative_sensor(
             jacobian_world,
             frames,
             snapshot.v if velocity else _NO_VELOCITY,

@@ -17,11 +17,12 @@ import threading
 import numpy as np
 
 from ...kinematics.kernels import HAVE_NUMBA
+from ...native import CORE
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from . import kernels
-from .kernel_answer import Answer, again
+from .kernel_answer import Answer, again, finish, violation
 
 
 class Workspace:
@@ -48,12 +49,37 @@ class Workspace:
         self.kept = kept
         self.design_rows = design
         self.pn, self.nv = p_n, nv
-        arrays = kernels.views(self.buffer, self.layout, p_n, nv)
+        arrays = _views(self.buffer, self.layout, p_n, nv)
         self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
         self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
         self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
         self.tables: tuple | None = None  # the kernel's arguments that the declaration fixes
         self.scale = 1.0
+
+    def violation(self, z: np.ndarray, equalities: int) -> float:
+        """:func:`.kernel_answer.violation` of ``z`` on this workspace's rows."""
+        if CORE is not None:
+            return CORE.qp_violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
+        return violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
+
+    def finish(
+        self, z: np.ndarray, multipliers: np.ndarray, wrench: np.ndarray, keep: np.ndarray
+    ) -> Answer:
+        """:func:`.kernel_answer.finish` of the answer ``z`` on this workspace's tick."""
+        if CORE is None:
+            return finish(self.buffer, self.layout, self.pn, self.nv, z, multipliers,
+                          self.scale, wrench, keep, ACTIVE_TOL, EPS_ABS)  # fmt: skip
+        out = np.zeros(self.pn + 2 * self.nv + 2 * len(wrench))
+        active = np.empty(len(multipliers), dtype=np.int64)
+        count, norms = CORE.qp_read_out(
+            self.buffer, self.layout, self.pn, self.nv, z, multipliers, self.scale, wrench,
+            keep, ACTIVE_TOL, EPS_ABS, out, active,
+        )  # fmt: skip
+        return Answer(out, *norms, active[:count].copy())
+
+
+#: the buffer's arrays as views (the reference kernel's, run as Python: no compile)
+_views = getattr(kernels.views, "py_func", kernels.views)
 
 
 class CompiledQPMatrices:
@@ -92,7 +118,7 @@ class CompiledQPMatrices:
         kin = problem.kinematics
         #: whether the compiled path can build this declaration's ticks
         self.applicable = (
-            HAVE_NUMBA
+            (HAVE_NUMBA or CORE is not None)
             and all(g.rank == g.columns.shape[1] + len(g.ball_axes) for g in problem.groups)
             and not problem.coupled_v
             and not len(problem.torque_pairs)
@@ -125,6 +151,14 @@ class CompiledQPMatrices:
         self.soles = np.ascontiguousarray(soles, dtype=float)
         self.limited_v = np.asarray(limited_v, dtype=np.int64)
         self.limits = np.asarray(limits, dtype=float)
+        #: the compiled core's QP (these tables, owned in C++), or None: the reference kernels
+        self.core = None
+        if CORE is not None and self.applicable:
+            self.core = CORE.QP(
+                self.axis_rows, self.frame_rows, self.chain_ints, self.chain_signs,
+                self.springs, self.const_rows, self.const_rhs, self.normals_world,
+                self.frame_normals, self.settings, self.soles, self.limited_v, self.limits,
+            )  # fmt: skip
 
     def workspace(self, keep: np.ndarray) -> Workspace:
         """This thread's workspace for these prescribed axes (made once)."""
@@ -179,7 +213,12 @@ class CompiledQPMatrices:
         arguments = self._arguments(snapshot, wrench, workspace)
         if arguments is None:
             return None
-        status, _, scale = kernels.reduced_qp(*arguments)
+        if self.core is not None:
+            status, _, scale = self.core.reduced(
+                *arguments[:5], workspace.buffer, workspace.layout
+            )
+        else:
+            status, _, scale = kernels.reduced_qp(*arguments)
         if status:
             return None
         workspace.scale = scale
@@ -187,33 +226,50 @@ class CompiledQPMatrices:
 
     def again(
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
-        weights: np.ndarray, guess: np.ndarray,
+        weights: np.ndarray, guess: np.ndarray, tree: object = None,
     ) -> Answer | None:
         """:func:`.kernel_answer.again` on this tick: the answer, or None.
 
         Args:
-            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            snapshot: The tick's :class:`~virtual_actuators.Snapshot`, or with ``tree`` (the
+                core's ``Tree`` of the robot; the core only) a checked configuration: its
+                kinematics then run in the same compiled call.
             wrench: ``(n,)`` requested wrench.
             keep: ``(n,)`` bool, the prescribed axes.
             workspace: This thread's workspace for them (:meth:`workspace`).
             weights: The request rows' weights.
             guess: The inequalities' multipliers of the last certified answer (replaced in
                 place by this answer's when it is certified).
+            tree: None, or the core's ``Tree`` when ``snapshot`` is a configuration.
 
         Returns:
             The :class:`~.kernel_answer.Answer`; None when the exact step did not certify the
             active set, the matrices need the numpy path or the snapshot lacks a frame.
 
         """
+        out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
+        active = workspace.active
+        if tree is not None:
+            if tree.nf <= self._max_row:
+                return None
+            count, norms = self.core.again_tick(
+                tree, snapshot, wrench, workspace.kept, workspace.buffer, workspace.layout, keep,
+                weights, guess, ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
+            )  # fmt: skip
+            return None if count < 0 else Answer(out, *norms, active[:count].copy())
         arguments = self._arguments(snapshot, wrench, workspace)
         if arguments is None:
             return None
-        out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
-        active = workspace.active
-        count, norms = again(
-            *arguments, workspace.pn, workspace.nv, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
-            EPS_ABS, out, active,
-        )  # fmt: skip
+        if self.core is not None:
+            count, norms = self.core.again(
+                *arguments[:5], workspace.buffer, workspace.layout, keep, weights, guess,
+                ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
+            )  # fmt: skip
+        else:
+            count, norms = again(
+                *arguments, workspace.pn, workspace.nv, keep, weights, guess, ACTIVE_TOL,
+                EXACT_TOL, EPS_ABS, out, active,
+            )  # fmt: skip
         if count < 0:
             return None
         return Answer(out, *norms, active[:count].copy())

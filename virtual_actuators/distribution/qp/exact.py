@@ -31,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...kinematics.kernels import njit
+from ...native import CORE
 from ..tolerances import DEPENDENT_TOL, EXACT_TOL
 
 #: Active-set changes allowed before ProxQP's answer is kept.
@@ -349,7 +350,8 @@ def exact_answer(
     ProxQP's answer is ``(False, x, guess)``: its ``x`` and multipliers ``guess``; the other
     arguments are :func:`exact_step`'s.
     """
-    ok, exact_x, z = exact_step(
+    step = exact_step if CORE is None else CORE.exact_step
+    ok, exact_x, z = step(
         equality, equality_rhs, design, weights, inequality, lows, uppers, guess, exact,
         active_tol, EXACT_TOL, EXACT_STEPS,
     )  # fmt: skip

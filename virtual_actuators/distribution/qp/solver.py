@@ -36,7 +36,10 @@ limits, which may lie far from every answer):
 No stage mixes the miss and the force norm in one objective (the former ``|A F - w|^2 +
 1e-6 |F|^2`` did, and left the two matrix paths 3e-4 apart). Solved by ProxQP (proxsuite,
 dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
-infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check.
+infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check. With
+the compiled core, stage 1 runs first in DAQP (a dense dual active-set solver built into the
+core) from cold, at most ``DAQP_MAX_ITER`` iterations; ProxQP's stage 1 runs only when DAQP
+finds no certified answer (ProxQP remains the reference: ``VA_CORE=0``).
 Joints that no chain moves get no torque-limit row (it would be all zero: always met).
 
 **Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
@@ -82,7 +85,7 @@ from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
 from .compiled import CompiledQPMatrices
-from .kernel_answer import Answer, finish, violation
+from .kernel_answer import Answer
 from .limits import ContactLimits, kinds, torque_map
 from .stages import (
     BUDGET_EXHAUSTED,
@@ -196,16 +199,43 @@ class QPDistribution:
 
         """
         keep = request.keep
-        local = self._local
-        hot = getattr(local, "request", None)  # this thread's last request and its weights
-        if hot is None or hot[0] is not request:
-            weights = (self.weights if request.weights is None else request.weights)[keep]
-            hot = local.request = (request, weights)
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, hot[1], budget)
+            return self._solve(snapshot, wrench, keep, request.compiled, self._weights(request),
+                               budget)  # fmt: skip
         finally:
-            local.iterations = max(int(self.iteration_budget), 1) - budget.left
+            self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
+
+    def _weights(self, request: Request) -> np.ndarray:
+        """The request rows' weights of ``request`` (this thread's last, kept)."""
+        hot = getattr(self._local, "request", None)  # this thread's last request and weights
+        if hot is None or hot[0] is not request:
+            weights = (self.weights if request.weights is None else request.weights)
+            hot = self._local.request = (request, weights[request.keep])
+        return hot[1]
+
+    def solve_configuration(
+        self, q: np.ndarray, wrench: np.ndarray, request: Request
+    ) -> TickResult | None:
+        """:meth:`solve` at a checked configuration in one compiled call, or None.
+
+        The compiled core's kinematics and :meth:`_again` in one call (the same kernels, hence
+        the same bits, as :meth:`solve` on a snapshot of ``q``); None when the core does not
+        apply or the last certified active set does not hold (the caller builds the snapshot
+        and calls :meth:`solve`).
+        """
+        matrices, tree = self.matrices, self.problem.kinematics.tree.core_tree
+        if not request.compiled or matrices.core is None or tree is None:
+            return None
+        work, slot = self._hot(request.keep)
+        if slot.active is None:
+            return None
+        answer = matrices.again(q, wrench, request.keep, work, self._weights(request),
+                                slot.active, tree)  # fmt: skip
+        if answer is None:
+            return None
+        self._local.iterations = 0
+        return self._tick(answer, False)
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
@@ -217,28 +247,12 @@ class QPDistribution:
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
-        buffer, layout, pn, nv = work.buffer, work.layout, work.pn, work.nv
         rows = StageRows(work.equality, work.equality_rhs, work.design_rows, work.inequality,
                          work.lows, work.uppers)  # fmt: skip
-        results = self.stages.solve(
-            "free", rows, lambda z, count: violation(buffer, layout, pn, nv, z, count), weights,
-            budget,
-        )
+        results = self.stages.solve("free", rows, work.violation, weights, budget)
         if results is None:  # the reference decides (and raises) what the fast path cannot
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)
-        answer = finish(
-            buffer,
-            layout,
-            pn,
-            nv,
-            results.x,
-            results.multipliers,
-            work.scale,
-            wrench,
-            keep,
-            ACTIVE_TOL,
-            EPS_ABS,
-        )
+        answer = work.finish(results.x, results.multipliers, wrench, keep)
         return self._tick(answer, results.exhausted)
 
     def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
@@ -250,19 +264,22 @@ class QPDistribution:
         workspace, an active set that changed, or matrices that need the numpy path; the
         stages decide then.
         """
-        local = self._local
-        hot = getattr(local, "workspace", None)  # this thread's for the last prescribed axes
-        if hot is None or hot[0] is not keep:
-            work = self.matrices.workspace(keep)
-            slot = self.stages.exact_slot(
-                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
-            )  # the stage-1 workspace of the same sizes
-            hot = local.workspace = (keep, work, slot)
-        _, work, slot = hot
+        work, slot = self._hot(keep)
         if slot.active is None:
             return None
         answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
         return None if answer is None else self._tick(answer, False)
+
+    def _hot(self, keep: np.ndarray) -> tuple:
+        """This thread's workspace for ``keep`` and the stage-1 slot of the same sizes."""
+        hot = getattr(self._local, "workspace", None)  # for the last prescribed axes
+        if hot is None or hot[0] is not keep:
+            work = self.matrices.workspace(keep)
+            slot = self.stages.exact_slot(
+                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
+            )
+            hot = self._local.workspace = (keep, work, slot)
+        return hot[1], hot[2]
 
     def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
         """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""

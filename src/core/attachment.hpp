@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace va {
+namespace va::serial {
 
 // Rotation vector log(R) of a row-major 3x3 rotation (sensor_kernels.rotation_log).
 inline void rotation_log(const double* r, double* out) {
@@ -168,4 +168,4 @@ inline bool spring_damper_tick(const double* jacobian_world, std::int64_t nv, co
   return true;
 }
 
-}  // namespace va
+}  // namespace va::serial

@@ -279,9 +279,9 @@ class SerialSpring {
     for (const std::int64_t c : columns_) require(c >= 0 && c < nv, "columns out of range");
     require(rotation >= -1 && rotation < n, "rotation must be -1 or an axis index");
     rows_end_ = std::max(rows_[0], std::max(rows_[1], rows_[2])) + 1;
-    tables_ = va::SensorTables{axis_rows_.data(), n,
-                               rows_.data(),      columns_.data(),
-                               signs_.data(),     static_cast<std::int64_t>(columns_.size())};
+    const auto m = static_cast<std::int64_t>(columns_.size());
+    tables_ = va::serial::SensorTables{axis_rows_.data(), n, rows_.data(), columns_.data(),
+                                       signs_.data(), m};
   }
 
   // effort (nv), position (n), velocity (n), wrench (n), flag: spring_damper_tick's buffer.
@@ -302,10 +302,11 @@ class SerialSpring {
     {
       nb::gil_scoped_release release;
       std::vector<double> jacobian(static_cast<std::size_t>(tables_.m * n));
-      const va::SpringParameters p{stiffness.data(),         damping.data(), setpoint.data(),
-                                   velocity_setpoint.data(), force.data(),   limit.data()};
-      va::spring_damper_tick(jacobian_world.data(), nv_, frames.data(), v.data(), tables_,
-                             rotation_, p, jacobian.data(), out.get());
+      const va::serial::SpringParameters p{stiffness.data(), damping.data(),
+                                           setpoint.data(),  velocity_setpoint.data(),
+                                           force.data(),     limit.data()};
+      va::serial::spring_damper_tick(jacobian_world.data(), nv_, frames.data(), v.data(),
+                                     tables_, rotation_, p, jacobian.data(), out.get());
     }
     return owned(std::move(out), size);
   }
@@ -314,7 +315,7 @@ class SerialSpring {
   std::vector<std::int64_t> axis_rows_, rows_, columns_;
   std::vector<double> signs_;
   std::int64_t rotation_, nv_, rows_end_ = 0;
-  va::SensorTables tables_{};
+  va::serial::SensorTables tables_{};
 };
 
 }  // namespace

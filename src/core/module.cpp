@@ -670,6 +670,8 @@ NB_MODULE(_core, m) {
   // Trees and distributions live in the robots' caches (module-level registries) until the
   // interpreter's teardown, which may free the module first: not a leak worth a report.
   nb::set_leak_warnings(false);
+  void bind_attachment(nb::module_ & m);  // the serial attachment's block, at the end of the file
+  bind_attachment(m);
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")
@@ -744,3 +746,87 @@ NB_MODULE(_core, m) {
         "full"_a, "base"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
         "contacts.contact_set.largest_scale: the largest alpha in [0, 1] meeting the rows.");
 }
+
+// == serial spring-damper attachments (attachment.hpp) ======================================
+// One block, bound by bind_attachment (called from NB_MODULE above): SerialSpring holds a serial
+// actuator's sensor tables; tick() runs attachment_kernel.spring_damper_tick.
+#include "attachment.hpp"
+
+namespace {
+
+class SerialSpring {
+ public:
+  SerialSpring(const I1& axis_rows, const I1& rows, const I1& columns, const F1& signs,
+               std::int64_t rotation, std::int64_t nv)
+      : axis_rows_(copy<std::int64_t>(axis_rows)),
+        rows_(copy<std::int64_t>(rows)),
+        columns_(copy<std::int64_t>(columns)),
+        signs_(copy<double>(signs)),
+        rotation_(rotation),
+        nv_(nv) {
+    const auto n = static_cast<std::int64_t>(axis_rows_.size());
+    require(n >= 1 && n <= 6, "axis_rows must hold 1 to 6 axes");
+    for (std::int64_t i = 0; i < n; ++i)
+      require(axis_rows_[i] >= 0 && axis_rows_[i] < 6 &&
+                  (i == 0 || axis_rows_[i - 1] < axis_rows_[i]),
+              "axis_rows must be increasing rows in [0, 6)");
+    require(rows_.size() == 3 && rows_[0] >= 0 && rows_[1] >= 0 && rows_[2] >= 0,
+            "rows must be 3 frame-table rows ({B}, {O}, {A})");
+    require(signs_.size() == columns_.size(), "signs must be one per column");
+    require(nv >= 0, "nv must be >= 0");
+    for (const std::int64_t c : columns_) require(c >= 0 && c < nv, "columns out of range");
+    require(rotation >= -1 && rotation < n, "rotation must be -1 or an axis index");
+    rows_end_ = std::max(rows_[0], std::max(rows_[1], rows_[2])) + 1;
+    const auto m = static_cast<std::int64_t>(columns_.size());
+    tables_ = va::serial::SensorTables{axis_rows_.data(), n, rows_.data(), columns_.data(),
+                                       signs_.data(), m};
+  }
+
+  // effort (nv), position (n), velocity (n), wrench (n), flag: spring_damper_tick's buffer.
+  Owned tick(const F2& jacobian_world, const F2& frames, const F1& v, const F1& stiffness,
+             const F1& damping, const F1& setpoint, const F1& velocity_setpoint, const F1& force,
+             const F1& limit) const {
+    const std::int64_t n = tables_.n;
+    require(jacobian_world.shape(0) == 6 &&
+                static_cast<std::int64_t>(jacobian_world.shape(1)) == nv_,
+            "jacobian_world must be (6, nv)");
+    require(frames.shape(1) == 12 && static_cast<std::int64_t>(frames.shape(0)) >= rows_end_,
+            "frames must be (nf, 12) with the sensor's rows");
+    require(length(v) == nv_, "v must be (nv,)");
+    for (const F1* a : {&stiffness, &damping, &setpoint, &velocity_setpoint, &force, &limit})
+      require(length(*a) == n, "the spring-damper's parameters must be one per axis");
+    const auto size = static_cast<std::size_t>(nv_ + 3 * n + 1);
+    std::unique_ptr<double[]> out(new double[size]());
+    {
+      nb::gil_scoped_release release;
+      std::vector<double> jacobian(static_cast<std::size_t>(tables_.m * n));
+      const va::serial::SpringParameters p{stiffness.data(), damping.data(),
+                                           setpoint.data(),  velocity_setpoint.data(),
+                                           force.data(),     limit.data()};
+      va::serial::spring_damper_tick(jacobian_world.data(), nv_, frames.data(), v.data(),
+                                     tables_, rotation_, p, jacobian.data(), out.get());
+    }
+    return owned(std::move(out), size);
+  }
+
+ private:
+  std::vector<std::int64_t> axis_rows_, rows_, columns_;
+  std::vector<double> signs_;
+  std::int64_t rotation_, nv_, rows_end_ = 0;
+  va::serial::SensorTables tables_{};
+};
+
+}  // namespace
+
+void bind_attachment(nb::module_& m) {
+  nb::class_<SerialSpring>(m, "SerialSpring",
+                           "A serial actuator's sensor tables (control.attachment_kernel.Serial"
+                           "SpringTick): one spring-damper attachment's tick per call.")
+      .def(nb::init<const I1&, const I1&, const I1&, const F1&, std::int64_t, std::int64_t>(),
+           "axis_rows"_a, "rows"_a, "columns"_a, "signs"_a, "rotation"_a, "nv"_a)
+      .def("tick", &SerialSpring::tick, "jacobian_world"_a, "frames"_a, "v"_a, "stiffness"_a,
+           "damping"_a, "setpoint"_a, "velocity_setpoint"_a, "force"_a, "limit"_a,
+           "attachment_kernel.spring_damper_tick: effort (nv), position, velocity, wrench (n) "
+           "and the flag (1.0, or 0.0: the general path runs) in one buffer.");
+}
+// == end of the serial spring-damper attachments' block ======================================

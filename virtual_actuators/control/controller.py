@@ -340,6 +340,16 @@ class Controller:
             VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
 
         """
+        serial = attachment.serial_tick
+        if serial is not None:  # a serial spring-damper: one compiled call
+            buffer = serial.run(attachment.components, snapshot)
+            if buffer is not None:
+                nv, n = serial.nv, serial.n
+                sums.positions[name] = buffer[nv : nv + n]
+                sums.velocities[name] = buffer[nv + n : nv + 2 * n]
+                sums.wrenches[name] = sums.produced[name] = buffer[nv + 2 * n : nv + 3 * n]
+                sums.add(name, buffer[:nv], fresh=True)
+                return
         sensor = attachment.sensor
         wrench = None
         try:

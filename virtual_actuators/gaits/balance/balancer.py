@@ -253,7 +253,7 @@ class Balancer(Gait):
         """
         snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass, shared
         body = snapshot.frame_position(self.body)
-        lever = self.robot.center_of_mass(q) - body
+        lever = snapshot.center_of_mass() - body  # from the tick's pass, not a second one
         self.spring.force = np.concatenate((self._weight, np.cross(lever, self._weight)))
         self._support(snapshot, body)
         output = super().compute(snapshot, None, time, contacts)

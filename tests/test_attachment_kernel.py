@@ -1,0 +1,193 @@
+"""A serial spring-damper attachment's one-call tick (``control/attachment_kernel.py``).
+
+The tick senses {B} relative to {A}, computes the spring-damper's wrench and the efforts
+``J^T w`` in one compiled call. Tested here:
+
+- the C++ port (``_core.SerialSpring``) against the reference kernel, bit for bit, on the
+  arguments recorded from real controller ticks (solo12 legs, the flamingo's planar swing leg
+  with its pitch axis, a UR5 tool with one rotational axis; saturating springs, wrapped angles,
+  overflowing wrenches);
+- the tick against the controller's general path (the same sensor readings and wrench bits,
+  the efforts to round-off: the general path lets numpy's ``J.T @ w`` round its own way);
+- the efforts against an independent oracle: RNEA with the wrench on {B} and its reaction on {A};
+- the cases it hands to the general path (a wrapped angle, a non-finite wrench, a spring law, a
+  subclass with its own wrench, components changed after ``add``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from oracles import external_forces, random_configuration, rnea_torques
+
+import virtual_actuators as va
+from virtual_actuators.control.attachment_kernel import SerialSpringTick, spring_damper_tick
+from virtual_actuators.native import CORE
+
+#: (robot, action, reaction, axes) of the serial actuators the tick serves
+CASES = {
+    "solo12_leg": ("solo12", "FL_FOOT", "base_link", ("x", "y", "z")),
+    "solo12_hind": ("solo12", "HR_FOOT", "base_link", ("x", "z")),
+    "flamingo_swing": ("spring_flamingo", "left_foot", "body", ("x", "z", "ry")),
+    "ur5_tool": ("ur5", "tool0", "world", ("x", "y", "z", "rz")),
+}
+
+
+def _controller(case: str, spring: va.SpringDamper | None = None):
+    name, action, reaction, axes = CASES[case]
+    robot = va.load_robot(name)
+    actuator = va.VirtualActuator(robot, action, reaction, "world", axes)
+    spring = spring or va.SpringDamper(axes, 300.0, 12.0, name="spring")
+    controller = va.Controller(robot, clip=False)
+    attachment = controller.add("leg", actuator, [spring])
+    return robot, controller, attachment, spring
+
+
+def _states(robot, spring, rng, count=12):
+    """Random states and spring parameters (some saturating, some far from the set point)."""
+    n = len(spring.axes)
+    for k in range(count):
+        q = random_configuration(robot, rng, scale=1.0)
+        v = rng.normal(size=robot.model.nv)
+        spring.stiffness = rng.uniform(0.0, 500.0, n)
+        spring.damping = rng.uniform(0.0, 20.0, n)
+        spring.setpoint = rng.normal(scale=0.3 if k % 4 else 4.0, size=n)  # some wrap
+        spring.velocity_setpoint = rng.normal(size=n)
+        spring.force = rng.normal(scale=5.0, size=n)
+        spring.limit = np.where(rng.random(n) < 0.5, rng.uniform(0.1, 20.0, n), np.inf)
+        yield q, v
+
+
+@pytest.fixture
+def tick_calls(monkeypatch):
+    """Every ``SerialSpringTick.run`` call's arguments, recorded (copies)."""
+    calls = []
+    original = SerialSpringTick.run
+
+    def recording(self, components, snapshot):
+        parameters = [
+            np.array(getattr(self.component, field))
+            for field in ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
+        ]
+        arrays = (snapshot.jacobian_world.copy(), snapshot.frame_table.copy(), snapshot.v.copy())
+        calls.append((self, arrays, parameters))
+        return original(self, components, snapshot)
+
+    monkeypatch.setattr(SerialSpringTick, "run", recording)
+    return calls
+
+
+@pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
+@pytest.mark.filterwarnings("ignore:overflow encountered")  # the general path's overflow
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_core_tick_is_bit_identical_to_the_reference(case, tick_calls):
+    robot, controller, attachment, spring = _controller(case)
+    assert attachment.serial_tick is not None and attachment.serial_tick.core is not None
+    rng = np.random.default_rng(11)
+    for q, v in _states(robot, spring, rng):
+        controller.compute(q, v)
+    spring.stiffness, spring.setpoint, spring.limit = 1e308, 1e10, np.inf  # overflows
+    with pytest.raises(va.InvalidInputError, match="non-finite"):
+        controller.compute(q, v)
+    assert len(tick_calls) == 13
+    flags = []
+    for tick, (jacobian, frames, velocity), parameters in tick_calls:
+        reference = spring_damper_tick(jacobian, frames, velocity, *tick.tables, *parameters)
+        core = tick.core.tick(jacobian, frames, velocity, *parameters)
+        assert reference.shape == core.shape == (tick.nv + 3 * tick.n + 1,)
+        assert np.array_equal(reference, core, equal_nan=True), np.abs(reference - core).max()
+        flags.append(core[-1])
+    assert 1.0 in flags and 0.0 in flags  # both outcomes reached
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_tick_agrees_with_the_general_path(case):
+    robot, controller, attachment, spring = _controller(case)
+    _, general, plain, plain_spring = _controller(case)
+    plain.serial_tick = None  # the controller's general path
+    rng = np.random.default_rng(5)
+    ran = 0
+    for q, v in _states(robot, spring, rng):
+        for field in ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit"):
+            setattr(plain_spring, field, getattr(spring, field))
+        snapshot = va.Snapshot(robot, q, v)
+        ran += attachment.serial_tick.run(attachment.components, snapshot) is not None
+        out, expected = controller.compute(q, v), general.compute(q, v)
+        for field in ("positions", "velocities", "wrenches", "produced"):
+            assert np.array_equal(getattr(out, field)["leg"], getattr(expected, field)["leg"])
+        scale = np.abs(expected.tau).max() + 1.0
+        np.testing.assert_allclose(out.tau, expected.tau, rtol=0.0, atol=1e-13 * scale)
+    assert ran >= 6  # most states ran the one-call tick
+
+
+@pytest.mark.parametrize("case", ["solo12_leg", "ur5_tool"])
+def test_efforts_balance_the_wrench_pair_rnea(case):
+    """``tau`` from the tick equals RNEA's torques for +w on {B} and -w on {A} (no gravity)."""
+    name, action, reaction, axes = CASES[case]
+    robot, controller, attachment, spring = _controller(case)
+    rng = np.random.default_rng(2)
+    for q, v in _states(robot, spring, rng, count=6):
+        out = controller.compute(q, v)
+        wrench = out.wrenches["leg"]
+        fext = external_forces(robot.model, q, [(action, reaction, "world", axes, wrench)])
+        expected = rnea_torques(name, q, fext)
+        np.testing.assert_allclose(out.tau, expected, atol=1e-9 * (1 + np.abs(wrench).max()))
+
+
+def test_the_general_path_takes_what_the_tick_hands_back():
+    robot, controller, attachment, spring = _controller("flamingo_swing")
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    snapshot = va.Snapshot(robot, q, v)
+    tick = attachment.serial_tick
+    assert tick.run(attachment.components, snapshot) is not None
+    spring.setpoint = (0.0, 0.0, 7.0)  # pitch difference beyond pi: the float path wraps it
+    assert tick.run(attachment.components, snapshot) is None
+    out = controller.compute(q, v)
+    wrapped = math.remainder(7.0 - out.positions["leg"][2], math.tau)  # the float path's wrap
+    assert out.wrenches["leg"][2] == pytest.approx(300.0 * wrapped, rel=1e-12)
+    other = va.SpringDamper(("x", "z", "ry"), 50.0)
+    attachment.components[0] = other  # replaced after add: the general path reads it
+    assert tick.run(attachment.components, snapshot) is None
+    assert controller.compute(q, v).wrenches["leg"][0] == -50.0 * out.positions["leg"][0]
+
+
+def test_laws_and_own_wrenches_take_the_general_path():
+    law = va.Spring(("x", "y", "z"), law=lambda d: 100.0 * d**3)
+    robot, controller, attachment, _ = _controller("solo12_leg", law)
+    snapshot = va.Snapshot(robot, robot.neutral(), np.zeros(robot.model.nv))
+    assert attachment.serial_tick.run(attachment.components, snapshot) is None  # law set
+
+    class Doubled(va.SpringDamper):
+        def compute_wrench(self, position, velocity, time):
+            return 2.0 * super().compute_wrench(position, velocity, time)
+
+    _, _, own, _ = _controller("solo12_leg", Doubled(("x", "y", "z"), 100.0))
+    assert own.serial_tick is None
+    _, _, three, _ = _controller("ur5_tool", va.SpringDamper(("x", "y", "z", "rz"), 10.0))
+    assert three.serial_tick is not None
+    arm = va.VirtualActuator(robot, "FL_FOOT", "base_link", "world", ("rx", "ry", "rz"))
+    assert SerialSpringTick.of(arm, arm, [va.SpringDamper(("rx", "ry", "rz"), 1.0)]) is None
+
+
+@pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
+def test_bad_tables_are_refused_not_read():
+    _, _, attachment, spring = _controller("solo12_leg")
+    tick = attachment.serial_tick
+    axis_rows, rows, columns, signs, rotation = tick.tables
+    CORE.SerialSpring(axis_rows, rows, columns, signs, rotation, tick.nv)  # accepted
+    with pytest.raises(ValueError, match="columns"):
+        CORE.SerialSpring(axis_rows, rows, columns, signs, rotation, 2)
+    with pytest.raises(ValueError, match="axis_rows"):
+        CORE.SerialSpring(axis_rows[::-1].copy(), rows, columns, signs, rotation, tick.nv)
+    with pytest.raises(ValueError, match="signs"):
+        CORE.SerialSpring(axis_rows, rows, columns, signs[:-1].copy(), rotation, tick.nv)
+    with pytest.raises(ValueError, match="rotation"):
+        CORE.SerialSpring(axis_rows, rows, columns, signs, 3, tick.nv)
+    jacobian, frames, v = np.zeros((6, tick.nv)), np.zeros((1, 12)), np.zeros(tick.nv)
+    parameters = [np.zeros(3)] * 6
+    with pytest.raises(ValueError, match="frames"):
+        tick.core.tick(jacobian, frames, v, *parameters)
+    with pytest.raises(ValueError, match="one per axis"):
+        tick.core.tick(jacobian, np.zeros((40, 12)), v, *parameters[:5], np.zeros(2))

@@ -1,6 +1,7 @@
 // A serial spring-damper attachment's tick in C++: the kernels of
 // virtual_actuators.control.attachment_kernel (spring_damper_tick) and of
-// virtual_actuators.kinematics.sensor_kernels (relative_sensor, rotation_log).
+// virtual_actuators.kinematics.sensor_kernels (relative_sensor; its geometry shared with
+// sensor.hpp).
 //
 // Line-by-line ports of the reference (numba) kernels: the same floating-point operations in
 // the same order, so that the results agree bit for bit (no FMA contraction: CMakeLists.txt sets
@@ -10,43 +11,9 @@
 #include <cmath>
 #include <cstdint>
 
-namespace va::serial {
+#include "sensor.hpp"
 
-// Rotation vector log(R) of a row-major 3x3 rotation (sensor_kernels.rotation_log).
-inline void rotation_log(const double* r, double* out) {
-  const double trace = r[0] + r[4] + r[8];
-  double cosine = 0.5 * (trace - 1.0);
-  cosine = -1.0 > cosine ? -1.0 : cosine;  // min(max(c, -1), 1) as Python's max / min pick
-  cosine = 1.0 < cosine ? 1.0 : cosine;
-  const double theta = std::acos(cosine);
-  const double skew[3] = {r[7] - r[5], r[2] - r[6], r[3] - r[1]};
-  if (theta < 1e-4) {
-    const double factor = 0.5 * (1.0 + theta * theta / 6.0);
-    for (int i = 0; i < 3; ++i) out[i] = factor * skew[i];
-    return;
-  }
-  if (M_PI - theta > 1e-3) {
-    const double factor = 0.5 * theta / std::sin(theta);
-    for (int i = 0; i < 3; ++i) out[i] = factor * skew[i];
-    return;
-  }
-  int k = 0;
-  for (int i = 1; i < 3; ++i)
-    if (r[4 * i] > r[4 * k]) k = i;
-  const double scale = 1.0 - cosine;
-  const double diagonal = r[4 * k] - cosine;
-  const double a_k = std::sqrt((0.0 > diagonal ? 0.0 : diagonal) / scale);
-  double dot = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    if (i == k)
-      out[i] = a_k;
-    else
-      out[i] = 0.5 * (r[3 * k + i] + r[3 * i + k]) / (scale * a_k);
-    dot += out[i] * skew[i];
-  }
-  const double sign = dot < 0.0 ? -1.0 : 1.0;
-  for (int i = 0; i < 3; ++i) out[i] *= sign * theta;
-}
+namespace va::serial {
 
 // The fixed tables of a serial actuator's sensor (sensor_kernels.relative_sensor's arguments).
 struct SensorTables {
@@ -67,20 +34,8 @@ inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const
   const double* o = frames + 12 * s.rows[1];
   const double* a = frames + 12 * s.rows[2];
   const std::int64_t n = s.n;
-  const double x = b[9], y = b[10], z = b[11];
-  double transform[6][6] = {};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      const double value = o[3 * c + r];  // R_O^T
-      transform[r][c] = value;
-      transform[3 + r][3 + c] = value;
-    }
-  for (int r = 0; r < 3; ++r) {
-    const double t0 = transform[r][0], t1 = transform[r][1], t2 = transform[r][2];
-    transform[r][3] = t2 * y - t1 * z;
-    transform[r][4] = t0 * z - t2 * x;
-    transform[r][5] = t1 * x - t0 * y;
-  }
+  double transform[6][6];
+  sensor_transform(b, o, transform);
   for (std::int64_t i = 0; i < n; ++i) velocity[i] = 0.0;
   for (std::int64_t j = 0; j < s.m; ++j) {
     const std::int64_t col = s.columns[j];
@@ -93,33 +48,7 @@ inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const
       if (v != nullptr) velocity[i] += acc * v[col];
     }
   }
-  double pose[6] = {};
-  for (int r = 0; r < 3; ++r) {
-    double acc = 0.0;
-    for (int k = 0; k < 3; ++k) acc += o[3 * k + r] * (b[9 + k] - a[9 + k]);
-    pose[r] = acc;
-  }
-  if (s.axis_rows[n - 1] >= 3) {  // a rotation axis: log of R_A^T R_B, expressed in {O}
-    double relative[9];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        double acc = 0.0;
-        for (int k = 0; k < 3; ++k) acc += a[3 * k + r] * b[3 * k + c];
-        relative[3 * r + c] = acc;
-      }
-    double log_a[3];
-    rotation_log(relative, log_a);  // in {A}
-    for (int r = 0; r < 3; ++r) {
-      double acc = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        double in_world = 0.0;
-        for (int m = 0; m < 3; ++m) in_world += a[3 * k + m] * log_a[m];
-        acc += o[3 * k + r] * in_world;
-      }
-      pose[3 + r] = acc;
-    }
-  }
-  for (std::int64_t i = 0; i < n; ++i) position[i] = pose[s.axis_rows[i]];
+  sensor_pose(b, o, a, s.axis_rows, n, position);
 }
 
 // A spring-damper's parameters per axis (SpringDamper's arrays).

@@ -43,19 +43,13 @@ inline void rotation_log(const double R[3][3], double out[3]) {
   for (int i = 0; i < 3; ++i) out[i] *= sign * theta;
 }
 
-// A serial actuator's Jacobian (n, nv), position (n) and velocity (n) into buffer (zeros),
-// from the world Jacobian (6, nv) and frames (nf, 12); v null: no velocity; rows: {B}, {O},
-// {A}. sensor_kernels.relative_sensor.
-inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const double* frames,
-                            const double* v, const std::int64_t* axis_rows, std::int64_t n,
-                            const std::int64_t* rows, const std::int64_t* columns,
-                            const double* signs, std::int64_t ncolumns, double* buffer) {
-  const std::int64_t b = rows[0], o = rows[1], a = rows[2];
-  const double* fb = frames + 12 * b;
-  const double* fo = frames + 12 * o;
-  const double* fa = frames + 12 * a;
+// The 6x6 map from world-axes twists at the world origin to twists of {B}'s origin in {O}'s
+// axes (rows x y z rx ry rz); fb, fo: frame-table rows of {B} and {O}. relative_sensor's first
+// lines.
+inline void sensor_transform(const double* fb, const double* fo, double transform[6][6]) {
   const double x = fb[9], y = fb[10], z = fb[11];
-  double transform[6][6] = {};
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) transform[r][c] = 0.0;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) {
       const double value = fo[3 * c + r];
@@ -68,19 +62,13 @@ inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const
     transform[r][4] = t0 * z - t2 * x;
     transform[r][5] = t1 * x - t0 * y;
   }
-  double* jacobian = buffer;
-  double* position = buffer + n * nv;
-  double* velocity = buffer + n * nv + n;
-  for (std::int64_t j = 0; j < ncolumns; ++j) {
-    const std::int64_t col = columns[j];
-    for (std::int64_t i = 0; i < n; ++i) {
-      double acc = 0.0;
-      for (int k = 0; k < 6; ++k) acc += transform[axis_rows[i]][k] * jacobian_world[k * nv + col];
-      acc *= signs[j];
-      jacobian[i * nv + col] = acc;
-      if (v != nullptr) velocity[i] += acc * v[col];
-    }
-  }
+}
+
+// The sensed position of {B} from {A} in {O}'s axes, on the actuator's axes (n): the
+// translation, and log(R_A^T R_B) in {O} when the last axis is a rotation. relative_sensor's
+// last lines.
+inline void sensor_pose(const double* fb, const double* fo, const double* fa,
+                        const std::int64_t* axis_rows, std::int64_t n, double* position) {
   double pose[6] = {};
   for (int r = 0; r < 3; ++r) {
     double acc = 0.0;
@@ -108,6 +96,35 @@ inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const
     }
   }
   for (std::int64_t i = 0; i < n; ++i) position[i] = pose[axis_rows[i]];
+}
+
+// A serial actuator's Jacobian (n, nv), position (n) and velocity (n) into buffer (zeros),
+// from the world Jacobian (6, nv) and frames (nf, 12); v null: no velocity; rows: {B}, {O},
+// {A}. sensor_kernels.relative_sensor.
+inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const double* frames,
+                            const double* v, const std::int64_t* axis_rows, std::int64_t n,
+                            const std::int64_t* rows, const std::int64_t* columns,
+                            const double* signs, std::int64_t ncolumns, double* buffer) {
+  const std::int64_t b = rows[0], o = rows[1], a = rows[2];
+  const double* fb = frames + 12 * b;
+  const double* fo = frames + 12 * o;
+  const double* fa = frames + 12 * a;
+  double transform[6][6];
+  sensor_transform(fb, fo, transform);
+  double* jacobian = buffer;
+  double* position = buffer + n * nv;
+  double* velocity = buffer + n * nv + n;
+  for (std::int64_t j = 0; j < ncolumns; ++j) {
+    const std::int64_t col = columns[j];
+    for (std::int64_t i = 0; i < n; ++i) {
+      double acc = 0.0;
+      for (int k = 0; k < 6; ++k) acc += transform[axis_rows[i]][k] * jacobian_world[k * nv + col];
+      acc *= signs[j];
+      jacobian[i * nv + col] = acc;
+      if (v != nullptr) velocity[i] += acc * v[col];
+    }
+  }
+  sensor_pose(fb, fo, fa, axis_rows, n, position);
 }
 
 }  // namespace va

@@ -328,6 +328,8 @@ def center_of_mass(
 
 #: :func:`point_velocity` as the library calls it: the compiled core's port when it is built.
 velocity_of_point = CORE.point_velocity if CORE is not None else point_velocity
+#: :func:`center_of_mass` as the library calls it: the compiled core's port when it is built.
+center_of_mass_of = CORE.center_of_mass if CORE is not None else center_of_mass
 
 __all__ = [
     "FREE_FLYER",
@@ -338,6 +340,7 @@ __all__ = [
     "SPHERICAL",
     "all_finite",
     "center_of_mass",
+    "center_of_mass_of",
     "finite",
     "forward_kinematics",
     "point_velocity",

@@ -9,8 +9,9 @@ are the reference of the compiled core's C++ ports (:mod:`virtual_actuators.nati
 * with the core built the library calls its ports instead, and numba is not imported at all
   (its import costs about 0.2 s): :func:`njit` returns a :class:`LazyKernel`, which imports
   numba on the first call of any reference kernel (a test comparing both paths, a tool), then
-  compiles every reference kernel as numba does and rebinds the package's module globals to
-  them, so that kernels calling kernels compile as usual;
+  makes every reference kernel declared so far a numba dispatcher (each compiles on its first
+  call, as usual) and rebinds the package's module globals to them, so that kernels calling
+  kernels compile as they did;
 * without numba installed the kernels run as plain Python: correct, slow.
 """
 
@@ -132,7 +133,10 @@ def njit(*args: Any, **options: Any) -> Any:
 
 
 if CORE is None and HAVE_NUMBA:  # the library runs the reference kernels: numba from the start
-    _numba_njit = importlib.import_module("numba").njit
+    try:
+        _numba_njit = importlib.import_module("numba").njit
+    except ImportError:  # found but broken: plain Python, as without numba
+        HAVE_NUMBA, _numba_njit = False, _fallback
 elif not HAVE_NUMBA:
     _numba_njit = _fallback
 

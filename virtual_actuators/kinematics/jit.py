@@ -46,8 +46,9 @@ _numba_njit: Callable[..., Any] | None = None  # numba.njit once imported, else 
 class LazyKernel:
     """A reference kernel that numba compiles on its first call (numba imported then).
 
-    Calls, and attributes of numba's dispatcher (``signatures``...), go to the compiled kernel
-    once it exists; ``py_func`` is the Python function.
+    Calls, and attributes of numba's dispatcher (``signatures``, ``_numba_type_``: numba types a
+    lazy kernel met as a global like its dispatcher), go to the compiled kernel once it exists;
+    ``py_func`` is the Python function.
     """
 
     def __init__(self, function: Callable[..., Any], options: dict[str, Any]) -> None:

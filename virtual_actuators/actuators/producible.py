@@ -36,6 +36,7 @@ import numpy as np
 
 from ..kinematics.kernels import njit
 from ..kinematics.snapshot import Snapshot
+from ..native import CORE
 from ..vocabulary.axes import check_axes_subset
 from .serial import wrench_array
 
@@ -93,7 +94,7 @@ def producible_directions(
     if _points_only(problem):
         kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
         if len(kinematics.reaction_ids) == 2:
-            found = _two_points(snapshot.frame_table, kinematics.frame_rows)
+            found = _TWO_POINTS(snapshot.frame_table, kinematics.frame_rows)
             if found.size:
                 return Directions(found[:30].reshape(6, 5), found[30:].reshape(6, 1))
         action = snapshot.frame_position(kinematics.action_id)
@@ -196,7 +197,10 @@ def _two_points(frames: np.ndarray, rows: np.ndarray) -> np.ndarray:
     k = int(np.argmax(np.abs(values)))
     v = values.copy()
     v[k] += 1.0 if values[k] >= 0.0 else -1.0
-    scale = 2.0 / (v @ v)
+    squared = 0.0  # v @ v in order (numba's @ would call BLAS, whose order is its own)
+    for value in v:
+        squared += value * value
+    scale = 2.0 / squared
     column = 0
     for c in range(6):  # the reflection's columns but k (column k: -+ missing)
         if c == k:
@@ -240,6 +244,12 @@ def _give_way_one(
     for r in range(n):  # what the yielding could not absorb: rounding
         out[r] -= missing[r, 0] * rest
     return True
+
+
+#: :func:`_two_points` and :func:`_give_way_one` as the library calls them: the compiled core's
+#: ports when it is built (``src/core/gait.hpp``, the same bits).
+_TWO_POINTS = CORE.two_points if CORE is not None else _two_points
+_GIVE_WAY_ONE = CORE.give_way_one if CORE is not None else _give_way_one
 
 
 def _point_columns(offsets: np.ndarray) -> np.ndarray:
@@ -293,7 +303,7 @@ def give_way(
     wrench = np.asarray(wrench, dtype=float)
     if missing is not None and missing.shape[1] == 1 and yielding is not None:
         out = np.empty(n)
-        if _give_way_one(wrench, yielding, missing, out):
+        if _GIVE_WAY_ONE(wrench, yielding, missing, out):
             return out
     if yielding is not None and yielding.shape[1]:
         if missing is None:

@@ -7,9 +7,11 @@ every joint's placement in the world, the world joint Jacobian (the same matrix 
 declared actuators need. It needs no ``pinocchio.Data``, so its memory is linear in the size of
 the tree, and it owns its outputs, so concurrent calls from several threads are independent.
 
-The kernels are compiled with numba when it is installed (``@njit(cache=True)``); without numba
-they run as plain Python (correct, slow) and :class:`~virtual_actuators.kinematics.tree.
-KinematicTree` prefers Pinocchio instead. They are checked against Pinocchio in the tests.
+The kernels are compiled with numba when it is installed (``@njit(cache=True)``, from
+:mod:`~virtual_actuators.kinematics.jit`: numba is imported only when a reference kernel runs);
+without numba they run as plain Python (correct, slow) and
+:class:`~virtual_actuators.kinematics.tree.KinematicTree` prefers Pinocchio instead. They are
+checked against Pinocchio in the tests.
 They are also the reference of the compiled core's C++ ports (``src/core/kinematics.hpp``),
 which the library calls when the core is built (:data:`finite`, :data:`velocity_of_point`,
 :class:`~virtual_actuators.kinematics.tree.KinematicTree`): both agree bit for bit
@@ -24,20 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..native import CORE
-
-try:  # pragma: no cover - exercised by whichever branch is installed
-    from numba import njit
-
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover
-    HAVE_NUMBA = False
-
-    def njit(*args, **kwargs):  # type: ignore[no-redef]
-        """Fallback decorator: run the kernel as plain Python."""
-        if args and callable(args[0]):
-            return args[0]
-        return lambda function: function
-
+from .jit import HAVE_NUMBA, njit
 
 #: Joint kinds understood by the kernels.
 REVOLUTE, REVOLUTE_UNBOUNDED, PRISMATIC, FREE_FLYER, SPHERICAL = 1, 2, 3, 4, 5
@@ -328,6 +317,8 @@ def center_of_mass(
 
 #: :func:`point_velocity` as the library calls it: the compiled core's port when it is built.
 velocity_of_point = CORE.point_velocity if CORE is not None else point_velocity
+#: :func:`center_of_mass` as the library calls it: the compiled core's port when it is built.
+center_of_mass_of = CORE.center_of_mass if CORE is not None else center_of_mass
 
 __all__ = [
     "FREE_FLYER",
@@ -338,6 +329,7 @@ __all__ = [
     "SPHERICAL",
     "all_finite",
     "center_of_mass",
+    "center_of_mass_of",
     "finite",
     "forward_kinematics",
     "point_velocity",

@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .kernels import center_of_mass, velocity_of_point
+from .kernels import center_of_mass_of, velocity_of_point
 from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
@@ -282,7 +282,7 @@ class Snapshot:
             raise InvalidInputError(f"Robot {tree.model.name!r} has no mass: no centre of mass.")
         if self._joints is None:
             self._run()
-        return np.array(center_of_mass(self._joints, tree.masses, tree.levers))
+        return np.array(center_of_mass_of(self._joints, tree.masses, tree.levers))
 
     def __repr__(self) -> str:
         done = "computed" if self._jacobian is not None else "not computed yet"

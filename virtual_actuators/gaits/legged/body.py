@@ -31,6 +31,7 @@ import pinocchio as pin
 from ...actuators.producible import Directions, give_way
 from ...components.base import Component
 from ...kinematics.kernels import njit
+from ...native import CORE
 from ..attitude import yaw_pitch_roll
 from .parameters import GRAVITY, LeggedGains
 
@@ -118,7 +119,7 @@ class BodyModel(Component):
         ))  # fmt: skip
         wrench = np.empty(6)
         rotation = pin.exp3(position[3:])
-        self.yaw = body_wrench(rotation, position, velocity, self._packed, setpoints, wrench)
+        self.yaw = _BODY_WRENCH(rotation, position, velocity, self._packed, setpoints, wrench)
         if self.basis is not None:
             wrench = give_way(self.basis.producible, wrench, self.yielding, self.basis.missing)
         return wrench
@@ -168,5 +169,9 @@ def body_wrench(
     out[5] = mz
     return yaw
 
+
+#: :func:`body_wrench` as the gait calls it: the compiled core's port when it is built
+#: (``src/core/gait.hpp``, the same bits).
+_BODY_WRENCH = CORE.body_wrench if CORE is not None else body_wrench
 
 __all__ = ["AXES", "BodyModel", "body_wrench", "yaw_pitch_roll"]

@@ -19,6 +19,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from ...kinematics.kernels import njit
+from ...native import CORE
 from ..planar import lift_profile, smoothstep
 
 
@@ -134,6 +135,11 @@ def swing_setpoints(
         out[j, 5] = swing[k, 8] - body[8] - (a0 * o1 - a1 * o0)
 
 
+#: :func:`swing_setpoints` as :class:`SwingFeet` calls it: the compiled core's port when it is
+#: built (``src/core/gait.hpp``, the same bits).
+_SWING_SETPOINTS = CORE.swing_setpoints if CORE is not None else swing_setpoints
+
+
 class SwingFeet:
     """The swing feet's state and their springs, moved by one compiled call a tick.
 
@@ -186,7 +192,7 @@ class SwingFeet:
             indices = self._indices[feet] = np.array([self.index[f] for f in feet], np.int64)
         out = self._out
         dt = time - self.time
-        swing_setpoints(indices, self.swing, self.nominal, body, motion, dt, self.shape, out)
+        _SWING_SETPOINTS(indices, self.swing, self.nominal, body, motion, dt, self.shape, out)
         for j, k in enumerate(indices.tolist()):
             spring = self.springs[k]
             spring.setpoint[:] = out[j, :3]

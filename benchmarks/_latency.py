@@ -26,8 +26,9 @@ first tick. Every walk and loop with such ticks is then **replayed** (the same r
 its last such tick: the simulation and the controller are deterministic, so tick ``i`` does the
 same work): a tick whose replay takes under 1 ms of CPU was the machine's (the thread was
 preempted, or its virtual CPU stolen: the thread's CPU clock counts that too on a VM), one that
-takes 1 ms again is the code's. ``controller_cpu_replayed`` is the controller's CPU time with
-each such tick's replay in place of its first run when lower: what a quiet machine gives.
+takes 1 ms again is the code's, and so is one with a garbage collection or a ProxQP fallback in
+it (a collection falls elsewhere in another run). ``controller_cpu_replayed`` is the controller's
+CPU time with the replay in place of the machine's ticks: what a quiet machine gives.
 """
 
 from __future__ import annotations
@@ -211,20 +212,36 @@ class TickEvents:
         self.happened.clear()
 
 
+#: What a slow tick recorded that is the code's cost even when its replay is fast (a garbage
+#: collection falls on other ticks in another run: the heap differs; a ProxQP fallback).
+CODE_EVENTS = ("GC gen", "ProxQP fallback")
+
+
+def verdict(tick: dict[str, Any]) -> str:
+    """``"code"``: CPU >= 1 ms and its replay too, or a collection or a ProxQP fallback in it;
+    ``"machine"``: CPU >= 1 ms but not in the replay; ``"waited for the CPU"``: wall only."""
+    if tick["cpu_us"] < SLOW_US:
+        return "waited for the CPU"
+    if not tick["replay_cpu_us"] < SLOW_US or any(
+        event in what for what in tick["what"] for event in CODE_EVENTS
+    ):
+        return "code"
+    return "machine"
+
+
 def replayed(run: dict[str, Any], slow: list[dict[str, Any]], again: Callable[[int], Any]) -> None:
     """Replay a run up to its last slow tick (``again(ticks)`` returns the replay's controller
-    CPU times [us]); each slow tick gets ``replay_cpu_us`` and a verdict, and the run gets
-    ``controller_cpu_replayed`` (see the module's text) and ``slow_ticks``."""
+    CPU times [us]); each slow tick gets ``replay_cpu_us`` and a :func:`verdict`, and the run
+    gets ``controller_cpu_replayed`` (the replay in place of the machine's ticks, see the
+    module's text) and ``slow_ticks``."""
     cpu = np.asarray(run.pop("_cpu_us"), dtype=float)
     if slow:
         replay = np.asarray(again(max(t["tick"] for t in slow) + 1), dtype=float)
         for tick in slow:
             i = tick["tick"]
             tick["replay_cpu_us"] = float(replay[i]) if i < replay.size else float("nan")
-            code = not tick["replay_cpu_us"] < SLOW_US and tick["cpu_us"] >= SLOW_US
-            tick["verdict"] = "code" if code else (
-                "machine" if tick["cpu_us"] >= SLOW_US else "waited for the CPU")
-            if tick["replay_cpu_us"] < cpu[i]:
+            tick["verdict"] = verdict(tick)
+            if tick["verdict"] != "code" and tick["replay_cpu_us"] < cpu[i]:
                 cpu[i] = tick["replay_cpu_us"]
     run["controller_cpu_replayed"] = tail(cpu)
     run["slow_ticks"] = slow

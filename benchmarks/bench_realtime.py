@@ -514,8 +514,9 @@ def figure_worst_case(cfg: Settings) -> Figure:
         "7: ticks p50 / p99 / p99.9 / max; controller = its compute between reading the state "
         "and writing the efforts (wall clock, and the thread's CPU time: without the time it "
         "was preempted), loop = the whole iteration with MuJoCo's step (see _latency.py); "
-        "'CPU, replayed' = the CPU time with each tick >= 1 ms replaced by its replay (the same "
-        "run again up to it) when lower: what a quiet machine gives; baseline = MuJoCo's step "
+        "'CPU, replayed' = the CPU time with the machine's ticks >= 1 ms (fast in a replay: the "
+        "same run again up to them, and no collection or ProxQP fallback in them) replaced by "
+        "their replay: what a quiet machine gives; baseline = MuJoCo's step "
         "in the same ticks; ratio = max / its max"
     ]
     parts = (("controller", "controller"), ("controller_cpu", "controller, thread CPU time"),

@@ -7,8 +7,8 @@ throws away: no component is evaluated, no controller state changes, and the QP'
 (kept per thread) is left alone by solving on a short-lived thread of its own. It also makes the
 robot's lazily built data of the calling thread (the ``pinocchio.Data`` of
 :func:`~virtual_actuators.kinematics.snapshot.thread_data`, which gravity compensation uses, and
-that of :meth:`~virtual_actuators.Robot.center_of_mass`): about 0.1 ms each on go2, which the
-first tick would otherwise pay.
+that of :meth:`~virtual_actuators.Robot.center_of_mass`) and the QP's buffers of the calling
+thread (not its warm start), which the first tick would otherwise pay (~0.1 ms on go2).
 """
 
 from __future__ import annotations
@@ -53,6 +53,8 @@ def warm_up(controller: object, q: np.ndarray) -> None:
         try:
             if attachment.method == "qp":
                 _on_own_thread(actuator, snapshot, attachment)
+                if attachment.plan is not None and actuator.qp.matrices.applicable:
+                    actuator.qp.matrices.workspace(attachment.plan.keep)  # this thread's
                 continue
             solution = actuator.solve(
                 snapshot, np.zeros(actuator.n), attachment.free, method=attachment.method

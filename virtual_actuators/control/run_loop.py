@@ -30,6 +30,9 @@ after that write). With
 simulation one more period. A tick that takes longer than the period is an overrun: the loop
 does not try to catch up (the next tick starts at once), and counts it.
 
+Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
+:mod:`~virtual_actuators.control.gc_policy`).
+
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
 :class:`~virtual_actuators.simulation.hardware.MujocoHardware` implements both on a MuJoCo
@@ -50,6 +53,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
+from .gc_policy import LoopCollector, check_gc_policy
 from .safe_action import (
     DEFAULT_DAMPING,
     DEFAULT_HOLD_TIME,
@@ -123,6 +127,7 @@ def run(
     safe_action: str = "zero",
     damping: float | np.ndarray = DEFAULT_DAMPING,
     hold_time: float = DEFAULT_HOLD_TIME,
+    gc_policy: str = "between-ticks",
 ) -> RunStats:
     """Run ``controller`` at ``rate_hz`` until ``duration`` elapses or ``should_stop()``.
 
@@ -152,16 +157,17 @@ def run(
             numbers used as given.
         hold_time: ``safe_action="hold"``: the longest run of failed ticks that holds the last
             good effort [s] (``hold_time * rate_hz`` ticks); then zero effort.
+        gc_policy: ``"between-ticks"`` (no garbage collection inside a tick, see
+            :mod:`~virtual_actuators.control.gc_policy`) or ``"python"`` (left alone).
 
     Returns:
         The :class:`RunStats`.
 
     Raises:
         InvalidInputError: A bad rate, duration, stale time, ``realtime``, ``safe_action``,
-            ``damping`` or ``hold_time``; a controller without ``compute``; callbacks (or
-            ``should_stop``) that are not callable; neither ``duration`` nor ``should_stop``;
-            no robot (neither ``robot`` nor ``controller.robot``), or a ``robot`` that is not
-            the controller's.
+            ``damping``, ``hold_time`` or ``gc_policy``; a controller without ``compute``;
+            callbacks that are not callable; neither ``duration`` nor ``should_stop``; no
+            robot (neither ``robot`` nor ``controller.robot``) or not the controller's.
         KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
             of ``write_effort`` and ``should_stop``, and exceptions that are not
             :class:`Exception`; if the final write fails too, a note on the error says so).
@@ -171,17 +177,18 @@ def run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time,
     )
-    stats = RunStats()
-    start = clock.perf_counter()
-    ending: BaseException | None = None
-    try:
-        _loop(controller, read_state, write_effort, should_stop, settings, stats, start)
-    except BaseException as error:
-        ending = error
-        raise
-    finally:  # whatever ended the loop (Ctrl-C included): motors to zero
-        _end_safe(write_effort, settings.tree.nv, ending)
-        stats.wall_time = clock.perf_counter() - start
+    stats, ending = RunStats(), None
+    with LoopCollector(check_gc_policy(gc_policy, "run()")) as collector:
+        start = clock.perf_counter()
+        try:
+            _loop(controller, read_state, write_effort, should_stop, settings, stats, start,
+                  collector)  # fmt: skip
+        except BaseException as error:
+            ending = error
+            raise
+        finally:  # whatever ended the loop (Ctrl-C included): motors to zero
+            _end_safe(write_effort, settings.tree.nv, ending)
+            stats.wall_time = clock.perf_counter() - start
     return stats
 
 
@@ -267,8 +274,12 @@ def _loop(
     settings: _Settings,
     stats: RunStats,
     start: float,
+    collector: LoopCollector,
 ) -> None:
-    """Tick until the duration elapses or ``should_stop()``: read, compute or fail, write."""
+    """Tick until the duration elapses or ``should_stop()``: read, compute or fail, write.
+
+    Then the garbage collector's turn, and the sleep until the next period.
+    """
     freshness = _Freshness(settings.stale_after)
     end = math.inf if settings.duration is None else start + settings.duration
     deadline = start
@@ -289,6 +300,7 @@ def _loop(
         done = clock.perf_counter()
         stats.ticks += 1
         stats.tick_times.append(done - now)
+        collector.between_ticks()  # after the write: in the slack before the next tick
         deadline += settings.period
         if done > deadline:
             stats.overruns += 1

@@ -21,6 +21,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ..control.controller import ControlOutput
+from ..control.gc_policy import LoopCollector, check_gc_policy
 from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics
 from ..experiments.progress import Progress
@@ -211,6 +212,7 @@ def drive(
     progress: bool = True,
     on_tick: Callable[[Simulator, Gait], None] | None = None,
     stop_on_fall: bool = True,
+    gc_policy: str = "between-ticks",
 ) -> LoopEnd:
     """Run an episode's closed loop for ``duration`` simulated seconds.
 
@@ -220,17 +222,26 @@ def drive(
         progress: Show a tqdm progress bar.
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
+        gc_policy: Python's garbage collector during the loop (see
+            :mod:`~virtual_actuators.control.gc_policy`): ``"between-ticks"`` collects after
+            each tick's recording when CPython would have, never inside the gait's compute or
+            the physics step; ``"python"`` leaves it alone.
 
     Returns:
         The :class:`LoopEnd` (the recorder's metadata gets ``wall_time_s``).
 
+    Raises:
+        InvalidInputError: An unknown ``gc_policy``.
+
     """
+    collector = LoopCollector(check_gc_policy(gc_policy, "drive()"))
     simulator = episode.simulator
     bar = Progress(duration) if progress else None
     episode.gait.controller.warm_up(simulator.q)  # kernels loaded before the clock starts
-    start = wallclock.perf_counter()
-    end = _loop(episode, duration, bar, on_tick, stop_on_fall)
-    end.wall = wallclock.perf_counter() - start
+    with collector:
+        start = wallclock.perf_counter()
+        end = _loop(episode, duration, bar, on_tick, stop_on_fall, collector)
+        end.wall = wallclock.perf_counter() - start
     if bar is not None:
         bar.close(simulator.time)
     episode.recorder.metadata["wall_time_s"] = end.wall
@@ -243,8 +254,12 @@ def _loop(
     bar: Progress | None,
     on_tick: Callable[[Simulator, Gait], None] | None,
     stop_on_fall: bool,
+    collector: LoopCollector,
 ) -> LoopEnd:
-    """The control loop: read, contacts, compute, step, stance forces, fall test, record."""
+    """The control loop: read, contacts, compute, step, stance forces, fall test, record.
+
+    Then the garbage collector's turn (:meth:`LoopCollector.between_ticks`).
+    """
     gait, simulator = episode.gait, episode.simulator
     stance_every, record_every = episode.stance_every, episode.record_every
     ignore = episode.ignore_unactuated
@@ -271,4 +286,5 @@ def _loop(
             bar.set(simulator.time)
         if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
             break
+        collector.between_ticks()
     return LoopEnd(tick, fall_time, 0.0, physics)

@@ -319,20 +319,8 @@ inline Distributed distribute(const double* jacobian_world, std::int64_t nv, con
   double* requested = out + p * n + 2 * nv + n;
   // -- the tick's kinematics, in {O} at {B}'s origin (kernel_linalg.wrench_transform) --------
   const std::int64_t b = P.frame_rows[0], o = P.frame_rows[1];
-  double rot_o[3][3];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) rot_o[r][c] = frames[12 * o + 3 * r + c];
-  const double x = frames[12 * b + 9], y = frames[12 * b + 10], z = frames[12 * b + 11];
-  const double shift[3][3] = {{0.0, z, -y}, {-z, 0.0, x}, {y, -x, 0.0}};
-  double transform[6][6] = {};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      transform[r][c] = rot_o[c][r];
-      transform[3 + r][3 + c] = rot_o[c][r];
-      double acc = 0.0;
-      for (int k = 0; k < 3; ++k) acc += rot_o[k][r] * shift[k][c];
-      transform[r][3 + c] = acc;
-    }
+  double rot_o[3][3], transform[6][6];  // {O}'s rotation (row-major), the map
+  wrench_transform(frames, b, o, rot_o, transform);
   Arr jac_t(n, nv);  // the Jacobian in {O}, one row per selected axis
   for (std::int64_t a = 0; a < n; ++a) {
     const double* t = transform[P.axis_rows[a]];

@@ -285,4 +285,25 @@ inline double chain_sum(const double* values, std::int64_t count) {
   return (s0 + s1) + (s2 + s3);
 }
 
+// kernel_linalg.wrench_transform: the 6x6 map from world twists to twists of {B}'s origin in
+// {O}'s axes, and {O}'s rotation; frames (nf, 12) rows b ({B}) and o ({O}). Shared by the
+// partitioned and QP ticks.
+inline void wrench_transform(const double* frames, std::int64_t b, std::int64_t o,
+                             double rot_o[3][3], double transform[6][6]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) rot_o[r][c] = frames[12 * o + 3 * r + c];
+  const double x = frames[12 * b + 9], y = frames[12 * b + 10], z = frames[12 * b + 11];
+  const double shift[3][3] = {{0.0, z, -y}, {-z, 0.0, x}, {y, -x, 0.0}};
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) transform[r][c] = 0.0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      transform[r][c] = rot_o[c][r];
+      transform[3 + r][3 + c] = rot_o[c][r];
+      double acc = 0.0;
+      for (int k = 0; k < 3; ++k) acc += rot_o[k][r] * shift[k][c];
+      transform[r][3 + c] = acc;
+    }
+}
+
 }  // namespace va

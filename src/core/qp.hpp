@@ -120,20 +120,8 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
   for (std::int64_t r = 0; r < m_in; ++r) V.uppers[r] = QP_INFINITY;
   // -- the Jacobian in {O} at {B}'s origin (kernel_linalg.wrench_transform), the springs ----
   const std::int64_t b = T.frame_rows[0], o = T.frame_rows[1];
-  double rot_o[3][3];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) rot_o[r][c] = frames[12 * o + 3 * r + c];
-  const double x = frames[12 * b + 9], y = frames[12 * b + 10], z = frames[12 * b + 11];
-  const double shift[3][3] = {{0.0, z, -y}, {-z, 0.0, x}, {y, -x, 0.0}};
-  double transform[6][6] = {};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      transform[r][c] = rot_o[c][r];
-      transform[3 + r][3 + c] = rot_o[c][r];
-      double acc = 0.0;
-      for (int k = 0; k < 3; ++k) acc += rot_o[k][r] * shift[k][c];
-      transform[r][3 + c] = acc;
-    }
+  double rot_o[3][3], transform[6][6];  // {O}'s rotation (row-major), the map
+  wrench_transform(frames, b, o, rot_o, transform);
   Arr jac_t(n, nv);
   for (std::int64_t a = 0; a < n; ++a) {
     const double* t = transform[T.axis_rows[a]];

@@ -192,7 +192,7 @@ def draw_walk(
     key_marks(fig, axes[-1])
     heading = title if title is not None else _default_title(log)
     if window is not None:
-        heading += "\n" + _window_note(log, against_x=layout == "terrain")
+        heading += "\n" + _window_note(log, against_x=terrain is not None)
     if metrics is not None:
         heading += "\n" + metrics.summary()
     set_heading(fig, heading, fontsize=11)
@@ -200,7 +200,7 @@ def draw_walk(
 
 
 def _window_note(log: WalkLog, *, against_x: bool) -> str:
-    """What a windowed plot shows: its simulated seconds, and the body's x range against x."""
+    """What a windowed plot shows: its simulated seconds, and (panels against x) the x range."""
     t = log.time
     note = f"window: t = {t[0]:.2f} to {t[-1]:.2f} s"
     x = log["x"] if log.has("x") else np.empty(0)

@@ -58,6 +58,7 @@ class FigureReport:
     unlabelled_axes: list[str] = field(default_factory=list)
     without_key: list[str] = field(default_factory=list)
     texts: list[str] = field(default_factory=list)
+    renderer: TextRecorder | None = None
 
     def problems(self) -> list[str]:
         """Every problem, one line each."""
@@ -166,6 +167,7 @@ def inspect_figure(figure: Figure) -> FigureReport:
         unlabelled_axes=unlabelled_axes(figure, renderer),
         without_key=marks_without_key(figure),
         texts=[text.get_text() for text in renderer.texts],
+        renderer=renderer,
     )
 
 

@@ -214,6 +214,8 @@ def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
                     zorder=0.5,
                     label=f"{label}: {rows[row]}" if dense else label,
                 )
+        if dense and ax.get_legend() is not None:  # below the rows of ticks, not over them
+            ax.get_legend().set_bbox_to_anchor((0.0, 0.0, 1.0, 0.9), transform=ax.transAxes)
 
 
 def key_marks(fig: Figure, ax: Axes) -> None:

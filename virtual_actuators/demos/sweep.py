@@ -21,11 +21,14 @@ import os
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..exceptions import InvalidInputError, MissingDependencyError
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 ENGINES = ("process", "dask", "ray")
 #: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is
@@ -307,30 +310,42 @@ def success_map(results: Sequence[SweepResult]) -> tuple[list[float], list[str],
 
 
 def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
-    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``."""
-    import matplotlib
+    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    The image format follows the suffix (``.png``, ``.svg``, ``.pdf``, ...).
+    """
+    figure = draw_success_map(results)
+    figure.savefig(path, dpi=figure.dpi)
+    return Path(path)
+
+
+def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure:
+    """The heat map :func:`plot_success_map` saves: a matplotlib figure (no pyplot)."""
+    from matplotlib.ticker import PercentFormatter
+
+    from ..experiments.plot_panels import new_figure, set_heading
 
     speeds, terrains, rate = success_map(results)
     walk = results[0].walk if results else ""
     seeds = len({r.seed for r in results})
-    figure, axes = plt.subplots(figsize=(1.0 + 0.7 * len(speeds), 1.2 + 0.6 * len(terrains)))
+    longest = max((len(t) for t in terrains), default=0)
+    width = max(5.0, 2.4 + 0.08 * longest + 0.7 * len(speeds))
+    figure = new_figure(width, 1.9 + 0.6 * len(terrains), dpi)
+    axes = figure.add_subplot()
     image = axes.imshow(rate, vmin=0.0, vmax=1.0, cmap="RdYlGn", aspect="auto")
     axes.set_xticks(range(len(speeds)), [f"{s:g}" for s in speeds])
     axes.set_yticks(range(len(terrains)), terrains)
     axes.set_xlabel("desired speed [m/s]")
+    axes.set_ylabel("terrain")
     for i in range(len(terrains)):
         for j in range(len(speeds)):
             if rate[i, j] == rate[i, j]:
                 axes.text(j, i, f"{rate[i, j]:.0%}", ha="center", va="center", fontsize=8)
-    axes.set_title(f"{walk}: walks that did not fall ({seeds} seeds per cell)")
-    figure.colorbar(image, ax=axes, fraction=0.04)
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-    return Path(path)
+    bar = figure.colorbar(image, ax=axes, fraction=0.05, format=PercentFormatter(1.0))
+    bar.set_label("walks that did not fall", fontsize=8)
+    per_cell = f"{seeds} seed per cell" if seeds == 1 else f"{seeds} seeds per cell"
+    set_heading(figure, f"{walk}: walks that did not fall, of {per_cell}", 10)
+    return figure
 
 
 __all__ = [
@@ -341,6 +356,7 @@ __all__ = [
     "SweepResult",
     "grid",
     "parse_range",
+    "draw_success_map",
     "plot_success_map",
     "run_case",
     "run_sweep",

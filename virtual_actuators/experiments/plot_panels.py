@@ -29,12 +29,15 @@ __all__ = [
     "SETPOINT_STYLE",
     "body_height_world",
     "draw_series",
+    "fit_text",
     "draw_state_panel",
     "fall_marks",
+    "key_marks",
     "new_figure",
     "not_recorded",
     "mark_states",
     "save_figure",
+    "set_heading",
     "terrain_panel",
 ]
 
@@ -48,22 +51,68 @@ FORCE_STYLE = {"color": "C2", "lw": 1.0}
 MAX_FULL_LINES = 60
 
 
-def new_figure(width: float, height: float) -> Figure:
+#: Labels of the step marks (:func:`mark_states`) and the fall line (:func:`fall_marks`).
+STEP_LABEL = "step (single support) begins"
+DOUBLE_LABEL = "double support begins"
+FALL_LABEL = "fell"
+
+
+def new_figure(width: float, height: float, dpi: float = 100) -> Figure:
     """A matplotlib figure on an Agg canvas of its own (no pyplot), size in inches."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(width, height), layout="constrained")
+    fig = Figure(figsize=(width, height), dpi=dpi, layout="constrained")
     FigureCanvasAgg(fig)
     return fig
 
 
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
-    """Save ``fig`` as a PNG at ``path`` (parents created) and return the path."""
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = None) -> Path:
+    """Save ``fig`` as a PNG at ``path`` (parents created; at the figure's dpi by default)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, format="png")
+    fig.savefig(path, dpi=fig.dpi if dpi is None else dpi, format="png")
     return path
+
+
+def fit_text(fig: Figure, text: str, fontsize: float, share: float = 0.96) -> str:
+    """Break ``text`` into lines no wider than ``share`` of the figure's width.
+
+    Lines break after a comma where they can (metric summaries are comma-separated clauses),
+    else between words; existing line breaks are kept.
+    """
+    from matplotlib.text import Text
+
+    probe = Text(0, 0, "", fontsize=fontsize, figure=fig)
+    renderer = fig.canvas.get_renderer()
+    limit = share * fig.bbox.width
+
+    def fits(line: str) -> bool:
+        probe.set_text(line)
+        return probe.get_window_extent(renderer).width <= limit
+
+    lines: list[str] = []
+    for paragraph in text.split("\n"):
+        line = ""
+        for clause in paragraph.split(", "):
+            # a clause is split into words only when it does not fit on a line of its own
+            pieces = [clause] if fits(clause) else clause.split(" ")
+            for k, piece in enumerate(pieces):
+                glue = ", " if k == 0 else " "
+                if line and fits(line + glue + piece):
+                    line += glue + piece
+                elif line:
+                    lines.append(line + glue.rstrip())
+                    line = piece
+                else:
+                    line = piece
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def set_heading(fig: Figure, text: str, fontsize: float = 10) -> None:
+    """The figure's title, broken into lines that fit its width (:func:`fit_text`)."""
+    fig.suptitle(fit_text(fig, text, fontsize), fontsize=fontsize)
 
 
 def not_recorded(ax: Axes, name: str) -> None:
@@ -116,7 +165,7 @@ def draw_state_panel(ax: Axes, xs: np.ndarray, log: WalkLog) -> None:
     # Exact step plot from the change points only (no decimation can hide a short state).
     change = np.flatnonzero(state[1:] != state[:-1]) + 1
     keep = np.concatenate(([0], change, [len(state) - 1]))
-    ax.step(xs[keep], state[keep].astype(float), where="post", color="C4", lw=1.3)
+    ax.step(xs[keep], state[keep].astype(float), where="post", color="C4", lw=1.3, label="state")
     ticks = list(range(len(log.state_names)))
     labels = list(log.state_names)
     if np.any(state < 0):
@@ -141,16 +190,17 @@ def _double_support_states(log: WalkLog) -> tuple[str, ...]:
 def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
     """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
     marks = (
-        (log.entries(resolve_step_states(log)), "dashdot"),
-        (log.entries(_double_support_states(log)), "dotted"),
+        (log.entries(resolve_step_states(log)), "dashdot", STEP_LABEL, "0.3"),
+        (log.entries(_double_support_states(log)), "dotted", DOUBLE_LABEL, "0.6"),
     )
-    count = sum(ticks.size for ticks, _ in marks)
+    count = sum(ticks.size for ticks, *_ in marks)
     # Full-height lines while they stay apart (about one per 8 mm of a 7-inch axis); beyond that
     # (a 60 s run has ~150 transitions) they would hatch the panels solid: short marks along the
     # top edge instead, one row per kind, and the data stays readable.
     dense = count > MAX_FULL_LINES
+    rows = ("top row of ticks", "second row of ticks")
     for ax in axes:
-        for row, (ticks, style) in enumerate(marks):
+        for row, (ticks, style, label, shade) in enumerate(marks):
             if ticks.size:
                 low, high = (0.955 - 0.045 * row, 0.995 - 0.045 * row) if dense else (0.0, 1.0)
                 ax.vlines(
@@ -158,11 +208,37 @@ def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
                     low,
                     high,
                     transform=ax.get_xaxis_transform(),
-                    colors="0.45" if dense else "0.55",
+                    colors=shade if dense else "0.55",
                     linestyles="solid" if dense else style,
                     lw=0.6 if dense else 0.7,
                     zorder=0.5,
+                    label=f"{label}: {rows[row]}" if dense else label,
                 )
+        if dense and ax.get_legend() is not None:  # below the rows of ticks, not over them
+            ax.get_legend().set_bbox_to_anchor((0.0, 0.0, 1.0, 0.9), transform=ax.transAxes)
+
+
+def key_marks(fig: Figure, ax: Axes) -> None:
+    """A legend under the figure for the marks every panel shares (the ones on ``ax``).
+
+    The step and double-support marks of :func:`mark_states` (lines or rows of ticks) and the
+    fall line of :func:`fall_marks`; nothing is added when ``ax`` has none of them.
+    """
+    from matplotlib.lines import Line2D
+
+    handles = []
+    for artist in ax.collections + ax.lines:
+        label = artist.get_label()
+        if label.startswith((STEP_LABEL, DOUBLE_LABEL)) and label.endswith("row of ticks"):
+            color = artist.get_colors()[0]
+            handles.append(Line2D([], [], ls="none", marker="|", ms=7, color=color, label=label))
+        elif label in (STEP_LABEL, DOUBLE_LABEL):
+            style = "-." if label == STEP_LABEL else ":"
+            handles.append(Line2D([], [], color="0.55", lw=0.9, ls=style, label=label))
+        elif label == FALL_LABEL:
+            handles.append(artist)
+    if handles:
+        fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
 
 
 def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool) -> None:
@@ -176,7 +252,7 @@ def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool
     for ax in axes:
         if span:
             ax.axvspan(xs[i], xs[-1], color="red", alpha=0.08, lw=0)
-        ax.axvline(xs[i], color="red", lw=1.0, alpha=0.7)
+        ax.axvline(xs[i], color="red", lw=1.0, alpha=0.7, label=FALL_LABEL)
     axes[0].text(
         xs[i],
         1.0,

@@ -20,10 +20,12 @@ its set point, xdot with its set point and pitch on the left; Fz, Fx, M_pitch an
 right. ``layout="auto"`` picks ``"terrain"`` when the log has terrain points, else ``"time"``.
 
 Vertical lines mark entries into the step (single-support, dash-dot) and double-support (dotted)
-states, as in Fig. 15; when there are more than ``MAX_FULL_LINES`` (a long run), short marks
-along the top edge of each panel instead (the panels are drawn by
-:mod:`~virtual_actuators.experiments.plot_panels`). ``window=(t0, t1)`` plots part of a run.
-Ticks after a fall are shaded red.
+states, as in Fig. 15; when there are more than ``MAX_FULL_LINES`` (a long run), two rows of
+short ticks along the top edge of each panel instead (the panels are drawn by
+:mod:`~virtual_actuators.experiments.plot_panels`). Ticks after a fall are shaded red. A legend
+under the panels names the marks. ``window=(t0, t1)`` plots part of a run, in simulated seconds;
+the title names it, and against x also the body's x range it covers in metres. Titles are broken
+into lines that fit the figure.
 
 Matplotlib is imported inside the functions (importing this module stays cheap) and draws on a
 ``FigureCanvasAgg`` of its own: no pyplot, so the global backend and open figures are untouched.
@@ -50,9 +52,11 @@ from virtual_actuators.experiments.plot_panels import (
     draw_series,
     draw_state_panel,
     fall_marks,
+    key_marks,
     mark_states,
     new_figure,
     save_figure,
+    set_heading,
     terrain_panel,
 )
 from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
@@ -64,7 +68,7 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.metrics import WalkMetrics
 
-__all__ = ["plot_terrain", "plot_walk"]
+__all__ = ["draw_terrain", "draw_walk", "plot_terrain", "plot_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
 def _default_title(log: WalkLog) -> str:
@@ -117,7 +121,8 @@ def plot_walk(
         dpi: Resolution of the PNG.
         max_points: Continuous channels are decimated to about this many points (the state plot
             is always exact).
-        window: ``(start, stop)`` [s] to plot only that part of the run (either may be None).
+        window: ``(start, stop)`` simulated seconds to plot only that part of the run (either
+            may be None); the title names the window in seconds and, against x, in metres.
 
     Returns:
         The path written.
@@ -125,6 +130,39 @@ def plot_walk(
     Raises:
         InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
             unknown, the terrain points are malformed or the window holds no tick.
+
+    """
+    figure = draw_walk(
+        log,
+        title=title,
+        layout=layout,
+        metrics=metrics,
+        state_lines=state_lines,
+        dpi=dpi,
+        max_points=max_points,
+        window=window,
+    )
+    return save_figure(figure, path)
+
+
+def draw_walk(
+    log: WalkLog | str | os.PathLike[str],
+    *,
+    title: str | None = None,
+    layout: str = "auto",
+    metrics: WalkMetrics | None = None,
+    state_lines: bool = True,
+    dpi: float = 120,
+    max_points: int = 20000,
+    window: tuple[float | None, float | None] | None = None,
+) -> Figure:
+    """The figure :func:`plot_walk` saves (same arguments but the path), not yet drawn.
+
+    Returns:
+        A matplotlib figure on an Agg canvas of its own.
+
+    Raises:
+        InvalidInputError: As :func:`plot_walk`.
 
     """
     log = _as_log(log)
@@ -145,25 +183,39 @@ def plot_walk(
     stride = slice(None, None, step)
 
     if layout == "time":
-        fig, axes, xs = _time_layout(log, terrain, stride)
+        fig, axes, xs = _time_layout(log, terrain, stride, dpi)
     else:
-        fig, axes, xs = _terrain_layout(log, terrain, stride)
+        fig, axes, xs = _terrain_layout(log, terrain, stride, dpi)
     if state_lines:
         mark_states(axes, xs, log)
     fall_marks(axes, xs, log, span=layout == "time")
+    key_marks(fig, axes[-1])
     heading = title if title is not None else _default_title(log)
+    if window is not None:
+        heading += "\n" + _window_note(log, against_x=terrain is not None)
     if metrics is not None:
         heading += "\n" + metrics.summary()
-    fig.suptitle(heading, fontsize=11)
-    return save_figure(fig, path, dpi)
+    set_heading(fig, heading, fontsize=11)
+    return fig
+
+
+def _window_note(log: WalkLog, *, against_x: bool) -> str:
+    """What a windowed plot shows: its simulated seconds, and (panels against x) the x range."""
+    t = log.time
+    note = f"window: t = {t[0]:.2f} to {t[-1]:.2f} s"
+    x = log["x"] if log.has("x") else np.empty(0)
+    finite = x[np.isfinite(x)]
+    if against_x and finite.size:
+        note += f", where the body walked x = {finite[0]:.2f} to {finite[-1]:.2f} m"
+    return note
 
 
 def _time_layout(
-    log: WalkLog, terrain: np.ndarray | None, stride: slice
+    log: WalkLog, terrain: np.ndarray | None, stride: slice, dpi: float
 ) -> tuple[Figure, list[Axes], np.ndarray]:
     """Fig. 9: positions, velocity (left) and forces, state (right) against time."""
     rows = 5 if terrain is not None else 4
-    fig = new_figure(12, 11 if terrain is not None else 9)
+    fig = new_figure(12, 11.5 if terrain is not None else 9.5, dpi)
     grid = fig.add_gridspec(rows, 2, height_ratios=[1, 1, 1, 1, 1.3][:rows])
     t = log.time
     first = fig.add_subplot(grid[0, 0])
@@ -218,14 +270,14 @@ def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
 
 
 def _terrain_layout(
-    log: WalkLog, terrain: np.ndarray, stride: slice
+    log: WalkLog, terrain: np.ndarray, stride: slice, dpi: float
 ) -> tuple[Figure, list[Axes], np.ndarray]:
     """Fig. 15/16: every panel against the body's x.
 
     Terrain and body path, global slope, height, xdot and pitch on the left; Fz, Fx, M_pitch and
     the state on the right (equal widths, so the columns line up along x).
     """
-    fig = new_figure(12, 11)
+    fig = new_figure(12, 11.5, dpi)
     columns = fig.add_gridspec(1, 2)
     left_grid = columns[0, 0].subgridspec(5, 1, height_ratios=[1.4, 1, 1, 1, 1])
     right_grid = columns[0, 1].subgridspec(4, 1)
@@ -257,7 +309,7 @@ def _terrain_layout(
     for ax in [top, *left[:3], *right[:3]]:
         ax.tick_params(labelbottom=False)
     for ax in (left[3], right[3]):
-        ax.set_xlabel("x [m]")
+        ax.set_xlabel("x [m] (body position)")
     return fig, [top, *left, *right], x
 
 
@@ -290,6 +342,27 @@ def plot_terrain(
             ``body_x`` and ``body_z`` is given, or they differ in length.
 
     """
+    figure = draw_terrain(points, body_x=body_x, body_z=body_z, title=title, dpi=dpi)
+    return save_figure(figure, path)
+
+
+def draw_terrain(
+    points: np.ndarray | Sequence[Sequence[float]],
+    *,
+    body_x: np.ndarray | None = None,
+    body_z: np.ndarray | None = None,
+    title: str | None = None,
+    dpi: float = 120,
+) -> Figure:
+    """The figure :func:`plot_terrain` saves (same arguments but the path), not yet drawn.
+
+    Returns:
+        A matplotlib figure on an Agg canvas of its own.
+
+    Raises:
+        InvalidInputError: As :func:`plot_terrain`.
+
+    """
     terrain = check_terrain_points(points, "points")
     if (body_x is None) != (body_z is None):
         raise InvalidInputError("body_x, body_z: give both or neither.")
@@ -300,7 +373,7 @@ def plot_terrain(
             raise InvalidInputError(
                 f"body_x, body_z: expected two (k,) arrays, got {body_x.shape} and {body_z.shape}."
             )
-    fig = new_figure(12, 3.8)
+    fig = new_figure(12, 3.8, dpi)
     ax = fig.add_subplot()
     terrain_panel(ax, terrain, body_x, body_z)
     order = np.argsort(terrain[:, 0], kind="stable")
@@ -322,5 +395,5 @@ def plot_terrain(
             )
     ax.set_xlabel("x [m]")
     if title:
-        fig.suptitle(title, fontsize=11)
-    return save_figure(fig, path, dpi)
+        set_heading(fig, title, fontsize=11)
+    return fig

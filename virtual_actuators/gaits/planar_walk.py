@@ -223,21 +223,27 @@ def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:
     Args:
         result: The walk.
         path: The image to write.
-        window: ``(t0, t1)`` simulated seconds to draw (either may be None), or None for all.
+        window: ``(t0, t1)`` simulated seconds to draw (either may be None), or None for all;
+            the figure's title names the window (and, against x, the metres it covers).
 
     Returns:
         The path written.
 
     """
-    from ..experiments.plots import plot_walk
+    from ..experiments.plot_panels import save_figure
+
+    return save_figure(draw_planar_walk(result, window), path)
+
+
+def draw_planar_walk(result: WalkResult, window=None):
+    """The matplotlib figure :func:`plot_planar_walk` saves."""
+    from ..experiments.plots import draw_walk
 
     log = result.log
     title = f"{log.metadata['walk']}: {log.metadata['robot']} on {log.metadata['terrain']}"
     heights = log.terrain_points[:, 1]
     layout = "time" if np.ptp(heights) == 0.0 else "terrain"  # Fig. 9 vs Fig. 15
-    return plot_walk(
-        log, path, title=title, metrics=result.metrics, layout=layout, window=window
-    )
+    return draw_walk(log, title=title, metrics=result.metrics, layout=layout, window=window)
 
 
 def _index(robot, joint: str) -> int:

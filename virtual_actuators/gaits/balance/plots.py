@@ -8,11 +8,15 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ...experiments.plot_panels import FORCE_STYLE, new_figure, save_figure
+from ...experiments.plot_panels import FORCE_STYLE, new_figure, save_figure, set_heading
 from ...experiments.walk_log import WalkLog
 
-__all__ = ["plot_balance_log"]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["draw_balance_log", "plot_balance_log"]
 
 PANELS = (
     (("x", "y"), "drift [m]", True),
@@ -29,7 +33,12 @@ def plot_balance_log(log: WalkLog, path: str | os.PathLike[str], summary: str = 
         The path written.
 
     """
-    figure = new_figure(8.0, 8.0)
+    return save_figure(draw_balance_log(log, summary), path)
+
+
+def draw_balance_log(log: WalkLog, summary: str = "") -> Figure:
+    """The figure :func:`plot_balance_log` saves, with ``summary`` as its title."""
+    figure = new_figure(8.0, 8.0, dpi=110)
     axes = figure.subplots(len(PANELS), 1, sharex=True)
     t = log.time
     for ax, (names, label, relative) in zip(axes, PANELS, strict=True):
@@ -42,5 +51,5 @@ def plot_balance_log(log: WalkLog, path: str | os.PathLike[str], summary: str = 
         ax.legend(loc="upper right", fontsize=7)
     axes[-1].set_xlabel("time [s]")
     if summary:
-        figure.suptitle(summary, fontsize=8)
-    return save_figure(figure, path, dpi=110)
+        set_heading(figure, summary, fontsize=9)
+    return figure

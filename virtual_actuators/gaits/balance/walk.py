@@ -297,9 +297,16 @@ def run_registered(
 
 def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
     """Draw a balance run (:func:`~virtual_actuators.gaits.balance.plots.plot_balance_log`)."""
-    from .plots import plot_balance_log
+    from ...experiments.plot_panels import save_figure
 
-    return plot_balance_log(result.log, path, summary=result.metrics.summary())
+    return save_figure(draw_balance(result), path)
+
+
+def draw_balance(result: BalanceResult) -> Any:
+    """The matplotlib figure :func:`plot_balance` saves."""
+    from .plots import draw_balance_log
+
+    return draw_balance_log(result.log, summary=result.metrics.summary())
 
 
 def _viewer_robot(robot: str = "talos", **options: Any) -> Robot:

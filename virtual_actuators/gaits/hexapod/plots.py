@@ -19,10 +19,12 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...exceptions import InvalidInputError
+from ...experiments.plot_panels import set_heading
 from ...experiments.plots import (
     ACTUAL_STYLE,
     FORCE_STYLE,
@@ -34,7 +36,10 @@ from ...experiments.plots import (
 )
 from ...experiments.walk_log import WalkLog
 
-__all__ = ["plot_hexapod"]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["draw_hexapod", "plot_hexapod"]
 
 _LAYOUTS = ("auto", "pendulum", "path")
 ARROW_PERIOD = 0.5  # [s] between heading arrows
@@ -68,6 +73,27 @@ def plot_hexapod(
             pendulum angles.
 
     """
+    figure = draw_hexapod(log, layout=layout, title=title, summary=summary, dpi=dpi)
+    return save_figure(figure, path)
+
+
+def draw_hexapod(
+    log: WalkLog,
+    *,
+    layout: str = "auto",
+    title: str | None = None,
+    summary: str | None = None,
+    dpi: float = 120,
+) -> Figure:
+    """The figure :func:`plot_hexapod` saves (same arguments but the path), not yet drawn.
+
+    Returns:
+        A matplotlib figure on an Agg canvas of its own.
+
+    Raises:
+        InvalidInputError: As :func:`plot_hexapod`.
+
+    """
     if layout not in _LAYOUTS:
         raise InvalidInputError(f"layout: {layout!r} is not one of {', '.join(_LAYOUTS)}.")
     if not isinstance(log, WalkLog) or len(log) < 2:
@@ -79,7 +105,7 @@ def plot_hexapod(
         layout = "pendulum" if has_pendulum else "path"
     if layout == "pendulum" and not has_pendulum:
         raise InvalidInputError("layout 'pendulum' needs a log with pendulum angles.")
-    fig = _pendulum_figure(log) if layout == "pendulum" else _path_figure(log)
+    fig = _pendulum_figure(log, dpi) if layout == "pendulum" else _path_figure(log, dpi)
     config = log.metadata.get("config", {})
     heading = title or (
         f"hexapod-walk: {log.metadata.get('robot', 'hexapod')}, "
@@ -87,12 +113,12 @@ def plot_hexapod(
     )
     if summary:
         heading += "\n" + summary
-    fig.suptitle(heading, fontsize=10)
-    return save_figure(fig, path, dpi)
+    set_heading(fig, heading, fontsize=10)
+    return fig
 
 
-def _pendulum_figure(log: WalkLog):
-    fig = new_figure(8.0, 8.0)
+def _pendulum_figure(log: WalkLog, dpi: float) -> Figure:
+    fig = new_figure(8.0, 8.0, dpi)
     axes = fig.subplots(4, 1, sharex=True)
     t = log.time
     draw_series(axes[0], t, log, "pendulum", "pendulum [rad]")
@@ -114,8 +140,8 @@ def _pendulum_figure(log: WalkLog):
     return fig
 
 
-def _path_figure(log: WalkLog):
-    fig = new_figure(7.5, 7.0)
+def _path_figure(log: WalkLog, dpi: float) -> Figure:
+    fig = new_figure(7.5, 7.0, dpi)
     ax = fig.subplots()
     x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
     command = log.metadata.get("command_path")

@@ -370,9 +370,16 @@ def run_registered(
 
 def plot_hexapod_walk(result: HexapodResult, path: str, window: None = None) -> Path:
     """Draw a hexapod walk (:func:`~virtual_actuators.gaits.hexapod.plots.plot_hexapod`)."""
-    from .plots import plot_hexapod
+    from ...experiments.plot_panels import save_figure
 
-    return plot_hexapod(result.log, path, summary=result.metrics.summary())
+    return save_figure(draw_hexapod_walk(result), path)
+
+
+def draw_hexapod_walk(result: HexapodResult) -> Any:
+    """The matplotlib figure :func:`plot_hexapod_walk` saves."""
+    from .plots import draw_hexapod
+
+    return draw_hexapod(result.log, summary=result.metrics.summary())
 
 
 def _viewer_robot(pendulum: bool = False, **options: Any) -> Robot:

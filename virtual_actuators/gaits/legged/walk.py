@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ...experiments.plot_panels import new_figure, save_figure
+from ...experiments.plot_panels import new_figure, save_figure, set_heading
 from ...experiments.recorder import Recorder
 from ...models.loader import load_robot
 from ...models.robot import Robot
@@ -309,18 +309,23 @@ def run_registered(
 
 def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
     """Draw the path and the attitude of a legged walk (a PNG, no pyplot)."""
+    return save_figure(draw_legged_walk(result), path)
+
+
+def draw_legged_walk(result: LeggedResult) -> Any:
+    """The matplotlib figure :func:`plot_legged_walk` saves."""
     trace = result.trace()
-    figure = new_figure(8.0, 7.0)
+    figure = new_figure(8.0, 7.0, dpi=100)
     top, bottom = figure.subplots(2, 1)
-    top.plot(trace["x"], trace["y"])
+    top.plot(trace["x"], trace["y"], label="body path")
     top.set(xlabel="x [m]", ylabel="y [m]")
     top.set_aspect("equal", adjustable="datalim")
-    figure.suptitle(result.metrics.summary(), fontsize=7, wrap=True)
+    set_heading(figure, result.metrics.summary(), fontsize=9)
     for name in ("roll", "pitch", "yaw"):
         bottom.plot(trace["t"], trace[name], label=name)
-    bottom.set(xlabel="t [s]", ylabel="[rad]")
+    bottom.set(xlabel="t [s]", ylabel="body attitude [rad]")
     bottom.legend()
-    return save_figure(figure, path, dpi=100)
+    return figure
 
 
 def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:

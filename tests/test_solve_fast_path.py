@@ -112,6 +112,26 @@ def test_the_one_call_solve_gives_the_general_paths_bits(case):
     assert decided >= 30  # the one-call path ran, not only the general one
 
 
+def test_the_default_call_takes_the_one_call_path(monkeypatch):
+    body = DECLARATIONS[0][1]
+    q, wrench = body.robot.neutral(), np.array([2.0, 1.0, 25.0, 0.1, -0.2, 0.05])
+    one_call, calls = body._configuration_solve, []
+
+    def counting(*arguments):
+        calls.append(arguments)
+        return one_call(*arguments)
+
+    monkeypatch.setattr(body, "_configuration_solve", counting)
+    body.solve(q, wrench)
+    body.solve(q, wrench, (), False, 1e-3, "partitioned", True, None)
+    assert len(calls) == 2
+    body.solve(q, wrench, free=[])
+    body.solve(q, wrench, compiled=False)
+    body.solve(va.Snapshot(body.robot, q), wrench)
+    body.solve(q, wrench, method="dense")
+    assert len(calls) == 2
+
+
 def test_every_argument_the_checks_refuse_gets_their_error():
     body = DECLARATIONS[0][1]
     q, wrench = body.robot.neutral(), np.array([2.0, 1.0, 25.0, 0.1, -0.2, 0.05])

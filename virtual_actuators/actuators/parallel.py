@@ -48,7 +48,7 @@ from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from .producible import producible_basis, yielding_request
 from .serial import check_tolerance, wrench_array
 
-_PRESCRIBED: tuple[str, ...] = ()  # solve's default free axes: none
+_PRESCRIBED: tuple[str, ...] = ()  # solve's default free axes (the one empty tuple of CPython)
 _ARRAY = np.ndarray
 
 
@@ -216,7 +216,7 @@ class ParallelVirtualActuator:
         self,
         q: np.ndarray | Snapshot,
         wrench: np.ndarray,
-        free: Sequence[str] = _PRESCRIBED,
+        free: Sequence[str] = (),
         strict: bool = False,
         tol: float = 1e-6,
         method: str = "partitioned",

@@ -12,6 +12,8 @@ one call; else the reference kernel (numba). When the kernel hands a tick back (
 chain, an ill-conditioned block, more rows than unknowns),
 :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` decides with
 numpy, as the reference implementation does; the tests check that both give the same answers.
+:class:`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
+checks the arguments and builds the :class:`~virtual_actuators.Solution` from its buffer.
 """
 
 from __future__ import annotations

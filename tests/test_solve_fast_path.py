@@ -98,6 +98,7 @@ def test_the_one_call_solve_gives_the_general_paths_bits(case):
         q = random_configuration(robot, rng, scale=0.4)
         wrench = rng.normal(size=body.n) * rng.choice([1e-6, 1.0, 1e3, 1e200])
         tol = [1e-6, 0.0, 1e-3][k % 3]
+        q.flags.writeable = wrench.flags.writeable = k % 2 == 0  # read-only arrays too
         one_call = body._configuration_solve(q, wrench, tol)  # None: handed on
         try:
             general = _general(body, q, wrench, tol=tol)
@@ -175,6 +176,7 @@ def test_arguments_the_checks_convert_reach_them():
         (q, wrench.astype(np.float32)),
         (q, np.array([2, 1, 25, 0, 0, 0])),
         (q, np.repeat(wrench, 2)[::2]),
+        (q.astype(">f8"), wrench),  # not the native byte order
     ]
     for arguments in converted:
         assert body._configuration_solve(*arguments, 1e-6) is None

@@ -38,7 +38,7 @@ using MF1 = nb::ndarray<double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device
 using MI1 = nb::ndarray<std::int64_t, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Owned = nb::ndarray<nb::numpy, double, nb::ndim<1>>;
 // Any array (Distribution.checked_tick casts its arguments without converting them).
-using Any = nb::ndarray<nb::device::cpu>;
+using Any = nb::ndarray<nb::ro, nb::device::cpu>;
 
 void require(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(what);

@@ -235,6 +235,8 @@ def test_the_core_checks_what_the_python_checks_accept_unchanged():
     core = body.compiled.mode_for(np.ones(body.n, dtype=bool)).core
     rng = np.random.default_rng(2)
     wrench = rng.normal(size=body.n)
+    for name, other in DECLARATIONS:  # the length the core accepts is the model's nq
+        assert tree_of(other.robot).core_tree.nq == other.robot.model.nq, name
     for k in range(40):
         q = random_configuration(robot, rng, scale=1.0)
         q[3:7] *= 1.0 + [0.0, 1e-13, 1e-9, 1e-4][k % 4]

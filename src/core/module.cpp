@@ -226,8 +226,9 @@ class Distribution {
   nb::tuple checked_tick(const Tree& tree, nb::handle q_object, nb::handle wrench_object) const {
     const va::Tree& t = *tree.tree();
     Any q, wrench;  // unconverted: a list, a copy or another dtype is the caller's to check
-    const bool ok = nb::try_cast(q_object, q, false) && nb::try_cast(wrench_object, wrench, false) &&
-                    t.tables().nv == nv_ && t.tables().nf > packed_.max_frame_row() &&
+    const bool ok = nb::try_cast(q_object, q, false) &&
+                    nb::try_cast(wrench_object, wrench, false) && t.tables().nv == nv_ &&
+                    t.tables().nf > packed_.max_frame_row() &&
                     tree.accepts(q) && tree.nq() > packed_.max_q_index() &&
                     wrench.dtype() == nb::dtype<double>() && wrench.ndim() == 1 &&
                     static_cast<std::int64_t>(wrench.shape(0)) == packed_.n &&
@@ -737,7 +738,8 @@ NB_MODULE(_core, m) {
            "Joint placements, world joint Jacobian, frame placements (and velocities) in one "
            "buffer: kinematics.kernels.forward_kinematics.")
       .def("size", &Tree::size, "with_velocity"_a, "Length of compute()'s buffer.")
-      .def_prop_ro("nf", &Tree::nf, "Number of frames compute() places.");
+      .def_prop_ro("nf", &Tree::nf, "Number of frames compute() places.")
+      .def_prop_ro("nq", &Tree::nq, "Length of the configurations the tree accepts.");
 
   m.def("unit_norm_error", &unit_norm_error, "q"_a, "bounds"_a,
         "kinematics.kernels.unit_norm_error: largest | ||q[a:b]|| - 1 | (-1: q not finite).");

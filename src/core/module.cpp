@@ -37,6 +37,8 @@ using B1 = nb::ndarray<const bool, nb::numpy, nb::ndim<1>, nb::c_contig, nb::dev
 using MF1 = nb::ndarray<double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using MI1 = nb::ndarray<std::int64_t, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Owned = nb::ndarray<nb::numpy, double, nb::ndim<1>>;
+// Any array (Distribution.checked_tick casts its arguments without converting them).
+using Any = nb::ndarray<nb::ro, nb::device::cpu>;
 
 void require(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(what);
@@ -63,7 +65,8 @@ std::vector<T> copy(const A& a) {
 class Tree {
  public:
   Tree(const I2& joint_ints, const F2& joint_floats, const I1& velocity_joint,
-       const F2& velocity_subspace, const I1& frame_parents, const F2& frame_floats) {
+       const F2& velocity_subspace, const I1& frame_parents, const F2& frame_floats,
+       const I2& unit_bounds) {
     require(joint_ints.shape(0) >= 1 && joint_ints.shape(1) == 3,
             "joint_ints must be (njoints, 3)");
     require(joint_floats.shape(0) == joint_ints.shape(0) && joint_floats.shape(1) == 27,
@@ -93,6 +96,13 @@ class Tree {
     for (std::size_t f = 0; f < frame_parents.shape(0); ++f)
       require(frame_parents.data()[f] >= 0 && frame_parents.data()[f] < njoints,
               "frame_parents out of range");
+    require(unit_bounds.shape(1) == 2, "unit_bounds must be (m, 2)");
+    for (std::size_t s = 0; s < unit_bounds.shape(0); ++s)
+      require(unit_bounds.data()[2 * s] >= 0 &&
+                  unit_bounds.data()[2 * s] <= unit_bounds.data()[2 * s + 1] &&
+                  unit_bounds.data()[2 * s + 1] <= nq_,
+              "unit_bounds out of range");
+    unit_bounds_ = copy<std::int64_t>(unit_bounds);
     tree_ = std::make_shared<const va::Tree>(
         copy<std::int64_t>(joint_ints), copy<double>(joint_floats),
         copy<std::int64_t>(velocity_joint), copy<double>(velocity_subspace),
@@ -118,9 +128,22 @@ class Tree {
   std::int64_t nf() const { return tree_->tables().nf; }
   const std::shared_ptr<const va::Tree>& tree() const { return tree_; }
 
+  // Whether q is a finite float64 (nq,) vector whose unit-norm groups (quaternions, (cos, sin)
+  // pairs) are within 1e-12 of norm 1: what KinematicTree.check_configuration returns unchanged.
+  bool accepts(const Any& q) const {
+    if (!(q.dtype() == nb::dtype<double>() && q.ndim() == 1 &&
+          static_cast<std::int64_t>(q.shape(0)) == nq_ && (nq_ <= 1 || q.stride(0) == 1)))
+      return false;
+    const double error =
+        va::unit_norm_error(static_cast<const double*>(q.data()), nq_, unit_bounds_.data(),
+                            static_cast<std::int64_t>(unit_bounds_.size() / 2));
+    return 0.0 <= error && error <= 1e-12;
+  }
+
  private:
   std::shared_ptr<const va::Tree> tree_;
   std::int64_t nq_ = 0;
+  std::vector<std::int64_t> unit_bounds_;  // (m, 2) flat: [start, stop) of each unit group
 };
 
 double unit_norm_error(const F1& q, const I2& bounds) {
@@ -193,21 +216,51 @@ class Distribution {
             "the tree's frame table lacks rows the distribution reads");
     require(length(q) >= tree.nq(), "q is shorter than the tree's configuration");
     check_tick(q, wrench);
+    return run(t, q.data(), wrench.data());
+  }
+
+  // tick() on arguments no one has checked: status UNCHECKED, nothing computed, unless q is
+  // what KinematicTree.check_configuration returns unchanged (Tree::accepts) and the wrench a
+  // finite float64 (n,) vector, the tree has the frame rows and the springs' q indices are in
+  // q. The caller's checks then raise their typed errors (or normalise q) and solve as usual.
+  nb::tuple checked_tick(const Tree& tree, nb::handle q_object, nb::handle wrench_object) const {
+    const va::Tree& t = *tree.tree();
+    Any q, wrench;  // unconverted: a list, a copy or another dtype is the caller's to check
+    const bool ok = nb::try_cast(q_object, q, false) &&
+                    nb::try_cast(wrench_object, wrench, false) && t.tables().nv == nv_ &&
+                    t.tables().nf > packed_.max_frame_row() &&
+                    tree.accepts(q) && tree.nq() > packed_.max_q_index() &&
+                    wrench.dtype() == nb::dtype<double>() && wrench.ndim() == 1 &&
+                    static_cast<std::int64_t>(wrench.shape(0)) == packed_.n &&
+                    (packed_.n <= 1 || wrench.stride(0) == 1) &&
+                    va::all_finite(static_cast<const double*>(wrench.data()), packed_.n);
+    if (!ok) {
+      va::Distributed d;
+      d.status = UNCHECKED;
+      return distributed(owned(std::unique_ptr<double[]>(new double[1]), 0), d);
+    }
+    return run(t, static_cast<const double*>(q.data()),
+               static_cast<const double*>(wrench.data()));
+  }
+
+  // checked_tick's status for arguments it leaves to the caller's checks
+  static constexpr std::int64_t UNCHECKED = 4;
+
+ private:
+  nb::tuple run(const va::Tree& t, const double* q, const double* wrench) const {
     const auto size = static_cast<std::size_t>(packed_.out_size(nv_));
     std::unique_ptr<double[]> out(new double[size]());
     va::Distributed d;
     {
       nb::gil_scoped_release release;
       std::vector<double> kinematics(static_cast<std::size_t>(t.size(false)));
-      t.compute(q.data(), nullptr, kinematics.data());
+      t.compute(q, nullptr, kinematics.data());
       d = va::distribute(kinematics.data() + t.jacobian_offset(), nv_,
-                         kinematics.data() + t.frames_offset(), q.data(), wrench.data(), packed_,
-                         out.get());
+                         kinematics.data() + t.frames_offset(), q, wrench, packed_, out.get());
     }
     return distributed(owned(std::move(out), size), d);
   }
 
- private:
   void check_tick(const F1& q, const F1& wrench) const {
     require(length(wrench) == packed_.n, "wrench must be (n,)");
     require(length(q) > packed_.max_q_index(), "q is shorter than the springs' indices");
@@ -677,14 +730,16 @@ NB_MODULE(_core, m) {
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")
-      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&>(),
+      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&,
+                    const I2&>(),
            "joint_ints"_a, "joint_floats"_a, "velocity_joint"_a, "velocity_subspace"_a,
-           "frame_parents"_a, "frame_floats"_a)
+           "frame_parents"_a, "frame_floats"_a, "unit_bounds"_a)
       .def("compute", &Tree::compute, "q"_a, "v"_a = nb::none(),
            "Joint placements, world joint Jacobian, frame placements (and velocities) in one "
            "buffer: kinematics.kernels.forward_kinematics.")
       .def("size", &Tree::size, "with_velocity"_a, "Length of compute()'s buffer.")
-      .def_prop_ro("nf", &Tree::nf, "Number of frames compute() places.");
+      .def_prop_ro("nf", &Tree::nf, "Number of frames compute() places.")
+      .def_prop_ro("nq", &Tree::nq, "Length of the configurations the tree accepts.");
 
   m.def("unit_norm_error", &unit_norm_error, "q"_a, "bounds"_a,
         "kinematics.kernels.unit_norm_error: largest | ||q[a:b]|| - 1 | (-1: q not finite).");
@@ -700,7 +755,11 @@ NB_MODULE(_core, m) {
            "partitioned.kernels.distribute on the snapshot's arrays: (out, residual, scale, "
            "rounding, status, worst, worst_chain).")
       .def("tick", &Distribution::tick, "tree"_a, "q"_a, "wrench"_a,
-           "Forward kinematics and the distribution in one call (q as the tree needs it).");
+           "Forward kinematics and the distribution in one call (q as the tree needs it).")
+      .def("checked_tick", &Distribution::checked_tick, "tree"_a, "q"_a, "wrench"_a,
+           "tick() on unchecked arguments: status 4 (nothing computed) unless q is a finite "
+           "(nq,) float64 vector with unit norms within 1e-12 and the wrench a finite (n,) one.")
+      .def_ro_static("UNCHECKED", &Distribution::UNCHECKED);
 
   m.def("exact_step", &exact_step, "equality"_a, "equality_rhs"_a, "design"_a, "weights"_a,
         "inequality"_a, "lows"_a, "uppers"_a, "guess"_a, "exact"_a, "active_tol"_a, "tol"_a,

@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..contacts import declare
-from ..distribution.partitioned.compiled import CompiledDistribution
+from ..distribution.partitioned.compiled import CompiledDistribution, ConfigurationSolve
 from ..distribution.partitioned.dense import DenseSolver
 from ..distribution.partitioned.numeric import NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
@@ -23,14 +23,14 @@ from ..distribution.problem.checks import check_counts
 from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.registry import METHODS, Backend, Request, dispatch
-from ..distribution.result import Solution
+from ..distribution.result import Solution, inadmissible
 from ..exceptions import (
     ConstraintError,
     FrameNotFoundError,
-    InadmissibleWrenchError,
     InvalidAxisError,
     InvalidInputError,
     JointNotFoundError,
+    VirtualActuatorError,
 )
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
@@ -47,6 +47,9 @@ from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from .producible import producible_basis, yielding_request
 from .serial import check_tolerance, wrench_array
+
+_PRESCRIBED: tuple[str, ...] = ()  # solve's default free axes (the one empty tuple of CPython)
+_ARRAY = np.ndarray
 
 
 class ParallelVirtualActuator:
@@ -264,6 +267,21 @@ class ParallelVirtualActuator:
             strict = check_flag(strict, "strict")
         if compiled is not True and compiled is not False:
             compiled = check_flag(compiled, "compiled")
+        if (  # the common call: one compiled call checks q and the wrench and solves
+            free is _PRESCRIBED
+            and compiled
+            and weights is None
+            and method == "partitioned"
+            and type(q) is _ARRAY
+            and type(wrench) is _ARRAY
+        ):
+            configuration_solve = self._configuration_solve
+            if configuration_solve is not None:
+                solution = configuration_solve(q, wrench, tol)
+                if solution is not None:
+                    if strict and not solution.admissible:
+                        raise inadmissible(wrench, self.axes, solution)
+                    return solution
         plain = not isinstance(q, Snapshot)  # a configuration: no snapshot unless one is needed
         state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
@@ -281,13 +299,17 @@ class ParallelVirtualActuator:
             )
             missed = not solution.admissible
         if strict and missed:
-            raise InadmissibleWrenchError(
-                f"The wrench {wrench.tolist()} on axes {self.axes} cannot be produced at this "
-                f"configuration: residual {solution.residual:.3g} (produced "
-                f"{solution.wrench.round(6).tolist()}).",
-                solution,
-            )
+            raise inadmissible(wrench, self.axes, solution)
         return solution
+
+    @functools.cached_property
+    def _configuration_solve(self) -> ConfigurationSolve | None:
+        """The default request's one-call solve from ``q`` (None: no core, or no such solve)."""
+        try:
+            request = self.plan()
+        except VirtualActuatorError:  # too many constraints: the general path raises it in turn
+            return None
+        return self.compiled.configuration_solve(request, self.reactions, self.axes, self._floating)
 
     def solve_checked(
         self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..exceptions import InadmissibleWrenchError
 from ..kinematics.kernels import njit
 from .linalg import stable_norm
 from .tolerances import ROUNDING
@@ -213,6 +214,18 @@ def label(method: str, admissible: bool) -> str:
     if not admissible:
         return "least-squares"
     return "pseudo-inverse" if method == "least-squares" else method
+
+
+def inadmissible(
+    wrench: np.ndarray, axes: tuple[str, ...], solution: Solution
+) -> InadmissibleWrenchError:
+    """The error of ``solve(..., strict=True)`` when ``solution`` missed ``wrench``."""
+    return InadmissibleWrenchError(
+        f"The wrench {wrench.tolist()} on axes {axes} cannot be produced at this "
+        f"configuration: residual {solution.residual:.3g} (produced "
+        f"{solution.wrench.round(6).tolist()}).",
+        solution,
+    )
 
 
 @dataclass(repr=False, slots=True)

@@ -213,7 +213,7 @@ class KinematicTree:
             return None
         return CORE.Tree(
             self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace, parents,
-            floats,
+            floats, self._unit_bounds,
         )  # fmt: skip
 
     @property

@@ -12,6 +12,8 @@ one call; else the reference kernel (numba). When the kernel hands a tick back (
 chain, an ill-conditioned block, more rows than unknowns),
 :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` decides with
 numpy, as the reference implementation does; the tests check that both give the same answers.
+:class:`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
+checks the arguments and builds the :class:`~virtual_actuators.Solution` from its buffer.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from ...native import CORE
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..registry import Request
-from ..result import RawSolution, TickResult
+from ..result import RawSolution, Solution, TickResult, label, tolerance
 from . import kernel_tables, kernels
 from .reference import PartitionedSolver
 
@@ -219,6 +221,17 @@ class CompiledDistribution:
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
 
+    def configuration_solve(
+        self, request: Request, reactions: tuple[str, ...], axes: tuple[str, ...], floating: bool
+    ) -> ConfigurationSolve | None:
+        """The :class:`ConfigurationSolve` of a checked request, or None without the core."""
+        if not request.compiled or request.method != "partitioned":
+            return None
+        mode = self.mode_for(request.keep)
+        if mode.core is None or self.problem.kinematics.tree.core_tree is None:
+            return None
+        return ConfigurationSolve(self, mode, reactions, axes, request.free, floating)
+
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 
@@ -260,4 +273,88 @@ class CompiledDistribution:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
 
 
-__all__ = ["CompiledDistribution"]
+class ConfigurationSolve:
+    """One request's solve from unchecked ``q`` and wrench: one compiled call, then the solution.
+
+    The compiled core's ``Distribution.checked_tick`` checks the arguments (what
+    ``KinematicTree.check_configuration`` and ``wrench_array`` accept unchanged), runs the
+    kinematics and the distribution, and hands back (None here) whatever it does not decide: an
+    argument the Python checks must judge (to raise their typed error, or to normalise ``q``),
+    or a tick for the numpy path. What the declaration and the request fix (the mode's tables,
+    sets and systems, the buffer's layout, the names) is read once, so that the answer is the
+    same :class:`Solution`, bit for bit, as the general path's. Holds no per-call state:
+    threads may share it.
+
+    Args:
+        compiled: The actuator's compiled distribution.
+        mode: The request's packed tables (with the core's ``Distribution``).
+        reactions: The actuator's reaction frames.
+        axes: Its axes.
+        free: The request's free axes.
+        floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
+
+    """
+
+    def __init__(
+        self,
+        compiled: CompiledDistribution,
+        mode: _Mode,
+        reactions: tuple[str, ...],
+        axes: tuple[str, ...],
+        free: tuple[str, ...],
+        floating: bool,
+    ) -> None:
+        self._tick = mode.core.checked_tick
+        self._kinematics = compiled.problem.kinematics.tree  # its core_tree grows with frames
+        self._shape = compiled._shape
+        self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
+        self._names = (reactions, axes, free)
+        self._floating = floating
+        p, n = self._shape
+        pn, nv = p * n, compiled.problem.model.nv
+        #: forces, tau, the springs' torques, produced, requested: the buffer's slices
+        self._forces = slice(0, pn)
+        self._tau = slice(pn, pn + nv)
+        self._passive = slice(pn + nv, pn + 2 * nv)
+        self._produced = slice(pn + 2 * nv, pn + 2 * nv + n)
+        self._requested = slice(pn + 2 * nv + n, pn + 2 * nv + 2 * n)
+
+    def __call__(self, q: object, wrench: object, tol: float) -> Solution | None:
+        """The solution of ``wrench`` at ``q`` with tolerance ``tol`` (checked), or None.
+
+        None: ``q`` or ``wrench`` is not what the checks accept unchanged, or the kernel hands
+        the tick on; the caller then solves on the general path.
+        """
+        out, residual, scale, rounding, status, _, _ = self._tick(
+            self._kinematics.core_tree, q, wrench
+        )
+        if status:
+            return None
+        tau = out[self._tau]
+        limit = tolerance(tol, scale, rounding)
+        reactions, axes, free = self._names
+        return Solution(  # positional, as Solution.from_tick builds it
+            tau,
+            out[self._forces].reshape(self._shape),
+            out[self._produced],
+            self._sets,
+            residual,
+            label(self._method, residual <= limit),
+            out[self._requested],
+            reactions,
+            axes,
+            free,
+            out[self._passive],
+            tau[:6].copy() if self._floating else np.zeros(0),
+            "partitioned",
+            self._systems,
+            True,
+            (),
+            limit,
+        )
+
+    def __repr__(self) -> str:
+        return f"ConfigurationSolve(shape={self._shape}, method={self._method!r})"
+
+
+__all__ = ["CompiledDistribution", "ConfigurationSolve"]

@@ -2,8 +2,9 @@
 
 Each range's ends walk 4 s (the walk's default duration) without falling, on flat ground, in
 closed-loop MuJoCo (``python -m virtual_actuators demo legged --robot R --gait G --speed S``).
-A robot not in the table gets the pattern's ``None`` entry: the range that every measured robot
-walks.
+A robot not in the table (another name, a URDF path) gets the pattern's ``None`` entry: the
+range that every measured robot walks (the trot's top, 0.5 m/s, is the one of laikago and of a
+copy of go2's URDF with renamed feet, loaded from its path).
 """
 
 from __future__ import annotations
@@ -20,10 +21,10 @@ LEGGED_SPEEDS: dict[str, dict[str | None, tuple[float, float]]] = {
         "anymal": (0.1, 1.0),
         "anymal_c": (0.1, 1.0),
         "hyq_no_sensors": (0.1, 1.0),
-        None: (0.1, 0.4),
+        None: (0.1, 0.5),
     },
     "pace": {None: (0.1, 0.4)},
-    "walk": {None: (0.05, 0.2)},
+    "walk": {"hexapod": (0.05, 0.3), None: (0.05, 0.2)},
     "tripod": {None: (0.1, 0.8)},
 }
 

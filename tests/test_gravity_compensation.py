@@ -114,3 +114,86 @@ def test_holds_an_arm_still_in_mujoco():
     for _ in range(300):
         simulator.step(np.zeros(robot.model.nv))
     assert np.abs(simulator.q - q0).max() > 0.05
+
+
+@pytest.mark.parametrize("name", ["ur5_robot", "panda", "talos_reduced"])
+def test_controller_gravity_term_equals_pinocchio_generalized_gravity(name):
+    """``controller.add("gravity", GravityCompensation(robot))``: tau is g(q), before clipping."""
+    robot = va.load_robot(name)
+    model = robot.model
+    controller = va.Controller(robot, clip=False)
+    term = GravityCompensation(robot)
+    assert controller.add("gravity", term) is term
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+        v = rng.normal(size=model.nv)
+        oracle = pin.computeGeneralizedGravity(model, pin.Data(model), q)
+        out = controller.compute(q, v)
+        scale = max(1.0, np.abs(oracle).max())
+        assert np.allclose(out.tau, oracle, rtol=0.0, atol=1e-10 * scale)
+        assert np.allclose(out.tau_requested, oracle, rtol=0.0, atol=1e-10 * scale)
+        assert np.allclose(controller.compute(q, v, active=()).tau, 0.0)  # active= drops it
+
+
+def test_controller_gravity_term_adds_to_a_spring_and_some_links_only():
+    """A spring's J^T F plus the gravity of some links: Pinocchio's Jacobian and gravity of a
+    model whose other bodies weigh nothing."""
+    robot = va.load_robot("ur5_robot")
+    model = robot.model
+    q = np.array([0.3, -1.2, 1.5, -1.9, -1.5, 0.4])
+    tool = va.VirtualActuator(robot, action="tool0", reaction="world", reference="world",
+                              axes=("x", "y", "z"))
+    setpoint = tool.position(q) + np.array([0.02, -0.01, 0.03])
+    controller = va.Controller(robot, clip=False)
+    controller.add("tool", tool, [va.Spring(tool.axes, 500.0, setpoint=setpoint)])
+    controller.add("gravity", GravityCompensation(robot, links=["forearm_link", "wrist_1_link"]))
+    controller.reset(["gravity", "tool"], q, 0.0)  # a term without state resets
+    light = model.copy()
+    kept = {model.getJointId("elbow_joint"), model.getJointId("wrist_1_joint")}
+    for j in range(model.njoints):
+        if j not in kept:
+            light.inertias[j] = pin.Inertia.Zero()
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    jacobian = pin.computeFrameJacobian(
+        model, data, q, model.getFrameId("tool0"), pin.LOCAL_WORLD_ALIGNED
+    )[:3]
+    force = 500.0 * (setpoint - data.oMf[model.getFrameId("tool0")].translation)
+    oracle = jacobian.T @ force + pin.computeGeneralizedGravity(light, light.createData(), q)
+    tau = controller.compute(q, np.zeros(model.nv)).tau
+    assert np.allclose(tau, oracle, rtol=0.0, atol=1e-10 * np.abs(oracle).max())
+    assert np.abs(pin.computeGeneralizedGravity(light, light.createData(), q)).max() > 1.0
+
+
+def test_controller_gravity_term_bad_uses():
+    ur5, panda = va.load_robot("ur5_robot"), va.load_robot("panda")
+    controller = va.Controller(ur5)
+    with pytest.raises(va.InvalidInputError, match="'panda'.*make one per robot"):
+        controller.add("gravity", GravityCompensation(panda))
+    tool = va.VirtualActuator(ur5, action="tool0", reaction="world")
+    with pytest.raises(va.InvalidInputError, match="takes no components"):
+        controller.add("gravity", GravityCompensation(ur5), [va.Damper(tool.axes, 1.0)])
+    controller.add("gravity", GravityCompensation(ur5))
+    with pytest.raises(va.InvalidInputError, match="not taken"):
+        controller.add("gravity", GravityCompensation(ur5))
+
+
+def test_gravity_compensation_holds_the_arm_in_mujoco_through_va_run():
+    """The term inside va.run, no wrapper: the UR5 stays put in MuJoCo (its own physics)."""
+    from virtual_actuators.simulation import MujocoHardware, Simulator
+
+    robot = va.load_robot("ur5_robot")
+    q0 = np.array([0.3, -1.2, 1.5, -1.9, -1.5, 0.4])
+    controller = va.Controller(robot)
+    controller.add("gravity", GravityCompensation(robot))
+    simulator = Simulator(robot)
+    simulator.reset(q0)
+    hardware = MujocoHardware(simulator)
+    va.run(controller, hardware.read_state, hardware.write_effort, robot=robot, rate_hz=1000,
+           realtime=False, should_stop=lambda: simulator.time >= 1.0)
+    assert np.abs(simulator.q - q0).max() < 1e-3  # [rad]; unheld, the arm falls by ~1 rad
+    simulator.reset(q0)
+    for _ in range(1000):
+        simulator.step(np.zeros(robot.model.nv))
+    assert np.abs(simulator.q - q0).max() > 0.1

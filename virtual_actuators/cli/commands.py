@@ -39,6 +39,7 @@ def demo_walk(args: argparse.Namespace) -> int:
         on_tick=on_tick,
         seed=args.seed,
         distribution=args.distribution,
+        force_speed=args.force_speed,  # checked against the walk's range with the options
         **options,
     )
     metrics = result.metrics

@@ -42,6 +42,7 @@ DEMOS = (*WALK_DEMOS, "stand")
 WALK_OPTIONS = (
     ("duration", "--duration"),
     ("speed", "--speed"),
+    ("force_speed", "--force-speed"),
     ("terrain", "--terrain"),
     ("json", "--json"),
     ("plot", "--plot"),
@@ -228,7 +229,15 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         help=f"walks: simulated seconds, {MIN_DURATION:g} to {MAX_DURATION:g}",
     )
     demo.add_argument(
-        "--speed", type=walking_speed, default=None, help="walks: desired speed, (0, 1.5] m/s"
+        "--speed",
+        type=walking_speed,
+        default=None,
+        help="walks: desired speed [m/s], within the walk's supported range (see docs/cli.md)",
+    )
+    demo.add_argument(
+        "--force-speed",
+        action="store_true",
+        help="walks: run a --speed outside the walk's supported range instead of refusing it",
     )
     demo.add_argument(
         "--terrain",
@@ -344,9 +353,29 @@ def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParse
                     f"not {args.name}"
                 )
             parser.error(f"argument {option}: only {', '.join(users)} uses it, not {args.name}")
+    _check_speed(args, parser, walk)
     if "path" in walk.options and args.path != "sine":
         if args.amplitude is not None or args.wavelength is not None:
             parser.error("argument --amplitude/--wavelength: only --path sine uses them")
     if args.window is not None and not walk.plot_window:
         windowed = " and ".join(name for name, other in walks.items() if other.plot_window)
         parser.error(f"argument --window: the plots of {windowed} take it, not {args.name}")
+
+
+def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk) -> None:
+    """Refuse a ``--speed`` outside the walk's supported range, unless ``--force-speed``."""
+    if args.force_speed and args.speed is None:
+        parser.error("argument --force-speed: it lets a --speed outside the range run; give one")
+    if args.speed is None or args.force_speed:
+        return
+    options = {
+        name: getattr(args, name)
+        for name in walk.options
+        if name in ("robot", "gait", "pendulum", "track") and getattr(args, name) is not None
+    }
+    from ..exceptions import InvalidInputError
+
+    try:
+        walk.check_speed(args.speed, **options)
+    except InvalidInputError as error:
+        parser.error(f"argument --speed: {error}")

@@ -10,6 +10,11 @@ left to the body's virtual actuator, for instance).
 The selection is declared once: a copy of the model with the inertias of the other bodies
 zeroed, so that one ``computeGeneralizedGravity`` call per tick gives exactly
 ``sum_i m_i J_ci^T g`` over the selected bodies.
+
+Added to a :class:`~virtual_actuators.Controller` under a name
+(``controller.add("gravity", va.GravityCompensation(robot))``), it is a joint-space term like a
+:class:`~virtual_actuators.Posture`: ``controller.compute`` adds ``g(q)`` to the efforts before
+they are clipped, so that a loop run by :func:`~virtual_actuators.run` needs no wrapper.
 """
 
 from __future__ import annotations
@@ -23,7 +28,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot, thread_data
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
-from ..vocabulary.arguments import check_names, check_robot
+from ..vocabulary.arguments import check_names, check_robot, describe
 from ..vocabulary.axes import resolve_frame, resolve_joint
 
 
@@ -41,8 +46,8 @@ class GravityCompensation:
             matches).
 
     Example:
-        >>> gravity = va.GravityCompensation(robot)
-        >>> tau = controller.compute(q, v).tau + gravity.torques(q)
+        >>> controller.add("gravity", va.GravityCompensation(robot))  # in every tick's tau
+        >>> tau = controller.compute(q, v).tau          # g(q) included, then clipped
 
     """
 
@@ -68,7 +73,24 @@ class GravityCompensation:
         """Mass of the compensated bodies [kg]."""
         return float(sum(inertia.mass for inertia in self.model.inertias))
 
-    def torques(self, q: np.ndarray | Snapshot) -> np.ndarray:
+    def bind(self, robot: Robot) -> GravityCompensation:
+        """Check that the compensation is of ``robot`` (``Controller.add``); returns ``self``.
+
+        Raises:
+            InvalidInputError: ``robot`` is another robot.
+
+        """
+        if getattr(robot, "model", None) is not self.robot.model:
+            raise InvalidInputError(
+                f"GravityCompensation of robot {self.robot.name!r} added to a controller of "
+                f"{getattr(robot, 'name', describe(robot))!r}: make one per robot."
+            )
+        return self
+
+    def reset(self, q: np.ndarray | Snapshot) -> None:
+        """Nothing to reset (``Controller.reset`` calls it): the term has no state."""
+
+    def torques(self, q: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Efforts ``(nv,)`` that hold the selected bodies against gravity [N m or N].
 
         On a floating-base robot the first six entries are the wrench the base would need
@@ -77,6 +99,7 @@ class GravityCompensation:
 
         Args:
             q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+            v: Not used (gravity depends on ``q`` only); accepted like a posture's.
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.

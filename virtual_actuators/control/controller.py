@@ -21,6 +21,7 @@ import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component
+from ..components.gravity import GravityCompensation
 from ..components.posture import Posture
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.kernels import finite
@@ -33,7 +34,7 @@ from .attachment import Actuator, Attachment
 from .contact_limits import enforce_unilateral
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .failures import CAUGHT, check_policy, drop_non_finite, reason_of, recover
-from .postures import add_posture, tick_names
+from .postures import JointTerm, add_posture, tick_names
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
 
@@ -74,9 +75,9 @@ class Controller:
         self.robot = robot
         self.clip = check_flag(clip, "clip")
         self.attachments: dict[str, Attachment] = {}
-        #: Joint-space terms (:class:`~virtual_actuators.Posture`) by name, evaluated like
-        #: attachments.
-        self.postures: dict[str, Posture] = {}
+        #: Joint-space terms (:class:`~virtual_actuators.Posture`,
+        #: :class:`~virtual_actuators.GravityCompensation`) by name, evaluated like attachments.
+        self.postures: dict[str, JointTerm] = {}
         self._tree = tree_of(robot)
         self.joint_names = velocity_names(robot)
         # [N m or N], inf where unlimited (read-only; assign anew)
@@ -107,7 +108,7 @@ class Controller:
     def add(
         self,
         name: str,
-        actuator: Actuator | Posture,
+        actuator: Actuator | JointTerm,
         components: Sequence[Component] = (),
         *,
         sensor: VirtualActuator | None = None,
@@ -118,13 +119,16 @@ class Controller:
         min_normal: float = 0.0,
         method: str = "partitioned",
         yield_weight: float | None = None,
-    ) -> Attachment | Posture:
-        """Attach components to an actuator (or a joint-space posture) under a unique name.
+    ) -> Attachment | JointTerm:
+        """Attach components to an actuator (or a joint-space term) under a unique name.
 
         Args:
             name: Unique name (states refer to it).
             actuator: A :class:`VirtualActuator` or :class:`ParallelVirtualActuator` of this
-                robot, or a :class:`~virtual_actuators.Posture` (bound here; nothing else given).
+                robot, or a joint-space term (nothing else given): a
+                :class:`~virtual_actuators.Posture` (bound here) or a
+                :class:`~virtual_actuators.GravityCompensation` of this robot (its ``g(q)``
+                added to every tick's efforts before they are clipped).
             components: Components whose axes are subsets of the actuator's axes (a sequence,
                 or one component).
             sensor: What the components read. Default: the actuator itself if serial; for a
@@ -160,12 +164,13 @@ class Controller:
                 (1e-3).
 
         Returns:
-            The :class:`Attachment` (the posture itself for a posture).
+            The :class:`Attachment` (the term itself for a joint-space term).
 
         Raises:
             InvalidInputError: The name is not a str or is taken; the actuator or sensor is not
                 a virtual actuator or belongs to another robot; the sensor's axes differ from
-                the actuator's; a component is not a :class:`Component`; ``unilateral`` is not
+                the actuator's; a component is not a :class:`Component`; a gravity compensation
+                of another robot, or components given with a joint-space term; ``unilateral`` is not
                 a dict of finite numbers; ``friction`` is not a finite number > 0 or
                 ``min_normal`` not a finite number >= 0; ``yield_weight`` without
                 ``method="qp"`` or not a finite number > 0.
@@ -173,7 +178,7 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
 
         """
-        if isinstance(actuator, Posture):
+        if isinstance(actuator, (Posture, GravityCompensation)):
             return add_posture(self, name, actuator, components)
         attachment = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,

@@ -154,6 +154,7 @@ def run_case(case: SweepCase) -> SweepResult:
             terrain=case.terrain,
             progress=False,
             seed=case.seed,
+            force_speed=True,  # a sweep maps where the walk holds, inside its range or not
         )
     except Exception as error:  # recorded in the table: one broken walk never loses the sweep
         error = (

@@ -128,6 +128,16 @@ def check_distribution(distribution: object) -> bool:
     return distribution == "qp"
 
 
+def describe_options(options: Mapping[str, Any]) -> str:
+    """`` (robot 'go2', gait 'pace', track)`` for the options given, or ``""``."""
+    named = [
+        key if value is True else f"{key} {value!r}"
+        for key, value in options.items()
+        if value not in (None, False)
+    ]
+    return f" ({', '.join(named)})" if named else ""
+
+
 @dataclass(frozen=True, slots=True)
 class Walk:
     """How to run one of the walks (a gait folder's registration, see ``WALKS``).
@@ -151,6 +161,10 @@ class Walk:
         plot_window: Whether ``plot`` draws a time window (``--window``).
         force_scale: Viewer arrow length per newton [m/N].
         viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
+        speeds: The supported desired speeds ``(low, high)`` [m/s]: the ends walk without
+            falling in runs of the walk's default duration (None: the walk takes no speed).
+        speeds_for: The supported speeds from the walk's options (the legged walk's depend
+            on ``robot`` and ``gait``); None: :attr:`speeds` whatever the options.
 
     """
 
@@ -169,3 +183,27 @@ class Walk:
     plot_window: bool = False
     force_scale: float = 1 / 250
     viewer_robot: Callable[..., Robot] | None = None
+    speeds: tuple[float, float] | None = None
+    speeds_for: Callable[..., tuple[float, float]] | None = None
+
+    def speed_range(self, **options: Any) -> tuple[float, float] | None:
+        """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""
+        return self.speeds if self.speeds_for is None else self.speeds_for(**options)
+
+    def check_speed(self, speed: float | None, **options: Any) -> None:
+        """Refuse a desired speed outside :meth:`speed_range` (None: the walk's default).
+
+        Raises:
+            InvalidInputError: ``speed`` is outside the supported range (its message names it).
+
+        """
+        supported = self.speed_range(**options)
+        if supported is None or not isinstance(speed, (int, float)):
+            return  # None: the walk's default; not a number: the walk's own check refuses it
+        low, high = supported
+        if not low - 1e-9 <= speed <= high + 1e-9:
+            raise InvalidInputError(
+                f"{self.name}{describe_options(options)} walks at desired speeds from {low:g} "
+                f"to {high:g} m/s, got {speed:g} m/s: give a speed in that range, or "
+                "force_speed=True (command line: --force-speed) to run it anyway."
+            )

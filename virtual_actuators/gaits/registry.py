@@ -47,6 +47,7 @@ def run_walk(
     seed: int | None = None,
     parameters: object | None = None,
     distribution: str | None = None,
+    force_speed: bool = False,
     **options: Any,
 ) -> Any:
     """Simulate one of the walks and measure it.
@@ -68,6 +69,9 @@ def run_walk(
             ``speed`` overrides theirs.
         distribution: ``"partitioned"`` or ``"qp"``: how the support feet share the body's
             wrench (overrides ``parameters.distribution``; default: the gait's).
+        force_speed: Run a ``speed`` outside the walk's supported range
+            (``WALKS[name].speed_range(**options)``) instead of refusing it: to see where and
+            how the walk fails (the sweeps do).
         **options: The walk's own options (``WALKS[name].options``, e.g. the hexapod's
             ``path``, ``yaw_rate``, ``pendulum``).
 
@@ -78,7 +82,8 @@ def run_walk(
 
     Raises:
         InvalidInputError: Unknown walk or option, bad duration, speed, terrain, seed,
-            parameters or distribution.
+            parameters or distribution; a speed outside the walk's supported range (naming
+            it) without ``force_speed``.
 
     """
     walk = find_walk(name)
@@ -89,6 +94,8 @@ def run_walk(
     if unknown:
         known = ", ".join(walk.options) or "none"
         raise InvalidInputError(f"{name} takes no option {unknown[0]!r} (its options: {known}).")
+    if not force_speed:
+        walk.check_speed(speed, **options)
     return walk.run(
         walk,
         duration=duration,

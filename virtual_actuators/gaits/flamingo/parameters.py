@@ -10,8 +10,9 @@ from dataclasses import dataclass
 class FlamingoParameters:
     """Gait variables (the seed's Table 2) and component constants, SI units.
 
-    The defaults are the seed's values except four, which make the walk hold 0.3 to 0.6 m/s on
-    every built-in profile (the seed's fall at 0.5 m/s on ``profile-one``): ``stance_slope``,
+    The defaults are the seed's values except four, which make the walk hold 0.3 to 0.5 m/s on
+    ``profile-one`` and ``profile-two`` with every seeded start (the seed's fall at 0.5 m/s on
+    ``profile-one``; at 0.6 m/s the defaults fall there too, 2 starts of 3): ``stance_slope``,
     a shorter swing, a faster push-down and longer steps; :meth:`seed` gives the seed's set.
 
     Attributes:
@@ -133,7 +134,7 @@ class FlamingoParameters:
 
         They walk at the seed's 0.4 m/s but fall at 0.5 m/s on ``profile-one``: the defaults
         differ in four places (``stance_slope``, ``swing_time`` 0.34 s, ``push_speed``
-        0.8 m/s, ``step_length`` 0.32 m) and walk 0.3 to 0.6 m/s on every built-in profile.
+        0.8 m/s, ``step_length`` 0.32 m) and walk 0.3 to 0.5 m/s on both profiles.
         """
         seed = {"step_length": 0.28, "swing_time": 0.4, "push_speed": 0.3, "stance_slope": False}
         return cls(**{**seed, **changes})

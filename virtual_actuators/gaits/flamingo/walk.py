@@ -29,4 +29,5 @@ WALK = Walk(
     push=10.0,
     push_time=0.2,
     plot_window=True,
+    speeds=(0.3, 0.5),
 )

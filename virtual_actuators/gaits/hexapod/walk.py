@@ -386,6 +386,13 @@ def _viewer_robot(pendulum: bool = False, **options: Any) -> Robot:
     return hexapod_robot(pendulum)
 
 
+def hexapod_speeds(
+    pendulum: bool = False, track: bool = False, **options: Any
+) -> tuple[float, float]:
+    """The supported desired speeds [m/s]: slower with the pendulum or tracking (measured)."""
+    return (0.1, 0.4) if (pendulum or track) else (0.1, 1.0)
+
+
 WALK = Walk(
     name="hexapod-walk",
     robot="hexapod",
@@ -399,4 +406,5 @@ WALK = Walk(
     options=("direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track"),
     force_scale=1 / 100,
     viewer_robot=_viewer_robot,
+    speeds_for=hexapod_speeds,
 )

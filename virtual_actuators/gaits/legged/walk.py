@@ -43,6 +43,7 @@ from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
 from .patterns import PATTERNS
+from .speeds import legged_speeds
 from .walker import LeggedWalker
 
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
@@ -348,4 +349,5 @@ WALK = Walk(
     ),
     force_scale=1 / 250,
     viewer_robot=_viewer_robot,
+    speeds_for=legged_speeds,
 )

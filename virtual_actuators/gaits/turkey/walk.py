@@ -30,4 +30,5 @@ WALK = Walk(
     push=15.0,
     push_time=0.2,
     plot_window=True,
+    speeds=(0.3, 0.6),
 )

@@ -1,0 +1,106 @@
+"""Every walk's supported speed range: refused outside it (a usage error), walked at its ends.
+
+The ranges are the registry's (``Walk.speed_range``), measured in closed-loop MuJoCo runs of each
+walk's default duration; the runs here are shorter (a few simulated seconds), the same physics.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from virtual_actuators import InvalidInputError
+from virtual_actuators.__main__ import main
+from virtual_actuators.gaits.legged.speeds import LEGGED_SPEEDS
+from virtual_actuators.gaits.registry import WALKS, run_walk
+
+
+def test_every_walk_with_a_speed_states_its_range():
+    for name, walk in WALKS.items():
+        supported = walk.speed_range()
+        if name == "balance":
+            assert supported is None  # it stands: no speed
+            continue
+        low, high = supported
+        assert 0.0 < low < high <= 1.5, (name, supported)
+    assert WALKS["legged"].speed_range(robot="go2") == (0.1, 1.5)
+    assert WALKS["legged"].speed_range(robot="anymal_b") == WALKS["legged"].speed_range(
+        robot="anymal"
+    )  # an alias is its robot
+    assert WALKS["legged"].speed_range(robot="my.urdf", gait="pace") == LEGGED_SPEEDS["pace"][None]
+    hexapod = WALKS["hexapod-walk"]
+    assert hexapod.speed_range(pendulum=True)[1] < hexapod.speed_range()[1]
+
+
+@pytest.mark.parametrize(
+    ("name", "speed", "options", "expected"),
+    [
+        ("flamingo-slopes", 1.5, {}, "from 0.3 to 0.5 m/s, got 1.5"),
+        ("flamingo-slopes", 0.2, {}, "from 0.3 to 0.5 m/s, got 0.2"),
+        ("turkey-walk", 0.7, {}, "from 0.3 to 0.6 m/s"),
+        ("legged", 1.0, {"robot": "solo12"}, "legged (robot 'solo12') walks at desired speeds "
+                                              "from 0.1 to 0.8 m/s"),
+        ("legged", 0.5, {"gait": "pace"}, "(gait 'pace')"),
+        ("hexapod-walk", 0.6, {"pendulum": True}, "hexapod-walk (pendulum) walks"),
+    ],
+)
+def test_run_walk_refuses_a_speed_outside_the_range(name, speed, options, expected):
+    with pytest.raises(InvalidInputError, match="force_speed=True") as error:
+        run_walk(name, speed=speed, progress=False, **options)
+    assert expected in str(error.value)
+
+
+def test_force_speed_runs_outside_the_range():
+    result = run_walk("flamingo-slopes", speed=0.6, duration=0.05, progress=False,
+                      force_speed=True)
+    assert result.simulator.time >= 0.05 - 1e-9
+
+
+@pytest.mark.parametrize(
+    ("arguments", "expected"),
+    [
+        (["demo", "flamingo-slopes", "--speed", "1.5"], "from 0.3 to 0.5 m/s, got 1.5 m/s"),
+        (["demo", "legged", "--robot", "go2", "--gait", "walk", "--speed", "0.5"],
+         "(robot 'go2', gait 'walk') walks at desired speeds from 0.05 to 0.2 m/s"),
+        (["demo", "turkey-walk", "--force-speed"], "--force-speed: it lets a --speed"),
+    ],
+)
+def test_the_command_line_refuses_it_with_a_usage_error(arguments, expected, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(arguments)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "usage:" in err and expected in err and "Traceback" not in err
+
+
+def test_the_command_line_runs_it_forced(capsys):
+    code = main(["demo", "flamingo-slopes", "--speed", "0.6", "--force-speed", "--duration",
+                 "0.05", "--quiet"])
+    assert code == 0
+    assert "set 0.60" in capsys.readouterr().out
+
+
+def _ends():
+    """(walk, speed, options, duration) at both ends of every range, short runs."""
+    cases = []
+    for name, options, duration in [
+        ("turkey-walk", {}, 6.0),
+        ("flamingo-slopes", {}, 8.0),
+        ("hexapod-walk", {}, 3.0),
+        ("hexapod-walk", {"pendulum": True}, 3.0),
+        ("legged", {}, 3.0),
+        ("legged", {"robot": "go2"}, 3.0),
+        ("legged", {"gait": "pace"}, 3.0),
+    ]:
+        for speed in WALKS[name].speed_range(**options):
+            cases.append(pytest.param(name, speed, options, duration,
+                                      id=f"{name}-{speed}-{'-'.join(map(str, options.values()))}"))
+    return cases
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("name", "speed", "options", "duration"), _ends())
+def test_the_range_ends_walk_without_falling(name, speed, options, duration):
+    metrics = run_walk(name, speed=speed, duration=duration, progress=False, **options).metrics
+    assert not metrics.fell, metrics.summary()
+    mean = getattr(metrics, "mean_speed_mps", None) or metrics.speed_mps
+    assert mean > 0.5 * speed, metrics.summary()  # it walks, at about the speed asked

@@ -22,6 +22,7 @@ from meshcat.path import Path as MeshcatPath
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
+from virtual_actuators.gaits.hexapod.body import HeadingDamper
 from virtual_actuators.visualization import PALETTE, CommandRecorder, OfflineWindow, Viewer
 from virtual_actuators.visualization.colors import (
     OVERLAY_MIN_CHROMA,
@@ -851,30 +852,62 @@ def camera_and_offset(commands: list[dict]) -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.slow
-def test_a_recorded_walk_is_framed_on_its_whole_run(tmp_path):
+def test_a_recorded_walk_is_framed_on_the_robot_over_its_whole_run(tmp_path):
     from virtual_actuators.demos import WALKS, run_walk
 
     rob = va.load_robot(WALKS["flamingo-slopes"].robot)
     viewer = Viewer(rob, window=OfflineWindow(), force_scale=1 / 250)
     viewer.start_recording(fps=30.0)
-    points: list[np.ndarray] = []
+    bodies: list[np.ndarray] = []
+    bases: list[np.ndarray] = []
     updater = viewer.tick_callback()
 
     def on_tick(simulator, gait):  # the viewer's own callback, then what it left visible
         recorded = viewer.pacer.recording.frames
         updater(simulator, gait)
         if viewer.pacer.recording.frames != recorded:
-            points.append(visible_points(viewer.scene))
+            bodies.append(visible_points(viewer.scene, "robot"))
+            root = viewer.scene.matrices[""]  # the base in the view: Pinocchio's, then shifted
+            base = placements(rob, simulator.q).oMi[1].translation
+            bases.append(root[:3, :3] @ base + root[:3, 3])
 
     run_walk("flamingo-slopes", duration=1.5, progress=False, on_tick=on_tick)
     page = open(viewer.save_html(str(tmp_path / "walk.html")), encoding="utf-8").read()
     camera, offset = camera_and_offset(decode_page(page))
-    every = np.vstack(points) + offset  # what the page shows, in the camera's world
-    assert len(points) > 30  # 1.5 s at 30 fps
-    # every point of every frame lies inside the view cone (vertical half-angle 37.5 deg)
+    every = np.vstack(bodies) + offset  # what the page shows, in the camera's world
+    assert len(bodies) > 30  # 1.5 s at 30 fps
+    # every body of every frame lies inside the view cone (vertical half-angle 37.5 deg)
     to_target = -camera / np.linalg.norm(camera)
     rays = every - camera
     cosines = rays @ to_target / np.linalg.norm(rays, axis=1)
     assert np.all(cosines > np.cos(np.radians(37.5)))
-    # and the run fills the view: the farthest point is beyond half the half-angle
+    # and the robot fills the view: the farthest body is beyond half the half-angle
     assert np.min(cosines) < np.cos(np.radians(37.5 / 2))
+    # the camera looks at the robot: its base stays within a body length of the view's centre
+    # (the world frame left behind at x = 0 used to pull the view off the robot)
+    span = float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
+    for base in np.array(bases) + offset:
+        assert np.linalg.norm(base - (base @ to_target) * to_target) < 0.5 * span
+
+
+def test_a_velocity_damper_is_drawn_on_the_body_wherever_it_walked():
+    # the hexapod's heading damper (x, y; no spring, no set point) far from the world origin
+    rob = robot("hexapod")
+    q = rob.neutral()
+    q[:2] = [3.0, -2.0]
+    feet = ["foot_1", "foot_3", "foot_5"]
+    body = va.ParallelVirtualActuator(rob, "body", feet, "world", contact="point")
+    damper = HeadingDamper((40.0, 60.0), name="planar")
+    controller = va.Controller(rob)
+    controller.add("planar", body, [damper])
+    output = controller.compute(q, np.zeros(rob.model.nv), 0.0, ("planar",))
+    rec = CommandRecorder()
+    viewer = Viewer(rob, window=rec)
+    viewer.show(q, controller=controller, output=output)
+    action = frame_pose(rob, placements(rob, q), "body").translation
+    housing = rec.last_transform(f"{ROOT}/components/planar/0/damper/housing")
+    rod = rec.last_transform(f"{ROOT}/components/planar/0/damper/rod")
+    start = housing[:3, 3] - housing[:3, 1] / 2  # the housing's closed end
+    np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2, action, atol=1e-12)
+    assert np.linalg.norm(start - action) <= 1.01 * viewer.detail  # about a link, not 3.6 m
+    assert abs(start[2] - action[2]) < 1e-12  # along the damper's x axis

@@ -1,12 +1,13 @@
-"""Frame a recording on the whole run: the box holding everything drawn in any recorded frame.
+"""Frame a recording on the robot over the whole run: the box holding its bodies in every frame.
 
 A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
-RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up, an
-arrow grows). While recording, :class:`RunBounds` accumulates the box of every visible node of
-the robot and its overlays in the view's coordinates (the scene node's own placement included,
-which keeps a travelling robot centred); :func:`framing_commands` then places the camera so that
-a sphere around that box fits the view, and shifts the scene so that the box is centred on the
-point MeshCat's orbit controls look at (the origin: they cannot be retargeted).
+RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up).
+While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies in the
+view's coordinates (the scene node's own placement included, which keeps a travelling robot
+centred). Overlays are not counted: a world frame left behind by a walking robot, or a long
+arrow, would pull the view off the robot. :func:`framing_commands` then places the camera so
+that a sphere around that box fits the view, and shifts the scene so that the box is centred on
+the point MeshCat's orbit controls look at (the origin: they cannot be retargeted).
 """
 
 from __future__ import annotations
@@ -23,9 +24,12 @@ from .scene import Scene
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0
 
-#: Top-level nodes that are not part of the run's box: the text beside the robot (hidden in
-#: pages), the ground grid and the terrain (they extend far beyond the run).
+#: Top-level nodes that are never part of a box: the text beside the robot (hidden in pages),
+#: the ground grid and the terrain (they extend far beyond the run).
 _EXCLUDED = ("hud", "ground", "terrain")
+
+#: Top-level node of the robot's bodies: what a recording is framed on.
+ROBOT_ROOT = "robot"
 
 
 class RunBounds:
@@ -42,8 +46,8 @@ class RunBounds:
         self.high: np.ndarray | None = None
 
     def add(self, scene: Scene) -> None:
-        """Grow the box with the origins of the scene's visible nodes in their current pose."""
-        points = visible_points(scene)
+        """Grow the box with the origins of the robot's visible bodies in their current pose."""
+        points = visible_points(scene, ROBOT_ROOT)
         if len(points) == 0:
             return
         low, high = points.min(axis=0), points.max(axis=0)
@@ -56,11 +60,17 @@ class RunBounds:
         return f"RunBounds(low={np.round(self.low, 3)}, high={np.round(self.high, 3)})"
 
 
-def visible_points(scene: Scene) -> np.ndarray:
+def visible_points(scene: Scene, under: str | None = None) -> np.ndarray:
     """Origins ``(n, 3)`` of the placed, visible nodes in the view's coordinates.
 
     A node's pose is the product of the placements along its path (the scene node's first);
     a node is visible unless it or one of its parents is hidden.
+
+    Args:
+        scene: The scene.
+        under: Only the nodes under this top-level node (None: every node but the text, the
+            ground and the terrain).
+
     """
     matrices, visible = scene.matrices, scene.visible
     root = matrices.get("", np.eye(4))
@@ -81,7 +91,8 @@ def visible_points(scene: Scene) -> np.ndarray:
 
     points = []
     for name in matrices:
-        if not name or name.split("/", 1)[0] in _EXCLUDED:
+        top = name.split("/", 1)[0]
+        if not name or top in _EXCLUDED or (under is not None and top != under):
             continue
         matrix = pose(name)
         if matrix is not None:

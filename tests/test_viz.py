@@ -866,7 +866,7 @@ def test_a_recorded_walk_is_framed_on_the_robot_over_its_whole_run(tmp_path):
         recorded = viewer.pacer.recording.frames
         updater(simulator, gait)
         if viewer.pacer.recording.frames != recorded:
-            bodies.append(visible_points(viewer.scene, "robot"))
+            bodies.append(visible_points(viewer.scene, ("robot/",)))
             root = viewer.scene.matrices[""]  # the base in the view: Pinocchio's, then shifted
             base = placements(rob, simulator.q).oMi[1].translation
             bases.append(root[:3, :3] @ base + root[:3, 3])

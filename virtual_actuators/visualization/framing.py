@@ -2,12 +2,13 @@
 
 A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
 RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up).
-While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies in the
-view's coordinates (the scene node's own placement included, which keeps a travelling robot
-centred). Overlays are not counted: a world frame left behind by a walking robot, or a long
-arrow, would pull the view off the robot. :func:`framing_commands` then places the camera so
-that a sphere around that box fits the view, and shifts the scene so that the box is centred on
-the point MeshCat's orbit controls look at (the origin: they cannot be retargeted).
+While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies (and of
+the gait's state name) in the view's coordinates (the scene node's own placement included,
+which keeps a travelling robot centred). Other overlays are not counted: a world frame left
+behind by a walking robot, or a long arrow, would pull the view off the robot.
+:func:`framing_commands` then places the camera so that a sphere around that box fits the
+view, and shifts the scene so that the box is centred on the point MeshCat's orbit controls
+look at (the origin: they cannot be retargeted).
 """
 
 from __future__ import annotations
@@ -28,8 +29,8 @@ CAMERA_FOV_DEG = 75.0
 #: the ground grid and the terrain (they extend far beyond the run).
 _EXCLUDED = ("hud", "ground", "terrain")
 
-#: Top-level node of the robot's bodies: what a recording is framed on.
-ROBOT_ROOT = "robot"
+#: What a recording is framed on: the robot's bodies and the gait's state name beside them.
+FRAMED = ("robot/", "hud/state/")
 
 
 class RunBounds:
@@ -46,8 +47,8 @@ class RunBounds:
         self.high: np.ndarray | None = None
 
     def add(self, scene: Scene) -> None:
-        """Grow the box with the origins of the robot's visible bodies in their current pose."""
-        points = visible_points(scene, ROBOT_ROOT)
+        """Grow the box with the robot's visible bodies and state name in their current pose."""
+        points = visible_points(scene, FRAMED)
         if len(points) == 0:
             return
         low, high = points.min(axis=0), points.max(axis=0)
@@ -60,7 +61,7 @@ class RunBounds:
         return f"RunBounds(low={np.round(self.low, 3)}, high={np.round(self.high, 3)})"
 
 
-def visible_points(scene: Scene, under: str | None = None) -> np.ndarray:
+def visible_points(scene: Scene, under: tuple[str, ...] | None = None) -> np.ndarray:
     """Origins ``(n, 3)`` of the placed, visible nodes in the view's coordinates.
 
     A node's pose is the product of the placements along its path (the scene node's first);
@@ -68,7 +69,7 @@ def visible_points(scene: Scene, under: str | None = None) -> np.ndarray:
 
     Args:
         scene: The scene.
-        under: Only the nodes under this top-level node (None: every node but the text, the
+        under: Only the nodes whose names start so (None: every node but the text, the
             ground and the terrain).
 
     """
@@ -91,8 +92,9 @@ def visible_points(scene: Scene, under: str | None = None) -> np.ndarray:
 
     points = []
     for name in matrices:
-        top = name.split("/", 1)[0]
-        if not name or top in _EXCLUDED or (under is not None and top != under):
+        if not name:
+            continue
+        if name.split("/", 1)[0] in _EXCLUDED if under is None else not name.startswith(under):
             continue
         matrix = pose(name)
         if matrix is not None:

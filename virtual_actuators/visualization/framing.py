@@ -2,10 +2,10 @@
 
 A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
 RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up).
-While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies (and of
-the gait's state name) in the view's coordinates (the scene node's own placement included,
-which keeps a travelling robot centred). Other overlays are not counted: a world frame left
-behind by a walking robot, or a long arrow, would pull the view off the robot.
+While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies in the
+view's coordinates (the scene node's own placement included, which keeps a travelling robot
+centred). Overlays are not counted: a world frame left behind by a walking robot, or a long
+arrow, would pull the view off the robot (the state name stands beside the robot's upper half).
 :func:`framing_commands` then places the camera so that a sphere around that box fits the
 view, and shifts the scene so that the box is centred on the point MeshCat's orbit controls
 look at (the origin: they cannot be retargeted).
@@ -29,8 +29,8 @@ CAMERA_FOV_DEG = 75.0
 #: the ground grid and the terrain (they extend far beyond the run).
 _EXCLUDED = ("hud", "ground", "terrain")
 
-#: What a recording is framed on: the robot's bodies and the gait's state name beside them.
-FRAMED = ("robot/", "hud/state/")
+#: What a recording is framed on: the robot's bodies.
+FRAMED = ("robot/",)
 
 
 class RunBounds:
@@ -47,7 +47,7 @@ class RunBounds:
         self.high: np.ndarray | None = None
 
     def add(self, scene: Scene) -> None:
-        """Grow the box with the robot's visible bodies and state name in their current pose."""
+        """Grow the box with the robot's visible bodies in their current pose."""
         points = visible_points(scene, FRAMED)
         if len(points) == 0:
             return

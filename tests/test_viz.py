@@ -908,3 +908,44 @@ def test_a_velocity_damper_is_drawn_on_the_body_wherever_it_walked():
     np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2, action, atol=1e-12)
     assert np.linalg.norm(start - action) <= 1.01 * viewer.detail  # about a link, not 3.6 m
     assert abs(start[2] - action[2]) < 1e-12  # along the damper's x axis
+
+
+def page_pose(commands: list[dict], path: str) -> np.ndarray:
+    """World matrix of ``path`` in a page: the last transform of each node along it, composed."""
+    last = {
+        c["path"]: np.array(c["matrix"], dtype=float).reshape(4, 4).T  # column-major
+        for c in commands
+        if c["type"] == "set_transform"
+    }
+    matrix, prefix = np.eye(4), ""
+    for part in path.strip("/").split("/"):
+        prefix += "/" + part
+        matrix = matrix @ last.get(prefix, np.eye(4))
+    return matrix
+
+
+@pytest.mark.parametrize(
+    ("name", "recorded"), [("spring_turkey", True), ("spring_turkey", False), ("hexapod", False)]
+)
+def test_the_state_name_faces_the_camera_and_reads_left_to_right(name, recorded):
+    rob = robot(name)
+    viewer = Viewer(rob, window=OfflineWindow())
+    q = rob.neutral()
+    if recorded:  # a walk: the view follows the robot and the page is framed on the run
+        viewer.start_recording(fps=30)
+        for k in range(10):
+            q[0] = 0.05 * k
+            viewer.show(q, state="right_support", time=k / 30)
+    else:
+        viewer.show(q, state="right_support")
+    commands = decode_page(viewer.static_html())
+    position = [c for c in commands if c["type"] == "set_property" and c["property"] == "position"]
+    local = np.array(position[-1]["value"], dtype=float)  # three.js is y-up
+    camera = np.array([local[0], -local[2], local[1]])  # looking at the origin (orbit controls)
+    label = page_pose(commands, f"{ROOT}/hud/state/right_support")
+    normal, across, up = label[:3, 2], label[:3, 0], label[:3, 1]  # text drawn on +z, along +x
+    to_camera = camera - label[:3, 3]
+    right = np.cross(-camera, [0.0, 0.0, 1.0])  # the camera's right on the screen
+    assert normal @ to_camera > 0.9 * np.linalg.norm(to_camera) * np.linalg.norm(normal)
+    assert across @ right > 0.9 * np.linalg.norm(right) * np.linalg.norm(across)  # not mirrored
+    assert up[2] > 0.9 * np.linalg.norm(up)  # upright

@@ -5,7 +5,8 @@ with a piston inside on a thin rod reaching the action frame), from their reacti
 to the action frame (side by side when a component is both); a spring's set point is a small
 sphere; a damper alone has its other end on its set point (a dogtrack bunny); a damper with
 neither spring nor set point (a velocity damper: nothing in the world anchors it) is drawn on
-the action frame, :data:`VELOCITY_DAMPER_LENGTH` typical links long along its first axis. Only
+the action frame along its first axis, :data:`VELOCITY_DAMPER_LENGTH` robot sizes long (its
+housing out of the body's shape). Only
 the translational axes of a component are drawn: rotational ones show through the moment
 arrows.
 """
@@ -22,8 +23,8 @@ from ..shapes import coil_mesh, material
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 
-#: Length of a velocity damper's dashpot, in typical link lengths.
-VELOCITY_DAMPER_LENGTH = 1.0
+#: Length of a velocity damper's dashpot, relative to the robot's size.
+VELOCITY_DAMPER_LENGTH = 0.7
 
 
 def parameter(component: Component, attribute: str, size: int) -> np.ndarray:
@@ -90,7 +91,7 @@ class ComponentOverlay(Overlay):
                 if target is not None:  # its other end moves with its set point (the bunny)
                     anchor = target
                 else:  # a velocity damper acts on the body alone: drawn there
-                    anchor = action - directions[:, 0] * VELOCITY_DAMPER_LENGTH * scene.detail
+                    anchor = action - directions[:, 0] * VELOCITY_DAMPER_LENGTH * scene.extent
             name = f"components/{safe(key)}/{index}"
             offset = np.zeros(3)
             if spring and damper:

@@ -15,6 +15,7 @@ from virtual_actuators.visualization.meshes import (  # noqa: E402
     TriangleMesh,
     collada_arrays,
     decimate,
+    mesh_arrays,
 )
 
 
@@ -60,3 +61,34 @@ def test_go2_page_stays_small():
     viewer = va.viz.Viewer(robot, window=OfflineWindow(), legend=False)
     size = len(viewer.static_html().encode("utf-8"))
     assert size < 3_000_000, size
+
+
+def binary_stl(path: str) -> np.ndarray:
+    """Triangles ``(m, 3, 3)`` of a binary STL file, read with numpy alone."""
+    raw = open(path, "rb").read()
+    count = int(np.frombuffer(raw[80:84], np.uint32)[0])
+    record = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+    return np.frombuffer(raw[84:], record, count)["corners"].astype(float)
+
+
+@pytest.mark.parametrize("name", ["solo12", "talos"])
+def test_stl_triangles_are_the_files_own(name):
+    # talos mirrors some meshes (scale 1 -1 1): their corners are mirrored and their winding
+    # reversed, so that the faces still point outwards
+    objects = visual_model(va.load_robot(name)).geometryObjects
+    for geometry_object in [g for g in objects if g.meshPath.lower().endswith(".stl")][:12]:
+        scale = np.asarray(geometry_object.meshScale, dtype=float)
+        vertices, triangles = mesh_arrays(geometry_object.geometry, scale)
+        expected = binary_stl(geometry_object.meshPath) * scale
+        if np.prod(scale) < 0:
+            expected = expected[:, ::-1]
+        drawn = vertices[triangles]
+        assert drawn.shape == expected.shape
+
+        def canonical(corners):  # each triangle from its least corner, orientation kept
+            first = np.lexsort(corners.transpose(2, 0, 1)[::-1], axis=1)[:, 0]
+            rolled = corners[np.arange(len(corners))[:, None], (first[:, None] + np.arange(3)) % 3]
+            order = np.lexsort(rolled.reshape(len(rolled), -1).T[::-1])
+            return rolled[order]
+
+        np.testing.assert_allclose(canonical(drawn), canonical(expected), atol=1e-6)

@@ -22,6 +22,7 @@ from meshcat.path import Path as MeshcatPath
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
+from virtual_actuators.gaits.hexapod.body import HeadingDamper
 from virtual_actuators.visualization import PALETTE, CommandRecorder, OfflineWindow, Viewer
 from virtual_actuators.visualization.colors import (
     OVERLAY_MIN_CHROMA,
@@ -30,7 +31,6 @@ from virtual_actuators.visualization.colors import (
     color_distance,
     to_lab,
 )
-from virtual_actuators.visualization.framing import visible_points
 from virtual_actuators.visualization.geometry import (
     HEAD_SPACING,
     arrow_matrices,
@@ -851,30 +851,101 @@ def camera_and_offset(commands: list[dict]) -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.slow
-def test_a_recorded_walk_is_framed_on_its_whole_run(tmp_path):
+def test_a_recorded_walk_is_framed_on_the_robot_over_its_whole_run(tmp_path):
     from virtual_actuators.demos import WALKS, run_walk
 
     rob = va.load_robot(WALKS["flamingo-slopes"].robot)
     viewer = Viewer(rob, window=OfflineWindow(), force_scale=1 / 250)
     viewer.start_recording(fps=30.0)
-    points: list[np.ndarray] = []
+    bodies: list[np.ndarray] = []
     updater = viewer.tick_callback()
 
     def on_tick(simulator, gait):  # the viewer's own callback, then what it left visible
         recorded = viewer.pacer.recording.frames
         updater(simulator, gait)
         if viewer.pacer.recording.frames != recorded:
-            points.append(visible_points(viewer.scene))
+            root = viewer.scene.matrices[""]  # the view's shift of the robot's node
+            parts = [m for n, m in viewer.scene.matrices.items() if n.startswith("robot/")]
+            bodies.append(np.array([(root @ m)[:3, 3] for m in parts]))
 
     run_walk("flamingo-slopes", duration=1.5, progress=False, on_tick=on_tick)
     page = open(viewer.save_html(str(tmp_path / "walk.html")), encoding="utf-8").read()
     camera, offset = camera_and_offset(decode_page(page))
-    every = np.vstack(points) + offset  # what the page shows, in the camera's world
-    assert len(points) > 30  # 1.5 s at 30 fps
-    # every point of every frame lies inside the view cone (vertical half-angle 37.5 deg)
+    every = np.vstack(bodies) + offset  # what the page shows, in the camera's world
+    assert len(bodies) > 30  # 1.5 s at 30 fps
+    # every body of every frame lies inside the view cone (vertical half-angle 37.5 deg)
     to_target = -camera / np.linalg.norm(camera)
     rays = every - camera
     cosines = rays @ to_target / np.linalg.norm(rays, axis=1)
     assert np.all(cosines > np.cos(np.radians(37.5)))
-    # and the run fills the view: the farthest point is beyond half the half-angle
+    # and the robot fills the view: the farthest body is beyond half the half-angle
     assert np.min(cosines) < np.cos(np.radians(37.5 / 2))
+    # the camera looks at the robot: the box of its bodies over the run is centred in the view
+    # (the world frame left behind at x = 0 pulled the view off the robot, 0.19 m of 1 m here)
+    span = float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
+    centre = (every.min(axis=0) + every.max(axis=0)) / 2
+    assert np.linalg.norm(centre - (centre @ to_target) * to_target) < 0.02 * span
+
+
+def test_a_velocity_damper_is_drawn_on_the_body_wherever_it_walked():
+    # the hexapod's heading damper (x, y; no spring, no set point) far from the world origin
+    rob = robot("hexapod")
+    q = rob.neutral()
+    q[:2] = [3.0, -2.0]
+    feet = ["foot_1", "foot_3", "foot_5"]
+    body = va.ParallelVirtualActuator(rob, "body", feet, "world", contact="point")
+    damper = HeadingDamper((40.0, 60.0), name="planar")
+    controller = va.Controller(rob)
+    controller.add("planar", body, [damper])
+    output = controller.compute(q, np.zeros(rob.model.nv), 0.0, ("planar",))
+    rec = CommandRecorder()
+    viewer = Viewer(rob, window=rec)
+    viewer.show(q, controller=controller, output=output)
+    action = frame_pose(rob, placements(rob, q), "body").translation
+    housing = rec.last_transform(f"{ROOT}/components/planar/0/damper/housing")
+    rod = rec.last_transform(f"{ROOT}/components/planar/0/damper/rod")
+    start = housing[:3, 3] - housing[:3, 1] / 2  # the housing's closed end
+    np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2, action, atol=1e-12)
+    assert np.linalg.norm(start - action) <= viewer.extent  # on the robot, not 3.6 m away
+    assert abs(start[2] - action[2]) < 1e-12  # along the damper's x axis
+
+
+def page_pose(commands: list[dict], path: str) -> np.ndarray:
+    """World matrix of ``path`` in a page: the last transform of each node along it, composed."""
+    last = {
+        c["path"]: np.array(c["matrix"], dtype=float).reshape(4, 4).T  # column-major
+        for c in commands
+        if c["type"] == "set_transform"
+    }
+    matrix, prefix = np.eye(4), ""
+    for part in path.strip("/").split("/"):
+        prefix += "/" + part
+        matrix = matrix @ last.get(prefix, np.eye(4))
+    return matrix
+
+
+@pytest.mark.parametrize(
+    ("name", "recorded"), [("spring_turkey", True), ("spring_turkey", False), ("hexapod", False)]
+)
+def test_the_state_name_faces_the_camera_and_reads_left_to_right(name, recorded):
+    rob = robot(name)
+    viewer = Viewer(rob, window=OfflineWindow())
+    q = rob.neutral()
+    if recorded:  # a walk: the view follows the robot and the page is framed on the run
+        viewer.start_recording(fps=30)
+        for k in range(10):
+            q[0] = 0.05 * k
+            viewer.show(q, state="right_support", time=k / 30)
+    else:
+        viewer.show(q, state="right_support")
+    commands = decode_page(viewer.static_html())
+    position = [c for c in commands if c["type"] == "set_property" and c["property"] == "position"]
+    local = np.array(position[-1]["value"], dtype=float)  # three.js is y-up
+    camera = np.array([local[0], -local[2], local[1]])  # looking at the origin (orbit controls)
+    label = page_pose(commands, f"{ROOT}/hud/state/right_support")
+    normal, across, up = label[:3, 2], label[:3, 0], label[:3, 1]  # text drawn on +z, along +x
+    to_camera = camera - label[:3, 3]
+    right = np.cross(-camera, [0.0, 0.0, 1.0])  # the camera's right on the screen
+    assert normal @ to_camera > 0.9 * np.linalg.norm(to_camera) * np.linalg.norm(normal)
+    assert across @ right > 0.9 * np.linalg.norm(right) * np.linalg.norm(across)  # not mirrored
+    assert up[2] > 0.9 * np.linalg.norm(up)  # upright

@@ -2,6 +2,7 @@
 
 ``python robots/screenshots/take.py`` writes ``robots/screenshots/<robot>.png`` (needs Debian's
 ``chromium``): the scene is saved as a standalone HTML page and rendered headless.
+``tests/test_screenshots.py`` checks that the committed PNGs are what this script draws.
 """
 
 from __future__ import annotations
@@ -53,14 +54,32 @@ def scenes():
     yield robot, q, arm, None, np.array([20.0, 0.0, 30.0]), 0.006
 
 
+#: Window size of the screenshots [px].
+SIZE = (960, 600)
+
+
+def draw(robot, q, actuator, solution, wrench, scale):
+    """The viewer of one scene of :func:`scenes`, drawn offline."""
+    viewer = va.viz.Viewer(robot, window=OfflineWindow(), force_scale=scale)
+    viewer.show(q, solution, actuator=actuator, wrench=wrench)
+    return viewer
+
+
+def render(viewer, folder: Path) -> Path:
+    """Save ``viewer``'s page in ``folder`` and screenshot it there as ``<robot>.png``."""
+    name = viewer.robot.name
+    page = viewer.save_html(str(folder / f"{name}.html"))
+    return screenshot(Path(page).as_uri(), folder / f"{name}.png", SIZE)
+
+
 def main() -> None:
     """Render every scene of :func:`scenes` to a PNG next to this script."""
     with tempfile.TemporaryDirectory() as tmp:
-        for robot, q, actuator, solution, wrench, scale in scenes():
-            viewer = va.viz.Viewer(robot, window=OfflineWindow(), force_scale=scale)
-            viewer.show(q, solution, actuator=actuator, wrench=wrench)
-            page = viewer.save_html(str(Path(tmp) / f"{robot.name}.html"))
-            print(screenshot(Path(page).as_uri(), HERE / f"{robot.name}.png", (960, 600)))
+        for scene in scenes():
+            png = render(draw(*scene), Path(tmp))
+            target = HERE / png.name
+            target.write_bytes(png.read_bytes())
+            print(target)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ animated page. Modules:
 
 - :mod:`.geometry`: shapes (cone, plane, text, coil) and the pure functions that place them;
 - :mod:`.bodies`: the robot's URDF visuals or a skeleton of its kinematic tree;
+- :mod:`.meshes`: the URDF's mesh files as decimated triangle meshes (small pages);
 - :mod:`.scene`: node bookkeeping (created once, per-frame transforms and visibility);
 - :mod:`.robot_scene`: the robot in the scene (kinematics, sizes, camera, ground) and the
   drawing primitives (arrows, triads, spans, markers);

@@ -1,13 +1,14 @@
 """The robot's bodies in the scene: its URDF visuals, or a skeleton built from its kinematic tree.
 
 Every shape is a :class:`Part`: a MeshCat object attached to a Pinocchio joint with a fixed
-placement (scale included). After forward kinematics its world matrix is
-``data.oMi[joint].homogeneous @ placement``.
+placement (scale included, except for decimated meshes: they are scaled already). After forward
+kinematics its world matrix is ``data.oMi[joint].homogeneous @ placement``.
 
-- URDF visuals (``geometry="urdf"``): mesh files (STL, OBJ, Collada) are sent as MeshCat mesh
-  geometries and primitive shapes (boxes, spheres, cylinders, capsules, cones, ellipsoids: the
-  seeds' robots and the millipede) are built here; any other geometry is left to Pinocchio's
-  ``MeshcatVisualizer``. Every part is drawn in its URDF colour desaturated
+- URDF visuals (``geometry="urdf"``): mesh files (STL, OBJ, Collada) are sent as decimated
+  triangle meshes (:mod:`.meshes`: binary arrays, several times smaller than the files; a file
+  it cannot read is sent as it is) and primitive shapes (boxes, spheres, cylinders, capsules,
+  cones, ellipsoids: the seeds' robots and the millipede) are built here; any other geometry is
+  left to Pinocchio's ``MeshcatVisualizer``. Every part is drawn in its URDF colour desaturated
   (:func:`~.colors.desaturate`), so that no overlay colour equals a robot colour; Collada meshes
   too (their embedded materials and textures are replaced by that colour).
 - Skeleton (``geometry="skeleton"``, or ``"auto"`` for a URDF without any ``<visual>``): a
@@ -29,9 +30,13 @@ from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
 from .colors import desaturate
 from .geometry import span_matrix, translation, y_to_z
+from .meshes import MeshCache, TriangleMesh
 from .shapes import Cone, Placed, material, to_hex
 
 GEOMETRY_MODES = ("auto", "urdf", "skeleton")
+
+#: Side of the grid cells a mesh is decimated on, relative to the robot's typical link length.
+MESH_TOLERANCE = 0.02
 
 _MESH_SUFFIXES = (".dae", ".obj", ".stl")
 
@@ -140,8 +145,15 @@ def visual_model(robot: Robot) -> pin.GeometryModel | None:
     return None
 
 
-def urdf_parts(geometry_model: pin.GeometryModel) -> list[Part]:
-    """Parts for the URDF's visual geometry objects."""
+def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = None) -> list[Part]:
+    """Parts for the URDF's visual geometry objects.
+
+    Args:
+        geometry_model: The visual geometry.
+        meshes: Decimates the mesh files loaded by Pinocchio (None: the files are sent as
+            they are).
+
+    """
     parts = []
     for geometry_object in geometry_model.geometryObjects:
         scale = np.diag([*np.asarray(geometry_object.meshScale, dtype=float), 1.0])
@@ -150,6 +162,12 @@ def urdf_parts(geometry_model: pin.GeometryModel) -> list[Part]:
         opacity = float(color[3]) if color.size > 3 else 1.0
         color = desaturate(to_hex(color))
         name = f"visuals/{geometry_object.name}"
+        mesh = meshes.get(geometry_object) if meshes is not None else None
+        if mesh is not None:  # the loaded triangles are scaled already
+            placement = geometry_object.placement.homogeneous
+            joint = int(geometry_object.parentJoint)
+            parts.append(Part(name, joint, placement, mesh, color, opacity, geometry_object))
+            continue
         if _has_mesh_file(geometry_object):
             pieces = _mesh(geometry_object)
         else:
@@ -282,7 +300,8 @@ class RobotBodies:
         robot: The robot.
         geometry: ``"auto"`` (the URDF's visuals if it has any, else a skeleton), ``"urdf"`` or
             ``"skeleton"``.
-        detail: Typical link length [m] (skeleton radii).
+        detail: Typical link length [m] (skeleton radii, and the mesh files' decimation:
+            vertices within ``MESH_TOLERANCE * detail`` are merged).
 
     Raises:
         InvalidInputError: Unknown ``geometry``.
@@ -306,7 +325,7 @@ class RobotBodies:
                     raise
                 warnings.warn(f"{error}; drawing a skeleton instead.", stacklevel=3)
             if self.visual_model is not None and self.visual_model.ngeoms > 0:
-                parts = urdf_parts(self.visual_model)
+                parts = urdf_parts(self.visual_model, MeshCache(MESH_TOLERANCE * detail))
                 self.kind = "urdf"
             elif geometry == "urdf":
                 raise RobotDescriptionError(
@@ -347,8 +366,9 @@ class RobotBodies:
                     )
         for part in self.parts:
             if part.geometry is not None:
+                flat = {"flatShading": True} if isinstance(part.geometry, TriangleMesh) else {}
                 scene.create(
-                    f"{node}/{part.name}", part.geometry, material(part.color, part.opacity)
+                    f"{node}/{part.name}", part.geometry, material(part.color, part.opacity, **flat)
                 )
 
     def matrices(self, data: pin.Data) -> np.ndarray:

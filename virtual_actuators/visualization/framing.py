@@ -1,12 +1,14 @@
-"""Frame a recording on the whole run: the box holding everything drawn in any recorded frame.
+"""Frame a recording on the robot over the whole run: the box holding its bodies in every frame.
 
 A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
-RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up, an
-arrow grows). While recording, :class:`RunBounds` accumulates the box of every visible node of
-the robot and its overlays in the view's coordinates (the scene node's own placement included,
-which keeps a travelling robot centred); :func:`framing_commands` then places the camera so that
-a sphere around that box fits the view, and shifts the scene so that the box is centred on the
-point MeshCat's orbit controls look at (the origin: they cannot be retargeted).
+RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up).
+While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies in the
+view's coordinates (the scene node's own placement included, which keeps a travelling robot
+centred). Overlays are not counted: a world frame left behind by a walking robot, or a long
+arrow, would pull the view off the robot (the state name stands beside the robot's upper half).
+:func:`framing_commands` then places the camera so that a sphere around that box fits the
+view, and shifts the scene so that the box is centred on the point MeshCat's orbit controls
+look at (the origin: they cannot be retargeted).
 """
 
 from __future__ import annotations
@@ -23,9 +25,12 @@ from .scene import Scene
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0
 
-#: Top-level nodes that are not part of the run's box: the text beside the robot (hidden in
-#: pages), the ground grid and the terrain (they extend far beyond the run).
+#: Top-level nodes that are never part of a box: the text beside the robot (hidden in pages),
+#: the ground grid and the terrain (they extend far beyond the run).
 _EXCLUDED = ("hud", "ground", "terrain")
+
+#: What a recording is framed on: the robot's bodies.
+FRAMED = ("robot/",)
 
 
 class RunBounds:
@@ -42,8 +47,8 @@ class RunBounds:
         self.high: np.ndarray | None = None
 
     def add(self, scene: Scene) -> None:
-        """Grow the box with the origins of the scene's visible nodes in their current pose."""
-        points = visible_points(scene)
+        """Grow the box with the robot's visible bodies in their current pose."""
+        points = visible_points(scene, FRAMED)
         if len(points) == 0:
             return
         low, high = points.min(axis=0), points.max(axis=0)
@@ -56,11 +61,17 @@ class RunBounds:
         return f"RunBounds(low={np.round(self.low, 3)}, high={np.round(self.high, 3)})"
 
 
-def visible_points(scene: Scene) -> np.ndarray:
+def visible_points(scene: Scene, under: tuple[str, ...] | None = None) -> np.ndarray:
     """Origins ``(n, 3)`` of the placed, visible nodes in the view's coordinates.
 
     A node's pose is the product of the placements along its path (the scene node's first);
     a node is visible unless it or one of its parents is hidden.
+
+    Args:
+        scene: The scene.
+        under: Only the nodes whose names start so (None: every node but the text, the
+            ground and the terrain).
+
     """
     matrices, visible = scene.matrices, scene.visible
     root = matrices.get("", np.eye(4))
@@ -81,7 +92,9 @@ def visible_points(scene: Scene) -> np.ndarray:
 
     points = []
     for name in matrices:
-        if not name or name.split("/", 1)[0] in _EXCLUDED:
+        if not name:
+            continue
+        if name.split("/", 1)[0] in _EXCLUDED if under is None else not name.startswith(under):
             continue
         matrix = pose(name)
         if matrix is not None:

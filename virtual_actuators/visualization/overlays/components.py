@@ -3,8 +3,12 @@
 Springs are drawn as coils and dampers as dashpots (a translucent cylinder closed at the anchor,
 with a piston inside on a thin rod reaching the action frame), from their reaction-side anchor
 to the action frame (side by side when a component is both); a spring's set point is a small
-sphere; a damper alone has its other end on its set point (a dogtrack bunny). Only the
-translational axes of a component are drawn: rotational ones show through the moment arrows.
+sphere; a damper alone has its other end on its set point (a dogtrack bunny); a damper with
+neither spring nor set point (a velocity damper: nothing in the world anchors it) is drawn on
+the action frame along its first axis, :data:`VELOCITY_DAMPER_LENGTH` robot sizes long (its
+housing out of the body's shape). Only
+the translational axes of a component are drawn: rotational ones show through the moment
+arrows.
 """
 
 from __future__ import annotations
@@ -18,6 +22,9 @@ from ..robot_scene import RobotScene, cross, safe
 from ..shapes import coil_mesh, material
 from ..snapshot import FrameSnapshot
 from .base import Overlay
+
+#: Length of a velocity damper's dashpot, relative to the robot's size.
+VELOCITY_DAMPER_LENGTH = 0.7
 
 
 def parameter(component: Component, attribute: str, size: int) -> np.ndarray:
@@ -80,8 +87,11 @@ class ComponentOverlay(Overlay):
                     np.asarray(setpoint, dtype=float)[columns] - relative
                 )
             spring, damper = bool(np.any(stiffness > 0)), bool(np.any(damping > 0))
-            if damper and not spring and target is not None:
-                anchor = target  # a damper's other end moves with its set point (the bunny)
+            if damper and not spring:
+                if target is not None:  # its other end moves with its set point (the bunny)
+                    anchor = target
+                else:  # a velocity damper acts on the body alone: drawn there
+                    anchor = action - directions[:, 0] * VELOCITY_DAMPER_LENGTH * scene.extent
             name = f"components/{safe(key)}/{index}"
             offset = np.zeros(3)
             if spring and damper:

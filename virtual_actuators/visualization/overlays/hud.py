@@ -54,7 +54,7 @@ class LegendOverlay(Overlay):
 
 
 class StateOverlay(Overlay):
-    """The name of the gait's state, at the robot's upper right."""
+    """The name of the gait's state, at the robot's upper right (inside its box's height)."""
 
     roots = ("hud/state",)
 
@@ -68,6 +68,6 @@ class StateOverlay(Overlay):
             size = min(2.0, max(0.4, 0.8 * scene.extent))
             nodes.create(name, text_object(frame.state, size, font_size=30))
             nodes.declare(name)
-            right, up = 0.45 * scene.extent, 0.7 * scene.extent + 0.12 * size  # beside the arrows
+            right, up = 0.3 * scene.extent + 0.4 * size, 0.3 * scene.extent  # beside the body
             nodes.place(name, scene.hud_matrix(right, up))
         nodes.use(name)

@@ -133,14 +133,14 @@ class HexapodWalker(Gait):
         self.support = "a"
         self.phase = 0.0  # swing progress, 0 to 1
         self._swing_start = [[0.0, 0.0, 0.0]] * 3
-        self._targets = np.zeros((3, 3))
+        self._targets = [(0.0, 0.0, 0.0)] * 3  # the swing set points of the last tick [m]
         self._target_time = 0.0
         self._velocity_body = (0.0, 0.0)  # measured, heading frame [m/s]
         self._velocity_filtered = (0.0, 0.0)  # low-passed, for foot placement [m/s]
         self._setpoint = (0.0, 0.0)  # velocity_setpoint as floats [m/s]
         self._acceleration = (0.0, 0.0)  # of the velocity set point [m/s^2]
         self._filter_time = 0.0
-        self._rates = np.zeros((3, 3))  # swing set point velocities, low-passed [m/s]
+        self._rates = [[0.0, 0.0, 0.0]] * 3  # swing set point velocities, low-passed [m/s]
         self.pendulum: PendulumModel | None = None
         self.gain: np.ndarray | None = None
         self.pendulum_angle = 0.0  # from the vertical, in the heading x-z plane [rad]
@@ -342,12 +342,12 @@ class HexapodWalker(Gait):
         _, feet = self._body_state(context)
         rows = self._rows[OTHER[self.support]]
         self._swing_start = [feet[r] for r in rows]
-        self._targets = np.array(self._swing_start)
+        self._targets = [tuple(foot) for foot in self._swing_start]
         self._target_time = context.time
         self.phase = 0.0
         # the lifting feet leave the ground at its velocity relative to the body
         ground = ground_velocity(self._velocity_filtered, self.yaw_rate, self._nominal)
-        self._rates = np.array([(-ground[r][0], -ground[r][1], 0.0) for r in rows])
+        self._rates = [[-ground[r][0], -ground[r][1], 0.0] for r in rows]
         for k, i in enumerate(TRIPODS[OTHER[self.support]]):
             self.swing[i].velocity_setpoint = self._rates[k]
 
@@ -379,11 +379,14 @@ class HexapodWalker(Gait):
             self._setpoint,
             self._acceleration,
         )
-        targets = np.array(swing_targets(self._swing_start, places, self.plane, reach, rest, up))
+        targets = swing_targets(self._swing_start, places, self.plane, reach, rest, up)
         dt = context.time - self._target_time
-        if dt > 0.0:
+        if dt > 0.0:  # rate += blend ((target - last) / dt - rate), per entry
             blend = min(1.0, dt / p.velocity_filter)
-            self._rates += blend * ((targets - self._targets) / dt - self._rates)
+            self._rates = [
+                [r + blend * ((t - t0) / dt - r) for r, t, t0 in zip(rate, new, old, strict=True)]
+                for rate, new, old in zip(self._rates, targets, self._targets, strict=True)
+            ]
         self._targets, self._target_time = targets, context.time
         for k, i in enumerate(TRIPODS[OTHER[self.support]]):
             self.swing[i].setpoint = targets[k]

@@ -199,10 +199,16 @@ class QPDistribution:
 
         """
         keep = request.keep
+        weights = self._weights(request)
+        tried = request.compiled and self.matrices.applicable
+        if tried:  # most ticks of a walk: the last certified active set, one compiled call
+            tick = self._again(snapshot, wrench, keep, weights)
+            if tick is not None:
+                self._local.iterations = 0
+                return tick
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, self._weights(request),
-                               budget)  # fmt: skip
+            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget, tried)
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
@@ -237,11 +243,14 @@ class QPDistribution:
         self._local.iterations = 0
         return self._tick(answer, False)
 
-    def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
-        """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
+    def _solve(self, snapshot, wrench, keep, compiled, weights, budget, tried=False):
+        """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`.
+
+        ``tried``: :meth:`_again` answered None already on this tick.
+        """
         work = None
         if compiled and self.matrices.applicable:
-            tick = self._again(snapshot, wrench, keep, weights)
+            tick = None if tried else self._again(snapshot, wrench, keep, weights)
             if tick is not None:
                 return tick
             work = self.matrices.build(snapshot, wrench, keep)

@@ -250,13 +250,13 @@ class HexapodWalker(Gait):
             InvalidInputError: Values that are not finite.
 
         """
-        vx, vy = (float(v) for v in velocity)
-        yaw_rate = float(yaw_rate)
-        if not all(math.isfinite(v) for v in (vx, vy, yaw_rate)):
+        vx, vy = velocity
+        vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
+        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
             raise InvalidInputError(
                 f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
             )
-        if vx != self.velocity[0] or vy != self.velocity[1]:
+        if [vx, vy] != self.velocity.tolist():
             self.velocity = np.array((vx, vy))
         self.yaw_rate = yaw_rate
 
@@ -278,7 +278,10 @@ class HexapodWalker(Gait):
         contacts = context.contacts
         if contacts is None or self.phase < self.parameters.touchdown_phase:
             return False
-        return all(contacts.get(foot, False) for foot in swing_feet)
+        for foot in swing_feet:  # all(...), without a generator per tick
+            if not contacts.get(foot, False):
+                return False
+        return True
 
     def _body_state(self, context: Context) -> tuple[float, np.ndarray]:
         """Heading inputs, measured velocity, pendulum; the body's height and the feet.

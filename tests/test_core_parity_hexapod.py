@@ -79,7 +79,20 @@ def _random_arguments(rng: np.random.Generator, k: int) -> tuple:
     shape = np.array([getattr(p, name, 0.05) for name in kernel.SHAPE])
     swing = rng.normal(scale=0.1, size=(3, 9))
     state = np.array((*rng.normal(scale=0.1, size=3), rng.uniform(0.0, 1.2), 0.0))
-    return feet, rows, nominal, motion, shape, swing, state
+    # the frame table: the body (turned, anywhere) and its feet in world axes, rows shuffled
+    rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    rotation *= np.sign(np.linalg.det(rotation))
+    frames = rng.normal(size=(9, 12))
+    frame_rows = rng.permutation(9)[:7].astype(np.int64)
+    frames[frame_rows[0], :9], frames[frame_rows[0], 9:] = rotation.ravel(), rng.normal(size=3)
+    frames[frame_rows[1:], 9:] = frames[frame_rows[0], 9:] + feet @ rotation.T
+    return frames, frame_rows, rows, nominal, motion, shape, swing, state
+
+
+def _feet(frames: np.ndarray, frame_rows: np.ndarray) -> np.ndarray:
+    """The feet relative to the body in body axes (numpy)."""
+    body = frames[frame_rows[0]]
+    return (frames[frame_rows[1:], 9:] - body[9:]) @ body[:9].reshape(3, 3)
 
 
 @core
@@ -95,10 +108,12 @@ def test_the_kernel_is_the_footholds_functions():
     rng = np.random.default_rng(5)
     p = HexapodParameters()
     for k in range(200):
-        feet, rows, nominal, motion, shape, swing, state = _random_arguments(rng, k)
+        arguments = _random_arguments(rng, k)
+        frames, frame_rows, rows, nominal, motion, shape, swing, state = arguments
+        feet = _feet(frames, frame_rows)
         p.velocity_filter, radius = shape[0], shape[1]
         before_swing, before_state = swing.copy(), state.copy()
-        kernel.tripod_setpoints(feet, rows, nominal, motion, shape, swing, state)
+        kernel.tripod_setpoints(*arguments)
         height, fx, fy, cx, cy, ax, ay, yaw_rate, elapsed, dt = motion.tolist()
         stance, legs = rows[:3].tolist(), rows[3:].tolist()
         plane = footholds.support_plane(feet[stance].tolist(), tuple(before_state[:3]))

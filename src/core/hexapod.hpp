@@ -18,9 +18,10 @@ inline double strides(double x, double y, double length, double width) {
   return std::sqrt((x / length) * (x / length) + (y / width) * (y / width));
 }
 
-// gaits.hexapod.kernel.tripod_setpoints: feet (6, 3), rows (6), nominal (6, 3), motion (10),
-// shape (11); swing (3, 9) and state (5) updated.
-inline void tripod_setpoints(const double* feet, const std::int64_t* rows, const double* nominal,
+// gaits.hexapod.kernel.tripod_setpoints: frames (nf, 12), frame_rows (7), rows (6), nominal
+// (6, 3), motion (10), shape (11); swing (3, 9) and state (5) updated.
+inline void tripod_setpoints(const double* frames, const std::int64_t* frame_rows,
+                             const std::int64_t* rows, const double* nominal,
                              const double* motion, const double* shape, double* swing,
                              double* state) {
   constexpr double gravity = 9.81;  // gaits.hexapod.body.GRAVITY
@@ -31,6 +32,16 @@ inline void tripod_setpoints(const double* feet, const std::int64_t* rows, const
   const double length = shape[3], width = shape[4], max_stance = shape[5], lift = shape[6],
                peak = shape[7];
   const double depth = shape[8], gain = shape[9], double_time = shape[10];
+  const double* body = frames + 12 * frame_rows[0];
+  double feet[18];  // the feet relative to the body, body axes: (foot - body) @ rotation
+  for (int i = 0; i < 6; ++i) {
+    const double* foot = frames + 12 * frame_rows[1 + i];
+    const double dx = foot[9] - body[9];
+    const double dy = foot[10] - body[10];
+    const double dz = foot[11] - body[11];
+    for (int j = 0; j < 3; ++j)
+      feet[3 * i + j] = dx * body[j] + dy * body[3 + j] + dz * body[6 + j];
+  }
   const std::int64_t s1 = rows[0], s2 = rows[1], s3 = rows[2];
   const double x1 = feet[3 * s1], y1 = feet[3 * s1 + 1], z1 = feet[3 * s1 + 2];
   const double ux = feet[3 * s2] - x1, uy = feet[3 * s2 + 1] - y1, uz = feet[3 * s2 + 2] - z1;
@@ -53,8 +64,8 @@ inline void tripod_setpoints(const double* feet, const std::int64_t* rows, const
     const double speed = std::sqrt(sx * sx + sy * sy);
     if (speed > 1e-3) {
       const double ex = sx / speed, ey = sy / speed;
-      const double dx = feet[3 * r] - nominal[3 * r], dy = feet[3 * r + 1] - nominal[3 * r + 1];
-      const double value = -(dx * ex + dy * ey) * strides(ex, ey, length, width);
+      const double ox = feet[3 * r] - nominal[3 * r], oy = feet[3 * r + 1] - nominal[3 * r + 1];
+      const double value = -(ox * ex + oy * ey) * strides(ex, ey, length, width);
       if (!found || value > lag) lag = value;
       found = true;
     }

@@ -49,7 +49,8 @@ def _strides(x: float, y: float, length: float, width: float) -> float:
 
 @njit(cache=True)
 def tripod_setpoints(
-    feet: np.ndarray,
+    frames: np.ndarray,
+    frame_rows: np.ndarray,
     rows: np.ndarray,
     nominal: np.ndarray,
     motion: np.ndarray,
@@ -60,8 +61,9 @@ def tripod_setpoints(
     """The support tripod's ground plane and lag, the swing feet's set points (body axes).
 
     Args:
-        feet: ``(6, 3)`` the feet relative to the body, body axes [m].
-        rows: ``(6,)`` the support tripod's rows of ``feet`` then the swing tripod's.
+        frames: ``(nf, 12)`` the snapshot's frame table (rotation row-major, then position).
+        frame_rows: ``(7,)`` its rows of the body and of the feet 1 to 6.
+        rows: ``(6,)`` the support tripod's feet (0 to 5) then the swing tripod's.
         nominal: ``(6, 3)`` the feet's nominal places relative to the body [m].
         motion: ``(10,)`` the body's height [m], its low-passed velocity ``(vx, vy)``, the
             velocity set point and its acceleration (heading frame) [m/s, m/s^2], the yaw
@@ -78,6 +80,16 @@ def tripod_setpoints(
     velocity_filter, foot_radius, nominal_height = shape[0], shape[1], shape[2]
     length, width, max_stance, lift, peak = shape[3], shape[4], shape[5], shape[6], shape[7]
     depth, gain, double_time = shape[8], shape[9], shape[10]
+    # the feet relative to the body, body axes: (foot - body) @ rotation
+    body = frame_rows[0]
+    feet = np.empty((6, 3))
+    for i in range(6):
+        foot = frame_rows[1 + i]
+        dx = frames[foot, 9] - frames[body, 9]
+        dy = frames[foot, 10] - frames[body, 10]
+        dz = frames[foot, 11] - frames[body, 11]
+        for j in range(3):
+            feet[i, j] = dx * frames[body, j] + dy * frames[body, 3 + j] + dz * frames[body, 6 + j]
     # the ground plane through the support tripod (footholds.support_plane)
     s1, s2, s3 = rows[0], rows[1], rows[2]
     x1, y1, z1 = feet[s1, 0], feet[s1, 1], feet[s1, 2]
@@ -99,8 +111,8 @@ def tripod_setpoints(
         speed = math.sqrt(sx * sx + sy * sy)
         if speed > 1e-3:
             ex, ey = sx / speed, sy / speed
-            dx, dy = feet[r, 0] - nominal[r, 0], feet[r, 1] - nominal[r, 1]
-            value = -(dx * ex + dy * ey) * _strides(ex, ey, length, width)
+            ox, oy = feet[r, 0] - nominal[r, 0], feet[r, 1] - nominal[r, 1]
+            value = -(ox * ex + oy * ey) * _strides(ex, ey, length, width)
             if not found or value > lag:
                 lag = value
             found = True

@@ -358,8 +358,7 @@ def run_registered(
         speed = 0.2 if (options.get("pendulum") or options.get("track")) else 0.4
     if parameters is not None and not isinstance(parameters, HexapodParameters):
         raise InvalidInputError(
-            f"{walk.name}: parameters must be a HexapodParameters, got "
-            f"{type(parameters).__name__}."
+            f"{walk.name}: parameters must be a HexapodParameters, got {type(parameters).__name__}."
         )
     if distribution is None:
         distribution = "qp" if parameters is None else parameters.distribution

@@ -194,6 +194,7 @@ class HexapodWalker(Gait):
         self._table_rows = None  # the kinematics' frame-table rows (cached on first use)
         self._feet_rows = np.zeros(6, dtype=int)
         self._body_row = 0
+        self._frame_rows = np.zeros(7, dtype=np.int64)  # the body's row, then the feet's
         frame = model.frames[self._body_frame]
         #: the body frame is the free flyer's (its velocity is read from v directly)
         self._body_is_root = (
@@ -283,12 +284,11 @@ class HexapodWalker(Gait):
                 return False
         return True
 
-    def _body_state(self, context: Context) -> tuple[float, np.ndarray]:
-        """Heading inputs, measured velocity, pendulum; the body's height and the feet.
+    def _body_state(self, context: Context) -> float:
+        """Heading inputs, measured velocity, pendulum; the body's height.
 
         Returns:
-            The body's height [m] and the six feet relative to the body in body axes, row
-            ``i - 1`` for leg ``i``, ``(6, 3)`` [m].
+            The body's height [m].
 
         """
         snapshot = context.snapshot
@@ -298,9 +298,9 @@ class HexapodWalker(Gait):
             self._table_rows = rows
             self._feet_rows = np.array([rows[f] for f in self._foot_frames])
             self._body_row = rows[self._body_frame]
+            self._frame_rows = np.array([self._body_row, *self._feet_rows], dtype=np.int64)
         body = table[self._body_row]
         rotation, position = body[:9].reshape(3, 3), body[9:]
-        feet = (table[self._feet_rows, 9:] - position) @ rotation
         r = rotation.tolist()
         yaw = math.atan2(r[1][0], r[0][0])
         pitch = math.asin(max(-1.0, min(1.0, -r[2][0])))
@@ -337,14 +337,17 @@ class HexapodWalker(Gait):
         if self._pendulum_index is not None:
             world_omega = rotation @ context.v[3:6]  # free-flyer angular velocity: body axes
             self._balance(context, pitch, -s * world_omega[0] + c * world_omega[1])
-        return float(position[2]), feet
+        return float(position[2])
 
     def _update_double(self, context: Context) -> None:
         self._body_state(context)
 
     def _enter_tripod(self, context: Context) -> None:
         self.support = context.state[-1]
-        _, feet = self._body_state(context)
+        self._body_state(context)
+        table = context.snapshot.frame_table  # the feet relative to the body, body axes
+        body = table[self._body_row]
+        feet = (table[self._feet_rows, 9:] - body[9:]) @ body[:9].reshape(3, 3)
         rows = self._rows[OTHER[self.support]]
         swing = self._swing
         swing[:, :3] = swing[:, 3:6] = feet[list(rows)]  # lift-off: the last set point
@@ -358,13 +361,14 @@ class HexapodWalker(Gait):
 
     def _update_tripod(self, context: Context) -> None:
         """The ground plane, the phase and the swing set points (:mod:`.kernel`), one call."""
-        height, feet = self._body_state(context)
+        height = self._body_state(context)
         now = context.time
         fx, fy = self._velocity_filtered
         motion = np.array((height, fx, fy, *self._setpoint, *self._acceleration, self.yaw_rate,
                            context.time_in_state, now - self._target_time))  # fmt: skip
         swing, state = self._swing, self._state
-        TRIPOD_SETPOINTS(feet, self._kernel_rows[self.support], self._nominal_feet, motion,
+        TRIPOD_SETPOINTS(context.snapshot.frame_table, self._frame_rows,
+                         self._kernel_rows[self.support], self._nominal_feet, motion,
                          self._shape, swing, state)  # fmt: skip
         self._target_time = now
         _, _, _, self.phase, self.ground = state.tolist()

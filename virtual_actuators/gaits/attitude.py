@@ -11,9 +11,10 @@ __all__ = ["attitude_and_velocity", "rotation", "yaw_pitch_roll"]
 
 def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
     """Z-Y-X angles of a rotation matrix ``R = Rz(yaw) Ry(pitch) Rx(roll)`` [rad]."""
-    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-    pitch = math.asin(max(-1.0, min(1.0, -rotation[2, 0])))
-    roll = math.atan2(rotation[2, 1], rotation[2, 2])
+    (r00, _, _), (r10, _, _), (r20, r21, r22) = np.asarray(rotation, dtype=float).tolist()
+    yaw = math.atan2(r10, r00)
+    pitch = math.asin(max(-1.0, min(1.0, -r20)))
+    roll = math.atan2(r21, r22)
     return yaw, pitch, roll
 
 

@@ -257,15 +257,19 @@ class CompiledQPMatrices:
                 weights, guess, ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
             )  # fmt: skip
             return None if count < 0 else Answer(out, *norms, active[:count].copy())
-        arguments = self._arguments(snapshot, wrench, workspace)
-        if arguments is None:
-            return None
-        if self.core is not None:
+        if self.core is not None:  # the snapshot's arrays straight in (a tick's cost)
+            frames = snapshot.frame_table
+            if frames.shape[0] <= self._max_row:
+                return None
             count, norms = self.core.again(
-                *arguments[:5], workspace.buffer, workspace.layout, keep, weights, guess,
-                ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
+                snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept,
+                workspace.buffer, workspace.layout, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
+                EPS_ABS, out, active,
             )  # fmt: skip
         else:
+            arguments = self._arguments(snapshot, wrench, workspace)
+            if arguments is None:
+                return None
             count, norms = again(
                 *arguments, workspace.pn, workspace.nv, keep, weights, guess, ACTIVE_TOL,
                 EXACT_TOL, EPS_ABS, out, active,

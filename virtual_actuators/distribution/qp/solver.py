@@ -138,6 +138,8 @@ class QPDistribution:
         self.iteration_budget = ITERATION_BUDGET
         #: per set of prescribed axes: the rows summing the chains' forces on them
         self._selects: dict[bytes, np.ndarray] = {}
+        #: the active rows' names by their indices' bytes (the sets recur tick after tick)
+        self._active_names: dict[bytes, tuple[str, ...]] = {}
         #: the part of the scale that the declaration fixes: the least normal force and the
         #: constant right-hand sides (not the torque limits: a limit that does not bind would
         #: set the accuracy of every answer below it)
@@ -199,10 +201,16 @@ class QPDistribution:
 
         """
         keep = request.keep
+        weights = self._weights(request)
+        tried = request.compiled and self.matrices.applicable
+        if tried:  # most ticks of a walk: the last certified active set, one compiled call
+            tick = self._again(snapshot, wrench, keep, weights)
+            if tick is not None:
+                self._local.iterations = 0
+                return tick
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, self._weights(request),
-                               budget)  # fmt: skip
+            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget, tried)
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
@@ -237,11 +245,14 @@ class QPDistribution:
         self._local.iterations = 0
         return self._tick(answer, False)
 
-    def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
-        """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`."""
+    def _solve(self, snapshot, wrench, keep, compiled, weights, budget, tried=False):
+        """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`.
+
+        ``tried``: :meth:`_again` answered None already on this tick.
+        """
         work = None
         if compiled and self.matrices.applicable:
-            tick = self._again(snapshot, wrench, keep, weights)
+            tick = None if tried else self._again(snapshot, wrench, keep, weights)
             if tick is not None:
                 return tick
             work = self.matrices.build(snapshot, wrench, keep)
@@ -283,14 +294,20 @@ class QPDistribution:
 
     def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
         """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""
-        names = self.limits.row_names()
-        forces = answer.out[: self.problem.p * self.problem.n]
-        active = tuple([names[i] for i in answer.active.tolist()])
-        active += (BUDGET_EXHAUSTED,) if exhausted else ()
+        p, n = self.problem.p, self.problem.n
+        key = answer.active.tobytes()
+        active = self._active_names.get(key)
+        if active is None:
+            names = self.limits.row_names()
+            active = tuple([names[i] for i in answer.active.tolist()])
+            if len(self._active_names) >= 256:
+                self._active_names.clear()
+            self._active_names[key] = active
+        if exhausted:
+            active += (BUDGET_EXHAUSTED,)
         raw = RawSolution(
-            forces=forces.reshape(self.problem.p, self.problem.n), method="qp", solver="qp",
-            active=active,
-        )  # fmt: skip
+            forces=answer.out[: p * n].reshape(p, n), method="qp", solver="qp", active=active
+        )
         # compiled=False: the matrices are compiled, the solve is ProxQP's (as before)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False

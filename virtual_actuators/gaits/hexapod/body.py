@@ -85,6 +85,23 @@ class HeadingAttitude(Component):
         mz = b[2] * (self.yaw_rate - velocity[2])
         return np.array((c * mx - s * my, s * mx + c * my, mz))
 
+    def compute_wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """:meth:`compute_wrench` on plain floats: the same operations, the same bits."""
+        yaw, pitch, roll = yaw_pitch_roll(pin.exp3(np.array(position)))
+        self.yaw = yaw
+        c, s = math.cos(yaw), math.sin(yaw)
+        v0, v1, v2 = velocity
+        wx = c * v0 + s * v1  # angular velocity in the heading frame
+        wy = -s * v0 + c * v1
+        k0, k1 = self.stiffness.tolist()
+        b0, b1, b2 = self.damping.tolist()
+        mx = k0 * (self.roll - roll) - b0 * wx
+        my = k1 * (self.pitch - pitch) - b1 * wy
+        mz = b2 * (self.yaw_rate - v2)
+        return [c * mx - s * my, s * mx + c * my, mz]
+
 
 class HeadingDamper(Component):
     """Dampers toward a velocity given in the heading frame, plus a force in that frame.
@@ -119,6 +136,21 @@ class HeadingDamper(Component):
         fx = self.damping[0] * (self.velocity[0] - vx) + self.force[0]
         fy = self.damping[1] * (self.velocity[1] - vy) + self.force[1]
         return np.array((c * fx - s * fy, s * fx + c * fy))
+
+    def compute_wrench_floats(
+        self, position: list[float], velocity: list[float], time: float
+    ) -> list[float]:
+        """:meth:`compute_wrench` on plain floats: the same operations, the same bits."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        v0, v1 = velocity
+        vx = c * v0 + s * v1
+        vy = -s * v0 + c * v1
+        d0, d1 = self.damping.tolist()
+        cx, cy = np.asarray(self.velocity, dtype=float).tolist()
+        f0, f1 = np.asarray(self.force, dtype=float).tolist()
+        fx = d0 * (cx - vx) + f0
+        fy = d1 * (cy - vy) + f1
+        return [c * fx - s * fy, s * fx + c * fy]
 
 
 def _gains(values: Sequence[float], count: int, what: str) -> np.ndarray:

@@ -61,12 +61,14 @@ def behind(
 
     """
     lag = None
+    length, width = parameters.step_length, parameters.step_width
     for (dx, dy, *_), vx, vy in zip(offsets, sx, sy, strict=True):
         speed = math.hypot(vx, vy)
         if speed > 1e-3:
             ux, uy = vx / speed, vy / speed
-            value = -(dx * ux + dy * uy) * strides(parameters, ux, uy)
-            lag = value if lag is None else max(lag, value)
+            value = -(dx * ux + dy * uy) * math.sqrt((ux / length) ** 2 + (uy / width) ** 2)
+            if lag is None or value > lag:  # max(lag, value)
+                lag = value
     return 0.0 if lag is None else float(lag)
 
 
@@ -98,7 +100,8 @@ def landing(
 
     """
     p = parameters
-    rate = max(strides(p, *foot) for foot in ground)  # strides per second
+    length, width = p.step_length, p.step_width
+    rate = max([math.sqrt((x / length) ** 2 + (y / width) ** 2) for x, y in ground])  # [1/s]
     stance = p.max_stance_time if rate * p.max_stance_time <= 1.0 else 1.0 / rate
     (fx, fy), (cx, cy) = velocity, setpoint
     ax, ay = acceleration
@@ -109,7 +112,7 @@ def landing(
     places = []
     for (sx, sy), (x, y, _) in zip(ground, nominal, strict=True):
         ox, oy = lead * sx + ex, lead * sy + ey
-        factor = min(1.0, 0.6 / max(strides(p, ox, oy), 1e-9))
+        factor = min(1.0, 0.6 / max(math.sqrt((ox / length) ** 2 + (oy / width) ** 2), 1e-9))
         places.append([x + ox * factor, y + oy * factor])
     return places
 

@@ -250,15 +250,23 @@ class HexapodEpisode(Episode):
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)  # yaw, pitch, roll, vx, vy this tick
         self.command = np.zeros(2)
         self.yaw_unwrapped, self.yaw_last = 0.0, 0.0
+        self._touching: frozenset[str] | None = None  # the last contact set and its switches
+        self._switches: dict[str, bool] = {}
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """Steer the walker along the guidance; the feet's contact switches."""
+        """Steer the walker along the guidance; the feet's contact switches.
+
+        The switches are the same dict while the contacts stay the same (do not modify it).
+        """
         self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
         state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
         self.command, yaw_rate = self.guidance.command(state)
         self.gait.set_command(self.command, yaw_rate)
-        touching = self.simulator.touching_terrain()
-        return {foot: foot in touching for foot in self.gait.contact_frames}
+        touching = self.simulator.touching_frames()  # the same set object for the same contacts
+        if touching is not self._touching:
+            self._touching = touching
+            self._switches = {foot: foot in touching for foot in self.gait.contact_frames}
+        return self._switches
 
     def fallen(self, q: np.ndarray) -> bool:
         """Body low or tilted, something else than a foot down, or the pendulum leaning."""
@@ -350,8 +358,7 @@ def run_registered(
         speed = 0.2 if (options.get("pendulum") or options.get("track")) else 0.4
     if parameters is not None and not isinstance(parameters, HexapodParameters):
         raise InvalidInputError(
-            f"{walk.name}: parameters must be a HexapodParameters, got "
-            f"{type(parameters).__name__}."
+            f"{walk.name}: parameters must be a HexapodParameters, got {type(parameters).__name__}."
         )
     if distribution is None:
         distribution = "qp" if parameters is None else parameters.distribution

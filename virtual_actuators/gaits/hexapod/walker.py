@@ -67,14 +67,14 @@ from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.robot import Robot
 from ..base import Gait
-from ..planar import lift_profile, smoothstep
 from .body import (
     HeadingAttitude,
     HeadingDamper,
     PendulumModel,
     pendulum_lqr,
 )
-from .footholds import behind, ground_velocity, landing, support_plane, swing_targets
+from .footholds import ground_velocity
+from .kernel import SHAPE, TRIPOD_SETPOINTS
 from .parameters import HexapodParameters
 
 LEGS = (1, 2, 3, 4, 5, 6)
@@ -128,19 +128,21 @@ class HexapodWalker(Gait):
         self._declare_actuators()
         self._standing()
         self.ground = 0.0  # ground height under the body [m]
-        #: ground plane z = a x + b y + c in body axes through the support feet (a, b, c)
-        self.plane = (0.0, 0.0, float(self.nominal[:, 2].mean()))
         self.support = "a"
         self.phase = 0.0  # swing progress, 0 to 1
-        self._swing_start = [[0.0, 0.0, 0.0]] * 3
-        self._targets = np.zeros((3, 3))
+        #: the tripod kernel's state: the ground plane (a, b, c), the phase, the ground height
+        self._state = np.array((0.0, 0.0, float(self.nominal[:, 2].mean()), 0.0, 0.0))
+        #: per swing foot: its lift-off point, last set point and its velocity [m, m/s]
+        self._swing = np.zeros((3, 9))
+        self._shape = np.array(
+            [getattr(self if name == "foot_radius" else p, name) for name in SHAPE]
+        )
         self._target_time = 0.0
         self._velocity_body = (0.0, 0.0)  # measured, heading frame [m/s]
         self._velocity_filtered = (0.0, 0.0)  # low-passed, for foot placement [m/s]
         self._setpoint = (0.0, 0.0)  # velocity_setpoint as floats [m/s]
         self._acceleration = (0.0, 0.0)  # of the velocity set point [m/s^2]
         self._filter_time = 0.0
-        self._rates = np.zeros((3, 3))  # swing set point velocities, low-passed [m/s]
         self.pendulum: PendulumModel | None = None
         self.gain: np.ndarray | None = None
         self.pendulum_angle = 0.0  # from the vertical, in the heading x-z plane [rad]
@@ -183,9 +185,16 @@ class HexapodWalker(Gait):
         self._foot_frames = [model.getFrameId(f"foot_{i}") for i in LEGS]
         self._nominal = self.nominal.tolist()
         self._rows = {name: tuple(leg - 1 for leg in legs) for name, legs in TRIPODS.items()}
+        #: the tripod kernel's rows: the support tripod's feet, then the swing tripod's
+        self._kernel_rows = {
+            name: np.array(self._rows[name] + self._rows[OTHER[name]], dtype=np.int64)
+            for name in TRIPODS
+        }
+        self._nominal_feet = np.ascontiguousarray(self.nominal, dtype=float)
         self._table_rows = None  # the kinematics' frame-table rows (cached on first use)
         self._feet_rows = np.zeros(6, dtype=int)
         self._body_row = 0
+        self._frame_rows = np.zeros(7, dtype=np.int64)  # the body's row, then the feet's
         frame = model.frames[self._body_frame]
         #: the body frame is the free flyer's (its velocity is read from v directly)
         self._body_is_root = (
@@ -242,13 +251,13 @@ class HexapodWalker(Gait):
             InvalidInputError: Values that are not finite.
 
         """
-        vx, vy = (float(v) for v in velocity)
-        yaw_rate = float(yaw_rate)
-        if not all(math.isfinite(v) for v in (vx, vy, yaw_rate)):
+        vx, vy = velocity
+        vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
+        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
             raise InvalidInputError(
                 f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
             )
-        if vx != self.velocity[0] or vy != self.velocity[1]:
+        if [vx, vy] != self.velocity.tolist():
             self.velocity = np.array((vx, vy))
         self.yaw_rate = yaw_rate
 
@@ -270,14 +279,16 @@ class HexapodWalker(Gait):
         contacts = context.contacts
         if contacts is None or self.phase < self.parameters.touchdown_phase:
             return False
-        return all(contacts.get(foot, False) for foot in swing_feet)
+        for foot in swing_feet:  # all(...), without a generator per tick
+            if not contacts.get(foot, False):
+                return False
+        return True
 
-    def _body_state(self, context: Context) -> tuple[float, list[list[float]]]:
-        """Heading inputs, measured velocity, pendulum; the body's height and the feet.
+    def _body_state(self, context: Context) -> float:
+        """Heading inputs, measured velocity, pendulum; the body's height.
 
         Returns:
-            The body's height [m] and the six feet relative to the body in body axes, row
-            ``i - 1`` for leg ``i`` [m].
+            The body's height [m].
 
         """
         snapshot = context.snapshot
@@ -287,9 +298,9 @@ class HexapodWalker(Gait):
             self._table_rows = rows
             self._feet_rows = np.array([rows[f] for f in self._foot_frames])
             self._body_row = rows[self._body_frame]
+            self._frame_rows = np.array([self._body_row, *self._feet_rows], dtype=np.int64)
         body = table[self._body_row]
         rotation, position = body[:9].reshape(3, 3), body[9:]
-        feet = ((table[self._feet_rows, 9:] - position) @ rotation).tolist()
         r = rotation.tolist()
         yaw = math.atan2(r[1][0], r[0][0])
         pitch = math.asin(max(-1.0, min(1.0, -r[2][0])))
@@ -326,65 +337,48 @@ class HexapodWalker(Gait):
         if self._pendulum_index is not None:
             world_omega = rotation @ context.v[3:6]  # free-flyer angular velocity: body axes
             self._balance(context, pitch, -s * world_omega[0] + c * world_omega[1])
-        return float(position[2]), feet
-
-    def _set_ground(self, height: float, stance: list[list[float]]) -> None:
-        """Ground plane through the support tripod (body axes); the height set point from it."""
-        self.plane = support_plane(stance, self.plane)
-        self.ground = height + self.plane[2] - self.foot_radius
-        self.height.setpoint = self.ground + self.parameters.height
+        return float(position[2])
 
     def _update_double(self, context: Context) -> None:
         self._body_state(context)
 
     def _enter_tripod(self, context: Context) -> None:
         self.support = context.state[-1]
-        _, feet = self._body_state(context)
+        self._body_state(context)
+        table = context.snapshot.frame_table  # the feet relative to the body, body axes
+        body = table[self._body_row]
+        feet = (table[self._feet_rows, 9:] - body[9:]) @ body[:9].reshape(3, 3)
         rows = self._rows[OTHER[self.support]]
-        self._swing_start = [feet[r] for r in rows]
-        self._targets = np.array(self._swing_start)
+        swing = self._swing
+        swing[:, :3] = swing[:, 3:6] = feet[list(rows)]  # lift-off: the last set point
         self._target_time = context.time
-        self.phase = 0.0
+        self.phase = self._state[3] = 0.0
         # the lifting feet leave the ground at its velocity relative to the body
         ground = ground_velocity(self._velocity_filtered, self.yaw_rate, self._nominal)
-        self._rates = np.array([(-ground[r][0], -ground[r][1], 0.0) for r in rows])
+        swing[:, 6:] = [(-ground[r][0], -ground[r][1], 0.0) for r in rows]
         for k, i in enumerate(TRIPODS[OTHER[self.support]]):
-            self.swing[i].velocity_setpoint = self._rates[k]
+            self.swing[i].velocity_setpoint = swing[k, 6:]
 
     def _update_tripod(self, context: Context) -> None:
-        p = self.parameters
-        height, feet = self._body_state(context)
-        stance_rows = self._rows[self.support]
-        swing_rows = self._rows[OTHER[self.support]]
-        stance = [feet[r] for r in stance_rows]
-        self._set_ground(height, stance)
-        ground = ground_velocity(self._velocity_filtered, self.yaw_rate, self._nominal)
-        nominal = self._nominal
-        lag = behind(
-            p,
-            [(feet[r][0] - nominal[r][0], feet[r][1] - nominal[r][1]) for r in stance_rows],
-            [ground[r][0] for r in stance_rows],
-            [ground[r][1] for r in stance_rows],
-        )
-        progress = max(0.5 + lag, context.time_in_state / p.max_stance_time)
-        phase = self.phase = max(self.phase, min(progress, 1.0))
-        reach = smoothstep(min(1.0, 1.25 * phase))
-        rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
-        up = p.lift * lift_profile(phase, p.lift_peak) - p.touchdown_depth * phase
-        places = landing(
-            p,
-            [ground[r] for r in swing_rows],
-            [nominal[r] for r in swing_rows],
-            self._velocity_filtered,
-            self._setpoint,
-            self._acceleration,
-        )
-        targets = np.array(swing_targets(self._swing_start, places, self.plane, reach, rest, up))
-        dt = context.time - self._target_time
-        if dt > 0.0:
-            blend = min(1.0, dt / p.velocity_filter)
-            self._rates += blend * ((targets - self._targets) / dt - self._rates)
-        self._targets, self._target_time = targets, context.time
+        """The ground plane, the phase and the swing set points (:mod:`.kernel`), one call."""
+        height = self._body_state(context)
+        now = context.time
+        fx, fy = self._velocity_filtered
+        motion = np.array((height, fx, fy, *self._setpoint, *self._acceleration, self.yaw_rate,
+                           context.time_in_state, now - self._target_time))  # fmt: skip
+        swing, state = self._swing, self._state
+        TRIPOD_SETPOINTS(context.snapshot.frame_table, self._frame_rows,
+                         self._kernel_rows[self.support], self._nominal_feet, motion,
+                         self._shape, swing, state)  # fmt: skip
+        self._target_time = now
+        _, _, _, self.phase, self.ground = state.tolist()
+        self.height.setpoint = self.ground + self.parameters.height
         for k, i in enumerate(TRIPODS[OTHER[self.support]]):
-            self.swing[i].setpoint = targets[k]
-            self.swing[i].velocity_setpoint = self._rates[k]
+            self.swing[i].setpoint = swing[k, 3:6]
+            self.swing[i].velocity_setpoint = swing[k, 6:]
+
+    @property
+    def plane(self) -> tuple[float, float, float]:
+        """The ground plane ``z = a x + b y + c`` through the support feet, body axes."""
+        a, b, c = self._state[:3].tolist()
+        return a, b, c

@@ -258,6 +258,20 @@ def test_walking_sensor_readings_are_bit_identical(monkeypatch):
         assert np.array_equal(CORE.relative_sensor(*arguments), reference)
 
 
+def _standing_ticks(robot, n: int, count: int, seed: int):
+    """``count`` (q, wrench): configurations near neutral (each kept two ticks), requests
+    around the weight."""
+    rng = np.random.default_rng(seed)
+    weight = 9.81 * sum(inertia.mass for inertia in robot.model.inertias)
+    q = robot.neutral()
+    for k in range(count):
+        q = q if k % 2 else random_configuration(robot, rng, scale=0.05)
+        wrench = np.zeros(n)
+        wrench[2] = weight * rng.uniform(0.5, 1.2)
+        wrench += rng.normal(scale=0.05 * weight, size=n)
+        yield q, wrench
+
+
 def _core_again(case) -> bytes:
     """The compiled tick of a recorded ``again`` on fresh arrays: every output's bytes."""
     matrices, work, jacobian, frames, q, wrench, keep, weights, guess = case
@@ -280,14 +294,7 @@ def test_compiled_qp_ticks_from_four_threads_give_the_serial_bits(recorder):
         robot_name, base, feet, options = DECLARATIONS[name]
         robot = va.load_robot(robot_name)
         body = va.ParallelVirtualActuator(robot, base, feet, "world", **options)
-        rng = np.random.default_rng(5)
-        weight = 9.81 * sum(inertia.mass for inertia in robot.model.inertias)
-        q = robot.neutral()
-        for k in range(30):
-            q = q if k % 2 else random_configuration(robot, rng, scale=0.05)
-            wrench = np.zeros(body.n)
-            wrench[2] = weight * rng.uniform(0.5, 1.2)
-            wrench += rng.normal(scale=0.05 * weight, size=body.n)
+        for q, wrench in _standing_ticks(robot, body.n, 30, seed=5):
             try:
                 body.solve(q, wrench, method="qp")
             except va.ConstraintError:
@@ -313,14 +320,7 @@ def test_qp_solves_from_q_equal_solves_from_snapshots(name):
     robot = va.load_robot(robot_name)
     from_q, from_snapshot = (va.ParallelVirtualActuator(robot, base, feet, "world", **options)
                              for _ in range(2))  # fmt: skip
-    rng = np.random.default_rng(2)
-    weight = 9.81 * sum(inertia.mass for inertia in robot.model.inertias)
-    q = robot.neutral()
-    for k in range(60):
-        q = q if k % 2 else random_configuration(robot, rng, scale=0.05)
-        wrench = np.zeros(from_q.n)
-        wrench[2] = weight * rng.uniform(0.5, 1.2)
-        wrench += rng.normal(scale=0.05 * weight, size=from_q.n)
+    for q, wrench in _standing_ticks(robot, from_q.n, 60, seed=2):
         solutions = []
         for body, state in ((from_q, q), (from_snapshot, va.Snapshot(robot, q))):
             try:

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, MissingDependencyError
+from ..exceptions import InvalidInputError, import_optional
 
 ENGINES = ("process", "dask", "ray")
 #: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is
@@ -224,14 +224,9 @@ def run_sweep(
 
 
 def _run_dask(cases, done) -> dict[int, SweepResult]:
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise MissingDependencyError(
-            "engine='dask' needs dask.distributed: pip install 'virtual_actuators[dask]'.",
-            package="dask",
-            extra="dask",
-        ) from None
+    for package in ("dask", "distributed"):
+        import_optional(package, "dask", "engine='dask' (dask.distributed)")
+    from dask.distributed import Client, LocalCluster, as_completed
     address = os.environ.get("DASK_SCHEDULER_ADDRESS")
     cluster = None if address else LocalCluster(processes=True, threads_per_worker=1)
     try:
@@ -249,14 +244,7 @@ def _run_dask(cases, done) -> dict[int, SweepResult]:
 
 
 def _run_ray(cases, done) -> dict[int, SweepResult]:
-    try:
-        import ray
-    except ImportError:
-        raise MissingDependencyError(
-            "engine='ray' needs ray: pip install 'virtual_actuators[ray]'.",
-            package="ray",
-            extra="ray",
-        ) from None
+    ray = import_optional("ray", "ray", "engine='ray'")
     started = not ray.is_initialized()
     ray.init(ignore_reinit_error=True, include_dashboard=False)
     try:
@@ -307,9 +295,12 @@ def success_map(results: Sequence[SweepResult]) -> tuple[list[float], list[str],
 
 
 def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
-    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``."""
-    import matplotlib
+    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``.
 
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
+    """
+    matplotlib = import_optional("matplotlib", "plots", "The success map")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 

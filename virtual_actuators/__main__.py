@@ -46,11 +46,11 @@ def _main(arguments: list[str]) -> int:
         arguments.insert(0, "demo")  # the default command, with its options
     args = parser.parse_args(arguments)
     command_parser = subparsers.get(args.command, parser)
-    check_installed(args, command_parser)
     if args.command == "demo":
         check_demo_options(args, command_parser)
     elif args.command == "sweep":
         check_results_path(args, command_parser)
+    check_installed(args, command_parser)  # the options agree; are their packages there?
     from .exceptions import VirtualActuatorError
 
     try:

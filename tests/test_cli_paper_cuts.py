@@ -9,6 +9,7 @@ import csv
 import json
 import os
 import re
+import select
 import signal
 import subprocess
 import sys
@@ -209,3 +210,37 @@ def test_the_help_texts_in_the_docs_are_what_the_command_prints(monkeypatch):
     assert sorted(shown) == sorted(["", *subparsers])  # every command's help is shown
     for name, block in shown.items():
         assert block == subparsers.get(name, parser).format_help().rstrip("\n"), name
+
+
+def test_viz_at_a_terminal_serves_until_enter():
+    pytest.importorskip("meshcat")
+    pty = pytest.importorskip("pty")
+    terminal, side = pty.openpty()  # standard input is a terminal: a person is there
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONWARNINGS": "ignore"}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "virtual_actuators", "example", "single-leg", "--viz"],
+        env=env, stdin=side, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    )  # fmt: skip
+    os.close(side)
+    printed = b""
+    try:
+        deadline = time.monotonic() + 120
+        while b"Enter" not in printed:  # the prompt ends without a newline: read what comes
+            assert time.monotonic() < deadline, printed
+            if select.select([process.stdout], [], [], 1.0)[0]:
+                chunk = os.read(process.stdout.fileno(), 4096)
+                assert chunk, (printed, process.stderr.read())
+                printed += chunk
+        time.sleep(1.0)
+        assert process.poll() is None  # waiting for Enter
+        os.write(terminal, b"\n")
+        rest, errors = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
+        os.close(terminal)
+    assert process.returncode == 0, errors
+    text = (printed + rest).decode()
+    assert len(re.findall(r"http://\S+", text)) == 1, text
+    assert text.rstrip().endswith("viewer: stopped"), text

@@ -131,7 +131,7 @@ def run_walk(name: str, **options: Any) -> Any:
 
     Raises:
         InvalidInputError: As the registry's ``run_walk``.
-        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+        MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
 
     """
     from ..gaits.registry import run_walk as run

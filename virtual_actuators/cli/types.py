@@ -353,9 +353,16 @@ def figure_path(text: str) -> str:
     """``sweep --plot``: an :func:`output_path` whose suffix is an image format matplotlib writes.
 
     Raises:
-        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), or
-            a path that :func:`output_path` refuses.
+        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), a
+            path that :func:`output_path` refuses, or matplotlib is not installed (the message
+            names its extra).
     """
+    from ..exceptions import MissingDependencyError, import_optional
+
+    try:
+        import_optional("matplotlib", "plots", "The plot")
+    except MissingDependencyError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
     from matplotlib.backend_bases import FigureCanvasBase
 
     formats = sorted(FigureCanvasBase.get_supported_filetypes())

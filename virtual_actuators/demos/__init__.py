@@ -18,7 +18,7 @@ def __getattr__(name: str) -> Any:
 
     Raises:
         AttributeError: Any other name.
-        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+        MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
 
     """
     if name in ("Walk", "WalkSpec"):

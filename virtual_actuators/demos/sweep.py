@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, MissingDependencyError
+from ..exceptions import InvalidInputError, import_optional
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -134,7 +134,7 @@ def run_walk(name: str, **options: Any) -> Any:
 
     Raises:
         InvalidInputError: As the registry's ``run_walk``.
-        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+        MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
 
     """
     from ..gaits.registry import run_walk as run
@@ -228,14 +228,9 @@ def run_sweep(
 
 
 def _run_dask(cases, done) -> dict[int, SweepResult]:
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise MissingDependencyError(
-            "engine='dask' needs dask.distributed: pip install 'virtual_actuators[dask]'.",
-            package="dask",
-            extra="dask",
-        ) from None
+    for package in ("dask", "distributed"):
+        import_optional(package, "dask", "engine='dask' (dask.distributed)")
+    from dask.distributed import Client, LocalCluster, as_completed
     address = os.environ.get("DASK_SCHEDULER_ADDRESS")
     cluster = None if address else LocalCluster(processes=True, threads_per_worker=1)
     try:
@@ -253,14 +248,7 @@ def _run_dask(cases, done) -> dict[int, SweepResult]:
 
 
 def _run_ray(cases, done) -> dict[int, SweepResult]:
-    try:
-        import ray
-    except ImportError:
-        raise MissingDependencyError(
-            "engine='ray' needs ray: pip install 'virtual_actuators[ray]'.",
-            package="ray",
-            extra="ray",
-        ) from None
+    ray = import_optional("ray", "ray", "engine='ray'")
     started = not ray.is_initialized()
     ray.init(ignore_reinit_error=True, include_dashboard=False)
     try:
@@ -314,6 +302,9 @@ def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
     """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``.
 
     The image format follows the suffix (``.png``, ``.svg``, ``.pdf``, ...).
+
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
     """
     figure = draw_success_map(results)
     figure.savefig(path, dpi=figure.dpi)
@@ -321,7 +312,12 @@ def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
 
 
 def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure:
-    """The heat map :func:`plot_success_map` saves: a matplotlib figure (no pyplot)."""
+    """The heat map :func:`plot_success_map` saves: a matplotlib figure (no pyplot).
+
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
+    """
+    import_optional("matplotlib", "plots", "The success map")
     from matplotlib.ticker import PercentFormatter
 
     from ..experiments.plot_panels import new_figure, set_heading

@@ -21,11 +21,13 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-import mujoco
 import numpy as np
 
+from ..exceptions import import_optional
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
+
+mujoco = import_optional("mujoco", "sim", "Contact statistics (MuJoCo's contact forces)")
 
 #: Friction ratios are taken where the normal force is at least this [N].
 NORMAL_FLOOR = 1.0

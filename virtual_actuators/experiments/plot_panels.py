@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from virtual_actuators.exceptions import import_optional
 from virtual_actuators.experiments.channels import resolve_step_states
 
 if TYPE_CHECKING:
@@ -58,7 +59,12 @@ FALL_LABEL = "fell"
 
 
 def new_figure(width: float, height: float, dpi: float = 100) -> Figure:
-    """A matplotlib figure on an Agg canvas of its own (no pyplot), size in inches."""
+    """A matplotlib figure on an Agg canvas of its own (no pyplot), size in inches.
+
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
+    """
+    import_optional("matplotlib", "plots", "Plots")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 

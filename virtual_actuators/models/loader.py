@@ -209,6 +209,7 @@ def _load_urdf(
             f"Pinocchio could not build a model from {path}: {exc}"
         ) from exc
 
+    model.name = name  # messages name the robot as the user did ("solo12"), not the URDF ("solo")
     srdf = find_srdf(path)
     configurations = reference_configurations(model, srdf)
     return Robot(

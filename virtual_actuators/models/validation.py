@@ -4,9 +4,9 @@ A URDF given by path is checked before Pinocchio sees it (:func:`validate_urdf`:
 the URDF structure: names, joint types, parent and child links, numbers, limits, a single tree),
 so that a broken file gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` that
 says what is wrong. The structure is read from the XML by this module; when the optional
-``yourdfpy`` is installed (``pip install "virtual_actuators[urdf]"``) its parser and validator
-run as well and add what they find. ``yourdfpy`` is only a validator here: it never loads meshes
-and never computes kinematics. Pinocchio's own parser remains the final check.
+``yourdfpy`` is installed (the extra ``urdf``: ``pip install -e ".[urdf]"``) its parser and
+validator run as well and add what they find. ``yourdfpy`` is only a validator here: it never
+loads meshes and never computes kinematics. Pinocchio's own parser remains the final check.
 
 Every URDF, by path or by name, is also checked for what Pinocchio would load silently but no
 robot can be: see :mod:`~virtual_actuators.models.physics_checks`.

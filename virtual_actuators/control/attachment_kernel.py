@@ -22,6 +22,8 @@ finite (the general path names the component).
 
 from __future__ import annotations
 
+from operator import attrgetter
+
 import numpy as np
 
 from ..actuators import VirtualActuator
@@ -50,6 +52,7 @@ _ARRAY_FORMULA = (
 )
 #: The parameter tables' rows, in :func:`spring_tick`'s order.
 PARAMETERS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
+_read_parameters = attrgetter(*PARAMETERS)
 
 
 @njit(cache=True)
@@ -255,17 +258,14 @@ class SpringTick:
             return None
         for bunny in self.bunnies:  # as its float path does before the formula
             bunny.setpoint = bunny.position_at(time)
-        parameters = [
-            array
-            for c in components
-            for array in (
-                c.stiffness, c.damping, c.setpoint, c.velocity_setpoint, c.force, c.limit
-            )
-        ]
+        if len(components) == 1:
+            parameters = _read_parameters(components[0])
+        else:
+            parameters = [array for c in components for array in _read_parameters(c)]
         if self.core is not None:
             buffer = self.core.tick(jacobian_world, frames, v, parameters)
         else:
-            buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(parameters))
+            buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(list(parameters)))
         return buffer if buffer[-1] == 1.0 else None
 
 

@@ -97,6 +97,40 @@ class Context:
         self.time_in_state = time_in_state
         self.state: str | None = None
 
+    @classmethod
+    def of_tick(
+        cls, robot: Robot, snapshot: Snapshot, time: float, contacts: Mapping[str, bool] | None
+    ) -> Context:
+        """The context of a tick whose snapshot (of ``robot``, with ``v``) is built already.
+
+        The same context as ``Context(robot, snapshot.q, snapshot.v, time, contacts,
+        snapshot=snapshot)``, with the checks a float time and a dict (or no) contacts pass
+        skipped (a tick's cost); anything else goes through the constructor's checks.
+
+        Raises:
+            InvalidInputError: As the constructor.
+
+        """
+        if (
+            time.__class__ is not float
+            or not math.isfinite(time)
+            or not (contacts is None or contacts.__class__ is dict)
+            or snapshot.__class__ is not Snapshot
+            or snapshot.tree.model is not getattr(robot, "model", None)
+        ):
+            return cls(robot, snapshot.q, snapshot.v, time, contacts, snapshot=snapshot)
+        context = cls.__new__(cls)
+        context.robot = robot
+        context.snapshot = snapshot
+        context.frame_position = snapshot.frame_position
+        context.frame_velocity = snapshot.frame_velocity
+        context.frame_rotation = snapshot.frame_rotation
+        context.q, context.v, context.time = snapshot.q, snapshot.v, time
+        context.contacts = {} if contacts is None else contacts.copy()
+        context.time_in_state = 0.0
+        context.state = None
+        return context
+
     def frame_position(self, frame: str) -> np.ndarray:
         """World position of a frame [m] (from the tick's snapshot).
 

@@ -334,7 +334,7 @@ def test_frame_position_by_name_reads_the_frame_by_id():
     rob = robot(FLAMINGO)
     q = random_configuration(rob, np.random.default_rng(8), scale=0.4)
     early = va.Snapshot(rob, q)
-    early.frame_table  # computed before a frame is added to the table
+    assert early.frame_table.shape[1] == 12  # computed before a frame is added to the table
     late_name = "right_toe"
     frame_id = rob.model.getFrameId(late_name)
     snapshot = va.Snapshot(rob, q)

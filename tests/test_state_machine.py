@@ -329,7 +329,7 @@ def test_context_of_tick_is_the_constructed_context():
         Context.of_tick(rob, va.Snapshot(robot(FLAMINGO), robot(FLAMINGO).neutral()), 0.0, None)
 
 
-def test_frame_position_by_name_reads_the_frame_by_id():
+def test_frame_reads_by_name_read_the_frame_by_id():
     """A frame read by name (its tabled row) and by id (the tree's lookup) agree."""
     rob = robot(FLAMINGO)
     q = random_configuration(rob, np.random.default_rng(8), scale=0.4)
@@ -343,6 +343,15 @@ def test_frame_position_by_name_reads_the_frame_by_id():
     assert np.array_equal(early.frame_position(late_name), by_name)  # a row it lacks: computed
     by_name[:] = 9.0  # a copy
     assert not np.array_equal(snapshot.frame_position(late_name), by_name)
+    v = np.random.default_rng(9).uniform(-1.0, 1.0, rob.model.nv)
+    moving = va.Snapshot(rob, q, v)
+    for frame in ("body", late_name):
+        velocity = moving.frame_velocity(frame)
+        assert np.array_equal(velocity, moving.frame_velocity(rob.model.getFrameId(frame)))
+        velocity[:] = 9.0  # a copy
+        assert not np.array_equal(moving.frame_velocity(frame), velocity)
+    with pytest.raises(va.InvalidInputError, match="needs a snapshot built with v"):
+        snapshot.frame_velocity("body")
 
 
 def test_context_returns_copies():

@@ -213,6 +213,18 @@ class Snapshot:
         """
         return self._placement(self._frame_id(frame))
 
+    def _named_row(self, frame: object) -> int:
+        """The row of a frame given by a tabled name in this snapshot's table, else -1.
+
+        Computes the kinematics first when they have not run.
+        """
+        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is None:
+            return -1
+        if self._frames is None:
+            self._run()
+        return row if row < self._frames.shape[0] else -1
+
     def frame_position(self, frame: int | str) -> np.ndarray:
         """World position of a frame's origin [m] (a copy).
 
@@ -220,14 +232,9 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
-        if row is not None:  # a tabled frame by name: one row read (a tick's cost)
-            frames = self._frames
-            if frames is None:
-                self._run()
-                frames = self._frames
-            if row < frames.shape[0]:
-                return frames[row, 9:].copy()
+        row = self._named_row(frame)
+        if row >= 0:  # a tabled frame by name: one row read (a tick's cost)
+            return self._frames[row, 9:].copy()
         frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
         if self._frames is None:
             self._run()
@@ -255,6 +262,9 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
+        row = self._named_row(frame)
+        if row >= 0 and self._frame_velocities is not None:  # the compiled pass computed it
+            return self._frame_velocities[row].copy()
         frame_id = self._frame_id(frame)
         if self._frames is None:
             self._run()

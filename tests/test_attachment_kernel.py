@@ -202,6 +202,18 @@ def test_efforts_balance_the_wrench_pair_rnea(case):
         np.testing.assert_allclose(out.tau, expected, atol=1e-9 * (1 + np.abs(wrench).max()))
 
 
+def test_warm_up_runs_the_tick_and_moves_no_set_point(monkeypatch):
+    height = va.SpringDamper(("z",), 800.0, 40.0, setpoint=0.3)
+    bunny = va.DogtrackBunny(0.4, 60.0)
+    robot, controller, _ = _body([height, bunny])
+    calls = []
+    original = SpringTick.warm_up
+    monkeypatch.setattr(SpringTick, "warm_up", lambda self, s: calls.append(original(self, s)))
+    before = bunny.setpoint.copy()
+    controller.warm_up(robot.neutral())
+    assert len(calls) == 1 and np.array_equal(bunny.setpoint, before)
+
+
 def test_the_general_path_takes_what_the_tick_hands_back():
     robot, controller, attachment, spring = _controller("flamingo_swing")
     q, v = robot.neutral(), np.zeros(robot.model.nv)

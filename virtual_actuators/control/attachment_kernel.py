@@ -231,6 +231,21 @@ class SpringTick:
             return None
         return cls(sensor, components, [slot.start for slot in slots], serial)
 
+    def warm_up(self, snapshot: Snapshot) -> None:
+        """Call the kernel once on the components' parameters now (its result thrown away).
+
+        Nothing changes: no set point moves (a bunny's stays where it is). ``snapshot``: a
+        snapshot with ``v`` whose frame table holds the sensor's rows.
+        """
+        if snapshot.v is None or snapshot.frame_table.shape[0] < self.rows_end:
+            return
+        parameters = [array for c in self.components for array in _read_parameters(c)]
+        arguments = (snapshot.jacobian_world, snapshot.frame_table, snapshot.v)
+        if self.core is not None:
+            self.core.tick(*arguments, parameters)
+        else:
+            spring_tick(*arguments, *self.tables, table(parameters))
+
     def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
         """The tick's buffer, or None when the general path must run.
 

@@ -52,7 +52,9 @@ _ARRAY_FORMULA = (
 )
 #: The parameter tables' rows, in :func:`spring_tick`'s order.
 PARAMETERS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
-_read_parameters = attrgetter(*PARAMETERS)
+#: A spring-damper's six parameter arrays in one call: the arrays its properties return,
+#: read without a Python call each (a tick's cost; see SpringDamper's attributes)
+_read_parameters = attrgetter(*(f"_{name}" for name in PARAMETERS))
 
 
 @njit(cache=True)

@@ -308,11 +308,15 @@ class Controller:
         nv = self.robot.model.nv
         postures = self.postures
         sums = TickSums()
+        attachments = self.attachments
         for name in names:
             if postures and name in postures:  # a joint-space term
                 sums.add(name, postures[name].torques(snapshot), fresh=True)
             else:
-                self._attachment_tick(name, self._get(name), snapshot, time, sums)
+                attachment = attachments.get(name) if name.__class__ is str else None
+                if attachment is None:
+                    attachment = self._get(name)  # raises, naming the known attachments
+                self._attachment_tick(name, attachment, snapshot, time, sums)
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(

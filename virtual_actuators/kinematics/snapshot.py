@@ -232,9 +232,14 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        row = self._named_row(frame)
-        if row >= 0:  # a tabled frame by name: one row read (a tick's cost)
-            return self._frames[row, 9:].copy()
+        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is not None:  # a tabled frame by name: one row read (a tick's cost)
+            frames = self._frames
+            if frames is None:
+                self._run()
+                frames = self._frames
+            if row < frames.shape[0]:
+                return frames[row, 9:].copy()
         frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
         if self._frames is None:
             self._run()

@@ -156,7 +156,13 @@ class Context:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        rotation = self.snapshot.placement(frame)[0]
+        snapshot = self.snapshot
+        row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is not None:  # a tabled frame: its rotation's row 0 in the frame table
+            table = snapshot.frame_table
+            if row < table.shape[0]:
+                return math.atan2(table.item(row, 2), table.item(row, 0))
+        rotation = snapshot.placement(frame)[0]
         return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
 
     def frame_velocity(self, frame: str) -> np.ndarray:

@@ -119,10 +119,9 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            kinematics = self.tree.compute(self.q, self.v)
-            self._joints, self._jacobian = kinematics.joints, kinematics.jacobian
-            self._frames, self._rows = kinematics.frames, kinematics.rows
-            self._frame_velocities = kinematics.velocities
+            (  # the Kinematics fields, in their order
+                self._joints, self._jacobian, self._frames, self._frame_velocities, self._rows
+            ) = self.tree.compute(self.q, self.v)
             return
         model = self.tree.model
         data = self.tree.thread_data()

@@ -202,6 +202,35 @@ def test_efforts_balance_the_wrench_pair_rnea(case):
         np.testing.assert_allclose(out.tau, expected, atol=1e-9 * (1 + np.abs(wrench).max()))
 
 
+def test_serial_tick_of_several_springs_agrees_with_the_general_path():
+    """A tool held by a position spring and a heading spring: one call, the same readings and
+    wrench bits, the efforts to round-off (``J^T w`` summed in order, not numpy's matmul)."""
+    robot = va.load_robot("ur5")
+    axes = ("x", "y", "z", "rz")
+    tool = va.VirtualActuator(robot, "tool0", "world", "world", axes)
+    springs = [
+        va.SpringDamper(("x", "y", "z"), 300.0, 10.0, setpoint=(0.3, 0.1, 0.4), limit=50.0),
+        va.SpringDamper(("rz",), 20.0, 1.0, setpoint=0.5, force=0.2),
+    ]
+    controllers = []
+    for _ in range(2):
+        controller = va.Controller(robot, clip=False)
+        controller.add("tool", tool, springs)
+        controllers.append(controller)
+    tick, general = controllers
+    assert tick.attachments["tool"].spring_tick.efforts
+    general.attachments["tool"].spring_tick = None
+    rng = np.random.default_rng(6)
+    for _ in range(8):
+        q = random_configuration(robot, rng, scale=0.8)
+        v = rng.normal(size=robot.model.nv)
+        out, expected = tick.compute(q, v), general.compute(q, v)
+        for field in ("positions", "velocities", "wrenches", "produced"):
+            assert np.array_equal(getattr(out, field)["tool"], getattr(expected, field)["tool"])
+        scale = np.abs(expected.tau).max() + 1.0
+        np.testing.assert_allclose(out.tau, expected.tau, rtol=0.0, atol=1e-13 * scale)
+
+
 def test_warm_up_runs_the_tick_and_moves_no_set_point(monkeypatch):
     height = va.SpringDamper(("z",), 800.0, 40.0, setpoint=0.3)
     bunny = va.DogtrackBunny(0.4, 60.0)

@@ -163,11 +163,11 @@ def test_library_error_at_run_time_is_a_usage_error(
     """A VirtualActuatorError raised after parsing becomes ``parser.error`` (exit 2)."""
 
     def fail(args: object) -> int:
-        raise InvalidInputError("speed 1.2 m/s is too fast for this terrain.")
+        raise InvalidInputError("speed 0.5 m/s is too fast for this terrain.")
 
     monkeypatch.setattr(cli, "run", fail)
     with pytest.raises(SystemExit) as exit_info:
-        cli.main(["demo", "turkey-walk", "--speed", "1.2"])
+        cli.main(["demo", "turkey-walk", "--speed", "0.5"])  # inside its range
     assert exit_info.value.code == 2
     err = capsys.readouterr().err
     assert "usage:" in err and "too fast for this terrain" in err

@@ -76,7 +76,10 @@ class SpringDamper(Component):
         self.force = force
         self.limit = limit
 
-    # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time.
+    # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time. The
+    # arrays live in ``_stiffness``, ``_damping``, ``_setpoint``, ``_velocity_setpoint``,
+    # ``_force`` and ``_limit``, each replaced (never changed in place) by its setter: the
+    # controller's spring-damper tick (control.attachment_kernel) reads them there per tick.
     @property
     def stiffness(self) -> np.ndarray:
         """Spring constants [N/m or N m/rad]."""

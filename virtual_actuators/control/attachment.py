@@ -22,7 +22,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.kernels import finite
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_name, describe
-from .attachment_kernel import SerialSpringTick
+from .attachment_kernel import SpringTick
 from .declaration import (
     YIELD_WEIGHT,
     Actuator,
@@ -89,9 +89,9 @@ class Attachment:
         self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
         # The contact rows' compiled tables (None: the rows are built with numpy)
         self.margins = self.contacts.compiled() if self.contacts is not None else None
-        #: A serial spring-damper's one-call tick (None: the general path), see
-        #: :mod:`~virtual_actuators.control.attachment_kernel`.
-        self.serial_tick = SerialSpringTick.of(self.actuator, self.sensor, self.components)
+        #: The spring-dampers' one-call sensing and wrench (a serial actuator's efforts too;
+        #: None: the general path), see :mod:`~virtual_actuators.control.attachment_kernel`.
+        self.spring_tick = SpringTick.of(self.actuator, self.sensor, self.components, self.slots)
 
     @classmethod
     def declare(

@@ -313,11 +313,15 @@ class Controller:
         nv = self.robot.model.nv
         postures = self.postures
         sums = TickSums()
+        attachments = self.attachments
         for name in names:
             if postures and name in postures:  # a joint-space term
                 sums.add(name, postures[name].torques(snapshot), fresh=True)
             else:
-                self._attachment_tick(name, self._get(name), snapshot, time, sums)
+                attachment = attachments.get(name) if name.__class__ is str else None
+                if attachment is None:
+                    attachment = self._get(name)  # raises, naming the known attachments
+                self._attachment_tick(name, attachment, snapshot, time, sums)
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(
@@ -345,23 +349,24 @@ class Controller:
             VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
 
         """
-        serial = attachment.serial_tick
-        if serial is not None:  # a serial spring-damper: one compiled call
-            buffer = serial.run(attachment.components, snapshot)
-            if buffer is not None:
-                nv, n = serial.nv, serial.n
+        spring, wrench = attachment.spring_tick, None
+        try:
+            buffer = None if spring is None else spring.run(attachment.components, snapshot, time)
+            if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
+                nv, n = spring.nv, spring.n
                 sums.positions[name] = buffer[nv : nv + n]
                 sums.velocities[name] = buffer[nv + n : nv + 2 * n]
-                sums.wrenches[name] = sums.produced[name] = buffer[nv + 2 * n : nv + 3 * n]
-                sums.add(name, buffer[:nv], fresh=True)
-                return
-        sensor = attachment.sensor
-        wrench = None
-        try:
-            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
-            sums.positions[name], sums.velocities[name] = position, velocity
-            wrench = attachment.wrench(position, velocity, time)
-            sums.wrenches[name] = wrench
+                wrench = sums.wrenches[name] = buffer[nv + 2 * n : nv + 3 * n]
+                if spring.efforts:  # and a serial actuator's efforts
+                    sums.produced[name] = wrench
+                    sums.add(name, buffer[:nv], fresh=True)
+                    return
+            else:
+                sensor = attachment.sensor
+                jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+                sums.positions[name], sums.velocities[name] = position, velocity
+                wrench = attachment.wrench(position, velocity, time)
+                sums.wrenches[name] = wrench
             actuator = attachment.actuator
             if isinstance(actuator, VirtualActuator):
                 jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)

@@ -109,7 +109,7 @@ class MachineController:
             snapshot, q, v = q, q.q, q.v
         else:
             snapshot = Snapshot(controller.robot, q, v)  # the tick's one kinematics pass
-        context = Context(controller.robot, q, v, time, contacts, snapshot=snapshot)
+        context = Context.of_tick(controller.robot, snapshot, time, contacts)
         machine = self.machine
         before = len(machine.history)
         state = machine.update(context)

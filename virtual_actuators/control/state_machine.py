@@ -97,6 +97,40 @@ class Context:
         self.time_in_state = time_in_state
         self.state: str | None = None
 
+    @classmethod
+    def of_tick(
+        cls, robot: Robot, snapshot: Snapshot, time: float, contacts: Mapping[str, bool] | None
+    ) -> Context:
+        """The context of a tick whose snapshot (of ``robot``, with ``v``) is built already.
+
+        The same context as ``Context(robot, snapshot.q, snapshot.v, time, contacts,
+        snapshot=snapshot)``, with the checks a float time and a dict (or no) contacts pass
+        skipped (a tick's cost); anything else goes through the constructor's checks.
+
+        Raises:
+            InvalidInputError: As the constructor.
+
+        """
+        if (
+            time.__class__ is not float
+            or not math.isfinite(time)
+            or not (contacts is None or contacts.__class__ is dict)
+            or snapshot.__class__ is not Snapshot
+            or snapshot.tree.model is not getattr(robot, "model", None)
+        ):
+            return cls(robot, snapshot.q, snapshot.v, time, contacts, snapshot=snapshot)
+        context = cls.__new__(cls)
+        context.robot = robot
+        context.snapshot = snapshot
+        context.frame_position = snapshot.frame_position
+        context.frame_velocity = snapshot.frame_velocity
+        context.frame_rotation = snapshot.frame_rotation
+        context.q, context.v, context.time = snapshot.q, snapshot.v, time
+        context.contacts = {} if contacts is None else contacts.copy()
+        context.time_in_state = 0.0
+        context.state = None
+        return context
+
     def frame_position(self, frame: str) -> np.ndarray:
         """World position of a frame [m] (from the tick's snapshot).
 
@@ -122,7 +156,13 @@ class Context:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        rotation = self.snapshot.placement(frame)[0]
+        snapshot = self.snapshot
+        row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is not None:  # a tabled frame: its rotation's row 0 in the frame table
+            table = snapshot.frame_table
+            if row < table.shape[0]:
+                return math.atan2(table.item(row, 2), table.item(row, 0))
+        rotation = snapshot.placement(frame)[0]
         return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
 
     def frame_velocity(self, frame: str) -> np.ndarray:

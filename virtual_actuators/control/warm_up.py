@@ -47,6 +47,8 @@ def warm_up(controller: object, q: np.ndarray) -> None:
         kinematics = attachment.sensor.kinematics
         kinematics.sense(snapshot, velocity=True)
         snapshot.frame_velocity(kinematics.action_id)
+        if attachment.spring_tick is not None:  # the spring-dampers' one-call tick
+            attachment.spring_tick.warm_up(snapshot)
         actuator = attachment.actuator
         if not isinstance(actuator, ParallelVirtualActuator):
             continue

@@ -119,10 +119,9 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            kinematics = self.tree.compute(self.q, self.v)
-            self._joints, self._jacobian = kinematics.joints, kinematics.jacobian
-            self._frames, self._rows = kinematics.frames, kinematics.rows
-            self._frame_velocities = kinematics.velocities
+            (  # the Kinematics fields, in their order
+                self._joints, self._jacobian, self._frames, self._frame_velocities, self._rows
+            ) = self.tree.compute(self.q, self.v)
             return
         model = self.tree.model
         data = self.tree.thread_data()
@@ -213,6 +212,18 @@ class Snapshot:
         """
         return self._placement(self._frame_id(frame))
 
+    def _named_row(self, frame: object) -> int:
+        """The row of a frame given by a tabled name in this snapshot's table, else -1.
+
+        Computes the kinematics first when they have not run.
+        """
+        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is None:
+            return -1
+        if self._frames is None:
+            self._run()
+        return row if row < self._frames.shape[0] else -1
+
     def frame_position(self, frame: int | str) -> np.ndarray:
         """World position of a frame's origin [m] (a copy).
 
@@ -220,6 +231,14 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
+        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is not None:  # a tabled frame by name: one row read (a tick's cost)
+            frames = self._frames
+            if frames is None:
+                self._run()
+                frames = self._frames
+            if row < frames.shape[0]:
+                return frames[row, 9:].copy()
         frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
         if self._frames is None:
             self._run()
@@ -247,6 +266,9 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
+        row = self._named_row(frame)
+        if row >= 0 and self._frame_velocities is not None:  # the compiled pass computed it
+            return self._frame_velocities[row].copy()
         frame_id = self._frame_id(frame)
         if self._frames is None:
             self._run()

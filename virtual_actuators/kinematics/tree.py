@@ -170,6 +170,8 @@ class KinematicTree:
         self._support: dict[int, np.ndarray] = {}
         self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
+        #: frame name -> its row in the kernel's frame output (rows never move once given)
+        self.name_rows: dict[str, int] = {}
 
     def frame_id(self, name: str) -> int:
         """Frame id of ``name`` (``"world"`` is 0), resolved once and computed every tick after.
@@ -182,6 +184,7 @@ class KinematicTree:
         if frame_id is None:
             frame_id = resolve_frame(self.model, name)
             self.require([frame_id])
+            self.name_rows[name] = self._frames[0][frame_id]
             self._names[name] = frame_id
         return frame_id
 

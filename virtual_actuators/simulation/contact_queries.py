@@ -171,6 +171,8 @@ class ContactQueries:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
 
         """
+        if frames.__class__ is tuple and not frames:  # no switch asked (the turkey has none)
+            return {}
         pairs = None
         if isinstance(frames, tuple):
             try:

@@ -1,6 +1,6 @@
-"""Typed errors raised by :mod:`virtual_actuators`.
+"""Typed errors raised by `virtual_actuators`.
 
-Every error derives from :class:`VirtualActuatorError`, so ``except va.VirtualActuatorError``
+Every error derives from [`VirtualActuatorError`][], so ``except va.VirtualActuatorError``
 catches all of them. Messages name the offending frame, joint, axis or constraint and say what
 would be valid.
 """
@@ -79,7 +79,7 @@ class MissingDependencyError(VirtualActuatorError, ImportError):
 
 
 def import_optional(module: str, extra: str, feature: str) -> ModuleType:
-    """Import an optional dependency, or raise a :class:`MissingDependencyError`.
+    """Import an optional dependency, or raise a [`MissingDependencyError`][].
 
     Args:
         module: The module to import (``"meshcat"``, ``"mujoco"``...).
@@ -109,7 +109,7 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
 
 
 def _key(name: str) -> str:
-    """A name as compared by :func:`closest_names`: lower case, without ``-`` and ``_``."""
+    """A name as compared by `closest_names`: lower case, without ``-`` and ``_``."""
     return name.lower().replace("-", "").replace("_", "")
 
 

@@ -76,7 +76,7 @@ class GravityCompensation:
         with the body actuator's z force).
 
         Args:
-            q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+            q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.

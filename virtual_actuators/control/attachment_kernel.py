@@ -1,14 +1,14 @@
 """A serial spring-damper attachment's whole tick in one compiled call.
 
-An attachment of a serial :class:`~virtual_actuators.VirtualActuator` that is its own sensor,
-with one :class:`~virtual_actuators.SpringDamper` on all its axes (a swing leg's spring-damper),
-needs per tick: the sensor's reading (:meth:`~virtual_actuators.kinematics.relative.\
-RelativeKinematics.sense`), the spring-damper's wrench (its float path,
-:meth:`~virtual_actuators.SpringDamper.compute_wrench_floats`) and the efforts ``J^T w``.
-:func:`spring_damper_tick` does the three in one call, the same operations in the same order
+An attachment of a serial [`VirtualActuator`][] that is its own sensor,
+with one [`SpringDamper`][] on all its axes (a swing leg's spring-damper),
+needs per tick: the sensor's reading (`sense`), the spring-damper's wrench (its float path,
+[`compute_wrench_floats`][virtual_actuators.SpringDamper.compute_wrench_floats]) and the efforts
+``J^T w``.
+`spring_damper_tick` does the three in one call, the same operations in the same order
 as those (``J^T w`` as a sum over the axes in order, where the controller's general path lets
 numpy's ``J.T @ w`` round its own way). It is the reference of the compiled core's C++ port
-(``src/core/attachment.hpp``), which :class:`SerialSpringTick` calls when the core is built:
+(``src/core/attachment.hpp``), which `SerialSpringTick` calls when the core is built:
 both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here goes with the
 same edit there.
 
@@ -117,8 +117,8 @@ def _core_tick(arguments: tuple) -> object | None:
 class SerialSpringTick:
     """The one-call tick of a serial actuator with one spring-damper on all its axes.
 
-    Built by :meth:`of` at declaration for the attachments it serves; :meth:`run` returns the
-    tick's buffer (:func:`spring_damper_tick`'s layout) or None (the general path runs).
+    Built by `of` at declaration for the attachments it serves; `run` returns the
+    tick's buffer (`spring_damper_tick`'s layout) or None (the general path runs).
 
     Args:
         actuator: The serial actuator (its own sensor).

@@ -1,4 +1,4 @@
-"""Joint-space terms in a controller: :class:`~virtual_actuators.Posture` under a name."""
+"""Joint-space terms in a controller: [`Posture`][] under a name."""
 
 from __future__ import annotations
 

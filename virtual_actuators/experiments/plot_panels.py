@@ -1,7 +1,7 @@
 """The panels of the walk plots: series with set points, states, step marks, falls, terrain.
 
-Shared by :mod:`~virtual_actuators.experiments.plots` and the hexapod's plots; every function
-draws on a matplotlib ``Axes`` it is given (:func:`new_figure` makes a figure without pyplot).
+Shared by `plots` and the hexapod's plots; every function
+draws on a matplotlib ``Axes`` it is given (`new_figure` makes a figure without pyplot).
 """
 
 from __future__ import annotations

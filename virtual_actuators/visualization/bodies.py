@@ -1,6 +1,6 @@
 """The robot's bodies in the scene: its URDF visuals, or a skeleton built from its kinematic tree.
 
-Every shape is a :class:`Part`: a MeshCat object attached to a Pinocchio joint with a fixed
+Every shape is a `Part`: a MeshCat object attached to a Pinocchio joint with a fixed
 placement (scale included). After forward kinematics its world matrix is
 ``data.oMi[joint].homogeneous @ placement``.
 
@@ -8,7 +8,7 @@ placement (scale included). After forward kinematics its world matrix is
   geometries and primitive shapes (boxes, spheres, cylinders, capsules, cones, ellipsoids: the
   seeds' robots and the millipede) are built here; any other geometry is left to Pinocchio's
   ``MeshcatVisualizer``. Every part is drawn in its URDF colour desaturated
-  (:func:`~.colors.desaturate`), so that no overlay colour equals a robot colour; Collada meshes
+  (`desaturate`), so that no overlay colour equals a robot colour; Collada meshes
   too (their embedded materials and textures are replaced by that colour).
 - Skeleton (``geometry="skeleton"``, or ``"auto"`` for a URDF without any ``<visual>``): a
   sphere at every joint, a cylinder from each joint to its children, a cylinder and a sphere to

@@ -1,10 +1,10 @@
 """Frame a recording on the whole run: the box holding everything drawn in any recorded frame.
 
-A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
-RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up, an
-arrow grows). While recording, :class:`RunBounds` accumulates the box of every visible node of
+A live view is framed on the robot at its neutral configuration (`RobotScene`); a recorded run can
+leave that frame (a walk rises onto a slope, arms swing up, an
+arrow grows). While recording, `RunBounds` accumulates the box of every visible node of
 the robot and its overlays in the view's coordinates (the scene node's own placement included,
-which keeps a travelling robot centred); :func:`framing_commands` then places the camera so that
+which keeps a travelling robot centred); `framing_commands` then places the camera so that
 a sphere around that box fits the view, and shifts the scene so that the box is centred on the
 point MeshCat's orbit controls look at (the origin: they cannot be retargeted).
 """

@@ -1,16 +1,16 @@
 """The real-time path of a parallel actuator's solve: tables built once, one compiled call a tick.
 
-:class:`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
+`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
 its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
 Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
 into flat arrays, so that a tick is one call of
-:func:`~virtual_actuators.distribution.partitioned.kernels.distribute` on the snapshot's
-arrays: the compiled core's (C++, :data:`~virtual_actuators.native.CORE`) when it is built,
+`distribute` on the snapshot's
+arrays: the compiled core's (C++, `CORE`) when it is built,
 which holds the packed tables of each mode (``_core.Distribution``) and, for a snapshot whose
 kinematics are not computed yet (a solve from ``q``), runs the kinematics and the distribution in
 one call; else the reference kernel (numba). When the kernel hands a tick back (a singular
 chain, an ill-conditioned block, more rows than unknowns),
-:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` decides with
+`PartitionedSolver` decides with
 numpy, as the reference implementation does; the tests check that both give the same answers.
 """
 
@@ -202,7 +202,7 @@ class CompiledDistribution:
         """A solve from a checked configuration alone: kinematics and distribution in one call.
 
         The compiled core's ``Distribution.tick`` (the same kernels, hence the same bits, as
-        :meth:`solve` on a snapshot of ``q``), with no snapshot built; None when the core is
+        `solve` on a snapshot of ``q``), with no snapshot built; None when the core is
         not built, the request is not this path's, or the kernel hands the tick on (the caller
         then builds the snapshot and dispatches as usual).
         """
@@ -222,7 +222,7 @@ class CompiledDistribution:
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 
-        The ``"compiled"`` backend of :data:`~virtual_actuators.distribution.registry.METHODS`
+        The ``"compiled"`` backend of `METHODS`
         (None too when ``request.compiled`` is False).
 
         Returns:

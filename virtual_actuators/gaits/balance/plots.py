@@ -1,6 +1,6 @@
 """Plot a balance run: the body's drift, height, tilt and velocity against time.
 
-Matplotlib is imported inside the helpers of :mod:`virtual_actuators.experiments.plot_panels`
+Matplotlib is imported inside the helpers of `virtual_actuators.experiments.plot_panels`
 and draws on a canvas of its own (no pyplot).
 """
 

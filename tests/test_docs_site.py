@@ -4,8 +4,8 @@
   or a page: mkdocstrings reads Markdown, so a role would show as raw text.
 - The built site (``mkdocs build --strict``, the ``docs`` extra) shows no raw role on any page,
   has its formulas as MathML (drawn by the browser, no script), loads no script, stylesheet or
-  font from the network, and has the Simulation reference page. Its build refuses a page with a
-  role. (Built once per session, ~20 s: marked slow.)
+  font from the network, draws docstring examples as code, and has the Simulation reference
+  page. Its build refuses a page with a role. (Built once per session, ~20 s: marked slow.)
 - Every label of the figures in docs/img lies inside its figure and clear of the other labels,
   as headless Chromium lays them out.
 
@@ -196,6 +196,21 @@ def test_the_simulation_reference_documents_the_simulator(site):
     assert 'id="virtual_actuators.simulation.Terrain"' in page
     nav = (site / "index.html").read_text(encoding="utf-8")
     assert "reference/simulation/" in nav
+
+
+@pytest.mark.slow
+def test_docstring_examples_are_code(site):
+    # doctest lines read as Markdown become quotes within quotes (">>>"), run together
+    nested = [
+        str(page.relative_to(site))
+        for page in sorted(site.rglob("*.html"))
+        if re.search(r"<blockquote>\s*<blockquote>", page.read_text(encoding="utf-8"))
+    ]
+    assert nested == []
+    page = (site / "reference" / "simulation" / "index.html").read_text(encoding="utf-8")
+    example = re.search(r"<pre.*?</pre>", page[page.index("Examples:") :], re.DOTALL)
+    assert example is not None and "&gt;&gt;&gt;" in example.group(0)
+    assert "spring_turkey" in example.group(0)
 
 
 SVG_LAYOUT = """<!doctype html><html><body>{svg}<pre id="layout"></pre><script>

@@ -33,6 +33,7 @@ from __future__ import annotations
 import argparse
 import ast
 import logging
+import os
 import re
 import sys
 import tempfile
@@ -76,6 +77,7 @@ def build_inventory() -> dict[str, str]:
     from mkdocs.config import load_config
 
     logging.getLogger("mkdocs").setLevel(logging.ERROR)
+    os.chdir(ROOT)  # mkdocs.yml's paths (the griffe extension, the package) are the root's
     with tempfile.TemporaryDirectory() as site:
         config = load_config(
             str(ROOT / "mkdocs.yml"), site_dir=site, hooks=[], strict=False

@@ -95,7 +95,6 @@ class Resolver:
     def __init__(self) -> None:
         import griffe
 
-        self._griffe = griffe
         self.package = griffe.load(PACKAGE, search_paths=[str(ROOT)], resolve_aliases=False)
         self._tails: dict[str, set[str]] | None = None
 
@@ -115,10 +114,7 @@ class Resolver:
     def member(self, obj, name: str):
         """A member of ``obj`` (inherited ones included for classes), or None."""
         try:
-            members = obj.all_members if obj.is_class else obj.members
-            return members.get(name)
-        except self._griffe.AliasResolutionError:
-            return None
+            return (obj.all_members if obj.is_class else obj.members).get(name)
         except Exception:  # an alias to an external or cyclic target
             return None
 

@@ -16,7 +16,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Every option is checked by its argparse type: a bad value prints the usage line and the
     reason, with exit code 2. An option that the chosen demo does not use is a usage error too.
-    Errors of the library raised at run time (a :class:`~virtual_actuators.VirtualActuatorError`,
+    Errors of the library raised at run time (a [`VirtualActuatorError`][],
     caused by the values given) are reported the same way, naming the option when it is known;
     any other exception is a bug and propagates.
 

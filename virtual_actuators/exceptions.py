@@ -1,6 +1,6 @@
-"""Typed errors raised by :mod:`virtual_actuators`.
+"""Typed errors raised by `virtual_actuators`.
 
-Every error derives from :class:`VirtualActuatorError`, so ``except va.VirtualActuatorError``
+Every error derives from [`VirtualActuatorError`][], so ``except va.VirtualActuatorError``
 catches all of them. Messages name the offending frame, joint, axis or constraint and say what
 would be valid.
 """
@@ -80,7 +80,7 @@ class MissingDependencyError(VirtualActuatorError, ImportError):
 
 
 def import_optional(module: str, extra: str, feature: str) -> ModuleType:
-    """Import an optional dependency, or raise a :class:`MissingDependencyError`.
+    """Import an optional dependency, or raise a [`MissingDependencyError`][].
 
     Args:
         module: The module to import (``"meshcat"``, ``"mujoco"``...).
@@ -93,7 +93,7 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
     Raises:
         MissingDependencyError: If the module (or its top-level package) is not installed; the
             message names the package, the extra and the command that installs it
-            (:func:`install_command`). Other import errors (a broken installation) propagate
+            (`install_command`). Other import errors (a broken installation) propagate
             unchanged.
 
     """
@@ -128,7 +128,7 @@ def install_command(extra: str) -> str:
 
     Returns:
         Text such as ``pip install -e ".[sim]" in the source folder (".[all]" for every
-        extra)`` (``[all]`` only for the extras in :data:`EXTRAS_IN_ALL`).
+        extra)`` (``[all]`` only for the extras in `EXTRAS_IN_ALL`).
 
     """
     source, editable = _installed_from()
@@ -167,7 +167,7 @@ def _installed_from() -> tuple[str | None, bool]:
 
 
 def _key(name: str) -> str:
-    """A name as compared by :func:`closest_names`: lower case, without ``-`` and ``_``."""
+    """A name as compared by `closest_names`: lower case, without ``-`` and ``_``."""
     return name.lower().replace("-", "").replace("_", "")
 
 

@@ -181,12 +181,12 @@ class OptionError(Exception):
 
 @contextlib.contextmanager
 def blame(option: str, only: type[Exception] | None = None) -> Iterator[None]:
-    """Turn a library error raised in the block into an :class:`OptionError` naming ``option``.
+    """Turn a library error raised in the block into an `OptionError` naming ``option``.
 
     Args:
         option: The option that caused the error.
         only: The error type that ``option`` causes (default: any
-            :class:`~virtual_actuators.VirtualActuatorError`); others propagate unchanged.
+            [`VirtualActuatorError`][]); others propagate unchanged.
 
     Raises:
         OptionError: If the block raises such an error.
@@ -202,14 +202,14 @@ def blame(option: str, only: type[Exception] | None = None) -> Iterator[None]:
 
 @contextlib.contextmanager
 def writing(option: str, path: str) -> Iterator[None]:
-    """Turn an :class:`OSError` raised while writing ``path`` into an :class:`OptionError`.
+    """Turn an `OSError` raised while writing ``path`` into an `OptionError`.
 
-    Every output is tried before the run (:func:`~virtual_actuators.cli.types.output_path`);
+    Every output is tried before the run (`output_path`);
     this reports one that still fails at the end (the disk filled up) on one line, never as a
     traceback whose exit code 1 would read as "the robot fell".
 
     Raises:
-        OptionError: If the block raises an :class:`OSError` (names ``option``, the path and the
+        OptionError: If the block raises an `OSError` (names ``option``, the path and the
             reason).
     """
     try:

@@ -59,7 +59,7 @@ def check_installed(args: argparse.Namespace, parser: argparse.ArgumentParser) -
 
     Raises:
         SystemExit: With code 2 and a message naming the missing package, its extra and the
-            command that installs it (:func:`~virtual_actuators.exceptions.import_optional`).
+            command that installs it (`import_optional`).
     """
     from ..exceptions import MissingDependencyError, import_optional
 

@@ -2,7 +2,7 @@
 
 When the program reading the output exits early, writing to the pipe fails (``EPIPE``). That
 says nothing about the run: its files are still written and its exit code still means what
-:mod:`virtual_actuators.__main__` documents. :func:`tolerate_closed_pipes` makes the standard
+`virtual_actuators.__main__` documents. `tolerate_closed_pipes` makes the standard
 streams go quiet instead (what is left to print is discarded), so the command ends without a
 traceback and an error about the pipe is never reported as one about an output file.
 """

@@ -1,17 +1,17 @@
 """A spring-damper attachment's sensing and wrench (and a serial one's efforts) in one call.
 
 An attachment whose components are all spring-dampers on contiguous runs of the actuator's axes
-(:class:`~virtual_actuators.SpringDamper` and its subclasses that keep its formula: the granny
-walker, the swing-leg linkage, the dogtrack bunny, a :class:`~virtual_actuators.Spring` without
-a law) needs per tick: the sensor's reading (:meth:`~virtual_actuators.kinematics.relative.\
-RelativeKinematics.sense`), the sum of the components' wrenches (their float path,
-:meth:`~virtual_actuators.SpringDamper.compute_wrench_floats`, summed like
-:meth:`~virtual_actuators.control.attachment.Attachment.wrench_floats`) and, for a serial
-actuator that is its own sensor, the efforts ``J^T w``. :func:`spring_tick` does them in one
+([`SpringDamper`][] and its subclasses that keep its formula: the granny
+walker, the swing-leg linkage, the dogtrack bunny, a [`Spring`][] without
+a law) needs per tick: the sensor's reading (`sense`), the sum of the components' wrenches (their
+float path,
+[`compute_wrench_floats`][virtual_actuators.SpringDamper.compute_wrench_floats], summed like
+`wrench_floats`) and, for a serial
+actuator that is its own sensor, the efforts ``J^T w``. `spring_tick` does them in one
 call, the same operations in the same order as those (``J^T w`` as a sum over the axes in
 order, where the controller's general path lets numpy's ``J.T @ w`` round its own way); a
 parallel actuator's wrench then goes to its distribution as usual. It is the reference of the
-compiled core's C++ port (``src/core/attachment.hpp``), which :class:`SpringTick` calls when the
+compiled core's C++ port (``src/core/attachment.hpp``), which `SpringTick` calls when the
 core is built: both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here
 goes with the same edit there.
 
@@ -154,8 +154,8 @@ def _served(component: object) -> bool:
 class SpringTick:
     """The one-call sensing and wrench of an attachment of spring-dampers (and serial efforts).
 
-    Built by :meth:`of` at declaration for the attachments it serves; :meth:`run` returns the
-    tick's buffer (:func:`spring_tick`'s layout) or None (the general path runs).
+    Built by `of` at declaration for the attachments it serves; `run` returns the
+    tick's buffer (`spring_tick`'s layout) or None (the general path runs).
 
     Args:
         sensor: The serial actuator the components read.
@@ -287,10 +287,10 @@ class SpringTick:
 
 
 def table(parameters: list[np.ndarray]) -> np.ndarray:
-    """:func:`spring_tick`'s ``(6, e)`` parameters: the components' arrays, six per component.
+    """`spring_tick`'s ``(6, e)`` parameters: the components' arrays, six per component.
 
     Args:
-        parameters: Each component's :data:`PARAMETERS` arrays, component after component.
+        parameters: Each component's `PARAMETERS` arrays, component after component.
 
     Returns:
         Row ``k`` the components' ``PARAMETERS[k]`` arrays end to end.

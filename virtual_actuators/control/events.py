@@ -1,7 +1,7 @@
-"""Events for :class:`~virtual_actuators.control.state_machine.Transition`: small factories.
+"""Events for [`Transition`][]: small factories.
 
-Each returns a callable of the tick's :class:`~virtual_actuators.control.state_machine.Context`.
-Combine them with :func:`any_of` and :func:`all_of`, or write a lambda.
+Each returns a callable of the tick's [`Context`][].
+Combine them with [`any_of`][] and [`all_of`][], or write a lambda.
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """A state machine for gaits (VMC 2001, section 5, Fig. 5 and Table 1).
 
-Each :class:`State` names the controller attachments (actuators with their components) it uses,
-the chains in support and the joints left limp. :class:`Transition` objects move between states
-on events: callables of the tick's :class:`Context` returning a bool (see
-:mod:`virtual_actuators.control.events` for body-over-foot, contact and timer events). All
+Each [`State`][] names the controller attachments (actuators with their components) it uses,
+the chains in support and the joints left limp. [`Transition`][] objects move between states
+on events: callables of the tick's [`Context`][] returning a bool (see
+[`virtual_actuators.control.events`][virtual_actuators.events] for body-over-foot, contact and timer
+events). All
 declarations are built once; changing state only swaps which precomputed attachments are
 evaluated, so a transition costs nothing at run time.
 """
@@ -32,7 +33,7 @@ from ..vocabulary.arguments import (
 class Context:
     """What events see at one tick: state, time, contacts and frame positions on demand.
 
-    Frame reads go through the tick's :class:`~virtual_actuators.Snapshot`, the same kinematics
+    Frame reads go through the tick's [`Snapshot`][], the same kinematics
     pass that the controller's actuators and sensors read: events add no kinematics of their
     own.
 
@@ -48,7 +49,7 @@ class Context:
     Raises:
         InvalidInputError: ``robot`` is not a robot; ``time`` or ``time_in_state`` is not a
             finite number; ``contacts`` is not a dict; ``snapshot`` is not a
-            :class:`~virtual_actuators.Snapshot` of ``robot``; bad ``q`` or ``v`` (when no
+            [`Snapshot`][] of ``robot``; bad ``q`` or ``v`` (when no
             snapshot is given).
 
     """
@@ -257,7 +258,7 @@ class Transition:
     Attributes:
         source: Name of the state the transition leaves.
         target: Name of the state it enters.
-        event: Callable of the :class:`Context` returning a bool.
+        event: Callable of the [`Context`][] returning a bool.
         label: Text for reports (the seed's Table 1 "trigger event").
 
     Raises:
@@ -296,8 +297,8 @@ class StateMachine:
         initial: Name of the initial state.
 
     Raises:
-        InvalidInputError: ``states`` or ``transitions`` is not a sequence of :class:`State` or
-            :class:`Transition`; ``initial`` is not a str; repeated state names, or a transition
+        InvalidInputError: ``states`` or ``transitions`` is not a sequence of [`State`][] or
+            [`Transition`][]; ``initial`` is not a str; repeated state names, or a transition
             or ``initial`` naming an unknown state.
 
     """
@@ -339,7 +340,7 @@ class StateMachine:
 
     @property
     def names(self) -> list[str]:
-        """State names in declaration order (their index is :attr:`index`)."""
+        """State names in declaration order (their index is `index`)."""
         return list(self._states)
 
     def state(self, name: str) -> State:
@@ -356,7 +357,7 @@ class StateMachine:
         """Enter the initial state (or ``state``) at ``context.time``.
 
         Raises:
-            InvalidInputError: ``context`` is not a :class:`Context`, or an unknown state.
+            InvalidInputError: ``context`` is not a [`Context`][], or an unknown state.
 
         """
         _check_context(context)
@@ -378,13 +379,13 @@ class StateMachine:
     def update(self, context: Context) -> State:
         """Take the first transition whose event fires, then run the state's ``on_update``.
 
-        Starts the machine on the first call if :meth:`start` was not called.
+        Starts the machine on the first call if [`start`][] was not called.
 
         Returns:
             The current state after the update.
 
         Raises:
-            InvalidInputError: ``context`` is not a :class:`Context`.
+            InvalidInputError: ``context`` is not a [`Context`][].
 
         """
         _check_context(context)

@@ -5,7 +5,7 @@ profile-one,profile-two --seeds 5`` runs every (speed, terrain, seed) walk of th
 parallel and writes a results table (CSV or JSON) and a success map (fraction of seeds that did
 not fall, per speed and terrain).
 
-Engines: ``"process"`` (a :class:`concurrent.futures.ProcessPoolExecutor`, the default),
+Engines: ``"process"`` (a `concurrent.futures.ProcessPoolExecutor`, the default),
 ``"dask"`` (``dask.distributed``: the scheduler given by ``DASK_SCHEDULER_ADDRESS``, or a local
 cluster) and ``"ray"`` (``ray.init()``, which joins ``RAY_ADDRESS`` when set): the same command
 runs on one machine or on a cluster. Dask and Ray are optional: install ``dask[distributed]`` or
@@ -105,8 +105,8 @@ def grid(
     """Every (speed, terrain, seed) case, seeds ``0 .. seeds - 1``.
 
     Raises:
-        InvalidInputError: Unknown walk, ``seeds`` not an int from 1 to :data:`MAX_SEEDS`, or
-            more than :data:`MAX_WALKS` cases in all.
+        InvalidInputError: Unknown walk, ``seeds`` not an int from 1 to `MAX_SEEDS`, or
+            more than `MAX_WALKS` cases in all.
 
     """
     from ..gaits.registry import WALKS  # MuJoCo: not needed to parse a sweep's options
@@ -130,7 +130,7 @@ def grid(
 
 
 def run_walk(name: str, **options: Any) -> Any:
-    """:func:`virtual_actuators.gaits.registry.run_walk`, imported when first run (MuJoCo).
+    """`virtual_actuators.gaits.registry.run_walk`, imported when first run (MuJoCo).
 
     Raises:
         InvalidInputError: As the registry's ``run_walk``.
@@ -188,7 +188,7 @@ def run_sweep(
     """Run the cases in parallel; results come back in the order of ``cases``.
 
     Args:
-        cases: From :func:`grid`.
+        cases: From `grid`.
         engine: ``"process"``, ``"dask"`` or ``"ray"``.
         workers: Parallel workers for ``"process"`` (default: the CPU count).
         on_result: Called as each result arrives (a progress bar).
@@ -299,7 +299,7 @@ def success_map(results: Sequence[SweepResult]) -> tuple[list[float], list[str],
 
 
 def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
-    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``.
+    """Draw `success_map` as a heat map (speed across, terrain down) into ``path``.
 
     The image format follows the suffix (``.png``, ``.svg``, ``.pdf``, ...).
 
@@ -312,7 +312,7 @@ def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
 
 
 def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure:
-    """The heat map :func:`plot_success_map` saves: a matplotlib figure (no pyplot).
+    """The heat map `plot_success_map` saves: a matplotlib figure (no pyplot).
 
     Raises:
         MissingDependencyError: matplotlib is not installed (the extra ``plots``).

@@ -35,7 +35,7 @@ def attitude_and_velocity(
 ) -> tuple[float, float, float, float, float]:
     """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
 
-    As :func:`yaw_pitch_roll` of :func:`rotation`, and
+    As `yaw_pitch_roll` of `rotation`, and
     ``(rotation(q) @ v[:3])[:2]``, on floats.
     """
     x, y, z, w = q[3:7].tolist()

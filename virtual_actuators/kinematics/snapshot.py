@@ -1,11 +1,11 @@
-"""One kinematics pass per control tick: :class:`Snapshot`.
+"""One kinematics pass per control tick: [`Snapshot`][].
 
 A snapshot is built from a configuration ``q`` (and optionally a velocity ``v``) once per tick.
 Every actuator, sensor, event and component of that tick reads it, so the forward kinematics run
 once however many readers there are (pink's ``Configuration`` plays the same role). It computes
 lazily, on the first read: the world joint Jacobian (Pinocchio's ``data.J`` convention) and the
 placements of the frames that declared actuators need, in one call of the compiled kernel
-(:mod:`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
+(`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
 kernel does not handle (``backend="pinocchio"`` forces it).
 
 A snapshot owns what it computed: snapshots of the same robot can be used from several threads
@@ -42,10 +42,10 @@ class Snapshot:
     """The kinematics of a robot at one configuration, computed once and shared.
 
     Args:
-        robot: The robot (a :class:`~virtual_actuators.Robot`).
-        q: Configuration ``(model.nq,)``; the snapshot keeps a copy (:attr:`q`), so the
+        robot: The robot (a [`Robot`][]).
+        q: Configuration ``(model.nq,)``; the snapshot keeps a copy (`q`), so the
             caller may reuse its array.
-        v: Velocity ``(model.nv,)``, needed only for velocities; copied likewise (:attr:`v`).
+        v: Velocity ``(model.nv,)``, needed only for velocities; copied likewise (`v`).
         backend: ``"auto"`` (the compiled kernel when it handles every joint of the model,
             else Pinocchio), ``"compiled"`` or ``"pinocchio"``.
 
@@ -289,8 +289,8 @@ class Snapshot:
     def center_of_mass(self) -> np.ndarray:
         """Centre of mass of the whole robot in the world [m], from this snapshot's kinematics.
 
-        The same point as :meth:`Robot.center_of_mass <virtual_actuators.Robot.center_of_mass>`
-        at :attr:`q`, without a second kinematics pass: the per-tick reading.
+        The same point as [`Robot.center_of_mass`][virtual_actuators.Robot.center_of_mass]
+        at `q`, without a second kinematics pass: the per-tick reading.
 
         Returns:
             ``(3,)`` position [m] in world axes.

@@ -1,10 +1,10 @@
 """Shapes for the MeshCat scene: materials, the geometries MeshCat lacks, composite shapes.
 
 MeshCat 0.3.2 has boxes, spheres, cylinders, lines and meshes but no cone, no plane and no text;
-:class:`Cone`, :class:`Plane` and :class:`TextTexture` add them in the JSON format of three.js
-r132 (the version bundled with MeshCat), and :class:`Placed` gives any geometry a fixed offset
+`Cone`, `Plane` and `TextTexture` add them in the JSON format of three.js
+r132 (the version bundled with MeshCat), and `Placed` gives any geometry a fixed offset
 inside its node (MeshCat's ``intrinsic_transform``). Like three.js's own, the elongated shapes
-lie along their local y axis (see :mod:`~virtual_actuators.visualization.geometry`, which places
+lie along their local y axis (see `geometry`, which places
 them).
 """
 

@@ -81,7 +81,7 @@ def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
 
 
 def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]:
-    """Check that ``axes`` is a non-empty ordered subset of :data:`AXES`.
+    """Check that ``axes`` is a non-empty ordered subset of [`AXES`][].
 
     Args:
         axes: Axis names, e.g. ``("x", "z", "ry")``, or one name such as ``"z"``.

@@ -303,6 +303,57 @@ def test_context_frames_match_pinocchio(name, frames):
             )
 
 
+def test_context_of_tick_is_the_constructed_context():
+    """The tick's shortcut gives the context the constructor gives, or its checks' errors."""
+    rob = robot(TURKEY)
+    rng = np.random.default_rng(3)
+    q = random_configuration(rob, rng, scale=0.4)
+    v = rng.uniform(-1.0, 1.0, rob.model.nv)
+    snapshot = va.Snapshot(rob, q, v)
+    switches = {"left_foot": True}
+    for contacts in (None, switches):
+        fast = Context.of_tick(rob, snapshot, 0.25, contacts)
+        slow = Context(rob, q, v, 0.25, contacts, snapshot=snapshot)
+        assert fast.snapshot is slow.snapshot is snapshot
+        assert fast.q is slow.q and fast.v is slow.v and fast.time == slow.time == 0.25
+        assert fast.contacts == slow.contacts and fast.contacts is not contacts
+        assert (fast.state, fast.time_in_state) == (slow.state, slow.time_in_state)
+        for frame in ("body", "left_foot", "left_shin"):  # tabled or not
+            assert np.array_equal(fast.frame_position(frame), slow.frame_position(frame))
+    for time in (math.nan, "0.1"):
+        with pytest.raises(va.InvalidInputError, match="time"):
+            Context.of_tick(rob, snapshot, time, None)
+    with pytest.raises(va.InvalidInputError, match="contacts"):
+        Context.of_tick(rob, snapshot, 0.0, [("left_foot", True)])
+    with pytest.raises(va.InvalidInputError, match="snapshot"):
+        Context.of_tick(rob, va.Snapshot(robot(FLAMINGO), robot(FLAMINGO).neutral()), 0.0, None)
+
+
+def test_frame_reads_by_name_read_the_frame_by_id():
+    """A frame read by name (its tabled row) and by id (the tree's lookup) agree."""
+    rob = robot(FLAMINGO)
+    q = random_configuration(rob, np.random.default_rng(8), scale=0.4)
+    early = va.Snapshot(rob, q)
+    assert early.frame_table.shape[1] == 12  # computed before a frame is added to the table
+    late_name = "right_toe"
+    frame_id = rob.model.getFrameId(late_name)
+    snapshot = va.Snapshot(rob, q)
+    by_name = snapshot.frame_position(late_name)  # tabled now: a row of the kernel's output
+    assert np.array_equal(by_name, snapshot.frame_position(frame_id))
+    assert np.array_equal(early.frame_position(late_name), by_name)  # a row it lacks: computed
+    by_name[:] = 9.0  # a copy
+    assert not np.array_equal(snapshot.frame_position(late_name), by_name)
+    v = np.random.default_rng(9).uniform(-1.0, 1.0, rob.model.nv)
+    moving = va.Snapshot(rob, q, v)
+    for frame in ("body", late_name):
+        velocity = moving.frame_velocity(frame)
+        assert np.array_equal(velocity, moving.frame_velocity(rob.model.getFrameId(frame)))
+        velocity[:] = 9.0  # a copy
+        assert not np.array_equal(moving.frame_velocity(frame), velocity)
+    with pytest.raises(va.InvalidInputError, match="needs a snapshot built with v"):
+        snapshot.frame_velocity("body")
+
+
 def test_context_returns_copies():
     c = context()
     c.frame_position("body")[:] = 99.0

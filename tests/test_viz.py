@@ -772,7 +772,7 @@ def test_the_legend_lists_only_what_is_drawn(turkey_control):
     viewer.show(q, actuator=body, wrench=np.array([20.0]))
     assert legend_keys(viewer) == {"requested_force", "share_force", "frames"}
     scene_lines = [p for p in viewer.window.objects() if "/hud/legend/line_" in p]
-    assert len(scene_lines) == 3  # the legend in the scene has the same lines
+    assert len(scene_lines) == 2 * 3  # the legend in the scene has the same lines (two faces)
     tc = turkey_control
     viewer = Viewer(tc.robot, window=CommandRecorder())
     viewer.show(
@@ -949,3 +949,42 @@ def test_the_state_name_faces_the_camera_and_reads_left_to_right(name, recorded)
     assert normal @ to_camera > 0.9 * np.linalg.norm(to_camera) * np.linalg.norm(normal)
     assert across @ right > 0.9 * np.linalg.norm(right) * np.linalg.norm(across)  # not mirrored
     assert up[2] > 0.9 * np.linalg.norm(up)  # upright
+
+
+def face_poses(commands: list[dict], path: str) -> dict[str, tuple[np.ndarray, int]]:
+    """World matrix and three.js ``side`` of each text face under ``path`` in a page."""
+    faces = {}
+    for command in commands:
+        if command["type"] != "set_object" or not command["path"].startswith(path + "/"):
+            continue
+        obj = command["object"]
+        inner = np.array(obj["object"]["matrix"], dtype=float).reshape(4, 4).T  # column-major
+        side = obj["materials"][0]["side"]
+        world = page_pose(commands, command["path"]) @ inner
+        faces[command["path"].rsplit("/", 1)[1]] = (world, side)
+    return faces
+
+
+@pytest.mark.parametrize("name", ["spring_turkey", "hexapod"])
+def test_text_reads_left_to_right_from_any_side(name):
+    # a user orbiting a live viewer sees the labels from behind too: a double-sided plane would
+    # show the text mirrored there; two single-sided faces back to back read correctly from both
+    rob = robot(name)
+    viewer = Viewer(rob, window=OfflineWindow())
+    viewer.show(rob.neutral(), state="right_support")
+    commands = decode_page(viewer.static_html())
+    for label in (f"{ROOT}/hud/state/right_support",):  # the legend's lines are made alike
+        faces = face_poses(commands, label)
+        assert sorted(faces) == ["back", "front"], label
+        assert all(side == 0 for _, side in faces.values())  # FrontSide: invisible from behind
+        for direction in ([0.0, -1.0, 0.2], [0.0, 1.0, 0.2], [1.0, 0.3, 0.5], [-1.0, -0.4, 0.3]):
+            camera = 10.0 * np.array(direction)
+            right = np.cross(-camera, [0.0, 0.0, 1.0])  # the camera's right on the screen
+            seen = []
+            for pose, _ in faces.values():
+                normal, across, up = pose[:3, 2], pose[:3, 0], pose[:3, 1]
+                if normal @ (camera - pose[:3, 3]) > 0:  # this face is towards the camera
+                    seen.append(pose)
+                    assert across @ right > 0, (label, direction)  # not mirrored
+                    assert up[2] > 0.9 * np.linalg.norm(up)  # upright
+            assert len(seen) == 1, (label, direction)  # exactly one face shows

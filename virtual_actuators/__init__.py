@@ -59,8 +59,8 @@ def __getattr__(name: str) -> object:
     """Load ``va.viz`` (MeshCat) on first use, keeping ``import virtual_actuators`` light.
 
     Raises:
-        MissingDependencyError: ``va.viz`` without MeshCat (``pip install
-            "virtual_actuators[viz]"``).
+        MissingDependencyError: ``va.viz`` without MeshCat (the extra ``viz``: ``pip install
+            -e ".[viz]"`` in the source folder).
         AttributeError: Any other unknown name.
 
     """

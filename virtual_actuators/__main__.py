@@ -5,8 +5,10 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
-from .cli.commands import OptionError, run
+from .cli.commands import OptionError, check_results_path, run
+from .cli.extras import check_installed
 from .cli.options import EXAMPLE_NAMES, build_parser, check_demo_options
+from .cli.streams import tolerate_closed_pipes
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -14,7 +16,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Every option is checked by its argparse type: a bad value prints the usage line and the
     reason, with exit code 2. An option that the chosen demo does not use is a usage error too.
-    Errors of the library raised at run time (a :class:`~virtual_actuators.VirtualActuatorError`,
+    Errors of the library raised at run time (a [`VirtualActuatorError`][],
     caused by the values given) are reported the same way, naming the option when it is known;
     any other exception is a bug and propagates.
 
@@ -25,12 +27,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns:
         The exit code: 0, or 1 when a walk ends with the robot fallen.
 
+    A reader that closes the output early (``| head -1``) ends nothing: the run goes on, writes
+    its files and returns its exit code, and what was left to print is discarded.
+
     Raises:
         SystemExit: With code 2 (and argparse's usage message on stderr) for a bad argument, or
             with code 0 for ``--help``.
     """
+    with tolerate_closed_pipes():
+        return _main(list(sys.argv[1:] if argv is None else argv))
+
+
+def _main(arguments: list[str]) -> int:
     parser, subparsers = build_parser()
-    arguments = list(sys.argv[1:] if argv is None else argv)
     if not arguments or (
         arguments[0].startswith("-") and arguments[0] not in ("-h", "--help", "--version")
     ):
@@ -39,6 +48,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     command_parser = subparsers.get(args.command, parser)
     if args.command == "demo":
         check_demo_options(args, command_parser)
+    elif args.command == "sweep":
+        check_results_path(args, command_parser)
+    check_installed(args, command_parser)  # the options agree; are their packages there?
     from .exceptions import VirtualActuatorError
 
     try:

@@ -9,7 +9,7 @@
 - ``double-support``: VMC 4.2, both legs with limp ankles and matched hip torques (eq. 8-14),
   compared with the closed form.
 
-Each function returns an :class:`Example`: the robot, the actuator it declared, the configuration
+Each function returns an `Example`: the robot, the actuator it declared, the configuration
 and the solution (what the CLI and the viewer show), plus the example's own figures (set sizes,
 the comparison with the dense eq. 10-11 solve or the paper's closed form); with ``verbose`` it
 prints a readable report. The tests check the results against independent oracles.

@@ -1,6 +1,6 @@
-"""Typed errors raised by :mod:`virtual_actuators`.
+"""Typed errors raised by `virtual_actuators`.
 
-Every error derives from :class:`VirtualActuatorError`, so ``except va.VirtualActuatorError``
+Every error derives from [`VirtualActuatorError`][], so ``except va.VirtualActuatorError``
 catches all of them. Messages name the offending frame, joint, axis or constraint and say what
 would be valid.
 """
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Iterable
+from pathlib import Path
 from types import ModuleType
 
 
@@ -79,7 +80,7 @@ class MissingDependencyError(VirtualActuatorError, ImportError):
 
 
 def import_optional(module: str, extra: str, feature: str) -> ModuleType:
-    """Import an optional dependency, or raise a :class:`MissingDependencyError`.
+    """Import an optional dependency, or raise a [`MissingDependencyError`][].
 
     Args:
         module: The module to import (``"meshcat"``, ``"mujoco"``...).
@@ -90,8 +91,10 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
         The module.
 
     Raises:
-        MissingDependencyError: If the module (or its top-level package) is not installed.
-            Other import errors (a broken installation) propagate unchanged.
+        MissingDependencyError: If the module (or its top-level package) is not installed; the
+            message names the package, the extra and the command that installs it
+            (`install_command`). Other import errors (a broken installation) propagate
+            unchanged.
 
     """
     try:
@@ -101,15 +104,70 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
             raise  # the package is there but one of its own imports is missing
         package = module.split(".")[0]
         raise MissingDependencyError(
-            f"{feature} needs the package {package!r}, which is not installed: "
-            f'pip install "virtual_actuators[{extra}]" (or "virtual_actuators[all]").',
+            f"{feature} needs the package {package!r}, which is not installed. Install the "
+            f"extra [{extra}] of virtual_actuators: {install_command(extra)}.",
             package=package,
             extra=extra,
         ) from error
 
 
+#: The extras that the extra ``all`` brings (the cluster engines ``dask`` and ``ray`` are apart).
+EXTRAS_IN_ALL = ("viz", "sim", "plots", "urdf", "reference")
+
+
+def install_command(extra: str) -> str:
+    """How to add the extra ``extra`` (``"sim"``) to this copy of ``virtual_actuators``.
+
+    The package is on no index: it is installed from its source folder, or from a wheel built
+    there. When pip recorded where this copy came from (a folder or a wheel file: the
+    ``direct_url.json`` of PEP 610), the command installs the extra from there (``-e`` if it
+    was editable); otherwise it is the command to run in the source folder.
+
+    Args:
+        extra: The extra's name.
+
+    Returns:
+        Text such as ``pip install -e ".[sim]" in the source folder (".[all]" for every
+        extra)`` (``[all]`` only for the extras in `EXTRAS_IN_ALL`).
+
+    """
+    source, editable = _installed_from()
+    flag = "-e " if editable else ""
+    where = "." if source is None else source
+    command = f'pip install {flag}"{where}[{extra}]"'
+    if source is None:
+        command += " in the source folder"
+    if extra in EXTRAS_IN_ALL:
+        command += f' ("{where}[all]" for every extra)'
+    return command
+
+
+def _installed_from() -> tuple[str | None, bool]:
+    """The folder or wheel pip installed this package from, and whether it is editable.
+
+    Returns:
+        ``(path, editable)``: ``(None, True)`` when the package is not installed by pip (a
+        source tree on ``PYTHONPATH``), was installed from an index, or its source is gone.
+
+    """
+    import json
+    from importlib import metadata
+    from urllib.parse import unquote, urlparse
+
+    try:
+        text = metadata.distribution("virtual_actuators").read_text("direct_url.json")
+        record = json.loads(text) if text else {}
+    except (metadata.PackageNotFoundError, OSError, ValueError):
+        return None, True
+    url = urlparse(str(record.get("url", "")))
+    path = Path(unquote(url.path))
+    if url.scheme != "file" or not path.exists():
+        return None, True
+    return str(path), bool(record.get("dir_info", {}).get("editable", False))
+
+
 def _key(name: str) -> str:
-    """A name as compared by :func:`closest_names`: lower case, without ``-`` and ``_``."""
+    """A name as compared by `closest_names`: lower case, without ``-`` and ``_``."""
     return name.lower().replace("-", "").replace("_", "")
 
 

@@ -6,8 +6,8 @@ when the package is installed (scikit-build-core, ``pip install``), or in place 
 kernel of this package (numba, or plain Python without numba) operation by operation, so that
 both give the same bits (``tests/test_core_parity.py``). The GIL is released inside the kernels.
 
-When the extension is missing, :data:`CORE` is None: the library runs its reference kernels and
-warns once, at import (:class:`CoreMissingWarning`). ``VA_CORE=0`` in the environment selects the
+When the extension is missing, `CORE` is None: the library runs its reference kernels and
+warns once, at import (`CoreMissingWarning`). ``VA_CORE=0`` in the environment selects the
 reference kernels on purpose (no warning), for instance to compare both paths.
 """
 

@@ -1,6 +1,6 @@
 """MeshCat viewer of robots and virtual actuators: ``va.viz.Viewer(robot)``.
 
-Re-exports :mod:`virtual_actuators.visualization` (see there for the details). Importing this
+Re-exports `virtual_actuators.visualization` (see there for the details). Importing this
 module imports MeshCat; ``import virtual_actuators`` alone does not (``va.viz`` is loaded on
 first use).
 """

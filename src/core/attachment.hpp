@@ -1,5 +1,5 @@
-// A serial spring-damper attachment's tick in C++: the kernels of
-// virtual_actuators.control.attachment_kernel (spring_damper_tick) and of
+// A spring-damper attachment's sensing and wrench (and a serial one's efforts) in C++: the
+// kernels of virtual_actuators.control.attachment_kernel (spring_tick) and of
 // virtual_actuators.kinematics.sensor_kernels (relative_sensor; its geometry shared with
 // sensor.hpp).
 //
@@ -51,48 +51,60 @@ inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const
   sensor_pose(b, o, a, s.axis_rows, n, position);
 }
 
-// A spring-damper's parameters per axis (SpringDamper's arrays).
-struct SpringParameters {
-  const double* stiffness;
-  const double* damping;
-  const double* setpoint;
-  const double* velocity_setpoint;
-  const double* force;
-  const double* limit;
+// The spring-dampers' entries: each component's axes, component after component
+// (attachment_kernel.spring_tick's targets, rotations, summed and parameters).
+struct SpringEntries {
+  const std::int64_t* targets;  // (e,) the axis of each entry
+  const std::int64_t* rotations;  // (e,) 1: its component's one rotational axis
+  std::int64_t e;
+  bool summed;  // each axis sums its entries from 0.0 (several components)
+  bool efforts;  // compute J^T w (a serial actuator that is its own sensor)
+  const double* parameters;  // (6, e): stiffness, damping, setpoint, velocity setpoint, force, limit
 };
 
-// attachment_kernel.spring_damper_tick: out (nv + 3n + 1) = effort (nv, J^T w on the chain's
-// columns, zero elsewhere), position (n), velocity (n), wrench (n), then 1.0, or 0.0 when the
-// general path must run (a rotational difference outside [-pi, pi], a wrench not finite; effort
-// left zero). jacobian: scratch of m n doubles. out must be zeroed by the caller.
-inline bool spring_damper_tick(const double* jacobian_world, std::int64_t nv, const double* frames,
-                               const double* v, const SensorTables& s, std::int64_t rotation,
-                               const SpringParameters& p, double* jacobian, double* out) {
+// attachment_kernel.spring_tick: out (nv + 3n + 1) = effort (nv, J^T w on the chain's columns
+// when p.efforts, zero elsewhere), position (n), velocity (n), wrench (n), then 1.0, or 0.0 when
+// the general path must run (a rotational difference outside [-pi, pi], a wrench not finite;
+// effort left zero). jacobian: scratch of m n doubles. out must be zeroed by the caller.
+inline bool spring_tick(const double* jacobian_world, std::int64_t nv, const double* frames,
+                        const double* v, const SensorTables& s, const SpringEntries& p,
+                        double* jacobian, double* out) {
   const std::int64_t n = s.n;
   double* position = out + nv;
   double* velocity = out + nv + n;
   double* wrench = out + nv + 2 * n;
   relative_sensor(jacobian_world, nv, frames, v, s, jacobian, position, velocity);
+  const double* stiffness = p.parameters;
+  const double* damping = p.parameters + p.e;
+  const double* setpoint = p.parameters + 2 * p.e;
+  const double* velocity_setpoint = p.parameters + 3 * p.e;
+  const double* force = p.parameters + 4 * p.e;
+  const double* limit = p.parameters + 5 * p.e;
   bool ok = true;
-  double total = 0.0;
-  for (std::int64_t i = 0; i < n; ++i) {
-    const double bent = p.setpoint[i] - position[i];
-    if (i == rotation && !(-M_PI <= bent && bent <= M_PI)) ok = false;
-    double w = p.stiffness[i] * bent + p.damping[i] * (p.velocity_setpoint[i] - velocity[i]);
-    const double low = -p.limit[i];
+  for (std::int64_t e = 0; e < p.e; ++e) {
+    const std::int64_t i = p.targets[e];
+    const double bent = setpoint[e] - position[i];
+    if (p.rotations[e] == 1 && !(-M_PI <= bent && bent <= M_PI)) ok = false;
+    double w = stiffness[e] * bent + damping[e] * (velocity_setpoint[e] - velocity[i]);
+    const double low = -limit[e];
     w = low > w ? low : w;  // max(w, -limit): w unless -limit > w
-    w = p.limit[i] < w ? p.limit[i] : w;  // min(w, limit): w unless limit < w
-    w = w + p.force[i];
-    wrench[i] = w;
-    total += w;
+    w = limit[e] < w ? limit[e] : w;  // min(w, limit): w unless limit < w
+    w = w + force[e];
+    if (p.summed)
+      wrench[i] += w;
+    else
+      wrench[i] = w;
   }
+  double total = 0.0;
+  for (std::int64_t i = 0; i < n; ++i) total += wrench[i];
   if (!std::isfinite(total)) ok = false;
   if (!ok) return false;
-  for (std::int64_t j = 0; j < s.m; ++j) {
-    double acc = 0.0;
-    for (std::int64_t i = 0; i < n; ++i) acc += jacobian[j * n + i] * wrench[i];
-    out[s.columns[j]] = acc;
-  }
+  if (p.efforts)
+    for (std::int64_t j = 0; j < s.m; ++j) {
+      double acc = 0.0;
+      for (std::int64_t i = 0; i < n; ++i) acc += jacobian[j * n + i] * wrench[i];
+      out[s.columns[j]] = acc;
+    }
   out[nv + 3 * n] = 1.0;
   return true;
 }

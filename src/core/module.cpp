@@ -8,6 +8,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
+#include <nanobind/stl/vector.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -740,7 +741,7 @@ NB_MODULE(_core, m) {
   // Trees and distributions live in the robots' caches (module-level registries) until the
   // interpreter's teardown, which may free the module first: not a leak worth a report.
   nb::set_leak_warnings(false);
-  void bind_attachment(nb::module_ & m);  // the serial attachment's block, at the end of the file
+  void bind_attachment(nb::module_ & m);  // the spring attachments' block, at the end of the file
   bind_attachment(m);
   void bind_gait(nb::module_&);  // the gait's kernels: the block at the end of this file
   bind_gait(m);
@@ -825,22 +826,26 @@ NB_MODULE(_core, m) {
         "contacts.contact_set.largest_scale: the largest alpha in [0, 1] meeting the rows.");
 }
 
-// == serial spring-damper attachments (attachment.hpp) ======================================
-// One block, bound by bind_attachment (called from NB_MODULE above): SerialSpring holds a serial
-// actuator's sensor tables; tick() runs attachment_kernel.spring_damper_tick.
+// == spring-damper attachments (attachment.hpp) =============================================
+// One block, bound by bind_attachment (called from NB_MODULE above): SpringTick holds a sensor's
+// tables and its spring-dampers' entries; tick() runs attachment_kernel.spring_tick.
 #include "attachment.hpp"
 
 namespace {
 
-class SerialSpring {
+class SpringTick {
  public:
-  SerialSpring(const I1& axis_rows, const I1& rows, const I1& columns, const F1& signs,
-               std::int64_t rotation, std::int64_t nv)
+  SpringTick(const I1& axis_rows, const I1& rows, const I1& columns, const F1& signs,
+             const I1& targets, const I1& rotations, std::int64_t summed, std::int64_t efforts,
+             std::int64_t nv)
       : axis_rows_(copy<std::int64_t>(axis_rows)),
         rows_(copy<std::int64_t>(rows)),
         columns_(copy<std::int64_t>(columns)),
         signs_(copy<double>(signs)),
-        rotation_(rotation),
+        targets_(copy<std::int64_t>(targets)),
+        rotations_(copy<std::int64_t>(rotations)),
+        summed_(summed != 0),
+        efforts_(efforts != 0),
         nv_(nv) {
     const auto n = static_cast<std::int64_t>(axis_rows_.size());
     require(n >= 1 && n <= 6, "axis_rows must hold 1 to 6 axes");
@@ -853,36 +858,55 @@ class SerialSpring {
     require(signs_.size() == columns_.size(), "signs must be one per column");
     require(nv >= 0, "nv must be >= 0");
     for (const std::int64_t c : columns_) require(c >= 0 && c < nv, "columns out of range");
-    require(rotation >= -1 && rotation < n, "rotation must be -1 or an axis index");
+    require(!targets_.empty() && rotations_.size() == targets_.size(),
+            "targets and rotations must be one per entry (at least one)");
+    for (const std::int64_t t : targets_) require(t >= 0 && t < n, "targets must be axes");
+    for (const std::int64_t r : rotations_) require(r == 0 || r == 1, "rotations must be 0 or 1");
+    require(summed_ || static_cast<std::int64_t>(targets_.size()) == n,
+            "without summed, one entry per axis");
     rows_end_ = std::max(rows_[0], std::max(rows_[1], rows_[2])) + 1;
     const auto m = static_cast<std::int64_t>(columns_.size());
     tables_ = va::serial::SensorTables{axis_rows_.data(), n, rows_.data(), columns_.data(),
                                        signs_.data(), m};
   }
 
-  // effort (nv), position (n), velocity (n), wrench (n), flag: spring_damper_tick's buffer.
-  Owned tick(const F2& jacobian_world, const F2& frames, const F1& v, const F1& stiffness,
-             const F1& damping, const F1& setpoint, const F1& velocity_setpoint, const F1& force,
-             const F1& limit) const {
+  // effort (nv), position (n), velocity (n), wrench (n), flag: spring_tick's buffer.
+  // parameters: six arrays per component (stiffness, damping, setpoint, velocity setpoint,
+  // force, limit), component after component, their lengths its number of axes.
+  Owned tick(const F2& jacobian_world, const F2& frames, const F1& v,
+             const std::vector<F1>& parameters) const {
     const std::int64_t n = tables_.n;
+    const auto e = static_cast<std::int64_t>(targets_.size());
     require(jacobian_world.shape(0) == 6 &&
                 static_cast<std::int64_t>(jacobian_world.shape(1)) == nv_,
             "jacobian_world must be (6, nv)");
     require(frames.shape(1) == 12 && static_cast<std::int64_t>(frames.shape(0)) >= rows_end_,
             "frames must be (nf, 12) with the sensor's rows");
     require(length(v) == nv_, "v must be (nv,)");
-    for (const F1* a : {&stiffness, &damping, &setpoint, &velocity_setpoint, &force, &limit})
-      require(length(*a) == n, "the spring-damper's parameters must be one per axis");
+    require(parameters.size() % 6 == 0, "parameters must be six arrays per component");
+    std::vector<double> table(static_cast<std::size_t>(6 * e));  // spring_tick's (6, e)
+    std::int64_t at = 0;
+    for (std::size_t c = 0; c < parameters.size(); c += 6) {
+      const std::int64_t size = length(parameters[c]);
+      require(at + size <= e, "the parameters hold more entries than the tables");
+      for (std::size_t k = 0; k < 6; ++k) {
+        require(length(parameters[c + k]) == size,
+                "a component's parameters must be one per axis");
+        const double* data = parameters[c + k].data();
+        for (std::int64_t i = 0; i < size; ++i) table[k * e + at + i] = data[i];
+      }
+      at += size;
+    }
+    require(at == e, "the parameters must hold one entry per table entry");
     const auto size = static_cast<std::size_t>(nv_ + 3 * n + 1);
     std::unique_ptr<double[]> out(new double[size]());
     {
       nb::gil_scoped_release release;
       std::vector<double> jacobian(static_cast<std::size_t>(tables_.m * n));
-      const va::serial::SpringParameters p{stiffness.data(), damping.data(),
-                                           setpoint.data(),  velocity_setpoint.data(),
-                                           force.data(),     limit.data()};
-      va::serial::spring_damper_tick(jacobian_world.data(), nv_, frames.data(), v.data(),
-                                     tables_, rotation_, p, jacobian.data(), out.get());
+      const va::serial::SpringEntries p{targets_.data(), rotations_.data(), e,
+                                        summed_,         efforts_,          table.data()};
+      va::serial::spring_tick(jacobian_world.data(), nv_, frames.data(), v.data(), tables_, p,
+                              jacobian.data(), out.get());
     }
     return owned(std::move(out), size);
   }
@@ -890,24 +914,27 @@ class SerialSpring {
  private:
   std::vector<std::int64_t> axis_rows_, rows_, columns_;
   std::vector<double> signs_;
-  std::int64_t rotation_, nv_, rows_end_ = 0;
+  std::vector<std::int64_t> targets_, rotations_;
+  bool summed_, efforts_;
+  std::int64_t nv_, rows_end_ = 0;
   va::serial::SensorTables tables_{};
 };
 
 }  // namespace
 
 void bind_attachment(nb::module_& m) {
-  nb::class_<SerialSpring>(m, "SerialSpring",
-                           "A serial actuator's sensor tables (control.attachment_kernel.Serial"
-                           "SpringTick): one spring-damper attachment's tick per call.")
-      .def(nb::init<const I1&, const I1&, const I1&, const F1&, std::int64_t, std::int64_t>(),
-           "axis_rows"_a, "rows"_a, "columns"_a, "signs"_a, "rotation"_a, "nv"_a)
-      .def("tick", &SerialSpring::tick, "jacobian_world"_a, "frames"_a, "v"_a, "stiffness"_a,
-           "damping"_a, "setpoint"_a, "velocity_setpoint"_a, "force"_a, "limit"_a,
-           "attachment_kernel.spring_damper_tick: effort (nv), position, velocity, wrench (n) "
-           "and the flag (1.0, or 0.0: the general path runs) in one buffer.");
+  nb::class_<SpringTick>(m, "SpringTick",
+                         "A sensor's tables and its spring-dampers' entries (control.attachment_"
+                         "kernel.SpringTick): one spring-damper attachment's tick per call.")
+      .def(nb::init<const I1&, const I1&, const I1&, const F1&, const I1&, const I1&,
+                    std::int64_t, std::int64_t, std::int64_t>(),
+           "axis_rows"_a, "rows"_a, "columns"_a, "signs"_a, "targets"_a, "rotations"_a,
+           "summed"_a, "efforts"_a, "nv"_a)
+      .def("tick", &SpringTick::tick, "jacobian_world"_a, "frames"_a, "v"_a, "parameters"_a,
+           "attachment_kernel.spring_tick: effort (nv), position, velocity, wrench (n) and the "
+           "flag (1.0, or 0.0: the general path runs) in one buffer.");
 }
-// == end of the serial spring-damper attachments' block ======================================
+// == end of the spring-damper attachments' block ======================================
 
 // -- the gait's kernels (gait.hpp): legged walks and the centre of mass ---------------------
 // One block, bound by bind_gait (called from NB_MODULE above).

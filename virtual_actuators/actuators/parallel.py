@@ -67,7 +67,7 @@ class ParallelVirtualActuator:
         unactuated: Names of limp joints (torque 0), or one name.
         passive: ``{joint: (stiffness [N m/rad], rest angle [rad])}``: torque
             ``-stiffness * (angle - rest)``, measured, not commanded; None for none.
-        design: Design constraints (:class:`Equal`, :class:`Linear`, :class:`EqualTorque`), or
+        design: Design constraints ([`Equal`][], [`Linear`][], [`EqualTorque`][]), or
             one constraint.
         friction: ``method="qp"``: friction coefficient ``mu`` of a pyramid at every contact
             (about ``normals``, world z by default); None for no cone.
@@ -226,18 +226,18 @@ class ParallelVirtualActuator:
         """Distribute ``wrench`` over the chains and map it to joint efforts.
 
         Args:
-            q: Configuration ``(model.nq,)``, or the tick's :class:`~virtual_actuators.Snapshot`
+            q: Configuration ``(model.nq,)``, or the tick's [`Snapshot`][]
                 (kinematics shared with the other actuators and sensors of the robot).
             wrench: ``(n,)`` wrench on {B}; entries of ``free`` axes are ignored.
             free: Axes left to the solver (their produced value is reported in the solution),
                 or one axis name.
-            strict: Raise :class:`InadmissibleWrenchError` if the wrench cannot be produced.
+            strict: Raise [`InadmissibleWrenchError`][] if the wrench cannot be produced.
             tol: Admissibility tolerance on the residual, relative to the larger of ``|wrench|``
                 and ``|produced|`` on the prescribed axes (scale-free: ``solve(q, s * w)`` gets
                 the same label as ``solve(q, w)`` for any ``s > 0``); a finite number >= 0.
             method: ``"partitioned"`` (default), ``"dense"`` (reference solver, eq. 10-11) or
                 ``"qp"`` (friction cones, unilateral contacts, soles and torque limits declared
-                on the actuator as inequalities; see :mod:`virtual_actuators.distribution.qp`).
+                on the actuator as inequalities; see `virtual_actuators.distribution.qp`).
             compiled: Use the compiled per-tick kernels when they apply (the default): the
                 partitioned method's, and the QP's matrices; False runs the numpy
                 implementations, the references the kernels are tested against. Ticks a kernel
@@ -247,7 +247,7 @@ class ParallelVirtualActuator:
                 wrench (like the constructor's ``weights``, which None keeps).
 
         Returns:
-            The :class:`Solution`.
+            The [`Solution`][].
 
         Raises:
             InvalidInputError: Bad ``q``, ``wrench``, ``tol``, ``method`` or ``weights``, or
@@ -314,13 +314,13 @@ class ParallelVirtualActuator:
     def solve_checked(
         self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6
     ) -> tuple[Solution, bool]:
-        """:meth:`solve` on arguments checked already (a controller's per-tick call).
+        """[`solve`][] on arguments checked already (a controller's per-tick call).
 
         Args:
             snapshot: The tick's snapshot of this actuator's robot.
             wrench: ``(n,)`` finite float request.
-            request: The checked method, free axes, path and weights (from :meth:`plan`).
-            tol: Admissibility tolerance (see :meth:`solve`).
+            request: The checked method, free axes, path and weights (from [`plan`][]).
+            tol: Admissibility tolerance (see [`solve`][]).
 
         Returns:
             ``(solution, missed)``: ``missed`` when the residual exceeds ``tol`` (``not
@@ -344,10 +344,10 @@ class ParallelVirtualActuator:
         compiled: bool = True,
         weights: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
     ) -> Request:
-        """The checked :class:`~virtual_actuators.distribution.registry.Request` of a solve.
+        """The checked `Request` of a solve.
 
-        What :meth:`solve` derives from ``free``, ``method`` and ``weights`` on every call, for
-        callers that solve the same way every tick (:meth:`solve_checked`).
+        What [`solve`][] derives from ``free``, ``method`` and ``weights`` on every call, for
+        callers that solve the same way every tick ([`solve_checked`][]).
 
         Raises:
             InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
@@ -369,7 +369,7 @@ class ParallelVirtualActuator:
     def backends(self) -> dict[str, Backend]:
         """The solver backends by name.
 
-        :data:`~virtual_actuators.distribution.registry.METHODS` lists each method's, in order.
+        `METHODS` lists each method's, in order.
         """
         return {
             "compiled": self.compiled,
@@ -384,13 +384,13 @@ class ParallelVirtualActuator:
         return tuple(METHODS)
 
     def producible(self, q: np.ndarray | Snapshot) -> np.ndarray:
-        """``(n, r)`` orthonormal basis of the wrenches producible here (see :mod:`.producible`)."""
+        """``(n, r)`` orthonormal basis of the wrenches producible here (see `producible`)."""
         return producible_basis(self, q)
 
     def give_way(
         self, q: np.ndarray | Snapshot, wrench: np.ndarray, axes: Sequence[str] = ("x", "y")
     ) -> np.ndarray:
-        """``wrench`` made producible by moving it along ``axes`` only (see :mod:`.producible`)."""
+        """``wrench`` made producible by moving it along ``axes`` only (see `producible`)."""
         return yielding_request(self, q, wrench, axes)
 
     def torques(self, q: np.ndarray | Snapshot, forces: np.ndarray) -> np.ndarray:

@@ -13,12 +13,12 @@ homogeneous constraint to their sum:
 * a chain adds only directions its joints (and a point contact's virtual ball joint) can move
   {B} along: one flat foot on a six-joint leg produces any wrench, on a three-joint leg three.
 
-:func:`producible_basis` returns an orthonormal basis of that space at a configuration (the
-method :meth:`ParallelVirtualActuator.producible <virtual_actuators.ParallelVirtualActuator.\
-producible>`), derived from the kinematics and the declaration alone; :func:`give_way` turns a
+`producible_basis` returns an orthonormal basis of that space at a configuration (the
+method [`ParallelVirtualActuator.producible`][]), derived from the kinematics and the declaration
+alone; [`give_way`][] turns a
 request into a producible one that differs from it only along the given yielding directions,
-the others kept exact (:meth:`ParallelVirtualActuator.give_way <virtual_actuators.\
-ParallelVirtualActuator.give_way>` with axes names, the horizontal force by default: with two
+the others kept exact ([`ParallelVirtualActuator.give_way`][] with axes names, the horizontal force
+by default: with two
 point feet the centre of mass then leaves the line between them as an inverted pendulum, and the
 height and every moment stay as asked; yielding the moments instead would keep the forces and
 spin the body about that line). Passive springs' measured torques (the non-homogeneous
@@ -83,7 +83,7 @@ def _split(matrix: np.ndarray) -> Directions:
 def producible_directions(
     actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
 ) -> Directions:
-    """:func:`producible_basis` and its orthogonal complement (what :func:`give_way` needs).
+    """`producible_basis` and its orthogonal complement (what [`give_way`][] needs).
 
     Raises:
         InvalidInputError: A bad ``q`` or a snapshot of another robot.
@@ -115,7 +115,7 @@ def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
 
     Args:
         actuator: The parallel actuator.
-        q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+        q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
 
     Returns:
         ``(n, r)`` over the actuator's axes (forces [N] and moments [N m] about {B}'s origin, in
@@ -216,7 +216,7 @@ def _two_points(frames: np.ndarray, rows: np.ndarray) -> np.ndarray:
 def _give_way_one(
     wrench: np.ndarray, yielding: np.ndarray, missing: np.ndarray, out: np.ndarray
 ) -> bool:
-    """:func:`give_way` with one missing direction, in closed form, into ``out``.
+    """[`give_way`][] with one missing direction, in closed form, into ``out``.
 
     Returns False (nothing written) when the yielding directions cannot move the request
     along it (the least-squares path decides).
@@ -286,12 +286,12 @@ def give_way(
     changes (by the weight times the centre of mass's offset from the line over its height).
 
     Args:
-        basis: ``(n, r)`` orthonormal producible directions (:func:`producible_basis`).
+        basis: ``(n, r)`` orthonormal producible directions (`producible_basis`).
         wrench: ``(n,)`` request.
         yielding: ``(n, m)`` directions allowed to give way first; None for none (the
             orthogonal projection alone).
         missing: ``(n, n - r)`` the orthogonal complement of ``basis``, if known
-            (:func:`producible_directions`); computed otherwise.
+            ([`producible_directions`][]); computed otherwise.
 
     Returns:
         ``(n,)`` a producible wrench (``wrench`` itself when it already is).
@@ -327,11 +327,11 @@ def yielding_request(
     wrench: np.ndarray,
     axes: Sequence[str] = ("x", "y"),
 ) -> np.ndarray:
-    """``wrench`` made producible at ``q`` by giving way along ``axes`` only (:func:`give_way`).
+    """``wrench`` made producible at ``q`` by giving way along ``axes`` only ([`give_way`][]).
 
     Args:
         actuator: The parallel actuator.
-        q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+        q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
         wrench: ``(n,)`` request on the actuator's axes.
         axes: The axes that give way, among the actuator's.
 

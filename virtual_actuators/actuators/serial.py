@@ -123,12 +123,12 @@ class VirtualActuator:
         """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` built with a velocity (the tick's
+            state: A [`Snapshot`][] built with a velocity (the tick's
                 shared kinematics), or a configuration ``(nq,)``.
             v: Velocity ``(nv,)`` when ``state`` is a configuration.
 
         Returns:
-            The :class:`SensorReading`.
+            The [`SensorReading`][].
 
         Raises:
             InvalidInputError: Bad ``q`` or ``v``, no velocity given, or a snapshot of another
@@ -149,7 +149,7 @@ class VirtualActuator:
         to {A}, ``log(R_A^T R_B)``, expressed in {O} [rad].
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(nq,)``.
+            state: A [`Snapshot`][] or a configuration ``(nq,)``.
 
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
@@ -164,7 +164,7 @@ class VirtualActuator:
         cancels unless one frame is ``"world"``).
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(nq,)``.
+            state: A [`Snapshot`][] or a configuration ``(nq,)``.
 
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
@@ -176,7 +176,7 @@ class VirtualActuator:
         """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s] (angular velocity on rotations).
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` built with ``v``, or ``q``.
+            state: A [`Snapshot`][] built with ``v``, or ``q``.
             v: Velocity ``(nv,)`` when ``state`` is a configuration.
 
         Raises:

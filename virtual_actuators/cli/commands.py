@@ -16,6 +16,7 @@ from .views import finish_viewer, make_viewer, pause, show_static, wants_viewer
 def demo_walk(args: argparse.Namespace) -> int:
     """Run one of the walks in MuJoCo, print its figures, write JSON and a plot."""
     from ..demos import WALKS, run_walk
+    from ..exceptions import FrameNotFoundError
     from ..experiments.metrics import write_json
     from ..models.loader import load_robot
 
@@ -30,25 +31,27 @@ def demo_walk(args: argparse.Namespace) -> int:
         if args.viz:
             pause("Open the viewer, then press Enter to start. ")
         on_tick = viewer.tick_callback(realtime=args.realtime)
-    result = run_walk(
-        args.name,
-        duration=args.duration,
-        speed=args.speed,
-        terrain=args.terrain,
-        progress=not args.quiet,
-        on_tick=on_tick,
-        seed=args.seed,
-        distribution=args.distribution,
-        force_speed=args.force_speed,  # checked against the walk's range with the options
-        **options,
-    )
+    with blame("--feet", only=FrameNotFoundError) if args.feet else contextlib.nullcontext():
+        result = run_walk(
+            args.name,
+            duration=args.duration,
+            speed=args.speed,
+            terrain=args.terrain,
+            progress=not args.quiet,
+            on_tick=on_tick,
+            seed=args.seed,
+            distribution=args.distribution,
+            force_speed=args.force_speed,  # checked against the walk's range with the options
+            **options,
+        )
     metrics = result.metrics
     print(metrics.summary())
     if args.json:
         data = result.to_json()
         label = "trace" if "trace" in data else "metrics"
         with writing("--json", args.json):
-            print(f"{label}: {write_json(data, args.json)}")
+            path = write_json(data, args.json)
+        print(f"{label}: {path}")
     if args.plot:
         with writing("--plot", args.plot):
             path = walk.plot(result, args.plot, args.window)
@@ -110,15 +113,55 @@ def sweep_command(args: argparse.Namespace) -> int:
     for i, terrain in enumerate(terrains_):
         cells = " ".join(f"{value:>6.0%}" if value == value else "     -" for value in rate[i])
         print(f"{terrain:{width}}  {cells}")
-    with writing("--out", args.out):
-        print(f"results: {write_results(results, args.out)}")
+    out, option = results_path(args)
+    if out is None:
+        print("results: not written (--out PATH.csv or PATH.json writes them)")
+    else:
+        with writing(option, out):
+            path = write_results(results, out)
+        print(f"results: {path}" + ("" if args.out else " (beside the plot; --out sets it)"))
     if args.plot:
         with writing("--plot", args.plot):
-            print(f"success map: {plot_success_map(results, args.plot)}")
+            path = plot_success_map(results, args.plot)
+        print(f"success map: {path}")
     errors = [r for r in results if r.error]
     for result in errors[:5]:
         print(f"error at speed {result.speed} on {result.terrain}: {result.error}")
     return 1 if any(r.fell for r in results) else 0
+
+
+def results_path(args: argparse.Namespace) -> tuple[str | None, str]:
+    """Where ``sweep`` writes its results table, and the option that chose it.
+
+    ``--out PATH``; else a ``.csv`` beside ``--plot`` (``map.png``: ``map.csv``); else nowhere
+    (the table is printed).
+
+    Returns:
+        ``(path or None, "--out" or "--plot")``.
+    """
+    if args.out:
+        return args.out, "--out"
+    if args.plot:
+        from pathlib import Path
+
+        return str(Path(args.plot).with_suffix(".csv")), "--plot"
+    return None, "--out"
+
+
+def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    """Try the results table beside ``--plot`` now, as ``--out`` is tried when parsed.
+
+    Raises:
+        SystemExit: With code 2 when it cannot be written (names the path and the reason).
+    """
+    from .types import output_path
+
+    out, option = results_path(args)
+    if out is not None and option == "--plot":
+        try:
+            output_path(out)
+        except argparse.ArgumentTypeError as error:
+            parser.error(f"argument --plot: the results table beside it: {error}")
 
 
 def example_view(args: argparse.Namespace, example: Example) -> None:
@@ -137,30 +180,36 @@ class OptionError(Exception):
 
 
 @contextlib.contextmanager
-def blame(option: str) -> Iterator[None]:
-    """Turn a library error raised in the block into an :class:`OptionError` naming ``option``.
+def blame(option: str, only: type[Exception] | None = None) -> Iterator[None]:
+    """Turn a library error raised in the block into an `OptionError` naming ``option``.
+
+    Args:
+        option: The option that caused the error.
+        only: The error type that ``option`` causes (default: any
+            [`VirtualActuatorError`][]); others propagate unchanged.
 
     Raises:
-        OptionError: If the block raises a :class:`~virtual_actuators.VirtualActuatorError`.
+        OptionError: If the block raises such an error.
     """
     from ..exceptions import VirtualActuatorError
 
+    caught = VirtualActuatorError if only is None else only
     try:
         yield
-    except VirtualActuatorError as error:
+    except caught as error:
         raise OptionError(f"argument {option}: {error}") from error
 
 
 @contextlib.contextmanager
 def writing(option: str, path: str) -> Iterator[None]:
-    """Turn an :class:`OSError` raised while writing ``path`` into an :class:`OptionError`.
+    """Turn an `OSError` raised while writing ``path`` into an `OptionError`.
 
-    Every output is tried before the run (:func:`~virtual_actuators.cli.types.output_path`);
+    Every output is tried before the run (`output_path`);
     this reports one that still fails at the end (the disk filled up) on one line, never as a
     traceback whose exit code 1 would read as "the robot fell".
 
     Raises:
-        OptionError: If the block raises an :class:`OSError` (names ``option``, the path and the
+        OptionError: If the block raises an `OSError` (names ``option``, the path and the
             reason).
     """
     try:

@@ -73,7 +73,10 @@ STAND_OPTIONS = ("robot", "feet")
 
 
 #: What ``python -m virtual_actuators --help`` says first.
-DESCRIPTION = "Command line: ``python -m virtual_actuators demo`` and friends."
+DESCRIPTION = (
+    "Virtual actuators on any URDF robot: walks and a standing robot (demo), the papers' "
+    "worked examples (example), the robots by name (robots), walks over a grid (sweep)."
+)
 
 #: The seeds' worked examples (``virtual_actuators.examples.EXAMPLES``, imported only when run).
 EXAMPLE_NAMES = ("hexapod-tripod", "millipede", "single-leg", "double-support")
@@ -83,8 +86,9 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
     parser.add_argument(
         "--viz",
         action="store_true",
-        help="show it live in MeshCat (prints the URL"
-        + ("; walks update at 30 Hz wall clock)" if walks else ")"),
+        help="show it live in MeshCat: prints the URL"
+        + (", updates at 30 Hz wall clock" if walks else "")
+        + ", then serves until Enter (at a terminal) or Ctrl-C",
     )
     parser.add_argument(
         "--record",
@@ -98,7 +102,7 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
         parser.add_argument(
             "--realtime",
             action="store_true",
-            help="with --viz, slow the simulation down to wall-clock time",
+            help="with --viz (only): slow the walk down to wall-clock time",
         )
 
 
@@ -175,7 +179,8 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         type=time_window,
         default=None,
         metavar="T0:T1",
-        help="walks with --plot: plot only simulated seconds T0 to T1 (either may be empty)",
+        help="walks with --plot: plot only simulated seconds T0 to T1 (either may be empty; "
+        "checked against --duration before the run)",
     )
 
 
@@ -185,7 +190,7 @@ def _robot_arguments(demo: argparse.ArgumentParser) -> None:
         type=robot_name,
         default=None,
         help="stand, legged, balance: a legged robot by name or URDF path (default: solo12; "
-        "balance: talos; feet from its SRDF, frame names or structure, see `robots`)",
+        "balance: talos; feet from its SRDF, frame names or structure, see the robots command)",
     )
     demo.add_argument(
         "--feet",
@@ -279,7 +284,8 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
         "sweep",
         help="run a walk over a grid of speeds, terrains and seeds, in parallel",
         description="Every (speed, terrain, seed) walk of the grid, on a process pool (or Dask / "
-        "Ray with --engine, e.g. on a cluster); writes a table and a success map.",
+        "Ray with --engine, e.g. on a cluster); prints the success rate per cell, writes the "
+        "results table (--out, or beside --plot) and a success map (--plot).",
     )
     sweep.add_argument("walk", choices=WALK_DEMOS)
     sweep.add_argument(
@@ -299,7 +305,11 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
         "--workers", type=worker_count, default=None, help="process pool size (1 to 256)"
     )
     sweep.add_argument(
-        "--out", type=output_path, default="sweep.csv", metavar="PATH", help=".csv or .json"
+        "--out",
+        type=output_path,
+        default=None,
+        metavar="PATH",
+        help="write the results table, .csv or .json (default: beside --plot, else not written)",
     )
     sweep.add_argument(
         "--plot", type=figure_path, default=None, metavar="PATH.png", help="success map"
@@ -313,7 +323,7 @@ def registered_walks(parser: argparse.ArgumentParser) -> dict:
 
     Raises:
         SystemExit: With code 2 and a usage message naming the extra to install when an
-            optional package the walks need (``mujoco``: ``virtual_actuators[sim]``) is missing.
+            optional package the walks need (``mujoco``, the extra ``sim``) is missing.
 
     """
     from ..exceptions import MissingDependencyError
@@ -339,6 +349,11 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
         parser.error("argument --speed: balance does not use it")
     if args.window is not None and args.plot is None:
         parser.error("argument --window: it selects what --plot draws; give --plot PATH too")
+    if args.realtime and not args.viz:
+        parser.error(
+            "argument --realtime: it paces the live viewer to wall-clock time; give --viz too "
+            "(a run without it goes as fast as it can)"
+        )
 
 
 def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
@@ -360,6 +375,21 @@ def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParse
     if args.window is not None and not walk.plot_window:
         windowed = " and ".join(name for name, other in walks.items() if other.plot_window)
         parser.error(f"argument --window: the plots of {windowed} take it, not {args.name}")
+    if args.window is not None:
+        _check_window(args, parser, walk.duration)
+
+
+def _check_window(args: argparse.Namespace, parser: argparse.ArgumentParser, default: float):
+    """Refuse a ``--window`` that holds no simulated second of the run (before it runs)."""
+    duration = default if args.duration is None else args.duration
+    start, stop = args.window
+    run = f"the run lasts {duration:g} s" + (
+        f" ({args.name}'s default; --duration sets it)" if args.duration is None else ""
+    )
+    if start is not None and start >= duration:
+        parser.error(f"argument --window: it starts at {start:g} s, but {run}")
+    if stop is not None and stop <= 0.0:
+        parser.error(f"argument --window: it ends at {stop:g} s, before the run starts at 0 s")
 
 
 def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk) -> None:

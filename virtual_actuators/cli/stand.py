@@ -1,7 +1,8 @@
 """``demo stand``: any legged robot standing, its body actuator and force distribution.
 
-The feet come from the robot's SRDF or frame names (:func:`~virtual_actuators.models.feet.
-find_feet`), or from ``--feet``. Three or more feet are point contacts; two feet (a biped) are
+The feet come from the robot's SRDF or frame names
+([`find_feet`][virtual_actuators.models.feet.find_feet]), or from ``--feet``. Three or more feet are
+point contacts; two feet (a biped) are
 flat contacts, so that the body's moments have somewhere to go.
 """
 
@@ -20,7 +21,7 @@ def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
     """Load the robot of ``demo stand`` and find its body and feet.
 
     Args:
-        name: A robot name, alias or URDF path for :func:`~virtual_actuators.load_robot`.
+        name: A robot name, alias or URDF path for [`load_robot`][].
         feet: Foot frame names (default: found on the robot).
 
     Returns:
@@ -54,7 +55,7 @@ def demo_stand(
     """Print a legged robot's body actuator distribution (and show it with ``--viz``).
 
     Args:
-        robot: A name or path, or ``(robot, body, feet)`` from :func:`stand_robot`.
+        robot: A name or path, or ``(robot, body, feet)`` from `stand_robot`.
         repeat: Solves per timing.
         args: The parsed command line (for the viewer options), or None.
         feet: Foot frames when ``robot`` is a name (default: found on the robot).

@@ -1,6 +1,6 @@
 """Argument types of the command line: a bad value is a usage error (exit 2), never a traceback.
 
-Each function parses one option's text and raises :class:`argparse.ArgumentTypeError` with the
+Each function parses one option's text and raises `argparse.ArgumentTypeError` with the
 reason; heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their
 option is given.
 """
@@ -49,7 +49,7 @@ def _number(text: str, what: str) -> float:
 
 
 def positive_seconds(text: str) -> float:
-    """``--duration``: a finite number of seconds in [:data:`MIN_DURATION`, :data:`MAX_DURATION`].
+    """``--duration``: a finite number of seconds in [`MIN_DURATION`, `MAX_DURATION`].
 
     Raises:
         argparse.ArgumentTypeError: Otherwise (argparse turns it into a usage error).
@@ -99,7 +99,7 @@ def direction_degrees(text: str) -> float:
 
 
 def yaw_rate(text: str) -> float:
-    """``--yaw-rate``: rad/s within +-:data:`MAX_YAW_RATE`.
+    """``--yaw-rate``: rad/s within +-`MAX_YAW_RATE`.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -108,7 +108,7 @@ def yaw_rate(text: str) -> float:
 
 
 def amplitude(text: str) -> float:
-    """``--amplitude``: the sine's amplitude in [0, :data:`MAX_AMPLITUDE`] m.
+    """``--amplitude``: the sine's amplitude in [0, `MAX_AMPLITUDE`] m.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -117,7 +117,7 @@ def amplitude(text: str) -> float:
 
 
 def wavelength(text: str) -> float:
-    """``--wavelength``: the sine's wavelength in (0, :data:`MAX_WAVELENGTH`] m.
+    """``--wavelength``: the sine's wavelength in (0, `MAX_WAVELENGTH`] m.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -161,9 +161,9 @@ def seed(text: str) -> int:
 
 
 def terrain_spec(text: str) -> str:
-    """``--terrain``: a spec :meth:`Terrain.parse` accepts (checked now, parsed again later).
+    """``--terrain``: a spec `Terrain.parse` accepts (checked now, parsed again later).
 
-    Its points must also lie within :data:`MAX_TERRAIN_EXTENT` metres of the origin. The terrain
+    Its points must also lie within `MAX_TERRAIN_EXTENT` metres of the origin. The terrain
     module is imported here, only when the option is given (it brings in MuJoCo, which the
     walks need anyway).
 
@@ -284,7 +284,7 @@ def _bounded_whole(text: str, what: str, maximum: int, why: str) -> int:
 
 
 def seed_count(text: str) -> int:
-    """``sweep --seeds``: starts per cell, 1 to :data:`~virtual_actuators.demos.sweep.MAX_SEEDS`.
+    """``sweep --seeds``: starts per cell, 1 to `MAX_SEEDS`.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -295,7 +295,7 @@ def seed_count(text: str) -> int:
 
 
 def worker_count(text: str) -> int:
-    """``sweep --workers``: process pool size, 1 to :data:`MAX_WORKERS`.
+    """``sweep --workers``: process pool size, 1 to `MAX_WORKERS`.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -316,7 +316,7 @@ def output_path(text: str) -> str:
     """An output file that can be written now (checked before a run, not after it).
 
     A run writes its outputs only at its end, so each is opened here as it will be written
-    (:func:`_try_writing`): a path that passes can be written unless the disk fills up during
+    (`_try_writing`): a path that passes can be written unless the disk fills up during
     the run.
 
     Raises:
@@ -350,12 +350,19 @@ def output_path(text: str) -> str:
 
 
 def figure_path(text: str) -> str:
-    """``sweep --plot``: an :func:`output_path` whose suffix is an image format matplotlib writes.
+    """``sweep --plot``: an `output_path` whose suffix is an image format matplotlib writes.
 
     Raises:
-        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), or
-            a path that :func:`output_path` refuses.
+        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), a
+            path that `output_path` refuses, or matplotlib is not installed (the message
+            names its extra).
     """
+    from ..exceptions import MissingDependencyError, import_optional
+
+    try:
+        import_optional("matplotlib", "plots", "The plot")
+    except MissingDependencyError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
     from matplotlib.backend_bases import FigureCanvasBase
 
     formats = sorted(FigureCanvasBase.get_supported_filetypes())

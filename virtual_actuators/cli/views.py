@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
@@ -73,9 +74,14 @@ def make_viewer(args: argparse.Namespace, robot, **options):
     return Viewer(robot, window=window, **options)
 
 
+def interactive() -> bool:
+    """Whether a person is at a terminal (standard input is one)."""
+    return sys.stdin is not None and sys.stdin.isatty()
+
+
 def pause(message: str) -> None:
     """Wait for Enter when a person is at the terminal; return at once in scripts."""
-    if sys.stdin is not None and sys.stdin.isatty():
+    if interactive():
         try:
             input(message)
         except EOFError:
@@ -83,7 +89,11 @@ def pause(message: str) -> None:
 
 
 def finish_viewer(args: argparse.Namespace, viewer) -> None:
-    """Write the recording (``--record``), keep a live view open until Enter, close.
+    """Write the recording (``--record``), keep a live view serving until stopped, close.
+
+    The live viewer (``--viz``) serves until Enter at a terminal, or until interrupted (Ctrl-C,
+    or a ``SIGTERM``) without one, as one printed line says; its URL was printed when it
+    started. Then the viewer and its server close.
 
     Raises:
         OptionError: The recording cannot be written (the viewer is closed all the same).
@@ -96,10 +106,45 @@ def finish_viewer(args: argparse.Namespace, viewer) -> None:
                 print(f"recording: {viewer.save_html(args.record)}")
         if args.viz:
             viewer.flush()
-            print(f"viewer: {viewer.url}")
-            pause("Press Enter to stop the viewer. ")
+            serve()
     finally:
         viewer.close()
+
+
+def serve() -> None:
+    """Keep the process, and with it the live viewer, alive until the user stops it.
+
+    At a terminal, until Enter or Ctrl-C; without one (a script, a pipe, a background job),
+    until ``SIGINT`` or ``SIGTERM``. Says so on one line first (the URL was printed when the
+    viewer started).
+    """
+    import signal
+    import time
+
+    def stop(number, frame) -> None:
+        raise KeyboardInterrupt
+
+    try:  # SIGTERM too closes the viewer's server (it runs in a session of its own)
+        previous = signal.signal(signal.SIGTERM, stop)
+    except ValueError:  # not the main thread: only Ctrl-C
+        previous = None
+    try:
+        if interactive():
+            pause("viewer: serving (URL above); press Enter (or Ctrl-C) to stop it. ")
+        else:
+            print(
+                f"viewer: serving (URL above) until interrupted (Ctrl-C, or kill {os.getpid()}); "
+                "no terminal to press Enter in",
+                flush=True,
+            )
+            while True:
+                time.sleep(3600.0)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+    print("viewer: stopped")
 
 
 def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:

@@ -3,11 +3,11 @@
 A virtual component (VMC 2001, section 3) turns the reading of a virtual actuator's sensor, the
 pose and velocity of its action frame {B} relative to its reaction frame {A} along the
 actuator's axes, into a wrench on {B}. Components act on a subset of the actuator's axes; the
-:class:`~virtual_actuators.control.Controller` hands each one only its own axes, already sliced,
+[`Controller`][] hands each one only its own axes, already sliced,
 so a component never indexes the actuator's axes itself.
 
-To write your own component, subclass :class:`Component`, pass the axes it acts on to
-``super().__init__`` and implement :meth:`Component.compute_wrench`::
+To write your own component, subclass [`Component`][], pass the axes it acts on to
+``super().__init__`` and implement [`Component.compute_wrench`][]::
 
     class Friction(Component):
         def __init__(self, axis: str, force: float) -> None:
@@ -72,12 +72,12 @@ class Component(ABC):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """:meth:`compute_wrench` on plain floats (the controller's per-tick fast path).
+        """[`compute_wrench`][] on plain floats (the controller's per-tick fast path).
 
-        A subclass may implement it alongside :meth:`compute_wrench`, with the same arithmetic
+        A subclass may implement it alongside [`compute_wrench`][], with the same arithmetic
         entry by entry (the same bits); the controller uses it only for a component whose most
         derived ``compute_wrench`` is defined in a class that also defines this method (see
-        :func:`has_float_path`). Default: the array method.
+        `has_float_path`). Default: the array method.
         """
         return np.asarray(
             self.compute_wrench(np.array(position), np.array(velocity), time), dtype=float
@@ -124,7 +124,7 @@ class Component(ABC):
         return array
 
     def _per_axis_fast(self, value: object, allow_inf: bool) -> np.ndarray | None:
-        """:meth:`_per_axis` for the values a gait assigns every tick, or None for the rest.
+        """`_per_axis` for the values a gait assigns every tick, or None for the rest.
 
         Kept on purpose (issue 25's rule: a speed trick outside the kernels stays only if it is
         worth >= 5 % of a walking tick): gaits move set points every tick, and the generic

@@ -1,7 +1,7 @@
 """An energy tank that keeps any component passive.
 
 A component can inject energy into the robot (a spring whose set point moves, a bunny pulling
-the body, a user law). Wrapped in an :class:`EnergyTank`, the energy it injects is drawn from a
+the body, a user law). Wrapped in an [`EnergyTank`][], the energy it injects is drawn from a
 tank of finite capacity and the energy it dissipates refills it: over any run the component
 injects at most the tank's initial energy plus what it dissipated. When the tank is empty, the
 part of the wrench that would inject power (along the velocity) is removed; the rest, which does
@@ -9,10 +9,10 @@ no work, is kept.
 
 Power is ``wrench . velocity`` on the component's axes (forces times the relative velocity of
 {B} with respect to {A}, moments times the relative angular velocity), accounted once per tick
-over the time since the previous tick (a first tick, after construction or :meth:`reset`, may
+over the time since the previous tick (a first tick, after construction or `reset`, may
 not inject). The arithmetic holds at any scale of the velocity (from subnormal to near the
 float range): the tick's work is compared with the energy left as a product of mantissas and
-powers of two, and the velocity's norm comes from :func:`math.hypot` (or, for a subnormal or
+powers of two, and the velocity's norm comes from `math.hypot` (or, for a subnormal or
 overflowing norm, from the velocity divided by its largest entry), so nothing squares the
 velocity, overflows or underflows on the way; the tank never goes negative, and once it is empty
 the wrench keeps no part along the velocity.
@@ -49,7 +49,7 @@ class EnergyTank(Component):
         dissipated: Energy it dissipated so far [J].
 
     Raises:
-        InvalidInputError: ``component`` is not a :class:`Component`, or ``capacity`` /
+        InvalidInputError: ``component`` is not a [`Component`][], or ``capacity`` /
             ``initial`` is negative or not finite, or ``initial > capacity``.
 
     """

@@ -6,9 +6,9 @@ So, for a chosen ``omega`` [rad/s] and ``zeta``::
 
     k = m omega^2        d = 2 zeta m omega
 
-:func:`gains` does this for any inertia; :func:`joint_gains` takes each joint's inertia from
+[`gains`][] does this for any inertia; [`joint_gains`][] takes each joint's inertia from
 the diagonal of the joint-space mass matrix at a configuration (what that joint moves, the
-links beyond it included), :func:`body_gains` the robot's mass for forces and its centroidal
+links beyond it included), [`body_gains`][] the robot's mass for forces and its centroidal
 inertia for moments (a body actuator carrying the whole robot). The same frequency and ratio
 then suit a 2.5 kg quadruped and a 100 kg humanoid alike.
 """
@@ -51,7 +51,7 @@ def gains(inertia: float | Sequence[float], frequency: float, damping_ratio: flo
         damping_ratio: ``zeta`` (>= 0; 1 is critical damping).
 
     Returns:
-        The :class:`Gains` (arrays shaped like ``inertia``).
+        The [`Gains`][] (arrays shaped like ``inertia``).
 
     Raises:
         InvalidInputError: A negative or non-finite inertia, ``frequency`` not > 0,
@@ -80,10 +80,10 @@ def joint_gains(
         joints: Names of one-degree-of-freedom joints.
         frequency: Natural frequency [rad/s].
         damping_ratio: Damping ratio.
-        q: Configuration (default: :meth:`Robot.neutral`).
+        q: Configuration (default: [`Robot.neutral`][]).
 
     Returns:
-        The :class:`Gains`, one entry per joint, for :class:`~virtual_actuators.Posture`.
+        The [`Gains`][], one entry per joint, for [`Posture`][].
 
     Raises:
         JointNotFoundError: An unknown joint (with close matches) or one with several degrees
@@ -130,10 +130,10 @@ def body_gains(
         frequency: Natural frequency [rad/s].
         damping_ratio: Damping ratio.
         axes: The actuator's axes.
-        q: Configuration (default: :meth:`Robot.neutral`).
+        q: Configuration (default: [`Robot.neutral`][]).
 
     Returns:
-        The :class:`Gains`, one entry per axis.
+        The [`Gains`][], one entry per axis.
 
     Raises:
         InvalidAxisError: Bad axes.

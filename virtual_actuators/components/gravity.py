@@ -11,10 +11,10 @@ The selection is declared once: a copy of the model with the inertias of the oth
 zeroed, so that one ``computeGeneralizedGravity`` call per tick gives exactly
 ``sum_i m_i J_ci^T g`` over the selected bodies.
 
-Added to a :class:`~virtual_actuators.Controller` under a name
+Added to a [`Controller`][] under a name
 (``controller.add("gravity", va.GravityCompensation(robot))``), it is a joint-space term like a
-:class:`~virtual_actuators.Posture`: ``controller.compute`` adds ``g(q)`` to the efforts before
-they are clipped, so that a loop run by :func:`~virtual_actuators.run` needs no wrapper.
+[`Posture`][]: ``controller.compute`` adds ``g(q)`` to the efforts before
+they are clipped, so that a loop run by [`run`][] needs no wrapper.
 """
 
 from __future__ import annotations
@@ -98,7 +98,7 @@ class GravityCompensation:
         with the body actuator's z force).
 
         Args:
-            q: Configuration ``(nq,)`` or the tick's :class:`~virtual_actuators.Snapshot`.
+            q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
             v: Not used (gravity depends on ``q`` only); accepted like a posture's.
 
         Raises:

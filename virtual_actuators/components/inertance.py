@@ -34,7 +34,7 @@ class Inertance(Component):
     Note:
         It keeps the last velocity and acceleration: one instance per controller, called once
         per tick with increasing times (a time that does not increase keeps the last estimate).
-        :meth:`reset` (called when the state that uses it is entered) forgets them.
+        [`reset`][] (called when the state that uses it is entered) forgets them.
 
     """
 

@@ -107,7 +107,7 @@ def rotation_deflection(
 def is_difference(
     setpoint: list[float], position: list[float], rotations: RotationAxes | None
 ) -> bool:
-    """Whether :func:`deflection` is ``setpoint - position`` itself, entry by entry.
+    """Whether `deflection` is ``setpoint - position`` itself, entry by entry.
 
     True without rotational axes, and with one whose angle difference lies in ``[-pi, pi]``
     (a planar robot's pitch near its set point): the springs' per-tick float path then skips
@@ -129,7 +129,7 @@ def deflection(
     Args:
         setpoint: Set point per axis [m, rad].
         position: Sensor reading per axis [m, rad].
-        rotations: The component's :func:`rotation_axes`.
+        rotations: The component's `rotation_axes`.
 
     Returns:
         The deflection per axis [m, rad] (see the module docstring for the rotational axes).

@@ -12,7 +12,7 @@ efforts are projected so that they produce no wrench at that actuator
 (``(I - J^T (J^T)^+) tau``): a redundant arm keeps its posture without disturbing its
 end-effector's impedance.
 
-Added to a :class:`~virtual_actuators.Controller` under a name, it is evaluated like an
+Added to a [`Controller`][] under a name, it is evaluated like an
 attachment (``controller.add("arms", va.Posture([...], 100.0, 5.0))``; ``active`` names it).
 """
 
@@ -40,7 +40,7 @@ class Posture:
         setpoint: Target positions [rad or m]: one number per joint, a dict ``{joint: value}``
             (joints not named hold their reset pose), or None to hold the reset pose.
         robot: Bind now (else ``Controller.add`` binds it to the controller's robot).
-        null_space: A serial :class:`~virtual_actuators.VirtualActuator` whose wrench the
+        null_space: A serial [`VirtualActuator`][] whose wrench the
             efforts must not disturb (the redundant arm's end-effector), or None.
         name: Label used in reports.
 

@@ -10,11 +10,11 @@ orientation, ``R_set = exp(setpoint)`` (``setpoint`` a rotation vector in {O}'s 
 sensor's reading), and the deflection is the rotation from the current orientation to it,
 ``log(R_set R^T)`` in {O}'s axes: continuous through ``|r| = pi``, ``setpoint - position`` to
 first order near the set point. The velocity on rotational axes is the angular velocity in
-{O}'s axes. See :mod:`~virtual_actuators.components.orientation` for the rule on components
+{O}'s axes. See [`orientation`][] for the rule on components
 that act on only some rotational axes (one axis: the angle difference wrapped to
 ``[-pi, pi]``). Set points are attributes: a state machine or a gait moves them between ticks
 ("hints and suggestions", VMC section 3) without rebuilding anything.
-The third linear element, the inertance, is in :mod:`~virtual_actuators.components.inertance`.
+The third linear element, the inertance, is in `inertance`.
 """
 
 from __future__ import annotations
@@ -76,7 +76,10 @@ class SpringDamper(Component):
         self.force = force
         self.limit = limit
 
-    # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time.
+    # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time. The
+    # arrays live in ``_stiffness``, ``_damping``, ``_setpoint``, ``_velocity_setpoint``,
+    # ``_force`` and ``_limit``, each replaced (never changed in place) by its setter: the
+    # controller's spring-damper tick (control.attachment_kernel) reads them there per tick.
     @property
     def stiffness(self) -> np.ndarray:
         """Spring constants [N/m or N m/rad]."""
@@ -143,7 +146,7 @@ class SpringDamper(Component):
 
         ``deflection = x0 - x`` on translation axes; on rotational axes, the rotation from the
         current orientation to the set point's (see
-        :mod:`~virtual_actuators.components.orientation`).
+        [`orientation`][]).
         """
         if (
             position.__class__ is np.ndarray
@@ -174,7 +177,7 @@ class SpringDamper(Component):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """:meth:`compute_wrench` on plain floats, entry by entry.
+        """[`compute_wrench`][] on plain floats, entry by entry.
 
         The same IEEE operations in the same order as the array formula (so the same bits),
         without numpy's per-call cost on a few axes. The parameters are read from the arrays
@@ -203,7 +206,7 @@ class SpringDamper(Component):
         return [k * (x0 - x) + b * (v0 - v) + f for k, x0, x, b, v0, v, f in terms]
 
     def _deflected_floats(self, bent: list[float], velocity: list[float]) -> list[float]:
-        """:meth:`compute_wrench_floats` from the deflection per axis (the same operations)."""
+        """[`compute_wrench_floats`][] from the deflection per axis (the same operations)."""
         terms = zip(
             self._stiffness.tolist(),
             bent,
@@ -240,11 +243,12 @@ class Spring(SpringDamper):
         name: Label used in reports.
         law: A callable ``law(deflection) -> force``: ``deflection = setpoint - position``, an
             array over the spring's axes [m or rad] (on rotational axes, the rotation from the
-            current orientation to the set point's, as in :class:`SpringDamper`), to the force
+            current orientation to the set point's, as in [`SpringDamper`][]), to the force
             on each axis [N or N m] (e.g. ``lambda d: 2000 * d**3`` for a hardening spring,
             ``lambda d: np.where(d > 0, k * d, 0.0)`` for a one-way spring). Called every tick;
             it must return one finite number per axis (or a scalar for all of them). With a
-            law, :attr:`stiffness` (and the inherited damping and force) are not used.
+            law, [`stiffness`][virtual_actuators.SpringDamper.stiffness] (and the inherited damping
+            and force) are not used.
 
     Raises:
         InvalidAxisError: Bad axes.
@@ -278,7 +282,7 @@ class Spring(SpringDamper):
         self.law = law
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The linear spring's force, or ``law(deflection)`` (:class:`SpringDamper`)."""
+        """The linear spring's force, or ``law(deflection)`` ([`SpringDamper`][])."""
         if self.law is None:
             return SpringDamper.compute_wrench(self, position, velocity, time)
         result = self.law(self._deflection(np.asarray(position, dtype=float)))
@@ -299,7 +303,7 @@ class Spring(SpringDamper):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """The linear spring on plain floats; a law goes through :meth:`compute_wrench`."""
+        """The linear spring on plain floats; a law goes through [`compute_wrench`][]."""
         if self.law is None:
             return SpringDamper.compute_wrench_floats(self, position, velocity, time)
         return self.compute_wrench(np.array(position), np.array(velocity), time).tolist()

@@ -1,10 +1,10 @@
 """The seed's walking components (VMC 2001, section 5, Figs. 6 and 7).
 
-* :class:`GrannyWalker`: spring-dampers between the ground and the body on height and pitch,
+* [`GrannyWalker`][]: spring-dampers between the ground and the body on height and pitch,
   "a virtual granny walker" that holds the body up and upright in every phase.
-* :class:`DogtrackBunny`: a damper (optionally a spring) between the body and a set point that
+* [`DogtrackBunny`][]: a damper (optionally a spring) between the body and a set point that
   runs ahead at the desired speed, like the mechanical rabbit of a dog track.
-* :class:`SwingLegLinkage`: spring-dampers between the body and the swing foot, whose set points
+* [`SwingLegLinkage`][]: spring-dampers between the body and the swing foot, whose set points
   the gait moves so that the foot clears the ground and lands a stride ahead.
 """
 
@@ -95,7 +95,7 @@ class DogtrackBunny(SpringDamper):
     """A set point running at the desired speed, pulling the body through a damper (and spring).
 
     ``force = damping (speed - velocity) + stiffness (bunny - position)`` with the bunny at
-    ``start + speed (time - start_time)``. :meth:`reset` (called when the state that uses the
+    ``start + speed (time - start_time)``. [`reset`][] (called when the state that uses the
     bunny is entered) puts the bunny back at the body so that the spring never winds up across
     phases where the bunny is inactive.
 
@@ -172,7 +172,7 @@ class DogtrackBunny(SpringDamper):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """:meth:`compute_wrench` on plain floats (the same arithmetic)."""
+        """[`compute_wrench`][] on plain floats (the same arithmetic)."""
         self.setpoint = self.position_at(time)
         return SpringDamper.compute_wrench_floats(self, position, velocity, time)
 
@@ -181,8 +181,9 @@ class SwingLegLinkage(SpringDamper):
     """Spring-dampers that place the swing foot relative to the body.
 
     Attach it to a serial actuator whose action frame is the swing foot and whose reaction frame
-    is the body. The gait moves :attr:`setpoint` (and :attr:`velocity_setpoint`) every tick with
-    :meth:`place`, e.g. mirroring the stance leg while lifting the foot, then setting it down a
+    is the body. The gait moves [`setpoint`][virtual_actuators.SpringDamper.setpoint] (and
+    [`velocity_setpoint`][virtual_actuators.SpringDamper.velocity_setpoint]) every tick with
+    [`place`][], e.g. mirroring the stance leg while lifting the foot, then setting it down a
     stride ahead.
 
     Args:

@@ -1,12 +1,12 @@
-"""The contacts of one parallel actuator as declared: one :class:`ContactSet`, one builder.
+"""The contacts of one parallel actuator as declared: one `ContactSet`, one builder.
 
-:func:`declare` checks what ``ParallelVirtualActuator(contact=, friction=, min_normal=,
+`declare` checks what ``ParallelVirtualActuator(contact=, friction=, min_normal=,
 normals=, soles=)`` or ``Controller.add(unilateral=, friction=, min_normal=)`` gives and returns
-a frozen :class:`ContactSet`: the kind of each reaction, its contact normal (world z unless
+a frozen `ContactSet`: the kind of each reaction, its contact normal (world z unless
 declared), the friction pyramid and least normal force, the soles and the unilateral minima.
-Both layers read the same rows from it (:meth:`ContactSet.rows`, ``lows <= G x`` over ``x =
+Both layers read the same rows from it (`ContactSet.rows`, ``lows <= G x`` over ``x =
 forces.ravel()``): the QP stacks them with the torque limits, the controller's yield policy
-tests and scales a request against them, through :func:`margins`, the compiled evaluation of
+tests and scales a request against them, through `margins`, the compiled evaluation of
 the same rows (the point kind's njit face rows, written once).
 """
 
@@ -31,12 +31,12 @@ from .point import kernel_rows as point_rows
 
 @dataclass(frozen=True, slots=True)
 class ContactSet:
-    """The contacts of one parallel actuator's chains, declared once (see :func:`declare`).
+    """The contacts of one parallel actuator's chains, declared once (see `declare`).
 
     Attributes:
         reactions: The reaction frames' names, one contact each.
         axes: The actuator's axes (the columns of a chain's force).
-        kinds: ``"point"`` or ``"flat"`` per reaction (:data:`~.kinds.KINDS`).
+        kinds: ``"point"`` or ``"flat"`` per reaction (`KINDS`).
         normals: The contact normals (world z unless declared).
         friction: The pyramid's ``mu`` at every contact, or None for no faces.
         min_normal: Least normal force of every contact [N].
@@ -45,7 +45,7 @@ class ContactSet:
         cone: Whether each contact has pyramid rows (a normal row or faces).
         normal_row: Whether the pyramid starts with ``n . f >= min_normal`` (left out with
             faces and no least normal force: the faces imply it).
-        names: The rows' names, in the order :meth:`rows` builds them.
+        names: The rows' names, in the order `rows` builds them.
         lows: The rows' lower bounds (no upper bound).
 
     """
@@ -144,7 +144,7 @@ class ContactSet:
         }
 
     def compiled(self) -> CompiledMargins | None:
-        """The arguments of :func:`margins` (None with sole rows: build :meth:`rows` then)."""
+        """The arguments of `margins` (None with sole rows: build `rows` then)."""
         if self.sole_rows:
             return None
         contacts = [
@@ -163,7 +163,7 @@ class ContactSet:
 
 
 class CompiledMargins(NamedTuple):
-    """A :class:`ContactSet`'s tables for :func:`margins` (see :meth:`ContactSet.compiled`)."""
+    """A `ContactSet`'s tables for `margins` (see `ContactSet.compiled`)."""
 
     #: ``(p, k)`` each contact's :func:`~.point.parameters` row (no row: no pyramid)
     points: np.ndarray
@@ -185,17 +185,17 @@ def declare(
     soles: Mapping[str, Sequence[float]] | None = None,
     minima: Mapping[int, float] | None = None,
 ) -> ContactSet:
-    """The :class:`ContactSet` of ``reactions``' contacts, every argument checked.
+    """The `ContactSet` of ``reactions``' contacts, every argument checked.
 
     Args:
         reactions: The reaction frames' names.
         axes: The actuator's axes.
-        contact: ``"point"``, ``"flat"`` or a dict by reaction (:func:`~.kinds.parse_contacts`).
+        contact: ``"point"``, ``"flat"`` or a dict by reaction (`parse_contacts`).
         friction: Friction coefficient ``mu``, a finite number > 0, of every contact's pyramid,
             or None.
         min_normal: Least normal force, a finite number >= 0, of every contact [N].
         normals: None (world z), ``"frames"``, a mapping by reaction (see
-            :func:`~.declare.parse_normals`) or normals already parsed.
+            `parse_normals`) or normals already parsed.
         soles: ``(half_length, half_width)`` [m] of flat contacts, by reaction frame.
         minima: ``{axis index: minimum}`` of every chain's share (the controller's
             ``unilateral``).
@@ -247,13 +247,13 @@ def margins(
     minima_axes: np.ndarray,
     out: np.ndarray,
 ) -> None:
-    """``G @ forces.ravel()`` of :meth:`ContactSet.rows` (no sole rows) into ``out``.
+    """``G @ forces.ravel()`` of `ContactSet.rows` (no sole rows) into ``out``.
 
     ``frames`` is the snapshot's frame table (row ``f``: ``R.ravel()``), ``orientation_rows``
     the rows of {O} then of each reaction frame; ``points``, ``axis_rows`` and ``minima_axes``
-    are :class:`CompiledMargins`' (the kernels take its arrays one by one: a NamedTuple
+    are `CompiledMargins`' (the kernels take its arrays one by one: a NamedTuple
     argument costs numba ~1.4 us of dispatch per call, ~1 % of a flamingo tick); the pyramid
-    rows are the point kind's compiled rows (:func:`~.point.kernel_rows`).
+    rows are the point kind's compiled rows (`kernel_rows`).
     """
     p, n = forces.shape
     row = 0
@@ -287,9 +287,9 @@ def least_margin(
     minima_axes: np.ndarray,
     lows: np.ndarray,
 ) -> float:
-    """Smallest ``G @ forces.ravel() - lows`` of :meth:`ContactSet.rows` (no sole rows).
+    """Smallest ``G @ forces.ravel() - lows`` of `ContactSet.rows` (no sole rows).
 
-    The tables are :class:`CompiledMargins`' arrays in its order (see :func:`margins`).
+    The tables are `CompiledMargins`' arrays in its order (see `margins`).
     """
     values = np.empty(lows.shape[0])
     margins(frames, orientation_rows, forces, points, axis_rows, minima_axes, values)
@@ -312,8 +312,8 @@ def largest_scale(
 ) -> float:
     """The largest ``alpha`` in ``[0, 1]`` with ``G (base + alpha (full - base)) >= lows``.
 
-    On every row of :meth:`ContactSet.rows` (no sole rows); 0 when none is. The tables are
-    :class:`CompiledMargins`' arrays in its order (see :func:`margins`).
+    On every row of `ContactSet.rows` (no sole rows); 0 when none is. The tables are
+    `CompiledMargins`' arrays in its order (see `margins`).
     """
     at_full, at_base = np.empty(lows.shape[0]), np.empty(lows.shape[0])
     margins(frames, orientation_rows, full, points, axis_rows, minima_axes, at_full)

@@ -5,7 +5,7 @@ frame's z axis. With the frame's axes ``e_c`` in {O} and ``d`` from {A_i} to {B}
 the frame's origin is ``e_c . m_A = e_c . m_B + f . (e_c x d)``, and six rows ``>= 0`` bound it by
 ``half_c (e_z . f)`` on both sides: ``half_width`` about x, ``half_length`` about y and
 ``mu min(half_length, half_width)`` about z (``mu`` the friction, 0 without one). The numpy rows
-(:func:`rows`) are the reference; the njit ones (:func:`sole_rows`) build the compiled path's.
+(`rows`) are the reference; the njit ones (`sole_rows`) build the compiled path's.
 """
 
 from __future__ import annotations
@@ -64,7 +64,7 @@ def parse_soles(
 
 
 def names(reaction: str, sole: tuple[float, float], friction: float | None) -> list[str]:
-    """The sole's six row names, in the order :func:`rows` builds them."""
+    """The sole's six row names, in the order `rows` builds them."""
     half_length, half_width = sole
     mu = friction if friction is not None else 0.0
     out = []
@@ -128,7 +128,7 @@ def declared_names(
     friction: float | None,
     axes: Sequence[str],
 ) -> list[str]:
-    """Every sole's row names, in the order :func:`block` builds the rows."""
+    """Every sole's row names, in the order `block` builds the rows."""
     if not active(soles, axes):
         return []
     return [name for i, sole in soles.items() for name in names(reactions[i], sole, friction)]
@@ -161,7 +161,7 @@ def block(
 
 
 def parameters(contact: Contact) -> np.ndarray:
-    """The float row :func:`kernel_rows` reads: friction (< 0 none), 1, the sole's halves."""
+    """The float row `kernel_rows` reads: friction (< 0 none), 1, the sole's halves."""
     friction = -1.0 if contact.friction is None else contact.friction
     return np.array([friction, 1.0, *contact.sole], dtype=float)
 
@@ -213,7 +213,7 @@ def sole_rows(
     """The six rows ``>= 0`` over ``z_i`` (``f_i = x0_i + N_i z_i``) into ``out`` and ``lows``.
 
     ``placement`` is the reaction frame's row of the snapshot's frames, ``sole`` its
-    :func:`table` row, ``friction`` < 0 for none.
+    `table` row, ``friction`` < 0 for none.
     """
     n = axis_rows.shape[0]
     frame_o = np.zeros((3, 3))  # columns: the reaction frame's axes in {O}
@@ -260,9 +260,9 @@ def kernel_rows(
     out: np.ndarray,
     lows: np.ndarray,
 ) -> int:
-    """:func:`contact_rows` compiled: the six rows over ``F_i`` into ``out`` (zeros), ``lows``.
+    """`contact_rows` compiled: the six rows over ``F_i`` into ``out`` (zeros), ``lows``.
 
-    ``parameters`` is :func:`parameters`' row, ``placement`` the reaction frame's row of the
+    ``parameters`` is `parameters`' row, ``placement`` the reaction frame's row of the
     snapshot's frames, ``axis_rows`` the component (0-5) of each axis; returns how many rows.
     """
     n = axis_rows.shape[0]

@@ -3,8 +3,8 @@
 Rows ``>= 0`` on a contact's force: ``n . f >= min_normal`` (left out with a pyramid and no least
 normal force: the faces imply it, ``(mu n - t) + (mu n + t) = 2 mu n``), then the four faces
 ``mu n . f -+ t_1 . f``, ``mu n . f -+ t_2 . f``, the tangents fixed in the world (from the world
-x axis, y when the normal is near x) and turned into {O}. The numpy rows (:func:`pyramid`) are
-the reference; the njit ones (:func:`face_rows`, :func:`force_row`) build the compiled path's.
+x axis, y when the normal is near x) and turned into {O}. The numpy rows (`pyramid`) are
+the reference; the njit ones (`face_rows`, `force_row`) build the compiled path's.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def faces(friction: float | None, normal_row: bool) -> int:
 
 
 def names(reaction: str, friction: float | None, min_normal: float, normal_row: bool) -> list[str]:
-    """The pyramid's row names of one contact, in the order :func:`pyramid` builds them."""
+    """The pyramid's row names of one contact, in the order `pyramid` builds them."""
     out = [f"{reaction}: normal >= {min_normal:g} N"] if normal_row else []
     if friction is not None:
         out += [f"{reaction}: friction {w}" for w in ("+t1", "-t1", "+t2", "-t2")]
@@ -74,7 +74,7 @@ def normal_row(friction: float | None, min_normal: float) -> bool:
 
 
 def parameters(contact: Contact) -> np.ndarray:
-    """The float row :func:`kernel_rows` reads.
+    """The float row `kernel_rows` reads.
 
     Friction (< 0 for none), least normal force, 1 for the normal row, 1 for a frame normal,
     then the world normal.
@@ -192,9 +192,9 @@ def kernel_rows(
     out: np.ndarray,
     lows: np.ndarray,
 ) -> int:
-    """:func:`contact_rows` compiled: the rows over ``F_i`` into ``out``, bounds into ``lows``.
+    """`contact_rows` compiled: the rows over ``F_i`` into ``out``, bounds into ``lows``.
 
-    ``parameters`` is :func:`parameters`' row, ``placement`` the reaction frame's row of the
+    ``parameters`` is `parameters`' row, ``placement`` the reaction frame's row of the
     snapshot's frames (``R.ravel()`` first), ``axis_rows`` the component (0-5) of each axis;
     returns how many rows.
     """

@@ -1,8 +1,8 @@
 """Attachments: an actuator, the components on it and the sensor they read, checked once.
 
-:meth:`Attachment.declare` builds one from what ``Controller.add`` is given, every argument
-checked (the checks are in :mod:`~virtual_actuators.control.declaration`); an
-:class:`Attachment` precomputes what the tick needs (component axes as slices, its contacts:
+`Attachment.declare` builds one from what ``Controller.add`` is given, every argument
+checked (the checks are in `declaration`); an
+`Attachment` precomputes what the tick needs (component axes as slices, its contacts:
 the actuator's, with the unilateral minima and friction cone given to ``Controller.add``) and
 sums its components' wrenches.
 """
@@ -22,7 +22,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.kernels import finite
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_name, describe
-from .attachment_kernel import SerialSpringTick
+from .attachment_kernel import SpringTick
 from .declaration import (
     YIELD_WEIGHT,
     Actuator,
@@ -89,9 +89,9 @@ class Attachment:
         self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
         # The contact rows' compiled tables (None: the rows are built with numpy)
         self.margins = self.contacts.compiled() if self.contacts is not None else None
-        #: A serial spring-damper's one-call tick (None: the general path), see
-        #: :mod:`~virtual_actuators.control.attachment_kernel`.
-        self.serial_tick = SerialSpringTick.of(self.actuator, self.sensor, self.components)
+        #: The spring-dampers' one-call sensing and wrench (a serial actuator's efforts too;
+        #: None: the general path), see :mod:`~virtual_actuators.control.attachment_kernel`.
+        self.spring_tick = SpringTick.of(self.actuator, self.sensor, self.components, self.slots)
 
     @classmethod
     def declare(
@@ -111,7 +111,7 @@ class Attachment:
         yield_weight: float | None = None,
         taken: Container[str] = (),
     ) -> Attachment:
-        """An attachment from what :meth:`Controller.add` is given, every argument checked.
+        """An attachment from what [`Controller.add`][] is given, every argument checked.
 
         Args:
             robot: The controller's robot.
@@ -119,7 +119,7 @@ class Attachment:
             actuator: The actuator (of ``robot``).
             components: Its components (a sequence, or one component).
             sensor: What the components read (None: the default sensor, see
-                :func:`~virtual_actuators.control.declaration.sensor_of`).
+                `sensor_of`).
             free: Axes left to the distribution.
             unilateral: ``{axis: minimum [N]}`` per chain, or None.
             yield_axes: Axes given up first to meet the limits (or, with ``method="qp"``,
@@ -127,15 +127,15 @@ class Attachment:
             friction: The contact cone's friction coefficient, or None.
             min_normal: The cone's least normal force [N].
             method: The distribution: ``"partitioned"``, ``"dense"`` or ``"qp"``.
-            yield_weight: ``method="qp"``: the yield axes' weight (None: :data:`YIELD_WEIGHT`).
+            yield_weight: ``method="qp"``: the yield axes' weight (None: `YIELD_WEIGHT`).
             taken: The names already used in the controller.
 
         Returns:
-            The :class:`Attachment`.
+            The `Attachment`.
 
         Raises:
-            InvalidInputError: As :meth:`Controller.add`.
-            InvalidAxisError: As :meth:`Controller.add`.
+            InvalidInputError: As [`Controller.add`][].
+            InvalidAxisError: As [`Controller.add`][].
 
         """
         check_name(name, "Controller.add: name")
@@ -214,7 +214,7 @@ class Attachment:
         """The controller's sum of component wrenches, on plain floats (the per-tick fast path).
 
         For attachments whose components all have a float path and contiguous axes
-        (:attr:`float_components`). The same sums in the same order as the array path
+        (`float_components`). The same sums in the same order as the array path
         (``0.0 + share`` per component and axis, or one component's wrench as is when it covers
         every axis). None when the sum is not finite or a component returns the wrong number
         of entries: the array path then raises its error.

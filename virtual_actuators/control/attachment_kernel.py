@@ -1,42 +1,64 @@
-"""A serial spring-damper attachment's whole tick in one compiled call.
+"""A spring-damper attachment's sensing and wrench (and a serial one's efforts) in one call.
 
-An attachment of a serial :class:`~virtual_actuators.VirtualActuator` that is its own sensor,
-with one :class:`~virtual_actuators.SpringDamper` on all its axes (a swing leg's spring-damper),
-needs per tick: the sensor's reading (:meth:`~virtual_actuators.kinematics.relative.\
-RelativeKinematics.sense`), the spring-damper's wrench (its float path,
-:meth:`~virtual_actuators.SpringDamper.compute_wrench_floats`) and the efforts ``J^T w``.
-:func:`spring_damper_tick` does the three in one call, the same operations in the same order
-as those (``J^T w`` as a sum over the axes in order, where the controller's general path lets
-numpy's ``J.T @ w`` round its own way). It is the reference of the compiled core's C++ port
-(``src/core/attachment.hpp``), which :class:`SerialSpringTick` calls when the core is built:
-both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here goes with the
-same edit there.
+An attachment whose components are all spring-dampers on contiguous runs of the actuator's axes
+([`SpringDamper`][] and its subclasses that keep its formula: the granny
+walker, the swing-leg linkage, the dogtrack bunny, a [`Spring`][] without
+a law) needs per tick: the sensor's reading (`sense`), the sum of the components' wrenches (their
+float path,
+[`compute_wrench_floats`][virtual_actuators.SpringDamper.compute_wrench_floats], summed like
+`wrench_floats`) and, for a serial
+actuator that is its own sensor, the efforts ``J^T w``. `spring_tick` does them in one
+call, the same operations in the same order as those (``J^T w`` as a sum over the axes in
+order, where the controller's general path lets numpy's ``J.T @ w`` round its own way); a
+parallel actuator's wrench then goes to its distribution as usual. It is the reference of the
+compiled core's C++ port (``src/core/attachment.hpp``), which `SpringTick` calls when the
+core is built: both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here
+goes with the same edit there.
 
-The tick hands the general path back (flag 0 in its buffer) when the spring's one rotational
+The tick hands the general path back (flag 0 in its buffer) when a component's one rotational
 axis has a difference outside ``[-pi, pi]`` (the float path wraps it) or the wrench is not
 finite (the general path names the component).
 """
 
 from __future__ import annotations
 
+from operator import attrgetter
+
 import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.orientation import rotation_axes
 from ..components.springs import Spring, SpringDamper
+from ..components.walking import DogtrackBunny
 from ..kinematics.kernels import HAVE_NUMBA, njit
 from ..kinematics.sensor_kernels import relative_sensor
 from ..kinematics.snapshot import Snapshot
 from ..native import CORE
 
-__all__ = ["SerialSpringTick", "spring_damper_tick"]
+__all__ = ["SpringTick", "spring_tick"]
 
-#: The classes whose wrench is the spring-damper formula itself (a Spring: without a law).
-_FORMULA = (SpringDamper.compute_wrench, Spring.compute_wrench)
+#: The float paths that are the spring-damper formula itself (the bunny's moves its set point
+#: to :meth:`~virtual_actuators.DogtrackBunny.position_at` first: :meth:`SpringTick.run` does).
+_FORMULA = (
+    SpringDamper.compute_wrench_floats,
+    Spring.compute_wrench_floats,
+    DogtrackBunny.compute_wrench_floats,
+)
+#: The array paths that agree with them.
+_ARRAY_FORMULA = (
+    SpringDamper.compute_wrench,
+    Spring.compute_wrench,
+    DogtrackBunny.compute_wrench,
+)
+#: The parameter tables' rows, in :func:`spring_tick`'s order.
+PARAMETERS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
+#: A spring-damper's six parameter arrays in one call: the arrays its properties return,
+#: read without a Python call each (a tick's cost; see SpringDamper's attributes)
+_read_parameters = attrgetter(*(f"_{name}" for name in PARAMETERS))
 
 
 @njit(cache=True)
-def spring_damper_tick(
+def spring_tick(
     jacobian_world: np.ndarray,
     frames: np.ndarray,
     v: np.ndarray,
@@ -44,96 +66,133 @@ def spring_damper_tick(
     rows: np.ndarray,
     columns: np.ndarray,
     signs: np.ndarray,
-    rotation: int,
-    stiffness: np.ndarray,
-    damping: np.ndarray,
-    setpoint: np.ndarray,
-    velocity_setpoint: np.ndarray,
-    force: np.ndarray,
-    limit: np.ndarray,
+    targets: np.ndarray,
+    rotations: np.ndarray,
+    summed: int,
+    efforts: int,
+    parameters: np.ndarray,
 ) -> np.ndarray:
-    """Sense {B} relative to {A}, the spring-damper's wrench on it, and its efforts.
+    """Sense {B} relative to {A}, the spring-dampers' summed wrench on it, and its efforts.
 
     Args:
         jacobian_world: ``(6, nv)`` world joint Jacobian (the snapshot's).
         frames: ``(nf, 12)`` frame placements (the snapshot's).
         v: ``(nv,)`` velocity.
-        axis_rows: ``(n,)`` rows of the actuator's axes among ``x y z rx ry rz``.
+        axis_rows: ``(n,)`` rows of the sensor's axes among ``x y z rx ry rz``.
         rows: ``(3,)`` rows of {B}, {O} and {A} in ``frames``.
         columns: velocity indices of the chain between {A} and {B}.
         signs: their +1 / -1.
-        rotation: Index among the axes of the spring's one rotational axis (-1: none).
-        stiffness: ``(n,)`` the spring-damper's parameters, per axis.
-        damping: ``(n,)``.
-        setpoint: ``(n,)``.
-        velocity_setpoint: ``(n,)``.
-        force: ``(n,)``.
-        limit: ``(n,)`` (``inf``: no saturation; ``min(max(w, -inf), inf)`` is ``w``).
+        targets: ``(e,)`` the axis of each entry: the components' axes, component after
+            component.
+        rotations: ``(e,)`` 1 where the entry is its component's one rotational axis.
+        summed: 1: each axis sums its entries from 0.0 (``0.0 + share``, the controller's sum
+            of several components); 0: one entry per axis, taken as is (one component).
+        efforts: 1: compute ``J^T w`` (a serial actuator that is its own sensor); 0: leave
+            ``effort`` zero (a parallel actuator's wrench goes to its distribution).
+        parameters: ``(6, e)`` the entries' stiffness, damping, setpoint, velocity setpoint,
+            force and limit (``inf``: no saturation; ``min(max(w, -inf), inf)`` is ``w``).
 
     Returns:
-        One buffer: ``effort (nv)`` (``J^T w``), ``position (n)``, ``velocity (n)``,
-        ``wrench (n)``, then 1.0, or 0.0 when the general path must run instead (and
-        ``effort`` is left zero).
+        One buffer: ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, then
+        1.0, or 0.0 when the general path must run instead (and ``effort`` is left zero).
 
     """
     n = axis_rows.shape[0]
     nv = jacobian_world.shape[1]
     sensed = relative_sensor(jacobian_world, frames, v, axis_rows, rows, columns, signs)
     out = np.zeros(nv + 3 * n + 1)
+    for i in range(n):
+        out[nv + i] = sensed[n * nv + i]
+        out[nv + n + i] = sensed[n * nv + n + i]
     ok = True
+    for e in range(targets.shape[0]):
+        i = targets[e]
+        bent = parameters[2, e] - out[nv + i]
+        if rotations[e] == 1 and not -np.pi <= bent <= np.pi:
+            ok = False  # the float path wraps the angle
+        wrench = parameters[0, e] * bent + parameters[1, e] * (parameters[3, e] - out[nv + n + i])
+        wrench = min(max(wrench, -parameters[5, e]), parameters[5, e]) + parameters[4, e]
+        if summed == 1:
+            out[nv + 2 * n + i] += wrench
+        else:
+            out[nv + 2 * n + i] = wrench
     total = 0.0
     for i in range(n):
-        x = sensed[n * nv + i]
-        rate = sensed[n * nv + n + i]
-        bent = setpoint[i] - x
-        if i == rotation and not -np.pi <= bent <= np.pi:
-            ok = False  # the float path wraps the angle
-        wrench = stiffness[i] * bent + damping[i] * (velocity_setpoint[i] - rate)
-        wrench = min(max(wrench, -limit[i]), limit[i]) + force[i]
-        out[nv + i] = x
-        out[nv + n + i] = rate
-        out[nv + 2 * n + i] = wrench
-        total += wrench
+        total += out[nv + 2 * n + i]
     if not np.isfinite(total):
         ok = False  # the general path names the component
     if ok:
-        for j in range(columns.shape[0]):
-            col = columns[j]
-            acc = 0.0
-            for i in range(n):
-                acc += sensed[i * nv + col] * out[nv + 2 * n + i]
-            out[col] = acc
+        if efforts == 1:
+            for j in range(columns.shape[0]):
+                col = columns[j]
+                acc = 0.0
+                for i in range(n):
+                    acc += sensed[i * nv + col] * out[nv + 2 * n + i]
+                out[col] = acc
         out[nv + 3 * n] = 1.0
     return out
 
 
 def _core_tick(arguments: tuple) -> object | None:
     """The compiled core's object for these tables, or None (no core)."""
-    if CORE is None or not hasattr(CORE, "SerialSpring"):
+    if CORE is None or not hasattr(CORE, "SpringTick"):
         return None
-    return CORE.SerialSpring(*arguments)
+    return CORE.SpringTick(*arguments)
 
 
-class SerialSpringTick:
-    """The one-call tick of a serial actuator with one spring-damper on all its axes.
+def _served(component: object) -> bool:
+    """Whether ``component`` is a spring-damper of the formula, with one rotational axis at most."""
+    klass = type(component)
+    if not isinstance(component, SpringDamper) or klass.compute_wrench not in _ARRAY_FORMULA:
+        return False
+    if klass.compute_wrench_floats not in _FORMULA:
+        return False
+    rotations = rotation_axes(component.axes)
+    return not rotations or len(rotations.which) == 1
 
-    Built by :meth:`of` at declaration for the attachments it serves; :meth:`run` returns the
-    tick's buffer (:func:`spring_damper_tick`'s layout) or None (the general path runs).
+
+class SpringTick:
+    """The one-call sensing and wrench of an attachment of spring-dampers (and serial efforts).
+
+    Built by `of` at declaration for the attachments it serves; `run` returns the
+    tick's buffer (`spring_tick`'s layout) or None (the general path runs).
 
     Args:
-        actuator: The serial actuator (its own sensor).
-        component: The spring-damper on all of its axes.
+        sensor: The serial actuator the components read.
+        components: The spring-dampers, in the attachment's order.
+        starts: Each component's first axis among the sensor's (its axes a contiguous run).
+        efforts: Whether the tick computes ``J^T w`` (the actuator is the sensor).
+
+    Attributes:
+        efforts: As given.
+        nv: Velocity size.
+        n: Number of axes.
 
     """
 
-    __slots__ = ("component", "core", "nv", "n", "rows_end", "tables")
+    __slots__ = (
+        "components", "bunnies", "springs", "core", "efforts", "nv", "n", "rows_end", "tables",
+    )  # fmt: skip
 
-    def __init__(self, actuator: VirtualActuator, component: SpringDamper) -> None:
-        kinematics = actuator.kinematics
-        rotations = rotation_axes(component.axes)
-        rotation = -1 if rotations is None else rotations.start
-        self.component = component
-        self.nv, self.n = kinematics.nv, len(actuator.axes)
+    def __init__(
+        self, sensor: VirtualActuator, components: list, starts: list[int], efforts: bool
+    ) -> None:
+        kinematics = sensor.kinematics
+        self.components = list(components)
+        #: the bunnies, whose set point follows the time (their float path moves it first)
+        own = DogtrackBunny.compute_wrench_floats
+        self.bunnies = tuple(c for c in components if type(c).compute_wrench_floats is own)
+        #: the springs that may be given a law (then the general path runs)
+        self.springs = tuple(c for c in components if isinstance(c, Spring))
+        self.efforts = efforts
+        self.nv, self.n = kinematics.nv, len(sensor.axes)
+        targets, rotations = [], []
+        for component, start in zip(components, starts, strict=True):
+            size = len(component.axes)
+            turning = rotation_axes(component.axes)
+            targets += range(start, start + size)
+            rotations += [int(turning is not None and k == turning.start) for k in range(size)]
+        summed = not (len(components) == 1 and starts[0] == 0 and len(targets) == self.n)
         rows = kinematics.frame_rows[:3].copy()  # {B}, {O}, {A}
         self.rows_end = int(rows.max()) + 1
         self.tables = (
@@ -141,43 +200,61 @@ class SerialSpringTick:
             rows,
             np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
             np.ascontiguousarray(kinematics.chain_signs[0], dtype=float),
-            rotation,
+            np.array(targets, dtype=np.int64),
+            np.array(rotations, dtype=np.int64),
+            int(summed),
+            int(efforts),
         )
         self.core = _core_tick((*self.tables, self.nv))
 
     @classmethod
-    def of(cls, actuator: object, sensor: object, components: list) -> SerialSpringTick | None:
+    def of(
+        cls, actuator: object, sensor: object, components: list, slots: list
+    ) -> SpringTick | None:
         """The tick for an attachment it serves, else None.
 
-        It serves a serial actuator that is its own sensor, one reaction frame, with one
-        spring-damper (the formula, not a subclass's own wrench) on all its axes, at most one of
-        them rotational, when a compiled kernel exists (the core, or numba).
+        It serves a serial actuator that is its own sensor, or a parallel actuator (its serial
+        sensor read), with spring-dampers only (the formula, not a subclass's own wrench; at
+        most one rotational axis each) on contiguous runs of the axes (``slots``), when a
+        compiled kernel exists (the core, or numba).
         """
         if CORE is None and not HAVE_NUMBA:
             return None
-        if type(actuator) is not VirtualActuator or actuator is not sensor or len(components) != 1:
+        if not components or type(sensor) is not VirtualActuator:
             return None
-        component = components[0]
-        klass = type(component)
-        if not isinstance(component, SpringDamper) or klass.compute_wrench not in _FORMULA:
+        serial = isinstance(actuator, VirtualActuator)
+        if serial and (type(actuator) is not VirtualActuator or actuator is not sensor):
             return None
-        if klass.compute_wrench_floats not in (
-            SpringDamper.compute_wrench_floats, Spring.compute_wrench_floats
-        ):
+        if not all(isinstance(slot, slice) for slot in slots):
             return None
-        rotations = rotation_axes(component.axes)
-        if component.axes != actuator.axes or (rotations and len(rotations.which) != 1):
+        if not all(_served(component) for component in components):
             return None
-        if len(actuator.kinematics.reaction_ids) != 1:
+        if len(sensor.kinematics.reaction_ids) != 1:
             return None
-        return cls(actuator, component)
+        return cls(sensor, components, [slot.start for slot in slots], serial)
 
-    def run(self, components: list, snapshot: Snapshot) -> np.ndarray | None:
+    def warm_up(self, snapshot: Snapshot) -> None:
+        """Call the kernel once on the components' parameters now (its result thrown away).
+
+        Nothing changes: no set point moves (a bunny's stays where it is). ``snapshot``: a
+        snapshot with ``v`` whose frame table holds the sensor's rows.
+        """
+        if snapshot.v is None or snapshot.frame_table.shape[0] < self.rows_end:
+            return
+        parameters = [array for c in self.components for array in _read_parameters(c)]
+        arguments = (snapshot.jacobian_world, snapshot.frame_table, snapshot.v)
+        if self.core is not None:
+            self.core.tick(*arguments, parameters)
+        else:
+            spring_tick(*arguments, *self.tables, table(parameters))
+
+    def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
         """The tick's buffer, or None when the general path must run.
 
         Args:
-            components: The attachment's components now (the same spring-damper, or None).
+            components: The attachment's components now (the same ones, or None).
             snapshot: The tick's snapshot (with ``v``).
+            time: Controller time [s] (the bunnies' set points).
 
         Returns:
             ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, flag (1.0), or
@@ -185,21 +262,40 @@ class SerialSpringTick:
             the sensor's rows, or the kernel's flag 0.
 
         """
-        component = self.component
-        if len(components) != 1 or components[0] is not component:
+        if components != self.components:
             return None
         v = snapshot.v
-        if v is None or getattr(component, "law", None) is not None:
+        if v is None:
             return None
+        for spring in self.springs:
+            if getattr(spring, "law", None) is not None:
+                return None
         jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
         if frames.shape[0] < self.rows_end:
             return None
-        parameters = (
-            component.stiffness, component.damping, component.setpoint,
-            component.velocity_setpoint, component.force, component.limit,
-        )  # fmt: skip
-        if self.core is not None:
-            buffer = self.core.tick(jacobian_world, frames, v, *parameters)
+        for bunny in self.bunnies:  # as its float path does before the formula
+            bunny.setpoint = bunny.position_at(time)
+        if len(components) == 1:
+            parameters = _read_parameters(components[0])
         else:
-            buffer = spring_damper_tick(jacobian_world, frames, v, *self.tables, *parameters)
+            parameters = [array for c in components for array in _read_parameters(c)]
+        if self.core is not None:
+            buffer = self.core.tick(jacobian_world, frames, v, parameters)
+        else:
+            buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(list(parameters)))
         return buffer if buffer[-1] == 1.0 else None
+
+
+def table(parameters: list[np.ndarray]) -> np.ndarray:
+    """`spring_tick`'s ``(6, e)`` parameters: the components' arrays, six per component.
+
+    Args:
+        parameters: Each component's `PARAMETERS` arrays, component after component.
+
+    Returns:
+        Row ``k`` the components' ``PARAMETERS[k]`` arrays end to end.
+
+    """
+    return np.array(
+        [np.concatenate(parameters[k::6]) for k in range(6)], dtype=float
+    ).reshape(6, -1)

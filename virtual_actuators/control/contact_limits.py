@@ -1,9 +1,9 @@
 """The yield policy of a parallel attachment's contact limits (unilateral minima, cones).
 
-The rows are the attachment's :class:`~virtual_actuators.contacts.ContactSet`'s, the ones the
+The rows are the attachment's `ContactSet`'s, the ones the
 QP reads. The distribution is linear in the wrench, so a request that would make a chain pull or
 slip is scaled down on the attachment's yield axes by one extra solve and a ratio test
-(:func:`enforce_unilateral`); the contacts' compiled margins evaluate the rows from the
+(`enforce_unilateral`); the contacts' compiled margins evaluate the rows from the
 snapshot's frame table without building them.
 """
 
@@ -54,7 +54,7 @@ def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | Non
 def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarray]:
     """``(G, lows)``: the attachment's contact rows ``G @ forces.ravel() >= lows``.
 
-    :meth:`ContactSet.rows <virtual_actuators.contacts.ContactSet.rows>` at the snapshot's
+    `ContactSet.rows` at the snapshot's
     orientations: ``unilateral`` gives one row per chain and axis; a friction cone gives, per
     chain, the faces ``mu n.f -+ t.f >= 0`` of a pyramid about the contact normal (world z
     unless the actuator declares ``normals``) and, with ``min_normal > 0``, ``n.f >=
@@ -70,9 +70,9 @@ def largest_scale(
 ) -> float:
     """The largest ``alpha`` in ``[0, 1]`` for which the shares meet the contact rows.
 
-    The shares are ``base + alpha (full - base)``, the rows :func:`constraint_rows`'; 0 when no
+    The shares are ``base + alpha (full - base)``, the rows `constraint_rows`'; 0 when no
     ``alpha`` meets them. One compiled call when it can read the snapshot's frame table; else
-    the rows are built and :func:`ratio_test` answers.
+    the rows are built and `ratio_test` answers.
     """
     frames = _frame_table(attachment, snapshot)
     if frames is None:
@@ -107,7 +107,7 @@ def enforce_unilateral(
     the solution at ``base + alpha (wrench - base)``, ``base`` the request without its yield
     axes, is ``base``'s solution plus ``alpha`` times the difference: one extra solve and a
     ratio test find the largest feasible ``alpha`` in ``[0, 1]``, and the two solutions give
-    the answer (:func:`interpolate`).
+    the answer (`interpolate`).
     """
     margin = least_margin(attachment, q, solution.forces)
     if margin is not None and margin >= -1e-9:  # the usual tick: nothing to scale

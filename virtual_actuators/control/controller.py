@@ -6,7 +6,8 @@ Per tick, for every active attachment (an actuator with its components):
    frame, on the actuator's axes;
 2. sum the components' wrenches;
 3. map the wrench to joint torques: ``J^T F`` for a serial actuator, the partitioned
-   distribution (:meth:`ParallelVirtualActuator.solve`) for a parallel one;
+   distribution ([`ParallelVirtualActuator.solve`][virtual_actuators.ParallelVirtualActuator.solve])
+   for a parallel one;
 
 then add all torques, zero the limp joints, and clip to the URDF's effort limits, reporting
 which joints saturated (VMC 2001, section 3: "the interactions between these components and the
@@ -53,9 +54,9 @@ class Controller:
             a QP out of iterations, a component's non-finite wrench, non-finite efforts):
             ``"raise"`` (default) raises the typed error; ``"skip"`` drops that attachment's
             efforts for the tick; ``"fallback"`` uses the partitioned least-squares answer to
-            the same request, clipped to :attr:`effort_limits` (zero when there is none). Every
-            firing is reported in :attr:`ControlOutput.failures`; see
-            :mod:`~virtual_actuators.control.failures`.
+            the same request, clipped to [`effort_limits`][] (zero when there is none). Every
+            firing is reported in `ControlOutput.failures`; see
+            `failures`.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, a bad
@@ -85,7 +86,7 @@ class Controller:
 
     @property
     def on_singular(self) -> str:
-        """The failure policy under its former name (the same as :attr:`on_failure`)."""
+        """The failure policy under its former name (the same as `on_failure`)."""
         return self.on_failure
 
     @property
@@ -124,10 +125,10 @@ class Controller:
 
         Args:
             name: Unique name (states refer to it).
-            actuator: A :class:`VirtualActuator` or :class:`ParallelVirtualActuator` of this
+            actuator: A [`VirtualActuator`][] or [`ParallelVirtualActuator`][] of this
                 robot, or a joint-space term (nothing else given): a
-                :class:`~virtual_actuators.Posture` (bound here) or a
-                :class:`~virtual_actuators.GravityCompensation` of this robot (its ``g(q)``
+                [`Posture`][] (bound here) or a
+                [`GravityCompensation`][] of this robot (its ``g(q)``
                 added to every tick's efforts before they are clipped).
             components: Components whose axes are subsets of the actuator's axes (a sequence,
                 or one component).
@@ -140,7 +141,7 @@ class Controller:
                 must stay at or above the minimum, e.g. ``{"z": 5.0}`` so that no foot pulls on
                 the ground [N]. When a request would break it, the request on ``yield_axes``
                 is scaled down (the most that keeps every share feasible; the distribution is
-                linear in the wrench) and :attr:`ControlOutput.produced` shows the result.
+                linear in the wrench) and `ControlOutput.produced` shows the result.
             yield_axes: Axes of the request given up first to meet ``unilateral`` and the
                 friction cone; with ``method="qp"``, the axes that give way first when the
                 actuator's inequalities cannot meet a request (their weight in the QP's
@@ -151,7 +152,7 @@ class Controller:
                 ``normals="frames"`` for each reaction frame's z, e.g. a limp flat foot lying
                 on a slope): each chain's share must keep its tangential part within ``mu``
                 times its normal part, the normal part at least ``min_normal``. The rows are
-                the ones the actuator's QP reads (:mod:`virtual_actuators.contacts`).
+                the ones the actuator's QP reads (`virtual_actuators.contacts`).
                 Violations are met by scaling ``yield_axes`` like ``unilateral``. None: no
                 cone.
             min_normal: Least normal force of the cone [N] (with ``friction``).
@@ -160,16 +161,16 @@ class Controller:
                 torque limits as inequalities; then ``unilateral`` and ``friction`` here are
                 not used and must be left out).
             yield_weight: ``method="qp"`` with ``yield_axes``: their weight, a finite number
-                > 0; None for :data:`~virtual_actuators.control.declaration.YIELD_WEIGHT`
+                > 0; None for `YIELD_WEIGHT`
                 (1e-3).
 
         Returns:
-            The :class:`Attachment` (the term itself for a joint-space term).
+            The `Attachment` (the term itself for a joint-space term).
 
         Raises:
             InvalidInputError: The name is not a str or is taken; the actuator or sensor is not
                 a virtual actuator or belongs to another robot; the sensor's axes differ from
-                the actuator's; a component is not a :class:`Component`; a gravity compensation
+                the actuator's; a component is not a [`Component`][]; a gravity compensation
                 of another robot, or components given with a joint-space term; ``unilateral`` is not
                 a dict of finite numbers; ``friction`` is not a finite number > 0 or
                 ``min_normal`` not a finite number >= 0; ``yield_weight`` without
@@ -193,7 +194,7 @@ class Controller:
         """Velocity indices of joints given by name (one name, or a collection of names).
 
         Returns:
-            The indices, a read-only integer array (:meth:`compute`'s ``limp``).
+            The indices, a read-only integer array ([`compute`][]'s ``limp``).
 
         Raises:
             InvalidInputError: ``joints`` is not a name or a collection of names.
@@ -210,11 +211,11 @@ class Controller:
         return index
 
     def reset(self, names: Iterable[str], q: np.ndarray | Snapshot, time: float) -> None:
-        """Call every component's :meth:`~Component.reset` hook for the named attachments.
+        """Call every component's `reset` hook for the named attachments.
 
         Args:
             names: Attachment names (or one name).
-            q: Configuration, or the tick's :class:`~virtual_actuators.Snapshot`.
+            q: Configuration, or the tick's [`Snapshot`][].
             time: Controller time [s].
 
         Raises:
@@ -264,7 +265,7 @@ class Controller:
         """Evaluate the components and return the joint efforts for one tick.
 
         One kinematics pass serves the whole tick: every sensor and actuator reads the same
-        :class:`~virtual_actuators.Snapshot` (pass one built with ``v`` to share it).
+        [`Snapshot`][] (pass one built with ``v`` to share it).
 
         Args:
             q: Configuration ``(nq,)``, or the tick's snapshot built with a velocity.
@@ -272,10 +273,10 @@ class Controller:
             time: Controller time [s] (the dogtrack bunny uses it), a finite number.
             active: Names of the attachments (postures too) to evaluate (default: all).
             limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (e.g. from
-                :meth:`joint_indices`).
+                [`joint_indices`][]).
 
         Returns:
-            The :class:`ControlOutput`.
+            The [`ControlOutput`][].
 
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time``, ``limp`` or ``active`` (an unknown
@@ -298,26 +299,30 @@ class Controller:
     def compute_checked(
         self, snapshot: Snapshot, time: float, names: tuple[str, ...], limp: np.ndarray
     ) -> ControlOutput:
-        """:meth:`compute` on arguments checked already (a gait's per-tick call).
+        """[`compute`][] on arguments checked already (a gait's per-tick call).
 
         The tick's snapshot with a velocity, a finite ``time``, distinct ``names`` (as
-        :func:`~virtual_actuators.control.tick.active_names` returns them) and ``limp`` from
-        :meth:`joint_indices`.
+        `active_names` returns them) and ``limp`` from
+        [`joint_indices`][].
 
         Raises:
-            InvalidInputError: An unknown attachment name, or as :meth:`compute`.
-            SingularConfigurationError: As :meth:`compute`.
-            ConstraintError: As :meth:`compute`.
+            InvalidInputError: An unknown attachment name, or as [`compute`][].
+            SingularConfigurationError: As [`compute`][].
+            ConstraintError: As [`compute`][].
 
         """
         nv = self.robot.model.nv
         postures = self.postures
         sums = TickSums()
+        attachments = self.attachments
         for name in names:
             if postures and name in postures:  # a joint-space term
                 sums.add(name, postures[name].torques(snapshot), fresh=True)
             else:
-                self._attachment_tick(name, self._get(name), snapshot, time, sums)
+                attachment = attachments.get(name) if name.__class__ is str else None
+                if attachment is None:
+                    attachment = self._get(name)  # raises, naming the known attachments
+                self._attachment_tick(name, attachment, snapshot, time, sums)
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(
@@ -345,23 +350,24 @@ class Controller:
             VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
 
         """
-        serial = attachment.serial_tick
-        if serial is not None:  # a serial spring-damper: one compiled call
-            buffer = serial.run(attachment.components, snapshot)
-            if buffer is not None:
-                nv, n = serial.nv, serial.n
+        spring, wrench = attachment.spring_tick, None
+        try:
+            buffer = None if spring is None else spring.run(attachment.components, snapshot, time)
+            if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
+                nv, n = spring.nv, spring.n
                 sums.positions[name] = buffer[nv : nv + n]
                 sums.velocities[name] = buffer[nv + n : nv + 2 * n]
-                sums.wrenches[name] = sums.produced[name] = buffer[nv + 2 * n : nv + 3 * n]
-                sums.add(name, buffer[:nv], fresh=True)
-                return
-        sensor = attachment.sensor
-        wrench = None
-        try:
-            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
-            sums.positions[name], sums.velocities[name] = position, velocity
-            wrench = attachment.wrench(position, velocity, time)
-            sums.wrenches[name] = wrench
+                wrench = sums.wrenches[name] = buffer[nv + 2 * n : nv + 3 * n]
+                if spring.efforts:  # and a serial actuator's efforts
+                    sums.produced[name] = wrench
+                    sums.add(name, buffer[:nv], fresh=True)
+                    return
+            else:
+                sensor = attachment.sensor
+                jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+                sums.positions[name], sums.velocities[name] = position, velocity
+                wrench = attachment.wrench(position, velocity, time)
+                sums.wrenches[name] = wrench
             actuator = attachment.actuator
             if isinstance(actuator, VirtualActuator):
                 jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)

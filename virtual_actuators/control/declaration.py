@@ -1,11 +1,11 @@
 """An attachment's declaration-time checks: what ``Controller.add`` is given, checked once.
 
-:meth:`Attachment.declare <virtual_actuators.control.attachment.Attachment.declare>` runs them
-in this order: the actuator, sensor and components (:func:`check_parts`), the contact limits'
-values (:func:`check_limit_values`), the free axes (:func:`check_free`), the sensor
-(:func:`sensor_of`), the components' axes (:func:`component_indices`), the yield policy of
-``method="qp"`` (:func:`check_qp_yield`), the contact limits (:func:`check_contact_limits`) and
-the method (:func:`check_method`). Every error names the attachment.
+`Attachment.declare` runs them
+in this order: the actuator, sensor and components (`check_parts`), the contact limits'
+values (`check_limit_values`), the free axes (`check_free`), the sensor
+(`sensor_of`), the components' axes (`component_indices`), the yield policy of
+``method="qp"`` (`check_qp_yield`), the contact limits (`check_contact_limits`) and
+the method (`check_method`). Every error names the attachment.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def check_parts(
 
     Raises:
         InvalidInputError: The actuator or sensor is not a virtual actuator (a sensor: serial,
-            or None), or a component is not a :class:`Component`.
+            or None), or a component is not a [`Component`][].
 
     """
     where = f"Attachment {name!r}"
@@ -208,7 +208,7 @@ def check_qp_yield(
         unilateral: With ``method="qp"``, must be empty: the QP's limits are the actuator's.
         yield_axes: Axes given up first when a request cannot be met.
         friction: With ``method="qp"``, must be None (likewise).
-        yield_weight: Their weight (the others weigh 1); None for :data:`YIELD_WEIGHT`.
+        yield_weight: Their weight (the others weigh 1); None for `YIELD_WEIGHT`.
 
     Returns:
         ``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` on a parallel

@@ -1,7 +1,7 @@
 """A controller's effort limits: the URDF's, checked when assigned, and the clip to them.
 
-:func:`urdf_effort_limits` reads them from the model, :func:`check_effort_limits` checks the
-ones a user assigns (``controller.effort_limits = ...``) and :func:`clip_efforts` clips a
+`urdf_effort_limits` reads them from the model, `check_effort_limits` checks the
+ones a user assigns (``controller.effort_limits = ...``) and `clip_efforts` clips a
 tick's requested efforts to them, reporting the saturated joints.
 """
 

@@ -1,7 +1,7 @@
-"""Events for :class:`~virtual_actuators.control.state_machine.Transition`: small factories.
+"""Events for [`Transition`][]: small factories.
 
-Each returns a callable of the tick's :class:`~virtual_actuators.control.state_machine.Context`.
-Combine them with :func:`any_of` and :func:`all_of`, or write a lambda.
+Each returns a callable of the tick's [`Context`][].
+Combine them with [`any_of`][] and [`all_of`][], or write a lambda.
 """
 
 from __future__ import annotations
@@ -68,9 +68,22 @@ def ahead_of(frame: str, reference: str, distance: float, axis: str = "x") -> Ev
     check_name(reference, "ahead_of(): reference")
     distance = check_number(distance, "ahead_of(): distance [m]")
     index = _axis(axis)
-    return lambda context: (
-        context.frame_position(frame)[index] - context.frame_position(reference)[index] > distance
-    )
+    column = 9 + index  # the position's entry in a row of the snapshot's frame table
+
+    def event(context: Context) -> bool:
+        snapshot = context.snapshot
+        rows = snapshot.tree.name_rows  # tabled frames: two entries of the table (a tick's cost)
+        row, reference_row = rows.get(frame), rows.get(reference)
+        if row is not None and reference_row is not None:
+            table = snapshot.frame_table
+            if max(row, reference_row) < table.shape[0]:
+                return table.item(row, column) - table.item(reference_row, column) > distance
+        return (
+            context.frame_position(frame)[index] - context.frame_position(reference)[index]
+            > distance
+        )
+
+    return event
 
 
 def contact(*frames: str, require_all: bool = True) -> Event:

@@ -2,21 +2,21 @@
 
 An attachment fails in a tick when its components cannot give a wrench (a component raises a
 library error or an arithmetic error, or returns a non-finite or malformed wrench), when its
-distribution cannot be solved (:class:`~virtual_actuators.SingularConfigurationError`; a
-:class:`~virtual_actuators.ConstraintError` from a contact QP that is infeasible or runs out of
-iterations; :class:`~virtual_actuators.InadmissibleWrenchError`), or when its joint efforts are
+distribution cannot be solved ([`SingularConfigurationError`][]; a
+[`ConstraintError`][] from a contact QP that is infeasible or runs out of
+iterations; [`InadmissibleWrenchError`][]), or when its joint efforts are
 not finite. One policy covers every case:
 
-- ``"raise"``: the typed error leaves :meth:`Controller.compute`
-  (:class:`~virtual_actuators.InvalidInputError` for a bad wrench or non-finite efforts);
+- ``"raise"``: the typed error leaves [`Controller.compute`][]
+  ([`InvalidInputError`][] for a bad wrench or non-finite efforts);
 - ``"skip"``: that attachment contributes zero effort for the tick;
 - ``"fallback"``: that attachment contributes the partitioned least-squares answer to the same
   request (``actuator.solve(q, wrench, free, method="partitioned")``, never strict), clipped to
   the controller's effort limits; when there is no request to distribute (the components
   failed), a serial actuator, or the fallback fails too, it contributes zero effort.
 
-The tick's :class:`~virtual_actuators.ControlOutput` reports each firing in ``failures`` (an
-:class:`AttachmentFailure` per attachment) and lists the attachments left at zero in ``failed``.
+The tick's [`ControlOutput`][] reports each firing in ``failures`` (an
+[`AttachmentFailure`][] per attachment) and lists the attachments left at zero in ``failed``.
 """
 
 from __future__ import annotations
@@ -55,8 +55,7 @@ class AttachmentFailure:
         error: The exception's type name, e.g. ``"ConstraintError"``.
         message: The exception's message.
         action: ``"skip"`` (the attachment contributed zero effort) or ``"fallback"`` (the
-            clipped partitioned least-squares answer; see :mod:`~virtual_actuators.control.
-            failures`).
+            clipped partitioned least-squares answer; see `failures`).
         fallback_error: Why the fallback was not used (then ``action`` is ``"skip"``), or None.
 
     """
@@ -76,7 +75,7 @@ def check_policy(on_failure: object, on_singular: object) -> str:
     """The controller's policy from ``on_failure`` and its former name ``on_singular``.
 
     Args:
-        on_failure: One of :data:`FAILURE_POLICIES`, or None.
+        on_failure: One of `FAILURE_POLICIES`, or None.
         on_singular: The same (the name before every failure shared one policy), or None.
 
     Returns:
@@ -98,7 +97,7 @@ def check_policy(on_failure: object, on_singular: object) -> str:
 
 
 def reason_of(error: BaseException, wrench: np.ndarray | None) -> str:
-    """The :attr:`AttachmentFailure.reason` of ``error`` (``wrench`` None: components failed)."""
+    """The `AttachmentFailure.reason` of ``error`` (``wrench`` None: components failed)."""
     if wrench is None:
         return "wrench"
     if isinstance(error, SingularConfigurationError):
@@ -128,14 +127,14 @@ def recover(
         attachment: The attachment that failed.
         snapshot: The tick's snapshot.
         wrench: Its requested wrench, or None when its components failed.
-        reason: The failure's reason (see :attr:`AttachmentFailure.reason`).
+        reason: The failure's reason (see `AttachmentFailure.reason`).
         error: The exception.
         limits: ``(lower, upper)`` effort limits the fallback is clipped to.
         failures: The tick's records, updated: ``failures[name]``.
         failed: The tick's attachments left at zero, updated when no fallback is used.
 
     Returns:
-        ``(solution, tau)``: with a working fallback, its :class:`~virtual_actuators.Solution`
+        ``(solution, tau)``: with a working fallback, its [`Solution`][]
         (unclipped) and its clipped, finite ``(nv,)`` efforts; else ``(None, None)``.
 
     """
@@ -178,7 +177,7 @@ def drop_non_finite(
     Called when the sum is not finite: a finite wrench too large for float64.
 
     Args:
-        controller: The :class:`~virtual_actuators.Controller`.
+        controller: The [`Controller`][].
         snapshot: The tick's snapshot.
         parts: ``(name, efforts)`` of every attachment that contributed.
         wrenches: The tick's requested wrenches.

@@ -6,13 +6,13 @@ happens: inside a controller's tick it adds its pause to that tick. Measured on 
 0.5-1.2 ms inside ticks, one of 2.6 ms, because they walked the objects the set-up had left in
 the young generations (robots, declarations, warm-up results).
 
-The control loops (:func:`~virtual_actuators.run` and the walks' runner) therefore apply a
-:class:`LoopCollector` policy, ``gc_policy=``:
+The control loops ([`run`][] and the walks' runner) therefore apply a
+[`LoopCollector`][] policy, ``gc_policy=``:
 
 - ``"between-ticks"`` (the default): before the first tick, a full collection, then
-  :func:`gc.freeze` (everything the set-up made moves to the permanent generation: later
+  `gc.freeze` (everything the set-up made moves to the permanent generation: later
   collections no longer walk it) and the automatic collector is disabled. Between two ticks
-  (after the efforts are written, in the loop's slack), :meth:`LoopCollector.between_ticks`
+  (after the efforts are written, in the loop's slack), [`LoopCollector.between_ticks`][]
   collects the young generation when as many objects were allocated as would have triggered
   CPython's own collection (``gc.get_threshold()[0]``), and generation 1 every
   ``gc.get_threshold()[1]`` of those, as CPython does. Generation 2 never runs during the loop:
@@ -35,7 +35,7 @@ GC_POLICIES = ("between-ticks", "python")
 
 
 def check_gc_policy(policy: object, where: str) -> str:
-    """``policy`` if it is one of :data:`GC_POLICIES`.
+    """``policy`` if it is one of [`GC_POLICIES`][].
 
     Raises:
         InvalidInputError: Anything else (naming ``where`` and the valid policies).
@@ -52,7 +52,7 @@ class LoopCollector:
     """The garbage collector's policy for one control loop (a context manager).
 
     Args:
-        policy: One of :data:`GC_POLICIES`.
+        policy: One of [`GC_POLICIES`][].
 
     Attributes:
         collections: Collections run between ticks, per generation ``[0, 1, 2]``.

@@ -2,17 +2,17 @@
 
 One tick of a gait, in this order:
 
-1. one :class:`~virtual_actuators.Snapshot` of ``(q, v)``: the tick's only kinematics pass;
-2. a :class:`~virtual_actuators.Context` on it, with the time and the contact switches;
-3. :meth:`StateMachine.update <virtual_actuators.StateMachine.update>`: at most one transition,
+1. one [`Snapshot`][] of ``(q, v)``: the tick's only kinematics pass;
+2. a [`Context`][] on it, with the time and the contact switches;
+3. [`StateMachine.update`][]: at most one transition,
    then the current state's ``on_update`` hook (a gait moves its set points there);
-4. when the state changed, :meth:`Controller.reset <virtual_actuators.Controller.reset>` of the
+4. when the state changed, [`Controller.reset`][] of the
    attachments the new state activates (their components' ``reset`` hooks);
-5. :meth:`Controller.compute <virtual_actuators.Controller.compute>` of the state's active
+5. [`Controller.compute`][] of the state's active
    attachments, with its limp joints at zero effort.
 
-:class:`MachineController` does exactly that; it has the ``compute(q, v, time)`` of a
-controller, so :func:`va.run <virtual_actuators.run>` drives it like one::
+[`MachineController`][] does exactly that; it has the ``compute(q, v, time)`` of a
+controller, so [`va.run`][virtual_actuators.run] drives it like one::
 
     machine = va.MachineController(controller, va.StateMachine(states, transitions, "stand"))
     output = machine.compute(q, v, time, contacts={"FL_FOOT": True, ...})
@@ -33,7 +33,7 @@ from .tick import active_names
 
 
 class MachineController:
-    """A :class:`~virtual_actuators.Controller` whose active attachments a state machine picks.
+    """A [`Controller`][] whose active attachments a state machine picks.
 
     Args:
         controller: The attachments (every name a state lists must be one of them).
@@ -42,7 +42,7 @@ class MachineController:
     Attributes:
         controller: As given.
         machine: As given.
-        last: The last :class:`~virtual_actuators.ControlOutput` (None before the first tick).
+        last: The last [`ControlOutput`][] (None before the first tick).
 
     Raises:
         InvalidInputError: ``controller`` or ``machine`` of the wrong kind, or a state naming
@@ -91,13 +91,13 @@ class MachineController:
 
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention), or the tick's
-                :class:`~virtual_actuators.Snapshot` (with a velocity) to share its pass.
+                [`Snapshot`][] (with a velocity) to share its pass.
             v: Velocity ``(nv,)`` (ignored with a snapshot).
             time: Controller time [s].
             contacts: Contact switches by frame name (for events that read them).
 
         Returns:
-            The :class:`~virtual_actuators.ControlOutput` (its ``tau`` goes to the motors).
+            The [`ControlOutput`][] (its ``tau`` goes to the motors).
 
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``.
@@ -109,7 +109,7 @@ class MachineController:
             snapshot, q, v = q, q.q, q.v
         else:
             snapshot = Snapshot(controller.robot, q, v)  # the tick's one kinematics pass
-        context = Context(controller.robot, q, v, time, contacts, snapshot=snapshot)
+        context = Context.of_tick(controller.robot, snapshot, time, contacts)
         machine = self.machine
         before = len(machine.history)
         state = machine.update(context)

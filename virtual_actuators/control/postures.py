@@ -1,6 +1,6 @@
 """Joint-space terms in a controller, under a name.
 
-A :class:`~virtual_actuators.Posture` or a :class:`~virtual_actuators.GravityCompensation`.
+A [`Posture`][] or a [`GravityCompensation`][].
 """
 
 from __future__ import annotations

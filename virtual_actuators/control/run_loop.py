@@ -17,25 +17,25 @@ Safety first. A tick fails when:
 A failed tick sends the **safe action** instead (``safe_action=``): ``"zero"`` effort (the
 default), ``"hold"`` the last good effort for at most ``hold_time`` (then zero), or ``"damp"``,
 joint damping ``-damping * v`` clipped to the URDF's effort limits (zero when the tick has no
-valid velocity: a failed, malformed or stale reading). :class:`RunStats` counts every failed
-tick by reason. Failures inside a :class:`~virtual_actuators.Controller` (one attachment's
+valid velocity: a failed, malformed or stale reading). [`RunStats`][] counts every failed
+tick by reason. Failures inside a [`Controller`][] (one attachment's
 singular or infeasible distribution) are its own ``on_failure`` policy's, and counted in
-:attr:`RunStats.attachment_failures`.
+`RunStats.attachment_failures`.
 
 The loop **always ends by writing zero effort** of the robot's size, whatever ended it: the
 duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C
 (``KeyboardInterrupt`` and the other exceptions that are not per-tick failures are re-raised
 after that write). With
-:class:`~virtual_actuators.simulation.hardware.MujocoHardware` that last zero command steps the
+[`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] that last zero command steps the
 simulation one more period. A tick that takes longer than the period is an overrun: the loop
 does not try to catch up (the next tick starts at once), and counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
-:mod:`~virtual_actuators.control.gc_policy`).
+[`gc_policy`][]).
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
-:class:`~virtual_actuators.simulation.hardware.MujocoHardware` implements both on a MuJoCo
+[`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] implements both on a MuJoCo
 simulation (the simulated robot as the hardware).
 """
 
@@ -74,7 +74,7 @@ MIN_RATE_HZ = 1e-3
 
 @dataclass
 class RunStats:
-    """What a :func:`run` did.
+    """What a [`run`][] did.
 
     Attributes:
         ticks: Ticks run.
@@ -82,11 +82,11 @@ class RunStats:
         failed_ticks: Ticks that sent the safe action instead of the controller's effort.
         zero_ticks: Ticks that sent zero effort (a failed tick whose safe action gave zero).
         reasons: Failed ticks per reason: ``{"stale": n, "non-finite": n, "controller error:
-            ConstraintError": n, ...}`` (see :mod:`~virtual_actuators.control.run_loop`).
-        attachment_failures: Ticks in which a :class:`~virtual_actuators.Controller`'s failure
+            ConstraintError": n, ...}`` (see `run_loop`).
+        attachment_failures: Ticks in which a [`Controller`][]'s failure
             policy fired, per ``"attachment: reason -> action"`` (e.g. ``"stance: constraint
             -> fallback"``).
-        tick_times: Duration of the last :data:`TICK_HISTORY` ticks, read to write [s].
+        tick_times: Duration of the last `TICK_HISTORY` ticks, read to write [s].
         wall_time: Duration of the loop [s].
 
     """
@@ -134,11 +134,11 @@ def run(
     Args:
         controller: Anything with ``compute(q, v, time)`` (``time``: the reading's stamp)
             returning efforts or an object with ``tau`` (a
-            :class:`~virtual_actuators.Controller`, a gait, your own class).
+            [`Controller`][], a gait, your own class).
         read_state: Returns ``(q, v, stamp)``: configuration, velocity, time of the reading [s].
         write_effort: Sends ``(nv,)`` efforts to the motors, in the robot's velocity order
-            (:func:`~virtual_actuators.velocity_names`).
-        rate_hz: Control rate [Hz], at least :data:`MIN_RATE_HZ`.
+            (`velocity_names`).
+        rate_hz: Control rate [Hz], at least `MIN_RATE_HZ`.
         duration: Wall-clock time of the loop [s] (None: until ``should_stop``); the loop ends
             then, even within a long period. On a simulation run with ``realtime=False``, stop
             on the simulated time with ``should_stop`` instead.
@@ -147,21 +147,21 @@ def run(
         realtime: Sleep to hold the rate (False: run ticks back to back, e.g. on a simulation).
         should_stop: Polled every tick; True ends the loop.
         robot: The robot whose efforts are written (default: ``controller.robot``, which a
-            :class:`~virtual_actuators.Controller` and a gait have). Give it for a controller
+            [`Controller`][] and a gait have). Give it for a controller
             of your own without one.
         safe_action: What a failed tick sends: ``"zero"``, ``"hold"`` or ``"damp"`` (see
-            :mod:`~virtual_actuators.control.run_loop`).
+            `run_loop`).
         damping: ``safe_action="damp"``: joint damping [N m s/rad, N s/m], one number for every
             velocity entry but a floating base's and the passive joints' (default
-            :data:`~virtual_actuators.control.safe_action.DEFAULT_DAMPING`, 1), or ``(nv,)``
+            `DEFAULT_DAMPING`, 1), or ``(nv,)``
             numbers used as given.
         hold_time: ``safe_action="hold"``: the longest run of failed ticks that holds the last
             good effort [s] (``hold_time * rate_hz`` ticks); then zero effort.
         gc_policy: ``"between-ticks"`` (no garbage collection inside a tick, see
-            :mod:`~virtual_actuators.control.gc_policy`) or ``"python"`` (left alone).
+            [`gc_policy`][]) or ``"python"`` (left alone).
 
     Returns:
-        The :class:`RunStats`.
+        The [`RunStats`][].
 
     Raises:
         InvalidInputError: A bad rate, duration, stale time, ``realtime``, ``safe_action``,
@@ -170,7 +170,7 @@ def run(
             robot (neither ``robot`` nor ``controller.robot``) or not the controller's.
         KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
             of ``write_effort`` and ``should_stop``, and exceptions that are not
-            :class:`Exception`; if the final write fails too, a note on the error says so).
+            `Exception`; if the final write fails too, a note on the error says so).
 
     """
     settings = _check_run(
@@ -194,7 +194,7 @@ def run(
 
 @dataclass(frozen=True, slots=True)
 class _Settings:
-    """:func:`run`'s checked arguments."""
+    """[`run`][]'s checked arguments."""
 
     period: float  # [s]
     duration: float | None  # [s]
@@ -233,7 +233,7 @@ def _check_run(
     damping: object,
     hold_time: object,
 ) -> _Settings:
-    """:func:`run`'s arguments checked (its Raises: InvalidInputError, in this order)."""
+    """[`run`][]'s arguments checked (its Raises: InvalidInputError, in this order)."""
     rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)
     if rate_hz < MIN_RATE_HZ:
         raise InvalidInputError(

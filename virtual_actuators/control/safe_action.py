@@ -1,7 +1,7 @@
 """What ``va.run`` checks each tick and what it sends when a tick fails.
 
-:func:`check_reading` checks a driver's ``(q, v, stamp)`` against the robot; :func:`check_effort`
-checks a controller's efforts; :class:`SafeAction` is the effort sent instead when something
+`check_reading` checks a driver's ``(q, v, stamp)`` against the robot; `check_effort`
+checks a controller's efforts; `SafeAction` is the effort sent instead when something
 failed: ``"zero"``, ``"hold"`` (the last good effort, for a bounded time) or ``"damp"`` (joint
 damping ``-d v``, clipped to the URDF's effort limits).
 """
@@ -42,10 +42,10 @@ def _vector(value: object, size: int) -> np.ndarray | None:
 
 
 class Reading(NamedTuple):
-    """A driver's ``(q, v, stamp)`` reading, unpacked (:func:`check_reading`).
+    """A driver's ``(q, v, stamp)`` reading, unpacked (`check_reading`).
 
     Attributes:
-        q: The configuration as read (checked by :func:`check_state`).
+        q: The configuration as read (checked by `check_state`).
         v: The velocity as read.
         stamp: The time stamp as a float (a NaN stamp as is).
         reason: ``"malformed reading"`` when the reading is not three values or the stamp not
@@ -60,7 +60,7 @@ class Reading(NamedTuple):
 
 
 def check_reading(reading: object) -> Reading:
-    """Unpack a ``(q, v, stamp)`` reading; the arrays are checked by :func:`check_state`."""
+    """Unpack a ``(q, v, stamp)`` reading; the arrays are checked by `check_state`."""
     try:
         q, v, stamp = reading
         if isinstance(stamp, (str, bytes)):
@@ -124,7 +124,7 @@ class SafeAction:
 
     Args:
         robot: The robot (size of the efforts, floating base, passive joints, effort limits).
-        action: One of :data:`SAFE_ACTIONS`.
+        action: One of `SAFE_ACTIONS`.
         damping: ``"damp"``: a number >= 0 for every velocity entry but a floating base's and
             the passive joints', or ``(nv,)`` numbers >= 0 used as given [N m s/rad, N s/m].
         hold_ticks: ``"hold"``: the most consecutive failed ticks that hold the last good

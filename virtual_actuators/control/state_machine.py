@@ -1,9 +1,10 @@
 """A state machine for gaits (VMC 2001, section 5, Fig. 5 and Table 1).
 
-Each :class:`State` names the controller attachments (actuators with their components) it uses,
-the chains in support and the joints left limp. :class:`Transition` objects move between states
-on events: callables of the tick's :class:`Context` returning a bool (see
-:mod:`virtual_actuators.control.events` for body-over-foot, contact and timer events). All
+Each [`State`][] names the controller attachments (actuators with their components) it uses,
+the chains in support and the joints left limp. [`Transition`][] objects move between states
+on events: callables of the tick's [`Context`][] returning a bool (see
+[`virtual_actuators.control.events`][virtual_actuators.events] for body-over-foot, contact and timer
+events). All
 declarations are built once; changing state only swaps which precomputed attachments are
 evaluated, so a transition costs nothing at run time.
 """
@@ -32,7 +33,7 @@ from ..vocabulary.arguments import (
 class Context:
     """What events see at one tick: state, time, contacts and frame positions on demand.
 
-    Frame reads go through the tick's :class:`~virtual_actuators.Snapshot`, the same kinematics
+    Frame reads go through the tick's [`Snapshot`][], the same kinematics
     pass that the controller's actuators and sensors read: events add no kinematics of their
     own.
 
@@ -48,7 +49,7 @@ class Context:
     Raises:
         InvalidInputError: ``robot`` is not a robot; ``time`` or ``time_in_state`` is not a
             finite number; ``contacts`` is not a dict; ``snapshot`` is not a
-            :class:`~virtual_actuators.Snapshot` of ``robot``; bad ``q`` or ``v`` (when no
+            [`Snapshot`][] of ``robot``; bad ``q`` or ``v`` (when no
             snapshot is given).
 
     """
@@ -97,6 +98,40 @@ class Context:
         self.time_in_state = time_in_state
         self.state: str | None = None
 
+    @classmethod
+    def of_tick(
+        cls, robot: Robot, snapshot: Snapshot, time: float, contacts: Mapping[str, bool] | None
+    ) -> Context:
+        """The context of a tick whose snapshot (of ``robot``, with ``v``) is built already.
+
+        The same context as ``Context(robot, snapshot.q, snapshot.v, time, contacts,
+        snapshot=snapshot)``, with the checks a float time and a dict (or no) contacts pass
+        skipped (a tick's cost); anything else goes through the constructor's checks.
+
+        Raises:
+            InvalidInputError: As the constructor.
+
+        """
+        if (
+            time.__class__ is not float
+            or not math.isfinite(time)
+            or not (contacts is None or contacts.__class__ is dict)
+            or snapshot.__class__ is not Snapshot
+            or snapshot.tree.model is not getattr(robot, "model", None)
+        ):
+            return cls(robot, snapshot.q, snapshot.v, time, contacts, snapshot=snapshot)
+        context = cls.__new__(cls)
+        context.robot = robot
+        context.snapshot = snapshot
+        context.frame_position = snapshot.frame_position
+        context.frame_velocity = snapshot.frame_velocity
+        context.frame_rotation = snapshot.frame_rotation
+        context.q, context.v, context.time = snapshot.q, snapshot.v, time
+        context.contacts = {} if contacts is None else contacts.copy()
+        context.time_in_state = 0.0
+        context.state = None
+        return context
+
     def frame_position(self, frame: str) -> np.ndarray:
         """World position of a frame [m] (from the tick's snapshot).
 
@@ -122,7 +157,13 @@ class Context:
             FrameNotFoundError: Unknown frame (with close matches).
 
         """
-        rotation = self.snapshot.placement(frame)[0]
+        snapshot = self.snapshot
+        row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is not None:  # a tabled frame: its rotation's row 0 in the frame table
+            table = snapshot.frame_table
+            if row < table.shape[0]:
+                return math.atan2(table.item(row, 2), table.item(row, 0))
+        rotation = snapshot.placement(frame)[0]
         return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
 
     def frame_velocity(self, frame: str) -> np.ndarray:
@@ -217,7 +258,7 @@ class Transition:
     Attributes:
         source: Name of the state the transition leaves.
         target: Name of the state it enters.
-        event: Callable of the :class:`Context` returning a bool.
+        event: Callable of the [`Context`][] returning a bool.
         label: Text for reports (the seed's Table 1 "trigger event").
 
     Raises:
@@ -256,8 +297,8 @@ class StateMachine:
         initial: Name of the initial state.
 
     Raises:
-        InvalidInputError: ``states`` or ``transitions`` is not a sequence of :class:`State` or
-            :class:`Transition`; ``initial`` is not a str; repeated state names, or a transition
+        InvalidInputError: ``states`` or ``transitions`` is not a sequence of [`State`][] or
+            [`Transition`][]; ``initial`` is not a str; repeated state names, or a transition
             or ``initial`` naming an unknown state.
 
     """
@@ -299,7 +340,7 @@ class StateMachine:
 
     @property
     def names(self) -> list[str]:
-        """State names in declaration order (their index is :attr:`index`)."""
+        """State names in declaration order (their index is `index`)."""
         return list(self._states)
 
     def state(self, name: str) -> State:
@@ -316,7 +357,7 @@ class StateMachine:
         """Enter the initial state (or ``state``) at ``context.time``.
 
         Raises:
-            InvalidInputError: ``context`` is not a :class:`Context`, or an unknown state.
+            InvalidInputError: ``context`` is not a [`Context`][], or an unknown state.
 
         """
         _check_context(context)
@@ -338,13 +379,13 @@ class StateMachine:
     def update(self, context: Context) -> State:
         """Take the first transition whose event fires, then run the state's ``on_update``.
 
-        Starts the machine on the first call if :meth:`start` was not called.
+        Starts the machine on the first call if [`start`][] was not called.
 
         Returns:
             The current state after the update.
 
         Raises:
-            InvalidInputError: ``context`` is not a :class:`Context`.
+            InvalidInputError: ``context`` is not a [`Context`][].
 
         """
         _check_context(context)

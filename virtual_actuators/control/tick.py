@@ -1,10 +1,10 @@
 """One tick of the controller: the checks of its arguments and what it computed.
 
-:meth:`Controller.compute` checks its ``limp`` indices and ``active`` names every tick with
-:func:`check_limp` and :func:`active_names` (a bad value raises an
-:class:`~virtual_actuators.InvalidInputError` that names the argument), reads one
-:func:`tick_snapshot`, gathers the attachments' results in :class:`TickSums` and returns a
-:class:`ControlOutput`; :func:`velocity_names` names the velocity entries.
+[`Controller.compute`][] checks its ``limp`` indices and ``active`` names every tick with
+`check_limp` and `active_names` (a bad value raises an
+[`InvalidInputError`][] that names the argument), reads one
+`tick_snapshot`, gathers the attachments' results in `TickSums` and returns a
+[`ControlOutput`][]; `velocity_names` names the velocity entries.
 """
 
 from __future__ import annotations
@@ -44,8 +44,8 @@ class ControlOutput:
         active: Names of the attachments evaluated.
         joint_names: Names of the velocity entries (for reports).
         failures: Every attachment whose failure policy fired this tick: what failed and what
-            the controller did (an :class:`~virtual_actuators.control.failures.
-            AttachmentFailure`: ``reason``, ``error``, ``message``, ``action`` ``"skip"`` or
+            the controller did (an [`AttachmentFailure`][]: ``reason``, ``error``, ``message``,
+            ``action`` ``"skip"`` or
             ``"fallback"``). A fallback's unclipped solution is in ``solutions``.
 
     """
@@ -78,7 +78,7 @@ class ControlOutput:
 
 
 class TickSums:
-    """One tick's results attachment by attachment (:class:`ControlOutput`'s dicts) and the sum.
+    """One tick's results attachment by attachment ([`ControlOutput`][]'s dicts) and the sum.
 
     ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
     """
@@ -123,7 +123,7 @@ NO_LIMP = np.zeros(0, dtype=np.intp)
 
 
 def names_tuple(active: object) -> tuple:
-    """``active`` as a tuple, or an :class:`InvalidInputError` naming it."""
+    """``active`` as a tuple, or an [`InvalidInputError`][] naming it."""
     if not isinstance(active, (bytes, Mapping)):
         try:
             return tuple(active)

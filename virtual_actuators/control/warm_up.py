@@ -1,13 +1,14 @@
-"""Load a controller's compiled kernels before its first tick (:func:`warm_up`).
+"""Load a controller's compiled kernels before its first tick (`warm_up`).
 
 numba compiles a kernel, or reads it from its on-disk cache, the first time it is called with
 a given set of argument types: tens of milliseconds per kernel, which would land in the first
-control ticks. :func:`warm_up` calls every kernel an attachment's tick uses once, on results it
+control ticks. `warm_up` calls every kernel an attachment's tick uses once, on results it
 throws away: no component is evaluated, no controller state changes, and the QP's warm start
 (kept per thread) is left alone by solving on a short-lived thread of its own. It also makes the
 robot's lazily built data of the calling thread (the ``pinocchio.Data`` of
-:func:`~virtual_actuators.kinematics.snapshot.thread_data`, which gravity compensation uses, and
-that of :meth:`~virtual_actuators.Robot.center_of_mass`) and the QP's buffers of the calling
+`thread_data`, which gravity compensation uses, and
+that of [`center_of_mass`][virtual_actuators.Robot.center_of_mass]) and the QP's buffers of the
+calling
 thread (not its warm start), which the first tick would otherwise pay (~0.1 ms on go2).
 """
 
@@ -28,7 +29,7 @@ def warm_up(controller: object, q: np.ndarray) -> None:
     """Run every compiled kernel the controller's ticks use once, at configuration ``q``.
 
     Args:
-        controller: A :class:`~virtual_actuators.Controller`.
+        controller: A [`Controller`][].
         q: A configuration ``(nq,)`` (e.g. the one the run starts from).
 
     Raises:
@@ -47,6 +48,8 @@ def warm_up(controller: object, q: np.ndarray) -> None:
         kinematics = attachment.sensor.kinematics
         kinematics.sense(snapshot, velocity=True)
         snapshot.frame_velocity(kinematics.action_id)
+        if attachment.spring_tick is not None:  # the spring-dampers' one-call tick
+            attachment.spring_tick.warm_up(snapshot)
         actuator = attachment.actuator
         if not isinstance(actuator, ParallelVirtualActuator):
             continue

@@ -1,9 +1,9 @@
 """Runnable demos: the walks in MuJoCo (``python -m virtual_actuators demo``) and their sweeps.
 
-The walks themselves are registered by the gaits (:mod:`virtual_actuators.gaits.registry`);
-``WalkSpec`` is the former name of :class:`~virtual_actuators.gaits.base.Walk`. The names are
+The walks themselves are registered by the gaits (`virtual_actuators.gaits.registry`);
+``WalkSpec`` is the former name of `Walk`. The names are
 imported on first use (they bring MuJoCo), so that the command line's option parsing, which
-uses :mod:`virtual_actuators.demos.sweep`, works on a core-only install.
+uses `virtual_actuators.demos.sweep`, works on a core-only install.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ def __getattr__(name: str) -> Any:
 
     Raises:
         AttributeError: Any other name.
-        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+        MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
 
     """
     if name in ("Walk", "WalkSpec"):

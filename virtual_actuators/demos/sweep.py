@@ -5,7 +5,7 @@ profile-one,profile-two --seeds 5`` runs every (speed, terrain, seed) walk of th
 parallel and writes a results table (CSV or JSON) and a success map (fraction of seeds that did
 not fall, per speed and terrain).
 
-Engines: ``"process"`` (a :class:`concurrent.futures.ProcessPoolExecutor`, the default),
+Engines: ``"process"`` (a `concurrent.futures.ProcessPoolExecutor`, the default),
 ``"dask"`` (``dask.distributed``: the scheduler given by ``DASK_SCHEDULER_ADDRESS``, or a local
 cluster) and ``"ray"`` (``ray.init()``, which joins ``RAY_ADDRESS`` when set): the same command
 runs on one machine or on a cluster. Dask and Ray are optional: install ``dask[distributed]`` or
@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, MissingDependencyError
+from ..exceptions import InvalidInputError, import_optional
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -105,8 +105,8 @@ def grid(
     """Every (speed, terrain, seed) case, seeds ``0 .. seeds - 1``.
 
     Raises:
-        InvalidInputError: Unknown walk, ``seeds`` not an int from 1 to :data:`MAX_SEEDS`, or
-            more than :data:`MAX_WALKS` cases in all.
+        InvalidInputError: Unknown walk, ``seeds`` not an int from 1 to `MAX_SEEDS`, or
+            more than `MAX_WALKS` cases in all.
 
     """
     from ..gaits.registry import WALKS  # MuJoCo: not needed to parse a sweep's options
@@ -130,11 +130,11 @@ def grid(
 
 
 def run_walk(name: str, **options: Any) -> Any:
-    """:func:`virtual_actuators.gaits.registry.run_walk`, imported when first run (MuJoCo).
+    """`virtual_actuators.gaits.registry.run_walk`, imported when first run (MuJoCo).
 
     Raises:
         InvalidInputError: As the registry's ``run_walk``.
-        MissingDependencyError: MuJoCo is not installed (``virtual_actuators[sim]``).
+        MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
 
     """
     from ..gaits.registry import run_walk as run
@@ -188,7 +188,7 @@ def run_sweep(
     """Run the cases in parallel; results come back in the order of ``cases``.
 
     Args:
-        cases: From :func:`grid`.
+        cases: From `grid`.
         engine: ``"process"``, ``"dask"`` or ``"ray"``.
         workers: Parallel workers for ``"process"`` (default: the CPU count).
         on_result: Called as each result arrives (a progress bar).
@@ -228,14 +228,9 @@ def run_sweep(
 
 
 def _run_dask(cases, done) -> dict[int, SweepResult]:
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise MissingDependencyError(
-            "engine='dask' needs dask.distributed: pip install 'virtual_actuators[dask]'.",
-            package="dask",
-            extra="dask",
-        ) from None
+    for package in ("dask", "distributed"):
+        import_optional(package, "dask", "engine='dask' (dask.distributed)")
+    from dask.distributed import Client, LocalCluster, as_completed
     address = os.environ.get("DASK_SCHEDULER_ADDRESS")
     cluster = None if address else LocalCluster(processes=True, threads_per_worker=1)
     try:
@@ -253,14 +248,7 @@ def _run_dask(cases, done) -> dict[int, SweepResult]:
 
 
 def _run_ray(cases, done) -> dict[int, SweepResult]:
-    try:
-        import ray
-    except ImportError:
-        raise MissingDependencyError(
-            "engine='ray' needs ray: pip install 'virtual_actuators[ray]'.",
-            package="ray",
-            extra="ray",
-        ) from None
+    ray = import_optional("ray", "ray", "engine='ray'")
     started = not ray.is_initialized()
     ray.init(ignore_reinit_error=True, include_dashboard=False)
     try:
@@ -311,9 +299,12 @@ def success_map(results: Sequence[SweepResult]) -> tuple[list[float], list[str],
 
 
 def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
-    """Draw :func:`success_map` as a heat map (speed across, terrain down) into ``path``.
+    """Draw `success_map` as a heat map (speed across, terrain down) into ``path``.
 
     The image format follows the suffix (``.png``, ``.svg``, ``.pdf``, ...).
+
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
     """
     figure = draw_success_map(results)
     figure.savefig(path, dpi=figure.dpi)
@@ -321,7 +312,12 @@ def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
 
 
 def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure:
-    """The heat map :func:`plot_success_map` saves: a matplotlib figure (no pyplot)."""
+    """The heat map `plot_success_map` saves: a matplotlib figure (no pyplot).
+
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
+    """
+    import_optional("matplotlib", "plots", "The success map")
     from matplotlib.ticker import PercentFormatter
 
     from ..experiments.plot_panels import new_figure, set_heading

@@ -2,7 +2,7 @@
 
 Every backend has one signature, ``solve(snapshot, wrench, request) -> TickResult | None``
 (qpsolvers' pattern): None hands the tick on to the method's next backend. A method names its
-backends in order (:data:`METHODS`); the last one always answers, or raises a typed error.
+backends in order (`METHODS`); the last one always answers, or raises a typed error.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ class Request:
     """How to solve, checked once (``ParallelVirtualActuator.plan``), then reused per tick.
 
     Attributes:
-        method: ``"partitioned"``, ``"dense"`` or ``"qp"`` (a key of :data:`METHODS`).
+        method: ``"partitioned"``, ``"dense"`` or ``"qp"`` (a key of `METHODS`).
         free: The axes left to the solver.
         keep: ``(n,)`` bool, the prescribed axes.
         compiled: Use the compiled kernels where they apply.
@@ -59,8 +59,8 @@ def dispatch(
     """Solve with the request's method: its backends in order, until one answers.
 
     Args:
-        backends: The actuator's backends by name (every name :data:`METHODS` lists).
-        snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+        backends: The actuator's backends by name (every name `METHODS` lists).
+        snapshot: The tick's [`Snapshot`][].
         wrench: ``(n,)`` finite request.
         request: The checked request.
 

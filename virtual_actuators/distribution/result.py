@@ -1,9 +1,9 @@
 """The result of a parallel virtual actuator's solve, and the per-tick tail every solver shares.
 
-Every backend hands back a :class:`TickResult`; :meth:`Solution.from_tick` turns it into the
-user's :class:`Solution`. The tail of a tick (what was produced and requested, the residual, the
+Every backend hands back a `TickResult`; [`Solution.from_tick`][] turns it into the
+user's [`Solution`][]. The tail of a tick (what was produced and requested, the residual, the
 scale it is judged against and the rounding of the chain forces) is written once here: in numpy
-(:func:`close_tick`, the numpy paths) and as a compiled kernel (:func:`close_norms`, the compiled
+(`close_tick`, the numpy paths) and as a compiled kernel (`close_norms`, the compiled
 partitioned and QP paths, which fill their own output buffers).
 """
 
@@ -28,7 +28,7 @@ def no_sets() -> dict[str, list[tuple[str, str]]]:
 
 @dataclass(slots=True)
 class RawSolution:
-    """Solver output before it is wrapped into a :class:`~virtual_actuators.Solution`."""
+    """Solver output before it is wrapped into a [`Solution`][]."""
 
     forces: np.ndarray
     method: str
@@ -44,7 +44,7 @@ class RawSolution:
 
 @dataclass(slots=True)
 class TickResult:
-    """What every solver backend returns for one tick (before :class:`Solution` wraps it).
+    """What every solver backend returns for one tick (before [`Solution`][] wraps it).
 
     Attributes:
         raw: The distribution, its method, partition, systems, solver and active rows.
@@ -122,7 +122,7 @@ def close_tick(
         accuracy: Added to the rounding (a solver's own accuracy, e.g. the QP's).
 
     Returns:
-        The :class:`TickResult` (``compiled`` False). The norms are taken on the scaled forces,
+        The `TickResult` (``compiled`` False). The norms are taken on the scaled forces,
         so that none over- or underflows at any magnitude of the request.
 
     """
@@ -263,7 +263,7 @@ class Solution:
             back).
         tolerance: The residual up to which the request counts as produced: ``tol *
             max(|requested|, |produced|)`` on the prescribed axes plus the rounding of the
-            chain forces (``distribution.result.tolerance``); :attr:`admissible` compares
+            chain forces (``distribution.result.tolerance``); [`admissible`][] compares
             ``residual`` with it.
 
     """

@@ -2,7 +2,7 @@
 
 The numpy paths and the compiled kernels read the same names, so that a tick the kernel hands
 back is decided by the same numbers. Solver budgets (iteration counts, batch sizes) stay with
-their solver (the QP's in :mod:`.qp.stages`, :mod:`.qp.exact`, :mod:`.qp.conflict`).
+their solver (the QP's in `qp.stages`, `qp.exact`, `qp.conflict`).
 """
 
 from __future__ import annotations

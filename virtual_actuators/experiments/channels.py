@@ -3,7 +3,7 @@
 Standard channels
 -----------------
 
-The walking demos record these (:data:`STANDARD_CHANNELS`); all SI, world frame, planar robots
+The walking demos record these (`STANDARD_CHANNELS`); all SI, world frame, planar robots
 moving along ``x`` with ``z`` up and pitch about ``y``:
 
 ====================  ======  ===========================================================
@@ -154,7 +154,7 @@ def resolve_step_states(log: WalkLog, step_states: Iterable[str] | None = None) 
 
     Returns:
         Names from ``step_states``, else ``metadata["step_states"]``, else
-        :func:`default_step_states` of the log's state names.
+        `default_step_states` of the log's state names.
 
     Raises:
         InvalidInputError: If a given name is not a state of the log (the message names it and

@@ -9,9 +9,9 @@ friction ratio ``sum_c |f_t,c| / sum_c f_n,c``: a load-weighted mean of its cont
 at most MuJoCo's friction coefficient, reaching it only when every loaded contact of the foot
 slides. The run's figures are the least normal force of a supporting foot (0: a foot that should
 carry load is off the ground or unloaded; negative is impossible in MuJoCo) and the largest
-friction ratio among supporting feet carrying at least :data:`NORMAL_FLOOR` newtons.
+friction ratio among supporting feet carrying at least `NORMAL_FLOOR` newtons.
 
-A foot is read from :data:`SETTLE_TIME` after it enters the support set: a touchdown is an
+A foot is read from `SETTLE_TIME` after it enters the support set: a touchdown is an
 impact (the swing foot arrives with some velocity and its first millisecond slides whatever the
 distribution asks); what is measured is the stance the controller is responsible for.
 """
@@ -21,11 +21,13 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-import mujoco
 import numpy as np
 
+from ..exceptions import import_optional
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
+
+mujoco = import_optional("mujoco", "sim", "Contact statistics (MuJoCo's contact forces)")
 
 #: Friction ratios are taken where the normal force is at least this [N].
 NORMAL_FLOOR = 1.0

@@ -1,9 +1,9 @@
-"""Summarise a recorded walking run (:class:`~virtual_actuators.experiments.walk_log.WalkLog`).
+"""Summarise a recorded walking run (`WalkLog`).
 
-:func:`compute_metrics` reduces a log to the numbers the seed reports for its walkers (seed
+`compute_metrics` reduces a log to the numbers the seed reports for its walkers (seed
 003, section 5: "walked continuously at approximately 0.5 m/s ... six steps in 4 s ... deviated a
 maximum of 3 cm from the nominal height ... pitch was confined to +-0.1 rad"), and
-:func:`write_json` stores them.
+`write_json` stores them.
 
 Time windows: ``startup_s`` is counted from the first tick. The *walking* ticks are those before
 the first fallen tick (all ticks when the robot did not fall). Speed, height and pitch statistics
@@ -64,7 +64,7 @@ class WalkMetrics:
         samples: Number of ticks in the log.
         step_states: The state names whose entries were counted as steps.
         stance_normal_min_n: Least normal force of a foot in support, measured in the
-            simulation [N] (see :mod:`~virtual_actuators.experiments.contact_stats`); None when
+            simulation [N] (see `contact_stats`); None when
             not measured.
         stance_friction_ratio_max: Largest tangential / normal force of a foot in support.
 
@@ -279,7 +279,7 @@ def compute_metrics(
             ``realtime_factor``.
         step_states: Names of the states whose entries count as steps (else
             ``metadata["step_states"]``, else
-            :func:`~virtual_actuators.experiments.channels.default_step_states`).
+            `default_step_states`).
 
     Returns:
         The metrics.
@@ -340,7 +340,7 @@ def write_json(metrics: WalkMetrics | Mapping[str, Any], path: str | os.PathLike
     """Write metrics to ``path`` as pretty JSON with sorted keys (NaN written as null).
 
     Args:
-        metrics: A :class:`WalkMetrics` or a dict of JSON-able values.
+        metrics: A `WalkMetrics` or a dict of JSON-able values.
         path: Destination file; parents are created.
 
     Returns:

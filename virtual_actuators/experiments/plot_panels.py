@@ -1,7 +1,7 @@
 """The panels of the walk plots: series with set points, states, step marks, falls, terrain.
 
-Shared by :mod:`~virtual_actuators.experiments.plots` and the hexapod's plots; every function
-draws on a matplotlib ``Axes`` it is given (:func:`new_figure` makes a figure without pyplot).
+Shared by `plots` and the hexapod's plots; every function
+draws on a matplotlib ``Axes`` it is given (`new_figure` makes a figure without pyplot).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from virtual_actuators.exceptions import import_optional
 from virtual_actuators.experiments.channels import resolve_step_states
 
 if TYPE_CHECKING:
@@ -58,7 +59,12 @@ FALL_LABEL = "fell"
 
 
 def new_figure(width: float, height: float, dpi: float = 100) -> Figure:
-    """A matplotlib figure on an Agg canvas of its own (no pyplot), size in inches."""
+    """A matplotlib figure on an Agg canvas of its own (no pyplot), size in inches.
+
+    Raises:
+        MissingDependencyError: matplotlib is not installed (the extra ``plots``).
+    """
+    import_optional("matplotlib", "plots", "Plots")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -111,7 +117,7 @@ def fit_text(fig: Figure, text: str, fontsize: float, share: float = 0.96) -> st
 
 
 def set_heading(fig: Figure, text: str, fontsize: float = 10) -> None:
-    """The figure's title, broken into lines that fit its width (:func:`fit_text`)."""
+    """The figure's title, broken into lines that fit its width (`fit_text`)."""
     fig.suptitle(fit_text(fig, text, fontsize), fontsize=fontsize)
 
 
@@ -221,8 +227,8 @@ def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
 def key_marks(fig: Figure, ax: Axes) -> None:
     """A legend under the figure for the marks every panel shares (the ones on ``ax``).
 
-    The step and double-support marks of :func:`mark_states` (lines or rows of ticks) and the
-    fall line of :func:`fall_marks`; nothing is added when ``ax`` has none of them.
+    The step and double-support marks of `mark_states` (lines or rows of ticks) and the
+    fall line of `fall_marks`; nothing is added when ``ax`` has none of them.
     """
     from matplotlib.lines import Line2D
 

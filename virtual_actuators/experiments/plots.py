@@ -1,6 +1,6 @@
 """Plot a recorded walking run like the seed's figures (seed 003, Fig. 9, 15 and 16).
 
-:func:`plot_walk` draws one of two layouts into a PNG:
+`plot_walk` draws one of two layouts into a PNG:
 
 ``"time"`` (Fig. 9, Spring Turkey on level ground), against time:
 
@@ -22,7 +22,7 @@ right. ``layout="auto"`` picks ``"terrain"`` when the log has terrain points, el
 Vertical lines mark entries into the step (single-support, dash-dot) and double-support (dotted)
 states, as in Fig. 15; when there are more than ``MAX_FULL_LINES`` (a long run), two rows of
 short ticks along the top edge of each panel instead (the panels are drawn by
-:mod:`~virtual_actuators.experiments.plot_panels`). Ticks after a fall are shaded red. A legend
+`plot_panels`). Ticks after a fall are shaded red. A legend
 under the panels names the marks. ``window=(t0, t1)`` plots part of a run, in simulated seconds;
 the title names it, and against x also the body's x range it covers in metres. Titles are broken
 into lines that fit the figure.
@@ -111,12 +111,12 @@ def plot_walk(
     """Plot a walking run in the style of the seed's Fig. 9 or Fig. 15/16 and save a PNG.
 
     Args:
-        log: The run, or the path of a log saved with :meth:`WalkLog.save_npz`.
+        log: The run, or the path of a log saved with `WalkLog.save_npz`.
         path: Destination PNG; parents are created.
         title: Figure title; default from the metadata (robot, terrain, speed set point).
         layout: ``"time"`` (Fig. 9), ``"terrain"`` (Fig. 15/16, against x; needs terrain points)
             or ``"auto"`` (``"terrain"`` when the log has terrain points).
-        metrics: When given, its :meth:`~WalkMetrics.summary` is added under the title.
+        metrics: When given, its `summary` is added under the title.
         state_lines: Mark entries into step and double-support states with vertical lines.
         dpi: Resolution of the PNG.
         max_points: Continuous channels are decimated to about this many points (the state plot
@@ -156,13 +156,13 @@ def draw_walk(
     max_points: int = 20000,
     window: tuple[float | None, float | None] | None = None,
 ) -> Figure:
-    """The figure :func:`plot_walk` saves (same arguments but the path), not yet drawn.
+    """The figure `plot_walk` saves (same arguments but the path), not yet drawn.
 
     Returns:
         A matplotlib figure on an Agg canvas of its own.
 
     Raises:
-        InvalidInputError: As :func:`plot_walk`.
+        InvalidInputError: As `plot_walk`.
 
     """
     log = _as_log(log)
@@ -354,13 +354,13 @@ def draw_terrain(
     title: str | None = None,
     dpi: float = 120,
 ) -> Figure:
-    """The figure :func:`plot_terrain` saves (same arguments but the path), not yet drawn.
+    """The figure `plot_terrain` saves (same arguments but the path), not yet drawn.
 
     Returns:
         A matplotlib figure on an Agg canvas of its own.
 
     Raises:
-        InvalidInputError: As :func:`plot_terrain`.
+        InvalidInputError: As `plot_terrain`.
 
     """
     terrain = check_terrain_points(points, "points")

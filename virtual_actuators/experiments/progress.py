@@ -24,7 +24,7 @@ class Progress:
         description: Text before the bar.
 
     Raises:
-        MissingDependencyError: tqdm is not installed (``virtual_actuators[sim]``).
+        MissingDependencyError: tqdm is not installed (the extra ``sim``).
 
     """
 

@@ -1,8 +1,8 @@
-"""Record a walking run one control tick at a time into a :class:`WalkLog`.
+"""Record a walking run one control tick at a time into a `WalkLog`.
 
 Rows live in one preallocated ``(capacity, channels)`` float64 array that doubles when full, so
 appending is amortised O(1). The channels, units and storage are described in
-:mod:`virtual_actuators.experiments.walk_log`.
+`virtual_actuators.experiments.walk_log`.
 """
 
 from __future__ import annotations
@@ -37,10 +37,10 @@ class Recorder:
 
     Args:
         channels: Float channel names; must include ``"time"``. ``"state"`` may be listed (it is
-            recorded separately either way). Defaults to :data:`STANDARD_CHANNELS`.
+            recorded separately either way). Defaults to `STANDARD_CHANNELS`.
         state_names: Names of the discrete states; ``state`` values index into them.
         capacity: Rows allocated up front (the buffer doubles when full).
-        metadata: Run description, copied; more can be added through :attr:`metadata`.
+        metadata: Run description, copied; more can be added through `metadata`.
 
     Raises:
         InvalidInputError: If a channel or state name is empty or repeated, ``"time"`` is
@@ -143,7 +143,7 @@ class Recorder:
         Channels left out stay NaN for this tick.
 
         Args:
-            state: Index into :attr:`state_names` (or the state's name); -1 (unknown) if omitted.
+            state: Index into `state_names` (or the state's name); -1 (unknown) if omitted.
             **values: Channel name -> value.
 
         Raises:
@@ -175,11 +175,11 @@ class Recorder:
         self._n = n + 1
 
     def append_row(self, row: Sequence[float] | np.ndarray, state: int | str | None = None) -> None:
-        """Record one tick from a full row of values in :attr:`channels` order.
+        """Record one tick from a full row of values in `channels` order.
 
         Args:
             row: ``(len(channels),)`` values.
-            state: Index into :attr:`state_names` (or the state's name); -1 (unknown) if omitted.
+            state: Index into `state_names` (or the state's name); -1 (unknown) if omitted.
 
         Raises:
             InvalidInputError: If ``row`` has the wrong length or the state is unknown.
@@ -211,7 +211,7 @@ class Recorder:
         self._n = n + 1
 
     def to_log(self) -> WalkLog:
-        """Return the rows recorded so far as a :class:`WalkLog` (copies; recording may go on).
+        """Return the rows recorded so far as a `WalkLog` (copies; recording may go on).
 
         Raises:
             InvalidInputError: If the recorded ``time`` is not finite and non-decreasing.

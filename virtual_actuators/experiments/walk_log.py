@@ -1,17 +1,17 @@
-"""A recorded walking run (:class:`WalkLog`): channels, states, metadata, ``.npz`` storage.
+"""A recorded walking run (`WalkLog`): channels, states, metadata, ``.npz`` storage.
 
-A :class:`~virtual_actuators.experiments.recorder.Recorder` holds a fixed set of named float
+A `Recorder` holds a fixed set of named float
 channels declared at construction, plus a discrete state (an index into ``state_names``) and a
 metadata dict; appending a tick costs about 2-4 µs of Python for the sixteen standard channels
 (1 µs as a row). A channel not given at a tick stays NaN.
 
-``Recorder.to_log`` returns a :class:`WalkLog`: one array per channel, the state indices, the
-state names and the metadata; :meth:`WalkLog.save_npz` and :meth:`WalkLog.load_npz` store it in
+``Recorder.to_log`` returns a `WalkLog`: one array per channel, the state indices, the
+state names and the metadata; `WalkLog.save_npz` and `WalkLog.load_npz` store it in
 a NumPy ``.npz`` file (no pickle; the format is in
-:mod:`~virtual_actuators.experiments.walk_log_io`).
+`walk_log_io`).
 
 The channels the walking demos record and the standard metadata keys are listed in
-:mod:`~virtual_actuators.experiments.channels`.
+`channels`.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ __all__ = [
 class WalkLog:
     """A recorded run: one float array per channel, the discrete state, and metadata.
 
-    Build one with :meth:`Recorder.to_log`, :meth:`from_arrays` or :meth:`load_npz`.
+    Build one with `Recorder.to_log`, `from_arrays` or `load_npz`.
 
     Attributes:
         data: Channel name -> ``(n,)`` float64 array, in declaration order; ``"time"`` [s] is
@@ -211,7 +211,7 @@ class WalkLog:
         return array is not None and bool(np.any(np.isfinite(array)))
 
     def state_index(self, name: str) -> int:
-        """Return the index of state ``name`` in :attr:`state_names`.
+        """Return the index of state ``name`` in `state_names`.
 
         Raises:
             InvalidInputError: If there is no such state (the message lists the valid ones).
@@ -261,7 +261,7 @@ class WalkLog:
         counts as an entry into the second.
 
         Args:
-            states: State names (each must be in :attr:`state_names`).
+            states: State names (each must be in `state_names`).
 
         Returns:
             ``(k,)`` increasing tick indices.
@@ -312,7 +312,7 @@ class WalkLog:
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:
-        """Read a log written by :meth:`save_npz`.
+        """Read a log written by `save_npz`.
 
         Args:
             path: The ``.npz`` file.

@@ -1,6 +1,6 @@
-"""The ``.npz`` file of a :class:`~virtual_actuators.experiments.walk_log.WalkLog`.
+"""The ``.npz`` file of a `WalkLog`.
 
-One compressed NumPy archive, read without pickle: ``format`` (:data:`NPZ_FORMAT`),
+One compressed NumPy archive, read without pickle: ``format`` (`NPZ_FORMAT`),
 ``channels`` (names), ``data`` (an ``(n, channels)`` matrix), ``state``, ``state_names``,
 ``metadata_json`` (the JSON-able metadata) and one ``meta_array__KEY`` array per metadata value
 that is a NumPy array.
@@ -94,7 +94,7 @@ def write_npz(log: WalkLog, path: str | os.PathLike[str]) -> Path:
 
 
 def read_npz(path: str | os.PathLike[str]) -> StoredLog:
-    """Read the parts of a log written by :func:`write_npz`.
+    """Read the parts of a log written by `write_npz`.
 
     Args:
         path: The ``.npz`` file.
@@ -132,7 +132,7 @@ def read_npz(path: str | os.PathLike[str]) -> StoredLog:
 
 
 def _json_default(value: Any) -> Any:
-    """Convert NumPy values and sets for :func:`json.dumps`."""
+    """Convert NumPy values and sets for `json.dumps`."""
     if isinstance(value, np.generic):
         return value.item()
     if isinstance(value, np.ndarray):

@@ -1,10 +1,10 @@
 """Walking gaits of the seeds' robots: a controller driven by a state machine.
 
-:class:`Gait` is the common machinery; :class:`TurkeyWalker` (Spring Turkey, VMC 5-6),
-:class:`FlamingoWalker` (Spring Flamingo, blind walking over slopes) and :class:`HexapodWalker`
+`Gait` is the common machinery; `TurkeyWalker` (Spring Turkey, VMC 5-6),
+`FlamingoWalker` (Spring Flamingo, blind walking over slopes) and `HexapodWalker`
 (the 1996 hexapod's tripod gait, VAC 4) are the gaits, each with its parameters dataclass; the
-hexapod's paths and tracking are :class:`VelocityCommand`, :class:`SinePath` and
-:class:`TrackObject`.
+hexapod's paths and tracking are `VelocityCommand`, `SinePath` and
+`TrackObject`.
 """
 
 from .base import Gait

@@ -22,7 +22,7 @@ def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
 
 
 def rotation_vector_angles(x: float, y: float, z: float) -> tuple[float, float, float]:
-    """:func:`yaw_pitch_roll` of the rotation vector ``(x, y, z)`` [rad], on floats.
+    """`yaw_pitch_roll` of the rotation vector ``(x, y, z)`` [rad], on floats.
 
     The entries of ``pinocchio.exp3`` that the angles read, with its operations in its order
     (``t^2 = |v|^2 + eps^2``, Taylor expansions below ``eps^(1/4)``), so the same bits as
@@ -60,7 +60,7 @@ def attitude_and_velocity(
 ) -> tuple[float, float, float, float, float]:
     """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
 
-    As :func:`yaw_pitch_roll` of :func:`rotation`, and
+    As `yaw_pitch_roll` of `rotation`, and
     ``(rotation(q) @ v[:3])[:2]``, on floats.
     """
     x, y, z, w = q[3:7].tolist()

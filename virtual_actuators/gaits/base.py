@@ -1,12 +1,12 @@
 """Common machinery of the gaits: a controller driven by a state machine, and a walk's record.
 
-A :class:`Gait` owns a :class:`~virtual_actuators.control.Controller` (actuators and components,
-declared once) and a :class:`~virtual_actuators.control.StateMachine` whose states select which
-attachments run. :meth:`Gait.compute` is the whole per-tick control law: update the machine on
-the tick's :class:`~virtual_actuators.control.Context`, reset the components of attachments that
-just became active, evaluate the active ones and return the joint efforts. A :class:`Walk` is
+A `Gait` owns a [`Controller`][] (actuators and components,
+declared once) and a [`StateMachine`][] whose states select which
+attachments run. `Gait.compute` is the whole per-tick control law: update the machine on
+the tick's [`Context`][], reset the components of attachments that
+just became active, evaluate the active ones and return the joint efforts. A `Walk` is
 what a gait's folder registers (its ``walk.py``): the robot, the defaults, the closed loop that
-runs it and how its result is plotted; :mod:`~virtual_actuators.gaits.registry` collects them.
+runs it and how its result is plotted; `registry` collects them.
 """
 
 from __future__ import annotations
@@ -27,18 +27,18 @@ from ..models.robot import Robot
 class Gait:
     """A controller and a state machine stepped together.
 
-    Subclasses build :attr:`controller` and :attr:`machine` in their constructor and call
-    :meth:`_finish` at the end.
+    Subclasses build `controller` and `machine` in their constructor and call
+    `_finish` at the end.
 
     Attributes:
         robot: The robot.
         controller: Actuators and components.
         machine: States and transitions.
-        wiring: The :class:`~virtual_actuators.MachineController` of the two (the tick).
+        wiring: The [`MachineController`][] of the two (the tick).
         step_states: States whose entries count as steps (single support).
         contact_frames: Frames whose contact switches the gait reads.
-        foot_contacts: Contact frames per support frame (see :meth:`support_contacts`).
-        last: The last :class:`ControlOutput`.
+        foot_contacts: Contact frames per support frame (see `support_contacts`).
+        last: The last [`ControlOutput`][].
 
     """
 
@@ -91,7 +91,7 @@ class Gait:
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
-        """One control tick: :meth:`MachineController.compute` of :attr:`wiring`.
+        """One control tick: [`MachineController.compute`][] of `wiring`.
 
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention).
@@ -100,7 +100,7 @@ class Gait:
             contacts: Contact switches by frame name (only the gaits that use switches need them).
 
         Returns:
-            The :class:`ControlOutput` (its ``tau`` goes to the motors).
+            The [`ControlOutput`][] (its ``tau`` goes to the motors).
 
         """
         self.last = self.wiring.compute(q, v, time, contacts)
@@ -115,7 +115,7 @@ DISTRIBUTIONS = ("partitioned", "qp")
 
 
 def check_distribution(distribution: object) -> bool:
-    """Whether ``distribution`` asks for the QP (checked: one of :data:`DISTRIBUTIONS`).
+    """Whether ``distribution`` asks for the QP (checked: one of `DISTRIBUTIONS`).
 
     Raises:
         InvalidInputError: Any other value.
@@ -144,12 +144,12 @@ class Walk:
 
     Attributes:
         name: Demo name on the command line.
-        robot: Robot name for :func:`~virtual_actuators.load_robot`.
-        run: The closed loop, called by :func:`~virtual_actuators.gaits.registry.run_walk` as
+        robot: Robot name for [`load_robot`][].
+        run: The closed loop, called by `run_walk` as
             ``run(walk, duration=, speed=, terrain=, progress=, on_tick=, stop_on_fall=, seed=,
             parameters=, distribution=, **options)`` with the duration and terrain resolved.
         parameters: The gait's parameters dataclass.
-        terrain: Default terrain (a :meth:`~virtual_actuators.simulation.Terrain.parse` spec).
+        terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
         plot: Draws a result: ``plot(result, path, window)`` returns the path written.
         description: One line for the command-line help.
@@ -164,7 +164,7 @@ class Walk:
         speeds: The supported desired speeds ``(low, high)`` [m/s]: the ends walk without
             falling in runs of the walk's default duration (None: the walk takes no speed).
         speeds_for: The supported speeds from the walk's options (the legged walk's depend
-            on ``robot`` and ``gait``); None: :attr:`speeds` whatever the options.
+            on ``robot`` and ``gait``); None: `speeds` whatever the options.
 
     """
 
@@ -191,7 +191,7 @@ class Walk:
         return self.speeds if self.speeds_for is None else self.speeds_for(**options)
 
     def check_speed(self, speed: float | None, **options: Any) -> None:
-        """Refuse a desired speed outside :meth:`speed_range` (None: the walk's default).
+        """Refuse a desired speed outside `speed_range` (None: the walk's default).
 
         Raises:
             InvalidInputError: ``speed`` is outside the supported range (its message names it).

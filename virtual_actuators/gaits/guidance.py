@@ -1,16 +1,16 @@
 """High-level inputs of a walk: paths and tracking turned into a velocity and a yaw rate.
 
-The hexapod's and the legged walkers (:class:`~virtual_actuators.gaits.hexapod.HexapodWalker`,
-:class:`~virtual_actuators.LeggedWalker`) take the body velocity in their heading frame and a
-yaw rate (the seed's three inputs). A :class:`Guidance` computes them every tick from the body's
-planar state (:class:`PlanarState`):
+The hexapod's and the legged walkers (`HexapodWalker`,
+[`LeggedWalker`][]) take the body velocity in their heading frame and a
+yaw rate (the seed's three inputs). A `Guidance` computes them every tick from the body's
+planar state (`PlanarState`):
 
-* :class:`VelocityCommand`: fixed inputs; the velocity is fixed in the body frame, so a yaw rate
+* `VelocityCommand`: fixed inputs; the velocity is fixed in the body frame, so a yaw rate
   ``w`` traces a circle of radius ``speed / w`` (the seed's line and circle);
-* :class:`SinePath`: the body travels ``y = A sin(2 pi x / L)`` from its start (axes of its
+* `SinePath`: the body travels ``y = A sin(2 pi x / L)`` from its start (axes of its
   initial heading) while holding its initial heading (the seed's sine wave, "facing a direction
   independent of its travel direction");
-* :class:`TrackObject`: an object moves on a circle; the body walks its commanded velocity while
+* `TrackObject`: an object moves on a circle; the body walks its commanded velocity while
   turning to face the object (yaw rate = bearing rate feed-forward + a proportional term).
 """
 
@@ -58,10 +58,10 @@ def _finite(what: str, **values: float) -> None:
 
 
 class Guidance:
-    """Computes the walker's inputs from the body's state (subclasses implement :meth:`command`).
+    """Computes the walker's inputs from the body's state (subclasses implement `command`).
 
     Attributes:
-        start: ``(x, y, yaw)`` of the body at :meth:`begin` [m, m, rad].
+        start: ``(x, y, yaw)`` of the body at `begin` [m, m, rad].
 
     """
 

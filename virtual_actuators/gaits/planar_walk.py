@@ -1,13 +1,13 @@
 """The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes.
 
-:func:`run_planar_walk` builds the robot, its gait and a
-:class:`~virtual_actuators.simulation.Simulator` (a :class:`PlanarEpisode`), then runs the
-control loop at 1 kHz (:func:`~virtual_actuators.gaits.runner.drive`): read ``q``, ``v`` and the
+`run_planar_walk` builds the robot, its gait and a
+[`Simulator`][] (a `PlanarEpisode`), then runs the
+control loop at 1 kHz (`drive`): read ``q``, ``v`` and the
 contact switches, let the gait compute the joint efforts, step the physics. Every tick is
-recorded (see :mod:`virtual_actuators.experiments.walk_log` for the channels); the result
+recorded (see `virtual_actuators.experiments.walk_log` for the channels); the result
 carries the log and its metrics (JSON-able), and can be plotted like the seed's Figs. 9 and 15
-(:func:`plot_planar_walk`). The robot is judged fallen by
-:func:`~virtual_actuators.gaits.runner.has_fallen`.
+(`plot_planar_walk`). The robot is judged fallen by
+`has_fallen`.
 """
 
 from __future__ import annotations
@@ -51,14 +51,14 @@ def run_planar_walk(
     parameters: object | None = None,
     distribution: str | None = None,
 ) -> WalkResult:
-    """Simulate a planar biped's walk and measure it (a :class:`Walk`'s ``run``).
+    """Simulate a planar biped's walk and measure it (a `Walk`'s ``run``).
 
     Args:
         walk: The walk (its robot, gait, push and defaults).
         duration: Simulated time [s].
         speed: Desired speed [m/s] (default: the gait's, 0.5 for the turkey, 0.4 for the
             flamingo).
-        terrain: A :class:`Terrain` or a spec for :meth:`Terrain.parse`: ``"flat"``, a built-in
+        terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][]: ``"flat"``, a built-in
             name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
         progress: Show a tqdm progress bar.
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
@@ -72,7 +72,7 @@ def run_planar_walk(
             wrench (overrides ``parameters.distribution``; default: the gait's).
 
     Returns:
-        The :class:`~virtual_actuators.gaits.runner.WalkResult`.
+        The `WalkResult`.
 
     Raises:
         InvalidInputError: Bad speed, terrain, seed, parameters or distribution.
@@ -155,10 +155,10 @@ def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
 
 
 class PlanarEpisode(Episode):
-    """A planar biped's walk under :func:`~virtual_actuators.gaits.runner.drive`.
+    """A planar biped's walk under `drive`.
 
-    Every tick is recorded (:data:`STANDARD_CHANNELS`); the stance forces are read every
-    :data:`STANCE_SAMPLING` ticks.
+    Every tick is recorded (`STANDARD_CHANNELS`); the stance forces are read every
+    `STANCE_SAMPLING` ticks.
     """
 
     stance_every = STANCE_SAMPLING
@@ -176,7 +176,7 @@ class PlanarEpisode(Episode):
         self.ground = 0.0  # [m], the terrain's height under the hip at this tick
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """The feet's contact switches (and the tick's :attr:`ground`)."""
+        """The feet's contact switches (and the tick's `ground`)."""
         self.ground = float(self.terrain.height(q.item(self.x_index)))
         return self.simulator.contact_switches(self.gait.contact_frames)
 
@@ -188,7 +188,7 @@ class PlanarEpisode(Episode):
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
-        """One row of :data:`STANDARD_CHANNELS`."""
+        """One row of `STANDARD_CHANNELS`."""
         gait, nan = self.gait, math.nan
         x, z_world, ground = q.item(self.x_index), q.item(self.z_index), self.ground
         wrench = _body_wrench(output)
@@ -236,7 +236,7 @@ def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:
 
 
 def draw_planar_walk(result: WalkResult, window=None):
-    """The matplotlib figure :func:`plot_planar_walk` saves."""
+    """The matplotlib figure `plot_planar_walk` saves."""
     from ..experiments.plots import draw_walk
 
     log = result.log

@@ -46,7 +46,7 @@ class Push(NamedTuple):
 
     @classmethod
     def of(cls, value: str | Push | tuple[float, ...]) -> Push:
-        """A push from its text, a :class:`Push` or ``(N, T)`` / ``(N, T, DEG)``.
+        """A push from its text, a `Push` or ``(N, T)`` / ``(N, T, DEG)``.
 
         Raises:
             InvalidInputError: Not finite numbers with ``N, T >= 0``, or a bad text.

@@ -1,7 +1,7 @@
-"""The walk registry: every gait folder's ``walk.py`` registers one :class:`Walk`.
+"""The walk registry: every gait folder's ``walk.py`` registers one `Walk`.
 
-:data:`WALKS` feeds the command line (``demo``, ``sweep``), the sweeps and the benchmarks;
-:func:`run_walk` runs any of them by name.
+`WALKS` feeds the command line (``demo``, ``sweep``), the sweeps and the benchmarks;
+`run_walk` runs any of them by name.
 """
 
 from __future__ import annotations
@@ -53,11 +53,11 @@ def run_walk(
     """Simulate one of the walks and measure it.
 
     Args:
-        name: A key of :data:`WALKS` (``"turkey-walk"``, ``"flamingo-slopes"``,
+        name: A key of `WALKS` (``"turkey-walk"``, ``"flamingo-slopes"``,
             ``"hexapod-walk"``, ``"legged"``, ``"balance"``).
         duration: Simulated time [s] (default: the walk's).
         speed: Desired speed [m/s] (default: the gait's).
-        terrain: A :class:`Terrain` or a spec for :meth:`Terrain.parse`: ``"flat"``, a built-in
+        terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][]: ``"flat"``, a built-in
             name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
         progress: Show a tqdm progress bar.
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
@@ -76,8 +76,8 @@ def run_walk(
             ``path``, ``yaw_rate``, ``pendulum``).
 
     Returns:
-        The walk's :class:`~virtual_actuators.gaits.runner.WalkResult` (the hexapod's is its
-        subclass :class:`~virtual_actuators.gaits.hexapod.walk.HexapodResult`: its own
+        The walk's `WalkResult` (the hexapod's is its
+        subclass `HexapodResult`: its own
         metrics, ``figures()`` and ``to_json()``, plus ``config``, ``ticks`` and ``trace()``).
 
     Raises:

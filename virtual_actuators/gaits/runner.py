@@ -1,13 +1,13 @@
 """The generic gait runner: every walk's closed loop, its result, the fall test and terrain.
 
-A walk prepares an :class:`Episode` (its robot, terrain, gait, simulator with the start-up push,
-recorder and stance-force reader: the planar bipeds' in :mod:`~virtual_actuators.gaits.planar_walk`,
-the hexapod's in :mod:`~virtual_actuators.gaits.hexapod.walk`); :func:`drive` runs it at the
+A walk prepares an `Episode` (its robot, terrain, gait, simulator with the start-up push,
+recorder and stance-force reader: the planar bipeds' in `planar_walk`,
+the hexapod's in `walk`); `drive` runs it at the
 control rate (read ``q``, ``v`` and the contact switches, let the gait compute the efforts, step
 the physics, sample the stance forces, test for a fall, record) and the walk summarises the log.
-Walks judge the robot fallen with :func:`has_fallen`: a part other than a foot touches the
+Walks judge the robot fallen with `has_fallen`: a part other than a foot touches the
 ground, the hip drops below half its nominal height above the terrain, or the body tilts beyond
-:data:`FALL_PITCH`.
+`FALL_PITCH`.
 """
 
 from __future__ import annotations
@@ -95,7 +95,7 @@ TRACE_CHANNELS = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy")
 
 
 def trace_of(log: WalkLog, extra: tuple[str, ...] = ()) -> dict[str, list]:
-    """A walk log's trace: ``t``, :data:`TRACE_CHANNELS` and ``extra`` lists, and ``state``."""
+    """A walk log's trace: ``t``, `TRACE_CHANNELS` and ``extra`` lists, and ``state``."""
     trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in TRACE_CHANNELS}}
     trace.update({name: log[name].tolist() for name in extra})
     trace["state"] = [log.state_names[i] for i in log.state]
@@ -116,7 +116,7 @@ def has_fallen(simulator: Simulator, height: float, pitch: float, nominal: float
     """Whether a walker fell (hip low, body tilted, or something else than a foot down).
 
     Fallen: the hip below half its ``nominal`` height above the terrain, the body tilted beyond
-    :data:`FALL_PITCH`, or a part other than a foot touching the ground.
+    `FALL_PITCH`, or a part other than a foot touching the ground.
 
     Args:
         simulator: The simulation (its terrain contacts).
@@ -142,20 +142,20 @@ def _is_foot(frame: str) -> bool:
 
 
 class Episode:
-    """One walk being run: what :func:`drive` steps, and the walk's own hooks.
+    """One walk being run: what `drive` steps, and the walk's own hooks.
 
-    A walk subclasses it with :meth:`sense`, :meth:`fallen` and :meth:`record`.
+    A walk subclasses it with `sense`, `fallen` and `record`.
 
     Args:
-        gait: The gait (its controller warmed up by :func:`drive`).
+        gait: The gait (its controller warmed up by `drive`).
         simulator: The simulation, reset and pushed.
         terrain: The terrain.
-        recorder: Where :meth:`record` writes.
+        recorder: Where `record` writes.
 
     Attributes:
         stance_every: Ticks between two readings of the stance forces.
-        record_every: Ticks between two calls of :meth:`record`.
-        ignore_unactuated: Passed to :meth:`Simulator.step`.
+        record_every: Ticks between two calls of `record`.
+        ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
 
     """
@@ -184,13 +184,13 @@ class Episode:
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
-        """Record a tick (every :attr:`record_every` ticks)."""
+        """Record a tick (every `record_every` ticks)."""
         raise NotImplementedError
 
 
 @dataclass(slots=True)
 class LoopEnd:
-    """How a run of :func:`drive` ended.
+    """How a run of `drive` ended.
 
     Attributes:
         ticks: Control ticks run.
@@ -223,12 +223,12 @@ def drive(
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
         gc_policy: Python's garbage collector during the loop (see
-            :mod:`~virtual_actuators.control.gc_policy`): ``"between-ticks"`` collects after
+            [`gc_policy`][virtual_actuators.control.gc_policy]): ``"between-ticks"`` collects after
             each tick's recording when CPython would have, never inside the gait's compute or
             the physics step; ``"python"`` leaves it alone.
 
     Returns:
-        The :class:`LoopEnd` (the recorder's metadata gets ``wall_time_s``).
+        The `LoopEnd` (the recorder's metadata gets ``wall_time_s``).
 
     Raises:
         InvalidInputError: An unknown ``gc_policy``.
@@ -258,7 +258,7 @@ def _loop(
 ) -> LoopEnd:
     """The control loop: read, contacts, compute, step, stance forces, fall test, record.
 
-    Then the garbage collector's turn (:meth:`LoopCollector.between_ticks`).
+    Then the garbage collector's turn ([`LoopCollector.between_ticks`][]).
     """
     gait, simulator = episode.gait, episode.simulator
     stance_every, record_every = episode.stance_every, episode.record_every

@@ -1,13 +1,13 @@
-"""The reference kernels' decorator :func:`njit`: numba when it is needed, plain Python without it.
+"""The reference kernels' decorator `njit`: numba when it is needed, plain Python without it.
 
 The package's kernels are written once, in Python, as plain loops (``@njit(cache=True)``). They
-are the reference of the compiled core's C++ ports (:mod:`virtual_actuators.native`):
+are the reference of the compiled core's C++ ports (`virtual_actuators.native`):
 
 * without the core (not built, or ``VA_CORE=0``) the library runs them, so numba is imported
   with the package and compiles each kernel on its first call (``cache=True``: once per
   machine);
 * with the core built the library calls its ports instead, and numba is not imported at all
-  (its import costs about 0.2 s): :func:`njit` returns a :class:`LazyKernel`, which imports
+  (its import costs about 0.2 s): `njit` returns a `LazyKernel`, which imports
   numba on the first call of any reference kernel (a test comparing both paths, a tool), then
   makes every reference kernel declared so far a numba dispatcher (each compiles on its first
   call, as usual) and rebinds the package's module globals to them, so that kernels calling
@@ -116,7 +116,7 @@ def njit(*args: Any, **options: Any) -> Any:
     """The reference kernels' ``njit``, used as ``@njit(cache=True)``.
 
     numba's own when the compiled core is missing (the library runs the kernels), a
-    :class:`LazyKernel` when the core is built (numba imported on a first call), the function
+    `LazyKernel` when the core is built (numba imported on a first call), the function
     itself without numba.
     """
     if args and callable(args[0]):

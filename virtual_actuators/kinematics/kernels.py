@@ -8,13 +8,13 @@ declared actuators need. It needs no ``pinocchio.Data``, so its memory is linear
 the tree, and it owns its outputs, so concurrent calls from several threads are independent.
 
 The kernels are compiled with numba when it is installed (``@njit(cache=True)``, from
-:mod:`~virtual_actuators.kinematics.jit`: numba is imported only when a reference kernel runs);
+`jit`: numba is imported only when a reference kernel runs);
 without numba they run as plain Python (correct, slow) and
-:class:`~virtual_actuators.kinematics.tree.KinematicTree` prefers Pinocchio instead. They are
+`KinematicTree` prefers Pinocchio instead. They are
 checked against Pinocchio in the tests.
 They are also the reference of the compiled core's C++ ports (``src/core/kinematics.hpp``),
-which the library calls when the core is built (:data:`finite`, :data:`velocity_of_point`,
-:class:`~virtual_actuators.kinematics.tree.KinematicTree`): both agree bit for bit
+which the library calls when the core is built (`finite`, `velocity_of_point`,
+`KinematicTree`): both agree bit for bit
 (``tests/test_core_parity.py``), and an edit here goes with the same edit there.
 
 Joint placements are stored as ``(n, 12)`` rows: the rotation matrix row by row (9 entries),
@@ -79,7 +79,7 @@ def forward_kinematics(
             joint; row 0 is the universe.
         joint_floats: ``(njoints, 27)`` placement ``P`` in the parent (rotation row by row,
             translation), the joint axis of 1-dof joints, and for revolute joints ``P [axis]x``
-            (row by row) and ``P axis`` (see :func:`revolute_terms`).
+            (row by row) and ``P axis`` (see `revolute_terms`).
         velocity_joint: ``(nv,)`` joint of each velocity index (non-decreasing: a joint's
             velocity indices follow its parent's, as in Pinocchio).
         velocity_subspace: ``(nv, 6)`` that velocity's motion subspace column in the joint's
@@ -91,8 +91,8 @@ def forward_kinematics(
         One buffer holding, in order: ``(njoints, 12)`` world placements of the joints,
         ``(6, nv)`` world joint Jacobian (linear rows first), ``(nf, 12)`` world placements of
         the requested frames and, with a velocity, ``(nf, 3)`` the linear velocities of their
-        origins in world axes (:func:`point_velocity`'s sums, in its order, with each joint's
-        twist accumulated once from its parent's). :func:`split_kinematics` cuts it.
+        origins in world axes (`point_velocity`'s sums, in its order, with each joint's
+        twist accumulated once from its parent's). `split_kinematics` cuts it.
 
     """
     njoints = joint_ints.shape[0]
@@ -254,7 +254,7 @@ def all_finite(values: np.ndarray) -> bool:
 
 
 def _numpy_finite(values: np.ndarray) -> bool:
-    """:func:`all_finite` without numba: numpy's ``isfinite``."""
+    """`all_finite` without numba: numpy's ``isfinite``."""
     return bool(np.isfinite(values).all())
 
 
@@ -295,7 +295,7 @@ def center_of_mass(
     """Centre of mass [m] in the world of the bodies carried by the joints.
 
     Args:
-        joints: ``(njoints, 12)`` world placements of the joints (:func:`forward_kinematics`).
+        joints: ``(njoints, 12)`` world placements of the joints (`forward_kinematics`).
         masses: ``(njoints,)`` mass of each joint's body [kg] (positive sum).
         levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
 

@@ -1,9 +1,9 @@
 """Relative kinematics of an action frame {B} with respect to reaction frames {A_i}, in {O}.
 
-One :class:`RelativeKinematics` serves a serial actuator (one reaction frame) or a parallel one
+One `RelativeKinematics` serves a serial actuator (one reaction frame) or a parallel one
 (several). Everything that depends only on the kinematic tree (which joints lie between {A_i}
-and {B}, with which sign) is computed once in the constructor; :meth:`RelativeKinematics.compute`
-reads the tick's :class:`~virtual_actuators.Snapshot` (one kinematics pass shared by every
+and {B}, with which sign) is computed once in the constructor; `RelativeKinematics.compute`
+reads the tick's [`Snapshot`][] (one kinematics pass shared by every
 actuator) and returns every chain's Jacobian at once.
 
 Conventions (VAC eq. 1-7): the twist of {B} relative to {A_i} is taken at {B}'s origin, with
@@ -32,7 +32,7 @@ from .tree import tree_of
 
 @dataclass(frozen=True)
 class KinematicState:
-    """What :meth:`RelativeKinematics.compute` returns for one configuration.
+    """What `RelativeKinematics.compute` returns for one configuration.
 
     Attributes:
         jacobian_o: ``(n, nv)`` rows ``axes`` of the world-frame joint Jacobians shifted to
@@ -43,7 +43,7 @@ class KinematicState:
         rotation_b: ``(3, 3)`` orientation of {B} in the world.
         position_a: ``(p, 3)`` positions of the reaction frames' origins in the world [m].
         rotation_a: ``(p, 3, 3)`` orientations of the reaction frames in the world.
-        snapshot: The :class:`~virtual_actuators.Snapshot` this was computed from.
+        snapshot: The [`Snapshot`][] this was computed from.
 
     """
 
@@ -66,7 +66,7 @@ _relative_sensor = relative_sensor if CORE is None else CORE.relative_sensor
 
 
 class Sensed(NamedTuple):
-    """A serial actuator's reading (:meth:`RelativeKinematics.sense`).
+    """A serial actuator's reading (`RelativeKinematics.sense`).
 
     Attributes:
         jacobian: ``(n, nv)`` twist of {B} relative to {A} at {B}'s origin, in {O}.
@@ -83,7 +83,7 @@ class Sensed(NamedTuple):
 class RelativeKinematics:
     """Jacobians and virtual sensors of {B} relative to each {A_i}, expressed in {O}.
 
-    Everything here reads a :class:`~virtual_actuators.Snapshot` (one kinematics pass per tick,
+    Everything here reads a [`Snapshot`][] (one kinematics pass per tick,
     shared by every actuator of the robot); nothing holds per-call state, so one instance can
     be used from several threads.
 
@@ -92,7 +92,7 @@ class RelativeKinematics:
         action_id: Frame id of {B}.
         reaction_ids: Frame ids of the {A_i}.
         reference_id: Frame id of {O}.
-        axes: Selected axes (an ordered subset of :data:`~virtual_actuators.AXES`).
+        axes: Selected axes (an ordered subset of [`AXES`][]).
 
     """
 
@@ -180,21 +180,21 @@ class RelativeKinematics:
         return Snapshot(self.robot, state)
 
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
-        """Return ``q`` checked (see :meth:`KinematicTree.check_configuration`)."""
+        """Return ``q`` checked (see `KinematicTree.check_configuration`)."""
         return self.tree.check_configuration(q)
 
     def check_velocity(self, v: np.ndarray) -> np.ndarray:
-        """Return ``v`` checked (see :meth:`KinematicTree.check_velocity`)."""
+        """Return ``v`` checked (see `KinematicTree.check_velocity`)."""
         return self.tree.check_velocity(v)
 
     def compute(self, state: np.ndarray | Snapshot) -> KinematicState:
         """Return the Jacobian rows in {O} and the frames' placements at a snapshot (or ``q``).
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot`, or a configuration ``(model.nq,)``.
+            state: A [`Snapshot`][], or a configuration ``(model.nq,)``.
 
         Returns:
-            The :class:`KinematicState`.
+            The `KinematicState`.
 
         """
         snapshot = self.snapshot(state)
@@ -225,7 +225,7 @@ class RelativeKinematics:
         """World orientations of {O} and of every {A_i}, without any Jacobian.
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` or a configuration ``(model.nq,)``.
+            state: A [`Snapshot`][] or a configuration ``(model.nq,)``.
 
         Returns:
             ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views of the snapshot: do not
@@ -245,11 +245,11 @@ class RelativeKinematics:
         """A serial actuator's reading in one compiled call: Jacobian, position, velocity.
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` (with ``v`` if ``velocity``) or ``q``.
+            state: A [`Snapshot`][] (with ``v`` if ``velocity``) or ``q``.
             velocity: Also compute ``jacobian @ v``.
 
         Returns:
-            The :class:`Sensed` reading of chain 0.
+            The `Sensed` reading of chain 0.
 
         Raises:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.

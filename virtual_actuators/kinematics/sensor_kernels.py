@@ -1,8 +1,8 @@
 """Compiled virtual sensor of a serial actuator: {B} relative to {A} in {O}, in one call.
 
-:func:`relative_sensor` reads a snapshot's world joint Jacobian and frame table (see
-:mod:`~virtual_actuators.kinematics.kernels`) and returns a serial actuator's Jacobian, position
-and velocity; :func:`rotation_log` is the rotation vector it uses for rotational axes. Compiled
+`relative_sensor` reads a snapshot's world joint Jacobian and frame table (see
+`kernels`) and returns a serial actuator's Jacobian, position
+and velocity; `rotation_log` is the rotation vector it uses for rotational axes. Compiled
 with numba when it is installed, plain Python otherwise; checked against Pinocchio in the tests.
 """
 

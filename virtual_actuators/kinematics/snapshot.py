@@ -1,11 +1,11 @@
-"""One kinematics pass per control tick: :class:`Snapshot`.
+"""One kinematics pass per control tick: [`Snapshot`][].
 
 A snapshot is built from a configuration ``q`` (and optionally a velocity ``v``) once per tick.
 Every actuator, sensor, event and component of that tick reads it, so the forward kinematics run
 once however many readers there are (pink's ``Configuration`` plays the same role). It computes
 lazily, on the first read: the world joint Jacobian (Pinocchio's ``data.J`` convention) and the
 placements of the frames that declared actuators need, in one call of the compiled kernel
-(:mod:`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
+(`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
 kernel does not handle (``backend="pinocchio"`` forces it).
 
 A snapshot owns what it computed: snapshots of the same robot can be used from several threads
@@ -42,10 +42,10 @@ class Snapshot:
     """The kinematics of a robot at one configuration, computed once and shared.
 
     Args:
-        robot: The robot (a :class:`~virtual_actuators.Robot`).
-        q: Configuration ``(model.nq,)``; the snapshot keeps a copy (:attr:`q`), so the
+        robot: The robot (a [`Robot`][]).
+        q: Configuration ``(model.nq,)``; the snapshot keeps a copy (`q`), so the
             caller may reuse its array.
-        v: Velocity ``(model.nv,)``, needed only for velocities; copied likewise (:attr:`v`).
+        v: Velocity ``(model.nv,)``, needed only for velocities; copied likewise (`v`).
         backend: ``"auto"`` (the compiled kernel when it handles every joint of the model,
             else Pinocchio), ``"compiled"`` or ``"pinocchio"``.
 
@@ -119,10 +119,9 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            kinematics = self.tree.compute(self.q, self.v)
-            self._joints, self._jacobian = kinematics.joints, kinematics.jacobian
-            self._frames, self._rows = kinematics.frames, kinematics.rows
-            self._frame_velocities = kinematics.velocities
+            (  # the Kinematics fields, in their order
+                self._joints, self._jacobian, self._frames, self._frame_velocities, self._rows
+            ) = self.tree.compute(self.q, self.v)
             return
         model = self.tree.model
         data = self.tree.thread_data()
@@ -213,6 +212,18 @@ class Snapshot:
         """
         return self._placement(self._frame_id(frame))
 
+    def _named_row(self, frame: object) -> int:
+        """The row of a frame given by a tabled name in this snapshot's table, else -1.
+
+        Computes the kinematics first when they have not run.
+        """
+        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is None:
+            return -1
+        if self._frames is None:
+            self._run()
+        return row if row < self._frames.shape[0] else -1
+
     def frame_position(self, frame: int | str) -> np.ndarray:
         """World position of a frame's origin [m] (a copy).
 
@@ -220,6 +231,14 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
+        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
+        if row is not None:  # a tabled frame by name: one row read (a tick's cost)
+            frames = self._frames
+            if frames is None:
+                self._run()
+                frames = self._frames
+            if row < frames.shape[0]:
+                return frames[row, 9:].copy()
         frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
         if self._frames is None:
             self._run()
@@ -247,6 +266,9 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
+        row = self._named_row(frame)
+        if row >= 0 and self._frame_velocities is not None:  # the compiled pass computed it
+            return self._frame_velocities[row].copy()
         frame_id = self._frame_id(frame)
         if self._frames is None:
             self._run()
@@ -267,8 +289,8 @@ class Snapshot:
     def center_of_mass(self) -> np.ndarray:
         """Centre of mass of the whole robot in the world [m], from this snapshot's kinematics.
 
-        The same point as :meth:`Robot.center_of_mass <virtual_actuators.Robot.center_of_mass>`
-        at :attr:`q`, without a second kinematics pass: the per-tick reading.
+        The same point as [`Robot.center_of_mass`][virtual_actuators.Robot.center_of_mass]
+        at `q`, without a second kinematics pass: the per-tick reading.
 
         Returns:
             ``(3,)`` position [m] in world axes.

@@ -1,9 +1,9 @@
 """Declaration-time tables of a robot's kinematic tree, shared by everything built on it.
 
-:class:`KinematicTree` reads a Pinocchio model once: joint kinds, placements and motion
-subspaces for the compiled kernel (:mod:`virtual_actuators.kinematics.kernels`), the frames
+`KinematicTree` reads a Pinocchio model once: joint kinds, placements and motion
+subspaces for the compiled kernel (`virtual_actuators.kinematics.kernels`), the frames
 that declared actuators and sensors need, the unit-norm slices of ``q``, and the columns that
-support each joint. One tree exists per robot (:func:`tree_of`); every snapshot of that robot
+support each joint. One tree exists per robot (`tree_of`); every snapshot of that robot
 uses it, so a control tick runs the kinematics once for all its readers.
 """
 
@@ -71,7 +71,7 @@ class Kinematics(NamedTuple):
 
 
 class JointTables(NamedTuple):
-    """The joint tables of :func:`~virtual_actuators.kinematics.kernels.forward_kinematics`.
+    """The joint tables of `forward_kinematics`.
 
     Attributes:
         joint_ints: ``(njoints, 3)`` parent, kind, ``idx_q``.
@@ -170,6 +170,8 @@ class KinematicTree:
         self._support: dict[int, np.ndarray] = {}
         self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
+        #: frame name -> its row in the kernel's frame output (rows never move once given)
+        self.name_rows: dict[str, int] = {}
 
     def frame_id(self, name: str) -> int:
         """Frame id of ``name`` (``"world"`` is 0), resolved once and computed every tick after.
@@ -182,6 +184,7 @@ class KinematicTree:
         if frame_id is None:
             frame_id = resolve_frame(self.model, name)
             self.require([frame_id])
+            self.name_rows[name] = self._frames[0][frame_id]
             self._names[name] = frame_id
         return frame_id
 
@@ -256,8 +259,8 @@ class KinematicTree:
         """Run the compiled kernel at ``q`` (and ``v``), both already checked.
 
         Returns:
-            The :class:`Kinematics` (see
-            :func:`~virtual_actuators.kinematics.kernels.forward_kinematics`).
+            The `Kinematics` (see
+            `forward_kinematics`).
 
         """
         rows, parents, floats = self._frames
@@ -375,10 +378,10 @@ _TREES_LOCK = threading.Lock()
 
 
 def tree_of(robot: object) -> KinematicTree:
-    """Return the :class:`KinematicTree` of a robot, built on first use and kept in its caches.
+    """Return the `KinematicTree` of a robot, built on first use and kept in its caches.
 
     Raises:
-        InvalidInputError: ``robot`` is not a :class:`~virtual_actuators.Robot`.
+        InvalidInputError: ``robot`` is not a [`Robot`][].
 
     """
     caches = getattr(robot, "caches", None)

@@ -1,28 +1,28 @@
 """Find robots by name: the project's robot folders, example-robot-data, or a path.
 
-:func:`~virtual_actuators.models.loader.load_robot` accepts a path to a URDF file or the name of a
+[`load_robot`][] accepts a path to a URDF file or the name of a
 known robot. Names are resolved in this order:
 
-1. ``"millipede"``: the generated robot of :func:`~virtual_actuators.models.millipede.millipede`
+1. ``"millipede"``: the generated robot of [`millipede`][virtual_actuators.millipede.millipede]
    (100 legs).
 2. The folders listed in the environment variable ``VIRTUAL_ACTUATORS_ROBOTS`` (separated by
-   :data:`os.pathsep`), then the repository's top-level ``robots/`` folder (:data:`robots_dir`).
+   `os.pathsep`), then the repository's top-level ``robots/`` folder (`robots_dir`).
    In each folder, robot ``NAME`` is ``NAME.urdf``, ``NAME/NAME.urdf``, ``NAME/urdf/NAME.urdf``
    or ``NAME/robots/NAME.urdf``, with an optional SRDF beside it (see
-   :mod:`~virtual_actuators.models.srdf`); or a Python package ``NAME/__init__.py`` (with no
+   `srdf`); or a Python package ``NAME/__init__.py`` (with no
    ``NAME.urdf``) that defines ``build_robot(floating_base: bool | None = None) -> Robot`` for
    robots generated in code.
 3. The URDF files shipped by example-robot-data, by file stem (``solo12``, ``talos_reduced``,
    ``ur5_robot``, ...), then by common name (``talos``, ``ur5``, ``hyq``, ``g1``...: the aliases
-   of :data:`~virtual_actuators.models.names.ALIASES`, which also explains which variant each
+   of `ALIASES`, which also explains which variant each
    one picks). Two files are called ``anymal.urdf``: ``anymal`` is ANYmal B and
    ``anymal_c`` is ANYmal C. ``ur3.urdf`` is an empty xacro stub that no URDF parser can load:
-   such a stub is left out of :func:`list_robots` and its name resolves to ``<stem>_robot.urdf``
+   such a stub is left out of [`list_robots`][] and its name resolves to ``<stem>_robot.urdf``
    from the same folder when that exists (``ur3`` loads ``ur3_robot.urdf``).
 
 A string is a path rather than a name when it contains a path separator, starts with ``~`` or
-ends in ``.urdf``, ``.xml`` or ``.xacro`` (:func:`as_path`); a folder given as a path stands for
-the one URDF it holds (:func:`urdf_in_folder`).
+ends in ``.urdf``, ``.xml`` or ``.xacro`` (`as_path`); a folder given as a path stands for
+the one URDF it holds (`urdf_in_folder`).
 """
 
 from __future__ import annotations
@@ -74,13 +74,13 @@ _PATH_SUFFIXES = (".urdf", ".xml", ".xacro")
 def list_robots(include_aliases: bool = False) -> list[str]:
     """List the robot names that can be loaded without a path.
 
-    :func:`~virtual_actuators.models.loader.load_robot` accepts each of them.
+    [`load_robot`][] accepts each of them.
 
     Args:
-        include_aliases: Also list the common names of :func:`aliases` (``talos``, ``ur5``...).
+        include_aliases: Also list the common names of `aliases` (``talos``, ``ur5``...).
 
     Returns:
-        Sorted names: the generated ``millipede``, the robots of :data:`robots_dir` and of the
+        Sorted names: the generated ``millipede``, the robots of `robots_dir` and of the
         folders in ``VIRTUAL_ACTUATORS_ROBOTS``, and every example-robot-data URDF that can be
         loaded (its empty xacro stubs are left out); with ``include_aliases``, the aliases too.
 
@@ -97,7 +97,7 @@ def aliases() -> dict[str, str]:
     """The common names that resolve to an example-robot-data robot, with its file-stem name.
 
     Returns:
-        ``{alias: name}`` for the aliases of :data:`~virtual_actuators.models.names.ALIASES`
+        ``{alias: name}`` for the aliases of `ALIASES`
         whose URDF the installed example-robot-data ships and that no robot file or folder
         shadows (a local robot named ``talos`` is loaded instead of the alias).
 

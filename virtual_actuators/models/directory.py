@@ -1,9 +1,9 @@
 """The robots that load by name, described: kind, degrees of freedom, legs and feet, aliases.
 
-:func:`describe_robots` loads each robot of :func:`~virtual_actuators.models.catalog.list_robots`
-and returns one :class:`RobotInfo` per robot; :func:`robot_table` formats them as the table of
+[`describe_robots`][] loads each robot of [`list_robots`][]
+and returns one [`RobotInfo`][] per robot; `robot_table` formats them as the table of
 ``python -m virtual_actuators robots``. The kind of an example-robot-data robot comes from the
-description folder it ships in (:data:`KINDS`: ``go2_description`` holds a quadruped); the kind
+description folder it ships in (`KINDS`: ``go2_description`` holds a quadruped); the kind
 of any other robot is read from its model (its feet, its floating base). Degrees of freedom are
 the actuated joint velocities: the model's ``nv`` without a free-flyer's 6 and without the SRDF's
 passive joints. Feet are the frames named like a foot (``foot``, ``feet``, ``sole``, ``toe``;
@@ -83,8 +83,8 @@ class RobotInfo:
     """One robot that loads by name.
 
     Attributes:
-        name: The name :func:`~virtual_actuators.load_robot` takes.
-        aliases: Its common names (:data:`~virtual_actuators.models.names.ALIASES`).
+        name: The name [`load_robot`][] takes.
+        aliases: Its common names (`ALIASES`).
         kind: ``quadruped``, ``biped``, ``humanoid``, ``arm``, ``hand``, ``aerial``...
         maker: Maker and model, when known (example-robot-data robots), else ``""``.
         dof: Actuated degrees of freedom.
@@ -150,7 +150,7 @@ def describe_robot(name: str) -> RobotInfo:
     """Load robot ``name`` and describe it.
 
     Args:
-        name: A name of :func:`~virtual_actuators.models.catalog.list_robots` or an alias.
+        name: A name of [`list_robots`][] or an alias.
 
     Returns:
         Its description.
@@ -204,11 +204,11 @@ def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:
 
     Args:
         names: Names to describe (default: every name of
-            :func:`~virtual_actuators.models.catalog.list_robots`, aliases listed with their
+            [`list_robots`][], aliases listed with their
             robot rather than on their own).
 
     Returns:
-        One :class:`RobotInfo` per name, in order.
+        One [`RobotInfo`][] per name, in order.
 
     Raises:
         RobotNotFoundError: A name is not known.
@@ -222,7 +222,7 @@ def robot_table(infos: Iterable[RobotInfo]) -> str:
     """The robots as a plain-text table: name, aliases, description.
 
     Args:
-        infos: The descriptions (:func:`describe_robots`).
+        infos: The descriptions ([`describe_robots`][]).
 
     Returns:
         One line per robot under a header, columns aligned.

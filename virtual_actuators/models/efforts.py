@@ -3,10 +3,10 @@
 Controllers clip to the URDF's effort limits, the contact QP bounds its torques by them and the
 simulator's motors saturate at them, so a limit a robot cannot have (solo12's URDF declares
 1000 N m on every joint of a 2.5 kg robot) silently turns all three off.
-:func:`implausible_effort_limits` reports the limits above :func:`effort_bound`: ten times the
+[`implausible_effort_limits`][] reports the limits above [`effort_bound`][]: ten times the
 torque that holds the robot's whole weight at arm's length, its extent from the base at its
 standing pose (a generous bound: real motors rarely reach a tenth of it).
-:func:`set_effort_limits` writes new limits into the model, which every controller, actuator and
+[`set_effort_limits`][] writes new limits into the model, which every controller, actuator and
 simulator built afterwards reads.
 """
 
@@ -32,7 +32,7 @@ def effort_bound(robot: Robot) -> float:
 
     Returns:
         ``EFFORT_MARGIN * mass * 9.81 * extent`` (extent: the farthest frame origin from the
-        root at :meth:`Robot.neutral`, at least 0.1 m).
+        root at [`Robot.neutral`][], at least 0.1 m).
 
     """
     model = robot.model
@@ -44,7 +44,7 @@ def effort_bound(robot: Robot) -> float:
 
 
 def implausible_effort_limits(robot: Robot) -> dict[str, float]:
-    """The driven one-degree-of-freedom joints whose effort limit exceeds :func:`effort_bound`.
+    """The driven one-degree-of-freedom joints whose effort limit exceeds [`effort_bound`][].
 
     Prismatic joints are held to ``EFFORT_MARGIN`` times the weight [N]; passive joints are
     not checked.

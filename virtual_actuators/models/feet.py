@@ -1,10 +1,10 @@
 """Which frames of a legged robot are its body and its feet.
 
-:func:`find_feet` answers from the robot's SRDF when it names them (``<end_effector>`` entries
+[`find_feet`][] answers from the robot's SRDF when it names them (``<end_effector>`` entries
 whose name or link says foot, sole or ankle), else from the frame names: frames called like a
 foot (``foot``, ``sole``, ``toe``; the ``FOOT`` frames of solo, ANYmal's ``LF_FOOT``...), keeping
 one per leg (the most distal foot-like frame of each chain from the body), else from the robot's
-structure (:func:`structural_feet`: the most distal link with collision geometry of each chain,
+structure ([`structural_feet`][]: the most distal link with collision geometry of each chain,
 keeping the chains that reach down to the ground at the robot's standing pose, so feet named
 ``*_paw`` are found). The body is the link carried by the floating base (``base_link``,
 ``pelvis``, ``trunk``...), or the first link of a fixed-base robot.
@@ -68,7 +68,7 @@ def find_feet(robot: Robot) -> Feet:
         robot: The robot.
 
     Returns:
-        The :class:`Feet`.
+        The `Feet`.
 
     Raises:
         FrameNotFoundError: The robot has fewer than two feet (an arm, a hand, a drone...): the
@@ -174,7 +174,7 @@ def structural_feet(robot: Robot) -> list[str]:
 
     Of the links with collision geometry, a distal one has no other such link further down its
     chain (on a descendant joint, or welded below it on the same joint). At the standing pose
-    (:meth:`Robot.neutral`), the distal links within :data:`FOOT_DEPTH_FRACTION` of the lowest
+    ([`Robot.neutral`][]), the distal links within `FOOT_DEPTH_FRACTION` of the lowest
     one's depth below the body are the feet (a humanoid's hands hang higher than its feet).
 
     Args:

@@ -1,12 +1,12 @@
 """Load robots by name or from any URDF file, with Pinocchio.
 
-:func:`load_robot` accepts a path to a URDF file or the name of a known robot. How names and paths
-are resolved is described in :mod:`~virtual_actuators.models.catalog` (``"millipede"``, the
+[`load_robot`][] accepts a path to a URDF file or the name of a known robot. How names and paths
+are resolved is described in `catalog` (``"millipede"``, the
 folders of ``VIRTUAL_ACTUATORS_ROBOTS`` and the repository's ``robots/`` folder, then
-example-robot-data); how ``floating_base=None`` is guessed in :func:`guess_floating_base`; where the
-standing poses and passive joints come from in :mod:`~virtual_actuators.models.srdf`; and which
-checks a URDF must pass before Pinocchio reads it in :mod:`~virtual_actuators.models.validation` and
-:mod:`~virtual_actuators.models.physics_checks` (with the example-robot-data exemptions).
+example-robot-data); how ``floating_base=None`` is guessed in `guess_floating_base`; where the
+standing poses and passive joints come from in `srdf`; and which
+checks a URDF must pass before Pinocchio reads it in `validation` and
+`physics_checks` (with the example-robot-data exemptions).
 """
 
 from __future__ import annotations
@@ -73,15 +73,15 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
     """Load a robot by name or from a URDF file.
 
     Args:
-        name_or_path: A path to a URDF file (a :class:`os.PathLike`, or a string that contains a
+        name_or_path: A path to a URDF file (a `os.PathLike`, or a string that contains a
             path separator, starts with ``~`` or ends in ``.urdf`` / ``.xml``; a folder works
-            when it holds one URDF), or a name from :func:`list_robots` (with
+            when it holds one URDF), or a name from [`list_robots`][] (with
             ``include_aliases=True``: common names such as ``"talos"``, ``"ur5"``, ``"hyq"``,
-            ``"g1"``, see :mod:`~virtual_actuators.models.names`).
+            ``"g1"``, see `names`).
         floating_base: True for a free-flyer root joint (``q`` starts with the base position
             and quaternion ``x y z qx qy qz qw``), False for a base welded to the world, None to
             guess: legged and flying robots float, arms and hands are fixed (see
-            :func:`guess_floating_base`).
+            `guess_floating_base`).
 
     Returns:
         The robot with its Pinocchio model and data, its URDF text and its SRDF poses;
@@ -98,7 +98,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             joint axis, a negative or NaN mass, a non-finite, negative or not positive
             semi-definite inertia, a limit with lower > upper, a mimic joint; the message names
             each offending link or joint, its value and what is valid; see
-            :mod:`~virtual_actuators.models.physics_checks` for the example-robot-data exemptions),
+            `physics_checks` for the example-robot-data exemptions),
             or Pinocchio cannot build a model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.
@@ -170,9 +170,9 @@ def _load_urdf(
 ) -> Robot:
     """Build the robot of one URDF file.
 
-    The physical checks of :func:`physics_problems` always run first, on the XML (strictly,
+    The physical checks of `physics_problems` always run first, on the XML (strictly,
     except for the curated example-robot-data files). ``validate`` then runs the structural
-    checks of :func:`validate_urdf` before Pinocchio (for URDF files given by path); otherwise
+    checks of `validate_urdf` before Pinocchio (for URDF files given by path); otherwise
     they run only to explain a file that Pinocchio rejects.
 
     Raises:
@@ -209,6 +209,7 @@ def _load_urdf(
             f"Pinocchio could not build a model from {path}: {exc}"
         ) from exc
 
+    model.name = name  # messages name the robot as the user did ("solo12"), not the URDF ("solo")
     srdf = find_srdf(path)
     configurations = reference_configurations(model, srdf)
     return Robot(

@@ -10,12 +10,12 @@ front pair. Each leg has two joints, a hip that swings the leg forward and back 
 
 The thigh reaches sideways (outwards, length ``leg_length``) and the shin hangs from the knee, so
 with every joint at zero the shins point straight down. In the standing pose
-(:meth:`Robot.neutral`) each knee is bent by ``knee_angle`` so that the foot is outboard of the
+([`Robot.neutral`][]) each knee is bent by ``knee_angle`` so that the foot is outboard of the
 knee, and the body is lifted so that all feet touch ``z = 0``. The hip moves the foot along ``x``
 and the knee in the leg's ``y-z`` plane: each leg can push in a two-dimensional subspace, and with
 the three zero moments of its point foot it has the seed's ``l = 4`` natural constraints.
 
-The URDF is built in code with :mod:`xml.etree.ElementTree` (so every name and value is escaped
+The URDF is built in code with `xml.etree.ElementTree` (so every name and value is escaped
 properly) and loaded with Pinocchio; masses and inertias follow the box, cylinder and sphere
 formulas, and the feet carry a tiny mass so that simulators that reject massless bodies load them.
 """
@@ -119,7 +119,7 @@ def _check_legs(legs: object) -> int:
 
 
 def _check_positive(**values: float) -> None:
-    """Raise :class:`InvalidInputError` unless every value is a finite number > 0."""
+    """Raise [`InvalidInputError`][] unless every value is a finite number > 0."""
     for name, value in values.items():
         if (
             isinstance(value, bool)
@@ -134,7 +134,7 @@ def _check_positive(**values: float) -> None:
 
 @dataclass(frozen=True, slots=True)
 class _LegDesign:
-    """The dimensions every leg of one millipede shares (see :func:`millipede_urdf`)."""
+    """The dimensions every leg of one millipede shares (see [`millipede_urdf`][])."""
 
     pairs: int
     spacing: float
@@ -229,10 +229,10 @@ def millipede_urdf(
     effort: float = 2.0,
     velocity: float = 10.0,
 ) -> str:
-    """Return the URDF text of a millipede with ``legs`` legs (see :func:`millipede`).
+    """Return the URDF text of a millipede with ``legs`` legs (see [`millipede`][]).
 
     Args:
-        legs: Number of legs, an integer from 1 to :data:`MAX_LEGS` (2000).
+        legs: Number of legs, an integer from 1 to `MAX_LEGS` (2000).
         spacing: Distance along ``x`` between successive leg pairs (m).
         body_width: Width of the body along ``y`` (m); the hips sit on its sides.
         body_height: Height of the body along ``z`` (m).
@@ -248,7 +248,7 @@ def millipede_urdf(
         The URDF document as a string.
 
     Raises:
-        InvalidInputError: If ``legs`` is not an integer from 1 to :data:`MAX_LEGS` or a
+        InvalidInputError: If ``legs`` is not an integer from 1 to `MAX_LEGS` or a
             dimension, mass or limit is not a finite positive number.
 
     """
@@ -302,24 +302,25 @@ def millipede(
     the front (``+x``).
 
     Args:
-        legs: Number of legs, an integer from 1 to :data:`MAX_LEGS` (2000: memory and time grow
+        legs: Number of legs, an integer from 1 to `MAX_LEGS` (2000: memory and time grow
             with the legs; 1000 legs build in about 0.5 s and 50 MiB, and a parallel actuator
             on all of them declares in about 0.8 s).
         floating_base: Whether ``body`` is attached to the world by a free-flyer joint (7 entries
             of ``q``) rather than welded to it.
         knee_angle: Knee bend of the standing pose (rad): left knees at ``+knee_angle``, right
             knees at ``-knee_angle``, so every foot is outboard of its knee (hips at zero).
-        **dimensions: Keyword arguments of :func:`millipede_urdf` (``spacing``, ``body_width``,
+        **dimensions: Keyword arguments of [`millipede_urdf`][] (``spacing``, ``body_width``,
             ``body_height``, ``leg_length``, masses, ``leg_radius``, ``effort``, ``velocity``).
 
     Returns:
-        The robot, named ``"millipede"``, whose :meth:`~Robot.neutral` is the standing pose
+        The robot, named ``"millipede"``, whose [`neutral`][virtual_actuators.Robot.neutral] is the
+            standing pose
         (reference configuration ``"standing"``). With a floating base the body stands at height
         ``leg_length cos(knee_angle)`` and every foot is on ``z = 0``; with a fixed base the
         body is at the origin and the feet are that far below it.
 
     Raises:
-        InvalidInputError: If ``legs`` is not an integer from 1 to :data:`MAX_LEGS` (``0``,
+        InvalidInputError: If ``legs`` is not an integer from 1 to `MAX_LEGS` (``0``,
             ``-1``, ``2.5``, ``"3"`` and ``10**9`` are all refused, before anything is built),
             ``knee_angle`` is not in ``(0, pi/2)``, ``floating_base`` is not a bool, or a
             dimension is not a finite positive number.

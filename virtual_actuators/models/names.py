@@ -1,8 +1,8 @@
 """Common names of the example-robot-data robots, and suggestions for a name that is not known.
 
-:func:`~virtual_actuators.models.loader.load_robot` finds a robot by the stem of its URDF file
+[`load_robot`][] finds a robot by the stem of its URDF file
 (``talos_reduced``, ``ur5_robot``, ``hyq_no_sensors``...) and also by the common names of
-:data:`ALIASES` (``talos``, ``ur5``, ``hyq``...). Each alias names one file stem; where a robot
+`ALIASES` (``talos``, ``ur5``, ``hyq``...). Each alias names one file stem; where a robot
 ships in several variants the alias picks the one example-robot-data's own Python loader picks
 (``example_robot_data.load("talos")``), so a model loaded here matches the one other
 Pinocchio tools load by the same name:
@@ -16,10 +16,10 @@ Pinocchio tools load by the same name:
   them); ``hyq`` is ``hyq_no_sensors``; ``solo8`` is ``solo``.
 
 A file stem is never shadowed by an alias (``iris`` is ``iris.urdf``, not ``iris_simple``), and a
-robot of a local folder (see :mod:`~virtual_actuators.models.catalog`) named like an alias wins
+robot of a local folder (see `catalog`) named like an alias wins
 over the alias.
 
-:func:`~virtual_actuators.exceptions.closest_names` ranks known names and aliases by edit
+`closest_names` ranks known names and aliases by edit
 distance (case, ``-`` and ``_`` ignored), so ``"talso"`` suggests ``talos`` and ``"ur_5"``
 suggests ``ur5``.
 """

@@ -1,13 +1,13 @@
 """Check a URDF for what Pinocchio would load silently but no robot can be.
 
-Every URDF, by path or by name, goes through :func:`physics_problems`, on the XML itself before
+Every URDF, by path or by name, goes through `physics_problems`, on the XML itself before
 Pinocchio reads it (Pinocchio loads a NaN mass as 0): a revolute, continuous, prismatic or planar
 joint with a zero or non-finite axis; a negative or non-finite mass; a non-finite inertia or a
 negative ``ixx``, ``iyy`` or ``izz``; a joint limit with ``lower > upper`` or a NaN bound; an
 inertia that is not positive semi-definite (beyond a round-off of ``max(1e-9 kg m^2, 1e-6 * largest
 principal moment)``); and ``<mimic>`` joints, which are not supported (remove the tag, or declare an
-:class:`~virtual_actuators.vocabulary.constraints.EqualTorque` design constraint to share the
-effort). Each gives a :class:`~virtual_actuators.exceptions.RobotDescriptionError` naming the link
+[`EqualTorque`][] design constraint to share the
+effort). Each gives a [`RobotDescriptionError`][] naming the link
 or joint, the bad value and what is valid. Zero masses, fixed joints with any axis, continuous
 joints without limits and ``lower == upper`` are valid. The curated example-robot-data files are
 exempt from the last two checks only: several ship gripper fingers as mimic joints (loaded as

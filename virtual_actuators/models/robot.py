@@ -1,4 +1,4 @@
-"""The :class:`Robot` container: a Pinocchio model with its name, description and poses."""
+"""The [`Robot`][] container: a Pinocchio model with its name, description and poses."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ class Robot:
         floating_base: Whether the root is a free-flyer joint (7 entries of ``q``, 6 of ``v``).
         reference_configurations: Named poses (from the SRDF's ``group_state`` entries or the
             robot's own description), each of size ``model.nq``.
-        default_pose: Key of ``reference_configurations`` that :meth:`neutral` returns, or None.
+        default_pose: Key of ``reference_configurations`` that [`neutral`][] returns, or None.
         passive_joints: Names of the joints that no actuator drives (the SRDF's
             ``passive_joint`` entries, e.g. the boom of a planar biped); empty by default.
         caches: What the library computes once per robot and keeps (its kinematic tree);
@@ -68,7 +68,7 @@ class Robot:
         """Centre of mass of the whole robot at configuration ``q``, in the world frame [m].
 
         The mass-weighted mean of every link's centre of mass (Pinocchio's ``centerOfMass``,
-        on a data of its own: :attr:`data` is left untouched). In a control tick, read
+        on a data of its own: `data` is left untouched). In a control tick, read
         ``Snapshot.center_of_mass()`` instead: the same point from the tick's kinematics pass.
 
         Args:
@@ -99,7 +99,7 @@ class Robot:
     def q(self, base: object = None, **joint_values: float) -> np.ndarray:
         """A configuration from joint names: ``robot.q(knee_1=0.5, hip2_1=-0.2)``.
 
-        Joints not named keep their value in :meth:`neutral` (the standing / home pose).
+        Joints not named keep their value in [`neutral`][] (the standing / home pose).
 
         Args:
             base: Floating base pose: 7 numbers ``x y z qx qy qz qw`` (a unit quaternion), or

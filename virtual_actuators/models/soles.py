@@ -1,10 +1,10 @@
 """Sole sizes from a foot's collision geometry.
 
-:func:`find_sole` reads the collision shapes of the link a foot frame is attached to (Pinocchio's
+[`find_sole`][] reads the collision shapes of the link a foot frame is attached to (Pinocchio's
 geometry model: boxes, spheres, cylinders, capsules and meshes), expresses their points in the
-foot frame, keeps the lowest ones (within :data:`SOLE_THICKNESS` of the lowest, along the frame's
+foot frame, keeps the lowest ones (within `SOLE_THICKNESS` of the lowest, along the frame's
 z: the sole's contact surface; a sphere counts by its lowest point) and returns the rectangle
-they span. A flat contact's sole is centred at its reaction frame, so :class:`Sole` also gives
+they span. A flat contact's sole is centred at its reaction frame, so [`Sole`][] also gives
 the largest rectangle centred at the frame origin that lies inside the footprint
 (``half_length``, ``half_width``: what ``ParallelVirtualActuator(soles=...)`` takes), and the
 footprint's centre (where a frame added for the contact would sit).
@@ -60,7 +60,7 @@ def find_sole(robot: Robot, foot: str) -> Sole:
         foot: The foot frame (its link's geometry counts, the link's fixed children included).
 
     Returns:
-        The :class:`Sole`.
+        The [`Sole`][].
 
     Raises:
         FrameNotFoundError: No such frame (with close matches), or its link has no collision

@@ -4,10 +4,10 @@ The SRDF of a URDF is ``STEM.srdf`` in the URDF's folder, in a ``srdf/`` folder 
 the ``srdf/`` folder of its parent (the layout of example-robot-data); failing that, the SRDF in
 those folders whose stem is the longest prefix of the URDF stem (``solo12`` uses ``solo.srdf``,
 ``talos_reduced`` uses ``talos.srdf``). Its ``group_state`` entries become
-:attr:`Robot.reference_configurations`, and :meth:`Robot.neutral` returns the first of
+`Robot.reference_configurations`, and [`Robot.neutral`][] returns the first of
 ``standing``, ``half_sitting``, ``straight_standing``, ``default``, ``home``, ``neutral`` that
 exists, else the first group state, else Pinocchio's neutral configuration. An SRDF that cannot be
-read is ignored. Its ``passive_joint`` entries become :attr:`Robot.passive_joints` (joints that
+read is ignored. Its ``passive_joint`` entries become `Robot.passive_joints` (joints that
 no actuator drives, such as the boom of a planar biped).
 """
 
@@ -97,7 +97,7 @@ def passive_joints(model: pin.Model, srdf: Path | None) -> tuple[str, ...]:
 
 
 def default_pose(configurations: Mapping[str, np.ndarray]) -> str | None:
-    """Pick the pose that :meth:`Robot.neutral` returns."""
+    """Pick the pose that [`Robot.neutral`][] returns."""
     for name in DEFAULT_POSE_NAMES:
         if name in configurations:
             return name

@@ -1,8 +1,8 @@
 """A standing pose for a legged robot whose description gives none.
 
-:func:`standing_pose` returns the SRDF's standing pose when the robot has one
-(:meth:`Robot.neutral`). Otherwise it builds one from the structure: each leg (the chain from the
-body to a foot of :func:`~virtual_actuators.models.feet.find_feet`) is folded so that its foot
+[`standing_pose`][] returns the SRDF's standing pose when the robot has one
+([`Robot.neutral`][]). Otherwise it builds one from the structure: each leg (the chain from the
+body to a foot of [`find_feet`][]) is folded so that its foot
 stays where it is in the all-zero pose horizontally (under the hip for the usual legs hanging
 down) and rises by ``1 - height_ratio`` of the hip-to-foot distance, knees bent the way the joint
 limits allow (a leg starts folded towards the larger side of each joint's range near zero). A
@@ -47,7 +47,7 @@ def standing_pose(
 
     Args:
         robot: A floating-base legged robot.
-        feet: Foot frames (default: :func:`~virtual_actuators.models.feet.find_feet`).
+        feet: Foot frames (default: [`find_feet`][]).
         height_ratio: Hip-to-foot height as a fraction of the all-zero pose's, in (0.3, 1].
         use_srdf: Return the SRDF's standing pose when the robot has one.
 

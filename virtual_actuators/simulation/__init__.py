@@ -1,8 +1,8 @@
 """MuJoCo simulation of any loaded robot, on flat or sloped terrain.
 
-:class:`Simulator` steps a robot driven by joint torques and reports its state in Pinocchio's
-conventions and its contacts by frame name; :class:`Terrain` describes the ground;
-:func:`build_mujoco_model` builds the MuJoCo model in code from the Pinocchio model; the
+[`Simulator`][] steps a robot driven by joint torques and reports its state in Pinocchio's
+conventions and its contacts by frame name; [`Terrain`][] describes the ground;
+[`build_mujoco_model`][] builds the MuJoCo model in code from the Pinocchio model; the
 ``conversions`` functions map configurations and velocities between the two libraries, the
 ``actuation`` ones joint torques and actuator controls.
 """

@@ -1,9 +1,9 @@
 """Joint efforts to MuJoCo actuator controls, and back.
 
 Every actuated joint has one ``motor`` actuator of gear 1 named after it (see
-:func:`~virtual_actuators.simulation.model.build_mujoco_model`), so a control is the joint's
+[`build_mujoco_model`][]), so a control is the joint's
 effort; the maps go through the joint names of a
-:class:`~virtual_actuators.simulation.model.MujocoModel`. A free-flyer and passive joints have no
+[`MujocoModel`][]. A free-flyer and passive joints have no
 actuator: an effort asked of them is an error unless the caller says to drop it.
 """
 

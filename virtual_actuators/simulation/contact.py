@@ -1,6 +1,6 @@
 """Contact settings of the MuJoCo model: friction, softness and which geoms collide.
 
-Contact model (:class:`ContactParameters`): MuJoCo soft contacts with friction 1.0, ``condim 3``
+Contact model ([`ContactParameters`][]): MuJoCo soft contacts with friction 1.0, ``condim 3``
 (no torsional or rolling friction), ``solref = (0.005 s, 1.0)`` (time constant and critical
 damping; the time constant must stay above two physics steps, here 10 steps of 0.5 ms) and the
 default ``solimp = (0.9, 0.95, 1 mm, 0.5, 2)``. This is stiff enough for walking robots: at

@@ -1,6 +1,6 @@
 """Contact queries of a simulation: which frames touch the terrain, and with what force.
 
-:class:`ContactQueries` is the part of :class:`~virtual_actuators.simulation.Simulator` that
+`ContactQueries` is the part of [`Simulator`][] that
 reads MuJoCo's contact list by Pinocchio frame name. The robot-terrain contacts are scanned once
 per physics state, keyed by ``(data.time, data.ncon)``; the answers derived from them (switches,
 touching frames) are cached with that scan.
@@ -22,8 +22,8 @@ __all__ = ["ContactQueries"]
 class ContactQueries:
     """Terrain-contact queries by frame name, over a MuJoCo model and its data.
 
-    A base of :class:`~virtual_actuators.simulation.Simulator`: the subclass sets
-    ``mujoco_model``, ``model`` and ``data``, then calls :meth:`_init_contact_queries`.
+    A base of [`Simulator`][]: the subclass sets
+    ``mujoco_model``, ``model`` and ``data``, then calls `_init_contact_queries`.
     """
 
     mujoco_model: MujocoModel
@@ -65,7 +65,7 @@ class ContactQueries:
         return geoms
 
     def _geoms_for_forces(self, frame: str) -> frozenset[int]:
-        """:meth:`_frame_geoms`, which must not be empty for a force.
+        """`_frame_geoms`, which must not be empty for a force.
 
         Raises:
             FrameNotFoundError: No such frame, or neither it nor its body has geometry.
@@ -135,7 +135,7 @@ class ContactQueries:
         """Whether a geom of a frame touches the terrain.
 
         A frame's geoms are those attached to it plus those its origin lies on (a heel frame
-        on a heel sphere); see :attr:`MujocoModel.frame_geoms`.
+        on a heel sphere); see `MujocoModel.frame_geoms`.
 
         Args:
             frame: Pinocchio frame name.
@@ -159,7 +159,7 @@ class ContactQueries:
     def contact_switches(self, frames: Sequence[str]) -> dict[str, bool]:
         """Whether each of several frames touches the terrain, in one pass over the contacts.
 
-        The same answers as :meth:`in_contact` for each frame (cheaper for several frames).
+        The same answers as [`in_contact`][] for each frame (cheaper for several frames).
 
         Args:
             frames: Pinocchio frame names.
@@ -171,6 +171,8 @@ class ContactQueries:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
 
         """
+        if frames.__class__ is tuple and not frames:  # no switch asked (the turkey has none)
+            return {}
         pairs = None
         if isinstance(frames, tuple):
             try:
@@ -221,7 +223,7 @@ class ContactQueries:
     def contact_forces(self, frames: Sequence[str]) -> np.ndarray:
         """Total terrain force on each of several frames' geoms, in world axes [N].
 
-        One pass over the contacts for all of them (cheaper than :meth:`contact_force` per
+        One pass over the contacts for all of them (cheaper than [`contact_force`][] per
         frame when a foot is made of several frames).
 
         Args:
@@ -271,7 +273,7 @@ class ContactQueries:
         return set(self.touching_frames())
 
     def touching_frames(self) -> frozenset[str]:
-        """:meth:`touching_terrain` as a frozenset, built once per physics state (not copied).
+        """[`touching_terrain`][] as a frozenset, built once per physics state (not copied).
 
         Returns:
             Frame names (a geom counts for its parent frame and every frame that owns it).

@@ -1,7 +1,7 @@
 """Convert configurations, velocities and torques between Pinocchio and MuJoCo conventions.
 
 Every conversion goes joint by joint through the index maps of a
-:class:`~virtual_actuators.simulation.model.MujocoModel` (built by joint name). Per joint:
+[`MujocoModel`][] (built by joint name). Per joint:
 
 ============  ===============================  ==========================================
 joint         Pinocchio                        MuJoCo
@@ -120,7 +120,7 @@ def gathers(mm: MujocoModel) -> Gathers:
         mm: The MuJoCo model and its maps.
 
     Returns:
-        Its :class:`Gathers`.
+        Its `Gathers`.
 
     """
     cached = mm.__dict__.get("_gathers")
@@ -372,7 +372,7 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
 
 
 def state_velocity(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
-    """:func:`velocity_from_mujoco` of MuJoCo's own state, unchecked (MuJoCo keeps it finite)."""
+    """`velocity_from_mujoco` of MuJoCo's own state, unchecked (MuJoCo keeps it finite)."""
     if (maps := gathers(mm)).direct_v is not None:  # no free joint: one gather
         return qvel[maps.direct_v]
     v = qvel[maps.gather_v]  # the free joints' angular velocities included
@@ -386,7 +386,7 @@ def _rotate_back(quat_wxyz: list[float], vector: list[float]) -> tuple[float, fl
     """``R^T vector`` for the rotation of a MuJoCo quaternion ``(w, x, y, z)`` (normalised).
 
     The world-frame linear velocity of a free joint into its body frame, on plain floats (a
-    tick's cost; the same matrix as :func:`_rotation_xyzw`).
+    tick's cost; the same matrix as `_rotation_xyzw`).
     """
     w, x, y, z = quat_wxyz
     scale = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)

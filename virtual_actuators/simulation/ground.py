@@ -1,8 +1,8 @@
 """The terrain geoms of the MuJoCo model, on the world body.
 
-A flat :class:`~virtual_actuators.simulation.terrain.Terrain` is one plane; a terrain profile is a
-row of boxes, one per segment, :data:`TERRAIN_THICKNESS` thick below the surface, with level runs
-of :data:`TERRAIN_RUN` before the first and after the last profile point.
+A flat [`Terrain`][] is one plane; a terrain profile is a
+row of boxes, one per segment, `TERRAIN_THICKNESS` thick below the surface, with level runs
+of `TERRAIN_RUN` before the first and after the last profile point.
 """
 
 from __future__ import annotations
@@ -96,7 +96,7 @@ def ground_clearance(
     """Least signed distance between the robot's geoms and the terrain's [m] (negative: inside).
 
     ``data`` must hold the geoms' placements (after ``mj_forward`` or ``mj_kinematics``).
-    Distances beyond :data:`CLEARANCE_RANGE` count as that range.
+    Distances beyond `CLEARANCE_RANGE` count as that range.
     """
     terrain = tuple(terrain)
     clearance = CLEARANCE_RANGE

@@ -13,7 +13,7 @@ from .simulator import Simulator
 
 
 class MujocoHardware:
-    """A :class:`Simulator` behind the two callbacks of a hardware control loop.
+    """A [`Simulator`][] behind the two callbacks of a hardware control loop.
 
     Args:
         simulator: The simulation that plays the robot.

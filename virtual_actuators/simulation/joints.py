@@ -2,8 +2,8 @@
 
 Each body is placed at ``model.jointPlacements`` relative to its parent joint's body and carries
 the joint's inertia ``model.inertias``; the joint at its origin keeps Pinocchio's name and type
-(:func:`joint_kind`), range, damping, dry friction and armature. :func:`add_actuators` adds one
-``motor`` per actuated joint (:func:`actuated_joints`).
+(`joint_kind`), range, damping, dry friction and armature. `add_actuators` adds one
+``motor`` per actuated joint (`actuated_joints`).
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ def _motion_axis(model: pin.Model, j: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | None) -> list[str]:
-    """Names of the actuated joints in Pinocchio order (see :func:`build_mujoco_model`)."""
+    """Names of the actuated joints in Pinocchio order (see [`build_mujoco_model`][])."""
     model = robot.model
     names = list(model.names)[1:]
     one_dof = {name for name, kind in zip(names, kinds, strict=True) if kind != "free"}
@@ -230,7 +230,7 @@ def balance_inertias(spec: mujoco.MjSpec, robot: Robot) -> None:
     """Let MuJoCo repair physically impossible inertias, with a warning naming them.
 
     A rotational inertia with a negative principal moment is clamped to zero (then raised to
-    :data:`BOUND_INERTIA`), and one that breaks the triangle inequality is balanced by MuJoCo's
+    `BOUND_INERTIA`), and one that breaks the triangle inequality is balanced by MuJoCo's
     ``balanceinertia``.
     """
     model = robot.model

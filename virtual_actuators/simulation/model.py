@@ -1,4 +1,4 @@
-"""Build a MuJoCo model of any loaded :class:`~virtual_actuators.Robot`, in code, with MjSpec.
+"""Build a MuJoCo model of any loaded [`Robot`][], in code, with MjSpec.
 
 The model is built from the robot's Pinocchio model (not with MuJoCo's URDF importer), so both
 describe exactly the same mechanism:
@@ -11,27 +11,27 @@ describe exactly the same mechanism:
   (``RX``, ``RY``, ``RZ``, unaligned) is a hinge, a continuous one (``RUBX``... whose ``q`` is
   ``(cos, sin)``) an unlimited hinge, a prismatic joint a slide, a free-flyer a free joint and a
   spherical joint a ball joint; any other joint type raises
-  :class:`~virtual_actuators.exceptions.RobotDescriptionError`;
+  [`RobotDescriptionError`][];
 * joint ranges from ``lowerPositionLimit`` / ``upperPositionLimit`` when they are finite and
   different (never for continuous or ball joints), ``model.damping`` as joint damping,
   ``model.friction`` as dry friction (``frictionloss``), ``model.armature`` as armature;
 * one ``motor`` actuator (gear 1, named after its joint) per actuated joint, its control range
   ``+-effortLimit`` when the limit is finite and positive. By default every 1-DoF joint not in
-  :attr:`Robot.passive_joints` is actuated; a free-flyer never is;
+  `Robot.passive_joints` is actuated; a free-flyer never is;
 * the collision geometry of the URDF read by Pinocchio (``pin.buildGeomFromUrdf``): boxes,
   spheres, cylinders, capsules and ellipsoids as MuJoCo primitives, binary STL and OBJ meshes as
   meshes (MuJoCo collides with their convex hull); other meshes (DAE, ASCII STL...) are skipped
   with a warning naming them;
 * one site per Pinocchio frame, named after the frame, to read frame placements and to push;
-* the :class:`~virtual_actuators.simulation.terrain.Terrain`, gravity from the Pinocchio model
+* the [`Terrain`][], gravity from the Pinocchio model
   (``-9.81 z`` by default).
 
-Contact model: :class:`ContactParameters` (see :mod:`~virtual_actuators.simulation.contact`).
+Contact model: [`ContactParameters`][] (see `contact`).
 The ``implicitfast`` integrator keeps large joint damping stable.
 
-The pieces are built by :mod:`~virtual_actuators.simulation.joints` (bodies, joints, actuators),
-:mod:`~virtual_actuators.simulation.geometry` (robot geoms and frame sites) and
-:mod:`~virtual_actuators.simulation.ground` (terrain geoms).
+The pieces are built by `joints` (bodies, joints, actuators),
+`geometry` (robot geoms and frame sites) and
+`ground` (terrain geoms).
 
 Every index map (Pinocchio ``q`` / ``v`` indices, MuJoCo ``qpos`` / ``qvel`` addresses, actuator
 ids) is computed by joint *name*, never by assuming the same ordering.
@@ -129,7 +129,7 @@ class MujocoModel:
         spec: The MjSpec it was compiled from.
         model: The compiled MuJoCo model.
         contact: The contact parameters used.
-        joints: One :class:`JointMap` per Pinocchio joint (universe excluded), Pinocchio order.
+        joints: One `JointMap` per Pinocchio joint (universe excluded), Pinocchio order.
         actuated: Names of the actuated joints, Pinocchio order.
         joint_bodies: MuJoCo body id of each Pinocchio joint index (index 0, the universe, is
             the world body).
@@ -228,7 +228,7 @@ def build_mujoco_model(
         timestep: Physics time step [s].
         actuated: Names of the joints driven by a motor; by default every 1-DoF joint not in
             ``robot.passive_joints``.
-        contact: Contact parameters; :class:`ContactParameters` defaults when None.
+        contact: Contact parameters; [`ContactParameters`][] defaults when None.
         collisions: Which robot geometry collides: ``"collision"`` (the URDF's collision
             shapes, readable meshes included; others are skipped with a warning naming them),
             ``"primitives"`` (the same without any mesh, silently),
@@ -297,7 +297,7 @@ def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) 
 
     Raises:
         InvalidInputError: If ``timestep`` is not a positive number, ``collisions`` not one of
-            :data:`COLLISION_CHOICES` or ``terrain`` not a :class:`Terrain`.
+            `COLLISION_CHOICES` or ``terrain`` not a [`Terrain`][].
 
     """
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):

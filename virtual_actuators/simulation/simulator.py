@@ -1,7 +1,7 @@
 """Simulate a loaded robot with MuJoCo: torques in, Pinocchio-convention state out.
 
-:class:`Simulator` builds the MuJoCo model of a robot on a terrain
-(:func:`~virtual_actuators.simulation.model.build_mujoco_model`) and steps it one control period
+[`Simulator`][] builds the MuJoCo model of a robot on a terrain
+([`build_mujoco_model`][]) and steps it one control period
 at a time with the joint torques held, which is how a controller running at ``control_rate``
 drives a robot. States are read and written in Pinocchio's conventions (``q``, ``v``), contacts
 are queried by Pinocchio frame name.
@@ -85,13 +85,13 @@ class Simulator(ContactQueries):
     Attributes:
         robot: The simulated robot.
         terrain: The ground.
-        mujoco_model: The :class:`~virtual_actuators.simulation.model.MujocoModel` (MuJoCo model
+        mujoco_model: The [`MujocoModel`][] (MuJoCo model
             plus the Pinocchio index maps).
         model: The MuJoCo ``MjModel``.
         data: The MuJoCo ``MjData`` (read it freely; write it only if you know MuJoCo: contact
             queries are cached per ``(data.time, data.ncon)``, so after changing the state by
-            hand, call :meth:`reset` or step).
-        control_period: Duration of one :meth:`step` [s].
+            hand, call [`reset`][] or step).
+        control_period: Duration of one [`step`][] [s].
         substeps: Physics steps per control period.
 
     Example:
@@ -125,10 +125,10 @@ class Simulator(ContactQueries):
             control_rate: Control frequency [Hz]; ``1 / control_rate`` must be a whole number
                 of physics steps.
             actuated: Joints driven by motors (see
-                :func:`~virtual_actuators.simulation.model.build_mujoco_model`); by default
+                [`build_mujoco_model`][]); by default
                 every 1-DoF joint not in ``robot.passive_joints``.
             contact: Contact parameters (defaults documented in
-                :class:`~virtual_actuators.simulation.model.ContactParameters`).
+                [`ContactParameters`][]).
             collisions: Which robot geometry collides (see ``build_mujoco_model``).
 
         Raises:
@@ -193,7 +193,7 @@ class Simulator(ContactQueries):
         Args:
             q: Configuration, size ``model.nq``; when None, ``robot.neutral()`` (the standing
                 pose when the robot has one), a floating base moved up or down so that its
-                lowest geometry rests on the terrain (:meth:`on_ground`).
+                lowest geometry rests on the terrain ([`on_ground`][]).
             v: Velocity, size ``model.nv``; zero when None.
 
         Raises:

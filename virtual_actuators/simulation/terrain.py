@@ -1,13 +1,13 @@
 """Terrain for the simulations: a piecewise-linear height profile ``z(x)`` along world x.
 
-A :class:`Terrain` is a list of points ``(x, z)`` in metres with strictly increasing ``x``. The
+A [`Terrain`][] is a list of points ``(x, z)`` in metres with strictly increasing ``x``. The
 height is linear between consecutive points and flat (constant) before the first point and after
 the last one, so a profile never has vertical steps. The profile does not depend on ``y``.
 
 The built-in profiles (``flat``, ``profile-one``, ``profile-two``, ``rolling``) and the text
-form of a terrain are in :mod:`~virtual_actuators.simulation.terrain_profiles`.
+form of a terrain are in `terrain_profiles`.
 
-In MuJoCo (:func:`~virtual_actuators.simulation.model.build_mujoco_model`) a flat terrain is a
+In MuJoCo ([`build_mujoco_model`][]) a flat terrain is a
 plane and any other profile is a chain of thin boxes, one per segment, whose top faces lie on the
 segments, plus 50 m long level boxes before the first and after the last point.
 """
@@ -64,7 +64,7 @@ def _pair(point: np.ndarray) -> str:
 class Terrain:
     """A piecewise-linear height profile ``z(x)`` [m] along world x, flat outside its points.
 
-    Build one with :meth:`flat`, :meth:`from_points`, :meth:`builtin` or :meth:`parse`.
+    Build one with [`flat`][], [`from_points`][], [`builtin`][] or [`parse`][].
 
     Attributes:
         name: A label (the built-in name, ``"flat"``, or ``"custom"``).
@@ -84,7 +84,7 @@ class Terrain:
 
         Args:
             points: Points ``(x, z)`` [m], at least one, ``x`` strictly increasing.
-            name: A label shown by :meth:`__repr__`.
+            name: A label shown by `__repr__`.
             width: Width along y of the MuJoCo terrain boxes [m], > 0.
 
         Raises:
@@ -136,7 +136,7 @@ class Terrain:
 
         Args:
             height: Ground height [m].
-            width: See :class:`Terrain` (unused by the MuJoCo plane).
+            width: See [`Terrain`][] (unused by the MuJoCo plane).
 
         Returns:
             The flat terrain.
@@ -155,7 +155,7 @@ class Terrain:
 
         Args:
             points: Pairs ``(x, z)`` [m] with strictly increasing ``x``.
-            width: See :class:`Terrain`.
+            width: See [`Terrain`][].
 
         Returns:
             The terrain, named ``"custom"``.
@@ -169,11 +169,11 @@ class Terrain:
 
     @classmethod
     def builtin(cls, name: str, *, width: float = DEFAULT_WIDTH) -> Terrain:
-        """One of the built-in profiles (see :meth:`names` and the module documentation).
+        """One of the built-in profiles (see [`names`][] and the module documentation).
 
         Args:
             name: ``"flat"``, ``"profile-one"``, ``"profile-two"`` or ``"rolling"``.
-            width: See :class:`Terrain`.
+            width: See [`Terrain`][].
 
         Returns:
             The terrain.
@@ -192,7 +192,7 @@ class Terrain:
 
     @staticmethod
     def names() -> tuple[str, ...]:
-        """Names of the built-in profiles accepted by :meth:`builtin` and :meth:`parse`."""
+        """Names of the built-in profiles accepted by [`builtin`][] and [`parse`][]."""
         return BUILTIN_NAMES
 
     @classmethod
@@ -200,12 +200,12 @@ class Terrain:
         """A terrain from a short text, as given on a command line.
 
         Accepted forms: ``"flat"``, ``"flat:HEIGHT"`` (level ground at ``HEIGHT`` m), a built-in
-        name (:meth:`names`), or points ``"x:z,x:z,..."`` in metres (for example
+        name ([`names`][]), or points ``"x:z,x:z,..."`` in metres (for example
         ``"0:0,2:0,3:0.27,4:0.27"``).
 
         Args:
             spec: The text.
-            width: See :class:`Terrain`.
+            width: See [`Terrain`][].
 
         Returns:
             The terrain.

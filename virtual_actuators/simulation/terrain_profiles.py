@@ -18,7 +18,7 @@ standing at ``x = 0``):
     Gentle rolling ground: after 2 m level, slopes of 5 and 10 degrees up and down over 1 m
     segments, 14 m in all.
 
-A terrain as text (:meth:`Terrain.parse <virtual_actuators.simulation.terrain.Terrain.parse>`)
+A terrain as text ([`Terrain.parse`][])
 is ``"flat"``, ``"flat:HEIGHT"``, a built-in name, or points ``"x:z,x:z,..."`` in metres.
 """
 
@@ -102,7 +102,7 @@ def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float,
     """Points of a built-in profile: (0, 0), (LEVEL_START, 0), then one point per segment.
 
     Args:
-        segments: ``(horizontal length [m], slope [deg])`` per segment, as in :data:`PROFILES`.
+        segments: ``(horizontal length [m], slope [deg])`` per segment, as in `PROFILES`.
 
     Returns:
         The points ``(x, z)`` [m].
@@ -152,7 +152,7 @@ def parse_points(text: str, spec: str) -> list[list[float]]:
         spec: The spec as given (quoted in the error).
 
     Returns:
-        The points ``[x, z]`` [m], in the order given (:class:`Terrain` checks that x
+        The points ``[x, z]`` [m], in the order given ([`Terrain`][] checks that x
         increases).
 
     Raises:

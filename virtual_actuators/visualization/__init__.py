@@ -5,23 +5,23 @@ solution, actuator=...)`` or ``viewer.show(q, controller=..., output=..., state=
 frame; ``viewer.start_recording()`` then ``viewer.save_html("run.html")`` writes a standalone
 animated page. Modules:
 
-- :mod:`.geometry`: shapes (cone, plane, text, coil) and the pure functions that place them;
-- :mod:`.bodies`: the robot's URDF visuals or a skeleton of its kinematic tree;
-- :mod:`.meshes`: the URDF's mesh files as decimated triangle meshes (small pages);
-- :mod:`.scene`: node bookkeeping (created once, per-frame transforms and visibility);
-- :mod:`.robot_scene`: the robot in the scene (kinematics, sizes, camera, ground) and the
+- `geometry`: shapes (cone, plane, text, coil) and the pure functions that place them;
+- `bodies`: the robot's URDF visuals or a skeleton of its kinematic tree;
+- `meshes`: the URDF's mesh files as decimated triangle meshes (small pages);
+- `scene`: node bookkeeping (created once, per-frame transforms and visibility);
+- `robot_scene`: the robot in the scene (kinematics, sizes, camera, ground) and the
   drawing primitives (arrows, triads, spans, markers);
-- :mod:`.snapshot`: :class:`FrameSnapshot`, what one frame draws, checked;
-- :mod:`.overlays`: what is drawn over the robot, one :class:`Overlay` each (wrenches,
+- `snapshot`: `FrameSnapshot`, what one frame draws, checked;
+- `overlays`: what is drawn over the robot, one `Overlay` each (wrenches,
   components, effort gauges, support feet, state name, legend);
-- :mod:`.windows`, :mod:`.live`, :mod:`.page`: where commands go (a recorder, an offline mirror,
+- `windows`, `live`, `page`: where commands go (a recorder, an offline mirror,
   a server through a relay) and the standalone HTML page;
-- :mod:`.recording`: frames to a MeshCat animation;
-- :mod:`.legend`: colours and the legend;
-- :mod:`.viewer`: :class:`Viewer` and the ``on_tick`` adapter :class:`TickUpdater`.
+- `recording`: frames to a MeshCat animation;
+- `legend`: colours and the legend;
+- `viewer`: `Viewer` and the ``on_tick`` adapter `TickUpdater`.
 
-A new kind of drawing is a subclass of :class:`Overlay` (``draw(scene, frame)``) passed to
-:meth:`Viewer.add_overlay`.
+A new kind of drawing is a subclass of `Overlay` (``draw(scene, frame)``) passed to
+`Viewer.add_overlay`.
 """
 
 from ..exceptions import import_optional

@@ -1,15 +1,15 @@
 """The robot's bodies in the scene: its URDF visuals, or a skeleton built from its kinematic tree.
 
-Every shape is a :class:`Part`: a MeshCat object attached to a Pinocchio joint with a fixed
+Every shape is a `Part`: a MeshCat object attached to a Pinocchio joint with a fixed
 placement (scale included, except for decimated meshes: they are scaled already). After forward
 kinematics its world matrix is ``data.oMi[joint].homogeneous @ placement``.
 
 - URDF visuals (``geometry="urdf"``): mesh files (STL, OBJ, Collada) are sent as decimated
-  triangle meshes (:mod:`.meshes`: binary arrays, several times smaller than the files; a file
+  triangle meshes (`meshes`: binary arrays, several times smaller than the files; a file
   it cannot read is sent as it is) and primitive shapes (boxes, spheres, cylinders, capsules,
   cones, ellipsoids: the seeds' robots and the millipede) are built here; any other geometry is
   left to Pinocchio's ``MeshcatVisualizer``. Every part is drawn in its URDF colour desaturated
-  (:func:`~.colors.desaturate`), so that no overlay colour equals a robot colour; Collada meshes
+  (`desaturate`), so that no overlay colour equals a robot colour; Collada meshes
   too (their embedded materials and textures are replaced by that colour).
 - Skeleton (``geometry="skeleton"``, or ``"auto"`` for a URDF without any ``<visual>``): a
   sphere at every joint, a cylinder from each joint to its children, a cylinder and a sphere to

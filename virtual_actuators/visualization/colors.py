@@ -1,8 +1,8 @@
 """Colour distances in CIELAB, and the desaturation that keeps the robot apart from the overlays.
 
 The viewer draws the robot in its URDF colours with their chroma (CIELAB ``sqrt(a^2 + b^2)``)
-limited to :data:`ROBOT_MAX_CHROMA`, and every overlay colour of the
-:class:`~.legend.Palette` has a chroma of at least :data:`OVERLAY_MIN_CHROMA`. Two colours
+limited to `ROBOT_MAX_CHROMA`, and every overlay colour of the
+`Palette` has a chroma of at least `OVERLAY_MIN_CHROMA`. Two colours
 differ at least by their chroma difference, so an overlay colour is always at least
 ``OVERLAY_MIN_CHROMA - ROBOT_MAX_CHROMA`` (CIE76 Delta E) from any robot colour: a clearly
 visible difference (2.3 is a just-noticeable one), whatever colours a URDF declares.

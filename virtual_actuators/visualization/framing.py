@@ -1,12 +1,12 @@
 """Frame a recording on the robot over the whole run: the box holding its bodies in every frame.
 
-A live view is framed on the robot at its neutral configuration (:class:`~.robot_scene.
-RobotScene`); a recorded run can leave that frame (a walk rises onto a slope, arms swing up).
-While recording, :class:`RunBounds` accumulates the box of the robot's visible bodies in the
+A live view is framed on the robot at its neutral configuration (`RobotScene`); a recorded run can
+leave that frame (a walk rises onto a slope, arms swing up).
+While recording, `RunBounds` accumulates the box of the robot's visible bodies in the
 view's coordinates (the scene node's own placement included, which keeps a travelling robot
 centred). Overlays are not counted: a world frame left behind by a walking robot, or a long
 arrow, would pull the view off the robot (the state name stands beside the robot's upper half).
-:func:`framing_commands` then places the camera so that a sphere around that box fits the
+`framing_commands` then places the camera so that a sphere around that box fits the
 view, and shifts the scene so that the box is centred on the point MeshCat's orbit controls
 look at (the origin: they cannot be retargeted).
 """

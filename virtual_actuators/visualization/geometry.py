@@ -3,10 +3,10 @@
 three.js (and so MeshCat) builds cylinders and cones along their local **y** axis, centred on
 the origin. Every elongated shape here (arrow shafts and heads, spring coils, damper parts,
 skeleton links) is therefore drawn with a matrix ``[R diag(1, length, 1) | centre]`` where ``R``
-turns y onto the shape's direction: :func:`rotation_y_to` and :func:`span_matrix` compute it,
-:func:`arrow_matrices` lays out an arrow whose tip lands exactly on ``origin + vector``.
+turns y onto the shape's direction: `rotation_y_to` and `span_matrix` compute it,
+`arrow_matrices` lays out an arrow whose tip lands exactly on ``origin + vector``.
 
-:func:`terrain_boxes` lays a ground profile out as slabs.
+`terrain_boxes` lays a ground profile out as slabs.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def span_matrix(start: np.ndarray, end: np.ndarray, rotation: np.ndarray | None 
 
     Returns:
         ``(4, 4)`` matrix ``[R diag(1, L, 1) | (start + end) / 2]``, or None when the two points
-        are closer than :data:`MIN_LENGTH`.
+        are closer than `MIN_LENGTH`.
 
     """
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
@@ -87,7 +87,7 @@ def arrow_matrices(
 
     The shaft is a unit-height cylinder stretched along the arrow; each head is a cone of
     height ``head_length`` (scaled down uniformly when the arrow is shorter than
-    ``(heads + 1) * head_length``). A second head (moments) sits :data:`HEAD_SPACING` head
+    ``(heads + 1) * head_length``). A second head (moments) sits `HEAD_SPACING` head
     lengths behind the first.
 
     Args:
@@ -98,7 +98,7 @@ def arrow_matrices(
 
     Returns:
         ``[shaft, head, (second head)]`` ``(4, 4)`` matrices, or None for a vector shorter than
-        :data:`MIN_LENGTH`.
+        `MIN_LENGTH`.
 
     """
     origin, vector = np.asarray(origin, dtype=float), np.asarray(vector, dtype=float)
@@ -129,7 +129,7 @@ def arrow_tip(shaft: np.ndarray, head: np.ndarray, head_length: float) -> np.nda
     """Recover the tip of an arrow from its shaft and first-head matrices (for tests).
 
     Args:
-        shaft: Shaft placement from :func:`arrow_matrices`.
+        shaft: Shaft placement from `arrow_matrices`.
         head: First head placement.
         head_length: Nominal head length used to build them.
 

@@ -1,7 +1,7 @@
 """Colours and the legend: what each colour and size means, as text, HTML and scene objects.
 
 The legend lists only what was drawn: overlays mark the palette entries they use on the scene
-(:meth:`~.robot_scene.RobotScene.mark`), and :func:`legend_entries` keeps those.
+(`mark`), and `legend_entries` keeps those.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ class Palette:
     """Colours (``0xRRGGBB``) of everything the viewer draws over the robot.
 
     Every default colour has a CIELAB chroma of at least
-    :data:`~.colors.OVERLAY_MIN_CHROMA` (the robot is drawn with at most
-    :data:`~.colors.ROBOT_MAX_CHROMA`, so no overlay colour equals a robot colour) and any two
+    `OVERLAY_MIN_CHROMA` (the robot is drawn with at most
+    `ROBOT_MAX_CHROMA`, so no overlay colour equals a robot colour) and any two
     differ by a CIE76 Delta E of at least 25 (no two near-identical oranges).
 
     Attributes:
@@ -84,7 +84,7 @@ def legend_entries(
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
         effort_reference: Effort shown as a full gauge at joints without a limit [N m or N].
-        drawn: Keys of what was drawn: :class:`Palette` field names, ``"no_limit"`` (a gauge
+        drawn: Keys of what was drawn: `Palette` field names, ``"no_limit"`` (a gauge
             at a joint without an effort limit) and ``"frames"`` (triads). None: every entry.
 
     """

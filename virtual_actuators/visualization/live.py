@@ -1,7 +1,7 @@
 """The live window: a MeshCat server fed through a relay process, and fast transform packing.
 
-:class:`LiveWindow` packs the commands (``set_transform`` by a fast path that skips umsgpack),
-queues them, and writes each frame's batch to :mod:`.relay` in one pipe write.
+`LiveWindow` packs the commands (``set_transform`` by a fast path that skips umsgpack),
+queues them, and writes each frame's batch to `relay` in one pipe write.
 """
 
 from __future__ import annotations
@@ -25,11 +25,11 @@ class LiveWindow(SceneWindow):
     """A MeshCat server, fed through a relay process that never makes the caller wait.
 
     MeshCat's own client waits for the server's reply after every command. This window packs
-    the commands (transforms by a fast path), queues them, and on :meth:`commit` writes the
-    whole batch to a small relay process (:mod:`.relay`) in one pipe write; the relay sends them
+    the commands (transforms by a fast path), queues them, and on `commit` writes the
+    whole batch to a small relay process (`relay`) in one pipe write; the relay sends them
     to the server without waiting and reports how many were answered. The control loop thus
     pays the packing and one write per frame; when more than ``max_backlog`` commands are
-    unanswered the window is :attr:`congested` and the viewer skips live frames until the server
+    unanswered the window is `congested` and the viewer skips live frames until the server
     catches up.
 
     Args:

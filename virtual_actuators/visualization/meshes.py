@@ -3,11 +3,11 @@
 Pinocchio loads every mesh file of a URDF (STL, OBJ, Collada) through coal into a triangle
 model, already scaled by the URDF's ``scale``. Sending the files themselves makes heavy pages:
 Collada is XML, and the go2's 17 visuals were 11 MB of it (a 15.7 MB page for two seconds of
-walking). Here the loaded triangles are read back (:func:`mesh_arrays`), vertices closer than a
-tolerance are merged (:func:`decimate`, vertex clustering: a cell of a grid becomes one vertex,
+walking). Here the loaded triangles are read back (`mesh_arrays`), vertices closer than a
+tolerance are merged (`decimate`, vertex clustering: a cell of a grid becomes one vertex,
 triangles that collapse are dropped) and the result is sent as binary arrays
-(:class:`TriangleMesh`: float32 positions, 16-bit indices when they fit, no normals: the browser
-shades each face flat). :class:`MeshCache` decimates each file once, however many links use it.
+(`TriangleMesh`: float32 positions, 16-bit indices when they fit, no normals: the browser
+shades each face flat). `MeshCache` decimates each file once, however many links use it.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """When a drawn frame is sent to the live window and when it is added to the recording.
 
-:class:`FramePacer` throttles live updates to ``rate_hz`` frames per wall-clock second (skipping
+`FramePacer` throttles live updates to ``rate_hz`` frames per wall-clock second (skipping
 frames while a live server lags) and paces recorded frames at the recording's fps, by the
 frames' own time (e.g. simulated time) or by the wall clock.
 """
@@ -82,7 +82,7 @@ class FramePacer:
             self._record(time)
 
     def start_recording(self, fps: float = 30.0) -> None:
-        """Record the following published frames (see :meth:`Viewer.start_recording`).
+        """Record the following published frames (see `Viewer.start_recording`).
 
         Raises:
             InvalidInputError: ``fps`` is not a positive number.

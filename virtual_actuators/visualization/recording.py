@@ -1,8 +1,8 @@
 """Recording a run as a MeshCat animation, written into a standalone HTML page.
 
-:class:`AnimationRecording` takes the scene's state (world matrix of every placed node,
+`AnimationRecording` takes the scene's state (world matrix of every placed node,
 visibility of every dynamic node) at each recorded frame and keeps only what changed. Its
-:meth:`~AnimationRecording.command` is a MeshCat ``set_animation`` command with one clip per
+`command` is a MeshCat ``set_animation`` command with one clip per
 node: ``.position``, ``.quaternion`` and (for stretched shapes such as arrows) ``.scale`` tracks,
 plus a discrete ``.visible`` track for nodes that appear and disappear. Key times and values are
 packed as ``Float32Array`` (MessagePack extension 0x17, which the viewer decodes natively), so a

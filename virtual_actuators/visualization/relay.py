@@ -1,4 +1,4 @@
-"""Relay process of :class:`~virtual_actuators.visualization.LiveWindow`: stdin to a MeshCat server.
+"""Relay process of `LiveWindow`: stdin to a MeshCat server.
 
 Run as ``python relay.py ZMQ_URL`` (by file path: this module imports only the standard library
 and pyzmq). It reads batches from stdin, each ``>I`` length then commands, each command three

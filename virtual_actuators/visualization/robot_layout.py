@@ -1,6 +1,6 @@
 """What the robot's model says about drawing it: sizes, planarity, gauges, ground and terrain.
 
-Pure functions of the robot (or the terrain) that :class:`~.robot_scene.RobotScene` calls once
+Pure functions of the robot (or the terrain) that `RobotScene` calls once
 when it is set up: the size of every marker relative to a typical link, whether the robot moves
 in the x-z plane (then the camera looks from the side), the actuated joints whose effort gauges
 the overlays draw, the ground grid and the segments of a terrain profile.
@@ -132,7 +132,7 @@ def terrain_segments(
     """The straight pieces of a ground profile, with level run-in and run-out of ``run`` m.
 
     Args:
-        terrain: A :class:`~virtual_actuators.simulation.Terrain` or ``(n, 2)`` points.
+        terrain: A [`Terrain`][] or ``(n, 2)`` points.
         run: Length of the level pieces before the first and after the last point [m].
 
     Returns:

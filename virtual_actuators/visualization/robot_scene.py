@@ -1,11 +1,11 @@
 """The robot in the MeshCat scene, and the drawing primitives that overlays share.
 
-:class:`RobotScene` owns the robot's geometry and kinematics as drawn: its bodies, the Pinocchio
+`RobotScene` owns the robot's geometry and kinematics as drawn: its bodies, the Pinocchio
 data at the drawn configuration, the sizes of arrows and markers (from the robot's typical link
 length), the camera, the ground and the HUD (the plane facing the camera, where text stands).
-Overlays (:mod:`.overlays`) draw on it with :meth:`RobotScene.arrow`, :meth:`RobotScene.wrench`,
-:meth:`RobotScene.triad` and :meth:`RobotScene.span`, into its node bookkeeping
-:attr:`RobotScene.nodes` (a :class:`~.scene.Scene`).
+Overlays (`overlays`) draw on it with `RobotScene.arrow`, `RobotScene.wrench`,
+`RobotScene.triad` and `RobotScene.span`, into its node bookkeeping
+`RobotScene.nodes` (a `Scene`).
 """
 
 from __future__ import annotations
@@ -69,16 +69,16 @@ class RobotScene:
         follow: Keep a travelling robot at the centre of the view (None: when it can travel).
 
     Attributes:
-        data: Pinocchio data at the last configuration drawn (:meth:`pose`).
+        data: Pinocchio data at the last configuration drawn (`pose`).
         extent: Size of the robot at its neutral configuration [m].
         detail: Typical link length, the unit of every marker's size [m].
         sizes: Sizes of shafts, heads, gauges, coils... [m].
         view: Unit vector from the robot's centre to the camera (world axes).
         planar: Whether every joint moves in the x-z plane.
         follow: Whether the view follows the robot.
-        effort_joints: An :class:`~.robot_layout.EffortJoint` per actuated 1-dof joint.
-        drawn: Keys of what has been drawn so far (:class:`~.legend.Palette` field names,
-            ``"no_limit"``, ``"frames"``): the legend lists these (see :meth:`mark`).
+        effort_joints: An `EffortJoint` per actuated 1-dof joint.
+        drawn: Keys of what has been drawn so far (`Palette` field names,
+            ``"no_limit"``, ``"frames"``): the legend lists these (see `mark`).
 
     """
 
@@ -171,7 +171,7 @@ class RobotScene:
     def set_terrain(
         self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
     ) -> None:
-        """Draw a planar ground profile instead of the grid (see :meth:`Viewer.set_terrain`).
+        """Draw a planar ground profile instead of the grid (see `Viewer.set_terrain`).
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
@@ -214,7 +214,7 @@ class RobotScene:
         """Record that what ``keys`` stand for was drawn (the legend lists only that).
 
         Args:
-            keys: :class:`~.legend.Palette` field names, ``"no_limit"`` or ``"frames"``.
+            keys: `Palette` field names, ``"no_limit"`` or ``"frames"``.
 
         """
         self.drawn.update(keys)
@@ -305,7 +305,7 @@ class RobotScene:
         )
 
     def triad(self, role: str, frame: str) -> None:
-        """Show the axes of ``frame``, sized by its role (:data:`TRIAD_LENGTHS`).
+        """Show the axes of ``frame``, sized by its role (`TRIAD_LENGTHS`).
 
         Raises:
             FrameNotFoundError: The robot has no such frame.

@@ -3,10 +3,10 @@
 Objects are created once; each frame places nodes and shows dynamic ones, and only the
 difference is sent to the window.
 
-A frame is drawn by :meth:`Scene.place` (a node's world matrix) and :meth:`Scene.use` (a
-*dynamic* node is shown this frame); :meth:`Scene.end_frame` hides every dynamic node that was
+A frame is drawn by `Scene.place` (a node's world matrix) and `Scene.use` (a
+*dynamic* node is shown this frame); `Scene.end_frame` hides every dynamic node that was
 not used, so that an arrow of an attachment that a state machine switched off disappears.
-:meth:`Scene.sync` then sends only what changed since the last sync: a recording can take frames
+`Scene.sync` then sends only what changed since the last sync: a recording can take frames
 without sending anything, and a throttled live view sends the latest state when it is due.
 """
 
@@ -79,7 +79,7 @@ class Scene:
                 del store[key]
 
     def declare(self, name: str) -> None:
-        """Make ``name`` dynamic: hidden in every frame that does not :meth:`use` it."""
+        """Make ``name`` dynamic: hidden in every frame that does not `use` it."""
         if name not in self._dynamic:
             self._dynamic.add(name)
             self.visible.setdefault(name, False)
@@ -90,7 +90,7 @@ class Scene:
         self._used.add(name)
 
     def place(self, name: str, matrix: np.ndarray) -> None:
-        """Set the world matrix of ``name`` for this frame (sent at the next :meth:`sync`)."""
+        """Set the world matrix of ``name`` for this frame (sent at the next `sync`)."""
         self.matrices[name] = matrix
 
     def set_property(self, name: str, key: str, value: object) -> None:

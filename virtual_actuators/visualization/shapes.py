@@ -1,10 +1,10 @@
 """Shapes for the MeshCat scene: materials, the geometries MeshCat lacks, composite shapes.
 
 MeshCat 0.3.2 has boxes, spheres, cylinders, lines and meshes but no cone, no plane and no text;
-:class:`Cone`, :class:`Plane` and :class:`TextTexture` add them in the JSON format of three.js
-r132 (the version bundled with MeshCat), and :class:`Placed` gives any geometry a fixed offset
+`Cone`, `Plane` and `TextTexture` add them in the JSON format of three.js
+r132 (the version bundled with MeshCat), and `Placed` gives any geometry a fixed offset
 inside its node (MeshCat's ``intrinsic_transform``). Like three.js's own, the elongated shapes
-lie along their local y axis (see :mod:`~virtual_actuators.visualization.geometry`, which places
+lie along their local y axis (see `geometry`, which places
 them).
 """
 
@@ -159,14 +159,28 @@ class Placed(mg.Geometry):
         return f"Placed({self.geometry!r})"
 
 
-def text_object(text: str, size: float, font_size: int = 28) -> mg.Mesh:
-    """A square plane of side ``size`` [m] showing ``text`` (unlit, transparent background).
+def text_faces(text: str, size: float, font_size: int = 28) -> list[tuple[str, mg.Mesh]]:
+    """``text`` on two square planes of side ``size`` [m], back to back, each seen from one side.
 
-    Transparent texels are discarded (``alphaTest``) so that overlapping text planes do not hide
-    each other.
+    Each plane is single-sided (three.js ``FrontSide``) and shows the text reading left to
+    right from the side it faces: the ``"front"`` one faces its node's +z, the ``"back"`` one,
+    turned half a turn about the text's up axis (+y), faces -z. So the text reads correctly from
+    wherever the camera is, also when a viewer's user orbits behind it (a double-sided plane
+    shows the text mirrored from behind). Unlit, transparent background: transparent texels are
+    discarded (``alphaTest``) so that overlapping text planes do not hide each other.
+
+    Returns:
+        ``(name, mesh)`` for the front and the back plane.
+
     """
     texture = TextTexture(text, font_size=font_size)
-    return mg.Mesh(Plane(size, size), mg.MeshBasicMaterial(map=texture, alphaTest=0.5))
+    front_side = 0  # three.js FrontSide
+    material = mg.MeshBasicMaterial(map=texture, alphaTest=0.5, side=front_side)
+    half_turn = np.diag([-1.0, 1.0, -1.0, 1.0])  # about +y: x -> -x, z -> -z
+    return [
+        ("front", mg.Mesh(Plane(size, size), material)),
+        ("back", mg.Mesh(Placed(Plane(size, size), half_turn), material)),
+    ]
 
 
 # -- composite shapes ----------------------------------------------------------------------------

@@ -1,7 +1,7 @@
-"""What the viewer draws in one frame, checked once: :class:`FrameSnapshot`.
+"""What the viewer draws in one frame, checked once: `FrameSnapshot`.
 
-:meth:`Viewer.show <virtual_actuators.visualization.Viewer.show>` turns its arguments into a
-snapshot (:meth:`FrameSnapshot.build` checks them), then hands it to every overlay. Overlays read
+`Viewer.show` turns its arguments into a
+snapshot (`FrameSnapshot.build` checks them), then hands it to every overlay. Overlays read
 the snapshot; they never see the raw arguments.
 """
 
@@ -43,7 +43,7 @@ def reactions_of(actuator: Actuator) -> tuple[str, ...]:
 class FrameSnapshot:
     """One frame to draw: a configuration and what acts on the robot in it.
 
-    Build it with :meth:`build` (which checks the arguments); overlays only read it.
+    Build it with `build` (which checks the arguments); overlays only read it.
 
     Attributes:
         q: Configuration ``(model.nq,)``, finite.
@@ -84,7 +84,7 @@ class FrameSnapshot:
         support: Iterable[str] = (),
         time: float | None = None,
     ) -> FrameSnapshot:
-        """Check the arguments of :meth:`Viewer.show` and bundle them.
+        """Check the arguments of `Viewer.show` and bundle them.
 
         Args:
             nq: Size of the robot's configuration.
@@ -198,7 +198,7 @@ def _check_request(
     """Check an actuator with its solution or wrench; return the wrench as floats (or None).
 
     Raises:
-        InvalidInputError: See :meth:`FrameSnapshot.build`.
+        InvalidInputError: See `FrameSnapshot.build`.
 
     """
     for attribute in ("action", "reference", "axes"):

@@ -1,4 +1,4 @@
-"""The ``on_tick(simulator, gait)`` adapter of a viewer: :class:`TickUpdater`."""
+"""The ``on_tick(simulator, gait)`` adapter of a viewer: `TickUpdater`."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
 
 class Simulation(Protocol):
-    """What :class:`TickUpdater` reads of a simulator (a ``simulation.Simulator``).
+    """What `TickUpdater` reads of a simulator (a ``simulation.Simulator``).
 
     Attributes:
         time: Simulated time [s].
@@ -30,7 +30,7 @@ class Simulation(Protocol):
 
 
 class Gait(Protocol):
-    """What :class:`TickUpdater` reads of a gait (its ``machine`` too, if it has one).
+    """What `TickUpdater` reads of a gait (its ``machine`` too, if it has one).
 
     Attributes:
         controller: The gait's controller.
@@ -43,7 +43,7 @@ class Gait(Protocol):
 
 
 class PacedView(Protocol):
-    """What :class:`TickUpdater` uses of a :class:`~virtual_actuators.visualization.Viewer`."""
+    """What `TickUpdater` uses of a `Viewer`."""
 
     robot: Robot
 
@@ -64,7 +64,7 @@ class PacedView(Protocol):
 class TickUpdater:
     """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
 
-    Called after every physics step by :func:`~virtual_actuators.demos.run_walk`; does nothing
+    Called after every physics step by `run_walk`; does nothing
     (two clock readings) unless a live update (the viewer's ``rate_hz``, wall clock) or a
     recorded frame (the recording's fps, simulated time) is due. Then it draws the simulator's
     configuration with the gait's controller, its last output and its current state.

@@ -1,12 +1,12 @@
 """The MeshCat viewer: a robot, its virtual actuators and what the controller does with them.
 
-:class:`Viewer` draws the robot at a configuration ``q`` (:class:`~.robot_scene.RobotScene`: its
+`Viewer` draws the robot at a configuration ``q`` (`RobotScene`: its
 URDF visuals or a skeleton, the ground, the camera) and, over it, a list of
-:class:`~.overlays.Overlay` (wrenches, components, effort gauges, state name, support feet,
-legend: see :mod:`.overlays`). :meth:`Viewer.show` bundles its arguments into a
-:class:`~.snapshot.FrameSnapshot` that every overlay draws; objects not drawn in a frame are
+`Overlay` (wrenches, components, effort gauges, state name, support feet,
+legend: see `overlays`). `Viewer.show` bundles its arguments into a
+`FrameSnapshot` that every overlay draws; objects not drawn in a frame are
 hidden, so a state machine switching attachments leaves no stale arrows. A new overlay is a
-subclass of :class:`~.overlays.Overlay` given to :meth:`Viewer.add_overlay`.
+subclass of `Overlay` given to `Viewer.add_overlay`.
 """
 
 from __future__ import annotations
@@ -69,8 +69,8 @@ class Viewer(ViewerOutput):
         robot: The robot.
         window: Where to send the scene: None starts a MeshCat server (or connects to
             ``zmq_url``) and prints its URL; a
-            :class:`~virtual_actuators.visualization.CommandRecorder` or
-            :class:`~virtual_actuators.visualization.OfflineWindow` draws without any server;
+            `CommandRecorder` or
+            `OfflineWindow` draws without any server;
             any object with ``send(command)`` (MeshCat's ``ViewerWindow``) is forwarded to.
         open: Open the URL in a web browser.
         force_scale: Arrow length per newton [m/N].
@@ -87,8 +87,8 @@ class Viewer(ViewerOutput):
             (default: when the robot can travel, i.e. a floating base or a prismatic first
             joint).
         legend: Draw the legend in the scene.
-        rate_hz: Live updates per wall-clock second of :meth:`maybe_show` and
-            :meth:`tick_callback`.
+        rate_hz: Live updates per wall-clock second of `maybe_show` and
+            `tick_callback`.
         palette: Colours.
 
     Attributes:
@@ -97,7 +97,7 @@ class Viewer(ViewerOutput):
         overlays: What is drawn over the robot, in drawing order.
 
     Raises:
-        InvalidInputError: ``robot`` is not a :class:`~virtual_actuators.Robot`, a scale or the
+        InvalidInputError: ``robot`` is not a [`Robot`][], a scale or the
             rate is not a positive number, ``geometry`` or ``camera`` is unknown, or ``window``
             has no ``send`` method.
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
@@ -197,13 +197,13 @@ class Viewer(ViewerOutput):
         """Draw ``overlay`` in every following frame, after the others.
 
         Args:
-            overlay: The overlay (its :meth:`~.overlays.Overlay.setup` runs now).
+            overlay: The overlay (its `setup` runs now).
 
         Returns:
             The overlay.
 
         Raises:
-            InvalidInputError: ``overlay`` is not an :class:`~.overlays.Overlay`.
+            InvalidInputError: ``overlay`` is not an `Overlay`.
 
         """
         if not isinstance(overlay, Overlay):
@@ -227,7 +227,7 @@ class Viewer(ViewerOutput):
     def set_terrain(
         self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
     ) -> None:
-        """Draw a planar ground profile (a :class:`~virtual_actuators.simulation.Terrain`).
+        """Draw a planar ground profile (a [`Terrain`][]).
 
         Args:
             terrain: A terrain (its ``segments(run)``) or an ``(n, 2)`` array of ``(x, z)``
@@ -261,15 +261,15 @@ class Viewer(ViewerOutput):
 
         Args:
             q: Configuration ``(model.nq,)``.
-            solution: A :class:`~virtual_actuators.Solution` of ``actuator``.
-            actuator: The :class:`~virtual_actuators.ParallelVirtualActuator` or
-                :class:`~virtual_actuators.VirtualActuator` to draw (any object with
+            solution: A [`Solution`][] of ``actuator``.
+            actuator: The [`ParallelVirtualActuator`][] or
+                [`VirtualActuator`][] to draw (any object with
                 ``action``, ``reference``, ``axes`` and ``reactions`` or ``reaction``).
             wrench: Requested wrench on the actuator's axes, when there is no ``solution``
                 (a serial actuator's wrench).
-            controller: A :class:`~virtual_actuators.Controller` (with ``output``).
-            output: Its :class:`~virtual_actuators.ControlOutput` of this tick.
-            state: The gait's current :class:`~virtual_actuators.State` (its name is shown and
+            controller: A [`Controller`][] (with ``output``).
+            output: Its [`ControlOutput`][] of this tick.
+            state: The gait's current [`State`][] (its name is shown and
                 its support feet highlighted) or a state name.
             support: More support frames to highlight.
             time: Time of the frame [s] for recordings (default: one frame per call at the
@@ -312,18 +312,18 @@ class Viewer(ViewerOutput):
         support: Iterable[str] = (),
         time: float | None = None,
     ) -> bool:
-        """:meth:`show`, only when a live update (``rate_hz``) or a recorded frame is due.
+        """`show`, only when a live update (``rate_hz``) or a recorded frame is due.
 
         Costs two clock readings when nothing is due, so it can be called at every control
-        tick. The arguments are those of :meth:`show`; ``time`` (simulated time) paces the
+        tick. The arguments are those of `show`; ``time`` (simulated time) paces the
         recording.
 
         Returns:
             Whether a frame was drawn.
 
         Raises:
-            InvalidInputError: See :meth:`show`.
-            FrameNotFoundError: See :meth:`show`.
+            InvalidInputError: See `show`.
+            FrameNotFoundError: See `show`.
 
         """
         live, record = self.due(time)
@@ -347,7 +347,7 @@ class Viewer(ViewerOutput):
         return True
 
     def draw(self, frame: FrameSnapshot) -> None:
-        """Draw a frame into the scene without sending it (:meth:`show` sends it).
+        """Draw a frame into the scene without sending it (`show` sends it).
 
         Args:
             frame: What to draw.
@@ -363,14 +363,14 @@ class Viewer(ViewerOutput):
         self.scene.end_frame()
 
     def tick_callback(self, realtime: bool = False, terrain: bool = True) -> TickUpdater:
-        """An ``on_tick(simulator, gait)`` for :func:`~virtual_actuators.demos.run_walk`.
+        """An ``on_tick(simulator, gait)`` for `run_walk`.
 
         Args:
             realtime: Sleep so that simulated time does not run ahead of wall-clock time.
             terrain: Draw the simulator's terrain at the first tick.
 
         Returns:
-            The callable (a :class:`TickUpdater`).
+            The callable (a `TickUpdater`).
 
         """
         return TickUpdater(self, realtime=realtime, terrain=terrain)

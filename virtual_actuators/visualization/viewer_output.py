@@ -1,8 +1,8 @@
 """Where a viewer's frames go: the live window, the recording, a standalone page.
 
-:class:`ViewerOutput` is the part of :class:`~.viewer.Viewer` that sends what was drawn: to the
-live MeshCat window at ``rate_hz`` (paced by a :class:`~.pacing.FramePacer`), into an
-:class:`~.recording.AnimationRecording`, or into a standalone HTML page.
+`ViewerOutput` is the part of `Viewer` that sends what was drawn: to the
+live MeshCat window at ``rate_hz`` (paced by a `FramePacer`), into an
+`AnimationRecording`, or into a standalone HTML page.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ __all__ = ["ViewerOutput"]
 
 
 class ViewerOutput:
-    """The output side of a viewer (a base of :class:`~.viewer.Viewer`, which sets the fields).
+    """The output side of a viewer (a base of `Viewer`, which sets the fields).
 
     Attributes:
         window: Where the scene is sent.
@@ -74,11 +74,11 @@ class ViewerOutput:
         return self.pacer.due(time)
 
     def start_recording(self, fps: float = 30.0) -> None:
-        """Record every following :meth:`show` (and due :meth:`maybe_show`) as animation frames.
+        """Record every following `show` (and due `maybe_show`) as animation frames.
 
         Args:
-            fps: Frames per second of :meth:`maybe_show` / :meth:`tick_callback` (paced by the
-                frames' ``time``, e.g. simulated time), and of :meth:`show` calls without a
+            fps: Frames per second of `maybe_show` / `tick_callback` (paced by the
+                frames' ``time``, e.g. simulated time), and of `show` calls without a
                 time.
 
         Raises:
@@ -95,7 +95,7 @@ class ViewerOutput:
         """A standalone HTML page of the scene, animated with the recording if there is one.
 
         A recording is framed on the whole run: the camera sees everything drawn in any of its
-        frames (see :mod:`.framing`).
+        frames (see `framing`).
 
         Returns:
             The page (MeshCat's viewer inlined: it opens offline).
@@ -107,7 +107,7 @@ class ViewerOutput:
         return self.pacer.page(title, legend_html(self.legend_entries(), title), framing)
 
     def save_html(self, path: str, title: str | None = None) -> str:
-        """Write :meth:`static_html` to ``path`` (the whole recorded run, if any).
+        """Write `static_html` to ``path`` (the whole recorded run, if any).
 
         Args:
             path: File to write (``.html``).

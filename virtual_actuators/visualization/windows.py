@@ -3,15 +3,15 @@
 ``meshcat.Visualizer(window=w)`` calls ``w.send(command)`` with MeshCat command objects
 (``SetObject``, ``SetTransform``, ``SetProperty``, ``Delete``, ...). Every window here keeps a
 mirror of the scene those commands build (the same tree MeshCat's server keeps), so that
-:meth:`SceneWindow.static_html` can write a standalone page without any server:
+`SceneWindow.static_html` can write a standalone page without any server:
 
-- :class:`OfflineWindow`: no server, nothing sent; used to record HTML files headless.
-- :class:`CommandRecorder`: also keeps every command in order (tests inspect them).
-- :class:`~.live.LiveWindow` (in :mod:`.live`): a MeshCat server (started as a subprocess, or
+- `OfflineWindow`: no server, nothing sent; used to record HTML files headless.
+- `CommandRecorder`: also keeps every command in order (tests inspect them).
+- `LiveWindow` (in `live`): a MeshCat server (started as a subprocess, or
   an existing one at a ZMQ URL) fed through a relay process: drawing costs the control loop
   the packing and one pipe write per frame, and a lagging server makes the viewer skip frames
   instead of slowing the loop down.
-- :class:`ForwardingWindow`: mirrors, then forwards to any object with ``send`` (e.g. MeshCat's
+- `ForwardingWindow`: mirrors, then forwards to any object with ``send`` (e.g. MeshCat's
   own ``ViewerWindow``).
 """
 
@@ -53,11 +53,11 @@ def pack(command: object) -> bytes:
 class SceneWindow:
     """Base window: mirrors the scene built by the commands it receives.
 
-    Subclasses deliver the commands somewhere in :meth:`_deliver`.
+    Subclasses deliver the commands somewhere in `_deliver`.
 
     Attributes:
         live: Whether commands reach a viewer as they are sent (a server or a recorder standing
-            for one); the :class:`~virtual_actuators.visualization.Viewer` only throttles and
+            for one); the `Viewer` only throttles and
             sends live updates to live windows.
         web_url: URL of the live viewer, or None.
 
@@ -94,7 +94,7 @@ class SceneWindow:
         """Send the command on (nothing by default)."""
 
     def _deliver_transform(self, path: str, matrix: np.ndarray) -> None:
-        """Send a transform on (by default as a MeshCat command to :meth:`_deliver`)."""
+        """Send a transform on (by default as a MeshCat command to `_deliver`)."""
         self._deliver(mc.SetTransform(matrix, MeshcatPath(tuple(p for p in path.split("/") if p))))
 
     def commit(self) -> None:

@@ -1,6 +1,6 @@
 """Argument checks shared by the API.
 
-Every check raises a :class:`~virtual_actuators.VirtualActuatorError` whose message names the
+Every check raises a [`VirtualActuatorError`][] whose message names the
 argument, what was given and what would be valid. They run at declaration time, or on the slow
 path of a per-tick call.
 """
@@ -63,7 +63,7 @@ def check_sequence(
 
 
 def check_robot(robot: object, where: str) -> None:
-    """Check that ``robot`` is a robot (a :class:`~virtual_actuators.Robot` or alike).
+    """Check that ``robot`` is a robot (a [`Robot`][] or alike).
 
     Args:
         robot: The argument.
@@ -92,7 +92,7 @@ def check_name(
     """Return ``value`` if it is a str, else raise ``error`` naming ``what``.
 
     Raises:
-        VirtualActuatorError: ``error`` (by default :class:`InvalidInputError`).
+        VirtualActuatorError: ``error`` (by default [`InvalidInputError`][]).
 
     """
     if not isinstance(value, str):
@@ -135,7 +135,7 @@ def check_names(
 
 
 def _valid(minimum: float | None, positive: bool, allow_inf: bool) -> str:
-    """What :func:`check_number` accepts, in words (for its messages)."""
+    """What `check_number` accepts, in words (for its messages)."""
     valid = "a real number"
     if positive:
         valid += " > 0"
@@ -163,7 +163,7 @@ def check_number(
         error: The exception raised.
 
     Raises:
-        VirtualActuatorError: ``error`` (by default :class:`InvalidInputError`) for a bool, a
+        VirtualActuatorError: ``error`` (by default [`InvalidInputError`][]) for a bool, a
             complex number, a str, None, NaN, an infinity unless ``allow_inf``, or a value out
             of range.
 

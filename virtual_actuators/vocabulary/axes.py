@@ -49,8 +49,9 @@ def resolve_frame(model: pin.Model, name: str, role: str = "frame") -> int:
     if model.existFrame(name):
         return int(model.getFrameId(name))
     names = [WORLD] + [f.name for f in model.frames][1:]
+    what = "frame" if role == "frame" else f"{role} frame"
     raise FrameNotFoundError(
-        f"The {role} frame {name!r} is not in the model {model.name!r}. "
+        f"The {what} {name!r} is not in the model {model.name!r}. "
         + suggestion(name, names, "frames")
     )
 
@@ -80,7 +81,7 @@ def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
 
 
 def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]:
-    """Check that ``axes`` is a non-empty ordered subset of :data:`AXES`.
+    """Check that ``axes`` is a non-empty ordered subset of [`AXES`][].
 
     Args:
         axes: Axis names, e.g. ``("x", "z", "ry")``, or one name such as ``"z"``.

@@ -1,19 +1,19 @@
 """The real-time path of a parallel actuator's solve: tables built once, one compiled call a tick.
 
-:class:`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
+`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
 its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
 Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
 into flat arrays, so that a tick is one call of
-:func:`~virtual_actuators.distribution.partitioned.kernels.distribute` on the snapshot's
-arrays: the compiled core's (C++, :data:`~virtual_actuators.native.CORE`) when it is built,
+`distribute` on the snapshot's
+arrays: the compiled core's (C++, `CORE`) when it is built,
 which holds the packed tables of each mode (``_core.Distribution``) and, for a snapshot whose
 kinematics are not computed yet (a solve from ``q``), runs the kinematics and the distribution in
 one call; else the reference kernel (numba). When the kernel hands a tick back (a singular
 chain, an ill-conditioned block, more rows than unknowns),
-:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` decides with
+`PartitionedSolver` decides with
 numpy, as the reference implementation does; the tests check that both give the same answers.
-:class:`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
-checks the arguments and builds the :class:`~virtual_actuators.Solution` from its buffer.
+`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
+checks the arguments and builds the [`Solution`][] from its buffer.
 """
 
 from __future__ import annotations
@@ -204,7 +204,7 @@ class CompiledDistribution:
         """A solve from a checked configuration alone: kinematics and distribution in one call.
 
         The compiled core's ``Distribution.tick`` (the same kernels, hence the same bits, as
-        :meth:`solve` on a snapshot of ``q``), with no snapshot built; None when the core is
+        `solve` on a snapshot of ``q``), with no snapshot built; None when the core is
         not built, the request is not this path's, or the kernel hands the tick on (the caller
         then builds the snapshot and dispatches as usual).
         """
@@ -224,7 +224,7 @@ class CompiledDistribution:
     def configuration_solve(
         self, request: Request, reactions: tuple[str, ...], axes: tuple[str, ...], floating: bool
     ) -> ConfigurationSolve | None:
-        """The :class:`ConfigurationSolve` of a checked request, or None without the core."""
+        """The `ConfigurationSolve` of a checked request, or None without the core."""
         if not request.compiled or request.method != "partitioned":
             return None
         mode = self.mode_for(request.keep)
@@ -235,7 +235,7 @@ class CompiledDistribution:
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
 
-        The ``"compiled"`` backend of :data:`~virtual_actuators.distribution.registry.METHODS`
+        The ``"compiled"`` backend of `METHODS`
         (None too when ``request.compiled`` is False).
 
         Returns:
@@ -282,7 +282,7 @@ class ConfigurationSolve:
     argument the Python checks must judge (to raise their typed error, or to normalise ``q``),
     or a tick for the numpy path. What the declaration and the request fix (the mode's tables,
     sets and systems, the buffer's layout, the names) is read once, so that the answer is the
-    same :class:`Solution`, bit for bit, as the general path's. Holds no per-call state:
+    same [`Solution`][], bit for bit, as the general path's. Holds no per-call state:
     threads may share it.
 
     Args:

@@ -4,7 +4,7 @@ It forms the whole matrix ``K`` (wrench rows, block-diagonal natural constraints
 design rows) and solves it with plain dense linear algebra. It is slow on purpose-free grounds:
 it is the baseline of the benchmarks and the oracle the partitioned solver is tested against.
 Semantics match
-:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver`: square
+`PartitionedSolver`: square
 systems are solved exactly, others by the minimum-norm solution that meets every constraint
 exactly and the wrench as closely as possible.
 """
@@ -66,7 +66,7 @@ class DenseSolver:
         return DenseSystem(soft, wrench[keep], hard, hard_rhs)
 
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
-        """Distribute ``wrench``; see :meth:`PartitionedSolver.solve` for the arguments.
+        """Distribute ``wrench``; see `PartitionedSolver.solve` for the arguments.
 
         A square ``K`` that is singular here because some exact rows are implied by the others
         (a design row the natural constraints imply at this configuration) gets the

@@ -1,6 +1,6 @@
 """The projectors of many chains of full column rank side by side (mode 0 of the compiled solve).
 
-:func:`full_rank_batch` runs one unpivoted QR per chain, the chains of one shape interleaved so
+`full_rank_batch` runs one unpivoted QR per chain, the chains of one shape interleaved so
 that the loops run over them innermost.
 """
 
@@ -41,11 +41,11 @@ def full_rank_batch(
       (right-hand sides ``t`` (m_c, B));
     - ``null`` (n - c, n, B): the left null space (rows kept for the constraint check), ``Q``
       completed by the unit vectors of largest residual;
-    - ``ratio`` (B,): a lower bound of the rank-revealing ratio of :func:`null_rows`
+    - ``ratio`` (B,): a lower bound of the rank-revealing ratio of `null_rows`
       (``sigma_min >= 1 / ||R^-1||_F`` over its first pivot, the largest column norm; 0 for a
-      pivot under :data:`JACOBIAN_FLOOR` or a non-finite value);
+      pivot under `JACOBIAN_FLOOR` or a non-finite value);
     - ``bound`` (B,): an upper bound of the condition estimate of the rows' Gram matrix that
-      :func:`minimum_norm` compares with :data:`ILL_CONDITIONED` (``l max(||C||_F^2, 1)
+      `minimum_norm` compares with `ILL_CONDITIONED` (``l max(||C||_F^2, 1)
       max(||R_CC^-1||_F^2, 1)``, the 1 only with null rows).
 
     Both bounds err on the side of handing the tick to the numpy path.

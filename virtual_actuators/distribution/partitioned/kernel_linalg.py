@@ -103,7 +103,7 @@ def scaled_condition(matrix: np.ndarray, inverse: np.ndarray, row_scale: np.ndar
     """``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` with ``D = diag(row_scale)``.
 
     The rows of ``matrix`` measured against their sizes before a reduction, as in numpy's
-    :func:`~virtual_actuators.distribution.linalg.scaled_condition` (inf for a zero scale).
+    `scaled_condition` (inf for a zero scale).
     """
     m = matrix.shape[0]
     norm, norm_inv = 0.0, 0.0

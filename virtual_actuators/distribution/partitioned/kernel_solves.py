@@ -1,9 +1,9 @@
-"""The two compiled solves of the distribution, on the rows :func:`.kernels.distribute` built.
+"""The two compiled solves of the distribution, on the rows `kernels.distribute` built.
 
-- :func:`minimum_norm` (mode 0): the least ``sum ||F_i||^2`` through the ``(k + s)`` KKT system
-  of the chains' projectors (:func:`.kernel_batch.full_rank_batch` computes those of many chains
+- `minimum_norm` (mode 0): the least ``sum ||F_i||^2`` through the ``(k + s)`` KKT system
+  of the chains' projectors (`kernel_batch.full_rank_batch` computes those of many chains
   of full column rank side by side);
-- :func:`partitioned_solve` (mode 1): the Partitioned Actuator Set method with the declaration's
+- `partitioned_solve` (mode 1): the Partitioned Actuator Set method with the declaration's
   sets.
 """
 
@@ -35,7 +35,7 @@ def minimum_norm(
 
     ``rows`` (l, n, p), ``rhs`` (l, p), ``projectors`` (n, n, p) and ``particular`` (n, p) have
     the chain index last. Chains whose ``state`` is -2 come with their projector and particular
-    solution (from :func:`.kernel_batch.full_rank_batch`); the others get them here from their rows.
+    solution (from `kernel_batch.full_rank_batch`); the others get them here from their rows.
     """
     p, n = forces.shape
     s = hard.shape[0]

@@ -1,7 +1,7 @@
 """The compiled partitioned path's tables: the chain table's columns and the packed arguments.
 
-:class:`~virtual_actuators.distribution.partitioned.compiled.CompiledDistribution` builds them
-once per declaration (and per set of free axes); :func:`.kernels.distribute` reads them.
+`CompiledDistribution` builds them
+once per declaration (and per set of free axes); `kernels.distribute` reads them.
 """
 
 from __future__ import annotations
@@ -33,9 +33,9 @@ def pack_arguments(
     plan: np.ndarray,
     layout: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`distribute`'s declaration-time arguments as one integer and one float array.
+    """`distribute`'s declaration-time arguments as one integer and one float array.
 
-    Built once per mode (the arrays do not change between ticks); :func:`distribute` unpacks
+    Built once per mode (the arrays do not change between ticks); `distribute` unpacks
     them as views. Handing a compiled function two arrays instead of thirteen halves the cost
     of the call.
 

@@ -1,10 +1,10 @@
 """Compiled per-tick force distribution: natural constraints, solve and torques in one call.
 
-:func:`distribute` does at one configuration what
-:class:`~virtual_actuators.distribution.problem.DistributionProblem` (``evaluate``) and
-:class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` do with numpy,
+`distribute` does at one configuration what
+`DistributionProblem` (``evaluate``) and
+`PartitionedSolver` do with numpy,
 for the two
-regular cases, on tables built once from the declaration (see :mod:`.compiled`):
+regular cases, on tables built once from the declaration (see `compiled`):
 
 - ``mode 0``, fewer constraints than unknowns: the minimum of ``sum ||F_i||^2`` through the
   ``(k + s)`` KKT system of the chains' projectors (VAC 2.5.2);
@@ -14,15 +14,15 @@ regular cases, on tables built once from the declaration (see :mod:`.compiled`):
 
 It never raises: a nonzero status hands the tick to the numpy path, which re-picks sets, falls
 back to least squares or raises the typed error with its message (status 1: a chain is singular
-or nearly so, or its Jacobian is below :data:`JACOBIAN_FLOOR`; status 2: an elimination block
+or nearly so, or its Jacobian is below `JACOBIAN_FLOOR`; status 2: an elimination block
 or the final system is ill-conditioned, a design or coupling row is (nearly) implied by the
 natural constraints at this configuration, judged against the row's size before the
-elimination, or the answer misses an exact row by more than :data:`CONSTRAINT_TOL` of its
+elimination, or the answer misses an exact row by more than `CONSTRAINT_TOL` of its
 scale; status 3: a result overflowed).
 
-numba's on-disk cache of :func:`distribute` does not follow edits of the kernels it calls from
-other modules (:mod:`.kernel_solves`, :mod:`.kernel_batch`, :mod:`.kernel_linalg`, the tail
-in :mod:`virtual_actuators.distribution.result`): an edit there goes with an edit of this file,
+numba's on-disk cache of `distribute` does not follow edits of the kernels it calls from
+other modules (`kernel_solves`, `kernel_batch`, `kernel_linalg`, the tail
+in `virtual_actuators.distribution.result`): an edit there goes with an edit of this file,
 so that the cache is rebuilt.
 """
 
@@ -50,9 +50,9 @@ from .kernel_tables import C_CON, HEADER, K_COLS, NB_BALL, PACK_HEADER, RANK
 
 
 class Distributed(NamedTuple):
-    """What :func:`distribute` hands back.
+    """What `distribute` hands back.
 
-    The tick's buffer and norms (:meth:`.TickResult.from_buffer`), its status (0, or why the
+    The tick's buffer and norms (`TickResult.from_buffer`), its status (0, or why the
     numpy path decides, see the module docstring) and the worst chain's condition ratio.
     """
 
@@ -81,12 +81,12 @@ def distribute(
         frames: ``(nf, 12)`` frame placements of the snapshot.
         q: ``(nq,)`` configuration (passive spring angles).
         wrench: ``(n,)`` requested wrench.
-        ints: The declaration-time integers of :func:`pack_arguments`.
+        ints: The declaration-time integers of `pack_arguments`.
         floats: Its declaration-time floats.
 
     Returns:
-        The :class:`Distributed` tick (its tail by
-        :func:`~virtual_actuators.distribution.result.close_norms`).
+        The `Distributed` tick (its tail by
+        `close_norms`).
 
     """
     mode, n, p, width, s1, m, K, nv_springs, s0 = ints[:PACK_HEADER]

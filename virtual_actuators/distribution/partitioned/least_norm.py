@@ -11,7 +11,7 @@ In these coordinates a hard row ``c`` becomes ``c N``, whose rounding is of orde
 size before the elimination, not with what is left of it: a design row that the natural
 constraints imply at this configuration (``ry`` of a planar leg at a pose where the leg cannot
 produce it) leaves only rounding behind and is dropped, so it cannot change the answer; one that
-contradicts them raises :class:`~virtual_actuators.ConstraintError`.
+contradicts them raises [`ConstraintError`][].
 """
 
 from __future__ import annotations

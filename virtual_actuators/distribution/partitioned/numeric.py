@@ -1,6 +1,6 @@
 """The numpy path of a parallel actuator's solve: any solver, any magnitude, typed errors only.
 
-:class:`~virtual_actuators.distribution.partitioned.compiled.CompiledDistribution` serves the
+`CompiledDistribution` serves the
 regular ticks;
 every other one (a near-singular chain, an ill-conditioned block, an inadmissible request, the
 dense reference, ``compiled=False``) comes here. The problem is linear in its right-hand sides
@@ -67,17 +67,17 @@ def solve_numpy(
     Args:
         problem: The declaration-time problem.
         solver: A
-            :class:`~virtual_actuators.distribution.partitioned.reference.PartitionedSolver` or
-            :class:`~virtual_actuators.distribution.partitioned.dense.DenseSolver` of that problem.
-        snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            `PartitionedSolver` or
+            `DenseSolver` of that problem.
+        snapshot: The tick's [`Snapshot`][].
         wrench: ``(n,)`` finite request.
         keep: ``(n,)`` bool, the prescribed axes.
         hand_on: Return None, for the method's next backend (the dense reference), when
-            ``solver`` raises :class:`~virtual_actuators.SingularConfigurationError` or its
+            ``solver`` raises [`SingularConfigurationError`][] or its
             answer misses an exact row by more than ``CONSTRAINT_TOL``.
 
     Returns:
-        The :class:`~virtual_actuators.distribution.result.TickResult` (or None, see
+        The `TickResult` (or None, see
         ``hand_on``): ``tau`` zero at limp and passive joints; the request is admissible when
         ``residual <= tol * scale + rounding``, with ``scale`` the larger of the request and
         what was produced on the prescribed axes and ``rounding`` that of chain forces that
@@ -118,7 +118,7 @@ class NumpyBackend:
         problem: The declaration-time problem.
         solver: The partitioned or dense solver of that problem.
         hand_on: Hand the ticks ``solver`` cannot decide to the method's next backend
-            (:func:`solve_numpy`); False: always answer, or raise.
+            (`solve_numpy`); False: always answer, or raise.
 
     """
 
@@ -126,7 +126,7 @@ class NumpyBackend:
         self.problem, self.solver, self.hand_on = problem, solver, hand_on
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """:func:`solve_numpy` with this backend's solver.
+        """`solve_numpy` with this backend's solver.
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.

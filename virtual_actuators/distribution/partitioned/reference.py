@@ -14,7 +14,7 @@ the wrench rows (eq. 14) and the design / coupling rows.
   a KKT system of size ``n + s`` (never the ``pn x pn`` matrix), using that the weight
   ``T_i^T T_i`` is block diagonal.
 - More rows than unknowns (an inadmissible request) or rank loss: constraints exact, wrench in
-  the least-squares sense, then minimum norm (:mod:`.least_norm`, on orthonormal bases of the
+  the least-squares sense, then minimum norm (`least_norm`, on orthonormal bases of the
   chains' null spaces).
 - A design or coupling row that the natural constraints imply at the current configuration
   (consistent with them) is dropped, so that it cannot change the answer: every rank decision
@@ -22,7 +22,7 @@ the wrench rows (eq. 14) and the design / coupling rows.
   it (rounding, once the natural constraints are eliminated).
 
 When a chosen block becomes ill-conditioned at the current configuration the sets are re-picked
-there; :class:`~virtual_actuators.SingularConfigurationError` is raised only when the whole
+there; [`SingularConfigurationError`][] is raised only when the whole
 system is singular.
 """
 
@@ -312,7 +312,7 @@ class PartitionedSolver:
         The plan is the declaration's (cached per set of prescribed axes) unless its design
         block is ill-conditioned here: then a plan picked at this configuration serves this
         call only. A block is judged against the size of the hard rows before the CFS was
-        eliminated (:func:`~.linalg.scaled_condition`): rows that the natural constraints imply
+        eliminated (`scaled_condition`): rows that the natural constraints imply
         here are reduced to rounding, which no Redundant Force Set can invert.
 
         Returns:

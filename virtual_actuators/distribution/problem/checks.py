@@ -1,4 +1,4 @@
-"""Declaration-time checks of a :class:`~.problem.DistributionProblem`.
+"""Declaration-time checks of a `DistributionProblem`.
 
 Each check runs once, at declaration or once per set of prescribed axes: joints no selected axis
 loads, redundant natural constraints, design rows implied by or contradicting the others, too
@@ -126,7 +126,7 @@ def structurally_singular(problem: DistributionProblem, keep: np.ndarray) -> boo
 
     Some declarations can never determine the distribution uniquely (two point feet cannot
     push a moment about the line between them); those get the minimum-norm least-squares
-    solution instead of a :class:`SingularConfigurationError`. Checked once per set of
+    solution instead of a [`SingularConfigurationError`][]. Checked once per set of
     prescribed axes at random configurations, densely (declaration-time cost only), and
     remembered in ``problem.structural``.
 

@@ -1,7 +1,7 @@
 """Reading a parallel actuator's declaration: limp and passive joints, design rows.
 
-These checks run once, when a :class:`~virtual_actuators.ParallelVirtualActuator` is declared;
-:class:`~virtual_actuators.distribution.problem.DistributionProblem` builds on what they return.
+These checks run once, when a [`ParallelVirtualActuator`][] is declared;
+`DistributionProblem` builds on what they return.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The force distribution problem of a parallel virtual actuator (VAC eq. 8-11).
 
-:class:`DistributionProblem` turns a declaration (frames, axes, contacts, limp and passive joints,
-design constraints) into arrays once, and :meth:`DistributionProblem.evaluate` fills in the
+`DistributionProblem` turns a declaration (frames, axes, contacts, limp and passive joints,
+design constraints) into arrays once, and `DistributionProblem.evaluate` fills in the
 configuration-dependent numbers of eq. 11 at a given ``q``:
 
 - per chain ``i``, the *natural constraint* rows ``G_i F_i = t_i`` (``l_i`` rows over the ``n``
@@ -13,7 +13,7 @@ configuration-dependent numbers of eq. 11 at a given ``q``:
   under a torso action frame) constrains the sum of their torques;
 - *design* rows (``Equal``, ``Linear``, ``EqualTorque``).
 
-Chains with the same structure form a :class:`ChainGroup` whose work is vectorised with numpy.
+Chains with the same structure form a `ChainGroup` whose work is vectorised with numpy.
 """
 
 from __future__ import annotations
@@ -238,11 +238,11 @@ class DistributionProblem:
         """Evaluate the natural, coupling and design rows at a snapshot (or a configuration).
 
         Args:
-            state: A :class:`~virtual_actuators.Snapshot` of the robot, or ``q``.
+            state: A [`Snapshot`][] of the robot, or ``q``.
             check_singular: Raise when a chain's full Jacobian loses rank.
 
         Returns:
-            The :class:`Evaluation`.
+            The `Evaluation`.
 
         Raises:
             SingularConfigurationError: A chain's Jacobian is singular at ``q``.
@@ -377,7 +377,7 @@ class DistributionProblem:
         """Total joint torques ``sum_i J_i^T F_i`` of a distribution ``forces`` ``(p, n)``.
 
         Args:
-            jacobian_o: ``(n, nv)`` from :attr:`KinematicState.jacobian_o`.
+            jacobian_o: ``(n, nv)`` from `KinematicState.jacobian_o`.
             forces: ``(p, n)`` chain wrenches.
 
         """

@@ -1,8 +1,8 @@
 """The shapes of a distribution problem: chain groups, their rows at one configuration.
 
 Chains with the same structure (joint count, constrained joints, ball axes, generic rank) form a
-:class:`ChainGroup` whose work is vectorised; :class:`GroupRows` and :class:`Evaluation` hold
-what :meth:`~virtual_actuators.distribution.problem.DistributionProblem.evaluate` computes at one
+`ChainGroup` whose work is vectorised; `GroupRows` and `Evaluation` hold
+what `evaluate` computes at one
 configuration.
 """
 
@@ -80,7 +80,7 @@ class ChainGroup:
 
 @dataclass
 class GroupRows:
-    """Natural-constraint rows of one :class:`ChainGroup` at one configuration.
+    """Natural-constraint rows of one `ChainGroup` at one configuration.
 
     Attributes:
         rows: ``(g, l, n)`` the ``G_i``.

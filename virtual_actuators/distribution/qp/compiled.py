@@ -1,9 +1,9 @@
 """The QP distribution's per-tick matrices through the compiled kernel: tables built once.
 
-:class:`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and
+`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and
 passive joints and point-contact axes; the springs; the constant design rows; the contact
 normals, pyramid, soles and torque limits) into flat arrays at declaration, so that a tick is
-one call of :func:`~virtual_actuators.distribution.kernels.reduced_qp` on the snapshot's
+one call of `reduced_qp` on the snapshot's
 arrays. It applies when every chain's columns ``[J_i, ball_i]`` are independent (generic rank
 ``k_i + nb_i``) and no hard row depends on the configuration (no joint shared by several chains,
 no ``EqualTorque``); otherwise, and on ticks where a chain is nearly rank deficient, the QP
@@ -29,7 +29,7 @@ class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
     Attributes:
-        buffer: The flat buffer :func:`~.kernels.reduced_qp` writes.
+        buffer: The flat buffer `reduced_qp` writes.
         layout: Offsets and sizes of the arrays in it.
         kept: ``(k,)`` indices of the prescribed axes.
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
@@ -57,7 +57,7 @@ class Workspace:
         self.scale = 1.0
 
     def violation(self, z: np.ndarray, equalities: int) -> float:
-        """:func:`.kernel_answer.violation` of ``z`` on this workspace's rows."""
+        """`kernel_answer.violation` of ``z`` on this workspace's rows."""
         if CORE is not None:
             return CORE.qp_violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
         return violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
@@ -65,7 +65,7 @@ class Workspace:
     def finish(
         self, z: np.ndarray, multipliers: np.ndarray, wrench: np.ndarray, keep: np.ndarray
     ) -> Answer:
-        """:func:`.kernel_answer.finish` of the answer ``z`` on this workspace's tick."""
+        """`kernel_answer.finish` of the answer ``z`` on this workspace's tick."""
         if CORE is None:
             return finish(self.buffer, self.layout, self.pn, self.nv, z, multipliers,
                           self.scale, wrench, keep, ACTIVE_TOL, EPS_ABS)  # fmt: skip
@@ -180,7 +180,7 @@ class CompiledQPMatrices:
     def _arguments(
         self, snapshot: object, wrench: np.ndarray, workspace: Workspace
     ) -> tuple | None:
-        """:func:`~.kernels.reduced_qp`'s arguments for this tick, or None.
+        """`reduced_qp`'s arguments for this tick, or None.
 
         None: the snapshot lacks a frame (frames required after it ran: the numpy path reads
         them).
@@ -204,7 +204,7 @@ class CompiledQPMatrices:
         None: a chain is nearly rank deficient, or the snapshot lacks a frame.
 
         Args:
-            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            snapshot: The tick's [`Snapshot`][].
             wrench: ``(n,)`` requested wrench.
             keep: ``(n,)`` bool, the prescribed axes.
 
@@ -228,22 +228,22 @@ class CompiledQPMatrices:
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
         weights: np.ndarray, guess: np.ndarray, tree: object = None,
     ) -> Answer | None:
-        """:func:`.kernel_answer.again` on this tick: the answer, or None.
+        """`kernel_answer.again` on this tick: the answer, or None.
 
         Args:
-            snapshot: The tick's :class:`~virtual_actuators.Snapshot`, or with ``tree`` (the
+            snapshot: The tick's [`Snapshot`][], or with ``tree`` (the
                 core's ``Tree`` of the robot; the core only) a checked configuration: its
                 kinematics then run in the same compiled call.
             wrench: ``(n,)`` requested wrench.
             keep: ``(n,)`` bool, the prescribed axes.
-            workspace: This thread's workspace for them (:meth:`workspace`).
+            workspace: This thread's workspace for them (`workspace`).
             weights: The request rows' weights.
             guess: The inequalities' multipliers of the last certified answer (replaced in
                 place by this answer's when it is certified).
             tree: None, or the core's ``Tree`` when ``snapshot`` is a configuration.
 
         Returns:
-            The :class:`~.kernel_answer.Answer`; None when the exact step did not certify the
+            The `Answer`; None when the exact step did not certify the
             active set, the matrices need the numpy path or the snapshot lacks a frame.
 
         """

@@ -1,4 +1,4 @@
-"""Inequalities of the QP that cannot hold together, named (see :mod:`.qp`).
+"""Inequalities of the QP that cannot hold together, named (see `qp`).
 
 When the request cannot be met, the QP first checks that its other rows can: the least squared
 shift of the inequalities' bounds that lets them hold with the natural and design equalities,
@@ -8,7 +8,7 @@ shift of the inequalities' bounds that lets them hold with the natural and desig
 a QP that is feasible whenever the equalities are, with one optimal shift ``s``. ``s = 0`` when
 the rows are consistent. Otherwise ``s`` is a Farkas certificate: at the optimum ``C^T s`` lies
 in the span of the equality rows, so the rows that ``s`` moves cannot hold together with the
-equalities, whatever the request. :func:`conflict_error` names them, furthest off first.
+equalities, whatever the request. `conflict_error` names them, furthest off first.
 """
 
 from __future__ import annotations

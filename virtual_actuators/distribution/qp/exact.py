@@ -1,4 +1,4 @@
-"""The QP's exact final step on an active set (see :mod:`.qp`), compiled.
+"""The QP's exact final step on an active set (see `qp`), compiled.
 
 ProxQP stops at an absolute accuracy, from a start that depends on the previous tick. Its
 multipliers name the active inequalities, and with them the QP becomes linear algebra. With
@@ -10,7 +10,7 @@ inequalities held at their bounds (rows ``C_W x = b_W``):
 - the closest wrench (``exact=False``): ``x`` minimises ``sum_a omega_a (A x - w)_a^2`` on
   ``D``, ``C_W``, and among those minimisers has the least norm.
 
-:func:`exact_step` computes that ``x`` exactly (Gram-Schmidt on the rows ``D``, ``C_W`` then
+`exact_step` computes that ``x`` exactly (Gram-Schmidt on the rows ``D``, ``C_W`` then
 ``A`` in a fixed order, a row swept again while a sweep removes most of it; a row that depends
 on earlier ones is dropped from the solve and only checked; the weighted least squares on what
 ``A`` adds, by Gram-Schmidt on its columns), then checks the KKT conditions to ``tol``: every
@@ -345,10 +345,10 @@ def exact_answer(
     exact: bool,
     active_tol: float,
 ) -> tuple[bool, np.ndarray, np.ndarray]:
-    """``(True, x, z)``: :func:`exact_step`'s answer if its KKT checks pass, else ProxQP's.
+    """``(True, x, z)``: `exact_step`'s answer if its KKT checks pass, else ProxQP's.
 
     ProxQP's answer is ``(False, x, guess)``: its ``x`` and multipliers ``guess``; the other
-    arguments are :func:`exact_step`'s.
+    arguments are `exact_step`'s.
     """
     step = exact_step if CORE is None else CORE.exact_step
     ok, exact_x, z = step(

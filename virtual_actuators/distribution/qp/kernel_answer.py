@@ -1,10 +1,10 @@
-"""Compiled checks and read-out of a solved reduced QP (see :mod:`.kernels`).
+"""Compiled checks and read-out of a solved reduced QP (see `kernels`).
 
-:func:`violation` measures how far ProxQP's answer misses the rows it must meet (an infeasible
-request can look solved to the solver's accuracy); :func:`finish` turns the answer in free
+`violation` measures how far ProxQP's answer misses the rows it must meet (an infeasible
+request can look solved to the solver's accuracy); `finish` turns the answer in free
 coordinates into the chains' forces, the joint torques and the active inequalities, in one call
 and one output array, and closes the tick with the shared tail
-(:func:`~virtual_actuators.distribution.result.close_norms`).
+(`close_norms`).
 """
 
 from __future__ import annotations
@@ -49,9 +49,9 @@ def violation(
 
 
 class Answer(NamedTuple):
-    """What :func:`finish` hands back.
+    """What `finish` hands back.
 
-    The tick's buffer and norms (:meth:`.TickResult.from_buffer`; the rounding includes the
+    The tick's buffer and norms (`TickResult.from_buffer`; the rounding includes the
     solver's accuracy) and the indices of the active inequalities.
     """
 
@@ -79,7 +79,7 @@ def finish(
     """Forces and torques of the answer ``z`` (scaled) and what the solution reports.
 
     Args:
-        buffer: The tick's workspace (see :func:`reduced_qp`).
+        buffer: The tick's workspace (see `reduced_qp`).
         layout: Its layout.
         pn: ``p n``.
         nv: Velocity dimension.
@@ -92,8 +92,8 @@ def finish(
         accuracy: The solver's absolute accuracy on the scaled problem.
 
     Returns:
-        The :class:`Answer` (its tail by
-        :func:`~virtual_actuators.distribution.result.close_norms`).
+        The `Answer` (its tail by
+        `close_norms`).
 
     """
     out = np.zeros(pn + 2 * nv + 2 * wrench.shape[0])
@@ -111,7 +111,7 @@ def read_out(
     multipliers: np.ndarray, scale: float, wrench: np.ndarray, keep: np.ndarray,
     active_tol: float, accuracy: float, out: np.ndarray, active: np.ndarray,
 ) -> tuple[int, tuple[float, float, float]]:
-    """:func:`finish` into ``out`` and ``active``.
+    """`finish` into ``out`` and ``active``.
 
     ``out`` (zeros) receives the forces, tau, the spring torques, the produced and the
     requested wrench; ``active`` the active rows first.
@@ -163,13 +163,13 @@ def again(
 ) -> tuple[int, tuple[float, float, float]]:
     """A tick on a known active set in one call: the matrices, the exact step, the read-out.
 
-    :func:`~.kernels.reduced_qp` (its arguments first, then ``pn``, ``nv``), then
-    :func:`~.exact.exact_step` of the request exactly on the active set that ``guess`` names
+    `reduced_qp` (its arguments first, then ``pn``, ``nv``), then
+    `exact_step` of the request exactly on the active set that ``guess`` names
     (the multipliers of the last certified answer, replaced in place by the new ones when
-    certified), then :func:`read_out` into ``out`` (zeros) and ``active``.
+    certified), then `read_out` into ``out`` (zeros) and ``active``.
 
     Returns:
-        :func:`read_out`'s, with a count of -1 when the exact step did not certify the answer
+        `read_out`'s, with a count of -1 when the exact step did not certify the answer
         (or the matrices need the numpy path): nothing else is then meaningful.
 
     """

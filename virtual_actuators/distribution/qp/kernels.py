@@ -1,7 +1,7 @@
 """Compiled per-tick matrices of the QP distribution, in the chains' free coordinates.
 
-:func:`reduced_qp` builds at one configuration, in one call, the matrices of the QP that
-:class:`~virtual_actuators.distribution.qp.QPDistribution` solves, with the natural constraints
+`reduced_qp` builds at one configuration, in one call, the matrices of the QP that
+`QPDistribution` solves, with the natural constraints
 eliminated instead of kept as equalities. Per chain ``i`` (every chain of full column rank: its
 ``k_i`` joint columns and ``nb_i`` point-contact columns ``[J_i, ball_i]`` independent), one
 modified Gram-Schmidt pass (twice, for orthogonality to rounding) over the columns ordered
@@ -129,7 +129,7 @@ def reduced_qp(
         limits: ``(t,)`` their limits [N m, N].
         buffer: The thread's workspace, overwritten: the arrays below, at ``layout``.
         layout: ``(LAYOUT,)`` offsets of the arrays in ``buffer``, then ``d``, ``s + k``, ``m``,
-            ``s`` (see :func:`views`).
+            ``s`` (see `views`).
 
     Returns:
         ``(status, worst ratio, scale)``: status 1 when a chain is (nearly) rank deficient
@@ -296,7 +296,7 @@ def reduced_qp(
 
 
 class QPViews(NamedTuple):
-    """The arrays of :func:`reduced_qp` in its buffer, as views.
+    """The arrays of `reduced_qp` in its buffer, as views.
 
     Attributes:
         basis: ``(p n, d)`` the chains' null-space bases ``N``.
@@ -326,7 +326,7 @@ class QPViews(NamedTuple):
 
 @njit(cache=True)
 def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> QPViews:
-    """The arrays of :func:`reduced_qp` in ``buffer``, as views (:class:`QPViews`)."""
+    """The arrays of `reduced_qp` in ``buffer``, as views (`QPViews`)."""
     free, rows_eq, m_in = layout[LAYOUT - 4], layout[LAYOUT - 3], layout[LAYOUT - 2]
     return QPViews(
         buffer[layout[0] : layout[0] + pn * free].reshape((pn, free)),

@@ -1,9 +1,9 @@
-"""The inequalities of the QP distribution, declared once (see :mod:`.qp`).
+"""The inequalities of the QP distribution, declared once (see `qp`).
 
-:class:`ContactLimits` stacks a parallel actuator's contact rows (its
-:class:`~virtual_actuators.contacts.ContactSet`: pyramids, least normal forces, soles) and the
+`ContactLimits` stacks a parallel actuator's contact rows (its
+`ContactSet`: pyramids, least normal forces, soles) and the
 torque limits of its joints, names every row, and builds them with numpy over all ``p n`` force
-entries (the reference path); :mod:`.compiled` reads its tables.
+entries (the reference path); `compiled` reads its tables.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ class ContactLimits:
 
     Args:
         problem: The distribution problem.
-        contacts: The actuator's contacts (:func:`~virtual_actuators.contacts.declare`).
+        contacts: The actuator's contacts (`declare`).
         torque_limits: False (none), True (URDF effort limits) or ``(nv,)`` limits [N m, N].
 
     Raises:

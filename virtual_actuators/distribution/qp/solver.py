@@ -44,7 +44,7 @@ Joints that no chain moves get no torque-limit row (it would be all zero: always
 
 **Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
 thread's previous solve. Its multipliers name the active inequalities, and on that active set
-:func:`~.exact.exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
+`exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
 algebra, kept only when the KKT conditions hold to ``EXACT_TOL`` of the scale (every row met,
 every active row's multiplier of the right sign; up to ``EXACT_STEPS`` corrections of the active
 set, else ProxQP's answer stands). An answer is then the optimum to rounding: within 1e-8 of
@@ -57,7 +57,7 @@ certified, it gives the same answer without ProxQP (the KKT conditions name one 
 walking tick whose active set did not change solves by linear algebra alone.
 
 **Rows that cannot hold.** When stage 1 fails, the other rows are checked first
-(:mod:`.conflict`: the least squared shift of the inequalities' bounds that lets them hold
+(`conflict`: the least squared shift of the inequalities' bounds that lets them hold
 with the equalities, ``CONFLICT_MAX_ITER`` iterations at most, run when twice that is left): if
 they cannot hold together, whatever the request, ``ConstraintError`` names the rows that conflict
 (each foot's least normal force and the knees' torque limits, say), at once; the iteration-budget
@@ -101,14 +101,14 @@ class QPDistribution:
     """The QP distribution of one parallel actuator (one ProxQP workspace per thread).
 
     Each tick's matrices come from the compiled kernel in the chains' free coordinates when the
-    declaration allows it (:mod:`.compiled`: ``F = x0 + N z``, the natural rows eliminated,
+    declaration allows it (`compiled`: ``F = x0 + N z``, the natural rows eliminated,
     ``|F|^2 = |x0|^2 + |z|^2``), else from numpy over all ``p n`` force entries with the natural
     rows as equalities; both are the same convex program with one answer.
 
     Args:
         problem: The distribution problem.
         limits: The inequalities.
-        weights: Per-axis weights of the closest-wrench stage (:func:`.weights.check_weights`:
+        weights: Per-axis weights of the closest-wrench stage (`weights.check_weights`:
             a dict by axis name or an array over the axes); None for 1 on every axis.
 
     Raises:
@@ -181,16 +181,16 @@ class QPDistribution:
         """Distribute ``wrench`` with the QP at a snapshot (the ``"qp"`` backend).
 
         Args:
-            snapshot: The tick's :class:`~virtual_actuators.Snapshot`.
+            snapshot: The tick's [`Snapshot`][].
             wrench: ``(n,)`` requested wrench.
             request: The prescribed axes (``keep``); ``compiled``: build the matrices with the
                 compiled kernel when it applies (False: with numpy over all force entries, the
                 reference); ``weights``: ``(n,)`` checked per-axis weights of the
-                closest-wrench stage for this solve (:func:`.weights.check_weights`), None: the
+                closest-wrench stage for this solve (`weights.check_weights`), None: the
                 declaration's.
 
         Returns:
-            The :class:`~virtual_actuators.distribution.result.TickResult`, like the other
+            The `TickResult`, like the other
             paths: ``raw.method == "qp"``, ``raw.active`` the names of the active inequalities.
 
         Raises:
@@ -225,12 +225,12 @@ class QPDistribution:
     def solve_configuration(
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
-        """:meth:`solve` at a checked configuration in one compiled call, or None.
+        """`solve` at a checked configuration in one compiled call, or None.
 
-        The compiled core's kinematics and :meth:`_again` in one call (the same kernels, hence
-        the same bits, as :meth:`solve` on a snapshot of ``q``); None when the core does not
+        The compiled core's kinematics and `_again` in one call (the same kernels, hence
+        the same bits, as `solve` on a snapshot of ``q``); None when the core does not
         apply or the last certified active set does not hold (the caller builds the snapshot
-        and calls :meth:`solve`).
+        and calls `solve`).
         """
         matrices, tree = self.matrices, self.problem.kinematics.tree.core_tree
         if not request.compiled or matrices.core is None or tree is None:
@@ -246,9 +246,9 @@ class QPDistribution:
         return self._tick(answer, False)
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget, tried=False):
-        """:meth:`solve` with its checked weights and its :class:`~.stages.Budget`.
+        """`solve` with its checked weights and its `Budget`.
 
-        ``tried``: :meth:`_again` answered None already on this tick.
+        ``tried``: `_again` answered None already on this tick.
         """
         work = None
         if compiled and self.matrices.applicable:
@@ -269,8 +269,8 @@ class QPDistribution:
     def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
         """The tick on the last certified answer's active set, in one compiled call, or None.
 
-        :func:`.kernel_answer.again` builds the matrices, certifies that active set on them and
-        reads the answer out: the first try of :meth:`.stages.ProxStages.solve` without its
+        `kernel_answer.again` builds the matrices, certifies that active set on them and
+        reads the answer out: the first try of `stages.ProxStages.solve` without its
         Python (most ticks of a walk). None: no certified answer yet in this thread's
         workspace, an active set that changed, or matrices that need the numpy path; the
         stages decide then.
@@ -293,7 +293,7 @@ class QPDistribution:
         return hot[1], hot[2]
 
     def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
-        """The :class:`TickResult` of a read-out answer (``exhausted``: the budget ran out)."""
+        """The `TickResult` of a read-out answer (``exhausted``: the budget ran out)."""
         p, n = self.problem.p, self.problem.n
         key = answer.active.tobytes()
         active = self._active_names.get(key)
@@ -321,7 +321,7 @@ class QPDistribution:
         weights: np.ndarray,
         budget: Budget,
     ) -> TickResult:
-        """:meth:`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
+        """`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
 
         Raises:
             ConstraintError: No distribution meets the rows, or none was found before the

@@ -1,8 +1,8 @@
-"""The QP's stages: the request exactly, else the closest wrench (see :mod:`.solver`).
+"""The QP's stages: the request exactly, else the closest wrench (see `solver`).
 
-One :class:`ProxStages` per distribution holds this thread's ProxQP workspaces (one per path,
+One `ProxStages` per distribution holds this thread's ProxQP workspaces (one per path,
 stage and size) and runs the lexicographic stages on scaled rows within an iteration
-:class:`Budget`. With the compiled core, stage 1 first runs in DAQP (a dense dual active-set
+`Budget`. With the compiled core, stage 1 first runs in DAQP (a dense dual active-set
 solver, vendored in the core) from cold; its active set, certified by the exact step, is the
 answer. When DAQP finds no answer (an infeasible request) or the certificate fails, stage 1
 runs in ProxQP as without the core, and the closest-wrench stages follow in ProxQP.
@@ -99,7 +99,7 @@ class StageRows:
 
 
 class StageAnswer(NamedTuple):
-    """What :meth:`ProxStages.solve` hands back.
+    """What `ProxStages.solve` hands back.
 
     Attributes:
         x: The answer (scaled).
@@ -232,7 +232,7 @@ class ProxStages:
         return results
 
     def _exact(self, rows: StageRows, weights, x, guess, certify: bool) -> tuple:
-        """:func:`.exact.exact_answer` on ``rows``: ``(certified, x, z)``."""
+        """`exact.exact_answer` on ``rows``: ``(certified, x, z)``."""
         return exact_answer(
             rows.equality, rows.equality_rhs, rows.design, weights, rows.inequality, rows.lows,
             rows.uppers, x, guess, certify, ACTIVE_TOL,
@@ -243,10 +243,10 @@ class ProxStages:
     ) -> StageAnswer | None:
         """The request exactly with the least norm, else the closest wrench (scaled rows).
 
-        Returns a :class:`StageAnswer`, or None when no ``x`` meets the rows.
+        Returns a `StageAnswer`, or None when no ``x`` meets the rows.
 
         The active set of the last answer certified exact is tried first: when the exact step
-        certifies it on this tick's rows (the KKT checks of :func:`.exact.exact_step`), that is
+        certifies it on this tick's rows (the KKT checks of `exact.exact_step`), that is
         the answer and ProxQP does not run (most ticks of a walk: the active set changes rarely
         from one tick to the next); otherwise stage 1 runs in ProxQP as described.
 
@@ -255,7 +255,7 @@ class ProxStages:
         ``weights``: the request rows' weights in the closest-wrench stage; ``budget``:
         charged. (No inequality row is identically zero: the torque limits of joints that no
         chain moves are left out at declaration, see
-        :class:`~virtual_actuators.distribution.qp.limits.ContactLimits`; all-zero rows stall
+        `ContactLimits`; all-zero rows stall
         ProxQP's closest-wrench stage for hundreds of iterations.)
 
         Raises:
@@ -331,7 +331,7 @@ class ProxStages:
 
         Infeasible: the closest reachable wrench alone (weighted least squares: a singular
         Hessian in x, one wrench), then the least force norm that produces it exactly.
-        ``last``: stage 1's results (its last iterate). Returns like :meth:`solve`.
+        ``last``: stage 1's results (its last iterate). Returns like `solve`.
         """
         equality, equality_rhs, design = rows.equality, rows.equality_rhs, rows.design
         size = equality.shape[1]

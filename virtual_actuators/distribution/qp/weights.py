@@ -1,4 +1,4 @@
-"""Per-axis weights of the QP's closest-wrench stage (see :mod:`.qp`), checked once.
+"""Per-axis weights of the QP's closest-wrench stage (see `qp`), checked once.
 
 When a request cannot be met, ``method="qp"`` returns the reachable wrench that minimises
 ``sum_a weight_a (produced_a - requested_a)^2`` over the prescribed axes: an axis with a small

@@ -1,17 +1,17 @@
 """Standing balance for any legged robot: the body on its feet, the rest held by a posture.
 
-A :class:`Balancer` is a :class:`~virtual_actuators.gaits.base.Gait` with one state, ``stand``:
+A [`Balancer`][] is a `Gait` with one state, ``stand``:
 
 - a body actuator from the feet to the body frame (world axes), distributed by the contact QP:
   flat soles for two feet (their size from the collision geometry, the centre of pressure kept
   inside, friction cones, the URDF's torque limits), point feet with friction cones for three or
   more; a spring-damper on its six axes holds the body's pose, with the robot's weight acting at
   its centre of mass as a feed-forward;
-- a :class:`~virtual_actuators.Posture` on every joint off the legs (torso, arms, head), holding
+- a [`Posture`][] on every joint off the legs (torso, arms, head), holding
   the pose the robot starts in;
 - gravity compensation of every link (the legs carry the body, the body carries the rest).
 
-Gains come from :class:`~virtual_actuators.gaits.balance.parameters.BalanceParameters`'
+Gains come from [`BalanceParameters`][]'
 frequencies and the robot's inertia. Pushes are recovered without stepping: when a push asks
 for more than the soles allow, the QP gives way on the rotations first (weight
 ``yield_weight``), so the body tilts rather than the feet roll.
@@ -49,13 +49,13 @@ __all__ = ["BODY_AXES", "Balancer"]
 class SupportedSpring(SpringDamper):
     """The body's spring-damper, its request kept within what the support can produce.
 
-    Before each tick the balancer sets :attr:`lever` (from the support's centre to the body
-    origin, world axes [m]) and :attr:`reach` (the support's half extents along world x and y
+    Before each tick the balancer sets `lever` (from the support's centre to the body
+    origin, world axes [m]) and `reach` (the support's half extents along world x and y
     [m], margins taken). The wrench asked of the feet is then moved, when it must be, to the
     nearest one whose centre of pressure lies within ``reach`` of the support's centre and whose
     horizontal force lies within ``friction`` times its vertical one: the horizontal force and
     the moment that move the centre of pressure share the change (least squares, weighted
-    1 : :attr:`moment_weight`). The contact QP then solves the request exactly instead of
+    1 : `moment_weight`). The contact QP then solves the request exactly instead of
     settling between its inequalities (where the split between the feet is not unique).
     """
 

@@ -1,7 +1,7 @@
 """The standing balancer's constants: frequencies and damping ratios, not raw gains.
 
 Every stiffness and damping comes from the robot's own inertia
-(:mod:`~virtual_actuators.components.gains`): the body's translations from its mass, its
+([`gains`][virtual_actuators.components.gains]): the body's translations from its mass, its
 rotations from its centroidal inertia, the posture's joints from the joint-space inertia. The
 same figures then hold a 2.5 kg quadruped and a 100 kg humanoid.
 """
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class BalanceParameters:
-    """Constants of :class:`~virtual_actuators.gaits.balance.balancer.Balancer`.
+    """Constants of [`Balancer`][].
 
     Attributes:
         body_frequency: Natural frequency of the body's translations [rad/s].
@@ -38,7 +38,7 @@ class BalanceParameters:
             push asks for more than the support allows: both give way, in this proportion
             (smaller: the body tilts more and drifts less).
         height_ratio: Hip-to-foot height of a generated standing pose (robots without an SRDF
-            pose), see :func:`~virtual_actuators.models.standing.standing_pose`.
+            pose), see [`standing_pose`][virtual_actuators.models.standing.standing_pose].
         push_duration: How long a ``--push`` lasts [s].
 
     """

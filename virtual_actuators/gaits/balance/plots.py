@@ -1,6 +1,6 @@
 """Plot a balance run: the body's drift, height, tilt and velocity against time.
 
-Matplotlib is imported inside the helpers of :mod:`virtual_actuators.experiments.plot_panels`
+Matplotlib is imported inside the helpers of `virtual_actuators.experiments.plot_panels`
 and draws on a canvas of its own (no pyplot).
 """
 
@@ -37,7 +37,7 @@ def plot_balance_log(log: WalkLog, path: str | os.PathLike[str], summary: str = 
 
 
 def draw_balance_log(log: WalkLog, summary: str = "") -> Figure:
-    """The figure :func:`plot_balance_log` saves, with ``summary`` as its title."""
+    """The figure `plot_balance_log` saves, with ``summary`` as its title."""
     figure = new_figure(8.0, 8.0, dpi=110)
     axes = figure.subplots(len(PANELS), 1, sharex=True)
     t = log.time

@@ -1,15 +1,15 @@
 """``demo balance``: any legged robot standing in MuJoCo, pushed, without stepping.
 
-:func:`run_balance` loads the robot (a name or a URDF path), builds its
-:class:`~virtual_actuators.gaits.balance.balancer.Balancer`, starts the simulation with the
+[`run_balance`][] loads the robot (a name or a URDF path), builds its
+[`Balancer`][], starts the simulation with the
 standing pose resting on the terrain and runs the loop at 1 kHz under
-:func:`~virtual_actuators.gaits.runner.drive`. A push (``--push N@T[:DEG]``) is ``N`` newtons on
+`drive`. A push (``--push N@T[:DEG]``) is ``N`` newtons on
 the body frame for ``BalanceParameters.push_duration`` seconds from ``T``, along ``DEG``
 degrees in the ground plane (0 = +x). The robot has fallen when its body tilts beyond
-:data:`~virtual_actuators.gaits.runner.FALL_PITCH`, drops below half its starting height above
+`FALL_PITCH`, drops below half its starting height above
 the terrain, or touches the ground with anything but its feet. The JSON holds ``fell``,
 ``realtime_factor``, the summary figures and ``trace`` (``t, x, y, z, roll, pitch, yaw, vx, vy``
-of the body in the world at :data:`TRACE_RATE`, plus ``state``).
+of the body in the world at `TRACE_RATE`, plus ``state``).
 """
 
 from __future__ import annotations
@@ -62,9 +62,9 @@ class BalanceMetrics:
         final_drift_m: That distance at the end [m].
         height_error_m: Mean body height over the last second minus the standing pose's [m].
         stance_normal_min_n: Least normal force of the terrain on a foot (MuJoCo's contacts),
-            after :data:`SETTLE_TIME` [N]: zero when a foot lifted.
+            after `SETTLE_TIME` [N]: zero when a foot lifted.
         implausible_limits: Joints whose URDF effort limit no motor of this robot could have
-            (:func:`~virtual_actuators.models.efforts.implausible_effort_limits`: then neither
+            ([`implausible_effort_limits`][]: then neither
             the QP's torque limits nor clipping act; set real ones with ``set_effort_limits``).
 
     """
@@ -105,13 +105,13 @@ class BalanceMetrics:
 
 @dataclass
 class BalanceResult(WalkResult):
-    """A balance run: the log at :data:`TRACE_RATE`, the metrics, the balancer, the simulator."""
+    """A balance run: the log at `TRACE_RATE`, the metrics, the balancer, the simulator."""
 
     metrics: BalanceMetrics
     gait: Balancer
 
     def trace(self) -> dict[str, list]:
-        """The trace: equal-length lists at :data:`TRACE_RATE`.
+        """The trace: equal-length lists at `TRACE_RATE`.
 
         ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body), ``normal_min`` (the least
         normal force on a foot [N]) and ``state``.
@@ -132,7 +132,7 @@ class BalanceResult(WalkResult):
 
 
 class BalanceEpisode(Episode):
-    """A balance run under :func:`~virtual_actuators.gaits.runner.drive`: push, judge, record."""
+    """A balance run under `drive`: push, judge, record."""
 
     def __init__(
         self, gait: Balancer, simulator: Simulator, terrain: Terrain, recorder: Recorder,
@@ -167,7 +167,7 @@ class BalanceEpisode(Episode):
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
-        """One sample of :data:`CHANNELS`."""
+        """One sample of `CHANNELS`."""
         yaw, pitch, roll, vx, vy = self.attitude
         normal = float(self.simulator.contact_forces(self.gait.contacts)[:, 2].min())
         self.recorder.append(
@@ -191,10 +191,10 @@ def run_balance(
     """Simulate a legged robot standing (and pushed) and measure it.
 
     Args:
-        robot: A name or URDF path for :func:`~virtual_actuators.load_robot`, or a robot.
+        robot: A name or URDF path for [`load_robot`][], or a robot.
         duration: Simulated time [s].
-        push: ``"N@T[:DEG]"``, a :class:`Push` or ``(N, T, DEG)``, or None.
-        terrain: A :class:`~virtual_actuators.simulation.Terrain` or its spec.
+        push: ``"N@T[:DEG]"``, a `Push` or ``(N, T, DEG)``, or None.
+        terrain: A [`Terrain`][] or its spec.
         parameters: The balancer's constants.
         progress: Show a progress bar.
         on_tick: Called after every physics step (a viewer).
@@ -203,7 +203,7 @@ def run_balance(
             time in [0.5, 1] s and a random direction (sweeps see several starts).
 
     Returns:
-        The :class:`BalanceResult`.
+        The `BalanceResult`.
 
     Raises:
         RobotNotFoundError: No such robot.
@@ -296,14 +296,14 @@ def run_registered(
 
 
 def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
-    """Draw a balance run (:func:`~virtual_actuators.gaits.balance.plots.plot_balance_log`)."""
+    """Draw a balance run (`plot_balance_log`)."""
     from ...experiments.plot_panels import save_figure
 
     return save_figure(draw_balance(result), path)
 
 
 def draw_balance(result: BalanceResult) -> Any:
-    """The matplotlib figure :func:`plot_balance` saves."""
+    """The matplotlib figure `plot_balance` saves."""
     from .plots import draw_balance_log
 
     return draw_balance_log(result.log, summary=result.metrics.summary())

@@ -13,7 +13,7 @@ class FlamingoParameters:
     The defaults are the seed's values except four, which make the walk hold 0.3 to 0.5 m/s on
     ``profile-one`` and ``profile-two`` with every seeded start (the seed's fall at 0.5 m/s on
     ``profile-one``; at 0.6 m/s the defaults fall there too, 2 starts of 3): ``stance_slope``,
-    a shorter swing, a faster push-down and longer steps; :meth:`seed` gives the seed's set.
+    a shorter swing, a faster push-down and longer steps; `seed` gives the seed's set.
 
     Attributes:
         speed: Desired horizontal hip speed ``xdot_d`` [m/s].

@@ -7,13 +7,13 @@ its *heading* (the body's yaw alone), not about the world axes: the sensor's rot
 mixes roll and pitch once the yaw is large (by half the yaw angle), so both components here
 read the body's orientation as yaw, pitch, roll (Z-Y-X) and return world-frame wrenches:
 
-* :class:`HeadingAttitude` (axes ``rx, ry, rz``): roll and pitch spring-dampers about the heading
+* `HeadingAttitude` (axes ``rx, ry, rz``): roll and pitch spring-dampers about the heading
   frame's x and y axes, a damper toward the commanded yaw rate about z;
-* :class:`HeadingDamper` (axes ``x, y``): dampers toward a velocity given in the heading frame
+* `HeadingDamper` (axes ``x, y``): dampers toward a velocity given in the heading frame
   (the seed's commanded magnitude and angle of the body velocity), plus an optional force in
   that frame (the pendulum's LQR thruster).
 
-:func:`lqr_gain` and :func:`pendulum_model` design the pendulum balancer: the cart-pole
+`lqr_gain` and `pendulum_model` design the pendulum balancer: the cart-pole
 linearised about the upright pendulum, state (pendulum angle, its rate, body velocity along the
 heading x), input the virtual x force.
 """
@@ -88,9 +88,9 @@ class HeadingAttitude(Component):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """:meth:`compute_wrench` on plain floats: the same operations, the same bits.
+        """`compute_wrench` on plain floats: the same operations, the same bits.
 
-        The angles without the rotation matrix (:func:`~..attitude.rotation_vector_angles`,
+        The angles without the rotation matrix (``gaits.attitude.rotation_vector_angles``:
         ``pin.exp3``'s operations on the entries they read).
         """
         yaw, pitch, roll = rotation_vector_angles(*position)
@@ -144,7 +144,7 @@ class HeadingDamper(Component):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """:meth:`compute_wrench` on plain floats: the same operations, the same bits."""
+        """`compute_wrench` on plain floats: the same operations, the same bits."""
         c, s = math.cos(self.yaw), math.sin(self.yaw)
         v0, v1 = velocity
         vx = c * v0 + s * v1
@@ -206,7 +206,7 @@ def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) ->
         inertia: ``I`` [kg m^2], at least ``m l^2``.
 
     Returns:
-        The :class:`PendulumModel`.
+        The `PendulumModel`.
 
     Raises:
         InvalidInputError: A value that is not a positive finite number, or ``I < m l^2``.
@@ -282,7 +282,7 @@ def pendulum_lqr(
         effort: The LQR's effort weight.
 
     Returns:
-        The :class:`PendulumModel`, the gain ``(1, 3)`` and the joint's ``(q index, v index)``.
+        The `PendulumModel`, the gain ``(1, 3)`` and the joint's ``(q index, v index)``.
 
     """
     joint = model.getJointId(joint_name)

@@ -1,4 +1,4 @@
-"""What a hexapod walk is asked to do: :class:`HexapodWalkConfig`, and the path it is commanded."""
+"""What a hexapod walk is asked to do: `HexapodWalkConfig`, and the path it is commanded."""
 
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ class HexapodWalkConfig:
         wavelength: Sine wavelength [m].
         pendulum: Balance the pendulum (its LQR owns the x motion).
         track: Face an object circling the start while walking.
-        terrain: A :meth:`Terrain.parse` spec (profiles run along the world x axis).
+        terrain: A `Terrain.parse` spec (profiles run along the world x axis).
         duration: Simulated time [s].
         seed: Random initial disturbance (body velocity, pendulum angle); None for none.
         distribution: ``"qp"`` or ``"partitioned"``.

@@ -92,7 +92,7 @@ def landing(
 
     Args:
         parameters: The gait's constants.
-        ground: :func:`ground_velocity` of the swing feet's nominal points.
+        ground: `ground_velocity` of the swing feet's nominal points.
         nominal: The swing feet's nominal points ``(x, y, z)`` [m].
         velocity: The measured (low-passed) body velocity [m/s].
         setpoint: The velocity set point [m/s].
@@ -149,7 +149,7 @@ def swing_targets(
     Args:
         starts: The feet's lift-off points ``(x, y, z)``.
         places: Their landing places ``(x, y)``.
-        plane: The ground plane ``(a, b, c)`` (:func:`support_plane`).
+        plane: The ground plane ``(a, b, c)`` (`support_plane`).
         reach: How far along from lift-off to landing, 0 to 1.
         rest: How much of the lift-off height above the plane is left, 1 to 0.
         up: The lift above the plane [m].

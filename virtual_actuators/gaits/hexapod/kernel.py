@@ -1,14 +1,13 @@
 """The tripod's per-tick update in one call: ground plane, lag, phase, landing, swing set points.
 
-:func:`tripod_setpoints` is what :meth:`HexapodWalker._update_tripod
-<virtual_actuators.gaits.hexapod.walker.HexapodWalker>` does with the feet it measured: the
-ground plane through the support tripod (:func:`~.footholds.support_plane`), how far the support
-feet lag behind their nominal places (:func:`~.footholds.behind`), the swing's phase, where the
-swing feet land (:func:`~.footholds.landing`), their set points this tick
-(:func:`~.footholds.swing_targets`) and the set points' low-passed velocities; the same
+`tripod_setpoints` is what `HexapodWalker._update_tripod` does with the feet it measured: the
+ground plane through the support tripod (`support_plane`), how far the support
+feet lag behind their nominal places (`behind`), the swing's phase, where the
+swing feet land (`landing`), their set points this tick
+(`swing_targets`) and the set points' low-passed velocities; the same
 arithmetic on plain loops (squares as products, ``hypot`` as the square root of the sum of
 squares). The compiled core's port (``src/core/hexapod.hpp``) gives the same bits
-(``tests/test_core_parity_hexapod.py``); :data:`TRIPOD_SETPOINTS` is the one the walker calls.
+(``tests/test_core_parity_hexapod.py``); `TRIPOD_SETPOINTS` is the one the walker calls.
 """
 
 from __future__ import annotations
@@ -43,7 +42,7 @@ SHAPE = (
 
 @njit(cache=True)
 def _strides(x: float, y: float, length: float, width: float) -> float:
-    """:func:`~.footholds.strides` (the ellipse of axes ``length`` and ``width`` is 1)."""
+    """`strides` (the ellipse of axes ``length`` and ``width`` is 1)."""
     return math.sqrt((x / length) * (x / length) + (y / width) * (y / width))
 
 
@@ -68,7 +67,7 @@ def tripod_setpoints(
         motion: ``(10,)`` the body's height [m], its low-passed velocity ``(vx, vy)``, the
             velocity set point and its acceleration (heading frame) [m/s, m/s^2], the yaw
             rate command [rad/s], the time in the stance and since the last set points [s].
-        shape: ``(11,)`` the constants :data:`SHAPE` names [s, m, m, m, m, s, m, -, m, s, s].
+        shape: ``(11,)`` the constants `SHAPE` names [s, m, m, m, m, s, m, -, m, s, s].
         swing: ``(3, 9)`` per swing foot: lift-off point, last set point, its velocity (the
             last two updated) [m, m/s].
         state: ``(5,)`` the ground plane ``z = a x + b y + c`` (kept when the support feet are

@@ -1,11 +1,11 @@
-"""Figures of a hexapod walk (:func:`~virtual_actuators.gaits.hexapod.walk.run_hexapod_walk`).
+"""Figures of a hexapod walk (`run_hexapod_walk`).
 
-:func:`compute_hexapod_metrics` reduces the walk's log (the body state sampled from MuJoCo) to
+`compute_hexapod_metrics` reduces the walk's log (the body state sampled from MuJoCo) to
 the figures the issue's targets are stated in: speed and travel direction of a line, heading
 drift, roll and pitch, the radius of the circle fitted to the path, the largest distance from a
 commanded sine, the pendulum's peak and RMS angle and the body's x velocity, the bearing error to
 a tracked object. Speed, direction, path and attitude figures ignore the first
-:data:`STARTUP` seconds (start-up); bearing errors are judged after :data:`TRACK_SETTLE`.
+`STARTUP` seconds (start-up); bearing errors are judged after `TRACK_SETTLE`.
 """
 
 from __future__ import annotations
@@ -62,7 +62,7 @@ class HexapodMetrics:
             MuJoCo every tick until a fall [N]: the support tripod's three feet, all six in
             double support, each from 20 ms after it entered support (its touchdown impact
             excluded; a swing foot is never counted). See
-            :mod:`~virtual_actuators.experiments.contact_stats`.
+            `contact_stats`.
         stance_friction_ratio_max: Largest tangential / normal force of those feet where they
             carry at least 1 N [-] (MuJoCo's friction coefficient is 1: a foot at 1 slides).
         realtime_factor: Simulated time / wall-clock time of the whole loop.
@@ -170,7 +170,7 @@ def _pendulum_figures(log: WalkLog, walking: np.ndarray) -> dict[str, float]:
 
 
 def _bearing_figures(log: WalkLog, walking: np.ndarray) -> dict[str, float]:
-    """The largest and RMS bearing error to the tracked object after :data:`TRACK_SETTLE`."""
+    """The largest and RMS bearing error to the tracked object after `TRACK_SETTLE`."""
     t = log.time
     settled = walking & (t >= t[0] + TRACK_SETTLE)
     if not np.any(settled):
@@ -192,12 +192,12 @@ def compute_hexapod_metrics(
     stance_normal_min: float | None = None,
     stance_ratio_max: float | None = None,
 ) -> HexapodMetrics:
-    """Reduce a hexapod walk's log to :class:`HexapodMetrics` (see its attributes).
+    """Reduce a hexapod walk's log to `HexapodMetrics` (see its attributes).
 
     Args:
         log: The run (channels of ``virtual_actuators.gaits.hexapod.walk.CHANNELS``).
-        guidance: Its guidance (after :meth:`Guidance.begin`): a :class:`VelocityCommand`
-            (line or circle), :class:`SinePath` or :class:`TrackObject`.
+        guidance: Its guidance (after `Guidance.begin`): a `VelocityCommand`
+            (line or circle), `SinePath` or `TrackObject`.
         steps: Tripod swaps.
         fall_time: Time of the fall [s], or None.
         stance_normal_min: Least normal force of a supporting foot [N], or None.

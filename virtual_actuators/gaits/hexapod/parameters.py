@@ -1,8 +1,8 @@
 """Gait variables and virtual component constants of the hexapod's tripod gait.
 
-:class:`HexapodParameters` configures :class:`~virtual_actuators.gaits.hexapod.HexapodWalker`;
+`HexapodParameters` configures `HexapodWalker`;
 the contact-related choices (``step_length``, ``touchdown_phase``, ``acceleration``, ``friction``,
-``min_normal``) are explained in :mod:`virtual_actuators.gaits.hexapod.walker`.
+``min_normal``) are explained in `virtual_actuators.gaits.hexapod.walker`.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ class HexapodParameters:
             step (slow walking and turning on the spot still step) [s].
         double_support_time: All six feet support between two tripods [s].
         touchdown_phase: From this swing phase on (0 to 1), the swing tripod's three contact
-            switches all closed end the stance (``contacts`` given to :meth:`compute`).
+            switches all closed end the stance (``contacts`` given to `compute`).
         acceleration: The velocity set point follows the command at most this fast [m/s^2].
         lift: Swing foot lift [m].
         lift_peak: Phase of the swing (0 to 1) at which the foot is highest.

@@ -1,6 +1,6 @@
-"""Plot a hexapod walk (:func:`~virtual_actuators.gaits.hexapod.walk.run_hexapod_walk`).
+"""Plot a hexapod walk (`run_hexapod_walk`).
 
-:func:`plot_hexapod` draws one of two layouts into a PNG:
+`plot_hexapod` draws one of two layouts into a PNG:
 
 ``"pendulum"`` (the seed's Fig. 6, VAC 1996), against time: the pendulum angle; the body's x
 velocity (along its heading) with the desired one dashed; the virtual x force of the body's
@@ -11,7 +11,7 @@ dashed (``metadata["command_path"]``), and for tracking runs the object's path a
 at the arrows' times.
 
 Matplotlib is imported inside the functions and draws on a canvas of its own (no pyplot), as in
-:mod:`virtual_actuators.experiments.plots`, whose helpers this module shares.
+`virtual_actuators.experiments.plots`, whose helpers this module shares.
 """
 
 from __future__ import annotations
@@ -85,13 +85,13 @@ def draw_hexapod(
     summary: str | None = None,
     dpi: float = 120,
 ) -> Figure:
-    """The figure :func:`plot_hexapod` saves (same arguments but the path), not yet drawn.
+    """The figure `plot_hexapod` saves (same arguments but the path), not yet drawn.
 
     Returns:
         A matplotlib figure on an Agg canvas of its own.
 
     Raises:
-        InvalidInputError: As :func:`plot_hexapod`.
+        InvalidInputError: As `plot_hexapod`.
 
     """
     if layout not in _LAYOUTS:

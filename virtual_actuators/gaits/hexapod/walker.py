@@ -20,17 +20,17 @@ state          active attachments                        left when
 ``double_a``   body on all six feet                      after ``double_support_time``
 =============  ========================================  =====================================
 
-The body's virtual components (:mod:`~virtual_actuators.gaits.hexapod.body`) act in its heading
+The body's virtual components (`body`) act in its heading
 frame; its wrench is distributed over the support feet by a
-:class:`~virtual_actuators.ParallelVirtualActuator` (point feet; ``distribution="qp"`` with
+[`ParallelVirtualActuator`][] (point feet; ``distribution="qp"`` with
 friction pyramids and a least normal force, or ``"partitioned"``, the minimum-norm split with the
 normal forces kept up by scaling the horizontal request). Each swing foot has a spring-damper
-relative to the body (a serial :class:`~virtual_actuators.VirtualActuator` from the body to the
+relative to the body (a serial [`VirtualActuator`][] from the body to the
 foot, body axes) whose set point lifts the foot and carries it to where it lands: its nominal
 place plus half the distance the body travels over the tripod stance, plus what it travels in
 a double support (so that the support tripod's stance is centred under the body). The three
 inputs are the body velocity in the heading frame and the yaw rate
-(:meth:`HexapodWalker.set_command`); the velocity set point follows them at a bounded
+(`HexapodWalker.set_command`); the velocity set point follows them at a bounded
 acceleration.
 
 Contacts (measured per foot from MuJoCo): a tripod carries the body with a static margin of
@@ -172,7 +172,7 @@ class HexapodWalker(Gait):
             c.add(f"swing_{i}", leg, [self.swing[i]])
 
     def _standing(self) -> None:
-        """The feet's nominal places and the frames :meth:`_body_state` reads."""
+        """The feet's nominal places and the frames `_body_state` reads."""
         model = self.robot.model
         standing = Snapshot(self.robot, self.initial_configuration())
         body_position = standing.frame_position("body")
@@ -360,7 +360,7 @@ class HexapodWalker(Gait):
             self.swing[i].velocity_setpoint = swing[k, 6:]
 
     def _update_tripod(self, context: Context) -> None:
-        """The ground plane, the phase and the swing set points (:mod:`.kernel`), one call."""
+        """The ground plane, the phase and the swing set points (`kernel`), one call."""
         height = self._body_state(context)
         now = context.time
         fx, fy = self._velocity_filtered

@@ -1,6 +1,6 @@
 """The body's virtual model: a spaceship held by springs and steered by dampers (VAC 1996, 4).
 
-:class:`BodyModel` is one component on all six axes of the support actuator (reference the
+[`BodyModel`][] is one component on all six axes of the support actuator (reference the
 world, action the body), acting in the body's *heading frame* (its yaw alone):
 
 * height ``z``: a spring-damper to the set point, plus the robot's weight;
@@ -10,11 +10,11 @@ world, action the body), acting in the body's *heading frame* (its yaw alone):
 * yaw: a damper toward the commanded yaw rate;
 * the weight acts at the centre of mass: its moment about the body's origin is added.
 
-When the gait gives it the support's producible directions (:attr:`BodyModel.basis`, from
-:meth:`ParallelVirtualActuator.producible <virtual_actuators.ParallelVirtualActuator.producible>`),
-the request gives way along :attr:`BodyModel.yielding` (by default the horizontal force) just
+When the gait gives it the support's producible directions (`BodyModel.basis`, from
+[`ParallelVirtualActuator.producible`][virtual_actuators.ParallelVirtualActuator.producible]),
+the request gives way along `BodyModel.yielding` (by default the horizontal force) just
 enough to become producible, and stays exact on the rest
-(:func:`~virtual_actuators.actuators.producible.give_way`). With two point feet the moment about
+([`give_way`][]). With two point feet the moment about
 the line between them cannot be produced: yielding the horizontal force lets the centre of mass
 move away from that line as an inverted pendulum does (``m g e / h`` for an offset ``e``) while
 height, roll, pitch and yaw stay exact; yielding the moments instead would spin the body against
@@ -56,7 +56,7 @@ class BodyModel(Component):
         acceleration: Its rate, in the heading frame [m/s^2].
         yaw_rate: Yaw rate set point [rad/s].
         lever: Centre of mass minus the body's origin, world axes [m].
-        basis: The support's :class:`~virtual_actuators.actuators.producible.Directions`, or
+        basis: The support's [`Directions`][], or
             None (every wrench producible).
         yielding: ``(6, m)`` unit columns of the yielding axes.
         yaw: The body's yaw at the last evaluation [rad].
@@ -103,7 +103,7 @@ class BodyModel(Component):
         self._pack()
 
     def _pack(self) -> None:
-        """The gains as :func:`body_wrench` reads them."""
+        """The gains as `body_wrench` reads them."""
         g, mass = getattr(self, "_gains", None), getattr(self, "_mass", None)
         if g is not None and mass is not None:
             self._packed = np.array((

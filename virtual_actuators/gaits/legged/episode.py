@@ -1,6 +1,6 @@
-"""One legged walk being run under :func:`~virtual_actuators.gaits.runner.drive`.
+"""One legged walk being run under `drive`.
 
-:class:`LeggedEpisode` gives the walker its command every tick (fixed, or steered by the hexapod's
+`LeggedEpisode` gives the walker its command every tick (fixed, or steered by the hexapod's
 guidance: along a sine path, or facing an object that circles the start), pushes the
 base when the push's time comes, reads the feet's contact switches, judges a fall (the base below
 half its standing height, roll or pitch beyond 0.8 rad, a part other than a foot's link on the
@@ -32,7 +32,7 @@ __all__ = ["TRACE_RATE", "LeggedEpisode"]
 
 
 class LeggedEpisode(Episode):
-    """A legged walk under :func:`~virtual_actuators.gaits.runner.drive`."""
+    """A legged walk under `drive`."""
 
     ignore_unactuated = True
 
@@ -93,7 +93,7 @@ class LeggedEpisode(Episode):
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
-        """One sample of :data:`CHANNELS`."""
+        """One sample of `CHANNELS`."""
         machine = self.gait.machine
         yaw, pitch, roll, vx, vy = self.attitude
         self.yaw_unwrapped += wrap(yaw - self.yaw_last)

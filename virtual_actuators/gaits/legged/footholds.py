@@ -1,13 +1,13 @@
 """Where a swing foot lands and the curve that carries it there (world axes).
 
-The foothold (:func:`foothold`) is the foot's nominal place under the centre of mass (the
+The foothold (`foothold`) is the foot's nominal place under the centre of mass (the
 standing stance, centred on it), turned by half the stance's yaw, moved by half the stance's
 travel at the velocity set point (the feed-forward: the stance is then centred under the body)
 and by the capture term (``sqrt(h / g)`` times the velocity error, Raibert's correction), all in
-the heading frame predicted for touchdown. :func:`swing_point` is the swing curve: a smooth
+the heading frame predicted for touchdown. `swing_point` is the swing curve: a smooth
 reach from lift-off to the foothold and a lift profile above the line between their heights.
-:class:`SwingFeet` keeps the swinging feet's lift-off points and set points and moves their
-springs every tick with one compiled call (:func:`swing_setpoints`: every swinging foot, plain
+`SwingFeet` keeps the swinging feet's lift-off points and set points and moves their
+springs every tick with one compiled call (`swing_setpoints`: every swinging foot, plain
 loops).
 """
 
@@ -64,7 +64,7 @@ def swing_point(
 
     From ``start`` (lift-off) to the landing point ``(x, y, z)``: horizontally a smooth step
     that arrives at 80 % of the swing; vertically a smooth step between the two heights plus
-    ``lift`` times :func:`~virtual_actuators.gaits.planar.lift_profile`. Past phase 1 it stays
+    ``lift`` times `lift_profile`. Past phase 1 it stays
     at the foothold (the gait lowers ``z`` instead).
     """
     x0, y0, z0 = start[0], start[1], start[2]
@@ -80,9 +80,9 @@ def swing_setpoints(
 ) -> None:
     """The set points of the feet ``feet`` index, relative to the body, and their velocities.
 
-    Each foot lands at its :func:`foothold` turned into the heading predicted for touchdown
+    Each foot lands at its `foothold` turned into the heading predicted for touchdown
     around the centre of mass predicted for it, the ground ``depth`` below the support (deeper
-    past the planned touchdown: a depth per quarter swing), along :func:`swing_point`; the set
+    past the planned touchdown: a depth per quarter swing), along `swing_point`; the set
     point's velocity is low-pass filtered (time constant ``shape[7]``) and written relative to
     the body (minus its velocity and ``angular x offset``).
 
@@ -90,7 +90,7 @@ def swing_setpoints(
         feet: ``(k,)`` indices of the swinging feet (rows of the per-foot arrays).
         swing: ``(f, 9)`` per foot: lift-off point, last set point, its velocity (the last two
             updated) [m, m/s], world.
-        nominal: ``(f, 2)`` the feet's nominal places (:func:`foothold`'s ``x``, ``y``) [m].
+        nominal: ``(f, 2)`` the feet's nominal places (`foothold`'s ``x``, ``y``) [m].
         body: ``(12,)`` centre of mass, the body's origin, its velocity and angular velocity,
             world [m, m/s, rad/s].
         motion: ``(8,)`` velocity set point and its error (measured minus set) in the
@@ -150,7 +150,7 @@ class SwingFeet:
         springs: Each foot's swing spring, on world axes ``x, y, z`` from the body (its set
             point and velocity set point are written in place: the spring reads them every
             tick).
-        shape: :func:`swing_setpoints`'s ``shape``.
+        shape: `swing_setpoints`'s ``shape``.
 
     Attributes:
         time: When the set points were last set [s].
@@ -178,11 +178,11 @@ class SwingFeet:
     def move(
         self, feet: tuple[str, ...], body: np.ndarray, motion: np.ndarray, time: float
     ) -> None:
-        """Set the springs of ``feet`` along their curves (:func:`swing_setpoints`).
+        """Set the springs of ``feet`` along their curves (`swing_setpoints`).
 
         Args:
             feet: The feet swinging, not yet down.
-            body: :func:`swing_setpoints`'s ``body``.
+            body: `swing_setpoints`'s ``body``.
             motion: Its ``motion``.
             time: Controller time [s].
 

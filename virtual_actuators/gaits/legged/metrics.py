@@ -1,6 +1,6 @@
 """Figures of a legged walk, stated as the issue's targets are: on the second half of the trace.
 
-:func:`legged_metrics` reads the trace (world frame, base link): the mean speed over the ground
+`legged_metrics` reads the trace (world frame, base link): the mean speed over the ground
 and the travel direction relative to the commanded one over the second half, the heading drift
 (yaw minus the commanded yaw rate's integral), the mean yaw rate of the second half and the
 largest roll and pitch after the first swing.

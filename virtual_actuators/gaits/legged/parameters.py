@@ -1,9 +1,9 @@
 """What a legged gait is tuned with: dimensionless choices and physical-unit gains.
 
-:class:`LeggedParameters` holds the choices (natural frequencies, damping ratios, timings as
+[`LeggedParameters`][] holds the choices (natural frequencies, damping ratios, timings as
 multiples of the robot's own time scale ``sqrt(h / g)``, lengths as fractions of its standing
-height ``h``); :func:`derive_gains` turns them into stiffnesses and dampings from the robot's
-mass, centroidal inertia and leg masses (through :mod:`~virtual_actuators.components.gains`),
+height ``h``); `derive_gains` turns them into stiffnesses and dampings from the robot's
+mass, centroidal inertia and leg masses (through [`gains`][virtual_actuators.components.gains]),
 so the same defaults serve a 2.5 kg solo12 and a 50 kg anymal_c.
 """
 
@@ -23,7 +23,7 @@ GRAVITY = 9.81  # [m/s^2]
 
 @dataclass
 class LeggedParameters:
-    """Choices of a legged gait (SI units; see :func:`derive_gains` for the gains).
+    """Choices of a legged gait (SI units; see `derive_gains` for the gains).
 
     Attributes:
         frequency: Natural frequency of the body's height, roll and pitch springs [Hz].
@@ -32,7 +32,7 @@ class LeggedParameters:
         swing_frequency: Natural frequency of a swing foot's spring on its leg's mass [Hz].
         swing_damping_ratio: Its damping ratio [-].
         swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-]; None: the pattern's
-            (:attr:`~.patterns.GaitPattern.swing_time`: 1, a pace 0.3).
+            (`swing_time`: 1, a pace 0.3).
         double_support_time: All feet down between two swings, in the same units [-].
         max_swing: A swing ends after this many swing times even without touchdown [-].
         touchdown_phase: From this swing phase on, the swing feet all touching end it [-].
@@ -94,7 +94,7 @@ class LeggedParameters:
 
 @dataclass(frozen=True)
 class LeggedGains:
-    """The gains in physical units (see :func:`derive_gains`).
+    """The gains in physical units (see `derive_gains`).
 
     Attributes:
         height: Standing height ``h`` of the body above its feet [m].
@@ -129,7 +129,7 @@ def derive_gains(
 ) -> LeggedGains:
     """Stiffness ``m w^2`` and damping ``2 zeta m w`` per axis; dampers ``m / tau``.
 
-    The masses and inertias are :func:`~virtual_actuators.components.gains.body_gains`'s: the
+    The masses and inertias are [`body_gains`][]'s: the
     robot's mass for forces, its centroidal inertia at ``q`` for moments.
 
     Args:

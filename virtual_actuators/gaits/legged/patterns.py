@@ -1,23 +1,23 @@
 """Gait patterns as data: which feet swing together, and in which order.
 
-A :class:`GaitPattern` gives every foot the phase of the cycle (0 to 1) at which its swing
+A [`GaitPattern`][] gives every foot the phase of the cycle (0 to 1) at which its swing
 starts; feet with the same phase form a *swing group* and swing together, the groups in the
 order of their phases, one after the other. The walker
-(:class:`~virtual_actuators.gaits.legged.LeggedWalker`) turns the groups into states.
+([`LeggedWalker`][]) turns the groups into states.
 
 The named patterns are built from where the feet stand (body axes: x forward, y left), so
 they work on any robot whatever its frame names:
 
 * ``trot``: diagonal pairs (left-front with right-hind), two groups;
 * ``pace``: lateral pairs (the left legs, then the right legs), with short swings and a narrow
-  stance (:data:`PACE_SWING_TIME`, :data:`PACE_WIDTH`): on the two feet of one side the centre
+  stance (`PACE_SWING_TIME`, `PACE_WIDTH`): on the two feet of one side the centre
   of mass, off their line, falls sideways as an inverted pendulum, ``e^(t / sqrt(h / g))``, so
   the swing must be short and the line near the centre of mass;
 * ``walk``: one foot at a time, the lateral sequence (left hind, left front, right hind, right
   front on a quadruped; back to front along each side);
 * ``tripod`` (alternating): legs alternate along each side and across (a hexapod's tripods,
   a quadruped's trot, a millipede's two waves);
-* :func:`npod`: any groups you give.
+* [`npod`][]: any groups you give.
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ class GaitPattern:
         name: Label.
         offsets: ``{foot: phase in [0, 1)}``.
         swing_time: Duration of a swing in units of ``sqrt(h / g)`` when
-            :class:`~.parameters.LeggedParameters` leaves it to the pattern (``None``) [-].
+            [`LeggedParameters`][] leaves it to the pattern (``None``) [-].
         width: The nominal stance's width across the heading, as a fraction of the standing
             pose's, in (0, 1] [-].
 
@@ -136,7 +136,7 @@ def sides(feet: Sequence[str], positions: np.ndarray) -> tuple[list[str], list[s
 
 
 def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> GaitPattern:
-    """One of :data:`PATTERNS` for these feet, from where they stand.
+    """One of `PATTERNS` for these feet, from where they stand.
 
     Args:
         name: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.

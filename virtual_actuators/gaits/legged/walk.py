@@ -1,14 +1,13 @@
-"""Any legged robot walking in MuJoCo: ``demo legged`` and :func:`run_legged_walk`.
+"""Any legged robot walking in MuJoCo: ``demo legged`` and [`run_legged_walk`][].
 
-:func:`run_legged_walk` loads the robot (a name or a URDF path), builds its
-:class:`~virtual_actuators.gaits.legged.LeggedWalker`, a :class:`~virtual_actuators.simulation.
-Simulator` on the terrain and runs the closed loop at 1 kHz under
-:func:`~virtual_actuators.gaits.runner.drive`: every tick the command goes to the walker with
+[`run_legged_walk`][] loads the robot (a name or a URDF path), builds its
+[`LeggedWalker`][], a [`Simulator`][] on the terrain and runs the closed loop at 1 kHz under
+`drive`: every tick the command goes to the walker with
 the feet's contact switches, a push (``push=(N, T, DEG)``: N newtons on the base for 0.1 s from
 T seconds along DEG degrees in the ground plane) is applied when its time comes, and the base is
-sampled at :data:`TRACE_RATE`. The robot has fallen when its base drops below half its standing
+sampled at `TRACE_RATE`. The robot has fallen when its base drops below half its standing
 height above the ground, tilts beyond 0.8 rad, or a part other than a foot's link touches the
-ground. :class:`LeggedResult` holds the log, the :class:`~.metrics.LeggedMetrics` and the JSON.
+ground. `LeggedResult` holds the log, the [`LeggedMetrics`][] and the JSON.
 """
 
 from __future__ import annotations
@@ -62,13 +61,13 @@ class LeggedWalkConfig:
     """What to walk (SI units, angles in radians except the push's).
 
     Attributes:
-        robot: A robot name or URDF path for :func:`~virtual_actuators.load_robot`.
+        robot: A robot name or URDF path for [`load_robot`][].
         gait: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.
         feet: Foot frames (None: found on the robot).
         speed: [m/s].
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
-        push: A :class:`~virtual_actuators.gaits.push.Push` on the base (or its text,
+        push: A `Push` on the base (or its text,
             ``(newtons, start time [s], direction [deg])``), or None.
         path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``: ``y = A sin(2 pi
             x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
@@ -76,7 +75,7 @@ class LeggedWalkConfig:
         wavelength: The sine's ``L`` [m].
         track: Walk the commanded velocity while facing an object circling the start (the
             yaw rate is the guidance's; line path only).
-        terrain: A :meth:`Terrain.parse` spec.
+        terrain: A [`Terrain.parse`][] spec.
         duration: Simulated time [s].
         distribution: ``"qp"`` or ``"partitioned"``.
         seed: None for a start at rest; an int for a random initial base velocity (up to
@@ -131,7 +130,7 @@ class LeggedWalkConfig:
 
 @dataclass
 class LeggedResult(WalkResult):
-    """A legged walk: the log, :class:`LeggedMetrics`, the walker, the simulator, the config.
+    """A legged walk: the log, [`LeggedMetrics`][], the walker, the simulator, the config.
 
     Attributes:
         config: What was walked.
@@ -145,7 +144,7 @@ class LeggedResult(WalkResult):
     ticks: int = 0
 
     def trace(self) -> dict[str, list]:
-        """The trace: equal-length lists at :data:`TRACE_RATE` and the state names.
+        """The trace: equal-length lists at `TRACE_RATE` and the state names.
 
         ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, base link; ``z`` above the
         terrain, ``yaw`` unwrapped) and ``state``.
@@ -180,14 +179,14 @@ def run_legged_walk(
 
     Args:
         config: What to walk (default: solo12 trotting at 0.4 m/s for 4 s).
-        parameters: Gait choices (default :class:`LeggedParameters` with the config's
+        parameters: Gait choices (default [`LeggedParameters`][] with the config's
             distribution).
         progress: Show a progress bar.
         on_tick: Called after every physics step (e.g. a viewer's update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
 
     Returns:
-        The :class:`LeggedResult`.
+        The `LeggedResult`.
 
     Raises:
         InvalidInputError: A bad terrain spec or pattern for this robot.
@@ -280,7 +279,7 @@ def run_registered(
     distribution: str | None = None,
     **options: Any,
 ) -> LeggedResult:
-    """The legged walk as :func:`~virtual_actuators.gaits.registry.run_walk` runs it.
+    """The legged walk as `run_walk` runs it.
 
     ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``,
     ``path``, ``amplitude``, ``wavelength``, ``track``.
@@ -314,7 +313,7 @@ def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Pa
 
 
 def draw_legged_walk(result: LeggedResult) -> Any:
-    """The matplotlib figure :func:`plot_legged_walk` saves."""
+    """The matplotlib figure `plot_legged_walk` saves."""
     trace = result.trace()
     figure = new_figure(8.0, 7.0, dpi=100)
     top, bottom = figure.subplots(2, 1)

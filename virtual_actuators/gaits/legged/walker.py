@@ -1,14 +1,14 @@
 """A gait for any robot with two or more legs: the hexapod's design, for every pattern.
 
-The body is a spaceship (VAC 1996, section 4): its :class:`~.body.BodyModel` holds z, roll and
+The body is a spaceship (VAC 1996, section 4): its [`BodyModel`][] holds z, roll and
 pitch with spring-dampers and steers x, y and yaw with dampers in its heading frame, and a
-:class:`~virtual_actuators.ParallelVirtualActuator` per support set distributes that wrench over
+[`ParallelVirtualActuator`][] per support set distributes that wrench over
 the feet in support (point contacts; the contact QP with friction pyramids, a least normal
 force and the torque limits, or the partitioned split). Every swing foot has a spring-damper
-from the body (a serial :class:`~virtual_actuators.VirtualActuator`, world axes) whose set point
+from the body (a serial [`VirtualActuator`][], world axes) whose set point
 runs along a swing curve to a foothold placed under the centre of mass
-(:mod:`~.footholds`). The states come from the pattern's swing groups
-(:mod:`~.patterns`):
+(`footholds`). The states come from the pattern's swing groups
+(`patterns`):
 
 =============  ==========================================  ===================================
 state          active attachments                          left when
@@ -24,10 +24,11 @@ state          active attachments                          left when
 Every tick (each state's ``on_update``) the walker reads the body, its centre of mass and the
 support feet from the tick's snapshot; moves the velocity set point toward the command at a
 bounded acceleration; sets the body's height above the support feet; asks the state's support
-actuator which wrenches it can produce (:meth:`~virtual_actuators.ParallelVirtualActuator.\
-producible`: with two point feet, not the moment about the line between them) so that the body
+actuator which wrenches it can produce
+([`producible`][virtual_actuators.ParallelVirtualActuator.producible]: with two point feet, not the
+moment about the line between them) so that the body
 gives way exactly there; and moves the swing feet's set points. The whole tick runs through
-:class:`~virtual_actuators.MachineController`.
+[`MachineController`][].
 """
 
 from __future__ import annotations
@@ -65,15 +66,15 @@ class LeggedWalker(Gait):
     Args:
         robot: A floating-base robot.
         feet: Foot frames (default: found on the robot, see ``va.find_feet``).
-        pattern: ``"trot"``, ``"pace"``, ``"walk"``, ``"tripod"`` or a :class:`GaitPattern`.
-        parameters: Choices and dimensionless gains (default :class:`LeggedParameters`).
+        pattern: ``"trot"``, ``"pace"``, ``"walk"``, ``"tripod"`` or a [`GaitPattern`][].
+        parameters: Choices and dimensionless gains (default [`LeggedParameters`][]).
         body: The body frame (default: the floating base's).
 
     Attributes:
         feet: The foot frames.
-        pattern: The :class:`GaitPattern`.
+        pattern: The [`GaitPattern`][].
         groups: Its swing groups, in cycle order.
-        gains: The physical gains (:class:`~.parameters.LeggedGains`).
+        gains: The physical gains (`LeggedGains`).
         nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame
             (its width the pattern's fraction of the standing pose's).
         stand_height: The body's origin above its feet when standing [m].
@@ -354,7 +355,7 @@ class LeggedWalker(Gait):
     def _move_swing(self, context: Context, body: np.ndarray, motion: np.ndarray) -> None:
         """The swing feet's set points along their curves to the footholds.
 
-        ``body`` and ``motion`` as :func:`~.footholds.swing_setpoints` reads them.
+        ``body`` and ``motion`` as `swing_setpoints` reads them.
         """
         feet = self._group(context)
         if context.time_in_state / self.swing_time >= self.parameters.touchdown_phase:

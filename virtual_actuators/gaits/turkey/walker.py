@@ -132,8 +132,8 @@ class TurkeyWalker(Gait):
         """The stance leg in single support (the left one in double support)."""
         return self.state.split("_")[0] if self.state != "double_support" else "left"
 
-    def _update_ground(self, context: Context, feet: list[str]) -> None:
-        heights = [float(context.frame_position(f"{side}_foot")[2]) for side in feet]
+    def _update_ground(self, context: Context, feet: tuple[str, ...]) -> None:
+        heights = [context.frame_position(foot).item(2) for foot in feet]
         self.ground = sum(heights) / len(heights) - self.parameters.foot_radius
         self.granny.height = self.ground + self.parameters.height
 
@@ -143,23 +143,22 @@ class TurkeyWalker(Gait):
         self.front = "left" if x_left > x_right else "right"
 
     def _update_double(self, context: Context) -> None:
-        self._update_ground(context, list(SIDES))
+        self._update_ground(context, _FEET)
 
     def _enter_single(self, context: Context) -> None:
-        stance = context.state.split("_")[0]
-        swing = other(stance)
+        stance, swing, _, _ = _SINGLE[context.state]
         body = context.frame_position("body")
         self._swing_start = (context.frame_position(f"{swing}_foot") - body)[[0, 2]]
         self._progress_start = float(body[0] - context.frame_position(f"{stance}_foot")[0])
 
     def _update_single(self, context: Context) -> None:
         p = self.parameters
-        stance = context.state.split("_")[0]
-        self._update_ground(context, [stance])
-        if context.state.endswith("_2"):
+        _, swing, stance_foot, buffer = _SINGLE[context.state]
+        self._update_ground(context, stance_foot)
+        if buffer:
             return
         body = context.frame_position("body")
-        progress = float(body[0] - context.frame_position(f"{stance}_foot")[0])
+        progress = float(body[0] - context.frame_position(stance_foot[0])[0])
         span = max(p.away_distance - self._progress_start, 1e-3)
         phase = min(max((progress - self._progress_start) / span, 0.0), 1.0)
         x_rel = self._swing_start[0] + (p.swing_reach - self._swing_start[0]) * smoothstep(
@@ -167,4 +166,14 @@ class TurkeyWalker(Gait):
         )
         foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
         z_rel = self.ground + p.foot_radius + foot_height - float(body[2])
-        self.swing[other(stance)].place((x_rel, z_rel))
+        self.swing[swing].place((x_rel, z_rel))
+
+
+#: Both feet (double support's ground estimate).
+_FEET = tuple(f"{side}_foot" for side in SIDES)
+#: Per single-support state: stance side, swing side, ``(stance foot,)``, whether the buffer.
+_SINGLE = {
+    f"{side}_support{end}": (side, other(side), (f"{side}_foot",), end == "_2")
+    for side in SIDES
+    for end in ("", "_2")
+}

@@ -1,7 +1,7 @@
-"""What is drawn over the robot, one :class:`Overlay` per kind of thing.
+"""What is drawn over the robot, one `Overlay` per kind of thing.
 
-A new overlay is a subclass of :class:`Overlay` with a :meth:`~Overlay.draw` method, added with
-:meth:`Viewer.add_overlay <virtual_actuators.visualization.Viewer.add_overlay>`.
+A new overlay is a subclass of `Overlay` with a `draw` method, added with
+`Viewer.add_overlay`.
 """
 
 from .base import Overlay

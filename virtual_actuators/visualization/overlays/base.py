@@ -1,7 +1,7 @@
 """The overlay interface: one kind of thing drawn over the robot, frame after frame.
 
-An overlay reads a :class:`~virtual_actuators.visualization.snapshot.FrameSnapshot` and draws on
-a :class:`~virtual_actuators.visualization.robot_scene.RobotScene` with its primitives (arrows,
+An overlay reads a `FrameSnapshot` and draws on
+a `RobotScene` with its primitives (arrows,
 triads, spans, markers) or directly into its nodes. Dynamic nodes (declared with
 ``scene.nodes.declare``) that an overlay does not ``use`` in a frame are hidden at the end of
 that frame, so an overlay draws what is there and never hides anything itself.
@@ -16,11 +16,11 @@ from ..snapshot import FrameSnapshot
 
 
 class Overlay(ABC):
-    """Something drawn over the robot: subclass it and implement :meth:`draw`.
+    """Something drawn over the robot: subclass it and implement `draw`.
 
     Attributes:
         roots: Nodes under which the overlay draws (relative to the viewer's prefix);
-            :meth:`clear` removes them.
+            `clear` removes them.
 
     """
 

@@ -5,7 +5,7 @@ with a piston inside on a thin rod reaching the action frame), from their reacti
 to the action frame (side by side when a component is both); a spring's set point is a small
 sphere; a damper alone has its other end on its set point (a dogtrack bunny); a damper with
 neither spring nor set point (a velocity damper: nothing in the world anchors it) is drawn on
-the action frame along its first axis, :data:`VELOCITY_DAMPER_LENGTH` robot sizes long (its
+the action frame along its first axis, `VELOCITY_DAMPER_LENGTH` robot sizes long (its
 housing out of the body's shape). Only
 the translational axes of a component are drawn: rotational ones show through the moment
 arrows.

@@ -6,7 +6,7 @@ import meshcat.geometry as mg
 
 from ..legend import legend_entries
 from ..robot_scene import RobotScene, safe
-from ..shapes import material, text_object
+from ..shapes import material, text_faces
 from ..snapshot import FrameSnapshot
 from .base import Overlay
 
@@ -45,7 +45,8 @@ class LegendOverlay(Overlay):
         for k, (color, text) in enumerate(entries):
             up = top - k * spacing
             name = f"hud/legend/line_{k:02d}"
-            nodes.create(name, text_object(text, size, font_size=24))
+            for face, mesh in text_faces(text, size, font_size=24):
+                nodes.create(f"{name}/{face}", mesh)
             nodes.place(name, scene.hud_matrix(left, up))
             if color is not None:
                 swatch = f"hud/legend/swatch_{k:02d}"
@@ -66,7 +67,8 @@ class StateOverlay(Overlay):
         name = f"hud/state/{safe(frame.state)}"
         if not nodes.has(name):
             size = min(2.0, max(0.4, 0.8 * scene.extent))
-            nodes.create(name, text_object(frame.state, size, font_size=30))
+            for face, mesh in text_faces(frame.state, size, font_size=30):
+                nodes.create(f"{name}/{face}", mesh)
             nodes.declare(name)
             right, up = 0.3 * scene.extent + 0.4 * size, 0.3 * scene.extent  # beside the body
             nodes.place(name, scene.hud_matrix(right, up))

@@ -8,7 +8,7 @@ frame's origin, on the actuator's rotational axes); and the produced wrench when
 the request (orange when adjusted on free axes or scaled to keep the feet on the ground, red when
 the request was inadmissible). A controller's output draws every active attachment so.
 
-Wrenches of a :class:`~virtual_actuators.Solution` are expressed along the reference frame's
+Wrenches of a [`Solution`][] are expressed along the reference frame's
 axes with moments about the action frame's origin; they are turned into the world with the
 scene's forward kinematics at ``q``.
 """

@@ -16,6 +16,8 @@ correctness against independent oracles (ProxQP, the KKT conditions, RNEA) is te
 
 from __future__ import annotations
 
+import concurrent.futures
+
 import numpy as np
 import pytest
 from oracles import random_configuration
@@ -256,6 +258,60 @@ def test_walking_sensor_readings_are_bit_identical(monkeypatch):
         assert np.array_equal(CORE.relative_sensor(*arguments), reference)
 
 
+def _standing_ticks(robot, n: int, count: int, seed: int):
+    """``count`` (q, wrench): configurations near neutral (each kept two ticks), requests
+    around the weight."""
+    rng = np.random.default_rng(seed)
+    weight = 9.81 * sum(inertia.mass for inertia in robot.model.inertias)
+    q = robot.neutral()
+    for k in range(count):
+        q = q if k % 2 else random_configuration(robot, rng, scale=0.05)
+        wrench = np.zeros(n)
+        wrench[2] = weight * rng.uniform(0.5, 1.2)
+        wrench += rng.normal(scale=0.05 * weight, size=n)
+        yield q, wrench
+
+
+def _core_again(case) -> bytes:
+    """The compiled tick of a recorded ``again`` on fresh arrays: every output's bytes."""
+    matrices, work, jacobian, frames, q, wrench, keep, weights, guess = case
+    buffer, hot = np.zeros_like(work.buffer), guess.copy()
+    out = np.zeros(work.pn + 2 * work.nv + 2 * len(wrench))
+    active = np.zeros(len(guess), dtype=np.int64)
+    count, norms = matrices.core.again(
+        jacobian, frames, q, wrench, work.kept, buffer, work.layout, keep, weights, hot,
+        ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
+    )  # fmt: skip
+    return b"".join(np.asarray(a).tobytes() for a in
+                    (count, norms, buffer, out, hot, active[: max(count, 0)]))  # fmt: skip
+
+
+def test_compiled_qp_ticks_from_four_threads_give_the_serial_bits(recorder):
+    """The compiled QP's per-thread scratch: ticks of three declarations of different sizes
+    (talos' soles, the hexapod, solo12), interleaved and shared by four threads that run them at
+    once (the GIL released), give the bits of one thread running each alone, in any order."""
+    for name in ("talos soles", "hexapod", "solo12 least normal, limits"):
+        robot_name, base, feet, options = DECLARATIONS[name]
+        robot = va.load_robot(robot_name)
+        body = va.ParallelVirtualActuator(robot, base, feet, "world", **options)
+        for q, wrench in _standing_ticks(robot, body.n, 30, seed=5):
+            try:
+                body.solve(q, wrench, method="qp")
+            except va.ConstraintError:
+                pass
+    sizes: dict[int, list] = {}
+    for case in recorder.agains:
+        sizes.setdefault(len(case[1].buffer), []).append(case)
+    assert len(sizes) == 3  # one tick of each size in turn
+    cases = [case for group in zip(*sizes.values(), strict=False) for case in group]
+    assert len(cases) >= 30
+    alone = [_core_again(case) for case in cases]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=4) as pool:
+        for _ in range(3):
+            assert list(pool.map(_core_again, cases)) == alone
+    assert [_core_again(case) for case in reversed(cases)] == alone[::-1]
+
+
 @pytest.mark.parametrize("name", sorted(DECLARATIONS))
 def test_qp_solves_from_q_equal_solves_from_snapshots(name):
     """``solve(q)`` (kinematics and the certified tick in one compiled call) and ``solve`` on a
@@ -264,14 +320,7 @@ def test_qp_solves_from_q_equal_solves_from_snapshots(name):
     robot = va.load_robot(robot_name)
     from_q, from_snapshot = (va.ParallelVirtualActuator(robot, base, feet, "world", **options)
                              for _ in range(2))  # fmt: skip
-    rng = np.random.default_rng(2)
-    weight = 9.81 * sum(inertia.mass for inertia in robot.model.inertias)
-    q = robot.neutral()
-    for k in range(60):
-        q = q if k % 2 else random_configuration(robot, rng, scale=0.05)
-        wrench = np.zeros(from_q.n)
-        wrench[2] = weight * rng.uniform(0.5, 1.2)
-        wrench += rng.normal(scale=0.05 * weight, size=from_q.n)
+    for q, wrench in _standing_ticks(robot, from_q.n, 60, seed=2):
         solutions = []
         for body, state in ((from_q, q), (from_snapshot, va.Snapshot(robot, q))):
             try:

@@ -21,7 +21,11 @@ import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.components.base import has_float_path
 from virtual_actuators.control.state_machine import Context
-from virtual_actuators.gaits.attitude import attitude_and_velocity
+from virtual_actuators.gaits.attitude import (
+    attitude_and_velocity,
+    rotation_vector_angles,
+    yaw_pitch_roll,
+)
 from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import (
     HeadingAttitude,
@@ -166,6 +170,23 @@ def test_heading_components_float_paths_give_the_array_paths_bits():
         velocity = rng.normal(size=2)
         floats = damper.compute_wrench_floats([0.0, 0.0], velocity.tolist(), 0.0)
         assert np.array_equal(floats, damper.compute_wrench(np.zeros(2), velocity, 0.0))
+
+
+def test_rotation_vector_angles_are_those_of_pinocchios_exp3():
+    """The float angles of a rotation vector: Pinocchio's exp3 then the angles, bit for bit.
+
+    Every scale from the Taylor branch (|v| < eps^(1/4)) to angles near pi, and the axes.
+    """
+    rng = np.random.default_rng(11)
+    vectors = [rng.normal(size=3) * scale for scale in (1e-12, 1e-6, 1e-4, 0.01, 1.0, 1.8)
+               for _ in range(300)]  # fmt: skip
+    vectors += [np.eye(3)[axis] * angle for axis in range(3) for angle in (0.0, 1e-4, 3.1)]
+    for vector in vectors:
+        assert rotation_vector_angles(*vector.tolist()) == yaw_pitch_roll(pin.exp3(vector))
+    # and the angles are the rotation's: Rz(yaw) Ry(pitch) Rx(roll) is exp3(v)
+    yaw, pitch, roll = rotation_vector_angles(0.3, -0.2, 1.1)
+    built = pin.utils.rotate("z", yaw) @ pin.utils.rotate("y", pitch) @ pin.utils.rotate("x", roll)
+    assert built == pytest.approx(pin.exp3(np.array([0.3, -0.2, 1.1])), abs=1e-14)
 
 
 def test_hexapod_options_are_refused_elsewhere_and_bad_values_are_usage_errors(capsys):

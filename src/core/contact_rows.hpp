@@ -99,8 +99,8 @@ inline void sole_rows(const double* placement, const double rot_o[3][3], const d
     }
   const double mu = friction >= 0.0 ? friction : 0.0;
   const double halves[3] = {sole[2], sole[1], mu * pmin(sole[1], sole[2])};
-  std::vector<double> entry(static_cast<std::size_t>(n), 0.0);   // the moment row over F_i
-  std::vector<double> normal(static_cast<std::size_t>(n), 0.0);  // the force along the normal
+  double entry[6] = {};   // the moment row over F_i (n <= 6 axes)
+  double normal[6] = {};  // the force along the normal
   for (int c = 0; c < 3; ++c) {
     const double e0 = frame_o[0][c], e1 = frame_o[1][c], e2 = frame_o[2][c];
     const double lever[3] = {e1 * offset[2] - e2 * offset[1], e2 * offset[0] - e0 * offset[2],

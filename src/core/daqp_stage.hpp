@@ -8,11 +8,24 @@
 #include <cstdint>
 #include <vector>
 
+#include "exact.hpp"  // zeroed
+
 extern "C" {
 #include "api.h"
 }
 
 namespace va {
+
+// The problem's arrays, one set per thread (daqp_scratch; DAQP's own workspace is its own).
+struct DaqpScratch {
+  std::vector<double> A, upper, lower, lam;
+  std::vector<int> sense;
+};
+
+inline DaqpScratch& daqp_scratch() {
+  thread_local DaqpScratch scratch;
+  return scratch;
+}
 
 struct DaqpAnswer {
   int exitflag = 0;    // DAQP's: 1 optimal, -1 infeasible, < 0 failed
@@ -26,9 +39,11 @@ inline DaqpAnswer daqp_least_norm(const double* equality, const double* equality
                                   const double* lows, const double* uppers, std::int64_t m,
                                   int iter_limit, double* x, double* lam) {
   const std::int64_t rows = k + m;
-  std::vector<double> A(static_cast<std::size_t>(rows * size));
-  std::vector<double> upper(static_cast<std::size_t>(rows)), lower(static_cast<std::size_t>(rows));
-  std::vector<int> sense(static_cast<std::size_t>(rows), 0);
+  DaqpScratch& S = daqp_scratch();
+  double* A = zeroed(S.A, rows * size);
+  double* upper = zeroed(S.upper, rows);
+  double* lower = zeroed(S.lower, rows);
+  int* sense = zeroed(S.sense, rows);
   for (std::int64_t r = 0; r < k; ++r) {
     for (std::int64_t j = 0; j < size; ++j) A[r * size + j] = equality[r * size + j];
     upper[r] = lower[r] = equality_rhs[r];
@@ -45,20 +60,20 @@ inline DaqpAnswer daqp_least_norm(const double* equality, const double* equality
   problem.ms = 0;
   problem.H = nullptr;
   problem.f = nullptr;
-  problem.A = A.data();
-  problem.bupper = upper.data();
-  problem.blower = lower.data();
-  problem.sense = sense.data();
+  problem.A = A;
+  problem.bupper = upper;
+  problem.blower = lower;
+  problem.sense = sense;
   problem.break_points = nullptr;
   problem.nh = 0;
   problem.problem_type = 0;
   DAQPSettings settings;
   daqp_default_settings(&settings);
   settings.iter_limit = iter_limit;
-  std::vector<double> all_lam(static_cast<std::size_t>(rows), 0.0);
+  double* all_lam = zeroed(S.lam, rows);
   DAQPResult result{};
   result.x = x;
-  result.lam = all_lam.data();
+  result.lam = all_lam;
   daqp_quadprog(&result, &problem, &settings);
   for (std::int64_t r = 0; r < m; ++r) lam[r] = all_lam[k + r];
   return {result.exitflag, result.iter};

@@ -29,6 +29,34 @@ struct ExactRows {
   std::int64_t m;
 };
 
+// Scratch of the exact step, one per thread (exact_scratch): a warm call allocates nothing.
+// zeroed() gives each array the sizes and the zeros the per-call arrays had, keeping capacity.
+struct ExactScratch {
+  std::vector<std::int64_t> order, kept, side;
+  std::vector<double> factor_row, coefficients, combination, row, target, multipliers, gradient,
+      fit, norm, bounds;
+  Arr basis, lower, spread, columns, upper;
+};
+
+inline ExactScratch& exact_scratch() {
+  thread_local ExactScratch scratch;
+  return scratch;
+}
+
+template <typename T>
+inline T* zeroed(std::vector<T>& vector, std::int64_t size) {
+  vector.assign(static_cast<std::size_t>(size), T{});
+  return vector.data();
+}
+
+inline Arr& zeroed(Arr& array, std::int64_t rows, std::int64_t columns) {
+  array.v.assign(static_cast<std::size_t>(rows * columns), 0.0);
+  array.d0 = rows;
+  array.d1 = columns;
+  array.d2 = 1;
+  return array;
+}
+
 // Row `index` of [equality; inequality] into out. exact._row.
 inline void exact_row(const ExactRows& R, std::int64_t index, double* out) {
   for (std::int64_t j = 0; j < R.size; ++j)
@@ -41,20 +69,21 @@ inline std::pair<std::int64_t, std::int64_t> exact_factor(const ExactRows& R,
                                                           const std::int64_t* side, Arr& basis,
                                                           Arr& lower, std::int64_t* kept) {
   const std::int64_t k = R.k, size = R.size;
-  std::vector<std::int64_t> order(static_cast<std::size_t>(k + R.m));
+  ExactScratch& S = exact_scratch();
+  std::int64_t* order = zeroed(S.order, k + R.m);
   std::int64_t count = 0;
   for (std::int64_t index = 0; index < R.design; ++index) order[count++] = index;
   for (std::int64_t r = 0; r < R.m; ++r)
     if (side[r] != 0) order[count++] = k + r;
   const std::int64_t fixed = count;
   for (std::int64_t index = R.design; index < k; ++index) order[count++] = index;
-  std::vector<double> row(static_cast<std::size_t>(size));
-  std::vector<double> coefficients(static_cast<std::size_t>(size));
+  double* row = zeroed(S.factor_row, size);
+  double* coefficients = zeroed(S.coefficients, size);
   std::int64_t rank = 0, rank_fixed = -1;
   for (std::int64_t position = 0; position < count; ++position) {
     if (position == fixed) rank_fixed = rank;
     if (rank == size) break;
-    exact_row(R, order[position], row.data());
+    exact_row(R, order[position], row);
     double norm = 0.0;
     for (std::int64_t j = 0; j < size; ++j) norm += row[j] * row[j];
     norm = std::sqrt(norm);
@@ -98,10 +127,12 @@ inline void exact_back(const Arr& lower, std::int64_t start, std::int64_t stop, 
 inline void exact_solve(const ExactRows& R, const double* bounds, const std::int64_t* side,
                         bool exact, double* x, double* fit, double* norm) {
   const std::int64_t k = R.k, size = R.size, m = R.m;
-  Arr basis(size, size), lower(size, size);
-  std::vector<std::int64_t> kept(static_cast<std::size_t>(size));
-  const auto [rank, fixed] = exact_factor(R, side, basis, lower, kept.data());
-  std::vector<double> combination(static_cast<std::size_t>(size), 0.0);
+  ExactScratch& S = exact_scratch();
+  Arr& basis = zeroed(S.basis, size, size);
+  Arr& lower = zeroed(S.lower, size, size);
+  std::int64_t* kept = zeroed(S.kept, size);
+  const auto [rank, fixed] = exact_factor(R, side, basis, lower, kept);
+  double* combination = zeroed(S.combination, size);
   for (std::int64_t r = 0; r < fixed; ++r) {
     const std::int64_t index = kept[r];
     double acc = index < k ? R.equality_rhs[index] : bounds[index - k];
@@ -109,11 +140,11 @@ inline void exact_solve(const ExactRows& R, const double* bounds, const std::int
     combination[r] = acc / lower(r, r);
   }
   const std::int64_t requests = k - R.design, extra = rank - fixed;
-  std::vector<double> row(static_cast<std::size_t>(size));
-  Arr spread(requests, size);
-  std::vector<double> target(static_cast<std::size_t>(requests));
+  double* row = zeroed(S.row, size);
+  Arr& spread = zeroed(S.spread, requests, size);
+  double* target = zeroed(S.target, requests);
   for (std::int64_t i = 0; i < requests; ++i) {
-    exact_row(R, R.design + i, row.data());
+    exact_row(R, R.design + i, row);
     for (std::int64_t b = 0; b < rank; ++b) {
       double dot = 0.0;
       for (std::int64_t j = 0; j < size; ++j) dot += basis(b, j) * row[j];
@@ -124,7 +155,8 @@ inline void exact_solve(const ExactRows& R, const double* bounds, const std::int
     const double root = std::sqrt(R.weights[i]);
     target[i] = root * acc;
   }
-  Arr columns(extra, requests), upper(extra, extra);
+  Arr& columns = zeroed(S.columns, extra, requests);
+  Arr& upper = zeroed(S.upper, extra, extra);
   for (std::int64_t c = 0; c < extra; ++c) {
     for (std::int64_t i = 0; i < requests; ++i)
       columns(c, i) = std::sqrt(R.weights[i]) * spread(i, fixed + c);
@@ -151,19 +183,19 @@ inline void exact_solve(const ExactRows& R, const double* bounds, const std::int
     for (std::int64_t b = 0; b < rank; ++b) acc += basis(b, j) * combination[b];
     x[j] = acc;
   }
-  std::vector<double> multipliers(static_cast<std::size_t>(size), 0.0);
-  exact_back(lower, 0, rank, combination.data(), multipliers.data());
+  double* multipliers = zeroed(S.multipliers, size);
+  exact_back(lower, 0, rank, combination, multipliers);
   for (std::int64_t r = 0; r < k + m; ++r) norm[r] = 0.0;
   for (std::int64_t r = 0; r < rank; ++r) norm[kept[r]] = multipliers[r];
   for (std::int64_t r = 0; r < k + m; ++r) fit[r] = 0.0;
   if (exact) return;
-  std::vector<double> gradient(static_cast<std::size_t>(size), 0.0);
+  double* gradient = zeroed(S.gradient, size);
   for (std::int64_t i = 0; i < requests; ++i) {
     double acc = -R.equality_rhs[R.design + i];
     for (std::int64_t b = 0; b < rank; ++b) acc += spread(i, b) * combination[b];
     for (std::int64_t b = 0; b < fixed; ++b) gradient[b] += R.weights[i] * acc * spread(i, b);
   }
-  exact_back(lower, 0, fixed, gradient.data(), multipliers.data());
+  exact_back(lower, 0, fixed, gradient, multipliers);
   for (std::int64_t r = 0; r < fixed; ++r) fit[kept[r]] = multipliers[r];
 }
 
@@ -172,7 +204,8 @@ inline void exact_solve(const ExactRows& R, const double* bounds, const std::int
 inline bool exact_step(const ExactRows& R, const double* guess, bool exact, double active_tol,
                        double tol, std::int64_t max_steps, double* x, double* z) {
   const std::int64_t k = R.k, m = R.m, size = R.size;
-  std::vector<std::int64_t> side(static_cast<std::size_t>(m), 0);
+  ExactScratch& S = exact_scratch();
+  std::int64_t* side = zeroed(S.side, m);
   for (std::int64_t r = 0; r < m; ++r) {
     if (guess[r] < -active_tol)
       side[r] = -1;
@@ -180,13 +213,13 @@ inline bool exact_step(const ExactRows& R, const double* guess, bool exact, doub
       side[r] = 1;
   }
   for (std::int64_t j = 0; j < size; ++j) x[j] = 0.0;
-  std::vector<double> fit(static_cast<std::size_t>(k + m), 0.0);
-  std::vector<double> norm(static_cast<std::size_t>(k + m), 0.0);
-  std::vector<double> bounds(static_cast<std::size_t>(m));
+  double* fit = zeroed(S.fit, k + m);
+  double* norm = zeroed(S.norm, k + m);
+  double* bounds = zeroed(S.bounds, m);
   for (std::int64_t r = 0; r < m; ++r) z[r] = 0.0;
   for (std::int64_t step = 0; step < max_steps + 1; ++step) {
     for (std::int64_t r = 0; r < m; ++r) bounds[r] = side[r] < 0 ? R.lows[r] : R.uppers[r];
-    exact_solve(R, bounds.data(), side.data(), exact, x, fit.data(), norm.data());
+    exact_solve(R, bounds, side, exact, x, fit, norm);
     double worst = tol;
     std::int64_t leave = -1;
     for (std::int64_t r = 0; r < m; ++r) {

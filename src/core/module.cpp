@@ -301,11 +301,22 @@ nb::tuple norms_tuple(std::int64_t count, const va::Distributed& d) {
   return nb::make_tuple(count, nb::make_tuple(d.residual, d.scale, d.rounding));
 }
 
-std::vector<std::int64_t> keep_ints(const B1& keep, std::int64_t n) {
+// keep as 0/1 integers into out (resized; its capacity kept).
+void keep_ints(const B1& keep, std::int64_t n, std::vector<std::int64_t>& out) {
   require(static_cast<std::int64_t>(keep.shape(0)) == n, "keep must be (n,)");
-  std::vector<std::int64_t> out(static_cast<std::size_t>(n));
+  out.resize(static_cast<std::size_t>(n));
   for (std::int64_t a = 0; a < n; ++a) out[a] = keep.data()[a] ? 1 : 0;
-  return out;
+}
+
+// A QP tick's arrays, one set per thread: a warm tick allocates nothing.
+struct TickScratch {
+  std::vector<std::int64_t> keep;
+  std::vector<double> z, multipliers, kinematics;
+};
+
+TickScratch& tick_scratch() {
+  thread_local TickScratch scratch;
+  return scratch;
 }
 
 // The QP's answer on an active set (qp.exact.exact_step): (ok, x, z).
@@ -357,7 +368,8 @@ nb::tuple qp_read_out(const MF1& buffer, const I1& layout, std::int64_t pn, std:
   require(length(multipliers) == V.m_in, "multipliers must be (m,)");
   require(length(out) == pn + 2 * nv + 2 * n, "out must be (pn + 2 nv + 2 n,)");
   require(static_cast<std::int64_t>(active.shape(0)) >= V.m_in, "active must be (m,)");
-  const std::vector<std::int64_t> kept = keep_ints(keep, n);
+  std::vector<std::int64_t>& kept = tick_scratch().keep;
+  keep_ints(keep, n, kept);
   va::Distributed d;
   std::int64_t count;
   {
@@ -499,7 +511,8 @@ class QP {
     require(t.tables().nf > max_frame_, "the tree's frame table lacks rows the QP reads");
     require(length(q) >= tree.nq(), "q is shorter than the tree's configuration");
     const va::QPViews V = check(q, wrench, kept, buffer, layout);
-    std::vector<double> kinematics(static_cast<std::size_t>(t.size(false)));
+    std::vector<double>& kinematics = tick_scratch().kinematics;
+    kinematics.assign(static_cast<std::size_t>(t.size(false)), 0.0);
     return again_on(
         [&](const double*& jac, const double*& fr) {
           t.compute(q.data(), nullptr, kinematics.data());
@@ -523,7 +536,9 @@ class QP {
     require(length(guess) == V.m_in, "guess must be (m,)");
     require(length(out) == pn + 2 * nv + 2 * n, "out must be (pn + 2 nv + 2 n,)");
     require(static_cast<std::int64_t>(active.shape(0)) >= V.m_in, "active must be (m,)");
-    const std::vector<std::int64_t> keep_i = keep_ints(keep, n);
+    TickScratch& scratch = tick_scratch();
+    keep_ints(keep, n, scratch.keep);
+    const std::vector<std::int64_t>& keep_i = scratch.keep;
     va::Distributed d;
     std::int64_t count = -1;
     {
@@ -535,8 +550,10 @@ class QP {
                                            kept.data(), len(kept), t_, buffer.data(),
                                            length(buffer), layout.data());
       if (r.status == 0) {
-        std::vector<double> z(static_cast<std::size_t>(V.free)),
-            multipliers(static_cast<std::size_t>(V.m_in));
+        std::vector<double>& z = scratch.z;
+        std::vector<double>& multipliers = scratch.multipliers;
+        z.assign(static_cast<std::size_t>(V.free), 0.0);
+        multipliers.assign(static_cast<std::size_t>(V.m_in), 0.0);
         const bool certified =
             va::exact_step(V.rows(weights.data()), guess.data(), true, active_tol, exact_tol,
                            va::EXACT_STEPS, z.data(), multipliers.data());

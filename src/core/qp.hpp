@@ -61,6 +61,17 @@ struct QPViews {
   }
 };
 
+// Scratch of reduced_qp, one per thread (qp_scratch): a warm tick allocates nothing.
+struct QPScratch {
+  Arr jac_t, columns, r_mat;
+  std::vector<double> targets;
+};
+
+inline QPScratch& qp_scratch() {
+  thread_local QPScratch scratch;
+  return scratch;
+}
+
 struct Reduced {
   std::int64_t status = 0;
   double worst = INF, scale = 1.0;
@@ -122,7 +133,8 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
   const std::int64_t b = T.frame_rows[0], o = T.frame_rows[1];
   double rot_o[3][3], transform[6][6];  // {O}'s rotation (row-major), the map
   wrench_transform(frames, b, o, rot_o, transform);
-  Arr jac_t(n, nv);
+  QPScratch& S = qp_scratch();
+  Arr& jac_t = zeroed(S.jac_t, n, nv);
   for (std::int64_t a = 0; a < n; ++a) {
     const double* t = transform[T.axis_rows[a]];
     for (int w = 0; w < 6; ++w)
@@ -138,8 +150,9 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
     }
   }
   // -- per chain: free basis, particular solution, its rows ---------------------------------
-  Arr columns(K + 3, n), r_mat(K + 3, K + 3);
-  std::vector<double> targets(static_cast<std::size_t>(K + 3));
+  Arr& columns = zeroed(S.columns, K + 3, n);
+  Arr& r_mat = zeroed(S.r_mat, K + 3, K + 3);
+  double* targets = zeroed(S.targets, K + 3);
   double face_o[5][3];
   double normal_w[3];
   Reduced result;

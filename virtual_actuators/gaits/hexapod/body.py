@@ -29,7 +29,7 @@ import pinocchio as pin
 
 from ...components.base import Component
 from ...exceptions import InvalidInputError
-from ..attitude import yaw_pitch_roll
+from ..attitude import rotation_vector_angles, yaw_pitch_roll
 
 GRAVITY = 9.81  # [m/s^2]
 
@@ -88,8 +88,12 @@ class HeadingAttitude(Component):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats: the same operations, the same bits."""
-        yaw, pitch, roll = yaw_pitch_roll(pin.exp3(np.array(position)))
+        """`compute_wrench` on plain floats: the same operations, the same bits.
+
+        The angles without the rotation matrix (``gaits.attitude.rotation_vector_angles``:
+        ``pin.exp3``'s operations on the entries they read).
+        """
+        yaw, pitch, roll = rotation_vector_angles(*position)
         self.yaw = yaw
         c, s = math.cos(yaw), math.sin(yaw)
         v0, v1, v2 = velocity

@@ -5,9 +5,10 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
+from .cli.checks import check_demo_options
 from .cli.commands import OptionError, check_results_path, run
 from .cli.extras import check_installed
-from .cli.options import EXAMPLE_NAMES, build_parser, check_demo_options
+from .cli.options import EXAMPLE_NAMES, build_parser
 from .cli.streams import tolerate_closed_pipes
 
 

@@ -1,0 +1,104 @@
+"""The command line's consistency checks, each a usage error (exit 2) before anything runs.
+
+Options the chosen demo would ignore, a ``--speed`` outside the walk's supported range, a
+``--window`` outside the run, ``--realtime`` without ``--viz``.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS
+
+
+def registered_walks(parser: argparse.ArgumentParser) -> dict:
+    """The walk registry, imported now (it brings MuJoCo, absent from a core-only install).
+
+    Raises:
+        SystemExit: With code 2 and a usage message naming the extra to install when an
+            optional package the walks need (``mujoco``, the extra ``sim``) is missing.
+
+    """
+    from ..exceptions import MissingDependencyError
+
+    try:
+        from ..gaits.registry import WALKS
+    except MissingDependencyError as error:
+        parser.error(str(error))
+    return WALKS
+
+
+def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
+    if args.name == "stand":
+        for dest, option in WALK_OPTIONS + WALK_OWN_OPTIONS:
+            if dest not in STAND_OPTIONS and getattr(args, dest) not in (None, False):
+                parser.error(
+                    f"argument {option}: only the walks ({', '.join(WALK_DEMOS)}) use it, not stand"
+                )
+    else:
+        _check_walk_options(args, parser)
+    if args.name == "balance" and args.speed is not None:
+        parser.error("argument --speed: balance does not use it")
+    if args.window is not None and args.plot is None:
+        parser.error("argument --window: it selects what --plot draws; give --plot PATH too")
+    if args.realtime and not args.viz:
+        parser.error(
+            "argument --realtime: it paces the live viewer to wall-clock time; give --viz too "
+            "(a run without it goes as fast as it can)"
+        )
+
+
+def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    walks = registered_walks(parser)
+    walk = walks[args.name]
+    for dest, option in WALK_OWN_OPTIONS:
+        if dest not in walk.options and getattr(args, dest) not in (None, False):
+            users = [name for name, other in walks.items() if dest in other.options]
+            if dest in STAND_OPTIONS:
+                parser.error(
+                    f"argument {option}: only the stand demo and {', '.join(users)} use it, "
+                    f"not {args.name}"
+                )
+            parser.error(f"argument {option}: only {', '.join(users)} uses it, not {args.name}")
+    _check_speed(args, parser, walk)
+    if "path" in walk.options and args.path != "sine":
+        if args.amplitude is not None or args.wavelength is not None:
+            parser.error("argument --amplitude/--wavelength: only --path sine uses them")
+    if args.window is not None and not walk.plot_window:
+        windowed = " and ".join(name for name, other in walks.items() if other.plot_window)
+        parser.error(f"argument --window: the plots of {windowed} take it, not {args.name}")
+    if args.window is not None:
+        _check_window(args, parser, walk.duration)
+
+
+def _check_window(args: argparse.Namespace, parser: argparse.ArgumentParser, default: float):
+    """Refuse a ``--window`` that holds no simulated second of the run (before it runs)."""
+    duration = default if args.duration is None else args.duration
+    start, stop = args.window
+    run = f"the run lasts {duration:g} s" + (
+        f" ({args.name}'s default; --duration sets it)" if args.duration is None else ""
+    )
+    if start is not None and start >= duration:
+        parser.error(f"argument --window: it starts at {start:g} s, but {run}")
+    if stop is not None and stop <= 0.0:
+        parser.error(f"argument --window: it ends at {stop:g} s, before the run starts at 0 s")
+
+
+def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk) -> None:
+    """Refuse a ``--speed`` outside the walk's supported range, unless ``--force-speed``."""
+    if args.force_speed and args.speed is None:
+        parser.error("argument --force-speed: it lets a --speed outside the range run; give one")
+    if args.speed is None or args.force_speed:
+        return
+    options = {
+        name: getattr(args, name)
+        for name in walk.options
+        if name in ("robot", "gait", "pendulum", "track") and getattr(args, name) is not None
+    }
+    from ..exceptions import InvalidInputError
+
+    try:
+        walk.check_speed(args.speed, **options)
+    except InvalidInputError as error:
+        parser.error(f"argument --speed: {error}")

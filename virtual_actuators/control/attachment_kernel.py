@@ -167,11 +167,14 @@ class SpringTick:
         efforts: As given.
         nv: Velocity size.
         n: Number of axes.
+        slices: The buffer's position, velocity, wrench and efforts (None without
+            ``efforts``), as slices.
 
     """
 
     __slots__ = (
         "components", "bunnies", "springs", "core", "efforts", "nv", "n", "rows_end", "tables",
+        "slices",
     )  # fmt: skip
 
     def __init__(
@@ -186,6 +189,14 @@ class SpringTick:
         self.springs = tuple(c for c in components if isinstance(c, Spring))
         self.efforts = efforts
         self.nv, self.n = kinematics.nv, len(sensor.axes)
+        nv, n = self.nv, self.n
+        #: the buffer's position, velocity and wrench, and the efforts (None: not computed)
+        self.slices = (
+            slice(nv, nv + n),
+            slice(nv + n, nv + 2 * n),
+            slice(nv + 2 * n, nv + 3 * n),
+            slice(0, nv) if efforts else None,
+        )
         targets, rotations = [], []
         for component, start in zip(components, starts, strict=True):
             size = len(component.axes)

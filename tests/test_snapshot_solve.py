@@ -161,3 +161,67 @@ def test_a_controller_tick_is_the_same_without_the_one_call_solve(free):
             attachment.snapshot_solve = one_call
         _outputs_equal(fast, general)
     assert sum(answered) >= 20  # the controller took the one-call solve
+
+
+def _spring_body(robot: va.Robot):
+    """solo12's body on its four feet with spring-dampers and a bunny (the one-call tick)."""
+    body = va.ParallelVirtualActuator(
+        robot, "base_link", ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"], "world"
+    )
+    return body, [
+        va.SpringDamper(("y", "z", "rx"), 300.0, 20.0, setpoint=(0.0, 0.25, 0.0)),
+        va.SpringDamper(("ry",), 30.0, 2.0, limit=1.0, name="level"),
+        va.SpringDamper(("rz",), 20.0, 1.0, setpoint=0.2, name="heading"),
+        va.DogtrackBunny(0.4, 60.0, stiffness=5.0, limit=25.0),
+    ]
+
+
+def test_the_fused_tick_is_the_spring_tick_then_the_snapshot_solve():
+    """``_core.SpringSolve``: the spring tick's buffer and the distribution's, bit for bit."""
+    robot = va.load_robot("solo12")
+    body, components = _spring_body(robot)
+    attachment = va.Controller(robot).add("body", body, components)
+    spring = attachment.spring_tick
+    assert spring.fused is not None and spring.solve is attachment.snapshot_solve
+    rng = np.random.default_rng(2)
+    solved = 0
+    for k in range(40):
+        snapshot = _snapshot(robot, rng)
+        buffer, solution = spring.run_solve(components, snapshot, 0.05 * k)
+        expected = spring.run(components, snapshot, 0.05 * k)  # the set points moved alike
+        assert (buffer is None) == (expected is None)
+        if buffer is None:
+            assert solution is None
+            continue
+        assert np.array_equal(buffer, expected)
+        general = body.solve_checked(snapshot, expected[spring.slices[2]], attachment.plan)[0]
+        if solution is not None:
+            _assert_same(solution, general)
+            _assert_same(solution, attachment.snapshot_solve(snapshot, general.requested))
+            solved += 1
+    assert solved >= 30
+
+
+def test_a_controller_tick_is_the_same_on_every_path():
+    """The fused call, the spring tick then the one-call solve, and the general path agree."""
+    robot = va.load_robot("solo12")
+    outputs = []
+    for path in ("fused", "spring tick, then the one-call solve", "general"):
+        body, components = _spring_body(robot)
+        controller = va.Controller(robot)
+        attachment = controller.add("body", body, components)
+        if path != "fused":
+            attachment.spring_tick.fused = None
+        if path == "general":
+            attachment.spring_tick = attachment.snapshot_solve = None
+        rng = np.random.default_rng(9)
+        outputs.append(
+            [
+                controller.compute_checked(_snapshot(robot, rng), 0.02 * k, ("body",), NO_LIMP)
+                for k in range(25)
+            ]
+        )
+    for fused, other in zip(outputs[0], outputs[1], strict=True):
+        _outputs_equal(fused, other)
+    for fused, other in zip(outputs[0], outputs[2], strict=True):
+        _outputs_equal(fused, other)

@@ -30,6 +30,8 @@ from ..actuators import VirtualActuator
 from ..components.orientation import rotation_axes
 from ..components.springs import Spring, SpringDamper
 from ..components.walking import DogtrackBunny
+from ..distribution.partitioned.compiled import BufferSolve
+from ..distribution.result import Solution
 from ..kinematics.kernels import HAVE_NUMBA, njit
 from ..kinematics.sensor_kernels import relative_sensor
 from ..kinematics.snapshot import Snapshot
@@ -162,6 +164,8 @@ class SpringTick:
         components: The spring-dampers, in the attachment's order.
         starts: Each component's first axis among the sensor's (its axes a contiguous run).
         efforts: Whether the tick computes ``J^T w`` (the actuator is the sensor).
+        solve: A parallel actuator's one-call distribution of the attachment's request (its
+            tables and its answer's layout), or None.
 
     Attributes:
         efforts: As given.
@@ -169,16 +173,23 @@ class SpringTick:
         n: Number of axes.
         slices: The buffer's position, velocity, wrench and efforts (None without
             ``efforts``), as slices.
+        solve: As given, with the compiled core (else None).
+        fused: The core's ``SpringSolve``: the tick and the distribution in one call, or None.
 
     """
 
     __slots__ = (
         "components", "bunnies", "springs", "core", "efforts", "nv", "n", "rows_end", "tables",
-        "slices",
+        "slices", "solve", "fused",
     )  # fmt: skip
 
     def __init__(
-        self, sensor: VirtualActuator, components: list, starts: list[int], efforts: bool
+        self,
+        sensor: VirtualActuator,
+        components: list,
+        starts: list[int],
+        efforts: bool,
+        solve: BufferSolve | None = None,
     ) -> None:
         kinematics = sensor.kinematics
         self.components = list(components)
@@ -217,17 +228,26 @@ class SpringTick:
             int(efforts),
         )
         self.core = _core_tick((*self.tables, self.nv))
+        #: a parallel actuator's one-call distribution (None: serial, or no compiled core)
+        self.solve = solve if self.core is not None and not efforts else None
+        self.fused = None if self.solve is None else CORE.SpringSolve(self.core, *solve.packed)
 
     @classmethod
     def of(
-        cls, actuator: object, sensor: object, components: list, slots: list
+        cls,
+        actuator: object,
+        sensor: object,
+        components: list,
+        slots: list,
+        solve: BufferSolve | None = None,
     ) -> SpringTick | None:
         """The tick for an attachment it serves, else None.
 
         It serves a serial actuator that is its own sensor, or a parallel actuator (its serial
         sensor read), with spring-dampers only (the formula, not a subclass's own wrench; at
         most one rotational axis each) on contiguous runs of the axes (``slots``), when a
-        compiled kernel exists (the core, or numba).
+        compiled kernel exists (the core, or numba). ``solve``: a parallel actuator's
+        one-call distribution of the wrench (`run_solve` then runs both in one call).
         """
         if CORE is None and not HAVE_NUMBA:
             return None
@@ -242,7 +262,7 @@ class SpringTick:
             return None
         if len(sensor.kinematics.reaction_ids) != 1:
             return None
-        return cls(sensor, components, [slot.start for slot in slots], serial)
+        return cls(sensor, components, [slot.start for slot in slots], serial, solve)
 
     def warm_up(self, snapshot: Snapshot) -> None:
         """Call the kernel once on the components' parameters now (its result thrown away).
@@ -273,28 +293,61 @@ class SpringTick:
             the sensor's rows, or the kernel's flag 0.
 
         """
-        if components != self.components:
+        parameters = self._parameters(components, snapshot, time)
+        if parameters is None:
             return None
-        v = snapshot.v
-        if v is None:
+        arguments = (snapshot.jacobian_world, snapshot.frame_table, snapshot.v)
+        if self.core is not None:
+            buffer = self.core.tick(*arguments, parameters)
+        else:
+            buffer = spring_tick(*arguments, *self.tables, table(list(parameters)))
+        return buffer if buffer[-1] == 1.0 else None
+
+    def run_solve(
+        self, components: list, snapshot: Snapshot, time: float
+    ) -> tuple[np.ndarray | None, Solution | None]:
+        """`run`, and with a distribution (`solve`) its solution, in one compiled call.
+
+        Returns:
+            ``(buffer, solution)``: `run`'s buffer (None: the general path runs), and the
+            distribution's [`Solution`][virtual_actuators.Solution] of its wrench, bit for bit
+            the one of ``solve(snapshot, wrench)``, or None (no distribution, or one the
+            general path must decide).
+
+        """
+        fused = self.fused
+        if fused is None:
+            return self.run(components, snapshot, time), None
+        parameters = self._parameters(components, snapshot, time)
+        if parameters is None:
+            return None, None
+        buffer, out, residual, scale, rounding, status = fused.tick(
+            snapshot.jacobian_world, snapshot.frame_table, snapshot.v, snapshot.q, parameters
+        )
+        if buffer[-1] != 1.0:
+            return None, None
+        if status:
+            return buffer, None
+        return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
+
+    def _parameters(self, components: list, snapshot: Snapshot, time: float) -> object | None:
+        """The components' parameter arrays for the kernel (the bunnies' set points moved).
+
+        None: other components, a Spring with a law, no velocity, or a frame table without
+        the sensor's rows (computes the snapshot's kinematics when they have not run).
+        """
+        if components != self.components or snapshot.v is None:
             return None
         for spring in self.springs:
             if getattr(spring, "law", None) is not None:
                 return None
-        jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
-        if frames.shape[0] < self.rows_end:
+        if snapshot.frame_table.shape[0] < self.rows_end:
             return None
         for bunny in self.bunnies:  # as its float path does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
-            parameters = _read_parameters(components[0])
-        else:
-            parameters = [array for c in components for array in _read_parameters(c)]
-        if self.core is not None:
-            buffer = self.core.tick(jacobian_world, frames, v, parameters)
-        else:
-            buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(list(parameters)))
-        return buffer if buffer[-1] == 1.0 else None
+            return _read_parameters(components[0])
+        return [array for c in components for array in _read_parameters(c)]
 
 
 def table(parameters: list[np.ndarray]) -> np.ndarray:

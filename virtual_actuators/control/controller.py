@@ -350,9 +350,12 @@ class Controller:
             VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
 
         """
-        spring, wrench = attachment.spring_tick, None
+        spring, wrench, solution = attachment.spring_tick, None, None
         try:
-            buffer = None if spring is None else spring.run(attachment.components, snapshot, time)
+            if spring is not None:  # and a parallel actuator's distribution, in one call
+                buffer, solution = spring.run_solve(attachment.components, snapshot, time)
+            else:
+                buffer = None
             if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
                 at_position, at_velocity, at_wrench, at_efforts = spring.slices
                 sums.positions[name] = buffer[at_position]
@@ -369,7 +372,8 @@ class Controller:
                 wrench = attachment.wrench(position, velocity, time)
                 sums.wrenches[name] = wrench
             one_call = attachment.snapshot_solve  # a parallel actuator's compiled solve
-            solution = None if one_call is None else one_call(snapshot, wrench)
+            if solution is None and one_call is not None:
+                solution = one_call(snapshot, wrench)
             if solution is None:
                 actuator = attachment.actuator
                 if isinstance(actuator, VirtualActuator):

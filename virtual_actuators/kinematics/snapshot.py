@@ -111,9 +111,10 @@ class Snapshot:
         self._joints = None
         self._jacobian = None
         self._frames = None
-        self._rows: dict[int, int] = {}
-        self._extra: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._velocities: dict[int, np.ndarray] = {}  # of frames outside the table
+        # what the pass fills, then the frames outside the table (dicts made on first use)
+        self._rows: dict[int, int] | None = None
+        self._extra: dict[int, tuple[np.ndarray, np.ndarray]] | None = None
+        self._velocities: dict[int, np.ndarray] | None = None
         self._frame_velocities: np.ndarray | None = None  # (rows, 3): the table's, with v
 
     # -- computation -----------------------------------------------------------------------
@@ -174,7 +175,10 @@ class Snapshot:
         if row is not None:
             entry = self._frames[row]
             return entry[:9].reshape(3, 3), entry[9:]
-        cached = self._extra.get(frame_id)
+        extra = self._extra
+        if extra is None:
+            extra = self._extra = {}
+        cached = extra.get(frame_id)
         if cached is None:
             frame = self.tree.model.frames[frame_id]
             joint = self._joints[frame.parentJoint]
@@ -183,7 +187,7 @@ class Snapshot:
                 rotation_j @ frame.placement.rotation,
                 rotation_j @ frame.placement.translation + position_j,
             )
-            self._extra[frame_id] = cached
+            extra[frame_id] = cached
         return cached
 
     def _frame_id(self, frame: int | str) -> int:
@@ -277,11 +281,14 @@ class Snapshot:
             row = self._rows.get(frame_id)
             if row is not None:
                 return table[row].copy()
-        cached = self._velocities.get(frame_id)
+        velocities = self._velocities
+        if velocities is None:
+            velocities = self._velocities = {}
+        cached = velocities.get(frame_id)
         if cached is None:  # the kernel runs as plain Python without numba
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
-            cached = self._velocities[frame_id] = np.array(
+            cached = velocities[frame_id] = np.array(
                 velocity_of_point(self.jacobian_world, self.v, columns, x, y, z)
             )
         return cached.copy()

@@ -319,6 +319,8 @@ class BufferSolve:
         floating: bool,
     ) -> None:
         self._core = mode.core
+        #: the mode's packed tables (the core's Distribution arguments)
+        self.packed = mode.packed
         self._kinematics = compiled.problem.kinematics.tree  # its core_tree grows with frames
         self._max_row = compiled._max_row
         self._shape = compiled._shape

@@ -293,14 +293,14 @@ class SpringTick:
             the sensor's rows, or the kernel's flag 0.
 
         """
-        parameters = self._parameters(components, snapshot, time)
-        if parameters is None:
+        arguments = self._arguments(components, snapshot, time)
+        if arguments is None:
             return None
-        arguments = (snapshot.jacobian_world, snapshot.frame_table, snapshot.v)
         if self.core is not None:
-            buffer = self.core.tick(*arguments, parameters)
+            buffer = self.core.tick(*arguments)
         else:
-            buffer = spring_tick(*arguments, *self.tables, table(list(parameters)))
+            *arrays, parameters = arguments
+            buffer = spring_tick(*arrays, *self.tables, table(list(parameters)))
         return buffer if buffer[-1] == 1.0 else None
 
     def run_solve(
@@ -318,11 +318,12 @@ class SpringTick:
         fused = self.fused
         if fused is None:
             return self.run(components, snapshot, time), None
-        parameters = self._parameters(components, snapshot, time)
-        if parameters is None:
+        arguments = self._arguments(components, snapshot, time)
+        if arguments is None:
             return None, None
+        jacobian_world, frames, v, parameters = arguments
         buffer, out, residual, scale, rounding, status = fused.tick(
-            snapshot.jacobian_world, snapshot.frame_table, snapshot.v, snapshot.q, parameters
+            jacobian_world, frames, v, snapshot.q, parameters
         )
         if buffer[-1] != 1.0:
             return None, None
@@ -330,24 +331,30 @@ class SpringTick:
             return buffer, None
         return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
 
-    def _parameters(self, components: list, snapshot: Snapshot, time: float) -> object | None:
-        """The components' parameter arrays for the kernel (the bunnies' set points moved).
+    def _arguments(self, components: list, snapshot: Snapshot, time: float) -> tuple | None:
+        """The kernel's arguments: the Jacobian, frames, ``v`` and the parameter arrays.
 
-        None: other components, a Spring with a law, no velocity, or a frame table without
-        the sensor's rows (computes the snapshot's kinematics when they have not run).
+        The bunnies' set points are moved first. None: other components, a Spring with a law,
+        no velocity, or a frame table without the sensor's rows (computes the snapshot's
+        kinematics when they have not run).
         """
-        if components != self.components or snapshot.v is None:
+        if components != self.components:
+            return None
+        v = snapshot.v
+        if v is None:
             return None
         for spring in self.springs:
             if getattr(spring, "law", None) is not None:
                 return None
-        if snapshot.frame_table.shape[0] < self.rows_end:
+        jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
+        if frames.shape[0] < self.rows_end:
             return None
         for bunny in self.bunnies:  # as its float path does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
-            return _read_parameters(components[0])
-        return [array for c in components for array in _read_parameters(c)]
+            return jacobian_world, frames, v, _read_parameters(components[0])
+        parameters = [array for c in components for array in _read_parameters(c)]
+        return jacobian_world, frames, v, parameters
 
 
 def table(parameters: list[np.ndarray]) -> np.ndarray:

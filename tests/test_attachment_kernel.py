@@ -66,15 +66,13 @@ def _states(robot, spring, rng, count=12):
 
 @pytest.fixture
 def tick_calls(monkeypatch):
-    """Every ``SpringTick.run`` and ``run_solve`` call's arguments, recorded (copies)."""
+    """Every ``SpringTick.run_solve`` call's arguments (``run`` calls it), recorded (copies)."""
     calls = []
 
-    def recorder(original, fused):
-        def recording(self, components, snapshot, time):
-            if fused and self.fused is None:  # run_solve calls run (recorded there)
-                return original(self, components, snapshot, time)
+    def recorder(original):
+        def recording(self, components, snapshot, time, solve=True):
             jacobian, frames = snapshot.jacobian_world.copy(), snapshot.frame_table.copy()
-            answer = original(self, components, snapshot, time)
+            answer = original(self, components, snapshot, time, solve)
             parameters = [  # after run: the bunnies' set points moved
                 np.array(getattr(component, field))
                 for component in self.components
@@ -87,8 +85,7 @@ def tick_calls(monkeypatch):
 
         return recording
 
-    monkeypatch.setattr(SpringTick, "run", recorder(SpringTick.run, False))
-    monkeypatch.setattr(SpringTick, "run_solve", recorder(SpringTick.run_solve, True))
+    monkeypatch.setattr(SpringTick, "run_solve", recorder(SpringTick.run_solve))  # run's too
     return calls
 
 

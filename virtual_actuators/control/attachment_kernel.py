@@ -293,20 +293,18 @@ class SpringTick:
             the sensor's rows, or the kernel's flag 0.
 
         """
-        arguments = self._arguments(components, snapshot, time)
-        if arguments is None:
-            return None
-        if self.core is not None:
-            buffer = self.core.tick(*arguments)
-        else:
-            *arrays, parameters = arguments
-            buffer = spring_tick(*arrays, *self.tables, table(list(parameters)))
-        return buffer if buffer[-1] == 1.0 else None
+        return self.run_solve(components, snapshot, time, solve=False)[0]
 
     def run_solve(
-        self, components: list, snapshot: Snapshot, time: float
+        self, components: list, snapshot: Snapshot, time: float, solve: bool = True
     ) -> tuple[np.ndarray | None, Solution | None]:
         """`run`, and with a distribution (`solve`) its solution, in one compiled call.
+
+        Args:
+            components: As `run`'s.
+            snapshot: As `run`'s.
+            time: As `run`'s.
+            solve: Distribute the wrench too, when the tick has a distribution.
 
         Returns:
             ``(buffer, solution)``: `run`'s buffer (None: the general path runs), and the
@@ -315,46 +313,38 @@ class SpringTick:
             general path must decide).
 
         """
-        fused = self.fused
-        if fused is None:
-            return self.run(components, snapshot, time), None
-        arguments = self._arguments(components, snapshot, time)
-        if arguments is None:
-            return None, None
-        jacobian_world, frames, v, parameters = arguments
-        buffer, out, residual, scale, rounding, status = fused.tick(
-            jacobian_world, frames, v, snapshot.q, parameters
-        )
-        if buffer[-1] != 1.0:
-            return None, None
-        if status:
-            return buffer, None
-        return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
-
-    def _arguments(self, components: list, snapshot: Snapshot, time: float) -> tuple | None:
-        """The kernel's arguments: the Jacobian, frames, ``v`` and the parameter arrays.
-
-        The bunnies' set points are moved first. None: other components, a Spring with a law,
-        no velocity, or a frame table without the sensor's rows (computes the snapshot's
-        kinematics when they have not run).
-        """
         if components != self.components:
-            return None
+            return None, None
         v = snapshot.v
         if v is None:
-            return None
+            return None, None
         for spring in self.springs:
             if getattr(spring, "law", None) is not None:
-                return None
+                return None, None
         jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
         if frames.shape[0] < self.rows_end:
-            return None
+            return None, None
         for bunny in self.bunnies:  # as its float path does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
-            return jacobian_world, frames, v, _read_parameters(components[0])
-        parameters = [array for c in components for array in _read_parameters(c)]
-        return jacobian_world, frames, v, parameters
+            parameters = _read_parameters(components[0])
+        else:
+            parameters = [array for c in components for array in _read_parameters(c)]
+        fused = self.fused if solve else None
+        if fused is not None:
+            buffer, out, residual, scale, rounding, status = fused.tick(
+                jacobian_world, frames, v, snapshot.q, parameters
+            )
+            if buffer[-1] != 1.0:
+                return None, None
+            if status:
+                return buffer, None
+            return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
+        if self.core is not None:
+            buffer = self.core.tick(jacobian_world, frames, v, parameters)
+        else:
+            buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(list(parameters)))
+        return (buffer if buffer[-1] == 1.0 else None), None
 
 
 def table(parameters: list[np.ndarray]) -> np.ndarray:

@@ -352,12 +352,10 @@ class Controller:
         """
         spring, wrench, solution = attachment.spring_tick, None, None
         try:
-            if spring is None:
-                buffer = None
-            elif spring.fused is None:
-                buffer = spring.run(attachment.components, snapshot, time)
-            else:  # and a parallel actuator's distribution, in one call
+            if spring is not None:  # and a parallel actuator's distribution, in one call
                 buffer, solution = spring.run_solve(attachment.components, snapshot, time)
+            else:
+                buffer = None
             if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
                 at_position, at_velocity, at_wrench, at_efforts = spring.slices
                 sums.positions[name] = buffer[at_position]

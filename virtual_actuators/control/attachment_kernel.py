@@ -10,7 +10,10 @@ float path,
 actuator that is its own sensor, the efforts ``J^T w``. `spring_tick` does them in one
 call, the same operations in the same order as those (``J^T w`` as a sum over the axes in
 order, where the controller's general path lets numpy's ``J.T @ w`` round its own way); a
-parallel actuator's wrench then goes to its distribution as usual. It is the reference of the
+parallel actuator's wrench then goes to its distribution, in the same call of the core
+(``_core.SpringSolve``, `SpringTick.run_solve`) when the attachment's request has a one-call
+solve (``SnapshotSolve``): the same kernels as the two calls it replaces, hence the same bits
+(``tests/test_snapshot_solve.py``). It is the reference of the
 compiled core's C++ port (``src/core/attachment.hpp``), which `SpringTick` calls when the
 core is built: both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here
 goes with the same edit there.

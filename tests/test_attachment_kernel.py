@@ -66,22 +66,26 @@ def _states(robot, spring, rng, count=12):
 
 @pytest.fixture
 def tick_calls(monkeypatch):
-    """Every ``SpringTick.run`` call's arguments, recorded (copies), and its answer."""
+    """Every ``SpringTick.run_solve`` call's arguments (``run`` calls it), recorded (copies)."""
     calls = []
-    original = SpringTick.run
 
-    def recording(self, components, snapshot, time):
-        arrays = (snapshot.jacobian_world.copy(), snapshot.frame_table.copy(), snapshot.v.copy())
-        answer = original(self, components, snapshot, time)
-        parameters = [  # after run: the bunnies' set points moved
-            np.array(getattr(component, field))
-            for component in self.components
-            for field in ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
-        ]
-        calls.append((self, arrays, parameters))
-        return answer
+    def recorder(original):
+        def recording(self, components, snapshot, time, solve=True):
+            jacobian, frames = snapshot.jacobian_world.copy(), snapshot.frame_table.copy()
+            answer = original(self, components, snapshot, time, solve)
+            parameters = [  # after run: the bunnies' set points moved
+                np.array(getattr(component, field))
+                for component in self.components
+                for field in (
+                    "stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit"
+                )
+            ]  # fmt: skip
+            calls.append((self, (jacobian, frames, snapshot.v.copy()), parameters))
+            return answer
 
-    monkeypatch.setattr(SpringTick, "run", recording)
+        return recording
+
+    monkeypatch.setattr(SpringTick, "run_solve", recorder(SpringTick.run_solve))  # run's too
     return calls
 
 

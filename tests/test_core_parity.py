@@ -34,15 +34,18 @@ FEET = {
 
 @pytest.fixture
 def kinematics_calls(monkeypatch):
-    """Every ``KinematicTree.compute`` call's arguments (tree, q, v), recorded."""
+    """Every compiled kinematics pass's arguments (tree, q, v), recorded.
+
+    ``KinematicTree.core_pass``: a snapshot's pass, and ``compute``'s with the core.
+    """
     calls = []
-    original = KinematicTree.compute
+    original = KinematicTree.core_pass
 
     def recording(self, q, v=None):
         calls.append((self, q.copy(), None if v is None else v.copy()))
         return original(self, q, v)
 
-    monkeypatch.setattr(KinematicTree, "compute", recording)
+    monkeypatch.setattr(KinematicTree, "core_pass", recording)
     return calls
 
 

@@ -300,6 +300,30 @@ def test_one_actuator_shared_by_four_threads_gives_serial_results():
     assert not errors, errors[:5]
 
 
+@pytest.mark.parametrize("with_velocity", [True, False])
+def test_a_snapshots_lazy_parts_are_the_passs_bits(with_velocity):
+    """The joints and frame velocities a snapshot cuts from the pass on first read."""
+    robot = va.load_robot("solo12")
+    tree = tree_of(robot)
+    tree.frame_id("FL_FOOT")  # tabled: computed every pass
+    rng = np.random.default_rng(6)
+    q = random_configuration(robot, rng)
+    v = rng.normal(size=robot.model.nv) if with_velocity else None
+    snapshot = va.Snapshot(robot, q, v)
+    expected = tree.compute(snapshot.q, snapshot.v)
+    assert np.array_equal(snapshot.jacobian_world, expected.jacobian)
+    assert np.array_equal(snapshot.frame_table, expected.frames)
+    assert np.array_equal(snapshot._joint_table(), expected.joints)
+    if with_velocity:
+        assert np.array_equal(snapshot._velocity_table(), expected.velocities)
+        row = tree.name_rows["FL_FOOT"]
+        assert np.array_equal(snapshot.frame_velocity("FL_FOOT"), expected.velocities[row])
+    else:
+        assert snapshot._velocity_table() is None and expected.velocities is None
+    com = pin.centerOfMass(robot.model, robot.model.createData(), snapshot.q)
+    np.testing.assert_allclose(snapshot.center_of_mass(), com, rtol=0.0, atol=1e-12)
+
+
 def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
     from virtual_actuators.gaits.turkey import TurkeyWalker
 
@@ -307,14 +331,19 @@ def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
     gait = TurkeyWalker(robot)
     tree = tree_of(robot)
     calls = []
-    original = type(tree).compute
+    core_pass, compute = type(tree).core_pass, type(tree).compute
 
-    def counting(self, q, v=None):
+    def counting_pass(self, q, v=None):  # the compiled core's pass (compute's too)
         calls.append(1)
-        return original(self, q, v)
+        return core_pass(self, q, v)
+
+    def counting(self, q, v=None):  # the numba kernel's pass
+        calls.extend([1] if self.core_tree is None else [])
+        return compute(self, q, v)
 
     q, v = gait.initial_configuration(), np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)  # first use: declaration-time checks run once per set of free axes
+    monkeypatch.setattr(type(tree), "core_pass", counting_pass)
     monkeypatch.setattr(type(tree), "compute", counting)
     for k in range(1, 6):
         calls.clear()

@@ -875,6 +875,15 @@ class SpringTick {
   // force, limit), component after component, their lengths its number of axes.
   Owned tick(const F2& jacobian_world, const F2& frames, const F1& v,
              const std::vector<F1>& parameters) const {
+    const auto size = static_cast<std::size_t>(this->size());
+    std::unique_ptr<double[]> out(new double[size]());
+    run(jacobian_world, frames, v, parameters, out.get());
+    return owned(std::move(out), size);
+  }
+
+  // tick() into out (size() doubles, zeroed): the kernel's flag (false: the general path runs).
+  bool run(const F2& jacobian_world, const F2& frames, const F1& v,
+           const std::vector<F1>& parameters, double* out) const {
     const std::int64_t n = tables_.n;
     const auto e = static_cast<std::int64_t>(targets_.size());
     require(jacobian_world.shape(0) == 6 &&
@@ -898,18 +907,18 @@ class SpringTick {
       at += size;
     }
     require(at == e, "the parameters must hold one entry per table entry");
-    const auto size = static_cast<std::size_t>(nv_ + 3 * n + 1);
-    std::unique_ptr<double[]> out(new double[size]());
-    {
-      nb::gil_scoped_release release;
-      std::vector<double> jacobian(static_cast<std::size_t>(tables_.m * n));
-      const va::serial::SpringEntries p{targets_.data(), rotations_.data(), e,
-                                        summed_,         efforts_,          table.data()};
-      va::serial::spring_tick(jacobian_world.data(), nv_, frames.data(), v.data(), tables_, p,
-                              jacobian.data(), out.get());
-    }
-    return owned(std::move(out), size);
+    nb::gil_scoped_release release;
+    std::vector<double> jacobian(static_cast<std::size_t>(tables_.m * n));
+    const va::serial::SpringEntries p{targets_.data(), rotations_.data(), e,
+                                      summed_,         efforts_,          table.data()};
+    return va::serial::spring_tick(jacobian_world.data(), nv_, frames.data(), v.data(), tables_,
+                                   p, jacobian.data(), out);
   }
+
+  std::int64_t size() const { return nv_ + 3 * tables_.n + 1; }
+  std::int64_t nv() const { return nv_; }
+  std::int64_t n() const { return tables_.n; }
+  bool efforts() const { return efforts_; }
 
  private:
   std::vector<std::int64_t> axis_rows_, rows_, columns_;
@@ -918,6 +927,50 @@ class SpringTick {
   bool summed_, efforts_;
   std::int64_t nv_, rows_end_ = 0;
   va::serial::SensorTables tables_{};
+};
+
+// A parallel actuator's spring-damper attachment: its SpringTick, then the distribution of the
+// wrench it wrote (the packed tables of one mode, as Distribution holds them), in one call.
+class SpringSolve {
+ public:
+  SpringSolve(const SpringTick& spring, const I1& ints, const F1& floats)
+      : spring_(&spring), ints_(copy<std::int64_t>(ints)), floats_(copy<double>(floats)) {
+    require(!spring.efforts(), "the spring tick must leave the efforts to the distribution");
+    packed_ = va::Packed::checked(ints_, floats_, spring.nv());
+    require(packed_.n == spring.n(), "the distribution's axes must be the sensor's");
+  }
+
+  // (spring buffer, distribution buffer, residual, scale, rounding, status): SpringTick.tick's
+  // buffer, then Distribution.solve's on its wrench, or status NOT_RUN (nothing distributed)
+  // when the spring tick hands the tick on or the frames lack the distribution's rows.
+  nb::tuple tick(const F2& jacobian_world, const F2& frames, const F1& v, const F1& q,
+                 const std::vector<F1>& parameters) const {
+    const std::int64_t nv = spring_->nv(), n = spring_->n();
+    require(length(q) > packed_.max_q_index(), "q is shorter than the springs' indices");
+    const auto size = static_cast<std::size_t>(spring_->size());
+    const auto out_size = static_cast<std::size_t>(packed_.out_size(nv));
+    std::unique_ptr<double[]> buffer(new double[size]());
+    std::unique_ptr<double[]> out(new double[out_size]());
+    va::Distributed d;
+    d.status = NOT_RUN;
+    if (spring_->run(jacobian_world, frames, v, parameters, buffer.get()) &&
+        static_cast<std::int64_t>(frames.shape(0)) > packed_.max_frame_row()) {
+      nb::gil_scoped_release release;
+      d = va::distribute(jacobian_world.data(), nv, frames.data(), q.data(),
+                         buffer.get() + nv + 2 * n, packed_, out.get());
+    }
+    return nb::make_tuple(owned(std::move(buffer), size), owned(std::move(out), out_size),
+                          d.residual, d.scale, d.rounding, d.status);
+  }
+
+  // tick()'s status when nothing was distributed
+  static constexpr std::int64_t NOT_RUN = -1;
+
+ private:
+  const SpringTick* spring_;  // kept alive by the binding (keep_alive)
+  std::vector<std::int64_t> ints_;
+  std::vector<double> floats_;
+  va::Packed packed_;
 };
 
 }  // namespace
@@ -933,6 +986,17 @@ void bind_attachment(nb::module_& m) {
       .def("tick", &SpringTick::tick, "jacobian_world"_a, "frames"_a, "v"_a, "parameters"_a,
            "attachment_kernel.spring_tick: effort (nv), position, velocity, wrench (n) and the "
            "flag (1.0, or 0.0: the general path runs) in one buffer.");
+  nb::class_<SpringSolve>(m, "SpringSolve",
+                          "A parallel actuator's spring-damper attachment (attachment_kernel."
+                          "SpringTick with a distribution): the spring tick, then the "
+                          "distribution of its wrench, in one call.")
+      .def(nb::init<const SpringTick&, const I1&, const F1&>(), "spring"_a, "ints"_a,
+           "floats"_a, nb::keep_alive<1, 2>())
+      .def("tick", &SpringSolve::tick, "jacobian_world"_a, "frames"_a, "v"_a, "q"_a,
+           "parameters"_a,
+           "(spring buffer, distribution buffer, residual, scale, rounding, status): "
+           "SpringTick.tick, then Distribution.solve on its wrench (status -1: not run).")
+      .def_ro_static("NOT_RUN", &SpringSolve::NOT_RUN);
 }
 // == end of the spring-damper attachments' block ======================================
 

@@ -14,7 +14,11 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..contacts import declare
-from ..distribution.partitioned.compiled import CompiledDistribution, ConfigurationSolve
+from ..distribution.partitioned.compiled import (
+    CompiledDistribution,
+    ConfigurationSolve,
+    SnapshotSolve,
+)
 from ..distribution.partitioned.dense import DenseSolver
 from ..distribution.partitioned.numeric import NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
@@ -336,6 +340,22 @@ class ParallelVirtualActuator:
             tick, tol, self.reactions, self.axes, request.free, self._floating
         )
         return solution, not solution.admissible
+
+    def snapshot_solve(self, request: Request) -> SnapshotSolve | None:
+        """A checked request's one-call solve on a snapshot (a controller's per-tick solve).
+
+        Calling it with ``(snapshot, wrench, tol)`` gives the [`Solution`][] of
+        [`solve_checked`][] bit for bit, or None when that tick needs the general path
+        (then call [`solve_checked`][]).
+
+        Returns:
+            The `SnapshotSolve`, or None: no compiled core, or a request that is not the
+            compiled partitioned method's.
+
+        """
+        return self.compiled.buffer_solve(
+            SnapshotSolve, request, self.reactions, self.axes, self._floating
+        )
 
     def plan(
         self,

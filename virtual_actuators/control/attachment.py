@@ -87,11 +87,16 @@ class Attachment:
         # A parallel actuator's checked request (method, free axes, weights) for its solves
         plan = getattr(self.actuator, "plan", None)
         self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
+        #: The plan's one-call solve on the tick's snapshot (None: the general path's solve)
+        self.snapshot_solve = None if plan is None else self.actuator.snapshot_solve(self.plan)
         # The contact rows' compiled tables (None: the rows are built with numpy)
         self.margins = self.contacts.compiled() if self.contacts is not None else None
-        #: The spring-dampers' one-call sensing and wrench (a serial actuator's efforts too;
-        #: None: the general path), see :mod:`~virtual_actuators.control.attachment_kernel`.
-        self.spring_tick = SpringTick.of(self.actuator, self.sensor, self.components, self.slots)
+        #: The spring-dampers' one-call sensing and wrench (a serial actuator's efforts too, a
+        #: parallel one's distribution with the one-call solve; None: the general path), see
+        #: :mod:`~virtual_actuators.control.attachment_kernel`.
+        self.spring_tick = SpringTick.of(
+            self.actuator, self.sensor, self.components, self.slots, self.snapshot_solve
+        )
 
     @classmethod
     def declare(

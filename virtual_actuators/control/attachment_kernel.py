@@ -10,7 +10,10 @@ float path,
 actuator that is its own sensor, the efforts ``J^T w``. `spring_tick` does them in one
 call, the same operations in the same order as those (``J^T w`` as a sum over the axes in
 order, where the controller's general path lets numpy's ``J.T @ w`` round its own way); a
-parallel actuator's wrench then goes to its distribution as usual. It is the reference of the
+parallel actuator's wrench then goes to its distribution, in the same call of the core
+(``_core.SpringSolve``, `SpringTick.run_solve`) when the attachment's request has a one-call
+solve (``SnapshotSolve``): the same kernels as the two calls it replaces, hence the same bits
+(``tests/test_snapshot_solve.py``). It is the reference of the
 compiled core's C++ port (``src/core/attachment.hpp``), which `SpringTick` calls when the
 core is built: both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here
 goes with the same edit there.
@@ -30,6 +33,8 @@ from ..actuators import VirtualActuator
 from ..components.orientation import rotation_axes
 from ..components.springs import Spring, SpringDamper
 from ..components.walking import DogtrackBunny
+from ..distribution.partitioned.compiled import BufferSolve
+from ..distribution.result import Solution
 from ..kinematics.kernels import HAVE_NUMBA, njit
 from ..kinematics.sensor_kernels import relative_sensor
 from ..kinematics.snapshot import Snapshot
@@ -162,20 +167,32 @@ class SpringTick:
         components: The spring-dampers, in the attachment's order.
         starts: Each component's first axis among the sensor's (its axes a contiguous run).
         efforts: Whether the tick computes ``J^T w`` (the actuator is the sensor).
+        solve: A parallel actuator's one-call distribution of the attachment's request (its
+            tables and its answer's layout), or None.
 
     Attributes:
         efforts: As given.
         nv: Velocity size.
         n: Number of axes.
+        slices: The buffer's position, velocity, wrench and efforts (None without
+            ``efforts``), as slices.
+        solve: As given, with the compiled core (else None).
+        fused: The core's ``SpringSolve``: the tick and the distribution in one call, or None.
 
     """
 
     __slots__ = (
         "components", "bunnies", "springs", "core", "efforts", "nv", "n", "rows_end", "tables",
+        "slices", "solve", "fused",
     )  # fmt: skip
 
     def __init__(
-        self, sensor: VirtualActuator, components: list, starts: list[int], efforts: bool
+        self,
+        sensor: VirtualActuator,
+        components: list,
+        starts: list[int],
+        efforts: bool,
+        solve: BufferSolve | None = None,
     ) -> None:
         kinematics = sensor.kinematics
         self.components = list(components)
@@ -186,6 +203,14 @@ class SpringTick:
         self.springs = tuple(c for c in components if isinstance(c, Spring))
         self.efforts = efforts
         self.nv, self.n = kinematics.nv, len(sensor.axes)
+        nv, n = self.nv, self.n
+        #: the buffer's position, velocity and wrench, and the efforts (None: not computed)
+        self.slices = (
+            slice(nv, nv + n),
+            slice(nv + n, nv + 2 * n),
+            slice(nv + 2 * n, nv + 3 * n),
+            slice(0, nv) if efforts else None,
+        )
         targets, rotations = [], []
         for component, start in zip(components, starts, strict=True):
             size = len(component.axes)
@@ -206,17 +231,26 @@ class SpringTick:
             int(efforts),
         )
         self.core = _core_tick((*self.tables, self.nv))
+        #: a parallel actuator's one-call distribution (None: serial, or no compiled core)
+        self.solve = solve if self.core is not None and not efforts else None
+        self.fused = None if self.solve is None else CORE.SpringSolve(self.core, *solve.packed)
 
     @classmethod
     def of(
-        cls, actuator: object, sensor: object, components: list, slots: list
+        cls,
+        actuator: object,
+        sensor: object,
+        components: list,
+        slots: list,
+        solve: BufferSolve | None = None,
     ) -> SpringTick | None:
         """The tick for an attachment it serves, else None.
 
         It serves a serial actuator that is its own sensor, or a parallel actuator (its serial
         sensor read), with spring-dampers only (the formula, not a subclass's own wrench; at
         most one rotational axis each) on contiguous runs of the axes (``slots``), when a
-        compiled kernel exists (the core, or numba).
+        compiled kernel exists (the core, or numba). ``solve``: a parallel actuator's
+        one-call distribution of the wrench (`run_solve` then runs both in one call).
         """
         if CORE is None and not HAVE_NUMBA:
             return None
@@ -231,7 +265,7 @@ class SpringTick:
             return None
         if len(sensor.kinematics.reaction_ids) != 1:
             return None
-        return cls(sensor, components, [slot.start for slot in slots], serial)
+        return cls(sensor, components, [slot.start for slot in slots], serial, solve)
 
     def warm_up(self, snapshot: Snapshot) -> None:
         """Call the kernel once on the components' parameters now (its result thrown away).
@@ -262,28 +296,58 @@ class SpringTick:
             the sensor's rows, or the kernel's flag 0.
 
         """
+        return self.run_solve(components, snapshot, time, solve=False)[0]
+
+    def run_solve(
+        self, components: list, snapshot: Snapshot, time: float, solve: bool = True
+    ) -> tuple[np.ndarray | None, Solution | None]:
+        """`run`, and with a distribution (`solve`) its solution, in one compiled call.
+
+        Args:
+            components: As `run`'s.
+            snapshot: As `run`'s.
+            time: As `run`'s.
+            solve: Distribute the wrench too, when the tick has a distribution.
+
+        Returns:
+            ``(buffer, solution)``: `run`'s buffer (None: the general path runs), and the
+            distribution's [`Solution`][virtual_actuators.Solution] of its wrench, bit for bit
+            the one of ``solve(snapshot, wrench)``, or None (no distribution, or one the
+            general path must decide).
+
+        """
         if components != self.components:
-            return None
+            return None, None
         v = snapshot.v
         if v is None:
-            return None
+            return None, None
         for spring in self.springs:
             if getattr(spring, "law", None) is not None:
-                return None
+                return None, None
         jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
         if frames.shape[0] < self.rows_end:
-            return None
+            return None, None
         for bunny in self.bunnies:  # as its float path does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
             parameters = _read_parameters(components[0])
         else:
             parameters = [array for c in components for array in _read_parameters(c)]
+        fused = self.fused if solve else None
+        if fused is not None:
+            buffer, out, residual, scale, rounding, status = fused.tick(
+                jacobian_world, frames, v, snapshot.q, parameters
+            )
+            if buffer[-1] != 1.0:
+                return None, None
+            if status:
+                return buffer, None
+            return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
         if self.core is not None:
             buffer = self.core.tick(jacobian_world, frames, v, parameters)
         else:
             buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(list(parameters)))
-        return buffer if buffer[-1] == 1.0 else None
+        return (buffer if buffer[-1] == 1.0 else None), None
 
 
 def table(parameters: list[np.ndarray]) -> np.ndarray:

@@ -350,17 +350,20 @@ class Controller:
             VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
 
         """
-        spring, wrench = attachment.spring_tick, None
+        spring, wrench, solution = attachment.spring_tick, None, None
         try:
-            buffer = None if spring is None else spring.run(attachment.components, snapshot, time)
+            if spring is not None:  # and a parallel actuator's distribution, in one call
+                buffer, solution = spring.run_solve(attachment.components, snapshot, time)
+            else:
+                buffer = None
             if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
-                nv, n = spring.nv, spring.n
-                sums.positions[name] = buffer[nv : nv + n]
-                sums.velocities[name] = buffer[nv + n : nv + 2 * n]
-                wrench = sums.wrenches[name] = buffer[nv + 2 * n : nv + 3 * n]
-                if spring.efforts:  # and a serial actuator's efforts
+                at_position, at_velocity, at_wrench, at_efforts = spring.slices
+                sums.positions[name] = buffer[at_position]
+                sums.velocities[name] = buffer[at_velocity]
+                wrench = sums.wrenches[name] = buffer[at_wrench]
+                if at_efforts is not None:  # and a serial actuator's efforts
                     sums.produced[name] = wrench
-                    sums.add(name, buffer[:nv], fresh=True)
+                    sums.add(name, buffer[at_efforts], fresh=True)
                     return
             else:
                 sensor = attachment.sensor
@@ -368,14 +371,18 @@ class Controller:
                 sums.positions[name], sums.velocities[name] = position, velocity
                 wrench = attachment.wrench(position, velocity, time)
                 sums.wrenches[name] = wrench
-            actuator = attachment.actuator
-            if isinstance(actuator, VirtualActuator):
-                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
-                sums.add(name, jacobian_act.T @ wrench, fresh=True)
-                sums.produced[name] = wrench
-                return
-            # free axes, method and weights checked at add(); the wrench by Attachment.wrench
-            solution = actuator.solve_checked(snapshot, wrench, attachment.plan)[0]
+            one_call = attachment.snapshot_solve  # a parallel actuator's compiled solve
+            if solution is None and one_call is not None:
+                solution = one_call(snapshot, wrench)
+            if solution is None:
+                actuator = attachment.actuator
+                if isinstance(actuator, VirtualActuator):
+                    jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
+                    sums.add(name, jacobian_act.T @ wrench, fresh=True)
+                    sums.produced[name] = wrench
+                    return
+                # free axes, method and weights checked at add(); the wrench by Attachment.wrench
+                solution = actuator.solve_checked(snapshot, wrench, attachment.plan)[0]
             if attachment.yield_mask is not None:
                 solution = enforce_unilateral(attachment, snapshot, wrench, solution)
         except CAUGHT as error:

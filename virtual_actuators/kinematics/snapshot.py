@@ -78,6 +78,8 @@ class Snapshot:
         "_extra",
         "_velocities",
         "_frame_velocities",
+        "_buffer",
+        "_layout",
     )
 
     def __init__(
@@ -111,14 +113,23 @@ class Snapshot:
         self._joints = None
         self._jacobian = None
         self._frames = None
-        self._rows: dict[int, int] = {}
-        self._extra: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._velocities: dict[int, np.ndarray] = {}  # of frames outside the table
+        # what the pass fills, then the frames outside the table (dicts made on first use)
+        self._rows: dict[int, int] | None = None
+        self._extra: dict[int, tuple[np.ndarray, np.ndarray]] | None = None
+        self._velocities: dict[int, np.ndarray] | None = None
         self._frame_velocities: np.ndarray | None = None  # (rows, 3): the table's, with v
+        self._buffer = self._layout = None  # the core's pass: joints and velocities cut lazily
 
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
+            passed = self.tree.core_pass(self.q, self.v)
+            if passed is not None:  # the Jacobian and frames now, the rest on first read
+                buffer, layout, self._rows = passed
+                self._buffer, self._layout = buffer, layout
+                self._frames = buffer[layout.frames].reshape(layout.frames_shape)
+                self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+                return
             (  # the Kinematics fields, in their order
                 self._joints, self._jacobian, self._frames, self._frame_velocities, self._rows
             ) = self.tree.compute(self.q, self.v)
@@ -138,6 +149,25 @@ class Snapshot:
         self._frames, self._rows = frames, rows
         oMi = data.oMi
         self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
+
+    def _joint_table(self) -> np.ndarray:
+        """``(njoints, 12)`` joint placements (the pass runs first if it has not)."""
+        joints = self._joints
+        if joints is None:
+            if self._jacobian is None:
+                self._run()
+            joints = self._joints
+            if joints is None:  # the core's pass: cut from its buffer on first use
+                layout = self._layout
+                joints = self._joints = self._buffer[layout.joints].reshape(layout.joints_shape)
+        return joints
+
+    def _velocity_table(self) -> np.ndarray | None:
+        """``(rows, 3)`` the table's frame velocities, or None (after the pass; without ``v``)."""
+        table = self._frame_velocities
+        if table is None and self._buffer is not None:  # cut on first use
+            table = self._frame_velocities = self._layout.velocities(self._buffer)
+        return table
 
     @property
     def computed(self) -> bool:
@@ -174,16 +204,19 @@ class Snapshot:
         if row is not None:
             entry = self._frames[row]
             return entry[:9].reshape(3, 3), entry[9:]
-        cached = self._extra.get(frame_id)
+        extra = self._extra
+        if extra is None:
+            extra = self._extra = {}
+        cached = extra.get(frame_id)
         if cached is None:
             frame = self.tree.model.frames[frame_id]
-            joint = self._joints[frame.parentJoint]
+            joint = self._joint_table()[frame.parentJoint]
             rotation_j, position_j = joint[:9].reshape(3, 3), joint[9:]
             cached = (
                 rotation_j @ frame.placement.rotation,
                 rotation_j @ frame.placement.translation + position_j,
             )
-            self._extra[frame_id] = cached
+            extra[frame_id] = cached
         return cached
 
     def _frame_id(self, frame: int | str) -> int:
@@ -267,21 +300,25 @@ class Snapshot:
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
         row = self._named_row(frame)
-        if row >= 0 and self._frame_velocities is not None:  # the compiled pass computed it
-            return self._frame_velocities[row].copy()
+        table = self._velocity_table() if row >= 0 else None
+        if table is not None:  # the compiled pass computed it
+            return table[row].copy()
         frame_id = self._frame_id(frame)
         if self._frames is None:
             self._run()
-        table = self._frame_velocities  # the compiled pass computed the table's
+        table = self._velocity_table()  # the compiled pass computed the table's
         if table is not None:
             row = self._rows.get(frame_id)
             if row is not None:
                 return table[row].copy()
-        cached = self._velocities.get(frame_id)
+        velocities = self._velocities
+        if velocities is None:
+            velocities = self._velocities = {}
+        cached = velocities.get(frame_id)
         if cached is None:  # the kernel runs as plain Python without numba
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
-            cached = self._velocities[frame_id] = np.array(
+            cached = velocities[frame_id] = np.array(
                 velocity_of_point(self.jacobian_world, self.v, columns, x, y, z)
             )
         return cached.copy()
@@ -302,9 +339,7 @@ class Snapshot:
         tree = self.tree
         if not tree.mass > 0.0:
             raise InvalidInputError(f"Robot {tree.model.name!r} has no mass: no centre of mass.")
-        if self._joints is None:
-            self._run()
-        return np.array(center_of_mass_of(self._joints, tree.masses, tree.levers))
+        return np.array(center_of_mass_of(self._joint_table(), tree.masses, tree.levers))
 
     def __repr__(self) -> str:
         done = "computed" if self._jacobian is not None else "not computed yet"

@@ -70,6 +70,34 @@ class Kinematics(NamedTuple):
     rows: dict[int, int]
 
 
+class BufferLayout(NamedTuple):
+    """Where the parts of one pass lie in the kernel's buffer, for one frame table.
+
+    Attributes:
+        core_tree: The compiled core's ``Tree`` it describes (None: the numba kernel's).
+        joints: Slice of the joint placements, ``(njoints, 12)`` once reshaped.
+        joints_shape: ``(njoints, 12)``.
+        jacobian: Slice of the world joint Jacobian.
+        jacobian_shape: ``(6, nv)``.
+        frames: Slice of the frame placements; the frames' velocities follow it (with ``v``).
+        frames_shape: ``(rows, 12)``.
+
+    """
+
+    core_tree: object
+    joints: slice
+    joints_shape: tuple[int, int]
+    jacobian: slice
+    jacobian_shape: tuple[int, int]
+    frames: slice
+    frames_shape: tuple[int, int]
+
+    def velocities(self, buffer: np.ndarray) -> np.ndarray | None:
+        """The ``(rows, 3)`` frame velocities of ``buffer``, or None (a pass without ``v``)."""
+        end = self.frames.stop
+        return buffer[end:].reshape(self.frames_shape[0], 3) if buffer.shape[0] > end else None
+
+
 class JointTables(NamedTuple):
     """The joint tables of `forward_kinematics`.
 
@@ -168,6 +196,8 @@ class KinematicTree:
         #: the compiled core's tables (C++), rebuilt with the frame table; None: numba kernel
         self.core_tree = self._core_tree(*self._frames[1:])
         self._support: dict[int, np.ndarray] = {}
+        #: the core's buffer layout of its current frame table (replaced, never mutated)
+        self._layout: BufferLayout | None = None
         self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
         #: frame name -> its row in the kernel's frame output (rows never move once given)
@@ -263,12 +293,11 @@ class KinematicTree:
             `forward_kinematics`).
 
         """
-        rows, parents, floats = self._frames
-        core_tree = self.core_tree
-        if core_tree is not None:  # C++ (its frame table may have grown since rows was read)
-            buffer = core_tree.compute(q, v)
-            nf = core_tree.nf
+        passed = self.core_pass(q, v)
+        if passed is not None:  # C++
+            buffer, layout, rows = passed
         else:
+            rows, parents, floats = self._frames
             buffer = kernels.forward_kinematics(
                 q,
                 _NO_VELOCITY if v is None else v,
@@ -279,16 +308,43 @@ class KinematicTree:
                 parents,
                 floats,
             )
-            nf = len(rows)
-        nv = self.nv
-        at = self.njoints * 12
-        joints = buffer[:at].reshape(self.njoints, 12)
-        jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
-        at += 6 * nv
-        frames = buffer[at : at + nf * 12].reshape(nf, 12)
-        at += nf * 12
-        velocities = buffer[at:].reshape(nf, 3) if buffer.shape[0] > at else None
-        return Kinematics(joints, jacobian, frames, velocities, rows)
+            layout = self._buffer_layout(None, len(rows))
+        return Kinematics(
+            buffer[layout.joints].reshape(layout.joints_shape),
+            buffer[layout.jacobian].reshape(layout.jacobian_shape),
+            buffer[layout.frames].reshape(layout.frames_shape),
+            layout.velocities(buffer),
+            rows,
+        )
+
+    def core_pass(
+        self, q: np.ndarray, v: np.ndarray | None = None
+    ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:
+        """The compiled core's pass at ``q`` (and ``v``), both already checked, left in one buffer.
+
+        Returns:
+            ``(buffer, layout, rows)``: the core's buffer, where its parts lie
+            (`BufferLayout`, made once per frame table) and the frame rows; None without
+            the core (then `compute` runs the numba kernel).
+
+        """
+        rows = self._frames[0]  # before the tree: its frame table may have grown since
+        core_tree = self.core_tree
+        if core_tree is None:
+            return None
+        buffer = core_tree.compute(q, v)
+        layout = self._layout
+        if layout is None or layout.core_tree is not core_tree:  # a new frame table
+            layout = self._layout = self._buffer_layout(core_tree, core_tree.nf)
+        return buffer, layout, rows
+
+    def _buffer_layout(self, core_tree: object, nf: int) -> BufferLayout:
+        nv, at = self.nv, self.njoints * 12
+        jacobian_end = at + 6 * nv
+        return BufferLayout(
+            core_tree, slice(0, at), (self.njoints, 12), slice(at, jacobian_end), (6, nv),
+            slice(jacobian_end, jacobian_end + nf * 12), (nf, 12),
+        )  # fmt: skip
 
     def thread_data(self) -> pin.Data:
         """The ``pinocchio.Data`` of this tree's model for the calling thread (made once)."""
@@ -399,4 +455,4 @@ def tree_of(robot: object) -> KinematicTree:
     return tree
 
 
-__all__ = ["JointTables", "KinematicTree", "Kinematics", "tree_of"]
+__all__ = ["BufferLayout", "JointTables", "KinematicTree", "Kinematics", "tree_of"]

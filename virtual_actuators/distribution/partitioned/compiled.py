@@ -13,7 +13,8 @@ chain, an ill-conditioned block, more rows than unknowns),
 `PartitionedSolver` decides with
 numpy, as the reference implementation does; the tests check that both give the same answers.
 `ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
-checks the arguments and builds the [`Solution`][] from its buffer.
+checks the arguments and builds the [`Solution`][] from its buffer; `SnapshotSolve` does the
+same for a controller's request on the tick's snapshot.
 """
 
 from __future__ import annotations
@@ -225,12 +226,28 @@ class CompiledDistribution:
         self, request: Request, reactions: tuple[str, ...], axes: tuple[str, ...], floating: bool
     ) -> ConfigurationSolve | None:
         """The `ConfigurationSolve` of a checked request, or None without the core."""
+        if self.problem.kinematics.tree.core_tree is None:
+            return None
+        return self.buffer_solve(ConfigurationSolve, request, reactions, axes, floating)
+
+    def buffer_solve(
+        self,
+        kind: type[BufferSolve],
+        request: Request,
+        reactions: tuple[str, ...],
+        axes: tuple[str, ...],
+        floating: bool,
+    ) -> BufferSolve | None:
+        """A `BufferSolve` of ``kind`` for a checked request (e.g. `SnapshotSolve`).
+
+        None when the core is not built or the request is not the compiled partitioned one.
+        """
         if not request.compiled or request.method != "partitioned":
             return None
         mode = self.mode_for(request.keep)
-        if mode.core is None or self.problem.kinematics.tree.core_tree is None:
+        if mode.core is None:
             return None
-        return ConfigurationSolve(self, mode, reactions, axes, request.free, floating)
+        return kind(self, mode, reactions, axes, request.free, floating)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
@@ -273,17 +290,14 @@ class CompiledDistribution:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
 
 
-class ConfigurationSolve:
-    """One request's solve from unchecked ``q`` and wrench: one compiled call, then the solution.
+class BufferSolve:
+    """A request's [`Solution`][] built straight from the compiled core's output buffer.
 
-    The compiled core's ``Distribution.checked_tick`` checks the arguments (what
-    ``KinematicTree.check_configuration`` and ``wrench_array`` accept unchanged), runs the
-    kinematics and the distribution, and hands back (None here) whatever it does not decide: an
-    argument the Python checks must judge (to raise their typed error, or to normalise ``q``),
-    or a tick for the numpy path. What the declaration and the request fix (the mode's tables,
-    sets and systems, the buffer's layout, the names) is read once, so that the answer is the
-    same [`Solution`][], bit for bit, as the general path's. Holds no per-call state:
-    threads may share it.
+    What the declaration and the request fix (the mode's sets and systems, the buffer's layout,
+    the names) is read once, so that the answer is the same [`Solution`][], bit for bit, as
+    [`Solution.from_tick`][] of the general path's tick. Holds no per-call state: threads may
+    share it. `ConfigurationSolve` (from ``q``) and `SnapshotSolve` (on a snapshot) call
+    the core and build their answer with `solution`.
 
     Args:
         compiled: The actuator's compiled distribution.
@@ -304,8 +318,11 @@ class ConfigurationSolve:
         free: tuple[str, ...],
         floating: bool,
     ) -> None:
-        self._tick = mode.core.checked_tick
+        self._core = mode.core
+        #: the mode's packed tables (the core's Distribution arguments)
+        self.packed = mode.packed
         self._kinematics = compiled.problem.kinematics.tree  # its core_tree grows with frames
+        self._max_row = compiled._max_row
         self._shape = compiled._shape
         self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
         self._names = (reactions, axes, free)
@@ -319,17 +336,10 @@ class ConfigurationSolve:
         self._produced = slice(pn + 2 * nv, pn + 2 * nv + n)
         self._requested = slice(pn + 2 * nv + n, pn + 2 * nv + 2 * n)
 
-    def __call__(self, q: object, wrench: object, tol: float) -> Solution | None:
-        """The solution of ``wrench`` at ``q`` with tolerance ``tol`` (checked), or None.
-
-        None: ``q`` or ``wrench`` is not what the checks accept unchanged, or the kernel hands
-        the tick on; the caller then solves on the general path.
-        """
-        out, residual, scale, rounding, status, _, _ = self._tick(
-            self._kinematics.core_tree, q, wrench
-        )
-        if status:
-            return None
+    def solution(
+        self, out: np.ndarray, residual: float, scale: float, rounding: float, tol: float
+    ) -> Solution:
+        """The [`Solution`][] of the core's buffer ``out`` and norms, with tolerance ``tol``."""
         tau = out[self._tau]
         limit = tolerance(tol, scale, rounding)
         reactions, axes, free = self._names
@@ -354,7 +364,60 @@ class ConfigurationSolve:
         )
 
     def __repr__(self) -> str:
-        return f"ConfigurationSolve(shape={self._shape}, method={self._method!r})"
+        return f"{type(self).__name__}(shape={self._shape}, method={self._method!r})"
 
 
-__all__ = ["CompiledDistribution", "ConfigurationSolve"]
+class ConfigurationSolve(BufferSolve):
+    """One request's solve from unchecked ``q`` and wrench: one compiled call, then the solution.
+
+    The compiled core's ``Distribution.checked_tick`` checks the arguments (what
+    ``KinematicTree.check_configuration`` and ``wrench_array`` accept unchanged), runs the
+    kinematics and the distribution, and hands back (None here) whatever it does not decide: an
+    argument the Python checks must judge (to raise their typed error, or to normalise ``q``),
+    or a tick for the numpy path. Arguments as `BufferSolve`'s.
+    """
+
+    def __call__(self, q: object, wrench: object, tol: float) -> Solution | None:
+        """The solution of ``wrench`` at ``q`` with tolerance ``tol`` (checked), or None.
+
+        None: ``q`` or ``wrench`` is not what the checks accept unchanged, or the kernel hands
+        the tick on; the caller then solves on the general path.
+        """
+        out, residual, scale, rounding, status, _, _ = self._core.checked_tick(
+            self._kinematics.core_tree, q, wrench
+        )
+        if status:
+            return None
+        return self.solution(out, residual, scale, rounding, tol)
+
+
+class SnapshotSolve(BufferSolve):
+    """One request's solve on a computed snapshot: the core's one call, then the solution.
+
+    The controller's per-tick distribution (a checked request and a finite float wrench, as
+    ``ParallelVirtualActuator.solve_checked`` takes them): the same call of the core's
+    ``Distribution.solve`` as `CompiledDistribution.solve` on that snapshot, without the
+    dispatch, the `TickResult` and the tables' look-up. Arguments as `BufferSolve`'s.
+    """
+
+    def __call__(self, snapshot: object, wrench: np.ndarray, tol: float = 1e-6) -> Solution | None:
+        """The solution of ``wrench`` at ``snapshot`` with tolerance ``tol``, or None.
+
+        None: the snapshot's kinematics have not run (the general path then runs them with the
+        distribution in one call), its frame table lacks the distribution's rows, or the kernel
+        hands the tick on; the caller then solves on the general path.
+        """
+        if not snapshot.computed:
+            return None
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self._max_row:
+            return None
+        out, residual, scale, rounding, status, _, _ = self._core.solve(
+            snapshot.jacobian_world, frames, snapshot.q, wrench
+        )
+        if status:
+            return None
+        return self.solution(out, residual, scale, rounding, tol)
+
+
+__all__ = ["BufferSolve", "CompiledDistribution", "ConfigurationSolve", "SnapshotSolve"]

@@ -4,7 +4,9 @@
 subspaces for the compiled kernel (`virtual_actuators.kinematics.kernels`), the frames
 that declared actuators and sensors need, the unit-norm slices of ``q``, and the columns that
 support each joint. One tree exists per robot (`tree_of`); every snapshot of that robot
-uses it, so a control tick runs the kinematics once for all its readers.
+uses it, so a control tick runs the kinematics once for all its readers. The joint tables
+(`JointTables`) are read in ``joint_tables.py``; a pass's buffer and its views (`BufferLayout`,
+`Kinematics`) are in ``buffer_layout.py``; both re-exported here.
 """
 
 from __future__ import annotations
@@ -12,7 +14,6 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Iterable
-from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -22,7 +23,8 @@ from ..native import CORE
 from ..vocabulary.arguments import as_float_array
 from ..vocabulary.axes import resolve_frame
 from . import kernels
-from .kernels import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED, SPHERICAL
+from .buffer_layout import BufferLayout, Kinematics, buffer_layout
+from .joint_tables import JointTables, placement_row, read_joints
 
 _NO_VELOCITY = np.zeros(0)  # the kernel's "no v"
 #: finiteness and unit norms of q in one compiled pass: the core's (C++), numba's, or None
@@ -30,93 +32,6 @@ _UNIT_NORM_ERROR = (
     CORE.unit_norm_error if CORE is not None
     else kernels.unit_norm_error if kernels.HAVE_NUMBA else None
 )  # fmt: skip
-
-_KINDS = {
-    "JointModelRX": REVOLUTE,
-    "JointModelRY": REVOLUTE,
-    "JointModelRZ": REVOLUTE,
-    "JointModelRevoluteUnaligned": REVOLUTE,
-    "JointModelRUBX": REVOLUTE_UNBOUNDED,
-    "JointModelRUBY": REVOLUTE_UNBOUNDED,
-    "JointModelRUBZ": REVOLUTE_UNBOUNDED,
-    "JointModelRevoluteUnboundedUnaligned": REVOLUTE_UNBOUNDED,
-    "JointModelPX": PRISMATIC,
-    "JointModelPY": PRISMATIC,
-    "JointModelPZ": PRISMATIC,
-    "JointModelPrismaticUnaligned": PRISMATIC,
-    "JointModelFreeFlyer": FREE_FLYER,
-    "JointModelSpherical": SPHERICAL,
-}
-
-
-class Kinematics(NamedTuple):
-    """What one pass of the compiled kernel computes (views of one buffer: do not modify).
-
-    Attributes:
-        joints: ``(njoints, 12)`` joint placements in the world (rotation row by row, then
-            position).
-        jacobian: ``(6, nv)`` world joint Jacobian (Pinocchio's ``data.J``).
-        frames: ``(rows, 12)`` placements of the frames computed at every tick.
-        velocities: ``(rows, 3)`` linear velocities of those frames' origins, or None without
-            ``v``.
-        rows: Frame id -> row of ``frames``.
-
-    """
-
-    joints: np.ndarray
-    jacobian: np.ndarray
-    frames: np.ndarray
-    velocities: np.ndarray | None
-    rows: dict[int, int]
-
-
-class BufferLayout(NamedTuple):
-    """Where the parts of one pass lie in the kernel's buffer, for one frame table.
-
-    Attributes:
-        core_tree: The compiled core's ``Tree`` it describes (None: the numba kernel's).
-        joints: Slice of the joint placements, ``(njoints, 12)`` once reshaped.
-        joints_shape: ``(njoints, 12)``.
-        jacobian: Slice of the world joint Jacobian.
-        jacobian_shape: ``(6, nv)``.
-        frames: Slice of the frame placements; the frames' velocities follow it (with ``v``).
-        frames_shape: ``(rows, 12)``.
-
-    """
-
-    core_tree: object
-    joints: slice
-    joints_shape: tuple[int, int]
-    jacobian: slice
-    jacobian_shape: tuple[int, int]
-    frames: slice
-    frames_shape: tuple[int, int]
-
-    def velocities(self, buffer: np.ndarray) -> np.ndarray | None:
-        """The ``(rows, 3)`` frame velocities of ``buffer``, or None (a pass without ``v``)."""
-        end = self.frames.stop
-        return buffer[end:].reshape(self.frames_shape[0], 3) if buffer.shape[0] > end else None
-
-
-class JointTables(NamedTuple):
-    """The joint tables of `forward_kinematics`.
-
-    Attributes:
-        joint_ints: ``(njoints, 3)`` parent, kind, ``idx_q``.
-        joint_floats: ``(njoints, 27)`` placement in the parent, axis and revolute terms.
-        velocity_joint: ``(nv,)`` joint of each velocity index.
-        velocity_subspace: ``(nv, 6)`` motion subspace columns.
-
-    """
-
-    joint_ints: np.ndarray
-    joint_floats: np.ndarray
-    velocity_joint: np.ndarray
-    velocity_subspace: np.ndarray
-
-
-def _placement_row(placement: pin.SE3) -> np.ndarray:
-    return np.concatenate((placement.rotation.ravel(), placement.translation))
 
 
 class KinematicTree:
@@ -140,45 +55,12 @@ class KinematicTree:
     def __init__(self, model: pin.Model) -> None:
         self.model = model
         self.nq, self.nv, self.njoints = model.nq, model.nv, model.njoints
-        joint_ints = np.zeros((model.njoints, 3), dtype=np.int64)
-        joint_floats = np.zeros((model.njoints, 27))
-        velocity_joint = np.zeros(model.nv, dtype=np.int64)
-        subspace = np.zeros((model.nv, 6))
-        self.unsupported: list[str] = []
-        unit_slices: list[tuple[int, int]] = []
-        q_zero = pin.neutral(model)
-        for j in range(1, model.njoints):
-            joint = model.joints[j]
-            kind = _KINDS.get(joint.shortname())
-            if kind is None:
-                self.unsupported.append(model.names[j])
-                kind = 0
-            joint_ints[j] = (model.parents[j], kind, joint.idx_q)
-            joint_floats[j, :12] = _placement_row(model.jointPlacements[j])
-            velocity_joint[joint.idx_v : joint.idx_v + joint.nv] = j
-            joint_data = joint.createData()
-            joint.calc(joint_data, q_zero)
-            motion = np.asarray(joint_data.S).reshape(6, joint.nv)
-            subspace[joint.idx_v : joint.idx_v + joint.nv] = motion.T
-            if joint.nv == 1 and kind in (REVOLUTE, REVOLUTE_UNBOUNDED):
-                joint_floats[j, 12:15] = motion[3:, 0]
-                joint_floats[j, 15:] = kernels.revolute_terms(
-                    model.jointPlacements[j].rotation, motion[3:, 0]
-                )
-            elif joint.nv == 1 and kind == PRISMATIC:
-                joint_floats[j, 12:15] = motion[:3, 0]
-            if kind == FREE_FLYER:
-                unit_slices.append((joint.idx_q + 3, joint.idx_q + 7))
-            elif joint.shortname() == "JointModelSpherical":
-                unit_slices.append((joint.idx_q, joint.idx_q + 4))
-            elif joint.nq == 2 and joint.nv == 1:
-                unit_slices.append((joint.idx_q, joint.idx_q + 2))
+        tables, self.unsupported, unit_slices = read_joints(model)
         self.compiled = (CORE is not None or kernels.HAVE_NUMBA) and not self.unsupported
         self.masses = np.array([inertia.mass for inertia in model.inertias], dtype=float)
         self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
         self.mass = float(self.masses.sum())
-        self._joint_ints, self._joint_floats = joint_ints, joint_floats
-        self._velocity_joint, self._subspace = velocity_joint, subspace
+        self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace = tables
         self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)
         self._unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
         self._unit_index = np.array([i for a, b in unit_slices for i in range(a, b)], dtype=int)
@@ -231,7 +113,7 @@ class KinematicTree:
                 rows[f] = len(rows)
             frames = [self.model.frames[f] for f in rows]
             parents = np.array([frame.parentJoint for frame in frames], dtype=np.int64)
-            floats = np.array([_placement_row(frame.placement) for frame in frames])
+            floats = np.array([placement_row(frame.placement) for frame in frames])
             floats = floats.reshape(-1, 12)
             # the core's tree first: a reader that gets the new rows gets a tree with them
             self.core_tree = self._core_tree(parents, floats)
@@ -308,14 +190,8 @@ class KinematicTree:
                 parents,
                 floats,
             )
-            layout = self._buffer_layout(None, len(rows))
-        return Kinematics(
-            buffer[layout.joints].reshape(layout.joints_shape),
-            buffer[layout.jacobian].reshape(layout.jacobian_shape),
-            buffer[layout.frames].reshape(layout.frames_shape),
-            layout.velocities(buffer),
-            rows,
-        )
+            layout = buffer_layout(None, self.njoints, self.nv, len(rows))
+        return layout.cut(buffer, rows)
 
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
@@ -335,16 +211,8 @@ class KinematicTree:
         buffer = core_tree.compute(q, v)
         layout = self._layout
         if layout is None or layout.core_tree is not core_tree:  # a new frame table
-            layout = self._layout = self._buffer_layout(core_tree, core_tree.nf)
+            layout = self._layout = buffer_layout(core_tree, self.njoints, self.nv, core_tree.nf)
         return buffer, layout, rows
-
-    def _buffer_layout(self, core_tree: object, nf: int) -> BufferLayout:
-        nv, at = self.nv, self.njoints * 12
-        jacobian_end = at + 6 * nv
-        return BufferLayout(
-            core_tree, slice(0, at), (self.njoints, 12), slice(at, jacobian_end), (6, nv),
-            slice(jacobian_end, jacobian_end + nf * 12), (nf, 12),
-        )  # fmt: skip
 
     def thread_data(self) -> pin.Data:
         """The ``pinocchio.Data`` of this tree's model for the calling thread (made once)."""

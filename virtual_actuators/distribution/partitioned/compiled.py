@@ -14,7 +14,8 @@ chain, an ill-conditioned block, more rows than unknowns),
 numpy, as the reference implementation does; the tests check that both give the same answers.
 `ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
 checks the arguments and builds the [`Solution`][] from its buffer; `SnapshotSolve` does the
-same for a controller's request on the tick's snapshot.
+same for a controller's request on the tick's snapshot (both in ``buffer_solve.py``, re-exported
+here).
 """
 
 from __future__ import annotations
@@ -28,8 +29,9 @@ from ...native import CORE
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..registry import Request
-from ..result import RawSolution, Solution, TickResult, label, tolerance
+from ..result import RawSolution, TickResult
 from . import kernel_tables, kernels
+from .buffer_solve import BufferSolve, ConfigurationSolve, SnapshotSolve
 from .reference import PartitionedSolver
 
 
@@ -55,7 +57,9 @@ class _Tables:
 
 
 @dataclass(frozen=True)
-class _Mode:
+class PackedMode:
+    """The packed tables of one set of prescribed axes (`CompiledDistribution.mode_for`)."""
+
     mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
     keep: np.ndarray  # int64 mask
     plan: np.ndarray
@@ -81,8 +85,10 @@ class CompiledDistribution:
         kin = problem.kinematics
         self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
         self.frame_rows = kin.frame_rows
-        self._max_row = int(self.frame_rows.max())
-        self._shape = (problem.p, len(self.axis_rows))
+        #: the largest frame-table row the distribution reads
+        self.max_row = int(self.frame_rows.max())
+        #: the shape of the forces, ``(p, n)``
+        self.shape = (problem.p, len(self.axis_rows))
         self.springs = spring_table(problem)
         self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
         self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
@@ -97,7 +103,7 @@ class CompiledDistribution:
         self.torque_signs = signs
         #: the chain tables: the partitioner's sets never change after its __init__
         self._tables = self._build_tables()
-        self._modes: dict[bytes, _Mode] = {}
+        self._modes: dict[bytes, PackedMode] = {}
 
     def _build_tables(self) -> _Tables:
         problem, partitioner = self.problem, self.partitioner
@@ -143,14 +149,14 @@ class CompiledDistribution:
         layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
         return _Tables(ints, chain_signs, layout)
 
-    def mode_for(self, keep: np.ndarray) -> _Mode:
+    def mode_for(self, keep: np.ndarray) -> PackedMode:
         """The packed tables of the set of prescribed axes ``keep`` (built on first use)."""
         mode = self._modes.get(keep.tobytes())
         if mode is None:  # once per set of free axes (two threads may both build it: same mode)
             mode = self._mode(keep)
         return mode
 
-    def _mode(self, keep: np.ndarray) -> _Mode:
+    def _mode(self, keep: np.ndarray) -> PackedMode:
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
         keep_int = keep.astype(np.int64)
@@ -160,7 +166,7 @@ class CompiledDistribution:
         if k + s < m:
             sets = partitioner.reported_sets(keep)
             systems = cfs_systems + (("KKT", k + s, 1),)
-            mode = _Mode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
+            mode = PackedMode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
         elif k + s == m and not structurally_singular(problem, keep):
             plan = partitioner.square_plan(keep)
             labels = partitioner.labels()
@@ -174,9 +180,9 @@ class CompiledDistribution:
                 systems += (("RFS", len(plan.rfs), 1),)
             systems += (("MFS", len(plan.mfs), 1),)
             order = np.concatenate((plan.rfs, plan.mfs)).astype(np.int64)
-            mode = _Mode(1, keep_int, order, sets, systems, "partitioned")
+            mode = PackedMode(1, keep_int, order, sets, systems, "partitioned")
         else:
-            mode = _Mode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
+            mode = PackedMode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
         if mode.mode >= 0:
             tables = self._tables
             packed = kernel_tables.pack_arguments(
@@ -213,12 +219,12 @@ class CompiledDistribution:
             return None
         mode = self.mode_for(request.keep)
         core, tree = mode.core, self.problem.kinematics.tree.core_tree
-        if core is None or tree is None or tree.nf <= self._max_row:
+        if core is None or tree is None or tree.nf <= self.max_row:
             return None
         out, residual, scale, rounding, status, _, _ = core.tick(tree, q, wrench)
         if status:
             return None
-        forces = out[: self._shape[0] * self._shape[1]].reshape(self._shape)
+        forces = out[: self.shape[0] * self.shape[1]].reshape(self.shape)
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
 
@@ -268,11 +274,11 @@ class CompiledDistribution:
         core = mode.core
         if core is not None and not snapshot.computed and snapshot.backend == "compiled":
             tree = snapshot.tree.core_tree  # a snapshot of q alone: kinematics + distribution
-            if tree.nf > self._max_row:
+            if tree.nf > self.max_row:
                 tick = core.tick(tree, snapshot.q, wrench)
         if tick is None:
             frames = snapshot.frame_table
-            if frames.shape[0] <= self._max_row:
+            if frames.shape[0] <= self.max_row:
                 return None  # frames required after this snapshot ran: the numpy path reads them
             arguments = (snapshot.jacobian_world, frames, snapshot.q, wrench)
             if core is not None:
@@ -282,142 +288,12 @@ class CompiledDistribution:
         out, residual, scale, rounding, status = tick[:5]
         if status:
             return None
-        forces = out[: self._shape[0] * self._shape[1]].reshape(self._shape)
+        forces = out[: self.shape[0] * self.shape[1]].reshape(self.shape)
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
-
-
-class BufferSolve:
-    """A request's [`Solution`][] built straight from the compiled core's output buffer.
-
-    What the declaration and the request fix (the mode's sets and systems, the buffer's layout,
-    the names) is read once, so that the answer is the same [`Solution`][], bit for bit, as
-    [`Solution.from_tick`][] of the general path's tick. Holds no per-call state: threads may
-    share it. `ConfigurationSolve` (from ``q``) and `SnapshotSolve` (on a snapshot) call
-    the core and build their answer with `solution`.
-
-    Args:
-        compiled: The actuator's compiled distribution.
-        mode: The request's packed tables (with the core's ``Distribution``).
-        reactions: The actuator's reaction frames.
-        axes: Its axes.
-        free: The request's free axes.
-        floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
-
-    """
-
-    def __init__(
-        self,
-        compiled: CompiledDistribution,
-        mode: _Mode,
-        reactions: tuple[str, ...],
-        axes: tuple[str, ...],
-        free: tuple[str, ...],
-        floating: bool,
-    ) -> None:
-        self._core = mode.core
-        #: the mode's packed tables (the core's Distribution arguments)
-        self.packed = mode.packed
-        self._kinematics = compiled.problem.kinematics.tree  # its core_tree grows with frames
-        self._max_row = compiled._max_row
-        self._shape = compiled._shape
-        self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
-        self._names = (reactions, axes, free)
-        self._floating = floating
-        p, n = self._shape
-        pn, nv = p * n, compiled.problem.model.nv
-        #: forces, tau, the springs' torques, produced, requested: the buffer's slices
-        self._forces = slice(0, pn)
-        self._tau = slice(pn, pn + nv)
-        self._passive = slice(pn + nv, pn + 2 * nv)
-        self._produced = slice(pn + 2 * nv, pn + 2 * nv + n)
-        self._requested = slice(pn + 2 * nv + n, pn + 2 * nv + 2 * n)
-
-    def solution(
-        self, out: np.ndarray, residual: float, scale: float, rounding: float, tol: float
-    ) -> Solution:
-        """The [`Solution`][] of the core's buffer ``out`` and norms, with tolerance ``tol``."""
-        tau = out[self._tau]
-        limit = tolerance(tol, scale, rounding)
-        reactions, axes, free = self._names
-        return Solution(  # positional, as Solution.from_tick builds it
-            tau,
-            out[self._forces].reshape(self._shape),
-            out[self._produced],
-            self._sets,
-            residual,
-            label(self._method, residual <= limit),
-            out[self._requested],
-            reactions,
-            axes,
-            free,
-            out[self._passive],
-            tau[:6].copy() if self._floating else np.zeros(0),
-            "partitioned",
-            self._systems,
-            True,
-            (),
-            limit,
-        )
-
-    def __repr__(self) -> str:
-        return f"{type(self).__name__}(shape={self._shape}, method={self._method!r})"
-
-
-class ConfigurationSolve(BufferSolve):
-    """One request's solve from unchecked ``q`` and wrench: one compiled call, then the solution.
-
-    The compiled core's ``Distribution.checked_tick`` checks the arguments (what
-    ``KinematicTree.check_configuration`` and ``wrench_array`` accept unchanged), runs the
-    kinematics and the distribution, and hands back (None here) whatever it does not decide: an
-    argument the Python checks must judge (to raise their typed error, or to normalise ``q``),
-    or a tick for the numpy path. Arguments as `BufferSolve`'s.
-    """
-
-    def __call__(self, q: object, wrench: object, tol: float) -> Solution | None:
-        """The solution of ``wrench`` at ``q`` with tolerance ``tol`` (checked), or None.
-
-        None: ``q`` or ``wrench`` is not what the checks accept unchanged, or the kernel hands
-        the tick on; the caller then solves on the general path.
-        """
-        out, residual, scale, rounding, status, _, _ = self._core.checked_tick(
-            self._kinematics.core_tree, q, wrench
-        )
-        if status:
-            return None
-        return self.solution(out, residual, scale, rounding, tol)
-
-
-class SnapshotSolve(BufferSolve):
-    """One request's solve on a computed snapshot: the core's one call, then the solution.
-
-    The controller's per-tick distribution (a checked request and a finite float wrench, as
-    ``ParallelVirtualActuator.solve_checked`` takes them): the same call of the core's
-    ``Distribution.solve`` as `CompiledDistribution.solve` on that snapshot, without the
-    dispatch, the `TickResult` and the tables' look-up. Arguments as `BufferSolve`'s.
-    """
-
-    def __call__(self, snapshot: object, wrench: np.ndarray, tol: float = 1e-6) -> Solution | None:
-        """The solution of ``wrench`` at ``snapshot`` with tolerance ``tol``, or None.
-
-        None: the snapshot's kinematics have not run (the general path then runs them with the
-        distribution in one call), its frame table lacks the distribution's rows, or the kernel
-        hands the tick on; the caller then solves on the general path.
-        """
-        if not snapshot.computed:
-            return None
-        frames = snapshot.frame_table
-        if frames.shape[0] <= self._max_row:
-            return None
-        out, residual, scale, rounding, status, _, _ = self._core.solve(
-            snapshot.jacobian_world, frames, snapshot.q, wrench
-        )
-        if status:
-            return None
-        return self.solution(out, residual, scale, rounding, tol)
 
 
 __all__ = ["BufferSolve", "CompiledDistribution", "ConfigurationSolve", "SnapshotSolve"]

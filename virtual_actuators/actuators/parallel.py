@@ -14,41 +14,32 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..contacts import declare
-from ..distribution.partitioned.compiled import (
-    CompiledDistribution,
-    ConfigurationSolve,
-    SnapshotSolve,
-)
+from ..distribution.partitioned.buffer_solve import ConfigurationSolve, SnapshotSolve
+from ..distribution.partitioned.compiled import CompiledDistribution
 from ..distribution.partitioned.dense import DenseSolver
 from ..distribution.partitioned.numeric import NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
-from ..distribution.problem.checks import check_counts
 from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.registry import METHODS, Backend, Request, dispatch
 from ..distribution.result import Solution, inadmissible
-from ..exceptions import (
-    ConstraintError,
-    FrameNotFoundError,
-    InvalidAxisError,
-    InvalidInputError,
-    JointNotFoundError,
-    VirtualActuatorError,
-)
+from ..exceptions import JointNotFoundError, VirtualActuatorError
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.arguments import (
-    as_float_array,
-    check_flag,
-    check_names,
-    check_robot,
-    check_sequence,
-    describe,
+from ..vocabulary.arguments import check_flag, check_names, check_robot
+from ..vocabulary.axes import parse_axes, resolve_frame
+from ..vocabulary.constraints import DesignConstraint
+from .parallel_checks import (
+    FreeAxes,
+    check_design,
+    check_forces,
+    check_method,
+    check_reactions,
+    preferred_entries,
+    resolve_chains,
 )
-from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
-from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 from .producible import producible_basis, yielding_request
 from .serial import check_tolerance, wrench_array
 
@@ -128,29 +119,13 @@ class ParallelVirtualActuator:
         check_robot(robot, "ParallelVirtualActuator")
         self.robot = robot
         self.action, self.reference = action, reference
-        self.reactions = check_names(reactions, "reactions", FrameNotFoundError)
-        if not self.reactions:
-            raise ConstraintError("A parallel virtual actuator needs at least one reaction frame.")
-        if len(set(self.reactions)) != len(self.reactions):
-            raise ConstraintError(f"Reaction frames repeat: {self.reactions}.")
+        self.reactions = check_reactions(reactions)
         self.axes = parse_axes(axes)
         model = robot.model
-        action_id = resolve_frame(model, action, "action")
-        reaction_ids = [resolve_frame(model, r, "reaction") for r in self.reactions]
-        if action_id in reaction_ids:
-            raise ConstraintError(
-                f"The action frame {action!r} is also a reaction frame; they must differ."
-            )
+        action_id, reaction_ids = resolve_chains(robot, action, self.reactions)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
         passive = check_passive(passive)
-        self.design = tuple(
-            check_sequence(
-                design,
-                "design",
-                "design constraints (va.Equal, va.Linear, va.EqualTorque)",
-                single=DesignConstraint,
-            )
-        )
+        self.design = check_design(design)
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
@@ -164,17 +139,13 @@ class ParallelVirtualActuator:
             self.kinematics, self.reactions, self.contacts.contact,
             unactuated, passive, self.design,
         )  # fmt: skip
-        preferred = np.ones((len(self.reactions), len(self.axes)))
-        for constraint in self.design:
-            if isinstance(constraint, (Equal, Linear)):
-                for reaction, axis in constraint.labels():
-                    preferred[self.reactions.index(reaction), self.axes.index(axis)] = 1e-3
+        preferred = preferred_entries(self.reactions, self.axes, self.design)
         self.partitioner = PartitionedSolver(self.problem, preferred)
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
         self.dense = DenseSolver(self.problem)
         self.contact_limits = ContactLimits(self.problem, self.contacts, torque_limits)
         self.qp = QPDistribution(self.problem, self.contact_limits, weights)
-        self._keep_cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
+        self._free_axes = FreeAxes(self.axes, self.problem)
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
 
     @property
@@ -199,22 +170,6 @@ class ParallelVirtualActuator:
             "r": d_total - self.n,
             "design": self.problem.num_hard,
         }
-
-    def _keep(self, free: Sequence[str]) -> tuple[tuple[str, ...], np.ndarray]:
-        try:
-            key = (free,) if isinstance(free, str) else tuple(free)
-            cached = self._keep_cache.get(key)
-        except TypeError:  # not iterable, or unhashable entries
-            raise InvalidAxisError(
-                f"free must be an axis name or a sequence of axis names among this actuator's "
-                f"axes {self.axes}, got {describe(free)}."
-            ) from None
-        if cached is None:
-            axes = check_axes_subset(key, self.axes, "free")
-            keep = np.array([a not in axes for a in self.axes])
-            check_counts(self.problem, keep)  # declaration-only: checked once per set of free axes
-            cached = self._keep_cache[key] = (axes, keep)
-        return cached
 
     def solve(
         self,
@@ -286,6 +241,20 @@ class ParallelVirtualActuator:
                     if strict and not solution.admissible:
                         raise inadmissible(wrench, self.axes, solution)
                     return solution
+        return self._solve_planned(q, wrench, free, strict, tol, method, compiled, weights)
+
+    def _solve_planned(
+        self,
+        q: np.ndarray | Snapshot,
+        wrench: np.ndarray,
+        free: Sequence[str],
+        strict: bool,
+        tol: float,
+        method: str,
+        compiled: bool,
+        weights: Mapping[str, float] | Sequence[float] | np.ndarray | None,
+    ) -> Solution:
+        """[`solve`][] past its one-call path (``strict``, ``tol``, ``compiled`` checked)."""
         plain = not isinstance(q, Snapshot)  # a configuration: no snapshot unless one is needed
         state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
@@ -376,11 +345,8 @@ class ParallelVirtualActuator:
             ConstraintError: Too many constraints for those free axes.
 
         """
-        free, keep = self._keep(free)
-        if not isinstance(method, str) or method not in METHODS:
-            raise InvalidInputError(
-                f"method must be one of {list(METHODS)}, got {describe(method)}."
-            )
+        free, keep = self._free_axes.check(free)
+        check_method(method)
         if weights is not None:
             weights = check_weights(weights, self.axes)
         return Request(method, free, keep, compiled, weights)
@@ -421,12 +387,7 @@ class ParallelVirtualActuator:
                 numbers.
 
         """
-        expected = f"a ({self.p}, {self.n}) array of real numbers (chains x axes)"
-        forces = as_float_array(forces, "forces", expected)
-        if forces.shape != (self.p, self.n) or not np.all(np.isfinite(forces)):
-            raise InvalidInputError(
-                f"forces must be finite with shape ({self.p}, {self.n}), got shape {forces.shape}."
-            )
+        forces = check_forces(forces, self.p, self.n)
         return self.problem.torques(self.kinematics.compute(q).jacobian_o, forces)
 
     def __repr__(self) -> str:

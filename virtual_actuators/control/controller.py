@@ -32,9 +32,9 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
-from .contact_limits import enforce_unilateral
+from .attachment_tick import run_attachment
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
-from .failures import CAUGHT, check_policy, drop_non_finite, reason_of, recover
+from .failures import check_policy, drop_non_finite
 from .postures import JointTerm, add_posture, tick_names
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
@@ -125,11 +125,10 @@ class Controller:
 
         Args:
             name: Unique name (states refer to it).
-            actuator: A [`VirtualActuator`][] or [`ParallelVirtualActuator`][] of this
-                robot, or a joint-space term (nothing else given): a
-                [`Posture`][] (bound here) or a
-                [`GravityCompensation`][] of this robot (its ``g(q)``
-                added to every tick's efforts before they are clipped).
+            actuator: A [`VirtualActuator`][] or [`ParallelVirtualActuator`][] of this robot, or a
+                joint-space term (nothing else given): a [`Posture`][] (bound here) or a
+                [`GravityCompensation`][] of this robot (its ``g(q)`` added to every tick's efforts
+                before they are clipped).
             components: Components whose axes are subsets of the actuator's axes (a sequence,
                 or one component).
             sensor: What the components read. Default: the actuator itself if serial; for a
@@ -146,23 +145,21 @@ class Controller:
                 friction cone; with ``method="qp"``, the axes that give way first when the
                 actuator's inequalities cannot meet a request (their weight in the QP's
                 closest wrench is ``yield_weight``, the others' 1; the actuator is unchanged).
-            friction: Parallel actuators: friction coefficient ``mu`` of a contact cone (a
-                pyramid) at every reaction frame, about the actuator's contact normals (its
-                ``normals``: world z by default, whatever the reaction frame's orientation;
-                ``normals="frames"`` for each reaction frame's z, e.g. a limp flat foot lying
-                on a slope): each chain's share must keep its tangential part within ``mu``
-                times its normal part, the normal part at least ``min_normal``. The rows are
-                the ones the actuator's QP reads (`virtual_actuators.contacts`).
-                Violations are met by scaling ``yield_axes`` like ``unilateral``. None: no
-                cone.
+            friction: Parallel actuators: friction coefficient ``mu`` of a contact cone (a pyramid)
+                at every reaction frame, about the actuator's contact normals (its ``normals``:
+                world z by default, whatever the reaction frame's orientation; ``normals="frames"``
+                for each reaction frame's z, e.g. a limp flat foot lying on a slope): each chain's
+                share must keep its tangential part within ``mu`` times its normal part, the normal
+                part at least ``min_normal``. The rows are the ones the actuator's QP reads
+                (`virtual_actuators.contacts`). Violations are met by scaling ``yield_axes`` like
+                ``unilateral``. None: no cone.
             min_normal: Least normal force of the cone [N] (with ``friction``).
             method: Parallel actuators: the distribution, ``"partitioned"`` (default),
                 ``"dense"`` or ``"qp"`` (the actuator's own friction, min_normal, soles and
                 torque limits as inequalities; then ``unilateral`` and ``friction`` here are
                 not used and must be left out).
-            yield_weight: ``method="qp"`` with ``yield_axes``: their weight, a finite number
-                > 0; None for `YIELD_WEIGHT`
-                (1e-3).
+            yield_weight: ``method="qp"`` with ``yield_axes``: their weight, a finite number > 0;
+                None for `YIELD_WEIGHT` (1e-3).
 
         Returns:
             The `Attachment` (the term itself for a joint-space term).
@@ -181,13 +178,12 @@ class Controller:
         """
         if isinstance(actuator, (Posture, GravityCompensation)):
             return add_posture(self, name, actuator, components)
-        attachment = Attachment.declare(
+        attachment = self.attachments[name] = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,
             unilateral=unilateral, yield_axes=yield_axes, friction=friction,
             min_normal=min_normal, method=method, yield_weight=yield_weight,
             taken={**self.attachments, **self.postures},
         )
-        self.attachments[name] = attachment
         return attachment
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
@@ -315,6 +311,7 @@ class Controller:
         postures = self.postures
         sums = TickSums()
         attachments = self.attachments
+        on_failure, limits = self.on_failure, (self._lower_limits, self._upper_limits)
         for name in names:
             if postures and name in postures:  # a joint-space term
                 sums.add(name, postures[name].torques(snapshot), fresh=True)
@@ -322,7 +319,7 @@ class Controller:
                 attachment = attachments.get(name) if name.__class__ is str else None
                 if attachment is None:
                     attachment = self._get(name)  # raises, naming the known attachments
-                self._attachment_tick(name, attachment, snapshot, time, sums)
+                run_attachment(name, attachment, snapshot, time, sums, on_failure, limits)
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(
@@ -340,71 +337,6 @@ class Controller:
             clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions,
             sums.velocities, sums.solutions, sums.failed, names, self.joint_names, sums.failures,
         )
-
-    def _attachment_tick(
-        self, name: str, attachment: Attachment, snapshot: Snapshot, time: float, sums: TickSums
-    ) -> None:
-        """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
-
-        Raises:
-            VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
-
-        """
-        spring, wrench, solution = attachment.spring_tick, None, None
-        try:
-            if spring is not None:  # and a parallel actuator's distribution, in one call
-                buffer, solution = spring.run_solve(attachment.components, snapshot, time)
-            else:
-                buffer = None
-            if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
-                at_position, at_velocity, at_wrench, at_efforts = spring.slices
-                sums.positions[name] = buffer[at_position]
-                sums.velocities[name] = buffer[at_velocity]
-                wrench = sums.wrenches[name] = buffer[at_wrench]
-                if at_efforts is not None:  # and a serial actuator's efforts
-                    sums.produced[name] = wrench
-                    sums.add(name, buffer[at_efforts], fresh=True)
-                    return
-            else:
-                sensor = attachment.sensor
-                jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
-                sums.positions[name], sums.velocities[name] = position, velocity
-                wrench = attachment.wrench(position, velocity, time)
-                sums.wrenches[name] = wrench
-            one_call = attachment.snapshot_solve  # a parallel actuator's compiled solve
-            if solution is None and one_call is not None:
-                solution = one_call(snapshot, wrench)
-            if solution is None:
-                actuator = attachment.actuator
-                if isinstance(actuator, VirtualActuator):
-                    jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
-                    sums.add(name, jacobian_act.T @ wrench, fresh=True)
-                    sums.produced[name] = wrench
-                    return
-                # free axes, method and weights checked at add(); the wrench by Attachment.wrench
-                solution = actuator.solve_checked(snapshot, wrench, attachment.plan)[0]
-            if attachment.yield_mask is not None:
-                solution = enforce_unilateral(attachment, snapshot, wrench, solution)
-        except CAUGHT as error:
-            if self.on_failure == "raise":
-                raise
-            solution, effort = recover(
-                self.on_failure,
-                attachment,
-                snapshot,
-                wrench,
-                reason_of(error, wrench),
-                error,
-                (self._lower_limits, self._upper_limits),
-                sums.failures,
-                sums.failed,
-            )
-            if effort is None:
-                return
-        else:
-            effort = solution.tau
-        sums.solutions[name], sums.produced[name] = solution, solution.wrench
-        sums.add(name, effort, fresh=False)
 
     def __repr__(self) -> str:
         return (

@@ -1,0 +1,165 @@
+"""The argument checks of a parallel virtual actuator's declaration and of its requests.
+
+[`ParallelVirtualActuator`][virtual_actuators.ParallelVirtualActuator] checks its reaction
+frames (`check_reactions`, `resolve_chains`) and its design constraints (`check_design`) when
+declared, and weighs the design's entries (`preferred_entries`); a request's free axes are
+checked once per set (`FreeAxes`), its method on every plan (`check_method`), and the forces
+of ``torques`` by `check_forces`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..distribution.problem import DistributionProblem
+from ..distribution.problem.checks import check_counts
+from ..distribution.registry import METHODS
+from ..exceptions import ConstraintError, FrameNotFoundError, InvalidAxisError, InvalidInputError
+from ..models.robot import Robot
+from ..vocabulary.arguments import as_float_array, check_names, check_sequence, describe
+from ..vocabulary.axes import check_axes_subset, resolve_frame
+from ..vocabulary.constraints import DesignConstraint, Equal, Linear
+
+
+def check_reactions(reactions: Sequence[str]) -> tuple[str, ...]:
+    """The reaction frames' names, checked (resolved in the model by `resolve_chains`).
+
+    Raises:
+        FrameNotFoundError: A name is not a str.
+        ConstraintError: No reaction frame, or a repeated one.
+
+    """
+    reactions = check_names(reactions, "reactions", FrameNotFoundError)
+    if not reactions:
+        raise ConstraintError("A parallel virtual actuator needs at least one reaction frame.")
+    if len(set(reactions)) != len(reactions):
+        raise ConstraintError(f"Reaction frames repeat: {reactions}.")
+    return reactions
+
+
+def resolve_chains(robot: Robot, action: str, reactions: tuple[str, ...]) -> tuple[int, list[int]]:
+    """The frame ids of the action frame and of the reaction frames.
+
+    Raises:
+        FrameNotFoundError: A frame name is not in the model.
+        ConstraintError: The action frame is among the reactions.
+
+    """
+    model = robot.model
+    action_id = resolve_frame(model, action, "action")
+    reaction_ids = [resolve_frame(model, r, "reaction") for r in reactions]
+    if action_id in reaction_ids:
+        raise ConstraintError(
+            f"The action frame {action!r} is also a reaction frame; they must differ."
+        )
+    return action_id, reaction_ids
+
+
+def check_design(design: Sequence[DesignConstraint]) -> tuple[DesignConstraint, ...]:
+    """The design constraints as a tuple (one constraint for a tuple of it).
+
+    Raises:
+        InvalidInputError: ``design`` is not a collection of design constraints.
+
+    """
+    return tuple(
+        check_sequence(
+            design,
+            "design",
+            "design constraints (va.Equal, va.Linear, va.EqualTorque)",
+            single=DesignConstraint,
+        )
+    )
+
+
+def preferred_entries(
+    reactions: tuple[str, ...], axes: tuple[str, ...], design: tuple[DesignConstraint, ...]
+) -> np.ndarray:
+    """``(p, n)`` preference of each force entry: 1e-3 at the entries the design couples, else 1."""
+    preferred = np.ones((len(reactions), len(axes)))
+    for constraint in design:
+        if isinstance(constraint, (Equal, Linear)):
+            for reaction, axis in constraint.labels():
+                preferred[reactions.index(reaction), axes.index(axis)] = 1e-3
+    return preferred
+
+
+def check_method(method: str) -> None:
+    """Check that ``method`` names a distribution method.
+
+    Raises:
+        InvalidInputError: ``method`` is not one of `METHODS`.
+
+    """
+    if not isinstance(method, str) or method not in METHODS:
+        raise InvalidInputError(f"method must be one of {list(METHODS)}, got {describe(method)}.")
+
+
+def check_forces(forces: object, p: int, n: int) -> np.ndarray:
+    """``forces`` as a ``(p, n)`` float array (one row per chain, one column per axis), checked.
+
+    Raises:
+        InvalidInputError: ``forces`` that are not ``(p, n)`` finite real numbers.
+
+    """
+    expected = f"a ({p}, {n}) array of real numbers (chains x axes)"
+    forces = as_float_array(forces, "forces", expected)
+    if forces.shape != (p, n) or not np.all(np.isfinite(forces)):
+        raise InvalidInputError(
+            f"forces must be finite with shape ({p}, {n}), got shape {forces.shape}."
+        )
+    return forces
+
+
+class FreeAxes:
+    """The checked free axes of a request and the mask of its prescribed axes, kept by set.
+
+    Args:
+        axes: The actuator's axes.
+        problem: Its distribution problem (whose constraint counts each set must allow).
+
+    """
+
+    def __init__(self, axes: tuple[str, ...], problem: DistributionProblem) -> None:
+        self.axes = axes
+        self.problem = problem
+        self._cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
+
+    def check(self, free: Sequence[str]) -> tuple[tuple[str, ...], np.ndarray]:
+        """``(free axes, keep)`` of ``free``: the axes checked, ``keep`` True at the others.
+
+        Raises:
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes.
+            ConstraintError: Too many constraints for those free axes.
+
+        """
+        try:
+            key = (free,) if isinstance(free, str) else tuple(free)
+            cached = self._cache.get(key)
+        except TypeError:  # not iterable, or unhashable entries
+            raise InvalidAxisError(
+                f"free must be an axis name or a sequence of axis names among this actuator's "
+                f"axes {self.axes}, got {describe(free)}."
+            ) from None
+        if cached is None:
+            axes = check_axes_subset(key, self.axes, "free")
+            keep = np.array([a not in axes for a in self.axes])
+            check_counts(self.problem, keep)  # declaration-only: checked once per set of free axes
+            cached = self._cache[key] = (axes, keep)
+        return cached
+
+    def __repr__(self) -> str:
+        return f"FreeAxes(axes={self.axes}, sets={len(self._cache)})"
+
+
+__all__ = [
+    "FreeAxes",
+    "check_design",
+    "check_forces",
+    "check_method",
+    "check_reactions",
+    "preferred_entries",
+    "resolve_chains",
+]

@@ -1,0 +1,103 @@
+"""One attachment's share of a controller's tick.
+
+`run_attachment` reads the attachment's sensor, sums its components' wrenches and maps the
+wrench to joint efforts (``J^T F`` for a serial actuator, the distribution for a parallel one),
+in one compiled call for spring-dampers (``SpringTick``, ``attachment_kernel.py``); a failure is
+raised or recovered from by the controller's policy (``failures.py``). The controller's
+``compute_checked`` calls it for every active attachment.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..actuators import VirtualActuator
+from ..kinematics.snapshot import Snapshot
+from .attachment import Attachment
+from .contact_limits import enforce_unilateral
+from .failures import CAUGHT, reason_of, recover
+from .tick import TickSums
+
+
+def run_attachment(
+    name: str,
+    attachment: Attachment,
+    snapshot: Snapshot,
+    time: float,
+    sums: TickSums,
+    on_failure: str,
+    limits: tuple[np.ndarray, np.ndarray],
+) -> None:
+    """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
+
+    Args:
+        name: The attachment's name.
+        attachment: The attachment.
+        snapshot: The tick's snapshot (with a velocity).
+        time: Controller time [s].
+        sums: The tick's sums, added to.
+        on_failure: The controller's failure policy (``"raise"``, ``"skip"``, ``"fallback"``).
+        limits: The controller's ``(lower, upper)`` effort limits (for ``"fallback"``).
+
+    Raises:
+        VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
+
+    """
+    spring, wrench, solution = attachment.spring_tick, None, None
+    try:
+        if spring is not None:  # and a parallel actuator's distribution, in one call
+            buffer, solution = spring.run_solve(attachment.components, snapshot, time)
+        else:
+            buffer = None
+        if buffer is not None:  # spring-dampers: sensing and wrench in one compiled call
+            at_position, at_velocity, at_wrench, at_efforts = spring.slices
+            sums.positions[name] = buffer[at_position]
+            sums.velocities[name] = buffer[at_velocity]
+            wrench = sums.wrenches[name] = buffer[at_wrench]
+            if at_efforts is not None:  # and a serial actuator's efforts
+                sums.produced[name] = wrench
+                sums.add(name, buffer[at_efforts], fresh=True)
+                return
+        else:
+            sensor = attachment.sensor
+            jacobian, position, velocity = sensor.kinematics.sense(snapshot, velocity=True)
+            sums.positions[name], sums.velocities[name] = position, velocity
+            wrench = attachment.wrench(position, velocity, time)
+            sums.wrenches[name] = wrench
+        one_call = attachment.snapshot_solve  # a parallel actuator's compiled solve
+        if solution is None and one_call is not None:
+            solution = one_call(snapshot, wrench)
+        if solution is None:
+            actuator = attachment.actuator
+            if isinstance(actuator, VirtualActuator):
+                jacobian_act = jacobian if actuator is sensor else actuator.jacobian(snapshot)
+                sums.add(name, jacobian_act.T @ wrench, fresh=True)
+                sums.produced[name] = wrench
+                return
+            # free axes, method and weights checked at add(); the wrench by Attachment.wrench
+            solution = actuator.solve_checked(snapshot, wrench, attachment.plan)[0]
+        if attachment.yield_mask is not None:
+            solution = enforce_unilateral(attachment, snapshot, wrench, solution)
+    except CAUGHT as error:
+        if on_failure == "raise":
+            raise
+        solution, effort = recover(
+            on_failure,
+            attachment,
+            snapshot,
+            wrench,
+            reason_of(error, wrench),
+            error,
+            limits,
+            sums.failures,
+            sums.failed,
+        )
+        if effort is None:
+            return
+    else:
+        effort = solution.tau
+    sums.solutions[name], sums.produced[name] = solution, solution.wrench
+    sums.add(name, effort, fresh=False)
+
+
+__all__ = ["run_attachment"]

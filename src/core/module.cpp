@@ -745,6 +745,8 @@ NB_MODULE(_core, m) {
   bind_attachment(m);
   void bind_gait(nb::module_&);  // the gait's kernels: the block at the end of this file
   bind_gait(m);
+  void bind_simulation(nb::module_&);  // the simulation's kernel: the last block of this file
+  bind_simulation(m);
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")
@@ -1130,3 +1132,35 @@ void bind_gait(nb::module_& m) {
         "actuators.producible._give_way_one: the request given way along one direction.");
 }
 // -- end of the gait's kernels --------------------------------------------------------------
+
+// -- the simulation's kernel (simulation.hpp): efforts into MuJoCo's controls ---------------
+// One block, bound by bind_simulation (called from NB_MODULE above).
+#include "simulation.hpp"
+
+namespace {
+
+// simulation.actuation.efforts_to_ctrl: 0 (ctrl written), 1 (an effort not finite), 2 (an
+// unactuated effort beyond the tolerance).
+std::int64_t simulation_efforts_to_ctrl(const F1& tau, const I1& direct, const I1& unactuated,
+                                        double tolerance, const MF1& ctrl) {
+  const std::int64_t nv = length(tau), nu = static_cast<std::int64_t>(direct.shape(0));
+  const std::int64_t count = static_cast<std::int64_t>(unactuated.shape(0));
+  require(length(ctrl) == nu, "ctrl must have one entry per direct index");
+  for (std::int64_t k = 0; k < nu; ++k)
+    require(direct.data()[k] >= 0 && direct.data()[k] < nv, "direct index out of range");
+  for (std::int64_t k = 0; k < count; ++k)
+    require(unactuated.data()[k] >= 0 && unactuated.data()[k] < nv,
+            "unactuated index out of range");
+  nb::gil_scoped_release release;
+  return va::efforts_to_ctrl(tau.data(), nv, direct.data(), nu, unactuated.data(), count,
+                             tolerance, ctrl.data());
+}
+
+}  // namespace
+
+void bind_simulation(nb::module_& m) {
+  m.def("efforts_to_ctrl", &simulation_efforts_to_ctrl, "tau"_a, "direct"_a, "unactuated"_a,
+        "tolerance"_a, "ctrl"_a.noconvert(),
+        "simulation.actuation.efforts_to_ctrl: efforts into ctrl in place; 0, 1 or 2.");
+}
+// -- end of the simulation's kernel ---------------------------------------------------------

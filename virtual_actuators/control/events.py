@@ -11,7 +11,7 @@ from collections.abc import Callable
 from ..exceptions import InvalidAxisError, InvalidInputError
 from ..vocabulary.arguments import check_flag, check_name, check_number, describe
 from ..vocabulary.axes import AXES
-from .state_machine import Context, Event
+from .state_machine import POSITION_COLUMNS, Context, Event, table_entry
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 
@@ -68,16 +68,14 @@ def ahead_of(frame: str, reference: str, distance: float, axis: str = "x") -> Ev
     check_name(reference, "ahead_of(): reference")
     distance = check_number(distance, "ahead_of(): distance [m]")
     index = _axis(axis)
-    column = 9 + index  # the position's entry in a row of the snapshot's frame table
+    column = POSITION_COLUMNS[axis]  # the position's entry in a row of the snapshot's frame table
 
     def event(context: Context) -> bool:
-        snapshot = context.snapshot
-        rows = snapshot.tree.name_rows  # tabled frames: two entries of the table (a tick's cost)
-        row, reference_row = rows.get(frame), rows.get(reference)
-        if row is not None and reference_row is not None:
-            table = snapshot.frame_table
-            if max(row, reference_row) < table.shape[0]:
-                return table.item(row, column) - table.item(reference_row, column) > distance
+        snapshot = context.snapshot  # tabled frames: two entries of the table (a tick's cost)
+        position = table_entry(snapshot, frame, column)
+        reference_position = table_entry(snapshot, reference, column)
+        if position is not None and reference_position is not None:
+            return position - reference_position > distance
         return (
             context.frame_position(frame)[index] - context.frame_position(reference)[index]
             > distance

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, suggestion
+from ..exceptions import InvalidAxisError, InvalidInputError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 from ..vocabulary.arguments import (
@@ -28,6 +28,23 @@ from ..vocabulary.arguments import (
     check_sequence,
     describe,
 )
+
+#: A world axis's column in a row of a snapshot's frame table (rotation, then position).
+POSITION_COLUMNS = {"x": 9, "y": 10, "z": 11}
+
+
+def table_entry(snapshot: Snapshot, frame: object, column: int) -> float | None:
+    """Entry ``column`` of a frame's row in the snapshot's frame table, None if not tabled.
+
+    A tabled frame is read in one table entry (a tick's cost); callers fall back on the
+    snapshot's general reads for the others.
+    """
+    row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
+    if row is not None:
+        table = snapshot.frame_table
+        if row < table.shape[0]:
+            return table.item(row, column)
+    return None
 
 
 class Context:
@@ -158,13 +175,36 @@ class Context:
 
         """
         snapshot = self.snapshot
-        row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
-        if row is not None:  # a tabled frame: its rotation's row 0 in the frame table
-            table = snapshot.frame_table
-            if row < table.shape[0]:
-                return math.atan2(table.item(row, 2), table.item(row, 0))
+        sine = table_entry(snapshot, frame, 2)  # a tabled frame: its rotation's row 0
+        if sine is not None:
+            return math.atan2(sine, table_entry(snapshot, frame, 0))
         rotation = snapshot.placement(frame)[0]
         return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
+
+    def frame_coordinate(self, frame: str, axis: str) -> float:
+        """One world coordinate of a frame's origin [m], a float.
+
+        The entry of [`frame_position`][] along ``axis``, read without making an array (a
+        tabled frame: one entry of the snapshot's frame table).
+
+        Args:
+            frame: Frame name.
+            axis: ``"x"``, ``"y"`` or ``"z"``.
+
+        Raises:
+            InvalidAxisError: ``axis`` is not x, y or z.
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        column = POSITION_COLUMNS.get(axis) if axis.__class__ is str else None
+        if column is None:
+            raise InvalidAxisError(
+                f"Context.frame_coordinate: axis must be 'x', 'y' or 'z', got {axis!r}."
+            )
+        value = table_entry(self.snapshot, frame, column)
+        if value is not None:
+            return value
+        return self.frame_position(frame).item(column - 9)
 
     def frame_velocity(self, frame: str) -> np.ndarray:
         """Linear velocity of a frame's origin in world axes [m/s].
@@ -320,11 +360,13 @@ class StateMachine:
                 raise InvalidInputError(f"State {state.name!r} is declared twice.")
             self._states[state.name] = state
         self.index = {name: i for i, name in enumerate(self._states)}
-        self._leaving: dict[str, list[Transition]] = {name: [] for name in self._states}
+        # per state, its transitions' events and target states, in declaration order
+        self._exits: dict[str, list[tuple[Event, State]]] = {name: [] for name in self._states}
         for transition in self.transitions:
             for end in (transition.source, transition.target):
                 self._check(end, f"transition {transition}")
-            self._leaving[transition.source].append(transition)
+            exit_ = (transition.event, self._states[transition.target])
+            self._exits[transition.source].append(exit_)
         self._check(self.initial, "initial")
         self.current: State = self._states[self.initial]
         self.entered_at = 0.0  # [s]
@@ -388,18 +430,20 @@ class StateMachine:
             InvalidInputError: ``context`` is not a [`Context`][].
 
         """
-        _check_context(context)
+        if context.__class__ is not Context:  # the tick's case skips the check
+            _check_context(context)
         if not self.started:
             self.start(context)
-        context.state = self.current.name
+        context.state = name = self.current.name
         context.time_in_state = context.time - self.entered_at
-        for transition in self._leaving[self.current.name]:
-            if transition.event(context):
-                self._enter(self._states[transition.target], context)
+        for event, target in self._exits[name]:
+            if event(context):
+                self._enter(target, context)
                 break
-        if self.current.on_update is not None:
-            self.current.on_update(context)
-        return self.current
+        current = self.current
+        if current.on_update is not None:
+            current.on_update(context)
+        return current
 
     def steps_into(self, names: Iterable[str]) -> int:
         """How many times the machine entered any of ``names`` (e.g. single-support states)."""

@@ -57,6 +57,8 @@ class StanceForces:
         self.ratio_max = 0.0
         self.samples = 0
         self._since: dict[tuple[str, ...], float] = {}  # foot -> time it entered support [s]
+        self._feet: list[tuple[str, ...]] | None = None  # the support set of _since
+        self._settled: tuple[tuple[str, ...], ...] = ()  # its feet settled so far
         self._force = np.zeros(6)  # mj_contactForce's output, in the contact frame
         self._owners: dict[tuple, dict[int, int]] = {}  # settled feet -> geom owners
 
@@ -73,11 +75,7 @@ class StanceForces:
         """
         simulator = self.simulator
         now = simulator.time
-        since = {foot: self._since.get(foot, now) for foot in map(tuple, feet)}
-        self._since = since
-        settled = tuple(
-            foot for foot, entered in since.items() if now - entered >= SETTLE_TIME - 1e-9
-        )
+        settled = self._settle(feet, now)
         if not settled:
             return
         mm = simulator.mujoco_model
@@ -107,6 +105,20 @@ class StanceForces:
             if foot_normal >= NORMAL_FLOOR:
                 self.ratio_max = max(self.ratio_max, foot_tangential / foot_normal)
             self.samples += 1
+
+    def _settle(self, feet: Iterable[Iterable[str]], now: float) -> tuple[tuple[str, ...], ...]:
+        """The feet in support since `SETTLE_TIME` at least (and the entry times kept)."""
+        feet = feet if feet.__class__ is list else list(feet)
+        if feet != self._feet:  # a new support set: entry times of the feet that stay
+            since = self._since
+            self._since = {foot: since.get(foot, now) for foot in map(tuple, feet)}
+            self._feet = [tuple(foot) for foot in feet]
+            self._settled = ()
+        if len(self._settled) < len(self._since):  # feet still settling
+            self._settled = tuple(
+                foot for foot, entered in self._since.items() if now - entered >= SETTLE_TIME - 1e-9
+            )
+        return self._settled
 
     def figures(self) -> tuple[float | None, float | None]:
         """``(least normal force [N], largest friction ratio)``, None before any sample."""

@@ -191,7 +191,7 @@ class PlanarEpisode(Episode):
         """One row of `STANDARD_CHANNELS`."""
         gait, nan = self.gait, math.nan
         x, z_world, ground = q.item(self.x_index), q.item(self.z_index), self.ground
-        wrench = _body_wrench(output)
+        wrench_x, wrench_z, wrench_ry = _body_wrench(output).tolist()
         double = "double" in output.active
         set_height, set_pitch = gait.granny.setpoint.tolist()  # [m], [rad]
         bunny = gait.bunny
@@ -207,9 +207,9 @@ class PlanarEpisode(Episode):
                 set_height - ground,
                 set_pitch,
                 bunny.speed if double else nan,
-                wrench[0],
-                wrench[1],
-                wrench[2],
+                wrench_x,
+                wrench_z,
+                wrench_ry,
                 gait.slope if self.has_slope else nan,
                 float(fallen),
             ),

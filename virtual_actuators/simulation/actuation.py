@@ -9,16 +9,82 @@ actuator: an effort asked of them is an error unless the caller says to drop it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.kinematics.jit import njit
+from virtual_actuators.native import CORE
 from virtual_actuators.simulation.conversions import finite_vector, gathers
 from virtual_actuators.simulation.model import MujocoModel
 
-__all__ = ["UNACTUATED_TOLERANCE", "ctrl_to_torques", "torques_to_ctrl"]
+__all__ = [
+    "UNACTUATED_TOLERANCE",
+    "ctrl_to_torques",
+    "ctrl_writer",
+    "efforts_to_ctrl",
+    "torques_to_ctrl",
+]
 
 #: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
 UNACTUATED_TOLERANCE = 1e-9
+
+
+@njit(cache=True)
+def efforts_to_ctrl(
+    tau: np.ndarray, direct: np.ndarray, unactuated: np.ndarray, tolerance: float, ctrl: np.ndarray
+) -> int:
+    """`torques_to_ctrl`'s gather and checks, into ``ctrl`` in place (the reference kernel).
+
+    ``ctrl[k] = tau[direct[k]]`` when every effort is finite and each effort on an unactuated
+    degree of freedom (``unactuated``) is within ``+-tolerance``; ``ctrl`` is left as it was
+    otherwise.
+
+    Returns:
+        0 (``ctrl`` written), 1 (an effort is not finite) or 2 (an unactuated effort beyond
+        the tolerance).
+
+    """
+    for i in range(tau.shape[0]):
+        if not np.isfinite(tau[i]):
+            return 1
+    for k in range(unactuated.shape[0]):
+        effort = tau[unactuated[k]]
+        if effort > tolerance or effort < -tolerance:
+            return 2
+    for k in range(direct.shape[0]):
+        ctrl[k] = tau[direct[k]]
+    return 0
+
+
+def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool], bool] | None:
+    """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``): one compiled call.
+
+    ``write(tau, ignore_unactuated)`` writes what ``torques_to_ctrl(mm, tau,
+    ignore_unactuated=...)`` returns into ``ctrl`` and returns True, or writes nothing and
+    returns False (an effort that is not finite, an unactuated one beyond the tolerance, a
+    ``tau`` that is not a ``(model.nv,)`` array): `torques_to_ctrl` then says why.
+
+    Returns:
+        The writer; None without the compiled core or when some motor drives no single joint
+        (the general path then runs).
+
+    """
+    maps = gathers(mm)
+    if CORE is None or maps.direct_ctrl is None:
+        return None
+    kernel, direct, unactuated = CORE.efforts_to_ctrl, maps.direct_ctrl, maps.unactuated_v
+    none = unactuated[:0]
+    shape = (mm.robot.model.nv,)
+
+    def write(tau: np.ndarray, ignore_unactuated: bool) -> bool:
+        if tau.__class__ is not np.ndarray or tau.shape != shape:
+            return False
+        checked = none if ignore_unactuated else unactuated
+        return kernel(tau, direct, checked, UNACTUATED_TOLERANCE, ctrl) == 0
+
+    return write
 
 
 def torques_to_ctrl(

@@ -18,6 +18,9 @@ from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = ["ContactQueries"]
 
+#: Roles of a geom in the contact scan (0: neither; a terrain geom is never the robot's).
+_TERRAIN, _ROBOT = 1, 2
+
 
 class ContactQueries:
     """Terrain-contact queries by frame name, over a MuJoCo model and its data.
@@ -43,6 +46,11 @@ class ContactQueries:
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
         self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms
         self._touched: tuple[int, ...] = ()
+        mm = self.mujoco_model  # per geom id: a terrain geom, a robot geom or neither
+        self._geom_roles = [
+            _TERRAIN if geom in mm.terrain_geoms else _ROBOT if geom in mm.geom_frames else 0
+            for geom in range(self.model.ngeom)
+        ]
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
         """The robot geoms of ``frame`` (checked and cached on first use).
@@ -112,23 +120,22 @@ class ContactQueries:
         return [hit for hit in self._contacts if hit[1] in geoms]
 
     def _scan_contacts(self) -> list[tuple[int, int, float]]:
-        """Scan MuJoCo's contact list for robot-terrain contacts."""
-        mm = self.mujoco_model
-        terrain, owned = mm.terrain_geoms, mm.geom_frames
+        """Scan MuJoCo's contact list for robot-terrain contacts.
+
+        A contact counts when it is not excluded and pairs a terrain geom with a robot geom
+        (a geom of the robot's frames that is not the terrain's).
+        """
+        roles = self._geom_roles
         contacts = self.data.contact
         hits = []
         rows = zip(contacts.geom.tolist(), contacts.exclude.tolist(), strict=True)
         for i, ((g1, g2), exclude) in enumerate(rows):
-            if exclude != 0:
-                continue
-            if g1 in terrain and g2 not in terrain:
-                robot_geom, sign = g2, 1.0
-            elif g2 in terrain and g1 not in terrain:
-                robot_geom, sign = g1, -1.0
-            else:
-                continue
-            if robot_geom in owned:
-                hits.append((i, robot_geom, sign))
+            if exclude == 0:
+                first, second = roles[g1], roles[g2]
+                if first == _TERRAIN and second == _ROBOT:
+                    hits.append((i, g2, 1.0))
+                elif first == _ROBOT and second == _TERRAIN:
+                    hits.append((i, g1, -1.0))
         return hits
 
     def in_contact(self, frame: str) -> bool:

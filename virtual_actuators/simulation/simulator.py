@@ -18,7 +18,7 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.actuation import torques_to_ctrl
+from virtual_actuators.simulation.actuation import ctrl_writer, torques_to_ctrl
 from virtual_actuators.simulation.contact_queries import ContactQueries
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
@@ -161,6 +161,7 @@ class Simulator(ContactQueries):
         # for hinge-and-slide robots, the one gather that converts them
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
         self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
+        self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -265,8 +266,10 @@ class Simulator(ContactQueries):
                 an effort on an unactuated degree of freedom (the message names the joint).
 
         """
-        ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
-        self._ctrl[:] = ctrl
+        write = self._write_ctrl
+        if write is None or not write(tau, ignore_unactuated):  # the general path says why
+            ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
+            self._ctrl[:] = ctrl
         if not self._pushes and not self._pushing:
             mujoco.mj_step(self.model, self.data, nstep=self.substeps)
             return

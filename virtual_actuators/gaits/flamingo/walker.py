@@ -212,7 +212,7 @@ class FlamingoWalker(Gait):
 
     def _update_height(self, context: Context) -> None:
         p = self.parameters
-        body_x = context.frame_position("body").item(0)
+        body_x = context.frame_coordinate("body", "x")
         single = context.state != "double_support"
         if single and p.level_single_support:
             # Climb (or descend) in double support only: with x free over a limp ankle, every
@@ -284,10 +284,8 @@ class FlamingoWalker(Gait):
         p = self.parameters
         stance, swing = _SIDES.get(context.state) or _sides(context.state)
         self._update_height(context)
-        body = context.frame_position("body")
-        ankle = context.frame_position(f"{swing}_foot")
-        stance_ankle = context.frame_position(f"{stance}_foot")
-        body_x, _, body_z = body.tolist()
+        coordinate = context.frame_coordinate
+        body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
         start_x, start_z = self._swing_start.tolist()
         elapsed = context.time - self._swing_started
         phase = elapsed / p.swing_time
@@ -318,8 +316,9 @@ class FlamingoWalker(Gait):
             # Swing time expired: downward push through the virtual surface, and re-estimate
             # the slope once the ankle is below it (Fig. 13).
             z_target = surface - p.push_speed * (elapsed - p.swing_time)
+            ankle = context.frame_position(f"{swing}_foot")
             if ankle[2] < self.slope_height(float(ankle[0])):
-                self._set_slope(stance_ankle, ankle)
+                self._set_slope(context.frame_position(f"{stance}_foot"), ankle)
         # The linkage works relative to the body, along world axes; the foot stays parallel
         # to the global slope: its pitch relative to the body is -slope - body pitch.
         body_pitch = context.frame_pitch("body")

@@ -21,7 +21,6 @@ about a stride ahead; in the buffer states the swing leg is limp for a short del
 falls to the ground (the turkey has no foot switches). Foot placement is never used for speed.
 """
 
-
 from __future__ import annotations
 
 import numpy as np
@@ -133,7 +132,7 @@ class TurkeyWalker(Gait):
         return self.state.split("_")[0] if self.state != "double_support" else "left"
 
     def _update_ground(self, context: Context, feet: tuple[str, ...]) -> None:
-        heights = [context.frame_position(foot).item(2) for foot in feet]
+        heights = [context.frame_coordinate(foot, "z") for foot in feet]
         self.ground = sum(heights) / len(heights) - self.parameters.foot_radius
         self.granny.height = self.ground + self.parameters.height
 
@@ -157,15 +156,16 @@ class TurkeyWalker(Gait):
         self._update_ground(context, stance_foot)
         if buffer:
             return
-        body = context.frame_position("body")
-        progress = float(body[0] - context.frame_position(stance_foot[0])[0])
+        coordinate = context.frame_coordinate
+        body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
+        progress = body_x - coordinate(stance_foot[0], "x")
         span = max(p.away_distance - self._progress_start, 1e-3)
         phase = min(max((progress - self._progress_start) / span, 0.0), 1.0)
         x_rel = self._swing_start[0] + (p.swing_reach - self._swing_start[0]) * smoothstep(
             1.6 * phase
         )
         foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
-        z_rel = self.ground + p.foot_radius + foot_height - float(body[2])
+        z_rel = self.ground + p.foot_radius + foot_height - body_z
         self.swing[swing].place((x_rel, z_rel))
 
 

@@ -1,0 +1,244 @@
+"""The tick's context of a gait's state machine, read by its events and state callbacks.
+
+The state, the time, the contacts and the kinematics snapshot. A
+[`Context`][virtual_actuators.Context] reads frames from the tick's one kinematics pass (a tabled
+frame in one entry of the snapshot's frame table); `Event` is the type of a transition's test.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+
+import numpy as np
+
+from ..exceptions import InvalidAxisError, InvalidInputError, suggestion
+from ..kinematics.snapshot import Snapshot
+from ..models.robot import Robot
+from ..vocabulary.arguments import (
+    check_number,
+    check_robot,
+    describe,
+)
+
+#: A world axis's column in a row of a snapshot's frame table (rotation, then position).
+POSITION_COLUMNS = {"x": 9, "y": 10, "z": 11}
+
+
+def table_entry(snapshot: Snapshot, frame: object, column: int) -> float | None:
+    """Entry ``column`` of a frame's row in the snapshot's frame table, None if not tabled.
+
+    A tabled frame is read in one table entry (a tick's cost); callers fall back on the
+    snapshot's general reads for the others.
+    """
+    row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
+    if row is not None:
+        table = snapshot.frame_table
+        if row < table.shape[0]:
+            return table.item(row, column)
+    return None
+
+
+class Context:
+    """What events see at one tick: state, time, contacts and frame positions on demand.
+
+    Frame reads go through the tick's [`Snapshot`][], the same kinematics
+    pass that the controller's actuators and sensors read: events add no kinematics of their
+    own.
+
+    Args:
+        robot: The robot (frame names are resolved against its model).
+        q: Configuration ``(nq,)``.
+        v: Velocity ``(nv,)``.
+        time: Controller time [s].
+        contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
+        time_in_state: Seconds since the current state was entered (the machine fills it).
+        snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
+
+    Raises:
+        InvalidInputError: ``robot`` is not a robot; ``time`` or ``time_in_state`` is not a
+            finite number; ``contacts`` is not a dict; ``snapshot`` is not a
+            [`Snapshot`][] of ``robot``; bad ``q`` or ``v`` (when no
+            snapshot is given).
+
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        q: np.ndarray,
+        v: np.ndarray,
+        time: float,
+        contacts: Mapping[str, bool] | None = None,
+        time_in_state: float = 0.0,
+        *,
+        snapshot: Snapshot | None = None,
+    ) -> None:
+        # the per-tick case: a Snapshot of this robot's model (which proves the robot one)
+        known = isinstance(snapshot, Snapshot) and snapshot.tree.model is getattr(
+            robot, "model", None
+        )
+        if not known:
+            check_robot(robot, "Context")
+        time = check_number(time, "Context: time [s]")
+        time_in_state = check_number(time_in_state, "Context: time_in_state [s]")
+        if contacts is not None and not isinstance(contacts, Mapping):
+            raise InvalidInputError(
+                f"Context: contacts must be a dict {{frame: bool}} or None, got "
+                f"{describe(contacts)}."
+            )
+        if snapshot is None:
+            snapshot = Snapshot(robot, q, v)
+        elif not known and (
+            not isinstance(snapshot, Snapshot) or snapshot.tree.model is not robot.model
+        ):
+            raise InvalidInputError(
+                f"Context: snapshot must be a va.Snapshot of the context's robot or None, got "
+                f"{describe(snapshot)}."
+            )
+        self.robot = robot
+        self.snapshot = snapshot
+        # the snapshot's reads directly (a tick's cost: no second call per read)
+        self.frame_position = snapshot.frame_position
+        self.frame_velocity = snapshot.frame_velocity
+        self.frame_rotation = snapshot.frame_rotation
+        self.q, self.v, self.time = snapshot.q, snapshot.v, float(time)
+        self.contacts = dict(contacts or {})
+        self.time_in_state = time_in_state
+        self.state: str | None = None
+
+    @classmethod
+    def of_tick(
+        cls, robot: Robot, snapshot: Snapshot, time: float, contacts: Mapping[str, bool] | None
+    ) -> Context:
+        """The context of a tick whose snapshot (of ``robot``, with ``v``) is built already.
+
+        The same context as ``Context(robot, snapshot.q, snapshot.v, time, contacts,
+        snapshot=snapshot)``, with the checks a float time and a dict (or no) contacts pass
+        skipped (a tick's cost); anything else goes through the constructor's checks.
+
+        Raises:
+            InvalidInputError: As the constructor.
+
+        """
+        if (
+            time.__class__ is not float
+            or not math.isfinite(time)
+            or not (contacts is None or contacts.__class__ is dict)
+            or snapshot.__class__ is not Snapshot
+            or snapshot.tree.model is not getattr(robot, "model", None)
+        ):
+            return cls(robot, snapshot.q, snapshot.v, time, contacts, snapshot=snapshot)
+        context = cls.__new__(cls)
+        context.robot = robot
+        context.snapshot = snapshot
+        context.frame_position = snapshot.frame_position
+        context.frame_velocity = snapshot.frame_velocity
+        context.frame_rotation = snapshot.frame_rotation
+        context.q, context.v, context.time = snapshot.q, snapshot.v, time
+        context.contacts = {} if contacts is None else contacts.copy()
+        context.time_in_state = 0.0
+        context.state = None
+        return context
+
+    def frame_position(self, frame: str) -> np.ndarray:
+        """World position of a frame [m] (from the tick's snapshot).
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        return self.snapshot.frame_position(frame)
+
+    def frame_rotation(self, frame: str) -> np.ndarray:
+        """World orientation of a frame, a 3x3 rotation matrix.
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        return self.snapshot.frame_rotation(frame)
+
+    def frame_pitch(self, frame: str) -> float:
+        """Rotation of a frame about the world y axis [rad] (planar robots in x-z).
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        snapshot = self.snapshot
+        sine = table_entry(snapshot, frame, 2)  # a tabled frame: its rotation's row 0
+        if sine is not None:
+            return math.atan2(sine, table_entry(snapshot, frame, 0))
+        rotation = snapshot.placement(frame)[0]
+        return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
+
+    def frame_coordinate(self, frame: str, axis: str) -> float:
+        """One world coordinate of a frame's origin [m], a float.
+
+        The entry of [`frame_position`][] along ``axis``, read without making an array (a
+        tabled frame: one entry of the snapshot's frame table).
+
+        Args:
+            frame: Frame name.
+            axis: ``"x"``, ``"y"`` or ``"z"``.
+
+        Raises:
+            InvalidAxisError: ``axis`` is not x, y or z.
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        column = POSITION_COLUMNS.get(axis) if axis.__class__ is str else None
+        if column is None:
+            raise InvalidAxisError(
+                f"Context.frame_coordinate: axis must be 'x', 'y' or 'z', got {axis!r}."
+            )
+        value = table_entry(self.snapshot, frame, column)
+        if value is not None:
+            return value
+        return self.frame_position(frame).item(column - 9)
+
+    def frame_velocity(self, frame: str) -> np.ndarray:
+        """Linear velocity of a frame's origin in world axes [m/s].
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        return self.snapshot.frame_velocity(frame)
+
+    def in_contact(self, frame: str) -> bool:
+        """The contact switch of ``frame``.
+
+        Raises:
+            InvalidInputError: No switch reported for that frame.
+
+        """
+        try:
+            return bool(self.contacts[frame])
+        except (KeyError, TypeError):  # TypeError: an unhashable frame
+            hint = (
+                suggestion(str(frame), self.contacts, "contact switches")
+                if self.contacts
+                else "This context was given no contact switches (Context(..., contacts=...))."
+            )
+            raise InvalidInputError(f"No contact switch for {frame!r}. {hint}") from None
+
+    def __repr__(self) -> str:
+        return f"Context(time={self.time:.4f}, state={self.state!r}, contacts={self.contacts})"
+
+
+Event = Callable[[Context], bool]
+
+
+def check_context(context: object) -> None:
+    """Refuse anything but a [`Context`][virtual_actuators.Context].
+
+    Raises:
+        InvalidInputError: ``context`` is not a `Context`.
+    """
+    if not isinstance(context, Context):
+        raise InvalidInputError(
+            f"context must be a va.Context (the tick's state, time and contacts), got "
+            f"{describe(context)}."
+        )

@@ -31,12 +31,8 @@ def table_entry(snapshot: Snapshot, frame: object, column: int) -> float | None:
     A tabled frame is read in one table entry (a tick's cost); callers fall back on the
     snapshot's general reads for the others.
     """
-    row = snapshot.tree.name_rows.get(frame) if frame.__class__ is str else None
-    if row is not None:
-        table = snapshot.frame_table
-        if row < table.shape[0]:
-            return table.item(row, column)
-    return None
+    row = snapshot.named_row(frame)
+    return snapshot.frame_table.item(row, column) if row >= 0 else None
 
 
 class Context:

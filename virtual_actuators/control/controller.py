@@ -22,8 +22,6 @@ import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component
-from ..components.gravity import GravityCompensation
-from ..components.posture import Posture
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.kernels import finite
 from ..kinematics.snapshot import Snapshot
@@ -176,7 +174,7 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
 
         """
-        if isinstance(actuator, (Posture, GravityCompensation)):
+        if isinstance(actuator, JointTerm):
             return add_posture(self, name, actuator, components)
         attachment = self.attachments[name] = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,

@@ -11,7 +11,7 @@ from collections.abc import Callable
 from ..exceptions import InvalidAxisError, InvalidInputError
 from ..vocabulary.arguments import check_flag, check_name, check_number, describe
 from ..vocabulary.axes import AXES
-from .state_machine import POSITION_COLUMNS, Context, Event, table_entry
+from .context import POSITION_COLUMNS, Context, Event, table_entry
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 

@@ -21,17 +21,9 @@ from ..vocabulary.arguments import (
     check_sequence,
     describe,
 )
-from .context import POSITION_COLUMNS, Context, Event, check_context, table_entry
+from .context import Context, Event, check_context
 
-__all__ = [
-    "POSITION_COLUMNS",
-    "Context",
-    "Event",
-    "State",
-    "StateMachine",
-    "Transition",
-    "table_entry",
-]
+__all__ = ["Context", "Event", "State", "StateMachine", "Transition"]
 
 
 @dataclass(repr=False)

@@ -245,10 +245,12 @@ class Snapshot:
         """
         return self._placement(self._frame_id(frame))
 
-    def _named_row(self, frame: object) -> int:
-        """The row of a frame given by a tabled name in this snapshot's table, else -1.
+    def named_row(self, frame: object) -> int:
+        """The row of a frame given by a tabled name in `frame_table`, else -1.
 
-        Computes the kinematics first when they have not run.
+        A tick's cost: a name the robot's actuators read is one row of the table (other names,
+        ids and untabled frames give -1: read them through the general accessors). Computes
+        the kinematics first when they have not run.
         """
         row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
         if row is None:
@@ -264,14 +266,9 @@ class Snapshot:
             FrameNotFoundError: Unknown frame.
 
         """
-        row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
-        if row is not None:  # a tabled frame by name: one row read (a tick's cost)
-            frames = self._frames
-            if frames is None:
-                self._run()
-                frames = self._frames
-            if row < frames.shape[0]:
-                return frames[row, 9:].copy()
+        row = self.named_row(frame)
+        if row >= 0:  # a tabled frame by name: one row read (a tick's cost)
+            return self._frames[row, 9:].copy()
         frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
         if self._frames is None:
             self._run()
@@ -299,7 +296,7 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
-        row = self._named_row(frame)
+        row = self.named_row(frame)
         table = self._velocity_table() if row >= 0 else None
         if table is not None:  # the compiled pass computed it
             return table[row].copy()

@@ -210,7 +210,7 @@ class QPDistribution:
                 return tick
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
-            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget, tried)
+            return self._solve(snapshot, wrench, keep, request.compiled, weights, budget)
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
@@ -245,16 +245,10 @@ class QPDistribution:
         self._local.iterations = 0
         return self._tick(answer, False)
 
-    def _solve(self, snapshot, wrench, keep, compiled, weights, budget, tried=False):
-        """`solve` with its checked weights and its `Budget`.
-
-        ``tried``: `_again` answered None already on this tick.
-        """
+    def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
+        """`solve` with its checked weights and its `Budget`, once `_again` answered None."""
         work = None
         if compiled and self.matrices.applicable:
-            tick = None if tried else self._again(snapshot, wrench, keep, weights)
-            if tick is not None:
-                return tick
             work = self.matrices.build(snapshot, wrench, keep)
         if work is None:
             return self._solve_numpy(snapshot, wrench, keep, weights, budget)

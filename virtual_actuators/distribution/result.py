@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -40,6 +41,29 @@ class RawSolution:
     solver: str = "partitioned"
     #: the QP's active inequalities, by name (empty for the other solvers)
     active: tuple[str, ...] = ()
+
+
+
+class BufferSlices(NamedTuple):
+    """Where a compiled distribution's output buffer holds each part, in this order."""
+
+    forces: slice  #: ``p n`` entries, chain by chain
+    tau: slice  #: ``nv``
+    passive: slice  #: the springs' torques, ``nv``
+    produced: slice  #: ``n``
+    requested: slice  #: ``n``
+
+
+def buffer_slices(p: int, n: int, nv: int) -> BufferSlices:
+    """The parts of the output buffer of a distribution of ``p`` chains on ``n`` axes."""
+    pn = p * n
+    return BufferSlices(
+        slice(0, pn),
+        slice(pn, pn + nv),
+        slice(pn + nv, pn + 2 * nv),
+        slice(pn + 2 * nv, pn + 2 * nv + n),
+        slice(pn + 2 * nv + n, pn + 2 * nv + 2 * n),
+    )
 
 
 @dataclass(slots=True)
@@ -91,10 +115,9 @@ class TickResult:
             compiled: Whether a compiled kernel computed it.
 
         """
-        pn, n = raw.forces.size, raw.forces.shape[1]
-        nv = (out.shape[0] - pn - 2 * n) // 2
-        tau, passive = out[pn : pn + nv], out[pn + nv : pn + 2 * nv]
-        produced, requested = out[pn + 2 * nv : pn + 2 * nv + n], out[pn + 2 * nv + n :]
+        p, n = raw.forces.shape
+        nv = (out.shape[0] - p * n - 2 * n) // 2
+        _, tau, passive, produced, requested = (out[part] for part in buffer_slices(p, n, nv))
         return cls(raw, tau, passive, produced, requested, residual, scale, rounding, compiled)
 
 

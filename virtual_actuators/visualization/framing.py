@@ -25,10 +25,6 @@ from .scene import Scene
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0
 
-#: Top-level nodes that are never part of a box: the text beside the robot (hidden in pages),
-#: the ground grid and the terrain (they extend far beyond the run).
-_EXCLUDED = ("hud", "ground", "terrain")
-
 #: What a recording is framed on: the robot's bodies.
 FRAMED = ("robot/",)
 
@@ -61,7 +57,7 @@ class RunBounds:
         return f"RunBounds(low={np.round(self.low, 3)}, high={np.round(self.high, 3)})"
 
 
-def visible_points(scene: Scene, under: tuple[str, ...] | None = None) -> np.ndarray:
+def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
     """Origins ``(n, 3)`` of the placed, visible nodes in the view's coordinates.
 
     A node's pose is the product of the placements along its path (the scene node's first);
@@ -69,8 +65,8 @@ def visible_points(scene: Scene, under: tuple[str, ...] | None = None) -> np.nda
 
     Args:
         scene: The scene.
-        under: Only the nodes whose names start so (None: every node but the text, the
-            ground and the terrain).
+        under: Only the nodes whose names start so (the text beside the robot, the ground
+            grid and the terrain extend far beyond the run: `FRAMED` leaves them out).
 
     """
     matrices, visible = scene.matrices, scene.visible
@@ -94,7 +90,7 @@ def visible_points(scene: Scene, under: tuple[str, ...] | None = None) -> np.nda
     for name in matrices:
         if not name:
             continue
-        if name.split("/", 1)[0] in _EXCLUDED if under is None else not name.startswith(under):
+        if not name.startswith(under):
             continue
         matrix = pose(name)
         if matrix is not None:

@@ -241,12 +241,6 @@ class TriangleMesh(Geometry):
             },
         }
 
-    @property
-    def nbytes(self) -> int:
-        """Size of the arrays sent [bytes]."""
-        width = 2 if len(self.vertices) <= 65536 else 4
-        return 12 * len(self.vertices) + 3 * width * len(self.triangles)
-
     def __repr__(self) -> str:
         return f"TriangleMesh({len(self.vertices)} vertices, {len(self.triangles)} triangles)"
 

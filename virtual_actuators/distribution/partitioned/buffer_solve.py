@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..result import Solution, label, tolerance
+from ..result import Solution, buffer_slices, label, tolerance
 
 if TYPE_CHECKING:
     from .compiled import CompiledDistribution, PackedMode
@@ -55,14 +55,10 @@ class BufferSolve:
         self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
         self._names = (reactions, axes, free)
         self._floating = floating
-        p, n = self._shape
-        pn, nv = p * n, compiled.problem.model.nv
         #: forces, tau, the springs' torques, produced, requested: the buffer's slices
-        self._forces = slice(0, pn)
-        self._tau = slice(pn, pn + nv)
-        self._passive = slice(pn + nv, pn + 2 * nv)
-        self._produced = slice(pn + 2 * nv, pn + 2 * nv + n)
-        self._requested = slice(pn + 2 * nv + n, pn + 2 * nv + 2 * n)
+        self._forces, self._tau, self._passive, self._produced, self._requested = buffer_slices(
+            *self._shape, compiled.problem.model.nv
+        )
 
     def solution(
         self, out: np.ndarray, residual: float, scale: float, rounding: float, tol: float

@@ -297,9 +297,9 @@ def run_registered(
 
 def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
     """Draw a balance run (`plot_balance_log`)."""
-    from ...experiments.plot_panels import save_figure
+    from .plots import plot_balance_log
 
-    return save_figure(draw_balance(result), path)
+    return plot_balance_log(result.log, path, summary=result.metrics.summary())
 
 
 def draw_balance(result: BalanceResult) -> Any:

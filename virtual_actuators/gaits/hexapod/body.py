@@ -134,17 +134,13 @@ class HeadingDamper(Component):
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Force on the body in world axes."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        vx = c * velocity[0] + s * velocity[1]
-        vy = -s * velocity[0] + c * velocity[1]
-        fx = self.damping[0] * (self.velocity[0] - vx) + self.force[0]
-        fy = self.damping[1] * (self.velocity[1] - vy) + self.force[1]
-        return np.array((c * fx - s * fy, s * fx + c * fy))
+        floats = np.asarray(velocity, dtype=float).tolist()
+        return np.array(self.compute_wrench_floats([], floats, time))
 
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats: the same operations, the same bits."""
+        """`compute_wrench` on plain floats (the position is not read)."""
         c, s = math.cos(self.yaw), math.sin(self.yaw)
         v0, v1 = velocity
         vx = c * v0 + s * v1

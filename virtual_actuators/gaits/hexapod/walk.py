@@ -280,9 +280,9 @@ def run_registered(
 
 def plot_hexapod_walk(result: HexapodResult, path: str, window: None = None) -> Path:
     """Draw a hexapod walk (`plot_hexapod`)."""
-    from ...experiments.plot_panels import save_figure
+    from .plots import plot_hexapod
 
-    return save_figure(draw_hexapod_walk(result), path)
+    return plot_hexapod(result.log, path, summary=result.metrics.summary())
 
 
 def draw_hexapod_walk(result: HexapodResult) -> Any:

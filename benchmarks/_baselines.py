@@ -473,6 +473,7 @@ def instrumented_walk(
     breakdown [us]."""
     import virtual_actuators as va
     from virtual_actuators.demos import run_walk
+    from virtual_actuators.gaits.turkey.native import NativeTick
     from virtual_actuators.simulation import Simulator
 
     targets = {
@@ -485,19 +486,30 @@ def instrumented_walk(
         "contact_switches": (Simulator, "contact_switches"),
         "touching_frames": (Simulator, "touching_frames"),
     }
+    targets["native.compute"] = (NativeTick, "compute")  # the walks with a native tick
     with WalkProbe(targets, tick="simulator.step") as probe:
         result = run_walk(name, duration=seconds, progress=False, **options)
     ticks = len(probe.samples["simulator.step"])
     total = probe.tick_totals()
     gait, step = probe.per_tick("gait.compute"), probe.per_tick("simulator.step")
-    parts = {
-        "total": total,
-        "gait.compute": gait,
-        "  machine.update": probe.per_tick("machine.update"),
-        "  controller.compute": probe.per_tick("controller.compute"),
-        "simulator.step": step,
-        "rest": total - gait[1:] - step[1:],  # tick i runs from the end of step i-1 to step i
-    }
+    native = probe.per_tick("native.compute")
+    if native.size:  # the first tick (and any the native tick hands on) in Python
+        parts = {
+            "total": total,
+            "gait tick": np.concatenate([gait[:1], native]),
+            "  native (one call)": native,
+            "  Python ticks": gait,
+        }
+        gait = parts["gait tick"]
+    else:
+        parts = {
+            "total": total,
+            "gait.compute": gait,
+            "  machine.update": probe.per_tick("machine.update"),
+            "  controller.compute": probe.per_tick("controller.compute"),
+        }
+    parts["simulator.step"] = step
+    parts["rest"] = total - gait[1:] - step[1:]  # tick i: from the end of step i-1 to step i
     breakdown = {}
     for label, values in parts.items():
         mean = float(np.mean(values)) if values.size else float("nan")

@@ -165,6 +165,9 @@ class Walk:
             falling in runs of the walk's default duration (None: the walk takes no speed).
         speeds_for: The supported speeds from the walk's options (the legged walk's depend
             on ``robot`` and ``gait``); None: `speeds` whatever the options.
+        native: Builds the gait's whole tick in the compiled core from the started gait
+            (``native(gait)``, None when the core cannot run it; see `drive`); None: the walk
+            has no native tick.
 
     """
 
@@ -185,6 +188,7 @@ class Walk:
     viewer_robot: Callable[..., Robot] | None = None
     speeds: tuple[float, float] | None = None
     speeds_for: Callable[..., tuple[float, float]] | None = None
+    native: Callable[[Gait], Any] | None = None
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""

@@ -135,7 +135,9 @@ def _prepare(
             "double_support_states": ["double_support"],
         },
     )
-    return PlanarEpisode(gait, simulator, terrain_model, recorder)
+    episode = PlanarEpisode(gait, simulator, terrain_model, recorder)
+    episode.native = walk.native
+    return episode
 
 
 def _push(walk: Walk, seed: int | None) -> tuple[float, float]:

@@ -157,6 +157,7 @@ class Episode:
         record_every: Ticks between two calls of `record`.
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
+        native: Builds the gait's tick in the compiled core (a `Walk`'s ``native``), or None.
 
     """
 
@@ -172,6 +173,7 @@ class Episode:
         self.terrain = terrain
         self.recorder = recorder
         self.stance = StanceForces(simulator, terrain)
+        self.native: Callable[[Gait], Any] | None = None
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
         """Before the gait computes: steer it if need be; the contact switches it reads."""
@@ -259,8 +261,16 @@ def _loop(
     """The control loop: read, contacts, compute, step, stance forces, fall test, record.
 
     Then the garbage collector's turn ([`LoopCollector.between_ticks`][]).
+
+    The gait computes the first tick (its state machine starts); then, without ``on_tick``
+    (which may read the gait's [`ControlOutput`][]), the episode's
+    ``native`` tick computes the others when the compiled core can run the gait: the same
+    efforts, bit for bit (its ticks answer the efforts, the active attachments and their
+    wrenches, which is what `record` reads).
     """
     gait, simulator = episode.gait, episode.simulator
+    native, compute = (episode.native if on_tick is None else None), gait.compute
+    native_tick = None
     stance_every, record_every = episode.stance_every, episode.record_every
     ignore = episode.ignore_unactuated
     data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
@@ -268,7 +278,7 @@ def _loop(
     while data.time < duration - 1e-9:
         q, v = simulator.q, simulator.v
         now = data.time
-        output = gait.compute(q, v, now, episode.sense(q, v, now))
+        output = compute(q, v, now, episode.sense(q, v, now))
         mark = wallclock.perf_counter()
         simulator.step(output.tau, ignore_unactuated=ignore)
         physics += wallclock.perf_counter() - mark
@@ -287,4 +297,10 @@ def _loop(
         if stop_on_fall and fall_time is not None and now > fall_time + 0.5:
             break
         collector.between_ticks()
+        if native is not None:  # after the first tick: the gait's machine has started
+            native, native_tick = None, native(gait)
+            if native_tick is not None:
+                compute = native_tick.compute
+    if native_tick is not None:
+        native_tick.sync()  # the gait's objects as the native tick left them
     return LoopEnd(tick, fall_time, 0.0, physics)

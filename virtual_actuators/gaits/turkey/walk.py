@@ -5,6 +5,7 @@ from __future__ import annotations
 from ...models.robot import Robot
 from ..base import Gait, Walk
 from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
+from .native import NativeTick
 from .parameters import TurkeyParameters
 from .walker import TurkeyWalker
 
@@ -31,4 +32,5 @@ WALK = Walk(
     push_time=0.2,
     plot_window=True,
     speeds=(0.3, 0.6),
+    native=NativeTick.of,
 )

@@ -125,6 +125,52 @@ class TurkeyWalker(Gait):
             ]
         return StateMachine(states, transitions, initial)
 
+    # --- memory --------------------------------------------------------------------------------
+
+    def memory(self) -> dict[str, float]:
+        """What the gait carries from tick to tick besides its machine's state, as floats.
+
+        The front foot (0 left, 1 right), the swing foot's start relative to the body and the
+        progress at lift-off, the ground estimate, the granny walker's height set point, the
+        bunny's start and set point, and each swing-leg linkage's set point (``SIDE_swing_x``,
+        ``SIDE_swing_z``): what a native tick (`native.NativeTick`) keeps in the compiled core.
+        """
+        bunny = self.bunny
+        memory = {
+            "front": float(SIDES.index(self.front)),
+            "swing_start_x": float(self._swing_start[0]),
+            "swing_start_z": float(self._swing_start[1]),
+            "progress_start": float(self._progress_start),
+            "ground": float(self.ground),
+            "granny_height": self.granny.height,
+            "bunny_start_position": float(bunny.start_position),
+            "bunny_start_time": float(bunny.start_time),
+            "bunny_setpoint": bunny.setpoint.item(0),
+        }
+        for side in SIDES:
+            x, z = self.swing[side].setpoint.tolist()
+            memory[f"{side}_swing_x"], memory[f"{side}_swing_z"] = x, z
+        return memory
+
+    def restore(self, memory: dict[str, float]) -> None:
+        """Take up a `memory` (its set points placed without moving their velocity set points).
+
+        Raises:
+            InvalidInputError: A set point that is not a finite number.
+
+        """
+        self.front = SIDES[int(memory["front"])]
+        self._swing_start = np.array([memory["swing_start_x"], memory["swing_start_z"]])
+        self._progress_start = memory["progress_start"]
+        self.ground = memory["ground"]
+        self.granny.height = memory["granny_height"]
+        bunny = self.bunny
+        bunny.start_position = memory["bunny_start_position"]
+        bunny.start_time = memory["bunny_start_time"]
+        bunny.setpoint = memory["bunny_setpoint"]
+        for side in SIDES:
+            self.swing[side].setpoint = (memory[f"{side}_swing_x"], memory[f"{side}_swing_z"])
+
     # --- events and state callbacks ------------------------------------------------------------
 
     def stance_side(self) -> str:

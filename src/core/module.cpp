@@ -749,6 +749,8 @@ NB_MODULE(_core, m) {
   bind_simulation(m);
   void bind_native(nb::module_&);  // the native gaits: the last block of this file
   bind_native(m);
+  void bind_contacts(nb::module_&);  // MuJoCo's contacts read in place: the last block
+  bind_contacts(m);
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")
@@ -1615,3 +1617,79 @@ void bind_native(nb::module_& m) {
       .def_ro_static("ENTERED", &NativeTurkey::ENTERED);
 }
 // -- end of the native gaits ----------------------------------------------------------------
+
+// -- MuJoCo's contacts read in place (contacts_view.hpp) ------------------------------------
+// One block, bound by bind_contacts (called from NB_MODULE above), compiled when MuJoCo's
+// headers were found at build time (VA_MUJOCO); MJ_VERSION is then their mjVERSION_HEADER (0
+// without them: simulation.contact_queries keeps its Python scan).
+#ifdef VA_MUJOCO
+#include <mujoco/mujoco.h>
+
+#include "contacts_view.hpp"
+#endif
+
+namespace {
+
+#ifdef VA_MUJOCO
+// A simulation's mjData (its address: mujoco.MjData._address) and the roles of its geoms. The
+// caller keeps the MjData alive as long as the view (Simulator holds both).
+class ContactView {
+ public:
+  ContactView(std::uintptr_t address, std::int64_t version, const I1& roles)
+      : data_(reinterpret_cast<const mjData*>(address)) {
+    require(version == mjVERSION_HEADER, "MuJoCo's version must be the headers' (MJ_VERSION)");
+    require(address != 0, "the MjData's address must not be null");
+    roles_.reserve(roles.shape(0));
+    for (std::size_t g = 0; g < roles.shape(0); ++g) {
+      const std::int64_t role = roles.data()[g];
+      require(role >= va::mj::OTHER && role <= va::mj::ROBOT, "roles must be 0, 1 or 2");
+      roles_.push_back(static_cast<std::int8_t>(role));
+    }
+  }
+
+  // (contact index, robot geom, sign) rows into out ((>= ncon, 3)); their number.
+  std::int64_t scan(const nb::ndarray<std::int64_t, nb::numpy, nb::ndim<2>, nb::c_contig,
+                                      nb::device::cpu>& out) const {
+    require(out.shape(1) == 3 && static_cast<std::int64_t>(out.shape(0)) >= data_->ncon,
+            "out must be (>= ncon, 3)");
+    return va::mj::terrain_contacts(data_, roles_.data(),
+                                    static_cast<std::int64_t>(roles_.size()), out.data());
+  }
+
+  // Whether a robot geom whose flag in allowed (one per geom) is 0 touches the terrain.
+  bool touches_outside(const nb::ndarray<const std::int8_t, nb::numpy, nb::ndim<1>,
+                                         nb::c_contig, nb::device::cpu>& allowed) const {
+    require(allowed.shape(0) == roles_.size(), "allowed must hold one flag per geom");
+    return va::mj::touches_outside(data_, roles_.data(), allowed.data(),
+                                   static_cast<std::int64_t>(roles_.size()));
+  }
+
+  std::int64_t ncon() const { return data_->ncon; }
+
+ private:
+  const mjData* data_;
+  std::vector<std::int8_t> roles_;
+};
+#endif
+
+}  // namespace
+
+void bind_contacts(nb::module_& m) {
+#ifdef VA_MUJOCO
+  m.attr("MJ_VERSION") = static_cast<std::int64_t>(mjVERSION_HEADER);
+  nb::class_<ContactView>(m, "ContactView",
+                          "MuJoCo's contact list read in place (simulation.contact_queries): "
+                          "the robot-terrain contacts, and whether a geom outside a set "
+                          "touches the terrain.")
+      .def(nb::init<std::uintptr_t, std::int64_t, const I1&>(), "address"_a, "version"_a,
+           "roles"_a)
+      .def("scan", &ContactView::scan, "out"_a.noconvert(),
+           "ContactQueries._scan_contacts: (contact index, robot geom, sign) rows; their number.")
+      .def("touches_outside", &ContactView::touches_outside, "allowed"_a,
+           "Whether a robot geom not allowed (flag 0) touches the terrain.")
+      .def_prop_ro("ncon", &ContactView::ncon);
+#else
+  m.attr("MJ_VERSION") = static_cast<std::int64_t>(0);
+#endif
+}
+// -- end of MuJoCo's contacts ---------------------------------------------------------------

@@ -14,12 +14,25 @@ import mujoco
 import numpy as np
 
 from virtual_actuators.exceptions import FrameNotFoundError
+from virtual_actuators.native import CORE
 from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = ["ContactQueries"]
 
 #: Roles of a geom in the contact scan (0: neither; a terrain geom is never the robot's).
 _TERRAIN, _ROBOT = 1, 2
+
+
+def contact_view(data: mujoco.MjData, roles: list[int]) -> object | None:
+    """The compiled core's view of ``data``'s contact list, or None.
+
+    None: no core, a core built without MuJoCo's headers, or a running MuJoCo whose version is
+    not the headers' (the layout of its data may differ): the scans then run in Python.
+    """
+    version = getattr(CORE, "MJ_VERSION", 0)
+    if not version or version != mujoco.mj_version():
+        return None
+    return CORE.ContactView(data._address, version, np.array(roles, dtype=np.int64))
 
 
 class ContactQueries:
@@ -51,6 +64,9 @@ class ContactQueries:
             _TERRAIN if geom in mm.terrain_geoms else _ROBOT if geom in mm.geom_frames else 0
             for geom in range(self.model.ngeom)
         ]
+        #: the core's view of the contact list (None: the Python scan) and its output rows
+        self._contact_view = contact_view(self.data, self._geom_roles)
+        self._contact_rows = np.zeros((64, 3), dtype=np.int64)
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
         """The robot geoms of ``frame`` (checked and cached on first use).
@@ -125,6 +141,13 @@ class ContactQueries:
         A contact counts when it is not excluded and pairs a terrain geom with a robot geom
         (a geom of the robot's frames that is not the terrain's).
         """
+        view = self._contact_view
+        if view is not None:  # the same rows, read in place by the core
+            rows = self._contact_rows
+            if rows.shape[0] < view.ncon:
+                rows = self._contact_rows = np.zeros((2 * view.ncon, 3), dtype=np.int64)
+            count = view.scan(rows)
+            return [(i, geom, float(sign)) for i, geom, sign in rows[:count].tolist()]
         roles = self._geom_roles
         contacts = self.data.contact
         hits = []
@@ -269,6 +292,26 @@ class ContactQueries:
                 for k in rows:
                     out[k] += world
         return out
+
+    def touches_outside(self, allowed: np.ndarray) -> bool:
+        """Whether a robot geom outside ``allowed`` touches the terrain.
+
+        Args:
+            allowed: ``(model.ngeom,)`` int8 flags, 1 for the geoms allowed to touch (e.g. the
+                feet's).
+
+        Returns:
+            True if a robot geom whose flag is 0 is in a (not excluded) terrain contact.
+
+        """
+        view = self._contact_view
+        if view is not None:
+            return view.touches_outside(allowed)
+        return not all(allowed[geom] for geom in self._touched_geoms())
+
+    def _touched_geoms(self) -> tuple[int, ...]:
+        self._terrain_contacts()
+        return self._touched
 
     def touching_terrain(self) -> set[str]:
         """Names of the frames whose geoms touch the terrain (e.g. to detect a fall).

@@ -113,13 +113,35 @@ def test_fall_contact_test_equals_the_touching_frames_names(name, view):
     assert answers == {False, True}
 
 
+def test_grouped_contact_forces_equal_mujocos_contact_force():
+    """The core's rows (mj_contactForce called in place) against the Python loop's, exactly."""
+    robot = va.load_robot("spring_flamingo")
+    simulators = [Simulator(robot, Terrain.builtin("profile-one")) for _ in range(2)]
+    simulators[1]._contact_view = None  # the Python loop
+    mm = simulators[0].mujoco_model
+    groups = np.full(simulators[0].model.ngeom, -1, dtype=np.int64)
+    for index, frame in enumerate(("left_heel", "left_toe", "right_heel", "right_toe")):
+        groups[list(mm.frame_geoms[frame])] = index
+    seen = 0
+    for _ in range(300):  # falling limp onto the slope
+        for simulator in simulators:
+            simulator.step(np.zeros(robot.model.nv))
+        rows = [simulator.grouped_contact_forces(groups) for simulator in simulators]
+        assert rows[0] == rows[1]
+        for group, normal, *_ in rows[0]:
+            assert group in (0.0, 1.0, 2.0, 3.0) and normal >= 0.0
+        seen += len(rows[0])
+    assert seen > 0
+
+
 def test_no_core_view_of_another_mujoco_version(monkeypatch):
     robot = va.load_robot("spring_turkey")
     simulator = Simulator(robot)
     if CORE is None or not getattr(CORE, "MJ_VERSION", 0):
         pytest.skip("the compiled core reads no MuJoCo contact list here")
     monkeypatch.setattr(contact_queries.mujoco, "mj_version", lambda: CORE.MJ_VERSION + 1)
-    assert contact_queries.contact_view(simulator.data, [0] * simulator.model.ngeom) is None
+    roles = [0] * simulator.model.ngeom
+    assert contact_queries.contact_view(simulator.model, simulator.data, roles) is None
 
 
 class _ReferenceSettle:

@@ -1382,8 +1382,9 @@ class NativeTurkey {
     bunny_setpoint_ = v[14];
   }
 
-  // One tick at (q, v, time): ENTERED or TICKED with tau (nv) and each active attachment's
-  // position, velocity and wrench (rows of readings (attachments, 18)) written, or DEFER with
+  // One tick at (q, v, time): ENTERED or TICKED with tau (nv), each active attachment's
+  // position, velocity and wrench (its row of readings (attachments + 1, 18)) and the granny
+  // walker's height set point (readings[-1, 0]) written, or DEFER with
   // nothing written and the memory unchanged (the Python tick decides: a non-finite state, a
   // kernel handing the tick on, a yield that must scale the request).
   std::int64_t tick(const F1& q, const F1& v, double time, const MF1& tau,
@@ -1392,9 +1393,9 @@ class NativeTurkey {
     require(length(q) == nq_ && length(v) == nv_, "q must be (nq,), v (nv,)");
     require(length(tau) == nv_, "tau must be (nv,)");
     require(static_cast<std::int64_t>(readings.shape(0)) ==
-                    static_cast<std::int64_t>(attachments_.size()) &&
+                    static_cast<std::int64_t>(attachments_.size()) + 1 &&
                 readings.shape(1) == 18,
-            "readings must be (attachments, 18)");
+            "readings must be (attachments + 1, 18)");
     require(states_.size() == 5, "the five states must be declared");
     nb::gil_scoped_release release;
     return run(q.data(), v.data(), time, tau.data(), readings.data());
@@ -1402,7 +1403,6 @@ class NativeTurkey {
 
   std::int64_t nv() const { return nv_; }
   std::int64_t state() const { return memory_.state; }
-  double granny_height() const { return memory_.granny_height; }
 
   static constexpr std::int64_t MEMORY = 15;
 
@@ -1556,6 +1556,7 @@ class NativeTurkey {
       for (std::int64_t k = 0; k < 3; ++k)
         for (std::int64_t i = 0; i < n; ++i) row[6 * k + i] = a.buffer[nv_ + k * n + i];
     }
+    readings[18 * static_cast<std::int64_t>(attachments_.size())] = m.granny_height;
     // commit: the slots keep the set points the callbacks placed
     for (Slot& slot : slots_) {
       if (slot.role != LEFT_SWING && slot.role != RIGHT_SWING) continue;
@@ -1610,7 +1611,6 @@ void bind_native(nb::module_& m) {
            "readings"_a.noconvert())
       .def_prop_ro("state", &NativeTurkey::state)
       .def_prop_ro("nv", &NativeTurkey::nv)
-      .def_prop_ro("granny_height", &NativeTurkey::granny_height)
       .def_ro_static("MEMORY", &NativeTurkey::MEMORY)
       .def_ro_static("DEFER", &NativeTurkey::DEFER)
       .def_ro_static("TICKED", &NativeTurkey::TICKED)
@@ -1631,14 +1631,21 @@ void bind_native(nb::module_& m) {
 namespace {
 
 #ifdef VA_MUJOCO
-// A simulation's mjData (its address: mujoco.MjData._address) and the roles of its geoms. The
-// caller keeps the MjData alive as long as the view (Simulator holds both).
+// A simulation's mjModel and mjData (their addresses: mujoco.MjModel._address, MjData._address),
+// the roles of its geoms and the running library's mj_contactForce (its address, 0: none). The
+// caller keeps both alive as long as the view (Simulator holds them).
 class ContactView {
  public:
-  ContactView(std::uintptr_t address, std::int64_t version, const I1& roles)
-      : data_(reinterpret_cast<const mjData*>(address)) {
+  // mj_contactForce's signature (the function's address comes from the running library).
+  using ContactForce = void (*)(const mjModel*, const mjData*, int, mjtNum[6]);
+
+  ContactView(std::uintptr_t model, std::uintptr_t address, std::int64_t version,
+              const I1& roles, std::uintptr_t contact_force)
+      : model_(reinterpret_cast<const mjModel*>(model)),
+        data_(reinterpret_cast<const mjData*>(address)),
+        contact_force_(reinterpret_cast<ContactForce>(contact_force)) {
     require(version == mjVERSION_HEADER, "MuJoCo's version must be the headers' (MJ_VERSION)");
-    require(address != 0, "the MjData's address must not be null");
+    require(model != 0 && address != 0, "the MjModel's and MjData's addresses must not be null");
     roles_.reserve(roles.shape(0));
     for (std::size_t g = 0; g < roles.shape(0); ++g) {
       const std::int64_t role = roles.data()[g];
@@ -1664,10 +1671,37 @@ class ContactView {
                                    static_cast<std::int64_t>(roles_.size()));
   }
 
+  // Per robot-terrain contact on a geom of a group (groups: one per geom, -1 none), in contact
+  // order: (group, normal force, tangential force 1, 2) [N] in the contact's frame
+  // (mj_contactForce) into out ((>= ncon, 4)); their number. -1 without mj_contactForce.
+  std::int64_t forces(const I1& groups,
+                      const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig,
+                                        nb::device::cpu>& out) const {
+    require(groups.shape(0) == roles_.size(), "groups must hold one entry per geom");
+    require(out.shape(1) == 4 && static_cast<std::int64_t>(out.shape(0)) >= data_->ncon,
+            "out must be (>= ncon, 4)");
+    if (contact_force_ == nullptr) return -1;
+    const auto ngeom = static_cast<std::int64_t>(roles_.size());
+    std::int64_t count = 0;
+    int sign = 0;
+    mjtNum force[6];
+    for (int i = 0; i < data_->ncon; ++i) {
+      const int geom = va::mj::robot_geom(data_->contact[i], roles_.data(), ngeom, &sign);
+      if (geom < 0 || groups.data()[geom] < 0) continue;
+      contact_force_(model_, data_, i, force);
+      double* row = out.data() + 4 * count++;
+      row[0] = static_cast<double>(groups.data()[geom]);
+      row[1] = force[0], row[2] = force[1], row[3] = force[2];
+    }
+    return count;
+  }
+
   std::int64_t ncon() const { return data_->ncon; }
 
  private:
+  const mjModel* model_;
   const mjData* data_;
+  ContactForce contact_force_;
   std::vector<std::int8_t> roles_;
 };
 #endif
@@ -1681,10 +1715,13 @@ void bind_contacts(nb::module_& m) {
                           "MuJoCo's contact list read in place (simulation.contact_queries): "
                           "the robot-terrain contacts, and whether a geom outside a set "
                           "touches the terrain.")
-      .def(nb::init<std::uintptr_t, std::int64_t, const I1&>(), "address"_a, "version"_a,
-           "roles"_a)
+      .def(nb::init<std::uintptr_t, std::uintptr_t, std::int64_t, const I1&, std::uintptr_t>(),
+           "model"_a, "address"_a, "version"_a, "roles"_a, "contact_force"_a)
       .def("scan", &ContactView::scan, "out"_a.noconvert(),
            "ContactQueries._scan_contacts: (contact index, robot geom, sign) rows; their number.")
+      .def("forces", &ContactView::forces, "groups"_a, "out"_a.noconvert(),
+           "(group, normal, tangent 1, tangent 2) rows of the contacts on grouped geoms (-1: "
+           "no mj_contactForce).")
       .def("touches_outside", &ContactView::touches_outside, "allowed"_a,
            "Whether a robot geom not allowed (flag 0) touches the terrain.")
       .def_prop_ro("ncon", &ContactView::ncon);

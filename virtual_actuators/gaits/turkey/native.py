@@ -108,7 +108,10 @@ class NativeTick:
         self._rows = [[(name, index[name]) for name in active] for active in self._active]
         self._n = [len(gait.controller.attachments[name].actuator.axes) for name in names]
         self.tau = np.zeros(core.nv)
-        self.readings = np.zeros((len(names), 18))
+        #: per attachment its position, velocity and wrench (6 each); last row: the granny
+        #: walker's height set point
+        self.readings = np.zeros((len(names) + 1, 18))
+        self._state = 0  # the machine's state, as an index of its names
 
     @classmethod
     def of(cls, gait: object) -> NativeTick | None:
@@ -163,16 +166,15 @@ class NativeTick:
             VirtualActuatorError: What the Python tick raises, when it runs.
 
         """
-        core = self.core
-        status = core.tick(q, v, time, self.tau, self.readings)
-        if status == core.DEFER:
+        status = self.core.tick(q, v, time, self.tau, self.readings)
+        if status < 0:  # DEFER
             return self._python_tick(q, v, time, contacts)
-        state = core.state
-        if status == core.ENTERED:
-            self._enter(state, time)
+        if status:  # ENTERED
+            self._enter(self.core.state, time)
             self.sync()
-        self.gait.granny.height = core.granny_height  # what a walk's record reads
-        readings, wrenches = self.readings, {}
+        state, readings = self._state, self.readings
+        self.gait.granny.height = readings.item(-1, 0)  # what a walk's record reads
+        wrenches = {}
         for name, k in self._rows[state]:
             wrenches[name] = readings[k, 12 : 12 + self._n[k]].copy()
         return NativeOutput(self.tau.copy(), self._active[state], wrenches)
@@ -180,6 +182,7 @@ class NativeTick:
     def _enter(self, state: int, time: float) -> None:
         """The Python machine enters ``state`` at ``time`` (as the core's did)."""
         machine = self.gait.machine
+        self._state = state
         current = machine.state(machine.names[state])
         machine.current = current
         machine.entered_at = time
@@ -207,7 +210,7 @@ class NativeTick:
         gait = self.gait
         machine = gait.machine
         memory = gait.memory()
-        memory["state"] = machine.names.index(machine.current.name)
+        memory["state"] = self._state = machine.names.index(machine.current.name)
         memory["entered_at"] = machine.entered_at
         self.core.set_memory(np.array([float(memory[name]) for name in MEMORY]))
         for component, slot in self._slots:

@@ -305,7 +305,8 @@ def _least_shift(oracle, q, rows_kept):
 def test_inequalities_that_cannot_hold_are_named_at_once(compiled):
     """1000 N per foot on the hexapod, whose joints hold 5 N m: a ConstraintError naming rows
     that conflict (each foot's least normal force, knee torque limits), found within the first
-    stage's iterations and the check's (not the budget: 100,000 changes nothing). The oracle:
+    stage's iterations and the check's (not the budget: 100,000 changes nothing), also with
+    every axis free (no request row). The oracle:
     the named rows alone cannot hold (their least shift is ~N), the least normal forces alone
     can (no torque limits: a shift of 0)."""
     robot = va.load_robot("hexapod")
@@ -322,6 +323,9 @@ def test_inequalities_that_cannot_hold_are_named_at_once(compiled):
         messages.append(str(caught.value))
     message = messages[0]
     assert messages[1] == message and "iteration budget" not in message
+    with pytest.raises(va.ConstraintError) as caught:  # every axis free: no request row
+        body.solve(q, np.zeros(6), free=SIX, method="qp", compiled=compiled)
+    assert "foot_1: normal >= 1000 N" in str(caught.value)
     for i in range(1, 7):
         assert f"foot_{i}: normal >= 1000 N" in message
         assert f"torque knee_{i}: |tau| <= 5" in message

@@ -250,10 +250,12 @@ class ProxStages:
             ConstraintError: The rows other than the request cannot hold together (named).
 
         """
-        flag, x, guess, _ = CORE.daqp_closest(
-            rows.equality, rows.equality_rhs, rows.design, weights, rows.inequality, rows.lows,
-            rows.uppers, DAQP_MAX_ITER, DAQP_CLOSEST_EPS,
-        )  # fmt: skip
+        flag = 0  # no request row (every axis free): only the other rows, which cannot hold
+        if rows.design < len(rows.equality_rhs):
+            flag, x, guess, _ = CORE.daqp_closest(
+                rows.equality, rows.equality_rhs, rows.design, weights, rows.inequality,
+                rows.lows, rows.uppers, DAQP_MAX_ITER, DAQP_CLOSEST_EPS,
+            )  # fmt: skip
         if flag == 1:
             certified, x, z = self._exact(rows, weights, x, guess, False)
             if certified:

@@ -31,10 +31,9 @@ simulation one more period. A tick that takes longer than the period is an overr
 does not try to catch up (the next tick starts at once), and counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
-[`gc_policy`][]). Before the clock starts, a [`Controller`][] (or the one a gait or a
-[`MachineController`][] drives, its ``controller``) is warmed up
-([`Controller.warm_up`][] at the robot's neutral configuration): its compiled kernels load
-before the first tick, and what it computes is unchanged.
+[`gc_policy`][]). Before the clock starts, a [`Controller`][], or the one a gait drives (its
+``controller``), is warmed up ([`Controller.warm_up`][] at the robot's neutral configuration):
+its kernels load before the first tick, and what it computes is unchanged.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
@@ -372,13 +371,7 @@ def _end_safe(
 
 
 def _warm_up(controller: object, robot: Robot) -> None:
-    """The controller's kernels loaded before the clock starts (`Controller.warm_up`).
-
-    A [`Controller`][], or the one a gait or a [`MachineController`][] drives (its
-    ``controller``), is warmed up at the robot's neutral configuration; nothing else is (a
-    controller of your own warms itself). Nothing is evaluated for real: the run's efforts are
-    the same bits as without.
-    """
+    """Warm up ``controller``, or the ``controller`` it drives, if a [`Controller`][]."""
     for owner in (controller, getattr(controller, "controller", None)):
         if isinstance(owner, Controller) and owner.robot.model is robot.model:
             owner.warm_up(robot.neutral())

@@ -11,6 +11,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -644,9 +645,10 @@ Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v,
 
 // -- DAQP ------------------------------------------------------------------------------------
 
-// The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
-nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
-                          const F1& lows, const F1& uppers, int iter_limit) {
+// The rows of a DAQP stage checked (its iteration limit too); returns (k, size, m).
+std::array<std::int64_t, 3> daqp_rows(const F2& equality, const F1& equality_rhs,
+                                      const F2& inequality, const F1& lows, const F1& uppers,
+                                      int iter_limit) {
   const auto k = static_cast<std::int64_t>(equality.shape(0));
   const auto size = static_cast<std::int64_t>(equality.shape(1));
   const auto m = static_cast<std::int64_t>(inequality.shape(0));
@@ -656,17 +658,52 @@ nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& 
           "inequality must be (m, d)");
   require(length(lows) == m && length(uppers) == m, "lows and uppers must be (m,)");
   require(iter_limit >= 1, "iter_limit must be >= 1");
+  return {k, size, m};
+}
+
+// solve(x, lam) without the GIL: (exitflag, x, lam, iterations).
+template <class Solve>
+nb::tuple daqp_tuple(std::int64_t size, std::int64_t m, Solve solve) {
   std::unique_ptr<double[]> x(new double[static_cast<std::size_t>(size)]());
   std::unique_ptr<double[]> lam(new double[static_cast<std::size_t>(m)]());
   va::DaqpAnswer answer;
   {
     nb::gil_scoped_release release;
-    answer = va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
-                                 inequality.data(), lows.data(), uppers.data(), m, iter_limit,
-                                 x.get(), lam.get());
+    answer = solve(x.get(), lam.get());
   }
   return nb::make_tuple(answer.exitflag, owned(std::move(x), static_cast<std::size_t>(size)),
                         owned(std::move(lam), static_cast<std::size_t>(m)), answer.iterations);
+}
+
+// The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
+nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
+                          const F1& lows, const F1& uppers, int iter_limit) {
+  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers,
+                                      iter_limit);
+  return daqp_tuple(size, m, [&, k = k, size = size, m = m](double* x, double* lam) {
+    return va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
+                               inequality.data(), lows.data(), uppers.data(), m, iter_limit, x,
+                               lam);
+  });
+}
+
+// The QP's closest-wrench stages on DAQP from cold, regularised: (exitflag, x, lam,
+// iterations).
+nb::tuple daqp_closest(const F2& equality, const F1& equality_rhs, std::int64_t design,
+                       const F1& weights, const F2& inequality, const F1& lows,
+                       const F1& uppers, int iter_limit, double eps) {
+  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers,
+                                      iter_limit);
+  require(design >= 0 && design < k, "design must be in 0..k-1 (a request row at least)");
+  require(length(weights) == k - design, "weights must be (k - design,)");
+  for (std::int64_t i = 0; i < k - design; ++i)
+    require(weights.data()[i] > 0.0, "weights must be > 0");
+  require(eps > 0.0, "eps must be > 0");
+  return daqp_tuple(size, m, [&, k = k, size = size, m = m](double* x, double* lam) {
+    return va::daqp_closest(equality.data(), equality_rhs.data(), k, design, size,
+                            weights.data(), inequality.data(), lows.data(), uppers.data(), m,
+                            iter_limit, eps, x, lam);
+  });
 }
 
 // -- contact margins (the controller's yield policy) -----------------------------------------
@@ -824,6 +861,10 @@ NB_MODULE(_core, m) {
         "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a,
         "The QP's first stage on DAQP (vendored, MIT) from cold, min |x|^2 on the rows: "
         "(exitflag, x, inequality multipliers, iterations).");
+  m.def("daqp_closest", &daqp_closest, "equality"_a, "equality_rhs"_a, "design"_a,
+        "weights"_a, "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a, "eps"_a,
+        "The QP's closest-wrench stages on DAQP from cold, min |x|^2 / 2 + the weighted miss "
+        "/ (2 eps): (exitflag, x, inequality multipliers, iterations).");
   m.def("contact_least_margin", &contact_least_margin, "frames"_a, "orientation_rows"_a,
         "forces"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
         "contacts.contact_set.least_margin: smallest G @ forces.ravel() - lows.");

@@ -31,7 +31,9 @@ simulation one more period. A tick that takes longer than the period is an overr
 does not try to catch up (the next tick starts at once), and counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
-[`gc_policy`][]).
+[`gc_policy`][]). Before the clock starts, a [`Controller`][], or the one a gait drives (its
+``controller``), is warmed up ([`Controller.warm_up`][] at the robot's neutral configuration):
+its kernels load before the first tick, and what it computes is unchanged.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
@@ -53,6 +55,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
+from .controller import Controller
 from .gc_policy import LoopCollector, check_gc_policy
 from .safe_action import (
     DEFAULT_DAMPING,
@@ -177,6 +180,7 @@ def run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time,
     )
+    _warm_up(controller, settings.robot)
     stats, ending = RunStats(), None
     with LoopCollector(check_gc_policy(gc_policy, "run()")) as collector:
         start = clock.perf_counter()
@@ -202,6 +206,7 @@ class _Settings:
     realtime: bool
     safe: SafeAction
     tree: KinematicTree
+    robot: Robot
 
 
 @dataclass(slots=True)
@@ -263,7 +268,7 @@ def _check_run(
     robot = _robot_of(controller, robot)
     hold_time = check_number(hold_time, "run(): hold_time [s]", minimum=0.0)
     safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
-    return _Settings(period, duration, stale_after, realtime, safe, tree_of(robot))
+    return _Settings(period, duration, stale_after, realtime, safe, tree_of(robot), robot)
 
 
 def _loop(
@@ -363,6 +368,14 @@ def _end_safe(
         if ending is None:
             raise
         ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
+
+
+def _warm_up(controller: object, robot: Robot) -> None:
+    """Warm up ``controller``, or the ``controller`` it drives, if a [`Controller`][]."""
+    for owner in (controller, getattr(controller, "controller", None)):
+        if isinstance(owner, Controller) and owner.robot.model is robot.model:
+            owner.warm_up(robot.neutral())
+            return
 
 
 def _robot_of(controller: object, robot: object) -> Robot:

@@ -32,7 +32,7 @@ import numpy as np
 
 from ...kinematics.kernels import njit
 from ...native import CORE
-from ..tolerances import DEPENDENT_TOL, EXACT_TOL
+from ..tolerances import DEPENDENT_TOL, EXACT_TOL, NEARLY_DEPENDENT_TOL
 
 #: Active-set changes allowed before ProxQP's answer is kept.
 EXACT_STEPS = 16
@@ -44,6 +44,62 @@ def _row(equality: np.ndarray, inequality: np.ndarray, index: int, out: np.ndarr
     k = equality.shape[0]
     for j in range(out.shape[0]):
         out[j] = equality[index, j] if index < k else inequality[index - k, j]
+
+
+@njit(cache=True)
+def _add_row(
+    equality: np.ndarray,
+    inequality: np.ndarray,
+    index: int,
+    rank: int,
+    defer: bool,
+    basis: np.ndarray,
+    lower: np.ndarray,
+    kept: np.ndarray,
+    row: np.ndarray,
+    coefficients: np.ndarray,
+) -> tuple[int, bool]:
+    """Gram-Schmidt of row ``index`` against the ``rank`` rows kept: ``(rank, deferred)``.
+
+    The row is kept (``rank + 1``) unless it depends on the kept rows (dropped), or ``defer``
+    and what it adds is below `NEARLY_DEPENDENT_TOL` of its norm (deferred: left out for now).
+    """
+    size = basis.shape[1]
+    _row(equality, inequality, index, row)
+    norm = 0.0
+    for j in range(size):
+        norm += row[j] * row[j]
+    norm = np.sqrt(norm)
+    if norm == 0.0:
+        return rank, False
+    coefficients[:rank] = 0.0
+    rest = norm
+    for _ in range(3):  # Gram-Schmidt, again while a sweep removes much of the row
+        before = rest
+        for b in range(rank):
+            dot = 0.0
+            for j in range(size):
+                dot += basis[b, j] * row[j]
+            coefficients[b] += dot
+            for j in range(size):
+                row[j] -= dot * basis[b, j]
+        rest = 0.0
+        for j in range(size):
+            rest += row[j] * row[j]
+        rest = np.sqrt(rest)
+        if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT_TOL * norm:
+            break
+    if rest <= DEPENDENT_TOL * norm:
+        return rank, False
+    if defer and rest <= NEARLY_DEPENDENT_TOL * norm:
+        return rank, True
+    for j in range(size):
+        basis[rank, j] = row[j] / rest
+    for b in range(rank):
+        lower[rank, b] = coefficients[b]
+    lower[rank, rank] = rest
+    kept[rank] = index
+    return rank + 1, False
 
 
 @njit(cache=True)
@@ -59,7 +115,10 @@ def _factor(
     """Gram-Schmidt on the design rows, the active inequality rows, then the request rows.
 
     Writes orthonormal rows into ``basis`` and ``lower`` with ``row kept[r] = sum_b lower[r, b]
-    basis[b]``. Returns ``(rank, rank of the design and active rows)``.
+    basis[b]``. Returns ``(rank, rank of the design and active rows)``. A row nearly dependent
+    on the rows before it (`_add_row`) is taken again after the other rows of its group (the
+    design and active rows; the request rows): a row that a later one completes is then
+    dependent (dropped and only checked) rather than kept with a direction made of rounding.
     """
     k, size = equality.shape[0], equality.shape[1]
     order = np.empty(k + inequality.shape[0], dtype=np.int64)
@@ -77,46 +136,27 @@ def _factor(
         count += 1
     row = np.empty(size)
     coefficients = np.empty(size)
-    rank, rank_fixed = 0, -1
-    for position in range(count):
-        if position == fixed:
-            rank_fixed = rank
-        if rank == size:
-            break  # every later row depends on the kept ones (checked by the caller)
-        _row(equality, inequality, order[position], row)
-        norm = 0.0
-        for j in range(size):
-            norm += row[j] * row[j]
-        norm = np.sqrt(norm)
-        if norm == 0.0:
-            continue
-        coefficients[:rank] = 0.0
-        rest = norm
-        for _ in range(3):  # Gram-Schmidt, again while a sweep removes much of the row
-            before = rest
-            for b in range(rank):
-                dot = 0.0
-                for j in range(size):
-                    dot += basis[b, j] * row[j]
-                coefficients[b] += dot
-                for j in range(size):
-                    row[j] -= dot * basis[b, j]
-            rest = 0.0
-            for j in range(size):
-                rest += row[j] * row[j]
-            rest = np.sqrt(rest)
-            if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT_TOL * norm:
+    deferred = np.empty(count, dtype=np.int64)
+    rank, rank_fixed = 0, 0
+    for group in range(2):
+        start, stop = (0, fixed) if group == 0 else (fixed, count)
+        waiting = 0
+        for position in range(start, stop):
+            if rank == size:
+                break  # every later row depends on the kept ones (checked by the caller)
+            rank, later = _add_row(equality, inequality, order[position], rank, True, basis,
+                                   lower, kept, row, coefficients)  # fmt: skip
+            if later:
+                deferred[waiting] = order[position]
+                waiting += 1
+        for position in range(waiting):
+            if rank == size:
                 break
-        if rest <= DEPENDENT_TOL * norm:
-            continue
-        for j in range(size):
-            basis[rank, j] = row[j] / rest
-        for b in range(rank):
-            lower[rank, b] = coefficients[b]
-        lower[rank, rank] = rest
-        kept[rank] = order[position]
-        rank += 1
-    return rank, rank if rank_fixed < 0 else rank_fixed
+            rank, _ = _add_row(equality, inequality, deferred[position], rank, False, basis,
+                               lower, kept, row, coefficients)  # fmt: skip
+        if group == 0:
+            rank_fixed = rank
+    return rank, rank_fixed
 
 
 @njit(cache=True)

@@ -21,12 +21,14 @@ controller's per-tick [`ControlOutput`][] (no ``on_tick`` callback): the native 
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ...control.attachment_kernel import PARAMETERS
+from ...exceptions import ConcurrentUseError
 from ...kinematics.tree import tree_of
 from ...native import CORE
 from .walker import TurkeyWalker
@@ -87,8 +89,9 @@ def _role(gait: TurkeyWalker, component: object) -> int | None:
 class NativeTick:
     """A `TurkeyWalker`'s tick in the compiled core.
 
-    Build one with `of` (None when the core cannot run this gait). Not thread-safe: one
-    walk's loop calls it.
+    Build one with `of` (None when the core cannot run this gait). It carries one walk's state:
+    a call while another thread's is running raises
+    [`ConcurrentUseError`][virtual_actuators.ConcurrentUseError].
 
     Attributes:
         gait: The walker (its Python objects follow the core's memory, see the module).
@@ -112,6 +115,7 @@ class NativeTick:
         #: walker's height set point
         self.readings = np.zeros((len(names) + 1, 18))
         self._state = 0  # the machine's state, as an index of its names
+        self._lock = threading.Lock()  # one tick at a time
 
     @classmethod
     def of(cls, gait: object) -> NativeTick | None:
@@ -163,9 +167,21 @@ class NativeTick:
             contacts: Contact switches (the Python tick's, when it runs).
 
         Raises:
+            ConcurrentUseError: Another thread is in a tick of this object.
             VirtualActuatorError: What the Python tick raises, when it runs.
 
         """
+        if not self._lock.acquire(blocking=False):
+            raise ConcurrentUseError(
+                f"{self!r} is computing a tick in another thread: one walk's state, one thread "
+                "at a time (build one native tick per walk)."
+            )
+        try:
+            return self._compute(q, v, time, contacts)
+        finally:
+            self._lock.release()
+
+    def _compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts) -> NativeOutput:
         status = self.core.tick(q, v, time, self.tau, self.readings)
         if status < 0:  # DEFER
             return self._python_tick(q, v, time, contacts)

@@ -63,7 +63,7 @@ def test_the_controller_is_warmed_up_before_the_first_reading_with_the_same_effo
                         lambda self, q: (events.append("warm-up"), warm_up(self, q)))  # fmt: skip
     for warmed in (True, False):
         if not warmed:
-            monkeypatch.setattr(run_loop, "_warm_up", lambda controller, robot: None)
+            monkeypatch.setattr(run_loop, "warm_up_driven", lambda controller, robot: None)
         simulator = Simulator(robot)
         simulator.reset(q0)
         hardware, written = MujocoHardware(simulator), []

@@ -59,8 +59,10 @@ class InadmissibleWrenchError(VirtualActuatorError, ValueError):
 
 
 class ConcurrentUseError(VirtualActuatorError, RuntimeError):
-    """An object that carries one run's state (a gait's native tick) was called from two
-    threads at once: give each thread its own."""
+    """An object that carries one run's state was called from two threads at once.
+
+    A gait's native tick, for instance: give each thread its own.
+    """
 
 
 class MissingDependencyError(VirtualActuatorError, ImportError):

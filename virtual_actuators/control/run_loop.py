@@ -23,17 +23,15 @@ singular or infeasible distribution) are its own ``on_failure`` policy's, and co
 `RunStats.attachment_failures`.
 
 The loop **always ends by writing zero effort** of the robot's size, whatever ended it: the
-duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C
-(``KeyboardInterrupt`` and the other exceptions that are not per-tick failures are re-raised
-after that write). With
+duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C (then
+re-raised, as every exception that is not a per-tick failure, after that write). With
 [`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] that last zero command steps the
 simulation one more period. A tick that takes longer than the period is an overrun: the loop
 does not try to catch up (the next tick starts at once), and counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
-[`gc_policy`][]). Before the clock starts, a [`Controller`][], or the one a gait drives (its
-``controller``), is warmed up ([`Controller.warm_up`][] at the robot's neutral configuration):
-its kernels load before the first tick, and what it computes is unchanged.
+[`gc_policy`][]). Before the clock starts the controller's kernels load
+([`warm_up_driven`][virtual_actuators.control.controller.warm_up_driven]): nothing changes.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
@@ -55,7 +53,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
-from .controller import Controller
+from .controller import warm_up_driven
 from .gc_policy import LoopCollector, check_gc_policy
 from .safe_action import (
     DEFAULT_DAMPING,
@@ -180,7 +178,7 @@ def run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time,
     )
-    _warm_up(controller, settings.robot)
+    warm_up_driven(controller, settings.robot)
     stats, ending = RunStats(), None
     with LoopCollector(check_gc_policy(gc_policy, "run()")) as collector:
         start = clock.perf_counter()
@@ -368,14 +366,6 @@ def _end_safe(
         if ending is None:
             raise
         ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
-
-
-def _warm_up(controller: object, robot: Robot) -> None:
-    """Warm up ``controller``, or the ``controller`` it drives, if a [`Controller`][]."""
-    for owner in (controller, getattr(controller, "controller", None)):
-        if isinstance(owner, Controller) and owner.robot.model is robot.model:
-            owner.warm_up(robot.neutral())
-            return
 
 
 def _robot_of(controller: object, robot: object) -> Robot:

@@ -5,14 +5,13 @@ multipliers name the active inequalities, and with them the QP becomes linear al
 ``D x = d`` the design rows, ``A x = w`` the request's rows (weights ``omega``) and the active
 inequalities held at their bounds (rows ``C_W x = b_W``):
 
-- the request exactly (``exact=True``): ``x`` is the least-norm solution of ``D``, ``C_W`` and
-  ``A``;
+- the request exactly (``exact=True``): ``x`` is the least-norm solution of ``D``, ``C_W``, ``A``;
 - the closest wrench (``exact=False``): ``x`` minimises ``sum_a omega_a (A x - w)_a^2`` on
   ``D``, ``C_W``, and among those minimisers has the least norm.
 
 `exact_step` computes that ``x`` exactly (Gram-Schmidt on the rows ``D``, ``C_W`` then
-``A`` in a fixed order, a row swept again while a sweep removes most of it; a row that depends
-on earlier ones is dropped from the solve and only checked; the weighted least squares on what
+``A`` in a fixed order, a row swept again while a sweep removes most of it, a row that depends
+on earlier ones dropped from the solve and only checked; the weighted least squares on what
 ``A`` adds, by Gram-Schmidt on its columns), then checks the KKT conditions to ``tol``: every
 row met, every other inequality inside its bounds, and each active row's multiplier of the right
 sign (``>= 0`` at a lower bound, ``<= 0`` at an upper one; for the closest wrench, in the
@@ -22,8 +21,8 @@ violated row enters) and solves again, at most ``max_steps`` times; if it does n
 caller keeps ProxQP's answer.
 
 When the checks pass, ``x`` is the QP's answer to rounding (the least norm is strictly convex,
-the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: the answer
-depends on the problem alone. Plain loops (a few tens of rows), no BLAS.
+the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: it depends
+on the problem alone. Plain loops (a few tens of rows), no BLAS.
 """
 
 from __future__ import annotations
@@ -115,10 +114,9 @@ def _factor(
     """Gram-Schmidt on the design rows, the active inequality rows, then the request rows.
 
     Writes orthonormal rows into ``basis`` and ``lower`` with ``row kept[r] = sum_b lower[r, b]
-    basis[b]``. Returns ``(rank, rank of the design and active rows)``. A row nearly dependent
-    on the rows before it (`_add_row`) is taken again after the other rows of its group (the
-    design and active rows; the request rows): a row that a later one completes is then
-    dependent (dropped and only checked) rather than kept with a direction made of rounding.
+    basis[b]``; returns ``(rank, rank of the design and active rows)``. A row nearly dependent on
+    those before it (`_add_row`) is taken again after the other rows of its group (design and
+    active rows; request rows): one that a later row completes is then dropped (only checked).
     """
     k, size = equality.shape[0], equality.shape[1]
     order = np.empty(k + inequality.shape[0], dtype=np.int64)

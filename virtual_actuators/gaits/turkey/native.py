@@ -16,7 +16,8 @@ carries on exactly as if it had computed every tick.
 
 The runner (`drive`) uses it when nothing reads the
 controller's per-tick [`ControlOutput`][] (no ``on_tick`` callback): the native tick answers a
-`NativeOutput` (the efforts, the active attachments and their wrenches), not a full output.
+`NativeOutput` (the efforts, the active attachments and their wrenches), not a full output;
+the gait's ``last`` stays the last [`ControlOutput`][] its Python tick computed.
 """
 
 from __future__ import annotations

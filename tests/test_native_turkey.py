@@ -149,3 +149,13 @@ def test_a_tick_from_a_second_thread_at_once_raises_a_typed_error():
 
 def robot_nv(gait) -> int:
     return gait.robot.model.nv
+
+
+def test_a_falling_walk_is_the_python_walks_bit_for_bit():
+    """Too fast (1.5 m/s, forced): the turkey falls; the native run falls at the same tick."""
+    options = {"duration": 2.0, "progress": False, "speed": 1.5, "force_speed": True}
+    native = run_walk("turkey-walk", **options)
+    python = run_walk("turkey-walk", on_tick=_python, **options)
+    assert native.metrics.fell and native.metrics.fall_time_s == python.metrics.fall_time_s
+    for name, values in native.log.data.items():
+        np.testing.assert_array_equal(values, python.log.data[name], err_msg=name)

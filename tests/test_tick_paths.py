@@ -297,12 +297,19 @@ def test_contact_switches_and_touching_frames_equal_a_scan_of_mujocos_contacts()
         simulator.contact_switches(("left_heel", "no_such_frame"))
 
 
-def test_fall_test_on_contact_sets_equals_the_frame_rule():
-    from virtual_actuators.gaits.runner import FOOT_WORDS, _only_feet
+def test_foot_geoms_flag_the_geoms_that_only_feet_own():
+    """The fall test's allowed geoms: every frame owning the geom names a foot (the frame rule)."""
+    from virtual_actuators.gaits.runner import FOOT_WORDS, foot_geoms
 
-    for frames in (set(), {"left_heel"}, {"left_toe", "right_foot"}, {"body"}, {"left_shin"}):
-        expected = all(any(w in f for w in FOOT_WORDS) for f in frames)
-        assert _only_feet(frozenset(frames)) is expected
+    simulator = Simulator(va.load_robot("spring_flamingo"))
+    flags = foot_geoms(simulator)
+    owners = simulator.mujoco_model.geom_frames
+    assert flags.shape == (simulator.model.ngeom,)
+    for geom, flag in enumerate(flags.tolist()):
+        frames = owners.get(geom, ())
+        assert bool(flag) is all(any(word in f for word in FOOT_WORDS) for f in frames)
+    robot_flags = flags[sorted(owners)]
+    assert robot_flags.any() and not robot_flags.all()  # heels and toes; shins and body
 
 
 def test_walk_rows_land_in_their_channels():

@@ -1243,6 +1243,60 @@ void bind_simulation(nb::module_& m) {
 
 namespace {
 
+// What a native gait's tick does after its attachments, whatever the gait: the states' tables
+// (their attachments in order, their limp joints), the sum of the attachments' efforts, then
+// Controller.compute_checked's end: limp joints zeroed, np.minimum(np.maximum(tau, lower), upper).
+class GaitEfforts {
+ public:
+  struct State {
+    std::vector<std::int64_t> attachments, limp;
+  };
+
+  GaitEfforts(const F1& lower, const F1& upper, std::int64_t nv) : nv_(nv) {
+    require(length(lower) == nv && length(upper) == nv, "limits must be (nv,)");
+    lower_ = copy<double>(lower);
+    upper_ = copy<double>(upper);
+    tau_.resize(static_cast<std::size_t>(nv));
+  }
+
+  // A state, in StateMachine.names order: its attachments (among count) and limp indices.
+  void add_state(const I1& attachments, const I1& limp, std::int64_t count) {
+    for (std::int64_t k = 0; k < len(attachments); ++k)
+      require(attachments.data()[k] >= 0 && attachments.data()[k] < count,
+              "unknown attachment");
+    for (std::int64_t k = 0; k < len(limp); ++k)
+      require(limp.data()[k] >= 0 && limp.data()[k] < nv_, "limp index out of range");
+    require(len(attachments) >= 1, "a state runs at least one attachment");
+    states_.push_back(State{copy<std::int64_t>(attachments), copy<std::int64_t>(limp)});
+  }
+
+  const State& state(std::int64_t index) const {
+    return states_[static_cast<std::size_t>(index)];
+  }
+  std::int64_t states() const { return static_cast<std::int64_t>(states_.size()); }
+
+  // TickSums.add: the first attachment's efforts, then the sum.
+  void add(const double* effort, bool first) {
+    for (std::int64_t i = 0; i < nv_; ++i) tau_[i] = first ? effort[i] : tau_[i] + effort[i];
+  }
+
+  // The sum's limp joints zeroed and clipped into out; false (out untouched) when not finite.
+  bool close(const State& state, double* out) {
+    if (!va::all_finite(tau_.data(), nv_)) return false;
+    for (const std::int64_t i : state.limp) tau_[i] = 0.0;
+    for (std::int64_t i = 0; i < nv_; ++i) {
+      const double low = tau_[i] < lower_[i] ? lower_[i] : tau_[i];
+      out[i] = low > upper_[i] ? upper_[i] : low;
+    }
+    return true;
+  }
+
+ private:
+  std::int64_t nv_;
+  std::vector<double> lower_, upper_, tau_;
+  std::vector<State> states_;
+};
+
 class NativeTurkey {
  public:
   // Component slots' roles: what the gait's memory sets in them before a tick.
@@ -1252,7 +1306,7 @@ class NativeTurkey {
 
   NativeTurkey(const Tree& tree, const I1& rows, const F1& parameters, const F1& lower,
                const F1& upper)
-      : tree_(tree.tree()), nq_(tree.nq()) {
+      : tree_(tree.tree()), nq_(tree.nq()), efforts_(lower, upper, tree.tree()->tables().nv) {
     const va::TreeTables& t = tree_->tables();
     nv_ = t.nv;
     require(len(rows) == 3, "rows must be (body, left foot, right foot) rows");
@@ -1262,11 +1316,7 @@ class NativeTurkey {
     require(length(parameters) == 9, "parameters must be the 9 gait variables");
     const double* p = parameters.data();
     parameters_ = va::turkey::Parameters{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]};
-    require(length(lower) == nv_ && length(upper) == nv_, "limits must be (nv,)");
-    lower_ = copy<double>(lower);
-    upper_ = copy<double>(upper);
     pass_.resize(static_cast<std::size_t>(tree_->size(true)));
-    tau_.resize(static_cast<std::size_t>(nv_));
   }
 
   // A component's six parameter arrays (6 * size values, row k its parameter k); its index.
@@ -1368,14 +1418,7 @@ class NativeTurkey {
 
   // The states in StateMachine.names order: their attachments (in order) and limp indices.
   void add_state(const I1& attachments, const I1& limp) {
-    for (std::int64_t k = 0; k < len(attachments); ++k)
-      require(attachments.data()[k] >= 0 &&
-                  attachments.data()[k] < static_cast<std::int64_t>(attachments_.size()),
-              "unknown attachment");
-    for (std::int64_t k = 0; k < len(limp); ++k)
-      require(limp.data()[k] >= 0 && limp.data()[k] < nv_, "limp index out of range");
-    require(len(attachments) >= 1, "a state runs at least one attachment");
-    states_.push_back(StateTables{copy<std::int64_t>(attachments), copy<std::int64_t>(limp)});
+    efforts_.add_state(attachments, limp, static_cast<std::int64_t>(attachments_.size()));
   }
 
   // The gait's memory as MEMORY floats (see memory_names in gaits/turkey/native.py).
@@ -1394,7 +1437,7 @@ class NativeTurkey {
   void set_memory(const F1& values) {
     require(length(values) == MEMORY, "memory must be MEMORY floats");
     const double* v = values.data();
-    require(v[0] >= 0 && v[0] < static_cast<double>(states_.size()) && v[0] == std::floor(v[0]),
+    require(v[0] >= 0 && v[0] < static_cast<double>(efforts_.states()) && v[0] == std::floor(v[0]),
             "memory's state must be a state index");
     require(v[2] == 0.0 || v[2] == 1.0, "memory's front must be 0 (left) or 1 (right)");
     va::turkey::Memory& m = memory_;
@@ -1428,7 +1471,7 @@ class NativeTurkey {
                     static_cast<std::int64_t>(attachments_.size()) &&
                 readings.shape(1) == 18,
             "readings must be (attachments, 18)");
-    require(states_.size() == 5, "the five states must be declared");
+    require(efforts_.states() == 5, "the five states must be declared");
     nb::gil_scoped_release release;
     return run(q.data(), v.data(), time, tau.data(), readings.data());
   }
@@ -1455,9 +1498,6 @@ class NativeTurkey {
     std::vector<std::int64_t> orientation_rows, axis_rows, minima_axes, yield_mask;
     std::vector<double> points, lows, values, at_base, fallback, scaled;
     std::int64_t np = 0;
-  };
-  struct StateTables {
-    std::vector<std::int64_t> attachments, limp;
   };
 
   // The attachment's spring tick (and distribution) with the memory m's set points at time:
@@ -1552,7 +1592,7 @@ class NativeTurkey {
     const bool entered = va::turkey::update(parameters_, frames, rows_, time, m);
     placed_[0] = m.placed[0];
     placed_[1] = m.placed[1];
-    const StateTables& state = states_[static_cast<std::size_t>(m.state)];
+    const GaitEfforts::State& state = efforts_.state(m.state);
     double bunny_position = bunny_position_, bunny_time = bunny_time_;
     if (entered) {  // Controller.reset: the bunnies of the state's attachments start here
       for (const std::int64_t index : state.attachments) {
@@ -1573,15 +1613,10 @@ class NativeTurkey {
       const double* effort =
           run_attachment(a, jw, frames, v, q, time, m, bunny_position, bunny_time);
       if (effort == nullptr) return DEFER;
-      for (std::int64_t i = 0; i < nv_; ++i) tau_[i] = first ? effort[i] : tau_[i] + effort[i];
+      efforts_.add(effort, first);
       first = false;
     }
-    if (!va::all_finite(tau_.data(), nv_)) return DEFER;
-    for (const std::int64_t i : state.limp) tau_[i] = 0.0;
-    for (std::int64_t i = 0; i < nv_; ++i) {  // np.minimum(np.maximum(tau, lower), upper)
-      const double low = tau_[i] < lower_[i] ? lower_[i] : tau_[i];
-      tau_out[i] = low > upper_[i] ? upper_[i] : low;
-    }
+    if (!efforts_.close(state, tau_out)) return DEFER;
     for (const std::int64_t index : state.attachments) {  // position, velocity, wrench
       const Attachment& a = attachments_[static_cast<std::size_t>(index)];
       const std::int64_t n = a.tick->n();
@@ -1610,10 +1645,10 @@ class NativeTurkey {
   std::int64_t nq_ = 0, nv_ = 0;
   va::turkey::Rows rows_{};
   va::turkey::Parameters parameters_{};
-  std::vector<double> lower_, upper_, pass_, tau_;
+  std::vector<double> pass_;
   std::vector<Slot> slots_;
   std::vector<Attachment> attachments_;
-  std::vector<StateTables> states_;
+  GaitEfforts efforts_;
   va::turkey::Memory memory_;
   double bunny_position_ = 0.0, bunny_time_ = 0.0, bunny_setpoint_ = 0.0;
   double bunny_setpoint_next_ = 0.0;
@@ -1674,7 +1709,7 @@ class NativeHexapod {
   NativeHexapod(const Tree& tree, const I1& rows, const F1& parameters, const F2& nominal,
                 const F1& shape, const F1& body, const F1& tolerances, const F1& lower,
                 const F1& upper)
-      : tree_(tree.tree()), nq_(tree.nq()) {
+      : tree_(tree.tree()), nq_(tree.nq()), efforts_(lower, upper, tree.tree()->tables().nv) {
     const va::TreeTables& t = tree_->tables();
     nv_ = t.nv;
     require(len(rows) == 7, "rows must be the body's, then the six feet's");
@@ -1698,11 +1733,7 @@ class NativeHexapod {
     tolerances_[0] = tolerances.data()[0];
     tolerances_[1] = tolerances.data()[1];
     tolerances_[2] = tolerances.data()[2];
-    require(length(lower) == nv_ && length(upper) == nv_, "limits must be (nv,)");
-    lower_ = copy<double>(lower);
-    upper_ = copy<double>(upper);
     pass_.resize(static_cast<std::size_t>(tree_->size(true)));
-    tau_.resize(static_cast<std::size_t>(nv_));
   }
 
   // A support attachment: its sensor's tables (the body in the world on x y z rx ry rz), its
@@ -1781,14 +1812,7 @@ class NativeHexapod {
 
   // The states in StateMachine.names order: their attachments (in order) and limp indices.
   void add_state(const I1& attachments, const I1& limp) {
-    for (std::int64_t k = 0; k < len(attachments); ++k)
-      require(attachments.data()[k] >= 0 &&
-                  attachments.data()[k] < static_cast<std::int64_t>(attachments_.size()),
-              "unknown attachment");
-    for (std::int64_t k = 0; k < len(limp); ++k)
-      require(limp.data()[k] >= 0 && limp.data()[k] < nv_, "limp index out of range");
-    require(len(attachments) >= 1, "a state runs at least one attachment");
-    states_.push_back(StateTables{copy<std::int64_t>(attachments), copy<std::int64_t>(limp)});
+    efforts_.add_state(attachments, limp, static_cast<std::int64_t>(attachments_.size()));
   }
 
   // The gait's memory as MEMORY floats (gaits/hexapod/native.py's MEMORY names them).
@@ -1873,7 +1897,7 @@ class NativeHexapod {
                     static_cast<std::int64_t>(attachments_.size()) &&
                 readings.shape(1) == 18,
             "readings must be (attachments, 18)");
-    require(states_.size() == 4, "the four states must be declared");
+    require(efforts_.states() == 4, "the four states must be declared");
     const va::hexapod::Inputs in{{command.data()[0], command.data()[1]}, command.data()[2],
                                  len(contacts) ? contacts.data() : nullptr};
     nb::gil_scoped_release release;
@@ -1903,9 +1927,6 @@ class NativeHexapod {
     std::int64_t leg = -1;
     std::vector<double> table, spring;
     std::vector<double> jacobian;
-  };
-  struct StateTables {
-    std::vector<std::int64_t> attachments, limp;
   };
 
   Attachment& attachment(std::int64_t index) {
@@ -1959,22 +1980,17 @@ class NativeHexapod {
     const va::hexapod::Update update =
         va::hexapod::update(parameters_, frames, rows_, v, time, in, m);
     if (update == va::hexapod::DEFER) return DEFER;
-    const StateTables& state = states_[static_cast<std::size_t>(m.state)];
+    const GaitEfforts::State& state = efforts_.state(m.state);
     bool first = true;
     for (const std::int64_t index : state.attachments) {
       Attachment& a = attachments_[static_cast<std::size_t>(index)];
       const double* effort = a.body ? run_body(a, jw, frames, v, q, m, m.attitude_yaw)
                                     : run_swing(a, jw, frames, v, m);
       if (effort == nullptr) return DEFER;
-      for (std::int64_t i = 0; i < nv_; ++i) tau_[i] = first ? effort[i] : tau_[i] + effort[i];
+      efforts_.add(effort, first);
       first = false;
     }
-    if (!va::all_finite(tau_.data(), nv_)) return DEFER;
-    for (const std::int64_t i : state.limp) tau_[i] = 0.0;
-    for (std::int64_t i = 0; i < nv_; ++i) {  // np.minimum(np.maximum(tau, lower), upper)
-      const double low = tau_[i] < lower_[i] ? lower_[i] : tau_[i];
-      tau_out[i] = low > upper_[i] ? upper_[i] : low;
-    }
+    if (!efforts_.close(state, tau_out)) return DEFER;
     for (const std::int64_t index : state.attachments) {  // position, velocity, wrench
       const Attachment& a = attachments_[static_cast<std::size_t>(index)];
       double* row = readings + 18 * index;
@@ -2000,9 +2016,9 @@ class NativeHexapod {
   va::hexapod::Body body_{};
   std::vector<double> nominal_, shape_;
   double tolerances_[3] = {0.0, 0.0, 0.0};
-  std::vector<double> lower_, upper_, pass_, tau_;
+  std::vector<double> pass_;
   std::vector<Attachment> attachments_;
-  std::vector<StateTables> states_;
+  GaitEfforts efforts_;
   va::hexapod::Memory memory_;
 };
 

@@ -25,7 +25,7 @@ from ...control.attachment_kernel import PARAMETERS
 from ...distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from ...kinematics.tree import tree_of
 from ...native import CORE
-from ..turkey.native import NativeOutput
+from ..native_tick import CoreTick, NativeOutput
 from .body import HeadingAttitude, HeadingDamper
 from .walker import LEGS, HexapodWalker
 
@@ -96,7 +96,7 @@ def _values(component: object) -> np.ndarray:
     return np.concatenate([getattr(component, name) for name in PARAMETERS]).astype(float)
 
 
-class NativeTick:
+class NativeTick(CoreTick):
     """A `HexapodWalker`'s tick in the compiled core.
 
     Build one with `of` (None when the core cannot run this gait). Not thread-safe: one walk's
@@ -110,20 +110,10 @@ class NativeTick:
 
     def __init__(self, gait: HexapodWalker, core: object, names: tuple[str, ...],
                  bodies: dict[int, tuple]) -> None:  # fmt: skip
-        self.gait = gait
-        self.core = core
-        self.deferred = 0
-        self._names = names
+        super().__init__(gait, core, names)
         self._bodies = bodies  # core index -> (QP distribution, keep, workspace)
-        machine = gait.machine
-        index = {name: k for k, name in enumerate(names)}
-        self._active = [machine.state(name).active for name in machine.names]
-        self._rows = [[(name, index[name]) for name in active] for active in self._active]
-        self._n = [len(gait.controller.attachments[name].actuator.axes) for name in names]
-        self.tau = np.zeros(core.nv)
-        self.readings = np.zeros((len(names), 18))
         self._command = np.zeros(3)
-        self._switches: object = None  # the last contacts dict and its array
+        self._switches: object = None  # the last contacts dict (its array: _contacts)
         self._contacts = np.zeros(0, dtype=np.int64)
 
     @classmethod
@@ -200,30 +190,11 @@ class NativeTick:
             )  # fmt: skip
         status = core.tick(q, v, time, command, self._contacts, self.tau, self.readings)
         if status == core.DEFER:
-            return self._python_tick(q, v, time, contacts)
+            return self.python_tick(q, v, time, contacts)
         state = core.state
         if status == core.ENTERED:
-            self._enter(state, time)
-        readings, wrenches = self.readings, {}
-        for name, k in self._rows[state]:
-            wrenches[name] = readings[k, 12 : 12 + self._n[k]].copy()
-        return NativeOutput(self.tau.copy(), self._active[state], wrenches)
-
-    def _enter(self, state: int, time: float) -> None:
-        """The Python machine enters ``state`` at ``time`` (as the core's did)."""
-        machine = self.gait.machine
-        current = machine.state(machine.names[state])
-        machine.current = current
-        machine.entered_at = time
-        machine.history.append((time, current.name))
-
-    def _python_tick(self, q, v, time, contacts) -> NativeOutput:
-        """The tick the core handed on: the Python gait's, between two synchronisations."""
-        self.deferred += 1
-        self.sync()
-        output = self.gait.compute(q, v, time, contacts)
-        self.load()
-        return NativeOutput(output.tau, output.active, output.wrenches)
+            self.enter(state, time)
+        return self.answer(state)
 
     def sync(self) -> None:
         """Bring the Python gait's objects up to the core's memory."""
@@ -239,12 +210,6 @@ class NativeTick:
                 self.core.set_guess(index, None)
                 continue
             self.core.set_guess(index, slot.active)
-
-    def __repr__(self) -> str:
-        return (
-            f"NativeTick({self.gait!r}, attachments={list(self._names)}, "
-            f"deferred={self.deferred})"
-        )
 
 
 def _plain_body(gait: HexapodWalker) -> bool:

@@ -21,14 +21,13 @@ controller's per-tick [`ControlOutput`][] (no ``on_tick`` callback): the native 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ...control.attachment_kernel import PARAMETERS
 from ...kinematics.tree import tree_of
 from ...native import CORE
+from ..native_tick import CoreTick, NativeOutput
 from .walker import TurkeyWalker
 
 __all__ = ["NativeOutput", "NativeTick"]
@@ -47,22 +46,6 @@ GAIT_VARIABLES = (
 _SIDES = ("left", "right")
 _GRANNY, _BUNNY, _LEFT_SWING, _RIGHT_SWING = range(1, 5)  # 0: a plain spring-damper
 _VELOCITY_SETPOINT = PARAMETERS.index("velocity_setpoint")
-
-
-@dataclass(slots=True)
-class NativeOutput:
-    """What a native tick answers (a [`ControlOutput`][]'s fields the walks read).
-
-    Attributes:
-        tau: ``(nv,)`` the efforts for the motors, clipped [N m or N].
-        active: The state's attachments.
-        wrenches: Each active attachment's requested wrench, on its axes.
-
-    """
-
-    tau: np.ndarray
-    active: tuple[str, ...]
-    wrenches: dict[str, np.ndarray]
 
 
 def _values(component: object) -> np.ndarray:
@@ -84,7 +67,7 @@ def _role(gait: TurkeyWalker, component: object) -> int | None:
     return None
 
 
-class NativeTick:
+class NativeTick(CoreTick):
     """A `TurkeyWalker`'s tick in the compiled core.
 
     Build one with `of` (None when the core cannot run this gait). Not thread-safe: one
@@ -97,18 +80,8 @@ class NativeTick:
     """
 
     def __init__(self, gait: TurkeyWalker, core: object, names: tuple[str, ...], slots) -> None:
-        self.gait = gait
-        self.core = core
-        self.deferred = 0
-        self._names = names  # the attachments, in the core's order
+        super().__init__(gait, core, names)
         self._slots = slots  # (component, slot index) of each component
-        machine = gait.machine
-        index = {name: k for k, name in enumerate(names)}
-        self._active = [machine.state(name).active for name in machine.names]
-        self._rows = [[(name, index[name]) for name in active] for active in self._active]
-        self._n = [len(gait.controller.attachments[name].actuator.axes) for name in names]
-        self.tau = np.zeros(core.nv)
-        self.readings = np.zeros((len(names), 18))
 
     @classmethod
     def of(cls, gait: object) -> NativeTick | None:
@@ -166,32 +139,13 @@ class NativeTick:
         core = self.core
         status = core.tick(q, v, time, self.tau, self.readings)
         if status == core.DEFER:
-            return self._python_tick(q, v, time, contacts)
+            return self.python_tick(q, v, time, contacts)
         state = core.state
         if status == core.ENTERED:
-            self._enter(state, time)
+            self.enter(state, time)
             self.sync()
         self.gait.granny.height = core.granny_height  # what a walk's record reads
-        readings, wrenches = self.readings, {}
-        for name, k in self._rows[state]:
-            wrenches[name] = readings[k, 12 : 12 + self._n[k]].copy()
-        return NativeOutput(self.tau.copy(), self._active[state], wrenches)
-
-    def _enter(self, state: int, time: float) -> None:
-        """The Python machine enters ``state`` at ``time`` (as the core's did)."""
-        machine = self.gait.machine
-        current = machine.state(machine.names[state])
-        machine.current = current
-        machine.entered_at = time
-        machine.history.append((time, current.name))
-
-    def _python_tick(self, q, v, time, contacts) -> NativeOutput:
-        """The tick the core handed on: the Python gait's, between two synchronisations."""
-        self.deferred += 1
-        self.sync()
-        output = self.gait.compute(q, v, time, contacts)
-        self.load()
-        return NativeOutput(output.tau, output.active, output.wrenches)
+        return self.answer(state)
 
     def sync(self) -> None:
         """Bring the Python gait's objects up to the core's memory."""
@@ -215,12 +169,6 @@ class NativeTick:
 
     def _slot_of(self, component: object) -> int:
         return next(slot for c, slot in self._slots if c is component)
-
-    def __repr__(self) -> str:
-        return (
-            f"NativeTick({self.gait!r}, attachments={list(self._names)}, "
-            f"deferred={self.deferred})"
-        )
 
 
 def _add_attachment(core: object, gait: TurkeyWalker, attachment, slots: dict) -> bool:

@@ -81,9 +81,16 @@ def test_ticks_match_the_python_gait_tick_by_tick():
     reference.compute(simulator.q, simulator.v, 0.0)
     native = NativeTick.of(gait)
     assert native is not None
-    ticks = 1500
+    ticks, cold = 1500, 700
     for tick in range(1, ticks):
         q, v, now = simulator.q, simulator.v, tick * simulator.control_period
+        if tick == cold:  # the QPs start cold: their next solves run DAQP, in Python
+            before = native.deferred
+            native.sync()  # the gait's Python objects up to the core's memory, then changed
+            for walker in (gait, reference):
+                for name in ("support_a", "support_b", "support_all"):
+                    walker.controller.attachments[name].actuator.qp.reset()
+            native.load()  # the core takes up the gait's Python objects as they are now
         command = (0.4 * min(1.0, now), 0.05 * math.sin(now))  # an accelerating, wavy command
         for walker in (gait, reference):
             walker.set_command(command, 0.3 * math.cos(2.0 * now))
@@ -95,6 +102,8 @@ def test_ticks_match_the_python_gait_tick_by_tick():
         for name, wrench in output.wrenches.items():
             np.testing.assert_array_equal(wrench, expected.wrenches[name])
         simulator.step(output.tau, ignore_unactuated=True)
+        if tick == cold:
+            assert native.deferred == before + 1
     assert gait.machine.history == reference.machine.history
     assert len(gait.machine.history) >= 6
     assert native.deferred < ticks // 10  # most ticks are the core's
@@ -111,6 +120,36 @@ def test_a_non_finite_state_gets_the_python_ticks_typed_error():
     with pytest.raises(InvalidInputError):
         native.compute(q, simulator.v, 0.001)
     assert native.deferred == 1
+    output = native.compute(simulator.q, simulator.v, 0.001)  # the core's again
+    assert native.deferred == 1 and np.all(np.isfinite(output.tau))
+
+
+def test_ticks_handed_on_after_the_bodys_qp_are_the_python_ticks():
+    """A swing leg whose wrench overflows: the core hands the tick on after the body's QP
+    certified its answer; the Python ticks decide, from the state the core left."""
+    robot, gait, simulator = _started_gait()
+    reference = HexapodWalker(robot)
+    reference.compute(simulator.q, simulator.v, 0.0)
+    native = NativeTick.of(gait)
+    period, tick = simulator.control_period, 0
+    while tick < 400 or not gait.state.startswith("tripod"):
+        tick += 1
+        contacts = _switches(gait, simulator)
+        output = native.compute(simulator.q, simulator.v, tick * period, contacts)
+        reference.compute(simulator.q, simulator.v, tick * period, contacts)
+        simulator.step(output.tau, ignore_unactuated=True)
+    native.sync()
+    for walker in (gait, reference):  # 3e308 N in all: not finite
+        walker.swing[2 if gait.support == "a" else 1].force = np.full(3, 1e308)
+    native.load()
+    deferred, start = native.deferred, tick + 1
+    for later in range(start, start + 20):
+        contacts = _switches(gait, simulator)
+        output = native.compute(simulator.q, simulator.v, later * period, contacts)
+        expected = reference.compute(simulator.q, simulator.v, later * period, contacts)
+        np.testing.assert_array_equal(output.tau, expected.tau)
+        simulator.step(output.tau, ignore_unactuated=True)
+    assert native.deferred > deferred
 
 
 def test_no_native_tick_for_a_partitioned_body_a_pendulum_or_an_unstarted_machine():

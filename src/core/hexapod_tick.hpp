@@ -220,7 +220,7 @@ inline Update update(const Parameters& p, const double* frames, const Rows& rows
 // gaits.attitude.rotation_vector_angles: (yaw, pitch, roll) of the rotation vector (x, y, z).
 inline void rotation_vector_angles(double x, double y, double z, double angles[3]) {
   constexpr double eps = 2.220446049250313e-16;
-  const double taylor = std::pow(eps, 0.25);
+  static const double taylor = std::pow(eps, 0.25);  // attitude._TAYLOR
   const double t2 = x * x + y * y + z * z + eps * eps;
   const double t = std::sqrt(t2);
   double outer, cross, cos;

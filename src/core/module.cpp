@@ -1725,10 +1725,7 @@ class NativeHexapod {
     const double* p = parameters.data();
     parameters_ = va::hexapod::Parameters{p[0], p[1], p[2], p[3], p[4], nominal_.data(),
                                           shape_.data()};
-    require(length(body) == BODY, "body must be the 15 constants");
-    const double* b = body.data();
-    body_ = va::hexapod::Body{b[0], b[1], b[2], b[3], {b[4], b[5]}, {b[6], b[7]},
-                              {b[8], b[9]}, {b[10], b[11], b[12]}, b[13], b[14]};
+    set_body(body);
     require(length(tolerances) == 3, "tolerances: active, exact, accuracy");
     tolerances_[0] = tolerances.data()[0];
     tolerances_[1] = tolerances.data()[1];
@@ -1791,6 +1788,23 @@ class NativeHexapod {
     }
     require(length(*guess) == a.guess_size, "guess must be (m,)");
     a.guess = guess->data();
+  }
+
+  // The body's components' constants again (BODY floats: the height's stiffness, damping,
+  // velocity set point and force, the planar damper's damping and force, the attitude's
+  // stiffness, damping, roll and pitch set points).
+  void set_body(const F1& body) {
+    require(length(body) == BODY, "body must be the 15 constants");
+    const double* b = body.data();
+    body_ = va::hexapod::Body{b[0], b[1], b[2], b[3], {b[4], b[5]}, {b[6], b[7]},
+                              {b[8], b[9]}, {b[10], b[11], b[12]}, b[13], b[14]};
+  }
+
+  // A swing leg's six parameters on its three axes again (its set points are the memory's).
+  void set_swing(std::int64_t index, const F1& values) {
+    Attachment& a = attachment(index);
+    require(a.tick != nullptr && length(values) == 18, "a swing leg's 18 values");
+    a.table = copy<double>(values);
   }
 
   // A swing leg (0-based) on its serial spring tick (one SpringDamper on x y z).
@@ -1920,7 +1934,7 @@ class NativeHexapod {
     std::int64_t buffer_size = 0, guess_size = 0;
     double* guess = nullptr;
     std::vector<std::int64_t> layout, kept, keep, active;
-    std::vector<double> weights, out, z, multipliers;
+    std::vector<double> weights, out, z, multipliers, saved;
     double position[6], velocity[6], wrench[6];
     // a swing leg's spring tick
     const SpringTick* tick = nullptr;
@@ -1940,6 +1954,7 @@ class NativeHexapod {
   const double* run_body(Attachment& a, const double* jw, const double* frames, const double* v,
                          const double* q, const va::hexapod::Memory& m, double& attitude_yaw) {
     if (a.guess == nullptr) return nullptr;  // no certified answer yet: DAQP / ProxQP decide
+    a.saved.assign(a.guess, a.guess + a.guess_size);  // put back if the tick is handed on
     va::serial::relative_sensor(jw, nv_, frames, v, a.tables, a.jacobian.data(), a.position,
                                 a.velocity);
     if (!va::hexapod::body_wrench(body_, m, a.position, a.velocity, a.wrench, attitude_yaw))
@@ -1968,6 +1983,17 @@ class NativeHexapod {
     return a.spring.data();
   }
 
+  // DEFER after the state's attachments ran: the warm starts they certified put back (the
+  // Python tick starts from the same ones).
+  std::int64_t defer(const GaitEfforts::State& state) {
+    for (const std::int64_t index : state.attachments) {
+      Attachment& a = attachments_[static_cast<std::size_t>(index)];
+      if (a.body && a.guess != nullptr && !a.saved.empty())
+        std::copy(a.saved.begin(), a.saved.end(), a.guess);
+    }
+    return DEFER;
+  }
+
   std::int64_t run(const double* q, const double* v, double time, const va::hexapod::Inputs& in,
                    double* tau_out, double* readings) {
     if (!va::all_finite(q, nq_) || !va::all_finite(v, nv_) || !std::isfinite(time) ||
@@ -1981,16 +2007,18 @@ class NativeHexapod {
         va::hexapod::update(parameters_, frames, rows_, v, time, in, m);
     if (update == va::hexapod::DEFER) return DEFER;
     const GaitEfforts::State& state = efforts_.state(m.state);
+    for (const std::int64_t index : state.attachments)
+      attachments_[static_cast<std::size_t>(index)].saved.clear();
     bool first = true;
     for (const std::int64_t index : state.attachments) {
       Attachment& a = attachments_[static_cast<std::size_t>(index)];
       const double* effort = a.body ? run_body(a, jw, frames, v, q, m, m.attitude_yaw)
                                     : run_swing(a, jw, frames, v, m);
-      if (effort == nullptr) return DEFER;
+      if (effort == nullptr) return defer(state);
       efforts_.add(effort, first);
       first = false;
     }
-    if (!efforts_.close(state, tau_out)) return DEFER;
+    if (!efforts_.close(state, tau_out)) return defer(state);
     for (const std::int64_t index : state.attachments) {  // position, velocity, wrench
       const Attachment& a = attachments_[static_cast<std::size_t>(index)];
       double* row = readings + 18 * index;
@@ -2038,6 +2066,8 @@ void bind_native_hexapod(nb::module_& m) {
            "signs"_a, "qp"_a, "q"_a, "buffer"_a.noconvert(), "layout"_a, "kept"_a, "keep"_a,
            "weights"_a, nb::keep_alive<1, 6>(), nb::keep_alive<1, 8>())
       .def("set_guess", &NativeHexapod::set_guess, "index"_a, "guess"_a.noconvert().none())
+      .def("set_body", &NativeHexapod::set_body, "body"_a)
+      .def("set_swing", &NativeHexapod::set_swing, "index"_a, "values"_a)
       .def("add_swing", &NativeHexapod::add_swing, "tick"_a, "leg"_a, "values"_a,
            nb::keep_alive<1, 2>())
       .def("add_state", &NativeHexapod::add_state, "attachments"_a, "limp"_a)

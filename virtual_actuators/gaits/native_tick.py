@@ -101,8 +101,10 @@ class CoreTick:
         """
         self.deferred += 1
         self.sync()
-        output = self.gait.compute(q, v, time, contacts)
-        self.load()
+        try:
+            output = self.gait.compute(q, v, time, contacts)
+        finally:  # the core follows the Python gait, even past an error
+            self.load()
         return NativeOutput(output.tau, output.active, output.wrenches)
 
     def __repr__(self) -> str:

@@ -109,12 +109,14 @@ class NativeTick(CoreTick):
     """
 
     def __init__(self, gait: HexapodWalker, core: object, names: tuple[str, ...],
-                 bodies: dict[int, tuple]) -> None:  # fmt: skip
+                 bodies: dict[int, tuple], legs: dict[int, SpringDamper]) -> None:  # fmt: skip
         super().__init__(gait, core, names)
         self._bodies = bodies  # core index -> (QP distribution, keep, workspace)
+        self._legs = legs  # core index -> the swing leg's spring-damper
         self._command = np.zeros(3)
         self._switches: object = None  # the last contacts dict (its array: _contacts)
         self._contacts = np.zeros(0, dtype=np.int64)
+        self._guesses: list = []
 
     @classmethod
     def of(cls, gait: object) -> NativeTick | None:
@@ -147,12 +149,15 @@ class NativeTick(CoreTick):
         )  # fmt: skip
         names = tuple(controller.attachments)
         bodies: dict[int, tuple] = {}
+        legs: dict[int, SpringDamper] = {}
         q = gait.robot.neutral()
         for k, name in enumerate(names):
             added = _add_attachment(core, gait, name, q)
             if added is None:
                 return None
-            if added is not True:
+            if isinstance(added, SpringDamper):
+                legs[k] = added
+            else:
                 bodies[k] = added
         for state in gait.machine.names:
             declared = gait.machine.state(state)
@@ -160,7 +165,7 @@ class NativeTick(CoreTick):
                 np.array([names.index(name) for name in declared.active], dtype=np.int64),
                 np.asarray(controller.joint_indices(declared.limp), np.int64),
             )
-        native = cls(gait, core, names, bodies)
+        native = cls(gait, core, names, bodies, legs)
         native.load()
         return native
 
@@ -197,19 +202,29 @@ class NativeTick(CoreTick):
         return self.answer(state)
 
     def sync(self) -> None:
-        """Bring the Python gait's objects up to the core's memory."""
+        """Bring the Python gait's objects up to the core's memory.
+
+        The QPs' warm starts are the Python distributions' own arrays; a native tick solves
+        on the last certified active set, without ProxQP iterations.
+        """
         write_memory(self.gait, self.core.memory(), self.core.swing())
+        for qp, _, _ in self._bodies.values():
+            qp._local.iterations = 0
 
     def load(self) -> None:
-        """Copy the Python gait's memory and the QPs' warm starts into the core."""
+        """Copy the Python gait's memory, its components' constants and warm starts to the core."""
         values, swing = read_memory(self.gait)
         self.core.set_memory(values, swing)
+        self.core.set_body(_body_constants(self.gait))
+        for index, leg in self._legs.items():
+            self.core.set_swing(index, _values(leg))
+        guesses = []  # the arrays the core writes in place, kept alive until the next load
         for index, (qp, keep, work) in self._bodies.items():
             hot, slot = qp._hot(keep)
-            if hot is not work:  # another workspace (a new thread's): the Python tick decides
-                self.core.set_guess(index, None)
-                continue
-            self.core.set_guess(index, slot.active)
+            guess = slot.active if hot is work else None  # another thread's: Python decides
+            self.core.set_guess(index, guess)
+            guesses.append(guess)
+        self._guesses = guesses
 
 
 def _plain_body(gait: HexapodWalker) -> bool:
@@ -238,7 +253,7 @@ def _add_attachment(core: object, gait: HexapodWalker, name: str, q: np.ndarray)
     """Declare an attachment to the core.
 
     Returns:
-        None: the core cannot run it; True: a swing leg; a support attachment's
+        None: the core cannot run it; a swing leg's spring-damper; a support attachment's
         ``(QP distribution, keep, workspace)``.
 
     """
@@ -250,7 +265,7 @@ def _add_attachment(core: object, gait: HexapodWalker, name: str, q: np.ndarray)
                 or attachment.components != [gait.swing[leg]]):  # fmt: skip
             return None
         core.add_swing(tick.core, leg - 1, _values(gait.swing[leg]))
-        return True
+        return gait.swing[leg]
     body = [gait.height, gait.planar, gait.attitude]
     if attachment.components != body or attachment.yield_mask is not None:
         return None
@@ -262,7 +277,9 @@ def _add_attachment(core: object, gait: HexapodWalker, name: str, q: np.ndarray)
         return None
     if not qp.matrices.applicable or attachment.sensor.axes != actuator.axes:
         return None
-    kinematics = attachment.sensor.kinematics
+    kinematics, nf = attachment.sensor.kinematics, tree_of(gait.robot).core_tree.nf
+    if max(int(kinematics.frame_rows[:3].max()), qp.matrices._max_row) >= nf:
+        return None  # frames outside the tick's table: the Python tick places them
     work, _ = qp._hot(request.keep)
     core.add_body(
         np.asarray(kinematics.rows, dtype=np.int64),

@@ -3,13 +3,15 @@
 Two durations per tick, both in microseconds, from ``perf_counter_ns``:
 
 * **controller**: the controller's compute between reading the state and writing the efforts.
-  In a walk (``run_walk``), the gait's outermost ``compute(q, v, t, contacts)`` call; in a
-  ``va.run`` loop, from the end of ``read_state`` to the start of ``write_effort`` (the loop's
-  checks of the reading and of the efforts included). This is what a controller on hardware
-  pays. Its thread CPU time (``thread_time_ns``, same interval) is reported too: unlike the
-  wall-clock time it leaves out the time the thread was not running (preempted by other
-  processes on a busy machine), so a tick whose wall time is far above its CPU time waited
-  for the CPU. Reading that clock costs ~0.6 us per tick inside the interval.
+  In a walk (``run_walk``), the gait's outermost ``compute(q, v, t, contacts)`` call (or its
+  native tick's, the turkey's and the hexapod's walks from their second tick: no ``on_tick``
+  is passed, which would keep the Python tick; the ticks are taken at the end of each
+  ``Simulator.step``); in a ``va.run`` loop, from the end of ``read_state`` to the start of
+  ``write_effort`` (the loop's checks of the reading and of the efforts included). This is what
+  a controller on hardware pays. Its thread CPU time (``thread_time_ns``, same interval) is
+  reported too: unlike the wall-clock time it leaves out the time the thread was not running
+  (preempted by other processes on a busy machine), so a tick whose wall time is far above its
+  CPU time waited for the CPU. Reading that clock costs ~0.6 us per tick inside the interval.
 * **loop**: one whole iteration of the loop. In a walk, from the end of one iteration's physics
   step to the end of the next (the first from the gait's first ``compute``): the contact
   switches, the gait, MuJoCo's step, the stance forces, the fall test and the recording. In a
@@ -69,10 +71,16 @@ class _Outermost:
     [ns] (with ``cpu``), ``first_start`` when the first call started."""
 
     def __init__(
-        self, targets: list[tuple[type, str]], cpu: bool = False, events: TickEvents | None = None
+        self,
+        targets: list[tuple[type, str]],
+        cpu: bool = False,
+        events: TickEvents | None = None,
+        after: Callable[[], None] | None = None,
     ) -> None:
         self.targets, self.cpu, self.last, self.last_cpu, self.depth = targets, cpu, 0, 0, 0
         self.events = events  # told when the outermost call starts and ends
+        self.after = after  # called after each outermost call
+        self.caller: object = None  # the object of the latest outermost call
         self.first_start: int | None = None  # the first outermost call's start [ns]
         self._saved: list[tuple[type, str, object]] = []
 
@@ -85,6 +93,8 @@ class _Outermost:
             if self.depth == 1 and self.events is not None:
                 self.events.inside = True
             start, start_cpu = clock(), cpu()
+            if self.depth == 1:
+                self.caller = args[0] if args else None
             if self.first_start is None:
                 self.first_start = start
             try:
@@ -96,6 +106,8 @@ class _Outermost:
                     self.last = clock() - start
                     if self.events is not None:
                         self.events.inside = False
+                    if self.after is not None:
+                        self.after()
 
         return wrapped
 
@@ -296,27 +308,32 @@ def _walk_once(name: str, seconds: float, options: dict, events: TickEvents | No
     """One timed run of a walk: per-tick arrays [ns] and the result."""
     from virtual_actuators.demos import run_walk
     from virtual_actuators.gaits import Gait
+    from virtual_actuators.gaits.native_tick import CoreTick
     from virtual_actuators.simulation import Simulator
 
     controller, cpu, physics, ends = [], [], [], []
     clock = time.perf_counter_ns
-    gait_probe = _Outermost(_classes_defining(Gait, "compute"), cpu=True, events=events)
-    step_probe = _Outermost([(Simulator, "step")])
-    before = [None]
+    # the gaits' compute, and the native ticks' (no on_tick: it would keep the Python tick)
+    targets = [*_classes_defining(Gait, "compute"), *_classes_defining(CoreTick, "compute")]
+    gait_probe = _Outermost(targets, cpu=True, events=events)
 
-    def on_tick(simulator: object, gait: object) -> None:  # after every physics step
+    def on_tick() -> None:  # after every physics step
         ends.append(clock())
         controller.append(gait_probe.last)
         cpu.append(gait_probe.last_cpu)
         physics.append(step_probe.last)
         if events is not None:
-            state = _state_of(gait)
+            caller = gait_probe.caller  # the gait, or its native tick
+            state = _state_of(getattr(caller, "gait", caller))
             events.end_tick(len(cpu) - 1, cpu[-1] / 1e3, controller[-1] / 1e3, state,
                             state if before[0] is None else before[0])  # fmt: skip
             before[0] = state
 
+    step_probe = _Outermost([(Simulator, "step")], after=on_tick)
+    before = [None]
+
     with gait_probe, step_probe:
-        result = run_walk(name, duration=seconds, progress=False, on_tick=on_tick, **options)
+        result = run_walk(name, duration=seconds, progress=False, **options)
     return {"result": result, "controller": controller, "cpu": cpu, "physics": physics,
             "ends": ends, "first_start": gait_probe.first_start or 0}  # fmt: skip
 

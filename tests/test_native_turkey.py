@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+import virtual_actuators as va
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.gaits.registry import WALKS, run_walk
 from virtual_actuators.gaits.turkey.native import NativeTick
@@ -113,3 +114,48 @@ def test_repr_names_the_attachments():
     _, gait, _ = _started_gait()
     text = repr(NativeTick.of(gait))
     assert "double" in text and "deferred=0" in text
+
+
+def test_a_tick_from_a_second_thread_at_once_raises_a_typed_error():
+    import threading
+
+    _, gait, simulator = _started_gait()
+    native = NativeTick.of(gait)
+    inside, release = threading.Event(), threading.Event()
+    original = native.core
+
+    class Slow:  # the core's tick, held open until the other thread has tried
+        def __getattr__(self, name):
+            return getattr(original, name)
+
+        def tick(self, *args):
+            inside.set()
+            release.wait(5.0)
+            return original.tick(*args)
+
+    native.core = Slow()
+    worker = threading.Thread(target=native.compute, args=(simulator.q, simulator.v, 0.001))
+    worker.start()
+    assert inside.wait(5.0)
+    try:
+        with pytest.raises(va.ConcurrentUseError, match="another thread"):
+            native.compute(simulator.q, simulator.v, 0.001)
+    finally:
+        release.set()
+        worker.join()
+    native.core = original
+    assert native.compute(simulator.q, simulator.v, 0.002).tau.shape == (robot_nv(gait),)
+
+
+def robot_nv(gait) -> int:
+    return gait.robot.model.nv
+
+
+def test_a_falling_walk_is_the_python_walks_bit_for_bit():
+    """Too fast (1.5 m/s, forced): the turkey falls; the native run falls at the same tick."""
+    options = {"duration": 2.0, "progress": False, "speed": 1.5, "force_speed": True}
+    native = run_walk("turkey-walk", **options)
+    python = run_walk("turkey-walk", on_tick=_python, **options)
+    assert native.metrics.fell and native.metrics.fall_time_s == python.metrics.fall_time_s
+    for name, values in native.log.data.items():
+        np.testing.assert_array_equal(values, python.log.data[name], err_msg=name)

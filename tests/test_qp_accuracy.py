@@ -28,6 +28,7 @@ from proxsuite import proxqp
 
 import virtual_actuators as va
 from virtual_actuators.distribution.qp import CONFLICT_MAX_ITER, EXACT_MAX_ITER
+from virtual_actuators.native import CORE
 
 SIX = ("x", "y", "z", "rx", "ry", "rz")
 SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
@@ -304,7 +305,8 @@ def _least_shift(oracle, q, rows_kept):
 def test_inequalities_that_cannot_hold_are_named_at_once(compiled):
     """1000 N per foot on the hexapod, whose joints hold 5 N m: a ConstraintError naming rows
     that conflict (each foot's least normal force, knee torque limits), found within the first
-    stage's iterations and the check's (not the budget: 100,000 changes nothing). The oracle:
+    stage's iterations and the check's (not the budget: 100,000 changes nothing), also with
+    every axis free (no request row). The oracle:
     the named rows alone cannot hold (their least shift is ~N), the least normal forces alone
     can (no torque limits: a shift of 0)."""
     robot = va.load_robot("hexapod")
@@ -321,6 +323,9 @@ def test_inequalities_that_cannot_hold_are_named_at_once(compiled):
         messages.append(str(caught.value))
     message = messages[0]
     assert messages[1] == message and "iteration budget" not in message
+    with pytest.raises(va.ConstraintError) as caught:  # every axis free: no request row
+        body.solve(q, np.zeros(6), free=SIX, method="qp", compiled=compiled)
+    assert "foot_1: normal >= 1000 N" in str(caught.value)
     for i in range(1, 7):
         assert f"foot_{i}: normal >= 1000 N" in message
         assert f"torque knee_{i}: |tau| <= 5" in message
@@ -336,3 +341,30 @@ def test_inequalities_that_cannot_hold_are_named_at_once(compiled):
     normals_only = np.zeros(len(named), dtype=bool)
     normals_only[: 5 * len(HEX_FEET) : 5] = True
     assert _least_shift(oracle, q, normals_only) <= 1e-6
+
+
+def test_two_stance_feet_at_nearly_the_same_height_give_the_least_norm_answer(solo):
+    """Two diagonal feet (a trot's stance) whose heights differ by 1e-11..1e-7 m: their request
+    rows miss one direction (the moment about the line through the feet), and in the axes'
+    order they are nearly dependent before the last row completes them. Requests that the feet
+    produce (a first answer's wrench) give the oracle's least-norm answer to 1e-12 |w|, with no
+    ProxQP iteration when the core is built (the exact step certifies DAQP's answer)."""
+    feet = ["FL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(solo, "base_link", feet, "world", contact="point",
+                                      friction=0.6)  # fmt: skip
+    oracle = ExactQP(solo, "base_link", feet, 0.6, 0.0, None)
+    knee = solo.model.joints[solo.model.getJointId("HR_KFE")].idx_q
+    rng = np.random.default_rng(1)
+    for angle in np.concatenate([np.logspace(-10, -6, 9), -np.logspace(-10, -6, 9)]):
+        q = solo.neutral()
+        q[knee] += angle  # the hind foot's height moves by ~0.1 angle [m]
+        for _ in range(3):
+            wrench = np.array([0.0, 0.0, 20.0, 0.0, 0.0, 0.0]) + rng.normal(scale=2.0, size=6)
+            request = body.solve(q, wrench, method="qp").wrench.copy()
+            body.qp.reset()
+            sol = body.solve(q, request, method="qp")
+            assert CORE is None or body.qp.iterations == 0
+            forces, _, _ = oracle.solve(q, request)
+            size = np.abs(request).max()
+            np.testing.assert_allclose(sol.forces, forces, rtol=0, atol=1e-12 * size)
+            assert sol.residual <= 1e-12 * size

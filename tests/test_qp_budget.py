@@ -4,7 +4,8 @@ The case (a walk's tick: foot_2 at its least normal force, the request out of re
 the compiled path's closest-wrench stage hundreds of ProxQP iterations (all-zero torque-limit
 rows of the swing legs). Now ProxQP's first iterates already name its active set, and the exact
 step on it (:mod:`virtual_actuators.distribution.qp.exact`) gives the closest answer within any
-budget. A six-footed tick whose first iterates do not gets the budget's error. Oracles: the numpy
+budget. A six-footed tick whose first iterates do not gets the budget's error from ProxQP's
+stages (with the core, DAQP's closest answer needs no ProxQP iteration). Oracles: the numpy
 path at the default budget (all force entries, the natural rows as equalities) and Pinocchio
 (cones and torques, :mod:`test_qp`'s checks).
 """
@@ -20,7 +21,9 @@ from virtual_actuators.distribution.qp import (
     BUDGET_EXHAUSTED,
     EXACT_MAX_ITER,
     ITERATION_BUDGET,
+    stages,
 )
+from virtual_actuators.native import CORE
 
 Q = np.array([
     0.0489807321130934, 8.321320886702836e-05, 0.13123437703349378, -0.00020307328887192913,
@@ -106,14 +109,22 @@ SIX_WRENCH = np.array([-45.565527, 6.206623, 79.817656, 0.06283, 0.082929, -3.77
 
 
 @pytest.mark.parametrize("compiled", [True, False])
-def test_budget_without_feasible_point_raises(compiled) -> None:
-    """Too few iterations to reach any feasible point: a typed error naming the budget (the
-    default budget reaches the closest wrench)."""
+def test_budget_without_feasible_point_raises(compiled, monkeypatch) -> None:
+    """ProxQP's stages alone (without DAQP, as without the core) and too few iterations to
+    reach any feasible point: a typed error naming the budget (the default budget reaches the
+    closest wrench). With the core, DAQP's closest answer needs no ProxQP iteration: that
+    answer, to 1e-9 |w|, within any budget."""
     robot = va.load_robot("hexapod")
     body = va.ParallelVirtualActuator(
         robot, "body", [f"foot_{i}" for i in range(1, 7)], "world", friction=0.5,
         min_normal=1.0, torque_limits=True,
     )  # fmt: skip
+    with_daqp = None
+    if CORE is not None:
+        body.qp.iteration_budget = 2
+        with_daqp = body.solve(SIX_Q, SIX_WRENCH, method="qp", compiled=compiled)
+        assert body.qp.iterations == 0
+    monkeypatch.setattr(stages, "CORE", None)
     body.qp.iteration_budget = 2
     with pytest.raises(va.exceptions.ConstraintError, match="iteration budget"):
         body.solve(SIX_Q, SIX_WRENCH, method="qp", compiled=compiled)
@@ -121,3 +132,7 @@ def test_budget_without_feasible_point_raises(compiled) -> None:
     body.qp.iteration_budget = ITERATION_BUDGET
     sol = body.solve(SIX_Q, SIX_WRENCH, method="qp", compiled=compiled)
     assert sol.residual > 1e-3 * np.linalg.norm(SIX_WRENCH)
+    if with_daqp is not None:
+        scale = np.abs(SIX_WRENCH).max()
+        np.testing.assert_allclose(with_daqp.forces, sol.forces, rtol=0, atol=1e-9 * scale)
+        assert abs(with_daqp.residual - sol.residual) <= 1e-9 * scale

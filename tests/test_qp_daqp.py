@@ -1,12 +1,13 @@
-"""The QP's first stage on DAQP (built into the compiled core) against ProxQP, the reference.
+"""The QP's stages on DAQP (built into the compiled core) against ProxQP, the reference.
 
 Stage 1 is ``min |x|^2`` on the equality rows and the bounded rows. With the core, DAQP solves it
-from cold and the exact step certifies its active set; without it (``VA_CORE=0``), ProxQP. The
+from cold and the exact step certifies its active set; without it (``VA_CORE=0``), ProxQP. An
+infeasible request's closest wrench (stages 2 and 3) is solved by DAQP too, likewise. The
 stage-1 problems are recorded from real solves (solo12 and the hexapod with friction pyramids,
 requests feasible and not) and each is solved by DAQP and by a cold ProxQP solve: both must call
 the same problems infeasible and give the same ``x`` to ProxQP's accuracy. Whole solves through
-DAQP and through ProxQP agree to the QP's determinism bound, and DAQP's answers need no ProxQP
-iteration.
+DAQP and through ProxQP (requests met and closest wrenches, unit and uneven weights) agree to the
+QP's determinism bound, and DAQP's answers need no ProxQP iteration.
 """
 
 from __future__ import annotations
@@ -94,20 +95,28 @@ def test_daqp_and_proxqp_agree_on_recorded_stage_one_problems(name, monkeypatch)
     assert verdicts[True] > 10 and verdicts[False] > 10
 
 
+#: the closest-wrench stage's weights of the declarations compared: unit, and uneven
+WEIGHTS = {"unit": None, "uneven": {"x": 1e-3, "y": 0.1, "rz": 30.0}}
+
+
+@pytest.mark.parametrize("weights", sorted(WEIGHTS))
 @pytest.mark.parametrize("name", sorted(ROBOTS))
-def test_solves_through_daqp_equal_solves_through_proxqp(name, monkeypatch):
+def test_solves_through_daqp_equal_solves_through_proxqp(name, weights, monkeypatch):
+    """Requests met and not (the closest wrench): the same answers through DAQP as through
+    ProxQP's stages alone, to 1e-9 |w|, and DAQP's need no ProxQP iteration."""
     robot = va.load_robot(name)
     answers = {}
     for path in ("daqp", "proxqp"):
         if path == "proxqp":
             monkeypatch.setattr(stages, "CORE", None)
         body = va.ParallelVirtualActuator(robot, *ROBOTS[name], "world", contact="point",
-                                          friction=0.6)  # fmt: skip
+                                          friction=0.6, weights=WEIGHTS[weights])  # fmt: skip
         answers[path] = []
         for q, wrench in _requests(robot, body, 40, 4):
             body.qp.reset()  # a cold stage 1 every time: the solver decides, not the last tick
             answers[path].append((_solve(body, q, wrench), body.qp.iterations, wrench))
     iterations = {"daqp": [], "proxqp": []}
+    closest = 0
     for (ours, used, wrench), (theirs, used_ref, _) in zip(*answers.values(), strict=True):
         assert (ours is None) == (theirs is None)
         if ours is None:
@@ -115,8 +124,10 @@ def test_solves_through_daqp_equal_solves_through_proxqp(name, monkeypatch):
         scale = max(np.abs(wrench).max(), 1.0)
         assert np.abs(ours.forces - theirs.forces).max() <= 1e-9 * scale
         assert np.abs(ours.wrench - theirs.wrench).max() <= 1e-9 * scale
-        if ours.residual == 0.0 or np.isclose(ours.residual, 0.0, atol=1e-9 * scale):
-            iterations["daqp"].append(used)
-            iterations["proxqp"].append(used_ref)
+        assert ours.residual == pytest.approx(theirs.residual, rel=0, abs=1e-9 * scale)
+        closest += ours.residual > 1e-9 * scale
+        iterations["daqp"].append(used)
+        iterations["proxqp"].append(used_ref)
+    assert closest >= 10  # the closest-wrench stages are exercised
     assert iterations["daqp"] and max(iterations["daqp"]) == 0  # DAQP: no ProxQP iteration
     assert max(iterations["proxqp"]) > 0

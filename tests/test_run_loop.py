@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
+from virtual_actuators.control import run_loop
 from virtual_actuators.simulation import MujocoHardware, Simulator
 
 
@@ -45,6 +46,41 @@ def test_runs_an_arm_to_its_target_in_mujoco():
     assert hardware.efforts_written == 2001  # and one zero effort at the end
     assert np.linalg.norm(tool.position(simulator.q) - target) < 1e-3  # [m] (0.3 mm measured)
     assert "ticks" in stats.summary()
+
+
+def test_the_controller_is_warmed_up_before_the_first_reading_with_the_same_efforts(
+    monkeypatch,
+):
+    """va.run warms up the va.Controller an object drives (``controller``) once, before its
+    first reading; the efforts are the same bits as without the warm-up."""
+    robot = va.load_robot("ur5_robot")
+    q0 = robot.q(shoulder_lift_joint=-1.0, elbow_joint=1.3, wrist_1_joint=-0.8)
+    tool = va.VirtualActuator(robot, "tool0", "world", "world", ("x", "y", "z"))
+    target = tool.position(q0) + np.array([0.05, -0.04, 0.03])  # [m]
+    events, efforts = [], {}
+    warm_up = va.Controller.warm_up
+    monkeypatch.setattr(va.Controller, "warm_up",
+                        lambda self, q: (events.append("warm-up"), warm_up(self, q)))  # fmt: skip
+    for warmed in (True, False):
+        if not warmed:
+            monkeypatch.setattr(run_loop, "warm_up_driven", lambda controller, robot: None)
+        simulator = Simulator(robot)
+        simulator.reset(q0)
+        hardware, written = MujocoHardware(simulator), []
+
+        def read_state(hardware=hardware):
+            events.append("read")
+            return hardware.read_state()
+
+        def write_effort(tau, hardware=hardware, written=written):
+            written.append(np.array(tau))
+            hardware.write_effort(tau)
+
+        va.run(ArmController(robot, target), read_state, write_effort, realtime=False,
+               should_stop=lambda simulator=simulator: simulator.time >= 0.3 - 1e-9)  # fmt: skip
+        efforts[warmed] = np.array(written)
+    assert events[0] == "warm-up" and events.count("warm-up") == 1
+    assert len(efforts[True]) == 301 and np.array_equal(efforts[True], efforts[False])
 
 
 class Scripted:

@@ -2,8 +2,10 @@
 
 - `Context.frame_coordinate` against the frame positions Pinocchio's forward kinematics give
   (run in the test), for a frame of the snapshot's table and for one outside it;
-- the contact scan (a role per geom) against a scan of MuJoCo's contact list written out here
-  from the model's terrain and robot geoms;
+- the contact scan (a role per geom; read in place by the compiled core when it was built with
+  MuJoCo's headers) against a scan of MuJoCo's contact list written out here from the model's
+  terrain and robot geoms, and the fall test's "a part other than a foot touches" against the
+  touching frames' names, with the core's view and without it;
 - the stance-force reader's support bookkeeping (kept while the support set stays) against the
   definition (every foot's entry time re-derived at every sample);
 - the state machine's compiled exits against the transitions' declaration order.
@@ -20,7 +22,9 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.control import Context, State, StateMachine, Transition, events
 from virtual_actuators.experiments.contact_stats import SETTLE_TIME, StanceForces
-from virtual_actuators.simulation import Simulator
+from virtual_actuators.gaits.runner import FOOT_WORDS, foot_geoms
+from virtual_actuators.native import CORE
+from virtual_actuators.simulation import Simulator, contact_queries
 from virtual_actuators.simulation.terrain import Terrain
 
 
@@ -87,6 +91,57 @@ def test_contact_scan_equals_the_definition(name):
         assert hits == _reference_scan(simulator)
         seen += len(hits)
     assert seen > 0
+
+
+@pytest.mark.parametrize("name", ["spring_flamingo", "spring_turkey", "hexapod"])
+@pytest.mark.parametrize("view", [True, False])
+def test_fall_contact_test_equals_the_touching_frames_names(name, view):
+    robot = va.load_robot(name)
+    simulator = Simulator(robot, Terrain.builtin("profile-one"))
+    if not view:
+        simulator._contact_view = None  # the Python scan
+    elif simulator._contact_view is None:
+        pytest.skip("the compiled core reads no MuJoCo contact list here")
+    feet = foot_geoms(simulator)
+    answers = set()
+    for _ in range(400):  # falling limp: feet first, then knees and body
+        simulator.step(np.zeros(robot.model.nv))
+        frames = simulator.touching_frames()
+        expected = not all(any(word in frame for word in FOOT_WORDS) for frame in frames)
+        assert simulator.touches_outside(feet) == expected
+        answers.add(expected)
+    assert answers == {False, True}
+
+
+def test_grouped_contact_forces_equal_mujocos_contact_force():
+    """The core's rows (mj_contactForce called in place) against the Python loop's, exactly."""
+    robot = va.load_robot("spring_flamingo")
+    simulators = [Simulator(robot, Terrain.builtin("profile-one")) for _ in range(2)]
+    simulators[1]._contact_view = None  # the Python loop
+    mm = simulators[0].mujoco_model
+    groups = np.full(simulators[0].model.ngeom, -1, dtype=np.int64)
+    for index, frame in enumerate(("left_heel", "left_toe", "right_heel", "right_toe")):
+        groups[list(mm.frame_geoms[frame])] = index
+    seen = 0
+    for _ in range(300):  # falling limp onto the slope
+        for simulator in simulators:
+            simulator.step(np.zeros(robot.model.nv))
+        rows = [simulator.grouped_contact_forces(groups) for simulator in simulators]
+        assert rows[0] == rows[1]
+        for group, normal, *_ in rows[0]:
+            assert group in (0.0, 1.0, 2.0, 3.0) and normal >= 0.0
+        seen += len(rows[0])
+    assert seen > 0
+
+
+def test_no_core_view_of_another_mujoco_version(monkeypatch):
+    robot = va.load_robot("spring_turkey")
+    simulator = Simulator(robot)
+    if CORE is None or not getattr(CORE, "MJ_VERSION", 0):
+        pytest.skip("the compiled core reads no MuJoCo contact list here")
+    monkeypatch.setattr(contact_queries.mujoco, "mj_version", lambda: CORE.MJ_VERSION + 1)
+    roles = [0] * simulator.model.ngeom
+    assert contact_queries.contact_view(simulator.model, simulator.data, roles) is None
 
 
 class _ReferenceSettle:

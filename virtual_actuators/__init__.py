@@ -33,6 +33,7 @@ from .control import (
 )
 from .distribution.result import Solution
 from .exceptions import (
+    ConcurrentUseError,
     ConstraintError,
     FrameNotFoundError,
     InadmissibleWrenchError,
@@ -100,6 +101,7 @@ __all__ = [
     "Transition",
     "events",
     "run",
+    "ConcurrentUseError",
     "ConstraintError",
     "DesignConstraint",
     "Equal",

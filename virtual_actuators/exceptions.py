@@ -58,6 +58,13 @@ class InadmissibleWrenchError(VirtualActuatorError, ValueError):
         self.solution = solution
 
 
+class ConcurrentUseError(VirtualActuatorError, RuntimeError):
+    """An object that carries one run's state was called from two threads at once.
+
+    A gait's native tick, for instance: give each thread its own.
+    """
+
+
 class MissingDependencyError(VirtualActuatorError, ImportError):
     """An optional package this feature needs is missing (the message says what to install).
 

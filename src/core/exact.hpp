@@ -13,6 +13,7 @@
 namespace va {
 
 constexpr double DEPENDENT_TOL = 1e-9;
+constexpr double NEARLY_DEPENDENT_TOL = 1e-6;  // tolerances.NEARLY_DEPENDENT_TOL
 // exact.EXACT_STEPS: active-set changes allowed before ProxQP's answer is kept.
 constexpr std::int64_t EXACT_STEPS = 16;
 
@@ -32,7 +33,7 @@ struct ExactRows {
 // Scratch of the exact step, one per thread (exact_scratch): a warm call allocates nothing.
 // zeroed() gives each array the sizes and the zeros the per-call arrays had, keeping capacity.
 struct ExactScratch {
-  std::vector<std::int64_t> order, kept, side;
+  std::vector<std::int64_t> order, kept, side, deferred;
   std::vector<double> factor_row, coefficients, combination, row, target, multipliers, gradient,
       fit, norm, bounds;
   Arr basis, lower, spread, columns, upper;
@@ -63,7 +64,47 @@ inline void exact_row(const ExactRows& R, std::int64_t index, double* out) {
     out[j] = index < R.k ? R.equality[index * R.size + j] : R.inequality[(index - R.k) * R.size + j];
 }
 
-// Gram-Schmidt on the design rows, the active rows, then the request rows. exact._factor.
+// Gram-Schmidt of row `index` against the `rank` rows kept: the new rank, and whether the row
+// was deferred (defer, and what it adds below NEARLY_DEPENDENT_TOL of its norm). exact._add_row.
+inline std::int64_t exact_add_row(const ExactRows& R, std::int64_t index, std::int64_t rank,
+                                  bool defer, Arr& basis, Arr& lower, std::int64_t* kept,
+                                  double* row, double* coefficients, bool& deferred) {
+  const std::int64_t size = R.size;
+  deferred = false;
+  exact_row(R, index, row);
+  double norm = 0.0;
+  for (std::int64_t j = 0; j < size; ++j) norm += row[j] * row[j];
+  norm = std::sqrt(norm);
+  if (norm == 0.0) return rank;
+  for (std::int64_t b = 0; b < rank; ++b) coefficients[b] = 0.0;
+  double rest = norm;
+  for (int sweep = 0; sweep < 3; ++sweep) {
+    const double before = rest;
+    for (std::int64_t b = 0; b < rank; ++b) {
+      double dot = 0.0;
+      for (std::int64_t j = 0; j < size; ++j) dot += basis(b, j) * row[j];
+      coefficients[b] += dot;
+      for (std::int64_t j = 0; j < size; ++j) row[j] -= dot * basis(b, j);
+    }
+    rest = 0.0;
+    for (std::int64_t j = 0; j < size; ++j) rest += row[j] * row[j];
+    rest = std::sqrt(rest);
+    if (rank == 0 || rest > 0.7 * before || rest <= DEPENDENT_TOL * norm) break;
+  }
+  if (rest <= DEPENDENT_TOL * norm) return rank;
+  if (defer && rest <= NEARLY_DEPENDENT_TOL * norm) {
+    deferred = true;
+    return rank;
+  }
+  for (std::int64_t j = 0; j < size; ++j) basis(rank, j) = row[j] / rest;
+  for (std::int64_t b = 0; b < rank; ++b) lower(rank, b) = coefficients[b];
+  lower(rank, rank) = rest;
+  kept[rank] = index;
+  return rank + 1;
+}
+
+// Gram-Schmidt on the design rows, the active rows, then the request rows, a nearly dependent
+// row taken again after the others of its group. exact._factor.
 // Returns (rank, rank of the design and active rows).
 inline std::pair<std::int64_t, std::int64_t> exact_factor(const ExactRows& R,
                                                           const std::int64_t* side, Arr& basis,
@@ -79,38 +120,26 @@ inline std::pair<std::int64_t, std::int64_t> exact_factor(const ExactRows& R,
   for (std::int64_t index = R.design; index < k; ++index) order[count++] = index;
   double* row = zeroed(S.factor_row, size);
   double* coefficients = zeroed(S.coefficients, size);
-  std::int64_t rank = 0, rank_fixed = -1;
-  for (std::int64_t position = 0; position < count; ++position) {
-    if (position == fixed) rank_fixed = rank;
-    if (rank == size) break;
-    exact_row(R, order[position], row);
-    double norm = 0.0;
-    for (std::int64_t j = 0; j < size; ++j) norm += row[j] * row[j];
-    norm = std::sqrt(norm);
-    if (norm == 0.0) continue;
-    for (std::int64_t b = 0; b < rank; ++b) coefficients[b] = 0.0;
-    double rest = norm;
-    for (int sweep = 0; sweep < 3; ++sweep) {
-      const double before = rest;
-      for (std::int64_t b = 0; b < rank; ++b) {
-        double dot = 0.0;
-        for (std::int64_t j = 0; j < size; ++j) dot += basis(b, j) * row[j];
-        coefficients[b] += dot;
-        for (std::int64_t j = 0; j < size; ++j) row[j] -= dot * basis(b, j);
-      }
-      rest = 0.0;
-      for (std::int64_t j = 0; j < size; ++j) rest += row[j] * row[j];
-      rest = std::sqrt(rest);
-      if (rank == 0 || rest > 0.7 * before || rest <= DEPENDENT_TOL * norm) break;
+  std::int64_t* deferred = zeroed(S.deferred, count);
+  std::int64_t rank = 0, rank_fixed = 0;
+  bool later = false;
+  for (int group = 0; group < 2; ++group) {
+    const std::int64_t start = group == 0 ? 0 : fixed, stop = group == 0 ? fixed : count;
+    std::int64_t waiting = 0;
+    for (std::int64_t position = start; position < stop; ++position) {
+      if (rank == size) break;  // every later row depends on the kept ones (checked after)
+      rank = exact_add_row(R, order[position], rank, true, basis, lower, kept, row,
+                           coefficients, later);
+      if (later) deferred[waiting++] = order[position];
     }
-    if (rest <= DEPENDENT_TOL * norm) continue;
-    for (std::int64_t j = 0; j < size; ++j) basis(rank, j) = row[j] / rest;
-    for (std::int64_t b = 0; b < rank; ++b) lower(rank, b) = coefficients[b];
-    lower(rank, rank) = rest;
-    kept[rank] = order[position];
-    ++rank;
+    for (std::int64_t position = 0; position < waiting; ++position) {
+      if (rank == size) break;
+      rank = exact_add_row(R, deferred[position], rank, false, basis, lower, kept, row,
+                           coefficients, later);
+    }
+    if (group == 0) rank_fixed = rank;
   }
-  return {rank, rank_fixed < 0 ? rank : rank_fixed};
+  return {rank, rank_fixed};
 }
 
 // lower[start:stop, start:stop]^T out = rhs. exact._back.

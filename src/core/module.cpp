@@ -11,6 +11,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -677,9 +678,10 @@ Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v,
 
 // -- DAQP ------------------------------------------------------------------------------------
 
-// The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
-nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
-                          const F1& lows, const F1& uppers, int iter_limit) {
+// The rows of a DAQP stage checked (its iteration limit too); returns (k, size, m).
+std::array<std::int64_t, 3> daqp_rows(const F2& equality, const F1& equality_rhs,
+                                      const F2& inequality, const F1& lows, const F1& uppers,
+                                      int iter_limit) {
   const auto k = static_cast<std::int64_t>(equality.shape(0));
   const auto size = static_cast<std::int64_t>(equality.shape(1));
   const auto m = static_cast<std::int64_t>(inequality.shape(0));
@@ -689,17 +691,52 @@ nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& 
           "inequality must be (m, d)");
   require(length(lows) == m && length(uppers) == m, "lows and uppers must be (m,)");
   require(iter_limit >= 1, "iter_limit must be >= 1");
+  return {k, size, m};
+}
+
+// solve(x, lam) without the GIL: (exitflag, x, lam, iterations).
+template <class Solve>
+nb::tuple daqp_tuple(std::int64_t size, std::int64_t m, Solve solve) {
   std::unique_ptr<double[]> x(new double[static_cast<std::size_t>(size)]());
   std::unique_ptr<double[]> lam(new double[static_cast<std::size_t>(m)]());
   va::DaqpAnswer answer;
   {
     nb::gil_scoped_release release;
-    answer = va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
-                                 inequality.data(), lows.data(), uppers.data(), m, iter_limit,
-                                 x.get(), lam.get());
+    answer = solve(x.get(), lam.get());
   }
   return nb::make_tuple(answer.exitflag, owned(std::move(x), static_cast<std::size_t>(size)),
                         owned(std::move(lam), static_cast<std::size_t>(m)), answer.iterations);
+}
+
+// The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
+nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
+                          const F1& lows, const F1& uppers, int iter_limit) {
+  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers,
+                                      iter_limit);
+  return daqp_tuple(size, m, [&, k = k, size = size, m = m](double* x, double* lam) {
+    return va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
+                               inequality.data(), lows.data(), uppers.data(), m, iter_limit, x,
+                               lam);
+  });
+}
+
+// The QP's closest-wrench stages on DAQP from cold, regularised: (exitflag, x, lam,
+// iterations).
+nb::tuple daqp_closest(const F2& equality, const F1& equality_rhs, std::int64_t design,
+                       const F1& weights, const F2& inequality, const F1& lows,
+                       const F1& uppers, int iter_limit, double eps) {
+  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers,
+                                      iter_limit);
+  require(design >= 0 && design < k, "design must be in 0..k-1 (a request row at least)");
+  require(length(weights) == k - design, "weights must be (k - design,)");
+  for (std::int64_t i = 0; i < k - design; ++i)
+    require(weights.data()[i] > 0.0, "weights must be > 0");
+  require(eps > 0.0, "eps must be > 0");
+  return daqp_tuple(size, m, [&, k = k, size = size, m = m](double* x, double* lam) {
+    return va::daqp_closest(equality.data(), equality_rhs.data(), k, design, size,
+                            weights.data(), inequality.data(), lows.data(), uppers.data(), m,
+                            iter_limit, eps, x, lam);
+  });
 }
 
 // -- contact margins (the controller's yield policy) -----------------------------------------
@@ -784,6 +821,8 @@ NB_MODULE(_core, m) {
   bind_native(m);
   void bind_native_hexapod(nb::module_&);  // the hexapod's native tick: the last block
   bind_native_hexapod(m);
+  void bind_contacts(nb::module_&);  // MuJoCo's contacts read in place: the last block
+  bind_contacts(m);
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")
@@ -857,6 +896,10 @@ NB_MODULE(_core, m) {
         "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a,
         "The QP's first stage on DAQP (vendored, MIT) from cold, min |x|^2 on the rows: "
         "(exitflag, x, inequality multipliers, iterations).");
+  m.def("daqp_closest", &daqp_closest, "equality"_a, "equality_rhs"_a, "design"_a,
+        "weights"_a, "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a, "eps"_a,
+        "The QP's closest-wrench stages on DAQP from cold, min |x|^2 / 2 + the weighted miss "
+        "/ (2 eps): (exitflag, x, inequality multipliers, iterations).");
   m.def("contact_least_margin", &contact_least_margin, "frames"_a, "orientation_rows"_a,
         "forces"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
         "contacts.contact_set.least_margin: smallest G @ forces.ravel() - lows.");
@@ -1458,8 +1501,9 @@ class NativeTurkey {
     bunny_setpoint_ = v[14];
   }
 
-  // One tick at (q, v, time): ENTERED or TICKED with tau (nv) and each active attachment's
-  // position, velocity and wrench (rows of readings (attachments, 18)) written, or DEFER with
+  // One tick at (q, v, time): ENTERED or TICKED with tau (nv), each active attachment's
+  // position, velocity and wrench (its row of readings (attachments + 1, 18)) and the granny
+  // walker's height set point (readings[-1, 0]) written, or DEFER with
   // nothing written and the memory unchanged (the Python tick decides: a non-finite state, a
   // kernel handing the tick on, a yield that must scale the request).
   std::int64_t tick(const F1& q, const F1& v, double time, const MF1& tau,
@@ -1468,9 +1512,9 @@ class NativeTurkey {
     require(length(q) == nq_ && length(v) == nv_, "q must be (nq,), v (nv,)");
     require(length(tau) == nv_, "tau must be (nv,)");
     require(static_cast<std::int64_t>(readings.shape(0)) ==
-                    static_cast<std::int64_t>(attachments_.size()) &&
+                    static_cast<std::int64_t>(attachments_.size()) + 1 &&
                 readings.shape(1) == 18,
-            "readings must be (attachments, 18)");
+            "readings must be (attachments + 1, 18)");
     require(efforts_.states() == 5, "the five states must be declared");
     nb::gil_scoped_release release;
     return run(q.data(), v.data(), time, tau.data(), readings.data());
@@ -1478,7 +1522,6 @@ class NativeTurkey {
 
   std::int64_t nv() const { return nv_; }
   std::int64_t state() const { return memory_.state; }
-  double granny_height() const { return memory_.granny_height; }
 
   static constexpr std::int64_t MEMORY = 15;
 
@@ -1624,6 +1667,7 @@ class NativeTurkey {
       for (std::int64_t k = 0; k < 3; ++k)
         for (std::int64_t i = 0; i < n; ++i) row[6 * k + i] = a.buffer[nv_ + k * n + i];
     }
+    readings[18 * static_cast<std::int64_t>(attachments_.size())] = m.granny_height;
     // commit: the slots keep the set points the callbacks placed
     for (Slot& slot : slots_) {
       if (slot.role != LEFT_SWING && slot.role != RIGHT_SWING) continue;
@@ -1678,7 +1722,6 @@ void bind_native(nb::module_& m) {
            "readings"_a.noconvert())
       .def_prop_ro("state", &NativeTurkey::state)
       .def_prop_ro("nv", &NativeTurkey::nv)
-      .def_prop_ro("granny_height", &NativeTurkey::granny_height)
       .def_ro_static("MEMORY", &NativeTurkey::MEMORY)
       .def_ro_static("DEFER", &NativeTurkey::DEFER)
       .def_ro_static("TICKED", &NativeTurkey::TICKED)
@@ -2084,3 +2127,116 @@ void bind_native_hexapod(nb::module_& m) {
       .def_ro_static("ENTERED", &NativeHexapod::ENTERED);
 }
 // -- end of the hexapod's native tick ----------------------------------------------------------
+
+// -- MuJoCo's contacts read in place (contacts_view.hpp) ------------------------------------
+// One block, bound by bind_contacts (called from NB_MODULE above), compiled when MuJoCo's
+// headers were found at build time (VA_MUJOCO); MJ_VERSION is then their mjVERSION_HEADER (0
+// without them: simulation.contact_queries keeps its Python scan).
+#ifdef VA_MUJOCO
+#include <mujoco/mujoco.h>
+
+#include "contacts_view.hpp"
+#endif
+
+namespace {
+
+#ifdef VA_MUJOCO
+// A simulation's mjModel and mjData (their addresses: mujoco.MjModel._address, MjData._address),
+// the roles of its geoms and the running library's mj_contactForce (its address, 0: none). The
+// caller keeps both alive as long as the view (Simulator holds them).
+class ContactView {
+ public:
+  // mj_contactForce's signature (the function's address comes from the running library).
+  using ContactForce = void (*)(const mjModel*, const mjData*, int, mjtNum[6]);
+
+  ContactView(std::uintptr_t model, std::uintptr_t address, std::int64_t version,
+              const I1& roles, std::uintptr_t contact_force)
+      : model_(reinterpret_cast<const mjModel*>(model)),
+        data_(reinterpret_cast<const mjData*>(address)),
+        contact_force_(reinterpret_cast<ContactForce>(contact_force)) {
+    require(version == mjVERSION_HEADER, "MuJoCo's version must be the headers' (MJ_VERSION)");
+    require(model != 0 && address != 0, "the MjModel's and MjData's addresses must not be null");
+    roles_.reserve(roles.shape(0));
+    for (std::size_t g = 0; g < roles.shape(0); ++g) {
+      const std::int64_t role = roles.data()[g];
+      require(role >= va::mj::OTHER && role <= va::mj::ROBOT, "roles must be 0, 1 or 2");
+      roles_.push_back(static_cast<std::int8_t>(role));
+    }
+  }
+
+  // (contact index, robot geom, sign) rows into out ((>= ncon, 3)); their number.
+  std::int64_t scan(const nb::ndarray<std::int64_t, nb::numpy, nb::ndim<2>, nb::c_contig,
+                                      nb::device::cpu>& out) const {
+    require(out.shape(1) == 3 && static_cast<std::int64_t>(out.shape(0)) >= data_->ncon,
+            "out must be (>= ncon, 3)");
+    return va::mj::terrain_contacts(data_, roles_.data(),
+                                    static_cast<std::int64_t>(roles_.size()), out.data());
+  }
+
+  // Whether a robot geom whose flag in allowed (one per geom) is 0 touches the terrain.
+  bool touches_outside(const nb::ndarray<const std::int8_t, nb::numpy, nb::ndim<1>,
+                                         nb::c_contig, nb::device::cpu>& allowed) const {
+    require(allowed.shape(0) == roles_.size(), "allowed must hold one flag per geom");
+    return va::mj::touches_outside(data_, roles_.data(), allowed.data(),
+                                   static_cast<std::int64_t>(roles_.size()));
+  }
+
+  // Per robot-terrain contact on a geom of a group (groups: one per geom, -1 none), in contact
+  // order: (group, normal force, tangential force 1, 2) [N] in the contact's frame
+  // (mj_contactForce) into out ((>= ncon, 4)); their number. -1 without mj_contactForce.
+  std::int64_t forces(const I1& groups,
+                      const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig,
+                                        nb::device::cpu>& out) const {
+    require(groups.shape(0) == roles_.size(), "groups must hold one entry per geom");
+    require(out.shape(1) == 4 && static_cast<std::int64_t>(out.shape(0)) >= data_->ncon,
+            "out must be (>= ncon, 4)");
+    if (contact_force_ == nullptr) return -1;
+    const auto ngeom = static_cast<std::int64_t>(roles_.size());
+    std::int64_t count = 0;
+    int sign = 0;
+    mjtNum force[6];
+    for (int i = 0; i < data_->ncon; ++i) {
+      const int geom = va::mj::robot_geom(data_->contact[i], roles_.data(), ngeom, &sign);
+      if (geom < 0 || groups.data()[geom] < 0) continue;
+      contact_force_(model_, data_, i, force);
+      double* row = out.data() + 4 * count++;
+      row[0] = static_cast<double>(groups.data()[geom]);
+      row[1] = force[0], row[2] = force[1], row[3] = force[2];
+    }
+    return count;
+  }
+
+  std::int64_t ncon() const { return data_->ncon; }
+
+ private:
+  const mjModel* model_;
+  const mjData* data_;
+  ContactForce contact_force_;
+  std::vector<std::int8_t> roles_;
+};
+#endif
+
+}  // namespace
+
+void bind_contacts(nb::module_& m) {
+#ifdef VA_MUJOCO
+  m.attr("MJ_VERSION") = static_cast<std::int64_t>(mjVERSION_HEADER);
+  nb::class_<ContactView>(m, "ContactView",
+                          "MuJoCo's contact list read in place (simulation.contact_queries): "
+                          "the robot-terrain contacts, and whether a geom outside a set "
+                          "touches the terrain.")
+      .def(nb::init<std::uintptr_t, std::uintptr_t, std::int64_t, const I1&, std::uintptr_t>(),
+           "model"_a, "address"_a, "version"_a, "roles"_a, "contact_force"_a)
+      .def("scan", &ContactView::scan, "out"_a.noconvert(),
+           "ContactQueries._scan_contacts: (contact index, robot geom, sign) rows; their number.")
+      .def("forces", &ContactView::forces, "groups"_a, "out"_a.noconvert(),
+           "(group, normal, tangent 1, tangent 2) rows of the contacts on grouped geoms (-1: "
+           "no mj_contactForce).")
+      .def("touches_outside", &ContactView::touches_outside, "allowed"_a,
+           "Whether a robot geom not allowed (flag 0) touches the terrain.")
+      .def_prop_ro("ncon", &ContactView::ncon);
+#else
+  m.attr("MJ_VERSION") = static_cast<std::int64_t>(0);
+#endif
+}
+// -- end of MuJoCo's contacts ---------------------------------------------------------------

@@ -343,4 +343,17 @@ class Controller:
         )
 
 
-__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]
+def warm_up_driven(controller: object, robot: Robot) -> None:
+    """Warm up what a loop drives before its clock starts (``va.run``'s first step).
+
+    ``controller`` if it is a [`Controller`][], else the ``controller`` it drives (a gait, a
+    tracker), when it controls ``robot``: [`Controller.warm_up`][] at the robot's neutral
+    configuration. What it computes afterwards is unchanged.
+    """
+    for owner in (controller, getattr(controller, "controller", None)):
+        if isinstance(owner, Controller) and owner.robot.model is robot.model:
+            owner.warm_up(robot.neutral())
+            return
+
+
+__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names", "warm_up_driven"]

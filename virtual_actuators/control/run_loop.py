@@ -23,15 +23,15 @@ singular or infeasible distribution) are its own ``on_failure`` policy's, and co
 `RunStats.attachment_failures`.
 
 The loop **always ends by writing zero effort** of the robot's size, whatever ended it: the
-duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C
-(``KeyboardInterrupt`` and the other exceptions that are not per-tick failures are re-raised
-after that write). With
+duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C (then
+re-raised, as every exception that is not a per-tick failure, after that write). With
 [`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] that last zero command steps the
 simulation one more period. A tick that takes longer than the period is an overrun: the loop
 does not try to catch up (the next tick starts at once), and counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
-[`gc_policy`][]).
+[`gc_policy`][]). Before the clock starts the controller's kernels load
+([`warm_up_driven`][virtual_actuators.control.controller.warm_up_driven]): nothing changes.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
@@ -53,6 +53,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
+from .controller import warm_up_driven
 from .gc_policy import LoopCollector, check_gc_policy
 from .safe_action import (
     DEFAULT_DAMPING,
@@ -177,6 +178,7 @@ def run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time,
     )
+    warm_up_driven(controller, settings.robot)
     stats, ending = RunStats(), None
     with LoopCollector(check_gc_policy(gc_policy, "run()")) as collector:
         start = clock.perf_counter()
@@ -202,6 +204,7 @@ class _Settings:
     realtime: bool
     safe: SafeAction
     tree: KinematicTree
+    robot: Robot
 
 
 @dataclass(slots=True)
@@ -263,7 +266,7 @@ def _check_run(
     robot = _robot_of(controller, robot)
     hold_time = check_number(hold_time, "run(): hold_time [s]", minimum=0.0)
     safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
-    return _Settings(period, duration, stale_after, realtime, safe, tree_of(robot))
+    return _Settings(period, duration, stale_after, realtime, safe, tree_of(robot), robot)
 
 
 def _loop(

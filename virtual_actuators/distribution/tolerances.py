@@ -49,6 +49,12 @@ VACUOUS_TOL = 1e-10
 #: a row from its solve and checks its residual).
 DEPENDENT_TOL = 1e-9
 
+#: The QP's exact step takes a row again after the other rows of its group when what it adds to
+#: the rows before it is below this fraction of its norm (but above ``DEPENDENT_TOL``): rows
+#: nearly dependent in the order given (two feet whose request rows miss one direction, say)
+#: would leave a direction of rounding and a wrong least norm; taken later, such a row is
+#: dependent on the rows that complete it.
+NEARLY_DEPENDENT_TOL = 1e-6
 #: A dependent design row is implied by the others (rather than contradicting them) when their
 #: least-squares solution meets it within this fraction of ``1 + max|rhs|``.
 IMPLIED_TOL = 1e-9

@@ -23,11 +23,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from ..exceptions import import_optional
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-
-mujoco = import_optional("mujoco", "sim", "Contact statistics (MuJoCo's contact forces)")
 
 #: Friction ratios are taken where the normal force is at least this [N].
 NORMAL_FLOOR = 1.0
@@ -59,8 +56,7 @@ class StanceForces:
         self._since: dict[tuple[str, ...], float] = {}  # foot -> time it entered support [s]
         self._feet: list[tuple[str, ...]] | None = None  # the support set of _since
         self._settled: tuple[tuple[str, ...], ...] = ()  # its feet settled so far
-        self._force = np.zeros(6)  # mj_contactForce's output, in the contact frame
-        self._owners: dict[tuple, dict[int, int]] = {}  # settled feet -> geom owners
+        self._owners: dict[tuple, np.ndarray] = {}  # settled feet -> each geom's foot (or -1)
 
     def sample(self, feet: Iterable[Iterable[str]]) -> None:
         """Read the supporting feet; each foot is the frames whose geoms touch for it.
@@ -78,26 +74,13 @@ class StanceForces:
         settled = self._settle(feet, now)
         if not settled:
             return
-        mm = simulator.mujoco_model
         owner = self._owners.get(settled)
         if owner is None:  # robot geom -> index of the settled foot owning it, once per set
-            for frame in {frame for foot in settled for frame in foot}:
-                mm.check_frame(frame)
-            owner = {}
-            for index, foot in enumerate(settled):
-                for frame in foot:
-                    for geom in mm.frame_geoms.get(frame, ()):
-                        owner.setdefault(geom, index)
-            self._owners[settled] = owner
+            owner = self._owners[settled] = _owners(simulator, settled)
         normal = [0.0] * len(settled)  # [N]
         tangential = [0.0] * len(settled)  # sum of the contacts' |f_t| [N]
-        model, data, force = simulator.model, simulator.data, self._force
-        for c, geom, _ in simulator.terrain_contacts():  # scanned once per physics state
-            index = owner.get(geom)
-            if index is None:
-                continue
-            mujoco.mj_contactForce(model, data, c, force)  # (normal, tangent 1, tangent 2, ...)
-            f_normal, f_t1, f_t2 = force[:3].tolist()
+        for index, f_normal, f_t1, f_t2 in simulator.grouped_contact_forces(owner):
+            index = int(index)
             normal[index] += f_normal
             tangential[index] += math.hypot(f_t1, f_t2)
         for foot_normal, foot_tangential in zip(normal, tangential, strict=True):
@@ -131,3 +114,21 @@ class StanceForces:
             f"StanceForces(normal_min={self.normal_min:.3g} N, ratio_max={self.ratio_max:.3g}, "
             f"samples={self.samples})"
         )
+
+
+def _owners(simulator: Simulator, settled: tuple[tuple[str, ...], ...]) -> np.ndarray:
+    """Per geom, the index of the settled foot whose frames own it (-1: none; the first foot).
+
+    Raises:
+        FrameNotFoundError: A foot names a frame the robot lacks.
+
+    """
+    mm = simulator.mujoco_model
+    for frame in {frame for foot in settled for frame in foot}:
+        mm.check_frame(frame)
+    owner = np.full(simulator.model.ngeom, -1, dtype=np.int64)
+    for index, foot in reversed(list(enumerate(settled))):  # the first foot's claim stands
+        for frame in foot:
+            for geom in mm.frame_geoms.get(frame, ()):
+                owner[geom] = index
+    return owner

@@ -10,10 +10,12 @@ Python gait carries on exactly as if it had computed every tick.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..exceptions import ConcurrentUseError
 from .base import Gait
 
 __all__ = ["CoreTick", "NativeOutput"]
@@ -38,14 +40,18 @@ class NativeOutput:
 class CoreTick:
     """A gait's tick in the compiled core: what the gaits' native ticks share.
 
-    Subclasses build the core's object and define ``sync`` (the Python gait's objects brought
-    up to the core's memory) and ``load`` (the Python gait's memory copied into the core).
+    Subclasses build the core's object and define ``_compute`` (one tick), ``sync`` (the
+    Python gait's objects brought up to the core's memory) and ``load`` (the Python gait's
+    memory copied into the core, the machine's state in ``_state``). One object carries one
+    walk's state: a call while another thread's is running raises
+    [`ConcurrentUseError`][virtual_actuators.ConcurrentUseError].
 
     Args:
         gait: The gait, its machine started.
         core: The core's native gait (its ``nv``; a readings row of 18 floats per attachment:
             position, velocity, wrench on up to six axes).
         names: The controller's attachments, in the core's order.
+        extra_rows: Readings rows after the attachments' (what else the core reports).
 
     Attributes:
         gait: As given.
@@ -56,7 +62,9 @@ class CoreTick:
 
     """
 
-    def __init__(self, gait: Gait, core: object, names: tuple[str, ...]) -> None:
+    def __init__(
+        self, gait: Gait, core: object, names: tuple[str, ...], extra_rows: int = 0
+    ) -> None:
         self.gait = gait
         self.core = core
         self.deferred = 0
@@ -67,7 +75,36 @@ class CoreTick:
         self._rows = [[(name, index[name]) for name in active] for active in self._active]
         self._n = [len(gait.controller.attachments[name].actuator.axes) for name in names]
         self.tau = np.zeros(core.nv)
-        self.readings = np.zeros((len(names), 18))
+        self.readings = np.zeros((len(names) + extra_rows, 18))
+        self._state = 0  # the machine's state, as an index of its names
+        self._lock = threading.Lock()  # one tick at a time
+
+    def compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts=None) -> NativeOutput:
+        """One tick: the efforts, the active attachments and their wrenches.
+
+        Args:
+            q: Configuration ``(nq,)`` (Pinocchio convention).
+            v: Velocity ``(nv,)``.
+            time: Controller time [s].
+            contacts: Contact switches by frame (the gait's, when it reads them).
+
+        Raises:
+            ConcurrentUseError: Another thread is in a tick of this object.
+            VirtualActuatorError: What the Python tick raises, when it runs.
+
+        """
+        if not self._lock.acquire(blocking=False):
+            raise ConcurrentUseError(
+                f"{self!r} is computing a tick in another thread: one walk's state, one thread "
+                "at a time (build one native tick per walk)."
+            )
+        try:
+            return self._compute(q, v, time, contacts)
+        finally:
+            self._lock.release()
+
+    def _compute(self, q, v, time, contacts) -> NativeOutput:  # pragma: no cover - subclasses
+        raise NotImplementedError
 
     def sync(self) -> None:  # pragma: no cover - every subclass defines it
         """Bring the Python gait's objects up to the core's memory."""
@@ -77,9 +114,9 @@ class CoreTick:
         """Copy the Python gait's memory into the core."""
         raise NotImplementedError
 
-    def answer(self, state: int) -> NativeOutput:
-        """The native tick's output in ``state`` (its attachments' wrenches from `readings`)."""
-        readings, wrenches = self.readings, {}
+    def answer(self) -> NativeOutput:
+        """The native tick's output in the current state (the wrenches from `readings`)."""
+        state, readings, wrenches = self._state, self.readings, {}
         for name, k in self._rows[state]:
             wrenches[name] = readings[k, 12 : 12 + self._n[k]].copy()
         return NativeOutput(self.tau.copy(), self._active[state], wrenches)
@@ -87,6 +124,7 @@ class CoreTick:
     def enter(self, state: int, time: float) -> None:
         """The Python machine enters ``state`` at ``time`` (as the core's did)."""
         machine = self.gait.machine
+        self._state = state
         current = machine.state(machine.names[state])
         machine.current = current
         machine.entered_at = time

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import time as wallclock
+import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
@@ -127,13 +128,25 @@ def has_fallen(simulator: Simulator, height: float, pitch: float, nominal: float
     """
     if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
         return True
-    return not _only_feet(simulator.touching_frames())
+    feet = _FOOT_GEOMS.get(simulator.mujoco_model)
+    if feet is None:
+        feet = _FOOT_GEOMS[simulator.mujoco_model] = foot_geoms(simulator)
+    return simulator.touches_outside(feet)
 
 
-@functools.lru_cache(maxsize=256)
-def _only_feet(frames: frozenset[str]) -> bool:
-    """Whether every frame of a contact set is a foot's (cached: the sets recur tick after tick)."""
-    return all(map(_is_foot, frames))
+def foot_geoms(simulator: Simulator) -> np.ndarray:
+    """``(ngeom,)`` int8: 1 for a geom every frame owning which is a foot's (see `FOOT_WORDS`).
+
+    Those may touch the ground without a fall: a frame touches when a geom it owns does
+    ([`touching_frames`][virtual_actuators.simulation.Simulator.touching_frames]).
+    """
+    owners = simulator.mujoco_model.geom_frames
+    flags = [all(map(_is_foot, owners.get(geom, ()))) for geom in range(simulator.model.ngeom)]
+    return np.array(flags, dtype=np.int8)
+
+
+#: `foot_geoms` per simulated model (a walk's fall test reads it every tick)
+_FOOT_GEOMS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @functools.cache

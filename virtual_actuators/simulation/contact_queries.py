@@ -8,18 +8,49 @@ touching frames) are cached with that scan.
 
 from __future__ import annotations
 
+import ctypes
+import functools
 from collections.abc import Sequence
+from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from virtual_actuators.exceptions import FrameNotFoundError
+from virtual_actuators.native import CORE
 from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = ["ContactQueries"]
 
 #: Roles of a geom in the contact scan (0: neither; a terrain geom is never the robot's).
 _TERRAIN, _ROBOT = 1, 2
+
+
+def contact_view(model: mujoco.MjModel, data: mujoco.MjData, roles: list[int]) -> object | None:
+    """The compiled core's view of ``data``'s contact list, or None.
+
+    None: no core, a core built without MuJoCo's headers, or a running MuJoCo whose version is
+    not the headers' (the layout of its data may differ): the scans then run in Python.
+    """
+    version = getattr(CORE, "MJ_VERSION", 0)
+    if not version or version != mujoco.mj_version():
+        return None
+    return CORE.ContactView(
+        model._address, data._address, version, np.array(roles, dtype=np.int64), _contact_force()
+    )
+
+
+@functools.cache
+def _contact_force() -> int:
+    """The address of the running MuJoCo library's ``mj_contactForce`` (0 when not found)."""
+    folder = Path(mujoco.__file__).parent
+    for path in sorted(folder.glob("libmujoco*")):
+        try:
+            library = ctypes.CDLL(str(path))
+            return int(ctypes.cast(library.mj_contactForce, ctypes.c_void_p).value or 0)
+        except (OSError, AttributeError):
+            continue
+    return 0
 
 
 class ContactQueries:
@@ -51,6 +82,10 @@ class ContactQueries:
             _TERRAIN if geom in mm.terrain_geoms else _ROBOT if geom in mm.geom_frames else 0
             for geom in range(self.model.ngeom)
         ]
+        #: the core's view of the contact list (None: the Python scan) and its output rows
+        self._contact_view = contact_view(self.model, self.data, self._geom_roles)
+        self._contact_rows = np.zeros((64, 3), dtype=np.int64)
+        self._force_rows_out = np.zeros((64, 4))
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
         """The robot geoms of ``frame`` (checked and cached on first use).
@@ -125,6 +160,13 @@ class ContactQueries:
         A contact counts when it is not excluded and pairs a terrain geom with a robot geom
         (a geom of the robot's frames that is not the terrain's).
         """
+        view = self._contact_view
+        if view is not None:  # the same rows, read in place by the core
+            rows = self._contact_rows
+            if rows.shape[0] < view.ncon:
+                rows = self._contact_rows = np.zeros((2 * view.ncon, 3), dtype=np.int64)
+            count = view.scan(rows)
+            return [(i, geom, float(sign)) for i, geom, sign in rows[:count].tolist()]
         roles = self._geom_roles
         contacts = self.data.contact
         hits = []
@@ -269,6 +311,55 @@ class ContactQueries:
                 for k in rows:
                     out[k] += world
         return out
+
+    def grouped_contact_forces(self, groups: np.ndarray) -> list[list[float]]:
+        """The terrain's force on each contact of grouped robot geoms, in the contact's frame.
+
+        Args:
+            groups: ``(model.ngeom,)`` int64, each geom's group (-1: none), e.g. the foot it
+                belongs to.
+
+        Returns:
+            Per robot-terrain contact (not excluded) on a grouped geom, in MuJoCo's contact
+            order: ``[group, normal, tangential 1, tangential 2]`` [N] (``mj_contactForce``;
+            the group as a float).
+
+        """
+        view = self._contact_view
+        if view is not None:
+            out = self._force_rows_out
+            if out.shape[0] < view.ncon:
+                out = self._force_rows_out = np.zeros((2 * view.ncon, 4))
+            count = view.forces(groups, out)
+            if count >= 0:
+                return out[:count].tolist()
+        rows, force = [], self._force
+        for i, geom, _ in self._terrain_contacts():
+            group = groups[geom]
+            if group >= 0:
+                mujoco.mj_contactForce(self.model, self.data, i, force)
+                rows.append([float(group), *force[:3].tolist()])
+        return rows
+
+    def touches_outside(self, allowed: np.ndarray) -> bool:
+        """Whether a robot geom outside ``allowed`` touches the terrain.
+
+        Args:
+            allowed: ``(model.ngeom,)`` int8 flags, 1 for the geoms allowed to touch (e.g. the
+                feet's).
+
+        Returns:
+            True if a robot geom whose flag is 0 is in a (not excluded) terrain contact.
+
+        """
+        view = self._contact_view
+        if view is not None:
+            return view.touches_outside(allowed)
+        return not all(allowed[geom] for geom in self._touched_geoms())
+
+    def _touched_geoms(self) -> tuple[int, ...]:
+        self._terrain_contacts()
+        return self._touched
 
     def touching_terrain(self) -> set[str]:
         """Names of the frames whose geoms touch the terrain (e.g. to detect a fall).

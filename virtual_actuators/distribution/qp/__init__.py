@@ -1,7 +1,8 @@
 """The contact-aware distribution as a quadratic program (``solve(..., method="qp")``).
 
 ``solver.py`` is `QPDistribution` (its matrices on the numpy path, the answer),
-``stages.py`` the ProxQP stages and their budget, ``limits.py`` the inequalities,
+``stages.py`` the stages (DAQP and ProxQP) with ``stage_types.py`` their budget, rows and
+answer, ``limits.py`` the inequalities,
 ``weights.py`` the closest-wrench weights, ``compiled.py`` with ``kernels.py`` and
 ``kernel_answer.py`` the compiled matrices, ``exact.py`` the exact step on an active set,
 ``conflict.py`` the rows that cannot hold.

@@ -5,14 +5,13 @@ multipliers name the active inequalities, and with them the QP becomes linear al
 ``D x = d`` the design rows, ``A x = w`` the request's rows (weights ``omega``) and the active
 inequalities held at their bounds (rows ``C_W x = b_W``):
 
-- the request exactly (``exact=True``): ``x`` is the least-norm solution of ``D``, ``C_W`` and
-  ``A``;
+- the request exactly (``exact=True``): ``x`` is the least-norm solution of ``D``, ``C_W``, ``A``;
 - the closest wrench (``exact=False``): ``x`` minimises ``sum_a omega_a (A x - w)_a^2`` on
   ``D``, ``C_W``, and among those minimisers has the least norm.
 
 `exact_step` computes that ``x`` exactly (Gram-Schmidt on the rows ``D``, ``C_W`` then
-``A`` in a fixed order, a row swept again while a sweep removes most of it; a row that depends
-on earlier ones is dropped from the solve and only checked; the weighted least squares on what
+``A`` in a fixed order, a row swept again while a sweep removes most of it, a row that depends
+on earlier ones dropped from the solve and only checked; the weighted least squares on what
 ``A`` adds, by Gram-Schmidt on its columns), then checks the KKT conditions to ``tol``: every
 row met, every other inequality inside its bounds, and each active row's multiplier of the right
 sign (``>= 0`` at a lower bound, ``<= 0`` at an upper one; for the closest wrench, in the
@@ -22,8 +21,8 @@ violated row enters) and solves again, at most ``max_steps`` times; if it does n
 caller keeps ProxQP's answer.
 
 When the checks pass, ``x`` is the QP's answer to rounding (the least norm is strictly convex,
-the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: the answer
-depends on the problem alone. Plain loops (a few tens of rows), no BLAS.
+the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: it depends
+on the problem alone. Plain loops (a few tens of rows), no BLAS.
 """
 
 from __future__ import annotations
@@ -32,7 +31,7 @@ import numpy as np
 
 from ...kinematics.kernels import njit
 from ...native import CORE
-from ..tolerances import DEPENDENT_TOL, EXACT_TOL
+from ..tolerances import DEPENDENT_TOL, EXACT_TOL, NEARLY_DEPENDENT_TOL
 
 #: Active-set changes allowed before ProxQP's answer is kept.
 EXACT_STEPS = 16
@@ -44,6 +43,62 @@ def _row(equality: np.ndarray, inequality: np.ndarray, index: int, out: np.ndarr
     k = equality.shape[0]
     for j in range(out.shape[0]):
         out[j] = equality[index, j] if index < k else inequality[index - k, j]
+
+
+@njit(cache=True)
+def _add_row(
+    equality: np.ndarray,
+    inequality: np.ndarray,
+    index: int,
+    rank: int,
+    defer: bool,
+    basis: np.ndarray,
+    lower: np.ndarray,
+    kept: np.ndarray,
+    row: np.ndarray,
+    coefficients: np.ndarray,
+) -> tuple[int, bool]:
+    """Gram-Schmidt of row ``index`` against the ``rank`` rows kept: ``(rank, deferred)``.
+
+    The row is kept (``rank + 1``) unless it depends on the kept rows (dropped), or ``defer``
+    and what it adds is below `NEARLY_DEPENDENT_TOL` of its norm (deferred: left out for now).
+    """
+    size = basis.shape[1]
+    _row(equality, inequality, index, row)
+    norm = 0.0
+    for j in range(size):
+        norm += row[j] * row[j]
+    norm = np.sqrt(norm)
+    if norm == 0.0:
+        return rank, False
+    coefficients[:rank] = 0.0
+    rest = norm
+    for _ in range(3):  # Gram-Schmidt, again while a sweep removes much of the row
+        before = rest
+        for b in range(rank):
+            dot = 0.0
+            for j in range(size):
+                dot += basis[b, j] * row[j]
+            coefficients[b] += dot
+            for j in range(size):
+                row[j] -= dot * basis[b, j]
+        rest = 0.0
+        for j in range(size):
+            rest += row[j] * row[j]
+        rest = np.sqrt(rest)
+        if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT_TOL * norm:
+            break
+    if rest <= DEPENDENT_TOL * norm:
+        return rank, False
+    if defer and rest <= NEARLY_DEPENDENT_TOL * norm:
+        return rank, True
+    for j in range(size):
+        basis[rank, j] = row[j] / rest
+    for b in range(rank):
+        lower[rank, b] = coefficients[b]
+    lower[rank, rank] = rest
+    kept[rank] = index
+    return rank + 1, False
 
 
 @njit(cache=True)
@@ -59,7 +114,9 @@ def _factor(
     """Gram-Schmidt on the design rows, the active inequality rows, then the request rows.
 
     Writes orthonormal rows into ``basis`` and ``lower`` with ``row kept[r] = sum_b lower[r, b]
-    basis[b]``. Returns ``(rank, rank of the design and active rows)``.
+    basis[b]``; returns ``(rank, rank of the design and active rows)``. A row nearly dependent on
+    those before it (`_add_row`) is taken again after the other rows of its group (design and
+    active rows; request rows): one that a later row completes is then dropped (only checked).
     """
     k, size = equality.shape[0], equality.shape[1]
     order = np.empty(k + inequality.shape[0], dtype=np.int64)
@@ -77,46 +134,27 @@ def _factor(
         count += 1
     row = np.empty(size)
     coefficients = np.empty(size)
-    rank, rank_fixed = 0, -1
-    for position in range(count):
-        if position == fixed:
-            rank_fixed = rank
-        if rank == size:
-            break  # every later row depends on the kept ones (checked by the caller)
-        _row(equality, inequality, order[position], row)
-        norm = 0.0
-        for j in range(size):
-            norm += row[j] * row[j]
-        norm = np.sqrt(norm)
-        if norm == 0.0:
-            continue
-        coefficients[:rank] = 0.0
-        rest = norm
-        for _ in range(3):  # Gram-Schmidt, again while a sweep removes much of the row
-            before = rest
-            for b in range(rank):
-                dot = 0.0
-                for j in range(size):
-                    dot += basis[b, j] * row[j]
-                coefficients[b] += dot
-                for j in range(size):
-                    row[j] -= dot * basis[b, j]
-            rest = 0.0
-            for j in range(size):
-                rest += row[j] * row[j]
-            rest = np.sqrt(rest)
-            if rank == 0 or rest > 0.7 * before or rest <= DEPENDENT_TOL * norm:
+    deferred = np.empty(count, dtype=np.int64)
+    rank, rank_fixed = 0, 0
+    for group in range(2):
+        start, stop = (0, fixed) if group == 0 else (fixed, count)
+        waiting = 0
+        for position in range(start, stop):
+            if rank == size:
+                break  # every later row depends on the kept ones (checked by the caller)
+            rank, later = _add_row(equality, inequality, order[position], rank, True, basis,
+                                   lower, kept, row, coefficients)  # fmt: skip
+            if later:
+                deferred[waiting] = order[position]
+                waiting += 1
+        for position in range(waiting):
+            if rank == size:
                 break
-        if rest <= DEPENDENT_TOL * norm:
-            continue
-        for j in range(size):
-            basis[rank, j] = row[j] / rest
-        for b in range(rank):
-            lower[rank, b] = coefficients[b]
-        lower[rank, rank] = rest
-        kept[rank] = order[position]
-        rank += 1
-    return rank, rank if rank_fixed < 0 else rank_fixed
+            rank, _ = _add_row(equality, inequality, deferred[position], rank, False, basis,
+                               lower, kept, row, coefficients)  # fmt: skip
+        if group == 0:
+            rank_fixed = rank
+    return rank, rank_fixed
 
 
 @njit(cache=True)

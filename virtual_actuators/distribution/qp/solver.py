@@ -38,8 +38,11 @@ No stage mixes the miss and the force norm in one objective (the former ``|A F -
 dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
 infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check. With
 the compiled core, stage 1 runs first in DAQP (a dense dual active-set solver built into the
-core) from cold, at most ``DAQP_MAX_ITER`` iterations; ProxQP's stage 1 runs only when DAQP
-finds no certified answer (ProxQP remains the reference: ``VA_CORE=0``).
+core) from cold, at most ``DAQP_MAX_ITER`` iterations; when DAQP finds the request infeasible,
+stages 2 and 3 run in DAQP too (from cold, at most ``DAQP_MAX_ITER`` iterations, the closest
+wrench regularised by a little of the least norm: ``DAQP_CLOSEST_EPS``), and stage 1 does not
+run in ProxQP. ProxQP runs only when the exact step does not certify DAQP's answer (ProxQP
+remains the reference: ``VA_CORE=0``).
 Joints that no chain moves get no torque-limit row (it would be all zero: always met).
 
 **Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
@@ -65,7 +68,8 @@ error is kept for a solve that did not converge.
 
 Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over its
 stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
-and half the budget, the check of the other rows at most ``CONFLICT_MAX_ITER``.
+and half the budget, the check of the other rows at most ``CONFLICT_MAX_ITER``; with the core,
+before them, at most two DAQP solves of ``DAQP_MAX_ITER`` iterations each.
 When the budget runs out, the solve returns the exact answer if the KKT check passes on the
 active set of the last feasible iterate, else that iterate (the feasible answer of least
 weighted miss found so far, meeting every row to ``FEASIBILITY_TOL``) with its residual in
@@ -87,13 +91,8 @@ from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
 from .compiled import CompiledQPMatrices
 from .kernel_answer import Answer
 from .limits import ContactLimits, kinds, torque_map
-from .stages import (
-    BUDGET_EXHAUSTED,
-    ITERATION_BUDGET,
-    Budget,
-    ProxStages,
-    StageRows,
-)
+from .stage_types import Budget, StageRows
+from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, ProxStages
 from .weights import check_weights
 
 

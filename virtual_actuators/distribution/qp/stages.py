@@ -4,15 +4,16 @@ One `ProxStages` per distribution holds this thread's ProxQP workspaces (one per
 stage and size) and runs the lexicographic stages on scaled rows within an iteration
 `Budget`. With the compiled core, stage 1 first runs in DAQP (a dense dual active-set
 solver, vendored in the core) from cold; its active set, certified by the exact step, is the
-answer. When DAQP finds no answer (an infeasible request) or the certificate fails, stage 1
-runs in ProxQP as without the core, and the closest-wrench stages follow in ProxQP.
+answer. When DAQP finds the request infeasible, the closest-wrench stages run in DAQP (from
+cold, regularised), their active set certified likewise; ProxQP runs only when a certificate
+fails: stage 1 as without the core when DAQP's answer was not certified, the closest-wrench
+stages when DAQP's closest answer was not.
 """
 
 from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
-from typing import NamedTuple
 
 import numpy as np
 
@@ -20,6 +21,7 @@ from ...native import CORE
 from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
 from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
 from .exact import exact_answer
+from .stage_types import Budget, ProxSlot, StageAnswer, StageRows
 
 #: ProxQP iterations (outer, its ``max_iter`` count) of one solve, all stages together: a tick
 #: never waits on a degenerate problem. Out of it, the best feasible answer so far is returned
@@ -32,86 +34,17 @@ EXACT_MAX_ITER = 120
 #: DAQP's active-set iterations of stage 1, at most (with the compiled core; solved requests
 #: take 1 to 14 on solo12 and the hexapod; out of them, stage 1 runs in ProxQP).
 DAQP_MAX_ITER = 200
+#: DAQP's exit flag of a problem with no feasible point.
+DAQP_INFEASIBLE = -1
+#: The closest-wrench stages on DAQP (with the compiled core, when DAQP finds the request
+#: infeasible) minimise ``|x|^2 / 2 + sum_a omega_a (A x - w)_a^2 / (2 eps max omega)`` with
+#: this ``eps``: the closest wrench with a little of the least norm, whose active set is the
+#: exact answer's (the exact step certifies it; its answer does not depend on ``eps``).
+DAQP_CLOSEST_EPS = 1e-8
 #: ProxQP's inner (semismooth Newton) steps per outer iteration, at most.
 MAX_ITER_IN = 30
 #: In ``sol.active`` when the iteration budget ran out before the last stage converged.
 BUDGET_EXHAUSTED = "iteration budget exhausted"
-
-
-class Budget:
-    """ProxQP (outer) iterations one solve has left, all stages together.
-
-    Args:
-        left: The iterations left.
-
-    """
-
-    __slots__ = ("left",)
-
-    def __init__(self, left: int) -> None:
-        self.left = left
-
-    def charge(self, used: int) -> None:
-        """Take ``used`` iterations off (never below zero)."""
-        self.left -= min(used, self.left)
-
-
-class ProxSlot:
-    """One ProxQP workspace of this thread, and whether its next solve needs ``init``.
-
-    Args:
-        qp: The ``proxqp.dense.QP`` (None until ProxQP first runs on this slot).
-        fresh: True until a solve succeeded (and after a failure): start from ``init``.
-
-    Attributes:
-        active: The inequalities' multipliers of the last answer certified exact (nonzero:
-            active), or None.
-
-    """
-
-    __slots__ = ("active", "fresh", "qp")
-
-    def __init__(self, qp: object, fresh: bool = True) -> None:
-        self.qp = qp
-        self.fresh = fresh
-        self.active: np.ndarray | None = None
-
-
-class StageRows:
-    """The scaled rows of one solve, shared by its stages.
-
-    Args:
-        equality: The ``design`` rows that always hold, then the request's rows.
-        equality_rhs: Their right-hand sides (the request's part is rewritten in place by the
-            closest-wrench stages: ``miss`` reads it).
-        design: How many of ``equality``'s rows always hold.
-        inequality: The inequality rows.
-        lows: Their lower bounds.
-        uppers: Their upper bounds.
-
-    """
-
-    __slots__ = ("design", "equality", "equality_rhs", "inequality", "lows", "uppers")
-
-    def __init__(self, equality, equality_rhs, design, inequality, lows, uppers) -> None:
-        self.equality, self.equality_rhs, self.design = equality, equality_rhs, design
-        self.inequality, self.lows, self.uppers = inequality, lows, uppers
-
-
-class StageAnswer(NamedTuple):
-    """What `ProxStages.solve` hands back.
-
-    Attributes:
-        x: The answer (scaled).
-        multipliers: The inequalities' multipliers.
-        exhausted: The budget ran out before the last stage converged (``x`` is then the
-            feasible point of least weighted miss found).
-
-    """
-
-    x: np.ndarray
-    multipliers: np.ndarray
-    exhausted: bool
 
 
 class ProxStages:
@@ -280,6 +213,9 @@ class ProxStages:
                 if certified:
                     slot.active = z
                     return StageAnswer(x, z, False)
+            elif flag == DAQP_INFEASIBLE:  # no x meets the request: the closest wrench
+                slot.active = None
+                return self._closest_on_daqp(path, rows, miss, weights, budget)
         identity = (self._identity(size), np.zeros(size))
         results = self._run(
             key, identity, equality, equality_rhs, rows,
@@ -299,6 +235,34 @@ class ProxStages:
         if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
             self._check_conflict(path, rows, size, budget)
         return self._closest(path, rows, miss, weights, budget, last)
+
+    def _closest_on_daqp(
+        self, path: str, rows: StageRows, miss: Callable, weights, budget: Budget
+    ) -> StageAnswer | None:
+        """The closest wrench of a request DAQP found infeasible; returns like `solve`.
+
+        DAQP from cold solves the closest-wrench stages regularised (`DAQP_CLOSEST_EPS`); its
+        active set, certified by the exact step, is the answer (the closest wrench, then the
+        least norm: the same optimum as ProxQP's stages 2 and 3). Otherwise the rows are checked
+        and stages 2 and 3 run in ProxQP; stage 1 does not (DAQP found no x meeting the rows).
+
+        Raises:
+            ConstraintError: The rows other than the request cannot hold together (named).
+
+        """
+        flag = 0  # no request row (every axis free): only the other rows, which cannot hold
+        if rows.design < len(rows.equality_rhs):
+            flag, x, guess, _ = CORE.daqp_closest(
+                rows.equality, rows.equality_rhs, rows.design, weights, rows.inequality,
+                rows.lows, rows.uppers, DAQP_MAX_ITER, DAQP_CLOSEST_EPS,
+            )  # fmt: skip
+        if flag == 1:
+            certified, x, z = self._exact(rows, weights, x, guess, False)
+            if certified:
+                return StageAnswer(x, z, False)
+        if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
+            self._check_conflict(path, rows, rows.equality.shape[1], budget)
+        return self._closest(path, rows, miss, weights, budget, None)
 
     def _check_conflict(self, path: str, rows: StageRows, size: int, budget: Budget) -> None:
         """Raise the named conflict when the rows other than the request cannot hold.
@@ -331,7 +295,8 @@ class ProxStages:
 
         Infeasible: the closest reachable wrench alone (weighted least squares: a singular
         Hessian in x, one wrench), then the least force norm that produces it exactly.
-        ``last``: stage 1's results (its last iterate). Returns like `solve`.
+        ``last``: stage 1's results (its last iterate; None when stage 1 did not run in
+        ProxQP). Returns like `solve`.
         """
         equality, equality_rhs, design = rows.equality, rows.equality_rhs, rows.design
         size = equality.shape[1]
@@ -349,7 +314,7 @@ class ProxStages:
             return StageAnswer(x, z, exhausted and not certified)
 
         if budget.left == 0:  # the exact stage's last iterate, when it meets the other rows
-            if miss(last.x, design) <= FEASIBILITY_TOL:
+            if last is not None and miss(last.x, design) <= FEASIBILITY_TOL:
                 return exact(last.x.copy(), last.z.copy(), True)
             return None
         closest = self._run(
@@ -387,13 +352,11 @@ class ProxStages:
 
 __all__ = [
     "BUDGET_EXHAUSTED",
+    "DAQP_CLOSEST_EPS",
+    "DAQP_INFEASIBLE",
     "DAQP_MAX_ITER",
     "EXACT_MAX_ITER",
     "ITERATION_BUDGET",
     "MAX_ITER_IN",
-    "Budget",
-    "ProxSlot",
     "ProxStages",
-    "StageAnswer",
-    "StageRows",
 ]

@@ -99,8 +99,9 @@ def _values(component: object) -> np.ndarray:
 class NativeTick(CoreTick):
     """A `HexapodWalker`'s tick in the compiled core.
 
-    Build one with `of` (None when the core cannot run this gait). Not thread-safe: one walk's
-    loop calls it.
+    Build one with `of` (None when the core cannot run this gait). It carries one walk's state:
+    a call while another thread's is running raises
+    [`ConcurrentUseError`][virtual_actuators.ConcurrentUseError].
 
     Attributes:
         gait: The walker (its Python objects follow the core's memory, see the module).
@@ -169,24 +170,12 @@ class NativeTick(CoreTick):
         native.load()
         return native
 
-    def compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts=None) -> NativeOutput:
-        """One tick: the efforts, the active attachments and their wrenches.
-
-        Args:
-            q: Configuration ``(nq,)`` (Pinocchio convention).
-            v: Velocity ``(nv,)``.
-            time: Controller time [s].
-            contacts: Contact switches by foot (the episode's; the same dict while they hold).
-
-        Raises:
-            VirtualActuatorError: What the Python tick raises, when it runs.
-
-        """
+    def _compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts) -> NativeOutput:
         gait, core = self.gait, self.core
         command = self._command
         command[:2] = gait.velocity
         command[2] = gait.yaw_rate
-        if contacts is not self._switches:
+        if contacts is not self._switches:  # the episode's dict is the same while they hold
             self._switches = contacts
             self._contacts = (
                 np.zeros(0, dtype=np.int64) if contacts is None else np.array(
@@ -194,12 +183,11 @@ class NativeTick(CoreTick):
                 )
             )  # fmt: skip
         status = core.tick(q, v, time, command, self._contacts, self.tau, self.readings)
-        if status == core.DEFER:
+        if status < 0:  # DEFER
             return self.python_tick(q, v, time, contacts)
-        state = core.state
-        if status == core.ENTERED:
-            self.enter(state, time)
-        return self.answer(state)
+        if status:  # ENTERED
+            self.enter(core.state, time)
+        return self.answer()
 
     def sync(self) -> None:
         """Bring the Python gait's objects up to the core's memory.
@@ -214,6 +202,7 @@ class NativeTick(CoreTick):
     def load(self) -> None:
         """Copy the Python gait's memory, its components' constants and warm starts to the core."""
         values, swing = read_memory(self.gait)
+        self._state = int(values[0])
         self.core.set_memory(values, swing)
         self.core.set_body(_body_constants(self.gait))
         for index, leg in self._legs.items():

@@ -68,6 +68,15 @@ class LeggedEpisode(Episode):
             for geom in model.frame_geoms.get(foot, ())
             for name in model.geom_frames[geom]
         ) | frozenset(gait.feet)
+        #: per geom, 1 when every frame owning it is allowed (the fall test's one call)
+        owners = model.geom_frames
+        self.allowed_geoms = np.array(
+            [
+                all(name in self.allowed for name in owners.get(geom, ()))
+                for geom in range(simulator.model.ngeom)
+            ],
+            dtype=np.int8,
+        )
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
         self.yaw_unwrapped = self.yaw_last = 0.0
 
@@ -88,7 +97,7 @@ class LeggedEpisode(Episode):
         height = float(q[2] - self.terrain.height(float(q[0])))
         if height < 0.5 * self.gait.stand_height or max(abs(roll), abs(pitch)) > FALL_PITCH:
             return True
-        return not self.simulator.touching_frames() <= self.allowed
+        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= allowed
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool

@@ -16,7 +16,8 @@ carries on exactly as if it had computed every tick.
 
 The runner (`drive`) uses it when nothing reads the
 controller's per-tick [`ControlOutput`][] (no ``on_tick`` callback): the native tick answers a
-`NativeOutput` (the efforts, the active attachments and their wrenches), not a full output.
+`NativeOutput` (the efforts, the active attachments and their wrenches), not a full output;
+the gait's ``last`` stays the last [`ControlOutput`][] its Python tick computed.
 """
 
 from __future__ import annotations
@@ -70,8 +71,9 @@ def _role(gait: TurkeyWalker, component: object) -> int | None:
 class NativeTick(CoreTick):
     """A `TurkeyWalker`'s tick in the compiled core.
 
-    Build one with `of` (None when the core cannot run this gait). Not thread-safe: one
-    walk's loop calls it.
+    Build one with `of` (None when the core cannot run this gait). It carries one walk's state:
+    a call while another thread's is running raises
+    [`ConcurrentUseError`][virtual_actuators.ConcurrentUseError].
 
     Attributes:
         gait: The walker (its Python objects follow the core's memory, see the module).
@@ -80,7 +82,8 @@ class NativeTick(CoreTick):
     """
 
     def __init__(self, gait: TurkeyWalker, core: object, names: tuple[str, ...], slots) -> None:
-        super().__init__(gait, core, names)
+        # the readings' last row: the granny walker's height set point
+        super().__init__(gait, core, names, extra_rows=1)
         self._slots = slots  # (component, slot index) of each component
 
     @classmethod
@@ -123,29 +126,15 @@ class NativeTick(CoreTick):
         native.load()
         return native
 
-    def compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts=None) -> NativeOutput:
-        """One tick: the efforts, the active attachments and their wrenches.
-
-        Args:
-            q: Configuration ``(nq,)`` (Pinocchio convention).
-            v: Velocity ``(nv,)``.
-            time: Controller time [s].
-            contacts: Contact switches (the Python tick's, when it runs).
-
-        Raises:
-            VirtualActuatorError: What the Python tick raises, when it runs.
-
-        """
-        core = self.core
-        status = core.tick(q, v, time, self.tau, self.readings)
-        if status == core.DEFER:
+    def _compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts) -> NativeOutput:
+        status = self.core.tick(q, v, time, self.tau, self.readings)
+        if status < 0:  # DEFER
             return self.python_tick(q, v, time, contacts)
-        state = core.state
-        if status == core.ENTERED:
-            self.enter(state, time)
+        if status:  # ENTERED
+            self.enter(self.core.state, time)
             self.sync()
-        self.gait.granny.height = core.granny_height  # what a walk's record reads
-        return self.answer(state)
+        self.gait.granny.height = self.readings.item(-1, 0)  # what a walk's record reads
+        return self.answer()
 
     def sync(self) -> None:
         """Bring the Python gait's objects up to the core's memory."""
@@ -161,7 +150,7 @@ class NativeTick(CoreTick):
         gait = self.gait
         machine = gait.machine
         memory = gait.memory()
-        memory["state"] = machine.names.index(machine.current.name)
+        memory["state"] = self._state = machine.names.index(machine.current.name)
         memory["entered_at"] = machine.entered_at
         self.core.set_memory(np.array([float(memory[name]) for name in MEMORY]))
         for component, slot in self._slots:

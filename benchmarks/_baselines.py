@@ -473,6 +473,7 @@ def instrumented_walk(
     breakdown [us]."""
     import virtual_actuators as va
     from virtual_actuators.demos import run_walk
+    from virtual_actuators.gaits.hexapod.native import NativeTick as HexapodTick
     from virtual_actuators.gaits.turkey.native import NativeTick
     from virtual_actuators.simulation import Simulator
 
@@ -487,12 +488,15 @@ def instrumented_walk(
         "touching_frames": (Simulator, "touching_frames"),
     }
     targets["native.compute"] = (NativeTick, "compute")  # the walks with a native tick
+    targets["hexapod native.compute"] = (HexapodTick, "compute")
     with WalkProbe(targets, tick="simulator.step") as probe:
         result = run_walk(name, duration=seconds, progress=False, **options)
     ticks = len(probe.samples["simulator.step"])
     total = probe.tick_totals()
     gait, step = probe.per_tick("gait.compute"), probe.per_tick("simulator.step")
-    native = probe.per_tick("native.compute")
+    native = np.concatenate(
+        [probe.per_tick("native.compute"), probe.per_tick("hexapod native.compute")]
+    )
     if native.size:  # the first tick (and any the native tick hands on) in Python
         parts = {
             "total": total,

@@ -313,3 +313,14 @@ class ReferenceDistribution:
 def relative_error(a, b) -> float:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     return float(np.max(np.abs(a - b)) / max(1.0, np.max(np.abs(b))))
+
+
+# -- walks -----------------------------------------------------------------------------------
+def assert_same_walk(one: object, other: object) -> None:
+    """Two walks' results (``run_walk``'s) agree bit for bit: every log channel, the states and
+    the machine's history (a native tick against the Python gait, its oracle)."""
+    assert one.log.data.keys() == other.log.data.keys()
+    for name, values in one.log.data.items():
+        np.testing.assert_array_equal(values, other.log.data[name], err_msg=name)
+    np.testing.assert_array_equal(one.log.state, other.log.state)
+    assert one.gait.machine.history == other.gait.machine.history

@@ -47,6 +47,7 @@ from ..runner import (
 from .config import HexapodWalkConfig, command_path
 from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
+from .native import NativeTick
 from .parameters import HexapodParameters
 from .walker import HexapodWalker
 
@@ -220,7 +221,9 @@ def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> Hexapo
             "config": asdict(config),
         },
     )
-    return HexapodEpisode(gait, simulator, terrain, recorder, guidance)
+    episode = HexapodEpisode(gait, simulator, terrain, recorder, guidance)
+    episode.native = NativeTick.of  # the compiled core's tick when it can run the gait
+    return episode
 
 
 def _with_timing(
@@ -317,4 +320,5 @@ WALK = Walk(
     force_scale=1 / 100,
     viewer_robot=_viewer_robot,
     speeds_for=hexapod_speeds,
+    native=NativeTick.of,
 )

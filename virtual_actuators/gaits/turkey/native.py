@@ -22,16 +22,13 @@ the gait's ``last`` stays the last [`ControlOutput`][] its Python tick computed.
 
 from __future__ import annotations
 
-import threading
-from dataclasses import dataclass
-
 import numpy as np
 
 from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ...control.attachment_kernel import PARAMETERS
-from ...exceptions import ConcurrentUseError
 from ...kinematics.tree import tree_of
 from ...native import CORE
+from ..native_tick import CoreTick, NativeOutput
 from .walker import TurkeyWalker
 
 __all__ = ["NativeOutput", "NativeTick"]
@@ -50,22 +47,6 @@ GAIT_VARIABLES = (
 _SIDES = ("left", "right")
 _GRANNY, _BUNNY, _LEFT_SWING, _RIGHT_SWING = range(1, 5)  # 0: a plain spring-damper
 _VELOCITY_SETPOINT = PARAMETERS.index("velocity_setpoint")
-
-
-@dataclass(slots=True)
-class NativeOutput:
-    """What a native tick answers (a [`ControlOutput`][]'s fields the walks read).
-
-    Attributes:
-        tau: ``(nv,)`` the efforts for the motors, clipped [N m or N].
-        active: The state's attachments.
-        wrenches: Each active attachment's requested wrench, on its axes.
-
-    """
-
-    tau: np.ndarray
-    active: tuple[str, ...]
-    wrenches: dict[str, np.ndarray]
 
 
 def _values(component: object) -> np.ndarray:
@@ -87,7 +68,7 @@ def _role(gait: TurkeyWalker, component: object) -> int | None:
     return None
 
 
-class NativeTick:
+class NativeTick(CoreTick):
     """A `TurkeyWalker`'s tick in the compiled core.
 
     Build one with `of` (None when the core cannot run this gait). It carries one walk's state:
@@ -101,22 +82,9 @@ class NativeTick:
     """
 
     def __init__(self, gait: TurkeyWalker, core: object, names: tuple[str, ...], slots) -> None:
-        self.gait = gait
-        self.core = core
-        self.deferred = 0
-        self._names = names  # the attachments, in the core's order
+        # the readings' last row: the granny walker's height set point
+        super().__init__(gait, core, names, extra_rows=1)
         self._slots = slots  # (component, slot index) of each component
-        machine = gait.machine
-        index = {name: k for k, name in enumerate(names)}
-        self._active = [machine.state(name).active for name in machine.names]
-        self._rows = [[(name, index[name]) for name in active] for active in self._active]
-        self._n = [len(gait.controller.attachments[name].actuator.axes) for name in names]
-        self.tau = np.zeros(core.nv)
-        #: per attachment its position, velocity and wrench (6 each); last row: the granny
-        #: walker's height set point
-        self.readings = np.zeros((len(names) + 1, 18))
-        self._state = 0  # the machine's state, as an index of its names
-        self._lock = threading.Lock()  # one tick at a time
 
     @classmethod
     def of(cls, gait: object) -> NativeTick | None:
@@ -158,60 +126,15 @@ class NativeTick:
         native.load()
         return native
 
-    def compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts=None) -> NativeOutput:
-        """One tick: the efforts, the active attachments and their wrenches.
-
-        Args:
-            q: Configuration ``(nq,)`` (Pinocchio convention).
-            v: Velocity ``(nv,)``.
-            time: Controller time [s].
-            contacts: Contact switches (the Python tick's, when it runs).
-
-        Raises:
-            ConcurrentUseError: Another thread is in a tick of this object.
-            VirtualActuatorError: What the Python tick raises, when it runs.
-
-        """
-        if not self._lock.acquire(blocking=False):
-            raise ConcurrentUseError(
-                f"{self!r} is computing a tick in another thread: one walk's state, one thread "
-                "at a time (build one native tick per walk)."
-            )
-        try:
-            return self._compute(q, v, time, contacts)
-        finally:
-            self._lock.release()
-
     def _compute(self, q: np.ndarray, v: np.ndarray, time: float, contacts) -> NativeOutput:
         status = self.core.tick(q, v, time, self.tau, self.readings)
         if status < 0:  # DEFER
-            return self._python_tick(q, v, time, contacts)
+            return self.python_tick(q, v, time, contacts)
         if status:  # ENTERED
-            self._enter(self.core.state, time)
+            self.enter(self.core.state, time)
             self.sync()
-        state, readings = self._state, self.readings
-        self.gait.granny.height = readings.item(-1, 0)  # what a walk's record reads
-        wrenches = {}
-        for name, k in self._rows[state]:
-            wrenches[name] = readings[k, 12 : 12 + self._n[k]].copy()
-        return NativeOutput(self.tau.copy(), self._active[state], wrenches)
-
-    def _enter(self, state: int, time: float) -> None:
-        """The Python machine enters ``state`` at ``time`` (as the core's did)."""
-        machine = self.gait.machine
-        self._state = state
-        current = machine.state(machine.names[state])
-        machine.current = current
-        machine.entered_at = time
-        machine.history.append((time, current.name))
-
-    def _python_tick(self, q, v, time, contacts) -> NativeOutput:
-        """The tick the core handed on: the Python gait's, between two synchronisations."""
-        self.deferred += 1
-        self.sync()
-        output = self.gait.compute(q, v, time, contacts)
-        self.load()
-        return NativeOutput(output.tau, output.active, output.wrenches)
+        self.gait.granny.height = self.readings.item(-1, 0)  # what a walk's record reads
+        return self.answer()
 
     def sync(self) -> None:
         """Bring the Python gait's objects up to the core's memory."""
@@ -235,12 +158,6 @@ class NativeTick:
 
     def _slot_of(self, component: object) -> int:
         return next(slot for c, slot in self._slots if c is component)
-
-    def __repr__(self) -> str:
-        return (
-            f"NativeTick({self.gait!r}, attachments={list(self._names)}, "
-            f"deferred={self.deferred})"
-        )
 
 
 def _add_attachment(core: object, gait: TurkeyWalker, attachment, slots: dict) -> bool:

@@ -15,10 +15,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..control.attachment_kernel import PARAMETERS
 from ..exceptions import ConcurrentUseError
 from .base import Gait
 
-__all__ = ["CoreTick", "NativeOutput"]
+__all__ = ["CoreTick", "NativeOutput", "spring_parameters"]
+
+
+def spring_parameters(component: object) -> np.ndarray:
+    """A spring-damper's six parameter arrays end to end (`PARAMETERS` order): a core's table."""
+    return np.concatenate([getattr(component, name) for name in PARAMETERS]).astype(float)
 
 
 @dataclass(slots=True)

@@ -21,11 +21,10 @@ from __future__ import annotations
 import numpy as np
 
 from ...components.springs import SpringDamper
-from ...control.attachment_kernel import PARAMETERS
 from ...distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from ...kinematics.tree import tree_of
 from ...native import CORE
-from ..native_tick import CoreTick, NativeOutput
+from ..native_tick import CoreTick, NativeOutput, spring_parameters
 from .body import HeadingAttitude, HeadingDamper
 from .walker import LEGS, HexapodWalker
 
@@ -89,11 +88,6 @@ def write_memory(gait: HexapodWalker, values: np.ndarray, swing: np.ndarray) -> 
     for k, i in enumerate(LEGS):
         gait.swing[i].setpoint = legs[0, k]
         gait.swing[i].velocity_setpoint = legs[1, k]
-
-
-def _values(component: object) -> np.ndarray:
-    """A spring-damper's six parameter arrays end to end (a swing leg's table in the core)."""
-    return np.concatenate([getattr(component, name) for name in PARAMETERS]).astype(float)
 
 
 class NativeTick(CoreTick):
@@ -206,7 +200,7 @@ class NativeTick(CoreTick):
         self.core.set_memory(values, swing)
         self.core.set_body(_body_constants(self.gait))
         for index, leg in self._legs.items():
-            self.core.set_swing(index, _values(leg))
+            self.core.set_swing(index, spring_parameters(leg))
         guesses = []  # the arrays the core writes in place, kept alive until the next load
         for index, (qp, keep, work) in self._bodies.items():
             hot, slot = qp._hot(keep)
@@ -253,7 +247,7 @@ def _add_attachment(core: object, gait: HexapodWalker, name: str, q: np.ndarray)
         if (tick is None or tick.core is None or not tick.efforts
                 or attachment.components != [gait.swing[leg]]):  # fmt: skip
             return None
-        core.add_swing(tick.core, leg - 1, _values(gait.swing[leg]))
+        core.add_swing(tick.core, leg - 1, spring_parameters(gait.swing[leg]))
         return gait.swing[leg]
     body = [gait.height, gait.planar, gait.attitude]
     if attachment.components != body or attachment.yield_mask is not None:

@@ -28,7 +28,7 @@ from ...components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ...control.attachment_kernel import PARAMETERS
 from ...kinematics.tree import tree_of
 from ...native import CORE
-from ..native_tick import CoreTick, NativeOutput
+from ..native_tick import CoreTick, NativeOutput, spring_parameters
 from .walker import TurkeyWalker
 
 __all__ = ["NativeOutput", "NativeTick"]
@@ -47,11 +47,6 @@ GAIT_VARIABLES = (
 _SIDES = ("left", "right")
 _GRANNY, _BUNNY, _LEFT_SWING, _RIGHT_SWING = range(1, 5)  # 0: a plain spring-damper
 _VELOCITY_SETPOINT = PARAMETERS.index("velocity_setpoint")
-
-
-def _values(component: object) -> np.ndarray:
-    """A spring-damper's six parameter arrays end to end (a slot of the core)."""
-    return np.concatenate([getattr(component, name) for name in PARAMETERS]).astype(float)
 
 
 def _role(gait: TurkeyWalker, component: object) -> int | None:
@@ -154,7 +149,7 @@ class NativeTick(CoreTick):
         memory["entered_at"] = machine.entered_at
         self.core.set_memory(np.array([float(memory[name]) for name in MEMORY]))
         for component, slot in self._slots:
-            self.core.set_slot(slot, _values(component))
+            self.core.set_slot(slot, spring_parameters(component))
 
     def _slot_of(self, component: object) -> int:
         return next(slot for c, slot in self._slots if c is component)
@@ -174,7 +169,7 @@ def _add_attachment(core: object, gait: TurkeyWalker, attachment, slots: dict) -
         if role is None:
             return False
         if id(component) not in slots:
-            slots[id(component)] = (component, core.add_slot(_values(component), role))
+            slots[id(component)] = (component, core.add_slot(spring_parameters(component), role))
         indices.append(slots[id(component)][1])
         resets.append(int(np.asarray(axes).reshape(-1)[0]) if role == _BUNNY else -1)
     yields = attachment.yield_mask is not None

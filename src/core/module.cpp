@@ -1571,7 +1571,7 @@ class NativeTurkey {
           const std::int64_t side = slot.role - LEFT_SWING;
           for (std::int64_t i = 0; i < slot.size && i < 2; ++i) {
             setpoint[i] = m.swing_setpoint[side][i];
-            if (placed_[side]) velocity_setpoint[i] = 0.0;
+            if (m.placed[side]) velocity_setpoint[i] = 0.0;
           }
           break;
         }
@@ -1633,8 +1633,6 @@ class NativeTurkey {
     const double* frames = pass_.data() + tree_->frames_offset();
     va::turkey::Memory m = memory_;
     const bool entered = va::turkey::update(parameters_, frames, rows_, time, m);
-    placed_[0] = m.placed[0];
-    placed_[1] = m.placed[1];
     const GaitEfforts::State& state = efforts_.state(m.state);
     double bunny_position = bunny_position_, bunny_time = bunny_time_;
     if (entered) {  // Controller.reset: the bunnies of the state's attachments start here
@@ -1672,7 +1670,7 @@ class NativeTurkey {
     for (Slot& slot : slots_) {
       if (slot.role != LEFT_SWING && slot.role != RIGHT_SWING) continue;
       const std::int64_t side = slot.role - LEFT_SWING;
-      if (!placed_[side]) continue;
+      if (!m.placed[side]) continue;
       for (std::int64_t i = 0; i < slot.size && i < 2; ++i) {
         slot.values[2 * slot.size + i] = m.swing_setpoint[side][i];
         slot.values[3 * slot.size + i] = 0.0;
@@ -1696,7 +1694,6 @@ class NativeTurkey {
   va::turkey::Memory memory_;
   double bunny_position_ = 0.0, bunny_time_ = 0.0, bunny_setpoint_ = 0.0;
   double bunny_setpoint_next_ = 0.0;
-  bool placed_[2] = {false, false};
 };
 
 }  // namespace

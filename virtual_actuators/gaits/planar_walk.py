@@ -185,7 +185,8 @@ class PlanarEpisode(Episode):
     def fallen(self, q: np.ndarray) -> bool:
         """Hip low, body tilted or something else than a foot down."""
         height = q.item(self.z_index) - self.ground
-        return has_fallen(self.simulator, height, q.item(self.pitch_index), self.nominal)
+        pitch = q.item(self.pitch_index)
+        return has_fallen(self.simulator, height, pitch, self.nominal, self.feet)
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import functools
 import time as wallclock
-import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
@@ -113,7 +112,9 @@ def terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
     )
 
 
-def has_fallen(simulator: Simulator, height: float, pitch: float, nominal: float) -> bool:
+def has_fallen(
+    simulator: Simulator, height: float, pitch: float, nominal: float, feet: np.ndarray
+) -> bool:
     """Whether a walker fell (hip low, body tilted, or something else than a foot down).
 
     Fallen: the hip below half its ``nominal`` height above the terrain, the body tilted beyond
@@ -124,29 +125,30 @@ def has_fallen(simulator: Simulator, height: float, pitch: float, nominal: float
         height: Hip height above the terrain [m].
         pitch: Body tilt [rad].
         nominal: Nominal hip height [m].
+        feet: The geoms allowed to touch, `foot_geoms` (an episode's ``feet``).
 
     """
     if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
         return True
-    feet = _FOOT_GEOMS.get(simulator.mujoco_model)
-    if feet is None:
-        feet = _FOOT_GEOMS[simulator.mujoco_model] = foot_geoms(simulator)
     return simulator.touches_outside(feet)
 
 
-def foot_geoms(simulator: Simulator) -> np.ndarray:
-    """``(ngeom,)`` int8: 1 for a geom every frame owning which is a foot's (see `FOOT_WORDS`).
+def allowed_geoms(simulator: Simulator, allowed: Callable[[str], bool]) -> np.ndarray:
+    """``(ngeom,)`` int8: 1 for a geom every frame owning which is ``allowed``.
 
-    Those may touch the ground without a fall: a frame touches when a geom it owns does
-    ([`touching_frames`][virtual_actuators.simulation.Simulator.touching_frames]).
+    The geoms that may touch the ground without a fall: a frame touches when a geom it owns does
+    ([`touching_frames`][virtual_actuators.simulation.Simulator.touching_frames]), so the
+    touching frames are all allowed exactly when no other geom touches
+    ([`touches_outside`][virtual_actuators.simulation.Simulator.touches_outside]).
     """
     owners = simulator.mujoco_model.geom_frames
-    flags = [all(map(_is_foot, owners.get(geom, ()))) for geom in range(simulator.model.ngeom)]
+    flags = [all(map(allowed, owners.get(geom, ()))) for geom in range(simulator.model.ngeom)]
     return np.array(flags, dtype=np.int8)
 
 
-#: `foot_geoms` per simulated model (a walk's fall test reads it every tick)
-_FOOT_GEOMS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+def foot_geoms(simulator: Simulator) -> np.ndarray:
+    """`allowed_geoms` of the foot frames (a name with one of `FOOT_WORDS`)."""
+    return allowed_geoms(simulator, _is_foot)
 
 
 @functools.cache
@@ -170,6 +172,7 @@ class Episode:
         record_every: Ticks between two calls of `record`.
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
+        feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
         native: Builds the gait's tick in the compiled core (a `Walk`'s ``native``), or None.
 
     """
@@ -186,6 +189,7 @@ class Episode:
         self.terrain = terrain
         self.recorder = recorder
         self.stance = StanceForces(simulator, terrain)
+        self.feet = foot_geoms(simulator)
         self.native: Callable[[Gait], Any] | None = None
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:

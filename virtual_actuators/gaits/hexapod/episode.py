@@ -71,7 +71,7 @@ class HexapodEpisode(Episode):
         gait, parameters = self.gait, self.gait.parameters
         height = float(q[2] - self.terrain.height(q[0]))
         tilt = max(abs(roll), abs(pitch))
-        fallen = has_fallen(self.simulator, height, tilt, parameters.height)
+        fallen = has_fallen(self.simulator, height, tilt, parameters.height, self.feet)
         leaning = gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall
         return fallen or leaning
 

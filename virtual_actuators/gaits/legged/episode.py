@@ -20,7 +20,7 @@ from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
 from ..guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
-from ..runner import FALL_PITCH, Episode
+from ..runner import FALL_PITCH, Episode, allowed_geoms
 from .walker import LeggedWalker
 
 if TYPE_CHECKING:  # walk.py runs the episodes
@@ -69,14 +69,7 @@ class LeggedEpisode(Episode):
             for name in model.geom_frames[geom]
         ) | frozenset(gait.feet)
         #: per geom, 1 when every frame owning it is allowed (the fall test's one call)
-        owners = model.geom_frames
-        self.allowed_geoms = np.array(
-            [
-                all(name in self.allowed for name in owners.get(geom, ()))
-                for geom in range(simulator.model.ngeom)
-            ],
-            dtype=np.int8,
-        )
+        self.allowed_geoms = allowed_geoms(simulator, self.allowed.__contains__)
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
         self.yaw_unwrapped = self.yaw_last = 0.0
 

@@ -23,13 +23,16 @@ from .control import (
     Context,
     Controller,
     ControlOutput,
+    LimitFraction,
     MachineController,
     RunStats,
     State,
     StateMachine,
+    TickRate,
     Transition,
     events,
     run,
+    tick_rate,
 )
 from .distribution.result import Solution
 from .exceptions import (
@@ -89,6 +92,7 @@ __all__ = [
     "Inertance",
     "LeggedParameters",
     "LeggedWalker",
+    "LimitFraction",
     "MachineController",
     "Posture",
     "RunStats",
@@ -98,6 +102,7 @@ __all__ = [
     "State",
     "StateMachine",
     "SwingLegLinkage",
+    "TickRate",
     "Transition",
     "events",
     "run",
@@ -128,4 +133,5 @@ __all__ = [
     "load_robot",
     "millipede",
     "npod",
+    "tick_rate",
 ]

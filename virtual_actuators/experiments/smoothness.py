@@ -44,10 +44,10 @@ PERCENTILE = 75.0
 #: The base rate's changes from tick to tick in a zigzag exceed this [rad/s]. A smooth motion
 #: changes it by ``|dw/dt| dt``: 0.01 rad/s at an angular acceleration of 10 rad/s^2 at 1 kHz,
 #: and does not reverse three times in a row; MuJoCo's contacts at rest move it by less than
-#: 1e-6 rad/s (Talos standing); a touchdown's ringing reverses a few times by about 0.01 rad/s
-#: (the hexapod's and go2's feet: at a floor of 0.005 rad/s they count on 1 to 2 % of the
-#: ticks, at 0.01 on 0.1 %); a chattering loop alternates by tenths of rad/s (g1's balance before
-#: issue 35's fix: +0.38 / -0.37 rad/s every tick).
+#: 3e-5 rad/s a tick (Talos standing); a touchdown's ringing reverses a few times by a few
+#: 1e-3 rad/s (the hexapod's and go2's feet at 1 m/s: with a floor of 0.002 rad/s they zigzag on
+#: 1 to 1.5 % of the ticks, 0.005 on 0.1 %, 0.01 on none); a chattering loop alternates by tenths
+#: of rad/s (g1's balance before issue 35's fix: +0.38 / -0.37 rad/s every tick).
 RATE_FLOOR_RADPS = 0.01
 
 __all__ = [
@@ -109,18 +109,20 @@ class EffortSmoothness:
 
     Attributes:
         oscillation: Tick-rate oscillation, `PERCENTILE` th percentile, worst joint, as a
-            fraction of its effort limit [-] (None: no limited joint or under three ticks).
+            fraction of its effort limit [-] (None: no limited joint, or no tick after the skip
+            with both neighbours).
         oscillation_joint: The worst joint.
         change_rms: RMS change per tick as a fraction of the limits [-] (None: as above).
         rate_alternation: Fraction of ticks at which the base rate zigzags, worst axis [-]
-            (None: no base rates given, or under five ticks).
+            (None: no base rates given, or no tick after the skip with two neighbours on
+            each side).
         rate_oscillation_radps: `PERCENTILE` th percentile of the base rate's distance from its
             neighbours' mean, worst axis [rad/s].
         joints: The joints measured (those with a limit).
         joint_oscillation: Each one's oscillation figure [-], in ``joints``' order.
         joint_change_rms: Each one's RMS change per tick [-].
         ticks: Ticks measured (after the skip).
-        rate_floor_radps: The alternation's floor [rad/s].
+        rate_floor_radps: A zigzag's least change per tick [rad/s].
 
     """
 
@@ -186,7 +188,7 @@ def effort_smoothness(
         rate_floor_radps: The least change per tick of a zigzag of the base rate [rad/s].
 
     Returns:
-        The `EffortSmoothness` (its figures None when fewer than three ticks remain).
+        The `EffortSmoothness` (its figures None when too few ticks remain after the skip).
 
     Raises:
         InvalidInputError: Arrays of the wrong shape or with non-finite entries (a NaN limit
@@ -213,18 +215,18 @@ def effort_smoothness(
     measured = max(0, ticks - 1 - start)  # ticks k in [start, ticks - 2]
     per_joint = _percentiles(_second_differences(scaled, start))
     changes = np.diff(scaled[start - 1 :], axis=0)  # tau_k - tau_{k-1}, k in [start, ticks - 1]
-    worst = int(np.argmax(per_joint)) if per_joint.size else None
-    usable = worst is not None and measured > 0
+    worst = int(np.argmax(per_joint)) if per_joint.size and measured else None
+    squares = (changes**2).mean(axis=0) if worst is not None else np.zeros(0)
     alternation, oscillation = _rate_figures(base_rates, ticks, start, floor)
     return EffortSmoothness(
-        oscillation=float(per_joint[worst]) if usable else None,
-        oscillation_joint=joints[worst] if usable else None,
-        change_rms=float(np.sqrt(np.mean(changes**2))) if usable else None,
+        oscillation=None if worst is None else float(per_joint[worst]),
+        oscillation_joint=None if worst is None else joints[worst],
+        change_rms=None if worst is None else float(np.sqrt(squares.mean())),
         rate_alternation=alternation,
         rate_oscillation_radps=oscillation,
         joints=joints,
-        joint_oscillation=tuple(map(float, per_joint)) if usable else (),
-        joint_change_rms=tuple(map(float, np.sqrt(np.mean(changes**2, axis=0)))) if usable else (),
+        joint_oscillation=() if worst is None else tuple(map(float, per_joint)),
+        joint_change_rms=tuple(map(float, np.sqrt(squares))),
         ticks=measured,
         rate_floor_radps=floor,
     )

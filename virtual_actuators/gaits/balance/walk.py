@@ -95,10 +95,11 @@ class BalanceMetrics(SmoothnessFigures):
         limits = self.implausible_limits
         note = f" (implausible URDF effort limits on {len(limits)} joints)" if limits else ""
         smoothness = self.smoothness_summary()
+        height = round(self.height_error_m * 1000, 1) + 0.0  # [mm], never -0.0
         return (
             f"{self.robot} {state} for {self.duration_s:.2f} s{push}: tilt <= "
             f"{self.max_tilt_rad:.3f} rad, drift <= {self.max_drift_m:.3f} m, height error "
-            f"{self.height_error_m * 1000:+.1f} mm{rate}{note}"
+            f"{height:+.1f} mm{rate}{note}"
             f"{', ' if smoothness else ''}{smoothness}"
         )
 

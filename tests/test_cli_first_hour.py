@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+import shutil
 
 import pytest
 
@@ -33,6 +34,24 @@ def test_stand_on_any_legged_robot(capsys, robot, feet):
     assert main(["demo", "stand", "--robot", robot]) == 0
     out = capsys.readouterr().out
     assert f"on {feet} feet" in out and "residual" in out
+
+
+def copied_go1(folder) -> str:
+    """example-robot-data's go1 URDF and meshes copied into ``folder``: no SRDF beside them."""
+    description = va.load_robot("go1").urdf_path.parents[1]
+    for part in ("urdf", "meshes"):
+        shutil.copytree(description / part, folder / part)
+    return str(folder / "urdf" / "go1.urdf")
+
+
+def test_stand_builds_the_pose_of_a_robot_without_an_srdf_pose(capsys, tmp_path):
+    """laikago and a copied go1 stand as the walker and the balancer stand them (issue 35: the
+    straight neutral pose was "singular ... Bend the chain")."""
+    for robot in ("laikago", copied_go1(tmp_path)):
+        assert va.load_robot(robot).default_pose is None
+        assert main(["demo", "stand", "--robot", robot]) == 0
+        out = capsys.readouterr().out
+        assert "on 4 feet" in out and "residual" in out
 
 
 def test_stand_with_named_feet(capsys):

@@ -165,6 +165,10 @@ class Walk:
             falling in runs of the walk's default duration (None: the walk takes no speed).
         speeds_for: The supported speeds from the walk's options (the legged walk's depend
             on ``robot`` and ``gait``); None: `speeds` whatever the options.
+        nominal_speed: The gait's own desired speed [m/s], or a function of the walk's options
+            returning it (the hexapod's is slower with the pendulum); None: the walk takes no
+            speed. A run given no speed walks at `default_speed`: this, moved into the
+            supported range.
         native: Builds the gait's whole tick in the compiled core from the started gait
             (``native(gait)``, None when the core cannot run it; see `drive`); None: the walk
             has no native tick.
@@ -189,10 +193,33 @@ class Walk:
     speeds: tuple[float, float] | None = None
     speeds_for: Callable[..., tuple[float, float]] | None = None
     native: Callable[[Gait], Any] | None = None
+    nominal_speed: float | Callable[..., float] | None = None
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""
         return self.speeds if self.speeds_for is None else self.speeds_for(**options)
+
+    def default_speed(self, **options: Any) -> float | None:
+        """The desired speed [m/s] of a run given none: always one of the supported speeds.
+
+        The rule: the gait's own speed (`nominal_speed` with these options) when
+        `speed_range` holds it, else the nearer end of that range (each end is measured to walk,
+        see `speeds`); the nominal speed as it is when the options have no range (a robot the
+        legged trot was not measured on). E.g. the legged walk's nominal 0.4 m/s trots solo12 at
+        0.4 m/s, but walks it (``gait="walk"``, 0.05 to 0.2 m/s) at 0.2 m/s.
+
+        Returns:
+            The speed, or None for a walk that takes no speed (it stands).
+
+        """
+        nominal = self.nominal_speed
+        if callable(nominal):
+            nominal = nominal(**options)
+        supported = self.speed_range(**options)
+        if nominal is None or supported is None:
+            return nominal
+        low, high = supported
+        return min(max(float(nominal), low), high)
 
     def check_speed(self, speed: float | None, **options: Any) -> None:
         """Refuse a desired speed outside `speed_range` (None: the walk's default).

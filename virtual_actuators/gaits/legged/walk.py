@@ -47,6 +47,9 @@ from .walker import LeggedWalker
 
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
+#: The legged walk's own desired speed [m/s], before it is moved into the pattern's range.
+NOMINAL_SPEED = 0.4
+
 __all__ = [
     "LeggedResult",
     "LeggedWalkConfig",
@@ -64,7 +67,8 @@ class LeggedWalkConfig:
         robot: A robot name or URDF path for [`load_robot`][].
         gait: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.
         feet: Foot frames (None: found on the robot).
-        speed: [m/s].
+        speed: [m/s]; None: the walk's default for the robot and gait (`Walk.default_speed`:
+            `NOMINAL_SPEED` moved into the supported range, e.g. 0.2 m/s for ``gait="walk"``).
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
         push: A `Push` on the base (or its text,
@@ -89,7 +93,7 @@ class LeggedWalkConfig:
     robot: str = "solo12"
     gait: str = "trot"
     feet: tuple[str, ...] | None = None
-    speed: float = 0.4
+    speed: float | None = None
     direction: float = 0.0
     yaw_rate: float = 0.0
     push: Push | None = None
@@ -103,6 +107,8 @@ class LeggedWalkConfig:
     seed: int | None = None
 
     def __post_init__(self) -> None:
+        if self.speed is None:
+            object.__setattr__(self, "speed", WALK.default_speed(robot=self.robot, gait=self.gait))
         for name in ("speed", "direction", "yaw_rate", "duration"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
@@ -178,7 +184,7 @@ def run_legged_walk(
     """Simulate a legged robot walking and measure it.
 
     Args:
-        config: What to walk (default: solo12 trotting at 0.4 m/s for 4 s).
+        config: What to walk (default: solo12 trotting at `NOMINAL_SPEED`, 0.4 m/s, for 4 s).
         parameters: Gait choices (default [`LeggedParameters`][] with the config's
             distribution).
         progress: Show a progress bar.
@@ -281,8 +287,10 @@ def run_registered(
 ) -> LeggedResult:
     """The legged walk as `run_walk` runs it.
 
-    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``,
-    ``path``, ``amplitude``, ``wavelength``, ``track``.
+    ``speed`` defaults to `Walk.default_speed` for the robot and gait (`LeggedWalkConfig`'s
+    None): `NOMINAL_SPEED` moved into the pattern's supported range (``gait="walk"``: 0.2 m/s).
+    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``, ``path``,
+    ``amplitude``, ``wavelength``, ``track``.
 
     Raises:
         InvalidInputError: A bad configuration or parameters.
@@ -297,7 +305,7 @@ def run_registered(
     elif parameters is not None:
         parameters = replace(parameters, distribution=distribution)
     config = LeggedWalkConfig(
-        speed=0.4 if speed is None else speed,
+        speed=speed,
         terrain=walk.terrain if terrain is None else terrain,
         duration=duration,
         distribution=distribution,
@@ -349,4 +357,5 @@ WALK = Walk(
     force_scale=1 / 250,
     viewer_robot=_viewer_robot,
     speeds_for=legged_speeds,
+    nominal_speed=NOMINAL_SPEED,
 )

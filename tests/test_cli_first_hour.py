@@ -77,3 +77,31 @@ def test_sweep_with_two_workers(tmp_path, capsys):
     rows = list(csv.DictReader(out.open()))
     assert len(rows) == 4 and {row["fell"] for row in rows} == {"False"}
     assert "100%" in capsys.readouterr().out and plot.stat().st_size > 1000
+
+
+def test_a_push_typed_with_a_minus_pushes_the_other_way(tmp_path, capsys):
+    out = tmp_path / "pushed.json"
+    arguments = ["demo", "legged", "--push", "-10@0.05", "--duration", "0.2", "--quiet"]
+    assert main([*arguments, "--json", str(out)]) == 0
+    assert json.loads(out.read_text())["config"]["push"] == [10.0, 0.05, 180.0]
+
+
+def test_stand_prints_no_negative_zero_and_aligns_long_joint_names(capsys):
+    import re
+
+    assert main(["demo", "stand", "--robot", "go2"]) == 0  # its produced y was "-0.000"
+    assert not re.search(r"(?<![\w.])-0(?:\.0+)?(?![\d.])", capsys.readouterr().out)
+    assert main(["demo", "stand", "--robot", "talos"]) == 0  # joint names up to 17 characters
+    out = capsys.readouterr().out
+    table = out.split("joint efforts:\n", 1)[1].split("\n\n", 1)[0].splitlines()
+    assert len(table) > 30 and max(len(line.split()[0]) for line in table) > 16
+    assert len({len(line) for line in table}) == 1, table  # one column of efforts, right-aligned
+
+
+def test_the_legged_plot_names_the_robot_and_the_gait():
+    from virtual_actuators.gaits.legged.walk import draw_legged_walk
+    from virtual_actuators.gaits.registry import run_walk
+
+    result = run_walk("legged", robot="go2", gait="pace", duration=0.3, progress=False)
+    title = draw_legged_walk(result).get_suptitle()
+    assert title.startswith("go2 (pace): ") and "steps" in title

@@ -154,3 +154,12 @@ def test_the_range_ends_walk_without_falling(name, speed, options, duration):
     assert not metrics.fell, metrics.summary()
     mean = getattr(metrics, "mean_speed_mps", None) or metrics.speed_mps
     assert mean > 0.5 * speed, metrics.summary()  # it walks, at about the speed asked
+
+
+@pytest.mark.parametrize("name", ["legged", "hexapod-walk", "turkey-walk"])
+def test_the_speed_bound_is_absolute_and_says_why(name):
+    """force_speed lifts a walk's range, not the 1.5 m/s bound of every walk (issue 35)."""
+    with pytest.raises(InvalidInputError, match=r"1\.5 m/s bounds every walk") as error:
+        run_walk(name, speed=2.0, force_speed=True, duration=0.05, progress=False)
+    assert "force_speed does not lift it" in str(error.value)
+    assert "go2's trot" in str(error.value)

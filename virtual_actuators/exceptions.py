@@ -43,6 +43,10 @@ class InvalidInputError(VirtualActuatorError, ValueError):
     """An array argument has the wrong shape or holds NaN or infinite values."""
 
 
+class GaitPatternError(InvalidInputError):
+    """A named gait pattern does not fit the robot's feet (the message names those that do)."""
+
+
 class ConstraintError(VirtualActuatorError, ValueError):
     """The declared constraints contradict each other or are too many."""
 

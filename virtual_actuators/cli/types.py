@@ -29,6 +29,11 @@ MAX_YAW_RATE = 3.0
 MAX_AMPLITUDE = 2.0
 MAX_WAVELENGTH = 50.0
 
+#: The bound of ``--speed`` [m/s]: the walks' ``MAX_SPEED`` (``gaits.base``, named here so that
+#: parsing imports no simulation; tests/test_sweep checks the two agree). ``--force-speed``
+#: does not lift it.
+MAX_SPEED = 1.5
+
 #: Most processes of ``sweep --workers`` (each holds MuJoCo and a robot: about 150 MiB).
 MAX_WORKERS = 256
 
@@ -81,12 +86,21 @@ def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low
 
 
 def walking_speed(text: str) -> float:
-    """``--speed``: a desired speed in (0, 1.5] m/s.
+    """``--speed``: a desired speed in (0, `MAX_SPEED`] m/s.
 
     Raises:
-        argparse.ArgumentTypeError: Otherwise.
+        argparse.ArgumentTypeError: Otherwise; beyond `MAX_SPEED`, the message says that the
+            bound is absolute (``--force-speed`` does not lift it), and why.
     """
-    return _in_range(text, "speed", 0.0, 1.5, "m/s", open_low=True)
+    value = _number(text, "speed")
+    if value > MAX_SPEED:
+        raise argparse.ArgumentTypeError(
+            f"speed must be in (0, {MAX_SPEED:g}] m/s, got {text!r}: {MAX_SPEED:g} m/s bounds "
+            "every walk's desired speed, and --force-speed does not lift it (it lifts only a "
+            "walk's supported range): no walk here walks faster (the fastest, go2's trot, was "
+            f"measured up to {MAX_SPEED:g} m/s)"
+        )
+    return _in_range(text, "speed", 0.0, MAX_SPEED, "m/s", open_low=True)
 
 
 def direction_degrees(text: str) -> float:
@@ -214,7 +228,9 @@ def robot_name(text: str) -> str:
 
 
 def push_spec(text: str) -> Push:
-    """``--push N@T[:DEG]``: N newtons >= 0 from T >= 0 seconds along DEG degrees (0 = +x).
+    """``--push N@T[:DEG]``: N newtons from T >= 0 seconds along DEG degrees (0 = +x).
+
+    A negative N pushes the other way: ``-10@1`` is ``10@1:180``.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -226,8 +242,8 @@ def push_spec(text: str) -> Push:
         return Push.parse(text)
     except InvalidInputError:
         raise argparse.ArgumentTypeError(
-            f"expected N@T[:DEG], newtons >= 0 at T >= 0 seconds along DEG degrees (e.g. "
-            f"250@1.0:90), got {text!r}"
+            f"expected N@T[:DEG], newtons at T >= 0 seconds along DEG degrees (e.g. 250@1.0:90; "
+            f"-10@1 pushes 10 N along -x), got {text!r}"
         ) from None
 
 

@@ -11,6 +11,7 @@ runs it and how its result is plotted; `registry` collects them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -108,6 +109,39 @@ class Gait:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(robot={self.robot.name!r}, state={self.state!r})"
+
+
+#: The bound of every walk's desired speed [m/s]. It is absolute: ``force_speed=True`` (command
+#: line: ``--force-speed``) lifts a walk's supported range, never this bound. No walk here walks
+#: faster: the fastest, go2's trot, was measured up to it (``gaits.legged.speeds``).
+MAX_SPEED = 1.5
+
+#: Why a speed beyond `MAX_SPEED` is refused (ends the messages that refuse one).
+BEYOND_MAX_SPEED = (
+    f"{MAX_SPEED:g} m/s bounds every walk's desired speed, and force_speed does not lift it (it "
+    "lifts only a walk's supported range): no walk here walks faster (the fastest, go2's trot, "
+    f"was measured up to {MAX_SPEED:g} m/s)"
+)
+
+
+def check_speed_bound(speed: object, zero: bool = True) -> None:
+    """Refuse a desired speed beyond `MAX_SPEED` or below zero (``zero``: 0 allowed).
+
+    Raises:
+        InvalidInputError: Not a finite number, or outside ``[0, MAX_SPEED]`` (``(0,
+            MAX_SPEED]`` without ``zero``); beyond the bound, the message says it is absolute,
+            and why.
+
+    """
+    number = isinstance(speed, (int, float)) and not isinstance(speed, bool)
+    if not (number and math.isfinite(speed)) or speed < 0.0 or (speed == 0.0 and not zero) or (
+        speed > MAX_SPEED
+    ):
+        bracket = "[" if zero else "("
+        raise InvalidInputError(
+            f"speed must be in {bracket}0, {MAX_SPEED:g}] m/s, got {speed!r}"
+            + (f": {BEYOND_MAX_SPEED}." if number and speed > MAX_SPEED else ".")
+        )
 
 
 #: The ways a gait's double support can share the body's wrench (``distribution=``).
@@ -221,8 +255,16 @@ class Walk:
         low, high = supported
         return min(max(float(nominal), low), high)
 
-    def check_speed(self, speed: float | None, **options: Any) -> None:
+    def check_speed(
+        self, speed: float | None, *, forced_by: str = "force_speed=True", **options: Any
+    ) -> None:
         """Refuse a desired speed outside `speed_range` (None: the walk's default).
+
+        Args:
+            speed: The desired speed [m/s].
+            forced_by: How the caller runs it anyway, which the message offers (the command
+                line: ``"--force-speed"``).
+            **options: The walk's options that select its range.
 
         Raises:
             InvalidInputError: ``speed`` is outside the supported range (its message names it).
@@ -236,5 +278,5 @@ class Walk:
             raise InvalidInputError(
                 f"{self.name}{describe_options(options)} walks at desired speeds from {low:g} "
                 f"to {high:g} m/s, got {speed:g} m/s: give a speed in that range, or "
-                "force_speed=True (command line: --force-speed) to run it anyway."
+                f"{forced_by} to run it anyway."
             )

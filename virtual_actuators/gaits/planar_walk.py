@@ -27,7 +27,7 @@ from ..experiments.walk_log import STANDARD_CHANNELS
 from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-from .base import Gait, Walk, check_distribution
+from .base import Gait, Walk, check_distribution, check_speed_bound
 from .runner import Episode, WalkResult, drive, has_fallen, terrain_points
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
@@ -79,8 +79,8 @@ def run_planar_walk(
         InvalidInputError: Bad speed, terrain, seed, parameters or distribution.
 
     """
-    if speed is not None and not (math.isfinite(speed) and 0.0 < speed <= 1.5):
-        raise InvalidInputError(f"speed must be in (0, 1.5] m/s, got {speed}.")
+    if speed is not None:
+        check_speed_bound(speed, zero=False)
     if speed is None and parameters is None:
         speed = walk.default_speed()
     if terrain is None:

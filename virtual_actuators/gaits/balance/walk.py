@@ -93,7 +93,7 @@ class BalanceMetrics:
         return (
             f"{self.robot} {state} for {self.duration_s:.2f} s{push}: tilt <= "
             f"{self.max_tilt_rad:.3f} rad, drift <= {self.max_drift_m:.3f} m, height error "
-            f"{self.height_error_m * 1000:+.1f} mm{rate}{note}"
+            f"{self.height_error_m * 1000:+z.1f} mm{rate}{note}"
         )
 
     def to_dict(self) -> dict[str, Any]:

@@ -27,7 +27,7 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, check_distribution
+from ..base import Walk, check_distribution, check_speed_bound
 from ..guidance import PlanarState, SinePath, TrackObject
 from ..push import Push
 from ..runner import (
@@ -113,11 +113,9 @@ class LeggedWalkConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
-        if not 0.0 <= self.speed <= 1.5 or self.duration <= 0.0:
-            raise InvalidInputError(
-                f"speed must be in [0, 1.5] m/s and duration > 0 s, got {self.speed}, "
-                f"{self.duration}."
-            )
+        check_speed_bound(self.speed)
+        if self.duration <= 0.0:
+            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
         if self.path not in ("line", "sine"):
             raise InvalidInputError(f"path must be 'line' or 'sine', got {self.path!r}.")
         if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0 or self.yaw_rate):
@@ -321,14 +319,15 @@ def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Pa
 
 
 def draw_legged_walk(result: LeggedResult) -> Any:
-    """The matplotlib figure `plot_legged_walk` saves."""
+    """The matplotlib figure `plot_legged_walk` saves, titled by the robot, gait and summary."""
     trace = result.trace()
     figure = new_figure(8.0, 7.0, dpi=100)
     top, bottom = figure.subplots(2, 1)
     top.plot(trace["x"], trace["y"], label="body path")
     top.set(xlabel="x [m]", ylabel="y [m]")
     top.set_aspect("equal", adjustable="datalim")
-    set_heading(figure, result.metrics.summary(), fontsize=9)
+    title = f"{result.gait.robot.name} ({result.config.gait}): {result.metrics.summary()}"
+    set_heading(figure, title, fontsize=9)
     for name in ("roll", "pitch", "yaw"):
         bottom.plot(trace["t"], trace[name], label=name)
     bottom.set(xlabel="t [s]", ylabel="body attitude [rad]")

@@ -185,7 +185,7 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
     Raises:
         SystemExit: With code 2 when it cannot be written (names the path and the reason).
     """
-    from .types import output_path
+    from .paths import output_path
 
     out, option = results_path(args)
     if out is not None and option == "--plot":

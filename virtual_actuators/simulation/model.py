@@ -233,8 +233,7 @@ def build_mujoco_model(
             ``robot.passive_joints``.
         contact: Contact parameters; [`ContactParameters`][] defaults when None.
         collisions: Which robot geometry collides: ``"collision"`` (the URDF's collision
-            shapes, meshes included; a mesh that cannot be read becomes its bounding box, told
-            in a one-line notice naming it),
+            shapes, meshes included; one unread is its bounding box, with a one-line notice),
             ``"primitives"`` (the same without any mesh, silently),
             ``"visual"`` (the visual shapes, e.g. for robots whose collision shapes are only
             feet), or ``"none"``.
@@ -255,7 +254,6 @@ def build_mujoco_model(
     model = robot.model
     kinds = [joint_kind(model, j) for j in range(1, model.njoints)]
     actuated_names = actuated_joints(robot, kinds, actuated)
-
     spec = _new_spec(robot, timestep, contact)
     bodies = add_bodies(spec, robot, kinds)
     balance_inertias(spec, robot)

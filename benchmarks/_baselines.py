@@ -530,6 +530,7 @@ def instrumented_walk(
         "physics_only_factor": 1e6 * period / breakdown["simulator.step"]["mean_us"],
         "fell": bool(result.metrics.fell),
         "per_tick": breakdown,
+        "smoothness": result.smoothness.to_dict(),  # issue 35: every tick's efforts
     }
 
 

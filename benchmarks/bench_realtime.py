@@ -18,7 +18,10 @@ interleaved, in blocks, over the same round-robin set of configurations):
    ``virtualmodelcontrol`` package (torques compared).
 6. every registered walk in MuJoCo (``gaits.registry.WALKS``; the legged walk as trots of
    solo12 and go2): real-time factor beside MuJoCo stepping the same robot alone (their
-   ratio) and a per-tick breakdown.
+   ratio) and a per-tick breakdown; and, in a row of its own, whether the loop is smooth at the
+   tick rate (issue 35, ``effort_smoothness`` of the breakdown's run): the efforts' tick-rate
+   oscillation (75th percentile, worst joint) and rms change per tick in percent of the effort
+   limits, beside the base rate's alternation (percent of the ticks).
 7. worst case: p50, p99, p99.9 and the maximum tick of each walk of figure 6 (``--worst-seconds``
    simulated seconds each, 20 by default) and of 10,000-tick ``va.run`` loops on the UR5 (tool
    tracking) and on go2 standing; the controller's compute (wall and thread CPU time) and the
@@ -468,6 +471,7 @@ def figure_walks(cfg: Settings) -> Figure:
         figure = f"{label} {title} x real time vs MuJoCo alone"
         ours, base = f"{rtf:.2f}x", f"{ceiling:.1f}x"
         rows.append(row(figure, ours, base, rtf / ceiling, f">= {target:g}x", rtf >= target))
+        rows.append(_smoothness_row(f"{label}' {title}", walk["smoothness"]))
         if name == "turkey-walk":
             figure = "turkey walk real-time factor / MuJoCo alone stepping the same robot"
             issue.append(row(figure, ours, base, rtf / ceiling, ">= 0.5", rtf / ceiling >= 0.5))
@@ -496,6 +500,25 @@ def figure_walks(cfg: Settings) -> Figure:
         share = step / walk["per_tick"]["total"]["mean_us"]
         notes.append(f"   {'  MuJoCo share':<22}{100 * share:>9.0f}%  (step / total, means)")
     return Figure(rows, raw, notes, issue)
+
+
+#: Figure 6's smoothness targets (issue 35): oscillation [-] of the limits, alternation [-].
+OSCILLATION_MAX, ALTERNATION_MAX = 0.005, 0.01
+
+
+def _smoothness_row(title: str, smoothness: dict) -> dict:
+    """6a', 6b', ...: effort oscillation (worst joint) / change per tick, base rate alternation."""
+    oscillation, change = smoothness["oscillation"], smoothness["change_rms"]
+    alternation = smoothness["rate_alternation"]
+    if oscillation is None:
+        return row(f"{title} efforts at the tick rate", "not measured (under 1 s)", "-")
+    ours = (
+        f"osc {100 * oscillation:.3f} % ({smoothness['oscillation_joint']}), "
+        f"change {100 * change:.2f} %/tick"
+    )
+    base = "-" if alternation is None else f"base rate alternating {100 * alternation:.1f} %"
+    met = oscillation < OSCILLATION_MAX and (alternation or 0.0) < ALTERNATION_MAX
+    return row(f"{title} efforts at the tick rate", ours, base, None, "osc < 0.5 %, alt < 1 %", met)
 
 
 # -- figure 7: worst case -----------------------------------------------------------------------

@@ -9,7 +9,11 @@ pitch within 0.1 rad, steps of about 0.5 s); Spring Flamingo 40 s over profile-o
 profile-two at 0.4 m/s (seed: 12 m of slopes between -20 and +20 degrees without falling), and
 on level ground; and at 0.5 m/s over both profiles. Two columns say whether the feet in
 support pushed and held: the least normal force and the largest tangential / normal ratio,
-measured on MuJoCo's contact forces (its friction coefficient is 1).
+measured on MuJoCo's contact forces (its friction coefficient is 1). Three say whether the loop
+is smooth at the tick rate (issue 35, after the first second; ``effort_smoothness``): the
+efforts' tick-rate oscillation (75th percentile, worst joint) and their rms change per tick, in
+percent of the effort limits, and the percentage of ticks at which the base's angular rate (the
+bipeds' pitch rate) zigzags.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ CASES = {
     "flamingo-two-0.5": ("flamingo-slopes", "profile-two", 40.0, 0.5),
     "hexapod-line": ("hexapod-walk", "flat", 10.0),
 }
-COLUMNS = (
+COLUMNS = (  # key, title, format of the value (times the scale)
     ("fell", "fell", "{}"),
     ("distance_m", "dist [m]", "{:.2f}"),
     ("mean_speed_mps", "speed [m/s]", "{:.3f}"),
@@ -41,6 +45,9 @@ COLUMNS = (
     ("stance_normal_min_n", "min Fn [N]", "{:.1f}"),
     ("stance_friction_ratio_max", "max Ft/Fn", "{:.2f}"),
     ("realtime_factor", "x real time", "{:.2f}"),
+    ("effort_oscillation", "osc [%]", "{:.3f}", 100.0),
+    ("effort_change_rms", "chg [%/tick]", "{:.2f}", 100.0),
+    ("base_rate_alternation", "rate alt [%]", "{:.1f}", 100.0),
 )
 
 
@@ -53,7 +60,7 @@ def main() -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     args = parser.parse_args()
     results = {}
-    header = f"{'case':<22}" + "".join(f"{title:>14}" for _, title, _ in COLUMNS)
+    header = f"{'case':<22}" + "".join(f"{title:>14}" for _, title, *_ in COLUMNS)
     print("each walk shows a progress bar on stderr; the table goes to stdout", flush=True)
     print(header)
     for case in args.only or CASES:
@@ -70,9 +77,10 @@ def main() -> None:
         metrics.update(distance_m=figures.distance, mean_speed_mps=figures.mean_speed)
         results[case] = metrics
         cells = []
-        for key, _, fmt in COLUMNS:
+        for key, _, fmt, *scale in COLUMNS:
             value = metrics.get(key)
-            cells.append(f"{'-' if value is None else fmt.format(value):>14}")
+            shown = "-" if value is None else fmt.format(abs(value * scale[0]) if scale else value)
+            cells.append(f"{shown:>14}")
         print(f"{case:<22}" + "".join(cells), flush=True)
         if args.plots:
             folder = Path(args.plots)

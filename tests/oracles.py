@@ -317,10 +317,14 @@ def relative_error(a, b) -> float:
 
 # -- walks -----------------------------------------------------------------------------------
 def assert_same_walk(one: object, other: object) -> None:
-    """Two walks' results (``run_walk``'s) agree bit for bit: every log channel, the states and
-    the machine's history (a native tick against the Python gait, its oracle)."""
+    """Two walks' results (``run_walk``'s) agree bit for bit: every log channel, the states,
+    the machine's history and every tick's efforts and velocities (a native tick against the
+    Python gait, its oracle)."""
     assert one.log.data.keys() == other.log.data.keys()
     for name, values in one.log.data.items():
         np.testing.assert_array_equal(values, other.log.data[name], err_msg=name)
     np.testing.assert_array_equal(one.log.state, other.log.state)
     assert one.gait.machine.history == other.gait.machine.history
+    np.testing.assert_array_equal(one.loop.efforts, other.loop.efforts)
+    np.testing.assert_array_equal(one.loop.velocities, other.loop.velocities)
+    assert one.smoothness == other.smoothness

@@ -11,6 +11,7 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.gaits.balance import Push, run_balance
+from virtual_actuators.gaits.balance.walk import BalanceMetrics
 from virtual_actuators.gaits.registry import WALKS
 
 
@@ -69,6 +70,17 @@ def test_trace_and_json():
     assert set(trace["state"]) == {"stand"}
     assert data["fell"] is False and data["realtime_factor"] > 0
     json.dumps(data)  # JSON-able
+
+
+def test_the_summary_never_prints_minus_zero():
+    figures = dict(robot="g1", feet=("left", "right"), fell=False, fall_time_s=None,
+                   duration_s=3.0, realtime_factor=None, push=None, max_tilt_rad=0.0,
+                   max_drift_m=0.0, final_drift_m=0.0, stance_normal_min_n=10.0)  # fmt: skip
+    summary = BalanceMetrics(**figures, height_error_m=-4e-5, effort_oscillation=-0.0,
+                             effort_oscillation_joint="knee", effort_change_rms=-0.0).summary()
+    assert "height error +0.0 mm" in summary and "-0" not in summary, summary
+    assert summary.endswith("effort osc 0.00 % (knee), change 0.0 %/tick")
+    assert "height error -0.1 mm" in BalanceMetrics(**figures, height_error_m=-1e-4).summary()
 
 
 def test_push_parsing():

@@ -23,13 +23,16 @@ from .control import (
     Context,
     Controller,
     ControlOutput,
+    LimitFraction,
     MachineController,
     RunStats,
     State,
     StateMachine,
+    TickRate,
     Transition,
     events,
     run,
+    tick_rate,
 )
 from .distribution.result import Solution
 from .exceptions import (
@@ -90,6 +93,7 @@ __all__ = [
     "Inertance",
     "LeggedParameters",
     "LeggedWalker",
+    "LimitFraction",
     "MachineController",
     "Posture",
     "RunStats",
@@ -99,6 +103,7 @@ __all__ = [
     "State",
     "StateMachine",
     "SwingLegLinkage",
+    "TickRate",
     "Transition",
     "events",
     "run",
@@ -130,4 +135,5 @@ __all__ = [
     "load_robot",
     "millipede",
     "npod",
+    "tick_rate",
 ]

@@ -29,6 +29,7 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array, check_name
 from ..vocabulary.axes import parse_axes
+from .gains import Gains
 
 _REALS = frozenset((float, int, np.float64))  # list entries taken without conversion checks
 
@@ -82,6 +83,23 @@ class Component(ABC):
         return np.asarray(
             self.compute_wrench(np.array(position), np.array(velocity), time), dtype=float
         ).tolist()
+
+    def linear_gains(self) -> Gains | None:
+        """The stiffness and damping per axis of a linear spring-damper, or None (default).
+
+        What [`tick_rate`][virtual_actuators.control.tick_rate.tick_rate] judges the component
+        by; a component that returns gains must implement [`scale_gains`][].
+        """
+        return None
+
+    def scale_gains(self, factor: np.ndarray) -> None:
+        """Multiply the stiffness and damping of each axis by ``factor`` (``(len(axes),)``).
+
+        Raises:
+            InvalidInputError: The component has no linear gains (``linear_gains()`` is None).
+
+        """
+        raise InvalidInputError(f"{self.name}: {type(self).__name__} has no gains to scale.")
 
     def reset(self, position: np.ndarray, time: float) -> None:  # noqa: B027 (optional hook)
         """Hook called when the component becomes active (a state is entered). Default: nothing.

@@ -26,6 +26,7 @@ from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_robot, describe
+from .gains import Gains
 
 __all__ = ["Posture"]
 
@@ -121,6 +122,21 @@ class Posture:
                 f"got {describe(setpoint)}."
             )
         return target
+
+    def linear_gains(self) -> Gains:
+        """The stiffness and damping per joint (see `Component.linear_gains`)."""
+        return Gains(self.stiffness.copy(), self.damping.copy())
+
+    def scale_gains(self, factor: np.ndarray) -> None:
+        """Multiply the stiffness and damping of each joint by ``factor``.
+
+        Raises:
+            InvalidInputError: ``factor`` is not one number >= 0 per joint.
+
+        """
+        factor = self._gains(factor, "gain factor")
+        self.stiffness = self.stiffness * factor
+        self.damping = self.damping * factor
 
     def bind(self, robot: Robot) -> Posture:
         """Resolve the joint names on ``robot`` (once); returns ``self``.

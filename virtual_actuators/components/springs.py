@@ -25,6 +25,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from .base import Component
+from .gains import Gains
 from .orientation import deflection, is_difference, rotation_axes
 
 Vector = float | Sequence[float] | np.ndarray
@@ -140,6 +141,21 @@ class SpringDamper(Component):
         if np.any(array < 0.0):
             raise InvalidInputError(f"{self.name}: {what} must be >= 0, got {array}.")
         return array
+
+    def linear_gains(self) -> Gains:
+        """The stiffness and damping per axis."""
+        return Gains(self._stiffness.copy(), self._damping.copy())
+
+    def scale_gains(self, factor: np.ndarray) -> None:
+        """Multiply the stiffness and damping of each axis by ``factor``.
+
+        Raises:
+            InvalidInputError: ``factor`` is not one number >= 0 per axis.
+
+        """
+        factor = self._non_negative(factor, "gain factor")
+        self.stiffness = self._stiffness * factor
+        self.damping = self._damping * factor
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """``clip(k deflection + b (v0 - v), -limit, limit) + f`` per axis (module docstring).
@@ -299,6 +315,10 @@ class Spring(SpringDamper):
         if not np.all(np.isfinite(force)):
             raise InvalidInputError(f"{self.name}: law returned a non-finite force {force}.")
         return force
+
+    def linear_gains(self) -> Gains | None:
+        """The linear spring's gains; None with a law (not a linear element)."""
+        return SpringDamper.linear_gains(self) if self.law is None else None
 
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float

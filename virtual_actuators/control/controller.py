@@ -32,6 +32,7 @@ from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
 from .attachment_tick import run_attachment
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
+from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
 from .failures import check_policy, drop_non_finite
 from .postures import JointTerm, add_posture, tick_names
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
@@ -55,10 +56,18 @@ class Controller:
             the same request, clipped to [`effort_limits`][] (zero when there is none). Every
             firing is reported in `ControlOutput.failures`; see
             `failures`.
+        effort_rate_limit: The largest change of effort per second, after the clip: N m/s
+            per joint (a number, ``(nv,)`` or ``{joint: rate}``), a
+            [`LimitFraction`][virtual_actuators.control.effort_rate.LimitFraction] of each
+            effort limit, or None (default: no limit); see
+            [`effort_rate`][virtual_actuators.control.effort_rate]. The joints it holds back
+            are in `ControlOutput.rate_limited`.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, a bad
-            ``on_failure`` or ``on_singular``, or both given with different values.
+            ``on_failure`` or ``on_singular``, or both given with different values, or a bad
+            ``effort_rate_limit``.
+        JointNotFoundError: ``effort_rate_limit`` names a joint the robot lacks.
 
     """
 
@@ -68,6 +77,7 @@ class Controller:
         clip: bool = True,
         on_singular: str | None = None,
         on_failure: str | None = None,
+        effort_rate_limit: RateSpec = None,
     ) -> None:
         check_robot(robot, "Controller")
         self.on_failure = check_policy(on_failure, on_singular)
@@ -79,8 +89,10 @@ class Controller:
         self.postures: dict[str, JointTerm] = {}
         self._tree = tree_of(robot)
         self.joint_names = velocity_names(robot)
+        self._rate_spec: RateSpec = None
         # [N m or N], inf where unlimited (read-only; assign anew)
         self.effort_limits = urdf_effort_limits(robot)
+        self.effort_rate_limit = effort_rate_limit
 
     @property
     def on_singular(self) -> str:
@@ -103,6 +115,42 @@ class Controller:
     def effort_limits(self, limits: object) -> None:
         limits = check_effort_limits(limits, self.robot.model.nv)
         self._lower_limits, self._upper_limits = limits
+        if isinstance(self._rate_spec, LimitFraction):  # its rates follow the limits
+            self.effort_rate_limit = self._rate_spec
+
+    @property
+    def effort_rate_limit(self) -> RateSpec:
+        """The effort rate limit as given (None: none); assign to change it.
+
+        Raises:
+            InvalidInputError: (on assignment) a bad limit (see the constructor).
+            JointNotFoundError: (on assignment) a ``{joint: rate}`` naming an unknown joint.
+
+        """
+        return self._rate_spec
+
+    @effort_rate_limit.setter
+    def effort_rate_limit(self, spec: RateSpec) -> None:
+        rates = effort_rates(spec, self._upper_limits, self.joint_names)
+        self._rate_spec = spec
+        self._rate_limit = None if rates is None else EffortRateLimit(rates)
+
+    def reset_effort_rate(self, tau: np.ndarray | None = None, time: float = 0.0) -> None:
+        """Start the effort rate limit anew: from efforts ``tau`` at ``time``, or free.
+
+        Args:
+            tau: ``(nv,)`` efforts the motors hold now [N m or N] (None: the next tick is not
+                limited).
+            time: When they were given [s].
+
+        Raises:
+            InvalidInputError: The controller has no effort rate limit, or a bad ``tau`` or
+                ``time``.
+
+        """
+        if self._rate_limit is None:
+            raise InvalidInputError("reset_effort_rate: the controller has no effort_rate_limit.")
+        self._rate_limit.restart(tau, time)
 
     def add(
         self,
@@ -331,9 +379,13 @@ class Controller:
         clipped, saturated = clip_efforts(  # tau: a fresh array, the request
             tau, self._lower_limits, self._upper_limits, self.clip
         )
+        held = None
+        if self._rate_limit is not None:
+            clipped, held = self._rate_limit.apply(clipped, time)
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
             clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions,
             sums.velocities, sums.solutions, sums.failed, names, self.joint_names, sums.failures,
+            held,
         )
 
     def __repr__(self) -> str:
@@ -343,17 +395,4 @@ class Controller:
         )
 
 
-def warm_up_driven(controller: object, robot: Robot) -> None:
-    """Warm up what a loop drives before its clock starts (``va.run``'s first step).
-
-    ``controller`` if it is a [`Controller`][], else the ``controller`` it drives (a gait, a
-    tracker), when it controls ``robot``: [`Controller.warm_up`][] at the robot's neutral
-    configuration. What it computes afterwards is unchanged.
-    """
-    for owner in (controller, getattr(controller, "controller", None)):
-        if isinstance(owner, Controller) and owner.robot.model is robot.model:
-            owner.warm_up(robot.neutral())
-            return
-
-
-__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names", "warm_up_driven"]
+__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]

@@ -31,7 +31,7 @@ does not try to catch up (the next tick starts at once), and counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
 [`gc_policy`][]). Before the clock starts the controller's kernels load
-([`warm_up_driven`][virtual_actuators.control.controller.warm_up_driven]): nothing changes.
+([`warm_up_driven`][virtual_actuators.control.warm_up.warm_up_driven]): nothing changes.
 
 The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
@@ -53,7 +53,6 @@ from ..exceptions import InvalidInputError
 from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
-from .controller import warm_up_driven
 from .gc_policy import LoopCollector, check_gc_policy
 from .safe_action import (
     DEFAULT_DAMPING,
@@ -63,6 +62,7 @@ from .safe_action import (
     check_reading,
     check_state,
 )
+from .warm_up import warm_up_driven
 
 State = tuple[np.ndarray, np.ndarray, float]
 

@@ -47,6 +47,9 @@ class ControlOutput:
             the controller did (an [`AttachmentFailure`][]: ``reason``, ``error``, ``message``,
             ``action`` ``"skip"`` or
             ``"fallback"``). A fallback's unclipped solution is in ``solutions``.
+        rate_limited: ``(nv,)`` bool, True where the controller's ``effort_rate_limit`` held
+            the effort back from the clipped request (all False without one; see
+            [`effort_rate`][virtual_actuators.control.effort_rate]).
 
     """
 
@@ -62,17 +65,28 @@ class ControlOutput:
     active: tuple[str, ...]
     joint_names: tuple[str, ...]
     failures: dict[str, AttachmentFailure] = field(default_factory=dict)
+    rate_limited: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.rate_limited is None:
+            self.rate_limited = np.zeros(self.tau.shape, dtype=bool)
 
     @property
     def saturated_joints(self) -> list[str]:
         """Names of the velocity entries whose effort was clipped."""
         return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
 
+    @property
+    def rate_limited_joints(self) -> list[str]:
+        """Names of the velocity entries the effort rate limit held back."""
+        return [self.joint_names[i] for i in np.flatnonzero(self.rate_limited)]
+
     def __repr__(self) -> str:
         fallback = [name for name, f in self.failures.items() if f.action == "fallback"]
         return (
             f"ControlOutput(active={self.active}, |tau|={np.linalg.norm(self.tau):.3g}, "
             f"saturated={self.saturated_joints}, failed={list(self.failed)}"
+            + (f", rate_limited={self.rate_limited_joints}" if self.rate_limited.any() else "")
             + (f", fallback={fallback})" if fallback else ")")
         )
 

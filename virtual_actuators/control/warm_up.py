@@ -22,6 +22,7 @@ from ..actuators import ParallelVirtualActuator
 from ..exceptions import VirtualActuatorError
 from ..kinematics.kernels import velocity_of_point
 from ..kinematics.snapshot import Snapshot, thread_data
+from ..models.robot import Robot
 from .contact_limits import largest_scale, least_margin
 
 
@@ -86,4 +87,19 @@ def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attach
     worker.join()
 
 
-__all__ = ["warm_up"]
+
+def warm_up_driven(controller: object, robot: Robot) -> None:
+    """Warm up what a loop drives before its clock starts (``va.run``'s first step).
+
+    ``controller`` if it is a [`Controller`][], else the ``controller`` it drives (a gait, a
+    tracker), when it controls ``robot``: [`Controller.warm_up`][] at the robot's neutral
+    configuration. What it computes afterwards is unchanged.
+    """
+    for owner in (controller, getattr(controller, "controller", None)):
+        model = getattr(getattr(owner, "robot", None), "model", None)
+        if hasattr(owner, "attachments") and model is robot.model:  # a controller of robot
+            owner.warm_up(robot.neutral())
+            return
+
+
+__all__ = ["warm_up", "warm_up_driven"]

@@ -28,6 +28,7 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.channels import resolve_step_states
+from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.experiments.walk_log import WalkLog
 
 __all__ = [
@@ -38,8 +39,12 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class WalkMetrics:
+class WalkMetrics(SmoothnessFigures):
     """What a walking run achieved. All SI; ``None`` when a quantity could not be measured.
+
+    The smoothness figures of every tick (`SmoothnessFigures`: ``effort_oscillation``,
+    ``effort_oscillation_joint``, ``effort_change_rms``, ``base_rate_alternation``,
+    ``base_rate_oscillation_radps``) are set by the walk, which has every tick's efforts.
 
     Attributes:
         fell: Whether any tick has ``fallen`` set.
@@ -113,6 +118,8 @@ class WalkMetrics:
             parts.append(f"FELL at {self.fall_time_s:z.2f} s")
         if self.realtime_factor is not None:
             parts.append(f"{self.realtime_factor:z.2f}x real time")
+        if smoothness := self.smoothness_summary():
+            parts.append(smoothness)
         return ", ".join(parts)
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from ..control.controller import Controller, ControlOutput
 from ..control.machine_controller import MachineController
 from ..control.state_machine import Event, StateMachine
+from ..control.tick_rate import TickRate, bound_tick_rate
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 
@@ -59,6 +60,16 @@ class Gait:
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
         self.wiring = MachineController(self.controller, machine)
+
+    def _bound_gains(self, control_rate: float) -> list[TickRate]:
+        """Bound the derived gains' per-tick rate in every state (`bound_tick_rate`).
+
+        Judged at `initial_configuration`, each state's support held, for a controller run at
+        ``control_rate`` [Hz]; returns each state's `TickRate` before the bound.
+        """
+        states = [(state.active, state.support) for state in self.machine.states]
+        q = self.initial_configuration()
+        return bound_tick_rate(self.controller, q, states, 1.0 / control_rate)
 
     def _front_is(self, side: str, event: Event) -> Event:
         """``event``, but only while ``side`` is the front foot (``self.front``)."""

@@ -29,6 +29,7 @@ from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, check_distribution, check_speed_bound
 from .runner import Episode, WalkResult, drive, has_fallen, terrain_points
+from .smoothness import loop_smoothness
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
 STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
@@ -99,10 +100,16 @@ def run_planar_walk(
     log = episode.recorder.to_log()
     metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
     normal_min, ratio_max = episode.stance.figures()
+    smoothness = loop_smoothness(episode.simulator, end)
     metrics = dataclasses.replace(
-        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
+        metrics,
+        stance_normal_min_n=normal_min,
+        stance_friction_ratio_max=ratio_max,
+        **smoothness.metrics_fields(),
     )
-    return WalkResult(log, metrics, episode.gait, episode.simulator, end.wall)
+    return WalkResult(
+        log, metrics, episode.gait, episode.simulator, end.wall, loop=end, smoothness=smoothness
+    )
 
 
 def _prepare(
@@ -176,6 +183,8 @@ class PlanarEpisode(Episode):
         self.x_index, self.z_index = _index(robot, "boom_x"), _index(robot, "boom_z")
         self.pitch_index = _index(robot, "boom_pitch")
         self.v_x = robot.model.joints[robot.model.getJointId("boom_x")].idx_v
+        pitch_v = robot.model.joints[robot.model.getJointId("boom_pitch")].idx_v
+        self.base_rate = slice(pitch_v, pitch_v + 1)  # the body's pitch rate, recorded per tick
         self.nominal = gait.nominal_height()  # [m]
         self.has_slope = hasattr(gait, "slope")
         self.ground = 0.0  # [m], the terrain's height under the hip at this tick

@@ -5,6 +5,8 @@ recorder and stance-force reader: the planar bipeds' in `planar_walk`,
 the hexapod's in `walk`); `drive` runs it at the
 control rate (read ``q``, ``v`` and the contact switches, let the gait compute the efforts, step
 the physics, sample the stance forces, test for a fall, record) and the walk summarises the log.
+Every tick's applied efforts and the base's angular rate are kept (`LoopEnd`), for
+`loop_smoothness` to measure.
 Walks judge the robot fallen with `has_fallen`: a part other than a foot touches the
 ground, the hip drops below half its nominal height above the terrain, or the body tilts beyond
 `FALL_PITCH`.
@@ -13,6 +15,7 @@ ground, the hip drops below half its nominal height above the terrain, or the bo
 from __future__ import annotations
 
 import functools
+import math
 import time as wallclock
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -26,6 +29,7 @@ from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics
 from ..experiments.progress import Progress
 from ..experiments.recorder import Recorder
+from ..experiments.smoothness import EffortSmoothness
 from ..experiments.walk_log import WalkLog
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
@@ -61,6 +65,8 @@ class WalkResult:
         simulator: The simulator in its final state.
         wall_time: Wall-clock seconds of the loop.
         extra: Anything a caller attaches.
+        loop: How the loop ended, with every tick's efforts and base rates (`LoopEnd`).
+        smoothness: Its `loop_smoothness`.
 
     """
 
@@ -70,6 +76,8 @@ class WalkResult:
     simulator: Simulator
     wall_time: float
     extra: dict = field(default_factory=dict)
+    loop: LoopEnd | None = None
+    smoothness: EffortSmoothness | None = None
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates."""
@@ -174,6 +182,8 @@ class Episode:
         stance: The stance forces read so far.
         feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
         native: Builds the gait's tick in the compiled core (a `Walk`'s ``native``), or None.
+        base_rate: Where ``v`` holds the base's angular velocity (a free-flyer's ``v[3:6]``,
+            body axes), or None.
 
     """
 
@@ -191,6 +201,7 @@ class Episode:
         self.stance = StanceForces(simulator, terrain)
         self.feet = foot_geoms(simulator)
         self.native: Callable[[Gait], Any] | None = None
+        self.base_rate: slice | None = slice(3, 6) if simulator.robot.floating_base else None
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
         """Before the gait computes: steer it if need be; the contact switches it reads."""
@@ -216,6 +227,12 @@ class LoopEnd:
         fall_time: Simulated time of the first fallen tick [s], None if none.
         wall: Wall-clock seconds of the loop.
         physics: Wall-clock seconds of it in the physics steps.
+        efforts: ``(ticks, nv)`` every tick's efforts, the gait's output given to
+            [`Simulator.step`][] [N m or N].
+        velocities: ``(ticks, nv)`` every tick's ``v``, the state the gait read.
+        base_rate: Where ``v`` holds the base's angular velocity (the episode's), or None.
+        fall_tick: Index of the first fallen tick, None if none.
+        time_step: Time between two ticks [s].
 
     """
 
@@ -223,6 +240,16 @@ class LoopEnd:
     fall_time: float | None = None
     wall: float = 0.0
     physics: float = 0.0
+    efforts: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    velocities: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    base_rate: slice | None = None
+    fall_tick: int | None = None
+    time_step: float = 1e-3
+
+    @property
+    def base_rates(self) -> np.ndarray | None:
+        """``(ticks, axes)`` the base's angular velocity at every tick [rad/s], or None."""
+        return None if self.base_rate is None else self.velocities[:, self.base_rate]
 
 
 def drive(
@@ -283,7 +310,8 @@ def _loop(
     (which may read the gait's [`ControlOutput`][]), the episode's
     ``native`` tick computes the others when the compiled core can run the gait: the same
     efforts, bit for bit (its ticks answer the efforts, the active attachments and their
-    wrenches, which is what `record` reads).
+    wrenches, which is what `record` reads). Every tick's efforts and ``v`` are copied into
+    rows allocated before the loop.
     """
     gait, simulator = episode.gait, episode.simulator
     native, compute = (episode.native if on_tick is None else None), gait.compute
@@ -291,11 +319,21 @@ def _loop(
     stance_every, record_every = episode.stance_every, episode.record_every
     ignore = episode.ignore_unactuated
     data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
-    tick, physics, fall_time = 0, 0.0, None
+    period = simulator.control_period
+    capacity = max(0, math.ceil((duration - data.time) / period)) + 2
+    efforts = np.empty((capacity, simulator.robot.model.nv))  # [N m or N]
+    velocities = np.empty_like(efforts)
+    tick, physics, fall_time, fall_tick = 0, 0.0, None, None
     while data.time < duration - 1e-9:
         q, v = simulator.q, simulator.v
         now = data.time
+        try:
+            velocities[tick] = v
+        except IndexError:  # a time that did not advance by whole periods
+            efforts, velocities = _grown(efforts), _grown(velocities)
+            velocities[tick] = v
         output = compute(q, v, now, episode.sense(q, v, now))
+        efforts[tick] = output.tau
         mark = wallclock.perf_counter()
         simulator.step(output.tau, ignore_unactuated=ignore)
         physics += wallclock.perf_counter() - mark
@@ -304,7 +342,7 @@ def _loop(
             episode.stance.sample(gait.support_contacts())
         fallen = fall_time is not None or episode.fallen(q)
         if fallen and fall_time is None:
-            fall_time = now
+            fall_time, fall_tick = now, tick - 1
         if record_every == 1 or tick % record_every == 1:
             episode.record(now, q, v, output, fallen)
         if on_tick is not None:
@@ -320,4 +358,13 @@ def _loop(
                 compute = native_tick.compute
     if native_tick is not None:
         native_tick.sync()  # the gait's objects as the native tick left them
-    return LoopEnd(tick, fall_time, 0.0, physics)
+    return LoopEnd(
+        tick, fall_time, 0.0, physics, efforts[:tick], velocities[:tick], episode.base_rate,
+        fall_tick, period,
+    )
+
+
+def _grown(rows: np.ndarray) -> np.ndarray:
+    """``rows`` followed by as many uninitialised rows."""
+    return np.concatenate([rows, np.empty_like(rows)])
+

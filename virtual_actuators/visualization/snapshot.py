@@ -229,7 +229,7 @@ def _check_request(
 
 
 def _check_output(controller: Controller, output: ControlOutput) -> None:
-    """Check that the output's active attachments are the controller's.
+    """Check that the output's active attachments (and joint-space terms) are the controller's.
 
     Raises:
         InvalidInputError: ``controller`` has no attachments, or ``output`` names one it lacks.
@@ -238,8 +238,9 @@ def _check_output(controller: Controller, output: ControlOutput) -> None:
     attachments = getattr(controller, "attachments", None)
     if attachments is None:
         raise InvalidInputError(f"controller must be a Controller, got {controller!r}.")
+    terms = getattr(controller, "postures", {})
     for name in getattr(output, "active", ()):
-        if name not in attachments:
+        if name not in attachments and name not in terms:
             raise InvalidInputError(
                 f"The output names attachment {name!r}, which the controller does not have "
                 f"({list(attachments)})."

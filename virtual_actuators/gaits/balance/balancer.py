@@ -94,6 +94,11 @@ class Balancer(Gait):
         parameters: The constants.
         feet: Foot frames (default: found on the robot).
 
+    Attributes:
+        tick_rate: The per-tick rate of the derived gains before they were bounded for
+            ``parameters.control_rate`` (a
+            [`TickRate`][virtual_actuators.control.tick_rate.TickRate]).
+
     Raises:
         FrameNotFoundError: No feet found, or a name in ``feet`` that is not a frame (with
             close matches).
@@ -124,8 +129,9 @@ class Balancer(Gait):
         self.contact_frames = self.contacts
         self.soles = soles or {}
         self.spring = self._body(soles)
-        active = ["body", *self._posture(feet)]
+        active = ["body", *self._posture(feet), "gravity"]
         self.gravity = GravityCompensation(robot)
+        self.controller.add("gravity", self.gravity)  # in the sum, before the clip
         self._weight = np.array([0.0, 0.0, robot.mass * 9.81])  # [N], world axes
         signs = np.array([[1.0, 1.0, 0.0], [1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [-1.0, -1.0, 0.0]])
         self._corners = [  # each support frame's sole corners in its own axes [m], (4, 3)
@@ -133,6 +139,7 @@ class Balancer(Gait):
         ]
         stand = State("stand", active=active, support=self.contacts)
         self._finish(StateMachine([stand], [], "stand"))
+        (self.tick_rate,) = self._bound_gains(parameters.control_rate)
 
     def _body(self, soles: dict[str, tuple[float, float]] | None) -> SupportedSpring:
         """The body actuator on the contact QP with its spring-damper; returns the spring."""
@@ -246,10 +253,11 @@ class Balancer(Gait):
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
-        """One tick: the weight at the centre of mass, the controller, gravity compensation.
+        """One tick: the weight at the centre of mass, then the controller.
 
-        The weight acts on the body as the spring-damper's feed-forward; the efforts, with
-        every link's gravity compensated, are clipped to the effort limits.
+        The weight acts on the body as the spring-damper's feed-forward; the controller sums
+        the body's, the posture's and every link's gravity compensation, and clips the sum to
+        the effort limits (then limits its rate, if asked).
         """
         snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass, shared
         body = snapshot.frame_position(self.body)
@@ -257,10 +265,7 @@ class Balancer(Gait):
         self.spring.force = np.concatenate((self._weight, np.cross(lever, self._weight)))
         self._support(snapshot, body)
         output = super().compute(snapshot, None, time, contacts)
-        tau = output.tau + self.gravity.torques(q)
-        tau[:6] = 0.0
-        limits = self.controller.effort_limits
-        output.tau[:] = np.clip(tau, -limits, limits)
+        output.tau[:6] = 0.0  # the base's weight is the feet's to carry
         return output
 
 

@@ -40,6 +40,9 @@ class BalanceParameters:
         height_ratio: Hip-to-foot height of a generated standing pose (robots without an SRDF
             pose), see [`standing_pose`][virtual_actuators.models.standing.standing_pose].
         push_duration: How long a ``--push`` lasts [s].
+        control_rate: The rate the controller runs at [Hz]: the body's and the posture's gains
+            are bounded so that they change a velocity by at most half of it per tick
+            ([`tick_rate`][virtual_actuators.control.tick_rate]).
 
     """
 
@@ -56,3 +59,4 @@ class BalanceParameters:
     yield_weight: float = 1.0
     height_ratio: float = 0.9
     push_duration: float = 0.1
+    control_rate: float = 1000.0

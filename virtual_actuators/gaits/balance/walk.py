@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +25,7 @@ import numpy as np
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
+from ...experiments.smoothness import SmoothnessFigures
 from ...models.efforts import implausible_effort_limits
 from ...models.loader import load_robot
 from ...models.robot import Robot
@@ -34,6 +35,7 @@ from ..attitude import attitude_and_velocity
 from ..base import Walk
 from ..push import Push
 from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number, trace_of
+from ..smoothness import loop_smoothness
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
@@ -46,8 +48,10 @@ __all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", 
 
 
 @dataclass(frozen=True)
-class BalanceMetrics:
+class BalanceMetrics(SmoothnessFigures):
     """The summary figures of a balance run (NaN: not measured).
+
+    With the smoothness figures of every tick (`SmoothnessFigures`; None: not measured).
 
     Attributes:
         robot: The robot's name.
@@ -90,10 +94,13 @@ class BalanceMetrics:
         rate = f", {self.realtime_factor:.2f}x real time" if self.realtime_factor else ""
         limits = self.implausible_limits
         note = f" (implausible URDF effort limits on {len(limits)} joints)" if limits else ""
+        smoothness = self.smoothness_summary()
+        height = round(self.height_error_m * 1000, 1) + 0.0  # [mm], never -0.0
         return (
             f"{self.robot} {state} for {self.duration_s:.2f} s{push}: tilt <= "
             f"{self.max_tilt_rad:.3f} rad, drift <= {self.max_drift_m:.3f} m, height error "
-            f"{self.height_error_m * 1000:+z.1f} mm{rate}{note}"
+            f"{height:+.1f} mm{rate}{note}"
+            f"{', ' if smoothness else ''}{smoothness}"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -233,7 +240,9 @@ def run_balance(
     end = drive(episode, duration, progress, on_tick, stop_on_fall)
     log = recorder.to_log()
     metrics = _metrics(episode, log, end.fall_time, simulator.time / end.wall if end.wall else None)
-    return BalanceResult(log, metrics, gait, simulator, end.wall)
+    smoothness = loop_smoothness(simulator, end)
+    metrics = replace(metrics, **smoothness.metrics_fields())
+    return BalanceResult(log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness)
 
 
 def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetrics:

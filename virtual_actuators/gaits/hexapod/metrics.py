@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from ...exceptions import InvalidInputError
+from ...experiments.smoothness import SmoothnessFigures
 from ...experiments.walk_log import WalkLog
 from ..guidance import (
     Guidance,
@@ -33,8 +34,10 @@ TRACK_SETTLE = 3.0  # [s] bearing errors are judged after this
 
 
 @dataclass(frozen=True)
-class HexapodMetrics:
+class HexapodMetrics(SmoothnessFigures):
     """What a hexapod walk achieved (``None``: not measured for this kind of run).
+
+    With the smoothness figures of every tick (`SmoothnessFigures`), set by the walk.
 
     Attributes:
         fell: Whether the robot fell.
@@ -119,6 +122,8 @@ class HexapodMetrics:
                 f"{self.realtime_factor:z.2f}x real time (MuJoCo alone "
                 f"{self.physics_realtime_factor:z.1f}x)"
             )
+        if smoothness := self.smoothness_summary():
+            parts.append(smoothness)
         return ", ".join(parts)
 
 

@@ -117,7 +117,8 @@ class NativeTick(CoreTick):
     def of(cls, gait: object) -> NativeTick | None:
         """The native tick of ``gait``, or None.
 
-        None: no compiled core, not a `HexapodWalker`, a machine not started yet, a pendulum,
+        None: no compiled core, not a `HexapodWalker`, a machine not started yet, an effort
+        rate limit, a pendulum,
         a body that is not the free flyer's frame, ``distribution="partitioned"``, attachments
         other than the walker's own, or frames outside the tick's frame table.
         """
@@ -125,6 +126,8 @@ class NativeTick(CoreTick):
             return None
         controller, p = gait.controller, gait.parameters
         if not gait.machine.started or not controller.clip or controller.postures:
+            return None
+        if controller.effort_rate_limit is not None:  # the Python tick limits the rate
             return None
         if gait.pendulum is not None or not gait._body_is_root or p.distribution != "qp":
             return None

@@ -44,6 +44,7 @@ from ..runner import (
     number,
     terrain_points,
 )
+from ..smoothness import loop_smoothness
 from .config import HexapodWalkConfig, command_path
 from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
@@ -185,7 +186,12 @@ def run_hexapod_walk(
     normal_min, ratio_max = episode.stance.figures()
     metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, normal_min, ratio_max)
     metrics = _with_timing(metrics, simulator.time, end.wall, end.physics)
-    return HexapodResult(log, metrics, gait, simulator, end.wall, config=config, ticks=end.ticks)
+    smoothness = loop_smoothness(simulator, end)
+    metrics = replace(metrics, **smoothness.metrics_fields())
+    return HexapodResult(
+        log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness, config=config,
+        ticks=end.ticks,
+    )
 
 
 def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> HexapodEpisode:

@@ -24,12 +24,14 @@ its legs.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
 
 from ...actuators.producible import Directions, give_way
 from ...components.base import Component
+from ...components.gains import Gains
 from ...kinematics.kernels import njit
 from ...native import CORE
 from ..attitude import yaw_pitch_roll
@@ -110,6 +112,27 @@ class BodyModel(Component):
                 *g.damping_xy, g.stiffness_z, g.damping_z, *g.stiffness_attitude,
                 *g.damping_attitude, mass, mass * GRAVITY,
             ))  # fmt: skip
+
+    def linear_gains(self) -> Gains:
+        """Stiffness and damping on `AXES` (the heading frame's, world axes when level)."""
+        g = self._gains
+        stiffness = (0.0, 0.0, g.stiffness_z, *g.stiffness_attitude, 0.0)
+        damping = (*g.damping_xy, g.damping_z, *g.damping_attitude)
+        return Gains(np.array(stiffness), np.array(damping))
+
+    def scale_gains(self, factor: np.ndarray) -> None:
+        """Multiply the stiffness and damping of each axis by ``factor`` (``(6,)``)."""
+        fx, fy, fz, froll, fpitch, fyaw = (float(f) for f in factor)
+        g = self._gains
+        (k_roll, k_pitch), (d_roll, d_pitch, d_yaw) = g.stiffness_attitude, g.damping_attitude
+        self.gains = replace(
+            g,
+            stiffness_z=g.stiffness_z * fz,
+            damping_z=g.damping_z * fz,
+            stiffness_attitude=(k_roll * froll, k_pitch * fpitch),
+            damping_attitude=(d_roll * froll, d_pitch * fpitch, d_yaw * fyaw),
+            damping_xy=(g.damping_xy[0] * fx, g.damping_xy[1] * fy),
+        )
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The wrench on the body, world axes (given way where the support cannot produce it)."""

@@ -13,14 +13,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...experiments.smoothness import SmoothnessFigures
 from ..guidance import wrap
 
 __all__ = ["LeggedMetrics", "legged_metrics"]
 
 
 @dataclass(frozen=True)
-class LeggedMetrics:
+class LeggedMetrics(SmoothnessFigures):
     """What a legged walk achieved.
+
+    With the smoothness figures of every tick (`SmoothnessFigures`), set by the walk.
 
     Attributes:
         fell: Whether the robot fell.
@@ -96,6 +99,8 @@ class LeggedMetrics:
                 f"{self.realtime_factor:z.2f}x real time (MuJoCo alone "
                 f"{self.physics_realtime_factor:z.1f}x)"
             )
+        if smoothness := self.smoothness_summary():
+            parts.append(smoothness)
         return ", ".join(parts)
 
 

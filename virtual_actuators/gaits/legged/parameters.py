@@ -16,6 +16,7 @@ import numpy as np
 
 from ...components.gains import body_gains, gains
 from ...models.robot import Robot
+from ...vocabulary.arguments import check_number
 from ..base import check_distribution
 
 GRAVITY = 9.81  # [m/s^2]
@@ -62,6 +63,10 @@ class LeggedParameters:
             the least normal force bind (the QP's closest wrench, ``yield_axes``): three feet
             with the centre of mass outside their triangle keep the attitude too.
         stand_time: Standing on all feet before the first swing [s].
+        control_rate: The rate the controller runs at [Hz]: the derived gains are bounded so
+            that no state's springs and dampers change a velocity by more than half of it per
+            tick ([`tick_rate`][virtual_actuators.control.tick_rate]); run slower and they may
+            chatter.
 
     """
 
@@ -87,9 +92,11 @@ class LeggedParameters:
     min_normal: float = 0.05
     give_way: tuple[str, ...] = ("x", "y")
     stand_time: float = 0.2
+    control_rate: float = 1000.0
 
     def __post_init__(self) -> None:
         check_distribution(self.distribution)
+        check_number(self.control_rate, "control_rate [Hz]", positive=True)
 
 
 @dataclass(frozen=True)
@@ -130,7 +137,11 @@ def derive_gains(
     """Stiffness ``m w^2`` and damping ``2 zeta m w`` per axis; dampers ``m / tau``.
 
     The masses and inertias are [`body_gains`][]'s: the
-    robot's mass for forces, its centroidal inertia at ``q`` for moments.
+    robot's mass for forces, its centroidal inertia at ``q`` for moments. The walker then
+    bounds them for its control rate ([`bound_tick_rate`][
+    virtual_actuators.control.tick_rate.bound_tick_rate]): a swing foot's spring acts on
+    directions much lighter than its leg (across the shank), where these gains alone would
+    alternate every tick.
 
     Args:
         parameters: The choices.

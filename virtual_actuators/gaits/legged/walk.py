@@ -38,6 +38,7 @@ from ..runner import (
     terrain_points,
     trace_of,
 )
+from ..smoothness import loop_smoothness
 from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
@@ -238,14 +239,19 @@ def run_legged_walk(
             heading_drift_rad=None,
             bearing_error_max_rad=bearing_error(episode.guidance, trace_of(log)),
         )
+    smoothness = loop_smoothness(simulator, end)
     metrics = replace(
         metrics,
         stance_normal_min_n=normal_min,
         stance_friction_ratio_max=ratio_max,
         realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
         physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
+        **smoothness.metrics_fields(),
     )
-    return LeggedResult(log, metrics, gait, simulator, end.wall, config=config, ticks=end.ticks)
+    return LeggedResult(
+        log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness, config=config,
+        ticks=end.ticks,
+    )
 
 
 def sine_error(guidance: SinePath, trace: dict[str, list]) -> float:

@@ -74,7 +74,10 @@ class LeggedWalker(Gait):
         feet: The foot frames.
         pattern: The [`GaitPattern`][].
         groups: Its swing groups, in cycle order.
-        gains: The physical gains (`LeggedGains`).
+        gains: The physical gains as derived (`LeggedGains`); the body model and the swing
+            springs hold them bounded for the control rate.
+        tick_rates: Each state's per-tick rate of its derived gains before that bound
+            ([`TickRate`][virtual_actuators.control.tick_rate.TickRate]).
         nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame
             (its width the pattern's fraction of the standing pose's).
         stand_height: The body's origin above its feet when standing [m].
@@ -138,6 +141,9 @@ class LeggedWalker(Gait):
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
         self._swinging = dict(zip(self.step_states, self.groups, strict=True))
         self._finish(self._machine())
+        self.tick_rates = dict(
+            zip(self.machine.names, self._bound_gains(p.control_rate), strict=True)
+        )
 
     # --- declaration ---------------------------------------------------------------------------
 

@@ -86,12 +86,15 @@ class NativeTick(CoreTick):
         """The native tick of ``gait``, or None.
 
         None: no compiled core, not a `TurkeyWalker`, a machine not started yet (its first tick
-        runs in Python), an attachment without the core's one-call tick (a QP distribution,
-        another component), or frames outside the tick's frame table.
+        runs in Python), an effort rate limit, an attachment without the core's one-call tick
+        (a QP distribution, another component), or frames outside the tick's frame table.
         """
         if CORE is None or not hasattr(CORE, "NativeTurkey") or type(gait) is not TurkeyWalker:
             return None
-        if not gait.machine.started or not gait.controller.clip or gait.controller.postures:
+        controller = gait.controller
+        if not gait.machine.started or not controller.clip or controller.postures:
+            return None
+        if controller.effort_rate_limit is not None:  # the Python tick limits the rate
             return None
         tree = tree_of(gait.robot)
         core_tree = tree.core_tree

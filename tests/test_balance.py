@@ -86,7 +86,8 @@ def test_the_summary_never_prints_minus_zero():
 def test_push_parsing():
     assert Push.parse("250@1.5") == Push(250.0, 1.5, 0.0)
     assert Push.parse("60@2:90") == Push(60.0, 2.0, 90.0)
-    for bad in ("250", "a@1", "250@-1", "-3@1", "250@1:x", "250@nan"):
+    assert Push.parse("-3@1") == Push(3.0, 1.0, 180.0)  # a negative force pushes the other way
+    for bad in ("250", "a@1", "250@-1", "250@1:x", "250@nan"):
         with pytest.raises(va.InvalidInputError, match="N@T"):
             Push.parse(bad)
 

@@ -154,3 +154,65 @@ def test_a_write_that_fails_after_the_run_is_a_usage_error(tmp_path):
     last = run.stderr.strip().splitlines()[-1]
     assert f"error: argument --json: cannot write {str(path)!r}: File too large" in last
     assert "m in 0.01 s" in run.stdout  # the run itself went through and printed its summary
+
+
+# -- issue 35's first hour: robots that cannot walk, gaits that do not fit, speeds --------------
+def _truncated_urdf(folder) -> str:
+    """solo12's URDF cut off in its first lines (not well-formed XML)."""
+    import virtual_actuators as va
+
+    path = folder / "truncated.urdf"
+    path.write_text(va.load_robot("solo12").urdf_path.read_text()[:600])
+    return str(path)
+
+
+FIRST_HOUR = [
+    (["demo", "legged", "--robot", "ur5"], "--robot", ["'ur5' has no feet"]),
+    (["demo", "balance", "--robot", "ur5"], "--robot", ["'ur5' has no feet"]),
+    (["demo", "legged", "--robot", "ur5", "--feet", "tool0,wrist_3_link"], "--robot",
+     ["'ur5' has a fixed base"]),
+    (["demo", "legged", "--robot", "TRUNCATED"], "--robot", ["not well-formed XML"]),
+    (["demo", "balance", "--robot", "TRUNCATED"], "--robot", ["not well-formed XML"]),
+    (["demo", "stand", "--robot", "TRUNCATED", "--feet", "a,b"], "--robot",
+     ["not well-formed XML"]),
+    (["demo", "legged", "--robot", "solo12", "--gait", "tripod"], "--gait",
+     ["three feet or more on each side", "the gaits that fit them are trot, pace, walk"]),
+    (["demo", "legged", "--robot", "hexapod", "--gait", "trot"], "--gait",
+     ["two feet on each side", "the gaits that fit them are pace, walk, tripod"]),
+    (["demo", "legged", "--speed", "1.0"], "--speed", ["or --force-speed to run it anyway."]),
+    (["demo", "legged", "--robot", "go2", "--speed", "2", "--force-speed"], "--speed",
+     ["(0, 1.5]", "--force-speed does not lift it", "no walk here walks faster"]),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("argv", "option", "expected"), FIRST_HOUR, ids=[" ".join(a[1:]) for a, _, _ in FIRST_HOUR]
+)
+def test_first_hour_usage_errors_name_their_option_on_one_line(
+    argv, option, expected, tmp_path, capsys
+):
+    argv = [_truncated_urdf(tmp_path) if word == "TRUNCATED" else word for word in argv]
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([*argv, "--quiet"] if argv[1] != "stand" else argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and err.startswith("usage:")
+    message = [line for line in err.splitlines() if not line.startswith(("usage:", " "))]
+    assert len(message) == 1, err  # the usage, then one line
+    assert message[0].startswith(f"python -m virtual_actuators demo: error: argument {option}: ")
+    for text in expected:
+        assert text in message[0], (text, message[0])
+    assert "force_speed" not in message[0]  # the command line offers its own flag
+
+
+def test_a_push_that_starts_with_a_minus_is_its_value():
+    """``--push -10@1`` (argparse took ``-10@1`` for an option): 10 N the other way."""
+    from virtual_actuators.cli.options import attach_values
+    from virtual_actuators.gaits.push import Push
+
+    parser, subparsers = cli.build_parser()
+    words = ["demo", "legged", "--push", "-10@1", "--direction", "-90", "--yaw-rate", "-.5"]
+    args = parser.parse_args(attach_values(words, [parser, *subparsers.values()]))
+    assert args.push == Push(10.0, 1.0, 180.0) and args.direction == -90 and args.yaw_rate == -0.5
+    assert attach_values(["demo", "--quiet", "-10@1"], [parser]) == ["demo", "--quiet", "-10@1"]
+    assert Push.parse("-3@1:90") == Push(3.0, 1.0, 270.0)

@@ -44,8 +44,26 @@ def test_walk_lifts_one_foot_at_a_time_in_the_lateral_sequence():
 def test_tripod_alternates_along_each_side_and_across():
     pattern = named_pattern("tripod", HEX, HEX_XY)
     assert _as_sets(pattern.groups()) == [{"L1", "L3", "R2"}, {"R1", "R3", "L2"}]
-    # on a quadruped the alternating pattern is the trot
-    assert _as_sets(named_pattern("tripod", QUAD, QUAD_XY).groups()) == [{"LF", "RH"}, {"RF", "LH"}]
+
+
+
+def test_each_pattern_takes_the_feet_it_needs_and_names_the_others():
+    """One rule for all (issue 35: a tripod was taken on four legs, a trot refused on six): a trot
+    needs two feet a side, a tripod three or more a side, a pace one or more a side."""
+    from virtual_actuators.gaits.legged.patterns import fitting_patterns
+
+    assert fitting_patterns(QUAD, QUAD_XY) == ("trot", "pace", "walk")
+    assert fitting_patterns(HEX, HEX_XY) == ("pace", "walk", "tripod")
+    assert fitting_patterns(QUAD[:2], QUAD_XY[:2]) == ("pace", "walk")  # one foot a side
+    assert fitting_patterns(("LF", "LH"), QUAD_XY[[0, 2]]) == ("walk",)  # both on the left
+    with pytest.raises(va.GaitPatternError, match="three feet or more on each side") as error:
+        named_pattern("tripod", QUAD, QUAD_XY)
+    assert "the gaits that fit them are trot, pace, walk" in str(error.value)
+    with pytest.raises(va.GaitPatternError, match="two feet on each side") as error:
+        named_pattern("trot", HEX, HEX_XY)
+    assert "3 on the left (L1, L2, L3)" in str(error.value)
+    assert "the gaits that fit them are pace, walk, tripod" in str(error.value)
+    assert isinstance(error.value, va.InvalidInputError)  # what it always was
 
 
 @pytest.mark.parametrize("name", ["trot", "pace", "walk", "tripod"])

@@ -21,8 +21,6 @@ from virtual_actuators.__main__ import main  # noqa: E402
 from virtual_actuators.gaits.legged import LeggedWalker  # noqa: E402
 from virtual_actuators.gaits.legged.walk import LeggedWalkConfig, run_legged_walk  # noqa: E402
 
-pytestmark = pytest.mark.filterwarnings("ignore:Robot 'hyq'")
-
 
 def _second_half_speed(trace: dict) -> float:
     """Mean speed over the trace's second half, from the positions [m/s]."""

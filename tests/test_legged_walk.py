@@ -17,8 +17,8 @@ pytest.importorskip("mujoco")
 
 from virtual_actuators.gaits.legged.walk import LeggedWalkConfig, run_legged_walk  # noqa: E402
 
-# MuJoCo walking runs (a few seconds each); hyq's URDF has meshes MuJoCo cannot read (warned)
-pytestmark = [pytest.mark.slow, pytest.mark.filterwarnings("ignore:Robot 'hyq'")]
+# MuJoCo walking runs (a few seconds each)
+pytestmark = pytest.mark.slow
 
 
 def _walk(**config):

@@ -448,3 +448,64 @@ def test_importing_plots_does_not_import_matplotlib():
     if out.stdout.strip() == "preloaded":
         pytest.skip("virtual_actuators.simulation itself imports matplotlib")
     assert out.stdout.strip() == "False"
+
+
+# -- no negative zero in what the terminal shows (issue 35: "-0.0 mm") ----------------------------
+#: A number printed as a negative zero: -0, -0.0, -0.000...
+NEGATIVE_ZERO = r"(?<![\w.])-0(?:\.0+)?(?![\d.])"
+
+
+def _tiny_negatives(cls, signed=None):
+    """A metrics dataclass whose floats are -1e-9 (only those named in ``signed`` when given,
+    the others +1e-9): every figure that rounds to zero, from below where it can."""
+    import dataclasses
+
+    values = {}
+    for field in dataclasses.fields(cls):
+        kind = str(field.type)
+        if kind == "bool":
+            values[field.name] = True
+        elif kind.startswith("int"):
+            values[field.name] = 3
+        elif "float" in kind:
+            values[field.name] = -1e-9 if signed is None or field.name in signed else 1e-9
+        elif "tuple" in kind:
+            values[field.name] = ()
+        elif "str" in kind:
+            values[field.name] = "r"
+    return cls(**values)
+
+
+def test_summaries_print_no_negative_zero():
+    import re
+
+    from virtual_actuators.gaits.balance.walk import BalanceMetrics
+    from virtual_actuators.gaits.hexapod.metrics import HexapodMetrics
+    from virtual_actuators.gaits.legged.metrics import LeggedMetrics
+
+    for metrics in (
+        _tiny_negatives(WalkMetrics),
+        _tiny_negatives(LeggedMetrics),
+        _tiny_negatives(HexapodMetrics),
+        _tiny_negatives(BalanceMetrics, signed=("height_error_m",)),  # the others are >= 0
+    ):
+        cls, summary = type(metrics), metrics.summary()
+        assert "0.0" in summary and not re.search(NEGATIVE_ZERO, summary), (cls, summary)
+    assert re.search(NEGATIVE_ZERO, "height error -0.0 mm, x -0.000")  # what it catches
+    assert not re.search(NEGATIVE_ZERO, "-0.01 -0.5 -10.0 x-0 1e-05")
+
+
+def test_force_and_effort_tables_print_no_negative_zero():
+    import re
+
+    import virtual_actuators as va
+    from virtual_actuators.cli.views import _joint_table
+
+    robot = va.load_robot("solo12")
+    feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(robot, "base_link", feet, reference="base_link")
+    solution = body.solve(robot.neutral(), np.full(6, -1e-9))
+    table = solution.table()
+    assert "0.000" in table and not re.search(NEGATIVE_ZERO, table), table
+    efforts = _joint_table(robot, np.full(robot.model.nv, -1e-9))
+    assert "0.0000" in efforts and not re.search(NEGATIVE_ZERO, efforts), efforts

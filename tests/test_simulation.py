@@ -476,9 +476,9 @@ def test_actuated_option():
 def test_meshes_and_skipped_geometry():
     mm = build_mujoco_model(robot("ur5_robot"))
     assert mm.model.nmesh >= 7 and not mm.skipped_geometries
-    with pytest.warns(UserWarning, match="shoulder_link_0"):
-        visual = build_mujoco_model(robot("ur5_robot"), collisions="visual")  # .dae meshes
-    assert "shoulder_link_0" in visual.skipped_geometries
+    visual = build_mujoco_model(robot("ur5_robot"), collisions="visual")  # .dae meshes, read
+    assert visual.model.nmesh == 7 and not visual.skipped_geometries
+    assert not visual.approximated_geometries and len(visual.geom_frames) == 7
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         primitives = build_mujoco_model(robot("ur5_robot"), collisions="primitives")
@@ -843,7 +843,7 @@ def _tetrahedron_stl(path, binary):
         path.write_text("\n".join([*lines, "endsolid t"]) + "\n")
 
 
-def test_mesh_files_binary_and_ascii_stl(tmp_path):
+def test_mesh_files_binary_and_ascii_stl(tmp_path, caplog):
     _tetrahedron_stl(tmp_path / "binary.stl", binary=True)
     _tetrahedron_stl(tmp_path / "ascii.stl", binary=False)
     inertial = (
@@ -857,12 +857,20 @@ def test_mesh_files_binary_and_ascii_stl(tmp_path):
         </link></robot>"""
     )
     rob = va.load_robot(tmp_path / "meshy.urdf", floating_base=True)
-    with pytest.warns(UserWarning, match="base_1"):  # MuJoCo reads binary STL only
-        mm = build_mujoco_model(rob)
-    assert mm.skipped_geometries == ("base_1",) and mm.model.nmesh == 1
-    assert mm.frame_geoms["base"] == (
-        mujoco.mj_name2id(mm.model, mujoco.mjtObj.mjOBJ_GEOM, "base_0"),
-    )
+    with caplog.at_level("WARNING", logger="virtual_actuators"):
+        mm = build_mujoco_model(rob)  # MuJoCo reads binary STL only: the ASCII one is a box
+    assert [r.getMessage() for r in caplog.records] == [
+        "Robot 'meshy': simulated as bounding boxes, the meshes that neither MuJoCo (OBJ, "
+        "binary STL) nor the Collada reader reads (1): base_1"
+    ]
+    assert mm.approximated_geometries == ("base_1",) and not mm.skipped_geometries
+    assert mm.model.nmesh == 1
+    ids = [mujoco.mj_name2id(mm.model, mujoco.mjtObj.mjOBJ_GEOM, f"base_{k}") for k in (0, 1)]
+    assert mm.frame_geoms["base"] == tuple(ids)
+    assert mm.model.geom_type[ids[1]] == mujoco.mjtGeom.mjGEOM_BOX
+    assert np.allclose(mm.model.geom_size[ids[1]], 0.05) and np.allclose(
+        mm.model.geom_pos[ids[1]], 0.05
+    )  # the tetrahedron's box: from 0 to 0.1 m on each axis
 
 
 def test_impossible_inertia_is_repaired_with_a_warning():

@@ -10,7 +10,9 @@ import pytest
 
 from virtual_actuators import InvalidInputError
 from virtual_actuators.__main__ import main
+from virtual_actuators.gaits.legged.patterns import PATTERNS
 from virtual_actuators.gaits.legged.speeds import LEGGED_SPEEDS
+from virtual_actuators.gaits.legged.walk import LeggedWalkConfig
 from virtual_actuators.gaits.registry import WALKS, run_walk
 
 
@@ -29,6 +31,54 @@ def test_every_walk_with_a_speed_states_its_range():
     assert WALKS["legged"].speed_range(robot="my.urdf", gait="pace") == LEGGED_SPEEDS["pace"][None]
     hexapod = WALKS["hexapod-walk"]
     assert hexapod.speed_range(pendulum=True)[1] < hexapod.speed_range()[1]
+
+
+def _option_sets(name):
+    """Every set of options that selects a range of walk ``name`` (robots, gaits, payloads)."""
+    if name == "legged":
+        return [{"robot": robot, "gait": gait} for gait in PATTERNS
+                for robot in [*(r for r in LEGGED_SPEEDS[gait] if r), "solo12", "my.urdf"]]
+    if name == "hexapod-walk":
+        return [{}, {"pendulum": True}, {"track": True}]
+    return [{}]
+
+
+@pytest.mark.parametrize("name", list(WALKS))
+def test_every_default_speed_is_a_supported_one(name):
+    """A run given no speed walks inside its range (issue 35: the legged walk ran 0.4 m/s)."""
+    walk = WALKS[name]
+    for options in _option_sets(name):
+        default = walk.default_speed(**options)
+        supported = walk.speed_range(**options)
+        if supported is None:
+            assert default == walk.nominal_speed or name == "balance", options
+            continue
+        low, high = supported
+        assert low <= default <= high, (options, default, supported)
+        walk.check_speed(default, **options)  # and the walk's own check agrees
+    assert WALKS["legged"].default_speed(gait="walk") == 0.2  # 0.4 moved to its range's end
+    assert WALKS["legged"].default_speed(robot="hexapod", gait="walk") == 0.3
+    assert WALKS["legged"].default_speed() == 0.4  # inside: the gait's own
+    assert WALKS["hexapod-walk"].default_speed(track=True) == 0.2
+    assert LeggedWalkConfig(gait="walk").speed == 0.2 and LeggedWalkConfig().speed == 0.4
+
+
+@pytest.mark.parametrize(
+    ("name", "options", "expected"),
+    [("legged", {"gait": "walk"}, 0.2), ("legged", {"robot": "hexapod", "gait": "walk"}, 0.3),
+     ("hexapod-walk", {"pendulum": True}, 0.2), ("turkey-walk", {}, 0.5),
+     ("flamingo-slopes", {}, 0.4)],
+)
+def test_a_run_given_no_speed_walks_at_the_default(name, options, expected):
+    result = run_walk(name, duration=0.05, progress=False, **options)
+    config = getattr(result, "config", None)
+    speed = config.speed if config is not None else result.gait.bunny.speed
+    assert speed == pytest.approx(expected)
+
+
+def test_the_command_lines_walk_runs_at_a_supported_speed(capsys):
+    assert main(["demo", "legged", "--gait", "walk", "--duration", "0.05", "--quiet"]) == 0
+    assert "(set 0.20)" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize(
@@ -104,3 +154,12 @@ def test_the_range_ends_walk_without_falling(name, speed, options, duration):
     assert not metrics.fell, metrics.summary()
     mean = getattr(metrics, "mean_speed_mps", None) or metrics.speed_mps
     assert mean > 0.5 * speed, metrics.summary()  # it walks, at about the speed asked
+
+
+@pytest.mark.parametrize("name", ["legged", "hexapod-walk", "turkey-walk"])
+def test_the_speed_bound_is_absolute_and_says_why(name):
+    """force_speed lifts a walk's range, not the 1.5 m/s bound of every walk (issue 35)."""
+    with pytest.raises(InvalidInputError, match=r"1\.5 m/s bounds every walk") as error:
+        run_walk(name, speed=2.0, force_speed=True, duration=0.05, progress=False)
+    assert "force_speed does not lift it" in str(error.value)
+    assert "go2's trot" in str(error.value)

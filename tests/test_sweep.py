@@ -98,3 +98,10 @@ def test_the_cli_names_every_registered_walk():
     from virtual_actuators.demos import WALKS
 
     assert WALK_DEMOS == tuple(WALKS)
+
+
+def test_the_cli_bounds_speeds_as_the_walks_do():
+    from virtual_actuators.cli.types import MAX_SPEED
+    from virtual_actuators.gaits.base import MAX_SPEED as WALKS_MAX_SPEED
+
+    assert MAX_SPEED == WALKS_MAX_SPEED

@@ -8,12 +8,12 @@ import pytest
 pytest.importorskip("meshcat")
 
 import virtual_actuators as va  # noqa: E402
+from virtual_actuators.models.collada import collada_arrays  # noqa: E402
 from virtual_actuators.visualization import OfflineWindow  # noqa: E402
 from virtual_actuators.visualization.bodies import visual_model  # noqa: E402
 from virtual_actuators.visualization.meshes import (  # noqa: E402
     MeshCache,
     TriangleMesh,
-    collada_arrays,
     decimate,
     mesh_arrays,
 )

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from .cli.checks import check_demo_options
 from .cli.commands import OptionError, check_results_path, run
 from .cli.extras import check_installed
-from .cli.options import EXAMPLE_NAMES, build_parser
+from .cli.options import EXAMPLE_NAMES, attach_values, build_parser
 from .cli.streams import tolerate_closed_pipes
 
 
@@ -45,7 +45,7 @@ def _main(arguments: list[str]) -> int:
         arguments[0].startswith("-") and arguments[0] not in ("-h", "--help", "--version")
     ):
         arguments.insert(0, "demo")  # the default command, with its options
-    args = parser.parse_args(arguments)
+    args = parser.parse_args(attach_values(arguments, [parser, *subparsers.values()]))
     command_parser = subparsers.get(args.command, parser)
     if args.command == "demo":
         check_demo_options(args, command_parser)

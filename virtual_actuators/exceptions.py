@@ -1,13 +1,15 @@
-"""Typed errors raised by `virtual_actuators`.
+"""Typed errors raised by `virtual_actuators`, and its notices.
 
 Every error derives from [`VirtualActuatorError`][], so ``except va.VirtualActuatorError``
 catches all of them. Messages name the offending frame, joint, axis or constraint and say what
-would be valid.
+would be valid. What the library did for the user without an error (a mesh approximated) is a
+one-line `notice`.
 """
 
 from __future__ import annotations
 
 import importlib
+import logging
 from collections.abc import Iterable
 from pathlib import Path
 from types import ModuleType
@@ -39,6 +41,10 @@ class InvalidAxisError(VirtualActuatorError, ValueError):
 
 class InvalidInputError(VirtualActuatorError, ValueError):
     """An array argument has the wrong shape or holds NaN or infinite values."""
+
+
+class GaitPatternError(InvalidInputError):
+    """A named gait pattern does not fit the robot's feet (the message names those that do)."""
 
 
 class ConstraintError(VirtualActuatorError, ValueError):
@@ -262,3 +268,22 @@ def suggestion(name: str, candidates: Iterable[str], what: str) -> str:
     shown = ", ".join(repr(c) for c in candidates[:12])
     more = f" (and {len(candidates) - 12} more)" if len(candidates) > 12 else ""
     return f"Known {what}: {shown}{more}."
+
+
+#: The logger of the library's notices; ``NOTICES.setLevel(logging.ERROR)`` silences them.
+NOTICES = logging.getLogger("virtual_actuators")
+
+_noticed: set[str] = set()
+
+
+def notice(message: str) -> None:
+    """Tell the user, once per process, something the library did for them: one line.
+
+    The message is logged at ``WARNING`` on the ``virtual_actuators`` logger (`NOTICES`). With
+    logging left unconfigured, Python prints it on stderr as it is: one line, no source file,
+    line number or quoted code (which a `warnings` line would show). The same message is told
+    once per process (a sweep builds the same robot for every walk).
+    """
+    if message not in _noticed:
+        _noticed.add(message)
+        NOTICES.warning(message)

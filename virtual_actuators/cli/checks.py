@@ -99,6 +99,6 @@ def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk
     from ..exceptions import InvalidInputError
 
     try:
-        walk.check_speed(args.speed, **options)
+        walk.check_speed(args.speed, forced_by="--force-speed", **options)
     except InvalidInputError as error:
         parser.error(f"argument --speed: {error}")

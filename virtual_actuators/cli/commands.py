@@ -16,12 +16,14 @@ from .views import finish_viewer, make_viewer, pause, show_static, wants_viewer
 def demo_walk(args: argparse.Namespace) -> int:
     """Run one of the walks in MuJoCo, print its figures, write JSON and a plot."""
     from ..demos import WALKS, run_walk
-    from ..exceptions import FrameNotFoundError
+    from ..exceptions import FrameNotFoundError, GaitPatternError
     from ..experiments.metrics import write_json
     from ..models.loader import load_robot
 
     walk = WALKS[args.name]
     options = walk_options(args, walk.options)
+    if "robot" in walk.options:
+        legged_robot(args, walk.robot)  # a robot that cannot walk: a usage error, before the run
     viewer = on_tick = None
     if wants_viewer(args):
         robot = (walk.viewer_robot or (lambda **_: load_robot(walk.robot)))(**options)
@@ -31,7 +33,8 @@ def demo_walk(args: argparse.Namespace) -> int:
         if args.viz:
             pause("Open the viewer, then press Enter to start. ")
         on_tick = viewer.tick_callback(realtime=args.realtime)
-    with blame("--feet", only=FrameNotFoundError) if args.feet else contextlib.nullcontext():
+    feet = blame("--feet", only=FrameNotFoundError) if args.feet else contextlib.nullcontext()
+    with feet, blame("--gait", only=GaitPatternError):
         result = run_walk(
             args.name,
             duration=args.duration,
@@ -59,6 +62,34 @@ def demo_walk(args: argparse.Namespace) -> int:
     if viewer is not None:
         finish_viewer(args, viewer)
     return 1 if metrics.fell else 0
+
+
+def legged_robot(args: argparse.Namespace, default: str):
+    """The legged robot of ``--robot`` (``default`` without it) with its body and feet.
+
+    Its feet are ``--feet`` (when the command takes it) or those found on it (`stand_robot`).
+
+    Returns:
+        ``(robot, body frame, foot frames)``.
+
+    Raises:
+        OptionError: ``--robot`` names no robot, a description that cannot be loaded, a robot
+            with no feet or with a fixed base; or a frame of ``--feet`` is not in the robot.
+    """
+    from ..exceptions import RobotDescriptionError, RobotNotFoundError
+    from .stand import stand_robot
+
+    feet = getattr(args, "feet", None)
+    described = (RobotNotFoundError, RobotDescriptionError)
+    with blame("--feet" if feet else "--robot"), blame("--robot", only=described):
+        loaded = stand_robot(default if args.robot is None else args.robot, feet)
+    robot = loaded[0]
+    if not robot.floating_base:
+        raise OptionError(
+            f"argument --robot: robot {robot.name!r} has a fixed base: {args.name} needs a "
+            "legged robot, whose base floats (the robots command lists them)"
+        )
+    return loaded
 
 
 def walk_options(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, object]:
@@ -154,7 +185,7 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
     Raises:
         SystemExit: With code 2 when it cannot be written (names the path and the reason).
     """
-    from .types import output_path
+    from .paths import output_path
 
     out, option = results_path(args)
     if out is not None and option == "--plot":
@@ -180,12 +211,14 @@ class OptionError(Exception):
 
 
 @contextlib.contextmanager
-def blame(option: str, only: type[Exception] | None = None) -> Iterator[None]:
+def blame(
+    option: str, only: type[Exception] | tuple[type[Exception], ...] | None = None
+) -> Iterator[None]:
     """Turn a library error raised in the block into an `OptionError` naming ``option``.
 
     Args:
         option: The option that caused the error.
-        only: The error type that ``option`` causes (default: any
+        only: The error type (or types) that ``option`` causes (default: any
             [`VirtualActuatorError`][]); others propagate unchanged.
 
     Raises:
@@ -229,11 +262,9 @@ def run(args: argparse.Namespace) -> int:
     """
     if args.command == "demo":
         if args.name == "stand":
-            from .stand import demo_stand, stand_robot
+            from .stand import demo_stand
 
-            with blame("--feet" if args.feet else "--robot"):
-                loaded = stand_robot("solo12" if args.robot is None else args.robot, args.feet)
-            demo_stand(loaded, args=args)
+            demo_stand(legged_robot(args, "solo12"), args=args)
             return 0
         return demo_walk(args)
     if args.command == "example":

@@ -8,15 +8,16 @@ their option is given.
 from __future__ import annotations
 
 import argparse
+import re
+from collections.abc import Iterable
 
+from .paths import figure_path, output_path
 from .types import (
     MAX_DURATION,
     MIN_DURATION,
     amplitude,
     direction_degrees,
-    figure_path,
     frame_list,
-    output_path,
     positive_seconds,
     push_spec,
     robot_name,
@@ -136,7 +137,7 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
         default=None,
         metavar="N@T[:DEG]",
         help="legged, balance: push the base with N newtons for 0.1 s from T seconds along DEG "
-        "degrees in the ground plane (0 = +x, default 0)",
+        "degrees in the ground plane (0 = +x, default 0; N < 0 pushes the other way)",
     )
     demo.add_argument(
         "--path",
@@ -316,3 +317,37 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
     )
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     return sweep
+
+
+#: A value that starts like a negative number (``-10@1``, ``-5:0``, ``-.5``): argparse takes only
+#: plain negative numbers (``-10``) as values, and reads anything else after a minus as an option.
+_MINUS_VALUE = re.compile(r"-[\d.]")
+
+
+def attach_values(arguments: list[str], parsers: Iterable[argparse.ArgumentParser]) -> list[str]:
+    """``--push -10@1`` as ``--push=-10@1``: the value of an option that takes one, minus and all.
+
+    No option of the command line starts with a minus and a digit, so a word like that after an
+    option that takes a value is always that value.
+
+    Args:
+        arguments: The command line's words.
+        parsers: The parsers whose options are looked up.
+
+    Returns:
+        The words, each such option joined to its value.
+    """
+    valued = {
+        option
+        for parser in parsers
+        for action in parser._actions  # argparse's own list of the options
+        if action.nargs is None and action.option_strings
+        for option in action.option_strings
+    }
+    joined: list[str] = []
+    for word in arguments:
+        if joined and joined[-1] in valued and _MINUS_VALUE.match(word):
+            joined[-1] = f"{joined[-1]}={word}"
+        else:
+            joined.append(word)
+    return joined

@@ -3,7 +3,10 @@
 The feet come from the robot's SRDF or frame names
 ([`find_feet`][virtual_actuators.models.feet.find_feet]), or from ``--feet``. Three or more feet are
 point contacts; two feet (a biped) are
-flat contacts, so that the body's moments have somewhere to go.
+flat contacts, so that the body's moments have somewhere to go. The robot stands in the pose the
+walks and the balancer start from
+([`standing_pose`][virtual_actuators.models.standing.standing_pose]): its SRDF's, else one built
+from its legs, knees bent.
 """
 
 from __future__ import annotations
@@ -64,12 +67,14 @@ def demo_stand(
         RobotNotFoundError: If ``robot`` is a name that no robot has.
         RobotDescriptionError: If its URDF cannot be loaded.
         FrameNotFoundError: If it has no feet.
-        SingularConfigurationError: If its standing pose has a straight leg.
+        SingularConfigurationError: If its standing pose has a straight leg, or a leg cannot
+            reach the pose built for it.
     """
     import virtual_actuators as va
+    from virtual_actuators.models.standing import standing_pose
 
     robot, body_frame, feet = robot if isinstance(robot, tuple) else stand_robot(robot, feet)
-    q = robot.neutral()
+    q = standing_pose(robot, feet) if robot.floating_base else robot.neutral()
     weight = robot.mass * 9.81  # [N]
     contact = "point" if len(feet) >= 3 else "flat"
     print(

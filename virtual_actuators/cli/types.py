@@ -2,14 +2,13 @@
 
 Each function parses one option's text and raises `argparse.ArgumentTypeError` with the
 reason; heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their
-option is given.
+option is given. The output files' types are in `paths`.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -28,6 +27,11 @@ MAX_TERRAIN_EXTENT = 1000.0
 MAX_YAW_RATE = 3.0
 MAX_AMPLITUDE = 2.0
 MAX_WAVELENGTH = 50.0
+
+#: The bound of ``--speed`` [m/s]: the walks' ``MAX_SPEED`` (``gaits.base``, named here so that
+#: parsing imports no simulation; tests/test_sweep checks the two agree). ``--force-speed``
+#: does not lift it.
+MAX_SPEED = 1.5
 
 #: Most processes of ``sweep --workers`` (each holds MuJoCo and a robot: about 150 MiB).
 MAX_WORKERS = 256
@@ -81,12 +85,21 @@ def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low
 
 
 def walking_speed(text: str) -> float:
-    """``--speed``: a desired speed in (0, 1.5] m/s.
+    """``--speed``: a desired speed in (0, `MAX_SPEED`] m/s.
 
     Raises:
-        argparse.ArgumentTypeError: Otherwise.
+        argparse.ArgumentTypeError: Otherwise; beyond `MAX_SPEED`, the message says that the
+            bound is absolute (``--force-speed`` does not lift it), and why.
     """
-    return _in_range(text, "speed", 0.0, 1.5, "m/s", open_low=True)
+    value = _number(text, "speed")
+    if value > MAX_SPEED:
+        raise argparse.ArgumentTypeError(
+            f"speed must be in (0, {MAX_SPEED:g}] m/s, got {text!r}: {MAX_SPEED:g} m/s bounds "
+            "every walk's desired speed, and --force-speed does not lift it (it lifts only a "
+            "walk's supported range): no walk here walks faster (the fastest, go2's trot, was "
+            f"measured up to {MAX_SPEED:g} m/s)"
+        )
+    return _in_range(text, "speed", 0.0, MAX_SPEED, "m/s", open_low=True)
 
 
 def direction_degrees(text: str) -> float:
@@ -214,7 +227,9 @@ def robot_name(text: str) -> str:
 
 
 def push_spec(text: str) -> Push:
-    """``--push N@T[:DEG]``: N newtons >= 0 from T >= 0 seconds along DEG degrees (0 = +x).
+    """``--push N@T[:DEG]``: N newtons from T >= 0 seconds along DEG degrees (0 = +x).
+
+    A negative N pushes the other way: ``-10@1`` is ``10@1:180``.
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.
@@ -226,8 +241,8 @@ def push_spec(text: str) -> Push:
         return Push.parse(text)
     except InvalidInputError:
         raise argparse.ArgumentTypeError(
-            f"expected N@T[:DEG], newtons >= 0 at T >= 0 seconds along DEG degrees (e.g. "
-            f"250@1.0:90), got {text!r}"
+            f"expected N@T[:DEG], newtons at T >= 0 seconds along DEG degrees (e.g. 250@1.0:90; "
+            f"-10@1 pushes 10 N along -x), got {text!r}"
         ) from None
 
 
@@ -310,88 +325,3 @@ def _existing_path(text: str) -> bool:
         return path.is_file() or path.is_dir()
     except (OSError, RuntimeError, ValueError):  # ~nosuchuser, a name too long, a NUL byte
         return False
-
-
-def output_path(text: str) -> str:
-    """An output file that can be written now (checked before a run, not after it).
-
-    A run writes its outputs only at its end, so each is opened here as it will be written
-    (`_try_writing`): a path that passes can be written unless the disk fills up during
-    the run.
-
-    Raises:
-        argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
-            exist, or it cannot be created, opened for writing or written (``/dev/full``, a
-            file under ``/proc``, a read-only file system, permission denied).
-    """
-    try:
-        path = Path(text)
-        if not text.strip():
-            raise argparse.ArgumentTypeError("expected a file path, got an empty string")
-        if path.is_dir():
-            raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
-        if not path.parent.is_dir():
-            raise argparse.ArgumentTypeError(
-                f"{text!r} is not a file path in an existing folder "
-                f"(no folder {str(path.parent)!r})"
-            )
-        if not os.access(path if path.exists() else path.parent, os.W_OK):
-            raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
-    except (OSError, RuntimeError, ValueError) as error:  # a name too long, a NUL byte...
-        raise argparse.ArgumentTypeError(
-            f"{text[:80]!r} is not a usable file path ({error})"
-        ) from None
-    try:
-        _try_writing(path)
-    except OSError as error:
-        reason = error.strerror or str(error)
-        raise argparse.ArgumentTypeError(f"{text[:80]!r} cannot be written ({reason})") from None
-    return text
-
-
-def figure_path(text: str) -> str:
-    """``sweep --plot``: an `output_path` whose suffix is an image format matplotlib writes.
-
-    Raises:
-        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), a
-            path that `output_path` refuses, or matplotlib is not installed (the message
-            names its extra).
-    """
-    from ..exceptions import MissingDependencyError, import_optional
-
-    try:
-        import_optional("matplotlib", "plots", "The plot")
-    except MissingDependencyError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    formats = sorted(FigureCanvasBase.get_supported_filetypes())
-    suffix = Path(text).suffix.lower().removeprefix(".")
-    if suffix not in formats:
-        raise argparse.ArgumentTypeError(
-            f"{text[:80]!r}: its suffix names the image format, one of "
-            f"{', '.join('.' + name for name in formats)}"
-        )
-    return output_path(text)
-
-
-def _try_writing(path: Path) -> None:
-    """Open ``path`` for writing now, as the run will at its end, and leave it as it was.
-
-    An existing file is opened for appending (never truncated) and given an empty write, which
-    a device or a file that takes no writes refuses (``/dev/full``, ``/proc/version``). A new
-    file is created, given the same empty write and removed again.
-
-    Raises:
-        OSError: If the file cannot be created, opened for writing or written (the operating
-            system's error: permission denied, no such file or directory, no space left...).
-    """
-    existed = path.exists()
-    flags = os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
-    descriptor = os.open(path, flags | (0 if existed else os.O_CREAT), 0o666)
-    try:
-        os.write(descriptor, b"")
-    finally:
-        os.close(descriptor)
-        if not existed:  # through a dangling symbolic link, the file created is its target
-            Path(os.path.realpath(path)).unlink(missing_ok=True)

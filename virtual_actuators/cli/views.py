@@ -11,8 +11,9 @@ import numpy as np
 
 
 def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
+    """Each joint's effort, a row per degree of freedom, the names' column fitting the longest."""
     model = robot.model
-    lines = [f"{'joint':<16}{'effort [N m]':>14}"]
+    rows = []
     for j in range(1, model.njoints):
         joint = model.joints[j]
         if joint.shortname() == "JointModelFreeFlyer":
@@ -20,7 +21,10 @@ def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
         for k in range(joint.nv):
             name = model.names[j] + (f"[{k}]" if joint.nv > 1 else "")
             note = "  (limp)" if model.names[j] in limp else ""
-            lines.append(f"{name:<16}{tau[joint.idx_v + k]:>14.4f}{note}")
+            rows.append((name, tau[joint.idx_v + k], note))
+    width = max([len("joint"), *(len(name) for name, _, _ in rows)]) + 2
+    lines = [f"{'joint':<{width}}{'effort [N m]':>14}"]
+    lines += [f"{name:<{width}}{effort:>z14.4f}{note}" for name, effort, note in rows]
     return "\n".join(lines)
 
 

@@ -10,18 +10,18 @@ no work, is kept.
 Power is ``wrench . velocity`` on the component's axes (forces times the relative velocity of
 {B} with respect to {A}, moments times the relative angular velocity), accounted once per tick
 over the time since the previous tick (a first tick, after construction or `reset`, may
-not inject). The arithmetic holds at any scale of the velocity (from subnormal to near the
-float range): the tick's work is compared with the energy left as a product of mantissas and
-powers of two, and the velocity's norm comes from `math.hypot` (or, for a subnormal or
-overflowing norm, from the velocity divided by its largest entry), so nothing squares the
-velocity, overflows or underflows on the way; the tank never goes negative, and once it is empty
-the wrench keeps no part along the velocity.
+not inject). The check is exact at any scale (from subnormal to near the float range): floats
+are dyadic rationals, so the tick's power and work are computed and compared with the energy
+left in integers, never rounded, never overflowing. When the wrench must give up its part along
+the velocity, it is projected in floats and then corrected until the exact check admits it, so
+that rounding never lets power through: with the tank empty (or on a first tick) the returned
+wrench's exact power is never positive, and otherwise its exact work over the tick never
+exceeds the energy held. The tank never goes negative.
 """
 
 from __future__ import annotations
 
 import math
-import operator
 import sys
 
 import numpy as np
@@ -30,8 +30,8 @@ from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import check_number, describe
 from .base import Component
 
-#: The least positive normal float: below it a float holds fewer bits.
-_NORMAL = sys.float_info.min
+#: The floats' relative rounding step.
+_EPSILON = sys.float_info.epsilon
 
 
 class EnergyTank(Component):
@@ -87,6 +87,9 @@ class EnergyTank(Component):
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The wrapped component's wrench, without its injecting part once the tank is empty.
 
+        A wrench that is not finite is returned as it is (the controller refuses it and names
+        the component).
+
         Raises:
             InvalidInputError: If ``velocity`` does not have one entry per axis, or holds NaN or
                 an infinity.
@@ -101,39 +104,27 @@ class EnergyTank(Component):
             )
         dt = 0.0 if self._last_time is None else max(time - self._last_time, 0.0)
         self._last_time = time
-        speed = math.hypot(*values)  # [m/s or rad/s] hypot scales: it overflows only past 1e308
-        if _NORMAL <= speed < math.inf:
-            speeds = (speed, 1.0)
-            direction = [value / speed for value in values]
-        elif speed == 0.0:
-            return wrench  # no motion, no work
-        else:  # past the float range, or subnormal (a few bits): divide by the largest entry
-            if not all(map(math.isfinite, values)):
-                raise InvalidInputError(f"{self.name}: velocity must be finite, got {values}.")
-            largest = max(map(abs, values))  # |v| = largest * |v / largest|, both finite
-            speeds = (largest, math.hypot(*(value / largest for value in values)))
-            direction = [value / largest / speeds[1] for value in values]
-        along = sum(map(operator.mul, wrench.tolist(), direction))  # [N or N m] along the velocity
-        # the work over this tick, along * |velocity| * dt, as mantissa * 2**exponent
-        mantissa, exponent = _product(along, speeds[0], speeds[1], dt)
-        work = _value(mantissa, exponent)  # [J], > 0: injected into the robot
-        if along > 0.0 and (dt == 0.0 or self.energy == 0.0 or work > self.energy):
+        if not all(map(math.isfinite, values)):
+            raise InvalidInputError(f"{self.name}: velocity must be finite, got {values}.")
+        forces = wrench.tolist()
+        if not any(values) or not all(map(math.isfinite, forces)):
+            return wrench  # no motion, no work; or a wrench the controller refuses
+        power = _dot(forces, values)  # [W], exact
+        allowed = _Allowance(0.0 if dt == 0.0 else self.energy, dt)
+        if power[0] > 0 and not allowed.admits(power):
             # Only what is left may be injected over this tick (nothing on a first tick, whose
-            # duration is unknown): keep the fraction energy / work of the wrench along the
-            # velocity (the orthogonal part does no work).
-            kept = 0.0
-            if dt > 0.0 and self.energy > 0.0:
-                energy_mantissa, energy_exponent = math.frexp(self.energy)
-                kept = math.ldexp(energy_mantissa / mantissa, energy_exponent - exponent)  # < 1
-            wrench = wrench - (along * (1.0 - kept)) * np.array(direction)
-            work = self.energy if kept > 0.0 else 0.0
+            # duration is unknown): remove the part along the velocity beyond it.
+            forces = allowed.enforce(forces, values)
+            work = self.energy if allowed.energy > 0.0 else 0.0  # [J], the tank empties
+        else:
+            work = _to_float(*_times(power, dt))  # [J], > 0: injected into the robot
         if work > 0.0:
             self.injected += work
             self.energy = max(self.energy - work, 0.0)
         else:
             self.dissipated -= work
             self.energy = min(self.energy - work, self.capacity)
-        return wrench
+        return np.array(forces)
 
     def _parameters(self) -> str:
         return (
@@ -142,26 +133,111 @@ class EnergyTank(Component):
         )
 
 
-def _product(along: float, speed: float, factor: float, dt: float) -> tuple[float, int]:
-    """The product of four finite floats as ``(mantissa, exponent)``, never overflowing.
+#: Most corrections of a wrench whose part along the velocity is removed (one or two suffice:
+#: each removes what rounding left, twice as much again each time).
+_CORRECTIONS = 60
 
-    Returns:
-        ``mantissa * 2**exponent`` equals the product (to rounding), with ``|mantissa|`` in
-        ``[1/16, 1)``, or a zero mantissa when a factor is zero.
-    """
-    m1, e1 = math.frexp(along)
-    m2, e2 = math.frexp(speed)
-    m3, e3 = math.frexp(factor)
-    m4, e4 = math.frexp(dt)
-    return m1 * m2 * m3 * m4, e1 + e2 + e3 + e4
+Dyadic = tuple[int, int]  # n * 2**k, exactly
 
 
-def _value(mantissa: float, exponent: int) -> float:
+def _dyadic(value: float) -> Dyadic:
+    """A finite float as ``(n, k)``: ``value == n * 2**k`` exactly."""
+    numerator, denominator = value.as_integer_ratio()  # the denominator is a power of two
+    return numerator, 1 - denominator.bit_length()
+
+
+def _dot(a: list[float], b: list[float]) -> Dyadic:
+    """``sum(a[i] * b[i])`` of finite floats, exactly."""
+    terms = [
+        (n1 * n2, k1 + k2)
+        for (n1, k1), (n2, k2) in ((_dyadic(x), _dyadic(y)) for x, y in zip(a, b, strict=True))
+        if n1 and n2
+    ]
+    if not terms:
+        return 0, 0
+    low = min(k for _, k in terms)
+    return sum(n << (k - low) for n, k in terms), low
+
+
+def _times(value: Dyadic, factor: float) -> Dyadic:
+    """``value * factor`` exactly."""
+    n, k = _dyadic(factor)
+    return value[0] * n, value[1] + k
+
+
+def _exceeds(a: Dyadic, b: Dyadic) -> bool:
+    """Whether ``a > b`` exactly."""
+    low = min(a[1], b[1])
+    return a[0] << (a[1] - low) > b[0] << (b[1] - low)
+
+
+def _to_float(n: int, k: int) -> float:
+    """``n * 2**k`` as a float (to rounding): an infinity past the float range, 0 below it."""
+    shift = max(abs(n).bit_length() - 62, 0)  # 62 bits round to a float's 53
+    mantissa = float(abs(n) >> shift)
+    return _ldexp(-mantissa if n < 0 else mantissa, k + shift)
+
+
+def _ldexp(mantissa: float, exponent: int) -> float:
     """``mantissa * 2**exponent``: an infinity beyond the float range, 0 below it."""
     try:
         return math.ldexp(mantissa, exponent)
     except OverflowError:
         return math.copysign(math.inf, mantissa)
+
+
+class _Allowance:
+    """What a tank holding ``energy`` [J] lets a wrench inject over a tick of ``dt`` seconds.
+
+    The work ``wrench . velocity * dt`` may reach ``energy`` (none when the tank is empty or on
+    a first tick, ``dt == 0``): compared exactly, in integers, however large or small the
+    floats.
+    """
+
+    def __init__(self, energy: float, dt: float) -> None:
+        self.energy = energy if dt > 0.0 else 0.0
+        self.dt = dt
+
+    def admits(self, power: Dyadic) -> bool:
+        """Whether a power [W] is within the allowance (exactly)."""
+        if self.energy == 0.0:
+            return power[0] <= 0
+        return not _exceeds(_times(power, self.dt), _dyadic(self.energy))
+
+    def enforce(self, forces: list[float], values: list[float]) -> list[float]:
+        """``forces`` less the least multiple of the velocity found that `admits` them.
+
+        The multiple is the projection of the excess onto the velocity, done in floats on the
+        velocity scaled by a power of two (its largest entry in [0.5, 1)), then corrected
+        until the exact check admits it: each correction removes what rounding left plus a
+        margin that doubles. A wrench that no correction admits (never met) becomes zero, which
+        does no work.
+        """
+        scale = math.frexp(max(map(abs, values)))[1]
+        unit = [math.ldexp(v, -scale) for v in values]  # the velocity / 2**scale
+        norm = math.fsum(u * u for u in unit)  # in [0.25, len)
+        largest = max(range(len(unit)), key=lambda i: abs(unit[i]))
+        target = 0.0  # the power allowed, in the scaled velocity's units
+        if self.energy > 0.0:
+            (me, ee), (md, ed) = math.frexp(self.energy), math.frexp(self.dt)
+            target = _ldexp(me / md, ee - ed - scale)
+        margin = 0.0
+        for _ in range(_CORRECTIONS):
+            along = _to_float(*_dot(forces, unit))
+            size = len(unit) * max(abs(f * u) for f, u in zip(forces, unit, strict=True))
+            margin = max(2.0 * margin, _EPSILON * size)  # what rounding may have left, or more
+            step = (max(along - target, 0.0) + margin) / norm
+            moved = [f - step * u for f, u in zip(forces, unit, strict=True)]
+            if moved == forces:  # the step is below the wrench's rounding: one unit in the last
+                moved[largest] = math.nextafter(
+                    forces[largest], -math.copysign(math.inf, unit[largest])
+                )
+            if not all(map(math.isfinite, moved)):
+                break
+            forces = moved
+            if self.admits(_dot(forces, values)):
+                return forces
+        return [0.0] * len(forces)
 
 
 __all__ = ["EnergyTank"]

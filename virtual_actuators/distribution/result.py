@@ -381,7 +381,7 @@ class Solution:
         lines = [head]
 
         def line(label: str, values: np.ndarray) -> str:
-            return f"{label:<{name_width}}" + "".join(f"{x:>{width}.{precision}f}" for x in values)
+            return f"{label:<{name_width}}" + "".join(f"{x:>z{width}.{precision}f}" for x in values)
 
         lines += [line(name, row) for name, row in zip(self.reactions, self.forces, strict=True)]
         lines.append(line("produced", self.wrench))

@@ -103,28 +103,28 @@ class WalkMetrics(SmoothnessFigures):
 
     def summary(self) -> str:
         """Return a one-line human summary, e.g. for a plot title or a log line."""
-        parts = [f"{_fmt(self.distance_m, 'm')} in {self.duration_s:.2f} s"]
+        parts = [f"{_fmt(self.distance_m, 'm')} in {self.duration_s:z.2f} s"]
         speed = f"mean speed {_fmt(self.mean_speed_mps, 'm/s')}"
         if self.speed_setpoint_mps is not None:
-            speed += f" (set {self.speed_setpoint_mps:.2f})"
+            speed += f" (set {self.speed_setpoint_mps:z.2f})"
         parts.append(speed)
         parts.append(f"height dev {_fmt(self.height_dev_m, 'm', 3)}")
         parts.append(f"|pitch| <= {_fmt(self.pitch_max_abs_rad, 'rad', 3)}")
         steps = f"{self.steps} steps"
         if self.step_time_mean_s is not None:
-            steps += f" of {self.step_time_mean_s:.2f} s"
+            steps += f" of {self.step_time_mean_s:z.2f} s"
         parts.append(steps)
         if self.fell:
-            parts.append(f"FELL at {self.fall_time_s:.2f} s")
+            parts.append(f"FELL at {self.fall_time_s:z.2f} s")
         if self.realtime_factor is not None:
-            parts.append(f"{self.realtime_factor:.2f}x real time")
+            parts.append(f"{self.realtime_factor:z.2f}x real time")
         if smoothness := self.smoothness_summary():
             parts.append(smoothness)
         return ", ".join(parts)
 
 
 def _fmt(value: float | None, unit: str, digits: int = 2) -> str:
-    return "n/a" if value is None else f"{value:.{digits}f} {unit}"
+    return "n/a" if value is None else f"{value:z.{digits}f} {unit}"
 
 
 def _plain(value: Any) -> Any:

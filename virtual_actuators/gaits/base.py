@@ -11,6 +11,7 @@ runs it and how its result is plotted; `registry` collects them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -121,6 +122,39 @@ class Gait:
         return f"{type(self).__name__}(robot={self.robot.name!r}, state={self.state!r})"
 
 
+#: The bound of every walk's desired speed [m/s]. It is absolute: ``force_speed=True`` (command
+#: line: ``--force-speed``) lifts a walk's supported range, never this bound. No walk here walks
+#: faster: the fastest, go2's trot, was measured up to it (``gaits.legged.speeds``).
+MAX_SPEED = 1.5
+
+#: Why a speed beyond `MAX_SPEED` is refused (ends the messages that refuse one).
+BEYOND_MAX_SPEED = (
+    f"{MAX_SPEED:g} m/s bounds every walk's desired speed, and force_speed does not lift it (it "
+    "lifts only a walk's supported range): no walk here walks faster (the fastest, go2's trot, "
+    f"was measured up to {MAX_SPEED:g} m/s)"
+)
+
+
+def check_speed_bound(speed: object, zero: bool = True) -> None:
+    """Refuse a desired speed beyond `MAX_SPEED` or below zero (``zero``: 0 allowed).
+
+    Raises:
+        InvalidInputError: Not a finite number, or outside ``[0, MAX_SPEED]`` (``(0,
+            MAX_SPEED]`` without ``zero``); beyond the bound, the message says it is absolute,
+            and why.
+
+    """
+    number = isinstance(speed, (int, float)) and not isinstance(speed, bool)
+    if not (number and math.isfinite(speed)) or speed < 0.0 or (speed == 0.0 and not zero) or (
+        speed > MAX_SPEED
+    ):
+        bracket = "[" if zero else "("
+        raise InvalidInputError(
+            f"speed must be in {bracket}0, {MAX_SPEED:g}] m/s, got {speed!r}"
+            + (f": {BEYOND_MAX_SPEED}." if number and speed > MAX_SPEED else ".")
+        )
+
+
 #: The ways a gait's double support can share the body's wrench (``distribution=``).
 DISTRIBUTIONS = ("partitioned", "qp")
 
@@ -176,6 +210,10 @@ class Walk:
             falling in runs of the walk's default duration (None: the walk takes no speed).
         speeds_for: The supported speeds from the walk's options (the legged walk's depend
             on ``robot`` and ``gait``); None: `speeds` whatever the options.
+        nominal_speed: The gait's own desired speed [m/s], or a function of the walk's options
+            returning it (the hexapod's is slower with the pendulum); None: the walk takes no
+            speed. A run given no speed walks at `default_speed`: this, moved into the
+            supported range.
         native: Builds the gait's whole tick in the compiled core from the started gait
             (``native(gait)``, None when the core cannot run it; see `drive`); None: the walk
             has no native tick.
@@ -200,13 +238,44 @@ class Walk:
     speeds: tuple[float, float] | None = None
     speeds_for: Callable[..., tuple[float, float]] | None = None
     native: Callable[[Gait], Any] | None = None
+    nominal_speed: float | Callable[..., float] | None = None
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""
         return self.speeds if self.speeds_for is None else self.speeds_for(**options)
 
-    def check_speed(self, speed: float | None, **options: Any) -> None:
+    def default_speed(self, **options: Any) -> float | None:
+        """The desired speed [m/s] of a run given none: always one of the supported speeds.
+
+        The rule: the gait's own speed (`nominal_speed` with these options) when
+        `speed_range` holds it, else the nearer end of that range (each end is measured to walk,
+        see `speeds`); the nominal speed as it is when the options have no range (a robot the
+        legged trot was not measured on). E.g. the legged walk's nominal 0.4 m/s trots solo12 at
+        0.4 m/s, but walks it (``gait="walk"``, 0.05 to 0.2 m/s) at 0.2 m/s.
+
+        Returns:
+            The speed, or None for a walk that takes no speed (it stands).
+
+        """
+        nominal = self.nominal_speed
+        if callable(nominal):
+            nominal = nominal(**options)
+        supported = self.speed_range(**options)
+        if nominal is None or supported is None:
+            return nominal
+        low, high = supported
+        return min(max(float(nominal), low), high)
+
+    def check_speed(
+        self, speed: float | None, *, forced_by: str = "force_speed=True", **options: Any
+    ) -> None:
         """Refuse a desired speed outside `speed_range` (None: the walk's default).
+
+        Args:
+            speed: The desired speed [m/s].
+            forced_by: How the caller runs it anyway, which the message offers (the command
+                line: ``"--force-speed"``).
+            **options: The walk's options that select its range.
 
         Raises:
             InvalidInputError: ``speed`` is outside the supported range (its message names it).
@@ -220,5 +289,5 @@ class Walk:
             raise InvalidInputError(
                 f"{self.name}{describe_options(options)} walks at desired speeds from {low:g} "
                 f"to {high:g} m/s, got {speed:g} m/s: give a speed in that range, or "
-                "force_speed=True (command line: --force-speed) to run it anyway."
+                f"{forced_by} to run it anyway."
             )

@@ -27,7 +27,7 @@ from ..experiments.walk_log import STANDARD_CHANNELS
 from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-from .base import Gait, Walk, check_distribution
+from .base import Gait, Walk, check_distribution, check_speed_bound
 from .runner import Episode, WalkResult, drive, has_fallen, terrain_points
 from .smoothness import loop_smoothness
 
@@ -57,8 +57,9 @@ def run_planar_walk(
     Args:
         walk: The walk (its robot, gait, push and defaults).
         duration: Simulated time [s].
-        speed: Desired speed [m/s] (default: the gait's, 0.5 for the turkey, 0.4 for the
-            flamingo).
+        speed: Desired speed [m/s] (default: ``parameters.speed`` when parameters are given,
+            else `Walk.default_speed`:
+            the gait's, 0.5 for the turkey, 0.4 for the flamingo, within their ranges).
         terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][]: ``"flat"``, a built-in
             name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
         progress: Show a tqdm progress bar.
@@ -79,8 +80,10 @@ def run_planar_walk(
         InvalidInputError: Bad speed, terrain, seed, parameters or distribution.
 
     """
-    if speed is not None and not (math.isfinite(speed) and 0.0 < speed <= 1.5):
-        raise InvalidInputError(f"speed must be in (0, 1.5] m/s, got {speed}.")
+    if speed is not None:
+        check_speed_bound(speed, zero=False)
+    if speed is None and parameters is None:
+        speed = walk.default_speed()
     if terrain is None:
         terrain = walk.terrain
     expected = walk.parameters

@@ -19,7 +19,8 @@ __all__ = ["PUSH_DURATION", "Push"]
 class Push(NamedTuple):
     """A push on the body: ``force`` newtons from ``time`` seconds along ``direction`` degrees.
 
-    The direction is in the ground plane, 0 = +x, 90 = +y.
+    The direction is in the ground plane, 0 = +x, 90 = +y. A negative force given to `parse`
+    or `of` pushes the other way: ``-10@1`` is ``10@1:180`` (``force`` is never negative).
     """
 
     force: float
@@ -30,8 +31,10 @@ class Push(NamedTuple):
     def parse(cls, text: str) -> Push:
         """``"N@T"`` or ``"N@T:DEG"`` (``250@1.0:90``: 250 N at 1 s along +y).
 
+        A negative N pushes the other way (``-10@1``: 10 N along -x).
+
         Raises:
-            InvalidInputError: Not of that form, or not finite numbers with ``N, T >= 0``.
+            InvalidInputError: Not of that form, or not finite numbers with ``T >= 0``.
 
         """
         try:
@@ -40,16 +43,19 @@ class Push(NamedTuple):
             return cls.of((float(force), float(when), float(angle) if angle else 0.0))
         except (ValueError, InvalidInputError):
             raise InvalidInputError(
-                f"push must be N@T[:DEG] (newtons >= 0 at T >= 0 seconds, along DEG degrees), "
-                f"got {text!r}."
+                f"push must be N@T[:DEG] (newtons at T >= 0 seconds, along DEG degrees; negative "
+                f"newtons push the other way), got {text!r}."
             ) from None
 
     @classmethod
     def of(cls, value: str | Push | tuple[float, ...]) -> Push:
         """A push from its text, a `Push` or ``(N, T)`` / ``(N, T, DEG)``.
 
+        A negative ``N`` pushes the other way: ``(-N, T, DEG)`` is ``(N, T, DEG + 180)`` (in
+        ``[0, 360)``).
+
         Raises:
-            InvalidInputError: Not finite numbers with ``N, T >= 0``, or a bad text.
+            InvalidInputError: Not finite numbers with ``T >= 0``, or a bad text.
 
         """
         if isinstance(value, str):
@@ -58,11 +64,13 @@ class Push(NamedTuple):
             push = cls(*(float(v) for v in value))
         except (TypeError, ValueError):
             push = None
-        if push is None or not all(map(math.isfinite, push)) or min(push[:2]) < 0:
+        if push is None or not all(map(math.isfinite, push)) or push.time < 0:
             raise InvalidInputError(
-                f"push must be (N, T[, DEG]): newtons >= 0 at T >= 0 seconds along DEG degrees, "
-                f"got {value!r}."
+                f"push must be (N, T[, DEG]): newtons at T >= 0 seconds along DEG degrees "
+                f"(negative newtons push the other way), got {value!r}."
             )
+        if push.force < 0:
+            push = cls(-push.force, push.time, (push.direction + 180.0) % 360.0)
         return push
 
     def apply(self, simulator: Simulator, frame: str, duration: float = PUSH_DURATION) -> None:

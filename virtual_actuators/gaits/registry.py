@@ -56,7 +56,8 @@ def run_walk(
         name: A key of `WALKS` (``"turkey-walk"``, ``"flamingo-slopes"``,
             ``"hexapod-walk"``, ``"legged"``, ``"balance"``).
         duration: Simulated time [s] (default: the walk's).
-        speed: Desired speed [m/s] (default: the gait's).
+        speed: Desired speed [m/s] (default: `Walk.default_speed`, the gait's own speed moved
+            into the walk's supported range).
         terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][]: ``"flat"``, a built-in
             name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
         progress: Show a tqdm progress bar.

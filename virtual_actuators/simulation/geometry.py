@@ -1,17 +1,21 @@
 """The robot's geoms and sites in the MuJoCo model, from the geometry Pinocchio reads.
 
 The collision (or visual) geometry of the URDF is read by Pinocchio (``pin.buildGeomFromUrdf``):
-boxes, spheres, cylinders, capsules and ellipsoids become MuJoCo primitives, binary STL and OBJ
-meshes become meshes (MuJoCo collides with their convex hull); other meshes (DAE, ASCII STL...)
-are skipped with a warning naming them. Each geom is owned by its parent frame and by every frame
-on the same joint whose origin lies on or inside it. One site per Pinocchio frame, named after the
-frame, gives frame placements and a point to push.
+boxes, spheres, cylinders, capsules and ellipsoids become MuJoCo primitives; binary STL and OBJ
+meshes become meshes read by MuJoCo, Collada (DAE) meshes meshes read by the project's reader
+([`collada_arrays`][virtual_actuators.models.collada.collada_arrays], the viewer's) and handed over
+as vertices and faces (MuJoCo collides with a mesh's convex hull). Nothing is dropped silently: a
+mesh neither reads (ASCII STL, PLY, a Collada file the reader does not cover) becomes the box
+bounding the vertices Pinocchio loaded, and a shape with no MuJoCo counterpart and no finite
+bounding box is left out; either is told in a one-line `notice` naming the geometries. Each
+geom is owned by its parent frame and by every frame on the same joint whose origin lies on or
+inside it. One site per Pinocchio frame, named after the frame, gives frame placements and a point
+to push.
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 from typing import Literal, NamedTuple
 
@@ -19,7 +23,8 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from virtual_actuators.exceptions import RobotDescriptionError
+from virtual_actuators.exceptions import RobotDescriptionError, notice
+from virtual_actuators.models.collada import collada_arrays
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.contact import (
     ROBOT_BITS,
@@ -32,17 +37,22 @@ from virtual_actuators.simulation.ground import TERRAIN_PREFIX
 __all__ = [
     "COLLISION_CHOICES",
     "MAX_STL_FACES",
+    "MIN_BOX_HALF_SIZE",
     "MESH_FORMATS",
     "ROBOT_GROUP",
     "SITE_GROUP",
+    "Added",
     "Collisions",
     "add_geometry",
     "add_sites",
     "quat_wxyz",
 ]
 
-#: Mesh formats MuJoCo reads (STL in binary form only).
+#: Mesh formats MuJoCo reads (STL in binary form only); Collada is read here and handed over.
 MESH_FORMATS = (".stl", ".obj")
+
+#: Least half-size of a bounding box standing in for a mesh [m] (a flat mesh: a 1 mm slab).
+MIN_BOX_HALF_SIZE = 5e-4
 
 #: Most faces MuJoCo reads from an STL file.
 MAX_STL_FACES = 200_000
@@ -84,11 +94,31 @@ def _geometry_model(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
 
 
 class _Shape(NamedTuple):
-    """A MuJoCo geom type with its size (primitives) or mesh name (meshes)."""
+    """A MuJoCo geom type with its size (primitives) or mesh name (meshes).
+
+    ``centre``: where a bounding box's centre lies in the geometry's frame (None: at its origin).
+    """
 
     geom_type: mujoco.mjtGeom
     size: list[float] | None = None
     mesh: str | None = None
+    centre: np.ndarray | None = None
+
+
+class Added(NamedTuple):
+    """What `add_geometry` added: the geoms' owning frames, and what it could not add as it is.
+
+    Attributes:
+        owners: Geom name -> the frames owning it.
+        skipped: Geometries left out (a shape with no MuJoCo counterpart nor bounding box).
+        approximated: Meshes neither MuJoCo nor the Collada reader reads, simulated as the
+            box bounding their vertices.
+
+    """
+
+    owners: dict[str, tuple[str, ...]]
+    skipped: list[str]
+    approximated: list[str]
 
 
 def _primitive(shape: object) -> _Shape | None:
@@ -108,24 +138,52 @@ def _primitive(shape: object) -> _Shape | None:
 
 
 def _mesh(
-    spec: mujoco.MjSpec, obj: pin.GeometryObject, meshes: dict[tuple[str, tuple], str]
+    spec: mujoco.MjSpec, obj: pin.GeometryObject, meshes: dict[tuple[str, tuple], str | None]
 ) -> _Shape | None:
     """The MuJoCo mesh of a geometry object (added to ``spec`` once per file and scale).
 
-    None when MuJoCo cannot read the file.
+    None when neither MuJoCo nor the Collada reader reads the file.
     """
     path = Path(obj.meshPath)
-    if not _readable_mesh(path):
-        return None
     scale = tuple(float(s) for s in obj.meshScale)
     key = (str(path), scale)
     if key not in meshes:
-        meshes[key] = f"mesh_{len(meshes)}_{path.stem}"
-        mesh = spec.add_mesh(name=meshes[key], file=str(path), scale=list(scale))
-        # Mesh inertia is unused (inertias come from Pinocchio); a surface inertia compiles
-        # even for open or flat meshes.
-        mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-    return _Shape(mujoco.mjtGeom.mjGEOM_MESH, mesh=meshes[key])
+        meshes[key] = _add_mesh(spec, path, scale, f"mesh_{len(meshes)}_{path.stem}")
+    name = meshes[key]
+    return None if name is None else _Shape(mujoco.mjtGeom.mjGEOM_MESH, mesh=name)
+
+
+def _add_mesh(spec: mujoco.MjSpec, path: Path, scale: tuple, name: str) -> str | None:
+    """Add the mesh file ``path`` to ``spec`` as ``name``; None if it cannot be read."""
+    if _readable_mesh(path):
+        mesh = spec.add_mesh(name=name, file=str(path), scale=list(scale))
+    elif path.suffix.lower() == ".dae" and (arrays := collada_arrays(str(path))) is not None:
+        vertices, triangles = arrays
+        mesh = spec.add_mesh(
+            name=name,
+            uservert=(vertices * np.asarray(scale)).reshape(-1).tolist(),
+            userface=triangles.reshape(-1).tolist(),
+        )
+    else:
+        return None
+    # Mesh inertia is unused (inertias come from Pinocchio); a surface inertia compiles even for
+    # open or flat meshes.
+    mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+    return name
+
+
+def _bounding_box(obj: pin.GeometryObject) -> _Shape | None:
+    """The box bounding a geometry as Pinocchio loaded it (scaled); None if it is not finite."""
+    geometry = obj.geometry
+    try:
+        geometry.computeLocalAABB()
+        low, high = np.array(geometry.aabb_local.min_), np.array(geometry.aabb_local.max_)
+    except (AttributeError, RuntimeError):
+        return None
+    if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high)) and np.all(high >= low)):
+        return None
+    half = np.maximum(0.5 * (high - low), MIN_BOX_HALF_SIZE)
+    return _Shape(mujoco.mjtGeom.mjGEOM_BOX, half.tolist(), centre=0.5 * (low + high))
 
 
 def add_geometry(
@@ -134,43 +192,47 @@ def add_geometry(
     bodies: list[mujoco.MjsBody],
     contact: ContactParameters,
     collisions: str,
-) -> tuple[dict[str, tuple[str, ...]], list[str]]:
-    """Add the robot's geoms; return geom name -> owning frames, and the skipped geometries.
+) -> Added:
+    """Add the robot's geoms; return their owning frames, and what was left out or approximated.
+
+    What was left out or approximated is told in one `notice` line each, naming the geometries.
 
     Raises:
         RobotDescriptionError: If Pinocchio cannot read the robot's geometry.
 
     """
+    added = Added({}, [], [])
     if collisions == "none":
-        return {}, []
+        return added
     kind = pin.GeometryType.VISUAL if collisions == "visual" else pin.GeometryType.COLLISION
     geometry = _geometry_model(robot, kind)
     model = robot.model
     contype, conaffinity = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
-    placements = _frames_in_joints(model)
-    owners: dict[str, tuple[str, ...]] = {}
-    skipped: list[str] = []
-    meshes: dict[tuple[str, tuple[float, ...]], str] = {}
+    frames = _frames_in_joints(model)
+    meshes: dict[tuple[str, tuple[float, ...]], str | None] = {}
     used = set()
     for obj in geometry.geometryObjects:
-        if not type(obj.geometry).__name__.startswith(("BVHModel", "Convex")):
-            shape = _primitive(obj.geometry)
-        elif collisions == "primitives":
+        is_mesh = type(obj.geometry).__name__.startswith(("BVHModel", "Convex"))
+        if is_mesh and collisions == "primitives":
             continue  # meshes are left out on purpose
-        else:
-            shape = _mesh(spec, obj, meshes)
+        shape = _mesh(spec, obj, meshes) if is_mesh else _primitive(obj.geometry)
         if shape is None:
-            skipped.append(obj.name)
-            continue
+            shape = _bounding_box(obj)
+            (added.skipped if shape is None else added.approximated).append(obj.name)
+            if shape is None:
+                continue
         name = obj.name
         while name in used or name.startswith(TERRAIN_PREFIX):
             name = f"robot_{name}"
         used.add(name)
+        placement = obj.placement
+        if shape.centre is not None:
+            placement = placement * pin.SE3(np.eye(3), shape.centre)
         geom = bodies[obj.parentJoint].add_geom(
             name=name,
             type=shape.geom_type,
-            pos=np.array(obj.placement.translation, dtype=float),
-            quat=quat_wxyz(obj.placement.rotation),
+            pos=np.array(placement.translation, dtype=float),
+            quat=quat_wxyz(placement.rotation),
         )
         if shape.size is not None:
             geom.size = np.array(shape.size, dtype=float)
@@ -179,32 +241,42 @@ def add_geometry(
         set_contact(geom, contact, contype, conaffinity)
         geom.group = ROBOT_GROUP
         geom.rgba = [0.6, 0.6, 0.65, 1.0]
-        owners[name] = _owners(model, obj, shape, placements)
-    if skipped:
-        warnings.warn(
-            f"Robot {robot.name!r}: {len(skipped)} geometries cannot be simulated and are left "
-            "out (unsupported shape or mesh format; MuJoCo reads OBJ and binary STL): "
-            + ", ".join(skipped),
-            stacklevel=3,
-        )
-    return owners, skipped
+        added.owners[name] = _owners(model, obj, shape, placement, frames)
+    _tell(robot, added)
+    return added
+
+
+def _tell(robot: Robot, added: Added) -> None:
+    """One `notice` line for the meshes approximated, one for the geometries left out."""
+    for names, what in (
+        (added.approximated, "simulated as bounding boxes, the meshes that neither MuJoCo (OBJ, "
+         "binary STL) nor the Collada reader reads"),
+        (added.skipped, "left out of the simulation, the geometries of a shape MuJoCo has no "
+         "counterpart of and with no finite bounding box"),
+    ):  # fmt: skip
+        if names:
+            notice(f"Robot {robot.name!r}: {what} ({len(names)}): {', '.join(names)}")
 
 
 def _owners(
     model: pin.Model,
     obj: pin.GeometryObject,
     shape: _Shape,
-    placements: dict[str, tuple[int, np.ndarray]],
+    placement: pin.SE3,
+    frames: dict[str, tuple[int, np.ndarray]],
 ) -> tuple[str, ...]:
-    """The frames owning a geom: its parent frame, then the frames of its joint inside it."""
+    """The frames owning a geom: its parent frame, then the frames of its joint inside it.
+
+    ``placement``: the geom's in its joint's frame.
+    """
     parent = model.frames[obj.parentFrame].name
     located = [
         frame
-        for frame, (joint, point) in placements.items()
+        for frame, (joint, point) in frames.items()
         if joint == obj.parentJoint
         and frame != parent
         and shape.size is not None
-        and _inside(shape.geom_type, shape.size, obj.placement.actInv(point))
+        and _inside(shape.geom_type, shape.size, placement.actInv(point))
     ]
     return (parent, *located)
 

@@ -19,9 +19,9 @@ describe exactly the same mechanism:
   ``+-effortLimit`` when the limit is finite and positive. By default every 1-DoF joint not in
   `Robot.passive_joints` is actuated; a free-flyer never is;
 * the collision geometry of the URDF read by Pinocchio (``pin.buildGeomFromUrdf``): boxes,
-  spheres, cylinders, capsules and ellipsoids as MuJoCo primitives, binary STL and OBJ meshes as
-  meshes (MuJoCo collides with their convex hull); other meshes (DAE, ASCII STL...) are skipped
-  with a warning naming them;
+  spheres, cylinders, capsules and ellipsoids as MuJoCo primitives, binary STL, OBJ and Collada
+  (DAE) meshes as meshes (MuJoCo collides with their convex hull); other meshes (ASCII STL...)
+  as their bounding boxes, told in a one-line notice naming them (see `geometry`);
 * one site per Pinocchio frame, named after the frame, to read frame placements and to push;
 * the [`Terrain`][], gravity from the Pinocchio model
   (``-9.81 z`` by default).
@@ -141,8 +141,10 @@ class MujocoModel:
         frame_sites: MuJoCo site id of each frame name (the first frame of that name).
         terrain_geoms: Ids of the terrain geoms.
         skipped_geometries: Names of the Pinocchio geometries left out because MuJoCo cannot
-            use them (unsupported shapes or mesh formats; not the meshes that
-            ``collisions="primitives"`` leaves out on purpose).
+            use them (a shape with no MuJoCo counterpart and no finite bounding box; not the
+            meshes that ``collisions="primitives"`` leaves out on purpose).
+        approximated_geometries: Names of the meshes simulated as their bounding boxes (a
+            format neither MuJoCo nor the Collada reader reads).
 
     """
 
@@ -159,6 +161,7 @@ class MujocoModel:
     frame_sites: Mapping[str, int]
     terrain_geoms: frozenset[int]
     skipped_geometries: tuple[str, ...] = field(default=())
+    approximated_geometries: tuple[str, ...] = field(default=())
 
     def joint(self, name: str) -> JointMap:
         """The map of the joint called ``name``.
@@ -230,7 +233,7 @@ def build_mujoco_model(
             ``robot.passive_joints``.
         contact: Contact parameters; [`ContactParameters`][] defaults when None.
         collisions: Which robot geometry collides: ``"collision"`` (the URDF's collision
-            shapes, readable meshes included; others are skipped with a warning naming them),
+            shapes, meshes included; one unread is its bounding box, with a one-line notice),
             ``"primitives"`` (the same without any mesh, silently),
             ``"visual"`` (the visual shapes, e.g. for robots whose collision shapes are only
             feet), or ``"none"``.
@@ -251,12 +254,11 @@ def build_mujoco_model(
     model = robot.model
     kinds = [joint_kind(model, j) for j in range(1, model.njoints)]
     actuated_names = actuated_joints(robot, kinds, actuated)
-
     spec = _new_spec(robot, timestep, contact)
     bodies = add_bodies(spec, robot, kinds)
     balance_inertias(spec, robot)
     add_actuators(spec, model, actuated_names)
-    geom_parents, skipped = add_geometry(spec, robot, bodies, contact, collisions)
+    geometry = add_geometry(spec, robot, bodies, contact, collisions)
     sites = add_sites(spec, robot, bodies)
     terrain_names = add_terrain(spec, terrain, contact)
 
@@ -267,7 +269,7 @@ def build_mujoco_model(
             f"MuJoCo cannot compile the model of robot {robot.name!r}: {exc}"
         ) from exc
 
-    geom_frames, frame_geoms = _geom_maps(compiled, geom_parents)
+    geom_frames, frame_geoms = _geom_maps(compiled, geometry.owners)
     return MujocoModel(
         robot=robot,
         terrain=terrain,
@@ -288,7 +290,8 @@ def build_mujoco_model(
         terrain_geoms=frozenset(
             _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, name) for name in terrain_names
         ),
-        skipped_geometries=tuple(skipped),
+        skipped_geometries=tuple(geometry.skipped),
+        approximated_geometries=tuple(geometry.approximated),
     )
 
 

@@ -29,5 +29,6 @@ WALK = Walk(
     push=10.0,
     push_time=0.2,
     plot_window=True,
+    nominal_speed=FlamingoParameters.speed,
     speeds=(0.3, 0.5),
 )

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ..base import check_distribution
+from ..base import check_distribution, check_speed_bound
 from ..guidance import Guidance, SinePath, TrackObject, VelocityCommand
 
 PATHS = ("line", "sine")
@@ -53,8 +53,7 @@ class HexapodWalkConfig:
         for name, value in numbers.items():
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
-        if not 0.0 <= self.speed <= 1.5:
-            raise InvalidInputError(f"speed must be in [0, 1.5] m/s, got {self.speed}.")
+        check_speed_bound(self.speed)
         if self.duration <= 0.0:
             raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
         if self.path not in PATHS:

@@ -101,9 +101,9 @@ class HexapodMetrics(SmoothnessFigures):
 
     def summary(self) -> str:
         """One line for the terminal."""
-        parts = [f"{self.duration_s:.1f} s, {self.steps} steps"]
+        parts = [f"{self.duration_s:z.1f} s, {self.steps} steps"]
         if self.speed_mps is not None:
-            parts.append(f"speed {self.speed_mps:.2f} m/s (set {self.speed_command_mps:.2f})")
+            parts.append(f"speed {self.speed_mps:z.2f} m/s (set {self.speed_command_mps:z.2f})")
         for label, value in (
             ("direction error", self.direction_error_rad),
             ("heading drift", self.heading_drift_rad),
@@ -114,13 +114,13 @@ class HexapodMetrics(SmoothnessFigures):
             ("bearing error max", self.bearing_error_max_rad),
         ):
             if value is not None:
-                parts.append(f"{label} {value:.3f}")
+                parts.append(f"{label} {value:z.3f}")
         if self.fell:
-            parts.append(f"FELL at {self.fall_time_s:.2f} s")
+            parts.append(f"FELL at {self.fall_time_s:z.2f} s")
         if self.realtime_factor is not None:
             parts.append(
-                f"{self.realtime_factor:.2f}x real time (MuJoCo alone "
-                f"{self.physics_realtime_factor:.1f}x)"
+                f"{self.realtime_factor:z.2f}x real time (MuJoCo alone "
+                f"{self.physics_realtime_factor:z.1f}x)"
             )
         if smoothness := self.smoothness_summary():
             parts.append(smoothness)

@@ -257,7 +257,8 @@ def run_registered(
 ) -> HexapodResult:
     """The hexapod's walk as a `Walk` runs it.
 
-    ``speed`` defaults to 0.2 m/s with the pendulum or tracking, else 0.4 m/s; ``options`` are
+    ``speed`` defaults to `Walk.default_speed`:
+    0.2 m/s with the pendulum or tracking, else 0.4 m/s (`hexapod_speed`); ``options`` are
     `HexapodWalkConfig`'s path fields (``direction``, ``yaw_rate``, ``path``,
     ``amplitude``, ``wavelength``, ``pendulum``, ``track``); ``distribution`` overrides
     ``parameters.distribution`` (default: ``"qp"``).
@@ -267,7 +268,7 @@ def run_registered(
 
     """
     if speed is None:
-        speed = 0.2 if (options.get("pendulum") or options.get("track")) else 0.4
+        speed = walk.default_speed(**options)
     if parameters is not None and not isinstance(parameters, HexapodParameters):
         raise InvalidInputError(
             f"{walk.name}: parameters must be a HexapodParameters, got {type(parameters).__name__}."
@@ -305,6 +306,11 @@ def _viewer_robot(pendulum: bool = False, **options: Any) -> Robot:
     return hexapod_robot(pendulum)
 
 
+def hexapod_speed(pendulum: bool = False, track: bool = False, **options: Any) -> float:
+    """The hexapod's own desired speed [m/s]: slower with the pendulum or tracking."""
+    return 0.2 if (pendulum or track) else 0.4
+
+
 def hexapod_speeds(
     pendulum: bool = False, track: bool = False, **options: Any
 ) -> tuple[float, float]:
@@ -327,4 +333,5 @@ WALK = Walk(
     viewer_robot=_viewer_robot,
     speeds_for=hexapod_speeds,
     native=NativeTick.of,
+    nominal_speed=hexapod_speed,
 )

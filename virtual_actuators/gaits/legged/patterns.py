@@ -6,17 +6,20 @@ order of their phases, one after the other. The walker
 ([`LeggedWalker`][]) turns the groups into states.
 
 The named patterns are built from where the feet stand (body axes: x forward, y left), so
-they work on any robot whatever its frame names:
+they work on any robot whatever its frame names. Each needs its feet on the sides
+(`fits`, `fitting_patterns`); a pattern that does not fit is refused, naming those that do:
 
-* ``trot``: diagonal pairs (left-front with right-hind), two groups;
+* ``trot``: diagonal pairs (left-front with right-hind), two groups; two feet on each side (a
+  quadruped);
 * ``pace``: lateral pairs (the left legs, then the right legs), with short swings and a narrow
   stance (`PACE_SWING_TIME`, `PACE_WIDTH`): on the two feet of one side the centre
   of mass, off their line, falls sideways as an inverted pendulum, ``e^(t / sqrt(h / g))``, so
-  the swing must be short and the line near the centre of mass;
+  the swing must be short and the line near the centre of mass; a foot on each side at least;
 * ``walk``: one foot at a time, the lateral sequence (left hind, left front, right hind, right
-  front on a quadruped; back to front along each side);
-* ``tripod`` (alternating): legs alternate along each side and across (a hexapod's tripods,
-  a quadruped's trot, a millipede's two waves);
+  front on a quadruped; back to front along each side); any two or more feet;
+* ``tripod`` (alternating): legs alternate along each side and across, so that each group
+  stands on three feet or more (a hexapod's tripods, a millipede's two waves); three feet or
+  more on each side (on two a side the same alternation is the ``trot``);
 * [`npod`][]: any groups you give.
 """
 
@@ -27,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...exceptions import InvalidInputError
+from ...exceptions import GaitPatternError, InvalidInputError
 
 PATTERNS = ("trot", "pace", "walk", "tripod")
 
@@ -135,6 +138,37 @@ def sides(feet: Sequence[str], positions: np.ndarray) -> tuple[list[str], list[s
     return left, right
 
 
+#: What each named pattern needs: ``(feet on each side: fewest, most or None)``.
+NEEDS: dict[str, tuple[int, int | None]] = {
+    "trot": (2, 2),
+    "pace": (1, None),
+    "walk": (0, None),
+    "tripod": (3, None),
+}
+
+#: `NEEDS` in words, for the messages.
+_NEEDS_TEXT = {
+    "trot": "two feet on each side",
+    "pace": "a foot on each side at least",
+    "walk": "two feet or more",
+    "tripod": "three feet or more on each side",
+}
+
+
+def fits(name: str, left: Sequence[str], right: Sequence[str]) -> bool:
+    """Whether pattern ``name`` (one of `PATTERNS`) fits these feet on the left and right."""
+    fewest, most = NEEDS[name]
+    return len(left) + len(right) >= 2 and all(
+        fewest <= len(side) and (most is None or len(side) <= most) for side in (left, right)
+    )
+
+
+def fitting_patterns(feet: Sequence[str], positions: np.ndarray) -> tuple[str, ...]:
+    """The `PATTERNS` that fit these feet, from where they stand (see `fits`)."""
+    left, right = sides(feet, positions)
+    return tuple(name for name in PATTERNS if fits(name, left, right))
+
+
 def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> GaitPattern:
     """One of `PATTERNS` for these feet, from where they stand.
 
@@ -144,31 +178,40 @@ def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> Gait
         positions: ``(len(feet), 2 or 3)`` their places in body axes [m].
 
     Raises:
-        InvalidInputError: Unknown name; ``trot`` or ``pace`` without two feet on each side.
+        InvalidInputError: An unknown name.
+        GaitPatternError: A pattern that does not fit the feet (`NEEDS`): ``trot`` without two
+            feet on each side, ``pace`` without a foot on each side, ``tripod`` without three
+            or more on each side; the message names the patterns that fit.
 
     """
+    if name not in PATTERNS:
+        raise InvalidInputError(f"Unknown gait pattern {name!r}; choose one of {PATTERNS}.")
     left, right = sides(feet, positions)
-    if name == "tripod" or (name == "trot" and len(left) == len(right) == 2):
+    if not fits(name, left, right):
+        valid = [other for other in PATTERNS if fits(other, left, right)]
+        raise GaitPatternError(
+            f"Gait {name!r} needs {_NEEDS_TEXT[name]}; these feet stand {len(left)} on the left "
+            f"({', '.join(left) or 'none'}) and {len(right)} on the right "
+            f"({', '.join(right) or 'none'}): the gaits that fit them are "
+            f"{', '.join(valid) or 'none'} (or give the swing groups with npod())."
+        )
+    if name in ("trot", "tripod"):
         first = left[0::2] + right[1::2]
         return npod([first, [f for f in feet if f not in first]], name)
-    if name == "pace" and left and right:
+    if name == "pace":
         pace = npod([left, right], name)
         return GaitPattern(name, pace.offsets, PACE_SWING_TIME, PACE_WIDTH)
-    if name == "walk":
-        return npod([[f] for f in left[::-1] + right[::-1]], name)
-    if name in PATTERNS:
-        raise InvalidInputError(
-            f"Pattern {name!r} needs two feet on each side (left {left}, right {right}); "
-            "give the swing groups with npod()."
-        )
-    raise InvalidInputError(f"Unknown gait pattern {name!r}; choose one of {PATTERNS}.")
+    return npod([[f] for f in left[::-1] + right[::-1]], name)
 
 
 __all__ = [
+    "NEEDS",
     "PACE_SWING_TIME",
     "PACE_WIDTH",
     "PATTERNS",
     "GaitPattern",
+    "fits",
+    "fitting_patterns",
     "named_pattern",
     "npod",
     "sides",

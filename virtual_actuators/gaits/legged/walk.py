@@ -27,7 +27,7 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, check_distribution
+from ..base import Walk, check_distribution, check_speed_bound
 from ..guidance import PlanarState, SinePath, TrackObject
 from ..push import Push
 from ..runner import (
@@ -48,6 +48,9 @@ from .walker import LeggedWalker
 
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
+#: The legged walk's own desired speed [m/s], before it is moved into the pattern's range.
+NOMINAL_SPEED = 0.4
+
 __all__ = [
     "LeggedResult",
     "LeggedWalkConfig",
@@ -65,7 +68,8 @@ class LeggedWalkConfig:
         robot: A robot name or URDF path for [`load_robot`][].
         gait: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.
         feet: Foot frames (None: found on the robot).
-        speed: [m/s].
+        speed: [m/s]; None: the walk's default for the robot and gait (`Walk.default_speed`:
+            `NOMINAL_SPEED` moved into the supported range, e.g. 0.2 m/s for ``gait="walk"``).
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
         push: A `Push` on the base (or its text,
@@ -90,7 +94,7 @@ class LeggedWalkConfig:
     robot: str = "solo12"
     gait: str = "trot"
     feet: tuple[str, ...] | None = None
-    speed: float = 0.4
+    speed: float | None = None
     direction: float = 0.0
     yaw_rate: float = 0.0
     push: Push | None = None
@@ -104,15 +108,15 @@ class LeggedWalkConfig:
     seed: int | None = None
 
     def __post_init__(self) -> None:
+        if self.speed is None:
+            object.__setattr__(self, "speed", WALK.default_speed(robot=self.robot, gait=self.gait))
         for name in ("speed", "direction", "yaw_rate", "duration"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
-        if not 0.0 <= self.speed <= 1.5 or self.duration <= 0.0:
-            raise InvalidInputError(
-                f"speed must be in [0, 1.5] m/s and duration > 0 s, got {self.speed}, "
-                f"{self.duration}."
-            )
+        check_speed_bound(self.speed)
+        if self.duration <= 0.0:
+            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
         if self.path not in ("line", "sine"):
             raise InvalidInputError(f"path must be 'line' or 'sine', got {self.path!r}.")
         if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0 or self.yaw_rate):
@@ -179,7 +183,7 @@ def run_legged_walk(
     """Simulate a legged robot walking and measure it.
 
     Args:
-        config: What to walk (default: solo12 trotting at 0.4 m/s for 4 s).
+        config: What to walk (default: solo12 trotting at `NOMINAL_SPEED`, 0.4 m/s, for 4 s).
         parameters: Gait choices (default [`LeggedParameters`][] with the config's
             distribution).
         progress: Show a progress bar.
@@ -287,8 +291,10 @@ def run_registered(
 ) -> LeggedResult:
     """The legged walk as `run_walk` runs it.
 
-    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``,
-    ``path``, ``amplitude``, ``wavelength``, ``track``.
+    ``speed`` defaults to `Walk.default_speed` for the robot and gait (`LeggedWalkConfig`'s
+    None): `NOMINAL_SPEED` moved into the pattern's supported range (``gait="walk"``: 0.2 m/s).
+    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``, ``path``,
+    ``amplitude``, ``wavelength``, ``track``.
 
     Raises:
         InvalidInputError: A bad configuration or parameters.
@@ -303,7 +309,7 @@ def run_registered(
     elif parameters is not None:
         parameters = replace(parameters, distribution=distribution)
     config = LeggedWalkConfig(
-        speed=0.4 if speed is None else speed,
+        speed=speed,
         terrain=walk.terrain if terrain is None else terrain,
         duration=duration,
         distribution=distribution,
@@ -319,14 +325,15 @@ def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Pa
 
 
 def draw_legged_walk(result: LeggedResult) -> Any:
-    """The matplotlib figure `plot_legged_walk` saves."""
+    """The matplotlib figure `plot_legged_walk` saves, titled by the robot, gait and summary."""
     trace = result.trace()
     figure = new_figure(8.0, 7.0, dpi=100)
     top, bottom = figure.subplots(2, 1)
     top.plot(trace["x"], trace["y"], label="body path")
     top.set(xlabel="x [m]", ylabel="y [m]")
     top.set_aspect("equal", adjustable="datalim")
-    set_heading(figure, result.metrics.summary(), fontsize=9)
+    title = f"{result.gait.robot.name} ({result.config.gait}): {result.metrics.summary()}"
+    set_heading(figure, title, fontsize=9)
     for name in ("roll", "pitch", "yaw"):
         bottom.plot(trace["t"], trace[name], label=name)
     bottom.set(xlabel="t [s]", ylabel="body attitude [rad]")
@@ -355,4 +362,5 @@ WALK = Walk(
     force_scale=1 / 250,
     viewer_robot=_viewer_robot,
     speeds_for=legged_speeds,
+    nominal_speed=NOMINAL_SPEED,
 )

@@ -31,6 +31,7 @@ WALK = Walk(
     push=15.0,
     push_time=0.2,
     plot_window=True,
+    nominal_speed=TurkeyParameters.speed,
     speeds=(0.3, 0.6),
     native=NativeTick.of,
 )

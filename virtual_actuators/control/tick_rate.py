@@ -267,14 +267,14 @@ def _scale(entries: list[_Entry], mobility: np.ndarray, period: float, limit: fl
     """
     factors = [np.ones(len(entry.labels)) for entry in entries]
     scaled = list(entries)
-    for _ in range(_ROUNDS + 1):
+    for round_ in range(_ROUNDS + 1):
         rate = _rate(scaled, mobility, period)
         if rate.rate <= limit:
             break
         ratio = limit / rate.rate
         share = rate.participation / rate.participation.max()
         share[share < _SHARE] = 0.0  # a direction's bystanders keep their gains
-        exponent = share if _ < _ROUNDS else np.ones_like(share)
+        exponent = share if round_ < _ROUNDS else np.ones_like(share)
         start = 0
         for k, entry in enumerate(scaled):
             stop = start + len(entry.labels)

@@ -197,3 +197,20 @@ def test_gravity_compensation_holds_the_arm_in_mujoco_through_va_run():
     for _ in range(1000):
         simulator.step(np.zeros(robot.model.nv))
     assert np.abs(simulator.q - q0).max() > 0.1
+
+
+def test_efforts_on_some_joints_only_are_the_potentials_gradient_there():
+    """``joints=``: an arm's bodies held by its own joints, the rest of the robot untouched."""
+    robot = va.load_robot("anymal_kinova")
+    model = robot.model
+    arm = [model.names[j] for j in range(2, model.njoints) if "j2s6s200" in model.names[j]]
+    term = GravityCompensation(robot, links=arm, joints=arm)
+    q = robot.neutral()
+    columns = [model.joints[model.getJointId(j)].idx_v for j in arm]
+    expected = _fd_gravity(robot, q, [model.getJointId(j) for j in arm])
+    tau = term.torques(q)
+    assert np.allclose(tau[columns], expected[columns], atol=1e-6 * max(1.0, abs(expected).max()))
+    others = np.setdiff1d(np.arange(model.nv), columns)
+    assert not tau[others].any() and abs(expected[others]).max() > 1.0  # the legs carry it
+    with pytest.raises(va.JointNotFoundError, match="j2s6s200_joint_1"):
+        GravityCompensation(robot, joints=["j2s6s200_joint1"])

@@ -184,3 +184,17 @@ def test_demo_legged_writes_the_trace_and_exits_1_when_the_robot_falls(tmp_path)
     code = main(["demo", "legged", "--robot", "solo12", "--speed", "0.3", "--push", "100@0.5:90",
                  "--duration", "1.5", "--quiet", "--json", str(pushed)])
     assert code == 1 and json.loads(pushed.read_text())["fell"] is True
+
+
+def test_an_arm_on_the_body_is_held_where_it_stands():
+    """A legged manipulator's arm is held by the walker's posture: it neither drags nor falls."""
+    result = _walk(robot="anymal_kinova", speed=0.5, duration=3.0)
+    assert not result.metrics.fell, result.metrics.summary()
+    gait = result.gait
+    posture = gait.controller.postures["posture"]
+    assert posture.joints and all(j.startswith("j2s6s200") for j in posture.joints)
+    assert all("posture" in state.active for state in gait.machine.states)
+    model = gait.robot.model
+    rows = [model.joints[model.getJointId(j)].idx_q for j in posture.joints]
+    drift = result.simulator.q[rows] - gait.initial_configuration()[rows]
+    assert abs(drift).max() < 0.1  # [rad]

@@ -1,4 +1,4 @@
-"""Every closed loop is smooth at the tick rate (issue 35, section 2).
+"""Every closed loop is smooth at the tick rate.
 
 Each walk runs `SECONDS` simulated seconds at 1 kHz; `effort_smoothness` measures every tick
 after the first second (the walks' JSON figures): its efforts must not oscillate from one tick
@@ -8,8 +8,9 @@ not zigzag (`BASE_ALTERNATION_MAX` of the ticks at most). A 100 Hz trace cannot 
 samples every alternation at the same phase.
 
 Every registered walk is here, the legged walk on solo12 (its default), go2, anymal, anymal_c,
-hyq, two robots no other test walks (b1, go1) and the hexapod's tripod, and the balance on its
-default robot (Talos) and g1. Each case's run is shared by its two tests.
+hyq, two robots no other test walks (b1, go1), a legged manipulator whose arm the walker's
+posture holds (anymal-kinova) and the hexapod's tripod, and the balance on its default robot
+(Talos) and g1. Each case's run is shared by its two tests.
 """
 
 import pytest
@@ -40,6 +41,7 @@ CASES = {
     "legged b1 trot 0.5": trot("b1", 0.5),
     "legged go1 trot 0.5": trot("go1", 0.5),
     "legged hexapod tripod 0.3": trot("hexapod", 0.3, "tripod"),
+    "legged anymal_kinova trot 0.5": trot("anymal_kinova", 0.5),
     "balance": ("balance", {}),  # Talos, the demo's default
     "balance g1": ("balance", {"robot": "g1"}),
 }

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InvalidInputError
+from ..exceptions import InvalidInputError, JointNotFoundError
 from ..kinematics.snapshot import Snapshot, thread_data
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
@@ -39,11 +39,16 @@ class GravityCompensation:
         robot: The robot.
         links: Names of links or joints whose bodies are compensated (see the module docstring);
             None for the whole robot.
+        joints: The joints whose efforts it gives, zero on the others (e.g. an arm's joints
+            holding the arm, its weight left to the legs through the body's actuator); None for
+            every velocity entry.
 
     Raises:
-        InvalidInputError: ``robot`` is not a robot, or ``links`` is not a collection of names.
-        FrameNotFoundError: A name is neither a joint nor a frame of the model (with close
-            matches).
+        InvalidInputError: ``robot`` is not a robot, or ``links`` or ``joints`` is not a
+            collection of names.
+        FrameNotFoundError: A name in ``links`` is neither a joint nor a frame of the model
+            (with close matches).
+        JointNotFoundError: A name in ``joints`` is not a joint of the model.
 
     Example:
         >>> controller.add("gravity", va.GravityCompensation(robot))  # in every tick's tau
@@ -51,10 +56,19 @@ class GravityCompensation:
 
     """
 
-    def __init__(self, robot: Robot, links: Sequence[str] | None = None) -> None:
+    def __init__(
+        self, robot: Robot, links: Sequence[str] | None = None, joints: Sequence[str] | None = None
+    ) -> None:
         check_robot(robot, "GravityCompensation")
         self.robot = robot
         model = robot.model
+        self._columns = None  # every velocity entry
+        if joints is not None:
+            names = check_names(joints, "GravityCompensation: joints", JointNotFoundError)
+            self._columns = np.array(
+                [v for n in names for v in _velocity_columns(model, resolve_joint(model, n))],
+                dtype=np.intp,
+            )
         if links is None:
             self.bodies: tuple[str, ...] = tuple(model.names[1:])
             self.model = model
@@ -115,11 +129,21 @@ class GravityCompensation:
         else:
             configuration = tree_of(self.robot).check_configuration(q)
         data = thread_data(self.model)
-        return pin.computeGeneralizedGravity(self.model, data, configuration).copy()
+        gravity = pin.computeGeneralizedGravity(self.model, data, configuration)
+        if self._columns is None:
+            return gravity.copy()
+        tau = np.zeros(self.robot.model.nv)
+        tau[self._columns] = gravity[self._columns]
+        return tau
 
     def __repr__(self) -> str:
         what = "all bodies" if self.model is self.robot.model else f"bodies {list(self.bodies)}"
         return f"GravityCompensation(robot={self.robot.name!r}, {what}, {self.mass:.3f} kg)"
+
+
+def _velocity_columns(model: pin.Model, joint: int) -> range:
+    entry = model.joints[joint]
+    return range(entry.idx_v, entry.idx_v + entry.nv)
 
 
 def _body_joint(model: pin.Model, name: str) -> int:

@@ -34,7 +34,7 @@ HEIGHT_RATIO = 0.9
 #: Initial fold of each leg joint [rad], towards the larger side of its range near zero.
 _FOLD = 0.3
 
-__all__ = ["HEIGHT_RATIO", "leg_joints", "standing_pose"]
+__all__ = ["HEIGHT_RATIO", "leg_joints", "standing_pose", "upper_joints"]
 
 
 def standing_pose(
@@ -105,6 +105,22 @@ def leg_joints(model: pin.Model, foot: int) -> list[int]:
     """The joints (one degree of freedom each) from the body down to frame ``foot``."""
     joints = [j for j in model.supports[model.frames[foot].parentJoint] if j > 1]
     return [j for j in joints if model.joints[j].nv == 1 and model.joints[j].nq == 1]
+
+
+def upper_joints(robot: Robot, feet: Sequence[str]) -> list[str]:
+    """The driven one-degree-of-freedom joints on no leg (torso, arms, head), in model order.
+
+    A leg is the chain from the body to one of ``feet``; passive joints are left out.
+    """
+    model = robot.model
+    legs = {j for foot in feet for j in leg_joints(model, model.getFrameId(foot))}
+    return [
+        model.names[j]
+        for j in range(2, model.njoints)
+        if j not in legs
+        and model.joints[j].nv == 1
+        and model.names[j] not in robot.passive_joints
+    ]
 
 
 def _fold_leg(robot: Robot, q: np.ndarray, foot: int, ratio: float, shift: np.ndarray) -> None:

@@ -35,7 +35,7 @@ from ...kinematics.snapshot import Snapshot
 from ...models.feet import body_frame, find_feet
 from ...models.robot import Robot
 from ...models.soles import find_sole
-from ...models.standing import leg_joints, standing_pose
+from ...models.standing import standing_pose, upper_joints
 from ...vocabulary.axes import resolve_frame
 from ..base import Gait
 from .parameters import BalanceParameters
@@ -177,15 +177,8 @@ class Balancer(Gait):
 
     def _posture(self, feet: tuple[str, ...]) -> list[str]:
         """A posture on every driven joint off the legs; the attachments' names."""
-        robot, parameters, model = self.robot, self.parameters, self.robot.model
-        legs = {j for foot in feet for j in leg_joints(model, model.getFrameId(foot))}
-        upper = [
-            model.names[j]
-            for j in range(2, model.njoints)
-            if j not in legs
-            and model.joints[j].nv == 1
-            and model.names[j] not in robot.passive_joints
-        ]
+        robot, parameters = self.robot, self.parameters
+        upper = upper_joints(robot, feet)
         if not upper:
             return []
         frequency, ratio = parameters.posture_frequency, parameters.posture_damping

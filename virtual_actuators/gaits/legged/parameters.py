@@ -63,6 +63,9 @@ class LeggedParameters:
             the least normal force bind (the QP's closest wrench, ``yield_axes``): three feet
             with the centre of mass outside their triangle keep the attitude too.
         stand_time: Standing on all feet before the first swing [s].
+        posture_frequency: Natural frequency of the posture that holds the joints off the legs
+            (an arm, a head) at the standing pose, from each joint's inertia [Hz].
+        posture_damping_ratio: Its damping ratio [-].
         control_rate: The rate the controller runs at [Hz]: the derived gains are bounded so
             that no state's springs and dampers change a velocity by more than half of it per
             tick ([`tick_rate`][virtual_actuators.control.tick_rate]); run slower and they may
@@ -92,6 +95,8 @@ class LeggedParameters:
     min_normal: float = 0.05
     give_way: tuple[str, ...] = ("x", "y")
     stand_time: float = 0.2
+    posture_frequency: float = 5.0
+    posture_damping_ratio: float = 1.0
     control_rate: float = 1000.0
 
     def __post_init__(self) -> None:

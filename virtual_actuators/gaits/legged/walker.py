@@ -27,8 +27,11 @@ bounded acceleration; sets the body's height above the support feet; asks the st
 actuator which wrenches it can produce
 ([`producible`][virtual_actuators.ParallelVirtualActuator.producible]: with two point feet, not the
 moment about the line between them) so that the body
-gives way exactly there; and moves the swing feet's set points. The whole tick runs through
-[`MachineController`][].
+gives way exactly there; and moves the swing feet's set points. Joints on no leg (a legged
+manipulator's arm, a head) are held at the standing pose in every state by a
+[`Posture`][] (gains from each joint's inertia, `LeggedParameters.posture_frequency`), their
+links' weight compensated on their own joints (the legs carry it through the body model). The
+whole tick runs through [`MachineController`][].
 """
 
 from __future__ import annotations
@@ -40,6 +43,9 @@ import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
 from ...actuators.producible import producible_directions
+from ...components.gains import joint_gains
+from ...components.gravity import GravityCompensation
+from ...components.posture import Posture
 from ...components.springs import SpringDamper
 from ...control import events
 from ...control.state_machine import Context, State, StateMachine, Transition
@@ -47,7 +53,7 @@ from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.feet import find_feet
 from ...models.robot import Robot
-from ...models.standing import standing_pose
+from ...models.standing import standing_pose, upper_joints
 from ..base import Gait
 from .body import BodyModel
 from .footholds import SwingFeet
@@ -201,6 +207,13 @@ class LeggedWalker(Gait):
             self.supports[name] = actuator
             self._feet_rows[name] = actuator.kinematics.frame_rows[2:].tolist()
             c.add(name, actuator, [self.body], **rule)
+        upper = upper_joints(robot, self.feet)  # an arm, a head: held where they stand
+        self._posture: tuple[str, ...] = ("posture", "upper_gravity") if upper else ()
+        if upper:  # the arm's weight held by its joints, carried by the legs (the body model)
+            w, q0 = 2.0 * math.pi * p.posture_frequency, self.initial_configuration()
+            held = joint_gains(robot, upper, w, p.posture_damping_ratio, q0)
+            c.add("posture", Posture(upper, held.stiffness, held.damping))
+            c.add("upper_gravity", GravityCompensation(robot, links=upper, joints=upper))
         self.swing = {}
         for k, foot in enumerate(self.feet):
             spring = SpringDamper(
@@ -213,19 +226,22 @@ class LeggedWalker(Gait):
     def _machine(self) -> StateMachine:
         """``stand``, then ``swing_k`` and ``double_k`` for each group in turn."""
         n = len(self.groups)
-        states = [State("stand", ("support_all",), self.feet, on_update=self._update)]
+        hold = self._posture
+        states = [State("stand", ("support_all", *hold), self.feet, on_update=self._update)]
         transitions = [Transition("stand", "swing_0", events.after(self.parameters.stand_time))]
         for k, group in enumerate(self.groups):
             support = tuple(f for f in self.feet if f not in group)
             states += [
                 State(
                     f"swing_{k}",
-                    (f"support_{k}", *(f"swing_{f}" for f in group)),
+                    (f"support_{k}", *(f"swing_{f}" for f in group), *hold),
                     support,
                     on_enter=self._enter_swing,
                     on_update=self._update,
                 ),
-                State(f"double_{k}", ("support_all",), self.feet, on_update=self._update),
+                State(
+                    f"double_{k}", ("support_all", *hold), self.feet, on_update=self._update
+                ),
             ]
             transitions += [
                 Transition(

@@ -192,3 +192,19 @@ def test_the_body_model_scales_each_axis():
     assert scaled.damping[1] == pytest.approx(0.5 * gains.damping[1])
     assert scaled.stiffness[4] == pytest.approx(0.25 * gains.stiffness[4])
     assert scaled.damping[[0, 2, 3, 5]] == pytest.approx(gains.damping[[0, 2, 3, 5]])
+
+
+def test_a_degree_of_freedom_without_inertia_is_fast_not_singular():
+    """romeo's URDF leaves some bodies without inertia: its mass matrix is singular."""
+    import pinocchio as pin
+
+    from virtual_actuators.gaits.balance.balancer import Balancer
+
+    robot = va.load_robot("romeo")
+    mass = pin.crba(robot.model, robot.model.createData(), robot.neutral())
+    assert np.linalg.matrix_rank(np.triu(mass) + np.triu(mass, 1).T) < robot.model.nv
+    balancer = Balancer(robot)
+    assert np.isfinite(balancer.tick_rate.rate)
+    state = balancer.machine.states[0]
+    after = tick_rate(balancer.controller, balancer.q0, state.active, state.support, PERIOD)
+    assert after.rate <= RATE_LIMIT * (1 + 1e-9)

@@ -71,6 +71,14 @@ class ConcurrentUseError(VirtualActuatorError, RuntimeError):
     """
 
 
+class TraceError(VirtualActuatorError, TypeError):
+    """A piece of a declaration cannot be lowered into a compiled plan (the message says why).
+
+    The lowering keeps that piece a Python callback of the plan's tick; lowering it strictly
+    raises this error instead.
+    """
+
+
 class MissingDependencyError(VirtualActuatorError, ImportError):
     """An optional package this feature needs is missing (the message says what to install).
 

@@ -823,6 +823,8 @@ NB_MODULE(_core, m) {
   bind_native_hexapod(m);
   void bind_contacts(nb::module_&);  // MuJoCo's contacts read in place: the last block
   bind_contacts(m);
+  void bind_plan(nb::module_&);  // the compiled machine (bind_plan.cpp)
+  bind_plan(m);
 
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")

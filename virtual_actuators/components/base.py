@@ -26,7 +26,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
+from ..exceptions import InvalidInputError, TraceError
 from ..vocabulary.arguments import as_float_array, check_name
 from ..vocabulary.axes import parse_axes
 from .gains import Gains
@@ -83,6 +83,43 @@ class Component(ABC):
         return np.asarray(
             self.compute_wrench(np.array(position), np.array(velocity), time), dtype=float
         ).tolist()
+
+    def plan_slots(self) -> dict[str, np.ndarray] | None:
+        """The arrays a compiled plan keeps for this component, by name, or None (default).
+
+        None: the component runs as a Python piece of the plan's tick. A component that
+        returns slots implements `bind_slots` and `traced_wrench` (and
+        `traced_reset` if it has a `reset`).
+        """
+        return None
+
+    def bind_slots(self, views: dict[str, np.ndarray]) -> None:
+        """Keep the `plan_slots` in a compiled plan's registers (``views`` become the arrays).
+
+        Raises:
+            TraceError: The component has no slots (the default).
+
+        """
+        raise TraceError(f"{self.name}: {type(self).__name__} keeps no slots in a plan.")
+
+    def traced_wrench(self, slots: object, position: tuple, velocity: tuple, time: object) -> list:
+        """`compute_wrench` on traced values (a compiled plan's ops).
+
+        Args:
+            slots: The `plan_slots` as traced values (``slots[name]``, ``slots.store(name,
+                values)``).
+            position: The sensor's reading on this component's axes, traced.
+            velocity: Its rate, traced.
+            time: The tick's time, traced.
+
+        Raises:
+            TraceError: The component is not lowered (the default).
+
+        """
+        raise TraceError(f"{self.name}: {type(self).__name__} is not lowered into a plan.")
+
+    def traced_reset(self, slots: object, position: tuple, time: object) -> None:  # noqa: B027
+        """`reset` on traced values (default: nothing, as `reset`)."""
 
     def linear_gains(self) -> Gains | None:
         """The stiffness and damping per axis of a linear spring-damper, or None (default).

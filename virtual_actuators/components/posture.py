@@ -81,6 +81,7 @@ class Posture:
         self.setpoint: np.ndarray | None = None  # [rad or m], once bound and reset
         self.null_space = null_space
         self.robot: Robot | None = None
+        self._plan = False  # the gains and set point are a compiled plan's registers
         self._q_rows = self._v_rows = np.zeros(0, dtype=np.intp)
         if robot is not None:
             self.bind(robot)
@@ -122,6 +123,35 @@ class Posture:
                 f"got {describe(setpoint)}."
             )
         return target
+
+    def plan_slots(self) -> dict[str, np.ndarray]:
+        """The arrays a compiled plan keeps: stiffness, damping and set point per joint."""
+        if self.setpoint is None:
+            self.setpoint = np.zeros(len(self.joints))  # the first reset sets it
+        return {"stiffness": self.stiffness, "damping": self.damping, "setpoint": self.setpoint}
+
+    def bind_slots(self, views: dict[str, np.ndarray]) -> None:
+        """Keep the gains and the set point in a compiled plan's registers (``views``)."""
+        self.stiffness, self.damping, self.setpoint = (
+            views["stiffness"], views["damping"], views["setpoint"]
+        )
+        self._plan = True
+
+    def traced_torques(self, slots: object, position: tuple, velocity: tuple) -> list:
+        """`torques` on a plan's traced joint positions and velocities (its joints only)."""
+        k, b, x0 = slots["stiffness"], slots["damping"], slots["setpoint"]
+        return [k[i] * (x0[i] - position[i]) - b[i] * velocity[i] for i in range(len(k))]
+
+    def traced_reset(self, slots: object, position: tuple) -> None:
+        """`reset` on a plan's traced joint positions."""
+        targets = self._targets
+        if isinstance(targets, np.ndarray):
+            values = tuple(targets.tolist())
+        elif isinstance(targets, dict):
+            values = tuple(targets.get(j, p) for j, p in zip(self.joints, position, strict=True))
+        else:
+            values = tuple(position)
+        slots.store("setpoint", values)
 
     def linear_gains(self) -> Gains:
         """The stiffness and damping per joint (see `Component.linear_gains`)."""
@@ -198,14 +228,18 @@ class Posture:
         configuration = q.q if isinstance(q, Snapshot) else np.asarray(q, dtype=float)
         current = configuration[self._q_rows].copy()
         if isinstance(self._targets, np.ndarray):
-            self.setpoint = self._targets.copy()
+            setpoint = self._targets.copy()
         elif isinstance(self._targets, dict):
             targets = self._targets
-            self.setpoint = np.array(
+            setpoint = np.array(
                 [targets.get(j, c) for j, c in zip(self.joints, current.tolist(), strict=True)]
             )
         else:
-            self.setpoint = current
+            setpoint = current
+        if self._plan:  # a compiled plan keeps it: written in place
+            self.setpoint[:] = setpoint
+        else:
+            self.setpoint = setpoint
 
     def torques(self, q: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """The efforts ``(nv,)`` [N m or N]: the spring-damper on its joints, zero elsewhere.

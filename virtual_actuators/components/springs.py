@@ -23,16 +23,49 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
+from ..exceptions import InvalidInputError, TraceError
+from ..vocabulary.scalar import maximum, minimum
 from .base import Component
 from .gains import Gains
-from .orientation import deflection, is_difference, rotation_axes
+from .orientation import deflection, rotation_axes
+from .slots import Slotted
 
 Vector = float | Sequence[float] | np.ndarray
 _FLOAT64 = np.dtype(np.float64)
 
 
-class SpringDamper(Component):
+def spring_damper(
+    parameters: dict[str, Sequence], position: Sequence, velocity: Sequence, rotations: object
+) -> list:
+    """``min(max(k d + b (v0 - v), -limit), limit) + f`` per axis, ``d`` the deflection.
+
+    The spring-damper's formula on floats or traced values alike (``parameters``: the `SLOTS`
+    by name, each one value per axis): the float path and a compiled plan's ops. The clip is
+    exact where the limit is ``inf``.
+    """
+    bent = deflection(list(parameters["setpoint"]), list(position), rotations)
+    k, b = parameters["stiffness"], parameters["damping"]
+    v0, f, limit = parameters["velocity_setpoint"], parameters["force"], parameters["limit"]
+    return [
+        minimum(maximum(k[i] * bent[i] + b[i] * (v0[i] - velocity[i]), -limit[i]), limit[i])
+        + f[i]
+        for i in range(len(bent))
+    ]
+
+
+class _FloatSlots:
+    """A spring-damper's parameters as lists of floats, read by name (`spring_damper`)."""
+
+    __slots__ = ("component",)
+
+    def __init__(self, component: SpringDamper) -> None:
+        self.component = component
+
+    def __getitem__(self, name: str) -> list[float]:
+        return getattr(self.component, f"_{name}").tolist()
+
+
+class SpringDamper(Slotted, Component):
     """A spring and a damper in parallel on each axis, plus an optional constant force.
 
     Args:
@@ -79,62 +112,83 @@ class SpringDamper(Component):
 
     # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time. The
     # arrays live in ``_stiffness``, ``_damping``, ``_setpoint``, ``_velocity_setpoint``,
-    # ``_force`` and ``_limit``, each replaced (never changed in place) by its setter: the
-    # controller's spring-damper tick (control.attachment_kernel) reads them there per tick.
+    # ``_force`` and ``_limit``, each replaced by its setter, or written in place once a
+    # compiled plan keeps them (`bind_slots`: they are views of its registers then).
     @property
     def stiffness(self) -> np.ndarray:
         """Spring constants [N/m or N m/rad]."""
-        return self._stiffness
+        return self._traced("stiffness")
 
     @stiffness.setter
     def stiffness(self, value: Vector) -> None:
-        self._stiffness = self._non_negative(value, "stiffness")
+        if self._store_traced("stiffness", value):
+            return
+        self._assign("_stiffness", self._non_negative(value, "stiffness"))
 
     @property
     def damping(self) -> np.ndarray:
         """Damping constants [N s/m or N m s/rad]."""
-        return self._damping
+        return self._traced("damping")
 
     @damping.setter
     def damping(self, value: Vector) -> None:
-        self._damping = self._non_negative(value, "damping")
+        if self._store_traced("damping", value):
+            return
+        self._assign("_damping", self._non_negative(value, "damping"))
 
     @property
     def setpoint(self) -> np.ndarray:
         """Spring rest positions [m or rad] (rotational axes: a rotation vector in {O})."""
-        return self._setpoint
+        return self._traced("setpoint")
 
     @setpoint.setter
     def setpoint(self, value: Vector) -> None:
-        self._setpoint = self._per_axis(value, "setpoint")
+        if self._store_traced("setpoint", value):
+            return
+        self._assign("_setpoint", self._per_axis(value, "setpoint"))
 
     @property
     def velocity_setpoint(self) -> np.ndarray:
         """Velocities the dampers pull toward [m/s or rad/s]."""
-        return self._velocity_setpoint
+        return self._traced("velocity_setpoint")
 
     @velocity_setpoint.setter
     def velocity_setpoint(self, value: Vector) -> None:
-        self._velocity_setpoint = self._per_axis(value, "velocity_setpoint")
+        if self._store_traced("velocity_setpoint", value):
+            return
+        self._assign("_velocity_setpoint", self._per_axis(value, "velocity_setpoint"))
 
     @property
     def force(self) -> np.ndarray:
         """Constant feed-forward force [N or N m]."""
-        return self._force
+        return self._traced("force")
 
     @force.setter
     def force(self, value: Vector) -> None:
-        self._force = self._per_axis(value, "force")
+        if self._store_traced("force", value):
+            return
+        self._assign("_force", self._per_axis(value, "force"))
 
     @property
     def limit(self) -> np.ndarray:
         """Saturation of the spring-damper output per axis [N or N m] (``inf``: none)."""
-        return self._limit
+        return self._traced("limit")
 
     @limit.setter
     def limit(self, value: Vector) -> None:
-        self._limit = self._non_negative(value, "limit", allow_inf=True)
+        if self._store_traced("limit", value):
+            return
+        self._assign("_limit", self._non_negative(value, "limit", allow_inf=True))
         self._limited = bool(np.isfinite(self._limit).any())
+
+    #: The parameters a compiled plan keeps in its registers, in this order.
+    SLOTS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """The wrench of `spring_damper` on traced parameters and readings (a plan's ops)."""
+        if getattr(self, "law", None) is not None:  # a Spring with a law: a Python piece
+            raise TraceError(f"{self.name}: a spring's law is Python: it is not lowered.")
+        return spring_damper(slots, position, velocity, self._rotations)
 
     def _non_negative(self, value: Vector, what: str, allow_inf: bool = False) -> np.ndarray:
         array = self._per_axis(value, what, allow_inf)
@@ -193,51 +247,13 @@ class SpringDamper(Component):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """[`compute_wrench`][] on plain floats, entry by entry.
+        """[`compute_wrench`][] on plain floats, entry by entry: `spring_damper`.
 
         The same IEEE operations in the same order as the array formula (so the same bits),
         without numpy's per-call cost on a few axes. The parameters are read from the arrays
         at every call (an array changed in place is seen).
         """
-        setpoint = self._setpoint.tolist()
-        if not is_difference(setpoint, position, self._rotations):  # an orientation on SO(3)
-            return self._deflected_floats(
-                deflection(setpoint, position, self._rotations), velocity
-            )
-        terms = zip(
-            self._stiffness.tolist(),
-            setpoint,
-            position,
-            self._damping.tolist(),
-            self._velocity_setpoint.tolist(),
-            velocity,
-            self._force.tolist(),
-            strict=True,
-        )
-        if self._limited:
-            return [
-                min(max(k * (x0 - x) + b * (v0 - v), -limit), limit) + f
-                for (k, x0, x, b, v0, v, f), limit in zip(terms, self._limit.tolist(), strict=True)
-            ]
-        return [k * (x0 - x) + b * (v0 - v) + f for k, x0, x, b, v0, v, f in terms]
-
-    def _deflected_floats(self, bent: list[float], velocity: list[float]) -> list[float]:
-        """[`compute_wrench_floats`][] from the deflection per axis (the same operations)."""
-        terms = zip(
-            self._stiffness.tolist(),
-            bent,
-            self._damping.tolist(),
-            self._velocity_setpoint.tolist(),
-            velocity,
-            self._force.tolist(),
-            strict=True,
-        )
-        if self._limited:
-            return [
-                min(max(k * d + b * (v0 - v), -limit), limit) + f
-                for (k, d, b, v0, v, f), limit in zip(terms, self._limit.tolist(), strict=True)
-            ]
-        return [k * d + b * (v0 - v) + f for k, d, b, v0, v, f in terms]
+        return spring_damper(_FloatSlots(self), position, velocity, self._rotations)
 
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:

@@ -18,7 +18,13 @@ import numpy as np
 from ..exceptions import InvalidAxisError, InvalidInputError
 from ..vocabulary.arguments import as_float_array, check_number
 from ..vocabulary.axes import parse_axes
+from ..vocabulary.traced import TRACING, traced_store
 from .springs import SpringDamper, Vector
+
+
+def _entry(values: np.ndarray | tuple, index: int) -> object:
+    """Entry ``index`` of a parameter: a float of its array, or its traced value."""
+    return values[index] if isinstance(values, tuple) else values.item(index)
 
 
 class GrannyWalker(SpringDamper):
@@ -69,26 +75,30 @@ class GrannyWalker(SpringDamper):
     @property
     def height(self) -> float:
         """Height set point [m]."""
-        return self._setpoint.item(0)
+        return _entry(self._traced("setpoint"), 0)
 
     @height.setter
     def height(self, value: float) -> None:
+        if TRACING.get() is not None and traced_store(self, "setpoint", (value,)):
+            return
         value = check_number(value, f"{self.name}: height [m]")
         setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
         setpoint[0] = value
-        self._setpoint = setpoint
+        self._assign("_setpoint", setpoint)
 
     @property
     def pitch(self) -> float:
         """Pitch set point [rad]."""
-        return self._setpoint.item(1)
+        return _entry(self._traced("setpoint"), 1)
 
     @pitch.setter
     def pitch(self, value: float) -> None:
+        if TRACING.get() is not None and traced_store(self, "setpoint", (value,), offset=1):
+            return
         value = check_number(value, f"{self.name}: pitch [rad]")
         setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
         setpoint[1] = value
-        self._setpoint = setpoint
+        self._assign("_setpoint", setpoint)
 
 
 class DogtrackBunny(SpringDamper):
@@ -125,13 +135,33 @@ class DogtrackBunny(SpringDamper):
     ) -> None:
         super().__init__((axis,), stiffness, damping, limit=limit, name=name)
         self.speed = speed
-        self.start_position = 0.0  # [m]
-        self.start_time = 0.0  # [s]
+        self._start = np.zeros(2)  # where and when the bunny started [m, s]
+
+    #: The parameters a compiled plan keeps: the spring-damper's and the start.
+    SLOTS = (*SpringDamper.SLOTS, "start")
+
+    @property
+    def start_position(self) -> float:
+        """Where the bunny started [m]."""
+        return self._start.item(0)
+
+    @start_position.setter
+    def start_position(self, value: float) -> None:
+        self._start[0] = check_number(value, f"{self.name}: start_position [m]")
+
+    @property
+    def start_time(self) -> float:
+        """When the bunny started [s]."""
+        return self._start.item(1)
+
+    @start_time.setter
+    def start_time(self, value: float) -> None:
+        self._start[1] = check_number(value, f"{self.name}: start_time [s]")
 
     @property
     def speed(self) -> float:
         """Desired speed [m/s]."""
-        return self._velocity_setpoint.item(0)
+        return _entry(self._traced("velocity_setpoint"), 0)
 
     @speed.setter
     def speed(self, value: float) -> None:
@@ -163,6 +193,16 @@ class DogtrackBunny(SpringDamper):
             )
         self.start_position = float(values.reshape(-1)[0])
         self.start_time = time
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """`compute_wrench` on a plan's traced values: the set point moved, then the formula."""
+        (start, started), (speed,) = slots["start"], slots["velocity_setpoint"]
+        slots.store("setpoint", (start + speed * (time - started),))
+        return super().traced_wrench(slots, position, velocity, time)
+
+    def traced_reset(self, slots, position: tuple, time: object) -> None:
+        """`reset` on a plan's traced values."""
+        slots.store("start", (position[0], time))
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Damper toward the bunny's speed plus spring toward its position."""

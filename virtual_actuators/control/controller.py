@@ -125,7 +125,6 @@ class Controller:
         Raises:
             InvalidInputError: (on assignment) a bad limit (see the constructor).
             JointNotFoundError: (on assignment) a ``{joint: rate}`` naming an unknown joint.
-
         """
         return self._rate_spec
 
@@ -135,17 +134,21 @@ class Controller:
         self._rate_spec = spec
         self._rate_limit = None if rates is None else EffortRateLimit(rates)
 
+    def limit_rate(self, tau: np.ndarray, time: float) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(tau, held)``: ``tau`` under the rate limit (in place); ``held`` None without one."""
+        if self._rate_limit is None:
+            return tau, None
+        return self._rate_limit.apply(tau, time)
+
     def reset_effort_rate(self, tau: np.ndarray | None = None, time: float = 0.0) -> None:
         """Start the effort rate limit anew: from efforts ``tau`` at ``time``, or free.
 
         Args:
-            tau: ``(nv,)`` efforts the motors hold now [N m or N] (None: the next tick is not
-                limited).
+            tau: ``(nv,)`` efforts the motors hold now [N m or N] (None: the next tick is free).
             time: When they were given [s].
 
         Raises:
-            InvalidInputError: The controller has no effort rate limit, or a bad ``tau`` or
-                ``time``.
+            InvalidInputError: No effort rate limit, or a bad ``tau`` or ``time``.
 
         """
         if self._rate_limit is None:
@@ -379,9 +382,7 @@ class Controller:
         clipped, saturated = clip_efforts(  # tau: a fresh array, the request
             tau, self._lower_limits, self._upper_limits, self.clip
         )
-        held = None
-        if self._rate_limit is not None:
-            clipped, held = self._rate_limit.apply(clipped, time)
+        clipped, held = self.limit_rate(clipped, time)
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
             clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions,
             sums.velocities, sums.solutions, sums.failed, names, self.joint_names, sums.failures,

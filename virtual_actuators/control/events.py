@@ -1,7 +1,8 @@
 """Events for [`Transition`][]: small factories.
 
-Each returns a callable of the tick's [`Context`][].
-Combine them with [`any_of`][] and [`all_of`][], or write a lambda.
+Each returns a callable of the tick's [`Context`][], an object that is also data: a compiled plan
+lowers it (``lower``). Combine them with [`any_of`][] and [`all_of`][], or write a lambda (a
+plan traces it, or calls it from the tick).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from collections.abc import Callable
 from ..exceptions import InvalidAxisError, InvalidInputError
 from ..vocabulary.arguments import check_flag, check_name, check_number, describe
 from ..vocabulary.axes import AXES
+from ..vocabulary.scalar import logical_and, logical_not, logical_or
 from .context import POSITION_COLUMNS, Context, Event, table_entry
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
@@ -41,6 +43,141 @@ def _events(events: tuple, where: str) -> tuple[Event, ...]:
     return events
 
 
+class After:
+    """Fires once the current state has lasted ``seconds`` (`after`)."""
+
+    __slots__ = ("seconds",)
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+
+    def __call__(self, context: Context) -> bool:
+        """Whether the event fires at this tick."""
+        return context.time_in_state >= self.seconds
+
+    def lower(self, trace: object) -> object:
+        """The event as a traced value (``trace``: the lowering's context)."""
+        return trace.time_in_state >= self.seconds
+
+    def __repr__(self) -> str:
+        return f"after({self.seconds:g})"
+
+
+class AheadOf:
+    """Fires when ``frame`` is more than ``distance`` ahead of ``reference`` (`ahead_of`)."""
+
+    __slots__ = ("frame", "reference", "distance", "axis", "index", "column")
+
+    def __init__(self, frame: str, reference: str, distance: float, axis: str) -> None:
+        self.frame, self.reference, self.distance, self.axis = frame, reference, distance, axis
+        self.index = _axis(axis)
+        self.column = POSITION_COLUMNS[axis]  # the position's entry in a frame-table row
+
+    def __call__(self, context: Context) -> bool:
+        """Whether the event fires at this tick."""
+        snapshot = context.snapshot  # tabled frames: two entries of the table (a tick's cost)
+        position = table_entry(snapshot, self.frame, self.column)
+        reference_position = table_entry(snapshot, self.reference, self.column)
+        if position is not None and reference_position is not None:
+            return position - reference_position > self.distance
+        index = self.index
+        return (
+            context.frame_position(self.frame)[index]
+            - context.frame_position(self.reference)[index]
+            > self.distance
+        )
+
+    def lower(self, trace: object) -> object:
+        """The event as a traced value."""
+        difference = trace.frame_coordinate(self.frame, self.axis) - trace.frame_coordinate(
+            self.reference, self.axis
+        )
+        return difference > self.distance
+
+    def __repr__(self) -> str:
+        return f"ahead_of({self.frame!r}, {self.reference!r}, {self.distance:g}, {self.axis!r})"
+
+
+class Contact:
+    """Fires when the contact switches of ``frames`` are closed, all or any (`contact`)."""
+
+    __slots__ = ("frames", "require_all")
+
+    def __init__(self, frames: tuple[str, ...], require_all: bool) -> None:
+        self.frames, self.require_all = frames, require_all
+
+    def __call__(self, context: Context) -> bool:
+        """Whether the event fires at this tick."""
+        switches = context.contacts  # all(...) / any(...) without a generator (per tick)
+        wanted = self.require_all
+        for frame in self.frames:
+            switch = switches.get(frame)
+            closed = context.in_contact(frame) if switch is None else switch
+            if bool(closed) != wanted:
+                return not wanted
+        return wanted
+
+    def lower(self, trace: object) -> object:
+        """The event as a traced value (each frame's switch a register the tick writes)."""
+        combine = logical_and if self.require_all else logical_or
+        result = trace.contact(self.frames[0], required=True)
+        for frame in self.frames[1:]:
+            result = combine(result, trace.contact(frame, required=True))
+        return result
+
+    def __repr__(self) -> str:
+        return f"contact({', '.join(map(repr, self.frames))}, require_all={self.require_all})"
+
+
+class NoContact:
+    """Fires when none of the contact switches of ``frames`` is closed (`no_contact`)."""
+
+    __slots__ = ("frames",)
+
+    def __init__(self, frames: tuple[str, ...]) -> None:
+        self.frames = frames
+
+    def __call__(self, context: Context) -> bool:
+        """Whether the event fires at this tick."""
+        return not any(context.in_contact(f) for f in self.frames)
+
+    def lower(self, trace: object) -> object:
+        """The event as a traced value."""
+        return logical_not(Contact(self.frames, require_all=False).lower(trace))
+
+    def __repr__(self) -> str:
+        return f"no_contact({', '.join(map(repr, self.frames))})"
+
+
+class Combined:
+    """Fires when any (or all) of ``events`` fire (`any_of`, `all_of`)."""
+
+    __slots__ = ("events", "require_all")
+
+    def __init__(self, events: tuple[Event, ...], require_all: bool) -> None:
+        self.events, self.require_all = events, require_all
+
+    def __call__(self, context: Context) -> bool:
+        """Whether the event fires at this tick."""
+        wanted = self.require_all  # all(...) / any(...) without a generator (per tick)
+        for each in self.events:
+            if bool(each(context)) != wanted:
+                return not wanted
+        return wanted
+
+    def lower(self, trace: object) -> object:
+        """The event as a traced value (every event evaluated: they have no side effect)."""
+        combine = logical_and if self.require_all else logical_or
+        result = trace.event(self.events[0])
+        for each in self.events[1:]:
+            result = combine(result, trace.event(each))
+        return result
+
+    def __repr__(self) -> str:
+        kind = "all_of" if self.require_all else "any_of"
+        return f"{kind}({', '.join(map(repr, self.events))})"
+
+
 def after(seconds: float) -> Event:
     """Fires once the current state has lasted ``seconds`` (a timer, e.g. the buffer states).
 
@@ -48,8 +185,7 @@ def after(seconds: float) -> Event:
         InvalidInputError: ``seconds`` is not a finite real number >= 0.
 
     """
-    seconds = check_number(seconds, "after(): seconds", minimum=0.0)
-    return lambda context: context.time_in_state >= seconds
+    return After(check_number(seconds, "after(): seconds", minimum=0.0))
 
 
 def ahead_of(frame: str, reference: str, distance: float, axis: str = "x") -> Event:
@@ -67,21 +203,7 @@ def ahead_of(frame: str, reference: str, distance: float, axis: str = "x") -> Ev
     check_name(frame, "ahead_of(): frame")
     check_name(reference, "ahead_of(): reference")
     distance = check_number(distance, "ahead_of(): distance [m]")
-    index = _axis(axis)
-    column = POSITION_COLUMNS[axis]  # the position's entry in a row of the snapshot's frame table
-
-    def event(context: Context) -> bool:
-        snapshot = context.snapshot  # tabled frames: two entries of the table (a tick's cost)
-        position = table_entry(snapshot, frame, column)
-        reference_position = table_entry(snapshot, reference, column)
-        if position is not None and reference_position is not None:
-            return position - reference_position > distance
-        return (
-            context.frame_position(frame)[index] - context.frame_position(reference)[index]
-            > distance
-        )
-
-    return event
+    return AheadOf(frame, reference, distance, axis)
 
 
 def contact(*frames: str, require_all: bool = True) -> Event:
@@ -93,27 +215,7 @@ def contact(*frames: str, require_all: bool = True) -> Event:
 
     """
     frames = _frames(frames, "contact()")
-    if check_flag(require_all, "contact(): require_all"):
-
-        def event(context: Context) -> bool:  # all(...) without a generator (per tick)
-            switches = context.contacts
-            for frame in frames:
-                switch = switches.get(frame)
-                if not (context.in_contact(frame) if switch is None else switch):
-                    return False
-            return True
-
-    else:
-
-        def event(context: Context) -> bool:  # any(...) without a generator (per tick)
-            switches = context.contacts
-            for frame in frames:
-                switch = switches.get(frame)
-                if context.in_contact(frame) if switch is None else switch:
-                    return True
-            return False
-
-    return event
+    return Contact(frames, check_flag(require_all, "contact(): require_all"))
 
 
 def no_contact(*frames: str) -> Event:
@@ -123,8 +225,7 @@ def no_contact(*frames: str) -> Event:
         InvalidInputError: No frame given, or a frame that is not a str.
 
     """
-    frames = _frames(frames, "no_contact()")
-    return lambda context: not any(context.in_contact(f) for f in frames)
+    return NoContact(_frames(frames, "no_contact()"))
 
 
 def any_of(*events: Event) -> Event:
@@ -134,15 +235,7 @@ def any_of(*events: Event) -> Event:
         InvalidInputError: No event given, or one that is not callable.
 
     """
-    events = _events(events, "any_of()")
-
-    def event(context: Context) -> bool:  # any(...) without a generator (per tick)
-        for each in events:
-            if each(context):
-                return True
-        return False
-
-    return event
+    return Combined(_events(events, "any_of()"), require_all=False)
 
 
 def all_of(*events: Event) -> Event:
@@ -152,19 +245,14 @@ def all_of(*events: Event) -> Event:
         InvalidInputError: No event given, or one that is not callable.
 
     """
-    events = _events(events, "all_of()")
-
-    def event(context: Context) -> bool:  # all(...) without a generator (per tick)
-        for each in events:
-            if not each(context):
-                return False
-        return True
-
-    return event
+    return Combined(_events(events, "all_of()"), require_all=True)
 
 
 def when(predicate: Callable[[Context], bool]) -> Event:
     """Wrap any callable of the context as an event (for symmetry in declarations).
+
+    A compiled plan traces it (written with `scalar`'s functions, it runs compiled), or calls
+    it from the tick as a Python piece.
 
     Raises:
         InvalidInputError: ``predicate`` is not callable.

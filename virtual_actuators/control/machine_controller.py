@@ -80,6 +80,10 @@ class MachineController:
         """The current state."""
         return self.machine.current
 
+    def limp_indices(self, state: str) -> np.ndarray:
+        """The velocity indices a state leaves limp (its ``limp`` joints)."""
+        return self._limp[state]
+
     def compute(
         self,
         q: np.ndarray | Snapshot,

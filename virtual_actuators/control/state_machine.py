@@ -14,6 +14,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..exceptions import InvalidInputError, suggestion
 from ..vocabulary.arguments import (
     check_name,
@@ -147,9 +149,42 @@ class StateMachine:
             exit_ = (transition.event, self._states[transition.target])
             self._exits[transition.source].append(exit_)
         self._check(self.initial, "initial")
-        self.current: State = self._states[self.initial]
-        self.entered_at = 0.0  # [s]
-        self.started = False
+        self._order = list(self._states.values())
+        #: the state's index, when it was entered [s], whether the machine started (1.0): an
+        #: array a compiled plan keeps in its registers (`bind_position`)
+        self._position = np.array([float(self.index[self.initial]), 0.0, 0.0])
+
+    @property
+    def current(self) -> State:
+        """The current state."""
+        return self._order[int(self._position.item(0))]
+
+    @current.setter
+    def current(self, state: State) -> None:
+        self._position[0] = self.index[state.name]
+
+    @property
+    def entered_at(self) -> float:
+        """When the current state was entered [s]."""
+        return self._position.item(1)
+
+    @entered_at.setter
+    def entered_at(self, time: float) -> None:
+        self._position[1] = time
+
+    @property
+    def started(self) -> bool:
+        """Whether the machine has entered its first state."""
+        return self._position.item(2) != 0.0
+
+    @started.setter
+    def started(self, started: bool) -> None:
+        self._position[2] = 1.0 if started else 0.0
+
+    def bind_position(self, view: np.ndarray) -> None:
+        """Keep the machine's state in ``view`` (3 floats of a compiled plan's registers)."""
+        view[:] = self._position
+        self._position = view
 
     def _check(self, name: str, where: str) -> None:
         if not isinstance(name, str):
@@ -158,6 +193,11 @@ class StateMachine:
             raise InvalidInputError(
                 f"{where}: unknown state {name!r}. {suggestion(name, self._states, 'states')}"
             )
+
+    def exits(self, state: str) -> list[tuple[Event, State]]:
+        """``(event, target)`` of each of a state's transitions, in declaration order."""
+        self._check(state, "exits")
+        return list(self._exits[state])
 
     @property
     def names(self) -> list[str]:

@@ -59,8 +59,9 @@ RATE_LIMIT = 0.5
 #: Scaling rounds before the last, uniform one (`bound_tick_rate`).
 _ROUNDS = 60
 
-#: Added to the mass matrix's diagonal [kg or kg m^2]: a degree of freedom a URDF leaves without
-#: inertia (a massless finger) is then very fast instead of singular (as the simulation bounds it).
+#: The least entry of the mass matrix's diagonal [kg or kg m^2]: a degree of freedom a URDF leaves
+#: without inertia (a massless finger) is then very fast instead of singular (as the simulation
+#: bounds it).
 _INERTIA_FLOOR = 1e-10
 
 #: An entry with less than this fraction of the largest share of the fastest direction is
@@ -227,7 +228,9 @@ def _mobility(robot: object, q: np.ndarray, held: list[tuple[str, str]]) -> np.n
     model = robot.model
     data = model.createData()
     mass = pin.crba(model, data, q)
-    mass = np.triu(mass) + np.triu(mass, 1).T + _INERTIA_FLOOR * np.eye(model.nv)
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    diagonal = np.diag_indices(model.nv)
+    mass[diagonal] = np.maximum(mass[diagonal], _INERTIA_FLOOR)
     inverse = np.linalg.inv(mass)
     if not held:
         return inverse

@@ -20,6 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
+from .buffer_layout import buffer_layout
 from .kernels import center_of_mass_of, velocity_of_point
 from .tree import KinematicTree, tree_of
 
@@ -337,6 +338,32 @@ class Snapshot:
         if not tree.mass > 0.0:
             raise InvalidInputError(f"Robot {tree.model.name!r} has no mass: no centre of mass.")
         return np.array(center_of_mass_of(self._joint_table(), tree.masses, tree.levers))
+
+    @classmethod
+    def of_pass(
+        cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray,
+        rows: dict[int, int],
+    ) -> Snapshot:
+        """The snapshot of a pass the compiled core made already (a compiled plan's tick).
+
+        Args:
+            robot: The robot.
+            q: The configuration the pass is of.
+            v: Its velocity.
+            buffer: The core's pass: joints, Jacobian, ``len(rows)`` frames, their velocities.
+            rows: Frame id -> row of the pass's frame table.
+
+        Raises:
+            InvalidInputError: A bad ``q`` or ``v``.
+
+        """
+        snapshot = cls(robot, q, v)
+        tree = snapshot.tree
+        layout = buffer_layout(None, tree.njoints, tree.nv, len(rows))
+        snapshot._buffer, snapshot._layout, snapshot._rows = buffer, layout, rows
+        snapshot._frames = buffer[layout.frames].reshape(layout.frames_shape)
+        snapshot._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+        return snapshot
 
     def __repr__(self) -> str:
         done = "computed" if self._jacobian is not None else "not computed yet"

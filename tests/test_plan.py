@@ -1,0 +1,165 @@
+"""The compiled machine (control.plan) against the same machine run in Python, tick by tick.
+
+Two copies of one declaration: one runs as a `MachineController` in Python (the oracle), the
+other is lowered and runs in the core. Both are fed the same states, from a MuJoCo run driven by
+the Python copy's efforts; every tick's efforts, wrenches, readings and state agree.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import virtual_actuators as va
+from virtual_actuators.native import CORE
+
+pytestmark = pytest.mark.skipif(
+    CORE is None or not hasattr(CORE, "PlanMachine"), reason="no compiled core"
+)
+
+
+def _turkey(event=None, component=None):
+    """The docs' turkey machine (tutorials/bipeds.md): double support, then a right swing."""
+    robot = va.load_robot("spring_turkey")
+    double = va.ParallelVirtualActuator(
+        robot, "body", ["left_foot", "right_foot"], "world", ("x", "z", "ry"), contact="point",
+        design=[va.EqualTorque("left_hip", "right_hip")],
+    )  # fmt: skip
+    swing = va.VirtualActuator(robot, "right_foot", "body", "world", ("x", "z"))
+    granny = va.GrannyWalker(height=0.54, stiffness=(1500, 200), damping=(150, 20), weight=98.1)
+    bunny = va.DogtrackBunny(speed=0.5, damping=80)
+    controller = va.Controller(robot)
+    controller.add("double", double, [granny, bunny], unilateral={"z": 10.0}, yield_axes=("x",))
+    swinging = [va.SwingLegLinkage((400, 600), (20, 25))]
+    if component is not None:
+        swinging.append(component())
+    controller.add("swing", swing, swinging)
+    machine = va.StateMachine(
+        states=[
+            va.State("double_support", active=("double",), support=("left_foot", "right_foot")),
+            va.State("right_swing", active=("double", "swing"), support=("left_foot",)),
+        ],
+        transitions=[
+            va.Transition("double_support", "right_swing", event or va.events.after(0.2)),
+            va.Transition("right_swing", "double_support", va.events.after(0.3)),
+        ],
+        initial="double_support",
+    )
+    return robot, va.MachineController(controller, machine)
+
+
+def _compiled(machine):
+    from virtual_actuators.control.plan.compiled import compile_machine
+
+    return compile_machine(machine)
+
+
+def _run_both(build, ticks=1200, contacts=None):
+    """Tick both copies on the Python copy's own MuJoCo run; the worst relative difference."""
+    from virtual_actuators.simulation import Simulator
+
+    robot, python = build()
+    _, twin = build()
+    compiled = _compiled(twin)
+    simulator = Simulator(robot)
+    simulator.reset(robot.neutral())
+    worst = 0.0
+    for _ in range(ticks):
+        q, v, time = simulator.q, simulator.v, simulator.time
+        switches = None if contacts is None else contacts(simulator)
+        expected = python.compute(q, v, time, switches)
+        got = compiled.compute(q, v, time, switches)
+        scale = max(1.0, np.abs(expected.tau).max())
+        worst = max(worst, np.abs(expected.tau - got.tau).max() / scale)
+        assert got.active == expected.active
+        assert set(got.wrenches) == set(expected.wrenches)
+        for name in expected.wrenches:
+            assert np.array_equal(got.wrenches[name], expected.wrenches[name]), name
+            assert np.array_equal(got.positions[name], expected.positions[name]), name
+        simulator.step(expected.tau)
+    assert python.machine.history == twin.machine.history
+    return worst, compiled
+
+
+def test_a_users_machine_runs_compiled_to_the_same_bits():
+    worst, compiled = _run_both(_turkey)
+    assert worst == 0.0
+    assert compiled.pieces == []  # nothing of it runs in Python
+    assert len(compiled.machine.machine.history) >= 4
+
+
+def test_a_lambda_is_a_python_piece_of_the_same_tick():
+    def build():
+        return _turkey(event=lambda context: context.time_in_state >= 0.2)
+
+    worst, compiled = _run_both(build)
+    assert worst == 0.0
+    assert [what for what, _ in compiled.pieces] == [
+        "state 'double_support': the event <lambda>"
+    ] or any("event" in what for what, _ in compiled.pieces)
+
+
+class _Drag(va.Component):
+    """A user's component (Python only): a drag on the swing foot."""
+
+    def __init__(self) -> None:
+        super().__init__(("x", "z"))
+
+    def compute_wrench(self, position, velocity, time):
+        return -3.0 * np.asarray(velocity)
+
+
+def test_a_users_component_is_a_python_piece():
+    worst, compiled = _run_both(lambda: _turkey(component=_Drag))
+    assert worst < 1e-12
+    assert any("Drag" in what for what, _ in compiled.pieces)
+
+
+def test_the_plan_keeps_the_components_parameters_one_owner():
+    robot, machine = _turkey()
+    compiled = _compiled(machine)
+    granny = machine.controller.attachments["double"].components[0]
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    first = compiled.compute(q, v, 0.0).wrenches["double"].copy()
+    granny.height = 0.60  # set in Python between ticks: the compiled tick reads it
+    second = compiled.compute(q, v, 0.001).wrenches["double"]
+    assert second[1] - first[1] == pytest.approx(1500 * 0.06, rel=1e-9)
+    assert np.shares_memory(granny.setpoint, compiled.registers)
+    assert machine.machine.current.name == "double_support"  # read from the plan's registers
+
+
+def test_a_contact_switch_an_event_reads_must_be_given():
+    def build():
+        return _turkey(event=va.events.contact("left_foot"))
+
+    robot, machine = build()
+    compiled = _compiled(machine)
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    with pytest.raises(va.InvalidInputError, match="left_foot"):
+        compiled.compute(q, v, 0.0, {})
+    output = compiled.compute(q, v, 0.0, {"left_foot": False})
+    assert output.active == ("double",)
+    output = compiled.compute(q, v, 0.001, {"left_foot": True})  # the switch closes: the swing
+    assert output.active == ("double", "swing")
+    assert machine.machine.current.name == "right_swing"
+
+
+def test_joint_space_terms_posture_compiled_gravity_a_piece():
+    def build():
+        robot = va.load_robot("ur5")
+        controller = va.Controller(robot)
+        joints = [robot.model.names[j] for j in range(1, robot.model.njoints)]
+        controller.add("hold", va.Posture(joints, 40.0, 4.0))
+        controller.add("gravity", va.GravityCompensation(robot))
+        tool = va.VirtualActuator(robot, "tool0", "world", "world", ("x", "y", "z"))
+        controller.add("tool", tool, [va.SpringDamper(("x", "y", "z"), 200.0, 20.0)])
+        machine = va.StateMachine(
+            [va.State("hold", ("hold", "gravity")), va.State("reach", ("tool", "gravity"))],
+            [va.Transition("hold", "reach", va.events.after(0.3))],
+            "hold",
+        )
+        return robot, va.MachineController(controller, machine)
+
+    worst, compiled = _run_both(build, ticks=600)
+    assert worst < 1e-12
+    assert [what for what, _ in compiled.pieces] == ["gravity"]

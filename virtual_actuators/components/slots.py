@@ -1,0 +1,57 @@
+"""A component's parameters as a compiled plan's slots: arrays it keeps, traced when lowered.
+
+A `Slotted` component names its parameter arrays (`SLOTS`, held as ``_name``). Before a plan
+is built they are the component's own arrays, each replaced by its setter; once a compiled plan
+keeps them (`bind_slots`) they are views of the plan's registers, written in place, so that what
+Python sets the compiled tick reads and what the tick moves Python sees (one owner). While the
+plan traces a hook, reading a parameter gives traced values and setting one stores it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..vocabulary.traced import TRACING, traced_read, traced_store
+
+__all__ = ["Slotted"]
+
+
+class Slotted:
+    """The slots half of a component (a mixin): `SLOTS` arrays held as ``_name``."""
+
+    #: The parameters a compiled plan keeps in its registers, in this order.
+    SLOTS: tuple[str, ...] = ()
+    _bound = False  # the parameters are a plan's registers (bind_slots)
+
+    def _traced(self, name: str) -> np.ndarray | tuple:
+        """Parameter ``name``: its array, or its traced values while a plan traces a hook."""
+        if TRACING.get() is not None:
+            traced = traced_read(self, name)
+            if traced is not None:
+                return traced
+        return getattr(self, f"_{name}")
+
+    def _store_traced(self, name: str, value: object) -> bool:
+        """Store ``value`` into the plan's slot while a hook is traced (True: done)."""
+        if TRACING.get() is None:
+            return False
+        size = getattr(self, f"_{name}").size
+        values = tuple(value) if isinstance(value, (tuple, list)) else (value,) * size
+        return traced_store(self, name, values)
+
+    def _assign(self, name: str, array: np.ndarray) -> None:
+        """Set a parameter array: replaced, or written in place once bound to a plan."""
+        if self._bound:
+            getattr(self, name)[:] = array
+        else:
+            setattr(self, name, array)
+
+    def plan_slots(self) -> dict[str, np.ndarray]:
+        """The arrays a compiled plan keeps (`SLOTS`), by name."""
+        return {name: getattr(self, f"_{name}") for name in self.SLOTS}
+
+    def bind_slots(self, views: dict[str, np.ndarray]) -> None:
+        """Keep the parameters in a compiled plan's registers: ``views`` become the arrays."""
+        for name, view in views.items():
+            setattr(self, f"_{name}", view)
+        self._bound = True

@@ -1,0 +1,180 @@
+"""The plan's registers and programs, as the lowering writes them.
+
+A plan is data: one array of registers (the blackboard: inputs, constants, the components'
+parameters, the gait's memory, every traced intermediate) and one table of ops, cut into
+programs (an event, a hook, a component's reset). [`PlanBuilder`][] allocates registers and
+holds the programs; a [`Program`][] appends ops as tracing runs (`symbols.Sym`'s operators
+call it). The op codes are the compiled core's own table (``_core.PLAN_OPS``): nothing here
+restates them.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+from collections.abc import Sequence
+
+import numpy as np
+
+from ...native import CORE
+from ...vocabulary.traced import Sym, TraceError
+
+__all__ = ["MACHINE", "TIME", "TIME_IN_STATE", "PlanBuilder", "Program"]
+
+#: Registers every plan has: the tick's time and the time spent in the current state [s], then
+#: the machine's state (its index, when it was entered [s], whether it started), from MACHINE.
+TIME, TIME_IN_STATE, MACHINE = 0, 1, 2
+
+
+def opcodes() -> dict[str, int]:
+    """The core's op codes by name (``_core.PLAN_OPS``).
+
+    Raises:
+        TraceError: The compiled core is not built (or lacks the plan).
+
+    """
+    table = getattr(CORE, "PLAN_OPS", None)
+    if table is None:
+        raise TraceError("the compiled core is not built (or has no plan): nothing to lower to.")
+    return dict(table)
+
+
+class PlanBuilder:
+    """The registers of a plan being lowered, and its programs.
+
+    Attributes:
+        registers: Initial value of every register.
+        programs: The programs, in the order they were made (their index is their id).
+        names: Register base -> name, for the declared slots (reports, views).
+
+    """
+
+    def __init__(self) -> None:
+        self.codes = opcodes()
+        self.registers: list[float] = [0.0] * 5  # TIME, TIME_IN_STATE, the machine's 3
+        self.programs: list[Program] = []
+        self.names: dict[str, tuple[int, int]] = {
+            "time": (TIME, 1), "time_in_state": (TIME_IN_STATE, 1), "machine": (MACHINE, 3),
+        }  # fmt: skip
+        self._constants: dict[bytes, int] = {}
+
+    def allocate(self, size: int, initial: float | Sequence[float] = 0.0, name: str = "") -> int:
+        """``size`` new registers (their first index), set to ``initial``."""
+        base = len(self.registers)
+        values = [initial] * size if isinstance(initial, (int, float)) else list(initial)
+        if len(values) != size:
+            raise TraceError(f"register block {name!r}: {len(values)} values for {size} slots.")
+        self.registers.extend(float(v) for v in values)
+        if name:
+            self.names[name] = (base, size)
+        return base
+
+    def constant(self, value: float) -> int:
+        """The register holding ``value`` (one per distinct bit pattern)."""
+        value = float(value)
+        key = struct.pack("<d", value)
+        index = self._constants.get(key)
+        if index is None:
+            index = self._constants[key] = self.allocate(1, value)
+        return index
+
+    def program(self) -> Program:
+        """A new, empty program."""
+        program = Program(self, len(self.programs))
+        self.programs.append(program)
+        return program
+
+    def assemble(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(registers, ops, bounds)``: initial registers, ops and programs' spans.
+
+        Every op is ``(code, out, a, b, c)``; a program is ``[start, stop)`` of the ops.
+        """
+        rows, bounds = [], []
+        for program in self.programs:
+            bounds.append((len(rows), len(rows) + len(program.ops)))
+            rows.extend(program.ops)
+        ops = np.array(rows, dtype=np.int64).reshape(-1, 5)
+        return (
+            np.array(self.registers, dtype=float),
+            ops,
+            np.array(bounds, dtype=np.int64).reshape(-1, 2),
+        )
+
+
+class Program:
+    """Ops appended in order; a traced value is the register an op writes.
+
+    Args:
+        builder: The plan's registers.
+        index: The program's id.
+
+    """
+
+    def __init__(self, builder: PlanBuilder, index: int) -> None:
+        self.builder = builder
+        self.index = index
+        self.ops: list[tuple[int, int, int, int, int]] = []
+
+    def register(self, value: object) -> int:
+        """The register of ``value``: a traced value's, or a constant's.
+
+        Raises:
+            TraceError: Not a number (a str, an array...), or a value of another plan.
+
+        """
+        if isinstance(value, Sym):
+            if value.program.builder is not self.builder:
+                raise TraceError("a traced value of another plan.")
+            return value.index
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            if isinstance(value, np.floating | np.integer):
+                value = float(value)
+            else:
+                raise TraceError(f"a {type(value).__name__} where the plan needs a number.")
+        if math.isnan(float(value)):
+            raise TraceError("NaN in a declaration constant.")
+        return self.builder.constant(float(value))
+
+    def emit(self, name: str, a: int = 0, b: int = 0, c: int = 0) -> Sym:
+        """Append op ``name`` on registers (or immediates) ``a, b, c``; its result."""
+        out = self.builder.allocate(1)
+        self.ops.append((self.builder.codes[name], out, a, b, c))
+        return Sym(self, out)
+
+    def unary(self, name: str, a: object) -> Sym:
+        """``name(a)``."""
+        return self.emit(name, self.register(a))
+
+    def binary(self, name: str, a: object, b: object) -> Sym:
+        """``a name b``."""
+        return self.emit(name, self.register(a), self.register(b))
+
+    def select(self, condition: object, a: object, b: object) -> Sym:
+        """``a if condition != 0 else b``."""
+        return self.emit(
+            "select", self.register(condition), self.register(a), self.register(b)
+        )
+
+    def read(self, register: int) -> Sym:
+        """The value register ``register`` holds now (a copy: later stores do not change it)."""
+        return self.emit("copy", register)
+
+    def store(self, register: int, value: object) -> None:
+        """Write ``value`` into register ``register`` (a declared slot)."""
+        self.ops.append((self.builder.codes["store"], register, self.register(value), 0, 0))
+
+    def frame(self, row: int, column: int) -> Sym:
+        """Entry ``column`` (0-8 rotation row by row, 9-11 position) of frame-table ``row``."""
+        return self.emit("frame", row, column)
+
+    def frame_velocity(self, row: int, axis: int) -> Sym:
+        """World linear velocity ``axis`` of frame-table ``row``'s origin [m/s]."""
+        return self.emit("frame_velocity", row, axis)
+
+    def q(self, index: int) -> Sym:
+        """``q[index]``."""
+        return self.emit("q", index)
+
+    def v(self, index: int) -> Sym:
+        """``v[index]``."""
+        return self.emit("v", index)

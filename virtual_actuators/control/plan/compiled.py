@@ -1,0 +1,205 @@
+"""The compiled machine: a lowered MachineController run by the core, one call a tick.
+
+`compile_machine` lowers a [`MachineController`][virtual_actuators.MachineController]
+(`lower`) and builds the core's ``PlanMachine``; `CompiledMachine.compute` is then the
+machine's tick with the controller's signature and answer. The Python pieces (what the
+lowering could not trace) run from inside the core's tick, on the tick's snapshot and context
+(built only when a piece needs them).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ...exceptions import InvalidInputError, TraceError
+from ...kinematics.snapshot import Snapshot
+from ...native import CORE
+from ..context import Context
+from ..machine_controller import MachineController
+from ..tick import ControlOutput
+from .entries import Attached, Entry, Term
+from .lower import Lowering
+from .output import PlanOutput
+
+__all__ = ["CompiledMachine", "compile_machine"]
+
+
+def compile_machine(machine: MachineController) -> CompiledMachine:
+    """The compiled machine of ``machine``.
+
+    Raises:
+        TraceError: The compiled core is not built, or the robot's joints are not the core's.
+
+    """
+    if CORE is None or not hasattr(CORE, "PlanMachine"):
+        raise TraceError("the compiled core is not built: the machine runs in Python.")
+    return CompiledMachine(machine)
+
+
+class CompiledMachine:
+    """A MachineController lowered into the core (see the module docstring).
+
+    Args:
+        machine: The machine controller (its controller's components and the gait's memory
+            are bound to the plan's registers: they read and write them from now on).
+
+    Attributes:
+        machine: As given.
+        pieces: ``(what, why)`` of each piece that runs in Python.
+        registers: The plan's registers (a view of the core's).
+
+    """
+
+    def __init__(self, machine: MachineController) -> None:
+        self.machine = machine
+        controller = machine.controller
+        self.robot = controller.robot
+        lowering = self.lowering = Lowering(machine)
+        lowering.runtime = self
+        lowering.machine_slots()
+        self._names = [*controller.attachments, *controller.postures]
+        used = {name for state in machine.machine.states for name in state.active}
+        self._index = {name: i for i, name in enumerate(n for n in self._names if n in used)}
+        self._entries = [self._lower_entry(name) for name in self._index]
+        states = [self._lower_state(state) for state in machine.machine.states]
+        tree = lowering.tree
+        self._rows = dict(tree.frame_tables[0])  # the plan's frame table, final now
+        registers, ops, bounds = lowering.builder.assemble()
+        joints = tree.joint_tables
+        _, parents, floats = tree.frame_tables
+        limits = controller.effort_limits if controller.clip else np.full(tree.nv, np.inf)
+        self.core = CORE.PlanMachine(
+            joints.joint_ints, joints.joint_floats, joints.velocity_joint, joints.velocity_subspace,
+            parents, np.ascontiguousarray(floats).reshape(-1, 12), tree.nq, registers, ops,
+            bounds, -np.asarray(limits, dtype=float), np.asarray(limits, dtype=float),
+        )  # fmt: skip
+        for entry in self._entries:
+            entry.declare(self.core)
+        for attachments, limp, enter, update, _ in states:
+            self.core.add_state(attachments, limp, enter, update)
+        for index, (_, _, _, _, exits) in enumerate(states):
+            for program, result, target in exits:
+                self.core.add_exit(index, program, result, target)
+        names = machine.machine.names
+        self.core.set_initial(names.index(machine.machine.initial))
+        self.core.set_callbacks(list(lowering.callbacks))
+        self.registers = self.core.registers()
+        for owner, layout in lowering.owners:
+            views = {name: self.registers[b : b + s] for name, (b, s) in layout.items()}
+            if owner is machine.machine:
+                owner.bind_position(views["position"])
+            else:
+                owner.bind_slots(views)
+        for entry in self._entries:
+            entry.bind(self.core, self.registers)
+        self.pieces = lowering.pieces
+        self._contacts = [(f, r, required) for f, (r, required) in lowering.contacts.items()]
+        self._tau = np.zeros(tree.nv)
+        self._tick: tuple | None = None  # (q, v, time, contacts) of the tick running
+        self._snapshot: Snapshot | None = None
+        self._context: Context | None = None
+        self.last: ControlOutput | None = None
+
+    # -- lowering -------------------------------------------------------------------------
+    def _lower_entry(self, name: str) -> Entry:
+        controller, lowering = self.machine.controller, self.lowering
+        term = controller.postures.get(name)
+        if term is not None:
+            return Term(self, name, term, lowering)
+        return Attached(self, name, controller.attachments[name], lowering)
+
+    def _lower_state(self, state: object) -> tuple:
+        lowering, machine = self.lowering, self.machine.machine
+        attachments = np.array([self._index[name] for name in state.active], dtype=np.int64)
+        limp = np.asarray(self.machine.limp_indices(state.name), dtype=np.int64)
+        enter = lowering.hook(state.name, "on_enter", state.on_enter)
+        update = lowering.hook(state.name, "on_update", state.on_update)
+        exits = []
+        for event, target in machine.exits(state.name):
+            program, result = lowering.exit(state.name, event)
+            exits.append((program, result, machine.index[target.name]))
+        return attachments, limp, enter, update, exits
+
+    # -- the tick -------------------------------------------------------------------------
+    def snapshot(self) -> Snapshot:
+        """The snapshot of the tick running (for the Python pieces), built on first use."""
+        if self._snapshot is None:
+            q, v, _, _ = self._tick
+            self._snapshot = Snapshot.of_pass(self.robot, q, v, self.core.pass_buffer(), self._rows)
+        return self._snapshot
+
+    def context(self) -> Context:
+        """The context of the tick running (for the Python pieces), built on first use."""
+        if self._context is None:
+            _, _, time, contacts = self._tick
+            context = Context.of_tick(self.robot, self.snapshot(), time, contacts)
+            context.state = self.machine.machine.current.name
+            context.time_in_state = float(self.registers[1])
+            self._context = context
+        return self._context
+
+    def compute(
+        self,
+        q: np.ndarray | Snapshot,
+        v: np.ndarray | None,
+        time: float,
+        contacts: Mapping[str, bool] | None = None,
+    ) -> ControlOutput:
+        """One tick: [`MachineController.compute`][virtual_actuators.MachineController.compute].
+
+        Raises:
+            InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``, or a contact switch
+                an event reads that ``contacts`` lacks.
+
+        """
+        if isinstance(q, Snapshot):
+            q, v = q.q, q.v
+        tree = self.lowering.tree
+        q = tree.check_configuration(q)
+        v = tree.check_velocity(v)
+        time = float(time)
+        if not np.isfinite(time):
+            raise InvalidInputError(f"time must be a finite number of seconds, got {time}.")
+        switches = contacts or {}
+        registers = self.registers
+        for frame, register, required in self._contacts:
+            closed = switches.get(frame)
+            if closed is None and required:
+                raise InvalidInputError(
+                    f"No contact switch for {frame!r}: the machine's events read it."
+                )
+            registers[register] = 1.0 if closed else 0.0
+        machine = self.machine.machine
+        self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
+        saved = registers.copy()
+        outcome = self.core.tick(q, v, time, self._tau)
+        if outcome == CORE.PLAN_FAILED:  # the Python tick decides (the failure policy)
+            registers[:] = saved
+            output = self.machine.compute(self.snapshot(), None, time, contacts)
+            self.last = output
+            return output
+        if outcome == CORE.PLAN_ENTERED:
+            machine.history.append((time, machine.current.name))
+        tau, held = self.machine.controller.limit_rate(self._tau.copy(), time)
+        self.last = output = PlanOutput(self, machine.current.active, tau)
+        if held is not None:
+            output.rate_limited = held
+        self.machine.last = output
+        return output
+
+    @property
+    def time(self) -> float:
+        """The time of the tick running [s]."""
+        return self._tick[2]
+
+    def entry(self, name: str) -> Entry:
+        """The lowered attachment or term ``name``."""
+        return self._entries[self._index[name]]
+
+    def __repr__(self) -> str:
+        return (
+            f"CompiledMachine(state={self.machine.machine.current.name!r}, "
+            f"{len(self.pieces)} Python pieces)"
+        )

@@ -1,0 +1,251 @@
+"""A lowered machine's attachments and joint-space terms: their registers, programs, pieces.
+
+Each active attachment of a compiled machine is one `Entry`: registers for its sensor's reading,
+its wrench and the wrench it produced, the programs of its components (traced, or Python
+pieces), and how the core turns its wrench into efforts. `Attached` is an attachment of the
+controller, `Term` a joint-space term (a posture, a gravity compensation).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...actuators import ParallelVirtualActuator
+from ...components.base import Component
+from ...exceptions import TraceError
+from ..attachment_tick import run_attachment
+from ..tick import TickSums
+from .builder import Program
+from .lower import JOINTS, PARTITIONED, PYTHON, SERIAL, Lowering, Slots, attachment_kind, term_kind
+
+__all__ = ["Attached", "Entry", "Term"]
+
+
+class Entry:
+    """One lowered attachment or joint-space term: its registers and how the core runs it."""
+
+    reports = True  # its wrench and readings are in the tick's output (an attachment's are)
+
+    def __init__(self, compiled: object, name: str, n: int) -> None:
+        self.compiled, self.name, self.n = compiled, name, n
+        builder = compiled.lowering.builder
+        self.position = builder.allocate(n, 0.0, f"{name}.position")
+        self.velocity = builder.allocate(n, 0.0, f"{name}.velocity")
+        self.wrench = builder.allocate(n, 0.0, f"{name}.wrench")
+        self.produced = builder.allocate(n, 0.0, f"{name}.produced")
+        self.programs: list[int] = []
+        self.resets: list[int] = []
+        self.mapping = SERIAL
+        self.efforts_program = -1
+        self.solution = None  # the last Python piece's Solution (parallel attachments)
+
+    def read(self, base: int, program: Program, index: np.ndarray | None = None) -> tuple:
+        """Registers ``base + index`` (all ``n`` by default), read now as traced values."""
+        rows = range(self.n) if index is None else np.asarray(index).reshape(-1).tolist()
+        return tuple(program.read(base + i) for i in rows)
+
+    def component(self, component: object, index: np.ndarray, alone: bool) -> None:
+        """The wrench and reset programs of one component on axes ``index``."""
+        lowering = self.compiled.lowering
+        what = f"{self.name}: {getattr(component, 'name', type(component).__name__)}"
+        axes = np.asarray(index).reshape(-1).tolist()
+        slots = component.plan_slots() if hasattr(component, "plan_slots") else None
+        if slots is not None:
+            layout = lowering.keep(component, slots)
+
+            def wrench(program: Program) -> None:
+                traced = component.traced_wrench(
+                    Slots(program, layout), self.read(self.position, program, axes),
+                    self.read(self.velocity, program, axes), program.read(0),
+                )  # fmt: skip
+                for k, value in zip(axes, traced, strict=True):
+                    total = value if alone else program.read(self.wrench + k) + value
+                    program.store(self.wrench + k, total)
+
+            def reset(program: Program) -> None:
+                component.traced_reset(
+                    Slots(program, layout), self.read(self.position, program, axes),
+                    program.read(0),
+                )  # fmt: skip
+
+            try:
+                programs = [lowering.trace(what, wrench).index, lowering.trace(what, reset).index]
+                self.programs.append(programs[0])
+                self.resets.append(programs[1])
+                return
+            except TraceError as error:
+                del lowering.builder.programs[len(lowering.builder.programs) - 1 :]
+                reason = str(error)
+        else:
+            reason = "a Python component (no plan_slots)"
+        python = lowering.python(what, reason, self._python_wrench(component, axes))
+        self.programs.append(python.index)
+        if type(component).reset is not Component.reset:
+            piece = lowering.python(f"{what}: reset", reason, self._python_reset(component, axes))
+            self.resets.append(piece.index)
+
+    def _python_wrench(self, component: object, axes: list[int]):
+        def run() -> None:
+            registers, compiled = self.compiled.registers, self.compiled
+            position = registers[self.position + np.array(axes)]
+            velocity = registers[self.velocity + np.array(axes)]
+            time = compiled.time
+            wrench = np.asarray(component.compute_wrench(position, velocity, time), dtype=float)
+            registers[self.wrench + np.array(axes)] += wrench.reshape(-1)
+
+        return run
+
+    def _python_reset(self, component: object, axes: list[int]):
+        def run() -> None:
+            registers = self.compiled.registers
+            component.reset(registers[self.position + np.array(axes)], self.compiled.time)
+
+        return run
+
+    def bind(self, core: object, registers: np.ndarray) -> None:
+        """Take up the core's buffers of this entry (its efforts) once the machine is built."""
+        self.efforts = core.efforts(self.core_index)
+        self._core = core
+
+    def solved_solution(self) -> object | None:
+        """The solution of the last tick's distribution (parallel attachments), or None."""
+        return None
+
+
+class Attached(Entry):
+    """An attachment: a serial sensor, its components, its distribution."""
+
+    def __init__(self, compiled: object, name: str, attachment, lowering: Lowering):
+        super().__init__(compiled, name, len(attachment.sensor.axes))
+        self.attachment = attachment
+        single = len(attachment.components) == 1
+        for component, index in zip(attachment.components, attachment.indices, strict=True):
+            alone = single and len(np.asarray(index).reshape(-1)) == self.n
+            self.component(component, index, alone)
+        why = attachment_kind(attachment)
+        actuator = attachment.actuator
+        if why is None and isinstance(actuator, ParallelVirtualActuator):
+            self.mapping = PARTITIONED
+            self.efforts_program = lowering.python(
+                f"{name}: distribution", "a tick the compiled distribution hands on",
+                self._python_distribution,
+            ).index  # fmt: skip
+            lowering.pieces.pop()  # only the rare ticks: not a piece of every tick
+        elif why is not None:
+            self.mapping = PYTHON
+            self.efforts_program = lowering.python(
+                f"{name}: distribution", why, self._python_distribution
+            ).index
+
+    def _python_distribution(self) -> None:
+        """The attachment's distribution of the plan's wrench, in Python (failure policy)."""
+        compiled, attachment = self.compiled, self.attachment
+        controller = compiled.machine.controller
+        registers = compiled.registers
+        sums = TickSums()
+        wrench = registers[self.wrench : self.wrench + self.n].copy()
+        limits = controller.effort_limits
+        run_attachment(
+            self.name, _Fixed(attachment, wrench), compiled.snapshot(), compiled.time, sums,
+            controller.on_failure, (-limits, limits),
+        )  # fmt: skip
+        self.efforts[:] = 0.0 if sums.tau is None else sums.tau
+        produced = sums.produced.get(self.name)
+        if produced is not None:
+            registers[self.produced : self.produced + self.n] = produced
+        self.solution = sums.solutions.get(self.name)
+
+    def solved_solution(self) -> object | None:
+        """The solution of the last tick's distribution (parallel attachments), or None."""
+        if self.mapping == PARTITIONED:
+            residual, scale, rounding, status = self._core.solved(self.core_index)
+            if status == 0:
+                out = self._core.out(self.core_index).copy()
+                return self.attachment.snapshot_solve.solution(out, residual, scale, rounding, 1e-6)
+        return self.solution
+
+    def declare(self, core: object) -> None:
+        """Declare the attachment to the core: its sensor, programs and distribution."""
+        kinematics = self.attachment.sensor.kinematics
+        rows = kinematics.frame_rows[:3].copy()
+        self.core_index = core.add_attachment(
+            False, np.asarray(kinematics.rows, dtype=np.int64), np.asarray(rows, dtype=np.int64),
+            np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
+            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float),
+            np.zeros(0, dtype=np.int64), self.position, self.velocity, self.wrench,
+            self.produced, np.array(self.programs, dtype=np.int64),
+            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
+        )  # fmt: skip
+        if self.mapping == PARTITIONED:
+            ints, floats = self.attachment.snapshot_solve.packed
+            core.set_distribution(self.core_index, ints, floats)
+            if self.attachment.yield_mask is not None:
+                points, axis_rows, minima_axes, lows = self.attachment.margins
+                core.set_yield(
+                    self.core_index, np.asarray(self.attachment.yield_mask, dtype=np.int64),
+                    np.asarray(self.attachment.actuator.kinematics.orientation_rows, np.int64),
+                    np.ascontiguousarray(points, dtype=float).reshape(-1, 7),
+                    np.asarray(axis_rows, dtype=np.int64),
+                    np.asarray(minima_axes, dtype=np.int64), np.asarray(lows, dtype=float),
+                )  # fmt: skip
+
+
+class Term(Entry):
+    """A joint-space term (a posture, a gravity compensation): its joints are its axes."""
+
+    reports = False
+
+    def __init__(self, compiled: object, name: str, term, lowering: Lowering):
+        model = compiled.robot.model
+        joints = getattr(term, "joints", ())
+        super().__init__(compiled, name, max(len(joints), 1))
+        self.term = term
+        self.columns = [model.joints[model.getJointId(j)].idx_v for j in joints] or [0]
+        self.q_rows = [model.joints[model.getJointId(j)].idx_q for j in joints] or [0]
+        why = term_kind(term)
+        self.mapping = JOINTS if why is None else PYTHON
+        if why is None:
+            layout = lowering.keep(term, term.plan_slots())
+
+            def torques(program: Program) -> None:
+                traced = term.traced_torques(
+                    Slots(program, layout), self.read(self.position, program),
+                    self.read(self.velocity, program),
+                )  # fmt: skip
+                for k, value in enumerate(traced):
+                    program.store(self.wrench + k, value)
+
+            def reset(program: Program) -> None:
+                term.traced_reset(Slots(program, layout), self.read(self.position, program))
+
+            self.programs.append(lowering.trace(f"{name}", torques).index)
+            self.resets.append(lowering.trace(f"{name} reset", reset).index)
+        else:
+            self.efforts_program = lowering.python(name, why, self._python_torques).index
+
+    def _python_torques(self) -> None:
+        self.efforts[:] = self.term.torques(self.compiled.snapshot())
+
+    def declare(self, core: object) -> None:
+        """Declare the term to the core: its joints and programs."""
+        self.core_index = core.add_attachment(
+            True, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
+            np.asarray(self.columns, dtype=np.int64), np.zeros(0),
+            np.asarray(self.q_rows, dtype=np.int64), self.position, self.velocity, self.wrench,
+            self.produced, np.array(self.programs, dtype=np.int64),
+            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
+        )  # fmt: skip
+
+
+class _Fixed:
+    """An attachment whose components are replaced by the plan's wrench (its distribution)."""
+
+    def __init__(self, attachment: object, wrench: np.ndarray) -> None:
+        self._attachment, self._wrench = attachment, wrench
+        self.spring_tick = None
+
+    def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        return self._wrench
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._attachment, name)

@@ -1,0 +1,104 @@
+"""What a compiled machine's tick computed, read from the plan's registers on demand.
+
+[`PlanOutput`][] answers like a [`ControlOutput`][virtual_actuators.ControlOutput] (``tau``,
+``tau_requested``, ``saturated``, the per-attachment wrenches, readings and solutions): the
+efforts are the tick's copy, the rest is read from the plan's registers and buffers when first
+asked (a loop that only sends ``tau`` pays for nothing else). Read it before the next tick.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["PlanOutput"]
+
+
+class PlanOutput:
+    """One compiled tick's output (see the module docstring).
+
+    Args:
+        compiled: The compiled machine.
+        active: The names evaluated this tick.
+        tau: The tick's efforts after the limp joints and the clip [N m or N].
+
+    """
+
+    def __init__(self, compiled: object, active: tuple[str, ...], tau: np.ndarray) -> None:
+        self._compiled = compiled
+        self.active = active
+        self.tau = tau
+        self.tau_requested = np.array(compiled.core.requested())
+        controller = compiled.machine.controller
+        self.joint_names = controller.joint_names
+        self.failed: dict[str, str] = {}
+        self.failures: dict = {}
+        self.rate_limited = np.zeros(tau.shape, dtype=bool)
+        self._cache: dict[str, dict] = {}
+
+    @property
+    def saturated(self) -> np.ndarray:
+        """``(nv,)`` True where the request exceeds the effort limit."""
+        limits = self._compiled.machine.controller.effort_limits
+        return np.abs(self.tau_requested) > limits
+
+    def _readings(self, what: str) -> dict[str, np.ndarray]:
+        cached = self._cache.get(what)
+        if cached is None:
+            registers, compiled = self._compiled.registers, self._compiled
+            cached = {}
+            for name in self.active:
+                entry = compiled.entry(name)
+                if not entry.reports:  # a joint-space term: no wrench of its own
+                    continue
+                base = getattr(entry, what)
+                cached[name] = registers[base : base + entry.n].copy()
+            self._cache[what] = cached
+        return cached
+
+    @property
+    def wrenches(self) -> dict[str, np.ndarray]:
+        """Requested wrench per active attachment, on its actuator's axes."""
+        return self._readings("wrench")
+
+    @property
+    def produced(self) -> dict[str, np.ndarray]:
+        """Wrench produced per active attachment."""
+        return self._readings("produced")
+
+    @property
+    def positions(self) -> dict[str, np.ndarray]:
+        """Sensor position per active attachment [m, rad]."""
+        return self._readings("position")
+
+    @property
+    def velocities(self) -> dict[str, np.ndarray]:
+        """Sensor velocity per active attachment [m/s, rad/s]."""
+        return self._readings("velocity")
+
+    @property
+    def solutions(self) -> dict:
+        """The distribution's solution per active parallel attachment."""
+        cached = self._cache.get("solutions")
+        if cached is None:
+            cached = self._cache["solutions"] = {}
+            for name in self.active:
+                solution = self._compiled.entry(name).solved_solution()
+                if solution is not None:
+                    cached[name] = solution
+        return cached
+
+    @property
+    def saturated_joints(self) -> list[str]:
+        """Names of the velocity entries whose effort was clipped."""
+        return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
+
+    @property
+    def rate_limited_joints(self) -> list[str]:
+        """Names of the velocity entries the effort rate limit held back."""
+        return [self.joint_names[i] for i in np.flatnonzero(self.rate_limited)]
+
+    def __repr__(self) -> str:
+        return (
+            f"PlanOutput(active={self.active}, |tau|={np.linalg.norm(self.tau):.3g}, "
+            f"saturated={self.saturated_joints})"
+        )

@@ -1,0 +1,212 @@
+"""Traced numbers: what a gait's hooks and a component's formula are lowered through.
+
+A hook written with plain arithmetic and the functions of `scalar` runs on floats in Python
+(the machine's Python tick, the oracle) and, given [`Sym`][] values instead, records the same
+operations into a program of the compiled plan (``control.plan``) that the core runs every
+tick: one implementation, two ways to run it. A `Sym` is a register of the
+plan's blackboard; every operation on it appends one op and returns the register of its result.
+
+What cannot be traced raises `TraceError`: a Python ``if`` on a traced value (write it with
+`scalar.select`), a numpy call, a value of another kind. The lowering then keeps that piece a
+Python callback (and says why).
+"""
+
+from __future__ import annotations
+
+import contextvars
+from collections.abc import Callable, Iterable, Sequence
+
+from ..exceptions import TraceError
+
+__all__ = [
+    "TRACING", "Sym", "TraceError", "Tracing", "is_lowerable", "is_traced", "lowerable",
+    "traced_read", "traced_store", "vector",
+]  # fmt: skip
+
+
+class Sym:
+    """A traced float: register ``index`` of a program's blackboard.
+
+    Arithmetic, comparisons and `scalar`'s functions on it append ops to ``program``;
+    ``bool()`` and ``float()`` refuse (the value is only known when the plan runs).
+    """
+
+    __slots__ = ("index", "program")
+
+    def __init__(self, program: object, index: int) -> None:
+        self.program = program
+        self.index = index
+
+    # arithmetic (Python's operand order: the same IEEE operations as on floats)
+    def __add__(self, other: object) -> Sym:
+        return self.program.binary("add", self, other)
+
+    def __radd__(self, other: object) -> Sym:
+        return self.program.binary("add", other, self)
+
+    def __sub__(self, other: object) -> Sym:
+        return self.program.binary("sub", self, other)
+
+    def __rsub__(self, other: object) -> Sym:
+        return self.program.binary("sub", other, self)
+
+    def __mul__(self, other: object) -> Sym:
+        return self.program.binary("mul", self, other)
+
+    def __rmul__(self, other: object) -> Sym:
+        return self.program.binary("mul", other, self)
+
+    def __truediv__(self, other: object) -> Sym:
+        return self.program.binary("div", self, other)
+
+    def __rtruediv__(self, other: object) -> Sym:
+        return self.program.binary("div", other, self)
+
+    def __neg__(self) -> Sym:
+        return self.program.unary("neg", self)
+
+    def __pos__(self) -> Sym:
+        return self
+
+    def __abs__(self) -> Sym:
+        return self.program.unary("abs", self)
+
+    def __pow__(self, exponent: object) -> Sym:
+        if exponent == 2:
+            return self.program.binary("mul", self, self)
+        if exponent == 0.5:
+            return self.program.unary("sqrt", self)
+        raise TraceError(f"Sym ** {exponent!r}: only squares and square roots are lowered.")
+
+    # comparisons give 1.0 or 0.0
+    def __lt__(self, other: object) -> Sym:
+        return self.program.binary("lt", self, other)
+
+    def __le__(self, other: object) -> Sym:
+        return self.program.binary("le", self, other)
+
+    def __gt__(self, other: object) -> Sym:
+        return self.program.binary("lt", other, self)
+
+    def __ge__(self, other: object) -> Sym:
+        return self.program.binary("le", other, self)
+
+    def __eq__(self, other: object) -> Sym:  # type: ignore[override]
+        return self.program.binary("eq", self, other)
+
+    def __ne__(self, other: object) -> Sym:  # type: ignore[override]
+        return self.program.binary("ne", self, other)
+
+    def __bool__(self) -> bool:
+        raise TraceError(
+            "a Python `if`, `and`, `or`, `min` or `max` on a traced value: its result is only "
+            "known when the plan runs. Write it with virtual_actuators.vocabulary.scalar "
+            "(select, minimum, maximum, clip)."
+        )
+
+    def __float__(self) -> float:
+        raise TraceError("float() of a traced value: keep it in the plan's arithmetic.")
+
+    __index__ = __int__ = __float__
+
+    def __array__(self, *args: object, **kwargs: object) -> object:
+        raise TraceError("numpy on a traced value: write the arithmetic with floats and tuples.")
+
+    def __repr__(self) -> str:
+        return f"Sym(r{self.index})"
+
+    __hash__ = object.__hash__
+
+
+def is_traced(*values: object) -> bool:
+    """Whether any of ``values`` (or an entry of a sequence among them) is a `Sym`."""
+    for value in values:
+        if isinstance(value, Sym):
+            return True
+        if isinstance(value, (tuple, list)) and any(isinstance(v, Sym) for v in value):
+            return True
+    return False
+
+
+def vector(values: Iterable[object]) -> tuple:
+    """``values`` as a tuple (floats and `Sym` alike): the plan's vectors are tuples."""
+    return tuple(values)
+
+
+def elementwise(operation: Callable[[object, object], object], a: Sequence, b: object) -> tuple:
+    """``operation`` entry by entry over ``a`` and ``b`` (as long as ``a``, or one number)."""
+    if isinstance(b, (tuple, list)):
+        return tuple(operation(x, y) for x, y in zip(a, b, strict=True))
+    return tuple(operation(x, b) for x in a)
+
+
+class Tracing:
+    """What a hook being traced writes to and reads from: the program and the plan's slots.
+
+    Attributes:
+        program: The program the ops go to.
+        slots: ``id(owner) -> {name: (register, size)}``: the slots of each object the plan
+            keeps (a component's parameters, a gait's `Memory`).
+
+    """
+
+    def __init__(self, program: object, slots: dict[int, dict[str, tuple[int, int]]]) -> None:
+        self.program = program
+        self.slots = slots
+
+    def slot(self, owner: object, name: str) -> tuple[int, int] | None:
+        """``(register, size)`` of ``owner``'s slot ``name`` in the plan, or None."""
+        return self.slots.get(id(owner), {}).get(name)
+
+
+#: The tracing in progress (None: hooks run on floats).
+TRACING: contextvars.ContextVar[Tracing | None] = contextvars.ContextVar("TRACING", default=None)
+
+
+def traced_read(owner: object, name: str) -> tuple | None:
+    """``owner``'s slot ``name`` as traced values when a trace is running and keeps it."""
+    tracing = TRACING.get()
+    where = None if tracing is None else tracing.slot(owner, name)
+    if where is None:
+        return None
+    register, size = where
+    return tuple(tracing.program.read(register + i) for i in range(size))
+
+
+def traced_store(owner: object, name: str, values: Sequence, offset: int = 0) -> bool:
+    """Store ``values`` into ``owner``'s slot ``name`` (from ``offset``) in the running trace.
+
+    Returns:
+        False when no trace keeps that slot (the caller sets it on floats).
+
+    Raises:
+        TraceError: A traced value, with no trace keeping the slot (it would be lost).
+
+    """
+    tracing = TRACING.get()
+    where = None if tracing is None else tracing.slot(owner, name)
+    if where is None:
+        if is_traced(*values):
+            raise TraceError(f"a traced value written to {name!r}, which the plan does not keep.")
+        return False
+    register, size = where
+    if offset + len(values) > size:
+        raise TraceError(f"{name!r} holds {size} values, {offset + len(values)} written.")
+    for i, value in enumerate(values):
+        tracing.program.store(register + offset + i, value)
+    return True
+
+
+def lowerable(function: Callable) -> Callable:
+    """Mark a hook or predicate as written to be traced (`scalar` math, `Memory` state, tuples).
+
+    A compiled plan traces a marked callable into its ops; an unmarked one (a user's lambda)
+    runs as a Python piece of the tick.
+    """
+    function.__va_lowerable__ = True
+    return function
+
+
+def is_lowerable(function: object) -> bool:
+    """Whether ``function`` (or a bound method's function) is marked by `lowerable`."""
+    return bool(getattr(getattr(function, "__func__", function), "__va_lowerable__", False))

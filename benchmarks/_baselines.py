@@ -472,9 +472,9 @@ def instrumented_walk(
     queries wrapped by a :class:`WalkProbe`; returns the real-time factor and the per-tick
     breakdown [us]."""
     import virtual_actuators as va
+    from virtual_actuators.control.plan.compiled import CompiledMachine
     from virtual_actuators.demos import run_walk
     from virtual_actuators.gaits.hexapod.native import NativeTick as HexapodTick
-    from virtual_actuators.gaits.turkey.native import NativeTick
     from virtual_actuators.simulation import Simulator
 
     targets = {
@@ -487,7 +487,7 @@ def instrumented_walk(
         "contact_switches": (Simulator, "contact_switches"),
         "touching_frames": (Simulator, "touching_frames"),
     }
-    targets["native.compute"] = (NativeTick, "compute")  # the walks with a native tick
+    targets["native.compute"] = (CompiledMachine, "compute")  # a compiled plan's tick
     targets["hexapod native.compute"] = (HexapodTick, "compute")
     with WalkProbe(targets, tick="simulator.step") as probe:
         result = run_walk(name, duration=seconds, progress=False, **options)

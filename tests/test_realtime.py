@@ -343,12 +343,16 @@ def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
 
     q, v = gait.initial_configuration(), np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)  # first use: declaration-time checks run once per set of free axes
+    gait.wiring.compute(q, v, 0.0)  # the same machine in Python
     monkeypatch.setattr(type(tree), "core_pass", counting_pass)
     monkeypatch.setattr(type(tree), "compute", counting)
     for k in range(1, 6):
         calls.clear()
-        out = gait.compute(q, v, 0.001 * k)
+        out = gait.wiring.compute(q, v, 0.001 * k)  # Python: one pass, shared by every reader
         assert out.active and len(calls) == 1
+    assert gait.compiled is not None  # compiled: the core's one pass, none in Python
+    calls.clear()
+    assert gait.compute(q, v, 0.01).active and calls == []
 
 
 def test_robot_data_is_created_only_on_access():

@@ -43,7 +43,7 @@ class PlanMachine {
   PlanMachine(const I2& joint_ints, const F2& joint_floats, const I1& velocity_joint,
               const F2& velocity_subspace, const I1& frame_parents, const F2& frame_floats,
               std::int64_t nq, const F1& registers, const I2& ops, const I2& bounds,
-              const F1& lower, const F1& upper) {
+              const F1& lower, const F1& upper, const I2& unit_bounds) {
     require(joint_ints.shape(1) == 3 && joint_floats.shape(1) == 27, "bad joint tables");
     require(velocity_subspace.shape(1) == 6 && frame_floats.shape(1) == 12, "bad tables");
     require(ops.shape(1) == 5 && bounds.shape(1) == 2, "ops (k, 5) and bounds (p, 2)");
@@ -65,10 +65,15 @@ class PlanMachine {
       require(0 <= spans[p] && spans[p] <= spans[p + 1] &&
                   spans[p + 1] <= static_cast<std::int64_t>(table.size()),
               "program bounds out of range");
+    require(unit_bounds.shape(1) == 2, "unit_bounds must be (m, 2)");
+    const std::vector<std::int64_t> units = values<std::int64_t>(unit_bounds);
+    for (std::size_t s = 0; s < units.size(); s += 2)
+      require(0 <= units[s] && units[s] <= units[s + 1] && units[s + 1] <= nq,
+              "unit_bounds out of range");
     ops_ = table;
     machine_ = std::make_unique<va::plan::Machine>(
         tree, nq, values<double>(registers), std::move(table), spans, values<double>(lower),
-        values<double>(upper));
+        values<double>(upper), units);
     machine_->set_callback(&PlanMachine::trampoline, this);
   }
 
@@ -271,10 +276,11 @@ void bind_plan(nb::module_& m) {
                           "A lowered StateMachine and Controller (control.plan): one tick per "
                           "call; registers and buffers are views of its memory.")
       .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&,
-                    std::int64_t, const F1&, const I2&, const I2&, const F1&, const F1&>(),
+                    std::int64_t, const F1&, const I2&, const I2&, const F1&, const F1&,
+                    const I2&>(),
            "joint_ints"_a, "joint_floats"_a, "velocity_joint"_a, "velocity_subspace"_a,
            "frame_parents"_a, "frame_floats"_a, "nq"_a, "registers"_a, "ops"_a, "bounds"_a,
-           "lower"_a, "upper"_a)
+           "lower"_a, "upper"_a, "unit_bounds"_a)
       .def("set_callbacks", &PlanMachine::set_callbacks, "callbacks"_a)
       .def("add_state", &PlanMachine::add_state, "attachments"_a, "limp"_a, "enter"_a,
            "update"_a)
@@ -301,4 +307,5 @@ void bind_plan(nb::module_& m) {
   m.attr("PLAN_TICKED") = static_cast<std::int64_t>(va::plan::TICKED);
   m.attr("PLAN_ENTERED") = static_cast<std::int64_t>(va::plan::ENTERED);
   m.attr("PLAN_FAILED") = static_cast<std::int64_t>(va::plan::FAILED);
+  m.attr("PLAN_INVALID") = static_cast<std::int64_t>(va::plan::INVALID);
 }

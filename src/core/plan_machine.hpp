@@ -70,19 +70,20 @@ struct State {
 // state (its index, when it was entered, whether the machine started).
 enum Register : std::int64_t { TIME = 0, TIME_IN_STATE = 1, STATE = 2, ENTERED_AT = 3, STARTED = 4 };
 
-// The tick's outcome.
-enum Outcome : std::int64_t { TICKED = 0, ENTERED = 1, FAILED = 2 };
+// The tick's outcome. FAILED and INVALID leave the registers as they were before the tick.
+enum Outcome : std::int64_t { TICKED = 0, ENTERED = 1, FAILED = 2, INVALID = 3 };
 
 class Machine {
  public:
   Machine(std::shared_ptr<const Tree> tree, std::int64_t nq, std::vector<double> registers,
           std::vector<Op> ops, std::vector<std::int64_t> bounds, std::vector<double> lower,
-          std::vector<double> upper)
+          std::vector<double> upper, std::vector<std::int64_t> unit_bounds)
       : tree_(std::move(tree)), nq_(nq), nv_(tree_->tables().nv),
         registers_(std::move(registers)), ops_(std::move(ops)), bounds_(std::move(bounds)),
-        lower_(std::move(lower)), upper_(std::move(upper)) {
+        lower_(std::move(lower)), upper_(std::move(upper)), unit_bounds_(std::move(unit_bounds)) {
     pass_.resize(static_cast<std::size_t>(tree_->size(true)));
     tau_.resize(static_cast<std::size_t>(nv_));
+    backup_ = registers_;
   }
 
   std::vector<double>& registers() { return registers_; }
@@ -106,13 +107,28 @@ class Machine {
   // written by the caller. FAILED: a piece failed (a non-finite sum, a distribution the core
   // does not decide left to Python by its program); nothing is committed but the registers.
   Outcome tick(const double* q, const double* v, double time, double* tau_out) {
+    // what KinematicTree's checks accept unchanged: finite, unit groups within 1e-12 of 1
+    const double error = unit_norm_error(q, nq_, unit_bounds_.data(),
+                                         static_cast<std::int64_t>(unit_bounds_.size() / 2));
+    if (!(0.0 <= error && error <= 1e-12) || !all_finite(v, nv_) || !std::isfinite(time))
+      return INVALID;
+    std::copy(registers_.begin(), registers_.end(), backup_.begin());
+    const Outcome outcome = run_tick(q, v, time, tau_out);
+    if (outcome == FAILED) std::copy(backup_.begin(), backup_.end(), registers_.begin());
+    return outcome;
+  }
+
+  // The unclipped sum of the last tick (Controller's tau_requested).
+  const std::vector<double>& requested() const { return tau_; }
+
+ private:
+  Outcome run_tick(const double* q, const double* v, double time, double* tau_out) {
     tree_->compute(q, v, pass_.data());
     Inputs in;
     in.frames = pass_.data() + tree_->frames_offset();
     in.velocities = in.frames + 12 * tree_->tables().nf;
     in.q = q;
     in.v = v;
-    q_ = q;
     double* r = registers_.data();
     r[TIME] = time;
     bool entered = false;
@@ -161,11 +177,6 @@ class Machine {
     return entered ? ENTERED : TICKED;
   }
 
-  // The unclipped sum of the last tick (Controller's tau_requested).
-  const std::vector<double>& requested() const { return tau_; }
-  const double* q() const { return q_; }
-
- private:
   bool program(std::int64_t index, const Inputs& in, double* r) {
     const std::int64_t start = bounds_[2 * index], stop = bounds_[2 * index + 1];
     return va::plan::run(ops_.data(), start, stop, r, in, callback_, owner_);
@@ -289,13 +300,14 @@ class Machine {
   std::vector<Op> ops_;
   std::vector<std::int64_t> bounds_;
   std::vector<double> lower_, upper_;
+  std::vector<std::int64_t> unit_bounds_;  // (m, 2) flat: [start, stop) of each unit group
+  std::vector<double> backup_;             // the registers before the tick running
   std::vector<Attachment> attachments_;
   std::vector<State> states_;
   std::vector<double> pass_, tau_;
   std::int64_t initial_ = 0;
   Callback callback_ = nullptr;
   void* owner_ = nullptr;
-  const double* q_ = nullptr;
 };
 
 }  // namespace va::plan

@@ -216,6 +216,24 @@ class Component(ABC):
         return f"{type(self).__name__}(axes={self.axes}{', ' + extra if extra else ''})"
 
 
+def has_traced_path(component: object) -> bool:
+    """Whether a compiled plan can trace ``component`` (its formula and its reset).
+
+    True when it keeps `plan_slots` and the most derived class defining ``compute_wrench``
+    (``reset``) defines ``traced_wrench`` (``traced_reset``) too: a subclass that overrides
+    only the Python method is not traced with its parent's formula.
+    """
+    if getattr(component, "plan_slots", lambda: None)() is None:
+        return False
+    for python, traced in (("compute_wrench", "traced_wrench"), ("reset", "traced_reset")):
+        for klass in type(component).__mro__:
+            if python in klass.__dict__:
+                if traced not in klass.__dict__ and klass is not Component:
+                    return False
+                break
+    return True
+
+
 def has_float_path(component: Component) -> bool:
     """Whether ``component``'s float method computes what its ``compute_wrench`` does.
 

@@ -55,13 +55,12 @@ def spring_damper(
 
 class _FloatSlots:
     """A spring-damper's parameters as lists of floats, read by name (`spring_damper`)."""
-
     __slots__ = ("component",)
 
     def __init__(self, component: SpringDamper) -> None:
         self.component = component
 
-    def __getitem__(self, name: str) -> list[float]:
+    def __getitem__(self, name: str) -> list[float]:  # noqa: D105
         return getattr(self.component, f"_{name}").tolist()
 
 
@@ -110,10 +109,7 @@ class SpringDamper(Slotted, Component):
         self.force = force
         self.limit = limit
 
-    # Validated parameters: assigning a scalar or a per-axis sequence is fine at any time. The
-    # arrays live in ``_stiffness``, ``_damping``, ``_setpoint``, ``_velocity_setpoint``,
-    # ``_force`` and ``_limit``, each replaced by its setter, or written in place once a
-    # compiled plan keeps them (`bind_slots`: they are views of its registers then).
+    # Validated parameters, a scalar or one per axis at any time, kept in ``_name`` (`Slotted`).
     @property
     def stiffness(self) -> np.ndarray:
         """Spring constants [N/m or N m/rad]."""
@@ -186,8 +182,6 @@ class SpringDamper(Slotted, Component):
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
         """The wrench of `spring_damper` on traced parameters and readings (a plan's ops)."""
-        if getattr(self, "law", None) is not None:  # a Spring with a law: a Python piece
-            raise TraceError(f"{self.name}: a spring's law is Python: it is not lowered.")
         return spring_damper(slots, position, velocity, self._rotations)
 
     def _non_negative(self, value: Vector, what: str, allow_inf: bool = False) -> np.ndarray:
@@ -335,6 +329,17 @@ class Spring(SpringDamper):
     def linear_gains(self) -> Gains | None:
         """The linear spring's gains; None with a law (not a linear element)."""
         return SpringDamper.linear_gains(self) if self.law is None else None
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """The linear spring's wrench on traced values; a law is Python (not lowered).
+
+        Raises:
+            TraceError: The spring has a law.
+
+        """
+        if self.law is not None:
+            raise TraceError(f"{self.name}: a spring's law is Python: it is not lowered.")
+        return SpringDamper.traced_wrench(self, slots, position, velocity, time)
 
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float

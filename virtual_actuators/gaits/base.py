@@ -12,18 +12,25 @@ runs it and how its result is plotted; `registry` collects them.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from ..control.context import Context
 from ..control.controller import Controller, ControlOutput
 from ..control.machine_controller import MachineController
+from ..control.plan.compiled import CompiledMachine, compile_machine
 from ..control.state_machine import Event, StateMachine
 from ..control.tick_rate import TickRate, bound_tick_rate
-from ..exceptions import InvalidInputError
+from ..exceptions import InvalidInputError, TraceError
 from ..models.robot import Robot
+from ..native import CORE
+from ..vocabulary.scalar import logical_and
+from ..vocabulary.traced import lowerable
+from .planar import SIDES
 
 
 class Gait:
@@ -56,6 +63,7 @@ class Gait:
         self.machine: StateMachine | None = None
         self.wiring: MachineController | None = None
         self.last: ControlOutput | None = None
+        self._tick: CompiledMachine | MachineController | None = None
 
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
@@ -72,8 +80,21 @@ class Gait:
         return bound_tick_rate(self.controller, q, states, 1.0 / control_rate)
 
     def _front_is(self, side: str, event: Event) -> Event:
-        """``event``, but only while ``side`` is the front foot (``self.front``)."""
-        return lambda context: self.front == side and event(context)
+        """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left).
+
+        Traced by a compiled plan (``event`` an event object); on floats in Python.
+        """
+        if not hasattr(getattr(self, "memory", None), "front"):  # a gait keeping `front` itself
+            return lambda context: self.front == side and event(context)
+        index = float(SIDES.index(side))
+
+        @lowerable
+        def front_is(context: Context) -> object:
+            if isinstance(context, Context):
+                return self.memory.front == index and event(context)
+            return logical_and(self.memory.front == index, context.event(event))
+
+        return front_is
 
     def initial_configuration(self) -> np.ndarray:
         """Where a simulation of this gait starts (default: the robot's standing pose)."""
@@ -103,7 +124,11 @@ class Gait:
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
-        """One control tick: [`MachineController.compute`][] of `wiring`.
+        """One control tick: the compiled machine's (`compiled`), else `wiring`'s.
+
+        The gait is lowered into the compiled core on its first tick (its components and memory
+        are the plan's registers from then on); without the core, or a gait the lowering
+        refuses, [`MachineController.compute`][] runs it in Python.
 
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention).
@@ -115,8 +140,25 @@ class Gait:
             The [`ControlOutput`][] (its ``tau`` goes to the motors).
 
         """
-        self.last = self.wiring.compute(q, v, time, contacts)
+        tick = self._tick
+        if tick is None:
+            tick = self._tick = self._lower()
+        self.last = tick.compute(q, v, time, contacts)
         return self.last
+
+    @property
+    def compiled(self) -> CompiledMachine | None:
+        """The compiled machine the ticks run on (None: Python, or not lowered yet)."""
+        return self._tick if isinstance(self._tick, CompiledMachine) else None
+
+    def _lower(self) -> CompiledMachine | MachineController:
+        """The compiled machine of `wiring`, or `wiring` (no core, ``VA_PLAN=0``, or refused)."""
+        if CORE is None or not hasattr(CORE, "PlanMachine") or os.environ.get("VA_PLAN") == "0":
+            return self.wiring
+        try:
+            return compile_machine(self.wiring)
+        except TraceError:
+            return self.wiring
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(robot={self.robot.name!r}, state={self.state!r})"

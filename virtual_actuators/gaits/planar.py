@@ -23,6 +23,8 @@ from ..control.state_machine import Context, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.axes import resolve_frame, resolve_joint
+from ..vocabulary.scalar import cos, maximum, minimum, select, sin
+from ..vocabulary.traced import Sym
 
 SIDES = ("left", "right")
 PLANAR_AXES = ("x", "z", "ry")
@@ -34,8 +36,11 @@ def other(side: str) -> str:
 
 
 def smoothstep(s: float) -> float:
-    """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest."""
-    s = min(max(s, 0.0), 1.0)
+    """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest.
+
+    On floats or traced values (a compiled plan's ops).
+    """
+    s = minimum(maximum(s, 0.0), 1.0)
     return s * s * (3.0 - 2.0 * s)
 
 
@@ -43,9 +48,14 @@ def lift_profile(phase: float, peak: float) -> float:
     """Swing foot height over the swing, 0 at both ends and 1 at ``peak`` (a phase in (0, 1)).
 
     A quarter sine up to the peak, a quarter cosine down after it: an early peak clears the
-    ground quickly after lift-off and leaves a long, gentle descent.
+    ground quickly after lift-off and leaves a long, gentle descent. On floats or traced values
+    (``peak`` a constant of the declaration).
     """
-    phase = min(max(phase, 0.0), 1.0)
+    phase = minimum(maximum(phase, 0.0), 1.0)
+    if isinstance(phase, Sym):  # both quarters, then the one the phase is in
+        rising = sin(0.5 * math.pi * phase / peak)
+        falling = cos(0.5 * math.pi * (phase - peak) / (1.0 - peak))
+        return select(phase < peak, rising, falling)
     if phase < peak:
         return math.sin(0.5 * math.pi * phase / peak)
     return math.cos(0.5 * math.pi * (phase - peak) / (1.0 - peak))

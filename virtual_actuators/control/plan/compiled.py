@@ -16,6 +16,7 @@ import numpy as np
 from ...exceptions import InvalidInputError, TraceError
 from ...kinematics.snapshot import Snapshot
 from ...native import CORE
+from ...vocabulary.arguments import check_number
 from ..context import Context
 from ..machine_controller import MachineController
 from ..tick import ControlOutput
@@ -24,6 +25,22 @@ from .lower import Lowering
 from .output import PlanOutput
 
 __all__ = ["CompiledMachine", "compile_machine"]
+
+_FLOAT64 = np.dtype(np.float64)
+_TICKED, _ENTERED, _FAILED, _INVALID = (
+    (CORE.PLAN_TICKED, CORE.PLAN_ENTERED, CORE.PLAN_FAILED, CORE.PLAN_INVALID)
+    if CORE is not None and hasattr(CORE, "PLAN_INVALID") else (0, 1, 2, 3)
+)  # fmt: skip
+
+
+def _plain(array: object, size: int) -> bool:
+    """Whether ``array`` is a contiguous float64 ``(size,)`` array the core reads as it is."""
+    return (
+        array.__class__ is np.ndarray
+        and array.dtype is _FLOAT64
+        and array.shape == (size,)
+        and array.flags.c_contiguous
+    )
 
 
 def compile_machine(machine: MachineController) -> CompiledMachine:
@@ -74,7 +91,9 @@ class CompiledMachine:
             joints.joint_ints, joints.joint_floats, joints.velocity_joint, joints.velocity_subspace,
             parents, np.ascontiguousarray(floats).reshape(-1, 12), tree.nq, registers, ops,
             bounds, -np.asarray(limits, dtype=float), np.asarray(limits, dtype=float),
+            np.array([(s.start, s.stop) for s in tree.unit_slices], np.int64).reshape(-1, 2),
         )  # fmt: skip
+        self._nq, self._nv = tree.nq, tree.nv
         for entry in self._entries:
             entry.declare(self.core)
         for attachments, limp, enter, update, _ in states:
@@ -86,6 +105,7 @@ class CompiledMachine:
         self.core.set_initial(names.index(machine.machine.initial))
         self.core.set_callbacks(list(lowering.callbacks))
         self.registers = self.core.registers()
+        self.requested = self.core.requested()  # the last tick's unclipped sum (a view)
         for owner, layout in lowering.owners:
             views = {name: self.registers[b : b + s] for name, (b, s) in layout.items()}
             if owner is machine.machine:
@@ -132,13 +152,13 @@ class CompiledMachine:
 
     def context(self) -> Context:
         """The context of the tick running (for the Python pieces), built on first use."""
-        if self._context is None:
+        context = self._context
+        if context is None:
             _, _, time, contacts = self._tick
-            context = Context.of_tick(self.robot, self.snapshot(), time, contacts)
-            context.state = self.machine.machine.current.name
-            context.time_in_state = float(self.registers[1])
-            self._context = context
-        return self._context
+            context = self._context = Context.of_tick(self.robot, self.snapshot(), time, contacts)
+        context.state = self.machine.machine.current.name  # the state now (a piece may follow
+        context.time_in_state = self.registers.item(1)  # a transition in the same tick)
+        return context
 
     def compute(
         self,
@@ -156,12 +176,8 @@ class CompiledMachine:
         """
         if isinstance(q, Snapshot):
             q, v = q.q, q.v
-        tree = self.lowering.tree
-        q = tree.check_configuration(q)
-        v = tree.check_velocity(v)
-        time = float(time)
-        if not np.isfinite(time):
-            raise InvalidInputError(f"time must be a finite number of seconds, got {time}.")
+        if not (_plain(q, self._nq) and _plain(v, self._nv) and time.__class__ is float):
+            q, v, time = self._checked(q, v, time)  # the typed errors, or q normalised
         switches = contacts or {}
         registers = self.registers
         for frame, register, required in self._contacts:
@@ -173,14 +189,16 @@ class CompiledMachine:
             registers[register] = 1.0 if closed else 0.0
         machine = self.machine.machine
         self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
-        saved = registers.copy()
         outcome = self.core.tick(q, v, time, self._tau)
-        if outcome == CORE.PLAN_FAILED:  # the Python tick decides (the failure policy)
-            registers[:] = saved
-            output = self.machine.compute(self.snapshot(), None, time, contacts)
+        if outcome == _INVALID:  # what the core does not accept as it is: the Python checks
+            q, v, time = self._checked(q, v, time)
+            self._tick = (q, v, time, switches)
+            outcome = self.core.tick(q, v, time, self._tau)
+        if outcome == _FAILED:  # the Python tick decides (the failure policy), from the
+            output = self.machine.compute(self.snapshot(), None, time, contacts)  # same state
             self.last = output
             return output
-        if outcome == CORE.PLAN_ENTERED:
+        if outcome == _ENTERED:
             machine.history.append((time, machine.current.name))
         tau, held = self.machine.controller.limit_rate(self._tau.copy(), time)
         self.last = output = PlanOutput(self, machine.current.active, tau)
@@ -188,6 +206,12 @@ class CompiledMachine:
             output.rate_limited = held
         self.machine.last = output
         return output
+
+    def _checked(self, q: object, v: object, time: object) -> tuple:
+        """``(q, v, time)`` as the Python checks take them (raising their typed errors)."""
+        tree = self.lowering.tree
+        time = check_number(time, "time [s]")
+        return tree.check_configuration(q), tree.check_velocity(v), time
 
     @property
     def time(self) -> float:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator
-from ...components.base import Component
+from ...components.base import Component, has_traced_path
 from ...exceptions import TraceError
 from ..attachment_tick import run_attachment
 from ..tick import TickSums
@@ -49,7 +49,7 @@ class Entry:
         lowering = self.compiled.lowering
         what = f"{self.name}: {getattr(component, 'name', type(component).__name__)}"
         axes = np.asarray(index).reshape(-1).tolist()
-        slots = component.plan_slots() if hasattr(component, "plan_slots") else None
+        slots = component.plan_slots() if has_traced_path(component) else None
         if slots is not None:
             layout = lowering.keep(component, slots)
 
@@ -77,7 +77,7 @@ class Entry:
                 del lowering.builder.programs[len(lowering.builder.programs) - 1 :]
                 reason = str(error)
         else:
-            reason = "a Python component (no plan_slots)"
+            reason = "a Python component (no traced formula)"
         python = lowering.python(what, reason, self._python_wrench(component, axes))
         self.programs.append(python.index)
         if type(component).reset is not Component.reset:

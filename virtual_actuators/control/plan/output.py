@@ -27,7 +27,7 @@ class PlanOutput:
         self._compiled = compiled
         self.active = active
         self.tau = tau
-        self.tau_requested = np.array(compiled.core.requested())
+        self.tau_requested = compiled.requested.copy()
         controller = compiled.machine.controller
         self.joint_names = controller.joint_names
         self.failed: dict[str, str] = {}

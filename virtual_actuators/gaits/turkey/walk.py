@@ -5,7 +5,6 @@ from __future__ import annotations
 from ...models.robot import Robot
 from ..base import Gait, Walk
 from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
-from .native import NativeTick
 from .parameters import TurkeyParameters
 from .walker import TurkeyWalker
 
@@ -33,5 +32,4 @@ WALK = Walk(
     plot_window=True,
     nominal_speed=TurkeyParameters.speed,
     speeds=(0.3, 0.6),
-    native=NativeTick.of,
 )

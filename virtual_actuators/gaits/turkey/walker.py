@@ -23,13 +23,14 @@ falls to the ground (the turkey has no foot switches). Foot placement is never u
 
 from __future__ import annotations
 
-import numpy as np
-
 from ...components.walking import DogtrackBunny
 from ...control import events
+from ...control.plan.memory import Memory
 from ...control.state_machine import Context, StateMachine, Transition
 from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
+from ...vocabulary.scalar import maximum, minimum, select
+from ...vocabulary.traced import lowerable
 from ..base import Gait, check_distribution
 from ..planar import (
     SIDES,
@@ -75,11 +76,21 @@ class TurkeyWalker(Gait):
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, ("x", "z"))
         self._declare_actuators()
-        self.front = "left"  # foot ahead in double support
-        self._swing_start = np.zeros(2)  # swing foot relative to the body at lift-off [m]
-        self._progress_start = 0.0  # body x minus stance x at lift-off [m]
-        self.ground = 0.0  # ground height estimate under the stance foot [m]
+        #: what the gait carries from tick to tick: the foot ahead in double support (0 left,
+        #: 1 right), the swing foot relative to the body at lift-off (x, z) [m], the body's x
+        #: minus the stance foot's at lift-off [m], the ground under the stance foot [m]
+        self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
+
+    @property
+    def front(self) -> str:
+        """The foot ahead in double support (``"left"`` or ``"right"``)."""
+        return SIDES[int(self.memory.front)]
+
+    @property
+    def ground(self) -> float:
+        """The ground height estimate under the stance foot [m]."""
+        return self.memory.ground
 
     def _declare_actuators(self) -> None:
         """``double`` on both point feet (matched hip torques), ``SIDE_stance``, ``SIDE_swing``."""
@@ -125,52 +136,6 @@ class TurkeyWalker(Gait):
             ]
         return StateMachine(states, transitions, initial)
 
-    # --- memory --------------------------------------------------------------------------------
-
-    def memory(self) -> dict[str, float]:
-        """What the gait carries from tick to tick besides its machine's state, as floats.
-
-        The front foot (0 left, 1 right), the swing foot's start relative to the body and the
-        progress at lift-off, the ground estimate, the granny walker's height set point, the
-        bunny's start and set point, and each swing-leg linkage's set point (``SIDE_swing_x``,
-        ``SIDE_swing_z``): what a native tick (`native.NativeTick`) keeps in the compiled core.
-        """
-        bunny = self.bunny
-        memory = {
-            "front": float(SIDES.index(self.front)),
-            "swing_start_x": float(self._swing_start[0]),
-            "swing_start_z": float(self._swing_start[1]),
-            "progress_start": float(self._progress_start),
-            "ground": float(self.ground),
-            "granny_height": self.granny.height,
-            "bunny_start_position": float(bunny.start_position),
-            "bunny_start_time": float(bunny.start_time),
-            "bunny_setpoint": bunny.setpoint.item(0),
-        }
-        for side in SIDES:
-            x, z = self.swing[side].setpoint.tolist()
-            memory[f"{side}_swing_x"], memory[f"{side}_swing_z"] = x, z
-        return memory
-
-    def restore(self, memory: dict[str, float]) -> None:
-        """Take up a `memory` (its set points placed without moving their velocity set points).
-
-        Raises:
-            InvalidInputError: A set point that is not a finite number.
-
-        """
-        self.front = SIDES[int(memory["front"])]
-        self._swing_start = np.array([memory["swing_start_x"], memory["swing_start_z"]])
-        self._progress_start = memory["progress_start"]
-        self.ground = memory["ground"]
-        self.granny.height = memory["granny_height"]
-        bunny = self.bunny
-        bunny.start_position = memory["bunny_start_position"]
-        bunny.start_time = memory["bunny_start_time"]
-        bunny.setpoint = memory["bunny_setpoint"]
-        for side in SIDES:
-            self.swing[side].setpoint = (memory[f"{side}_swing_x"], memory[f"{side}_swing_z"])
-
     # --- events and state callbacks ------------------------------------------------------------
 
     def stance_side(self) -> str:
@@ -179,39 +144,48 @@ class TurkeyWalker(Gait):
 
     def _update_ground(self, context: Context, feet: tuple[str, ...]) -> None:
         heights = [context.frame_coordinate(foot, "z") for foot in feet]
-        self.ground = sum(heights) / len(heights) - self.parameters.foot_radius
-        self.granny.height = self.ground + self.parameters.height
+        memory = self.memory
+        memory.ground = ground = sum(heights) / len(heights) - self.parameters.foot_radius
+        self.granny.height = ground + self.parameters.height
 
+    @lowerable
     def _enter_double(self, context: Context) -> None:
-        x_left = context.frame_position("left_foot")[0]
-        x_right = context.frame_position("right_foot")[0]
-        self.front = "left" if x_left > x_right else "right"
+        x_left = context.frame_coordinate("left_foot", "x")
+        x_right = context.frame_coordinate("right_foot", "x")
+        self.memory.front = select(x_left > x_right, 0.0, 1.0)
 
+    @lowerable
     def _update_double(self, context: Context) -> None:
         self._update_ground(context, _FEET)
 
+    @lowerable
     def _enter_single(self, context: Context) -> None:
         stance, swing, _, _ = _SINGLE[context.state]
-        body = context.frame_position("body")
-        self._swing_start = (context.frame_position(f"{swing}_foot") - body)[[0, 2]]
-        self._progress_start = float(body[0] - context.frame_position(f"{stance}_foot")[0])
+        coordinate = context.frame_coordinate
+        body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
+        memory = self.memory
+        memory.swing_start = (
+            coordinate(f"{swing}_foot", "x") - body_x, coordinate(f"{swing}_foot", "z") - body_z
+        )
+        memory.progress_start = body_x - coordinate(f"{stance}_foot", "x")
 
+    @lowerable
     def _update_single(self, context: Context) -> None:
         p = self.parameters
         _, swing, stance_foot, buffer = _SINGLE[context.state]
         self._update_ground(context, stance_foot)
         if buffer:
             return
+        memory = self.memory
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
         progress = body_x - coordinate(stance_foot[0], "x")
-        span = max(p.away_distance - self._progress_start, 1e-3)
-        phase = min(max((progress - self._progress_start) / span, 0.0), 1.0)
-        x_rel = self._swing_start[0] + (p.swing_reach - self._swing_start[0]) * smoothstep(
-            1.6 * phase
-        )
+        start, (start_x, _) = memory.progress_start, memory.swing_start
+        span = maximum(p.away_distance - start, 1e-3)
+        phase = minimum(maximum((progress - start) / span, 0.0), 1.0)
+        x_rel = start_x + (p.swing_reach - start_x) * smoothstep(1.6 * phase)
         foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
-        z_rel = self.ground + p.foot_radius + foot_height - body_z
+        z_rel = memory.ground + p.foot_radius + foot_height - body_z
         self.swing[swing].place((x_rel, z_rel))
 
 

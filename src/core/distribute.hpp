@@ -34,7 +34,7 @@ inline void close_norms(const std::int64_t* keep, std::int64_t n, const double* 
   double peak = 0.0;
   for (std::int64_t a = 0; a < n; ++a) {
     if (keep[a]) {
-      peak = pmax(pmax(pmax(peak, std::abs(wrench[a])), std::abs(produced[a])),
+      peak = py_max(py_max(py_max(peak, std::abs(wrench[a])), std::abs(produced[a])),
                   std::abs(produced[a] - wrench[a]));
       requested[a] = wrench[a];
     } else {
@@ -56,9 +56,9 @@ inline void close_norms(const std::int64_t* keep, std::int64_t n, const double* 
     residual = INF;
   }
   double force_peak = 0.0;
-  for (std::int64_t r = 0; r < nforces; ++r) force_peak = pmax(force_peak, std::abs(forces[r]));
+  for (std::int64_t r = 0; r < nforces; ++r) force_peak = py_max(force_peak, std::abs(forces[r]));
   d.residual = peak * std::sqrt(residual);
-  d.scale = peak * std::sqrt(pmax(request, output));
+  d.scale = peak * std::sqrt(py_max(request, output));
   d.rounding = ROUNDING * force_peak;
 }
 

@@ -1,6 +1,6 @@
 // The hexapod's tripod update: the C++ port, operation by operation, of
 // virtual_actuators.gaits.hexapod.kernel.tripod_setpoints (with its _strides and gaits.planar's
-// smoothstep and lift_profile from gait.hpp), so that both agree bit for bit
+// smoothstep and lift_profile from scalar.hpp), so that both agree bit for bit
 // (tests/test_core_parity_hexapod.py). An edit of the reference kernel goes with the same edit
 // here.
 #pragma once
@@ -76,7 +76,7 @@ inline void tripod_setpoints(const double* frames, const std::int64_t* frame_row
   if (1.0 < progress) progress = 1.0;
   if (progress > state[3]) state[3] = progress;
   const double phase = state[3];
-  const double reach = smoothstep(pmin(1.0, 1.25 * phase));
+  const double reach = smoothstep(py_min(1.0, 1.25 * phase));
   const double rest = 1.0 - smoothstep(phase);
   const double up = lift * lift_profile(phase, peak) - depth * phase;
   double rate = 0.0;
@@ -91,12 +91,12 @@ inline void tripod_setpoints(const double* frames, const std::int64_t* frame_row
   const double offset_x = gain * (fx - cx) - lean * ax;
   const double offset_y = gain * (fy - cy) - lean * ay;
   const double lead = 0.5 * stance + double_time;
-  const double blend = dt > 0.0 ? pmin(1.0, dt / velocity_filter) : 0.0;
+  const double blend = dt > 0.0 ? py_min(1.0, dt / velocity_filter) : 0.0;
   for (int k = 0; k < 3; ++k) {
     const std::int64_t r = rows[3 + k];
     const double ox = lead * (fx - yaw_rate * nominal[3 * r + 1]) + offset_x;
     const double oy = lead * (fy + yaw_rate * nominal[3 * r]) + offset_y;
-    const double factor = pmin(1.0, 0.6 / pmax(strides(ox, oy, length, width), 1e-9));
+    const double factor = py_min(1.0, 0.6 / py_max(strides(ox, oy, length, width), 1e-9));
     const double land_x = nominal[3 * r] + ox * factor, land_y = nominal[3 * r + 1] + oy * factor;
     double* foot = swing + 9 * k;
     const double start_x = foot[0], start_y = foot[1], start_z = foot[2];

@@ -15,15 +15,12 @@
 #include <cstdint>
 
 #include "hexapod.hpp"
+#include "scalar.hpp"
 
 namespace va::hexapod {
 
 // The machine's states, in StateMachine.names order (HexapodWalker._machine).
 enum State : std::int64_t { TRIPOD_A = 0, DOUBLE_A = 1, TRIPOD_B = 2, DOUBLE_B = 3 };
-
-// Python's max(a, b) and min(a, b) on floats.
-inline double py_max(double a, double b) { return b > a ? b : a; }
-inline double py_min(double a, double b) { return b < a ? b : a; }
 
 // HexapodParameters' values the tick reads, and the tripod kernel's fixed arrays.
 struct Parameters {

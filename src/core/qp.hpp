@@ -86,7 +86,7 @@ inline double orthonormalise(Arr& columns, std::int64_t count, Arr& r) {
   for (std::int64_t j = 0; j < count; ++j) {
     double norm = 0.0;
     for (std::int64_t a = 0; a < n; ++a) norm += columns(j, a) * columns(j, a);
-    largest = pmax(largest, std::sqrt(norm));
+    largest = py_max(largest, std::sqrt(norm));
   }
   double worst = INF;
   for (std::int64_t j = 0; j < count; ++j) {
@@ -103,7 +103,7 @@ inline double orthonormalise(Arr& columns, std::int64_t count, Arr& r) {
     norm = std::sqrt(norm);
     r(j, j) = norm;
     if (!(norm > 0.0 && largest > 0.0)) return 0.0;
-    worst = pmin(worst, norm / largest);
+    worst = py_min(worst, norm / largest);
     for (std::int64_t a = 0; a < n; ++a) columns(j, a) /= norm;
   }
   return worst;
@@ -192,7 +192,7 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
         columns(c_i + j, a) = ball_entry(axis, T.axis_rows[a], d0, d1, d2);
     }
     const double ratio = orthonormalise(columns, k_i + nb, r_mat);
-    worst = pmin(worst, ratio);
+    worst = py_min(worst, ratio);
     if (!(ratio >= RANK_TOL)) {
       result.status = 1;
       result.worst = worst;
@@ -265,10 +265,10 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
   double scale = T.settings[3];
   for (std::int64_t r = 0; r < nk; ++r) {
     V.equality_rhs[s + r] += wrench[kept[r]];
-    scale = pmax(scale, std::abs(wrench[kept[r]]));
+    scale = py_max(scale, std::abs(wrench[kept[r]]));
   }
   for (std::int64_t t = 0; t < s; ++t) V.equality_rhs[t] += T.const_rhs[t];
-  for (std::int64_t v = 0; v < nv; ++v) scale = pmax(scale, std::abs(V.passive[v]));
+  for (std::int64_t v = 0; v < nv; ++v) scale = py_max(scale, std::abs(V.passive[v]));
   for (std::int64_t t = 0; t < T.t; ++t) {  // -limit <= tau0 + T z <= limit
     const std::int64_t v = T.limited_v[t];
     const std::int64_t row = m_in - T.t + t;
@@ -276,11 +276,11 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
     V.lows[row] = -T.limits[t] - V.tau0[v];
     V.uppers[row] = T.limits[t] - V.tau0[v];
   }
-  scale = pmax(scale, 1e-300);
+  scale = py_max(scale, 1e-300);
   for (std::int64_t r = 0; r < V.rows_eq; ++r) V.equality_rhs[r] /= scale;
   for (std::int64_t r = 0; r < m_in; ++r) {
-    V.lows[r] = pmax(V.lows[r] / scale, -QP_INFINITY);
-    V.uppers[r] = V.uppers[r] < QP_INFINITY ? pmin(V.uppers[r] / scale, QP_INFINITY) : QP_INFINITY;
+    V.lows[r] = py_max(V.lows[r] / scale, -QP_INFINITY);
+    V.uppers[r] = V.uppers[r] < QP_INFINITY ? py_min(V.uppers[r] / scale, QP_INFINITY) : QP_INFINITY;
   }
   result.status = 0;
   result.worst = worst;
@@ -296,12 +296,12 @@ inline double violation(const QPViews& V, const double* z, std::int64_t nz,
   for (std::int64_t r = 0; r < equalities; ++r) {
     double acc = -V.equality_rhs[r];
     for (std::int64_t j = 0; j < nz; ++j) acc += V.equality[r * V.free + j] * z[j];
-    worst = pmax(worst, std::abs(acc));
+    worst = py_max(worst, std::abs(acc));
   }
   for (std::int64_t r = 0; r < V.m_in; ++r) {
     double acc = 0.0;
     for (std::int64_t j = 0; j < nz; ++j) acc += V.inequality[r * V.free + j] * z[j];
-    worst = pmax(pmax(worst, V.lows[r] - acc), acc - V.uppers[r]);
+    worst = py_max(py_max(worst, V.lows[r] - acc), acc - V.uppers[r]);
   }
   for (std::int64_t j = 0; j < nz; ++j)
     if (!std::isfinite(z[j])) return INF;

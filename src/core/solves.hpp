@@ -157,7 +157,7 @@ inline std::int64_t partitioned_solve(const Arr& rows, const Arr& rhs, const Pac
     if (s) {  // sum_i |c_i|_1 max|T_i|: what cancels in a reduced hard row
       double t_max = 0.0;
       for (std::int64_t a = 0; a < n; ++a)
-        for (std::int64_t j = 0; j < d_i; ++j) t_max = pmax(t_max, std::abs(transforms(i, a, j)));
+        for (std::int64_t j = 0; j < d_i; ++j) t_max = py_max(t_max, std::abs(transforms(i, a, j)));
       for (std::int64_t t = 0; t < s; ++t) {
         double acc = 0.0;
         for (std::int64_t a = 0; a < n; ++a) acc += std::abs(hard(t, i, a));

@@ -1,15 +1,17 @@
 // Turkey walking's state machine and state callbacks (VMC 2001, section 5, Table 1) in C++: a
 // line-by-line port of virtual_actuators.gaits.turkey.walker.TurkeyWalker's transitions
 // (_machine, control.events.after / ahead_of, Gait._front_is), its callbacks (_enter_double,
-// _update_double, _enter_single, _update_single, _update_ground) and gaits.planar's smoothstep
-// and lift_profile, with control.state_machine.StateMachine.update's order (the first transition
-// whose event fires, then the current state's on_update). The same floating-point operations
-// in the same order, so that a native tick and the Python one agree bit for bit
-// (tests/test_native_turkey.py). An edit of the reference goes with the same edit here.
+// _update_double, _enter_single, _update_single, _update_ground) on gaits.planar's smoothstep
+// and lift_profile (scalar.hpp), with control.state_machine.StateMachine.update's order (the
+// first transition whose event fires, then the current state's on_update). The same
+// floating-point operations in the same order, so that a native tick and the Python one agree
+// bit for bit (tests/test_native_turkey.py). An edit of the reference goes with the same edit here.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+
+#include "scalar.hpp"
 
 namespace va::turkey {
 
@@ -47,26 +49,8 @@ struct Memory {
   bool placed[2] = {false, false};  // the side's linkage was placed this tick
 };
 
-// Python's max(a, b) and min(a, b) on floats: the first argument unless the second is larger
-// (smaller).
-inline double py_max(double a, double b) { return b > a ? b : a; }
-inline double py_min(double a, double b) { return b < a ? b : a; }
-
 inline double coordinate(const double* frames, std::int64_t row, int axis) {
   return frames[12 * row + 9 + axis];
-}
-
-// gaits.planar.smoothstep
-inline double smoothstep(double s) {
-  s = py_min(py_max(s, 0.0), 1.0);
-  return s * s * (3.0 - 2.0 * s);
-}
-
-// gaits.planar.lift_profile
-inline double lift_profile(double phase, double peak) {
-  phase = py_min(py_max(phase, 0.0), 1.0);
-  if (phase < peak) return std::sin(0.5 * M_PI * phase / peak);
-  return std::cos(0.5 * M_PI * (phase - peak) / (1.0 - peak));
 }
 
 inline bool is_single(std::int64_t state) { return state != DOUBLE; }

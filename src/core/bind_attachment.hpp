@@ -34,9 +34,9 @@ class SpringTick {
     const auto n = static_cast<std::int64_t>(axis_rows_.size());
     require(n >= 1 && n <= 6, "axis_rows must hold 1 to 6 axes");
     for (std::int64_t i = 0; i < n; ++i)
-      require(axis_rows_[i] >= 0 && axis_rows_[i] < 6 &&
-                  (i == 0 || axis_rows_[i - 1] < axis_rows_[i]),
-              "axis_rows must be increasing rows in [0, 6)");
+      require(
+          axis_rows_[i] >= 0 && axis_rows_[i] < 6 && (i == 0 || axis_rows_[i - 1] < axis_rows_[i]),
+          "axis_rows must be increasing rows in [0, 6)");
     require(rows_.size() == 3 && rows_[0] >= 0 && rows_[1] >= 0 && rows_[2] >= 0,
             "rows must be 3 frame-table rows ({B}, {O}, {A})");
     require(signs_.size() == columns_.size(), "signs must be one per column");
@@ -51,7 +51,7 @@ class SpringTick {
     rows_end_ = std::max(rows_[0], std::max(rows_[1], rows_[2])) + 1;
     const auto m = static_cast<std::int64_t>(columns_.size());
     tables_ = va::serial::SensorTables{axis_rows_.data(), n, rows_.data(), columns_.data(),
-                                       signs_.data(), m};
+                                       signs_.data(),     m};
   }
 
   // effort (nv), position (n), velocity (n), wrench (n), flag: spring_tick's buffer.
@@ -70,9 +70,9 @@ class SpringTick {
            const std::vector<F1>& parameters, double* out) const {
     const std::int64_t n = tables_.n;
     const auto e = static_cast<std::int64_t>(targets_.size());
-    require(jacobian_world.shape(0) == 6 &&
-                static_cast<std::int64_t>(jacobian_world.shape(1)) == nv_,
-            "jacobian_world must be (6, nv)");
+    require(
+        jacobian_world.shape(0) == 6 && static_cast<std::int64_t>(jacobian_world.shape(1)) == nv_,
+        "jacobian_world must be (6, nv)");
     require(frames.shape(1) == 12 && static_cast<std::int64_t>(frames.shape(0)) >= rows_end_,
             "frames must be (nf, 12) with the sensor's rows");
     require(length(v) == nv_, "v must be (nv,)");
@@ -83,8 +83,7 @@ class SpringTick {
       const std::int64_t size = length(parameters[c]);
       require(at + size <= e, "the parameters hold more entries than the tables");
       for (std::size_t k = 0; k < 6; ++k) {
-        require(length(parameters[c + k]) == size,
-                "a component's parameters must be one per axis");
+        require(length(parameters[c + k]) == size, "a component's parameters must be one per axis");
         const double* data = parameters[c + k].data();
         for (std::int64_t i = 0; i < size; ++i) table[k * e + at + i] = data[i];
       }
@@ -95,8 +94,8 @@ class SpringTick {
     std::vector<double> jacobian(static_cast<std::size_t>(tables_.m * n));
     const va::serial::SpringEntries p{targets_.data(), rotations_.data(), e,
                                       summed_,         efforts_,          table.data()};
-    return va::serial::spring_tick(jacobian_world.data(), nv_, frames.data(), v.data(), tables_,
-                                   p, jacobian.data(), out);
+    return va::serial::spring_tick(jacobian_world.data(), nv_, frames.data(), v.data(), tables_, p,
+                                   jacobian.data(), out);
   }
 
   std::int64_t size() const { return nv_ + 3 * tables_.n + 1; }

@@ -74,11 +74,11 @@ double contact_largest_scale(const F2& frames, const I1& orientation_rows, const
 }  // namespace
 
 void bind_contact_margins(nb::module_& m) {
-  m.def("contact_least_margin", &contact_least_margin, "frames"_a, "orientation_rows"_a,
-        "forces"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
+  m.def("contact_least_margin", &contact_least_margin, "frames"_a, "orientation_rows"_a, "forces"_a,
+        "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
         "contacts.contact_set.least_margin: smallest G @ forces.ravel() - lows.");
-  m.def("contact_largest_scale", &contact_largest_scale, "frames"_a, "orientation_rows"_a,
-        "full"_a, "base"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
+  m.def("contact_largest_scale", &contact_largest_scale, "frames"_a, "orientation_rows"_a, "full"_a,
+        "base"_a, "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a,
         "contacts.contact_set.largest_scale: the largest alpha in [0, 1] meeting the rows.");
 }
 

@@ -24,8 +24,8 @@ class ContactView {
   // mj_contactForce's signature (the function's address comes from the running library).
   using ContactForce = void (*)(const mjModel*, const mjData*, int, mjtNum[6]);
 
-  ContactView(std::uintptr_t model, std::uintptr_t address, std::int64_t version,
-              const I1& roles, std::uintptr_t contact_force)
+  ContactView(std::uintptr_t model, std::uintptr_t address, std::int64_t version, const I1& roles,
+              std::uintptr_t contact_force)
       : model_(reinterpret_cast<const mjModel*>(model)),
         data_(reinterpret_cast<const mjData*>(address)),
         contact_force_(reinterpret_cast<ContactForce>(contact_force)) {
@@ -44,13 +44,13 @@ class ContactView {
                                       nb::device::cpu>& out) const {
     require(out.shape(1) == 3 && static_cast<std::int64_t>(out.shape(0)) >= data_->ncon,
             "out must be (>= ncon, 3)");
-    return va::mj::terrain_contacts(data_, roles_.data(),
-                                    static_cast<std::int64_t>(roles_.size()), out.data());
+    return va::mj::terrain_contacts(data_, roles_.data(), static_cast<std::int64_t>(roles_.size()),
+                                    out.data());
   }
 
   // Whether a robot geom whose flag in allowed (one per geom) is 0 touches the terrain.
-  bool touches_outside(const nb::ndarray<const std::int8_t, nb::numpy, nb::ndim<1>,
-                                         nb::c_contig, nb::device::cpu>& allowed) const {
+  bool touches_outside(const nb::ndarray<const std::int8_t, nb::numpy, nb::ndim<1>, nb::c_contig,
+                                         nb::device::cpu>& allowed) const {
     require(allowed.shape(0) == roles_.size(), "allowed must hold one flag per geom");
     return va::mj::touches_outside(data_, roles_.data(), allowed.data(),
                                    static_cast<std::int64_t>(roles_.size()));
@@ -59,9 +59,9 @@ class ContactView {
   // Per robot-terrain contact on a geom of a group (groups: one per geom, -1 none), in contact
   // order: (group, normal force, tangential force 1, 2) [N] in the contact's frame
   // (mj_contactForce) into out ((>= ncon, 4)); their number. -1 without mj_contactForce.
-  std::int64_t forces(const I1& groups,
-                      const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig,
-                                        nb::device::cpu>& out) const {
+  std::int64_t forces(
+      const I1& groups,
+      const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>& out) const {
     require(groups.shape(0) == roles_.size(), "groups must hold one entry per geom");
     require(out.shape(1) == 4 && static_cast<std::int64_t>(out.shape(0)) >= data_->ncon,
             "out must be (>= ncon, 4)");

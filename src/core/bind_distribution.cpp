@@ -27,11 +27,10 @@ class Distribution {
   }
 
   // One tick from the snapshot's arrays: jacobian_world (6, nv), frames (nf, 12), q, wrench (n).
-  nb::tuple solve(const F2& jacobian_world, const F2& frames, const F1& q,
-                  const F1& wrench) const {
-    require(jacobian_world.shape(0) == 6 &&
-                static_cast<std::int64_t>(jacobian_world.shape(1)) == nv_,
-            "jacobian_world must be (6, nv)");
+  nb::tuple solve(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench) const {
+    require(
+        jacobian_world.shape(0) == 6 && static_cast<std::int64_t>(jacobian_world.shape(1)) == nv_,
+        "jacobian_world must be (6, nv)");
     require(frames.shape(1) == 12 &&
                 static_cast<std::int64_t>(frames.shape(0)) > packed_.max_frame_row(),
             "frames must be (nf, 12) with every row the distribution reads");
@@ -67,10 +66,9 @@ class Distribution {
     Any q, wrench;  // unconverted: a list, a copy or another dtype is the caller's to check
     const bool ok = nb::try_cast(q_object, q, false) &&
                     nb::try_cast(wrench_object, wrench, false) && t.tables().nv == nv_ &&
-                    t.tables().nf > packed_.max_frame_row() &&
-                    tree.accepts(q) && tree.nq() > packed_.max_q_index() &&
-                    wrench.dtype() == nb::dtype<double>() && wrench.ndim() == 1 &&
-                    static_cast<std::int64_t>(wrench.shape(0)) == packed_.n &&
+                    t.tables().nf > packed_.max_frame_row() && tree.accepts(q) &&
+                    tree.nq() > packed_.max_q_index() && wrench.dtype() == nb::dtype<double>() &&
+                    wrench.ndim() == 1 && static_cast<std::int64_t>(wrench.shape(0)) == packed_.n &&
                     (packed_.n <= 1 || wrench.stride(0) == 1) &&
                     va::all_finite(static_cast<const double*>(wrench.data()), packed_.n);
     if (!ok) {
@@ -78,8 +76,7 @@ class Distribution {
       d.status = UNCHECKED;
       return distributed(owned(std::unique_ptr<double[]>(new double[1]), 0), d);
     }
-    return run(t, static_cast<const double*>(q.data()),
-               static_cast<const double*>(wrench.data()));
+    return run(t, static_cast<const double*>(q.data()), static_cast<const double*>(wrench.data()));
   }
 
   // checked_tick's status for arguments it leaves to the caller's checks

@@ -30,8 +30,8 @@ nb::tuple gait_center_of_mass(const F2& joints, const F1& masses, const F2& leve
 }
 
 // gaits.legged.body.body_wrench: the wrench into out, returns the yaw.
-double gait_body_wrench(const F2& rotation, const F1& position, const F1& velocity,
-                        const F1& gains, const F1& setpoints, const MF1& out) {
+double gait_body_wrench(const F2& rotation, const F1& position, const F1& velocity, const F1& gains,
+                        const F1& setpoints, const MF1& out) {
   require(rotation.shape(0) == 3 && rotation.shape(1) == 3, "rotation must be (3, 3)");
   require(length(position) >= 3 && length(velocity) == 6, "position (6,), velocity (6,)");
   require(length(gains) == 11 && length(setpoints) == 8, "gains (11,), setpoints (8,)");
@@ -55,8 +55,8 @@ void gait_swing_setpoints(const I1& feet, const GF2& swing, const F2& nominal, c
   for (std::int64_t j = 0; j < k; ++j)
     require(feet.data()[j] >= 0 && feet.data()[j] < f, "feet out of range");
   nb::gil_scoped_release release;
-  va::swing_setpoints(feet.data(), k, swing.data(), nominal.data(), body.data(), motion.data(),
-                      dt, shape.data(), out.data());
+  va::swing_setpoints(feet.data(), k, swing.data(), nominal.data(), body.data(), motion.data(), dt,
+                      shape.data(), out.data());
 }
 
 // actuators.producible._two_points: (36,), or empty (coincident contacts, a row not in frames).
@@ -64,7 +64,8 @@ Owned gait_two_points(const F2& frames, const I1& rows) {
   require(frames.shape(1) == 12 && len(rows) == 4, "frames must be (nf, 12), rows (4,)");
   for (std::int64_t r = 0; r < 4; ++r) {
     require(rows.data()[r] >= 0, "rows must be >= 0");
-    if (rows.data()[r] >= rows_of(frames)) return owned(std::unique_ptr<double[]>(new double[1]), 0);
+    if (rows.data()[r] >= rows_of(frames))
+      return owned(std::unique_ptr<double[]>(new double[1]), 0);
   }
   std::unique_ptr<double[]> buffer(new double[36]());
   bool found;
@@ -94,8 +95,8 @@ bool gait_give_way_one(const F1& wrench, const F2& yielding, const F2& missing, 
 
 // gaits.hexapod.kernel.tripod_setpoints: swing and state written in place.
 void gait_tripod_setpoints(const F2& frames, const I1& frame_rows, const I1& rows,
-                           const F2& nominal, const F1& motion, const F1& shape,
-                           const GF2& swing, const MF1& state) {
+                           const F2& nominal, const F1& motion, const F1& shape, const GF2& swing,
+                           const MF1& state) {
   require(frames.shape(1) == 12 && len(frame_rows) == 7,
           "frames must be (nf, 12), frame_rows (7,)");
   for (std::int64_t j = 0; j < 7; ++j)
@@ -109,8 +110,8 @@ void gait_tripod_setpoints(const F2& frames, const I1& frame_rows, const I1& row
   for (std::int64_t j = 0; j < 6; ++j)
     require(rows.data()[j] >= 0 && rows.data()[j] < 6, "rows out of range");
   nb::gil_scoped_release release;
-  va::tripod_setpoints(frames.data(), frame_rows.data(), rows.data(), nominal.data(),
-                       motion.data(), shape.data(), swing.data(), state.data());
+  va::tripod_setpoints(frames.data(), frame_rows.data(), rows.data(), nominal.data(), motion.data(),
+                       shape.data(), swing.data(), state.data());
 }
 
 }  // namespace

@@ -29,17 +29,14 @@ class GaitEfforts {
   // A state, in StateMachine.names order: its attachments (among count) and limp indices.
   void add_state(const I1& attachments, const I1& limp, std::int64_t count) {
     for (std::int64_t k = 0; k < len(attachments); ++k)
-      require(attachments.data()[k] >= 0 && attachments.data()[k] < count,
-              "unknown attachment");
+      require(attachments.data()[k] >= 0 && attachments.data()[k] < count, "unknown attachment");
     for (std::int64_t k = 0; k < len(limp); ++k)
       require(limp.data()[k] >= 0 && limp.data()[k] < nv_, "limp index out of range");
     require(len(attachments) >= 1, "a state runs at least one attachment");
     states_.push_back(State{copy<std::int64_t>(attachments), copy<std::int64_t>(limp)});
   }
 
-  const State& state(std::int64_t index) const {
-    return states_[static_cast<std::size_t>(index)];
-  }
+  const State& state(std::int64_t index) const { return states_[static_cast<std::size_t>(index)]; }
   std::int64_t states() const { return static_cast<std::int64_t>(states_.size()); }
 
   // TickSums.add: the first attachment's efforts, then the sum.

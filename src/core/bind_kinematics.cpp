@@ -1,11 +1,12 @@
 // The kinematics' bindings (kinematics.hpp): Tree (bind_kinematics.hpp), and the configuration
 // checks and a point's velocity.
+#include "bind_kinematics.hpp"
+
 #include <nanobind/stl/optional.h>
 
 #include <cstdint>
 
 #include "bind_common.hpp"
-#include "bind_kinematics.hpp"
 #include "kinematics.hpp"
 
 namespace va::py {
@@ -41,8 +42,7 @@ nb::tuple point_velocity(const F2& jacobian_world, const F1& v, const I1& column
 void bind_kinematics(nb::module_& m) {
   nb::class_<Tree>(m, "Tree",
                    "A kinematic tree's tables (KinematicTree): forward kinematics per tick.")
-      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&,
-                    const I2&>(),
+      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&, const I2&>(),
            "joint_ints"_a, "joint_floats"_a, "velocity_joint"_a, "velocity_subspace"_a,
            "frame_parents"_a, "frame_floats"_a, "unit_bounds"_a)
       .def("compute", &Tree::compute, "q"_a, "v"_a = nb::none(),
@@ -56,8 +56,8 @@ void bind_kinematics(nb::module_& m) {
         "kinematics.kernels.unit_norm_error: largest | ||q[a:b]|| - 1 | (-1: q not finite).");
   m.def("all_finite", &all_finite, "values"_a,
         "kinematics.kernels.all_finite: no NaN, no infinity.");
-  m.def("point_velocity", &point_velocity, "jacobian_world"_a, "v"_a, "columns"_a, "x"_a,
-        "y"_a, "z"_a, "kinematics.kernels.point_velocity: a body point's linear velocity.");
+  m.def("point_velocity", &point_velocity, "jacobian_world"_a, "v"_a, "columns"_a, "x"_a, "y"_a,
+        "z"_a, "kinematics.kernels.point_velocity: a body point's linear velocity.");
 }
 
 }  // namespace va::py

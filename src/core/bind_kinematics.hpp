@@ -23,9 +23,9 @@ class Tree {
             "joint_ints must be (njoints, 3)");
     require(joint_floats.shape(0) == joint_ints.shape(0) && joint_floats.shape(1) == 27,
             "joint_floats must be (njoints, 27)");
-    require(velocity_subspace.shape(0) == velocity_joint.shape(0) &&
-                velocity_subspace.shape(1) == 6,
-            "velocity_subspace must be (nv, 6)");
+    require(
+        velocity_subspace.shape(0) == velocity_joint.shape(0) && velocity_subspace.shape(1) == 6,
+        "velocity_subspace must be (nv, 6)");
     require(frame_floats.shape(0) == frame_parents.shape(0) && frame_floats.shape(1) == 12,
             "frame_floats must be (nf, 12)");
     const auto njoints = static_cast<std::int64_t>(joint_ints.shape(0));
@@ -37,9 +37,9 @@ class Tree {
       require(joint_ints.data()[3 * j] >= 0 && joint_ints.data()[3 * j] < j,
               "a joint's parent must come before it");
       const std::int64_t width = kind == va::REVOLUTE || kind == va::PRISMATIC ? 1
-                                 : kind == va::REVOLUTE_UNBOUNDED             ? 2
-                                 : kind == va::FREE_FLYER                     ? 7
-                                                                              : 4;
+                                 : kind == va::REVOLUTE_UNBOUNDED              ? 2
+                                 : kind == va::FREE_FLYER                      ? 7
+                                                                               : 4;
       nq_ = std::max(nq_, iq + width);
     }
     for (std::size_t v = 0; v < velocity_joint.shape(0); ++v)

@@ -1,11 +1,12 @@
 // The native hexapod's binding: NativeHexapod (bind_native_hexapod.hpp), a HexapodWalker's whole
 // tick.
+#include "bind_native_hexapod.hpp"
+
 #include <nanobind/stl/optional.h>
 
 #include "bind_attachment.hpp"
 #include "bind_common.hpp"
 #include "bind_kinematics.hpp"
-#include "bind_native_hexapod.hpp"
 #include "bind_qp.hpp"
 
 namespace va::py {
@@ -16,8 +17,8 @@ void bind_native_hexapod(nb::module_& m) {
                             "the kinematics, the state machine and its callbacks, the body's "
                             "components and QP, the swing legs, the sums, the limp joints and "
                             "the clipping.")
-      .def(nb::init<const Tree&, const I1&, const F1&, const F2&, const F1&, const F1&,
-                    const F1&, const F1&, const F1&>(),
+      .def(nb::init<const Tree&, const I1&, const F1&, const F2&, const F1&, const F1&, const F1&,
+                    const F1&, const F1&>(),
            "tree"_a, "rows"_a, "parameters"_a, "nominal"_a, "shape"_a, "body"_a, "tolerances"_a,
            "lower"_a, "upper"_a, nb::keep_alive<1, 2>())
       .def("add_body", &NativeHexapod::add_body, "axis_rows"_a, "sensor_rows"_a, "columns"_a,

@@ -50,8 +50,8 @@ class NativeHexapod {
     nominal_.assign(nominal.data(), nominal.data() + 18);
     shape_ = copy<double>(shape);
     const double* p = parameters.data();
-    parameters_ = va::hexapod::Parameters{p[0], p[1], p[2], p[3], p[4], nominal_.data(),
-                                          shape_.data()};
+    parameters_ =
+        va::hexapod::Parameters{p[0], p[1], p[2], p[3], p[4], nominal_.data(), shape_.data()};
     set_body(body);
     require(length(tolerances) == 3, "tolerances: active, exact, accuracy");
     tolerances_[0] = tolerances.data()[0];
@@ -84,8 +84,9 @@ class NativeHexapod {
     a.sensor_rows = copy<std::int64_t>(sensor_rows);
     a.columns = copy<std::int64_t>(columns);
     a.signs = copy<double>(signs);
-    a.tables = va::serial::SensorTables{a.axis_rows.data(), 6, a.sensor_rows.data(),
-                                        a.columns.data(), a.signs.data(), len(columns)};
+    a.tables = va::serial::SensorTables{a.axis_rows.data(),   6,
+                                        a.sensor_rows.data(), a.columns.data(),
+                                        a.signs.data(),       len(columns)};
     a.qp = &qp;
     std::vector<double> zeros(6, 0.0);
     const F1 wrench(zeros.data(), {6});
@@ -123,8 +124,9 @@ class NativeHexapod {
   void set_body(const F1& body) {
     require(length(body) == BODY, "body must be the 15 constants");
     const double* b = body.data();
-    body_ = va::hexapod::Body{b[0], b[1], b[2], b[3], {b[4], b[5]}, {b[6], b[7]},
-                              {b[8], b[9]}, {b[10], b[11], b[12]}, b[13], b[14]};
+    body_ = va::hexapod::Body{b[0],         b[1],         b[2],         b[3],
+                              {b[4], b[5]}, {b[6], b[7]}, {b[8], b[9]}, {b[10], b[11], b[12]},
+                              b[13],        b[14]};
   }
 
   // A swing leg's six parameters on its three axes again (its set points are the memory's).
@@ -226,10 +228,9 @@ class NativeHexapod {
   // (6 ints, or none): ENTERED or TICKED with tau (nv) and each active attachment's position,
   // velocity and wrench (rows of readings (attachments, 18)) written, or DEFER with nothing
   // committed.
-  std::int64_t tick(const F1& q, const F1& v, double time, const F1& command,
-                    const I1& contacts, const MF1& tau,
-                    const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig,
-                                      nb::device::cpu>& readings) {
+  std::int64_t tick(
+      const F1& q, const F1& v, double time, const F1& command, const I1& contacts, const MF1& tau,
+      const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>& readings) {
     require(length(q) == nq_ && length(v) == nv_ && length(tau) == nv_,
             "q must be (nq,), v and tau (nv,)");
     require(length(command) == 3, "command: vx, vy, yaw rate");
@@ -239,7 +240,8 @@ class NativeHexapod {
                 readings.shape(1) == 18,
             "readings must be (attachments, 18)");
     require(efforts_.states() == 4, "the four states must be declared");
-    const va::hexapod::Inputs in{{command.data()[0], command.data()[1]}, command.data()[2],
+    const va::hexapod::Inputs in{{command.data()[0], command.data()[1]},
+                                 command.data()[2],
                                  len(contacts) ? contacts.data() : nullptr};
     nb::gil_scoped_release release;
     return run(q.data(), v.data(), time, in, tau.data(), readings.data());
@@ -289,10 +291,10 @@ class NativeHexapod {
     std::fill(a.out.begin(), a.out.end(), 0.0);
     va::Distributed d;
     const std::int64_t count = a.qp->again_raw(
-        jw, frames, q, a.wrench, a.kept.data(), static_cast<std::int64_t>(a.kept.size()),
-        *a.views, a.buffer, a.buffer_size, a.layout.data(), a.keep.data(), a.weights.data(),
-        a.guess, tolerances_[0], tolerances_[1], tolerances_[2], a.out.data(), a.active.data(),
-        a.z, a.multipliers, d);
+        jw, frames, q, a.wrench, a.kept.data(), static_cast<std::int64_t>(a.kept.size()), *a.views,
+        a.buffer, a.buffer_size, a.layout.data(), a.keep.data(), a.weights.data(), a.guess,
+        tolerances_[0], tolerances_[1], tolerances_[2], a.out.data(), a.active.data(), a.z,
+        a.multipliers, d);
     if (count < 0) return nullptr;
     return a.out.data() + a.qp->chains() * 6;  // the distribution's tau
   }

@@ -74,9 +74,8 @@ class NativeTurkey {
   // the contact rows its yield axes (a 0/1 mask) keep feasible (yields false: none).
   std::int64_t add_attachment(const SpringTick& tick, const SpringSolve* solve, const I1& slots,
                               const I1& reset_axes, bool yields, const I1& yield_mask,
-                              const I1& orientation_rows,
-                              const F2& points, const I1& axis_rows, const I1& minima_axes,
-                              const F1& lows) {
+                              const I1& orientation_rows, const F2& points, const I1& axis_rows,
+                              const I1& minima_axes, const F1& lows) {
     require(tick.nv() == nv_, "the spring tick's nv must be the tree's");
     require(tick.rows_end() <= tree_->tables().nf, "the sensor's rows must be in the table");
     require((solve == nullptr) == tick.efforts(),
@@ -114,8 +113,7 @@ class NativeTurkey {
       require(np == 0 || np == p, "points must be (p, 7) or (0, 7)");
       require(len(orientation_rows) >= 1 + (np ? p : 0), "orientation_rows");
       for (std::int64_t r = 0; r < len(orientation_rows); ++r)
-        require(orientation_rows.data()[r] >= 0 &&
-                    orientation_rows.data()[r] < tree_->tables().nf,
+        require(orientation_rows.data()[r] >= 0 && orientation_rows.data()[r] < tree_->tables().nf,
                 "orientation_rows out of the frame table");
       for (std::int64_t m = 0; m < len(minima_axes); ++m)
         require(minima_axes.data()[m] >= 0 && minima_axes.data()[m] < n, "minima_axes");
@@ -151,11 +149,21 @@ class NativeTurkey {
   Owned memory() const {
     std::unique_ptr<double[]> out(new double[MEMORY]);
     const va::turkey::Memory& m = memory_;
-    const double values[MEMORY] = {
-        static_cast<double>(m.state), m.entered_at, static_cast<double>(m.front),
-        m.swing_start[0], m.swing_start[1], m.progress_start, m.ground, m.granny_height,
-        bunny_position_, bunny_time_, m.swing_setpoint[0][0], m.swing_setpoint[0][1],
-        m.swing_setpoint[1][0], m.swing_setpoint[1][1], bunny_setpoint_};
+    const double values[MEMORY] = {static_cast<double>(m.state),
+                                   m.entered_at,
+                                   static_cast<double>(m.front),
+                                   m.swing_start[0],
+                                   m.swing_start[1],
+                                   m.progress_start,
+                                   m.ground,
+                                   m.granny_height,
+                                   bunny_position_,
+                                   bunny_time_,
+                                   m.swing_setpoint[0][0],
+                                   m.swing_setpoint[0][1],
+                                   m.swing_setpoint[1][0],
+                                   m.swing_setpoint[1][1],
+                                   bunny_setpoint_};
     std::copy(values, values + MEMORY, out.get());
     return owned(std::move(out), MEMORY);
   }
@@ -189,9 +197,9 @@ class NativeTurkey {
   // walker's height set point (readings[-1, 0]) written, or DEFER with
   // nothing written and the memory unchanged (the Python tick decides: a non-finite state, a
   // kernel handing the tick on, a yield that must scale the request).
-  std::int64_t tick(const F1& q, const F1& v, double time, const MF1& tau,
-                    const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig,
-                                      nb::device::cpu>& readings) {
+  std::int64_t tick(
+      const F1& q, const F1& v, double time, const MF1& tau,
+      const nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>& readings) {
     require(length(q) == nq_ && length(v) == nv_, "q must be (nq,), v (nv,)");
     require(length(tau) == nv_, "tau must be (nv,)");
     require(static_cast<std::int64_t>(readings.shape(0)) ==
@@ -295,11 +303,10 @@ class NativeTurkey {
     for (std::int64_t i = 0; i < n; ++i) base[i] = a.yield_mask[i] ? 0.0 : wrench[i];
     std::fill(a.fallback.begin(), a.fallback.end(), 0.0);
     if (a.solve->distribute_raw(jw, frames, q, base, a.fallback.data()).status != 0) return nullptr;
-    va::contact_margins(frames, a.orientation_rows.data(), a.fallback.data(), p, n,
-                        a.points.data(), a.np, a.axis_rows.data(), a.minima_axes.data(), minima,
-                        a.at_base.data());
-    const double alpha = va::contact_largest_scale(a.values.data(), a.at_base.data(),
-                                                   a.lows.data(), rows);
+    va::contact_margins(frames, a.orientation_rows.data(), a.fallback.data(), p, n, a.points.data(),
+                        a.np, a.axis_rows.data(), a.minima_axes.data(), minima, a.at_base.data());
+    const double alpha =
+        va::contact_largest_scale(a.values.data(), a.at_base.data(), a.lows.data(), rows);
     const double* start = a.fallback.data() + p * n;
     if (alpha <= 0.0) return start;
     for (std::int64_t i = 0; i < nv_; ++i)  // contact_limits.interpolate's tau
@@ -309,8 +316,7 @@ class NativeTurkey {
 
   std::int64_t run(const double* q, const double* v, double time, double* tau_out,
                    double* readings) {
-    if (!va::all_finite(q, nq_) || !va::all_finite(v, nv_) || !std::isfinite(time))
-      return DEFER;
+    if (!va::all_finite(q, nq_) || !va::all_finite(v, nv_) || !std::isfinite(time)) return DEFER;
     tree_->compute(q, v, pass_.data());
     const double* jw = pass_.data() + tree_->jacobian_offset();
     const double* frames = pass_.data() + tree_->frames_offset();

@@ -1,12 +1,13 @@
 // The QP distribution's bindings (qp.hpp, exact.hpp, daqp_stage.hpp): QP (bind_qp.hpp), the
 // exact step on an active set, the workspace's violation and read-out, and the DAQP stages.
+#include "bind_qp.hpp"
+
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "bind_common.hpp"
-#include "bind_qp.hpp"
 #include "daqp_stage.hpp"
 #include "exact.hpp"
 #include "qp.hpp"
@@ -30,15 +31,14 @@ nb::tuple exact_step(const F2& equality, const F1& equality_rhs, std::int64_t de
   require(length(lows) == m && length(uppers) == m && length(guess) == m,
           "lows, uppers and guess must be (m,)");
   require(max_steps >= 0, "max_steps must be >= 0");
-  const va::ExactRows rows{equality.data(), equality_rhs.data(), k, size, design,
-                           weights.data(), inequality.data(), lows.data(), uppers.data(), m};
+  const va::ExactRows rows{equality.data(), equality_rhs.data(), k,           size,          design,
+                           weights.data(),  inequality.data(),   lows.data(), uppers.data(), m};
   std::unique_ptr<double[]> x(new double[static_cast<std::size_t>(size)]());
   std::unique_ptr<double[]> z(new double[static_cast<std::size_t>(m)]());
   bool ok;
   {
     nb::gil_scoped_release release;
-    ok = va::exact_step(rows, guess.data(), exact, active_tol, tol, max_steps, x.get(),
-                        z.get());
+    ok = va::exact_step(rows, guess.data(), exact, active_tol, tol, max_steps, x.get(), z.get());
   }
   return nb::make_tuple(ok, owned(std::move(x), static_cast<std::size_t>(size)),
                         owned(std::move(z), static_cast<std::size_t>(m)));
@@ -111,31 +111,28 @@ nb::tuple daqp_tuple(std::int64_t size, std::int64_t m, Solve solve) {
 // The QP's first stage on DAQP from cold: (exitflag, x, lam, iterations).
 nb::tuple daqp_least_norm(const F2& equality, const F1& equality_rhs, const F2& inequality,
                           const F1& lows, const F1& uppers, int iter_limit) {
-  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers,
-                                      iter_limit);
+  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers, iter_limit);
   return daqp_tuple(size, m, [&, k = k, size = size, m = m](double* x, double* lam) {
-    return va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size,
-                               inequality.data(), lows.data(), uppers.data(), m, iter_limit, x,
-                               lam);
+    return va::daqp_least_norm(equality.data(), equality_rhs.data(), k, size, inequality.data(),
+                               lows.data(), uppers.data(), m, iter_limit, x, lam);
   });
 }
 
 // The QP's closest-wrench stages on DAQP from cold, regularised: (exitflag, x, lam,
 // iterations).
 nb::tuple daqp_closest(const F2& equality, const F1& equality_rhs, std::int64_t design,
-                       const F1& weights, const F2& inequality, const F1& lows,
-                       const F1& uppers, int iter_limit, double eps) {
-  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers,
-                                      iter_limit);
+                       const F1& weights, const F2& inequality, const F1& lows, const F1& uppers,
+                       int iter_limit, double eps) {
+  const auto [k, size, m] = daqp_rows(equality, equality_rhs, inequality, lows, uppers, iter_limit);
   require(design >= 0 && design < k, "design must be in 0..k-1 (a request row at least)");
   require(length(weights) == k - design, "weights must be (k - design,)");
   for (std::int64_t i = 0; i < k - design; ++i)
     require(weights.data()[i] > 0.0, "weights must be > 0");
   require(eps > 0.0, "eps must be > 0");
   return daqp_tuple(size, m, [&, k = k, size = size, m = m](double* x, double* lam) {
-    return va::daqp_closest(equality.data(), equality_rhs.data(), k, design, size,
-                            weights.data(), inequality.data(), lows.data(), uppers.data(), m,
-                            iter_limit, eps, x, lam);
+    return va::daqp_closest(equality.data(), equality_rhs.data(), k, design, size, weights.data(),
+                            inequality.data(), lows.data(), uppers.data(), m, iter_limit, eps, x,
+                            lam);
   });
 }
 
@@ -146,40 +143,37 @@ void bind_qp(nb::module_& m) {
         "inequality"_a, "lows"_a, "uppers"_a, "guess"_a, "exact"_a, "active_tol"_a, "tol"_a,
         "max_steps"_a,
         "qp.exact.exact_step: the QP's answer on the active set guess names, (ok, x, z).");
-  m.def("qp_violation", &qp_violation, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a,
-        "z"_a, "equalities"_a, "qp.kernel_answer.violation: the largest miss of z.");
-  m.def("qp_read_out", &qp_read_out, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a,
-        "z"_a, "multipliers"_a, "scale"_a, "wrench"_a, "keep"_a, "active_tol"_a,
-        "accuracy"_a, "out"_a.noconvert(), "active"_a.noconvert(),
+  m.def("qp_violation", &qp_violation, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a, "z"_a,
+        "equalities"_a, "qp.kernel_answer.violation: the largest miss of z.");
+  m.def("qp_read_out", &qp_read_out, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a, "z"_a,
+        "multipliers"_a, "scale"_a, "wrench"_a, "keep"_a, "active_tol"_a, "accuracy"_a,
+        "out"_a.noconvert(), "active"_a.noconvert(),
         "qp.kernel_answer.read_out: (count of active rows, (residual, scale, rounding)).");
 
   nb::class_<QP>(m, "QP", "What a QP declaration fixes (CompiledQPMatrices).")
-      .def(nb::init<const I1&, const I1&, const I2&, const F2&, const F2&, const F3&,
-                    const F1&, const F2&, const I1&, const F1&, const F2&, const I1&,
-                    const F1&>(),
+      .def(nb::init<const I1&, const I1&, const I2&, const F2&, const F2&, const F3&, const F1&,
+                    const F2&, const I1&, const F1&, const F2&, const I1&, const F1&>(),
            "axis_rows"_a, "frame_rows"_a, "chain_ints"_a, "chain_signs"_a, "springs"_a,
            "const_rows"_a, "const_rhs"_a, "normals_world"_a, "frame_normals"_a, "settings"_a,
            "soles"_a, "limited_v"_a, "limits"_a)
-      .def("reduced", &QP::reduced, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a,
-           "kept"_a, "buffer"_a.noconvert(), "layout"_a,
+      .def("reduced", &QP::reduced, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a, "kept"_a,
+           "buffer"_a.noconvert(), "layout"_a,
            "qp.kernels.reduced_qp into buffer: (status, worst ratio, scale).")
       .def("again", &QP::again, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a, "kept"_a,
            "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
-           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(),
-           "active"_a.noconvert(),
+           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(), "active"_a.noconvert(),
            "qp.kernel_answer.again: (count, (residual, scale, rounding)), count -1: not "
            "certified.")
       .def("again_tick", &QP::again_tick, "tree"_a, "q"_a, "wrench"_a, "kept"_a,
            "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
-           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(),
-           "active"_a.noconvert(),
+           "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(), "active"_a.noconvert(),
            "again() from q alone: the tree's forward kinematics in the same call.");
-  m.def("daqp_least_norm", &daqp_least_norm, "equality"_a, "equality_rhs"_a,
-        "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a,
+  m.def("daqp_least_norm", &daqp_least_norm, "equality"_a, "equality_rhs"_a, "inequality"_a,
+        "lows"_a, "uppers"_a, "iter_limit"_a,
         "The QP's first stage on DAQP (vendored, MIT) from cold, min |x|^2 on the rows: "
         "(exitflag, x, inequality multipliers, iterations).");
-  m.def("daqp_closest", &daqp_closest, "equality"_a, "equality_rhs"_a, "design"_a,
-        "weights"_a, "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a, "eps"_a,
+  m.def("daqp_closest", &daqp_closest, "equality"_a, "equality_rhs"_a, "design"_a, "weights"_a,
+        "inequality"_a, "lows"_a, "uppers"_a, "iter_limit"_a, "eps"_a,
         "The QP's closest-wrench stages on DAQP from cold, min |x|^2 / 2 + the weighted miss "
         "/ (2 eps): (exitflag, x, inequality multipliers, iterations).");
 }

@@ -17,15 +17,16 @@ namespace va::py {
 
 // The views of a workspace's buffer after checking its layout (qp.compiled.Workspace): the ten
 // arrays back to back from 0, then free, rows_eq, m_in and design.
-inline va::QPViews checked_views(const MF1& buffer, const I1& layout, std::int64_t pn, std::int64_t nv) {
+inline va::QPViews checked_views(const MF1& buffer, const I1& layout, std::int64_t pn,
+                                 std::int64_t nv) {
   require(len(layout) == va::QP_LAYOUT, "layout must have 14 entries");
   const std::int64_t* L = layout.data();
   const std::int64_t free = L[10], rows_eq = L[11], m_in = L[12], design = L[13];
   require(pn >= 0 && nv >= 0 && free >= 0 && rows_eq >= 0 && m_in >= 0 && design >= 0 &&
               design <= rows_eq,
           "layout: negative sizes, or more design rows than equality rows");
-  const std::int64_t sizes[10] = {pn * free, pn, rows_eq * free, rows_eq, m_in * free,
-                                  m_in,      m_in, nv * free,     nv,      nv};
+  const std::int64_t sizes[10] = {pn * free, pn,   rows_eq * free, rows_eq, m_in * free,
+                                  m_in,      m_in, nv * free,      nv,      nv};
   std::int64_t at = 0;
   for (int k = 0; k < 10; ++k) {
     require(L[k] == at, "layout: offsets do not match the sizes");
@@ -65,12 +66,18 @@ class QP {
      const F2& springs, const F3& const_rows, const F1& const_rhs, const F2& normals_world,
      const I1& frame_normals, const F1& settings, const F2& soles, const I1& limited_v,
      const F1& limits)
-      : axis_rows_(copy<std::int64_t>(axis_rows)), frame_rows_(copy<std::int64_t>(frame_rows)),
-        chain_ints_(copy<std::int64_t>(chain_ints)), chain_signs_(copy<double>(chain_signs)),
-        springs_(copy<double>(springs)), const_rows_(copy<double>(const_rows)),
-        const_rhs_(copy<double>(const_rhs)), normals_world_(copy<double>(normals_world)),
-        frame_normals_(copy<std::int64_t>(frame_normals)), settings_(copy<double>(settings)),
-        soles_(copy<double>(soles)), limited_v_(copy<std::int64_t>(limited_v)),
+      : axis_rows_(copy<std::int64_t>(axis_rows)),
+        frame_rows_(copy<std::int64_t>(frame_rows)),
+        chain_ints_(copy<std::int64_t>(chain_ints)),
+        chain_signs_(copy<double>(chain_signs)),
+        springs_(copy<double>(springs)),
+        const_rows_(copy<double>(const_rows)),
+        const_rhs_(copy<double>(const_rhs)),
+        normals_world_(copy<double>(normals_world)),
+        frame_normals_(copy<std::int64_t>(frame_normals)),
+        settings_(copy<double>(settings)),
+        soles_(copy<double>(soles)),
+        limited_v_(copy<std::int64_t>(limited_v)),
         limits_(copy<double>(limits)) {
     va::QPTables& T = t_;
     T.n = len(axis_rows);
@@ -90,8 +97,7 @@ class QP {
             "chain_ints must be (p, 3 + K + C + 3), chain_signs (p, K)");
     require(springs.shape(1) == 5, "springs must be (nv, 5)");
     require(static_cast<std::int64_t>(const_rows.shape(1)) == T.p &&
-                static_cast<std::int64_t>(const_rows.shape(2)) == T.n &&
-                length(const_rhs) == T.s,
+                static_cast<std::int64_t>(const_rows.shape(2)) == T.n && length(const_rhs) == T.s,
             "const_rows must be (s, p, n), const_rhs (s,)");
     require(static_cast<std::int64_t>(normals_world.shape(0)) == T.p &&
                 normals_world.shape(1) == 3 && len(frame_normals) == T.p,
@@ -106,8 +112,7 @@ class QP {
     for (std::int64_t i = 0; i < T.p; ++i) {
       const std::int64_t* row = chain_ints_.data() + i * width;
       const std::int64_t k_i = row[0], c_i = row[1], nb = row[2];
-      require(k_i >= 0 && k_i <= T.K && c_i >= 0 && c_i <= T.C && c_i <= k_i && nb >= 0 &&
-                  nb <= 3,
+      require(k_i >= 0 && k_i <= T.K && c_i >= 0 && c_i <= T.C && c_i <= k_i && nb >= 0 && nb <= 3,
               "chain_ints: chain header");
       for (std::int64_t j = 0; j < k_i; ++j)
         require(row[va::QP_HEADER + j] >= 0 && row[va::QP_HEADER + j] < T.nv,
@@ -116,8 +121,7 @@ class QP {
         require(row[va::QP_HEADER + T.K + j] >= 0 && row[va::QP_HEADER + T.K + j] < k_i,
                 "chain_ints: constrained joints");
       for (std::int64_t j = 0; j < nb; ++j)
-        require(row[va::QP_HEADER + T.K + T.C + j] >= 0 &&
-                    row[va::QP_HEADER + T.K + T.C + j] < 3,
+        require(row[va::QP_HEADER + T.K + T.C + j] >= 0 && row[va::QP_HEADER + T.K + T.C + j] < 3,
                 "chain_ints: ball axes");
       free_ += k_i - c_i;
     }
@@ -152,9 +156,8 @@ class QP {
     va::Reduced r;
     {
       nb::gil_scoped_release release;
-      r = va::reduced_qp(jacobian_world.data(), frames.data(), q.data(), wrench.data(),
-                         kept.data(), len(kept), t_, buffer.data(), length(buffer),
-                         layout.data());
+      r = va::reduced_qp(jacobian_world.data(), frames.data(), q.data(), wrench.data(), kept.data(),
+                         len(kept), t_, buffer.data(), length(buffer), layout.data());
     }
     return nb::make_tuple(r.status, r.worst, r.scale);
   }
@@ -163,9 +166,9 @@ class QP {
   // by the new multipliers when certified), the read-out: (count, (residual, scale, rounding)),
   // count -1 when not certified.
   nb::tuple again(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,
-                  const I1& kept, MF1 buffer, const I1& layout, const B1& keep,
-                  const F1& weights, MF1 guess, double active_tol, double exact_tol,
-                  double accuracy, MF1 out, MI1 active) const {
+                  const I1& kept, MF1 buffer, const I1& layout, const B1& keep, const F1& weights,
+                  MF1 guess, double active_tol, double exact_tol, double accuracy, MF1 out,
+                  MI1 active) const {
     check_snapshot(jacobian_world, frames);
     const va::QPViews V = check(q, wrench, kept, buffer, layout);
     return again_on(
@@ -173,14 +176,14 @@ class QP {
           jac = jacobian_world.data();
           fr = frames.data();
         },
-        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol,
-        accuracy, out, active);
+        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol, accuracy,
+        out, active);
   }
 
   // again() from q alone: the tree's kinematics first, in the same call (no snapshot).
-  nb::tuple again_tick(const Tree& tree, const F1& q, const F1& wrench, const I1& kept,
-                       MF1 buffer, const I1& layout, const B1& keep, const F1& weights,
-                       MF1 guess, double active_tol, double exact_tol, double accuracy, MF1 out,
+  nb::tuple again_tick(const Tree& tree, const F1& q, const F1& wrench, const I1& kept, MF1 buffer,
+                       const I1& layout, const B1& keep, const F1& weights, MF1 guess,
+                       double active_tol, double exact_tol, double accuracy, MF1 out,
                        MI1 active) const {
     const va::Tree& t = *tree.tree();
     require(t.tables().nv == t_.nv, "the tree's nv differs from the QP's");
@@ -195,8 +198,8 @@ class QP {
           jac = kinematics.data() + t.jacobian_offset();
           fr = kinematics.data() + t.frames_offset();
         },
-        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol,
-        accuracy, out, active);
+        V, q, wrench, kept, buffer, layout, keep, weights, guess, active_tol, exact_tol, accuracy,
+        out, active);
   }
 
   // again() on raw pointers, unchecked (a C++ caller that checked the workspace once with
@@ -206,12 +209,11 @@ class QP {
                          const double* wrench, const std::int64_t* kept, std::int64_t nkept,
                          const va::QPViews& V, double* buffer, std::int64_t buffer_size,
                          const std::int64_t* layout, const std::int64_t* keep,
-                         const double* weights, double* guess, double active_tol,
-                         double exact_tol, double accuracy, double* out,
-                         std::int64_t* active, std::vector<double>& z,
+                         const double* weights, double* guess, double active_tol, double exact_tol,
+                         double accuracy, double* out, std::int64_t* active, std::vector<double>& z,
                          std::vector<double>& multipliers, va::Distributed& d) const {
-    const va::Reduced r = va::reduced_qp(jacobian_world, frames, q, wrench, kept, nkept, t_,
-                                         buffer, buffer_size, layout);
+    const va::Reduced r = va::reduced_qp(jacobian_world, frames, q, wrench, kept, nkept, t_, buffer,
+                                         buffer_size, layout);
     if (r.status != 0) return -1;
     z.assign(static_cast<std::size_t>(V.free), 0.0);
     multipliers.assign(static_cast<std::size_t>(V.m_in), 0.0);
@@ -255,9 +257,9 @@ class QP {
       const double* jacobian_world = nullptr;
       const double* frames = nullptr;
       kinematics(jacobian_world, frames);
-      const va::Reduced r = va::reduced_qp(jacobian_world, frames, q.data(), wrench.data(),
-                                           kept.data(), len(kept), t_, buffer.data(),
-                                           length(buffer), layout.data());
+      const va::Reduced r =
+          va::reduced_qp(jacobian_world, frames, q.data(), wrench.data(), kept.data(), len(kept),
+                         t_, buffer.data(), length(buffer), layout.data());
       if (r.status == 0) {
         std::vector<double>& z = scratch.z;
         std::vector<double>& multipliers = scratch.multipliers;
@@ -269,8 +271,8 @@ class QP {
         if (certified) {
           std::copy(multipliers.begin(), multipliers.end(), guess.data());
           count = va::read_out(V, pn, nv, z.data(), V.free, multipliers.data(), V.m_in, r.scale,
-                               wrench.data(), n, keep_i.data(), active_tol, accuracy,
-                               out.data(), active.data(), d);
+                               wrench.data(), n, keep_i.data(), active_tol, accuracy, out.data(),
+                               active.data(), d);
         }
       }
     }
@@ -279,9 +281,9 @@ class QP {
   }
 
   void check_snapshot(const F2& jacobian_world, const F2& frames) const {
-    require(jacobian_world.shape(0) == 6 &&
-                static_cast<std::int64_t>(jacobian_world.shape(1)) == t_.nv,
-            "jacobian_world must be (6, nv)");
+    require(
+        jacobian_world.shape(0) == 6 && static_cast<std::int64_t>(jacobian_world.shape(1)) == t_.nv,
+        "jacobian_world must be (6, nv)");
     require(frames.shape(1) == 12 && static_cast<std::int64_t>(frames.shape(0)) > max_frame_,
             "frames must be (nf, 12) with every row the QP reads");
   }

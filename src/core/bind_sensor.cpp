@@ -9,8 +9,8 @@ namespace va::py {
 namespace {
 
 // sensor_kernels.relative_sensor: one buffer, jacobian (n, nv), position (n), velocity (n).
-Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v,
-                      const I1& axis_rows, const I1& rows, const I1& columns, const F1& signs) {
+Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v, const I1& axis_rows,
+                      const I1& rows, const I1& columns, const F1& signs) {
   require(jacobian_world.shape(0) == 6, "jacobian_world must be (6, nv)");
   const auto nv = static_cast<std::int64_t>(jacobian_world.shape(1));
   const std::int64_t n = len(axis_rows), nc = len(columns);
@@ -39,8 +39,8 @@ Owned relative_sensor(const F2& jacobian_world, const F2& frames, const F1& v,
 }  // namespace
 
 void bind_sensor(nb::module_& m) {
-  m.def("relative_sensor", &relative_sensor, "jacobian_world"_a, "frames"_a, "v"_a,
-        "axis_rows"_a, "rows"_a, "columns"_a, "signs"_a,
+  m.def("relative_sensor", &relative_sensor, "jacobian_world"_a, "frames"_a, "v"_a, "axis_rows"_a,
+        "rows"_a, "columns"_a, "signs"_a,
         "kinematics.sensor_kernels.relative_sensor: jacobian, position, velocity in one buffer.");
 }
 

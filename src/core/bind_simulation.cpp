@@ -20,8 +20,8 @@ std::int64_t simulation_efforts_to_ctrl(const F1& tau, const I1& direct, const I
     require(unactuated.data()[k] >= 0 && unactuated.data()[k] < nv,
             "unactuated index out of range");
   nb::gil_scoped_release release;
-  return va::efforts_to_ctrl(tau.data(), nv, direct.data(), nu, unactuated.data(), count,
-                             tolerance, ctrl.data());
+  return va::efforts_to_ctrl(tau.data(), nv, direct.data(), nu, unactuated.data(), count, tolerance,
+                             ctrl.data());
 }
 
 }  // namespace

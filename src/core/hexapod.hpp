@@ -21,13 +21,12 @@ inline double strides(double x, double y, double length, double width) {
 // gaits.hexapod.kernel.tripod_setpoints: frames (nf, 12), frame_rows (7), rows (6), nominal
 // (6, 3), motion (10), shape (11); swing (3, 9) and state (5) updated.
 inline void tripod_setpoints(const double* frames, const std::int64_t* frame_rows,
-                             const std::int64_t* rows, const double* nominal,
-                             const double* motion, const double* shape, double* swing,
-                             double* state) {
+                             const std::int64_t* rows, const double* nominal, const double* motion,
+                             const double* shape, double* swing, double* state) {
   constexpr double gravity = 9.81;  // gaits.hexapod.body.GRAVITY
-  const double height = motion[0], fx = motion[1], fy = motion[2], cx = motion[3],
-               cy = motion[4], ax = motion[5], ay = motion[6], yaw_rate = motion[7],
-               elapsed = motion[8], dt = motion[9];
+  const double height = motion[0], fx = motion[1], fy = motion[2], cx = motion[3], cy = motion[4],
+               ax = motion[5], ay = motion[6], yaw_rate = motion[7], elapsed = motion[8],
+               dt = motion[9];
   const double velocity_filter = shape[0], foot_radius = shape[1], nominal_height = shape[2];
   const double length = shape[3], width = shape[4], max_stance = shape[5], lift = shape[6],
                peak = shape[7];
@@ -82,8 +81,8 @@ inline void tripod_setpoints(const double* frames, const std::int64_t* frame_row
   double rate = 0.0;
   for (int j = 3; j < 6; ++j) {
     const std::int64_t r = rows[j];
-    const double value = strides(fx - yaw_rate * nominal[3 * r + 1],
-                                 fy + yaw_rate * nominal[3 * r], length, width);
+    const double value =
+        strides(fx - yaw_rate * nominal[3 * r + 1], fy + yaw_rate * nominal[3 * r], length, width);
     if (j == 3 || value > rate) rate = value;
   }
   const double stance = rate * max_stance <= 1.0 ? max_stance : 1.0 / rate;

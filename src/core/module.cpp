@@ -27,8 +27,9 @@ void bind_contacts_view(nb::module_& m);
 void bind_plan(nb::module_& m);  // the compiled machine (bind_plan.cpp)
 
 NB_MODULE(_core, m) {
-  m.doc() = "Compiled kernels of virtual_actuators (C++, built at install); see "
-            "virtual_actuators.native.";
+  m.doc() =
+      "Compiled kernels of virtual_actuators (C++, built at install); see "
+      "virtual_actuators.native.";
   // Trees and distributions live in the robots' caches (module-level registries) until the
   // interpreter's teardown, which may free the module first: not a leak worth a report.
   nb::set_leak_warnings(false);

@@ -16,27 +16,26 @@
 namespace va {
 
 // qp.kernels: columns of the per-chain integer table, entries of the layout.
-constexpr std::int64_t QP_K_COLS = 0, QP_C_CON = 1, QP_NB_BALL = 2, QP_HEADER = 3,
-                       QP_LAYOUT = 14;
+constexpr std::int64_t QP_K_COLS = 0, QP_C_CON = 1, QP_NB_BALL = 2, QP_HEADER = 3, QP_LAYOUT = 14;
 constexpr double QP_INFINITY = 1e20;  // tolerances.INFINITY
 constexpr double RANK_TOL = 1e-7;
 
 // What a declaration fixes (qp.compiled.CompiledQPMatrices), as views of owned arrays.
 struct QPTables {
   std::int64_t n = 0, p = 0, nv = 0, K = 0, C = 0, s = 0, t = 0;
-  const std::int64_t* axis_rows = nullptr;     // (n,)
-  const std::int64_t* frame_rows = nullptr;    // (2 + p,)
-  const std::int64_t* chain_ints = nullptr;    // (p, QP_HEADER + K + C + 3)
-  const double* chain_signs = nullptr;         // (p, K)
-  const double* springs = nullptr;             // (nv, 5)
-  const double* const_rows = nullptr;          // (s, p, n)
-  const double* const_rhs = nullptr;           // (s,)
-  const double* normals_world = nullptr;       // (p, 3)
-  const std::int64_t* frame_normals = nullptr; // (p,)
-  const double* settings = nullptr;            // (4,)
-  const double* soles = nullptr;               // (p, 3)
-  const std::int64_t* limited_v = nullptr;     // (t,)
-  const double* limits = nullptr;              // (t,)
+  const std::int64_t* axis_rows = nullptr;      // (n,)
+  const std::int64_t* frame_rows = nullptr;     // (2 + p,)
+  const std::int64_t* chain_ints = nullptr;     // (p, QP_HEADER + K + C + 3)
+  const double* chain_signs = nullptr;          // (p, K)
+  const double* springs = nullptr;              // (nv, 5)
+  const double* const_rows = nullptr;           // (s, p, n)
+  const double* const_rhs = nullptr;            // (s,)
+  const double* normals_world = nullptr;        // (p, 3)
+  const std::int64_t* frame_normals = nullptr;  // (p,)
+  const double* settings = nullptr;             // (4,)
+  const double* soles = nullptr;                // (p, 3)
+  const std::int64_t* limited_v = nullptr;      // (t,)
+  const double* limits = nullptr;               // (t,)
   std::int64_t width() const { return QP_HEADER + K + C + 3; }
   std::int64_t chain(std::int64_t i, std::int64_t column) const {
     return chain_ints[i * width() + column];
@@ -45,19 +44,25 @@ struct QPTables {
 
 // The arrays of reduced_qp in its buffer (qp.kernels.views).
 struct QPViews {
-  double *basis, *x0, *equality, *equality_rhs, *inequality, *lows, *uppers, *tmap, *tau0,
-      *passive;
+  double *basis, *x0, *equality, *equality_rhs, *inequality, *lows, *uppers, *tmap, *tau0, *passive;
   std::int64_t free, rows_eq, m_in, design;
   QPViews(double* buffer, const std::int64_t* layout)
-      : basis(buffer + layout[0]), x0(buffer + layout[1]), equality(buffer + layout[2]),
-        equality_rhs(buffer + layout[3]), inequality(buffer + layout[4]),
-        lows(buffer + layout[5]), uppers(buffer + layout[6]), tmap(buffer + layout[7]),
-        tau0(buffer + layout[8]), passive(buffer + layout[9]), free(layout[QP_LAYOUT - 4]),
-        rows_eq(layout[QP_LAYOUT - 3]), m_in(layout[QP_LAYOUT - 2]),
+      : basis(buffer + layout[0]),
+        x0(buffer + layout[1]),
+        equality(buffer + layout[2]),
+        equality_rhs(buffer + layout[3]),
+        inequality(buffer + layout[4]),
+        lows(buffer + layout[5]),
+        uppers(buffer + layout[6]),
+        tmap(buffer + layout[7]),
+        tau0(buffer + layout[8]),
+        passive(buffer + layout[9]),
+        free(layout[QP_LAYOUT - 4]),
+        rows_eq(layout[QP_LAYOUT - 3]),
+        m_in(layout[QP_LAYOUT - 2]),
         design(layout[QP_LAYOUT - 1]) {}
   ExactRows rows(const double* weights) const {
-    return {equality, equality_rhs, rows_eq, free, design, weights,
-            inequality, lows, uppers, m_in};
+    return {equality, equality_rhs, rows_eq, free, design, weights, inequality, lows, uppers, m_in};
   }
 };
 
@@ -242,8 +247,8 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
       V.equality_rhs[t] -= acc;
     }
     for (int c = 0; c < 3; ++c)
-      normal_w[c] = T.frame_normals[i] ? frames[12 * a_row + 3 * c + 2]
-                                       : T.normals_world[3 * i + c];
+      normal_w[c] =
+          T.frame_normals[i] ? frames[12 * a_row + 3 * c + 2] : T.normals_world[3 * i + c];
     if (faces) {
       to_o(rot_o, face_o, face_rows(normal_w, friction, with_normal, face_o));
       for (std::int64_t f = 0; f < faces; ++f) {
@@ -280,7 +285,8 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
   for (std::int64_t r = 0; r < V.rows_eq; ++r) V.equality_rhs[r] /= scale;
   for (std::int64_t r = 0; r < m_in; ++r) {
     V.lows[r] = py_max(V.lows[r] / scale, -QP_INFINITY);
-    V.uppers[r] = V.uppers[r] < QP_INFINITY ? py_min(V.uppers[r] / scale, QP_INFINITY) : QP_INFINITY;
+    V.uppers[r] =
+        V.uppers[r] < QP_INFINITY ? py_min(V.uppers[r] / scale, QP_INFINITY) : QP_INFINITY;
   }
   result.status = 0;
   result.worst = worst;

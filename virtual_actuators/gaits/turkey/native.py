@@ -4,8 +4,8 @@
 state machine (Table 1's events and the gait's callbacks), the components' resets, every active
 attachment (its spring-dampers and distribution), the sums, the limp joints and the clipping,
 about 150 Python calls per tick. `NativeTick` runs the same arithmetic in one call of the core
-(``src/core/turkey.hpp`` and ``NativeTurkey`` in ``src/core/module.cpp``), bit for bit
-(``tests/test_native_turkey.py``): a walk's log is the same whichever runs.
+(``src/core/turkey.hpp`` and ``NativeTurkey`` in ``src/core/bind_native_turkey.hpp``), bit for
+bit (``tests/test_native_turkey.py``): a walk's log is the same whichever runs.
 
 The core holds a copy of the gait's memory (its state, the swing's start, the ground, the
 components' set points); the Python objects are brought up to date when the machine changes state

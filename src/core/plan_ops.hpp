@@ -3,13 +3,16 @@
 // A program is a run of ops over one array of registers (the plan's blackboard). Each op reads
 // registers (or, for the reads of the tick's kinematics, immediates: a frame row and a column)
 // and writes one register. The arithmetic is Python's on floats, operation by operation: the
-// C library's functions (those CPython's math calls), Python's min and max (the first operand
-// unless the second is strictly smaller / larger), comparisons giving 1.0 or 0.0. The names are
-// exported to Python (_core.PLAN_OPS), which the lowering reads: the table exists once, here.
+// C library's functions (those CPython's math calls), Python's min and max (scalar.hpp: the
+// first operand unless the second is strictly smaller / larger), comparisons giving 1.0 or 0.0.
+// The names are exported to Python (_core.PLAN_OPS), which the lowering reads: the table exists
+// once, here.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+
+#include "scalar.hpp"
 
 namespace va::plan {
 
@@ -89,8 +92,6 @@ inline bool valid(const Op& o, std::int64_t registers, std::int64_t frames, std:
   }
 }
 
-inline double py_min(double a, double b) { return b < a ? b : a; }
-inline double py_max(double a, double b) { return b > a ? b : a; }
 inline double truth(bool value) { return value ? 1.0 : 0.0; }
 
 // Run ops [start, stop) over registers r; false when a callback failed (the tick stops).

@@ -23,8 +23,8 @@ void bind_simulation(nb::module_& m);
 void bind_native_turkey(nb::module_& m);
 void bind_native_hexapod(nb::module_& m);
 void bind_contacts_view(nb::module_& m);
+void bind_plan(nb::module_& m);
 }  // namespace va::py
-void bind_plan(nb::module_& m);  // the compiled machine (bind_plan.cpp)
 
 NB_MODULE(_core, m) {
   m.doc() =
@@ -44,5 +44,5 @@ NB_MODULE(_core, m) {
   va::py::bind_native_turkey(m);
   va::py::bind_native_hexapod(m);
   va::py::bind_contacts_view(m);
-  bind_plan(m);
+  va::py::bind_plan(m);
 }

@@ -250,9 +250,7 @@ class NativeTurkey {
       double* setpoint = a.table.data() + 2 * e + at;
       double* velocity_setpoint = a.table.data() + 3 * e + at;
       switch (slot.role) {
-        case GRANNY:
-          setpoint[0] = m.granny_height;
-          break;
+        case GRANNY: setpoint[0] = m.granny_height; break;
         case BUNNY:  // DogtrackBunny.position_at(time), its speed the velocity set point
           bunny_setpoint_next_ = bunny_position + velocity_setpoint[0] * (time - bunny_time);
           setpoint[0] = bunny_setpoint_next_;
@@ -266,8 +264,7 @@ class NativeTurkey {
           }
           break;
         }
-        default:
-          break;
+        default: break;
       }
       at += slot.size;
     }

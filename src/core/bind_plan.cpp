@@ -46,9 +46,9 @@ class PlanMachine {
                   spans[p + 1] <= static_cast<std::int64_t>(table.size()),
               "program bounds out of range");
     ops_ = table;
-    machine_ = std::make_unique<va::plan::Machine>(
-        tree, nq, copy<double>(registers), std::move(table), spans, copy<double>(lower),
-        copy<double>(upper));
+    machine_ =
+        std::make_unique<va::plan::Machine>(tree, nq, copy<double>(registers), std::move(table),
+                                            spans, copy<double>(lower), copy<double>(upper));
     machine_->set_callback(&PlanMachine::trampoline, this);
   }
 
@@ -92,11 +92,11 @@ class PlanMachine {
 
   // A sensor of the frame table (joints false: SpringTick's tables) or of joints (q rows and
   // v columns), its registers, its components' programs and how its wrench becomes efforts.
-  std::int64_t add_attachment(bool joints, const I1& axis_rows, const I1& rows,
-                              const I1& columns, const F1& signs, const I1& q_rows,
-                              std::int64_t position, std::int64_t velocity, std::int64_t wrench,
-                              std::int64_t produced, const I1& programs, const I1& resets,
-                              std::int64_t mapping, std::int64_t efforts_program) {
+  std::int64_t add_attachment(bool joints, const I1& axis_rows, const I1& rows, const I1& columns,
+                              const F1& signs, const I1& q_rows, std::int64_t position,
+                              std::int64_t velocity, std::int64_t wrench, std::int64_t produced,
+                              const I1& programs, const I1& resets, std::int64_t mapping,
+                              std::int64_t efforts_program) {
     va::plan::Attachment a;
     a.joints = joints;
     a.axis_rows = copy<std::int64_t>(axis_rows);
@@ -115,9 +115,10 @@ class PlanMachine {
       require(a.rows.size() == 3 && a.signs.size() == a.columns.size(), "bad sensor tables");
       for (const std::int64_t row : a.rows)
         require(row >= 0 && row < machine_->frames(), "sensor rows outside the frame table");
-      a.sensor = va::serial::SensorTables{a.axis_rows.data(), a.n, a.rows.data(),
-                                          a.columns.data(), a.signs.data(),
-                                          static_cast<std::int64_t>(a.columns.size())};
+      a.sensor =
+          va::serial::SensorTables{a.axis_rows.data(), a.n,
+                                   a.rows.data(),      a.columns.data(),
+                                   a.signs.data(),     static_cast<std::int64_t>(a.columns.size())};
     }
     const auto registers = static_cast<std::int64_t>(machine_->registers().size());
     for (const std::int64_t base : {position, velocity, wrench, produced})
@@ -161,9 +162,12 @@ class PlanMachine {
     require(!a.out.empty(), "set the distribution first");
     require(len(mask) == a.n && points.shape(1) == 7, "bad yield tables");
     a.yields = true;
-    a.yield = va::plan::Yield{copy<std::int64_t>(mask), copy<std::int64_t>(orientation_rows),
-                              copy<std::int64_t>(axis_rows), copy<std::int64_t>(minima_axes),
-                              copy<double>(points), copy<double>(lows),
+    a.yield = va::plan::Yield{copy<std::int64_t>(mask),
+                              copy<std::int64_t>(orientation_rows),
+                              copy<std::int64_t>(axis_rows),
+                              copy<std::int64_t>(minima_axes),
+                              copy<double>(points),
+                              copy<double>(lows),
                               static_cast<std::int64_t>(points.shape(0))};
     for (const std::int64_t row : a.yield.orientation_rows)
       require(row >= 0 && row < machine_->frames(), "orientation rows outside the table");
@@ -178,8 +182,9 @@ class PlanMachine {
     return machine_->tick(q.data(), v.data(), time, tau.data());
   }
 
-  View registers(nb::handle self) { return view(machine_->registers().data(),
-                                                machine_->registers().size(), self); }
+  View registers(nb::handle self) {
+    return view(machine_->registers().data(), machine_->registers().size(), self);
+  }
   View efforts(nb::handle self, std::int64_t index) {
     auto& a = attachment(index);
     return view(a.efforts.data(), a.efforts.size(), self);
@@ -250,30 +255,41 @@ void bind_plan(nb::module_& m) {
   nb::class_<PlanMachine>(m, "PlanMachine",
                           "A lowered StateMachine and Controller (control.plan): one tick per "
                           "call; registers and buffers are views of its memory.")
-      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&,
-                    std::int64_t, const F1&, const I2&, const I2&, const F1&, const F1&>(),
+      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&, std::int64_t,
+                    const F1&, const I2&, const I2&, const F1&, const F1&>(),
            "joint_ints"_a, "joint_floats"_a, "velocity_joint"_a, "velocity_subspace"_a,
            "frame_parents"_a, "frame_floats"_a, "nq"_a, "registers"_a, "ops"_a, "bounds"_a,
            "lower"_a, "upper"_a)
       .def("set_callbacks", &PlanMachine::set_callbacks, "callbacks"_a)
-      .def("add_state", &PlanMachine::add_state, "attachments"_a, "limp"_a, "enter"_a,
-           "update"_a)
+      .def("add_state", &PlanMachine::add_state, "attachments"_a, "limp"_a, "enter"_a, "update"_a)
       .def("add_exit", &PlanMachine::add_exit, "state"_a, "program"_a, "result"_a, "target"_a)
       .def("add_attachment", &PlanMachine::add_attachment, "joints"_a, "axis_rows"_a, "rows"_a,
-           "columns"_a, "signs"_a, "q_rows"_a, "position"_a, "velocity"_a, "wrench"_a,
-           "produced"_a, "programs"_a, "resets"_a, "mapping"_a, "efforts_program"_a)
+           "columns"_a, "signs"_a, "q_rows"_a, "position"_a, "velocity"_a, "wrench"_a, "produced"_a,
+           "programs"_a, "resets"_a, "mapping"_a, "efforts_program"_a)
       .def("set_distribution", &PlanMachine::set_distribution, "index"_a, "ints"_a, "floats"_a)
       .def("set_yield", &PlanMachine::set_yield, "index"_a, "mask"_a, "orientation_rows"_a,
            "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a)
       .def("tick", &PlanMachine::tick, "q"_a, "v"_a, "time"_a, "tau"_a.noconvert())
-      .def("registers", [](nb::handle self) { return nb::cast<PlanMachine&>(self).registers(self); })
-      .def("efforts", [](nb::handle self, std::int64_t i) {
-             return nb::cast<PlanMachine&>(self).efforts(self, i); }, "index"_a)
-      .def("out", [](nb::handle self, std::int64_t i) {
-             return nb::cast<PlanMachine&>(self).out(self, i); }, "index"_a)
-      .def("jacobian", [](nb::handle self, std::int64_t i) {
-             return nb::cast<PlanMachine&>(self).jacobian(self, i); }, "index"_a)
-      .def("requested", [](nb::handle self) { return nb::cast<PlanMachine&>(self).requested(self); })
+      .def("registers",
+           [](nb::handle self) { return nb::cast<PlanMachine&>(self).registers(self); })
+      .def(
+          "efforts",
+          [](nb::handle self, std::int64_t i) {
+            return nb::cast<PlanMachine&>(self).efforts(self, i);
+          },
+          "index"_a)
+      .def(
+          "out",
+          [](nb::handle self, std::int64_t i) { return nb::cast<PlanMachine&>(self).out(self, i); },
+          "index"_a)
+      .def(
+          "jacobian",
+          [](nb::handle self, std::int64_t i) {
+            return nb::cast<PlanMachine&>(self).jacobian(self, i);
+          },
+          "index"_a)
+      .def("requested",
+           [](nb::handle self) { return nb::cast<PlanMachine&>(self).requested(self); })
       .def("pass_buffer", [](nb::handle self) { return nb::cast<PlanMachine&>(self).pass(self); })
       .def("solved", &PlanMachine::solved, "index"_a)
       .def("set_initial", &PlanMachine::set_initial, "state"_a)

@@ -16,39 +16,39 @@
 
 namespace va::plan {
 
-#define VA_PLAN_OPS(X)                                                                       \
-  X(COPY, "copy")                                                                            \
-  X(STORE, "store")                                                                          \
-  X(ADD, "add")                                                                              \
-  X(SUB, "sub")                                                                              \
-  X(MUL, "mul")                                                                              \
-  X(DIV, "div")                                                                              \
-  X(NEG, "neg")                                                                              \
-  X(ABS, "abs")                                                                              \
-  X(SQRT, "sqrt")                                                                            \
-  X(SIN, "sin")                                                                              \
-  X(COS, "cos")                                                                              \
-  X(TAN, "tan")                                                                              \
-  X(ASIN, "asin")                                                                            \
-  X(ACOS, "acos")                                                                            \
-  X(EXP, "exp")                                                                              \
-  X(ATAN2, "atan2")                                                                          \
-  X(HYPOT, "hypot")                                                                          \
-  X(REMAINDER, "remainder")                                                                  \
-  X(MIN, "min")                                                                              \
-  X(MAX, "max")                                                                              \
-  X(LT, "lt")                                                                                \
-  X(LE, "le")                                                                                \
-  X(EQ, "eq")                                                                                \
-  X(NE, "ne")                                                                                \
-  X(NOT, "not")                                                                              \
-  X(AND, "and")                                                                              \
-  X(OR, "or")                                                                                \
-  X(SELECT, "select")                                                                        \
-  X(FRAME, "frame")                                                                          \
-  X(FRAME_VELOCITY, "frame_velocity")                                                        \
-  X(Q, "q")                                                                                  \
-  X(V, "v")                                                                                  \
+#define VA_PLAN_OPS(X)                                                                             \
+  X(COPY, "copy")                                                                                  \
+  X(STORE, "store")                                                                                \
+  X(ADD, "add")                                                                                    \
+  X(SUB, "sub")                                                                                    \
+  X(MUL, "mul")                                                                                    \
+  X(DIV, "div")                                                                                    \
+  X(NEG, "neg")                                                                                    \
+  X(ABS, "abs")                                                                                    \
+  X(SQRT, "sqrt")                                                                                  \
+  X(SIN, "sin")                                                                                    \
+  X(COS, "cos")                                                                                    \
+  X(TAN, "tan")                                                                                    \
+  X(ASIN, "asin")                                                                                  \
+  X(ACOS, "acos")                                                                                  \
+  X(EXP, "exp")                                                                                    \
+  X(ATAN2, "atan2")                                                                                \
+  X(HYPOT, "hypot")                                                                                \
+  X(REMAINDER, "remainder")                                                                        \
+  X(MIN, "min")                                                                                    \
+  X(MAX, "max")                                                                                    \
+  X(LT, "lt")                                                                                      \
+  X(LE, "le")                                                                                      \
+  X(EQ, "eq")                                                                                      \
+  X(NE, "ne")                                                                                      \
+  X(NOT, "not")                                                                                    \
+  X(AND, "and")                                                                                    \
+  X(OR, "or")                                                                                      \
+  X(SELECT, "select")                                                                              \
+  X(FRAME, "frame")                                                                                \
+  X(FRAME_VELOCITY, "frame_velocity")                                                              \
+  X(Q, "q")                                                                                        \
+  X(V, "v")                                                                                        \
   X(CALL, "call")
 
 enum Code : std::int64_t {
@@ -95,8 +95,8 @@ inline bool valid(const Op& o, std::int64_t registers, std::int64_t frames, std:
 inline double truth(bool value) { return value ? 1.0 : 0.0; }
 
 // Run ops [start, stop) over registers r; false when a callback failed (the tick stops).
-inline bool run(const Op* ops, std::int64_t start, std::int64_t stop, double* r,
-                const Inputs& in, Callback callback, void* owner) {
+inline bool run(const Op* ops, std::int64_t start, std::int64_t stop, double* r, const Inputs& in,
+                Callback callback, void* owner) {
   for (std::int64_t k = start; k < stop; ++k) {
     const Op& o = ops[k];
     double& out = r[o.out];

@@ -19,9 +19,9 @@ namespace va::serial {
 struct SensorTables {
   const std::int64_t* axis_rows;  // (n,) rows of the axes among x y z rx ry rz, increasing
   std::int64_t n;
-  const std::int64_t* rows;  // (3,) rows of {B}, {O}, {A} in the frame table
+  const std::int64_t* rows;     // (3,) rows of {B}, {O}, {A} in the frame table
   const std::int64_t* columns;  // (m,) the chain's velocity indices
-  const double* signs;  // (m,) their +1 / -1
+  const double* signs;          // (m,) their +1 / -1
   std::int64_t m;
 };
 
@@ -54,12 +54,13 @@ inline void relative_sensor(const double* jacobian_world, std::int64_t nv, const
 // The spring-dampers' entries: each component's axes, component after component
 // (attachment_kernel.spring_tick's targets, rotations, summed and parameters).
 struct SpringEntries {
-  const std::int64_t* targets;  // (e,) the axis of each entry
+  const std::int64_t* targets;    // (e,) the axis of each entry
   const std::int64_t* rotations;  // (e,) 1: its component's one rotational axis
   std::int64_t e;
-  bool summed;  // each axis sums its entries from 0.0 (several components)
+  bool summed;   // each axis sums its entries from 0.0 (several components)
   bool efforts;  // compute J^T w (a serial actuator that is its own sensor)
-  const double* parameters;  // (6, e): stiffness, damping, setpoint, velocity setpoint, force, limit
+  // (6, e): stiffness, damping, setpoint, velocity setpoint, force, limit
+  const double* parameters;
 };
 
 // attachment_kernel.spring_tick: out (nv + 3n + 1) = effort (nv, J^T w on the chain's columns
@@ -87,7 +88,7 @@ inline bool spring_tick(const double* jacobian_world, std::int64_t nv, const dou
     if (p.rotations[e] == 1 && !(-M_PI <= bent && bent <= M_PI)) ok = false;
     double w = stiffness[e] * bent + damping[e] * (velocity_setpoint[e] - velocity[i]);
     const double low = -limit[e];
-    w = low > w ? low : w;  // max(w, -limit): w unless -limit > w
+    w = low > w ? low : w;            // max(w, -limit): w unless -limit > w
     w = limit[e] < w ? limit[e] : w;  // min(w, limit): w unless limit < w
     w = w + force[e];
     if (p.summed)

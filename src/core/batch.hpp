@@ -37,7 +37,7 @@ inline void full_rank_batch(double* q, std::int64_t n, std::int64_t count, std::
     for (std::int64_t r = 0; r < n; ++r)
       for (std::int64_t i = 0; i < count; ++i) acc[i] += Q(j, r, i) * Q(j, r, i);
     for (std::int64_t i = 0; i < count; ++i) {
-      first2[i] = pmax(first2[i], acc[i]);
+      first2[i] = py_max(first2[i], acc[i]);
       if (j < m_c) c_fro[i] += acc[i];
     }
   }
@@ -88,8 +88,8 @@ inline void full_rank_batch(double* q, std::int64_t n, std::int64_t count, std::
     if (l_rows > 0) {
       double big = c_fro[i], small = inv_c[i];
       if (n > c) {
-        big = pmax(big, 1.0);
-        small = pmax(small, 1.0);
+        big = py_max(big, 1.0);
+        small = py_max(small, 1.0);
       }
       estimate = static_cast<double>(l_rows) * big * small;
       if (!(estimate < INF)) estimate = INF;

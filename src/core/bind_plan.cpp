@@ -2,40 +2,23 @@
 // StateMachine and a Controller into a Machine, whose tick() runs them; the registers, the
 // attachments' efforts and the distribution buffers are numpy views of the Machine's memory
 // (one owner: the core).
-#include <nanobind/nanobind.h>
-#include <nanobind/ndarray.h>
 #include <nanobind/stl/vector.h>
 
 #include <cstdint>
 #include <memory>
-#include <stdexcept>
 #include <vector>
 
+#include "bind_common.hpp"
 #include "plan_machine.hpp"
 
-namespace nb = nanobind;
-using namespace nb::literals;
-
+namespace va::py {
 namespace {
 
-using F1 = nb::ndarray<const double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using I1 = nb::ndarray<const std::int64_t, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using I2 = nb::ndarray<const std::int64_t, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using F2 = nb::ndarray<const double, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using MF1 = nb::ndarray<double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+// A view of the machine's memory, kept alive by the machine (owner): not a copy.
 using View = nb::ndarray<nb::numpy, double, nb::ndim<1>>;
 
-void require(bool ok, const char* what) {
-  if (!ok) throw std::invalid_argument(what);
-}
-
-template <typename T, typename A>
-std::vector<T> values(const A& a) {
-  return std::vector<T>(a.data(), a.data() + a.size());
-}
-
-std::int64_t length(const F1& a) { return static_cast<std::int64_t>(a.shape(0)); }
-std::int64_t length(const I1& a) { return static_cast<std::int64_t>(a.shape(0)); }
+using va::py::length;  // the F1 overloads, beside this file's I1 one
+std::int64_t length(const I1& a) { return len(a); }
 
 // A Machine and the Python callables its CALL ops run.
 class PlanMachine {
@@ -48,9 +31,9 @@ class PlanMachine {
     require(velocity_subspace.shape(1) == 6 && frame_floats.shape(1) == 12, "bad tables");
     require(ops.shape(1) == 5 && bounds.shape(1) == 2, "ops (k, 5) and bounds (p, 2)");
     auto tree = std::make_shared<const va::Tree>(
-        values<std::int64_t>(joint_ints), values<double>(joint_floats),
-        values<std::int64_t>(velocity_joint), values<double>(velocity_subspace),
-        values<std::int64_t>(frame_parents), values<double>(frame_floats));
+        copy<std::int64_t>(joint_ints), copy<double>(joint_floats),
+        copy<std::int64_t>(velocity_joint), copy<double>(velocity_subspace),
+        copy<std::int64_t>(frame_parents), copy<double>(frame_floats));
     const std::int64_t nv = tree->tables().nv;
     require(length(lower) == nv && length(upper) == nv, "limits must be (nv,)");
     std::vector<va::plan::Op> table(ops.shape(0));
@@ -60,20 +43,20 @@ class PlanMachine {
     }
     const auto registers_count = static_cast<std::int64_t>(registers.shape(0));
     require(registers_count >= 5, "registers must hold the time, the time in state, the state");
-    const std::vector<std::int64_t> spans = values<std::int64_t>(bounds);
+    const std::vector<std::int64_t> spans = copy<std::int64_t>(bounds);
     for (std::size_t p = 0; p < spans.size(); p += 2)
       require(0 <= spans[p] && spans[p] <= spans[p + 1] &&
                   spans[p + 1] <= static_cast<std::int64_t>(table.size()),
               "program bounds out of range");
     require(unit_bounds.shape(1) == 2, "unit_bounds must be (m, 2)");
-    const std::vector<std::int64_t> units = values<std::int64_t>(unit_bounds);
+    const std::vector<std::int64_t> units = copy<std::int64_t>(unit_bounds);
     for (std::size_t s = 0; s < units.size(); s += 2)
       require(0 <= units[s] && units[s] <= units[s + 1] && units[s + 1] <= nq,
               "unit_bounds out of range");
     ops_ = table;
-    machine_ = std::make_unique<va::plan::Machine>(
-        tree, nq, values<double>(registers), std::move(table), spans, values<double>(lower),
-        values<double>(upper), units);
+    machine_ =
+        std::make_unique<va::plan::Machine>(tree, nq, copy<double>(registers), std::move(table),
+                                            spans, copy<double>(lower), copy<double>(upper), units);
     machine_->set_callback(&PlanMachine::trampoline, this);
   }
 
@@ -91,8 +74,8 @@ class PlanMachine {
   std::int64_t add_state(const I1& attachments, const I1& limp, std::int64_t enter,
                          std::int64_t update) {
     va::plan::State s;
-    s.attachments = values<std::int64_t>(attachments);
-    s.limp = values<std::int64_t>(limp);
+    s.attachments = copy<std::int64_t>(attachments);
+    s.limp = copy<std::int64_t>(limp);
     s.enter = enter;
     s.update = update;
     for (const std::int64_t a : s.attachments)
@@ -117,18 +100,18 @@ class PlanMachine {
 
   // A sensor of the frame table (joints false: SpringTick's tables) or of joints (q rows and
   // v columns), its registers, its components' programs and how its wrench becomes efforts.
-  std::int64_t add_attachment(bool joints, const I1& axis_rows, const I1& rows,
-                              const I1& columns, const F1& signs, const I1& q_rows,
-                              std::int64_t position, std::int64_t velocity, std::int64_t wrench,
-                              std::int64_t produced, const I1& programs, const I1& resets,
-                              std::int64_t mapping, std::int64_t efforts_program) {
+  std::int64_t add_attachment(bool joints, const I1& axis_rows, const I1& rows, const I1& columns,
+                              const F1& signs, const I1& q_rows, std::int64_t position,
+                              std::int64_t velocity, std::int64_t wrench, std::int64_t produced,
+                              const I1& programs, const I1& resets, std::int64_t mapping,
+                              std::int64_t efforts_program) {
     va::plan::Attachment a;
     a.joints = joints;
-    a.axis_rows = values<std::int64_t>(axis_rows);
-    a.rows = values<std::int64_t>(rows);
-    a.columns = values<std::int64_t>(columns);
-    a.signs = values<double>(signs);
-    a.q_rows = values<std::int64_t>(q_rows);
+    a.axis_rows = copy<std::int64_t>(axis_rows);
+    a.rows = copy<std::int64_t>(rows);
+    a.columns = copy<std::int64_t>(columns);
+    a.signs = copy<double>(signs);
+    a.q_rows = copy<std::int64_t>(q_rows);
     a.n = joints ? length(columns) : length(axis_rows);
     const std::int64_t nv = machine_->nv();
     require(a.n >= 1 && (joints || a.n <= 6), "an attachment has 1 to 6 axes (a posture any)");
@@ -140,9 +123,10 @@ class PlanMachine {
       require(a.rows.size() == 3 && a.signs.size() == a.columns.size(), "bad sensor tables");
       for (const std::int64_t row : a.rows)
         require(row >= 0 && row < machine_->frames(), "sensor rows outside the frame table");
-      a.sensor = va::serial::SensorTables{a.axis_rows.data(), a.n, a.rows.data(),
-                                          a.columns.data(), a.signs.data(),
-                                          static_cast<std::int64_t>(a.columns.size())};
+      a.sensor =
+          va::serial::SensorTables{a.axis_rows.data(), a.n,
+                                   a.rows.data(),      a.columns.data(),
+                                   a.signs.data(),     static_cast<std::int64_t>(a.columns.size())};
     }
     const auto registers = static_cast<std::int64_t>(machine_->registers().size());
     for (const std::int64_t base : {position, velocity, wrench, produced})
@@ -151,8 +135,8 @@ class PlanMachine {
     a.velocity = velocity;
     a.wrench = wrench;
     a.produced = produced;
-    a.programs = values<std::int64_t>(programs);
-    a.resets = values<std::int64_t>(resets);
+    a.programs = copy<std::int64_t>(programs);
+    a.resets = copy<std::int64_t>(resets);
     for (const std::int64_t p : a.programs) require(program_or_none(p) && p >= 0, "program");
     for (const std::int64_t p : a.resets) require(program_or_none(p) && p >= 0, "program");
     require(mapping >= va::plan::SERIAL && mapping <= va::plan::PYTHON, "unknown mapping");
@@ -169,8 +153,8 @@ class PlanMachine {
   // A PARTITIONED attachment's packed distribution tables (distribute.hpp).
   void set_distribution(std::int64_t index, const I1& ints, const F1& floats) {
     va::plan::Attachment& a = attachment(index);
-    a.ints = values<std::int64_t>(ints);
-    a.floats = values<double>(floats);
+    a.ints = copy<std::int64_t>(ints);
+    a.floats = copy<double>(floats);
     a.packed = va::Packed::checked(a.ints, a.floats, machine_->nv());
     require(a.packed.n == a.n, "the distribution's axes must be the sensor's");
     require(a.packed.max_frame_row() < machine_->frames(), "distribution rows outside the table");
@@ -186,9 +170,12 @@ class PlanMachine {
     require(!a.out.empty(), "set the distribution first");
     require(length(mask) == a.n && points.shape(1) == 7, "bad yield tables");
     a.yields = true;
-    a.yield = va::plan::Yield{values<std::int64_t>(mask), values<std::int64_t>(orientation_rows),
-                              values<std::int64_t>(axis_rows), values<std::int64_t>(minima_axes),
-                              values<double>(points), values<double>(lows),
+    a.yield = va::plan::Yield{copy<std::int64_t>(mask),
+                              copy<std::int64_t>(orientation_rows),
+                              copy<std::int64_t>(axis_rows),
+                              copy<std::int64_t>(minima_axes),
+                              copy<double>(points),
+                              copy<double>(lows),
                               static_cast<std::int64_t>(points.shape(0))};
     for (const std::int64_t row : a.yield.orientation_rows)
       require(row >= 0 && row < machine_->frames(), "orientation rows outside the table");
@@ -203,8 +190,9 @@ class PlanMachine {
     return machine_->tick(q.data(), v.data(), time, tau.data());
   }
 
-  View registers(nb::handle self) { return view(machine_->registers().data(),
-                                                machine_->registers().size(), self); }
+  View registers(nb::handle self) {
+    return view(machine_->registers().data(), machine_->registers().size(), self);
+  }
   View efforts(nb::handle self, std::int64_t index) {
     auto& a = attachment(index);
     return view(a.efforts.data(), a.efforts.size(), self);
@@ -275,31 +263,41 @@ void bind_plan(nb::module_& m) {
   nb::class_<PlanMachine>(m, "PlanMachine",
                           "A lowered StateMachine and Controller (control.plan): one tick per "
                           "call; registers and buffers are views of its memory.")
-      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&,
-                    std::int64_t, const F1&, const I2&, const I2&, const F1&, const F1&,
-                    const I2&>(),
+      .def(nb::init<const I2&, const F2&, const I1&, const F2&, const I1&, const F2&, std::int64_t,
+                    const F1&, const I2&, const I2&, const F1&, const F1&, const I2&>(),
            "joint_ints"_a, "joint_floats"_a, "velocity_joint"_a, "velocity_subspace"_a,
            "frame_parents"_a, "frame_floats"_a, "nq"_a, "registers"_a, "ops"_a, "bounds"_a,
            "lower"_a, "upper"_a, "unit_bounds"_a)
       .def("set_callbacks", &PlanMachine::set_callbacks, "callbacks"_a)
-      .def("add_state", &PlanMachine::add_state, "attachments"_a, "limp"_a, "enter"_a,
-           "update"_a)
+      .def("add_state", &PlanMachine::add_state, "attachments"_a, "limp"_a, "enter"_a, "update"_a)
       .def("add_exit", &PlanMachine::add_exit, "state"_a, "program"_a, "result"_a, "target"_a)
       .def("add_attachment", &PlanMachine::add_attachment, "joints"_a, "axis_rows"_a, "rows"_a,
-           "columns"_a, "signs"_a, "q_rows"_a, "position"_a, "velocity"_a, "wrench"_a,
-           "produced"_a, "programs"_a, "resets"_a, "mapping"_a, "efforts_program"_a)
+           "columns"_a, "signs"_a, "q_rows"_a, "position"_a, "velocity"_a, "wrench"_a, "produced"_a,
+           "programs"_a, "resets"_a, "mapping"_a, "efforts_program"_a)
       .def("set_distribution", &PlanMachine::set_distribution, "index"_a, "ints"_a, "floats"_a)
       .def("set_yield", &PlanMachine::set_yield, "index"_a, "mask"_a, "orientation_rows"_a,
            "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a)
       .def("tick", &PlanMachine::tick, "q"_a, "v"_a, "time"_a, "tau"_a.noconvert())
-      .def("registers", [](nb::handle self) { return nb::cast<PlanMachine&>(self).registers(self); })
-      .def("efforts", [](nb::handle self, std::int64_t i) {
-             return nb::cast<PlanMachine&>(self).efforts(self, i); }, "index"_a)
-      .def("out", [](nb::handle self, std::int64_t i) {
-             return nb::cast<PlanMachine&>(self).out(self, i); }, "index"_a)
-      .def("jacobian", [](nb::handle self, std::int64_t i) {
-             return nb::cast<PlanMachine&>(self).jacobian(self, i); }, "index"_a)
-      .def("requested", [](nb::handle self) { return nb::cast<PlanMachine&>(self).requested(self); })
+      .def("registers",
+           [](nb::handle self) { return nb::cast<PlanMachine&>(self).registers(self); })
+      .def(
+          "efforts",
+          [](nb::handle self, std::int64_t i) {
+            return nb::cast<PlanMachine&>(self).efforts(self, i);
+          },
+          "index"_a)
+      .def(
+          "out",
+          [](nb::handle self, std::int64_t i) { return nb::cast<PlanMachine&>(self).out(self, i); },
+          "index"_a)
+      .def(
+          "jacobian",
+          [](nb::handle self, std::int64_t i) {
+            return nb::cast<PlanMachine&>(self).jacobian(self, i);
+          },
+          "index"_a)
+      .def("requested",
+           [](nb::handle self) { return nb::cast<PlanMachine&>(self).requested(self); })
       .def("pass_buffer", [](nb::handle self) { return nb::cast<PlanMachine&>(self).pass(self); })
       .def("solved", &PlanMachine::solved, "index"_a)
       .def("set_initial", &PlanMachine::set_initial, "state"_a)
@@ -309,3 +307,5 @@ void bind_plan(nb::module_& m) {
   m.attr("PLAN_FAILED") = static_cast<std::int64_t>(va::plan::FAILED);
   m.attr("PLAN_INVALID") = static_cast<std::int64_t>(va::plan::INVALID);
 }
+
+}  // namespace va::py

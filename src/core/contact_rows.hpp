@@ -11,11 +11,9 @@
 #include <vector>
 
 #include "linalg.hpp"
+#include "scalar.hpp"
 
 namespace va {
-
-// Python's min(a, b): a unless b < a (the reference kernels' order of arguments is kept).
-inline double pmin(double a, double b) { return b < a ? b : a; }
 
 // A chain's free basis N_i: rows a (its n force entries) of the basis, columns start .. start +
 // d_i, in a row-major array of `free` columns (numba's view basis[i n:(i+1) n, start:]).
@@ -98,7 +96,7 @@ inline void sole_rows(const double* placement, const double rot_o[3][3], const d
       frame_o[r][c] = acc;
     }
   const double mu = friction >= 0.0 ? friction : 0.0;
-  const double halves[3] = {sole[2], sole[1], mu * pmin(sole[1], sole[2])};
+  const double halves[3] = {sole[2], sole[1], mu * py_min(sole[1], sole[2])};
   double entry[6] = {};   // the moment row over F_i (n <= 6 axes)
   double normal[6] = {};  // the force along the normal
   for (int c = 0; c < 3; ++c) {
@@ -191,7 +189,7 @@ inline void contact_margins(const double* frames, const std::int64_t* orientatio
 // Smallest G @ forces.ravel() - lows (contact_set.least_margin); values: scratch of nl.
 inline double contact_least_margin(const double* values, const double* lows, std::int64_t nl) {
   double least = INF;
-  for (std::int64_t r = 0; r < nl; ++r) least = pmin(least, values[r] - lows[r]);
+  for (std::int64_t r = 0; r < nl; ++r) least = py_min(least, values[r] - lows[r]);
   return least;
 }
 
@@ -208,11 +206,11 @@ inline double contact_largest_scale(const double* at_full, const double* at_base
     }
     const double ratio = (lows[r] - at_base[r]) / slope;
     if (slope < 0.0)
-      upper = pmin(upper, ratio);
+      upper = py_min(upper, ratio);
     else
-      lower = pmax(lower, ratio);
+      lower = py_max(lower, ratio);
   }
-  return lower > upper ? 0.0 : pmin(upper, 1.0);
+  return lower > upper ? 0.0 : py_min(upper, 1.0);
 }
 
 }  // namespace va

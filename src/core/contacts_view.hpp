@@ -19,8 +19,7 @@ constexpr std::int8_t OTHER = 0, TERRAIN = 1, ROBOT = 2;
 
 // The robot geom of a robot-terrain contact that is not excluded (-1 for any other contact), and
 // sign: +1 when it is the contact's second geom (MuJoCo's force acts on that one), else -1.
-inline int robot_geom(const mjContact& c, const std::int8_t* roles, std::int64_t ngeom,
-                      int* sign) {
+inline int robot_geom(const mjContact& c, const std::int8_t* roles, std::int64_t ngeom, int* sign) {
   if (c.exclude != 0) return -1;
   const int g1 = c.geom[0], g2 = c.geom[1];
   const std::int8_t first = g1 >= 0 && g1 < ngeom ? roles[g1] : OTHER;

@@ -92,18 +92,17 @@ inline DaqpAnswer daqp_least_norm(const double* equality, const double* equality
                                   std::int64_t k, std::int64_t size, const double* inequality,
                                   const double* lows, const double* uppers, std::int64_t m,
                                   int iter_limit, double* x, double* lam) {
-  return daqp_rows(nullptr, nullptr, equality, equality_rhs, k, size, inequality, lows, uppers,
-                   m, iter_limit, x, lam);
+  return daqp_rows(nullptr, nullptr, equality, equality_rhs, k, size, inequality, lows, uppers, m,
+                   iter_limit, x, lam);
 }
 
 // Stages 2 and 3, regularised (the file's head): equality (k, size) holds the design rows D
 // (the first `design`), then the request's rows A with weights (k - design, > 0); eps is
 // relative to the largest weight.
-inline DaqpAnswer daqp_closest(const double* equality, const double* equality_rhs,
-                               std::int64_t k, std::int64_t design, std::int64_t size,
-                               const double* weights, const double* inequality,
-                               const double* lows, const double* uppers, std::int64_t m,
-                               int iter_limit, double eps, double* x, double* lam) {
+inline DaqpAnswer daqp_closest(const double* equality, const double* equality_rhs, std::int64_t k,
+                               std::int64_t design, std::int64_t size, const double* weights,
+                               const double* inequality, const double* lows, const double* uppers,
+                               std::int64_t m, int iter_limit, double eps, double* x, double* lam) {
   DaqpScratch& S = daqp_scratch();
   double* H = zeroed(S.H, size * size);
   double* f = zeroed(S.f, size);

@@ -34,8 +34,8 @@ inline void close_norms(const std::int64_t* keep, std::int64_t n, const double* 
   double peak = 0.0;
   for (std::int64_t a = 0; a < n; ++a) {
     if (keep[a]) {
-      peak = pmax(pmax(pmax(peak, std::abs(wrench[a])), std::abs(produced[a])),
-                  std::abs(produced[a] - wrench[a]));
+      peak = py_max(py_max(py_max(peak, std::abs(wrench[a])), std::abs(produced[a])),
+                    std::abs(produced[a] - wrench[a]));
       requested[a] = wrench[a];
     } else {
       requested[a] = produced[a];
@@ -56,9 +56,9 @@ inline void close_norms(const std::int64_t* keep, std::int64_t n, const double* 
     residual = INF;
   }
   double force_peak = 0.0;
-  for (std::int64_t r = 0; r < nforces; ++r) force_peak = pmax(force_peak, std::abs(forces[r]));
+  for (std::int64_t r = 0; r < nforces; ++r) force_peak = py_max(force_peak, std::abs(forces[r]));
   d.residual = peak * std::sqrt(residual);
-  d.scale = peak * std::sqrt(pmax(request, output));
+  d.scale = peak * std::sqrt(py_max(request, output));
   d.rounding = ROUNDING * force_peak;
 }
 
@@ -118,8 +118,8 @@ inline void batch_members(const Packed& P, std::int64_t i, Arr& fulls, ChainRows
   std::vector<double> ratio_b(static_cast<std::size_t>(count));
   std::vector<double> bound_b(static_cast<std::size_t>(count));
   if (count == p) {  // every chain: in place (fulls is overwritten by the QR, row K + 3 kept)
-    full_rank_batch(fulls.data(), n, p, c_b, m_c, fulls.at(K + 3), ratio_b.data(),
-                    bound_b.data(), c.projectors.data(), c.particular.data(), c.rows.at(m_c));
+    full_rank_batch(fulls.data(), n, p, c_b, m_c, fulls.at(K + 3), ratio_b.data(), bound_b.data(),
+                    c.projectors.data(), c.particular.data(), c.rows.at(m_c));
   } else {
     Arr q_b(c_b, n, count), t_b(m_c, count), proj_b(n, n, count), part_b(n, count);
     Arr null_b(n - c_b, n, count);
@@ -308,8 +308,7 @@ inline void hard_rows(const Packed& P, const Arr& jac_t, const double* passive, 
 // One tick. jacobian_world (6, nv) and frames (nf, 12) row-major, q the configuration, wrench
 // (n); out: P.out_size(nv) doubles, zeroed (forces, tau, passive, produced, requested).
 inline Distributed distribute(const double* jacobian_world, std::int64_t nv, const double* frames,
-                              const double* q, const double* wrench, const Packed& P,
-                              double* out) {
+                              const double* q, const double* wrench, const Packed& P, double* out) {
   Distributed d;
   const std::int64_t n = P.n, p = P.p, K = P.K;
   double* forces = out;
@@ -362,8 +361,7 @@ inline Distributed distribute(const double* jacobian_world, std::int64_t nv, con
     status = partitioned_solve(c.rows, c.rhs, P, cfs_start, free_start, hard, hard_rhs, wrench,
                                kept, forces);
   }
-  if (status == 0 &&
-      constraint_error(c.rows, c.rhs, hard, hard_rhs, forces, p, n) > CONSTRAINT_TOL)
+  if (status == 0 && constraint_error(c.rows, c.rhs, hard, hard_rhs, forces, p, n) > CONSTRAINT_TOL)
     status = 2;  // an ill-conditioned elimination lost an exact row: numpy decides
   if (status != 0) {
     d.status = status;

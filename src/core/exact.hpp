@@ -61,7 +61,8 @@ inline Arr& zeroed(Arr& array, std::int64_t rows, std::int64_t columns) {
 // Row `index` of [equality; inequality] into out. exact._row.
 inline void exact_row(const ExactRows& R, std::int64_t index, double* out) {
   for (std::int64_t j = 0; j < R.size; ++j)
-    out[j] = index < R.k ? R.equality[index * R.size + j] : R.inequality[(index - R.k) * R.size + j];
+    out[j] =
+        index < R.k ? R.equality[index * R.size + j] : R.inequality[(index - R.k) * R.size + j];
 }
 
 // Gram-Schmidt of row `index` against the `rank` rows kept: the new rank, and whether the row
@@ -128,8 +129,8 @@ inline std::pair<std::int64_t, std::int64_t> exact_factor(const ExactRows& R,
     std::int64_t waiting = 0;
     for (std::int64_t position = start; position < stop; ++position) {
       if (rank == size) break;  // every later row depends on the kept ones (checked after)
-      rank = exact_add_row(R, order[position], rank, true, basis, lower, kept, row,
-                           coefficients, later);
+      rank = exact_add_row(R, order[position], rank, true, basis, lower, kept, row, coefficients,
+                           later);
       if (later) deferred[waiting++] = order[position];
     }
     for (std::int64_t position = 0; position < waiting; ++position) {
@@ -254,8 +255,7 @@ inline bool exact_step(const ExactRows& R, const double* guess, bool exact, doub
     for (std::int64_t r = 0; r < m; ++r) {
       if (side[r] == 0) continue;
       const double s = static_cast<double>(side[r]);
-      const double wrong =
-          exact || std::abs(fit[k + r]) <= tol ? s * norm[k + r] : s * fit[k + r];
+      const double wrong = exact || std::abs(fit[k + r]) <= tol ? s * norm[k + r] : s * fit[k + r];
       if (wrong > worst) {
         worst = wrong;
         leave = r;

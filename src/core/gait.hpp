@@ -2,15 +2,15 @@
 // operation, of virtual_actuators.kinematics.kernels.center_of_mass,
 // actuators.producible._two_points and _give_way_one, gaits.legged.body.body_wrench and
 // gaits.legged.footholds.swing_setpoints (with foothold, swing_point and gaits.planar's
-// smoothstep and lift_profile), so that both agree bit for bit (tests/test_core_parity_gait.py).
-// An edit of a reference kernel goes with the same edit here.
+// smoothstep and lift_profile, in scalar.hpp), so that both agree bit for bit
+// (tests/test_core_parity_gait.py). An edit of a reference kernel goes with the same edit here.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 
-#include "contact_rows.hpp"
 #include "linalg.hpp"
+#include "scalar.hpp"
 
 namespace va {
 
@@ -38,7 +38,7 @@ inline void center_of_mass(const double* joints, const double* masses, const dou
 inline double body_wrench(const double* rotation, const double* position, const double* velocity,
                           const double* gains, const double* setpoints, double* out) {
   const double yaw = std::atan2(rotation[3], rotation[0]);
-  const double pitch = std::asin(pmax(-1.0, pmin(1.0, -rotation[6])));
+  const double pitch = std::asin(py_max(-1.0, py_min(1.0, -rotation[6])));
   const double roll = std::atan2(rotation[7], rotation[8]);
   const double c = std::cos(yaw), s = std::sin(yaw);
   const double v0 = velocity[0], v1 = velocity[1], v2 = velocity[2];
@@ -66,20 +66,6 @@ inline double body_wrench(const double* rotation, const double* position, const 
   return yaw;
 }
 
-// gaits.planar.smoothstep.
-inline double smoothstep(double s) {
-  s = pmin(pmax(s, 0.0), 1.0);
-  return s * s * (3.0 - 2.0 * s);
-}
-
-// gaits.planar.lift_profile (math.pi as PI below: the same double).
-inline double lift_profile(double phase, double peak) {
-  constexpr double pi = 3.141592653589793;
-  phase = pmin(pmax(phase, 0.0), 1.0);
-  if (phase < peak) return std::sin(0.5 * pi * phase / peak);
-  return std::cos(0.5 * pi * (phase - peak) / (1.0 - peak));
-}
-
 // gaits.legged.footholds.foothold: the foothold relative to the centre of mass, heading frame.
 inline void foothold(double x, double y, double vx, double vy, double ex, double ey,
                      double yaw_rate, double stance_time, double capture_time, double reach,
@@ -89,7 +75,7 @@ inline void foothold(double x, double y, double vx, double vy, double ex, double
   const double c = std::cos(angle), s = std::sin(angle);
   const double dx = c * x - s * y - x + vx * half + capture_time * ex;
   const double dy = s * x + c * y - y + vy * half + capture_time * ey;
-  const double scale = pmin(1.0, reach / pmax(std::hypot(dx, dy), 1e-12));
+  const double scale = py_min(1.0, reach / py_max(std::hypot(dx, dy), 1e-12));
   out[0] = x + scale * dx;
   out[1] = y + scale * dy;
 }
@@ -98,7 +84,7 @@ inline void foothold(double x, double y, double vx, double vy, double ex, double
 inline void swing_point(const double* start, double x, double y, double z, double phase,
                         double lift, double peak, double out[3]) {
   const double x0 = start[0], y0 = start[1], z0 = start[2];
-  const double reach = smoothstep(pmin(1.0, 1.25 * phase));
+  const double reach = smoothstep(py_min(1.0, 1.25 * phase));
   const double height = z0 + (z - z0) * smoothstep(phase) + lift * lift_profile(phase, peak);
   out[0] = x0 + (x - x0) * reach;
   out[1] = y0 + (y - y0) * reach;
@@ -117,14 +103,14 @@ inline void swing_setpoints(const std::int64_t* feet, std::int64_t count, double
   double depth = shape[6];
   const double rate_filter = shape[7];
   const double phase = elapsed / swing_time;
-  const double remaining = pmax(0.0, swing_time - elapsed);
+  const double remaining = py_max(0.0, swing_time - elapsed);
   const double heading = yaw + yaw_rate * remaining;
   const double c = std::cos(heading), s = std::sin(heading);
   const double cy = std::cos(yaw), sy = std::sin(yaw);
   const double centre_x = body[0] + remaining * (cy * vx - sy * vy);
   const double centre_y = body[1] + remaining * (sy * vx + cy * vy);
-  depth = depth * (1.0 + 4.0 * pmax(0.0, phase - 1.0));
-  const double blend = dt > 0.0 ? pmin(1.0, dt / rate_filter) : 0.0;
+  depth = depth * (1.0 + 4.0 * py_max(0.0, phase - 1.0));
+  const double blend = dt > 0.0 ? py_min(1.0, dt / rate_filter) : 0.0;
   const double a0 = body[9], a1 = body[10], a2 = body[11];
   for (std::int64_t j = 0; j < count; ++j) {
     const std::int64_t k = feet[j];
@@ -168,7 +154,7 @@ inline bool two_points(const double* frames, const std::int64_t* rows, double* b
   const double dx = offsets[0][0] - offsets[1][0];
   const double dy = offsets[0][1] - offsets[1][1];
   const double dz = offsets[0][2] - offsets[1][2];
-  if (dx * dx + dy * dy + dz * dz <= rank_tol * pmax(x * x + y * y + z * z, 1e-300)) return false;
+  if (dx * dx + dy * dy + dz * dz <= rank_tol * py_max(x * x + y * y + z * z, 1e-300)) return false;
   double values[6] = {y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz};
   double norm = 0.0;
   for (double value : values) norm += value * value;

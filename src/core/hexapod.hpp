@@ -1,6 +1,6 @@
 // The hexapod's tripod update: the C++ port, operation by operation, of
 // virtual_actuators.gaits.hexapod.kernel.tripod_setpoints (with its _strides and gaits.planar's
-// smoothstep and lift_profile from gait.hpp), so that both agree bit for bit
+// smoothstep and lift_profile from scalar.hpp), so that both agree bit for bit
 // (tests/test_core_parity_hexapod.py). An edit of the reference kernel goes with the same edit
 // here.
 #pragma once
@@ -21,13 +21,12 @@ inline double strides(double x, double y, double length, double width) {
 // gaits.hexapod.kernel.tripod_setpoints: frames (nf, 12), frame_rows (7), rows (6), nominal
 // (6, 3), motion (10), shape (11); swing (3, 9) and state (5) updated.
 inline void tripod_setpoints(const double* frames, const std::int64_t* frame_rows,
-                             const std::int64_t* rows, const double* nominal,
-                             const double* motion, const double* shape, double* swing,
-                             double* state) {
+                             const std::int64_t* rows, const double* nominal, const double* motion,
+                             const double* shape, double* swing, double* state) {
   constexpr double gravity = 9.81;  // gaits.hexapod.body.GRAVITY
-  const double height = motion[0], fx = motion[1], fy = motion[2], cx = motion[3],
-               cy = motion[4], ax = motion[5], ay = motion[6], yaw_rate = motion[7],
-               elapsed = motion[8], dt = motion[9];
+  const double height = motion[0], fx = motion[1], fy = motion[2], cx = motion[3], cy = motion[4],
+               ax = motion[5], ay = motion[6], yaw_rate = motion[7], elapsed = motion[8],
+               dt = motion[9];
   const double velocity_filter = shape[0], foot_radius = shape[1], nominal_height = shape[2];
   const double length = shape[3], width = shape[4], max_stance = shape[5], lift = shape[6],
                peak = shape[7];
@@ -76,14 +75,14 @@ inline void tripod_setpoints(const double* frames, const std::int64_t* frame_row
   if (1.0 < progress) progress = 1.0;
   if (progress > state[3]) state[3] = progress;
   const double phase = state[3];
-  const double reach = smoothstep(pmin(1.0, 1.25 * phase));
+  const double reach = smoothstep(py_min(1.0, 1.25 * phase));
   const double rest = 1.0 - smoothstep(phase);
   const double up = lift * lift_profile(phase, peak) - depth * phase;
   double rate = 0.0;
   for (int j = 3; j < 6; ++j) {
     const std::int64_t r = rows[j];
-    const double value = strides(fx - yaw_rate * nominal[3 * r + 1],
-                                 fy + yaw_rate * nominal[3 * r], length, width);
+    const double value =
+        strides(fx - yaw_rate * nominal[3 * r + 1], fy + yaw_rate * nominal[3 * r], length, width);
     if (j == 3 || value > rate) rate = value;
   }
   const double stance = rate * max_stance <= 1.0 ? max_stance : 1.0 / rate;
@@ -91,12 +90,12 @@ inline void tripod_setpoints(const double* frames, const std::int64_t* frame_row
   const double offset_x = gain * (fx - cx) - lean * ax;
   const double offset_y = gain * (fy - cy) - lean * ay;
   const double lead = 0.5 * stance + double_time;
-  const double blend = dt > 0.0 ? pmin(1.0, dt / velocity_filter) : 0.0;
+  const double blend = dt > 0.0 ? py_min(1.0, dt / velocity_filter) : 0.0;
   for (int k = 0; k < 3; ++k) {
     const std::int64_t r = rows[3 + k];
     const double ox = lead * (fx - yaw_rate * nominal[3 * r + 1]) + offset_x;
     const double oy = lead * (fy + yaw_rate * nominal[3 * r]) + offset_y;
-    const double factor = pmin(1.0, 0.6 / pmax(strides(ox, oy, length, width), 1e-9));
+    const double factor = py_min(1.0, 0.6 / py_max(strides(ox, oy, length, width), 1e-9));
     const double land_x = nominal[3 * r] + ox * factor, land_y = nominal[3 * r + 1] + oy * factor;
     double* foot = swing + 9 * k;
     const double start_x = foot[0], start_y = foot[1], start_z = foot[2];

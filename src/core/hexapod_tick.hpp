@@ -15,21 +15,18 @@
 #include <cstdint>
 
 #include "hexapod.hpp"
+#include "scalar.hpp"
 
 namespace va::hexapod {
 
 // The machine's states, in StateMachine.names order (HexapodWalker._machine).
 enum State : std::int64_t { TRIPOD_A = 0, DOUBLE_A = 1, TRIPOD_B = 2, DOUBLE_B = 3 };
 
-// Python's max(a, b) and min(a, b) on floats.
-inline double py_max(double a, double b) { return b > a ? b : a; }
-inline double py_min(double a, double b) { return b < a ? b : a; }
-
 // HexapodParameters' values the tick reads, and the tripod kernel's fixed arrays.
 struct Parameters {
   double velocity_filter, acceleration, height, touchdown_phase, double_support_time;
   const double* nominal;  // (6, 3) the feet's nominal places (HexapodWalker._nominal_feet)
-  const double* shape;  // (11,) HexapodWalker._shape
+  const double* shape;    // (11,) HexapodWalker._shape
 };
 
 // Rows of the body and the feet in the frame table (HexapodWalker._frame_rows).
@@ -47,11 +44,11 @@ struct Body {
 // What the gait remembers between ticks (HexapodWalker's, its components' and its machine's).
 struct Memory {
   std::int64_t state = DOUBLE_A;
-  double entered_at = 0.0;  // [s]
+  double entered_at = 0.0;   // [s]
   std::int64_t support = 0;  // 0: tripod a, 1: tripod b
   double phase = 0.0, ground = 0.0;
   double kernel[5] = {0.0, 0.0, 0.0, 0.0, 0.0};  // HexapodWalker._state
-  double swing[27] = {};  // HexapodWalker._swing (3, 9)
+  double swing[27] = {};                         // HexapodWalker._swing (3, 9)
   double target_time = 0.0, filter_time = 0.0;
   double velocity_body[2] = {0.0, 0.0}, velocity_filtered[2] = {0.0, 0.0};
   double setpoint[2] = {0.0, 0.0}, acceleration[2] = {0.0, 0.0};
@@ -153,9 +150,10 @@ inline void update_tripod(const Parameters& p, const double* frames, const Rows&
                           const double* v, double time, double time_in_state, const Inputs& in,
                           Memory& m) {
   const double height = body_state(p, frames, rows, v, time, in, m);
-  const double motion[10] = {height, m.velocity_filtered[0], m.velocity_filtered[1],
-                             m.setpoint[0], m.setpoint[1], m.acceleration[0], m.acceleration[1],
-                             in.yaw_rate, time_in_state, time - m.target_time};
+  const double motion[10] = {
+      height,        m.velocity_filtered[0], m.velocity_filtered[1], m.setpoint[0],
+      m.setpoint[1], m.acceleration[0],      m.acceleration[1],      in.yaw_rate,
+      time_in_state, time - m.target_time};
   // HexapodWalker._kernel_rows: the support tripod's feet, then the swing tripod's
   std::int64_t kernel_rows[6];
   for (int k = 0; k < 3; ++k) {
@@ -192,8 +190,8 @@ enum Update : std::int64_t { DEFER = -1, STAYED = 0, ENTERED = 1 };
 
 // StateMachine.update at time: the first transition whose event fires, then the current state's
 // on_update. DEFER (m partly written: the caller drops it) when a tripod is entered.
-inline Update update(const Parameters& p, const double* frames, const Rows& rows,
-                     const double* v, double time, const Inputs& in, Memory& m) {
+inline Update update(const Parameters& p, const double* frames, const Rows& rows, const double* v,
+                     double time, const Inputs& in, Memory& m) {
   const double time_in_state = time - m.entered_at;
   Update result = STAYED;
   switch (m.state) {
@@ -271,10 +269,10 @@ inline bool body_wrench(const Body& b, const Memory& m, const double* position,
     const double v0 = velocity[3], v1 = velocity[4], v2 = velocity[5];
     const double wx = c * v0 + s * v1;
     const double wy = -s * v0 + c * v1;
-    const double mx = b.attitude_stiffness[0] * (b.attitude_roll - roll) -
-                      b.attitude_damping[0] * wx;
-    const double my = b.attitude_stiffness[1] * (b.attitude_pitch - pitch) -
-                      b.attitude_damping[1] * wy;
+    const double mx =
+        b.attitude_stiffness[0] * (b.attitude_roll - roll) - b.attitude_damping[0] * wx;
+    const double my =
+        b.attitude_stiffness[1] * (b.attitude_pitch - pitch) - b.attitude_damping[1] * wy;
     const double mz = b.attitude_damping[2] * (m.attitude_yaw_rate - v2);
     total[3] += c * mx - s * my;
     total[4] += s * mx + c * my;

@@ -25,12 +25,12 @@ enum JointKind : std::int64_t {
 // Row-major views of the declaration's tables (shapes as in the reference kernel; see
 // virtual_actuators.kinematics.kernels.forward_kinematics for their meaning).
 struct TreeTables {
-  const std::int64_t* joint_ints;    // (njoints, 3): parent, kind, idx_q
-  const double* joint_floats;        // (njoints, 27)
-  const std::int64_t* velocity_joint;// (nv,)
-  const double* velocity_subspace;   // (nv, 6)
-  const std::int64_t* frame_parents; // (nf,)
-  const double* frame_floats;        // (nf, 12)
+  const std::int64_t* joint_ints;      // (njoints, 3): parent, kind, idx_q
+  const double* joint_floats;          // (njoints, 27)
+  const std::int64_t* velocity_joint;  // (nv,)
+  const double* velocity_subspace;     // (nv, 6)
+  const std::int64_t* frame_parents;   // (nf,)
+  const double* frame_floats;          // (nf, 12)
   std::int64_t njoints, nv, nf;
 };
 
@@ -115,7 +115,8 @@ inline void forward_kinematics(const TreeTables& t, const double* q, const doubl
     double* wj = joints + 12 * j;
     for (int r = 0; r < 3; ++r) {
       const double p0 = pj[3 * r], p1 = pj[3 * r + 1], p2 = pj[3 * r + 2];
-      for (int c = 0; c < 3; ++c) wj[3 * r + c] = p0 * local[c] + p1 * local[3 + c] + p2 * local[6 + c];
+      for (int c = 0; c < 3; ++c)
+        wj[3 * r + c] = p0 * local[c] + p1 * local[3 + c] + p2 * local[6 + c];
       wj[9 + r] = p0 * local[9] + p1 * local[10] + p2 * local[11] + pj[9 + r];
     }
   }
@@ -223,8 +224,12 @@ class Tree {
         subspace_(std::move(velocity_subspace)),
         fparents_(std::move(frame_parents)),
         ffloats_(std::move(frame_floats)) {
-    t_ = TreeTables{ints_.data(),    floats_.data(),   vjoint_.data(),
-                    subspace_.data(), fparents_.data(), ffloats_.data(),
+    t_ = TreeTables{ints_.data(),
+                    floats_.data(),
+                    vjoint_.data(),
+                    subspace_.data(),
+                    fparents_.data(),
+                    ffloats_.data(),
                     static_cast<std::int64_t>(ints_.size() / 3),
                     static_cast<std::int64_t>(vjoint_.size()),
                     static_cast<std::int64_t>(fparents_.size())};

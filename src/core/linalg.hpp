@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "scalar.hpp"
+
 namespace va {
 
 // virtual_actuators.distribution.tolerances
@@ -18,9 +20,6 @@ constexpr double ILL_CONDITIONED = 1e10;
 constexpr double CONSTRAINT_TOL = 1e-10;
 constexpr double NEAR_SINGULAR = 1e-7;
 constexpr double INF = std::numeric_limits<double>::infinity();
-
-// Python's max(a, b): a unless b > a (the reference kernels' order of arguments is kept).
-inline double pmax(double a, double b) { return b > a ? b : a; }
 
 // A dense row-major array of up to three dimensions, zero-filled (numpy's np.zeros).
 struct Arr {
@@ -64,7 +63,7 @@ inline double inverse_into(const double* matrix, std::int64_t ld, std::int64_t m
   for (std::int64_t i = 0; i < m; ++i) {
     double row = 0.0;
     for (std::int64_t j = 0; j < m; ++j) row += std::abs(matrix[i * ld + j]);
-    norm = pmax(norm, row);
+    norm = py_max(norm, row);
   }
   for (std::int64_t col = 0; col < m; ++col) {
     std::int64_t pivot = col;
@@ -94,7 +93,7 @@ inline double inverse_into(const double* matrix, std::int64_t ld, std::int64_t m
   for (std::int64_t i = 0; i < m; ++i) {
     double row = 0.0;
     for (std::int64_t j = 0; j < m; ++j) row += std::abs(inv[i * ld + j]);
-    norm_inv = pmax(norm_inv, row);
+    norm_inv = py_max(norm_inv, row);
   }
   double estimate = norm * norm_inv;
   if (!std::isfinite(estimate)) estimate = INF;
@@ -142,10 +141,10 @@ inline double scaled_condition(const Arr& matrix, const Arr& inverse, const doub
       row += std::abs(matrix(i, j));
       row_inv += std::abs(inverse(i, j)) * row_scale[j];
     }
-    norm = pmax(norm, row / row_scale[i]);
-    norm_inv = pmax(norm_inv, row_inv);
+    norm = py_max(norm, row / row_scale[i]);
+    norm_inv = py_max(norm_inv, row_inv);
   }
-  double estimate = pmax(norm, 1.0) * norm_inv;
+  double estimate = py_max(norm, 1.0) * norm_inv;
   if (!std::isfinite(estimate)) estimate = INF;
   return estimate;
 }
@@ -234,7 +233,7 @@ inline double constraint_error(const Arr& rows, const Arr& rhs, const Arr& hard,
                                const Arr& hard_rhs, const double* forces, std::int64_t p,
                                std::int64_t n) {
   double peak = 0.0;
-  for (std::int64_t i = 0; i < p * n; ++i) peak = pmax(peak, std::abs(forces[i]));
+  for (std::int64_t i = 0; i < p * n; ++i) peak = py_max(peak, std::abs(forces[i]));
   double worst = 0.0;
   std::vector<double> acc(static_cast<std::size_t>(p)), size(static_cast<std::size_t>(p));
   for (std::int64_t r = 0; r < rows.d0; ++r) {
@@ -245,19 +244,19 @@ inline double constraint_error(const Arr& rows, const Arr& rhs, const Arr& hard,
     for (std::int64_t a = 0; a < n; ++a)
       for (std::int64_t i = 0; i < p; ++i) {
         acc[i] += rows(r, a, i) * forces[i * n + a];
-        size[i] = pmax(size[i], std::abs(rows(r, a, i)) * peak);
+        size[i] = py_max(size[i], std::abs(rows(r, a, i)) * peak);
       }
     for (std::int64_t i = 0; i < p; ++i)
-      if (size[i] > 0.0) worst = pmax(worst, std::abs(acc[i]) / size[i]);
+      if (size[i] > 0.0) worst = py_max(worst, std::abs(acc[i]) / size[i]);
   }
   for (std::int64_t t = 0; t < hard.d0; ++t) {
     double a_t = -hard_rhs(t), s_t = std::abs(hard_rhs(t));
     for (std::int64_t i = 0; i < p; ++i)
       for (std::int64_t a = 0; a < n; ++a) {
         a_t += hard(t, i, a) * forces[i * n + a];
-        s_t = pmax(s_t, std::abs(hard(t, i, a)) * peak);
+        s_t = py_max(s_t, std::abs(hard(t, i, a)) * peak);
       }
-    if (s_t > 0.0) worst = pmax(worst, std::abs(a_t) / s_t);
+    if (s_t > 0.0) worst = py_max(worst, std::abs(a_t) / s_t);
   }
   return worst;
 }

@@ -68,7 +68,13 @@ struct State {
 
 // The registers every plan has: the tick's time, the time in the current state, the machine's
 // state (its index, when it was entered, whether the machine started).
-enum Register : std::int64_t { TIME = 0, TIME_IN_STATE = 1, STATE = 2, ENTERED_AT = 3, STARTED = 4 };
+enum Register : std::int64_t {
+  TIME = 0,
+  TIME_IN_STATE = 1,
+  STATE = 2,
+  ENTERED_AT = 3,
+  STARTED = 4
+};
 
 // The tick's outcome. FAILED and INVALID leave the registers as they were before the tick.
 enum Outcome : std::int64_t { TICKED = 0, ENTERED = 1, FAILED = 2, INVALID = 3 };
@@ -78,9 +84,15 @@ class Machine {
   Machine(std::shared_ptr<const Tree> tree, std::int64_t nq, std::vector<double> registers,
           std::vector<Op> ops, std::vector<std::int64_t> bounds, std::vector<double> lower,
           std::vector<double> upper, std::vector<std::int64_t> unit_bounds)
-      : tree_(std::move(tree)), nq_(nq), nv_(tree_->tables().nv),
-        registers_(std::move(registers)), ops_(std::move(ops)), bounds_(std::move(bounds)),
-        lower_(std::move(lower)), upper_(std::move(upper)), unit_bounds_(std::move(unit_bounds)) {
+      : tree_(std::move(tree)),
+        nq_(nq),
+        nv_(tree_->tables().nv),
+        registers_(std::move(registers)),
+        ops_(std::move(ops)),
+        bounds_(std::move(bounds)),
+        lower_(std::move(lower)),
+        upper_(std::move(upper)),
+        unit_bounds_(std::move(unit_bounds)) {
     pass_.resize(static_cast<std::size_t>(tree_->size(true)));
     tau_.resize(static_cast<std::size_t>(nv_));
     backup_ = registers_;
@@ -232,16 +244,15 @@ class Machine {
       case PARTITIONED:
         if (distribute_partitioned(a, jw, in, r)) return true;
         [[fallthrough]];  // a tick the core does not decide: the Python piece, if any
-      case PYTHON:
-        return a.efforts_program >= 0 && program(a.efforts_program, in, r);
+      case PYTHON: return a.efforts_program >= 0 && program(a.efforts_program, in, r);
     }
     return false;
   }
 
   bool distribute_partitioned(Attachment& a, const double* jw, const Inputs& in, double* r) {
     std::fill(a.out.begin(), a.out.end(), 0.0);
-    const Distributed d = distribute(jw, nv_, in.frames, in.q, r + a.wrench, a.packed,
-                                     a.out.data());
+    const Distributed d =
+        distribute(jw, nv_, in.frames, in.q, r + a.wrench, a.packed, a.out.data());
     a.solved = d;
     if (d.status != 0) return false;
     const std::int64_t pn = a.packed.p * a.n;
@@ -263,8 +274,8 @@ class Machine {
     const std::int64_t n = a.n, p = a.packed.p;
     const auto rows = static_cast<std::int64_t>(y.lows.size());
     const auto minima = static_cast<std::int64_t>(y.minima_axes.size());
-    contact_margins(in.frames, y.orientation_rows.data(), a.out.data(), p, n, y.points.data(),
-                    y.np, y.axis_rows.data(), y.minima_axes.data(), minima, a.values.data());
+    contact_margins(in.frames, y.orientation_rows.data(), a.out.data(), p, n, y.points.data(), y.np,
+                    y.axis_rows.data(), y.minima_axes.data(), minima, a.values.data());
     const double least = contact_least_margin(a.values.data(), y.lows.data(), rows);
     if (least >= -1e-9) return true;  // the usual tick: nothing to scale
     if (std::isnan(least)) return false;
@@ -274,9 +285,8 @@ class Machine {
     std::fill(a.base_out.begin(), a.base_out.end(), 0.0);
     if (distribute(jw, nv_, in.frames, in.q, base, a.packed, a.base_out.data()).status != 0)
       return false;
-    contact_margins(in.frames, y.orientation_rows.data(), a.base_out.data(), p, n,
-                    y.points.data(), y.np, y.axis_rows.data(), y.minima_axes.data(), minima,
-                    a.at_base.data());
+    contact_margins(in.frames, y.orientation_rows.data(), a.base_out.data(), p, n, y.points.data(),
+                    y.np, y.axis_rows.data(), y.minima_axes.data(), minima, a.at_base.data());
     const double alpha =
         contact_largest_scale(a.values.data(), a.at_base.data(), y.lows.data(), rows);
     const double* start = a.base_out.data() + p * n;

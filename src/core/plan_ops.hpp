@@ -3,49 +3,52 @@
 // A program is a run of ops over one array of registers (the plan's blackboard). Each op reads
 // registers (or, for the reads of the tick's kinematics, immediates: a frame row and a column)
 // and writes one register. The arithmetic is Python's on floats, operation by operation: the
-// C library's functions (those CPython's math calls), Python's min and max (the first operand
-// unless the second is strictly smaller / larger), comparisons giving 1.0 or 0.0. The names are
-// exported to Python (_core.PLAN_OPS), which the lowering reads: the table exists once, here.
+// C library's functions (those CPython's math calls), Python's min and max (scalar.hpp: the
+// first operand unless the second is strictly smaller / larger), comparisons giving 1.0 or 0.0.
+// The names are exported to Python (_core.PLAN_OPS), which the lowering reads: the table exists
+// once, here.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 
+#include "scalar.hpp"
+
 namespace va::plan {
 
-#define VA_PLAN_OPS(X)                                                                       \
-  X(COPY, "copy")                                                                            \
-  X(STORE, "store")                                                                          \
-  X(ADD, "add")                                                                              \
-  X(SUB, "sub")                                                                              \
-  X(MUL, "mul")                                                                              \
-  X(DIV, "div")                                                                              \
-  X(NEG, "neg")                                                                              \
-  X(ABS, "abs")                                                                              \
-  X(SQRT, "sqrt")                                                                            \
-  X(SIN, "sin")                                                                              \
-  X(COS, "cos")                                                                              \
-  X(TAN, "tan")                                                                              \
-  X(ASIN, "asin")                                                                            \
-  X(ACOS, "acos")                                                                            \
-  X(EXP, "exp")                                                                              \
-  X(ATAN2, "atan2")                                                                          \
-  X(HYPOT, "hypot")                                                                          \
-  X(REMAINDER, "remainder")                                                                  \
-  X(MIN, "min")                                                                              \
-  X(MAX, "max")                                                                              \
-  X(LT, "lt")                                                                                \
-  X(LE, "le")                                                                                \
-  X(EQ, "eq")                                                                                \
-  X(NE, "ne")                                                                                \
-  X(NOT, "not")                                                                              \
-  X(AND, "and")                                                                              \
-  X(OR, "or")                                                                                \
-  X(SELECT, "select")                                                                        \
-  X(FRAME, "frame")                                                                          \
-  X(FRAME_VELOCITY, "frame_velocity")                                                        \
-  X(Q, "q")                                                                                  \
-  X(V, "v")                                                                                  \
+#define VA_PLAN_OPS(X)                                                                             \
+  X(COPY, "copy")                                                                                  \
+  X(STORE, "store")                                                                                \
+  X(ADD, "add")                                                                                    \
+  X(SUB, "sub")                                                                                    \
+  X(MUL, "mul")                                                                                    \
+  X(DIV, "div")                                                                                    \
+  X(NEG, "neg")                                                                                    \
+  X(ABS, "abs")                                                                                    \
+  X(SQRT, "sqrt")                                                                                  \
+  X(SIN, "sin")                                                                                    \
+  X(COS, "cos")                                                                                    \
+  X(TAN, "tan")                                                                                    \
+  X(ASIN, "asin")                                                                                  \
+  X(ACOS, "acos")                                                                                  \
+  X(EXP, "exp")                                                                                    \
+  X(ATAN2, "atan2")                                                                                \
+  X(HYPOT, "hypot")                                                                                \
+  X(REMAINDER, "remainder")                                                                        \
+  X(MIN, "min")                                                                                    \
+  X(MAX, "max")                                                                                    \
+  X(LT, "lt")                                                                                      \
+  X(LE, "le")                                                                                      \
+  X(EQ, "eq")                                                                                      \
+  X(NE, "ne")                                                                                      \
+  X(NOT, "not")                                                                                    \
+  X(AND, "and")                                                                                    \
+  X(OR, "or")                                                                                      \
+  X(SELECT, "select")                                                                              \
+  X(FRAME, "frame")                                                                                \
+  X(FRAME_VELOCITY, "frame_velocity")                                                              \
+  X(Q, "q")                                                                                        \
+  X(V, "v")                                                                                        \
   X(CALL, "call")
 
 enum Code : std::int64_t {
@@ -89,13 +92,11 @@ inline bool valid(const Op& o, std::int64_t registers, std::int64_t frames, std:
   }
 }
 
-inline double py_min(double a, double b) { return b < a ? b : a; }
-inline double py_max(double a, double b) { return b > a ? b : a; }
 inline double truth(bool value) { return value ? 1.0 : 0.0; }
 
 // Run ops [start, stop) over registers r; false when a callback failed (the tick stops).
-inline bool run(const Op* ops, std::int64_t start, std::int64_t stop, double* r,
-                const Inputs& in, Callback callback, void* owner) {
+inline bool run(const Op* ops, std::int64_t start, std::int64_t stop, double* r, const Inputs& in,
+                Callback callback, void* owner) {
   for (std::int64_t k = start; k < stop; ++k) {
     const Op& o = ops[k];
     double& out = r[o.out];

@@ -16,27 +16,26 @@
 namespace va {
 
 // qp.kernels: columns of the per-chain integer table, entries of the layout.
-constexpr std::int64_t QP_K_COLS = 0, QP_C_CON = 1, QP_NB_BALL = 2, QP_HEADER = 3,
-                       QP_LAYOUT = 14;
+constexpr std::int64_t QP_K_COLS = 0, QP_C_CON = 1, QP_NB_BALL = 2, QP_HEADER = 3, QP_LAYOUT = 14;
 constexpr double QP_INFINITY = 1e20;  // tolerances.INFINITY
 constexpr double RANK_TOL = 1e-7;
 
 // What a declaration fixes (qp.compiled.CompiledQPMatrices), as views of owned arrays.
 struct QPTables {
   std::int64_t n = 0, p = 0, nv = 0, K = 0, C = 0, s = 0, t = 0;
-  const std::int64_t* axis_rows = nullptr;     // (n,)
-  const std::int64_t* frame_rows = nullptr;    // (2 + p,)
-  const std::int64_t* chain_ints = nullptr;    // (p, QP_HEADER + K + C + 3)
-  const double* chain_signs = nullptr;         // (p, K)
-  const double* springs = nullptr;             // (nv, 5)
-  const double* const_rows = nullptr;          // (s, p, n)
-  const double* const_rhs = nullptr;           // (s,)
-  const double* normals_world = nullptr;       // (p, 3)
-  const std::int64_t* frame_normals = nullptr; // (p,)
-  const double* settings = nullptr;            // (4,)
-  const double* soles = nullptr;               // (p, 3)
-  const std::int64_t* limited_v = nullptr;     // (t,)
-  const double* limits = nullptr;              // (t,)
+  const std::int64_t* axis_rows = nullptr;      // (n,)
+  const std::int64_t* frame_rows = nullptr;     // (2 + p,)
+  const std::int64_t* chain_ints = nullptr;     // (p, QP_HEADER + K + C + 3)
+  const double* chain_signs = nullptr;          // (p, K)
+  const double* springs = nullptr;              // (nv, 5)
+  const double* const_rows = nullptr;           // (s, p, n)
+  const double* const_rhs = nullptr;            // (s,)
+  const double* normals_world = nullptr;        // (p, 3)
+  const std::int64_t* frame_normals = nullptr;  // (p,)
+  const double* settings = nullptr;             // (4,)
+  const double* soles = nullptr;                // (p, 3)
+  const std::int64_t* limited_v = nullptr;      // (t,)
+  const double* limits = nullptr;               // (t,)
   std::int64_t width() const { return QP_HEADER + K + C + 3; }
   std::int64_t chain(std::int64_t i, std::int64_t column) const {
     return chain_ints[i * width() + column];
@@ -45,19 +44,25 @@ struct QPTables {
 
 // The arrays of reduced_qp in its buffer (qp.kernels.views).
 struct QPViews {
-  double *basis, *x0, *equality, *equality_rhs, *inequality, *lows, *uppers, *tmap, *tau0,
-      *passive;
+  double *basis, *x0, *equality, *equality_rhs, *inequality, *lows, *uppers, *tmap, *tau0, *passive;
   std::int64_t free, rows_eq, m_in, design;
   QPViews(double* buffer, const std::int64_t* layout)
-      : basis(buffer + layout[0]), x0(buffer + layout[1]), equality(buffer + layout[2]),
-        equality_rhs(buffer + layout[3]), inequality(buffer + layout[4]),
-        lows(buffer + layout[5]), uppers(buffer + layout[6]), tmap(buffer + layout[7]),
-        tau0(buffer + layout[8]), passive(buffer + layout[9]), free(layout[QP_LAYOUT - 4]),
-        rows_eq(layout[QP_LAYOUT - 3]), m_in(layout[QP_LAYOUT - 2]),
+      : basis(buffer + layout[0]),
+        x0(buffer + layout[1]),
+        equality(buffer + layout[2]),
+        equality_rhs(buffer + layout[3]),
+        inequality(buffer + layout[4]),
+        lows(buffer + layout[5]),
+        uppers(buffer + layout[6]),
+        tmap(buffer + layout[7]),
+        tau0(buffer + layout[8]),
+        passive(buffer + layout[9]),
+        free(layout[QP_LAYOUT - 4]),
+        rows_eq(layout[QP_LAYOUT - 3]),
+        m_in(layout[QP_LAYOUT - 2]),
         design(layout[QP_LAYOUT - 1]) {}
   ExactRows rows(const double* weights) const {
-    return {equality, equality_rhs, rows_eq, free, design, weights,
-            inequality, lows, uppers, m_in};
+    return {equality, equality_rhs, rows_eq, free, design, weights, inequality, lows, uppers, m_in};
   }
 };
 
@@ -86,7 +91,7 @@ inline double orthonormalise(Arr& columns, std::int64_t count, Arr& r) {
   for (std::int64_t j = 0; j < count; ++j) {
     double norm = 0.0;
     for (std::int64_t a = 0; a < n; ++a) norm += columns(j, a) * columns(j, a);
-    largest = pmax(largest, std::sqrt(norm));
+    largest = py_max(largest, std::sqrt(norm));
   }
   double worst = INF;
   for (std::int64_t j = 0; j < count; ++j) {
@@ -103,7 +108,7 @@ inline double orthonormalise(Arr& columns, std::int64_t count, Arr& r) {
     norm = std::sqrt(norm);
     r(j, j) = norm;
     if (!(norm > 0.0 && largest > 0.0)) return 0.0;
-    worst = pmin(worst, norm / largest);
+    worst = py_min(worst, norm / largest);
     for (std::int64_t a = 0; a < n; ++a) columns(j, a) /= norm;
   }
   return worst;
@@ -192,7 +197,7 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
         columns(c_i + j, a) = ball_entry(axis, T.axis_rows[a], d0, d1, d2);
     }
     const double ratio = orthonormalise(columns, k_i + nb, r_mat);
-    worst = pmin(worst, ratio);
+    worst = py_min(worst, ratio);
     if (!(ratio >= RANK_TOL)) {
       result.status = 1;
       result.worst = worst;
@@ -242,8 +247,8 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
       V.equality_rhs[t] -= acc;
     }
     for (int c = 0; c < 3; ++c)
-      normal_w[c] = T.frame_normals[i] ? frames[12 * a_row + 3 * c + 2]
-                                       : T.normals_world[3 * i + c];
+      normal_w[c] =
+          T.frame_normals[i] ? frames[12 * a_row + 3 * c + 2] : T.normals_world[3 * i + c];
     if (faces) {
       to_o(rot_o, face_o, face_rows(normal_w, friction, with_normal, face_o));
       for (std::int64_t f = 0; f < faces; ++f) {
@@ -265,10 +270,10 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
   double scale = T.settings[3];
   for (std::int64_t r = 0; r < nk; ++r) {
     V.equality_rhs[s + r] += wrench[kept[r]];
-    scale = pmax(scale, std::abs(wrench[kept[r]]));
+    scale = py_max(scale, std::abs(wrench[kept[r]]));
   }
   for (std::int64_t t = 0; t < s; ++t) V.equality_rhs[t] += T.const_rhs[t];
-  for (std::int64_t v = 0; v < nv; ++v) scale = pmax(scale, std::abs(V.passive[v]));
+  for (std::int64_t v = 0; v < nv; ++v) scale = py_max(scale, std::abs(V.passive[v]));
   for (std::int64_t t = 0; t < T.t; ++t) {  // -limit <= tau0 + T z <= limit
     const std::int64_t v = T.limited_v[t];
     const std::int64_t row = m_in - T.t + t;
@@ -276,11 +281,12 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
     V.lows[row] = -T.limits[t] - V.tau0[v];
     V.uppers[row] = T.limits[t] - V.tau0[v];
   }
-  scale = pmax(scale, 1e-300);
+  scale = py_max(scale, 1e-300);
   for (std::int64_t r = 0; r < V.rows_eq; ++r) V.equality_rhs[r] /= scale;
   for (std::int64_t r = 0; r < m_in; ++r) {
-    V.lows[r] = pmax(V.lows[r] / scale, -QP_INFINITY);
-    V.uppers[r] = V.uppers[r] < QP_INFINITY ? pmin(V.uppers[r] / scale, QP_INFINITY) : QP_INFINITY;
+    V.lows[r] = py_max(V.lows[r] / scale, -QP_INFINITY);
+    V.uppers[r] =
+        V.uppers[r] < QP_INFINITY ? py_min(V.uppers[r] / scale, QP_INFINITY) : QP_INFINITY;
   }
   result.status = 0;
   result.worst = worst;
@@ -296,12 +302,12 @@ inline double violation(const QPViews& V, const double* z, std::int64_t nz,
   for (std::int64_t r = 0; r < equalities; ++r) {
     double acc = -V.equality_rhs[r];
     for (std::int64_t j = 0; j < nz; ++j) acc += V.equality[r * V.free + j] * z[j];
-    worst = pmax(worst, std::abs(acc));
+    worst = py_max(worst, std::abs(acc));
   }
   for (std::int64_t r = 0; r < V.m_in; ++r) {
     double acc = 0.0;
     for (std::int64_t j = 0; j < nz; ++j) acc += V.inequality[r * V.free + j] * z[j];
-    worst = pmax(pmax(worst, V.lows[r] - acc), acc - V.uppers[r]);
+    worst = py_max(py_max(worst, V.lows[r] - acc), acc - V.uppers[r]);
   }
   for (std::int64_t j = 0; j < nz; ++j)
     if (!std::isfinite(z[j])) return INF;

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdint>
 
-#include "contact_rows.hpp"
 #include "linalg.hpp"
+#include "scalar.hpp"
 
 namespace va {
 
@@ -16,7 +16,7 @@ constexpr double PI = 3.141592653589793;
 // Rotation vector log(R) of a row-major 3x3 rotation matrix [rad]. sensor_kernels.rotation_log.
 inline void rotation_log(const double R[3][3], double out[3]) {
   const double trace = R[0][0] + R[1][1] + R[2][2];
-  const double cosine = pmin(pmax(0.5 * (trace - 1.0), -1.0), 1.0);
+  const double cosine = py_min(py_max(0.5 * (trace - 1.0), -1.0), 1.0);
   const double theta = std::acos(cosine);
   const double skew[3] = {R[2][1] - R[1][2], R[0][2] - R[2][0], R[1][0] - R[0][1]};
   if (theta < 1e-4) {
@@ -33,7 +33,7 @@ inline void rotation_log(const double R[3][3], double out[3]) {
   for (int i = 1; i < 3; ++i)
     if (R[i][i] > R[k][k]) k = i;
   const double scale = 1.0 - cosine;
-  const double a_k = std::sqrt(pmax(R[k][k] - cosine, 0.0) / scale);
+  const double a_k = std::sqrt(py_max(R[k][k] - cosine, 0.0) / scale);
   double dot = 0.0;
   for (int i = 0; i < 3; ++i) {
     out[i] = i == k ? a_k : 0.5 * (R[k][i] + R[i][k]) / (scale * a_k);

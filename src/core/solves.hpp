@@ -15,8 +15,8 @@ namespace va {
 // rhs (l, p), projectors (n, n, p), particular (n, p) have the chain index last; hard (s, p, n);
 // forces (p, n). Chains whose state is -2 come with their projector and particular solution
 // (full_rank_batch). Returns 0, or 2 for an ill-conditioned system.
-inline std::int64_t minimum_norm(const Arr& rows, const Arr& rhs, const Packed& P,
-                                 const Arr& hard, const Arr& hard_rhs, const double* wrench,
+inline std::int64_t minimum_norm(const Arr& rows, const Arr& rhs, const Packed& P, const Arr& hard,
+                                 const Arr& hard_rhs, const double* wrench,
                                  const std::vector<std::int64_t>& kept, double* forces,
                                  Arr& projectors, Arr& particular,
                                  const std::vector<std::int64_t>& state) {
@@ -62,8 +62,7 @@ inline std::int64_t minimum_norm(const Arr& rows, const Arr& rhs, const Packed& 
     const std::int64_t a = kept[static_cast<std::size_t>(r)];
     target(r) = wrench[a] - chain_sum(particular.at(a), p);
     for (std::int64_t c = r; c < k; ++c) {
-      const double value =
-          chain_sum(&projectors(a, kept[static_cast<std::size_t>(c)], 0), p);
+      const double value = chain_sum(&projectors(a, kept[static_cast<std::size_t>(c)], 0), p);
       kkt(r, c) = value;
       kkt(c, r) = value;
     }
@@ -134,8 +133,7 @@ inline std::int64_t partitioned_solve(const Arr& rows, const Arr& rhs, const Pac
     if (l_i) {
       for (std::int64_t r = 0; r < l_i; ++r)
         for (std::int64_t c = 0; c < l_i; ++c) block(r, c) = rows(r, cfs[c], i);
-      if (inverse_into(block.data(), width, l_i, scratch.data(), inverse.data()) >
-          ILL_CONDITIONED)
+      if (inverse_into(block.data(), width, l_i, scratch.data(), inverse.data()) > ILL_CONDITIONED)
         return 2;
       for (std::int64_t r = 0; r < l_i; ++r) {  // Q = -G_b^-1 G_a, u = G_b^-1 t
         double acc = 0.0;
@@ -157,7 +155,7 @@ inline std::int64_t partitioned_solve(const Arr& rows, const Arr& rhs, const Pac
     if (s) {  // sum_i |c_i|_1 max|T_i|: what cancels in a reduced hard row
       double t_max = 0.0;
       for (std::int64_t a = 0; a < n; ++a)
-        for (std::int64_t j = 0; j < d_i; ++j) t_max = pmax(t_max, std::abs(transforms(i, a, j)));
+        for (std::int64_t j = 0; j < d_i; ++j) t_max = py_max(t_max, std::abs(transforms(i, a, j)));
       for (std::int64_t t = 0; t < s; ++t) {
         double acc = 0.0;
         for (std::int64_t a = 0; a < n; ++a) acc += std::abs(hard(t, i, a));

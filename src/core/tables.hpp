@@ -107,17 +107,16 @@ struct Packed {
       for (std::int64_t j = 0; j < l_i; ++j)
         require(row[cfs_start + j] >= 0 && row[cfs_start + j] < n, "packed tables: CFS");
       for (std::int64_t j = 0; j < d_i; ++j)
-        require(row[free_start + j] >= 0 && row[free_start + j] < n,
-                "packed tables: free entries");
+        require(row[free_start + j] >= 0 && row[free_start + j] < n, "packed tables: free entries");
       if (P.mode == 1)
         require(row[START] >= 0 && row[START] + d_i <= m && l_i <= rows_width,
                 "packed tables: free entries' start");
     }
     for (std::int64_t t = 0; t < s1; ++t) {
       const std::int64_t* row = P.torque_rows + 3 * t;
-      require(row[0] >= 0 && row[0] < nv && row[1] >= -1 && row[1] < nv && row[2] >= 0 &&
-                  row[2] <= 1,
-              "packed tables: torque rows");
+      require(
+          row[0] >= 0 && row[0] < nv && row[1] >= -1 && row[1] < nv && row[2] >= 0 && row[2] <= 1,
+          "packed tables: torque rows");
     }
     for (std::int64_t e = 0; e < m; ++e)
       require(P.plan[e] >= 0 && P.plan[e] < m, "packed tables: plan");

@@ -1,15 +1,17 @@
 // Turkey walking's state machine and state callbacks (VMC 2001, section 5, Table 1) in C++: a
 // line-by-line port of virtual_actuators.gaits.turkey.walker.TurkeyWalker's transitions
 // (_machine, control.events.after / ahead_of, Gait._front_is), its callbacks (_enter_double,
-// _update_double, _enter_single, _update_single, _update_ground) and gaits.planar's smoothstep
-// and lift_profile, with control.state_machine.StateMachine.update's order (the first transition
-// whose event fires, then the current state's on_update). The same floating-point operations
-// in the same order, so that a native tick and the Python one agree bit for bit
-// (tests/test_native_turkey.py). An edit of the reference goes with the same edit here.
+// _update_double, _enter_single, _update_single, _update_ground) on gaits.planar's smoothstep
+// and lift_profile (scalar.hpp), with control.state_machine.StateMachine.update's order (the
+// first transition whose event fires, then the current state's on_update). The same
+// floating-point operations in the same order, so that a native tick and the Python one agree
+// bit for bit (tests/test_native_turkey.py). An edit of the reference goes with the same edit here.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+
+#include "scalar.hpp"
 
 namespace va::turkey {
 
@@ -40,33 +42,15 @@ struct Memory {
   double entered_at = 0.0;  // [s]
   std::int64_t front = LEFT_SIDE;
   double swing_start[2] = {0.0, 0.0};  // swing foot relative to the body at lift-off [m]
-  double progress_start = 0.0;  // body x minus stance x at lift-off [m]
-  double ground = 0.0;  // [m]
-  double granny_height = 0.0;  // the granny walker's height set point [m]
+  double progress_start = 0.0;         // body x minus stance x at lift-off [m]
+  double ground = 0.0;                 // [m]
+  double granny_height = 0.0;          // the granny walker's height set point [m]
   double swing_setpoint[2][2] = {{0.0, 0.0}, {0.0, 0.0}};  // per side (x, z) [m]
   bool placed[2] = {false, false};  // the side's linkage was placed this tick
 };
 
-// Python's max(a, b) and min(a, b) on floats: the first argument unless the second is larger
-// (smaller).
-inline double py_max(double a, double b) { return b > a ? b : a; }
-inline double py_min(double a, double b) { return b < a ? b : a; }
-
 inline double coordinate(const double* frames, std::int64_t row, int axis) {
   return frames[12 * row + 9 + axis];
-}
-
-// gaits.planar.smoothstep
-inline double smoothstep(double s) {
-  s = py_min(py_max(s, 0.0), 1.0);
-  return s * s * (3.0 - 2.0 * s);
-}
-
-// gaits.planar.lift_profile
-inline double lift_profile(double phase, double peak) {
-  phase = py_min(py_max(phase, 0.0), 1.0);
-  if (phase < peak) return std::sin(0.5 * M_PI * phase / peak);
-  return std::cos(0.5 * M_PI * (phase - peak) / (1.0 - peak));
 }
 
 inline bool is_single(std::int64_t state) { return state != DOUBLE; }
@@ -79,7 +63,8 @@ inline bool is_buffer(std::int64_t state) { return state == LEFT_2 || state == R
 inline void update_ground(const Parameters& p, const double* frames, const Rows& r, Memory& m) {
   if (m.state == DOUBLE) {
     // sum(heights) / len(heights): Python's sum starts from 0
-    const double heights = 0.0 + coordinate(frames, r.feet[0], 2) + coordinate(frames, r.feet[1], 2);
+    const double heights =
+        0.0 + coordinate(frames, r.feet[0], 2) + coordinate(frames, r.feet[1], 2);
     m.ground = heights / 2.0 - p.foot_radius;
   } else {
     m.ground = (0.0 + coordinate(frames, r.feet[stance_of(m.state)], 2)) / 1.0 - p.foot_radius;
@@ -110,7 +95,8 @@ inline std::int64_t transition(const Parameters& p, const double* frames, const 
     case DOUBLE:
       for (std::int64_t side = LEFT_SIDE; side <= RIGHT_SIDE; ++side)
         if (m.front == side && body_x - coordinate(frames, r.feet[side], 0) > p.over_distance)
-          return side == LEFT_SIDE ? static_cast<std::int64_t>(LEFT) : static_cast<std::int64_t>(RIGHT);
+          return side == LEFT_SIDE ? static_cast<std::int64_t>(LEFT)
+                                   : static_cast<std::int64_t>(RIGHT);
       return -1;
     case LEFT:
     case RIGHT:
@@ -143,8 +129,7 @@ inline bool update(const Parameters& p, const double* frames, const Rows& r, dou
   const double phase = py_min(py_max((progress - m.progress_start) / span, 0.0), 1.0);
   const double x_rel =
       m.swing_start[0] + (p.swing_reach - m.swing_start[0]) * smoothstep(1.6 * phase);
-  const double foot_height =
-      lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase;
+  const double foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase;
   const double z_rel = m.ground + p.foot_radius + foot_height - body_z;
   m.swing_setpoint[swing][0] = x_rel;
   m.swing_setpoint[swing][1] = z_rel;

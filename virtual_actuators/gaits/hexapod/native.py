@@ -4,8 +4,9 @@
 stance and the double supports' timer) and the gait's callbacks, every active attachment (the
 body's three components and its QP distribution on the support feet, each swing leg's
 spring-damper), the sums and the clipping. `NativeTick` runs the same arithmetic in one call of
-the core (``src/core/hexapod_tick.hpp`` and ``NativeHexapod`` in ``src/core/module.cpp``), bit for
-bit (``tests/test_native_hexapod.py``): a walk's log is the same whichever runs.
+the core (``src/core/hexapod_tick.hpp`` and ``NativeHexapod`` in
+``src/core/bind_native_hexapod.hpp``), bit for bit (``tests/test_native_hexapod.py``): a walk's
+log is the same whichever runs.
 
 The core holds a copy of the gait's memory (`MEMORY`: its machine's state, the tripod kernel's
 state, the filters and set points, the components' set points) and shares the QP's workspace

@@ -1,0 +1,138 @@
+// The gait's kernels' bindings (gait.hpp, hexapod.hpp): the legged walks' body wrench and swing
+// set points, the hexapod's tripod set points, the centre of mass and the producible directions.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bind_common.hpp"
+#include "gait.hpp"
+#include "hexapod.hpp"
+
+namespace va::py {
+namespace {
+
+using GF2 = nb::ndarray<double, nb::numpy, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+
+std::int64_t rows_of(const F2& a) { return static_cast<std::int64_t>(a.shape(0)); }
+
+// kinematics.kernels.center_of_mass: (x, y, z).
+nb::tuple gait_center_of_mass(const F2& joints, const F1& masses, const F2& levers) {
+  const std::int64_t n = rows_of(joints);
+  require(joints.shape(1) == 12, "joints must be (njoints, 12)");
+  require(length(masses) == n && rows_of(levers) == n && levers.shape(1) == 3,
+          "masses must be (njoints,), levers (njoints, 3)");
+  double out[3];
+  {
+    nb::gil_scoped_release release;
+    va::center_of_mass(joints.data(), masses.data(), levers.data(), n, out);
+  }
+  return nb::make_tuple(out[0], out[1], out[2]);
+}
+
+// gaits.legged.body.body_wrench: the wrench into out, returns the yaw.
+double gait_body_wrench(const F2& rotation, const F1& position, const F1& velocity, const F1& gains,
+                        const F1& setpoints, const MF1& out) {
+  require(rotation.shape(0) == 3 && rotation.shape(1) == 3, "rotation must be (3, 3)");
+  require(length(position) >= 3 && length(velocity) == 6, "position (6,), velocity (6,)");
+  require(length(gains) == 11 && length(setpoints) == 8, "gains (11,), setpoints (8,)");
+  require(length(out) == 6, "out must be (6,)");
+  nb::gil_scoped_release release;
+  return va::body_wrench(rotation.data(), position.data(), velocity.data(), gains.data(),
+                         setpoints.data(), out.data());
+}
+
+// gaits.legged.footholds.swing_setpoints: swing and out written in place.
+void gait_swing_setpoints(const I1& feet, const GF2& swing, const F2& nominal, const F1& body,
+                          const F1& motion, double dt, const F1& shape, const GF2& out) {
+  const auto f = static_cast<std::int64_t>(swing.shape(0));
+  const auto k = static_cast<std::int64_t>(feet.shape(0));
+  require(swing.shape(1) == 9 && rows_of(nominal) == f && nominal.shape(1) == 2,
+          "swing must be (f, 9), nominal (f, 2)");
+  require(length(body) == 12 && length(motion) == 8 && length(shape) == 8,
+          "body (12,), motion (8,), shape (8,)");
+  require(static_cast<std::int64_t>(out.shape(0)) >= k && out.shape(1) == 6,
+          "out must be (>= k, 6)");
+  for (std::int64_t j = 0; j < k; ++j)
+    require(feet.data()[j] >= 0 && feet.data()[j] < f, "feet out of range");
+  nb::gil_scoped_release release;
+  va::swing_setpoints(feet.data(), k, swing.data(), nominal.data(), body.data(), motion.data(), dt,
+                      shape.data(), out.data());
+}
+
+// actuators.producible._two_points: (36,), or empty (coincident contacts, a row not in frames).
+Owned gait_two_points(const F2& frames, const I1& rows) {
+  require(frames.shape(1) == 12 && len(rows) == 4, "frames must be (nf, 12), rows (4,)");
+  for (std::int64_t r = 0; r < 4; ++r) {
+    require(rows.data()[r] >= 0, "rows must be >= 0");
+    if (rows.data()[r] >= rows_of(frames))
+      return owned(std::unique_ptr<double[]>(new double[1]), 0);
+  }
+  std::unique_ptr<double[]> buffer(new double[36]());
+  bool found;
+  {
+    nb::gil_scoped_release release;
+    found = va::two_points(frames.data(), rows.data(), buffer.get());
+  }
+  if (!found) return owned(std::unique_ptr<double[]>(new double[1]), 0);
+  return owned(std::move(buffer), 36);
+}
+
+// actuators.producible._give_way_one: out written when True.
+bool gait_give_way_one(const F1& wrench, const F2& yielding, const F2& missing, const MF1& out) {
+  const std::int64_t n = length(wrench);
+  const auto m = static_cast<std::int64_t>(yielding.shape(1));
+  require(rows_of(yielding) == n && rows_of(missing) == n && missing.shape(1) >= 1,
+          "yielding must be (n, m), missing (n, >= 1)");
+  require(length(out) == n, "out must be (n,)");
+  std::vector<double> across(static_cast<std::size_t>(m));
+  std::vector<double> column(static_cast<std::size_t>(n));  // missing[:, 0]
+  const auto width = static_cast<std::int64_t>(missing.shape(1));
+  for (std::int64_t r = 0; r < n; ++r) column[r] = missing.data()[width * r];
+  nb::gil_scoped_release release;
+  return va::give_way_one(wrench.data(), yielding.data(), n, m, column.data(), out.data(),
+                          across.data());
+}
+
+// gaits.hexapod.kernel.tripod_setpoints: swing and state written in place.
+void gait_tripod_setpoints(const F2& frames, const I1& frame_rows, const I1& rows,
+                           const F2& nominal, const F1& motion, const F1& shape, const GF2& swing,
+                           const MF1& state) {
+  require(frames.shape(1) == 12 && len(frame_rows) == 7,
+          "frames must be (nf, 12), frame_rows (7,)");
+  for (std::int64_t j = 0; j < 7; ++j)
+    require(frame_rows.data()[j] >= 0 && frame_rows.data()[j] < rows_of(frames),
+            "frame_rows out of range");
+  require(rows_of(nominal) == 6 && nominal.shape(1) == 3, "nominal must be (6, 3)");
+  require(len(rows) == 6 && length(motion) == 10 && length(shape) == 11,
+          "rows (6,), motion (10,), shape (11,)");
+  require(swing.shape(0) == 3 && swing.shape(1) == 9 && length(state) == 5,
+          "swing must be (3, 9), state (5,)");
+  for (std::int64_t j = 0; j < 6; ++j)
+    require(rows.data()[j] >= 0 && rows.data()[j] < 6, "rows out of range");
+  nb::gil_scoped_release release;
+  va::tripod_setpoints(frames.data(), frame_rows.data(), rows.data(), nominal.data(), motion.data(),
+                       shape.data(), swing.data(), state.data());
+}
+
+}  // namespace
+
+void bind_gait(nb::module_& m) {
+  m.def("tripod_setpoints", &gait_tripod_setpoints, "frames"_a, "frame_rows"_a, "rows"_a,
+        "nominal"_a, "motion"_a, "shape"_a, "swing"_a.noconvert(), "state"_a.noconvert(),
+        "gaits.hexapod.kernel.tripod_setpoints: the swing tripod's set points, in place.");
+  m.def("center_of_mass", &gait_center_of_mass, "joints"_a, "masses"_a, "levers"_a,
+        "kinematics.kernels.center_of_mass: the bodies' centre of mass (x, y, z).");
+  m.def("body_wrench", &gait_body_wrench, "rotation"_a, "position"_a, "velocity"_a, "gains"_a,
+        "setpoints"_a, "out"_a.noconvert(),
+        "gaits.legged.body.body_wrench: the body model's wrench into out; the yaw.");
+  m.def("swing_setpoints", &gait_swing_setpoints, "feet"_a, "swing"_a.noconvert(), "nominal"_a,
+        "body"_a, "motion"_a, "dt"_a, "shape"_a, "out"_a.noconvert(),
+        "gaits.legged.footholds.swing_setpoints: swing feet's set points into swing and out.");
+  m.def("two_points", &gait_two_points, "frames"_a, "rows"_a,
+        "actuators.producible._two_points: producible (6, 5) and missing (6, 1) row by row.");
+  m.def("give_way_one", &gait_give_way_one, "wrench"_a, "yielding"_a, "missing"_a,
+        "out"_a.noconvert(),
+        "actuators.producible._give_way_one: the request given way along one direction.");
+}
+
+}  // namespace va::py

@@ -1,4 +1,4 @@
-// What the native gaits' ticks (bind_native_turkey.cpp, bind_native_hexapod.cpp) share after their
+// What the hexapod's native tick (bind_native_hexapod.cpp) does after its
 // attachments: GaitEfforts.
 #pragma once
 

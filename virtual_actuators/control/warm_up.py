@@ -97,7 +97,7 @@ def warm_up_driven(controller: object, robot: Robot) -> None:
     """
     for owner in (controller, getattr(controller, "controller", None)):
         model = getattr(getattr(owner, "robot", None), "model", None)
-        if hasattr(owner, "attachments") and model is robot.model:  # a controller of robot
+        if callable(getattr(owner, "warm_up", None)) and model is robot.model:  # a gait too
             owner.warm_up(robot.neutral())
             return
 

@@ -146,6 +146,17 @@ class Gait:
         self.last = tick.compute(q, v, time, contacts)
         return self.last
 
+    def warm_up(self, q: np.ndarray) -> None:
+        """Lower the gait (if it has not been) and warm its controller up, before a timed loop.
+
+        Raises:
+            InvalidInputError: A bad ``q``.
+
+        """
+        if self._tick is None:
+            self._tick = self._lower()
+        self.controller.warm_up(q)
+
     @property
     def compiled(self) -> CompiledMachine | None:
         """The compiled machine the ticks run on (None: Python, or not lowered yet)."""

@@ -283,7 +283,7 @@ def drive(
     collector = LoopCollector(check_gc_policy(gc_policy, "drive()"))
     simulator = episode.simulator
     bar = Progress(duration) if progress else None
-    episode.gait.controller.warm_up(simulator.q)  # kernels loaded before the clock starts
+    episode.gait.warm_up(simulator.q)  # lowered, kernels loaded before the clock starts
     with collector:
         start = wallclock.perf_counter()
         end = _loop(episode, duration, bar, on_tick, stop_on_fall, collector)

@@ -2,6 +2,7 @@
 // StateMachine and a Controller into a Machine, whose tick() runs them; the registers, the
 // attachments' efforts and the distribution buffers are numpy views of the Machine's memory
 // (one owner: the core).
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/vector.h>
 
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "bind_common.hpp"
+#include "bind_plan_qp.hpp"
 #include "plan_machine.hpp"
 
 namespace va::py {
@@ -139,7 +141,7 @@ class PlanMachine {
     a.resets = copy<std::int64_t>(resets);
     for (const std::int64_t p : a.programs) require(program_or_none(p) && p >= 0, "program");
     for (const std::int64_t p : a.resets) require(program_or_none(p) && p >= 0, "program");
-    require(mapping >= va::plan::SERIAL && mapping <= va::plan::PYTHON, "unknown mapping");
+    require(mapping >= va::plan::SERIAL && mapping <= va::plan::SOLVER, "unknown mapping");
     require(!(joints && mapping == va::plan::SERIAL), "a joint-space term maps JOINTS");
     a.mapping = static_cast<va::plan::Mapping>(mapping);
     require(program_or_none(efforts_program), "unknown program");
@@ -181,6 +183,29 @@ class PlanMachine {
       require(row >= 0 && row < machine_->frames(), "orientation rows outside the table");
     a.values.assign(a.yield.lows.size(), 0.0);
     a.at_base = a.values;
+  }
+
+  // A parallel attachment's QP (its Python piece runs the ticks the core does not decide).
+  void set_qp(std::int64_t index, const QP& qp, const F1& q, MF1 buffer, const I1& layout,
+              const I1& kept, const I1& keep, const F1& weights, const F1& tolerances) {
+    va::plan::Attachment& a = attachment(index);
+    require(a.mapping == va::plan::SOLVER, "the attachment does not map through a solver");
+    require(qp.n() == a.n && qp.max_frame_row() < machine_->frames(), "the QP's axes and rows");
+    auto solver = std::make_shared<QPSolver>(qp, q, buffer, layout, kept, keep, weights, tolerances,
+                                             machine_->nv());
+    solvers_.resize(machine_->attachments().size());
+    solvers_[static_cast<std::size_t>(index)] = solver;
+    a.solver = solver;
+  }
+  void set_guess(std::int64_t index, std::optional<MF1> guess) { qp(index).set_guess(guess); }
+  // (out, active, count, norms) of the QP attachment's last tick (out and active: views)
+  nb::tuple qp_answer(nb::handle self, std::int64_t index) {
+    QPSolver& s = qp(index);
+    nb::tuple counts = s.answer();
+    const View out(s.out().data(), {s.out().size()}, self);
+    using IView = nb::ndarray<nb::numpy, std::int64_t, nb::ndim<1>>;
+    const IView active(s.active().data(), {s.active().size()}, self);
+    return nb::make_tuple(out, active, counts[0], counts[1]);
   }
 
   std::int64_t tick(const F1& q, const F1& v, double time, MF1 tau) {
@@ -245,7 +270,15 @@ class PlanMachine {
     return View(data, {size}, owner);
   }
 
+  QPSolver& qp(std::int64_t index) {
+    attachment(index);
+    require(static_cast<std::size_t>(index) < solvers_.size() && solvers_[index] != nullptr,
+            "not a QP attachment");
+    return *solvers_[static_cast<std::size_t>(index)];
+  }
+
   std::unique_ptr<va::plan::Machine> machine_;
+  std::vector<std::shared_ptr<QPSolver>> solvers_;
   std::vector<va::plan::Op> ops_;
   nb::list callbacks_;
   bool checked_ = false;
@@ -275,6 +308,15 @@ void bind_plan(nb::module_& m) {
            "columns"_a, "signs"_a, "q_rows"_a, "position"_a, "velocity"_a, "wrench"_a, "produced"_a,
            "programs"_a, "resets"_a, "mapping"_a, "efforts_program"_a)
       .def("set_distribution", &PlanMachine::set_distribution, "index"_a, "ints"_a, "floats"_a)
+      .def("set_qp", &PlanMachine::set_qp, "index"_a, "qp"_a, "q"_a, "buffer"_a.noconvert(),
+           "layout"_a, "kept"_a, "keep"_a, "weights"_a, "tolerances"_a, nb::keep_alive<1, 3>())
+      .def("set_guess", &PlanMachine::set_guess, "index"_a, "guess"_a.noconvert().none())
+      .def(
+          "qp_answer",
+          [](nb::handle self, std::int64_t i) {
+            return nb::cast<PlanMachine&>(self).qp_answer(self, i);
+          },
+          "index"_a)
       .def("set_yield", &PlanMachine::set_yield, "index"_a, "mask"_a, "orientation_rows"_a,
            "points"_a, "axis_rows"_a, "minima_axes"_a, "lows"_a)
       .def("tick", &PlanMachine::tick, "q"_a, "v"_a, "time"_a, "tau"_a.noconvert())

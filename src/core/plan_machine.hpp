@@ -22,12 +22,23 @@
 
 namespace va::plan {
 
+// A parallel attachment's distribution run by an object the bindings give (the QP on its last
+// certified active set): the efforts and the produced wrench of a wrench, or false (the
+// attachment's Python piece decides that tick).
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual bool solve(const double* jacobian_world, const double* frames, const double* q,
+                     const double* wrench, double* tau, double* produced) = 0;
+};
+
 // How an attachment's wrench becomes efforts.
 enum Mapping : std::int64_t {
   SERIAL = 0,       // J^T w over the sensor's chain
   PARTITIONED = 1,  // the parallel actuator's packed distribution
   JOINTS = 2,       // a joint-space term: the wrench is the efforts of its joints
   PYTHON = 3,       // a Python piece (the program `efforts_program`) writes the efforts
+  SOLVER = 4,       // the attachment's Solver, else its Python piece
 };
 
 struct Yield {  // contact_limits.enforce_unilateral's tables (a partitioned attachment)
@@ -51,6 +62,7 @@ struct Attachment {
   Packed packed{};
   bool yields = false;
   Yield yield;
+  std::shared_ptr<Solver> solver;
   // per tick
   std::vector<double> jacobian, efforts, out, base_out, values, at_base;
   Distributed solved{};  // the last distribution's norms and status (0: solved)
@@ -244,6 +256,11 @@ class Machine {
       case PARTITIONED:
         if (distribute_partitioned(a, jw, in, r)) return true;
         [[fallthrough]];  // a tick the core does not decide: the Python piece, if any
+      case SOLVER:
+        if (a.mapping == SOLVER && a.solver != nullptr &&
+            a.solver->solve(jw, in.frames, in.q, wrench, a.efforts.data(), r + a.produced))
+          return true;
+        [[fallthrough]];
       case PYTHON: return a.efforts_program >= 0 && program(a.efforts_program, in, r);
     }
     return false;

@@ -12,11 +12,22 @@ import numpy as np
 
 from ...actuators import ParallelVirtualActuator
 from ...components.base import Component, has_traced_path
+from ...distribution.result import Solution
 from ...exceptions import TraceError
 from ..attachment_tick import run_attachment
 from ..tick import TickSums
 from .builder import Program
-from .lower import JOINTS, PARTITIONED, PYTHON, SERIAL, Lowering, Slots, attachment_kind, term_kind
+from .lower import (
+    JOINTS,
+    PARTITIONED,
+    PYTHON,
+    SERIAL,
+    SOLVER,
+    Lowering,
+    Slots,
+    attachment_kind,
+    term_kind,
+)
 
 __all__ = ["Attached", "Entry", "Term"]
 
@@ -124,7 +135,16 @@ class Attached(Entry):
             self.component(component, index, alone)
         why = attachment_kind(attachment)
         actuator = attachment.actuator
-        if why is None and isinstance(actuator, ParallelVirtualActuator):
+        self.qp = None
+        if why is None and attachment.method == "qp":  # the core's step, the rest in Python
+            self.mapping = SOLVER
+            self.qp = actuator.backends["qp"]
+            self.efforts_program = lowering.python(
+                f"{name}: distribution", "a QP tick whose active set changed",
+                self._python_distribution,
+            ).index  # fmt: skip
+            lowering.pieces.pop()  # only the rare ticks: not a piece of every tick
+        elif why is None and isinstance(actuator, ParallelVirtualActuator):
             self.mapping = PARTITIONED
             self.efforts_program = lowering.python(
                 f"{name}: distribution", "a tick the compiled distribution hands on",
@@ -154,9 +174,22 @@ class Attached(Entry):
         if produced is not None:
             registers[self.produced : self.produced + self.n] = produced
         self.solution = sums.solutions.get(self.name)
+        if self.qp is not None:  # the warm start the Python stages certified, for the core
+            self._guess = self.qp.plan_tables(attachment.plan)[-1].active
+            self._core.set_guess(self.core_index, self._guess)
 
     def solved_solution(self) -> object | None:
         """The solution of the last tick's distribution (parallel attachments), or None."""
+        if self.mapping == SOLVER:
+            out, active, count, norms = self._core.qp_answer(self.core_index)
+            if count < 0:  # the Python piece solved it
+                return self.solution
+            tick = self.qp.answer_tick(out.copy(), norms, active[:count].copy())
+            actuator, request = self.attachment.actuator, self.attachment.plan
+            return Solution.from_tick(
+                tick, 1e-6, actuator.reactions, actuator.axes, request.free,
+                bool(actuator.robot.floating_base),
+            )  # fmt: skip
         if self.mapping == PARTITIONED:
             residual, scale, rounding, status = self._core.solved(self.core_index)
             if status == 0:
@@ -176,6 +209,18 @@ class Attached(Entry):
             self.produced, np.array(self.programs, dtype=np.int64),
             np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
         )  # fmt: skip
+        if self.mapping == SOLVER:
+            core_qp, work, keep, weights, tolerances, slot = self.qp.plan_tables(
+                self.attachment.plan
+            )
+            self._work = work  # its buffer is the core's scratch: kept alive here
+            q = self.compiled.robot.neutral()
+            core.set_qp(
+                self.core_index, core_qp, q, work.buffer, work.layout, work.kept, keep, weights,
+                tolerances,
+            )  # fmt: skip
+            self._guess = slot.active
+            core.set_guess(self.core_index, slot.active)
         if self.mapping == PARTITIONED:
             ints, floats = self.attachment.snapshot_solve.packed
             core.set_distribution(self.core_index, ints, floats)

@@ -34,7 +34,7 @@ from .trace import TraceContext
 __all__ = ["Lowering", "Slots"]
 
 #: How an attachment's wrench becomes efforts (plan_machine.hpp's Mapping).
-SERIAL, PARTITIONED, JOINTS, PYTHON = 0, 1, 2, 3
+SERIAL, PARTITIONED, JOINTS, PYTHON, SOLVER = 0, 1, 2, 3, 4
 
 
 class Slots:
@@ -197,8 +197,13 @@ def attachment_kind(attachment: object) -> str | None:
             return "a serial actuator read through another sensor"
         return None
     if isinstance(actuator, ParallelVirtualActuator):
+        if attachment.method == "qp":
+            qp = actuator.backends.get("qp")
+            if attachment.yield_mask is not None or qp is None:
+                return "a QP with a yield policy"
+            return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
         if attachment.snapshot_solve is None:
-            return f"a {attachment.method!r} distribution (the QP stays the controller's)"
+            return f"a {attachment.method!r} distribution (the controller's)"
         if attachment.yield_mask is not None and attachment.margins is None:
             return "a yield policy on sole rows"
         return None

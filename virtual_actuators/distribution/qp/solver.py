@@ -1,7 +1,6 @@
 """Contact-aware distribution as a quadratic program (``solve(q, w, method="qp")``).
 
 The natural and design constraints stay equalities; the contacts add inequalities:
-
 - a **friction pyramid** at each chain: with ``n`` the contact normal (world z; or a world vector
   given per reaction; or, ``"frame"``, the reaction frame's z axis at this tick) and ``t1, t2``
   two tangents fixed in the world (``t1 = n x e`` normalised, ``e`` the world x axis, or y when
@@ -14,8 +13,8 @@ The natural and design constraints stay equalities; the contacts add inequalitie
   half_width)``: the moment about the reaction frame's origin, in that frame, satisfies
   ``|m_x| <= half_width f_n`` and ``|m_y| <= half_length f_n``, and the yaw moment
   ``|m_z| <= mu min(half_length, half_width) f_n`` (a conservative contact wrench cone);
-- **torque limits** ``|tau_j| <= limit_j`` at the actuated joints (the URDF effort limits, or an
-  array).
+- **torque limits** ``|tau_j| <= limit_j`` at the actuated joints that a chain moves (the URDF
+  effort limits, or an array).
 
 Objective, lexicographic, on the problem divided by its scale (the largest of the request, the
 spring torques, the least normal force and the constant design right-hand sides; not the torque
@@ -33,8 +32,7 @@ limits, which may lie far from every answer):
    equalities (they hold at every closest answer, so the feasible set is unchanged, but without
    them ProxQP meets the rows only at the cones' edges); ``sol.residual`` reports the miss.
 
-No stage mixes the miss and the force norm in one objective (the former ``|A F - w|^2 +
-1e-6 |F|^2`` did, and left the two matrix paths 3e-4 apart). Solved by ProxQP (proxsuite,
+No stage mixes the miss and the force norm in one objective. Solved by ProxQP (proxsuite,
 dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
 infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check. With
 the compiled core, stage 1 runs first in DAQP (a dense dual active-set solver built into the
@@ -43,8 +41,6 @@ stages 2 and 3 run in DAQP too (from cold, at most ``DAQP_MAX_ITER`` iterations,
 wrench regularised by a little of the least norm: ``DAQP_CLOSEST_EPS``), and stage 1 does not
 run in ProxQP. ProxQP runs only when the exact step does not certify DAQP's answer (ProxQP
 remains the reference: ``VA_CORE=0``).
-Joints that no chain moves get no torque-limit row (it would be all zero: always met).
-
 **Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
 thread's previous solve. Its multipliers name the active inequalities, and on that active set
 `exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
@@ -55,26 +51,22 @@ set, else ProxQP's answer stands). An answer is then the optimum to rounding: wi
 whatever was solved before (warm or cold start, any thread). When stage 1 fails, its last
 iterate mostly names the closest answer's active set already: certified there, that answer ends
 the solve (stages 2 and 3 run only when it is not).
-Before ProxQP, the active set of the thread's last certified answer is tried on the tick's rows:
-certified, it gives the same answer without ProxQP (the KKT conditions name one optimum), and a
-walking tick whose active set did not change solves by linear algebra alone.
+Before ProxQP, the thread's last certified active set is tried on the tick's rows: certified,
+it gives the same answer (the KKT conditions name one optimum) by linear algebra alone (a compiled
+plan runs that step in the core: `plan_tables`).
 
-**Rows that cannot hold.** When stage 1 fails, the other rows are checked first
-(`conflict`: the least squared shift of the inequalities' bounds that lets them hold
-with the equalities, ``CONFLICT_MAX_ITER`` iterations at most, run when twice that is left): if
-they cannot hold together, whatever the request, ``ConstraintError`` names the rows that conflict
-(each foot's least normal force and the knees' torque limits, say), at once; the iteration-budget
-error is kept for a solve that did not converge.
+**Rows that cannot hold.** When stage 1 fails, the other rows are checked first (`conflict`:
+the least squared shift of the inequalities' bounds that lets them hold with the equalities):
+if they cannot hold together, ``ConstraintError`` names them (each foot's least normal force and
+the knees' torque limits, say); the iteration-budget error is kept for a solve that did not
+converge.
 
-Worst case: one solve uses at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over its
-stages, each of at most ``MAX_ITER_IN`` inner steps; stage 1 at most ``EXACT_MAX_ITER`` of them
-and half the budget, the check of the other rows at most ``CONFLICT_MAX_ITER``; with the core,
-before them, at most two DAQP solves of ``DAQP_MAX_ITER`` iterations each.
-When the budget runs out, the solve returns the exact answer if the KKT check passes on the
-active set of the last feasible iterate, else that iterate (the feasible answer of least
-weighted miss found so far, meeting every row to ``FEASIBILITY_TOL``) with its residual in
-``sol.residual`` and ``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if no
-feasible point was found. ``QPDistribution.iterations`` reads the count of the last solve.
+Worst case: at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over the stages, each of
+at most ``MAX_ITER_IN`` inner steps (stage 1 at most ``EXACT_MAX_ITER`` and half the budget, the
+rows' check ``CONFLICT_MAX_ITER``); with the core, before them, two DAQP solves at most.
+When the budget runs out: the exact answer on the last feasible iterate's active set if it is
+certified, else that iterate (meeting every row to ``FEASIBILITY_TOL``) with its residual and
+``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if none was feasible.
 """
 
 from __future__ import annotations
@@ -87,7 +79,7 @@ from ...exceptions import ConstraintError, InvalidInputError
 from ..problem import DistributionProblem
 from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
-from ..tolerances import ACTIVE_TOL, EPS_ABS, INFINITY
+from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
 from .compiled import CompiledQPMatrices
 from .kernel_answer import Answer
 from .limits import ContactLimits, kinds, torque_map
@@ -212,6 +204,26 @@ class QPDistribution:
             return self._solve(snapshot, wrench, keep, request.compiled, weights, budget)
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
+
+    def plan_tables(self, request: Request) -> tuple | None:
+        """What a compiled plan runs ``request`` with on the last certified active set, or None.
+
+        Returns:
+            ``(core, workspace, keep, weights, tolerances, slot)``: the core's ``QP``, this
+            thread's workspace, ``keep`` as 0/1 integers, the rows' weights, the ``(active,
+            exact, accuracy)`` tolerances and the slot whose ``active`` is the warm start
+            (None before the first certified answer). None: no compiled path.
+        """
+        if not request.compiled or self.matrices.core is None or not self.matrices.applicable:
+            return None
+        work, slot = self._hot(request.keep)
+        tolerances = np.array([ACTIVE_TOL, EXACT_TOL, EPS_ABS])
+        keep = np.asarray(request.keep, dtype=np.int64)
+        return self.matrices.core, work, keep, self._weights(request), tolerances, slot
+
+    def answer_tick(self, out: np.ndarray, norms: tuple, active: np.ndarray) -> TickResult:
+        """The `TickResult` of an answer the core read out (``out``, its norms, active rows)."""
+        return self._tick(Answer(out, *norms, active), False)
 
     def _weights(self, request: Request) -> np.ndarray:
         """The request rows' weights of ``request`` (this thread's last, kept)."""

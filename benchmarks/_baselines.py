@@ -493,14 +493,17 @@ def instrumented_walk(
         result = run_walk(name, duration=seconds, progress=False, **options)
     ticks = len(probe.samples["simulator.step"])
     total = probe.tick_totals()
-    gait, step = probe.per_tick("gait.compute"), probe.per_tick("simulator.step")
+    # the warm-up's calls come before the loop's: the last ``ticks`` calls are the loop's
+    gait, step = probe.per_tick("gait.compute")[-ticks:], probe.per_tick("simulator.step")
     native = np.concatenate(
         [probe.per_tick("native.compute"), probe.per_tick("hexapod native.compute")]
-    )
-    if native.size:  # the first tick (and any the native tick hands on) in Python
+    )[-ticks:]
+    if native.size and gait.size >= ticks:  # gait.compute runs the compiled machine
+        parts = {"total": total, "gait.compute": gait, "  compiled machine": native}
+    elif native.size:  # a hand-ported tick after a first tick in Python
         parts = {
             "total": total,
-            "gait tick": np.concatenate([gait[:1], native]),
+            "gait tick": np.concatenate([gait[:1], native[1:]]),
             "  native (one call)": native,
             "  Python ticks": gait,
         }

@@ -224,7 +224,8 @@ def test_nearly_dependent_request_rows_are_bit_identical(recorder):
     ("legged", {"robot": "solo12", "gait": "trot"}),
     ("balance", {}),
 ])  # fmt: skip
-def test_walking_qp_ticks_are_bit_identical(walk, options, recorder):
+def test_walking_qp_ticks_are_bit_identical(walk, options, recorder, monkeypatch):
+    monkeypatch.setenv("VA_PLAN", "0")  # the gaits' Python ticks, where the QP kernels are called
     run_walk(walk, duration=0.4, progress=False, stop_on_fall=False, **options)
     counts = _check(recorder)
     assert counts["again"] + counts["ticks"] > 100
@@ -270,6 +271,7 @@ def test_walking_sensor_readings_are_bit_identical(monkeypatch):
         return original(*arguments)
 
     monkeypatch.setattr(relative, "_relative_sensor", recording)
+    monkeypatch.setenv("VA_PLAN", "0")  # the gaits' Python ticks, where the sensors are read
     run_walk("balance", duration=0.2, progress=False, stop_on_fall=False)
     run_walk("turkey-walk", duration=0.2, progress=False, stop_on_fall=False)
     assert len(calls) > 100

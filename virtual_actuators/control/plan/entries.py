@@ -175,7 +175,7 @@ class Attached(Entry):
             registers[self.produced : self.produced + self.n] = produced
         self.solution = sums.solutions.get(self.name)
         if self.qp is not None:  # the warm start the Python stages certified, for the core
-            self._guess = self.qp.plan_tables(attachment.plan)[-1].active
+            self._guess = self.qp.plan_tables(attachment.plan).slot.active
             self._core.set_guess(self.core_index, self._guess)
 
     def solved_solution(self) -> object | None:

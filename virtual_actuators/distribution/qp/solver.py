@@ -83,7 +83,7 @@ from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
 from .compiled import CompiledQPMatrices
 from .kernel_answer import Answer
 from .limits import ContactLimits, kinds, torque_map
-from .stage_types import Budget, StageRows
+from .stage_types import Budget, PlanTables, StageRows
 from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, ProxStages
 from .weights import check_weights
 
@@ -205,21 +205,19 @@ class QPDistribution:
         finally:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
-    def plan_tables(self, request: Request) -> tuple | None:
+    def plan_tables(self, request: Request) -> PlanTables | None:
         """What a compiled plan runs ``request`` with on the last certified active set, or None.
 
         Returns:
-            ``(core, workspace, keep, weights, tolerances, slot)``: the core's ``QP``, this
-            thread's workspace, ``keep`` as 0/1 integers, the rows' weights, the ``(active,
-            exact, accuracy)`` tolerances and the slot whose ``active`` is the warm start
-            (None before the first certified answer). None: no compiled path.
+            The `PlanTables` (the slot's ``active`` None before the first certified answer);
+            None: no compiled path.
         """
         if not request.compiled or self.matrices.core is None or not self.matrices.applicable:
             return None
         work, slot = self._hot(request.keep)
         tolerances = np.array([ACTIVE_TOL, EXACT_TOL, EPS_ABS])
         keep = np.asarray(request.keep, dtype=np.int64)
-        return self.matrices.core, work, keep, self._weights(request), tolerances, slot
+        return PlanTables(self.matrices.core, work, keep, self._weights(request), tolerances, slot)
 
     def answer_tick(self, out: np.ndarray, norms: tuple, active: np.ndarray) -> TickResult:
         """The `TickResult` of an answer the core read out (``out``, its norms, active rows)."""

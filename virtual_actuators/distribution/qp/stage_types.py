@@ -5,7 +5,7 @@ See `stages` for the stages themselves.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -87,3 +87,14 @@ class StageAnswer(NamedTuple):
 
 
 __all__ = ["Budget", "ProxSlot", "StageAnswer", "StageRows"]
+
+
+class PlanTables(NamedTuple):
+    """What a compiled plan runs a request with on the last certified active set."""
+
+    core: Any  # the core's ``QP``
+    workspace: Any  # this thread's workspace (its buffer the core's scratch)
+    keep: np.ndarray  # the kept request rows, 0/1 integers
+    weights: np.ndarray  # the kept rows' weights
+    tolerances: np.ndarray  # (active, exact, accuracy)
+    slot: Any  # the slot whose ``active`` is the warm start

@@ -21,9 +21,6 @@ from ...native import CORE
 from ..planar import lift_profile, smoothstep
 from .body import GRAVITY
 
-_smoothstep = njit(cache=True)(smoothstep)
-_lift_profile = njit(cache=True)(lift_profile)
-
 #: ``shape``'s entries (:func:`tripod_setpoints`), in order
 SHAPE = (
     "velocity_filter",
@@ -46,7 +43,66 @@ def _strides(x: float, y: float, length: float, width: float) -> float:
     return math.sqrt((x / length) * (x / length) + (y / width) * (y / width))
 
 
-@njit(cache=True)
+def _advance_support(
+    frames: np.ndarray,
+    frame_rows: np.ndarray,
+    rows: np.ndarray,
+    nominal: np.ndarray,
+    motion: np.ndarray,
+    shape: np.ndarray,
+    state: np.ndarray,
+) -> None:
+    """`tripod_setpoints`' first half: the support tripod's ground plane, height and phase.
+
+    Writes ``state`` (`tripod_setpoints`' arguments, the same meanings).
+    """
+    height, fx, fy, yaw_rate, elapsed = motion[0], motion[1], motion[2], motion[7], motion[8]
+    foot_radius, length, width, max_stance = shape[1], shape[3], shape[4], shape[5]
+    # the feet relative to the body, body axes: (foot - body) @ rotation
+    body = frame_rows[0]
+    feet = np.empty((6, 3))
+    for i in range(6):
+        foot = frame_rows[1 + i]
+        dx = frames[foot, 9] - frames[body, 9]
+        dy = frames[foot, 10] - frames[body, 10]
+        dz = frames[foot, 11] - frames[body, 11]
+        for j in range(3):
+            feet[i, j] = dx * frames[body, j] + dy * frames[body, 3 + j] + dz * frames[body, 6 + j]
+    # the ground plane through the support tripod (footholds.support_plane)
+    s1, s2, s3 = rows[0], rows[1], rows[2]
+    x1, y1, z1 = feet[s1, 0], feet[s1, 1], feet[s1, 2]
+    ux, uy, uz = feet[s2, 0] - x1, feet[s2, 1] - y1, feet[s2, 2] - z1
+    vx, vy, vz = feet[s3, 0] - x1, feet[s3, 1] - y1, feet[s3, 2] - z1
+    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+    if abs(nz) > 1e-9:
+        a, b = -nx / nz, -ny / nz
+        state[0], state[1], state[2] = a, b, z1 - a * x1 - b * y1
+    state[4] = height + state[2] - foot_radius
+    # how far the support feet lag behind their nominal places (footholds.behind)
+    lag = 0.0
+    found = False
+    for j in range(3):
+        r = rows[j]
+        sx = fx - yaw_rate * nominal[r, 1]  # the nominal place's velocity over the ground
+        sy = fy + yaw_rate * nominal[r, 0]
+        speed = math.sqrt(sx * sx + sy * sy)
+        if speed > 1e-3:
+            ex, ey = sx / speed, sy / speed
+            ox, oy = feet[r, 0] - nominal[r, 0], feet[r, 1] - nominal[r, 1]
+            value = -(ox * ex + oy * ey) * _strides(ex, ey, length, width)
+            if not found or value > lag:
+                lag = value
+            found = True
+    progress = 0.5 + lag
+    by_time = elapsed / max_stance
+    if by_time > progress:
+        progress = by_time
+    if 1.0 < progress:
+        progress = 1.0
+    if progress > state[3]:
+        state[3] = progress
+
+
 def tripod_setpoints(
     frames: np.ndarray,
     frame_rows: np.ndarray,
@@ -76,57 +132,15 @@ def tripod_setpoints(
 
     """
     height, fx, fy, cx, cy, ax, ay, yaw_rate, elapsed, dt = motion
-    velocity_filter, foot_radius, nominal_height = shape[0], shape[1], shape[2]
+    velocity_filter, nominal_height = shape[0], shape[2]
     length, width, max_stance, lift, peak = shape[3], shape[4], shape[5], shape[6], shape[7]
     depth, gain, double_time = shape[8], shape[9], shape[10]
-    # the feet relative to the body, body axes: (foot - body) @ rotation
-    body = frame_rows[0]
-    feet = np.empty((6, 3))
-    for i in range(6):
-        foot = frame_rows[1 + i]
-        dx = frames[foot, 9] - frames[body, 9]
-        dy = frames[foot, 10] - frames[body, 10]
-        dz = frames[foot, 11] - frames[body, 11]
-        for j in range(3):
-            feet[i, j] = dx * frames[body, j] + dy * frames[body, 3 + j] + dz * frames[body, 6 + j]
-    # the ground plane through the support tripod (footholds.support_plane)
-    s1, s2, s3 = rows[0], rows[1], rows[2]
-    x1, y1, z1 = feet[s1, 0], feet[s1, 1], feet[s1, 2]
-    ux, uy, uz = feet[s2, 0] - x1, feet[s2, 1] - y1, feet[s2, 2] - z1
-    vx, vy, vz = feet[s3, 0] - x1, feet[s3, 1] - y1, feet[s3, 2] - z1
-    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
-    if abs(nz) > 1e-9:
-        a, b = -nx / nz, -ny / nz
-        state[0], state[1], state[2] = a, b, z1 - a * x1 - b * y1
+    _advance_support(frames, frame_rows, rows, nominal, motion, shape, state)
     a, b, c = state[0], state[1], state[2]
-    state[4] = height + c - foot_radius
-    # how far the support feet lag behind their nominal places (footholds.behind)
-    lag = 0.0
-    found = False
-    for j in range(3):
-        r = rows[j]
-        sx = fx - yaw_rate * nominal[r, 1]  # the nominal place's velocity over the ground
-        sy = fy + yaw_rate * nominal[r, 0]
-        speed = math.sqrt(sx * sx + sy * sy)
-        if speed > 1e-3:
-            ex, ey = sx / speed, sy / speed
-            ox, oy = feet[r, 0] - nominal[r, 0], feet[r, 1] - nominal[r, 1]
-            value = -(ox * ex + oy * ey) * _strides(ex, ey, length, width)
-            if not found or value > lag:
-                lag = value
-            found = True
-    progress = 0.5 + lag
-    by_time = elapsed / max_stance
-    if by_time > progress:
-        progress = by_time
-    if 1.0 < progress:
-        progress = 1.0
-    if progress > state[3]:
-        state[3] = progress
     phase = state[3]
-    reach = _smoothstep(min(1.0, 1.25 * phase))
-    rest = 1.0 - _smoothstep(phase)  # of the lift-off height above the plane
-    up = lift * _lift_profile(phase, peak) - depth * phase
+    reach = smoothstep(min(1.0, 1.25 * phase))
+    rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
+    up = lift * lift_profile(phase, peak) - depth * phase
     # where the swing feet land (footholds.landing)
     rate = 0.0
     for j in range(3, 6):

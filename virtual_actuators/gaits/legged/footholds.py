@@ -52,11 +52,6 @@ def foothold(
     return x + scale * dx, y + scale * dy
 
 
-_smoothstep = njit(cache=True)(smoothstep)
-_lift_profile = njit(cache=True)(lift_profile)
-
-
-@njit(cache=True)
 def swing_point(
     start: np.ndarray, x: float, y: float, z: float, phase: float, lift: float, peak: float
 ) -> tuple[float, float, float]:
@@ -68,12 +63,11 @@ def swing_point(
     at the foothold (the gait lowers ``z`` instead).
     """
     x0, y0, z0 = start[0], start[1], start[2]
-    reach = _smoothstep(min(1.0, 1.25 * phase))
-    height = z0 + (z - z0) * _smoothstep(phase) + lift * _lift_profile(phase, peak)
+    reach = smoothstep(min(1.0, 1.25 * phase))
+    height = z0 + (z - z0) * smoothstep(phase) + lift * lift_profile(phase, peak)
     return x0 + (x - x0) * reach, y0 + (y - y0) * reach, height
 
 
-@njit(cache=True)
 def swing_setpoints(
     feet: np.ndarray, swing: np.ndarray, nominal: np.ndarray, body: np.ndarray,
     motion: np.ndarray, dt: float, shape: np.ndarray, out: np.ndarray,

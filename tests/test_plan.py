@@ -163,3 +163,31 @@ def test_joint_space_terms_posture_compiled_gravity_a_piece():
     worst, compiled = _run_both(build, ticks=600)
     assert worst < 1e-12
     assert [what for what, _ in compiled.pieces] == ["gravity"]
+
+
+def test_a_second_thread_in_a_tick_gets_a_typed_error():
+    """One compiled machine, one run's registers: a tick entered while another thread's is
+    running raises ConcurrentUseError (and leaves that tick and the next ones intact)."""
+    import threading
+
+    inside, release = threading.Event(), threading.Event()
+
+    def blocking(context):  # a Python piece: the first thread waits in it
+        if threading.current_thread() is not threading.main_thread():
+            inside.set()
+            release.wait(10.0)
+        return False
+
+    robot, machine = _turkey(event=blocking)
+    compiled = _compiled(machine)
+    q, v = robot.neutral(), np.zeros(robot.model.nv)
+    outputs = []
+    worker = threading.Thread(target=lambda: outputs.append(compiled.compute(q, v, 0.0)))
+    worker.start()
+    assert inside.wait(10.0)
+    with pytest.raises(va.ConcurrentUseError, match="another thread"):
+        compiled.compute(q, v, 0.0)
+    release.set()
+    worker.join(10.0)
+    assert len(outputs) == 1 and np.all(np.isfinite(outputs[0].tau))
+    assert np.all(np.isfinite(compiled.compute(q, v, 0.001).tau))  # the lock was released

@@ -9,11 +9,12 @@ lowering could not trace) run from inside the core's tick, on the tick's snapsho
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Mapping
 
 import numpy as np
 
-from ...exceptions import InvalidInputError, TraceError
+from ...exceptions import ConcurrentUseError, InvalidInputError, TraceError
 from ...kinematics.snapshot import Snapshot
 from ...native import CORE
 from ...vocabulary.arguments import check_number
@@ -121,6 +122,7 @@ class CompiledMachine:
         self._snapshot: Snapshot | None = None
         self._context: Context | None = None
         self.last: ControlOutput | None = None
+        self._lock = threading.Lock()  # one tick at a time: the registers are one run's state
 
     # -- lowering -------------------------------------------------------------------------
     def _lower_entry(self, name: str) -> Entry:
@@ -169,11 +171,27 @@ class CompiledMachine:
     ) -> ControlOutput:
         """One tick: [`MachineController.compute`][virtual_actuators.MachineController.compute].
 
+        One machine carries one run's state (its registers): a call while another thread's is
+        running raises.
+
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``, or a contact switch
                 an event reads that ``contacts`` lacks.
+            ConcurrentUseError: Another thread is in a tick of this machine.
 
         """
+        if not self._lock.acquire(blocking=False):
+            raise ConcurrentUseError(
+                f"{self!r} is computing a tick in another thread: one run's state, one thread at "
+                "a time (build one gait or machine per thread)."
+            )
+        try:
+            return self._compute(q, v, time, contacts)
+        finally:
+            self._lock.release()
+
+    def _compute(self, q, v, time, contacts) -> ControlOutput:
+        """`compute` (the lock held)."""
         if isinstance(q, Snapshot):
             q, v = q.q, q.v
         if not (_plain(q, self._nq) and _plain(v, self._nv) and time.__class__ is float):

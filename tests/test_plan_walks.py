@@ -1,0 +1,49 @@
+"""Every registered walk on the compiled machine against the same walk in Python.
+
+Each walk runs twice from the same start: lowered into the core (the default) and in Python
+(``VA_PLAN=0``). Over the first `TICKS` ticks, each tick's efforts agree to `TOLERANCE` of the
+tick's scale (its largest effort, at least 1 N m), and the machines' histories agree. Past that,
+a walk whose next touchdown turns on the last bits of a contact's timing may drift apart from
+rounding alone: the Python path's numpy products round by the arrays' alignment in memory, so
+even two Python runs of solo12's pace in one process can part at its first flight phase; the
+walks' own targets are checked in their test files.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from virtual_actuators.gaits.registry import WALKS, run_walk
+from virtual_actuators.native import CORE
+
+pytestmark = [
+    pytest.mark.skipif(CORE is None or not hasattr(CORE, "PlanMachine"), reason="no core"),
+    pytest.mark.filterwarnings("ignore:Robot 'hyq'"),
+]
+
+TICKS = 250
+TOLERANCE = 1e-12  # [-] of the tick's scale
+
+CASES = {name: (name, {}) for name in WALKS} | {
+    "legged go2 trot, partitioned": ("legged", {"robot": "go2", "distribution": "partitioned"}),
+    "balance g1": ("balance", {"robot": "g1"}),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_the_compiled_walk_is_the_python_walk(case, monkeypatch):
+    name, options = CASES[case]
+    seconds = TICKS * 0.001
+    compiled = run_walk(name, duration=seconds, progress=False, stop_on_fall=False, **options)
+    monkeypatch.setenv("VA_PLAN", "0")
+    python = run_walk(name, duration=seconds, progress=False, stop_on_fall=False, **options)
+    assert python.gait.compiled is None
+    if name != "hexapod-walk":  # the hexapod's walk runs its hand-ported tick instead
+        assert compiled.gait.compiled is not None, "the walk did not run on the compiled machine"
+    ours, theirs = compiled.loop.efforts, python.loop.efforts
+    assert ours.shape == theirs.shape and len(ours) >= TICKS - 1
+    scale = np.maximum(1.0, np.abs(theirs).max(axis=1))
+    worst = np.abs(ours - theirs).max(axis=1) / scale
+    assert worst.max() <= TOLERANCE, f"tick {int(worst.argmax())}: {worst.max():.3g}"
+    assert compiled.gait.machine.history == python.gait.machine.history

@@ -67,7 +67,7 @@ def _run_both(build, ticks=1200, contacts=None):
     for _ in range(ticks):
         q, v, time = simulator.q, simulator.v, simulator.time
         switches = None if contacts is None else contacts(simulator)
-        expected = python.compute(q, v, time, switches)
+        expected = python.compute_in_python(q, v, time, switches)
         got = compiled.compute(q, v, time, switches)
         scale = max(1.0, np.abs(expected.tau).max())
         worst = max(worst, np.abs(expected.tau - got.tau).max() / scale)
@@ -191,3 +191,34 @@ def test_a_second_thread_in_a_tick_gets_a_typed_error():
     worker.join(10.0)
     assert len(outputs) == 1 and np.all(np.isfinite(outputs[0].tau))
     assert np.all(np.isfinite(compiled.compute(q, v, 0.001).tau))  # the lock was released
+
+
+def _bobbing(pitch=0.0):
+    """A user's machine from the public classes only: solo12's body on a spring-damper on all six
+    axes (an orientation set point pitched by ``pitch``), two states taking turns."""
+    robot = va.load_robot("solo12")
+    feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(robot, "base_link", feet, "world", contact="point")
+    controller = va.Controller(robot, clip=True)
+    for name, z in (("high", 0.24), ("low", 0.21)):
+        spring = va.SpringDamper(body.axes, [600, 600, 900, 60, 60, 30], [40, 40, 60, 4, 4, 2],
+                                 setpoint=[0, 0, z, 0.1, pitch, -0.2],
+                                 force=[0, 0, robot.mass * 9.81, 0, 0, 0])  # fmt: skip
+        controller.add(name, body, [spring])
+    machine = va.StateMachine(
+        states=[va.State("high", active=("high",), support=feet),
+                va.State("low", active=("low",), support=feet)],
+        transitions=[va.Transition("high", "low", va.events.after(0.3)),
+                     va.Transition("low", "high", va.events.after(0.3))],
+        initial="high",
+    )  # fmt: skip
+    return robot, va.MachineController(controller, machine)
+
+
+@pytest.mark.parametrize("pitch", [0.0, 0.3])
+def test_a_users_six_axis_body_spring_is_compiled_whole(pitch):
+    """The orientation spring on three rotational axes (SO(3) deflection) is lowered: no Python
+    piece, the Python machine's efforts to the bit."""
+    worst, compiled = _run_both(lambda: _bobbing(pitch), ticks=800)
+    assert compiled.pieces == []
+    assert worst == 0.0

@@ -343,12 +343,12 @@ def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
 
     q, v = gait.initial_configuration(), np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)  # first use: declaration-time checks run once per set of free axes
-    gait.wiring.compute(q, v, 0.0)  # the same machine in Python
+    gait.wiring.compute_in_python(q, v, 0.0)  # the same machine in Python
     monkeypatch.setattr(type(tree), "core_pass", counting_pass)
     monkeypatch.setattr(type(tree), "compute", counting)
     for k in range(1, 6):
         calls.clear()
-        out = gait.wiring.compute(q, v, 0.001 * k)  # Python: one pass, shared by every reader
+        out = gait.wiring.compute_in_python(q, v, 0.001 * k)  # Python: one pass, shared
         assert out.active and len(calls) == 1
     assert gait.compiled is not None  # compiled: the core's one pass, none in Python
     calls.clear()

@@ -23,9 +23,10 @@ difference wrapped to ``[-pi, pi]`` (exact for a planar robot's pitch, unchanged
 point); with two, the SO(3) deflection of the completed vectors on those two axes. To hold a
 general 3-D orientation, put the spring on all three rotational axes.
 
-Everything here is on plain floats (the controller's per-tick path): a rotation vector becomes
-a unit quaternion, the two are composed and the result turned back into a rotation vector with
-``atan2`` (full precision near 0 and near pi).
+Everything here runs on plain floats (the controller's per-tick path in Python) and on traced
+values (a compiled plan's ops), to the same bits: a rotation vector becomes a unit quaternion,
+the two are composed and the result turned back into a rotation vector with ``atan2`` (full
+precision near 0 and near pi).
 """
 
 from __future__ import annotations
@@ -34,8 +35,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..exceptions import TraceError
-from ..vocabulary.scalar import logical_and, select
+from ..vocabulary.scalar import atan2, cos, logical_and, maximum, select, sin, sqrt
 from ..vocabulary.traced import is_traced
 
 _PI = math.pi
@@ -63,26 +63,26 @@ def rotation_axes(axes: Sequence[str]) -> RotationAxes | None:
     return RotationAxes(len(axes) - len(which), which) if which else None
 
 
-def _quaternion(x: float, y: float, z: float) -> tuple[float, float, float, float]:
-    """``exp`` of the rotation vector ``(x, y, z)`` [rad] as a unit quaternion ``(w, v)``."""
+def _quaternion(x: object, y: object, z: object) -> tuple:
+    """``exp`` of the rotation vector ``(x, y, z)`` [rad] as a unit quaternion ``(w, v)``.
+
+    On floats or traced values: both branches are computed and one is selected (the exact
+    branch's angle is kept away from zero, where the series is the one selected).
+    """
     angle2 = x * x + y * y + z * z
-    if angle2 < 1e-8:  # |r| < 1e-4: series of cos(a/2) and sin(a/2)/a (error < 1e-18)
-        w = 1.0 - angle2 / 8.0
-        s = 0.5 - angle2 / 48.0
-    else:
-        angle = math.sqrt(angle2)
-        w = math.cos(0.5 * angle)
-        s = math.sin(0.5 * angle) / angle
+    small = angle2 < 1e-8  # |r| < 1e-4: series of cos(a/2) and sin(a/2)/a (error < 1e-18)
+    angle = sqrt(maximum(angle2, 1e-16))
+    w = select(small, 1.0 - angle2 / 8.0, cos(0.5 * angle))
+    s = select(small, 0.5 - angle2 / 48.0, sin(0.5 * angle) / angle)
     return w, s * x, s * y, s * z
 
 
-def rotation_deflection(
-    setpoint: Sequence[float], position: Sequence[float]
-) -> tuple[float, float, float]:
+def rotation_deflection(setpoint: Sequence, position: Sequence) -> tuple:
     """``log(R_set R^T)`` for ``R_set = exp(setpoint)`` and ``R = exp(position)`` [rad].
 
     The rotation that takes the current orientation to the set point, as a rotation vector in
-    the axes both vectors are written in ({O}'s), of norm at most pi.
+    the axes both vectors are written in ({O}'s), of norm at most pi. On floats or traced
+    values (a compiled plan's ops), to the same bits.
 
     Args:
         setpoint: Rotation vector of the set point ``(3,)`` [rad].
@@ -99,12 +99,10 @@ def rotation_deflection(
     x = wc * xs - ws * xc - (ys * zc - zs * yc)
     y = wc * ys - ws * yc - (zs * xc - xs * zc)
     z = wc * zs - ws * zc - (xs * yc - ys * xc)
-    if w < 0.0:  # q and -q are the same rotation: take the angle in [0, pi]
-        w, x, y, z = -w, -x, -y, -z
-    norm = math.hypot(x, y, z)  # sin(angle / 2)
-    if norm == 0.0:
-        return 0.0, 0.0, 0.0
-    factor = 2.0 * math.atan2(norm, w) / norm
+    sign = select(w < 0.0, -1.0, 1.0)  # q and -q are the same rotation: the angle in [0, pi]
+    w, x, y, z = sign * w, sign * x, sign * y, sign * z
+    norm = sqrt(x * x + y * y + z * z)  # sin(angle / 2); 0 only with x, y, z (nearly) 0
+    factor = 2.0 * atan2(norm, w) / maximum(norm, 1e-300)
     return factor * x, factor * y, factor * z
 
 
@@ -134,8 +132,6 @@ def deflection(
         elif not -_PI <= angle <= _PI:
             out[start] = math.remainder(angle, _TAU)
         return out
-    if is_traced(setpoint, position):
-        raise TraceError("an orientation spring on several rotational axes is not lowered yet.")
     target, current = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
     for i, k in enumerate(which, start):
         target[k], current[k] = setpoint[i], position[i]

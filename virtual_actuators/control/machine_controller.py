@@ -16,18 +16,29 @@ controller, so [`va.run`][virtual_actuators.run] drives it like one::
 
     machine = va.MachineController(controller, va.StateMachine(states, transitions, "stand"))
     output = machine.compute(q, v, time, contacts={"FL_FOOT": True, ...})
+
+On its first tick (or in `MachineController.warm_up`, before a timed loop) the machine is
+lowered into the compiled core (``control.plan``): from then on one core call runs the tick, and
+what the lowering cannot trace (a lambda, a component of your own) runs in Python from inside
+it, for that piece only. `MachineController.compute_in_python` is the same tick in Python (the
+oracle the compiled one is tested against); ``compiled=False``, a build without the core or
+``VA_PLAN=0`` keep every tick there.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
+from ..exceptions import InvalidInputError, TraceError
 from ..kinematics.snapshot import Snapshot
+from ..models.robot import Robot
+from ..native import CORE
 from ..vocabulary.arguments import describe
 from .controller import Controller, ControlOutput
+from .plan.compiled import CompiledMachine, compile_machine
 from .state_machine import Context, State, StateMachine
 from .tick import active_names
 
@@ -38,6 +49,8 @@ class MachineController:
     Args:
         controller: The attachments (every name a state lists must be one of them).
         machine: The states and transitions.
+        compiled: Lower the machine into the compiled core on its first tick (False: every
+            tick in Python, `compute_in_python`).
 
     Attributes:
         controller: As given.
@@ -51,7 +64,9 @@ class MachineController:
 
     """
 
-    def __init__(self, controller: Controller, machine: StateMachine) -> None:
+    def __init__(
+        self, controller: Controller, machine: StateMachine, compiled: bool = True
+    ) -> None:
         if not isinstance(controller, Controller):
             raise InvalidInputError(
                 f"MachineController: controller must be a va.Controller, got "
@@ -74,6 +89,18 @@ class MachineController:
         self.machine = machine
         self.last: ControlOutput | None = None
         self._limp = {s.name: controller.joint_indices(s.limp) for s in machine.states}
+        # the tick: the compiled machine, this object (Python), or None (not lowered yet)
+        self._tick: CompiledMachine | MachineController | None = None if compiled else self
+
+    @property
+    def robot(self) -> Robot:
+        """The controller's robot."""
+        return self.controller.robot
+
+    @property
+    def compiled(self) -> CompiledMachine | None:
+        """The compiled machine the ticks run on (None: Python, or not lowered yet)."""
+        return self._tick if isinstance(self._tick, CompiledMachine) else None
 
     @property
     def state(self) -> State:
@@ -93,6 +120,9 @@ class MachineController:
     ) -> ControlOutput:
         """One tick: snapshot, context, machine update, resets on a change, the controller.
 
+        The compiled machine's tick once the machine is lowered (on the first tick, or in
+        `warm_up`), else `compute_in_python`: the same efforts.
+
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention), or the tick's
                 [`Snapshot`][] (with a velocity) to share its pass.
@@ -102,6 +132,52 @@ class MachineController:
 
         Returns:
             The [`ControlOutput`][] (its ``tau`` goes to the motors).
+
+        Raises:
+            InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``.
+            ConcurrentUseError: Another thread is in a compiled tick of this machine.
+            VirtualActuatorError: What the controller raises under its failure policy.
+
+        """
+        tick = self._tick
+        if tick is None:
+            tick = self._tick = self._lower()
+        if tick is self:
+            return self.compute_in_python(q, v, time, contacts)
+        return tick.compute(q, v, time, contacts)
+
+    def warm_up(self, q: np.ndarray) -> None:
+        """Lower the machine (if it has not been) and warm its controller up.
+
+        Before a timed loop: [`va.run`][virtual_actuators.run] calls it.
+
+        Raises:
+            InvalidInputError: A bad ``q``.
+
+        """
+        if self._tick is None:
+            self._tick = self._lower()
+        self.controller.warm_up(q)
+
+    def _lower(self) -> CompiledMachine | MachineController:
+        """The compiled machine, or this object (no core, ``VA_PLAN=0``, or refused)."""
+        if CORE is None or not hasattr(CORE, "PlanMachine") or os.environ.get("VA_PLAN") == "0":
+            return self
+        try:
+            return compile_machine(self)
+        except TraceError:
+            return self
+
+    def compute_in_python(
+        self,
+        q: np.ndarray | Snapshot,
+        v: np.ndarray | None,
+        time: float,
+        contacts: Mapping[str, bool] | None = None,
+    ) -> ControlOutput:
+        """`compute` in Python, whether or not the machine is lowered.
+
+        The compiled tick's oracle, and the tick it hands on.
 
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``.

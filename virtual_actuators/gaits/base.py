@@ -12,7 +12,6 @@ runs it and how its result is plotted; `registry` collects them.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -22,12 +21,11 @@ import numpy as np
 from ..control.context import Context
 from ..control.controller import Controller, ControlOutput
 from ..control.machine_controller import MachineController
-from ..control.plan.compiled import CompiledMachine, compile_machine
+from ..control.plan.compiled import CompiledMachine
 from ..control.state_machine import Event, StateMachine
 from ..control.tick_rate import TickRate, bound_tick_rate
-from ..exceptions import InvalidInputError, TraceError
+from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..native import CORE
 from ..vocabulary.scalar import logical_and
 from ..vocabulary.traced import lowerable
 from .planar import SIDES
@@ -63,7 +61,6 @@ class Gait:
         self.machine: StateMachine | None = None
         self.wiring: MachineController | None = None
         self.last: ControlOutput | None = None
-        self._tick: CompiledMachine | MachineController | None = None
 
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
@@ -124,11 +121,11 @@ class Gait:
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
-        """One control tick: the compiled machine's (`compiled`), else `wiring`'s.
+        """One control tick: [`MachineController.compute`][] of `wiring`.
 
-        The gait is lowered into the compiled core on its first tick (its components and memory
-        are the plan's registers from then on); without the core, or a gait the lowering
-        refuses, [`MachineController.compute`][] runs it in Python.
+        The gait is lowered into the compiled core on its first tick, or in `warm_up` (its
+        components and memory are the plan's registers from then on); without the core, or a
+        gait the lowering refuses, the tick runs in Python.
 
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention).
@@ -140,10 +137,7 @@ class Gait:
             The [`ControlOutput`][] (its ``tau`` goes to the motors).
 
         """
-        tick = self._tick
-        if tick is None:
-            tick = self._tick = self._lower()
-        self.last = tick.compute(q, v, time, contacts)
+        self.last = self.wiring.compute(q, v, time, contacts)
         return self.last
 
     def warm_up(self, q: np.ndarray) -> None:
@@ -153,23 +147,12 @@ class Gait:
             InvalidInputError: A bad ``q``.
 
         """
-        if self._tick is None:
-            self._tick = self._lower()
-        self.controller.warm_up(q)
+        self.wiring.warm_up(q)
 
     @property
     def compiled(self) -> CompiledMachine | None:
         """The compiled machine the ticks run on (None: Python, or not lowered yet)."""
-        return self._tick if isinstance(self._tick, CompiledMachine) else None
-
-    def _lower(self) -> CompiledMachine | MachineController:
-        """The compiled machine of `wiring`, or `wiring` (no core, ``VA_PLAN=0``, or refused)."""
-        if CORE is None or not hasattr(CORE, "PlanMachine") or os.environ.get("VA_PLAN") == "0":
-            return self.wiring
-        try:
-            return compile_machine(self.wiring)
-        except TraceError:
-            return self.wiring
+        return self.wiring.compiled
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(robot={self.robot.name!r}, state={self.state!r})"

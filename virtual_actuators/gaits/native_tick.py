@@ -146,7 +146,7 @@ class CoreTick:
         self.deferred += 1
         self.sync()
         try:  # the Python machine's tick: a compiled machine's registers do not follow this core's
-            output = self.gait.last = self.gait.wiring.compute(q, v, time, contacts)
+            output = self.gait.last = self.gait.wiring.compute_in_python(q, v, time, contacts)
         finally:  # the core follows the Python gait, even past an error
             self.load()
         return NativeOutput(output.tau, output.active, output.wrenches)

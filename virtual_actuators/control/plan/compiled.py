@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,11 +20,13 @@ from ...kinematics.snapshot import Snapshot
 from ...native import CORE
 from ...vocabulary.arguments import check_number
 from ..context import Context
-from ..machine_controller import MachineController
 from ..tick import ControlOutput
 from .entries import Attached, Entry, Term
 from .lower import Lowering
 from .output import PlanOutput
+
+if TYPE_CHECKING:  # the machine controller lowers itself through this module
+    from ..machine_controller import MachineController
 
 __all__ = ["CompiledMachine", "compile_machine"]
 
@@ -212,8 +215,8 @@ class CompiledMachine:
             q, v, time = self._checked(q, v, time)
             self._tick = (q, v, time, switches)
             outcome = self.core.tick(q, v, time, self._tau)
-        if outcome == _FAILED:  # the Python tick decides (the failure policy), from the
-            output = self.machine.compute(self.snapshot(), None, time, contacts)  # same state
+        if outcome == _FAILED:  # the Python tick decides (the failure policy), same state
+            output = self.machine.compute_in_python(self.snapshot(), None, time, contacts)
             self.last = output
             return output
         if outcome == _ENTERED:

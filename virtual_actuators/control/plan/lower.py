@@ -17,6 +17,7 @@ What became a Python piece, and why, is in `CompiledMachine.pieces`.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,10 +27,12 @@ from ...components.posture import Posture
 from ...exceptions import TraceError
 from ...kinematics.tree import tree_of
 from ...vocabulary.traced import TRACING, Tracing, is_lowerable
-from ..machine_controller import MachineController
 from .builder import MACHINE, PlanBuilder, Program
 from .memory import Memory
 from .trace import TraceContext
+
+if TYPE_CHECKING:  # the machine controller lowers itself through this module
+    from ..machine_controller import MachineController
 
 __all__ = ["Lowering", "Slots"]
 

@@ -499,7 +499,26 @@ def figure_walks(cfg: Settings) -> Figure:
         step = walk["per_tick"]["simulator.step"]["mean_us"]
         share = step / walk["per_tick"]["total"]["mean_us"]
         notes.append(f"   {'  MuJoCo share':<22}{100 * share:>9.0f}%  (step / total, means)")
+    rows.append(_user_machine_row(raw, notes, issue))
     return Figure(rows, raw, notes, issue)
+
+
+def _user_machine_row(raw: dict, notes: list, issue: list) -> dict:
+    """6z: a user's own two-state machine on solo12 (public classes only) under ``va.run``."""
+    from _user_machine import user_machine_loop
+
+    run = raw["user machine"] = user_machine_loop()
+    ours, base = f"{run['loop_us']:.1f} us/tick", f"{run['mujoco_alone_us']:.1f} us/tick"
+    figure = "6z a user's StateMachine on solo12 (va.run) vs MuJoCo alone"
+    result = row(figure, ours, base, run["ratio"], ">= 0.5", run["ratio"] >= 0.5)
+    issue.append(result)
+    notes.append(
+        f"6z: the user's machine (benchmarks/_user_machine.py), {run['ticks']} ticks x 3, "
+        f"compiled: {run['compiled']}, Python pieces: {run['python_pieces'] or 'none'}; "
+        f"loop {', '.join(f'{x:.1f}' for x in run['loops_us'])} us/tick, MuJoCo alone "
+        f"{', '.join(f'{x:.1f}' for x in run['alone_us'])} us/tick (alternated)"
+    )
+    return result
 
 
 #: Figure 6's smoothness targets (issue 35): oscillation [-] of the limits, alternation [-].

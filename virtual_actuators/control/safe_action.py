@@ -14,6 +14,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..exceptions import InvalidInputError
+from ..kinematics.kernels import finite
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_number, describe
@@ -33,7 +34,9 @@ DEFAULT_HOLD_TIME = 0.1
 def _vector(value: object, size: int) -> np.ndarray | None:
     """``value`` as a float64 ``(size,)`` array, or None if it is not ``size`` real numbers."""
     if isinstance(value, np.ndarray) and value.dtype == np.float64:
-        return value if value.shape == (size,) else None
+        if value.shape != (size,):
+            return None
+        return value if value.flags.c_contiguous else np.ascontiguousarray(value)
     try:
         array = as_float_array(value, "state", f"{size} real numbers")
     except InvalidInputError:
@@ -86,7 +89,7 @@ def check_state(
     q_array, v_array = _vector(q, tree.nq), _vector(v, tree.nv)
     if q_array is None or v_array is None:
         return None, None, "malformed reading"
-    if not (np.isfinite(q_array).all() and np.isfinite(v_array).all()):
+    if not (finite(q_array) and finite(v_array)):
         return None, None, "non-finite"
     try:
         q_array = tree.check_configuration(q_array)
@@ -114,9 +117,9 @@ def check_effort(output: object, nv: int) -> np.ndarray | None:
         tau = tau.astype(np.float64)
     if tau.shape != (nv,):
         return None
-    if not np.isfinite(tau).all():
-        return None
-    return tau
+    if not tau.flags.c_contiguous:
+        tau = np.ascontiguousarray(tau)
+    return tau if finite(tau) else None
 
 
 class SafeAction:

@@ -34,6 +34,7 @@ from .control import (
     run,
     tick_rate,
 )
+from .control.plan.memory import Memory
 from .distribution.result import Solution
 from .exceptions import (
     ConcurrentUseError,
@@ -48,14 +49,17 @@ from .exceptions import (
     RobotDescriptionError,
     RobotNotFoundError,
     SingularConfigurationError,
+    TraceError,
     VirtualActuatorError,
 )
 from .gaits.legged import GaitPattern, LeggedParameters, LeggedWalker, npod
 from .kinematics.snapshot import Snapshot
 from .models import Robot, list_robots, load_robot, millipede
 from .models.directory import RobotInfo, describe_robots
+from .vocabulary import scalar
 from .vocabulary.axes import AXES, WORLD
 from .vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Linear
+from .vocabulary.traced import lowerable
 
 __version__ = "0.1.0"
 
@@ -95,6 +99,7 @@ __all__ = [
     "LeggedWalker",
     "LimitFraction",
     "MachineController",
+    "Memory",
     "Posture",
     "RunStats",
     "SensorReading",
@@ -106,8 +111,11 @@ __all__ = [
     "TickRate",
     "Transition",
     "events",
+    "lowerable",
     "run",
+    "scalar",
     "ConcurrentUseError",
+    "TraceError",
     "ConstraintError",
     "DesignConstraint",
     "Equal",

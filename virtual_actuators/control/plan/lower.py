@@ -117,9 +117,22 @@ class Lowering:
         return layout
 
     def keep_memories(self, function: object) -> None:
-        """Keep every `Memory` a hook's owner holds (its attributes, one level down too)."""
+        """Keep every `Memory` a hook can reach.
+
+        Its owner's attributes (a method's), the variables it closes over and the globals it
+        names (a function's).
+        """
         owner = getattr(function, "__self__", None)
-        for value in list(vars(owner).values()) if hasattr(owner, "__dict__") else ():
+        values = list(vars(owner).values()) if hasattr(owner, "__dict__") else []
+        plain = getattr(function, "__func__", function)
+        for cell in getattr(plain, "__closure__", None) or ():
+            try:
+                values.append(cell.cell_contents)
+            except ValueError:  # a variable not bound yet
+                continue
+        code, names = getattr(plain, "__code__", None), getattr(plain, "__globals__", {})
+        values += [names[name] for name in getattr(code, "co_names", ()) if name in names]
+        for value in values:
             if isinstance(value, Memory):
                 self.keep(value, value.plan_slots())
 

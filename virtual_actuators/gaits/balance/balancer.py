@@ -28,7 +28,6 @@ from ...actuators import ParallelVirtualActuator
 from ...components.gains import body_gains, gains, joint_gains
 from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
-from ...components.springs import SpringDamper
 from ...control.controller import ControlOutput
 from ...control.state_machine import State, StateMachine
 from ...kinematics.snapshot import Snapshot
@@ -39,51 +38,12 @@ from ...models.standing import standing_pose, upper_joints
 from ...vocabulary.axes import resolve_frame
 from ..base import Gait
 from .parameters import BalanceParameters
+from .support import SupportedSpring
 
 #: Axes of the body actuator, world-aligned.
 BODY_AXES = ("x", "y", "z", "rx", "ry", "rz")
 
 __all__ = ["BODY_AXES", "Balancer"]
-
-
-class SupportedSpring(SpringDamper):
-    """The body's spring-damper, its request kept within what the support can produce.
-
-    Before each tick the balancer sets `lever` (from the support's centre to the body
-    origin, world axes [m]) and `reach` (the support's half extents along world x and y
-    [m], margins taken). The wrench asked of the feet is then moved, when it must be, to the
-    nearest one whose centre of pressure lies within ``reach`` of the support's centre and whose
-    horizontal force lies within ``friction`` times its vertical one: the horizontal force and
-    the moment that move the centre of pressure share the change (least squares, weighted
-    1 : `moment_weight`). The contact QP then solves the request exactly instead of
-    settling between its inequalities (where the split between the feet is not unique).
-    """
-
-    lever = np.zeros(3)
-    reach = np.full(2, np.inf)
-    friction = np.inf
-    moment_weight = 1.0
-
-    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The spring-damper's wrench, then limited (see the class docstring)."""
-        wrench = np.asarray(super().compute_wrench(position, velocity, time), dtype=float)
-        force, moment = wrench[:3], wrench[3:]
-        normal = max(float(force[2]), 0.0)
-        horizontal = float(np.hypot(force[0], force[1]))
-        if horizontal > self.friction * normal:
-            force[:2] *= self.friction * normal / horizontal
-        about_support = moment + np.cross(self.lever, force)
-        bound = np.array([self.reach[1], self.reach[0]]) * normal  # |M_x| by y, |M_y| by x
-        miss = about_support[:2] - np.clip(about_support[:2], -bound, bound)
-        height, w = float(self.lever[2]), self.moment_weight
-        # M_x about the support moves with -height F_y, M_y with +height F_x: each miss is
-        # shared between that force and that moment, least squares weighted 1 : moment_weight
-        for axis, force_axis, sign in ((0, 1, -1.0), (1, 0, 1.0)):
-            if miss[axis]:
-                share = miss[axis] / (height * height + 1.0 / w)
-                force[force_axis] -= share * sign * height
-                moment[axis] -= share / w
-        return wrench
 
 
 class Balancer(Gait):
@@ -254,8 +214,9 @@ class Balancer(Gait):
         """
         snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass, shared
         body = snapshot.frame_position(self.body)
-        lever = snapshot.center_of_mass() - body  # from the tick's pass, not a second one
-        self.spring.force = np.concatenate((self._weight, np.cross(lever, self._weight)))
+        lx, ly, _ = (snapshot.center_of_mass() - body).tolist()  # the tick's pass, not a second
+        weight = float(self._weight[2])
+        self.spring.force = (0.0, 0.0, weight, ly * weight, -lx * weight, 0.0)  # lever x weight
         self._support(snapshot, body)
         output = super().compute(snapshot, None, time, contacts)
         output.tau[:6] = 0.0  # the base's weight is the feet's to carry

@@ -1,0 +1,152 @@
+"""The balancer's body spring-damper, its request kept within what the support can produce.
+
+[`SupportedSpring`][] is a [`SpringDamper`][virtual_actuators.SpringDamper] on the body's six
+axes whose wrench is then moved, when it must be, to the nearest one the feet can hold: its
+centre of pressure within `SupportedSpring.reach` of the support's centre and its horizontal
+force within `SupportedSpring.friction` times its vertical one. The horizontal force and the
+moment that move the centre of pressure share the change (least squares, weighted
+1 : `SupportedSpring.moment_weight`). The contact QP then solves the request exactly instead of
+settling between its inequalities (where the split between the feet is not unique).
+
+The limit (`support_limited`) is written once, on floats and on traced values alike: a compiled
+plan runs it in its ops, to the same bits as the Python tick.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ...components.springs import SpringDamper
+from ...exceptions import InvalidInputError
+from ...vocabulary.scalar import clip, maximum, select, sqrt
+
+__all__ = ["SupportedSpring", "support_limited"]
+
+
+def support_limited(
+    wrench: Sequence, lever: Sequence, reach: Sequence, friction: object, moment_weight: object
+) -> list:
+    """``wrench`` moved into what the support holds (module docstring); floats or traced.
+
+    Args:
+        wrench: ``(6,)`` force and moment on the body, world axes, about its origin [N, N m].
+        lever: The body's origin minus the support's centre, world axes [m].
+        reach: The support's half extents along world x and y, margins taken [m].
+        friction: Largest horizontal over vertical force [-].
+        moment_weight: The moments' weight against the forces' in the shared change [-].
+
+    Returns:
+        The limited wrench ``(6,)``.
+
+    """
+    fx, fy, fz, mx, my, mz = wrench
+    lx, ly, lz = lever
+    normal = maximum(fz, 0.0)
+    horizontal = sqrt(fx * fx + fy * fy)
+    over = horizontal > friction * normal
+    scale = select(over, friction * normal / maximum(horizontal, 1e-300), 1.0)
+    fx, fy = select(over, fx * scale, fx), select(over, fy * scale, fy)
+    about_x = mx + (ly * fz - lz * fy)  # the moment about the support's centre
+    about_y = my + (lz * fx - lx * fz)
+    bound_x, bound_y = reach[1] * normal, reach[0] * normal  # |M_x| by y, |M_y| by x
+    miss_x = about_x - clip(about_x, -bound_x, bound_x)
+    miss_y = about_y - clip(about_y, -bound_y, bound_y)
+    # M_x about the support moves with -height F_y, M_y with +height F_x: each miss is shared
+    # between that force and that moment, least squares weighted 1 : moment_weight
+    spread = lz * lz + 1.0 / moment_weight
+    share_x, share_y = miss_x / spread, miss_y / spread
+    fy = select(miss_x != 0.0, fy - share_x * -1.0 * lz, fy)
+    mx = select(miss_x != 0.0, mx - share_x / moment_weight, mx)
+    fx = select(miss_y != 0.0, fx - share_y * 1.0 * lz, fx)
+    my = select(miss_y != 0.0, my - share_y / moment_weight, my)
+    return [fx, fy, fz, mx, my, mz]
+
+
+class SupportedSpring(SpringDamper):
+    """The body's spring-damper, its request kept within what the support can produce.
+
+    Before each tick the balancer sets `lever` and `reach` (see the module docstring); a
+    compiled plan keeps them, `friction` and `moment_weight` in its registers with the spring's
+    own parameters.
+
+    Args:
+        axes: The body's six axes.
+        stiffness: Per axis [N/m, N m/rad].
+        damping: Per axis [N s/m, N m s/rad].
+        name: Label used in reports.
+
+    """
+
+    SLOTS = (*SpringDamper.SLOTS, "lever", "reach", "friction", "moment_weight")
+
+    def __init__(
+        self, axes: Sequence[str], stiffness: object, damping: object, name: str | None = None
+    ) -> None:
+        super().__init__(axes, stiffness, damping, name=name)
+        self.lever = np.zeros(3)
+        self.reach = np.full(2, np.inf)
+        self.friction = np.inf
+        self.moment_weight = 1.0
+
+    def _parameter(self, name: str, value: object, size: int) -> None:
+        if self._store_traced(name, value):
+            return
+        array = np.array(value, dtype=float).reshape(-1)
+        if array.shape != (size,) or np.isnan(array).any():
+            raise InvalidInputError(f"{self.name}: {name} must be {size} numbers, got {value!r}.")
+        self._assign(f"_{name}", array)
+
+    @property
+    def lever(self) -> np.ndarray:
+        """The body's origin minus the support's centre, world axes [m]."""
+        return self._traced("lever")
+
+    @lever.setter
+    def lever(self, value: object) -> None:
+        self._parameter("lever", value, 3)
+
+    @property
+    def reach(self) -> np.ndarray:
+        """The support's half extents along world x and y, margins taken [m]."""
+        return self._traced("reach")
+
+    @reach.setter
+    def reach(self, value: object) -> None:
+        self._parameter("reach", value, 2)
+
+    @property
+    def friction(self) -> float:
+        """Largest horizontal over vertical force [-]."""
+        return self._traced("friction")[0]
+
+    @friction.setter
+    def friction(self, value: object) -> None:
+        self._parameter("friction", value, 1)
+
+    @property
+    def moment_weight(self) -> float:
+        """The moments' weight against the forces' in the shared change [-]."""
+        return self._traced("moment_weight")[0]
+
+    @moment_weight.setter
+    def moment_weight(self, value: object) -> None:
+        self._parameter("moment_weight", value, 1)
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """The spring-damper's wrench, then limited (`support_limited`)."""
+        wrench = np.asarray(super().compute_wrench(position, velocity, time), dtype=float)
+        limited = support_limited(
+            wrench.tolist(), self._lever.tolist(), self._reach.tolist(),
+            float(self._friction[0]), float(self._moment_weight[0]),
+        )  # fmt: skip
+        return np.array(limited)
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """The spring-damper's traced wrench, then limited (a plan's ops)."""
+        wrench = super().traced_wrench(slots, position, velocity, time)
+        return support_limited(
+            wrench, slots["lever"], slots["reach"], slots["friction"][0],
+            slots["moment_weight"][0],
+        )  # fmt: skip

@@ -62,6 +62,14 @@ class PlanMachine {
     machine_->set_callback(&PlanMachine::trampoline, this);
   }
 
+  // The bodies' masses and levers (KinematicTree.masses, .levers) for the centre-of-mass op.
+  void set_masses(const F1& masses, const F2& levers) {
+    require(length(masses) == machine_->joints() && levers.shape(0) == masses.shape(0) &&
+                levers.shape(1) == 3,
+            "masses (njoints,) and levers (njoints, 3)");
+    machine_->set_masses(copy<double>(masses), copy<double>(levers));
+  }
+
   // The callables of the CALL ops; checks every op's operands.
   void set_callbacks(nb::list callbacks) {
     callbacks_ = callbacks;
@@ -343,6 +351,7 @@ void bind_plan(nb::module_& m) {
       .def("pass_buffer", [](nb::handle self) { return nb::cast<PlanMachine&>(self).pass(self); })
       .def("solved", &PlanMachine::solved, "index"_a)
       .def("set_initial", &PlanMachine::set_initial, "state"_a)
+      .def("set_masses", &PlanMachine::set_masses, "masses"_a, "levers"_a)
       .def_prop_ro("state", &PlanMachine::state);
   m.attr("PLAN_TICKED") = static_cast<std::int64_t>(va::plan::TICKED);
   m.attr("PLAN_ENTERED") = static_cast<std::int64_t>(va::plan::ENTERED);

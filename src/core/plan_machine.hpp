@@ -117,11 +117,18 @@ class Machine {
   std::int64_t nv() const { return nv_; }
   std::int64_t nq() const { return nq_; }
   std::int64_t frames() const { return tree_->tables().nf; }
+  std::int64_t joints() const { return tree_->tables().njoints; }
   std::int64_t programs() const { return static_cast<std::int64_t>(bounds_.size() / 2); }
   // The machine's state lives in registers 2, 3 and 4 (the state's index, when it was entered,
   // whether the machine started): StateMachine reads them there (one owner).
   std::int64_t state() const { return static_cast<std::int64_t>(registers_[STATE]); }
   void set_initial(std::int64_t state) { initial_ = state; }
+  // The bodies' masses (njoints) and centres of mass in their joints' frames (njoints, 3), for
+  // the centre-of-mass op.
+  void set_masses(std::vector<double> masses, std::vector<double> levers) {
+    masses_ = std::move(masses);
+    levers_ = std::move(levers);
+  }
   void set_callback(Callback callback, void* owner) {
     callback_ = callback;
     owner_ = owner;
@@ -153,6 +160,12 @@ class Machine {
     in.velocities = in.frames + 12 * tree_->tables().nf;
     in.q = q;
     in.v = v;
+    in.joints = pass_.data();
+    in.njoints = tree_->tables().njoints;
+    if (!masses_.empty()) {
+      in.masses = masses_.data();
+      in.levers = levers_.data();
+    }
     double* r = registers_.data();
     r[TIME] = time;
     bool entered = false;
@@ -331,7 +344,7 @@ class Machine {
   std::vector<double> backup_;             // the registers before the tick running
   std::vector<Attachment> attachments_;
   std::vector<State> states_;
-  std::vector<double> pass_, tau_;
+  std::vector<double> pass_, tau_, masses_, levers_;
   std::int64_t initial_ = 0;
   Callback callback_ = nullptr;
   void* owner_ = nullptr;

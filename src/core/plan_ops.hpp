@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "gait.hpp"
 #include "scalar.hpp"
 
 namespace va::plan {
@@ -49,6 +50,7 @@ namespace va::plan {
   X(FRAME_VELOCITY, "frame_velocity")                                                              \
   X(Q, "q")                                                                                        \
   X(V, "v")                                                                                        \
+  X(COM, "center_of_mass")                                                                         \
   X(CALL, "call")
 
 enum Code : std::int64_t {
@@ -69,6 +71,10 @@ struct Inputs {
   const double* velocities = nullptr;  // (nf, 3): the frames' origins' linear velocities
   const double* q = nullptr;
   const double* v = nullptr;
+  const double* joints = nullptr;  // (njoints, 12): the joints' placements
+  const double* masses = nullptr;  // (njoints,): each joint's body's mass (null: not given)
+  const double* levers = nullptr;  // (njoints, 3): its centre of mass in the joint's frame
+  std::int64_t njoints = 0;
 };
 
 // A Python piece of a program: CALL(index) runs the owner's callbacks[index] (the plan's owner
@@ -87,6 +93,7 @@ inline bool valid(const Op& o, std::int64_t registers, std::int64_t frames, std:
     case Q: return o.a >= 0 && o.a < nq;
     case V: return o.a >= 0 && o.a < nv;
     case CALL: return o.a >= 0 && o.a < callbacks;
+    case COM: return o.out + 2 < registers;  // out, out + 1, out + 2: x, y, z
     case SELECT: return reg(o.a) && reg(o.b) && reg(o.c);
     default: return reg(o.a) && reg(o.b);
   }
@@ -137,6 +144,15 @@ inline bool run(const Op* ops, std::int64_t start, std::int64_t stop, double* r,
       case FRAME_VELOCITY: out = in.velocities[3 * o.a + o.b]; break;
       case Q: out = in.q[o.a]; break;
       case V: out = in.v[o.a]; break;
+      case COM: {  // the robot's centre of mass, world [m]: three registers from out
+        if (in.masses == nullptr) return false;
+        double com[3];
+        center_of_mass(in.joints, in.masses, in.levers, in.njoints, com);
+        r[o.out] = com[0];
+        r[o.out + 1] = com[1];
+        r[o.out + 2] = com[2];
+        break;
+      }
       case CALL:
         if (callback(owner, o.a) != 0) return false;
         break;

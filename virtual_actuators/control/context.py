@@ -155,6 +155,24 @@ class Context:
         """
         return self.snapshot.frame_rotation(frame)
 
+    def placement(self, frame: str) -> tuple[np.ndarray, np.ndarray]:
+        """``(rotation, position)`` of a frame in the world (views of the tick's snapshot).
+
+        Raises:
+            FrameNotFoundError: Unknown frame (with close matches).
+
+        """
+        return self.snapshot.placement(frame)
+
+    def center_of_mass(self) -> np.ndarray:
+        """The robot's centre of mass in the world [m] (from the tick's snapshot).
+
+        Raises:
+            InvalidInputError: The robot has no mass.
+
+        """
+        return self.snapshot.center_of_mass()
+
     def frame_pitch(self, frame: str) -> float:
         """Rotation of a frame about the world y axis [rad] (planar robots in x-z).
 

@@ -171,6 +171,12 @@ class Program:
         """World linear velocity ``axis`` of frame-table ``row``'s origin [m/s]."""
         return self.emit("frame_velocity", row, axis)
 
+    def center_of_mass(self) -> tuple[Sym, Sym, Sym]:
+        """The robot's centre of mass in the world [m], three registers one op writes."""
+        out = self.builder.allocate(3)
+        self.ops.append((self.builder.codes["center_of_mass"], out, 0, 0, 0))
+        return Sym(self, out), Sym(self, out + 1), Sym(self, out + 2)
+
     def q(self, index: int) -> Sym:
         """``q[index]``."""
         return self.emit("q", index)

@@ -98,6 +98,7 @@ class CompiledMachine:
             np.array([(s.start, s.stop) for s in tree.unit_slices], np.int64).reshape(-1, 2),
         )  # fmt: skip
         self._nq, self._nv = tree.nq, tree.nv
+        self.core.set_masses(tree.masses, np.ascontiguousarray(tree.levers))
         for entry in self._entries:
             entry.declare(self.core)
         for attachments, limp, enter, update, _ in states:

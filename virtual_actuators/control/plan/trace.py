@@ -75,6 +75,7 @@ class TraceContext:
         self.robot = lowering.robot
         self.snapshot = self  # the snapshot's reads are the context's
         self._frames: dict[tuple[int, int], Sym] = {}
+        self._com: tuple | None = None
         model = lowering.robot.model
         self.q = _Entries(program, program.q, model.nq)
         self.v = _Entries(program, program.v, model.nv)
@@ -140,10 +141,14 @@ class TraceContext:
         raise TraceError(f"the event {event!r} is Python (not marked lowerable).")
 
     def center_of_mass(self) -> tuple:
-        """Not lowered yet.
+        """The robot's centre of mass in the world [m] (one op, read once per trace).
 
         Raises:
-            TraceError: Always.
+            TraceError: The robot has no mass (the Python tick raises its typed error).
 
         """
-        raise TraceError("the centre of mass is not lowered yet.")
+        if self._com is None:
+            if not self._lowering.tree.mass > 0.0:
+                raise TraceError("the robot has no mass: no centre of mass.")
+            self._com = self.program.center_of_mass()
+        return self._com

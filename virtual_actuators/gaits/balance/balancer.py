@@ -19,8 +19,6 @@ for more than the soles allow, the QP gives way on the rotations first (weight
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-
 import numpy as np
 import pinocchio as pin
 
@@ -28,7 +26,7 @@ from ...actuators import ParallelVirtualActuator
 from ...components.gains import body_gains, gains, joint_gains
 from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
-from ...control.controller import ControlOutput
+from ...control.context import Context
 from ...control.state_machine import State, StateMachine
 from ...kinematics.snapshot import Snapshot
 from ...models.feet import body_frame, find_feet
@@ -36,6 +34,8 @@ from ...models.robot import Robot
 from ...models.soles import find_sole
 from ...models.standing import standing_pose, upper_joints
 from ...vocabulary.axes import resolve_frame
+from ...vocabulary.scalar import maximum, minimum
+from ...vocabulary.traced import lowerable
 from ..base import Gait
 from .parameters import BalanceParameters
 from .support import SupportedSpring
@@ -92,12 +92,16 @@ class Balancer(Gait):
         active = ["body", *self._posture(feet), "gravity"]
         self.gravity = GravityCompensation(robot)
         self.controller.add("gravity", self.gravity)  # in the sum, before the clip
-        self._weight = np.array([0.0, 0.0, robot.mass * 9.81])  # [N], world axes
-        signs = np.array([[1.0, 1.0, 0.0], [1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [-1.0, -1.0, 0.0]])
-        self._corners = [  # each support frame's sole corners in its own axes [m], (4, 3)
-            signs * np.array([*self.soles.get(frame, (0.0, 0.0)), 0.0]) for frame in self.contacts
-        ]
-        stand = State("stand", active=active, support=self.contacts)
+        self._weight = robot.mass * 9.81  # [N]
+        signs = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
+        self._corners = tuple(  # each support frame's sole corners (x, y) in its own axes [m]
+            tuple((sx * hx, sy * hy) for sx, sy in signs)
+            for hx, hy in (self.soles.get(frame, (0.0, 0.0)) for frame in self.contacts)
+        )
+        # the base's weight is the feet's to carry: its efforts are zero (a limp free flyer)
+        base = (robot.model.names[1],) if robot.floating_base else ()
+        stand = State("stand", active=active, support=self.contacts, on_update=self._update,
+                      limp=base)  # fmt: skip
         self._finish(StateMachine([stand], [], "stand"))
         (self.tick_rate,) = self._bound_gains(parameters.control_rate)
 
@@ -146,17 +150,36 @@ class Balancer(Gait):
         self.controller.add("posture", Posture(upper, gains.stiffness, gains.damping))
         return ["posture"]
 
-    def _support(self, snapshot: Snapshot, body: np.ndarray) -> None:
+    @lowerable
+    def _update(self, context: Context) -> None:
+        """The weight at the centre of mass as the spring's feed-forward; the support's figures.
+
+        On the tick's context in Python, or traced into the compiled machine (the same ops).
+        """
+        bx, by, bz = context.frame_position(self.body)
+        cx, cy, _ = context.center_of_mass()
+        lx, ly, weight = cx - bx, cy - by, self._weight
+        self.spring.force = (0.0, 0.0, weight, ly * weight, -lx * weight, 0.0)  # lever x weight
+        self._support(context, (bx, by, bz))
+
+    def _support(self, context: Context, body: tuple) -> None:
         """The spring's support figures: lever from the feet's centre, half extents (x, y)."""
-        points = []
+        xs, ys, z_sum = [], [], 0.0
         for frame, corners in zip(self.contacts, self._corners, strict=True):
-            rotation, origin = snapshot.placement(frame)
-            points.append(corners @ rotation.T + origin)
-        points = np.concatenate(points)
-        low, high = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
-        centre = np.array([*(0.5 * (low + high)), float(points[:, 2].mean())])
-        self.spring.lever = body - centre
-        self.spring.reach = 0.5 * (high - low) * self.parameters.support_margin
+            rotation, (ox, oy, oz) = context.placement(frame)
+            (r00, r01, _), (r10, r11, _), (r20, r21, _) = rotation
+            for hx, hy in corners:  # a corner (hx, hy, 0) in the frame's axes, to the world
+                xs.append(r00 * hx + r01 * hy + ox)
+                ys.append(r10 * hx + r11 * hy + oy)
+                z_sum = z_sum + (r20 * hx + r21 * hy + oz)
+        low_x, high_x, low_y, high_y = xs[0], xs[0], ys[0], ys[0]
+        for x, y in zip(xs[1:], ys[1:], strict=True):
+            low_x, high_x = minimum(low_x, x), maximum(high_x, x)
+            low_y, high_y = minimum(low_y, y), maximum(high_y, y)
+        centre = (0.5 * (low_x + high_x), 0.5 * (low_y + high_y), z_sum / len(xs))
+        self.spring.lever = tuple(b - c for b, c in zip(body, centre, strict=True))
+        margin = self.parameters.support_margin
+        self.spring.reach = (0.5 * (high_x - low_x) * margin, 0.5 * (high_y - low_y) * margin)
 
     def _contact_frames(
         self, robot: Robot, feet: tuple[str, ...]
@@ -198,29 +221,6 @@ class Balancer(Gait):
         snapshot = Snapshot(self.robot, q)
         self.spring.setpoint = sensor.position(snapshot)
         self.controller.reset(self.machine.current.active, snapshot, 0.0)
-
-    def compute(
-        self,
-        q: np.ndarray,
-        v: np.ndarray,
-        time: float,
-        contacts: Mapping[str, bool] | None = None,
-    ) -> ControlOutput:
-        """One tick: the weight at the centre of mass, then the controller.
-
-        The weight acts on the body as the spring-damper's feed-forward; the controller sums
-        the body's, the posture's and every link's gravity compensation, and clips the sum to
-        the effort limits (then limits its rate, if asked).
-        """
-        snapshot = Snapshot(self.robot, q, v)  # the tick's one kinematics pass, shared
-        body = snapshot.frame_position(self.body)
-        lx, ly, _ = (snapshot.center_of_mass() - body).tolist()  # the tick's pass, not a second
-        weight = float(self._weight[2])
-        self.spring.force = (0.0, 0.0, weight, ly * weight, -lx * weight, 0.0)  # lever x weight
-        self._support(snapshot, body)
-        output = super().compute(snapshot, None, time, contacts)
-        output.tau[:6] = 0.0  # the base's weight is the feet's to carry
-        return output
 
 
 def _lowest(robot: Robot, frames: tuple[str, ...], q: np.ndarray) -> float:

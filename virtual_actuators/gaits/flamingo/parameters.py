@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ...vocabulary.scalar import minimum, tan
+
 
 @dataclass
 class FlamingoParameters:
@@ -142,6 +144,8 @@ class FlamingoParameters:
     def height_limit(self, slope: float) -> float:
         """Hip height limit above the global slope, the smaller of eq. 15 and eq. 16 [m].
 
+        On a float or a traced slope (a compiled plan's ops).
+
         Eq. 15: the back leg at the transition plane, ``r = s_l - l_t`` behind the hip:
         ``sqrt(L^2 - r^2) - r tan(beta)``. Eq. 16: the swing leg touching down ``r1 = s_l / 2``
         ahead of the hip: ``sqrt(L^2 - r1^2) + r1 tan(beta)``.
@@ -149,9 +153,9 @@ class FlamingoParameters:
         length = self.leg_length
         r = self.step_length - self.transition_distance
         r1 = 0.5 * self.step_length
-        upslope = math.sqrt(length**2 - r**2) - r * math.tan(slope)
-        downslope = math.sqrt(length**2 - r1**2) + r1 * math.tan(slope)
-        return min(upslope, downslope)
+        upslope = math.sqrt(length**2 - r**2) - r * tan(slope)
+        downslope = math.sqrt(length**2 - r1**2) + r1 * tan(slope)
+        return minimum(upslope, downslope)
 
     def hip_height(self, slope: float) -> float:
         """Hip height set point ``k_height * h_limit`` above the global slope [m]."""

@@ -27,15 +27,16 @@ Level walking extended with geometry only; the robot knows nothing of the terrai
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...components.walking import DogtrackBunny
 from ...control import events
+from ...control.plan.memory import Memory
 from ...control.state_machine import Context, StateMachine, Transition
 from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
+from ...vocabulary.scalar import atan2, clip, logical_and, logical_or, maximum, minimum, select, tan
+from ...vocabulary.traced import lowerable
 from ..base import Gait, check_distribution
 from ..planar import (
     PLANAR_AXES,
@@ -93,21 +94,42 @@ class FlamingoWalker(Gait):
         super().__init__(robot)
         self.parameters = p = parameters or FlamingoParameters()
         weight = biped_weight(robot, p.weight)  # [N]
-        self.slope = 0.0  # global slope estimate [rad]
-        self.slope_origin = np.zeros(2)  # a point (x, z) of the global slope line [m]
-        self.hip_height = p.hip_height(0.0)  # set point above the global slope [m]
-        self._height_time = 0.0  # last update of the height set point [s]
+        #: what the gait carries from tick to tick: the global slope estimate [rad], a point (x, z)
+        #: of its line [m], the hip height set point above it [m], the height set point's last
+        #: update [s], the foot ahead in double support (0 left, 1 right), the swing ankle (x, z)
+        #: at lift-off [m], the planned touchdown x [m], the swing's start [s] and the hip's x
+        #: then [m]
+        self.memory = Memory(
+            slope=0.0, slope_origin=(0.0, 0.0), hip_height=p.hip_height(0.0), height_time=0.0,
+            front=0.0, swing_start=(0.0, 0.0), swing_target_x=0.0, swing_started=0.0,
+            swing_hip_x=0.0,
+        )  # fmt: skip
         self.granny = granny_walker(p, self.hip_height, weight)
         self.granny.limit = ((1.0 - p.min_lift) * weight, np.inf)
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, PLANAR_AXES)
         self._declare_actuators()
-        self.front = "left"
-        self._swing_start = np.zeros(2)  # swing ankle (x, z) in the world at lift-off [m]
-        self._swing_target_x = 0.0  # planned touchdown x [m]
-        self._swing_started = 0.0  # time the current swing began [s]
-        self._swing_hip_x = 0.0  # hip x when the current swing began [m]
         self._finish(self._machine(initial))
+
+    @property
+    def slope(self) -> float:
+        """The global slope estimate [rad]."""
+        return self.memory.slope
+
+    @property
+    def slope_origin(self) -> np.ndarray:
+        """A point ``(x, z)`` of the global slope line [m]."""
+        return np.array(self.memory.slope_origin)
+
+    @property
+    def hip_height(self) -> float:
+        """The hip height set point above the global slope [m]."""
+        return self.memory.hip_height
+
+    @property
+    def front(self) -> str:
+        """The foot ahead in double support (``"left"`` or ``"right"``)."""
+        return SIDES[int(self.memory.front)]
 
     def _declare_actuators(self) -> None:
         """``double`` on both flat feet over limp ankles, ``SIDE_stance``, ``SIDE_swing``."""
@@ -197,36 +219,40 @@ class FlamingoWalker(Gait):
     # --- geometry ------------------------------------------------------------------------------
 
     def slope_height(self, x: float) -> float:
-        """Height of the global slope line at ``x`` [m]."""
-        origin_x, origin_z = self.slope_origin.tolist()
-        return origin_z + (float(x) - origin_x) * math.tan(self.slope)
+        """Height of the global slope line at ``x`` [m] (a float, or traced)."""
+        origin_x, origin_z = self.memory.slope_origin
+        return origin_z + (x - origin_x) * tan(self.memory.slope)
 
-    def _set_slope(self, back: np.ndarray, front: np.ndarray) -> None:
-        dx = float(front[0] - back[0])
-        if abs(dx) < 1e-3:
-            return
-        slope = math.atan2(float(front[2] - back[2]), dx)
-        self.slope = float(np.clip(slope, -0.6, 0.6))
-        self.slope_origin = np.array([back[0], back[2]])
-        self.hip_height = self.parameters.hip_height(self.slope)
+    def _set_slope(self, back: tuple, front: tuple, when: object = 1.0) -> None:
+        """The global slope through two ankles ``(x, y, z)``.
 
+        Kept when they stand one above the other, or unless ``when``.
+        """
+        memory = self.memory
+        dx = front[0] - back[0]
+        new = logical_and(when, abs(dx) >= 1e-3)
+        slope = clip(atan2(front[2] - back[2], dx), -0.6, 0.6)
+        ox, oz = memory.slope_origin
+        memory.hip_height = select(new, self.parameters.hip_height(slope), memory.hip_height)
+        memory.slope = select(new, slope, memory.slope)
+        memory.slope_origin = (select(new, back[0], ox), select(new, back[2], oz))
+
+    @lowerable
     def _update_height(self, context: Context) -> None:
-        p = self.parameters
-        body_x = context.frame_coordinate("body", "x")
-        single = context.state != "double_support"
-        if single and p.level_single_support:
+        p, memory = self.parameters, self.memory
+        if context.state != "double_support" and p.level_single_support:
             # Climb (or descend) in double support only: with x free over a limp ankle, every
             # centimetre the body rises in single support is paid for with forward speed.
             self.granny.velocity_setpoint = (0.0, 0.0)
-            self._height_time = context.time
+            memory.height_time = context.time
             return
-        target = self.slope_height(body_x) + self.hip_height
-        step = p.height_rate * max(context.time - self._height_time, 0.0)
+        target = self.slope_height(context.frame_coordinate("body", "x")) + memory.hip_height
+        step = p.height_rate * maximum(context.time - memory.height_time, 0.0)
         current = self.granny.height
-        self.granny.height = current + min(max(target - current, -step), step)
-        self._height_time = context.time
-        xdot = context.frame_velocity("body").item(0)
-        self.granny.velocity_setpoint = (xdot * math.tan(self.slope), 0.0)
+        self.granny.height = current + minimum(maximum(target - current, -step), step)
+        memory.height_time = context.time
+        xdot = context.frame_velocity("body")[0]
+        self.granny.velocity_setpoint = (xdot * tan(memory.slope), 0.0)
 
     def _can_vault(self, side: str) -> events.Event:
         # Single support with a limp ankle is an inverted pendulum over the stance ankle: the
@@ -235,91 +261,100 @@ class FlamingoWalker(Gait):
         # global slope). Double support lasts until that speed is at least ``min_speed`` and,
         # while the hip is still behind the front ankle (the bunny can still brake there; past
         # it, nothing can), at most ``speed + max_overspeed``.
-        foot = f"{side}_foot"
+        foot, p = f"{side}_foot", self.parameters
 
-        def event(context: Context) -> bool:
-            p = self.parameters
-            body_x, _, body_z = context.frame_position("body").tolist()
-            ankle_x, _, ankle_z = context.frame_position(foot).tolist()
-            xdot = context.frame_velocity("body").item(0)
+        @lowerable
+        def event(context: Context) -> object:
+            body_x, _, body_z = context.frame_position("body")
+            ankle_x, _, ankle_z = context.frame_position(foot)
+            xdot = context.frame_velocity("body")[0]
             behind = ankle_x - body_x
-            if xdot <= 0.0:
-                return False
-            height = max(body_z - ankle_z, 0.3)
-            vault = xdot**2 - 9.81 / height * max(behind, 0.0) ** 2
-            if vault < p.min_speed**2:
-                return False
-            if p.max_overspeed is None or behind <= 0.0:
-                return True
-            return vault <= (p.speed + p.max_overspeed) ** 2
+            height = maximum(body_z - ankle_z, 0.3)
+            ahead = maximum(behind, 0.0)
+            vault = xdot * xdot - 9.81 / height * (ahead * ahead)
+            fast = logical_and(xdot > 0.0, vault >= p.min_speed * p.min_speed)
+            if p.max_overspeed is None:
+                return fast
+            most = p.speed + p.max_overspeed
+            return logical_and(fast, logical_or(behind <= 0.0, vault <= most * most))
 
         return event
 
     # --- state callbacks -----------------------------------------------------------------------
 
+    @lowerable
     def _enter_double(self, context: Context) -> None:
-        left = context.frame_position("left_foot")
-        right = context.frame_position("right_foot")
-        self.front = "left" if left[0] > right[0] else "right"
-        back, front = (right, left) if self.front == "left" else (left, right)
+        left = tuple(context.frame_position("left_foot"))
+        right = tuple(context.frame_position("right_foot"))
+        left_ahead = left[0] > right[0]
+        self.memory.front = select(left_ahead, 0.0, 1.0)
+        pairs = list(zip(left, right, strict=True))
+        back = tuple(select(left_ahead, b, a) for a, b in pairs)
+        front = tuple(select(left_ahead, a, b) for a, b in pairs)
         self._set_slope(back, front)
         self._update_height(context)
 
+    @lowerable
     def _enter_single(self, context: Context) -> None:
         stance, swing = _SIDES.get(context.state) or _sides(context.state)
-        self._swing_started = context.time  # support_2 continues the same swing
-        ankle = context.frame_position(f"{swing}_foot")
-        stance_ankle = context.frame_position(f"{stance}_foot")
-        self._swing_start = ankle[[0, 2]]
-        self._swing_hip_x = float(context.frame_position("body")[0])
-        self._swing_target_x = float(stance_ankle[0]) + self.parameters.step_length
-        self.slope_origin = stance_ankle[[0, 2]]
-        if self.parameters.stance_slope:
+        memory, p = self.memory, self.parameters
+        memory.swing_started = context.time  # support_2 continues the same swing
+        ankle_x, _, ankle_z = context.frame_position(f"{swing}_foot")
+        stance_x, _, stance_z = context.frame_position(f"{stance}_foot")
+        memory.swing_start = (ankle_x, ankle_z)
+        memory.swing_hip_x = context.frame_coordinate("body", "x")
+        memory.swing_target_x = stance_x + p.step_length
+        memory.slope_origin = (stance_x, stance_z)
+        if p.stance_slope:
             sole_slope = -context.frame_pitch(f"{stance}_foot")  # toe up: positive [rad]
-            if sole_slope < self.slope:
-                self.slope = max(sole_slope, -0.6)
-                self.hip_height = self.parameters.hip_height(self.slope)
+            steeper = sole_slope < memory.slope
+            slope = maximum(sole_slope, -0.6)
+            memory.hip_height = select(steeper, p.hip_height(slope), memory.hip_height)
+            memory.slope = select(steeper, slope, memory.slope)
 
+    @lowerable
     def _update_single(self, context: Context) -> None:
-        p = self.parameters
+        p, memory = self.parameters, self.memory
         stance, swing = _SIDES.get(context.state) or _sides(context.state)
         self._update_height(context)
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
-        start_x, start_z = self._swing_start.tolist()
-        elapsed = context.time - self._swing_started
+        start_x, start_z = memory.swing_start
+        elapsed = context.time - memory.swing_started
         phase = elapsed / p.swing_time
         reach = phase
         if p.swing_hip_travel is not None:
             # the foot reaches forward no faster than the hip travels: a hip slowed down (by a
             # slope) does not have the swing leg take its momentum (mirror-like, as the seed's
             # swing-leg linkage "mirrors the stance leg")
-            reach = min(phase, (body_x - self._swing_hip_x) / p.swing_hip_travel)
-        target_x = self._swing_target_x
+            reach = minimum(phase, (body_x - memory.swing_hip_x) / p.swing_hip_travel)
+        target_x = memory.swing_target_x
         if p.step_gain:
             # longer steps when too fast: longer double support (braking) and a hip further
             # behind the next stance ankle; shorter when too slow (Raibert-like)
-            xdot = context.frame_velocity("body").item(0)
-            target_x += min(
-                max(p.step_gain * (xdot - p.speed), -0.4 * p.step_length), 0.6 * p.step_length
+            xdot = context.frame_velocity("body")[0]
+            target_x = target_x + minimum(
+                maximum(p.step_gain * (xdot - p.speed), -0.4 * p.step_length),
+                0.6 * p.step_length,
             )
         x_target = start_x + (target_x - start_x) * (smoothstep(reach))
         surface = self.slope_height(x_target)
         start_height = start_z - self.slope_height(start_x)
-        if phase <= 1.0:
-            z_target = (
-                surface
-                + (1.0 - smoothstep(phase)) * start_height
-                + p.lift * lift_profile(phase, p.lift_peak)
-            )
-        else:
-            # Swing time expired: downward push through the virtual surface, and re-estimate
-            # the slope once the ankle is below it (Fig. 13).
-            z_target = surface - p.push_speed * (elapsed - p.swing_time)
-            ankle = context.frame_position(f"{swing}_foot")
-            if ankle[2] < self.slope_height(float(ankle[0])):
-                self._set_slope(context.frame_position(f"{stance}_foot"), ankle)
+        swinging = (
+            surface
+            + (1.0 - smoothstep(phase)) * start_height
+            + p.lift * lift_profile(phase, p.lift_peak)
+        )
+        # Swing time expired: downward push through the virtual surface, and re-estimate the
+        # slope once the ankle is below it (Fig. 13).
+        late = phase > 1.0
+        z_target = select(late, surface - p.push_speed * (elapsed - p.swing_time), swinging)
+        ankle = tuple(context.frame_position(f"{swing}_foot"))
+        below = logical_and(late, ankle[2] < self.slope_height(ankle[0]))
+        self._set_slope(tuple(context.frame_position(f"{stance}_foot")), ankle, below)
         # The linkage works relative to the body, along world axes; the foot stays parallel
         # to the global slope: its pitch relative to the body is -slope - body pitch.
         body_pitch = context.frame_pitch("body")
-        self.swing[swing].place((x_target - body_x, z_target - body_z, -self.slope - body_pitch))
+        self.swing[swing].place(
+            (x_target - body_x, z_target - body_z, -memory.slope - body_pitch)
+        )

@@ -62,6 +62,23 @@ class PlanMachine {
     machine_->set_callback(&PlanMachine::trampoline, this);
   }
 
+  // A GRAVITY term's bodies: masses (njoints,), levers (njoints, 3), the model's gravity (3,).
+  void set_gravity(std::int64_t index, const F1& masses, const F2& levers, const F1& gravity) {
+    require(index >= 0 && index < static_cast<std::int64_t>(machine_->attachments().size()),
+            "no such attachment");
+    va::plan::Attachment& a = machine_->attachments()[index];
+    const std::int64_t nj = machine_->joints();
+    require(a.mapping == va::plan::GRAVITY, "set_gravity: the attachment does not map GRAVITY");
+    require(length(masses) == nj && levers.shape(0) == masses.shape(0) && levers.shape(1) == 3 &&
+                length(gravity) == 3,
+            "masses (njoints,), levers (njoints, 3), gravity (3,)");
+    a.floats = copy<double>(masses);
+    const std::vector<double> l = copy<double>(levers), g = copy<double>(gravity);
+    a.floats.insert(a.floats.end(), l.begin(), l.end());
+    a.floats.insert(a.floats.end(), g.begin(), g.end());
+    a.values.assign(static_cast<std::size_t>(4 * nj), 0.0);
+  }
+
   // The bodies' masses and levers (KinematicTree.masses, .levers) for the centre-of-mass op.
   void set_masses(const F1& masses, const F2& levers) {
     require(length(masses) == machine_->joints() && levers.shape(0) == masses.shape(0) &&
@@ -149,7 +166,7 @@ class PlanMachine {
     a.resets = copy<std::int64_t>(resets);
     for (const std::int64_t p : a.programs) require(program_or_none(p) && p >= 0, "program");
     for (const std::int64_t p : a.resets) require(program_or_none(p) && p >= 0, "program");
-    require(mapping >= va::plan::SERIAL && mapping <= va::plan::SOLVER, "unknown mapping");
+    require(mapping >= va::plan::SERIAL && mapping <= va::plan::GRAVITY, "unknown mapping");
     require(!(joints && mapping == va::plan::SERIAL), "a joint-space term maps JOINTS");
     a.mapping = static_cast<va::plan::Mapping>(mapping);
     require(program_or_none(efforts_program), "unknown program");
@@ -352,6 +369,7 @@ void bind_plan(nb::module_& m) {
       .def("solved", &PlanMachine::solved, "index"_a)
       .def("set_initial", &PlanMachine::set_initial, "state"_a)
       .def("set_masses", &PlanMachine::set_masses, "masses"_a, "levers"_a)
+      .def("set_gravity", &PlanMachine::set_gravity, "index"_a, "masses"_a, "levers"_a, "gravity"_a)
       .def_prop_ro("state", &PlanMachine::state);
   m.attr("PLAN_TICKED") = static_cast<std::int64_t>(va::plan::TICKED);
   m.attr("PLAN_ENTERED") = static_cast<std::int64_t>(va::plan::ENTERED);

@@ -17,6 +17,7 @@
 #include "attachment.hpp"
 #include "contact_rows.hpp"
 #include "distribute.hpp"
+#include "gravity.hpp"
 #include "kinematics.hpp"
 #include "plan_ops.hpp"
 
@@ -39,6 +40,7 @@ enum Mapping : std::int64_t {
   JOINTS = 2,       // a joint-space term: the wrench is the efforts of its joints
   PYTHON = 3,       // a Python piece (the program `efforts_program`) writes the efforts
   SOLVER = 4,       // the attachment's Solver, else its Python piece
+  GRAVITY = 5,      // generalized gravity on the columns (floats: masses, levers, gravity)
 };
 
 struct Yield {  // contact_limits.enforce_unilateral's tables (a partitioned attachment)
@@ -275,6 +277,15 @@ class Machine {
           return true;
         [[fallthrough]];
       case PYTHON: return a.efforts_program >= 0 && program(a.efforts_program, in, r);
+      case GRAVITY: {
+        const std::int64_t nj = tree_->tables().njoints;
+        if (a.floats.size() != static_cast<std::size_t>(4 * nj + 3)) return false;  // no bodies
+        const double* f = a.floats.data();
+        generalized_gravity(tree_->tables(), in.joints, jw, f, f + nj, f + 4 * nj, a.columns.data(),
+                            a.n, a.values.data(), a.efforts.data());
+        for (std::int64_t i = 0; i < a.n; ++i) r[a.produced + i] = a.efforts[a.columns[i]];
+        return true;
+      }
     }
     return false;
   }

@@ -83,6 +83,13 @@ class GravityCompensation:
         self._floating = bool(robot.floating_base)
 
     @property
+    def columns(self) -> np.ndarray:
+        """The velocity entries it gives efforts on (``joints``; every entry by default)."""
+        if self._columns is None:
+            return np.arange(self.robot.model.nv)
+        return self._columns.copy()
+
+    @property
     def mass(self) -> float:
         """Mass of the compensated bodies [kg]."""
         return float(sum(inertia.mass for inertia in self.model.inertias))

@@ -12,12 +12,14 @@ import numpy as np
 
 from ...actuators import ParallelVirtualActuator
 from ...components.base import Component, has_traced_path
+from ...components.gravity import GravityCompensation
 from ...distribution.result import Solution
 from ...exceptions import TraceError
 from ..attachment_tick import run_attachment
 from ..tick import TickSums
 from .builder import Program
 from .lower import (
+    GRAVITY,
     JOINTS,
     PARTITIONED,
     PYTHON,
@@ -242,6 +244,12 @@ class Term(Entry):
 
     def __init__(self, compiled: object, name: str, term, lowering: Lowering):
         model = compiled.robot.model
+        if isinstance(term, GravityCompensation):  # the core's generalized gravity
+            columns = term.columns.tolist()
+            super().__init__(compiled, name, len(columns))
+            self.term, self.columns, self.q_rows = term, columns, [0] * len(columns)
+            self.mapping = GRAVITY
+            return
         joints = getattr(term, "joints", ())
         super().__init__(compiled, name, max(len(joints), 1))
         self.term = term
@@ -280,6 +288,13 @@ class Term(Entry):
             self.produced, np.array(self.programs, dtype=np.int64),
             np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
         )  # fmt: skip
+        if self.mapping == GRAVITY:
+            inertias = self.term.model.inertias
+            core.set_gravity(
+                self.core_index, np.array([inertia.mass for inertia in inertias]),
+                np.array([inertia.lever for inertia in inertias]).reshape(-1, 3),
+                np.array(self.term.model.gravity.linear, dtype=float),
+            )  # fmt: skip
 
 
 class _Fixed:

@@ -37,7 +37,7 @@ if TYPE_CHECKING:  # the machine controller lowers itself through this module
 __all__ = ["Lowering", "Slots"]
 
 #: How an attachment's wrench becomes efforts (plan_machine.hpp's Mapping).
-SERIAL, PARTITIONED, JOINTS, PYTHON, SOLVER = 0, 1, 2, 3, 4
+SERIAL, PARTITIONED, JOINTS, PYTHON, SOLVER, GRAVITY = 0, 1, 2, 3, 4, 5
 
 
 class Slots:
@@ -231,5 +231,5 @@ def term_kind(term: object) -> str | None:
     if isinstance(term, Posture) and term.null_space is None:
         return None
     if isinstance(term, GravityCompensation):
-        return "gravity compensation (Pinocchio's generalized gravity)"
+        return None  # the core's generalized gravity (mapping GRAVITY)
     return "a posture projected on a null space"

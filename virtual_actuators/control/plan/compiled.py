@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,9 +23,6 @@ from ..tick import ControlOutput
 from .entries import Attached, Entry, Term
 from .lower import Lowering
 from .output import PlanOutput
-
-if TYPE_CHECKING:  # the machine controller lowers itself through this module
-    from ..machine_controller import MachineController
 
 __all__ = ["CompiledMachine", "compile_machine"]
 
@@ -47,7 +43,7 @@ def _plain(array: object, size: int) -> bool:
     )
 
 
-def compile_machine(machine: MachineController) -> CompiledMachine:
+def compile_machine(machine: object) -> CompiledMachine:
     """The compiled machine of ``machine``.
 
     Raises:
@@ -73,7 +69,7 @@ class CompiledMachine:
 
     """
 
-    def __init__(self, machine: MachineController) -> None:
+    def __init__(self, machine: object) -> None:
         self.machine = machine
         controller = machine.controller
         self.robot = controller.robot

@@ -17,7 +17,6 @@ What became a Python piece, and why, is in `CompiledMachine.pieces`.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -30,9 +29,6 @@ from ...vocabulary.traced import TRACING, Tracing, is_lowerable
 from .builder import MACHINE, PlanBuilder, Program
 from .memory import Memory
 from .trace import TraceContext
-
-if TYPE_CHECKING:  # the machine controller lowers itself through this module
-    from ..machine_controller import MachineController
 
 __all__ = ["Lowering", "Slots"]
 
@@ -76,7 +72,7 @@ class Lowering:
 
     """
 
-    def __init__(self, machine: MachineController) -> None:
+    def __init__(self, machine: object) -> None:
         self.machine = machine
         self.controller = machine.controller
         self.robot = self.controller.robot

@@ -2,10 +2,13 @@
 
 ``read_state`` returns the simulator's ``(q, v, time)``; ``write_effort`` holds the efforts for one
 control period and steps the physics. Run the loop with ``realtime=False`` to simulate as fast as
-possible, or at the simulator's control rate to watch it in real time.
+possible, or at the simulator's control rate to watch it in real time. ``va.run``'s final zero
+effort steps the simulation one more period: a run of ``n`` ticks ends at ``n + 1`` periods.
 """
 
 from __future__ import annotations
+
+import time as wallclock
 
 import numpy as np
 
@@ -17,6 +20,14 @@ class MujocoHardware:
 
     Args:
         simulator: The simulation that plays the robot.
+        ignore_unactuated: Drop efforts on degrees of freedom no actuator drives (False: such
+            an effort is an error of `write_effort`, as [`Simulator.step`][] raises it).
+
+    Attributes:
+        simulator: As given.
+        ignore_unactuated: As given.
+        efforts_written: Calls of `write_effort` (the final zero effort included).
+        physics_time: Wall-clock time spent in the physics steps [s].
 
     Example:
         >>> hardware = MujocoHardware(Simulator(robot))
@@ -25,23 +36,29 @@ class MujocoHardware:
 
     """
 
-    def __init__(self, simulator: Simulator) -> None:
+    def __init__(self, simulator: Simulator, *, ignore_unactuated: bool = True) -> None:
         self.simulator = simulator
+        self.ignore_unactuated = bool(ignore_unactuated)
         self.efforts_written = 0
+        self.physics_time = 0.0
+        self._data = simulator.data
 
     def read_state(self) -> tuple[np.ndarray, np.ndarray, float]:
         """``(q, v, time)`` of the simulation (Pinocchio conventions, seconds)."""
         simulator = self.simulator
-        return simulator.q, simulator.v, float(simulator.time)
+        return simulator.q, simulator.v, float(self._data.time)
 
     def write_effort(self, tau: np.ndarray) -> None:
-        """Hold ``tau`` for one control period (efforts on unactuated joints are dropped).
+        """Hold ``tau`` for one control period (see ``ignore_unactuated``).
 
         Raises:
-            InvalidInputError: ``tau`` of the wrong size or with non-finite entries.
+            InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
+                on an unactuated degree of freedom without ``ignore_unactuated``.
 
         """
-        self.simulator.step(tau, ignore_unactuated=True)
+        start = wallclock.perf_counter()
+        self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
+        self.physics_time += wallclock.perf_counter() - start
         self.efforts_written += 1
 
     def __repr__(self) -> str:

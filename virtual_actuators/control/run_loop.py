@@ -285,9 +285,12 @@ def _tick(
         reading = hooks.read_state()
     except Exception as error:  # a driver's failure: this tick sends the safe action
         return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
-    q, v, stamp, reason = check_reading(reading)
-    if reason is not None:
-        return None, None, None, stamp, None, reason
+    if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
+        q, v, stamp = reading  # the usual reading, unpacked as check_reading would
+    else:
+        q, v, stamp, reason = check_reading(reading)
+        if reason is not None:
+            return None, None, None, stamp, None, reason
     if not math.isfinite(stamp):
         return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
     if freshness.stale(stamp, now):

@@ -242,7 +242,9 @@ def _index(robot, joint: str) -> int:
 
 def _body_wrench(output) -> np.ndarray:
     """The virtual wrench (x, z, ry) the components ask of the body this tick."""
+    wrenches = output.wrenches  # a property: read once
     for name in ("double", "left_stance", "right_stance"):
-        if name in output.wrenches:
-            return output.wrenches[name]
+        wrench = wrenches.get(name)
+        if wrench is not None:
+            return wrench
     return np.zeros(3)

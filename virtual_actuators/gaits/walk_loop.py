@@ -168,6 +168,10 @@ class WalkTicks:
         self._native = episode.native if on_tick is None else None
         self._native_tick: Any = None
         self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
+        self._watched = bar is not None or on_tick is not None or self._native is not None
+        self._stance_every, self._record_every = episode.stance_every, episode.record_every
+        self._sample, self._support = episode.stance.sample, gait.support_contacts
+        self._fallen, self._record = episode.fallen, episode.record
         self._data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
         self._end_time = duration - 1e-9
         period = simulator.control_period
@@ -186,7 +190,7 @@ class WalkTicks:
         tau: np.ndarray,
     ) -> None:  # fmt: skip
         """Keep the tick's rows; stance forces, fall test, record, ``on_tick``, progress."""
-        tick, episode = self.ticks, self.episode
+        tick = self.ticks
         try:
             self._velocities[tick] = math.nan if v is None else v
         except IndexError:  # a time that did not advance by whole periods
@@ -195,25 +199,32 @@ class WalkTicks:
         self._efforts[tick] = tau
         self.ticks = tick = tick + 1
         fall_time = self.fall_time
-        if fall_time is None and tick % episode.stance_every == 0:
-            episode.stance.sample(self.gait.support_contacts())
-        if q is not None and output is not None:
-            fallen = fall_time is not None or episode.fallen(q)
+        if fall_time is None and tick % self._stance_every == 0:
+            self._sample(self._support())
+        if output is not None:  # a tick that passed va.run's checks (q and v too)
+            fallen = fall_time is not None or self._fallen(q)
             if fallen and fall_time is None:
                 self.fall_time, self.fall_tick = now, tick - 1
-            if episode.record_every == 1 or tick % episode.record_every == 1:
-                episode.record(now, q, v, output, fallen)
+            every = self._record_every
+            if every == 1 or tick % every == 1:
+                self._record(now, q, v, output, fallen)
+        if self._watched:
+            self._watch(tick, output)
+        if fall_time is not None and self._stop_on_fall and now > fall_time + 0.5:
+            self._stopping = True
+
+    def _watch(self, tick: int, output: Any) -> None:
+        """``on_tick``, the progress bar, and the native tick once the machine has started."""
         if self._on_tick is not None:
             self._on_tick(self.simulator, self.gait)
         if self._bar is not None and tick % 100 == 0:
             self._bar.set(self.simulator.time)
-        if self._stop_on_fall and fall_time is not None and now > fall_time + 0.5:
-            self._stopping = True
         if self._native is not None and output is not None:  # the gait's machine has started
             native, self._native = self._native, None
             self._native_tick = native(self.gait)
             if self._native_tick is not None:
                 self.compute = self._native_tick.compute
+            self._watched = self._on_tick is not None or self._bar is not None
 
     def finish(self) -> None:
         """The gait's objects as the native tick left them (if one ran)."""

@@ -35,7 +35,15 @@ from ..attitude import attitude_and_velocity
 from ..base import Walk
 from ..push import Push
 from ..registered import WalkRequest
-from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, number, trace_of
+from ..runner import (
+    FALL_PITCH,
+    Episode,
+    WalkFigures,
+    WalkResult,
+    allowed_geoms,
+    number,
+    trace_of,
+)
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .balancer import Balancer
@@ -155,6 +163,8 @@ class BalanceEpisode(Episode):
         model = gait.robot.model
         joints = {model.frames[model.getFrameId(f)].parentJoint for f in gait.contacts}
         self.feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
+        #: per geom, 1 when every frame owning it is a foot's (the fall test's one call)
+        self.allowed_geoms = allowed_geoms(simulator, self.feet.__contains__)
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> None:
@@ -171,7 +181,7 @@ class BalanceEpisode(Episode):
         height = float(q[2] - self.terrain.height(q[0]))
         if height < 0.5 * self.height or math.hypot(roll, pitch) > FALL_PITCH:
             return True
-        return not self.simulator.touching_frames() <= self.feet
+        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= feet
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool

@@ -26,8 +26,9 @@ The loop **always ends by writing zero effort** of the robot's size, whatever en
 duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C (then
 re-raised, as every exception that is not a per-tick failure, after that write). With
 [`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] that last zero command steps the
-simulation one more period. A tick that takes longer than the period is an overrun: the loop
-does not try to catch up (the next tick starts at once), and counts it.
+simulation one more period (unless ``write_final`` takes it). A tick that takes longer than
+the period is an overrun: the loop does not try to catch up (the next tick starts at once), and
+counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
 [`gc_policy`][]). Before the clock starts the controller's kernels load
@@ -43,9 +44,11 @@ Two optional hooks let a loop carry more than a controller without a loop of its
 what it returns is ``compute``'s fourth argument (a gait's contact switches); an error in it
 fails the tick (``"sense error: <type>"``). ``after_tick(q, v, stamp, output, tau)`` runs after
 each tick's write, outside the tick's measured time: recording, a viewer, a fall test. Every
-registered walk runs on this loop (`virtual_actuators.gaits.runner.drive`: ``sense`` steers
+registered walk runs on this loop (`virtual_actuators.gaits.walk_loop.drive`: ``sense`` steers
 the gait and reads the contact switches, ``after_tick`` records, ``should_stop`` ends on the
-simulated time or after a fall).
+simulated time or after a fall). ``write_final`` takes the final zero effort instead of
+``write_effort`` (the walks: ``MujocoHardware.hold_effort``, which sets MuJoCo's controls to
+zero without stepping the simulation once more).
 """
 
 from __future__ import annotations
@@ -134,6 +137,7 @@ def run(
     gc_policy: str = "between-ticks",
     sense: Callable[[np.ndarray, np.ndarray, float], object] | None = None,
     after_tick: AfterTick | None = None,
+    write_final: Callable[[np.ndarray], None] | None = None,
 ) -> RunStats:
     """Run ``controller`` at ``rate_hz`` until ``duration`` elapses or ``should_stop()``.
 
@@ -166,6 +170,7 @@ def run(
             ``compute``'s fourth argument (see `run_loop`).
         after_tick: ``after_tick(q, v, stamp, output, tau)`` after each write: the checked
             reading (None when it failed), the output (None on a failed tick), the efforts.
+        write_final: Writes the final zero effort (default: ``write_effort``).
 
     Returns:
         The [`RunStats`][].
@@ -186,9 +191,12 @@ def run(
     )  # fmt: skip
     check_callback(sense, "sense")
     check_callback(after_tick, "after_tick")
+    check_callback(write_final, "write_final")
     collector = LoopCollector(check_gc_policy(gc_policy, "run()"))
     warm_up_driven(controller, settings.robot)
-    hooks = _Hooks(read_state, write_effort, should_stop, sense, after_tick)
+    hooks = _Hooks(
+        read_state, write_effort, should_stop, sense, after_tick, write_final or write_effort
+    )
     return _run_checked(controller, hooks, settings, collector)
 
 
@@ -205,7 +213,7 @@ def _run_checked(
             ending = error
             raise
         finally:  # whatever ended the loop (Ctrl-C included): motors to zero
-            _end_safe(hooks.write_effort, settings.tree.nv, ending)
+            _end_safe(hooks.write_final, settings.tree.nv, ending)
             stats.wall_time = clock.perf_counter() - start
     return stats
 
@@ -223,6 +231,7 @@ class _Hooks:
     should_stop: Callable[[], bool] | None
     sense: Callable[[np.ndarray, np.ndarray, float], object] | None
     after_tick: AfterTick | None
+    write_final: Callable[[np.ndarray], None]
 
 
 def _loop(

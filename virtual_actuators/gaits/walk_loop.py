@@ -80,13 +80,13 @@ def drive(
     The loop is ``va.run``'s on a [`MujocoHardware`][] (``realtime=False``, at the simulator's
     control rate), so a walk has its checks and its safe action (a reading that fails them, a
     gait that raises or answers non-finite efforts: zero effort that tick, counted in
-    ``LoopEnd.run``) and ends by writing zero effort: that last command steps the simulation
-    one more period after the last tick, which is neither recorded nor in `LoopEnd`'s rows
-    (the log's last sample is the last control tick's; ``simulator.time`` is one period past
-    it). Each tick the episode's `Episode.sense` steers the gait and reads its contact
-    switches (``run``'s ``sense``); after the write `WalkTicks.after_tick` keeps the tick's rows,
-    samples the stance forces, tests for a fall, records, calls ``on_tick`` and moves the
-    progress bar.
+    ``LoopEnd.run``) and ends by writing zero effort, whatever ended it
+    (`MujocoHardware.hold_effort`: MuJoCo's controls set to zero, the simulation not stepped
+    again, so the log, `LoopEnd` and the simulator's state and time are the last control
+    tick's; only ``simulator.data.ctrl`` is zero afterwards). Each tick the episode's
+    `Episode.sense` steers the gait and reads its contact switches (``run``'s ``sense``);
+    after the write `WalkTicks.after_tick` keeps the tick's rows, samples the stance forces,
+    tests for a fall, records, calls ``on_tick`` and moves the progress bar.
 
     Args:
         episode: The prepared walk.
@@ -116,7 +116,7 @@ def drive(
         stats = run(
             ticks, hardware.read_state, hardware.write_effort, 1.0 / simulator.control_period,
             realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
-            after_tick=ticks.after_tick, gc_policy=gc_policy,
+            after_tick=ticks.after_tick, gc_policy=gc_policy, write_final=hardware.hold_effort,
         )  # fmt: skip
     finally:
         ticks.finish()

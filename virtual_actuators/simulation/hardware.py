@@ -3,7 +3,9 @@
 ``read_state`` returns the simulator's ``(q, v, time)``; ``write_effort`` holds the efforts for one
 control period and steps the physics. Run the loop with ``realtime=False`` to simulate as fast as
 possible, or at the simulator's control rate to watch it in real time. ``va.run``'s final zero
-effort steps the simulation one more period: a run of ``n`` ticks ends at ``n + 1`` periods.
+effort, written by ``write_effort``, steps the simulation one more period (a run of ``n`` ticks
+ends at ``n + 1`` periods); given to ``va.run(write_final=hardware.hold_effort)`` it only sets
+the motors' commands, and the simulation ends where the last tick left it (the walks' loop).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import time as wallclock
 
 import numpy as np
 
+from .actuation import torques_to_ctrl
 from .simulator import Simulator
 
 
@@ -26,7 +29,8 @@ class MujocoHardware:
     Attributes:
         simulator: As given.
         ignore_unactuated: As given.
-        efforts_written: Calls of `write_effort` (the final zero effort included).
+        efforts_written: Calls of `write_effort` and `hold_effort` (the final zero
+            effort included).
         physics_time: Wall-clock time spent in the physics steps [s].
 
     Example:
@@ -59,6 +63,21 @@ class MujocoHardware:
         start = wallclock.perf_counter()
         self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
         self.physics_time += wallclock.perf_counter() - start
+        self.efforts_written += 1
+
+    def hold_effort(self, tau: np.ndarray) -> None:
+        """Set the efforts MuJoCo holds (its controls) without stepping: a loop's final zero.
+
+        Raises:
+            InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
+                on an unactuated degree of freedom without ``ignore_unactuated``.
+
+        """
+        simulator = self.simulator
+        ctrl = torques_to_ctrl(
+            simulator.mujoco_model, tau, ignore_unactuated=self.ignore_unactuated
+        )
+        self._data.ctrl[:] = ctrl
         self.efforts_written += 1
 
     def __repr__(self) -> str:

@@ -491,10 +491,12 @@ def instrumented_walk(
     targets["hexapod native.compute"] = (HexapodTick, "compute")
     with WalkProbe(targets, tick="simulator.step") as probe:
         result = run_walk(name, duration=seconds, progress=False, **options)
-    ticks = len(probe.samples["simulator.step"])
-    total = probe.tick_totals()
+    # the loop's ticks; the step after them is va.run's final zero effort, not a tick
+    ticks = result.loop.ticks
+    total = probe.tick_totals()[: ticks - 1]
     # the warm-up's calls come before the loop's: the last ``ticks`` calls are the loop's
-    gait, step = probe.per_tick("gait.compute")[-ticks:], probe.per_tick("simulator.step")
+    gait = probe.per_tick("gait.compute")[-ticks:]
+    step = probe.per_tick("simulator.step")[:ticks]
     native = np.concatenate(
         [probe.per_tick("native.compute"), probe.per_tick("hexapod native.compute")]
     )[-ticks:]

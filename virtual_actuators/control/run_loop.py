@@ -26,8 +26,9 @@ The loop **always ends by writing zero effort** of the robot's size, whatever en
 duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C (then
 re-raised, as every exception that is not a per-tick failure, after that write). With
 [`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] that last zero command steps the
-simulation one more period. A tick that takes longer than the period is an overrun: the loop
-does not try to catch up (the next tick starts at once), and counts it.
+simulation one more period (unless ``write_final`` takes it). A tick that takes longer than
+the period is an overrun: the loop does not try to catch up (the next tick starts at once), and
+counts it.
 
 Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
 [`gc_policy`][]). Before the clock starts the controller's kernels load
@@ -37,6 +38,17 @@ The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, 
 ``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
 [`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] implements both on a MuJoCo
 simulation (the simulated robot as the hardware).
+
+Two optional hooks let a loop carry more than a controller without a loop of its own:
+``sense(q, v, stamp)`` runs on a reading that passed the checks, before the controller, and
+what it returns is ``compute``'s fourth argument (a gait's contact switches); an error in it
+fails the tick (``"sense error: <type>"``). ``after_tick(q, v, stamp, output, tau)`` runs after
+each tick's write, outside the tick's measured time: recording, a viewer, a fall test. Every
+registered walk runs on this loop (`virtual_actuators.gaits.walk_loop.drive`: ``sense`` steers
+the gait and reads the contact switches, ``after_tick`` records, ``should_stop`` ends on the
+simulated time or after a fall). ``write_final`` takes the final zero effort instead of
+``write_effort`` (the walks: ``MujocoHardware.hold_effort``, which sets MuJoCo's controls to
+zero without stepping the simulation once more).
 """
 
 from __future__ import annotations
@@ -49,15 +61,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import InvalidInputError
-from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
-from ..vocabulary.arguments import check_flag, check_number, check_robot, describe
 from .gc_policy import LoopCollector, check_gc_policy
+from .run_settings import MIN_RATE_HZ, Freshness, RunSettings, check_callback, check_run
 from .safe_action import (
     DEFAULT_DAMPING,
     DEFAULT_HOLD_TIME,
-    SafeAction,
     check_effort,
     check_reading,
     check_state,
@@ -68,9 +77,6 @@ State = tuple[np.ndarray, np.ndarray, float]
 
 #: Tick durations kept for the statistics (the last ones: memory stays bounded on long runs).
 TICK_HISTORY = 100_000
-
-#: The slowest rate ``run`` accepts [Hz] (a period of at most 1000 s).
-MIN_RATE_HZ = 1e-3
 
 
 @dataclass
@@ -129,13 +135,15 @@ def run(
     damping: float | np.ndarray = DEFAULT_DAMPING,
     hold_time: float = DEFAULT_HOLD_TIME,
     gc_policy: str = "between-ticks",
+    sense: Callable[[np.ndarray, np.ndarray, float], object] | None = None,
+    after_tick: AfterTick | None = None,
+    write_final: Callable[[np.ndarray], None] | None = None,
 ) -> RunStats:
     """Run ``controller`` at ``rate_hz`` until ``duration`` elapses or ``should_stop()``.
 
     Args:
         controller: Anything with ``compute(q, v, time)`` (``time``: the reading's stamp)
-            returning efforts or an object with ``tau`` (a
-            [`Controller`][], a gait, your own class).
+            returning efforts or an object with ``tau`` (a [`Controller`][], a gait, yours).
         read_state: Returns ``(q, v, stamp)``: configuration, velocity, time of the reading [s].
         write_effort: Sends ``(nv,)`` efforts to the motors, in the robot's velocity order
             (`velocity_names`).
@@ -148,18 +156,21 @@ def run(
         realtime: Sleep to hold the rate (False: run ticks back to back, e.g. on a simulation).
         should_stop: Polled every tick; True ends the loop.
         robot: The robot whose efforts are written (default: ``controller.robot``, which a
-            [`Controller`][] and a gait have). Give it for a controller
-            of your own without one.
+            [`Controller`][] and a gait have). Give it for a controller of your own without one.
         safe_action: What a failed tick sends: ``"zero"``, ``"hold"`` or ``"damp"`` (see
             `run_loop`).
         damping: ``safe_action="damp"``: joint damping [N m s/rad, N s/m], one number for every
             velocity entry but a floating base's and the passive joints' (default
-            `DEFAULT_DAMPING`, 1), or ``(nv,)``
-            numbers used as given.
+            `DEFAULT_DAMPING`, 1), or ``(nv,)`` numbers used as given.
         hold_time: ``safe_action="hold"``: the longest run of failed ticks that holds the last
             good effort [s] (``hold_time * rate_hz`` ticks); then zero effort.
         gc_policy: ``"between-ticks"`` (no garbage collection inside a tick, see
             [`gc_policy`][]) or ``"python"`` (left alone).
+        sense: ``sense(q, v, stamp)`` on a reading that passed the checks: its result is
+            ``compute``'s fourth argument (see `run_loop`).
+        after_tick: ``after_tick(q, v, stamp, output, tau)`` after each write: the checked
+            reading (None when it failed), the output (None on a failed tick), the efforts.
+        write_final: Writes the final zero effort (default: ``write_effort``).
 
     Returns:
         The [`RunStats`][].
@@ -170,185 +181,149 @@ def run(
             callbacks that are not callable; neither ``duration`` nor ``should_stop``; no
             robot (neither ``robot`` nor ``controller.robot``) or not the controller's.
         KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
-            of ``write_effort`` and ``should_stop``, and exceptions that are not
-            `Exception`; if the final write fails too, a note on the error says so).
+            of ``write_effort``, ``should_stop`` and ``after_tick``, and exceptions that are
+            not `Exception`; if the final write fails too, a note on the error says so).
 
     """
-    settings = _check_run(
+    settings = check_run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time,
-    )
+    )  # fmt: skip
+    check_callback(sense, "sense")
+    check_callback(after_tick, "after_tick")
+    check_callback(write_final, "write_final")
+    collector = LoopCollector(check_gc_policy(gc_policy, "run()"))
     warm_up_driven(controller, settings.robot)
+    hooks = _Hooks(
+        read_state, write_effort, should_stop, sense, after_tick, write_final or write_effort
+    )
+    return _run_checked(controller, hooks, settings, collector)
+
+
+def _run_checked(
+    controller: object, hooks: _Hooks, settings: RunSettings, collector: LoopCollector
+) -> RunStats:
+    """[`run`][] on checked arguments, its controller warmed up: the loop, then zero effort."""
     stats, ending = RunStats(), None
-    with LoopCollector(check_gc_policy(gc_policy, "run()")) as collector:
+    with collector:
         start = clock.perf_counter()
         try:
-            _loop(controller, read_state, write_effort, should_stop, settings, stats, start,
-                  collector)  # fmt: skip
+            _loop(controller, hooks, settings, stats, start, collector)
         except BaseException as error:
             ending = error
             raise
         finally:  # whatever ended the loop (Ctrl-C included): motors to zero
-            _end_safe(write_effort, settings.tree.nv, ending)
+            _end_safe(hooks.write_final, settings.tree.nv, ending)
             stats.wall_time = clock.perf_counter() - start
     return stats
 
 
+#: ``run``'s ``after_tick(q, v, stamp, output, tau)``.
+AfterTick = Callable[[np.ndarray | None, np.ndarray | None, float, object, np.ndarray], object]
+
+
 @dataclass(frozen=True, slots=True)
-class _Settings:
-    """[`run`][]'s checked arguments."""
+class _Hooks:
+    """[`run`][]'s callbacks."""
 
-    period: float  # [s]
-    duration: float | None  # [s]
-    stale_after: float  # [s]
-    realtime: bool
-    safe: SafeAction
-    tree: KinematicTree
-    robot: Robot
-
-
-@dataclass(slots=True)
-class _Freshness:
-    """The newest stamp read and when it arrived (``perf_counter`` time) [s]."""
-
-    stale_after: float
-    last_stamp: float | None = None
-    last_fresh: float = 0.0
-
-    def stale(self, stamp: float, now: float) -> bool:
-        """Whether the stamps have not advanced for ``stale_after`` at ``now`` (``stamp`` read)."""
-        if self.last_stamp is None or stamp > self.last_stamp:
-            self.last_stamp, self.last_fresh = stamp, now
-        return now - self.last_fresh > self.stale_after
-
-
-def _check_run(
-    controller: object,
-    read_state: object,
-    write_effort: object,
-    rate_hz: object,
-    duration: object,
-    stale_after: object,
-    realtime: object,
-    should_stop: object,
-    robot: object,
-    safe_action: object,
-    damping: object,
-    hold_time: object,
-) -> _Settings:
-    """[`run`][]'s arguments checked (its Raises: InvalidInputError, in this order)."""
-    rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)
-    if rate_hz < MIN_RATE_HZ:
-        raise InvalidInputError(
-            f"run(): rate_hz must be >= {MIN_RATE_HZ:g} Hz (a period of at most "
-            f"{1.0 / MIN_RATE_HZ:g} s), got {rate_hz!r}."
-        )
-    period = 1.0 / rate_hz
-    stale_after = 3.0 * period if stale_after is None else stale_after
-    stale_after = check_number(stale_after, "run(): stale_after [s]", minimum=0.0)
-    realtime = check_flag(realtime, "run(): realtime")
-    if should_stop is not None and not callable(should_stop):
-        raise InvalidInputError(
-            f"run(): should_stop must be callable (returning True to stop) or None, got "
-            f"{describe(should_stop)}."
-        )
-    if duration is not None:
-        duration = check_number(duration, "run(): duration [s]", minimum=0.0)
-    elif should_stop is None:
-        raise InvalidInputError("run(): give a duration or a should_stop callable.")
-    if not callable(getattr(controller, "compute", None)):
-        raise InvalidInputError(
-            f"run(): controller needs a compute(q, v, time) method, got {describe(controller)}."
-        )
-    for what, callback in (("read_state", read_state), ("write_effort", write_effort)):
-        if not callable(callback):
-            raise InvalidInputError(f"run(): {what} must be callable, got {describe(callback)}.")
-    robot = _robot_of(controller, robot)
-    hold_time = check_number(hold_time, "run(): hold_time [s]", minimum=0.0)
-    safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
-    return _Settings(period, duration, stale_after, realtime, safe, tree_of(robot), robot)
+    read_state: Callable[[], State]
+    write_effort: Callable[[np.ndarray], None]
+    should_stop: Callable[[], bool] | None
+    sense: Callable[[np.ndarray, np.ndarray, float], object] | None
+    after_tick: AfterTick | None
+    write_final: Callable[[np.ndarray], None]
 
 
 def _loop(
     controller: object,
-    read_state: Callable[[], State],
-    write_effort: Callable[[np.ndarray], None],
-    should_stop: Callable[[], bool] | None,
-    settings: _Settings,
+    hooks: _Hooks,
+    settings: RunSettings,
     stats: RunStats,
     start: float,
     collector: LoopCollector,
 ) -> None:
     """Tick until the duration elapses or ``should_stop()``: read, compute or fail, write.
 
-    Then the garbage collector's turn, and the sleep until the next period.
+    Then ``after_tick``, the garbage collector's turn, and the sleep until the next period.
     """
-    freshness = _Freshness(settings.stale_after)
+    freshness = Freshness(settings.stale_after)
     end = math.inf if settings.duration is None else start + settings.duration
-    deadline = start
+    deadline, period, realtime, safe = start, settings.period, settings.realtime, settings.safe
+    should_stop, write_effort, after_tick = hooks.should_stop, hooks.write_effort, hooks.after_tick
+    perf_counter, tick_times = clock.perf_counter, stats.tick_times
     while True:
-        now = clock.perf_counter()
+        now = perf_counter()
         if now >= end - 1e-12 or (should_stop is not None and should_stop()):
             break
-        tau, velocity, reason = _tick(controller, read_state, settings.tree, freshness, stats, now)
+        tau, q, v, stamp, output, reason = _tick(controller, hooks, settings, freshness, now)
         if reason is None:
-            settings.safe.good(tau)
+            safe.good(tau)
+            failures = getattr(output, "failures", None)
+            if failures:
+                _count_attachment_failures(stats, failures)
         else:
-            tau = settings.safe.effort(velocity)
+            tau = safe.effort(v)
             stats.failed_ticks += 1
             stats.reasons[reason] = stats.reasons.get(reason, 0) + 1
             if not tau.any():
                 stats.zero_ticks += 1
         write_effort(tau)
-        done = clock.perf_counter()
+        done = perf_counter()
         stats.ticks += 1
-        stats.tick_times.append(done - now)
+        tick_times.append(done - now)
+        if after_tick is not None:
+            after_tick(q, v, stamp, output, tau)
         collector.between_ticks()  # after the write: in the slack before the next tick
-        deadline += settings.period
+        deadline += period
         if done > deadline:
             stats.overruns += 1
             deadline = done  # no catching up
-        elif settings.realtime:
-            clock.sleep(max(min(deadline, end) - clock.perf_counter(), 0.0))
+        elif realtime:
+            clock.sleep(max(min(deadline, end) - perf_counter(), 0.0))
 
 
 def _tick(
-    controller: object,
-    read_state: Callable[[], State],
-    tree: KinematicTree,
-    freshness: _Freshness,
-    stats: RunStats,
-    now: float,
-) -> tuple[np.ndarray | None, np.ndarray | None, str | None]:
-    """One tick: ``(efforts, velocity, None)``, or ``(None, checked velocity or None, reason)``.
+    controller: object, hooks: _Hooks, settings: RunSettings, freshness: Freshness, now: float
+) -> tuple:
+    """One tick: ``(efforts, q, v, stamp, output, None)``, or a failure's reason last.
 
-    The velocity is the reading's when it passed the checks (the safe action may damp it).
+    A failed tick's efforts and output are None; its ``q`` and ``v`` are the reading's when it
+    passed the checks (the safe action may damp ``v``), else None.
     """
     try:
-        reading = read_state()
+        reading = hooks.read_state()
     except Exception as error:  # a driver's failure: this tick sends the safe action
-        return None, None, f"read error: {type(error).__name__}"
-    q, v, stamp, reason = check_reading(reading)
-    if reason is not None:
-        return None, None, reason
+        return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
+    if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
+        q, v, stamp = reading  # the usual reading, unpacked as check_reading would
+    else:
+        q, v, stamp, reason = check_reading(reading)
+        if reason is not None:
+            return None, None, None, stamp, None, reason
     if not math.isfinite(stamp):
-        return None, None, "non-finite"  # a bad clock never becomes the reference
+        return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
     if freshness.stale(stamp, now):
-        return None, None, "stale"
+        return None, None, None, stamp, None, "stale"
+    tree = settings.tree
     q, v, reason = check_state(q, v, tree)
     if reason is not None:
-        return None, None, reason
+        return None, None, None, stamp, None, reason
+    sense = hooks.sense
     try:
-        output = controller.compute(q, v, stamp)
+        if sense is None:
+            output = controller.compute(q, v, stamp)
+        else:
+            try:
+                sensed = sense(q, v, stamp)
+            except Exception as error:  # the sensing's failure: the safe action
+                return None, q, v, stamp, None, f"sense error: {type(error).__name__}"
+            output = controller.compute(q, v, stamp, sensed)
         tau = check_effort(output, tree.nv)
     except Exception as error:  # any failure of the law
-        return None, v, f"controller error: {type(error).__name__}"
+        return None, q, v, stamp, None, f"controller error: {type(error).__name__}"
     if tau is None:
-        return None, v, "bad effort"
-    failures = getattr(output, "failures", None)
-    if failures:
-        _count_attachment_failures(stats, failures)
-    return tau, v, None
+        return None, q, v, stamp, None, "bad effort"
+    return tau, q, v, stamp, output, None
 
 
 def _end_safe(
@@ -368,27 +343,6 @@ def _end_safe(
         ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
 
 
-def _robot_of(controller: object, robot: object) -> Robot:
-    """The robot whose efforts ``run`` writes: ``robot``, else ``controller.robot``."""
-    own = getattr(controller, "robot", None)
-    if robot is None:
-        if own is None:
-            raise InvalidInputError(
-                "run(): the efforts' size and order come from the robot: give robot=..., or a "
-                f"controller with a robot attribute (a va.Controller, a gait); "
-                f"{describe(controller)} has none."
-            )
-        check_robot(own, "run(): controller.robot")
-        return own
-    check_robot(robot, "run()")
-    if own is not None and getattr(own, "model", None) is not robot.model:
-        raise InvalidInputError(
-            f"run(): robot is {getattr(robot, 'name', '?')!r} but the controller's robot is "
-            f"{getattr(own, 'name', describe(own))!r}; leave robot out to use the controller's."
-        )
-    return robot
-
-
 def _count_attachment_failures(stats: RunStats, failures: dict) -> None:
     """Count a controller output's failure records (``ControlOutput.failures``)."""
     for name, failure in failures.items():
@@ -396,4 +350,4 @@ def _count_attachment_failures(stats: RunStats, failures: dict) -> None:
         stats.attachment_failures[key] = stats.attachment_failures.get(key, 0) + 1
 
 
-__all__ = ["MIN_RATE_HZ", "RunStats", "run"]
+__all__ = ["MIN_RATE_HZ", "AfterTick", "RunStats", "run"]

@@ -31,6 +31,9 @@ DEFAULT_DAMPING = 1.0
 DEFAULT_HOLD_TIME = 0.1
 
 
+_ARRAY, _FLOAT = np.ndarray, np.dtype(np.float64)  # the classes of a driver's usual arrays
+
+
 def _vector(value: object, size: int) -> np.ndarray | None:
     """``value`` as a float64 ``(size,)`` array, or None if it is not ``size`` real numbers."""
     if isinstance(value, np.ndarray) and value.dtype == np.float64:
@@ -86,16 +89,25 @@ def check_state(
         pair more than 1e-3 from unit norm).
 
     """
-    q_array, v_array = _vector(q, tree.nq), _vector(v, tree.nv)
-    if q_array is None or v_array is None:
-        return None, None, "malformed reading"
-    if not (finite(q_array) and finite(v_array)):
+    nq, nv = tree.nq, tree.nv
+    if (  # a driver's contiguous float64 vectors of the right sizes, as they are (every tick's)
+        q.__class__ is _ARRAY and v.__class__ is _ARRAY and q.dtype is _FLOAT
+        and v.dtype is _FLOAT and q.shape == (nq,) and v.shape == (nv,)
+        and q.flags.c_contiguous and v.flags.c_contiguous
+    ):  # fmt: skip
+        q_array, v_array = q, v
+    else:
+        q_array, v_array = _vector(q, nq), _vector(v, nv)
+        if q_array is None or v_array is None:
+            return None, None, "malformed reading"
+    if not finite(v_array):
         return None, None, "non-finite"
-    try:
-        q_array = tree.check_configuration(q_array)
+    if not tree.unit_slices:  # no norm to check
+        return (q_array, v_array, None) if finite(q_array) else (None, None, "non-finite")
+    try:  # finiteness and unit norms in one pass
+        return tree.check_configuration(q_array), v_array, None
     except InvalidInputError:
-        return None, None, "non-unit quaternion"
-    return q_array, v_array, None
+        return None, None, "non-finite" if not finite(q_array) else "non-unit quaternion"
 
 
 def check_effort(output: object, nv: int) -> np.ndarray | None:
@@ -107,7 +119,7 @@ def check_effort(output: object, nv: int) -> np.ndarray | None:
 
     """
     tau = getattr(output, "tau", output)
-    if not isinstance(tau, np.ndarray) or tau.dtype != np.float64:
+    if tau.__class__ is not _ARRAY or tau.dtype is not _FLOAT:
         try:
             tau = np.asarray(tau)
         except (TypeError, ValueError):

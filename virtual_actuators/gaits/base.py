@@ -226,9 +226,11 @@ class Walk:
     Attributes:
         name: Demo name on the command line.
         robot: Robot name for [`load_robot`][].
-        run: The closed loop, called by `run_walk` as
-            ``run(walk, duration=, speed=, terrain=, progress=, on_tick=, stop_on_fall=, seed=,
-            parameters=, distribution=, **options)`` with the duration and terrain resolved.
+        run: The walk's own start: ``run(request)`` with the
+            [`WalkRequest`][virtual_actuators.gaits.registered.WalkRequest] that
+            [`run_registered`][virtual_actuators.gaits.registered.run_registered] resolved from
+            `run_walk`'s arguments (duration and terrain resolved, parameters of the walk's
+            type); it builds the episode, runs it under ``drive`` and returns the result.
         parameters: The gait's parameters dataclass.
         terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].

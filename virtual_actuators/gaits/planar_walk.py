@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -28,8 +27,10 @@ from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, check_distribution, check_speed_bound
-from .runner import Episode, WalkResult, drive, has_fallen, terrain_points
+from .registered import WalkRequest
+from .runner import Episode, WalkResult, has_fallen, terrain_points
 from .smoothness import loop_smoothness
+from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
 STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
@@ -40,63 +41,36 @@ def with_speed(parameters, speed: float | None):
     return parameters if speed is None else dataclasses.replace(parameters, speed=speed)
 
 
-def run_planar_walk(
-    walk: Walk,
-    duration: float,
-    speed: float | None = None,
-    terrain: str | Terrain | None = None,
-    progress: bool = True,
-    on_tick: Callable[[Simulator, Gait], None] | None = None,
-    stop_on_fall: bool = True,
-    seed: int | None = None,
-    parameters: object | None = None,
-    distribution: str | None = None,
-) -> WalkResult:
-    """Simulate a planar biped's walk and measure it (a `Walk`'s ``run``).
+def run_planar_walk(request: WalkRequest) -> WalkResult:
+    """Simulate a planar biped's walk and measure it (a `Walk`'s ``run``, from `run_registered`).
 
-    Args:
-        walk: The walk (its robot, gait, push and defaults).
-        duration: Simulated time [s].
-        speed: Desired speed [m/s] (default: ``parameters.speed`` when parameters are given,
-            else `Walk.default_speed`:
-            the gait's, 0.5 for the turkey, 0.4 for the flamingo, within their ranges).
-        terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][]: ``"flat"``, a built-in
-            name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
-        progress: Show a tqdm progress bar.
-        on_tick: Called after every physics step (e.g. a viewer's throttled update).
-        stop_on_fall: End the run at the first fallen tick (plus 0.5 s to see the fall).
-        seed: None for the walk's nominal start; an int varies the start-up push (its force
-            and duration each scaled by a factor drawn uniformly in [0.7, 1.3]) so that sweeps
-            see several starts per setting.
-        parameters: The gait's parameters (a ``walk.parameters``; default: the gait's);
-            ``speed`` overrides theirs.
-        distribution: ``"partitioned"`` or ``"qp"``: how double support shares the body's
-            wrench (overrides ``parameters.distribution``; default: the gait's).
+    The request's fields (see `run_walk`): ``speed`` defaults to ``parameters.speed`` when
+    parameters are given, else to `Walk.default_speed` (the gait's, 0.5 for the turkey, 0.4 for
+    the flamingo, within their ranges); ``seed`` (an int) varies the start-up push (its force
+    and duration each scaled by a factor drawn uniformly in [0.7, 1.3]) so that sweeps see
+    several starts per setting; ``distribution`` (``"partitioned"`` or ``"qp"``: how double
+    support shares the body's wrench) overrides ``parameters.distribution``.
 
     Returns:
         The `WalkResult`.
 
     Raises:
-        InvalidInputError: Bad speed, terrain, seed, parameters or distribution.
+        InvalidInputError: Bad speed, terrain, seed or distribution.
 
     """
+    walk, speed, parameters, distribution = (
+        request.walk, request.speed, request.parameters, request.distribution
+    )
+    duration = request.duration
     if speed is not None:
         check_speed_bound(speed, zero=False)
     if speed is None and parameters is None:
         speed = walk.default_speed()
-    if terrain is None:
-        terrain = walk.terrain
-    expected = walk.parameters
-    if parameters is not None and not isinstance(parameters, expected):
-        raise InvalidInputError(
-            f"{walk.name}: parameters must be a {expected.__name__}, got "
-            f"{type(parameters).__name__}."
-        )
     if distribution is not None:
         check_distribution(distribution)
-        parameters = dataclasses.replace(parameters or expected(), distribution=distribution)
-    episode = _prepare(walk, duration, speed, terrain, seed, parameters)
-    end = drive(episode, duration, progress, on_tick, stop_on_fall)
+        parameters = dataclasses.replace(parameters or walk.parameters(), distribution=distribution)
+    episode = _prepare(walk, duration, speed, request.terrain, request.seed, parameters)
+    end = drive(episode, duration, *request.loop)
     log = episode.recorder.to_log()
     metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
     normal_min, ratio_max = episode.stance.figures()
@@ -268,7 +242,9 @@ def _index(robot, joint: str) -> int:
 
 def _body_wrench(output) -> np.ndarray:
     """The virtual wrench (x, z, ry) the components ask of the body this tick."""
+    wrenches = output.wrenches  # a property: read once
     for name in ("double", "left_stance", "right_stance"):
-        if name in output.wrenches:
-            return output.wrenches[name]
+        wrench = wrenches.get(name)
+        if wrench is not None:
+            return wrench
     return np.zeros(3)

@@ -1,7 +1,9 @@
 """The walk registry: every gait folder's ``walk.py`` registers one `Walk`.
 
 `WALKS` feeds the command line (``demo``, ``sweep``), the sweeps and the benchmarks;
-`run_walk` runs any of them by name.
+`run_walk` runs any of them by name, through the one entry every walk shares
+([`run_registered`][virtual_actuators.gaits.registered.run_registered]: the parameters' type,
+the terrain's default, then the walk's own ``run`` of the resolved request).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from .base import Gait, Walk
 from .flamingo.walk import WALK as FLAMINGO
 from .hexapod.walk import WALK as HEXAPOD
 from .legged.walk import WALK as LEGGED
+from .registered import WalkRequest, run_registered
 from .turkey.walk import WALK as TURKEY
 
 #: The walks by name, in the command line's order.
@@ -97,19 +100,11 @@ def run_walk(
         raise InvalidInputError(f"{name} takes no option {unknown[0]!r} (its options: {known}).")
     if not force_speed:
         walk.check_speed(speed, **options)
-    return walk.run(
-        walk,
-        duration=duration,
-        speed=speed,
-        terrain=terrain,
-        progress=progress,
-        on_tick=on_tick,
-        stop_on_fall=stop_on_fall,
-        seed=seed,
-        parameters=parameters,
-        distribution=distribution,
-        **options,
-    )
+    request = WalkRequest(
+        walk, duration, speed, walk.terrain if terrain is None else terrain, progress, on_tick,
+        stop_on_fall, seed, parameters, distribution, options,
+    )  # fmt: skip
+    return run_registered(request)
 
 
 __all__ = ["WALKS", "Walk", "find_walk", "run_walk"]

@@ -13,7 +13,7 @@ import numpy as np
 from ..control.effort_limits import urdf_effort_limits
 from ..experiments.smoothness import EffortSmoothness, effort_smoothness
 from ..simulation.simulator import Simulator
-from .runner import LoopEnd
+from .walk_loop import LoopEnd
 
 __all__ = ["loop_smoothness", "motor_limits"]
 

@@ -2,13 +2,19 @@
 
 ``read_state`` returns the simulator's ``(q, v, time)``; ``write_effort`` holds the efforts for one
 control period and steps the physics. Run the loop with ``realtime=False`` to simulate as fast as
-possible, or at the simulator's control rate to watch it in real time.
+possible, or at the simulator's control rate to watch it in real time. ``va.run``'s final zero
+effort, written by ``write_effort``, steps the simulation one more period (a run of ``n`` ticks
+ends at ``n + 1`` periods); given to ``va.run(write_final=hardware.hold_effort)`` it only sets
+the motors' commands, and the simulation ends where the last tick left it (the walks' loop).
 """
 
 from __future__ import annotations
 
+import time as wallclock
+
 import numpy as np
 
+from .actuation import torques_to_ctrl
 from .simulator import Simulator
 
 
@@ -17,6 +23,15 @@ class MujocoHardware:
 
     Args:
         simulator: The simulation that plays the robot.
+        ignore_unactuated: Drop efforts on degrees of freedom no actuator drives (False: such
+            an effort is an error of `write_effort`, as [`Simulator.step`][] raises it).
+
+    Attributes:
+        simulator: As given.
+        ignore_unactuated: As given.
+        efforts_written: Calls of `write_effort` and `hold_effort` (the final zero
+            effort included).
+        physics_time: Wall-clock time spent in the physics steps [s].
 
     Example:
         >>> hardware = MujocoHardware(Simulator(robot))
@@ -25,23 +40,44 @@ class MujocoHardware:
 
     """
 
-    def __init__(self, simulator: Simulator) -> None:
+    def __init__(self, simulator: Simulator, *, ignore_unactuated: bool = True) -> None:
         self.simulator = simulator
+        self.ignore_unactuated = bool(ignore_unactuated)
         self.efforts_written = 0
+        self.physics_time = 0.0
+        self._data = simulator.data
 
     def read_state(self) -> tuple[np.ndarray, np.ndarray, float]:
         """``(q, v, time)`` of the simulation (Pinocchio conventions, seconds)."""
         simulator = self.simulator
-        return simulator.q, simulator.v, float(simulator.time)
+        return simulator.q, simulator.v, float(self._data.time)
 
     def write_effort(self, tau: np.ndarray) -> None:
-        """Hold ``tau`` for one control period (efforts on unactuated joints are dropped).
+        """Hold ``tau`` for one control period (see ``ignore_unactuated``).
 
         Raises:
-            InvalidInputError: ``tau`` of the wrong size or with non-finite entries.
+            InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
+                on an unactuated degree of freedom without ``ignore_unactuated``.
 
         """
-        self.simulator.step(tau, ignore_unactuated=True)
+        start = wallclock.perf_counter()
+        self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
+        self.physics_time += wallclock.perf_counter() - start
+        self.efforts_written += 1
+
+    def hold_effort(self, tau: np.ndarray) -> None:
+        """Set the efforts MuJoCo holds (its controls) without stepping: a loop's final zero.
+
+        Raises:
+            InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
+                on an unactuated degree of freedom without ``ignore_unactuated``.
+
+        """
+        simulator = self.simulator
+        ctrl = torques_to_ctrl(
+            simulator.mujoco_model, tau, ignore_unactuated=self.ignore_unactuated
+        )
+        self._data.ctrl[:] = ctrl
         self.efforts_written += 1
 
     def __repr__(self) -> str:

@@ -34,8 +34,18 @@ from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
 from ..base import Walk
 from ..push import Push
-from ..runner import FALL_PITCH, Episode, WalkFigures, WalkResult, drive, number, trace_of
+from ..registered import WalkRequest
+from ..runner import (
+    FALL_PITCH,
+    Episode,
+    WalkFigures,
+    WalkResult,
+    allowed_geoms,
+    number,
+    trace_of,
+)
 from ..smoothness import loop_smoothness
+from ..walk_loop import drive
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
@@ -153,6 +163,8 @@ class BalanceEpisode(Episode):
         model = gait.robot.model
         joints = {model.frames[model.getFrameId(f)].parentJoint for f in gait.contacts}
         self.feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
+        #: per geom, 1 when every frame owning it is a foot's (the fall test's one call)
+        self.allowed_geoms = allowed_geoms(simulator, self.feet.__contains__)
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> None:
@@ -169,7 +181,7 @@ class BalanceEpisode(Episode):
         height = float(q[2] - self.terrain.height(q[0]))
         if height < 0.5 * self.height or math.hypot(roll, pitch) > FALL_PITCH:
             return True
-        return not self.simulator.touching_frames() <= self.feet
+        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= feet
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
@@ -269,39 +281,24 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
     )
 
 
-def run_registered(
-    walk: Walk,
-    duration: float,
-    speed: float | None = None,
-    terrain: str | None = None,
-    progress: bool = True,
-    on_tick: Callable[[Simulator, Balancer], None] | None = None,
-    stop_on_fall: bool = True,
-    seed: int | None = None,
-    parameters: BalanceParameters | None = None,
-    distribution: str | None = None,
-    **options: Any,
-) -> BalanceResult:
-    """``balance`` as the walk registry runs it (``robot``, ``push`` options).
+def run_request(request: WalkRequest) -> BalanceResult:
+    """``balance`` as `run_registered` starts it (`Walk.run`; ``robot``, ``push`` options).
 
     The robot stands: ``speed`` is not used (a sweep's speed axis leaves it unchanged) and the
     distribution is the contact QP.
 
     Raises:
-        InvalidInputError: A distribution other than ``"qp"``, or bad parameters.
+        InvalidInputError: A distribution other than ``"qp"``; a bad push, terrain or duration.
+        RobotNotFoundError: No such robot.
 
     """
-    if distribution not in (None, "qp"):
+    if request.distribution not in (None, "qp"):
         raise InvalidInputError("balance stands on the contact QP: --distribution qp only.")
-    if parameters is not None and not isinstance(parameters, BalanceParameters):
-        raise InvalidInputError(
-            f"balance: parameters must be a BalanceParameters, got {type(parameters).__name__}."
-        )
+    options = request.options
     return run_balance(
-        options.get("robot", walk.robot), duration, options.get("push"),
-        walk.terrain if terrain is None else terrain, parameters, progress, on_tick,
-        stop_on_fall, seed,
-    )
+        options.get("robot", request.walk.robot), request.duration, options.get("push"),
+        request.terrain, request.parameters, *request.loop, request.seed,
+    )  # fmt: skip
 
 
 def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
@@ -325,7 +322,7 @@ def _viewer_robot(robot: str = "talos", **options: Any) -> Robot:
 WALK = Walk(
     name="balance",
     robot="talos",
-    run=run_registered,
+    run=run_request,
     parameters=BalanceParameters,
     terrain="flat",
     duration=5.0,

@@ -28,7 +28,6 @@ from typing import Any
 
 import numpy as np
 
-from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
 from ...models.catalog import robots_dir
 from ...models.loader import load_robot
@@ -37,14 +36,15 @@ from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk
 from ..guidance import PlanarState
+from ..registered import WalkRequest
 from ..runner import (
     WalkFigures,
     WalkResult,
-    drive,
     number,
     terrain_points,
 )
 from ..smoothness import loop_smoothness
+from ..walk_loop import drive
 from .config import HexapodWalkConfig, command_path
 from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
@@ -242,20 +242,8 @@ def _with_timing(
     )
 
 
-def run_registered(
-    walk: Walk,
-    duration: float,
-    speed: float | None = None,
-    terrain: str | None = None,
-    progress: bool = True,
-    on_tick: Callable[[Simulator, HexapodWalker], None] | None = None,
-    stop_on_fall: bool = True,
-    seed: int | None = None,
-    parameters: HexapodParameters | None = None,
-    distribution: str | None = None,
-    **options: Any,
-) -> HexapodResult:
-    """The hexapod's walk as a `Walk` runs it.
+def run_request(request: WalkRequest) -> HexapodResult:
+    """The hexapod's walk as `run_registered` starts it (`Walk.run`).
 
     ``speed`` defaults to `Walk.default_speed`:
     0.2 m/s with the pendulum or tracking, else 0.4 m/s (`hexapod_speed`); ``options`` are
@@ -264,28 +252,12 @@ def run_registered(
     ``parameters.distribution`` (default: ``"qp"``).
 
     Raises:
-        InvalidInputError: A bad configuration or parameters.
+        InvalidInputError: A bad configuration.
 
     """
-    if speed is None:
-        speed = walk.default_speed(**options)
-    if parameters is not None and not isinstance(parameters, HexapodParameters):
-        raise InvalidInputError(
-            f"{walk.name}: parameters must be a HexapodParameters, got {type(parameters).__name__}."
-        )
-    if distribution is None:
-        distribution = "qp" if parameters is None else parameters.distribution
-    elif parameters is not None:
-        parameters = replace(parameters, distribution=distribution)
-    config = HexapodWalkConfig(
-        speed=speed,
-        terrain=walk.terrain if terrain is None else terrain,
-        duration=duration,
-        seed=seed,
-        distribution=distribution,
-        **options,
-    )
-    return run_hexapod_walk(config, parameters, progress, on_tick, stop_on_fall)
+    default = request.walk.default_speed(**request.options) if request.speed is None else None
+    config, parameters = request.configured(HexapodWalkConfig, default)
+    return run_hexapod_walk(config, parameters, *request.loop)
 
 
 def plot_hexapod_walk(result: HexapodResult, path: str, window: None = None) -> Path:
@@ -321,7 +293,7 @@ def hexapod_speeds(
 WALK = Walk(
     name="hexapod-walk",
     robot="hexapod",
-    run=run_registered,
+    run=run_request,
     parameters=HexapodParameters,
     terrain="flat",
     duration=10.0,

@@ -30,15 +30,16 @@ from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution, check_speed_bound
 from ..guidance import PlanarState, SinePath, TrackObject
 from ..push import Push
+from ..registered import WalkRequest
 from ..runner import (
     WalkFigures,
     WalkResult,
-    drive,
     number,
     terrain_points,
     trace_of,
 )
 from ..smoothness import loop_smoothness
+from ..walk_loop import drive
 from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
@@ -276,47 +277,21 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
     )
 
 
-def run_registered(
-    walk: Walk,
-    duration: float,
-    speed: float | None = None,
-    terrain: str | None = None,
-    progress: bool = True,
-    on_tick: Callable[[Simulator, LeggedWalker], None] | None = None,
-    stop_on_fall: bool = True,
-    seed: int | None = None,
-    parameters: LeggedParameters | None = None,
-    distribution: str | None = None,
-    **options: Any,
-) -> LeggedResult:
-    """The legged walk as `run_walk` runs it.
+def run_request(request: WalkRequest) -> LeggedResult:
+    """The legged walk as `run_registered` starts it (`Walk.run`).
 
     ``speed`` defaults to `Walk.default_speed` for the robot and gait (`LeggedWalkConfig`'s
     None): `NOMINAL_SPEED` moved into the pattern's supported range (``gait="walk"``: 0.2 m/s).
     ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``, ``path``,
-    ``amplitude``, ``wavelength``, ``track``.
+    ``amplitude``, ``wavelength``, ``track``; ``distribution`` overrides
+    ``parameters.distribution`` (default: ``"qp"``).
 
     Raises:
-        InvalidInputError: A bad configuration or parameters.
+        InvalidInputError: A bad configuration.
 
     """
-    if parameters is not None and not isinstance(parameters, LeggedParameters):
-        raise InvalidInputError(
-            f"legged: parameters must be a LeggedParameters, got {type(parameters).__name__}."
-        )
-    if distribution is None:
-        distribution = "qp" if parameters is None else parameters.distribution
-    elif parameters is not None:
-        parameters = replace(parameters, distribution=distribution)
-    config = LeggedWalkConfig(
-        speed=speed,
-        terrain=walk.terrain if terrain is None else terrain,
-        duration=duration,
-        distribution=distribution,
-        seed=seed,
-        **options,
-    )
-    return run_legged_walk(config, parameters, progress, on_tick, stop_on_fall)
+    config, parameters = request.configured(LeggedWalkConfig)
+    return run_legged_walk(config, parameters, *request.loop)
 
 
 def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
@@ -348,7 +323,7 @@ def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:
 WALK = Walk(
     name="legged",
     robot="solo12",
-    run=run_registered,
+    run=run_request,
     parameters=LeggedParameters,
     terrain="flat",
     duration=4.0,

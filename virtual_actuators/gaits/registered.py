@@ -1,0 +1,115 @@
+"""The one entry of every registered walk: `run_registered`, then the walk's own ``run``.
+
+``run_walk`` resolves its arguments into a `WalkRequest`; `run_registered` checks it and hands
+it to the walk's own ``run`` (`Walk.run`), which starts the walk.
+
+What every walk shares lives here: the parameters' type, the terrain's default, the options and
+the distribution carried into the parameters (`WalkRequest.distribution_and_parameters`). What
+is a walk's own (its configuration, its speed rule, the distributions it accepts) stays in its
+``walk.py``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+from typing import Any
+
+from ..exceptions import InvalidInputError
+from ..simulation.simulator import Simulator
+from ..simulation.terrain import Terrain
+from .base import Gait, Walk
+
+__all__ = ["WalkRequest", "run_registered"]
+
+
+@dataclass(frozen=True, slots=True)
+class WalkRequest:
+    """One walk's run as `run_registered` resolved it (what `Walk.run` receives).
+
+    Attributes:
+        walk: The walk.
+        duration: Simulated time [s].
+        speed: Desired speed [m/s], as given (None: the walk's default).
+        terrain: A [`Terrain`][] or its spec (the walk's when none was given).
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step, or None.
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+        seed: None for the walk's nominal start; an int varies it.
+        parameters: The gait's parameters (a ``walk.parameters``), or None for the gait's.
+        distribution: ``"partitioned"`` or ``"qp"`` as given, or None.
+        options: The walk's own options (``walk.options``).
+
+    """
+
+    walk: Walk
+    duration: float
+    speed: float | None
+    terrain: str | Terrain
+    progress: bool
+    on_tick: Callable[[Simulator, Gait], None] | None
+    stop_on_fall: bool
+    seed: int | None
+    parameters: object | None
+    distribution: str | None
+    options: Mapping[str, Any]
+
+    def distribution_and_parameters(self, default: str = "qp") -> tuple[str, object | None]:
+        """The distribution to run and the parameters carrying it.
+
+        The given distribution, else the parameters', else ``default``; given parameters get
+        the given distribution (None stays None: the walk builds its own with it).
+        """
+        parameters, distribution = self.parameters, self.distribution
+        if distribution is None:
+            return (default if parameters is None else parameters.distribution), parameters
+        if parameters is not None:
+            parameters = replace(parameters, distribution=distribution)
+        return distribution, parameters
+
+    @property
+    def loop(self) -> tuple[bool, Callable[[Simulator, Gait], None] | None, bool]:
+        """``(progress, on_tick, stop_on_fall)``: the loop's arguments, in a walk's order."""
+        return self.progress, self.on_tick, self.stop_on_fall
+
+    def configured(self, config: type, speed: float | None = None) -> tuple[Any, object | None]:
+        """A walk's configuration dataclass built from the request, and the parameters.
+
+        ``config(speed=, terrain=, duration=, seed=, distribution=, **options)`` with the
+        distribution of `distribution_and_parameters`; ``speed`` replaces the request's (None:
+        the request's).
+
+        Raises:
+            InvalidInputError: What ``config`` raises (a bad option, speed or distribution).
+
+        """
+        distribution, parameters = self.distribution_and_parameters()
+        built = config(
+            speed=self.speed if speed is None else speed, terrain=self.terrain,
+            duration=self.duration, seed=self.seed, distribution=distribution, **self.options,
+        )  # fmt: skip
+        return built, parameters
+
+
+def run_registered(request: WalkRequest) -> Any:
+    """Run a registered walk: the request checked, then ``request.walk.run(request)``.
+
+    `run_walk` builds the request (duration, options and speed range checked, terrain
+    resolved); here the parameters' type is checked, for every walk the same way.
+
+    Returns:
+        The walk's result (a `WalkResult` or its subclass).
+
+    Raises:
+        InvalidInputError: Parameters that are not a ``walk.parameters``; what the walk's
+            ``run`` raises (a bad configuration, speed, terrain, seed or distribution).
+
+    """
+    walk, parameters = request.walk, request.parameters
+    expected = walk.parameters
+    if parameters is not None and not isinstance(parameters, expected):
+        raise InvalidInputError(
+            f"{walk.name}: parameters must be a {expected.__name__}, got "
+            f"{type(parameters).__name__}."
+        )
+    return walk.run(request)

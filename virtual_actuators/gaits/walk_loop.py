@@ -1,0 +1,246 @@
+"""Every walk's closed loop: `drive` runs an `Episode` on ``va.run``, with a `MujocoHardware`.
+
+The loop is [`va.run`][virtual_actuators.run]'s, at the simulator's control rate
+(``realtime=False``): read ``q``, ``v`` (``read_state``), the episode's `Episode.sense` (the
+gait steered, the contact switches read: ``run``'s ``sense``), the gait's efforts, step the
+physics (``write_effort``), then `WalkTicks.after_tick`: sample the stance forces, test for a
+fall, record, ``on_tick``, the progress bar. A walk thus has ``va.run``'s checks of every
+reading and of the gait's efforts, its safe action on a failed tick and its final zero effort.
+Every tick's applied efforts and the base's angular rate are kept (`LoopEnd`), for
+`loop_smoothness` to measure.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..control.gc_policy import check_gc_policy
+from ..control.run_loop import RunStats, run
+from ..experiments.progress import Progress
+from ..simulation.hardware import MujocoHardware
+from ..simulation.simulator import Simulator
+from .base import Gait
+from .runner import Episode
+
+__all__ = ["LoopEnd", "WalkTicks", "drive"]
+
+
+@dataclass(slots=True)
+class LoopEnd:
+    """How a run of `drive` ended.
+
+    Attributes:
+        ticks: Control ticks run.
+        fall_time: Simulated time of the first fallen tick [s], None if none.
+        wall: Wall-clock seconds of the loop.
+        physics: Wall-clock seconds of it in the physics steps.
+        efforts: ``(ticks, nv)`` every tick's efforts, the gait's output given to
+            [`Simulator.step`][] [N m or N].
+        velocities: ``(ticks, nv)`` every tick's ``v``, the state the gait read.
+        base_rate: Where ``v`` holds the base's angular velocity (the episode's), or None.
+        fall_tick: Index of the first fallen tick, None if none.
+        time_step: Time between two ticks [s].
+        run: What ``va.run`` counted ([`RunStats`][]: its failed ticks by reason, the
+            attachments' failures), or None.
+
+    """
+
+    ticks: int = 0
+    fall_time: float | None = None
+    wall: float = 0.0
+    physics: float = 0.0
+    efforts: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    velocities: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    base_rate: slice | None = None
+    fall_tick: int | None = None
+    time_step: float = 1e-3
+    run: RunStats | None = None
+
+    @property
+    def base_rates(self) -> np.ndarray | None:
+        """``(ticks, axes)`` the base's angular velocity at every tick [rad/s], or None."""
+        return None if self.base_rate is None else self.velocities[:, self.base_rate]
+
+
+def drive(
+    episode: Episode,
+    duration: float,
+    progress: bool = True,
+    on_tick: Callable[[Simulator, Gait], None] | None = None,
+    stop_on_fall: bool = True,
+    gc_policy: str = "between-ticks",
+) -> LoopEnd:
+    """Run an episode's closed loop for ``duration`` simulated seconds, on [`run`][].
+
+    The loop is ``va.run``'s on a [`MujocoHardware`][] (``realtime=False``, at the simulator's
+    control rate), so a walk has its checks and its safe action (a reading that fails them, a
+    gait that raises or answers non-finite efforts: zero effort that tick, counted in
+    ``LoopEnd.run``) and ends by writing zero effort, whatever ended it
+    (`MujocoHardware.hold_effort`: MuJoCo's controls set to zero, the simulation not stepped
+    again, so the log, `LoopEnd` and the simulator's state and time are the last control
+    tick's; only ``simulator.data.ctrl`` is zero afterwards). Each tick the episode's
+    `Episode.sense` steers the gait and reads its contact switches (``run``'s ``sense``);
+    after the write `WalkTicks.after_tick` keeps the tick's rows, samples the stance forces,
+    tests for a fall, records, calls ``on_tick`` and moves the progress bar.
+
+    Args:
+        episode: The prepared walk.
+        duration: Simulated time [s].
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step (e.g. a viewer's throttled update).
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+        gc_policy: Python's garbage collector during the loop (see
+            [`gc_policy`][virtual_actuators.control.gc_policy]): ``"between-ticks"`` collects after
+            each tick's recording when CPython would have, never inside the gait's compute or
+            the physics step; ``"python"`` leaves it alone.
+
+    Returns:
+        The `LoopEnd` (the recorder's metadata gets ``wall_time_s``).
+
+    Raises:
+        InvalidInputError: An unknown ``gc_policy``.
+
+    """
+    check_gc_policy(gc_policy, "drive()")
+    simulator = episode.simulator
+    bar = Progress(duration) if progress else None
+    episode.gait.warm_up(simulator.q)  # lowered, kernels loaded before the clock starts
+    ticks = WalkTicks(episode, duration, bar, on_tick, stop_on_fall)
+    hardware = MujocoHardware(simulator, ignore_unactuated=episode.ignore_unactuated)
+    try:
+        stats = run(
+            ticks, hardware.read_state, hardware.write_effort, 1.0 / simulator.control_period,
+            realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
+            after_tick=ticks.after_tick, gc_policy=gc_policy, write_final=hardware.hold_effort,
+        )  # fmt: skip
+    finally:
+        ticks.finish()
+    if bar is not None:
+        bar.close(simulator.time)
+    end = ticks.end(stats, hardware.physics_time)
+    episode.recorder.metadata["wall_time_s"] = end.wall
+    return end
+
+
+class WalkTicks:
+    """An episode's gait as ``va.run``'s controller, and what `drive` does after each tick.
+
+    ``compute`` is the gait's; without ``on_tick`` (which may read the gait's
+    [`ControlOutput`][]), the episode's ``native`` tick takes over after the first tick (the
+    gait's machine has started) when the compiled core can run the gait: the same efforts, bit
+    for bit (its ticks answer the efforts, the active attachments and their wrenches, which is
+    what `Episode.record` reads). Every tick's efforts and ``v`` are copied into rows allocated
+    before the loop.
+
+    Args:
+        episode: The prepared walk.
+        duration: Simulated time [s].
+        bar: The progress bar, or None.
+        on_tick: Called after every tick, or None.
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+
+    Attributes:
+        robot: The gait's robot (the efforts ``va.run`` writes).
+        compute: The tick: the gait's ``compute``, then the native tick's.
+        ticks: Ticks run.
+        fall_time: Simulated time of the first fallen tick [s], None if none.
+        fall_tick: Index of the first fallen tick, None if none.
+
+    """
+
+    def __init__(
+        self,
+        episode: Episode,
+        duration: float,
+        bar: Progress | None,
+        on_tick: Callable[[Simulator, Gait], None] | None,
+        stop_on_fall: bool,
+    ) -> None:
+        gait, simulator = episode.gait, episode.simulator
+        self.episode, self.gait, self.simulator = episode, gait, simulator
+        self.robot = gait.robot
+        self.compute: Callable[..., Any] = gait.compute
+        self._native = episode.native if on_tick is None else None
+        self._native_tick: Any = None
+        self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
+        self._watched = bar is not None or on_tick is not None or self._native is not None
+        self._stance_every, self._record_every = episode.stance_every, episode.record_every
+        self._sample, self._support = episode.stance.sample, gait.support_contacts
+        self._fallen, self._record = episode.fallen, episode.record
+        self._data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
+        self._end_time = duration - 1e-9
+        period = simulator.control_period
+        capacity = max(0, math.ceil((duration - self._data.time) / period)) + 2
+        self._efforts = np.empty((capacity, simulator.robot.model.nv))  # [N m or N]
+        self._velocities = np.empty_like(self._efforts)
+        self.ticks, self.fall_time, self.fall_tick = 0, None, None
+        self._stopping = False
+
+    def should_stop(self) -> bool:
+        """Whether the simulated time is up, or the fall was 0.5 s ago (``stop_on_fall``)."""
+        return self._stopping or self._data.time >= self._end_time
+
+    def after_tick(
+        self, q: np.ndarray | None, v: np.ndarray | None, now: float, output: Any,
+        tau: np.ndarray,
+    ) -> None:  # fmt: skip
+        """Keep the tick's rows; stance forces, fall test, record, ``on_tick``, progress."""
+        tick = self.ticks
+        try:
+            self._velocities[tick] = math.nan if v is None else v
+        except IndexError:  # a time that did not advance by whole periods
+            self._efforts, self._velocities = _grown(self._efforts), _grown(self._velocities)
+            self._velocities[tick] = math.nan if v is None else v
+        self._efforts[tick] = tau
+        self.ticks = tick = tick + 1
+        fall_time = self.fall_time
+        if fall_time is None and tick % self._stance_every == 0:
+            self._sample(self._support())
+        if output is not None:  # a tick that passed va.run's checks (q and v too)
+            fallen = fall_time is not None or self._fallen(q)
+            if fallen and fall_time is None:
+                self.fall_time, self.fall_tick = now, tick - 1
+            every = self._record_every
+            if every == 1 or tick % every == 1:
+                self._record(now, q, v, output, fallen)
+        if self._watched:
+            self._watch(tick, output)
+        if fall_time is not None and self._stop_on_fall and now > fall_time + 0.5:
+            self._stopping = True
+
+    def _watch(self, tick: int, output: Any) -> None:
+        """``on_tick``, the progress bar, and the native tick once the machine has started."""
+        if self._on_tick is not None:
+            self._on_tick(self.simulator, self.gait)
+        if self._bar is not None and tick % 100 == 0:
+            self._bar.set(self.simulator.time)
+        if self._native is not None and output is not None:  # the gait's machine has started
+            native, self._native = self._native, None
+            self._native_tick = native(self.gait)
+            if self._native_tick is not None:
+                self.compute = self._native_tick.compute
+            self._watched = self._on_tick is not None or self._bar is not None
+
+    def finish(self) -> None:
+        """The gait's objects as the native tick left them (if one ran)."""
+        if self._native_tick is not None:
+            self._native_tick.sync()
+
+    def end(self, stats: RunStats, physics: float) -> LoopEnd:
+        """The `LoopEnd` of the run ``stats`` describes (``physics``: seconds stepping)."""
+        tick = self.ticks
+        return LoopEnd(
+            tick, self.fall_time, stats.wall_time, physics, self._efforts[:tick],
+            self._velocities[:tick], self.episode.base_rate, self.fall_tick,
+            self.simulator.control_period, stats,
+        )  # fmt: skip
+
+
+def _grown(rows: np.ndarray) -> np.ndarray:
+    """``rows`` followed by as many uninitialised rows."""
+    return np.concatenate([rows, np.empty_like(rows)])

@@ -6,10 +6,11 @@ import sys
 from collections.abc import Sequence
 
 from .cli.checks import check_demo_options
-from .cli.commands import OptionError, check_results_path, run
+from .cli.commands import check_results_path, run
 from .cli.extras import check_installed
 from .cli.options import EXAMPLE_NAMES, attach_values, build_parser
 from .cli.streams import tolerate_closed_pipes
+from .cli.usage_errors import OptionError
 
 
 def main(argv: Sequence[str] | None = None) -> int:

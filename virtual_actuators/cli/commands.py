@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from ..examples import Example
 
+from .usage_errors import OptionError, blame, writing
 from .views import finish_viewer, make_viewer, pause, show_static, wants_viewer
 
 
@@ -204,52 +204,6 @@ def example_view(args: argparse.Namespace, example: Example) -> None:
         return
     solution = example.solution
     show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
-
-
-class OptionError(Exception):
-    """A command-line value that turned out unusable at run time (reported as a usage error)."""
-
-
-@contextlib.contextmanager
-def blame(
-    option: str, only: type[Exception] | tuple[type[Exception], ...] | None = None
-) -> Iterator[None]:
-    """Turn a library error raised in the block into an `OptionError` naming ``option``.
-
-    Args:
-        option: The option that caused the error.
-        only: The error type (or types) that ``option`` causes (default: any
-            [`VirtualActuatorError`][]); others propagate unchanged.
-
-    Raises:
-        OptionError: If the block raises such an error.
-    """
-    from ..exceptions import VirtualActuatorError
-
-    caught = VirtualActuatorError if only is None else only
-    try:
-        yield
-    except caught as error:
-        raise OptionError(f"argument {option}: {error}") from error
-
-
-@contextlib.contextmanager
-def writing(option: str, path: str) -> Iterator[None]:
-    """Turn an `OSError` raised while writing ``path`` into an `OptionError`.
-
-    Every output is tried before the run (`output_path`);
-    this reports one that still fails at the end (the disk filled up) on one line, never as a
-    traceback whose exit code 1 would read as "the robot fell".
-
-    Raises:
-        OptionError: If the block raises an `OSError` (names ``option``, the path and the
-            reason).
-    """
-    try:
-        yield
-    except OSError as error:
-        reason = error.strerror or str(error)
-        raise OptionError(f"argument {option}: cannot write {path!r}: {reason}") from error
 
 
 def run(args: argparse.Namespace) -> int:

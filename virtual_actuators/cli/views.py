@@ -9,6 +9,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from .usage_errors import writing
+
 
 def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
     """Each joint's effort, a row per degree of freedom, the names' column fitting the longest."""
@@ -102,8 +104,6 @@ def finish_viewer(args: argparse.Namespace, viewer) -> None:
     Raises:
         OptionError: The recording cannot be written (the viewer is closed all the same).
     """
-    from .commands import writing
-
     try:
         if args.record:
             with writing("--record", args.record):

@@ -13,7 +13,7 @@ import numpy as np
 from ..control.effort_limits import urdf_effort_limits
 from ..experiments.smoothness import EffortSmoothness, effort_smoothness
 from ..simulation.simulator import Simulator
-from .walk_loop import LoopEnd
+from .runner import LoopEnd
 
 __all__ = ["loop_smoothness", "motor_limits"]
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -25,46 +24,9 @@ from ..experiments.progress import Progress
 from ..simulation.hardware import MujocoHardware
 from ..simulation.simulator import Simulator
 from .base import Gait
-from .runner import Episode
+from .runner import Episode, LoopEnd
 
-__all__ = ["LoopEnd", "WalkTicks", "drive"]
-
-
-@dataclass(slots=True)
-class LoopEnd:
-    """How a run of `drive` ended.
-
-    Attributes:
-        ticks: Control ticks run.
-        fall_time: Simulated time of the first fallen tick [s], None if none.
-        wall: Wall-clock seconds of the loop.
-        physics: Wall-clock seconds of it in the physics steps.
-        efforts: ``(ticks, nv)`` every tick's efforts, the gait's output given to
-            [`Simulator.step`][] [N m or N].
-        velocities: ``(ticks, nv)`` every tick's ``v``, the state the gait read.
-        base_rate: Where ``v`` holds the base's angular velocity (the episode's), or None.
-        fall_tick: Index of the first fallen tick, None if none.
-        time_step: Time between two ticks [s].
-        run: What ``va.run`` counted ([`RunStats`][]: its failed ticks by reason, the
-            attachments' failures), or None.
-
-    """
-
-    ticks: int = 0
-    fall_time: float | None = None
-    wall: float = 0.0
-    physics: float = 0.0
-    efforts: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    velocities: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    base_rate: slice | None = None
-    fall_tick: int | None = None
-    time_step: float = 1e-3
-    run: RunStats | None = None
-
-    @property
-    def base_rates(self) -> np.ndarray | None:
-        """``(ticks, axes)`` the base's angular velocity at every tick [rad/s], or None."""
-        return None if self.base_rate is None else self.velocities[:, self.base_rate]
+__all__ = ["WalkTicks", "drive"]
 
 
 def drive(

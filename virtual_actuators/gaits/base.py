@@ -25,9 +25,9 @@ from ..control.machine_controller import MachineController
 from ..control.plan.compiled import CompiledMachine, compile_machine
 from ..control.state_machine import Event, StateMachine
 from ..control.tick_rate import TickRate, bound_tick_rate
+from ..core import CORE
 from ..exceptions import InvalidInputError, TraceError
 from ..models.robot import Robot
-from ..native import CORE
 from ..vocabulary.scalar import logical_and
 from ..vocabulary.traced import lowerable
 from .planar import SIDES

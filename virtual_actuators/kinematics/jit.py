@@ -24,7 +24,7 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from ..native import CORE
+from ..core import CORE
 
 
 def _numba_installed() -> bool:

@@ -13,9 +13,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ...core import CORE
 from ...exceptions import InvalidInputError, TraceError
 from ...kinematics.snapshot import Snapshot
-from ...native import CORE
 from ...vocabulary.arguments import check_number
 from ..context import Context
 from ..machine_controller import MachineController

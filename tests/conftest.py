@@ -10,7 +10,7 @@ import os
 import pytest
 from hypothesis import HealthCheck, settings
 
-from virtual_actuators import native
+from virtual_actuators import core
 
 settings.register_profile(
     "ci",
@@ -27,7 +27,7 @@ def pytest_sessionstart(session: pytest.Session) -> None:
     """Stop a CI session without the compiled core (``VA_CORE=0`` asks for the reference)."""
     if (
         os.environ.get("CI", "").lower() == "true"
-        and native.CORE is None
+        and core.CORE is None
         and os.environ.get("VA_CORE", "1") != "0"
     ):
         pytest.exit(

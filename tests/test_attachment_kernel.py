@@ -28,7 +28,7 @@ from oracles import external_forces, random_configuration, rnea_torques
 
 import virtual_actuators as va
 from virtual_actuators.control.attachment_kernel import SpringTick, spring_tick, table
-from virtual_actuators.native import CORE
+from virtual_actuators.core import CORE
 
 #: (robot, action, reaction, axes) of the serial actuators the tick serves
 CASES = {

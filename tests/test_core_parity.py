@@ -18,10 +18,10 @@ import pytest
 from oracles import random_configuration
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
 from virtual_actuators.distribution.partitioned import compiled, kernels
 from virtual_actuators.kinematics import kernels as kinematics_kernels
 from virtual_actuators.kinematics.tree import KinematicTree, tree_of
-from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

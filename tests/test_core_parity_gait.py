@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 from virtual_actuators.actuators import producible
+from virtual_actuators.core import CORE
 from virtual_actuators.gaits.legged import body, footholds
 from virtual_actuators.gaits.registry import run_walk
 from virtual_actuators.kinematics import kernels, snapshot
-from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

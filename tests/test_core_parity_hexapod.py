@@ -18,11 +18,11 @@ import math
 import numpy as np
 import pytest
 
+from virtual_actuators.core import CORE
 from virtual_actuators.gaits.hexapod import footholds, kernel, walker
 from virtual_actuators.gaits.hexapod.parameters import HexapodParameters
 from virtual_actuators.gaits.planar import lift_profile, smoothstep
 from virtual_actuators.gaits.registry import run_walk
-from virtual_actuators.native import CORE
 
 core = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

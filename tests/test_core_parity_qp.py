@@ -25,11 +25,11 @@ from oracles import random_configuration
 import virtual_actuators as va
 from virtual_actuators.contacts import contact_set
 from virtual_actuators.control import contact_limits
+from virtual_actuators.core import CORE
 from virtual_actuators.distribution.qp import compiled, exact, kernel_answer, kernels, stages
 from virtual_actuators.distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from virtual_actuators.gaits.registry import run_walk
 from virtual_actuators.kinematics import relative, sensor_kernels
-from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
 from virtual_actuators.gaits.registry import run_walk
-from virtual_actuators.native import CORE
 from virtual_actuators.simulation import Simulator, actuation
 from virtual_actuators.simulation.actuation import (
     UNACTUATED_TOLERANCE,

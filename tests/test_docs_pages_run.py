@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from virtual_actuators.native import CORE
+from virtual_actuators.core import CORE
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 

@@ -57,7 +57,7 @@ for kwargs in ({}, {"friction": 0.8}):
     assert np.all(np.isfinite(solution.tau)) and solution.tau.shape == (robot.model.nv,)
 OPTIONAL = __OPTIONAL__
 print("IMPORTED", sorted({m.split(".")[0] for m in sys.modules} & set(OPTIONAL)))
-from virtual_actuators.native import CORE
+from virtual_actuators.core import CORE
 print("NUMBA", "numba" in sys.modules, "CORE", CORE is not None)
 """.replace("__OPTIONAL__", repr(OPTIONAL))
 
@@ -147,7 +147,7 @@ import sys
 import numpy as np
 import virtual_actuators as va
 from virtual_actuators.gaits.legged import footholds
-from virtual_actuators.native import CORE
+from virtual_actuators.core import CORE
 assert CORE is not None and "numba" not in sys.modules
 body = va.ParallelVirtualActuator(va.load_robot("solo12"), "base_link",
                                   ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"])

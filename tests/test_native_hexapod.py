@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from oracles import assert_same_walk
 
+from virtual_actuators.core import CORE
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.gaits.hexapod.native import NativeTick, read_memory
 from virtual_actuators.gaits.hexapod.parameters import HexapodParameters
@@ -22,7 +23,6 @@ from virtual_actuators.gaits.hexapod.walk import hexapod_robot
 from virtual_actuators.gaits.hexapod.walker import HexapodWalker
 from virtual_actuators.gaits.registry import WALKS, run_walk
 from virtual_actuators.models.loader import load_robot
-from virtual_actuators.native import CORE
 from virtual_actuators.simulation.simulator import Simulator
 
 pytestmark = pytest.mark.skipif(

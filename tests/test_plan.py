@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
-from virtual_actuators.native import CORE
+from virtual_actuators.core import CORE
 
 pytestmark = pytest.mark.skipif(
     CORE is None or not hasattr(CORE, "PlanMachine"), reason="no compiled core"

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from virtual_actuators.core import CORE
 from virtual_actuators.gaits.registry import WALKS, run_walk
-from virtual_actuators.native import CORE
 
 pytestmark = [
     pytest.mark.skipif(CORE is None or not hasattr(CORE, "PlanMachine"), reason="no core"),

@@ -17,13 +17,13 @@ import pytest
 from test_qp import _check_cone, _check_torques
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
 from virtual_actuators.distribution.qp import (
     BUDGET_EXHAUSTED,
     EXACT_MAX_ITER,
     ITERATION_BUDGET,
     stages,
 )
-from virtual_actuators.native import CORE
 
 Q = np.array([
     0.0489807321130934, 8.321320886702836e-05, 0.13123437703349378, -0.00020307328887192913,

@@ -17,8 +17,8 @@ import pytest
 from oracles import random_configuration
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
 from virtual_actuators.distribution.qp import stages
-from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

@@ -21,9 +21,9 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.control import Context, State, StateMachine, Transition, events
+from virtual_actuators.core import CORE
 from virtual_actuators.experiments.contact_stats import SETTLE_TIME, StanceForces
 from virtual_actuators.gaits.runner import FOOT_WORDS, foot_geoms
-from virtual_actuators.native import CORE
 from virtual_actuators.simulation import Simulator, contact_queries
 from virtual_actuators.simulation.terrain import Terrain
 

@@ -20,8 +20,8 @@ from test_solve_fast_path import DECLARATIONS, _assert_same
 
 import virtual_actuators as va
 from virtual_actuators.control.tick import NO_LIMP
+from virtual_actuators.core import CORE
 from virtual_actuators.exceptions import VirtualActuatorError
-from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

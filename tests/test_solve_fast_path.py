@@ -19,10 +19,10 @@ import pytest
 from oracles import random_configuration
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
 from virtual_actuators.distribution.result import Solution
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.kinematics.tree import tree_of
-from virtual_actuators.native import CORE
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 

@@ -34,9 +34,9 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from ..core import CORE
 from ..kinematics.kernels import njit
 from ..kinematics.snapshot import Snapshot
-from ..native import CORE
 from ..vocabulary.axes import check_axes_subset
 from .serial import wrench_array
 

@@ -33,12 +33,12 @@ from ..actuators import VirtualActuator
 from ..components.orientation import rotation_axes
 from ..components.springs import Spring, SpringDamper
 from ..components.walking import DogtrackBunny
+from ..core import CORE
 from ..distribution.partitioned.compiled import BufferSolve
 from ..distribution.result import Solution
 from ..kinematics.kernels import HAVE_NUMBA, njit
 from ..kinematics.sensor_kernels import relative_sensor
 from ..kinematics.snapshot import Snapshot
-from ..native import CORE
 
 __all__ = ["SpringTick", "spring_tick"]
 

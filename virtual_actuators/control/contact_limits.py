@@ -14,10 +14,10 @@ import dataclasses
 import numpy as np
 
 from ..contacts import contact_set
+from ..core import CORE
 from ..distribution.result import Solution, label
 from ..kinematics.kernels import HAVE_NUMBA
 from ..kinematics.snapshot import Snapshot
-from ..native import CORE
 from .attachment import Attachment
 
 #: the compiled margins: the core's when built, else the reference (numba) kernels

@@ -32,10 +32,10 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ..core import CORE
 from ..exceptions import InvalidInputError, TraceError
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..native import CORE
 from ..vocabulary.arguments import describe
 from .controller import Controller, ControlOutput
 from .plan.compiled import CompiledMachine, compile_machine

@@ -1,7 +1,7 @@
 """The reference kernels' decorator `njit`: numba when it is needed, plain Python without it.
 
 The package's kernels are written once, in Python, as plain loops (``@njit(cache=True)``). They
-are the reference of the compiled core's C++ ports (`virtual_actuators.native`):
+are the reference of the compiled core's C++ ports (`virtual_actuators.core`):
 
 * without the core (not built, or ``VA_CORE=0``) the library runs them, so numba is imported
   with the package and compiles each kernel on its first call (``cache=True``: once per
@@ -24,7 +24,7 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from ..native import CORE
+from ..core import CORE
 
 
 def _numba_installed() -> bool:

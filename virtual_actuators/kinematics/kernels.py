@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..native import CORE
+from ..core import CORE
 from .jit import HAVE_NUMBA, njit
 
 #: Joint kinds understood by the kernels.

@@ -22,8 +22,8 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from ..core import CORE
 from ..exceptions import InvalidInputError
-from ..native import CORE
 from ..vocabulary.axes import AXES, axis_rows
 from .sensor_kernels import relative_sensor
 from .snapshot import Snapshot

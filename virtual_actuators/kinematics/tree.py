@@ -18,8 +18,8 @@ from collections.abc import Iterable
 import numpy as np
 import pinocchio as pin
 
+from ..core import CORE
 from ..exceptions import InvalidInputError
-from ..native import CORE
 from ..vocabulary.arguments import as_float_array
 from ..vocabulary.axes import resolve_frame
 from . import kernels

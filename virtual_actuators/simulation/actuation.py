@@ -13,9 +13,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from virtual_actuators.core import CORE
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.kinematics.jit import njit
-from virtual_actuators.native import CORE
 from virtual_actuators.simulation.conversions import finite_vector, gathers
 from virtual_actuators.simulation.model import MujocoModel
 

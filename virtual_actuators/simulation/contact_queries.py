@@ -16,8 +16,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from virtual_actuators.core import CORE
 from virtual_actuators.exceptions import FrameNotFoundError
-from virtual_actuators.native import CORE
 from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = ["ContactQueries"]

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ...native import CORE
+from ...core import CORE
 from ...vocabulary.traced import Sym, TraceError
 
 __all__ = ["MACHINE", "TIME", "TIME_IN_STATE", "PlanBuilder", "Program"]

@@ -14,9 +14,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ...core import CORE
 from ...exceptions import ConcurrentUseError, InvalidInputError, TraceError
 from ...kinematics.snapshot import Snapshot
-from ...native import CORE
 from ...vocabulary.arguments import check_number
 from ..context import Context
 from ..tick import ControlOutput

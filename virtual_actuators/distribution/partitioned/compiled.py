@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...native import CORE
+from ...core import CORE
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..registry import Request

@@ -16,8 +16,8 @@ import threading
 
 import numpy as np
 
+from ...core import CORE
 from ...kinematics.kernels import HAVE_NUMBA
-from ...native import CORE
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL

@@ -29,8 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...core import CORE
 from ...kinematics.kernels import njit
-from ...native import CORE
 from ..tolerances import DEPENDENT_TOL, EXACT_TOL, NEARLY_DEPENDENT_TOL
 
 #: Active-set changes allowed before ProxQP's answer is kept.

@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ...native import CORE
+from ...core import CORE
 from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
 from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
 from .exact import exact_answer

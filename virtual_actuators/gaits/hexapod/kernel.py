@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
+from ...core import CORE
 from ...kinematics.kernels import njit
-from ...native import CORE
 from ..planar import lift_profile, smoothstep
 from .body import GRAVITY
 

@@ -22,9 +22,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...components.springs import SpringDamper
+from ...core import CORE
 from ...distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from ...kinematics.tree import tree_of
-from ...native import CORE
 from ..native_tick import CoreTick, NativeOutput, spring_parameters
 from .body import HeadingAttitude, HeadingDamper
 from .walker import LEGS, HexapodWalker

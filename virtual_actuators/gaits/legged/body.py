@@ -32,8 +32,8 @@ import pinocchio as pin
 from ...actuators.producible import Directions, give_way
 from ...components.base import Component
 from ...components.gains import Gains
+from ...core import CORE
 from ...kinematics.kernels import njit
-from ...native import CORE
 from ..attitude import yaw_pitch_roll
 from .parameters import GRAVITY, LeggedGains
 

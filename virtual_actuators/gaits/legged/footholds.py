@@ -18,8 +18,8 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
+from ...core import CORE
 from ...kinematics.kernels import njit
-from ...native import CORE
 from ..planar import lift_profile, smoothstep
 
 

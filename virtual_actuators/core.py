@@ -17,6 +17,9 @@ import importlib
 import os
 import warnings
 from types import ModuleType
+from typing import TypeVar
+
+_Kernel = TypeVar("_Kernel")
 
 
 class CoreMissingWarning(RuntimeWarning):
@@ -44,4 +47,25 @@ def _load() -> ModuleType | None:
 #: The compiled core's module (``Tree``, ``Distribution``, ...), or None: the reference path.
 CORE: ModuleType | None = _load()
 
-__all__ = ["CORE", "CoreMissingWarning"]
+
+
+def has(name: str) -> bool:
+    """Whether the compiled core is built and has ``name`` (a kernel, a class, a constant)."""
+    return CORE is not None and hasattr(CORE, name)
+
+
+def kernel(name: str, fallback: _Kernel) -> _Kernel:
+    """The core's kernel ``name`` when the core is built, else ``fallback`` (the reference).
+
+    Args:
+        name: The kernel's name in ``virtual_actuators._core``.
+        fallback: The reference implementation with the same arguments and results.
+
+    Raises:
+        AttributeError: The core is built but has no ``name`` (a build older than the package).
+
+    """
+    return fallback if CORE is None else getattr(CORE, name)
+
+
+__all__ = ["CORE", "CoreMissingWarning", "has", "kernel"]

@@ -17,7 +17,7 @@ from oracles import external_forces, rnea_torques, zero_gravity_model
 from test_qp import HEX_FEET, SOLO_FEET, TOL, _check_cone, _check_torques, _q, _weight
 
 import virtual_actuators as va
-from virtual_actuators.distribution.registry import Request
+from virtual_actuators.distribution.methods import Request
 
 ALL_HEX_FEET = [f"foot_{i}" for i in range(1, 7)]
 SOLES = {"left_sole_link": (0.1, 0.05), "right_sole_link": (0.1, 0.05)}

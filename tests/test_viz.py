@@ -31,13 +31,13 @@ from virtual_actuators.visualization.colors import (
     color_distance,
     to_lab,
 )
-from virtual_actuators.visualization.geometry import (
+from virtual_actuators.visualization.live import pack_transform
+from virtual_actuators.visualization.shape_placement import (
     HEAD_SPACING,
     arrow_matrices,
     rotation_y_to,
     span_matrix,
 )
-from virtual_actuators.visualization.live import pack_transform
 
 ROOT = "/meshcat/virtual_actuators"
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]

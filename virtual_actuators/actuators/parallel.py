@@ -14,6 +14,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..contacts import declare
+from ..distribution.methods import METHODS, Backend, Request, dispatch
 from ..distribution.partitioned.buffer_solve import ConfigurationSolve, SnapshotSolve
 from ..distribution.partitioned.compiled import CompiledDistribution
 from ..distribution.partitioned.dense import DenseSolver
@@ -22,7 +23,6 @@ from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
-from ..distribution.registry import METHODS, Backend, Request, dispatch
 from ..distribution.result import Solution, inadmissible
 from ..exceptions import JointNotFoundError, VirtualActuatorError
 from ..kinematics.relative import RelativeKinematics

@@ -13,9 +13,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..distribution.methods import METHODS
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.checks import check_counts
-from ..distribution.registry import METHODS
 from ..exceptions import ConstraintError, FrameNotFoundError, InvalidAxisError, InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_sequence, describe

@@ -22,8 +22,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.kernels import finite
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_name, describe
-from .attachment_kernel import SpringTick
-from .declaration import (
+from .attachment_checks import (
     YIELD_WEIGHT,
     Actuator,
     check_contact_limits,
@@ -35,6 +34,7 @@ from .declaration import (
     component_indices,
     sensor_of,
 )
+from .attachment_kernel import SpringTick
 
 
 @dataclass(repr=False)

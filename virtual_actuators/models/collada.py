@@ -2,7 +2,7 @@
 
 One reader for every layer that needs a URDF's Collada meshes: the viewer draws their triangles
 (``visualization.meshes``), the MuJoCo model collides with their convex hulls
-(``simulation.geometry``; MuJoCo reads only STL and OBJ). coal's Collada triangles (through
+(``simulation.geoms``; MuJoCo reads only STL and OBJ). coal's Collada triangles (through
 assimp) are not all right, so nothing here goes through it.
 """
 

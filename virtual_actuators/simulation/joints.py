@@ -23,7 +23,7 @@ from virtual_actuators.exceptions import (
     suggestion,
 )
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.geometry import quat_wxyz
+from virtual_actuators.simulation.geoms import quat_wxyz
 
 __all__ = [
     "BOUND_INERTIA",

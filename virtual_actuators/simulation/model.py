@@ -57,7 +57,7 @@ from virtual_actuators.exceptions import (
 )
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.contact import ContactParameters
-from virtual_actuators.simulation.geometry import (
+from virtual_actuators.simulation.geoms import (
     COLLISION_CHOICES,
     Collisions,
     add_geometry,

@@ -29,8 +29,8 @@ import pinocchio as pin
 from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
 from .colors import desaturate
-from .geometry import span_matrix, translation, y_to_z
 from .meshes import MeshCache, TriangleMesh
+from .shape_placement import span_matrix, translation, y_to_z
 from .shapes import Cone, Placed, material, to_hex
 
 GEOMETRY_MODES = ("auto", "urdf", "skeleton")

@@ -19,8 +19,8 @@ import numpy as np
 from meshcat.commands import SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
-from .geometry import translation
 from .scene import Scene
+from .shape_placement import translation
 
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0

@@ -20,7 +20,6 @@ import pinocchio as pin
 from ..models.robot import Robot
 from ..vocabulary.axes import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
-from .geometry import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
 from .legend import Palette
 from .robot_layout import (
     effort_joints,
@@ -30,6 +29,7 @@ from .robot_layout import (
     terrain_segments,
 )
 from .scene import Scene
+from .shape_placement import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
 from .shapes import Cone, material, triad_parts
 
 if TYPE_CHECKING:

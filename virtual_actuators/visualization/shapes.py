@@ -15,7 +15,7 @@ from collections.abc import Sequence
 import meshcat.geometry as mg
 import numpy as np
 
-from .geometry import span_matrix
+from .shape_placement import span_matrix
 
 # -- colours -------------------------------------------------------------------------------------
 

@@ -9,8 +9,8 @@ import numpy as np
 
 from ..control import Controller, ControlOutput
 from ..models.robot import Robot
+from .frame_snapshot import FrameSnapshot
 from .pacing import FramePacer
-from .snapshot import FrameSnapshot
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain

@@ -23,13 +23,13 @@ from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from .bodies import RobotBodies, typical_link_length
+from .frame_snapshot import Actuator, FrameSnapshot
 from .legend import PALETTE, Palette, legend_entries, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
 from .pacing import FramePacer
 from .robot_scene import RobotScene
 from .scene import Scene
-from .snapshot import Actuator, FrameSnapshot
 from .ticks import TickUpdater
 from .viewer_output import ViewerOutput
 from .windows import ForwardingWindow, SceneWindow

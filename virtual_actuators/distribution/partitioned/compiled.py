@@ -26,9 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...core import CORE
+from ..methods import Request
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
-from ..registry import Request
 from ..result import RawSolution, TickResult
 from . import kernel_tables, kernels
 from .buffer_solve import BufferSolve, ConfigurationSolve, SnapshotSolve

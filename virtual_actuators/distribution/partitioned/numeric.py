@@ -18,9 +18,9 @@ import numpy as np
 
 from ...exceptions import SingularConfigurationError
 from ..linalg import power_of_two_scale
+from ..methods import Request
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..registry import Request
 from ..result import TickResult, close_tick
 from ..tolerances import CONSTRAINT_TOL
 

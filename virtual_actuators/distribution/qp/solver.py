@@ -76,8 +76,8 @@ import threading
 import numpy as np
 
 from ...exceptions import ConstraintError, InvalidInputError
+from ..methods import Request
 from ..problem import DistributionProblem
-from ..registry import Request
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
 from .compiled import CompiledQPMatrices

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 
+from ..frame_snapshot import FrameSnapshot
 from ..robot_scene import RobotScene
-from ..snapshot import FrameSnapshot
 
 
 class Overlay(ABC):

@@ -18,9 +18,9 @@ import numpy as np
 
 from ...components.base import Component
 from ...control import Attachment
+from ..frame_snapshot import FrameSnapshot
 from ..robot_scene import RobotScene, cross, safe
 from ..shapes import coil_mesh, material
-from ..snapshot import FrameSnapshot
 from .base import Overlay
 
 #: Length of a velocity damper's dashpot, relative to the robot's size.

@@ -12,10 +12,10 @@ import meshcat.geometry as mg
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ..geometry import translation
+from ..frame_snapshot import FrameSnapshot
 from ..robot_scene import RobotScene, safe
+from ..shape_placement import translation
 from ..shapes import material
-from ..snapshot import FrameSnapshot
 from .base import Overlay
 
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import meshcat.geometry as mg
 
+from ..frame_snapshot import FrameSnapshot
 from ..legend import legend_entries
 from ..robot_scene import RobotScene, safe
 from ..shapes import material, text_faces
-from ..snapshot import FrameSnapshot
 from .base import Overlay
 
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import meshcat.geometry as mg
 
+from ..frame_snapshot import FrameSnapshot
 from ..robot_scene import RobotScene, safe
 from ..shapes import material
-from ..snapshot import FrameSnapshot
 from .base import Overlay
 
 

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..frame_snapshot import Actuator, FrameSnapshot, reactions_of
 from ..robot_scene import RobotScene, cross, safe
-from ..snapshot import Actuator, FrameSnapshot, reactions_of
 from .base import Overlay
 
 

@@ -10,6 +10,9 @@ left to the body's virtual actuator, for instance).
 The selection is declared once: a copy of the model with the inertias of the other bodies
 zeroed, so that one ``computeGeneralizedGravity`` call per tick gives exactly
 ``sum_i m_i J_ci^T g`` over the selected bodies.
+In a compiled machine (a [`MachineController`][virtual_actuators.MachineController] lowered
+into the core) the core computes the same efforts from the tick's kinematics pass (each
+column's subtree mass and mass moment), without Pinocchio; Pinocchio's is its oracle.
 
 Added to a [`Controller`][] under a name
 (``controller.add("gravity", va.GravityCompensation(robot))``), it is a joint-space term like a

@@ -259,3 +259,33 @@ def test_gravity_compensation_runs_in_the_core_as_pinocchio_computes_it(name):
         ]
         np.testing.assert_allclose(tau, expected, rtol=0, atol=1e-13 * np.abs(expected).max())
     assert machine.compiled is not None and machine.compiled.pieces == []
+
+
+def test_the_hypot_op_is_pythons():
+    """``va.scalar.hypot`` traced gives ``math.hypot``'s bits, also where the C library's
+    ``hypot`` rounds the other way (CPython computes it its own way)."""
+    import math
+
+    rng = np.random.default_rng(7)
+    pairs = []
+    while len(pairs) < 20:  # times and constants where libm and CPython differ
+        t, c = float(rng.uniform(0.1, 10.0)), float(rng.uniform(0.1, 10.0))
+        if math.hypot(t, c) != float(np.hypot(t, c)):
+            pairs.append((t, c))
+    robot = va.load_robot("solo12")
+    feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+    body = va.ParallelVirtualActuator(robot, "base_link", feet, "world", contact="point")
+    controller = va.Controller(robot)
+    controller.add("body", body, [va.SpringDamper(body.axes, 100.0, 10.0)])
+    memory = va.Memory(h=tuple(0.0 for _ in pairs))
+
+    @va.lowerable
+    def norms(context):
+        memory.h = tuple(va.scalar.hypot(context.time * (t / 1.0), c) for t, c in pairs)
+
+    machine = va.MachineController(
+        controller, va.StateMachine([va.State("s", active=("body",), on_update=norms)], [], "s")
+    )
+    machine.compute(robot.neutral(), np.zeros(robot.model.nv), 1.0)
+    assert machine.compiled.pieces == []
+    assert memory.h == tuple(math.hypot(t, c) for t, c in pairs)

@@ -64,40 +64,6 @@ struct Inputs {
   const std::int64_t* contacts;  // (6,) per foot 0/1, or nullptr (no switches)
 };
 
-// Python's math.hypot(x, y) (CPython's vector_norm: an error-free sum of the squares and a
-// differential correction of the square root), which may differ from libm's hypot in the last
-// bit. Finite arguments.
-inline double py_hypot(double x, double y) {
-  const double values[2] = {std::fabs(x), std::fabs(y)};
-  const double max = values[1] > values[0] ? values[1] : values[0];
-  if (max == 0.0) return max;
-  int max_e;
-  std::frexp(max, &max_e);
-  if (max_e < -1023) {  // subnormal: scaled to normals first
-    const double tiny = 2.2250738585072014e-308;
-    return tiny * py_hypot(x / tiny, y / tiny);
-  }
-  const double scale = std::ldexp(1.0, -max_e);
-  double csum = 1.0, frac1 = 0.0, frac2 = 0.0;
-  for (const double value : values) {
-    const double v = value * scale;
-    const double hi = v * v, lo = std::fma(v, v, -hi);  // the exact square
-    const double sum = csum + hi;
-    frac2 += (csum - sum) + hi;
-    csum = sum;
-    frac1 += lo;
-  }
-  double h = std::sqrt(csum - 1.0 + (frac1 + frac2));
-  const double hi = -h * h, lo = std::fma(-h, h, -hi);
-  const double sum = csum + hi;
-  frac2 += (csum - sum) + hi;
-  csum = sum;
-  frac1 += lo;
-  const double correction = csum - 1.0 + (frac1 + frac2);
-  h += correction / (2.0 * h);
-  return h / scale;
-}
-
 inline bool is_tripod(std::int64_t state) { return state == TRIPOD_A || state == TRIPOD_B; }
 
 // The tripod legs (0-based) of tripod 0 (a: 1, 3, 5) and 1 (b: 2, 4, 6).

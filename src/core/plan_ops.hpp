@@ -126,7 +126,7 @@ inline bool run(const Op* ops, std::int64_t start, std::int64_t stop, double* r,
       case ACOS: out = std::acos(A); break;
       case EXP: out = std::exp(A); break;
       case ATAN2: out = std::atan2(A, B); break;
-      case HYPOT: out = std::hypot(A, B); break;
+      case HYPOT: out = py_hypot(A, B); break;
       case REMAINDER: out = std::remainder(A, B); break;
       case MIN: out = py_min(A, B); break;
       case MAX: out = py_max(A, B); break;

@@ -57,7 +57,11 @@ def atan2(y: object, x: object) -> object:
 
 
 def hypot(x: object, y: object) -> object:
-    """``math.hypot(x, y)`` of two numbers, or its op (the C library's ``hypot``)."""
+    """``math.hypot(x, y)`` of two numbers, or its op.
+
+    The op is CPython's algorithm, ported: the bits of ``math.hypot``, which may differ from the
+    C library's ``hypot`` in the last one.
+    """
     program = _program(x, y)
     return math.hypot(x, y) if program is None else program.binary("hypot", x, y)
 

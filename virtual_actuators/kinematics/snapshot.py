@@ -94,7 +94,10 @@ class Snapshot:
         if backend != "auto" and backend not in _BACKENDS:
             raise InvalidInputError(f"backend must be one of {_BACKENDS}, got {backend!r}.")
         if backend == "compiled" and not tree.compiled:
-            reason = f"joints {tree.unsupported}" if tree.unsupported else "numba is not installed"
+            reason = (
+                f"joints {tree.unsupported}" if tree.unsupported
+                else "the compiled core is not built (or VA_CORE=0)"
+            )  # fmt: skip
             raise InvalidInputError(
                 f"backend='compiled' is not available for model {tree.model.name!r}: {reason}."
             )
@@ -313,7 +316,7 @@ class Snapshot:
         if velocities is None:
             velocities = self._velocities = {}
         cached = velocities.get(frame_id)
-        if cached is None:  # the kernel runs as plain Python without numba
+        if cached is None:  # a frame the pass did not compute, or Pinocchio's pass
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
             cached = velocities[frame_id] = np.array(

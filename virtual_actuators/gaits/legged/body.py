@@ -33,7 +33,6 @@ from ...actuators.producible import Directions, give_way
 from ...components.base import Component
 from ...components.gains import Gains
 from ...core import CORE
-from ...kinematics.kernels import njit
 from ..attitude import yaw_pitch_roll
 from .parameters import GRAVITY, LeggedGains
 
@@ -148,7 +147,6 @@ class BodyModel(Component):
         return wrench
 
 
-@njit(cache=True)
 def body_wrench(
     rotation: np.ndarray, position: np.ndarray, velocity: np.ndarray, gains: np.ndarray,
     setpoints: np.ndarray, out: np.ndarray,

@@ -19,11 +19,9 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from ...core import CORE
-from ...kinematics.kernels import njit
 from ..planar import lift_profile, smoothstep
 
 
-@njit(cache=True)
 def foothold(
     x: float, y: float, vx: float, vy: float, ex: float, ey: float, yaw_rate: float,
     stance_time: float, capture_time: float, reach: float,

@@ -4,9 +4,8 @@ An attachment whose components are all spring-dampers on contiguous runs of the 
 ([`SpringDamper`][] and its subclasses that keep its formula: the granny
 walker, the swing-leg linkage, the dogtrack bunny, a [`Spring`][] without
 a law) needs per tick: the sensor's reading (`sense`), the sum of the components' wrenches (their
-float path,
-[`compute_wrench_floats`][virtual_actuators.SpringDamper.compute_wrench_floats], summed like
-`wrench_floats`) and, for a serial
+[`compute_wrench`][virtual_actuators.SpringDamper.compute_wrench], summed like the controller's
+`Attachment.wrench`) and, for a serial
 actuator that is its own sensor, the efforts ``J^T w``. The compiled core's ``SpringTick``
 (``src/core/attachment.hpp``) does them in one call, the same operations in the same order as
 those (``J^T w`` as a sum over the axes in order, where the controller's general path lets
@@ -18,7 +17,7 @@ controller's general path runs (numpy), and ``tests/test_attachment_kernel.py`` 
 both agree.
 
 The tick hands the general path back (flag 0 in its buffer) when a component's one rotational
-axis has a difference outside ``[-pi, pi]`` (the float path wraps it) or the wrench is not
+axis has a difference outside ``[-pi, pi]`` (the general path wraps it) or the wrench is not
 finite (the general path names the component).
 """
 
@@ -39,15 +38,9 @@ from ..kinematics.snapshot import Snapshot
 
 __all__ = ["SpringTick"]
 
-#: The float paths that are the spring-damper formula itself (the bunny's moves its set point
-#: to :meth:`~virtual_actuators.DogtrackBunny.position_at` first: :meth:`SpringTick.run` does).
+#: The wrenches that are the spring-damper formula itself (the bunny's moves its set point to
+#: :meth:`~virtual_actuators.DogtrackBunny.position_at` first: :meth:`SpringTick.run` does).
 _FORMULA = (
-    SpringDamper.compute_wrench_floats,
-    Spring.compute_wrench_floats,
-    DogtrackBunny.compute_wrench_floats,
-)
-#: The array paths that agree with them.
-_ARRAY_FORMULA = (
     SpringDamper.compute_wrench,
     Spring.compute_wrench,
     DogtrackBunny.compute_wrench,
@@ -62,9 +55,7 @@ _read_parameters = attrgetter(*(f"_{name}" for name in PARAMETERS))
 def _served(component: object) -> bool:
     """Whether ``component`` is a spring-damper of the formula, with one rotational axis at most."""
     klass = type(component)
-    if not isinstance(component, SpringDamper) or klass.compute_wrench not in _ARRAY_FORMULA:
-        return False
-    if klass.compute_wrench_floats not in _FORMULA:
+    if not isinstance(component, SpringDamper) or klass.compute_wrench not in _FORMULA:
         return False
     rotations = rotation_axes(component.axes)
     return not rotations or len(rotations.which) == 1
@@ -110,9 +101,9 @@ class SpringTick:
     ) -> None:
         kinematics = sensor.kinematics
         self.components = list(components)
-        #: the bunnies, whose set point follows the time (their float path moves it first)
-        own = DogtrackBunny.compute_wrench_floats
-        self.bunnies = tuple(c for c in components if type(c).compute_wrench_floats is own)
+        #: the bunnies, whose set point follows the time (their wrench moves it first)
+        own = DogtrackBunny.compute_wrench
+        self.bunnies = tuple(c for c in components if type(c).compute_wrench is own)
         #: the springs that may be given a law (then the general path runs)
         self.springs = tuple(c for c in components if isinstance(c, Spring))
         self.efforts = efforts
@@ -238,7 +229,7 @@ class SpringTick:
         jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
         if frames.shape[0] < self.rows_end:
             return None, None
-        for bunny in self.bunnies:  # as its float path does before the formula
+        for bunny in self.bunnies:  # as its compute_wrench does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
             parameters = _read_parameters(components[0])

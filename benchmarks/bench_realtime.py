@@ -31,8 +31,9 @@ interleaved, in blocks, over the same round-robin set of configurations):
 8. cold start: a new process with Python's bytecode cache empty (``PYTHONPYCACHEPREFIX``, a
    new temporary directory) times ``import virtual_actuators``, the solo12 declaration of
    figure 1, the first ``solve`` and the first ``solve(method="qp")``; and the README's demo
-   command is launched the same way, timed until its progress bar first moves. Beside each, the same in a new process
-   reading the cache the cold one wrote (``_cold_start.py``). ``--quick`` runs the warm ones only.
+   command is launched the same way, timed until its progress bar first moves. Beside each, the
+   same in a new process reading the cache the cold one wrote (``_cold_start.py``). ``--quick``
+   runs the warm ones only.
 
 After the table, the rows of issue 27's table (each beside its same-run baseline and the issue's
 goal) are printed again on their own. Figure 2 uses friction 0.7 as the issue does (0.6 before

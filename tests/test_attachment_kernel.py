@@ -21,11 +21,13 @@ import math
 
 import numpy as np
 import pytest
-from oracles import external_forces, random_configuration, rnea_torques
+from oracles import external_forces, random_configuration, requires_core, rnea_torques
 
 import virtual_actuators as va
 from virtual_actuators.control.attachment_kernel import SpringTick
 from virtual_actuators.core import CORE
+
+pytestmark = requires_core  # the one-call tick is the compiled core's
 
 #: (robot, action, reaction, axes) of the serial actuators the tick serves
 CASES = {

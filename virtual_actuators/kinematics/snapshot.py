@@ -128,21 +128,16 @@ class Snapshot:
     def _run(self) -> None:
         if self.backend == "compiled":
             passed = self.tree.core_pass(self.q, self.v)
-            if passed is not None:  # the Jacobian and frames now, the rest on first read
-                buffer, layout, self._rows = passed
-                self._buffer, self._layout = buffer, layout
-                self._frames = buffer[layout.frames].reshape(layout.frames_shape)
-                self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
-                return
-            (  # the Kinematics fields, in their order
-                self._joints, self._jacobian, self._frames, self._frame_velocities, self._rows
-            ) = self.tree.compute(self.q, self.v)
+            buffer, layout, self._rows = self.tree.core_pass(self.q, self.v)
+            self._buffer, self._layout = buffer, layout  # the rest cut on first read
+            self._frames = buffer[layout.frames].reshape(layout.frames_shape)
+            self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
             return
         model = self.tree.model
         data = self.tree.thread_data()
         pin.computeJointJacobians(model, data, self.q)
         pin.updateFramePlacements(model, data)
-        self._jacobian = data.J.copy()
+        self._jacobian = np.array(data.J).reshape(6, model.nv)  # (6,) when nv is 1
         rows, _, _ = self.tree.frame_tables
         oMf = data.oMf
         frames = np.empty((len(rows), 12))

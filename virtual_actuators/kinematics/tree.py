@@ -164,26 +164,6 @@ class KinematicTree:
         return columns
 
     # -- kernel ----------------------------------------------------------------------------
-    def compute(self, q: np.ndarray, v: np.ndarray | None = None) -> Kinematics:
-        """Run the compiled kernel at ``q`` (and ``v``), both already checked.
-
-        Returns:
-            The `Kinematics` of the pass.
-
-        Raises:
-            InvalidInputError: The tree is not `compiled` (no core, or joints it lacks).
-
-        """
-        passed = self.core_pass(q, v)
-        if passed is None:
-            raise InvalidInputError(
-                f"KinematicTree.compute: model {self.model.name!r} has no compiled pass "
-                f"({'joints ' + str(self.unsupported) if self.unsupported else 'no core'}); "
-                "use a Snapshot, which falls back to Pinocchio."
-            )
-        buffer, layout, rows = passed
-        return layout.cut(buffer, rows)
-
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
     ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:

@@ -127,7 +127,6 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            passed = self.tree.core_pass(self.q, self.v)
             buffer, layout, self._rows = self.tree.core_pass(self.q, self.v)
             self._buffer, self._layout = buffer, layout  # the rest cut on first read
             self._frames = buffer[layout.frames].reshape(layout.frames_shape)

@@ -28,7 +28,7 @@ from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..result import RawSolution, TickResult
 from . import kernel_tables
-from .buffer_solve import BufferSolve, ConfigurationSolve, SnapshotSolve
+from .buffer_solve import BufferSolve, ConfigurationSolve, PackedMode, SnapshotSolve
 from .reference import PartitionedSolver
 
 
@@ -51,20 +51,6 @@ class _Tables:
     chain_ints: np.ndarray
     chain_signs: np.ndarray
     layout: np.ndarray
-
-
-@dataclass(frozen=True)
-class PackedMode:
-    """The packed tables of one set of prescribed axes (`CompiledDistribution.mode_for`)."""
-
-    mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
-    keep: np.ndarray  # int64 mask
-    plan: np.ndarray
-    sets: dict
-    systems: tuple
-    method: str
-    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
-    core: object = None  # the compiled core's Distribution of these tables, or None
 
 
 class CompiledDistribution:
@@ -250,7 +236,9 @@ class CompiledDistribution:
         mode = self.mode_for(request.keep)
         if mode.core is None:
             return None
-        return kind(self, mode, reactions, axes, request.free, floating)
+        tree, nv = self.problem.kinematics.tree, self.problem.model.nv
+        return kind(mode, tree, self.max_row, self.shape, nv, reactions, axes, request.free,
+                    floating)  # fmt: skip
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.

@@ -124,7 +124,7 @@ def test_budget_without_feasible_point_raises(compiled, monkeypatch) -> None:
         body.qp.iteration_budget = 2
         with_daqp = body.solve(SIX_Q, SIX_WRENCH, method="qp", compiled=compiled)
         assert body.qp.iterations == 0
-    monkeypatch.setattr(stages, "CORE", None)
+    monkeypatch.setattr(stages, "DAQP_LEAST_NORM", None)
     body.qp.iteration_budget = 2
     with pytest.raises(va.exceptions.ConstraintError, match="iteration budget"):
         body.solve(SIX_Q, SIX_WRENCH, method="qp", compiled=compiled)

@@ -108,7 +108,7 @@ def test_solves_through_daqp_equal_solves_through_proxqp(name, weights, monkeypa
     answers = {}
     for path in ("daqp", "proxqp"):
         if path == "proxqp":
-            monkeypatch.setattr(stages, "CORE", None)
+            monkeypatch.setattr(stages, "DAQP_LEAST_NORM", None)
         body = va.ParallelVirtualActuator(robot, *ROBOTS[name], "world", contact="point",
                                           friction=0.6, weights=WEIGHTS[weights])  # fmt: skip
         answers[path] = []

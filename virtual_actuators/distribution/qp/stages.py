@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ...core import CORE, has
+from ... import core
 from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
 from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
 from .exact import exact_answer
@@ -45,6 +45,10 @@ DAQP_CLOSEST_EPS = 1e-8
 MAX_ITER_IN = 30
 #: In ``sol.active`` when the iteration budget ran out before the last stage converged.
 BUDGET_EXHAUSTED = "iteration budget exhausted"
+
+#: DAQP in the compiled core (stage 1 from cold; the closest wrench), or None: ProxQP alone.
+DAQP_LEAST_NORM = core.kernel("daqp_least_norm", None)
+DAQP_CLOSEST = core.kernel("daqp_closest", None)
 
 
 class ProxStages:
@@ -204,8 +208,8 @@ class ProxStages:
             if certified:
                 slot.active = z
                 return StageAnswer(x, z, False)
-        if has("daqp_least_norm"):  # DAQP from cold, its active set certified exact
-            flag, x, guess, _ = CORE.daqp_least_norm(
+        if DAQP_LEAST_NORM is not None:  # DAQP from cold, its active set certified exact
+            flag, x, guess, _ = DAQP_LEAST_NORM(
                 equality, equality_rhs, rows.inequality, rows.lows, rows.uppers, DAQP_MAX_ITER
             )
             if flag == 1:
@@ -252,7 +256,7 @@ class ProxStages:
         """
         flag = 0  # no request row (every axis free): only the other rows, which cannot hold
         if rows.design < len(rows.equality_rhs):
-            flag, x, guess, _ = CORE.daqp_closest(
+            flag, x, guess, _ = DAQP_CLOSEST(
                 rows.equality, rows.equality_rhs, rows.design, weights, rows.inequality,
                 rows.lows, rows.uppers, DAQP_MAX_ITER, DAQP_CLOSEST_EPS,
             )  # fmt: skip

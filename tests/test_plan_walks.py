@@ -28,6 +28,11 @@ TOLERANCE = 1e-12  # [-] of the tick's scale
 CASES = {name: (name, {}) for name in WALKS} | {
     "legged go2 trot, partitioned": ("legged", {"robot": "go2", "distribution": "partitioned"}),
     "balance g1": ("balance", {"robot": "g1"}),
+    "hexapod pendulum": ("hexapod-walk", {"pendulum": True}),
+    "hexapod tracking": ("hexapod-walk", {"track": True}),
+    "hexapod circle": ("hexapod-walk", {"yaw_rate": 0.5}),
+    "hexapod sine": ("hexapod-walk", {"path": "sine"}),
+    "hexapod partitioned": ("hexapod-walk", {"distribution": "partitioned"}),
 }
 
 
@@ -39,8 +44,7 @@ def test_the_compiled_walk_is_the_python_walk(case, monkeypatch):
     monkeypatch.setenv("VA_PLAN", "0")
     python = run_walk(name, duration=seconds, progress=False, stop_on_fall=False, **options)
     assert python.gait.compiled is None
-    if name != "hexapod-walk":  # the hexapod's walk runs its hand-ported tick instead
-        assert compiled.gait.compiled is not None, "the walk did not run on the compiled machine"
+    assert compiled.gait.compiled is not None, "the walk did not run on the compiled machine"
     ours, theirs = compiled.loop.efforts, python.loop.efforts
     assert ours.shape == theirs.shape and len(ours) >= TICKS - 1
     scale = np.maximum(1.0, np.abs(theirs).max(axis=1))

@@ -28,8 +28,8 @@ from virtual_actuators.gaits.attitude import (
 )
 from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import HeadingAttitude, HeadingDamper
-from virtual_actuators.gaits.hexapod.pendulum import lqr_gain, pendulum_model
 from virtual_actuators.gaits.hexapod.footholds import behind
+from virtual_actuators.gaits.hexapod.pendulum import lqr_gain, pendulum_model
 from virtual_actuators.gaits.hexapod.walk import (
     HexapodWalkConfig,
     hexapod_robot,

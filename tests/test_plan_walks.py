@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from oracles import assert_same_walk
 
 from virtual_actuators.core import CORE
 from virtual_actuators.gaits.registry import WALKS, run_walk
@@ -51,3 +52,17 @@ def test_the_compiled_walk_is_the_python_walk(case, monkeypatch):
     worst = np.abs(ours - theirs).max(axis=1) / scale
     assert worst.max() <= TOLERANCE, f"tick {int(worst.argmax())}: {worst.max():.3g}"
     assert compiled.gait.machine.history == python.gait.machine.history
+
+
+@pytest.mark.slow
+def test_the_hexapods_compiled_walk_is_its_python_walk_bit_for_bit(monkeypatch):
+    """Two simulated seconds balancing the pendulum, lowered whole (no Python piece): every log
+    channel, state, effort and velocity the Python machine's, bit for bit."""
+    options = {"duration": 2.0, "progress": False, "pendulum": True}
+    compiled = run_walk("hexapod-walk", **options)
+    assert compiled.gait.compiled is not None and compiled.gait.compiled.pieces == []
+    monkeypatch.setenv("VA_PLAN", "0")
+    python = run_walk("hexapod-walk", **options)
+    assert python.gait.compiled is None
+    assert_same_walk(compiled, python)
+    assert not compiled.metrics.fell

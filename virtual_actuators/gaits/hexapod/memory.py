@@ -23,7 +23,7 @@ __all__ = ["SUPPORT", "WalkerState", "walker_memory"]
 def walker_memory(ground: float) -> Memory:
     """The walker's memory at rest, its ground plane at height ``ground`` (body axes) [m].
 
-    The command ``(vx, vy)`` [m/s] and yaw rate [rad/s]; the velocity set point and its
+    The command ``(vx, vy, yaw rate)`` [m/s, rad/s]; the velocity set point and its
     acceleration [m/s, m/s^2]; the measured and the low-passed body velocity (heading frame)
     [m/s]; the filter's and the set points' last times [s]; the ground plane ``(a, b, c)``; the
     swing's phase; the ground height under the body [m]; the support tripod (`SUPPORT`); per
@@ -32,7 +32,7 @@ def walker_memory(ground: float) -> Memory:
     """
     zeros = (0.0, 0.0)
     return Memory(
-        command=zeros, yaw_rate=0.0, setpoint=zeros, acceleration=zeros, body_velocity=zeros,
+        command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
         filtered=zeros, filter_time=0.0, target_time=0.0, plane=(0.0, 0.0, ground), phase=0.0,
         ground=0.0, support=0.0, lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9,
         pendulum=0.0,
@@ -43,6 +43,7 @@ class WalkerState:
     """The walker's inputs and state, read from and written to its ``memory`` (a mixin)."""
 
     memory: Memory
+    _command = (0.0, 0.0, 0.0)  # the command last written into the memory
 
     def set_command(self, velocity: tuple[float, float] | np.ndarray, yaw_rate: float) -> None:
         """Set the three inputs: body velocity in the heading frame and the yaw rate.
@@ -61,19 +62,19 @@ class WalkerState:
             raise InvalidInputError(
                 f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
             )
-        memory = self.memory
-        memory.command = (vx, vy)
-        memory.yaw_rate = yaw_rate
+        command = (vx, vy, yaw_rate)
+        if command != self._command:  # the same command is not written again (a tick's cost)
+            self.memory.command = self._command = command
 
     @property
     def velocity(self) -> np.ndarray:
         """Commanded body velocity in the heading frame ``(vx, vy)`` [m/s]."""
-        return np.array(self.memory.command)
+        return np.array(self.memory.command[:2])
 
     @property
     def yaw_rate(self) -> float:
         """Commanded yaw rate [rad/s]."""
-        return self.memory.yaw_rate
+        return self.memory.command[2]
 
     @property
     def velocity_setpoint(self) -> np.ndarray:

@@ -277,7 +277,8 @@ class HexapodWalker(WalkerState, Gait):
         fx, fy = memory.filtered
         memory.filtered = (fx + blend * (vx - fx), fy + blend * (vy - fy))
         # the set point follows the command at a bounded acceleration
-        (cx, cy), (sx, sy), (ax, ay) = memory.command, memory.setpoint, memory.acceleration
+        (cx, cy, yaw_rate), (sx, sy) = memory.command, memory.setpoint
+        ax, ay = memory.acceleration
         changed = logical_or(cx != sx, cy != sy)
         ex, ey = cx - sx, cy - sy
         size, most = hypot(ex, ey), p.acceleration * dt
@@ -291,7 +292,7 @@ class HexapodWalker(WalkerState, Gait):
         memory.setpoint, memory.acceleration = (sx, sy), (ax, ay)
         self.planar.velocity = (sx, sy)
         self.planar.yaw = yaw
-        self.attitude.yaw_rate = memory.yaw_rate
+        self.attitude.yaw_rate = yaw_rate
         if self._pendulum_index is not None:  # free-flyer angular velocity: body axes
             omega = (velocity[3], velocity[4], velocity[5])
             world = [dot(row, omega) for row in r[:2]]
@@ -326,7 +327,7 @@ class HexapodWalker(WalkerState, Gait):
         memory.target_time = context.time
         memory.phase = 0.0
         # the lifting feet leave the ground at its velocity relative to the body
-        ground = ground_velocity(memory.filtered, memory.yaw_rate, self._nominal)
+        ground = ground_velocity(memory.filtered, memory.command[2], self._nominal)
         rates = [(-ground[r][0], -ground[r][1], 0.0) for r in rows]
         memory.rates = tuple(v for rate in rates for v in rate)
         for rate, i in zip(rates, TRIPODS[OTHER[support]], strict=True):
@@ -340,7 +341,7 @@ class HexapodWalker(WalkerState, Gait):
         memory, p = self.memory, self.parameters
         now = context.time
         motion = (height, *memory.filtered, *memory.setpoint, *memory.acceleration,
-                  memory.yaw_rate, context.time_in_state, now - memory.target_time)  # fmt: skip
+                  memory.command[2], context.time_in_state, now - memory.target_time)  # fmt: skip
         previous = {
             "plane": memory.plane, "phase": memory.phase, "lift_off": memory.lift_off,
             "targets": memory.targets, "rates": memory.rates,

@@ -198,6 +198,28 @@ def test_hexapod_options_are_refused_elsewhere_and_bad_values_are_usage_errors(c
     assert "only hexapod-walk uses it" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("pendulum", [False, True])
+@pytest.mark.parametrize("distribution", ["qp", "partitioned"])
+def test_the_walker_is_lowered_whole_and_reads_its_command_from_the_plan(pendulum, distribution):
+    """No Python piece; the command set after lowering is in the plan's registers."""
+    robot = hexapod_robot(pendulum)
+    gait = HexapodWalker(robot, va.gaits.HexapodParameters(distribution=distribution))
+    q = gait.initial_configuration()
+    gait.warm_up(q)
+    assert gait.compiled is not None and gait.compiled.pieces == []
+    gait.set_command((0.3, -0.1), 0.2)
+    assert gait.memory.command == (0.3, -0.1, 0.2)
+    assert gait.velocity.tolist() == [0.3, -0.1] and gait.yaw_rate == 0.2
+    with pytest.raises(va.InvalidInputError):
+        gait.set_command((math.nan, 0.0), 0.0)
+    v = np.zeros(robot.model.nv)
+    gait.compute(q, v, 0.0)
+    gait.compute(q, v, 0.01)  # the set point moves toward the command, acceleration-limited
+    vx, vy = gait.velocity_setpoint.tolist()
+    step = gait.parameters.acceleration * 0.01
+    assert math.hypot(vx, vy) == pytest.approx(step) and vx > 0.0 > vy
+
+
 def test_walker_needs_the_hexapod_frames():
     with pytest.raises(va.FrameNotFoundError):
         HexapodWalker(va.load_robot("spring_turkey"))

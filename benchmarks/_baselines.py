@@ -474,7 +474,6 @@ def instrumented_walk(
     import virtual_actuators as va
     from virtual_actuators.control.plan.compiled import CompiledMachine
     from virtual_actuators.demos import run_walk
-    from virtual_actuators.gaits.hexapod.native import NativeTick as HexapodTick
     from virtual_actuators.simulation import Simulator
 
     targets = {
@@ -487,8 +486,7 @@ def instrumented_walk(
         "contact_switches": (Simulator, "contact_switches"),
         "touching_frames": (Simulator, "touching_frames"),
     }
-    targets["native.compute"] = (CompiledMachine, "compute")  # a compiled plan's tick
-    targets["hexapod native.compute"] = (HexapodTick, "compute")
+    targets["compiled.compute"] = (CompiledMachine, "compute")  # a compiled plan's tick
     with WalkProbe(targets, tick="simulator.step") as probe:
         result = run_walk(name, duration=seconds, progress=False, **options)
     # the loop's ticks; the step after them is va.run's final zero effort, not a tick
@@ -497,19 +495,9 @@ def instrumented_walk(
     # the warm-up's calls come before the loop's: the last ``ticks`` calls are the loop's
     gait = probe.per_tick("gait.compute")[-ticks:]
     step = probe.per_tick("simulator.step")[:ticks]
-    native = np.concatenate(
-        [probe.per_tick("native.compute"), probe.per_tick("hexapod native.compute")]
-    )[-ticks:]
+    native = probe.per_tick("compiled.compute")[-ticks:]
     if native.size and gait.size >= ticks:  # gait.compute runs the compiled machine
         parts = {"total": total, "gait.compute": gait, "  compiled machine": native}
-    elif native.size:  # a hand-ported tick after a first tick in Python
-        parts = {
-            "total": total,
-            "gait tick": np.concatenate([gait[:1], native[1:]]),
-            "  native (one call)": native,
-            "  Python ticks": gait,
-        }
-        gait = parts["gait tick"]
     else:
         parts = {
             "total": total,

@@ -3,15 +3,14 @@
 Two durations per tick, both in microseconds, from ``perf_counter_ns``:
 
 * **controller**: the controller's compute between reading the state and writing the efforts.
-  In a walk (``run_walk``), the gait's outermost ``compute(q, v, t, contacts)`` call (or its
-  native tick's, the turkey's and the hexapod's walks from their second tick: no ``on_tick``
-  is passed, which would keep the Python tick; the ticks are taken at the end of each
-  ``Simulator.step``); in a ``va.run`` loop, from the end of ``read_state`` to the start of
-  ``write_effort`` (the loop's checks of the reading and of the efforts included). This is what
-  a controller on hardware pays. Its thread CPU time (``thread_time_ns``, same interval) is
-  reported too: unlike the wall-clock time it leaves out the time the thread was not running
-  (preempted by other processes on a busy machine), so a tick whose wall time is far above its
-  CPU time waited for the CPU. Reading that clock costs ~0.6 us per tick inside the interval.
+  In a walk (``run_walk``), the gait's outermost ``compute(q, v, t, contacts)`` call (its
+  compiled machine's tick; the ticks are taken at the end of each ``Simulator.step``); in a
+  ``va.run`` loop, from the end of ``read_state`` to the start of ``write_effort`` (the loop's
+  checks of the reading and of the efforts included). This is what a controller on hardware
+  pays. Its thread CPU time (``thread_time_ns``, same interval) is reported too: unlike the
+  wall-clock time it leaves out the time the thread was not running (preempted by other
+  processes on a busy machine), so a tick whose wall time is far above its CPU time waited for
+  the CPU. Reading that clock costs ~0.6 us per tick inside the interval.
 * **loop**: one whole iteration of the loop. In a walk, from the end of one iteration's physics
   step to the end of the next (the first from the gait's first ``compute``): the contact
   switches, the gait, MuJoCo's step, the stance forces, the fall test and the recording. In a
@@ -308,13 +307,11 @@ def _walk_once(name: str, seconds: float, options: dict, events: TickEvents | No
     """One timed run of a walk: per-tick arrays [ns] and the result."""
     from virtual_actuators.demos import run_walk
     from virtual_actuators.gaits import Gait
-    from virtual_actuators.gaits.native_tick import CoreTick
     from virtual_actuators.simulation import Simulator
 
     controller, cpu, physics, ends = [], [], [], []
     clock = time.perf_counter_ns
-    # the gaits' compute, and the native ticks' (no on_tick: it would keep the Python tick)
-    targets = [*_classes_defining(Gait, "compute"), *_classes_defining(CoreTick, "compute")]
+    targets = _classes_defining(Gait, "compute")  # the gaits' compute
     gait_probe = _Outermost(targets, cpu=True, events=events)
 
     def on_tick() -> None:  # after every physics step
@@ -323,8 +320,7 @@ def _walk_once(name: str, seconds: float, options: dict, events: TickEvents | No
         cpu.append(gait_probe.last_cpu)
         physics.append(step_probe.last)
         if events is not None:
-            caller = gait_probe.caller  # the gait, or its native tick
-            state = _state_of(getattr(caller, "gait", caller))
+            state = _state_of(gait_probe.caller)
             events.end_tick(len(cpu) - 1, cpu[-1] / 1e3, controller[-1] / 1e3, state,
                             state if before[0] is None else before[0])  # fmt: skip
             before[0] = state

@@ -326,8 +326,8 @@ def relative_error(a, b) -> float:
 # -- walks -----------------------------------------------------------------------------------
 def assert_same_walk(one: object, other: object) -> None:
     """Two walks' results (``run_walk``'s) agree bit for bit: every log channel, the states,
-    the machine's history and every tick's efforts and velocities (a native tick against the
-    Python gait, its oracle)."""
+    the machine's history and every tick's efforts and velocities (a compiled machine against
+    the Python machine, its oracle)."""
     assert one.log.data.keys() == other.log.data.keys()
     for name, values in one.log.data.items():
         np.testing.assert_array_equal(values, other.log.data[name], err_msg=name)

@@ -163,10 +163,6 @@ def test_no_private_name_crosses_modules():
 #: Private attributes read on a function's parameter that its module never defines,
 #: "path::parameter.attribute" -> why it is still there
 PARAMETER_PRIVATES: dict[str, str] = {
-    "gaits/hexapod/native.py::gait._body_is_root": "the hexapod's hand port, until it is lowered",
-    "gaits/hexapod/native.py::gait._nominal_feet": "the hexapod's hand port, until it is lowered",
-    "gaits/hexapod/native.py::gait._shape": "the hexapod's hand port, until it is lowered",
-    "gaits/hexapod/native.py::gait._swing": "the hexapod's hand port, until it is lowered",
     "simulation/contact_queries.py::data._address": "MuJoCo's MjData address (no public one)",
     "simulation/contact_queries.py::model._address": "MuJoCo's MjModel address (no public one)",
 }

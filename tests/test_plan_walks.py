@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from oracles import assert_same_walk
 
 from virtual_actuators.core import CORE
 from virtual_actuators.gaits.registry import WALKS, run_walk
@@ -28,6 +29,11 @@ TOLERANCE = 1e-12  # [-] of the tick's scale
 CASES = {name: (name, {}) for name in WALKS} | {
     "legged go2 trot, partitioned": ("legged", {"robot": "go2", "distribution": "partitioned"}),
     "balance g1": ("balance", {"robot": "g1"}),
+    "hexapod pendulum": ("hexapod-walk", {"pendulum": True}),
+    "hexapod tracking": ("hexapod-walk", {"track": True}),
+    "hexapod circle": ("hexapod-walk", {"yaw_rate": 0.5}),
+    "hexapod sine": ("hexapod-walk", {"path": "sine"}),
+    "hexapod partitioned": ("hexapod-walk", {"distribution": "partitioned"}),
 }
 
 
@@ -39,11 +45,24 @@ def test_the_compiled_walk_is_the_python_walk(case, monkeypatch):
     monkeypatch.setenv("VA_PLAN", "0")
     python = run_walk(name, duration=seconds, progress=False, stop_on_fall=False, **options)
     assert python.gait.compiled is None
-    if name != "hexapod-walk":  # the hexapod's walk runs its hand-ported tick instead
-        assert compiled.gait.compiled is not None, "the walk did not run on the compiled machine"
+    assert compiled.gait.compiled is not None, "the walk did not run on the compiled machine"
     ours, theirs = compiled.loop.efforts, python.loop.efforts
     assert ours.shape == theirs.shape and len(ours) >= TICKS - 1
     scale = np.maximum(1.0, np.abs(theirs).max(axis=1))
     worst = np.abs(ours - theirs).max(axis=1) / scale
     assert worst.max() <= TOLERANCE, f"tick {int(worst.argmax())}: {worst.max():.3g}"
     assert compiled.gait.machine.history == python.gait.machine.history
+
+
+@pytest.mark.slow
+def test_the_hexapods_compiled_walk_is_its_python_walk_bit_for_bit(monkeypatch):
+    """Two simulated seconds balancing the pendulum, lowered whole (no Python piece): every log
+    channel, state, effort and velocity the Python machine's, bit for bit."""
+    options = {"duration": 2.0, "progress": False, "pendulum": True}
+    compiled = run_walk("hexapod-walk", **options)
+    assert compiled.gait.compiled is not None and compiled.gait.compiled.pieces == []
+    monkeypatch.setenv("VA_PLAN", "0")
+    python = run_walk("hexapod-walk", **options)
+    assert python.gait.compiled is None
+    assert_same_walk(compiled, python)
+    assert not compiled.metrics.fell

@@ -67,7 +67,7 @@ class InadmissibleWrenchError(VirtualActuatorError, ValueError):
 class ConcurrentUseError(VirtualActuatorError, RuntimeError):
     """An object that carries one run's state was called from two threads at once.
 
-    A gait's native tick, for instance: give each thread its own.
+    A compiled machine (a gait's tick), for instance: give each thread its own.
     """
 
 

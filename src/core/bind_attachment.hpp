@@ -1,7 +1,6 @@
 // The spring-damper attachments' Python objects (attachment.hpp): SpringTick holds a sensor's
 // tables and its spring-dampers' entries, and tick() runs attachment_kernel.spring_tick;
-// SpringSolve adds a parallel actuator's distribution. Bound in bind_attachment.cpp; the native
-// gaits run their attachments through them (run_raw, distribute_raw).
+// SpringSolve adds a parallel actuator's distribution. Bound in bind_attachment.cpp.
 #pragma once
 
 #include <algorithm>
@@ -103,24 +102,6 @@ class SpringTick {
   std::int64_t n() const { return tables_.n; }
   bool efforts() const { return efforts_; }
 
-  // run() on raw pointers, unchecked (a C++ caller that checked the shapes once): table is
-  // spring_tick's (6, entries()) parameters, jacobian a scratch of jacobian_size() doubles, out
-  // size() doubles, zeroed. No Python object is touched: callable without the GIL.
-  bool run_raw(const double* jacobian_world, const double* frames, const double* v,
-               const double* table, double* jacobian, double* out) const {
-    const va::serial::SpringEntries p{targets_.data(), rotations_.data(), entries(),
-                                      summed_,         efforts_,          table};
-    return va::serial::spring_tick(jacobian_world, nv_, frames, v, tables_, p, jacobian, out);
-  }
-  std::int64_t entries() const { return static_cast<std::int64_t>(targets_.size()); }
-  std::int64_t rows_end() const { return rows_end_; }
-  std::int64_t jacobian_size() const { return tables_.m * tables_.n; }
-  // The sensor's reading on its axes (sense().position): position (n).
-  void position(const double* frames, double* position) const {
-    va::sensor_pose(frames + 12 * rows_[0], frames + 12 * rows_[1], frames + 12 * rows_[2],
-                    axis_rows_.data(), tables_.n, position);
-  }
-
  private:
   std::vector<std::int64_t> axis_rows_, rows_, columns_;
   std::vector<double> signs_;
@@ -163,18 +144,6 @@ class SpringSolve {
     return nb::make_tuple(owned(std::move(buffer), size), owned(std::move(out), out_size),
                           d.residual, d.scale, d.rounding, d.status);
   }
-
-  // The distribution of wrench (n) into out (out_size() doubles, zeroed), unchecked: tick()'s
-  // second half for a C++ caller that checked the shapes once. No Python object is touched.
-  va::Distributed distribute_raw(const double* jacobian_world, const double* frames,
-                                 const double* q, const double* wrench, double* out) const {
-    return va::distribute(jacobian_world, spring_->nv(), frames, q, wrench, packed_, out);
-  }
-  const SpringTick& spring() const { return *spring_; }
-  std::int64_t out_size() const { return packed_.out_size(spring_->nv()); }
-  std::int64_t chains() const { return packed_.p; }
-  std::int64_t max_frame_row() const { return packed_.max_frame_row(); }
-  std::int64_t max_q_index() const { return packed_.max_q_index(); }
 
   // tick()'s status when nothing was distributed
   static constexpr std::int64_t NOT_RUN = -1;

@@ -1,12 +1,11 @@
-// The gait's kernels' bindings (gait.hpp, hexapod.hpp): the legged walks' body wrench and swing
-// set points, the hexapod's tripod set points, the centre of mass and the producible directions.
+// The gait's kernels' bindings (gait.hpp): the legged walks' body wrench and swing set points,
+// the centre of mass and the producible directions.
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "bind_common.hpp"
 #include "gait.hpp"
-#include "hexapod.hpp"
 
 namespace va::py {
 namespace {
@@ -93,33 +92,9 @@ bool gait_give_way_one(const F1& wrench, const F2& yielding, const F2& missing, 
                           across.data());
 }
 
-// gaits.hexapod.kernel.tripod_setpoints: swing and state written in place.
-void gait_tripod_setpoints(const F2& frames, const I1& frame_rows, const I1& rows,
-                           const F2& nominal, const F1& motion, const F1& shape, const GF2& swing,
-                           const MF1& state) {
-  require(frames.shape(1) == 12 && len(frame_rows) == 7,
-          "frames must be (nf, 12), frame_rows (7,)");
-  for (std::int64_t j = 0; j < 7; ++j)
-    require(frame_rows.data()[j] >= 0 && frame_rows.data()[j] < rows_of(frames),
-            "frame_rows out of range");
-  require(rows_of(nominal) == 6 && nominal.shape(1) == 3, "nominal must be (6, 3)");
-  require(len(rows) == 6 && length(motion) == 10 && length(shape) == 11,
-          "rows (6,), motion (10,), shape (11,)");
-  require(swing.shape(0) == 3 && swing.shape(1) == 9 && length(state) == 5,
-          "swing must be (3, 9), state (5,)");
-  for (std::int64_t j = 0; j < 6; ++j)
-    require(rows.data()[j] >= 0 && rows.data()[j] < 6, "rows out of range");
-  nb::gil_scoped_release release;
-  va::tripod_setpoints(frames.data(), frame_rows.data(), rows.data(), nominal.data(), motion.data(),
-                       shape.data(), swing.data(), state.data());
-}
-
 }  // namespace
 
 void bind_gait(nb::module_& m) {
-  m.def("tripod_setpoints", &gait_tripod_setpoints, "frames"_a, "frame_rows"_a, "rows"_a,
-        "nominal"_a, "motion"_a, "shape"_a, "swing"_a.noconvert(), "state"_a.noconvert(),
-        "gaits.hexapod.kernel.tripod_setpoints: the swing tripod's set points, in place.");
   m.def("center_of_mass", &gait_center_of_mass, "joints"_a, "masses"_a, "levers"_a,
         "kinematics.kernels.center_of_mass: the bodies' centre of mass (x, y, z).");
   m.def("body_wrench", &gait_body_wrench, "rotation"_a, "position"_a, "velocity"_a, "gains"_a,

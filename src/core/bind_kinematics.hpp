@@ -1,5 +1,5 @@
 // The kinematic tree's declaration-time tables (kinematics.hpp) as the Python object Tree,
-// bound in bind_kinematics.cpp; the distributions, the QP and the native gaits take one.
+// bound in bind_kinematics.cpp; the distributions, the QP and the compiled machine take one.
 #pragma once
 
 #include <algorithm>

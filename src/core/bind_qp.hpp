@@ -1,6 +1,6 @@
 // The QP distribution's Python object QP (qp.hpp, exact.hpp), bound in bind_qp.cpp with its free
-// kernels, and the workspace checks and per-thread scratch they share; the native hexapod runs
-// its body's QP through one (QP::again_raw).
+// kernels, and the workspace checks and per-thread scratch they share; a compiled machine runs
+// its QP attachments through one (QP::again_raw, bind_plan_qp.hpp).
 #pragma once
 
 #include <algorithm>

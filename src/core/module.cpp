@@ -20,7 +20,6 @@ void bind_contact_margins(nb::module_& m);
 void bind_attachment(nb::module_& m);
 void bind_gait(nb::module_& m);
 void bind_simulation(nb::module_& m);
-void bind_native_hexapod(nb::module_& m);
 void bind_contacts_view(nb::module_& m);
 void bind_plan(nb::module_& m);
 }  // namespace va::py
@@ -40,7 +39,6 @@ NB_MODULE(_core, m) {
   va::py::bind_attachment(m);
   va::py::bind_gait(m);
   va::py::bind_simulation(m);
-  va::py::bind_native_hexapod(m);
   va::py::bind_contacts_view(m);
   va::py::bind_plan(m);
 }

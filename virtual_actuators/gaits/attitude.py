@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from ..vocabulary.scalar import asin, atan2, cos, maximum, minimum, select, sin, sqrt
+
 __all__ = ["attitude_and_velocity", "rotation", "rotation_vector_angles", "yaw_pitch_roll"]
 
 _EPS = 2.220446049250313e-16  # double's machine epsilon
@@ -21,26 +23,26 @@ def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
     return yaw, pitch, roll
 
 
-def rotation_vector_angles(x: float, y: float, z: float) -> tuple[float, float, float]:
-    """`yaw_pitch_roll` of the rotation vector ``(x, y, z)`` [rad], on floats.
+def rotation_vector_angles(x: object, y: object, z: object) -> tuple:
+    """`yaw_pitch_roll` of the rotation vector ``(x, y, z)`` [rad], on floats or traced values.
 
     The entries of ``pinocchio.exp3`` that the angles read, with its operations in its order
-    (``t^2 = |v|^2 + eps^2``, Taylor expansions below ``eps^(1/4)``), so the same bits as
-    ``yaw_pitch_roll(pin.exp3(v))`` without building the matrix.
+    (``t^2 = |v|^2 + eps^2``, Taylor expansions below ``eps^(1/4)``, both computed and one
+    selected), so the same bits as ``yaw_pitch_roll(pin.exp3(v))`` without building the matrix.
     """
     t2 = x * x + y * y + z * z + _EPS * _EPS
-    t = math.sqrt(t2)
-    if t > _TAYLOR:
-        cos = math.cos(t)
-        outer, cross = (1 - cos) / t2, math.sin(t) / t
-    else:
-        outer, cross, cos = 0.5 - t2 / 24, 1 - t2 / 6, 1 - t2 / 2
-    r00 = outer * x * x + cos
+    t = sqrt(t2)
+    large = t > _TAYLOR
+    cosine = cos(t)
+    outer = select(large, (1 - cosine) / t2, 0.5 - t2 / 24)
+    cross = select(large, sin(t) / t, 1 - t2 / 6)
+    cosine = select(large, cosine, 1 - t2 / 2)
+    r00 = outer * x * x + cosine
     r10 = outer * y * x + cross * z
     r20 = outer * z * x - cross * y
     r21 = outer * z * y + cross * x
-    r22 = outer * z * z + cos
-    return math.atan2(r10, r00), math.asin(max(-1.0, min(1.0, -r20))), math.atan2(r21, r22)
+    r22 = outer * z * z + cosine
+    return atan2(r10, r00), asin(maximum(-1.0, minimum(1.0, -r20))), atan2(r21, r22)
 
 
 def rotation(q: np.ndarray) -> np.ndarray:

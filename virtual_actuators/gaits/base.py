@@ -252,9 +252,6 @@ class Walk:
             returning it (the hexapod's is slower with the pendulum); None: the walk takes no
             speed. A run given no speed walks at `default_speed`: this, moved into the
             supported range.
-        native: Builds the gait's whole tick in the compiled core from the started gait
-            (``native(gait)``, None when the core cannot run it; see `drive`); None: the walk
-            has no native tick.
 
     """
 
@@ -275,7 +272,6 @@ class Walk:
     viewer_robot: Callable[..., Robot] | None = None
     speeds: tuple[float, float] | None = None
     speeds_for: Callable[..., tuple[float, float]] | None = None
-    native: Callable[[Gait], Any] | None = None
     nominal_speed: float | Callable[..., float] | None = None
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:

@@ -119,9 +119,7 @@ def _prepare(
             "double_support_states": ["double_support"],
         },
     )
-    episode = PlanarEpisode(gait, simulator, terrain_model, recorder)
-    episode.native = walk.native
-    return episode
+    return PlanarEpisode(gait, simulator, terrain_model, recorder)
 
 
 def _push(walk: Walk, seed: int | None) -> tuple[float, float]:

@@ -213,7 +213,6 @@ class Episode:
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
         feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
-        native: Builds the gait's tick in the compiled core (a `Walk`'s ``native``), or None.
         base_rate: Where ``v`` holds the base's angular velocity (a free-flyer's ``v[3:6]``,
             body axes), or None.
 
@@ -232,7 +231,6 @@ class Episode:
         self.recorder = recorder
         self.stance = StanceForces(simulator, terrain)
         self.feet = foot_geoms(simulator)
-        self.native: Callable[[Gait], Any] | None = None
         self.base_rate: slice | None = slice(3, 6) if simulator.robot.floating_base else None
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:

@@ -74,14 +74,11 @@ def drive(
     episode.gait.warm_up(simulator.q)  # lowered, kernels loaded before the clock starts
     ticks = WalkTicks(episode, duration, bar, on_tick, stop_on_fall)
     hardware = MujocoHardware(simulator, ignore_unactuated=episode.ignore_unactuated)
-    try:
-        stats = run(
-            ticks, hardware.read_state, hardware.write_effort, 1.0 / simulator.control_period,
-            realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
-            after_tick=ticks.after_tick, gc_policy=gc_policy, write_final=hardware.hold_effort,
-        )  # fmt: skip
-    finally:
-        ticks.finish()
+    stats = run(
+        ticks, hardware.read_state, hardware.write_effort, 1.0 / simulator.control_period,
+        realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
+        after_tick=ticks.after_tick, gc_policy=gc_policy, write_final=hardware.hold_effort,
+    )  # fmt: skip
     if bar is not None:
         bar.close(simulator.time)
     end = ticks.end(stats, hardware.physics_time)
@@ -92,12 +89,8 @@ def drive(
 class WalkTicks:
     """An episode's gait as ``va.run``'s controller, and what `drive` does after each tick.
 
-    ``compute`` is the gait's; without ``on_tick`` (which may read the gait's
-    [`ControlOutput`][]), the episode's ``native`` tick takes over after the first tick (the
-    gait's machine has started) when the compiled core can run the gait: the same efforts, bit
-    for bit (its ticks answer the efforts, the active attachments and their wrenches, which is
-    what `Episode.record` reads). Every tick's efforts and ``v`` are copied into rows allocated
-    before the loop.
+    ``compute`` is the gait's (its compiled machine's tick, once lowered in its warm-up). Every
+    tick's efforts and ``v`` are copied into rows allocated before the loop.
 
     Args:
         episode: The prepared walk.
@@ -108,7 +101,7 @@ class WalkTicks:
 
     Attributes:
         robot: The gait's robot (the efforts ``va.run`` writes).
-        compute: The tick: the gait's ``compute``, then the native tick's.
+        compute: The tick: the gait's ``compute``.
         ticks: Ticks run.
         fall_time: Simulated time of the first fallen tick [s], None if none.
         fall_tick: Index of the first fallen tick, None if none.
@@ -127,10 +120,8 @@ class WalkTicks:
         self.episode, self.gait, self.simulator = episode, gait, simulator
         self.robot = gait.robot
         self.compute: Callable[..., Any] = gait.compute
-        self._native = episode.native if on_tick is None else None
-        self._native_tick: Any = None
         self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
-        self._watched = bar is not None or on_tick is not None or self._native is not None
+        self._watched = bar is not None or on_tick is not None
         self._stance_every, self._record_every = episode.stance_every, episode.record_every
         self._sample, self._support = episode.stance.sample, gait.support_contacts
         self._fallen, self._record = episode.fallen, episode.record
@@ -176,22 +167,11 @@ class WalkTicks:
             self._stopping = True
 
     def _watch(self, tick: int, output: Any) -> None:
-        """``on_tick``, the progress bar, and the native tick once the machine has started."""
+        """``on_tick`` and the progress bar."""
         if self._on_tick is not None:
             self._on_tick(self.simulator, self.gait)
         if self._bar is not None and tick % 100 == 0:
             self._bar.set(self.simulator.time)
-        if self._native is not None and output is not None:  # the gait's machine has started
-            native, self._native = self._native, None
-            self._native_tick = native(self.gait)
-            if self._native_tick is not None:
-                self.compute = self._native_tick.compute
-            self._watched = self._on_tick is not None or self._bar is not None
-
-    def finish(self) -> None:
-        """The gait's objects as the native tick left them (if one ran)."""
-        if self._native_tick is not None:
-            self._native_tick.sync()
 
     def end(self, stats: RunStats, physics: float) -> LoopEnd:
         """The `LoopEnd` of the run ``stats`` describes (``physics``: seconds stepping)."""

@@ -1,4 +1,4 @@
-"""The hexapod body's virtual components, in its heading frame, and the pendulum's LQR.
+"""The hexapod body's virtual components, in its heading frame.
 
 The seed treats the hexapod "as if it were a space ship with virtual thrusters and reaction
 wheels" (VAC 1996, section 4): z, roll and pitch held by virtual spring-dampers, x, y and yaw
@@ -13,37 +13,117 @@ read the body's orientation as yaw, pitch, roll (Z-Y-X) and return world-frame w
   (the seed's commanded magnitude and angle of the body velocity), plus an optional force in
   that frame (the pendulum's LQR thruster).
 
-`lqr_gain` and `pendulum_model` design the pendulum balancer: the cart-pole
-linearised about the upright pendulum, state (pendulum angle, its rate, body velocity along the
-heading x), input the virtual x force.
+Each is one formula (`heading_moment`, `heading_force`) on floats or traced values: the Python
+tick and a compiled plan run the same arithmetic. The pendulum's LQR is in `pendulum`.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
 
 import numpy as np
-import pinocchio as pin
 
 from ...components.base import Component
+from ...components.slots import Slotted
 from ...exceptions import InvalidInputError
-from ..attitude import rotation_vector_angles, yaw_pitch_roll
+from ...vocabulary.scalar import cos, sin
+from ..attitude import rotation_vector_angles
 
-GRAVITY = 9.81  # [m/s^2]
+
+def heading_moment(
+    parameters: Mapping[str, Sequence], position: Sequence, velocity: Sequence
+) -> list:
+    """`HeadingAttitude`'s moment, world axes, on floats or traced values alike.
+
+    Args:
+        parameters: The component's slots by name (``stiffness``, ``damping``, ``roll``,
+            ``pitch``, ``yaw_rate``), each a sequence of values.
+        position: The body's rotation vector in the world.
+        velocity: Its angular velocity, world axes [rad/s].
+
+    Returns:
+        ``[mx, my, mz]`` [N m].
+
+    """
+    yaw, pitch, roll = rotation_vector_angles(*position)
+    c, s = cos(yaw), sin(yaw)
+    v0, v1, v2 = velocity
+    wx = c * v0 + s * v1  # angular velocity in the heading frame
+    wy = -s * v0 + c * v1
+    k0, k1 = parameters["stiffness"]
+    b0, b1, b2 = parameters["damping"]
+    (roll_d,), (pitch_d,), (rate_d,) = (parameters[n] for n in ("roll", "pitch", "yaw_rate"))
+    mx = k0 * (roll_d - roll) - b0 * wx
+    my = k1 * (pitch_d - pitch) - b1 * wy
+    mz = b2 * (rate_d - v2)
+    return [c * mx - s * my, s * mx + c * my, mz]
 
 
-class HeadingAttitude(Component):
+def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> list:
+    """`HeadingDamper`'s force, world axes, on floats or traced values alike.
+
+    Args:
+        parameters: The component's slots by name (``damping``, ``yaw``, ``velocity``,
+            ``force``).
+        velocity: The body's velocity along world x and y [m/s].
+
+    Returns:
+        ``[fx, fy]`` [N].
+
+    """
+    (yaw,) = parameters["yaw"]
+    c, s = cos(yaw), sin(yaw)
+    v0, v1 = velocity
+    vx = c * v0 + s * v1
+    vy = -s * v0 + c * v1
+    d0, d1 = parameters["damping"]
+    cx, cy = parameters["velocity"]
+    f0, f1 = parameters["force"]
+    fx = d0 * (cx - vx) + f0
+    fy = d1 * (cy - vy) + f1
+    return [c * fx - s * fy, s * fx + c * fy]
+
+
+class _Heading(Slotted, Component):
+    """What both heading components share: their slots as validated parameters."""
+
+    def _set(self, name: str, value: object, count: int, gains: bool = False) -> None:
+        """Set slot ``name`` (``count`` finite numbers, >= 0 for ``gains``) or trace it.
+
+        Raises:
+            InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
+
+        """
+        if self._store_traced(name, value):
+            return
+        what = f"{self.name}: {name}"
+        if gains:
+            array = _gains(value, count, what)
+        else:
+            try:
+                array = np.array(value, dtype=float).reshape(-1)
+            except (TypeError, ValueError):
+                raise InvalidInputError(f"{what} must be {count} numbers, got {value!r}.") from None
+            if array.shape != (count,) or not np.all(np.isfinite(array)):
+                raise InvalidInputError(f"{what} must be {count} finite numbers, got {value!r}.")
+        self._assign(f"_{name}", array)
+
+    def _floats(self) -> dict[str, list[float]]:
+        return {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
+
+
+class HeadingAttitude(_Heading):
     """Roll and pitch spring-dampers about the heading axes, and a yaw-rate damper.
 
     Reads the body's rotation vector in the world (the axes ``rx, ry, rz`` of a sensor from the
     world to the body, world reference) and its angular velocity in world axes; returns the
-    moment on the body in world axes::
+    moment on the body in world axes (`heading_moment`)::
 
         m_heading = (k_roll (roll_d - roll) - b_roll w_x,
                      k_pitch (pitch_d - pitch) - b_pitch w_y,
                      b_yaw (yaw_rate_d - w_z))          (w in the heading frame)
+
+    A compiled plan keeps its parameters in its registers and runs the same formula.
 
     Args:
         stiffness: ``(roll, pitch)`` [N m/rad].
@@ -54,61 +134,82 @@ class HeadingAttitude(Component):
         roll: Roll set point [rad].
         pitch: Pitch set point [rad].
         yaw_rate: Yaw rate set point [rad/s].
-        yaw: The body's yaw at the last evaluation [rad] (read by the gait).
 
     Raises:
         InvalidInputError: A gain that is not a finite number >= 0, or not 2 (3) of them.
 
     """
 
+    SLOTS = ("stiffness", "damping", "roll", "pitch", "yaw_rate")
+
     def __init__(
         self, stiffness: Sequence[float], damping: Sequence[float], name: str | None = None
     ) -> None:
         super().__init__(("rx", "ry", "rz"), name)
-        self.stiffness = _gains(stiffness, 2, f"{self.name}: stiffness (roll, pitch)")
-        self.damping = _gains(damping, 3, f"{self.name}: damping (roll, pitch, yaw)")
+        self._set("stiffness", stiffness, 2, gains=True)
+        self._set("damping", damping, 3, gains=True)
         self.roll = 0.0
         self.pitch = 0.0
         self.yaw_rate = 0.0
-        self.yaw = 0.0
+
+    @property
+    def stiffness(self) -> np.ndarray:
+        """``(roll, pitch)`` [N m/rad]."""
+        return self._traced("stiffness")
+
+    @property
+    def damping(self) -> np.ndarray:
+        """``(roll, pitch, yaw)`` [N m s/rad]."""
+        return self._traced("damping")
+
+    @property
+    def roll(self) -> float:
+        """Roll set point [rad]."""
+        return self._traced("roll")[0]
+
+    @roll.setter
+    def roll(self, value: float) -> None:
+        self._set("roll", value, 1)
+
+    @property
+    def pitch(self) -> float:
+        """Pitch set point [rad]."""
+        return self._traced("pitch")[0]
+
+    @pitch.setter
+    def pitch(self, value: float) -> None:
+        self._set("pitch", value, 1)
+
+    @property
+    def yaw_rate(self) -> float:
+        """Yaw rate set point [rad/s]."""
+        return self._traced("yaw_rate")[0]
+
+    @yaw_rate.setter
+    def yaw_rate(self, value: float) -> None:
+        self._set("yaw_rate", value, 1)
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Moment on the body in world axes from its rotation vector and angular velocity."""
-        yaw, pitch, roll = yaw_pitch_roll(pin.exp3(position))
-        self.yaw = yaw
-        c, s = math.cos(yaw), math.sin(yaw)
-        wx = c * velocity[0] + s * velocity[1]  # angular velocity in the heading frame
-        wy = -s * velocity[0] + c * velocity[1]
-        k, b = self.stiffness, self.damping
-        mx = k[0] * (self.roll - roll) - b[0] * wx
-        my = k[1] * (self.pitch - pitch) - b[1] * wy
-        mz = b[2] * (self.yaw_rate - velocity[2])
-        return np.array((c * mx - s * my, s * mx + c * my, mz))
+        position, velocity = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
+        return np.array(heading_moment(self._floats(), position.tolist(), velocity.tolist()))
 
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats: the same operations, the same bits.
+        """`compute_wrench` on plain floats (the controller's float path): `heading_moment`."""
+        return heading_moment(self._floats(), position, velocity)
 
-        The angles without the rotation matrix (``gaits.attitude.rotation_vector_angles``:
-        ``pin.exp3``'s operations on the entries they read).
-        """
-        yaw, pitch, roll = rotation_vector_angles(*position)
-        self.yaw = yaw
-        c, s = math.cos(yaw), math.sin(yaw)
-        v0, v1, v2 = velocity
-        wx = c * v0 + s * v1  # angular velocity in the heading frame
-        wy = -s * v0 + c * v1
-        k0, k1 = self.stiffness.tolist()
-        b0, b1, b2 = self.damping.tolist()
-        mx = k0 * (self.roll - roll) - b0 * wx
-        my = k1 * (self.pitch - pitch) - b1 * wy
-        mz = b2 * (self.yaw_rate - v2)
-        return [c * mx - s * my, s * mx + c * my, mz]
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """`heading_moment` on the plan's traced slots and readings (a plan's ops)."""
+        return heading_moment(slots, position, velocity)
 
 
-class HeadingDamper(Component):
+class HeadingDamper(_Heading):
     """Dampers toward a velocity given in the heading frame, plus a force in that frame.
+
+    Returns the force on the body in world axes (`heading_force`); a compiled plan keeps its
+    parameters in its registers and runs the same formula.
 
     Args:
         damping: ``(along, across)`` the heading [N s/m].
@@ -125,32 +226,65 @@ class HeadingDamper(Component):
 
     """
 
+    SLOTS = ("damping", "yaw", "velocity", "force")
+
     def __init__(self, damping: Sequence[float], name: str | None = None) -> None:
         super().__init__(("x", "y"), name)
-        self.damping = _gains(damping, 2, f"{self.name}: damping (along, across)")
+        self.damping = damping
         self.yaw = 0.0
-        self.velocity = np.zeros(2)
-        self.force = np.zeros(2)
+        self.velocity = (0.0, 0.0)
+        self.force = (0.0, 0.0)
+
+    @property
+    def damping(self) -> np.ndarray:
+        """``(along, across)`` the heading [N s/m]."""
+        return self._traced("damping")
+
+    @damping.setter
+    def damping(self, value: Sequence[float]) -> None:
+        self._set("damping", value, 2, gains=True)
+
+    @property
+    def yaw(self) -> float:
+        """Heading of the body [rad]."""
+        return self._traced("yaw")[0]
+
+    @yaw.setter
+    def yaw(self, value: float) -> None:
+        self._set("yaw", value, 1)
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Commanded body velocity in the heading frame ``(vx, vy)`` [m/s]."""
+        return self._traced("velocity")
+
+    @velocity.setter
+    def velocity(self, value: Sequence[float]) -> None:
+        self._set("velocity", value, 2)
+
+    @property
+    def force(self) -> np.ndarray:
+        """Extra force in the heading frame ``(fx, fy)`` [N]."""
+        return self._traced("force")
+
+    @force.setter
+    def force(self, value: Sequence[float]) -> None:
+        self._set("force", value, 2)
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Force on the body in world axes."""
         floats = np.asarray(velocity, dtype=float).tolist()
-        return np.array(self.compute_wrench_floats([], floats, time))
+        return np.array(heading_force(self._floats(), floats))
 
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats (the position is not read)."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        v0, v1 = velocity
-        vx = c * v0 + s * v1
-        vy = -s * v0 + c * v1
-        d0, d1 = self.damping.tolist()
-        cx, cy = np.asarray(self.velocity, dtype=float).tolist()
-        f0, f1 = np.asarray(self.force, dtype=float).tolist()
-        fx = d0 * (cx - vx) + f0
-        fy = d1 * (cy - vy) + f1
-        return [c * fx - s * fy, s * fx + c * fy]
+        """`compute_wrench` on plain floats (the position is not read): `heading_force`."""
+        return heading_force(self._floats(), velocity)
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """`heading_force` on the plan's traced slots and reading (a plan's ops)."""
+        return heading_force(slots, velocity)
 
 
 def _gains(values: Sequence[float], count: int, what: str) -> np.ndarray:
@@ -161,131 +295,3 @@ def _gains(values: Sequence[float], count: int, what: str) -> np.ndarray:
     if array.shape != (count,) or not np.all(np.isfinite(array)) or np.any(array < 0.0):
         raise InvalidInputError(f"{what} must be {count} finite numbers >= 0, got {values!r}.")
     return array
-
-
-@dataclass(frozen=True)
-class PendulumModel:
-    """The cart-pole linearised about the upright pendulum: ``xdot = A x + B u``.
-
-    State ``(theta, theta_dot, body velocity)`` [rad, rad/s, m/s]; input the virtual force on
-    the body along the pendulum's swing plane [N]. ``theta`` is positive when the pendulum leans
-    forward (its top ahead of the pivot).
-
-    Attributes:
-        a: ``(3, 3)``.
-        b: ``(3, 1)``.
-        body_mass: Mass moved by the virtual force, the pendulum excluded [kg].
-        mass: Pendulum mass [kg].
-        com: Pivot to the pendulum's centre of mass [m].
-        inertia: Pendulum inertia about the pivot [kg m^2].
-
-    """
-
-    a: np.ndarray
-    b: np.ndarray
-    body_mass: float
-    mass: float
-    com: float
-    inertia: float
-
-
-def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) -> PendulumModel:
-    """Linearise the cart-pole (Lagrange's equations about ``theta = 0``).
-
-    ``(M + m) a + m l theta'' = F`` and ``m l a + I theta'' = m g l theta``, with ``a`` the
-    body's acceleration, ``I`` the pendulum's inertia about the pivot.
-
-    Args:
-        body_mass: ``M`` [kg].
-        mass: ``m`` [kg].
-        com: ``l`` [m].
-        inertia: ``I`` [kg m^2], at least ``m l^2``.
-
-    Returns:
-        The `PendulumModel`.
-
-    Raises:
-        InvalidInputError: A value that is not a positive finite number, or ``I < m l^2``.
-
-    """
-    values = (body_mass, mass, com, inertia)
-    if not all(isinstance(v, (int, float)) and math.isfinite(v) and v > 0 for v in values):
-        raise InvalidInputError(
-            f"pendulum_model: masses, com and inertia must be positive numbers, got {values}."
-        )
-    if inertia < mass * com**2 * (1.0 - 1e-12):
-        raise InvalidInputError(
-            f"pendulum_model: inertia about the pivot {inertia} is below m l^2 = {mass * com**2}."
-        )
-    mass_matrix = np.array(((body_mass + mass, mass * com), (mass * com, inertia)))
-    inverse = np.linalg.inv(mass_matrix)
-    # accelerations (a, theta'') = inverse @ (F, m g l theta)
-    a = np.zeros((3, 3))
-    a[0, 1] = 1.0
-    a[1, 0] = inverse[1, 1] * mass * GRAVITY * com
-    a[2, 0] = inverse[0, 1] * mass * GRAVITY * com
-    b = np.array([[0.0], [inverse[1, 0]], [inverse[0, 0]]])
-    return PendulumModel(a, b, float(body_mass), float(mass), float(com), float(inertia))
-
-
-def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Continuous-time LQR gain ``K`` (``u = -K x``) from the stable subspace of the Hamiltonian.
-
-    Solves ``A^T P + P A - P B R^-1 B^T P + Q = 0`` with ``P = U21 U11^-1``, ``[U11; U21]`` the
-    eigenvectors of ``[[A, -B R^-1 B^T], [-Q, -A^T]]`` of negative real part.
-
-    Args:
-        a: ``(n, n)``.
-        b: ``(n, m)``.
-        q: ``(n, n)`` state weight, symmetric positive semi-definite.
-        r: ``(m, m)`` input weight, symmetric positive definite.
-
-    Returns:
-        ``K``, ``(m, n)``.
-
-    Raises:
-        InvalidInputError: Shapes that do not match, or no stabilising solution (an
-            unstabilisable pair or eigenvalues on the imaginary axis).
-
-    """
-    a, b, q, r = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (a, b, q, r))
-    n, m = a.shape[0], b.shape[1]
-    if a.shape != (n, n) or b.shape != (n, m) or q.shape != (n, n) or r.shape != (m, m):
-        raise InvalidInputError(
-            f"lqr_gain: shapes A {a.shape}, B {b.shape}, Q {q.shape}, R {r.shape} do not match."
-        )
-    r_inv = np.linalg.inv(r)
-    hamiltonian = np.block([[a, -b @ r_inv @ b.T], [-q, -a.T]])
-    values, vectors = np.linalg.eig(hamiltonian)
-    stable = vectors[:, values.real < 0.0]
-    if stable.shape[1] != n or np.any(np.abs(values.real) < 1e-9):
-        raise InvalidInputError(
-            "lqr_gain: no stabilising solution (check that (A, B) is stabilisable)."
-        )
-    p = np.real(stable[n:] @ np.linalg.inv(stable[:n]))
-    return r_inv @ b.T @ (0.5 * (p + p.T))
-
-
-def pendulum_lqr(
-    model: pin.Model, joint_name: str, weights: Sequence[float], effort: float
-) -> tuple[PendulumModel, np.ndarray, tuple[int, int]]:
-    """The pendulum's linear model and LQR from the robot's own inertias (the controller's model).
-
-    Args:
-        model: The robot's Pinocchio model (with the pendulum's joint).
-        joint_name: The pendulum's joint, about the body's y axis.
-        weights: The LQR's state weights (angle, rate, velocity error).
-        effort: The LQR's effort weight.
-
-    Returns:
-        The `PendulumModel`, the gain ``(1, 3)`` and the joint's ``(q index, v index)``.
-
-    """
-    joint = model.getJointId(joint_name)
-    inertia = model.inertias[joint]
-    com = float(np.linalg.norm(inertia.lever))
-    about_pivot = float(inertia.inertia[1, 1]) + inertia.mass * com**2  # about y [kg m^2]
-    total = float(sum(i.mass for i in model.inertias))
-    pendulum = pendulum_model(total - inertia.mass, inertia.mass, com, about_pivot)
-    gain = lqr_gain(pendulum.a, pendulum.b, np.diag(weights), np.array([[effort]]))
-    return pendulum, gain, (model.joints[joint].idx_q, model.joints[joint].idx_v)

@@ -4,22 +4,39 @@ A support foot moves over the ground relative to the body; the gait measures how
 support tripod is behind its nominal places (in strides, an ellipse of axes step length and
 width) to end the stance, and places the swing feet so that the next stance is centred under
 the body. Body axes throughout.
+
+Every function is written once on floats or traced values alike (`va.scalar` math, `select` in
+place of value-dependent branches, tuples): the Python tick runs them on floats and a compiled
+plan traces them into its ops (`tripod_setpoints`, the tripod's whole per-tick update).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
-from .body import GRAVITY
+from ...vocabulary.scalar import (
+    hypot,
+    logical_and,
+    logical_not,
+    logical_or,
+    maximum,
+    minimum,
+    select,
+    sqrt,
+)  # fmt: skip
+from ..planar import lift_profile, smoothstep
 from .parameters import HexapodParameters
+from .pendulum import GRAVITY
 
-Pair = tuple[float, float]
+Pair = tuple
+
+__all__ = [
+    "behind", "ground_velocity", "landing", "strides", "support_plane", "swing_targets",
+    "tripod_setpoints",
+]  # fmt: skip
 
 
-def ground_velocity(
-    velocity: Pair, yaw_rate: float, nominal: Sequence[Sequence[float]]
-) -> list[Pair]:
+def ground_velocity(velocity: Pair, yaw_rate: object, nominal: Sequence[Sequence]) -> list:
     """Velocity over the ground of the nominal foot points, body axes [m/s].
 
     A support foot moves at minus this relative to the body.
@@ -35,18 +52,18 @@ def ground_velocity(
     return [(vx - w * y, vy + w * x) for x, y, _ in nominal]
 
 
-def strides(parameters: HexapodParameters, dx: float, dy: float) -> float:
+def strides(parameters: HexapodParameters, dx: object, dy: object) -> object:
     """A horizontal displacement in strides: the ellipse of axes step length and width is 1."""
-    p = parameters
-    return math.sqrt((dx / p.step_length) ** 2 + (dy / p.step_width) ** 2)
+    x, y = dx / parameters.step_length, dy / parameters.step_width
+    return sqrt(x * x + y * y)
 
 
 def behind(
     parameters: HexapodParameters,
-    offsets: Sequence[Sequence[float]],
-    sx: Sequence[float],
-    sy: Sequence[float],
-) -> float:
+    offsets: Sequence[Sequence],
+    sx: Sequence,
+    sy: Sequence,
+) -> object:
     """How far the support feet are behind their nominal places, in strides (largest).
 
     Measured along each foot's motion relative to the body (against its velocity over the
@@ -60,26 +77,30 @@ def behind(
         sy: The same along body y.
 
     """
-    lag = None
-    length, width = parameters.step_length, parameters.step_width
+    lag, found = 0.0, None
     for (dx, dy, *_), vx, vy in zip(offsets, sx, sy, strict=True):
-        speed = math.hypot(vx, vy)
-        if speed > 1e-3:
-            ux, uy = vx / speed, vy / speed
-            value = -(dx * ux + dy * uy) * math.sqrt((ux / length) ** 2 + (uy / width) ** 2)
-            if lag is None or value > lag:  # max(lag, value)
-                lag = value
-    return 0.0 if lag is None else float(lag)
+        speed = hypot(vx, vy)
+        moving = speed > 1e-3
+        safe = select(moving, speed, 1.0)  # a foot at rest is not counted (no division by 0)
+        ux, uy = vx / safe, vy / safe
+        value = -(dx * ux + dy * uy) * strides(parameters, ux, uy)
+        if found is None:  # the first foot (a constant of the loop, not of the values)
+            take, found = moving, moving
+        else:
+            take = logical_and(moving, logical_or(logical_not(found), value > lag))
+            found = logical_or(found, moving)
+        lag = select(take, value, lag)
+    return lag
 
 
 def landing(
     parameters: HexapodParameters,
     ground: Sequence[Pair],
-    nominal: Sequence[Sequence[float]],
+    nominal: Sequence[Sequence],
     velocity: Pair,
     setpoint: Pair,
     acceleration: Pair,
-) -> list[list[float]]:
+) -> list:
     """Where the swing feet land relative to the body (body axes, x and y) [m].
 
     Half a stance's travel plus a double support's ahead of their nominal place (the
@@ -100,9 +121,12 @@ def landing(
 
     """
     p = parameters
-    length, width = p.step_length, p.step_width
-    rate = max([math.sqrt((x / length) ** 2 + (y / width) ** 2) for x, y in ground])  # [1/s]
-    stance = p.max_stance_time if rate * p.max_stance_time <= 1.0 else 1.0 / rate
+    rate: object = None  # [1/s]
+    for x, y in ground:
+        value = strides(p, x, y)
+        rate = value if rate is None else maximum(rate, value)
+    short = rate * p.max_stance_time <= 1.0
+    stance = select(short, p.max_stance_time, 1.0 / select(short, 1.0, rate))
     (fx, fy), (cx, cy) = velocity, setpoint
     ax, ay = acceleration
     lean = p.height / GRAVITY  # the centre of pressure trails by lean * acceleration [s^2]
@@ -112,14 +136,12 @@ def landing(
     places = []
     for (sx, sy), (x, y, _) in zip(ground, nominal, strict=True):
         ox, oy = lead * sx + ex, lead * sy + ey
-        factor = min(1.0, 0.6 / max(math.sqrt((ox / length) ** 2 + (oy / width) ** 2), 1e-9))
-        places.append([x + ox * factor, y + oy * factor])
+        factor = minimum(1.0, 0.6 / maximum(strides(p, ox, oy), 1e-9))
+        places.append((x + ox * factor, y + oy * factor))
     return places
 
 
-def support_plane(
-    stance: Sequence[Sequence[float]], previous: tuple[float, float, float]
-) -> tuple[float, float, float]:
+def support_plane(stance: Sequence[Sequence], previous: tuple) -> tuple:
     """The ground plane ``z = a x + b y + c`` through three support feet, ``(a, b, c)``.
 
     Args:
@@ -130,20 +152,21 @@ def support_plane(
     (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stance
     ux, uy, uz, vx, vy, vz = x2 - x1, y2 - y1, z2 - z1, x3 - x1, y3 - y1, z3 - z1
     nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx  # normal
-    if abs(nz) > 1e-9:  # else the feet are in a line: keep the previous plane
-        a, b = -nx / nz, -ny / nz
-        return (a, b, z1 - a * x1 - b * y1)
-    return previous
+    flat = abs(nz) > 1e-9  # else the feet are in a line: keep the previous plane
+    safe = select(flat, nz, 1.0)
+    a, b = -nx / safe, -ny / safe
+    plane = (a, b, z1 - a * x1 - b * y1)
+    return tuple(select(flat, new, old) for new, old in zip(plane, previous, strict=True))
 
 
 def swing_targets(
-    starts: Sequence[Sequence[float]],
+    starts: Sequence[Sequence],
     places: Sequence[Pair],
-    plane: tuple[float, float, float],
-    reach: float,
-    rest: float,
-    up: float,
-) -> list[tuple[float, float, float]]:
+    plane: tuple,
+    reach: object,
+    rest: object,
+    up: object,
+) -> list:
     """Where the swing feet are carried this tick, body axes [m].
 
     Args:
@@ -162,3 +185,69 @@ def swing_targets(
         above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
         targets.append((x, y, a * x + b * y + c + rest * above + up))
     return targets
+
+
+def tripod_setpoints(
+    parameters: HexapodParameters,
+    feet: Sequence[Sequence],
+    support: Sequence[int],
+    swing: Sequence[int],
+    nominal: Sequence[Sequence],
+    motion: Sequence,
+    foot_radius: float,
+    previous: dict,
+) -> dict:
+    """The tripod's per-tick update: ground plane, lag, phase, landing, swing set points.
+
+    Args:
+        parameters: The gait's constants.
+        feet: The six feet relative to the body, body axes [m] (row i - 1 for leg i).
+        support: The support tripod's rows of ``feet``.
+        swing: The swing tripod's rows.
+        nominal: The feet's nominal places relative to the body [m].
+        motion: The body's height [m], its low-passed velocity ``(vx, vy)``, the velocity set
+            point and its acceleration (heading frame) [m/s, m/s^2], the yaw rate command
+            [rad/s], the time in the stance and since the last set points [s].
+        foot_radius: The feet's radius [m].
+        previous: ``plane`` (3), ``phase``, ``lift_off``, ``targets`` and ``rates`` (9 each:
+            per swing foot its lift-off point, last set point and that set point's low-passed
+            velocity) before this tick.
+
+    Returns:
+        The same keys after this tick, and ``ground`` (the ground height under the body [m]).
+
+    """
+    p = parameters
+    height, fx, fy, cx, cy, ax, ay, yaw_rate, elapsed, dt = motion
+    plane = support_plane([feet[r] for r in support], previous["plane"])
+    ground = height + plane[2] - foot_radius
+    velocities = ground_velocity((fx, fy), yaw_rate, nominal)
+    offsets = [(feet[r][0] - nominal[r][0], feet[r][1] - nominal[r][1]) for r in support]
+    lag = behind(p, offsets, *zip(*[velocities[r] for r in support], strict=True))
+    progress = minimum(maximum(0.5 + lag, elapsed / p.max_stance_time), 1.0)
+    phase = maximum(previous["phase"], progress)  # never decreasing
+    reach = smoothstep(minimum(1.0, 1.25 * phase))
+    rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
+    up = p.lift * lift_profile(phase, p.lift_peak) - p.touchdown_depth * phase
+    places = landing(
+        p, [velocities[r] for r in swing], [nominal[r] for r in swing], (fx, fy), (cx, cy),
+        (ax, ay),
+    )  # fmt: skip
+    lift_off, last, rates = previous["lift_off"], previous["targets"], previous["rates"]
+    starts = [lift_off[3 * k : 3 * k + 3] for k in range(3)]
+    targets = swing_targets(starts, places, plane, reach, rest, up)
+    moved = dt > 0.0
+    blend = select(moved, minimum(1.0, dt / p.velocity_filter), 0.0)
+    step = select(moved, dt, 1.0)
+    new_targets, new_rates = [], []
+    for k, target in enumerate(targets):
+        for i, value in enumerate(target):
+            rate = rates[3 * k + i]
+            change = blend * ((value - last[3 * k + i]) / step - rate)
+            new_rates.append(select(moved, rate + change, rate))
+            new_targets.append(value)
+    return {
+        "plane": plane, "phase": phase, "lift_off": tuple(lift_off), "ground": ground,
+        "targets": tuple(new_targets), "rates": tuple(new_rates),
+    }  # fmt: skip
+

@@ -48,7 +48,6 @@ from ..walk_loop import drive
 from .config import HexapodWalkConfig, command_path
 from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
-from .native import NativeTick
 from .parameters import HexapodParameters
 from .walker import HexapodWalker
 
@@ -227,9 +226,7 @@ def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> Hexapo
             "config": asdict(config),
         },
     )
-    episode = HexapodEpisode(gait, simulator, terrain, recorder, guidance)
-    episode.native = NativeTick.of  # the compiled core's tick when it can run the gait
-    return episode
+    return HexapodEpisode(gait, simulator, terrain, recorder, guidance)
 
 
 def _with_timing(
@@ -304,6 +301,5 @@ WALK = Walk(
     force_scale=1 / 100,
     viewer_robot=_viewer_robot,
     speeds_for=hexapod_speeds,
-    native=NativeTick.of,
     nominal_speed=hexapod_speed,
 )

@@ -33,6 +33,11 @@ inputs are the body velocity in the heading frame and the yaw rate
 (`HexapodWalker.set_command`); the velocity set point follows them at a bounded
 acceleration.
 
+The walker is lowered whole into a compiled machine: its state is a `Memory`, its hooks and its
+stance's end are `lowerable` (`va.scalar` math, `select` for value-dependent branches), its
+body components and the tripod's update (`footholds.tripod_setpoints`) are written once on
+floats and traced values alike.
+
 Contacts (measured per foot from MuJoCo): a tripod carries the body with a static margin of
 only ``0.075 m - step / 2`` (the centre of mass crosses that close to the triangle's edge at
 either end of a stance), so the gait keeps every support foot loaded and inside MuJoCo's friction
@@ -55,27 +60,34 @@ cone by construction:
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
 from ...components.springs import SpringDamper
 from ...control import events
 from ...control.state_machine import Context, State, StateMachine, Transition
-from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.robot import Robot
+from ...vocabulary.scalar import (
+    asin,
+    atan2,
+    cos,
+    dot,
+    hypot,
+    logical_and,
+    logical_or,
+    maximum,
+    minimum,
+    select,
+    sin,
+)  # fmt: skip
+from ...vocabulary.traced import lowerable
 from ..base import Gait
-from .body import (
-    HeadingAttitude,
-    HeadingDamper,
-    PendulumModel,
-    pendulum_lqr,
-)
-from .footholds import ground_velocity
-from .kernel import SHAPE, TRIPOD_SETPOINTS
+from .body import HeadingAttitude, HeadingDamper
+from .footholds import ground_velocity, tripod_setpoints
+from .memory import SUPPORT, WalkerState, walker_memory
 from .parameters import HexapodParameters
+from .pendulum import PendulumModel, pendulum_lqr
 
 LEGS = (1, 2, 3, 4, 5, 6)
 TRIPODS = {"a": (1, 3, 5), "b": (2, 4, 6)}
@@ -85,7 +97,12 @@ PENDULUM_JOINT = "pendulum_joint"
 __all__ = ["LEGS", "TRIPODS", "HexapodWalker"]
 
 
-class HexapodWalker(Gait):
+def _floats(value: object) -> object:
+    """A tick's read as floats: a numpy array's entries, traced tuples as they are."""
+    return value.tolist() if isinstance(value, np.ndarray) else value
+
+
+class HexapodWalker(WalkerState, Gait):
     """The hexapod's tripod gait with the seed's three inputs.
 
     Args:
@@ -94,8 +111,11 @@ class HexapodWalker(Gait):
         parameters: Gait variables and component constants.
 
     Attributes:
-        velocity: Commanded body velocity in the heading frame ``(vx, vy)`` [m/s].
-        yaw_rate: Commanded yaw rate [rad/s].
+        memory: What the gait carries from tick to tick (a compiled plan's registers once it
+            is lowered): the command, the velocity set point and its acceleration, the measured
+            and low-passed body velocity, the filters' clocks, the ground plane, the swing's
+            phase, the ground height, the support tripod, the swing feet's lift-off points, set
+            points and their velocities, the pendulum's angle.
         pendulum: The pendulum's linear model, or None without a pendulum.
         gain: The pendulum's LQR gain ``(1, 3)``, or None.
 
@@ -112,9 +132,6 @@ class HexapodWalker(Gait):
         super().__init__(robot)
         self.parameters = p = parameters or HexapodParameters()
         model = robot.model
-        self.velocity = np.zeros(2)
-        self.velocity_setpoint = np.zeros(2)  # the command, acceleration-limited [m/s]
-        self.yaw_rate = 0.0
         weight = robot.mass * 9.81  # [N]
         self.height = SpringDamper(
             ("z",), p.stiffness_z, p.damping_z, setpoint=p.height, force=weight, name="height"
@@ -127,30 +144,15 @@ class HexapodWalker(Gait):
         }
         self._declare_actuators()
         self._standing()
-        self.ground = 0.0  # ground height under the body [m]
-        self.support = "a"
-        self.phase = 0.0  # swing progress, 0 to 1
-        #: the tripod kernel's state: the ground plane (a, b, c), the phase, the ground height
-        self._state = np.array((0.0, 0.0, float(self.nominal[:, 2].mean()), 0.0, 0.0))
-        #: per swing foot: its lift-off point, last set point and its velocity [m, m/s]
-        self._swing = np.zeros((3, 9))
-        self._shape = np.array(
-            [getattr(self if name == "foot_radius" else p, name) for name in SHAPE]
-        )
-        self._target_time = 0.0
-        self._velocity_body = (0.0, 0.0)  # measured, heading frame [m/s]
-        self._velocity_filtered = (0.0, 0.0)  # low-passed, for foot placement [m/s]
-        self._setpoint = (0.0, 0.0)  # velocity_setpoint as floats [m/s]
-        self._acceleration = (0.0, 0.0)  # of the velocity set point [m/s^2]
-        self._filter_time = 0.0
+        self.memory = walker_memory(float(self.nominal[:, 2].mean()))
         self.pendulum: PendulumModel | None = None
         self.gain: np.ndarray | None = None
-        self.pendulum_angle = 0.0  # from the vertical, in the heading x-z plane [rad]
-        self._pendulum_index = None
+        self._pendulum_index: tuple[int, int] | None = None
         if model.existJointName(PENDULUM_JOINT):
             self.pendulum, self.gain, self._pendulum_index = pendulum_lqr(
                 model, PENDULUM_JOINT, p.pendulum_weights, p.pendulum_effort
             )
+            self._gain = tuple(self.gain[0].tolist())
             self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x: the LQR's
         self._finish(self._machine(p.double_support_time))
 
@@ -172,7 +174,7 @@ class HexapodWalker(Gait):
             c.add(f"swing_{i}", leg, [self.swing[i]])
 
     def _standing(self) -> None:
-        """The feet's nominal places and the frames `_body_state` reads."""
+        """The feet's nominal places and whether the body is the free flyer's frame."""
         model = self.robot.model
         standing = Snapshot(self.robot, self.initial_configuration())
         body_position = standing.frame_position("body")
@@ -181,21 +183,9 @@ class HexapodWalker(Gait):
             [standing.frame_position(f"foot_{i}") - body_position for i in LEGS]
         )
         self.foot_radius = float(self.parameters.height + self.nominal[:, 2].mean())  # [m]
-        self._body_frame = model.getFrameId("body")
-        self._foot_frames = [model.getFrameId(f"foot_{i}") for i in LEGS]
-        self._nominal = self.nominal.tolist()
+        self._nominal = tuple(tuple(row) for row in self.nominal.tolist())
         self._rows = {name: tuple(leg - 1 for leg in legs) for name, legs in TRIPODS.items()}
-        #: the tripod kernel's rows: the support tripod's feet, then the swing tripod's
-        self._kernel_rows = {
-            name: np.array(self._rows[name] + self._rows[OTHER[name]], dtype=np.int64)
-            for name in TRIPODS
-        }
-        self._nominal_feet = np.ascontiguousarray(self.nominal, dtype=float)
-        self._table_rows = None  # the kinematics' frame-table rows (cached on first use)
-        self._feet_rows = np.zeros(6, dtype=int)
-        self._body_row = 0
-        self._frame_rows = np.zeros(7, dtype=np.int64)  # the body's row, then the feet's
-        frame = model.frames[self._body_frame]
+        frame = model.frames[model.getFrameId("body")]
         #: the body frame is the free flyer's (its velocity is read from v directly)
         self._body_is_root = (
             frame.parentJoint == 1 and model.joints[1].nq == 7 and frame.placement.isIdentity()
@@ -205,7 +195,7 @@ class HexapodWalker(Gait):
         """The four states (a tripod's stance, then a double support, per tripod)."""
         states, transitions = [], []
         for name, legs in TRIPODS.items():
-            other = "b" if name == "a" else "a"
+            other = OTHER[name]
             states += [
                 State(
                     f"tripod_{name}",
@@ -221,12 +211,11 @@ class HexapodWalker(Gait):
                     on_update=self._update_double,
                 ),
             ]
-            swing_feet = tuple(f"foot_{i}" for i in TRIPODS[other])
             transitions += [
                 Transition(
                     f"tripod_{name}",
                     f"double_{other}",
-                    events.when(lambda context, feet=swing_feet: self._stance_over(context, feet)),
+                    events.when(self._stance_over),
                     f"tripod {other} down or the body a step over tripod {name}",
                 ),
                 Transition(
@@ -238,147 +227,137 @@ class HexapodWalker(Gait):
             ]
         return StateMachine(states, transitions, "double_a")
 
-    # --- inputs --------------------------------------------------------------------------------
+    # --- per-tick updates (traced into a compiled plan) ----------------------------------------
 
-    def set_command(self, velocity: tuple[float, float] | np.ndarray, yaw_rate: float) -> None:
-        """Set the three inputs: body velocity in the heading frame and the yaw rate.
-
-        Args:
-            velocity: ``(vx, vy)`` [m/s] along and across the heading.
-            yaw_rate: [rad/s].
-
-        Raises:
-            InvalidInputError: Values that are not finite.
-
-        """
-        vx, vy = velocity
-        vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
-        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
-            raise InvalidInputError(
-                f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
-            )
-        if [vx, vy] != self.velocity.tolist():
-            self.velocity = np.array((vx, vy))
-        self.yaw_rate = yaw_rate
-
-    # --- pendulum ------------------------------------------------------------------------------
-
-    def _balance(self, context: Context, pitch: float, pitch_rate: float) -> None:
-        iq, iv = self._pendulum_index
-        self.pendulum_angle = float(context.q[iq]) + pitch
-        rate = float(context.v[iv]) + pitch_rate
-        error = (self.pendulum_angle, rate, self._velocity_body[0] - self.velocity_setpoint[0])
-        self.planar.force = np.array((-float(self.gain[0] @ np.array(error)), 0.0))
-
-    # --- per-tick updates ----------------------------------------------------------------------
-
-    def _stance_over(self, context: Context, swing_feet: tuple[str, ...]) -> bool:
+    @lowerable
+    def _stance_over(self, context: Context) -> object:
         """The body has travelled a step, or the swing feet have all touched down."""
-        if self.phase >= 1.0:
-            return True
-        contacts = context.contacts
-        if contacts is None or self.phase < self.parameters.touchdown_phase:
-            return False
-        for foot in swing_feet:  # all(...), without a generator per tick
-            if not contacts.get(foot, False):
-                return False
-        return True
+        phase = self.memory.phase
+        switches = context.contacts
+        down = phase >= self.parameters.touchdown_phase
+        for i in TRIPODS[OTHER[context.state[-1]]]:
+            down = logical_and(down, switches.get(f"foot_{i}", 0.0))
+        return logical_or(phase >= 1.0, down)
 
-    def _body_state(self, context: Context) -> float:
+    def _balance(self, context: Context, pitch: object, pitch_rate: object) -> None:
+        """The pendulum's LQR: the planar damper's force along the heading."""
+        iq, iv = self._pendulum_index
+        memory = self.memory
+        memory.pendulum = angle = context.q[iq] + pitch
+        rate = context.v[iv] + pitch_rate
+        error = (angle, rate, memory.body_velocity[0] - memory.setpoint[0])
+        self.planar.force = (-dot(self._gain, error), 0.0)
+
+    def _body_state(self, context: Context) -> object:
         """Heading inputs, measured velocity, pendulum; the body's height.
 
         Returns:
             The body's height [m].
 
         """
-        snapshot = context.snapshot
-        table = snapshot.frame_table
-        rows = snapshot.tree.frame_tables[0]
-        if rows is not self._table_rows:  # the frames' rows in the kinematics' frame table
-            self._table_rows = rows
-            self._feet_rows = np.array([rows[f] for f in self._foot_frames])
-            self._body_row = rows[self._body_frame]
-            self._frame_rows = np.array([self._body_row, *self._feet_rows], dtype=np.int64)
-        body = table[self._body_row]
-        rotation, position = body[:9].reshape(3, 3), body[9:]
-        r = rotation.tolist()
-        yaw = math.atan2(r[1][0], r[0][0])
-        pitch = math.asin(max(-1.0, min(1.0, -r[2][0])))
-        c, s = math.cos(yaw), math.sin(yaw)
+        memory, p = self.memory, self.parameters
+        r = _floats(context.frame_rotation("body"))
+        position = _floats(context.frame_position("body"))
+        yaw = atan2(r[1][0], r[0][0])
+        pitch = asin(maximum(-1.0, minimum(1.0, -r[2][0])))
+        c, s = cos(yaw), sin(yaw)
+        velocity = context.v
         if self._body_is_root:  # v[:3] is the body's velocity in body axes
-            u, v, w = context.v[:3].tolist()
+            u, v, w = velocity[0], velocity[1], velocity[2]
             world_x = r[0][0] * u + r[0][1] * v + r[0][2] * w
             world_y = r[1][0] * u + r[1][1] * v + r[1][2] * w
         else:
-            world_x, world_y, _ = snapshot.frame_velocity(self._body_frame).tolist()
+            world_x, world_y, _ = _floats(context.frame_velocity("body"))
         vx, vy = c * world_x + s * world_y, -s * world_x + c * world_y  # heading frame
-        self._velocity_body = (vx, vy)
-        dt = max(context.time - self._filter_time, 0.0)
-        self._filter_time = context.time
-        p = self.parameters
-        blend = min(1.0, dt / p.velocity_filter)
-        fx, fy = self._velocity_filtered
-        self._velocity_filtered = (fx + blend * (vx - fx), fy + blend * (vy - fy))
-        cx, cy = self.velocity.tolist()
-        sx, sy = self._setpoint
-        if (cx, cy) != (sx, sy):  # the set point follows the command at a bounded acceleration
-            ex, ey = cx - sx, cy - sy
-            size, most = math.hypot(ex, ey), p.acceleration * dt
-            scale = 1.0 if size <= most else most / size
-            self._setpoint = (sx + scale * ex, sy + scale * ey)
-            self.velocity_setpoint = np.array(self._setpoint)
-            self.planar.velocity = self.velocity_setpoint
-            if dt > 0.0:
-                self._acceleration = (scale * ex / dt, scale * ey / dt)
-        elif dt > 0.0:
-            self._acceleration = (0.0, 0.0)
+        memory.body_velocity = (vx, vy)
+        now = context.time
+        dt = maximum(now - memory.filter_time, 0.0)
+        memory.filter_time = now
+        blend = minimum(1.0, dt / p.velocity_filter)
+        fx, fy = memory.filtered
+        memory.filtered = (fx + blend * (vx - fx), fy + blend * (vy - fy))
+        # the set point follows the command at a bounded acceleration
+        (cx, cy, yaw_rate), (sx, sy) = memory.command, memory.setpoint
+        ax, ay = memory.acceleration
+        changed = logical_or(cx != sx, cy != sy)
+        ex, ey = cx - sx, cy - sy
+        size, most = hypot(ex, ey), p.acceleration * dt
+        near = size <= most
+        scale = select(near, 1.0, most / select(near, 1.0, size))
+        sx, sy = select(changed, sx + scale * ex, sx), select(changed, sy + scale * ey, sy)
+        moved = dt > 0.0
+        step = select(moved, dt, 1.0)
+        ax = select(moved, select(changed, scale * ex / step, 0.0), ax)
+        ay = select(moved, select(changed, scale * ey / step, 0.0), ay)
+        memory.setpoint, memory.acceleration = (sx, sy), (ax, ay)
+        self.planar.velocity = (sx, sy)
         self.planar.yaw = yaw
-        self.attitude.yaw_rate = self.yaw_rate
-        if self._pendulum_index is not None:
-            world_omega = rotation @ context.v[3:6]  # free-flyer angular velocity: body axes
-            self._balance(context, pitch, -s * world_omega[0] + c * world_omega[1])
-        return float(position[2])
+        self.attitude.yaw_rate = yaw_rate
+        if self._pendulum_index is not None:  # free-flyer angular velocity: body axes
+            omega = (velocity[3], velocity[4], velocity[5])
+            world = [dot(row, omega) for row in r[:2]]
+            self._balance(context, pitch, -s * world[0] + c * world[1])
+        return position[2]
 
+    def _feet(self, context: Context) -> list:
+        """The six feet relative to the body, body axes: ``(foot - body) @ rotation`` [m]."""
+        r = _floats(context.frame_rotation("body"))
+        bx, by, bz = _floats(context.frame_position("body"))
+        feet = []
+        for i in LEGS:
+            x, y, z = _floats(context.frame_position(f"foot_{i}"))
+            dx, dy, dz = x - bx, y - by, z - bz
+            feet.append(tuple(dx * r[0][j] + dy * r[1][j] + dz * r[2][j] for j in range(3)))
+        return feet
+
+    @lowerable
     def _update_double(self, context: Context) -> None:
         self._body_state(context)
 
+    @lowerable
     def _enter_tripod(self, context: Context) -> None:
-        self.support = context.state[-1]
+        """The swing tripod lifts off: its feet, and their velocity relative to the body."""
+        support = context.state[-1]
+        memory = self.memory
+        memory.support = float(SUPPORT.index(support))
         self._body_state(context)
-        table = context.snapshot.frame_table  # the feet relative to the body, body axes
-        body = table[self._body_row]
-        feet = (table[self._feet_rows, 9:] - body[9:]) @ body[:9].reshape(3, 3)
-        rows = self._rows[OTHER[self.support]]
-        swing = self._swing
-        swing[:, :3] = swing[:, 3:6] = feet[list(rows)]  # lift-off: the last set point
-        self._target_time = context.time
-        self.phase = self._state[3] = 0.0
+        feet = self._feet(context)
+        rows = self._rows[OTHER[support]]
+        memory.lift_off = memory.targets = tuple(v for r in rows for v in feet[r])
+        memory.target_time = context.time
+        memory.phase = 0.0
         # the lifting feet leave the ground at its velocity relative to the body
-        ground = ground_velocity(self._velocity_filtered, self.yaw_rate, self._nominal)
-        swing[:, 6:] = [(-ground[r][0], -ground[r][1], 0.0) for r in rows]
-        for k, i in enumerate(TRIPODS[OTHER[self.support]]):
-            self.swing[i].velocity_setpoint = swing[k, 6:]
+        ground = ground_velocity(memory.filtered, memory.command[2], self._nominal)
+        rates = [(-ground[r][0], -ground[r][1], 0.0) for r in rows]
+        memory.rates = tuple(v for rate in rates for v in rate)
+        for rate, i in zip(rates, TRIPODS[OTHER[support]], strict=True):
+            self.swing[i].velocity_setpoint = rate
 
+    @lowerable
     def _update_tripod(self, context: Context) -> None:
-        """The ground plane, the phase and the swing set points (`kernel`), one call."""
+        """The ground plane, the phase and the swing set points (`tripod_setpoints`)."""
+        support = context.state[-1]
         height = self._body_state(context)
+        memory, p = self.memory, self.parameters
         now = context.time
-        fx, fy = self._velocity_filtered
-        motion = np.array((height, fx, fy, *self._setpoint, *self._acceleration, self.yaw_rate,
-                           context.time_in_state, now - self._target_time))  # fmt: skip
-        swing, state = self._swing, self._state
-        TRIPOD_SETPOINTS(context.snapshot.frame_table, self._frame_rows,
-                         self._kernel_rows[self.support], self._nominal_feet, motion,
-                         self._shape, swing, state)  # fmt: skip
-        self._target_time = now
-        _, _, _, self.phase, self.ground = state.tolist()
-        self.height.setpoint = self.ground + self.parameters.height
-        for k, i in enumerate(TRIPODS[OTHER[self.support]]):
-            self.swing[i].setpoint = swing[k, 3:6]
-            self.swing[i].velocity_setpoint = swing[k, 6:]
-
-    @property
-    def plane(self) -> tuple[float, float, float]:
-        """The ground plane ``z = a x + b y + c`` through the support feet, body axes."""
-        a, b, c = self._state[:3].tolist()
-        return a, b, c
+        motion = (height, *memory.filtered, *memory.setpoint, *memory.acceleration,
+                  memory.command[2], context.time_in_state, now - memory.target_time)  # fmt: skip
+        previous = {
+            "plane": memory.plane, "phase": memory.phase, "lift_off": memory.lift_off,
+            "targets": memory.targets, "rates": memory.rates,
+        }  # fmt: skip
+        rows = self._rows[support], self._rows[OTHER[support]]
+        update = tripod_setpoints(
+            p, self._feet(context), *rows, self._nominal, motion, self.foot_radius, previous
+        )
+        memory.target_time = now
+        memory.plane, memory.phase, memory.ground = (
+            update["plane"],
+            update["phase"],
+            update["ground"],
+        )
+        memory.targets, memory.rates = targets, rates = update["targets"], update["rates"]
+        self.height.setpoint = update["ground"] + p.height
+        for k, i in enumerate(TRIPODS[OTHER[support]]):
+            self.swing[i].setpoint = targets[3 * k : 3 * k + 3]
+            self.swing[i].velocity_setpoint = rates[3 * k : 3 * k + 3]

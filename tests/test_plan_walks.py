@@ -14,7 +14,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import virtual_actuators as va
 from virtual_actuators.core import CORE
+from virtual_actuators.gaits.legged import LeggedWalker
 from virtual_actuators.gaits.registry import WALKS, run_walk
 
 pytestmark = [
@@ -27,6 +29,8 @@ TOLERANCE = 1e-12  # [-] of the tick's scale
 
 CASES = {name: (name, {}) for name in WALKS} | {
     "legged go2 trot, partitioned": ("legged", {"robot": "go2", "distribution": "partitioned"}),
+    "legged go2 pace": ("legged", {"robot": "go2", "gait": "pace"}),
+    "legged hexapod tripod": ("legged", {"robot": "hexapod", "gait": "tripod"}),
     "balance g1": ("balance", {"robot": "g1"}),
 }
 
@@ -47,3 +51,16 @@ def test_the_compiled_walk_is_the_python_walk(case, monkeypatch):
     worst = np.abs(ours - theirs).max(axis=1) / scale
     assert worst.max() <= TOLERANCE, f"tick {int(worst.argmax())}: {worst.max():.3g}"
     assert compiled.gait.machine.history == python.gait.machine.history
+
+
+@pytest.mark.parametrize(
+    ("robot", "pattern"),
+    [("solo12", "trot"), ("go2", "trot"), ("go2", "walk"), ("hexapod", "tripod")],
+)
+def test_a_legged_walker_lowers_whole(robot, pattern):
+    """Its hooks, its body model, its swing feet and its touchdown events: no Python piece."""
+    walker = LeggedWalker(va.load_robot(robot), pattern=pattern)
+    walker.wiring.warm_up(walker.initial_configuration())
+    compiled = walker.wiring.compiled
+    assert compiled is not None and compiled.pieces == [], compiled.pieces
+    assert walker.memory.fields["setpoint"] == (0.0, 0.0)  # the state: a view of the registers

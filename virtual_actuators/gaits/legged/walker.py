@@ -93,6 +93,8 @@ class LeggedWalker(WalkerHooks, Gait):
         stance_time: How long a foot stands per cycle [s].
         velocity: The command ``(vx, vy)`` in the heading frame [m/s].
         yaw_rate: The commanded yaw rate [rad/s].
+        memory: What the walker carries from tick to tick (a [`Memory`][
+            virtual_actuators.Memory]; a view of the compiled plan's registers once lowered).
 
     Raises:
         InvalidInputError: A robot without a floating base, fewer than two feet, or a body

@@ -245,7 +245,12 @@ class BodyModel(Slotted, Component):
         )))  # fmt: skip
 
     def _set(self, name: str, value: object, size: int) -> None:
-        """Set slot ``name`` (``size`` values): stored while traced, else checked."""
+        """Set slot ``name`` (``size`` values): stored while traced, else checked.
+
+        Raises:
+            InvalidInputError: Not ``size`` finite numbers.
+
+        """
         if self._store_traced(name, value):
             return
         array = np.array(value, dtype=float).reshape(-1)

@@ -5,12 +5,11 @@ virtual_actuators``, loading solo12, the body actuator's declaration, the first 
 ``solve``, the declaration with friction and the first and second ``solve(method="qp")``, and
 prints one JSON line. Nothing but the standard library is imported before the clock starts.
 
-The parent side starts that child, and the README's demo command, with ``NUMBA_CACHE_DIR`` set
-to a directory of its choosing: a new empty one is a cold start (numba compiles every kernel; a
-fresh install, a container, a read-only site-packages, a new user), the same directory again is
-a warm start (numba reads what the cold run wrote). Without ``NUMBA_CACHE_DIR`` numba keeps its
-cache (``cache=True``) in ``__pycache__`` folders next to the package's sources. numba is the
-only JIT in the process; Python's own bytecode cache (``.pyc``) is left as it is.
+The parent side starts that child, and the README's demo command, with Python's bytecode cache
+in a directory of its choosing (``PYTHONPYCACHEPREFIX``): a new empty one is a cold start (every
+module compiled to bytecode on import: a fresh install, a container, a read-only site-packages,
+a new user), the same directory again is a warm start (the ``.pyc`` files the cold run wrote).
+Nothing else is compiled at run time: the kernels are the compiled core's, built at install.
 """
 
 from __future__ import annotations
@@ -65,17 +64,17 @@ def _child(spec: dict[str, Any]) -> dict[str, float]:
 
 
 def _environment(cache_dir: str | None) -> dict[str, str]:
-    """This environment with numba's cache in ``cache_dir`` (None: where it is now) and the
-    repository importable."""
+    """This environment with Python's bytecode cache in ``cache_dir`` (None: where it is now)
+    and the repository importable."""
     path = os.environ.get("PYTHONPATH")
     out = {**os.environ, "PYTHONPATH": str(ROOT) if not path else f"{ROOT}{os.pathsep}{path}"}
     if cache_dir is not None:
-        out["NUMBA_CACHE_DIR"] = cache_dir
+        out["PYTHONPYCACHEPREFIX"] = cache_dir
     return out
 
 
 def first_calls(cache_dir: str | None, spec: dict[str, Any], timeout: float) -> dict[str, Any]:
-    """Run the child with numba's cache in ``cache_dir``; its step times [s] and its wall time
+    """Run the child with the bytecode cache in ``cache_dir``; its step times [s] and its wall time
     from launch to exit, or ``{"ok": False, "error": ...}``."""
     spec = {**spec, "launched": time.time()}
     start = time.perf_counter()
@@ -94,7 +93,7 @@ def first_calls(cache_dir: str | None, spec: dict[str, Any], timeout: float) -> 
 
 
 def demo_first_tick(cache_dir: str | None, timeout: float) -> dict[str, Any]:
-    """Launch the README's demo (``python -m virtual_actuators demo``) with numba's cache in
+    """Launch the README's demo (``python -m virtual_actuators demo``) with the bytecode cache in
     ``cache_dir``; the seconds from launch until its progress bar first shows, and until it
     first shows simulated time past 0 (then the demo is stopped).
 

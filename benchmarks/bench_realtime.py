@@ -28,11 +28,12 @@ interleaved, in blocks, over the same round-robin set of configurations):
    whole loop iteration, beside MuJoCo's step in the same ticks; every tick of 1 ms or more is
    listed with what happened in it and replayed, to tell the code's from the machine's
    (definitions in ``_latency.py``).
-8. cold start: a new process with numba's cache empty (``NUMBA_CACHE_DIR``, a new temporary
-   directory) times ``import virtual_actuators``, the solo12 declaration of figure 1, the first
-   ``solve`` and the first ``solve(method="qp")``; and the README's demo command is launched the
-   same way, timed until its progress bar first moves. Beside each, the same in a new process
-   reading the cache the cold one wrote (``_cold_start.py``). ``--quick`` runs the warm ones only.
+8. cold start: a new process with Python's bytecode cache empty (``PYTHONPYCACHEPREFIX``, a
+   new temporary directory) times ``import virtual_actuators``, the solo12 declaration of
+   figure 1, the first ``solve`` and the first ``solve(method="qp")``; and the README's demo
+   command is launched the same way, timed until its progress bar first moves. Beside each, the
+   same in a new process reading the cache the cold one wrote (``_cold_start.py``). ``--quick``
+   runs the warm ones only.
 
 After the table, the rows of issue 27's table (each beside its same-run baseline and the issue's
 goal) are printed again on their own. Figure 2 uses friction 0.7 as the issue does (0.6 before
@@ -606,7 +607,7 @@ def _seconds(run: dict | None, key: str, quick: bool) -> str:
 
 
 def figure_cold_start(cfg: Settings) -> Figure:
-    """8. cold start: a new process with an empty JIT cache; the README demo's first tick."""
+    """8. cold start: a new process with an empty bytecode cache; the README demo's first tick."""
     import tempfile
 
     from _cold_start import demo_first_tick, first_calls
@@ -614,11 +615,11 @@ def figure_cold_start(cfg: Settings) -> Figure:
     spec = {"feet": SOLO_FEET, "wrench": SOLO_WRENCH.tolist(), "mu": MU}
     timeout = max(cfg.child_timeout, 300.0)
     cold = cold_demo = None
-    with tempfile.TemporaryDirectory(prefix="va-numba-") as calls, \
-            tempfile.TemporaryDirectory(prefix="va-numba-") as demo:  # fmt: skip
+    with tempfile.TemporaryDirectory(prefix="va-pyc-") as calls, \
+            tempfile.TemporaryDirectory(prefix="va-pyc-") as demo:  # fmt: skip
         if cfg.cold:  # empty caches, then the same caches again (warm)
             cold, cold_demo = first_calls(calls, spec, timeout), demo_first_tick(demo, timeout)
-        else:  # --quick: numba's cache where it is (warm after any earlier run)
+        else:  # --quick: the bytecode cache where it is (warm after any earlier run)
             calls = demo = None
         warm, warm_demo = first_calls(calls, spec, timeout), demo_first_tick(demo, timeout)
     rows = []
@@ -634,9 +635,9 @@ def figure_cold_start(cfg: Settings) -> Figure:
         target = f"< {goal:g} s"
         rows.append(row(figure, ours_text, f"warm cache: {base_text}", ratio, target, met))
     notes = [
-        "8: new processes (python + PYTHONPATH of this tree), numba's cache (NUMBA_CACHE_DIR) a "
-        "new empty directory (cold), then the same directory again (warm)"
-        + ("" if cfg.cold else "; --quick: no cold runs, warm = numba's cache as it is")
+        "8: new processes (python + PYTHONPATH of this tree), Python's bytecode cache "
+        "(PYTHONPYCACHEPREFIX) a new empty directory (cold), then the same directory again (warm)"
+        + ("" if cfg.cold else "; --quick: no cold runs, warm = the bytecode cache as it is")
     ]
     for name, run in (("cold", cold), ("warm", warm), ("cold demo", cold_demo),
                       ("warm demo", warm_demo)):  # fmt: skip

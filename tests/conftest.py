@@ -1,8 +1,9 @@
 """pytest set-up: the suite's hypothesis profile (the oracles live in ``oracles.py``).
 
 Under CI (``CI=true``) the session fails when the compiled core (``virtual_actuators._core``) is
-not built: the suite would otherwise test the reference kernels only, and the parity tests of
-``test_core_parity.py`` would be skipped.
+not built: the suite would otherwise test the numpy paths only, and the tests of the core
+(``test_core_parity*.py`` and others) would be skipped, unless ``VA_CORE=0`` asks for exactly
+that (CI's second run, of the fast tests, keeps the fallback true).
 """
 
 import os

@@ -11,8 +11,16 @@ import functools
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
+
+#: Skips a test of the compiled core's own paths when it is not built (or VA_CORE=0): the numpy
+#: paths then answer, and the tests of behaviour run on them.
+requires_core = pytest.mark.skipif(
+    CORE is None, reason="the compiled core is not built (or VA_CORE=0)"
+)
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
 

@@ -168,5 +168,3 @@ def test_a_law_that_returns_complex_values_is_refused(law) -> None:
         warnings.simplefilter("error")  # refused, not a ComplexWarning
         with pytest.raises(va.InvalidInputError, match=r"law returned .*real and finite"):
             spring.compute_wrench(np.zeros(2), np.zeros(2), 0.0)
-        with pytest.raises(va.InvalidInputError, match="law returned"):
-            spring.compute_wrench_floats([0.0, 0.0], [0.0, 0.0], 0.0)  # the controller's float path

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import random_configuration
+from oracles import random_configuration, requires_core
 
 import virtual_actuators as va
 from virtual_actuators.simulation import Simulator
@@ -43,7 +43,7 @@ def test_center_of_mass_bad_configuration():
 
 
 @pytest.mark.parametrize("name", ["solo12", "go2", "talos", "g1"])
-@pytest.mark.parametrize("backend", ["compiled", "pinocchio"])
+@pytest.mark.parametrize("backend", [pytest.param("compiled", marks=requires_core), "pinocchio"])
 def test_snapshot_center_of_mass_matches_pinocchio(name, backend):
     """The tick's reading (from the snapshot's joint placements) is Pinocchio's centerOfMass."""
     robot = va.load_robot(name)

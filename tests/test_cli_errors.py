@@ -137,8 +137,8 @@ def test_a_write_that_fails_after_the_run_is_a_usage_error(tmp_path):
     path = tmp_path / "metrics.json"
     command = [sys.executable, "-m", "virtual_actuators", "demo", "turkey-walk"]
     command += ["--duration", "0.01", "--quiet", "--json", str(path)]
-    # once without the limit, so that numba's on-disk cache of every kernel the walk uses is
-    # written before (the limit would stop numba saving a kernel compiled in the limited run)
+    # once without the limit, so that whatever the walk caches on disk (compiled bytecode) is
+    # written before the limited run
     subprocess.run(command, capture_output=True, timeout=300, check=True)
     path.unlink()
     run = subprocess.run(

@@ -37,7 +37,6 @@ OPTIONAL = {
     "dask": "dask",
     "distributed": "dask",
     "ray": "ray",
-    "numba": "reference",
 }
 
 #: Makes the modules of BLOCKED unimportable (as if not installed) in every interpreter that
@@ -233,7 +232,7 @@ def test_the_library_raises_the_typed_error_naming_the_extra(package, tmp_path):
         assert re.search(rf'\[{extra}\]"(\s|\.|$)', message), message
     stopped = {what for what, missing, *_ in found if missing == package}
     assert set(STOPS.get(package, [])) <= stopped, (package, stopped)
-    if package in ("yourdfpy", "numba"):  # optional inside the core: nothing stops
+    if package == "yourdfpy":  # optional inside the core: nothing stops
         assert stopped == set(), stopped
 
 

@@ -1,10 +1,11 @@
-"""Every contact kind in ``contacts.KINDS``: its numpy rows, its compiled rows and an oracle agree.
+"""Every contact kind in ``contacts.KINDS``: its numpy rows and an oracle agree.
 
-A kind is one file with ``parameters``, ``contact_rows`` (numpy), ``kernel_rows`` (njit) and
-``MAX_ROWS``. For each kind, on random frames, {O} rotations, offsets, axes and declarations:
-the compiled rows equal the numpy rows, and the rows' margins on a random wrench equal an oracle
-written here by hand from the kind's physics (a kind without an oracle fails
-:func:`test_every_kind_has_an_oracle`).
+A kind is one file with ``parameters``, ``contact_rows`` (numpy) and ``MAX_ROWS``. For each
+kind, on random frames, {O} rotations, offsets, axes and declarations, the rows' margins on a
+random wrench equal an oracle written here by hand from the kind's physics (a kind without an
+oracle fails :func:`test_every_kind_has_an_oracle`). The compiled core's rows of the same kinds
+are checked against these numpy rows in ``test_core_parity_qp.py`` (the margins) and
+``test_qp_paths.py`` (the QP's matrices, points and soles).
 """
 
 from __future__ import annotations
@@ -64,7 +65,7 @@ ORACLES = {"point": _point_oracle, "flat": _flat_oracle}
 def test_every_kind_has_an_oracle():
     assert set(KINDS) == set(ORACLES)
     for module in KINDS.values():
-        for name in ("parameters", "contact_rows", "kernel_rows", "MAX_ROWS", "ball_axes"):
+        for name in ("parameters", "contact_rows", "MAX_ROWS", "ball_axes"):
             assert hasattr(module, name), f"{module.__name__} lacks {name}"
 
 
@@ -82,7 +83,7 @@ def _contact(rng: np.random.Generator) -> Contact:
 
 @pytest.mark.parametrize("kind", sorted(KINDS))
 @pytest.mark.parametrize("seed", range(6))
-def test_numpy_rows_equal_the_kernel_rows_and_the_oracle(kind, seed):
+def test_numpy_rows_equal_the_oracle(kind, seed):
     module, oracle = KINDS[kind], ORACLES[kind]
     rng = np.random.default_rng(seed)
     for trial in range(20):
@@ -92,15 +93,6 @@ def test_numpy_rows_equal_the_kernel_rows_and_the_oracle(kind, seed):
         offset_o = rng.normal(size=3) * 0.3
         rows = module.contact_rows(contact, frame_world, rotation_o, offset_o, axes)
         assert len(rows.names) == len(rows.lows) == rows.G.shape[0] <= module.MAX_ROWS
-        out, lows = np.zeros((module.MAX_ROWS, len(axes))), np.zeros(module.MAX_ROWS)
-        placement = np.concatenate((frame_world.ravel(), np.zeros(3)))
-        axis_rows = np.array([SPATIAL.index(a) for a in axes])
-        count = module.kernel_rows(
-            module.parameters(contact), placement, rotation_o, offset_o, axis_rows, out, lows
-        )
-        assert count == len(rows.lows)
-        np.testing.assert_allclose(out[:count], rows.G, rtol=0, atol=1e-13)
-        np.testing.assert_allclose(lows[:count], rows.lows, rtol=0, atol=1e-13)
         wrench = rng.normal(size=len(axes)) * 20.0
         margins = rows.G @ wrench - rows.lows
         expected = oracle(contact, frame_world, rotation_o, offset_o, axes, wrench)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import robot
+from oracles import requires_core, robot
 
 import virtual_actuators as va
 from virtual_actuators.components import ConstantForce
@@ -82,6 +82,7 @@ def _oracle_margins(
     return np.array(margins)
 
 
+@requires_core
 @pytest.mark.parametrize("normals", [None, "frames"])
 @pytest.mark.parametrize("seed", range(6))
 def test_least_margin_equals_the_forward_kinematics_cone_margins(seed, normals):
@@ -100,6 +101,7 @@ def test_least_margin_equals_the_forward_kinematics_cone_margins(seed, normals):
         assert margin == pytest.approx((rows @ forces.ravel() - lows).min(), abs=1e-9)
 
 
+@requires_core
 def test_least_margin_of_unilateral_minima_is_the_least_share_above_its_floor():
     rng = np.random.default_rng(7)
     rob, attachment = _flamingo(None, 0.0, unilateral={"z": 12.0})

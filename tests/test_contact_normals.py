@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import robot
+from oracles import requires_core, robot
 
 import virtual_actuators as va
 from virtual_actuators.components import ConstantForce
@@ -63,6 +63,7 @@ def _layers(reference: str, mu: float, normals=None):
     return rob, body, controller.attachments["body"]
 
 
+@requires_core
 @pytest.mark.parametrize("reference", ["world", "base_link"])
 def test_both_layers_put_the_cone_about_world_z_whatever_the_foot_frames(reference):
     rng = np.random.default_rng(3)

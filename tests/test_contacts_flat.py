@@ -1,5 +1,6 @@
-"""The flat contact (contacts/flat.py): its numpy rows, its compiled rows and a centre-of-pressure
-oracle agree, on random sole placements, offsets and wrenches."""
+"""The flat contact (contacts/flat.py): its numpy rows and a centre-of-pressure oracle agree, on
+random sole placements, offsets and wrenches (the compiled core's sole rows against these numpy
+rows: ``test_qp_paths.py``)."""
 
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ def _oracle(rotation_a, rotation_o, offset_o, wrench_o):
 
 
 @pytest.mark.parametrize("seed", range(5))
-def test_numpy_rows_kernel_rows_and_the_oracle_agree(seed):
+def test_numpy_rows_and_the_oracle_agree(seed):
     rng = np.random.default_rng(seed)
     rotation_a, rotation_o = pin.SE3.Random().rotation, pin.SE3.Random().rotation
     offset = rng.normal(size=3) * 0.2
@@ -34,13 +35,6 @@ def test_numpy_rows_kernel_rows_and_the_oracle_agree(seed):
     rows = flat.rows(SOLE, MU, rotation_o.T @ rotation_a, offset, ENTRIES)
     expected = _oracle(rotation_a, rotation_o, offset, wrench)
     np.testing.assert_allclose(rows @ wrench, expected, rtol=0, atol=1e-12)
-    placement = np.concatenate((rotation_a.ravel(), np.zeros(3)))
-    table = flat.table({0: SOLE}, 1)[0]
-    out, lows = np.zeros((flat.ROWS, 6)), np.zeros(flat.ROWS)
-    lever, axes = (offset[0], offset[1], offset[2]), np.arange(6)
-    flat.sole_rows(placement, rotation_o, table, MU, lever, axes, wrench, np.eye(6), out, lows)
-    np.testing.assert_allclose(out, rows, rtol=0, atol=1e-14)
-    np.testing.assert_allclose(-lows, rows @ wrench, rtol=0, atol=1e-12)
 
 
 def test_names_and_parsing():

@@ -1,10 +1,11 @@
-"""The simulation's kernel: the compiled core's ``efforts_to_ctrl`` against its reference, and
+"""The simulation's kernel: the compiled core's ``efforts_to_ctrl`` against its definition, and
 the simulator's one-call effort writer against the general conversion it replaces.
 
-``simulation.actuation.efforts_to_ctrl`` (numba; plain Python without numba) and its C++ port
-(``src/core/simulation.hpp``) run on copies of the same arguments, recorded from a turkey walk
-and completed by the branches walks do not reach (a NaN, an infinity, an unactuated effort at and
-beyond the tolerance); their answers and what they write are compared with ``np.array_equal``.
+The core's ``efforts_to_ctrl`` (``src/core/simulation.hpp``) and its definition in numpy (a
+gather after two checks, written here) run on copies of the same arguments, recorded from a
+turkey walk and completed by the branches walks do not reach (a NaN, an infinity, an unactuated
+effort at and beyond the tolerance); their answers and what they write are compared with
+``np.array_equal``.
 `Simulator.step` is then checked against ``torques_to_ctrl`` (numpy fancy indexing, the
 definition): the same controls, the same errors.
 """
@@ -18,14 +19,21 @@ import virtual_actuators as va
 from virtual_actuators.core import CORE
 from virtual_actuators.gaits.registry import run_walk
 from virtual_actuators.simulation import Simulator, actuation
-from virtual_actuators.simulation.actuation import (
-    UNACTUATED_TOLERANCE,
-    efforts_to_ctrl,
-    torques_to_ctrl,
-)
+from virtual_actuators.simulation.actuation import UNACTUATED_TOLERANCE, torques_to_ctrl
 from virtual_actuators.simulation.conversions import gathers
 
 core = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
+
+
+def efforts_to_ctrl(tau, direct, unactuated, tolerance, ctrl) -> int:
+    """The definition: 1 if an effort is not finite, 2 if an unactuated one is beyond the
+    tolerance (``ctrl`` untouched), else ``ctrl = tau[direct]`` and 0."""
+    if not np.isfinite(tau).all():
+        return 1
+    if np.any(np.abs(tau[unactuated]) > tolerance):
+        return 2
+    ctrl[:] = tau[direct]
+    return 0
 
 
 def _compare(tau, direct, unactuated, tolerance, ctrl) -> int:

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import robot
+from oracles import requires_core, robot
 
 import virtual_actuators as va
 from virtual_actuators.control import Controller
@@ -230,7 +230,7 @@ def test_a_velocity_beside_a_snapshot_must_be_the_snapshot_s():
             controller.compute(snapshot, other)
 
 
-@pytest.mark.parametrize("backend", ["compiled", "pinocchio"])
+@pytest.mark.parametrize("backend", [pytest.param("compiled", marks=requires_core), "pinocchio"])
 def test_a_snapshot_owns_its_q_and_v(backend):
     model = SOLO.model
     q, v = SOLO.neutral(), np.linspace(-1.0, 1.0, model.nv)

@@ -19,7 +19,6 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
-from virtual_actuators.components.base import has_float_path
 from virtual_actuators.control.state_machine import Context
 from virtual_actuators.gaits.attitude import (
     attitude_and_velocity,
@@ -157,7 +156,6 @@ def test_heading_components_float_paths_give_the_array_paths_bits():
     rng = np.random.default_rng(3)
     attitude = HeadingAttitude((30.0, 40.0), (1.0, 2.0, 8.0))
     damper = HeadingDamper((80.0, 60.0))
-    assert has_float_path(attitude) and has_float_path(damper)
     for _ in range(200):
         attitude.roll, attitude.pitch, attitude.yaw_rate = rng.normal(scale=0.3, size=3)
         rotation, omega = rng.normal(size=3), rng.normal(size=3)

@@ -1,10 +1,9 @@
 """The core install: torques need only Pinocchio, example-robot-data, numpy and proxsuite.
 
-``pip install .`` installs the core; the viewer, MuJoCo, plots and yourdfpy come
-with extras (numba, which compiles the reference kernels, with ``reference``). Here: the declared
-dependencies, a solve that imports none of the optional packages (checked in a fresh
-interpreter's ``sys.modules``; numba neither when the compiled core is built), the same solve
-with the optional packages and numba made unimportable (as in a core-only environment), and the
+``pip install .`` installs the core (and builds the compiled core); the viewer, MuJoCo, plots and
+yourdfpy come with extras. Here: the declared dependencies, a solve that imports none of the
+optional packages (checked in a fresh interpreter's ``sys.modules``), the same solve with the
+optional packages made unimportable (as in a core-only environment), and the
 typed error naming the extra to install when an optional feature is used without its package.
 The solve is checked against force balance (the feet's forces and moments add up to the
 requested wrench), not against itself.
@@ -22,10 +21,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 OPTIONAL = ("mujoco", "meshcat", "matplotlib", "yourdfpy", "trimesh", "tqdm")
-#: Not needed by a solve either: made unimportable too (numba: the reference kernels then run
-#: as plain Python). (proxsuite declares scipy as a dependency, so the core install has it, and
-#: numba imports it when it finds it: it is not checked in sys.modules.)
-NOT_IN_CORE = (*OPTIONAL, "numba", "scipy", "shapely")
+#: Not needed by a solve either: made unimportable too. (proxsuite declares scipy as a
+#: dependency, so the core install has it: it is not checked in sys.modules.)
+NOT_IN_CORE = (*OPTIONAL, "scipy", "shapely")
 
 #: Solve with solo12 (point feet, then the QP with friction), check force balance (the chains'
 #: shares, moments about the base, add up to the wrench; a point foot's moment is r x f), report
@@ -58,7 +56,7 @@ for kwargs in ({}, {"friction": 0.8}):
 OPTIONAL = __OPTIONAL__
 print("IMPORTED", sorted({m.split(".")[0] for m in sys.modules} & set(OPTIONAL)))
 from virtual_actuators.core import CORE
-print("NUMBA", "numba" in sys.modules, "CORE", CORE is not None)
+print("CORE", CORE is not None)
 """.replace("__OPTIONAL__", repr(OPTIONAL))
 
 #: Make packages unimportable, as if they were not installed (run before the script).
@@ -92,20 +90,18 @@ def test_the_core_dependencies_are_the_torque_stack_and_extras_bring_the_rest():
     assert "meshcat" in names["viz"] and "mujoco" in names["sim"]
     assert "matplotlib" in names["plots"] and "yourdfpy" in names["urdf"]
     assert {"pytest", "hypothesis", "ruff"} <= names["dev"]
-    assert names["reference"] == {"numba"} and "virtual_actuators[reference]" in extras["dev"]
+    assert "reference" not in names  # one implementation per kernel: no numba
     assert "mkdocs-material" in names["docs"]
     everything = extras["all"][0]
     assert everything.startswith("virtual_actuators[")
     assert set(everything[len("virtual_actuators[") : -1].split(",")) >= {
-        "viz", "sim", "urdf", "reference"}
+        "viz", "sim", "urdf"}
 
 
 @pytest.mark.slow
 def test_a_solve_imports_no_optional_package():
     out = run(CORE_SCRIPT)
     assert "IMPORTED []" in out, out
-    if "CORE True" in out:  # the compiled core runs the kernels: numba is not imported
-        assert "NUMBA False" in out, out
 
 
 @pytest.mark.slow
@@ -137,36 +133,3 @@ print("FALLBACKS OK")
 """
     out = run(BLOCKER.replace("__BLOCKED__", repr(NOT_IN_CORE)) + CORE_SCRIPT + check)
     assert "IMPORTED []" in out and "FALLBACKS OK" in out, out
-
-
-#: With the compiled core built: numba is not imported until a reference kernel runs; then it
-#: compiles that kernel and its callees (the package's globals rebound to numba's dispatchers),
-#: whose answers equal the plain Python functions'.
-LAZY_SCRIPT = r"""
-import sys
-import numpy as np
-import virtual_actuators as va
-from virtual_actuators.actuators import producible
-from virtual_actuators.core import CORE
-assert CORE is not None and "numba" not in sys.modules
-body = va.ParallelVirtualActuator(va.load_robot("solo12"), "base_link",
-                                  ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"])
-body.solve(body.robot.neutral(), np.array([0.0, 0.0, 24.5, 0.0, 0.0, 0.0]))
-assert "numba" not in sys.modules
-rng = np.random.default_rng(3)
-frames = rng.normal(size=(4, 12))
-arguments = (frames, np.array([0, 1, 2, 3], dtype=np.int64))
-kernel = producible._two_points
-compiled = kernel(*arguments)
-assert "numba" in sys.modules and kernel.signatures
-assert np.array_equal(compiled, kernel.py_func(*arguments))
-print("LAZY OK")
-"""
-
-
-@pytest.mark.slow
-def test_numba_is_imported_only_when_a_reference_kernel_runs():
-    pytest.importorskip("numba")
-    if os.environ.get("VA_CORE") == "0" or not list((ROOT / "virtual_actuators").glob("_core.*")):
-        pytest.skip("the compiled core is not in use")
-    assert "LAZY OK" in run(LAZY_SCRIPT)

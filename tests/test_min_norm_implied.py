@@ -23,7 +23,7 @@ import pinocchio as pin
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from oracles import AXES, ReferenceDistribution, millipede
+from oracles import AXES, ReferenceDistribution, millipede, requires_core
 
 import virtual_actuators as va
 
@@ -246,6 +246,7 @@ def test_random_implied_rows_leave_the_least_norm_answer_unchanged(
 
 
 # -- independent rows: unchanged ------------------------------------------------------------
+@requires_core
 @pytest.mark.parametrize("reference", ["body", "world"])
 def test_independent_rows_are_still_partitioned_and_compiled(reference):
     """A generic design row (not implied): as many rows as redundancies stays "partitioned"

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import chain_forces_world
+from oracles import chain_forces_world, requires_core
 from proxsuite import proxqp
 from test_qp import SOLO_FEET, _weight
 from test_qp_paths import SOLES, _check_soles
@@ -112,6 +112,7 @@ def _requests(robot: va.Robot, q: np.ndarray, feet: list[str], rng: np.random.Ge
     return out
 
 
+@requires_core
 @pytest.mark.parametrize("compiled", [True, False])
 def test_solo12_same_forces_in_world_and_base_axes(compiled):
     """solo12 standing, base rolled, pitched and yawed: a world request and the same request in

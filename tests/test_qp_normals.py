@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import chain_forces_world
+from oracles import chain_forces_world, requires_core
 from test_qp import TOL, _check_torques, _weight
 from test_qp_paths import SOLES, _check_paths, _check_soles, _request
 
@@ -87,6 +87,7 @@ def _planar_request(robot: va.Robot, rng: np.random.Generator, spread: float) ->
                      rng.normal() * weight * spread * 0.05])  # fmt: skip
 
 
+@requires_core
 @pytest.mark.parametrize(("name", "mu", "min_normal", "spread", "count"), CASES)
 def test_cones_about_the_frames_normals_on_both_paths(name, mu, min_normal, spread, count):
     """Random tilted configurations and requests pressing on the cones: every answer meets the

@@ -13,7 +13,7 @@ import threading
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import external_forces, rnea_torques, zero_gravity_model
+from oracles import external_forces, requires_core, rnea_torques, zero_gravity_model
 from test_qp import HEX_FEET, SOLO_FEET, TOL, _check_cone, _check_torques, _q, _weight
 
 import virtual_actuators as va
@@ -96,6 +96,7 @@ CASES = [  # robot, friction, least normal force, torque limit on the actuated j
 ]
 
 
+@requires_core
 @pytest.mark.parametrize(("name", "mu", "min_normal", "limit", "count"), CASES)
 def test_inequalities_hold_and_both_paths_agree(name, mu, min_normal, limit, count):
     """Hundreds of random requests pressing on cones, least normal forces and torque limits:

@@ -16,7 +16,7 @@ import threading
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import random_configuration, relative_error
+from oracles import random_configuration, relative_error, requires_core
 
 import virtual_actuators as va
 from virtual_actuators.kinematics.tree import tree_of
@@ -36,6 +36,7 @@ KINEMATIC_ROBOTS = [
 ]
 
 
+@requires_core
 @pytest.mark.parametrize("name", KINEMATIC_ROBOTS)
 def test_compiled_kinematics_equal_pinocchio(name):
     robot = va.load_robot(name)
@@ -65,15 +66,16 @@ def test_compiled_kinematics_equal_pinocchio(name):
             np.testing.assert_allclose(compiled.frame_velocity(f), expected, atol=1e-10)
 
 
+@requires_core
 @pytest.mark.parametrize("name", ["solo12", "anymal", "ur5_robot", "spring_flamingo"])
 def test_tabled_frame_velocities_equal_pinocchio_and_the_point_kernel(name):
     """The forward-kinematics pass computes the tabled frames' velocities with the kinematics.
 
     They equal Pinocchio's (``LOCAL_WORLD_ALIGNED`` linear velocity) and, bit for bit, the
-    point-velocity kernel that answers for frames outside the table (the same sums in the same
-    order).
+    core's point-velocity kernel that answers for frames outside the table (the same sums in the
+    same order); its numpy fallback to rounding.
     """
-    from virtual_actuators.kinematics.kernels import point_velocity
+    from virtual_actuators.kinematics.kernels import point_velocity, velocity_of_point
 
     robot = va.load_robot(name)
     model = robot.model
@@ -95,8 +97,10 @@ def test_tabled_frame_velocities_equal_pinocchio_and_the_point_kernel(name):
             np.testing.assert_allclose(velocity, expected, rtol=0, atol=1e-12 * scale)
             x, y, z = snapshot.placement(f)[1].tolist()
             columns = tree.frame_columns(f)
-            kernel = point_velocity(snapshot.jacobian_world, v, columns, x, y, z)
+            kernel = velocity_of_point(snapshot.jacobian_world, v, columns, x, y, z)
             np.testing.assert_array_equal(velocity, np.array(kernel))
+            fallback = point_velocity(snapshot.jacobian_world, v, columns, x, y, z)
+            np.testing.assert_allclose(fallback, velocity, rtol=0, atol=1e-12 * scale)
     assert snapshot._frame_velocities is not None  # the table answered, not the kernel
 
 
@@ -221,6 +225,7 @@ def _declarations():
 DECLARATIONS = list(_declarations())
 
 
+@requires_core
 @pytest.mark.parametrize("case", DECLARATIONS, ids=[c[0] for c in DECLARATIONS])
 def test_compiled_distribution_equals_numpy_reference(case):
     _, actuator, free = case
@@ -248,6 +253,7 @@ def test_compiled_distribution_equals_numpy_reference(case):
     assert compiled_ticks >= 20
 
 
+@requires_core
 def test_compiled_solution_satisfies_rnea():
     """tau = -rnea(q, 0, 0, fext) with the chains' wrenches, gravity off (an oracle sharing no
     code with the kernel): +F_i on {B}, -F_i on {A_i}, forces from the compiled path."""
@@ -300,6 +306,7 @@ def test_one_actuator_shared_by_four_threads_gives_serial_results():
     assert not errors, errors[:5]
 
 
+@requires_core
 @pytest.mark.parametrize("with_velocity", [True, False])
 def test_a_snapshots_lazy_parts_are_the_passs_bits(with_velocity):
     """The joints and frame velocities a snapshot cuts from the pass on first read."""
@@ -310,7 +317,8 @@ def test_a_snapshots_lazy_parts_are_the_passs_bits(with_velocity):
     q = random_configuration(robot, rng)
     v = rng.normal(size=robot.model.nv) if with_velocity else None
     snapshot = va.Snapshot(robot, q, v)
-    expected = tree.compute(snapshot.q, snapshot.v)
+    buffer, layout, rows = tree.core_pass(snapshot.q, snapshot.v)
+    expected = layout.cut(buffer, rows)
     assert np.array_equal(snapshot.jacobian_world, expected.jacobian)
     assert np.array_equal(snapshot.frame_table, expected.frames)
     assert np.array_equal(snapshot._joint_table(), expected.joints)
@@ -324,6 +332,7 @@ def test_a_snapshots_lazy_parts_are_the_passs_bits(with_velocity):
     np.testing.assert_allclose(snapshot.center_of_mass(), com, rtol=0.0, atol=1e-12)
 
 
+@requires_core
 def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
     from virtual_actuators.gaits.turkey import TurkeyWalker
 
@@ -331,21 +340,16 @@ def test_a_gait_tick_runs_the_kinematics_once(monkeypatch):
     gait = TurkeyWalker(robot)
     tree = tree_of(robot)
     calls = []
-    core_pass, compute = type(tree).core_pass, type(tree).compute
+    core_pass = type(tree).core_pass
 
     def counting_pass(self, q, v=None):  # the compiled core's pass (compute's too)
         calls.append(1)
         return core_pass(self, q, v)
 
-    def counting(self, q, v=None):  # the numba kernel's pass
-        calls.extend([1] if self.core_tree is None else [])
-        return compute(self, q, v)
-
     q, v = gait.initial_configuration(), np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)  # first use: declaration-time checks run once per set of free axes
     gait.wiring.compute_in_python(q, v, 0.0)  # the same machine in Python
     monkeypatch.setattr(type(tree), "core_pass", counting_pass)
-    monkeypatch.setattr(type(tree), "compute", counting)
     for k in range(1, 6):
         calls.clear()
         out = gait.wiring.compute_in_python(q, v, 0.001 * k)  # Python: one pass, shared
@@ -375,6 +379,7 @@ with open("/proc/self/status") as status:
 """
 
 
+@requires_core
 def test_a_400_legged_millipede_declares_and_solves_in_little_memory():
     """Memory grows linearly in the legs: no pinocchio.Data (nv^3 tensors: 4 GB each here)."""
 

@@ -13,10 +13,8 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.actuators.serial import wrench_array
-from virtual_actuators.components.base import has_float_path
-from virtual_actuators.components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
+from virtual_actuators.components.walking import GrannyWalker
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.gaits import FlamingoWalker, TurkeyWalker
 from virtual_actuators.kinematics.snapshot import Snapshot
 from virtual_actuators.simulation import Simulator
 from virtual_actuators.simulation.actuation import torques_to_ctrl
@@ -61,8 +59,6 @@ def test_spring_damper_float_path_gives_the_array_formula_bits(seed):
             fast = spring.compute_wrench(position, velocity, 0.0)
             assert type(fast) is np.ndarray and fast.dtype == np.float64
             np.testing.assert_array_equal(fast, _array_formula(spring, position, velocity))
-            floats = spring.compute_wrench_floats(position.tolist(), velocity.tolist(), 0.0)
-            np.testing.assert_array_equal(np.array(floats), fast)
         # other inputs (lists, ints, a float32 array) take the array path: same values
         np.testing.assert_allclose(
             spring.compute_wrench([0.1, 0.2, 0.3], [0, 0, 0], 0.0),
@@ -75,28 +71,6 @@ def test_parameters_changed_in_place_are_seen_by_the_float_path():
     spring = va.SpringDamper(("x", "z"), stiffness=10.0, setpoint=(1.0, 2.0))
     spring.setpoint[1] = 5.0  # an in-place edit of the returned array
     np.testing.assert_array_equal(spring.compute_wrench(np.zeros(2), np.zeros(2), 0.0), [10, 50])
-
-
-def test_bunny_float_path_equals_its_array_path():
-    bunny = DogtrackBunny(0.5, 80.0, stiffness=30.0, limit=60.0)
-    bunny.reset(np.array([0.2]), 1.0)
-    for time, x, v in ((1.1, 0.25, 0.3), (1.5, 0.1, -2.0), (3.0, 0.4, 0.7)):
-        fast = bunny.compute_wrench_floats([x], [v], time)
-        slow = bunny.compute_wrench(np.array([x]), np.array([v]), time)
-        assert fast == slow.tolist()
-        assert bunny.setpoint.tolist() == [bunny.position_at(time)]
-
-
-def test_only_classes_defining_both_methods_take_the_float_path():
-    class Pushy(va.SpringDamper):  # overrides compute_wrench only: not trusted
-        def compute_wrench(self, position, velocity, time):
-            return super().compute_wrench(position, velocity, time) + 1.0
-
-    assert has_float_path(va.SpringDamper("x", stiffness=1.0))
-    assert has_float_path(GrannyWalker(0.5, (1.0, 1.0), (1.0, 1.0)))
-    assert has_float_path(DogtrackBunny(0.5, 1.0))
-    assert has_float_path(SwingLegLinkage(1.0, 1.0))
-    assert not has_float_path(Pushy("x", stiffness=1.0))
 
 
 def test_per_axis_fast_paths_keep_the_checks():
@@ -125,36 +99,6 @@ def test_wrench_array_fast_path_and_its_errors():
     for bad in (np.array([1.0, np.nan, 0.0]), np.array([np.inf, 0.0, 0.0]), np.zeros(2)):
         with pytest.raises(InvalidInputError):
             wrench_array(bad, AXES3)
-
-
-@pytest.fixture(scope="module")
-def turkey():
-    return TurkeyWalker(va.load_robot("spring_turkey"), initial="double_support")
-
-
-@pytest.fixture(scope="module")
-def flamingo():
-    return FlamingoWalker(va.load_robot("spring_flamingo"))
-
-
-@pytest.mark.parametrize("walker", ["turkey", "flamingo"])
-def test_controller_float_evaluation_equals_the_array_path(walker, request):
-    gait = request.getfixturevalue(walker)
-    controller = gait.controller
-    rng = np.random.default_rng(3)
-    gait.bunny.reset(np.array([0.0]), 0.0)
-    for attachment in controller.attachments.values():
-        assert attachment.float_components is not None  # every seed component has it
-        for _ in range(20):
-            n = len(attachment.axes)
-            position, velocity = rng.normal(size=n), rng.normal(size=n)
-            fast = attachment.wrench(position, velocity, 0.3)
-            saved, attachment.float_components = attachment.float_components, None
-            try:
-                slow = attachment.wrench(position, velocity, 0.3)
-            finally:
-                attachment.float_components = saved
-            np.testing.assert_array_equal(fast, slow)
 
 
 @pytest.mark.parametrize("seed", range(3))

@@ -2,13 +2,14 @@
 
 The core's kernels are C++ (``src/core``, header-only C++17), bound with nanobind and built
 when the package is installed (scikit-build-core, ``pip install``), or in place by
-``tools/build_core.sh`` for a source tree that is not installed. Each kernel follows a reference
-kernel of this package (numba, or plain Python without numba) operation by operation, so that
-both give the same bits (``tests/test_core_parity.py``). The GIL is released inside the kernels.
+``tools/build_core.sh`` for a source tree that is not installed. They are the library's only
+fast path: each kernel exists once, in C++. The GIL is released inside the kernels.
 
-When the extension is missing, `CORE` is None: the library runs its reference kernels and
-warns once, at import (`CoreMissingWarning`). ``VA_CORE=0`` in the environment selects the
-reference kernels on purpose (no warning), for instance to compare both paths.
+When the extension is missing, `CORE` is None: the library runs its numpy paths (Pinocchio's
+kinematics, the numpy distribution and QP rows, the gaits' ticks in Python), which are also the
+oracles the tests compare the core with, and warns once, at import (`CoreMissingWarning`).
+``VA_CORE=0`` in the environment selects them on purpose (no warning). The library decides
+between the two in one place, `kernel` (and `has` for the core's classes).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ _Kernel = TypeVar("_Kernel")
 
 
 class CoreMissingWarning(RuntimeWarning):
-    """``virtual_actuators._core`` is not built: the reference kernels run instead."""
+    """``virtual_actuators._core`` is not built: the numpy paths run instead."""
 
 
 def _load() -> ModuleType | None:
@@ -34,7 +35,7 @@ def _load() -> ModuleType | None:
     except ImportError as error:
         warnings.warn(
             f"virtual_actuators._core (the compiled core) is not built ({error}): using the "
-            "reference kernels, which numba compiles on first use (seconds to a minute). "
+            "numpy paths (correct, several times slower per tick). "
             "Install the package with pip (a C++17 compiler is needed) or run "
             "tools/build_core.sh in a source tree.",
             CoreMissingWarning,
@@ -44,7 +45,7 @@ def _load() -> ModuleType | None:
     return core
 
 
-#: The compiled core's module (``Tree``, ``Distribution``, ...), or None: the reference path.
+#: The compiled core's module (``Tree``, ``Distribution``, ...), or None: the numpy paths.
 CORE: ModuleType | None = _load()
 
 
@@ -55,11 +56,12 @@ def has(name: str) -> bool:
 
 
 def kernel(name: str, fallback: _Kernel) -> _Kernel:
-    """The core's kernel ``name`` when the core is built, else ``fallback`` (the reference).
+    """The core's kernel ``name`` when the core is built, else ``fallback``.
 
     Args:
         name: The kernel's name in ``virtual_actuators._core``.
-        fallback: The reference implementation with the same arguments and results.
+        fallback: The numpy implementation with the same arguments and results, or None
+            where the caller has a general path of its own.
 
     Raises:
         AttributeError: The core is built but has no ``name`` (a build older than the package).

@@ -133,7 +133,7 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
 
 
 #: The extras that the extra ``all`` brings (the cluster engines ``dask`` and ``ray`` are apart).
-EXTRAS_IN_ALL = ("viz", "sim", "plots", "urdf", "reference")
+EXTRAS_IN_ALL = ("viz", "sim", "plots", "urdf")
 
 
 def install_command(extra: str) -> str:

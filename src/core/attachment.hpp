@@ -1,11 +1,9 @@
-// A spring-damper attachment's sensing and wrench (and a serial one's efforts) in C++: the
-// kernels of virtual_actuators.control.attachment_kernel (spring_tick) and of
-// virtual_actuators.kinematics.sensor_kernels (relative_sensor; its geometry shared with
-// sensor.hpp).
-//
-// Line-by-line ports of the reference (numba) kernels: the same floating-point operations in
-// the same order, so that the results agree bit for bit (no FMA contraction: CMakeLists.txt sets
-// -ffp-contract=off). Plain pointers, no Python: usable from a C++ controller.
+// A spring-damper attachment's sensing and wrench (and a serial one's efforts) in one call
+// (virtual_actuators.control.attachment_kernel's SpringTick; the sensor's geometry shared with
+// sensor.hpp). The same floating-point operations in the same order as the controller's general
+// path, which the tests compare it with bit for bit (tests/test_attachment_kernel.py; no FMA
+// contraction: CMakeLists.txt sets -ffp-contract=off). Plain pointers, no Python: usable from a C++
+// controller.
 #pragma once
 
 #include <cmath>

@@ -1,6 +1,5 @@
-// The projectors of many chains of full column rank side by side: the C++ port of
-// virtual_actuators.distribution.partitioned.kernel_batch.full_rank_batch (mode 0 of the
-// distribution with BATCH_CHAINS chains or more), operation by operation.
+// The projectors of many chains of full column rank side by side (mode 0 of the distribution
+// with BATCH_CHAINS chains or more).
 #pragma once
 
 #include <cmath>
@@ -20,7 +19,6 @@ constexpr std::int64_t BATCH_CHAINS = 8;
 //   t (>= m_c, count): right-hand sides of the constraint rows (may be a row of q's array
 //     beyond c: the QR never writes there);
 //   ratio, bound (count); proj (n, n, count); part (n, count); null (n - c, n, count).
-// See the reference kernel's docstring for what each output means.
 inline void full_rank_batch(double* q, std::int64_t n, std::int64_t count, std::int64_t c,
                             std::int64_t m_c, const double* t, double* ratio, double* bound,
                             double* proj, double* part, double* null) {

@@ -12,7 +12,7 @@
 namespace va::py {
 namespace {
 
-// The tick's buffer and norms, as the reference kernel's Distributed (a NamedTuple in Python).
+// The tick's buffer and norms (TickResult.from_buffer reads them).
 nb::tuple distributed(Owned out, const va::Distributed& d) {
   return nb::make_tuple(out, d.residual, d.scale, d.rounding, d.status, d.worst, d.worst_chain);
 }
@@ -115,7 +115,7 @@ void bind_distribution(nb::module_& m) {
                            "The packed tables of one distribution mode (CompiledDistribution).")
       .def(nb::init<const I1&, const F1&, std::int64_t>(), "ints"_a, "floats"_a, "nv"_a)
       .def("solve", &Distribution::solve, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a,
-           "partitioned.kernels.distribute on the snapshot's arrays: (out, residual, scale, "
+           "One tick on the snapshot's arrays: (out, residual, scale, "
            "rounding, status, worst, worst_chain).")
       .def("tick", &Distribution::tick, "tree"_a, "q"_a, "wrench"_a,
            "Forward kinematics and the distribution in one call (q as the tree needs it).")

@@ -52,7 +52,7 @@ double qp_violation(const MF1& buffer, const I1& layout, std::int64_t pn, std::i
   return va::violation(V, z.data(), length(z), equalities);
 }
 
-// Forces, torques and norms of an answer (qp.kernel_answer.read_out).
+// Forces, torques and norms of an answer (the read-out).
 nb::tuple qp_read_out(const MF1& buffer, const I1& layout, std::int64_t pn, std::int64_t nv,
                       const F1& z, const F1& multipliers, double scale, const F1& wrench,
                       const B1& keep, double active_tol, double accuracy, MF1 out, MI1 active) {
@@ -144,11 +144,11 @@ void bind_qp(nb::module_& m) {
         "max_steps"_a,
         "qp.exact.exact_step: the QP's answer on the active set guess names, (ok, x, z).");
   m.def("qp_violation", &qp_violation, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a, "z"_a,
-        "equalities"_a, "qp.kernel_answer.violation: the largest miss of z.");
+        "equalities"_a, "The largest miss of z.");
   m.def("qp_read_out", &qp_read_out, "buffer"_a.noconvert(), "layout"_a, "pn"_a, "nv"_a, "z"_a,
         "multipliers"_a, "scale"_a, "wrench"_a, "keep"_a, "active_tol"_a, "accuracy"_a,
         "out"_a.noconvert(), "active"_a.noconvert(),
-        "qp.kernel_answer.read_out: (count of active rows, (residual, scale, rounding)).");
+        "The read-out: (count of active rows, (residual, scale, rounding)).");
 
   nb::class_<QP>(m, "QP", "What a QP declaration fixes (CompiledQPMatrices).")
       .def(nb::init<const I1&, const I1&, const I2&, const F2&, const F2&, const F3&, const F1&,
@@ -162,7 +162,7 @@ void bind_qp(nb::module_& m) {
       .def("again", &QP::again, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a, "kept"_a,
            "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
            "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(), "active"_a.noconvert(),
-           "qp.kernel_answer.again: (count, (residual, scale, rounding)), count -1: not "
+           "again: (count, (residual, scale, rounding)), count -1: not "
            "certified.")
       .def("again_tick", &QP::again_tick, "tree"_a, "q"_a, "wrench"_a, "kept"_a,
            "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),

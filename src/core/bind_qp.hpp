@@ -162,7 +162,7 @@ class QP {
     return nb::make_tuple(r.status, r.worst, r.scale);
   }
 
-  // qp.kernel_answer.again: the matrices, the exact step on guess's active set (guess replaced
+  // again: the matrices, the exact step on guess's active set (guess replaced
   // by the new multipliers when certified), the read-out: (count, (residual, scale, rounding)),
   // count -1 when not certified.
   nb::tuple again(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,

@@ -1,8 +1,8 @@
-// The contacts' rows over a chain's free coordinates, in the compiled QP: the C++ port of
-// virtual_actuators.contacts.point (face_rows, to_o, force_row) and
-// virtual_actuators.contacts.flat (sole_rows), and the contact margins of the controller's
-// yield policy (point.kernel_rows; contact_set.margins, least_margin, largest_scale), operation
-// by operation (bit for bit).
+// The contacts' rows over a chain's free coordinates, in the compiled QP (the point kind's
+// pyramid and least normal force, the flat kind's sole), and the contact margins of the
+// controller's yield policy. The rows are those of virtual_actuators.contacts' numpy kinds
+// (contact_rows, ContactSet.rows), which the tests compare them with
+// (tests/test_core_parity_qp.py, test_qp_paths.py).
 #pragma once
 
 #include <algorithm>
@@ -16,7 +16,7 @@
 namespace va {
 
 // A chain's free basis N_i: rows a (its n force entries) of the basis, columns start .. start +
-// d_i, in a row-major array of `free` columns (numba's view basis[i n:(i+1) n, start:]).
+// d_i, in a row-major array of `free` columns (the view basis[i n:(i+1) n, start:]).
 struct BasisView {
   const double* data;
   std::int64_t free;
@@ -131,7 +131,7 @@ inline void sole_rows(const double* placement, const double rot_o[3][3], const d
 
 namespace va {
 
-// point.kernel_rows: a contact's pyramid rows over its force F_i (n entries) into out (5, n),
+// A contact's pyramid rows over its force F_i (n entries) into out (5, n),
 // zeros, and lows; parameters: point.parameters' row (friction, least normal force, normal row,
 // frame normal, world normal); placement: the reaction frame's row of the frames. Returns how
 // many rows.

@@ -1,9 +1,9 @@
-// One tick of the compiled force distribution: the C++ port of
-// virtual_actuators.distribution.partitioned.kernels.distribute (and of result.close_norms),
-// operation by operation, on the same packed tables and into the same output buffer, so that
-// both agree bit for bit (tests/test_core_parity.py; no FMA contraction: CMakeLists.txt).
+// One tick of the compiled force distribution on the packed tables of
+// virtual_actuators.distribution.partitioned (kernel_tables.py), into the buffer that
+// result.TickResult reads; the numpy PartitionedSolver is its oracle (tests/test_core_parity.py;
+// no FMA contraction: CMakeLists.txt).
 //
-// Status as in the reference: 0 solved; 1 a chain is singular or nearly so; 2 an elimination
+// Status: 0 solved; 1 a chain is singular or nearly so; 2 an elimination
 // block or the final system is ill-conditioned, or the answer misses an exact row; 3 a result
 // overflowed. A nonzero status hands the tick to the numpy path.
 #pragma once
@@ -63,7 +63,7 @@ inline void close_norms(const std::int64_t* keep, std::int64_t n, const double* 
 }
 
 // The ball columns of chains that share their ball axes, side by side over the chains
-// (kernel_linalg.shared_ball_columns). fulls (K + 4, n, p), rows (width, n, p), offsets (3, p).
+//. fulls (K + 4, n, p), rows (width, n, p), offsets (3, p).
 inline void shared_ball_columns(const std::int64_t* header, std::int64_t ball_start,
                                 const std::int64_t* axis_rows, const Arr& offsets, Arr& fulls,
                                 Arr& rows) {
@@ -316,7 +316,7 @@ inline Distributed distribute(const double* jacobian_world, std::int64_t nv, con
   double* passive = out + p * n + nv;
   double* produced = out + p * n + 2 * nv;
   double* requested = out + p * n + 2 * nv + n;
-  // -- the tick's kinematics, in {O} at {B}'s origin (kernel_linalg.wrench_transform) --------
+  // -- the tick's kinematics, in {O} at {B}'s origin --------
   const std::int64_t b = P.frame_rows[0], o = P.frame_rows[1];
   double rot_o[3][3], transform[6][6];  // {O}'s rotation (row-major), the map
   wrench_transform(frames, b, o, rot_o, transform);
@@ -328,7 +328,7 @@ inline Distributed distribute(const double* jacobian_world, std::int64_t nv, con
                     t[2] * jacobian_world[2 * nv + v] + t[3] * jacobian_world[3 * nv + v] +
                     t[4] * jacobian_world[4 * nv + v] + t[5] * jacobian_world[5 * nv + v];
   }
-  for (std::int64_t v = 0; v < P.nv_springs; ++v) {  // kernel_linalg.passive_torques
+  for (std::int64_t v = 0; v < P.nv_springs; ++v) {
     const double* sp = P.springs + 5 * v;
     if (sp[2] >= 0) {
       const auto iq = static_cast<std::int64_t>(sp[2]);

@@ -1,6 +1,5 @@
-// The QP's exact final step on an active set: the C++ port of
-// virtual_actuators.distribution.qp.exact (_row, _factor, _back, _solve, exact_step), operation
-// by operation, so that both agree bit for bit (tests/test_core_parity.py).
+// The QP's exact final step on an active set (see virtual_actuators.distribution.qp.exact, whose
+// Python is the fallback without the core and the oracle of tests/test_core_parity_qp.py).
 #pragma once
 
 #include <cmath>

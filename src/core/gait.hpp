@@ -1,8 +1,9 @@
-// Kernels the gaits reach in the core: C++ ports, operation by operation, of
-// virtual_actuators.kinematics.kernels.center_of_mass and actuators.producible._two_points and
-// _give_way_one, so that both agree bit for bit (tests/test_core_parity_gait.py). An edit of a
-// reference kernel goes with the same edit here. (The legged walker's body model and swing feet
-// are va.scalar formulas lowered into the plan's ops: no port.)
+// Kernels the library reaches in the core: the bodies' centre of mass
+// (virtual_actuators.kinematics.kernels.center_of_mass is its numpy oracle), and a parallel
+// actuator's producible directions with two point feet and the request given way along one
+// missing direction (actuators.producible's closed forms; the numpy general path is their oracle,
+// tests/test_core_parity_gait.py). The legged walker's body model and swing feet are va.scalar
+// formulas that a compiled plan traces into its ops: they have no port here.
 #pragma once
 
 #include <cmath>

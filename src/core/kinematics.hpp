@@ -1,9 +1,8 @@
-// The kinematics kernels of virtual_actuators.kinematics.kernels, in C++: forward_kinematics,
-// unit_norm_error, all_finite, point_velocity.
-//
-// Line-by-line ports of the reference (numba) kernels: the same tables, the same buffer layout,
-// the same floating-point operations in the same order, so that the results agree bit for bit
-// (the compiler must not contract a*b+c into an FMA: CMakeLists.txt sets -ffp-contract=off).
+// The kinematics kernels: forward kinematics (joint and frame placements, the world Jacobian,
+// the frames' velocities), unit_norm_error, all_finite, point_velocity, on the tables of
+// virtual_actuators.kinematics.joint_tables, into the buffer buffer_layout.py describes.
+// Pinocchio is their oracle (tests/test_realtime.py); the compiler must not contract a*b+c into
+// an FMA (CMakeLists.txt sets -ffp-contract=off), so the bits do not depend on the machine.
 // Plain pointers and std::vector, no Python: usable from a C++ controller.
 #pragma once
 
@@ -22,8 +21,8 @@ enum JointKind : std::int64_t {
   SPHERICAL = 5,
 };
 
-// Row-major views of the declaration's tables (shapes as in the reference kernel; see
-// virtual_actuators.kinematics.kernels.forward_kinematics for their meaning).
+// Row-major views of the declaration's tables (their meaning: virtual_actuators.kinematics
+// .joint_tables.read_joints).
 struct TreeTables {
   const std::int64_t* joint_ints;      // (njoints, 3): parent, kind, idx_q
   const double* joint_floats;          // (njoints, 27)

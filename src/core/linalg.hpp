@@ -1,6 +1,6 @@
-// Small dense linear algebra of the compiled distribution: the C++ port of
-// virtual_actuators.distribution.partitioned.kernel_linalg (plain loops, no BLAS), operation by
-// operation, so that results agree bit for bit with the reference kernels.
+// Small dense linear algebra of the compiled distribution: plain loops, no BLAS, in a fixed order
+// of operations (no FMA contraction: CMakeLists.txt), so that a tick's bits do not depend on the
+// machine. Checked against numpy in the tests (tests/test_core_parity.py, test_realtime.py).
 #pragma once
 
 #include <cmath>
@@ -51,7 +51,7 @@ struct Arr {
 
 // Invert the leading m x m block of `matrix` into `inv` by Gauss-Jordan with partial pivoting
 // (`a`: scratch); the three have leading dimension ld. Returns ||A||_inf ||A^-1||_inf (inf
-// when exactly singular). kernel_linalg.inverse_into.
+// when exactly singular).
 inline double inverse_into(const double* matrix, std::int64_t ld, std::int64_t m, double* a,
                            double* inv) {
   for (std::int64_t i = 0; i < m; ++i)
@@ -101,7 +101,7 @@ inline double inverse_into(const double* matrix, std::int64_t ld, std::int64_t m
 }
 
 // The inverse of a square (m, m) matrix into inv, and its condition estimate.
-// kernel_linalg.invert.
+//
 inline double invert(const Arr& matrix, Arr& inv) {
   const std::int64_t m = matrix.d0;
   inv = Arr(m, m);
@@ -109,7 +109,7 @@ inline double invert(const Arr& matrix, Arr& inv) {
   return inverse_into(matrix.data(), m, m, scratch.data(), inv.data());
 }
 
-// out (rows) = a (rows, cols) x; kernel_linalg.mv.
+// out (rows) = a (rows, cols) x.
 inline void mv(const Arr& a, const double* x, double* out) {
   for (std::int64_t r = 0; r < a.d0; ++r) {
     double acc = 0.0;
@@ -118,7 +118,7 @@ inline void mv(const Arr& a, const double* x, double* out) {
   }
 }
 
-// a b with the zero entries of a skipped; kernel_linalg.mm.
+// a b with the zero entries of a skipped.
 inline Arr mm(const Arr& a, const Arr& b) {
   Arr out(a.d0, b.d1);
   for (std::int64_t r = 0; r < a.d0; ++r)
@@ -130,7 +130,7 @@ inline Arr mm(const Arr& a, const Arr& b) {
   return out;
 }
 
-// max(||D^-1 A||_inf, 1) ||A^-1 D||_inf with D = diag(row_scale); kernel_linalg.scaled_condition.
+// max(||D^-1 A||_inf, 1) ||A^-1 D||_inf with D = diag(row_scale).
 inline double scaled_condition(const Arr& matrix, const Arr& inverse, const double* row_scale) {
   const std::int64_t m = matrix.d0;
   double norm = 0.0, norm_inv = 0.0;
@@ -165,7 +165,7 @@ struct NullScratch {
 // Orthonormal rows spanning the left null space of full (n x c, full[r][j] = columns(j, r))
 // into out (rows from 0): pivoted modified Gram-Schmidt, then the unit vectors of largest
 // residual. Returns the last pivot over the first (0 for an exactly singular chain).
-// kernel_linalg.null_rows.
+//
 inline double null_rows(const Arr& columns, std::int64_t n, std::int64_t c, std::int64_t rank,
                         Arr& out, NullScratch& s) {
   Arr& work = s.work;
@@ -228,7 +228,7 @@ inline double null_rows(const Arr& columns, std::int64_t n, std::int64_t c, std:
 
 // Largest miss of an exact row (natural or hard), relative to |row| |F| + |rhs|. rows (l, n, p)
 // and rhs (l, p) have the chain index last; hard (s, p, n); forces (p, n).
-// kernel_linalg.constraint_error.
+//
 inline double constraint_error(const Arr& rows, const Arr& rhs, const Arr& hard,
                                const Arr& hard_rhs, const double* forces, std::int64_t p,
                                std::int64_t n) {
@@ -262,7 +262,7 @@ inline double constraint_error(const Arr& rows, const Arr& rhs, const Arr& hard,
 }
 
 // Entry `row` (x y z rx ry rz) of a point contact's column (e_axis x d, e_axis).
-// kernel_linalg.ball_entry.
+//
 inline double ball_entry(std::int64_t axis, std::int64_t row, double d0, double d1, double d2) {
   if (row >= 3) return row - 3 == axis ? 1.0 : 0.0;
   if (axis == 0) return row == 0 ? 0.0 : (row == 1 ? -d2 : d1);
@@ -270,7 +270,7 @@ inline double ball_entry(std::int64_t axis, std::int64_t row, double d0, double 
   return row == 0 ? -d1 : (row == 1 ? d0 : 0.0);
 }
 
-// Sum in four interleaved partial sums; kernel_solves._chain_sum.
+// Sum in four interleaved partial sums.
 inline double chain_sum(const double* values, std::int64_t count) {
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
   const std::int64_t end = count - count % 4;
@@ -284,7 +284,7 @@ inline double chain_sum(const double* values, std::int64_t count) {
   return (s0 + s1) + (s2 + s3);
 }
 
-// kernel_linalg.wrench_transform: the 6x6 map from world twists to twists of {B}'s origin in
+// wrench_transform: the 6x6 map from world twists to twists of {B}'s origin in
 // {O}'s axes, and {O}'s rotation; frames (nf, 12) rows b ({B}) and o ({O}). Shared by the
 // partitioned and QP ticks.
 inline void wrench_transform(const double* frames, std::int64_t b, std::int64_t o,

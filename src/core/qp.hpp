@@ -1,7 +1,7 @@
-// One tick of the QP distribution in the chains' free coordinates: the C++ port of
-// virtual_actuators.distribution.qp.kernels.reduced_qp and of qp.kernel_answer (violation,
-// read_out, again), operation by operation, on the same tables and into the same buffer
-// layout, so that both agree bit for bit (tests/test_core_parity.py).
+// One tick of the QP distribution in the chains' free coordinates: the reduced QP's matrices
+// (the natural rows eliminated), the answer's violation and read-out, and the tick on the last
+// certified active set, into the buffer layout of virtual_actuators.distribution.qp.buffer. The
+// numpy QP (all rows as equalities) is its oracle (tests/test_qp_paths.py).
 #pragma once
 
 #include <cmath>
@@ -134,7 +134,7 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
   QPViews V(buffer, layout);
   const std::int64_t free = V.free, m_in = V.m_in;
   for (std::int64_t r = 0; r < m_in; ++r) V.uppers[r] = QP_INFINITY;
-  // -- the Jacobian in {O} at {B}'s origin (kernel_linalg.wrench_transform), the springs ----
+  // -- the Jacobian in {O} at {B}'s origin, the springs ----
   const std::int64_t b = T.frame_rows[0], o = T.frame_rows[1];
   double rot_o[3][3], transform[6][6];  // {O}'s rotation (row-major), the map
   wrench_transform(frames, b, o, rot_o, transform);
@@ -146,7 +146,7 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
       if (t[w] != 0.0)
         for (std::int64_t v = 0; v < nv; ++v) jac_t(a, v) += t[w] * jacobian_world[w * nv + v];
   }
-  for (std::int64_t v = 0; v < nv; ++v) {  // kernel_linalg.passive_torques
+  for (std::int64_t v = 0; v < nv; ++v) {
     const double* sp = T.springs + 5 * v;
     if (sp[2] >= 0) {
       const auto iq = static_cast<std::int64_t>(sp[2]);
@@ -168,7 +168,7 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
                        nb = T.chain(i, QP_NB_BALL);
     const std::int64_t d_i = k_i - c_i;
     const std::int64_t a_row = T.frame_rows[2 + i];
-    // kernel_linalg.offset_in_o
+
     const double dx = frames[12 * b + 9] - frames[12 * a_row + 9];
     const double dy = frames[12 * b + 10] - frames[12 * a_row + 10];
     const double dz = frames[12 * b + 11] - frames[12 * a_row + 11];
@@ -295,7 +295,7 @@ inline Reduced reduced_qp(const double* jacobian_world, const double* frames, co
 }
 
 // Largest miss of z (scaled) on the first `equalities` equality rows and every inequality row
-// (-inf for none; a non-finite z gives inf). qp.kernel_answer.violation.
+// (-inf for none; a non-finite z gives inf).
 inline double violation(const QPViews& V, const double* z, std::int64_t nz,
                         std::int64_t equalities) {
   double worst = -INF;
@@ -316,7 +316,7 @@ inline double violation(const QPViews& V, const double* z, std::int64_t nz,
 
 // Forces, torques and norms of the answer z (scaled) into out (zeros: forces, tau, passive,
 // produced, requested) and active (the active rows first): returns their count; the norms in
-// d (residual, scale, rounding incl. the solver's accuracy). qp.kernel_answer.read_out.
+// d (residual, scale, rounding incl. the solver's accuracy).
 inline std::int64_t read_out(const QPViews& V, std::int64_t pn, std::int64_t nv, const double* z,
                              std::int64_t nz, const double* multipliers, std::int64_t m,
                              double scale, const double* wrench, std::int64_t n,

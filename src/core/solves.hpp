@@ -1,6 +1,6 @@
-// The two solves of the compiled distribution: the C++ port of
-// virtual_actuators.distribution.partitioned.kernel_solves (minimum_norm, mode 0;
-// partitioned_solve, mode 1), operation by operation.
+// The two solves of the compiled distribution: the minimum norm (mode 0) and the partitioned
+// solve over the Constrained, Redundant and Minimum Force Sets (mode 1); the numpy solvers of
+// virtual_actuators.distribution.partitioned (least_norm.py, reference.py) are their oracles.
 #pragma once
 
 #include <cstdint>

@@ -34,8 +34,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ..core import CORE
-from ..kinematics.kernels import njit
+from .. import core
 from ..kinematics.snapshot import Snapshot
 from ..vocabulary.axes import check_axes_subset
 from .serial import wrench_array
@@ -93,7 +92,7 @@ def producible_directions(
     snapshot = actuator.kinematics.snapshot(q)
     if _points_only(problem):
         kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
-        if len(kinematics.reaction_ids) == 2:
+        if len(kinematics.reaction_ids) == 2 and _TWO_POINTS is not None:
             found = _TWO_POINTS(snapshot.frame_table, kinematics.frame_rows)
             if found.size:
                 return Directions(found[:30].reshape(6, 5), found[30:].reshape(6, 1))
@@ -150,106 +149,11 @@ def _points_only(problem: object) -> bool:
 _POINTS_ONLY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-@njit(cache=True)
-def _two_points(frames: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """Two point contacts in closed form: the missing direction ``(r_1 x d, d)``, normalised.
-
-    ``d`` runs from one contact to the other and ``r_1`` from {B} to the first, in {O}'s axes:
-    a wrench ``(a, b)`` is orthogonal to every ``(f, r_i x f)`` exactly when ``a = r_1 x b``
-    and ``b`` is along ``d``. The producible directions are the other columns of the
-    Householder reflection that takes a unit axis to it.
-
-    Args:
-        frames: The snapshot's frame table (rotation row by row, then position, per row).
-        rows: Rows of {B}, {O}, then the two contacts in it (``kinematics.frame_rows``).
-
-    Returns:
-        ``(36,)`` the producible directions ``(6, 5)`` then the missing one ``(6, 1)``, row by
-        row (one array to hand back: a cheaper call); empty when the two contacts coincide or
-        a row is not in the table (the general path decides).
-
-    """
-    for row in rows:
-        if row >= frames.shape[0]:
-            return np.empty(0)
-    b, o = rows[0], rows[1]
-    offsets = np.empty((2, 3))  # from each contact to {B}, in {O}
-    for i in range(2):
-        a = rows[2 + i]
-        for j in range(3):
-            acc = 0.0
-            for k in range(3):
-                acc += (frames[b, 9 + k] - frames[a, 9 + k]) * frames[o, 3 * k + j]
-            offsets[i, j] = acc
-    x, y, z = -offsets[0, 0], -offsets[0, 1], -offsets[0, 2]  # from {B} to the first contact
-    dx = offsets[0, 0] - offsets[1, 0]  # from the first contact to the second
-    dy = offsets[0, 1] - offsets[1, 1]
-    dz = offsets[0, 2] - offsets[1, 2]
-    if dx * dx + dy * dy + dz * dz <= RANK_TOL * max(x * x + y * y + z * z, 1e-300):
-        return np.empty(0)
-    buffer = np.empty(36)
-    producible, missing = buffer[:30].reshape(6, 5), buffer[30:].reshape(6, 1)
-    values = np.array((y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz))
-    norm = 0.0
-    for value in values:
-        norm += value * value
-    values /= np.sqrt(norm)
-    k = int(np.argmax(np.abs(values)))
-    v = values.copy()
-    v[k] += 1.0 if values[k] >= 0.0 else -1.0
-    squared = 0.0  # v @ v in order (numba's @ would call BLAS, whose order is its own)
-    for value in v:
-        squared += value * value
-    scale = 2.0 / squared
-    column = 0
-    for c in range(6):  # the reflection's columns but k (column k: -+ missing)
-        if c == k:
-            continue
-        for r in range(6):
-            producible[r, column] = (1.0 if r == c else 0.0) - scale * (v[r] * v[c])
-        column += 1
-    missing[:, 0] = values
-    return buffer
-
-
-@njit(cache=True)
-def _give_way_one(
-    wrench: np.ndarray, yielding: np.ndarray, missing: np.ndarray, out: np.ndarray
-) -> bool:
-    """[`give_way`][] with one missing direction, in closed form, into ``out``.
-
-    Returns False (nothing written) when the yielding directions cannot move the request
-    along it (the least-squares path decides).
-    """
-    n, m = yielding.shape
-    across = np.zeros(m)  # how each yielding direction moves the missing part
-    gap = 0.0
-    for r in range(n):
-        gap += missing[r, 0] * wrench[r]
-        for j in range(m):
-            across[j] += missing[r, 0] * yielding[r, j]
-    norm2 = 0.0
-    for j in range(m):
-        norm2 += across[j] * across[j]
-    if norm2 <= 1e-12:
-        return False
-    ratio = gap / norm2
-    rest = 0.0
-    for r in range(n):
-        shift = 0.0
-        for j in range(m):
-            shift += yielding[r, j] * (across[j] * ratio)
-        out[r] = wrench[r] - shift
-        rest += missing[r, 0] * out[r]
-    for r in range(n):  # what the yielding could not absorb: rounding
-        out[r] -= missing[r, 0] * rest
-    return True
-
-
-#: :func:`_two_points` and :func:`_give_way_one` as the library calls them: the compiled core's
-#: ports when it is built (``src/core/gait.hpp``, the same bits).
-_TWO_POINTS = CORE.two_points if CORE is not None else _two_points
-_GIVE_WAY_ONE = CORE.give_way_one if CORE is not None else _give_way_one
+#: Two point contacts in closed form (the compiled core's ``two_points``, ``src/core/gait.hpp``),
+#: or None without the core: the general path below answers the same directions.
+_TWO_POINTS = core.kernel("two_points", None)
+#: `give_way` with one missing direction in closed form (the core's ``give_way_one``), or None.
+_GIVE_WAY_ONE = core.kernel("give_way_one", None)
 
 
 def _point_columns(offsets: np.ndarray) -> np.ndarray:
@@ -301,7 +205,8 @@ def give_way(
     if r == n:
         return np.array(wrench, dtype=float)
     wrench = np.asarray(wrench, dtype=float)
-    if missing is not None and missing.shape[1] == 1 and yielding is not None:
+    one = missing is not None and missing.shape[1] == 1 and yielding is not None
+    if one and _GIVE_WAY_ONE is not None:
         out = np.empty(n)
         if _GIVE_WAY_ONE(wrench, yielding, missing, out):
             return out

@@ -70,20 +70,6 @@ class Component(ABC):
 
         """
 
-    def compute_wrench_floats(
-        self, position: list[float], velocity: list[float], time: float
-    ) -> list[float]:
-        """[`compute_wrench`][] on plain floats (the controller's per-tick fast path).
-
-        A subclass may implement it alongside [`compute_wrench`][], with the same arithmetic
-        entry by entry (the same bits); the controller uses it only for a component whose most
-        derived ``compute_wrench`` is defined in a class that also defines this method (see
-        `has_float_path`). Default: the array method.
-        """
-        return np.asarray(
-            self.compute_wrench(np.array(position), np.array(velocity), time), dtype=float
-        ).tolist()
-
     def plan_slots(self) -> dict[str, np.ndarray] | None:
         """The arrays a compiled plan keeps for this component, by name, or None (default).
 
@@ -233,14 +219,3 @@ def has_traced_path(component: object) -> bool:
                 break
     return True
 
-
-def has_float_path(component: Component) -> bool:
-    """Whether ``component``'s float method computes what its ``compute_wrench`` does.
-
-    True when the most derived class defining ``compute_wrench`` defines ``compute_wrench_floats``
-    too (a subclass overriding only ``compute_wrench`` is not trusted).
-    """
-    for klass in type(component).__mro__:
-        if "compute_wrench" in klass.__dict__:
-            return "compute_wrench_floats" in klass.__dict__ and klass is not Component
-    return False

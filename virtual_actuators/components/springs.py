@@ -40,8 +40,8 @@ def spring_damper(
     """``min(max(k d + b (v0 - v), -limit), limit) + f`` per axis, ``d`` the deflection.
 
     The spring-damper's formula on floats or traced values alike (``parameters``: the `SLOTS`
-    by name, each one value per axis): the float path and a compiled plan's ops. The clip is
-    exact where the limit is ``inf``.
+    by name, each one value per axis): `compute_wrench` on floats and a compiled plan's ops. The
+    clip is exact where the limit is ``inf``.
     """
     bent = deflection(list(parameters["setpoint"]), list(position), rotations)
     k, b = parameters["stiffness"], parameters["damping"]
@@ -220,9 +220,10 @@ class SpringDamper(Slotted, Component):
             and position.shape == self._shape
             and velocity.shape == self._shape
         ):
-            return np.array(
-                SpringDamper.compute_wrench_floats(self, position.tolist(), velocity.tolist(), time)
-            )
+            return np.array(  # entry by entry on floats: the same bits, without numpy's cost
+                spring_damper(_FloatSlots(self), position.tolist(), velocity.tolist(),
+                              self._rotations)
+            )  # fmt: skip
         wrench = self._stiffness * self._deflection(position) + self._damping * (
             self._velocity_setpoint - velocity
         )
@@ -237,17 +238,6 @@ class SpringDamper(Slotted, Component):
             position = np.asarray(position, dtype=float).tolist()
             bent = np.array(deflection(self._setpoint.tolist(), position, self._rotations))
         return bent
-
-    def compute_wrench_floats(
-        self, position: list[float], velocity: list[float], time: float
-    ) -> list[float]:
-        """[`compute_wrench`][] on plain floats, entry by entry: `spring_damper`.
-
-        The same IEEE operations in the same order as the array formula (so the same bits),
-        without numpy's per-call cost on a few axes. The parameters are read from the arrays
-        at every call (an array changed in place is seen).
-        """
-        return spring_damper(_FloatSlots(self), position, velocity, self._rotations)
 
     def _parameters(self) -> str:
         def fmt(array: np.ndarray) -> str:
@@ -340,14 +330,6 @@ class Spring(SpringDamper):
         if self.law is not None:
             raise TraceError(f"{self.name}: a spring's law is Python: it is not lowered.")
         return SpringDamper.traced_wrench(self, slots, position, velocity, time)
-
-    def compute_wrench_floats(
-        self, position: list[float], velocity: list[float], time: float
-    ) -> list[float]:
-        """The linear spring on plain floats; a law goes through [`compute_wrench`][]."""
-        if self.law is None:
-            return SpringDamper.compute_wrench_floats(self, position, velocity, time)
-        return self.compute_wrench(np.array(position), np.array(velocity), time).tolist()
 
     def _parameters(self) -> str:
         if self.law is None:

@@ -209,14 +209,6 @@ class DogtrackBunny(SpringDamper):
         self.setpoint = self.position_at(time)
         return super().compute_wrench(position, velocity, time)
 
-    def compute_wrench_floats(
-        self, position: list[float], velocity: list[float], time: float
-    ) -> list[float]:
-        """[`compute_wrench`][] on plain floats (the same arithmetic)."""
-        self.setpoint = self.position_at(time)
-        return SpringDamper.compute_wrench_floats(self, position, velocity, time)
-
-
 class SwingLegLinkage(SpringDamper):
     """Spring-dampers that place the swing foot relative to the body.
 

@@ -6,8 +6,8 @@ a frozen `ContactSet`: the kind of each reaction, its contact normal (world z un
 declared), the friction pyramid and least normal force, the soles and the unilateral minima.
 Both layers read the same rows from it (`ContactSet.rows`, ``lows <= G x`` over ``x =
 forces.ravel()``): the QP stacks them with the torque limits, the controller's yield policy
-tests and scales a request against them, through `margins`, the compiled evaluation of
-the same rows (the point kind's njit face rows, written once).
+tests and scales a request against them, through the compiled core's evaluation of the same
+rows (``contact_least_margin``, ``contact_largest_scale``: `CompiledMargins` are their tables).
 """
 
 from __future__ import annotations
@@ -18,15 +18,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kinematics.kernels import njit
 from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import AXES
 from . import flat, point
 from .constraint import Constraint, Contact, force_entries
 from .declare import Normals, check_contact, parse_normals
 from .kinds import parse_contacts
-from .point import MAX_ROWS as POINT_ROWS
-from .point import kernel_rows as point_rows
 
 
 @dataclass(frozen=True, slots=True)
@@ -144,7 +141,7 @@ class ContactSet:
         }
 
     def compiled(self) -> CompiledMargins | None:
-        """The arguments of `margins` (None with sole rows: build `rows` then)."""
+        """The core's margins' tables (None with sole rows: build `rows` then)."""
         if self.sole_rows:
             return None
         contacts = [
@@ -163,7 +160,7 @@ class ContactSet:
 
 
 class CompiledMargins(NamedTuple):
-    """A `ContactSet`'s tables for `margins` (see `ContactSet.compiled`)."""
+    """A `ContactSet`'s tables for the core's margins (see `ContactSet.compiled`)."""
 
     #: ``(p, k)`` each contact's :func:`~.point.parameters` row (no row: no pyramid)
     points: np.ndarray
@@ -237,107 +234,8 @@ def declare(
     )  # fmt: skip
 
 
-@njit(cache=True)
-def margins(
-    frames: np.ndarray,
-    orientation_rows: np.ndarray,
-    forces: np.ndarray,
-    points: np.ndarray,
-    axis_rows: np.ndarray,
-    minima_axes: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """``G @ forces.ravel()`` of `ContactSet.rows` (no sole rows) into ``out``.
-
-    ``frames`` is the snapshot's frame table (row ``f``: ``R.ravel()``), ``orientation_rows``
-    the rows of {O} then of each reaction frame; ``points``, ``axis_rows`` and ``minima_axes``
-    are `CompiledMargins`' (the kernels take its arrays one by one: a NamedTuple
-    argument costs numba ~1.4 us of dispatch per call, ~1 % of a flamingo tick); the pyramid
-    rows are the point kind's compiled rows (`kernel_rows`).
-    """
-    p, n = forces.shape
-    row = 0
-    for axis in minima_axes:
-        for c in range(p):
-            out[row] = forces[c, axis]
-            row += 1
-    if points.shape[0] == 0:
-        return
-    rot_o = frames[orientation_rows[0], :9].copy().reshape(3, 3)
-    rows, lows, offset = np.empty((POINT_ROWS, n)), np.empty(POINT_ROWS), np.zeros(3)
-    for c in range(p):
-        rows[:] = 0.0
-        placement = frames[orientation_rows[1 + c]]
-        count = point_rows(points[c], placement, rot_o, offset, axis_rows, rows, lows)
-        for f in range(count):
-            total = 0.0
-            for a in range(n):
-                total += rows[f, a] * forces[c, a]
-            out[row] = total
-            row += 1
-
-
-@njit(cache=True)
-def least_margin(
-    frames: np.ndarray,
-    orientation_rows: np.ndarray,
-    forces: np.ndarray,
-    points: np.ndarray,
-    axis_rows: np.ndarray,
-    minima_axes: np.ndarray,
-    lows: np.ndarray,
-) -> float:
-    """Smallest ``G @ forces.ravel() - lows`` of `ContactSet.rows` (no sole rows).
-
-    The tables are `CompiledMargins`' arrays in its order (see `margins`).
-    """
-    values = np.empty(lows.shape[0])
-    margins(frames, orientation_rows, forces, points, axis_rows, minima_axes, values)
-    least = np.inf
-    for r in range(lows.shape[0]):
-        least = min(least, values[r] - lows[r])
-    return least
-
-
-@njit(cache=True)
-def largest_scale(
-    frames: np.ndarray,
-    orientation_rows: np.ndarray,
-    full: np.ndarray,
-    base: np.ndarray,
-    points: np.ndarray,
-    axis_rows: np.ndarray,
-    minima_axes: np.ndarray,
-    lows: np.ndarray,
-) -> float:
-    """The largest ``alpha`` in ``[0, 1]`` with ``G (base + alpha (full - base)) >= lows``.
-
-    On every row of `ContactSet.rows` (no sole rows); 0 when none is. The tables are
-    `CompiledMargins`' arrays in its order (see `margins`).
-    """
-    at_full, at_base = np.empty(lows.shape[0]), np.empty(lows.shape[0])
-    margins(frames, orientation_rows, full, points, axis_rows, minima_axes, at_full)
-    margins(frames, orientation_rows, base, points, axis_rows, minima_axes, at_base)
-    upper, lower = 1.0, 0.0
-    for r in range(lows.shape[0]):
-        slope = at_full[r] - at_base[r]
-        if slope == 0.0:
-            if at_base[r] < lows[r]:
-                return 0.0  # no alpha helps that condition
-            continue
-        ratio = (lows[r] - at_base[r]) / slope
-        if slope < 0.0:
-            upper = min(upper, ratio)
-        else:
-            lower = max(lower, ratio)
-    return 0.0 if lower > upper else min(upper, 1.0)
-
-
 __all__ = [
     "CompiledMargins",
     "ContactSet",
     "declare",
-    "largest_scale",
-    "least_margin",
-    "margins",
 ]

@@ -5,7 +5,7 @@ frame's z axis. With the frame's axes ``e_c`` in {O} and ``d`` from {A_i} to {B}
 the frame's origin is ``e_c . m_A = e_c . m_B + f . (e_c x d)``, and six rows ``>= 0`` bound it by
 ``half_c (e_z . f)`` on both sides: ``half_width`` about x, ``half_length`` about y and
 ``mu min(half_length, half_width)`` about z (``mu`` the friction, 0 without one). The numpy rows
-(`rows`) are the reference; the njit ones (`sole_rows`) build the compiled path's.
+(`rows`) are the reference of the compiled core's (``src/core/contact_rows.hpp``).
 """
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..exceptions import InvalidInputError
-from ..kinematics.kernels import njit
 from ..vocabulary.arguments import as_float_array
 from .constraint import Constraint, Contact, Entries, cross, force_entries, moment_entries
 from .declare import reaction_index
@@ -161,7 +160,7 @@ def block(
 
 
 def parameters(contact: Contact) -> np.ndarray:
-    """The float row `kernel_rows` reads: friction (< 0 none), 1, the sole's halves."""
+    """The float row the compiled core reads: friction (< 0 none), 1, the sole's halves."""
     friction = -1.0 if contact.friction is None else contact.friction
     return np.array([friction, 1.0, *contact.sole], dtype=float)
 
@@ -197,81 +196,6 @@ def table(soles: Mapping[int, tuple[float, float]], p: int) -> np.ndarray:
     return out
 
 
-@njit(cache=True)
-def sole_rows(
-    placement: np.ndarray,
-    rot_o: np.ndarray,
-    sole: np.ndarray,
-    friction: float,
-    offset: tuple,
-    axis_rows: np.ndarray,
-    chain_x0: np.ndarray,
-    chain_basis: np.ndarray,
-    out: np.ndarray,
-    lows: np.ndarray,
-) -> None:
-    """The six rows ``>= 0`` over ``z_i`` (``f_i = x0_i + N_i z_i``) into ``out`` and ``lows``.
-
-    ``placement`` is the reaction frame's row of the snapshot's frames, ``sole`` its
-    `table` row, ``friction`` < 0 for none.
-    """
-    n = axis_rows.shape[0]
-    frame_o = np.zeros((3, 3))  # columns: the reaction frame's axes in {O}
-    for r in range(3):
-        for c in range(3):
-            acc = 0.0
-            for k in range(3):
-                acc += rot_o[k, r] * placement[3 * k + c]
-            frame_o[r, c] = acc
-    mu = friction if friction >= 0.0 else 0.0
-    halves = (sole[2], sole[1], mu * min(sole[1], sole[2]))
-    entry = np.zeros(n)  # the moment row over F_i
-    normal = np.zeros(n)  # the force along the sole's normal over F_i
-    for c in range(3):
-        e0, e1, e2 = frame_o[0, c], frame_o[1, c], frame_o[2, c]
-        lever = (e1 * offset[2] - e2 * offset[1], e2 * offset[0] - e0 * offset[2],
-                 e0 * offset[1] - e1 * offset[0])  # fmt: skip
-        for a in range(n):
-            component = axis_rows[a]
-            if component >= 3:
-                entry[a] = frame_o[component - 3, c]
-            else:
-                entry[a] = lever[component]
-                normal[a] = frame_o[component, 2]
-        for side in range(2):
-            sign = -1.0 if side == 0 else 1.0
-            row = 2 * c + side
-            constant = 0.0
-            for a in range(n):
-                weight = halves[c] * normal[a] + sign * entry[a]
-                constant += weight * chain_x0[a]
-                for j in range(chain_basis.shape[1]):
-                    out[row, j] += weight * chain_basis[a, j]
-            lows[row] = -constant
-
-
-@njit(cache=True)
-def kernel_rows(
-    parameters: np.ndarray,
-    placement: np.ndarray,
-    rot_o: np.ndarray,
-    offset_o: np.ndarray,
-    axis_rows: np.ndarray,
-    out: np.ndarray,
-    lows: np.ndarray,
-) -> int:
-    """`contact_rows` compiled: the six rows over ``F_i`` into ``out`` (zeros), ``lows``.
-
-    ``parameters`` is `parameters`' row, ``placement`` the reaction frame's row of the
-    snapshot's frames, ``axis_rows`` the component (0-5) of each axis; returns how many rows.
-    """
-    n = axis_rows.shape[0]
-    offset = (offset_o[0], offset_o[1], offset_o[2])
-    sole_rows(placement, rot_o, parameters[1:4], parameters[0], offset, axis_rows,
-              np.zeros(n), np.eye(n), out, lows)  # fmt: skip
-    return ROWS
-
-
 __all__ = [
     "MAX_ROWS",
     "ROWS",
@@ -281,11 +205,9 @@ __all__ = [
     "contact_rows",
     "declared_names",
     "entries",
-    "kernel_rows",
     "names",
     "parameters",
     "parse_soles",
     "rows",
-    "sole_rows",
     "table",
 ]

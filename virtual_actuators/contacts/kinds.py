@@ -1,7 +1,7 @@
 """The contact kinds by name, and each reaction's kind as declared.
 
 A new kind is one file (its ``ball_axes``, ``parameters``, ``contact_rows`` in numpy,
-``kernel_rows`` compiled, ``MAX_ROWS``) and one entry in `KINDS`; see
+``MAX_ROWS``), its rows in the compiled core, and one entry in `KINDS`; see
 ``docs/contributing.md``, "Adding a contact kind".
 """
 

@@ -9,14 +9,13 @@ sums its components' wrenches.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Container, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..actuators import VirtualActuator
-from ..components.base import Component, has_float_path
+from ..components.base import Component
 from ..contacts import ContactSet, declare
 from ..exceptions import InvalidInputError
 from ..kinematics.kernels import finite
@@ -72,18 +71,6 @@ class Attachment:
     def __post_init__(self) -> None:
         # Each component's axes as a slice when contiguous (views instead of gathers per tick)
         self.slots = [_as_slice(index) for index in self.indices]
-        # Components computed on plain floats per tick (see Component.compute_wrench_floats): all of
-        # them must have the float path and contiguous axes; valid while ``components`` holds
-        # the same objects (checked per tick against the copy kept here). A speed trick kept
-        # by issue 25's rule: without it controller.compute costs 7 us more per turkey-walk
-        # tick (26 -> 33 us CPU, replayed ticks), about 5-6 % of a whole ~115-130 us tick.
-        self.float_components: list[Component] | None = None
-        if self.components and all(
-            isinstance(slot, slice) and has_float_path(component)
-            for component, slot in zip(self.components, self.slots, strict=False)
-        ):
-            self.float_components = list(self.components)
-            self.float_slots = [(slot.start, slot.stop) for slot in self.slots]
         # A parallel actuator's checked request (method, free axes, weights) for its solves
         plan = getattr(self.actuator, "plan", None)
         self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
@@ -186,10 +173,6 @@ class Attachment:
 
         """
         components, n = self.components, len(self.actuator.axes)
-        if components == self.float_components:  # plain floats, the same arithmetic
-            wrench = self.wrench_floats(position, velocity, time)
-            if wrench is not None:
-                return wrench
         wrench = None
         if len(components) == 1 and self.slots[0] == slice(0, n):  # one on every axis
             wrench = components[0].compute_wrench(position, velocity, time)
@@ -213,39 +196,6 @@ class Attachment:
             )
         return wrench
 
-    def wrench_floats(
-        self, position: np.ndarray, velocity: np.ndarray, time: float
-    ) -> np.ndarray | None:
-        """The controller's sum of component wrenches, on plain floats (the per-tick fast path).
-
-        For attachments whose components all have a float path and contiguous axes
-        (`float_components`). The same sums in the same order as the array path
-        (``0.0 + share`` per component and axis, or one component's wrench as is when it covers
-        every axis). None when the sum is not finite or a component returns the wrong number
-        of entries: the array path then raises its error.
-        """
-        xs, vs = position.tolist(), velocity.tolist()
-        components, slots = self.float_components, self.float_slots
-        if len(components) == 1 and slots[0] == (0, len(xs)):
-            total = components[0].compute_wrench_floats(xs, vs, time)
-            if len(total) != len(xs):
-                return None
-        else:
-            total = [0.0] * len(xs)
-            for component, (start, stop) in zip(components, slots, strict=True):
-                share = component.compute_wrench_floats(xs[start:stop], vs[start:stop], time)
-                if len(share) != stop - start:
-                    return None  # the array path names the component and what it returned
-                for i, value in enumerate(share, start):
-                    total[i] += value
-        try:
-            if not math.isfinite(sum(total)):
-                return None
-        except TypeError:  # a complex or non-numeric entry: the array path names it
-            return None
-        return np.array(total)
-
-    @property
     def axes(self) -> tuple[str, ...]:
         """The actuator's axes."""
         return self.actuator.axes

@@ -4,22 +4,20 @@ An attachment whose components are all spring-dampers on contiguous runs of the 
 ([`SpringDamper`][] and its subclasses that keep its formula: the granny
 walker, the swing-leg linkage, the dogtrack bunny, a [`Spring`][] without
 a law) needs per tick: the sensor's reading (`sense`), the sum of the components' wrenches (their
-float path,
-[`compute_wrench_floats`][virtual_actuators.SpringDamper.compute_wrench_floats], summed like
-`wrench_floats`) and, for a serial
-actuator that is its own sensor, the efforts ``J^T w``. `spring_tick` does them in one
-call, the same operations in the same order as those (``J^T w`` as a sum over the axes in
-order, where the controller's general path lets numpy's ``J.T @ w`` round its own way); a
-parallel actuator's wrench then goes to its distribution, in the same call of the core
-(``_core.SpringSolve``, `SpringTick.run_solve`) when the attachment's request has a one-call
-solve (``SnapshotSolve``): the same kernels as the two calls it replaces, hence the same bits
-(``tests/test_snapshot_solve.py``). It is the reference of the
-compiled core's C++ port (``src/core/attachment.hpp``), which `SpringTick` calls when the
-core is built: both agree bit for bit (``tests/test_attachment_kernel.py``), and an edit here
-goes with the same edit there.
+[`compute_wrench`][virtual_actuators.SpringDamper.compute_wrench], summed like the controller's
+`Attachment.wrench`) and, for a serial
+actuator that is its own sensor, the efforts ``J^T w``. The compiled core's ``SpringTick``
+(``src/core/attachment.hpp``) does them in one call, the same operations in the same order as
+those (``J^T w`` as a sum over the axes in order, where the controller's general path lets
+numpy's ``J.T @ w`` round its own way); a parallel actuator's wrench then goes to its
+distribution, in the same call of the core (``_core.SpringSolve``, `SpringTick.run_solve`) when
+the attachment's request has a one-call solve (``SnapshotSolve``): the same kernels as the two
+calls it replaces, hence the same bits (``tests/test_snapshot_solve.py``). Without the core the
+controller's general path runs (numpy), and ``tests/test_attachment_kernel.py`` checks that
+both agree.
 
 The tick hands the general path back (flag 0 in its buffer) when a component's one rotational
-axis has a difference outside ``[-pi, pi]`` (the float path wraps it) or the wrench is not
+axis has a difference outside ``[-pi, pi]`` (the general path wraps it) or the wrench is not
 finite (the general path names the component).
 """
 
@@ -33,124 +31,31 @@ from ..actuators import VirtualActuator
 from ..components.orientation import rotation_axes
 from ..components.springs import Spring, SpringDamper
 from ..components.walking import DogtrackBunny
-from ..core import CORE
+from ..core import CORE, has
 from ..distribution.partitioned.compiled import BufferSolve
 from ..distribution.result import Solution
-from ..kinematics.kernels import HAVE_NUMBA, njit
-from ..kinematics.sensor_kernels import relative_sensor
 from ..kinematics.snapshot import Snapshot
 
-__all__ = ["SpringTick", "spring_tick"]
+__all__ = ["SpringTick"]
 
-#: The float paths that are the spring-damper formula itself (the bunny's moves its set point
-#: to :meth:`~virtual_actuators.DogtrackBunny.position_at` first: :meth:`SpringTick.run` does).
+#: The wrenches that are the spring-damper formula itself (the bunny's moves its set point to
+#: :meth:`~virtual_actuators.DogtrackBunny.position_at` first: :meth:`SpringTick.run` does).
 _FORMULA = (
-    SpringDamper.compute_wrench_floats,
-    Spring.compute_wrench_floats,
-    DogtrackBunny.compute_wrench_floats,
-)
-#: The array paths that agree with them.
-_ARRAY_FORMULA = (
     SpringDamper.compute_wrench,
     Spring.compute_wrench,
     DogtrackBunny.compute_wrench,
 )
-#: The parameter tables' rows, in :func:`spring_tick`'s order.
+#: The parameter tables' rows, in the core's order.
 PARAMETERS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
 #: A spring-damper's six parameter arrays in one call: the arrays its properties return,
 #: read without a Python call each (a tick's cost; see SpringDamper's attributes)
 _read_parameters = attrgetter(*(f"_{name}" for name in PARAMETERS))
 
 
-@njit(cache=True)
-def spring_tick(
-    jacobian_world: np.ndarray,
-    frames: np.ndarray,
-    v: np.ndarray,
-    axis_rows: np.ndarray,
-    rows: np.ndarray,
-    columns: np.ndarray,
-    signs: np.ndarray,
-    targets: np.ndarray,
-    rotations: np.ndarray,
-    summed: int,
-    efforts: int,
-    parameters: np.ndarray,
-) -> np.ndarray:
-    """Sense {B} relative to {A}, the spring-dampers' summed wrench on it, and its efforts.
-
-    Args:
-        jacobian_world: ``(6, nv)`` world joint Jacobian (the snapshot's).
-        frames: ``(nf, 12)`` frame placements (the snapshot's).
-        v: ``(nv,)`` velocity.
-        axis_rows: ``(n,)`` rows of the sensor's axes among ``x y z rx ry rz``.
-        rows: ``(3,)`` rows of {B}, {O} and {A} in ``frames``.
-        columns: velocity indices of the chain between {A} and {B}.
-        signs: their +1 / -1.
-        targets: ``(e,)`` the axis of each entry: the components' axes, component after
-            component.
-        rotations: ``(e,)`` 1 where the entry is its component's one rotational axis.
-        summed: 1: each axis sums its entries from 0.0 (``0.0 + share``, the controller's sum
-            of several components); 0: one entry per axis, taken as is (one component).
-        efforts: 1: compute ``J^T w`` (a serial actuator that is its own sensor); 0: leave
-            ``effort`` zero (a parallel actuator's wrench goes to its distribution).
-        parameters: ``(6, e)`` the entries' stiffness, damping, setpoint, velocity setpoint,
-            force and limit (``inf``: no saturation; ``min(max(w, -inf), inf)`` is ``w``).
-
-    Returns:
-        One buffer: ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, then
-        1.0, or 0.0 when the general path must run instead (and ``effort`` is left zero).
-
-    """
-    n = axis_rows.shape[0]
-    nv = jacobian_world.shape[1]
-    sensed = relative_sensor(jacobian_world, frames, v, axis_rows, rows, columns, signs)
-    out = np.zeros(nv + 3 * n + 1)
-    for i in range(n):
-        out[nv + i] = sensed[n * nv + i]
-        out[nv + n + i] = sensed[n * nv + n + i]
-    ok = True
-    for e in range(targets.shape[0]):
-        i = targets[e]
-        bent = parameters[2, e] - out[nv + i]
-        if rotations[e] == 1 and not -np.pi <= bent <= np.pi:
-            ok = False  # the float path wraps the angle
-        wrench = parameters[0, e] * bent + parameters[1, e] * (parameters[3, e] - out[nv + n + i])
-        wrench = min(max(wrench, -parameters[5, e]), parameters[5, e]) + parameters[4, e]
-        if summed == 1:
-            out[nv + 2 * n + i] += wrench
-        else:
-            out[nv + 2 * n + i] = wrench
-    total = 0.0
-    for i in range(n):
-        total += out[nv + 2 * n + i]
-    if not np.isfinite(total):
-        ok = False  # the general path names the component
-    if ok:
-        if efforts == 1:
-            for j in range(columns.shape[0]):
-                col = columns[j]
-                acc = 0.0
-                for i in range(n):
-                    acc += sensed[i * nv + col] * out[nv + 2 * n + i]
-                out[col] = acc
-        out[nv + 3 * n] = 1.0
-    return out
-
-
-def _core_tick(arguments: tuple) -> object | None:
-    """The compiled core's object for these tables, or None (no core)."""
-    if CORE is None or not hasattr(CORE, "SpringTick"):
-        return None
-    return CORE.SpringTick(*arguments)
-
-
 def _served(component: object) -> bool:
     """Whether ``component`` is a spring-damper of the formula, with one rotational axis at most."""
     klass = type(component)
-    if not isinstance(component, SpringDamper) or klass.compute_wrench not in _ARRAY_FORMULA:
-        return False
-    if klass.compute_wrench_floats not in _FORMULA:
+    if not isinstance(component, SpringDamper) or klass.compute_wrench not in _FORMULA:
         return False
     rotations = rotation_axes(component.axes)
     return not rotations or len(rotations.which) == 1
@@ -160,7 +65,7 @@ class SpringTick:
     """The one-call sensing and wrench of an attachment of spring-dampers (and serial efforts).
 
     Built by `of` at declaration for the attachments it serves; `run` returns the
-    tick's buffer (`spring_tick`'s layout) or None (the general path runs).
+    tick's buffer (the core's layout) or None (the general path runs).
 
     Args:
         sensor: The serial actuator the components read.
@@ -196,9 +101,9 @@ class SpringTick:
     ) -> None:
         kinematics = sensor.kinematics
         self.components = list(components)
-        #: the bunnies, whose set point follows the time (their float path moves it first)
-        own = DogtrackBunny.compute_wrench_floats
-        self.bunnies = tuple(c for c in components if type(c).compute_wrench_floats is own)
+        #: the bunnies, whose set point follows the time (their wrench moves it first)
+        own = DogtrackBunny.compute_wrench
+        self.bunnies = tuple(c for c in components if type(c).compute_wrench is own)
         #: the springs that may be given a law (then the general path runs)
         self.springs = tuple(c for c in components if isinstance(c, Spring))
         self.efforts = efforts
@@ -230,9 +135,9 @@ class SpringTick:
             int(summed),
             int(efforts),
         )
-        self.core = _core_tick((*self.tables, self.nv))
-        #: a parallel actuator's one-call distribution (None: serial, or no compiled core)
-        self.solve = solve if self.core is not None and not efforts else None
+        self.core = CORE.SpringTick(*self.tables, self.nv)
+        #: a parallel actuator's one-call distribution (None: serial, or none compiled)
+        self.solve = solve if not efforts else None
         self.fused = None if self.solve is None else CORE.SpringSolve(self.core, *solve.packed)
 
     @classmethod
@@ -249,10 +154,10 @@ class SpringTick:
         It serves a serial actuator that is its own sensor, or a parallel actuator (its serial
         sensor read), with spring-dampers only (the formula, not a subclass's own wrench; at
         most one rotational axis each) on contiguous runs of the axes (``slots``), when a
-        compiled kernel exists (the core, or numba). ``solve``: a parallel actuator's
+        compiled core is built. ``solve``: a parallel actuator's
         one-call distribution of the wrench (`run_solve` then runs both in one call).
         """
-        if CORE is None and not HAVE_NUMBA:
+        if not has("SpringTick"):
             return None
         if not components or type(sensor) is not VirtualActuator:
             return None
@@ -277,10 +182,7 @@ class SpringTick:
             return
         parameters = [array for c in self.components for array in _read_parameters(c)]
         arguments = (snapshot.jacobian_world, snapshot.frame_table, snapshot.v)
-        if self.core is not None:
-            self.core.tick(*arguments, parameters)
-        else:
-            spring_tick(*arguments, *self.tables, table(parameters))
+        self.core.tick(*arguments, parameters)
 
     def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
         """The tick's buffer, or None when the general path must run.
@@ -327,7 +229,7 @@ class SpringTick:
         jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
         if frames.shape[0] < self.rows_end:
             return None, None
-        for bunny in self.bunnies:  # as its float path does before the formula
+        for bunny in self.bunnies:  # as its compute_wrench does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
             parameters = _read_parameters(components[0])
@@ -343,23 +245,6 @@ class SpringTick:
             if status:
                 return buffer, None
             return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
-        if self.core is not None:
-            buffer = self.core.tick(jacobian_world, frames, v, parameters)
-        else:
-            buffer = spring_tick(jacobian_world, frames, v, *self.tables, table(list(parameters)))
+        buffer = self.core.tick(jacobian_world, frames, v, parameters)
         return (buffer if buffer[-1] == 1.0 else None), None
 
-
-def table(parameters: list[np.ndarray]) -> np.ndarray:
-    """`spring_tick`'s ``(6, e)`` parameters: the components' arrays, six per component.
-
-    Args:
-        parameters: Each component's `PARAMETERS` arrays, component after component.
-
-    Returns:
-        Row ``k`` the components' ``PARAMETERS[k]`` arrays end to end.
-
-    """
-    return np.array(
-        [np.concatenate(parameters[k::6]) for k in range(6)], dtype=float
-    ).reshape(6, -1)

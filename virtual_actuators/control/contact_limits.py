@@ -13,29 +13,23 @@ import dataclasses
 
 import numpy as np
 
-from ..contacts import contact_set
-from ..core import CORE
+from ..core import CORE, has
 from ..distribution.result import Solution, label
-from ..kinematics.kernels import HAVE_NUMBA
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment
-
-#: the compiled margins: the core's when built, else the reference (numba) kernels
-_least_margin = contact_set.least_margin if CORE is None else CORE.contact_least_margin
-_largest_scale = contact_set.largest_scale if CORE is None else CORE.contact_largest_scale
 
 
 def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray) -> float | None:
     """Smallest margin ``G @ forces.ravel() - lows`` of the attachment's contact rows.
 
-    One compiled call (None without the core and numba, the contacts have sole rows, or the
+    One call of the compiled core (None without the core, with sole rows, or when the
     snapshot's frame table lacks a frame the rows read: then build the rows).
     """
     frames = _frame_table(attachment, snapshot)
     if frames is None:
         return None
     rows = attachment.actuator.kinematics.orientation_rows
-    return _least_margin(frames, rows, forces, *attachment.margins)
+    return CORE.contact_least_margin(frames, rows, forces, *attachment.margins)
 
 
 def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | None:
@@ -43,7 +37,7 @@ def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | Non
     frames = snapshot.frame_table
     kinematics = attachment.actuator.kinematics
     if (
-        not (HAVE_NUMBA or CORE is not None)
+        not has("contact_least_margin")
         or attachment.margins is None
         or frames.shape[0] < kinematics.orientation_rows_end
     ):
@@ -79,7 +73,7 @@ def largest_scale(
         rows, lows = constraint_rows(attachment, snapshot)
         return ratio_test(rows @ full.ravel(), rows @ base.ravel(), lows)
     rows = attachment.actuator.kinematics.orientation_rows
-    return _largest_scale(frames, rows, full, base, *attachment.margins)
+    return CORE.contact_largest_scale(frames, rows, full, base, *attachment.margins)
 
 
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:

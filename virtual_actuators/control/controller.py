@@ -281,10 +281,10 @@ class Controller:
                 component.reset(position[index], time)
 
     def warm_up(self, q: np.ndarray) -> None:
-        """Compile (or load from numba's cache) every kernel the ticks use, at ``q``.
+        """Run every kernel the ticks use once, at ``q``: their buffers are built then.
 
-        Call it before a timed loop: otherwise the first ticks pay tens of milliseconds per
-        kernel. Nothing is evaluated for real: no component runs and no state changes.
+        Call it before a timed loop: otherwise the first ticks pay for them. Nothing is evaluated
+        for real: no component runs and no state changes.
 
         Raises:
             InvalidInputError: A bad ``q``.

@@ -32,7 +32,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..core import CORE
+from ..core import has
 from ..exceptions import InvalidInputError, TraceError
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
@@ -161,7 +161,7 @@ class MachineController:
 
     def _lower(self) -> CompiledMachine | MachineController:
         """The compiled machine, or this object (no core, ``VA_PLAN=0``, or refused)."""
-        if CORE is None or not hasattr(CORE, "PlanMachine") or os.environ.get("VA_PLAN") == "0":
+        if not has("PlanMachine") or os.environ.get("VA_PLAN") == "0":
             return self
         try:
             return compile_machine(self)

@@ -1,8 +1,8 @@
-"""Load a controller's compiled kernels before its first tick (`warm_up`).
+"""Make what a controller's first tick would build, before that tick (`warm_up`).
 
-numba compiles a kernel, or reads it from its on-disk cache, the first time it is called with
-a given set of argument types: tens of milliseconds per kernel, which would land in the first
-control ticks. `warm_up` calls every kernel an attachment's tick uses once, on results it
+The first call of a tick's paths builds their buffers and tables (the QP's workspaces, the
+compiled core's per-thread scratch, the lazily built Pinocchio data), which would land in the
+first control ticks. `warm_up` calls every kernel an attachment's tick uses once, on results it
 throws away: no component is evaluated, no controller state changes, and the QP's warm start
 (kept per thread) is left alone by solving on a short-lived thread of its own. It also makes the
 robot's lazily built data of the calling thread (the ``pinocchio.Data`` of

@@ -2,9 +2,9 @@
 
 Every backend hands back a `TickResult`; [`Solution.from_tick`][] turns it into the
 user's [`Solution`][]. The tail of a tick (what was produced and requested, the residual, the
-scale it is judged against and the rounding of the chain forces) is written once here: in numpy
-(`close_tick`, the numpy paths) and as a compiled kernel (`close_norms`, the compiled
-partitioned and QP paths, which fill their own output buffers).
+scale it is judged against and the rounding of the chain forces) is written once here for the
+numpy paths (`close_tick`) and once in the compiled core (``close_norms`` in ``src/core``), whose
+partitioned and QP paths fill their own output buffers.
 """
 
 from __future__ import annotations
@@ -17,7 +17,6 @@ from typing import NamedTuple
 import numpy as np
 
 from ..exceptions import InadmissibleWrenchError
-from ..kinematics.kernels import njit
 from .linalg import stable_norm
 from .tolerances import ROUNDING
 
@@ -161,57 +160,6 @@ def close_tick(
     requested = np.where(keep, wrench, produced)
     scale = max(request, output)
     return TickResult(raw, tau, passive, produced, requested, residual, scale, rounding)
-
-
-@njit(cache=True)
-def close_norms(
-    keep: np.ndarray,
-    wrench: np.ndarray,
-    forces: np.ndarray,
-    produced: np.ndarray,
-    requested: np.ndarray,
-) -> tuple[float, float, float]:
-    """The tail of a compiled solve: fill ``requested``, return residual, scale and rounding.
-
-    ``requested`` gets the request on the prescribed axes (``keep``) and what was produced
-    (``produced``, filled by the caller) on the free ones. The norms are scale-free: each term is
-    divided by ``peak``, the largest of ``|wrench|``, ``|produced|`` and ``|produced - wrench|``
-    on the prescribed axes, so that none over- or underflows at any magnitude.
-
-    Args:
-        keep: ``(n,)`` 1 for the prescribed axes.
-        wrench: ``(n,)`` the request.
-        forces: ``(p n,)`` the chains' forces, flat.
-        produced: ``(n,)`` their sum.
-        requested: ``(n,)`` written.
-
-    Returns:
-        ``(residual, scale, rounding)``: the norm of ``produced - wrench`` on the prescribed
-        axes (inf when ``peak`` is not finite), the larger of the norms of ``wrench`` and
-        ``produced`` there, and ``ROUNDING * max |F|`` (not finite when a force is not).
-
-    """
-    peak = 0.0
-    for a in range(keep.shape[0]):
-        if keep[a]:
-            peak = max(peak, abs(wrench[a]), abs(produced[a]), abs(produced[a] - wrench[a]))
-            requested[a] = wrench[a]
-        else:
-            requested[a] = produced[a]
-    residual, request, output = 0.0, 0.0, 0.0
-    if np.isfinite(peak) and peak > 0.0:
-        for a in range(keep.shape[0]):
-            if keep[a]:
-                error = (produced[a] - wrench[a]) / peak
-                residual += error * error
-                request += (wrench[a] / peak) ** 2
-                output += (produced[a] / peak) ** 2
-    elif not np.isfinite(peak):
-        peak, residual = np.inf, np.inf
-    force_peak = 0.0
-    for r in range(forces.shape[0]):
-        force_peak = max(force_peak, abs(forces[r]))
-    return peak * np.sqrt(residual), peak * np.sqrt(max(request, output)), ROUNDING * force_peak
 
 
 def tolerance(tol: float, scale: float, rounding: float) -> float:

@@ -43,12 +43,8 @@ may be added.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING
 
 from virtual_actuators.exceptions import InvalidInputError, closest_names
-
-if TYPE_CHECKING:
-    from virtual_actuators.experiments.walk_log import WalkLog
 
 __all__ = [
     "STANDARD_CHANNELS",
@@ -145,11 +141,14 @@ def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def resolve_step_states(log: WalkLog, step_states: Iterable[str] | None = None) -> tuple[str, ...]:
+def resolve_step_states(
+    state_names: Sequence[str], metadata: dict, step_states: Iterable[str] | None = None
+) -> tuple[str, ...]:
     """Return the step-state names: ``step_states``, else metadata, else the default guess.
 
     Args:
-        log: The run.
+        state_names: The run's state names (``WalkLog.state_names``).
+        metadata: Its metadata (``WalkLog.metadata``).
         step_states: Explicit names, or None.
 
     Returns:
@@ -163,16 +162,16 @@ def resolve_step_states(log: WalkLog, step_states: Iterable[str] | None = None) 
     """
     source = "step_states"
     if step_states is None:
-        step_states = log.metadata.get("step_states")
+        step_states = metadata.get("step_states")
         source = "metadata['step_states']"
     if step_states is None:
-        return default_step_states(log.state_names)
+        return default_step_states(state_names)
     if isinstance(step_states, str):
         step_states = (step_states,)
     names = tuple(str(s) for s in step_states)
     for name in names:
-        if name not in log.state_names:
-            listed = ", ".join(repr(s) for s in log.state_names) or "none"
+        if name not in state_names:
+            listed = ", ".join(repr(s) for s in state_names) or "none"
             raise InvalidInputError(
                 f"{source}: {name!r} is not a state of the log; valid states: {listed}."
             )

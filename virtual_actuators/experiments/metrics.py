@@ -315,7 +315,7 @@ def compute_metrics(
     height_mean, height_dev = _heights(log, window)
     pitch_max, pitch_dev = _pitches(log, window)
 
-    names = resolve_step_states(log, step_states)
+    names = resolve_step_states(log.state_names, log.metadata, step_states)
     entries = log.entries(names)
     entries = entries[entries < end]
     steps = int(entries.size)

@@ -195,8 +195,9 @@ def _double_support_states(log: WalkLog) -> tuple[str, ...]:
 
 def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
     """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
+    steps = resolve_step_states(log.state_names, log.metadata)
     marks = (
-        (log.entries(resolve_step_states(log)), "dashdot", STEP_LABEL, "0.3"),
+        (log.entries(steps), "dashdot", STEP_LABEL, "0.3"),
         (log.entries(_double_support_states(log)), "dotted", DOUBLE_LABEL, "0.6"),
     )
     count = sum(ticks.size for ticks, *_ in marks)

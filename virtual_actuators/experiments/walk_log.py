@@ -32,7 +32,7 @@ from virtual_actuators.experiments.channels import (
     check_names,
     unknown_name,
 )
-from virtual_actuators.experiments.walk_log_io import read_npz, write_npz
+from virtual_actuators.experiments.walk_log_io import StoredLog, read_npz, write_npz
 
 __all__ = [
     "STANDARD_CHANNELS",
@@ -308,7 +308,8 @@ class WalkLog:
             InvalidInputError: If a metadata value cannot be stored (the message names its key).
 
         """
-        return write_npz(self, path)
+        data = {name: self.data[name] for name in self.channels}
+        return write_npz(StoredLog(data, self.state, self.state_names, self.metadata), path)
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:

@@ -12,14 +12,11 @@ import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-
-if TYPE_CHECKING:
-    from virtual_actuators.experiments.walk_log import WalkLog
 
 __all__ = ["META_ARRAY_PREFIX", "NPZ_FORMAT", "StoredLog", "read_npz", "write_npz"]
 
@@ -32,7 +29,11 @@ META_ARRAY_PREFIX = "meta_array__"
 
 @dataclass(frozen=True, slots=True)
 class StoredLog:
-    """The parts of a log read from a file (checked by ``WalkLog`` when it is built)."""
+    """The parts of a log, as written to a file and read back.
+
+    ``WalkLog`` checks them when it is built from them; ``data``'s keys are in the log's
+    channel order.
+    """
 
     data: dict[str, np.ndarray]
     state: np.ndarray
@@ -40,11 +41,11 @@ class StoredLog:
     metadata: dict[str, Any]
 
 
-def write_npz(log: WalkLog, path: str | os.PathLike[str]) -> Path:
-    """Write a log to ``path`` as a compressed ``.npz`` (see ``WalkLog.save_npz``).
+def write_npz(log: StoredLog, path: str | os.PathLike[str]) -> Path:
+    """Write a log's parts to ``path`` as a compressed ``.npz`` (see ``WalkLog.save_npz``).
 
     Args:
-        log: The log.
+        log: The log's parts.
         path: Destination file; written as given (no suffix is added); parents are created.
 
     Returns:
@@ -72,10 +73,10 @@ def write_npz(log: WalkLog, path: str | os.PathLike[str]) -> Path:
                     f"metadata[{key!r}]: cannot be saved ({err})."
                 ) from None
             plain[key] = value
-    names = log.channels
+    names = tuple(log.data)
     matrix = (
         np.column_stack([log.data[n] for n in names])
-        if len(log)
+        if len(log.state)
         else np.zeros((0, len(names)))
     )
     path.parent.mkdir(parents=True, exist_ok=True)

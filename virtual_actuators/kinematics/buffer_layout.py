@@ -1,10 +1,9 @@
 """Where the parts of one kinematics pass lie in the compiled kernel's buffer.
 
-The kernel (the compiled core's ``Tree.compute``, or numba's ``forward_kinematics``) leaves a
-pass in one flat buffer: the joint placements, the world joint Jacobian, the frame placements,
-then (with ``v``) the frames' velocities. `BufferLayout` says where each part lies, made once
-per frame table (``KinematicTree.core_pass``, by `buffer_layout`); `Kinematics` is the pass
-cut into views of that buffer.
+The compiled core's ``Tree.compute`` leaves a pass in one flat buffer: the joint placements, the
+world joint Jacobian, the frame placements, then (with ``v``) the frames' velocities. `BufferLayout`
+says where each part lies, made once per frame table (``KinematicTree.core_pass``, by
+`buffer_layout`); `Kinematics` is the pass cut into views of that buffer.
 """
 
 from __future__ import annotations
@@ -39,7 +38,7 @@ class BufferLayout(NamedTuple):
     """Where the parts of one pass lie in the kernel's buffer, for one frame table.
 
     Attributes:
-        core_tree: The compiled core's ``Tree`` it describes (None: the numba kernel's).
+        core_tree: The compiled core's ``Tree`` it describes.
         joints: Slice of the joint placements, ``(njoints, 12)`` once reshaped.
         joints_shape: ``(njoints, 12)``.
         jacobian: Slice of the world joint Jacobian.
@@ -77,7 +76,7 @@ def buffer_layout(core_tree: object, njoints: int, nv: int, nf: int) -> BufferLa
     """The `BufferLayout` of a pass over ``njoints`` joints, ``nv`` velocities and ``nf`` frames.
 
     Args:
-        core_tree: The compiled core's ``Tree`` the layout describes (None: the numba kernel's).
+        core_tree: The compiled core's ``Tree`` the layout describes.
         njoints: The model's number of joints (the universe included).
         nv: The model's velocity dimension.
         nf: The number of rows of the frame table.

@@ -22,10 +22,9 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from ..core import CORE
 from ..exceptions import InvalidInputError
 from ..vocabulary.axes import AXES, axis_rows
-from .sensor_kernels import relative_sensor
+from .sensor_kernels import sensor
 from .snapshot import Snapshot
 from .tree import tree_of
 
@@ -61,8 +60,6 @@ class KinematicState:
 
 
 _NO_VELOCITY = np.zeros(0)
-#: the sensor kernel: the compiled core's when built, else the reference (numba) kernel
-_relative_sensor = relative_sensor if CORE is None else CORE.relative_sensor
 
 
 class Sensed(NamedTuple):
@@ -260,7 +257,7 @@ class RelativeKinematics:
         frames = snapshot.frame_table
         if frames.shape[0] < self._sensor_rows_end:
             frames = self._frames_of(snapshot)
-        buffer = _relative_sensor(
+        buffer = sensor(
             jacobian_world,
             frames,
             snapshot.v if velocity else _NO_VELOCITY,

@@ -1,64 +1,45 @@
-"""Compiled virtual sensor of a serial actuator: {B} relative to {A} in {O}, in one call.
+"""A serial actuator's virtual sensor, {B} relative to {A} in {O}: the core's kernel, or numpy.
 
-`relative_sensor` reads a snapshot's world joint Jacobian and frame table (see
-`kernels`) and returns a serial actuator's Jacobian, position
-and velocity; `rotation_log` is the rotation vector it uses for rotational axes. Compiled
-with numba when it is installed, plain Python otherwise; checked against Pinocchio in the tests.
+`relative_sensor` reads a snapshot's world joint Jacobian and frame table and returns a serial
+actuator's Jacobian, position and velocity; `rotation_log` is the rotation vector it uses for
+rotational axes. The library calls the compiled core's ``relative_sensor`` when the core is
+built (`sensor`) and these numpy functions otherwise; the tests check both against Pinocchio.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .kernels import njit
+from .. import core
 
 
-@njit(cache=True)
 def rotation_log(rotation: np.ndarray) -> np.ndarray:
     """Rotation vector ``log(R)`` of a 3x3 rotation matrix [rad] (angle in ``[0, pi]``).
 
     Near ``pi`` the axis comes from the symmetric part (the skew part vanishes there), its sign
     from the skew part; near 0 a series keeps full precision.
     """
-    trace = rotation[0, 0] + rotation[1, 1] + rotation[2, 2]
-    cosine = min(max(0.5 * (trace - 1.0), -1.0), 1.0)
-    theta = np.arccos(cosine)
-    skew = np.empty(3)  # vee(R - R^T) = 2 sin(theta) axis
-    skew[0] = rotation[2, 1] - rotation[1, 2]
-    skew[1] = rotation[0, 2] - rotation[2, 0]
-    skew[2] = rotation[1, 0] - rotation[0, 1]
-    out = np.empty(3)
+    cosine = min(max(0.5 * (np.trace(rotation) - 1.0), -1.0), 1.0)
+    theta = math.acos(cosine)
+    skew = np.array(  # vee(R - R^T) = 2 sin(theta) axis
+        (rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0],
+         rotation[1, 0] - rotation[0, 1])
+    )  # fmt: skip
     if theta < 1e-4:
-        factor = 0.5 * (1.0 + theta * theta / 6.0)  # theta / (2 sin theta)
-        for i in range(3):
-            out[i] = factor * skew[i]
-        return out
-    if np.pi - theta > 1e-3:
-        factor = 0.5 * theta / np.sin(theta)
-        for i in range(3):
-            out[i] = factor * skew[i]
-        return out
+        return 0.5 * (1.0 + theta * theta / 6.0) * skew  # theta / (2 sin theta)
+    if math.pi - theta > 1e-3:
+        return 0.5 * theta / math.sin(theta) * skew
     # near pi: (R + R^T) / 2 - cos I = (1 - cos) a a^T; take the largest diagonal entry
-    k = 0
-    for i in range(1, 3):
-        if rotation[i, i] > rotation[k, k]:
-            k = i
+    k = int(np.argmax(np.diag(rotation)))
     scale = 1.0 - cosine
-    a_k = np.sqrt(max(rotation[k, k] - cosine, 0.0) / scale)
-    dot = 0.0
-    for i in range(3):
-        if i == k:
-            out[i] = a_k
-        else:
-            out[i] = 0.5 * (rotation[k, i] + rotation[i, k]) / (scale * a_k)
-        dot += out[i] * skew[i]
-    sign = -1.0 if dot < 0.0 else 1.0
-    for i in range(3):
-        out[i] *= sign * theta
-    return out
+    a_k = math.sqrt(max(rotation[k, k] - cosine, 0.0) / scale)
+    axis = 0.5 * (rotation[k] + rotation[:, k]) / (scale * a_k)
+    axis[k] = a_k
+    return (-theta if axis @ skew < 0.0 else theta) * axis
 
 
-@njit(cache=True)
 def relative_sensor(
     jacobian_world: np.ndarray,
     frames: np.ndarray,
@@ -72,7 +53,7 @@ def relative_sensor(
 
     Args:
         jacobian_world: ``(6, nv)`` world joint Jacobian.
-        frames: ``(nf, 12)`` frame placements.
+        frames: ``(nf, 12)`` frame placements (rotation row by row, translation).
         v: ``(nv,)`` velocity (empty: no velocity).
         axis_rows: ``(n,)`` rows of the selected axes among ``x y z rx ry rz``.
         rows: ``(3,)`` rows of {B}, {O} and {A} in ``frames``.
@@ -85,63 +66,28 @@ def relative_sensor(
         its rotations ``R_O^T R_A log(R_A^T R_B)``, on the selected axes.
 
     """
-    b, o, a = rows[0], rows[1], rows[2]
-    n = axis_rows.shape[0]
-    nv = jacobian_world.shape[1]
-    x, y, z = frames[b, 9], frames[b, 10], frames[b, 11]
+    b, o, a = (int(row) for row in rows)
+    n, nv = axis_rows.shape[0], jacobian_world.shape[1]
+    rotation_b, rotation_o, rotation_a = (frames[i, :9].reshape(3, 3) for i in (b, o, a))
+    x, y, z = frames[b, 9:12]
     transform = np.zeros((6, 6))
-    for r in range(3):
-        for c in range(3):
-            value = frames[o, 3 * c + r]  # R_O^T
-            transform[r, c] = value
-            transform[3 + r, 3 + c] = value
+    transform[:3, :3] = transform[3:, 3:] = rotation_o.T
     # linear part at {B}'s origin: R_O^T (v - skew(p_B) w)
-    for r in range(3):
-        t0, t1, t2 = transform[r, 0], transform[r, 1], transform[r, 2]
-        transform[r, 3] = t2 * y - t1 * z
-        transform[r, 4] = t0 * z - t2 * x
-        transform[r, 5] = t1 * x - t0 * y
-    # one buffer for the three results (one array to hand back: a cheaper call)
+    transform[:3, 3:] = rotation_o.T @ np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
     buffer = np.zeros(n * nv + 2 * n)
     jacobian = buffer[: n * nv].reshape(n, nv)
-    position = buffer[n * nv : n * nv + n]
-    velocity = buffer[n * nv + n :]
-    for j in range(columns.shape[0]):
-        col = columns[j]
-        for i in range(n):
-            acc = 0.0
-            for k in range(6):
-                acc += transform[axis_rows[i], k] * jacobian_world[k, col]
-            acc *= signs[j]
-            jacobian[i, col] = acc
-            if v.shape[0]:
-                velocity[i] += acc * v[col]
+    jacobian[:, columns] = (transform[axis_rows] @ jacobian_world[:, columns]) * signs
+    if v.shape[0]:
+        buffer[n * nv + n :] = jacobian @ v
     pose = np.zeros(6)
-    for r in range(3):
-        acc = 0.0
-        for k in range(3):
-            acc += frames[o, 3 * k + r] * (frames[b, 9 + k] - frames[a, 9 + k])
-        pose[r] = acc
+    pose[:3] = rotation_o.T @ (frames[b, 9:12] - frames[a, 9:12])
     if axis_rows[n - 1] >= 3:  # a rotation axis: log of R_A^T R_B, expressed in {O}
-        relative = np.zeros((3, 3))
-        for r in range(3):
-            for c in range(3):
-                acc = 0.0
-                for k in range(3):
-                    acc += frames[a, 3 * k + r] * frames[b, 3 * k + c]
-                relative[r, c] = acc
-        log_a = rotation_log(relative)  # in {A}
-        for r in range(3):
-            acc = 0.0
-            for k in range(3):
-                in_world = 0.0
-                for m in range(3):
-                    in_world += frames[a, 3 * k + m] * log_a[m]  # (R_A log)_k
-                acc += frames[o, 3 * k + r] * in_world
-            pose[3 + r] = acc
-    for i in range(n):
-        position[i] = pose[axis_rows[i]]
+        pose[3:] = rotation_o.T @ (rotation_a @ rotation_log(rotation_a.T @ rotation_b))
+    buffer[n * nv : n * nv + n] = pose[axis_rows]
     return buffer
 
 
-__all__ = ["relative_sensor", "rotation_log"]
+#: `relative_sensor` as the library calls it: the compiled core's when it is built.
+sensor = core.kernel("relative_sensor", relative_sensor)
+
+__all__ = ["relative_sensor", "rotation_log", "sensor"]

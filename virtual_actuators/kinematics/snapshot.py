@@ -94,7 +94,10 @@ class Snapshot:
         if backend != "auto" and backend not in _BACKENDS:
             raise InvalidInputError(f"backend must be one of {_BACKENDS}, got {backend!r}.")
         if backend == "compiled" and not tree.compiled:
-            reason = f"joints {tree.unsupported}" if tree.unsupported else "numba is not installed"
+            reason = (
+                f"joints {tree.unsupported}" if tree.unsupported
+                else "the compiled core is not built (or VA_CORE=0)"
+            )  # fmt: skip
             raise InvalidInputError(
                 f"backend='compiled' is not available for model {tree.model.name!r}: {reason}."
             )
@@ -124,22 +127,16 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            passed = self.tree.core_pass(self.q, self.v)
-            if passed is not None:  # the Jacobian and frames now, the rest on first read
-                buffer, layout, self._rows = passed
-                self._buffer, self._layout = buffer, layout
-                self._frames = buffer[layout.frames].reshape(layout.frames_shape)
-                self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
-                return
-            (  # the Kinematics fields, in their order
-                self._joints, self._jacobian, self._frames, self._frame_velocities, self._rows
-            ) = self.tree.compute(self.q, self.v)
+            buffer, layout, self._rows = self.tree.core_pass(self.q, self.v)
+            self._buffer, self._layout = buffer, layout  # the rest cut on first read
+            self._frames = buffer[layout.frames].reshape(layout.frames_shape)
+            self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
             return
         model = self.tree.model
         data = self.tree.thread_data()
         pin.computeJointJacobians(model, data, self.q)
         pin.updateFramePlacements(model, data)
-        self._jacobian = data.J.copy()
+        self._jacobian = np.array(data.J).reshape(6, model.nv)  # (6,) when nv is 1
         rows, _, _ = self.tree.frame_tables
         oMf = data.oMf
         frames = np.empty((len(rows), 12))
@@ -313,7 +310,7 @@ class Snapshot:
         if velocities is None:
             velocities = self._velocities = {}
         cached = velocities.get(frame_id)
-        if cached is None:  # the kernel runs as plain Python without numba
+        if cached is None:  # a frame the pass did not compute, or Pinocchio's pass
             x, y, z = self._placement(frame_id)[1].tolist()
             columns = self.tree.frame_columns(frame_id)
             cached = velocities[frame_id] = np.array(

@@ -1,12 +1,12 @@
 """Declaration-time tables of a robot's kinematic tree, shared by everything built on it.
 
-`KinematicTree` reads a Pinocchio model once: joint kinds, placements and motion
-subspaces for the compiled kernel (`virtual_actuators.kinematics.kernels`), the frames
-that declared actuators and sensors need, the unit-norm slices of ``q``, and the columns that
-support each joint. One tree exists per robot (`tree_of`); every snapshot of that robot
-uses it, so a control tick runs the kinematics once for all its readers. The joint tables
-(`JointTables`) are read in ``joint_tables.py``; a pass's buffer and its views (`BufferLayout`,
-`Kinematics`) are in ``buffer_layout.py``; both re-exported here.
+`KinematicTree` reads a Pinocchio model once: joint kinds, placements and motion subspaces for the
+compiled core's pass, the frames that declared actuators and sensors need, the unit-norm slices of
+``q``, and the columns that support each joint. The compiled core's ``Tree`` runs the pass; without
+the core (or for a joint kind it does not handle) snapshots use Pinocchio. One tree exists per robot
+(`tree_of`); every snapshot of that robot uses it, so a control tick runs the kinematics once for
+all its readers. The joint tables (`JointTables`) are read in ``joint_tables.py``; a pass's buffer
+and its views (`BufferLayout`, `Kinematics`) are in ``buffer_layout.py``; both re-exported here.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from collections.abc import Iterable
 import numpy as np
 import pinocchio as pin
 
+from .. import core
 from ..core import CORE
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array
@@ -26,12 +27,8 @@ from . import kernels
 from .buffer_layout import BufferLayout, Kinematics, buffer_layout
 from .joint_tables import JointTables, placement_row, read_joints
 
-_NO_VELOCITY = np.zeros(0)  # the kernel's "no v"
-#: finiteness and unit norms of q in one compiled pass: the core's (C++), numba's, or None
-_UNIT_NORM_ERROR = (
-    CORE.unit_norm_error if CORE is not None
-    else kernels.unit_norm_error if kernels.HAVE_NUMBA else None
-)  # fmt: skip
+#: finiteness and unit norms of q in one compiled pass (the core's), or None: numpy's checks
+_UNIT_NORM_ERROR = core.kernel("unit_norm_error", None)
 
 
 class KinematicTree:
@@ -44,7 +41,7 @@ class KinematicTree:
         model: The model.
         compiled: Whether the compiled kernel handles every joint of the model (revolute,
             continuous, prismatic, free-flyer and spherical joints); otherwise snapshots use
-            Pinocchio. The kernel is the compiled core's (C++) when built, else numba's.
+            Pinocchio. The kernel is the compiled core's (C++): without the core, False.
         unsupported: Names of the joints the kernel does not handle.
         masses: ``(njoints,)`` mass of each joint's body [kg] (Pinocchio's ``model.inertias``).
         levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
@@ -56,7 +53,7 @@ class KinematicTree:
         self.model = model
         self.nq, self.nv, self.njoints = model.nq, model.nv, model.njoints
         tables, self.unsupported, unit_slices = read_joints(model)
-        self.compiled = (CORE is not None or kernels.HAVE_NUMBA) and not self.unsupported
+        self.compiled = core.has("Tree") and not self.unsupported
         self.masses = np.array([inertia.mass for inertia in model.inertias], dtype=float)
         self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
         self.mass = float(self.masses.sum())
@@ -75,7 +72,7 @@ class KinematicTree:
             np.zeros(0, dtype=np.int64),
             np.zeros((0, 12)),
         )
-        #: the compiled core's tables (C++), rebuilt with the frame table; None: numba kernel
+        #: the compiled core's tables (C++), rebuilt with the frame table; None: Pinocchio
         self.core_tree = self._core_tree(*self._frames[1:])
         self._support: dict[int, np.ndarray] = {}
         #: the core's buffer layout of its current frame table (replaced, never mutated)
@@ -124,7 +121,7 @@ class KinematicTree:
 
         None without the core, or for a model with joints the kernel does not handle.
         """
-        if CORE is None or self.unsupported:
+        if not self.compiled:
             return None
         return CORE.Tree(
             self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace, parents,
@@ -167,32 +164,6 @@ class KinematicTree:
         return columns
 
     # -- kernel ----------------------------------------------------------------------------
-    def compute(self, q: np.ndarray, v: np.ndarray | None = None) -> Kinematics:
-        """Run the compiled kernel at ``q`` (and ``v``), both already checked.
-
-        Returns:
-            The `Kinematics` (see
-            `forward_kinematics`).
-
-        """
-        passed = self.core_pass(q, v)
-        if passed is not None:  # C++
-            buffer, layout, rows = passed
-        else:
-            rows, parents, floats = self._frames
-            buffer = kernels.forward_kinematics(
-                q,
-                _NO_VELOCITY if v is None else v,
-                self._joint_ints,
-                self._joint_floats,
-                self._velocity_joint,
-                self._subspace,
-                parents,
-                floats,
-            )
-            layout = buffer_layout(None, self.njoints, self.nv, len(rows))
-        return layout.cut(buffer, rows)
-
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
     ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:
@@ -201,7 +172,7 @@ class KinematicTree:
         Returns:
             ``(buffer, layout, rows)``: the core's buffer, where its parts lie
             (`BufferLayout`, made once per frame table) and the frame rows; None without
-            the core (then `compute` runs the numba kernel).
+            the core.
 
         """
         rows = self._frames[0]  # before the tree: its frame table may have grown since

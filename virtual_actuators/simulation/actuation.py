@@ -13,9 +13,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from virtual_actuators.core import CORE
+from virtual_actuators.core import CORE, has
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.kinematics.jit import njit
 from virtual_actuators.simulation.conversions import finite_vector, gathers
 from virtual_actuators.simulation.model import MujocoModel
 
@@ -23,39 +22,11 @@ __all__ = [
     "UNACTUATED_TOLERANCE",
     "ctrl_to_torques",
     "ctrl_writer",
-    "efforts_to_ctrl",
     "torques_to_ctrl",
 ]
 
 #: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
 UNACTUATED_TOLERANCE = 1e-9
-
-
-@njit(cache=True)
-def efforts_to_ctrl(
-    tau: np.ndarray, direct: np.ndarray, unactuated: np.ndarray, tolerance: float, ctrl: np.ndarray
-) -> int:
-    """`torques_to_ctrl`'s gather and checks, into ``ctrl`` in place (the reference kernel).
-
-    ``ctrl[k] = tau[direct[k]]`` when every effort is finite and each effort on an unactuated
-    degree of freedom (``unactuated``) is within ``+-tolerance``; ``ctrl`` is left as it was
-    otherwise.
-
-    Returns:
-        0 (``ctrl`` written), 1 (an effort is not finite) or 2 (an unactuated effort beyond
-        the tolerance).
-
-    """
-    for i in range(tau.shape[0]):
-        if not np.isfinite(tau[i]):
-            return 1
-    for k in range(unactuated.shape[0]):
-        effort = tau[unactuated[k]]
-        if effort > tolerance or effort < -tolerance:
-            return 2
-    for k in range(direct.shape[0]):
-        ctrl[k] = tau[direct[k]]
-    return 0
 
 
 def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool], bool] | None:
@@ -72,7 +43,7 @@ def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool
 
     """
     maps = gathers(mm)
-    if CORE is None or maps.direct_ctrl is None:
+    if not has("efforts_to_ctrl") or maps.direct_ctrl is None:
         return None
     kernel, direct, unactuated = CORE.efforts_to_ctrl, maps.direct_ctrl, maps.unactuated_v
     none = unactuated[:0]

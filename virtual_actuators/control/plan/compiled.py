@@ -14,7 +14,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ...core import CORE
+from ...core import CORE, has
 from ...exceptions import ConcurrentUseError, InvalidInputError, TraceError
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.arguments import check_number
@@ -29,7 +29,7 @@ __all__ = ["CompiledMachine", "compile_machine"]
 _FLOAT64 = np.dtype(np.float64)
 _TICKED, _ENTERED, _FAILED, _INVALID = (
     (CORE.PLAN_TICKED, CORE.PLAN_ENTERED, CORE.PLAN_FAILED, CORE.PLAN_INVALID)
-    if CORE is not None and hasattr(CORE, "PLAN_INVALID") else (0, 1, 2, 3)
+    if has("PLAN_INVALID") else (0, 1, 2, 3)
 )  # fmt: skip
 
 
@@ -50,7 +50,7 @@ def compile_machine(machine: object) -> CompiledMachine:
         TraceError: The compiled core is not built, or the robot's joints are not the core's.
 
     """
-    if CORE is None or not hasattr(CORE, "PlanMachine"):
+    if not has("PlanMachine"):
         raise TraceError("the compiled core is not built: the machine runs in Python.")
     return CompiledMachine(machine)
 

@@ -8,14 +8,25 @@ Both are made by ``CompiledDistribution.buffer_solve`` (``compiled.py``).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..result import Solution, buffer_slices, label, tolerance
 
-if TYPE_CHECKING:
-    from .compiled import CompiledDistribution, PackedMode
+
+@dataclass(frozen=True)
+class PackedMode:
+    """The packed tables of one set of prescribed axes (``CompiledDistribution.mode_for``)."""
+
+    mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
+    keep: np.ndarray  # int64 mask
+    plan: np.ndarray
+    sets: dict
+    systems: tuple
+    method: str
+    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
+    core: object = None  # the compiled core's Distribution of these tables, or None
 
 
 class BufferSolve:
@@ -28,8 +39,11 @@ class BufferSolve:
     the core and build their answer with `solution`.
 
     Args:
-        compiled: The actuator's compiled distribution.
         mode: The request's packed tables (with the core's ``Distribution``).
+        tree: The robot's ``KinematicTree`` (its ``core_tree`` grows with its frames).
+        max_row: The largest frame row the tables read.
+        shape: ``(p, n)`` the chains' forces.
+        nv: The robot's velocity size.
         reactions: The actuator's reaction frames.
         axes: Its axes.
         free: The request's free axes.
@@ -39,8 +53,11 @@ class BufferSolve:
 
     def __init__(
         self,
-        compiled: CompiledDistribution,
         mode: PackedMode,
+        tree: object,
+        max_row: int,
+        shape: tuple[int, int],
+        nv: int,
         reactions: tuple[str, ...],
         axes: tuple[str, ...],
         free: tuple[str, ...],
@@ -49,15 +66,15 @@ class BufferSolve:
         self._core = mode.core
         #: the mode's packed tables (the core's Distribution arguments)
         self.packed = mode.packed
-        self._kinematics = compiled.problem.kinematics.tree  # its core_tree grows with frames
-        self._max_row = compiled.max_row
-        self._shape = compiled.shape
+        self._kinematics = tree  # its core_tree grows with frames
+        self._max_row = max_row
+        self._shape = shape
         self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
         self._names = (reactions, axes, free)
         self._floating = floating
         #: forces, tau, the springs' torques, produced, requested: the buffer's slices
         self._forces, self._tau, self._passive, self._produced, self._requested = buffer_slices(
-            *self._shape, compiled.problem.model.nv
+            *self._shape, nv
         )
 
     def solution(
@@ -144,4 +161,4 @@ class SnapshotSolve(BufferSolve):
         return self.solution(out, residual, scale, rounding, tol)
 
 
-__all__ = ["BufferSolve", "ConfigurationSolve", "SnapshotSolve"]
+__all__ = ["BufferSolve", "ConfigurationSolve", "PackedMode", "SnapshotSolve"]

@@ -3,15 +3,12 @@
 `CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
 its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
 Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
-into flat arrays, so that a tick is one call of
-`distribute` on the snapshot's
-arrays: the compiled core's (C++, `CORE`) when it is built,
-which holds the packed tables of each mode (``_core.Distribution``) and, for a snapshot whose
-kinematics are not computed yet (a solve from ``q``), runs the kinematics and the distribution in
-one call; else the reference kernel (numba). When the kernel hands a tick back (a singular
-chain, an ill-conditioned block, more rows than unknowns),
-`PartitionedSolver` decides with
-numpy, as the reference implementation does; the tests check that both give the same answers.
+into flat arrays, so that a tick is one call of the compiled core (``_core.Distribution``, which
+holds the packed tables of each mode) on the snapshot's arrays; for a snapshot whose kinematics
+are not computed yet (a solve from ``q``), it runs the kinematics and the distribution in one
+call. Without the core, and when the core hands a tick back (a singular chain, an
+ill-conditioned block, more rows than unknowns), `PartitionedSolver` decides with numpy: the
+reference implementation, which the tests compare the core's answers with.
 `ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
 checks the arguments and builds the [`Solution`][] from its buffer; `SnapshotSolve` does the
 same for a controller's request on the tick's snapshot (both in ``buffer_solve.py``, re-exported
@@ -25,13 +22,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core import CORE
+from ...core import CORE, has
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..result import RawSolution, TickResult
-from . import kernel_tables, kernels
-from .buffer_solve import BufferSolve, ConfigurationSolve, SnapshotSolve
+from . import kernel_tables
+from .buffer_solve import BufferSolve, ConfigurationSolve, PackedMode, SnapshotSolve
 from .reference import PartitionedSolver
 
 
@@ -54,20 +51,6 @@ class _Tables:
     chain_ints: np.ndarray
     chain_signs: np.ndarray
     layout: np.ndarray
-
-
-@dataclass(frozen=True)
-class PackedMode:
-    """The packed tables of one set of prescribed axes (`CompiledDistribution.mode_for`)."""
-
-    mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
-    keep: np.ndarray  # int64 mask
-    plan: np.ndarray
-    sets: dict
-    systems: tuple
-    method: str
-    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
-    core: object = None  # the compiled core's Distribution of these tables, or None
 
 
 class CompiledDistribution:
@@ -200,7 +183,7 @@ class CompiledDistribution:
                 mode.plan,
                 tables.layout,
             )
-            core = None if CORE is None else CORE.Distribution(*packed, problem.model.nv)
+            core = CORE.Distribution(*packed, problem.model.nv) if has("Distribution") else None
             mode = dataclasses.replace(mode, packed=packed, core=core)
         self._modes[keep.tobytes()] = mode
         return mode
@@ -253,7 +236,9 @@ class CompiledDistribution:
         mode = self.mode_for(request.keep)
         if mode.core is None:
             return None
-        return kind(self, mode, reactions, axes, request.free, floating)
+        tree, nv = self.problem.kinematics.tree, self.problem.model.nv
+        return kind(mode, tree, self.max_row, self.shape, nv, reactions, axes, request.free,
+                    floating)  # fmt: skip
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
@@ -280,11 +265,9 @@ class CompiledDistribution:
             frames = snapshot.frame_table
             if frames.shape[0] <= self.max_row:
                 return None  # frames required after this snapshot ran: the numpy path reads them
-            arguments = (snapshot.jacobian_world, frames, snapshot.q, wrench)
-            if core is not None:
-                tick = core.solve(*arguments)
-            else:
-                tick = kernels.distribute(*arguments, *mode.packed)
+            if core is None:
+                return None  # no compiled core: the numpy path
+            tick = core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
         out, residual, scale, rounding, status = tick[:5]
         if status:
             return None

@@ -1,7 +1,7 @@
 """The compiled partitioned path's tables: the chain table's columns and the packed arguments.
 
 `CompiledDistribution` builds them
-once per declaration (and per set of free axes); `kernels.distribute` reads them.
+once per declaration (and per set of free axes); the compiled core's ``Distribution`` reads them.
 """
 
 from __future__ import annotations

@@ -3,8 +3,8 @@
 ``solver.py`` is `QPDistribution` (its matrices on the numpy path, the answer),
 ``stages.py`` the stages (DAQP and ProxQP) with ``stage_types.py`` their budget, rows and
 answer, ``limits.py`` the inequalities,
-``weights.py`` the closest-wrench weights, ``compiled.py`` with ``kernels.py`` and
-``kernel_answer.py`` the compiled matrices, ``exact.py`` the exact step on an active set,
+``weights.py`` the closest-wrench weights, ``compiled.py`` with ``buffer.py`` the compiled
+core's matrices, ``exact.py`` the exact step on an active set,
 ``conflict.py`` the rows that cannot hold.
 """
 

@@ -1,13 +1,13 @@
-"""The QP distribution's per-tick matrices through the compiled kernel: tables built once.
+"""The QP distribution's per-tick matrices through the compiled core: tables built once.
 
-`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and
-passive joints and point-contact axes; the springs; the constant design rows; the contact
-normals, pyramid, soles and torque limits) into flat arrays at declaration, so that a tick is
-one call of `reduced_qp` on the snapshot's
-arrays. It applies when every chain's columns ``[J_i, ball_i]`` are independent (generic rank
-``k_i + nb_i``) and no hard row depends on the configuration (no joint shared by several chains,
-no ``EqualTorque``); otherwise, and on ticks where a chain is nearly rank deficient, the QP
-builds its rows with numpy (the reference the tests compare this path with).
+`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and passive
+joints and point-contact axes; the springs; the constant design rows; the contact normals, pyramid,
+soles and torque limits) into flat arrays at declaration, so that a tick is one call of the core's
+``QP.reduced`` on the snapshot's arrays (its buffer: ``buffer.py``). It applies when the core is
+built, every chain's columns ``[J_i, ball_i]`` are independent (generic rank ``k_i + nb_i``) and no
+hard row depends on the configuration (no joint shared by several chains, no ``EqualTorque``);
+otherwise, and on ticks where a chain is nearly rank deficient, the QP builds its rows with numpy
+(the reference the tests compare this path with).
 """
 
 from __future__ import annotations
@@ -16,20 +16,18 @@ import threading
 
 import numpy as np
 
-from ...core import CORE
-from ...kinematics.kernels import HAVE_NUMBA
+from ...core import CORE, has
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
-from . import kernels
-from .kernel_answer import Answer, again, finish, violation
+from .buffer import HEADER, Answer, views
 
 
 class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
     Attributes:
-        buffer: The flat buffer `reduced_qp` writes.
+        buffer: The flat buffer the core's ``QP.reduced`` writes.
         layout: Offsets and sizes of the arrays in it.
         kept: ``(k,)`` indices of the prescribed axes.
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
@@ -49,26 +47,20 @@ class Workspace:
         self.kept = kept
         self.design_rows = design
         self.pn, self.nv = p_n, nv
-        arrays = _views(self.buffer, self.layout, p_n, nv)
+        arrays = views(self.buffer, self.layout, p_n, nv)
         self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
         self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
         self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
-        self.tables: tuple | None = None  # the kernel's arguments that the declaration fixes
         self.scale = 1.0
 
     def violation(self, z: np.ndarray, equalities: int) -> float:
-        """`kernel_answer.violation` of ``z`` on this workspace's rows."""
-        if CORE is not None:
-            return CORE.qp_violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
-        return violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
+        """How far ``z`` misses this workspace's rows (the core's ``qp_violation``)."""
+        return CORE.qp_violation(self.buffer, self.layout, self.pn, self.nv, z, equalities)
 
     def finish(
         self, z: np.ndarray, multipliers: np.ndarray, wrench: np.ndarray, keep: np.ndarray
     ) -> Answer:
-        """`kernel_answer.finish` of the answer ``z`` on this workspace's tick."""
-        if CORE is None:
-            return finish(self.buffer, self.layout, self.pn, self.nv, z, multipliers,
-                          self.scale, wrench, keep, ACTIVE_TOL, EPS_ABS)  # fmt: skip
+        """The answer ``z`` read out on this workspace's tick (the core's ``qp_read_out``)."""
         out = np.zeros(self.pn + 2 * self.nv + 2 * len(wrench))
         active = np.empty(len(multipliers), dtype=np.int64)
         count, norms = CORE.qp_read_out(
@@ -76,10 +68,6 @@ class Workspace:
             keep, ACTIVE_TOL, EPS_ABS, out, active,
         )  # fmt: skip
         return Answer(out, *norms, active[:count].copy())
-
-
-#: the buffer's arrays as views (the reference kernel's, run as Python: no compile)
-_views = getattr(kernels.views, "py_func", kernels.views)
 
 
 class CompiledQPMatrices:
@@ -118,7 +106,7 @@ class CompiledQPMatrices:
         kin = problem.kinematics
         #: whether the compiled path can build this declaration's ticks
         self.applicable = (
-            (HAVE_NUMBA or CORE is not None)
+            has("QP")
             and all(g.rank == g.columns.shape[1] + len(g.ball_axes) for g in problem.groups)
             and not problem.coupled_v
             and not len(problem.torque_pairs)
@@ -128,7 +116,7 @@ class CompiledQPMatrices:
         self._max_row = int(self.frame_rows.max())
         width_k = max(len(c) for c in kin.chain_columns)
         width_c = max(g.constrained.shape[1] for g in problem.groups)
-        header = kernels.HEADER
+        header = HEADER
         ints = np.zeros((problem.p, header + width_k + width_c + 3), dtype=np.int64)
         signs = np.zeros((problem.p, width_k))
         for group in problem.groups:
@@ -151,9 +139,9 @@ class CompiledQPMatrices:
         self.soles = np.ascontiguousarray(soles, dtype=float)
         self.limited_v = np.asarray(limited_v, dtype=np.int64)
         self.limits = np.asarray(limits, dtype=float)
-        #: the compiled core's QP (these tables, owned in C++), or None: the reference kernels
+        #: the compiled core's QP (these tables, owned in C++), or None: the numpy path
         self.core = None
-        if CORE is not None and self.applicable:
+        if self.applicable:
             self.core = CORE.QP(
                 self.axis_rows, self.frame_rows, self.chain_ints, self.chain_signs,
                 self.springs, self.const_rows, self.const_rhs, self.normals_world,
@@ -177,27 +165,6 @@ class CompiledQPMatrices:
             )  # fmt: skip
         return workspace
 
-    def _arguments(
-        self, snapshot: object, wrench: np.ndarray, workspace: Workspace
-    ) -> tuple | None:
-        """`reduced_qp`'s arguments for this tick, or None.
-
-        None: the snapshot lacks a frame (frames required after it ran: the numpy path reads
-        them).
-        """
-        frames = snapshot.frame_table
-        if frames.shape[0] <= self._max_row:
-            return None
-        tables = workspace.tables
-        if tables is None:  # what the declaration fixes, once per workspace
-            tables = workspace.tables = (
-                workspace.kept, self.axis_rows, self.frame_rows, self.chain_ints,
-                self.chain_signs, self.springs, self.const_rows, self.const_rhs,
-                self.normals_world, self.frame_normals, self.settings, self.soles,
-                self.limited_v, self.limits, workspace.buffer, workspace.layout,
-            )  # fmt: skip
-        return (snapshot.jacobian_world, frames, snapshot.q, wrench, *tables)
-
     def build(self, snapshot: object, wrench: np.ndarray, keep: np.ndarray) -> Workspace | None:
         """The tick's reduced QP in this thread's workspace, or None to build it with numpy.
 
@@ -210,15 +177,13 @@ class CompiledQPMatrices:
 
         """
         workspace = self.workspace(keep)
-        arguments = self._arguments(snapshot, wrench, workspace)
-        if arguments is None:
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self._max_row:  # frames required after the snapshot ran
             return None
-        if self.core is not None:
-            status, _, scale = self.core.reduced(
-                *arguments[:5], workspace.buffer, workspace.layout
-            )
-        else:
-            status, _, scale = kernels.reduced_qp(*arguments)
+        status, _, scale = self.core.reduced(
+            snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept,
+            workspace.buffer, workspace.layout,
+        )  # fmt: skip
         if status:
             return None
         workspace.scale = scale
@@ -228,7 +193,7 @@ class CompiledQPMatrices:
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
         weights: np.ndarray, guess: np.ndarray, tree: object = None,
     ) -> Answer | None:
-        """`kernel_answer.again` on this tick: the answer, or None.
+        """The core's ``again`` on this tick: the answer, or None.
 
         Args:
             snapshot: The tick's [`Snapshot`][], or with ``tree`` (the
@@ -257,23 +222,14 @@ class CompiledQPMatrices:
                 weights, guess, ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
             )  # fmt: skip
             return None if count < 0 else Answer(out, *norms, active[:count].copy())
-        if self.core is not None:  # the snapshot's arrays straight in (a tick's cost)
-            frames = snapshot.frame_table
-            if frames.shape[0] <= self._max_row:
-                return None
-            count, norms = self.core.again(
-                snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept,
-                workspace.buffer, workspace.layout, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
-                EPS_ABS, out, active,
-            )  # fmt: skip
-        else:
-            arguments = self._arguments(snapshot, wrench, workspace)
-            if arguments is None:
-                return None
-            count, norms = again(
-                *arguments, workspace.pn, workspace.nv, keep, weights, guess, ACTIVE_TOL,
-                EXACT_TOL, EPS_ABS, out, active,
-            )  # fmt: skip
+        frames = snapshot.frame_table  # the snapshot's arrays straight in (a tick's cost)
+        if frames.shape[0] <= self._max_row:
+            return None
+        count, norms = self.core.again(
+            snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept,
+            workspace.buffer, workspace.layout, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
+            EPS_ABS, out, active,
+        )  # fmt: skip
         if count < 0:
             return None
         return Answer(out, *norms, active[:count].copy())

@@ -1,4 +1,4 @@
-"""The QP's exact final step on an active set (see `qp`), compiled.
+"""The QP's exact final step on an active set (see `qp`): the core's, or plain Python.
 
 ProxQP stops at an absolute accuracy, from a start that depends on the previous tick. Its
 multipliers name the active inequalities, and with them the QP becomes linear algebra. With
@@ -22,22 +22,22 @@ caller keeps ProxQP's answer.
 
 When the checks pass, ``x`` is the QP's answer to rounding (the least norm is strictly convex,
 the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: it depends
-on the problem alone. Plain loops (a few tens of rows), no BLAS.
+on the problem alone. Plain loops (a few tens of rows), no BLAS: the compiled core runs its C++
+port (``src/core/exact.hpp``) when it is built, and this Python otherwise (a source tree without
+a build, ``VA_CORE=0``); the tests check both against an independent QP.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...core import CORE
-from ...kinematics.kernels import njit
+from ... import core
 from ..tolerances import DEPENDENT_TOL, EXACT_TOL, NEARLY_DEPENDENT_TOL
 
 #: Active-set changes allowed before ProxQP's answer is kept.
 EXACT_STEPS = 16
 
 
-@njit(cache=True)
 def _row(equality: np.ndarray, inequality: np.ndarray, index: int, out: np.ndarray) -> None:
     """Row ``index`` of ``[equality; inequality]`` into ``out``."""
     k = equality.shape[0]
@@ -45,7 +45,6 @@ def _row(equality: np.ndarray, inequality: np.ndarray, index: int, out: np.ndarr
         out[j] = equality[index, j] if index < k else inequality[index - k, j]
 
 
-@njit(cache=True)
 def _add_row(
     equality: np.ndarray,
     inequality: np.ndarray,
@@ -101,7 +100,6 @@ def _add_row(
     return rank + 1, False
 
 
-@njit(cache=True)
 def _factor(
     equality: np.ndarray,
     design: int,
@@ -157,7 +155,6 @@ def _factor(
     return rank, rank_fixed
 
 
-@njit(cache=True)
 def _back(lower: np.ndarray, start: int, stop: int, rhs: np.ndarray, out: np.ndarray) -> None:
     """``lower[start:stop, start:stop]^T out = rhs`` (``out`` and ``rhs`` over ``start:stop``)."""
     for r in range(stop - 1, start - 1, -1):
@@ -167,7 +164,6 @@ def _back(lower: np.ndarray, start: int, stop: int, rhs: np.ndarray, out: np.nda
         out[r] = acc / lower[r, r]
 
 
-@njit(cache=True)
 def _solve(
     equality: np.ndarray,
     equality_rhs: np.ndarray,
@@ -267,7 +263,6 @@ def _solve(
         fit[kept[r]] = multipliers[r]
 
 
-@njit(cache=True)
 def exact_step(
     equality: np.ndarray,
     equality_rhs: np.ndarray,
@@ -370,6 +365,10 @@ def exact_step(
     return False, x, np.zeros(m)
 
 
+#: `exact_step` as the library calls it: the compiled core's port when it is built.
+_EXACT_STEP = core.kernel("exact_step", exact_step)
+
+
 def exact_answer(
     equality: np.ndarray,
     equality_rhs: np.ndarray,
@@ -388,8 +387,7 @@ def exact_answer(
     ProxQP's answer is ``(False, x, guess)``: its ``x`` and multipliers ``guess``; the other
     arguments are `exact_step`'s.
     """
-    step = exact_step if CORE is None else CORE.exact_step
-    ok, exact_x, z = step(
+    ok, exact_x, z = _EXACT_STEP(
         equality, equality_rhs, design, weights, inequality, lows, uppers, guess, exact,
         active_tol, EXACT_TOL, EXACT_STEPS,
     )  # fmt: skip

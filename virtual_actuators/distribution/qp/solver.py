@@ -80,8 +80,8 @@ from ..methods import Request
 from ..problem import DistributionProblem
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
+from .buffer import Answer
 from .compiled import CompiledQPMatrices
-from .kernel_answer import Answer
 from .limits import ContactLimits, kinds, torque_map
 from .stage_types import Budget, PlanTables, StageRows
 from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, ProxStages
@@ -272,7 +272,7 @@ class QPDistribution:
     def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
         """The tick on the last certified answer's active set, in one compiled call, or None.
 
-        `kernel_answer.again` builds the matrices, certifies that active set on them and
+        The core's ``again`` builds the matrices, certifies that active set on them and
         reads the answer out: the first try of `stages.ProxStages.solve` without its
         Python (most ticks of a walk). None: no certified answer yet in this thread's
         workspace, an active set that changed, or matrices that need the numpy path; the

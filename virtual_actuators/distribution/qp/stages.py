@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ...core import CORE
+from ...core import CORE, has
 from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
 from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
 from .exact import exact_answer
@@ -204,7 +204,7 @@ class ProxStages:
             if certified:
                 slot.active = z
                 return StageAnswer(x, z, False)
-        if CORE is not None:  # DAQP from cold, its active set certified exact
+        if has("daqp_least_norm"):  # DAQP from cold, its active set certified exact
             flag, x, guess, _ = CORE.daqp_least_norm(
                 equality, equality_rhs, rows.inequality, rows.lows, rows.uppers, DAQP_MAX_ITER
             )

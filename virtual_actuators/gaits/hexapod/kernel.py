@@ -17,7 +17,6 @@ import math
 import numpy as np
 
 from ...core import CORE
-from ...kinematics.kernels import njit
 from ..planar import lift_profile, smoothstep
 from .body import GRAVITY
 
@@ -37,7 +36,6 @@ SHAPE = (
 )
 
 
-@njit(cache=True)
 def _strides(x: float, y: float, length: float, width: float) -> float:
     """`strides` (the ellipse of axes ``length`` and ``width`` is 1)."""
     return math.sqrt((x / length) * (x / length) + (y / width) * (y / width))

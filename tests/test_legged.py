@@ -205,3 +205,47 @@ def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
             if elapsed == 0.0 and tick == 0:  # lift-off: where the foot is
                 np.testing.assert_allclose(np.add(setpoints[:3], base), start, atol=1e-15)
             previous = point
+
+
+def test_heading_angles_are_those_of_pinocchios_exp3():
+    """The body model's angles from the rotation vector: the same bits as from ``pin.exp3``."""
+    import pinocchio as pin
+
+    from virtual_actuators.gaits.attitude import yaw_pitch_roll
+    from virtual_actuators.gaits.legged.body import heading_angles
+
+    rng = np.random.default_rng(5)
+    vectors = [rng.normal(size=3) * scale for scale in (1e-9, 1e-5, 1e-3, 0.3, 1.0, 3.0)]
+    for vector in [*vectors, np.zeros(3), np.array([0.0, 0.0, np.pi - 1e-9])]:
+        assert heading_angles(*vector.tolist()) == yaw_pitch_roll(pin.exp3(vector))
+
+
+def test_two_feet_give_way_along_the_horizontal_force_only():
+    """The missing direction spans what numpy's SVD of the point forces leaves out; the request
+    given way is orthogonal to it, changed along x and y only (to rounding), and unchanged where
+    producible."""
+    from virtual_actuators.gaits.legged.body import give_way, missing_direction
+
+    rng = np.random.default_rng(6)
+    for _ in range(50):
+        body, first, second = rng.normal(size=(3, 3))
+        missing = np.array(missing_direction(body.tolist(), first.tolist(), second.tolist()))
+        columns = np.zeros((6, 6))  # unit forces at each foot and their moments about the body
+        for k, foot in enumerate((first, second)):
+            for axis in range(3):
+                force = np.eye(3)[axis]
+                columns[:, 3 * k + axis] = np.r_[force, np.cross(foot - body, force)]
+        u, s, _ = np.linalg.svd(columns)
+        assert int(np.sum(s > 1e-9 * s[0])) == 5
+        assert abs(abs(u[:, 5] @ missing) - 1.0) < 1e-12
+        wrench = rng.normal(size=6) * 10.0
+        out = np.array(give_way(wrench.tolist(), missing.tolist(), (0, 1)))
+        assert abs(missing @ out) < 1e-12 * np.linalg.norm(wrench)
+        scale = 1e-12 * np.linalg.norm(wrench)  # the rounding projected out last
+        np.testing.assert_allclose(out[2:], wrench[2:], rtol=0.0, atol=scale)
+        producible = wrench - missing * (missing @ wrench)
+        given = give_way(producible.tolist(), missing.tolist(), (0, 1))
+        np.testing.assert_allclose(given, producible, rtol=0.0, atol=scale)
+    assert missing_direction((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)) == (0.0,) * 6
+    wrench = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+    assert give_way(wrench, (0.0,) * 6, (0, 1)) == wrench  # nothing missing: as it is

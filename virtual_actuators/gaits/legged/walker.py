@@ -206,7 +206,6 @@ class LeggedWalker(WalkerHooks, Gait):
             yielding = p.give_way or ("x", "y")  # the scaling rule needs axes to scale
             point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": yielding}
         self.supports: dict[str, ParallelVirtualActuator] = {}
-        self._feet_rows: dict[str, list[int]] = {}  # per support: its feet's frame-table rows
         sets = {
             f"support_{k}": [f for f in self.feet if f not in group]
             for k, group in enumerate(self.groups)
@@ -217,7 +216,6 @@ class LeggedWalker(WalkerHooks, Gait):
                 robot, self.body_frame, feet, "world", contact="point", **point
             )
             self.supports[name] = actuator
-            self._feet_rows[name] = actuator.kinematics.frame_rows[2:].tolist()
             c.add(name, actuator, [self.body], **rule)
         upper = upper_joints(robot, self.feet)  # an arm, a head: held where they stand
         self._posture: tuple[str, ...] = ("posture", "upper_gravity") if upper else ()

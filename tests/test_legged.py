@@ -146,13 +146,6 @@ def test_walker_rejects_what_it_cannot_walk():
         walker.set_command((float("nan"), 0.0), 0.0)
 
 
-class _Spring:
-    """What :class:`SwingFeet` writes: a set point and a velocity set point, in place."""
-
-    def __init__(self) -> None:
-        self.setpoint, self.velocity_setpoint = np.zeros(3), np.zeros(3)
-
-
 def _swing_oracle(start, nominal, body, motion, shape):
     """The swing set point from the definitions (module docstring of ``footholds``), numpy."""
     com = body[:3]
@@ -186,35 +179,73 @@ def _swing_oracle(start, nominal, body, motion, shape):
 
 @pytest.mark.parametrize("elapsed", [0.0, 0.07, 0.16, 0.25, 0.3])
 def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
-    """The compiled set points against the definitions, one tick then the next (the rate)."""
-    from virtual_actuators.gaits.legged.footholds import SwingFeet
+    """The set points against the definitions, one tick then the next (the rate)."""
+    from virtual_actuators.gaits.legged.footholds import swing_setpoint
 
     rng = np.random.default_rng(3)
     shape = (0.25, 0.4, 0.12, 0.1, 0.05, 0.4, 0.004, 0.02)  # touchdown at 0.25 s
-    springs = [_Spring() for _ in QUAD]
-    feet = SwingFeet(QUAD, QUAD_XY, springs, shape)
-    swinging = ("LF", "RH")
     starts = rng.normal(size=(2, 3)) * 0.1
-    for foot, start in zip(swinging, starts, strict=True):
-        feet.lift_off(foot, start)
     body = rng.normal(size=12) * 0.2  # centre of mass, origin, velocity, angular velocity
     base, linear, angular = body[3:6], body[6:9], body[9:]
-    previous = []
-    for tick, now in enumerate((1.0, 1.001)):  # the first at rest (no time since the last)
-        feet.time = 1.0 if tick == 0 else feet.time
-        motion = np.array((0.5, 0.1, 0.05, -0.02, 0.3, 0.4, elapsed + now - 1.0, -0.01))
-        feet.move(swinging, body, motion, now)
-        for k, (foot, start) in enumerate(zip(swinging, starts, strict=True)):
-            index = QUAD.index(foot)
-            point = _swing_oracle(start, QUAD_XY[index], body, motion, shape)
+    for foot, start in zip(("LF", "RH"), starts, strict=True):
+        index = QUAD.index(foot)
+        state, previous = (*start.tolist(), *start.tolist(), 0.0, 0.0, 0.0), None
+        for tick, dt in enumerate((0.0, 0.001)):  # the first at rest (no time since the last)
+            motion = (0.5, 0.1, 0.05, -0.02, 0.3, 0.4, elapsed + dt, -0.01)
+            nominal = tuple(QUAD_XY[index].tolist())
+            state, setpoints = swing_setpoint(state, nominal, tuple(body.tolist()), motion, dt,
+                                              shape)  # fmt: skip
+            point = _swing_oracle(start, QUAD_XY[index], body, np.array(motion), shape)
             # the second tick's rate: the new one low-passed, dt / filter of it
-            rate = 0.05 * (point - previous[k]) / 0.001 if tick else np.zeros(3)
+            rate = 0.05 * (point - previous) / 0.001 if tick else np.zeros(3)
             spin = rate - linear - np.cross(angular, point - base)
-            np.testing.assert_allclose(springs[index].setpoint, point - base, atol=1e-12)
-            np.testing.assert_allclose(springs[index].velocity_setpoint, spin, atol=1e-9)
+            np.testing.assert_allclose(setpoints[:3], point - base, atol=1e-12)
+            np.testing.assert_allclose(setpoints[3:], spin, atol=1e-9)
+            np.testing.assert_allclose(state[3:6], point, atol=1e-12)
             if elapsed == 0.0 and tick == 0:  # lift-off: where the foot is
-                np.testing.assert_allclose(springs[index].setpoint + base, start, atol=1e-15)
-            previous.append(point)
-        previous = previous[-2:]
-    untouched = springs[QUAD.index("RF")]
-    assert not untouched.setpoint.any() and not untouched.velocity_setpoint.any()
+                np.testing.assert_allclose(np.add(setpoints[:3], base), start, atol=1e-15)
+            previous = point
+
+
+def test_heading_angles_are_those_of_pinocchios_exp3():
+    """The body model's angles from the rotation vector: the same bits as from ``pin.exp3``."""
+    import pinocchio as pin
+
+    from virtual_actuators.gaits.attitude import yaw_pitch_roll
+    from virtual_actuators.gaits.legged.body import heading_angles
+
+    rng = np.random.default_rng(5)
+    vectors = [rng.normal(size=3) * scale for scale in (1e-9, 1e-5, 1e-3, 0.3, 1.0, 3.0)]
+    for vector in [*vectors, np.zeros(3), np.array([0.0, 0.0, np.pi - 1e-9])]:
+        assert heading_angles(*vector.tolist()) == yaw_pitch_roll(pin.exp3(vector))
+
+
+def test_two_feet_give_way_along_the_horizontal_force_only():
+    """The missing direction spans what numpy's SVD of the point forces leaves out; the request
+    given way is orthogonal to it, changed along x and y only (to rounding), and unchanged where
+    producible."""
+    from virtual_actuators.gaits.legged.body import give_way, missing_direction
+
+    rng = np.random.default_rng(6)
+    for _ in range(50):
+        body, first, second = rng.normal(size=(3, 3))
+        missing = np.array(missing_direction(body.tolist(), first.tolist(), second.tolist()))
+        columns = np.zeros((6, 6))  # unit forces at each foot and their moments about the body
+        for k, foot in enumerate((first, second)):
+            for axis in range(3):
+                force = np.eye(3)[axis]
+                columns[:, 3 * k + axis] = np.r_[force, np.cross(foot - body, force)]
+        u, s, _ = np.linalg.svd(columns)
+        assert int(np.sum(s > 1e-9 * s[0])) == 5
+        assert abs(abs(u[:, 5] @ missing) - 1.0) < 1e-12
+        wrench = rng.normal(size=6) * 10.0
+        out = np.array(give_way(wrench.tolist(), missing.tolist(), (0, 1)))
+        assert abs(missing @ out) < 1e-12 * np.linalg.norm(wrench)
+        scale = 1e-12 * np.linalg.norm(wrench)  # the rounding projected out last
+        np.testing.assert_allclose(out[2:], wrench[2:], rtol=0.0, atol=scale)
+        producible = wrench - missing * (missing @ wrench)
+        given = give_way(producible.tolist(), missing.tolist(), (0, 1))
+        np.testing.assert_allclose(given, producible, rtol=0.0, atol=scale)
+    assert missing_direction((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)) == (0.0,) * 6
+    wrench = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+    assert give_way(wrench, (0.0,) * 6, (0, 1)) == wrench  # nothing missing: as it is

@@ -15,7 +15,9 @@ import numpy as np
 import pytest
 from oracles import assert_same_walk
 
+import virtual_actuators as va
 from virtual_actuators.core import CORE
+from virtual_actuators.gaits.legged import LeggedWalker
 from virtual_actuators.gaits.registry import WALKS, run_walk
 
 pytestmark = [
@@ -28,6 +30,8 @@ TOLERANCE = 1e-12  # [-] of the tick's scale
 
 CASES = {name: (name, {}) for name in WALKS} | {
     "legged go2 trot, partitioned": ("legged", {"robot": "go2", "distribution": "partitioned"}),
+    "legged go2 pace": ("legged", {"robot": "go2", "gait": "pace"}),
+    "legged hexapod tripod": ("legged", {"robot": "hexapod", "gait": "tripod"}),
     "balance g1": ("balance", {"robot": "g1"}),
     "hexapod pendulum": ("hexapod-walk", {"pendulum": True}),
     "hexapod tracking": ("hexapod-walk", {"track": True}),
@@ -66,3 +70,16 @@ def test_the_hexapods_compiled_walk_is_its_python_walk_bit_for_bit(monkeypatch):
     assert python.gait.compiled is None
     assert_same_walk(compiled, python)
     assert not compiled.metrics.fell
+
+
+@pytest.mark.parametrize(
+    ("robot", "pattern"),
+    [("solo12", "trot"), ("go2", "trot"), ("go2", "walk"), ("hexapod", "tripod")],
+)
+def test_a_legged_walker_lowers_whole(robot, pattern):
+    """Its hooks, its body model, its swing feet and its touchdown events: no Python piece."""
+    walker = LeggedWalker(va.load_robot(robot), pattern=pattern)
+    walker.wiring.warm_up(walker.initial_configuration())
+    compiled = walker.wiring.compiled
+    assert compiled is not None and compiled.pieces == [], compiled.pieces
+    assert walker.memory.fields["setpoint"] == (0.0, 0.0)  # the state: a view of the registers

@@ -1,5 +1,4 @@
-// The gait's kernels' bindings (gait.hpp): the legged walks' body wrench and swing set points,
-// the centre of mass and the producible directions.
+// The gait's kernels' bindings (gait.hpp): the centre of mass and the producible directions.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -26,36 +25,6 @@ nb::tuple gait_center_of_mass(const F2& joints, const F1& masses, const F2& leve
     va::center_of_mass(joints.data(), masses.data(), levers.data(), n, out);
   }
   return nb::make_tuple(out[0], out[1], out[2]);
-}
-
-// gaits.legged.body.body_wrench: the wrench into out, returns the yaw.
-double gait_body_wrench(const F2& rotation, const F1& position, const F1& velocity, const F1& gains,
-                        const F1& setpoints, const MF1& out) {
-  require(rotation.shape(0) == 3 && rotation.shape(1) == 3, "rotation must be (3, 3)");
-  require(length(position) >= 3 && length(velocity) == 6, "position (6,), velocity (6,)");
-  require(length(gains) == 11 && length(setpoints) == 8, "gains (11,), setpoints (8,)");
-  require(length(out) == 6, "out must be (6,)");
-  nb::gil_scoped_release release;
-  return va::body_wrench(rotation.data(), position.data(), velocity.data(), gains.data(),
-                         setpoints.data(), out.data());
-}
-
-// gaits.legged.footholds.swing_setpoints: swing and out written in place.
-void gait_swing_setpoints(const I1& feet, const GF2& swing, const F2& nominal, const F1& body,
-                          const F1& motion, double dt, const F1& shape, const GF2& out) {
-  const auto f = static_cast<std::int64_t>(swing.shape(0));
-  const auto k = static_cast<std::int64_t>(feet.shape(0));
-  require(swing.shape(1) == 9 && rows_of(nominal) == f && nominal.shape(1) == 2,
-          "swing must be (f, 9), nominal (f, 2)");
-  require(length(body) == 12 && length(motion) == 8 && length(shape) == 8,
-          "body (12,), motion (8,), shape (8,)");
-  require(static_cast<std::int64_t>(out.shape(0)) >= k && out.shape(1) == 6,
-          "out must be (>= k, 6)");
-  for (std::int64_t j = 0; j < k; ++j)
-    require(feet.data()[j] >= 0 && feet.data()[j] < f, "feet out of range");
-  nb::gil_scoped_release release;
-  va::swing_setpoints(feet.data(), k, swing.data(), nominal.data(), body.data(), motion.data(), dt,
-                      shape.data(), out.data());
 }
 
 // actuators.producible._two_points: (36,), or empty (coincident contacts, a row not in frames).
@@ -97,12 +66,6 @@ bool gait_give_way_one(const F1& wrench, const F2& yielding, const F2& missing, 
 void bind_gait(nb::module_& m) {
   m.def("center_of_mass", &gait_center_of_mass, "joints"_a, "masses"_a, "levers"_a,
         "kinematics.kernels.center_of_mass: the bodies' centre of mass (x, y, z).");
-  m.def("body_wrench", &gait_body_wrench, "rotation"_a, "position"_a, "velocity"_a, "gains"_a,
-        "setpoints"_a, "out"_a.noconvert(),
-        "gaits.legged.body.body_wrench: the body model's wrench into out; the yaw.");
-  m.def("swing_setpoints", &gait_swing_setpoints, "feet"_a, "swing"_a.noconvert(), "nominal"_a,
-        "body"_a, "motion"_a, "dt"_a, "shape"_a, "out"_a.noconvert(),
-        "gaits.legged.footholds.swing_setpoints: swing feet's set points into swing and out.");
   m.def("two_points", &gait_two_points, "frames"_a, "rows"_a,
         "actuators.producible._two_points: producible (6, 5) and missing (6, 1) row by row.");
   m.def("give_way_one", &gait_give_way_one, "wrench"_a, "yielding"_a, "missing"_a,

@@ -1,9 +1,9 @@
-// The legged gait's per-tick kernels and the ones it reaches in the core: C++ ports, operation by
-// operation, of virtual_actuators.kinematics.kernels.center_of_mass,
-// actuators.producible._two_points and _give_way_one, gaits.legged.body.body_wrench and
-// gaits.legged.footholds.swing_setpoints (with foothold, swing_point and gaits.planar's
-// smoothstep and lift_profile, in scalar.hpp), so that both agree bit for bit
-// (tests/test_core_parity_gait.py). An edit of a reference kernel goes with the same edit here.
+// Kernels the library reaches in the core: the bodies' centre of mass
+// (virtual_actuators.kinematics.kernels.center_of_mass is its numpy oracle), and a parallel
+// actuator's producible directions with two point feet and the request given way along one
+// missing direction (actuators.producible's closed forms; the numpy general path is their oracle,
+// tests/test_core_parity_gait.py). The legged walker's body model and swing feet are va.scalar
+// formulas that a compiled plan traces into its ops: they have no port here.
 #pragma once
 
 #include <cmath>
@@ -31,108 +31,6 @@ inline void center_of_mass(const double* joints, const double* masses, const dou
   out[0] = x / total;
   out[1] = y / total;
   out[2] = z / total;
-}
-
-// gaits.legged.body.body_wrench: rotation (3, 3), position (6), velocity (6), gains (11),
-// setpoints (8), out (6); returns the yaw.
-inline double body_wrench(const double* rotation, const double* position, const double* velocity,
-                          const double* gains, const double* setpoints, double* out) {
-  const double yaw = std::atan2(rotation[3], rotation[0]);
-  const double pitch = std::asin(py_max(-1.0, py_min(1.0, -rotation[6])));
-  const double roll = std::atan2(rotation[7], rotation[8]);
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  const double v0 = velocity[0], v1 = velocity[1], v2 = velocity[2];
-  const double w0 = velocity[3], w1 = velocity[4], w2 = velocity[5];
-  const double vx = c * v0 + s * v1;
-  const double vy = -s * v0 + c * v1;
-  const double wx = c * w0 + s * w1;
-  const double wy = -s * w0 + c * w1;
-  const double height = setpoints[0], set_x = setpoints[1], set_y = setpoints[2];
-  const double ax = setpoints[3], ay = setpoints[4], yaw_rate = setpoints[5];
-  const double lever_x = setpoints[6], lever_y = setpoints[7];
-  const double mass = gains[9], weight = gains[10];
-  const double fx = gains[0] * (set_x - vx) + mass * ax;
-  const double fy = gains[1] * (set_y - vy) + mass * ay;
-  const double fz = weight + gains[2] * (height - position[2]) - gains[3] * v2;
-  const double mx = -gains[4] * roll - gains[6] * wx;
-  const double my = -gains[5] * pitch - gains[7] * wy;
-  const double mz = gains[8] * (yaw_rate - w2);
-  out[0] = c * fx - s * fy;
-  out[1] = s * fx + c * fy;
-  out[2] = fz;
-  out[3] = c * mx - s * my + lever_y * weight;
-  out[4] = s * mx + c * my - lever_x * weight;
-  out[5] = mz;
-  return yaw;
-}
-
-// gaits.legged.footholds.foothold: the foothold relative to the centre of mass, heading frame.
-inline void foothold(double x, double y, double vx, double vy, double ex, double ey,
-                     double yaw_rate, double stance_time, double capture_time, double reach,
-                     double out[2]) {
-  const double half = 0.5 * stance_time;
-  const double angle = yaw_rate * half;
-  const double c = std::cos(angle), s = std::sin(angle);
-  const double dx = c * x - s * y - x + vx * half + capture_time * ex;
-  const double dy = s * x + c * y - y + vy * half + capture_time * ey;
-  const double scale = py_min(1.0, reach / py_max(std::hypot(dx, dy), 1e-12));
-  out[0] = x + scale * dx;
-  out[1] = y + scale * dy;
-}
-
-// gaits.legged.footholds.swing_point: start (3), the landing point, phase, lift and peak.
-inline void swing_point(const double* start, double x, double y, double z, double phase,
-                        double lift, double peak, double out[3]) {
-  const double x0 = start[0], y0 = start[1], z0 = start[2];
-  const double reach = smoothstep(py_min(1.0, 1.25 * phase));
-  const double height = z0 + (z - z0) * smoothstep(phase) + lift * lift_profile(phase, peak);
-  out[0] = x0 + (x - x0) * reach;
-  out[1] = y0 + (y - y0) * reach;
-  out[2] = height;
-}
-
-// gaits.legged.footholds.swing_setpoints: feet (k), swing (f, 9) updated, nominal (f, 2),
-// body (12), motion (8), dt, shape (8), out (k, 6) written.
-inline void swing_setpoints(const std::int64_t* feet, std::int64_t count, double* swing,
-                            const double* nominal, const double* body, const double* motion,
-                            double dt, const double* shape, double* out) {
-  const double vx = motion[0], vy = motion[1], ex = motion[2], ey = motion[3];
-  const double yaw_rate = motion[4], yaw = motion[5], elapsed = motion[6], ground = motion[7];
-  const double swing_time = shape[0], stance_time = shape[1], capture = shape[2];
-  const double reach = shape[3], lift = shape[4], peak = shape[5];
-  double depth = shape[6];
-  const double rate_filter = shape[7];
-  const double phase = elapsed / swing_time;
-  const double remaining = py_max(0.0, swing_time - elapsed);
-  const double heading = yaw + yaw_rate * remaining;
-  const double c = std::cos(heading), s = std::sin(heading);
-  const double cy = std::cos(yaw), sy = std::sin(yaw);
-  const double centre_x = body[0] + remaining * (cy * vx - sy * vy);
-  const double centre_y = body[1] + remaining * (sy * vx + cy * vy);
-  depth = depth * (1.0 + 4.0 * py_max(0.0, phase - 1.0));
-  const double blend = dt > 0.0 ? py_min(1.0, dt / rate_filter) : 0.0;
-  const double a0 = body[9], a1 = body[10], a2 = body[11];
-  for (std::int64_t j = 0; j < count; ++j) {
-    const std::int64_t k = feet[j];
-    double* row = swing + 9 * k;
-    double* o = out + 6 * j;
-    double xy[2];
-    foothold(nominal[2 * k], nominal[2 * k + 1], vx, vy, ex, ey, yaw_rate, stance_time, capture,
-             reach, xy);
-    const double x = xy[0], y = xy[1];
-    double target[3];
-    swing_point(row, centre_x + c * x - s * y, centre_y + s * x + c * y, ground - depth, phase,
-                lift, peak, target);
-    for (int i = 0; i < 3; ++i) {
-      if (dt > 0.0) row[6 + i] += blend * ((target[i] - row[3 + i]) / dt - row[6 + i]);
-      row[3 + i] = target[i];
-      o[i] = target[i] - body[3 + i];
-    }
-    const double o0 = o[0], o1 = o[1], o2 = o[2];
-    o[3] = row[6] - body[6] - (a1 * o2 - a2 * o1);
-    o[4] = row[7] - body[7] - (a2 * o0 - a0 * o2);
-    o[5] = row[8] - body[8] - (a0 * o1 - a1 * o0);
-  }
 }
 
 // actuators.producible._two_points: frames (nf, 12), rows (4) all in the table; buffer (36)

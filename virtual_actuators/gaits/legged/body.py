@@ -10,165 +10,89 @@ world, action the body), acting in the body's *heading frame* (its yaw alone):
 * yaw: a damper toward the commanded yaw rate;
 * the weight acts at the centre of mass: its moment about the body's origin is added.
 
-When the gait gives it the support's producible directions (`BodyModel.basis`, from
-[`ParallelVirtualActuator.producible`][virtual_actuators.ParallelVirtualActuator.producible]),
-the request gives way along `BodyModel.yielding` (by default the horizontal force) just
-enough to become producible, and stays exact on the rest
-([`give_way`][]). With two point feet the moment about
-the line between them cannot be produced: yielding the horizontal force lets the centre of mass
-move away from that line as an inverted pendulum does (``m g e / h`` for an offset ``e``) while
-height, roll, pitch and yaw stay exact; yielding the moments instead would spin the body against
-its legs.
+When the gait gives it the support's missing direction (`BodyModel.missing`: what two point
+feet cannot produce, `missing_direction`, the closed form of
+[`ParallelVirtualActuator.producible`][virtual_actuators.ParallelVirtualActuator.producible]
+there), the request gives way along `BodyModel.yielding` (by default the horizontal force)
+just enough to become producible, and stays exact on the rest (`give_way`). With two point
+feet the moment about the line between them cannot be produced: yielding the horizontal force
+lets the centre of mass move away from that line as an inverted pendulum does (``m g e / h``
+for an offset ``e``) while height, roll, pitch and yaw stay exact; yielding the moments instead
+would spin the body against its legs.
+
+The formulas (`heading_angles`, `body_wrench`, `give_way`, `missing_direction`) are written
+once with [`va.scalar`][virtual_actuators.scalar]: the Python tick runs them on floats, a
+compiled plan traces them into its ops (the body model is a [`Slotted`][
+virtual_actuators.components.slots.Slotted] component: its set points are the plan's registers).
 """
 
 from __future__ import annotations
 
-import math
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
-import pinocchio as pin
 
-from ...actuators.producible import Directions, give_way
 from ...components.base import Component
 from ...components.gains import Gains
-from ...core import CORE
-from ..attitude import yaw_pitch_roll
+from ...components.slots import Slotted
+from ...exceptions import InvalidInputError
+from ...vocabulary.axes import check_axes_subset
+from ...vocabulary.scalar import asin, atan2, cos, dot, maximum, minimum, select, sin, sqrt
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
 
+_EPS = 2.220446049250313e-16  # double's machine epsilon
+_TAYLOR = _EPS**0.25  # below this angle Pinocchio's exp3 takes its Taylor expansions
 
-class BodyModel(Component):
-    """Height, roll and pitch springs, x, y and yaw dampers, in the heading frame.
+#: Two contacts closer than this fraction of their distance to the body count as one point
+#: (the producible directions' rank decision, ``actuators.producible.RANK_TOL``).
+RANK_TOL = 1e-9
 
-    Reads the body's pose in the world (position, rotation vector) and its velocity (linear,
-    angular, world axes); returns the wrench on the body in world axes about its origin.
 
-    Args:
-        mass: The robot's mass [kg] (its weight is carried).
-        gains: The stiffnesses and dampings.
-        yielding: Axes that give way first when the support cannot produce the request.
-        name: Label used in reports.
+def heading_angles(x: object, y: object, z: object) -> tuple:
+    """Yaw, pitch and roll (Z-Y-X) of the rotation vector ``(x, y, z)`` [rad].
 
-    Attributes:
-        height: Height set point of the body's origin [m] (the gait moves it with the ground).
-        velocity: Velocity set point in the heading frame ``(vx, vy)`` [m/s].
-        acceleration: Its rate, in the heading frame [m/s^2].
-        yaw_rate: Yaw rate set point [rad/s].
-        lever: Centre of mass minus the body's origin, world axes [m].
-        basis: The support's [`Directions`][], or
-            None (every wrench producible).
-        yielding: ``(6, m)`` unit columns of the yielding axes.
-        yaw: The body's yaw at the last evaluation [rad].
-
+    The entries of ``pinocchio.exp3`` that the angles read, with its operations in its order
+    (``t^2 = |v|^2 + eps^2``, Taylor expansions below ``eps^(1/4)``, picked by `select`), on
+    floats or traced values.
     """
-
-    def __init__(
-        self,
-        mass: float,
-        gains: LeggedGains,
-        yielding: tuple[str, ...] = ("x", "y"),
-        name: str = "body",
-    ) -> None:
-        super().__init__(AXES, name)
-        self.yielding = np.eye(6)[:, [AXES.index(axis) for axis in yielding]]
-        self.mass = float(mass)
-        self.gains = gains
-        self.height = 0.0
-        self.velocity = (0.0, 0.0)
-        self.acceleration = (0.0, 0.0)
-        self.yaw_rate = 0.0
-        self.lever = np.zeros(3)
-        self.basis: Directions | None = None
-        self.yaw = 0.0
-
-    @property
-    def gains(self) -> LeggedGains:
-        """The stiffnesses and dampings."""
-        return self._gains
-
-    @gains.setter
-    def gains(self, gains: LeggedGains) -> None:
-        self._gains = gains
-        self._pack()
-
-    @property
-    def mass(self) -> float:
-        """The robot's mass [kg]."""
-        return self._mass
-
-    @mass.setter
-    def mass(self, mass: float) -> None:
-        self._mass = float(mass)
-        self._pack()
-
-    def _pack(self) -> None:
-        """The gains as `body_wrench` reads them."""
-        g, mass = getattr(self, "_gains", None), getattr(self, "_mass", None)
-        if g is not None and mass is not None:
-            self._packed = np.array((
-                *g.damping_xy, g.stiffness_z, g.damping_z, *g.stiffness_attitude,
-                *g.damping_attitude, mass, mass * GRAVITY,
-            ))  # fmt: skip
-
-    def linear_gains(self) -> Gains:
-        """Stiffness and damping on `AXES` (the heading frame's, world axes when level)."""
-        g = self._gains
-        stiffness = (0.0, 0.0, g.stiffness_z, *g.stiffness_attitude, 0.0)
-        damping = (*g.damping_xy, g.damping_z, *g.damping_attitude)
-        return Gains(np.array(stiffness), np.array(damping))
-
-    def scale_gains(self, factor: np.ndarray) -> None:
-        """Multiply the stiffness and damping of each axis by ``factor`` (``(6,)``)."""
-        fx, fy, fz, froll, fpitch, fyaw = (float(f) for f in factor)
-        g = self._gains
-        (k_roll, k_pitch), (d_roll, d_pitch, d_yaw) = g.stiffness_attitude, g.damping_attitude
-        self.gains = replace(
-            g,
-            stiffness_z=g.stiffness_z * fz,
-            damping_z=g.damping_z * fz,
-            stiffness_attitude=(k_roll * froll, k_pitch * fpitch),
-            damping_attitude=(d_roll * froll, d_pitch * fpitch, d_yaw * fyaw),
-            damping_xy=(g.damping_xy[0] * fx, g.damping_xy[1] * fy),
-        )
-
-    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The wrench on the body, world axes (given way where the support cannot produce it)."""
-        lever_x, lever_y, _ = self.lever.tolist()
-        setpoints = np.array((
-            self.height, *self.velocity, *self.acceleration, self.yaw_rate, lever_x, lever_y
-        ))  # fmt: skip
-        wrench = np.empty(6)
-        rotation = pin.exp3(position[3:])
-        self.yaw = _BODY_WRENCH(rotation, position, velocity, self._packed, setpoints, wrench)
-        if self.basis is not None:
-            wrench = give_way(self.basis.producible, wrench, self.yielding, self.basis.missing)
-        return wrench
+    t2 = x * x + y * y + z * z + _EPS * _EPS
+    t = sqrt(t2)
+    taylor = t <= _TAYLOR
+    cosine = cos(t)
+    outer = select(taylor, 0.5 - t2 / 24, (1 - cosine) / t2)
+    across = select(taylor, 1 - t2 / 6, sin(t) / t)
+    cosine = select(taylor, 1 - t2 / 2, cosine)
+    r00 = outer * x * x + cosine
+    r10 = outer * y * x + across * z
+    r20 = outer * z * x - across * y
+    r21 = outer * z * y + across * x
+    r22 = outer * z * z + cosine
+    return atan2(r10, r00), asin(maximum(-1.0, minimum(1.0, -r20))), atan2(r21, r22)
 
 
 def body_wrench(
-    rotation: np.ndarray, position: np.ndarray, velocity: np.ndarray, gains: np.ndarray,
-    setpoints: np.ndarray, out: np.ndarray,
-) -> float:
-    """The body model's wrench (module docstring) into ``out``; returns the body's yaw.
+    gains: Sequence, setpoints: Sequence, position: Sequence, velocity: Sequence
+) -> list:
+    """The body model's wrench (module docstring), world axes, about the body's origin.
 
     Args:
-        rotation: ``(3, 3)`` the body's orientation in the world.
-        position: ``(6,)`` the sensor's position (its height at index 2) [m].
-        velocity: ``(6,)`` linear and angular velocity, world axes [m/s, rad/s].
         gains: ``(11,)`` damping along and across the heading, stiffness and damping of the
             height, stiffness of roll and pitch, damping of roll, pitch and yaw, the mass and
             the weight (SI units).
         setpoints: ``(8,)`` height [m], velocity in the heading frame (2) [m/s], its rate (2)
             [m/s^2], yaw rate [rad/s], and the lever's x and y [m].
-        out: ``(6,)`` written: the wrench, world axes, about the body's origin [N, N m].
+        position: ``(6,)`` the sensor's position and rotation vector [m, rad].
+        velocity: ``(6,)`` linear and angular velocity, world axes [m/s, rad/s].
+
+    Returns:
+        ``[fx, fy, fz, mx, my, mz]`` [N, N m] (floats or traced values).
 
     """
-    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-    pitch = math.asin(max(-1.0, min(1.0, -rotation[2, 0])))
-    roll = math.atan2(rotation[2, 1], rotation[2, 2])
-    c, s = math.cos(yaw), math.sin(yaw)
+    yaw, pitch, roll = heading_angles(position[3], position[4], position[5])
+    c, s = cos(yaw), sin(yaw)
     v0, v1, v2, w0, w1, w2 = velocity
     vx = c * v0 + s * v1
     vy = -s * v0 + c * v1
@@ -182,17 +106,228 @@ def body_wrench(
     mx = -gains[4] * roll - gains[6] * wx
     my = -gains[5] * pitch - gains[7] * wy
     mz = gains[8] * (yaw_rate - w2)
-    out[0] = c * fx - s * fy
-    out[1] = s * fx + c * fy
-    out[2] = fz
-    out[3] = c * mx - s * my + lever_y * weight
-    out[4] = s * mx + c * my - lever_x * weight
-    out[5] = mz
-    return yaw
+    return [
+        c * fx - s * fy, s * fx + c * fy, fz,
+        c * mx - s * my + lever_y * weight, s * mx + c * my - lever_x * weight, mz,
+    ]  # fmt: skip
 
 
-#: :func:`body_wrench` as the gait calls it: the compiled core's port when it is built
-#: (``src/core/gait.hpp``, the same bits).
-_BODY_WRENCH = CORE.body_wrench if CORE is not None else body_wrench
+def give_way(wrench: Sequence, missing: Sequence, yielding: Sequence[int]) -> list:
+    """``wrench`` made orthogonal to ``missing`` by moving it along the ``yielding`` axes.
 
-__all__ = ["AXES", "BodyModel", "body_wrench", "yaw_pitch_roll"]
+    The least move along those axes (in their coordinates) that removes the wrench's part
+    along the unit direction ``missing``; what they cannot absorb (rounding, or a direction
+    they do not reach) is then projected out. A zero ``missing`` leaves the wrench as it is.
+
+    Args:
+        wrench: ``(6,)`` the request.
+        missing: ``(6,)`` the unit direction the support cannot produce, or zeros.
+        yielding: Indices of the axes that give way.
+
+    Returns:
+        The producible request ``(6,)``.
+
+    """
+    across = [missing[axis] for axis in yielding]  # how each yielding axis moves the gap
+    gap = dot(missing, wrench)
+    norm2 = dot(across, across)
+    moves = norm2 > 1e-12
+    ratio = gap / maximum(norm2, 1e-12)
+    out = list(wrench)
+    for axis, amount in zip(yielding, across, strict=True):
+        out[axis] = select(moves, wrench[axis] - amount * ratio, wrench[axis])
+    rest = dot(missing, out)
+    return [value - direction * rest for value, direction in zip(out, missing, strict=True)]
+
+
+def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tuple:
+    """The unit wrench two point contacts cannot produce on the body, world axes.
+
+    ``(r x d, d)`` normalised, ``d`` from the first contact to the second and ``r`` from the
+    body's origin to the first: a wrench ``(a, b)`` is orthogonal to every ``(f, r_i x f)``
+    exactly when ``a = r x b`` and ``b`` is along ``d``.
+
+    Args:
+        body: The body's origin, world [m].
+        first: The first contact, world [m].
+        second: The second contact, world [m].
+
+    Returns:
+        ``(6,)`` the direction, or zeros when the contacts coincide (one point: not given
+        way).
+
+    """
+    x, y, z = (first[i] - body[i] for i in range(3))
+    dx, dy, dz = (second[i] - first[i] for i in range(3))
+    apart = dx * dx + dy * dy + dz * dz > RANK_TOL * maximum(x * x + y * y + z * z, 1e-300)
+    values = (y * dz - z * dy, z * dx - x * dz, x * dy - y * dx, dx, dy, dz)
+    norm = sqrt(maximum(dot(values, values), 1e-300))
+    return tuple(select(apart, value / norm, 0.0) for value in values)
+
+
+class BodyModel(Slotted, Component):
+    """Height, roll and pitch springs, x, y and yaw dampers, in the heading frame.
+
+    Reads the body's pose in the world (position, rotation vector) and its velocity (linear,
+    angular, world axes); returns the wrench on the body in world axes about its origin. Its
+    set points are slots: a compiled plan keeps them in its registers and the gait's traced
+    hook writes them there.
+
+    Args:
+        mass: The robot's mass [kg] (its weight is carried).
+        gains: The stiffnesses and dampings.
+        yielding: Axes that give way first when the support cannot produce the request.
+        name: Label used in reports.
+
+    Attributes:
+        height: Height set point of the body's origin [m] (the gait moves it with the ground).
+        velocity: Velocity set point in the heading frame ``(vx, vy)`` [m/s].
+        acceleration: Its rate, in the heading frame [m/s^2].
+        yaw_rate: Yaw rate set point [rad/s].
+        lever: Centre of mass minus the body's origin, world axes [m].
+        missing: ``(6,)`` the unit wrench the support cannot produce (`missing_direction`), or
+            zeros (every wrench producible: nothing gives way).
+        yielding: Indices of the axes that give way.
+
+    Raises:
+        InvalidAxisError: A yielding axis that is not one of `AXES`.
+
+    """
+
+    SLOTS = ("packed", "height", "velocity", "acceleration", "yaw_rate", "lever", "missing")
+
+    def __init__(
+        self,
+        mass: float,
+        gains: LeggedGains,
+        yielding: tuple[str, ...] = ("x", "y"),
+        name: str = "body",
+    ) -> None:
+        super().__init__(AXES, name)
+        self.yielding = tuple(
+            AXES.index(axis) for axis in check_axes_subset(yielding, AXES, "give way axes")
+        )
+        self._mass = float(mass)
+        self.gains = gains
+        self.height = 0.0
+        self.velocity = (0.0, 0.0)
+        self.acceleration = (0.0, 0.0)
+        self.yaw_rate = 0.0
+        self.lever = (0.0, 0.0, 0.0)
+        self.missing = (0.0,) * 6
+
+    @property
+    def gains(self) -> LeggedGains:
+        """The stiffnesses and dampings."""
+        return self._legged
+
+    @gains.setter
+    def gains(self, gains: LeggedGains) -> None:
+        self._legged = gains
+        self._pack()
+
+    @property
+    def mass(self) -> float:
+        """The robot's mass [kg]."""
+        return self._mass
+
+    @mass.setter
+    def mass(self, mass: float) -> None:
+        self._mass = float(mass)
+        self._pack()
+
+    def _pack(self) -> None:
+        """The gains as `body_wrench` reads them (slot ``packed``)."""
+        g, mass = self._legged, self._mass
+        self._assign("_packed", np.array((
+            *g.damping_xy, g.stiffness_z, g.damping_z, *g.stiffness_attitude,
+            *g.damping_attitude, mass, mass * GRAVITY,
+        )))  # fmt: skip
+
+    def _set(self, name: str, value: object, size: int) -> None:
+        """Set slot ``name`` (``size`` values): stored while traced, else checked.
+
+        Raises:
+            InvalidInputError: Not ``size`` finite numbers.
+
+        """
+        if self._store_traced(name, value):
+            return
+        array = np.array(value, dtype=float).reshape(-1)
+        if array.shape != (size,) or not np.isfinite(array).all():
+            raise InvalidInputError(f"{self.name}: {name} must be {size} finite numbers.")
+        self._assign(f"_{name}", array)
+
+    height = property(
+        lambda self: self._traced("height")[0],
+        lambda self, value: self._set("height", value, 1),
+        doc="Height set point of the body's origin [m].",
+    )
+    velocity = property(
+        lambda self: self._traced("velocity"),
+        lambda self, value: self._set("velocity", value, 2),
+        doc="Velocity set point in the heading frame [m/s].",
+    )
+    acceleration = property(
+        lambda self: self._traced("acceleration"),
+        lambda self, value: self._set("acceleration", value, 2),
+        doc="The velocity set point's rate, heading frame [m/s^2].",
+    )
+    yaw_rate = property(
+        lambda self: self._traced("yaw_rate")[0],
+        lambda self, value: self._set("yaw_rate", value, 1),
+        doc="Yaw rate set point [rad/s].",
+    )
+    lever = property(
+        lambda self: self._traced("lever"),
+        lambda self, value: self._set("lever", value, 3),
+        doc="Centre of mass minus the body's origin, world axes [m].",
+    )
+    missing = property(
+        lambda self: self._traced("missing"),
+        lambda self, value: self._set("missing", value, 6),
+        doc="The unit wrench the support cannot produce, or zeros.",
+    )
+
+    def linear_gains(self) -> Gains:
+        """Stiffness and damping on `AXES` (the heading frame's, world axes when level)."""
+        g = self._legged
+        stiffness = (0.0, 0.0, g.stiffness_z, *g.stiffness_attitude, 0.0)
+        damping = (*g.damping_xy, g.damping_z, *g.damping_attitude)
+        return Gains(np.array(stiffness), np.array(damping))
+
+    def scale_gains(self, factor: np.ndarray) -> None:
+        """Multiply the stiffness and damping of each axis by ``factor`` (``(6,)``)."""
+        fx, fy, fz, froll, fpitch, fyaw = (float(f) for f in factor)
+        g = self._legged
+        (k_roll, k_pitch), (d_roll, d_pitch, d_yaw) = g.stiffness_attitude, g.damping_attitude
+        self.gains = replace(
+            g,
+            stiffness_z=g.stiffness_z * fz,
+            damping_z=g.damping_z * fz,
+            stiffness_attitude=(k_roll * froll, k_pitch * fpitch),
+            damping_attitude=(d_roll * froll, d_pitch * fpitch, d_yaw * fyaw),
+            damping_xy=(g.damping_xy[0] * fx, g.damping_xy[1] * fy),
+        )
+
+    def _formula(self, slots: Mapping, position: Sequence, velocity: Sequence) -> list:
+        """`body_wrench` given way (`give_way`), on the slots as floats or traced values."""
+        (height,), (yaw_rate,), lever = slots["height"], slots["yaw_rate"], slots["lever"]
+        setpoints = (height, *slots["velocity"], *slots["acceleration"], yaw_rate, *lever[:2])
+        wrench = body_wrench(slots["packed"], setpoints, position, velocity)
+        return give_way(wrench, slots["missing"], self.yielding)
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """The wrench on the body, world axes (given way where the support cannot produce it)."""
+        slots = {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
+        position = np.asarray(position, dtype=float).tolist()
+        return np.array(self._formula(slots, position, np.asarray(velocity, float).tolist()))
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """The same wrench as a compiled plan's ops (``slots``: the plan's registers)."""
+        return self._formula(slots, position, velocity)
+
+
+__all__ = [
+    "AXES", "BodyModel", "body_wrench", "give_way", "heading_angles", "missing_direction",
+]  # fmt: skip

@@ -23,15 +23,17 @@ state          active attachments                          left when
 
 Every tick (each state's ``on_update``) the walker reads the body, its centre of mass and the
 support feet from the tick's snapshot; moves the velocity set point toward the command at a
-bounded acceleration; sets the body's height above the support feet; asks the state's support
-actuator which wrenches it can produce
-([`producible`][virtual_actuators.ParallelVirtualActuator.producible]: with two point feet, not the
-moment about the line between them) so that the body
-gives way exactly there; and moves the swing feet's set points. Joints on no leg (a legged
+bounded acceleration; sets the body's height above the support feet; gives the body the
+direction its support cannot produce (with two point feet, the moment about the line between
+them: `body.missing_direction`, the closed form of
+[`producible`][virtual_actuators.ParallelVirtualActuator.producible]) so that the body gives
+way exactly there; and moves the swing feet's set points (`hooks`). Joints on no leg (a legged
 manipulator's arm, a head) are held at the standing pose in every state by a
 [`Posture`][] (gains from each joint's inertia, `LeggedParameters.posture_frequency`), their
 links' weight compensated on their own joints (the legs carry it through the body model). The
-whole tick runs through [`MachineController`][].
+whole tick runs through [`MachineController`][]. The hooks and the touchdown events are
+`lowerable` and the gait's state is a [`Memory`][virtual_actuators.Memory]: a compiled machine
+runs the whole walker in its ops, with no Python piece.
 """
 
 from __future__ import annotations
@@ -42,13 +44,13 @@ from collections.abc import Sequence
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
-from ...actuators.producible import producible_directions
 from ...components.gains import joint_gains
 from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
 from ...components.springs import SpringDamper
 from ...control import events
-from ...control.state_machine import Context, State, StateMachine, Transition
+from ...control.plan.memory import Memory
+from ...control.state_machine import State, StateMachine, Transition
 from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.feet import find_feet
@@ -56,7 +58,7 @@ from ...models.robot import Robot
 from ...models.standing import standing_pose, upper_joints
 from ..base import Gait
 from .body import BodyModel
-from .footholds import SwingFeet
+from .hooks import WalkerHooks
 from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
 from .patterns import GaitPattern, named_pattern
 
@@ -66,7 +68,7 @@ __all__ = ["RATE_FILTER", "LeggedWalker"]
 RATE_FILTER = 0.02
 
 
-class LeggedWalker(Gait):
+class LeggedWalker(WalkerHooks, Gait):
     """Walk any legged robot with a pattern, from a velocity and yaw-rate command.
 
     Args:
@@ -91,6 +93,8 @@ class LeggedWalker(Gait):
         stance_time: How long a foot stands per cycle [s].
         velocity: The command ``(vx, vy)`` in the heading frame [m/s].
         yaw_rate: The commanded yaw rate [rad/s].
+        memory: What the walker carries from tick to tick (a [`Memory`][
+            virtual_actuators.Memory]; a view of the compiled plan's registers once lowered).
 
     Raises:
         InvalidInputError: A robot without a floating base, fewer than two feet, or a body
@@ -131,22 +135,28 @@ class LeggedWalker(Gait):
         self.swing_time = (pattern.swing_time if p.swing_time is None else p.swing_time) * scale
         self.double_time = p.double_support_time * scale
         self.stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
-        self.velocity = (0.0, 0.0)
-        self.yaw_rate = 0.0
-        self._setpoint = (0.0, 0.0)
-        self._error_integral = (0.0, 0.0)  # velocity error integral per integral time [m/s]
-        self._yaw_integral = 0.0  # the same for the yaw rate [rad/s]
-        self._dt = 0.0
-        self._last_time: float | None = None
+        #: what the walker carries from tick to tick: the command (velocity, yaw rate), the
+        #: velocity set point, the velocity error's integral per integral time [m/s] and the
+        #: yaw rate's [rad/s], the last tick's time and its step (``started`` 1 once a tick
+        #: ran), when the swing set points were last set, and per foot k ``foot_k``: its
+        #: lift-off point, last set point and that point's velocity (world) [m, m/s]
+        self.memory = Memory(
+            command=(0.0, 0.0), yaw_command=0.0, setpoint=(0.0, 0.0), error_integral=(0.0, 0.0),
+            yaw_integral=0.0, last_time=0.0, started=0.0, swung_at=0.0,
+            **{f"foot_{k}": (0.0,) * 9 for k in range(len(self.feet))},
+        )  # fmt: skip
         self._declare()
         g = self.gains
-        shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
-                 p.reach * g.height, p.lift * g.height, p.lift_peak,
-                 p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
-        self._swing_feet = SwingFeet(self.feet, self.nominal, self.swing.values(), shape)
+        #: `swing_setpoint`'s shape
+        self._shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
+                       p.reach * g.height, p.lift * g.height, p.lift_peak,
+                       p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
+        self._nominal = tuple(tuple(row) for row in self.nominal.tolist())
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
         self._swinging = dict(zip(self.step_states, self.groups, strict=True))
         self._finish(self._machine())
+        #: per state: its support's feet (the state's support actuator's, in its order)
+        self._support = {state.name: tuple(state.support) for state in self.machine.states}
         self.tick_rates = dict(
             zip(self.machine.names, self._bound_gains(p.control_rate), strict=True)
         )
@@ -196,16 +206,16 @@ class LeggedWalker(Gait):
             yielding = p.give_way or ("x", "y")  # the scaling rule needs axes to scale
             point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": yielding}
         self.supports: dict[str, ParallelVirtualActuator] = {}
-        self._feet_rows: dict[str, list[int]] = {}  # per support: its feet's frame-table rows
-        sets = {f"support_{k}": [f for f in self.feet if f not in group]
-                for k, group in enumerate(self.groups)}
+        sets = {
+            f"support_{k}": [f for f in self.feet if f not in group]
+            for k, group in enumerate(self.groups)
+        }
         sets["support_all"] = list(self.feet)
         for name, feet in sets.items():
             actuator = ParallelVirtualActuator(
                 robot, self.body_frame, feet, "world", contact="point", **point
             )
             self.supports[name] = actuator
-            self._feet_rows[name] = actuator.kinematics.frame_rows[2:].tolist()
             c.add(name, actuator, [self.body], **rule)
         upper = upper_joints(robot, self.feet)  # an arm, a head: held where they stand
         self._posture: tuple[str, ...] = ("posture", "upper_gravity") if upper else ()
@@ -239,15 +249,13 @@ class LeggedWalker(Gait):
                     on_enter=self._enter_swing,
                     on_update=self._update,
                 ),
-                State(
-                    f"double_{k}", ("support_all", *hold), self.feet, on_update=self._update
-                ),
+                State(f"double_{k}", ("support_all", *hold), self.feet, on_update=self._update),
             ]
             transitions += [
                 Transition(
                     f"swing_{k}",
                     f"double_{k}",
-                    events.when(lambda context, feet=group: self._landed(context, feet)),
+                    events.when(self._landing(group)),
                     f"{'+'.join(group)} down",
                 ),
                 Transition(
@@ -274,7 +282,17 @@ class LeggedWalker(Gait):
             raise InvalidInputError(
                 f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
             )
-        self.velocity, self.yaw_rate = (vx, vy), yaw_rate
+        self.memory.command, self.memory.yaw_command = (vx, vy), yaw_rate
+
+    @property
+    def velocity(self) -> tuple[float, float]:
+        """The command ``(vx, vy)`` in the heading frame [m/s]."""
+        return self.memory.command
+
+    @property
+    def yaw_rate(self) -> float:
+        """The commanded yaw rate [rad/s]."""
+        return self.memory.yaw_command
 
     def initial_configuration(self) -> np.ndarray:
         """The SRDF's standing pose, else one built from the legs (``va.standing_pose``)."""
@@ -283,115 +301,3 @@ class LeggedWalker(Gait):
     def nominal_height(self) -> float:
         """The body's standing height above its feet [m]."""
         return self.stand_height
-
-    # --- per tick ------------------------------------------------------------------------------
-
-    def _landed(self, context: Context, group: tuple[str, ...]) -> bool:
-        """The group's feet all touch down late enough in the swing, or the swing is too long."""
-        elapsed = context.time_in_state
-        if elapsed >= self.parameters.max_swing * self.swing_time:
-            return True
-        contacts = context.contacts
-        if not contacts:
-            return elapsed >= self.swing_time
-        if elapsed < self.parameters.touchdown_phase * self.swing_time:
-            return False
-        return all(contacts.get(foot, False) for foot in group)
-
-    def _enter_swing(self, context: Context) -> None:
-        for foot in self._group(context):
-            self._swing_feet.lift_off(foot, context.frame_position(foot))
-
-    def _group(self, context: Context) -> tuple[str, ...]:
-        """The feet swinging in the current state."""
-        return self._swinging[context.state]
-
-    def _update(self, context: Context) -> None:
-        """Body set points, the producible directions, and the swing feet."""
-        snapshot, state = context.snapshot, context.state
-        rotation, origin = snapshot.placement(self.body_frame)  # views
-        linear = snapshot.frame_velocity(self.body_frame)
-        spin = context.v[3:6] if self._to_body is None else self._to_body @ context.v[3:6]
-        angular = rotation @ spin  # world axes [rad/s]
-        com = snapshot.center_of_mass()
-        yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-        c, s = math.cos(yaw), math.sin(yaw)
-        self._ramp(context.time, state != "stand")
-        body = self.body
-        body.velocity, body.lever = self._setpoint, com - origin
-        body.yaw_rate = self.yaw_rate + self._yaw_integral
-        current = self.machine.current
-        support, actuator = current.support, self.supports[current.active[0]]
-        heights = snapshot.frame_table[:, 11]  # of the frames in the table, the feet's rows:
-        ground = sum([heights[row] for row in self._feet_rows[current.active[0]]]) / len(support)
-        body.height = ground + self.stand_height
-        body.basis = None
-        if self.parameters.give_way and len(support) < 3:
-            body.basis = producible_directions(actuator, snapshot)
-        vx, vy, _ = linear.tolist()
-        measured = (c * vx + s * vy, -s * vx + c * vy)
-        error = (measured[0] - self._setpoint[0], measured[1] - self._setpoint[1])
-        self._integrate(error, self.yaw_rate - float(angular[2]))
-        if not state.startswith("swing"):
-            return
-        (sx, sy), (bx, by) = self._setpoint, self._error_integral
-        motion = np.array((sx, sy, error[0] + bx, error[1] + by, self.yaw_rate, yaw,
-                           context.time_in_state, ground))  # fmt: skip
-        self._move_swing(context, np.concatenate((com, origin, linear, angular)), motion)
-
-    def _integrate(self, error: tuple[float, float], yaw_error: float) -> None:
-        """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
-
-        Args:
-            error: Measured minus set velocity, heading frame [m/s].
-            yaw_error: Commanded minus measured yaw rate [rad/s].
-
-        """
-        scale = self.gains.time_scale
-        rate = self._dt / (self.parameters.integral_time * scale)
-        limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
-        (x, y), (ex, ey) = self._error_integral, error
-        self._error_integral = (
-            max(-limit, min(limit, x + rate * ex)), max(-limit, min(limit, y + rate * ey))
-        )
-        turn = self.parameters.integral_limit / scale  # [rad/s]
-        self._yaw_integral = max(-turn, min(turn, self._yaw_integral + rate * yaw_error))
-
-    def _ramp(self, time: float, moving: bool) -> None:
-        """Move the velocity set point toward the command at the bounded acceleration.
-
-        It stays at rest while the robot stands before its first step.
-        """
-        dt = 0.0 if self._last_time is None or not moving else max(0.0, time - self._last_time)
-        self._dt = dt
-        self._last_time = time
-        limit = self.parameters.acceleration * GRAVITY * dt
-        (sx, sy), (cx, cy) = self._setpoint, self.velocity
-        dx, dy = cx - sx, cy - sy
-        scale = min(1.0, limit / max(math.hypot(dx, dy), 1e-12))
-        self._setpoint = (sx + scale * dx, sy + scale * dy)
-        rate = self.parameters.acceleration * GRAVITY * (scale < 1.0)
-        norm = max(math.hypot(dx, dy), 1e-12)
-        self.body.acceleration = (rate * dx / norm, rate * dy / norm)
-
-    def _move_swing(self, context: Context, body: np.ndarray, motion: np.ndarray) -> None:
-        """The swing feet's set points along their curves to the footholds.
-
-        ``body`` and ``motion`` as `swing_setpoints` reads them.
-        """
-        feet = self._group(context)
-        if context.time_in_state / self.swing_time >= self.parameters.touchdown_phase:
-            down = tuple(foot for foot in feet if context.contacts.get(foot, False))
-            for foot in down:  # held where it is, still in the world
-                spring = self.swing[foot]
-                spring.setpoint = offset = (context.frame_position(foot) - body[3:6]).tolist()
-                turning = zip(body[6:9].tolist(), _cross(body[9:], offset), strict=True)
-                spring.velocity_setpoint = [-a - b for a, b in turning]
-            feet = tuple(foot for foot in feet if foot not in down)
-        self._swing_feet.move(feet, body, motion, context.time)
-
-
-def _cross(a: Sequence[float], b: Sequence[float]) -> list[float]:
-    """``a x b`` of two 3-vectors."""
-    (a0, a1, a2), (b0, b1, b2) = a, b
-    return [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]

@@ -1,0 +1,198 @@
+"""The legged walker's per-tick half: its hooks and its touchdown events, all lowerable.
+
+`WalkerHooks` is mixed into [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker]:
+every state's ``on_update`` (`WalkerHooks._update`) reads the body, its centre of mass and the
+support feet from the tick's context; moves the velocity set point toward the command at a
+bounded acceleration; sets the body model's set points and the direction its support cannot
+produce; integrates the velocity errors; and in a swing moves the swing feet's springs along
+their curves (`footholds.swing_setpoint`), a foot that touched down after the touchdown phase
+held where it is (`select`). The swing's ``on_enter`` records the lift-off points and the
+swing's exit (`WalkerHooks._landing`) fires when the group is down or the swing too long.
+
+Written with [`va.scalar`][virtual_actuators.scalar] and the walker's
+[`Memory`][virtual_actuators.Memory]: the same code is the Python tick and, traced, the
+compiled one.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...control.state_machine import Context
+from ...vocabulary.scalar import (
+    atan2,
+    cos,
+    cross,
+    dot,
+    hypot,
+    logical_and,
+    logical_or,
+    maximum,
+    minimum,
+    select,
+    sin,
+)
+from ...vocabulary.traced import lowerable
+from .body import missing_direction
+from .footholds import swing_setpoint
+from .parameters import GRAVITY
+
+__all__ = ["WalkerHooks"]
+
+
+class WalkerHooks:
+    """The hooks and events of [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker].
+
+    A mixin: it reads the walker's declaration (its feet, body model, swing springs, groups,
+    parameters and gains) and keeps the state in its ``memory``.
+    """
+
+    def _landing(self, group: tuple[str, ...]) -> object:
+        """The event that ends the swing of ``group`` (`_landed`), lowerable."""
+
+        @lowerable
+        def landed(context: Context) -> object:
+            return self._landed(context, group)
+
+        landed.__qualname__ = f"landed({'+'.join(group)})"
+        return landed
+
+    def _landed(self, context: Context, group: tuple[str, ...]) -> object:
+        """The group's feet all touch down late enough in the swing, or the swing is too long.
+
+        On floats (a bool) or traced values (1.0 or 0.0).
+        """
+        elapsed, p = context.time_in_state, self.parameters
+        too_long = elapsed >= p.max_swing * self.swing_time
+        contacts = context.contacts
+        if not contacts:  # no switches (a traced context always has them)
+            return logical_or(too_long, elapsed >= self.swing_time)
+        down = elapsed >= p.touchdown_phase * self.swing_time
+        for foot in group:
+            down = logical_and(down, contacts.get(foot, False))
+        return logical_or(too_long, down)
+
+    @lowerable
+    def _enter_swing(self, context: Context) -> None:
+        """The swing starts where each foot of the group is: its set point there, at rest."""
+        for foot in self._swinging[context.state]:
+            position = _floats(context.frame_position(foot))
+            setattr(self.memory, f"foot_{self.feet.index(foot)}", (*position, *position, 0.0,
+                    0.0, 0.0))  # fmt: skip
+
+    @lowerable
+    def _update(self, context: Context) -> None:
+        """Body set points, the direction the support cannot produce, and the swing feet."""
+        state, memory, body = context.state, self.memory, self.body
+        rotation, origin = context.placement(self.body_frame)
+        rotation, origin = [_floats(row) for row in rotation], _floats(origin)
+        linear = _floats(context.frame_velocity(self.body_frame))
+        spin = _floats(context.v[3:6])
+        if self._to_body is not None:
+            spin = tuple(dot(row, spin) for row in self._to_body.tolist())
+        angular = tuple(dot(row, spin) for row in rotation)  # world axes [rad/s]
+        com = _floats(context.center_of_mass())
+        yaw = atan2(rotation[1][0], rotation[0][0])
+        c, s = cos(yaw), sin(yaw)
+        dt = self._ramp(context.time, state != "stand")
+        setpoint, yaw_command = memory.setpoint, memory.yaw_command
+        body.velocity, body.lever = setpoint, tuple(com[i] - origin[i] for i in range(3))
+        body.yaw_rate = yaw_command + memory.yaw_integral
+        support = self._support[state]
+        ground = 0.0
+        for foot in support:
+            ground = ground + context.frame_coordinate(foot, "z")
+        ground = ground / len(support)
+        body.height = ground + self.stand_height
+        if self.parameters.give_way and len(support) == 2:
+            first, second = (_floats(context.frame_position(foot)) for foot in support)
+            body.missing = missing_direction(origin, first, second)
+        else:  # three feet or more produce every wrench (one: the distribution yields)
+            body.missing = (0.0,) * 6
+        vx, vy, _ = linear
+        error = (c * vx + s * vy - setpoint[0], -s * vx + c * vy - setpoint[1])
+        self._integrate(dt, error, yaw_command - angular[2])
+        if not state.startswith("swing"):
+            return
+        (sx, sy), (bx, by) = setpoint, memory.error_integral
+        motion = (sx, sy, error[0] + bx, error[1] + by, yaw_command, yaw,
+                  context.time_in_state, ground)  # fmt: skip
+        self._move_swing(context, (*com, *origin, *linear, *angular), motion)
+
+    def _integrate(self, dt: object, error: tuple, yaw_error: object) -> None:
+        """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
+
+        Args:
+            dt: The tick's step (`_ramp`) [s].
+            error: Measured minus set velocity, heading frame [m/s].
+            yaw_error: Commanded minus measured yaw rate [rad/s].
+
+        """
+        memory, scale = self.memory, self.gains.time_scale
+        rate = dt / (self.parameters.integral_time * scale)
+        limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
+        (x, y), (ex, ey) = memory.error_integral, error
+        memory.error_integral = (
+            maximum(-limit, minimum(limit, x + rate * ex)),
+            maximum(-limit, minimum(limit, y + rate * ey)),
+        )
+        turn = self.parameters.integral_limit / scale  # [rad/s]
+        memory.yaw_integral = maximum(-turn, minimum(turn, memory.yaw_integral + rate * yaw_error))
+
+    def _ramp(self, time: object, moving: bool) -> object:
+        """Move the velocity set point toward the command at the bounded acceleration.
+
+        It stays at rest while the robot stands before its first step. Returns the tick's
+        step (0 on the first tick and while standing) [s].
+        """
+        memory = self.memory
+        dt = 0.0
+        if moving:
+            dt = select(memory.started, maximum(0.0, time - memory.last_time), 0.0)
+        memory.last_time, memory.started = time, 1.0
+        limit = self.parameters.acceleration * GRAVITY * dt
+        (sx, sy), (cx, cy) = memory.setpoint, memory.command
+        dx, dy = cx - sx, cy - sy
+        norm = maximum(hypot(dx, dy), 1e-12)
+        scale = minimum(1.0, limit / norm)
+        memory.setpoint = (sx + scale * dx, sy + scale * dy)
+        rate = self.parameters.acceleration * GRAVITY * (scale < 1.0)
+        self.body.acceleration = (rate * dx / norm, rate * dy / norm)
+        return dt
+
+    def _move_swing(self, context: Context, body: tuple, motion: tuple) -> None:
+        """The swing feet's set points along their curves to the footholds.
+
+        ``body`` and ``motion`` as `swing_setpoint` reads them. From the touchdown phase on, a
+        foot whose switch is closed is held where it is, still in the world (`select`).
+        """
+        memory, time = self.memory, context.time
+        late = context.time_in_state / self.swing_time >= self.parameters.touchdown_phase
+        dt = time - memory.swung_at
+        origin, linear, angular = body[3:6], body[6:9], body[9:12]
+        for foot in self._swinging[context.state]:
+            k = self.feet.index(foot)
+            field = f"foot_{k}"
+            state = getattr(memory, field)
+            moved, setpoints = swing_setpoint(state, self._nominal[k], body, motion, dt,
+                                              self._shape)  # fmt: skip
+            down = logical_and(late, context.contacts.get(foot, False))
+            position = _floats(context.frame_position(foot))
+            offset = tuple(position[i] - origin[i] for i in range(3))
+            turning = cross(angular, offset)
+            held = (*offset, *(-linear[i] - turning[i] for i in range(3)))
+            chosen = tuple(select(down, h, m) for h, m in zip(held, setpoints, strict=True))
+            spring = self.swing[foot]
+            spring.setpoint, spring.velocity_setpoint = chosen[:3], chosen[3:]
+            setattr(memory, field, tuple(select(down, a, b) for a, b in zip(state, moved,
+                    strict=True)))  # fmt: skip
+        memory.swung_at = time
+
+
+def _floats(values: object) -> tuple:
+    """A vector as a tuple: a traced one as it is, an array's entries as floats."""
+    if isinstance(values, tuple):
+        return values
+    return tuple(np.asarray(values, dtype=float).tolist())

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from oracles import requires_core
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
@@ -196,6 +197,7 @@ def test_hexapod_options_are_refused_elsewhere_and_bad_values_are_usage_errors(c
     assert "only hexapod-walk uses it" in capsys.readouterr().err
 
 
+@requires_core
 @pytest.mark.parametrize("pendulum", [False, True])
 @pytest.mark.parametrize("distribution", ["qp", "partitioned"])
 def test_the_walker_is_lowered_whole_and_reads_its_command_from_the_plan(pendulum, distribution):

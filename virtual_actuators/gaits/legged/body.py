@@ -20,7 +20,8 @@ lets the centre of mass move away from that line as an inverted pendulum does (`
 for an offset ``e``) while height, roll, pitch and yaw stay exact; yielding the moments instead
 would spin the body against its legs.
 
-The formulas (`heading_angles`, `body_wrench`, `give_way`, `missing_direction`) are written
+The formulas (`body_wrench`, `give_way`, `missing_direction`; the angles are
+`gaits.attitude.rotation_vector_angles`, the hexapod's too) are written
 once with [`va.scalar`][virtual_actuators.scalar]: the Python tick runs them on floats, a
 compiled plan traces them into its ops (the body model is a [`Slotted`][
 virtual_actuators.components.slots.Slotted] component: its set points are the plan's registers).
@@ -38,39 +39,16 @@ from ...components.gains import Gains
 from ...components.slots import Slotted
 from ...exceptions import InvalidInputError
 from ...vocabulary.axes import check_axes_subset
-from ...vocabulary.scalar import asin, atan2, cos, dot, maximum, minimum, select, sin, sqrt
+from ...vocabulary.scalar import cos, dot, maximum, select, sin, sqrt
+from ..attitude import rotation_vector_angles
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
 
-_EPS = 2.220446049250313e-16  # double's machine epsilon
-_TAYLOR = _EPS**0.25  # below this angle Pinocchio's exp3 takes its Taylor expansions
 
 #: Two contacts closer than this fraction of their distance to the body count as one point
 #: (the producible directions' rank decision, ``actuators.producible.RANK_TOL``).
 RANK_TOL = 1e-9
-
-
-def heading_angles(x: object, y: object, z: object) -> tuple:
-    """Yaw, pitch and roll (Z-Y-X) of the rotation vector ``(x, y, z)`` [rad].
-
-    The entries of ``pinocchio.exp3`` that the angles read, with its operations in its order
-    (``t^2 = |v|^2 + eps^2``, Taylor expansions below ``eps^(1/4)``, picked by `select`), on
-    floats or traced values.
-    """
-    t2 = x * x + y * y + z * z + _EPS * _EPS
-    t = sqrt(t2)
-    taylor = t <= _TAYLOR
-    cosine = cos(t)
-    outer = select(taylor, 0.5 - t2 / 24, (1 - cosine) / t2)
-    across = select(taylor, 1 - t2 / 6, sin(t) / t)
-    cosine = select(taylor, 1 - t2 / 2, cosine)
-    r00 = outer * x * x + cosine
-    r10 = outer * y * x + across * z
-    r20 = outer * z * x - across * y
-    r21 = outer * z * y + across * x
-    r22 = outer * z * z + cosine
-    return atan2(r10, r00), asin(maximum(-1.0, minimum(1.0, -r20))), atan2(r21, r22)
 
 
 def body_wrench(
@@ -91,7 +69,7 @@ def body_wrench(
         ``[fx, fy, fz, mx, my, mz]`` [N, N m] (floats or traced values).
 
     """
-    yaw, pitch, roll = heading_angles(position[3], position[4], position[5])
+    yaw, pitch, roll = rotation_vector_angles(position[3], position[4], position[5])
     c, s = cos(yaw), sin(yaw)
     v0, v1, v2, w0, w1, w2 = velocity
     vx = c * v0 + s * v1
@@ -329,5 +307,5 @@ class BodyModel(Slotted, Component):
 
 
 __all__ = [
-    "AXES", "BodyModel", "body_wrench", "give_way", "heading_angles", "missing_direction",
+    "AXES", "BodyModel", "body_wrench", "give_way", "missing_direction",
 ]  # fmt: skip

@@ -71,7 +71,6 @@ def __getattr__(name: str) -> object:
         MissingDependencyError: ``va.viz`` without MeshCat (the extra ``viz``: ``pip install
             -e ".[viz]"`` in the source folder).
         AttributeError: Any other unknown name.
-
     """
     if name == "viz":
         import importlib

@@ -65,7 +65,6 @@ def kernel(name: str, fallback: _Kernel) -> _Kernel:
 
     Raises:
         AttributeError: The core is built but has no ``name`` (a build older than the package).
-
     """
     return fallback if CORE is None else getattr(CORE, name)
 

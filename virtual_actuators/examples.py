@@ -44,7 +44,6 @@ class Example:
         q: The configuration it solved at.
         solution: The distribution.
         details: The example's own figures (set sizes, comparisons, closed forms).
-
     """
 
     name: str

@@ -91,7 +91,6 @@ class MissingDependencyError(VirtualActuatorError, ImportError):
     Attributes:
         package: The missing package, or None.
         extra: The extra that installs it, or None.
-
     """
 
     def __init__(self, message: str, *, package: str | None = None, extra: str | None = None):
@@ -116,7 +115,6 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
             message names the package, the extra and the command that installs it
             (`install_command`). Other import errors (a broken installation) propagate
             unchanged.
-
     """
     try:
         return importlib.import_module(module)
@@ -150,7 +148,6 @@ def install_command(extra: str) -> str:
     Returns:
         Text such as ``pip install -e ".[sim]" in the source folder (".[all]" for every
         extra)`` (``[all]`` only for the extras in `EXTRAS_IN_ALL`).
-
     """
     source, editable = _installed_from()
     flag = "-e " if editable else ""
@@ -169,7 +166,6 @@ def _installed_from() -> tuple[str | None, bool]:
     Returns:
         ``(path, editable)``: ``(None, True)`` when the package is not installed by pip (a
         source tree on ``PYTHONPATH``), was installed from an index, or its source is gone.
-
     """
     import json
     from importlib import metadata
@@ -202,7 +198,6 @@ def edit_distance(a: str, b: str) -> int:
     Returns:
         The least number of insertions, deletions, substitutions and swaps of two neighbouring
         characters that turn ``a`` into ``b``.
-
     """
     previous2: list[int] = []
     previous = list(range(len(b) + 1))
@@ -237,7 +232,6 @@ def closest_names(name: str, candidates: Iterable[str], n: int = 5) -> list[str]
 
     Returns:
         Up to ``n`` names (possibly none).
-
     """
     lowered = name.lower()
     wanted = _key(name)
@@ -267,7 +261,6 @@ def suggestion(name: str, candidates: Iterable[str], what: str) -> str:
 
     Returns:
         A sentence such as ``"Closest frames: 'FL_FOOT', 'FR_FOOT'."``.
-
     """
     candidates = list(candidates)
     matches = closest_names(name, candidates)

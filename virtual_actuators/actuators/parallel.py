@@ -95,7 +95,6 @@ class ParallelVirtualActuator:
         InvalidInputError: (also) a bad ``friction``, ``min_normal``, ``torque_limits``,
             ``normals``, ``soles`` or ``weights`` (the message names the axis).
         InvalidAxisError: (also) ``weights`` names an axis the actuator lacks.
-
     """
 
     def __init__(
@@ -217,7 +216,6 @@ class ParallelVirtualActuator:
             ConstraintError: Too many constraints for the free axes (more design and coupling
                 constraints than redundancies), or constraints that contradict each other here.
             InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
-
         """
         # cheap checks first (plain floats and bools skip the slow paths)
         if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
@@ -302,7 +300,6 @@ class ParallelVirtualActuator:
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: Constraints that contradict each other here.
-
         """
         tick = dispatch(self.backends, snapshot, wrench, request)
         solution = Solution.from_tick(
@@ -320,7 +317,6 @@ class ParallelVirtualActuator:
         Returns:
             The `SnapshotSolve`, or None: no compiled core, or a request that is not the
             compiled partitioned method's.
-
         """
         return self.compiled.buffer_solve(
             SnapshotSolve, request, self.reactions, self.axes, self._floating
@@ -343,7 +339,6 @@ class ParallelVirtualActuator:
                 ``weights`` names an axis it lacks.
             InvalidInputError: Unknown ``method``, or bad ``weights``.
             ConstraintError: Too many constraints for those free axes.
-
         """
         free, keep = self._free_axes.check(free)
         check_method(method)
@@ -385,7 +380,6 @@ class ParallelVirtualActuator:
         Raises:
             InvalidInputError: Bad ``q``, or ``forces`` that are not ``(p, n)`` finite real
                 numbers.
-
         """
         forces = check_forces(forces, self.p, self.n)
         return self.problem.torques(self.kinematics.compute(q).jacobian_o, forces)

@@ -29,7 +29,6 @@ def check_reactions(reactions: Sequence[str]) -> tuple[str, ...]:
     Raises:
         FrameNotFoundError: A name is not a str.
         ConstraintError: No reaction frame, or a repeated one.
-
     """
     reactions = check_names(reactions, "reactions", FrameNotFoundError)
     if not reactions:
@@ -45,7 +44,6 @@ def resolve_chains(robot: Robot, action: str, reactions: tuple[str, ...]) -> tup
     Raises:
         FrameNotFoundError: A frame name is not in the model.
         ConstraintError: The action frame is among the reactions.
-
     """
     model = robot.model
     action_id = resolve_frame(model, action, "action")
@@ -62,7 +60,6 @@ def check_design(design: Sequence[DesignConstraint]) -> tuple[DesignConstraint, 
 
     Raises:
         InvalidInputError: ``design`` is not a collection of design constraints.
-
     """
     return tuple(
         check_sequence(
@@ -91,7 +88,6 @@ def check_method(method: str) -> None:
 
     Raises:
         InvalidInputError: ``method`` is not one of `METHODS`.
-
     """
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInputError(f"method must be one of {list(METHODS)}, got {describe(method)}.")
@@ -102,7 +98,6 @@ def check_forces(forces: object, p: int, n: int) -> np.ndarray:
 
     Raises:
         InvalidInputError: ``forces`` that are not ``(p, n)`` finite real numbers.
-
     """
     expected = f"a ({p}, {n}) array of real numbers (chains x axes)"
     forces = as_float_array(forces, "forces", expected)
@@ -119,7 +114,6 @@ class FreeAxes:
     Args:
         axes: The actuator's axes.
         problem: Its distribution problem (whose constraint counts each set must allow).
-
     """
 
     def __init__(self, axes: tuple[str, ...], problem: DistributionProblem) -> None:
@@ -133,7 +127,6 @@ class FreeAxes:
         Raises:
             InvalidAxisError: ``free`` is not a collection of the actuator's axes.
             ConstraintError: Too many constraints for those free axes.
-
         """
         try:
             key = (free,) if isinstance(free, str) else tuple(free)

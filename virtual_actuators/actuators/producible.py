@@ -62,7 +62,6 @@ class Directions(NamedTuple):
     Attributes:
         producible: ``(n, r)`` what the chains can produce here.
         missing: ``(n, n - r)`` the rest (the orthogonal complement).
-
     """
 
     producible: np.ndarray
@@ -86,7 +85,6 @@ def producible_directions(
 
     Raises:
         InvalidInputError: A bad ``q`` or a snapshot of another robot.
-
     """
     problem = actuator.problem
     snapshot = actuator.kinematics.snapshot(q)
@@ -123,7 +121,6 @@ def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
 
     Raises:
         InvalidInputError: A bad ``q`` or a snapshot of another robot.
-
     """
     return producible_directions(actuator, q).producible
 
@@ -161,7 +158,6 @@ def _point_columns(offsets: np.ndarray) -> np.ndarray:
 
     Args:
         offsets: ``(p, 3)`` from each contact to {B}, in {O} [m] (the lever is minus it).
-
     """
     count = len(offsets)
     x, y, z = offsets[:, 0], offsets[:, 1], offsets[:, 2]
@@ -199,7 +195,6 @@ def give_way(
 
     Returns:
         ``(n,)`` a producible wrench (``wrench`` itself when it already is).
-
     """
     n, r = basis.shape
     if r == n:
@@ -246,7 +241,6 @@ def yielding_request(
     Raises:
         InvalidAxisError: ``axes`` not among the actuator's axes.
         InvalidInputError: A bad ``q`` or ``wrench``.
-
     """
     chosen = check_axes_subset(axes, actuator.axes, "give way axes")
     wrench = wrench_array(wrench, actuator.axes)

@@ -30,7 +30,6 @@ def wrench_array(wrench: np.ndarray, axes: Sequence[str]) -> np.ndarray:
 
     Raises:
         InvalidInputError: Not real numbers, the wrong shape, or a NaN or inf entry.
-
     """
     if not (isinstance(wrench, np.ndarray) and wrench.dtype == np.float64):
         wrench = as_float_array(
@@ -61,7 +60,6 @@ class SensorReading:
         velocity: Its rate ``jacobian @ v`` [m/s, rad/s]: on rotational axes the angular
             velocity of {B} relative to {A} in {O}'s axes.
         jacobian: ``(len(axes), nv)`` Jacobian.
-
     """
 
     position: np.ndarray
@@ -87,7 +85,6 @@ class VirtualActuator:
         FrameNotFoundError: A frame name is not a str or not in the model.
         ConstraintError: The action and reaction frames are the same frame.
         InvalidAxisError: Bad axes.
-
     """
 
     def __init__(
@@ -133,7 +130,6 @@ class VirtualActuator:
         Raises:
             InvalidInputError: Bad ``q`` or ``v``, no velocity given, or a snapshot of another
                 robot.
-
         """
         if not isinstance(state, Snapshot):
             if v is None:
@@ -153,7 +149,6 @@ class VirtualActuator:
 
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
-
         """
         return self.kinematics.sense(state).position
 
@@ -168,7 +163,6 @@ class VirtualActuator:
 
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
-
         """
         return self.kinematics.sense(state).jacobian
 
@@ -181,7 +175,6 @@ class VirtualActuator:
 
         Raises:
             InvalidInputError: Bad ``q`` or ``v``, or no velocity given.
-
         """
         if isinstance(state, Snapshot):
             snapshot = self.kinematics.snapshot(state, need_velocity=True)
@@ -197,7 +190,6 @@ class VirtualActuator:
         Raises:
             InvalidInputError: Bad ``q``, or a ``wrench`` that is not ``len(axes)`` finite real
                 numbers (complex or bool entries included).
-
         """
         wrench = wrench_array(wrench, self.axes)
         return self.jacobian(state).T @ wrench
@@ -215,7 +207,6 @@ class VirtualActuator:
 
         Raises:
             InvalidInputError: Bad ``q``, ``wrench`` or ``tol``.
-
         """
         tol = check_tolerance(tol)
         wrench = wrench_array(wrench, self.axes)

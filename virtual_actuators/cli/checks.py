@@ -17,7 +17,6 @@ def registered_walks(parser: argparse.ArgumentParser) -> dict:
     Raises:
         SystemExit: With code 2 and a usage message naming the extra to install when an
             optional package the walks need (``mujoco``, the extra ``sim``) is missing.
-
     """
     from ..exceptions import MissingDependencyError
 

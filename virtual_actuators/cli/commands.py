@@ -212,7 +212,6 @@ def run(args: argparse.Namespace) -> int:
     Raises:
         OptionError: A value that only failed when used (names its option).
         VirtualActuatorError: A library error caused by the arguments.
-
     """
     if args.command == "demo":
         if args.name == "stand":

@@ -45,7 +45,6 @@ class Component(ABC):
     Raises:
         InvalidAxisError: Bad axes.
         InvalidInputError: ``name`` is neither None nor a str.
-
     """
 
     def __init__(self, axes: Sequence[str], name: str | None = None) -> None:
@@ -67,7 +66,6 @@ class Component(ABC):
 
         Returns:
             ``(len(self.axes),)`` forces [N] and moments [N m].
-
         """
 
     def plan_slots(self) -> dict[str, np.ndarray] | None:
@@ -84,7 +82,6 @@ class Component(ABC):
 
         Raises:
             TraceError: The component has no slots (the default).
-
         """
         raise TraceError(f"{self.name}: {type(self).__name__} keeps no slots in a plan.")
 
@@ -100,7 +97,6 @@ class Component(ABC):
 
         Raises:
             TraceError: The component is not lowered (the default).
-
         """
         raise TraceError(f"{self.name}: {type(self).__name__} is not lowered into a plan.")
 
@@ -120,7 +116,6 @@ class Component(ABC):
 
         Raises:
             InvalidInputError: The component has no linear gains (``linear_gains()`` is None).
-
         """
         raise InvalidInputError(f"{self.name}: {type(self).__name__} has no gains to scale.")
 
@@ -130,7 +125,6 @@ class Component(ABC):
         Args:
             position: Sensor reading on ``self.axes`` at activation [m, rad].
             time: Controller time [s].
-
         """
 
     def _per_axis(
@@ -141,7 +135,6 @@ class Component(ABC):
         Raises:
             InvalidInputError: ``value`` is not a real number or one per axis (None, a str, a
                 dict, a bool, a complex number), or is NaN (or infinite unless ``allow_inf``).
-
         """
         try:
             fast = self._per_axis_fast(value, allow_inf)

@@ -51,7 +51,6 @@ class EnergyTank(Component):
     Raises:
         InvalidInputError: ``component`` is not a [`Component`][], or ``capacity`` /
             ``initial`` is negative or not finite, or ``initial > capacity``.
-
     """
 
     def __init__(
@@ -93,7 +92,6 @@ class EnergyTank(Component):
         Raises:
             InvalidInputError: If ``velocity`` does not have one entry per axis, or holds NaN or
                 an infinity.
-
         """
         wrench = np.array(self.component.compute_wrench(position, velocity, time), dtype=float)
         values = np.asarray(velocity, dtype=float).reshape(-1).tolist()  # a few plain floats

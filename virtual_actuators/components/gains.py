@@ -35,7 +35,6 @@ class Gains(NamedTuple):
     Attributes:
         stiffness: [N/m, N m/rad].
         damping: [N s/m, N m s/rad].
-
     """
 
     stiffness: np.ndarray
@@ -56,7 +55,6 @@ def gains(inertia: float | Sequence[float], frequency: float, damping_ratio: flo
     Raises:
         InvalidInputError: A negative or non-finite inertia, ``frequency`` not > 0,
             ``damping_ratio`` < 0.
-
     """
     frequency = check_number(frequency, "frequency [rad/s]", positive=True)
     damping_ratio = check_number(damping_ratio, "damping_ratio", minimum=0.0)
@@ -89,7 +87,6 @@ def joint_gains(
         JointNotFoundError: An unknown joint (with close matches) or one with several degrees
             of freedom.
         InvalidInputError: A bad ``frequency``, ``damping_ratio`` or ``q``.
-
     """
     model = robot.model
     q = robot.neutral() if q is None else as_float_array(q, "q", f"{model.nq} numbers")
@@ -138,7 +135,6 @@ def body_gains(
     Raises:
         InvalidAxisError: Bad axes.
         InvalidInputError: A bad ``frequency``, ``damping_ratio`` or ``q``, or a massless robot.
-
     """
     axes = parse_axes(axes, "body_gains: axes")
     model = robot.model

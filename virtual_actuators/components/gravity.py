@@ -56,7 +56,6 @@ class GravityCompensation:
     Example:
         >>> controller.add("gravity", va.GravityCompensation(robot))  # in every tick's tau
         >>> tau = controller.compute(q, v).tau          # g(q) included, then clipped
-
     """
 
     def __init__(
@@ -102,7 +101,6 @@ class GravityCompensation:
 
         Raises:
             InvalidInputError: ``robot`` is another robot.
-
         """
         if getattr(robot, "model", None) is not self.robot.model:
             raise InvalidInputError(
@@ -127,7 +125,6 @@ class GravityCompensation:
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.
-
         """
         if isinstance(q, Snapshot):
             if q.tree.model is not self.robot.model:

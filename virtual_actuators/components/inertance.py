@@ -35,7 +35,6 @@ class Inertance(Component):
         It keeps the last velocity and acceleration: one instance per controller, called once
         per tick with increasing times (a time that does not increase keeps the last estimate).
         [`reset`][] (called when the state that uses it is entered) forgets them.
-
     """
 
     def __init__(

@@ -50,7 +50,6 @@ class RotationAxes:
         start: Index of the first rotational axis (axes are ordered: translations first).
         which: For each rotational axis, its component of a rotation vector (0, 1, 2 for
             ``rx, ry, rz``).
-
     """
 
     start: int
@@ -90,7 +89,6 @@ def rotation_deflection(setpoint: Sequence, position: Sequence) -> tuple:
 
     Returns:
         The deflection ``(3,)`` [rad].
-
     """
     ws, xs, ys, zs = _quaternion(setpoint[0], setpoint[1], setpoint[2])
     wc, xc, yc, zc = _quaternion(position[0], position[1], position[2])
@@ -118,7 +116,6 @@ def deflection(
 
     Returns:
         The deflection per axis [m, rad] (see the module docstring for the rotational axes).
-
     """
     out = [x0 - x for x0, x in zip(setpoint, position, strict=True)]
     if rotations is None:

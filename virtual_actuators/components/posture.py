@@ -54,7 +54,6 @@ class Posture:
     Example:
         >>> arms = va.Posture(["arm_left_1_joint", "arm_left_2_joint"], 200.0, 10.0)
         >>> controller.add("arms", arms)
-
     """
 
     def __init__(
@@ -162,7 +161,6 @@ class Posture:
 
         Raises:
             InvalidInputError: ``factor`` is not one number >= 0 per joint.
-
         """
         factor = self._gains(factor, "gain factor")
         self.stiffness = self.stiffness * factor
@@ -175,7 +173,6 @@ class Posture:
             InvalidInputError: Bound to another robot already, or ``robot`` is not a robot.
             JointNotFoundError: An unknown joint (with the closest names), or one with more
                 than one degree of freedom.
-
         """
         check_robot(robot, "Posture")
         if self.robot is not None:
@@ -222,7 +219,6 @@ class Posture:
 
         Raises:
             InvalidInputError: Not bound to a robot yet.
-
         """
         self._check_bound()
         configuration = q.q if isinstance(q, Snapshot) else np.asarray(q, dtype=float)
@@ -250,7 +246,6 @@ class Posture:
 
         Raises:
             InvalidInputError: Not bound, or no velocity.
-
         """
         self._check_bound()
         if isinstance(q, Snapshot):

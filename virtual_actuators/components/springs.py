@@ -85,7 +85,6 @@ class SpringDamper(Slotted, Component):
         InvalidInputError: A parameter is not a real number or one per axis (None, a str, a
             dict, a bool, a complex number), has the wrong shape, is not finite, or a stiffness,
             damping or limit is negative; ``name`` is neither None nor a str.
-
     """
 
     def __init__(
@@ -199,7 +198,6 @@ class SpringDamper(Slotted, Component):
 
         Raises:
             InvalidInputError: ``factor`` is not one number >= 0 per axis.
-
         """
         factor = self._non_negative(factor, "gain factor")
         self.stiffness = self._stiffness * factor
@@ -271,7 +269,6 @@ class Spring(SpringDamper):
         InvalidInputError: Bad parameter shape or value; both or neither of ``stiffness`` and
             ``law`` given; ``law`` not callable; (per tick) a law that returns the wrong
             number of values, complex values or a non-finite one.
-
     """
 
     def __init__(
@@ -325,7 +322,6 @@ class Spring(SpringDamper):
 
         Raises:
             TraceError: The spring has a law.
-
         """
         if self.law is not None:
             raise TraceError(f"{self.name}: a spring's law is Python: it is not lowered.")
@@ -350,7 +346,6 @@ class Damper(SpringDamper):
     Raises:
         InvalidAxisError: Bad axes.
         InvalidInputError: Bad parameter shape or value.
-
     """
 
     def __init__(
@@ -374,7 +369,6 @@ class ConstantForce(SpringDamper):
     Raises:
         InvalidAxisError: Bad axes.
         InvalidInputError: Bad parameter shape or value.
-
     """
 
     def __init__(self, axes: Sequence[str], force: Vector, name: str | None = None) -> None:

@@ -46,7 +46,6 @@ class GrannyWalker(SpringDamper):
         InvalidAxisError: ``axes`` is not one translation followed by one rotation.
         InvalidInputError: ``height``, ``pitch`` or ``weight`` is not a finite real number, or
             a bad ``stiffness`` or ``damping`` (shape, value, or a negative entry).
-
     """
 
     def __init__(
@@ -121,7 +120,6 @@ class DogtrackBunny(SpringDamper):
         InvalidAxisError: Bad axis.
         InvalidInputError: ``speed`` is not a finite real number, or a bad ``damping``,
             ``stiffness`` or ``limit`` (not a real number, NaN, negative).
-
     """
 
     def __init__(
@@ -183,7 +181,6 @@ class DogtrackBunny(SpringDamper):
         Raises:
             InvalidInputError: ``position`` is not one finite real number, or ``time`` is not a
                 finite real number.
-
         """
         time = check_number(time, f"{self.name}: time [s]")
         values = as_float_array(position, f"{self.name}: position", "one real number [m]")
@@ -228,7 +225,6 @@ class SwingLegLinkage(SpringDamper):
     Raises:
         InvalidAxisError: Bad axes.
         InvalidInputError: Bad parameter shape or value.
-
     """
 
     def __init__(
@@ -246,7 +242,6 @@ class SwingLegLinkage(SpringDamper):
 
         Raises:
             InvalidInputError: A value is not a real number or one per axis, or not finite.
-
         """
         self.setpoint = setpoint
         self.velocity_setpoint = velocity_setpoint

@@ -18,7 +18,6 @@ class Constraint:
         lows: ``(m,)`` their lower bounds.
         uppers: ``(m,)`` their upper bounds (``INFINITY`` for one-sided rows).
         names: ``m`` names, one per row (what the conflict error reports).
-
     """
 
     G: np.ndarray

@@ -44,7 +44,6 @@ class ContactSet:
             faces and no least normal force: the faces imply it).
         names: The rows' names, in the order `rows` builds them.
         lows: The rows' lower bounds (no upper bound).
-
     """
 
     reactions: tuple[str, ...]
@@ -99,7 +98,6 @@ class ContactSet:
             rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
             offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (read only
                 with soles).
-
         """
         p, n = len(self.reactions), len(self.axes)
         blocks = []
@@ -200,7 +198,6 @@ def declare(
     Raises:
         ConstraintError: A bad ``contact``.
         InvalidInputError: Bad ``friction``, ``min_normal``, ``normals`` or ``soles``.
-
     """
     if friction is not None:
         friction = check_number(friction, "friction", positive=True)

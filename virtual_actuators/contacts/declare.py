@@ -30,7 +30,6 @@ def check_contact(contact: object) -> str | dict[str, object]:
 
     Raises:
         ConstraintError: Neither a string nor a mapping, or a key that is not a name.
-
     """
     if isinstance(contact, str):
         return contact
@@ -49,7 +48,6 @@ def reaction_index(name: object, reactions: Sequence[str], what: str) -> int:
 
     Raises:
         InvalidInputError: ``name`` is not a reaction frame.
-
     """
     if name not in reactions:
         raise InvalidInputError(
@@ -70,7 +68,6 @@ def parse_normals(
 
     Raises:
         InvalidInputError: Another string, a zero or non-finite vector, an unknown reaction.
-
     """
     world = np.tile([0.0, 0.0, 1.0], (len(reactions), 1))
     frame = np.zeros(len(reactions), dtype=bool)

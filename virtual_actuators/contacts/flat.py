@@ -43,7 +43,6 @@ def parse_soles(
     Raises:
         InvalidInputError: Not two positive finite numbers, an unknown reaction, a sole on a
             point contact.
-
     """
     parsed: dict[int, tuple[float, float]] = {}
     for name, sole in dict(soles or {}).items():
@@ -88,7 +87,6 @@ def rows(
         frame_o: ``(3, 3)`` columns: the reaction frame's x, y, z axes in {O}.
         offset: ``(3,)`` from the reaction frame's origin to {B}'s, in {O}.
         entries: Where the contact's force and moment entries sit in ``x``.
-
     """
     half_length, half_width = sole
     normal_row = np.zeros(entries.width)  # the force along the sole's normal (its frame's z)
@@ -150,7 +148,6 @@ def block(
         rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
         offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O}.
         axes: The actuator's axes.
-
     """
     p = len(rotation_a)
     return np.vstack([
@@ -180,7 +177,6 @@ def contact_rows(
         rotation_o: ``(3, 3)`` {O}'s rotation in the world.
         offset_o: ``(3,)`` from the reaction frame's origin to {B}'s, in {O}.
         axes: The actuator's axes.
-
     """
     G = rows(contact.sole, contact.friction, rotation_o.T @ frame_world, offset_o,
              entries(axes, 0, 1))  # fmt: skip

@@ -23,7 +23,6 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
 
     Raises:
         ConstraintError: An unknown kind, or a key that is not a reaction frame.
-
     """
     if isinstance(contact, str):
         if contact not in KINDS:

@@ -52,7 +52,6 @@ def pyramid(
         rotation_o: ``(3, 3)`` {O}'s rotation in the world.
         friction: Friction coefficient ``mu``, or None for no faces.
         normal_row: Whether the normal row comes first.
-
     """
     helper = np.where(np.abs(normals_world[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
     tangent1 = cross(normals_world, helper)
@@ -99,7 +98,6 @@ def contact_rows(
         rotation_o: ``(3, 3)`` {O}'s rotation in the world.
         offset_o: ``(3,)`` from the reaction frame's origin to {B}'s, in {O} (unused).
         axes: The actuator's axes.
-
     """
     normal = frame_world[:, 2] if contact.frame_normal else np.asarray(contact.normal, float)
     with_normal = normal_row(contact.friction, contact.min_normal)

@@ -25,7 +25,6 @@ class TorqueLimits:
 
     Raises:
         InvalidInputError: ``torque_limits`` is not True, False or ``nv`` numbers >= 0.
-
     """
 
     def __init__(

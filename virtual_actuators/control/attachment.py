@@ -54,7 +54,6 @@ class Attachment:
         method: The distribution method.
         weights: ``method="qp"``: the per-axis weights of the QP's closest wrench passed to
             every solve (None: the actuator's own).
-
     """
 
     name: str
@@ -128,7 +127,6 @@ class Attachment:
         Raises:
             InvalidInputError: As [`Controller.add`][].
             InvalidAxisError: As [`Controller.add`][].
-
         """
         check_name(name, "Controller.add: name")
         components = check_parts(name, actuator, sensor, components)
@@ -170,7 +168,6 @@ class Attachment:
         Raises:
             InvalidInputError: A component returned the wrong number of entries, complex ones,
                 or the sum is not finite.
-
         """
         components, n = self.components, len(self.actuator.axes)
         wrench = None

@@ -38,7 +38,6 @@ def check_parts(
     Raises:
         InvalidInputError: The actuator or sensor is not a virtual actuator (a sensor: serial,
             or None), or a component is not a [`Component`][].
-
     """
     where = f"Attachment {name!r}"
     if not isinstance(actuator, (VirtualActuator, ParallelVirtualActuator)):
@@ -65,7 +64,6 @@ def check_limit_values(
     Raises:
         InvalidInputError: ``friction`` not None or a finite number > 0, ``min_normal`` not a
             finite number >= 0, or ``unilateral`` not a dict.
-
     """
     where = f"Attachment {name!r}"
     if friction is not None:
@@ -87,7 +85,6 @@ def check_free(
     Raises:
         InvalidInputError: The actuator is for another robot, or free axes on a serial one.
         InvalidAxisError: ``free`` names an axis the actuator lacks.
-
     """
     if actuator.robot.model is not robot.model:
         raise InvalidInputError(f"Attachment {name!r}: the actuator is for another robot.")
@@ -111,7 +108,6 @@ def sensor_of(
     Raises:
         InvalidInputError: The sensor is for another robot, or its axes differ from the
             actuator's.
-
     """
     if sensor is None:
         if isinstance(actuator, VirtualActuator):
@@ -135,7 +131,6 @@ def component_indices(components: list[Component], axes: tuple[str, ...]) -> lis
 
     Raises:
         InvalidAxisError: A component acts on an axis the actuator does not have.
-
     """
     indices = []
     for component in components:
@@ -164,7 +159,6 @@ def check_contact_limits(
         InvalidInputError: Limits without yield axes or the reverse, limits on a serial
             actuator, a cone without force axes, or a minimum that is not a finite number.
         InvalidAxisError: ``unilateral`` or ``yield_axes`` name an axis the actuator lacks.
-
     """
     where = f"Attachment {name!r}"
     limits: dict[int, float] = {}
@@ -219,7 +213,6 @@ def check_qp_yield(
         InvalidInputError: With ``method="qp"``, ``unilateral`` or ``friction`` given;
             ``yield_weight`` without ``method="qp"`` or not a finite number > 0.
         InvalidAxisError: ``yield_axes`` names an axis the actuator lacks.
-
     """
     if method != "qp" or not isinstance(actuator, ParallelVirtualActuator):
         if yield_weight is not None:
@@ -246,7 +239,6 @@ def check_method(name: str, actuator: Actuator, method: object, limited: bool) -
     Raises:
         InvalidInputError: A method the actuator does not have, or ``method="qp"`` with the
             attachment's own contact limits (``limited``).
-
     """
     if method == "partitioned":
         return method

@@ -83,7 +83,6 @@ class SpringTick:
             ``efforts``), as slices.
         solve: As given, with the compiled core (else None).
         fused: The core's ``SpringSolve``: the tick and the distribution in one call, or None.
-
     """
 
     __slots__ = (
@@ -196,7 +195,6 @@ class SpringTick:
             ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, flag (1.0), or
             None: other components, a Spring with a law, no velocity, a frame table without
             the sensor's rows, or the kernel's flag 0.
-
         """
         return self.run_solve(components, snapshot, time, solve=False)[0]
 
@@ -216,7 +214,6 @@ class SpringTick:
             distribution's [`Solution`][virtual_actuators.Solution] of its wrench, bit for bit
             the one of ``solve(snapshot, wrench)``, or None (no distribution, or one the
             general path must decide).
-
         """
         if components != self.components:
             return None, None

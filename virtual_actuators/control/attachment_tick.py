@@ -41,7 +41,6 @@ def run_attachment(
 
     Raises:
         VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
-
     """
     spring, wrench, solution = attachment.spring_tick, None, None
     try:

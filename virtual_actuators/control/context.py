@@ -56,7 +56,6 @@ class Context:
             finite number; ``contacts`` is not a dict; ``snapshot`` is not a
             [`Snapshot`][] of ``robot``; bad ``q`` or ``v`` (when no
             snapshot is given).
-
     """
 
     def __init__(
@@ -115,7 +114,6 @@ class Context:
 
         Raises:
             InvalidInputError: As the constructor.
-
         """
         if (
             time.__class__ is not float
@@ -142,7 +140,6 @@ class Context:
 
         Raises:
             FrameNotFoundError: Unknown frame (with close matches).
-
         """
         return self.snapshot.frame_position(frame)
 
@@ -151,7 +148,6 @@ class Context:
 
         Raises:
             FrameNotFoundError: Unknown frame (with close matches).
-
         """
         return self.snapshot.frame_rotation(frame)
 
@@ -160,7 +156,6 @@ class Context:
 
         Raises:
             FrameNotFoundError: Unknown frame (with close matches).
-
         """
         return self.snapshot.placement(frame)
 
@@ -169,7 +164,6 @@ class Context:
 
         Raises:
             InvalidInputError: The robot has no mass.
-
         """
         return self.snapshot.center_of_mass()
 
@@ -178,7 +172,6 @@ class Context:
 
         Raises:
             FrameNotFoundError: Unknown frame (with close matches).
-
         """
         snapshot = self.snapshot
         sine = table_entry(snapshot, frame, 2)  # a tabled frame: its rotation's row 0
@@ -200,7 +193,6 @@ class Context:
         Raises:
             InvalidAxisError: ``axis`` is not x, y or z.
             FrameNotFoundError: Unknown frame (with close matches).
-
         """
         column = POSITION_COLUMNS.get(axis) if axis.__class__ is str else None
         if column is None:
@@ -217,7 +209,6 @@ class Context:
 
         Raises:
             FrameNotFoundError: Unknown frame (with close matches).
-
         """
         return self.snapshot.frame_velocity(frame)
 
@@ -226,7 +217,6 @@ class Context:
 
         Raises:
             InvalidInputError: No switch reported for that frame.
-
         """
         try:
             return bool(self.contacts[frame])

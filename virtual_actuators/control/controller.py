@@ -68,7 +68,6 @@ class Controller:
             ``on_failure`` or ``on_singular``, or both given with different values, or a bad
             ``effort_rate_limit``.
         JointNotFoundError: ``effort_rate_limit`` names a joint the robot lacks.
-
     """
 
     def __init__(
@@ -107,7 +106,6 @@ class Controller:
 
         Raises:
             InvalidInputError: (on assignment) not ``nv`` numbers, or a NaN or negative entry.
-
         """
         return self._upper_limits
 
@@ -149,7 +147,6 @@ class Controller:
 
         Raises:
             InvalidInputError: No effort rate limit, or a bad ``tau`` or ``time``.
-
         """
         if self._rate_limit is None:
             raise InvalidInputError("reset_effort_rate: the controller has no effort_rate_limit.")
@@ -223,7 +220,6 @@ class Controller:
                 ``method="qp"`` or not a finite number > 0.
             InvalidAxisError: A component acts on an axis the actuator does not have, or
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
-
         """
         if isinstance(actuator, JointTerm):
             return add_posture(self, name, actuator, components)
@@ -244,7 +240,6 @@ class Controller:
         Raises:
             InvalidInputError: ``joints`` is not a name or a collection of names.
             JointNotFoundError: A name is not a joint of the model (with close matches).
-
         """
         model = self.robot.model
         out = []
@@ -266,7 +261,6 @@ class Controller:
         Raises:
             InvalidInputError: ``names`` is not a collection of names, an unknown attachment
                 name, a bad ``q``, or a ``time`` that is not a finite number.
-
         """
         names = check_names(names, "names (attachment names)", ordered=False)
         time = check_number(time, "time [s]")
@@ -288,7 +282,6 @@ class Controller:
 
         Raises:
             InvalidInputError: A bad ``q``.
-
         """
         warm_up(self, q)
 
@@ -331,7 +324,6 @@ class Controller:
                 ``on_failure="raise"``.
             ConstraintError: A distribution that cannot be solved here (e.g. an infeasible
                 contact QP, or one out of iterations) and ``on_failure="raise"``.
-
         """
         time = check_number(time, "time [s]")
         limp = check_limp(limp, self.robot.model.nv)
@@ -354,7 +346,6 @@ class Controller:
             InvalidInputError: An unknown attachment name, or as [`compute`][].
             SingularConfigurationError: As [`compute`][].
             ConstraintError: As [`compute`][].
-
         """
         nv = self.robot.model.nv
         postures = self.postures

@@ -36,7 +36,6 @@ def check_effort_limits(limits: object, nv: int) -> tuple[np.ndarray, np.ndarray
 
     Raises:
         InvalidInputError: Not ``nv`` numbers, or a NaN or negative entry.
-
     """
     expected = f"{nv} numbers >= 0 (inf where unlimited)"
     upper = as_float_array(limits, "effort_limits", expected, copy=True)

@@ -43,7 +43,6 @@ class LimitFraction:
 
     Raises:
         InvalidInputError: ``per_second`` is not a positive finite number.
-
     """
 
     per_second: float
@@ -70,7 +69,6 @@ def effort_rates(
         InvalidInputError: A rate that is not a positive number (``inf`` allowed), the wrong
             number of rates, or a spec of another kind.
         JointNotFoundError: A dict naming a joint the robot lacks (with close matches).
-
     """
     nv = len(joint_names)
     if spec is None:
@@ -109,7 +107,6 @@ class EffortRateLimit:
 
     Args:
         rates: ``(nv,)`` [N m/s or N/s], ``inf`` where unlimited.
-
     """
 
     def __init__(self, rates: np.ndarray) -> None:
@@ -123,7 +120,6 @@ class EffortRateLimit:
 
         Raises:
             InvalidInputError: ``tau`` is not ``nv`` finite numbers, or ``time`` not finite.
-
         """
         time = check_number(time, "reset_effort_rate: time [s]")
         if tau is None:

@@ -183,7 +183,6 @@ def after(seconds: float) -> Event:
 
     Raises:
         InvalidInputError: ``seconds`` is not a finite real number >= 0.
-
     """
     return After(check_number(seconds, "after(): seconds", minimum=0.0))
 
@@ -198,7 +197,6 @@ def ahead_of(frame: str, reference: str, distance: float, axis: str = "x") -> Ev
         InvalidInputError: ``frame`` or ``reference`` is not a str, or ``distance`` is not a
             finite real number.
         InvalidAxisError: ``axis`` is not x, y or z.
-
     """
     check_name(frame, "ahead_of(): frame")
     check_name(reference, "ahead_of(): reference")
@@ -212,7 +210,6 @@ def contact(*frames: str, require_all: bool = True) -> Event:
     Raises:
         InvalidInputError: No frame given, a frame that is not a str, or ``require_all`` that
             is not a bool.
-
     """
     frames = _frames(frames, "contact()")
     return Contact(frames, check_flag(require_all, "contact(): require_all"))
@@ -223,7 +220,6 @@ def no_contact(*frames: str) -> Event:
 
     Raises:
         InvalidInputError: No frame given, or a frame that is not a str.
-
     """
     return NoContact(_frames(frames, "no_contact()"))
 
@@ -233,7 +229,6 @@ def any_of(*events: Event) -> Event:
 
     Raises:
         InvalidInputError: No event given, or one that is not callable.
-
     """
     return Combined(_events(events, "any_of()"), require_all=False)
 
@@ -243,7 +238,6 @@ def all_of(*events: Event) -> Event:
 
     Raises:
         InvalidInputError: No event given, or one that is not callable.
-
     """
     return Combined(_events(events, "all_of()"), require_all=True)
 
@@ -256,7 +250,6 @@ def when(predicate: Callable[[Context], bool]) -> Event:
 
     Raises:
         InvalidInputError: ``predicate`` is not callable.
-
     """
     if not callable(predicate):
         raise InvalidInputError(

@@ -57,7 +57,6 @@ class AttachmentFailure:
         action: ``"skip"`` (the attachment contributed zero effort) or ``"fallback"`` (the
             clipped partitioned least-squares answer; see `failures`).
         fallback_error: Why the fallback was not used (then ``action`` is ``"skip"``), or None.
-
     """
 
     reason: str
@@ -83,7 +82,6 @@ def check_policy(on_failure: object, on_singular: object) -> str:
 
     Raises:
         InvalidInputError: A value that is not a policy, or both given and different.
-
     """
     for what, value in (("on_failure", on_failure), ("on_singular", on_singular)):
         if value is not None and (not isinstance(value, str) or value not in FAILURE_POLICIES):
@@ -136,7 +134,6 @@ def recover(
     Returns:
         ``(solution, tau)``: with a working fallback, its [`Solution`][]
         (unclipped) and its clipped, finite ``(nv,)`` efforts; else ``(None, None)``.
-
     """
     name, error_name, message = attachment.name, type(error).__name__, str(error)
     why = None
@@ -191,7 +188,6 @@ def drop_non_finite(
 
     Raises:
         InvalidInputError: With ``on_failure="raise"``, naming the first such attachment.
-
     """
     tau = np.zeros(controller.robot.model.nv)
     limits = (-controller.effort_limits, controller.effort_limits)

@@ -39,7 +39,6 @@ def check_gc_policy(policy: object, where: str) -> str:
 
     Raises:
         InvalidInputError: Anything else (naming ``where`` and the valid policies).
-
     """
     if not isinstance(policy, str) or policy not in GC_POLICIES:
         raise InvalidInputError(
@@ -65,7 +64,6 @@ class LoopCollector:
         ...     while running:
         ...         tick()
         ...         collector.between_ticks()
-
     """
 
     __slots__ = ("_enabled", "_every", "_froze", "_runs", "_young", "active", "collections")

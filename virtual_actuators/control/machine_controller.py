@@ -61,7 +61,6 @@ class MachineController:
         InvalidInputError: ``controller`` or ``machine`` of the wrong kind, or a state naming
             an attachment the controller lacks.
         JointNotFoundError: A state's limp joint is not a joint of the robot.
-
     """
 
     def __init__(
@@ -137,7 +136,6 @@ class MachineController:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``.
             ConcurrentUseError: Another thread is in a compiled tick of this machine.
             VirtualActuatorError: What the controller raises under its failure policy.
-
         """
         tick = self._tick
         if tick is None:
@@ -153,7 +151,6 @@ class MachineController:
 
         Raises:
             InvalidInputError: A bad ``q``.
-
         """
         if self._tick is None:
             self._tick = self._lower()
@@ -182,7 +179,6 @@ class MachineController:
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``.
             VirtualActuatorError: What the controller raises under its failure policy.
-
         """
         controller = self.controller
         if isinstance(q, Snapshot):  # the caller's pass of this tick, shared

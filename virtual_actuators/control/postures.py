@@ -28,7 +28,6 @@ def add_posture(
         InvalidInputError: The name is not a str or is taken, components were given, or a
             gravity compensation of another robot.
         JointNotFoundError: A joint of the posture that the robot lacks (with close matches).
-
     """
     kind = type(posture).__name__
     if not isinstance(name, str) or name in controller.attachments or name in controller.postures:

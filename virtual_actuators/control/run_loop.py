@@ -95,7 +95,6 @@ class RunStats:
             -> fallback"``).
         tick_times: Duration of the last `TICK_HISTORY` ticks, read to write [s].
         wall_time: Duration of the loop [s].
-
     """
 
     ticks: int = 0
@@ -183,7 +182,6 @@ def run(
         KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
             of ``write_effort``, ``should_stop`` and ``after_tick``, and exceptions that are
             not `Exception`; if the final write fails too, a note on the error says so).
-
     """
     settings = check_run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
@@ -333,7 +331,6 @@ def _end_safe(
 
     Raises:
         Exception: The write's error when nothing else is propagating.
-
     """
     try:
         write_effort(np.zeros(nv))

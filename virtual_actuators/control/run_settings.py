@@ -32,7 +32,6 @@ class RunSettings:
         safe: What a failed tick sends.
         tree: The robot's kinematic tree (the readings' checks).
         robot: The robot whose efforts are written.
-
     """
 
     period: float  # [s]
@@ -52,7 +51,6 @@ class Freshness:
         stale_after: A reading whose stamp did not advance for this long is stale [s].
         last_stamp: The newest stamp read, None before the first.
         last_fresh: When it was read [s].
-
     """
 
     stale_after: float
@@ -84,7 +82,6 @@ def check_run(
 
     Raises:
         InvalidInputError: The first bad argument, in the order of ``run``'s ``Raises:``.
-
     """
     rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)
     if rate_hz < MIN_RATE_HZ:
@@ -119,7 +116,6 @@ def check_callback(callback: object, what: str, returning: str = "") -> None:
 
     Raises:
         InvalidInputError: ``callback`` is not callable (naming ``what``).
-
     """
     if callback is not None and not callable(callback):
         raise InvalidInputError(
@@ -133,7 +129,6 @@ def robot_of(controller: object, robot: object) -> Robot:
 
     Raises:
         InvalidInputError: Neither is a robot, or ``robot`` is not the controller's.
-
     """
     own = getattr(controller, "robot", None)
     if robot is None:

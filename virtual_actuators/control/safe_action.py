@@ -56,7 +56,6 @@ class Reading(NamedTuple):
         stamp: The time stamp as a float (a NaN stamp as is).
         reason: ``"malformed reading"`` when the reading is not three values or the stamp not
             a real number (then ``q`` and ``v`` are None and ``stamp`` NaN), else None.
-
     """
 
     q: object
@@ -87,7 +86,6 @@ def check_state(
         or a reason: ``"malformed reading"`` (not ``nq`` and ``nv`` real numbers),
         ``"non-finite"`` (NaN or inf), ``"non-unit quaternion"`` (a quaternion or (cos, sin)
         pair more than 1e-3 from unit norm).
-
     """
     nq, nv = tree.nq, tree.nv
     if (  # a driver's contiguous float64 vectors of the right sizes, as they are (every tick's)
@@ -116,7 +114,6 @@ def check_effort(output: object, nv: int) -> np.ndarray | None:
     Returns:
         The efforts, or None for anything else (another size, complex, bool or non-numeric
         entries, NaN or inf).
-
     """
     tau = getattr(output, "tau", output)
     if tau.__class__ is not _ARRAY or tau.dtype is not _FLOAT:
@@ -147,7 +144,6 @@ class SafeAction:
 
     Raises:
         InvalidInputError: A bad ``action`` or ``damping``.
-
     """
 
     def __init__(self, robot: Robot, action: object, damping: object, hold_ticks: int) -> None:

@@ -44,7 +44,6 @@ class State:
     Raises:
         InvalidInputError: ``name`` is not a str; ``active``, ``support`` or ``limp`` is not a
             name or a sequence of names; ``on_enter`` or ``on_update`` is not callable.
-
     """
 
     name: str
@@ -85,7 +84,6 @@ class Transition:
     Raises:
         InvalidInputError: ``source``, ``target`` or ``label`` is not a str, or ``event`` is not
             callable.
-
     """
 
     source: str
@@ -121,7 +119,6 @@ class StateMachine:
         InvalidInputError: ``states`` or ``transitions`` is not a sequence of [`State`][] or
             [`Transition`][]; ``initial`` is not a str; repeated state names, or a transition
             or ``initial`` naming an unknown state.
-
     """
 
     states: Sequence[State]
@@ -209,7 +206,6 @@ class StateMachine:
 
         Raises:
             InvalidInputError: Unknown name.
-
         """
         self._check(name, "state")
         return self._states[name]
@@ -219,7 +215,6 @@ class StateMachine:
 
         Raises:
             InvalidInputError: ``context`` is not a [`Context`][], or an unknown state.
-
         """
         check_context(context)
         if state is not None:
@@ -247,7 +242,6 @@ class StateMachine:
 
         Raises:
             InvalidInputError: ``context`` is not a [`Context`][].
-
         """
         if context.__class__ is not Context:  # the tick's case skips the check
             check_context(context)

@@ -50,7 +50,6 @@ class ControlOutput:
         rate_limited: ``(nv,)`` bool, True where the controller's ``effort_rate_limit`` held
             the effort back from the clipped request (all False without one; see
             [`effort_rate`][virtual_actuators.control.effort_rate]).
-
     """
 
     tau: np.ndarray
@@ -153,7 +152,6 @@ def check_active(names: tuple) -> None:
 
     Raises:
         InvalidInputError: An entry that is not a str (a list, a number), or a repeated name.
-
     """
     for i, name in enumerate(names):
         if not isinstance(name, str):
@@ -169,7 +167,6 @@ def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
 
     Raises:
         InvalidInputError: Not a name or a collection of names, or a name repeated.
-
     """
     names = (active,) if isinstance(active, str) else names_tuple(active)
     check_active(names)
@@ -184,7 +181,6 @@ def tick_snapshot(
     Raises:
         InvalidInputError: No ``v`` beside a configuration; a snapshot of another robot, or
             built without a velocity, or with one that differs from ``v``; a bad ``q`` or ``v``.
-
     """
     if not isinstance(q, Snapshot):
         if v is None:
@@ -204,7 +200,6 @@ def check_same_velocity(v: object, own: np.ndarray) -> None:
 
     Raises:
         InvalidInputError: ``v`` differs from ``own`` (or is not an array of numbers).
-
     """
     try:
         same = np.array_equal(np.asarray(v), own)
@@ -222,7 +217,6 @@ def check_limp(limp: object, nv: int) -> np.ndarray:
 
     Raises:
         InvalidInputError: Not a 1-D collection of integers in range.
-
     """
     if type(limp) is np.ndarray:  # the usual case (Controller.joint_indices): no conversion
         index = limp

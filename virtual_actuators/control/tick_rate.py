@@ -80,7 +80,6 @@ class TickRate:
         labels: The entries: ``"attachment.axis"`` or ``"posture.joint"``.
         participation: ``(len(labels),)`` each entry's share of the fastest direction (sums
             to 1; zeros when no entry has a gain).
-
     """
 
     rate: float
@@ -131,7 +130,6 @@ def tick_rate(
     Raises:
         InvalidInputError: A bad period, configuration or name.
         FrameNotFoundError: A support frame the robot lacks (with close matches).
-
     """
     period = check_number(period, "period [s]", positive=True)
     entries, mobility = _state(controller, q, active, support)
@@ -164,7 +162,6 @@ def bound_tick_rate(
     Raises:
         InvalidInputError: A bad period, limit, configuration or name.
         FrameNotFoundError: A support frame the robot lacks.
-
     """
     period = check_number(period, "period [s]", positive=True)
     limit = check_number(limit, "limit", positive=True)

@@ -35,7 +35,6 @@ def warm_up(controller: object, q: np.ndarray) -> None:
 
     Raises:
         InvalidInputError: A bad ``q``.
-
     """
     robot = controller.robot
     snapshot = Snapshot(robot, q, np.zeros(robot.model.nv))

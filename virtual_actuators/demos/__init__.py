@@ -19,7 +19,6 @@ def __getattr__(name: str) -> Any:
     Raises:
         AttributeError: Any other name.
         MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
-
     """
     if name in ("Walk", "WalkSpec"):
         from ..gaits.base import Walk

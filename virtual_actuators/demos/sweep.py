@@ -70,7 +70,6 @@ def parse_range(text: str) -> list[float]:
 
     Raises:
         InvalidInputError: Not numbers, a step <= 0, or more than 1000 values.
-
     """
     try:
         if ":" in text:
@@ -107,7 +106,6 @@ def grid(
     Raises:
         InvalidInputError: Unknown walk, ``seeds`` not an int from 1 to `MAX_SEEDS`, or
             more than `MAX_WALKS` cases in all.
-
     """
     from ..gaits.registry import WALKS  # MuJoCo: not needed to parse a sweep's options
 
@@ -135,7 +133,6 @@ def run_walk(name: str, **options: Any) -> Any:
     Raises:
         InvalidInputError: As the registry's ``run_walk``.
         MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
-
     """
     from ..gaits.registry import run_walk as run
 
@@ -196,7 +193,6 @@ def run_sweep(
     Raises:
         InvalidInputError: Unknown engine, or ``workers`` < 1.
         MissingDependencyError: Dask or Ray is not installed.
-
     """
     if engine not in ENGINES:
         raise InvalidInputError(f"engine must be one of {ENGINES}, got {engine!r}.")

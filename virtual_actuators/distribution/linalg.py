@@ -17,7 +17,6 @@ def stable_norm(x: np.ndarray) -> float:
 
     Returns:
         ``||x||_2`` (inf or NaN only if ``x`` holds them).
-
     """
     peak = float(np.abs(x).max(initial=0.0))
     if peak == 0.0 or not math.isfinite(peak):
@@ -35,7 +34,6 @@ def power_of_two_scale(*arrays: np.ndarray) -> float:
 
     Returns:
         ``f`` (1.0 when every entry is zero or one is not finite).
-
     """
     peak = max((float(np.abs(a).max(initial=0.0)) for a in arrays), default=0.0)
     if peak == 0.0 or not math.isfinite(peak):
@@ -71,7 +69,6 @@ def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = 
 
     Returns:
         The picked column indices, in the order picked.
-
     """
     work = np.array(matrix, dtype=float, copy=True)
     if weights is not None:
@@ -101,7 +98,6 @@ def dependent_rows(matrix: np.ndarray, tol: float = DEPENDENT_TOL) -> list[int]:
 
     Returns:
         The dependent row indices, in order.
-
     """
     basis: list[np.ndarray] = []
     dependent = []
@@ -142,7 +138,6 @@ def condition_estimate(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray
 
     Returns:
         ``(...)`` condition estimates (inf where an inverse is not finite).
-
     """
     norm = np.abs(matrices).sum(axis=-1).max(axis=-1, initial=0.0)  # 0 x 0: condition 0
     norm_inv = np.abs(inverses).sum(axis=-1).max(axis=-1, initial=0.0)
@@ -158,7 +153,6 @@ def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     Returns:
         ``(inverses, condition_estimates)``; singular entries get NaN inverses and inf condition.
-
     """
     try:
         inverses = np.linalg.inv(matrices)
@@ -190,7 +184,6 @@ def scaled_condition(matrix: np.ndarray, inverse: np.ndarray, row_scale: np.ndar
 
     Returns:
         The estimate (inf when it is not finite).
-
     """
     scaled = float(np.abs(matrix / row_scale[:, None]).sum(axis=1).max(initial=0.0))
     scaled_inverse = float(np.abs(inverse * row_scale[None, :]).sum(axis=1).max(initial=0.0))
@@ -228,7 +221,6 @@ def constrained_min_norm(
     Returns:
         ``(x, hard_residual)``: the solution and ``||hard x - hard_rhs||`` (0 unless the hard
         rows contradict each other).
-
     """
     m = soft.shape[1] if soft.size else hard.shape[1]
     if hard.shape[0]:

@@ -27,7 +27,6 @@ class Request:
         compiled: Use the compiled kernels where they apply.
         weights: ``method="qp"``: checked per-axis weights of the closest wrench; None: the
             declaration's.
-
     """
 
     method: str
@@ -72,7 +71,6 @@ def dispatch(
         ConstraintError: Constraints that contradict each other here.
         RuntimeError: Every backend of the method handed the tick on (a bug: the last one
             always answers).
-
     """
     for name in METHODS[request.method]:
         tick = backends[name].solve(snapshot, wrench, request)

@@ -79,7 +79,6 @@ class TickResult:
         scale: The larger of the request's and the produced wrench's norms, prescribed axes.
         rounding: The rounding of chain forces that cancel (the path's own estimate).
         compiled: Whether a compiled kernel computed it.
-
     """
 
     raw: RawSolution
@@ -112,7 +111,6 @@ class TickResult:
             scale: The larger of the request's and the produced wrench's norms.
             rounding: The rounding of chain forces that cancel.
             compiled: Whether a compiled kernel computed it.
-
         """
         p, n = raw.forces.shape
         nv = (out.shape[0] - p * n - 2 * n) // 2
@@ -146,7 +144,6 @@ def close_tick(
     Returns:
         The `TickResult` (``compiled`` False). The norms are taken on the scaled forces,
         so that none over- or underflows at any magnitude of the request.
-
     """
     forces_scaled = raw.forces
     raw = dataclasses.replace(raw, forces=forces_scaled / factor)
@@ -169,7 +166,6 @@ def tolerance(tol: float, scale: float, rounding: float) -> float:
         tol: Relative tolerance (``solve(..., tol=)``).
         scale: The larger of the request's and the produced wrench's norms, prescribed axes.
         rounding: The rounding of chain forces that cancel (the path's own estimate).
-
     """
     return tol * scale + rounding
 
@@ -236,7 +232,6 @@ class Solution:
             max(|requested|, |produced|)`` on the prescribed axes plus the rounding of the
             chain forces (``distribution.result.tolerance``); [`admissible`][] compares
             ``residual`` with it.
-
     """
 
     tau: np.ndarray
@@ -276,7 +271,6 @@ class Solution:
             axes: Its axes.
             free: The axes left to the solver.
             floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
-
         """
         raw, tau = tick.raw, tick.tau
         limit = tolerance(tol, tick.scale, tick.rounding)
@@ -315,7 +309,6 @@ class Solution:
 
         Raises:
             KeyError: If ``reaction`` is not a reaction frame of the actuator.
-
         """
         if reaction not in self.reactions:
             raise KeyError(f"{reaction!r} is not a reaction frame; reactions: {self.reactions}")

@@ -129,7 +129,6 @@ def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
 
     Returns:
         The names that look like single-support states.
-
     """
     out = []
     for name in state_names:
@@ -158,7 +157,6 @@ def resolve_step_states(
     Raises:
         InvalidInputError: If a given name is not a state of the log (the message names it and
             lists the valid ones).
-
     """
     source = "step_states"
     if step_states is None:

@@ -45,7 +45,6 @@ class StanceForces:
         normal_min: Least normal force of a supporting foot so far [N] (inf before a sample).
         ratio_max: Largest tangential / normal force so far (feet above the floor).
         samples: Foot readings taken.
-
     """
 
     def __init__(self, simulator: Simulator, terrain: Terrain) -> None:
@@ -67,7 +66,6 @@ class StanceForces:
 
         Raises:
             FrameNotFoundError: A foot names a frame the robot lacks.
-
         """
         simulator = self.simulator
         now = simulator.time
@@ -121,7 +119,6 @@ def _owners(simulator: Simulator, settled: tuple[tuple[str, ...], ...]) -> np.nd
 
     Raises:
         FrameNotFoundError: A foot names a frame the robot lacks.
-
     """
     mm = simulator.mujoco_model
     for frame in {frame for foot in settled for frame in foot}:

@@ -72,7 +72,6 @@ class WalkMetrics(SmoothnessFigures):
             simulation [N] (see `contact_stats`); None when
             not measured.
         stance_friction_ratio_max: Largest tangential / normal force of a foot in support.
-
     """
 
     fell: bool
@@ -169,7 +168,6 @@ def _checked_startup(log: WalkLog, startup_s: float) -> float:
     Raises:
         InvalidInputError: If the log is not a ``WalkLog`` of two ticks or more with an ``x``
             channel, or ``startup_s`` is not a finite number >= 0.
-
     """
     if not isinstance(log, WalkLog):
         raise InvalidInputError(f"log: expected a WalkLog, got {type(log).__name__}.")
@@ -251,7 +249,6 @@ def _speed_setpoint(log: WalkLog, window: np.ndarray) -> float | None:
 
     Raises:
         InvalidInputError: If ``metadata["speed_setpoint_mps"]`` is not a number.
-
     """
     setpoint = log.metadata.get("speed_setpoint_mps")
     if setpoint is not None:
@@ -294,7 +291,6 @@ def compute_metrics(
     Raises:
         InvalidInputError: If the log has fewer than two ticks or no ``x`` channel, or an
             argument is invalid (the message names it).
-
     """
     startup_s = _checked_startup(log, startup_s)
     n = len(log)
@@ -355,7 +351,6 @@ def write_json(metrics: WalkMetrics | Mapping[str, Any], path: str | os.PathLike
 
     Raises:
         InvalidInputError: If a value cannot be written as JSON (the message names its key).
-
     """
     if isinstance(metrics, WalkMetrics):
         data = metrics.to_dict()

@@ -130,7 +130,6 @@ def plot_walk(
     Raises:
         InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
             unknown, the terrain points are malformed or the window holds no tick.
-
     """
     figure = draw_walk(
         log,
@@ -163,7 +162,6 @@ def draw_walk(
 
     Raises:
         InvalidInputError: As `plot_walk`.
-
     """
     log = _as_log(log)
     if window is not None:
@@ -340,7 +338,6 @@ def plot_terrain(
     Raises:
         InvalidInputError: If ``points`` is not an ``(n >= 2, 2)`` finite array, or only one of
             ``body_x`` and ``body_z`` is given, or they differ in length.
-
     """
     figure = draw_terrain(points, body_x=body_x, body_z=body_z, title=title, dpi=dpi)
     return save_figure(figure, path)
@@ -361,7 +358,6 @@ def draw_terrain(
 
     Raises:
         InvalidInputError: As `plot_terrain`.
-
     """
     terrain = check_terrain_points(points, "points")
     if (body_x is None) != (body_z is None):

@@ -25,7 +25,6 @@ class Progress:
 
     Raises:
         MissingDependencyError: tqdm is not installed (the extra ``sim``).
-
     """
 
     def __init__(self, total: float, unit: str = "sim s", description: str = "") -> None:

@@ -45,7 +45,6 @@ class Recorder:
     Raises:
         InvalidInputError: If a channel or state name is empty or repeated, ``"time"`` is
             missing, or ``capacity`` is not a positive integer.
-
     """
 
     __slots__ = (
@@ -148,7 +147,6 @@ class Recorder:
 
         Raises:
             InvalidInputError: If a channel or state is unknown (nothing is recorded then).
-
         """
         n = self._n
         if n == self._buffer.shape[0]:
@@ -183,7 +181,6 @@ class Recorder:
 
         Raises:
             InvalidInputError: If ``row`` has the wrong length or the state is unknown.
-
         """
         try:
             length = len(row)
@@ -215,7 +212,6 @@ class Recorder:
 
         Raises:
             InvalidInputError: If the recorded ``time`` is not finite and non-decreasing.
-
         """
         n = self._n
         return WalkLog(

@@ -73,7 +73,6 @@ class SmoothnessFigures:
             (worst axis) [-].
         base_rate_oscillation_radps: The `PERCENTILE` th percentile of the base rate's distance
             from its neighbours' mean, worst axis [rad/s].
-
     """
 
     effort_oscillation: float | None = None
@@ -123,7 +122,6 @@ class EffortSmoothness:
         joint_change_rms: Each one's RMS change per tick [-].
         ticks: Ticks measured (after the skip).
         rate_floor_radps: A zigzag's least change per tick [rad/s].
-
     """
 
     oscillation: float | None
@@ -194,7 +192,6 @@ def effort_smoothness(
         InvalidInputError: Arrays of the wrong shape or with non-finite entries (a NaN limit
             included), ``names`` of the wrong length, or a bad ``time_step``, ``skip_s`` or
             ``rate_floor_radps``.
-
     """
     tau = _checked(efforts, "efforts", "a (ticks, nv) array of finite efforts", 2)
     ticks, nv = tau.shape
@@ -237,7 +234,6 @@ def _checked(value: object, what: str, expected: str, ndim: int) -> np.ndarray:
 
     Raises:
         InvalidInputError: Not such an array.
-
     """
     array = as_float_array(value, what, expected)
     if array.ndim != ndim or not np.isfinite(array).all():
@@ -268,7 +264,6 @@ def _rate_figures(
 
     Raises:
         InvalidInputError: ``base_rates`` not ``(ticks, 1 to 3)`` finite numbers.
-
     """
     if base_rates is None:
         return None, None

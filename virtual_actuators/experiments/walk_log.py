@@ -54,7 +54,6 @@ class WalkLog:
         state: ``(n,)`` int64 index into ``state_names`` per tick; -1 when unknown.
         state_names: Names of the discrete states.
         metadata: Run description (see the module docstring for the standard keys).
-
     """
 
     data: dict[str, np.ndarray]
@@ -148,7 +147,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If a channel is missing, misshapen or inconsistent.
-
         """
         return cls(
             data=dict(channels),
@@ -194,7 +192,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If the log has no such channel (the message lists the valid ones).
-
         """
         if name == STATE_CHANNEL:
             return self.state
@@ -215,7 +212,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If there is no such state (the message lists the valid ones).
-
         """
         try:
             return self.state_names.index(name)
@@ -232,7 +228,6 @@ class WalkLog:
         Raises:
             InvalidInputError: A bound that is not a finite number, ``start > stop``, or a
                 window that holds no tick (the message gives the log's time span).
-
         """
         from ..vocabulary.arguments import check_number
 
@@ -268,7 +263,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If a name is not a state of this log.
-
         """
         indices = [self.state_index(s) for s in states]
         if len(self) < 2 or not indices:
@@ -284,7 +278,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If the metadata entry is not an ``(n >= 2, 2)`` finite array.
-
         """
         points = self.metadata.get("terrain_points")
         if points is None:
@@ -306,7 +299,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If a metadata value cannot be stored (the message names its key).
-
         """
         data = {name: self.data[name] for name in self.channels}
         return write_npz(StoredLog(data, self.state, self.state_names, self.metadata), path)
@@ -323,7 +315,6 @@ class WalkLog:
 
         Raises:
             InvalidInputError: If the file is not a walk log.
-
         """
         stored = read_npz(path)
         return cls(
@@ -350,7 +341,6 @@ def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
 
     Raises:
         InvalidInputError: If the shape is wrong or a value is not finite.
-
     """
     try:
         array = np.asarray(points, dtype=np.float64)

@@ -53,7 +53,6 @@ def write_npz(log: StoredLog, path: str | os.PathLike[str]) -> Path:
 
     Raises:
         InvalidInputError: If a metadata value cannot be stored (the message names its key).
-
     """
     path = Path(path)
     arrays: dict[str, np.ndarray] = {}
@@ -105,7 +104,6 @@ def read_npz(path: str | os.PathLike[str]) -> StoredLog:
 
     Raises:
         InvalidInputError: If the file is not a walk log.
-
     """
     path = Path(path)
     with np.load(path, allow_pickle=False) as npz:

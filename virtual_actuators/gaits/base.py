@@ -46,7 +46,6 @@ class Gait:
         contact_frames: Frames whose contact switches the gait reads.
         foot_contacts: Contact frames per support frame (see `support_contacts`).
         last: The last [`ControlOutput`][].
-
     """
 
     step_states: tuple[str, ...] = ()
@@ -135,7 +134,6 @@ class Gait:
 
         Returns:
             The [`ControlOutput`][] (its ``tau`` goes to the motors).
-
         """
         self.last = self.wiring.compute(q, v, time, contacts)
         return self.last
@@ -145,7 +143,6 @@ class Gait:
 
         Raises:
             InvalidInputError: A bad ``q``.
-
         """
         self.wiring.warm_up(q)
 
@@ -178,7 +175,6 @@ def check_speed_bound(speed: object, zero: bool = True) -> None:
         InvalidInputError: Not a finite number, or outside ``[0, MAX_SPEED]`` (``(0,
             MAX_SPEED]`` without ``zero``); beyond the bound, the message says it is absolute,
             and why.
-
     """
     number = isinstance(speed, (int, float)) and not isinstance(speed, bool)
     if not (number and math.isfinite(speed)) or speed < 0.0 or (speed == 0.0 and not zero) or (
@@ -200,7 +196,6 @@ def check_distribution(distribution: object) -> bool:
 
     Raises:
         InvalidInputError: Any other value.
-
     """
     if distribution not in DISTRIBUTIONS:
         raise InvalidInputError(
@@ -252,7 +247,6 @@ class Walk:
             returning it (the hexapod's is slower with the pendulum); None: the walk takes no
             speed. A run given no speed walks at `default_speed`: this, moved into the
             supported range.
-
     """
 
     name: str
@@ -289,7 +283,6 @@ class Walk:
 
         Returns:
             The speed, or None for a walk that takes no speed (it stands).
-
         """
         nominal = self.nominal_speed
         if callable(nominal):
@@ -313,7 +306,6 @@ class Walk:
 
         Raises:
             InvalidInputError: ``speed`` is outside the supported range (its message names it).
-
         """
         supported = self.speed_range(**options)
         if supported is None or not isinstance(speed, (int, float)):

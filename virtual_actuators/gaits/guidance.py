@@ -35,7 +35,6 @@ class PlanarState:
         yaw: Heading [rad].
         vx: World x velocity [m/s].
         vy: World y velocity [m/s].
-
     """
 
     time: float
@@ -62,7 +61,6 @@ class Guidance:
 
     Attributes:
         start: ``(x, y, yaw)`` of the body at `begin` [m, m, rad].
-
     """
 
     def __init__(self) -> None:
@@ -91,7 +89,6 @@ class VelocityCommand(Guidance):
 
     Raises:
         InvalidInputError: A value that is not finite, or a negative speed.
-
     """
 
     def __init__(self, speed: float, direction: float = 0.0, yaw_rate: float = 0.0) -> None:
@@ -119,7 +116,6 @@ class SinePath(Guidance):
 
     Raises:
         InvalidInputError: A value that is not finite, or a speed or wavelength <= 0.
-
     """
 
     def __init__(
@@ -186,7 +182,6 @@ class TrackObject(Guidance):
 
     Raises:
         InvalidInputError: A value that is not finite, a negative speed or a radius <= 0.
-
     """
 
     def __init__(

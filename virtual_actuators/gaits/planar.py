@@ -78,7 +78,6 @@ def planar_leg_ik(dx: float, dz: float, thigh: float, shin: float) -> tuple[floa
 
     Raises:
         InvalidInputError: The point is out of reach.
-
     """
     u, w = -dx, -dz
     cos_knee = (u * u + w * w - thigh**2 - shin**2) / (2.0 * thigh * shin)
@@ -115,7 +114,6 @@ def planar_standing_configuration(
     Raises:
         JointNotFoundError: A joint above is missing.
         InvalidInputError: A foot is out of reach.
-
     """
     model = robot.model
     q = robot.neutral()
@@ -207,7 +205,6 @@ def declare_biped(
     Raises:
         FrameNotFoundError: The robot lacks ``body`` or ``SIDE_foot``.
         JointNotFoundError: The robot lacks a joint named above.
-
     """
     robot = controller.robot
 
@@ -247,7 +244,6 @@ def biped_states(
 
     Returns:
         The five states, in that order.
-
     """
     states = [
         State(

@@ -56,7 +56,6 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
 
     Raises:
         InvalidInputError: Bad speed, terrain, seed or distribution.
-
     """
     walk, speed, parameters, distribution = (
         request.walk, request.speed, request.parameters, request.distribution
@@ -127,7 +126,6 @@ def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
 
     Raises:
         InvalidInputError: ``seed`` is neither None nor an int.
-
     """
     push, push_time = walk.push, walk.push_time  # [N], [s]
     if seed is not None:
@@ -215,7 +213,6 @@ def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:
 
     Returns:
         The path written.
-
     """
     from ..experiments.plot_panels import save_figure
 

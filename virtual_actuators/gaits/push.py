@@ -35,7 +35,6 @@ class Push(NamedTuple):
 
         Raises:
             InvalidInputError: Not of that form, or not finite numbers with ``T >= 0``.
-
         """
         try:
             force, rest = str(text).split("@")
@@ -56,7 +55,6 @@ class Push(NamedTuple):
 
         Raises:
             InvalidInputError: Not finite numbers with ``T >= 0``, or a bad text.
-
         """
         if isinstance(value, str):
             return cls.parse(value)

@@ -39,7 +39,6 @@ class WalkRequest:
         parameters: The gait's parameters (a ``walk.parameters``), or None for the gait's.
         distribution: ``"partitioned"`` or ``"qp"`` as given, or None.
         options: The walk's own options (``walk.options``).
-
     """
 
     walk: Walk
@@ -81,7 +80,6 @@ class WalkRequest:
 
         Raises:
             InvalidInputError: What ``config`` raises (a bad option, speed or distribution).
-
         """
         distribution, parameters = self.distribution_and_parameters()
         built = config(
@@ -103,7 +101,6 @@ def run_registered(request: WalkRequest) -> Any:
     Raises:
         InvalidInputError: Parameters that are not a ``walk.parameters``; what the walk's
             ``run`` raises (a bad configuration, speed, terrain, seed or distribution).
-
     """
     walk, parameters = request.walk, request.parameters
     expected = walk.parameters

@@ -32,7 +32,6 @@ def find_walk(name: str) -> Walk:
 
     Raises:
         InvalidInputError: No such walk (with the closest names).
-
     """
     if name not in WALKS:
         raise InvalidInputError(f"Unknown walk {name!r}. {suggestion(name, WALKS, 'walks')}")
@@ -88,7 +87,6 @@ def run_walk(
         InvalidInputError: Unknown walk or option, bad duration, speed, terrain, seed,
             parameters or distribution; a speed outside the walk's supported range (naming
             it) without ``force_speed``.
-
     """
     walk = find_walk(name)
     duration = walk.duration if duration is None else float(duration)

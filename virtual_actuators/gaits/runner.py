@@ -50,7 +50,6 @@ class LoopEnd:
         time_step: Time between two ticks [s].
         run: What ``va.run`` counted ([`RunStats`][]: its failed ticks by reason, the
             attachments' failures), or None.
-
     """
 
     ticks: int = 0
@@ -99,7 +98,6 @@ class WalkResult:
         extra: Anything a caller attaches.
         loop: How the loop ended, with every tick's efforts and base rates (`LoopEnd`).
         smoothness: Its `loop_smoothness`.
-
     """
 
     log: WalkLog
@@ -166,7 +164,6 @@ def has_fallen(
         pitch: Body tilt [rad].
         nominal: Nominal hip height [m].
         feet: The geoms allowed to touch, `foot_geoms` (an episode's ``feet``).
-
     """
     if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
         return True
@@ -215,7 +212,6 @@ class Episode:
         feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
         base_rate: Where ``v`` holds the base's angular velocity (a free-flyer's ``v[3:6]``,
             body axes), or None.
-
     """
 
     stance_every = 1

@@ -25,7 +25,6 @@ def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:
         ``(limits, names)``: ``(nv,)`` the URDF's positive finite effort limits of the
         actuated joints [N m or N], ``inf`` elsewhere (the base, passive joints, joints
         without a limit); ``nv`` joint names, one per degree of freedom.
-
     """
     model, actuated = simulator.robot.model, set(simulator.mujoco_model.actuated)
     limits, names = urdf_effort_limits(simulator.robot), [""] * model.nv
@@ -43,7 +42,6 @@ def loop_smoothness(simulator: Simulator, end: LoopEnd) -> EffortSmoothness:
 
     Raises:
         InvalidInputError: Non-finite efforts or base rates in the record.
-
     """
     limits, names = motor_limits(simulator)
     until = end.ticks if end.fall_tick is None else end.fall_tick

@@ -66,7 +66,6 @@ def drive(
 
     Raises:
         InvalidInputError: An unknown ``gc_policy``.
-
     """
     check_gc_policy(gc_policy, "drive()")
     simulator = episode.simulator
@@ -105,7 +104,6 @@ class WalkTicks:
         ticks: Ticks run.
         fall_time: Simulated time of the first fallen tick [s], None if none.
         fall_tick: Index of the first fallen tick, None if none.
-
     """
 
     def __init__(

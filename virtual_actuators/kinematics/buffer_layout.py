@@ -24,7 +24,6 @@ class Kinematics(NamedTuple):
         velocities: ``(rows, 3)`` linear velocities of those frames' origins, or None without
             ``v``.
         rows: Frame id -> row of ``frames``.
-
     """
 
     joints: np.ndarray
@@ -45,7 +44,6 @@ class BufferLayout(NamedTuple):
         jacobian_shape: ``(6, nv)``.
         frames: Slice of the frame placements; the frames' velocities follow it (with ``v``).
         frames_shape: ``(rows, 12)``.
-
     """
 
     core_tree: object
@@ -83,7 +81,6 @@ def buffer_layout(core_tree: object, njoints: int, nv: int, nf: int) -> BufferLa
 
     Returns:
         Where the joints, the Jacobian and the frames lie in the pass's buffer.
-
     """
     at = njoints * 12
     jacobian_end = at + 6 * nv

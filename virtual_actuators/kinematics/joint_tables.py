@@ -42,7 +42,6 @@ class JointTables(NamedTuple):
         joint_floats: ``(njoints, 27)`` placement in the parent, axis and revolute terms.
         velocity_joint: ``(nv,)`` joint of each velocity index.
         velocity_subspace: ``(nv, 6)`` motion subspace columns.
-
     """
 
     joint_ints: np.ndarray
@@ -66,7 +65,6 @@ def read_joints(model: pin.Model) -> tuple[JointTables, list[str], list[tuple[in
         ``(tables, unsupported, unit_slices)``: the `JointTables`, the names of the joints the
         kernel does not handle (kind 0 in the tables), and the ``(start, stop)`` slices of ``q``
         of unit norm (free-flyer and spherical quaternions, continuous joints' (cos, sin)).
-
     """
     joint_ints = np.zeros((model.njoints, 3), dtype=np.int64)
     joint_floats = np.zeros((model.njoints, 27))

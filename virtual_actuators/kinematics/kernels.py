@@ -29,7 +29,6 @@ def revolute_terms(rotation: np.ndarray, axis: np.ndarray) -> np.ndarray:
     Args:
         rotation: ``(3, 3)`` rotation ``P`` of the joint's placement in its parent.
         axis: ``(3,)`` unit axis.
-
     """
     ax, ay, az = axis
     skew = np.array(((0.0, -az, ay), (az, 0.0, -ax), (-ay, ax, 0.0)))
@@ -67,7 +66,6 @@ def center_of_mass(
 
     Returns:
         The mass-weighted mean of the bodies' centres of mass in world axes.
-
     """
     rotations = joints[:, :9].reshape(-1, 3, 3)
     centres = np.einsum("jab,jb->ja", rotations, levers) + joints[:, 9:12]

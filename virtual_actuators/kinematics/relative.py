@@ -43,7 +43,6 @@ class KinematicState:
         position_a: ``(p, 3)`` positions of the reaction frames' origins in the world [m].
         rotation_a: ``(p, 3, 3)`` orientations of the reaction frames in the world.
         snapshot: The [`Snapshot`][] this was computed from.
-
     """
 
     jacobian_o: np.ndarray
@@ -69,7 +68,6 @@ class Sensed(NamedTuple):
         jacobian: ``(n, nv)`` twist of {B} relative to {A} at {B}'s origin, in {O}.
         position: ``(n,)`` pose of {B} relative to {A} on the selected axes.
         velocity: ``(n,)`` ``jacobian @ v``, or None when not asked for.
-
     """
 
     jacobian: np.ndarray
@@ -90,7 +88,6 @@ class RelativeKinematics:
         reaction_ids: Frame ids of the {A_i}.
         reference_id: Frame id of {O}.
         axes: Selected axes (an ordered subset of [`AXES`][]).
-
     """
 
     def __init__(
@@ -163,7 +160,6 @@ class RelativeKinematics:
 
         Raises:
             InvalidInputError: A snapshot of another robot, or a bad ``q`` or ``v``.
-
         """
         if isinstance(state, Snapshot):
             if state.tree is not self.tree:
@@ -192,7 +188,6 @@ class RelativeKinematics:
 
         Returns:
             The `KinematicState`.
-
         """
         snapshot = self.snapshot(state)
         jacobian_world = snapshot.jacobian_world
@@ -230,7 +225,6 @@ class RelativeKinematics:
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.
-
         """
         snapshot = self.snapshot(state)
         frames = snapshot.frame_table
@@ -250,7 +244,6 @@ class RelativeKinematics:
 
         Raises:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
-
         """
         snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
@@ -288,7 +281,6 @@ class RelativeKinematics:
 
         Returns:
             ``(p, n)`` array.
-
         """
         p = len(self.reaction_ids)
         if self.rows[-1] < 3:  # translations only: no rotation vector to compute

@@ -64,7 +64,6 @@ def relative_sensor(
         One buffer holding ``jacobian (n, nv)``, ``position (n,)`` and ``velocity (n,)`` (zero
         without ``v``), in that order: the position's translations are ``R_O^T (p_B - p_A)``,
         its rotations ``R_O^T R_A log(R_A^T R_B)``, on the selected axes.
-
     """
     b, o, a = (int(row) for row in rows)
     n, nv = axis_rows.shape[0], jacobian_world.shape[1]

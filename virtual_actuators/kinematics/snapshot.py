@@ -63,7 +63,6 @@ class Snapshot:
         >>> snapshot = va.Snapshot(robot, q, v)          # once per tick
         >>> reading = leg.read(snapshot)                 # sensors, actuators, events share it
         >>> solution = body.solve(snapshot, wrench)
-
     """
 
     __slots__ = (
@@ -239,7 +238,6 @@ class Snapshot:
 
         Raises:
             FrameNotFoundError: Unknown frame name or id.
-
         """
         return self._placement(self._frame_id(frame))
 
@@ -262,7 +260,6 @@ class Snapshot:
 
         Raises:
             FrameNotFoundError: Unknown frame.
-
         """
         row = self.named_row(frame)
         if row >= 0:  # a tabled frame by name: one row read (a tick's cost)
@@ -280,7 +277,6 @@ class Snapshot:
 
         Raises:
             FrameNotFoundError: Unknown frame.
-
         """
         return self._placement(self._frame_id(frame))[0].copy()
 
@@ -290,7 +286,6 @@ class Snapshot:
         Raises:
             FrameNotFoundError: Unknown frame.
             InvalidInputError: The snapshot was built without ``v``.
-
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
@@ -329,7 +324,6 @@ class Snapshot:
 
         Raises:
             InvalidInputError: The robot has no mass.
-
         """
         tree = self.tree
         if not tree.mass > 0.0:
@@ -352,7 +346,6 @@ class Snapshot:
 
         Raises:
             InvalidInputError: A bad ``q`` or ``v``.
-
         """
         snapshot = cls(robot, q, v)
         tree = snapshot.tree

@@ -46,7 +46,6 @@ class KinematicTree:
         masses: ``(njoints,)`` mass of each joint's body [kg] (Pinocchio's ``model.inertias``).
         levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
         mass: The robot's total mass [kg].
-
     """
 
     def __init__(self, model: pin.Model) -> None:
@@ -87,7 +86,6 @@ class KinematicTree:
 
         Raises:
             FrameNotFoundError: Unknown name (with the closest names).
-
         """
         frame_id = self._names.get(name)
         if frame_id is None:
@@ -173,7 +171,6 @@ class KinematicTree:
             ``(buffer, layout, rows)``: the core's buffer, where its parts lie
             (`BufferLayout`, made once per frame table) and the frame rows; None without
             the core.
-
         """
         rows = self._frames[0]  # before the tree: its frame table may have grown since
         core_tree = self.core_tree
@@ -205,7 +202,6 @@ class KinematicTree:
 
         Raises:
             InvalidInputError: Wrong shape, NaN or inf, or a quaternion far from unit norm.
-
         """
         if not (isinstance(q, np.ndarray) and q.dtype == np.float64):
             q = as_float_array(q, "Configuration q", f"an array of {self.nq} real numbers")
@@ -248,7 +244,6 @@ class KinematicTree:
 
         Raises:
             InvalidInputError: Wrong shape, NaN or inf.
-
         """
         if not (isinstance(v, np.ndarray) and v.dtype == np.float64):
             v = as_float_array(v, "Velocity v", f"an array of {self.nv} real numbers")
@@ -277,7 +272,6 @@ def tree_of(robot: object) -> KinematicTree:
 
     Raises:
         InvalidInputError: ``robot`` is not a [`Robot`][].
-
     """
     caches = getattr(robot, "caches", None)
     tree = caches.get("kinematic_tree") if isinstance(caches, dict) else None

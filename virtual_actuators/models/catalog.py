@@ -83,7 +83,6 @@ def list_robots(include_aliases: bool = False) -> list[str]:
         Sorted names: the generated ``millipede``, the robots of `robots_dir` and of the
         folders in ``VIRTUAL_ACTUATORS_ROBOTS``, and every example-robot-data URDF that can be
         loaded (its empty xacro stubs are left out); with ``include_aliases``, the aliases too.
-
     """
     names = {"millipede", *example_robot_data().robots}
     for folder in local_dirs():
@@ -100,7 +99,6 @@ def aliases() -> dict[str, str]:
         ``{alias: name}`` for the aliases of `ALIASES`
         whose URDF the installed example-robot-data ships and that no robot file or folder
         shadows (a local robot named ``talos`` is loaded instead of the alias).
-
     """
     index = example_robot_data()
     shadowing = {"millipede", *index.robots, *index.broken}
@@ -122,7 +120,6 @@ def suggest_robots(name: str) -> str:
     Returns:
         For instance ``"Closest robots: 'talos' (talos_reduced), 'tiago'."``, or, when nothing is
         close, ``"Known robots: ..."`` followed by how to list them all.
-
     """
     targets = aliases()
     names = list_robots()
@@ -153,7 +150,6 @@ def example_robot_data() -> _Index:
         The ``share`` folder that holds ``example-robot-data/robots`` (None when the package is
         missing), the loadable URDF files by robot name, and why each other name cannot be
         loaded.
-
     """
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
@@ -292,7 +288,6 @@ def as_path(name_or_path: object) -> Path | None:
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty.
         RobotNotFoundError: If it starts with ``~user`` and that user (or the home folder) is
             unknown.
-
     """
     if isinstance(name_or_path, os.PathLike):
         text = os.fspath(name_or_path)
@@ -339,7 +334,6 @@ def urdf_in_folder(folder: Path) -> Path:
     Raises:
         RobotNotFoundError: If the folder holds no URDF file, or several and none is named
             after the folder.
-
     """
     for candidate in (
         folder / f"{folder.name}.urdf",

@@ -27,7 +27,6 @@ def collada_arrays(path: str) -> tuple[np.ndarray, np.ndarray] | None:
     Returns:
         ``(vertices, triangles)``, or None for a file this reader does not cover (it is then
         sent as it is).
-
     """
     try:
         root = ElementTree.parse(path).getroot()

@@ -92,7 +92,6 @@ class RobotInfo:
         legs: Number of legs (from its kind, else from its feet), or None.
         feet: Its foot frames, one per leg where found.
         source: ``example-robot-data``, ``generated`` or the folder it comes from.
-
     """
 
     name: str
@@ -129,7 +128,6 @@ def find_feet(robot: Robot) -> tuple[str, ...]:
     Returns:
         Frame names in model order; per joint the frame farthest from it (the sole rather
         than the ankle), a link's frame preferred over a joint's at the same place.
-
     """
     model = robot.model
     best: dict[int, tuple[float, int, str]] = {}
@@ -158,7 +156,6 @@ def describe_robot(name: str) -> RobotInfo:
     Raises:
         RobotNotFoundError: No robot has this name.
         RobotDescriptionError: The robot cannot be loaded.
-
     """
     targets = aliases()
     stem = targets.get(name, name)
@@ -213,7 +210,6 @@ def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:
     Raises:
         RobotNotFoundError: A name is not known.
         RobotDescriptionError: A robot cannot be loaded.
-
     """
     return [describe_robot(name) for name in (list_robots() if names is None else names)]
 
@@ -226,7 +222,6 @@ def robot_table(infos: Iterable[RobotInfo]) -> str:
 
     Returns:
         One line per robot under a header, columns aligned.
-
     """
     rows = [("name", "aliases", "description")]
     rows += [(info.name, " ".join(info.aliases), info.description) for info in infos]

@@ -33,7 +33,6 @@ def effort_bound(robot: Robot) -> float:
     Returns:
         ``EFFORT_MARGIN * mass * 9.81 * extent`` (extent: the farthest frame origin from the
         root at [`Robot.neutral`][], at least 0.1 m).
-
     """
     model = robot.model
     data = model.createData()
@@ -51,7 +50,6 @@ def implausible_effort_limits(robot: Robot) -> dict[str, float]:
 
     Returns:
         ``{joint: declared limit}`` in the model's order (empty when all are plausible).
-
     """
     model = robot.model
     torque = effort_bound(robot)
@@ -79,7 +77,6 @@ def set_effort_limits(robot: Robot, limits: float | Mapping[str, float]) -> None
         JointNotFoundError: An unknown joint (with close matches) or one with several degrees
             of freedom.
         InvalidInputError: A limit that is not a number > 0.
-
     """
     model = robot.model
     names = list(model.names)[1:]

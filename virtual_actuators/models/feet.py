@@ -53,7 +53,6 @@ class Feet:
         body: The frame carried by the floating base (the action frame of a body actuator).
         feet: One frame per leg, in the model's order.
         source: ``"srdf"``, ``"names"`` or ``"structure"``: where the feet were found.
-
     """
 
     body: str
@@ -73,7 +72,6 @@ def find_feet(robot: Robot) -> Feet:
     Raises:
         FrameNotFoundError: The robot has fewer than two feet (an arm, a hand, a drone...): the
             message says what was looked for.
-
     """
     model = robot.model
     body = body_frame(model, bool(getattr(robot, "floating_base", False)))
@@ -182,7 +180,6 @@ def structural_feet(robot: Robot) -> list[str]:
 
     Returns:
         The feet in the model's joint order (fewer than two when the structure shows no legs).
-
     """
     model = robot.model
     colliding = collision_links(robot)

@@ -102,7 +102,6 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
             or Pinocchio cannot build a model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.
-
     """
     if floating_base is not None and not isinstance(floating_base, bool):
         raise InvalidInputError(
@@ -179,7 +178,6 @@ def _load_urdf(
         RobotDescriptionError: If the file cannot be read, is not well-formed XML, describes an
             impossible robot (the message names each offending link or joint), fails the
             structural checks, or Pinocchio cannot build a model from it.
-
     """
     path = path.resolve()
     try:
@@ -276,7 +274,6 @@ def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
 
     Returns:
         True for a floating base, False for a fixed one.
-
     """
     links = [link.get("name", "") for link in root.iter("link")]
     joints = root.findall("joint")

@@ -250,7 +250,6 @@ def millipede_urdf(
     Raises:
         InvalidInputError: If ``legs`` is not an integer from 1 to `MAX_LEGS` or a
             dimension, mass or limit is not a finite positive number.
-
     """
     legs = _check_legs(legs)
     _check_positive(
@@ -325,7 +324,6 @@ def millipede(
             ``knee_angle`` is not in ``(0, pi/2)``, ``floating_base`` is not a bool, or a
             dimension is not a finite positive number.
         TypeError: If an unknown keyword is passed in ``dimensions``.
-
     """
     legs = _check_legs(legs)
     if not isinstance(floating_base, bool):

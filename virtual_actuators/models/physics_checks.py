@@ -161,7 +161,6 @@ def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], 
     Returns:
         The problems that forbid loading, and those tolerated (empty when ``strict``: they are
         in the first list then).
-
     """
     problems: list[str] = []
     tolerated: list[str] = []

@@ -33,7 +33,6 @@ class Robot:
             ``passive_joint`` entries, e.g. the boom of a planar biped); empty by default.
         caches: What the library computes once per robot and keeps (its kinematic tree);
             not an argument, not compared, not shown.
-
     """
 
     name: str
@@ -53,7 +52,6 @@ class Robot:
 
         Returns:
             A copy of the configuration, shape ``(model.nq,)``.
-
         """
         if self.default_pose is not None:
             return self.reference_configurations[self.default_pose].copy()
@@ -80,7 +78,6 @@ class Robot:
         Raises:
             InvalidInputError: ``q`` is not ``model.nq`` finite numbers, or the robot has no
                 mass.
-
         """
         model = self.model
         configuration = as_float_array(q, "center_of_mass: q", f"{model.nq} numbers")
@@ -114,7 +111,6 @@ class Robot:
             JointNotFoundError: An unknown joint name (with close matches), or a joint with
                 more than one degree of freedom (the free-flyer: use ``base``).
             InvalidInputError: A value that is not a finite real number, or a bad ``base``.
-
         """
         model = self.model
         q = self.neutral()

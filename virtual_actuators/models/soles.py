@@ -37,7 +37,6 @@ class Sole:
         lower: ``(x, y)`` of the footprint's back right corner.
         upper: ``(x, y)`` of its front left corner.
         height: The sole's z in the frame (0 when the frame lies on the sole).
-
     """
 
     half_length: float
@@ -66,7 +65,6 @@ def find_sole(robot: Robot, foot: str) -> Sole:
         FrameNotFoundError: No such frame (with close matches), or its link has no collision
             geometry.
         RobotDescriptionError: Pinocchio cannot read the geometry.
-
     """
     model = robot.model
     if not isinstance(foot, str) or not model.existFrame(foot):
@@ -106,7 +104,6 @@ def _geometry(robot: Robot) -> pin.GeometryModel:
 
     Raises:
         RobotDescriptionError: Pinocchio cannot read it.
-
     """
     geometry = robot.caches.get("collision_geometry")
     if geometry is None:

@@ -58,7 +58,6 @@ def standing_pose(
         InvalidInputError: A fixed-base robot, or ``height_ratio`` out of range.
         FrameNotFoundError: No feet found (or a name in ``feet`` that is not a frame).
         SingularConfigurationError: A leg that cannot reach its target (the message names it).
-
     """
     if not robot.floating_base:
         raise InvalidInputError(f"standing_pose: robot {robot.name!r} has a fixed base.")
@@ -91,7 +90,6 @@ def _frame_id(robot: Robot, frame: str) -> int:
 
     Raises:
         FrameNotFoundError: No such frame (with close matches).
-
     """
     if not robot.model.existFrame(frame):
         raise FrameNotFoundError(
@@ -128,7 +126,6 @@ def _fold_leg(robot: Robot, q: np.ndarray, foot: int, ratio: float, shift: np.nd
 
     Raises:
         SingularConfigurationError: The leg has no joints or misses its target.
-
     """
     model = robot.model
     name = model.frames[foot].name

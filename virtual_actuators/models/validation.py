@@ -34,7 +34,6 @@ def parse_xml(path: Path, text: str) -> ET.Element:
     Raises:
         RobotDescriptionError: If the text is not well-formed XML (the message gives the line
             and column) or its root element is not ``<robot>``.
-
     """
     try:
         root = ET.fromstring(text)
@@ -65,7 +64,6 @@ def validate_urdf(path: Path, text: str) -> ET.Element:
     Raises:
         RobotDescriptionError: If the file is not well-formed XML or not a valid URDF; the message
             names the file and lists what is wrong.
-
     """
     root = parse_xml(path, text)
     problems = _element_problems(root)

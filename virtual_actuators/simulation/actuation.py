@@ -40,7 +40,6 @@ def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool
     Returns:
         The writer; None without the compiled core or when some motor drives no single joint
         (the general path then runs).
-
     """
     maps = gathers(mm)
     if not has("efforts_to_ctrl") or maps.direct_ctrl is None:
@@ -76,7 +75,6 @@ def torques_to_ctrl(
         InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or (unless
             ``ignore_unactuated``) asks for more than 1e-9 on a degree of freedom that no
             actuator drives (the message names the joint).
-
     """
     tau = finite_vector(tau, mm.robot.model.nv, "tau")
     maps = gathers(mm)
@@ -116,7 +114,6 @@ def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
 
     Raises:
         InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
-
     """
     ctrl = finite_vector(ctrl, mm.model.nu, "ctrl")
     tau = np.zeros(mm.robot.model.nv)

@@ -52,7 +52,6 @@ class ContactParameters:
         cone: Friction cone, ``"pyramidal"`` (MuJoCo's default) or ``"elliptic"``.
         self_collisions: Whether robot geoms collide with each other (bodies joined by a joint
             never do).
-
     """
 
     friction: float = 1.0
@@ -90,7 +89,6 @@ def set_contact(
         contact: Friction, softness and margin of every contact.
         contype: MuJoCo ``contype`` bits of the geom.
         conaffinity: MuJoCo ``conaffinity`` bits of the geom.
-
     """
     geom.contype = contype
     geom.conaffinity = conaffinity

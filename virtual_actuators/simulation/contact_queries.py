@@ -131,7 +131,6 @@ class ContactQueries:
             ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when
             the robot geom is the contact's second geom (MuJoCo's contact force acts on the
             second geom along the normal), -1 otherwise.
-
         """
         return self._terrain_contacts()
 
@@ -194,7 +193,6 @@ class ContactQueries:
 
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
-
         """
         data = self.data
         if isinstance(frame, str) and self._contacts_time == (data.time, data.ncon):  # cached
@@ -218,7 +216,6 @@ class ContactQueries:
 
         Raises:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
-
         """
         if frames.__class__ is tuple and not frames:  # no switch asked (the turkey has none)
             return {}
@@ -259,7 +256,6 @@ class ContactQueries:
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names), or
                 neither the frame nor its link has geometry.
-
         """
         self._geoms_for_forces(frame)
         total = np.zeros(3)
@@ -284,7 +280,6 @@ class ContactQueries:
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names), or
                 neither a frame nor its link has geometry.
-
         """
         key = tuple(frames)
         try:
@@ -323,7 +318,6 @@ class ContactQueries:
             Per robot-terrain contact (not excluded) on a grouped geom, in MuJoCo's contact
             order: ``[group, normal, tangential 1, tangential 2]`` [N] (``mj_contactForce``;
             the group as a float).
-
         """
         view = self._contact_view
         if view is not None:
@@ -350,7 +344,6 @@ class ContactQueries:
 
         Returns:
             True if a robot geom whose flag is 0 is in a (not excluded) terrain contact.
-
         """
         view = self._contact_view
         if view is not None:
@@ -366,7 +359,6 @@ class ContactQueries:
 
         Returns:
             Frame names (a geom counts for its parent frame and every frame that owns it).
-
         """
         return set(self.touching_frames())
 
@@ -375,7 +367,6 @@ class ContactQueries:
 
         Returns:
             Frame names (a geom counts for its parent frame and every frame that owns it).
-
         """
         self._terrain_contacts()
         touching = self._touching

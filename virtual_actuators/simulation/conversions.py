@@ -121,7 +121,6 @@ def gathers(mm: MujocoModel) -> Gathers:
 
     Returns:
         Its `Gathers`.
-
     """
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
@@ -182,7 +181,6 @@ def finite_vector(value: object, size: int, what: str) -> np.ndarray:
 
     Raises:
         InvalidInputError: If ``value`` is not ``size`` finite numbers.
-
     """
     if (
         isinstance(value, np.ndarray)
@@ -257,7 +255,6 @@ def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
 
     Raises:
         InvalidInputError: If ``q`` has the wrong size or non-finite entries.
-
     """
     q = finite_vector(q, mm.robot.model.nq, "q")
     qpos = np.array(mm.model.qpos0, dtype=float)
@@ -292,7 +289,6 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
 
     Raises:
         InvalidInputError: If ``qpos`` has the wrong size or non-finite entries.
-
     """
     qpos = finite_vector(qpos, mm.model.nq, "qpos")
     maps = gathers(mm)
@@ -336,7 +332,6 @@ def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndar
 
     Raises:
         InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
-
     """
     q = finite_vector(q, mm.robot.model.nq, "q")
     v = finite_vector(v, mm.robot.model.nv, "v")
@@ -365,7 +360,6 @@ def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) ->
 
     Raises:
         InvalidInputError: If ``qpos`` or ``qvel`` has the wrong size or non-finite entries.
-
     """
     qpos = finite_vector(qpos, mm.model.nq, "qpos")
     return state_velocity(mm, qpos, finite_vector(qvel, mm.model.nv, "qvel"))

@@ -77,7 +77,6 @@ def _geometry_model(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
 
     Raises:
         RobotDescriptionError: If Pinocchio cannot read it (a missing mesh, say).
-
     """
     model = robot.model
     dirs = list(robot.package_dirs)
@@ -113,7 +112,6 @@ class Added(NamedTuple):
         skipped: Geometries left out (a shape with no MuJoCo counterpart nor bounding box).
         approximated: Meshes neither MuJoCo nor the Collada reader reads, simulated as the
             box bounding their vertices.
-
     """
 
     owners: dict[str, tuple[str, ...]]
@@ -199,7 +197,6 @@ def add_geometry(
 
     Raises:
         RobotDescriptionError: If Pinocchio cannot read the robot's geometry.
-
     """
     added = Added({}, [], [])
     if collisions == "none":

@@ -37,7 +37,6 @@ class MujocoHardware:
         >>> hardware = MujocoHardware(Simulator(robot))
         >>> va.run(controller, hardware.read_state, hardware.write_effort, rate_hz=1000,
         ...        realtime=False, should_stop=lambda: hardware.simulator.time > 5.0)
-
     """
 
     def __init__(self, simulator: Simulator, *, ignore_unactuated: bool = True) -> None:
@@ -58,7 +57,6 @@ class MujocoHardware:
         Raises:
             InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
                 on an unactuated degree of freedom without ``ignore_unactuated``.
-
         """
         start = wallclock.perf_counter()
         self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
@@ -71,7 +69,6 @@ class MujocoHardware:
         Raises:
             InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
                 on an unactuated degree of freedom without ``ignore_unactuated``.
-
         """
         simulator = self.simulator
         ctrl = torques_to_ctrl(

@@ -46,7 +46,6 @@ def joint_kind(model: pin.Model, j: int) -> str:
 
     Raises:
         RobotDescriptionError: For a joint type MuJoCo has no single joint for.
-
     """
     joint = model.joints[j]
     short = joint.shortname()

@@ -102,7 +102,6 @@ class JointMap:
         actuator: MuJoCo actuator id, or None for an unactuated joint.
         placement: Pinocchio joint placement in its parent joint (used for a free-flyer, whose
             MuJoCo ``qpos`` is the body pose in the world).
-
     """
 
     name: str
@@ -145,7 +144,6 @@ class MujocoModel:
             meshes that ``collisions="primitives"`` leaves out on purpose).
         approximated_geometries: Names of the meshes simulated as their bounding boxes (a
             format neither MuJoCo nor the Collada reader reads).
-
     """
 
     robot: Robot
@@ -168,7 +166,6 @@ class MujocoModel:
 
         Raises:
             JointNotFoundError: If the robot has no such joint (with the closest names).
-
         """
         for entry in self.joints:
             if entry.name == name:
@@ -183,7 +180,6 @@ class MujocoModel:
 
         Raises:
             FrameNotFoundError: If it does not (with the closest frame names).
-
         """
         if not isinstance(frame, str):
             raise FrameNotFoundError(
@@ -201,7 +197,6 @@ class MujocoModel:
 
         Raises:
             FrameNotFoundError: If the robot has no such frame.
-
         """
         self.check_frame(frame)
         return int(self.model.site_bodyid[self.frame_sites[frame]])
@@ -247,7 +242,6 @@ def build_mujoco_model(
         JointNotFoundError: If ``actuated`` names a joint the robot does not have.
         InvalidInputError: If ``actuated`` names a joint with more or fewer than one degree of
             freedom, or ``timestep`` or ``collisions`` is invalid.
-
     """
     terrain = _checked_options(timestep, collisions, terrain)
     contact = ContactParameters() if contact is None else contact
@@ -301,7 +295,6 @@ def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) 
     Raises:
         InvalidInputError: If ``timestep`` is not a positive number, ``collisions`` not one of
             `COLLISION_CHOICES` or ``terrain`` not a [`Terrain`][].
-
     """
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
         raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")

@@ -45,7 +45,6 @@ def _substeps(control_rate: float, timestep: float) -> int:
     Raises:
         InvalidInputError: If ``control_rate`` or ``timestep`` is not a positive number, or the
             control period is not a whole number of time steps.
-
     """
     if not (
         isinstance(control_rate, (int, float))
@@ -102,7 +101,6 @@ class Simulator(ContactQueries):
         >>> sim.step(np.zeros(sim.robot.model.nv))  # one control period, no torque
         >>> sim.in_contact("left_foot"), round(sim.time, 6)
         (True, 0.001)
-
     """
 
     def __init__(
@@ -136,7 +134,6 @@ class Simulator(ContactQueries):
                 number of time steps, or an argument of ``build_mujoco_model`` is invalid.
             RobotDescriptionError: If the robot cannot be turned into a MuJoCo model.
             JointNotFoundError: If ``actuated`` names an unknown joint.
-
         """
         substeps = _substeps(control_rate, timestep)
         self.mujoco_model: MujocoModel = build_mujoco_model(
@@ -199,7 +196,6 @@ class Simulator(ContactQueries):
 
         Raises:
             InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
-
         """
         pin_model = self.robot.model
         if q is None:
@@ -233,7 +229,6 @@ class Simulator(ContactQueries):
         Raises:
             InvalidInputError: A fixed-base robot, a robot without collision geometry, or a bad
                 ``q``.
-
         """
         if not self.robot.floating_base or not self.mujoco_model.geom_frames:
             raise InvalidInputError(
@@ -264,7 +259,6 @@ class Simulator(ContactQueries):
         Raises:
             InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or asks for
                 an effort on an unactuated degree of freedom (the message names the joint).
-
         """
         write = self._write_ctrl
         if write is None or not write(tau, ignore_unactuated):  # the general path says why
@@ -293,7 +287,6 @@ class Simulator(ContactQueries):
             FrameNotFoundError: If the robot has no such frame (with the closest names).
             InvalidInputError: If the force is not 3 finite numbers, ``duration`` is not
                 positive, or the frame is fixed to the world.
-
         """
         mm = self.mujoco_model
         body = mm.frame_body(frame)

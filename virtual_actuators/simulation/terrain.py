@@ -70,7 +70,6 @@ class Terrain:
         name: A label (the built-in name, ``"flat"``, or ``"custom"``).
         width: Width of the terrain along world y in MuJoCo [m], centred on ``y = 0`` (a flat
             terrain is an infinite plane and ignores it).
-
     """
 
     def __init__(
@@ -90,7 +89,6 @@ class Terrain:
         Raises:
             InvalidInputError: If the points are not an ``(n, 2)`` array of finite numbers with
                 ``n >= 1`` and strictly increasing ``x``, or ``width`` is not positive.
-
         """
         try:
             array = np.array(points, dtype=float)
@@ -143,7 +141,6 @@ class Terrain:
 
         Raises:
             InvalidInputError: If ``height`` is not a finite number.
-
         """
         return cls([(0.0, height)], name="flat", width=width)
 
@@ -163,7 +160,6 @@ class Terrain:
         Raises:
             InvalidInputError: If the points are empty, not pairs of finite numbers, or their
                 ``x`` does not strictly increase (the message names the offending point).
-
         """
         return cls(points, name="custom", width=width)
 
@@ -181,7 +177,6 @@ class Terrain:
         Raises:
             InvalidInputError: If ``name`` is not a built-in profile (the message lists the
                 closest names).
-
         """
         if name == "flat":
             return cls.flat(width=width)
@@ -213,7 +208,6 @@ class Terrain:
         Raises:
             InvalidInputError: If the text is none of these forms; the message quotes the bad
                 token and lists what is valid.
-
         """
         if not isinstance(spec, str):
             raise InvalidInputError(f"A terrain spec must be a string, got {type(spec).__name__}.")
@@ -253,7 +247,6 @@ class Terrain:
 
         Returns:
             Height(s) [m]: a float for a number, an array of the shape of ``x`` otherwise.
-
         """
         if isinstance(x, float):  # one number (np.float64 too): no array round trip
             return _interp(float(x), self._xs, self._zs)
@@ -272,7 +265,6 @@ class Terrain:
 
         Returns:
             Angle(s) [rad]: a float for a number, an array of the shape of ``x`` otherwise.
-
         """
         xs = self._points[:, 0]
         positions = np.asarray(x, dtype=float)
@@ -290,7 +282,6 @@ class Terrain:
 
         Returns:
             Segments ``((x0, z0), (x1, z1))`` from left to right.
-
         """
         xs, zs = self._points[:, 0], self._points[:, 1]
         out = [((float(xs[0] - run), float(zs[0])), (float(xs[0]), float(zs[0])))]

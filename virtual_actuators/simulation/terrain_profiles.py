@@ -106,7 +106,6 @@ def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float,
 
     Returns:
         The points ``(x, z)`` [m].
-
     """
     points = [(0.0, 0.0), (LEVEL_START, 0.0)]
     x, z = LEVEL_START, 0.0
@@ -129,7 +128,6 @@ def flat_height(text: str, spec: str) -> float:
 
     Raises:
         InvalidInputError: If ``HEIGHT`` is not a finite number.
-
     """
     height = text.removeprefix("flat:").strip()
     try:
@@ -158,7 +156,6 @@ def parse_points(text: str, spec: str) -> list[list[float]]:
     Raises:
         InvalidInputError: If a token is not two finite numbers ``x:z`` (the message quotes
             it, and suggests a built-in name for a word).
-
     """
     points = []
     for token in text.split(","):

@@ -59,7 +59,6 @@ class Part:
         color: ``0xRRGGBB``.
         opacity: In ``[0, 1]``.
         source: The Pinocchio geometry object behind a URDF visual, or None.
-
     """
 
     name: str
@@ -120,7 +119,6 @@ def visual_model(robot: Robot) -> pin.GeometryModel | None:
 
     Raises:
         RobotDescriptionError: Pinocchio cannot build the visual model (a missing mesh...).
-
     """
     model = robot.model
     try:
@@ -152,7 +150,6 @@ def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = Non
         geometry_model: The visual geometry.
         meshes: Decimates the mesh files loaded by Pinocchio (None: the files are sent as
             they are).
-
     """
     parts = []
     for geometry_object in geometry_model.geometryObjects:
@@ -212,7 +209,6 @@ def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bo
 
     Returns:
         The parts.
-
     """
     link_radius = min(0.03, max(0.003, 0.07 * detail))
     joint_radius = 1.6 * link_radius
@@ -307,7 +303,6 @@ class RobotBodies:
         InvalidInputError: Unknown ``geometry``.
         RobotDescriptionError: ``geometry="urdf"`` and the robot has no visual geometry, or
             Pinocchio cannot load it.
-
     """
 
     def __init__(self, robot: Robot, geometry: str = "auto", detail: float = 0.2) -> None:

@@ -50,7 +50,6 @@ def screenshot(
 
     Raises:
         VirtualActuatorError: Chromium is not installed, or it failed (its output attached).
-
     """
     chromium = find_chromium()
     if chromium is None:

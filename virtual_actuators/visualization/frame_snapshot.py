@@ -26,7 +26,6 @@ def reactions_of(actuator: Actuator) -> tuple[str, ...]:
 
     Raises:
         InvalidInputError: The actuator has neither.
-
     """
     reactions = getattr(actuator, "reactions", None)
     if reactions is None:
@@ -55,7 +54,6 @@ class FrameSnapshot:
         state: Name of the gait's state, or None.
         support: Support frames to highlight (the state's first), without repeats.
         time: Time of the frame for recordings [s], or None.
-
     """
 
     q: np.ndarray
@@ -107,7 +105,6 @@ class FrameSnapshot:
                 actuator or of another actuator, an actuator without action, reference and
                 axes, an output without its controller or naming unknown attachments, a state
                 that is neither a State nor a name.
-
         """
         q = check_q(q, nq, robot_name)
         if solution is not None or actuator is not None:
@@ -179,7 +176,6 @@ def check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
 
     Raises:
         InvalidInputError: ``q`` is not numbers, has another shape, or NaN or inf entries.
-
     """
     try:
         q = np.asarray(q, dtype=float)
@@ -199,7 +195,6 @@ def _check_request(
 
     Raises:
         InvalidInputError: See `FrameSnapshot.build`.
-
     """
     for attribute in ("action", "reference", "axes"):
         if not hasattr(actuator, attribute):
@@ -233,7 +228,6 @@ def _check_output(controller: Controller, output: ControlOutput) -> None:
 
     Raises:
         InvalidInputError: ``controller`` has no attachments, or ``output`` names one it lacks.
-
     """
     attachments = getattr(controller, "attachments", None)
     if attachments is None:

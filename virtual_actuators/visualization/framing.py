@@ -35,7 +35,6 @@ class RunBounds:
     Attributes:
         low: Smallest ``x y z`` of a visible node's origin over the frames (None: no frame).
         high: Largest ``x y z``.
-
     """
 
     def __init__(self) -> None:
@@ -67,7 +66,6 @@ def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
         scene: The scene.
         under: Only the nodes whose names start so (the text beside the robot, the ground
             grid and the terrain extend far beyond the run: `FRAMED` leaves them out).
-
     """
     matrices, visible = scene.matrices, scene.visible
     root = matrices.get("", np.eye(4))
@@ -114,7 +112,6 @@ def framing_commands(bounds: RunBounds, view: np.ndarray, margin: float) -> list
     Returns:
         ``SetTransform`` of ``/meshcat`` (the parent of the scene's node) and ``SetProperty``
         of the camera's position (none for an empty box).
-
     """
     if bounds.low is None or bounds.high is None:
         return []

@@ -36,7 +36,6 @@ class Palette:
         effort_limit: The gauge's shell (the effort limit).
         saturated: Shell of a saturated joint.
         support: Support feet.
-
     """
 
     requested_force: int = 0x1E88E5  # blue
@@ -86,7 +85,6 @@ def legend_entries(
         effort_reference: Effort shown as a full gauge at joints without a limit [N m or N].
         drawn: Keys of what was drawn: `Palette` field names, ``"no_limit"`` (a gauge
             at a joint without an effort limit) and ``"frames"`` (triads). None: every entry.
-
     """
     p = palette
     entries = [

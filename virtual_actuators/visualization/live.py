@@ -41,7 +41,6 @@ class LiveWindow(SceneWindow):
     Raises:
         VirtualActuatorError: No server answers at ``zmq_url``, or the server or the relay
             cannot start.
-
     """
 
     live = True
@@ -166,7 +165,6 @@ class LiveWindow(SceneWindow):
 
         Returns:
             Whether everything was answered in time.
-
         """
         self.commit()
         deadline = None if timeout is None else time.monotonic() + timeout

@@ -31,7 +31,6 @@ def mesh_arrays(geometry: object, scale: np.ndarray) -> tuple[np.ndarray, np.nda
         geometry: A coal geometry (``BVHModel*``: vertices already scaled by ``scale``).
         scale: The URDF's ``scale`` of the mesh: a mirroring scale (negative product) turns the
             triangles inside out, so their winding is reversed back.
-
     """
     if not (hasattr(geometry, "num_vertices") and hasattr(geometry, "tri_indices")):
         return None
@@ -60,7 +59,6 @@ def decimate(
 
     Returns:
         ``(vertices, triangles)`` of the decimated mesh.
-
     """
     if tolerance <= 0:
         return vertices, triangles
@@ -101,7 +99,6 @@ class TriangleMesh(Geometry):
     Args:
         vertices: ``(n, 3)`` [m].
         triangles: ``(m, 3)`` indices into ``vertices``.
-
     """
 
     def __init__(self, vertices: np.ndarray, triangles: np.ndarray) -> None:
@@ -132,7 +129,6 @@ class MeshCache:
 
     Args:
         tolerance: Side of the decimation's grid cells [m] (0: no decimation).
-
     """
 
     def __init__(self, tolerance: float) -> None:

@@ -31,7 +31,6 @@ class FramePacer:
         recording: The running recording, or None.
         last_recording: The last recording stopped, or None.
         bounds: Box of everything shown in the frames of the (last) recording.
-
     """
 
     def __init__(self, window: SceneWindow, scene: Scene, rate_hz: float) -> None:
@@ -53,7 +52,6 @@ class FramePacer:
 
         Returns:
             ``(live, record)``.
-
         """
         live = (
             self.window.live
@@ -73,7 +71,6 @@ class FramePacer:
             live: Send it (the changes since the last update).
             record: Record it (if recording).
             time: Time of the frame [s] (None: one frame after the last at the recording's fps).
-
         """
         if live:
             self.scene.sync()
@@ -86,7 +83,6 @@ class FramePacer:
 
         Raises:
             InvalidInputError: ``fps`` is not a positive number.
-
         """
         self.recording = AnimationRecording(fps)
         self.bounds = RunBounds()
@@ -120,7 +116,6 @@ class FramePacer:
 
         Returns:
             The page.
-
         """
         self.scene.sync()
         recording = self.recording or self.last_recording

@@ -24,7 +24,6 @@ def page(blobs: list[bytes], title: str = "MeshCat", overlay: str = "") -> str:
 
     Returns:
         The page.
-
     """
     bundle = _viewer_bundle().replace("</script", "<\\/script")
     commands = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in blobs)

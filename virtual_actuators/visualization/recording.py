@@ -43,7 +43,6 @@ def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Returns:
         ``(p (3,), quaternion (4,), s (3,))``.
-
     """
     linear = matrix[:3, :3]
     scale = np.linalg.norm(linear, axis=0)
@@ -65,7 +64,6 @@ class AnimationCommand:
         animations: ``[{"path": ..., "clip": {...}}]`` in MeshCat's format.
         play: Start playing when the page loads.
         repetitions: How many times to play.
-
     """
 
     def __init__(self, animations: list[dict], play: bool = True, repetitions: int = 1) -> None:
@@ -95,7 +93,6 @@ class AnimationRecording:
 
     Raises:
         InvalidInputError: ``fps`` is not a positive number.
-
     """
 
     def __init__(self, fps: float = 30.0) -> None:
@@ -129,7 +126,6 @@ class AnimationRecording:
 
         Raises:
             InvalidInputError: ``time`` is not after the previous frame's.
-
         """
         time = float(time)
         if self.times and not time > self.times[-1]:
@@ -175,7 +171,6 @@ class AnimationRecording:
 
         Returns:
             The command (one clip per node).
-
         """
         start = self.times[0] if self.times else 0.0
         frame_times = (np.array(self.times) - start) * self.fps  # in frames, as MeshCat counts

@@ -140,7 +140,6 @@ def terrain_segments(
 
     Raises:
         InvalidInputError: The points are not an ``(n, 2)`` finite array.
-
     """
     if hasattr(terrain, "segments"):
         return terrain.segments(run)

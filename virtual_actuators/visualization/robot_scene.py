@@ -79,7 +79,6 @@ class RobotScene:
         effort_joints: An `EffortJoint` per actuated 1-dof joint.
         drawn: Keys of what has been drawn so far (`Palette` field names,
             ``"no_limit"``, ``"frames"``): the legend lists these (see `mark`).
-
     """
 
     def __init__(
@@ -175,7 +174,6 @@ class RobotScene:
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
-
         """
         if width is None:
             width = float(getattr(terrain, "width", 1.0))
@@ -215,7 +213,6 @@ class RobotScene:
 
         Args:
             keys: `Palette` field names, ``"no_limit"`` or ``"frames"``.
-
         """
         self.drawn.update(keys)
 
@@ -224,7 +221,6 @@ class RobotScene:
 
         Raises:
             FrameNotFoundError: The robot has no such frame (``role`` names it in the message).
-
         """
         key = (name, role)
         frame_id = self._frame_ids.get(key)
@@ -294,7 +290,6 @@ class RobotScene:
 
         Returns:
             Whether the force and the moment arrows were drawn (not zero).
-
         """
         force, moment = self.split(axes, values)
         scaled_force = rotation @ force * self.force_scale
@@ -309,7 +304,6 @@ class RobotScene:
 
         Raises:
             FrameNotFoundError: The robot has no such frame.
-
         """
         frame_id = self.frame(frame, role)
         name = f"frames/{role}/{safe(frame)}"
@@ -353,7 +347,6 @@ class RobotScene:
             name: The node.
             make: Gives ``(geometry, material)``; called once, when the object is created.
             position: Its centre in the world [m].
-
         """
         nodes = self.nodes
         if not nodes.has(name):

@@ -25,7 +25,6 @@ class Scene:
     Attributes:
         matrices: Current world matrix of each placed node.
         visible: Current visibility of each dynamic node.
-
     """
 
     def __init__(self, vis: object, prefix: str) -> None:
@@ -109,7 +108,6 @@ class Scene:
 
         Returns:
             The number of commands sent.
-
         """
         sent = 0
         window = self.vis.window

@@ -34,7 +34,6 @@ def rotation_y_to(direction: Sequence[float] | np.ndarray) -> np.ndarray:
 
     Raises:
         ValueError: If ``direction`` is zero or not finite.
-
     """
     d = np.asarray(direction, dtype=float)
     norm = math.sqrt(float(d @ d))
@@ -64,7 +63,6 @@ def span_matrix(start: np.ndarray, end: np.ndarray, rotation: np.ndarray | None 
     Returns:
         ``(4, 4)`` matrix ``[R diag(1, L, 1) | (start + end) / 2]``, or None when the two points
         are closer than `MIN_LENGTH`.
-
     """
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     delta = end - start
@@ -99,7 +97,6 @@ def arrow_matrices(
     Returns:
         ``[shaft, head, (second head)]`` ``(4, 4)`` matrices, or None for a vector shorter than
         `MIN_LENGTH`.
-
     """
     origin, vector = np.asarray(origin, dtype=float), np.asarray(vector, dtype=float)
     length = math.sqrt(float(vector @ vector))
@@ -135,7 +132,6 @@ def arrow_tip(shaft: np.ndarray, head: np.ndarray, head_length: float) -> np.nda
 
     Returns:
         The tip position [m].
-
     """
     axis = head[:3, 1]  # rotation column times the head's uniform scale
     return head[:3, 3] + axis * head_length / 2.0
@@ -187,7 +183,6 @@ def terrain_boxes(
 
     Returns:
         ``(lengths (3,), placement (4, 4))`` per segment, for a unit-free ``Box(lengths)``.
-
     """
     out = []
     for (x0, z0), (x1, z1) in segments:

@@ -46,7 +46,6 @@ class Cone(mg.Geometry):
         height: Length along y [m].
         radius: Radius of the base [m].
         radial_segments: Facets around the axis.
-
     """
 
     def __init__(self, height: float, radius: float, radial_segments: int = 24) -> None:
@@ -79,7 +78,6 @@ class Plane(mg.Geometry):
     Args:
         width: Size along x [m].
         height: Size along y [m].
-
     """
 
     def __init__(self, width: float, height: float) -> None:
@@ -111,7 +109,6 @@ class TextTexture(mg.Texture):
         text: The line of text.
         font_size: Font size in canvas pixels (the canvas is 256 pixels wide).
         font_face: CSS font family.
-
     """
 
     def __init__(self, text: str, font_size: int = 28, font_face: str = "sans-serif") -> None:
@@ -138,7 +135,6 @@ class Placed(mg.Geometry):
     Args:
         geometry: The geometry.
         matrix: ``(4, 4)`` placement of the geometry in its node's frame.
-
     """
 
     def __init__(self, geometry: mg.Geometry, matrix: np.ndarray) -> None:
@@ -171,7 +167,6 @@ def text_faces(text: str, size: float, font_size: int = 28) -> list[tuple[str, m
 
     Returns:
         ``(name, mesh)`` for the front and the back plane.
-
     """
     texture = TextTexture(text, font_size=font_size)
     front_side = 0  # three.js FrontSide
@@ -191,7 +186,6 @@ def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
 
     Returns:
         ``(axis name, placed geometry, colour)`` for each axis.
-
     """
     parts = []
     for index, (axis, color) in enumerate(zip("xyz", (0xE53935, 0x2E9E3E, 0x1E5BD8), strict=True)):
@@ -212,7 +206,6 @@ def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.Tri
 
     Returns:
         A triangle mesh (a tube swept along the helix, straight leads at both ends).
-
     """
     samples = turns * 16
     lead = 0.08

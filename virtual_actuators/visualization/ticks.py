@@ -22,7 +22,6 @@ class Simulation(Protocol):
     Attributes:
         time: Simulated time [s].
         q: Configuration.
-
     """
 
     time: float
@@ -35,7 +34,6 @@ class Gait(Protocol):
     Attributes:
         controller: The gait's controller.
         last: Its output of the last tick, or None before the first.
-
     """
 
     controller: Controller
@@ -73,7 +71,6 @@ class TickUpdater:
         viewer: The viewer.
         realtime: Sleep so that simulated time does not run ahead of wall-clock time.
         terrain: Draw the simulator's terrain at the first tick.
-
     """
 
     def __init__(self, viewer: PacedView, realtime: bool = False, terrain: bool = True) -> None:
@@ -90,7 +87,6 @@ class TickUpdater:
         Raises:
             InvalidInputError: The simulator's ``q`` or the gait's output does not fit.
             FrameNotFoundError: A frame the gait names is not in the viewer's robot.
-
         """
         viewer = self.viewer
         sim_time = simulator.time

@@ -43,7 +43,6 @@ def _positive(value: float, what: str) -> float:
 
     Raises:
         InvalidInputError: It is not a positive finite number.
-
     """
     if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
         raise InvalidInputError(f"{what} must be a positive number, got {value!r}.")
@@ -102,7 +101,6 @@ class Viewer(ViewerOutput):
             has no ``send`` method.
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
         VirtualActuatorError: The MeshCat server cannot be started or reached.
-
     """
 
     palette = _forward("palette", "Colours.", settable=True)
@@ -204,7 +202,6 @@ class Viewer(ViewerOutput):
 
         Raises:
             InvalidInputError: ``overlay`` is not an `Overlay`.
-
         """
         if not isinstance(overlay, Overlay):
             raise InvalidInputError(f"overlay must be an Overlay, got {overlay!r}.")
@@ -217,7 +214,6 @@ class Viewer(ViewerOutput):
 
         Raises:
             InvalidInputError: ``overlay`` is not one of this viewer's.
-
         """
         if overlay not in self.overlays:
             raise InvalidInputError(f"{overlay!r} is not one of this viewer's overlays.")
@@ -238,7 +234,6 @@ class Viewer(ViewerOutput):
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
-
         """
         self.robot_scene.set_terrain(terrain, width, run)
         if self.window.live:
@@ -281,7 +276,6 @@ class Viewer(ViewerOutput):
                 attachments.
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
-
         """
         frame = FrameSnapshot.build(
             self.model.nq,
@@ -324,7 +318,6 @@ class Viewer(ViewerOutput):
         Raises:
             InvalidInputError: See `show`.
             FrameNotFoundError: See `show`.
-
         """
         live, record = self.due(time)
         if not (live or record):
@@ -355,7 +348,6 @@ class Viewer(ViewerOutput):
         Raises:
             InvalidInputError: The frame's efforts do not fit the robot.
             FrameNotFoundError: A frame it names is not in the robot.
-
         """
         self.robot_scene.pose(frame.q)
         for overlay in self.overlays:
@@ -371,7 +363,6 @@ class Viewer(ViewerOutput):
 
         Returns:
             The callable (a `TickUpdater`).
-
         """
         return TickUpdater(self, realtime=realtime, terrain=terrain)
 

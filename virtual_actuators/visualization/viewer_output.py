@@ -30,7 +30,6 @@ class ViewerOutput:
     Attributes:
         window: Where the scene is sent.
         pacer: When frames are sent and recorded.
-
     """
 
     robot: Robot
@@ -69,7 +68,6 @@ class ViewerOutput:
 
         Returns:
             ``(live, record)``.
-
         """
         return self.pacer.due(time)
 
@@ -83,7 +81,6 @@ class ViewerOutput:
 
         Raises:
             InvalidInputError: ``fps`` is not a positive number.
-
         """
         self.pacer.start_recording(fps)
 
@@ -99,7 +96,6 @@ class ViewerOutput:
 
         Returns:
             The page (MeshCat's viewer inlined: it opens offline).
-
         """
         title = title or f"virtual_actuators: {self.robot.name}"
         scene = self.robot_scene
@@ -118,7 +114,6 @@ class ViewerOutput:
 
         Raises:
             InvalidInputError: The folder of ``path`` does not exist.
-
         """
         target = Path(path).expanduser()
         if not target.parent.is_dir():

@@ -60,7 +60,6 @@ class SceneWindow:
             for one); the `Viewer` only throttles and
             sends live updates to live windows.
         web_url: URL of the live viewer, or None.
-
     """
 
     live: bool = False
@@ -172,7 +171,6 @@ class SceneWindow:
 
         Returns:
             The page.
-
         """
         blobs = [pack(c) for c in [*self.scene_commands(), *extra]]
         return page(blobs, title=title, overlay=overlay)
@@ -192,7 +190,6 @@ class CommandRecorder(SceneWindow):
 
     Attributes:
         commands: Every command received, as MeshCat command objects.
-
     """
 
     live = True
@@ -262,7 +259,6 @@ class ForwardingWindow(SceneWindow):
     Args:
         target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``...).
         live: Whether the target shows commands as they come.
-
     """
 
     def __init__(self, target: object, live: bool = True) -> None:

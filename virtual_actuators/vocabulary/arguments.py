@@ -48,7 +48,6 @@ def check_sequence(
     Raises:
         InvalidInputError: ``value`` is a str, bytes, a mapping or not iterable, or an entry is
             not a ``kind``.
-
     """
     if single is not None and isinstance(value, single):
         return (value,)
@@ -71,7 +70,6 @@ def check_robot(robot: object, where: str) -> None:
 
     Raises:
         InvalidInputError: ``robot`` has no Pinocchio ``model`` (None, a name, a bare model).
-
     """
     if isinstance(getattr(robot, "model", None), pin.Model):
         return
@@ -93,7 +91,6 @@ def check_name(
 
     Raises:
         VirtualActuatorError: ``error`` (by default [`InvalidInputError`][]).
-
     """
     if not isinstance(value, str):
         raise error(f"{what} must be a name (str), got {describe(value)}.")
@@ -117,7 +114,6 @@ def check_names(
     Raises:
         InvalidInputError: ``value`` is None, a number, a dict, bytes (or a set if ``ordered``).
         VirtualActuatorError: ``error`` for an entry that is not a str.
-
     """
     if isinstance(value, str):
         return (value,)
@@ -166,7 +162,6 @@ def check_number(
         VirtualActuatorError: ``error`` (by default [`InvalidInputError`][]) for a bool, a
             complex number, a str, None, NaN, an infinity unless ``allow_inf``, or a value out
             of range.
-
     """
     # a plain float is a real number: the abstract-class checks run only for other types
     if type(value) is not float and (
@@ -190,7 +185,6 @@ def check_flag(value: object, what: str) -> bool:
 
     Raises:
         InvalidInputError: Anything else (a str such as ``"no"`` is not a flag).
-
     """
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
@@ -209,7 +203,6 @@ def as_float_array(value: object, what: str, expected: str, copy: bool = False) 
     Raises:
         InvalidInputError: None, a str, a dict, a set, ragged nesting, or entries that are
             complex (the imaginary part would be lost), bool, str or other non-numbers.
-
     """
     if value is None or isinstance(value, (str, bytes, Mapping, Set)):
         raise InvalidInputError(f"{what} must be {expected}, got {describe(value)}.")

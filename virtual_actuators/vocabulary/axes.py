@@ -40,7 +40,6 @@ def resolve_frame(model: pin.Model, name: str, role: str = "frame") -> int:
 
     Raises:
         FrameNotFoundError: If no frame has that name; the message lists the closest names.
-
     """
     if not isinstance(name, str):
         raise FrameNotFoundError(f"The {role} frame must be a frame name (str), got {name!r}.")
@@ -69,7 +68,6 @@ def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
 
     Raises:
         JointNotFoundError: If no joint with degrees of freedom has that name.
-
     """
     names = list(model.names)[1:]
     if isinstance(name, str) and name in names:
@@ -93,7 +91,6 @@ def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]
     Raises:
         InvalidAxisError: For axes that are not a str or an ordered collection of str (None, a
             number, a set, a dict, bytes), an unknown, repeated or out-of-order axis, or no axis.
-
     """
     axes = _axis_tuple(axes, what)
     if not axes:
@@ -146,7 +143,6 @@ def check_axes_subset(requested: Iterable[str], axes: Sequence[str], what: str) 
     Raises:
         InvalidAxisError: If ``requested`` is not a str or a collection of str, or an axis is
             not one of ``axes``.
-
     """
     if isinstance(requested, str):
         requested = (requested,)

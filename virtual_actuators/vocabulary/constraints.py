@@ -30,7 +30,6 @@ def check_label(label: object, what: str) -> Label:
     Raises:
         ConstraintError: ``label`` is not a pair of str.
         InvalidAxisError: Its axis is not one of ``x y z rx ry rz``.
-
     """
     if not (isinstance(label, (tuple, list)) and len(label) == 2):
         raise ConstraintError(
@@ -73,7 +72,6 @@ class Equal(DesignConstraint):
     Raises:
         ConstraintError: A label is not a ``(reaction, axis)`` pair of str.
         InvalidAxisError: A label's axis is not one of ``x y z rx ry rz``.
-
     """
 
     a: Label
@@ -107,7 +105,6 @@ class Linear(DesignConstraint):
             is not a real number (an empty dict and NaN or inf values are rejected when an
             actuator is declared with the constraint).
         InvalidAxisError: A label's axis is not one of ``x y z rx ry rz``.
-
     """
 
     coefficients: Mapping[Label, float]
@@ -152,7 +149,6 @@ class EqualTorque(DesignConstraint):
 
     Raises:
         ConstraintError: A joint name is not a str.
-
     """
 
     joint_a: str

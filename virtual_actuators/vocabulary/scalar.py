@@ -127,7 +127,6 @@ def check_float(value: object, what: str) -> float:
 
     Raises:
         TraceError: ``value`` is traced (it would change every tick).
-
     """
     if isinstance(value, Sym):
         raise TraceError(f"{what} must be a constant of the declaration, not a traced value.")

@@ -147,7 +147,6 @@ class Tracing:
         program: The program the ops go to.
         slots: ``id(owner) -> {name: (register, size)}``: the slots of each object the plan
             keeps (a component's parameters, a gait's `Memory`).
-
     """
 
     def __init__(self, program: object, slots: dict[int, dict[str, tuple[int, int]]]) -> None:
@@ -181,7 +180,6 @@ def traced_store(owner: object, name: str, values: Sequence, offset: int = 0) ->
 
     Raises:
         TraceError: A traced value, with no trace keeping the slot (it would be lost).
-
     """
     tracing = TRACING.get()
     where = None if tracing is None else tracing.slot(owner, name)

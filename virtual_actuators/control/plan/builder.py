@@ -31,7 +31,6 @@ def opcodes() -> dict[str, int]:
 
     Raises:
         TraceError: The compiled core is not built (or lacks the plan).
-
     """
     table = getattr(CORE, "PLAN_OPS", None)
     if table is None:
@@ -46,7 +45,6 @@ class PlanBuilder:
         registers: Initial value of every register.
         programs: The programs, in the order they were made (their index is their id).
         names: Register base -> name, for the declared slots (reports, views).
-
     """
 
     def __init__(self) -> None:
@@ -107,7 +105,6 @@ class Program:
     Args:
         builder: The plan's registers.
         index: The program's id.
-
     """
 
     def __init__(self, builder: PlanBuilder, index: int) -> None:
@@ -120,7 +117,6 @@ class Program:
 
         Raises:
             TraceError: Not a number (a str, an array...), or a value of another plan.
-
         """
         if isinstance(value, Sym):
             if value.program.builder is not self.builder:

@@ -48,7 +48,6 @@ def compile_machine(machine: object) -> CompiledMachine:
 
     Raises:
         TraceError: The compiled core is not built, or the robot's joints are not the core's.
-
     """
     if not has("PlanMachine"):
         raise TraceError("the compiled core is not built: the machine runs in Python.")
@@ -66,7 +65,6 @@ class CompiledMachine:
         machine: As given.
         pieces: ``(what, why)`` of each piece that runs in Python.
         registers: The plan's registers (a view of the core's).
-
     """
 
     def __init__(self, machine: object) -> None:
@@ -178,7 +176,6 @@ class CompiledMachine:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``, or a contact switch
                 an event reads that ``contacts`` lacks.
             ConcurrentUseError: Another thread is in a tick of this machine.
-
         """
         if not self._lock.acquire(blocking=False):
             raise ConcurrentUseError(

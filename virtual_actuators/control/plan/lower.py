@@ -69,7 +69,6 @@ class Lowering:
         builder: The registers and programs.
         pieces: ``(what, why)`` of each piece left to Python.
         callbacks: The Python pieces' callables (the plan's CALL ops run them by index).
-
     """
 
     def __init__(self, machine: object) -> None:
@@ -138,7 +137,6 @@ class Lowering:
 
         Raises:
             TraceError: What ``body`` cannot trace (the caller makes it a Python piece).
-
         """
         program = self.builder.program()
         token = TRACING.set(Tracing(program, self.slots))

@@ -27,7 +27,6 @@ class Memory:
 
     Raises:
         InvalidInputError: A value that is not a finite float or a tuple of them.
-
     """
 
     __slots__ = ("_layout", "_values")

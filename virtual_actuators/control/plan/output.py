@@ -20,7 +20,6 @@ class PlanOutput:
         compiled: The compiled machine.
         active: The names evaluated this tick.
         tau: The tick's efforts after the limp joints and the clip [N m or N].
-
     """
 
     def __init__(self, compiled: object, active: tuple[str, ...], tau: np.ndarray) -> None:

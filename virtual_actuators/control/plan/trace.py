@@ -65,7 +65,6 @@ class TraceContext:
         lowering: The plan being lowered (its frame rows and contact registers).
         program: The program the reads go to.
         state: The state whose hooks or exits are traced.
-
     """
 
     def __init__(self, lowering: object, program: Program, state: str) -> None:
@@ -131,7 +130,6 @@ class TraceContext:
 
         Raises:
             TraceError: A predicate that is not lowerable (the caller makes it a Python piece).
-
         """
         lower = getattr(event, "lower", None)
         if lower is not None:
@@ -145,7 +143,6 @@ class TraceContext:
 
         Raises:
             TraceError: The robot has no mass (the Python tick raises its typed error).
-
         """
         if self._com is None:
             if not self._lowering.tree.mass > 0.0:

@@ -48,7 +48,6 @@ class BufferSolve:
         axes: Its axes.
         free: The request's free axes.
         floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
-
     """
 
     def __init__(

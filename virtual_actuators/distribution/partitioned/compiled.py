@@ -59,7 +59,6 @@ class CompiledDistribution:
     Args:
         problem: The declaration's structure.
         partitioner: The numpy solver whose sets (and fallbacks) the kernel follows.
-
     """
 
     def __init__(self, problem: DistributionProblem, partitioner: PartitionedSolver) -> None:
@@ -248,7 +247,6 @@ class CompiledDistribution:
 
         Returns:
             The tick's result (``tau`` zero at limp and passive joints), or None.
-
         """
         if not request.compiled:
             return None

@@ -36,7 +36,6 @@ class DenseSystem(NamedTuple):
         soft_rhs: ``(k,)`` the request on them.
         hard: ``(r, p n)`` the natural rows, then the design rows.
         hard_rhs: ``(r,)`` their right-hand sides.
-
     """
 
     soft: np.ndarray
@@ -50,7 +49,6 @@ class DenseSolver:
 
     Args:
         problem: The declaration-time structure of the distribution.
-
     """
 
     def __init__(self, problem: DistributionProblem) -> None:
@@ -75,7 +73,6 @@ class DenseSolver:
         Raises:
             SingularConfigurationError: The square system is singular at this configuration.
             ConstraintError: The constraints contradict each other at this configuration.
-
         """
         p, n = self.problem.p, self.problem.n
         soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)

@@ -59,7 +59,6 @@ def pack_arguments(
         torque_signs: ``(s1, 2, p)`` chain signs at joints a and b.
         plan: ``(m,)`` mode 1: the RFS indices first (``s`` of them), then the MFS.
         layout: ``(4,)`` widths K, C, L, D of the column blocks of ``chain_ints``.
-
     """
     n, (p, width), s1 = keep.shape[0], chain_ints.shape, torque_rows.shape[0]
     header = [mode, n, p, width, s1, plan.shape[0], chain_signs.shape[1], springs.shape[0]]

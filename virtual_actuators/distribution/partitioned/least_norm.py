@@ -40,7 +40,6 @@ class NullSpaceForm:
         bases: Per chain group, ``(g, n, d)`` orthonormal bases ``N_i`` of the null space of the
             natural rows.
         particular: ``(p, n)`` the least-norm solutions ``F0_i`` of the natural rows.
-
     """
 
     bases: list[np.ndarray]
@@ -53,7 +52,6 @@ def null_space_form(problem: DistributionProblem, ev: Evaluation) -> NullSpaceFo
     Raises:
         SingularConfigurationError: A chain's natural rows are degenerate here (their smallest
             singular value below ``DEGENERATE`` times the largest).
-
     """
     bases = []
     particular = np.zeros((problem.p, problem.n))
@@ -94,7 +92,6 @@ def least_norm_forces(
         SingularConfigurationError: A chain's natural rows are degenerate here.
         ConstraintError: The design and coupling rows contradict each other or the natural
             ones at this configuration.
-
     """
     form = null_space_form(problem, ev)
     n, p, k = problem.n, problem.p, int(keep.sum())

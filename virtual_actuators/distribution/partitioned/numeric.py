@@ -86,7 +86,6 @@ def solve_numpy(
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.
         ConstraintError: The constraints contradict each other at this configuration.
-
     """
     ev = problem.evaluate(snapshot)
     factor = power_of_two_scale(wrench, ev.passive_torque, ev.hard_rhs)
@@ -119,7 +118,6 @@ class NumpyBackend:
         solver: The partitioned or dense solver of that problem.
         hand_on: Hand the ticks ``solver`` cannot decide to the method's next backend
             (`solve_numpy`); False: always answer, or raise.
-
     """
 
     def __init__(self, problem: DistributionProblem, solver: object, hand_on: bool = False):
@@ -131,7 +129,6 @@ class NumpyBackend:
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: The constraints contradict each other at this configuration.
-
         """
         return solve_numpy(
             self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on

@@ -78,7 +78,6 @@ class PartitionedSolver:
         problem: The declaration-time structure of the distribution.
         preferred: ``(p, n)`` weights in (0, 1]; entries with small weights (those named by
             design constraints) are kept out of the Constrained Force Set when possible.
-
     """
 
     def __init__(self, problem: DistributionProblem, preferred: np.ndarray) -> None:
@@ -234,7 +233,6 @@ class PartitionedSolver:
             SingularConfigurationError: The square system is singular at this configuration.
             ConstraintError: Too many constraints for the free axes, or constraints that
                 contradict each other at this configuration.
-
         """
         m, s, k = self.num_free_entries, len(ev.hard_rhs), int(keep.sum())
         free_key = keep.tobytes()

@@ -33,7 +33,6 @@ def plan_square(h: np.ndarray, m: int, constant: bool = True) -> SquarePlan:
         h: ``(s, m)`` reduced hard rows.
         m: Number of reduced unknowns.
         constant: The hard rows do not depend on the configuration: factor the gain once.
-
     """
     s = h.shape[0]
     rfs = np.sort(select_columns(h, s)) if s else np.array([], dtype=int)
@@ -55,7 +54,6 @@ def rfs_gain(
     Returns:
         ``(gain, bias)``, or ``(None, None)`` when the RFS block is ill-conditioned, judged
         against ``scale`` (the hard rows' size before the CFS was eliminated).
-
     """
     block = h[:, plan.rfs]
     inverse, cond = safe_inverse(block)

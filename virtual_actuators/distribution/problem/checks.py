@@ -36,7 +36,6 @@ def vacuous_joints(problem: DistributionProblem, per_chain: list, states: list) 
 
     Raises:
         ConstraintError: A passive joint with nonzero stiffness that no selected axis loads.
-
     """
     unloaded = []  # per chain: the velocity columns no selected axis loads
     for cols, _, _ in per_chain:
@@ -70,7 +69,6 @@ def check_natural_rows(problem: DistributionProblem, generic: Sequence[np.ndarra
 
     Raises:
         ConstraintError: One natural row repeats what the chain's others impose.
-
     """
     ev = problem.evaluate(generic[0], check_singular=False)
     for group, rows in zip(problem.groups, ev.groups, strict=True):
@@ -100,7 +98,6 @@ def check_hard_rows(problem: DistributionProblem) -> None:
 
     Raises:
         ConstraintError: A design constraint implied by, or contradicting, the others.
-
     """
     if not problem.num_hard:
         return
@@ -133,7 +130,6 @@ def structurally_singular(problem: DistributionProblem, keep: np.ndarray) -> boo
     Args:
         problem: The declared problem.
         keep: ``(n,)`` bool, the prescribed (not free) axes.
-
     """
     key = keep.tobytes()
     cached = problem.structural.get(key)
@@ -158,7 +154,6 @@ def check_counts(problem: DistributionProblem, keep: np.ndarray) -> None:
 
     Raises:
         ConstraintError: ``s > sum(d) - (number of prescribed axes)``.
-
     """
     m = sum(g.size * g.num_free for g in problem.groups)
     k, s = int(keep.sum()), problem.num_hard

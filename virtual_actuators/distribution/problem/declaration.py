@@ -29,7 +29,6 @@ class DesignRows:
         torque_pairs: ``(s1, 2)`` velocity indices of ``EqualTorque`` joint pairs.
         constant_names: A readable name per constant row.
         torque_names: A readable name per torque pair.
-
     """
 
     constant_rows: np.ndarray
@@ -46,7 +45,6 @@ def joint_columns(
 
     Raises:
         JointNotFoundError: An unknown joint, or one on no chain (the message lists them).
-
     """
     joint_id = resolve_joint(kinematics.model, name, role)
     joint = kinematics.model.joints[joint_id]
@@ -106,7 +104,6 @@ class Spring(NamedTuple):
         rest: Rest angle or position [rad or m].
         idx_q: The joint's first configuration index.
         continuous: Whether the joint is continuous (its angle is ``(cos, sin)`` at ``idx_q``).
-
     """
 
     name: str
@@ -128,7 +125,6 @@ def parse_joints(
         JointNotFoundError: A joint that is unknown or on no chain.
         ConstraintError: Bad spring parameters, a multi-dof passive joint, or a joint both
             limp and passive.
-
     """
     if isinstance(unactuated, str):
         unactuated = [unactuated]
@@ -168,7 +164,6 @@ def label_index(
     Raises:
         ConstraintError: Not a pair of names, or an unknown reaction frame.
         InvalidAxisError: An axis the actuator does not have.
-
     """
     if not (
         isinstance(label, tuple | list)
@@ -205,7 +200,6 @@ def design_rows(
             multi-dof or repeated joint, an unknown type), or a label naming no reaction.
         InvalidAxisError: A label naming an axis the actuator does not have.
         JointNotFoundError: An EqualTorque joint that is unknown or on no chain.
-
     """
     design = list(design)
     constant_rows, constant_rhs, torque_pairs = [], [], []

@@ -53,7 +53,6 @@ class DistributionProblem:
         JointNotFoundError: A limp, passive or torque-constrained joint is unknown or on no chain.
         ConstraintError: Contradictory, redundant or too many constraints; a chain with no joint.
         InvalidAxisError: A design constraint names an axis the actuator does not have.
-
     """
 
     def __init__(
@@ -247,7 +246,6 @@ class DistributionProblem:
         Raises:
             SingularConfigurationError: A chain's Jacobian is singular at ``q``.
             InvalidInputError: A bad ``q`` or a snapshot of another robot.
-
         """
         state = self.kinematics.compute(state)
         q = state.snapshot.q
@@ -283,7 +281,6 @@ class DistributionProblem:
 
         Raises:
             SingularConfigurationError: ``check_singular`` and a chain's Jacobian loses rank.
-
         """
         jacobians = jac[:, group.columns].transpose(1, 0, 2) * group.signs[:, None, :]
         balls = self._ball_columns(offsets[group.chains], group.ball_axes)
@@ -379,7 +376,6 @@ class DistributionProblem:
         Args:
             jacobian_o: ``(n, nv)`` from `KinematicState.jacobian_o`.
             forces: ``(p, n)`` chain wrenches.
-
         """
         tau = np.zeros(self.model.nv)
         for group in self.groups:

@@ -48,7 +48,6 @@ class ChainGroup:
             contact, restricted to the selected axes; empty for a flat contact.
         rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
         cfs: ``(g, l)`` entries of ``F_i`` in the Constrained Force Set (chosen by the partitioner).
-
     """
 
     chains: np.ndarray
@@ -85,7 +84,6 @@ class GroupRows:
     Attributes:
         rows: ``(g, l, n)`` the ``G_i``.
         rhs: ``(g, l)`` the ``t_i`` (measured or zero torques).
-
     """
 
     rows: np.ndarray
@@ -103,7 +101,6 @@ class Evaluation:
         hard_rows: ``(s, p, n)`` coupling and design rows over all chains' wrenches.
         hard_rhs: ``(s,)`` their right-hand sides.
         passive_torque: ``(nv,)`` torques of passive springs at ``q`` [N m].
-
     """
 
     q: np.ndarray

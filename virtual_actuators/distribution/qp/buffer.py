@@ -36,7 +36,6 @@ class QPViews(NamedTuple):
         tmap: ``(nv, d)`` the torque map.
         tau0: ``(nv,)`` the torques of ``x0``.
         passive: ``(nv,)`` the spring torques.
-
     """
 
     basis: np.ndarray

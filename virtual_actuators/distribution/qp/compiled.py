@@ -33,7 +33,6 @@ class Workspace:
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
             sides and bounds), ``equality`` with the ``design_rows`` design rows first.
         design_rows: How many design rows.
-
     """
 
     def __init__(self, p_n: int, nv: int, free: int, design: int, kept: np.ndarray,
@@ -85,7 +84,6 @@ class CompiledQPMatrices:
         soles: ``(p, 3)``: 1 for a sole, its half length and half width [m].
         limited_v: ``(t,)`` velocity indices of the torque-limited joints.
         limits: ``(t,)`` their limits [N m, N].
-
     """
 
     def __init__(
@@ -174,7 +172,6 @@ class CompiledQPMatrices:
             snapshot: The tick's [`Snapshot`][].
             wrench: ``(n,)`` requested wrench.
             keep: ``(n,)`` bool, the prescribed axes.
-
         """
         workspace = self.workspace(keep)
         frames = snapshot.frame_table
@@ -210,7 +207,6 @@ class CompiledQPMatrices:
         Returns:
             The `Answer`; None when the exact step did not certify the
             active set, the matrices need the numpy path or the snapshot lacks a frame.
-
         """
         out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
         active = workspace.active

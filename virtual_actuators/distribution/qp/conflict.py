@@ -50,7 +50,6 @@ def conflict_error(
         names: The inequality rows' names.
         reactions: The actuator's reaction frames (for the message).
         tolerance: A largest shift at or below this means the rows are consistent.
-
     """
     size = np.abs(shift)
     largest = float(size.max(initial=0.0))

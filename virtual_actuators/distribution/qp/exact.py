@@ -297,7 +297,6 @@ def exact_step(
     Returns:
         ``(ok, x, z)``: whether the KKT conditions hold, the answer, and the inequalities'
         multipliers in ProxQP's sign convention (nonzero: active).
-
     """
     k, m, size = equality.shape[0], inequality.shape[0], equality.shape[1]
     side = np.zeros(m, dtype=np.int64)

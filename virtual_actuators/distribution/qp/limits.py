@@ -27,7 +27,6 @@ class ContactLimits:
 
     Raises:
         InvalidInputError: Bad torque limits.
-
     """
 
     def __init__(
@@ -74,7 +73,6 @@ class ContactLimits:
         Args:
             state: The tick's kinematic state (rotations, offsets, Jacobian rows in {O}).
             torque_map: ``(nv, p n)`` joint torques of ``x``.
-
         """
         offsets = state.offsets_o() if self.contacts.sole_rows else None
         one_sided = self.contacts.rows(state.rotation_o, state.rotation_a, offsets)

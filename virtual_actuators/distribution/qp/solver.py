@@ -105,7 +105,6 @@ class QPDistribution:
     Raises:
         InvalidInputError: proxsuite is not installed; bad ``weights``.
         InvalidAxisError: ``weights`` names an axis the actuator lacks.
-
     """
 
     def __init__(
@@ -189,7 +188,6 @@ class QPDistribution:
                 (the message names the inequalities that conflict when they cannot hold
                 whatever the request), or none was found within ``iteration_budget`` ProxQP
                 iterations.
-
         """
         keep = request.keep
         weights = self._weights(request)
@@ -329,7 +327,6 @@ class QPDistribution:
         Raises:
             ConstraintError: No distribution meets the rows, or none was found before the
                 iteration budget ran out.
-
         """
         if budget.left == 0:
             raise self._refuse(exhausted=True)

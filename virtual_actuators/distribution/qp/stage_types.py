@@ -15,7 +15,6 @@ class Budget:
 
     Args:
         left: The iterations left.
-
     """
 
     __slots__ = ("left",)
@@ -38,7 +37,6 @@ class ProxSlot:
     Attributes:
         active: The inequalities' multipliers of the last answer certified exact (nonzero:
             active), or None.
-
     """
 
     __slots__ = ("active", "fresh", "qp")
@@ -60,7 +58,6 @@ class StageRows:
         inequality: The inequality rows.
         lows: Their lower bounds.
         uppers: Their upper bounds.
-
     """
 
     __slots__ = ("design", "equality", "equality_rhs", "inequality", "lows", "uppers")
@@ -78,7 +75,6 @@ class StageAnswer(NamedTuple):
         multipliers: The inequalities' multipliers.
         exhausted: The budget ran out before the last stage converged (``x`` is then the
             feasible point of least weighted miss found).
-
     """
 
     x: np.ndarray

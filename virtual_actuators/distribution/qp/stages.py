@@ -58,7 +58,6 @@ class ProxStages:
         proxqp: proxsuite's ``proxqp`` module.
         row_names: The inequalities' names (for the conflict error).
         reactions: The reaction frames' names (for the conflict error).
-
     """
 
     def __init__(self, proxqp: object, row_names: Sequence[str], reactions: Sequence[str]):
@@ -197,7 +196,6 @@ class ProxStages:
 
         Raises:
             ConstraintError: The rows other than the request cannot hold together (named).
-
         """
         equality, equality_rhs = rows.equality, rows.equality_rhs
         size = equality.shape[1]
@@ -252,7 +250,6 @@ class ProxStages:
 
         Raises:
             ConstraintError: The rows other than the request cannot hold together (named).
-
         """
         flag = 0  # no request row (every axis free): only the other rows, which cannot hold
         if rows.design < len(rows.equality_rhs):
@@ -273,7 +270,6 @@ class ProxStages:
 
         Raises:
             ConstraintError: The least shift of the bounds that lets them hold is not zero.
-
         """
         design = rows.design
         objective, shifted_eq, shifted_in = least_shift_problem(

@@ -32,7 +32,6 @@ def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -
         InvalidAxisError: A key of the dict is not one of ``axes``.
         InvalidInputError: A weight that is not a finite number > 0 (the message names its
             axis), an array of the wrong length, or neither a dict nor a sequence.
-
     """
     axes = tuple(axes)
     if isinstance(weights, Mapping):

@@ -63,7 +63,6 @@ class Balancer(Gait):
         FrameNotFoundError: No feet found, or a name in ``feet`` that is not a frame (with
             close matches).
         SingularConfigurationError: No standing pose can be built.
-
     """
 
     def __init__(

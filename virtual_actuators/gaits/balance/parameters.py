@@ -43,7 +43,6 @@ class BalanceParameters:
         control_rate: The rate the controller runs at [Hz]: the body's and the posture's gains
             are bounded so that they change a velocity by at most half of it per tick
             ([`tick_rate`][virtual_actuators.control.tick_rate]).
-
     """
 
     body_frequency: float = 2.0 * math.pi * 1.0

@@ -31,7 +31,6 @@ def plot_balance_log(log: WalkLog, path: str | os.PathLike[str], summary: str = 
 
     Returns:
         The path written.
-
     """
     return save_figure(draw_balance_log(log, summary), path)
 

@@ -39,7 +39,6 @@ def support_limited(
 
     Returns:
         The limited wrench ``(6,)``.
-
     """
     fx, fy, fz, mx, my, mz = wrench
     lx, ly, lz = lever
@@ -76,7 +75,6 @@ class SupportedSpring(SpringDamper):
         stiffness: Per axis [N/m, N m/rad].
         damping: Per axis [N s/m, N m s/rad].
         name: Label used in reports.
-
     """
 
     SLOTS = (*SpringDamper.SLOTS, "lever", "reach", "friction", "moment_weight")

@@ -80,7 +80,6 @@ class BalanceMetrics(SmoothnessFigures):
         implausible_limits: Joints whose URDF effort limit no motor of this robot could have
             ([`implausible_effort_limits`][]: then neither
             the QP's torque limits nor clipping act; set real ones with ``set_effort_limits``).
-
     """
 
     robot: str
@@ -228,7 +227,6 @@ def run_balance(
         RobotNotFoundError: No such robot.
         FrameNotFoundError: A robot without feet.
         InvalidInputError: A bad push, terrain or duration.
-
     """
     push = None if push is None else Push.of(push)
     robot = load_robot(robot) if not isinstance(robot, Robot) else robot
@@ -290,7 +288,6 @@ def run_request(request: WalkRequest) -> BalanceResult:
     Raises:
         InvalidInputError: A distribution other than ``"qp"``; a bad push, terrain or duration.
         RobotNotFoundError: No such robot.
-
     """
     if request.distribution not in (None, "qp"):
         raise InvalidInputError("balance stands on the contact QP: --distribution qp only.")

@@ -93,7 +93,6 @@ class FlamingoParameters:
         qp_friction: ``distribution="qp"``: the QP's cone coefficient (None: ``friction``). The
             QP uses a cone to its edge when the bunny asks for more than the feet can give, so
             its margin below the ground's (MuJoCo: 1) absorbs those forces: 0.45 beat 0.6.
-
     """
 
     speed: float = 0.4

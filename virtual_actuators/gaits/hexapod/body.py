@@ -43,7 +43,6 @@ def heading_moment(
 
     Returns:
         ``[mx, my, mz]`` [N m].
-
     """
     yaw, pitch, roll = rotation_vector_angles(*position)
     c, s = cos(yaw), sin(yaw)
@@ -69,7 +68,6 @@ def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> lis
 
     Returns:
         ``[fx, fy]`` [N].
-
     """
     (yaw,) = parameters["yaw"]
     c, s = cos(yaw), sin(yaw)
@@ -92,7 +90,6 @@ class _Heading(Slotted, Component):
 
         Raises:
             InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
-
         """
         if self._store_traced(name, value):
             return
@@ -137,7 +134,6 @@ class HeadingAttitude(_Heading):
 
     Raises:
         InvalidInputError: A gain that is not a finite number >= 0, or not 2 (3) of them.
-
     """
 
     SLOTS = ("stiffness", "damping", "roll", "pitch", "yaw_rate")
@@ -223,7 +219,6 @@ class HeadingDamper(_Heading):
 
     Raises:
         InvalidInputError: A damping that is not a finite number >= 0, or not two of them.
-
     """
 
     SLOTS = ("damping", "yaw", "velocity", "force")

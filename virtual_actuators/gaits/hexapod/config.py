@@ -31,7 +31,6 @@ class HexapodWalkConfig:
         duration: Simulated time [s].
         seed: Random initial disturbance (body velocity, pendulum angle); None for none.
         distribution: ``"qp"`` or ``"partitioned"``.
-
     """
 
     speed: float = 0.4

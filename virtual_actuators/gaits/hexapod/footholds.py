@@ -45,7 +45,6 @@ def ground_velocity(velocity: Pair, yaw_rate: object, nominal: Sequence[Sequence
         velocity: The measured (low-passed) body velocity ``(vx, vy)`` [m/s].
         yaw_rate: The commanded yaw rate [rad/s].
         nominal: The nominal foot points ``(x, y, z)`` relative to the body [m].
-
     """
     vx, vy = velocity
     w = yaw_rate
@@ -75,7 +74,6 @@ def behind(
         offsets: Support feet minus their nominal places, body axes, one row each [m].
         sx: Velocity over the ground of their nominal places along body x [m/s].
         sy: The same along body y.
-
     """
     lag, found = 0.0, None
     for (dx, dy, *_), vx, vy in zip(offsets, sx, sy, strict=True):
@@ -118,7 +116,6 @@ def landing(
         velocity: The measured (low-passed) body velocity [m/s].
         setpoint: The velocity set point [m/s].
         acceleration: The velocity set point's acceleration [m/s^2].
-
     """
     p = parameters
     rate: object = None  # [1/s]
@@ -147,7 +144,6 @@ def support_plane(stance: Sequence[Sequence], previous: tuple) -> tuple:
     Args:
         stance: The three feet ``(x, y, z)`` relative to the body, body axes [m].
         previous: The plane kept when the feet are in a line.
-
     """
     (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stance
     ux, uy, uz, vx, vy, vz = x2 - x1, y2 - y1, z2 - z1, x3 - x1, y3 - y1, z3 - z1
@@ -176,7 +172,6 @@ def swing_targets(
         reach: How far along from lift-off to landing, 0 to 1.
         rest: How much of the lift-off height above the plane is left, 1 to 0.
         up: The lift above the plane [m].
-
     """
     a, b, c = plane
     targets = []
@@ -215,7 +210,6 @@ def tripod_setpoints(
 
     Returns:
         The same keys after this tick, and ``ground`` (the ground height under the body [m]).
-
     """
     p = parameters
     height, fx, fy, cx, cy, ax, ay, yaw_rate, elapsed, dt = motion

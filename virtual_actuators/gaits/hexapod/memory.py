@@ -54,7 +54,6 @@ class WalkerState:
 
         Raises:
             InvalidInputError: Values that are not finite.
-
         """
         vx, vy = velocity
         vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)

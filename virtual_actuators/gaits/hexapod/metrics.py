@@ -71,7 +71,6 @@ class HexapodMetrics(SmoothnessFigures):
         realtime_factor: Simulated time / wall-clock time of the whole loop.
         physics_realtime_factor: Simulated time / wall-clock time of MuJoCo's stepping alone,
             timed in the same loop.
-
     """
 
     fell: bool
@@ -213,7 +212,6 @@ def compute_hexapod_metrics(
 
     Raises:
         InvalidInputError: A log with fewer than two samples.
-
     """
     t = log.time
     if len(t) < 2:

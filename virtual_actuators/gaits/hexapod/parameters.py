@@ -55,7 +55,6 @@ class HexapodParameters:
         pendulum_weights: LQR state weights (angle, rate, velocity) [1/rad^2, s^2/rad^2, s^2/m^2].
         pendulum_effort: LQR input weight [1/N^2].
         pendulum_fall: A pendulum beyond this angle from the vertical has fallen [rad].
-
     """
 
     height: float = 0.13

@@ -36,7 +36,6 @@ class PendulumModel:
         mass: Pendulum mass [kg].
         com: Pivot to the pendulum's centre of mass [m].
         inertia: Pendulum inertia about the pivot [kg m^2].
-
     """
 
     a: np.ndarray
@@ -64,7 +63,6 @@ def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) ->
 
     Raises:
         InvalidInputError: A value that is not a positive finite number, or ``I < m l^2``.
-
     """
     values = (body_mass, mass, com, inertia)
     if not all(isinstance(v, (int, float)) and math.isfinite(v) and v > 0 for v in values):
@@ -104,7 +102,6 @@ def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.n
     Raises:
         InvalidInputError: Shapes that do not match, or no stabilising solution (an
             unstabilisable pair or eigenvalues on the imaginary axis).
-
     """
     a, b, q, r = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (a, b, q, r))
     n, m = a.shape[0], b.shape[1]
@@ -137,7 +134,6 @@ def pendulum_lqr(
 
     Returns:
         The `PendulumModel`, the gain ``(1, 3)`` and the joint's ``(q index, v index)``.
-
     """
     joint = model.getJointId(joint_name)
     inertia = model.inertias[joint]

@@ -71,7 +71,6 @@ def plot_hexapod(
     Raises:
         InvalidInputError: An unknown layout, an empty log, or ``"pendulum"`` for a log without
             pendulum angles.
-
     """
     figure = draw_hexapod(log, layout=layout, title=title, summary=summary, dpi=dpi)
     return save_figure(figure, path)
@@ -92,7 +91,6 @@ def draw_hexapod(
 
     Raises:
         InvalidInputError: As `plot_hexapod`.
-
     """
     if layout not in _LAYOUTS:
         raise InvalidInputError(f"layout: {layout!r} is not one of {', '.join(_LAYOUTS)}.")

@@ -88,7 +88,6 @@ class HexapodResult(WalkResult):
         extra: Anything a caller attaches.
         config: The configuration.
         ticks: Control ticks run.
-
     """
 
     metrics: HexapodMetrics
@@ -143,7 +142,6 @@ def hexapod_robot(pendulum: bool = False) -> Robot:
 
     Returns:
         The [`Robot`][] (free-flyer base).
-
     """
     if pendulum:
         return load_robot(robots_dir / "hexapod" / "hexapod_pendulum.urdf", floating_base=True)
@@ -172,7 +170,6 @@ def run_hexapod_walk(
 
     Raises:
         InvalidInputError: A bad terrain spec.
-
     """
     config = config or HexapodWalkConfig()
     parameters = parameters or HexapodParameters(distribution=config.distribution)
@@ -250,7 +247,6 @@ def run_request(request: WalkRequest) -> HexapodResult:
 
     Raises:
         InvalidInputError: A bad configuration.
-
     """
     default = request.walk.default_speed(**request.options) if request.speed is None else None
     config, parameters = request.configured(HexapodWalkConfig, default)

@@ -122,7 +122,6 @@ class HexapodWalker(WalkerState, Gait):
     Raises:
         FrameNotFoundError: The robot lacks the frames above.
         InvalidInputError: Bad parameters.
-
     """
 
     step_states = ("tripod_a", "tripod_b")
@@ -253,7 +252,6 @@ class HexapodWalker(WalkerState, Gait):
 
         Returns:
             The body's height [m].
-
         """
         memory, p = self.memory, self.parameters
         r = _floats(context.frame_rotation("body"))

@@ -67,7 +67,6 @@ def body_wrench(
 
     Returns:
         ``[fx, fy, fz, mx, my, mz]`` [N, N m] (floats or traced values).
-
     """
     yaw, pitch, roll = rotation_vector_angles(position[3], position[4], position[5])
     c, s = cos(yaw), sin(yaw)
@@ -104,7 +103,6 @@ def give_way(wrench: Sequence, missing: Sequence, yielding: Sequence[int]) -> li
 
     Returns:
         The producible request ``(6,)``.
-
     """
     across = [missing[axis] for axis in yielding]  # how each yielding axis moves the gap
     gap = dot(missing, wrench)
@@ -133,7 +131,6 @@ def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tupl
     Returns:
         ``(6,)`` the direction, or zeros when the contacts coincide (one point: not given
         way).
-
     """
     x, y, z = (first[i] - body[i] for i in range(3))
     dx, dy, dz = (second[i] - first[i] for i in range(3))
@@ -169,7 +166,6 @@ class BodyModel(Slotted, Component):
 
     Raises:
         InvalidAxisError: A yielding axis that is not one of `AXES`.
-
     """
 
     SLOTS = ("packed", "height", "velocity", "acceleration", "yaw_rate", "lever", "missing")
@@ -227,7 +223,6 @@ class BodyModel(Slotted, Component):
 
         Raises:
             InvalidInputError: Not ``size`` finite numbers.
-
         """
         if self._store_traced(name, value):
             return

@@ -46,7 +46,6 @@ def foothold(
         stance_time: How long the foot will stand [s].
         capture_time: Seconds of velocity error the foothold moves by (``sqrt(h / g)``) [s].
         reach: Largest distance from the nominal place [m].
-
     """
     half = 0.5 * stance_time
     angle = yaw_rate * half
@@ -104,7 +103,6 @@ def swing_setpoint(
     Returns:
         ``(state, setpoints)``: the foot's new ``(9,)`` state and ``(6,)`` its set point minus
         the body's origin and its velocity relative to the body, world axes.
-
     """
     vx, vy, ex, ey, yaw_rate, yaw, elapsed, ground = motion
     swing_time, stance_time, capture, reach, lift, peak, depth, rate_filter = shape

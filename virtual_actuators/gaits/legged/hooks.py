@@ -128,7 +128,6 @@ class WalkerHooks:
             dt: The tick's step (`_ramp`) [s].
             error: Measured minus set velocity, heading frame [m/s].
             yaw_error: Commanded minus measured yaw rate [rad/s].
-
         """
         memory, scale = self.memory, self.gains.time_scale
         rate = dt / (self.parameters.integral_time * scale)

@@ -49,7 +49,6 @@ class LeggedMetrics(SmoothnessFigures):
         stance_friction_ratio_max: Largest tangential over normal force on such a foot [-].
         realtime_factor: Simulated over wall-clock time of the loop.
         physics_realtime_factor: Simulated over wall-clock time of MuJoCo's steps alone.
-
     """
 
     fell: bool
@@ -121,7 +120,6 @@ def legged_metrics(
         yaw_rate: Commanded yaw rate [rad/s].
         steps: Swings started.
         fall_time: Time of the fall, or None.
-
     """
     t, x, y, yaw = (np.asarray(trace[k], dtype=float) for k in ("t", "x", "y", "yaw"))
     half = len(t) // 2

@@ -70,7 +70,6 @@ class LeggedParameters:
             that no state's springs and dampers change a velocity by more than half of it per
             tick ([`tick_rate`][virtual_actuators.control.tick_rate]); run slower and they may
             chatter.
-
     """
 
     frequency: float = 2.5
@@ -118,7 +117,6 @@ class LeggedGains:
         damping_xy: Along and across the heading [N s/m].
         swing_stiffness: Per foot [N/m].
         swing_damping: Per foot [N s/m].
-
     """
 
     height: float
@@ -154,7 +152,6 @@ def derive_gains(
         q: Its standing configuration.
         leg_masses: Mass of each foot's leg [kg].
         height: Standing height of the body above its feet [m].
-
     """
     p = parameters
     w = 2.0 * math.pi * p.frequency

@@ -60,7 +60,6 @@ class GaitPattern:
     Raises:
         InvalidInputError: Fewer than two feet, an offset outside ``[0, 1)``, or a swing time
             or width out of range.
-
     """
 
     name: str
@@ -113,7 +112,6 @@ def npod(groups: Sequence[Sequence[str]], name: str = "n-pod") -> GaitPattern:
 
     Raises:
         InvalidInputError: A foot in two groups, or fewer than two feet.
-
     """
     offsets: dict[str, float] = {}
     for k, group in enumerate(groups):
@@ -130,7 +128,6 @@ def sides(feet: Sequence[str], positions: np.ndarray) -> tuple[list[str], list[s
     Args:
         feet: Foot names.
         positions: ``(len(feet), 2 or 3)`` their places in body axes [m].
-
     """
     order = np.argsort(-np.asarray(positions)[:, 0], kind="stable")
     left = [feet[i] for i in order if positions[i][1] >= 0.0]
@@ -182,7 +179,6 @@ def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> Gait
         GaitPatternError: A pattern that does not fit the feet (`NEEDS`): ``trot`` without two
             feet on each side, ``pace`` without a foot on each side, ``tripod`` without three
             or more on each side; the message names the patterns that fit.
-
     """
     if name not in PATTERNS:
         raise InvalidInputError(f"Unknown gait pattern {name!r}; choose one of {PATTERNS}.")

@@ -89,7 +89,6 @@ class LeggedWalkConfig:
 
     Raises:
         InvalidInputError: A value out of its range.
-
     """
 
     robot: str = "solo12"
@@ -141,7 +140,6 @@ class LeggedResult(WalkResult):
     Attributes:
         config: What was walked.
         ticks: Control ticks run.
-
     """
 
     metrics: LeggedMetrics
@@ -198,7 +196,6 @@ def run_legged_walk(
         InvalidInputError: A bad terrain spec or pattern for this robot.
         RobotNotFoundError: No such robot.
         FrameNotFoundError: No feet found (give ``feet``).
-
     """
     config = config or LeggedWalkConfig()
     parameters = parameters or LeggedParameters(distribution=config.distribution)
@@ -288,7 +285,6 @@ def run_request(request: WalkRequest) -> LeggedResult:
 
     Raises:
         InvalidInputError: A bad configuration.
-
     """
     config, parameters = request.configured(LeggedWalkConfig)
     return run_legged_walk(config, parameters, *request.loop)

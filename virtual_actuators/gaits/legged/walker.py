@@ -100,7 +100,6 @@ class LeggedWalker(WalkerHooks, Gait):
         InvalidInputError: A robot without a floating base, fewer than two feet, or a body
             frame not on the floating base.
         FrameNotFoundError: A foot or body frame the robot lacks (or no feet found).
-
     """
 
     def __init__(
@@ -274,7 +273,6 @@ class LeggedWalker(WalkerHooks, Gait):
 
         Raises:
             InvalidInputError: Values that are not finite.
-
         """
         vx, vy = (float(v) for v in velocity)
         yaw_rate = float(yaw_rate)

@@ -39,7 +39,6 @@ class TurkeyParameters:
             each foot's normal force >= ``min_normal_force`` and its force inside a friction
             pyramid of ``friction`` as inequalities; x gives way first).
         friction: Friction coefficient assumed by ``distribution="qp"``.
-
     """
 
     speed: float = 0.5

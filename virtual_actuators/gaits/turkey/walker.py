@@ -58,7 +58,6 @@ class TurkeyWalker(Gait):
     Raises:
         FrameNotFoundError: The robot lacks the frames above.
         JointNotFoundError: The robot lacks the joints above.
-
     """
 
     step_states = ("left_support", "right_support")

@@ -17,7 +17,6 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
 
     Args:
         legend: Add the legend, last (it lists what the others drew).
-
     """
     overlays: list[Overlay] = [
         WrenchOverlay(),

@@ -21,7 +21,6 @@ class Overlay(ABC):
     Attributes:
         roots: Nodes under which the overlay draws (relative to the viewer's prefix);
             `clear` removes them.
-
     """
 
     roots: tuple[str, ...] = ()
@@ -31,7 +30,6 @@ class Overlay(ABC):
 
         Args:
             scene: The robot's scene.
-
         """
 
     @abstractmethod
@@ -41,7 +39,6 @@ class Overlay(ABC):
         Args:
             scene: The robot's scene, its kinematics at ``frame.q``.
             frame: What to draw.
-
         """
 
     def clear(self, scene: RobotScene) -> None:
@@ -49,7 +46,6 @@ class Overlay(ABC):
 
         Args:
             scene: The robot's scene.
-
         """
         for root in self.roots:
             scene.nodes.remove(root)

@@ -51,7 +51,6 @@ class ComponentOverlay(Overlay):
 
         Raises:
             FrameNotFoundError: A sensor frame is not in the robot.
-
         """
         for key, attachment in frame.attachments():
             self.draw_attachment(scene, key, attachment)
@@ -62,7 +61,6 @@ class ComponentOverlay(Overlay):
 
         Raises:
             FrameNotFoundError: A sensor frame is not in the robot.
-
         """
         sensor = attachment.sensor
         data, palette, sizes = scene.data, scene.palette, scene.sizes

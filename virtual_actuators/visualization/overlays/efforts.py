@@ -29,7 +29,6 @@ class EffortOverlay(Overlay):
 
         Raises:
             InvalidInputError: The efforts are not ``(model.nv,)``.
-
         """
         tau = frame.tau
         if tau is None:

@@ -20,7 +20,6 @@ class SupportOverlay(Overlay):
 
         Raises:
             FrameNotFoundError: A support frame is not in the robot.
-
         """
         for name in frame.support:
             frame_id = scene.frame(name, "support")

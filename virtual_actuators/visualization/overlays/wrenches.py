@@ -32,7 +32,6 @@ class WrenchOverlay(Overlay):
 
         Raises:
             FrameNotFoundError: A frame of an actuator is not in the robot.
-
         """
         actuator, solution = frame.actuator, frame.solution
         if actuator is not None:
@@ -90,7 +89,6 @@ class WrenchOverlay(Overlay):
 
         Raises:
             FrameNotFoundError: A frame of the actuator is not in the robot.
-
         """
         data, palette = scene.data, scene.palette
         axes = tuple(actuator.axes)

@@ -68,9 +68,7 @@ def write_npz(log: StoredLog, path: str | os.PathLike[str]) -> Path:
             try:
                 json.dumps(value, default=_json_default)
             except (TypeError, ValueError) as err:
-                raise InvalidInputError(
-                    f"metadata[{key!r}]: cannot be saved ({err})."
-                ) from None
+                raise InvalidInputError(f"metadata[{key!r}]: cannot be saved ({err}).") from None
             plain[key] = value
     names = tuple(log.data)
     matrix = (

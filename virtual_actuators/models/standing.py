@@ -115,9 +115,7 @@ def upper_joints(robot: Robot, feet: Sequence[str]) -> list[str]:
     return [
         model.names[j]
         for j in range(2, model.njoints)
-        if j not in legs
-        and model.joints[j].nv == 1
-        and model.names[j] not in robot.passive_joints
+        if j not in legs and model.joints[j].nv == 1 and model.names[j] not in robot.passive_joints
     ]
 
 

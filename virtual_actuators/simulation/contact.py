@@ -1,15 +1,4 @@
-"""Contact settings of the MuJoCo model: friction, softness and which geoms collide.
-
-Contact model ([`ContactParameters`][]): MuJoCo soft contacts with friction 1.0, ``condim 3``
-(no torsional or rolling friction), ``solref = (0.005 s, 1.0)`` (time constant and critical
-damping; the time constant must stay above two physics steps, here 10 steps of 0.5 ms) and the
-default ``solimp = (0.9, 0.95, 1 mm, 0.5, 2)``. This is stiff enough for walking robots: at
-0.5 ms steps the 10 kg Spring Turkey standing on its two 2 cm foot spheres sinks less than
-0.1 mm into the ground (the tests require < 3 mm). MuJoCo's default ``solref = (0.02, 1)`` has
-a four times longer time constant (16 times lower stiffness) and suits larger steps. Robot
-geometries collide with the terrain only; pass ``ContactParameters(self_collisions=True)`` to let
-non-adjacent robot bodies collide as well.
-"""
+"""Contact settings of the MuJoCo model: friction, softness and which geoms collide."""
 
 from __future__ import annotations
 
@@ -41,17 +30,16 @@ class ContactParameters:
     """Contact settings shared by every robot and terrain geom.
 
     Attributes:
-        friction: Sliding friction coefficient (MuJoCo takes the largest of the two geoms').
-        torsional_friction: Torsional friction [m] (used only with ``condim`` 4 or 6).
-        rolling_friction: Rolling friction [m] (used only with ``condim`` 6).
+        friction: Sliding friction coefficient (MuJoCo takes the larger of the two geoms').
+        torsional_friction: Torsional friction [m] (``condim`` 4 or 6).
+        rolling_friction: Rolling friction [m] (``condim`` 6).
         condim: 1 (frictionless), 3 (sliding friction), 4 (+ torsional) or 6 (+ rolling).
-        solref: ``(time constant [s], damping ratio)`` of the soft contact; the time constant
-            should be at least twice the physics time step.
+        solref: ``(time constant [s], damping ratio)``; the time constant should be at least
+            twice the physics time step.
         solimp: MuJoCo's impedance ``(dmin, dmax, width [m], midpoint, power)``.
-        margin: Distance [m] at which contacts become active (0: on touching).
-        cone: Friction cone, ``"pyramidal"`` (MuJoCo's default) or ``"elliptic"``.
-        self_collisions: Whether robot geoms collide with each other (bodies joined by a joint
-            never do).
+        margin: Distance [m] at which contacts become active.
+        cone: Friction cone, ``"pyramidal"`` or ``"elliptic"``.
+        self_collisions: Whether robot geoms collide with each other (never across a joint).
     """
 
     friction: float = 1.0
@@ -82,14 +70,7 @@ class ContactParameters:
 def set_contact(
     geom: mujoco.MjsGeom, contact: ContactParameters, contype: int, conaffinity: int
 ) -> None:
-    """Give a geom the settings of ``contact`` and the collision bits of its kind.
-
-    Args:
-        geom: A robot or terrain geom.
-        contact: Friction, softness and margin of every contact.
-        contype: MuJoCo ``contype`` bits of the geom.
-        conaffinity: MuJoCo ``conaffinity`` bits of the geom.
-    """
+    """Give a geom the settings of ``contact`` and its collision bits."""
     geom.contype = contype
     geom.conaffinity = conaffinity
     geom.condim = contact.condim

@@ -1,9 +1,4 @@
-"""The terrain geoms of the MuJoCo model, on the world body.
-
-A flat [`Terrain`][] is one plane; a terrain profile is a
-row of boxes, one per segment, `TERRAIN_THICKNESS` thick below the surface, with level runs
-of `TERRAIN_RUN` before the first and after the last profile point.
-"""
+"""The terrain geoms of the MuJoCo model: one plane, or one box per profile segment."""
 
 from __future__ import annotations
 
@@ -93,10 +88,9 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
 def ground_clearance(
     model: mujoco.MjModel, data: mujoco.MjData, robot_geoms: Iterable[int], terrain: Iterable[int]
 ) -> float:
-    """Least signed distance between the robot's geoms and the terrain's [m] (negative: inside).
+    """Least signed distance [m] between the robot's geoms and the terrain's (< 0: inside).
 
-    ``data`` must hold the geoms' placements (after ``mj_forward`` or ``mj_kinematics``).
-    Distances beyond `CLEARANCE_RANGE` count as that range.
+    ``data`` must hold the geoms' placements; distances beyond `CLEARANCE_RANGE` count as it.
     """
     terrain = tuple(terrain)
     clearance = CLEARANCE_RANGE

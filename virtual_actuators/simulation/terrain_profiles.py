@@ -1,26 +1,4 @@
-"""The built-in terrain profiles, and the text form of a terrain (``--terrain`` on the CLI).
-
-Built-in profiles (all slopes within +-20 degrees, level for the first 2 m so a robot can start
-standing at ``x = 0``):
-
-``flat``
-    Level ground at height 0 (a plane in MuJoCo).
-``profile-one``
-    The style of Profile One of the seed (Chew, Pratt et al., "Virtual model control: an
-    intuitive approach for bipedal locomotion", IJRR 2001, section 6.3, Fig. 15), about 14 m:
-    2 m level, up 15 degrees, level, down 15 degrees, level, up 20 degrees, level, down 20
-    degrees, level; segments of 1.2 m to 1.8 m.
-``profile-two``
-    The style of the seed's Profile Two (Fig. 16), rougher: after 2 m level, a series of slopes
-    between -18 and +18 degrees, 0.6 m to 1.5 m long, with gradient changes of at most 18 degrees
-    at each transition; 16.4 m in all. Hard-coded, hence the same in every run.
-``rolling``
-    Gentle rolling ground: after 2 m level, slopes of 5 and 10 degrees up and down over 1 m
-    segments, 14 m in all.
-
-A terrain as text ([`Terrain.parse`][])
-is ``"flat"``, ``"flat:HEIGHT"``, a built-in name, or points ``"x:z,x:z,..."`` in metres.
-"""
+"""The built-in terrain profiles, and the text form of a terrain (``--terrain`` on the CLI)."""
 
 from __future__ import annotations
 
@@ -99,13 +77,10 @@ VALID_SPECS = (
 
 
 def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Points of a built-in profile: (0, 0), (LEVEL_START, 0), then one point per segment.
+    """Points ``(x, z)`` [m] of a built-in profile: (0, 0), (LEVEL_START, 0), one per segment.
 
     Args:
         segments: ``(horizontal length [m], slope [deg])`` per segment, as in `PROFILES`.
-
-    Returns:
-        The points ``(x, z)`` [m].
     """
     points = [(0.0, 0.0), (LEVEL_START, 0.0)]
     x, z = LEVEL_START, 0.0
@@ -117,14 +92,11 @@ def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float,
 
 
 def flat_height(text: str, spec: str) -> float:
-    """The height of a ``"flat:HEIGHT"`` spec.
+    """The height [m] of a ``"flat:HEIGHT"`` spec.
 
     Args:
         text: The stripped spec, starting with ``"flat:"``.
         spec: The spec as given (quoted in the error).
-
-    Returns:
-        The height [m].
 
     Raises:
         InvalidInputError: If ``HEIGHT`` is not a finite number.
@@ -143,15 +115,11 @@ def flat_height(text: str, spec: str) -> float:
 
 
 def parse_points(text: str, spec: str) -> list[list[float]]:
-    """The points of an ``"x:z,x:z,..."`` spec.
+    """The points ``[x, z]`` [m] of an ``"x:z,x:z,..."`` spec, in the order given.
 
     Args:
         text: The stripped spec.
         spec: The spec as given (quoted in the error).
-
-    Returns:
-        The points ``[x, z]`` [m], in the order given ([`Terrain`][] checks that x
-        increases).
 
     Raises:
         InvalidInputError: If a token is not two finite numbers ``x:z`` (the message quotes

@@ -1,14 +1,7 @@
 """Read the standing poses and passive joints of a robot from its SRDF.
 
-The SRDF of a URDF is ``STEM.srdf`` in the URDF's folder, in a ``srdf/`` folder beside it or in
-the ``srdf/`` folder of its parent (the layout of example-robot-data); failing that, the SRDF in
-those folders whose stem is the longest prefix of the URDF stem (``solo12`` uses ``solo.srdf``,
-``talos_reduced`` uses ``talos.srdf``). Its ``group_state`` entries become
-`Robot.reference_configurations`, and [`Robot.neutral`][] returns the first of
-``standing``, ``half_sitting``, ``straight_standing``, ``default``, ``home``, ``neutral`` that
-exists, else the first group state, else Pinocchio's neutral configuration. An SRDF that cannot be
-read is ignored. Its ``passive_joint`` entries become `Robot.passive_joints` (joints that
-no actuator drives, such as the boom of a planar biped).
+Where the SRDF of a URDF is found, and which pose [`Robot.neutral`][] returns, is on the
+"Robots" reference page. An SRDF that cannot be read is ignored.
 """
 
 from __future__ import annotations
@@ -43,7 +36,7 @@ DEFAULT_POSE_NAMES = (
 
 
 def find_srdf(urdf: Path) -> Path | None:
-    """Return the SRDF that goes with a URDF (same stem, else the longest stem prefix), or None."""
+    """The SRDF of a URDF (same stem, else the longest stem prefix), or None."""
     folders = [urdf.parent, urdf.parent / "srdf", urdf.parent.parent / "srdf"]
     folders = [folder for folder in folders if folder.is_dir()]
     for folder in folders:
@@ -77,11 +70,7 @@ def reference_configurations(model: pin.Model, srdf: Path | None) -> dict[str, n
 
 
 def passive_joints(model: pin.Model, srdf: Path | None) -> tuple[str, ...]:
-    """Names of the SRDF's ``<passive_joint name="..."/>`` entries that are joints of the model.
-
-    Entries naming no joint of the model are ignored (logged at debug level), as is an SRDF that
-    cannot be read. The order is the model's joint order.
-    """
+    """The SRDF's ``<passive_joint name="..."/>`` entries that are joints of the model, in order."""
     if srdf is None:
         return ()
     try:

@@ -10,8 +10,8 @@ from pathlib import Path
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError
+from .loader import find_srdf
 from .robot import Robot
-from .srdf import find_srdf
 
 #: Link names taken as the body of a fixed-base (e.g. boom-mounted) robot, in this order.
 BODY_NAMES = ("body", "base_link", "base", "pelvis", "trunk", "torso")

@@ -1,4 +1,7 @@
-"""Load robots by name or from any URDF file, with Pinocchio."""
+"""Load robots by name or from any URDF file, with Pinocchio, and their SRDF's poses.
+
+An SRDF that cannot be read is ignored.
+"""
 
 from __future__ import annotations
 
@@ -8,8 +11,10 @@ import os
 import re
 import sys
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping
 from pathlib import Path
 
+import numpy as np
 import pinocchio as pin
 
 from virtual_actuators.exceptions import (
@@ -36,12 +41,6 @@ from virtual_actuators.models.catalog import (
 from virtual_actuators.models.millipede import millipede
 from virtual_actuators.models.physics_checks import physics_problems
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.models.srdf import (
-    default_pose,
-    find_srdf,
-    passive_joints,
-    reference_configurations,
-)
 from virtual_actuators.models.validation import listed, parse_xml, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
@@ -257,3 +256,72 @@ def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
     names = [*links, *(joint.get("name", "") for joint in joints), root.get("name", ""), stem]
     words = {word.lower() for name in names for word in _WORD.findall(name)}
     return bool(words & (_LEG_WORDS | _FLYING_WORDS))
+
+
+#: Group states of the SRDF that [`Robot.neutral`][] prefers, best first.
+DEFAULT_POSE_NAMES = (
+    "standing",
+    "half_sitting",
+    "straight_standing",
+    "default",
+    "home",
+    "neutral",
+)
+
+
+def find_srdf(urdf: Path) -> Path | None:
+    """The SRDF of a URDF (same stem, else the longest stem prefix), or None."""
+    folders = [urdf.parent, urdf.parent / "srdf", urdf.parent.parent / "srdf"]
+    folders = [folder for folder in folders if folder.is_dir()]
+    for folder in folders:
+        exact = folder / f"{urdf.stem}.srdf"
+        if exact.is_file():
+            return exact
+    best: Path | None = None
+    for folder in folders:
+        for candidate in sorted(folder.glob("*.srdf")):
+            if urdf.stem.startswith(candidate.stem) and (
+                best is None or len(candidate.stem) > len(best.stem)
+            ):
+                best = candidate
+    return best
+
+
+def reference_configurations(model: pin.Model, srdf: Path | None) -> dict[str, np.ndarray]:
+    """Read the SRDF's group states into the model; return them (empty if it cannot be read)."""
+    if srdf is None:
+        return {}
+    try:
+        pin.loadReferenceConfigurations(model, str(srdf), False)
+        entries = [
+            (entry.key(), np.array(entry.data(), dtype=float))
+            for entry in model.referenceConfigurations
+        ]
+    except Exception as exc:  # a broken SRDF must never stop the robot from loading
+        _logger.debug("Ignoring the SRDF %s: %s", srdf, exc)
+        return {}
+    return {key: q for key, q in entries if q.shape == (model.nq,) and np.all(np.isfinite(q))}
+
+
+def passive_joints(model: pin.Model, srdf: Path | None) -> tuple[str, ...]:
+    """The SRDF's ``<passive_joint name="..."/>`` entries that are joints of the model, in order."""
+    if srdf is None:
+        return ()
+    try:
+        root = ET.parse(srdf).getroot()
+    except (ET.ParseError, OSError) as exc:
+        _logger.debug("Ignoring the SRDF %s: %s", srdf, exc)
+        return ()
+    declared = {element.get("name", "") for element in root.iter("passive_joint")}
+    joints = list(model.names)[1:]
+    for name in sorted(declared - set(joints)):
+        _logger.debug("%s: passive joint %r is not a joint of the model; ignored", srdf, name)
+    return tuple(name for name in joints if name in declared)
+
+
+def default_pose(configurations: Mapping[str, np.ndarray]) -> str | None:
+    """Pick the pose that [`Robot.neutral`][] returns."""
+    for name in DEFAULT_POSE_NAMES:
+        if name in configurations:
+            return name
+    return next(iter(configurations), None)

@@ -17,13 +17,13 @@ import pinocchio as pin
 from virtual_actuators.exceptions import RobotDescriptionError, notice
 from virtual_actuators.models.collada import collada_arrays
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.contact import (
+from virtual_actuators.simulation.ground import (
     ROBOT_BITS,
     ROBOT_SELF_BITS,
+    TERRAIN_PREFIX,
     ContactParameters,
     set_contact,
 )
-from virtual_actuators.simulation.ground import TERRAIN_PREFIX
 
 __all__ = [
     "COLLISION_CHOICES",

@@ -23,14 +23,13 @@ from virtual_actuators.exceptions import (
     suggestion,
 )
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.contact import ContactParameters
 from virtual_actuators.simulation.geoms import (
     COLLISION_CHOICES,
     Collisions,
     add_geometry,
     add_sites,
 )
-from virtual_actuators.simulation.ground import add_terrain
+from virtual_actuators.simulation.ground import ContactParameters, add_terrain
 from virtual_actuators.simulation.joints import (
     BOUND_INERTIA,
     BOUND_MASS,

@@ -17,11 +17,7 @@ from virtual_actuators.experiments.channels import resolve_step_states
 from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.experiments.walk_log import WalkLog
 
-__all__ = [
-    "WalkMetrics",
-    "compute_metrics",
-    "write_json",
-]
+__all__ = ["WalkMetrics", "compute_metrics", "write_json"]
 
 
 @dataclass(frozen=True)

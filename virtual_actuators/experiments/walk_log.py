@@ -20,12 +20,7 @@ from virtual_actuators.experiments.channels import (
 )
 from virtual_actuators.experiments.walk_log_io import StoredLog, read_npz, write_npz
 
-__all__ = [
-    "STANDARD_CHANNELS",
-    "UNITS",
-    "WalkLog",
-    "check_terrain_points",
-]
+__all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog", "check_terrain_points"]
 
 
 @dataclass(eq=False)

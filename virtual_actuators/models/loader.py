@@ -142,11 +142,7 @@ def _load_path(path: Path, floating_base: bool | None) -> Robot:
 
 
 def _load_urdf(
-    name: str,
-    path: Path,
-    floating_base: bool | None,
-    package_dirs: list[str],
-    validate: bool,
+    name: str, path: Path, floating_base: bool | None, package_dirs: list[str], validate: bool
 ) -> Robot:
     """Build the robot of one URDF file.
 
@@ -259,14 +255,7 @@ def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
 
 
 #: Group states of the SRDF that [`Robot.neutral`][] prefers, best first.
-DEFAULT_POSE_NAMES = (
-    "standing",
-    "half_sitting",
-    "straight_standing",
-    "default",
-    "home",
-    "neutral",
-)
+DEFAULT_POSE_NAMES = ("standing", "half_sitting", "straight_standing", "default", "home", "neutral")
 
 
 def find_srdf(urdf: Path) -> Path | None:

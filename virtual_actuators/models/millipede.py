@@ -47,14 +47,7 @@ def _add_inertial(
     ET.SubElement(inertial, "mass", value=_fmt(mass))
     ixx, iyy, izz = diag
     ET.SubElement(
-        inertial,
-        "inertia",
-        ixx=_fmt(ixx),
-        ixy="0",
-        ixz="0",
-        iyy=_fmt(iyy),
-        iyz="0",
-        izz=_fmt(izz),
+        inertial, "inertia", ixx=_fmt(ixx), ixy="0", ixz="0", iyy=_fmt(iyy), iyz="0", izz=_fmt(izz)
     )
 
 
@@ -273,11 +266,7 @@ def millipede_urdf(
 
 
 def millipede(
-    legs: int = 100,
-    *,
-    floating_base: bool = True,
-    knee_angle: float = 0.5,
-    **dimensions: float,
+    legs: int = 100, *, floating_base: bool = True, knee_angle: float = 0.5, **dimensions: float
 ) -> Robot:
     """Build a millipede: ``legs`` legs along a box body, two joints per leg, point feet.
 

@@ -15,12 +15,7 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.conversions import finite_vector, gathers
 from virtual_actuators.simulation.model import MujocoModel
 
-__all__ = [
-    "UNACTUATED_TOLERANCE",
-    "ctrl_to_torques",
-    "ctrl_writer",
-    "torques_to_ctrl",
-]
+__all__ = ["UNACTUATED_TOLERANCE", "ctrl_to_torques", "ctrl_writer", "torques_to_ctrl"]
 
 #: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
 UNACTUATED_TOLERANCE = 1e-9

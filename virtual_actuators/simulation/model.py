@@ -41,12 +41,7 @@ from virtual_actuators.simulation.joints import (
 )
 from virtual_actuators.simulation.terrain import Terrain
 
-__all__ = [
-    "ContactParameters",
-    "JointMap",
-    "MujocoModel",
-    "build_mujoco_model",
-]
+__all__ = ["ContactParameters", "JointMap", "MujocoModel", "build_mujoco_model"]
 
 
 @dataclass(frozen=True)

@@ -49,11 +49,8 @@ class WalkLog:
         if STATE_CHANNEL in names:
             raise InvalidInputError("data: 'state' is not a float channel; pass state=... instead.")
         if "time" not in names:
-            raise InvalidInputError(
-                "data: a 'time' channel is required; channels given: "
-                + ", ".join(repr(n) for n in names)
-                + "."
-            )
+            given = ", ".join(repr(n) for n in names)
+            raise InvalidInputError(f"data: a 'time' channel is required; channels given: {given}.")
         n = None
         data: dict[str, np.ndarray] = {}
         for name in names:

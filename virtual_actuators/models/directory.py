@@ -114,7 +114,7 @@ class RobotInfo:
 
 
 def find_feet(robot: Robot) -> tuple[str, ...]:
-    """The frames named like a foot, in model order: per joint the farthest (a link's first)."""
+    """The frames named like a foot, one per joint: the farthest from it, a link's first."""
     model = robot.model
     best: dict[int, tuple[float, int, str]] = {}
     for frame in model.frames:

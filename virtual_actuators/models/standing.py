@@ -175,7 +175,10 @@ def _reach(
 
 
 def _folded_start(lower: np.ndarray, upper: np.ndarray, fold: float) -> np.ndarray:
-    """Each joint's start: the middle of its range within ``+-_FOLD`` (``fold`` if 0), else 0."""
+    """Each joint's start: its range's middle within ``+-_FOLD``, else its bound nearest 0.
+
+    A symmetric range (middle zero) starts at ``fold``.
+    """
     low, high = np.maximum(lower, -_FOLD), np.minimum(upper, _FOLD)
     middle = 0.5 * (low + high)
     middle = np.where(np.abs(middle) < 1e-9, fold, middle)

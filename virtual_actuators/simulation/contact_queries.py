@@ -118,17 +118,13 @@ class ContactQueries:
             )
         return geoms
 
-    def terrain_contacts(self) -> list[tuple[int, int, float]]:
-        """The active robot-terrain contacts, once per physics state (do not modify).
+    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
+        """The active robot-terrain contacts (of ``frame``'s geoms), scanned once per state.
 
         Returns:
             ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when the
             robot geom is the second geom (MuJoCo's force acts on it along the normal), else -1.
         """
-        return self._terrain_contacts()
-
-    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
-        """`terrain_contacts`, or those of ``frame``'s geoms."""
         key = (self.data.time, self.data.ncon)
         if self._contacts_time != key:
             self._contacts = self._scan_contacts()

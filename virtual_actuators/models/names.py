@@ -11,7 +11,7 @@ from types import MappingProxyType
 
 __all__ = ["ALIASES"]
 
-#: Common name -> example-robot-data file stem (see the module documentation for the choices).
+#: Common name -> example-robot-data file stem (the choices: the "Robots" reference page).
 ALIASES: Mapping[str, str] = MappingProxyType(
     {
         # PAL Robotics TALOS (example_robot_data.load names)

@@ -910,8 +910,8 @@ def test_contact_queries_follow_steps_and_resets():
 
 def test_model_module_keeps_the_names_imported_from_it() -> None:
     """``simulation.model`` still exports what other modules import from it (same objects)."""
-    from virtual_actuators.simulation import contact, geoms, model
+    from virtual_actuators.simulation import geoms, ground, model
 
     assert model.__all__ == ["ContactParameters", "JointMap", "MujocoModel", "build_mujoco_model"]
-    assert model.ContactParameters is contact.ContactParameters is ContactParameters
+    assert model.ContactParameters is ground.ContactParameters is ContactParameters
     assert model.Collisions is geoms.Collisions

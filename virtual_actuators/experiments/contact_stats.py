@@ -1,19 +1,8 @@
 """Are the feet in support pushing and not sliding? Measured on MuJoCo's contact forces.
 
-At each sample (every few ticks: the walks read them at 250 Hz), for each foot the gait has in
-support, every MuJoCo contact between the foot's geoms and the terrain is split, in that
-contact's own frame (the normal MuJoCo reports, not the terrain's slope: a foot straddling a
-corner touches two slopes at once), into its normal force ``f_n,c`` and the magnitude of its
-tangential force ``|f_t,c|``. A foot's figures are its normal force ``sum_c f_n,c`` and its
-friction ratio ``sum_c |f_t,c| / sum_c f_n,c``: a load-weighted mean of its contacts' ratios,
-at most MuJoCo's friction coefficient, reaching it only when every loaded contact of the foot
-slides. The run's figures are the least normal force of a supporting foot (0: a foot that should
-carry load is off the ground or unloaded; negative is impossible in MuJoCo) and the largest
-friction ratio among supporting feet carrying at least `NORMAL_FLOOR` newtons.
-
-A foot is read from `SETTLE_TIME` after it enters the support set: a touchdown is an
-impact (the swing foot arrives with some velocity and its first millisecond slides whatever the
-distribution asks); what is measured is the stance the controller is responsible for.
+Each supporting foot's contacts are split in their own frames into normal forces and
+tangential magnitudes; a foot's friction ratio is ``sum |f_t| / sum f_n``. A foot is read from
+`SETTLE_TIME` after it enters support (a touchdown is an impact).
 """
 
 from __future__ import annotations
@@ -39,11 +28,11 @@ class StanceForces:
 
     Args:
         simulator: The simulation (MuJoCo's contacts and their forces).
-        terrain: The terrain (kept for the callers: the normals are the contacts' own).
+        terrain: The terrain (kept for the callers).
 
     Attributes:
         normal_min: Least normal force of a supporting foot so far [N] (inf before a sample).
-        ratio_max: Largest tangential / normal force so far (feet above the floor).
+        ratio_max: Largest tangential / normal force of the feet above `NORMAL_FLOOR`.
         samples: Foot readings taken.
     """
 
@@ -58,11 +47,7 @@ class StanceForces:
         self._owners: dict[tuple, np.ndarray] = {}  # settled feet -> each geom's foot (or -1)
 
     def sample(self, feet: Iterable[Iterable[str]]) -> None:
-        """Read the supporting feet; each foot is the frames whose geoms touch for it.
-
-        Args:
-            feet: Per supporting foot, the contact frames that make it up (a point foot is one
-                frame; a flat foot its heel and toe).
+        """Read the supporting feet, each the contact frames that make it up.
 
         Raises:
             FrameNotFoundError: A foot names a frame the robot lacks.
@@ -88,7 +73,7 @@ class StanceForces:
             self.samples += 1
 
     def _settle(self, feet: Iterable[Iterable[str]], now: float) -> tuple[tuple[str, ...], ...]:
-        """The feet in support since `SETTLE_TIME` at least (and the entry times kept)."""
+        """The feet in support since `SETTLE_TIME` at least (their entry times kept)."""
         feet = feet if feet.__class__ is list else list(feet)
         if feet != self._feet:  # a new support set: entry times of the feet that stay
             since = self._since
@@ -115,7 +100,7 @@ class StanceForces:
 
 
 def _owners(simulator: Simulator, settled: tuple[tuple[str, ...], ...]) -> np.ndarray:
-    """Per geom, the index of the settled foot whose frames own it (-1: none; the first foot).
+    """Per geom, the index of the settled foot that owns it (-1: none; the first foot wins).
 
     Raises:
         FrameNotFoundError: A foot names a frame the robot lacks.

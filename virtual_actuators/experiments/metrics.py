@@ -1,18 +1,4 @@
-"""Summarise a recorded walking run (`WalkLog`).
-
-`compute_metrics` reduces a log to the numbers the seed reports for its walkers (seed
-003, section 5: "walked continuously at approximately 0.5 m/s ... six steps in 4 s ... deviated a
-maximum of 3 cm from the nominal height ... pitch was confined to +-0.1 rad"), and
-`write_json` stores them.
-
-Time windows: ``startup_s`` is counted from the first tick. The *walking* ticks are those before
-the first fallen tick (all ticks when the robot did not fall). Speed, height and pitch statistics
-use the walking ticks at or after ``startup_s`` (all walking ticks when fewer than two of them are
-past ``startup_s``: a run that ended during start-up); steps count over all walking ticks;
-``duration_s`` and ``distance_m`` cover the whole log. NaN samples (a set point that is not
-active, a channel not recorded at some ticks) are ignored; a statistic with no finite sample is
-``None``.
-"""
+"""Summarise a recorded walking run (`WalkLog`) in the figures of seed 003, section 5."""
 
 from __future__ import annotations
 
@@ -31,20 +17,15 @@ from virtual_actuators.experiments.channels import resolve_step_states
 from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.experiments.walk_log import WalkLog
 
-__all__ = [
-    "WalkMetrics",
-    "compute_metrics",
-    "write_json",
-]
+__all__ = ["WalkMetrics", "compute_metrics", "write_json"]
 
 
 @dataclass(frozen=True)
 class WalkMetrics(SmoothnessFigures):
     """What a walking run achieved. All SI; ``None`` when a quantity could not be measured.
 
-    The smoothness figures of every tick (`SmoothnessFigures`: ``effort_oscillation``,
-    ``effort_oscillation_joint``, ``effort_change_rms``, ``base_rate_alternation``,
-    ``base_rate_oscillation_radps``) are set by the walk, which has every tick's efforts.
+    The smoothness figures (`SmoothnessFigures`) are set by the walk, which has every tick's
+    efforts.
 
     Attributes:
         fell: Whether any tick has ``fallen`` set.
@@ -52,8 +33,7 @@ class WalkMetrics(SmoothnessFigures):
         duration_s: Time from the first to the last tick [s].
         distance_m: ``x`` at the last tick minus ``x`` at the first [m].
         mean_speed_mps: ``(x(T) - x(t0)) / (T - t0)`` over the statistics window [m/s].
-        speed_std_mps: Standard deviation of ``xdot`` over the window [m/s] (from ``x`` by finite
-            differences when ``xdot`` is not recorded).
+        speed_std_mps: Standard deviation of ``xdot`` (else of ``x``'s differences) [m/s].
         height_dev_m: Largest ``|z - z_setpoint|`` over the window [m].
         height_mean_m: Mean ``z`` over the window [m].
         pitch_max_abs_rad: Largest ``|pitch|`` over the window [rad].
@@ -62,15 +42,13 @@ class WalkMetrics(SmoothnessFigures):
         step_time_mean_s: Mean time between consecutive step entries [s].
         realtime_factor: ``duration_s / wall_time_s`` (above 1: faster than real time).
         speed_setpoint_mps: The desired speed [m/s] (metadata ``speed_setpoint_mps``, else the
-            median of the finite ``xdot_setpoint`` samples in the window).
+            median of ``xdot_setpoint`` in the window).
         startup_s: The start-up time excluded from the statistics [s].
         window_start_s: Time of the first tick of the statistics window [s].
         window_end_s: Time of the last tick of the statistics window [s].
         samples: Number of ticks in the log.
         step_states: The state names whose entries were counted as steps.
-        stance_normal_min_n: Least normal force of a foot in support, measured in the
-            simulation [N] (see `contact_stats`); None when
-            not measured.
+        stance_normal_min_n: Least normal force of a foot in support [N] (`contact_stats`).
         stance_friction_ratio_max: Largest tangential / normal force of a foot in support.
     """
 
@@ -97,11 +75,11 @@ class WalkMetrics(SmoothnessFigures):
     stance_friction_ratio_max: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """Return the metrics as a JSON-able dict (bools, ints, floats, None, lists of str)."""
+        """The metrics as a JSON-able dict."""
         return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}
 
     def summary(self) -> str:
-        """Return a one-line human summary, e.g. for a plot title or a log line."""
+        """A one-line human summary, e.g. for a plot title or a log line."""
         parts = [f"{_fmt(self.distance_m, 'm')} in {self.duration_s:z.2f} s"]
         speed = f"mean speed {_fmt(self.mean_speed_mps, 'm/s')}"
         if self.speed_setpoint_mps is not None:
@@ -127,7 +105,7 @@ def _fmt(value: float | None, unit: str, digits: int = 2) -> str:
 
 
 def _plain(value: Any) -> Any:
-    """Convert NumPy scalars to Python ones, NaN and infinities to None, tuples to lists."""
+    """NumPy scalars as Python ones, NaN and infinities as None, tuples as lists."""
     if isinstance(value, bool | np.bool_):
         return bool(value)
     if isinstance(value, int | np.integer):
@@ -245,7 +223,7 @@ def _pitches(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | No
 
 
 def _speed_setpoint(log: WalkLog, window: np.ndarray) -> float | None:
-    """The desired speed: the metadata's, else the median dogtrack-bunny speed in the window.
+    """The desired speed: the metadata's, else the median bunny speed in the window.
 
     Raises:
         InvalidInputError: If ``metadata["speed_setpoint_mps"]`` is not a number.
@@ -272,21 +250,19 @@ def compute_metrics(
     wall_time_s: float | None = None,
     step_states: Iterable[str] | None = None,
 ) -> WalkMetrics:
-    """Compute what a walking run achieved (see the module docstring for the windows).
+    """Compute what a walking run achieved.
+
+    The walking ticks are those before the first fallen tick. Speed, height and pitch use the
+    walking ticks from ``startup_s`` on (all of them when fewer than two are); steps count over
+    the walking ticks; duration and distance over the whole log. NaN samples are ignored.
 
     Args:
         log: The run; needs ``time`` and ``x``; ``xdot``, ``z``, ``z_setpoint``, ``pitch``,
             ``pitch_setpoint``, ``fallen`` and the state are used when present.
-        startup_s: Seconds after the first tick excluded from the speed, height and pitch
-            statistics.
-        wall_time_s: Wall-clock seconds the run took (else ``metadata["wall_time_s"]``), for
-            ``realtime_factor``.
-        step_states: Names of the states whose entries count as steps (else
-            ``metadata["step_states"]``, else
-            `default_step_states`).
-
-    Returns:
-        The metrics.
+        startup_s: Seconds after the first tick left out of the statistics.
+        wall_time_s: Wall-clock seconds of the run (else ``metadata["wall_time_s"]``).
+        step_states: States whose entries count as steps (else ``metadata["step_states"]``,
+            else `default_step_states`).
 
     Raises:
         InvalidInputError: If the log has fewer than two ticks or no ``x`` channel, or an
@@ -340,14 +316,9 @@ def compute_metrics(
 
 
 def write_json(metrics: WalkMetrics | Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
-    """Write metrics to ``path`` as pretty JSON with sorted keys (NaN written as null).
+    """Write metrics (a `WalkMetrics` or a dict) to ``path`` as sorted JSON; return ``path``.
 
-    Args:
-        metrics: A `WalkMetrics` or a dict of JSON-able values.
-        path: Destination file; parents are created.
-
-    Returns:
-        The path written.
+    NaN is written as null; parents are created.
 
     Raises:
         InvalidInputError: If a value cannot be written as JSON (the message names its key).

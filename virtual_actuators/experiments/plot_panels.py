@@ -52,7 +52,7 @@ FORCE_STYLE = {"color": "C2", "lw": 1.0}
 MAX_FULL_LINES = 60
 
 
-#: Labels of the step marks (:func:`mark_states`) and the fall line (:func:`fall_marks`).
+#: Labels of the step marks (`mark_states`) and the fall line (`fall_marks`).
 STEP_LABEL = "step (single support) begins"
 DOUBLE_LABEL = "double support begins"
 FALL_LABEL = "fell"
@@ -201,9 +201,8 @@ def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
         (log.entries(_double_support_states(log)), "dotted", DOUBLE_LABEL, "0.6"),
     )
     count = sum(ticks.size for ticks, *_ in marks)
-    # Full-height lines while they stay apart (about one per 8 mm of a 7-inch axis); beyond that
-    # (a 60 s run has ~150 transitions) they would hatch the panels solid: short marks along the
-    # top edge instead, one row per kind, and the data stays readable.
+    # Full-height lines while they stay apart; beyond that they would hatch the panels solid:
+    # short marks along the top edge instead, one row per kind.
     dense = count > MAX_FULL_LINES
     rows = ("top row of ticks", "second row of ticks")
     for ax in axes:

@@ -1,34 +1,7 @@
 """Plot a recorded walking run like the seed's figures (seed 003, Fig. 9, 15 and 16).
 
-`plot_walk` draws one of two layouts into a PNG:
-
-``"time"`` (Fig. 9, Spring Turkey on level ground), against time:
-
-    =====================================  =========================================
-    x with its set point (dashed)          virtual force Fx on the body
-    hip height z with its set point        virtual force Fz
-    pitch with its set point               virtual moment M_pitch
-    xdot with the bunny speed (dotted)     state machine state (names as y ticks)
-    =====================================  =========================================
-
-    plus, when the log has a terrain (``metadata["terrain_points"]``), a bottom row with the
-    terrain and the body path against x, and the global slope estimate against x.
-
-``"terrain"`` (Fig. 15 and 16, Spring Flamingo on slopes), every panel against the body's x: the
-terrain with the body path across the top, then global slope, hip height above the terrain with
-its set point, xdot with its set point and pitch on the left; Fz, Fx, M_pitch and the state on the
-right. ``layout="auto"`` picks ``"terrain"`` when the log has terrain points, else ``"time"``.
-
-Vertical lines mark entries into the step (single-support, dash-dot) and double-support (dotted)
-states, as in Fig. 15; when there are more than ``MAX_FULL_LINES`` (a long run), two rows of
-short ticks along the top edge of each panel instead (the panels are drawn by
-`plot_panels`). Ticks after a fall are shaded red. A legend
-under the panels names the marks. ``window=(t0, t1)`` plots part of a run, in simulated seconds;
-the title names it, and against x also the body's x range it covers in metres. Titles are broken
-into lines that fit the figure.
-
-Matplotlib is imported inside the functions (importing this module stays cheap) and draws on a
-``FigureCanvasAgg`` of its own: no pyplot, so the global backend and open figures are untouched.
+Matplotlib is imported inside the functions and draws on a ``FigureCanvasAgg`` of its own (no
+pyplot: the global backend and open figures are untouched).
 """
 
 from __future__ import annotations
@@ -71,6 +44,8 @@ if TYPE_CHECKING:
 __all__ = ["draw_terrain", "draw_walk", "plot_terrain", "plot_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
+
+
 def _default_title(log: WalkLog) -> str:
     meta = log.metadata
     parts = [str(meta.get("robot", "walking run"))]
@@ -119,10 +94,8 @@ def plot_walk(
         metrics: When given, its `summary` is added under the title.
         state_lines: Mark entries into step and double-support states with vertical lines.
         dpi: Resolution of the PNG.
-        max_points: Continuous channels are decimated to about this many points (the state plot
-            is always exact).
-        window: ``(start, stop)`` simulated seconds to plot only that part of the run (either
-            may be None); the title names the window in seconds and, against x, in metres.
+        max_points: Continuous channels are decimated to about this many points.
+        window: ``(start, stop)`` simulated seconds to plot (either may be None).
 
     Returns:
         The path written.
@@ -155,10 +128,7 @@ def draw_walk(
     max_points: int = 20000,
     window: tuple[float | None, float | None] | None = None,
 ) -> Figure:
-    """The figure `plot_walk` saves (same arguments but the path), not yet drawn.
-
-    Returns:
-        A matplotlib figure on an Agg canvas of its own.
+    """The figure `plot_walk` saves (same arguments but the path), on an Agg canvas of its own.
 
     Raises:
         InvalidInputError: As `plot_walk`.
@@ -198,7 +168,7 @@ def draw_walk(
 
 
 def _window_note(log: WalkLog, *, against_x: bool) -> str:
-    """What a windowed plot shows: its simulated seconds, and (panels against x) the x range."""
+    """What a windowed plot shows: its simulated seconds, and (against x) the x range."""
     t = log.time
     note = f"window: t = {t[0]:.2f} to {t[-1]:.2f} s"
     x = log["x"] if log.has("x") else np.empty(0)
@@ -270,11 +240,7 @@ def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
 def _terrain_layout(
     log: WalkLog, terrain: np.ndarray, stride: slice, dpi: float
 ) -> tuple[Figure, list[Axes], np.ndarray]:
-    """Fig. 15/16: every panel against the body's x.
-
-    Terrain and body path, global slope, height, xdot and pitch on the left; Fz, Fx, M_pitch and
-    the state on the right (equal widths, so the columns line up along x).
-    """
+    """Fig. 15/16: every panel against the body's x."""
     fig = new_figure(12, 11.5, dpi)
     columns = fig.add_gridspec(1, 2)
     left_grid = columns[0, 0].subgridspec(5, 1, height_ratios=[1.4, 1, 1, 1, 1])
@@ -351,10 +317,7 @@ def draw_terrain(
     title: str | None = None,
     dpi: float = 120,
 ) -> Figure:
-    """The figure `plot_terrain` saves (same arguments but the path), not yet drawn.
-
-    Returns:
-        A matplotlib figure on an Agg canvas of its own.
+    """The figure `plot_terrain` saves (same arguments but the path), on an Agg canvas.
 
     Raises:
         InvalidInputError: As `plot_terrain`.

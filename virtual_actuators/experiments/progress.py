@@ -1,9 +1,6 @@
 """Progress bars for long runs: simulated seconds of a walk, or finished items of a sweep.
 
-The bar's position is *set* from the simulation clock (or the count of finished items), never
-accumulated from increments: no float drift past the total, hence no clamping warning and no
-negative time left. It redraws at most ten times a second, writes to stderr (the summary line
-goes to stdout) and leaves one final line when closed.
+The position is set from the clock (or the count), never accumulated, so it cannot drift.
 """
 
 from __future__ import annotations
@@ -16,7 +13,7 @@ __all__ = ["Progress"]
 
 
 class Progress:
-    """A tqdm bar over a known total.
+    """A tqdm bar over a known total, on stderr, redrawn at most ten times a second.
 
     Args:
         total: Simulated seconds, or items.

@@ -1,9 +1,4 @@
-"""Record a walking run one control tick at a time into a `WalkLog`.
-
-Rows live in one preallocated ``(capacity, channels)`` float64 array that doubles when full, so
-appending is amortised O(1). The channels, units and storage are described in
-`virtual_actuators.experiments.walk_log`.
-"""
+"""Record a walking run one control tick at a time into a `WalkLog`."""
 
 from __future__ import annotations
 
@@ -24,7 +19,7 @@ from virtual_actuators.experiments.walk_log import WalkLog
 
 
 class Recorder:
-    """Collect one row per control tick into preallocated, amortised-growth arrays.
+    """Collect one row per control tick into a preallocated array that doubles when full.
 
     Example:
         >>> rec = Recorder(channels=("time", "x", "z"), state_names=("double", "single"),
@@ -36,11 +31,11 @@ class Recorder:
         [0.0, 0.0005]
 
     Args:
-        channels: Float channel names; must include ``"time"``. ``"state"`` may be listed (it is
-            recorded separately either way). Defaults to `STANDARD_CHANNELS`.
+        channels: Float channel names; must include ``"time"`` (``"state"`` is recorded
+            separately either way).
         state_names: Names of the discrete states; ``state`` values index into them.
-        capacity: Rows allocated up front (the buffer doubles when full).
-        metadata: Run description, copied; more can be added through `metadata`.
+        capacity: Rows allocated up front.
+        metadata: Run description, copied.
 
     Raises:
         InvalidInputError: If a channel or state name is empty or repeated, ``"time"`` is
@@ -137,9 +132,7 @@ class Recorder:
         return value
 
     def append(self, state: int | str | None = None, **values: float) -> None:
-        """Record one tick: ``rec.append(time=t, x=x, ..., state=i)``.
-
-        Channels left out stay NaN for this tick.
+        """Record one tick: ``rec.append(time=t, x=x, ..., state=i)``; channels left out stay NaN.
 
         Args:
             state: Index into `state_names` (or the state's name); -1 (unknown) if omitted.
@@ -208,7 +201,7 @@ class Recorder:
         self._n = n + 1
 
     def to_log(self) -> WalkLog:
-        """Return the rows recorded so far as a `WalkLog` (copies; recording may go on).
+        """The rows recorded so far as a `WalkLog` (copies; recording may go on).
 
         Raises:
             InvalidInputError: If the recorded ``time`` is not finite and non-decreasing.

@@ -1,28 +1,6 @@
 """Is a closed loop smooth at its tick rate? Figures of every tick's efforts and base rates.
 
-A loop whose gains are unstable in discrete time chatters at the tick rate: its efforts jump
-from one side to the other every tick while a trace sampled at 100 Hz, always at the same
-phase, looks perfect. `effort_smoothness` measures it on every tick of a run, after the first
-`SKIP_S` seconds (the start-up), each joint's efforts relative to its effort limit ``L_j``
-(joints without a positive finite limit are left out):
-
-- **tick-rate oscillation** of joint ``j`` at tick ``k``:
-  ``|tau_k - (tau_{k-1} + tau_{k+1}) / 2| / L_j``, the distance of a tick's effort from the
-  mean of its neighbours. A persistent alternation between ``+a`` and ``-a`` gives ``2 a / L_j``
-  at every tick (200 % for a swing between the limits); a ramp, or a sine far slower than the
-  tick rate, gives about 0; a step (a touchdown) gives half the step at one tick and 0
-  elsewhere. The figure is its `PERCENTILE` th percentile over the ticks, on the worst joint:
-  a persistent alternation, not a few steps.
-- **rms change per tick**: ``sqrt(mean over ticks and joints of ((tau_k - tau_{k-1}) / L_j)^2)``.
-- **base angular rate alternation** (given the base's angular velocity ``w``, each axis at
-  every tick): the fraction of ticks at which ``w`` zigzags, its changes ``c_i = w_i - w_{i-1}``
-  alternating in sign three times in a row, ``c_{k-1}, c_k, c_{k+1}, c_{k+2}``, each larger
-  than `RATE_FLOOR_RADPS`; the worst axis. A persistent alternation between ``+a`` and ``-a``
-  counts at every tick once ``2 a`` exceeds the floor; a touchdown's kink (the rate jumps, then
-  turns back once) and the last reversals of its ringing do not. Beside it, the `PERCENTILE` th
-  percentile of ``|w_k - (w_{k-1} + w_{k+1}) / 2|`` [rad/s], worst axis.
-
-`SmoothnessFigures` holds the figures every walk's metrics carry in their JSON and summary line.
+Definitions of the figures: the "Command line" page, section on a walk's summary line.
 """
 
 from __future__ import annotations
@@ -41,13 +19,8 @@ from ..vocabulary.arguments import as_float_array, check_number
 SKIP_S = 1.0
 #: The percentile over the ticks of the oscillation figures.
 PERCENTILE = 75.0
-#: The base rate's changes from tick to tick in a zigzag exceed this [rad/s]. A smooth motion
-#: changes it by ``|dw/dt| dt``: 0.01 rad/s at an angular acceleration of 10 rad/s^2 at 1 kHz,
-#: and does not reverse three times in a row; MuJoCo's contacts at rest move it by less than
-#: 3e-5 rad/s a tick (Talos standing); a touchdown's ringing reverses a few times by a few
-#: 1e-3 rad/s (the hexapod's and go2's feet at 1 m/s: with a floor of 0.002 rad/s they zigzag on
-#: 1 to 1.5 % of the ticks, 0.005 on 0.1 %, 0.01 on none); a chattering loop alternates by tenths
-#: of rad/s (g1's balance before issue 35's fix: +0.38 / -0.37 rad/s every tick).
+#: The base rate's changes from tick to tick in a zigzag exceed this [rad/s] (a smooth motion
+#: changes it by ``|dw/dt| dt`` and does not reverse three times in a row).
 RATE_FLOOR_RADPS = 0.01
 
 __all__ = [
@@ -62,17 +35,17 @@ __all__ = [
 
 @dataclass(frozen=True, kw_only=True)
 class SmoothnessFigures:
-    """The smoothness figures a walk's metrics carry (`effort_smoothness`; None: not measured).
+    """The smoothness figures a walk's metrics carry (None: not measured).
 
     Attributes:
-        effort_oscillation: Tick-rate oscillation, its `PERCENTILE` th percentile over the
-            ticks on the worst joint, as a fraction of that joint's effort limit [-].
+        effort_oscillation: Tick-rate oscillation ``|tau_k - (tau_{k-1} + tau_{k+1}) / 2|``, its
+            `PERCENTILE` th percentile on the worst joint, a fraction of its effort limit [-].
         effort_oscillation_joint: That joint.
-        effort_change_rms: RMS change of the efforts per tick, as a fraction of the limits [-].
-        base_rate_alternation: Fraction of ticks at which the base's angular rate zigzags
-            (worst axis) [-].
-        base_rate_oscillation_radps: The `PERCENTILE` th percentile of the base rate's distance
-            from its neighbours' mean, worst axis [rad/s].
+        effort_change_rms: RMS change of the efforts per tick, a fraction of the limits [-].
+        base_rate_alternation: Fraction of ticks at which the base's angular rate zigzags (three
+            sign reversals in a row of changes above `RATE_FLOOR_RADPS`), worst axis [-].
+        base_rate_oscillation_radps: The same percentile as ``effort_oscillation`` of the base
+            rate, worst axis [rad/s].
     """
 
     effort_oscillation: float | None = None
@@ -104,19 +77,16 @@ def _percent(fraction: float | None, digits: int = 2) -> str:
 
 @dataclass(frozen=True)
 class EffortSmoothness:
-    """How smooth a run's efforts and base rates are at the tick rate (see the module docstring).
+    """How smooth a run's efforts and base rates are at the tick rate.
 
     Attributes:
-        oscillation: Tick-rate oscillation, `PERCENTILE` th percentile, worst joint, as a
-            fraction of its effort limit [-] (None: no limited joint, or no tick after the skip
-            with both neighbours).
+        oscillation: `SmoothnessFigures.effort_oscillation` (None: no limited joint, or no
+            tick after the skip with both neighbours).
         oscillation_joint: The worst joint.
-        change_rms: RMS change per tick as a fraction of the limits [-] (None: as above).
-        rate_alternation: Fraction of ticks at which the base rate zigzags, worst axis [-]
-            (None: no base rates given, or no tick after the skip with two neighbours on
-            each side).
-        rate_oscillation_radps: `PERCENTILE` th percentile of the base rate's distance from its
-            neighbours' mean, worst axis [rad/s].
+        change_rms: `SmoothnessFigures.effort_change_rms` (None: as above).
+        rate_alternation: `SmoothnessFigures.base_rate_alternation` (None: no base rates, or
+            no tick after the skip with two neighbours on each side).
+        rate_oscillation_radps: `SmoothnessFigures.base_rate_oscillation_radps` [rad/s].
         joints: The joints measured (those with a limit).
         joint_oscillation: Each one's oscillation figure [-], in ``joints``' order.
         joint_change_rms: Each one's RMS change per tick [-].
@@ -172,14 +142,13 @@ def effort_smoothness(
     names: Sequence[str] | None = None,
     rate_floor_radps: float = RATE_FLOOR_RADPS,
 ) -> EffortSmoothness:
-    """Measure a run's smoothness at the tick rate (definitions in the module docstring).
+    """Measure a run's smoothness at the tick rate.
 
     Args:
         efforts: ``(ticks, nv)`` every tick's applied efforts [N m or N].
-        limits: ``(nv,)`` effort limits [N m or N]; entries that are not positive and finite
-            (``inf``, 0) leave their joint out.
-        base_rates: ``(ticks, axes)`` the base's angular velocity at every tick [rad/s] (one
-            to three axes), or None.
+        limits: ``(nv,)`` effort limits [N m or N]; a joint whose limit is not positive and
+            finite is left out.
+        base_rates: ``(ticks, 1 to 3)`` the base's angular velocity at every tick [rad/s], or None.
         time_step: Time between two ticks [s].
         skip_s: Ticks before this time (tick 0 at 0 s) are left out [s].
         names: ``nv`` names of the degrees of freedom (default ``"dof <index>"``).

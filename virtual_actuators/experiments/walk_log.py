@@ -1,18 +1,4 @@
-"""A recorded walking run (`WalkLog`): channels, states, metadata, ``.npz`` storage.
-
-A `Recorder` holds a fixed set of named float
-channels declared at construction, plus a discrete state (an index into ``state_names``) and a
-metadata dict; appending a tick costs about 2-4 µs of Python for the sixteen standard channels
-(1 µs as a row). A channel not given at a tick stays NaN.
-
-``Recorder.to_log`` returns a `WalkLog`: one array per channel, the state indices, the
-state names and the metadata; `WalkLog.save_npz` and `WalkLog.load_npz` store it in
-a NumPy ``.npz`` file (no pickle; the format is in
-`walk_log_io`).
-
-The channels the walking demos record and the standard metadata keys are listed in
-`channels`.
-"""
+"""A recorded walking run (`WalkLog`): channels, states, metadata, ``.npz`` storage."""
 
 from __future__ import annotations
 
@@ -34,14 +20,9 @@ from virtual_actuators.experiments.channels import (
 )
 from virtual_actuators.experiments.walk_log_io import StoredLog, read_npz, write_npz
 
-__all__ = [
-    "STANDARD_CHANNELS",
-    "UNITS",
-    "WalkLog",
-    "check_terrain_points",
-]
+__all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog", "check_terrain_points"]
 
-# -- the log ------------------------------------------------------------------------------------
+
 @dataclass(eq=False)
 class WalkLog:
     """A recorded run: one float array per channel, the discrete state, and metadata.
@@ -49,11 +30,11 @@ class WalkLog:
     Build one with `Recorder.to_log`, `from_arrays` or `load_npz`.
 
     Attributes:
-        data: Channel name -> ``(n,)`` float64 array, in declaration order; ``"time"`` [s] is
-            required, finite and non-decreasing.
+        data: Channel name -> ``(n,)`` float64 array; ``"time"`` [s] is required, finite and
+            non-decreasing.
         state: ``(n,)`` int64 index into ``state_names`` per tick; -1 when unknown.
         state_names: Names of the discrete states.
-        metadata: Run description (see the module docstring for the standard keys).
+        metadata: Run description (standard keys in `channels`).
     """
 
     data: dict[str, np.ndarray]
@@ -68,11 +49,8 @@ class WalkLog:
         if STATE_CHANNEL in names:
             raise InvalidInputError("data: 'state' is not a float channel; pass state=... instead.")
         if "time" not in names:
-            raise InvalidInputError(
-                "data: a 'time' channel is required; channels given: "
-                + ", ".join(repr(n) for n in names)
-                + "."
-            )
+            given = ", ".join(repr(n) for n in names)
+            raise InvalidInputError(f"data: a 'time' channel is required; channels given: {given}.")
         n = None
         data: dict[str, np.ndarray] = {}
         for name in names:
@@ -124,7 +102,6 @@ class WalkLog:
             raise InvalidInputError(f"metadata must be a dict, got {type(self.metadata).__name__}.")
         self.metadata = dict(self.metadata)
 
-    # -- construction ---------------------------------------------------------------------------
     @classmethod
     def from_arrays(
         cls,
@@ -134,16 +111,13 @@ class WalkLog:
         metadata: Mapping[str, Any] | None = None,
         **channels: Sequence[float] | np.ndarray,
     ) -> WalkLog:
-        """Build a log from whole arrays (synthetic runs, tests, conversions).
+        """Build a log from whole arrays.
 
         Args:
             state: ``(n,)`` state indices; all -1 (unknown) when omitted.
             state_names: Names of the states.
             metadata: Run description.
             **channels: Channel name -> ``(n,)`` values; ``time`` is required.
-
-        Returns:
-            The log.
 
         Raises:
             InvalidInputError: If a channel is missing, misshapen or inconsistent.
@@ -155,7 +129,6 @@ class WalkLog:
             metadata=dict(metadata or {}),
         )
 
-    # -- access ---------------------------------------------------------------------------------
     def __len__(self) -> int:
         return int(self.data["time"].shape[0])
 
@@ -174,7 +147,7 @@ class WalkLog:
 
     @property
     def channels(self) -> tuple[str, ...]:
-        """Names of the float channels, in declaration order (``state`` is not among them)."""
+        """Names of the float channels, in order (``state`` is not among them)."""
         return tuple(self.data)
 
     @property
@@ -188,7 +161,7 @@ class WalkLog:
         return float(self.time[-1] - self.time[0]) if len(self) > 1 else 0.0
 
     def channel(self, name: str) -> np.ndarray:
-        """Return the ``(n,)`` array of channel ``name`` (``"state"`` gives the state indices).
+        """The ``(n,)`` array of channel ``name`` (``"state"``: the state indices).
 
         Raises:
             InvalidInputError: If the log has no such channel (the message lists the valid ones).
@@ -208,7 +181,7 @@ class WalkLog:
         return array is not None and bool(np.any(np.isfinite(array)))
 
     def state_index(self, name: str) -> int:
-        """Return the index of state ``name`` in `state_names`.
+        """The index of state ``name`` in `state_names`.
 
         Raises:
             InvalidInputError: If there is no such state (the message lists the valid ones).
@@ -219,11 +192,7 @@ class WalkLog:
             raise unknown_name(name, self.state_names, "state") from None
 
     def window(self, start: float | None = None, stop: float | None = None) -> WalkLog:
-        """The ticks with ``start <= time <= stop`` as a new log (same channels and metadata).
-
-        Args:
-            start: First time kept [s] (None: from the beginning).
-            stop: Last time kept [s] (None: to the end).
+        """The ticks with ``start <= time <= stop`` [s] as a new log (None: unbounded).
 
         Raises:
             InvalidInputError: A bound that is not a finite number, ``start > stop``, or a
@@ -250,16 +219,7 @@ class WalkLog:
         )
 
     def entries(self, states: Iterable[str]) -> np.ndarray:
-        """Return the ticks at which the state changes into one of ``states``.
-
-        The first tick is not an entry (the run starts there). Moving between two of ``states``
-        counts as an entry into the second.
-
-        Args:
-            states: State names (each must be in `state_names`).
-
-        Returns:
-            ``(k,)`` increasing tick indices.
+        """``(k,)`` ticks at which the state changes into one of ``states`` (never tick 0).
 
         Raises:
             InvalidInputError: If a name is not a state of this log.
@@ -284,15 +244,11 @@ class WalkLog:
             return None
         return check_terrain_points(points, "metadata['terrain_points']")
 
-    # -- files ----------------------------------------------------------------------------------
     def save_npz(self, path: str | os.PathLike[str]) -> Path:
-        """Write the log to ``path`` as a compressed ``.npz`` (readable without pickle).
+        """Write the log to ``path`` (as given, parents created) as a compressed ``.npz``.
 
-        Metadata values that are NumPy arrays are stored as arrays; the rest must be JSON-able
-        (NumPy scalars and nested arrays are converted; tuples and sets come back as lists).
-
-        Args:
-            path: Destination file; written as given (no suffix is added); parents are created.
+        NumPy arrays in the metadata are stored as arrays; the rest must be JSON-able (tuples and
+        sets come back as lists). Readable without pickle.
 
         Returns:
             The path written.
@@ -306,12 +262,6 @@ class WalkLog:
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:
         """Read a log written by `save_npz`.
-
-        Args:
-            path: The ``.npz`` file.
-
-        Returns:
-            The log.
 
         Raises:
             InvalidInputError: If the file is not a walk log.
@@ -330,14 +280,11 @@ def _first_bad(array: np.ndarray) -> int:
 
 
 def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
-    """Return terrain vertices as an ``(n, 2)`` float array of ``(x, z)``, sorted by nothing.
+    """Terrain vertices ``points`` as an ``(n >= 2, 2)`` float64 array of ``(x, z)``.
 
     Args:
-        points: ``(n, 2)`` array-like with ``n >= 2``, finite.
+        points: The vertices, array-like.
         what: Name of the argument, for messages.
-
-    Returns:
-        The points as float64.
 
     Raises:
         InvalidInputError: If the shape is wrong or a value is not finite.

@@ -1,10 +1,4 @@
-"""The ``.npz`` file of a `WalkLog`.
-
-One compressed NumPy archive, read without pickle: ``format`` (`NPZ_FORMAT`),
-``channels`` (names), ``data`` (an ``(n, channels)`` matrix), ``state``, ``state_names``,
-``metadata_json`` (the JSON-able metadata) and one ``meta_array__KEY`` array per metadata value
-that is a NumPy array.
-"""
+"""The ``.npz`` file of a `WalkLog`: one compressed NumPy archive, read without pickle."""
 
 from __future__ import annotations
 
@@ -29,11 +23,7 @@ META_ARRAY_PREFIX = "meta_array__"
 
 @dataclass(frozen=True, slots=True)
 class StoredLog:
-    """The parts of a log, as written to a file and read back.
-
-    ``WalkLog`` checks them when it is built from them; ``data``'s keys are in the log's
-    channel order.
-    """
+    """The parts of a log as written to a file and read back (``data`` in channel order)."""
 
     data: dict[str, np.ndarray]
     state: np.ndarray
@@ -43,13 +33,6 @@ class StoredLog:
 
 def write_npz(log: StoredLog, path: str | os.PathLike[str]) -> Path:
     """Write a log's parts to ``path`` as a compressed ``.npz`` (see ``WalkLog.save_npz``).
-
-    Args:
-        log: The log's parts.
-        path: Destination file; written as given (no suffix is added); parents are created.
-
-    Returns:
-        The path written.
 
     Raises:
         InvalidInputError: If a metadata value cannot be stored (the message names its key).
@@ -68,9 +51,7 @@ def write_npz(log: StoredLog, path: str | os.PathLike[str]) -> Path:
             try:
                 json.dumps(value, default=_json_default)
             except (TypeError, ValueError) as err:
-                raise InvalidInputError(
-                    f"metadata[{key!r}]: cannot be saved ({err})."
-                ) from None
+                raise InvalidInputError(f"metadata[{key!r}]: cannot be saved ({err}).") from None
             plain[key] = value
     names = tuple(log.data)
     matrix = (
@@ -95,12 +76,6 @@ def write_npz(log: StoredLog, path: str | os.PathLike[str]) -> Path:
 
 def read_npz(path: str | os.PathLike[str]) -> StoredLog:
     """Read the parts of a log written by `write_npz`.
-
-    Args:
-        path: The ``.npz`` file.
-
-    Returns:
-        The channels, states and metadata.
 
     Raises:
         InvalidInputError: If the file is not a walk log.

@@ -1,28 +1,6 @@
 """Find robots by name: the project's robot folders, example-robot-data, or a path.
 
-[`load_robot`][] accepts a path to a URDF file or the name of a
-known robot. Names are resolved in this order:
-
-1. ``"millipede"``: the generated robot of [`millipede`][virtual_actuators.millipede.millipede]
-   (100 legs).
-2. The folders listed in the environment variable ``VIRTUAL_ACTUATORS_ROBOTS`` (separated by
-   `os.pathsep`), then the repository's top-level ``robots/`` folder (`robots_dir`).
-   In each folder, robot ``NAME`` is ``NAME.urdf``, ``NAME/NAME.urdf``, ``NAME/urdf/NAME.urdf``
-   or ``NAME/robots/NAME.urdf``, with an optional SRDF beside it (see
-   `srdf`); or a Python package ``NAME/__init__.py`` (with no
-   ``NAME.urdf``) that defines ``build_robot(floating_base: bool | None = None) -> Robot`` for
-   robots generated in code.
-3. The URDF files shipped by example-robot-data, by file stem (``solo12``, ``talos_reduced``,
-   ``ur5_robot``, ...), then by common name (``talos``, ``ur5``, ``hyq``, ``g1``...: the aliases
-   of `ALIASES`, which also explains which variant each
-   one picks). Two files are called ``anymal.urdf``: ``anymal`` is ANYmal B and
-   ``anymal_c`` is ANYmal C. ``ur3.urdf`` is an empty xacro stub that no URDF parser can load:
-   such a stub is left out of [`list_robots`][] and its name resolves to ``<stem>_robot.urdf``
-   from the same folder when that exists (``ur3`` loads ``ur3_robot.urdf``).
-
-A string is a path rather than a name when it contains a path separator, starts with ``~`` or
-ends in ``.urdf``, ``.xml`` or ``.xacro`` (`as_path`); a folder given as a path stands for
-the one URDF it holds (`urdf_in_folder`).
+The order in which names are resolved is on the "Robots" reference page.
 """
 
 from __future__ import annotations
@@ -72,17 +50,10 @@ _PATH_SUFFIXES = (".urdf", ".xml", ".xacro")
 
 
 def list_robots(include_aliases: bool = False) -> list[str]:
-    """List the robot names that can be loaded without a path.
+    """The sorted robot names [`load_robot`][] accepts without a path.
 
-    [`load_robot`][] accepts each of them.
-
-    Args:
-        include_aliases: Also list the common names of `aliases` (``talos``, ``ur5``...).
-
-    Returns:
-        Sorted names: the generated ``millipede``, the robots of `robots_dir` and of the
-        folders in ``VIRTUAL_ACTUATORS_ROBOTS``, and every example-robot-data URDF that can be
-        loaded (its empty xacro stubs are left out); with ``include_aliases``, the aliases too.
+    The generated ``millipede``, the robots of `local_dirs` and every loadable example-robot-data
+    URDF (its empty xacro stubs left out); with ``include_aliases``, the `aliases` too.
     """
     names = {"millipede", *example_robot_data().robots}
     for folder in local_dirs():
@@ -93,13 +64,7 @@ def list_robots(include_aliases: bool = False) -> list[str]:
 
 
 def aliases() -> dict[str, str]:
-    """The common names that resolve to an example-robot-data robot, with its file-stem name.
-
-    Returns:
-        ``{alias: name}`` for the aliases of `ALIASES`
-        whose URDF the installed example-robot-data ships and that no robot file or folder
-        shadows (a local robot named ``talos`` is loaded instead of the alias).
-    """
+    """``{alias: name}`` of the `ALIASES` shipped by example-robot-data and not shadowed."""
     index = example_robot_data()
     shadowing = {"millipede", *index.robots, *index.broken}
     for folder in local_dirs():
@@ -112,14 +77,10 @@ def aliases() -> dict[str, str]:
 
 
 def suggest_robots(name: str) -> str:
-    """A sentence naming the known robots closest to ``name`` (names and aliases, by edit distance).
+    """A sentence naming the known robots closest to ``name`` (names and aliases).
 
-    Args:
-        name: The name that was not found.
-
-    Returns:
-        For instance ``"Closest robots: 'talos' (talos_reduced), 'tiago'."``, or, when nothing is
-        close, ``"Known robots: ..."`` followed by how to list them all.
+    For instance ``"Closest robots: 'talos' (talos_reduced), 'tiago'."``, or, when nothing is
+    close, ``"Known robots: ..."`` followed by how to list them all.
     """
     targets = aliases()
     names = list_robots()
@@ -144,12 +105,11 @@ class _Index(NamedTuple):
 
 @functools.cache
 def example_robot_data() -> _Index:
-    """Scan example-robot-data's robots folder once (the models themselves are not cached).
+    """Scan example-robot-data's robots folder once.
 
     Returns:
-        The ``share`` folder that holds ``example-robot-data/robots`` (None when the package is
-        missing), the loadable URDF files by robot name, and why each other name cannot be
-        loaded.
+        The ``share`` folder that holds ``example-robot-data/robots`` (None without the
+        package), the loadable URDF files by robot name, and why each other name cannot load.
     """
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
@@ -182,7 +142,7 @@ def example_robot_data() -> _Index:
 
 
 def _quick_check(urdf: Path) -> str | None:
-    """Return why a URDF surely cannot be loaded (no robot name, no link), or None."""
+    """Why a URDF surely cannot be loaded (no robot name, no link), or None."""
     try:
         for _, element in ET.iterparse(urdf, events=("start",)):
             if element.tag == "robot" and not element.get("name"):
@@ -197,8 +157,8 @@ def _quick_check(urdf: Path) -> str | None:
 def local_dirs() -> list[Path]:
     """Folders searched for robots by name.
 
-    ``VIRTUAL_ACTUATORS_ROBOTS`` first, then the source tree's ``robots/`` (editable installs),
-    then ``<prefix>/share/virtual_actuators/robots`` (where a regular install puts them).
+    ``VIRTUAL_ACTUATORS_ROBOTS`` first, then the source tree's ``robots/``, then
+    ``<prefix>/share/virtual_actuators/robots``.
     """
     extra = os.environ.get(ROBOTS_PATH_ENV, "")
     folders = [_expanded(Path(entry)) for entry in extra.split(os.pathsep) if entry.strip()]
@@ -207,7 +167,7 @@ def local_dirs() -> list[Path]:
 
 
 def _expanded(path: Path) -> Path:
-    """``path`` with a leading ``~`` or ``~user`` expanded, or as it is when that is impossible."""
+    """``path`` with a leading ``~`` or ``~user`` expanded, or as it is when impossible."""
     try:
         return path.expanduser()
     except RuntimeError:  # no such user, no home folder: a folder that does not exist
@@ -223,7 +183,7 @@ def _is_file(path: Path) -> bool:
 
 
 def find_local(folder: Path, name: str) -> Path | None:
-    """Return the URDF (or ``__init__.py`` hook) of robot ``name`` in ``folder``, or None."""
+    """The URDF (or ``__init__.py`` hook) of robot ``name`` in ``folder``, or None."""
     if not name or name.startswith((".", "_")):
         return None
     candidates = (
@@ -256,7 +216,7 @@ def _local_names(folder: Path) -> list[str]:
 
 
 def shown_name(name_or_path: object, limit: int = 80) -> str:
-    """The repr of a name or path for error messages, shortened to about ``limit`` characters."""
+    """The repr of a name or path for messages, shortened to about ``limit`` characters."""
     if isinstance(name_or_path, os.PathLike):
         name_or_path = os.fspath(name_or_path)
     text = repr(name_or_path)
@@ -282,7 +242,7 @@ def _expand_user(path: Path, name_or_path: object) -> Path:
 
 
 def as_path(name_or_path: object) -> Path | None:
-    """Return the path meant by ``name_or_path``, or None if it is a robot name.
+    """The path meant by ``name_or_path``, or None if it is a robot name.
 
     Raises:
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty.
@@ -315,11 +275,7 @@ def as_path(name_or_path: object) -> Path | None:
 
 
 def package_dirs_for(urdf: Path) -> list[str]:
-    """Folders that ``package://`` URIs of a URDF outside example-robot-data may refer to.
-
-    The URDF's folder and the two above it, then example-robot-data's (when installed): a copy
-    of one of its URDFs, edited elsewhere, still finds its meshes.
-    """
+    """Folders ``package://`` URIs of a URDF may refer to (its, two above, example-robot-data's)."""
     folders: list[str] = []
     share = example_robot_data().share
     for folder in (urdf.parent, *urdf.parent.parents[:2], *([share] if share else [])):
@@ -329,7 +285,7 @@ def package_dirs_for(urdf: Path) -> list[str]:
 
 
 def urdf_in_folder(folder: Path) -> Path:
-    """Return the one URDF that a folder given as a path stands for.
+    """The one URDF that a folder given as a path stands for.
 
     Raises:
         RobotNotFoundError: If the folder holds no URDF file, or several and none is named

@@ -1,9 +1,7 @@
 """Collada (``.dae``) mesh files read as vertices and triangles, with numpy and the XML parser.
 
-One reader for every layer that needs a URDF's Collada meshes: the viewer draws their triangles
-(``visualization.meshes``), the MuJoCo model collides with their convex hulls
-(``simulation.geoms``; MuJoCo reads only STL and OBJ). coal's Collada triangles (through
-assimp) are not all right, so nothing here goes through it.
+Used by the viewer and the MuJoCo model (MuJoCo reads only STL and OBJ); coal's Collada
+triangles (through assimp) are not all right, so nothing here goes through it.
 """
 
 from __future__ import annotations
@@ -19,14 +17,11 @@ __all__ = ["collada_arrays"]
 def collada_arrays(path: str) -> tuple[np.ndarray, np.ndarray] | None:
     """Vertices and triangles of a Collada file's scene, placed by its nodes, in metres.
 
-    Reads ``<triangles>`` and ``<polylist>`` / ``<polygons>`` (fans) of the geometries the
-    scene's nodes instantiate, each placed by its nodes' ``<matrix>``, ``<translate>``,
-    ``<rotate>`` and ``<scale>``, times the file's unit (the up axis is not applied: MeshCat's
-    loader does not apply it either).
+    Reads the ``<triangles>`` and ``<polylist>`` / ``<polygons>`` (fans) the scene's nodes
+    instantiate, placed by their transforms, times the file's unit (not its up axis, as MeshCat).
 
     Returns:
-        ``(vertices, triangles)``, or None for a file this reader does not cover (it is then
-        sent as it is).
+        ``(vertices, triangles)``, or None for a file this reader does not cover.
     """
     try:
         root = ElementTree.parse(path).getroot()

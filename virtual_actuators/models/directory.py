@@ -1,13 +1,7 @@
 """The robots that load by name, described: kind, degrees of freedom, legs and feet, aliases.
 
-[`describe_robots`][] loads each robot of [`list_robots`][]
-and returns one [`RobotInfo`][] per robot; `robot_table` formats them as the table of
-``python -m virtual_actuators robots``. The kind of an example-robot-data robot comes from the
-description folder it ships in (`KINDS`: ``go2_description`` holds a quadruped); the kind
-of any other robot is read from its model (its feet, its floating base). Degrees of freedom are
-the actuated joint velocities: the model's ``nv`` without a free-flyer's 6 and without the SRDF's
-passive joints. Feet are the frames named like a foot (``foot``, ``feet``, ``sole``, ``toe``;
-not ``footprint``, sensor or adapter frames), one per joint that carries them.
+An example-robot-data robot's kind comes from its description folder (`KINDS`), any other's
+from its model; degrees of freedom are ``nv`` without a free-flyer's 6 and the passive joints.
 """
 
 from __future__ import annotations
@@ -120,15 +114,7 @@ class RobotInfo:
 
 
 def find_feet(robot: Robot) -> tuple[str, ...]:
-    """The robot's foot frames: named like a foot, one per joint that carries them.
-
-    Args:
-        robot: The robot.
-
-    Returns:
-        Frame names in model order; per joint the frame farthest from it (the sole rather
-        than the ankle), a link's frame preferred over a joint's at the same place.
-    """
+    """The frames named like a foot, one per joint: the farthest from it, a link's first."""
     model = robot.model
     best: dict[int, tuple[float, int, str]] = {}
     for frame in model.frames:
@@ -145,13 +131,7 @@ def find_feet(robot: Robot) -> tuple[str, ...]:
 
 
 def describe_robot(name: str) -> RobotInfo:
-    """Load robot ``name`` and describe it.
-
-    Args:
-        name: A name of [`list_robots`][] or an alias.
-
-    Returns:
-        Its description.
+    """Load robot ``name`` (a name of [`list_robots`][] or an alias) and describe it.
 
     Raises:
         RobotNotFoundError: No robot has this name.
@@ -197,15 +177,9 @@ def _kind_from_model(feet: int, floating_base: bool) -> str:
 
 
 def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:
-    """Describe robots by name (loading each: about 1 s for all of example-robot-data).
+    """One [`RobotInfo`][] per name (default: every name of [`list_robots`][]), in order.
 
-    Args:
-        names: Names to describe (default: every name of
-            [`list_robots`][], aliases listed with their
-            robot rather than on their own).
-
-    Returns:
-        One [`RobotInfo`][] per name, in order.
+    Loads each robot: about 1 s for all of example-robot-data.
 
     Raises:
         RobotNotFoundError: A name is not known.
@@ -215,14 +189,7 @@ def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:
 
 
 def robot_table(infos: Iterable[RobotInfo]) -> str:
-    """The robots as a plain-text table: name, aliases, description.
-
-    Args:
-        infos: The descriptions ([`describe_robots`][]).
-
-    Returns:
-        One line per robot under a header, columns aligned.
-    """
+    """The robots as a plain-text table (name, aliases, description), columns aligned."""
     rows = [("name", "aliases", "description")]
     rows += [(info.name, " ".join(info.aliases), info.description) for info in infos]
     widths = [max(len(row[k]) for row in rows) for k in range(2)]

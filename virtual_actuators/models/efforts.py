@@ -1,13 +1,7 @@
 """Joint effort limits: finding the implausible ones a URDF declares, and setting them.
 
-Controllers clip to the URDF's effort limits, the contact QP bounds its torques by them and the
-simulator's motors saturate at them, so a limit a robot cannot have (solo12's URDF declares
-1000 N m on every joint of a 2.5 kg robot) silently turns all three off.
-[`implausible_effort_limits`][] reports the limits above [`effort_bound`][]: ten times the
-torque that holds the robot's whole weight at arm's length, its extent from the base at its
-standing pose (a generous bound: real motors rarely reach a tenth of it).
-[`set_effort_limits`][] writes new limits into the model, which every controller, actuator and
-simulator built afterwards reads.
+Controllers, the contact QP and the simulator's motors all use the URDF's limits, so a limit
+no robot can have (solo12 declares 1000 N m on a 2.5 kg robot) silently turns them all off.
 """
 
 from __future__ import annotations
@@ -28,11 +22,11 @@ __all__ = ["EFFORT_MARGIN", "effort_bound", "implausible_effort_limits", "set_ef
 
 
 def effort_bound(robot: Robot) -> float:
-    """The largest plausible joint effort of ``robot`` [N m]: see the module docstring.
+    """The largest plausible joint effort of ``robot`` [N m].
 
     Returns:
-        ``EFFORT_MARGIN * mass * 9.81 * extent`` (extent: the farthest frame origin from the
-        root at [`Robot.neutral`][], at least 0.1 m).
+        ``EFFORT_MARGIN * mass * 9.81 * extent``, the extent the farthest frame origin from the
+        root at [`Robot.neutral`][] (at least 0.1 m).
     """
     model = robot.model
     data = model.createData()
@@ -43,13 +37,10 @@ def effort_bound(robot: Robot) -> float:
 
 
 def implausible_effort_limits(robot: Robot) -> dict[str, float]:
-    """The driven one-degree-of-freedom joints whose effort limit exceeds [`effort_bound`][].
+    """``{joint: declared limit}`` of the driven 1-DoF joints above [`effort_bound`][].
 
     Prismatic joints are held to ``EFFORT_MARGIN`` times the weight [N]; passive joints are
     not checked.
-
-    Returns:
-        ``{joint: declared limit}`` in the model's order (empty when all are plausible).
     """
     model = robot.model
     torque = effort_bound(robot)
@@ -70,8 +61,7 @@ def set_effort_limits(robot: Robot, limits: float | Mapping[str, float]) -> None
 
     Args:
         robot: The robot.
-        limits: One limit [N m or N] for every one-degree-of-freedom joint, or
-            ``{joint: limit}`` (a limit > 0; ``inf`` for none).
+        limits: One limit [N m or N] per 1-DoF joint, or ``{joint: limit}`` (``inf``: none).
 
     Raises:
         JointNotFoundError: An unknown joint (with close matches) or one with several degrees

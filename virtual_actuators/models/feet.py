@@ -1,14 +1,4 @@
-"""Which frames of a legged robot are its body and its feet.
-
-[`find_feet`][] answers from the robot's SRDF when it names them (``<end_effector>`` entries
-whose name or link says foot, sole or ankle), else from the frame names: frames called like a
-foot (``foot``, ``sole``, ``toe``; the ``FOOT`` frames of solo, ANYmal's ``LF_FOOT``...), keeping
-one per leg (the most distal foot-like frame of each chain from the body), else from the robot's
-structure ([`structural_feet`][]: the most distal link with collision geometry of each chain,
-keeping the chains that reach down to the ground at the robot's standing pose, so feet named
-``*_paw`` are found). The body is the link carried by the floating base (``base_link``,
-``pelvis``, ``trunk``...), or the first link of a fixed-base robot.
-"""
+"""Which frames of a legged robot are its body and its feet."""
 
 from __future__ import annotations
 
@@ -20,8 +10,8 @@ from pathlib import Path
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError
+from .loader import find_srdf
 from .robot import Robot
-from .srdf import find_srdf
 
 #: Link names taken as the body of a fixed-base (e.g. boom-mounted) robot, in this order.
 BODY_NAMES = ("body", "base_link", "base", "pelvis", "trunk", "torso")
@@ -61,13 +51,11 @@ class Feet:
 
 
 def find_feet(robot: Robot) -> Feet:
-    """The body and the feet of a legged robot (see the module docstring).
+    """The body and the feet of a legged robot.
 
-    Args:
-        robot: The robot.
-
-    Returns:
-        The `Feet`.
+    The feet come from the SRDF's foot-like ``<end_effector>`` entries, else from the frame
+    names (one per leg, the most distal), else from the structure ([`structural_feet`][]). The
+    body is the link the floating base carries, or the first link of a fixed-base robot.
 
     Raises:
         FrameNotFoundError: The robot has fewer than two feet (an arm, a hand, a drone...): the
@@ -131,11 +119,7 @@ def _srdf_feet(robot: Robot, model: pin.Model) -> list[str]:
 
 
 def _named_feet(model: pin.Model) -> list[str]:
-    """One foot-named frame per leg: on the most distal such joint of each chain, a link first.
-
-    Several frames on one joint (a link, its joint, a sole, a heel) count as one leg: the link
-    (a BODY frame) is taken before a joint or fixed frame, then the first declared.
-    """
+    """One foot-named frame per leg: on the most distal such joint of each chain, a link first."""
     candidates = [
         (frame.name, frame.parentJoint, frame.type != pin.FrameType.BODY)
         for frame in model.frames
@@ -170,16 +154,9 @@ def collision_links(robot: Robot) -> frozenset[str]:
 def structural_feet(robot: Robot) -> list[str]:
     """Feet found by structure: the lowest distal links with collision geometry.
 
-    Of the links with collision geometry, a distal one has no other such link further down its
-    chain (on a descendant joint, or welded below it on the same joint). At the standing pose
-    ([`Robot.neutral`][]), the distal links within `FOOT_DEPTH_FRACTION` of the lowest
-    one's depth below the body are the feet (a humanoid's hands hang higher than its feet).
-
-    Args:
-        robot: The robot.
-
-    Returns:
-        The feet in the model's joint order (fewer than two when the structure shows no legs).
+    A distal link has no other such link further down its chain. At the standing pose, the
+    distal links within `FOOT_DEPTH_FRACTION` of the lowest one's depth below the body are the
+    feet, in joint order (fewer than two when the structure shows no legs).
     """
     model = robot.model
     colliding = collision_links(robot)

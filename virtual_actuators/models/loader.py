@@ -1,12 +1,6 @@
-"""Load robots by name or from any URDF file, with Pinocchio.
+"""Load robots by name or from any URDF file, with Pinocchio, and their SRDF's poses.
 
-[`load_robot`][] accepts a path to a URDF file or the name of a known robot. How names and paths
-are resolved is described in `catalog` (``"millipede"``, the
-folders of ``VIRTUAL_ACTUATORS_ROBOTS`` and the repository's ``robots/`` folder, then
-example-robot-data); how ``floating_base=None`` is guessed in `guess_floating_base`; where the
-standing poses and passive joints come from in `srdf`; and which
-checks a URDF must pass before Pinocchio reads it in `validation` and
-`physics_checks` (with the example-robot-data exemptions).
+An SRDF that cannot be read is ignored.
 """
 
 from __future__ import annotations
@@ -17,8 +11,10 @@ import os
 import re
 import sys
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping
 from pathlib import Path
 
+import numpy as np
 import pinocchio as pin
 
 from virtual_actuators.exceptions import (
@@ -45,12 +41,6 @@ from virtual_actuators.models.catalog import (
 from virtual_actuators.models.millipede import millipede
 from virtual_actuators.models.physics_checks import physics_problems
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.models.srdf import (
-    default_pose,
-    find_srdf,
-    passive_joints,
-    reference_configurations,
-)
 from virtual_actuators.models.validation import listed, parse_xml, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
@@ -74,32 +64,23 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
 
     Args:
         name_or_path: A path to a URDF file (a `os.PathLike`, or a string that contains a
-            path separator, starts with ``~`` or ends in ``.urdf`` / ``.xml``; a folder works
-            when it holds one URDF), or a name from [`list_robots`][] (with
-            ``include_aliases=True``: common names such as ``"talos"``, ``"ur5"``, ``"hyq"``,
-            ``"g1"``, see `names`).
-        floating_base: True for a free-flyer root joint (``q`` starts with the base position
-            and quaternion ``x y z qx qy qz qw``), False for a base welded to the world, None to
-            guess: legged and flying robots float, arms and hands are fixed (see
-            `guess_floating_base`).
+            path separator, starts with ``~`` or ends in ``.urdf`` / ``.xml``; or a folder
+            holding one URDF), or a name of [`list_robots`][] (``include_aliases=True``).
+        floating_base: True for a free-flyer root joint (``q`` starts with ``x y z qx qy qz
+            qw``), False for a base welded to the world, None to guess
+            (`guess_floating_base`).
 
     Returns:
-        The robot with its Pinocchio model and data, its URDF text and its SRDF poses;
-        ``robot.name`` is the name asked for (an alias included: ``load_robot("talos").name``
-        is ``"talos"``, its ``urdf_path`` that of ``talos_reduced``), or the file stem for a
-        path.
+        The robot with its Pinocchio model and data, its URDF text and its SRDF poses, named
+        as asked (``load_robot("talos").name`` is ``"talos"``), or the file stem for a path.
 
     Raises:
-        RobotNotFoundError: If the file does not exist or the file system refuses to look it up
-            (a name too long, an unknown ``~user``, a folder that cannot be read), or no robot
-            has this name (the message lists the closest names and aliases, by edit distance).
-        RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF (the
-            message names the file and what is wrong), describes an impossible robot (a zero
-            joint axis, a negative or NaN mass, a non-finite, negative or not positive
-            semi-definite inertia, a limit with lower > upper, a mimic joint; the message names
-            each offending link or joint, its value and what is valid; see
-            `physics_checks` for the example-robot-data exemptions),
-            or Pinocchio cannot build a model from it.
+        RobotNotFoundError: If the file does not exist or the file system refuses to look it up,
+            or no robot has this name (the message lists the closest names and aliases).
+        RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF,
+            describes an impossible robot (see `physics_checks`; the message names each
+            offending link or joint, its value and what is valid), or Pinocchio cannot build a
+            model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
             ``floating_base`` is not True, False or None.
     """
@@ -161,23 +142,17 @@ def _load_path(path: Path, floating_base: bool | None) -> Robot:
 
 
 def _load_urdf(
-    name: str,
-    path: Path,
-    floating_base: bool | None,
-    package_dirs: list[str],
-    validate: bool,
+    name: str, path: Path, floating_base: bool | None, package_dirs: list[str], validate: bool
 ) -> Robot:
     """Build the robot of one URDF file.
 
-    The physical checks of `physics_problems` always run first, on the XML (strictly,
-    except for the curated example-robot-data files). ``validate`` then runs the structural
-    checks of `validate_urdf` before Pinocchio (for URDF files given by path); otherwise
-    they run only to explain a file that Pinocchio rejects.
+    `physics_problems` always runs first (strictly, except for curated example-robot-data
+    files); `validate_urdf` runs before Pinocchio when ``validate``, else only to explain a file
+    Pinocchio rejects.
 
     Raises:
         RobotDescriptionError: If the file cannot be read, is not well-formed XML, describes an
-            impossible robot (the message names each offending link or joint), fails the
-            structural checks, or Pinocchio cannot build a model from it.
+            impossible robot, fails the structural checks, or Pinocchio cannot build a model.
     """
     path = path.resolve()
     try:
@@ -260,20 +235,13 @@ def _load_module_robot(name: str, init: Path, floating_base: bool | None) -> Rob
 def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
     """Guess whether a URDF describes a legged or flying robot (``floating_base=None``).
 
-    The base floats (a free-flyer root joint) when a link or joint name, the robot's name or the
-    file stem contains a leg word (foot, feet, sole, toe, ankle, leg, knee, hip, thigh, shin,
-    shank, calf) or a flying word (flying, quadrotor, quadcopter, multirotor, hexarotor,
-    hexacopter, octocopter, drone, uav, rotor, propeller), and is fixed otherwise (arms, hands,
-    grippers, pendulums, wheeled bases). Names are split into words at ``_``, digits and
-    camel-case humps, so ``base_footprint`` or ``allegro`` do not count. A URDF whose root link
-    is ``world`` is always fixed. Pass ``floating_base`` explicitly to override the guess.
+    The base floats when a word of a link or joint name, the robot's name or ``stem`` is a leg
+    or flying word (`_LEG_WORDS`, `_FLYING_WORDS`); names split into words at ``_``, digits and
+    camel-case humps. A URDF whose root link is ``world`` is fixed.
 
     Args:
         root: The ``<robot>`` element of the URDF.
         stem: The URDF file stem, whose words count as well.
-
-    Returns:
-        True for a floating base, False for a fixed one.
     """
     links = [link.get("name", "") for link in root.iter("link")]
     joints = root.findall("joint")
@@ -284,3 +252,65 @@ def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
     names = [*links, *(joint.get("name", "") for joint in joints), root.get("name", ""), stem]
     words = {word.lower() for name in names for word in _WORD.findall(name)}
     return bool(words & (_LEG_WORDS | _FLYING_WORDS))
+
+
+#: Group states of the SRDF that [`Robot.neutral`][] prefers, best first.
+DEFAULT_POSE_NAMES = ("standing", "half_sitting", "straight_standing", "default", "home", "neutral")
+
+
+def find_srdf(urdf: Path) -> Path | None:
+    """The SRDF of a URDF (same stem, else the longest stem prefix), or None."""
+    folders = [urdf.parent, urdf.parent / "srdf", urdf.parent.parent / "srdf"]
+    folders = [folder for folder in folders if folder.is_dir()]
+    for folder in folders:
+        exact = folder / f"{urdf.stem}.srdf"
+        if exact.is_file():
+            return exact
+    best: Path | None = None
+    for folder in folders:
+        for candidate in sorted(folder.glob("*.srdf")):
+            if urdf.stem.startswith(candidate.stem) and (
+                best is None or len(candidate.stem) > len(best.stem)
+            ):
+                best = candidate
+    return best
+
+
+def reference_configurations(model: pin.Model, srdf: Path | None) -> dict[str, np.ndarray]:
+    """Read the SRDF's group states into the model; return them (empty if it cannot be read)."""
+    if srdf is None:
+        return {}
+    try:
+        pin.loadReferenceConfigurations(model, str(srdf), False)
+        entries = [
+            (entry.key(), np.array(entry.data(), dtype=float))
+            for entry in model.referenceConfigurations
+        ]
+    except Exception as exc:  # a broken SRDF must never stop the robot from loading
+        _logger.debug("Ignoring the SRDF %s: %s", srdf, exc)
+        return {}
+    return {key: q for key, q in entries if q.shape == (model.nq,) and np.all(np.isfinite(q))}
+
+
+def passive_joints(model: pin.Model, srdf: Path | None) -> tuple[str, ...]:
+    """The SRDF's ``<passive_joint name="..."/>`` entries that are joints of the model, in order."""
+    if srdf is None:
+        return ()
+    try:
+        root = ET.parse(srdf).getroot()
+    except (ET.ParseError, OSError) as exc:
+        _logger.debug("Ignoring the SRDF %s: %s", srdf, exc)
+        return ()
+    declared = {element.get("name", "") for element in root.iter("passive_joint")}
+    joints = list(model.names)[1:]
+    for name in sorted(declared - set(joints)):
+        _logger.debug("%s: passive joint %r is not a joint of the model; ignored", srdf, name)
+    return tuple(name for name in joints if name in declared)
+
+
+def default_pose(configurations: Mapping[str, np.ndarray]) -> str | None:
+    """Pick the pose that [`Robot.neutral`][] returns."""
+    for name in DEFAULT_POSE_NAMES:
+        if name in configurations:
+            return name
+    return next(iter(configurations), None)

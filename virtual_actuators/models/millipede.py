@@ -1,23 +1,7 @@
 """A generated many-legged robot: the millipede of the seed (000_..., section 2.5.1).
 
-``N`` legs hang from a box-shaped body that lies along ``x`` and is centred on the origin of its
-frame ``body``. Legs come in left/right pairs spaced along ``x``: leg ``i`` (1-based) is on the
-left (``y > 0``) when ``i`` is odd and on the right when ``i`` is even, so legs 1 and 2 form the
-front pair. Each leg has two joints, a hip that swings the leg forward and back (revolute about
-``z``) and a knee that lifts it (revolute about ``x``), and a point foot::
-
-    body --hip_i--> thigh_i --knee_i--> shin_i --foot_i_joint (fixed)--> foot_i
-
-The thigh reaches sideways (outwards, length ``leg_length``) and the shin hangs from the knee, so
-with every joint at zero the shins point straight down. In the standing pose
-([`Robot.neutral`][]) each knee is bent by ``knee_angle`` so that the foot is outboard of the
-knee, and the body is lifted so that all feet touch ``z = 0``. The hip moves the foot along ``x``
-and the knee in the leg's ``y-z`` plane: each leg can push in a two-dimensional subspace, and with
-the three zero moments of its point foot it has the seed's ``l = 4`` natural constraints.
-
-The URDF is built in code with `xml.etree.ElementTree` (so every name and value is escaped
-properly) and loaded with Pinocchio; masses and inertias follow the box, cylinder and sphere
-formulas, and the feet carry a tiny mass so that simulators that reject massless bodies load them.
+The URDF is built in code with `xml.etree.ElementTree` and loaded with Pinocchio; the feet
+carry a tiny mass so that simulators that reject massless bodies load them.
 """
 
 from __future__ import annotations
@@ -40,19 +24,17 @@ FOOT_MASS = 1e-3
 FOOT_RADIUS = 0.005
 #: Default length (m) of each thigh and each shin.
 DEFAULT_LEG_LENGTH = 0.10
-#: Most legs a millipede may have. Memory and time grow with the legs: 1000 legs build in about
-#: 0.5 s and 50 MiB, 2000 in about 1.3 s and 130 MiB, and a parallel actuator on all of them
-#: needs more again (1000 legs declare in about 0.8 s, 400 legs solve in 231 MiB all told).
+#: Most legs a millipede may have (1000 legs build in about 0.5 s and 50 MiB).
 MAX_LEGS = 2000
 
 
 def _fmt(value: float) -> str:
-    """Format a number for the URDF without losing precision."""
+    """A number for the URDF, without losing precision."""
     return repr(float(value))
 
 
 def _vec(*values: float) -> str:
-    """Format a space-separated vector for a URDF attribute."""
+    """A space-separated vector for a URDF attribute."""
     return " ".join(_fmt(v) for v in values)
 
 
@@ -65,14 +47,7 @@ def _add_inertial(
     ET.SubElement(inertial, "mass", value=_fmt(mass))
     ixx, iyy, izz = diag
     ET.SubElement(
-        inertial,
-        "inertia",
-        ixx=_fmt(ixx),
-        ixy="0",
-        ixz="0",
-        iyy=_fmt(iyy),
-        iyz="0",
-        izz=_fmt(izz),
+        inertial, "inertia", ixx=_fmt(ixx), ixy="0", ixz="0", iyy=_fmt(iyy), iyz="0", izz=_fmt(izz)
     )
 
 
@@ -102,7 +77,11 @@ def _cylinder_inertia(mass: float, radius: float, length: float) -> tuple[float,
 
 
 def _check_legs(legs: object) -> int:
-    """Return ``legs`` as an int, or raise if it is not an integer in ``1..MAX_LEGS``."""
+    """``legs`` as an int.
+
+    Raises:
+        InvalidInputError: If it is not an integer in ``1..MAX_LEGS``.
+    """
     if isinstance(legs, bool) or not isinstance(legs, numbers.Integral):
         raise InvalidInputError(
             f"millipede(legs=...) needs an integer number of legs >= 1, got {legs!r} "
@@ -119,7 +98,11 @@ def _check_legs(legs: object) -> int:
 
 
 def _check_positive(**values: float) -> None:
-    """Raise [`InvalidInputError`][] unless every value is a finite number > 0."""
+    """Check that every value is a finite number > 0.
+
+    Raises:
+        InvalidInputError: If one is not.
+    """
     for name, value in values.items():
         if (
             isinstance(value, bool)
@@ -229,23 +212,20 @@ def millipede_urdf(
     effort: float = 2.0,
     velocity: float = 10.0,
 ) -> str:
-    """Return the URDF text of a millipede with ``legs`` legs (see [`millipede`][]).
+    """The URDF text of a millipede with ``legs`` legs (see [`millipede`][]).
 
     Args:
-        legs: Number of legs, an integer from 1 to `MAX_LEGS` (2000).
-        spacing: Distance along ``x`` between successive leg pairs (m).
-        body_width: Width of the body along ``y`` (m); the hips sit on its sides.
-        body_height: Height of the body along ``z`` (m).
-        leg_length: Length of each thigh and of each shin (m).
-        body_mass_per_pair: Body mass per pair of legs (kg); the body is ``spacing`` long per pair.
-        thigh_mass: Mass of each thigh (kg).
-        shin_mass: Mass of each shin (kg).
-        leg_radius: Radius of the cylinders that make up the thighs and shins (m).
-        effort: Effort limit of every joint (N m).
-        velocity: Velocity limit of every joint (rad/s).
-
-    Returns:
-        The URDF document as a string.
+        legs: Number of legs, an integer from 1 to `MAX_LEGS`.
+        spacing: Distance along ``x`` between successive leg pairs [m].
+        body_width: Width of the body along ``y`` [m]; the hips sit on its sides.
+        body_height: Height of the body along ``z`` [m].
+        leg_length: Length of each thigh and of each shin [m].
+        body_mass_per_pair: Body mass per pair of legs [kg] (``spacing`` of body per pair).
+        thigh_mass: Mass of each thigh [kg].
+        shin_mass: Mass of each shin [kg].
+        leg_radius: Radius of the thighs' and shins' cylinders [m].
+        effort: Effort limit of every joint [N m].
+        velocity: Velocity limit of every joint [rad/s].
 
     Raises:
         InvalidInputError: If ``legs`` is not an integer from 1 to `MAX_LEGS` or a
@@ -286,43 +266,32 @@ def millipede_urdf(
 
 
 def millipede(
-    legs: int = 100,
-    *,
-    floating_base: bool = True,
-    knee_angle: float = 0.5,
-    **dimensions: float,
+    legs: int = 100, *, floating_base: bool = True, knee_angle: float = 0.5, **dimensions: float
 ) -> Robot:
     """Build a millipede: ``legs`` legs along a box body, two joints per leg, point feet.
 
-    Frames and joints, for leg ``i`` in ``1..legs``: joints ``hip_i`` and ``knee_i`` (revolute
-    about ``x``), links ``thigh_i``, ``shin_i`` and ``foot_i`` (the point foot, attached by the
-    fixed joint ``foot_i_joint``), and the action frame ``body``. Odd legs are on the left
-    (``y > 0``), even legs on the right; legs ``2k - 1`` and ``2k`` share the same ``x``, pair 1 at
-    the front (``+x``).
+    Leg ``i`` in ``1..legs`` has joints ``hip_i`` (about ``z``) and ``knee_i`` (about ``x``),
+    links ``thigh_i``, ``shin_i`` and ``foot_i`` (fixed joint ``foot_i_joint``); the action
+    frame is ``body``. Odd legs are on the left (``y > 0``); legs ``2k - 1`` and ``2k`` share
+    the same ``x``, pair 1 at the front (``+x``).
 
     Args:
-        legs: Number of legs, an integer from 1 to `MAX_LEGS` (2000: memory and time grow
-            with the legs; 1000 legs build in about 0.5 s and 50 MiB, and a parallel actuator
-            on all of them declares in about 0.8 s).
-        floating_base: Whether ``body`` is attached to the world by a free-flyer joint (7 entries
-            of ``q``) rather than welded to it.
-        knee_angle: Knee bend of the standing pose (rad): left knees at ``+knee_angle``, right
-            knees at ``-knee_angle``, so every foot is outboard of its knee (hips at zero).
-        **dimensions: Keyword arguments of [`millipede_urdf`][] (``spacing``, ``body_width``,
-            ``body_height``, ``leg_length``, masses, ``leg_radius``, ``effort``, ``velocity``).
+        legs: Number of legs, an integer from 1 to `MAX_LEGS`.
+        floating_base: Whether ``body`` is attached to the world by a free-flyer.
+        knee_angle: Knee bend of the standing pose [rad]: left knees at ``+knee_angle``, right
+            at ``-knee_angle``, every foot outboard of its knee.
+        **dimensions: Keyword arguments of [`millipede_urdf`][].
 
     Returns:
-        The robot, named ``"millipede"``, whose [`neutral`][virtual_actuators.Robot.neutral] is the
-            standing pose
-        (reference configuration ``"standing"``). With a floating base the body stands at height
-        ``leg_length cos(knee_angle)`` and every foot is on ``z = 0``; with a fixed base the
-        body is at the origin and the feet are that far below it.
+        The robot ``"millipede"``, whose [`neutral`][virtual_actuators.Robot.neutral] is the
+        standing pose ``"standing"``: with a floating base the body at height
+        ``leg_length cos(knee_angle)`` and every foot on ``z = 0``; with a fixed base the body
+        at the origin.
 
     Raises:
-        InvalidInputError: If ``legs`` is not an integer from 1 to `MAX_LEGS` (``0``,
-            ``-1``, ``2.5``, ``"3"`` and ``10**9`` are all refused, before anything is built),
-            ``knee_angle`` is not in ``(0, pi/2)``, ``floating_base`` is not a bool, or a
-            dimension is not a finite positive number.
+        InvalidInputError: If ``legs`` is not an integer from 1 to `MAX_LEGS` (refused before
+            anything is built), ``knee_angle`` is not in ``(0, pi/2)``, ``floating_base`` is
+            not a bool, or a dimension is not a finite positive number.
         TypeError: If an unknown keyword is passed in ``dimensions``.
     """
     legs = _check_legs(legs)

@@ -1,27 +1,7 @@
 """Common names of the example-robot-data robots, and suggestions for a name that is not known.
 
-[`load_robot`][] finds a robot by the stem of its URDF file
-(``talos_reduced``, ``ur5_robot``, ``hyq_no_sensors``...) and also by the common names of
-`ALIASES` (``talos``, ``ur5``, ``hyq``...). Each alias names one file stem; where a robot
-ships in several variants the alias picks the one example-robot-data's own Python loader picks
-(``example_robot_data.load("talos")``), so a model loaded here matches the one other
-Pinocchio tools load by the same name:
-
-- ``talos`` is ``talos_reduced`` (the legs, torso and arms with their grippers, 32 actuated
-  joints: the model used for whole-body control); ``talos_full`` is ``talos_full_v2`` (also
-  the head and the fingers, 44);
-- ``ur3``, ``ur5``, ``ur10`` are the arms without a gripper and with their full joint range
-  (``*_robot``); ``*_limited`` the joint-limited variants;
-- ``g1`` is the Unitree G1 with 29 degrees of freedom and no hands (``g1_with_hand`` with
-  them); ``hyq`` is ``hyq_no_sensors``; ``solo8`` is ``solo``.
-
-A file stem is never shadowed by an alias (``iris`` is ``iris.urdf``, not ``iris_simple``), and a
-robot of a local folder (see `catalog`) named like an alias wins
-over the alias.
-
-`closest_names` ranks known names and aliases by edit
-distance (case, ``-`` and ``_`` ignored), so ``"talso"`` suggests ``talos`` and ``"ur_5"``
-suggests ``ur5``.
+Each alias of `ALIASES` picks the variant ``example_robot_data.load`` picks; a file stem is
+never shadowed by an alias, and a local robot named like an alias wins over it.
 """
 
 from __future__ import annotations
@@ -31,7 +11,7 @@ from types import MappingProxyType
 
 __all__ = ["ALIASES"]
 
-#: Common name -> example-robot-data file stem (see the module documentation for the choices).
+#: Common name -> example-robot-data file stem (the choices: the "Robots" reference page).
 ALIASES: Mapping[str, str] = MappingProxyType(
     {
         # PAL Robotics TALOS (example_robot_data.load names)

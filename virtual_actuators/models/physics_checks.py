@@ -1,18 +1,7 @@
 """Check a URDF for what Pinocchio would load silently but no robot can be.
 
-Every URDF, by path or by name, goes through `physics_problems`, on the XML itself before
-Pinocchio reads it (Pinocchio loads a NaN mass as 0): a revolute, continuous, prismatic or planar
-joint with a zero or non-finite axis; a negative or non-finite mass; a non-finite inertia or a
-negative ``ixx``, ``iyy`` or ``izz``; a joint limit with ``lower > upper`` or a NaN bound; an
-inertia that is not positive semi-definite (beyond a round-off of ``max(1e-9 kg m^2, 1e-6 * largest
-principal moment)``); and ``<mimic>`` joints, which are not supported (remove the tag, or declare an
-[`EqualTorque`][] design constraint to share the
-effort). Each gives a [`RobotDescriptionError`][] naming the link
-or joint, the bad value and what is valid. Zero masses, fixed joints with any axis, continuous
-joints without limits and ``lower == upper`` are valid. The curated example-robot-data files are
-exempt from the last two checks only: several ship gripper fingers as mimic joints (loaded as
-independent joints) and ``romeo_laas_small`` and the ``tiago`` family ship inertias that are not
-positive semi-definite; they load as Pinocchio loads them.
+The checks run on the XML itself, before Pinocchio reads it (it loads a NaN mass as 0); the
+list is on the "Robots" reference page.
 """
 
 from __future__ import annotations
@@ -32,7 +21,7 @@ _INERTIA_ATOL = 1e-9
 
 
 def _floats(text: str | None, count: int) -> list[float] | None:
-    """``count`` numbers from an attribute (None when absent or malformed: yourdfpy says so)."""
+    """``count`` numbers from an attribute (None when absent or malformed)."""
     try:
         values = [float(x) for x in (text or "").split()]
     except ValueError:
@@ -43,9 +32,7 @@ def _floats(text: str | None, count: int) -> list[float] | None:
 def _inertia_tolerance(largest: float) -> float:
     """How negative a moment of inertia [kg m^2] may be and still count as round-off.
 
-    URDF files print about six significant digits, so a principal moment down to
-    ``-1e-6 * largest`` is round-off; so is anything above ``-1e-9`` kg m^2 (tiny links print
-    their inertias as ``1e-20``-ish noise).
+    URDF files print about six significant digits; tiny links print ``1e-20``-ish noise.
     """
     return max(_INERTIA_ATOL, _INERTIA_RTOL * abs(largest))
 
@@ -146,21 +133,13 @@ def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
 def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], list[str]]:
     """What Pinocchio would load silently but no robot can be.
 
-    Checked on the XML itself, before Pinocchio reads the file (it loads a NaN mass as 0): a
-    zero or non-finite axis of a moving joint, a negative or non-finite mass, a non-finite or
-    negative moment of inertia (beyond round-off), a limit with lower > upper or a NaN bound,
-    an inertia that is not positive semi-definite and a ``<mimic>`` joint. Zero masses, fixed
-    joints with any axis, continuous joints without limits and lower == upper are valid.
-
     Args:
         root: The ``<robot>`` element.
-        strict: False for the curated example-robot-data files: several ship gripper fingers
-            as mimic joints (loaded as independent joints, as Pinocchio does) and a few ship
-            inertias that are not positive semi-definite; these two problems are then tolerated.
+        strict: False for the curated example-robot-data files: their mimic joints and
+            inertias that are not positive semi-definite are then tolerated.
 
     Returns:
-        The problems that forbid loading, and those tolerated (empty when ``strict``: they are
-        in the first list then).
+        The problems that forbid loading, and those tolerated (empty when ``strict``).
     """
     problems: list[str] = []
     tolerated: list[str] = []

@@ -19,20 +19,17 @@ class Robot:
     Attributes:
         name: Short name (the URDF stem, or the name given to a generated robot).
         model: Pinocchio model (kinematics and inertias).
-        data: Pinocchio data matching ``model``, created on first access (a ``pinocchio.Data``
-            holds ``nv^3`` tensors: 14 GB at ``nv = 1206``); the library's computations never
-            use it.
+        data: Pinocchio data of ``model``, created on first access (it holds ``nv^3`` tensors);
+            the library's computations never use it.
         urdf_path: Path of the URDF file, or None for a robot built from a string.
-        urdf_string: The URDF text (kept so that viewers and simulators use the same source).
+        urdf_string: The URDF text (viewers and simulators use the same source).
         package_dirs: Folders that ``package://`` mesh URIs are resolved against.
         floating_base: Whether the root is a free-flyer joint (7 entries of ``q``, 6 of ``v``).
-        reference_configurations: Named poses (from the SRDF's ``group_state`` entries or the
-            robot's own description), each of size ``model.nq``.
+        reference_configurations: Named poses of size ``model.nq`` (the SRDF's
+            ``group_state`` entries, or the robot's own).
         default_pose: Key of ``reference_configurations`` that [`neutral`][] returns, or None.
-        passive_joints: Names of the joints that no actuator drives (the SRDF's
-            ``passive_joint`` entries, e.g. the boom of a planar biped); empty by default.
-        caches: What the library computes once per robot and keeps (its kinematic tree);
-            not an argument, not compared, not shown.
+        passive_joints: Joints no actuator drives (the SRDF's ``passive_joint`` entries).
+        caches: What the library computes once per robot and keeps; not compared, not shown.
     """
 
     name: str
@@ -48,32 +45,21 @@ class Robot:
     caches: dict[str, object] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def neutral(self) -> np.ndarray:
-        """Return a standing / home configuration if the robot has one, else Pinocchio's neutral.
-
-        Returns:
-            A copy of the configuration, shape ``(model.nq,)``.
-        """
+        """A copy of the standing / home pose if the robot has one, else Pinocchio's neutral."""
         if self.default_pose is not None:
             return self.reference_configurations[self.default_pose].copy()
         return pin.neutral(self.model)
 
     @property
     def mass(self) -> float:
-        """Total mass of the robot [kg] (every link's inertia, the floating base's included)."""
+        """Total mass of the robot [kg], the floating base's included."""
         return float(sum(inertia.mass for inertia in self.model.inertias))
 
     def center_of_mass(self, q: object) -> np.ndarray:
-        """Centre of mass of the whole robot at configuration ``q``, in the world frame [m].
+        """Centre of mass ``(3,)`` of the whole robot at ``q``, world frame [m].
 
-        The mass-weighted mean of every link's centre of mass (Pinocchio's ``centerOfMass``,
-        on a data of its own: `data` is left untouched). In a control tick, read
-        ``Snapshot.center_of_mass()`` instead: the same point from the tick's kinematics pass.
-
-        Args:
-            q: Configuration, ``model.nq`` finite numbers.
-
-        Returns:
-            ``(3,)`` position [m] in world axes.
+        Computed on a data of its own (`data` is untouched); in a control tick,
+        ``Snapshot.center_of_mass()`` gives the same point from the tick's kinematics.
 
         Raises:
             InvalidInputError: ``q`` is not ``model.nq`` finite numbers, or the robot has no
@@ -96,16 +82,13 @@ class Robot:
     def q(self, base: object = None, **joint_values: float) -> np.ndarray:
         """A configuration from joint names: ``robot.q(knee_1=0.5, hip2_1=-0.2)``.
 
-        Joints not named keep their value in [`neutral`][] (the standing / home pose).
+        Joints not named keep their value in [`neutral`][].
 
         Args:
-            base: Floating base pose: 7 numbers ``x y z qx qy qz qw`` (a unit quaternion), or
-                None to keep the neutral pose's.
-            **joint_values: Angle [rad] or position [m] per one-degree-of-freedom joint; a
-                continuous joint takes its angle (stored as ``cos, sin``).
-
-        Returns:
-            ``q`` of size ``model.nq``.
+            base: Floating base pose ``x y z qx qy qz qw`` (a unit quaternion), or None to keep
+                the neutral pose's.
+            **joint_values: Angle [rad] or position [m] per one-degree-of-freedom joint (a
+                continuous joint takes its angle).
 
         Raises:
             JointNotFoundError: An unknown joint name (with close matches), or a joint with
@@ -155,7 +138,7 @@ class Robot:
 
     @property
     def joint_names(self) -> list[str]:
-        """Names of the joints with degrees of freedom (the free-flyer ``root_joint`` included)."""
+        """Names of the joints with degrees of freedom (the free-flyer's included)."""
         return [name for name in list(self.model.names)[1:]]
 
     def __repr__(self) -> str:

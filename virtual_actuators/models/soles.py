@@ -1,14 +1,4 @@
-"""Sole sizes from a foot's collision geometry.
-
-[`find_sole`][] reads the collision shapes of the link a foot frame is attached to (Pinocchio's
-geometry model: boxes, spheres, cylinders, capsules and meshes), expresses their points in the
-foot frame, keeps the lowest ones (within `SOLE_THICKNESS` of the lowest, along the frame's
-z: the sole's contact surface; a sphere counts by its lowest point) and returns the rectangle
-they span. A flat contact's sole is centred at its reaction frame, so [`Sole`][] also gives
-the largest rectangle centred at the frame origin that lies inside the footprint
-(``half_length``, ``half_width``: what ``ParallelVirtualActuator(soles=...)`` takes), and the
-footprint's centre (where a frame added for the contact would sit).
-"""
+"""Sole sizes from a foot's collision geometry."""
 
 from __future__ import annotations
 
@@ -32,7 +22,8 @@ class Sole:
 
     Attributes:
         half_length: Largest half-length along x of a rectangle centred at the frame origin
-            inside the footprint (0 when the origin is outside it).
+            inside the footprint (0 when the origin is outside it), as
+            ``ParallelVirtualActuator(soles=...)`` takes.
         half_width: Likewise along y.
         lower: ``(x, y)`` of the footprint's back right corner.
         upper: ``(x, y)`` of its front left corner.
@@ -52,14 +43,14 @@ class Sole:
 
 
 def find_sole(robot: Robot, foot: str) -> Sole:
-    """The footprint of ``foot``'s link from its collision geometry (module docstring).
+    """The footprint of ``foot``'s link from its collision geometry.
+
+    The points of the link's shapes (its fixed children included) within `SOLE_THICKNESS` of the
+    lowest along the frame's z span the footprint (a sphere counts by its lowest point).
 
     Args:
         robot: The robot (its URDF is read again for the geometry).
-        foot: The foot frame (its link's geometry counts, the link's fixed children included).
-
-    Returns:
-        The [`Sole`][].
+        foot: The foot frame.
 
     Raises:
         FrameNotFoundError: No such frame (with close matches), or its link has no collision
@@ -126,11 +117,7 @@ def _geometry(robot: Robot) -> pin.GeometryModel:
 
 
 def _points(obj: pin.GeometryObject, frame: pin.SE3) -> list[np.ndarray]:
-    """Points of a shape, in its own frame, that can touch a plane below the foot frame.
-
-    A box or a mesh: its corners or vertices; a cylinder: 16 points of each rim; a sphere or a
-    capsule: its lowest point(s) along the foot frame's -z.
-    """
+    """Points of a shape, in its own frame, that can touch a plane below the foot frame."""
     shape = obj.geometry
     kind = type(shape).__name__
     down = obj.placement.rotation.T @ frame.rotation @ np.array([0.0, 0.0, -1.0])  # in shape

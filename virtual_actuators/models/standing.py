@@ -1,15 +1,4 @@
-"""A standing pose for a legged robot whose description gives none.
-
-[`standing_pose`][] returns the SRDF's standing pose when the robot has one
-([`Robot.neutral`][]). Otherwise it builds one from the structure: each leg (the chain from the
-body to a foot of [`find_feet`][]) is folded so that its foot
-stays where it is in the all-zero pose horizontally (under the hip for the usual legs hanging
-down) and rises by ``1 - height_ratio`` of the hip-to-foot distance, knees bent the way the joint
-limits allow (a leg starts folded towards the larger side of each joint's range near zero). A
-leg with six or more joints also keeps its foot's orientation (flat soles stay flat). The body is
-level, and it stands at the height that puts the lowest foot frame at ``z = 0`` (the simulator
-then rests the lowest geometry on the terrain).
-"""
+"""A standing pose for a legged robot whose description gives none."""
 
 from __future__ import annotations
 
@@ -43,16 +32,18 @@ def standing_pose(
     height_ratio: float = HEIGHT_RATIO,
     use_srdf: bool = True,
 ) -> np.ndarray:
-    """A standing configuration: the SRDF's, else one built from the legs (module docstring).
+    """A standing configuration: the SRDF's, else one built from the legs.
+
+    Each leg is folded so that its foot keeps its horizontal place and rises by
+    ``1 - height_ratio`` of the hip-to-foot distance, knees bent the way the limits allow (a leg
+    of six or more joints keeps its foot's orientation); the body is level, the lowest foot
+    frame at ``z = 0``, the centre of mass over the feet.
 
     Args:
         robot: A floating-base legged robot.
         feet: Foot frames (default: [`find_feet`][]).
         height_ratio: Hip-to-foot height as a fraction of the all-zero pose's, in (0.3, 1].
         use_srdf: Return the SRDF's standing pose when the robot has one.
-
-    Returns:
-        ``q`` of size ``model.nq``.
 
     Raises:
         InvalidInputError: A fixed-base robot, or ``height_ratio`` out of range.
@@ -106,18 +97,13 @@ def leg_joints(model: pin.Model, foot: int) -> list[int]:
 
 
 def upper_joints(robot: Robot, feet: Sequence[str]) -> list[str]:
-    """The driven one-degree-of-freedom joints on no leg (torso, arms, head), in model order.
-
-    A leg is the chain from the body to one of ``feet``; passive joints are left out.
-    """
+    """The driven 1-DoF joints on no leg from the body to ``feet``, in model order."""
     model = robot.model
     legs = {j for foot in feet for j in leg_joints(model, model.getFrameId(foot))}
     return [
         model.names[j]
         for j in range(2, model.njoints)
-        if j not in legs
-        and model.joints[j].nv == 1
-        and model.names[j] not in robot.passive_joints
+        if j not in legs and model.joints[j].nv == 1 and model.names[j] not in robot.passive_joints
     ]
 
 
@@ -189,9 +175,9 @@ def _reach(
 
 
 def _folded_start(lower: np.ndarray, upper: np.ndarray, fold: float) -> np.ndarray:
-    """Each joint's start: the middle of its range within ``+-_FOLD``, else its bound nearest 0.
+    """Each joint's start: its range's middle within ``+-_FOLD``, else its bound nearest 0.
 
-    A symmetric range (middle zero) starts at ``fold`` instead.
+    A symmetric range (middle zero) starts at ``fold``.
     """
     low, high = np.maximum(lower, -_FOLD), np.minimum(upper, _FOLD)
     middle = 0.5 * (low + high)

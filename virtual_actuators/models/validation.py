@@ -1,15 +1,7 @@
 """Check a URDF's XML before Pinocchio reads it, with messages that say what is wrong.
 
-A URDF given by path is checked before Pinocchio sees it (`validate_urdf`: XML syntax, then
-the URDF structure: names, joint types, parent and child links, numbers, limits, a single tree),
-so that a broken file gives a [`RobotDescriptionError`][] that
-says what is wrong. The structure is read from the XML by this module; when the optional
-``yourdfpy`` is installed (the extra ``urdf``: ``pip install -e ".[urdf]"``) its parser and
-validator run as well and add what they find. ``yourdfpy`` is only a validator here: it never
-loads meshes and never computes kinematics. Pinocchio's own parser remains the final check.
-
-Every URDF, by path or by name, is also checked for what Pinocchio would load silently but no
-robot can be: see `physics_checks`.
+The optional ``yourdfpy`` (the ``urdf`` extra) validates as well when installed; it never
+loads meshes. Pinocchio's own parser remains the final check.
 """
 
 from __future__ import annotations

@@ -1,11 +1,4 @@
-"""MuJoCo simulation of any loaded robot, on flat or sloped terrain.
-
-[`Simulator`][] steps a robot driven by joint torques and reports its state in Pinocchio's
-conventions and its contacts by frame name; [`Terrain`][] describes the ground;
-[`build_mujoco_model`][] builds the MuJoCo model in code from the Pinocchio model; the
-``conversions`` functions map configurations and velocities between the two libraries, the
-``actuation`` ones joint torques and actuator controls.
-"""
+"""MuJoCo simulation of any loaded robot, on flat or sloped terrain."""
 
 from ..exceptions import import_optional
 

@@ -1,10 +1,7 @@
 """Joint efforts to MuJoCo actuator controls, and back.
 
-Every actuated joint has one ``motor`` actuator of gear 1 named after it (see
-[`build_mujoco_model`][]), so a control is the joint's
-effort; the maps go through the joint names of a
-[`MujocoModel`][]. A free-flyer and passive joints have no
-actuator: an effort asked of them is an error unless the caller says to drop it.
+Every actuated joint has one ``motor`` actuator of gear 1 named after it, so a control is the
+joint's effort. A free-flyer and passive joints have no actuator.
 """
 
 from __future__ import annotations
@@ -18,12 +15,7 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.conversions import finite_vector, gathers
 from virtual_actuators.simulation.model import MujocoModel
 
-__all__ = [
-    "UNACTUATED_TOLERANCE",
-    "ctrl_to_torques",
-    "ctrl_writer",
-    "torques_to_ctrl",
-]
+__all__ = ["UNACTUATED_TOLERANCE", "ctrl_to_torques", "ctrl_writer", "torques_to_ctrl"]
 
 #: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
 UNACTUATED_TOLERANCE = 1e-9
@@ -32,14 +24,11 @@ UNACTUATED_TOLERANCE = 1e-9
 def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool], bool] | None:
     """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``): one compiled call.
 
-    ``write(tau, ignore_unactuated)`` writes what ``torques_to_ctrl(mm, tau,
-    ignore_unactuated=...)`` returns into ``ctrl`` and returns True, or writes nothing and
-    returns False (an effort that is not finite, an unactuated one beyond the tolerance, a
-    ``tau`` that is not a ``(model.nv,)`` array): `torques_to_ctrl` then says why.
+    ``write(tau, ignore_unactuated)`` writes what `torques_to_ctrl` returns and returns True, or
+    writes nothing and returns False (`torques_to_ctrl` then says why).
 
     Returns:
-        The writer; None without the compiled core or when some motor drives no single joint
-        (the general path then runs).
+        The writer; None without the compiled core or when a motor drives no single joint.
     """
     maps = gathers(mm)
     if not has("efforts_to_ctrl") or maps.direct_ctrl is None:
@@ -60,16 +49,12 @@ def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool
 def torques_to_ctrl(
     mm: MujocoModel, tau: np.ndarray, *, ignore_unactuated: bool = False
 ) -> np.ndarray:
-    """The actuators' controls for joint efforts ``tau`` (Pinocchio velocity order).
+    """The actuators' controls ``(mj_model.nu,)`` for joint efforts ``tau`` (not clipped).
 
     Args:
         mm: The MuJoCo model and its maps.
-        tau: Joint efforts [N m or N], shape ``(model.nv,)``.
-        ignore_unactuated: Drop efforts on unactuated degrees of freedom (free-flyer, passive
-            joints) instead of raising.
-
-    Returns:
-        ``ctrl``, shape ``(mj_model.nu,)`` (not clipped: MuJoCo clips to ``ctrlrange``).
+        tau: Joint efforts [N m or N], shape ``(model.nv,)``, Pinocchio velocity order.
+        ignore_unactuated: Drop efforts on unactuated degrees of freedom instead of raising.
 
     Raises:
         InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or (unless
@@ -103,14 +88,7 @@ def torques_to_ctrl(
 
 
 def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
-    """Joint efforts (Pinocchio velocity order) of an actuator control vector.
-
-    Args:
-        mm: The MuJoCo model and its maps.
-        ctrl: Actuator controls, shape ``(mj_model.nu,)``.
-
-    Returns:
-        ``tau``, shape ``(model.nv,)``, zero on unactuated degrees of freedom.
+    """Joint efforts ``(model.nv,)`` of actuator controls ``ctrl``, 0 where unactuated.
 
     Raises:
         InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.

@@ -1,9 +1,7 @@
 """Contact queries of a simulation: which frames touch the terrain, and with what force.
 
-`ContactQueries` is the part of [`Simulator`][] that
-reads MuJoCo's contact list by Pinocchio frame name. The robot-terrain contacts are scanned once
-per physics state, keyed by ``(data.time, data.ncon)``; the answers derived from them (switches,
-touching frames) are cached with that scan.
+The robot-terrain contacts are scanned once per physics state, keyed by
+``(data.time, data.ncon)``; the answers derived from them are cached with that scan.
 """
 
 from __future__ import annotations
@@ -27,10 +25,9 @@ _TERRAIN, _ROBOT = 1, 2
 
 
 def contact_view(model: mujoco.MjModel, data: mujoco.MjData, roles: list[int]) -> object | None:
-    """The compiled core's view of ``data``'s contact list, or None.
+    """The compiled core's view of ``data``'s contact list, or None (the scans run in Python).
 
-    None: no core, a core built without MuJoCo's headers, or a running MuJoCo whose version is
-    not the headers' (the layout of its data may differ): the scans then run in Python.
+    None without a core, without MuJoCo's headers in it, or with another MuJoCo version.
     """
     version = getattr(CORE, "MJ_VERSION", 0)
     if not version or version != mujoco.mj_version():
@@ -42,7 +39,7 @@ def contact_view(model: mujoco.MjModel, data: mujoco.MjData, roles: list[int]) -
 
 @functools.cache
 def _contact_force() -> int:
-    """The address of the running MuJoCo library's ``mj_contactForce`` (0 when not found)."""
+    """The address of the running MuJoCo library's ``mj_contactForce`` (0 if not found)."""
     folder = Path(mujoco.__file__).parent
     for path in sorted(folder.glob("libmujoco*")):
         try:
@@ -54,10 +51,10 @@ def _contact_force() -> int:
 
 
 class ContactQueries:
-    """Terrain-contact queries by frame name, over a MuJoCo model and its data.
+    """Terrain-contact queries by frame name, a base of [`Simulator`][].
 
-    A base of [`Simulator`][]: the subclass sets
-    ``mujoco_model``, ``model`` and ``data``, then calls `_init_contact_queries`.
+    The subclass sets ``mujoco_model``, ``model`` and ``data``, then calls
+    `_init_contact_queries`.
     """
 
     mujoco_model: MujocoModel
@@ -88,10 +85,7 @@ class ContactQueries:
         self._force_rows_out = np.zeros((64, 4))
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
-        """The robot geoms of ``frame`` (checked and cached on first use).
-
-        Those it owns; for a frame that owns none (a sole frame welded to an ankle link), the
-        geoms of the body it is attached to.
+        """The robot geoms of ``frame``, or of its body when it owns none (cached).
 
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
@@ -124,22 +118,12 @@ class ContactQueries:
             )
         return geoms
 
-    def terrain_contacts(self) -> list[tuple[int, int, float]]:
-        """The active robot-terrain contacts, scanned once per physics state (do not modify).
+    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
+        """The active robot-terrain contacts (of ``frame``'s geoms), scanned once per state.
 
         Returns:
-            ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when
-            the robot geom is the contact's second geom (MuJoCo's contact force acts on the
-            second geom along the normal), -1 otherwise.
-        """
-        return self._terrain_contacts()
-
-    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
-        """``(contact index, robot geom, sign)`` of the active robot-terrain contacts.
-
-        ``sign`` is +1 when the robot geom is the contact's second geom (MuJoCo's contact force
-        acts on the second geom along the normal) and -1 otherwise. The list of all of them is
-        built once per physics state.
+            ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when the
+            robot geom is the second geom (MuJoCo's force acts on it along the normal), else -1.
         """
         key = (self.data.time, self.data.ncon)
         if self._contacts_time != key:
@@ -154,11 +138,7 @@ class ContactQueries:
         return [hit for hit in self._contacts if hit[1] in geoms]
 
     def _scan_contacts(self) -> list[tuple[int, int, float]]:
-        """Scan MuJoCo's contact list for robot-terrain contacts.
-
-        A contact counts when it is not excluded and pairs a terrain geom with a robot geom
-        (a geom of the robot's frames that is not the terrain's).
-        """
+        """The robot-terrain contacts of MuJoCo's list that are not excluded."""
         view = self._contact_view
         if view is not None:  # the same rows, read in place by the core
             rows = self._contact_rows
@@ -180,16 +160,9 @@ class ContactQueries:
         return hits
 
     def in_contact(self, frame: str) -> bool:
-        """Whether a geom of a frame touches the terrain.
+        """Whether a geom of ``frame`` touches the terrain.
 
-        A frame's geoms are those attached to it plus those its origin lies on (a heel frame
-        on a heel sphere); see `MujocoModel.frame_geoms`.
-
-        Args:
-            frame: Pinocchio frame name.
-
-        Returns:
-            True if any of its geoms is in contact with a terrain geom.
+        A frame's geoms are those of `MujocoModel.frame_geoms` (a heel frame owns its heel sphere).
 
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
@@ -204,15 +177,7 @@ class ContactQueries:
         return switch
 
     def contact_switches(self, frames: Sequence[str]) -> dict[str, bool]:
-        """Whether each of several frames touches the terrain, in one pass over the contacts.
-
-        The same answers as [`in_contact`][] for each frame (cheaper for several frames).
-
-        Args:
-            frames: Pinocchio frame names.
-
-        Returns:
-            ``{frame: in contact}`` in the order of ``frames``.
+        """``{frame: in contact}`` for several frames, in one pass (as [`in_contact`][]).
 
         Raises:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
@@ -244,14 +209,9 @@ class ContactQueries:
         return dict(out)
 
     def contact_force(self, frame: str) -> np.ndarray:
-        """Total force of the terrain on a frame's geoms, in world axes [N].
+        """Total force of the terrain on a frame's geoms, world axes [N], shape ``(3,)``.
 
-        Args:
-            frame: Pinocchio frame name (a frame without geometry of its own, such as a sole
-                frame, reads the geometry of the link it is attached to).
-
-        Returns:
-            The force, shape ``(3,)`` (zero without contact).
+        A frame without geometry (a sole frame) reads the geometry of its link.
 
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names), or
@@ -266,16 +226,7 @@ class ContactQueries:
         return total
 
     def contact_forces(self, frames: Sequence[str]) -> np.ndarray:
-        """Total terrain force on each of several frames' geoms, in world axes [N].
-
-        One pass over the contacts for all of them (cheaper than [`contact_force`][] per
-        frame when a foot is made of several frames).
-
-        Args:
-            frames: Pinocchio frame names.
-
-        Returns:
-            ``(len(frames), 3)`` forces (zero rows without contact).
+        """[`contact_force`][] of several frames in one pass: ``(len(frames), 3)`` [N].
 
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names), or
@@ -311,13 +262,11 @@ class ContactQueries:
         """The terrain's force on each contact of grouped robot geoms, in the contact's frame.
 
         Args:
-            groups: ``(model.ngeom,)`` int64, each geom's group (-1: none), e.g. the foot it
-                belongs to.
+            groups: ``(model.ngeom,)`` int64, each geom's group (-1: none), e.g. its foot.
 
         Returns:
-            Per robot-terrain contact (not excluded) on a grouped geom, in MuJoCo's contact
-            order: ``[group, normal, tangential 1, tangential 2]`` [N] (``mj_contactForce``;
-            the group as a float).
+            Per robot-terrain contact on a grouped geom, in MuJoCo's order:
+            ``[group, normal, tangential 1, tangential 2]`` [N].
         """
         view = self._contact_view
         if view is not None:
@@ -339,35 +288,20 @@ class ContactQueries:
         """Whether a robot geom outside ``allowed`` touches the terrain.
 
         Args:
-            allowed: ``(model.ngeom,)`` int8 flags, 1 for the geoms allowed to touch (e.g. the
-                feet's).
-
-        Returns:
-            True if a robot geom whose flag is 0 is in a (not excluded) terrain contact.
+            allowed: ``(model.ngeom,)`` int8 flags, 1 for the geoms allowed to touch.
         """
         view = self._contact_view
         if view is not None:
             return view.touches_outside(allowed)
-        return not all(allowed[geom] for geom in self._touched_geoms())
-
-    def _touched_geoms(self) -> tuple[int, ...]:
         self._terrain_contacts()
-        return self._touched
+        return not all(allowed[geom] for geom in self._touched)
 
     def touching_terrain(self) -> set[str]:
-        """Names of the frames whose geoms touch the terrain (e.g. to detect a fall).
-
-        Returns:
-            Frame names (a geom counts for its parent frame and every frame that owns it).
-        """
+        """Names of the frames whose geoms touch the terrain (each geom's owners)."""
         return set(self.touching_frames())
 
     def touching_frames(self) -> frozenset[str]:
-        """[`touching_terrain`][] as a frozenset, built once per physics state (not copied).
-
-        Returns:
-            Frame names (a geom counts for its parent frame and every frame that owns it).
-        """
+        """[`touching_terrain`][] as a frozenset, once per physics state (not copied)."""
         self._terrain_contacts()
         touching = self._touching
         if touching is None:  # once per physics state; the same geoms give the same set object

@@ -1,25 +1,6 @@
 """Convert configurations, velocities and torques between Pinocchio and MuJoCo conventions.
 
-Every conversion goes joint by joint through the index maps of a
-[`MujocoModel`][] (built by joint name). Per joint:
-
-============  ===============================  ==========================================
-joint         Pinocchio                        MuJoCo
-============  ===============================  ==========================================
-free-flyer    q: ``x y z qx qy qz qw`` (the    qpos: ``x y z qw qx qy qz`` (the body pose
-              joint placement times the        in the world)
-              free-flyer motion)
-free-flyer    v: ``v_local, w_local``, both    qvel: ``v_world, w_local``: the same origin
-              in the body frame; ``v_local``   velocity in world axes, the angular velocity
-              is the velocity of the origin    in the body frame
-spherical     q: ``qx qy qz qw``               qpos: ``qw qx qy qz``; velocities equal
-continuous    q: ``cos(theta), sin(theta)``    qpos: ``theta``; velocities equal
-others        q and v copied                   (hinge or slide)
-============  ===============================  ==========================================
-
-The velocity map is linear, ``qvel = T(q) v`` with ``T`` the identity except for the free-flyer's
-linear block, which is the body rotation ``R``. Generalized forces transform with ``T^T``
-(power is preserved) and accelerations as ``qacc = T a + (dT/dt) v``.
+Every conversion goes joint by joint through the index maps of a [`MujocoModel`][].
 """
 
 from __future__ import annotations
@@ -44,13 +25,10 @@ __all__ = [
     "velocity_to_mujoco",
 ]
 
+
 @dataclass(frozen=True)
 class Gathers:
-    """Index arrays of one model's copy-through joints, built once.
-
-    Per-tick conversions are then a few fancy-index copies plus a loop over the free, ball and
-    continuous joints.
-    """
+    """Index arrays of one model's copy-through joints, built once."""
 
     copy_q: np.ndarray  # Pinocchio q indices of hinge and slide joints
     copy_qpos: np.ndarray  # their MuJoCo qpos indices
@@ -69,21 +47,17 @@ class Gathers:
 
 
 def direct_gathers(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """The one-gather conversions of MuJoCo's state, ``(direct_q, direct_v)``, where they hold.
+    """``(direct_q, direct_v)``: ``q = qpos[direct_q]``, ``v = qvel[direct_v]``, or None.
 
-    ``q = qpos[direct_q]`` when every joint is a hinge, a slide, a ball or a free joint at its
-    parent's origin, ``v = qvel[direct_v]`` when no joint is free; None otherwise (then convert
-    joint by joint).
+    ``direct_q`` exists when every joint is a hinge, a slide, a ball or a free joint at its
+    parent's origin, ``direct_v`` when no joint is free.
     """
     maps = gathers(mm)
     return maps.direct_q, maps.direct_v
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
-    """The one-gather form of ``out[target] = values[source]``, or None.
-
-    ``out = values[index]`` equals it when ``target`` covers ``0 .. size - 1`` exactly once.
-    """
+    """The index with ``values[index]`` equal to ``out[target] = values[source]``, or None."""
     if sorted(target) != list(range(size)):
         return None
     index = np.zeros(size, dtype=np.intp)
@@ -92,12 +66,7 @@ def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | Non
 
 
 def _direct_q(mm: MujocoModel) -> np.ndarray | None:
-    """``direct_q``: ``q = qpos[direct_q]`` when every joint's ``q`` is its ``qpos`` reordered.
-
-    Hinges and slides copy; a ball joint and a free joint placed at its parent's origin
-    (Pinocchio's ``(x, y, z, w)`` from MuJoCo's ``(w, x, y, z)``) reorder; a continuous joint
-    or an offset free joint needs arithmetic: None.
-    """
+    """``direct_q``, or None when a joint is continuous or an offset free joint."""
     target, source = [], []
     for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
@@ -114,14 +83,7 @@ def _direct_q(mm: MujocoModel) -> np.ndarray | None:
 
 
 def gathers(mm: MujocoModel) -> Gathers:
-    """The index arrays of ``mm``'s conversions, built on first use and kept with ``mm``.
-
-    Args:
-        mm: The MuJoCo model and its maps.
-
-    Returns:
-        Its `Gathers`.
-    """
+    """The `Gathers` of ``mm``, built on first use and kept with ``mm``."""
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
         return cached
@@ -167,9 +129,7 @@ def gathers(mm: MujocoModel) -> Gathers:
 
 
 def finite_vector(value: object, size: int, what: str) -> np.ndarray:
-    """A finite float vector of the given size.
-
-    A finite float64 array of the right shape is returned as is (not copied).
+    """A finite float64 vector of ``size`` entries (a fitting array is not copied).
 
     Args:
         value: The vector, any array-like.
@@ -244,14 +204,7 @@ def _free_pose(mm: MujocoModel, joint, q: np.ndarray) -> tuple[np.ndarray, np.nd
 
 
 def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
-    """MuJoCo ``qpos`` of a Pinocchio configuration.
-
-    Args:
-        mm: The MuJoCo model and its maps.
-        q: Pinocchio configuration, shape ``(model.nq,)``.
-
-    Returns:
-        ``qpos``, shape ``(mj_model.nq,)``.
+    """MuJoCo ``qpos`` of a Pinocchio configuration ``q`` ``(model.nq,)``.
 
     Raises:
         InvalidInputError: If ``q`` has the wrong size or non-finite entries.
@@ -278,14 +231,7 @@ def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
 
 
 def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
-    """Pinocchio configuration of a MuJoCo ``qpos``.
-
-    Args:
-        mm: The MuJoCo model and its maps.
-        qpos: MuJoCo positions, shape ``(mj_model.nq,)``.
-
-    Returns:
-        ``q``, shape ``(model.nq,)``.
+    """Pinocchio configuration ``(model.nq,)`` of a MuJoCo ``qpos``.
 
     Raises:
         InvalidInputError: If ``qpos`` has the wrong size or non-finite entries.
@@ -319,16 +265,7 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
 
 
 def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """MuJoCo ``qvel`` of a Pinocchio velocity at configuration ``q``.
-
-    Args:
-        mm: The MuJoCo model and its maps.
-        q: Pinocchio configuration, shape ``(model.nq,)`` (the free-flyer's orientation is
-            needed to express its linear velocity in the world frame).
-        v: Pinocchio velocity, shape ``(model.nv,)``.
-
-    Returns:
-        ``qvel``, shape ``(mj_model.nv,)``.
+    """MuJoCo ``qvel`` of a Pinocchio velocity ``v`` at configuration ``q``.
 
     Raises:
         InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
@@ -348,15 +285,9 @@ def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndar
 
 
 def velocity_from_mujoco(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
-    """Pinocchio velocity of a MuJoCo ``qvel`` at positions ``qpos``.
+    """Pinocchio velocity ``(model.nv,)`` of a MuJoCo ``qvel`` at positions ``qpos``.
 
-    Args:
-        mm: The MuJoCo model and its maps.
-        qpos: MuJoCo positions, shape ``(mj_model.nq,)``.
-        qvel: MuJoCo velocities, shape ``(mj_model.nv,)``.
-
-    Returns:
-        ``v``, shape ``(model.nv,)``: the free-flyer's velocities in its body frame.
+    A free-flyer's velocities are in its body frame.
 
     Raises:
         InvalidInputError: If ``qpos`` or ``qvel`` has the wrong size or non-finite entries.
@@ -377,11 +308,7 @@ def state_velocity(mm: MujocoModel, qpos: np.ndarray, qvel: np.ndarray) -> np.nd
 
 
 def _rotate_back(quat_wxyz: list[float], vector: list[float]) -> tuple[float, float, float]:
-    """``R^T vector`` for the rotation of a MuJoCo quaternion ``(w, x, y, z)`` (normalised).
-
-    The world-frame linear velocity of a free joint into its body frame, on plain floats (a
-    tick's cost; the same matrix as `_rotation_xyzw`).
-    """
+    """``R^T vector`` for a MuJoCo quaternion ``(w, x, y, z)`` (normalised), on floats."""
     w, x, y, z = quat_wxyz
     scale = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
     w, x, y, z = w * scale, x * scale, y * scale, z * scale

@@ -1,16 +1,7 @@
 """The robot's geoms and sites in the MuJoCo model, from the geometry Pinocchio reads.
 
-The collision (or visual) geometry of the URDF is read by Pinocchio (``pin.buildGeomFromUrdf``):
-boxes, spheres, cylinders, capsules and ellipsoids become MuJoCo primitives; binary STL and OBJ
-meshes become meshes read by MuJoCo, Collada (DAE) meshes meshes read by the project's reader
-([`collada_arrays`][virtual_actuators.models.collada.collada_arrays], the viewer's) and handed over
-as vertices and faces (MuJoCo collides with a mesh's convex hull). Nothing is dropped silently: a
-mesh neither reads (ASCII STL, PLY, a Collada file the reader does not cover) becomes the box
-bounding the vertices Pinocchio loaded, and a shape with no MuJoCo counterpart and no finite
-bounding box is left out; either is told in a one-line `notice` naming the geometries. Each
-geom is owned by its parent frame and by every frame on the same joint whose origin lies on or
-inside it. One site per Pinocchio frame, named after the frame, gives frame placements and a point
-to push.
+A mesh neither MuJoCo nor the Collada reader reads becomes its bounding box, and a shape with
+neither a counterpart nor a finite bounding box is left out, each told in a `notice`.
 """
 
 from __future__ import annotations
@@ -26,13 +17,13 @@ import pinocchio as pin
 from virtual_actuators.exceptions import RobotDescriptionError, notice
 from virtual_actuators.models.collada import collada_arrays
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.contact import (
+from virtual_actuators.simulation.ground import (
     ROBOT_BITS,
     ROBOT_SELF_BITS,
+    TERRAIN_PREFIX,
     ContactParameters,
     set_contact,
 )
-from virtual_actuators.simulation.ground import TERRAIN_PREFIX
 
 __all__ = [
     "COLLISION_CHOICES",
@@ -93,10 +84,7 @@ def _geometry_model(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
 
 
 class _Shape(NamedTuple):
-    """A MuJoCo geom type with its size (primitives) or mesh name (meshes).
-
-    ``centre``: where a bounding box's centre lies in the geometry's frame (None: at its origin).
-    """
+    """A MuJoCo geom type with its size or mesh name, and a bounding box's ``centre``."""
 
     geom_type: mujoco.mjtGeom
     size: list[float] | None = None
@@ -109,9 +97,8 @@ class Added(NamedTuple):
 
     Attributes:
         owners: Geom name -> the frames owning it.
-        skipped: Geometries left out (a shape with no MuJoCo counterpart nor bounding box).
-        approximated: Meshes neither MuJoCo nor the Collada reader reads, simulated as the
-            box bounding their vertices.
+        skipped: Geometries left out (no MuJoCo counterpart nor bounding box).
+        approximated: Meshes simulated as the box bounding their vertices.
     """
 
     owners: dict[str, tuple[str, ...]]
@@ -138,10 +125,7 @@ def _primitive(shape: object) -> _Shape | None:
 def _mesh(
     spec: mujoco.MjSpec, obj: pin.GeometryObject, meshes: dict[tuple[str, tuple], str | None]
 ) -> _Shape | None:
-    """The MuJoCo mesh of a geometry object (added to ``spec`` once per file and scale).
-
-    None when neither MuJoCo nor the Collada reader reads the file.
-    """
+    """The MuJoCo mesh of a geometry (added once per file and scale), or None if unread."""
     path = Path(obj.meshPath)
     scale = tuple(float(s) for s in obj.meshScale)
     key = (str(path), scale)
@@ -191,9 +175,7 @@ def add_geometry(
     contact: ContactParameters,
     collisions: str,
 ) -> Added:
-    """Add the robot's geoms; return their owning frames, and what was left out or approximated.
-
-    What was left out or approximated is told in one `notice` line each, naming the geometries.
+    """Add the robot's geoms; return their owners and what was left out or approximated.
 
     Raises:
         RobotDescriptionError: If Pinocchio cannot read the robot's geometry.
@@ -262,10 +244,7 @@ def _owners(
     placement: pin.SE3,
     frames: dict[str, tuple[int, np.ndarray]],
 ) -> tuple[str, ...]:
-    """The frames owning a geom: its parent frame, then the frames of its joint inside it.
-
-    ``placement``: the geom's in its joint's frame.
-    """
+    """The frames owning a geom at ``placement`` (joint frame): its parent, then those inside."""
     parent = model.frames[obj.parentFrame].name
     located = [
         frame

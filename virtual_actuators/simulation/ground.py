@@ -1,32 +1,37 @@
-"""The terrain geoms of the MuJoCo model, on the world body.
+"""The terrain geoms of the MuJoCo model, and the contact settings of every geom.
 
-A flat [`Terrain`][] is one plane; a terrain profile is a
-row of boxes, one per segment, `TERRAIN_THICKNESS` thick below the surface, with level runs
-of `TERRAIN_RUN` before the first and after the last profile point.
+A flat terrain is one plane, a profile one box per segment.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Literal
 
 import mujoco
 import numpy as np
 
-from virtual_actuators.simulation.contact import TERRAIN_BITS, ContactParameters, set_contact
+from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.terrain import Terrain
 
 __all__ = [
     "CLEARANCE_RANGE",
+    "ROBOT_BITS",
+    "ROBOT_SELF_BITS",
+    "TERRAIN_BITS",
     "TERRAIN_GROUP",
     "TERRAIN_PREFIX",
     "TERRAIN_RUN",
     "TERRAIN_THICKNESS",
+    "ContactParameters",
     "add_terrain",
     "ground_clearance",
+    "set_contact",
 ]
 
-#: Farthest distance between the robot and the terrain that :func:`ground_clearance` measures [m].
+#: Farthest distance between the robot and the terrain that `ground_clearance` measures [m].
 CLEARANCE_RANGE = 100.0
 
 #: Thickness of the terrain boxes, perpendicular to the surface [m].
@@ -40,6 +45,68 @@ TERRAIN_PREFIX = "terrain_"
 
 #: Geom group of the terrain (MuJoCo's visualiser shows groups 0-2 by default).
 TERRAIN_GROUP = 0
+
+
+# Collision bits: robot geoms (contype 2, conaffinity 1) touch the terrain (contype 1,
+# conaffinity 2) but not each other unless self-collisions are enabled (both 3).
+TERRAIN_BITS = (1, 2)
+ROBOT_BITS = (2, 1)
+ROBOT_SELF_BITS = (3, 3)
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Contact settings shared by every robot and terrain geom.
+
+    Attributes:
+        friction: Sliding friction coefficient (MuJoCo takes the larger of the two geoms').
+        torsional_friction: Torsional friction [m] (``condim`` 4 or 6).
+        rolling_friction: Rolling friction [m] (``condim`` 6).
+        condim: 1 (frictionless), 3 (sliding friction), 4 (+ torsional) or 6 (+ rolling).
+        solref: ``(time constant [s], damping ratio)``; the time constant should be at least
+            twice the physics time step.
+        solimp: MuJoCo's impedance ``(dmin, dmax, width [m], midpoint, power)``.
+        margin: Distance [m] at which contacts become active.
+        cone: Friction cone, ``"pyramidal"`` or ``"elliptic"``.
+        self_collisions: Whether robot geoms collide with each other (never across a joint).
+    """
+
+    friction: float = 1.0
+    torsional_friction: float = 0.005
+    rolling_friction: float = 0.0001
+    condim: int = 3
+    solref: tuple[float, float] = (0.005, 1.0)
+    solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
+    margin: float = 0.0
+    cone: Literal["pyramidal", "elliptic"] = "pyramidal"
+    self_collisions: bool = False
+
+    def __post_init__(self) -> None:
+        if self.condim not in (1, 3, 4, 6):
+            raise InvalidInputError(f"condim must be 1, 3, 4 or 6, got {self.condim!r}.")
+        if self.cone not in ("pyramidal", "elliptic"):
+            raise InvalidInputError(f"cone must be 'pyramidal' or 'elliptic', got {self.cone!r}.")
+        values = (self.friction, self.torsional_friction, self.rolling_friction, self.margin)
+        if not all(math.isfinite(v) and v >= 0.0 for v in values):
+            raise InvalidInputError(
+                "friction, torsional_friction, rolling_friction and margin must be finite and "
+                f">= 0, got {values}."
+            )
+        if len(self.solref) != 2 or len(self.solimp) != 5:
+            raise InvalidInputError("solref needs 2 values and solimp 5 values.")
+
+
+def set_contact(
+    geom: mujoco.MjsGeom, contact: ContactParameters, contype: int, conaffinity: int
+) -> None:
+    """Give a geom the settings of ``contact`` and its collision bits."""
+    geom.contype = contype
+    geom.conaffinity = conaffinity
+    geom.condim = contact.condim
+    geom.friction = [contact.friction, contact.torsional_friction, contact.rolling_friction]
+    geom.solref = list(contact.solref)
+    geom.solimp = list(contact.solimp)
+    geom.margin = contact.margin
 
 
 def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameters) -> list[str]:
@@ -93,10 +160,9 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
 def ground_clearance(
     model: mujoco.MjModel, data: mujoco.MjData, robot_geoms: Iterable[int], terrain: Iterable[int]
 ) -> float:
-    """Least signed distance between the robot's geoms and the terrain's [m] (negative: inside).
+    """Least signed distance [m] between the robot's geoms and the terrain's (< 0: inside).
 
-    ``data`` must hold the geoms' placements (after ``mj_forward`` or ``mj_kinematics``).
-    Distances beyond `CLEARANCE_RANGE` count as that range.
+    ``data`` must hold the geoms' placements; distances beyond `CLEARANCE_RANGE` count as it.
     """
     terrain = tuple(terrain)
     clearance = CLEARANCE_RANGE

@@ -1,10 +1,4 @@
-"""The bodies, joints and actuators of the MuJoCo model, one body per Pinocchio joint.
-
-Each body is placed at ``model.jointPlacements`` relative to its parent joint's body and carries
-the joint's inertia ``model.inertias``; the joint at its origin keeps Pinocchio's name and type
-(`joint_kind`), range, damping, dry friction and armature. `add_actuators` adds one
-``motor`` per actuated joint (`actuated_joints`).
-"""
+"""The bodies, joints and actuators of the MuJoCo model, one body per Pinocchio joint."""
 
 from __future__ import annotations
 
@@ -109,10 +103,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
 
 
 def add_actuators(spec: mujoco.MjSpec, model: pin.Model, actuated_names: list[str]) -> None:
-    """Add one ``motor`` (gear 1, named after its joint) per actuated joint.
-
-    Its control range is ``+-effortLimit`` when the limit is finite and positive, else unlimited.
-    """
+    """Add one ``motor`` (gear 1, range ``+-effortLimit`` if finite and positive) per joint."""
     for name in actuated_names:
         jid = model.getJointId(name)
         joint = model.joints[jid]
@@ -204,10 +195,7 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
 
 
 def _set_damping(joint: mujoco.MjsJoint, damping: float) -> None:
-    """Set a joint's linear damping [N m s/rad or N s/m].
-
-    It is a scalar in MuJoCo 3 and the first polynomial coefficient in MuJoCo 4.
-    """
+    """Set a joint's linear damping [N m s/rad or N s/m] (MuJoCo 3 scalar, MuJoCo 4 array)."""
     current = joint.damping
     if np.ndim(current) == 0:
         joint.damping = damping
@@ -226,12 +214,7 @@ def _principal_inertia(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def balance_inertias(spec: mujoco.MjSpec, robot: Robot) -> None:
-    """Let MuJoCo repair physically impossible inertias, with a warning naming them.
-
-    A rotational inertia with a negative principal moment is clamped to zero (then raised to
-    `BOUND_INERTIA`), and one that breaks the triangle inequality is balanced by MuJoCo's
-    ``balanceinertia``.
-    """
+    """Let MuJoCo repair physically impossible inertias, with a warning naming them."""
     model = robot.model
     bad = []
     for j in range(1, model.njoints):

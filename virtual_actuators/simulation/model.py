@@ -1,40 +1,7 @@
 """Build a MuJoCo model of any loaded [`Robot`][], in code, with MjSpec.
 
-The model is built from the robot's Pinocchio model (not with MuJoCo's URDF importer), so both
-describe exactly the same mechanism:
-
-* one MuJoCo body per Pinocchio joint, placed at ``model.jointPlacements`` relative to its parent
-  joint's body, carrying the joint's inertia ``model.inertias`` (mass, centre of mass, and the
-  rotational inertia as principal moments and axes; links welded by fixed joints are already
-  merged by Pinocchio);
-* the joint itself at the body origin, with Pinocchio's name: a revolute joint about any axis
-  (``RX``, ``RY``, ``RZ``, unaligned) is a hinge, a continuous one (``RUBX``... whose ``q`` is
-  ``(cos, sin)``) an unlimited hinge, a prismatic joint a slide, a free-flyer a free joint and a
-  spherical joint a ball joint; any other joint type raises
-  [`RobotDescriptionError`][];
-* joint ranges from ``lowerPositionLimit`` / ``upperPositionLimit`` when they are finite and
-  different (never for continuous or ball joints), ``model.damping`` as joint damping,
-  ``model.friction`` as dry friction (``frictionloss``), ``model.armature`` as armature;
-* one ``motor`` actuator (gear 1, named after its joint) per actuated joint, its control range
-  ``+-effortLimit`` when the limit is finite and positive. By default every 1-DoF joint not in
-  `Robot.passive_joints` is actuated; a free-flyer never is;
-* the collision geometry of the URDF read by Pinocchio (``pin.buildGeomFromUrdf``): boxes,
-  spheres, cylinders, capsules and ellipsoids as MuJoCo primitives, binary STL, OBJ and Collada
-  (DAE) meshes as meshes (MuJoCo collides with their convex hull); other meshes (ASCII STL...)
-  as their bounding boxes, told in a one-line notice naming them (see `geometry`);
-* one site per Pinocchio frame, named after the frame, to read frame placements and to push;
-* the [`Terrain`][], gravity from the Pinocchio model
-  (``-9.81 z`` by default).
-
-Contact model: [`ContactParameters`][] (see `contact`).
-The ``implicitfast`` integrator keeps large joint damping stable.
-
-The pieces are built by `joints` (bodies, joints, actuators),
-`geometry` (robot geoms and frame sites) and
-`ground` (terrain geoms).
-
-Every index map (Pinocchio ``q`` / ``v`` indices, MuJoCo ``qpos`` / ``qvel`` addresses, actuator
-ids) is computed by joint *name*, never by assuming the same ordering.
+The model is built from the Pinocchio model (not MuJoCo's URDF importer), so both describe the
+same mechanism; every index map is computed by joint name, never by assuming the same order.
 """
 
 from __future__ import annotations
@@ -56,14 +23,13 @@ from virtual_actuators.exceptions import (
     suggestion,
 )
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.contact import ContactParameters
 from virtual_actuators.simulation.geoms import (
     COLLISION_CHOICES,
     Collisions,
     add_geometry,
     add_sites,
 )
-from virtual_actuators.simulation.ground import add_terrain
+from virtual_actuators.simulation.ground import ContactParameters, add_terrain
 from virtual_actuators.simulation.joints import (
     BOUND_INERTIA,
     BOUND_MASS,
@@ -75,12 +41,7 @@ from virtual_actuators.simulation.joints import (
 )
 from virtual_actuators.simulation.terrain import Terrain
 
-__all__ = [
-    "ContactParameters",
-    "JointMap",
-    "MujocoModel",
-    "build_mujoco_model",
-]
+__all__ = ["ContactParameters", "JointMap", "MujocoModel", "build_mujoco_model"]
 
 
 @dataclass(frozen=True)
@@ -100,8 +61,7 @@ class JointMap:
         qpos_adr: First index in MuJoCo's ``qpos``.
         dof_adr: First index in MuJoCo's ``qvel``.
         actuator: MuJoCo actuator id, or None for an unactuated joint.
-        placement: Pinocchio joint placement in its parent joint (used for a free-flyer, whose
-            MuJoCo ``qpos`` is the body pose in the world).
+        placement: Pinocchio joint placement in its parent joint.
     """
 
     name: str
@@ -130,20 +90,15 @@ class MujocoModel:
         contact: The contact parameters used.
         joints: One `JointMap` per Pinocchio joint (universe excluded), Pinocchio order.
         actuated: Names of the actuated joints, Pinocchio order.
-        joint_bodies: MuJoCo body id of each Pinocchio joint index (index 0, the universe, is
-            the world body).
-        geom_frames: For each robot geom id, the Pinocchio frames it belongs to: its parent
-            frame first, then every frame on the same joint whose origin lies on or inside it
-            (so a heel frame on the surface of a heel sphere owns that sphere).
-        frame_geoms: For each frame name, the ids of the robot geoms it owns (frames without
-            geometry are absent).
-        frame_sites: MuJoCo site id of each frame name (the first frame of that name).
+        joint_bodies: MuJoCo body id of each Pinocchio joint index (0: the world body).
+        geom_frames: For each robot geom id, the frames that own it: its parent frame, then every
+            frame on the same joint whose origin lies on or inside it.
+        frame_geoms: For each frame name, the ids of the robot geoms it owns.
+        frame_sites: MuJoCo site id of each frame name.
         terrain_geoms: Ids of the terrain geoms.
-        skipped_geometries: Names of the Pinocchio geometries left out because MuJoCo cannot
-            use them (a shape with no MuJoCo counterpart and no finite bounding box; not the
-            meshes that ``collisions="primitives"`` leaves out on purpose).
-        approximated_geometries: Names of the meshes simulated as their bounding boxes (a
-            format neither MuJoCo nor the Collada reader reads).
+        skipped_geometries: Names of the geometries MuJoCo cannot use (no counterpart and no
+            finite bounding box).
+        approximated_geometries: Names of the meshes simulated as their bounding boxes.
     """
 
     robot: Robot
@@ -221,27 +176,25 @@ def build_mujoco_model(
     """Build and compile the MuJoCo model of ``robot`` standing on ``terrain``.
 
     Args:
-        robot: A loaded robot (its URDF path or text is read again for the geometry).
+        robot: A loaded robot (its URDF is read again for the geometry).
         terrain: The ground; level ground at height 0 when None.
         timestep: Physics time step [s].
-        actuated: Names of the joints driven by a motor; by default every 1-DoF joint not in
+        actuated: Joints driven by a motor; by default every 1-DoF joint not in
             ``robot.passive_joints``.
         contact: Contact parameters; [`ContactParameters`][] defaults when None.
-        collisions: Which robot geometry collides: ``"collision"`` (the URDF's collision
-            shapes, meshes included; one unread is its bounding box, with a one-line notice),
-            ``"primitives"`` (the same without any mesh, silently),
-            ``"visual"`` (the visual shapes, e.g. for robots whose collision shapes are only
-            feet), or ``"none"``.
+        collisions: Which geometry collides: ``"collision"`` (the URDF's collision shapes; an
+            unread mesh is its bounding box, with a notice), ``"primitives"`` (the same without
+            meshes), ``"visual"`` (the visual shapes) or ``"none"``.
 
     Returns:
         The compiled model with its index maps.
 
     Raises:
-        RobotDescriptionError: If a joint type has no MuJoCo counterpart (the message names
-            the joint), a free-flyer is not the root joint, or MuJoCo rejects the model.
+        RobotDescriptionError: If a joint type has no MuJoCo counterpart, a free-flyer is not the
+            root joint, or MuJoCo rejects the model.
         JointNotFoundError: If ``actuated`` names a joint the robot does not have.
-        InvalidInputError: If ``actuated`` names a joint with more or fewer than one degree of
-            freedom, or ``timestep`` or ``collisions`` is invalid.
+        InvalidInputError: If ``actuated`` names a joint with other than one degree of freedom,
+            or ``timestep`` or ``collisions`` is invalid.
     """
     terrain = _checked_options(timestep, collisions, terrain)
     contact = ContactParameters() if contact is None else contact
@@ -293,7 +246,7 @@ def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) 
     """The terrain (level ground when None), after checking the options.
 
     Raises:
-        InvalidInputError: If ``timestep`` is not a positive number, ``collisions`` not one of
+        InvalidInputError: If ``timestep`` is not positive, ``collisions`` not one of
             `COLLISION_CHOICES` or ``terrain`` not a [`Terrain`][].
     """
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):

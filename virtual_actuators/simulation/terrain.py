@@ -1,15 +1,6 @@
 """Terrain for the simulations: a piecewise-linear height profile ``z(x)`` along world x.
 
-A [`Terrain`][] is a list of points ``(x, z)`` in metres with strictly increasing ``x``. The
-height is linear between consecutive points and flat (constant) before the first point and after
-the last one, so a profile never has vertical steps. The profile does not depend on ``y``.
-
-The built-in profiles (``flat``, ``profile-one``, ``profile-two``, ``rolling``) and the text
-form of a terrain are in `terrain_profiles`.
-
-In MuJoCo ([`build_mujoco_model`][]) a flat terrain is a
-plane and any other profile is a chain of thin boxes, one per segment, whose top faces lie on the
-segments, plus 50 m long level boxes before the first and after the last point.
+Also the built-in profiles, and the text form of a terrain (``--terrain`` on the CLI).
 """
 
 from __future__ import annotations
@@ -21,19 +12,141 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError, suggestion
-from virtual_actuators.simulation.terrain_profiles import (
-    BUILTIN_NAMES,
-    PROFILES,
-    VALID_SPECS,
-    flat_height,
-    parse_points,
-    profile_points,
-)
 
 __all__ = ["Terrain"]
 
+#: Length of the level ground that every built-in profile starts with [m].
+LEVEL_START = 2.0
+
+# Built-in profiles as (horizontal length [m], slope [deg]) segments after LEVEL_START m of level
+# ground starting at x = 0; the height starts at 0.
+PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
+    "profile-one": (
+        (1.5, 15.0),
+        (1.6, 0.0),
+        (1.5, -15.0),
+        (1.6, 0.0),
+        (1.2, 20.0),
+        (1.6, 0.0),
+        (1.2, -20.0),
+        (1.8, 0.0),
+    ),
+    "profile-two": (
+        (1.0, 10.0),
+        (0.8, 18.0),
+        (1.2, 5.0),
+        (0.7, -10.0),
+        (1.0, -18.0),
+        (0.6, -5.0),
+        (1.5, 8.0),
+        (0.9, 15.0),
+        (0.8, 0.0),
+        (1.1, -14.0),
+        (0.7, 3.0),
+        (1.3, 12.0),
+        (0.6, -6.0),
+        (1.0, -16.0),
+        (1.2, 0.0),
+    ),
+    "rolling": (
+        (1.0, 5.0),
+        (1.0, 10.0),
+        (1.0, 5.0),
+        (1.0, -5.0),
+        (1.0, -10.0),
+        (1.0, -5.0),
+        (1.0, 5.0),
+        (1.0, 10.0),
+        (1.0, 5.0),
+        (1.0, -5.0),
+        (1.0, -10.0),
+        (1.0, -5.0),
+    ),
+}
+
+#: Names accepted by `Terrain.builtin`.
+BUILTIN_NAMES = ("flat", *PROFILES)
+
+#: What a terrain spec may be, for error messages.
+VALID_SPECS = (
+    f"valid terrains: {', '.join(BUILTIN_NAMES)}, 'flat:HEIGHT', or points 'x:z,x:z,...' "
+    "in metres with increasing x (e.g. '0:0,2:0,3:0.27')"
+)
+
+
+def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Points ``(x, z)`` [m] of a built-in profile: (0, 0), (LEVEL_START, 0), one per segment.
+
+    Args:
+        segments: ``(horizontal length [m], slope [deg])`` per segment, as in `PROFILES`.
+    """
+    points = [(0.0, 0.0), (LEVEL_START, 0.0)]
+    x, z = LEVEL_START, 0.0
+    for length, slope_deg in segments:
+        x += length
+        z += length * math.tan(math.radians(slope_deg))
+        points.append((round(x, 12), z))
+    return points
+
+
+def flat_height(text: str, spec: str) -> float:
+    """The height [m] of a ``"flat:HEIGHT"`` spec.
+
+    Args:
+        text: The stripped spec, starting with ``"flat:"``.
+        spec: The spec as given (quoted in the error).
+
+    Raises:
+        InvalidInputError: If ``HEIGHT`` is not a finite number.
+    """
+    height = text.removeprefix("flat:").strip()
+    try:
+        value = float(height)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise InvalidInputError(
+            f"Bad terrain height {height!r} in {spec!r}: 'flat:HEIGHT' needs a finite "
+            f"number of metres; {VALID_SPECS}."
+        )
+    return value
+
+
+def parse_points(text: str, spec: str) -> list[list[float]]:
+    """The points ``[x, z]`` [m] of an ``"x:z,x:z,..."`` spec, in the order given.
+
+    Args:
+        text: The stripped spec.
+        spec: The spec as given (quoted in the error).
+
+    Raises:
+        InvalidInputError: If a token is not two finite numbers ``x:z`` (the message quotes
+            it, and suggests a built-in name for a word).
+    """
+    points = []
+    for token in text.split(","):
+        parts = token.split(":")
+        values: list[float] = []
+        if len(parts) == 2:
+            try:
+                values = [float(part) for part in parts]
+            except ValueError:
+                values = []
+        if len(values) != 2 or not all(math.isfinite(v) for v in values):
+            hint = ""
+            if ":" not in token and token.strip():
+                hint = " " + suggestion(token.strip(), BUILTIN_NAMES, "terrains")
+            raise InvalidInputError(
+                f"Bad terrain token {token.strip()!r} in {spec!r}: expected a point 'x:z' "
+                f"with two finite numbers in metres; {VALID_SPECS}.{hint}"
+            )
+        points.append(values)
+    return points
+
+
 #: Default width of the terrain boxes along y in MuJoCo [m].
 DEFAULT_WIDTH = 2.0
+
 
 def _interp(x: float, xs: list[float], zs: list[float]) -> float:
     """``np.interp(x, xs, zs)`` for one float, with numpy's arithmetic (the same bits)."""
@@ -57,7 +170,7 @@ def _interp(x: float, xs: list[float], zs: list[float]) -> float:
 
 
 def _pair(point: np.ndarray) -> str:
-    """Format a point as ``(x, z)`` with plain floats."""
+    """A point as ``(x, z)`` with plain floats."""
     return f"({float(point[0])!r}, {float(point[1])!r})"
 
 
@@ -68,8 +181,7 @@ class Terrain:
 
     Attributes:
         name: A label (the built-in name, ``"flat"``, or ``"custom"``).
-        width: Width of the terrain along world y in MuJoCo [m], centred on ``y = 0`` (a flat
-            terrain is an infinite plane and ignores it).
+        width: Width along world y in MuJoCo [m], centred on ``y = 0`` (a plane ignores it).
     """
 
     def __init__(
@@ -126,18 +238,9 @@ class Terrain:
         self.name = str(name)
         self.width = float(width)
 
-    # -- constructors ---------------------------------------------------------------------------
-
     @classmethod
     def flat(cls, height: float = 0.0, *, width: float = DEFAULT_WIDTH) -> Terrain:
-        """Level ground.
-
-        Args:
-            height: Ground height [m].
-            width: See [`Terrain`][] (unused by the MuJoCo plane).
-
-        Returns:
-            The flat terrain.
+        """Level ground at ``height`` [m].
 
         Raises:
             InvalidInputError: If ``height`` is not a finite number.
@@ -148,14 +251,7 @@ class Terrain:
     def from_points(
         cls, points: Iterable[Sequence[float]], *, width: float = DEFAULT_WIDTH
     ) -> Terrain:
-        """A terrain through the given points, linear between them and flat outside.
-
-        Args:
-            points: Pairs ``(x, z)`` [m] with strictly increasing ``x``.
-            width: See [`Terrain`][].
-
-        Returns:
-            The terrain, named ``"custom"``.
+        """A terrain named ``"custom"`` through ``points`` ``(x, z)`` [m].
 
         Raises:
             InvalidInputError: If the points are empty, not pairs of finite numbers, or their
@@ -165,18 +261,10 @@ class Terrain:
 
     @classmethod
     def builtin(cls, name: str, *, width: float = DEFAULT_WIDTH) -> Terrain:
-        """One of the built-in profiles (see [`names`][] and the module documentation).
-
-        Args:
-            name: ``"flat"``, ``"profile-one"``, ``"profile-two"`` or ``"rolling"``.
-            width: See [`Terrain`][].
-
-        Returns:
-            The terrain.
+        """The built-in profile ``name``, one of [`names`][].
 
         Raises:
-            InvalidInputError: If ``name`` is not a built-in profile (the message lists the
-                closest names).
+            InvalidInputError: If ``name`` is not a built-in profile (with the closest names).
         """
         if name == "flat":
             return cls.flat(width=width)
@@ -192,22 +280,13 @@ class Terrain:
 
     @classmethod
     def parse(cls, spec: str, *, width: float = DEFAULT_WIDTH) -> Terrain:
-        """A terrain from a short text, as given on a command line.
+        """A terrain from a command-line text.
 
-        Accepted forms: ``"flat"``, ``"flat:HEIGHT"`` (level ground at ``HEIGHT`` m), a built-in
-        name ([`names`][]), or points ``"x:z,x:z,..."`` in metres (for example
-        ``"0:0,2:0,3:0.27,4:0.27"``).
-
-        Args:
-            spec: The text.
-            width: See [`Terrain`][].
-
-        Returns:
-            The terrain.
+        The forms: ``"flat"``, ``"flat:HEIGHT"`` [m], a built-in name ([`names`][]), or points
+        ``"x:z,x:z,..."`` [m] (for example ``"0:0,2:0,3:0.27,4:0.27"``).
 
         Raises:
-            InvalidInputError: If the text is none of these forms; the message quotes the bad
-                token and lists what is valid.
+            InvalidInputError: If the text is none of these forms (quoting the bad token).
         """
         if not isinstance(spec, str):
             raise InvalidInputError(f"A terrain spec must be a string, got {type(spec).__name__}.")
@@ -220,34 +299,25 @@ class Terrain:
             return cls.flat(flat_height(text, spec), width=width)
         return cls(parse_points(text, spec), name="custom", width=width)
 
-    # -- queries ---------------------------------------------------------------------------------
-
     @property
     def points(self) -> np.ndarray:
-        """The profile points, shape ``(n, 2)``: columns x [m] and z [m] (a copy)."""
+        """The profile points ``(n, 2)``: x [m] and z [m] (a copy)."""
         return self._points.copy()
 
     @property
     def is_flat(self) -> bool:
-        """Whether every point has the same height (level ground)."""
+        """Whether every point has the same height."""
         return bool(np.all(self._points[:, 1] == self._points[0, 1]))
 
     @property
     def slopes(self) -> np.ndarray:
-        """Slope angle of each segment between consecutive points [rad], shape ``(n - 1,)``."""
+        """Slope angle of each segment [rad], shape ``(n - 1,)``."""
         dx = np.diff(self._points[:, 0])
         dz = np.diff(self._points[:, 1])
         return np.arctan2(dz, dx)
 
     def height(self, x: float | np.ndarray) -> float | np.ndarray:
-        """Ground height at world ``x``.
-
-        Args:
-            x: Position(s) along world x [m], a number or an array.
-
-        Returns:
-            Height(s) [m]: a float for a number, an array of the shape of ``x`` otherwise.
-        """
+        """Ground height [m] at world ``x`` [m]: a float for a number, else an array like ``x``."""
         if isinstance(x, float):  # one number (np.float64 too): no array round trip
             return _interp(float(x), self._xs, self._zs)
         xs, zs = self._points[:, 0], self._points[:, 1]
@@ -255,16 +325,10 @@ class Terrain:
         return float(heights) if np.ndim(x) == 0 else heights
 
     def slope(self, x: float | np.ndarray) -> float | np.ndarray:
-        """Slope angle of the ground at world ``x`` [rad], positive uphill towards +x.
+        """Slope angle [rad] of the ground at world ``x`` [m], positive uphill towards +x.
 
-        At a point between two segments the slope of the segment after it is returned; before
-        the first and after the last point the ground is level (0).
-
-        Args:
-            x: Position(s) along world x [m], a number or an array.
-
-        Returns:
-            Angle(s) [rad]: a float for a number, an array of the shape of ``x`` otherwise.
+        Between two segments, the slope of the one after; level (0) outside the points. A float for
+        a number, else an array like ``x``.
         """
         xs = self._points[:, 0]
         positions = np.asarray(x, dtype=float)
@@ -274,14 +338,10 @@ class Terrain:
         return float(result) if np.ndim(x) == 0 else result
 
     def segments(self, run: float = 50.0) -> list[tuple[tuple[float, float], tuple[float, float]]]:
-        """The ground as straight segments, with level run-in and run-out segments.
+        """The ground as segments ``((x0, z0), (x1, z1))``, left to right.
 
         Args:
-            run: Length of the level segments added before the first and after the last
-                point [m].
-
-        Returns:
-            Segments ``((x0, z0), (x1, z1))`` from left to right.
+            run: Length of the level segments added before and after the points [m].
         """
         xs, zs = self._points[:, 0], self._points[:, 1]
         out = [((float(xs[0] - run), float(zs[0])), (float(xs[0]), float(zs[0])))]

@@ -1,16 +1,8 @@
 """Relative kinematics of an action frame {B} with respect to reaction frames {A_i}, in {O}.
 
-One `RelativeKinematics` serves a serial actuator (one reaction frame) or a parallel one
-(several). Everything that depends only on the kinematic tree (which joints lie between {A_i}
-and {B}, with which sign) is computed once in the constructor; `RelativeKinematics.compute`
-reads the tick's [`Snapshot`][] (one kinematics pass shared by every
-actuator) and returns every chain's Jacobian at once.
-
-Conventions (VAC eq. 1-7): the twist of {B} relative to {A_i} is taken at {B}'s origin, with
-{A_i}'s velocity taken at the point of {A_i}'s body that coincides with {B}'s origin, and both
-linear and angular parts are expressed in {O}'s orientation. Its transpose maps a wrench on {B}
-(force, and moment about {B}'s origin, in {O}) to joint torques exactly like the pair of
-external wrenches "+wrench on {B}, -wrench on {A_i}" does.
+VAC eq. 1-7: the twist of {B} relative to {A_i} at {B}'s origin, both parts in {O}'s axes; its
+transpose maps a wrench on {B} (moment about {B}'s origin, in {O}) to joint torques like the
+pair "+wrench on {B}, -wrench on {A_i}".
 """
 
 from __future__ import annotations
@@ -76,11 +68,7 @@ class Sensed(NamedTuple):
 
 
 class RelativeKinematics:
-    """Jacobians and virtual sensors of {B} relative to each {A_i}, expressed in {O}.
-
-    Everything here reads a [`Snapshot`][] (one kinematics pass per tick,
-    shared by every actuator of the robot); nothing holds per-call state, so one instance can
-    be used from several threads.
+    """Jacobians and virtual sensors of {B} relative to each {A_i}, expressed in {O} (thread-safe).
 
     Args:
         robot: The robot.
@@ -220,8 +208,7 @@ class RelativeKinematics:
             state: A [`Snapshot`][] or a configuration ``(model.nq,)``.
 
         Returns:
-            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views of the snapshot: do not
-            modify).
+            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views: do not modify).
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.

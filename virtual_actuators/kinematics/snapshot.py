@@ -1,15 +1,7 @@
-"""One kinematics pass per control tick: [`Snapshot`][].
+"""One kinematics pass per control tick, shared by every reader: [`Snapshot`][].
 
-A snapshot is built from a configuration ``q`` (and optionally a velocity ``v``) once per tick.
-Every actuator, sensor, event and component of that tick reads it, so the forward kinematics run
-once however many readers there are (pink's ``Configuration`` plays the same role). It computes
-lazily, on the first read: the world joint Jacobian (Pinocchio's ``data.J`` convention) and the
-placements of the frames that declared actuators need, in one call of the compiled kernel
-(`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
-kernel does not handle (``backend="pinocchio"`` forces it).
-
-A snapshot owns what it computed: snapshots of the same robot can be used from several threads
-at once. The Pinocchio backend uses one ``pinocchio.Data`` per model and thread.
+Computed lazily on the first read, by the compiled kernel or Pinocchio; a snapshot owns what it
+computed, so snapshots of one robot can be used from several threads.
 """
 
 from __future__ import annotations
@@ -173,22 +165,16 @@ class Snapshot:
 
     @property
     def jacobian_world(self) -> np.ndarray:
-        """``(6, nv)`` world joint Jacobian, linear rows first (Pinocchio's ``data.J``).
-
-        Column ``v`` is the twist of joint ``v``'s motion at the world origin, in world axes.
-        Do not modify it: every reader of the snapshot shares it.
-        """
+        """``(6, nv)`` world joint Jacobian, linear rows first (``data.J``; do not modify)."""
         if self._jacobian is None:
             self._run()
         return self._jacobian
 
     @property
     def frame_table(self) -> np.ndarray:
-        """``(rows, 12)`` placements of the frames the robot's actuators read, one row each.
+        """``(rows, 12)`` world placements of the frames the actuators read (do not modify).
 
-        Row ``r`` holds a rotation (row-major, 9 entries) then a position [m], in the world; the
-        tree's frame table says which frame each row is. The compiled kernels read it whole.
-        Do not modify it: every reader of the snapshot shares it.
+        Row ``r``: a rotation (row-major, 9 entries) then a position [m].
         """
         if self._frames is None:
             self._run()
@@ -242,12 +228,7 @@ class Snapshot:
         return self._placement(self._frame_id(frame))
 
     def named_row(self, frame: object) -> int:
-        """The row of a frame given by a tabled name in `frame_table`, else -1.
-
-        A tick's cost: a name the robot's actuators read is one row of the table (other names,
-        ids and untabled frames give -1: read them through the general accessors). Computes
-        the kinematics first when they have not run.
-        """
+        """The row of a frame given by a tabled name in `frame_table`, else -1."""
         row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
         if row is None:
             return -1
@@ -315,9 +296,6 @@ class Snapshot:
 
     def center_of_mass(self) -> np.ndarray:
         """Centre of mass of the whole robot in the world [m], from this snapshot's kinematics.
-
-        The same point as [`Robot.center_of_mass`][virtual_actuators.Robot.center_of_mass]
-        at `q`, without a second kinematics pass: the per-tick reading.
 
         Returns:
             ``(3,)`` position [m] in world axes.

@@ -1,18 +1,6 @@
 """The real-time path of a parallel actuator's solve: tables built once, one compiled call a tick.
 
-`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
-its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
-Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
-into flat arrays, so that a tick is one call of the compiled core (``_core.Distribution``, which
-holds the packed tables of each mode) on the snapshot's arrays; for a snapshot whose kinematics
-are not computed yet (a solve from ``q``), it runs the kinematics and the distribution in one
-call. Without the core, and when the core hands a tick back (a singular chain, an
-ill-conditioned block, more rows than unknowns), `PartitionedSolver` decides with numpy: the
-reference implementation, which the tests compare the core's answers with.
-`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
-checks the arguments and builds the [`Solution`][] from its buffer; `SnapshotSolve` does the
-same for a controller's request on the tick's snapshot (both in ``buffer_solve.py``, re-exported
-here).
+Without the core, or when the core hands a tick back, `PartitionedSolver` decides with numpy.
 """
 
 from __future__ import annotations
@@ -190,13 +178,7 @@ class CompiledDistribution:
     def solve_configuration(
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
-        """A solve from a checked configuration alone: kinematics and distribution in one call.
-
-        The compiled core's ``Distribution.tick`` (the same kernels, hence the same bits, as
-        `solve` on a snapshot of ``q``), with no snapshot built; None when the core is
-        not built, the request is not this path's, or the kernel hands the tick on (the caller
-        then builds the snapshot and dispatches as usual).
-        """
+        """Kinematics and distribution of a checked configuration in one call, or None."""
         if not request.compiled or request.method != "partitioned":
             return None
         mode = self.mode_for(request.keep)
@@ -226,10 +208,7 @@ class CompiledDistribution:
         axes: tuple[str, ...],
         floating: bool,
     ) -> BufferSolve | None:
-        """A `BufferSolve` of ``kind`` for a checked request (e.g. `SnapshotSolve`).
-
-        None when the core is not built or the request is not the compiled partitioned one.
-        """
+        """A `BufferSolve` of ``kind`` for a checked request, or None off the compiled path."""
         if not request.compiled or request.method != "partitioned":
             return None
         mode = self.mode_for(request.keep)
@@ -241,9 +220,6 @@ class CompiledDistribution:
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
-
-        The ``"compiled"`` backend of `METHODS`
-        (None too when ``request.compiled`` is False).
 
         Returns:
             The tick's result (``tau`` zero at limp and passive joints), or None.

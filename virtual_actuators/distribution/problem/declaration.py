@@ -1,8 +1,4 @@
-"""Reading a parallel actuator's declaration: limp and passive joints, design rows.
-
-These checks run once, when a [`ParallelVirtualActuator`][] is declared;
-`DistributionProblem` builds on what they return.
-"""
+"""Reading a parallel actuator's declaration once: limp and passive joints, design rows."""
 
 from __future__ import annotations
 

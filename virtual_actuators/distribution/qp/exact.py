@@ -1,30 +1,11 @@
-"""The QP's exact final step on an active set (see `qp`): the core's, or plain Python.
+"""The QP's exact final step on the active set that ProxQP's multipliers name: the core's or Python.
 
-ProxQP stops at an absolute accuracy, from a start that depends on the previous tick. Its
-multipliers name the active inequalities, and with them the QP becomes linear algebra. With
-``D x = d`` the design rows, ``A x = w`` the request's rows (weights ``omega``) and the active
-inequalities held at their bounds (rows ``C_W x = b_W``):
-
-- the request exactly (``exact=True``): ``x`` is the least-norm solution of ``D``, ``C_W``, ``A``;
-- the closest wrench (``exact=False``): ``x`` minimises ``sum_a omega_a (A x - w)_a^2`` on
-  ``D``, ``C_W``, and among those minimisers has the least norm.
-
-`exact_step` computes that ``x`` exactly (Gram-Schmidt on the rows ``D``, ``C_W`` then
-``A`` in a fixed order, a row swept again while a sweep removes most of it, a row that depends
-on earlier ones dropped from the solve and only checked; the weighted least squares on what
-``A`` adds, by Gram-Schmidt on its columns), then checks the KKT conditions to ``tol``: every
-row met, every other inequality inside its bounds, and each active row's multiplier of the right
-sign (``>= 0`` at a lower bound, ``<= 0`` at an upper one; for the closest wrench, in the
-weighted least squares, and for the rows that do not bound it, in the least norm). A failed
-check changes the active set by one row (the multiplier of the wrong sign leaves, else the most
-violated row enters) and solves again, at most ``max_steps`` times; if it does not settle, the
-caller keeps ProxQP's answer.
-
-When the checks pass, ``x`` is the QP's answer to rounding (the least norm is strictly convex,
-the weighted miss has one minimising wrench), whatever ProxQP's accuracy and start: it depends
-on the problem alone. Plain loops (a few tens of rows), no BLAS: the compiled core runs its C++
-port (``src/core/exact.hpp``) when it is built, and this Python otherwise (a source tree without
-a build, ``VA_CORE=0``); the tests check both against an independent QP.
+With ``D x = d`` the design rows, ``A x = w`` the request's rows (weights ``omega``) and the
+active inequalities at their bounds ``C_W x = b_W``: the request exactly (``exact=True``) is the
+least-norm ``x`` of ``D``, ``C_W``, ``A``; the closest wrench (``exact=False``) minimises
+``sum_a omega_a (A x - w)_a^2`` on ``D``, ``C_W`` with the least norm among the minimisers.
+The KKT conditions are checked and the active set corrected one row at a time; plain loops
+(``src/core/exact.hpp`` is their C++ port).
 """
 
 from __future__ import annotations
@@ -59,8 +40,8 @@ def _add_row(
 ) -> tuple[int, bool]:
     """Gram-Schmidt of row ``index`` against the ``rank`` rows kept: ``(rank, deferred)``.
 
-    The row is kept (``rank + 1``) unless it depends on the kept rows (dropped), or ``defer``
-    and what it adds is below `NEARLY_DEPENDENT_TOL` of its norm (deferred: left out for now).
+    The row is dropped if it depends on the kept rows, deferred if ``defer`` and what it adds is
+    below `NEARLY_DEPENDENT_TOL` of its norm.
     """
     size = basis.shape[1]
     _row(equality, inequality, index, row)
@@ -111,10 +92,8 @@ def _factor(
 ) -> tuple[int, int]:
     """Gram-Schmidt on the design rows, the active inequality rows, then the request rows.
 
-    Writes orthonormal rows into ``basis`` and ``lower`` with ``row kept[r] = sum_b lower[r, b]
-    basis[b]``; returns ``(rank, rank of the design and active rows)``. A row nearly dependent on
-    those before it (`_add_row`) is taken again after the other rows of its group (design and
-    active rows; request rows): one that a later row completes is then dropped (only checked).
+    Writes ``basis`` and ``lower`` with ``row kept[r] = sum_b lower[r, b] basis[b]``; returns
+    ``(rank, rank of the design and active rows)``. Deferred rows are retried after their group.
     """
     k, size = equality.shape[0], equality.shape[1]
     order = np.empty(k + inequality.shape[0], dtype=np.int64)
@@ -177,11 +156,10 @@ def _solve(
     fit: np.ndarray,
     norm: np.ndarray,
 ) -> None:
-    """The answer on one active set, and its multipliers (see the module docstring).
+    """The answer on one active set, and its multipliers.
 
-    Writes ``x``, ``fit`` (the weighted least squares' multipliers of the design and active
-    rows; 0 when ``exact``) and ``norm`` (the least norm's: ``x = sum rows^T norm``), both over
-    ``[equality; inequality]``, 0 for the rows dropped or inactive.
+    Writes ``x``, ``fit`` (the weighted least squares' multipliers; 0 when ``exact``) and ``norm``
+    (the least norm's: ``x = sum rows^T norm``), both over ``[equality; inequality]``.
     """
     k, size = equality.shape[0], equality.shape[1]
     basis = np.zeros((size, size))
@@ -277,11 +255,11 @@ def exact_step(
     tol: float,
     max_steps: int,
 ) -> tuple[bool, np.ndarray, np.ndarray]:
-    """The exact answer on the active set that ProxQP's multipliers name (module docstring).
+    """The exact answer on the active set that ProxQP's multipliers name.
 
     Args:
         equality: ``(k, d)`` the design rows, then the request's rows.
-        equality_rhs: ``(k,)`` their right-hand sides (the request itself, not a reached wrench).
+        equality_rhs: ``(k,)`` their right-hand sides.
         design: How many design rows.
         weights: ``(k - design,)`` the request rows' weights (``exact=False``).
         inequality: ``(m, d)`` rows bounded on both sides.
@@ -291,7 +269,7 @@ def exact_step(
             one): the first active set, rows with ``|guess| > active_tol``.
         exact: The request exactly (else the closest wrench, then the least norm).
         active_tol: See ``guess``.
-        tol: Tolerance of the KKT checks (on the problem as given, scaled).
+        tol: Tolerance of the KKT checks (on the scaled problem).
         max_steps: Active-set changes allowed.
 
     Returns:
@@ -381,11 +359,7 @@ def exact_answer(
     exact: bool,
     active_tol: float,
 ) -> tuple[bool, np.ndarray, np.ndarray]:
-    """``(True, x, z)``: `exact_step`'s answer if its KKT checks pass, else ProxQP's.
-
-    ProxQP's answer is ``(False, x, guess)``: its ``x`` and multipliers ``guess``; the other
-    arguments are `exact_step`'s.
-    """
+    """`exact_step`'s ``(True, x, z)`` if its KKT checks pass, else ``(False, x, guess)``."""
     ok, exact_x, z = _EXACT_STEP(
         equality, equality_rhs, design, weights, inequality, lows, uppers, guess, exact,
         active_tol, EXACT_TOL, EXACT_STEPS,

@@ -1,11 +1,7 @@
 """The math a lowerable hook or formula uses: floats in Python, ops when traced.
 
-Each function takes floats (then it is `math`'s, or Python's ``min``/``max`` with their exact
-semantics) or traced values (`traced.Sym`: then it appends the
-same operation to the traced program). A hook written with these, plain arithmetic and tuples
-runs in Python and in the compiled plan alike, to the same bits: the core's ``std::`` functions
-are the C library's, which CPython's `math` calls too.
-
+Each function takes floats (then it is `math`'s, or Python's ``min``/``max``) or traced values
+(`traced.Sym`: it appends the same operation to the traced program), to the same bits.
 ``select(condition, a, b)`` replaces ``a if condition else b`` on a traced condition; the
 comparisons of traced values give 1.0 or 0.0.
 """
@@ -57,11 +53,7 @@ def atan2(y: object, x: object) -> object:
 
 
 def hypot(x: object, y: object) -> object:
-    """``math.hypot(x, y)`` of two numbers, or its op.
-
-    The op is CPython's algorithm, ported: the bits of ``math.hypot``, which may differ from the
-    C library's ``hypot`` in the last one.
-    """
+    """``math.hypot(x, y)`` of two numbers, or its op (CPython's algorithm: the same bits)."""
     program = _program(x, y)
     return math.hypot(x, y) if program is None else program.binary("hypot", x, y)
 

@@ -1,14 +1,8 @@
 """Traced numbers: what a gait's hooks and a component's formula are lowered through.
 
-A hook written with plain arithmetic and the functions of `scalar` runs on floats in Python
-(the machine's Python tick, the oracle) and, given [`Sym`][] values instead, records the same
-operations into a program of the compiled plan (``control.plan``) that the core runs every
-tick: one implementation, two ways to run it. A `Sym` is a register of the
-plan's blackboard; every operation on it appends one op and returns the register of its result.
-
-What cannot be traced raises `TraceError`: a Python ``if`` on a traced value (write it with
-`scalar.select`), a numpy call, a value of another kind. The lowering then keeps that piece a
-Python callback (and says why).
+Given [`Sym`][] values, a hook written with plain arithmetic and `scalar` records its operations
+into a compiled plan's program; what cannot be traced (a Python ``if`` on a traced value, a numpy
+call) raises `TraceError` and stays a Python callback.
 """
 
 from __future__ import annotations
@@ -179,7 +173,7 @@ def traced_store(owner: object, name: str, values: Sequence, offset: int = 0) ->
         False when no trace keeps that slot (the caller sets it on floats).
 
     Raises:
-        TraceError: A traced value, with no trace keeping the slot (it would be lost).
+        TraceError: A traced value, with no trace keeping the slot.
     """
     tracing = TRACING.get()
     where = None if tracing is None else tracing.slot(owner, name)

@@ -1,7 +1,4 @@
-"""What the QP's stages share: the iteration budget, a ProxQP workspace slot, the rows, the answer.
-
-See `stages` for the stages themselves.
-"""
+"""What the QP's stages share: the iteration budget, a ProxQP workspace slot, the rows."""
 
 from __future__ import annotations
 
@@ -11,11 +8,7 @@ import numpy as np
 
 
 class Budget:
-    """ProxQP (outer) iterations one solve has left, all stages together.
-
-    Args:
-        left: The iterations left.
-    """
+    """ProxQP (outer) iterations one solve has left (``left``), all stages together."""
 
     __slots__ = ("left",)
 
@@ -53,7 +46,7 @@ class StageRows:
     Args:
         equality: The ``design`` rows that always hold, then the request's rows.
         equality_rhs: Their right-hand sides (the request's part is rewritten in place by the
-            closest-wrench stages: ``miss`` reads it).
+            closest-wrench stages).
         design: How many of ``equality``'s rows always hold.
         inequality: The inequality rows.
         lows: Their lower bounds.

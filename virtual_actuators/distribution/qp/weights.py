@@ -1,10 +1,4 @@
-"""Per-axis weights of the QP's closest-wrench stage (see `qp`), checked once.
-
-When a request cannot be met, ``method="qp"`` returns the reachable wrench that minimises
-``sum_a weight_a (produced_a - requested_a)^2`` over the prescribed axes: an axis with a small
-weight gives way first. Weights are given by axis name (``{"x": 0.01}``, 1 for the others) or
-as an array over the actuator's axes.
-"""
+"""Per-axis weights of the QP's closest wrench: ``sum_a weight_a (produced_a - requested_a)^2``."""
 
 from __future__ import annotations
 
@@ -24,9 +18,6 @@ def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -
             of ``axes``.
         axes: The actuator's axes.
         what: The argument's name, for messages.
-
-    Returns:
-        The weights, one per axis.
 
     Raises:
         InvalidAxisError: A key of the dict is not one of ``axes``.

@@ -184,8 +184,7 @@ class RelativeKinematics:
             frames = self._frames_of(snapshot)  # frames required after that snapshot ran
         position_b = frames[self._row_b, 9:]
         rotation_o = frames[self._row_o, :9].reshape(3, 3)
-        # velocity of the point at {B}'s origin, v + w x p_B = v - skew(p_B) w, in {O}: one
-        # (n, 6) map applied to the world Jacobian
+        # the point at {B}'s origin moves at v + w x p_B = v - skew(p_B) w: one (n, 6) map
         x, y, z = position_b
         transform = np.zeros((6, 6))
         transform[:3, :3] = transform[3:, 3:] = rotation_o.T

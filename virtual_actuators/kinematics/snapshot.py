@@ -94,8 +94,7 @@ class Snapshot:
             )
         self.robot = robot
         self.tree = tree
-        # private copies: a driver that reuses its buffers cannot change q or v under the
-        # kinematics computed from them (a check returns the caller's array when it is fine)
+        # private copies: a driver that reuses its buffers cannot change q or v under us
         checked = tree.check_configuration(q)
         self.q = checked.copy() if checked is q or checked.base is not None else checked
         if v is not None:

@@ -80,9 +80,7 @@ def solve_numpy(
     try:
         raw = solver.solve(scaled, wrench * factor, keep)
     except SingularConfigurationError:
-        # the closed form cannot decide (e.g. a natural constraint that vanishes here): the
-        # dense reference drops what is numerically void, and raises the same error when
-        # the distribution really is singular
+        # the closed form cannot decide: the dense reference does (or raises the same error)
         if hand_on:
             return None
         raise

@@ -292,9 +292,8 @@ def exact_step(
             bounds[r] = lows[r] if side[r] < 0 else uppers[r]
         _solve(equality, equality_rhs, design, weights, inequality, bounds, side, exact, x, fit,
                norm)  # fmt: skip
-        # a multiplier of the wrong sign (>= 0 at a lower bound, <= 0 at an upper one): that
-        # row leaves. Exactly: the least norm's. Closest: the weighted miss's, then the least
-        # norm's of the rows that do not bound the miss.
+        # a multiplier of the wrong sign (>= 0 at a lower bound, <= 0 at an upper one) leaves:
+        # the least norm's, or for the closest wrench the weighted miss's first
         worst, leave = tol, -1
         for r in range(m):
             if side[r] == 0:

@@ -35,7 +35,6 @@ class RawSolution:
     active: tuple[str, ...] = ()
 
 
-
 class BufferSlices(NamedTuple):
     """Where a compiled distribution's output buffer holds each part, in this order."""
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .traced import Sym, TraceError
+from .traced import Sym
 
 __all__ = [
     "acos", "asin", "atan2", "clip", "cos", "cross", "dot", "exp", "hypot", "logical_and",
@@ -112,14 +112,3 @@ def cross(a: Sequence, b: Sequence) -> tuple:
     """``a x b`` of two 3-vectors, as a tuple."""
     (a0, a1, a2), (b0, b1, b2) = a, b
     return (a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
-
-
-def check_float(value: object, what: str) -> float:
-    """``value`` as a float at lowering time (a declaration constant).
-
-    Raises:
-        TraceError: ``value`` is traced (it would change every tick).
-    """
-    if isinstance(value, Sym):
-        raise TraceError(f"{what} must be a constant of the declaration, not a traced value.")
-    return float(value)

@@ -127,13 +127,6 @@ def vector(values: Iterable[object]) -> tuple:
     return tuple(values)
 
 
-def elementwise(operation: Callable[[object, object], object], a: Sequence, b: object) -> tuple:
-    """``operation`` entry by entry over ``a`` and ``b`` (as long as ``a``, or one number)."""
-    if isinstance(b, (tuple, list)):
-        return tuple(operation(x, y) for x, y in zip(a, b, strict=True))
-    return tuple(operation(x, b) for x in a)
-
-
 class Tracing:
     """What a hook being traced writes to and reads from: the program and the plan's slots.
 

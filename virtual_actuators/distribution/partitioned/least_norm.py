@@ -123,7 +123,6 @@ def least_norm_forces(
     return forces
 
 
-
 def projected_forces(
     problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
 ) -> np.ndarray | None:
@@ -157,9 +156,7 @@ def projected_forces(
         top_right = np.einsum("pkn,spn->ks", kept, hard)
         bottom_right = np.einsum("psm,tpm->st", hp, hard)
         kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
-        target = np.concatenate(
-            (target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular))
-        )
+        target = np.concatenate((target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)))
     else:
         kkt = top_left
     kkt_inverse, cond = safe_inverse(kkt)

@@ -114,9 +114,7 @@ class NumpyBackend:
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: The constraints contradict each other at this configuration.
         """
-        return solve_numpy(
-            self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on
-        )
+        return solve_numpy(self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on)
 
 
 __all__ = ["NumpyBackend", "solve_numpy"]

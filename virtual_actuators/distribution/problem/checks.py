@@ -16,6 +16,7 @@ from .structure import ChainGroup
 if TYPE_CHECKING:
     from .problem import DistributionProblem
 
+
 def vacuous_joints(problem: DistributionProblem, per_chain: list, states: list) -> set[int]:
     """Velocity indices of the limp joints no selected axis loads (their rows are dropped).
 

@@ -127,7 +127,6 @@ class DistributionProblem:
             springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
             stiffness = [[s.stiffness if s else 0.0 for s in row] for row in springs]
             rest = [[s.rest if s else 0.0 for s in row] for row in springs]
-            angle = [[s.idx_q if s else -1 for s in row] for row in springs]
             group = ChainGroup(
                 chains=np.array(members, dtype=int),
                 columns=columns,
@@ -135,7 +134,6 @@ class DistributionProblem:
                 constrained=own,
                 stiffness=np.asarray(stiffness, dtype=float).reshape(own.shape),
                 rest=np.asarray(rest, dtype=float).reshape(own.shape),
-                angle_index=np.asarray(angle, dtype=int).reshape(own.shape),
                 ball_axes=np.array(ball, dtype=int),
                 rank=rank,
                 n=self.n,

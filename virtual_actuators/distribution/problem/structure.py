@@ -30,7 +30,6 @@ class ChainGroup:
             to this chain only.
         stiffness: ``(g, c)`` spring stiffness of those joints (0 for a limp joint) [N m/rad].
         rest: ``(g, c)`` spring rest angles [rad].
-        angle_index: ``(g, c)`` index in ``q`` of those joints' angle (-1 for a limp joint).
         ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
             contact, restricted to the selected axes; empty for a flat contact.
         rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
@@ -43,7 +42,6 @@ class ChainGroup:
     constrained: np.ndarray
     stiffness: np.ndarray
     rest: np.ndarray
-    angle_index: np.ndarray
     ball_axes: np.ndarray
     rank: int
     n: int

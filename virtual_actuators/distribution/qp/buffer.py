@@ -60,6 +60,7 @@ def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> QPViews:
         buffer[layout[9] : layout[9] + nv],
     )
 
+
 class Answer(NamedTuple):
     """The core's read-out of a solved reduced QP: the tick's buffer and norms, the active rows."""
 
@@ -68,7 +69,6 @@ class Answer(NamedTuple):
     scale: float
     rounding: float
     active: np.ndarray
-
 
 
 __all__ = ["HEADER", "LAYOUT", "Answer", "QPViews", "views"]

@@ -143,7 +143,7 @@ class QPDistribution:
         """The weights of ``request``'s rows (this thread's last, kept)."""
         hot = getattr(self._local, "request", None)  # this thread's last request and weights
         if hot is None or hot[0] is not request:
-            weights = (self.weights if request.weights is None else request.weights)
+            weights = self.weights if request.weights is None else request.weights
             hot = self._local.request = (request, weights[request.keep])
         return hot[1]
 

@@ -221,8 +221,4 @@ def declare(
     )  # fmt: skip
 
 
-__all__ = [
-    "CompiledMargins",
-    "ContactSet",
-    "declare",
-]
+__all__ = ["CompiledMargins", "ContactSet", "declare"]

@@ -9,10 +9,7 @@ from collections.abc import Iterable, Mapping, Sequence, Set
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
-    InvalidInputError,
-    VirtualActuatorError,
-)
+from ..exceptions import InvalidInputError, VirtualActuatorError
 
 
 # -- argument checks ---------------------------------------------------------------------------

@@ -7,12 +7,7 @@ from collections.abc import Iterable, Mapping, Sequence, Set
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
-    FrameNotFoundError,
-    InvalidAxisError,
-    JointNotFoundError,
-    suggestion,
-)
+from ..exceptions import FrameNotFoundError, InvalidAxisError, JointNotFoundError, suggestion
 from .arguments import describe
 
 #: All axes a virtual actuator can act along, in their canonical order: forces along and moments

@@ -10,11 +10,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ..linalg import (
-    backward_tolerance,
-    constrained_min_norm,
-    dependent_rows_at_scale,
-)
+from ..linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation

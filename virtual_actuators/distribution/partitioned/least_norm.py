@@ -12,12 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ..linalg import (
-    backward_tolerance,
-    constrained_min_norm,
-    safe_inverse,
-    stable_norm,
-)
+from ..linalg import backward_tolerance, constrained_min_norm, safe_inverse, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
 from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND

@@ -13,10 +13,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...contacts.kinds import ball_axes, parse_contacts
-from ...exceptions import (
-    ConstraintError,
-    SingularConfigurationError,
-)
+from ...exceptions import ConstraintError, SingularConfigurationError
 from ...kinematics.relative import KinematicState, RelativeKinematics, skew
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.axes import AXES

@@ -77,10 +77,7 @@ class ContactSet:
         return normals
 
     def rows(
-        self,
-        rotation_o: np.ndarray,
-        rotation_a: np.ndarray,
-        offsets_o: np.ndarray | None = None,
+        self, rotation_o: np.ndarray, rotation_a: np.ndarray, offsets_o: np.ndarray | None = None
     ) -> Constraint:
         """``lows <= G x`` over ``x = forces.ravel()``: the minima, the pyramids, then the soles.
 

@@ -26,12 +26,10 @@ class KinematicState:
     """What `RelativeKinematics.compute` returns for one configuration.
 
     Attributes:
-        jacobian_o: ``(n, nv)`` rows ``axes`` of the world-frame joint Jacobians shifted to
-            {B}'s origin and rotated into {O}; chain ``i``'s Jacobian is
-            ``jacobian_o * signs[i]``.
+        jacobian_o: ``(n, nv)`` rows ``axes`` of the world joint Jacobian shifted to {B}'s
+            origin and rotated into {O}; chain ``i``'s columns times ``chain_signs[i]``.
         rotation_o: ``(3, 3)`` orientation of {O} in the world.
         position_b: ``(3,)`` position of {B}'s origin in the world [m].
-        rotation_b: ``(3, 3)`` orientation of {B} in the world.
         position_a: ``(p, 3)`` positions of the reaction frames' origins in the world [m].
         rotation_a: ``(p, 3, 3)`` orientations of the reaction frames in the world.
         snapshot: The [`Snapshot`][] this was computed from.
@@ -40,7 +38,6 @@ class KinematicState:
     jacobian_o: np.ndarray
     rotation_o: np.ndarray
     position_b: np.ndarray
-    rotation_b: np.ndarray
     position_a: np.ndarray
     rotation_a: np.ndarray
     snapshot: Snapshot
@@ -120,15 +117,6 @@ class RelativeKinematics:
             self.chain_columns.append(columns)
             self.chain_signs.append(signs)
 
-    @property
-    def signs(self) -> np.ndarray:
-        """``(p, nv)`` dense chain signs (declaration-time use only: memory ``p nv``)."""
-        out = np.zeros((len(self.reaction_ids), self.nv))
-        pairs = zip(self.chain_columns, self.chain_signs, strict=True)
-        for i, (columns, signs) in enumerate(pairs):
-            out[i, columns] = signs
-        return out
-
     @staticmethod
     def _path(model: pin.Model, joint_b: int, joint_a: int) -> tuple[np.ndarray, np.ndarray]:
         support_b = set(model.supports[joint_b])
@@ -194,7 +182,6 @@ class RelativeKinematics:
             jacobian_o=transform[self.rows] @ jacobian_world,
             rotation_o=rotation_o,
             position_b=position_b,
-            rotation_b=frames[self._row_b, :9].reshape(3, 3),
             position_a=reactions[:, 9:],
             rotation_a=reactions[:, :9].reshape(-1, 3, 3),
             snapshot=snapshot,
@@ -258,25 +245,6 @@ class RelativeKinematics:
             rotation, position = snapshot.placement(frame_id)
             frames[row, :9], frames[row, 9:] = rotation.ravel(), position
         return frames
-
-    def positions(self, state: KinematicState) -> np.ndarray:
-        """Virtual sensors: pose of {B} relative to each {A_i}, in {O}, on the selected axes.
-
-        Translations are ``R_O^T (p_B - p_A)`` [m]; rotations are the rotation vector
-        ``log(R_A^T R_B)`` of {B} relative to {A}, expressed in {O} [rad].
-
-        Returns:
-            ``(p, n)`` array.
-        """
-        p = len(self.reaction_ids)
-        if self.rows[-1] < 3:  # translations only: no rotation vector to compute
-            return state.offsets_o()[:, self.rows]
-        out = np.empty((p, 6))
-        out[:, :3] = state.offsets_o()
-        for i, rotation_a in enumerate(state.rotation_a):
-            relative = pin.log3(rotation_a.T @ state.rotation_b)
-            out[i, 3:] = state.rotation_o.T @ (rotation_a @ relative)
-        return out[:, self.rows]
 
     def __repr__(self) -> str:
         names = [self.model.frames[int(r)].name for r in self.reaction_ids]

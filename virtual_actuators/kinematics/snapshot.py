@@ -75,11 +75,7 @@ class Snapshot:
     )
 
     def __init__(
-        self,
-        robot: object,
-        q: np.ndarray,
-        v: np.ndarray | None = None,
-        backend: str = "auto",
+        self, robot: object, q: np.ndarray, v: np.ndarray | None = None, backend: str = "auto"
     ) -> None:
         tree: KinematicTree = tree_of(robot)
         if backend != "auto" and backend not in _BACKENDS:
@@ -309,8 +305,7 @@ class Snapshot:
 
     @classmethod
     def of_pass(
-        cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray,
-        rows: dict[int, int],
+        cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray, rows: dict[int, int]
     ) -> Snapshot:
         """The snapshot of a pass the compiled core made already (a compiled plan's tick).
 

@@ -95,15 +95,7 @@ class CompiledDistribution:
                 c = group.constrained.shape[1]
                 nb = len(group.ball_axes)
                 row = ints[chain]
-                row[: kernel_tables.HEADER] = (
-                    k,
-                    c,
-                    nb,
-                    group.rank,
-                    group.num_constraints,
-                    group.num_free,
-                    start,
-                )
+                row[:header] = (k, c, nb, group.rank, group.num_constraints, group.num_free, start)
                 start += group.num_free
                 at = header
                 row[at : at + k] = group.columns[j]
@@ -185,12 +177,7 @@ class CompiledDistribution:
         core, tree = mode.core, self.problem.kinematics.tree.core_tree
         if core is None or tree is None or tree.nf <= self.max_row:
             return None
-        out, residual, scale, rounding, status, _, _ = core.tick(tree, q, wrench)
-        if status:
-            return None
-        forces = out[: self.shape[0] * self.shape[1]].reshape(self.shape)
-        raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
-        return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
+        return self._tick(mode, core.tick(tree, q, wrench))
 
     def configuration_solve(
         self, request: Request, reactions: tuple[str, ...], axes: tuple[str, ...], floating: bool
@@ -242,6 +229,10 @@ class CompiledDistribution:
             if core is None:
                 return None  # no compiled core: the numpy path
             tick = core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
+        return self._tick(mode, tick)
+
+    def _tick(self, mode: PackedMode, tick: tuple) -> TickResult | None:
+        """The `TickResult` of the core's ``tick`` or ``solve`` output, or None if handed on."""
         out, residual, scale, rounding, status = tick[:5]
         if status:
             return None

@@ -93,17 +93,7 @@ class TickResult:
         rounding: float,
         compiled: bool = True,
     ) -> TickResult:
-        """The tick of a compiled kernel's output buffer (its arrays as views).
-
-        Args:
-            raw: The solution, its ``forces`` the ``(p, n)`` view of the buffer's start.
-            out: Forces (``p n``), tau (``nv``), the spring torques (``nv``), produced (``n``)
-                and requested (``n``), one after the other.
-            residual: Norm of the prescribed part of the request not produced.
-            scale: The larger of the request's and the produced wrench's norms.
-            rounding: The rounding of chain forces that cancel.
-            compiled: Whether a compiled kernel computed it.
-        """
+        """The tick of a kernel's output buffer ``out`` (its parts as views: `buffer_slices`)."""
         p, n = raw.forces.shape
         nv = (out.shape[0] - p * n - 2 * n) // 2
         _, tau, passive, produced, requested = (out[part] for part in buffer_slices(p, n, nv))
@@ -151,13 +141,7 @@ def close_tick(
 
 
 def tolerance(tol: float, scale: float, rounding: float) -> float:
-    """The residual up to which a request counts as produced: ``tol * scale + rounding``.
-
-    Args:
-        tol: Relative tolerance (``solve(..., tol=)``).
-        scale: The larger of the request's and the produced wrench's norms, prescribed axes.
-        rounding: The rounding of chain forces that cancel (the path's own estimate).
-    """
+    """The residual up to which a request counts as produced: ``tol * scale + rounding``."""
     return tol * scale + rounding
 
 
@@ -241,7 +225,7 @@ class Solution:
         free: tuple[str, ...],
         floating: bool,
     ) -> Solution:
-        """The solution of a backend's tick, labelled by the one admissibility rule.
+        """The solution of a backend's ``tick``, labelled by the one admissibility rule.
 
         Args:
             tick: What the backend returned.

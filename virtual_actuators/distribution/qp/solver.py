@@ -151,18 +151,13 @@ class QPDistribution:
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
         """`solve` at a checked configuration in one compiled call, or None."""
-        matrices, tree = self.matrices, self.problem.kinematics.tree.core_tree
-        if not request.compiled or matrices.core is None or tree is None:
+        tree = self.problem.kinematics.tree.core_tree
+        if not request.compiled or self.matrices.core is None or tree is None:
             return None
-        work, slot = self._hot(request.keep)
-        if slot.active is None:
-            return None
-        answer = matrices.again(q, wrench, request.keep, work, self._weights(request),
-                                slot.active, tree)  # fmt: skip
-        if answer is None:
-            return None
-        self._local.iterations = 0
-        return self._tick(answer, False)
+        tick = self._again(q, wrench, request.keep, self._weights(request), tree)
+        if tick is not None:
+            self._local.iterations = 0
+        return tick
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """`solve` once `_again` answered None."""
@@ -179,12 +174,15 @@ class QPDistribution:
         answer = work.finish(results.x, results.multipliers, wrench, keep)
         return self._tick(answer, results.exhausted)
 
-    def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
-        """The tick on the last certified active set, in one compiled call, or None."""
+    def _again(self, snapshot, wrench, keep, weights, tree=None) -> TickResult | None:
+        """The tick on the last certified active set, in one compiled call, or None.
+
+        ``snapshot`` is a checked configuration when ``tree`` is the core's ``Tree``.
+        """
         work, slot = self._hot(keep)
         if slot.active is None:
             return None
-        answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
+        answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active, tree)
         return None if answer is None else self._tick(answer, False)
 
     def _hot(self, keep: np.ndarray) -> tuple:

@@ -84,8 +84,7 @@ class ContactSet:
         Args:
             rotation_o: ``(3, 3)`` {O}'s rotation in the world.
             rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
-            offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (read only
-                with soles).
+            offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (soles).
         """
         p, n = len(self.reactions), len(self.axes)
         blocks = []
@@ -179,8 +178,7 @@ def declare(
         normals: None (world z), ``"frames"``, a mapping by reaction (`parse_normals`) or
             normals already parsed.
         soles: ``(half_length, half_width)`` [m] of flat contacts, by reaction frame.
-        minima: ``{axis index: minimum}`` of every chain's share (the controller's
-            ``unilateral``).
+        minima: ``{axis index: minimum}`` of every chain's share (``unilateral``).
 
     Raises:
         ConstraintError: A bad ``contact``.

@@ -39,8 +39,7 @@ def parse_soles(
         kinds: ``"point"`` or ``"flat"`` per reaction.
 
     Raises:
-        InvalidInputError: Not two positive finite numbers, an unknown reaction, a sole on a
-            point contact.
+        InvalidInputError: Not two positive finite numbers, an unknown reaction, a point sole.
     """
     parsed: dict[int, tuple[float, float]] = {}
     for name, sole in dict(soles or {}).items():

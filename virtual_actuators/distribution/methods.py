@@ -24,8 +24,7 @@ class Request:
         free: The axes left to the solver.
         keep: ``(n,)`` bool, the prescribed axes.
         compiled: Use the compiled kernels where they apply.
-        weights: ``method="qp"``: checked per-axis weights of the closest wrench; None: the
-            declaration's.
+        weights: ``method="qp"``: checked closest-wrench weights per axis; None: declared.
     """
 
     method: str

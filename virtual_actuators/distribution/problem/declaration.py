@@ -119,8 +119,8 @@ def parse_joints(
 
     Raises:
         JointNotFoundError: A joint that is unknown or on no chain.
-        ConstraintError: Bad spring parameters, a multi-dof passive joint, or a joint both
-            limp and passive.
+        ConstraintError: Bad spring parameters, a multi-dof passive joint, or one both limp
+            and passive.
     """
     if isinstance(unactuated, str):
         unactuated = [unactuated]

@@ -28,8 +28,7 @@ class ProxSlot:
         fresh: True until a solve succeeded (and after a failure): start from ``init``.
 
     Attributes:
-        active: The inequalities' multipliers of the last answer certified exact (nonzero:
-            active), or None.
+        active: The inequalities' multipliers of the last certified answer, or None.
     """
 
     __slots__ = ("active", "fresh", "qp")

@@ -14,8 +14,7 @@ def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -
     """``weights`` as a read-only ``(n,)`` array of finite numbers > 0 over ``axes``.
 
     Args:
-        weights: ``{axis: weight}`` (the axes not named keep 1), or ``n`` numbers in the order
-            of ``axes``.
+        weights: ``{axis: weight}`` (the axes not named keep 1), or ``n`` numbers over ``axes``.
         axes: The actuator's axes.
         what: The argument's name, for messages.
 

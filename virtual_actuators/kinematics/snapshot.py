@@ -240,13 +240,7 @@ class Snapshot:
         row = self.named_row(frame)
         if row >= 0:  # a tabled frame by name: one row read (a tick's cost)
             return self._frames[row, 9:].copy()
-        frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
-        if self._frames is None:
-            self._run()
-        row = self._rows.get(frame_id)
-        if row is not None:  # a tabled frame: one row read (a tick's cost)
-            return self._frames[row, 9:].copy()
-        return self._placement(frame_id)[1].copy()
+        return self._placement(self._frame_id(frame))[1].copy()
 
     def frame_rotation(self, frame: int | str) -> np.ndarray:
         """World orientation of a frame, a 3x3 rotation matrix (a copy).

@@ -18,6 +18,17 @@ __all__ = [
 ]  # fmt: skip
 
 
+def _operator(name: str, swapped: bool = False) -> Callable[[Sym, object], Sym]:
+    """The method that appends the binary op ``name`` (``swapped``: the operands reversed)."""
+
+    def method(self: Sym, other: object) -> Sym:
+        if swapped:
+            return self.program.binary(name, other, self)
+        return self.program.binary(name, self, other)
+
+    return method
+
+
 class Sym:
     """A traced float: register ``index`` of a program's blackboard.
 
@@ -32,29 +43,14 @@ class Sym:
         self.index = index
 
     # arithmetic (Python's operand order: the same IEEE operations as on floats)
-    def __add__(self, other: object) -> Sym:
-        return self.program.binary("add", self, other)
-
-    def __radd__(self, other: object) -> Sym:
-        return self.program.binary("add", other, self)
-
-    def __sub__(self, other: object) -> Sym:
-        return self.program.binary("sub", self, other)
-
-    def __rsub__(self, other: object) -> Sym:
-        return self.program.binary("sub", other, self)
-
-    def __mul__(self, other: object) -> Sym:
-        return self.program.binary("mul", self, other)
-
-    def __rmul__(self, other: object) -> Sym:
-        return self.program.binary("mul", other, self)
-
-    def __truediv__(self, other: object) -> Sym:
-        return self.program.binary("div", self, other)
-
-    def __rtruediv__(self, other: object) -> Sym:
-        return self.program.binary("div", other, self)
+    __add__ = _operator("add")
+    __radd__ = _operator("add", swapped=True)
+    __sub__ = _operator("sub")
+    __rsub__ = _operator("sub", swapped=True)
+    __mul__ = _operator("mul")
+    __rmul__ = _operator("mul", swapped=True)
+    __truediv__ = _operator("div")
+    __rtruediv__ = _operator("div", swapped=True)
 
     def __neg__(self) -> Sym:
         return self.program.unary("neg", self)
@@ -73,23 +69,12 @@ class Sym:
         raise TraceError(f"Sym ** {exponent!r}: only squares and square roots are lowered.")
 
     # comparisons give 1.0 or 0.0
-    def __lt__(self, other: object) -> Sym:
-        return self.program.binary("lt", self, other)
-
-    def __le__(self, other: object) -> Sym:
-        return self.program.binary("le", self, other)
-
-    def __gt__(self, other: object) -> Sym:
-        return self.program.binary("lt", other, self)
-
-    def __ge__(self, other: object) -> Sym:
-        return self.program.binary("le", other, self)
-
-    def __eq__(self, other: object) -> Sym:  # type: ignore[override]
-        return self.program.binary("eq", self, other)
-
-    def __ne__(self, other: object) -> Sym:  # type: ignore[override]
-        return self.program.binary("ne", self, other)
+    __lt__ = _operator("lt")
+    __le__ = _operator("le")
+    __gt__ = _operator("lt", swapped=True)
+    __ge__ = _operator("le", swapped=True)
+    __eq__ = _operator("eq")  # type: ignore[assignment]
+    __ne__ = _operator("ne")  # type: ignore[assignment]
 
     def __bool__(self) -> bool:
         raise TraceError(

@@ -19,11 +19,7 @@ MAX_FUNCTION_LINES = 80  # a function (def line to its last line) has fewer line
 LONG_MODULES: dict[str, str] = {}
 
 #: Functions of 80 lines or more, "path::qualified name" -> why
-LONG_FUNCTIONS = {
-    "distribution/qp/exact.py::_solve": "the exact step's fallback without the core, in plain "
-    "loops as src/core/exact.hpp has it: to be written in numpy",
-    "distribution/qp/exact.py::exact_step": "the same fallback",
-}
+LONG_FUNCTIONS: dict[str, str] = {}
 
 
 def _functions(tree: ast.AST, prefix: str = ""):

@@ -68,8 +68,7 @@ def __getattr__(name: str) -> object:
     """Load ``va.viz`` (MeshCat) on first use, keeping ``import virtual_actuators`` light.
 
     Raises:
-        MissingDependencyError: ``va.viz`` without MeshCat (the extra ``viz``: ``pip install
-            -e ".[viz]"`` in the source folder).
+        MissingDependencyError: ``va.viz`` without MeshCat (the extra ``viz``).
         AttributeError: Any other unknown name.
     """
     if name == "viz":

@@ -16,21 +16,14 @@ from .cli.usage_errors import OptionError
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``python -m virtual_actuators``.
 
-    Every option is checked by its argparse type: a bad value prints the usage line and the
-    reason, with exit code 2. An option that the chosen demo does not use is a usage error too.
-    Errors of the library raised at run time (a [`VirtualActuatorError`][],
-    caused by the values given) are reported the same way, naming the option when it is known;
-    any other exception is a bug and propagates.
+    A bad option, or a [`VirtualActuatorError`][] its values cause, is a usage error (exit code 2);
+    any other exception is a bug and propagates. A reader that closes the output early ends nothing.
 
     Args:
-        argv: The arguments (default: ``sys.argv[1:]``); none, or options first, means
-            ``demo`` (with those options).
+        argv: The arguments (default: ``sys.argv[1:]``); none, or options first, means ``demo``.
 
     Returns:
         The exit code: 0, or 1 when a walk ends with the robot fallen.
-
-    A reader that closes the output early (``| head -1``) ends nothing: the run goes on, writes
-    its files and returns its exit code, and what was left to print is discarded.
 
     Raises:
         SystemExit: With code 2 (and argparse's usage message on stderr) for a bad argument, or

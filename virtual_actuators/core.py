@@ -1,15 +1,7 @@
-"""The compiled core, ``virtual_actuators._core``, or None when it was not built.
+"""The compiled core, ``virtual_actuators._core`` (C++ in ``src/core``), or None when not built.
 
-The core's kernels are C++ (``src/core``, header-only C++17), bound with nanobind and built
-when the package is installed (scikit-build-core, ``pip install``), or in place by
-``tools/build_core.sh`` for a source tree that is not installed. They are the library's only
-fast path: each kernel exists once, in C++. The GIL is released inside the kernels.
-
-When the extension is missing, `CORE` is None: the library runs its numpy paths (Pinocchio's
-kinematics, the numpy distribution and QP rows, the gaits' ticks in Python), which are also the
-oracles the tests compare the core with, and warns once, at import (`CoreMissingWarning`).
-``VA_CORE=0`` in the environment selects them on purpose (no warning). The library decides
-between the two in one place, `kernel` (and `has` for the core's classes).
+Without it (or with ``VA_CORE=0``) the library runs its numpy paths, warning once
+(`CoreMissingWarning`) unless asked; `kernel` and `has` decide between the two.
 """
 
 from __future__ import annotations
@@ -47,7 +39,6 @@ def _load() -> ModuleType | None:
 
 #: The compiled core's module (``Tree``, ``Distribution``, ...), or None: the numpy paths.
 CORE: ModuleType | None = _load()
-
 
 
 def has(name: str) -> bool:

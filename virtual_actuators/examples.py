@@ -1,18 +1,8 @@
 """The seeds' worked examples, reproduced: ``python -m virtual_actuators example NAME``.
 
-- ``hexapod-tripod``: VAC section 3, the hexapod on a tripod with the design constraints of
-  eq. 26 (n=6, p=3, l=3, d=3, r=3).
-- ``millipede``: VAC 2.5.1, 100 legs with two joints each and point feet (n=6, p=100, l=4, d=2,
-  r=194).
-- ``single-leg``: VMC 4.1, one leg of Spring Flamingo with a limp ankle: z and pitch set, x follows
-  (eq. 5-7), compared with the closed form, and the straight-knee singularity.
-- ``double-support``: VMC 4.2, both legs with limp ankles and matched hip torques (eq. 8-14),
-  compared with the closed form.
-
-Each function returns an `Example`: the robot, the actuator it declared, the configuration
-and the solution (what the CLI and the viewer show), plus the example's own figures (set sizes,
-the comparison with the dense eq. 10-11 solve or the paper's closed form); with ``verbose`` it
-prints a readable report. The tests check the results against independent oracles.
+``hexapod-tripod`` (VAC section 3, eq. 26), ``millipede`` (VAC 2.5.1), ``single-leg`` (VMC 4.1,
+eq. 5-7) and ``double-support`` (VMC 4.2, eq. 8-14); each returns an `Example` and, with
+``verbose``, prints a report.
 """
 
 from __future__ import annotations
@@ -108,8 +98,7 @@ def millipede(legs: int = 100, verbose: bool = True) -> Example:
     wrench = np.array([2.0, 0.0, mass * GRAVITY, 0.1, 0.3, 0.2])
     sol = body.solve(q, wrench)
     # r generic design constraints: seeded random linear relations between neighbouring legs'
-    # x and z forces (structured patterns, e.g. forces equal or linear along each side, leave
-    # two wrench components tied together for this robot and make the 6 x 6 MFS system singular)
+    # x and z forces (structured patterns make the 6 x 6 MFS system singular)
     r = body.sizes()["r"]
     rng = np.random.default_rng(1996)
     design = []

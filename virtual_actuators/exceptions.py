@@ -1,10 +1,4 @@
-"""Typed errors raised by `virtual_actuators`, and its notices.
-
-Every error derives from [`VirtualActuatorError`][], so ``except va.VirtualActuatorError``
-catches all of them. Messages name the offending frame, joint, axis or constraint and say what
-would be valid. What the library did for the user without an error (a mesh approximated) is a
-one-line `notice`.
-"""
+"""Typed errors of `virtual_actuators` (all derive from [`VirtualActuatorError`][]); notices."""
 
 from __future__ import annotations
 
@@ -60,23 +54,16 @@ class InadmissibleWrenchError(VirtualActuatorError, ValueError):
 
     def __init__(self, message: str, solution: object | None = None) -> None:
         super().__init__(message)
-        #: The least-squares :class:`~virtual_actuators.Solution` that was computed.
+        #: The least-squares [`Solution`][virtual_actuators.Solution] that was computed.
         self.solution = solution
 
 
 class ConcurrentUseError(VirtualActuatorError, RuntimeError):
-    """An object that carries one run's state was called from two threads at once.
-
-    A compiled machine (a gait's tick), for instance: give each thread its own.
-    """
+    """An object that carries one run's state (a compiled machine) was used from two threads."""
 
 
 class TraceError(VirtualActuatorError, TypeError):
-    """A piece of a declaration cannot be lowered into a compiled plan (the message says why).
-
-    The lowering keeps that piece a Python callback of the plan's tick; lowering it strictly
-    raises this error instead.
-    """
+    """A piece of a declaration cannot be lowered into a compiled plan (a strict lowering)."""
 
 
 class MissingDependencyError(VirtualActuatorError, ImportError):
@@ -85,8 +72,7 @@ class MissingDependencyError(VirtualActuatorError, ImportError):
     Args:
         message: What is missing and the ``pip install`` command that brings it.
         package: The missing package's import name (``"meshcat"``), when known.
-        extra: The extra of ``virtual_actuators`` that installs it (``"viz"``), when there is
-            one.
+        extra: The extra of ``virtual_actuators`` that installs it (``"viz"``), if any.
 
     Attributes:
         package: The missing package, or None.
@@ -111,10 +97,8 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
         The module.
 
     Raises:
-        MissingDependencyError: If the module (or its top-level package) is not installed; the
-            message names the package, the extra and the command that installs it
-            (`install_command`). Other import errors (a broken installation) propagate
-            unchanged.
+        MissingDependencyError: If the module's top-level package is not installed (the message
+            gives `install_command`). Other import errors propagate unchanged.
     """
     try:
         return importlib.import_module(module)
@@ -137,10 +121,8 @@ EXTRAS_IN_ALL = ("viz", "sim", "plots", "urdf")
 def install_command(extra: str) -> str:
     """How to add the extra ``extra`` (``"sim"``) to this copy of ``virtual_actuators``.
 
-    The package is on no index: it is installed from its source folder, or from a wheel built
-    there. When pip recorded where this copy came from (a folder or a wheel file: the
-    ``direct_url.json`` of PEP 610), the command installs the extra from there (``-e`` if it
-    was editable); otherwise it is the command to run in the source folder.
+    From where pip recorded this copy came from (PEP 610's ``direct_url.json``; ``-e`` if
+    editable), else the command to run in the source folder.
 
     Args:
         extra: The extra's name.
@@ -161,12 +143,7 @@ def install_command(extra: str) -> str:
 
 
 def _installed_from() -> tuple[str | None, bool]:
-    """The folder or wheel pip installed this package from, and whether it is editable.
-
-    Returns:
-        ``(path, editable)``: ``(None, True)`` when the package is not installed by pip (a
-        source tree on ``PYTHONPATH``), was installed from an index, or its source is gone.
-    """
+    """``(path, editable)`` pip installed this package from; ``(None, True)`` when not known."""
     import json
     from importlib import metadata
     from urllib.parse import unquote, urlparse
@@ -189,16 +166,7 @@ def _key(name: str) -> str:
 
 
 def edit_distance(a: str, b: str) -> int:
-    """Damerau-Levenshtein distance (optimal string alignment) between two strings.
-
-    Args:
-        a: A string.
-        b: Another string.
-
-    Returns:
-        The least number of insertions, deletions, substitutions and swaps of two neighbouring
-        characters that turn ``a`` into ``b``.
-    """
+    """Damerau-Levenshtein distance (optimal string alignment) between ``a`` and ``b``."""
     previous2: list[int] = []
     previous = list(range(len(b) + 1))
     for i, char_a in enumerate(a, start=1):
@@ -215,15 +183,10 @@ def edit_distance(a: str, b: str) -> int:
 def closest_names(name: str, candidates: Iterable[str], n: int = 5) -> list[str]:
     """The candidates closest to ``name``, best first: the one "did you mean" of the library.
 
-    Names are compared in lower case without ``-`` and ``_``, by edit distance
-    (Damerau-Levenshtein: insertions, deletions, substitutions and swaps of two neighbouring
-    letters each cost 1), so ``"talso"`` suggests ``talos`` and ``"ur_5"`` suggests ``ur5``.
-    A candidate is close when its distance is at most half the length of the longer of the two
-    (at least 2), or when one name contains the other (``"panda"`` in ``"panda_arm"``). A
-    candidate equal to ``name`` but for case comes first (``"FL_foot"`` suggests ``FL_FOOT``
-    first); then the smallest distance; ties go to a candidate that contains ``name`` or is
-    contained in it (``"anymall"`` suggests ``anymal`` before ``anymal_c``), then to the one
-    whose length is closest, then alphabetically.
+    Names are compared in lower case without ``-`` and ``_``, by Damerau-Levenshtein distance.
+    A candidate is close when its distance is at most half the length of the longer name (at
+    least 2), or when one name contains the other. Ranked: equal but for case first, then the
+    smallest distance, then containing or contained, then the closest length, then alphabetically.
 
     Args:
         name: The name that was not found.
@@ -252,15 +215,12 @@ def closest_names(name: str, candidates: Iterable[str], n: int = 5) -> list[str]
 
 
 def suggestion(name: str, candidates: Iterable[str], what: str) -> str:
-    """Format a ``did you mean`` hint listing the valid names closest to ``name``.
+    """A ``did you mean`` sentence such as ``"Closest frames: 'FL_FOOT', 'FR_FOOT'."``.
 
     Args:
         name: The name that was not found.
         candidates: The valid names.
         what: What the names are (``"frames"``, ``"joints"``, ...).
-
-    Returns:
-        A sentence such as ``"Closest frames: 'FL_FOOT', 'FR_FOOT'."``.
     """
     candidates = list(candidates)
     matches = closest_names(name, candidates)
@@ -278,13 +238,7 @@ _noticed: set[str] = set()
 
 
 def notice(message: str) -> None:
-    """Tell the user, once per process, something the library did for them: one line.
-
-    The message is logged at ``WARNING`` on the ``virtual_actuators`` logger (`NOTICES`). With
-    logging left unconfigured, Python prints it on stderr as it is: one line, no source file,
-    line number or quoted code (which a `warnings` line would show). The same message is told
-    once per process (a sweep builds the same robot for every walk).
-    """
+    """Tell the user, once per process, something the library did for them (on `NOTICES`)."""
     if message not in _noticed:
         _noticed.add(message)
         NOTICES.warning(message)

@@ -1,8 +1,6 @@
 """MeshCat viewer of robots and virtual actuators: ``va.viz.Viewer(robot)``.
 
-Re-exports `virtual_actuators.visualization` (see there for the details). Importing this
-module imports MeshCat; ``import virtual_actuators`` alone does not (``va.viz`` is loaded on
-first use).
+Re-exports `virtual_actuators.visualization`; importing it imports MeshCat.
 """
 
 from .visualization import *  # noqa: F403

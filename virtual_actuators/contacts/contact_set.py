@@ -1,13 +1,7 @@
-"""The contacts of one parallel actuator as declared: one `ContactSet`, one builder.
+"""The contacts of one parallel actuator as declared: one frozen `ContactSet`, built by `declare`.
 
-`declare` checks what ``ParallelVirtualActuator(contact=, friction=, min_normal=,
-normals=, soles=)`` or ``Controller.add(unilateral=, friction=, min_normal=)`` gives and returns
-a frozen `ContactSet`: the kind of each reaction, its contact normal (world z unless
-declared), the friction pyramid and least normal force, the soles and the unilateral minima.
-Both layers read the same rows from it (`ContactSet.rows`, ``lows <= G x`` over ``x =
-forces.ravel()``): the QP stacks them with the torque limits, the controller's yield policy
-tests and scales a request against them, through the compiled core's evaluation of the same
-rows (``contact_least_margin``, ``contact_largest_scale``: `CompiledMargins` are their tables).
+The QP and the controller's yield policy read the same rows from it (`ContactSet.rows`);
+`CompiledMargins` are the tables of the core's evaluation of them.
 """
 
 from __future__ import annotations
@@ -40,8 +34,8 @@ class ContactSet:
         soles: ``{reaction index: (half_length, half_width)}`` of the flat contacts' soles.
         minima: ``{axis index: minimum}``: every chain's share on that axis ``>= minimum``.
         cone: Whether each contact has pyramid rows (a normal row or faces).
-        normal_row: Whether the pyramid starts with ``n . f >= min_normal`` (left out with
-            faces and no least normal force: the faces imply it).
+        normal_row: Whether the pyramid starts with ``n . f >= min_normal`` (not with faces and
+            no least normal force).
         names: The rows' names, in the order `rows` builds them.
         lows: The rows' lower bounds (no upper bound).
     """
@@ -83,21 +77,14 @@ class ContactSet:
         return normals
 
     def rows(
-        self,
-        rotation_o: np.ndarray,
-        rotation_a: np.ndarray,
-        offsets_o: np.ndarray | None = None,
+        self, rotation_o: np.ndarray, rotation_a: np.ndarray, offsets_o: np.ndarray | None = None
     ) -> Constraint:
-        """``lows <= G x`` over ``x = forces.ravel()`` (``uppers`` infinite), a name a row.
-
-        The unilateral minima (axis by axis, chain by chain), each contact's pyramid, then the
-        soles' rows.
+        """``lows <= G x`` over ``x = forces.ravel()``: the minima, the pyramids, then the soles.
 
         Args:
             rotation_o: ``(3, 3)`` {O}'s rotation in the world.
             rotation_a: ``(p, 3, 3)`` the reaction frames' rotations in the world.
-            offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (read only
-                with soles).
+            offsets_o: ``(p, 3)`` from each reaction frame's origin to {B}'s, in {O} (soles).
         """
         p, n = len(self.reactions), len(self.axes)
         blocks = []
@@ -186,14 +173,12 @@ def declare(
         reactions: The reaction frames' names.
         axes: The actuator's axes.
         contact: ``"point"``, ``"flat"`` or a dict by reaction (`parse_contacts`).
-        friction: Friction coefficient ``mu``, a finite number > 0, of every contact's pyramid,
-            or None.
-        min_normal: Least normal force, a finite number >= 0, of every contact [N].
-        normals: None (world z), ``"frames"``, a mapping by reaction (see
-            `parse_normals`) or normals already parsed.
+        friction: Friction coefficient ``mu`` (> 0) of every contact's pyramid, or None.
+        min_normal: Least normal force (>= 0) of every contact [N].
+        normals: None (world z), ``"frames"``, a mapping by reaction (`parse_normals`) or
+            normals already parsed.
         soles: ``(half_length, half_width)`` [m] of flat contacts, by reaction frame.
-        minima: ``{axis index: minimum}`` of every chain's share (the controller's
-            ``unilateral``).
+        minima: ``{axis index: minimum}`` of every chain's share (``unilateral``).
 
     Raises:
         ConstraintError: A bad ``contact``.
@@ -231,8 +216,4 @@ def declare(
     )  # fmt: skip
 
 
-__all__ = [
-    "CompiledMargins",
-    "ContactSet",
-    "declare",
-]
+__all__ = ["CompiledMargins", "ContactSet", "declare"]

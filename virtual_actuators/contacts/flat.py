@@ -1,11 +1,9 @@
 """The flat contact: a sole whose centre of pressure stays inside it, with a bounded yaw moment.
 
-A sole ``(half_length, half_width)`` [m] along its reaction frame's x and y axes, its normal the
-frame's z axis. With the frame's axes ``e_c`` in {O} and ``d`` from {A_i} to {B}, the moment about
-the frame's origin is ``e_c . m_A = e_c . m_B + f . (e_c x d)``, and six rows ``>= 0`` bound it by
-``half_c (e_z . f)`` on both sides: ``half_width`` about x, ``half_length`` about y and
-``mu min(half_length, half_width)`` about z (``mu`` the friction, 0 without one). The numpy rows
-(`rows`) are the reference of the compiled core's (``src/core/contact_rows.hpp``).
+With the sole ``(half_length, half_width)`` [m] along its frame's x and y axes ``e_c`` in {O} and
+``d`` from {A_i} to {B}, the moment about the frame's origin ``e_c . m_A = e_c . m_B + f . (e_c x
+d)`` is bounded by ``half_c (e_z . f)``: ``half_width`` about x, ``half_length`` about y,
+``mu min(half_length, half_width)`` about z (six rows ``>= 0``).
 """
 
 from __future__ import annotations
@@ -41,8 +39,7 @@ def parse_soles(
         kinds: ``"point"`` or ``"flat"`` per reaction.
 
     Raises:
-        InvalidInputError: Not two positive finite numbers, an unknown reaction, a sole on a
-            point contact.
+        InvalidInputError: Not two positive finite numbers, an unknown reaction, a point sole.
     """
     parsed: dict[int, tuple[float, float]] = {}
     for name, sole in dict(soles or {}).items():

@@ -1,9 +1,4 @@
-"""The contact kinds by name, and each reaction's kind as declared.
-
-A new kind is one file (its ``ball_axes``, ``parameters``, ``contact_rows`` in numpy,
-``MAX_ROWS``), its rows in the compiled core, and one entry in `KINDS`; see
-``docs/contributing.md``, "Adding a contact kind".
-"""
+"""The contact kinds by name and each reaction's kind (docs/contributing.md: adding a kind)."""
 
 from __future__ import annotations
 
@@ -46,10 +41,7 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
 
 
 def ball_axes(kind: str, rotation_axes: np.ndarray) -> np.ndarray:
-    """The natural-constraint columns of a contact of ``kind``.
-
-    The selected rotational axes (0-2) about which it transmits no moment.
-    """
+    """The selected rotational axes (0-2) about which a contact of ``kind`` transmits no moment."""
     return KINDS[kind].ball_axes(rotation_axes)
 
 

@@ -1,10 +1,8 @@
 """The point contact: a friction pyramid about the contact normal, and a least normal force.
 
-Rows ``>= 0`` on a contact's force: ``n . f >= min_normal`` (left out with a pyramid and no least
-normal force: the faces imply it, ``(mu n - t) + (mu n + t) = 2 mu n``), then the four faces
-``mu n . f -+ t_1 . f``, ``mu n . f -+ t_2 . f``, the tangents fixed in the world (from the world
-x axis, y when the normal is near x) and turned into {O}. The numpy rows (`pyramid`) are
-the reference of the compiled core's (``src/core/contact_rows.hpp``).
+Rows ``>= 0``: ``n . f >= min_normal`` (left out with faces and no least normal force), then the
+faces ``mu n . f -+ t_1 . f``, ``mu n . f -+ t_2 . f``, the tangents fixed in the world (from
+world x, y when the normal is near x) and turned into {O}.
 """
 
 from __future__ import annotations
@@ -72,11 +70,7 @@ def normal_row(friction: float | None, min_normal: float) -> bool:
 
 
 def parameters(contact: Contact) -> np.ndarray:
-    """The float row the compiled core's contact rows read.
-
-    Friction (< 0 for none), least normal force, 1 for the normal row, 1 for a frame normal,
-    then the world normal.
-    """
+    """The core's row: friction (< 0: none), least normal force, normal row, frame normal, n."""
     friction = -1.0 if contact.friction is None else contact.friction
     with_normal = normal_row(contact.friction, contact.min_normal)
     flags = (float(with_normal), float(contact.frame_normal))

@@ -10,7 +10,6 @@ from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array
 
 #: Effort limits at or above this [N m, N] mean "unlimited" (URDFs write "none" as 1e308).
-#: (Here, not in distribution/tolerances.py: contacts sit below the distribution layer.)
 UNLIMITED = 1e30
 
 
@@ -48,8 +47,7 @@ class TorqueLimits:
                     f"{torque_limits!r}."
                 )
         limits = np.where(limits >= UNLIMITED, np.inf, limits)
-        # a joint that no chain moves carries no share of any force: its limit row would be all
-        # zero (always met, and a stall for ProxQP), so it is left out here, once
+        # a joint that no chain moves would give an all-zero row (a stall for ProxQP): left out
         limited = actuated & np.isfinite(limits) & on_chain
         #: ``(t,)`` velocity indices of the limited joints
         self.limited_v = np.flatnonzero(limited)

@@ -28,9 +28,7 @@ def stable_norm(x: np.ndarray) -> float:
 def power_of_two_scale(*arrays: np.ndarray) -> float:
     """A power of two ``f`` that brings the largest entry of ``arrays`` into ``[0.5, 1)``.
 
-    Multiplying by ``f`` is exact in floating point (away from subnormals), so solving a
-    linear problem with its right-hand sides times ``f`` and dividing the answer by ``f`` gives
-    the same bits as solving it directly, without overflow or underflow at extreme magnitudes.
+    Multiplying by ``f`` is exact (away from subnormals): no overflow or underflow, same bits.
 
     Returns:
         ``f`` (1.0 when every entry is zero or one is not finite).
@@ -44,11 +42,7 @@ def power_of_two_scale(*arrays: np.ndarray) -> float:
 def backward_tolerance(
     rows: np.ndarray, x: np.ndarray, rhs: np.ndarray, relative: float = 1e-8
 ) -> float:
-    """Largest ``||rows x - rhs||`` that rounding explains: ``relative (|rhs| + |rows| |x|)``.
-
-    Scale-free (a backward-error test): a residual above it means the rows contradict each
-    other, not that the numbers are large.
-    """
+    """Largest ``||rows x - rhs||`` that rounding explains: ``relative (|rhs| + |rows| |x|)``."""
     size = float(np.abs(rhs).max(initial=0.0))
     if rows.size and x.size:
         size += float(np.abs(rows).sum(axis=1).max()) * float(np.abs(x).max())
@@ -56,16 +50,13 @@ def backward_tolerance(
 
 
 def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = None) -> np.ndarray:
-    """Pick ``count`` well-conditioned columns of ``matrix`` (greedy pivoted Gram-Schmidt).
-
-    This is the column choice of a QR factorisation with column pivoting (Businger-Golub):
-    at each step the column with the largest norm orthogonal to those already picked wins.
+    """Pick ``count`` well-conditioned columns of ``matrix`` (greedy pivoted Gram-Schmidt, as QR).
 
     Args:
         matrix: ``(rows, cols)`` array.
         count: How many columns to pick (``<= cols``).
         weights: Optional ``(cols,)`` positive factors; a column with a small weight is picked
-            only when the others cannot do (used to keep design-referenced entries out of the CFS).
+            only when the others cannot do.
 
     Returns:
         The picked column indices, in the order picked.
@@ -115,11 +106,7 @@ def dependent_rows(matrix: np.ndarray, tol: float = DEPENDENT_TOL) -> list[int]:
 
 
 def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = RCOND) -> bool:
-    """Whether the rows of ``matrix`` are linearly dependent, each measured against its norm.
-
-    The rows are scaled to unit norm (zero rows count as dependent), and the rank is the number
-    of singular values above ``rcond`` times the largest.
-    """
+    """Whether the rows of ``matrix``, each scaled to unit norm, are linearly dependent."""
     if not matrix.shape[0]:
         return False
     norms = np.linalg.norm(matrix, axis=1)
@@ -170,17 +157,12 @@ def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def scaled_condition(matrix: np.ndarray, inverse: np.ndarray, row_scale: np.ndarray) -> float:
-    """Condition of ``matrix`` with its rows measured against ``row_scale``, not themselves.
-
-    ``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` with ``D = diag(row_scale)``: the size each row
-    had before a reduction (the rounding it carries is of order ``eps * row_scale``). A row
-    reduced to rounding makes it large even when the reduced matrix, scaled by its own norm,
-    looks well conditioned (a 1 x 1 block of rounding has condition 1).
+    """Condition ``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` of ``A`` with ``D = diag(row_scale)``.
 
     Args:
         matrix: ``(k, k)``.
         inverse: Its inverse.
-        row_scale: ``(k,)`` positive sizes of the rows.
+        row_scale: ``(k,)`` positive sizes of the rows before a reduction.
 
     Returns:
         The estimate (inf when it is not finite).
@@ -202,9 +184,6 @@ def constrained_min_norm(
 ) -> tuple[np.ndarray, float]:
     """Minimise ``||x||`` among minimisers of ``||soft x - soft_rhs||`` with ``hard x = hard_rhs``.
 
-    Uses the SVD null space of ``hard``: ``x = x_h + N z`` with ``x_h`` the minimum-norm solution
-    of the hard rows (orthogonal to ``N``), then ``z`` the minimum-norm least-squares solution.
-
     Args:
         hard: ``(h, m)`` rows that must hold exactly.
         hard_rhs: ``(h,)``.
@@ -212,15 +191,11 @@ def constrained_min_norm(
         soft_rhs: ``(s,)``.
         rcond: Relative singular-value cut-off.
         hard_scale: Singular values of ``hard`` at most ``rcond * max(largest, hard_scale)``
-            are dropped: the size of the rows before a reduction (rows reduced to rounding, e.g.
-            a design row that the eliminated natural constraints imply, are then dropped instead
-            of being measured against themselves); 0 for the rows' own scale.
-        soft_scale: The same floor for the soft rows (restricted to the null space of
-            ``hard``).
+            are dropped (the rows' size before a reduction); 0 for the rows' own scale.
+        soft_scale: The same floor for the soft rows (in the null space of ``hard``).
 
     Returns:
-        ``(x, hard_residual)``: the solution and ``||hard x - hard_rhs||`` (0 unless the hard
-        rows contradict each other).
+        ``(x, hard_residual)``: the solution and ``||hard x - hard_rhs||``.
     """
     m = soft.shape[1] if soft.size else hard.shape[1]
     if hard.shape[0]:

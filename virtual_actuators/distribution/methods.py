@@ -1,8 +1,7 @@
 """The solvers of a parallel actuator by name: a checked request, and each method's backends.
 
-Every backend has one signature, ``solve(snapshot, wrench, request) -> TickResult | None``
-(qpsolvers' pattern): None hands the tick on to the method's next backend. A method names its
-backends in order (`METHODS`); the last one always answers, or raises a typed error.
+Every backend is ``solve(snapshot, wrench, request) -> TickResult | None``; None hands the tick
+to the method's next backend (`METHODS`); the last one always answers, or raises.
 """
 
 from __future__ import annotations
@@ -25,8 +24,7 @@ class Request:
         free: The axes left to the solver.
         keep: ``(n,)`` bool, the prescribed axes.
         compiled: Use the compiled kernels where they apply.
-        weights: ``method="qp"``: checked per-axis weights of the closest wrench; None: the
-            declaration's.
+        weights: ``method="qp"``: checked closest-wrench weights per axis; None: declared.
     """
 
     method: str
@@ -69,8 +67,7 @@ def dispatch(
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.
         ConstraintError: Constraints that contradict each other here.
-        RuntimeError: Every backend of the method handed the tick on (a bug: the last one
-            always answers).
+        RuntimeError: Every backend handed the tick on (a bug).
     """
     for name in METHODS[request.method]:
         tick = backends[name].solve(snapshot, wrench, request)

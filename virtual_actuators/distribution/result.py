@@ -1,11 +1,4 @@
-"""The result of a parallel virtual actuator's solve, and the per-tick tail every solver shares.
-
-Every backend hands back a `TickResult`; [`Solution.from_tick`][] turns it into the
-user's [`Solution`][]. The tail of a tick (what was produced and requested, the residual, the
-scale it is judged against and the rounding of the chain forces) is written once here for the
-numpy paths (`close_tick`) and once in the compiled core (``close_norms`` in ``src/core``), whose
-partitioned and QP paths fill their own output buffers.
-"""
+"""The result of a parallel virtual actuator's solve, and the numpy paths' shared per-tick tail."""
 
 from __future__ import annotations
 
@@ -40,7 +33,6 @@ class RawSolution:
     solver: str = "partitioned"
     #: the QP's active inequalities, by name (empty for the other solvers)
     active: tuple[str, ...] = ()
-
 
 
 class BufferSlices(NamedTuple):
@@ -101,17 +93,7 @@ class TickResult:
         rounding: float,
         compiled: bool = True,
     ) -> TickResult:
-        """The tick of a compiled kernel's output buffer (its arrays as views).
-
-        Args:
-            raw: The solution, its ``forces`` the ``(p, n)`` view of the buffer's start.
-            out: Forces (``p n``), tau (``nv``), the spring torques (``nv``), produced (``n``)
-                and requested (``n``), one after the other.
-            residual: Norm of the prescribed part of the request not produced.
-            scale: The larger of the request's and the produced wrench's norms.
-            rounding: The rounding of chain forces that cancel.
-            compiled: Whether a compiled kernel computed it.
-        """
+        """The tick of a kernel's output buffer ``out`` (its parts as views: `buffer_slices`)."""
         p, n = raw.forces.shape
         nv = (out.shape[0] - p * n - 2 * n) // 2
         _, tau, passive, produced, requested = (out[part] for part in buffer_slices(p, n, nv))
@@ -136,14 +118,13 @@ def close_tick(
         wrench: ``(n,)`` the request (unscaled).
         keep: ``(n,)`` bool, the prescribed axes.
         torques: ``(p, n)`` forces -> ``(nv,)`` joint torques ``sum_i J_i^T F_i``.
-        actuated: ``(nv,)`` bool, the joints that get a torque (0 at limp and passive ones).
+        actuated: ``(nv,)`` bool, the joints that get a torque.
         passive: ``(nv,)`` torques of the passive springs.
-        factor: The power of two the solve's right-hand sides were multiplied by (exact).
+        factor: The power of two the solve's right-hand sides were multiplied by.
         accuracy: Added to the rounding (a solver's own accuracy, e.g. the QP's).
 
     Returns:
-        The `TickResult` (``compiled`` False). The norms are taken on the scaled forces,
-        so that none over- or underflows at any magnitude of the request.
+        The `TickResult` (``compiled`` False), its norms taken on the scaled forces.
     """
     forces_scaled = raw.forces
     raw = dataclasses.replace(raw, forces=forces_scaled / factor)
@@ -160,22 +141,12 @@ def close_tick(
 
 
 def tolerance(tol: float, scale: float, rounding: float) -> float:
-    """The residual up to which a request counts as produced: ``tol * scale + rounding``.
-
-    Args:
-        tol: Relative tolerance (``solve(..., tol=)``).
-        scale: The larger of the request's and the produced wrench's norms, prescribed axes.
-        rounding: The rounding of chain forces that cancel (the path's own estimate).
-    """
+    """The residual up to which a request counts as produced: ``tol * scale + rounding``."""
     return tol * scale + rounding
 
 
 def label(method: str, admissible: bool) -> str:
-    """A solve's ``method`` from what its solver did and whether the request was produced.
-
-    ``"qp"`` stays ``"qp"``; otherwise a missed request is ``"least-squares"`` and a produced
-    one answered by least squares is ``"pseudo-inverse"``.
-    """
+    """A solve's ``method``: "qp", else "least-squares" if missed, else "pseudo-inverse"."""
     if method == "qp":
         return method
     if not admissible:
@@ -206,32 +177,24 @@ class Solution:
         wrench: ``(n,)`` the wrench actually produced on {B}: ``forces.sum(axis=0)``.
         sets: ``{"MFS": [...], "RFS": [...], "CFS": [...]}`` with labels ``(reaction, axis)``.
         residual: Norm of the part of the requested wrench (prescribed axes) not produced.
-        method: ``"partitioned"``, ``"pseudo-inverse"`` or ``"least-squares"``; ``"qp"`` for
-            ``solve(..., method="qp")`` (then ``residual`` says how close the request came and
-            ``admissible`` whether it was produced).
+        method: ``"partitioned"``, ``"pseudo-inverse"``, ``"least-squares"`` or ``"qp"``.
         requested: ``(n,)`` the wrench that was asked for (free axes hold the produced value).
         reactions: Reaction frame names, one per row of ``forces``.
         axes: Axis names, one per column of ``forces``.
         free: Axes left to the solver.
         tau_passive: ``(nv,)`` torques that passive springs contribute at this configuration.
         base_effort: Efforts on a floating base's six coordinates: 0 unless the request needs
-            the base to push on the world (a chain to ``"world"``); these cannot be commanded.
-        solver: ``"partitioned"``, ``"dense"`` or ``"qp"``: which algorithm computed this. A
-            partitioned solve whose closed form cannot decide at this configuration (a natural
-            constraint that vanishes, so no Constrained Force Set is well conditioned) is
-            answered by the dense reference rather than raising: then ``"dense"``.
-        systems: Linear systems inverted at this solve, as ``(what, size, count)``: e.g.
-            ``(("CFS", 3, 3), ("MFS", 6, 1))`` for the seed's hexapod tripod (p 3x3 inverses,
-            one 6x6); design blocks that do not depend on ``q`` are factored at construction.
+            the base to push on the world; these cannot be commanded.
+        solver: ``"partitioned"``, ``"dense"`` (the dense reference, where the closed form
+            cannot decide) or ``"qp"``.
+        systems: Linear systems inverted at this solve, as ``(what, size, count)``, e.g.
+            ``(("CFS", 3, 3), ("MFS", 6, 1))`` for the hexapod tripod.
         active: ``method="qp"``: the inequalities active at the answer, by name (e.g.
             ``"FL_FOOT: friction +t1"``, ``"torque FL_KFE <= 2.7"``); empty otherwise.
-        compiled: Whether the compiled per-tick kernel computed this (False: the numpy
-            implementation, e.g. ``solve(..., compiled=False)`` or a tick the kernel handed
-            back).
+        compiled: Whether the compiled per-tick kernel computed this.
         tolerance: The residual up to which the request counts as produced: ``tol *
-            max(|requested|, |produced|)`` on the prescribed axes plus the rounding of the
-            chain forces (``distribution.result.tolerance``); [`admissible`][] compares
-            ``residual`` with it.
+            max(|requested|, |produced|)`` on the prescribed axes plus the chain forces'
+            rounding; [`admissible`][] compares ``residual`` with it.
     """
 
     tau: np.ndarray
@@ -262,7 +225,7 @@ class Solution:
         free: tuple[str, ...],
         floating: bool,
     ) -> Solution:
-        """The solution of a backend's tick, labelled by the one admissibility rule.
+        """The solution of a backend's ``tick``, labelled by the one admissibility rule.
 
         Args:
             tick: What the backend returned.
@@ -298,9 +261,7 @@ class Solution:
     def admissible(self) -> bool:
         """Whether the requested wrench was produced: ``residual <= tolerance``, on every path.
 
-        The one rule of ``solve(..., strict=True)``, which raises exactly when this is False
-        (every method and both paths, ``"qp"`` included; then ``method`` is
-        ``"least-squares"``, except for ``"qp"`` which keeps its name).
+        ``solve(..., strict=True)`` raises exactly when this is False.
         """
         return self.residual <= self.tolerance
 

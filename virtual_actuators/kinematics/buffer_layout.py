@@ -1,10 +1,4 @@
-"""Where the parts of one kinematics pass lie in the compiled kernel's buffer.
-
-The compiled core's ``Tree.compute`` leaves a pass in one flat buffer: the joint placements, the
-world joint Jacobian, the frame placements, then (with ``v``) the frames' velocities. `BufferLayout`
-says where each part lies, made once per frame table (``KinematicTree.core_pass``, by
-`buffer_layout`); `Kinematics` is the pass cut into views of that buffer.
-"""
+"""Where the parts of one kinematics pass lie in the compiled core's buffer (``Tree.compute``)."""
 
 from __future__ import annotations
 
@@ -17,12 +11,10 @@ class Kinematics(NamedTuple):
     """What one pass of the compiled kernel computes (views of one buffer: do not modify).
 
     Attributes:
-        joints: ``(njoints, 12)`` joint placements in the world (rotation row by row, then
-            position).
+        joints: ``(njoints, 12)`` joint placements in the world (rotation row by row, position).
         jacobian: ``(6, nv)`` world joint Jacobian (Pinocchio's ``data.J``).
         frames: ``(rows, 12)`` placements of the frames computed at every tick.
-        velocities: ``(rows, 3)`` linear velocities of those frames' origins, or None without
-            ``v``.
+        velocities: ``(rows, 3)`` linear velocities of their origins, or None without ``v``.
         rows: Frame id -> row of ``frames``.
     """
 
@@ -71,16 +63,13 @@ class BufferLayout(NamedTuple):
 
 
 def buffer_layout(core_tree: object, njoints: int, nv: int, nf: int) -> BufferLayout:
-    """The `BufferLayout` of a pass over ``njoints`` joints, ``nv`` velocities and ``nf`` frames.
+    """The `BufferLayout` of a pass.
 
     Args:
         core_tree: The compiled core's ``Tree`` the layout describes.
         njoints: The model's number of joints (the universe included).
         nv: The model's velocity dimension.
         nf: The number of rows of the frame table.
-
-    Returns:
-        Where the joints, the Jacobian and the frames lie in the pass's buffer.
     """
     at = njoints * 12
     jacobian_end = at + 6 * nv

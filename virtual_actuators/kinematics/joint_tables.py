@@ -1,9 +1,4 @@
-"""The joint tables of a Pinocchio model, as the compiled kinematics kernel reads them.
-
-`read_joints` reads a model's joints once (kind, parent, placement in the parent, motion
-subspace, revolute terms, unit-norm slices of ``q``) into `JointTables`;
-``KinematicTree`` holds them for every pass.
-"""
+"""The joint tables of a Pinocchio model, as the compiled kinematics kernel reads them."""
 
 from __future__ import annotations
 
@@ -56,15 +51,11 @@ def placement_row(placement: pin.SE3) -> np.ndarray:
 
 
 def read_joints(model: pin.Model) -> tuple[JointTables, list[str], list[tuple[int, int]]]:
-    """The kernel's joint tables of ``model``, its joints the kernel does not handle, and more.
-
-    Args:
-        model: The Pinocchio model.
+    """The kernel's joint tables of ``model``.
 
     Returns:
         ``(tables, unsupported, unit_slices)``: the `JointTables`, the names of the joints the
-        kernel does not handle (kind 0 in the tables), and the ``(start, stop)`` slices of ``q``
-        of unit norm (free-flyer and spherical quaternions, continuous joints' (cos, sin)).
+        kernel does not handle (kind 0), and the ``(start, stop)`` slices of ``q`` of unit norm.
     """
     joint_ints = np.zeros((model.njoints, 3), dtype=np.int64)
     joint_floats = np.zeros((model.njoints, 27))

@@ -1,16 +1,6 @@
 """The kinematic tree's per-tick readings: the compiled core's kernels, with numpy fallbacks.
 
-The compiled core (``src/core/kinematics.hpp``, `virtual_actuators.core`) computes, for a
-configuration ``q``, every joint's placement in the world, the world joint Jacobian (the same
-matrix as Pinocchio's ``data.J`` after ``computeJointJacobians``) and the placements of the
-frames the declared actuators need, in one call of ``Tree.compute``; without the core a
-snapshot uses Pinocchio instead. This module keeps the joint kinds of the core's tables and the
-small readings a snapshot makes of a pass: a point's velocity, the centre of mass, finiteness.
-Each is the core's kernel when it is built and a plain numpy function otherwise (the same
-quantities, checked against Pinocchio and against each other in the tests).
-
-Joint placements are stored as ``(n, 12)`` rows: the rotation matrix row by row (9 entries),
-then the translation (3 entries).
+Joint placements are ``(n, 12)`` rows: the rotation row by row (9 entries), then the translation.
 """
 
 from __future__ import annotations
@@ -45,8 +35,7 @@ def point_velocity(
 ) -> tuple[float, float, float]:
     """Linear velocity [m/s] in world axes of the point ``(x, y, z)`` [m] fixed to a body.
 
-    The body moves with the joints of ``columns`` (its support): the twist
-    ``J[:, columns] v[columns]`` is at the world origin, so the point moves at ``v + w x p``.
+    The body moves with the joints of ``columns``: the point moves at ``v + w x p``.
     """
     twist = jacobian_world[:, columns] @ v[columns]
     linear = twist[:3] + np.cross(twist[3:], (x, y, z))
@@ -59,13 +48,9 @@ def center_of_mass(
     """Centre of mass [m] in the world of the bodies carried by the joints.
 
     Args:
-        joints: ``(njoints, 12)`` world placements of the joints (rotation row by row,
-            translation).
+        joints: ``(njoints, 12)`` world placements of the joints.
         masses: ``(njoints,)`` mass of each joint's body [kg] (positive sum).
         levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
-
-    Returns:
-        The mass-weighted mean of the bodies' centres of mass in world axes.
     """
     rotations = joints[:, :9].reshape(-1, 3, 3)
     centres = np.einsum("jab,jb->ja", rotations, levers) + joints[:, 9:12]

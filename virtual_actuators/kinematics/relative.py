@@ -1,16 +1,8 @@
 """Relative kinematics of an action frame {B} with respect to reaction frames {A_i}, in {O}.
 
-One `RelativeKinematics` serves a serial actuator (one reaction frame) or a parallel one
-(several). Everything that depends only on the kinematic tree (which joints lie between {A_i}
-and {B}, with which sign) is computed once in the constructor; `RelativeKinematics.compute`
-reads the tick's [`Snapshot`][] (one kinematics pass shared by every
-actuator) and returns every chain's Jacobian at once.
-
-Conventions (VAC eq. 1-7): the twist of {B} relative to {A_i} is taken at {B}'s origin, with
-{A_i}'s velocity taken at the point of {A_i}'s body that coincides with {B}'s origin, and both
-linear and angular parts are expressed in {O}'s orientation. Its transpose maps a wrench on {B}
-(force, and moment about {B}'s origin, in {O}) to joint torques exactly like the pair of
-external wrenches "+wrench on {B}, -wrench on {A_i}" does.
+VAC eq. 1-7: the twist of {B} relative to {A_i} at {B}'s origin, both parts in {O}'s axes; its
+transpose maps a wrench on {B} (moment about {B}'s origin, in {O}) to joint torques like the
+pair "+wrench on {B}, -wrench on {A_i}".
 """
 
 from __future__ import annotations
@@ -34,12 +26,10 @@ class KinematicState:
     """What `RelativeKinematics.compute` returns for one configuration.
 
     Attributes:
-        jacobian_o: ``(n, nv)`` rows ``axes`` of the world-frame joint Jacobians shifted to
-            {B}'s origin and rotated into {O}; chain ``i``'s Jacobian is
-            ``jacobian_o * signs[i]``.
+        jacobian_o: ``(n, nv)`` rows ``axes`` of the world joint Jacobian shifted to {B}'s
+            origin and rotated into {O}; chain ``i``'s columns times ``chain_signs[i]``.
         rotation_o: ``(3, 3)`` orientation of {O} in the world.
         position_b: ``(3,)`` position of {B}'s origin in the world [m].
-        rotation_b: ``(3, 3)`` orientation of {B} in the world.
         position_a: ``(p, 3)`` positions of the reaction frames' origins in the world [m].
         rotation_a: ``(p, 3, 3)`` orientations of the reaction frames in the world.
         snapshot: The [`Snapshot`][] this was computed from.
@@ -48,7 +38,6 @@ class KinematicState:
     jacobian_o: np.ndarray
     rotation_o: np.ndarray
     position_b: np.ndarray
-    rotation_b: np.ndarray
     position_a: np.ndarray
     rotation_a: np.ndarray
     snapshot: Snapshot
@@ -76,11 +65,7 @@ class Sensed(NamedTuple):
 
 
 class RelativeKinematics:
-    """Jacobians and virtual sensors of {B} relative to each {A_i}, expressed in {O}.
-
-    Everything here reads a [`Snapshot`][] (one kinematics pass per tick,
-    shared by every actuator of the robot); nothing holds per-call state, so one instance can
-    be used from several threads.
+    """Jacobians and virtual sensors of {B} relative to each {A_i}, expressed in {O} (thread-safe).
 
     Args:
         robot: The robot.
@@ -131,15 +116,6 @@ class RelativeKinematics:
             columns, signs = self._path(model, action_joint, model.frames[int(r)].parentJoint)
             self.chain_columns.append(columns)
             self.chain_signs.append(signs)
-
-    @property
-    def signs(self) -> np.ndarray:
-        """``(p, nv)`` dense chain signs (declaration-time use only: memory ``p nv``)."""
-        out = np.zeros((len(self.reaction_ids), self.nv))
-        pairs = zip(self.chain_columns, self.chain_signs, strict=True)
-        for i, (columns, signs) in enumerate(pairs):
-            out[i, columns] = signs
-        return out
 
     @staticmethod
     def _path(model: pin.Model, joint_b: int, joint_a: int) -> tuple[np.ndarray, np.ndarray]:
@@ -196,8 +172,7 @@ class RelativeKinematics:
             frames = self._frames_of(snapshot)  # frames required after that snapshot ran
         position_b = frames[self._row_b, 9:]
         rotation_o = frames[self._row_o, :9].reshape(3, 3)
-        # velocity of the point at {B}'s origin, v + w x p_B = v - skew(p_B) w, in {O}: one
-        # (n, 6) map applied to the world Jacobian
+        # the point at {B}'s origin moves at v + w x p_B = v - skew(p_B) w: one (n, 6) map
         x, y, z = position_b
         transform = np.zeros((6, 6))
         transform[:3, :3] = transform[3:, 3:] = rotation_o.T
@@ -207,7 +182,6 @@ class RelativeKinematics:
             jacobian_o=transform[self.rows] @ jacobian_world,
             rotation_o=rotation_o,
             position_b=position_b,
-            rotation_b=frames[self._row_b, :9].reshape(3, 3),
             position_a=reactions[:, 9:],
             rotation_a=reactions[:, :9].reshape(-1, 3, 3),
             snapshot=snapshot,
@@ -220,8 +194,7 @@ class RelativeKinematics:
             state: A [`Snapshot`][] or a configuration ``(model.nq,)``.
 
         Returns:
-            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views of the snapshot: do not
-            modify).
+            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views: do not modify).
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.
@@ -272,25 +245,6 @@ class RelativeKinematics:
             rotation, position = snapshot.placement(frame_id)
             frames[row, :9], frames[row, 9:] = rotation.ravel(), position
         return frames
-
-    def positions(self, state: KinematicState) -> np.ndarray:
-        """Virtual sensors: pose of {B} relative to each {A_i}, in {O}, on the selected axes.
-
-        Translations are ``R_O^T (p_B - p_A)`` [m]; rotations are the rotation vector
-        ``log(R_A^T R_B)`` of {B} relative to {A}, expressed in {O} [rad].
-
-        Returns:
-            ``(p, n)`` array.
-        """
-        p = len(self.reaction_ids)
-        if self.rows[-1] < 3:  # translations only: no rotation vector to compute
-            return state.offsets_o()[:, self.rows]
-        out = np.empty((p, 6))
-        out[:, :3] = state.offsets_o()
-        for i, rotation_a in enumerate(state.rotation_a):
-            relative = pin.log3(rotation_a.T @ state.rotation_b)
-            out[i, 3:] = state.rotation_o.T @ (rotation_a @ relative)
-        return out[:, self.rows]
 
     def __repr__(self) -> str:
         names = [self.model.frames[int(r)].name for r in self.reaction_ids]

@@ -1,10 +1,4 @@
-"""A serial actuator's virtual sensor, {B} relative to {A} in {O}: the core's kernel, or numpy.
-
-`relative_sensor` reads a snapshot's world joint Jacobian and frame table and returns a serial
-actuator's Jacobian, position and velocity; `rotation_log` is the rotation vector it uses for
-rotational axes. The library calls the compiled core's ``relative_sensor`` when the core is
-built (`sensor`) and these numpy functions otherwise; the tests check both against Pinocchio.
-"""
+"""A serial actuator's virtual sensor, {B} relative to {A} in {O}: the core's kernel, or numpy."""
 
 from __future__ import annotations
 
@@ -18,8 +12,8 @@ from .. import core
 def rotation_log(rotation: np.ndarray) -> np.ndarray:
     """Rotation vector ``log(R)`` of a 3x3 rotation matrix [rad] (angle in ``[0, pi]``).
 
-    Near ``pi`` the axis comes from the symmetric part (the skew part vanishes there), its sign
-    from the skew part; near 0 a series keeps full precision.
+    Near ``pi`` the axis comes from the symmetric part, its sign from the skew part; near 0 a
+    series keeps full precision.
     """
     cosine = min(max(0.5 * (np.trace(rotation) - 1.0), -1.0), 1.0)
     theta = math.acos(cosine)
@@ -61,9 +55,8 @@ def relative_sensor(
         signs: their +1 / -1.
 
     Returns:
-        One buffer holding ``jacobian (n, nv)``, ``position (n,)`` and ``velocity (n,)`` (zero
-        without ``v``), in that order: the position's translations are ``R_O^T (p_B - p_A)``,
-        its rotations ``R_O^T R_A log(R_A^T R_B)``, on the selected axes.
+        One buffer: ``jacobian (n, nv)``, ``position (n,)`` (translations ``R_O^T (p_B - p_A)``,
+        rotations ``R_O^T R_A log(R_A^T R_B)``) and ``velocity (n,)`` (zero without ``v``).
     """
     b, o, a = (int(row) for row in rows)
     n, nv = axis_rows.shape[0], jacobian_world.shape[1]

@@ -1,15 +1,7 @@
-"""One kinematics pass per control tick: [`Snapshot`][].
+"""One kinematics pass per control tick, shared by every reader: [`Snapshot`][].
 
-A snapshot is built from a configuration ``q`` (and optionally a velocity ``v``) once per tick.
-Every actuator, sensor, event and component of that tick reads it, so the forward kinematics run
-once however many readers there are (pink's ``Configuration`` plays the same role). It computes
-lazily, on the first read: the world joint Jacobian (Pinocchio's ``data.J`` convention) and the
-placements of the frames that declared actuators need, in one call of the compiled kernel
-(`virtual_actuators.kinematics.kernels`), or with Pinocchio when the model has joints the
-kernel does not handle (``backend="pinocchio"`` forces it).
-
-A snapshot owns what it computed: snapshots of the same robot can be used from several threads
-at once. The Pinocchio backend uses one ``pinocchio.Data`` per model and thread.
+Computed lazily on the first read, by the compiled kernel or Pinocchio; a snapshot owns what it
+computed, so snapshots of one robot can be used from several threads.
 """
 
 from __future__ import annotations
@@ -83,11 +75,7 @@ class Snapshot:
     )
 
     def __init__(
-        self,
-        robot: object,
-        q: np.ndarray,
-        v: np.ndarray | None = None,
-        backend: str = "auto",
+        self, robot: object, q: np.ndarray, v: np.ndarray | None = None, backend: str = "auto"
     ) -> None:
         tree: KinematicTree = tree_of(robot)
         if backend != "auto" and backend not in _BACKENDS:
@@ -102,8 +90,7 @@ class Snapshot:
             )
         self.robot = robot
         self.tree = tree
-        # private copies: a driver that reuses its buffers cannot change q or v under the
-        # kinematics computed from them (a check returns the caller's array when it is fine)
+        # private copies: a driver that reuses its buffers cannot change q or v under us
         checked = tree.check_configuration(q)
         self.q = checked.copy() if checked is q or checked.base is not None else checked
         if v is not None:
@@ -173,22 +160,16 @@ class Snapshot:
 
     @property
     def jacobian_world(self) -> np.ndarray:
-        """``(6, nv)`` world joint Jacobian, linear rows first (Pinocchio's ``data.J``).
-
-        Column ``v`` is the twist of joint ``v``'s motion at the world origin, in world axes.
-        Do not modify it: every reader of the snapshot shares it.
-        """
+        """``(6, nv)`` world joint Jacobian, linear rows first (``data.J``; do not modify)."""
         if self._jacobian is None:
             self._run()
         return self._jacobian
 
     @property
     def frame_table(self) -> np.ndarray:
-        """``(rows, 12)`` placements of the frames the robot's actuators read, one row each.
+        """``(rows, 12)`` world placements of the frames the actuators read (do not modify).
 
-        Row ``r`` holds a rotation (row-major, 9 entries) then a position [m], in the world; the
-        tree's frame table says which frame each row is. The compiled kernels read it whole.
-        Do not modify it: every reader of the snapshot shares it.
+        Row ``r``: a rotation (row-major, 9 entries) then a position [m].
         """
         if self._frames is None:
             self._run()
@@ -242,12 +223,7 @@ class Snapshot:
         return self._placement(self._frame_id(frame))
 
     def named_row(self, frame: object) -> int:
-        """The row of a frame given by a tabled name in `frame_table`, else -1.
-
-        A tick's cost: a name the robot's actuators read is one row of the table (other names,
-        ids and untabled frames give -1: read them through the general accessors). Computes
-        the kinematics first when they have not run.
-        """
+        """The row of a frame given by a tabled name in `frame_table`, else -1."""
         row = self.tree.name_rows.get(frame) if frame.__class__ is str else None
         if row is None:
             return -1
@@ -264,13 +240,7 @@ class Snapshot:
         row = self.named_row(frame)
         if row >= 0:  # a tabled frame by name: one row read (a tick's cost)
             return self._frames[row, 9:].copy()
-        frame_id = self.tree.frame_id(frame) if isinstance(frame, str) else self._frame_id(frame)
-        if self._frames is None:
-            self._run()
-        row = self._rows.get(frame_id)
-        if row is not None:  # a tabled frame: one row read (a tick's cost)
-            return self._frames[row, 9:].copy()
-        return self._placement(frame_id)[1].copy()
+        return self._placement(self._frame_id(frame))[1].copy()
 
     def frame_rotation(self, frame: int | str) -> np.ndarray:
         """World orientation of a frame, a 3x3 rotation matrix (a copy).
@@ -316,9 +286,6 @@ class Snapshot:
     def center_of_mass(self) -> np.ndarray:
         """Centre of mass of the whole robot in the world [m], from this snapshot's kinematics.
 
-        The same point as [`Robot.center_of_mass`][virtual_actuators.Robot.center_of_mass]
-        at `q`, without a second kinematics pass: the per-tick reading.
-
         Returns:
             ``(3,)`` position [m] in world axes.
 
@@ -332,8 +299,7 @@ class Snapshot:
 
     @classmethod
     def of_pass(
-        cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray,
-        rows: dict[int, int],
+        cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray, rows: dict[int, int]
     ) -> Snapshot:
         """The snapshot of a pass the compiled core made already (a compiled plan's tick).
 

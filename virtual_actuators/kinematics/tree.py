@@ -1,13 +1,4 @@
-"""Declaration-time tables of a robot's kinematic tree, shared by everything built on it.
-
-`KinematicTree` reads a Pinocchio model once: joint kinds, placements and motion subspaces for the
-compiled core's pass, the frames that declared actuators and sensors need, the unit-norm slices of
-``q``, and the columns that support each joint. The compiled core's ``Tree`` runs the pass; without
-the core (or for a joint kind it does not handle) snapshots use Pinocchio. One tree exists per robot
-(`tree_of`); every snapshot of that robot uses it, so a control tick runs the kinematics once for
-all its readers. The joint tables (`JointTables`) are read in ``joint_tables.py``; a pass's buffer
-and its views (`BufferLayout`, `Kinematics`) are in ``buffer_layout.py``; both re-exported here.
-"""
+"""Declaration-time tables of a robot's kinematic tree: one `KinematicTree` per robot."""
 
 from __future__ import annotations
 
@@ -40,10 +31,9 @@ class KinematicTree:
     Attributes:
         model: The model.
         compiled: Whether the compiled kernel handles every joint of the model (revolute,
-            continuous, prismatic, free-flyer and spherical joints); otherwise snapshots use
-            Pinocchio. The kernel is the compiled core's (C++): without the core, False.
+            continuous, prismatic, free-flyer and spherical); False without the core.
         unsupported: Names of the joints the kernel does not handle.
-        masses: ``(njoints,)`` mass of each joint's body [kg] (Pinocchio's ``model.inertias``).
+        masses: ``(njoints,)`` mass of each joint's body [kg].
         levers: ``(njoints, 3)`` its centre of mass in the joint's frame [m].
         mass: The robot's total mass [kg].
     """
@@ -115,10 +105,7 @@ class KinematicTree:
             self._frames = (rows, parents, floats)
 
     def _core_tree(self, parents: np.ndarray, floats: np.ndarray) -> object | None:
-        """The compiled core's ``Tree`` for this frame table, or None.
-
-        None without the core, or for a model with joints the kernel does not handle.
-        """
+        """The compiled core's ``Tree`` for this frame table, or None."""
         if not self.compiled:
             return None
         return CORE.Tree(
@@ -165,13 +152,7 @@ class KinematicTree:
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
     ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:
-        """The compiled core's pass at ``q`` (and ``v``), both already checked, left in one buffer.
-
-        Returns:
-            ``(buffer, layout, rows)``: the core's buffer, where its parts lie
-            (`BufferLayout`, made once per frame table) and the frame rows; None without
-            the core.
-        """
+        """The core's pass at checked ``q`` (and ``v``): ``(buffer, layout, rows)``, or None."""
         rows = self._frames[0]  # before the tree: its frame table may have grown since
         core_tree = self.core_tree
         if core_tree is None:

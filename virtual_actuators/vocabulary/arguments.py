@@ -1,9 +1,4 @@
-"""Argument checks shared by the API.
-
-Every check raises a [`VirtualActuatorError`][] whose message names the
-argument, what was given and what would be valid. They run at declaration time, or on the slow
-path of a per-tick call.
-"""
+"""Argument checks shared by the API: each raises a [`VirtualActuatorError`][] naming it."""
 
 from __future__ import annotations
 
@@ -14,10 +9,7 @@ from collections.abc import Iterable, Mapping, Sequence, Set
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
-    InvalidInputError,
-    VirtualActuatorError,
-)
+from ..exceptions import InvalidInputError, VirtualActuatorError
 
 
 # -- argument checks ---------------------------------------------------------------------------
@@ -40,7 +32,7 @@ def check_sequence(
 
     Args:
         value: The argument.
-        what: Its name, used in error messages.
+        what: Its name, for messages.
         label: What its entries are, for messages (e.g. ``"va.Component"``).
         kind: When given, every entry must be an instance of it.
         single: When ``value`` is an instance of it, it stands alone: ``(value,)``.
@@ -62,11 +54,7 @@ def check_sequence(
 
 
 def check_robot(robot: object, where: str) -> None:
-    """Check that ``robot`` is a robot (a [`Robot`][] or alike).
-
-    Args:
-        robot: The argument.
-        where: The callee, used in the error message (``"VirtualActuator"``, ...).
+    """Check that ``robot`` is a robot (a [`Robot`][] or alike); ``where`` names the callee.
 
     Raises:
         InvalidInputError: ``robot`` has no Pinocchio ``model`` (None, a name, a bare model).
@@ -107,7 +95,7 @@ def check_names(
 
     Args:
         value: One name (a str) or an iterable of names.
-        what: The argument's name, used in error messages.
+        what: The argument's name, for messages.
         error: The exception raised for a bad entry.
         ordered: Reject sets (their order is arbitrary).
 
@@ -152,7 +140,7 @@ def check_number(
 
     Args:
         value: The argument: an int or a float (numpy scalars included).
-        what: The argument's name, used in error messages.
+        what: The argument's name, for messages.
         minimum: Smallest valid value (inclusive), if any.
         positive: Require ``value > 0``.
         allow_inf: Accept ``inf`` (never NaN).
@@ -196,13 +184,13 @@ def as_float_array(value: object, what: str, expected: str, copy: bool = False) 
 
     Args:
         value: The argument (a number, a list, a tuple, an array of ints or floats).
-        what: The argument's name, used in error messages.
+        what: The argument's name, for messages.
         expected: What would be valid, e.g. ``"an array of 6 floats"``.
-        copy: Never return ``value`` itself or a view of it (for values that are kept).
+        copy: Never return ``value`` itself or a view of it.
 
     Raises:
         InvalidInputError: None, a str, a dict, a set, ragged nesting, or entries that are
-            complex (the imaginary part would be lost), bool, str or other non-numbers.
+            complex, bool, str or other non-numbers.
     """
     if value is None or isinstance(value, (str, bytes, Mapping, Set)):
         raise InvalidInputError(f"{what} must be {expected}, got {describe(value)}.")

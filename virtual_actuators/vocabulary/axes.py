@@ -1,7 +1,4 @@
-"""Frame, joint and axis names.
-
-Resolved once against a model and checked; every error names the closest valid names.
-"""
+"""Frame, joint and axis names, resolved once against a model; errors name the closest names."""
 
 from __future__ import annotations
 
@@ -10,12 +7,7 @@ from collections.abc import Iterable, Mapping, Sequence, Set
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
-    FrameNotFoundError,
-    InvalidAxisError,
-    JointNotFoundError,
-    suggestion,
-)
+from ..exceptions import FrameNotFoundError, InvalidAxisError, JointNotFoundError, suggestion
 from .arguments import describe
 
 #: All axes a virtual actuator can act along, in their canonical order: forces along and moments
@@ -33,10 +25,7 @@ def resolve_frame(model: pin.Model, name: str, role: str = "frame") -> int:
     Args:
         model: The Pinocchio model.
         name: Frame name in the model (a link, a joint or a fixed frame), or ``"world"``.
-        role: What the frame is for, used in the error message (``"action"``, ...).
-
-    Returns:
-        The frame id.
+        role: What the frame is for, for the message (``"action"``, ...).
 
     Raises:
         FrameNotFoundError: If no frame has that name; the message lists the closest names.
@@ -56,15 +45,7 @@ def resolve_frame(model: pin.Model, name: str, role: str = "frame") -> int:
 
 
 def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
-    """Return the Pinocchio joint id of ``name``.
-
-    Args:
-        model: The Pinocchio model.
-        name: Joint name in the model.
-        role: What the joint is for, used in the error message.
-
-    Returns:
-        The joint id (>= 1).
+    """Return the Pinocchio joint id (>= 1) of ``name``; ``role`` is for the message.
 
     Raises:
         JointNotFoundError: If no joint with degrees of freedom has that name.
@@ -79,14 +60,11 @@ def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
 
 
 def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]:
-    """Check that ``axes`` is a non-empty ordered subset of [`AXES`][].
+    """Check that ``axes`` is a non-empty ordered subset of [`AXES`][]; return it as a tuple.
 
     Args:
         axes: Axis names, e.g. ``("x", "z", "ry")``, or one name such as ``"z"``.
-        what: The argument's name, used in error messages.
-
-    Returns:
-        The axes as a tuple of str.
+        what: The argument's name, for messages.
 
     Raises:
         InvalidAxisError: For axes that are not a str or an ordered collection of str (None, a
@@ -130,15 +108,12 @@ def axis_rows(axes: Sequence[str]) -> np.ndarray:
 
 
 def check_axes_subset(requested: Iterable[str], axes: Sequence[str], what: str) -> tuple[str, ...]:
-    """Check that every axis in ``requested`` is one of the actuator's ``axes``.
+    """Check that every axis in ``requested`` is one of ``axes``; return them in ``axes``' order.
 
     Args:
         requested: Axis names given by the user (e.g. ``free=("x",)``), or one name.
         axes: The actuator's axes.
-        what: The argument's name, used in error messages.
-
-    Returns:
-        The requested axes, in the actuator's order.
+        what: The argument's name, for messages.
 
     Raises:
         InvalidAxisError: If ``requested`` is not a str or a collection of str, or an axis is

@@ -1,8 +1,7 @@
 """Design constraints (VAC eq. 16, 19; VMC eq. 12): extra equations that pick a distribution.
 
-A *label* names one entry of the force distribution: ``(reaction_frame, axis)``, e.g.
-``("FR_FOOT", "x")`` is the x force that the chain ending at ``FR_FOOT`` exerts on the action
-frame.
+A *label* ``(reaction_frame, axis)`` names one entry of the distribution: ``("FR_FOOT", "x")``
+is the x force that the chain ending at ``FR_FOOT`` exerts on the action frame.
 """
 
 from __future__ import annotations
@@ -21,11 +20,7 @@ Label = tuple[str, str]
 
 
 def check_label(label: object, what: str) -> Label:
-    """Return ``label`` as a ``(reaction, axis)`` tuple of str after checking it.
-
-    Args:
-        label: The user's label, e.g. ``("FL_FOOT", "x")`` (a list of two is accepted).
-        what: Where it was given, used in error messages (``"a"``, ``"coefficients"``, ...).
+    """Return ``label`` as a ``(reaction, axis)`` tuple of str; ``what`` says where it was given.
 
     Raises:
         ConstraintError: ``label`` is not a pair of str.
@@ -67,7 +62,6 @@ class Equal(DesignConstraint):
     Attributes:
         a: First label ``(reaction, axis)``.
         b: Second label ``(reaction, axis)``.
-
 
     Raises:
         ConstraintError: A label is not a ``(reaction, axis)`` pair of str.
@@ -139,9 +133,6 @@ class Linear(DesignConstraint):
 @dataclass(frozen=True)
 class EqualTorque(DesignConstraint):
     """Two joints get the same effort: ``tau[joint_a] == tau[joint_b]`` (VMC eq. 12).
-
-    The torque of a joint is linear in the chains' forces through the Jacobians, so this
-    constraint depends on the configuration and is re-evaluated at every solve.
 
     Attributes:
         joint_a: Name of the first joint (one degree of freedom, on a chain of the actuator).

@@ -1,11 +1,7 @@
 """The math a lowerable hook or formula uses: floats in Python, ops when traced.
 
-Each function takes floats (then it is `math`'s, or Python's ``min``/``max`` with their exact
-semantics) or traced values (`traced.Sym`: then it appends the
-same operation to the traced program). A hook written with these, plain arithmetic and tuples
-runs in Python and in the compiled plan alike, to the same bits: the core's ``std::`` functions
-are the C library's, which CPython's `math` calls too.
-
+Each function takes floats (then it is `math`'s, or Python's ``min``/``max``) or traced values
+(`traced.Sym`: it appends the same operation to the traced program), to the same bits.
 ``select(condition, a, b)`` replaces ``a if condition else b`` on a traced condition; the
 comparisons of traced values give 1.0 or 0.0.
 """
@@ -15,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .traced import Sym, TraceError
+from .traced import Sym
 
 __all__ = [
     "acos", "asin", "atan2", "clip", "cos", "cross", "dot", "exp", "hypot", "logical_and",
@@ -57,11 +53,7 @@ def atan2(y: object, x: object) -> object:
 
 
 def hypot(x: object, y: object) -> object:
-    """``math.hypot(x, y)`` of two numbers, or its op.
-
-    The op is CPython's algorithm, ported: the bits of ``math.hypot``, which may differ from the
-    C library's ``hypot`` in the last one.
-    """
+    """``math.hypot(x, y)`` of two numbers, or its op (CPython's algorithm: the same bits)."""
     program = _program(x, y)
     return math.hypot(x, y) if program is None else program.binary("hypot", x, y)
 
@@ -120,14 +112,3 @@ def cross(a: Sequence, b: Sequence) -> tuple:
     """``a x b`` of two 3-vectors, as a tuple."""
     (a0, a1, a2), (b0, b1, b2) = a, b
     return (a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
-
-
-def check_float(value: object, what: str) -> float:
-    """``value`` as a float at lowering time (a declaration constant).
-
-    Raises:
-        TraceError: ``value`` is traced (it would change every tick).
-    """
-    if isinstance(value, Sym):
-        raise TraceError(f"{what} must be a constant of the declaration, not a traced value.")
-    return float(value)

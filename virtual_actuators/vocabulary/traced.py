@@ -1,14 +1,8 @@
 """Traced numbers: what a gait's hooks and a component's formula are lowered through.
 
-A hook written with plain arithmetic and the functions of `scalar` runs on floats in Python
-(the machine's Python tick, the oracle) and, given [`Sym`][] values instead, records the same
-operations into a program of the compiled plan (``control.plan``) that the core runs every
-tick: one implementation, two ways to run it. A `Sym` is a register of the
-plan's blackboard; every operation on it appends one op and returns the register of its result.
-
-What cannot be traced raises `TraceError`: a Python ``if`` on a traced value (write it with
-`scalar.select`), a numpy call, a value of another kind. The lowering then keeps that piece a
-Python callback (and says why).
+Given [`Sym`][] values, a hook written with plain arithmetic and `scalar` records its operations
+into a compiled plan's program; what cannot be traced (a Python ``if`` on a traced value, a numpy
+call) raises `TraceError` and stays a Python callback.
 """
 
 from __future__ import annotations
@@ -22,6 +16,17 @@ __all__ = [
     "TRACING", "Sym", "TraceError", "Tracing", "is_lowerable", "is_traced", "lowerable",
     "traced_read", "traced_store", "vector",
 ]  # fmt: skip
+
+
+def _operator(name: str, swapped: bool = False) -> Callable[[Sym, object], Sym]:
+    """The method that appends the binary op ``name`` (``swapped``: the operands reversed)."""
+
+    def method(self: Sym, other: object) -> Sym:
+        if swapped:
+            return self.program.binary(name, other, self)
+        return self.program.binary(name, self, other)
+
+    return method
 
 
 class Sym:
@@ -38,29 +43,14 @@ class Sym:
         self.index = index
 
     # arithmetic (Python's operand order: the same IEEE operations as on floats)
-    def __add__(self, other: object) -> Sym:
-        return self.program.binary("add", self, other)
-
-    def __radd__(self, other: object) -> Sym:
-        return self.program.binary("add", other, self)
-
-    def __sub__(self, other: object) -> Sym:
-        return self.program.binary("sub", self, other)
-
-    def __rsub__(self, other: object) -> Sym:
-        return self.program.binary("sub", other, self)
-
-    def __mul__(self, other: object) -> Sym:
-        return self.program.binary("mul", self, other)
-
-    def __rmul__(self, other: object) -> Sym:
-        return self.program.binary("mul", other, self)
-
-    def __truediv__(self, other: object) -> Sym:
-        return self.program.binary("div", self, other)
-
-    def __rtruediv__(self, other: object) -> Sym:
-        return self.program.binary("div", other, self)
+    __add__ = _operator("add")
+    __radd__ = _operator("add", swapped=True)
+    __sub__ = _operator("sub")
+    __rsub__ = _operator("sub", swapped=True)
+    __mul__ = _operator("mul")
+    __rmul__ = _operator("mul", swapped=True)
+    __truediv__ = _operator("div")
+    __rtruediv__ = _operator("div", swapped=True)
 
     def __neg__(self) -> Sym:
         return self.program.unary("neg", self)
@@ -79,23 +69,12 @@ class Sym:
         raise TraceError(f"Sym ** {exponent!r}: only squares and square roots are lowered.")
 
     # comparisons give 1.0 or 0.0
-    def __lt__(self, other: object) -> Sym:
-        return self.program.binary("lt", self, other)
-
-    def __le__(self, other: object) -> Sym:
-        return self.program.binary("le", self, other)
-
-    def __gt__(self, other: object) -> Sym:
-        return self.program.binary("lt", other, self)
-
-    def __ge__(self, other: object) -> Sym:
-        return self.program.binary("le", other, self)
-
-    def __eq__(self, other: object) -> Sym:  # type: ignore[override]
-        return self.program.binary("eq", self, other)
-
-    def __ne__(self, other: object) -> Sym:  # type: ignore[override]
-        return self.program.binary("ne", self, other)
+    __lt__ = _operator("lt")
+    __le__ = _operator("le")
+    __gt__ = _operator("lt", swapped=True)
+    __ge__ = _operator("le", swapped=True)
+    __eq__ = _operator("eq")  # type: ignore[assignment]
+    __ne__ = _operator("ne")  # type: ignore[assignment]
 
     def __bool__(self) -> bool:
         raise TraceError(
@@ -131,13 +110,6 @@ def is_traced(*values: object) -> bool:
 def vector(values: Iterable[object]) -> tuple:
     """``values`` as a tuple (floats and `Sym` alike): the plan's vectors are tuples."""
     return tuple(values)
-
-
-def elementwise(operation: Callable[[object, object], object], a: Sequence, b: object) -> tuple:
-    """``operation`` entry by entry over ``a`` and ``b`` (as long as ``a``, or one number)."""
-    if isinstance(b, (tuple, list)):
-        return tuple(operation(x, y) for x, y in zip(a, b, strict=True))
-    return tuple(operation(x, b) for x in a)
 
 
 class Tracing:
@@ -179,7 +151,7 @@ def traced_store(owner: object, name: str, values: Sequence, offset: int = 0) ->
         False when no trace keeps that slot (the caller sets it on floats).
 
     Raises:
-        TraceError: A traced value, with no trace keeping the slot (it would be lost).
+        TraceError: A traced value, with no trace keeping the slot.
     """
     tracing = TRACING.get()
     where = None if tracing is None else tracing.slot(owner, name)

@@ -1,10 +1,4 @@
-"""A request's [`Solution`][] built straight from the compiled core's output buffer.
-
-`BufferSolve` reads once what the declaration and the request fix;
-`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one compiled call
-that also checks the arguments, `SnapshotSolve` a controller's request on the tick's snapshot.
-Both are made by ``CompiledDistribution.buffer_solve`` (``compiled.py``).
-"""
+"""A request's [`Solution`][] built straight from the compiled core's output buffer."""
 
 from __future__ import annotations
 
@@ -30,17 +24,13 @@ class PackedMode:
 
 
 class BufferSolve:
-    """A request's [`Solution`][] built straight from the compiled core's output buffer.
+    """A request's [`Solution`][] built from the compiled core's output buffer (thread-safe).
 
-    What the declaration and the request fix (the mode's sets and systems, the buffer's layout,
-    the names) is read once, so that the answer is the same [`Solution`][], bit for bit, as
-    [`Solution.from_tick`][] of the general path's tick. Holds no per-call state: threads may
-    share it. `ConfigurationSolve` (from ``q``) and `SnapshotSolve` (on a snapshot) call
-    the core and build their answer with `solution`.
+    The same [`Solution`][], bit for bit, as [`Solution.from_tick`][] of the general path's tick.
 
     Args:
         mode: The request's packed tables (with the core's ``Distribution``).
-        tree: The robot's ``KinematicTree`` (its ``core_tree`` grows with its frames).
+        tree: The robot's ``KinematicTree``.
         max_row: The largest frame row the tables read.
         shape: ``(p, n)`` the chains' forces.
         nv: The robot's velocity size.
@@ -108,21 +98,10 @@ class BufferSolve:
 
 
 class ConfigurationSolve(BufferSolve):
-    """One request's solve from unchecked ``q`` and wrench: one compiled call, then the solution.
-
-    The compiled core's ``Distribution.checked_tick`` checks the arguments (what
-    ``KinematicTree.check_configuration`` and ``wrench_array`` accept unchanged), runs the
-    kinematics and the distribution, and hands back (None here) whatever it does not decide: an
-    argument the Python checks must judge (to raise their typed error, or to normalise ``q``),
-    or a tick for the numpy path. Arguments as `BufferSolve`'s.
-    """
+    """One request's solve from unchecked ``q`` and wrench: the core checks them, in one call."""
 
     def __call__(self, q: object, wrench: object, tol: float) -> Solution | None:
-        """The solution of ``wrench`` at ``q`` with tolerance ``tol`` (checked), or None.
-
-        None: ``q`` or ``wrench`` is not what the checks accept unchanged, or the kernel hands
-        the tick on; the caller then solves on the general path.
-        """
+        """The solution of ``wrench`` at ``q`` (tolerance ``tol``), or None for the general path."""
         out, residual, scale, rounding, status, _, _ = self._core.checked_tick(
             self._kinematics.core_tree, q, wrench
         )
@@ -132,21 +111,10 @@ class ConfigurationSolve(BufferSolve):
 
 
 class SnapshotSolve(BufferSolve):
-    """One request's solve on a computed snapshot: the core's one call, then the solution.
-
-    The controller's per-tick distribution (a checked request and a finite float wrench, as
-    ``ParallelVirtualActuator.solve_checked`` takes them): the same call of the core's
-    ``Distribution.solve`` as `CompiledDistribution.solve` on that snapshot, without the
-    dispatch, the `TickResult` and the tables' look-up. Arguments as `BufferSolve`'s.
-    """
+    """One request's solve on a computed snapshot: the core's one call, then the solution."""
 
     def __call__(self, snapshot: object, wrench: np.ndarray, tol: float = 1e-6) -> Solution | None:
-        """The solution of ``wrench`` at ``snapshot`` with tolerance ``tol``, or None.
-
-        None: the snapshot's kinematics have not run (the general path then runs them with the
-        distribution in one call), its frame table lacks the distribution's rows, or the kernel
-        hands the tick on; the caller then solves on the general path.
-        """
+        """The solution of ``wrench`` at ``snapshot`` (tolerance ``tol``), or None."""
         if not snapshot.computed:
             return None
         frames = snapshot.frame_table

@@ -1,18 +1,6 @@
 """The real-time path of a parallel actuator's solve: tables built once, one compiled call a tick.
 
-`CompiledDistribution` packs what a declaration fixes (each chain's columns and signs,
-its limp and passive joints, point-contact axes, generic rank, the partitioner's Constrained
-Force Set, the Redundant and Minimum Force Sets of each choice of free axes, the design rows)
-into flat arrays, so that a tick is one call of the compiled core (``_core.Distribution``, which
-holds the packed tables of each mode) on the snapshot's arrays; for a snapshot whose kinematics
-are not computed yet (a solve from ``q``), it runs the kinematics and the distribution in one
-call. Without the core, and when the core hands a tick back (a singular chain, an
-ill-conditioned block, more rows than unknowns), `PartitionedSolver` decides with numpy: the
-reference implementation, which the tests compare the core's answers with.
-`ConfigurationSolve` answers ``solve(q, wrench)``'s default request with one call that also
-checks the arguments and builds the [`Solution`][] from its buffer; `SnapshotSolve` does the
-same for a controller's request on the tick's snapshot (both in ``buffer_solve.py``, re-exported
-here).
+Without the core, or when the core hands a tick back, `PartitionedSolver` decides with numpy.
 """
 
 from __future__ import annotations
@@ -107,15 +95,7 @@ class CompiledDistribution:
                 c = group.constrained.shape[1]
                 nb = len(group.ball_axes)
                 row = ints[chain]
-                row[: kernel_tables.HEADER] = (
-                    k,
-                    c,
-                    nb,
-                    group.rank,
-                    group.num_constraints,
-                    group.num_free,
-                    start,
-                )
+                row[:header] = (k, c, nb, group.rank, group.num_constraints, group.num_free, start)
                 start += group.num_free
                 at = header
                 row[at : at + k] = group.columns[j]
@@ -190,25 +170,14 @@ class CompiledDistribution:
     def solve_configuration(
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
-        """A solve from a checked configuration alone: kinematics and distribution in one call.
-
-        The compiled core's ``Distribution.tick`` (the same kernels, hence the same bits, as
-        `solve` on a snapshot of ``q``), with no snapshot built; None when the core is
-        not built, the request is not this path's, or the kernel hands the tick on (the caller
-        then builds the snapshot and dispatches as usual).
-        """
+        """Kinematics and distribution of a checked configuration in one call, or None."""
         if not request.compiled or request.method != "partitioned":
             return None
         mode = self.mode_for(request.keep)
         core, tree = mode.core, self.problem.kinematics.tree.core_tree
         if core is None or tree is None or tree.nf <= self.max_row:
             return None
-        out, residual, scale, rounding, status, _, _ = core.tick(tree, q, wrench)
-        if status:
-            return None
-        forces = out[: self.shape[0] * self.shape[1]].reshape(self.shape)
-        raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
-        return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
+        return self._tick(mode, core.tick(tree, q, wrench))
 
     def configuration_solve(
         self, request: Request, reactions: tuple[str, ...], axes: tuple[str, ...], floating: bool
@@ -226,10 +195,7 @@ class CompiledDistribution:
         axes: tuple[str, ...],
         floating: bool,
     ) -> BufferSolve | None:
-        """A `BufferSolve` of ``kind`` for a checked request (e.g. `SnapshotSolve`).
-
-        None when the core is not built or the request is not the compiled partitioned one.
-        """
+        """A `BufferSolve` of ``kind`` for a checked request, or None off the compiled path."""
         if not request.compiled or request.method != "partitioned":
             return None
         mode = self.mode_for(request.keep)
@@ -241,9 +207,6 @@ class CompiledDistribution:
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
-
-        The ``"compiled"`` backend of `METHODS`
-        (None too when ``request.compiled`` is False).
 
         Returns:
             The tick's result (``tau`` zero at limp and passive joints), or None.
@@ -266,6 +229,10 @@ class CompiledDistribution:
             if core is None:
                 return None  # no compiled core: the numpy path
             tick = core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
+        return self._tick(mode, tick)
+
+    def _tick(self, mode: PackedMode, tick: tuple) -> TickResult | None:
+        """The `TickResult` of the core's ``tick`` or ``solve`` output, or None if handed on."""
         out, residual, scale, rounding, status = tick[:5]
         if status:
             return None

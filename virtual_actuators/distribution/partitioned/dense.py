@@ -1,12 +1,6 @@
 """Reference solver: the dense constraint system of VAC eq. 10-11 over all ``p n`` entries.
 
-It forms the whole matrix ``K`` (wrench rows, block-diagonal natural constraints, coupling and
-design rows) and solves it with plain dense linear algebra. It is slow on purpose-free grounds:
-it is the baseline of the benchmarks and the oracle the partitioned solver is tested against.
-Semantics match
-`PartitionedSolver`: square
-systems are solved exactly, others by the minimum-norm solution that meets every constraint
-exactly and the wrench as closely as possible.
+The benchmarks' baseline and the partitioned solver's oracle, with the same semantics.
 """
 
 from __future__ import annotations
@@ -16,11 +10,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ..linalg import (
-    backward_tolerance,
-    constrained_min_norm,
-    dependent_rows_at_scale,
-)
+from ..linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
 from ..problem import DistributionProblem
 from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
@@ -45,11 +35,7 @@ class DenseSystem(NamedTuple):
 
 
 class DenseSolver:
-    """Solve eq. 10-11 densely.
-
-    Args:
-        problem: The declaration-time structure of the distribution.
-    """
+    """Solve eq. 10-11 densely (``problem``: the declaration-time structure)."""
 
     def __init__(self, problem: DistributionProblem) -> None:
         self.problem = problem
@@ -65,10 +51,6 @@ class DenseSolver:
 
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
         """Distribute ``wrench``; see `PartitionedSolver.solve` for the arguments.
-
-        A square ``K`` that is singular here because some exact rows are implied by the others
-        (a design row the natural constraints imply at this configuration) gets the
-        minimum-norm answer, as if those rows were not declared.
 
         Raises:
             SingularConfigurationError: The square system is singular at this configuration.

@@ -1,8 +1,4 @@
-"""The compiled partitioned path's tables: the chain table's columns and the packed arguments.
-
-`CompiledDistribution` builds them
-once per declaration (and per set of free axes); the compiled core's ``Distribution`` reads them.
-"""
+"""The compiled partitioned path's tables: the chain table's columns and the packed arguments."""
 
 from __future__ import annotations
 
@@ -33,11 +29,7 @@ def pack_arguments(
     plan: np.ndarray,
     layout: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """`distribute`'s declaration-time arguments as one integer and one float array.
-
-    Built once per mode (the arrays do not change between ticks); `distribute` unpacks
-    them as views. Handing a compiled function two arrays instead of thirteen halves the cost
-    of the call.
+    """`distribute`'s declaration-time arguments as one integer and one float array, once per mode.
 
     Args:
         mode: 0 minimum norm, 1 partitioned (square).
@@ -49,9 +41,7 @@ def pack_arguments(
             entries in the reduced unknowns), then its velocity columns, the positions of its
             constrained joints among them, its ball axes (0-2), its CFS and its free entries.
         chain_signs: ``(p, K)`` +1/-1 of each chain column.
-        springs: ``(nv, 5)`` per velocity index: stiffness, rest angle, ``idx_q`` (-1: no
-            spring), 1 for a (cos, sin) joint, and 1 if the joint is actuated (0: limp or
-            passive, its effort is zeroed).
+        springs: ``(nv, 5)`` the `spring_table`.
         const_rows: ``(s0, p, n)`` constant design rows.
         const_rhs: ``(s0,)`` their right-hand sides.
         torque_rows: ``(s1, 3)`` torque rows: joint a, joint b (-1: none), kind (0: shared

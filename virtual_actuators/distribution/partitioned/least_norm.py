@@ -1,17 +1,8 @@
 """The minimum-norm distribution on the chains' null spaces, rank decided at the problem's scale.
 
-Each chain's natural constraints ``G_i F_i = t_i`` are solved by one SVD:
-``F_i = F0_i + N_i y_i`` with ``F0_i = G_i^+ t_i`` and ``N_i`` an orthonormal basis of their null
-space. ``F0_i`` is orthogonal to ``N_i``, so ``sum ||F_i||^2 = sum ||F0_i||^2 + ||y||^2``: the
-least-norm distribution is the least-norm ``y`` that meets the hard rows (design and coupling)
-exactly and the request as closely as possible.
-
-In these coordinates a hard row ``c`` becomes ``c N``, whose rounding is of order
-``eps |c|`` whatever the chains' conditioning. Rank decisions compare it with ``|c|``, the row's
-size before the elimination, not with what is left of it: a design row that the natural
-constraints imply at this configuration (``ry`` of a planar leg at a pose where the leg cannot
-produce it) leaves only rounding behind and is dropped, so it cannot change the answer; one that
-contradicts them raises [`ConstraintError`][].
+Per chain ``F_i = F0_i + N_i y_i`` (one SVD of the natural rows), so ``sum ||F_i||^2 = sum
+||F0_i||^2 + ||y||^2``. A hard row ``c`` is judged against ``|c|``: one that the natural rows
+imply here is dropped, one that contradicts them raises [`ConstraintError`][].
 """
 
 from __future__ import annotations
@@ -21,12 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ..linalg import (
-    backward_tolerance,
-    constrained_min_norm,
-    safe_inverse,
-    stable_norm,
-)
+from ..linalg import backward_tolerance, constrained_min_norm, safe_inverse, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
 from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
@@ -47,7 +33,7 @@ class NullSpaceForm:
 
 
 def null_space_form(problem: DistributionProblem, ev: Evaluation) -> NullSpaceForm:
-    """Solve each chain's natural constraints by an SVD (see the module docstring).
+    """Solve each chain's natural constraints by an SVD.
 
     Raises:
         SingularConfigurationError: A chain's natural rows are degenerate here (their smallest
@@ -132,21 +118,14 @@ def least_norm_forces(
     return forces
 
 
-
 def projected_forces(
     problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
 ) -> np.ndarray | None:
     """Minimum of ``sum ||F_i||^2`` subject to every constraint (VAC 2.5.2), or None.
 
-    Each chain's admissible wrenches are ``F_i = G_i^+ t_i + P_i y`` with the projector
-    ``P_i = I - G_i^+ G_i`` onto the null space of its natural constraints. With ``R_i`` the
-    rows (prescribed wrench axes and hard rows) that involve ``F_i``, the optimum is
-    ``F_i = P_i R_i^T lambda + G_i^+ t_i`` where ``(sum_i R_i P_i R_i^T) lambda`` equals the
-    targets minus ``sum_i R_i G_i^+ t_i``: one ``(n + s)`` square solve, plus ``p`` small
-    ``l x l`` inverses, never the ``pn x pn`` matrix. Returns None when that system is
-    ill-conditioned (then the least-squares path decides), as a row that the natural
-    constraints imply here makes it beside other rows (alone, such a row only adds
-    rounding: its ``P R^T`` is rounding and its multiplier finite).
+    ``F_i = P_i R_i^T lambda + G_i^+ t_i`` with ``P_i = I - G_i^+ G_i`` and ``R_i`` the rows that
+    involve ``F_i``: one ``(n + s)`` square solve for ``lambda``, never the ``pn x pn`` matrix.
+    None when that system is ill-conditioned (the least-squares path decides).
     """
     n, p = problem.n, problem.p
     projectors = np.empty((p, n, n))
@@ -172,9 +151,7 @@ def projected_forces(
         top_right = np.einsum("pkn,spn->ks", kept, hard)
         bottom_right = np.einsum("psm,tpm->st", hp, hard)
         kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
-        target = np.concatenate(
-            (target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular))
-        )
+        target = np.concatenate((target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)))
     else:
         kkt = top_left
     kkt_inverse, cond = safe_inverse(kkt)

@@ -1,12 +1,6 @@
 """The numpy path of a parallel actuator's solve: any solver, any magnitude, typed errors only.
 
-`CompiledDistribution` serves the
-regular ticks;
-every other one (a near-singular chain, an ill-conditioned block, an inadmissible request, the
-dense reference, ``compiled=False``) comes here. The problem is linear in its right-hand sides
-(the request, passive spring torques and design right-hand sides), so they are first scaled by
-a power of two that brings the largest into ``[0.5, 1)``: exact in floating point, so the answer
-has the same bits as an unscaled solve, and no norm over- or underflows at 1e-200 or 1e200.
+The right-hand sides are scaled by a power of two first: the same bits, no over- or underflow.
 """
 
 from __future__ import annotations
@@ -66,22 +60,15 @@ def solve_numpy(
 
     Args:
         problem: The declaration-time problem.
-        solver: A
-            `PartitionedSolver` or
-            `DenseSolver` of that problem.
+        solver: A `PartitionedSolver` or `DenseSolver` of that problem.
         snapshot: The tick's [`Snapshot`][].
         wrench: ``(n,)`` finite request.
         keep: ``(n,)`` bool, the prescribed axes.
-        hand_on: Return None, for the method's next backend (the dense reference), when
-            ``solver`` raises [`SingularConfigurationError`][] or its
-            answer misses an exact row by more than ``CONSTRAINT_TOL``.
+        hand_on: Return None, for the method's next backend, when ``solver`` raises
+            [`SingularConfigurationError`][] or misses an exact row by more than ``CONSTRAINT_TOL``.
 
     Returns:
-        The `TickResult` (or None, see
-        ``hand_on``): ``tau`` zero at limp and passive joints; the request is admissible when
-        ``residual <= tol * scale + rounding``, with ``scale`` the larger of the request and
-        what was produced on the prescribed axes and ``rounding`` that of chain forces that
-        cancel (``ROUNDING * max |F|``).
+        The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.
 
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.
@@ -93,9 +80,7 @@ def solve_numpy(
     try:
         raw = solver.solve(scaled, wrench * factor, keep)
     except SingularConfigurationError:
-        # the closed form cannot decide (e.g. a natural constraint that vanishes here): the
-        # dense reference drops what is numerically void, and raises the same error when
-        # the distribution really is singular
+        # the closed form cannot decide: the dense reference does (or raises the same error)
         if hand_on:
             return None
         raise
@@ -116,8 +101,7 @@ class NumpyBackend:
     Args:
         problem: The declaration-time problem.
         solver: The partitioned or dense solver of that problem.
-        hand_on: Hand the ticks ``solver`` cannot decide to the method's next backend
-            (`solve_numpy`); False: always answer, or raise.
+        hand_on: Hand the ticks ``solver`` cannot decide to the next backend (`solve_numpy`).
     """
 
     def __init__(self, problem: DistributionProblem, solver: object, hand_on: bool = False):
@@ -130,9 +114,7 @@ class NumpyBackend:
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: The constraints contradict each other at this configuration.
         """
-        return solve_numpy(
-            self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on
-        )
+        return solve_numpy(self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on)
 
 
 __all__ = ["NumpyBackend", "solve_numpy"]

@@ -1,29 +1,10 @@
 """The extended Partitioned Actuator Set method (VAC 2.5.1-2.5.2), chosen automatically.
 
-Per chain, the natural constraints ``G_i F_i = t_i`` are solved for the Constrained Force Set
-(``l`` entries picked by pivoted QR on ``G_i``): ``f_b = Q_i f_a + u_i`` (eq. 12-13), one small
-``l x l`` inverse per chain, all chains of a group at once. Each chain's wrench becomes
-``F_i = T_i f_ia + w_i``. What is left is the reduced system over the ``sum d_i`` free entries:
-the wrench rows (eq. 14) and the design / coupling rows.
-
-- Square (design constraints = redundancies, ``r``): the Redundant Force Set is picked by pivoted
-  QR on the design block and eliminated (eq. 16-18, with any invertible design block instead of
-  the seed's identity), leaving one ``n x n`` solve for the Minimum Force Set. Blocks that do not
-  depend on ``q`` are factored once.
-- Fewer design constraints: the minimum of ``sum ||F_i||^2`` subject to every constraint, through
-  a KKT system of size ``n + s`` (never the ``pn x pn`` matrix), using that the weight
-  ``T_i^T T_i`` is block diagonal.
-- More rows than unknowns (an inadmissible request) or rank loss: constraints exact, wrench in
-  the least-squares sense, then minimum norm (`least_norm`, on orthonormal bases of the
-  chains' null spaces).
-- A design or coupling row that the natural constraints imply at the current configuration
-  (consistent with them) is dropped, so that it cannot change the answer: every rank decision
-  measures a reduced row against its size before the reduction, never against what is left of
-  it (rounding, once the natural constraints are eliminated).
-
-When a chosen block becomes ill-conditioned at the current configuration the sets are re-picked
-there; [`SingularConfigurationError`][] is raised only when the whole
-system is singular.
+Per chain the natural constraints are solved for the Constrained Force Set (eq. 12-13); the
+reduced system (eq. 14) is square (RFS eliminated, one MFS solve: eq. 16-18), has fewer design
+constraints (the least-norm KKT solve: "pseudo-inverse") or more rows (`least_norm`:
+"least-squares"). Design rows that the natural constraints imply here are dropped; a block that
+is ill-conditioned here is re-picked for this call only.
 """
 
 from __future__ import annotations
@@ -56,8 +37,7 @@ class _Reduced:
     offset_sum: np.ndarray  # (n,)
     cfs: list[np.ndarray]  # per group (g, l): the CFS used at this configuration
     free: list[np.ndarray]  # per group (g, d): the other entries
-    #: (s,) per hard row ``c``, ``sum_i |c_i|_1 max|T_i|``: the size of what cancels in its
-    #: reduced entries (their rounding is about eps times this, times the CFS block's condition)
+    #: (s,) per hard row ``c``, ``sum_i |c_i|_1 max|T_i|``: the size of what cancels in it
     hard_scale: np.ndarray
     repicked: bool  # True when some chain's CFS was re-picked at this configuration
 
@@ -84,8 +64,7 @@ class PartitionedSolver:
         self.problem = problem
         self.preferred = preferred
         ev = problem.evaluate(problem.generic_configurations()[0], check_singular=False)
-        #: evaluation at a fixed random configuration: sets are chosen there, so that they do not
-        #: depend on which configuration an actuator happens to see first
+        #: evaluation at a fixed random configuration, where the sets are chosen
         self._generic = ev
         self.cfs: list[np.ndarray] = []
         self.free_entries: list[np.ndarray] = []
@@ -174,9 +153,7 @@ class PartitionedSolver:
     def eliminate(self, index: int, rows: np.ndarray, rhs: np.ndarray) -> Elimination:
         """``Q_i = -G_b^-1 G_a``, ``u_i = G_b^-1 t_i`` and the CFS / free entries used.
 
-        The declaration's CFS is used unless a chain's block is ill-conditioned here; that
-        chain's CFS is then re-picked for this call only (the declaration's sets never change,
-        so a call's result depends on its arguments alone).
+        A chain whose declared CFS block is ill-conditioned here gets a CFS re-picked for this call.
 
         Raises:
             SingularConfigurationError: No well-conditioned CFS exists for some chain.
@@ -216,10 +193,6 @@ class PartitionedSolver:
     # -- the reduced system ------------------------------------------------------------------
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
         """Distribute ``wrench`` over the chains.
-
-        A design or coupling row that the natural constraints (and the other hard rows) imply at
-        this configuration is dropped when it is consistent with them: the answer is then the
-        minimum-norm one, as without it, even when the counts are square.
 
         Args:
             ev: Evaluation at the current configuration.
@@ -263,8 +236,7 @@ class PartitionedSolver:
                 systems += (("MFS", len(plan.mfs), 1),)
                 forces = self._forces(reduced, f)
                 return RawSolution(forces=forces, method="partitioned", sets=sets, systems=systems)
-        # constraints exact (those implied here dropped), the request as close as possible,
-        # then the least norm; "least-squares" until the residual says it was met
+        # constraints exact, the request as close as possible, then the least norm
         forces = least_norm_forces(self.problem, ev, wrench, keep)
         systems += (("least-squares", m, 1),)
         sets = self.reported_sets(keep)
@@ -307,16 +279,12 @@ class PartitionedSolver:
     ) -> tuple[np.ndarray, dict, SquarePlan, bool] | None:
         """Eliminate the RFS, solve for the MFS (eq. 16-18).
 
-        The plan is the declaration's (cached per set of prescribed axes) unless its design
-        block is ill-conditioned here: then a plan picked at this configuration serves this
-        call only. A block is judged against the size of the hard rows before the CFS was
-        eliminated (`scaled_condition`): rows that the natural constraints imply
-        here are reduced to rounding, which no Redundant Force Set can invert.
+        The declaration's plan is used unless its design block is ill-conditioned here (judged by
+        `scaled_condition`); then a plan picked here serves this call only.
 
         Returns:
-            ``(f, sets, plan used, whether an RFS block was inverted here)``, or None when no
-            RFS makes the hard rows solvable here (they are dependent at this configuration:
-            the minimum-norm solve decides).
+            ``(f, sets, plan used, whether an RFS block was inverted here)``, or None when the hard
+            rows are dependent here.
 
         Raises:
             SingularConfigurationError: The MFS system is singular.

@@ -1,10 +1,4 @@
-"""The square reduced system's plan: which free entries the design rows fix (VAC eq. 16-18).
-
-With as many design and coupling rows as redundancies, the Redundant Force Set (picked by
-pivoted QR on the design block) is eliminated through any invertible design block, leaving one
-``n x n`` solve for the Minimum Force Set. When the hard rows do not depend on ``q`` the gain
-``-H_r^-1 H_m`` is factored once, with the plan.
-"""
+"""The square reduced system's plan: which free entries the design rows fix (VAC eq. 16-18)."""
 
 from __future__ import annotations
 
@@ -49,12 +43,7 @@ def plan_square(h: np.ndarray, m: int, constant: bool = True) -> SquarePlan:
 def rfs_gain(
     h: np.ndarray, h_rhs: np.ndarray, plan: SquarePlan, scale: np.ndarray
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """``f_r = gain f_m + bias`` from the hard rows at this configuration.
-
-    Returns:
-        ``(gain, bias)``, or ``(None, None)`` when the RFS block is ill-conditioned, judged
-        against ``scale`` (the hard rows' size before the CFS was eliminated).
-    """
+    """``(gain, bias)`` of ``f_r = gain f_m + bias`` here; ``(None, None)``: ill-conditioned."""
     block = h[:, plan.rfs]
     inverse, cond = safe_inverse(block)
     if cond > ILL_CONDITIONED or not scale.all():

@@ -1,9 +1,4 @@
-"""Declaration-time checks of a `DistributionProblem`.
-
-Each check runs once, at declaration or once per set of prescribed axes: joints no selected axis
-loads, redundant natural constraints, design rows implied by or contradicting the others, too
-many constraints for the free axes, and declarations that are square but singular everywhere.
-"""
+"""Declaration-time checks of a `DistributionProblem`, run once (or once per set of free axes)."""
 
 from __future__ import annotations
 
@@ -21,13 +16,12 @@ from .structure import ChainGroup
 if TYPE_CHECKING:
     from .problem import DistributionProblem
 
+
 def vacuous_joints(problem: DistributionProblem, per_chain: list, states: list) -> set[int]:
     """Velocity indices of the limp joints no selected axis loads (their rows are dropped).
 
-    A joint whose natural-constraint row (its Jacobian column on the selected axes) is
-    structurally zero, i.e. below ``VACUOUS_TOL`` times the chain's largest column at every
-    generic configuration, takes no torque from any wrench on these axes: as a limp joint it
-    constrains nothing (its row is dropped), as a spring its torque could never be balanced.
+    Such a joint's Jacobian column on the selected axes is below ``VACUOUS_TOL`` times the chain's
+    largest at every generic configuration.
 
     Args:
         problem: The problem being declared.
@@ -121,11 +115,9 @@ def check_hard_rows(problem: DistributionProblem) -> None:
 def structurally_singular(problem: DistributionProblem, keep: np.ndarray) -> bool:
     """Whether the square system is singular at every configuration for these free axes.
 
-    Some declarations can never determine the distribution uniquely (two point feet cannot
-    push a moment about the line between them); those get the minimum-norm least-squares
-    solution instead of a [`SingularConfigurationError`][]. Checked once per set of
-    prescribed axes at random configurations, densely (declaration-time cost only), and
-    remembered in ``problem.structural``.
+    Such declarations (two point feet and a moment about the line between them) get the
+    minimum-norm least-squares solution; checked densely at random configurations, remembered
+    in ``problem.structural``.
 
     Args:
         problem: The declared problem.

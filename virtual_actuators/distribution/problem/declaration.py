@@ -1,8 +1,4 @@
-"""Reading a parallel actuator's declaration: limp and passive joints, design rows.
-
-These checks run once, when a [`ParallelVirtualActuator`][] is declared;
-`DistributionProblem` builds on what they return.
-"""
+"""Reading a parallel actuator's declaration once: limp and passive joints, design rows."""
 
 from __future__ import annotations
 
@@ -123,8 +119,8 @@ def parse_joints(
 
     Raises:
         JointNotFoundError: A joint that is unknown or on no chain.
-        ConstraintError: Bad spring parameters, a multi-dof passive joint, or a joint both
-            limp and passive.
+        ConstraintError: Bad spring parameters, a multi-dof passive joint, or one both limp
+            and passive.
     """
     if isinstance(unactuated, str):
         unactuated = [unactuated]

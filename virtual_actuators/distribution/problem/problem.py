@@ -1,19 +1,8 @@
 """The force distribution problem of a parallel virtual actuator (VAC eq. 8-11).
 
-`DistributionProblem` turns a declaration (frames, axes, contacts, limp and passive joints,
-design constraints) into arrays once, and `DistributionProblem.evaluate` fills in the
-configuration-dependent numbers of eq. 11 at a given ``q``:
-
-- per chain ``i``, the *natural constraint* rows ``G_i F_i = t_i`` (``l_i`` rows over the ``n``
-  entries of the chain's wrench ``F_i``): zero torque at a limp joint, the measured torque of a
-  passive spring, zero moment about a point foot's origin (a virtual ball joint), and zero
-  component along every direction the chain cannot produce (the left null space of its full
-  Jacobian, virtual ball joint included: the millipede's fourth constraint);
-- *coupling* rows over several chains: a limp or passive joint shared by several chains (a waist
-  under a torso action frame) constrains the sum of their torques;
-- *design* rows (``Equal``, ``Linear``, ``EqualTorque``).
-
-Chains with the same structure form a `ChainGroup` whose work is vectorised with numpy.
+`DistributionProblem` turns a declaration into arrays once; `DistributionProblem.evaluate`
+fills in eq. 11's natural, coupling and design rows at a ``q``. Chains of the same structure
+form a `ChainGroup`, vectorised with numpy.
 """
 
 from __future__ import annotations
@@ -24,10 +13,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...contacts.kinds import ball_axes, parse_contacts
-from ...exceptions import (
-    ConstraintError,
-    SingularConfigurationError,
-)
+from ...exceptions import ConstraintError, SingularConfigurationError
 from ...kinematics.relative import KinematicState, RelativeKinematics, skew
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.axes import AXES
@@ -138,7 +124,6 @@ class DistributionProblem:
             springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
             stiffness = [[s.stiffness if s else 0.0 for s in row] for row in springs]
             rest = [[s.rest if s else 0.0 for s in row] for row in springs]
-            angle = [[s.idx_q if s else -1 for s in row] for row in springs]
             group = ChainGroup(
                 chains=np.array(members, dtype=int),
                 columns=columns,
@@ -146,7 +131,6 @@ class DistributionProblem:
                 constrained=own,
                 stiffness=np.asarray(stiffness, dtype=float).reshape(own.shape),
                 rest=np.asarray(rest, dtype=float).reshape(own.shape),
-                angle_index=np.asarray(angle, dtype=int).reshape(own.shape),
                 ball_axes=np.array(ball, dtype=int),
                 rank=rank,
                 n=self.n,
@@ -174,8 +158,7 @@ class DistributionProblem:
     def _ball_columns(self, offsets_o: np.ndarray, ball: np.ndarray) -> np.ndarray:
         """``(g, n, len(ball))`` twists of {B} for rotations about {O}'s axes at each {A_i}.
 
-        Column ``k``: linear part ``e_k x d``, angular part ``e_k``, with ``d`` from {A} to {B}
-        in {O}. Linear in ``d``, so it is one product with a map precomputed per axis choice.
+        Column ``k``: linear part ``e_k x d``, angular part ``e_k``, ``d`` from {A} to {B} in {O}.
         """
         key = tuple(ball)
         maps = self._ball_maps.get(key)

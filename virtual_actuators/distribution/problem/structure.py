@@ -1,10 +1,4 @@
-"""The shapes of a distribution problem: chain groups, their rows at one configuration.
-
-Chains with the same structure (joint count, constrained joints, ball axes, generic rank) form a
-`ChainGroup` whose work is vectorised; `GroupRows` and `Evaluation` hold
-what `evaluate` computes at one
-configuration.
-"""
+"""The shapes of a distribution problem: chain groups, their rows at one configuration."""
 
 from __future__ import annotations
 
@@ -17,14 +11,7 @@ from ..tolerances import SINGULAR_TOL
 
 
 def structural_rank(jacobian: np.ndarray) -> int:
-    """Rank of a chain's Jacobian at a generic configuration, as the distribution counts it.
-
-    A direction whose singular value is below ``SINGULAR_TOL`` times the largest is one the
-    chain cannot produce: at such a ratio every solve would call the chain singular, and ratios
-    this small come from rounding in the robot's description (an rpy of pi/2 written to 16
-    digits), not from its geometry. (A chain whose whole Jacobian is below ``JACOBIAN_FLOOR``
-    keeps its rank here and is called singular by every solve.)
-    """
+    """A chain's generic Jacobian rank: singular values above ``SINGULAR_TOL`` of the largest."""
     s = np.linalg.svd(jacobian, compute_uv=False)
     if not s.size or s[0] == 0.0:
         return 0
@@ -43,7 +30,6 @@ class ChainGroup:
             to this chain only.
         stiffness: ``(g, c)`` spring stiffness of those joints (0 for a limp joint) [N m/rad].
         rest: ``(g, c)`` spring rest angles [rad].
-        angle_index: ``(g, c)`` index in ``q`` of those joints' angle (-1 for a limp joint).
         ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
             contact, restricted to the selected axes; empty for a flat contact.
         rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
@@ -56,7 +42,6 @@ class ChainGroup:
     constrained: np.ndarray
     stiffness: np.ndarray
     rest: np.ndarray
-    angle_index: np.ndarray
     ball_axes: np.ndarray
     rank: int
     n: int

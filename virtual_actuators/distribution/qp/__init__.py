@@ -1,12 +1,4 @@
-"""The contact-aware distribution as a quadratic program (``solve(..., method="qp")``).
-
-``solver.py`` is `QPDistribution` (its matrices on the numpy path, the answer),
-``stages.py`` the stages (DAQP and ProxQP) with ``stage_types.py`` their budget, rows and
-answer, ``limits.py`` the inequalities,
-``weights.py`` the closest-wrench weights, ``compiled.py`` with ``buffer.py`` the compiled
-core's matrices, ``exact.py`` the exact step on an active set,
-``conflict.py`` the rows that cannot hold.
-"""
+"""The contact-aware distribution as a quadratic program (``solve(..., method="qp")``)."""
 
 from .conflict import CONFLICT_MAX_ITER
 from .limits import ContactLimits, torque_map

@@ -1,12 +1,6 @@
-"""The compiled core's reduced QP buffer: its layout, its arrays as views, and its answer.
+"""The compiled core's reduced QP buffer (``src/core/qp.hpp``): its layout, views and answer.
 
-The core (``src/core/qp.hpp``, ``_core.QP``) builds at one configuration, in one call, the
-matrices of the QP that `QPDistribution` solves in the chains' free coordinates (the natural
-constraints eliminated: per chain ``F_i = x0_i + N_i z_i`` with ``N_i`` orthonormal), writes them
-into one flat buffer, and reads a solved answer out of it. This module says where the arrays lie
-(`views`), the per-chain table's header (`HEADER`) and the answer's fields (`Answer`). Without
-the core the QP builds its rows with numpy (``limits.py``, ``stages.py``): the oracle the tests
-compare the core's path with.
+The QP in the chains' free coordinates: per chain ``F_i = x0_i + N_i z_i``, ``N_i`` orthonormal.
 """
 
 from __future__ import annotations
@@ -66,19 +60,15 @@ def views(buffer: np.ndarray, layout: np.ndarray, pn: int, nv: int) -> QPViews:
         buffer[layout[9] : layout[9] + nv],
     )
 
-class Answer(NamedTuple):
-    """What the core's read-out of a solved reduced QP hands back.
 
-    The tick's buffer and norms (`TickResult.from_buffer`; the rounding includes the
-    solver's accuracy) and the indices of the active inequalities.
-    """
+class Answer(NamedTuple):
+    """The core's read-out of a solved reduced QP: the tick's buffer and norms, the active rows."""
 
     out: np.ndarray
     residual: float
     scale: float
     rounding: float
     active: np.ndarray
-
 
 
 __all__ = ["HEADER", "LAYOUT", "Answer", "QPViews", "views"]

@@ -1,13 +1,7 @@
 """The QP distribution's per-tick matrices through the compiled core: tables built once.
 
-`CompiledQPMatrices` packs what a declaration fixes (each chain's columns, signs, limp and passive
-joints and point-contact axes; the springs; the constant design rows; the contact normals, pyramid,
-soles and torque limits) into flat arrays at declaration, so that a tick is one call of the core's
-``QP.reduced`` on the snapshot's arrays (its buffer: ``buffer.py``). It applies when the core is
-built, every chain's columns ``[J_i, ball_i]`` are independent (generic rank ``k_i + nb_i``) and no
-hard row depends on the configuration (no joint shared by several chains, no ``EqualTorque``);
-otherwise, and on ticks where a chain is nearly rank deficient, the QP builds its rows with numpy
-(the reference the tests compare this path with).
+It applies when the core is built, every chain's columns ``[J_i, ball_i]`` are independent and
+no hard row depends on the configuration; otherwise the QP builds its rows with numpy.
 """
 
 from __future__ import annotations
@@ -78,8 +72,7 @@ class CompiledQPMatrices:
         frame_normals: ``(p,)`` 1 where the normal is the reaction frame's z axis (each tick).
         cone: ``(3,)``: friction (< 0 for none), least normal force [N], 1 to keep the normal
             row (0: no pyramid rows at all when friction < 0).
-        static_scale: The declaration's part of the tick's scale (bounds, constant right-hand
-            sides).
+        static_scale: The declaration's part of the tick's scale.
         rows_in: Number of inequality rows.
         soles: ``(p, 3)``: 1 for a sole, its half length and half width [m].
         limited_v: ``(t,)`` velocity indices of the torque-limited joints.
@@ -166,8 +159,6 @@ class CompiledQPMatrices:
     def build(self, snapshot: object, wrench: np.ndarray, keep: np.ndarray) -> Workspace | None:
         """The tick's reduced QP in this thread's workspace, or None to build it with numpy.
 
-        None: a chain is nearly rank deficient, or the snapshot lacks a frame.
-
         Args:
             snapshot: The tick's [`Snapshot`][].
             wrench: ``(n,)`` requested wrench.
@@ -190,12 +181,10 @@ class CompiledQPMatrices:
         self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
         weights: np.ndarray, guess: np.ndarray, tree: object = None,
     ) -> Answer | None:
-        """The core's ``again`` on this tick: the answer, or None.
+        """The core's ``again`` on this tick: the answer on the last certified active set, or None.
 
         Args:
-            snapshot: The tick's [`Snapshot`][], or with ``tree`` (the
-                core's ``Tree`` of the robot; the core only) a checked configuration: its
-                kinematics then run in the same compiled call.
+            snapshot: The tick's [`Snapshot`][], or a checked configuration (with ``tree``).
             wrench: ``(n,)`` requested wrench.
             keep: ``(n,)`` bool, the prescribed axes.
             workspace: This thread's workspace for them (`workspace`).
@@ -205,8 +194,8 @@ class CompiledQPMatrices:
             tree: None, or the core's ``Tree`` when ``snapshot`` is a configuration.
 
         Returns:
-            The `Answer`; None when the exact step did not certify the
-            active set, the matrices need the numpy path or the snapshot lacks a frame.
+            The `Answer`; None when the exact step did not certify the active set, the matrices
+            need the numpy path or the snapshot lacks a frame.
         """
         out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
         active = workspace.active

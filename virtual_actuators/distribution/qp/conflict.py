@@ -1,14 +1,8 @@
-"""Inequalities of the QP that cannot hold together, named (see `qp`).
+"""Inequalities of the QP that cannot hold together, named.
 
-When the request cannot be met, the QP first checks that its other rows can: the least squared
-shift of the inequalities' bounds that lets them hold with the natural and design equalities,
-
-    min |s|^2  over (x, s)  subject to  E x = e,  lows <= C x + s <= uppers,
-
-a QP that is feasible whenever the equalities are, with one optimal shift ``s``. ``s = 0`` when
-the rows are consistent. Otherwise ``s`` is a Farkas certificate: at the optimum ``C^T s`` lies
-in the span of the equality rows, so the rows that ``s`` moves cannot hold together with the
-equalities, whatever the request. `conflict_error` names them, furthest off first.
+The least squared shift of the bounds that lets the rows hold with the equalities,
+``min |s|^2`` over ``(x, s)`` subject to ``E x = e``, ``lows <= C x + s <= uppers``, is 0 when
+they are consistent, else a Farkas certificate: the rows it moves cannot hold together.
 """
 
 from __future__ import annotations
@@ -28,10 +22,7 @@ CONFLICT_MAX_ITER = 40
 def least_shift_problem(
     equality: np.ndarray, inequality: np.ndarray
 ) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray, np.ndarray]:
-    """The check's QP over ``(x, s)``: ``((hessian, gradient), equality rows, inequality rows)``.
-
-    The right-hand sides and bounds are the original ones.
-    """
+    """The check's QP over ``(x, s)``: ``((hessian, gradient), equality rows, inequality rows)``."""
     size, m = equality.shape[1], inequality.shape[0]
     hessian = np.zeros((size + m, size + m))
     hessian[size:, size:] = np.eye(m)

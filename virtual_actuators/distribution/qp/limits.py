@@ -1,10 +1,4 @@
-"""The inequalities of the QP distribution, declared once (see `qp`).
-
-`ContactLimits` stacks a parallel actuator's contact rows (its
-`ContactSet`: pyramids, least normal forces, soles) and the
-torque limits of its joints, names every row, and builds them with numpy over all ``p n`` force
-entries (the reference path); `compiled` reads its tables.
-"""
+"""The inequalities of the QP distribution: the contacts' rows and the torque limits, named."""
 
 from __future__ import annotations
 

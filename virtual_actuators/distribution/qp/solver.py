@@ -1,72 +1,8 @@
-"""Contact-aware distribution as a quadratic program (``solve(q, w, method="qp")``).
+"""Contact-aware distribution as a lexicographic quadratic program (``solve(q, w, method="qp")``).
 
-The natural and design constraints stay equalities; the contacts add inequalities:
-- a **friction pyramid** at each chain: with ``n`` the contact normal (world z; or a world vector
-  given per reaction; or, ``"frame"``, the reaction frame's z axis at this tick) and ``t1, t2``
-  two tangents fixed in the world (``t1 = n x e`` normalised, ``e`` the world x axis, or y when
-  ``|n_x| >= 0.9``; ``t2 = n x t1``: world y and -x about world z), ``n . f >= min_normal`` and
-  ``|t_k . f| <= mu n . f`` (four faces: the pyramid circumscribing the cone, exact along
-  ``t1``, ``t2``, up to ``sqrt(2) mu`` on the diagonals between them). The pyramid is built in
-  world axes and then turned into {O}'s: it is the contact's, and the same physical request
-  gives the same forces whatever frame {O} the wrench is written in;
-- a **centre of pressure inside the sole** for flat contacts given a sole ``(half_length,
-  half_width)``: the moment about the reaction frame's origin, in that frame, satisfies
-  ``|m_x| <= half_width f_n`` and ``|m_y| <= half_length f_n``, and the yaw moment
-  ``|m_z| <= mu min(half_length, half_width) f_n`` (a conservative contact wrench cone);
-- **torque limits** ``|tau_j| <= limit_j`` at the actuated joints that a chain moves (the URDF
-  effort limits, or an array).
-
-Objective, lexicographic, on the problem divided by its scale (the largest of the request, the
-spring torques, the least normal force and the constant design right-hand sides; not the torque
-limits, which may lie far from every answer):
-
-1. the request exactly with the least force norm, ``min |F|^2`` subject to ``sum_i F_i = w`` on
-   the prescribed axes (the usual case: one solve, and with no inequality active exactly the
-   partitioned minimum-norm answer);
-2. if that has no solution, the closest reachable wrench in the weighted least-squares sense,
-   ``min sum_a weight_a (sum_i F_ia - w_a)^2`` subject to the other rows (a convex QP whose
-   Hessian is singular in ``F``; its wrench ``A F*`` is unique because the weights are > 0, its
-   forces need not be);
-3. the least force norm that produces that wrench exactly, ``min |F|^2`` subject to
-   ``sum_i F_i = A F*`` and the inequalities whose multipliers stage 2 found nonzero held as
-   equalities (they hold at every closest answer, so the feasible set is unchanged, but without
-   them ProxQP meets the rows only at the cones' edges); ``sol.residual`` reports the miss.
-
-No stage mixes the miss and the force norm in one objective. Solved by ProxQP (proxsuite,
-dense): stage 1 warm-started from the previous solve of the same thread, stages 2 and 3 (only on
-infeasible requests) from cold, to ``CLOSEST_EPS_ABS`` with ProxQP's duality-gap check. With
-the compiled core, stage 1 runs first in DAQP (a dense dual active-set solver built into the
-core) from cold, at most ``DAQP_MAX_ITER`` iterations; when DAQP finds the request infeasible,
-stages 2 and 3 run in DAQP too (from cold, at most ``DAQP_MAX_ITER`` iterations, the closest
-wrench regularised by a little of the least norm: ``DAQP_CLOSEST_EPS``), and stage 1 does not
-run in ProxQP. ProxQP runs only when the exact step does not certify DAQP's answer (ProxQP
-remains the reference: ``VA_CORE=0``).
-**Exact answers.** ProxQP stops at an absolute accuracy, from a start that depends on the
-thread's previous solve. Its multipliers name the active inequalities, and on that active set
-`exact_step` computes stage 1's answer (or stages 2 and 3 at once) by linear
-algebra, kept only when the KKT conditions hold to ``EXACT_TOL`` of the scale (every row met,
-every active row's multiplier of the right sign; up to ``EXACT_STEPS`` corrections of the active
-set, else ProxQP's answer stands). An answer is then the optimum to rounding: within 1e-8 of
-``max(|w|, the active bounds)`` for requests from 1e-6 to 1e6, and the same, to 1e-9 ``|w|``,
-whatever was solved before (warm or cold start, any thread). When stage 1 fails, its last
-iterate mostly names the closest answer's active set already: certified there, that answer ends
-the solve (stages 2 and 3 run only when it is not).
-Before ProxQP, the thread's last certified active set is tried on the tick's rows: certified,
-it gives the same answer (the KKT conditions name one optimum) by linear algebra alone (a compiled
-plan runs that step in the core: `plan_tables`).
-
-**Rows that cannot hold.** When stage 1 fails, the other rows are checked first (`conflict`:
-the least squared shift of the inequalities' bounds that lets them hold with the equalities):
-if they cannot hold together, ``ConstraintError`` names them (each foot's least normal force and
-the knees' torque limits, say); the iteration-budget error is kept for a solve that did not
-converge.
-
-Worst case: at most ``ITERATION_BUDGET`` ProxQP (outer) iterations over the stages, each of
-at most ``MAX_ITER_IN`` inner steps (stage 1 at most ``EXACT_MAX_ITER`` and half the budget, the
-rows' check ``CONFLICT_MAX_ITER``); with the core, before them, two DAQP solves at most.
-When the budget runs out: the exact answer on the last feasible iterate's active set if it is
-certified, else that iterate (meeting every row to ``FEASIBILITY_TOL``) with its residual and
-``BUDGET_EXHAUSTED`` in ``sol.active``; ``ConstraintError`` if none was feasible.
+Friction pyramids, centres of pressure inside the soles and torque limits as inequalities; the
+request exactly with the least force norm, else the closest wrench; ProxQP, DAQP in the compiled
+core, and an exact step on the active set (docs/concepts.md, "Contacts as inequalities").
 """
 
 from __future__ import annotations
@@ -91,16 +27,11 @@ from .weights import check_weights
 class QPDistribution:
     """The QP distribution of one parallel actuator (one ProxQP workspace per thread).
 
-    Each tick's matrices come from the compiled kernel in the chains' free coordinates when the
-    declaration allows it (`compiled`: ``F = x0 + N z``, the natural rows eliminated,
-    ``|F|^2 = |x0|^2 + |z|^2``), else from numpy over all ``p n`` force entries with the natural
-    rows as equalities; both are the same convex program with one answer.
-
     Args:
         problem: The distribution problem.
         limits: The inequalities.
-        weights: Per-axis weights of the closest-wrench stage (`weights.check_weights`:
-            a dict by axis name or an array over the axes); None for 1 on every axis.
+        weights: Per-axis weights of the closest-wrench stage (a dict by axis name or an array over
+            the axes); None for 1 on every axis.
 
     Raises:
         InvalidInputError: proxsuite is not installed; bad ``weights``.
@@ -124,15 +55,13 @@ class QPDistribution:
         self._local = threading.local()
         #: this thread's ProxQP workspaces and the stages run on them
         self.stages = ProxStages(proxqp, limits.row_names(), problem.reactions)
-        #: ProxQP iterations one solve may use, all stages together (:data:`ITERATION_BUDGET`)
+        #: ProxQP iterations one solve may use, all stages together
         self.iteration_budget = ITERATION_BUDGET
         #: per set of prescribed axes: the rows summing the chains' forces on them
         self._selects: dict[bytes, np.ndarray] = {}
         #: the active rows' names by their indices' bytes (the sets recur tick after tick)
         self._active_names: dict[bytes, tuple[str, ...]] = {}
-        #: the part of the scale that the declaration fixes: the least normal force and the
-        #: constant right-hand sides (not the torque limits: a limit that does not bind would
-        #: set the accuracy of every answer below it)
+        #: the scale's static part: the least normal force and constant right-hand sides
         self._static_scale = max(
             limits.min_normal if limits.normal_row else 0.0,
             float(np.abs(problem.constant_rhs).max(initial=0.0)),
@@ -168,26 +97,20 @@ class QPDistribution:
         )
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult:
-        """Distribute ``wrench`` with the QP at a snapshot (the ``"qp"`` backend).
+        """Distribute ``wrench`` with the QP at a snapshot.
 
         Args:
             snapshot: The tick's [`Snapshot`][].
             wrench: ``(n,)`` requested wrench.
-            request: The prescribed axes (``keep``); ``compiled``: build the matrices with the
-                compiled kernel when it applies (False: with numpy over all force entries, the
-                reference); ``weights``: ``(n,)`` checked per-axis weights of the
-                closest-wrench stage for this solve (`weights.check_weights`), None: the
-                declaration's.
+            request: The prescribed axes, whether to use the compiled kernel, per-axis weights.
 
         Returns:
-            The `TickResult`, like the other
-            paths: ``raw.method == "qp"``, ``raw.active`` the names of the active inequalities.
+            The `TickResult`: ``raw.method == "qp"``, ``raw.active`` the active inequalities' names.
 
         Raises:
-            ConstraintError: No distribution meets the equalities and the inequalities here
-                (the message names the inequalities that conflict when they cannot hold
-                whatever the request), or none was found within ``iteration_budget`` ProxQP
-                iterations.
+            ConstraintError: No distribution meets the equalities and the inequalities here (the
+                message names the conflicting inequalities), or none was found within
+                ``iteration_budget`` ProxQP iterations.
         """
         keep = request.keep
         weights = self._weights(request)
@@ -204,12 +127,7 @@ class QPDistribution:
             self._local.iterations = max(int(self.iteration_budget), 1) - budget.left
 
     def plan_tables(self, request: Request) -> PlanTables | None:
-        """What a compiled plan runs ``request`` with on the last certified active set, or None.
-
-        Returns:
-            The `PlanTables` (the slot's ``active`` None before the first certified answer);
-            None: no compiled path.
-        """
+        """The tables a compiled plan runs ``request`` with, or None without a compiled path."""
         if not request.compiled or self.matrices.core is None or not self.matrices.applicable:
             return None
         work, slot = self._hot(request.keep)
@@ -218,42 +136,31 @@ class QPDistribution:
         return PlanTables(self.matrices.core, work, keep, self._weights(request), tolerances, slot)
 
     def answer_tick(self, out: np.ndarray, norms: tuple, active: np.ndarray) -> TickResult:
-        """The `TickResult` of an answer the core read out (``out``, its norms, active rows)."""
+        """The `TickResult` of an answer the core read out."""
         return self._tick(Answer(out, *norms, active), False)
 
     def _weights(self, request: Request) -> np.ndarray:
-        """The request rows' weights of ``request`` (this thread's last, kept)."""
+        """The weights of ``request``'s rows (this thread's last, kept)."""
         hot = getattr(self._local, "request", None)  # this thread's last request and weights
         if hot is None or hot[0] is not request:
-            weights = (self.weights if request.weights is None else request.weights)
+            weights = self.weights if request.weights is None else request.weights
             hot = self._local.request = (request, weights[request.keep])
         return hot[1]
 
     def solve_configuration(
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
-        """`solve` at a checked configuration in one compiled call, or None.
-
-        The compiled core's kinematics and `_again` in one call (the same kernels, hence
-        the same bits, as `solve` on a snapshot of ``q``); None when the core does not
-        apply or the last certified active set does not hold (the caller builds the snapshot
-        and calls `solve`).
-        """
-        matrices, tree = self.matrices, self.problem.kinematics.tree.core_tree
-        if not request.compiled or matrices.core is None or tree is None:
+        """`solve` at a checked configuration in one compiled call, or None."""
+        tree = self.problem.kinematics.tree.core_tree
+        if not request.compiled or self.matrices.core is None or tree is None:
             return None
-        work, slot = self._hot(request.keep)
-        if slot.active is None:
-            return None
-        answer = matrices.again(q, wrench, request.keep, work, self._weights(request),
-                                slot.active, tree)  # fmt: skip
-        if answer is None:
-            return None
-        self._local.iterations = 0
-        return self._tick(answer, False)
+        tick = self._again(q, wrench, request.keep, self._weights(request), tree)
+        if tick is not None:
+            self._local.iterations = 0
+        return tick
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
-        """`solve` with its checked weights and its `Budget`, once `_again` answered None."""
+        """`solve` once `_again` answered None."""
         work = None
         if compiled and self.matrices.applicable:
             work = self.matrices.build(snapshot, wrench, keep)
@@ -267,19 +174,15 @@ class QPDistribution:
         answer = work.finish(results.x, results.multipliers, wrench, keep)
         return self._tick(answer, results.exhausted)
 
-    def _again(self, snapshot, wrench, keep, weights) -> TickResult | None:
-        """The tick on the last certified answer's active set, in one compiled call, or None.
+    def _again(self, snapshot, wrench, keep, weights, tree=None) -> TickResult | None:
+        """The tick on the last certified active set, in one compiled call, or None.
 
-        The core's ``again`` builds the matrices, certifies that active set on them and
-        reads the answer out: the first try of `stages.ProxStages.solve` without its
-        Python (most ticks of a walk). None: no certified answer yet in this thread's
-        workspace, an active set that changed, or matrices that need the numpy path; the
-        stages decide then.
+        ``snapshot`` is a checked configuration when ``tree`` is the core's ``Tree``.
         """
         work, slot = self._hot(keep)
         if slot.active is None:
             return None
-        answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active)
+        answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active, tree)
         return None if answer is None else self._tick(answer, False)
 
     def _hot(self, keep: np.ndarray) -> tuple:
@@ -309,7 +212,6 @@ class QPDistribution:
         raw = RawSolution(
             forces=answer.out[: p * n].reshape(p, n), method="qp", solver="qp", active=active
         )
-        # compiled=False: the matrices are compiled, the solve is ProxQP's (as before)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False
         )
@@ -325,8 +227,7 @@ class QPDistribution:
         """`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
 
         Raises:
-            ConstraintError: No distribution meets the rows, or none was found before the
-                iteration budget ran out.
+            ConstraintError: No distribution meets the rows, or none was found within the budget.
         """
         if budget.left == 0:
             raise self._refuse(exhausted=True)

@@ -1,7 +1,4 @@
-"""What the QP's stages share: the iteration budget, a ProxQP workspace slot, the rows, the answer.
-
-See `stages` for the stages themselves.
-"""
+"""What the QP's stages share: the iteration budget, a ProxQP workspace slot, the rows."""
 
 from __future__ import annotations
 
@@ -11,11 +8,7 @@ import numpy as np
 
 
 class Budget:
-    """ProxQP (outer) iterations one solve has left, all stages together.
-
-    Args:
-        left: The iterations left.
-    """
+    """ProxQP (outer) iterations one solve has left (``left``), all stages together."""
 
     __slots__ = ("left",)
 
@@ -35,8 +28,7 @@ class ProxSlot:
         fresh: True until a solve succeeded (and after a failure): start from ``init``.
 
     Attributes:
-        active: The inequalities' multipliers of the last answer certified exact (nonzero:
-            active), or None.
+        active: The inequalities' multipliers of the last certified answer, or None.
     """
 
     __slots__ = ("active", "fresh", "qp")
@@ -53,7 +45,7 @@ class StageRows:
     Args:
         equality: The ``design`` rows that always hold, then the request's rows.
         equality_rhs: Their right-hand sides (the request's part is rewritten in place by the
-            closest-wrench stages: ``miss`` reads it).
+            closest-wrench stages).
         design: How many of ``equality``'s rows always hold.
         inequality: The inequality rows.
         lows: Their lower bounds.

@@ -1,14 +1,4 @@
-"""The QP's stages: the request exactly, else the closest wrench (see `solver`).
-
-One `ProxStages` per distribution holds this thread's ProxQP workspaces (one per path,
-stage and size) and runs the lexicographic stages on scaled rows within an iteration
-`Budget`. With the compiled core, stage 1 first runs in DAQP (a dense dual active-set
-solver, vendored in the core) from cold; its active set, certified by the exact step, is the
-answer. When DAQP finds the request infeasible, the closest-wrench stages run in DAQP (from
-cold, regularised), their active set certified likewise; ProxQP runs only when a certificate
-fails: stage 1 as without the core when DAQP's answer was not certified, the closest-wrench
-stages when DAQP's closest answer was not.
-"""
+"""The QP's lexicographic stages (the request exactly, else the closest wrench): ProxQP, DAQP."""
 
 from __future__ import annotations
 
@@ -23,23 +13,15 @@ from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
 from .exact import exact_answer
 from .stage_types import Budget, ProxSlot, StageAnswer, StageRows
 
-#: ProxQP iterations (outer, its ``max_iter`` count) of one solve, all stages together: a tick
-#: never waits on a degenerate problem. Out of it, the best feasible answer so far is returned
-#: with :data:`BUDGET_EXHAUSTED` in ``sol.active``.
+#: ProxQP (outer) iterations of one solve, all stages together
 ITERATION_BUDGET = 300
-#: The request exactly (stage 1) stops after this many, and after half the budget: an
-#: infeasible request (ProxQP does not always call it infeasible) leaves the rest to the
-#: closest-wrench stages. Solved requests take 4 (median) to 107 (largest seen) iterations.
+#: Stage 1's ProxQP iterations, at most (and half the budget)
 EXACT_MAX_ITER = 120
-#: DAQP's active-set iterations of stage 1, at most (with the compiled core; solved requests
-#: take 1 to 14 on solo12 and the hexapod; out of them, stage 1 runs in ProxQP).
+#: DAQP's active-set iterations of a stage, at most
 DAQP_MAX_ITER = 200
 #: DAQP's exit flag of a problem with no feasible point.
 DAQP_INFEASIBLE = -1
-#: The closest-wrench stages on DAQP (with the compiled core, when DAQP finds the request
-#: infeasible) minimise ``|x|^2 / 2 + sum_a omega_a (A x - w)_a^2 / (2 eps max omega)`` with
-#: this ``eps``: the closest wrench with a little of the least norm, whose active set is the
-#: exact answer's (the exact step certifies it; its answer does not depend on ``eps``).
+#: DAQP's closest wrench: ``|x|^2 / 2 + sum_a omega_a (A x - w)_a^2 / (2 eps max omega)``
 DAQP_CLOSEST_EPS = 1e-8
 #: ProxQP's inner (semismooth Newton) steps per outer iteration, at most.
 MAX_ITER_IN = 30
@@ -91,11 +73,7 @@ class ProxStages:
         return slot
 
     def _workspace(self, key: tuple) -> object:
-        """The ``proxqp.dense.QP`` of a slot, made on first use.
-
-        Most ticks never run ProxQP (the active set certified again, or DAQP); a new workspace
-        costs ~40 us, which a first tick would otherwise pay.
-        """
+        """The ``proxqp.dense.QP`` of a slot, made on first use (most ticks never run ProxQP)."""
         slot = self._slot(key)
         if slot.qp is None:
             qp = self._proxqp.dense.QP(*key[2:])
@@ -107,8 +85,7 @@ class ProxStages:
                 qp.settings.check_duality_gap = True
                 qp.settings.eps_duality_gap_abs = CLOSEST_EPS_ABS
                 qp.settings.eps_duality_gap_rel = 0.0
-            # feasible by construction (the closest answer meets it; shifted bounds hold for
-            # any x): no heuristic infeasibility verdicts
+            # feasible by construction: no heuristic infeasibility verdicts
             if key[1] in ("reached", "conflict"):
                 qp.settings.eps_primal_inf = 0.0
             slot.qp = qp
@@ -117,14 +94,9 @@ class ProxStages:
     def _run(self, key, objective, equality, equality_rhs, rows, miss, budget: Budget):
         """Solve one QP in this thread's workspace; None if it has no solution.
 
-        The exact stage's workspace lives between ticks: ``update`` and a warm start from the
-        previous answer, ``init`` only the first time and after a failure. The closest-wrench
-        stages start cold every time (``init`` from the equality-constrained guess): warm-started
-        from another tick's multipliers, ProxQP can stop at a point whose residuals are below
-        its accuracy but whose multipliers hold inactive rows (a wrong wrench by up to 1e-2 of
-        the request on solo12); the closest stage without Ruiz preconditioning (the scaled
-        problem needs none: half the cost and as accurate). ``rows`` gives the inequalities;
-        ``miss(x)`` is the largest violation of the rows ``x`` must meet; ``budget`` is charged.
+        The exact stage warm-starts from the previous answer; the closest-wrench stages start cold
+        (warm, ProxQP can stop with inactive rows held). ``miss(x)`` is the largest violation of the
+        rows ``x`` must meet; ``budget`` is charged.
         """
         proxqp = self._proxqp
         slot = self._slot(key)
@@ -151,8 +123,7 @@ class ProxStages:
         results = qp.results
         budget.charge(results.info.iter_ext)
         status = results.info.status
-        # a feasible closest answer out of iterations is kept (the closest wrench approximately
-        # rather than no answer); the request exactly, never: it goes on to the closest wrench
+        # a feasible closest answer out of iterations is kept; the request exactly, never
         if not (
             status == proxqp.QPSolverOutput.PROXQP_SOLVED
             or (key[1] != "exact" and status == proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED)
@@ -179,20 +150,18 @@ class ProxStages:
     ) -> StageAnswer | None:
         """The request exactly with the least norm, else the closest wrench (scaled rows).
 
-        Returns a `StageAnswer`, or None when no ``x`` meets the rows.
+        The last certified active set is tried first, then DAQP (with the core), then ProxQP.
 
-        The active set of the last answer certified exact is tried first: when the exact step
-        certifies it on this tick's rows (the KKT checks of `exact.exact_step`), that is
-        the answer and ProxQP does not run (most ticks of a walk: the active set changes rarely
-        from one tick to the next); otherwise stage 1 runs in ProxQP as described.
+        Args:
+            path: The workspaces' family (``"free"`` or ``"forces"``).
+            rows: The equality and inequality rows.
+            miss: ``miss(x, rows)``, the largest violation of the first ``rows`` equality rows and
+                the inequalities.
+            weights: The request rows' weights in the closest-wrench stage.
+            budget: Charged with ProxQP's iterations.
 
-        ``path``: the workspaces' family (``"free"`` or ``"forces"``); ``miss(x, rows)``: the
-        largest violation of the first ``rows`` equality rows and the inequalities;
-        ``weights``: the request rows' weights in the closest-wrench stage; ``budget``:
-        charged. (No inequality row is identically zero: the torque limits of joints that no
-        chain moves are left out at declaration, see
-        `ContactLimits`; all-zero rows stall
-        ProxQP's closest-wrench stage for hundreds of iterations.)
+        Returns:
+            A `StageAnswer`, or None when no ``x`` meets the rows.
 
         Raises:
             ConstraintError: The rows other than the request cannot hold together (named).
@@ -228,8 +197,7 @@ class ProxStages:
             certified, x, z = self._exact(rows, weights, results.x, results.z, True)
             slot.active = z if certified else None
             return StageAnswer(x, z, False)
-        # stage 1's last iterate mostly names the closest answer's active set already: that
-        # answer, certified exact, makes the other stages (and the check below) unnecessary
+        # stage 1's last iterate mostly names the closest answer's active set already
         last = self._local.qps[key].qp.results
         certified, x, z = self._exact(rows, weights, last.x, last.z, False)
         if certified:
@@ -241,12 +209,7 @@ class ProxStages:
     def _closest_on_daqp(
         self, path: str, rows: StageRows, miss: Callable, weights, budget: Budget
     ) -> StageAnswer | None:
-        """The closest wrench of a request DAQP found infeasible; returns like `solve`.
-
-        DAQP from cold solves the closest-wrench stages regularised (`DAQP_CLOSEST_EPS`); its
-        active set, certified by the exact step, is the answer (the closest wrench, then the
-        least norm: the same optimum as ProxQP's stages 2 and 3). Otherwise the rows are checked
-        and stages 2 and 3 run in ProxQP; stage 1 does not (DAQP found no x meeting the rows).
+        """The closest wrench of a request DAQP found infeasible, regularised (`DAQP_CLOSEST_EPS`).
 
         Raises:
             ConstraintError: The rows other than the request cannot hold together (named).
@@ -293,10 +256,7 @@ class ProxStages:
     ) -> StageAnswer | None:
         """Stages 2 and 3: the closest reachable wrench, then its least force norm.
 
-        Infeasible: the closest reachable wrench alone (weighted least squares: a singular
-        Hessian in x, one wrench), then the least force norm that produces it exactly.
-        ``last``: stage 1's results (its last iterate; None when stage 1 did not run in
-        ProxQP). Returns like `solve`.
+        ``last``: stage 1's results (None when stage 1 did not run in ProxQP).
         """
         equality, equality_rhs, design = rows.equality, rows.equality_rhs, rows.design
         size = equality.shape[1]
@@ -305,10 +265,7 @@ class ProxStages:
         converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
 
         def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> StageAnswer:
-            """The exact closest answer on the active set ``guess`` names, else ``x``.
-
-            ``exhausted`` stands only for ``x`` (an iterate): an exact answer is final.
-            """
+            """The exact closest answer on the active set ``guess`` names, else ``x``."""
             equality_rhs[design:] = target  # the request (the exact step finds the wrench)
             certified, x, z = self._exact(rows, weights, x, guess, False)
             return StageAnswer(x, z, exhausted and not certified)
@@ -329,11 +286,8 @@ class ProxStages:
         if budget.left == 0:  # out of iterations: stage 3 (the least norm) cannot run
             return exact(answer, multipliers, True)
         equality_rhs[design:] = request @ answer  # the reachable wrench (in place: miss reads it)
-        # a row with a nonzero multiplier holds at every closest answer (complementarity with
-        # any dual solution): as equalities they leave the third stage's feasible set as it is
-        # and make it well posed (without them its rows meet only at the cones' edges)
-        # (at their values at the closest answer, within EPS_ABS of the bounds: rows that the
-        # answer meets exactly, so that ProxQP does not see an inconsistent system)
+        # rows with a nonzero multiplier hold at every closest answer: held as equalities at
+        # their values there, they make stage 3 well posed
         held = np.flatnonzero(np.abs(multipliers) > ACTIVE_TOL)
         tight = np.vstack((equality, rows.inequality[held]))
         bounds = tight[len(equality_rhs) :] @ answer

@@ -1,10 +1,4 @@
-"""Per-axis weights of the QP's closest-wrench stage (see `qp`), checked once.
-
-When a request cannot be met, ``method="qp"`` returns the reachable wrench that minimises
-``sum_a weight_a (produced_a - requested_a)^2`` over the prescribed axes: an axis with a small
-weight gives way first. Weights are given by axis name (``{"x": 0.01}``, 1 for the others) or
-as an array over the actuator's axes.
-"""
+"""Per-axis weights of the QP's closest wrench: ``sum_a weight_a (produced_a - requested_a)^2``."""
 
 from __future__ import annotations
 
@@ -20,13 +14,9 @@ def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -
     """``weights`` as a read-only ``(n,)`` array of finite numbers > 0 over ``axes``.
 
     Args:
-        weights: ``{axis: weight}`` (the axes not named keep 1), or ``n`` numbers in the order
-            of ``axes``.
+        weights: ``{axis: weight}`` (the axes not named keep 1), or ``n`` numbers over ``axes``.
         axes: The actuator's axes.
         what: The argument's name, for messages.
-
-    Returns:
-        The weights, one per axis.
 
     Raises:
         InvalidAxisError: A key of the dict is not one of ``axes``.

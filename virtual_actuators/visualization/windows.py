@@ -1,18 +1,8 @@
 """Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page.
 
-``meshcat.Visualizer(window=w)`` calls ``w.send(command)`` with MeshCat command objects
-(``SetObject``, ``SetTransform``, ``SetProperty``, ``Delete``, ...). Every window here keeps a
-mirror of the scene those commands build (the same tree MeshCat's server keeps), so that
-`SceneWindow.static_html` can write a standalone page without any server:
-
-- `OfflineWindow`: no server, nothing sent; used to record HTML files headless.
-- `CommandRecorder`: also keeps every command in order (tests inspect them).
-- `LiveWindow` (in `live`): a MeshCat server (started as a subprocess, or
-  an existing one at a ZMQ URL) fed through a relay process: drawing costs the control loop
-  the packing and one pipe write per frame, and a lagging server makes the viewer skip frames
-  instead of slowing the loop down.
-- `ForwardingWindow`: mirrors, then forwards to any object with ``send`` (e.g. MeshCat's
-  own ``ViewerWindow``).
+Every window mirrors the scene its MeshCat commands build, so that `SceneWindow.static_html`
+writes a standalone page without a server: `OfflineWindow` sends nothing, `CommandRecorder`
+keeps every command, `ForwardingWindow` forwards to any ``send``, `LiveWindow` feeds a server.
 """
 
 from __future__ import annotations
@@ -51,14 +41,11 @@ def pack(command: object) -> bytes:
 
 
 class SceneWindow:
-    """Base window: mirrors the scene built by the commands it receives.
-
-    Subclasses deliver the commands somewhere in `_deliver`.
+    """Base window: mirrors the scene built by the commands it receives (`_deliver` sends them).
 
     Attributes:
-        live: Whether commands reach a viewer as they are sent (a server or a recorder standing
-            for one); the `Viewer` only throttles and
-            sends live updates to live windows.
+        live: Whether commands reach a viewer as they are sent (the viewer sends live updates
+            only to live windows).
         web_url: URL of the live viewer, or None.
     """
 
@@ -68,8 +55,6 @@ class SceneWindow:
     def __init__(self) -> None:
         self._nodes: dict[str, _Node] = {}
         self._lock = threading.Lock()
-
-    # -- the meshcat window interface ----------------------------------------------------------
 
     def send(self, command: object) -> None:
         """Apply a MeshCat command to the mirror and deliver it."""
@@ -105,8 +90,6 @@ class SceneWindow:
 
     def close(self) -> None:
         """Release the window's resources (nothing by default)."""
-
-    # -- the mirror ----------------------------------------------------------------------------
 
     def _mirror(self, command: object) -> None:
         if isinstance(command, mc.SetTransform):
@@ -159,18 +142,12 @@ class SceneWindow:
     def static_html(
         self, extra: list[object] = (), title: str = "MeshCat", overlay: str = ""
     ) -> str:
-        """A self-contained HTML page showing the current scene (and ``extra`` commands).
-
-        The three.js viewer bundled with MeshCat is inlined and the commands are embedded as
-        base64 MessagePack decoded in order by the page itself: the file opens offline.
+        """A self-contained HTML page (it opens offline) of the scene, then ``extra`` commands.
 
         Args:
             extra: Commands applied after the scene (e.g. a ``set_animation``).
             title: Page title.
             overlay: HTML placed over the 3D view (a legend).
-
-        Returns:
-            The page.
         """
         blobs = [pack(c) for c in [*self.scene_commands(), *extra]]
         return page(blobs, title=title, overlay=overlay)
@@ -211,17 +188,10 @@ class CommandRecorder(SceneWindow):
 
     def paths(self, kind: str | None = None) -> list[str]:
         """Paths of the recorded commands, optionally of one type (``"set_transform"``, ...)."""
-        names = {
-            "set_transform": mc.SetTransform,
-            "set_object": mc.SetObject,
-            "set_property": mc.SetProperty,
-            "delete": mc.Delete,
-        }
-        return [
-            path_of(c)
-            for c in self.commands
-            if kind is None or isinstance(c, names.get(kind, type(None)))
-        ]
+        names = {"set_transform": mc.SetTransform, "set_object": mc.SetObject}
+        names |= {"set_property": mc.SetProperty, "delete": mc.Delete}
+        kinds = object if kind is None else names.get(kind, type(None))
+        return [path_of(c) for c in self.commands if isinstance(c, kinds)]
 
     def last_transform(self, path: str):
         """The last matrix sent to ``path`` (a ``(4, 4)`` array), or None."""
@@ -241,12 +211,9 @@ class CommandRecorder(SceneWindow):
     def visible(self, path: str) -> bool | None:
         """The last ``visible`` property sent to ``path``, or None if never sent."""
         for command in reversed(self.commands):
-            if (
-                isinstance(command, mc.SetProperty)
-                and command.key == "visible"
-                and path_of(command) == path
-            ):
-                return bool(command.value)
+            if isinstance(command, mc.SetProperty) and command.key == "visible":
+                if path_of(command) == path:
+                    return bool(command.value)
         return None
 
     def __repr__(self) -> str:
@@ -257,8 +224,11 @@ class ForwardingWindow(SceneWindow):
     """Mirror the scene, then forward every command to another window.
 
     Args:
-        target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``...).
+        target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``).
         live: Whether the target shows commands as they come.
+
+    Raises:
+        InvalidInputError: ``target`` has no ``send`` method.
     """
 
     def __init__(self, target: object, live: bool = True) -> None:

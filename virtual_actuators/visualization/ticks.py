@@ -41,7 +41,7 @@ class Gait(Protocol):
 
 
 class PacedView(Protocol):
-    """What `TickUpdater` uses of a `Viewer`."""
+    """What `TickUpdater` uses of a `Viewer` (its ``robot``)."""
 
     robot: Robot
 

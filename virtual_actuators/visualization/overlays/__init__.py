@@ -1,8 +1,4 @@
-"""What is drawn over the robot, one `Overlay` per kind of thing.
-
-A new overlay is a subclass of `Overlay` with a `draw` method, added with
-`Viewer.add_overlay`.
-"""
+"""What is drawn over the robot, one `Overlay` per kind of thing (`Viewer.add_overlay` adds one)."""
 
 from .base import Overlay
 from .components import ComponentOverlay
@@ -18,13 +14,8 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     Args:
         legend: Add the legend, last (it lists what the others drew).
     """
-    overlays: list[Overlay] = [
-        WrenchOverlay(),
-        ComponentOverlay(),
-        EffortOverlay(),
-        StateOverlay(),
-        SupportOverlay(),
-    ]
+    overlays = [WrenchOverlay(), ComponentOverlay(), EffortOverlay(), StateOverlay()]
+    overlays.append(SupportOverlay())
     return [*overlays, LegendOverlay()] if legend else overlays
 
 

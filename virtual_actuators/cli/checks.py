@@ -1,8 +1,4 @@
-"""The command line's consistency checks, each a usage error (exit 2) before anything runs.
-
-Options the chosen demo would ignore, a ``--speed`` outside the walk's supported range, a
-``--window`` outside the run, ``--realtime`` without ``--viz``.
-"""
+"""The command line's consistency checks, each a usage error (exit 2) before anything runs."""
 
 from __future__ import annotations
 
@@ -12,11 +8,11 @@ from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS
 
 
 def registered_walks(parser: argparse.ArgumentParser) -> dict:
-    """The walk registry, imported now (it brings MuJoCo, absent from a core-only install).
+    """The walk registry, imported now (it brings MuJoCo).
 
     Raises:
-        SystemExit: With code 2 and a usage message naming the extra to install when an
-            optional package the walks need (``mujoco``, the extra ``sim``) is missing.
+        SystemExit: With code 2 and a usage message naming the extra (``sim``) when MuJoCo is
+            missing.
     """
     from ..exceptions import MissingDependencyError
 

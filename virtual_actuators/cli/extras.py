@@ -1,9 +1,7 @@
 """The optional packages a command line needs, checked before anything runs.
 
-The core install (``pip install .``) computes torques; the walks, the viewer, the plots, the
-progress bars and the cluster engines need extras. A command that needs a missing one is a usage
-error (exit 2) naming the package, the extra and the command that installs it, before any robot
-is loaded or any walk simulated: never a traceback, never a run whose end cannot be written.
+A missing one is a usage error (exit 2) naming the package, its extra and the command that
+installs it, before any robot is loaded or walk simulated.
 """
 
 from __future__ import annotations
@@ -23,14 +21,7 @@ class Need(NamedTuple):
 
 
 def needed_packages(args: argparse.Namespace) -> list[Need]:
-    """The optional packages the parsed command line will import, in the order it imports them.
-
-    Args:
-        args: The parsed command line.
-
-    Returns:
-        The needs (none for ``robots``, ``example`` and ``demo stand`` without a viewer).
-    """
+    """The optional packages the parsed command line will import, in the order it imports them."""
     walks = args.command == "sweep" or (args.command == "demo" and args.name != "stand")
     needs = []
     if walks:
@@ -52,10 +43,6 @@ def needed_packages(args: argparse.Namespace) -> list[Need]:
 
 def check_installed(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
     """Import every optional package the command needs, or fail with a usage error.
-
-    Args:
-        args: The parsed command line.
-        parser: The command's parser (for the usage line).
 
     Raises:
         SystemExit: With code 2 and a message naming the missing package, its extra and the

@@ -16,7 +16,7 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
-from .colors import desaturate
+from .colors import desaturate, rgb
 from .meshes import MeshCache, TriangleMesh
 from .shape_placement import span_matrix, translation, y_to_z
 from .shapes import Cone, Placed, material, to_hex
@@ -278,12 +278,10 @@ class RobotBodies:
             loader.viewerRootNodeName = node
             loader.viewerVisualGroupName = "visuals"  # Pinocchio's node: visuals/<geometry name>
             for part in meshes:
-                rgba = [*(((part.color >> s) & 255) / 255.0 for s in (16, 8, 0)), part.opacity]
+                rgba = np.array([*rgb(part.color), part.opacity])
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", UserWarning)
-                    loader.loadViewerGeometryObject(
-                        part.source, pin.GeometryType.VISUAL, np.array(rgba)
-                    )
+                    loader.loadViewerGeometryObject(part.source, pin.GeometryType.VISUAL, rgba)
         for part in self.parts:
             if part.geometry is not None:
                 flat = {"flatShading": True} if isinstance(part.geometry, TriangleMesh) else {}

@@ -14,11 +14,6 @@ import numpy as np
 from .shape_placement import span_matrix
 
 
-def rgb(color: int) -> tuple[float, float, float]:
-    """Split a ``0xRRGGBB`` colour into three floats in ``[0, 1]``."""
-    return ((color >> 16) & 0xFF) / 255.0, ((color >> 8) & 0xFF) / 255.0, (color & 0xFF) / 255.0
-
-
 def to_hex(rgba: Sequence[float]) -> int:
     """Pack the first three entries of an RGB(A) colour in ``[0, 1]`` into ``0xRRGGBB``."""
     r, g, b = (min(255, max(0, int(round(float(c) * 255.0)))) for c in rgba[:3])

@@ -75,20 +75,7 @@ class FrameSnapshot:
         support: Iterable[str] = (),
         time: float | None = None,
     ) -> FrameSnapshot:
-        """Check the arguments of `Viewer.show` (documented there) and bundle them.
-
-        Args:
-            nq: Size of the robot's configuration.
-            robot_name: The robot's name (for messages).
-            q: Configuration.
-            solution: A solution of ``actuator``.
-            actuator: The serial or parallel virtual actuator to draw.
-            wrench: Requested wrench on the actuator's axes, without a ``solution``.
-            controller: A controller (with ``attachments``).
-            output: Its output of this tick.
-            state: A gait state (its name and support frames) or a state name.
-            support: More support frames.
-            time: Time of the frame [s].
+        """Check `Viewer.show`'s arguments for a robot of ``nq`` and ``robot_name``; bundle them.
 
         Raises:
             InvalidInputError: Bad ``q`` or ``wrench``, a solution or a wrench without its

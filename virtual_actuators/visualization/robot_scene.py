@@ -17,13 +17,7 @@ from ..models.robot import Robot
 from ..vocabulary.axes import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .legend import Palette
-from .robot_layout import (
-    effort_joints,
-    ground_grid,
-    is_planar,
-    marker_sizes,
-    terrain_segments,
-)
+from .robot_layout import effort_joints, ground_grid, is_planar, marker_sizes, terrain_segments
 from .scene import Scene
 from .shape_placement import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
 from .shapes import Cone, material, triad_parts
@@ -107,8 +101,6 @@ class RobotScene:
         self._sizes(camera, follow)
         self.effort_joints = effort_joints(robot, self.data, q0)
 
-    # -- set-up ------------------------------------------------------------------------------
-
     def _sizes(self, camera: str | None, follow: bool | None) -> None:
         model, data = self.model, self.data
         points = np.array([f.translation for f in data.oMf] + [m.translation for m in data.oMi])
@@ -185,8 +177,6 @@ class RobotScene:
         matrix[:3, :3] = rotation
         matrix[:3, 3] = rotation[:, 0] * offset_right + rotation[:, 1] * offset_up
         return matrix
-
-    # -- per frame ---------------------------------------------------------------------------
 
     def pose(self, q: np.ndarray) -> None:
         """Forward kinematics at ``q`` (checked by the caller); place the bodies and the view."""

@@ -66,9 +66,7 @@ def span_matrix(start: np.ndarray, end: np.ndarray, rotation: np.ndarray | None 
         return None
     rot = rotation_y_to(delta) if rotation is None else rotation
     matrix = np.eye(4)
-    matrix[:3, 0] = rot[:, 0]
-    matrix[:3, 1] = rot[:, 1] * length
-    matrix[:3, 2] = rot[:, 2]
+    matrix[:3, :3] = rot * [1.0, length, 1.0]
     matrix[:3, 3] = 0.5 * (start + end)
     return matrix
 

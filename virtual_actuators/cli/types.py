@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -98,40 +99,26 @@ def walking_speed(text: str) -> float:
     return _in_range(text, "speed", 0.0, MAX_SPEED, "m/s", open_low=True)
 
 
-def direction_degrees(text: str) -> float:
-    """``--direction``: the travel direction relative to the heading, in degrees (-360 to 360).
+def _ranged(
+    what: str, low: float, high: float, unit: str, open_low: bool = False
+) -> Callable[[str], float]:
+    """The argument type of a finite number in ``[low, high]`` (``(low, high]`` with ``open_low``).
 
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
+    The type raises `argparse.ArgumentTypeError` for any other text.
     """
-    return _in_range(text, "direction", -360.0, 360.0, "degrees")
+
+    def parse(text: str) -> float:
+        return _in_range(text, what, low, high, unit, open_low)
+
+    return parse
 
 
-def yaw_rate(text: str) -> float:
-    """``--yaw-rate``: rad/s within +-`MAX_YAW_RATE`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
-
-
-def amplitude(text: str) -> float:
-    """``--amplitude``: the sine's amplitude in [0, `MAX_AMPLITUDE`] m.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "amplitude", 0.0, MAX_AMPLITUDE, "m")
-
-
-def wavelength(text: str) -> float:
-    """``--wavelength``: the sine's wavelength in (0, `MAX_WAVELENGTH`] m.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
+#: ``--direction`` relative to the heading [deg], ``--yaw-rate`` [rad/s] and the sine path's
+#: ``--amplitude`` and ``--wavelength`` [m].
+direction_degrees = _ranged("direction", -360.0, 360.0, "degrees")
+yaw_rate = _ranged("yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
+amplitude = _ranged("amplitude", 0.0, MAX_AMPLITUDE, "m")
+wavelength = _ranged("wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
 
 
 def time_window(text: str) -> tuple[float | None, float | None]:

@@ -34,34 +34,19 @@ WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "legged", "balan
 DEMOS = (*WALK_DEMOS, "stand")
 
 
+def _options(destinations: str) -> tuple[tuple[str, str], ...]:
+    """``(argparse destination, option)`` of each space-separated destination."""
+    return tuple((dest, "--" + dest.replace("_", "-")) for dest in destinations.split())
+
+
 #: Options of ``demo`` that only the walks use (argparse destination, option).
-WALK_OPTIONS = (
-    ("duration", "--duration"),
-    ("speed", "--speed"),
-    ("force_speed", "--force-speed"),
-    ("terrain", "--terrain"),
-    ("json", "--json"),
-    ("plot", "--plot"),
-    ("realtime", "--realtime"),
-    ("seed", "--seed"),
-    ("distribution", "--distribution"),
-    ("window", "--window"),
+WALK_OPTIONS = _options(
+    "duration speed force_speed terrain json plot realtime seed distribution window"
 )
 
-#: Options of ``demo`` that only some walks use (argparse destination, option): a walk takes
-#: those in its ``Walk.options``.
-WALK_OWN_OPTIONS = (
-    ("direction", "--direction"),
-    ("yaw_rate", "--yaw-rate"),
-    ("path", "--path"),
-    ("amplitude", "--amplitude"),
-    ("wavelength", "--wavelength"),
-    ("pendulum", "--pendulum"),
-    ("track", "--track"),
-    ("robot", "--robot"),
-    ("feet", "--feet"),
-    ("gait", "--gait"),
-    ("push", "--push"),
+#: Options of ``demo`` that only some walks use: a walk takes those in its ``Walk.options``.
+WALK_OWN_OPTIONS = _options(
+    "direction yaw_rate path amplitude wavelength pendulum track robot feet gait push"
 )
 
 #: Options of ``demo stand`` (also walk options of ``legged``).

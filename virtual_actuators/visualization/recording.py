@@ -162,13 +162,11 @@ class AnimationRecording:
             if len(keys) < 2:
                 continue  # never moved while recording: its static transform is enough
             times = frame_times[[k for k, _ in keys]]
-            parts = [decompose(m) for _, m in keys]
-            positions = np.array([p for p, _, _ in parts])
-            quaternions = np.array([q for _, q, _ in parts])
+            columns = zip(*(decompose(m) for _, m in keys), strict=True)
+            positions, quaternions, scales = (np.array(column) for column in columns)
             for i in range(1, len(quaternions)):  # continuous signs for interpolation
                 if quaternions[i] @ quaternions[i - 1] < 0:
                     quaternions[i] = -quaternions[i]
-            scales = np.array([s for _, _, s in parts])
             tracks = [
                 _track(".position", "vector3", times, _float32(positions.ravel())),
                 _track(".quaternion", "quaternion", times, _float32(quaternions.ravel())),

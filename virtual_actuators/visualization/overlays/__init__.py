@@ -14,8 +14,13 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     Args:
         legend: Add the legend, last (it lists what the others drew).
     """
-    overlays = [WrenchOverlay(), ComponentOverlay(), EffortOverlay(), StateOverlay()]
-    overlays.append(SupportOverlay())
+    overlays: list[Overlay] = [
+        WrenchOverlay(),
+        ComponentOverlay(),
+        EffortOverlay(),
+        StateOverlay(),
+        SupportOverlay(),
+    ]
     return [*overlays, LegendOverlay()] if legend else overlays
 
 

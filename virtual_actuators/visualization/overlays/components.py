@@ -7,6 +7,8 @@ along its first axis.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import meshcat.geometry as mg
 import numpy as np
 
@@ -118,7 +120,7 @@ def draw_dashpot(scene: RobotScene, name: str, start: np.ndarray, end: np.ndarra
     piston = start + 0.45 * (end - start)
     thickness = min(0.3 * radius, 0.05 * length)
 
-    def cylinder(scale: float):
+    def cylinder(scale: float) -> Callable[[], mg.Cylinder]:
         return lambda: mg.Cylinder(1.0, scale * radius)
 
     scene.span(f"{name}/housing", start, housing_end, cylinder(1.0), color, 0.35)

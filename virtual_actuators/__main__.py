@@ -5,9 +5,8 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
-from .cli.checks import check_demo_options
+from .cli.checks import check_demo_options, check_installed
 from .cli.commands import check_results_path, run
-from .cli.extras import check_installed
 from .cli.options import EXAMPLE_NAMES, attach_values, build_parser
 from .cli.streams import tolerate_closed_pipes
 from .cli.usage_errors import OptionError

@@ -1,22 +1,24 @@
-"""The command line's consistency checks, each a usage error (exit 2) before anything runs.
+"""The command line's checks before anything runs, each failing as a usage error (exit 2).
 
-Options the chosen demo would ignore, a ``--speed`` outside the walk's supported range, a
-``--window`` outside the run, ``--realtime`` without ``--viz``.
+The options must agree with the chosen demo, and the optional packages the command needs (its
+extras) must be installed.
 """
 
 from __future__ import annotations
 
 import argparse
+from typing import NamedTuple
 
 from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS
+from .views import wants_viewer
 
 
 def registered_walks(parser: argparse.ArgumentParser) -> dict:
-    """The walk registry, imported now (it brings MuJoCo, absent from a core-only install).
+    """The walk registry, imported now (it brings MuJoCo).
 
     Raises:
-        SystemExit: With code 2 and a usage message naming the extra to install when an
-            optional package the walks need (``mujoco``, the extra ``sim``) is missing.
+        SystemExit: With code 2 and a usage message naming the extra (``sim``) when MuJoCo is
+            missing.
     """
     from ..exceptions import MissingDependencyError
 
@@ -101,3 +103,48 @@ def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk
         walk.check_speed(args.speed, forced_by="--force-speed", **options)
     except InvalidInputError as error:
         parser.error(f"argument --speed: {error}")
+
+
+class Need(NamedTuple):
+    """An optional package a command needs: its module, the extra that installs it, and why."""
+
+    module: str
+    extra: str
+    feature: str
+
+
+def needed_packages(args: argparse.Namespace) -> list[Need]:
+    """The optional packages the parsed command line will import, in the order it imports them."""
+    walks = args.command == "sweep" or (args.command == "demo" and args.name != "stand")
+    needs = []
+    if walks:
+        needs.append(Need("mujoco", "sim", "MuJoCo simulation (the walks and sweeps)"))
+        if not args.quiet:
+            needs.append(Need("tqdm", "sim", "The progress bar (--quiet runs without it)"))
+    if getattr(args, "plot", None):
+        needs.append(Need("matplotlib", "plots", "The plot (--plot)"))
+    if wants_viewer(args):
+        needs.append(Need("meshcat", "viz", "The MeshCat viewer (--viz, --record)"))
+    engine = getattr(args, "engine", None)
+    if engine == "dask":
+        engine_dask = "The Dask engine (--engine dask)"
+        needs += [Need(name, "dask", engine_dask) for name in ("dask", "distributed")]
+    elif engine == "ray":
+        needs.append(Need("ray", "ray", "The Ray engine (--engine ray)"))
+    return needs
+
+
+def check_installed(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    """Import every optional package the command needs, or fail with a usage error.
+
+    Raises:
+        SystemExit: With code 2 and a message naming the missing package, its extra and the
+            command that installs it (`import_optional`).
+    """
+    from ..exceptions import MissingDependencyError, import_optional
+
+    for need in needed_packages(args):
+        try:
+            import_optional(need.module, need.extra, need.feature)
+        except MissingDependencyError as error:
+            parser.error(str(error))

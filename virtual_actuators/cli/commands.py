@@ -65,9 +65,7 @@ def demo_walk(args: argparse.Namespace) -> int:
 
 
 def legged_robot(args: argparse.Namespace, default: str):
-    """The legged robot of ``--robot`` (``default`` without it) with its body and feet.
-
-    Its feet are ``--feet`` (when the command takes it) or those found on it (`stand_robot`).
+    """The legged robot of ``--robot`` (else ``default``), its body and feet (``--feet`` or found).
 
     Returns:
         ``(robot, body frame, foot frames)``.
@@ -162,10 +160,7 @@ def sweep_command(args: argparse.Namespace) -> int:
 
 
 def results_path(args: argparse.Namespace) -> tuple[str | None, str]:
-    """Where ``sweep`` writes its results table, and the option that chose it.
-
-    ``--out PATH``; else a ``.csv`` beside ``--plot`` (``map.png``: ``map.csv``); else nowhere
-    (the table is printed).
+    """Where ``sweep`` writes its results: ``--out``, else a ``.csv`` beside ``--plot``, else None.
 
     Returns:
         ``(path or None, "--out" or "--plot")``.
@@ -196,10 +191,7 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
 
 
 def example_view(args: argparse.Namespace, example: Example) -> None:
-    """Show an example's configuration and solution (``--viz`` / ``--record``).
-
-    The example's robot, actuator, configuration and solution are drawn as they are.
-    """
+    """Show an example's configuration and solution (``--viz`` / ``--record``)."""
     if not wants_viewer(args):
         return
     solution = example.solution

@@ -1,9 +1,4 @@
-"""The command line's options: names, bounds, argparse types and the parser.
-
-Every option has an argparse ``type`` that checks its value, so a bad one is a usage error (exit
-code 2, the usage line and the reason), never a traceback; the types import nothing heavy until
-their option is given.
-"""
+"""The command line's options: names, argparse types (each checks its value) and the parser."""
 
 from __future__ import annotations
 
@@ -39,34 +34,19 @@ WALK_DEMOS = ("turkey-walk", "flamingo-slopes", "hexapod-walk", "legged", "balan
 DEMOS = (*WALK_DEMOS, "stand")
 
 
+def _options(destinations: str) -> tuple[tuple[str, str], ...]:
+    """``(argparse destination, option)`` of each space-separated destination."""
+    return tuple((dest, "--" + dest.replace("_", "-")) for dest in destinations.split())
+
+
 #: Options of ``demo`` that only the walks use (argparse destination, option).
-WALK_OPTIONS = (
-    ("duration", "--duration"),
-    ("speed", "--speed"),
-    ("force_speed", "--force-speed"),
-    ("terrain", "--terrain"),
-    ("json", "--json"),
-    ("plot", "--plot"),
-    ("realtime", "--realtime"),
-    ("seed", "--seed"),
-    ("distribution", "--distribution"),
-    ("window", "--window"),
+WALK_OPTIONS = _options(
+    "duration speed force_speed terrain json plot realtime seed distribution window"
 )
 
-#: Options of ``demo`` that only some walks use (argparse destination, option): a walk takes
-#: those in its ``Walk.options``.
-WALK_OWN_OPTIONS = (
-    ("direction", "--direction"),
-    ("yaw_rate", "--yaw-rate"),
-    ("path", "--path"),
-    ("amplitude", "--amplitude"),
-    ("wavelength", "--wavelength"),
-    ("pendulum", "--pendulum"),
-    ("track", "--track"),
-    ("robot", "--robot"),
-    ("feet", "--feet"),
-    ("gait", "--gait"),
-    ("push", "--push"),
+#: Options of ``demo`` that only some walks use: a walk takes those in its ``Walk.options``.
+WALK_OWN_OPTIONS = _options(
+    "direction yaw_rate path amplitude wavelength pendulum track robot feet gait push"
 )
 
 #: Options of ``demo stand`` (also walk options of ``legged``).
@@ -94,7 +74,6 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
     parser.add_argument(
         "--record",
         type=output_path,
-        default=None,
         metavar="PATH.html",
         help="write a standalone HTML page (a MeshCat animation of the whole run for walks, "
         "30 frames per simulated second)",
@@ -112,7 +91,6 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--direction",
         type=direction_degrees,
-        default=None,
         metavar="DEG",
         help="hexapod-walk, legged: travel direction relative to the heading, degrees (90: crab "
         "left)",
@@ -120,7 +98,6 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--yaw-rate",
         type=yaw_rate,
-        default=None,
         metavar="RAD/S",
         help="hexapod-walk, legged: yaw rate; the velocity is fixed in the body frame, so the "
         "body traces a circle of radius speed / yaw rate",
@@ -128,13 +105,11 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--gait",
         choices=("trot", "pace", "walk", "tripod"),
-        default=None,
         help="legged: the pattern (default trot; tripod for six legs)",
     )
     demo.add_argument(
         "--push",
         type=push_spec,
-        default=None,
         metavar="N@T[:DEG]",
         help="legged, balance: push the base with N newtons for 0.1 s from T seconds along DEG "
         "degrees in the ground plane (0 = +x, default 0; N < 0 pushes the other way)",
@@ -142,16 +117,11 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--path",
         choices=("line", "sine"),
-        default=None,
         help="hexapod-walk, legged: line (default) or sine: y = A sin(2 pi x / L) from the "
         "start, holding the initial heading",
     )
-    demo.add_argument(
-        "--amplitude", type=amplitude, default=None, metavar="M", help="--path sine: A, m"
-    )
-    demo.add_argument(
-        "--wavelength", type=wavelength, default=None, metavar="M", help="--path sine: L, m"
-    )
+    demo.add_argument("--amplitude", type=amplitude, metavar="M", help="--path sine: A, m")
+    demo.add_argument("--wavelength", type=wavelength, metavar="M", help="--path sine: L, m")
     demo.add_argument(
         "--pendulum",
         action="store_true",
@@ -165,20 +135,17 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--seed",
         type=seed,
-        default=None,
         help="walks: a random start (the start-up push; the hexapod's initial disturbance)",
     )
     demo.add_argument(
         "--distribution",
         choices=("qp", "partitioned"),
-        default=None,
         help="walks: how the body wrench is split over the support feet (default: qp for the "
         "hexapod, partitioned for the bipeds)",
     )
     demo.add_argument(
         "--window",
         type=time_window,
-        default=None,
         metavar="T0:T1",
         help="walks with --plot: plot only simulated seconds T0 to T1 (either may be empty; "
         "checked against --duration before the run)",
@@ -189,14 +156,12 @@ def _robot_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--robot",
         type=robot_name,
-        default=None,
         help="stand, legged, balance: a legged robot by name or URDF path (default: solo12; "
         "balance: talos; feet from its SRDF, frame names or structure, see the robots command)",
     )
     demo.add_argument(
         "--feet",
         type=frame_list,
-        default=None,
         metavar="FRAME,FRAME,...",
         help="stand, legged: the foot frames (when the robot's own cannot be found)",
     )
@@ -204,9 +169,6 @@ def _robot_arguments(demo: argparse.ArgumentParser) -> None:
 
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
     """The parser of ``python -m virtual_actuators`` and its subcommands' parsers by name.
-
-    Every option has an argparse ``type`` that checks its value (so a bad one is a usage error);
-    the types import nothing heavy until their option is given.
 
     Returns:
         The top-level parser and ``{"demo": ..., "robots": ..., "example": ...}``.
@@ -231,13 +193,11 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     demo.add_argument(
         "--duration",
         type=positive_seconds,
-        default=None,
         help=f"walks: simulated seconds, {MIN_DURATION:g} to {MAX_DURATION:g}",
     )
     demo.add_argument(
         "--speed",
         type=walking_speed,
-        default=None,
         help="walks: desired speed [m/s], within the walk's supported range (see docs/cli.md)",
     )
     demo.add_argument(
@@ -248,21 +208,18 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     demo.add_argument(
         "--terrain",
         type=terrain_spec,
-        default=None,
         help="walks: 'flat', 'flat:HEIGHT', a built-in profile (profile-one, profile-two, "
         "rolling) or points 'x:z,x:z,...' in metres with increasing x",
     )
     demo.add_argument(
         "--json",
         type=output_path,
-        default=None,
         metavar="PATH",
         help="walks: write the metrics as JSON",
     )
     demo.add_argument(
         "--plot",
         type=output_path,
-        default=None,
         metavar="PATH",
         help="walks: save a PNG of the run",
     )
@@ -289,46 +246,30 @@ def _sweep_parser(sub) -> argparse.ArgumentParser:
         "results table (--out, or beside --plot) and a success map (--plot).",
     )
     sweep.add_argument("walk", choices=WALK_DEMOS)
-    sweep.add_argument(
-        "--speed", type=value_range, default=None, metavar="A:B:STEP", help="desired speeds"
-    )
-    sweep.add_argument(
-        "--terrain", type=terrain_list, default=None, metavar="T1,T2", help="terrains"
-    )
-    sweep.add_argument(
-        "--seeds", type=seed_count, default=3, help="starts per cell (1 to 1000)"
-    )
-    sweep.add_argument(
-        "--duration", type=positive_seconds, default=None, help="simulated seconds per walk"
-    )
+    sweep.add_argument("--speed", type=value_range, metavar="A:B:STEP", help="desired speeds")
+    sweep.add_argument("--terrain", type=terrain_list, metavar="T1,T2", help="terrains")
+    sweep.add_argument("--seeds", type=seed_count, default=3, help="starts per cell (1 to 1000)")
+    sweep.add_argument("--duration", type=positive_seconds, help="simulated seconds per walk")
     sweep.add_argument("--engine", choices=("process", "dask", "ray"), default="process")
-    sweep.add_argument(
-        "--workers", type=worker_count, default=None, help="process pool size (1 to 256)"
-    )
+    sweep.add_argument("--workers", type=worker_count, help="process pool size (1 to 256)")
     sweep.add_argument(
         "--out",
         type=output_path,
-        default=None,
         metavar="PATH",
         help="write the results table, .csv or .json (default: beside --plot, else not written)",
     )
-    sweep.add_argument(
-        "--plot", type=figure_path, default=None, metavar="PATH.png", help="success map"
-    )
+    sweep.add_argument("--plot", type=figure_path, metavar="PATH.png", help="success map")
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     return sweep
 
 
-#: A value that starts like a negative number (``-10@1``, ``-5:0``, ``-.5``): argparse takes only
-#: plain negative numbers (``-10``) as values, and reads anything else after a minus as an option.
+#: A value that starts like a negative number (``-10@1``, ``-.5``), which argparse reads as an
+#: option (no option starts so).
 _MINUS_VALUE = re.compile(r"-[\d.]")
 
 
 def attach_values(arguments: list[str], parsers: Iterable[argparse.ArgumentParser]) -> list[str]:
     """``--push -10@1`` as ``--push=-10@1``: the value of an option that takes one, minus and all.
-
-    No option of the command line starts with a minus and a digit, so a word like that after an
-    option that takes a value is always that value.
 
     Args:
         arguments: The command line's words.

@@ -1,8 +1,6 @@
-"""Argument types of the command line's output files: each tried before the run, not after it.
+"""Argument types of the command line's output files, each tried before the run, not after it.
 
-A run writes its outputs only at its end, so each output option's type opens its file now as it
-will be written (`output_path`): a path that passes can be written unless the disk fills up
-during the run. A bad one is a usage error (exit 2), never a traceback after a long run.
+A bad path is a usage error (exit 2), never a traceback after a long run.
 """
 
 from __future__ import annotations
@@ -13,11 +11,7 @@ from pathlib import Path
 
 
 def output_path(text: str) -> str:
-    """An output file that can be written now (checked before a run, not after it).
-
-    A run writes its outputs only at its end, so each is opened here as it will be written
-    (`_try_writing`): a path that passes can be written unless the disk fills up during
-    the run.
+    """An output file that can be written now, opened as the run will at its end.
 
     Raises:
         argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
@@ -76,15 +70,12 @@ def figure_path(text: str) -> str:
 
 
 def _try_writing(path: Path) -> None:
-    """Open ``path`` for writing now, as the run will at its end, and leave it as it was.
+    """Give ``path`` an empty write, as the run will at its end, and leave it as it was.
 
-    An existing file is opened for appending (never truncated) and given an empty write, which
-    a device or a file that takes no writes refuses (``/dev/full``, ``/proc/version``). A new
-    file is created, given the same empty write and removed again.
+    An existing file is opened for appending (never truncated); a new one is removed again.
 
     Raises:
-        OSError: If the file cannot be created, opened for writing or written (the operating
-            system's error: permission denied, no such file or directory, no space left...).
+        OSError: If the file cannot be created, opened for writing or written.
     """
     existed = path.exists()
     flags = os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)

@@ -1,12 +1,7 @@
 """``demo stand``: any legged robot standing, its body actuator and force distribution.
 
-The feet come from the robot's SRDF or frame names
-([`find_feet`][virtual_actuators.models.feet.find_feet]), or from ``--feet``. Three or more feet are
-point contacts; two feet (a biped) are
-flat contacts, so that the body's moments have somewhere to go. The robot stands in the pose the
-walks and the balancer start from
-([`standing_pose`][virtual_actuators.models.standing.standing_pose]): its SRDF's, else one built
-from its legs, knees bent.
+Feet come from `find_feet` or ``--feet``: three or more are point contacts, two (a biped) flat
+ones; the robot stands in its `standing_pose`.
 """
 
 from __future__ import annotations
@@ -25,7 +20,7 @@ def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
 
     Args:
         name: A robot name, alias or URDF path for [`load_robot`][].
-        feet: Foot frame names (default: found on the robot).
+        feet: Foot frame names (None: found on the robot).
 
     Returns:
         ``(robot, body frame, foot frames)``.
@@ -61,7 +56,7 @@ def demo_stand(
         robot: A name or path, or ``(robot, body, feet)`` from `stand_robot`.
         repeat: Solves per timing.
         args: The parsed command line (for the viewer options), or None.
-        feet: Foot frames when ``robot`` is a name (default: found on the robot).
+        feet: Foot frames when ``robot`` is a name (None: found on the robot).
 
     Raises:
         RobotNotFoundError: If ``robot`` is a name that no robot has.

@@ -1,10 +1,7 @@
-"""Standard output whose reader went away: ``demo ... --json run.json | head -1``.
+"""Standard output whose reader went away (``demo ... --json run.json | head -1``).
 
-When the program reading the output exits early, writing to the pipe fails (``EPIPE``). That
-says nothing about the run: its files are still written and its exit code still means what
-`virtual_actuators.__main__` documents. `tolerate_closed_pipes` makes the standard
-streams go quiet instead (what is left to print is discarded), so the command ends without a
-traceback and an error about the pipe is never reported as one about an output file.
+A closed pipe says nothing about the run: its files are written and its exit code kept, and what
+is left to print is discarded, without a traceback.
 """
 
 from __future__ import annotations
@@ -65,8 +62,7 @@ class QuietPipe:
 def tolerate_closed_pipes() -> Iterator[None]:
     """Within the block, ``sys.stdout`` and ``sys.stderr`` go quiet when their reader exits.
 
-    Both are flushed at the end of the block (also when it raises, as on ``SystemExit``), so
-    that no write to a closed pipe is left for the interpreter's exit.
+    Both are flushed at the end of the block, also when it raises (``SystemExit``).
     """
     saved = sys.stdout, sys.stderr
     quiet = [None if stream is None else QuietPipe(stream) for stream in saved]

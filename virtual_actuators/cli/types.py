@@ -1,22 +1,21 @@
 """Argument types of the command line: a bad value is a usage error (exit 2), never a traceback.
 
-Each function parses one option's text and raises `argparse.ArgumentTypeError` with the
-reason; heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their
-option is given. The output files' types are in `paths`.
+Heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their option is
+given; the output files' types are in `paths`.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from ..gaits.push import Push
 
-#: Bounds of ``--duration`` [s]: a run needs a few 1 ms control ticks, and its log holds every
-#: tick in memory (and the simulation runs at about real time).
+#: Bounds of ``--duration`` [s]: a few 1 ms control ticks; every tick is logged in memory.
 MIN_DURATION = 0.01
 MAX_DURATION = 600.0
 
@@ -28,9 +27,8 @@ MAX_YAW_RATE = 3.0
 MAX_AMPLITUDE = 2.0
 MAX_WAVELENGTH = 50.0
 
-#: The bound of ``--speed`` [m/s]: the walks' ``MAX_SPEED`` (``gaits.base``, named here so that
-#: parsing imports no simulation; tests/test_sweep checks the two agree). ``--force-speed``
-#: does not lift it.
+#: The bound of ``--speed`` [m/s], which ``--force-speed`` does not lift: ``gaits.base.MAX_SPEED``
+#: (named here so that parsing imports no simulation; tests/test_sweep checks the two agree).
 MAX_SPEED = 1.5
 
 #: Most processes of ``sweep --workers`` (each holds MuJoCo and a robot: about 150 MiB).
@@ -38,7 +36,7 @@ MAX_WORKERS = 256
 
 
 def _number(text: str, what: str) -> float:
-    """A finite float from ``text``.
+    """A finite float from ``text`` (``what`` names it in messages).
 
     Raises:
         argparse.ArgumentTypeError: If ``text`` is not a number, or is NaN or infinite.
@@ -56,7 +54,7 @@ def positive_seconds(text: str) -> float:
     """``--duration``: a finite number of seconds in [`MIN_DURATION`, `MAX_DURATION`].
 
     Raises:
-        argparse.ArgumentTypeError: Otherwise (argparse turns it into a usage error).
+        argparse.ArgumentTypeError: Otherwise.
     """
     value = _number(text, "duration")
     if value <= 0.0:
@@ -88,8 +86,7 @@ def walking_speed(text: str) -> float:
     """``--speed``: a desired speed in (0, `MAX_SPEED`] m/s.
 
     Raises:
-        argparse.ArgumentTypeError: Otherwise; beyond `MAX_SPEED`, the message says that the
-            bound is absolute (``--force-speed`` does not lift it), and why.
+        argparse.ArgumentTypeError: Otherwise (beyond `MAX_SPEED`, saying why).
     """
     value = _number(text, "speed")
     if value > MAX_SPEED:
@@ -102,40 +99,26 @@ def walking_speed(text: str) -> float:
     return _in_range(text, "speed", 0.0, MAX_SPEED, "m/s", open_low=True)
 
 
-def direction_degrees(text: str) -> float:
-    """``--direction``: the travel direction relative to the heading, in degrees (-360 to 360).
+def _ranged(
+    what: str, low: float, high: float, unit: str, open_low: bool = False
+) -> Callable[[str], float]:
+    """The argument type of a finite number in ``[low, high]`` (``(low, high]`` with ``open_low``).
 
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
+    The type raises `argparse.ArgumentTypeError` for any other text.
     """
-    return _in_range(text, "direction", -360.0, 360.0, "degrees")
+
+    def parse(text: str) -> float:
+        return _in_range(text, what, low, high, unit, open_low)
+
+    return parse
 
 
-def yaw_rate(text: str) -> float:
-    """``--yaw-rate``: rad/s within +-`MAX_YAW_RATE`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
-
-
-def amplitude(text: str) -> float:
-    """``--amplitude``: the sine's amplitude in [0, `MAX_AMPLITUDE`] m.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "amplitude", 0.0, MAX_AMPLITUDE, "m")
-
-
-def wavelength(text: str) -> float:
-    """``--wavelength``: the sine's wavelength in (0, `MAX_WAVELENGTH`] m.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _in_range(text, "wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
+#: ``--direction`` relative to the heading [deg], ``--yaw-rate`` [rad/s] and the sine path's
+#: ``--amplitude`` and ``--wavelength`` [m].
+direction_degrees = _ranged("direction", -360.0, 360.0, "degrees")
+yaw_rate = _ranged("yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
+amplitude = _ranged("amplitude", 0.0, MAX_AMPLITUDE, "m")
+wavelength = _ranged("wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
 
 
 def time_window(text: str) -> tuple[float | None, float | None]:
@@ -174,11 +157,7 @@ def seed(text: str) -> int:
 
 
 def terrain_spec(text: str) -> str:
-    """``--terrain``: a spec `Terrain.parse` accepts (checked now, parsed again later).
-
-    Its points must also lie within `MAX_TERRAIN_EXTENT` metres of the origin. The terrain
-    module is imported here, only when the option is given (it brings in MuJoCo, which the
-    walks need anyway).
+    """``--terrain``: a spec `Terrain.parse` accepts, within `MAX_TERRAIN_EXTENT` m of the origin.
 
     Raises:
         argparse.ArgumentTypeError: If the spec does not parse (with the parser's reason) or a
@@ -207,8 +186,6 @@ def terrain_spec(text: str) -> str:
 def robot_name(text: str) -> str:
     """``--robot``: a name ``load_robot`` knows, or an existing URDF file or robot folder.
 
-    Whether the robot suits the demo (stand needs a quadruped) is checked when it is loaded.
-
     Raises:
         argparse.ArgumentTypeError: An empty name, or otherwise (with the closest names).
     """
@@ -227,9 +204,7 @@ def robot_name(text: str) -> str:
 
 
 def push_spec(text: str) -> Push:
-    """``--push N@T[:DEG]``: N newtons from T >= 0 seconds along DEG degrees (0 = +x).
-
-    A negative N pushes the other way: ``-10@1`` is ``10@1:180``.
+    """``--push N@T[:DEG]``: N newtons from T >= 0 seconds along DEG degrees (0 = +x, N < 0 back).
 
     Raises:
         argparse.ArgumentTypeError: Otherwise.

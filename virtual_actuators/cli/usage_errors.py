@@ -1,9 +1,4 @@
-"""Command-line values that fail only when used: reported as usage errors (exit 2).
-
-`OptionError` is such a value's error, `blame` turns a library error raised while a value is
-used into one naming its option, and `writing` does the same for an output file that still
-fails to be written at the end of a run.
-"""
+"""Command-line values that fail only when used, reported as usage errors (exit 2)."""
 
 from __future__ import annotations
 
@@ -25,8 +20,8 @@ def blame(
 
     Args:
         option: The option that caused the error.
-        only: The error type (or types) that ``option`` causes (default: any
-            [`VirtualActuatorError`][]); others propagate unchanged.
+        only: The error types that ``option`` causes (None: any [`VirtualActuatorError`][]);
+            others propagate unchanged.
 
     Raises:
         OptionError: If the block raises such an error.
@@ -42,11 +37,7 @@ def blame(
 
 @contextlib.contextmanager
 def writing(option: str, path: str) -> Iterator[None]:
-    """Turn an `OSError` raised while writing ``path`` into an `OptionError`.
-
-    Every output is tried before the run (`output_path`);
-    this reports one that still fails at the end (the disk filled up) on one line, never as a
-    traceback whose exit code 1 would read as "the robot fell".
+    """Turn an `OSError` raised while writing ``path`` into an `OptionError` (not exit code 1).
 
     Raises:
         OptionError: If the block raises an `OSError` (names ``option``, the path and the

@@ -95,11 +95,7 @@ def pause(message: str) -> None:
 
 
 def finish_viewer(args: argparse.Namespace, viewer) -> None:
-    """Write the recording (``--record``), keep a live view serving until stopped, close.
-
-    The live viewer (``--viz``) serves until Enter at a terminal, or until interrupted (Ctrl-C,
-    or a ``SIGTERM``) without one, as one printed line says; its URL was printed when it
-    started. Then the viewer and its server close.
+    """Write the recording (``--record``), keep a live view serving until stopped (`serve`), close.
 
     Raises:
         OptionError: The recording cannot be written (the viewer is closed all the same).
@@ -116,12 +112,7 @@ def finish_viewer(args: argparse.Namespace, viewer) -> None:
 
 
 def serve() -> None:
-    """Keep the process, and with it the live viewer, alive until the user stops it.
-
-    At a terminal, until Enter or Ctrl-C; without one (a script, a pipe, a background job),
-    until ``SIGINT`` or ``SIGTERM``. Says so on one line first (the URL was printed when the
-    viewer started).
-    """
+    """Keep the live viewer serving: until Enter or Ctrl-C at a terminal, else SIGINT or SIGTERM."""
     import signal
     import time
 
@@ -155,13 +146,8 @@ def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) 
     """Show one configuration with an actuator's distribution (``--viz`` / ``--record``)."""
     if not wants_viewer(args):
         return
-    force = float(
-        np.linalg.norm(
-            solution.forces[
-                :, [i for i, a in enumerate(solution.axes) if a in ("x", "y", "z")]
-            ].sum(axis=0)
-        )
-    )
+    linear = [i for i, a in enumerate(solution.axes) if a in ("x", "y", "z")]
+    force = float(np.linalg.norm(solution.forces[:, linear].sum(axis=0)))
     extent = _robot_extent(robot, q)
     viewer = make_viewer(args, robot, force_scale=_nice_scale(force, 0.6 * extent))
     viewer.show(q, solution, actuator=actuator)

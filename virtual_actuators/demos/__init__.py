@@ -1,9 +1,7 @@
 """Runnable demos: the walks in MuJoCo (``python -m virtual_actuators demo``) and their sweeps.
 
-The walks themselves are registered by the gaits (`virtual_actuators.gaits.registry`);
-``WalkSpec`` is the former name of `Walk`. The names are
-imported on first use (they bring MuJoCo), so that the command line's option parsing, which
-uses `virtual_actuators.demos.sweep`, works on a core-only install.
+The names are imported on first use (they bring MuJoCo), so that option parsing, which uses
+`virtual_actuators.demos.sweep`, works on a core-only install; ``WalkSpec`` is `Walk`.
 """
 
 from __future__ import annotations

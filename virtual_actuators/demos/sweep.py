@@ -1,15 +1,7 @@
-"""Parameter sweeps of the walks on an existing parallel engine.
+"""Parameter sweeps of the walks: every (speed, terrain, seed) walk of a grid, in parallel.
 
-``python -m virtual_actuators sweep flamingo-slopes --speed 0.3:0.6:0.05 --terrain
-profile-one,profile-two --seeds 5`` runs every (speed, terrain, seed) walk of the grid in
-parallel and writes a results table (CSV or JSON) and a success map (fraction of seeds that did
-not fall, per speed and terrain).
-
-Engines: ``"process"`` (a `concurrent.futures.ProcessPoolExecutor`, the default),
-``"dask"`` (``dask.distributed``: the scheduler given by ``DASK_SCHEDULER_ADDRESS``, or a local
-cluster) and ``"ray"`` (``ray.init()``, which joins ``RAY_ADDRESS`` when set): the same command
-runs on one machine or on a cluster. Dask and Ray are optional: install ``dask[distributed]`` or
-``ray``.
+Engines: ``"process"`` (a process pool), ``"dask"`` (``DASK_SCHEDULER_ADDRESS``, else a local
+cluster) and ``"ray"`` (``RAY_ADDRESS`` when set); results go to a table and a success map.
 """
 
 from __future__ import annotations
@@ -31,8 +23,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 ENGINES = ("process", "dask", "ray")
-#: Most seeds per (speed, terrain) cell, and most walks in one sweep: every case of the grid is
-#: held in memory and queued at once, and each walk takes seconds.
+#: Most seeds per (speed, terrain) cell, and most walks in one sweep (all queued at once).
 MAX_SEEDS = 1000
 MAX_WALKS = 100_000
 
@@ -143,37 +134,19 @@ def run_case(case: SweepCase) -> SweepResult:
     """Run one walk (in a worker); a library error is recorded, not raised."""
     from ..exceptions import VirtualActuatorError
 
-    try:
-        result = run_walk(
-            case.walk,
-            duration=case.duration,
-            speed=case.speed,
-            terrain=case.terrain,
-            progress=False,
-            seed=case.seed,
-            force_speed=True,  # a sweep maps where the walk holds, inside its range or not
-        )
+    cell = (case.walk, case.speed, case.terrain, case.seed)
+    options = {"duration": case.duration, "speed": case.speed, "terrain": case.terrain}
+    try:  # force_speed: a sweep maps where the walk holds, inside its range or not
+        result = run_walk(case.walk, progress=False, seed=case.seed, force_speed=True, **options)
     except Exception as error:  # recorded in the table: one broken walk never loses the sweep
-        error = (
-            error if isinstance(error, VirtualActuatorError) else f"{type(error).__name__}: {error}"
-        )
+        typed = isinstance(error, VirtualActuatorError)
+        message = str(error) if typed else f"{type(error).__name__}: {error}"
         nan = float("nan")
-        return SweepResult(
-            case.walk, case.speed, case.terrain, case.seed, True, nan, nan, nan, 0, nan, str(error)
-        )
+        return SweepResult(*cell, True, nan, nan, nan, 0, nan, message)
     figures = result.figures()
-    return SweepResult(
-        case.walk,
-        case.speed,
-        case.terrain,
-        case.seed,
-        figures.fell,
-        figures.fall_time,
-        figures.distance,
-        figures.mean_speed,
-        figures.steps,
-        float(result.simulator.time / max(result.wall_time, 1e-9)),
-    )
+    factor = float(result.simulator.time / max(result.wall_time, 1e-9))
+    distances = figures.fall_time, figures.distance, figures.mean_speed
+    return SweepResult(*cell, figures.fell, *distances, figures.steps, factor)
 
 
 def run_sweep(
@@ -187,7 +160,7 @@ def run_sweep(
     Args:
         cases: From `grid`.
         engine: ``"process"``, ``"dask"`` or ``"ray"``.
-        workers: Parallel workers for ``"process"`` (default: the CPU count).
+        workers: Parallel workers for ``"process"`` (None: the CPU count).
         on_result: Called as each result arrives (a progress bar).
 
     Raises:
@@ -196,9 +169,8 @@ def run_sweep(
     """
     if engine not in ENGINES:
         raise InvalidInputError(f"engine must be one of {ENGINES}, got {engine!r}.")
-    if workers is not None and (
-        isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
-    ):
+    whole = isinstance(workers, int) and not isinstance(workers, bool)
+    if workers is not None and not (whole and workers >= 1):
         raise InvalidInputError(f"workers must be an int >= 1, got {workers!r}.")
     done = on_result or (lambda result: None)
     results: dict[int, SweepResult] = {}
@@ -227,6 +199,7 @@ def _run_dask(cases, done) -> dict[int, SweepResult]:
     for package in ("dask", "distributed"):
         import_optional(package, "dask", "engine='dask' (dask.distributed)")
     from dask.distributed import Client, LocalCluster, as_completed
+
     address = os.environ.get("DASK_SCHEDULER_ADDRESS")
     cluster = None if address else LocalCluster(processes=True, threads_per_worker=1)
     try:
@@ -295,9 +268,7 @@ def success_map(results: Sequence[SweepResult]) -> tuple[list[float], list[str],
 
 
 def plot_success_map(results: Sequence[SweepResult], path: str | Path) -> Path:
-    """Draw `success_map` as a heat map (speed across, terrain down) into ``path``.
-
-    The image format follows the suffix (``.png``, ``.svg``, ``.pdf``, ...).
+    """Draw `success_map` as a heat map (speed across, terrain down) into ``path`` (by suffix).
 
     Raises:
         MissingDependencyError: matplotlib is not installed (the extra ``plots``).

@@ -1,19 +1,7 @@
-"""The robot's bodies in the scene: its URDF visuals, or a skeleton built from its kinematic tree.
+"""The robot's bodies in the scene: its URDF visuals, or a skeleton of its kinematic tree.
 
-Every shape is a `Part`: a MeshCat object attached to a Pinocchio joint with a fixed
-placement (scale included, except for decimated meshes: they are scaled already). After forward
-kinematics its world matrix is ``data.oMi[joint].homogeneous @ placement``.
-
-- URDF visuals (``geometry="urdf"``): mesh files (STL, OBJ, Collada) are sent as decimated
-  triangle meshes (`meshes`: binary arrays, several times smaller than the files; a file
-  it cannot read is sent as it is) and primitive shapes (boxes, spheres, cylinders, capsules,
-  cones, ellipsoids: the seeds' robots and the millipede) are built here; any other geometry is
-  left to Pinocchio's ``MeshcatVisualizer``. Every part is drawn in its URDF colour desaturated
-  (`desaturate`), so that no overlay colour equals a robot colour; Collada meshes
-  too (their embedded materials and textures are replaced by that colour).
-- Skeleton (``geometry="skeleton"``, or ``"auto"`` for a URDF without any ``<visual>``): a
-  sphere at every joint, a cylinder from each joint to its children, a cylinder and a sphere to
-  every fixed frame away from its joint (feet, tools), a box around a floating base's joints.
+Every shape is a `Part` attached to a Pinocchio joint; its world matrix is
+``data.oMi[joint].homogeneous @ placement``.
 """
 
 from __future__ import annotations
@@ -28,7 +16,7 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
-from .colors import desaturate
+from .colors import desaturate, rgb
 from .meshes import MeshCache, TriangleMesh
 from .shape_placement import span_matrix, translation, y_to_z
 from .shapes import Cone, Placed, material, to_hex
@@ -58,7 +46,7 @@ class Part:
         geometry: The MeshCat geometry (None for meshes that Pinocchio loads).
         color: ``0xRRGGBB``.
         opacity: In ``[0, 1]``.
-        source: The Pinocchio geometry object behind a URDF visual, or None.
+        source: The Pinocchio geometry object of a URDF visual, or None.
     """
 
     name: str
@@ -120,22 +108,12 @@ def visual_model(robot: Robot) -> pin.GeometryModel | None:
     Raises:
         RobotDescriptionError: Pinocchio cannot build the visual model (a missing mesh...).
     """
-    model = robot.model
+    model, visual, dirs = robot.model, pin.GeometryType.VISUAL, list(robot.package_dirs)
     try:
         if robot.urdf_string:
-            return pin.buildGeomFromUrdfString(
-                model,
-                robot.urdf_string,
-                pin.GeometryType.VISUAL,
-                package_dirs=list(robot.package_dirs),
-            )
+            return pin.buildGeomFromUrdfString(model, robot.urdf_string, visual, package_dirs=dirs)
         if robot.urdf_path is not None:
-            return pin.buildGeomFromUrdf(
-                model,
-                str(robot.urdf_path),
-                pin.GeometryType.VISUAL,
-                package_dirs=list(robot.package_dirs),
-            )
+            return pin.buildGeomFromUrdf(model, str(robot.urdf_path), visual, package_dirs=dirs)
     except (RuntimeError, ValueError, OSError) as error:
         raise RobotDescriptionError(
             f"Cannot load the visual geometry of {robot.name!r}: {error}"
@@ -144,12 +122,11 @@ def visual_model(robot: Robot) -> pin.GeometryModel | None:
 
 
 def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = None) -> list[Part]:
-    """Parts for the URDF's visual geometry objects.
+    """Parts for the URDF's visual geometry objects, in their desaturated URDF colours.
 
     Args:
         geometry_model: The visual geometry.
-        meshes: Decimates the mesh files loaded by Pinocchio (None: the files are sent as
-            they are).
+        meshes: Decimates the mesh files (None: the files are sent as they are).
     """
     parts = []
     for geometry_object in geometry_model.geometryObjects:
@@ -169,46 +146,25 @@ def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = Non
             pieces = _mesh(geometry_object)
         else:
             pieces = _primitive(geometry_object.geometry)
+        joint = int(geometry_object.parentJoint)
         if pieces is None:  # another geometry: Pinocchio's MeshcatVisualizer loads it
-            parts.append(
-                Part(
-                    name,
-                    int(geometry_object.parentJoint),
-                    base,
-                    None,
-                    color,
-                    opacity,
-                    geometry_object,
-                )
-            )
-            continue
+            pieces = [(None, np.eye(4))]
         for k, (geometry, offset) in enumerate(pieces):
+            label = name if k == 0 else f"{name}_{k}"
             parts.append(
-                Part(
-                    name if k == 0 else f"{name}_{k}",
-                    int(geometry_object.parentJoint),
-                    base @ offset,
-                    geometry,
-                    color,
-                    opacity,
-                    geometry_object,
-                )
+                Part(label, joint, base @ offset, geometry, color, opacity, geometry_object)
             )
     return parts
 
 
 def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bool) -> list[Part]:
-    """Primitive shapes built from the kinematic tree (see the module documentation).
+    """A sphere per joint, a cylinder to each child and tip frame, a box around a free base.
 
     Args:
         model: The Pinocchio model.
-        data: Data after forward kinematics at a reference configuration (unused for placement
-            in joint frames, kept for future use of world sizes).
+        data: Its data (unused).
         detail: Typical link length [m]; radii are fractions of it.
         floating: Whether joint 1 is a free-flyer (a base box is drawn around it).
-
-    Returns:
-        The parts.
     """
     link_radius = min(0.03, max(0.003, 0.07 * detail))
     joint_radius = 1.6 * link_radius
@@ -223,50 +179,24 @@ def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bo
             Part(f"skeleton/joint_{name}", j, np.eye(4), mg.Sphere(joint_radius), JOINT_COLOR)
         )
         if np.linalg.norm(offset) > 1e-6 and (parent > 0 or not floating):
+            link = mg.Cylinder(1.0, link_radius)
             matrix = span_matrix(np.zeros(3), offset)
-            parts.append(
-                Part(
-                    f"skeleton/link_{name}",
-                    parent,
-                    matrix,
-                    mg.Cylinder(1.0, link_radius),
-                    LINK_COLOR,
-                )
-            )
+            parts.append(Part(f"skeleton/link_{name}", parent, matrix, link, LINK_COLOR))
     for frame in _tip_frames(model):
         joint = int(frame.parentJoint)
         offset = np.asarray(frame.placement.translation, dtype=float)
         children.setdefault(joint, []).append(offset)
+        link, tip = mg.Cylinder(1.0, link_radius), mg.Sphere(1.3 * link_radius)
         matrix = span_matrix(np.zeros(3), offset)
-        parts.append(
-            Part(
-                f"skeleton/tip_link_{frame.name}",
-                joint,
-                matrix,
-                mg.Cylinder(1.0, link_radius),
-                LINK_COLOR,
-            )
-        )
-        parts.append(
-            Part(
-                f"skeleton/tip_{frame.name}",
-                joint,
-                translation(offset),
-                mg.Sphere(1.3 * link_radius),
-                TIP_COLOR,
-            )
-        )
+        parts.append(Part(f"skeleton/tip_link_{frame.name}", joint, matrix, link, LINK_COLOR))
+        parts.append(Part(f"skeleton/tip_{frame.name}", joint, translation(offset), tip, TIP_COLOR))
     if floating and model.njoints > 1:
         parts.append(_base_part(children.get(1, [np.zeros(3)]), joint_radius))
     return parts
 
 
 def _tip_frames(model: pin.Model) -> list[pin.Frame]:
-    """The frames away from their joint (feet, toes, tools), one per point.
-
-    A point is named after its link (BODY frame) when there is one, else after the operational
-    or fixed-joint frame there.
-    """
+    """The frames away from their joint (feet, tools), one per point: BODY, else OP, else FIXED."""
     priority = {pin.FrameType.BODY: 0, pin.FrameType.OP_FRAME: 1, pin.FrameType.FIXED_JOINT: 2}
     tips: dict[tuple, pin.Frame] = {}
     for frame in model.frames:
@@ -296,8 +226,8 @@ class RobotBodies:
         robot: The robot.
         geometry: ``"auto"`` (the URDF's visuals if it has any, else a skeleton), ``"urdf"`` or
             ``"skeleton"``.
-        detail: Typical link length [m] (skeleton radii, and the mesh files' decimation:
-            vertices within ``MESH_TOLERANCE * detail`` are merged).
+        detail: Typical link length [m] (skeleton radii; meshes decimated on
+            ``MESH_TOLERANCE * detail`` cells).
 
     Raises:
         InvalidInputError: Unknown ``geometry``.
@@ -337,11 +267,6 @@ class RobotBodies:
         self._joints = np.array([p.joint for p in parts], dtype=int)
         self._placements = np.array([p.placement for p in parts]) if parts else np.zeros((0, 4, 4))
 
-    @property
-    def has_meshes(self) -> bool:
-        """Whether some parts are mesh files."""
-        return any(p.source is not None and _has_mesh_file(p.source) for p in self.parts)
-
     def create(self, scene: object, node: str = "robot") -> None:
         """Send every part's object to the scene (under ``node``)."""
         meshes = [p for p in self.parts if p.geometry is None]
@@ -353,12 +278,10 @@ class RobotBodies:
             loader.viewerRootNodeName = node
             loader.viewerVisualGroupName = "visuals"  # Pinocchio's node: visuals/<geometry name>
             for part in meshes:
-                rgba = [*(((part.color >> s) & 255) / 255.0 for s in (16, 8, 0)), part.opacity]
+                rgba = np.array([*rgb(part.color), part.opacity])
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", UserWarning)
-                    loader.loadViewerGeometryObject(
-                        part.source, pin.GeometryType.VISUAL, np.array(rgba)
-                    )
+                    loader.loadViewerGeometryObject(part.source, pin.GeometryType.VISUAL, rgba)
         for part in self.parts:
             if part.geometry is not None:
                 flat = {"flatShading": True} if isinstance(part.geometry, TriangleMesh) else {}

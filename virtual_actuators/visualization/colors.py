@@ -1,11 +1,8 @@
 """Colour distances in CIELAB, and the desaturation that keeps the robot apart from the overlays.
 
-The viewer draws the robot in its URDF colours with their chroma (CIELAB ``sqrt(a^2 + b^2)``)
-limited to `ROBOT_MAX_CHROMA`, and every overlay colour of the
-`Palette` has a chroma of at least `OVERLAY_MIN_CHROMA`. Two colours
-differ at least by their chroma difference, so an overlay colour is always at least
-``OVERLAY_MIN_CHROMA - ROBOT_MAX_CHROMA`` (CIE76 Delta E) from any robot colour: a clearly
-visible difference (2.3 is a just-noticeable one), whatever colours a URDF declares.
+The robot is drawn with a chroma of at most `ROBOT_MAX_CHROMA`, every overlay colour has at least
+`OVERLAY_MIN_CHROMA`, so they differ by at least the difference (CIE76 Delta E) whatever a URDF
+declares.
 """
 
 from __future__ import annotations
@@ -19,6 +16,7 @@ __all__ = [
     "color_distance",
     "desaturate",
     "from_lab",
+    "rgb",
     "to_lab",
 ]
 
@@ -34,14 +32,15 @@ _WHITE = np.array([0.95047, 1.0, 1.08883])  # D65
 _EPSILON = (6.0 / 29.0) ** 3
 
 
-def _rgb(color: int) -> np.ndarray:
+def rgb(color: int) -> np.ndarray:
+    """A ``0xRRGGBB`` colour as three floats in ``[0, 1]``."""
     return np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255], dtype=float) / 255.0
 
 
 def to_lab(color: int) -> np.ndarray:
     """CIELAB ``(L, a, b)`` of an sRGB colour ``0xRRGGBB`` (D65 white)."""
-    rgb = _rgb(color)
-    linear = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    srgb = rgb(color)
+    linear = np.where(srgb <= 0.04045, srgb / 12.92, ((srgb + 0.055) / 1.055) ** 2.4)
     xyz = _SRGB_TO_XYZ @ linear / _WHITE
     f = np.where(xyz > _EPSILON, np.cbrt(xyz), xyz / (3 * (6 / 29) ** 2) + 4 / 29)
     return np.array([116.0 * f[1] - 16.0, 500.0 * (f[0] - f[1]), 200.0 * (f[1] - f[2])])
@@ -53,8 +52,8 @@ def from_lab(lab: np.ndarray) -> int:
     f = np.array([fy + lab[1] / 500.0, fy, fy - lab[2] / 200.0])
     xyz = np.where(f > 6 / 29, f**3, 3 * (6 / 29) ** 2 * (f - 4 / 29)) * _WHITE
     linear = np.clip(np.linalg.solve(_SRGB_TO_XYZ, xyz), 0.0, 1.0)
-    rgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
-    r, g, b = (int(round(255 * float(c))) for c in np.clip(rgb, 0.0, 1.0))
+    srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+    r, g, b = (int(round(255 * float(c))) for c in np.clip(srgb, 0.0, 1.0))
     return (r << 16) | (g << 8) | b
 
 
@@ -70,11 +69,7 @@ def color_distance(first: int, second: int) -> float:
 
 
 def desaturate(color: int, max_chroma: float = ROBOT_MAX_CHROMA) -> int:
-    """The colour with its chroma limited to ``max_chroma`` (same lightness and hue).
-
-    The result's chroma may exceed ``max_chroma`` by the rounding to 8-bit channels (below
-    1.5 units).
-    """
+    """The colour with its chroma limited to ``max_chroma`` (+1.5 for 8-bit rounding), same hue."""
     lab = to_lab(color)
     current = float(np.hypot(lab[1], lab[2]))
     if current <= max_chroma:

@@ -1,9 +1,4 @@
-"""What the viewer draws in one frame, checked once: `FrameSnapshot`.
-
-`Viewer.show` turns its arguments into a
-snapshot (`FrameSnapshot.build` checks them), then hands it to every overlay. Overlays read
-the snapshot; they never see the raw arguments.
-"""
+"""What the viewer draws in one frame, checked once: `FrameSnapshot`, which overlays read."""
 
 from __future__ import annotations
 
@@ -40,9 +35,7 @@ def reactions_of(actuator: Actuator) -> tuple[str, ...]:
 
 @dataclass(frozen=True, repr=False)
 class FrameSnapshot:
-    """One frame to draw: a configuration and what acts on the robot in it.
-
-    Build it with `build` (which checks the arguments); overlays only read it.
+    """One frame to draw: a configuration and what acts on the robot in it (made by `build`).
 
     Attributes:
         q: Configuration ``(model.nq,)``, finite.
@@ -82,23 +75,7 @@ class FrameSnapshot:
         support: Iterable[str] = (),
         time: float | None = None,
     ) -> FrameSnapshot:
-        """Check the arguments of `Viewer.show` and bundle them.
-
-        Args:
-            nq: Size of the robot's configuration.
-            robot_name: The robot's name (for messages).
-            q: Configuration.
-            solution: A solution of ``actuator``.
-            actuator: The serial or parallel virtual actuator to draw.
-            wrench: Requested wrench on the actuator's axes, without a ``solution``.
-            controller: A controller (with ``attachments``).
-            output: Its output of this tick.
-            state: A gait state (its name and support frames) or a state name.
-            support: More support frames.
-            time: Time of the frame [s].
-
-        Returns:
-            The snapshot.
+        """Check `Viewer.show`'s arguments for a robot of ``nq`` and ``robot_name``; bundle them.
 
         Raises:
             InvalidInputError: Bad ``q`` or ``wrench``, a solution or a wrench without its
@@ -224,7 +201,7 @@ def _check_request(
 
 
 def _check_output(controller: Controller, output: ControlOutput) -> None:
-    """Check that the output's active attachments (and joint-space terms) are the controller's.
+    """Check that the output's active attachments (and postures) are the controller's.
 
     Raises:
         InvalidInputError: ``controller`` has no attachments, or ``output`` names one it lacks.

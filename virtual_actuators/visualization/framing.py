@@ -1,14 +1,7 @@
 """Frame a recording on the robot over the whole run: the box holding its bodies in every frame.
 
-A live view is framed on the robot at its neutral configuration (`RobotScene`); a recorded run can
-leave that frame (a walk rises onto a slope, arms swing up).
-While recording, `RunBounds` accumulates the box of the robot's visible bodies in the
-view's coordinates (the scene node's own placement included, which keeps a travelling robot
-centred). Overlays are not counted: a world frame left behind by a walking robot, or a long
-arrow, would pull the view off the robot (the state name stands beside the robot's upper half).
-`framing_commands` then places the camera so that a sphere around that box fits the
-view, and shifts the scene so that the box is centred on the point MeshCat's orbit controls
-look at (the origin: they cannot be retargeted).
+`RunBounds` grows, while recording, with the visible bodies (overlays are left out);
+`framing_commands` shifts the scene and places the camera to fit it.
 """
 
 from __future__ import annotations
@@ -57,15 +50,11 @@ class RunBounds:
 
 
 def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
-    """Origins ``(n, 3)`` of the placed, visible nodes in the view's coordinates.
-
-    A node's pose is the product of the placements along its path (the scene node's first);
-    a node is visible unless it or one of its parents is hidden.
+    """Origins ``(n, 3)`` of the placed nodes, none of whose parents is hidden, in view axes.
 
     Args:
         scene: The scene.
-        under: Only the nodes whose names start so (the text beside the robot, the ground
-            grid and the terrain extend far beyond the run: `FRAMED` leaves them out).
+        under: Only the nodes whose names start so.
     """
     matrices, visible = scene.matrices, scene.visible
     root = matrices.get("", np.eye(4))
@@ -84,15 +73,8 @@ def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
         composed[name] = result
         return result
 
-    points = []
-    for name in matrices:
-        if not name:
-            continue
-        if not name.startswith(under):
-            continue
-        matrix = pose(name)
-        if matrix is not None:
-            points.append(matrix[:3, 3])
+    poses = [pose(name) for name in matrices if name and name.startswith(under)]
+    points = [matrix[:3, 3] for matrix in poses if matrix is not None]
     return np.array(points) if points else np.zeros((0, 3))
 
 
@@ -102,16 +84,16 @@ SCENES_PATH = MeshcatPath(("meshcat",))
 
 
 def framing_commands(bounds: RunBounds, view: np.ndarray, margin: float) -> list[object]:
-    """Commands that frame the run's box: the camera's distance and the scene's offset.
+    """Commands that centre the run's box on the origin and fit a sphere around it in view.
 
     Args:
         bounds: The run's box.
         view: Unit vector from the target to the camera (world axes).
-        margin: Added around the box (shapes extend beyond their nodes' origins) [m].
+        margin: Added around the box [m].
 
     Returns:
-        ``SetTransform`` of ``/meshcat`` (the parent of the scene's node) and ``SetProperty``
-        of the camera's position (none for an empty box).
+        ``SetTransform`` of ``/meshcat`` and ``SetProperty`` of the camera's position (none
+        for an empty box).
     """
     if bounds.low is None or bounds.high is None:
         return []

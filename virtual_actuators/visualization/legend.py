@@ -1,8 +1,4 @@
-"""Colours and the legend: what each colour and size means, as text, HTML and scene objects.
-
-The legend lists only what was drawn: overlays mark the palette entries they use on the scene
-(`mark`), and `legend_entries` keeps those.
-"""
+"""Colours and the legend (as text, HTML and scene objects), which lists only what was drawn."""
 
 from __future__ import annotations
 
@@ -15,18 +11,15 @@ from dataclasses import dataclass, fields
 class Palette:
     """Colours (``0xRRGGBB``) of everything the viewer draws over the robot.
 
-    Every default colour has a CIELAB chroma of at least
-    `OVERLAY_MIN_CHROMA` (the robot is drawn with at most
-    `ROBOT_MAX_CHROMA`, so no overlay colour equals a robot colour) and any two
-    differ by a CIE76 Delta E of at least 25 (no two near-identical oranges).
+    Each default has a CIELAB chroma of at least `OVERLAY_MIN_CHROMA` (above the robot's
+    `ROBOT_MAX_CHROMA`), and any two differ by a CIE76 Delta E of at least 25.
 
     Attributes:
         requested_force: Requested force on the action frame.
         requested_moment: Requested moment on the action frame (double head).
         share_force: A chain's share, drawn at its reaction frame.
         share_moment: Its moment about the reaction frame's origin.
-        produced: Produced wrench when it differs from the request but was admissible (free
-            axes, a request scaled down to keep the feet on the ground).
+        produced: Produced wrench of an admissible request it differs from (free axes).
         inadmissible: Produced wrench of an inadmissible request (least squares).
         spring: Virtual springs.
         damper: Virtual dampers.
@@ -83,14 +76,12 @@ def legend_entries(
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
         effort_reference: Effort shown as a full gauge at joints without a limit [N m or N].
-        drawn: Keys of what was drawn: `Palette` field names, ``"no_limit"`` (a gauge
-            at a joint without an effort limit) and ``"frames"`` (triads). None: every entry.
+        drawn: Keys drawn: `Palette` fields, ``"no_limit"``, ``"frames"`` (None: all).
     """
     p = palette
     entries = [
         ("requested_force", p.requested_force, f"force: 1 m = {_number(1 / force_scale)} N"),
-        ("requested_moment", p.requested_moment,
-         f"moment: 1 m = {_number(1 / moment_scale)} N m"),
+        ("requested_moment", p.requested_moment, f"moment: 1 m = {_number(1 / moment_scale)} N m"),
         ("share_force", p.share_force, "chain share at reaction"),
         ("share_moment", p.share_moment, "chain moment at reaction"),
         ("produced", p.produced, "produced (adjusted)"),
@@ -121,11 +112,7 @@ def legend_html(entries: list[tuple[int | None, str]], title: str = "") -> str:
     """The legend as an HTML box (for standalone pages)."""
     rows = []
     for color, text in entries:
-        swatch = (
-            f'<span class="sw" style="background:#{color:06X}"></span>'
-            if color is not None
-            else '<span class="sw" style="border-color:transparent"></span>'
-        )
-        rows.append(f"<div>{swatch}{html.escape(text)}</div>")
+        style = f"background:#{color:06X}" if color is not None else "border-color:transparent"
+        rows.append(f'<div><span class="sw" style="{style}"></span>{html.escape(text)}</div>')
     heading = f"<div><b>{html.escape(title)}</b></div>" if title else ""
     return f'<div id="va-overlay">{heading}{"".join(rows)}</div>'

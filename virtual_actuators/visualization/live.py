@@ -24,13 +24,8 @@ from .windows import SceneWindow, path_of
 class LiveWindow(SceneWindow):
     """A MeshCat server, fed through a relay process that never makes the caller wait.
 
-    MeshCat's own client waits for the server's reply after every command. This window packs
-    the commands (transforms by a fast path), queues them, and on `commit` writes the
-    whole batch to a small relay process (`relay`) in one pipe write; the relay sends them
-    to the server without waiting and reports how many were answered. The control loop thus
-    pays the packing and one write per frame; when more than ``max_backlog`` commands are
-    unanswered the window is `congested` and the viewer skips live frames until the server
-    catches up.
+    `commit` writes a frame's packed commands to the relay in one pipe write; with more than
+    ``max_backlog`` commands unanswered the window is `congested` and live frames are skipped.
 
     Args:
         zmq_url: ZMQ URL of a running MeshCat server (``meshcat-server`` prints it); None
@@ -113,8 +108,12 @@ class LiveWindow(SceneWindow):
             header = _transform_header(path)
             size = len(header) + _DOUBLE.itemsize * 16
             prefix = _FRAME_PREFIXES[path] = (
-                _LENGTH.pack(13) + b"set_transform" + _LENGTH.pack(len(encoded)) + encoded
-                + _LENGTH.pack(size) + header
+                _LENGTH.pack(13)
+                + b"set_transform"
+                + _LENGTH.pack(len(encoded))
+                + encoded
+                + _LENGTH.pack(size)
+                + header
             )
         self._batch += prefix + _matrix_bytes(matrix)
         self.sent += 1
@@ -129,9 +128,8 @@ class LiveWindow(SceneWindow):
             stream.write(_LENGTH.pack(len(batch)) + batch)
             stream.flush()
         except (BrokenPipeError, ValueError) as error:
-            raise VirtualActuatorError(
-                "The MeshCat relay process stopped; create a new viewer."
-            ) from error
+            message = "The MeshCat relay process stopped; create a new viewer."
+            raise VirtualActuatorError(message) from error
 
     def _read_acks(self) -> None:
         try:
@@ -214,11 +212,7 @@ def _matrix_bytes(matrix: np.ndarray) -> bytes:
 
 
 def pack_transform(path: str, matrix: np.ndarray) -> bytes:
-    """MessagePack of a ``set_transform`` command, as MeshCat packs it, without umsgpack.
-
-    Equal (once unpacked) to ``umsgpack.packb(SetTransform(matrix, path).lower())``, about ten
-    times faster, which matters at tens of transforms per frame.
-    """
+    """``umsgpack.packb(SetTransform(matrix, path).lower())``, about ten times faster."""
     return _transform_header(path) + _matrix_bytes(np.asarray(matrix, dtype=float))
 
 

@@ -1,15 +1,7 @@
-"""The URDF's mesh files as compact triangle meshes: decimated, sent as binary arrays.
+"""The URDF's mesh files as decimated triangle meshes, sent as binary arrays (small pages).
 
-Pinocchio loads every mesh file of a URDF (STL, OBJ, Collada) through coal into a triangle
-model, already scaled by the URDF's ``scale``; Collada files are read by the project's own reader
-instead ([`collada_arrays`][virtual_actuators.models.collada.collada_arrays], which the MuJoCo
-model's collision meshes use too). Sending the files themselves makes heavy pages:
-Collada is XML, and the go2's 17 visuals were 11 MB of it (a 15.7 MB page for two seconds of
-walking). Here the loaded triangles are read back (`mesh_arrays`), vertices closer than a
-tolerance are merged (`decimate`, vertex clustering: a cell of a grid becomes one vertex,
-triangles that collapse are dropped) and the result is sent as binary arrays
-(`TriangleMesh`: float32 positions, 16-bit indices when they fit, no normals: the browser
-shades each face flat). `MeshCache` decimates each file once, however many links use it.
+Triangles come from coal (Collada ones from `collada_arrays`), are decimated by vertex
+clustering (`decimate`) and sent as `TriangleMesh`; `MeshCache` decimates each file once.
 """
 
 from __future__ import annotations
@@ -49,8 +41,8 @@ def decimate(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Merge the vertices of each cube of side ``tolerance`` into their mean (vertex clustering).
 
-    Triangles with two corners in one cell collapse and are dropped, duplicates are dropped,
-    unused vertices removed. Every vertex moves by at most ``sqrt(3) * tolerance``.
+    Collapsed and duplicate triangles are dropped; a vertex moves by at most
+    ``sqrt(3) * tolerance``.
 
     Args:
         vertices: ``(n, 3)`` [m].
@@ -69,12 +61,8 @@ def decimate(
     np.add.at(merged, cluster, vertices)
     merged /= np.bincount(cluster)[:, None]
     corners = cluster[triangles]
-    distinct = (
-        (corners[:, 0] != corners[:, 1])
-        & (corners[:, 1] != corners[:, 2])
-        & (corners[:, 0] != corners[:, 2])
-    )
-    corners = corners[distinct]
+    a, b, c = corners.T
+    corners = corners[(a != b) & (b != c) & (a != c)]
     first = np.argmin(corners, axis=1)  # rotate each triangle to start at its least index
     rolled = corners[np.arange(len(corners))[:, None], (first[:, None] + np.arange(3)) % 3]
     corners = np.unique(rolled, axis=0)
@@ -92,9 +80,7 @@ def _typed(values: np.ndarray, code: int, dtype: type) -> dict:
 
 
 class TriangleMesh(Geometry):
-    """A three.js ``BufferGeometry`` of positions and triangle indices (no normals).
-
-    Draw it with a ``flatShading`` material: the browser shades each face from its own plane.
+    """A three.js ``BufferGeometry`` of positions and triangle indices, for ``flatShading``.
 
     Args:
         vertices: ``(n, 3)`` [m].

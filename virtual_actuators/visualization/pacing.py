@@ -1,9 +1,4 @@
-"""When a drawn frame is sent to the live window and when it is added to the recording.
-
-`FramePacer` throttles live updates to ``rate_hz`` frames per wall-clock second (skipping
-frames while a live server lags) and paces recorded frames at the recording's fps, by the
-frames' own time (e.g. simulated time) or by the wall clock.
-"""
+"""When a drawn frame is sent live (at most ``rate_hz``, none while the server lags), recorded."""
 
 from __future__ import annotations
 
@@ -45,13 +40,10 @@ class FramePacer:
         self.bounds = RunBounds()
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """Whether a live update and a recorded frame are due (cheap: two comparisons).
+        """``(live, record)``: whether a live update and a recorded frame are due.
 
         Args:
             time: Simulated time [s] (recordings are paced by it), or None for wall time.
-
-        Returns:
-            ``(live, record)``.
         """
         live = (
             self.window.live
@@ -111,11 +103,8 @@ class FramePacer:
 
         Args:
             title: Page title.
-            overlay: HTML over the view (the legend: the one drawn in the scene is hidden).
+            overlay: HTML over the view (the legend; the scene's own is hidden).
             framing: Commands that frame the recording (camera, offset), applied with it.
-
-        Returns:
-            The page.
         """
         self.scene.sync()
         recording = self.recording or self.last_recording

@@ -1,15 +1,8 @@
 """Recording a run as a MeshCat animation, written into a standalone HTML page.
 
-`AnimationRecording` takes the scene's state (world matrix of every placed node,
-visibility of every dynamic node) at each recorded frame and keeps only what changed. Its
-`command` is a MeshCat ``set_animation`` command with one clip per
-node: ``.position``, ``.quaternion`` and (for stretched shapes such as arrows) ``.scale`` tracks,
-plus a discrete ``.visible`` track for nodes that appear and disappear. Key times and values are
-packed as ``Float32Array`` (MessagePack extension 0x17, which the viewer decodes natively), so a
-minute of a walking robot stays a few megabytes.
-
-Between two keys three.js interpolates; when a node did not change for several frames a copy
-of its last key is added just before the change, so that it holds still instead of drifting.
+`AnimationRecording` keeps what changed at each frame; its `command` is a ``set_animation``
+with position, quaternion, scale and visible tracks packed as ``Float32Array``. A node that
+held still gets a copy of its last key before it moves, so it does not drift.
 """
 
 from __future__ import annotations
@@ -35,11 +28,7 @@ def _track(name: str, kind: str, times: np.ndarray, values: object) -> dict:
 
 
 def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Split ``[R diag(s) | p]`` into position, quaternion ``(x, y, z, w)`` and scale.
-
-    Args:
-        matrix: ``(4, 4)`` placement whose linear part is a rotation times a positive diagonal
-            scale (every matrix the viewer sends is of that form).
+    """Split ``[R diag(s) | p]`` (``s`` positive) into position, quaternion ``(x, y, z, w)``, scale.
 
     Returns:
         ``(p (3,), quaternion (4,), s (3,))``.
@@ -88,8 +77,7 @@ class AnimationRecording:
     """Frames of the scene, kept as per-node changes.
 
     Args:
-        fps: Nominal frames per second (the clips' ``fps``; key times follow the frames' own
-            times, so irregular frames play at their true pace).
+        fps: Nominal frames per second (key times follow the frames' own times).
 
     Raises:
         InvalidInputError: ``fps`` is not a positive number.
@@ -120,8 +108,7 @@ class AnimationRecording:
 
         Args:
             time: Time of the frame [s]; frames must come in increasing time.
-            matrices: World matrix of every placed node (arrays are compared by identity: a
-                node placed again gets a new array).
+            matrices: World matrix of every placed node (compared by identity).
             visible: Visibility of every dynamic node.
 
         Raises:
@@ -129,9 +116,8 @@ class AnimationRecording:
         """
         time = float(time)
         if self.times and not time > self.times[-1]:
-            raise InvalidInputError(
-                f"Recorded frames need increasing times: {time} after {self.times[-1]}."
-            )
+            message = f"Recorded frames need increasing times: {time} after {self.times[-1]}."
+            raise InvalidInputError(message)
         k = len(self.times)
         self.times.append(time)
         for name, matrix in matrices.items():
@@ -163,14 +149,11 @@ class AnimationRecording:
         return [(self.times[k] - start, v) for k, v in self._visible.get(name, [])]
 
     def command(self, path_of, play: bool = True) -> AnimationCommand:
-        """The ``set_animation`` command of the recording.
+        """The ``set_animation`` command of the recording, one clip per node.
 
         Args:
             path_of: Maps a node name to its MeshCat path.
             play: Start playing when loaded.
-
-        Returns:
-            The command (one clip per node).
         """
         start = self.times[0] if self.times else 0.0
         frame_times = (np.array(self.times) - start) * self.fps  # in frames, as MeshCat counts
@@ -179,13 +162,11 @@ class AnimationRecording:
             if len(keys) < 2:
                 continue  # never moved while recording: its static transform is enough
             times = frame_times[[k for k, _ in keys]]
-            parts = [decompose(m) for _, m in keys]
-            positions = np.array([p for p, _, _ in parts])
-            quaternions = np.array([q for _, q, _ in parts])
+            columns = zip(*(decompose(m) for _, m in keys), strict=True)
+            positions, quaternions, scales = (np.array(column) for column in columns)
             for i in range(1, len(quaternions)):  # continuous signs for interpolation
                 if quaternions[i] @ quaternions[i - 1] < 0:
                     quaternions[i] = -quaternions[i]
-            scales = np.array([s for _, _, s in parts])
             tracks = [
                 _track(".position", "vector3", times, _float32(positions.ravel())),
                 _track(".quaternion", "quaternion", times, _float32(quaternions.ravel())),
@@ -195,9 +176,8 @@ class AnimationRecording:
             clips.setdefault(name, []).extend(tracks)
         for name, keys in self._visible.items():
             times = frame_times[[k for k, _ in keys]]
-            clips.setdefault(name, []).append(
-                _track(".visible", "boolean", times, [v for _, v in keys])
-            )
+            track = _track(".visible", "boolean", times, [v for _, v in keys])
+            clips.setdefault(name, []).append(track)
         animations = [
             {"path": path_of(name), "clip": {"fps": self.fps, "name": "default", "tracks": tracks}}
             for name, tracks in clips.items()

@@ -1,14 +1,9 @@
-"""Relay process of `LiveWindow`: stdin to a MeshCat server.
+"""Relay process of `LiveWindow`: stdin to a MeshCat server, never waiting for it.
 
-Run as ``python relay.py ZMQ_URL`` (by file path: this module imports only the standard library
-and pyzmq). It reads batches from stdin, each ``>I`` length then commands, each command three
-``>I``-length-prefixed frames (type, path, MessagePack data) as MeshCat's server expects; sends
-them on a DEALER socket without waiting for replies; and writes the running count of replies as
-``>Q`` to stdout, so that the viewer knows how far behind the server is. It exits at the end of
-stdin (the viewer closed, or its process ended).
-
-Keeping the sockets in their own process means the control loop pays one pipe write per frame,
-and never waits for the server or competes for the GIL with a sender thread.
+Run as ``python relay.py ZMQ_URL`` (it imports only the standard library and pyzmq). It reads
+batches from stdin, each a ``>I`` length then commands of three ``>I``-length-prefixed frames
+(type, path, MessagePack data), sends them on a DEALER socket without waiting for replies, and
+writes the running count of replies as ``>Q`` to stdout. It exits at the end of stdin.
 """
 
 from __future__ import annotations

@@ -1,11 +1,7 @@
-"""The robot in the MeshCat scene, and the drawing primitives that overlays share.
+"""The robot in the MeshCat scene and the drawing primitives that overlays share.
 
-`RobotScene` owns the robot's geometry and kinematics as drawn: its bodies, the Pinocchio
-data at the drawn configuration, the sizes of arrows and markers (from the robot's typical link
-length), the camera, the ground and the HUD (the plane facing the camera, where text stands).
-Overlays (`overlays`) draw on it with `RobotScene.arrow`, `RobotScene.wrench`,
-`RobotScene.triad` and `RobotScene.span`, into its node bookkeeping
-`RobotScene.nodes` (a `Scene`).
+`RobotScene` holds the drawn kinematics, marker sizes, camera, ground and HUD; overlays draw
+with its arrows, wrenches, triads, spans and markers.
 """
 
 from __future__ import annotations
@@ -21,13 +17,7 @@ from ..models.robot import Robot
 from ..vocabulary.axes import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .legend import Palette
-from .robot_layout import (
-    effort_joints,
-    ground_grid,
-    is_planar,
-    marker_sizes,
-    terrain_segments,
-)
+from .robot_layout import effort_joints, ground_grid, is_planar, marker_sizes, terrain_segments
 from .scene import Scene
 from .shape_placement import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
 from .shapes import Cone, material, triad_parts
@@ -64,21 +54,20 @@ class RobotScene:
         palette: Colours.
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
-        effort_reference: Effort drawn as a full gauge at joints without an effort limit.
-        camera: ``"auto"``, ``"side"``, ``"iso"`` or None (checked by the viewer).
+        effort_reference: Full gauge at joints without an effort limit [N m or N].
+        camera: ``"auto"``, ``"side"``, ``"iso"`` or None.
         follow: Keep a travelling robot at the centre of the view (None: when it can travel).
 
     Attributes:
         data: Pinocchio data at the last configuration drawn (`pose`).
         extent: Size of the robot at its neutral configuration [m].
         detail: Typical link length, the unit of every marker's size [m].
-        sizes: Sizes of shafts, heads, gauges, coils... [m].
+        sizes: Sizes of shafts, heads, gauges, coils [m].
         view: Unit vector from the robot's centre to the camera (world axes).
         planar: Whether every joint moves in the x-z plane.
         follow: Whether the view follows the robot.
         effort_joints: An `EffortJoint` per actuated 1-dof joint.
-        drawn: Keys of what has been drawn so far (`Palette` field names,
-            ``"no_limit"``, ``"frames"``): the legend lists these (see `mark`).
+        drawn: Keys of what has been drawn so far, which the legend lists (see `mark`).
     """
 
     def __init__(
@@ -112,8 +101,6 @@ class RobotScene:
         self._sizes(camera, follow)
         self.effort_joints = effort_joints(robot, self.data, q0)
 
-    # -- set-up ------------------------------------------------------------------------------
-
     def _sizes(self, camera: str | None, follow: bool | None) -> None:
         model, data = self.model, self.data
         points = np.array([f.translation for f in data.oMf] + [m.translation for m in data.oMi])
@@ -144,10 +131,8 @@ class RobotScene:
     def build(self) -> None:
         """Empty the node, then send the background, the robot's bodies, the ground and camera.
 
-        MeshCat's orbit controls look at the world origin and cannot be retargeted (MeshCat
-        0.3.2), so the whole node is shifted to put the robot's centre there (and keeps
-        shifting with a travelling robot, see ``follow``). MeshCat's grid and axes, which would
-        no longer lie on the robot's ground, are replaced by a grid inside the node.
+        MeshCat's orbit controls look at the world origin, so the node is shifted to put the
+        robot's centre there, with a grid of its own on the robot's ground.
         """
         nodes = self.nodes
         nodes.node("").delete()
@@ -170,7 +155,7 @@ class RobotScene:
     def set_terrain(
         self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
     ) -> None:
-        """Draw a planar ground profile instead of the grid (see `Viewer.set_terrain`).
+        """Draw a planar ground profile instead of the grid (`Viewer.set_terrain`).
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
@@ -193,8 +178,6 @@ class RobotScene:
         matrix[:3, 3] = rotation[:, 0] * offset_right + rotation[:, 1] * offset_up
         return matrix
 
-    # -- per frame ---------------------------------------------------------------------------
-
     def pose(self, q: np.ndarray) -> None:
         """Forward kinematics at ``q`` (checked by the caller); place the bodies and the view."""
         model, data, nodes = self.model, self.data, self.nodes
@@ -209,18 +192,14 @@ class RobotScene:
             nodes.place("hud", translation(centre))
 
     def mark(self, *keys: str) -> None:
-        """Record that what ``keys`` stand for was drawn (the legend lists only that).
-
-        Args:
-            keys: `Palette` field names, ``"no_limit"`` or ``"frames"``.
-        """
+        """Record that ``keys`` (`Palette` fields, ``"no_limit"``, ``"frames"``) were drawn."""
         self.drawn.update(keys)
 
     def frame(self, name: str, role: str) -> int:
         """Id of the frame ``name`` (cached).
 
         Raises:
-            FrameNotFoundError: The robot has no such frame (``role`` names it in the message).
+            FrameNotFoundError: The robot has no such frame (the message names ``role``).
         """
         key = (name, role)
         frame_id = self._frame_ids.get(key)
@@ -341,12 +320,9 @@ class RobotScene:
     def marker(
         self, name: str, make: Callable[[], tuple[object, object]], position: np.ndarray
     ) -> None:
-        """Show the dynamic object ``name`` at ``position``.
+        """Show the dynamic object ``name`` at ``position`` [m].
 
-        Args:
-            name: The node.
-            make: Gives ``(geometry, material)``; called once, when the object is created.
-            position: Its centre in the world [m].
+        ``make()`` gives its ``(geometry, material)`` once, when it is created.
         """
         nodes = self.nodes
         if not nodes.has(name):

@@ -1,13 +1,8 @@
 """Bookkeeping of the viewer's MeshCat nodes: objects, per-frame transforms and visibility.
 
-Objects are created once; each frame places nodes and shows dynamic ones, and only the
-difference is sent to the window.
-
-A frame is drawn by `Scene.place` (a node's world matrix) and `Scene.use` (a
-*dynamic* node is shown this frame); `Scene.end_frame` hides every dynamic node that was
-not used, so that an arrow of an attachment that a state machine switched off disappears.
-`Scene.sync` then sends only what changed since the last sync: a recording can take frames
-without sending anything, and a throttled live view sends the latest state when it is due.
+Objects are created once; each frame places nodes (`Scene.place`) and shows dynamic ones
+(`Scene.use`), `Scene.end_frame` hides the dynamic ones not used, and `Scene.sync` sends only
+what changed.
 """
 
 from __future__ import annotations
@@ -43,8 +38,7 @@ class Scene:
     def node(self, name: str) -> object:
         """The MeshCat view of a node (``/absolute`` names are outside the prefix)."""
         view = self._views.get(name)
-        if view is None:
-            # never pass an empty path element: MeshCat restarts the path at the root on one
+        if view is None:  # no empty path element: MeshCat restarts the path at the root on one
             key = name if name.startswith("/") else "/".join(p for p in (self.prefix, name) if p)
             view = self._views[name] = self.vis[key]
         return view
@@ -93,7 +87,7 @@ class Scene:
         self.matrices[name] = matrix
 
     def set_property(self, name: str, key: str, value: object) -> None:
-        """Send a property now (static properties: colours of the background, camera...)."""
+        """Send a static property now (the background's colours, the camera)."""
         self.node(name).set_property(key, value)
 
     def end_frame(self) -> None:

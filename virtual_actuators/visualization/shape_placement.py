@@ -1,12 +1,7 @@
-"""The pure functions that place the MeshCat scene's shapes (the shapes are in ``shapes.py``).
+"""The pure functions that place the MeshCat scene's shapes.
 
-three.js (and so MeshCat) builds cylinders and cones along their local **y** axis, centred on
-the origin. Every elongated shape here (arrow shafts and heads, spring coils, damper parts,
-skeleton links) is therefore drawn with a matrix ``[R diag(1, length, 1) | centre]`` where ``R``
-turns y onto the shape's direction: `rotation_y_to` and `span_matrix` compute it,
-`arrow_matrices` lays out an arrow whose tip lands exactly on ``origin + vector``.
-
-`terrain_boxes` lays a ground profile out as slabs.
+three.js builds cylinders and cones along their local y axis, so an elongated shape is drawn
+with ``[R diag(1, length, 1) | centre]``, ``R`` turning y onto its direction.
 """
 
 from __future__ import annotations
@@ -71,9 +66,7 @@ def span_matrix(start: np.ndarray, end: np.ndarray, rotation: np.ndarray | None 
         return None
     rot = rotation_y_to(delta) if rotation is None else rotation
     matrix = np.eye(4)
-    matrix[:3, 0] = rot[:, 0]
-    matrix[:3, 1] = rot[:, 1] * length
-    matrix[:3, 2] = rot[:, 2]
+    matrix[:3, :3] = rot * [1.0, length, 1.0]
     matrix[:3, 3] = 0.5 * (start + end)
     return matrix
 
@@ -83,14 +76,12 @@ def arrow_matrices(
 ) -> list[np.ndarray] | None:
     """Placements of an arrow's shaft and heads so that its tip is at ``origin + vector``.
 
-    The shaft is a unit-height cylinder stretched along the arrow; each head is a cone of
-    height ``head_length`` (scaled down uniformly when the arrow is shorter than
-    ``(heads + 1) * head_length``). A second head (moments) sits `HEAD_SPACING` head
-    lengths behind the first.
+    Heads shrink uniformly on an arrow shorter than ``(heads + 1) * head_length``; a second
+    head sits `HEAD_SPACING` head lengths behind the first.
 
     Args:
         origin: Tail of the arrow [m].
-        vector: Arrow from tail to tip [m] (already multiplied by its scale).
+        vector: Arrow from tail to tip, scaled [m].
         head_length: Nominal head length [m].
         heads: 1 (forces) or 2 (moments).
 
@@ -122,26 +113,8 @@ def arrow_matrices(
     return out
 
 
-def arrow_tip(shaft: np.ndarray, head: np.ndarray, head_length: float) -> np.ndarray:
-    """Recover the tip of an arrow from its shaft and first-head matrices (for tests).
-
-    Args:
-        shaft: Shaft placement from `arrow_matrices`.
-        head: First head placement.
-        head_length: Nominal head length used to build them.
-
-    Returns:
-        The tip position [m].
-    """
-    axis = head[:3, 1]  # rotation column times the head's uniform scale
-    return head[:3, 3] + axis * head_length / 2.0
-
-
 def frame_on_plane(normal: np.ndarray, up: Sequence[float] = (0.0, 0.0, 1.0)) -> np.ndarray:
-    """Rotation whose z axis is ``normal`` and whose y axis is as close as possible to ``up``.
-
-    Used to turn text planes (which face their local +z) towards the camera.
-    """
+    """Rotation whose z axis is ``normal`` and whose y axis is as close as possible to ``up``."""
     up = np.asarray(up, dtype=float)
     z = np.asarray(normal, dtype=float)
     z = z / np.linalg.norm(z)
@@ -182,7 +155,7 @@ def terrain_boxes(
         thickness: Thickness of the slabs [m].
 
     Returns:
-        ``(lengths (3,), placement (4, 4))`` per segment, for a unit-free ``Box(lengths)``.
+        ``(lengths (3,), placement (4, 4))`` per segment, for a ``Box(lengths)``.
     """
     out = []
     for (x0, z0), (x1, z1) in segments:

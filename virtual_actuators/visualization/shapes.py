@@ -1,11 +1,7 @@
-"""Shapes for the MeshCat scene: materials, the geometries MeshCat lacks, composite shapes.
+"""Shapes for the MeshCat scene: materials, the geometries MeshCat 0.3.2 lacks, composite shapes.
 
-MeshCat 0.3.2 has boxes, spheres, cylinders, lines and meshes but no cone, no plane and no text;
-`Cone`, `Plane` and `TextTexture` add them in the JSON format of three.js
-r132 (the version bundled with MeshCat), and `Placed` gives any geometry a fixed offset
-inside its node (MeshCat's ``intrinsic_transform``). Like three.js's own, the elongated shapes
-lie along their local y axis (see `geometry`, which places
-them).
+`Cone`, `Plane` and `TextTexture` are in three.js r132's JSON format; `Placed` gives a
+geometry a fixed offset in its node. Elongated shapes lie along their local y axis.
 """
 
 from __future__ import annotations
@@ -16,13 +12,6 @@ import meshcat.geometry as mg
 import numpy as np
 
 from .shape_placement import span_matrix
-
-# -- colours -------------------------------------------------------------------------------------
-
-
-def rgb(color: int) -> tuple[float, float, float]:
-    """Split a ``0xRRGGBB`` colour into three floats in ``[0, 1]``."""
-    return ((color >> 16) & 0xFF) / 255.0, ((color >> 8) & 0xFF) / 255.0, (color & 0xFF) / 255.0
 
 
 def to_hex(rgba: Sequence[float]) -> int:
@@ -36,9 +25,6 @@ def material(color: int, opacity: float = 1.0, **properties: object) -> mg.MeshP
     return mg.MeshPhongMaterial(color=int(color), opacity=float(opacity), **properties)
 
 
-# -- geometries MeshCat 0.3.2 lacks --------------------------------------------------------------
-
-
 class Cone(mg.Geometry):
     """A cone along the local y axis, centred on the origin, apex at ``+height / 2``.
 
@@ -50,11 +36,8 @@ class Cone(mg.Geometry):
 
     def __init__(self, height: float, radius: float, radial_segments: int = 24) -> None:
         super().__init__()
-        self.height, self.radius, self.radial_segments = (
-            float(height),
-            float(radius),
-            radial_segments,
-        )
+        self.height, self.radius = float(height), float(radius)
+        self.radial_segments = radial_segments
 
     def lower(self, object_data: object) -> dict:
         """The three.js ``ConeGeometry`` JSON."""
@@ -100,10 +83,7 @@ class Plane(mg.Geometry):
 
 
 class TextTexture(mg.Texture):
-    """One line of black text drawn by the browser on a 256 x 256 transparent canvas.
-
-    MeshCat's viewer turns a texture of type ``"_text"`` into a canvas texture; the text is
-    centred and shrunk until it fits the canvas width.
+    """One line of black text, centred on a 256 x 256 transparent canvas (MeshCat's ``_text``).
 
     Args:
         text: The line of text.
@@ -156,14 +136,10 @@ class Placed(mg.Geometry):
 
 
 def text_faces(text: str, size: float, font_size: int = 28) -> list[tuple[str, mg.Mesh]]:
-    """``text`` on two square planes of side ``size`` [m], back to back, each seen from one side.
+    """``text`` on two single-sided square planes of side ``size`` [m], back to back.
 
-    Each plane is single-sided (three.js ``FrontSide``) and shows the text reading left to
-    right from the side it faces: the ``"front"`` one faces its node's +z, the ``"back"`` one,
-    turned half a turn about the text's up axis (+y), faces -z. So the text reads correctly from
-    wherever the camera is, also when a viewer's user orbits behind it (a double-sided plane
-    shows the text mirrored from behind). Unlit, transparent background: transparent texels are
-    discarded (``alphaTest``) so that overlapping text planes do not hide each other.
+    The ``"front"`` plane faces its node's +z and the ``"back"`` one -z, so the text reads left
+    to right from either side; transparent texels are discarded (``alphaTest``).
 
     Returns:
         ``(name, mesh)`` for the front and the back plane.
@@ -176,9 +152,6 @@ def text_faces(text: str, size: float, font_size: int = 28) -> list[tuple[str, m
         ("front", mg.Mesh(Plane(size, size), material)),
         ("back", mg.Mesh(Placed(Plane(size, size), half_turn), material)),
     ]
-
-
-# -- composite shapes ----------------------------------------------------------------------------
 
 
 def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
@@ -229,12 +202,8 @@ def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.Tri
         normal /= np.linalg.norm(normal)
         binormal = np.cross(tangent, normal)
         angles = 2 * np.pi * np.arange(sides) / sides
-        rings.append(
-            centre[i]
-            + wire
-            * radius
-            * (np.outer(np.cos(angles), normal) + np.outer(np.sin(angles), binormal))
-        )
+        circle = np.outer(np.cos(angles), normal) + np.outer(np.sin(angles), binormal)
+        rings.append(centre[i] + wire * radius * circle)
     vertices = np.vstack(rings)
     faces = []
     for i in range(len(rings) - 1):

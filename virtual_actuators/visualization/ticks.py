@@ -41,7 +41,7 @@ class Gait(Protocol):
 
 
 class PacedView(Protocol):
-    """What `TickUpdater` uses of a `Viewer`."""
+    """What `TickUpdater` uses of a `Viewer` (its ``robot``)."""
 
     robot: Robot
 
@@ -62,10 +62,8 @@ class PacedView(Protocol):
 class TickUpdater:
     """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
 
-    Called after every physics step by `run_walk`; does nothing
-    (two clock readings) unless a live update (the viewer's ``rate_hz``, wall clock) or a
-    recorded frame (the recording's fps, simulated time) is due. Then it draws the simulator's
-    configuration with the gait's controller, its last output and its current state.
+    When one is due, it draws the simulator's ``q`` with the gait's controller, last output
+    and state.
 
     Args:
         viewer: The viewer.
@@ -82,7 +80,7 @@ class TickUpdater:
         self._sim_start = 0.0
 
     def __call__(self, simulator: Simulation, gait: Gait) -> None:
-        """Update the viewer if due (see the class documentation).
+        """Update the viewer if due.
 
         Raises:
             InvalidInputError: The simulator's ``q`` or the gait's output does not fit.

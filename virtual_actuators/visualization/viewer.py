@@ -1,18 +1,14 @@
 """The MeshCat viewer: a robot, its virtual actuators and what the controller does with them.
 
-`Viewer` draws the robot at a configuration ``q`` (`RobotScene`: its
-URDF visuals or a skeleton, the ground, the camera) and, over it, a list of
-`Overlay` (wrenches, components, effort gauges, state name, support feet,
-legend: see `overlays`). `Viewer.show` bundles its arguments into a
-`FrameSnapshot` that every overlay draws; objects not drawn in a frame are
-hidden, so a state machine switching attachments leaves no stale arrows. A new overlay is a
-subclass of `Overlay` given to `Viewer.add_overlay`.
+`Viewer.show` draws the robot at ``q`` (`RobotScene`) and its overlays over it; objects not
+drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import meshcat
@@ -24,14 +20,15 @@ from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from .bodies import RobotBodies, typical_link_length
 from .frame_snapshot import Actuator, FrameSnapshot
-from .legend import PALETTE, Palette, legend_entries, legend_text
+from .framing import framing_commands
+from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
 from .pacing import FramePacer
+from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
 from .ticks import TickUpdater
-from .viewer_output import ViewerOutput
 from .windows import ForwardingWindow, SceneWindow
 
 if TYPE_CHECKING:
@@ -61,44 +58,40 @@ def _forward(name: str, doc: str, settable: bool = False) -> property:
     return property(get, put if settable else None, doc=doc)
 
 
-class Viewer(ViewerOutput):
+class Viewer:
     """Show a robot and its virtual actuators in MeshCat.
 
     Args:
         robot: The robot.
-        window: Where to send the scene: None starts a MeshCat server (or connects to
-            ``zmq_url``) and prints its URL; a
-            `CommandRecorder` or
-            `OfflineWindow` draws without any server;
-            any object with ``send(command)`` (MeshCat's ``ViewerWindow``) is forwarded to.
+        window: None starts a MeshCat server (or connects to ``zmq_url``) and prints its URL;
+            a `CommandRecorder` or `OfflineWindow` draws without a server; any other object
+            with ``send(command)`` (MeshCat's ``ViewerWindow``) is forwarded to.
         open: Open the URL in a web browser.
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
-        effort_reference: Effort drawn as a full gauge at joints without an effort limit in
-            the URDF [N m or N].
+        effort_reference: Full gauge at joints without a URDF effort limit [N m or N].
         zmq_url: URL of a running ``meshcat-server`` to use instead of starting one.
         prefix: MeshCat node under which everything is drawn (re-created empty).
-        geometry: ``"auto"`` (URDF visuals when the URDF has some, else a skeleton), ``"urdf"``
-            or ``"skeleton"``.
-        camera: ``"auto"`` (from the side for a robot moving in the x-z plane, else from the
-            front-left), ``"side"``, ``"iso"`` or None (MeshCat's default).
-        follow: Keep a travelling robot at the centre of the view, the legend beside it
-            (default: when the robot can travel, i.e. a floating base or a prismatic first
-            joint).
+        geometry: ``"auto"`` (URDF visuals if any, else a skeleton), ``"urdf"``, ``"skeleton"``.
+        camera: ``"auto"`` (``"side"`` for a robot moving in the x-z plane, else ``"iso"``),
+            ``"side"``, ``"iso"`` or None (MeshCat's default).
+        follow: Keep a travelling robot at the centre of the view (None: when it has a
+            floating base or a prismatic first joint).
         legend: Draw the legend in the scene.
-        rate_hz: Live updates per wall-clock second of `maybe_show` and
-            `tick_callback`.
+        rate_hz: Live updates per wall-clock second of `maybe_show` and `tick_callback`.
         palette: Colours.
 
     Attributes:
         robot_scene: The robot's geometry, kinematics and drawing primitives.
         scene: Its MeshCat nodes.
         overlays: What is drawn over the robot, in drawing order.
+        window: Where the scene is sent.
+        pacer: When frames are sent and recorded.
 
     Raises:
-        InvalidInputError: ``robot`` is not a [`Robot`][], a scale or the
-            rate is not a positive number, ``geometry`` or ``camera`` is unknown, or ``window``
-            has no ``send`` method.
+        InvalidInputError: ``robot`` is not a [`Robot`][], a scale or the rate is not a
+            positive number, ``geometry`` or ``camera`` is unknown, or ``window`` has no
+            ``send`` method.
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
         VirtualActuatorError: The MeshCat server cannot be started or reached.
     """
@@ -134,14 +127,8 @@ class Viewer(ViewerOutput):
     ) -> None:
         if not isinstance(robot, Robot):
             raise InvalidInputError(f"Viewer needs a virtual_actuators.Robot, got {robot!r}.")
-        scales = [
-            _positive(value, what)
-            for value, what in (
-                (force_scale, "force_scale"),
-                (moment_scale, "moment_scale"),
-                (effort_reference, "effort_reference"),
-            )
-        ]
+        scales = [_positive(force_scale, "force_scale"), _positive(moment_scale, "moment_scale")]
+        scales.append(_positive(effort_reference, "effort_reference"))
         rate_hz = _positive(rate_hz, "rate_hz")
         if camera not in ("auto", "side", "iso", None):
             raise InvalidInputError(
@@ -152,7 +139,6 @@ class Viewer(ViewerOutput):
         self.robot = robot
         self.model = robot.model
         self.bodies = RobotBodies(robot, geometry, typical_link_length(self.model))
-
         started = window is None
         if window is None:
             window = LiveWindow(zmq_url)
@@ -165,7 +151,6 @@ class Viewer(ViewerOutput):
             robot, self.bodies, self.scene, palette, *scales, camera=camera, follow=follow
         )
         self.overlays: list[Overlay] = default_overlays(legend)
-
         self.pacer = FramePacer(window, self.scene, rate_hz)
         self.robot_scene.build()
         for overlay in self.overlays:
@@ -176,26 +161,91 @@ class Viewer(ViewerOutput):
         if open:
             self.window.open()
 
+    @property
+    def rate_hz(self) -> float:
+        """Live updates per wall-clock second."""
+        return self.pacer.rate_hz
+
+    @rate_hz.setter
+    def rate_hz(self, value: float) -> None:
+        self.pacer.rate_hz = value
+
+    @property
+    def url(self) -> str | None:
+        """URL of the live viewer (None without a server)."""
+        return self.window.web_url
+
+    @property
+    def recording(self) -> bool:
+        """Whether frames are being recorded."""
+        return self.pacer.recording is not None
+
+    def due(self, time: float | None = None) -> tuple[bool, bool]:
+        """``(live, record)``: whether a live update and a recorded frame are due.
+
+        Args:
+            time: Simulated time [s] (recordings are paced by it), or None for wall time.
+        """
+        return self.pacer.due(time)
+
+    def start_recording(self, fps: float = 30.0) -> None:
+        """Record every following `show` (and due `maybe_show`) as animation frames.
+
+        Args:
+            fps: Frames per second of `maybe_show` / `tick_callback` (by the frames' ``time``)
+                and of `show` calls without a time.
+
+        Raises:
+            InvalidInputError: ``fps`` is not a positive number.
+        """
+        self.pacer.start_recording(fps)
+
+    def stop_recording(self) -> AnimationRecording | None:
+        """Stop recording; return the recording (None if none was running)."""
+        return self.pacer.stop_recording()
+
+    def static_html(self, title: str | None = None) -> str:
+        """A standalone HTML page (it opens offline) of the scene, animated with the recording.
+
+        A recording is framed on the robot over the whole run.
+        """
+        title = title or f"virtual_actuators: {self.robot.name}"
+        scene = self.robot_scene
+        framing = framing_commands(self.pacer.bounds, scene.view, 0.75 * scene.detail)
+        return self.pacer.page(title, legend_html(self.legend_entries(), title), framing)
+
+    def save_html(self, path: str, title: str | None = None) -> str:
+        """Write `static_html` (the whole recorded run, if any) to ``path``; return the path.
+
+        Raises:
+            InvalidInputError: The folder of ``path`` does not exist.
+        """
+        target = Path(path).expanduser()
+        if not target.parent.is_dir():
+            raise InvalidInputError(f"Cannot write {str(path)!r}: its folder does not exist.")
+        target.write_text(self.static_html(title), encoding="utf-8")
+        return str(target)
+
+    def flush(self, timeout: float | None = 10.0) -> bool:
+        """Wait until the live viewer received everything sent (True if it did in time)."""
+        return self.window.flush(timeout)
+
+    def close(self) -> None:
+        """Stop the sender and the MeshCat server this viewer started."""
+        self.window.close()
+
     def legend_entries(self) -> list[tuple[int | None, str]]:
         """The legend as ``(colour or None, text)`` pairs: what has been drawn so far."""
         scene = self.robot_scene
-        return legend_entries(
-            scene.palette,
-            scene.force_scale,
-            scene.moment_scale,
-            scene.effort_reference,
-            scene.drawn,
-        )
+        scales = scene.force_scale, scene.moment_scale, scene.effort_reference
+        return legend_entries(scene.palette, *scales, scene.drawn)
 
     def legend(self) -> str:
         """The legend as plain text (colours as ``#RRGGBB``)."""
         return legend_text(self.legend_entries())
 
     def add_overlay(self, overlay: Overlay) -> Overlay:
-        """Draw ``overlay`` in every following frame, after the others.
-
-        Args:
-            overlay: The overlay (its `setup` runs now).
+        """Draw ``overlay`` in every following frame, after the others (its `setup` runs now).
 
         Returns:
             The overlay.
@@ -226,10 +276,8 @@ class Viewer(ViewerOutput):
         """Draw a planar ground profile (a [`Terrain`][]).
 
         Args:
-            terrain: A terrain (its ``segments(run)``) or an ``(n, 2)`` array of ``(x, z)``
-                points [m].
-            width: Extent of the ground along y [m] (default: the terrain's ``width``, else
-                1 m).
+            terrain: A terrain or an ``(n, 2)`` array of ``(x, z)`` points [m].
+            width: Extent of the ground along y [m] (None: the terrain's ``width``, else 1 m).
             run: Level ground drawn before the first and after the last point [m].
 
         Raises:
@@ -257,17 +305,14 @@ class Viewer(ViewerOutput):
         Args:
             q: Configuration ``(model.nq,)``.
             solution: A [`Solution`][] of ``actuator``.
-            actuator: The [`ParallelVirtualActuator`][] or
-                [`VirtualActuator`][] to draw (any object with
-                ``action``, ``reference``, ``axes`` and ``reactions`` or ``reaction``).
-            wrench: Requested wrench on the actuator's axes, when there is no ``solution``
-                (a serial actuator's wrench).
+            actuator: The [`ParallelVirtualActuator`][] or [`VirtualActuator`][] to draw.
+            wrench: Requested wrench on the actuator's axes, without a ``solution``.
             controller: A [`Controller`][] (with ``output``).
             output: Its [`ControlOutput`][] of this tick.
-            state: The gait's current [`State`][] (its name is shown and
-                its support feet highlighted) or a state name.
+            state: The gait's current [`State`][] (its name shown, its support feet
+                highlighted) or a state name.
             support: More support frames to highlight.
-            time: Time of the frame [s] for recordings (default: one frame per call at the
+            time: Time of the frame [s] for recordings (None: one frame per call at the
                 recording's fps).
 
         Raises:
@@ -277,20 +322,9 @@ class Viewer(ViewerOutput):
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
         """
-        frame = FrameSnapshot.build(
-            self.model.nq,
-            self.robot.name,
-            q,
-            solution,
-            actuator=actuator,
-            wrench=wrench,
-            controller=controller,
-            output=output,
-            state=state,
-            support=support,
-            time=time,
+        self.draw(
+            self._frame(q, solution, actuator, wrench, controller, output, state, support, time)
         )
-        self.draw(frame)
         self.pacer.publish(self.window.live, self.pacer.recording is not None, time)
 
     def maybe_show(
@@ -306,11 +340,9 @@ class Viewer(ViewerOutput):
         support: Iterable[str] = (),
         time: float | None = None,
     ) -> bool:
-        """`show`, only when a live update (``rate_hz``) or a recorded frame is due.
+        """`show` (same arguments), only when a live update or a recorded frame is due.
 
-        Costs two clock readings when nothing is due, so it can be called at every control
-        tick. The arguments are those of `show`; ``time`` (simulated time) paces the
-        recording.
+        Cheap when nothing is due, so it can be called at every control tick.
 
         Returns:
             Whether a frame was drawn.
@@ -322,28 +354,20 @@ class Viewer(ViewerOutput):
         live, record = self.due(time)
         if not (live or record):
             return False
-        frame = FrameSnapshot.build(
-            self.model.nq,
-            self.robot.name,
-            q,
-            solution,
-            actuator=actuator,
-            wrench=wrench,
-            controller=controller,
-            output=output,
-            state=state,
-            support=support,
-            time=time,
+        self.draw(
+            self._frame(q, solution, actuator, wrench, controller, output, state, support, time)
         )
-        self.draw(frame)
         self.pacer.publish(live, record, time)
         return True
 
-    def draw(self, frame: FrameSnapshot) -> None:
-        """Draw a frame into the scene without sending it (`show` sends it).
+    def _frame(self, q: np.ndarray, solution: Solution | None, *fields: object) -> FrameSnapshot:
+        """`FrameSnapshot.build` of `show`'s arguments, given in its order."""
+        names = ("actuator", "wrench", "controller", "output", "state", "support", "time")
+        options = dict(zip(names, fields, strict=True))
+        return FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **options)
 
-        Args:
-            frame: What to draw.
+    def draw(self, frame: FrameSnapshot) -> None:
+        """Draw a frame into the scene without sending it.
 
         Raises:
             InvalidInputError: The frame's efforts do not fit the robot.
@@ -360,9 +384,6 @@ class Viewer(ViewerOutput):
         Args:
             realtime: Sleep so that simulated time does not run ahead of wall-clock time.
             terrain: Draw the simulator's terrain at the first tick.
-
-        Returns:
-            The callable (a `TickUpdater`).
         """
         return TickUpdater(self, realtime=realtime, terrain=terrain)
 

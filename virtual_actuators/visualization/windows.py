@@ -1,23 +1,16 @@
 """Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page.
 
-``meshcat.Visualizer(window=w)`` calls ``w.send(command)`` with MeshCat command objects
-(``SetObject``, ``SetTransform``, ``SetProperty``, ``Delete``, ...). Every window here keeps a
-mirror of the scene those commands build (the same tree MeshCat's server keeps), so that
-`SceneWindow.static_html` can write a standalone page without any server:
-
-- `OfflineWindow`: no server, nothing sent; used to record HTML files headless.
-- `CommandRecorder`: also keeps every command in order (tests inspect them).
-- `LiveWindow` (in `live`): a MeshCat server (started as a subprocess, or
-  an existing one at a ZMQ URL) fed through a relay process: drawing costs the control loop
-  the packing and one pipe write per frame, and a lagging server makes the viewer skip frames
-  instead of slowing the loop down.
-- `ForwardingWindow`: mirrors, then forwards to any object with ``send`` (e.g. MeshCat's
-  own ``ViewerWindow``).
+Every window mirrors the scene its MeshCat commands build, so that `SceneWindow.static_html`
+writes a standalone page without a server: `OfflineWindow` sends nothing, `CommandRecorder`
+keeps every command, `ForwardingWindow` forwards to any ``send``, `LiveWindow` feeds a server.
 """
 
 from __future__ import annotations
 
+import base64
+import html
 import threading
+from pathlib import Path
 
 import meshcat.commands as mc
 import numpy as np
@@ -25,7 +18,6 @@ import umsgpack
 from meshcat.path import Path as MeshcatPath
 
 from ..exceptions import InvalidInputError
-from .page import page
 
 
 def path_of(command: object) -> str:
@@ -51,14 +43,11 @@ def pack(command: object) -> bytes:
 
 
 class SceneWindow:
-    """Base window: mirrors the scene built by the commands it receives.
-
-    Subclasses deliver the commands somewhere in `_deliver`.
+    """Base window: mirrors the scene built by the commands it receives (`_deliver` sends them).
 
     Attributes:
-        live: Whether commands reach a viewer as they are sent (a server or a recorder standing
-            for one); the `Viewer` only throttles and
-            sends live updates to live windows.
+        live: Whether commands reach a viewer as they are sent (the viewer sends live updates
+            only to live windows).
         web_url: URL of the live viewer, or None.
     """
 
@@ -68,8 +57,6 @@ class SceneWindow:
     def __init__(self) -> None:
         self._nodes: dict[str, _Node] = {}
         self._lock = threading.Lock()
-
-    # -- the meshcat window interface ----------------------------------------------------------
 
     def send(self, command: object) -> None:
         """Apply a MeshCat command to the mirror and deliver it."""
@@ -105,8 +92,6 @@ class SceneWindow:
 
     def close(self) -> None:
         """Release the window's resources (nothing by default)."""
-
-    # -- the mirror ----------------------------------------------------------------------------
 
     def _mirror(self, command: object) -> None:
         if isinstance(command, mc.SetTransform):
@@ -159,18 +144,12 @@ class SceneWindow:
     def static_html(
         self, extra: list[object] = (), title: str = "MeshCat", overlay: str = ""
     ) -> str:
-        """A self-contained HTML page showing the current scene (and ``extra`` commands).
-
-        The three.js viewer bundled with MeshCat is inlined and the commands are embedded as
-        base64 MessagePack decoded in order by the page itself: the file opens offline.
+        """A self-contained HTML page (it opens offline) of the scene, then ``extra`` commands.
 
         Args:
             extra: Commands applied after the scene (e.g. a ``set_animation``).
             title: Page title.
             overlay: HTML placed over the 3D view (a legend).
-
-        Returns:
-            The page.
         """
         blobs = [pack(c) for c in [*self.scene_commands(), *extra]]
         return page(blobs, title=title, overlay=overlay)
@@ -211,17 +190,10 @@ class CommandRecorder(SceneWindow):
 
     def paths(self, kind: str | None = None) -> list[str]:
         """Paths of the recorded commands, optionally of one type (``"set_transform"``, ...)."""
-        names = {
-            "set_transform": mc.SetTransform,
-            "set_object": mc.SetObject,
-            "set_property": mc.SetProperty,
-            "delete": mc.Delete,
-        }
-        return [
-            path_of(c)
-            for c in self.commands
-            if kind is None or isinstance(c, names.get(kind, type(None)))
-        ]
+        names = {"set_transform": mc.SetTransform, "set_object": mc.SetObject}
+        names |= {"set_property": mc.SetProperty, "delete": mc.Delete}
+        kinds = object if kind is None else names.get(kind, type(None))
+        return [path_of(c) for c in self.commands if isinstance(c, kinds)]
 
     def last_transform(self, path: str):
         """The last matrix sent to ``path`` (a ``(4, 4)`` array), or None."""
@@ -241,12 +213,9 @@ class CommandRecorder(SceneWindow):
     def visible(self, path: str) -> bool | None:
         """The last ``visible`` property sent to ``path``, or None if never sent."""
         for command in reversed(self.commands):
-            if (
-                isinstance(command, mc.SetProperty)
-                and command.key == "visible"
-                and path_of(command) == path
-            ):
-                return bool(command.value)
+            if isinstance(command, mc.SetProperty) and command.key == "visible":
+                if path_of(command) == path:
+                    return bool(command.value)
         return None
 
     def __repr__(self) -> str:
@@ -257,8 +226,11 @@ class ForwardingWindow(SceneWindow):
     """Mirror the scene, then forward every command to another window.
 
     Args:
-        target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``...).
+        target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``).
         live: Whether the target shows commands as they come.
+
+    Raises:
+        InvalidInputError: ``target`` has no ``send`` method.
     """
 
     def __init__(self, target: object, live: bool = True) -> None:
@@ -276,3 +248,54 @@ class ForwardingWindow(SceneWindow):
 
     def __repr__(self) -> str:
         return f"ForwardingWindow({self.target!r})"
+
+
+def page(blobs: list[bytes], title: str = "MeshCat", overlay: str = "") -> str:
+    """A standalone HTML page: MeshCat's viewer inlined, then ``blobs`` (MessagePack) decoded.
+
+    Args:
+        blobs: MessagePack commands.
+        title: Page title.
+        overlay: HTML shown over the view.
+    """
+    import meshcat
+
+    script = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
+    bundle = script.read_text(encoding="utf-8").replace("</script", "<\\/script")
+    commands = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in blobs)
+    return f"""<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<title>{html.escape(title)}</title>
+<style>
+body {{ margin: 0; }}
+#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+#va-overlay {{ position: absolute; left: 8px; bottom: 8px; font: 12px sans-serif;
+  background: rgba(255, 255, 255, 0.85); padding: 6px 10px; border-radius: 4px;
+  max-width: 45vw; }}
+#va-overlay .sw {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px;
+  vertical-align: middle; border: 1px solid #444; }}
+</style>
+</head>
+<body>
+<div id="meshcat-pane"></div>
+{overlay}
+<script>
+{bundle}
+</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+var commands = [
+{commands}
+];
+for (var i = 0; i < commands.length; i++) {{
+  var text = atob(commands[i]);
+  var bytes = new Uint8Array(text.length);
+  for (var k = 0; k < text.length; k++) {{ bytes[k] = text.charCodeAt(k); }}
+  viewer.handle_command_bytearray(bytes);
+}}
+</script>
+</body>
+</html>
+"""

@@ -1,8 +1,4 @@
-"""What is drawn over the robot, one `Overlay` per kind of thing.
-
-A new overlay is a subclass of `Overlay` with a `draw` method, added with
-`Viewer.add_overlay`.
-"""
+"""What is drawn over the robot, one `Overlay` per kind of thing (`Viewer.add_overlay` adds one)."""
 
 from .base import Overlay
 from .components import ComponentOverlay

@@ -1,10 +1,6 @@
 """The overlay interface: one kind of thing drawn over the robot, frame after frame.
 
-An overlay reads a `FrameSnapshot` and draws on
-a `RobotScene` with its primitives (arrows,
-triads, spans, markers) or directly into its nodes. Dynamic nodes (declared with
-``scene.nodes.declare``) that an overlay does not ``use`` in a frame are hidden at the end of
-that frame, so an overlay draws what is there and never hides anything itself.
+An overlay draws what is there; the dynamic nodes it does not ``use`` in a frame are hidden.
 """
 
 from __future__ import annotations
@@ -19,34 +15,20 @@ class Overlay(ABC):
     """Something drawn over the robot: subclass it and implement `draw`.
 
     Attributes:
-        roots: Nodes under which the overlay draws (relative to the viewer's prefix);
-            `clear` removes them.
+        roots: Nodes under which the overlay draws (under the viewer's prefix).
     """
 
     roots: tuple[str, ...] = ()
 
     def setup(self, scene: RobotScene) -> None:  # noqa: B027 - optional hook
-        """Draw what never changes, once, when the overlay joins a viewer (nothing by default).
-
-        Args:
-            scene: The robot's scene.
-        """
+        """Draw what never changes, once, when the overlay joins a viewer (nothing by default)."""
 
     @abstractmethod
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
-        """Draw one frame: place and ``use`` the overlay's nodes for ``frame``.
-
-        Args:
-            scene: The robot's scene, its kinematics at ``frame.q``.
-            frame: What to draw.
-        """
+        """Draw one frame: place and ``use`` the overlay's nodes (``scene`` is at ``frame.q``)."""
 
     def clear(self, scene: RobotScene) -> None:
-        """Delete every node of the overlay (it is created anew if drawn again).
-
-        Args:
-            scene: The robot's scene.
-        """
+        """Delete every node of the overlay (it is created anew if drawn again)."""
         for root in self.roots:
             scene.nodes.remove(root)
 

@@ -1,17 +1,13 @@
-"""Virtual components of a controller's attachments: springs, dampers and set points.
+"""Virtual components of attachments: springs (coils), dampers (dashpots), set points (spheres).
 
-Springs are drawn as coils and dampers as dashpots (a translucent cylinder closed at the anchor,
-with a piston inside on a thin rod reaching the action frame), from their reaction-side anchor
-to the action frame (side by side when a component is both); a spring's set point is a small
-sphere; a damper alone has its other end on its set point (a dogtrack bunny); a damper with
-neither spring nor set point (a velocity damper: nothing in the world anchors it) is drawn on
-the action frame along its first axis, `VELOCITY_DAMPER_LENGTH` robot sizes long (its
-housing out of the body's shape). Only
-the translational axes of a component are drawn: rotational ones show through the moment
-arrows.
+Each is drawn from its reaction-side anchor to the action frame, on its translational axes; a
+damper alone ends on its set point or, without one, lies `VELOCITY_DAMPER_LENGTH` robot sizes
+along its first axis.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import meshcat.geometry as mg
 import numpy as np
@@ -28,10 +24,7 @@ VELOCITY_DAMPER_LENGTH = 0.7
 
 
 def parameter(component: Component, attribute: str, size: int) -> np.ndarray:
-    """A component's per-axis parameter (``stiffness``, ``damping``) as ``size`` floats.
-
-    Missing: zeros; a scalar or a mismatched shape: its first value on every axis.
-    """
+    """A per-axis parameter as ``size`` floats: zeros if missing, else its first on every axis."""
     value = getattr(component, attribute, None)
     if value is None:
         return np.zeros(size)
@@ -81,9 +74,7 @@ class ComponentOverlay(Overlay):
             setpoint = getattr(component, "setpoint", None)
             target = None
             if setpoint is not None and np.shape(setpoint) == (len(axes),):
-                target = action + directions @ (
-                    np.asarray(setpoint, dtype=float)[columns] - relative
-                )
+                target = action + directions @ (np.asarray(setpoint, float)[columns] - relative)
             spring, damper = bool(np.any(stiffness > 0)), bool(np.any(damping > 0))
             if damper and not spring:
                 if target is not None:  # its other end moves with its set point (the bunny)
@@ -118,11 +109,7 @@ class ComponentOverlay(Overlay):
 
 
 def draw_dashpot(scene: RobotScene, name: str, start: np.ndarray, end: np.ndarray) -> None:
-    """A dashpot from ``start`` (the housing's closed end) to ``end`` (the rod's end).
-
-    The housing (a translucent cylinder over 60 % of the length, closed by a cap at ``start``)
-    holds a piston (a disc at 45 % of the length) on a thin rod that reaches ``end``.
-    """
+    """A dashpot from ``start`` (the housing's closed end) to ``end`` (the rod's end)."""
     length = float(np.linalg.norm(end - start))
     if length < 1e-9:
         return
@@ -132,16 +119,12 @@ def draw_dashpot(scene: RobotScene, name: str, start: np.ndarray, end: np.ndarra
     housing_end = start + 0.6 * (end - start)
     piston = start + 0.45 * (end - start)
     thickness = min(0.3 * radius, 0.05 * length)
-    scene.span(f"{name}/housing", start, housing_end, lambda: mg.Cylinder(1.0, radius), color, 0.35)
-    scene.span(
-        f"{name}/cap", start, start + axis * thickness, lambda: mg.Cylinder(1.0, radius), color
-    )
-    scene.span(
-        f"{name}/piston",
-        piston - axis * thickness,
-        piston,
-        lambda: mg.Cylinder(1.0, 0.85 * radius),
-        color,
-    )
-    scene.span(f"{name}/rod", piston, end, lambda: mg.Cylinder(1.0, 0.25 * radius), color)
+
+    def cylinder(scale: float) -> Callable[[], mg.Cylinder]:
+        return lambda: mg.Cylinder(1.0, scale * radius)
+
+    scene.span(f"{name}/housing", start, housing_end, cylinder(1.0), color, 0.35)
+    scene.span(f"{name}/cap", start, start + axis * thickness, cylinder(1.0), color)
+    scene.span(f"{name}/piston", piston - axis * thickness, piston, cylinder(0.85), color)
+    scene.span(f"{name}/rod", piston, end, cylinder(0.25), color)
     scene.mark("damper")

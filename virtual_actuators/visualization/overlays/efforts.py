@@ -1,9 +1,7 @@
 """Joint effort gauges: a sphere of radius ``|tau| / limit`` inside a shell, at each joint.
 
-The inner sphere is orange for a positive effort and violet for a negative one; the shell (the
-effort limit, or the viewer's ``effort_reference`` at joints without one) turns red when the
-joint saturates (the controller's own flags when it gives them, else ``|tau|`` over the limit).
-Gauges stand on the camera's side of their joint, along its axis.
+The shell (the effort limit, else ``effort_reference``) turns red when the joint saturates;
+gauges stand on the camera's side of their joint, along its axis.
 """
 
 from __future__ import annotations
@@ -43,22 +41,13 @@ class EffortOverlay(Overlay):
             value = float(tau[index])
             node = f"efforts/{safe(joint)}"
             if not nodes.has(f"{node}/positive/ball"):
-                nodes.create(
-                    f"{node}/positive/ball", mg.Sphere(1.0), material(palette.effort_positive)
-                )
-                nodes.create(
-                    f"{node}/negative/ball", mg.Sphere(1.0), material(palette.effort_negative)
-                )
-                nodes.create(
-                    f"{node}/shell/ball",
-                    mg.Sphere(radius),
-                    material(palette.effort_limit, 0.22, depthWrite=False),
-                )
-                nodes.create(
-                    f"{node}/saturated/ball",
-                    mg.Sphere(1.12 * radius),
-                    material(palette.saturated, 0.5, depthWrite=False),
-                )
+                shell = material(palette.effort_limit, 0.22, depthWrite=False)
+                saturation = material(palette.saturated, 0.5, depthWrite=False)
+                positive, negative = palette.effort_positive, palette.effort_negative
+                nodes.create(f"{node}/positive/ball", mg.Sphere(1.0), material(positive))
+                nodes.create(f"{node}/negative/ball", mg.Sphere(1.0), material(negative))
+                nodes.create(f"{node}/shell/ball", mg.Sphere(radius), shell)
+                nodes.create(f"{node}/saturated/ball", mg.Sphere(1.12 * radius), saturation)
                 for part in ("", "/positive", "/negative", "/shell", "/saturated"):
                     nodes.declare(node + part)
             placement = data.oMi[joint_id]
@@ -68,10 +57,8 @@ class EffortOverlay(Overlay):
             centre = placement.translation + direction * 1.2 * radius
             reference = limit if limit is not None else scene.effort_reference
             fraction = min(1.0, abs(value) / reference)
-            if saturated is not None:
-                is_saturated = bool(saturated[index])
-            else:
-                is_saturated = limit is not None and abs(value) > limit * (1.0 + 1e-9)
+            over = limit is not None and abs(value) > limit * (1.0 + 1e-9)
+            is_saturated = bool(saturated[index]) if saturated is not None else over
             nodes.use(node)
             nodes.use(f"{node}/shell")
             if limit is None:

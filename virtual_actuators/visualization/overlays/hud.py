@@ -12,10 +12,7 @@ from .base import Overlay
 
 
 class LegendOverlay(Overlay):
-    """The legend of colours and scales at the robot's left: only what has been drawn.
-
-    Drawn after the other overlays; laid out again when something new has been drawn.
-    """
+    """The legend of colours and scales at the robot's left: only what has been drawn."""
 
     roots = ("hud/legend",)
 
@@ -34,9 +31,8 @@ class LegendOverlay(Overlay):
     @staticmethod
     def layout(scene: RobotScene, drawn: frozenset[str]) -> None:
         """Draw the legend's lines and colour swatches for the ``drawn`` keys."""
-        entries = legend_entries(
-            scene.palette, scene.force_scale, scene.moment_scale, scene.effort_reference, drawn
-        )
+        scales = scene.force_scale, scene.moment_scale, scene.effort_reference
+        entries = legend_entries(scene.palette, *scales, drawn)
         size = min(1.5, max(0.35, 0.75 * scene.extent))
         spacing = 0.105 * size
         left = -(0.6 * scene.extent + 0.5 * size)

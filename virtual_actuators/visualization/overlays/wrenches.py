@@ -1,16 +1,9 @@
 """Virtual actuators: triads at their frames, the requested, produced and shared wrenches.
 
-For an actuator: triads at its action, reaction and reference frames; the requested wrench on
-the action frame as a force arrow and a double-headed moment arrow (``force_scale`` metres per
-newton and ``moment_scale`` metres per newton-metre, along the force and the moment axis in the
-world); each chain's share at its reaction frame (its force and its moment about the reaction
-frame's origin, on the actuator's rotational axes); and the produced wrench when it differs from
-the request (orange when adjusted on free axes or scaled to keep the feet on the ground, red when
-the request was inadmissible). A controller's output draws every active attachment so.
-
-Wrenches of a [`Solution`][] are expressed along the reference frame's
-axes with moments about the action frame's origin; they are turned into the world with the
-scene's forward kinematics at ``q``.
+A [`Solution`][]'s wrenches are along the reference frame's axes, moments about the action
+frame's origin; each chain's share is drawn at its reaction frame, its moment about that
+frame's origin on the actuator's rotational axes. The produced wrench is drawn when it
+differs from the request: orange when adjusted, red when the request was inadmissible.
 """
 
 from __future__ import annotations
@@ -36,15 +29,8 @@ class WrenchOverlay(Overlay):
         actuator, solution = frame.actuator, frame.solution
         if actuator is not None:
             if solution is not None:
-                self.draw_actuator(
-                    scene,
-                    "actuator",
-                    actuator,
-                    solution.requested,
-                    solution.wrench,
-                    solution.forces,
-                    not solution.admissible,
-                )
+                answer = solution.requested, solution.wrench, solution.forces
+                self.draw_actuator(scene, "actuator", actuator, *answer, not solution.admissible)
             elif frame.wrench is None:
                 self.draw_actuator(scene, "actuator", actuator, None, None, None, False)
             else:
@@ -116,14 +102,10 @@ class WrenchOverlay(Overlay):
         if produced is not None:
             scale = max(1.0, float(np.max(np.abs(requested))))
             if inadmissible or not np.allclose(produced, requested, rtol=0.0, atol=1e-6 * scale):
-                kind, color = (
-                    ("inadmissible", palette.inadmissible)
-                    if inadmissible
-                    else ("produced", palette.produced)
-                )
-                if any(
-                    scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, (color,) * 2)
-                ):
+                kind = "inadmissible" if inadmissible else "produced"
+                colors = (getattr(palette, kind),) * 2
+                drawn = scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, colors)
+                if any(drawn):
                     scene.mark(kind)
         if forces is None:
             return

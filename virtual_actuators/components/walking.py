@@ -190,6 +190,7 @@ class DogtrackBunny(SpringDamper):
         self.setpoint = self.position_at(time)
         return super().compute_wrench(position, velocity, time)
 
+
 class SwingLegLinkage(SpringDamper):
     """Spring-dampers that place the swing foot relative to the body.
 

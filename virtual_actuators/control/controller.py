@@ -8,6 +8,8 @@ import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component
+from ..components.gravity import GravityCompensation
+from ..components.posture import Posture
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.kernels import finite
 from ..kinematics.snapshot import Snapshot
@@ -20,9 +22,11 @@ from .attachment_tick import run_attachment
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
 from .failures import check_policy, drop_non_finite
-from .postures import JointTerm, add_posture, tick_names
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
+
+#: What ``Controller.add`` keeps as a joint-space term (``torques(snapshot)`` each tick)
+JointTerm = Posture | GravityCompensation
 
 
 class Controller:
@@ -172,9 +176,10 @@ class Controller:
                 ``method="qp"`` or not a finite number > 0.
             InvalidAxisError: A component acts on an axis the actuator does not have, or
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
+            JointNotFoundError: A posture's joint that the robot lacks (with close matches).
         """
         if isinstance(actuator, JointTerm):
-            return add_posture(self, name, actuator, components)
+            return self._add_term(name, actuator, components)
         attachment = self.attachments[name] = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,
             unilateral=unilateral, yield_axes=yield_axes, friction=friction,
@@ -182,6 +187,18 @@ class Controller:
             taken={**self.attachments, **self.postures},
         )
         return attachment
+
+    def _add_term(self, name: object, term: JointTerm, components: object) -> JointTerm:
+        """Bind a joint-space term to the robot under ``name`` (see `add`)."""
+        kind = type(term).__name__
+        if not isinstance(name, str) or name in self.attachments or name in self.postures:
+            raise InvalidInputError(
+                f"{kind} {name!r}: the name must be a str not taken by another attachment."
+            )
+        if components not in ((), None, []):
+            raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
+        self.postures[name] = term.bind(self.robot)
+        return term
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
         """Velocity indices (a read-only integer array) of joints given by name, or one name.
@@ -270,9 +287,7 @@ class Controller:
         time = check_number(time, "time [s]")
         limp = check_limp(limp, self.robot.model.nv)
         snapshot = tick_snapshot(self.robot, self._tree, q, v)
-        names = (
-            tick_names(self.attachments, self.postures) if active is None else active_names(active)
-        )
+        names = (*self.attachments, *self.postures) if active is None else active_names(active)
         return self.compute_checked(snapshot, time, names, limp)
 
     def compute_checked(

@@ -1,23 +1,4 @@
-"""What a controller does when one attachment fails: ``Controller(robot, on_failure=...)``.
-
-An attachment fails in a tick when its components cannot give a wrench (a component raises a
-library error or an arithmetic error, or returns a non-finite or malformed wrench), when its
-distribution cannot be solved ([`SingularConfigurationError`][]; a
-[`ConstraintError`][] from a contact QP that is infeasible or runs out of
-iterations; [`InadmissibleWrenchError`][]), or when its joint efforts are
-not finite. One policy covers every case:
-
-- ``"raise"``: the typed error leaves [`Controller.compute`][]
-  ([`InvalidInputError`][] for a bad wrench or non-finite efforts);
-- ``"skip"``: that attachment contributes zero effort for the tick;
-- ``"fallback"``: that attachment contributes the partitioned least-squares answer to the same
-  request (``actuator.solve(q, wrench, free, method="partitioned")``, never strict), clipped to
-  the controller's effort limits; when there is no request to distribute (the components
-  failed), a serial actuator, or the fallback fails too, it contributes zero effort.
-
-The tick's [`ControlOutput`][] reports each firing in ``failures`` (an
-[`AttachmentFailure`][] per attachment) and lists the attachments left at zero in ``failed``.
-"""
+"""What a controller does when one attachment fails: ``Controller(robot, on_failure=...)``."""
 
 from __future__ import annotations
 
@@ -38,8 +19,7 @@ from .attachment import Attachment
 #: The values of ``Controller(on_failure=...)``.
 FAILURE_POLICIES = ("raise", "skip", "fallback")
 
-#: What a policy catches: the library's typed errors and arithmetic errors (a division by zero
-#: in a component). Other exceptions (a TypeError from a bug) always propagate.
+#: What a policy catches; other exceptions (a TypeError from a bug) always propagate.
 CAUGHT = (VirtualActuatorError, ArithmeticError)
 
 
@@ -48,14 +28,13 @@ class AttachmentFailure:
     """One attachment's failure in a tick and what the controller did.
 
     Attributes:
-        reason: What failed: ``"wrench"`` (the components gave no finite wrench),
-            ``"singular"``, ``"constraint"`` (e.g. a contact QP that is infeasible or out of
-            iterations), ``"inadmissible"``, ``"distribution"`` (another error of the
-            distribution) or ``"effort"`` (non-finite joint efforts).
+        reason: ``"wrench"`` (the components gave no finite wrench), ``"singular"``,
+            ``"constraint"``, ``"inadmissible"``, ``"distribution"`` or ``"effort"``
+            (non-finite joint efforts).
         error: The exception's type name, e.g. ``"ConstraintError"``.
         message: The exception's message.
-        action: ``"skip"`` (the attachment contributed zero effort) or ``"fallback"`` (the
-            clipped partitioned least-squares answer; see `failures`).
+        action: ``"skip"`` (zero effort) or ``"fallback"`` (the clipped partitioned
+            least-squares answer).
         fallback_error: Why the fallback was not used (then ``action`` is ``"skip"``), or None.
     """
 
@@ -71,14 +50,7 @@ class AttachmentFailure:
 
 
 def check_policy(on_failure: object, on_singular: object) -> str:
-    """The controller's policy from ``on_failure`` and its former name ``on_singular``.
-
-    Args:
-        on_failure: One of `FAILURE_POLICIES`, or None.
-        on_singular: The same (the name before every failure shared one policy), or None.
-
-    Returns:
-        ``on_failure``, else ``on_singular``, else ``"raise"``.
+    """The controller's policy: ``on_failure``, else ``on_singular``, else ``"raise"``.
 
     Raises:
         InvalidInputError: A value that is not a policy, or both given and different.
@@ -120,20 +92,11 @@ def recover(
 ) -> tuple[object | None, np.ndarray | None]:
     """Apply ``policy`` (``"skip"`` or ``"fallback"``) to one attachment's failure.
 
-    Args:
-        policy: ``"skip"`` or ``"fallback"``.
-        attachment: The attachment that failed.
-        snapshot: The tick's snapshot.
-        wrench: Its requested wrench, or None when its components failed.
-        reason: The failure's reason (see `AttachmentFailure.reason`).
-        error: The exception.
-        limits: ``(lower, upper)`` effort limits the fallback is clipped to.
-        failures: The tick's records, updated: ``failures[name]``.
-        failed: The tick's attachments left at zero, updated when no fallback is used.
+    ``wrench`` is None when the components failed; ``failures`` and ``failed`` are updated.
 
     Returns:
-        ``(solution, tau)``: with a working fallback, its [`Solution`][]
-        (unclipped) and its clipped, finite ``(nv,)`` efforts; else ``(None, None)``.
+        ``(solution, tau)``: with a working fallback, its [`Solution`][] (unclipped) and its
+        clipped, finite ``(nv,)`` efforts; else ``(None, None)``.
     """
     name, error_name, message = attachment.name, type(error).__name__, str(error)
     why = None
@@ -171,20 +134,8 @@ def drop_non_finite(
 ) -> np.ndarray:
     """A tick's efforts again, the policy applied to the attachments with non-finite ones.
 
-    Called when the sum is not finite: a finite wrench too large for float64.
-
-    Args:
-        controller: The [`Controller`][].
-        snapshot: The tick's snapshot.
-        parts: ``(name, efforts)`` of every attachment that contributed.
-        wrenches: The tick's requested wrenches.
-        produced: The tick's produced wrenches (updated).
-        solutions: The tick's solutions (updated).
-        failures: The tick's failure records (updated).
-        failed: The tick's attachments left at zero (updated).
-
-    Returns:
-        The ``(nv,)`` efforts.
+    Called when the sum is not finite (a finite wrench too large for float64); ``produced``,
+    ``solutions``, ``failures`` and ``failed`` are updated.
 
     Raises:
         InvalidInputError: With ``on_failure="raise"``, naming the first such attachment.

@@ -137,7 +137,6 @@ def body_gains(
         for axis in axes
     ]
     return gains(inertias, frequency, damping_ratio)
-    return gains(inertias, frequency, damping_ratio)
 
 
 def _configuration(robot: Robot, q: np.ndarray | None, who: str) -> np.ndarray:

@@ -67,15 +67,7 @@ def run_attachment(
         if on_failure == "raise":
             raise
         solution, effort = recover(
-            on_failure,
-            attachment,
-            snapshot,
-            wrench,
-            reason_of(error, wrench),
-            error,
-            limits,
-            sums.failures,
-            sums.failed,
+            on_failure, attachment, snapshot, wrench, reason_of(error, wrench), error, limits, sums
         )
         if effort is None:
             return

@@ -315,10 +315,7 @@ class Controller:
                 run_attachment(name, attachment, snapshot, time, sums, on_failure, limits)
         tau = sums.tau
         if tau is not None and not finite(tau):
-            tau = drop_non_finite(
-                self, snapshot, sums.parts, sums.wrenches, sums.produced, sums.solutions,
-                sums.failures, sums.failed,
-            )
+            tau = drop_non_finite(self, snapshot, sums)
         if tau is None:
             tau = np.zeros(nv)
         if limp.size:

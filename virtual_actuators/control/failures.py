@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,6 +16,9 @@ from ..exceptions import (
 )
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment
+
+if TYPE_CHECKING:
+    from .tick import TickSums
 
 #: The values of ``Controller(on_failure=...)``.
 FAILURE_POLICIES = ("raise", "skip", "fallback")
@@ -87,12 +91,12 @@ def recover(
     reason: str,
     error: BaseException,
     limits: tuple[np.ndarray, np.ndarray],
-    failures: dict[str, AttachmentFailure],
-    failed: dict[str, str],
+    sums: TickSums,
 ) -> tuple[object | None, np.ndarray | None]:
     """Apply ``policy`` (``"skip"`` or ``"fallback"``) to one attachment's failure.
 
-    ``wrench`` is None when the components failed; ``failures`` and ``failed`` are updated.
+    ``wrench`` is None when the components failed; ``sums.failures`` and ``sums.failed`` are
+    updated.
 
     Returns:
         ``(solution, tau)``: with a working fallback, its [`Solution`][] (unclipped) and its
@@ -112,37 +116,30 @@ def recover(
                 solution = actuator.solve_checked(snapshot, wrench, request)[0]
                 if np.isfinite(solution.tau).all():
                     tau = np.minimum(np.maximum(solution.tau, limits[0]), limits[1])
-                    failures[name] = AttachmentFailure(reason, error_name, message, "fallback")
+                    sums.failures[name] = AttachmentFailure(reason, error_name, message, "fallback")
                     return solution, tau
                 why = "fallback failed: non-finite efforts"
             except CAUGHT as fallback_error:
                 why = f"fallback failed: {type(fallback_error).__name__}: {fallback_error}"
-    failures[name] = AttachmentFailure(reason, error_name, message, "skip", why)
-    failed[name] = message
+    sums.failures[name] = AttachmentFailure(reason, error_name, message, "skip", why)
+    sums.failed[name] = message
     return None, None
 
 
-def drop_non_finite(
-    controller: object,
-    snapshot: Snapshot,
-    parts: list[tuple[str, np.ndarray]],
-    wrenches: dict[str, np.ndarray],
-    produced: dict[str, np.ndarray],
-    solutions: dict[str, object],
-    failures: dict[str, AttachmentFailure],
-    failed: dict[str, str],
-) -> np.ndarray:
+def drop_non_finite(controller: object, snapshot: Snapshot, sums: TickSums) -> np.ndarray:
     """A tick's efforts again, the policy applied to the attachments with non-finite ones.
 
-    Called when the sum is not finite (a finite wrench too large for float64); ``produced``,
-    ``solutions``, ``failures`` and ``failed`` are updated.
+    Called when the sum is not finite (a finite wrench too large for float64); the tick's
+    ``sums`` are updated.
 
     Raises:
         InvalidInputError: With ``on_failure="raise"``, naming the first such attachment.
     """
     tau = np.zeros(controller.robot.model.nv)
     limits = (-controller.effort_limits, controller.effort_limits)
-    for name, effort in parts:
+    wrenches, produced, solutions = sums.wrenches, sums.produced, sums.solutions
+    policy = controller.on_failure
+    for name, effort in sums.parts:
         if np.isfinite(effort).all():
             tau += effort
             continue
@@ -150,21 +147,13 @@ def drop_non_finite(
             f"Attachment {name!r}: non-finite joint efforts from the finite wrench "
             f"{wrenches[name].tolist()} (too large for float64)."
         )
-        if controller.on_failure == "raise":
+        if policy == "raise":
             raise error
         solutions.pop(name, None)
         produced.pop(name, None)
         attachment = controller.attachments[name]
         solution, effort = recover(
-            controller.on_failure,
-            attachment,
-            snapshot,
-            wrenches[name],
-            "effort",
-            error,
-            limits,
-            failures,
-            failed,
+            policy, attachment, snapshot, wrenches[name], "effort", error, limits, sums
         )
         if effort is not None:  # a fallback's efforts are finite
             solutions[name], produced[name] = solution, solution.wrench

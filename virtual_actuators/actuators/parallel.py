@@ -59,30 +59,24 @@ class ParallelVirtualActuator:
         design: Design constraints ([`Equal`][], [`Linear`][], [`EqualTorque`][]), or one.
         friction: ``method="qp"``: friction coefficient ``mu`` of every contact's pyramid.
         min_normal: ``method="qp"``: least normal force of every contact [N].
-        torque_limits: ``method="qp"``: ``True`` for the URDF effort limits, or ``(nv,)``
-            limits [N m or N]; False for none.
-        normals: Contact normal per reaction frame: a world-frame vector, or ``"frame"`` for
-            the reaction frame's z axis read every tick; ``"frames"`` for that at every
-            reaction. Default: world z.
-        soles: ``method="qp"``: ``(half_length, half_width)`` [m] of a flat contact's sole, by
-            reaction frame.
-        weights: ``method="qp"``: per-axis weights of the closest reachable wrench, a dict by
-            axis (1 for the axes not named) or one finite number > 0 per axis.
+        torque_limits: ``method="qp"``: ``True`` for the URDF effort limits, or ``(nv,)``.
+        normals: Contact normal per reaction frame: a world vector, or ``"frame"`` (the
+            reaction frame's z, read every tick); ``"frames"`` for all. Default: world z.
+        soles: ``method="qp"``: ``(half_length, half_width)`` [m] of flat soles, by reaction.
+        weights: ``method="qp"``: per-axis weights of the closest reachable wrench (a dict by
+            axis, 1 for the others, or one finite number > 0 per axis).
 
     Raises:
-        InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``,
-            ``passive`` or ``design`` is not a collection of the documented kind (e.g. None,
-            a number, or ``passive`` given as a list).
+        InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``, ``passive``
+            or ``design`` is not a collection of the documented kind; a bad ``friction``,
+            ``min_normal``, ``torque_limits``, ``normals``, ``soles`` or ``weights``.
         FrameNotFoundError: A frame name is not a str or not in the model.
         JointNotFoundError: A joint name is not a str, unknown or not on any chain.
-        InvalidAxisError: Bad axes.
-        ConstraintError: Constraints that contradict each other, repeat each other or are too
-            many; a reaction frame with no joint to the action frame; a repeated reaction; a bad
-            ``contact``; a ``passive`` value that is not two finite real numbers; a design entry
-            that is not a design constraint.
-        InvalidInputError: (also) a bad ``friction``, ``min_normal``, ``torque_limits``,
-            ``normals``, ``soles`` or ``weights`` (the message names the axis).
-        InvalidAxisError: (also) ``weights`` names an axis the actuator lacks.
+        InvalidAxisError: Bad axes, or ``weights`` names an axis the actuator lacks.
+        ConstraintError: Constraints that contradict or repeat each other or are too many; a
+            reaction frame with no joint to the action frame, or repeated; a bad ``contact``;
+            a ``passive`` value that is not two finite real numbers; a design entry that is not
+            a design constraint.
     """
 
     def __init__(
@@ -176,11 +170,9 @@ class ParallelVirtualActuator:
             free: Axes left to the solver, or one axis name.
             strict: Raise [`InadmissibleWrenchError`][] if the wrench cannot be produced.
             tol: Admissibility tolerance on the residual, relative to the larger of ``|wrench|``
-                and ``|produced|`` on the prescribed axes; a finite number >= 0.
-            method: ``"partitioned"``, ``"dense"`` (reference solver, eq. 10-11) or ``"qp"``
-                (the actuator's contact inequalities).
-            compiled: Use the compiled per-tick kernels when they apply; False runs the numpy
-                references.
+                and ``|produced|`` on the prescribed axes.
+            method: ``"partitioned"``, ``"dense"`` (eq. 10-11) or ``"qp"`` (contact inequalities).
+            compiled: Use the compiled per-tick kernels when they apply (False: numpy).
             weights: ``method="qp"``: this solve's per-axis weights (None: the constructor's).
 
         Returns:
@@ -192,8 +184,8 @@ class ParallelVirtualActuator:
             InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
                 ``weights`` names an axis it lacks.
             SingularConfigurationError: No distribution can be solved at this configuration.
-            ConstraintError: Too many constraints for the free axes (more design and coupling
-                constraints than redundancies), or constraints that contradict each other here.
+            ConstraintError: Too many constraints for the free axes, or constraints that
+                contradict each other here.
             InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
         """
         if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
@@ -263,16 +255,9 @@ class ParallelVirtualActuator:
     def solve_checked(
         self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6
     ) -> tuple[Solution, bool]:
-        """[`solve`][] on arguments checked already (a controller's per-tick call).
+        """``(solution, missed)`` of [`solve`][] on arguments checked already (per tick).
 
-        Args:
-            snapshot: The tick's snapshot of this actuator's robot.
-            wrench: ``(n,)`` finite float request.
-            request: The checked request (from [`plan`][]).
-            tol: Admissibility tolerance (see [`solve`][]).
-
-        Returns:
-            ``(solution, missed)``: ``missed`` when the residual exceeds ``tol``.
+        ``missed``: the residual exceeds ``tol``.
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
@@ -305,8 +290,8 @@ class ParallelVirtualActuator:
         """The checked `Request` of a solve with ``free``, ``method`` and ``weights``.
 
         Raises:
-            InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
-                ``weights`` names an axis it lacks.
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes, or ``weights``
+                names an axis it lacks.
             InvalidInputError: Unknown ``method``, or bad ``weights``.
             ConstraintError: Too many constraints for those free axes.
         """

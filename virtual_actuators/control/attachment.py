@@ -155,10 +155,6 @@ class Attachment:
             )
         return wrench
 
-    def axes(self) -> tuple[str, ...]:
-        """The actuator's axes."""
-        return self.actuator.axes
-
     def __repr__(self) -> str:
         kind = type(self.actuator).__name__
         names = ", ".join(c.name for c in self.components)

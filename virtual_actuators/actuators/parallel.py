@@ -175,9 +175,6 @@ class ParallelVirtualActuator:
             compiled: Use the compiled per-tick kernels when they apply (False: numpy).
             weights: ``method="qp"``: this solve's per-axis weights (None: the constructor's).
 
-        Returns:
-            The [`Solution`][].
-
         Raises:
             InvalidInputError: Bad ``q``, ``wrench``, ``tol``, ``method`` or ``weights``, or
                 ``strict`` or ``compiled`` that is not a bool.

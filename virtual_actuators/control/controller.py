@@ -272,9 +272,6 @@ class Controller:
             active: Attachments (postures too) to evaluate (default: all).
             limp: Velocity indices forced to zero effort (e.g. from [`joint_indices`][]).
 
-        Returns:
-            The [`ControlOutput`][].
-
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time``, ``limp`` or ``active`` (an unknown
                 or repeated name); a snapshot with another ``v``. With ``on_failure="raise"``,

@@ -1,9 +1,4 @@
-"""Parallel virtual actuators (VAC 2.5, VMC 4): one action frame, several reaction chains.
-
-A parallel actuator has one action frame {B} and several reaction frames {A_i}, one serial chain
-each, and distributes its wrench over the chains (the Partitioned Actuator Set method, or the
-dense reference of eq. 10-11) before mapping the chain forces to joint torques.
-"""
+"""Parallel virtual actuators (VAC 2.5, VMC 4): one action frame, several reaction chains."""
 
 from __future__ import annotations
 
@@ -53,48 +48,35 @@ class ParallelVirtualActuator:
     Args:
         robot: The robot.
         action: Name of the action frame {B}.
-        reactions: Names of the reaction frames, one serial chain each (a list or tuple; one
-            name for a single chain).
+        reactions: Names of the reaction frames, one serial chain each (or one name).
         reference: Name of the reference frame {O}.
         axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``, or one axis name.
-        contact: ``"point"`` (no moment about a reaction frame's origin on the selected
-            rotational axes), ``"flat"`` (any wrench), or a dict from reaction to either.
+        contact: ``"point"`` (no moment about a reaction frame's origin), ``"flat"`` (any
+            wrench), or a dict from reaction to either.
         unactuated: Names of limp joints (torque 0), or one name.
-        passive: ``{joint: (stiffness [N m/rad], rest angle [rad])}``: torque
-            ``-stiffness * (angle - rest)``, measured, not commanded; None for none.
-        design: Design constraints ([`Equal`][], [`Linear`][], [`EqualTorque`][]), or
-            one constraint.
-        friction: ``method="qp"``: friction coefficient ``mu`` of a pyramid at every contact
-            (about ``normals``, world z by default); None for no cone.
+        passive: ``{joint: (stiffness [N m/rad], rest angle [rad])}``: measured torque
+            ``-stiffness * (angle - rest)``.
+        design: Design constraints ([`Equal`][], [`Linear`][], [`EqualTorque`][]), or one.
+        friction: ``method="qp"``: friction coefficient ``mu`` of every contact's pyramid.
         min_normal: ``method="qp"``: least normal force of every contact [N].
-        torque_limits: ``method="qp"``: ``True`` for ``|tau| <=`` the URDF effort limits at the
-            actuated joints, or ``(nv,)`` limits; False for none.
-        normals: Contact normal per reaction frame, the axis of the QP's pyramids and of a
-            controller's ``friction=`` cone (``Controller.add``): a fixed world-frame vector, or
-            ``"frame"`` for the reaction frame's own z axis in the world, read every tick (a
-            flat foot lying on the ground); ``"frames"`` for that at every reaction. Default:
-            world z, whatever the reaction frame's orientation.
-        soles: ``method="qp"``: ``(half_length, half_width)`` [m] of a flat contact's sole, by
-            reaction frame: its centre of pressure stays inside, its yaw moment is bounded.
-        weights: ``method="qp"``: per-axis weights of the closest reachable wrench when a
-            request cannot be met, ``min sum_a weight_a (produced_a - requested_a)^2``: a
-            dict by axis name (``{"x": 0.01}``: x gives way first; 1 for the axes not named)
-            or one finite number > 0 per axis; None for 1 on every axis.
+        torque_limits: ``method="qp"``: ``True`` for the URDF effort limits, or ``(nv,)``.
+        normals: Contact normal per reaction frame: a world vector, or ``"frame"`` (the
+            reaction frame's z, read every tick); ``"frames"`` for all. Default: world z.
+        soles: ``method="qp"``: ``(half_length, half_width)`` [m] of flat soles, by reaction.
+        weights: ``method="qp"``: per-axis weights of the closest reachable wrench (a dict by
+            axis, 1 for the others, or one finite number > 0 per axis).
 
     Raises:
-        InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``,
-            ``passive`` or ``design`` is not a collection of the documented kind (e.g. None,
-            a number, or ``passive`` given as a list).
+        InvalidInputError: ``robot`` is not a robot; ``reactions``, ``unactuated``, ``passive``
+            or ``design`` is not a collection of the documented kind; a bad ``friction``,
+            ``min_normal``, ``torque_limits``, ``normals``, ``soles`` or ``weights``.
         FrameNotFoundError: A frame name is not a str or not in the model.
         JointNotFoundError: A joint name is not a str, unknown or not on any chain.
-        InvalidAxisError: Bad axes.
-        ConstraintError: Constraints that contradict each other, repeat each other or are too
-            many; a reaction frame with no joint to the action frame; a repeated reaction; a bad
-            ``contact``; a ``passive`` value that is not two finite real numbers; a design entry
-            that is not a design constraint.
-        InvalidInputError: (also) a bad ``friction``, ``min_normal``, ``torque_limits``,
-            ``normals``, ``soles`` or ``weights`` (the message names the axis).
-        InvalidAxisError: (also) ``weights`` names an axis the actuator lacks.
+        InvalidAxisError: Bad axes, or ``weights`` names an axis the actuator lacks.
+        ConstraintError: Constraints that contradict or repeat each other or are too many; a
+            reaction frame with no joint to the action frame, or repeated; a bad ``contact``;
+            a ``passive`` value that is not two finite real numbers; a design entry that is not
+            a design constraint.
     """
 
     def __init__(
@@ -128,8 +110,7 @@ class ParallelVirtualActuator:
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
-        #: the contacts as declared (kinds, normals, pyramid, soles), read by the QP and by a
-        #: controller's yield policy
+        #: the contacts as declared, read by the QP and by a controller's yield policy
         self.contacts = declare(
             self.reactions, self.axes, contact, friction, min_normal, normals,
             soles,
@@ -184,28 +165,15 @@ class ParallelVirtualActuator:
         """Distribute ``wrench`` over the chains and map it to joint efforts.
 
         Args:
-            q: Configuration ``(model.nq,)``, or the tick's [`Snapshot`][]
-                (kinematics shared with the other actuators and sensors of the robot).
+            q: Configuration ``(model.nq,)``, or the tick's [`Snapshot`][].
             wrench: ``(n,)`` wrench on {B}; entries of ``free`` axes are ignored.
-            free: Axes left to the solver (their produced value is reported in the solution),
-                or one axis name.
+            free: Axes left to the solver, or one axis name.
             strict: Raise [`InadmissibleWrenchError`][] if the wrench cannot be produced.
             tol: Admissibility tolerance on the residual, relative to the larger of ``|wrench|``
-                and ``|produced|`` on the prescribed axes (scale-free: ``solve(q, s * w)`` gets
-                the same label as ``solve(q, w)`` for any ``s > 0``); a finite number >= 0.
-            method: ``"partitioned"`` (default), ``"dense"`` (reference solver, eq. 10-11) or
-                ``"qp"`` (friction cones, unilateral contacts, soles and torque limits declared
-                on the actuator as inequalities; see `virtual_actuators.distribution.qp`).
-            compiled: Use the compiled per-tick kernels when they apply (the default): the
-                partitioned method's, and the QP's matrices; False runs the numpy
-                implementations, the references the kernels are tested against. Ticks a kernel
-                cannot decide (a near-singular chain, an ill-conditioned block, an inadmissible
-                request) always go to numpy.
-            weights: ``method="qp"``: this solve's per-axis weights of the closest reachable
-                wrench (like the constructor's ``weights``, which None keeps).
-
-        Returns:
-            The [`Solution`][].
+                and ``|produced|`` on the prescribed axes.
+            method: ``"partitioned"``, ``"dense"`` (eq. 10-11) or ``"qp"`` (contact inequalities).
+            compiled: Use the compiled per-tick kernels when they apply (False: numpy).
+            weights: ``method="qp"``: this solve's per-axis weights (None: the constructor's).
 
         Raises:
             InvalidInputError: Bad ``q``, ``wrench``, ``tol``, ``method`` or ``weights``, or
@@ -213,18 +181,17 @@ class ParallelVirtualActuator:
             InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
                 ``weights`` names an axis it lacks.
             SingularConfigurationError: No distribution can be solved at this configuration.
-            ConstraintError: Too many constraints for the free axes (more design and coupling
-                constraints than redundancies), or constraints that contradict each other here.
+            ConstraintError: Too many constraints for the free axes, or constraints that
+                contradict each other here.
             InadmissibleWrenchError: With ``strict=True``, if the residual exceeds ``tol``.
         """
-        # cheap checks first (plain floats and bools skip the slow paths)
         if not (isinstance(tol, float) and 0.0 <= tol < math.inf):
             tol = check_tolerance(tol)
         if strict is not False and strict is not True:
             strict = check_flag(strict, "strict")
         if compiled is not True and compiled is not False:
             compiled = check_flag(compiled, "compiled")
-        if (  # the common call: one compiled call checks q and the wrench and solves
+        if (
             free is _PRESCRIBED
             and compiled
             and weights is None
@@ -253,15 +220,15 @@ class ParallelVirtualActuator:
         weights: Mapping[str, float] | Sequence[float] | np.ndarray | None,
     ) -> Solution:
         """[`solve`][] past its one-call path (``strict``, ``tol``, ``compiled`` checked)."""
-        plain = not isinstance(q, Snapshot)  # a configuration: no snapshot unless one is needed
+        plain = not isinstance(q, Snapshot)
         state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
         request = self.plan(free, method, compiled, weights)
         tick = None
-        if plain:  # the compiled core's one-call tick, when it applies
+        if plain:
             solver = self.qp if request.method == "qp" else self.compiled
             tick = solver.solve_configuration(state, wrench, request)
-        if tick is None:  # kernels on a snapshot, or the numpy path
+        if tick is None:
             snapshot = Snapshot(self.robot, state) if plain else state
             solution, missed = self.solve_checked(snapshot, wrench, request, tol)
         else:
@@ -278,24 +245,16 @@ class ParallelVirtualActuator:
         """The default request's one-call solve from ``q`` (None: no core, or no such solve)."""
         try:
             request = self.plan()
-        except VirtualActuatorError:  # too many constraints: the general path raises it in turn
+        except VirtualActuatorError:  # too many constraints: the general path raises it
             return None
         return self.compiled.configuration_solve(request, self.reactions, self.axes, self._floating)
 
     def solve_checked(
         self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6
     ) -> tuple[Solution, bool]:
-        """[`solve`][] on arguments checked already (a controller's per-tick call).
+        """``(solution, missed)`` of [`solve`][] on arguments checked already (per tick).
 
-        Args:
-            snapshot: The tick's snapshot of this actuator's robot.
-            wrench: ``(n,)`` finite float request.
-            request: The checked method, free axes, path and weights (from [`plan`][]).
-            tol: Admissibility tolerance (see [`solve`][]).
-
-        Returns:
-            ``(solution, missed)``: ``missed`` when the residual exceeds ``tol`` (``not
-            solution.admissible``).
+        ``missed``: the residual exceeds ``tol``.
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
@@ -308,15 +267,11 @@ class ParallelVirtualActuator:
         return solution, not solution.admissible
 
     def snapshot_solve(self, request: Request) -> SnapshotSolve | None:
-        """A checked request's one-call solve on a snapshot (a controller's per-tick solve).
-
-        Calling it with ``(snapshot, wrench, tol)`` gives the [`Solution`][] of
-        [`solve_checked`][] bit for bit, or None when that tick needs the general path
-        (then call [`solve_checked`][]).
+        """A checked request's one-call solve on a snapshot, or None (then [`solve_checked`][]).
 
         Returns:
-            The `SnapshotSolve`, or None: no compiled core, or a request that is not the
-            compiled partitioned method's.
+            The `SnapshotSolve`, or None: no compiled core, or not the compiled partitioned
+            method's request.
         """
         return self.compiled.buffer_solve(
             SnapshotSolve, request, self.reactions, self.axes, self._floating
@@ -329,14 +284,11 @@ class ParallelVirtualActuator:
         compiled: bool = True,
         weights: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
     ) -> Request:
-        """The checked `Request` of a solve.
-
-        What [`solve`][] derives from ``free``, ``method`` and ``weights`` on every call, for
-        callers that solve the same way every tick ([`solve_checked`][]).
+        """The checked `Request` of a solve with ``free``, ``method`` and ``weights``.
 
         Raises:
-            InvalidAxisError: ``free`` is not a collection of the actuator's axes, or
-                ``weights`` names an axis it lacks.
+            InvalidAxisError: ``free`` is not a collection of the actuator's axes, or ``weights``
+                names an axis it lacks.
             InvalidInputError: Unknown ``method``, or bad ``weights``.
             ConstraintError: Too many constraints for those free axes.
         """
@@ -348,10 +300,7 @@ class ParallelVirtualActuator:
 
     @functools.cached_property
     def backends(self) -> dict[str, Backend]:
-        """The solver backends by name.
-
-        `METHODS` lists each method's, in order.
-        """
+        """The solver backends by name (`METHODS` lists each method's, in order)."""
         return {
             "compiled": self.compiled,
             "reference": NumpyBackend(self.problem, self.partitioner, hand_on=True),

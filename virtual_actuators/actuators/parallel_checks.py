@@ -1,11 +1,4 @@
-"""The argument checks of a parallel virtual actuator's declaration and of its requests.
-
-[`ParallelVirtualActuator`][virtual_actuators.ParallelVirtualActuator] checks its reaction
-frames (`check_reactions`, `resolve_chains`) and its design constraints (`check_design`) when
-declared, and weighs the design's entries (`preferred_entries`); a request's free axes are
-checked once per set (`FreeAxes`), its method on every plan (`check_method`), and the forces
-of ``torques`` by `check_forces`.
-"""
+"""The argument checks of a parallel virtual actuator's declaration and of its requests."""
 
 from __future__ import annotations
 
@@ -84,20 +77,20 @@ def preferred_entries(
 
 
 def check_method(method: str) -> None:
-    """Check that ``method`` names a distribution method.
+    """Check that ``method`` is one of `METHODS`.
 
     Raises:
-        InvalidInputError: ``method`` is not one of `METHODS`.
+        InvalidInputError: It is not.
     """
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInputError(f"method must be one of {list(METHODS)}, got {describe(method)}.")
 
 
 def check_forces(forces: object, p: int, n: int) -> np.ndarray:
-    """``forces`` as a ``(p, n)`` float array (one row per chain, one column per axis), checked.
+    """``forces`` checked as a ``(p, n)`` float array (chains x axes).
 
     Raises:
-        InvalidInputError: ``forces`` that are not ``(p, n)`` finite real numbers.
+        InvalidInputError: Not ``(p, n)`` finite real numbers.
     """
     expected = f"a ({p}, {n}) array of real numbers (chains x axes)"
     forces = as_float_array(forces, "forces", expected)
@@ -109,12 +102,7 @@ def check_forces(forces: object, p: int, n: int) -> np.ndarray:
 
 
 class FreeAxes:
-    """The checked free axes of a request and the mask of its prescribed axes, kept by set.
-
-    Args:
-        axes: The actuator's axes.
-        problem: Its distribution problem (whose constraint counts each set must allow).
-    """
+    """The checked free axes of a request and the mask of its prescribed axes, kept by set."""
 
     def __init__(self, axes: tuple[str, ...], problem: DistributionProblem) -> None:
         self.axes = axes

@@ -1,30 +1,4 @@
-"""Which wrenches a parallel actuator can produce here, and letting the others give way.
-
-A parallel actuator's chains each exert a wrench ``F_i`` on the action frame {B}; the natural
-constraints of the declaration (a point foot transmits no moment about its origin, a limp joint
-carries no torque, a chain cannot push along a direction its Jacobian does not reach) and its
-design rows confine them to a subspace, and {B} receives their sum ``W = sum_i F_i``. The
-*producible* wrenches are the column space of that map, from the chain wrenches that meet every
-homogeneous constraint to their sum:
-
-* two point feet cannot produce a moment about the line through them;
-* one point foot produces only a force through its origin (three directions);
-* three point feet not in a line produce every wrench;
-* a chain adds only directions its joints (and a point contact's virtual ball joint) can move
-  {B} along: one flat foot on a six-joint leg produces any wrench, on a three-joint leg three.
-
-`producible_basis` returns an orthonormal basis of that space at a configuration (the
-method [`ParallelVirtualActuator.producible`][]), derived from the kinematics and the declaration
-alone; [`give_way`][] turns a
-request into a producible one that differs from it only along the given yielding directions,
-the others kept exact ([`ParallelVirtualActuator.give_way`][] with axes names, the horizontal force
-by default: with two
-point feet the centre of mass then leaves the line between them as an inverted pendulum, and the
-height and every moment stay as asked; yielding the moments instead would keep the forces and
-spin the body about that line). Passive springs' measured torques (the non-homogeneous
-right-hand sides) shift the producible set without changing its directions and are not part of
-the basis.
-"""
+"""Which wrenches a parallel actuator can produce here, and letting the others give way."""
 
 from __future__ import annotations
 
@@ -39,7 +13,7 @@ from ..kinematics.snapshot import Snapshot
 from ..vocabulary.axes import check_axes_subset
 from .serial import wrench_array
 
-if TYPE_CHECKING:  # the actuator imports this module
+if TYPE_CHECKING:
     from .parallel import ParallelVirtualActuator
 
 #: Singular values below this fraction of the largest count as zero (the rank decision).
@@ -108,16 +82,10 @@ def producible_directions(
 
 
 def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot) -> np.ndarray:
-    """Orthonormal basis of the wrenches the actuator can produce at a configuration.
+    """Orthonormal basis ``(n, r)`` of the wrenches the actuator can produce at ``q``.
 
-    Args:
-        actuator: The parallel actuator.
-        q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
-
-    Returns:
-        ``(n, r)`` over the actuator's axes (forces [N] and moments [N m] about {B}'s origin, in
-        {O}'s axes), ``r`` the number of independent producible directions (``n`` when every
-        wrench can be produced).
+    Forces [N] and moments [N m] about {B}'s origin, in {O}'s axes; ``r == n`` when every
+    wrench can be produced.
 
     Raises:
         InvalidInputError: A bad ``q`` or a snapshot of another robot.
@@ -129,7 +97,6 @@ def _points_only(problem: object) -> bool:
     """Every chain a point contact on a full-rank leg, six axes, no limp joint, no design row.
 
     Then chain ``i`` exerts exactly the forces through its contact point: ``(f, r_i x f)``.
-    Decided once per problem (the declaration fixes it).
     """
     known = _POINTS_ONLY.get(problem)
     if known is None:
@@ -146,18 +113,16 @@ def _points_only(problem: object) -> bool:
 _POINTS_ONLY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-#: Two point contacts in closed form (the compiled core's ``two_points``, ``src/core/gait.hpp``),
-#: or None without the core: the general path below answers the same directions.
+#: Two point contacts in closed form (the core's ``two_points``), or None without the core
 _TWO_POINTS = core.kernel("two_points", None)
-#: `give_way` with one missing direction in closed form (the core's ``give_way_one``), or None.
+#: `give_way` with one missing direction in closed form (``give_way_one``), or None
 _GIVE_WAY_ONE = core.kernel("give_way_one", None)
 
 
 def _point_columns(offsets: np.ndarray) -> np.ndarray:
     """``(6, 3 p)``: per chain, the wrenches about {B} of unit forces at its contact point.
 
-    Args:
-        offsets: ``(p, 3)`` from each contact to {B}, in {O} [m] (the lever is minus it).
+    ``offsets`` ``(p, 3)`` go from each contact to {B}, in {O} [m].
     """
     count = len(offsets)
     x, y, z = offsets[:, 0], offsets[:, 1], offsets[:, 2]
@@ -179,19 +144,14 @@ def give_way(
 ) -> np.ndarray:
     """The producible wrench closest to ``wrench`` that differs from it along ``yielding`` only.
 
-    The request moves along the yielding directions (the least such move, in their
-    coordinates) until it lies in the span of ``basis``; whatever the yielding directions
-    cannot absorb is then removed by the orthogonal projection onto that span. With two point
-    feet and the horizontal force yielding, only the force across the line between the feet
-    changes (by the weight times the centre of mass's offset from the line over its height).
+    The least move along ``yielding`` into the span of ``basis``; what it cannot absorb is
+    removed by the orthogonal projection onto that span.
 
     Args:
         basis: ``(n, r)`` orthonormal producible directions (`producible_basis`).
         wrench: ``(n,)`` request.
-        yielding: ``(n, m)`` directions allowed to give way first; None for none (the
-            orthogonal projection alone).
-        missing: ``(n, n - r)`` the orthogonal complement of ``basis``, if known
-            ([`producible_directions`][]); computed otherwise.
+        yielding: ``(n, m)`` directions allowed to give way first; None: projection alone.
+        missing: ``(n, n - r)`` orthogonal complement of ``basis`` (None: computed).
 
     Returns:
         ``(n,)`` a producible wrench (``wrench`` itself when it already is).
@@ -228,15 +188,6 @@ def yielding_request(
     axes: Sequence[str] = ("x", "y"),
 ) -> np.ndarray:
     """``wrench`` made producible at ``q`` by giving way along ``axes`` only ([`give_way`][]).
-
-    Args:
-        actuator: The parallel actuator.
-        q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
-        wrench: ``(n,)`` request on the actuator's axes.
-        axes: The axes that give way, among the actuator's.
-
-    Returns:
-        ``(n,)`` the request to solve for.
 
     Raises:
         InvalidAxisError: ``axes`` not among the actuator's axes.

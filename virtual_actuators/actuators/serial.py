@@ -1,9 +1,4 @@
-"""Serial virtual actuators (VAC 2.1-2.4): a wrench between two frames, ``tau = J^T F``.
-
-A virtual actuator exerts a wrench on an action frame {B} from a reaction frame {A} (minus that
-wrench acts on {A}), expressed in a reference frame {O}. The joint torques that emulate it are
-``tau = J^T F`` (VAC eq. 5-7). Its sensor reads the pose and twist of {B} relative to {A}.
-"""
+"""Serial virtual actuators (VAC 2.1-2.4): a wrench between two frames, ``tau = J^T F``."""
 
 from __future__ import annotations
 
@@ -14,10 +9,7 @@ import numpy as np
 
 from ..distribution.linalg import stable_norm
 from ..distribution.tolerances import JACOBIAN_FLOOR, RCOND
-from ..exceptions import (
-    ConstraintError,
-    InvalidInputError,
-)
+from ..exceptions import ConstraintError, InvalidInputError
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
@@ -120,12 +112,8 @@ class VirtualActuator:
         """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
 
         Args:
-            state: A [`Snapshot`][] built with a velocity (the tick's
-                shared kinematics), or a configuration ``(nq,)``.
+            state: A [`Snapshot`][] built with a velocity, or a configuration ``(nq,)``.
             v: Velocity ``(nv,)`` when ``state`` is a configuration.
-
-        Returns:
-            The [`SensorReading`][].
 
         Raises:
             InvalidInputError: Bad ``q`` or ``v``, no velocity given, or a snapshot of another
@@ -141,11 +129,7 @@ class VirtualActuator:
     def position(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.
 
-        Translations: ``R_O^T (p_B - p_A)`` [m]. Rotations: the rotation vector of {B} relative
-        to {A}, ``log(R_A^T R_B)``, expressed in {O} [rad].
-
-        Args:
-            state: A [`Snapshot`][] or a configuration ``(nq,)``.
+        Translations ``R_O^T (p_B - p_A)`` [m]; rotations ``log(R_A^T R_B)`` in {O} [rad].
 
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
@@ -155,12 +139,6 @@ class VirtualActuator:
     def jacobian(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
 
-        Columns of joints outside the path between {A} and {B} are zero (a floating base
-        cancels unless one frame is ``"world"``).
-
-        Args:
-            state: A [`Snapshot`][] or a configuration ``(nq,)``.
-
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
         """
@@ -168,10 +146,6 @@ class VirtualActuator:
 
     def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s] (angular velocity on rotations).
-
-        Args:
-            state: A [`Snapshot`][] built with ``v``, or ``q``.
-            v: Velocity ``(nv,)`` when ``state`` is a configuration.
 
         Raises:
             InvalidInputError: Bad ``q`` or ``v``, or no velocity given.
@@ -200,10 +174,9 @@ class VirtualActuator:
         """Whether ``wrench`` lies in the range of the Jacobian (it can be produced).
 
         Args:
-            q: Configuration.
+            q: Configuration, or a [`Snapshot`][].
             wrench: Wrench over ``axes``.
-            tol: Tolerance on the part of ``wrench`` outside the range, relative to ``|wrench|``
-                (scale-free: a zero wrench is admissible); a finite number >= 0.
+            tol: Tolerance on the part outside the range, relative to ``|wrench|``.
 
         Raises:
             InvalidInputError: Bad ``q``, ``wrench`` or ``tol``.

@@ -1,22 +1,4 @@
-"""The base class of virtual components.
-
-A virtual component (VMC 2001, section 3) turns the reading of a virtual actuator's sensor, the
-pose and velocity of its action frame {B} relative to its reaction frame {A} along the
-actuator's axes, into a wrench on {B}. Components act on a subset of the actuator's axes; the
-[`Controller`][] hands each one only its own axes, already sliced,
-so a component never indexes the actuator's axes itself.
-
-To write your own component, subclass [`Component`][], pass the axes it acts on to
-``super().__init__`` and implement [`Component.compute_wrench`][]::
-
-    class Friction(Component):
-        def __init__(self, axis: str, force: float) -> None:
-            super().__init__((axis,))
-            self.force = force  # [N]
-
-        def compute_wrench(self, position, velocity, time):
-            return -self.force * np.sign(velocity)
-"""
+"""The base class of virtual components (VMC 2001, section 3): a sensor reading to a wrench."""
 
 from __future__ import annotations
 
@@ -38,8 +20,7 @@ class Component(ABC):
     """A virtual component acting on some axes of a virtual actuator.
 
     Args:
-        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")`` the component acts on, or
-            one axis name.
+        axes: Ordered subset of ``("x", "y", "z", "rx", "ry", "rz")``, or one axis name.
         name: Label used in reports; defaults to the class name.
 
     Raises:
@@ -58,10 +39,9 @@ class Component(ABC):
         """Wrench on the action frame from the sensor reading on this component's axes.
 
         Args:
-            position: Pose of {B} relative to {A} along ``self.axes`` [m, rad]; on rotational
-                axes the entries of the rotation vector of the orientation, in {O}'s axes.
-            velocity: Its rate [m/s, rad/s]; on rotational axes the angular velocity in {O}'s
-                axes (not the rate of the rotation vector).
+            position: Pose of {B} relative to {A} along ``self.axes`` [m, rad] (a rotation
+                vector in {O}'s axes on rotational axes).
+            velocity: Its rate [m/s, rad/s] (the angular velocity in {O}'s axes).
             time: Controller time [s].
 
         Returns:
@@ -71,9 +51,8 @@ class Component(ABC):
     def plan_slots(self) -> dict[str, np.ndarray] | None:
         """The arrays a compiled plan keeps for this component, by name, or None (default).
 
-        None: the component runs as a Python piece of the plan's tick. A component that
-        returns slots implements `bind_slots` and `traced_wrench` (and
-        `traced_reset` if it has a `reset`).
+        A component that returns slots implements `bind_slots` and `traced_wrench` (and
+        `traced_reset` if it has a `reset`); None runs it as a Python piece.
         """
         return None
 
@@ -88,13 +67,6 @@ class Component(ABC):
     def traced_wrench(self, slots: object, position: tuple, velocity: tuple, time: object) -> list:
         """`compute_wrench` on traced values (a compiled plan's ops).
 
-        Args:
-            slots: The `plan_slots` as traced values (``slots[name]``, ``slots.store(name,
-                values)``).
-            position: The sensor's reading on this component's axes, traced.
-            velocity: Its rate, traced.
-            time: The tick's time, traced.
-
         Raises:
             TraceError: The component is not lowered (the default).
         """
@@ -106,8 +78,7 @@ class Component(ABC):
     def linear_gains(self) -> Gains | None:
         """The stiffness and damping per axis of a linear spring-damper, or None (default).
 
-        What [`tick_rate`][virtual_actuators.control.tick_rate.tick_rate] judges the component
-        by; a component that returns gains must implement [`scale_gains`][].
+        A component that returns gains must implement [`scale_gains`][].
         """
         return None
 
@@ -160,12 +131,8 @@ class Component(ABC):
     def _per_axis_fast(self, value: object, allow_inf: bool) -> np.ndarray | None:
         """`_per_axis` for the values a gait assigns every tick, or None for the rest.
 
-        Kept on purpose (issue 25's rule: a speed trick outside the kernels stays only if it is
-        worth >= 5 % of a walking tick): gaits move set points every tick, and the generic
-        check costs ~27 us of a ~180 us flamingo tick (15 %, cProfile of a 3 s walk). A plain
-        float, a list or tuple of plain floats or ints, or a float64 array of the right shape
-        whose sum is finite (or not NaN, with ``allow_inf``) is taken as it is; anything else
-        (and any bad value) goes through the full check and its errors.
+        A plain float, a list or tuple of plain floats or ints, or a float64 array of the right
+        shape whose sum is finite (not NaN, with ``allow_inf``) is taken as it is.
         """
         kind, size = type(value), len(self.axes)
         if kind is float or kind is int:
@@ -198,9 +165,7 @@ class Component(ABC):
 def has_traced_path(component: object) -> bool:
     """Whether a compiled plan can trace ``component`` (its formula and its reset).
 
-    True when it keeps `plan_slots` and the most derived class defining ``compute_wrench``
-    (``reset``) defines ``traced_wrench`` (``traced_reset``) too: a subclass that overrides
-    only the Python method is not traced with its parent's formula.
+    A subclass that overrides only the Python method is not traced with its parent's formula.
     """
     if getattr(component, "plan_slots", lambda: None)() is None:
         return False

@@ -1,22 +1,7 @@
 """An energy tank that keeps any component passive.
 
-A component can inject energy into the robot (a spring whose set point moves, a bunny pulling
-the body, a user law). Wrapped in an [`EnergyTank`][], the energy it injects is drawn from a
-tank of finite capacity and the energy it dissipates refills it: over any run the component
-injects at most the tank's initial energy plus what it dissipated. When the tank is empty, the
-part of the wrench that would inject power (along the velocity) is removed; the rest, which does
-no work, is kept.
-
-Power is ``wrench . velocity`` on the component's axes (forces times the relative velocity of
-{B} with respect to {A}, moments times the relative angular velocity), accounted once per tick
-over the time since the previous tick (a first tick, after construction or `reset`, may
-not inject). The check is exact at any scale (from subnormal to near the float range): floats
-are dyadic rationals, so the tick's power and work are computed and compared with the energy
-left in integers, never rounded, never overflowing. When the wrench must give up its part along
-the velocity, it is projected in floats and then corrected until the exact check admits it, so
-that rounding never lets power through: with the tank empty (or on a first tick) the returned
-wrench's exact power is never positive, and otherwise its exact work over the tick never
-exceeds the energy held. The tank never goes negative.
+The injected work ``wrench . velocity * dt`` is drawn from a tank that dissipated work refills;
+checked exactly (floats as dyadic rationals, in integers), so rounding never lets power through.
 """
 
 from __future__ import annotations
@@ -40,8 +25,8 @@ class EnergyTank(Component):
     Args:
         component: The component to keep passive.
         capacity: Largest energy in the tank [J] (dissipated energy beyond it is lost).
-        initial: Energy at the start [J] (default: ``capacity``).
-        name: Label used in reports (default: ``tank(<component name>)``).
+        initial: Energy at the start [J] (None: ``capacity``).
+        name: Label used in reports (None: ``tank(<component name>)``).
 
     Attributes:
         energy: Energy left in the tank [J].
@@ -86,8 +71,7 @@ class EnergyTank(Component):
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The wrapped component's wrench, without its injecting part once the tank is empty.
 
-        A wrench that is not finite is returned as it is (the controller refuses it and names
-        the component).
+        A non-finite wrench is returned as it is (the controller refuses it).
 
         Raises:
             InvalidInputError: If ``velocity`` does not have one entry per axis, or holds NaN or
@@ -110,8 +94,7 @@ class EnergyTank(Component):
         power = _dot(forces, values)  # [W], exact
         allowed = _Allowance(0.0 if dt == 0.0 else self.energy, dt)
         if power[0] > 0 and not allowed.admits(power):
-            # Only what is left may be injected over this tick (nothing on a first tick, whose
-            # duration is unknown): remove the part along the velocity beyond it.
+            # only what is left may be injected (nothing on a first tick): remove the excess
             forces = allowed.enforce(forces, values)
             work = self.energy if allowed.energy > 0.0 else 0.0  # [J], the tank empties
         else:
@@ -131,8 +114,7 @@ class EnergyTank(Component):
         )
 
 
-#: Most corrections of a wrench whose part along the velocity is removed (one or two suffice:
-#: each removes what rounding left, twice as much again each time).
+#: Most corrections of a wrench whose part along the velocity is removed
 _CORRECTIONS = 60
 
 Dyadic = tuple[int, int]  # n * 2**k, exactly
@@ -185,11 +167,9 @@ def _ldexp(mantissa: float, exponent: int) -> float:
 
 
 class _Allowance:
-    """What a tank holding ``energy`` [J] lets a wrench inject over a tick of ``dt`` seconds.
+    """What a tank holding ``energy`` [J] lets a wrench inject over a tick of ``dt`` [s].
 
-    The work ``wrench . velocity * dt`` may reach ``energy`` (none when the tank is empty or on
-    a first tick, ``dt == 0``): compared exactly, in integers, however large or small the
-    floats.
+    The work may reach ``energy`` (none when the tank is empty or ``dt == 0``), compared exactly.
     """
 
     def __init__(self, energy: float, dt: float) -> None:
@@ -205,11 +185,8 @@ class _Allowance:
     def enforce(self, forces: list[float], values: list[float]) -> list[float]:
         """``forces`` less the least multiple of the velocity found that `admits` them.
 
-        The multiple is the projection of the excess onto the velocity, done in floats on the
-        velocity scaled by a power of two (its largest entry in [0.5, 1)), then corrected
-        until the exact check admits it: each correction removes what rounding left plus a
-        margin that doubles. A wrench that no correction admits (never met) becomes zero, which
-        does no work.
+        Projected in floats on the velocity scaled by a power of two, then corrected with a
+        doubling margin until the exact check admits it; zero if none does.
         """
         scale = math.frexp(max(map(abs, values)))[1]
         unit = [math.ldexp(v, -scale) for v in values]  # the velocity / 2**scale

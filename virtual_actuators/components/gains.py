@@ -1,16 +1,7 @@
 """Gains in physical units: stiffness and damping from an inertia, a frequency and a ratio.
 
-A spring-damper of stiffness ``k`` and damping ``d`` on an inertia ``m`` is a second-order
-system of natural frequency ``omega = sqrt(k / m)`` and damping ratio ``zeta = d / (2 sqrt(k m))``.
-So, for a chosen ``omega`` [rad/s] and ``zeta``::
-
-    k = m omega^2        d = 2 zeta m omega
-
-[`gains`][] does this for any inertia; [`joint_gains`][] takes each joint's inertia from
-the diagonal of the joint-space mass matrix at a configuration (what that joint moves, the
-links beyond it included), [`body_gains`][] the robot's mass for forces and its centroidal
-inertia for moments (a body actuator carrying the whole robot). The same frequency and ratio
-then suit a 2.5 kg quadruped and a 100 kg humanoid alike.
+``k = m omega^2`` and ``d = 2 zeta m omega`` for natural frequency ``omega`` [rad/s] and damping
+ratio ``zeta``: the same values then suit a 2.5 kg quadruped and a 100 kg humanoid alike.
 """
 
 from __future__ import annotations
@@ -81,7 +72,7 @@ def joint_gains(
         q: Configuration (default: [`Robot.neutral`][]).
 
     Returns:
-        The [`Gains`][], one entry per joint, for [`Posture`][].
+        The [`Gains`][], one entry per joint.
 
     Raises:
         JointNotFoundError: An unknown joint (with close matches) or one with several degrees
@@ -89,9 +80,7 @@ def joint_gains(
         InvalidInputError: A bad ``frequency``, ``damping_ratio`` or ``q``.
     """
     model = robot.model
-    q = robot.neutral() if q is None else as_float_array(q, "q", f"{model.nq} numbers")
-    if q.shape != (model.nq,) or not np.isfinite(q).all():
-        raise InvalidInputError(f"joint_gains: q must be {model.nq} finite numbers.")
+    q = _configuration(robot, q, "joint_gains")
     known = list(model.names)[1:]
     columns = []
     for joint in joints:
@@ -119,8 +108,7 @@ def body_gains(
 ) -> Gains:
     """Gains of a body actuator carrying the whole robot: its mass, its centroidal inertia.
 
-    Forces (``x``, ``y``, ``z``) use the total mass; moments (``rx``, ``ry``, ``rz``) the
-    diagonal of the centroidal inertia at ``q`` (about the centre of mass, world axes).
+    Moments use the diagonal of the centroidal inertia at ``q`` (world axes).
 
     Args:
         robot: The robot.
@@ -138,9 +126,7 @@ def body_gains(
     """
     axes = parse_axes(axes, "body_gains: axes")
     model = robot.model
-    q = robot.neutral() if q is None else as_float_array(q, "q", f"{model.nq} numbers")
-    if q.shape != (model.nq,) or not np.isfinite(q).all():
-        raise InvalidInputError(f"body_gains: q must be {model.nq} finite numbers.")
+    q = _configuration(robot, q, "body_gains")
     if not robot.mass > 0.0:
         raise InvalidInputError(f"body_gains: robot {robot.name!r} has no mass.")
     data = model.createData()
@@ -152,3 +138,11 @@ def body_gains(
     ]
     return gains(inertias, frequency, damping_ratio)
 
+
+def _configuration(robot: Robot, q: np.ndarray | None, who: str) -> np.ndarray:
+    """``q`` checked (``robot.neutral()`` for None)."""
+    model = robot.model
+    q = robot.neutral() if q is None else as_float_array(q, "q", f"{model.nq} numbers")
+    if q.shape != (model.nq,) or not np.isfinite(q).all():
+        raise InvalidInputError(f"{who}: q must be {model.nq} finite numbers.")
+    return q

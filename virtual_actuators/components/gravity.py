@@ -1,23 +1,7 @@
 """Gravity compensation: the joint efforts that hold (some of) the robot's links against gravity.
 
-``GravityCompensation(robot).torques(q)`` is Pinocchio's generalized gravity ``g(q)``: the
-efforts that make every link weightless. With ``links=[...]`` only those rigid bodies are
-compensated: each name (a link or a joint) selects the moving body it belongs to, i.e. the body
-of its parent joint, with every link welded to it by fixed joints (Pinocchio merges those into
-one inertia). The others keep their weight (a leg's gravity is compensated, the body's weight is
-left to the body's virtual actuator, for instance).
-
-The selection is declared once: a copy of the model with the inertias of the other bodies
-zeroed, so that one ``computeGeneralizedGravity`` call per tick gives exactly
-``sum_i m_i J_ci^T g`` over the selected bodies.
-In a compiled machine (a [`MachineController`][virtual_actuators.MachineController] lowered
-into the core) the core computes the same efforts from the tick's kinematics pass (each
-column's subtree mass and mass moment), without Pinocchio; Pinocchio's is its oracle.
-
-Added to a [`Controller`][] under a name
-(``controller.add("gravity", va.GravityCompensation(robot))``), it is a joint-space term like a
-[`Posture`][]: ``controller.compute`` adds ``g(q)`` to the efforts before
-they are clipped, so that a loop run by [`run`][] needs no wrapper.
+A joint-space term like a [`Posture`][]: added to a [`Controller`][] under a name, its ``g(q)``
+is in every tick's efforts before they are clipped.
 """
 
 from __future__ import annotations
@@ -40,11 +24,9 @@ class GravityCompensation:
 
     Args:
         robot: The robot.
-        links: Names of links or joints whose bodies are compensated (see the module docstring);
-            None for the whole robot.
-        joints: The joints whose efforts it gives, zero on the others (e.g. an arm's joints
-            holding the arm, its weight left to the legs through the body's actuator); None for
-            every velocity entry.
+        links: Names of links or joints whose moving bodies (with the links welded to them)
+            are compensated, the others keeping their weight; None for the whole robot.
+        joints: The joints whose efforts it gives, zero on the others; None for all.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot, or ``links`` or ``joints`` is not a
@@ -115,13 +97,11 @@ class GravityCompensation:
     def torques(self, q: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Efforts ``(nv,)`` that hold the selected bodies against gravity [N m or N].
 
-        On a floating-base robot the first six entries are the wrench the base would need
-        (no joint can produce it: a legged robot carries its weight through its legs, e.g.
-        with the body actuator's z force).
+        On a floating base the first six entries are the wrench the base would need.
 
         Args:
             q: Configuration ``(nq,)`` or the tick's [`Snapshot`][].
-            v: Not used (gravity depends on ``q`` only); accepted like a posture's.
+            v: Not used (gravity depends on ``q`` only).
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.

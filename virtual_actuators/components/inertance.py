@@ -1,9 +1,6 @@
 """A virtual inertance: a force proportional to the relative acceleration, ``-m_v a``.
 
-Virtual model control's third linear element beside springs and dampers (a virtual mass between
-two frames). The relative acceleration is not measured: it is the time derivative of the sensor's
-velocity, through a first-order low-pass filter (a raw difference at 1 kHz amplifies sensor
-noise a thousand times).
+The acceleration is the sensor velocity's time derivative through a first-order low-pass filter.
 """
 
 from __future__ import annotations
@@ -32,9 +29,8 @@ class Inertance(Component):
         InvalidInputError: A negative or non-finite inertance or time constant.
 
     Note:
-        It keeps the last velocity and acceleration: one instance per controller, called once
-        per tick with increasing times (a time that does not increase keeps the last estimate).
-        [`reset`][] (called when the state that uses it is entered) forgets them.
+        Keeps the last velocity and acceleration: one instance per controller, called once per
+        tick with increasing times; [`reset`][] forgets them.
     """
 
     def __init__(

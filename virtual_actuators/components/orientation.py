@@ -1,32 +1,8 @@
-"""How springs read an orientation: the deflection on SO(3), not per component.
+"""How springs read an orientation: the deflection ``log(R_set R^T)`` on SO(3), in {O}'s axes.
 
-A serial actuator's rotational axes read the orientation of {B} relative to {A} as a rotation
-vector ``r`` in {O}'s axes (``|r| <= pi``; the orientation is ``R = exp(r)``). A rotation vector
-wraps: a tool pointing straight down sits at ``|r| = pi``, where a small turn sends ``r`` to
-about ``-r``. So a spring's rotational ``setpoint`` is read as an orientation,
-``R_set = exp(setpoint)``, and the spring acts on the rotation between the two orientations, in
-{O}'s axes, never on the difference of the vectors::
-
-    error      = R_set log(R_set^T R) = log(R R_set^T)      (set point to current, in {O})
-    deflection = -error = log(R_set R^T)                     (current to set point, in {O})
-
-The deflection is continuous through ``|r| = pi`` and equal to ``setpoint - position`` to first
-order near the set point; a linear spring's moment is ``stiffness * deflection`` per {O} axis
-(for one stiffness on all three axes, the gradient of ``k/2 |log(R R_set^T)|^2``). The rate
-that dampers read is the angular velocity of {B} relative to {A} in {O}'s axes (the sensor's
-``J v``), not the rate of ``r``.
-
-A component on all three rotational axes uses the full SO(3) deflection. A component on fewer
-of them sees only those entries of the rotation vectors, and takes the rotation as being about
-its own axes (the missing entries zero): with one rotational axis the deflection is the angle
-difference wrapped to ``[-pi, pi]`` (exact for a planar robot's pitch, unchanged near the set
-point); with two, the SO(3) deflection of the completed vectors on those two axes. To hold a
-general 3-D orientation, put the spring on all three rotational axes.
-
-Everything here runs on plain floats (the controller's per-tick path in Python) and on traced
-values (a compiled plan's ops), to the same bits: a rotation vector becomes a unit quaternion,
-the two are composed and the result turned back into a rotation vector with ``atan2`` (full
-precision near 0 and near pi).
+With one rotational axis the deflection is the angle difference wrapped to ``[-pi, pi]``; with
+two, the SO(3) deflection of the vectors completed with zeros. On plain floats and on traced
+values (a compiled plan's ops) alike, to the same bits.
 """
 
 from __future__ import annotations
@@ -47,9 +23,9 @@ class RotationAxes:
     """Where a component's rotational axes sit among its axes.
 
     Attributes:
-        start: Index of the first rotational axis (axes are ordered: translations first).
-        which: For each rotational axis, its component of a rotation vector (0, 1, 2 for
-            ``rx, ry, rz``).
+        start: Index of the first rotational axis (translations come first).
+        which: For each rotational axis, its entry of a rotation vector (0, 1, 2 for ``rx, ry,
+            rz``).
     """
 
     start: int
@@ -65,8 +41,7 @@ def rotation_axes(axes: Sequence[str]) -> RotationAxes | None:
 def _quaternion(x: object, y: object, z: object) -> tuple:
     """``exp`` of the rotation vector ``(x, y, z)`` [rad] as a unit quaternion ``(w, v)``.
 
-    On floats or traced values: both branches are computed and one is selected (the exact
-    branch's angle is kept away from zero, where the series is the one selected).
+    Both branches are computed and one selected (the series near zero).
     """
     angle2 = x * x + y * y + z * z
     small = angle2 < 1e-8  # |r| < 1e-4: series of cos(a/2) and sin(a/2)/a (error < 1e-18)
@@ -77,18 +52,10 @@ def _quaternion(x: object, y: object, z: object) -> tuple:
 
 
 def rotation_deflection(setpoint: Sequence, position: Sequence) -> tuple:
-    """``log(R_set R^T)`` for ``R_set = exp(setpoint)`` and ``R = exp(position)`` [rad].
+    """``log(R_set R^T)`` [rad] for ``R_set = exp(setpoint)`` and ``R = exp(position)``, ``(3,)``.
 
-    The rotation that takes the current orientation to the set point, as a rotation vector in
-    the axes both vectors are written in ({O}'s), of norm at most pi. On floats or traced
-    values (a compiled plan's ops), to the same bits.
-
-    Args:
-        setpoint: Rotation vector of the set point ``(3,)`` [rad].
-        position: Rotation vector of the current orientation ``(3,)`` [rad].
-
-    Returns:
-        The deflection ``(3,)`` [rad].
+    The rotation from the current orientation to the set point, in the vectors' axes ({O}'s),
+    of norm at most pi.
     """
     ws, xs, ys, zs = _quaternion(setpoint[0], setpoint[1], setpoint[2])
     wc, xc, yc, zc = _quaternion(position[0], position[1], position[2])
@@ -107,15 +74,9 @@ def rotation_deflection(setpoint: Sequence, position: Sequence) -> tuple:
 def deflection(
     setpoint: list[float], position: list[float], rotations: RotationAxes | None
 ) -> list[float]:
-    """``setpoint - position`` per axis, with the orientation deflection on rotational axes.
+    """``setpoint - position`` per axis [m, rad], the orientation deflection on rotational axes.
 
-    Args:
-        setpoint: Set point per axis [m, rad].
-        position: Sensor reading per axis [m, rad].
-        rotations: The component's `rotation_axes`.
-
-    Returns:
-        The deflection per axis [m, rad] (see the module docstring for the rotational axes).
+    ``rotations`` is the component's `rotation_axes`.
     """
     out = [x0 - x for x0, x in zip(setpoint, position, strict=True)]
     if rotations is None:

@@ -1,19 +1,7 @@
 """A joint-space spring-damper: hold named joints (arms, head, a redundant arm's null space).
 
-``Posture(joints, stiffness, damping, setpoint)`` gives each named joint the effort
-
-    tau_j = stiffness_j (setpoint_j - q_j) - damping_j v_j          [N m or N]
-
-and zero on every other joint. Joint names are resolved once, when the posture meets its robot
-(``robot=`` here, or ``Controller.add``); unknown names raise with the closest names. With
-``setpoint=None`` the posture holds the pose it finds when it is reset (a state entered,
-``Controller.reset``) or first evaluated. With ``null_space=`` a serial virtual actuator, the
-efforts are projected so that they produce no wrench at that actuator
-(``(I - J^T (J^T)^+) tau``): a redundant arm keeps its posture without disturbing its
-end-effector's impedance.
-
-Added to a [`Controller`][] under a name, it is evaluated like an
-attachment (``controller.add("arms", va.Posture([...], 100.0, 5.0))``; ``active`` names it).
+``tau_j = stiffness_j (setpoint_j - q_j) - damping_j v_j`` [N m or N] on the named joints, zero
+elsewhere; with ``null_space=``, projected by ``(I - J^T (J^T)^+)`` to produce no wrench there.
 """
 
 from __future__ import annotations
@@ -41,8 +29,7 @@ class Posture:
         setpoint: Target positions [rad or m]: one number per joint, a dict ``{joint: value}``
             (joints not named hold their reset pose), or None to hold the reset pose.
         robot: Bind now (else ``Controller.add`` binds it to the controller's robot).
-        null_space: A serial [`VirtualActuator`][] whose wrench the
-            efforts must not disturb (the redundant arm's end-effector), or None.
+        null_space: A serial [`VirtualActuator`][] whose wrench the efforts must not disturb.
         name: Label used in reports.
 
     Raises:
@@ -143,14 +130,16 @@ class Posture:
 
     def traced_reset(self, slots: object, position: tuple) -> None:
         """`reset` on a plan's traced joint positions."""
+        slots.store("setpoint", tuple(self._targets_at(position)))
+
+    def _targets_at(self, position: Sequence) -> list:
+        """The set point per joint: the targets given, ``position`` for the others."""
         targets = self._targets
         if isinstance(targets, np.ndarray):
-            values = tuple(targets.tolist())
-        elif isinstance(targets, dict):
-            values = tuple(targets.get(j, p) for j, p in zip(self.joints, position, strict=True))
-        else:
-            values = tuple(position)
-        slots.store("setpoint", values)
+            return targets.tolist()
+        if isinstance(targets, dict):
+            return [targets.get(j, p) for j, p in zip(self.joints, position, strict=True)]
+        return list(position)
 
     def linear_gains(self) -> Gains:
         """The stiffness and damping per joint (see `Component.linear_gains`)."""
@@ -222,16 +211,8 @@ class Posture:
         """
         self._check_bound()
         configuration = q.q if isinstance(q, Snapshot) else np.asarray(q, dtype=float)
-        current = configuration[self._q_rows].copy()
-        if isinstance(self._targets, np.ndarray):
-            setpoint = self._targets.copy()
-        elif isinstance(self._targets, dict):
-            targets = self._targets
-            setpoint = np.array(
-                [targets.get(j, c) for j, c in zip(self.joints, current.tolist(), strict=True)]
-            )
-        else:
-            setpoint = current
+        current = configuration[self._q_rows].tolist()
+        setpoint = np.array(self._targets_at(current))
         if self._plan:  # a compiled plan keeps it: written in place
             self.setpoint[:] = setpoint
         else:

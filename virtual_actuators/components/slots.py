@@ -1,10 +1,6 @@
 """A component's parameters as a compiled plan's slots: arrays it keeps, traced when lowered.
 
-A `Slotted` component names its parameter arrays (`SLOTS`, held as ``_name``). Before a plan
-is built they are the component's own arrays, each replaced by its setter; once a compiled plan
-keeps them (`bind_slots`) they are views of the plan's registers, written in place, so that what
-Python sets the compiled tick reads and what the tick moves Python sees (one owner). While the
-plan traces a hook, reading a parameter gives traced values and setting one stores it.
+Once a plan keeps them (`bind_slots`) they are views of its registers, written in place.
 """
 
 from __future__ import annotations

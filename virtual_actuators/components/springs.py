@@ -1,21 +1,4 @@
-"""The linear elements of virtual model control on the axes of a virtual actuator.
-
-Springs, dampers and constant forces are one formula, per axis ``i``::
-
-    wrench_i = stiffness_i deflection_i + damping_i (velocity_setpoint_i - velocity_i) + force_i
-
-with positions in metres or radians and wrenches in newtons or newton-metres. On a translation
-axis ``deflection_i = setpoint_i - position_i``. On the rotational axes the set point is an
-orientation, ``R_set = exp(setpoint)`` (``setpoint`` a rotation vector in {O}'s axes, like the
-sensor's reading), and the deflection is the rotation from the current orientation to it,
-``log(R_set R^T)`` in {O}'s axes: continuous through ``|r| = pi``, ``setpoint - position`` to
-first order near the set point. The velocity on rotational axes is the angular velocity in
-{O}'s axes. See [`orientation`][] for the rule on components
-that act on only some rotational axes (one axis: the angle difference wrapped to
-``[-pi, pi]``). Set points are attributes: a state machine or a gait moves them between ticks
-("hints and suggestions", VMC section 3) without rebuilding anything.
-The third linear element, the inertance, is in `inertance`.
-"""
+"""Springs, dampers and constant forces on the axes of a virtual actuator (VMC 2001, section 3)."""
 
 from __future__ import annotations
 
@@ -39,9 +22,7 @@ def spring_damper(
 ) -> list:
     """``min(max(k d + b (v0 - v), -limit), limit) + f`` per axis, ``d`` the deflection.
 
-    The spring-damper's formula on floats or traced values alike (``parameters``: the `SLOTS`
-    by name, each one value per axis): `compute_wrench` on floats and a compiled plan's ops. The
-    clip is exact where the limit is ``inf``.
+    On floats or traced values alike (``parameters``: the `SLOTS` by name, one value per axis).
     """
     bent = deflection(list(parameters["setpoint"]), list(position), rotations)
     k, b = parameters["stiffness"], parameters["damping"]
@@ -71,13 +52,13 @@ class SpringDamper(Slotted, Component):
         axes: Axes the component acts on.
         stiffness: Per axis or scalar, >= 0 [N/m or N m/rad].
         damping: Per axis or scalar, >= 0 [N s/m or N m s/rad].
-        setpoint: Rest position of the spring [m or rad]; on the rotational axes, a rotation
-            vector in {O}'s axes read as the orientation ``exp(setpoint)`` (module docstring).
-        velocity_setpoint: Velocity the damper pulls toward [m/s or rad/s]; on the rotational
-            axes, an angular velocity in {O}'s axes.
+        setpoint: Rest position [m or rad]; on rotational axes a rotation vector in {O}'s
+            axes, the orientation ``exp(setpoint)``.
+        velocity_setpoint: Velocity the damper pulls toward [m/s or rad/s] (angular velocity
+            in {O}'s axes on rotational axes).
         force: Constant force added (a feed-forward, e.g. the weight) [N or N m].
-        limit: Largest magnitude of the spring-damper's output per axis, before ``force`` is
-            added (a saturating component) [N or N m]; ``inf`` for none.
+        limit: Largest magnitude of the spring-damper's output per axis before ``force`` is
+            added [N or N m].
         name: Label used in reports.
 
     Raises:
@@ -108,7 +89,6 @@ class SpringDamper(Slotted, Component):
         self.force = force
         self.limit = limit
 
-    # Validated parameters, a scalar or one per axis at any time, kept in ``_name`` (`Slotted`).
     @property
     def stiffness(self) -> np.ndarray:
         """Spring constants [N/m or N m/rad]."""
@@ -204,12 +184,7 @@ class SpringDamper(Slotted, Component):
         self.damping = self._damping * factor
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """``clip(k deflection + b (v0 - v), -limit, limit) + f`` per axis (module docstring).
-
-        ``deflection = x0 - x`` on translation axes; on rotational axes, the rotation from the
-        current orientation to the set point's (see
-        [`orientation`][]).
-        """
+        """``clip(k deflection + b (v0 - v), -limit, limit) + f`` per axis."""
         if (
             position.__class__ is np.ndarray
             and velocity.__class__ is np.ndarray
@@ -218,7 +193,7 @@ class SpringDamper(Slotted, Component):
             and position.shape == self._shape
             and velocity.shape == self._shape
         ):
-            return np.array(  # entry by entry on floats: the same bits, without numpy's cost
+            return np.array(  # entry by entry on floats: the same bits, faster
                 spring_damper(_FloatSlots(self), position.tolist(), velocity.tolist(),
                               self._rotations)
             )  # fmt: skip
@@ -255,14 +230,9 @@ class Spring(SpringDamper):
         stiffness: [N/m or N m/rad], >= 0 (a linear spring); None with ``law``.
         setpoint: Rest position [m or rad].
         name: Label used in reports.
-        law: A callable ``law(deflection) -> force``: ``deflection = setpoint - position``, an
-            array over the spring's axes [m or rad] (on rotational axes, the rotation from the
-            current orientation to the set point's, as in [`SpringDamper`][]), to the force
-            on each axis [N or N m] (e.g. ``lambda d: 2000 * d**3`` for a hardening spring,
-            ``lambda d: np.where(d > 0, k * d, 0.0)`` for a one-way spring). Called every tick;
-            it must return one finite number per axis (or a scalar for all of them). With a
-            law, [`stiffness`][virtual_actuators.SpringDamper.stiffness] (and the inherited damping
-            and force) are not used.
+        law: ``law(deflection) -> force`` on the spring's axes [m or rad] -> [N or N m], e.g.
+            ``lambda d: 2000 * d**3``; one finite number per axis (or a scalar). With a law,
+            ``stiffness`` is not used.
 
     Raises:
         InvalidAxisError: Bad axes.
@@ -318,7 +288,7 @@ class Spring(SpringDamper):
         return SpringDamper.linear_gains(self) if self.law is None else None
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """The linear spring's wrench on traced values; a law is Python (not lowered).
+        """The linear spring's wrench on traced values (a law is not lowered).
 
         Raises:
             TraceError: The spring has a law.

@@ -1,11 +1,7 @@
 """The seed's walking components (VMC 2001, section 5, Figs. 6 and 7).
 
-* [`GrannyWalker`][]: spring-dampers between the ground and the body on height and pitch,
-  "a virtual granny walker" that holds the body up and upright in every phase.
-* [`DogtrackBunny`][]: a damper (optionally a spring) between the body and a set point that
-  runs ahead at the desired speed, like the mechanical rabbit of a dog track.
-* [`SwingLegLinkage`][]: spring-dampers between the body and the swing foot, whose set points
-  the gait moves so that the foot clears the ground and lands a stride ahead.
+Granny walker (height and pitch held up), dogtrack bunny (a set point running ahead at the
+desired speed) and swing-leg linkage (the swing foot placed relative to the body).
 """
 
 from __future__ import annotations
@@ -30,15 +26,12 @@ def _entry(values: np.ndarray | tuple, index: int) -> object:
 class GrannyWalker(SpringDamper):
     """Spring-dampers on body height and pitch, plus the weight as a feed-forward force.
 
-    Attach it to the body actuator whose sensor is the body's pose in the world.
-
     Args:
         height: Height set point of the action frame [m] (along the actuator's z).
         stiffness: ``(k_z [N/m], k_pitch [N m/rad])``.
         damping: ``(b_z [N s/m], b_pitch [N m s/rad])``.
         pitch: Pitch set point [rad].
-        weight: Constant upward force [N], e.g. total mass times g, so that the spring does not
-            sag by ``weight / k_z``.
+        weight: Constant upward force [N], e.g. total mass times g.
         axes: The height axis and the pitch axis (``("z", "ry")`` for a planar robot in x-z).
         name: Label used in reports.
 
@@ -78,12 +71,7 @@ class GrannyWalker(SpringDamper):
 
     @height.setter
     def height(self, value: float) -> None:
-        if TRACING.get() is not None and traced_store(self, "setpoint", (value,)):
-            return
-        value = check_number(value, f"{self.name}: height [m]")
-        setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
-        setpoint[0] = value
-        self._assign("_setpoint", setpoint)
+        self._set_entry(0, value, "height [m]")
 
     @property
     def pitch(self) -> float:
@@ -92,11 +80,14 @@ class GrannyWalker(SpringDamper):
 
     @pitch.setter
     def pitch(self, value: float) -> None:
-        if TRACING.get() is not None and traced_store(self, "setpoint", (value,), offset=1):
+        self._set_entry(1, value, "pitch [rad]")
+
+    def _set_entry(self, index: int, value: float, what: str) -> None:
+        if TRACING.get() is not None and traced_store(self, "setpoint", (value,), offset=index):
             return
-        value = check_number(value, f"{self.name}: pitch [rad]")
+        value = check_number(value, f"{self.name}: {what}")
         setpoint = self._setpoint.copy()  # a new array, as the setpoint setter makes
-        setpoint[1] = value
+        setpoint[index] = value
         self._assign("_setpoint", setpoint)
 
 
@@ -104,14 +95,12 @@ class DogtrackBunny(SpringDamper):
     """A set point running at the desired speed, pulling the body through a damper (and spring).
 
     ``force = damping (speed - velocity) + stiffness (bunny - position)`` with the bunny at
-    ``start + speed (time - start_time)``. [`reset`][] (called when the state that uses the
-    bunny is entered) puts the bunny back at the body so that the spring never winds up across
-    phases where the bunny is inactive.
+    ``start + speed (time - start_time)``; [`reset`][] puts the bunny back at the body.
 
     Args:
         speed: Desired speed [m/s] along ``axis``.
         damping: [N s/m], >= 0.
-        stiffness: [N/m], >= 0 (the seed uses a damper only: 0).
+        stiffness: [N/m], >= 0 (the seed uses a damper only).
         limit: Largest force the bunny applies [N] (``inf``: none).
         axis: Axis of travel.
         name: Label used in reports.
@@ -171,12 +160,7 @@ class DogtrackBunny(SpringDamper):
         return self.start_position + self.speed * (time - self.start_time)
 
     def reset(self, position: np.ndarray, time: float) -> None:
-        """Put the bunny at ``position`` at ``time``.
-
-        Args:
-            position: The sensor reading on the bunny's axis [m] (one number, or a one-entry
-                array).
-            time: Controller time [s].
+        """Put the bunny at ``position`` [m] (one number) at ``time`` [s].
 
         Raises:
             InvalidInputError: ``position`` is not one finite real number, or ``time`` is not a
@@ -206,14 +190,12 @@ class DogtrackBunny(SpringDamper):
         self.setpoint = self.position_at(time)
         return super().compute_wrench(position, velocity, time)
 
+
 class SwingLegLinkage(SpringDamper):
     """Spring-dampers that place the swing foot relative to the body.
 
-    Attach it to a serial actuator whose action frame is the swing foot and whose reaction frame
-    is the body. The gait moves [`setpoint`][virtual_actuators.SpringDamper.setpoint] (and
-    [`velocity_setpoint`][virtual_actuators.SpringDamper.velocity_setpoint]) every tick with
-    [`place`][], e.g. mirroring the stance leg while lifting the foot, then setting it down a
-    stride ahead.
+    On a serial actuator from the body to the swing foot; the gait moves its set points every
+    tick with [`place`][].
 
     Args:
         stiffness: Per axis or scalar [N/m].

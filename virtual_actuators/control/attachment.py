@@ -1,11 +1,4 @@
-"""Attachments: an actuator, the components on it and the sensor they read, checked once.
-
-`Attachment.declare` builds one from what ``Controller.add`` is given, every argument
-checked (the checks are in `declaration`); an
-`Attachment` precomputes what the tick needs (component axes as slices, its contacts:
-the actuator's, with the unilateral minima and friction cone given to ``Controller.add``) and
-sums its components' wrenches.
-"""
+"""Attachments: an actuator, the components on it and the sensor they read, checked once."""
 
 from __future__ import annotations
 
@@ -43,17 +36,15 @@ class Attachment:
     Attributes:
         name: Unique name in its controller.
         actuator: The serial or parallel virtual actuator that produces the wrench.
-        sensor: Serial actuator whose position and velocity the components read (for a serial
-            actuator, the actuator itself).
+        sensor: Serial actuator whose position and velocity the components read.
         components: The virtual components.
         free: Axes left to the distribution (parallel actuators only).
         indices: For each component, the indices of its axes among the actuator's axes.
-        contacts: The contacts whose rows the yield policy keeps (``unilateral``, the friction
-            cone, the actuator's normals), or None.
+        contacts: The contacts whose rows the yield policy keeps, or None.
         yield_mask: ``(n,)`` the yield axes (None without contact limits).
         method: The distribution method.
-        weights: ``method="qp"``: the per-axis weights of the QP's closest wrench passed to
-            every solve (None: the actuator's own).
+        weights: ``method="qp"``: the per-axis weights passed to every solve (None: the
+            actuator's own).
     """
 
     name: str
@@ -68,18 +59,16 @@ class Attachment:
     weights: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        # Each component's axes as a slice when contiguous (views instead of gathers per tick)
+        # each component's axes as a slice when contiguous (views instead of gathers per tick)
         self.slots = [_as_slice(index) for index in self.indices]
-        # A parallel actuator's checked request (method, free axes, weights) for its solves
+        # a parallel actuator's checked request (method, free axes, weights) for its solves
         plan = getattr(self.actuator, "plan", None)
         self.plan = plan(self.free, self.method, weights=self.weights) if plan else None
-        #: The plan's one-call solve on the tick's snapshot (None: the general path's solve)
+        #: the plan's one-call solve on the tick's snapshot (None: the general path's solve)
         self.snapshot_solve = None if plan is None else self.actuator.snapshot_solve(self.plan)
-        # The contact rows' compiled tables (None: the rows are built with numpy)
+        # the contact rows' compiled tables (None: the rows are built with numpy)
         self.margins = self.contacts.compiled() if self.contacts is not None else None
-        #: The spring-dampers' one-call sensing and wrench (a serial actuator's efforts too, a
-        #: parallel one's distribution with the one-call solve; None: the general path), see
-        #: :mod:`~virtual_actuators.control.attachment_kernel`.
+        #: the spring-dampers' one-call sensing and wrench (and efforts or solve), or None
         self.spring_tick = SpringTick.of(
             self.actuator, self.sensor, self.components, self.slots, self.snapshot_solve
         )
@@ -104,25 +93,7 @@ class Attachment:
     ) -> Attachment:
         """An attachment from what [`Controller.add`][] is given, every argument checked.
 
-        Args:
-            robot: The controller's robot.
-            name: Unique name.
-            actuator: The actuator (of ``robot``).
-            components: Its components (a sequence, or one component).
-            sensor: What the components read (None: the default sensor, see
-                `sensor_of`).
-            free: Axes left to the distribution.
-            unilateral: ``{axis: minimum [N]}`` per chain, or None.
-            yield_axes: Axes given up first to meet the limits (or, with ``method="qp"``,
-                weighted down by ``yield_weight``).
-            friction: The contact cone's friction coefficient, or None.
-            min_normal: The cone's least normal force [N].
-            method: The distribution: ``"partitioned"``, ``"dense"`` or ``"qp"``.
-            yield_weight: ``method="qp"``: the yield axes' weight (None: `YIELD_WEIGHT`).
-            taken: The names already used in the controller.
-
-        Returns:
-            The `Attachment`.
+        ``taken`` holds the names already used in the controller.
 
         Raises:
             InvalidInputError: As [`Controller.add`][].
@@ -142,7 +113,7 @@ class Attachment:
             raise InvalidInputError(f"An attachment named {name!r} already exists.")
         method = check_method(name, actuator, method, bool(limits) or friction is not None)
         contacts = None
-        if yield_mask is not None:  # the actuator's contacts (kinds, normals) with these limits
+        if yield_mask is not None:  # the actuator's contacts with these limits
             declared = actuator.contacts
             contacts = declare(
                 actuator.reactions, actuator.axes, declared.contact, friction,
@@ -154,16 +125,7 @@ class Attachment:
         )
 
     def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """Sum of the component wrenches on the actuator's axes, checked finite.
-
-        Args:
-            position: The sensor's position on the actuator's axes [m, rad].
-            velocity: Its velocity [m/s, rad/s].
-            time: Controller time [s].
-
-        Returns:
-            ``(n,)`` forces [N] and moments [N m]: one component acting on every axis gives its
-            wrench as is; otherwise ``0.0 + share`` per component and axis.
+        """Sum ``(n,)`` [N, N m] of the component wrenches on the actuator's axes, checked finite.
 
         Raises:
             InvalidInputError: A component returned the wrong number of entries, complex ones,
@@ -192,10 +154,6 @@ class Attachment:
                 f"Attachment {self.name!r}: a component returned a non-finite wrench {wrench}."
             )
         return wrench
-
-    def axes(self) -> tuple[str, ...]:
-        """The actuator's axes."""
-        return self.actuator.axes
 
     def __repr__(self) -> str:
         kind = type(self.actuator).__name__

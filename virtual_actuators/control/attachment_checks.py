@@ -1,12 +1,4 @@
-"""An attachment's declaration-time checks: what ``Controller.add`` is given, checked once.
-
-`Attachment.declare` runs them
-in this order: the actuator, sensor and components (`check_parts`), the contact limits'
-values (`check_limit_values`), the free axes (`check_free`), the sensor
-(`sensor_of`), the components' axes (`component_indices`), the yield policy of
-``method="qp"`` (`check_qp_yield`), the contact limits (`check_contact_limits`) and
-the method (`check_method`). Every error names the attachment.
-"""
+"""An attachment's declaration-time checks: what ``Controller.add`` is given, checked once."""
 
 from __future__ import annotations
 
@@ -25,9 +17,12 @@ from ..vocabulary.axes import WORLD, check_axes_subset
 Actuator = VirtualActuator | ParallelVirtualActuator
 
 #: ``Controller.add(method="qp", yield_axes=...)``: the yield axes' weight in the QP's
-#: closest-wrench stage (the other axes weigh 1): a miss on them costs 1000 times less, so an
-#: infeasible request gives way on them first (the others move by about this fraction of it).
+#: closest wrench (the other axes weigh 1), so an infeasible request gives way on them first
 YIELD_WEIGHT = 1e-3
+_QP_LIMITS = (
+    "with method='qp' the contact limits are the actuator's own (friction, min_normal, "
+    "torque_limits); leave out unilateral and friction."
+)
 
 
 def check_parts(
@@ -100,10 +95,7 @@ def check_free(
 def sensor_of(
     name: str, robot: Robot, actuator: Actuator, sensor: VirtualActuator | None
 ) -> VirtualActuator:
-    """The attachment's sensor: ``sensor``, else a serial actuator itself.
-
-    A parallel actuator's default sensor is a serial actuator from the world to its action
-    frame, on its axes and reference.
+    """The attachment's sensor: ``sensor``, else a serial actuator itself, else world to {B}.
 
     Raises:
         InvalidInputError: The sensor is for another robot, or its axes differ from the
@@ -148,13 +140,6 @@ def check_contact_limits(
 ) -> tuple[dict[int, float], np.ndarray | None]:
     """An attachment's contact limits as ``({axis index: minimum}, yield mask or None)``.
 
-    Args:
-        name: The attachment's name (for messages).
-        actuator: Its actuator.
-        unilateral: ``{axis: minimum [N]}`` or None (a dict, checked by the caller).
-        yield_axes: Axes given up first to meet the limits.
-        friction: Friction coefficient (checked by the caller) or None.
-
     Raises:
         InvalidInputError: Limits without yield axes or the reverse, limits on a serial
             actuator, a cone without force axes, or a minimum that is not a finite number.
@@ -195,19 +180,10 @@ def check_qp_yield(
 ) -> tuple[np.ndarray | None, Sequence[str]]:
     """``method="qp"``: the closest-wrench weights that make ``yield_axes`` give way first.
 
-    Args:
-        name: The attachment's name (for messages).
-        actuator: Its actuator.
-        method: The attachment's distribution method.
-        unilateral: With ``method="qp"``, must be empty: the QP's limits are the actuator's.
-        yield_axes: Axes given up first when a request cannot be met.
-        friction: With ``method="qp"``, must be None (likewise).
-        yield_weight: Their weight (the others weigh 1); None for `YIELD_WEIGHT`.
-
     Returns:
         ``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` on a parallel
-        actuator, ``(n,)`` weights (None without yield axes: the actuator's own) and ``()``;
-        otherwise ``(None, yield_axes)``.
+        actuator, ``(n,)`` weights (None without yield axes) and ``()``; otherwise
+        ``(None, yield_axes)``.
 
     Raises:
         InvalidInputError: With ``method="qp"``, ``unilateral`` or ``friction`` given;
@@ -221,10 +197,7 @@ def check_qp_yield(
             )
         return None, yield_axes
     if unilateral or friction is not None:
-        raise InvalidInputError(
-            f"Attachment {name!r}: with method='qp' the contact limits are the actuator's "
-            "own (friction, min_normal, torque_limits); leave out unilateral and friction."
-        )
+        raise InvalidInputError(f"Attachment {name!r}: {_QP_LIMITS}")
     yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
     weight = YIELD_WEIGHT if yield_weight is None else yield_weight
     weight = check_number(weight, f"Attachment {name!r}: yield_weight", positive=True)
@@ -249,10 +222,7 @@ def check_method(name: str, actuator: Actuator, method: object, limited: bool) -
             f"this actuator, got {describe(method)}."
         )
     if method == "qp" and limited:
-        raise InvalidInputError(
-            f"Attachment {name!r}: with method='qp' the contact limits are the actuator's "
-            "own (friction, min_normal, torque_limits); leave out unilateral and friction."
-        )
+        raise InvalidInputError(f"Attachment {name!r}: {_QP_LIMITS}")
     return str(method)
 
 

@@ -1,24 +1,8 @@
 """A spring-damper attachment's sensing and wrench (and a serial one's efforts) in one call.
 
-An attachment whose components are all spring-dampers on contiguous runs of the actuator's axes
-([`SpringDamper`][] and its subclasses that keep its formula: the granny
-walker, the swing-leg linkage, the dogtrack bunny, a [`Spring`][] without
-a law) needs per tick: the sensor's reading (`sense`), the sum of the components' wrenches (their
-[`compute_wrench`][virtual_actuators.SpringDamper.compute_wrench], summed like the controller's
-`Attachment.wrench`) and, for a serial
-actuator that is its own sensor, the efforts ``J^T w``. The compiled core's ``SpringTick``
-(``src/core/attachment.hpp``) does them in one call, the same operations in the same order as
-those (``J^T w`` as a sum over the axes in order, where the controller's general path lets
-numpy's ``J.T @ w`` round its own way); a parallel actuator's wrench then goes to its
-distribution, in the same call of the core (``_core.SpringSolve``, `SpringTick.run_solve`) when
-the attachment's request has a one-call solve (``SnapshotSolve``): the same kernels as the two
-calls it replaces, hence the same bits (``tests/test_snapshot_solve.py``). Without the core the
-controller's general path runs (numpy), and ``tests/test_attachment_kernel.py`` checks that
-both agree.
-
-The tick hands the general path back (flag 0 in its buffer) when a component's one rotational
-axis has a difference outside ``[-pi, pi]`` (the general path wraps it) or the wrench is not
-finite (the general path names the component).
+The compiled core's ``SpringTick`` runs the same operations in the same order as the general
+path; it hands the tick back (flag 0) on a rotational difference outside ``[-pi, pi]`` or a
+non-finite wrench.
 """
 
 from __future__ import annotations
@@ -38,8 +22,7 @@ from ..kinematics.snapshot import Snapshot
 
 __all__ = ["SpringTick"]
 
-#: The wrenches that are the spring-damper formula itself (the bunny's moves its set point to
-#: :meth:`~virtual_actuators.DogtrackBunny.position_at` first: :meth:`SpringTick.run` does).
+#: The wrenches that are the spring-damper formula itself (the bunny moves its set point first)
 _FORMULA = (
     SpringDamper.compute_wrench,
     Spring.compute_wrench,
@@ -47,8 +30,7 @@ _FORMULA = (
 )
 #: The parameter tables' rows, in the core's order.
 PARAMETERS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
-#: A spring-damper's six parameter arrays in one call: the arrays its properties return,
-#: read without a Python call each (a tick's cost; see SpringDamper's attributes)
+#: A spring-damper's six parameter arrays in one call (a tick's cost)
 _read_parameters = attrgetter(*(f"_{name}" for name in PARAMETERS))
 
 
@@ -64,25 +46,12 @@ def _served(component: object) -> bool:
 class SpringTick:
     """The one-call sensing and wrench of an attachment of spring-dampers (and serial efforts).
 
-    Built by `of` at declaration for the attachments it serves; `run` returns the
-    tick's buffer (the core's layout) or None (the general path runs).
-
     Args:
         sensor: The serial actuator the components read.
         components: The spring-dampers, in the attachment's order.
         starts: Each component's first axis among the sensor's (its axes a contiguous run).
         efforts: Whether the tick computes ``J^T w`` (the actuator is the sensor).
-        solve: A parallel actuator's one-call distribution of the attachment's request (its
-            tables and its answer's layout), or None.
-
-    Attributes:
-        efforts: As given.
-        nv: Velocity size.
-        n: Number of axes.
-        slices: The buffer's position, velocity, wrench and efforts (None without
-            ``efforts``), as slices.
-        solve: As given, with the compiled core (else None).
-        fused: The core's ``SpringSolve``: the tick and the distribution in one call, or None.
+        solve: A parallel actuator's one-call distribution of the attachment's request, or None.
     """
 
     __slots__ = (
@@ -150,11 +119,9 @@ class SpringTick:
     ) -> SpringTick | None:
         """The tick for an attachment it serves, else None.
 
-        It serves a serial actuator that is its own sensor, or a parallel actuator (its serial
-        sensor read), with spring-dampers only (the formula, not a subclass's own wrench; at
-        most one rotational axis each) on contiguous runs of the axes (``slots``), when a
-        compiled core is built. ``solve``: a parallel actuator's
-        one-call distribution of the wrench (`run_solve` then runs both in one call).
+        It serves a serial actuator that is its own sensor, or a parallel actuator, with
+        spring-dampers of the formula only (at most one rotational axis each) on contiguous
+        runs of the axes, when a compiled core is built.
         """
         if not has("SpringTick"):
             return None
@@ -172,11 +139,7 @@ class SpringTick:
         return cls(sensor, components, [slot.start for slot in slots], serial, solve)
 
     def warm_up(self, snapshot: Snapshot) -> None:
-        """Call the kernel once on the components' parameters now (its result thrown away).
-
-        Nothing changes: no set point moves (a bunny's stays where it is). ``snapshot``: a
-        snapshot with ``v`` whose frame table holds the sensor's rows.
-        """
+        """Call the kernel once on the components' parameters now (its result thrown away)."""
         if snapshot.v is None or snapshot.frame_table.shape[0] < self.rows_end:
             return
         parameters = [array for c in self.components for array in _read_parameters(c)]
@@ -185,11 +148,6 @@ class SpringTick:
 
     def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
         """The tick's buffer, or None when the general path must run.
-
-        Args:
-            components: The attachment's components now (the same ones, or None).
-            snapshot: The tick's snapshot (with ``v``).
-            time: Controller time [s] (the bunnies' set points).
 
         Returns:
             ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, flag (1.0), or
@@ -201,19 +159,12 @@ class SpringTick:
     def run_solve(
         self, components: list, snapshot: Snapshot, time: float, solve: bool = True
     ) -> tuple[np.ndarray | None, Solution | None]:
-        """`run`, and with a distribution (`solve`) its solution, in one compiled call.
-
-        Args:
-            components: As `run`'s.
-            snapshot: As `run`'s.
-            time: As `run`'s.
-            solve: Distribute the wrench too, when the tick has a distribution.
+        """`run`, and with a distribution (``solve``) its solution, in one compiled call.
 
         Returns:
             ``(buffer, solution)``: `run`'s buffer (None: the general path runs), and the
-            distribution's [`Solution`][virtual_actuators.Solution] of its wrench, bit for bit
-            the one of ``solve(snapshot, wrench)``, or None (no distribution, or one the
-            general path must decide).
+            distribution's [`Solution`][virtual_actuators.Solution], bit for bit the one of
+            ``solve(snapshot, wrench)``, or None.
         """
         if components != self.components:
             return None, None

@@ -1,11 +1,4 @@
-"""One attachment's share of a controller's tick.
-
-`run_attachment` reads the attachment's sensor, sums its components' wrenches and maps the
-wrench to joint efforts (``J^T F`` for a serial actuator, the distribution for a parallel one),
-in one compiled call for spring-dampers (``SpringTick``, ``attachment_kernel.py``); a failure is
-raised or recovered from by the controller's policy (``failures.py``). The controller's
-``compute_checked`` calls it for every active attachment.
-"""
+"""One attachment's share of a controller's tick: sense, sum the wrenches, map to efforts."""
 
 from __future__ import annotations
 
@@ -30,14 +23,7 @@ def run_attachment(
 ) -> None:
     """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
 
-    Args:
-        name: The attachment's name.
-        attachment: The attachment.
-        snapshot: The tick's snapshot (with a velocity).
-        time: Controller time [s].
-        sums: The tick's sums, added to.
-        on_failure: The controller's failure policy (``"raise"``, ``"skip"``, ``"fallback"``).
-        limits: The controller's ``(lower, upper)`` effort limits (for ``"fallback"``).
+    ``limits`` are the controller's ``(lower, upper)`` effort limits (for ``"fallback"``).
 
     Raises:
         VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
@@ -81,15 +67,7 @@ def run_attachment(
         if on_failure == "raise":
             raise
         solution, effort = recover(
-            on_failure,
-            attachment,
-            snapshot,
-            wrench,
-            reason_of(error, wrench),
-            error,
-            limits,
-            sums.failures,
-            sums.failed,
+            on_failure, attachment, snapshot, wrench, reason_of(error, wrench), error, limits, sums
         )
         if effort is None:
             return

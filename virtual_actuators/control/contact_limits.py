@@ -1,11 +1,4 @@
-"""The yield policy of a parallel attachment's contact limits (unilateral minima, cones).
-
-The rows are the attachment's `ContactSet`'s, the ones the
-QP reads. The distribution is linear in the wrench, so a request that would make a chain pull or
-slip is scaled down on the attachment's yield axes by one extra solve and a ratio test
-(`enforce_unilateral`); the contacts' compiled margins evaluate the rows from the
-snapshot's frame table without building them.
-"""
+"""The yield policy of a parallel attachment's contact limits (unilateral minima, cones)."""
 
 from __future__ import annotations
 
@@ -22,8 +15,7 @@ from .attachment import Attachment
 def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray) -> float | None:
     """Smallest margin ``G @ forces.ravel() - lows`` of the attachment's contact rows.
 
-    One call of the compiled core (None without the core, with sole rows, or when the
-    snapshot's frame table lacks a frame the rows read: then build the rows).
+    One compiled call, or None (no core, sole rows, or frames the table lacks).
     """
     frames = _frame_table(attachment, snapshot)
     if frames is None:
@@ -48,11 +40,8 @@ def _frame_table(attachment: Attachment, snapshot: Snapshot) -> np.ndarray | Non
 def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarray]:
     """``(G, lows)``: the attachment's contact rows ``G @ forces.ravel() >= lows``.
 
-    `ContactSet.rows` at the snapshot's
-    orientations: ``unilateral`` gives one row per chain and axis; a friction cone gives, per
-    chain, the faces ``mu n.f -+ t.f >= 0`` of a pyramid about the contact normal (world z
-    unless the actuator declares ``normals``) and, with ``min_normal > 0``, ``n.f >=
-    min_normal``.
+    ``unilateral`` gives one row per chain and axis; a friction cone the faces
+    ``mu n.f -+ t.f >= 0`` of a pyramid about the contact normal and ``n.f >= min_normal``.
     """
     rotation_o, rotations = attachment.actuator.kinematics.rotations(snapshot)
     rows = attachment.contacts.rows(rotation_o, rotations)
@@ -64,9 +53,7 @@ def largest_scale(
 ) -> float:
     """The largest ``alpha`` in ``[0, 1]`` for which the shares meet the contact rows.
 
-    The shares are ``base + alpha (full - base)``, the rows `constraint_rows`'; 0 when no
-    ``alpha`` meets them. One compiled call when it can read the snapshot's frame table; else
-    the rows are built and `ratio_test` answers.
+    The shares are ``base + alpha (full - base)``; 0 when no ``alpha`` meets them.
     """
     frames = _frame_table(attachment, snapshot)
     if frames is None:
@@ -79,8 +66,7 @@ def largest_scale(
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:
     """The largest ``alpha`` in ``[0, 1]`` with ``at_base + alpha (at_full - at_base) >= lows``.
 
-    The conditions' values at the full request and at its base (no yield axes); 0 when no
-    ``alpha`` meets them all.
+    0 when no ``alpha`` meets them all.
     """
     slope = at_full - at_base
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -96,12 +82,8 @@ def enforce_unilateral(
 ) -> Solution:
     """Scale the request on the yield axes until every chain's share is feasible.
 
-    Feasible: ``unilateral`` minima and the friction cone (see ``Controller.add``). The
-    distribution is affine in the wrench (linear, plus what passive springs contribute), so
-    the solution at ``base + alpha (wrench - base)``, ``base`` the request without its yield
-    axes, is ``base``'s solution plus ``alpha`` times the difference: one extra solve and a
-    ratio test find the largest feasible ``alpha`` in ``[0, 1]``, and the two solutions give
-    the answer (`interpolate`).
+    The distribution is affine in the wrench, so one extra solve of ``base`` (the request
+    without its yield axes) and a ratio test find the largest feasible ``alpha`` in ``[0, 1]``.
     """
     margin = least_margin(attachment, q, solution.forces)
     if margin is not None and margin >= -1e-9:  # the usual tick: nothing to scale
@@ -126,11 +108,8 @@ def enforce_unilateral(
 def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
     """The solution of the request ``start + alpha (end - start)`` of one actuator.
 
-    Exact for distributions affine in the request (every method but ``"qp"``): forces,
-    efforts, produced and requested wrenches are interpolated; the residual is that of the
-    interpolated request (``requested`` equals ``wrench`` on free axes), its tolerance the
-    interpolated tolerance (the residual is at most the interpolation of the two), and the method
-    the end's, labelled by the one admissibility rule (``Solution.admissible``).
+    Exact for distributions affine in the request (every method but ``"qp"``); the residual is
+    that of the interpolated request, labelled by ``Solution.admissible``'s rule.
     """
     forces = start.forces + alpha * (end.forces - start.forces)
     produced = start.wrench + alpha * (end.wrench - start.wrench)

@@ -1,9 +1,4 @@
-"""The tick's context of a gait's state machine, read by its events and state callbacks.
-
-The state, the time, the contacts and the kinematics snapshot. A
-[`Context`][virtual_actuators.Context] reads frames from the tick's one kinematics pass (a tabled
-frame in one entry of the snapshot's frame table); `Event` is the type of a transition's test.
-"""
+"""The tick's context of a gait's state machine, read by its events and state callbacks."""
 
 from __future__ import annotations
 
@@ -15,22 +10,14 @@ import numpy as np
 from ..exceptions import InvalidAxisError, InvalidInputError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.arguments import (
-    check_number,
-    check_robot,
-    describe,
-)
+from ..vocabulary.arguments import check_number, check_robot, describe
 
 #: A world axis's column in a row of a snapshot's frame table (rotation, then position).
 POSITION_COLUMNS = {"x": 9, "y": 10, "z": 11}
 
 
 def table_entry(snapshot: Snapshot, frame: object, column: int) -> float | None:
-    """Entry ``column`` of a frame's row in the snapshot's frame table, None if not tabled.
-
-    A tabled frame is read in one table entry (a tick's cost); callers fall back on the
-    snapshot's general reads for the others.
-    """
+    """Entry ``column`` of a frame's row in the snapshot's frame table, None if not tabled."""
     row = snapshot.named_row(frame)
     return snapshot.frame_table.item(row, column) if row >= 0 else None
 
@@ -38,9 +25,7 @@ def table_entry(snapshot: Snapshot, frame: object, column: int) -> float | None:
 class Context:
     """What events see at one tick: state, time, contacts and frame positions on demand.
 
-    Frame reads go through the tick's [`Snapshot`][], the same kinematics
-    pass that the controller's actuators and sensors read: events add no kinematics of their
-    own.
+    Frame reads go through the tick's [`Snapshot`][] (no kinematics of their own).
 
     Args:
         robot: The robot (frame names are resolved against its model).
@@ -48,7 +33,7 @@ class Context:
         v: Velocity ``(nv,)``.
         time: Controller time [s].
         contacts: Contact switches by frame name (e.g. ``{"left_heel": True}``).
-        time_in_state: Seconds since the current state was entered (the machine fills it).
+        time_in_state: Seconds since the current state was entered [s].
         snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
 
     Raises:
@@ -91,14 +76,19 @@ class Context:
                 f"Context: snapshot must be a va.Snapshot of the context's robot or None, got "
                 f"{describe(snapshot)}."
             )
+        self._fill(robot, snapshot, float(time), dict(contacts or {}), time_in_state)
+
+    def _fill(
+        self, robot: Robot, snapshot: Snapshot, time: float, contacts: dict, time_in_state: float
+    ) -> None:
         self.robot = robot
         self.snapshot = snapshot
         # the snapshot's reads directly (a tick's cost: no second call per read)
         self.frame_position = snapshot.frame_position
         self.frame_velocity = snapshot.frame_velocity
         self.frame_rotation = snapshot.frame_rotation
-        self.q, self.v, self.time = snapshot.q, snapshot.v, float(time)
-        self.contacts = dict(contacts or {})
+        self.q, self.v, self.time = snapshot.q, snapshot.v, time
+        self.contacts = contacts
         self.time_in_state = time_in_state
         self.state: str | None = None
 
@@ -108,9 +98,7 @@ class Context:
     ) -> Context:
         """The context of a tick whose snapshot (of ``robot``, with ``v``) is built already.
 
-        The same context as ``Context(robot, snapshot.q, snapshot.v, time, contacts,
-        snapshot=snapshot)``, with the checks a float time and a dict (or no) contacts pass
-        skipped (a tick's cost); anything else goes through the constructor's checks.
+        Skips the checks a float time and a dict (or no) contacts pass (a tick's cost).
 
         Raises:
             InvalidInputError: As the constructor.
@@ -124,15 +112,7 @@ class Context:
         ):
             return cls(robot, snapshot.q, snapshot.v, time, contacts, snapshot=snapshot)
         context = cls.__new__(cls)
-        context.robot = robot
-        context.snapshot = snapshot
-        context.frame_position = snapshot.frame_position
-        context.frame_velocity = snapshot.frame_velocity
-        context.frame_rotation = snapshot.frame_rotation
-        context.q, context.v, context.time = snapshot.q, snapshot.v, time
-        context.contacts = {} if contacts is None else contacts.copy()
-        context.time_in_state = 0.0
-        context.state = None
+        context._fill(robot, snapshot, time, {} if contacts is None else contacts.copy(), 0.0)
         return context
 
     def frame_position(self, frame: str) -> np.ndarray:
@@ -181,10 +161,7 @@ class Context:
         return math.atan2(rotation.item(0, 2), rotation.item(0, 0))
 
     def frame_coordinate(self, frame: str, axis: str) -> float:
-        """One world coordinate of a frame's origin [m], a float.
-
-        The entry of [`frame_position`][] along ``axis``, read without making an array (a
-        tabled frame: one entry of the snapshot's frame table).
+        """One world coordinate [m] of a frame's origin (`frame_position` along ``axis``).
 
         Args:
             frame: Frame name.

@@ -1,18 +1,4 @@
-"""The controller: virtual components on virtual actuators, summed into joint efforts.
-
-Per tick, for every active attachment (an actuator with its components):
-
-1. read its sensor: pose and velocity of the action frame relative to the sensor's reaction
-   frame, on the actuator's axes;
-2. sum the components' wrenches;
-3. map the wrench to joint torques: ``J^T F`` for a serial actuator, the partitioned
-   distribution ([`ParallelVirtualActuator.solve`][virtual_actuators.ParallelVirtualActuator.solve])
-   for a parallel one;
-
-then add all torques, zero the limp joints, and clip to the URDF's effort limits, reporting
-which joints saturated (VMC 2001, section 3: "the interactions between these components and the
-robot automatically generate the desired torques").
-"""
+"""The controller: virtual components on virtual actuators, summed into joint efforts (VMC 3)."""
 
 from __future__ import annotations
 
@@ -22,6 +8,8 @@ import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component
+from ..components.gravity import GravityCompensation
+from ..components.posture import Posture
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.kernels import finite
 from ..kinematics.snapshot import Snapshot
@@ -34,9 +22,11 @@ from .attachment_tick import run_attachment
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
 from .failures import check_policy, drop_non_finite
-from .postures import JointTerm, add_posture, tick_names
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
+
+#: What ``Controller.add`` keeps as a joint-space term (``torques(snapshot)`` each tick)
+JointTerm = Posture | GravityCompensation
 
 
 class Controller:
@@ -46,22 +36,14 @@ class Controller:
         robot: The robot.
         clip: Clip the efforts to the URDF's effort limits (joints without a positive finite
             limit are never clipped).
-        on_singular: The former name of ``on_failure`` (kept for compatibility; the same
-            values, and it now covers every failure: ``on_singular="skip"`` also skips a
-            contact QP that cannot be solved). Give one of the two.
-        on_failure: What a failing attachment does (a singular or infeasible distribution,
-            a QP out of iterations, a component's non-finite wrench, non-finite efforts):
-            ``"raise"`` (default) raises the typed error; ``"skip"`` drops that attachment's
-            efforts for the tick; ``"fallback"`` uses the partitioned least-squares answer to
-            the same request, clipped to [`effort_limits`][] (zero when there is none). Every
-            firing is reported in `ControlOutput.failures`; see
-            `failures`.
-        effort_rate_limit: The largest change of effort per second, after the clip: N m/s
-            per joint (a number, ``(nv,)`` or ``{joint: rate}``), a
-            [`LimitFraction`][virtual_actuators.control.effort_rate.LimitFraction] of each
-            effort limit, or None (default: no limit); see
-            [`effort_rate`][virtual_actuators.control.effort_rate]. The joints it holds back
-            are in `ControlOutput.rate_limited`.
+        on_singular: Alias of ``on_failure``; give one of the two.
+        on_failure: What a failing attachment does: ``"raise"`` (default) the typed error,
+            ``"skip"`` drops its efforts for the tick, ``"fallback"`` uses the partitioned
+            least-squares answer clipped to [`effort_limits`][]; reported in
+            `ControlOutput.failures`.
+        effort_rate_limit: Largest change of effort per second after the clip [N m/s]: a
+            number, ``(nv,)``, ``{joint: rate}``, a
+            [`LimitFraction`][virtual_actuators.control.effort_rate.LimitFraction], or None.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, a bad
@@ -83,26 +65,22 @@ class Controller:
         self.robot = robot
         self.clip = check_flag(clip, "clip")
         self.attachments: dict[str, Attachment] = {}
-        #: Joint-space terms (:class:`~virtual_actuators.Posture`,
-        #: :class:`~virtual_actuators.GravityCompensation`) by name, evaluated like attachments.
+        #: Joint-space terms (Posture, GravityCompensation) by name
         self.postures: dict[str, JointTerm] = {}
         self._tree = tree_of(robot)
         self.joint_names = velocity_names(robot)
         self._rate_spec: RateSpec = None
-        # [N m or N], inf where unlimited (read-only; assign anew)
         self.effort_limits = urdf_effort_limits(robot)
         self.effort_rate_limit = effort_rate_limit
 
     @property
     def on_singular(self) -> str:
-        """The failure policy under its former name (the same as `on_failure`)."""
+        """The failure policy (alias of `on_failure`)."""
         return self.on_failure
 
     @property
     def effort_limits(self) -> np.ndarray:
-        """``(nv,)`` effort limits [N m or N], ``inf`` where unlimited (read-only array).
-
-        Assign a new array to change them; it is checked and copied.
+        """``(nv,)`` effort limits [N m or N], ``inf`` where unlimited; assign to change.
 
         Raises:
             InvalidInputError: (on assignment) not ``nv`` numbers, or a NaN or negative entry.
@@ -118,7 +96,7 @@ class Controller:
 
     @property
     def effort_rate_limit(self) -> RateSpec:
-        """The effort rate limit as given (None: none); assign to change it.
+        """The effort rate limit as given (None: none); assign to change.
 
         Raises:
             InvalidInputError: (on assignment) a bad limit (see the constructor).
@@ -139,11 +117,7 @@ class Controller:
         return self._rate_limit.apply(tau, time)
 
     def reset_effort_rate(self, tau: np.ndarray | None = None, time: float = 0.0) -> None:
-        """Start the effort rate limit anew: from efforts ``tau`` at ``time``, or free.
-
-        Args:
-            tau: ``(nv,)`` efforts the motors hold now [N m or N] (None: the next tick is free).
-            time: When they were given [s].
+        """Restart the effort rate limit from efforts ``tau`` [N m or N] at ``time`` [s], or free.
 
         Raises:
             InvalidInputError: No effort rate limit, or a bad ``tau`` or ``time``.
@@ -171,41 +145,23 @@ class Controller:
 
         Args:
             name: Unique name (states refer to it).
-            actuator: A [`VirtualActuator`][] or [`ParallelVirtualActuator`][] of this robot, or a
-                joint-space term (nothing else given): a [`Posture`][] (bound here) or a
-                [`GravityCompensation`][] of this robot (its ``g(q)`` added to every tick's efforts
-                before they are clipped).
-            components: Components whose axes are subsets of the actuator's axes (a sequence,
-                or one component).
-            sensor: What the components read. Default: the actuator itself if serial; for a
-                parallel actuator, a serial actuator from ``"world"`` to its action frame on its
-                axes and reference (the body's pose in the world, as a state estimator gives).
-            free: Axes left to the distribution (parallel actuators), e.g. ``("x",)`` on one
-                leg with a limp ankle (VMC eq. 5-7).
-            unilateral: Parallel actuators: ``{axis: minimum}``, every chain's share on that axis
-                must stay at or above the minimum, e.g. ``{"z": 5.0}`` so that no foot pulls on
-                the ground [N]. When a request would break it, the request on ``yield_axes``
-                is scaled down (the most that keeps every share feasible; the distribution is
-                linear in the wrench) and `ControlOutput.produced` shows the result.
-            yield_axes: Axes of the request given up first to meet ``unilateral`` and the
-                friction cone; with ``method="qp"``, the axes that give way first when the
-                actuator's inequalities cannot meet a request (their weight in the QP's
-                closest wrench is ``yield_weight``, the others' 1; the actuator is unchanged).
-            friction: Parallel actuators: friction coefficient ``mu`` of a contact cone (a pyramid)
-                at every reaction frame, about the actuator's contact normals (its ``normals``:
-                world z by default, whatever the reaction frame's orientation; ``normals="frames"``
-                for each reaction frame's z, e.g. a limp flat foot lying on a slope): each chain's
-                share must keep its tangential part within ``mu`` times its normal part, the normal
-                part at least ``min_normal``. The rows are the ones the actuator's QP reads
-                (`virtual_actuators.contacts`). Violations are met by scaling ``yield_axes`` like
-                ``unilateral``. None: no cone.
-            min_normal: Least normal force of the cone [N] (with ``friction``).
-            method: Parallel actuators: the distribution, ``"partitioned"`` (default),
-                ``"dense"`` or ``"qp"`` (the actuator's own friction, min_normal, soles and
-                torque limits as inequalities; then ``unilateral`` and ``friction`` here are
-                not used and must be left out).
-            yield_weight: ``method="qp"`` with ``yield_axes``: their weight, a finite number > 0;
-                None for `YIELD_WEIGHT` (1e-3).
+            actuator: A [`VirtualActuator`][] or [`ParallelVirtualActuator`][] of this robot, or
+                a joint-space term: a [`Posture`][] or a [`GravityCompensation`][].
+            components: Components on subsets of the actuator's axes (or one component).
+            sensor: What the components read. Default: the actuator if serial, else a serial
+                actuator from ``"world"`` to its action frame on its axes and reference.
+            free: Axes left to the distribution (parallel actuators; VMC eq. 5-7).
+            unilateral: ``{axis: minimum}`` every chain's share must keep [N]; a request that
+                breaks it is scaled down on ``yield_axes``.
+            yield_axes: Axes given up first to meet ``unilateral`` and ``friction``; with
+                ``method="qp"``, the axes weighted ``yield_weight`` in the closest wrench.
+            friction: Friction coefficient ``mu`` of a pyramid at every reaction frame, about
+                the actuator's contact normals; violations scale ``yield_axes``. None: no cone.
+            min_normal: Least normal force of the cone [N].
+            method: ``"partitioned"``, ``"dense"`` or ``"qp"`` (then ``unilateral`` and
+                ``friction`` must be left out).
+            yield_weight: ``method="qp"``: weight of ``yield_axes``, a finite number > 0; None
+                for `YIELD_WEIGHT` (1e-3).
 
         Returns:
             The `Attachment` (the term itself for a joint-space term).
@@ -214,15 +170,16 @@ class Controller:
             InvalidInputError: The name is not a str or is taken; the actuator or sensor is not
                 a virtual actuator or belongs to another robot; the sensor's axes differ from
                 the actuator's; a component is not a [`Component`][]; a gravity compensation
-                of another robot, or components given with a joint-space term; ``unilateral`` is not
-                a dict of finite numbers; ``friction`` is not a finite number > 0 or
+                of another robot, or components given with a joint-space term; ``unilateral``
+                is not a dict of finite numbers; ``friction`` is not a finite number > 0 or
                 ``min_normal`` not a finite number >= 0; ``yield_weight`` without
                 ``method="qp"`` or not a finite number > 0.
             InvalidAxisError: A component acts on an axis the actuator does not have, or
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
+            JointNotFoundError: A posture's joint that the robot lacks (with close matches).
         """
         if isinstance(actuator, JointTerm):
-            return add_posture(self, name, actuator, components)
+            return self._add_term(name, actuator, components)
         attachment = self.attachments[name] = Attachment.declare(
             self.robot, name, actuator, components, sensor=sensor, free=free,
             unilateral=unilateral, yield_axes=yield_axes, friction=friction,
@@ -231,11 +188,20 @@ class Controller:
         )
         return attachment
 
-    def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
-        """Velocity indices of joints given by name (one name, or a collection of names).
+    def _add_term(self, name: object, term: JointTerm, components: object) -> JointTerm:
+        """Bind a joint-space term to the robot under ``name`` (see `add`)."""
+        kind = type(term).__name__
+        if not isinstance(name, str) or name in self.attachments or name in self.postures:
+            raise InvalidInputError(
+                f"{kind} {name!r}: the name must be a str not taken by another attachment."
+            )
+        if components not in ((), None, []):
+            raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
+        self.postures[name] = term.bind(self.robot)
+        return term
 
-        Returns:
-            The indices, a read-only integer array ([`compute`][]'s ``limp``).
+    def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
+        """Velocity indices (a read-only integer array) of joints given by name, or one name.
 
         Raises:
             InvalidInputError: ``joints`` is not a name or a collection of names.
@@ -251,10 +217,10 @@ class Controller:
         return index
 
     def reset(self, names: Iterable[str], q: np.ndarray | Snapshot, time: float) -> None:
-        """Call every component's `reset` hook for the named attachments.
+        """Call every component's `reset` hook for the named attachments (or one name).
 
         Args:
-            names: Attachment names (or one name).
+            names: Attachment names.
             q: Configuration, or the tick's [`Snapshot`][].
             time: Controller time [s].
 
@@ -275,10 +241,7 @@ class Controller:
                 component.reset(position[index], time)
 
     def warm_up(self, q: np.ndarray) -> None:
-        """Run every kernel the ticks use once, at ``q``: their buffers are built then.
-
-        Call it before a timed loop: otherwise the first ticks pay for them. Nothing is evaluated
-        for real: no component runs and no state changes.
+        """Run every kernel the ticks use once at ``q`` (their buffers), changing no state.
 
         Raises:
             InvalidInputError: A bad ``q``.
@@ -302,19 +265,12 @@ class Controller:
     ) -> ControlOutput:
         """Evaluate the components and return the joint efforts for one tick.
 
-        One kinematics pass serves the whole tick: every sensor and actuator reads the same
-        [`Snapshot`][] (pass one built with ``v`` to share it).
-
         Args:
-            q: Configuration ``(nq,)``, or the tick's snapshot built with a velocity.
-            v: Velocity ``(nv,)``; omit it with a snapshot (a different ``v`` is an error).
-            time: Controller time [s] (the dogtrack bunny uses it), a finite number.
-            active: Names of the attachments (postures too) to evaluate (default: all).
-            limp: Velocity indices forced to zero effort, integers in ``[0, nv)`` (e.g. from
-                [`joint_indices`][]).
-
-        Returns:
-            The [`ControlOutput`][].
+            q: Configuration ``(nq,)``, or the tick's [`Snapshot`][] built with a velocity.
+            v: Velocity ``(nv,)``; omit it with a snapshot.
+            time: Controller time [s].
+            active: Attachments (postures too) to evaluate (default: all).
+            limp: Velocity indices forced to zero effort (e.g. from [`joint_indices`][]).
 
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time``, ``limp`` or ``active`` (an unknown
@@ -328,19 +284,13 @@ class Controller:
         time = check_number(time, "time [s]")
         limp = check_limp(limp, self.robot.model.nv)
         snapshot = tick_snapshot(self.robot, self._tree, q, v)
-        names = (
-            tick_names(self.attachments, self.postures) if active is None else active_names(active)
-        )
+        names = (*self.attachments, *self.postures) if active is None else active_names(active)
         return self.compute_checked(snapshot, time, names, limp)
 
     def compute_checked(
         self, snapshot: Snapshot, time: float, names: tuple[str, ...], limp: np.ndarray
     ) -> ControlOutput:
         """[`compute`][] on arguments checked already (a gait's per-tick call).
-
-        The tick's snapshot with a velocity, a finite ``time``, distinct ``names`` (as
-        `active_names` returns them) and ``limp`` from
-        [`joint_indices`][].
 
         Raises:
             InvalidInputError: An unknown attachment name, or as [`compute`][].
@@ -362,10 +312,7 @@ class Controller:
                 run_attachment(name, attachment, snapshot, time, sums, on_failure, limits)
         tau = sums.tau
         if tau is not None and not finite(tau):
-            tau = drop_non_finite(
-                self, snapshot, sums.parts, sums.wrenches, sums.produced, sums.solutions,
-                sums.failures, sums.failed,
-            )
+            tau = drop_non_finite(self, snapshot, sums)
         if tau is None:
             tau = np.zeros(nv)
         if limp.size:

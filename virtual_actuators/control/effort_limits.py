@@ -1,9 +1,4 @@
-"""A controller's effort limits: the URDF's, checked when assigned, and the clip to them.
-
-`urdf_effort_limits` reads them from the model, `check_effort_limits` checks the
-ones a user assigns (``controller.effort_limits = ...``) and `clip_efforts` clips a
-tick's requested efforts to them, reporting the saturated joints.
-"""
+"""A controller's effort limits: the URDF's, checked when assigned, and the clip to them."""
 
 from __future__ import annotations
 
@@ -17,8 +12,7 @@ from ..vocabulary.arguments import as_float_array
 def urdf_effort_limits(robot: Robot) -> np.ndarray:
     """``(nv,)`` effort limits of the URDF [N m or N], ``inf`` where unlimited.
 
-    A 1-dof joint's positive finite ``effortLimit``; ``inf`` elsewhere (multi-dof joints,
-    missing or zero limits).
+    A 1-dof joint's positive finite ``effortLimit``; ``inf`` elsewhere.
     """
     model = robot.model
     limits = np.full(model.nv, np.inf)

@@ -1,25 +1,4 @@
-"""An optional limit on how fast a controller's efforts change: a safety net for hardware.
-
-``va.Controller(robot, effort_rate_limit=...)`` bounds each joint's change of effort between
-two ticks by its rate times the time between them: ``|tau_k - tau_(k-1)| <= rate (t_k -
-t_(k-1))``, after the clip to the effort limits. The rate is given
-
-* in N m/s (N/s on a prismatic joint): one number for every joint, one per velocity entry
-  ``(nv,)``, or a ``{joint: rate}`` dict (joints not named are not limited);
-* or as [`LimitFraction`][virtual_actuators.control.effort_rate.LimitFraction]: that many times
-  each joint's effort limit per second (``LimitFraction(20.0)``: from zero to the full effort
-  in 50 ms, at least), on the joints that have a limit.
-
-The first tick after the controller is built, after
-[`Controller.reset_effort_rate`][virtual_actuators.Controller.reset_effort_rate] without
-efforts, or at a time earlier than the last tick's (a new run) is not limited. Two ticks at the
-same time give the same efforts. The joints held back are reported in
-[`ControlOutput.rate_limited`][virtual_actuators.ControlOutput], as the clipped ones are in
-``saturated``.
-
-The walks' defaults are smooth without it (see [`tick_rate`][virtual_actuators.control.tick_rate]):
-a limit that binds every tick hides a controller that chatters, it does not fix it.
-"""
+"""An optional limit on how fast a controller's efforts change: a safety net for hardware."""
 
 from __future__ import annotations
 
@@ -51,7 +30,7 @@ class LimitFraction:
         check_number(self.per_second, "LimitFraction: per_second [1/s]", positive=True)
 
 
-#: What ``effort_rate_limit=`` takes (module docstring).
+#: What ``effort_rate_limit=`` takes
 RateSpec = float | Sequence[float] | np.ndarray | Mapping[str, float] | LimitFraction | None
 
 
@@ -60,10 +39,7 @@ def effort_rates(
 ) -> np.ndarray | None:
     """``(nv,)`` rates [N m/s or N/s], ``inf`` where unlimited, from ``spec``; None for None.
 
-    Args:
-        spec: The ``effort_rate_limit`` given (module docstring).
-        limits: The controller's effort limits ``(nv,)`` (`LimitFraction` scales them).
-        joint_names: The controller's names of the velocity entries.
+    ``limits`` are the controller's effort limits (`LimitFraction` scales them).
 
     Raises:
         InvalidInputError: A rate that is not a positive number (``inf`` allowed), the wrong
@@ -103,11 +79,7 @@ def _rate(value: object, what: str) -> float:
 
 
 class EffortRateLimit:
-    """The rate limit's state: the last efforts and when they were given.
-
-    Args:
-        rates: ``(nv,)`` [N m/s or N/s], ``inf`` where unlimited.
-    """
+    """The rate limit's state: the last efforts and when they were given (rates [N m/s])."""
 
     def __init__(self, rates: np.ndarray) -> None:
         self.rates = np.asarray(rates, dtype=float)
@@ -132,10 +104,9 @@ class EffortRateLimit:
         self.previous, self.time = tau, time
 
     def apply(self, tau: np.ndarray, time: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(efforts, limited)``: ``tau`` moved at most the rate's step from the last tick's.
+        """``(efforts, limited)``: ``tau`` moved in place at most the rate's step from the last.
 
-        ``tau`` is changed in place and kept as the last efforts; ``limited`` is True on the
-        joints held back.
+        ``limited`` is True on the joints held back.
         """
         previous = self.previous
         if previous is None or time < self.time:  # the first tick, or a new run

@@ -1,8 +1,6 @@
-"""Events for [`Transition`][]: small factories.
+"""Events for [`Transition`][]: small factories of callables of the tick's [`Context`][].
 
-Each returns a callable of the tick's [`Context`][], an object that is also data: a compiled plan
-lowers it (``lower``). Combine them with [`any_of`][] and [`all_of`][], or write a lambda (a
-plan traces it, or calls it from the tick).
+A compiled plan lowers them (``lower``); combine them with [`any_of`][] and [`all_of`][].
 """
 
 from __future__ import annotations
@@ -243,10 +241,7 @@ def all_of(*events: Event) -> Event:
 
 
 def when(predicate: Callable[[Context], bool]) -> Event:
-    """Wrap any callable of the context as an event (for symmetry in declarations).
-
-    A compiled plan traces it (written with `scalar`'s functions, it runs compiled), or calls
-    it from the tick as a Python piece.
+    """Wrap any callable of the context as an event (a plan traces it, or calls it).
 
     Raises:
         InvalidInputError: ``predicate`` is not callable.

@@ -1,27 +1,9 @@
-"""What a controller does when one attachment fails: ``Controller(robot, on_failure=...)``.
-
-An attachment fails in a tick when its components cannot give a wrench (a component raises a
-library error or an arithmetic error, or returns a non-finite or malformed wrench), when its
-distribution cannot be solved ([`SingularConfigurationError`][]; a
-[`ConstraintError`][] from a contact QP that is infeasible or runs out of
-iterations; [`InadmissibleWrenchError`][]), or when its joint efforts are
-not finite. One policy covers every case:
-
-- ``"raise"``: the typed error leaves [`Controller.compute`][]
-  ([`InvalidInputError`][] for a bad wrench or non-finite efforts);
-- ``"skip"``: that attachment contributes zero effort for the tick;
-- ``"fallback"``: that attachment contributes the partitioned least-squares answer to the same
-  request (``actuator.solve(q, wrench, free, method="partitioned")``, never strict), clipped to
-  the controller's effort limits; when there is no request to distribute (the components
-  failed), a serial actuator, or the fallback fails too, it contributes zero effort.
-
-The tick's [`ControlOutput`][] reports each firing in ``failures`` (an
-[`AttachmentFailure`][] per attachment) and lists the attachments left at zero in ``failed``.
-"""
+"""What a controller does when one attachment fails: ``Controller(robot, on_failure=...)``."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,11 +17,13 @@ from ..exceptions import (
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment
 
+if TYPE_CHECKING:
+    from .tick import TickSums
+
 #: The values of ``Controller(on_failure=...)``.
 FAILURE_POLICIES = ("raise", "skip", "fallback")
 
-#: What a policy catches: the library's typed errors and arithmetic errors (a division by zero
-#: in a component). Other exceptions (a TypeError from a bug) always propagate.
+#: What a policy catches; other exceptions (a TypeError from a bug) always propagate.
 CAUGHT = (VirtualActuatorError, ArithmeticError)
 
 
@@ -48,14 +32,13 @@ class AttachmentFailure:
     """One attachment's failure in a tick and what the controller did.
 
     Attributes:
-        reason: What failed: ``"wrench"`` (the components gave no finite wrench),
-            ``"singular"``, ``"constraint"`` (e.g. a contact QP that is infeasible or out of
-            iterations), ``"inadmissible"``, ``"distribution"`` (another error of the
-            distribution) or ``"effort"`` (non-finite joint efforts).
+        reason: ``"wrench"`` (the components gave no finite wrench), ``"singular"``,
+            ``"constraint"``, ``"inadmissible"``, ``"distribution"`` or ``"effort"``
+            (non-finite joint efforts).
         error: The exception's type name, e.g. ``"ConstraintError"``.
         message: The exception's message.
-        action: ``"skip"`` (the attachment contributed zero effort) or ``"fallback"`` (the
-            clipped partitioned least-squares answer; see `failures`).
+        action: ``"skip"`` (zero effort) or ``"fallback"`` (the clipped partitioned
+            least-squares answer).
         fallback_error: Why the fallback was not used (then ``action`` is ``"skip"``), or None.
     """
 
@@ -71,14 +54,7 @@ class AttachmentFailure:
 
 
 def check_policy(on_failure: object, on_singular: object) -> str:
-    """The controller's policy from ``on_failure`` and its former name ``on_singular``.
-
-    Args:
-        on_failure: One of `FAILURE_POLICIES`, or None.
-        on_singular: The same (the name before every failure shared one policy), or None.
-
-    Returns:
-        ``on_failure``, else ``on_singular``, else ``"raise"``.
+    """The controller's policy: ``on_failure``, else ``on_singular``, else ``"raise"``.
 
     Raises:
         InvalidInputError: A value that is not a policy, or both given and different.
@@ -115,25 +91,16 @@ def recover(
     reason: str,
     error: BaseException,
     limits: tuple[np.ndarray, np.ndarray],
-    failures: dict[str, AttachmentFailure],
-    failed: dict[str, str],
+    sums: TickSums,
 ) -> tuple[object | None, np.ndarray | None]:
     """Apply ``policy`` (``"skip"`` or ``"fallback"``) to one attachment's failure.
 
-    Args:
-        policy: ``"skip"`` or ``"fallback"``.
-        attachment: The attachment that failed.
-        snapshot: The tick's snapshot.
-        wrench: Its requested wrench, or None when its components failed.
-        reason: The failure's reason (see `AttachmentFailure.reason`).
-        error: The exception.
-        limits: ``(lower, upper)`` effort limits the fallback is clipped to.
-        failures: The tick's records, updated: ``failures[name]``.
-        failed: The tick's attachments left at zero, updated when no fallback is used.
+    ``wrench`` is None when the components failed; ``sums.failures`` and ``sums.failed`` are
+    updated.
 
     Returns:
-        ``(solution, tau)``: with a working fallback, its [`Solution`][]
-        (unclipped) and its clipped, finite ``(nv,)`` efforts; else ``(None, None)``.
+        ``(solution, tau)``: with a working fallback, its [`Solution`][] (unclipped) and its
+        clipped, finite ``(nv,)`` efforts; else ``(None, None)``.
     """
     name, error_name, message = attachment.name, type(error).__name__, str(error)
     why = None
@@ -149,49 +116,30 @@ def recover(
                 solution = actuator.solve_checked(snapshot, wrench, request)[0]
                 if np.isfinite(solution.tau).all():
                     tau = np.minimum(np.maximum(solution.tau, limits[0]), limits[1])
-                    failures[name] = AttachmentFailure(reason, error_name, message, "fallback")
+                    sums.failures[name] = AttachmentFailure(reason, error_name, message, "fallback")
                     return solution, tau
                 why = "fallback failed: non-finite efforts"
             except CAUGHT as fallback_error:
                 why = f"fallback failed: {type(fallback_error).__name__}: {fallback_error}"
-    failures[name] = AttachmentFailure(reason, error_name, message, "skip", why)
-    failed[name] = message
+    sums.failures[name] = AttachmentFailure(reason, error_name, message, "skip", why)
+    sums.failed[name] = message
     return None, None
 
 
-def drop_non_finite(
-    controller: object,
-    snapshot: Snapshot,
-    parts: list[tuple[str, np.ndarray]],
-    wrenches: dict[str, np.ndarray],
-    produced: dict[str, np.ndarray],
-    solutions: dict[str, object],
-    failures: dict[str, AttachmentFailure],
-    failed: dict[str, str],
-) -> np.ndarray:
+def drop_non_finite(controller: object, snapshot: Snapshot, sums: TickSums) -> np.ndarray:
     """A tick's efforts again, the policy applied to the attachments with non-finite ones.
 
-    Called when the sum is not finite: a finite wrench too large for float64.
-
-    Args:
-        controller: The [`Controller`][].
-        snapshot: The tick's snapshot.
-        parts: ``(name, efforts)`` of every attachment that contributed.
-        wrenches: The tick's requested wrenches.
-        produced: The tick's produced wrenches (updated).
-        solutions: The tick's solutions (updated).
-        failures: The tick's failure records (updated).
-        failed: The tick's attachments left at zero (updated).
-
-    Returns:
-        The ``(nv,)`` efforts.
+    Called when the sum is not finite (a finite wrench too large for float64); the tick's
+    ``sums`` are updated.
 
     Raises:
         InvalidInputError: With ``on_failure="raise"``, naming the first such attachment.
     """
     tau = np.zeros(controller.robot.model.nv)
     limits = (-controller.effort_limits, controller.effort_limits)
-    for name, effort in parts:
+    wrenches, produced, solutions = sums.wrenches, sums.produced, sums.solutions
+    policy = controller.on_failure
+    for name, effort in sums.parts:
         if np.isfinite(effort).all():
             tau += effort
             continue
@@ -199,21 +147,13 @@ def drop_non_finite(
             f"Attachment {name!r}: non-finite joint efforts from the finite wrench "
             f"{wrenches[name].tolist()} (too large for float64)."
         )
-        if controller.on_failure == "raise":
+        if policy == "raise":
             raise error
         solutions.pop(name, None)
         produced.pop(name, None)
         attachment = controller.attachments[name]
         solution, effort = recover(
-            controller.on_failure,
-            attachment,
-            snapshot,
-            wrenches[name],
-            "effort",
-            error,
-            limits,
-            failures,
-            failed,
+            policy, attachment, snapshot, wrenches[name], "effort", error, limits, sums
         )
         if effort is not None:  # a fallback's efforts are finite
             solutions[name], produced[name] = solution, solution.wrench

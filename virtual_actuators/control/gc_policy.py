@@ -1,28 +1,4 @@
-"""Python's garbage collector around a control loop: no collection inside a tick.
-
-CPython's collector runs whenever enough container objects were allocated, wherever that
-happens: inside a controller's tick it adds its pause to that tick. Measured on figure 7 of
-``benchmarks/bench_realtime.py`` before this policy: young (generation 1) collections of
-0.5-1.2 ms inside ticks, one of 2.6 ms, because they walked the objects the set-up had left in
-the young generations (robots, declarations, warm-up results).
-
-The control loops ([`run`][] and the walks' runner) therefore apply a
-[`LoopCollector`][] policy, ``gc_policy=``:
-
-- ``"between-ticks"`` (the default): before the first tick, a full collection, then
-  `gc.freeze` (everything the set-up made moves to the permanent generation: later
-  collections no longer walk it) and the automatic collector is disabled. Between two ticks
-  (after the efforts are written, in the loop's slack), [`LoopCollector.between_ticks`][]
-  collects the young generation when as many objects were allocated as would have triggered
-  CPython's own collection (``gc.get_threshold()[0]``), and generation 1 every
-  ``gc.get_threshold()[1]`` of those, as CPython does. Generation 2 never runs during the loop:
-  garbage cycles that survive two young collections wait until the loop ends. When the loop
-  ends (however it ends) the collector is restored: unfrozen (if it was not frozen before) and
-  enabled again if it was. The automatic collector is process-wide: other threads of the
-  process see it disabled while the loop runs (their young garbage is still collected between
-  ticks).
-- ``"python"``: leave the collector alone (CPython's automatic collections, inside ticks too).
-"""
+"""Python's garbage collector around a control loop: no collection inside a tick."""
 
 from __future__ import annotations
 
@@ -30,7 +6,7 @@ import gc
 
 from ..exceptions import InvalidInputError
 
-#: The garbage-collection policies of the control loops (see the module's text).
+#: The garbage-collection policies of the control loops
 GC_POLICIES = ("between-ticks", "python")
 
 
@@ -86,7 +62,6 @@ class LoopCollector:
 
     def between_ticks(self) -> None:
         """Collect the young generations when CPython would have (call it between ticks)."""
-        # (a threshold of 0: the user turned automatic collections off, and so do we)
         if not self.active or self._young <= 0 or gc.get_count()[0] < self._young:
             return
         self._runs += 1

@@ -1,12 +1,7 @@
 """A state machine for gaits (VMC 2001, section 5, Fig. 5 and Table 1).
 
-Each [`State`][] names the controller attachments (actuators with their components) it uses,
-the chains in support and the joints left limp. [`Transition`][] objects move between states
-on events: callables of the tick's [`Context`][] returning a bool (see
-[`virtual_actuators.control.events`][virtual_actuators.events] for body-over-foot, contact and timer
-events). All
-declarations are built once; changing state only swaps which precomputed attachments are
-evaluated, so a transition costs nothing at run time.
+States name the controller attachments they evaluate; transitions fire on events of the tick's
+[`Context`][]. Changing state only swaps which precomputed attachments run.
 """
 
 from __future__ import annotations
@@ -17,12 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
-from ..vocabulary.arguments import (
-    check_name,
-    check_names,
-    check_sequence,
-    describe,
-)
+from ..vocabulary.arguments import check_name, check_names, check_sequence, describe
 from .context import Context, Event, check_context
 
 __all__ = ["Context", "Event", "State", "StateMachine", "Transition"]
@@ -38,8 +28,7 @@ class State:
         support: Frames in support (for reports and viewers).
         limp: Joints whose effort is zero in this state (e.g. a swing leg falling freely).
         on_enter: Called with the context when the state is entered.
-        on_update: Called with the context at every tick spent in the state, before the
-            controller runs (e.g. to move set points).
+        on_update: Called with the context at every tick in the state, before the controller.
 
     Raises:
         InvalidInputError: ``name`` is not a str; ``active``, ``support`` or ``limp`` is not a
@@ -147,8 +136,8 @@ class StateMachine:
             self._exits[transition.source].append(exit_)
         self._check(self.initial, "initial")
         self._order = list(self._states.values())
-        #: the state's index, when it was entered [s], whether the machine started (1.0): an
-        #: array a compiled plan keeps in its registers (`bind_position`)
+        #: the state's index, when it was entered [s], whether it started (1.0): an array a
+        #: compiled plan keeps in its registers (`bind_position`)
         self._position = np.array([float(self.index[self.initial]), 0.0, 0.0])
 
     @property
@@ -236,9 +225,6 @@ class StateMachine:
         """Take the first transition whose event fires, then run the state's ``on_update``.
 
         Starts the machine on the first call if [`start`][] was not called.
-
-        Returns:
-            The current state after the update.
 
         Raises:
             InvalidInputError: ``context`` is not a [`Context`][].

@@ -1,15 +1,7 @@
 """Make what a controller's first tick would build, before that tick (`warm_up`).
 
-The first call of a tick's paths builds their buffers and tables (the QP's workspaces, the
-compiled core's per-thread scratch, the lazily built Pinocchio data), which would land in the
-first control ticks. `warm_up` calls every kernel an attachment's tick uses once, on results it
-throws away: no component is evaluated, no controller state changes, and the QP's warm start
-(kept per thread) is left alone by solving on a short-lived thread of its own. It also makes the
-robot's lazily built data of the calling thread (the ``pinocchio.Data`` of
-`thread_data`, which gravity compensation uses, and
-that of [`center_of_mass`][virtual_actuators.Robot.center_of_mass]) and the QP's buffers of the
-calling
-thread (not its warm start), which the first tick would otherwise pay (~0.1 ms on go2).
+Every kernel an attachment's tick uses runs once on results thrown away: no component is
+evaluated, no controller state changes, and the QP's warm start is left alone.
 """
 
 from __future__ import annotations
@@ -28,10 +20,6 @@ from .contact_limits import largest_scale, least_margin
 
 def warm_up(controller: object, q: np.ndarray) -> None:
     """Run every compiled kernel the controller's ticks use once, at configuration ``q``.
-
-    Args:
-        controller: A [`Controller`][].
-        q: A configuration ``(nq,)`` (e.g. the one the run starts from).
 
     Raises:
         InvalidInputError: A bad ``q``.
@@ -86,13 +74,11 @@ def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attach
     worker.join()
 
 
-
 def warm_up_driven(controller: object, robot: Robot) -> None:
     """Warm up what a loop drives before its clock starts (``va.run``'s first step).
 
-    ``controller`` if it is a [`Controller`][], else the ``controller`` it drives (a gait, a
-    tracker), when it controls ``robot``: [`Controller.warm_up`][] at the robot's neutral
-    configuration. What it computes afterwards is unchanged.
+    [`Controller.warm_up`][] at the robot's neutral configuration, on ``controller`` or the
+    ``controller`` it drives (a gait, a tracker), when it controls ``robot``.
     """
     for owner in (controller, getattr(controller, "controller", None)):
         model = getattr(getattr(owner, "robot", None), "model", None)

@@ -1,20 +1,7 @@
-"""The hexapod body's virtual components, in its heading frame.
+"""The hexapod body's virtual components, in its heading frame (VAC 1996, section 4).
 
-The seed treats the hexapod "as if it were a space ship with virtual thrusters and reaction
-wheels" (VAC 1996, section 4): z, roll and pitch held by virtual spring-dampers, x, y and yaw
-velocity-controlled by virtual dampers. A robot that turns needs roll and pitch measured about
-its *heading* (the body's yaw alone), not about the world axes: the sensor's rotation vector
-mixes roll and pitch once the yaw is large (by half the yaw angle), so both components here
-read the body's orientation as yaw, pitch, roll (Z-Y-X) and return world-frame wrenches:
-
-* `HeadingAttitude` (axes ``rx, ry, rz``): roll and pitch spring-dampers about the heading
-  frame's x and y axes, a damper toward the commanded yaw rate about z;
-* `HeadingDamper` (axes ``x, y``): dampers toward a velocity given in the heading frame
-  (the seed's commanded magnitude and angle of the body velocity), plus an optional force in
-  that frame (the pendulum's LQR thruster).
-
-Each is one formula (`heading_moment`, `heading_force`) on floats or traced values: the Python
-tick and a compiled plan run the same arithmetic. The pendulum's LQR is in `pendulum`.
+Roll and pitch are read about the heading (the body's yaw alone), as yaw, pitch, roll (Z-Y-X);
+the wrenches are in world axes.
 """
 
 from __future__ import annotations
@@ -36,8 +23,7 @@ def heading_moment(
     """`HeadingAttitude`'s moment, world axes, on floats or traced values alike.
 
     Args:
-        parameters: The component's slots by name (``stiffness``, ``damping``, ``roll``,
-            ``pitch``, ``yaw_rate``), each a sequence of values.
+        parameters: The component's slots by name, each a sequence of values.
         position: The body's rotation vector in the world.
         velocity: Its angular velocity, world axes [rad/s].
 
@@ -62,8 +48,7 @@ def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> lis
     """`HeadingDamper`'s force, world axes, on floats or traced values alike.
 
     Args:
-        parameters: The component's slots by name (``damping``, ``yaw``, ``velocity``,
-            ``force``).
+        parameters: The component's slots by name.
         velocity: The body's velocity along world x and y [m/s].
 
     Returns:
@@ -91,36 +76,32 @@ class _Heading(Slotted, Component):
         Raises:
             InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
         """
-        if self._store_traced(name, value):
-            return
-        what = f"{self.name}: {name}"
-        if gains:
-            array = _gains(value, count, what)
-        else:
-            try:
-                array = np.array(value, dtype=float).reshape(-1)
-            except (TypeError, ValueError):
-                raise InvalidInputError(f"{what} must be {count} numbers, got {value!r}.") from None
-            if array.shape != (count,) or not np.all(np.isfinite(array)):
-                raise InvalidInputError(f"{what} must be {count} finite numbers, got {value!r}.")
-        self._assign(f"_{name}", array)
+        if not self._store_traced(name, value):
+            self._assign(f"_{name}", _numbers(value, count, f"{self.name}: {name}", gains))
 
     def _floats(self) -> dict[str, list[float]]:
         return {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
 
 
+def _slot(name: str, count: int, doc: str) -> property:
+    """A property reading slot ``name`` (its one value when ``count`` is 1) and setting it."""
+    if count == 1:
+        return property(
+            lambda self: self._traced(name)[0], lambda self, v: self._set(name, v, 1), doc=doc
+        )
+    return property(
+        lambda self: self._traced(name), lambda self, v: self._set(name, v, count), doc=doc
+    )
+
+
 class HeadingAttitude(_Heading):
     """Roll and pitch spring-dampers about the heading axes, and a yaw-rate damper.
 
-    Reads the body's rotation vector in the world (the axes ``rx, ry, rz`` of a sensor from the
-    world to the body, world reference) and its angular velocity in world axes; returns the
-    moment on the body in world axes (`heading_moment`)::
+    Reads the body's rotation vector and angular velocity in the world; returns, in world axes::
 
         m_heading = (k_roll (roll_d - roll) - b_roll w_x,
                      k_pitch (pitch_d - pitch) - b_pitch w_y,
                      b_yaw (yaw_rate_d - w_z))          (w in the heading frame)
-
-    A compiled plan keeps its parameters in its registers and runs the same formula.
 
     Args:
         stiffness: ``(roll, pitch)`` [N m/rad].
@@ -158,32 +139,9 @@ class HeadingAttitude(_Heading):
         """``(roll, pitch, yaw)`` [N m s/rad]."""
         return self._traced("damping")
 
-    @property
-    def roll(self) -> float:
-        """Roll set point [rad]."""
-        return self._traced("roll")[0]
-
-    @roll.setter
-    def roll(self, value: float) -> None:
-        self._set("roll", value, 1)
-
-    @property
-    def pitch(self) -> float:
-        """Pitch set point [rad]."""
-        return self._traced("pitch")[0]
-
-    @pitch.setter
-    def pitch(self, value: float) -> None:
-        self._set("pitch", value, 1)
-
-    @property
-    def yaw_rate(self) -> float:
-        """Yaw rate set point [rad/s]."""
-        return self._traced("yaw_rate")[0]
-
-    @yaw_rate.setter
-    def yaw_rate(self, value: float) -> None:
-        self._set("yaw_rate", value, 1)
+    roll = _slot("roll", 1, "Roll set point [rad].")
+    pitch = _slot("pitch", 1, "Pitch set point [rad].")
+    yaw_rate = _slot("yaw_rate", 1, "Yaw rate set point [rad/s].")
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Moment on the body in world axes from its rotation vector and angular velocity."""
@@ -193,19 +151,16 @@ class HeadingAttitude(_Heading):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats (the controller's float path): `heading_moment`."""
+        """`compute_wrench` on plain floats."""
         return heading_moment(self._floats(), position, velocity)
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """`heading_moment` on the plan's traced slots and readings (a plan's ops)."""
+        """`heading_moment` on a plan's traced slots and readings."""
         return heading_moment(slots, position, velocity)
 
 
 class HeadingDamper(_Heading):
     """Dampers toward a velocity given in the heading frame, plus a force in that frame.
-
-    Returns the force on the body in world axes (`heading_force`); a compiled plan keeps its
-    parameters in its registers and runs the same formula.
 
     Args:
         damping: ``(along, across)`` the heading [N s/m].
@@ -239,32 +194,9 @@ class HeadingDamper(_Heading):
     def damping(self, value: Sequence[float]) -> None:
         self._set("damping", value, 2, gains=True)
 
-    @property
-    def yaw(self) -> float:
-        """Heading of the body [rad]."""
-        return self._traced("yaw")[0]
-
-    @yaw.setter
-    def yaw(self, value: float) -> None:
-        self._set("yaw", value, 1)
-
-    @property
-    def velocity(self) -> np.ndarray:
-        """Commanded body velocity in the heading frame ``(vx, vy)`` [m/s]."""
-        return self._traced("velocity")
-
-    @velocity.setter
-    def velocity(self, value: Sequence[float]) -> None:
-        self._set("velocity", value, 2)
-
-    @property
-    def force(self) -> np.ndarray:
-        """Extra force in the heading frame ``(fx, fy)`` [N]."""
-        return self._traced("force")
-
-    @force.setter
-    def force(self, value: Sequence[float]) -> None:
-        self._set("force", value, 2)
+    yaw = _slot("yaw", 1, "Heading of the body [rad].")
+    velocity = _slot("velocity", 2, "Commanded velocity in the heading frame ``(vx, vy)`` [m/s].")
+    force = _slot("force", 2, "Extra force in the heading frame ``(fx, fy)`` [N].")
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Force on the body in world axes."""
@@ -274,19 +206,26 @@ class HeadingDamper(_Heading):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats (the position is not read): `heading_force`."""
+        """`compute_wrench` on plain floats."""
         return heading_force(self._floats(), velocity)
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """`heading_force` on the plan's traced slots and reading (a plan's ops)."""
+        """`heading_force` on a plan's traced slots and reading."""
         return heading_force(slots, velocity)
 
 
-def _gains(values: Sequence[float], count: int, what: str) -> np.ndarray:
+def _numbers(values: object, count: int, what: str, gains: bool) -> np.ndarray:
+    """``values`` as ``count`` finite numbers (>= 0 for ``gains``).
+
+    Raises:
+        InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
+    """
+    bound = " >= 0" if gains else ""
     try:
         array = np.array(values, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        raise InvalidInputError(f"{what} must be {count} numbers >= 0, got {values!r}.") from None
-    if array.shape != (count,) or not np.all(np.isfinite(array)) or np.any(array < 0.0):
-        raise InvalidInputError(f"{what} must be {count} finite numbers >= 0, got {values!r}.")
+        raise InvalidInputError(f"{what} must be {count} numbers{bound}, got {values!r}.") from None
+    negative = gains and np.any(array < 0.0)
+    if array.shape != (count,) or not np.all(np.isfinite(array)) or negative:
+        raise InvalidInputError(f"{what} must be {count} finite numbers{bound}, got {values!r}.")
     return array

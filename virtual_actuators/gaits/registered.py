@@ -1,13 +1,4 @@
-"""The one entry of every registered walk: `run_registered`, then the walk's own ``run``.
-
-``run_walk`` resolves its arguments into a `WalkRequest`; `run_registered` checks it and hands
-it to the walk's own ``run`` (`Walk.run`), which starts the walk.
-
-What every walk shares lives here: the parameters' type, the terrain's default, the options and
-the distribution carried into the parameters (`WalkRequest.distribution_and_parameters`). What
-is a walk's own (its configuration, its speed rule, the distributions it accepts) stays in its
-``walk.py``.
-"""
+"""The one entry of every registered walk: `run_registered`, then the walk's own ``run``."""
 
 from __future__ import annotations
 
@@ -54,11 +45,7 @@ class WalkRequest:
     options: Mapping[str, Any]
 
     def distribution_and_parameters(self, default: str = "qp") -> tuple[str, object | None]:
-        """The distribution to run and the parameters carrying it.
-
-        The given distribution, else the parameters', else ``default``; given parameters get
-        the given distribution (None stays None: the walk builds its own with it).
-        """
+        """The given distribution (else the parameters', else ``default``) and its parameters."""
         parameters, distribution = self.parameters, self.distribution
         if distribution is None:
             return (default if parameters is None else parameters.distribution), parameters
@@ -74,9 +61,7 @@ class WalkRequest:
     def configured(self, config: type, speed: float | None = None) -> tuple[Any, object | None]:
         """A walk's configuration dataclass built from the request, and the parameters.
 
-        ``config(speed=, terrain=, duration=, seed=, distribution=, **options)`` with the
-        distribution of `distribution_and_parameters`; ``speed`` replaces the request's (None:
-        the request's).
+        ``speed`` replaces the request's (None: the request's).
 
         Raises:
             InvalidInputError: What ``config`` raises (a bad option, speed or distribution).
@@ -90,10 +75,7 @@ class WalkRequest:
 
 
 def run_registered(request: WalkRequest) -> Any:
-    """Run a registered walk: the request checked, then ``request.walk.run(request)``.
-
-    `run_walk` builds the request (duration, options and speed range checked, terrain
-    resolved); here the parameters' type is checked, for every walk the same way.
+    """Run a registered walk: the parameters' type checked, then ``request.walk.run(request)``.
 
     Returns:
         The walk's result (a `WalkResult` or its subclass).

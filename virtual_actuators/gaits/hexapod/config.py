@@ -89,10 +89,8 @@ def command_path(config: HexapodWalkConfig, guidance: Guidance) -> np.ndarray:
         sweep = min(abs(config.yaw_rate) * config.duration, 2.0 * np.pi)
         angles = np.linspace(0.0, sweep, 181) * np.sign(config.yaw_rate)
         # start at the origin heading along the travel direction, centre on the turning side
-        local = np.c_[
-            radius * np.sin(np.abs(angles)),
-            np.sign(config.yaw_rate) * radius * (1 - np.cos(angles)),
-        ]
+        side = np.sign(config.yaw_rate) * radius * (1 - np.cos(angles))
+        local = np.c_[radius * np.sin(np.abs(angles)), side]
         c, s = math.cos(config.direction), math.sin(config.direction)
         along, across = c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1]
     else:

@@ -1,9 +1,4 @@
-"""The hexapod walker's memory, and the walker's inputs and state read from it.
-
-`walker_memory` declares what `HexapodWalker` carries from tick to tick (a
-[`Memory`][virtual_actuators.Memory]: a compiled plan's registers once the walker is lowered);
-`WalkerState` sets the command into it and reads the gait's state out of it.
-"""
+"""The hexapod walker's memory, and the walker's inputs and state read from it."""
 
 from __future__ import annotations
 
@@ -21,15 +16,7 @@ __all__ = ["SUPPORT", "WalkerState", "walker_memory"]
 
 
 def walker_memory(ground: float) -> Memory:
-    """The walker's memory at rest, its ground plane at height ``ground`` (body axes) [m].
-
-    The command ``(vx, vy, yaw rate)`` [m/s, rad/s]; the velocity set point and its
-    acceleration [m/s, m/s^2]; the measured and the low-passed body velocity (heading frame)
-    [m/s]; the filter's and the set points' last times [s]; the ground plane ``(a, b, c)``; the
-    swing's phase; the ground height under the body [m]; the support tripod (`SUPPORT`); per
-    swing foot its lift-off point, last set point and that set point's velocity [m, m/s]; the
-    pendulum's angle [rad].
-    """
+    """The walker's memory at rest, its ground plane at height ``ground`` (body axes) [m]."""
     zeros = (0.0, 0.0)
     return Memory(
         command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
@@ -46,11 +33,7 @@ class WalkerState:
     _command = (0.0, 0.0, 0.0)  # the command last written into the memory
 
     def set_command(self, velocity: tuple[float, float] | np.ndarray, yaw_rate: float) -> None:
-        """Set the three inputs: body velocity in the heading frame and the yaw rate.
-
-        Args:
-            velocity: ``(vx, vy)`` [m/s] along and across the heading.
-            yaw_rate: [rad/s].
+        """Set the body velocity ``(vx, vy)`` in the heading frame [m/s] and the yaw rate [rad/s].
 
         Raises:
             InvalidInputError: Values that are not finite.

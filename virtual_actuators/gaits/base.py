@@ -59,8 +59,6 @@ class Gait:
 
     def _front_is(self, side: str, event: Event) -> Event:
         """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""
-        if not hasattr(getattr(self, "memory", None), "front"):  # a gait keeping `front` itself
-            return lambda context: self.front == side and event(context)
         index = float(SIDES.index(side))
 
         @lowerable

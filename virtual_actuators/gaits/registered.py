@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 from ..exceptions import InvalidInputError
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk
+from .runner import WalkFigures, WalkResult, number
 
-__all__ = ["WalkRequest", "run_registered"]
+__all__ = ["ConfiguredResult", "WalkRequest", "run_registered"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +74,39 @@ class WalkRequest:
             duration=self.duration, seed=self.seed, distribution=distribution, **self.options,
         )  # fmt: skip
         return built, parameters
+
+
+@dataclass
+class ConfiguredResult(WalkResult):
+    """A walk's result with its configuration and tick count (its ``trace()`` the walk's own).
+
+    Attributes:
+        config: What was walked.
+        ticks: Control ticks run.
+    """
+
+    config: Any = None
+    ticks: int = 0
+
+    def trace(self) -> dict[str, list]:
+        """Equal-length lists of the walk's trace."""
+        raise NotImplementedError
+
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, the summary figures, ``ticks``, ``config``, ``trace``."""
+        figures, config = asdict(self.metrics), asdict(self.config)
+        return {**figures, "ticks": self.ticks, "config": config, "trace": self.trace()}
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.metrics.summary()})"
 
 
 def run_registered(request: WalkRequest) -> Any:

@@ -82,16 +82,6 @@ class WalkerState:
         self.memory.support = float(SUPPORT.index(value))
 
     @property
-    def ground(self) -> float:
-        """Ground height under the body [m]."""
-        return self.memory.ground
-
-    @property
     def pendulum_angle(self) -> float:
         """The pendulum's angle from the vertical, in the heading x-z plane [rad]."""
         return self.memory.pendulum
-
-    @property
-    def plane(self) -> tuple[float, float, float]:
-        """The ground plane ``z = a x + b y + c`` through the support feet, body axes."""
-        return self.memory.plane

@@ -6,7 +6,6 @@ roll or pitch beyond 0.8 rad, or the pendulum beyond ``HexapodParameters.pendulu
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -22,8 +21,8 @@ from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk
 from ..guidance import PlanarState
-from ..registered import WalkRequest
-from ..runner import WalkFigures, WalkResult, number, terrain_points
+from ..registered import ConfiguredResult, WalkRequest
+from ..runner import terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .config import HexapodWalkConfig, command_path
@@ -54,57 +53,21 @@ CHANNELS = (
 
 
 @dataclass
-class HexapodResult(WalkResult):
-    """What a hexapod walk produced: a walk's result with the hexapod's metrics and trace.
-
-    Attributes:
-        log: The body state at `TRACE_RATE` (channels `CHANNELS`).
-        metrics: The summary figures.
-        gait: The walker (its state machine history included).
-        simulator: The simulator in its final state.
-        wall_time: Wall-clock seconds of the loop.
-        extra: Anything a caller attaches.
-        config: The configuration.
-        ticks: Control ticks run.
-    """
+class HexapodResult(ConfiguredResult):
+    """What a hexapod walk produced: its log at `TRACE_RATE` (`CHANNELS`), metrics and trace."""
 
     metrics: HexapodMetrics
     gait: HexapodWalker
     config: HexapodWalkConfig = field(default_factory=HexapodWalkConfig)
-    ticks: int = 0
 
     def trace(self) -> dict[str, list[float]]:
         """The body's pose and velocity, ``vx_command``, ``fx``, ``state``, ``pendulum``/target."""
-        log = self.log
-        names = ["x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vx_command", "fx"]
+        extra = ["vx_command", "fx"]
         if self.config.pendulum:
-            names.append("pendulum")
+            extra.append("pendulum")
         if self.config.track:
-            names += ["target_x", "target_y"]
-        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-        trace["state"] = [log.state_names[i] for i in log.state]
-        return trace
-
-    def figures(self) -> WalkFigures:
-        """What a sweep tabulates (the distance is the straight line from start to end)."""
-        m, x, y = self.metrics, self.log["x"], self.log["y"]
-        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
-        return WalkFigures(
-            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
-        )
-
-    def to_json(self) -> dict[str, Any]:
-        """``fell``, ``realtime_factor``, ``steps``, the summary figures, config and ``trace``."""
-        config = asdict(self.config)
-        return {
-            **asdict(self.metrics),
-            "ticks": self.ticks,
-            "config": config,
-            "trace": self.trace(),
-        }
-
-    def __repr__(self) -> str:
-        return f"HexapodResult({self.metrics.summary()})"
+            extra += ["target_x", "target_y"]
+        return trace_of(self.log, tuple(extra))
 
 
 def hexapod_robot(pendulum: bool = False) -> Robot:

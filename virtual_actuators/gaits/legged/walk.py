@@ -24,8 +24,8 @@ from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution, check_speed_bound
 from ..guidance import PlanarState, SinePath, TrackObject
 from ..push import Push
-from ..registered import WalkRequest
-from ..runner import WalkFigures, WalkResult, number, terrain_points, trace_of
+from ..registered import ConfiguredResult, WalkRequest
+from ..runner import terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .episode import TRACE_RATE, LeggedEpisode
@@ -111,38 +111,16 @@ class LeggedWalkConfig:
 
 
 @dataclass
-class LeggedResult(WalkResult):
-    """A legged walk: the log, [`LeggedMetrics`][], the walker, the simulator, the config.
-
-    Attributes:
-        config: What was walked.
-        ticks: Control ticks run.
-    """
+class LeggedResult(ConfiguredResult):
+    """A legged walk: the log, [`LeggedMetrics`][], the walker, the simulator, the config."""
 
     metrics: LeggedMetrics
     gait: LeggedWalker
     config: LeggedWalkConfig = field(default_factory=LeggedWalkConfig)
-    ticks: int = 0
 
     def trace(self) -> dict[str, list]:
         """The base's ``t, x, y, z, roll, pitch, yaw, vx, vy`` at `TRACE_RATE`, and ``state``."""
         return trace_of(self.log)
-
-    def figures(self) -> WalkFigures:
-        """What a sweep tabulates (the distance is the straight line from start to end)."""
-        m, x, y = self.metrics, self.log["x"], self.log["y"]
-        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
-        return WalkFigures(
-            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
-        )
-
-    def to_json(self) -> dict[str, Any]:
-        """``fell``, ``realtime_factor``, the summary figures, the config and ``trace``."""
-        return {**asdict(self.metrics), "ticks": self.ticks, "config": asdict(self.config),
-                "trace": self.trace()}
-
-    def __repr__(self) -> str:
-        return f"LeggedResult({self.metrics.summary()})"
 
 
 def run_legged_walk(

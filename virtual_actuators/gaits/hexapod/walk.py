@@ -24,7 +24,7 @@ from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution, check_speed_bound
 from ..guidance import Guidance, PlanarState, SinePath, TrackObject, VelocityCommand
 from ..registered import ConfiguredResult, WalkRequest
-from ..runner import terrain_points, trace_of
+from ..runner import TRACE_CHANNELS, terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .episode import TRACE_RATE, HexapodEpisode
@@ -32,25 +32,8 @@ from .metrics import HexapodMetrics, compute_hexapod_metrics
 from .parameters import HexapodParameters
 from .walker import HexapodWalker
 
-CHANNELS = (
-    "time",
-    "x",
-    "y",
-    "z",
-    "roll",
-    "pitch",
-    "yaw",
-    "vx",
-    "vy",
-    "vx_heading",
-    "vx_command",
-    "yaw_rate",
-    "fx",
-    "pendulum",
-    "target_x",
-    "target_y",
-    "fallen",
-)
+_OWN_CHANNELS = ("vx_heading", "vx_command", "yaw_rate", "fx", "pendulum", "target_x", "target_y")
+CHANNELS = ("time", *TRACE_CHANNELS, *_OWN_CHANNELS, "fallen")
 
 
 PATHS = ("line", "sine")

@@ -83,26 +83,41 @@ class SupportedSpring(SpringDamper):
             raise InvalidInputError(f"{self.name}: {name} must be {size} numbers, got {value!r}.")
         self._assign(f"_{name}", array)
 
-    lever = property(
-        lambda self: self._traced("lever"),
-        lambda self, value: self._parameter("lever", value, 3),
-        doc="The body's origin minus the support's centre, world axes [m].",
-    )
-    reach = property(
-        lambda self: self._traced("reach"),
-        lambda self, value: self._parameter("reach", value, 2),
-        doc="The support's half extents along world x and y, margins taken [m].",
-    )
-    friction = property(
-        lambda self: self._traced("friction")[0],
-        lambda self, value: self._parameter("friction", value, 1),
-        doc="Largest horizontal over vertical force [-].",
-    )
-    moment_weight = property(
-        lambda self: self._traced("moment_weight")[0],
-        lambda self, value: self._parameter("moment_weight", value, 1),
-        doc="The moments' weight against the forces' in the shared change [-].",
-    )
+    @property
+    def lever(self) -> np.ndarray:
+        """The body's origin minus the support's centre, world axes [m]."""
+        return self._traced("lever")
+
+    @lever.setter
+    def lever(self, value: object) -> None:
+        self._parameter("lever", value, 3)
+
+    @property
+    def reach(self) -> np.ndarray:
+        """The support's half extents along world x and y, margins taken [m]."""
+        return self._traced("reach")
+
+    @reach.setter
+    def reach(self, value: object) -> None:
+        self._parameter("reach", value, 2)
+
+    @property
+    def friction(self) -> float:
+        """Largest horizontal over vertical force [-]."""
+        return self._traced("friction")[0]
+
+    @friction.setter
+    def friction(self, value: object) -> None:
+        self._parameter("friction", value, 1)
+
+    @property
+    def moment_weight(self) -> float:
+        """The moments' weight against the forces' in the shared change [-]."""
+        return self._traced("moment_weight")[0]
+
+    @moment_weight.setter
+    def moment_weight(self, value: object) -> None:
+        self._parameter("moment_weight", value, 1)
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The spring-damper's wrench, then limited (`support_limited`)."""

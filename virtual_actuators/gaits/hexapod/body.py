@@ -83,17 +83,6 @@ class _Heading(Slotted, Component):
         return {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
 
 
-def _slot(name: str, count: int, doc: str) -> property:
-    """A property reading slot ``name`` (its one value when ``count`` is 1) and setting it."""
-    if count == 1:
-        return property(
-            lambda self: self._traced(name)[0], lambda self, v: self._set(name, v, 1), doc=doc
-        )
-    return property(
-        lambda self: self._traced(name), lambda self, v: self._set(name, v, count), doc=doc
-    )
-
-
 class HeadingAttitude(_Heading):
     """Roll and pitch spring-dampers about the heading axes, and a yaw-rate damper.
 
@@ -139,9 +128,32 @@ class HeadingAttitude(_Heading):
         """``(roll, pitch, yaw)`` [N m s/rad]."""
         return self._traced("damping")
 
-    roll = _slot("roll", 1, "Roll set point [rad].")
-    pitch = _slot("pitch", 1, "Pitch set point [rad].")
-    yaw_rate = _slot("yaw_rate", 1, "Yaw rate set point [rad/s].")
+    @property
+    def roll(self) -> float:
+        """Roll set point [rad]."""
+        return self._traced("roll")[0]
+
+    @roll.setter
+    def roll(self, value: float) -> None:
+        self._set("roll", value, 1)
+
+    @property
+    def pitch(self) -> float:
+        """Pitch set point [rad]."""
+        return self._traced("pitch")[0]
+
+    @pitch.setter
+    def pitch(self, value: float) -> None:
+        self._set("pitch", value, 1)
+
+    @property
+    def yaw_rate(self) -> float:
+        """Yaw rate set point [rad/s]."""
+        return self._traced("yaw_rate")[0]
+
+    @yaw_rate.setter
+    def yaw_rate(self, value: float) -> None:
+        self._set("yaw_rate", value, 1)
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Moment on the body in world axes from its rotation vector and angular velocity."""
@@ -194,9 +206,32 @@ class HeadingDamper(_Heading):
     def damping(self, value: Sequence[float]) -> None:
         self._set("damping", value, 2, gains=True)
 
-    yaw = _slot("yaw", 1, "Heading of the body [rad].")
-    velocity = _slot("velocity", 2, "Commanded velocity in the heading frame ``(vx, vy)`` [m/s].")
-    force = _slot("force", 2, "Extra force in the heading frame ``(fx, fy)`` [N].")
+    @property
+    def yaw(self) -> float:
+        """Heading of the body [rad]."""
+        return self._traced("yaw")[0]
+
+    @yaw.setter
+    def yaw(self, value: float) -> None:
+        self._set("yaw", value, 1)
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Commanded body velocity in the heading frame ``(vx, vy)`` [m/s]."""
+        return self._traced("velocity")
+
+    @velocity.setter
+    def velocity(self, value: Sequence[float]) -> None:
+        self._set("velocity", value, 2)
+
+    @property
+    def force(self) -> np.ndarray:
+        """Extra force in the heading frame ``(fx, fy)`` [N]."""
+        return self._traced("force")
+
+    @force.setter
+    def force(self, value: Sequence[float]) -> None:
+        self._set("force", value, 2)
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Force on the body in world axes."""

@@ -97,11 +97,6 @@ class HeadingAttitude(_Heading):
         damping: ``(roll, pitch, yaw)`` [N m s/rad].
         name: Label used in reports.
 
-    Attributes:
-        roll: Roll set point [rad].
-        pitch: Pitch set point [rad].
-        yaw_rate: Yaw rate set point [rad/s].
-
     Raises:
         InvalidInputError: A gain that is not a finite number >= 0, or not 2 (3) of them.
     """
@@ -179,10 +174,7 @@ class HeadingDamper(_Heading):
         name: Label used in reports.
 
     Attributes:
-        yaw: Heading of the body [rad] (the gait sets it every tick).
-        velocity: Commanded body velocity in the heading frame ``(vx, vy)`` [m/s].
-        force: Extra force in the heading frame ``(fx, fy)`` [N] (e.g. an LQR's).
-        damping: As above; set ``damping[0] = 0`` to leave x to another law.
+        damping: As above; set ``damping[0] = 0`` to leave x to another law (an LQR's force).
 
     Raises:
         InvalidInputError: A damping that is not a finite number >= 0, or not two of them.

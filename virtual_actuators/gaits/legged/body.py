@@ -124,12 +124,6 @@ class BodyModel(Slotted, Component):
         name: Label used in reports.
 
     Attributes:
-        height: Height set point of the body's origin [m].
-        velocity: Velocity set point in the heading frame ``(vx, vy)`` [m/s].
-        acceleration: Its rate, in the heading frame [m/s^2].
-        yaw_rate: Yaw rate set point [rad/s].
-        lever: Centre of mass minus the body's origin, world axes [m].
-        missing: ``(6,)`` the unit wrench the support cannot produce, or zeros.
         yielding: Indices of the axes that give way.
 
     Raises:

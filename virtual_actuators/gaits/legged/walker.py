@@ -55,8 +55,6 @@ class LeggedWalker(WalkerHooks, Gait):
         stand_height: The body's origin above its feet when standing [m].
         swing_time: [s].
         stance_time: How long a foot stands per cycle [s].
-        velocity: The command ``(vx, vy)`` in the heading frame [m/s].
-        yaw_rate: The commanded yaw rate [rad/s].
         memory: What the walker carries from tick to tick (a [`Memory`][virtual_actuators.Memory]).
 
     Raises:

@@ -80,10 +80,7 @@ class WalkerHooks:
         body.velocity, body.lever = setpoint, tuple(com[i] - origin[i] for i in range(3))
         body.yaw_rate = yaw_command + memory.yaw_integral
         support = self._support[state]
-        ground = 0.0
-        for foot in support:
-            ground = ground + context.frame_coordinate(foot, "z")
-        ground = ground / len(support)
+        ground = sum((context.frame_coordinate(foot, "z") for foot in support), 0.0) / len(support)
         body.height = ground + self.stand_height
         if self.parameters.give_way and len(support) == 2:
             first, second = (_floats(context.frame_position(foot)) for foot in support)

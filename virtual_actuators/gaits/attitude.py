@@ -26,9 +26,8 @@ def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
 def rotation_vector_angles(x: object, y: object, z: object) -> tuple:
     """`yaw_pitch_roll` of the rotation vector ``(x, y, z)`` [rad], on floats or traced values.
 
-    The entries of ``pinocchio.exp3`` that the angles read, with its operations in its order
-    (``t^2 = |v|^2 + eps^2``, Taylor expansions below ``eps^(1/4)``, both computed and one
-    selected), so the same bits as ``yaw_pitch_roll(pin.exp3(v))`` without building the matrix.
+    ``pinocchio.exp3``'s operations in its order, so the same bits as
+    ``yaw_pitch_roll(pin.exp3(v))``.
     """
     t2 = x * x + y * y + z * z + _EPS * _EPS
     t = sqrt(t2)
@@ -60,11 +59,7 @@ def rotation(q: np.ndarray) -> np.ndarray:
 def attitude_and_velocity(
     q: np.ndarray, v: np.ndarray
 ) -> tuple[float, float, float, float, float]:
-    """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer.
-
-    As `yaw_pitch_roll` of `rotation`, and
-    ``(rotation(q) @ v[:3])[:2]``, on floats.
-    """
+    """Yaw, pitch, roll [rad] (Z-Y-X) and the world x, y velocity [m/s] of the free flyer."""
     x, y, z, w = q[3:7].tolist()
     u, s, t = v[:3].tolist()  # body axes [m/s]
     r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)

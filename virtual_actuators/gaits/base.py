@@ -1,13 +1,4 @@
-"""Common machinery of the gaits: a controller driven by a state machine, and a walk's record.
-
-A `Gait` owns a [`Controller`][] (actuators and components,
-declared once) and a [`StateMachine`][] whose states select which
-attachments run. `Gait.compute` is the whole per-tick control law: update the machine on
-the tick's [`Context`][], reset the components of attachments that
-just became active, evaluate the active ones and return the joint efforts. A `Walk` is
-what a gait's folder registers (its ``walk.py``): the robot, the defaults, the closed loop that
-runs it and how its result is plotted; `registry` collects them.
-"""
+"""Common machinery of the gaits: a controller driven by a state machine, and a walk's record."""
 
 from __future__ import annotations
 
@@ -32,10 +23,7 @@ from .planar import SIDES
 
 
 class Gait:
-    """A controller and a state machine stepped together.
-
-    Subclasses build `controller` and `machine` in their constructor and call
-    `_finish` at the end.
+    """A controller and a state machine stepped together (subclasses call `_finish`).
 
     Attributes:
         robot: The robot.
@@ -50,8 +38,6 @@ class Gait:
 
     step_states: tuple[str, ...] = ()
     contact_frames: tuple[str, ...] = ()
-    #: The contact frames that make up each support frame whose geoms are elsewhere (a flat
-    #: foot's heel and toe); a support frame not listed is its own contact frame.
     foot_contacts: Mapping[str, tuple[str, ...]] = {}
 
     def __init__(self, robot: Robot) -> None:
@@ -66,22 +52,13 @@ class Gait:
         self.wiring = MachineController(self.controller, machine)
 
     def _bound_gains(self, control_rate: float) -> list[TickRate]:
-        """Bound the derived gains' per-tick rate in every state (`bound_tick_rate`).
-
-        Judged at `initial_configuration`, each state's support held, for a controller run at
-        ``control_rate`` [Hz]; returns each state's `TickRate` before the bound.
-        """
+        """Bound every state's per-tick gain rate at ``control_rate`` [Hz]; the rates before."""
         states = [(state.active, state.support) for state in self.machine.states]
         q = self.initial_configuration()
         return bound_tick_rate(self.controller, q, states, 1.0 / control_rate)
 
     def _front_is(self, side: str, event: Event) -> Event:
-        """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left).
-
-        Traced by a compiled plan (``event`` an event object); on floats in Python.
-        """
-        if not hasattr(getattr(self, "memory", None), "front"):  # a gait keeping `front` itself
-            return lambda context: self.front == side and event(context)
+        """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""
         index = float(SIDES.index(side))
 
         @lowerable
@@ -120,17 +97,13 @@ class Gait:
         time: float,
         contacts: Mapping[str, bool] | None = None,
     ) -> ControlOutput:
-        """One control tick: [`MachineController.compute`][] of `wiring`.
-
-        The gait is lowered into the compiled core on its first tick, or in `warm_up` (its
-        components and memory are the plan's registers from then on); without the core, or a
-        gait the lowering refuses, the tick runs in Python.
+        """One control tick (compiled on the first tick or in `warm_up`, else Python).
 
         Args:
             q: Configuration ``(nq,)`` (Pinocchio convention).
             v: Velocity ``(nv,)``.
             time: Controller time [s].
-            contacts: Contact switches by frame name (only the gaits that use switches need them).
+            contacts: Contact switches by frame name.
 
         Returns:
             The [`ControlOutput`][] (its ``tau`` goes to the motors).
@@ -155,9 +128,7 @@ class Gait:
         return f"{type(self).__name__}(robot={self.robot.name!r}, state={self.state!r})"
 
 
-#: The bound of every walk's desired speed [m/s]. It is absolute: ``force_speed=True`` (command
-#: line: ``--force-speed``) lifts a walk's supported range, never this bound. No walk here walks
-#: faster: the fastest, go2's trot, was measured up to it (``gaits.legged.speeds``).
+#: The absolute bound of every walk's desired speed [m/s] (``force_speed`` does not lift it).
 MAX_SPEED = 1.5
 
 #: Why a speed beyond `MAX_SPEED` is refused (ends the messages that refuse one).
@@ -173,8 +144,7 @@ def check_speed_bound(speed: object, zero: bool = True) -> None:
 
     Raises:
         InvalidInputError: Not a finite number, or outside ``[0, MAX_SPEED]`` (``(0,
-            MAX_SPEED]`` without ``zero``); beyond the bound, the message says it is absolute,
-            and why.
+            MAX_SPEED]`` without ``zero``).
     """
     number = isinstance(speed, (int, float)) and not isinstance(speed, bool)
     if not (number and math.isfinite(speed)) or speed < 0.0 or (speed == 0.0 and not zero) or (
@@ -221,32 +191,24 @@ class Walk:
     Attributes:
         name: Demo name on the command line.
         robot: Robot name for [`load_robot`][].
-        run: The walk's own start: ``run(request)`` with the
-            [`WalkRequest`][virtual_actuators.gaits.registered.WalkRequest] that
-            [`run_registered`][virtual_actuators.gaits.registered.run_registered] resolved from
-            `run_walk`'s arguments (duration and terrain resolved, parameters of the walk's
-            type); it builds the episode, runs it under ``drive`` and returns the result.
+        run: ``run(request)`` with the resolved
+            [`WalkRequest`][virtual_actuators.gaits.registered.WalkRequest]; returns the result.
         parameters: The gait's parameters dataclass.
         terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
         plot: Draws a result: ``plot(result, path, window)`` returns the path written.
         description: One line for the command-line help.
-        make_gait: Builds the gait from the robot, the desired speed and the parameters (the
-            planar bipeds; None when ``run`` builds its own).
+        make_gait: Builds the gait from robot, desired speed and parameters (None: ``run`` does).
         push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
         push_time: [s].
         options: The walk's own keyword options of ``run`` (and command-line options).
         plot_window: Whether ``plot`` draws a time window (``--window``).
         force_scale: Viewer arrow length per newton [m/N].
         viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
-        speeds: The supported desired speeds ``(low, high)`` [m/s]: the ends walk without
-            falling in runs of the walk's default duration (None: the walk takes no speed).
-        speeds_for: The supported speeds from the walk's options (the legged walk's depend
-            on ``robot`` and ``gait``); None: `speeds` whatever the options.
-        nominal_speed: The gait's own desired speed [m/s], or a function of the walk's options
-            returning it (the hexapod's is slower with the pendulum); None: the walk takes no
-            speed. A run given no speed walks at `default_speed`: this, moved into the
-            supported range.
+        speeds: The supported desired speeds ``(low, high)`` [m/s] (None: takes no speed).
+        speeds_for: The supported speeds from the walk's options (None: `speeds`).
+        nominal_speed: The gait's own desired speed [m/s], or a function of the options
+            returning it (None: the walk takes no speed).
     """
 
     name: str
@@ -273,13 +235,7 @@ class Walk:
         return self.speeds if self.speeds_for is None else self.speeds_for(**options)
 
     def default_speed(self, **options: Any) -> float | None:
-        """The desired speed [m/s] of a run given none: always one of the supported speeds.
-
-        The rule: the gait's own speed (`nominal_speed` with these options) when
-        `speed_range` holds it, else the nearer end of that range (each end is measured to walk,
-        see `speeds`); the nominal speed as it is when the options have no range (a robot the
-        legged trot was not measured on). E.g. the legged walk's nominal 0.4 m/s trots solo12 at
-        0.4 m/s, but walks it (``gait="walk"``, 0.05 to 0.2 m/s) at 0.2 m/s.
+        """The desired speed [m/s] of a run given none: `nominal_speed` clipped to `speed_range`.
 
         Returns:
             The speed, or None for a walk that takes no speed (it stands).
@@ -300,8 +256,7 @@ class Walk:
 
         Args:
             speed: The desired speed [m/s].
-            forced_by: How the caller runs it anyway, which the message offers (the command
-                line: ``"--force-speed"``).
+            forced_by: How the caller runs it anyway, which the message offers.
             **options: The walk's options that select its range.
 
         Raises:

@@ -1,18 +1,4 @@
-"""High-level inputs of a walk: paths and tracking turned into a velocity and a yaw rate.
-
-The hexapod's and the legged walkers (`HexapodWalker`,
-[`LeggedWalker`][]) take the body velocity in their heading frame and a
-yaw rate (the seed's three inputs). A `Guidance` computes them every tick from the body's
-planar state (`PlanarState`):
-
-* `VelocityCommand`: fixed inputs; the velocity is fixed in the body frame, so a yaw rate
-  ``w`` traces a circle of radius ``speed / w`` (the seed's line and circle);
-* `SinePath`: the body travels ``y = A sin(2 pi x / L)`` from its start (axes of its
-  initial heading) while holding its initial heading (the seed's sine wave, "facing a direction
-  independent of its travel direction");
-* `TrackObject`: an object moves on a circle; the body walks its commanded velocity while
-  turning to face the object (yaw rate = bearing rate feed-forward + a proportional term).
-"""
+"""High-level inputs of a walk: paths and tracking turned into a velocity and a yaw rate."""
 
 from __future__ import annotations
 
@@ -157,21 +143,14 @@ class SinePath(Guidance):
         yaw0 = self.start[2]
         heading = wrap(state.yaw - yaw0)  # body heading in path axes
         c, s = math.cos(heading), math.sin(heading)
-        velocity_body = np.array(
-            (
-                c * velocity_path[0] + s * velocity_path[1],
-                -s * velocity_path[0] + c * velocity_path[1],
-            )
-        )
-        return velocity_body, -self.heading_gain * heading
+        px, py = velocity_path
+        return np.array((c * px + s * py, -s * px + c * py)), -self.heading_gain * heading
 
 
 class TrackObject(Guidance):
-    """Walk a fixed body-frame velocity while facing an object moving on a circle.
+    """Walk a fixed body-frame velocity while facing an object circling the start.
 
-    The object circles the body's start at ``radius``, starting straight ahead of it, at
-    ``angular_speed``. The yaw rate is the bearing's rate (from the object's velocity and the
-    body's) plus ``gain`` times the bearing error.
+    The yaw rate is the bearing's rate plus ``gain`` times the bearing error.
 
     Args:
         speed: Body speed [m/s], >= 0.
@@ -213,10 +192,8 @@ class TrackObject(Guidance):
     def command(self, state: PlanarState) -> tuple[np.ndarray, float]:
         """The walk's velocity and the yaw rate that keeps the object ahead."""
         tx, ty = self.target(state.time)
-        x0, y0, yaw0 = self.start
-        angle = yaw0 + self.angular_speed * state.time
+        angle = self.start[2] + self.angular_speed * state.time
         rx, ry = tx - state.x, ty - state.y
-        # relative velocity of the object: its own minus the body's
         wx = -self.radius * self.angular_speed * math.sin(angle) - state.vx
         wy = self.radius * self.angular_speed * math.cos(angle) - state.vy
         distance2 = max(rx * rx + ry * ry, 1e-4)

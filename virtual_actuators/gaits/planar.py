@@ -1,10 +1,4 @@
-"""What the planar bipeds (turkey, flamingo) share, and the swing profiles every gait uses.
-
-Side names and axes, the swing foot's lift and set-point profiles, the standing pose of a
-planar biped on a boom (two-link leg inverse kinematics), and the biped declaration both walkers
-make: the granny walker, the swing-leg linkages, the ``double``, ``SIDE_stance`` and
-``SIDE_swing`` attachments and the five states of double and single support.
-"""
+"""What the planar bipeds (turkey, flamingo) share, and the swing profiles every gait uses."""
 
 from __future__ import annotations
 
@@ -36,21 +30,13 @@ def other(side: str) -> str:
 
 
 def smoothstep(s: float) -> float:
-    """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest.
-
-    On floats or traced values (a compiled plan's ops).
-    """
+    """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest."""
     s = minimum(maximum(s, 0.0), 1.0)
     return s * s * (3.0 - 2.0 * s)
 
 
 def lift_profile(phase: float, peak: float) -> float:
-    """Swing foot height over the swing, 0 at both ends and 1 at ``peak`` (a phase in (0, 1)).
-
-    A quarter sine up to the peak, a quarter cosine down after it: an early peak clears the
-    ground quickly after lift-off and leaves a long, gentle descent. On floats or traced values
-    (``peak`` a constant of the declaration).
-    """
+    """Swing foot height, 0 at both ends and 1 at ``peak``: a quarter sine up, a cosine down."""
     phase = minimum(maximum(phase, 0.0), 1.0)
     if isinstance(phase, Sym):  # both quarters, then the one the phase is in
         rising = sin(0.5 * math.pi * phase / peak)
@@ -64,8 +50,7 @@ def lift_profile(phase: float, peak: float) -> float:
 def planar_leg_ik(dx: float, dz: float, thigh: float, shin: float) -> tuple[float, float]:
     """Hip and knee angles that put a planar two-link leg's end at ``(dx, dz)`` from the hip.
 
-    Joints turn about +y (a positive angle swings the distal link backward), the knee bends
-    positively (it points forward), the body is upright.
+    Joints turn about +y, the knee bends positively (it points forward), the body is upright.
 
     Args:
         dx: Foot x minus hip x [m].
@@ -137,9 +122,6 @@ def planar_standing_configuration(
     return q
 
 
-# --- the biped declaration turkey and flamingo share ---------------------------------------------
-
-
 class GrannyConstants(Protocol):
     """The granny walker's constants, as both bipeds' parameters carry them."""
 
@@ -187,11 +169,7 @@ def declare_biped(
     rule: Mapping[str, Any],
     ankles: bool = False,
 ) -> None:
-    """Add a planar biped's five attachments to ``controller``.
-
-    ``double`` holds the body (``body``: the granny walker first, then the bunny) on both feet,
-    x yielding first; ``SIDE_stance`` holds it with the granny walker on one foot, x free;
-    ``SIDE_swing`` moves a foot relative to the body with ``swing[SIDE]`` along its axes.
+    """Add ``double`` (both feet, x yielding), ``SIDE_stance`` (x free) and ``SIDE_swing``.
 
     Args:
         controller: The gait's controller (its robot is the biped).

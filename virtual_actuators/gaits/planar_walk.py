@@ -1,14 +1,4 @@
-"""The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes.
-
-`run_planar_walk` builds the robot, its gait and a
-[`Simulator`][] (a `PlanarEpisode`), then runs the
-control loop at 1 kHz (`drive`): read ``q``, ``v`` and the
-contact switches, let the gait compute the joint efforts, step the physics. Every tick is
-recorded (see `virtual_actuators.experiments.walk_log` for the channels); the result
-carries the log and its metrics (JSON-able), and can be plotted like the seed's Figs. 9 and 15
-(`plot_planar_walk`). The robot is judged fallen by
-`has_fallen`.
-"""
+"""The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes."""
 
 from __future__ import annotations
 
@@ -42,14 +32,10 @@ def with_speed(parameters, speed: float | None):
 
 
 def run_planar_walk(request: WalkRequest) -> WalkResult:
-    """Simulate a planar biped's walk and measure it (a `Walk`'s ``run``, from `run_registered`).
+    """Simulate a planar biped's walk and measure it (a `Walk`'s ``run``).
 
-    The request's fields (see `run_walk`): ``speed`` defaults to ``parameters.speed`` when
-    parameters are given, else to `Walk.default_speed` (the gait's, 0.5 for the turkey, 0.4 for
-    the flamingo, within their ranges); ``seed`` (an int) varies the start-up push (its force
-    and duration each scaled by a factor drawn uniformly in [0.7, 1.3]) so that sweeps see
-    several starts per setting; ``distribution`` (``"partitioned"`` or ``"qp"``: how double
-    support shares the body's wrench) overrides ``parameters.distribution``.
+    ``speed`` defaults to ``parameters.speed``, else `Walk.default_speed`; ``seed`` scales the
+    start-up push's force and duration by factors drawn in [0.7, 1.3].
 
     Returns:
         The `WalkResult`.
@@ -57,10 +43,8 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
     Raises:
         InvalidInputError: Bad speed, terrain, seed or distribution.
     """
-    walk, speed, parameters, distribution = (
-        request.walk, request.speed, request.parameters, request.distribution
-    )
-    duration = request.duration
+    walk, speed, parameters = request.walk, request.speed, request.parameters
+    distribution, duration = request.distribution, request.duration
     if speed is not None:
         check_speed_bound(speed, zero=False)
     if speed is None and parameters is None:
@@ -137,11 +121,7 @@ def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
 
 
 class PlanarEpisode(Episode):
-    """A planar biped's walk under `drive`.
-
-    Every tick is recorded (`STANDARD_CHANNELS`); the stance forces are read every
-    `STANCE_SAMPLING` ticks.
-    """
+    """A planar biped's walk under `drive`: every tick recorded (`STANDARD_CHANNELS`)."""
 
     stance_every = STANCE_SAMPLING
 
@@ -208,8 +188,7 @@ def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:
     Args:
         result: The walk.
         path: The image to write.
-        window: ``(t0, t1)`` simulated seconds to draw (either may be None), or None for all;
-            the figure's title names the window (and, against x, the metres it covers).
+        window: ``(t0, t1)`` simulated seconds to draw (either may be None), or None for all.
 
     Returns:
         The path written.

@@ -19,8 +19,8 @@ __all__ = ["PUSH_DURATION", "Push"]
 class Push(NamedTuple):
     """A push on the body: ``force`` newtons from ``time`` seconds along ``direction`` degrees.
 
-    The direction is in the ground plane, 0 = +x, 90 = +y. A negative force given to `parse`
-    or `of` pushes the other way: ``-10@1`` is ``10@1:180`` (``force`` is never negative).
+    The direction is in the ground plane, 0 = +x; a negative force given to `parse` or `of`
+    pushes the other way (``force`` is never negative).
     """
 
     force: float
@@ -30,8 +30,6 @@ class Push(NamedTuple):
     @classmethod
     def parse(cls, text: str) -> Push:
         """``"N@T"`` or ``"N@T:DEG"`` (``250@1.0:90``: 250 N at 1 s along +y).
-
-        A negative N pushes the other way (``-10@1``: 10 N along -x).
 
         Raises:
             InvalidInputError: Not of that form, or not finite numbers with ``T >= 0``.
@@ -49,9 +47,6 @@ class Push(NamedTuple):
     @classmethod
     def of(cls, value: str | Push | tuple[float, ...]) -> Push:
         """A push from its text, a `Push` or ``(N, T)`` / ``(N, T, DEG)``.
-
-        A negative ``N`` pushes the other way: ``(-N, T, DEG)`` is ``(N, T, DEG + 180)`` (in
-        ``[0, 360)``).
 
         Raises:
             InvalidInputError: Not finite numbers with ``T >= 0``, or a bad text.

@@ -1,26 +1,19 @@
-"""The one entry of every registered walk: `run_registered`, then the walk's own ``run``.
-
-``run_walk`` resolves its arguments into a `WalkRequest`; `run_registered` checks it and hands
-it to the walk's own ``run`` (`Walk.run`), which starts the walk.
-
-What every walk shares lives here: the parameters' type, the terrain's default, the options and
-the distribution carried into the parameters (`WalkRequest.distribution_and_parameters`). What
-is a walk's own (its configuration, its speed rule, the distributions it accepts) stays in its
-``walk.py``.
-"""
+"""The one entry of every registered walk: `run_registered`, then the walk's own ``run``."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 from ..exceptions import InvalidInputError
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk
+from .runner import WalkFigures, WalkResult, number
 
-__all__ = ["WalkRequest", "run_registered"]
+__all__ = ["ConfiguredResult", "WalkRequest", "run_registered"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,11 +47,7 @@ class WalkRequest:
     options: Mapping[str, Any]
 
     def distribution_and_parameters(self, default: str = "qp") -> tuple[str, object | None]:
-        """The distribution to run and the parameters carrying it.
-
-        The given distribution, else the parameters', else ``default``; given parameters get
-        the given distribution (None stays None: the walk builds its own with it).
-        """
+        """The given distribution (else the parameters', else ``default``) and its parameters."""
         parameters, distribution = self.parameters, self.distribution
         if distribution is None:
             return (default if parameters is None else parameters.distribution), parameters
@@ -74,9 +63,7 @@ class WalkRequest:
     def configured(self, config: type, speed: float | None = None) -> tuple[Any, object | None]:
         """A walk's configuration dataclass built from the request, and the parameters.
 
-        ``config(speed=, terrain=, duration=, seed=, distribution=, **options)`` with the
-        distribution of `distribution_and_parameters`; ``speed`` replaces the request's (None:
-        the request's).
+        ``speed`` replaces the request's (None: the request's).
 
         Raises:
             InvalidInputError: What ``config`` raises (a bad option, speed or distribution).
@@ -89,11 +76,41 @@ class WalkRequest:
         return built, parameters
 
 
-def run_registered(request: WalkRequest) -> Any:
-    """Run a registered walk: the request checked, then ``request.walk.run(request)``.
+@dataclass
+class ConfiguredResult(WalkResult):
+    """A walk's result with its configuration and tick count (its ``trace()`` the walk's own).
 
-    `run_walk` builds the request (duration, options and speed range checked, terrain
-    resolved); here the parameters' type is checked, for every walk the same way.
+    Attributes:
+        config: What was walked.
+        ticks: Control ticks run.
+    """
+
+    config: Any = None
+    ticks: int = 0
+
+    def trace(self) -> dict[str, list]:
+        """Equal-length lists of the walk's trace."""
+        raise NotImplementedError
+
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, the summary figures, ``ticks``, ``config``, ``trace``."""
+        figures, config = asdict(self.metrics), asdict(self.config)
+        return {**figures, "ticks": self.ticks, "config": config, "trace": self.trace()}
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.metrics.summary()})"
+
+
+def run_registered(request: WalkRequest) -> Any:
+    """Run a registered walk: the parameters' type checked, then ``request.walk.run(request)``.
 
     Returns:
         The walk's result (a `WalkResult` or its subclass).

@@ -1,10 +1,4 @@
-"""The walk registry: every gait folder's ``walk.py`` registers one `Walk`.
-
-`WALKS` feeds the command line (``demo``, ``sweep``), the sweeps and the benchmarks;
-`run_walk` runs any of them by name, through the one entry every walk shares
-([`run_registered`][virtual_actuators.gaits.registered.run_registered]: the parameters' type,
-the terrain's default, then the walk's own ``run`` of the resolved request).
-"""
+"""The walk registry: every gait folder's ``walk.py`` registers one `Walk`."""
 
 from __future__ import annotations
 
@@ -55,33 +49,21 @@ def run_walk(
     """Simulate one of the walks and measure it.
 
     Args:
-        name: A key of `WALKS` (``"turkey-walk"``, ``"flamingo-slopes"``,
-            ``"hexapod-walk"``, ``"legged"``, ``"balance"``).
+        name: A key of `WALKS`.
         duration: Simulated time [s] (default: the walk's).
-        speed: Desired speed [m/s] (default: `Walk.default_speed`, the gait's own speed moved
-            into the walk's supported range).
-        terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][]: ``"flat"``, a built-in
-            name, or ``"x:z,x:z,..."`` points in metres (default: the walk's).
+        speed: Desired speed [m/s] (default: `Walk.default_speed`).
+        terrain: A [`Terrain`][] or a spec for [`Terrain.parse`][] (default: the walk's).
         progress: Show a tqdm progress bar.
-        on_tick: Called after every physics step (e.g. a viewer's throttled update).
+        on_tick: Called after every physics step (e.g. a viewer's update).
         stop_on_fall: End the run at the first fallen tick (plus 0.5 s to see the fall).
-        seed: None for the walk's nominal start; an int varies the start (the bipeds'
-            start-up push, the hexapod's initial disturbance) so that sweeps see several
-            starts per setting.
-        parameters: The gait's parameters (a ``WALKS[name].parameters``; default: the gait's);
-            ``speed`` overrides theirs.
-        distribution: ``"partitioned"`` or ``"qp"``: how the support feet share the body's
-            wrench (overrides ``parameters.distribution``; default: the gait's).
-        force_speed: Run a ``speed`` outside the walk's supported range
-            (``WALKS[name].speed_range(**options)``) instead of refusing it: to see where and
-            how the walk fails (the sweeps do).
-        **options: The walk's own options (``WALKS[name].options``, e.g. the hexapod's
-            ``path``, ``yaw_rate``, ``pendulum``).
+        seed: None for the walk's nominal start; an int varies the start.
+        parameters: The gait's parameters (a ``WALKS[name].parameters``); ``speed`` overrides.
+        distribution: ``"partitioned"`` or ``"qp"`` (overrides ``parameters.distribution``).
+        force_speed: Run a ``speed`` outside the walk's supported range instead of refusing it.
+        **options: The walk's own options (``WALKS[name].options``).
 
     Returns:
-        The walk's `WalkResult` (the hexapod's is its
-        subclass `HexapodResult`: its own
-        metrics, ``figures()`` and ``to_json()``, plus ``config``, ``ticks`` and ``trace()``).
+        The walk's `WalkResult` (or its subclass).
 
     Raises:
         InvalidInputError: Unknown walk or option, bad duration, speed, terrain, seed,

@@ -1,10 +1,4 @@
-"""The smoothness of a walk's closed loop: every tick's efforts on its motors' limits.
-
-`drive` keeps every tick's efforts and the base's angular rate (`LoopEnd`);
-`loop_smoothness` measures them (`effort_smoothness`: tick-rate oscillation and change per tick
-of each motor's effort relative to its URDF limit, alternation of the base's rate) over the ticks
-before the fall, on the motors `motor_limits` gives. Every walk's metrics carry the figures.
-"""
+"""The smoothness of a walk's closed loop: every tick's efforts on its motors' limits."""
 
 from __future__ import annotations
 
@@ -22,9 +16,8 @@ def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:
     """The effort limits of the motors the simulation drives, and every degree of freedom's joint.
 
     Returns:
-        ``(limits, names)``: ``(nv,)`` the URDF's positive finite effort limits of the
-        actuated joints [N m or N], ``inf`` elsewhere (the base, passive joints, joints
-        without a limit); ``nv`` joint names, one per degree of freedom.
+        ``(limits, names)``: ``(nv,)`` the URDF's effort limits of the actuated joints [N m or
+        N] (``inf`` elsewhere), and ``nv`` joint names.
     """
     model, actuated = simulator.robot.model, set(simulator.mujoco_model.actuated)
     limits, names = urdf_effort_limits(simulator.robot), [""] * model.nv
@@ -46,6 +39,5 @@ def loop_smoothness(simulator: Simulator, end: LoopEnd) -> EffortSmoothness:
     limits, names = motor_limits(simulator)
     until = end.ticks if end.fall_tick is None else end.fall_tick
     rates = None if end.base_rates is None else end.base_rates[:until]
-    return effort_smoothness(
-        end.efforts[:until], limits, rates, time_step=end.time_step, names=names
-    )
+    efforts = end.efforts[:until]
+    return effort_smoothness(efforts, limits, rates, time_step=end.time_step, names=names)

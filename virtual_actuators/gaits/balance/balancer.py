@@ -1,20 +1,7 @@
 """Standing balance for any legged robot: the body on its feet, the rest held by a posture.
 
-A [`Balancer`][] is a `Gait` with one state, ``stand``:
-
-- a body actuator from the feet to the body frame (world axes), distributed by the contact QP:
-  flat soles for two feet (their size from the collision geometry, the centre of pressure kept
-  inside, friction cones, the URDF's torque limits), point feet with friction cones for three or
-  more; a spring-damper on its six axes holds the body's pose, with the robot's weight acting at
-  its centre of mass as a feed-forward;
-- a [`Posture`][] on every joint off the legs (torso, arms, head), holding
-  the pose the robot starts in;
-- gravity compensation of every link (the legs carry the body, the body carries the rest).
-
-Gains come from [`BalanceParameters`][]'
-frequencies and the robot's inertia. Pushes are recovered without stepping: when a push asks
-for more than the soles allow, the QP gives way on the rotations first (weight
-``yield_weight``), so the body tilts rather than the feet roll.
+One state, ``stand``: the body's spring-damper on the contact QP (flat soles for two feet, point
+feet for more; the rotations give way first), a posture off the legs, gravity compensation.
 """
 
 from __future__ import annotations
@@ -47,7 +34,7 @@ __all__ = ["BODY_AXES", "Balancer"]
 
 
 class Balancer(Gait):
-    """A legged robot standing on all its feet (see the module docstring).
+    """A legged robot standing on all its feet.
 
     Args:
         robot: A floating-base legged robot (sole frames are added to its model for flat feet).
@@ -55,9 +42,7 @@ class Balancer(Gait):
         feet: Foot frames (default: found on the robot).
 
     Attributes:
-        tick_rate: The per-tick rate of the derived gains before they were bounded for
-            ``parameters.control_rate`` (a
-            [`TickRate`][virtual_actuators.control.tick_rate.TickRate]).
+        tick_rate: The derived gains' per-tick rate before the control rate's bound.
 
     Raises:
         FrameNotFoundError: No feet found, or a name in ``feet`` that is not a frame (with
@@ -151,10 +136,7 @@ class Balancer(Gait):
 
     @lowerable
     def _update(self, context: Context) -> None:
-        """The weight at the centre of mass as the spring's feed-forward; the support's figures.
-
-        On the tick's context in Python, or traced into the compiled machine (the same ops).
-        """
+        """The weight at the centre of mass as the spring's feed-forward; the support's figures."""
         bx, by, bz = context.frame_position(self.body)
         cx, cy, _ = context.center_of_mass()
         lx, ly, weight = cx - bx, cy - by, self._weight
@@ -191,14 +173,10 @@ class Balancer(Gait):
             if not model.existFrame(name):
                 parent = model.frames[model.getFrameId(foot)]
                 centre = pin.SE3(np.eye(3), np.array([*sole.centre, sole.height]))
+                placement = parent.placement * centre
+                kind = pin.FrameType.OP_FRAME
                 model.addFrame(
-                    pin.Frame(
-                        name,
-                        parent.parentJoint,
-                        model.getFrameId(foot),
-                        parent.placement * centre,
-                        pin.FrameType.OP_FRAME,
-                    )
+                    pin.Frame(name, parent.parentJoint, model.getFrameId(foot), placement, kind)
                 )
             halves = 0.5 * (np.array(sole.upper) - np.array(sole.lower))
             soles[name] = tuple(float(h) * self.parameters.sole_margin for h in halves)

@@ -1,8 +1,4 @@
-"""Plot a balance run: the body's drift, height, tilt and velocity against time.
-
-Matplotlib is imported inside the helpers of `virtual_actuators.experiments.plot_panels`
-and draws on a canvas of its own (no pyplot).
-"""
+"""Plot a balance run: the body's drift, height, tilt and velocity against time."""
 
 from __future__ import annotations
 

@@ -1,16 +1,4 @@
-"""The balancer's body spring-damper, its request kept within what the support can produce.
-
-[`SupportedSpring`][] is a [`SpringDamper`][virtual_actuators.SpringDamper] on the body's six
-axes whose wrench is then moved, when it must be, to the nearest one the feet can hold: its
-centre of pressure within `SupportedSpring.reach` of the support's centre and its horizontal
-force within `SupportedSpring.friction` times its vertical one. The horizontal force and the
-moment that move the centre of pressure share the change (least squares, weighted
-1 : `SupportedSpring.moment_weight`). The contact QP then solves the request exactly instead of
-settling between its inequalities (where the split between the feet is not unique).
-
-The limit (`support_limited`) is written once, on floats and on traced values alike: a compiled
-plan runs it in its ops, to the same bits as the Python tick.
-"""
+"""The balancer's body spring-damper, its request kept within what the support can produce."""
 
 from __future__ import annotations
 
@@ -28,7 +16,11 @@ __all__ = ["SupportedSpring", "support_limited"]
 def support_limited(
     wrench: Sequence, lever: Sequence, reach: Sequence, friction: object, moment_weight: object
 ) -> list:
-    """``wrench`` moved into what the support holds (module docstring); floats or traced.
+    """``wrench`` moved to the nearest one the support holds; floats or traced.
+
+    Its centre of pressure is kept within ``reach`` of the support's centre and its horizontal
+    force within ``friction`` times the vertical one; force and moment share each change (least
+    squares, weighted 1 : ``moment_weight``).
 
     Args:
         wrench: ``(6,)`` force and moment on the body, world axes, about its origin [N, N m].
@@ -52,8 +44,7 @@ def support_limited(
     bound_x, bound_y = reach[1] * normal, reach[0] * normal  # |M_x| by y, |M_y| by x
     miss_x = about_x - clip(about_x, -bound_x, bound_x)
     miss_y = about_y - clip(about_y, -bound_y, bound_y)
-    # M_x about the support moves with -height F_y, M_y with +height F_x: each miss is shared
-    # between that force and that moment, least squares weighted 1 : moment_weight
+    # M_x moves with -height F_y, M_y with +height F_x: each miss shared, weighted
     spread = lz * lz + 1.0 / moment_weight
     share_x, share_y = miss_x / spread, miss_y / spread
     fy = select(miss_x != 0.0, fy - share_x * -1.0 * lz, fy)
@@ -65,10 +56,6 @@ def support_limited(
 
 class SupportedSpring(SpringDamper):
     """The body's spring-damper, its request kept within what the support can produce.
-
-    Before each tick the balancer sets `lever` and `reach` (see the module docstring); a
-    compiled plan keeps them, `friction` and `moment_weight` in its registers with the spring's
-    own parameters.
 
     Args:
         axes: The body's six axes.

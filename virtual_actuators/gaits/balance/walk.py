@@ -1,15 +1,8 @@
 """``demo balance``: any legged robot standing in MuJoCo, pushed, without stepping.
 
-[`run_balance`][] loads the robot (a name or a URDF path), builds its
-[`Balancer`][], starts the simulation with the
-standing pose resting on the terrain and runs the loop at 1 kHz under
-`drive`. A push (``--push N@T[:DEG]``) is ``N`` newtons on
-the body frame for ``BalanceParameters.push_duration`` seconds from ``T``, along ``DEG``
-degrees in the ground plane (0 = +x). The robot has fallen when its body tilts beyond
-`FALL_PITCH`, drops below half its starting height above
-the terrain, or touches the ground with anything but its feet. The JSON holds ``fell``,
-``realtime_factor``, the summary figures and ``trace`` (``t, x, y, z, roll, pitch, yaw, vx, vy``
-of the body in the world at `TRACE_RATE`, plus ``state``).
+A push ``N@T[:DEG]`` is ``N`` newtons on the body for ``push_duration`` from ``T`` along ``DEG``
+degrees in the ground plane; a fall is a tilt beyond `FALL_PITCH`, half the starting height or a
+touch of anything but a foot.
 """
 
 from __future__ import annotations
@@ -59,9 +52,7 @@ __all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", 
 
 @dataclass(frozen=True)
 class BalanceMetrics(SmoothnessFigures):
-    """The summary figures of a balance run (NaN: not measured).
-
-    With the smoothness figures of every tick (`SmoothnessFigures`; None: not measured).
+    """The summary figures of a balance run (NaN: not measured), with `SmoothnessFigures`.
 
     Attributes:
         robot: The robot's name.
@@ -75,11 +66,9 @@ class BalanceMetrics(SmoothnessFigures):
         max_drift_m: Largest horizontal distance of the body from its start [m].
         final_drift_m: That distance at the end [m].
         height_error_m: Mean body height over the last second minus the standing pose's [m].
-        stance_normal_min_n: Least normal force of the terrain on a foot (MuJoCo's contacts),
-            after `SETTLE_TIME` [N]: zero when a foot lifted.
-        implausible_limits: Joints whose URDF effort limit no motor of this robot could have
-            ([`implausible_effort_limits`][]: then neither
-            the QP's torque limits nor clipping act; set real ones with ``set_effort_limits``).
+        stance_normal_min_n: Least normal force on a foot after `SETTLE_TIME` [N].
+        implausible_limits: Joints whose URDF effort limit no motor could have
+            ([`implausible_effort_limits`][]).
     """
 
     robot: str
@@ -127,11 +116,7 @@ class BalanceResult(WalkResult):
     gait: Balancer
 
     def trace(self) -> dict[str, list]:
-        """The trace: equal-length lists at `TRACE_RATE`.
-
-        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, body), ``normal_min`` (the least
-        normal force on a foot [N]) and ``state``.
-        """
+        """The body's ``t, x, y, z, roll, pitch, yaw, vx, vy``, ``normal_min`` [N], ``state``."""
         return trace_of(self.log, ("normal_min",))
 
     def figures(self) -> WalkFigures:
@@ -162,7 +147,6 @@ class BalanceEpisode(Episode):
         model = gait.robot.model
         joints = {model.frames[model.getFrameId(f)].parentJoint for f in gait.contacts}
         self.feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
-        #: per geom, 1 when every frame owning it is a foot's (the fall test's one call)
         self.allowed_geoms = allowed_geoms(simulator, self.feet.__contains__)
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
 
@@ -217,8 +201,7 @@ def run_balance(
         progress: Show a progress bar.
         on_tick: Called after every physics step (a viewer).
         stop_on_fall: End the run 0.5 s after a fall.
-        seed: Without ``push``, an int draws one: a tenth of the robot's weight, at a random
-            time in [0.5, 1] s and a random direction (sweeps see several starts).
+        seed: Without ``push``, draws one of a tenth of the weight, at 0.5 to 1 s, any direction.
 
     Returns:
         The `BalanceResult`.
@@ -280,10 +263,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
 
 
 def run_request(request: WalkRequest) -> BalanceResult:
-    """``balance`` as `run_registered` starts it (`Walk.run`; ``robot``, ``push`` options).
-
-    The robot stands: ``speed`` is not used (a sweep's speed axis leaves it unchanged) and the
-    distribution is the contact QP.
+    """``balance`` as `run_registered` starts it (``speed`` is not used).
 
     Raises:
         InvalidInputError: A distribution other than ``"qp"``; a bad push, terrain or duration.

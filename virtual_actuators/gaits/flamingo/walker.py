@@ -1,28 +1,7 @@
 """Blind walking over unknown slopes (VMC 2001, section 6): Spring Flamingo.
 
-Level walking extended with geometry only; the robot knows nothing of the terrain:
-
-* ankles limp in stance: in single support the body actuator sets height and pitch and leaves
-  x free (VMC eq. 5-7 with a limp ankle); in double support both legs hold the body (eq. 12-14;
-  the redundancy split by minimum norm, or the seed's matched hip torques on request) and the
-  dogtrack bunny regulates the speed, its force scaled down whenever a foot would leave its
-  friction cone (the sole's slope comes from the joint angles); the granny walker's z
-  spring-damper is saturated so that the legs never pull the body down (``min_lift``);
-* speed is won or lost in double support (over a limp ankle the body is an inverted pendulum):
-  double support lasts until the hip would vault over the front ankle at a speed between
-  ``min_speed`` and ``speed + max_overspeed``, and the touchdown target moves with the speed error
-  (``step_gain``) so that a fast hip gets a longer, braking, double support;
-* the only terrain sensors are heel and toe contact switches; at every touchdown the *global
-  slope* (the line through both ankles) is computed from the joint angles;
-* the hip height set point, measured vertically from the global slope, is ``k_height`` times the
-  limit of eq. 15 (back leg at the transition plane) and eq. 16 (swing leg at touchdown);
-* the swing leg follows a lift-and-reach trajectory planned along the global slope, its foot
-  held parallel to it; on premature landing (a switch closes early, with the swing ankle
-  ahead of the stance ankle: a scuff behind it is ignored) its ankle goes limp so the foot
-  conforms to the slope, and both switches closed start double support (section 6.2);
-* if the swing time expires before touchdown, the swing set point keeps going down (a downward
-  push through the virtual surface of the global slope), and once the ankle is below that
-  surface the global slope is recomputed from the swing ankle, continuously (Fig. 13).
+The robot knows nothing of the terrain: heel and toe switches and the joint angles give it the
+global slope at every touchdown (the bipeds tutorial describes the gait).
 """
 
 from __future__ import annotations
@@ -93,11 +72,6 @@ class FlamingoWalker(Gait):
         super().__init__(robot)
         self.parameters = p = parameters or FlamingoParameters()
         weight = biped_weight(robot, p.weight)  # [N]
-        #: what the gait carries from tick to tick: the global slope estimate [rad], a point (x, z)
-        #: of its line [m], the hip height set point above it [m], the height set point's last
-        #: update [s], the foot ahead in double support (0 left, 1 right), the swing ankle (x, z)
-        #: at lift-off [m], the planned touchdown x [m], the swing's start [s] and the hip's x
-        #: then [m]
         self.memory = Memory(
             slope=0.0, slope_origin=(0.0, 0.0), hip_height=p.hip_height(0.0), height_time=0.0,
             front=0.0, swing_start=(0.0, 0.0), swing_target_x=0.0, swing_started=0.0,
@@ -215,18 +189,13 @@ class FlamingoWalker(Gait):
             self.robot, self.parameters.hip_height(0.0), {"left": stance, "right": -stance}
         )
 
-    # --- geometry ------------------------------------------------------------------------------
-
     def slope_height(self, x: float) -> float:
         """Height of the global slope line at ``x`` [m] (a float, or traced)."""
         origin_x, origin_z = self.memory.slope_origin
         return origin_z + (x - origin_x) * tan(self.memory.slope)
 
     def _set_slope(self, back: tuple, front: tuple, when: object = 1.0) -> None:
-        """The global slope through two ankles ``(x, y, z)``.
-
-        Kept when they stand one above the other, or unless ``when``.
-        """
+        """The global slope through two ankles ``(x, y, z)`` if ``when`` (kept if one above)."""
         memory = self.memory
         dx = front[0] - back[0]
         new = logical_and(when, abs(dx) >= 1e-3)
@@ -240,8 +209,6 @@ class FlamingoWalker(Gait):
     def _update_height(self, context: Context) -> None:
         p, memory = self.parameters, self.memory
         if context.state != "double_support" and p.level_single_support:
-            # Climb (or descend) in double support only: with x free over a limp ankle, every
-            # centimetre the body rises in single support is paid for with forward speed.
             self.granny.velocity_setpoint = (0.0, 0.0)
             memory.height_time = context.time
             return
@@ -254,12 +221,7 @@ class FlamingoWalker(Gait):
         self.granny.velocity_setpoint = (xdot * tan(memory.slope), 0.0)
 
     def _can_vault(self, side: str) -> events.Event:
-        # Single support with a limp ankle is an inverted pendulum over the stance ankle: the
-        # hip passes over it at speed sqrt(xdot^2 - (g / h) d^2), d the hip's distance behind
-        # the ankle and h the hip height above the ankle (linear inverted pendulum along the
-        # global slope). Double support lasts until that speed is at least ``min_speed`` and,
-        # while the hip is still behind the front ankle (the bunny can still brake there; past
-        # it, nothing can), at most ``speed + max_overspeed``.
+        """The hip vaults over ``side``'s ankle at ``sqrt(xdot^2 - (g / h) d^2) >= min_speed``."""
         foot, p = f"{side}_foot", self.parameters
 
         @lowerable
@@ -278,8 +240,6 @@ class FlamingoWalker(Gait):
             return logical_and(fast, logical_or(behind <= 0.0, vault <= most * most))
 
         return event
-
-    # --- state callbacks -----------------------------------------------------------------------
 
     @lowerable
     def _enter_double(self, context: Context) -> None:
@@ -323,14 +283,10 @@ class FlamingoWalker(Gait):
         phase = elapsed / p.swing_time
         reach = phase
         if p.swing_hip_travel is not None:
-            # the foot reaches forward no faster than the hip travels: a hip slowed down (by a
-            # slope) does not have the swing leg take its momentum (mirror-like, as the seed's
-            # swing-leg linkage "mirrors the stance leg")
             reach = minimum(phase, (body_x - memory.swing_hip_x) / p.swing_hip_travel)
         target_x = memory.swing_target_x
         if p.step_gain:
-            # longer steps when too fast: longer double support (braking) and a hip further
-            # behind the next stance ankle; shorter when too slow (Raibert-like)
+            # longer steps when too fast, shorter when too slow (Raibert-like)
             xdot = context.frame_velocity("body")[0]
             target_x = target_x + minimum(
                 maximum(p.step_gain * (xdot - p.speed), -0.4 * p.step_length),
@@ -339,21 +295,14 @@ class FlamingoWalker(Gait):
         x_target = start_x + (target_x - start_x) * (smoothstep(reach))
         surface = self.slope_height(x_target)
         start_height = start_z - self.slope_height(start_x)
-        swinging = (
-            surface
-            + (1.0 - smoothstep(phase)) * start_height
-            + p.lift * lift_profile(phase, p.lift_peak)
-        )
-        # Swing time expired: downward push through the virtual surface, and re-estimate the
-        # slope once the ankle is below it (Fig. 13).
+        lift = p.lift * lift_profile(phase, p.lift_peak)
+        swinging = surface + (1.0 - smoothstep(phase)) * start_height + lift
+        # swing time expired: push down through the virtual surface (Fig. 13)
         late = phase > 1.0
         z_target = select(late, surface - p.push_speed * (elapsed - p.swing_time), swinging)
         ankle = tuple(context.frame_position(f"{swing}_foot"))
         below = logical_and(late, ankle[2] < self.slope_height(ankle[0]))
         self._set_slope(tuple(context.frame_position(f"{stance}_foot")), ankle, below)
-        # The linkage works relative to the body, along world axes; the foot stays parallel
-        # to the global slope: its pitch relative to the body is -slope - body pitch.
+        # the foot parallel to the global slope: its pitch relative to the body
         body_pitch = context.frame_pitch("body")
-        self.swing[swing].place(
-            (x_target - body_x, z_target - body_z, -memory.slope - body_pitch)
-        )
+        self.swing[swing].place((x_target - body_x, z_target - body_z, -memory.slope - body_pitch))

@@ -1,20 +1,7 @@
-"""The hexapod body's virtual components, in its heading frame.
+"""The hexapod body's virtual components, in its heading frame (VAC 1996, section 4).
 
-The seed treats the hexapod "as if it were a space ship with virtual thrusters and reaction
-wheels" (VAC 1996, section 4): z, roll and pitch held by virtual spring-dampers, x, y and yaw
-velocity-controlled by virtual dampers. A robot that turns needs roll and pitch measured about
-its *heading* (the body's yaw alone), not about the world axes: the sensor's rotation vector
-mixes roll and pitch once the yaw is large (by half the yaw angle), so both components here
-read the body's orientation as yaw, pitch, roll (Z-Y-X) and return world-frame wrenches:
-
-* `HeadingAttitude` (axes ``rx, ry, rz``): roll and pitch spring-dampers about the heading
-  frame's x and y axes, a damper toward the commanded yaw rate about z;
-* `HeadingDamper` (axes ``x, y``): dampers toward a velocity given in the heading frame
-  (the seed's commanded magnitude and angle of the body velocity), plus an optional force in
-  that frame (the pendulum's LQR thruster).
-
-Each is one formula (`heading_moment`, `heading_force`) on floats or traced values: the Python
-tick and a compiled plan run the same arithmetic. The pendulum's LQR is in `pendulum`.
+Roll and pitch are read about the heading (the body's yaw alone), as yaw, pitch, roll (Z-Y-X);
+the wrenches are in world axes.
 """
 
 from __future__ import annotations
@@ -36,8 +23,7 @@ def heading_moment(
     """`HeadingAttitude`'s moment, world axes, on floats or traced values alike.
 
     Args:
-        parameters: The component's slots by name (``stiffness``, ``damping``, ``roll``,
-            ``pitch``, ``yaw_rate``), each a sequence of values.
+        parameters: The component's slots by name, each a sequence of values.
         position: The body's rotation vector in the world.
         velocity: Its angular velocity, world axes [rad/s].
 
@@ -62,8 +48,7 @@ def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> lis
     """`HeadingDamper`'s force, world axes, on floats or traced values alike.
 
     Args:
-        parameters: The component's slots by name (``damping``, ``yaw``, ``velocity``,
-            ``force``).
+        parameters: The component's slots by name.
         velocity: The body's velocity along world x and y [m/s].
 
     Returns:
@@ -91,19 +76,8 @@ class _Heading(Slotted, Component):
         Raises:
             InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
         """
-        if self._store_traced(name, value):
-            return
-        what = f"{self.name}: {name}"
-        if gains:
-            array = _gains(value, count, what)
-        else:
-            try:
-                array = np.array(value, dtype=float).reshape(-1)
-            except (TypeError, ValueError):
-                raise InvalidInputError(f"{what} must be {count} numbers, got {value!r}.") from None
-            if array.shape != (count,) or not np.all(np.isfinite(array)):
-                raise InvalidInputError(f"{what} must be {count} finite numbers, got {value!r}.")
-        self._assign(f"_{name}", array)
+        if not self._store_traced(name, value):
+            self._assign(f"_{name}", _numbers(value, count, f"{self.name}: {name}", gains))
 
     def _floats(self) -> dict[str, list[float]]:
         return {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
@@ -112,25 +86,16 @@ class _Heading(Slotted, Component):
 class HeadingAttitude(_Heading):
     """Roll and pitch spring-dampers about the heading axes, and a yaw-rate damper.
 
-    Reads the body's rotation vector in the world (the axes ``rx, ry, rz`` of a sensor from the
-    world to the body, world reference) and its angular velocity in world axes; returns the
-    moment on the body in world axes (`heading_moment`)::
+    Reads the body's rotation vector and angular velocity in the world; returns, in world axes::
 
         m_heading = (k_roll (roll_d - roll) - b_roll w_x,
                      k_pitch (pitch_d - pitch) - b_pitch w_y,
                      b_yaw (yaw_rate_d - w_z))          (w in the heading frame)
 
-    A compiled plan keeps its parameters in its registers and runs the same formula.
-
     Args:
         stiffness: ``(roll, pitch)`` [N m/rad].
         damping: ``(roll, pitch, yaw)`` [N m s/rad].
         name: Label used in reports.
-
-    Attributes:
-        roll: Roll set point [rad].
-        pitch: Pitch set point [rad].
-        yaw_rate: Yaw rate set point [rad/s].
 
     Raises:
         InvalidInputError: A gain that is not a finite number >= 0, or not 2 (3) of them.
@@ -193,29 +158,23 @@ class HeadingAttitude(_Heading):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats (the controller's float path): `heading_moment`."""
+        """`compute_wrench` on plain floats."""
         return heading_moment(self._floats(), position, velocity)
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """`heading_moment` on the plan's traced slots and readings (a plan's ops)."""
+        """`heading_moment` on a plan's traced slots and readings."""
         return heading_moment(slots, position, velocity)
 
 
 class HeadingDamper(_Heading):
     """Dampers toward a velocity given in the heading frame, plus a force in that frame.
 
-    Returns the force on the body in world axes (`heading_force`); a compiled plan keeps its
-    parameters in its registers and runs the same formula.
-
     Args:
         damping: ``(along, across)`` the heading [N s/m].
         name: Label used in reports.
 
     Attributes:
-        yaw: Heading of the body [rad] (the gait sets it every tick).
-        velocity: Commanded body velocity in the heading frame ``(vx, vy)`` [m/s].
-        force: Extra force in the heading frame ``(fx, fy)`` [N] (e.g. an LQR's).
-        damping: As above; set ``damping[0] = 0`` to leave x to another law.
+        damping: As above; set ``damping[0] = 0`` to leave x to another law (an LQR's force).
 
     Raises:
         InvalidInputError: A damping that is not a finite number >= 0, or not two of them.
@@ -274,19 +233,26 @@ class HeadingDamper(_Heading):
     def compute_wrench_floats(
         self, position: list[float], velocity: list[float], time: float
     ) -> list[float]:
-        """`compute_wrench` on plain floats (the position is not read): `heading_force`."""
+        """`compute_wrench` on plain floats."""
         return heading_force(self._floats(), velocity)
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """`heading_force` on the plan's traced slots and reading (a plan's ops)."""
+        """`heading_force` on a plan's traced slots and reading."""
         return heading_force(slots, velocity)
 
 
-def _gains(values: Sequence[float], count: int, what: str) -> np.ndarray:
+def _numbers(values: object, count: int, what: str, gains: bool) -> np.ndarray:
+    """``values`` as ``count`` finite numbers (>= 0 for ``gains``).
+
+    Raises:
+        InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
+    """
+    bound = " >= 0" if gains else ""
     try:
         array = np.array(values, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        raise InvalidInputError(f"{what} must be {count} numbers >= 0, got {values!r}.") from None
-    if array.shape != (count,) or not np.all(np.isfinite(array)) or np.any(array < 0.0):
-        raise InvalidInputError(f"{what} must be {count} finite numbers >= 0, got {values!r}.")
+        raise InvalidInputError(f"{what} must be {count} numbers{bound}, got {values!r}.") from None
+    negative = gains and np.any(array < 0.0)
+    if array.shape != (count,) or not np.all(np.isfinite(array)) or negative:
+        raise InvalidInputError(f"{what} must be {count} finite numbers{bound}, got {values!r}.")
     return array

@@ -1,8 +1,4 @@
-"""The hexapod's walk as an episode of the generic runner.
-
-Steering along the guidance, the feet's contact switches, the fall test and the trace's samples
-at `TRACE_RATE`.
-"""
+"""The hexapod's walk under `drive`: guidance, contact switches, fall test, trace."""
 
 from __future__ import annotations
 
@@ -25,11 +21,7 @@ __all__ = ["TRACE_RATE", "HexapodEpisode"]
 
 
 class HexapodEpisode(Episode):
-    """The hexapod's walk under `drive`.
-
-    Every tick the guidance steers the walker and the feet's contact switches are read; the body
-    state is recorded at `TRACE_RATE`.
-    """
+    """The hexapod's walk under `drive` (the body state recorded at `TRACE_RATE`)."""
 
     ignore_unactuated = True
 
@@ -51,10 +43,7 @@ class HexapodEpisode(Episode):
         self._switches: dict[str, bool] = {}
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """Steer the walker along the guidance; the feet's contact switches.
-
-        The switches are the same dict while the contacts stay the same (do not modify it).
-        """
+        """Steer the walker along the guidance; the feet's contact switches (a shared dict)."""
         self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
         state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
         self.command, yaw_rate = self.guidance.command(state)

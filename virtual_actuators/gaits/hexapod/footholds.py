@@ -1,13 +1,6 @@
 """Where the hexapod's feet are and where they land: strides, lag behind, landing places.
 
-A support foot moves over the ground relative to the body; the gait measures how far the
-support tripod is behind its nominal places (in strides, an ellipse of axes step length and
-width) to end the stance, and places the swing feet so that the next stance is centred under
-the body. Body axes throughout.
-
-Every function is written once on floats or traced values alike (`va.scalar` math, `select` in
-place of value-dependent branches, tuples): the Python tick runs them on floats and a compiled
-plan traces them into its ops (`tripod_setpoints`, the tripod's whole per-tick update).
+Body axes throughout; every function runs on floats or traced values alike.
 """
 
 from __future__ import annotations
@@ -39,8 +32,6 @@ __all__ = [
 def ground_velocity(velocity: Pair, yaw_rate: object, nominal: Sequence[Sequence]) -> list:
     """Velocity over the ground of the nominal foot points, body axes [m/s].
 
-    A support foot moves at minus this relative to the body.
-
     Args:
         velocity: The measured (low-passed) body velocity ``(vx, vy)`` [m/s].
         yaw_rate: The commanded yaw rate [rad/s].
@@ -65,9 +56,8 @@ def behind(
 ) -> object:
     """How far the support feet are behind their nominal places, in strides (largest).
 
-    Measured along each foot's motion relative to the body (against its velocity over the
-    ground at the nominal place): -0.5 where the feet land, 0.5 where the stance ends (the
-    tripod's static margin is spent beyond). 0 when the body does not move.
+    Along each foot's motion relative to the body: -0.5 where the feet land, 0.5 where the
+    stance ends; 0 when the body does not move.
 
     Args:
         parameters: The gait's step length and width.
@@ -101,13 +91,8 @@ def landing(
 ) -> list:
     """Where the swing feet land relative to the body (body axes, x and y) [m].
 
-    Half a stance's travel plus a double support's ahead of their nominal place (the
-    tripod's stance is then centred under the body: its feet go from half a stance ahead of
-    their nominal places to half a stance behind), with the body's measured velocity and
-    the commanded yaw rate, plus the Raibert term, minus ``height / g`` times the velocity
-    set point's acceleration (the centre of pressure trails the centre of mass by that much
-    while the body accelerates: without it the front foot of the next tripod unloads);
-    within 0.6 strides of the nominal place.
+    Half a stance's travel plus a double support's ahead of the nominal place, plus the
+    Raibert term, minus ``height / g`` times the set point's acceleration; within 0.6 strides.
 
     Args:
         parameters: The gait's constants.
@@ -200,13 +185,10 @@ def tripod_setpoints(
         support: The support tripod's rows of ``feet``.
         swing: The swing tripod's rows.
         nominal: The feet's nominal places relative to the body [m].
-        motion: The body's height [m], its low-passed velocity ``(vx, vy)``, the velocity set
-            point and its acceleration (heading frame) [m/s, m/s^2], the yaw rate command
-            [rad/s], the time in the stance and since the last set points [s].
+        motion: Body height [m], low-passed velocity (2), velocity set point (2) [m/s] and its
+            acceleration (2) [m/s^2], yaw rate command [rad/s], time in stance, time step [s].
         foot_radius: The feet's radius [m].
-        previous: ``plane`` (3), ``phase``, ``lift_off``, ``targets`` and ``rates`` (9 each:
-            per swing foot its lift-off point, last set point and that set point's low-passed
-            velocity) before this tick.
+        previous: ``plane`` (3), ``phase``, ``lift_off``, ``targets`` and ``rates`` (9 each).
 
     Returns:
         The same keys after this tick, and ``ground`` (the ground height under the body [m]).

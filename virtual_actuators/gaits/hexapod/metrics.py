@@ -1,12 +1,4 @@
-"""Figures of a hexapod walk (`run_hexapod_walk`).
-
-`compute_hexapod_metrics` reduces the walk's log (the body state sampled from MuJoCo) to
-the figures the issue's targets are stated in: speed and travel direction of a line, heading
-drift, roll and pitch, the radius of the circle fitted to the path, the largest distance from a
-commanded sine, the pendulum's peak and RMS angle and the body's x velocity, the bearing error to
-a tracked object. Speed, direction, path and attitude figures ignore the first
-`STARTUP` seconds (start-up); bearing errors are judged after `TRACK_SETTLE`.
-"""
+"""Figures of a hexapod walk (`run_hexapod_walk`), from its log of the body state in MuJoCo."""
 
 from __future__ import annotations
 
@@ -19,13 +11,7 @@ import numpy as np
 from ...exceptions import InvalidInputError
 from ...experiments.smoothness import SmoothnessFigures
 from ...experiments.walk_log import WalkLog
-from ..guidance import (
-    Guidance,
-    SinePath,
-    TrackObject,
-    VelocityCommand,
-    wrap,
-)
+from ..guidance import Guidance, SinePath, TrackObject, VelocityCommand, wrap
 
 __all__ = ["STARTUP", "TRACK_SETTLE", "HexapodMetrics", "compute_hexapod_metrics"]
 
@@ -35,9 +21,7 @@ TRACK_SETTLE = 3.0  # [s] bearing errors are judged after this
 
 @dataclass(frozen=True)
 class HexapodMetrics(SmoothnessFigures):
-    """What a hexapod walk achieved (``None``: not measured for this kind of run).
-
-    With the smoothness figures of every tick (`SmoothnessFigures`), set by the walk.
+    """What a hexapod walk achieved (``None``: not measured), with `SmoothnessFigures`.
 
     Attributes:
         fell: Whether the robot fell.
@@ -46,8 +30,7 @@ class HexapodMetrics(SmoothnessFigures):
         steps: Tripod swaps.
         speed_mps: Mean speed over the ground after start-up [m/s].
         speed_command_mps: Commanded speed [m/s].
-        direction_error_rad: Mean travel direction (relative to the initial heading) minus the
-            commanded one, after start-up (no yaw rate) [rad].
+        direction_error_rad: Travel direction minus the commanded one, after start-up [rad].
         heading_drift_rad: Largest ``|yaw - initial yaw|`` (no yaw rate, no tracking) [rad].
         roll_max_rad: Largest ``|roll|`` after start-up [rad].
         pitch_max_rad: Largest ``|pitch|`` after start-up [rad].
@@ -61,16 +44,12 @@ class HexapodMetrics(SmoothnessFigures):
         vx_min_early_mps: Least heading-frame x velocity over the first second [m/s].
         bearing_error_max_rad: Tracking: largest bearing error after 3 s [rad].
         bearing_error_rms_rad: Tracking: RMS bearing error after 3 s [rad].
-        stance_normal_min_n: Least normal force of a foot the gait has in support, measured in
-            MuJoCo every tick until a fall [N]: the support tripod's three feet, all six in
-            double support, each from 20 ms after it entered support (its touchdown impact
-            excluded; a swing foot is never counted). See
-            `contact_stats`.
+        stance_normal_min_n: Least normal force of a support foot, from 20 ms after it entered
+            support, until a fall [N].
         stance_friction_ratio_max: Largest tangential / normal force of those feet where they
-            carry at least 1 N [-] (MuJoCo's friction coefficient is 1: a foot at 1 slides).
+            carry at least 1 N [-].
         realtime_factor: Simulated time / wall-clock time of the whole loop.
-        physics_realtime_factor: Simulated time / wall-clock time of MuJoCo's stepping alone,
-            timed in the same loop.
+        physics_realtime_factor: Simulated time / wall-clock time of MuJoCo's stepping alone.
     """
 
     fell: bool
@@ -200,8 +179,7 @@ def compute_hexapod_metrics(
 
     Args:
         log: The run (channels of ``virtual_actuators.gaits.hexapod.walk.CHANNELS``).
-        guidance: Its guidance (after `Guidance.begin`): a `VelocityCommand`
-            (line or circle), `SinePath` or `TrackObject`.
+        guidance: Its guidance (after `Guidance.begin`).
         steps: Tripod swaps.
         fall_time: Time of the fall [s], or None.
         stance_normal_min: Least normal force of a supporting foot [N], or None.

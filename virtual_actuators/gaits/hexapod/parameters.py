@@ -1,9 +1,4 @@
-"""Gait variables and virtual component constants of the hexapod's tripod gait.
-
-`HexapodParameters` configures `HexapodWalker`;
-the contact-related choices (``step_length``, ``touchdown_phase``, ``acceleration``, ``friction``,
-``min_normal``) are explained in `virtual_actuators.gaits.hexapod.walker`.
-"""
+"""Gait variables and virtual component constants of the hexapod's tripod gait."""
 
 from __future__ import annotations
 
@@ -16,10 +11,6 @@ from ..base import check_distribution
 class HexapodParameters:
     """Gait variables and virtual component constants (SI units).
 
-    Defaults start from the public reproduction's constants (IHMC "agileHexapod": height 0.13 m,
-    x, y damping 30, yaw damping 8, lift 0.05 m, 0.05 s double support), made stiffer where the
-    seed's 0.8 m/s needs it.
-
     Attributes:
         height: Body height set point above the ground under the support feet [m].
         stiffness_z: [N/m].
@@ -27,15 +18,13 @@ class HexapodParameters:
         stiffness_attitude: Roll, pitch springs [N m/rad].
         damping_attitude: Roll, pitch, yaw dampers [N m s/rad].
         damping_xy: Dampers along and across the heading [N s/m].
-        step_length: Distance the body travels over the support tripod per stance, along the
-            heading [m] (the tripod's static margin shrinks as it grows).
-        step_width: The same across the heading (the legs reach less sideways) [m]; in other
-            directions the ellipse of these two axes.
+        step_length: The body's travel over the support tripod per stance, along the heading [m].
+        step_width: The same across the heading [m] (between: the ellipse of the two).
         max_stance_time: A stance ends after this long even if the body has not travelled a
-            step (slow walking and turning on the spot still step) [s].
+            step [s].
         double_support_time: All six feet support between two tripods [s].
         touchdown_phase: From this swing phase on (0 to 1), the swing tripod's three contact
-            switches all closed end the stance (``contacts`` given to `compute`).
+            switches all closed end the stance.
         acceleration: The velocity set point follows the command at most this fast [m/s^2].
         lift: Swing foot lift [m].
         lift_peak: Phase of the swing (0 to 1) at which the foot is highest.
@@ -43,15 +32,12 @@ class HexapodParameters:
         swing_damping: Swing-foot dampers (x, y, z) [N s/m].
         touchdown_depth: How far below the support feet's level the swing set point ends [m].
         placement_gain: Raibert term: the landing point moves this many seconds times the
-            velocity error (measured minus the velocity set point) further [s].
+            velocity error further [s].
         velocity_filter: Time constant of the low-pass filters on the measured body velocity
-            (foot placement) and on the swing set points' velocity [s].
+            and the swing set points' velocity [s].
         distribution: ``"qp"`` or ``"partitioned"``.
-        friction: Friction coefficient of the distribution's pyramid ``|f_x|, |f_y| <= mu f_z``
-            [-]; 0.5 fits it inside MuJoCo's pyramidal cone of coefficient 1.
-        min_normal: Least normal force of a support foot in the distribution [N] (MuJoCo then
-            measures about 1 N less on the lightest foot: the QP does not see the legs' own
-            weight and dynamics).
+        friction: Friction coefficient of the pyramid ``|f_x|, |f_y| <= mu f_z`` [-].
+        min_normal: Least normal force of a support foot in the distribution [N].
         pendulum_weights: LQR state weights (angle, rate, velocity) [1/rad^2, s^2/rad^2, s^2/m^2].
         pendulum_effort: LQR input weight [1/N^2].
         pendulum_fall: A pendulum beyond this angle from the vertical has fallen [rad].

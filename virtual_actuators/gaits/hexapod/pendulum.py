@@ -1,9 +1,4 @@
-"""The pendulum on the hexapod's back: its linear model and LQR (VAC 1996, section 4).
-
-`lqr_gain` and `pendulum_model` design the pendulum balancer: the cart-pole linearised about the
-upright pendulum, state (pendulum angle, its rate, body velocity along the heading x), input the
-virtual x force along the heading (`HeadingDamper.force`).
-"""
+"""The pendulum on the hexapod's back: its linear model and LQR (VAC 1996, section 4)."""
 
 from __future__ import annotations
 
@@ -25,9 +20,8 @@ __all__ = ["GRAVITY", "PendulumModel", "lqr_gain", "pendulum_lqr", "pendulum_mod
 class PendulumModel:
     """The cart-pole linearised about the upright pendulum: ``xdot = A x + B u``.
 
-    State ``(theta, theta_dot, body velocity)`` [rad, rad/s, m/s]; input the virtual force on
-    the body along the pendulum's swing plane [N]. ``theta`` is positive when the pendulum leans
-    forward (its top ahead of the pivot).
+    State ``(theta, theta_dot, body velocity)`` [rad, rad/s, m/s] (``theta`` > 0 leaning
+    forward); input the virtual force on the body in the pendulum's swing plane [N].
 
     Attributes:
         a: ``(3, 3)``.
@@ -47,10 +41,9 @@ class PendulumModel:
 
 
 def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) -> PendulumModel:
-    """Linearise the cart-pole (Lagrange's equations about ``theta = 0``).
+    """Linearise the cart-pole about ``theta = 0``.
 
-    ``(M + m) a + m l theta'' = F`` and ``m l a + I theta'' = m g l theta``, with ``a`` the
-    body's acceleration, ``I`` the pendulum's inertia about the pivot.
+    ``(M + m) a + m l theta'' = F`` and ``m l a + I theta'' = m g l theta``.
 
     Args:
         body_mass: ``M`` [kg].
@@ -87,9 +80,6 @@ def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) ->
 def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
     """Continuous-time LQR gain ``K`` (``u = -K x``) from the stable subspace of the Hamiltonian.
 
-    Solves ``A^T P + P A - P B R^-1 B^T P + Q = 0`` with ``P = U21 U11^-1``, ``[U11; U21]`` the
-    eigenvectors of ``[[A, -B R^-1 B^T], [-Q, -A^T]]`` of negative real part.
-
     Args:
         a: ``(n, n)``.
         b: ``(n, m)``.
@@ -100,8 +90,7 @@ def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.n
         ``K``, ``(m, n)``.
 
     Raises:
-        InvalidInputError: Shapes that do not match, or no stabilising solution (an
-            unstabilisable pair or eigenvalues on the imaginary axis).
+        InvalidInputError: Shapes that do not match, or no stabilising solution.
     """
     a, b, q, r = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (a, b, q, r))
     n, m = a.shape[0], b.shape[1]

@@ -1,18 +1,4 @@
-"""Plot a hexapod walk (`run_hexapod_walk`).
-
-`plot_hexapod` draws one of two layouts into a PNG:
-
-``"pendulum"`` (the seed's Fig. 6, VAC 1996), against time: the pendulum angle; the body's x
-velocity (along its heading) with the desired one dashed; the virtual x force of the body's
-components; the walking state.
-
-``"path"``: the body's x-y path with heading arrows every half second, the commanded path
-dashed (``metadata["command_path"]``), and for tracking runs the object's path and where it was
-at the arrows' times.
-
-Matplotlib is imported inside the functions and draws on a canvas of its own (no pyplot), as in
-`virtual_actuators.experiments.plots`, whose helpers this module shares.
-"""
+"""Plot a hexapod walk (`run_hexapod_walk`): the seed's Fig. 6 (VAC 1996) or the body's path."""
 
 from __future__ import annotations
 
@@ -59,8 +45,8 @@ def plot_hexapod(
     Args:
         log: The run's log (``HexapodResult.log``).
         path: Destination PNG; parents are created.
-        layout: ``"pendulum"`` (Fig. 6), ``"path"`` or ``"auto"`` (``"pendulum"`` when the log
-            has pendulum angles).
+        layout: ``"pendulum"`` (Fig. 6: angle, x velocity, virtual x force, state against
+            time), ``"path"`` (the x-y path with heading arrows) or ``"auto"`` (pendulum if any).
         title: Figure title (default from the metadata).
         summary: A line under the title (e.g. ``HexapodMetrics.summary()``).
         dpi: Resolution.
@@ -120,16 +106,8 @@ def _pendulum_figure(log: WalkLog, dpi: float) -> Figure:
     axes = fig.subplots(4, 1, sharex=True)
     t = log.time
     draw_series(axes[0], t, log, "pendulum", "pendulum [rad]")
-    draw_series(
-        axes[1],
-        t,
-        log,
-        "vx_heading",
-        "x velocity [m/s]",
-        setpoint="vx_command",
-        setpoint_style=SETPOINT_STYLE,
-        setpoint_label="desired",
-    )
+    desired = {"setpoint_style": SETPOINT_STYLE, "setpoint_label": "desired"}
+    draw_series(axes[1], t, log, "vx_heading", "x velocity [m/s]", setpoint="vx_command", **desired)
     draw_series(axes[2], t, log, "fx", "virtual x force [N]", style=FORCE_STYLE)
     draw_state_panel(axes[3], t, log)
     axes[3].set_xlabel("time [s]")
@@ -153,18 +131,9 @@ def _path_figure(log: WalkLog, dpi: float) -> Figure:
     marks = slice(0, None, step)
     extent = max(float(np.ptp(x)), float(np.ptp(y)), 0.3)
     length = 0.05 * extent
-    ax.quiver(
-        x[marks],
-        y[marks],
-        np.cos(yaw[marks]) * length,
-        np.sin(yaw[marks]) * length,
-        angles="xy",
-        scale_units="xy",
-        scale=1.0,
-        width=0.004,
-        color="C1",
-        label="heading",
-    )
+    u, v = np.cos(yaw[marks]) * length, np.sin(yaw[marks]) * length
+    arrows = {"angles": "xy", "scale_units": "xy", "scale": 1.0, "width": 0.004, "color": "C1"}
+    ax.quiver(x[marks], y[marks], u, v, label="heading", **arrows)
     if log.has("target_x") and _finite(log["target_x"]):
         ax.plot(
             log["target_x"][marks], log["target_y"][marks], "o", ms=3, color="C3", label="object"

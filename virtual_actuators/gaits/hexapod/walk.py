@@ -1,21 +1,7 @@
 """The 1996 hexapod walking in MuJoCo: lines, circles, sine waves, a pendulum, tracking.
 
-`run_hexapod_walk` builds the hexapod (with the pendulum on its back for
-``pendulum=True``), its `HexapodWalker`, a guidance that turns the
-requested path into the seed's three inputs (`guidance`) and
-a [`Simulator`][], then runs the control loop at 1 kHz. The body
-state is sampled at `TRACE_RATE` into a `WalkLog`;
-`HexapodMetrics` summarises it (the
-issue's targets are checked on these figures) and
-`HexapodResult.to_json` is what ``--json`` writes. Every tick the feet's contact switches
-(MuJoCo's contacts) go to the walker, whose stance ends when its swing tripod is down, and
-`StanceForces` reads MuJoCo's contact forces
-on the feet the current state has in support (``stance_normal_min_n``,
-``stance_friction_ratio_max`` in the JSON).
-
-The robot is judged fallen when a part other than a foot touches the ground, when the body drops
-below half its nominal height above the terrain, when it rolls or pitches beyond 0.8 rad, or when
-the pendulum leans beyond ``HexapodParameters.pendulum_fall``.
+A fall is a part other than a foot touching the ground, the body below half its nominal height,
+roll or pitch beyond 0.8 rad, or the pendulum beyond ``HexapodParameters.pendulum_fall``.
 """
 
 from __future__ import annotations
@@ -28,121 +14,138 @@ from typing import Any
 
 import numpy as np
 
+from ...exceptions import InvalidInputError
 from ...experiments.recorder import Recorder
 from ...models.catalog import robots_dir
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk
-from ..guidance import PlanarState
-from ..registered import WalkRequest
-from ..runner import (
-    WalkFigures,
-    WalkResult,
-    number,
-    terrain_points,
-)
+from ..base import Walk, check_distribution, check_speed_bound
+from ..guidance import Guidance, PlanarState, SinePath, TrackObject, VelocityCommand
+from ..registered import ConfiguredResult, WalkRequest
+from ..runner import TRACE_CHANNELS, terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
-from .config import HexapodWalkConfig, command_path
 from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
 from .parameters import HexapodParameters
 from .walker import HexapodWalker
 
-CHANNELS = (
-    "time",
-    "x",
-    "y",
-    "z",
-    "roll",
-    "pitch",
-    "yaw",
-    "vx",
-    "vy",
-    "vx_heading",
-    "vx_command",
-    "yaw_rate",
-    "fx",
-    "pendulum",
-    "target_x",
-    "target_y",
-    "fallen",
-)
+_OWN_CHANNELS = ("vx_heading", "vx_command", "yaw_rate", "fx", "pendulum", "target_x", "target_y")
+CHANNELS = ("time", *TRACE_CHANNELS, *_OWN_CHANNELS, "fallen")
+
+
+PATHS = ("line", "sine")
+
+
+@dataclass(frozen=True)
+class HexapodWalkConfig:
+    """What to walk (SI units, angles in radians).
+
+    Attributes:
+        speed: Body speed [m/s].
+        direction: Travel direction relative to the heading [rad].
+        yaw_rate: [rad/s] (line path only: a circle of radius ``speed / yaw_rate``).
+        path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``.
+        amplitude: Sine amplitude [m].
+        wavelength: Sine wavelength [m].
+        pendulum: Balance the pendulum (its LQR owns the x motion).
+        track: Face an object circling the start while walking.
+        terrain: A `Terrain.parse` spec (profiles run along the world x axis).
+        duration: Simulated time [s].
+        seed: Random initial disturbance (body velocity, pendulum angle); None for none.
+        distribution: ``"qp"`` or ``"partitioned"``.
+    """
+
+    speed: float = 0.4
+    direction: float = 0.0
+    yaw_rate: float = 0.0
+    path: str = "line"
+    amplitude: float = 0.2
+    wavelength: float = 2.0
+    pendulum: bool = False
+    track: bool = False
+    terrain: str = "flat"
+    duration: float = 10.0
+    seed: int | None = None
+    distribution: str = "qp"
+
+    def __post_init__(self) -> None:
+        numbers = {k: getattr(self, k) for k in ("speed", "direction", "yaw_rate", "duration")}
+        numbers.update(amplitude=self.amplitude, wavelength=self.wavelength)
+        for name, value in numbers.items():
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
+        check_speed_bound(self.speed)
+        if self.duration <= 0.0:
+            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
+        if self.path not in PATHS:
+            raise InvalidInputError(f"path must be one of {PATHS}, got {self.path!r}.")
+        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0):
+            raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
+        check_distribution(self.distribution)
+        if self.path == "sine" and (self.track or self.yaw_rate != 0.0):
+            raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
+        if self.track and self.yaw_rate != 0.0:
+            raise InvalidInputError("tracking sets the yaw rate itself: leave yaw_rate at 0.")
+
+    def guidance(self) -> Guidance:
+        """The guidance for this configuration."""
+        if self.path == "sine":
+            return SinePath(self.speed, self.amplitude, self.wavelength)
+        if self.track:
+            return TrackObject(self.speed, self.direction)
+        return VelocityCommand(self.speed, self.direction, self.yaw_rate)
+
+
+def command_path(config: HexapodWalkConfig, guidance: Guidance) -> np.ndarray:
+    """The commanded path, ``(n, 2)`` world points [m] (the object's circle when tracking)."""
+    x0, y0, yaw0 = guidance.start
+    reach = max(config.speed * config.duration, 1e-3)
+    if isinstance(guidance, TrackObject):
+        angles = np.linspace(0.0, 2.0 * np.pi, 181)
+        return np.c_[x0 + guidance.radius * np.cos(angles), y0 + guidance.radius * np.sin(angles)]
+    if isinstance(guidance, SinePath):
+        along = np.linspace(0.0, reach, 400)
+        across = guidance.curve(along)
+    elif config.yaw_rate != 0.0 and config.speed > 0.0:
+        radius = config.speed / abs(config.yaw_rate)
+        sweep = min(abs(config.yaw_rate) * config.duration, 2.0 * np.pi)
+        angles = np.linspace(0.0, sweep, 181) * np.sign(config.yaw_rate)
+        # start at the origin heading along the travel direction, centre on the turning side
+        side = np.sign(config.yaw_rate) * radius * (1 - np.cos(angles))
+        local = np.c_[radius * np.sin(np.abs(angles)), side]
+        c, s = math.cos(config.direction), math.sin(config.direction)
+        along, across = c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1]
+    else:
+        distances = np.linspace(0.0, reach, 2)
+        along = distances * math.cos(config.direction)
+        across = distances * math.sin(config.direction)
+    c, s = math.cos(yaw0), math.sin(yaw0)
+    return np.c_[x0 + c * along - s * across, y0 + s * along + c * across]
 
 
 @dataclass
-class HexapodResult(WalkResult):
-    """What a hexapod walk produced: a walk's result with the hexapod's metrics and trace.
-
-    A `WalkResult` whose ``figures()`` and ``to_json()``
-    are the hexapod's own, with its configuration and tick count.
-
-    Attributes:
-        log: The body state at `TRACE_RATE` (channels `CHANNELS`).
-        metrics: The summary figures.
-        gait: The walker (its state machine history included).
-        simulator: The simulator in its final state.
-        wall_time: Wall-clock seconds of the loop.
-        extra: Anything a caller attaches.
-        config: The configuration.
-        ticks: Control ticks run.
-    """
+class HexapodResult(ConfiguredResult):
+    """What a hexapod walk produced: its log at `TRACE_RATE` (`CHANNELS`), metrics and trace."""
 
     metrics: HexapodMetrics
     gait: HexapodWalker
     config: HexapodWalkConfig = field(default_factory=HexapodWalkConfig)
-    ticks: int = 0
 
     def trace(self) -> dict[str, list[float]]:
-        """The trace: a dict of equal-length lists sampled at `TRACE_RATE`.
-
-        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame; ``z`` above the terrain, ``yaw``
-        unwrapped), ``vx_command``, ``fx`` (virtual force along the heading), ``state`` names,
-        plus ``pendulum`` (rad, from the vertical) or ``target_x, target_y``.
-        """
-        log = self.log
-        names = ["x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vx_command", "fx"]
+        """The body's pose and velocity, ``vx_command``, ``fx``, ``state``, ``pendulum``/target."""
+        extra = ["vx_command", "fx"]
         if self.config.pendulum:
-            names.append("pendulum")
+            extra.append("pendulum")
         if self.config.track:
-            names += ["target_x", "target_y"]
-        trace = {"t": log.time.tolist(), **{name: log[name].tolist() for name in names}}
-        trace["state"] = [log.state_names[i] for i in log.state]
-        return trace
-
-    def figures(self) -> WalkFigures:
-        """What a sweep tabulates (the distance is the straight line from start to end)."""
-        m, x, y = self.metrics, self.log["x"], self.log["y"]
-        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
-        return WalkFigures(
-            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
-        )
-
-    def to_json(self) -> dict[str, Any]:
-        """``fell``, ``realtime_factor``, ``steps``, the summary figures, config and ``trace``."""
-        figures = asdict(self.metrics)
-        return {
-            **figures,
-            "ticks": self.ticks,
-            "config": asdict(self.config),
-            "trace": self.trace(),
-        }
-
-    def __repr__(self) -> str:
-        return f"HexapodResult({self.metrics.summary()})"
+            extra += ["target_x", "target_y"]
+        return trace_of(self.log, tuple(extra))
 
 
 def hexapod_robot(pendulum: bool = False) -> Robot:
-    """The hexapod, or its variant with the pendulum on its back (``hexapod_pendulum``).
-
-    Args:
-        pendulum: Load ``robots/hexapod/hexapod_pendulum.urdf`` (generated by ``build.py``).
-
-    Returns:
-        The [`Robot`][] (free-flyer base).
-    """
+    """The hexapod, or its variant with the pendulum on its back (``hexapod_pendulum``)."""
     if pendulum:
         return load_robot(robots_dir / "hexapod" / "hexapod_pendulum.urdf", floating_base=True)
     return load_robot("hexapod")
@@ -159,10 +162,9 @@ def run_hexapod_walk(
 
     Args:
         config: What to walk (default: a 0.4 m/s line for 10 s).
-        parameters: Gait constants (default `HexapodParameters` with the config's
-            distribution).
+        parameters: Gait constants (default `HexapodParameters` with the config's distribution).
         progress: Show a tqdm progress bar.
-        on_tick: Called after every physics step (e.g. a viewer's throttled update).
+        on_tick: Called after every physics step (e.g. a viewer's update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
 
     Returns:
@@ -185,7 +187,14 @@ def run_hexapod_walk(
     smoothness = loop_smoothness(simulator, end)
     metrics = replace(metrics, **smoothness.metrics_fields())
     return HexapodResult(
-        log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness, config=config,
+        log,
+        metrics,
+        gait,
+        simulator,
+        end.wall,
+        loop=end,
+        smoothness=smoothness,
+        config=config,
         ticks=end.ticks,
     )
 
@@ -238,12 +247,6 @@ def _with_timing(
 
 def run_request(request: WalkRequest) -> HexapodResult:
     """The hexapod's walk as `run_registered` starts it (`Walk.run`).
-
-    ``speed`` defaults to `Walk.default_speed`:
-    0.2 m/s with the pendulum or tracking, else 0.4 m/s (`hexapod_speed`); ``options`` are
-    `HexapodWalkConfig`'s path fields (``direction``, ``yaw_rate``, ``path``,
-    ``amplitude``, ``wavelength``, ``pendulum``, ``track``); ``distribution`` overrides
-    ``parameters.distribution`` (default: ``"qp"``).
 
     Raises:
         InvalidInputError: A bad configuration.

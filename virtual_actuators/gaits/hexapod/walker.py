@@ -1,71 +1,20 @@
 """The 1996 hexapod's tripod gait (VAC 1996, section 4), on the library's controller.
 
-"Movements in the z, roll, and pitch directions were position controlled to a constant desired
-value using a virtual spring-damper system. A virtual damper was used in the x, y, and yaw
-directions in order to velocity control the movements in these directions. A different set of
-virtual spring-damper mechanisms were used to position control the legs of the swing tripod.
-The swing and support tripods were cycled by a state machine which changed states based on the
-distance between the body and the tripods."
-
-=============  ========================================  =====================================
-state          active attachments                        left when
-=============  ========================================  =====================================
-``tripod_a``   body on feet 1, 3, 5; legs 2, 4, 6 swing   the swing feet have all touched down
-                                                          (contact switches, from half the
-                                                          swing on) or the support feet are
-                                                          half a step behind their nominal
-                                                          places (or a time limit)
-``double_b``   body on all six feet                      after ``double_support_time``
-``tripod_b``   body on feet 2, 4, 6; legs 1, 3, 5 swing   as ``tripod_a``
-``double_a``   body on all six feet                      after ``double_support_time``
-=============  ========================================  =====================================
-
-The body's virtual components (`body`) act in its heading
-frame; its wrench is distributed over the support feet by a
-[`ParallelVirtualActuator`][] (point feet; ``distribution="qp"`` with
-friction pyramids and a least normal force, or ``"partitioned"``, the minimum-norm split with the
-normal forces kept up by scaling the horizontal request). Each swing foot has a spring-damper
-relative to the body (a serial [`VirtualActuator`][] from the body to the
-foot, body axes) whose set point lifts the foot and carries it to where it lands: its nominal
-place plus half the distance the body travels over the tripod stance, plus what it travels in
-a double support (so that the support tripod's stance is centred under the body). The three
-inputs are the body velocity in the heading frame and the yaw rate
-(`HexapodWalker.set_command`); the velocity set point follows them at a bounded
-acceleration.
-
-The walker is lowered whole into a compiled machine: its state is a `Memory`, its hooks and its
-stance's end are `lowerable` (`va.scalar` math, `select` for value-dependent branches), its
-body components and the tripod's update (`footholds.tripod_setpoints`) are written once on
-floats and traced values alike.
-
-Contacts (measured per foot from MuJoCo): a tripod carries the body with a static margin of
-only ``0.075 m - step / 2`` (the centre of mass crosses that close to the triangle's edge at
-either end of a stance), so the gait keeps every support foot loaded and inside MuJoCo's friction
-cone by construction:
-
-* the tripod's stance is centred under the body (the landing place leads by the double
-  support's travel too) and ends when its feet are half a step behind their nominal places,
-  however far they started (the first stance starts from the standing pose);
-* a swing tripod whose three contact switches close ends the stance at once (before, its feet
-  were pressed 1 cm into the ground by their springs for ~10 ms, carrying up to 19 N outside the
-  distribution, and the support tripod's rear foot went to 0 N);
-* all six feet share the body during ``double_support_time``;
-* the velocity set point is acceleration-limited (a step to 0.8 m/s asked 120 N of a body whose
-  feet can give 19 N) and the feet land ``height / g`` times that acceleration further back
-  (where the centre of pressure goes);
-* the QP keeps ``min_normal`` on every support foot, and its pyramid
-  ``|f_x|, |f_y| <= mu f_z`` fits inside MuJoCo's pyramidal cone
-  (``|f_t1| + |f_t2| <= 1.0 f_n`` whatever the contact's tangent axes) for ``mu <= 0.5``.
+States ``tripod_a``, ``double_b``, ``tripod_b``, ``double_a``; the hexapod tutorial describes them.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
 from ...components.springs import SpringDamper
 from ...control import events
+from ...control.plan.memory import Memory
 from ...control.state_machine import Context, State, StateMachine, Transition
+from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.robot import Robot
 from ...vocabulary.scalar import (
@@ -85,7 +34,6 @@ from ...vocabulary.traced import lowerable
 from ..base import Gait
 from .body import HeadingAttitude, HeadingDamper
 from .footholds import ground_velocity, tripod_setpoints
-from .memory import SUPPORT, WalkerState, walker_memory
 from .parameters import HexapodParameters
 from .pendulum import PendulumModel, pendulum_lqr
 
@@ -102,20 +50,92 @@ def _floats(value: object) -> object:
     return value.tolist() if isinstance(value, np.ndarray) else value
 
 
+#: ``memory.support``: 0.0 for tripod a, 1.0 for b.
+SUPPORT = ("a", "b")
+
+
+def walker_memory(ground: float) -> Memory:
+    """The walker's memory at rest, its ground plane at height ``ground`` (body axes) [m]."""
+    zeros = (0.0, 0.0)
+    return Memory(
+        command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
+        filtered=zeros, filter_time=0.0, target_time=0.0, plane=(0.0, 0.0, ground), phase=0.0,
+        ground=0.0, support=0.0, lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9,
+        pendulum=0.0,
+    )  # fmt: skip
+
+
+class WalkerState:
+    """The walker's inputs and state, read from and written to its ``memory`` (a mixin)."""
+
+    memory: Memory
+    _command = (0.0, 0.0, 0.0)  # the command last written into the memory
+
+    def set_command(self, velocity: tuple[float, float] | np.ndarray, yaw_rate: float) -> None:
+        """Set the body velocity ``(vx, vy)`` in the heading frame [m/s] and the yaw rate [rad/s].
+
+        Raises:
+            InvalidInputError: Values that are not finite.
+        """
+        vx, vy = velocity
+        vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
+        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
+            raise InvalidInputError(
+                f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
+            )
+        command = (vx, vy, yaw_rate)
+        if command != self._command:  # the same command is not written again (a tick's cost)
+            self.memory.command = self._command = command
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Commanded body velocity in the heading frame ``(vx, vy)`` [m/s]."""
+        return np.array(self.memory.command[:2])
+
+    @property
+    def yaw_rate(self) -> float:
+        """Commanded yaw rate [rad/s]."""
+        return self.memory.command[2]
+
+    @property
+    def velocity_setpoint(self) -> np.ndarray:
+        """The command, acceleration-limited [m/s]."""
+        return np.array(self.memory.setpoint)
+
+    @property
+    def phase(self) -> float:
+        """Swing progress, 0 to 1."""
+        return self.memory.phase
+
+    @phase.setter
+    def phase(self, value: float) -> None:
+        self.memory.phase = value
+
+    @property
+    def support(self) -> str:
+        """The support tripod of the last stance (``"a"`` or ``"b"``)."""
+        return SUPPORT[int(self.memory.support)]
+
+    @support.setter
+    def support(self, value: str) -> None:
+        self.memory.support = float(SUPPORT.index(value))
+
+    @property
+    def pendulum_angle(self) -> float:
+        """The pendulum's angle from the vertical, in the heading x-z plane [rad]."""
+        return self.memory.pendulum
+
+
 class HexapodWalker(WalkerState, Gait):
     """The hexapod's tripod gait with the seed's three inputs.
 
     Args:
         robot: ``hexapod`` or ``hexapod_pendulum`` (frames ``body``, ``foot_1`` ... ``foot_6``;
-            with a joint ``pendulum_joint`` about the body's y axis, the walker balances it).
+            a ``pendulum_joint`` about the body's y axis is balanced).
         parameters: Gait variables and component constants.
 
     Attributes:
-        memory: What the gait carries from tick to tick (a compiled plan's registers once it
-            is lowered): the command, the velocity set point and its acceleration, the measured
-            and low-passed body velocity, the filters' clocks, the ground plane, the swing's
-            phase, the ground height, the support tripod, the swing feet's lift-off points, set
-            points and their velocities, the pendulum's angle.
+        memory: What the gait carries from tick to tick (a compiled plan's registers).
         pendulum: The pendulum's linear model, or None without a pendulum.
         gain: The pendulum's LQR gain ``(1, 3)``, or None.
 
@@ -226,8 +246,6 @@ class HexapodWalker(WalkerState, Gait):
             ]
         return StateMachine(states, transitions, "double_a")
 
-    # --- per-tick updates (traced into a compiled plan) ----------------------------------------
-
     @lowerable
     def _stance_over(self, context: Context) -> object:
         """The body has travelled a step, or the swing feet have all touched down."""
@@ -248,11 +266,7 @@ class HexapodWalker(WalkerState, Gait):
         self.planar.force = (-dot(self._gain, error), 0.0)
 
     def _body_state(self, context: Context) -> object:
-        """Heading inputs, measured velocity, pendulum; the body's height.
-
-        Returns:
-            The body's height [m].
-        """
+        """Update the heading inputs, measured velocity and pendulum; the body's height [m]."""
         memory, p = self.memory, self.parameters
         r = _floats(context.frame_rotation("body"))
         position = _floats(context.frame_position("body"))
@@ -349,11 +363,8 @@ class HexapodWalker(WalkerState, Gait):
             p, self._feet(context), *rows, self._nominal, motion, self.foot_radius, previous
         )
         memory.target_time = now
-        memory.plane, memory.phase, memory.ground = (
-            update["plane"],
-            update["phase"],
-            update["ground"],
-        )
+        memory.plane, memory.phase = update["plane"], update["phase"]
+        memory.ground = update["ground"]
         memory.targets, memory.rates = targets, rates = update["targets"], update["rates"]
         self.height.setpoint = update["ground"] + p.height
         for k, i in enumerate(TRIPODS[OTHER[support]]):

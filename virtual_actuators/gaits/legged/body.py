@@ -1,30 +1,7 @@
 """The body's virtual model: a spaceship held by springs and steered by dampers (VAC 1996, 4).
 
-[`BodyModel`][] is one component on all six axes of the support actuator (reference the
-world, action the body), acting in the body's *heading frame* (its yaw alone):
-
-* height ``z``: a spring-damper to the set point, plus the robot's weight;
-* roll and pitch: spring-dampers about the heading axes;
-* ``x``, ``y``: dampers toward the commanded velocity in the heading frame, plus the mass times
-  the set point's acceleration;
-* yaw: a damper toward the commanded yaw rate;
-* the weight acts at the centre of mass: its moment about the body's origin is added.
-
-When the gait gives it the support's missing direction (`BodyModel.missing`: what two point
-feet cannot produce, `missing_direction`, the closed form of
-[`ParallelVirtualActuator.producible`][virtual_actuators.ParallelVirtualActuator.producible]
-there), the request gives way along `BodyModel.yielding` (by default the horizontal force)
-just enough to become producible, and stays exact on the rest (`give_way`). With two point
-feet the moment about the line between them cannot be produced: yielding the horizontal force
-lets the centre of mass move away from that line as an inverted pendulum does (``m g e / h``
-for an offset ``e``) while height, roll, pitch and yaw stay exact; yielding the moments instead
-would spin the body against its legs.
-
-The formulas (`body_wrench`, `give_way`, `missing_direction`; the angles are
-`gaits.attitude.rotation_vector_angles`, the hexapod's too) are written
-once with [`va.scalar`][virtual_actuators.scalar]: the Python tick runs them on floats, a
-compiled plan traces them into its ops (the body model is a [`Slotted`][
-virtual_actuators.components.slots.Slotted] component: its set points are the plan's registers).
+Its formulas are written with [`va.scalar`][virtual_actuators.scalar]: floats in Python, traced
+ops in a compiled plan.
 """
 
 from __future__ import annotations
@@ -46,22 +23,20 @@ from .parameters import GRAVITY, LeggedGains
 AXES = ("x", "y", "z", "rx", "ry", "rz")
 
 
-#: Two contacts closer than this fraction of their distance to the body count as one point
-#: (the producible directions' rank decision, ``actuators.producible.RANK_TOL``).
+#: Two contacts closer than this fraction of their distance to the body count as one point.
 RANK_TOL = 1e-9
 
 
 def body_wrench(
     gains: Sequence, setpoints: Sequence, position: Sequence, velocity: Sequence
 ) -> list:
-    """The body model's wrench (module docstring), world axes, about the body's origin.
+    """The body model's wrench, world axes, about the body's origin.
 
     Args:
-        gains: ``(11,)`` damping along and across the heading, stiffness and damping of the
-            height, stiffness of roll and pitch, damping of roll, pitch and yaw, the mass and
-            the weight (SI units).
-        setpoints: ``(8,)`` height [m], velocity in the heading frame (2) [m/s], its rate (2)
-            [m/s^2], yaw rate [rad/s], and the lever's x and y [m].
+        gains: ``(11,)`` damping x, y; stiffness, damping z; stiffness roll, pitch; damping
+            roll, pitch, yaw; mass; weight (SI units).
+        setpoints: ``(8,)`` height [m], heading-frame velocity (2) [m/s] and its rate (2)
+            [m/s^2], yaw rate [rad/s], the lever's x and y [m].
         position: ``(6,)`` the sensor's position and rotation vector [m, rad].
         velocity: ``(6,)`` linear and angular velocity, world axes [m/s, rad/s].
 
@@ -90,11 +65,9 @@ def body_wrench(
 
 
 def give_way(wrench: Sequence, missing: Sequence, yielding: Sequence[int]) -> list:
-    """``wrench`` made orthogonal to ``missing`` by moving it along the ``yielding`` axes.
+    """``wrench`` made orthogonal to ``missing`` by the least move along the ``yielding`` axes.
 
-    The least move along those axes (in their coordinates) that removes the wrench's part
-    along the unit direction ``missing``; what they cannot absorb (rounding, or a direction
-    they do not reach) is then projected out. A zero ``missing`` leaves the wrench as it is.
+    What those axes cannot absorb is projected out; a zero ``missing`` changes nothing.
 
     Args:
         wrench: ``(6,)`` the request.
@@ -117,11 +90,9 @@ def give_way(wrench: Sequence, missing: Sequence, yielding: Sequence[int]) -> li
 
 
 def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tuple:
-    """The unit wrench two point contacts cannot produce on the body, world axes.
+    """``(r x d, d)`` normalised: the unit wrench two point contacts cannot produce, world axes.
 
-    ``(r x d, d)`` normalised, ``d`` from the first contact to the second and ``r`` from the
-    body's origin to the first: a wrench ``(a, b)`` is orthogonal to every ``(f, r_i x f)``
-    exactly when ``a = r x b`` and ``b`` is along ``d``.
+    ``d`` runs from the first contact to the second, ``r`` from the body's origin to the first.
 
     Args:
         body: The body's origin, world [m].
@@ -129,8 +100,7 @@ def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tupl
         second: The second contact, world [m].
 
     Returns:
-        ``(6,)`` the direction, or zeros when the contacts coincide (one point: not given
-        way).
+        ``(6,)`` the direction, or zeros when the contacts coincide.
     """
     x, y, z = (first[i] - body[i] for i in range(3))
     dx, dy, dz = (second[i] - first[i] for i in range(3))
@@ -143,10 +113,9 @@ def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tupl
 class BodyModel(Slotted, Component):
     """Height, roll and pitch springs, x, y and yaw dampers, in the heading frame.
 
-    Reads the body's pose in the world (position, rotation vector) and its velocity (linear,
-    angular, world axes); returns the wrench on the body in world axes about its origin. Its
-    set points are slots: a compiled plan keeps them in its registers and the gait's traced
-    hook writes them there.
+    The weight is carried at the centre of mass; x and y add the mass times the set point's
+    acceleration. Where the support cannot produce the request (`missing`), it gives way along
+    `yielding` (`give_way`).
 
     Args:
         mass: The robot's mass [kg] (its weight is carried).
@@ -155,13 +124,6 @@ class BodyModel(Slotted, Component):
         name: Label used in reports.
 
     Attributes:
-        height: Height set point of the body's origin [m] (the gait moves it with the ground).
-        velocity: Velocity set point in the heading frame ``(vx, vy)`` [m/s].
-        acceleration: Its rate, in the heading frame [m/s^2].
-        yaw_rate: Yaw rate set point [rad/s].
-        lever: Centre of mass minus the body's origin, world axes [m].
-        missing: ``(6,)`` the unit wrench the support cannot produce (`missing_direction`), or
-            zeros (every wrench producible: nothing gives way).
         yielding: Indices of the axes that give way.
 
     Raises:
@@ -219,7 +181,7 @@ class BodyModel(Slotted, Component):
         )))  # fmt: skip
 
     def _set(self, name: str, value: object, size: int) -> None:
-        """Set slot ``name`` (``size`` values): stored while traced, else checked.
+        """Set slot ``name`` to ``size`` values (checked unless traced).
 
         Raises:
             InvalidInputError: Not ``size`` finite numbers.

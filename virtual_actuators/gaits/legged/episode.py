@@ -1,11 +1,4 @@
-"""One legged walk being run under `drive`.
-
-`LeggedEpisode` gives the walker its command every tick (fixed, or steered by the hexapod's
-guidance: along a sine path, or facing an object that circles the start), pushes the
-base when the push's time comes, reads the feet's contact switches, judges a fall (the base below
-half its standing height, roll or pitch beyond 0.8 rad, a part other than a foot's link on the
-ground) and records the base at the trace's rate.
-"""
+"""One legged walk being run under `drive`: command, push, contact switches, fall test, trace."""
 
 from __future__ import annotations
 

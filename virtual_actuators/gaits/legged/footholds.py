@@ -1,17 +1,4 @@
-"""Where a swing foot lands and the curve that carries it there (world axes).
-
-The foothold (`foothold`) is the foot's nominal place under the centre of mass (the
-standing stance, centred on it), turned by half the stance's yaw, moved by half the stance's
-travel at the velocity set point (the feed-forward: the stance is then centred under the body)
-and by the capture term (``sqrt(h / g)`` times the velocity error, Raibert's correction), all in
-the heading frame predicted for touchdown. `swing_point` is the swing curve: a smooth
-reach from lift-off to the foothold and a lift profile above the line between their heights.
-`swing_setpoint` moves one swinging foot's state (lift-off point, last set point, its
-velocity) a tick and gives its spring's set points.
-
-Everything is written with [`va.scalar`][virtual_actuators.scalar] (`select` where a value
-decides): the Python tick runs it on floats, a compiled plan traces it into its ops.
-"""
+"""Where a swing foot lands and the curve that carries it there (world axes)."""
 
 from __future__ import annotations
 
@@ -61,10 +48,8 @@ def swing_point(
 ) -> tuple:
     """The swing foot's set point at ``phase`` (0 at lift-off, 1 at touchdown), world [m].
 
-    From ``start`` (lift-off) to the landing point ``(x, y, z)``: horizontally a smooth step
-    that arrives at 80 % of the swing; vertically a smooth step between the two heights plus
-    ``lift`` times `lift_profile`. Past phase 1 it stays
-    at the foothold (the gait lowers ``z`` instead).
+    Horizontally a smooth step arriving at 80 % of the swing; vertically a smooth step between
+    the two heights plus ``lift`` times `lift_profile`.
     """
     x0, y0, z0 = start[0], start[1], start[2]
     reach = smoothstep(minimum(1.0, 1.25 * phase))
@@ -82,27 +67,22 @@ def swing_setpoint(
 ) -> tuple[tuple, tuple]:
     """One swinging foot's next state and its spring's set points, relative to the body.
 
-    The foot lands at its `foothold` turned into the heading predicted for touchdown
-    around the centre of mass predicted for it, the ground ``depth`` below the support (deeper
-    past the planned touchdown: a depth per quarter swing), along `swing_point`; the set
-    point's velocity is low-pass filtered (time constant ``shape[7]``) and written relative to
-    the body (minus its velocity and ``angular x offset``).
+    The `foothold` is placed in the heading and about the centre of mass predicted for
+    touchdown, ``depth`` below the ground; the set point's velocity is low-pass filtered.
 
     Args:
         state: ``(9,)`` lift-off point, last set point, its velocity [m, m/s], world.
         nominal: ``(2,)`` the foot's nominal place (`foothold`'s ``x``, ``y``) [m].
-        body: ``(12,)`` centre of mass, the body's origin, its velocity and angular velocity,
-            world [m, m/s, rad/s].
-        motion: ``(8,)`` velocity set point and its error (measured minus set) in the
-            heading frame (``vx, vy, ex, ey``), yaw rate set point, yaw, time in the swing and
-            ground height [m/s, rad/s, rad, s, m].
+        body: ``(12,)`` centre of mass, body origin, velocity, angular velocity, world.
+        motion: ``(8,)`` ``vx, vy, ex, ey`` (heading frame) [m/s], yaw rate set point [rad/s],
+            yaw [rad], time in the swing [s], ground height [m].
         dt: Time since the last set points [s] (not positive: the velocity is kept).
         shape: ``(8,)`` swing time, stance time, capture time, reach, lift, lift peak (a
             phase), touchdown depth, rate filter [s, s, s, m, m, -, m, s].
 
     Returns:
-        ``(state, setpoints)``: the foot's new ``(9,)`` state and ``(6,)`` its set point minus
-        the body's origin and its velocity relative to the body, world axes.
+        ``(state, setpoints)``: the new ``(9,)`` state, and ``(6,)`` the set point and its
+        velocity relative to the body, world axes.
     """
     vx, vy, ex, ey, yaw_rate, yaw, elapsed, ground = motion
     swing_time, stance_time, capture, reach, lift, peak, depth, rate_filter = shape

@@ -1,18 +1,4 @@
-"""The legged walker's per-tick half: its hooks and its touchdown events, all lowerable.
-
-`WalkerHooks` is mixed into [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker]:
-every state's ``on_update`` (`WalkerHooks._update`) reads the body, its centre of mass and the
-support feet from the tick's context; moves the velocity set point toward the command at a
-bounded acceleration; sets the body model's set points and the direction its support cannot
-produce; integrates the velocity errors; and in a swing moves the swing feet's springs along
-their curves (`footholds.swing_setpoint`), a foot that touched down after the touchdown phase
-held where it is (`select`). The swing's ``on_enter`` records the lift-off points and the
-swing's exit (`WalkerHooks._landing`) fires when the group is down or the swing too long.
-
-Written with [`va.scalar`][virtual_actuators.scalar] and the walker's
-[`Memory`][virtual_actuators.Memory]: the same code is the Python tick and, traced, the
-compiled one.
-"""
+"""The legged walker's per-tick half: its hooks and its touchdown events, all lowerable."""
 
 from __future__ import annotations
 
@@ -43,11 +29,7 @@ __all__ = ["WalkerHooks"]
 
 
 class WalkerHooks:
-    """The hooks and events of [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker].
-
-    A mixin: it reads the walker's declaration (its feet, body model, swing springs, groups,
-    parameters and gains) and keeps the state in its ``memory``.
-    """
+    """The hooks and events of [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker]."""
 
     def _landing(self, group: tuple[str, ...]) -> object:
         """The event that ends the swing of ``group`` (`_landed`), lowerable."""
@@ -60,10 +42,7 @@ class WalkerHooks:
         return landed
 
     def _landed(self, context: Context, group: tuple[str, ...]) -> object:
-        """The group's feet all touch down late enough in the swing, or the swing is too long.
-
-        On floats (a bool) or traced values (1.0 or 0.0).
-        """
+        """The group's feet all touch down late enough in the swing, or the swing is too long."""
         elapsed, p = context.time_in_state, self.parameters
         too_long = elapsed >= p.max_swing * self.swing_time
         contacts = context.contacts
@@ -101,10 +80,7 @@ class WalkerHooks:
         body.velocity, body.lever = setpoint, tuple(com[i] - origin[i] for i in range(3))
         body.yaw_rate = yaw_command + memory.yaw_integral
         support = self._support[state]
-        ground = 0.0
-        for foot in support:
-            ground = ground + context.frame_coordinate(foot, "z")
-        ground = ground / len(support)
+        ground = sum((context.frame_coordinate(foot, "z") for foot in support), 0.0) / len(support)
         body.height = ground + self.stand_height
         if self.parameters.give_way and len(support) == 2:
             first, second = (_floats(context.frame_position(foot)) for foot in support)
@@ -122,13 +98,7 @@ class WalkerHooks:
         self._move_swing(context, (*com, *origin, *linear, *angular), motion)
 
     def _integrate(self, dt: object, error: tuple, yaw_error: object) -> None:
-        """The velocity errors' integrals, bounded: the footholds' and the yaw damper's bias.
-
-        Args:
-            dt: The tick's step (`_ramp`) [s].
-            error: Measured minus set velocity, heading frame [m/s].
-            yaw_error: Commanded minus measured yaw rate [rad/s].
-        """
+        """Integrate the velocity errors (heading frame [m/s]; yaw rate [rad/s]), bounded."""
         memory, scale = self.memory, self.gains.time_scale
         rate = dt / (self.parameters.integral_time * scale)
         limit = self.parameters.integral_limit * math.sqrt(GRAVITY * self.gains.height)
@@ -143,8 +113,8 @@ class WalkerHooks:
     def _ramp(self, time: object, moving: bool) -> object:
         """Move the velocity set point toward the command at the bounded acceleration.
 
-        It stays at rest while the robot stands before its first step. Returns the tick's
-        step (0 on the first tick and while standing) [s].
+        Returns:
+            The tick's step [s] (0 on the first tick and while standing).
         """
         memory = self.memory
         dt = 0.0
@@ -162,11 +132,7 @@ class WalkerHooks:
         return dt
 
     def _move_swing(self, context: Context, body: tuple, motion: tuple) -> None:
-        """The swing feet's set points along their curves to the footholds.
-
-        ``body`` and ``motion`` as `swing_setpoint` reads them. From the touchdown phase on, a
-        foot whose switch is closed is held where it is, still in the world (`select`).
-        """
+        """The swing feet's set points to the footholds; a foot down late in the swing is held."""
         memory, time = self.memory, context.time
         late = context.time_in_state / self.swing_time >= self.parameters.touchdown_phase
         dt = time - memory.swung_at

@@ -1,10 +1,4 @@
-"""Figures of a legged walk, stated as the issue's targets are: on the second half of the trace.
-
-`legged_metrics` reads the trace (world frame, base link): the mean speed over the ground
-and the travel direction relative to the commanded one over the second half, the heading drift
-(yaw minus the commanded yaw rate's integral), the mean yaw rate of the second half and the
-largest roll and pitch after the first swing.
-"""
+"""Figures of a legged walk, stated as the issue's targets are: on the second half of the trace."""
 
 from __future__ import annotations
 
@@ -21,31 +15,26 @@ __all__ = ["LeggedMetrics", "legged_metrics"]
 
 @dataclass(frozen=True)
 class LeggedMetrics(SmoothnessFigures):
-    """What a legged walk achieved.
-
-    With the smoothness figures of every tick (`SmoothnessFigures`), set by the walk.
+    """What a legged walk achieved, with `SmoothnessFigures`.
 
     Attributes:
         fell: Whether the robot fell.
         fall_time_s: Time of the fall [s] (None if it did not).
         duration_s: Simulated time [s].
         steps: Swings started.
-        speed_mps: Mean speed over the ground, second half [m/s] (a line: the displacement
-            over the time; a circle: chords a quarter second apart).
+        speed_mps: Mean speed over the ground, second half [m/s] (a circle: by chords).
         speed_command_mps: Commanded speed [m/s].
         speed_error: ``speed / command - 1`` (None at zero command) [-].
-        direction_error_rad: Travel direction minus the commanded one (heading plus the
-            command's direction), second half; None when turning [rad].
+        direction_error_rad: Travel direction minus the commanded one, second half; None when
+            turning [rad].
         heading_drift_rad: Largest ``|yaw - yaw_0 - yaw_rate t|`` [rad] (straight lines).
         yaw_rate_radps: Mean yaw rate of the second half [rad/s].
         yaw_rate_command_radps: Commanded yaw rate [rad/s].
         roll_max_rad: Largest ``|roll|`` [rad].
         pitch_max_rad: Largest ``|pitch|`` [rad].
         path_error_max_m: A sine path: the largest distance across from it, second half [m].
-        bearing_error_max_rad: Tracking: the largest bearing error to the object after 3 s
-            [rad].
-        stance_normal_min_n: Least normal force MuJoCo measured on a foot in support (sampled
-            at the trace's rate, after each foot's first 20 ms) [N].
+        bearing_error_max_rad: Tracking: the largest bearing error after 3 s [rad].
+        stance_normal_min_n: Least normal force on a support foot, after its first 20 ms [N].
         stance_friction_ratio_max: Largest tangential over normal force on such a foot [-].
         realtime_factor: Simulated over wall-clock time of the loop.
         physics_realtime_factor: Simulated over wall-clock time of MuJoCo's steps alone.
@@ -111,7 +100,7 @@ def legged_metrics(
     steps: int,
     fall_time: float | None,
 ) -> LeggedMetrics:
-    """The figures of a walk from its trace (see the module docstring).
+    """The figures of a walk from its trace.
 
     Args:
         trace: ``t, x, y, roll, pitch, yaw`` (yaw unwrapped) lists.

@@ -1,11 +1,4 @@
-"""What a legged gait is tuned with: dimensionless choices and physical-unit gains.
-
-[`LeggedParameters`][] holds the choices (natural frequencies, damping ratios, timings as
-multiples of the robot's own time scale ``sqrt(h / g)``, lengths as fractions of its standing
-height ``h``); `derive_gains` turns them into stiffnesses and dampings from the robot's
-mass, centroidal inertia and leg masses (through [`gains`][virtual_actuators.components.gains]),
-so the same defaults serve a 2.5 kg solo12 and a 50 kg anymal_c.
-"""
+"""A legged gait's dimensionless choices and the physical-unit gains derived from them."""
 
 from __future__ import annotations
 
@@ -32,8 +25,7 @@ class LeggedParameters:
         velocity_time: Time constant of the x, y and yaw-rate dampers toward the command [s].
         swing_frequency: Natural frequency of a swing foot's spring on its leg's mass [Hz].
         swing_damping_ratio: Its damping ratio [-].
-        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-]; None: the pattern's
-            (`swing_time`: 1, a pace 0.3).
+        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-]; None: the pattern's.
         double_support_time: All feet down between two swings, in the same units [-].
         max_swing: A swing ends after this many swing times even without touchdown [-].
         touchdown_phase: From this swing phase on, the swing feet all touching end it [-].
@@ -41,35 +33,22 @@ class LeggedParameters:
         lift_peak: Phase of the swing at which the foot is highest [-].
         touchdown_depth: How far below the ground the swing ends, fraction of ``h`` [-].
         reach: A foothold lies within this fraction of ``h`` of the foot's nominal place [-].
-        placement_gain: Capture term: the foothold moves this many ``sqrt(h / g)`` times the
-            velocity error (measured minus set point) further [-]; 1 is the capture point.
-        integral_time: The footholds also move by the velocity error's integral over this
-            many ``sqrt(h / g)``, and the yaw damper's set point by the yaw rate error's
-            (they remove the steady speed and turning errors) [-].
+        placement_gain: The foothold moves this many ``sqrt(h / g)`` times the velocity error
+            further [-]; 1 is the capture point.
+        integral_time: The footholds (and the yaw damper's set point) also move by the
+            velocity (yaw rate) error's integral over this many ``sqrt(h / g)`` [-].
         integral_limit: Those integrals stay within this many ``sqrt(g h)`` (velocity) and
             this many ``1 / sqrt(h / g)`` (yaw rate) [-].
         acceleration: The velocity set point follows the command at most this fast, in g [-].
-        distribution: ``"qp"`` (friction pyramids, least normal force, torque limits) or
-            ``"partitioned"``.
+        distribution: ``"qp"`` or ``"partitioned"``.
         friction: The distribution's pyramid ``|f_t| <= mu f_n`` [-].
-        min_normal: Least normal force of a support foot, a fraction of the weight shared by
-            all feet [-].
-        give_way: Axes along which the body's request gives way, every tick, just enough to
-            become producible by the support (``ParallelVirtualActuator.producible``); the
-            horizontal force by default (with two point feet the centre of mass then moves
-            away from the line between them as an inverted pendulum, attitude and height
-            exact); ``()`` to leave unproducible requests to the distribution. With
-            ``distribution="qp"`` the same axes give way first when the friction pyramids or
-            the least normal force bind (the QP's closest wrench, ``yield_axes``): three feet
-            with the centre of mass outside their triangle keep the attitude too.
+        min_normal: Least normal force of a support foot, a fraction of the weight per foot [-].
+        give_way: Axes along which the body's request gives way just enough to become
+            producible (and first in the QP); ``()``: left to the distribution.
         stand_time: Standing on all feet before the first swing [s].
-        posture_frequency: Natural frequency of the posture that holds the joints off the legs
-            (an arm, a head) at the standing pose, from each joint's inertia [Hz].
+        posture_frequency: Natural frequency of the posture holding the joints off the legs [Hz].
         posture_damping_ratio: Its damping ratio [-].
-        control_rate: The rate the controller runs at [Hz]: the derived gains are bounded so
-            that no state's springs and dampers change a velocity by more than half of it per
-            tick ([`tick_rate`][virtual_actuators.control.tick_rate]); run slower and they may
-            chatter.
+        control_rate: The controller's rate [Hz], which bounds the derived gains.
     """
 
     frequency: float = 2.5
@@ -139,12 +118,7 @@ def derive_gains(
 ) -> LeggedGains:
     """Stiffness ``m w^2`` and damping ``2 zeta m w`` per axis; dampers ``m / tau``.
 
-    The masses and inertias are [`body_gains`][]'s: the
-    robot's mass for forces, its centroidal inertia at ``q`` for moments. The walker then
-    bounds them for its control rate ([`bound_tick_rate`][
-    virtual_actuators.control.tick_rate.bound_tick_rate]): a swing foot's spring acts on
-    directions much lighter than its leg (across the shank), where these gains alone would
-    alternate every tick.
+    Masses are the robot's, inertias its centroidal inertia at ``q`` ([`body_gains`][]).
 
     Args:
         parameters: The choices.

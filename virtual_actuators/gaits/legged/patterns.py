@@ -1,26 +1,7 @@
 """Gait patterns as data: which feet swing together, and in which order.
 
-A [`GaitPattern`][] gives every foot the phase of the cycle (0 to 1) at which its swing
-starts; feet with the same phase form a *swing group* and swing together, the groups in the
-order of their phases, one after the other. The walker
-([`LeggedWalker`][]) turns the groups into states.
-
-The named patterns are built from where the feet stand (body axes: x forward, y left), so
-they work on any robot whatever its frame names. Each needs its feet on the sides
-(`fits`, `fitting_patterns`); a pattern that does not fit is refused, naming those that do:
-
-* ``trot``: diagonal pairs (left-front with right-hind), two groups; two feet on each side (a
-  quadruped);
-* ``pace``: lateral pairs (the left legs, then the right legs), with short swings and a narrow
-  stance (`PACE_SWING_TIME`, `PACE_WIDTH`): on the two feet of one side the centre
-  of mass, off their line, falls sideways as an inverted pendulum, ``e^(t / sqrt(h / g))``, so
-  the swing must be short and the line near the centre of mass; a foot on each side at least;
-* ``walk``: one foot at a time, the lateral sequence (left hind, left front, right hind, right
-  front on a quadruped; back to front along each side); any two or more feet;
-* ``tripod`` (alternating): legs alternate along each side and across, so that each group
-  stands on three feet or more (a hexapod's tripods, a millipede's two waves); three feet or
-  more on each side (on two a side the same alternation is the ``trot``);
-* [`npod`][]: any groups you give.
+Every foot has the phase of the cycle (0 to 1) at which its swing starts; feet with the same
+phase form a *swing group*. The named patterns are described in the legged reference page.
 """
 
 from __future__ import annotations
@@ -34,14 +15,11 @@ from ...exceptions import GaitPatternError, InvalidInputError
 
 PATTERNS = ("trot", "pace", "walk", "tripod")
 
-#: A pace's swing time in units of ``sqrt(h / g)`` (the others': 1). In 0.3 of the pendulum's
-#: time the centre of mass, ``w`` off the support line, gains ``0.3 w / sqrt(h / g)`` of sideways
-#: speed, which the next side's touchdown turns around (go2, solo12, anymal pace at 0.4 m/s with
-#: roll below 0.2 rad; with the trot's swing time of 1 they fall in the first swing).
+#: A pace's swing time in units of ``sqrt(h / g)`` (the others': 1): short, as the centre of
+#: mass off the support line falls sideways as an inverted pendulum.
 PACE_SWING_TIME = 0.3
 
-#: A pace's stance width, a fraction of the standing pose's: the footholds nearer the line of
-#: the hips' middle, so the support line passes nearer the centre of mass.
+#: A pace's stance width, a fraction of the standing pose's (the support line nearer the CoM).
 PACE_WIDTH = 0.6
 
 
@@ -52,10 +30,8 @@ class GaitPattern:
     Attributes:
         name: Label.
         offsets: ``{foot: phase in [0, 1)}``.
-        swing_time: Duration of a swing in units of ``sqrt(h / g)`` when
-            [`LeggedParameters`][] leaves it to the pattern (``None``) [-].
-        width: The nominal stance's width across the heading, as a fraction of the standing
-            pose's, in (0, 1] [-].
+        swing_time: Duration of a swing in units of ``sqrt(h / g)`` [-].
+        width: The stance's width across the heading, a fraction of the standing pose's [-].
 
     Raises:
         InvalidInputError: Fewer than two feet, an offset outside ``[0, 1)``, or a swing time
@@ -176,9 +152,8 @@ def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> Gait
 
     Raises:
         InvalidInputError: An unknown name.
-        GaitPatternError: A pattern that does not fit the feet (`NEEDS`): ``trot`` without two
-            feet on each side, ``pace`` without a foot on each side, ``tripod`` without three
-            or more on each side; the message names the patterns that fit.
+        GaitPatternError: A pattern that does not fit the feet (`NEEDS`); the message names
+            the patterns that fit.
     """
     if name not in PATTERNS:
         raise InvalidInputError(f"Unknown gait pattern {name!r}; choose one of {PATTERNS}.")

@@ -1,11 +1,7 @@
 """The legged walk's supported desired speeds, per gait pattern and robot (measured).
 
-Each range's ends walk 4 s (the walk's default duration) without falling, on flat ground, in
-closed-loop MuJoCo (``python -m virtual_actuators demo legged --robot R --gait G --speed S``).
-A robot not in the table (another name, a URDF path) gets the pattern's ``None`` entry, the
-range that every measured robot walks; the trot has none: its speeds depend on the robot's size
-and strength, so an unmeasured robot trots at any speed it is given (laikago and a copy of go2's
-URDF with renamed feet, loaded from its path, trot from 0.1 to 0.5 m/s).
+Each range's ends walk 4 s on flat ground in MuJoCo. A robot not in the table gets the pattern's
+``None`` entry; the trot has none (an unmeasured robot trots at any speed).
 """
 
 from __future__ import annotations
@@ -32,10 +28,9 @@ LEGGED_SPEEDS: dict[str, dict[str | None, tuple[float, float]]] = {
 def legged_speeds(
     robot: str = "solo12", gait: str = "trot", **options: Any
 ) -> tuple[float, float] | None:
-    """The supported desired speeds ``(low, high)`` [m/s] of ``robot`` walking ``gait``.
+    """The supported desired speeds ``(low, high)`` [m/s] of ``robot`` walking ``gait``, or None.
 
-    None for a robot the trot was not measured on (no range is enforced). An unknown pattern
-    gets the trot's (the walk itself refuses it with the valid names).
+    An unknown pattern gets the trot's (the walk itself refuses it).
     """
     table = LEGGED_SPEEDS.get(gait, LEGGED_SPEEDS["trot"])
     name = ALIASES.get(str(robot), str(robot))

@@ -1,13 +1,7 @@
 """Any legged robot walking in MuJoCo: ``demo legged`` and [`run_legged_walk`][].
 
-[`run_legged_walk`][] loads the robot (a name or a URDF path), builds its
-[`LeggedWalker`][], a [`Simulator`][] on the terrain and runs the closed loop at 1 kHz under
-`drive`: every tick the command goes to the walker with
-the feet's contact switches, a push (``push=(N, T, DEG)``: N newtons on the base for 0.1 s from
-T seconds along DEG degrees in the ground plane) is applied when its time comes, and the base is
-sampled at `TRACE_RATE`. The robot has fallen when its base drops below half its standing
-height above the ground, tilts beyond 0.8 rad, or a part other than a foot's link touches the
-ground. `LeggedResult` holds the log, the [`LeggedMetrics`][] and the JSON.
+A fall is the base below half its standing height, tilted beyond 0.8 rad, or a part other than a
+foot touching the ground.
 """
 
 from __future__ import annotations
@@ -30,14 +24,8 @@ from ...simulation.terrain import Terrain
 from ..base import Walk, check_distribution, check_speed_bound
 from ..guidance import PlanarState, SinePath, TrackObject
 from ..push import Push
-from ..registered import WalkRequest
-from ..runner import (
-    WalkFigures,
-    WalkResult,
-    number,
-    terrain_points,
-    trace_of,
-)
+from ..registered import ConfiguredResult, WalkRequest
+from ..runner import terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .episode import TRACE_RATE, LeggedEpisode
@@ -52,13 +40,7 @@ CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 #: The legged walk's own desired speed [m/s], before it is moved into the pattern's range.
 NOMINAL_SPEED = 0.4
 
-__all__ = [
-    "LeggedResult",
-    "LeggedWalkConfig",
-    "bearing_error",
-    "run_legged_walk",
-    "sine_error",
-]
+__all__ = ["LeggedResult", "LeggedWalkConfig", "bearing_error", "run_legged_walk", "sine_error"]
 
 
 @dataclass(frozen=True)
@@ -69,23 +51,18 @@ class LeggedWalkConfig:
         robot: A robot name or URDF path for [`load_robot`][].
         gait: ``"trot"``, ``"pace"``, ``"walk"`` or ``"tripod"``.
         feet: Foot frames (None: found on the robot).
-        speed: [m/s]; None: the walk's default for the robot and gait (`Walk.default_speed`:
-            `NOMINAL_SPEED` moved into the supported range, e.g. 0.2 m/s for ``gait="walk"``).
+        speed: [m/s]; None: `NOMINAL_SPEED` moved into the robot and gait's supported range.
         direction: Travel direction relative to the heading [rad].
         yaw_rate: [rad/s] (the velocity fixed in the body frame: a circle).
-        push: A `Push` on the base (or its text,
-            ``(newtons, start time [s], direction [deg])``), or None.
-        path: ``"line"`` (the velocity fixed in the body frame) or ``"sine"``: ``y = A sin(2 pi
-            x / L)`` from the start, holding the heading (steered every tick, as the hexapod's).
+        push: A `Push` on the base (or its text, or ``(N, T [s], DEG)``), or None.
+        path: ``"line"`` or ``"sine"`` (``y = A sin(2 pi x / L)`` from the start, heading held).
         amplitude: The sine's ``A`` [m].
         wavelength: The sine's ``L`` [m].
-        track: Walk the commanded velocity while facing an object circling the start (the
-            yaw rate is the guidance's; line path only).
+        track: Face an object circling the start (line path, no yaw rate).
         terrain: A [`Terrain.parse`][] spec.
         duration: Simulated time [s].
         distribution: ``"qp"`` or ``"partitioned"``.
-        seed: None for a start at rest; an int for a random initial base velocity (up to
-            0.05 m/s and 0.1 rad/s per axis), so that sweeps see several starts.
+        seed: An int draws the initial base velocity (up to 0.05 m/s, 0.1 rad/s per axis).
 
     Raises:
         InvalidInputError: A value out of its range.
@@ -134,42 +111,16 @@ class LeggedWalkConfig:
 
 
 @dataclass
-class LeggedResult(WalkResult):
-    """A legged walk: the log, [`LeggedMetrics`][], the walker, the simulator, the config.
-
-    Attributes:
-        config: What was walked.
-        ticks: Control ticks run.
-    """
+class LeggedResult(ConfiguredResult):
+    """A legged walk: the log, [`LeggedMetrics`][], the walker, the simulator, the config."""
 
     metrics: LeggedMetrics
     gait: LeggedWalker
     config: LeggedWalkConfig = field(default_factory=LeggedWalkConfig)
-    ticks: int = 0
 
     def trace(self) -> dict[str, list]:
-        """The trace: equal-length lists at `TRACE_RATE` and the state names.
-
-        ``t, x, y, z, roll, pitch, yaw, vx, vy`` (world frame, base link; ``z`` above the
-        terrain, ``yaw`` unwrapped) and ``state``.
-        """
+        """The base's ``t, x, y, z, roll, pitch, yaw, vx, vy`` at `TRACE_RATE`, and ``state``."""
         return trace_of(self.log)
-
-    def figures(self) -> WalkFigures:
-        """What a sweep tabulates (the distance is the straight line from start to end)."""
-        m, x, y = self.metrics, self.log["x"], self.log["y"]
-        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
-        return WalkFigures(
-            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
-        )
-
-    def to_json(self) -> dict[str, Any]:
-        """``fell``, ``realtime_factor``, the summary figures, the config and ``trace``."""
-        return {**asdict(self.metrics), "ticks": self.ticks, "config": asdict(self.config),
-                "trace": self.trace()}
-
-    def __repr__(self) -> str:
-        return f"LeggedResult({self.metrics.summary()})"
 
 
 def run_legged_walk(
@@ -182,9 +133,8 @@ def run_legged_walk(
     """Simulate a legged robot walking and measure it.
 
     Args:
-        config: What to walk (default: solo12 trotting at `NOMINAL_SPEED`, 0.4 m/s, for 4 s).
-        parameters: Gait choices (default [`LeggedParameters`][] with the config's
-            distribution).
+        config: What to walk (default: solo12 trotting at `NOMINAL_SPEED` for 4 s).
+        parameters: Gait choices (default [`LeggedParameters`][] with the config's distribution).
         progress: Show a progress bar.
         on_tick: Called after every physics step (e.g. a viewer's update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
@@ -225,17 +175,12 @@ def run_legged_walk(
     )
     normal_min, ratio_max = episode.stance.figures()
     if isinstance(episode.guidance, SinePath):  # how far from the curve, not which direction
-        metrics = replace(
-            metrics,
-            direction_error_rad=None,
-            path_error_max_m=sine_error(episode.guidance, trace_of(log)),
-        )
+        error = sine_error(episode.guidance, trace_of(log))
+        metrics = replace(metrics, direction_error_rad=None, path_error_max_m=error)
     elif isinstance(episode.guidance, TrackObject):  # facing the object, turning at will
+        error = bearing_error(episode.guidance, trace_of(log))
         metrics = replace(
-            metrics,
-            direction_error_rad=None,
-            heading_drift_rad=None,
-            bearing_error_max_rad=bearing_error(episode.guidance, trace_of(log)),
+            metrics, direction_error_rad=None, heading_drift_rad=None, bearing_error_max_rad=error
         )
     smoothness = loop_smoothness(simulator, end)
     metrics = replace(
@@ -276,12 +221,6 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
 
 def run_request(request: WalkRequest) -> LeggedResult:
     """The legged walk as `run_registered` starts it (`Walk.run`).
-
-    ``speed`` defaults to `Walk.default_speed` for the robot and gait (`LeggedWalkConfig`'s
-    None): `NOMINAL_SPEED` moved into the pattern's supported range (``gait="walk"``: 0.2 m/s).
-    ``options``: ``robot``, ``gait``, ``feet``, ``direction``, ``yaw_rate``, ``push``, ``path``,
-    ``amplitude``, ``wavelength``, ``track``; ``distribution`` overrides
-    ``parameters.distribution`` (default: ``"qp"``).
 
     Raises:
         InvalidInputError: A bad configuration.

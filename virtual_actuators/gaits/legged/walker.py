@@ -1,39 +1,6 @@
-"""A gait for any robot with two or more legs: the hexapod's design, for every pattern.
+"""A gait for any robot with two or more legs: the hexapod's design (VAC 1996, section 4).
 
-The body is a spaceship (VAC 1996, section 4): its [`BodyModel`][] holds z, roll and
-pitch with spring-dampers and steers x, y and yaw with dampers in its heading frame, and a
-[`ParallelVirtualActuator`][] per support set distributes that wrench over
-the feet in support (point contacts; the contact QP with friction pyramids, a least normal
-force and the torque limits, or the partitioned split). Every swing foot has a spring-damper
-from the body (a serial [`VirtualActuator`][], world axes) whose set point
-runs along a swing curve to a foothold placed under the centre of mass
-(`footholds`). The states come from the pattern's swing groups
-(`patterns`):
-
-=============  ==========================================  ===================================
-state          active attachments                          left when
-=============  ==========================================  ===================================
-``stand``      ``support_all``                             after ``stand_time``
-``swing_k``    ``support_k`` (all feet but group k),       group k's feet all touch down (from
-               ``swing_F`` for each foot F of group k      ``touchdown_phase`` on), or after
-                                                           ``max_swing`` swing times
-``double_k``   ``support_all``                             after the double support time,
-                                                           to ``swing_k+1``
-=============  ==========================================  ===================================
-
-Every tick (each state's ``on_update``) the walker reads the body, its centre of mass and the
-support feet from the tick's snapshot; moves the velocity set point toward the command at a
-bounded acceleration; sets the body's height above the support feet; gives the body the
-direction its support cannot produce (with two point feet, the moment about the line between
-them: `body.missing_direction`, the closed form of
-[`producible`][virtual_actuators.ParallelVirtualActuator.producible]) so that the body gives
-way exactly there; and moves the swing feet's set points (`hooks`). Joints on no leg (a legged
-manipulator's arm, a head) are held at the standing pose in every state by a
-[`Posture`][] (gains from each joint's inertia, `LeggedParameters.posture_frequency`), their
-links' weight compensated on their own joints (the legs carry it through the body model). The
-whole tick runs through [`MachineController`][]. The hooks and the touchdown events are
-`lowerable` and the gait's state is a [`Memory`][virtual_actuators.Memory]: a compiled machine
-runs the whole walker in its ops, with no Python piece.
+States ``stand``, then ``swing_k`` and ``double_k`` per swing group of the pattern.
 """
 
 from __future__ import annotations
@@ -82,19 +49,13 @@ class LeggedWalker(WalkerHooks, Gait):
         feet: The foot frames.
         pattern: The [`GaitPattern`][].
         groups: Its swing groups, in cycle order.
-        gains: The physical gains as derived (`LeggedGains`); the body model and the swing
-            springs hold them bounded for the control rate.
-        tick_rates: Each state's per-tick rate of its derived gains before that bound
-            ([`TickRate`][virtual_actuators.control.tick_rate.TickRate]).
-        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame
-            (its width the pattern's fraction of the standing pose's).
+        gains: The physical gains as derived (`LeggedGains`), before the control rate's bound.
+        tick_rates: Each state's per-tick rate of its derived gains before that bound.
+        nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame.
         stand_height: The body's origin above its feet when standing [m].
         swing_time: [s].
         stance_time: How long a foot stands per cycle [s].
-        velocity: The command ``(vx, vy)`` in the heading frame [m/s].
-        yaw_rate: The commanded yaw rate [rad/s].
-        memory: What the walker carries from tick to tick (a [`Memory`][
-            virtual_actuators.Memory]; a view of the compiled plan's registers once lowered).
+        memory: What the walker carries from tick to tick (a [`Memory`][virtual_actuators.Memory]).
 
     Raises:
         InvalidInputError: A robot without a floating base, fewer than two feet, or a body
@@ -134,11 +95,7 @@ class LeggedWalker(WalkerHooks, Gait):
         self.swing_time = (pattern.swing_time if p.swing_time is None else p.swing_time) * scale
         self.double_time = p.double_support_time * scale
         self.stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
-        #: what the walker carries from tick to tick: the command (velocity, yaw rate), the
-        #: velocity set point, the velocity error's integral per integral time [m/s] and the
-        #: yaw rate's [rad/s], the last tick's time and its step (``started`` 1 once a tick
-        #: ran), when the swing set points were last set, and per foot k ``foot_k``: its
-        #: lift-off point, last set point and that point's velocity (world) [m, m/s]
+        #: per foot k ``foot_k``: its lift-off point, last set point and its velocity [m, m/s]
         self.memory = Memory(
             command=(0.0, 0.0), yaw_command=0.0, setpoint=(0.0, 0.0), error_integral=(0.0, 0.0),
             yaw_integral=0.0, last_time=0.0, started=0.0, swung_at=0.0,
@@ -146,7 +103,6 @@ class LeggedWalker(WalkerHooks, Gait):
         )  # fmt: skip
         self._declare()
         g = self.gains
-        #: `swing_setpoint`'s shape
         self._shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
                        p.reach * g.height, p.lift * g.height, p.lift_peak,
                        p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
@@ -154,19 +110,15 @@ class LeggedWalker(WalkerHooks, Gait):
         self.step_states = tuple(f"swing_{k}" for k in range(len(self.groups)))
         self._swinging = dict(zip(self.step_states, self.groups, strict=True))
         self._finish(self._machine())
-        #: per state: its support's feet (the state's support actuator's, in its order)
         self._support = {state.name: tuple(state.support) for state in self.machine.states}
         self.tick_rates = dict(
             zip(self.machine.names, self._bound_gains(p.control_rate), strict=True)
         )
 
-    # --- declaration ---------------------------------------------------------------------------
-
     def _stance(self, p: LeggedParameters) -> None:
         """Nominal stance, standing height and gains from the standing pose."""
         robot, model = self.robot, self.robot.model
         frame = model.frames[model.getFrameId(self.body_frame)]
-        #: the floating base's angular velocity (its own axes) into the body frame's (None: same)
         turn = frame.placement.rotation
         self._to_body = None if np.array_equal(turn, np.eye(3)) else turn.T.copy()
         if frame.parentJoint != 1:
@@ -181,14 +133,13 @@ class LeggedWalker(WalkerHooks, Gait):
         yaw = math.atan2(rotation[1, 0], rotation[0, 0])
         heading = np.array(((math.cos(yaw), math.sin(yaw)), (-math.sin(yaw), math.cos(yaw))))
         relative = (feet[:, :2] - com[:2]) @ heading.T
-        #: the stance centred under the centre of mass (heading frame) [m]
         self.nominal = relative - relative.mean(axis=0)
         self.stand_height = float(snapshot.frame_position(self.body_frame)[2] - feet[:, 2].mean())
         if self.stand_height <= 0.0:
             raise InvalidInputError(
                 f"LeggedWalker: the body of {robot.name!r} is not above its feet when standing."
             )
-        # a leg's mass sets its swing spring; a floor of 5 % of the robot for massless links
+        # a floor of 5 % of the robot for massless links
         legs = tuple(max(leg_mass(robot, f), 0.05 * robot.mass) for f in self.feet)
         self.gains = derive_gains(p, robot, q0, legs, self.stand_height)
 
@@ -265,8 +216,6 @@ class LeggedWalker(WalkerHooks, Gait):
                 ),
             ]
         return StateMachine(states, transitions, "stand")
-
-    # --- inputs --------------------------------------------------------------------------------
 
     def set_command(self, velocity: Sequence[float], yaw_rate: float) -> None:
         """Body velocity ``(vx, vy)`` in the heading frame [m/s] and the yaw rate [rad/s].

@@ -19,12 +19,11 @@ class TurkeyParameters:
         damping_pitch: [N m s/rad].
         bunny_damping: Dogtrack bunny damper [N s/m].
         bunny_limit: Largest bunny force [N].
-        min_normal_force: In double support, each foot pushes at least this much [N]; the
-            bunny's force is scaled down when it would make a foot pull (lift off).
+        min_normal_force: Least normal force of each foot in double support [N].
         weight: Feed-forward on z [N]; None: total mass times g.
         over_distance: "Body nearly over the foot": body x minus front foot x above this [m].
         away_distance: "Body away from the stance foot": body x minus stance foot x above this
-            [m]; the swing foot lands about this far ahead of the body.
+            [m].
         swing_reach: Swing foot x relative to the body at the end of the swing [m].
         lift: Swing foot lift above the ground [m].
         lift_peak: Phase of the swing (0 to 1) at which the foot is highest.
@@ -33,11 +32,8 @@ class TurkeyParameters:
         touchdown_depth: How far below the ground the swing set point ends [m].
         buffer_delay: Time the swing leg stays limp in the buffer states [s].
         foot_radius: Height of the foot frame above the ground when in contact [m].
-        distribution: How double support shares the body's wrench between the feet:
-            ``"partitioned"`` (the seed's: matched hip torques, the bunny's force scaled down
-            when a foot would pull) or ``"qp"`` (the same matched hip torques as an equality;
-            each foot's normal force >= ``min_normal_force`` and its force inside a friction
-            pyramid of ``friction`` as inequalities; x gives way first).
+        distribution: ``"partitioned"`` (the seed's matched hip torques) or ``"qp"`` (the same
+            with friction pyramids and least normal forces as inequalities).
         friction: Friction coefficient assumed by ``distribution="qp"``.
     """
 

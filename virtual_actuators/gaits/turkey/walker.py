@@ -1,25 +1,4 @@
-"""Turkey walking (VMC 2001, section 5): Spring Turkey's level-ground gait.
-
-The seed's algorithm, with its Table 1 state machine:
-
-==================  ===============================  ===========================================
-state               entered when                     virtual components
-==================  ===============================  ===========================================
-double_support      delay after left/right_support_2 granny walker, dogtrack bunny
-left_support        body nearly over the left foot   granny walker, swing-leg linkage (right leg)
-left_support_2      body away from the left foot     granny walker; right leg limp
-right_support       body nearly over the right foot  granny walker, swing-leg linkage (left leg)
-right_support_2     body away from the right foot    granny walker; left leg limp
-==================  ===============================  ===========================================
-
-The granny walker (spring-dampers on height and pitch) is on the body in every state. In double
-support the body is held by both legs with matched hip torques (VMC eq. 12-14) and the dogtrack
-bunny (a damper toward the desired speed) pushes it along x. In single support the stance foot is
-a point contact, so the body actuator controls height and pitch while x is left free (VMC eq.
-5-7). The swing-leg linkage mirrors the stance leg while lifting the foot, and sets it down
-about a stride ahead; in the buffer states the swing leg is limp for a short delay so that it
-falls to the ground (the turkey has no foot switches). Foot placement is never used for speed.
-"""
+"""Turkey walking (VMC 2001, section 5): Spring Turkey's level-ground gait (Table 1's states)."""
 
 from __future__ import annotations
 
@@ -53,7 +32,7 @@ class TurkeyWalker(Gait):
         robot: ``spring_turkey`` (or any planar biped on a boom with frames ``body``,
             ``left_foot``, ``right_foot`` and joints ``SIDE_hip``, ``SIDE_knee``).
         parameters: Gait variables and component constants.
-        initial: Initial state (the seed starts in single support and gives a small push).
+        initial: Initial state (the seed starts in single support).
 
     Raises:
         FrameNotFoundError: The robot lacks the frames above.
@@ -75,9 +54,6 @@ class TurkeyWalker(Gait):
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, ("x", "z"))
         self._declare_actuators()
-        #: what the gait carries from tick to tick: the foot ahead in double support (0 left,
-        #: 1 right), the swing foot relative to the body at lift-off (x, z) [m], the body's x
-        #: minus the stance foot's at lift-off [m], the ground under the stance foot [m]
         self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
 
@@ -134,12 +110,6 @@ class TurkeyWalker(Gait):
                 ),
             ]
         return StateMachine(states, transitions, initial)
-
-    # --- events and state callbacks ------------------------------------------------------------
-
-    def stance_side(self) -> str:
-        """The stance leg in single support (the left one in double support)."""
-        return self.state.split("_")[0] if self.state != "double_support" else "left"
 
     def _update_ground(self, context: Context, feet: tuple[str, ...]) -> None:
         heights = [context.frame_coordinate(foot, "z") for foot in feet]

@@ -61,6 +61,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core import kernel
 from ..models.robot import Robot
 from .gc_policy import LoopCollector, check_gc_policy
 from .run_settings import MIN_RATE_HZ, Freshness, RunSettings, check_callback, check_run
@@ -74,6 +75,10 @@ from .safe_action import (
 from .warm_up import warm_up_driven
 
 State = tuple[np.ndarray, np.ndarray, float]
+
+_ARRAY, _FLOAT = np.ndarray, np.dtype(np.float64)  # the classes of a driver's usual arrays
+#: ``(q, v, bounds)``: the unit-norm error of ``q``, -1 if ``q`` or ``v`` is not finite.
+_READING_ERROR = kernel("reading_error", None)
 
 #: Tick durations kept for the statistics (the last ones: memory stays bounded on long runs).
 TICK_HISTORY = 100_000
@@ -245,17 +250,23 @@ def _loop(
     Then ``after_tick``, the garbage collector's turn, and the sleep until the next period.
     """
     freshness = Freshness(settings.stale_after)
-    end = math.inf if settings.duration is None else start + settings.duration
+    end = math.inf if settings.duration is None else start + settings.duration - 1e-12
     deadline, period, realtime, safe = start, settings.period, settings.realtime, settings.safe
     should_stop, write_effort, after_tick = hooks.should_stop, hooks.write_effort, hooks.after_tick
-    perf_counter, tick_times = clock.perf_counter, stats.tick_times
+    perf_counter, append = clock.perf_counter, stats.tick_times.append
+    between_ticks = collector.between_ticks if collector.active else None
+    tick = _Tick(controller, hooks, settings, freshness)
+    hold = safe.action == "hold"
     while True:
         now = perf_counter()
-        if now >= end - 1e-12 or (should_stop is not None and should_stop()):
+        if now >= end or (should_stop is not None and should_stop()):
             break
-        tau, q, v, stamp, output, reason = _tick(controller, hooks, settings, freshness, now)
+        tau, q, v, stamp, output, reason = tick(now)
         if reason is None:
-            safe.good(tau)
+            if hold:
+                safe.good(tau)
+            else:
+                safe.failed_ticks = 0
             failures = getattr(output, "failures", None)
             if failures:
                 _count_attachment_failures(stats, failures)
@@ -268,10 +279,11 @@ def _loop(
         write_effort(tau)
         done = perf_counter()
         stats.ticks += 1
-        tick_times.append(done - now)
+        append(done - now)
         if after_tick is not None:
             after_tick(q, v, stamp, output, tau)
-        collector.between_ticks()  # after the write: in the slack before the next tick
+        if between_ticks is not None:  # after the write: in the slack before the next tick
+            between_ticks()
         deadline += period
         if done > deadline:
             stats.overruns += 1
@@ -280,48 +292,71 @@ def _loop(
             clock.sleep(max(min(deadline, end) - perf_counter(), 0.0))
 
 
-def _tick(
-    controller: object, hooks: _Hooks, settings: RunSettings, freshness: Freshness, now: float
-) -> tuple:
+class _Tick:
     """One tick: ``(efforts, q, v, stamp, output, None)``, or a failure's reason last.
 
     A failed tick's efforts and output are None; its ``q`` and ``v`` are the reading's when it
     passed the checks (the safe action may damp ``v``), else None.
     """
-    try:
-        reading = hooks.read_state()
-    except Exception as error:  # a driver's failure: this tick sends the safe action
-        return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
-    if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
-        q, v, stamp = reading  # the usual reading, unpacked as check_reading would
-    else:
-        q, v, stamp, reason = check_reading(reading)
-        if reason is not None:
-            return None, None, None, stamp, None, reason
-    if not math.isfinite(stamp):
-        return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
-    if freshness.stale(stamp, now):
-        return None, None, None, stamp, None, "stale"
-    tree = settings.tree
-    q, v, reason = check_state(q, v, tree)
-    if reason is not None:
-        return None, None, None, stamp, None, reason
-    sense = hooks.sense
-    try:
-        if sense is None:
-            output = controller.compute(q, v, stamp)
+
+    __slots__ = (
+        "bounds", "compute", "freshness", "nv", "q_shape", "read_state", "sense", "tree", "v_shape"
+    )  # fmt: skip
+
+    def __init__(
+        self, controller: object, hooks: _Hooks, settings: RunSettings, freshness: Freshness
+    ) -> None:
+        self.compute, self.read_state = controller.compute, hooks.read_state
+        self.sense = hooks.sense
+        tree = self.tree = settings.tree
+        self.nv, self.freshness = tree.nv, freshness
+        self.q_shape, self.v_shape = (tree.nq,), (tree.nv,)
+        bounds = [(unit.start, unit.stop) for unit in tree.unit_slices]
+        self.bounds = np.array(bounds, np.int64).reshape(-1, 2)
+
+    def __call__(self, now: float) -> tuple:
+        try:
+            reading = self.read_state()
+        except Exception as error:  # a driver's failure: this tick sends the safe action
+            return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
+        if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
+            q, v, stamp = reading  # the usual reading, unpacked as check_reading would
         else:
-            try:
-                sensed = sense(q, v, stamp)
-            except Exception as error:  # the sensing's failure: the safe action
-                return None, q, v, stamp, None, f"sense error: {type(error).__name__}"
-            output = controller.compute(q, v, stamp, sensed)
-        tau = check_effort(output, tree.nv)
-    except Exception as error:  # any failure of the law
-        return None, q, v, stamp, None, f"controller error: {type(error).__name__}"
-    if tau is None:
-        return None, q, v, stamp, None, "bad effort"
-    return tau, q, v, stamp, output, None
+            q, v, stamp, reason = check_reading(reading)
+            if reason is not None:
+                return None, None, None, stamp, None, reason
+        if not math.isfinite(stamp):
+            return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
+        freshness = self.freshness
+        if freshness.last_stamp is None or stamp > freshness.last_stamp:
+            freshness.last_stamp, freshness.last_fresh = stamp, now
+        elif now - freshness.last_fresh > freshness.stale_after:
+            return None, None, None, stamp, None, "stale"
+        if not (  # a driver's contiguous float64 arrays of the right sizes: one compiled pass
+            q.__class__ is _ARRAY and v.__class__ is _ARRAY and q.dtype is _FLOAT
+            and v.dtype is _FLOAT and q.shape == self.q_shape and v.shape == self.v_shape
+            and q.flags.c_contiguous and v.flags.c_contiguous and _READING_ERROR is not None
+            and 0.0 <= _READING_ERROR(q, v, self.bounds) <= 1e-12
+        ):  # fmt: skip
+            q, v, reason = check_state(q, v, self.tree)
+            if reason is not None:
+                return None, None, None, stamp, None, reason
+        sense = self.sense
+        try:
+            if sense is None:
+                output = self.compute(q, v, stamp)
+            else:
+                try:
+                    sensed = sense(q, v, stamp)
+                except Exception as error:  # the sensing's failure: the safe action
+                    return None, q, v, stamp, None, f"sense error: {type(error).__name__}"
+                output = self.compute(q, v, stamp, sensed)
+            tau = check_effort(output, self.nv)
+        except Exception as error:  # any failure of the law
+            return None, q, v, stamp, None, f"controller error: {type(error).__name__}"
+        if tau is None:
+            return None, q, v, stamp, None, "bad effort"
+        return tau, q, v, stamp, output, None
 
 
 def _end_safe(

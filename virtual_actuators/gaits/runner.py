@@ -205,7 +205,8 @@ class Episode:
         recorder: Where `record` writes.
 
     Attributes:
-        stance_every: Ticks between two readings of the stance forces.
+        stance_every: Ticks between two readings of the stance forces (None: `record_every`,
+            the trace's rate).
         record_every: Ticks between two calls of `record`.
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
@@ -214,7 +215,7 @@ class Episode:
             body axes), or None.
     """
 
-    stance_every = 1
+    stance_every: int | None = None
     record_every = 1
     ignore_unactuated = False
 

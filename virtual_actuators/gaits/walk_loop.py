@@ -120,7 +120,8 @@ class WalkTicks:
         self.compute: Callable[..., Any] = gait.compute
         self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
         self._watched = bar is not None or on_tick is not None
-        self._stance_every, self._record_every = episode.stance_every, episode.record_every
+        self._record_every = episode.record_every
+        self._stance_every = episode.stance_every or episode.record_every
         self._sample, self._support = episode.stance.sample, gait.support_contacts
         self._fallen, self._record = episode.fallen, episode.record
         self._data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from virtual_actuators.core import kernel
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.actuation import ctrl_writer, torques_to_ctrl
@@ -24,6 +25,7 @@ from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
     direct_gathers,
+    gathers,
     state_velocity,
     velocity_to_mujoco,
 )
@@ -37,6 +39,9 @@ from virtual_actuators.simulation.model import (
 from virtual_actuators.simulation.terrain import Terrain
 
 __all__ = ["Simulator"]
+
+#: ``v`` of MuJoCo's state with a free joint: the core's one call (None: `state_velocity`).
+_STATE_VELOCITY = kernel("state_velocity", None)
 
 
 def _substeps(control_rate: float, timestep: float) -> int:
@@ -159,6 +164,11 @@ class Simulator(ContactQueries):
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
         self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
         self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
+        maps = gathers(self.mujoco_model)
+        self._free_v = None  # (gather, free joints' rows) of the core's read of v, or None
+        if _STATE_VELOCITY is not None and self._direct_v is None and maps.gather_v is not None:
+            rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]
+            self._free_v = (maps.gather_v.astype(np.int64), np.array(rows, np.int64).reshape(-1, 3))
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -183,6 +193,8 @@ class Simulator(ContactQueries):
         """
         if self._direct_v is not None:  # no free joint: one gather
             return self._qvel[self._direct_v]
+        if self._free_v is not None:  # free joints: the core's one call
+            return _STATE_VELOCITY(self._qpos, self._qvel, *self._free_v)
         return state_velocity(self.mujoco_model, self._qpos, self._qvel)
 
     def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:

@@ -20,18 +20,25 @@ class PlanOutput:
         compiled: The compiled machine.
         active: The names evaluated this tick.
         tau: The tick's efforts after the limp joints and the clip [N m or N].
+        held: ``(nv,)`` bool, True where the effort rate limit held the effort back.
     """
 
-    def __init__(self, compiled: object, active: tuple[str, ...], tau: np.ndarray) -> None:
+    __slots__ = (
+        "_cache", "_compiled", "active", "failed", "failures", "joint_names", "rate_limited",
+        "tau", "tau_requested",
+    )  # fmt: skip
+
+    def __init__(
+        self, compiled: object, active: tuple[str, ...], tau: np.ndarray, held: np.ndarray
+    ) -> None:
         self._compiled = compiled
         self.active = active
         self.tau = tau
         self.tau_requested = compiled.requested.copy()
-        controller = compiled.machine.controller
-        self.joint_names = controller.joint_names
+        self.joint_names = compiled.joint_names
         self.failed: dict[str, str] = {}
         self.failures: dict = {}
-        self.rate_limited = np.zeros(tau.shape, dtype=bool)
+        self.rate_limited = held
         self._cache: dict[str, dict] = {}
 
     @property

@@ -17,6 +17,8 @@ import numpy as np
 from .actuation import torques_to_ctrl
 from .simulator import Simulator
 
+_perf_counter = wallclock.perf_counter
+
 
 class MujocoHardware:
     """A [`Simulator`][] behind the two callbacks of a hardware control loop.
@@ -58,9 +60,9 @@ class MujocoHardware:
             InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
                 on an unactuated degree of freedom without ``ignore_unactuated``.
         """
-        start = wallclock.perf_counter()
+        start = _perf_counter()
         self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
-        self.physics_time += wallclock.perf_counter() - start
+        self.physics_time += _perf_counter() - start
         self.efforts_written += 1
 
     def hold_effort(self, tau: np.ndarray) -> None:

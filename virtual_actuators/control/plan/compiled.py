@@ -110,6 +110,7 @@ class CompiledMachine:
         self._free = np.zeros(tree.nv, dtype=bool)  # no entry held by the rate limit
         self._free.flags.writeable = False
         self._limit_rate = controller.limit_rate
+        self.layouts: dict[tuple, list] = {}  # PlanOutput's readings per (active, what)
         self._tick: tuple | None = None  # (q, v, time, contacts) of the tick running
         self._snapshot: Snapshot | None = None
         self._context: Context | None = None

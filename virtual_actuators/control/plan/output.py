@@ -50,15 +50,17 @@ class PlanOutput:
     def _readings(self, what: str) -> dict[str, np.ndarray]:
         cached = self._cache.get(what)
         if cached is None:
-            registers, compiled = self._compiled.registers, self._compiled
-            cached = {}
-            for name in self.active:
-                entry = compiled.entry(name)
-                if not entry.reports:  # a joint-space term: no wrench of its own
-                    continue
-                base = getattr(entry, what)
-                cached[name] = registers[base : base + entry.n].copy()
-            self._cache[what] = cached
+            compiled, key = self._compiled, (self.active, what)
+            rows = compiled.layouts.get(key)
+            if rows is None:  # (name, start, stop) of each reading, once per active set
+                entries = [(name, compiled.entry(name)) for name in self.active]
+                rows = compiled.layouts[key] = [
+                    (name, getattr(entry, what), getattr(entry, what) + entry.n)
+                    for name, entry in entries
+                    if entry.reports  # a joint-space term: no wrench of its own
+                ]
+            registers = compiled.registers
+            cached = self._cache[what] = {name: registers[a:b].copy() for name, a, b in rows}
         return cached
 
     @property

@@ -1,10 +1,7 @@
 """Simulate a loaded robot with MuJoCo: torques in, Pinocchio-convention state out.
 
-[`Simulator`][] builds the MuJoCo model of a robot on a terrain
-([`build_mujoco_model`][]) and steps it one control period
-at a time with the joint torques held, which is how a controller running at ``control_rate``
-drives a robot. States are read and written in Pinocchio's conventions (``q``, ``v``), contacts
-are queried by Pinocchio frame name.
+[`Simulator`][] steps one control period at a time with the efforts held; contacts are queried by
+Pinocchio frame name.
 """
 
 from __future__ import annotations
@@ -51,14 +48,10 @@ def _substeps(control_rate: float, timestep: float) -> int:
         InvalidInputError: If ``control_rate`` or ``timestep`` is not a positive number, or the
             control period is not a whole number of time steps.
     """
-    if not (
-        isinstance(control_rate, (int, float))
-        and math.isfinite(control_rate)
-        and control_rate > 0
-    ):
-        raise InvalidInputError(
-            f"control_rate must be a positive number of Hz: {control_rate!r}."
-        )
+    if not (isinstance(control_rate, (int, float)) and math.isfinite(control_rate)):
+        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
+    if control_rate <= 0:
+        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
         raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
     period = 1.0 / float(control_rate)
@@ -89,12 +82,10 @@ class Simulator(ContactQueries):
     Attributes:
         robot: The simulated robot.
         terrain: The ground.
-        mujoco_model: The [`MujocoModel`][] (MuJoCo model
-            plus the Pinocchio index maps).
+        mujoco_model: The [`MujocoModel`][] (MuJoCo model plus the Pinocchio index maps).
         model: The MuJoCo ``MjModel``.
-        data: The MuJoCo ``MjData`` (read it freely; write it only if you know MuJoCo: contact
-            queries are cached per ``(data.time, data.ncon)``, so after changing the state by
-            hand, call [`reset`][] or step).
+        data: The MuJoCo ``MjData`` (contact queries are cached per ``(data.time,
+            data.ncon)``: after writing the state by hand, call [`reset`][] or step).
         control_period: Duration of one [`step`][] [s].
         substeps: Physics steps per control period.
 
@@ -127,11 +118,9 @@ class Simulator(ContactQueries):
             timestep: Physics time step [s].
             control_rate: Control frequency [Hz]; ``1 / control_rate`` must be a whole number
                 of physics steps.
-            actuated: Joints driven by motors (see
-                [`build_mujoco_model`][]); by default
-                every 1-DoF joint not in ``robot.passive_joints``.
-            contact: Contact parameters (defaults documented in
-                [`ContactParameters`][]).
+            actuated: Joints driven by motors (default: every 1-DoF joint not in
+                ``robot.passive_joints``; see [`build_mujoco_model`][]).
+            contact: Contact parameters (defaults in [`ContactParameters`][]).
             collisions: Which robot geometry collides (see ``build_mujoco_model``).
 
         Raises:
@@ -142,13 +131,9 @@ class Simulator(ContactQueries):
         """
         substeps = _substeps(control_rate, timestep)
         self.mujoco_model: MujocoModel = build_mujoco_model(
-            robot,
-            terrain,
-            timestep=timestep,
-            actuated=actuated,
-            contact=contact,
+            robot, terrain, timestep=timestep, actuated=actuated, contact=contact,
             collisions=collisions,
-        )
+        )  # fmt: skip
         self.robot = robot
         self.terrain = self.mujoco_model.terrain
         self.model: mujoco.MjModel = self.mujoco_model.model
@@ -159,8 +144,7 @@ class Simulator(ContactQueries):
         self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
         self._pushing = False  # whether _applied holds anything
         self._init_contact_queries()
-        # the state read every tick: MuJoCo's arrays (views, allocated once with the data) and,
-        # for hinge-and-slide robots, the one gather that converts them
+        # the state read every tick: MuJoCo's arrays (views) and the gathers that convert them
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
         self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
         self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
@@ -201,10 +185,9 @@ class Simulator(ContactQueries):
         """Restart at time 0 from a state given in Pinocchio's conventions.
 
         Args:
-            q: Configuration, size ``model.nq``; when None, ``robot.neutral()`` (the standing
-                pose when the robot has one), a floating base moved up or down so that its
-                lowest geometry rests on the terrain ([`on_ground`][]).
-            v: Velocity, size ``model.nv``; zero when None.
+            q: Configuration ``(nq,)``; None: ``robot.neutral()``, a floating base set on the
+                terrain ([`on_ground`][]).
+            v: Velocity ``(nv,)``; zero when None.
 
         Raises:
             InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
@@ -229,11 +212,10 @@ class Simulator(ContactQueries):
     def on_ground(self, q: np.ndarray) -> np.ndarray:
         """``q`` with the floating base moved vertically so the lowest geometry touches the terrain.
 
-        The robot's collision geoms are measured against the terrain's (MuJoCo's signed
-        distances); the simulation's state is left as it was.
+        MuJoCo's signed distances of the collision geoms; the simulation's state is left alone.
 
         Args:
-            q: Configuration of a floating-base robot, size ``model.nq``.
+            q: Configuration of a floating-base robot ``(nq,)``.
 
         Returns:
             A copy of ``q`` with its base height changed.
@@ -264,9 +246,8 @@ class Simulator(ContactQueries):
         MuJoCo clips each effort to its actuator's ``ctrlrange`` (``+-effortLimit``).
 
         Args:
-            tau: Joint efforts [N m or N] in Pinocchio's velocity order, size ``model.nv``.
-            ignore_unactuated: Drop efforts on degrees of freedom no actuator drives instead of
-                raising.
+            tau: Joint efforts ``(nv,)`` [N m or N] in Pinocchio's velocity order.
+            ignore_unactuated: Drop efforts on unactuated degrees of freedom instead of raising.
 
         Raises:
             InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or asks for
@@ -287,8 +268,8 @@ class Simulator(ContactQueries):
     def push(self, force_world: np.ndarray, frame: str, duration: float = 0.1) -> None:
         """Push the robot: hold a world-frame force at a frame's origin for a while, from now.
 
-        The force is applied through ``xfrc_applied`` on the frame's body, with the moment that
-        puts it at the frame origin (updated every physics step). Pushes add up.
+        Through ``xfrc_applied`` on the frame's body, with the moment that puts it at the frame
+        origin (updated every physics step). Pushes add up.
 
         Args:
             force_world: Force [N] in world axes, 3 values.

@@ -1,12 +1,4 @@
-"""The plan's registers and programs, as the lowering writes them.
-
-A plan is data: one array of registers (the blackboard: inputs, constants, the components'
-parameters, the gait's memory, every traced intermediate) and one table of ops, cut into
-programs (an event, a hook, a component's reset). [`PlanBuilder`][] allocates registers and
-holds the programs; a [`Program`][] appends ops as tracing runs (`symbols.Sym`'s operators
-call it). The op codes are the compiled core's own table (``_core.PLAN_OPS``): nothing here
-restates them.
-"""
+"""The plan's registers ([`PlanBuilder`][]) and programs ([`Program`][]: the core's ops)."""
 
 from __future__ import annotations
 

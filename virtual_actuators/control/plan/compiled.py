@@ -1,10 +1,6 @@
 """The compiled machine: a lowered MachineController run by the core, one call a tick.
 
-`compile_machine` lowers a [`MachineController`][virtual_actuators.MachineController]
-(`lower`) and builds the core's ``PlanMachine``; `CompiledMachine.compute` is then the
-machine's tick with the controller's signature and answer. The Python pieces (what the
-lowering could not trace) run from inside the core's tick, on the tick's snapshot and context
-(built only when a piece needs them).
+The Python pieces run from inside the core's tick, on its snapshot and context (built on use).
 """
 
 from __future__ import annotations

@@ -1,10 +1,4 @@
-"""What a compiled machine's tick computed, read from the plan's registers on demand.
-
-[`PlanOutput`][] answers like a [`ControlOutput`][virtual_actuators.ControlOutput] (``tau``,
-``tau_requested``, ``saturated``, the per-attachment wrenches, readings and solutions): the
-efforts are the tick's copy, the rest is read from the plan's registers and buffers when first
-asked (a loop that only sends ``tau`` pays for nothing else). Read it before the next tick.
-"""
+"""What a compiled tick computed: [`PlanOutput`][], read from the plan's registers on demand."""
 
 from __future__ import annotations
 

@@ -45,16 +45,17 @@ class PlanOutput:
         cached = self._cache.get(what)
         if cached is None:
             compiled, key = self._compiled, (self.active, what)
-            rows = compiled.layouts.get(key)
-            if rows is None:  # (name, start, stop) of each reading, once per active set
+            layout = compiled.layouts.get(key)
+            if layout is None:  # each reading's span in one gather, once per active set
                 entries = [(name, compiled.entry(name)) for name in self.active]
-                rows = compiled.layouts[key] = [
-                    (name, getattr(entry, what), getattr(entry, what) + entry.n)
-                    for name, entry in entries
-                    if entry.reports  # a joint-space term: no wrench of its own
-                ]
-            registers = compiled.registers
-            cached = self._cache[what] = {name: registers[a:b].copy() for name, a, b in rows}
+                entries = [(n, e) for n, e in entries if e.reports]  # a term has no wrench
+                index = [getattr(e, what) + i for _, e in entries for i in range(e.n)]
+                bounds = np.cumsum([0] + [e.n for _, e in entries]).tolist()
+                spans = [(n, bounds[k], bounds[k + 1]) for k, (n, _) in enumerate(entries)]
+                layout = compiled.layouts[key] = (np.array(index, dtype=np.intp), spans)
+            index, spans = layout
+            values = compiled.registers.take(index)  # a copy: the next tick leaves it alone
+            cached = self._cache[what] = {name: values[a:b] for name, a, b in spans}
         return cached
 
     @property

@@ -116,24 +116,23 @@ def velocity_names(robot: Robot) -> tuple[str, ...]:
 NO_LIMP = np.zeros(0, dtype=np.intp)
 
 
-def names_tuple(active: object) -> tuple:
-    """``active`` as a tuple, or an [`InvalidInputError`][] naming it."""
-    if not isinstance(active, (bytes, Mapping)):
-        try:
-            return tuple(active)
-        except TypeError:
-            pass
-    raise InvalidInputError(
-        f"active must be a sequence of attachment names (or one name), got {describe(active)}."
-    )
-
-
-def check_active(names: tuple) -> None:
-    """``active``'s entries are attachment names (str), none repeated.
+def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
+    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection).
 
     Raises:
-        InvalidInputError: An entry that is not a str (a list, a number), or a repeated name.
+        InvalidInputError: Not a name or a collection of names, an entry that is not a str,
+            or a name repeated.
     """
+    names = (active,) if isinstance(active, str) else None
+    if names is None and not isinstance(active, (bytes, Mapping)):
+        try:
+            names = tuple(active)
+        except TypeError:
+            pass
+    if names is None:
+        raise InvalidInputError(
+            f"active must be a sequence of attachment names (or one name), got {describe(active)}."
+        )
     for i, name in enumerate(names):
         if not isinstance(name, str):
             raise InvalidInputError(
@@ -141,16 +140,6 @@ def check_active(names: tuple) -> None:
             )
     if len(set(names)) != len(names):
         raise InvalidInputError(f"active names an attachment twice: {names}.")
-
-
-def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
-    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection).
-
-    Raises:
-        InvalidInputError: Not a name or a collection of names, or a name repeated.
-    """
-    names = (active,) if isinstance(active, str) else names_tuple(active)
-    check_active(names)
     return names
 
 
@@ -171,26 +160,17 @@ def tick_snapshot(
         raise InvalidInputError(
             "compute() needs a snapshot of this controller's robot built with v."
         )
-    if v is not None and v is not q.v:
-        check_same_velocity(v, q.v)
+    if v is not None and v is not q.v:  # v must equal the snapshot's velocity (never ignored)
+        try:
+            same = np.array_equal(np.asarray(v), q.v)
+        except (TypeError, ValueError):
+            same = False
+        if not same:
+            raise InvalidInputError(
+                "compute(snapshot, v): v differs from the velocity the snapshot was built with; "
+                "omit v (the snapshot's is used) or build the snapshot with this v."
+            )
     return q
-
-
-def check_same_velocity(v: object, own: np.ndarray) -> None:
-    """``compute(snapshot, v)``: ``v`` must equal the snapshot's velocity (never ignored).
-
-    Raises:
-        InvalidInputError: ``v`` differs from ``own`` (or is not an array of numbers).
-    """
-    try:
-        same = np.array_equal(np.asarray(v), own)
-    except (TypeError, ValueError):
-        same = False
-    if not same:
-        raise InvalidInputError(
-            "compute(snapshot, v): v differs from the velocity the snapshot was built with; "
-            "omit v (the snapshot's is used) or build the snapshot with this v."
-        )
 
 
 def check_limp(limp: object, nv: int) -> np.ndarray:
@@ -225,6 +205,6 @@ def _bad_limp(limp: object, nv: int) -> InvalidInputError:
 
 
 __all__ = [
-    "NO_LIMP", "ControlOutput", "TickSums", "active_names", "check_active", "check_limp",
-    "check_same_velocity", "names_tuple", "tick_snapshot", "velocity_names",
+    "NO_LIMP", "ControlOutput", "TickSums", "active_names", "check_limp", "tick_snapshot",
+    "velocity_names",
 ]  # fmt: skip

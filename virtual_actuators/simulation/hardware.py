@@ -29,11 +29,6 @@ class MujocoHardware:
         ignore_unactuated: As given.
         efforts_written: Calls of `write_effort` and `hold_effort` (the final zero included).
         physics_time: Wall-clock time spent in the physics steps [s].
-
-    Example:
-        >>> hardware = MujocoHardware(Simulator(robot))
-        >>> va.run(controller, hardware.read_state, hardware.write_effort, rate_hz=1000,
-        ...        realtime=False, should_stop=lambda: hardware.simulator.time > 5.0)
     """
 
     def __init__(self, simulator: Simulator, *, ignore_unactuated: bool = True) -> None:

@@ -104,13 +104,8 @@ class WalkResult:
     def figures(self) -> WalkFigures:
         """What a sweep tabulates."""
         m = self.metrics
-        return WalkFigures(
-            bool(m.fell),
-            number(m.fall_time_s),
-            number(m.distance_m),
-            number(m.mean_speed_mps),
-            int(m.steps),
-        )
+        distance, speed = number(m.distance_m), number(m.mean_speed_mps)
+        return WalkFigures(bool(m.fell), number(m.fall_time_s), distance, speed, int(m.steps))
 
     def to_json(self) -> dict[str, Any]:
         """What ``--json`` writes: the metrics as a JSON-able dict."""

@@ -83,12 +83,8 @@ class PlanBuilder:
         for program in self.programs:
             bounds.append((len(rows), len(rows) + len(program.ops)))
             rows.extend(program.ops)
-        ops = np.array(rows, dtype=np.int64).reshape(-1, 5)
-        return (
-            np.array(self.registers, dtype=float),
-            ops,
-            np.array(bounds, dtype=np.int64).reshape(-1, 2),
-        )
+        ops, registers = np.array(rows, dtype=np.int64).reshape(-1, 5), np.array(self.registers)
+        return registers, ops, np.array(bounds, dtype=np.int64).reshape(-1, 2)
 
 
 class Program:
@@ -139,9 +135,7 @@ class Program:
 
     def select(self, condition: object, a: object, b: object) -> Sym:
         """``a if condition != 0 else b``."""
-        return self.emit(
-            "select", self.register(condition), self.register(a), self.register(b)
-        )
+        return self.emit("select", self.register(condition), self.register(a), self.register(b))
 
     def read(self, register: int) -> Sym:
         """The value register ``register`` holds now (a copy: later stores do not change it)."""

@@ -7,7 +7,8 @@ turkey walk and completed by the branches walks do not reach (a NaN, an infinity
 effort at and beyond the tolerance); their answers and what they write are compared with
 ``np.array_equal``.
 `Simulator.step` is then checked against ``torques_to_ctrl`` (numpy fancy indexing, the
-definition): the same controls, the same errors.
+definition): the same controls, the same errors. The free-flyer's velocity read
+(``state_velocity``) and ``va.run``'s reading check (``reading_error``) against theirs.
 """
 
 from __future__ import annotations
@@ -138,3 +139,32 @@ def test_step_refuses_bad_efforts_and_keeps_the_controls():
     with pytest.raises(va.InvalidInputError, match=f"{nv} entries"):
         simulator.step(np.zeros(nv + 1))
     assert np.array_equal(simulator.data.ctrl, before)
+
+
+@core
+@pytest.mark.parametrize("name", ["solo12", "hexapod", "talos"])
+def test_the_free_flyer_velocity_is_read_bit_identically(name):
+    """``Simulator.v`` (the core's ``state_velocity``) against the Python conversion."""
+    from virtual_actuators.simulation.conversions import state_velocity
+
+    simulator = Simulator(va.load_robot(name))
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        simulator.data.qvel[:] = rng.normal(size=simulator.model.nv)
+        simulator.data.qpos[3:7] = rng.normal(size=4) * 0.5 + (1.0, 0.0, 0.0, 0.0)
+        expected = state_velocity(simulator.mujoco_model, simulator.data.qpos, simulator.data.qvel)
+        assert np.array_equal(simulator.v, expected)
+
+
+@core
+def test_the_reading_check_is_the_unit_norm_check_and_finiteness():
+    """``reading_error``: ``unit_norm_error`` of ``q``, -1 when ``q`` or ``v`` is not finite."""
+    q, v = np.array([0.0, 0.0, 0.3, 0.0, 0.0, 0.6, 0.8, 0.1]), np.zeros(7)
+    bounds = np.array([[3, 7]], dtype=np.int64)
+    assert CORE.reading_error(q, v, bounds) == CORE.unit_norm_error(q, bounds)
+    v[2] = np.nan
+    assert CORE.reading_error(q, v, bounds) == -1.0
+    v[2], q[0] = 0.0, np.inf
+    assert CORE.reading_error(q, v, bounds) == -1.0
+    with pytest.raises(ValueError):
+        CORE.reading_error(q, v, np.array([[3, 9]], dtype=np.int64))

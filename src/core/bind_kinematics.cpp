@@ -1,5 +1,5 @@
 // The kinematics' bindings (kinematics.hpp): Tree (bind_kinematics.hpp), and the configuration
-// checks and a point's velocity.
+// checks (a reading's too) and a point's velocity.
 #include "bind_kinematics.hpp"
 
 #include <nanobind/stl/optional.h>
@@ -20,6 +20,12 @@ double unit_norm_error(const F1& q, const I2& bounds) {
                 bounds.data()[2 * s + 1] <= length(q),
             "bounds out of range");
   return va::unit_norm_error(q.data(), length(q), bounds.data(), m);
+}
+
+// control.run_loop's check of a reading: unit_norm_error of q, -1 when q or v is not finite.
+double reading_error(const F1& q, const F1& v, const I2& bounds) {
+  if (!va::all_finite(v.data(), length(v))) return -1.0;
+  return unit_norm_error(q, bounds);
 }
 
 bool all_finite(const F1& values) { return va::all_finite(values.data(), length(values)); }
@@ -54,6 +60,8 @@ void bind_kinematics(nb::module_& m) {
 
   m.def("unit_norm_error", &unit_norm_error, "q"_a, "bounds"_a,
         "kinematics.kernels.unit_norm_error: largest | ||q[a:b]|| - 1 | (-1: q not finite).");
+  m.def("reading_error", &reading_error, "q"_a, "v"_a, "bounds"_a,
+        "control.run_loop's reading check: unit_norm_error of q (-1: q or v not finite).");
   m.def("all_finite", &all_finite, "values"_a,
         "kinematics.kernels.all_finite: no NaN, no infinity.");
   m.def("point_velocity", &point_velocity, "jacobian_world"_a, "v"_a, "columns"_a, "x"_a, "y"_a,

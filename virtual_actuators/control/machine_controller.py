@@ -1,28 +1,6 @@
 """A controller driven by a state machine: the tick every gait runs, written once.
 
-One tick of a gait, in this order:
-
-1. one [`Snapshot`][] of ``(q, v)``: the tick's only kinematics pass;
-2. a [`Context`][] on it, with the time and the contact switches;
-3. [`StateMachine.update`][]: at most one transition,
-   then the current state's ``on_update`` hook (a gait moves its set points there);
-4. when the state changed, [`Controller.reset`][] of the
-   attachments the new state activates (their components' ``reset`` hooks);
-5. [`Controller.compute`][] of the state's active
-   attachments, with its limp joints at zero effort.
-
-[`MachineController`][] does exactly that; it has the ``compute(q, v, time)`` of a
-controller, so [`va.run`][virtual_actuators.run] drives it like one::
-
-    machine = va.MachineController(controller, va.StateMachine(states, transitions, "stand"))
-    output = machine.compute(q, v, time, contacts={"FL_FOOT": True, ...})
-
-On its first tick (or in `MachineController.warm_up`, before a timed loop) the machine is
-lowered into the compiled core (``control.plan``): from then on one core call runs the tick, and
-what the lowering cannot trace (a lambda, a component of your own) runs in Python from inside
-it, for that piece only. `MachineController.compute_in_python` is the same tick in Python (the
-oracle the compiled one is tested against); ``compiled=False``, a build without the core or
-``VA_PLAN=0`` keep every tick there.
+The tick's order and its lowering into the compiled core: docs/reference/control.md.
 """
 
 from __future__ import annotations

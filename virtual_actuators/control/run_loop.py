@@ -1,54 +1,7 @@
 """A fixed-rate control loop for real hardware: ``va.run(controller, read_state, write_effort)``.
 
-Each tick reads the robot's state, computes the efforts and writes them, then sleeps until the
-next period. The efforts always have the robot's size and order: ``(model.nv,)``, one per
-velocity entry (the robot is the controller's, or ``robot=``), whatever the readings hold.
-
-Safety first. A tick fails when:
-
-- ``read_state`` raises (``"read error: <type>"``), or returns something that is not
-  ``(q, v, stamp)`` with ``q`` of ``nq`` and ``v`` of ``nv`` real numbers (``"malformed
-  reading"``), values that are not finite (``"non-finite"``), or a quaternion far from unit
-  norm (``"non-unit quaternion"``);
-- the reading is stale: its stamp did not advance for ``stale_after`` seconds (``"stale"``);
-- the controller raises (``"controller error: <type>"``) or returns efforts that are not
-  ``nv`` finite real numbers (``"bad effort"``: another size, complex, NaN...).
-
-A failed tick sends the **safe action** instead (``safe_action=``): ``"zero"`` effort (the
-default), ``"hold"`` the last good effort for at most ``hold_time`` (then zero), or ``"damp"``,
-joint damping ``-damping * v`` clipped to the URDF's effort limits (zero when the tick has no
-valid velocity: a failed, malformed or stale reading). [`RunStats`][] counts every failed
-tick by reason. Failures inside a [`Controller`][] (one attachment's
-singular or infeasible distribution) are its own ``on_failure`` policy's, and counted in
-`RunStats.attachment_failures`.
-
-The loop **always ends by writing zero effort** of the robot's size, whatever ended it: the
-duration, ``should_stop``, an error of ``write_effort`` or ``should_stop``, or Ctrl-C (then
-re-raised, as every exception that is not a per-tick failure, after that write). With
-[`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] that last zero command steps the
-simulation one more period (unless ``write_final`` takes it). A tick that takes longer than
-the period is an overrun: the loop does not try to catch up (the next tick starts at once), and
-counts it.
-
-Python's garbage collector runs between ticks, never inside one (``gc_policy``, see
-[`gc_policy`][]). Before the clock starts the controller's kernels load
-([`warm_up_driven`][virtual_actuators.control.warm_up.warm_up_driven]): nothing changes.
-
-The callbacks are plain functions, so any driver fits: ``read_state() -> (q, v, stamp)`` with
-``stamp`` the time the reading was taken [s] (any clock, increasing), and ``write_effort(tau)``.
-[`MujocoHardware`][virtual_actuators.simulation.MujocoHardware] implements both on a MuJoCo
-simulation (the simulated robot as the hardware).
-
-Two optional hooks let a loop carry more than a controller without a loop of its own:
-``sense(q, v, stamp)`` runs on a reading that passed the checks, before the controller, and
-what it returns is ``compute``'s fourth argument (a gait's contact switches); an error in it
-fails the tick (``"sense error: <type>"``). ``after_tick(q, v, stamp, output, tau)`` runs after
-each tick's write, outside the tick's measured time: recording, a viewer, a fall test. Every
-registered walk runs on this loop (`virtual_actuators.gaits.walk_loop.drive`: ``sense`` steers
-the gait and reads the contact switches, ``after_tick`` records, ``should_stop`` ends on the
-simulated time or after a fall). ``write_final`` takes the final zero effort instead of
-``write_effort`` (the walks: ``MujocoHardware.hold_effort``, which sets MuJoCo's controls to
-zero without stepping the simulation once more).
+Every reading and every effort is checked, a failed tick sends the safe action, and the loop
+always ends by writing zero effort; the contract is in docs/reference/control.md.
 """
 
 from __future__ import annotations
@@ -61,9 +14,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core import kernel
 from ..models.robot import Robot
 from .gc_policy import LoopCollector, check_gc_policy
-from .run_settings import MIN_RATE_HZ, Freshness, RunSettings, check_callback, check_run
+from .run_settings import MIN_RATE_HZ, RunSettings, check_callback, check_run
 from .safe_action import (
     DEFAULT_DAMPING,
     DEFAULT_HOLD_TIME,
@@ -74,6 +28,10 @@ from .safe_action import (
 from .warm_up import warm_up_driven
 
 State = tuple[np.ndarray, np.ndarray, float]
+
+_ARRAY, _FLOAT = np.ndarray, np.dtype(np.float64)  # the classes of a driver's usual arrays
+#: ``(q, v, bounds)``: the unit-norm error of ``q``, -1 if ``q`` or ``v`` is not finite.
+_READING_ERROR = kernel("reading_error", None)
 
 #: Tick durations kept for the statistics (the last ones: memory stays bounded on long runs).
 TICK_HISTORY = 100_000
@@ -88,11 +46,9 @@ class RunStats:
         overruns: Ticks that took longer than the period.
         failed_ticks: Ticks that sent the safe action instead of the controller's effort.
         zero_ticks: Ticks that sent zero effort (a failed tick whose safe action gave zero).
-        reasons: Failed ticks per reason: ``{"stale": n, "non-finite": n, "controller error:
-            ConstraintError": n, ...}`` (see `run_loop`).
-        attachment_failures: Ticks in which a [`Controller`][]'s failure
-            policy fired, per ``"attachment: reason -> action"`` (e.g. ``"stance: constraint
-            -> fallback"``).
+        reasons: Failed ticks per reason (``"stale"``, ``"controller error: ConstraintError"``).
+        attachment_failures: Ticks in which a [`Controller`][]'s failure policy fired, per
+            ``"attachment: reason -> action"``.
         tick_times: Duration of the last `TICK_HISTORY` ticks, read to write [s].
         wall_time: Duration of the loop [s].
     """
@@ -141,34 +97,24 @@ def run(
     """Run ``controller`` at ``rate_hz`` until ``duration`` elapses or ``should_stop()``.
 
     Args:
-        controller: Anything with ``compute(q, v, time)`` (``time``: the reading's stamp)
-            returning efforts or an object with ``tau`` (a [`Controller`][], a gait, yours).
-        read_state: Returns ``(q, v, stamp)``: configuration, velocity, time of the reading [s].
-        write_effort: Sends ``(nv,)`` efforts to the motors, in the robot's velocity order
-            (`velocity_names`).
+        controller: Has ``compute(q, v, time)`` returning efforts or an object with ``tau``.
+        read_state: Returns ``(q, v, stamp)``: configuration, velocity, reading time [s].
+        write_effort: Sends ``(nv,)`` efforts, in the robot's `velocity_names` order.
         rate_hz: Control rate [Hz], at least `MIN_RATE_HZ`.
-        duration: Wall-clock time of the loop [s] (None: until ``should_stop``); the loop ends
-            then, even within a long period. On a simulation run with ``realtime=False``, stop
-            on the simulated time with ``should_stop`` instead.
-        stale_after: A reading whose stamp did not advance for this long is stale [s]
-            (default: three periods).
-        realtime: Sleep to hold the rate (False: run ticks back to back, e.g. on a simulation).
+        duration: Wall-clock time of the loop [s] (None: until ``should_stop``).
+        stale_after: A reading whose stamp did not advance this long is stale [s] (default:
+            three periods).
+        realtime: Sleep to hold the rate (False: ticks back to back, e.g. on a simulation).
         should_stop: Polled every tick; True ends the loop.
-        robot: The robot whose efforts are written (default: ``controller.robot``, which a
-            [`Controller`][] and a gait have). Give it for a controller of your own without one.
-        safe_action: What a failed tick sends: ``"zero"``, ``"hold"`` or ``"damp"`` (see
-            `run_loop`).
-        damping: ``safe_action="damp"``: joint damping [N m s/rad, N s/m], one number for every
-            velocity entry but a floating base's and the passive joints' (default
-            `DEFAULT_DAMPING`, 1), or ``(nv,)`` numbers used as given.
-        hold_time: ``safe_action="hold"``: the longest run of failed ticks that holds the last
-            good effort [s] (``hold_time * rate_hz`` ticks); then zero effort.
-        gc_policy: ``"between-ticks"`` (no garbage collection inside a tick, see
-            [`gc_policy`][]) or ``"python"`` (left alone).
-        sense: ``sense(q, v, stamp)`` on a reading that passed the checks: its result is
-            ``compute``'s fourth argument (see `run_loop`).
-        after_tick: ``after_tick(q, v, stamp, output, tau)`` after each write: the checked
-            reading (None when it failed), the output (None on a failed tick), the efforts.
+        robot: The robot whose efforts are written (default: ``controller.robot``).
+        safe_action: What a failed tick sends: ``"zero"``, ``"hold"`` or ``"damp"``.
+        damping: ``"damp"``'s joint damping [N m s/rad, N s/m]: one number for every entry
+            but a floating base's and the passive joints' (default 1), or ``(nv,)`` numbers.
+        hold_time: ``"hold"``'s longest run of failed ticks holding the last good effort [s].
+        gc_policy: ``"between-ticks"`` (see [`gc_policy`][]) or ``"python"`` (left alone).
+        sense: ``sense(q, v, stamp)`` on a checked reading: ``compute``'s fourth argument.
+        after_tick: ``after_tick(q, v, stamp, output, tau)`` after each write (``q``, ``v``
+            None when the reading failed, ``output`` None on a failed tick).
         write_final: Writes the final zero effort (default: ``write_effort``).
 
     Returns:
@@ -240,22 +186,24 @@ def _loop(
     start: float,
     collector: LoopCollector,
 ) -> None:
-    """Tick until the duration elapses or ``should_stop()``: read, compute or fail, write.
-
-    Then ``after_tick``, the garbage collector's turn, and the sleep until the next period.
-    """
-    freshness = Freshness(settings.stale_after)
-    end = math.inf if settings.duration is None else start + settings.duration
+    """Tick until the end: read, compute or fail, write, ``after_tick``, collect, sleep."""
+    end = math.inf if settings.duration is None else start + settings.duration - 1e-12
     deadline, period, realtime, safe = start, settings.period, settings.realtime, settings.safe
     should_stop, write_effort, after_tick = hooks.should_stop, hooks.write_effort, hooks.after_tick
-    perf_counter, tick_times = clock.perf_counter, stats.tick_times
+    perf_counter, append = clock.perf_counter, stats.tick_times.append
+    between_ticks = collector.between_ticks if collector.active else None
+    tick = _Tick(controller, hooks, settings)
+    hold = safe.action == "hold"
     while True:
         now = perf_counter()
-        if now >= end - 1e-12 or (should_stop is not None and should_stop()):
+        if now >= end or (should_stop is not None and should_stop()):
             break
-        tau, q, v, stamp, output, reason = _tick(controller, hooks, settings, freshness, now)
+        tau, q, v, stamp, output, reason = tick(now)
         if reason is None:
-            safe.good(tau)
+            if hold:
+                safe.good(tau)
+            else:
+                safe.failed_ticks = 0
             failures = getattr(output, "failures", None)
             if failures:
                 _count_attachment_failures(stats, failures)
@@ -268,10 +216,11 @@ def _loop(
         write_effort(tau)
         done = perf_counter()
         stats.ticks += 1
-        tick_times.append(done - now)
+        append(done - now)
         if after_tick is not None:
             after_tick(q, v, stamp, output, tau)
-        collector.between_ticks()  # after the write: in the slack before the next tick
+        if between_ticks is not None:  # after the write: in the slack before the next tick
+            between_ticks()
         deadline += period
         if done > deadline:
             stats.overruns += 1
@@ -280,48 +229,69 @@ def _loop(
             clock.sleep(max(min(deadline, end) - perf_counter(), 0.0))
 
 
-def _tick(
-    controller: object, hooks: _Hooks, settings: RunSettings, freshness: Freshness, now: float
-) -> tuple:
-    """One tick: ``(efforts, q, v, stamp, output, None)``, or a failure's reason last.
+class _Tick:
+    """One tick: ``(efforts, q, v, stamp, output, None)``, or None efforts and a reason last.
 
-    A failed tick's efforts and output are None; its ``q`` and ``v`` are the reading's when it
-    passed the checks (the safe action may damp ``v``), else None.
+    ``q`` and ``v`` are None unless the reading passed its checks (the safe action may damp ``v``).
     """
-    try:
-        reading = hooks.read_state()
-    except Exception as error:  # a driver's failure: this tick sends the safe action
-        return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
-    if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
-        q, v, stamp = reading  # the usual reading, unpacked as check_reading would
-    else:
-        q, v, stamp, reason = check_reading(reading)
-        if reason is not None:
-            return None, None, None, stamp, None, reason
-    if not math.isfinite(stamp):
-        return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
-    if freshness.stale(stamp, now):
-        return None, None, None, stamp, None, "stale"
-    tree = settings.tree
-    q, v, reason = check_state(q, v, tree)
-    if reason is not None:
-        return None, None, None, stamp, None, reason
-    sense = hooks.sense
-    try:
-        if sense is None:
-            output = controller.compute(q, v, stamp)
+
+    __slots__ = (
+        "bounds", "compute", "fresh", "last", "nv", "q_shape", "read_state", "sense",
+        "stale_after", "tree", "v_shape",
+    )  # fmt: skip
+
+    def __init__(self, controller: object, hooks: _Hooks, settings: RunSettings) -> None:
+        self.compute, self.read_state = controller.compute, hooks.read_state
+        self.sense = hooks.sense
+        tree = self.tree = settings.tree
+        self.nv, self.stale_after = tree.nv, settings.stale_after
+        self.last, self.fresh = None, 0.0  # the newest stamp read, and when it came [s]
+        self.q_shape, self.v_shape = (tree.nq,), (tree.nv,)
+        bounds = [(unit.start, unit.stop) for unit in tree.unit_slices]
+        self.bounds = np.array(bounds, np.int64).reshape(-1, 2)
+
+    def __call__(self, now: float) -> tuple:
+        try:
+            reading = self.read_state()
+        except Exception as error:  # a driver's failure: this tick sends the safe action
+            return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
+        if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
+            q, v, stamp = reading  # the usual reading, unpacked as check_reading would
         else:
-            try:
-                sensed = sense(q, v, stamp)
-            except Exception as error:  # the sensing's failure: the safe action
-                return None, q, v, stamp, None, f"sense error: {type(error).__name__}"
-            output = controller.compute(q, v, stamp, sensed)
-        tau = check_effort(output, tree.nv)
-    except Exception as error:  # any failure of the law
-        return None, q, v, stamp, None, f"controller error: {type(error).__name__}"
-    if tau is None:
-        return None, q, v, stamp, None, "bad effort"
-    return tau, q, v, stamp, output, None
+            q, v, stamp, reason = check_reading(reading)
+            if reason is not None:
+                return None, None, None, stamp, None, reason
+        if not math.isfinite(stamp):
+            return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
+        if self.last is None or stamp > self.last:
+            self.last, self.fresh = stamp, now
+        elif now - self.fresh > self.stale_after:  # the stamps did not advance for stale_after
+            return None, None, None, stamp, None, "stale"
+        if not (  # a driver's contiguous float64 arrays of the right sizes: one compiled pass
+            q.__class__ is _ARRAY and v.__class__ is _ARRAY and q.dtype is _FLOAT
+            and v.dtype is _FLOAT and q.shape == self.q_shape and v.shape == self.v_shape
+            and q.flags.c_contiguous and v.flags.c_contiguous and _READING_ERROR is not None
+            and 0.0 <= _READING_ERROR(q, v, self.bounds) <= 1e-12
+        ):  # fmt: skip
+            q, v, reason = check_state(q, v, self.tree)
+            if reason is not None:
+                return None, None, None, stamp, None, reason
+        sense = self.sense
+        try:
+            if sense is None:
+                output = self.compute(q, v, stamp)
+            else:
+                try:
+                    sensed = sense(q, v, stamp)
+                except Exception as error:  # the sensing's failure: the safe action
+                    return None, q, v, stamp, None, f"sense error: {type(error).__name__}"
+                output = self.compute(q, v, stamp, sensed)
+            tau = check_effort(output, self.nv)
+        except Exception as error:  # any failure of the law
+            return None, q, v, stamp, None, f"controller error: {type(error).__name__}"
+        if tau is None:
+            return None, q, v, stamp, None, "bad effort"
+        return tau, q, v, stamp, output, None
 
 
 def _end_safe(

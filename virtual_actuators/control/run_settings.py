@@ -1,9 +1,4 @@
-"""``va.run``'s arguments checked once before the loop, and the staleness of its readings.
-
-[`check_run`][] turns [`run`][]'s arguments into [`RunSettings`][] (raising
-[`InvalidInputError`][virtual_actuators.InvalidInputError] on the first bad one, in the order
-of ``run``'s ``Raises:``); [`Freshness`][] tells a stale reading from a fresh one.
-"""
+"""``va.run``'s arguments checked once before the loop: [`check_run`][]."""
 
 from __future__ import annotations
 
@@ -22,46 +17,15 @@ MIN_RATE_HZ = 1e-3
 
 @dataclass(frozen=True, slots=True)
 class RunSettings:
-    """[`run`][]'s checked arguments.
+    """[`run`][]'s checked arguments."""
 
-    Attributes:
-        period: Time between two ticks [s].
-        duration: Wall-clock time of the loop [s], or None.
-        stale_after: A reading whose stamp did not advance for this long is stale [s].
-        realtime: Whether the loop sleeps to hold the rate.
-        safe: What a failed tick sends.
-        tree: The robot's kinematic tree (the readings' checks).
-        robot: The robot whose efforts are written.
-    """
-
-    period: float  # [s]
-    duration: float | None  # [s]
-    stale_after: float  # [s]
-    realtime: bool
-    safe: SafeAction
-    tree: KinematicTree
-    robot: Robot
-
-
-@dataclass(slots=True)
-class Freshness:
-    """The newest stamp read and when it arrived (``perf_counter`` time) [s].
-
-    Attributes:
-        stale_after: A reading whose stamp did not advance for this long is stale [s].
-        last_stamp: The newest stamp read, None before the first.
-        last_fresh: When it was read [s].
-    """
-
-    stale_after: float
-    last_stamp: float | None = None
-    last_fresh: float = 0.0
-
-    def stale(self, stamp: float, now: float) -> bool:
-        """Whether the stamps have not advanced for ``stale_after`` at ``now`` (``stamp`` read)."""
-        if self.last_stamp is None or stamp > self.last_stamp:
-            self.last_stamp, self.last_fresh = stamp, now
-        return now - self.last_fresh > self.stale_after
+    period: float  # time between two ticks [s]
+    duration: float | None  # wall-clock time of the loop [s]
+    stale_after: float  # a reading whose stamp did not advance this long is stale [s]
+    realtime: bool  # whether the loop sleeps to hold the rate
+    safe: SafeAction  # what a failed tick sends
+    tree: KinematicTree  # the robot's kinematic tree (the readings' checks)
+    robot: Robot  # the robot whose efforts are written
 
 
 def check_run(
@@ -149,4 +113,4 @@ def robot_of(controller: object, robot: object) -> Robot:
     return robot
 
 
-__all__ = ["MIN_RATE_HZ", "Freshness", "RunSettings", "check_callback", "check_run", "robot_of"]
+__all__ = ["MIN_RATE_HZ", "RunSettings", "check_callback", "check_run", "robot_of"]

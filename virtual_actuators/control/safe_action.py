@@ -1,10 +1,4 @@
-"""What ``va.run`` checks each tick and what it sends when a tick fails.
-
-`check_reading` checks a driver's ``(q, v, stamp)`` against the robot; `check_effort`
-checks a controller's efforts; `SafeAction` is the effort sent instead when something
-failed: ``"zero"``, ``"hold"`` (the last good effort, for a bounded time) or ``"damp"`` (joint
-damping ``-d v``, clipped to the URDF's effort limits).
-"""
+"""What ``va.run`` checks each tick, and the effort a failed tick sends (`SafeAction`)."""
 
 from __future__ import annotations
 
@@ -48,20 +42,12 @@ def _vector(value: object, size: int) -> np.ndarray | None:
 
 
 class Reading(NamedTuple):
-    """A driver's ``(q, v, stamp)`` reading, unpacked (`check_reading`).
+    """A driver's ``(q, v, stamp)`` reading, unpacked (`check_reading`)."""
 
-    Attributes:
-        q: The configuration as read (checked by `check_state`).
-        v: The velocity as read.
-        stamp: The time stamp as a float (a NaN stamp as is).
-        reason: ``"malformed reading"`` when the reading is not three values or the stamp not
-            a real number (then ``q`` and ``v`` are None and ``stamp`` NaN), else None.
-    """
-
-    q: object
-    v: object
-    stamp: float
-    reason: str | None
+    q: object  # the configuration as read (checked by check_state)
+    v: object  # the velocity as read
+    stamp: float  # the time stamp as a float (NaN when malformed)
+    reason: str | None  # "malformed reading" (then q and v are None), else None
 
 
 def check_reading(reading: object) -> Reading:
@@ -82,10 +68,8 @@ def check_state(
     """Check a reading's ``q`` and ``v`` against the robot.
 
     Returns:
-        ``(q, v, reason)``: the arrays (``q`` with near-unit quaternions normalised) and None;
-        or a reason: ``"malformed reading"`` (not ``nq`` and ``nv`` real numbers),
-        ``"non-finite"`` (NaN or inf), ``"non-unit quaternion"`` (a quaternion or (cos, sin)
-        pair more than 1e-3 from unit norm).
+        ``(q, v, None)`` (near-unit quaternions normalised), or ``(None, None, reason)``:
+        ``"malformed reading"``, ``"non-finite"`` or ``"non-unit quaternion"`` (1e-3 off).
     """
     nq, nv = tree.nq, tree.nv
     if (  # a driver's contiguous float64 vectors of the right sizes, as they are (every tick's)
@@ -112,8 +96,7 @@ def check_effort(output: object, nv: int) -> np.ndarray | None:
     """A controller's efforts (an array, or an object with ``tau``) as ``(nv,)`` finite floats.
 
     Returns:
-        The efforts, or None for anything else (another size, complex, bool or non-numeric
-        entries, NaN or inf).
+        The efforts, or None (another size, complex, bool or non-numeric entries, NaN, inf).
     """
     tau = getattr(output, "tau", output)
     if tau.__class__ is not _ARRAY or tau.dtype is not _FLOAT:
@@ -137,10 +120,9 @@ class SafeAction:
     Args:
         robot: The robot (size of the efforts, floating base, passive joints, effort limits).
         action: One of `SAFE_ACTIONS`.
-        damping: ``"damp"``: a number >= 0 for every velocity entry but a floating base's and
-            the passive joints', or ``(nv,)`` numbers >= 0 used as given [N m s/rad, N s/m].
-        hold_ticks: ``"hold"``: the most consecutive failed ticks that hold the last good
-            effort (then zero).
+        damping: ``"damp"``: a number >= 0 for every entry but a floating base's and the
+            passive joints', or ``(nv,)`` numbers >= 0 [N m s/rad, N s/m].
+        hold_ticks: ``"hold"``: the most consecutive failed ticks holding the last effort.
 
     Raises:
         InvalidInputError: A bad ``action`` or ``damping``.
@@ -191,12 +173,6 @@ class SafeAction:
 
 
 __all__ = [
-    "DEFAULT_DAMPING",
-    "DEFAULT_HOLD_TIME",
-    "SAFE_ACTIONS",
-    "Reading",
-    "SafeAction",
-    "check_effort",
-    "check_reading",
-    "check_state",
-]
+    "DEFAULT_DAMPING", "DEFAULT_HOLD_TIME", "SAFE_ACTIONS", "Reading", "SafeAction",
+    "check_effort", "check_reading", "check_state",
+]  # fmt: skip

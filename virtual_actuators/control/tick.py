@@ -1,11 +1,4 @@
-"""One tick of the controller: the checks of its arguments and what it computed.
-
-[`Controller.compute`][] checks its ``limp`` indices and ``active`` names every tick with
-`check_limp` and `active_names` (a bad value raises an
-[`InvalidInputError`][] that names the argument), reads one
-`tick_snapshot`, gathers the attachments' results in `TickSums` and returns a
-[`ControlOutput`][]; `velocity_names` names the velocity entries.
-"""
+"""One controller tick: its arguments' checks, its sums and its [`ControlOutput`][]."""
 
 from __future__ import annotations
 
@@ -30,26 +23,17 @@ class ControlOutput:
     Attributes:
         tau: ``(nv,)`` joint efforts after limp joints and clipping [N m or N].
         tau_requested: ``(nv,)`` before clipping.
-        saturated: ``(nv,)`` bool, True where the request exceeds the effort limit (and was
-            clipped, unless the controller was built with ``clip=False``).
+        saturated: ``(nv,)`` bool, True where the request exceeds the effort limit.
         wrenches: Requested wrench per active attachment, on its actuator's axes.
-        produced: Wrench actually produced per attachment (differs from the request on free axes
-            and for inadmissible requests).
+        produced: Wrench produced per attachment (not the request on free axes, inadmissible).
         positions: Sensor position per active attachment [m, rad].
         velocities: Sensor velocity per active attachment [m/s, rad/s].
         solutions: Distribution per parallel attachment.
-        failed: Attachments that failed and contribute no effort this tick (the controller's
-            ``on_failure="skip"``, or a fallback that could not be used), with the error
-            message.
+        failed: Attachments left at zero effort this tick, with the error message.
         active: Names of the attachments evaluated.
         joint_names: Names of the velocity entries (for reports).
-        failures: Every attachment whose failure policy fired this tick: what failed and what
-            the controller did (an [`AttachmentFailure`][]: ``reason``, ``error``, ``message``,
-            ``action`` ``"skip"`` or
-            ``"fallback"``). A fallback's unclipped solution is in ``solutions``.
-        rate_limited: ``(nv,)`` bool, True where the controller's ``effort_rate_limit`` held
-            the effort back from the clipped request (all False without one; see
-            [`effort_rate`][virtual_actuators.control.effort_rate]).
+        failures: Every attachment whose failure policy fired this tick ([`AttachmentFailure`][]).
+        rate_limited: ``(nv,)`` bool, True where the ``effort_rate_limit`` held the effort back.
     """
 
     tau: np.ndarray
@@ -91,10 +75,7 @@ class ControlOutput:
 
 
 class TickSums:
-    """One tick's results attachment by attachment ([`ControlOutput`][]'s dicts) and the sum.
-
-    ``parts`` keeps ``(name, efforts)`` per attachment, read only when the sum is not finite.
-    """
+    """One tick's results per attachment ([`ControlOutput`][]'s dicts), the sum and its parts."""
 
     __slots__ = (
         "tau", "wrenches", "produced", "positions", "velocities", "solutions", "failed",
@@ -135,24 +116,23 @@ def velocity_names(robot: Robot) -> tuple[str, ...]:
 NO_LIMP = np.zeros(0, dtype=np.intp)
 
 
-def names_tuple(active: object) -> tuple:
-    """``active`` as a tuple, or an [`InvalidInputError`][] naming it."""
-    if not isinstance(active, (bytes, Mapping)):
-        try:
-            return tuple(active)
-        except TypeError:
-            pass
-    raise InvalidInputError(
-        f"active must be a sequence of attachment names (or one name), got {describe(active)}."
-    )
-
-
-def check_active(names: tuple) -> None:
-    """``active``'s entries are attachment names (str), none repeated.
+def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
+    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection).
 
     Raises:
-        InvalidInputError: An entry that is not a str (a list, a number), or a repeated name.
+        InvalidInputError: Not a name or a collection of names, an entry that is not a str,
+            or a name repeated.
     """
+    names = (active,) if isinstance(active, str) else None
+    if names is None and not isinstance(active, (bytes, Mapping)):
+        try:
+            names = tuple(active)
+        except TypeError:
+            pass
+    if names is None:
+        raise InvalidInputError(
+            f"active must be a sequence of attachment names (or one name), got {describe(active)}."
+        )
     for i, name in enumerate(names):
         if not isinstance(name, str):
             raise InvalidInputError(
@@ -160,16 +140,6 @@ def check_active(names: tuple) -> None:
             )
     if len(set(names)) != len(names):
         raise InvalidInputError(f"active names an attachment twice: {names}.")
-
-
-def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
-    """``compute``'s ``active`` as a checked tuple of names (one name, or a collection).
-
-    Raises:
-        InvalidInputError: Not a name or a collection of names, or a name repeated.
-    """
-    names = (active,) if isinstance(active, str) else names_tuple(active)
-    check_active(names)
     return names
 
 
@@ -190,26 +160,17 @@ def tick_snapshot(
         raise InvalidInputError(
             "compute() needs a snapshot of this controller's robot built with v."
         )
-    if v is not None and v is not q.v:
-        check_same_velocity(v, q.v)
+    if v is not None and v is not q.v:  # v must equal the snapshot's velocity (never ignored)
+        try:
+            same = np.array_equal(np.asarray(v), q.v)
+        except (TypeError, ValueError):
+            same = False
+        if not same:
+            raise InvalidInputError(
+                "compute(snapshot, v): v differs from the velocity the snapshot was built with; "
+                "omit v (the snapshot's is used) or build the snapshot with this v."
+            )
     return q
-
-
-def check_same_velocity(v: object, own: np.ndarray) -> None:
-    """``compute(snapshot, v)``: ``v`` must equal the snapshot's velocity (never ignored).
-
-    Raises:
-        InvalidInputError: ``v`` differs from ``own`` (or is not an array of numbers).
-    """
-    try:
-        same = np.array_equal(np.asarray(v), own)
-    except (TypeError, ValueError):
-        same = False
-    if not same:
-        raise InvalidInputError(
-            "compute(snapshot, v): v differs from the velocity the snapshot was built with; "
-            "omit v (the snapshot's is used) or build the snapshot with this v."
-        )
 
 
 def check_limp(limp: object, nv: int) -> np.ndarray:
@@ -244,14 +205,6 @@ def _bad_limp(limp: object, nv: int) -> InvalidInputError:
 
 
 __all__ = [
-    "NO_LIMP",
-    "ControlOutput",
-    "TickSums",
-    "active_names",
-    "check_active",
-    "check_limp",
-    "check_same_velocity",
-    "names_tuple",
-    "tick_snapshot",
+    "NO_LIMP", "ControlOutput", "TickSums", "active_names", "check_limp", "tick_snapshot",
     "velocity_names",
-]
+]  # fmt: skip

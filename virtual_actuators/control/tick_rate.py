@@ -1,39 +1,7 @@
 """How much a controller's springs and dampers change the robot's velocity in one tick.
 
-A controller runs at a period ``dt`` and the motors hold its efforts over the period (a
-zero-order hold: MuJoCo's ``ctrl``, a motor driver's set point). A damper ``b`` on an inertia
-``m`` then changes the velocity it reads by the factor ``1 - b dt / m`` from one tick to the
-next: the tick's *rate* is ``b dt / m``. Above 1 the velocity changes sign every tick (the
-efforts alternate at the tick rate), above 2 the alternation grows until the efforts saturate,
-from one limit to the other. A spring ``k`` adds ``k dt^2 / m`` to the rate.
-
-What ``m`` is matters. Gains derived from an inertia (``k = m w^2``, ``d = 2 zeta m w``, see
-[`gains`][virtual_actuators.components.gains]) take the inertia the element is meant to move:
-a swing leg's mass, the whole robot's centroidal inertia for a body. The element also acts on
-lighter directions: a foot pushed across its shank moves the shank alone (a tenth of the leg's
-mass on anymal), a humanoid's pelvis pitched under a torso held by a joint posture moves the
-pelvis alone (1.5 % of the centroidal inertia on g1). In those directions the derived damper's
-rate is 2.6-4.3 (anymal, hyq) and 2.3 (g1): the tick-rate chatter.
-
-The rate of a whole state is the largest eigenvalue of
-
-    R = dt G^(1/2) A P A^T G^(1/2)
-
-over every entry (an axis of a component, a joint of a posture) of the state's active elements:
-``A`` stacks their Jacobian rows (the sensors' rows: a parallel actuator's distributed efforts
-act on the robot as its action frame's wrench would, up to contact forces), ``G`` their
-``damping + dt stiffness``, and ``P`` is the robot's mobility with the state's support frames
-held (the inverse of the mass matrix projected on the motions that keep the support still: a
-point foot's three translations, a flat foot's six). `tick_rate` computes it; the rule
-(`bound_tick_rate`, applied by the walker and the balancer to their derived gains) is
-
-    rate <= RATE_LIMIT = 0.5   at the standing pose, in every state
-
-so that the slowest decay of a velocity error per tick, ``1 - rate``, stays at or above one half:
-no tick-rate alternation, with margin for the legs' motion away from the standing pose. Where
-the derived gains exceed it, the entries that make up the fastest direction are scaled down
-(stiffness and damping alike, in proportion to their share of it) until no direction does; the
-other entries keep their gains.
+`tick_rate` measures a state's rate, `bound_tick_rate` scales derived gains down to `RATE_LIMIT`;
+the model and the rule are in docs/reference/control.md ("Efforts a motor can follow").
 """
 
 from __future__ import annotations

@@ -1,12 +1,7 @@
-"""The generic gait runner: every walk's closed loop, its result, the fall test and terrain.
+"""The generic gait runner: a walk's `Episode`, its result (`WalkResult`), the fall test.
 
-A walk prepares an `Episode` (its robot, terrain, gait, simulator with the start-up push,
-recorder and stance-force reader: the planar bipeds' in `planar_walk`,
-the hexapod's in `walk`); [`drive`][virtual_actuators.gaits.walk_loop.drive] runs it on
-[`va.run`][virtual_actuators.run]'s loop (`walk_loop`) and the walk summarises the log.
-Walks judge the robot fallen with `has_fallen`: a part other than a foot touches the
-ground, the hip drops below half its nominal height above the terrain, or the body tilts beyond
-`FALL_PITCH`.
+A walk prepares an `Episode`; [`drive`][virtual_actuators.gaits.walk_loop.drive] runs it on
+[`va.run`][virtual_actuators.run]'s loop and the walk summarises the log.
 """
 
 from __future__ import annotations
@@ -42,14 +37,12 @@ class LoopEnd:
         fall_time: Simulated time of the first fallen tick [s], None if none.
         wall: Wall-clock seconds of the loop.
         physics: Wall-clock seconds of it in the physics steps.
-        efforts: ``(ticks, nv)`` every tick's efforts, the gait's output given to
-            [`Simulator.step`][] [N m or N].
+        efforts: ``(ticks, nv)`` every tick's efforts given to [`Simulator.step`][] [N m or N].
         velocities: ``(ticks, nv)`` every tick's ``v``, the state the gait read.
         base_rate: Where ``v`` holds the base's angular velocity (the episode's), or None.
         fall_tick: Index of the first fallen tick, None if none.
         time_step: Time between two ticks [s].
-        run: What ``va.run`` counted ([`RunStats`][]: its failed ticks by reason, the
-            attachments' failures), or None.
+        run: What ``va.run`` counted ([`RunStats`][]), or None.
     """
 
     ticks: int = 0
@@ -67,7 +60,6 @@ class LoopEnd:
     def base_rates(self) -> np.ndarray | None:
         """``(ticks, axes)`` the base's angular velocity at every tick [rad/s], or None."""
         return None if self.base_rate is None else self.velocities[:, self.base_rate]
-
 
 
 class WalkFigures(NamedTuple):
@@ -112,13 +104,8 @@ class WalkResult:
     def figures(self) -> WalkFigures:
         """What a sweep tabulates."""
         m = self.metrics
-        return WalkFigures(
-            bool(m.fell),
-            number(m.fall_time_s),
-            number(m.distance_m),
-            number(m.mean_speed_mps),
-            int(m.steps),
-        )
+        distance, speed = number(m.distance_m), number(m.mean_speed_mps)
+        return WalkFigures(bool(m.fell), number(m.fall_time_s), distance, speed, int(m.steps))
 
     def to_json(self) -> dict[str, Any]:
         """What ``--json`` writes: the metrics as a JSON-able dict."""
@@ -153,10 +140,7 @@ def terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
 def has_fallen(
     simulator: Simulator, height: float, pitch: float, nominal: float, feet: np.ndarray
 ) -> bool:
-    """Whether a walker fell (hip low, body tilted, or something else than a foot down).
-
-    Fallen: the hip below half its ``nominal`` height above the terrain, the body tilted beyond
-    `FALL_PITCH`, or a part other than a foot touching the ground.
+    """Whether a walker fell: hip under half ``nominal``, tilt over `FALL_PITCH`, a non-foot down.
 
     Args:
         simulator: The simulation (its terrain contacts).
@@ -173,10 +157,8 @@ def has_fallen(
 def allowed_geoms(simulator: Simulator, allowed: Callable[[str], bool]) -> np.ndarray:
     """``(ngeom,)`` int8: 1 for a geom every frame owning which is ``allowed``.
 
-    The geoms that may touch the ground without a fall: a frame touches when a geom it owns does
-    ([`touching_frames`][virtual_actuators.simulation.Simulator.touching_frames]), so the
-    touching frames are all allowed exactly when no other geom touches
-    ([`touches_outside`][virtual_actuators.simulation.Simulator.touches_outside]).
+    The geoms that may touch the ground without a fall (for
+    [`touches_outside`][virtual_actuators.simulation.Simulator.touches_outside]).
     """
     owners = simulator.mujoco_model.geom_frames
     flags = [all(map(allowed, owners.get(geom, ()))) for geom in range(simulator.model.ngeom)]
@@ -205,7 +187,8 @@ class Episode:
         recorder: Where `record` writes.
 
     Attributes:
-        stance_every: Ticks between two readings of the stance forces.
+        stance_every: Ticks between two readings of the stance forces (None: `record_every`,
+            the trace's rate).
         record_every: Ticks between two calls of `record`.
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
@@ -214,7 +197,7 @@ class Episode:
             body axes), or None.
     """
 
-    stance_every = 1
+    stance_every: int | None = None
     record_every = 1
     ignore_unactuated = False
 

@@ -1,13 +1,6 @@
 """Every walk's closed loop: `drive` runs an `Episode` on ``va.run``, with a `MujocoHardware`.
 
-The loop is [`va.run`][virtual_actuators.run]'s, at the simulator's control rate
-(``realtime=False``): read ``q``, ``v`` (``read_state``), the episode's `Episode.sense` (the
-gait steered, the contact switches read: ``run``'s ``sense``), the gait's efforts, step the
-physics (``write_effort``), then `WalkTicks.after_tick`: sample the stance forces, test for a
-fall, record, ``on_tick``, the progress bar. A walk thus has ``va.run``'s checks of every
-reading and of the gait's efforts, its safe action on a failed tick and its final zero effort.
-Every tick's applied efforts and the base's angular rate are kept (`LoopEnd`), for
-`loop_smoothness` to measure.
+What each hook does: docs/reference/control.md ("The walks run on ``va.run``").
 """
 
 from __future__ import annotations
@@ -39,16 +32,9 @@ def drive(
 ) -> LoopEnd:
     """Run an episode's closed loop for ``duration`` simulated seconds, on [`run`][].
 
-    The loop is ``va.run``'s on a [`MujocoHardware`][] (``realtime=False``, at the simulator's
-    control rate), so a walk has its checks and its safe action (a reading that fails them, a
-    gait that raises or answers non-finite efforts: zero effort that tick, counted in
-    ``LoopEnd.run``) and ends by writing zero effort, whatever ended it
-    (`MujocoHardware.hold_effort`: MuJoCo's controls set to zero, the simulation not stepped
-    again, so the log, `LoopEnd` and the simulator's state and time are the last control
-    tick's; only ``simulator.data.ctrl`` is zero afterwards). Each tick the episode's
-    `Episode.sense` steers the gait and reads its contact switches (``run``'s ``sense``);
-    after the write `WalkTicks.after_tick` keeps the tick's rows, samples the stance forces,
-    tests for a fall, records, calls ``on_tick`` and moves the progress bar.
+    A failed tick sends zero effort (counted in ``LoopEnd.run``); the final zero effort sets
+    MuJoCo's controls without stepping (`MujocoHardware.hold_effort`), so the log and the
+    simulator end at the last control tick.
 
     Args:
         episode: The prepared walk.
@@ -56,10 +42,8 @@ def drive(
         progress: Show a tqdm progress bar.
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
-        gc_policy: Python's garbage collector during the loop (see
-            [`gc_policy`][virtual_actuators.control.gc_policy]): ``"between-ticks"`` collects after
-            each tick's recording when CPython would have, never inside the gait's compute or
-            the physics step; ``"python"`` leaves it alone.
+        gc_policy: ``"between-ticks"`` or ``"python"`` (see
+            [`gc_policy`][virtual_actuators.control.gc_policy]).
 
     Returns:
         The `LoopEnd` (the recorder's metadata gets ``wall_time_s``).
@@ -87,9 +71,6 @@ def drive(
 
 class WalkTicks:
     """An episode's gait as ``va.run``'s controller, and what `drive` does after each tick.
-
-    ``compute`` is the gait's (its compiled machine's tick, once lowered in its warm-up). Every
-    tick's efforts and ``v`` are copied into rows allocated before the loop.
 
     Args:
         episode: The prepared walk.
@@ -120,7 +101,8 @@ class WalkTicks:
         self.compute: Callable[..., Any] = gait.compute
         self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
         self._watched = bar is not None or on_tick is not None
-        self._stance_every, self._record_every = episode.stance_every, episode.record_every
+        self._record_every = episode.record_every
+        self._stance_every = episode.stance_every or episode.record_every
         self._sample, self._support = episode.stance.sample, gait.support_contacts
         self._fallen, self._record = episode.fallen, episode.record
         self._data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
@@ -140,7 +122,7 @@ class WalkTicks:
         self, q: np.ndarray | None, v: np.ndarray | None, now: float, output: Any,
         tau: np.ndarray,
     ) -> None:  # fmt: skip
-        """Keep the tick's rows; stance forces, fall test, record, ``on_tick``, progress."""
+        """Keep the tick's efforts and ``v``; stance forces, fall test, record, watchers."""
         tick = self.ticks
         try:
             self._velocities[tick] = math.nan if v is None else v

@@ -1,11 +1,7 @@
 """The simulated robot as hardware: the callbacks of ``va.run`` on a MuJoCo simulation.
 
-``read_state`` returns the simulator's ``(q, v, time)``; ``write_effort`` holds the efforts for one
-control period and steps the physics. Run the loop with ``realtime=False`` to simulate as fast as
-possible, or at the simulator's control rate to watch it in real time. ``va.run``'s final zero
-effort, written by ``write_effort``, steps the simulation one more period (a run of ``n`` ticks
-ends at ``n + 1`` periods); given to ``va.run(write_final=hardware.hold_effort)`` it only sets
-the motors' commands, and the simulation ends where the last tick left it (the walks' loop).
+``write_effort`` holds the efforts for one control period and steps the physics; ``va.run``'s
+final zero steps once more unless ``write_final=hardware.hold_effort`` takes it.
 """
 
 from __future__ import annotations
@@ -17,26 +13,22 @@ import numpy as np
 from .actuation import torques_to_ctrl
 from .simulator import Simulator
 
+_perf_counter = wallclock.perf_counter
+
 
 class MujocoHardware:
     """A [`Simulator`][] behind the two callbacks of a hardware control loop.
 
     Args:
         simulator: The simulation that plays the robot.
-        ignore_unactuated: Drop efforts on degrees of freedom no actuator drives (False: such
-            an effort is an error of `write_effort`, as [`Simulator.step`][] raises it).
+        ignore_unactuated: Drop efforts on degrees of freedom no actuator drives (False: an
+            error of `write_effort`, as [`Simulator.step`][] raises it).
 
     Attributes:
         simulator: As given.
         ignore_unactuated: As given.
-        efforts_written: Calls of `write_effort` and `hold_effort` (the final zero
-            effort included).
+        efforts_written: Calls of `write_effort` and `hold_effort` (the final zero included).
         physics_time: Wall-clock time spent in the physics steps [s].
-
-    Example:
-        >>> hardware = MujocoHardware(Simulator(robot))
-        >>> va.run(controller, hardware.read_state, hardware.write_effort, rate_hz=1000,
-        ...        realtime=False, should_stop=lambda: hardware.simulator.time > 5.0)
     """
 
     def __init__(self, simulator: Simulator, *, ignore_unactuated: bool = True) -> None:
@@ -58,9 +50,9 @@ class MujocoHardware:
             InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
                 on an unactuated degree of freedom without ``ignore_unactuated``.
         """
-        start = wallclock.perf_counter()
+        start = _perf_counter()
         self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
-        self.physics_time += wallclock.perf_counter() - start
+        self.physics_time += _perf_counter() - start
         self.efforts_written += 1
 
     def hold_effort(self, tau: np.ndarray) -> None:
@@ -70,11 +62,8 @@ class MujocoHardware:
             InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
                 on an unactuated degree of freedom without ``ignore_unactuated``.
         """
-        simulator = self.simulator
-        ctrl = torques_to_ctrl(
-            simulator.mujoco_model, tau, ignore_unactuated=self.ignore_unactuated
-        )
-        self._data.ctrl[:] = ctrl
+        model = self.simulator.mujoco_model
+        self._data.ctrl[:] = torques_to_ctrl(model, tau, ignore_unactuated=self.ignore_unactuated)
         self.efforts_written += 1
 
     def __repr__(self) -> str:

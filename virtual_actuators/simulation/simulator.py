@@ -1,10 +1,7 @@
 """Simulate a loaded robot with MuJoCo: torques in, Pinocchio-convention state out.
 
-[`Simulator`][] builds the MuJoCo model of a robot on a terrain
-([`build_mujoco_model`][]) and steps it one control period
-at a time with the joint torques held, which is how a controller running at ``control_rate``
-drives a robot. States are read and written in Pinocchio's conventions (``q``, ``v``), contacts
-are queried by Pinocchio frame name.
+[`Simulator`][] steps one control period at a time with the efforts held; contacts are queried by
+Pinocchio frame name.
 """
 
 from __future__ import annotations
@@ -16,6 +13,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from virtual_actuators.core import kernel
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.actuation import ctrl_writer, torques_to_ctrl
@@ -24,6 +22,7 @@ from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
     direct_gathers,
+    gathers,
     state_velocity,
     velocity_to_mujoco,
 )
@@ -38,6 +37,9 @@ from virtual_actuators.simulation.terrain import Terrain
 
 __all__ = ["Simulator"]
 
+#: ``v`` of MuJoCo's state with a free joint: the core's one call (None: `state_velocity`).
+_STATE_VELOCITY = kernel("state_velocity", None)
+
 
 def _substeps(control_rate: float, timestep: float) -> int:
     """The number of physics steps in one control period.
@@ -46,14 +48,10 @@ def _substeps(control_rate: float, timestep: float) -> int:
         InvalidInputError: If ``control_rate`` or ``timestep`` is not a positive number, or the
             control period is not a whole number of time steps.
     """
-    if not (
-        isinstance(control_rate, (int, float))
-        and math.isfinite(control_rate)
-        and control_rate > 0
-    ):
-        raise InvalidInputError(
-            f"control_rate must be a positive number of Hz: {control_rate!r}."
-        )
+    if not (isinstance(control_rate, (int, float)) and math.isfinite(control_rate)):
+        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
+    if control_rate <= 0:
+        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
         raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
     period = 1.0 / float(control_rate)
@@ -84,12 +82,10 @@ class Simulator(ContactQueries):
     Attributes:
         robot: The simulated robot.
         terrain: The ground.
-        mujoco_model: The [`MujocoModel`][] (MuJoCo model
-            plus the Pinocchio index maps).
+        mujoco_model: The [`MujocoModel`][] (MuJoCo model plus the Pinocchio index maps).
         model: The MuJoCo ``MjModel``.
-        data: The MuJoCo ``MjData`` (read it freely; write it only if you know MuJoCo: contact
-            queries are cached per ``(data.time, data.ncon)``, so after changing the state by
-            hand, call [`reset`][] or step).
+        data: The MuJoCo ``MjData`` (contact queries are cached per ``(data.time,
+            data.ncon)``: after writing the state by hand, call [`reset`][] or step).
         control_period: Duration of one [`step`][] [s].
         substeps: Physics steps per control period.
 
@@ -122,11 +118,9 @@ class Simulator(ContactQueries):
             timestep: Physics time step [s].
             control_rate: Control frequency [Hz]; ``1 / control_rate`` must be a whole number
                 of physics steps.
-            actuated: Joints driven by motors (see
-                [`build_mujoco_model`][]); by default
-                every 1-DoF joint not in ``robot.passive_joints``.
-            contact: Contact parameters (defaults documented in
-                [`ContactParameters`][]).
+            actuated: Joints driven by motors (default: every 1-DoF joint not in
+                ``robot.passive_joints``; see [`build_mujoco_model`][]).
+            contact: Contact parameters (defaults in [`ContactParameters`][]).
             collisions: Which robot geometry collides (see ``build_mujoco_model``).
 
         Raises:
@@ -137,13 +131,9 @@ class Simulator(ContactQueries):
         """
         substeps = _substeps(control_rate, timestep)
         self.mujoco_model: MujocoModel = build_mujoco_model(
-            robot,
-            terrain,
-            timestep=timestep,
-            actuated=actuated,
-            contact=contact,
+            robot, terrain, timestep=timestep, actuated=actuated, contact=contact,
             collisions=collisions,
-        )
+        )  # fmt: skip
         self.robot = robot
         self.terrain = self.mujoco_model.terrain
         self.model: mujoco.MjModel = self.mujoco_model.model
@@ -154,11 +144,15 @@ class Simulator(ContactQueries):
         self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
         self._pushing = False  # whether _applied holds anything
         self._init_contact_queries()
-        # the state read every tick: MuJoCo's arrays (views, allocated once with the data) and,
-        # for hinge-and-slide robots, the one gather that converts them
+        # the state read every tick: MuJoCo's arrays (views) and the gathers that convert them
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
         self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
         self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
+        maps = gathers(self.mujoco_model)
+        self._free_v = None  # (gather, free joints' rows) of the core's read of v, or None
+        if _STATE_VELOCITY is not None and self._direct_v is None and maps.gather_v is not None:
+            rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]
+            self._free_v = (maps.gather_v.astype(np.int64), np.array(rows, np.int64).reshape(-1, 3))
         self.reset()
 
     # -- state -----------------------------------------------------------------------------------
@@ -183,16 +177,17 @@ class Simulator(ContactQueries):
         """
         if self._direct_v is not None:  # no free joint: one gather
             return self._qvel[self._direct_v]
+        if self._free_v is not None:  # free joints: the core's one call
+            return _STATE_VELOCITY(self._qpos, self._qvel, *self._free_v)
         return state_velocity(self.mujoco_model, self._qpos, self._qvel)
 
     def reset(self, q: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
         """Restart at time 0 from a state given in Pinocchio's conventions.
 
         Args:
-            q: Configuration, size ``model.nq``; when None, ``robot.neutral()`` (the standing
-                pose when the robot has one), a floating base moved up or down so that its
-                lowest geometry rests on the terrain ([`on_ground`][]).
-            v: Velocity, size ``model.nv``; zero when None.
+            q: Configuration ``(nq,)``; None: ``robot.neutral()``, a floating base set on the
+                terrain ([`on_ground`][]).
+            v: Velocity ``(nv,)``; zero when None.
 
         Raises:
             InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
@@ -217,11 +212,10 @@ class Simulator(ContactQueries):
     def on_ground(self, q: np.ndarray) -> np.ndarray:
         """``q`` with the floating base moved vertically so the lowest geometry touches the terrain.
 
-        The robot's collision geoms are measured against the terrain's (MuJoCo's signed
-        distances); the simulation's state is left as it was.
+        MuJoCo's signed distances of the collision geoms; the simulation's state is left alone.
 
         Args:
-            q: Configuration of a floating-base robot, size ``model.nq``.
+            q: Configuration of a floating-base robot ``(nq,)``.
 
         Returns:
             A copy of ``q`` with its base height changed.
@@ -252,9 +246,8 @@ class Simulator(ContactQueries):
         MuJoCo clips each effort to its actuator's ``ctrlrange`` (``+-effortLimit``).
 
         Args:
-            tau: Joint efforts [N m or N] in Pinocchio's velocity order, size ``model.nv``.
-            ignore_unactuated: Drop efforts on degrees of freedom no actuator drives instead of
-                raising.
+            tau: Joint efforts ``(nv,)`` [N m or N] in Pinocchio's velocity order.
+            ignore_unactuated: Drop efforts on unactuated degrees of freedom instead of raising.
 
         Raises:
             InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or asks for
@@ -275,8 +268,8 @@ class Simulator(ContactQueries):
     def push(self, force_world: np.ndarray, frame: str, duration: float = 0.1) -> None:
         """Push the robot: hold a world-frame force at a frame's origin for a while, from now.
 
-        The force is applied through ``xfrc_applied`` on the frame's body, with the moment that
-        puts it at the frame origin (updated every physics step). Pushes add up.
+        Through ``xfrc_applied`` on the frame's body, with the moment that puts it at the frame
+        origin (updated every physics step). Pushes add up.
 
         Args:
             force_world: Force [N] in world axes, 3 values.

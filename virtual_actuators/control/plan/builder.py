@@ -1,12 +1,4 @@
-"""The plan's registers and programs, as the lowering writes them.
-
-A plan is data: one array of registers (the blackboard: inputs, constants, the components'
-parameters, the gait's memory, every traced intermediate) and one table of ops, cut into
-programs (an event, a hook, a component's reset). [`PlanBuilder`][] allocates registers and
-holds the programs; a [`Program`][] appends ops as tracing runs (`symbols.Sym`'s operators
-call it). The op codes are the compiled core's own table (``_core.PLAN_OPS``): nothing here
-restates them.
-"""
+"""The plan's registers ([`PlanBuilder`][]) and programs ([`Program`][]: the core's ops)."""
 
 from __future__ import annotations
 
@@ -91,12 +83,8 @@ class PlanBuilder:
         for program in self.programs:
             bounds.append((len(rows), len(rows) + len(program.ops)))
             rows.extend(program.ops)
-        ops = np.array(rows, dtype=np.int64).reshape(-1, 5)
-        return (
-            np.array(self.registers, dtype=float),
-            ops,
-            np.array(bounds, dtype=np.int64).reshape(-1, 2),
-        )
+        ops, registers = np.array(rows, dtype=np.int64).reshape(-1, 5), np.array(self.registers)
+        return registers, ops, np.array(bounds, dtype=np.int64).reshape(-1, 2)
 
 
 class Program:
@@ -147,9 +135,7 @@ class Program:
 
     def select(self, condition: object, a: object, b: object) -> Sym:
         """``a if condition != 0 else b``."""
-        return self.emit(
-            "select", self.register(condition), self.register(a), self.register(b)
-        )
+        return self.emit("select", self.register(condition), self.register(a), self.register(b))
 
     def read(self, register: int) -> Sym:
         """The value register ``register`` holds now (a copy: later stores do not change it)."""

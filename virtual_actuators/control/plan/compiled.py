@@ -1,10 +1,6 @@
 """The compiled machine: a lowered MachineController run by the core, one call a tick.
 
-`compile_machine` lowers a [`MachineController`][virtual_actuators.MachineController]
-(`lower`) and builds the core's ``PlanMachine``; `CompiledMachine.compute` is then the
-machine's tick with the controller's signature and answer. The Python pieces (what the
-lowering could not trace) run from inside the core's tick, on the tick's snapshot and context
-(built only when a piece needs them).
+The Python pieces run from inside the core's tick, on its snapshot and context (built on use).
 """
 
 from __future__ import annotations
@@ -26,21 +22,11 @@ from .output import PlanOutput
 
 __all__ = ["CompiledMachine", "compile_machine"]
 
-_FLOAT64 = np.dtype(np.float64)
+_FLOAT64, _ARRAY = np.dtype(np.float64), np.ndarray
 _TICKED, _ENTERED, _FAILED, _INVALID = (
     (CORE.PLAN_TICKED, CORE.PLAN_ENTERED, CORE.PLAN_FAILED, CORE.PLAN_INVALID)
     if has("PLAN_INVALID") else (0, 1, 2, 3)
 )  # fmt: skip
-
-
-def _plain(array: object, size: int) -> bool:
-    """Whether ``array`` is a contiguous float64 ``(size,)`` array the core reads as it is."""
-    return (
-        array.__class__ is np.ndarray
-        and array.dtype is _FLOAT64
-        and array.shape == (size,)
-        and array.flags.c_contiguous
-    )
 
 
 def compile_machine(machine: object) -> CompiledMachine:
@@ -71,6 +57,7 @@ class CompiledMachine:
         self.machine = machine
         controller = machine.controller
         self.robot = controller.robot
+        self.joint_names = controller.joint_names
         lowering = self.lowering = Lowering(machine)
         lowering.runtime = self
         lowering.machine_slots()
@@ -91,7 +78,6 @@ class CompiledMachine:
             bounds, -np.asarray(limits, dtype=float), np.asarray(limits, dtype=float),
             np.array([(s.start, s.stop) for s in tree.unit_slices], np.int64).reshape(-1, 2),
         )  # fmt: skip
-        self._nq, self._nv = tree.nq, tree.nv
         self.core.set_masses(tree.masses, np.ascontiguousarray(tree.levers))
         for entry in self._entries:
             entry.declare(self.core)
@@ -116,6 +102,11 @@ class CompiledMachine:
         self.pieces = lowering.pieces
         self._contacts = [(f, r, required) for f, (r, required) in lowering.contacts.items()]
         self._tau = np.zeros(tree.nv)
+        self._q_shape, self._v_shape = (tree.nq,), (tree.nv,)
+        self._free = np.zeros(tree.nv, dtype=bool)  # no entry held by the rate limit
+        self._free.flags.writeable = False
+        self._limit_rate = controller.limit_rate
+        self.layouts: dict[tuple, list] = {}  # PlanOutput's readings per (active, what)
         self._tick: tuple | None = None  # (q, v, time, contacts) of the tick running
         self._snapshot: Snapshot | None = None
         self._context: Context | None = None
@@ -183,17 +174,41 @@ class CompiledMachine:
                 "a time (build one gait or machine per thread)."
             )
         try:
-            return self._compute(q, v, time, contacts)
+            if q.__class__ is Snapshot:
+                q, v = q.q, q.v
+            if not (
+                q.__class__ is _ARRAY and v.__class__ is _ARRAY and q.dtype is _FLOAT64
+                and v.dtype is _FLOAT64 and q.shape == self._q_shape and v.shape == self._v_shape
+                and time.__class__ is float and q.flags.c_contiguous and v.flags.c_contiguous
+            ):  # fmt: skip
+                q, v, time = self._checked(q, v, time)  # the typed errors, or q normalised
+            switches = contacts or {}
+            if self._contacts:
+                self._switch(switches)
+            self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
+            core, tau = self.core, self._tau
+            outcome = core.tick(q, v, time, tau)
+            if outcome == _INVALID:  # what the core does not accept as it is: the Python checks
+                q, v, time = self._checked(q, v, time)
+                self._tick = (q, v, time, switches)
+                outcome = core.tick(q, v, time, tau)
+            machine = self.machine
+            if outcome == _FAILED:  # the Python tick decides (the failure policy), same state
+                output = machine.compute_in_python(self.snapshot(), None, time, contacts)
+                self.last = output
+                return output
+            state = machine.machine.current
+            if outcome == _ENTERED:
+                machine.machine.history.append((time, state.name))
+            tau, held = self._limit_rate(tau.copy(), time)
+            output = PlanOutput(self, state.active, tau, self._free if held is None else held)
+            self.last = machine.last = output
+            return output
         finally:
             self._lock.release()
 
-    def _compute(self, q, v, time, contacts) -> ControlOutput:
-        """`compute` (the lock held)."""
-        if isinstance(q, Snapshot):
-            q, v = q.q, q.v
-        if not (_plain(q, self._nq) and _plain(v, self._nv) and time.__class__ is float):
-            q, v, time = self._checked(q, v, time)  # the typed errors, or q normalised
-        switches = contacts or {}
+    def _switch(self, switches: Mapping[str, bool]) -> None:
+        """The contact switches into the plan's registers."""
         registers = self.registers
         for frame, register, required in self._contacts:
             closed = switches.get(frame)
@@ -202,25 +217,6 @@ class CompiledMachine:
                     f"No contact switch for {frame!r}: the machine's events read it."
                 )
             registers[register] = 1.0 if closed else 0.0
-        machine = self.machine.machine
-        self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
-        outcome = self.core.tick(q, v, time, self._tau)
-        if outcome == _INVALID:  # what the core does not accept as it is: the Python checks
-            q, v, time = self._checked(q, v, time)
-            self._tick = (q, v, time, switches)
-            outcome = self.core.tick(q, v, time, self._tau)
-        if outcome == _FAILED:  # the Python tick decides (the failure policy), same state
-            output = self.machine.compute_in_python(self.snapshot(), None, time, contacts)
-            self.last = output
-            return output
-        if outcome == _ENTERED:
-            machine.history.append((time, machine.current.name))
-        tau, held = self.machine.controller.limit_rate(self._tau.copy(), time)
-        self.last = output = PlanOutput(self, machine.current.active, tau)
-        if held is not None:
-            output.rate_limited = held
-        self.machine.last = output
-        return output
 
     def _checked(self, q: object, v: object, time: object) -> tuple:
         """``(q, v, time)`` as the Python checks take them (raising their typed errors)."""

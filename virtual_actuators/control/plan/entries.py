@@ -1,10 +1,4 @@
-"""A lowered machine's attachments and joint-space terms: their registers, programs, pieces.
-
-Each active attachment of a compiled machine is one `Entry`: registers for its sensor's reading,
-its wrench and the wrench it produced, the programs of its components (traced, or Python
-pieces), and how the core turns its wrench into efforts. `Attached` is an attachment of the
-controller, `Term` a joint-space term (a posture, a gravity compensation).
-"""
+"""A lowered machine's attachments (`Attached`) and joint-space terms (`Term`)."""
 
 from __future__ import annotations
 
@@ -135,29 +129,19 @@ class Attached(Entry):
         for component, index in zip(attachment.components, attachment.indices, strict=True):
             alone = single and len(np.asarray(index).reshape(-1)) == self.n
             self.component(component, index, alone)
-        why = attachment_kind(attachment)
-        actuator = attachment.actuator
-        self.qp = None
-        if why is None and attachment.method == "qp":  # the core's step, the rest in Python
-            self.mapping = SOLVER
-            self.qp = actuator.backends["qp"]
-            self.efforts_program = lowering.python(
-                f"{name}: distribution", "a QP tick whose active set changed",
-                self._python_distribution,
-            ).index  # fmt: skip
-            lowering.pieces.pop()  # only the rare ticks: not a piece of every tick
-        elif why is None and isinstance(actuator, ParallelVirtualActuator):
-            self.mapping = PARTITIONED
-            self.efforts_program = lowering.python(
-                f"{name}: distribution", "a tick the compiled distribution hands on",
-                self._python_distribution,
-            ).index  # fmt: skip
-            lowering.pieces.pop()  # only the rare ticks: not a piece of every tick
+        why, actuator = attachment_kind(attachment), attachment.actuator
+        qp = why is None and attachment.method == "qp"  # the core's step, the rest in Python
+        self.qp = actuator.backends["qp"] if qp else None
+        if qp or (why is None and isinstance(actuator, ParallelVirtualActuator)):
+            self.mapping = SOLVER if qp else PARTITIONED
+            why = "a QP tick whose active set changed" if qp else "a tick the core hands on"
         elif why is not None:
             self.mapping = PYTHON
-            self.efforts_program = lowering.python(
-                f"{name}: distribution", why, self._python_distribution
-            ).index
+        if self.mapping != SERIAL:
+            piece = lowering.python(f"{name}: distribution", why, self._python_distribution)
+            self.efforts_program = piece.index
+            if self.mapping != PYTHON:
+                lowering.pieces.pop()  # only the rare ticks: not a piece of every tick
 
     def _python_distribution(self) -> None:
         """The attachment's distribution of the plan's wrench, in Python (failure policy)."""

@@ -1,17 +1,6 @@
 """Lowering: a StateMachine and a Controller become one compiled machine's data.
 
-`lower` walks a [`MachineController`][virtual_actuators.MachineController] once:
-
-* the states (their attachments, limp joints), each state's exits as event programs, its entry
-  and update hooks as programs (a `lowerable` hook is traced, another runs as a Python piece);
-* every attachment: its sensor's tables, its components' wrench and reset programs (a component
-  with `plan_slots` is traced, another runs as a Python piece), how its wrench becomes efforts
-  (a serial actuator's ``J^T w``, a parallel one's compiled partitioned distribution, a
-  joint-space term's joints, or a Python piece: the QP and the failure policy's paths);
-* the slots the plan keeps (the components' parameters, the gaits' `Memory`, the machine's
-  state), bound back as views of its registers once the machine is built: one owner.
-
-What became a Python piece, and why, is in `CompiledMachine.pieces`.
+What is traced, what runs as a Python piece and why: docs/reference/control.md.
 """
 
 from __future__ import annotations

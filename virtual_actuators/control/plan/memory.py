@@ -1,10 +1,4 @@
-"""A gait's memory: the numbers it carries from tick to tick, declared once.
-
-``Memory(ground=0.0, swing_start=(0.0, 0.0))`` holds named floats and tuples of floats. A hook
-reads and writes them as attributes (``memory.ground = z``), floats in Python; a compiled plan
-keeps them in its registers (the memory's array becomes a view of them: one owner, no copy),
-and a traced hook's reads and writes become the plan's ops.
-"""
+"""A gait's memory: named floats it carries from tick to tick (a compiled plan's registers)."""
 
 from __future__ import annotations
 

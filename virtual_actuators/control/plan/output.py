@@ -1,10 +1,4 @@
-"""What a compiled machine's tick computed, read from the plan's registers on demand.
-
-[`PlanOutput`][] answers like a [`ControlOutput`][virtual_actuators.ControlOutput] (``tau``,
-``tau_requested``, ``saturated``, the per-attachment wrenches, readings and solutions): the
-efforts are the tick's copy, the rest is read from the plan's registers and buffers when first
-asked (a loop that only sends ``tau`` pays for nothing else). Read it before the next tick.
-"""
+"""What a compiled tick computed: [`PlanOutput`][], read from the plan's registers on demand."""
 
 from __future__ import annotations
 
@@ -20,18 +14,25 @@ class PlanOutput:
         compiled: The compiled machine.
         active: The names evaluated this tick.
         tau: The tick's efforts after the limp joints and the clip [N m or N].
+        held: ``(nv,)`` bool, True where the effort rate limit held the effort back.
     """
 
-    def __init__(self, compiled: object, active: tuple[str, ...], tau: np.ndarray) -> None:
+    __slots__ = (
+        "_cache", "_compiled", "active", "failed", "failures", "joint_names", "rate_limited",
+        "tau", "tau_requested",
+    )  # fmt: skip
+
+    def __init__(
+        self, compiled: object, active: tuple[str, ...], tau: np.ndarray, held: np.ndarray
+    ) -> None:
         self._compiled = compiled
         self.active = active
         self.tau = tau
         self.tau_requested = compiled.requested.copy()
-        controller = compiled.machine.controller
-        self.joint_names = controller.joint_names
+        self.joint_names = compiled.joint_names
         self.failed: dict[str, str] = {}
         self.failures: dict = {}
-        self.rate_limited = np.zeros(tau.shape, dtype=bool)
+        self.rate_limited = held
         self._cache: dict[str, dict] = {}
 
     @property
@@ -43,15 +44,18 @@ class PlanOutput:
     def _readings(self, what: str) -> dict[str, np.ndarray]:
         cached = self._cache.get(what)
         if cached is None:
-            registers, compiled = self._compiled.registers, self._compiled
-            cached = {}
-            for name in self.active:
-                entry = compiled.entry(name)
-                if not entry.reports:  # a joint-space term: no wrench of its own
-                    continue
-                base = getattr(entry, what)
-                cached[name] = registers[base : base + entry.n].copy()
-            self._cache[what] = cached
+            compiled, key = self._compiled, (self.active, what)
+            layout = compiled.layouts.get(key)
+            if layout is None:  # each reading's span in one gather, once per active set
+                entries = [(name, compiled.entry(name)) for name in self.active]
+                entries = [(n, e) for n, e in entries if e.reports]  # a term has no wrench
+                index = [getattr(e, what) + i for _, e in entries for i in range(e.n)]
+                bounds = np.cumsum([0] + [e.n for _, e in entries]).tolist()
+                spans = [(n, bounds[k], bounds[k + 1]) for k, (n, _) in enumerate(entries)]
+                layout = compiled.layouts[key] = (np.array(index, dtype=np.intp), spans)
+            index, spans = layout
+            values = compiled.registers.take(index)  # a copy: the next tick leaves it alone
+            cached = self._cache[what] = {name: values[a:b] for name, a, b in spans}
         return cached
 
     @property

@@ -1,11 +1,4 @@
-"""What a hook or an event sees while it is traced: the tick's context, as traced values.
-
-[`TraceContext`][] answers the reads of a [`Context`][virtual_actuators.Context] (the time, the
-time in the state, the contact switches, the frames' positions, rotations and velocities, ``q``
-and ``v``) with the ops that read them in the compiled tick; the state's name is a constant
-(each state's hooks are traced on their own). Frames are read through the kinematic tree's
-frame table: a frame a hook names is added to it when the plan is lowered.
-"""
+"""What a traced hook or event sees: [`TraceContext`][], the tick's context as traced ops."""
 
 from __future__ import annotations
 

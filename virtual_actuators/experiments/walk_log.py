@@ -267,12 +267,7 @@ class WalkLog:
             InvalidInputError: If the file is not a walk log.
         """
         stored = read_npz(path)
-        return cls(
-            data=stored.data,
-            state=stored.state,
-            state_names=stored.state_names,
-            metadata=stored.metadata,
-        )
+        return cls(stored.data, stored.state, stored.state_names, stored.metadata)
 
 
 def _first_bad(array: np.ndarray) -> int:

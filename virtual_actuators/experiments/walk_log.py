@@ -256,8 +256,7 @@ class WalkLog:
         Raises:
             InvalidInputError: If a metadata value cannot be stored (the message names its key).
         """
-        data = {name: self.data[name] for name in self.channels}
-        return write_npz(StoredLog(data, self.state, self.state_names, self.metadata), path)
+        return write_npz(StoredLog(self.data, self.state, self.state_names, self.metadata), path)
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:

@@ -258,7 +258,6 @@ def compute_metrics(
             argument is invalid (the message names it).
     """
     startup_s = _checked_startup(log, startup_s)
-    n = len(log)
     wall = _positive_or_none(
         wall_time_s if wall_time_s is not None else log.metadata.get("wall_time_s"),
         "wall_time_s" if wall_time_s is not None else "metadata['wall_time_s']",
@@ -299,7 +298,7 @@ def compute_metrics(
         startup_s=startup_s,
         window_start_s=float(t[window][0]) if np.any(window) else None,
         window_end_s=float(t[window][-1]) if np.any(window) else None,
-        samples=n,
+        samples=len(log),
         step_states=names,
     )
 

@@ -282,9 +282,8 @@ class Terrain:
     @property
     def slopes(self) -> np.ndarray:
         """Slope angle of each segment [rad], shape ``(n - 1,)``."""
-        dx = np.diff(self._points[:, 0])
-        dz = np.diff(self._points[:, 1])
-        return np.arctan2(dz, dx)
+        steps = np.diff(self._points, axis=0)
+        return np.arctan2(steps[:, 1], steps[:, 0])
 
     def height(self, x: float | np.ndarray) -> float | np.ndarray:
         """Ground height [m] at world ``x`` [m]: a float for a number, else an array like ``x``."""

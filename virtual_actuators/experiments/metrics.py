@@ -118,11 +118,6 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def _float_or_none(value: float) -> float | None:
-    value = float(value)
-    return value if math.isfinite(value) else None
-
-
 def _nanmax_abs(values: np.ndarray) -> float | None:
     finite = values[np.isfinite(values)]
     return float(np.max(np.abs(finite))) if finite.size else None
@@ -200,26 +195,19 @@ def _speeds(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | Non
     return mean_speed, float(np.std(xdot)) if xdot.size else None
 
 
-def _heights(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | None]:
-    """Mean height over the window, and its largest deviation from the set point."""
-    if "z" not in log.data:
+def _tracking(log: WalkLog, window: np.ndarray, name: str) -> tuple[float | None, float | None]:
+    """Mean z (largest |pitch|) in the window and its largest deviation from the set point."""
+    if name not in log.data:
         return None, None
-    z = log["z"][window]
-    finite = z[np.isfinite(z)]
-    height_mean = float(np.mean(finite)) if finite.size else None
-    if "z_setpoint" not in log.data:
-        return height_mean, None
-    return height_mean, _nanmax_abs(z - log["z_setpoint"][window])
-
-
-def _pitches(log: WalkLog, window: np.ndarray) -> tuple[float | None, float | None]:
-    """Largest pitch over the window, and its largest deviation from the set point."""
-    if "pitch" not in log.data:
-        return None, None
-    pitch = log["pitch"][window]
-    if "pitch_setpoint" not in log.data:
-        return _nanmax_abs(pitch), None
-    return _nanmax_abs(pitch), _nanmax_abs(pitch - log["pitch_setpoint"][window])
+    values = log[name][window]
+    finite = values[np.isfinite(values)]
+    if name == "pitch":
+        figure = _nanmax_abs(values)
+    else:
+        figure = float(np.mean(finite)) if finite.size else None
+    if f"{name}_setpoint" not in log.data:
+        return figure, None
+    return figure, _nanmax_abs(values - log[f"{name}_setpoint"][window])
 
 
 def _speed_setpoint(log: WalkLog, window: np.ndarray) -> float | None:
@@ -231,11 +219,12 @@ def _speed_setpoint(log: WalkLog, window: np.ndarray) -> float | None:
     setpoint = log.metadata.get("speed_setpoint_mps")
     if setpoint is not None:
         try:
-            return _float_or_none(setpoint)
+            value = float(setpoint)
         except (TypeError, ValueError):
             raise InvalidInputError(
                 f"metadata['speed_setpoint_mps']: expected a number, got {setpoint!r}."
             ) from None
+        return value if math.isfinite(value) else None
     if "xdot_setpoint" in log.data:
         bunny = log["xdot_setpoint"][window]
         bunny = bunny[np.isfinite(bunny)]
@@ -269,7 +258,6 @@ def compute_metrics(
             argument is invalid (the message names it).
     """
     startup_s = _checked_startup(log, startup_s)
-    n = len(log)
     wall = _positive_or_none(
         wall_time_s if wall_time_s is not None else log.metadata.get("wall_time_s"),
         "wall_time_s" if wall_time_s is not None else "metadata['wall_time_s']",
@@ -284,8 +272,8 @@ def compute_metrics(
     distance = float(x[finite_x[-1]] - x[finite_x[0]]) if finite_x.size else None
 
     mean_speed, speed_std = _speeds(log, window)
-    height_mean, height_dev = _heights(log, window)
-    pitch_max, pitch_dev = _pitches(log, window)
+    height_mean, height_dev = _tracking(log, window, "z")
+    pitch_max, pitch_dev = _tracking(log, window, "pitch")
 
     names = resolve_step_states(log.state_names, log.metadata, step_states)
     entries = log.entries(names)
@@ -310,7 +298,7 @@ def compute_metrics(
         startup_s=startup_s,
         window_start_s=float(t[window][0]) if np.any(window) else None,
         window_end_s=float(t[window][-1]) if np.any(window) else None,
-        samples=n,
+        samples=len(log),
         step_states=names,
     )
 

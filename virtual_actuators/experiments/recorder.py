@@ -109,11 +109,8 @@ class Recorder:
 
     def _grow(self) -> None:
         old = self._buffer.shape[0]
-        buffer = np.full((2 * old, self._nchan), np.nan)
-        buffer[:old] = self._buffer
-        state = np.full(2 * old, -1, dtype=np.int64)
-        state[:old] = self._state
-        self._buffer, self._state = buffer, state
+        self._buffer = np.vstack((self._buffer, np.full((old, self._nchan), np.nan)))
+        self._state = np.concatenate((self._state, np.full(old, -1, dtype=np.int64)))
 
     def _state_value(self, state: int | str) -> int:
         if isinstance(state, str):

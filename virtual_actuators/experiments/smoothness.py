@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
+from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -117,8 +117,7 @@ class EffortSmoothness:
 
     def metrics_fields(self) -> dict[str, Any]:
         """`figures` as keyword arguments (``dataclasses.replace(metrics, **...)``)."""
-        figures = self.figures()
-        return {f.name: getattr(figures, f.name) for f in fields(figures)}
+        return asdict(self.figures())
 
     def summary(self) -> str:
         """One line: `SmoothnessFigures.smoothness_summary`."""

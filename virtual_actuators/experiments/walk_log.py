@@ -256,8 +256,7 @@ class WalkLog:
         Raises:
             InvalidInputError: If a metadata value cannot be stored (the message names its key).
         """
-        data = {name: self.data[name] for name in self.channels}
-        return write_npz(StoredLog(data, self.state, self.state_names, self.metadata), path)
+        return write_npz(StoredLog(self.data, self.state, self.state_names, self.metadata), path)
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:
@@ -267,12 +266,7 @@ class WalkLog:
             InvalidInputError: If the file is not a walk log.
         """
         stored = read_npz(path)
-        return cls(
-            data=stored.data,
-            state=stored.state,
-            state_names=stored.state_names,
-            metadata=stored.metadata,
-        )
+        return cls(stored.data, stored.state, stored.state_names, stored.metadata)
 
 
 def _first_bad(array: np.ndarray) -> int:

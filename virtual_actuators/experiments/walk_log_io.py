@@ -97,12 +97,8 @@ def read_npz(path: str | os.PathLike[str]) -> StoredLog:
         raise InvalidInputError(
             f"{path}: 'data' has shape {matrix.shape}, expected (n, {len(names)})."
         )
-    return StoredLog(
-        data={n: np.ascontiguousarray(matrix[:, j]) for j, n in enumerate(names)},
-        state=state,
-        state_names=state_names,
-        metadata=metadata,
-    )
+    data = {n: np.ascontiguousarray(matrix[:, j]) for j, n in enumerate(names)}
+    return StoredLog(data, state, state_names, metadata)
 
 
 def _json_default(value: Any) -> Any:

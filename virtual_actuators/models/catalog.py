@@ -202,17 +202,12 @@ def _local_names(folder: Path) -> list[str]:
         entries = list(folder.iterdir()) if folder.is_dir() else []
     except (OSError, ValueError):  # a name too long, a folder that cannot be read
         return []
-    names = []
-    for entry in entries:
-        if entry.is_dir():
-            name = entry.name
-        elif entry.suffix == ".urdf":
-            name = entry.stem
-        else:
-            continue
-        if find_local(folder, name) is not None:
-            names.append(name)
-    return names
+    names = (
+        entry.name if entry.is_dir() else entry.stem
+        for entry in entries
+        if entry.is_dir() or entry.suffix == ".urdf"
+    )
+    return [name for name in names if find_local(folder, name) is not None]
 
 
 def shown_name(name_or_path: object, limit: int = 80) -> str:
@@ -276,12 +271,9 @@ def as_path(name_or_path: object) -> Path | None:
 
 def package_dirs_for(urdf: Path) -> list[str]:
     """Folders ``package://`` URIs of a URDF may refer to (its, two above, example-robot-data's)."""
-    folders: list[str] = []
     share = example_robot_data().share
-    for folder in (urdf.parent, *urdf.parent.parents[:2], *([share] if share else [])):
-        if str(folder) not in folders:
-            folders.append(str(folder))
-    return folders
+    folders = (urdf.parent, *urdf.parent.parents[:2], *([share] if share else []))
+    return list(dict.fromkeys(str(folder) for folder in folders))
 
 
 def urdf_in_folder(folder: Path) -> Path:

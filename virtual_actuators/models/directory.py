@@ -153,8 +153,12 @@ def describe_robot(name: str) -> RobotInfo:
     feet = find_feet(robot)
     model = robot.model
     dof = model.nv - (6 if robot.floating_base else 0) - len(robot.passive_joints)
-    if not kind:
-        kind = _kind_from_model(len(feet), robot.floating_base)
+    if not kind and feet:
+        kind = {1: "hopper", 2: "biped", 4: "quadruped", 6: "hexapod"}.get(
+            len(feet), f"{len(feet)}-legged"
+        )
+    elif not kind:
+        kind = "floating base" if robot.floating_base else "fixed base"
     legs = _LEGS.get(kind, len(feet) or None)
     return RobotInfo(
         name=name,
@@ -167,13 +171,6 @@ def describe_robot(name: str) -> RobotInfo:
         feet=feet,
         source=source,
     )
-
-
-def _kind_from_model(feet: int, floating_base: bool) -> str:
-    """A robot's kind guessed from its number of feet and its base."""
-    if feet:
-        return {1: "hopper", 2: "biped", 4: "quadruped", 6: "hexapod"}.get(feet, f"{feet}-legged")
-    return "floating base" if floating_base else "fixed base"
 
 
 def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:

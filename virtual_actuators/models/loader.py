@@ -266,14 +266,13 @@ def find_srdf(urdf: Path) -> Path | None:
         exact = folder / f"{urdf.stem}.srdf"
         if exact.is_file():
             return exact
-    best: Path | None = None
-    for folder in folders:
-        for candidate in sorted(folder.glob("*.srdf")):
-            if urdf.stem.startswith(candidate.stem) and (
-                best is None or len(candidate.stem) > len(best.stem)
-            ):
-                best = candidate
-    return best
+    prefixes = [
+        candidate
+        for folder in folders
+        for candidate in sorted(folder.glob("*.srdf"))
+        if urdf.stem.startswith(candidate.stem)
+    ]
+    return max(prefixes, key=lambda candidate: len(candidate.stem), default=None)
 
 
 def reference_configurations(model: pin.Model, srdf: Path | None) -> dict[str, np.ndarray]:
@@ -310,7 +309,5 @@ def passive_joints(model: pin.Model, srdf: Path | None) -> tuple[str, ...]:
 
 def default_pose(configurations: Mapping[str, np.ndarray]) -> str | None:
     """Pick the pose that [`Robot.neutral`][] returns."""
-    for name in DEFAULT_POSE_NAMES:
-        if name in configurations:
-            return name
-    return next(iter(configurations), None)
+    preferred = (name for name in DEFAULT_POSE_NAMES if name in configurations)
+    return next(preferred, next(iter(configurations), None))

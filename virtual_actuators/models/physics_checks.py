@@ -15,7 +15,8 @@ __all__ = ["INERTIA_KEYS", "physics_problems"]
 
 #: The six entries of a URDF ``<inertia>``.
 INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-#: Round-off allowed on moments of inertia: relative to the largest principal moment, and [kg m^2].
+#: Round-off allowed on moments of inertia (URDF files print about six significant digits):
+#: relative to the largest principal moment, and [kg m^2].
 _INERTIA_RTOL = 1e-6
 _INERTIA_ATOL = 1e-9
 
@@ -27,14 +28,6 @@ def _floats(text: str | None, count: int) -> list[float] | None:
     except ValueError:
         return None
     return values if len(values) == count else None
-
-
-def _inertia_tolerance(largest: float) -> float:
-    """How negative a moment of inertia [kg m^2] may be and still count as round-off.
-
-    URDF files print about six significant digits; tiny links print ``1e-20``-ish noise.
-    """
-    return max(_INERTIA_ATOL, _INERTIA_RTOL * abs(largest))
 
 
 def _link_problems(link: ET.Element) -> tuple[list[str], list[str]]:
@@ -71,7 +64,7 @@ def _link_problems(link: ET.Element) -> tuple[list[str], list[str]]:
     xx, xy, xz, yy, yz, zz = (values[key] for key in INERTIA_KEYS)
     matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
     eigenvalues = np.linalg.eigvalsh(matrix)
-    tolerance = _inertia_tolerance(max(abs(eigenvalues[0]), abs(eigenvalues[-1])))
+    tolerance = max(_INERTIA_ATOL, _INERTIA_RTOL * max(abs(eigenvalues[0]), abs(eigenvalues[-1])))
     negative = [f"{key}={texts[key]}" for key in ("ixx", "iyy", "izz") if values[key] < -tolerance]
     if negative:
         fatal.append(

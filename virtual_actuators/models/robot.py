@@ -139,7 +139,7 @@ class Robot:
     @property
     def joint_names(self) -> list[str]:
         """Names of the joints with degrees of freedom (the free-flyer's included)."""
-        return [name for name in list(self.model.names)[1:]]
+        return list(self.model.names)[1:]
 
     def __repr__(self) -> str:
         base = "floating" if self.floating_base else "fixed"

@@ -81,13 +81,7 @@ def find_sole(robot: Robot, foot: str) -> Sole:
     sole = points[points[:, 2] <= lowest + SOLE_THICKNESS, :2]
     low, high = sole.min(axis=0), sole.max(axis=0)
     halves = np.maximum(np.minimum(high, -low), 0.0)
-    return Sole(
-        float(halves[0]),
-        float(halves[1]),
-        (float(low[0]), float(low[1])),
-        (float(high[0]), float(high[1])),
-        lowest,
-    )
+    return Sole(*halves.tolist(), tuple(low.tolist()), tuple(high.tolist()), lowest)
 
 
 def _geometry(robot: Robot) -> pin.GeometryModel:

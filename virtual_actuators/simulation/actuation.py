@@ -94,8 +94,7 @@ def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
         InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
     """
     ctrl = finite_vector(ctrl, mm.model.nu, "ctrl")
+    maps = gathers(mm)
     tau = np.zeros(mm.robot.model.nv)
-    for joint in mm.joints:
-        if joint.actuator is not None:
-            tau[joint.idx_v] = ctrl[joint.actuator]
+    tau[maps.actuated_v] = ctrl[maps.actuator]
     return tau

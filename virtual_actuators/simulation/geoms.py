@@ -106,20 +106,20 @@ class Added(NamedTuple):
     approximated: list[str]
 
 
+#: MuJoCo primitive and size of each coal shape type.
+_PRIMITIVES = {
+    "Box": (mujoco.mjtGeom.mjGEOM_BOX, lambda s: list(s.halfSide)),
+    "Sphere": (mujoco.mjtGeom.mjGEOM_SPHERE, lambda s: [s.radius, 0.0, 0.0]),
+    "Cylinder": (mujoco.mjtGeom.mjGEOM_CYLINDER, lambda s: [s.radius, s.halfLength, 0]),
+    "Capsule": (mujoco.mjtGeom.mjGEOM_CAPSULE, lambda s: [s.radius, s.halfLength, 0]),
+    "Ellipsoid": (mujoco.mjtGeom.mjGEOM_ELLIPSOID, lambda s: list(s.radii)),
+}
+
+
 def _primitive(shape: object) -> _Shape | None:
     """The MuJoCo primitive of a coal shape, or None for an unsupported one."""
-    shape_type = type(shape).__name__
-    if shape_type == "Box":
-        return _Shape(mujoco.mjtGeom.mjGEOM_BOX, list(shape.halfSide))
-    if shape_type == "Sphere":
-        return _Shape(mujoco.mjtGeom.mjGEOM_SPHERE, [shape.radius, 0.0, 0.0])
-    if shape_type == "Cylinder":
-        return _Shape(mujoco.mjtGeom.mjGEOM_CYLINDER, [shape.radius, shape.halfLength, 0])
-    if shape_type == "Capsule":
-        return _Shape(mujoco.mjtGeom.mjGEOM_CAPSULE, [shape.radius, shape.halfLength, 0])
-    if shape_type == "Ellipsoid":
-        return _Shape(mujoco.mjtGeom.mjGEOM_ELLIPSOID, list(shape.radii))
-    return None
+    entry = _PRIMITIVES.get(type(shape).__name__)
+    return None if entry is None else _Shape(entry[0], entry[1](shape))
 
 
 def _mesh(

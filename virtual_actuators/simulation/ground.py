@@ -135,12 +135,7 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
         centre = np.array([(x0 + x1) / 2.0, 0.0, (z0 + z1) / 2.0]) - normal * (
             TERRAIN_THICKNESS / 2.0
         )
-        if i == 0:
-            label = "run_in"
-        elif i == len(segments) - 1:
-            label = "run_out"
-        else:
-            label = f"segment_{i - 1}"
+        label = "run_in" if i == 0 else "run_out" if i == len(segments) - 1 else f"segment_{i - 1}"
         # A rotation by -angle about y takes the box's x axis onto the segment direction.
         quat = [math.cos(-angle / 2.0), 0.0, math.sin(-angle / 2.0), 0.0]
         geom = world.add_geom(

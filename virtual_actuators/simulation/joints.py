@@ -96,8 +96,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
         if name not in one_dof:
             raise InvalidInputError(
                 f"Cannot actuate joint {name!r}: a motor drives one degree of freedom and this "
-                "joint has "
-                f"{model.joints[model.getJointId(name)].nv}."
+                f"joint has {model.joints[model.getJointId(name)].nv}."
             )
     return [name for name in names if name in set(requested)]
 

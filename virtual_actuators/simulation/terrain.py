@@ -6,6 +6,7 @@ Also the built-in profiles, and the text form of a terrain (``--terrain`` on the
 from __future__ import annotations
 
 import bisect
+import itertools
 import math
 from collections.abc import Iterable, Sequence
 
@@ -18,50 +19,19 @@ __all__ = ["Terrain"]
 #: Length of the level ground that every built-in profile starts with [m].
 LEVEL_START = 2.0
 
-# Built-in profiles as (horizontal length [m], slope [deg]) segments after LEVEL_START m of level
-# ground starting at x = 0; the height starts at 0.
+# Built-in profiles: (horizontal lengths [m], slopes [deg]) of the segments after LEVEL_START m
+# of level ground starting at x = 0; the height starts at 0.
 PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
-    "profile-one": (
-        (1.5, 15.0),
-        (1.6, 0.0),
-        (1.5, -15.0),
-        (1.6, 0.0),
-        (1.2, 20.0),
-        (1.6, 0.0),
-        (1.2, -20.0),
-        (1.8, 0.0),
-    ),
-    "profile-two": (
-        (1.0, 10.0),
-        (0.8, 18.0),
-        (1.2, 5.0),
-        (0.7, -10.0),
-        (1.0, -18.0),
-        (0.6, -5.0),
-        (1.5, 8.0),
-        (0.9, 15.0),
-        (0.8, 0.0),
-        (1.1, -14.0),
-        (0.7, 3.0),
-        (1.3, 12.0),
-        (0.6, -6.0),
-        (1.0, -16.0),
-        (1.2, 0.0),
-    ),
-    "rolling": (
-        (1.0, 5.0),
-        (1.0, 10.0),
-        (1.0, 5.0),
-        (1.0, -5.0),
-        (1.0, -10.0),
-        (1.0, -5.0),
-        (1.0, 5.0),
-        (1.0, 10.0),
-        (1.0, 5.0),
-        (1.0, -5.0),
-        (1.0, -10.0),
-        (1.0, -5.0),
-    ),
+    name: tuple((length, float(slope)) for length, slope in zip(lengths, slopes, strict=True))
+    for name, lengths, slopes in (
+        ("profile-one", (1.5, 1.6, 1.5, 1.6, 1.2, 1.6, 1.2, 1.8), (15, 0, -15, 0, 20, 0, -20, 0)),
+        (
+            "profile-two",
+            (1.0, 0.8, 1.2, 0.7, 1.0, 0.6, 1.5, 0.9, 0.8, 1.1, 0.7, 1.3, 0.6, 1.0, 1.2),
+            (10, 18, 5, -10, -18, -5, 8, 15, 0, -14, 3, 12, -6, -16, 0),
+        ),
+        ("rolling", (1.0,) * 12, (5, 10, 5, -5, -10, -5) * 2),
+    )
 }
 
 #: Names accepted by `Terrain.builtin`.
@@ -312,9 +282,8 @@ class Terrain:
     @property
     def slopes(self) -> np.ndarray:
         """Slope angle of each segment [rad], shape ``(n - 1,)``."""
-        dx = np.diff(self._points[:, 0])
-        dz = np.diff(self._points[:, 1])
-        return np.arctan2(dz, dx)
+        steps = np.diff(self._points, axis=0)
+        return np.arctan2(steps[:, 1], steps[:, 0])
 
     def height(self, x: float | np.ndarray) -> float | np.ndarray:
         """Ground height [m] at world ``x`` [m]: a float for a number, else an array like ``x``."""
@@ -343,12 +312,9 @@ class Terrain:
         Args:
             run: Length of the level segments added before and after the points [m].
         """
-        xs, zs = self._points[:, 0], self._points[:, 1]
-        out = [((float(xs[0] - run), float(zs[0])), (float(xs[0]), float(zs[0])))]
-        for i in range(len(xs) - 1):
-            out.append(((float(xs[i]), float(zs[i])), (float(xs[i + 1]), float(zs[i + 1]))))
-        out.append(((float(xs[-1]), float(zs[-1])), (float(xs[-1] + run), float(zs[-1]))))
-        return out
+        points = [(x, z) for x, z in self._points.tolist()]
+        (x0, z0), (x1, z1) = points[0], points[-1]
+        return list(itertools.pairwise([(x0 - run, z0), *points, (x1 + run, z1)]))
 
     def __repr__(self) -> str:
         if self.is_flat:

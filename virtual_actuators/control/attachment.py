@@ -116,12 +116,25 @@ class Attachment:
         if yield_mask is not None:  # the actuator's contacts with these limits
             declared = actuator.contacts
             contacts = declare(
-                actuator.reactions, actuator.axes, declared.contact, friction,
-                min_normal if friction is not None else 0.0, declared.normals, minima=limits,
-            )  # fmt: skip
+                actuator.reactions,
+                actuator.axes,
+                declared.contact,
+                friction,
+                min_normal if friction is not None else 0.0,
+                declared.normals,
+                minima=limits,
+            )
         return cls(
-            name, actuator, sensor, components, free_axes, indices, contacts, yield_mask,
-            method, weights=weights,
+            name,
+            actuator,
+            sensor,
+            components,
+            free_axes,
+            indices,
+            contacts,
+            yield_mask,
+            method,
+            weights=weights,
         )
 
     def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:

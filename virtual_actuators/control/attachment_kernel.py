@@ -55,9 +55,19 @@ class SpringTick:
     """
 
     __slots__ = (
-        "components", "bunnies", "springs", "core", "efforts", "nv", "n", "rows_end", "tables",
-        "slices", "solve", "fused",
-    )  # fmt: skip
+        "components",
+        "bunnies",
+        "springs",
+        "core",
+        "efforts",
+        "nv",
+        "n",
+        "rows_end",
+        "tables",
+        "slices",
+        "solve",
+        "fused",
+    )
 
     def __init__(
         self,
@@ -195,4 +205,3 @@ class SpringTick:
             return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
         buffer = self.core.tick(jacobian_world, frames, v, parameters)
         return (buffer if buffer[-1] == 1.0 else None), None
-

@@ -63,9 +63,12 @@ def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attach
     def solve() -> None:
         try:
             actuator.solve(
-                snapshot, np.zeros(actuator.n), attachment.free, method="qp",
+                snapshot,
+                np.zeros(actuator.n),
+                attachment.free,
+                method="qp",
                 weights=attachment.weights,
-            )  # fmt: skip
+            )
         except VirtualActuatorError:
             pass
 

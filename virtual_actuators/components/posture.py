@@ -14,7 +14,7 @@ from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_robot, describe
-from .gains import Gains
+from .gains import Gains, joint_rows
 
 __all__ = ["Posture"]
 
@@ -118,9 +118,9 @@ class Posture:
 
     def bind_slots(self, views: dict[str, np.ndarray]) -> None:
         """Keep the gains and the set point in a compiled plan's registers (``views``)."""
-        self.stiffness, self.damping, self.setpoint = (
-            views["stiffness"], views["damping"], views["setpoint"]
-        )
+        self.stiffness = views["stiffness"]
+        self.damping = views["damping"]
+        self.setpoint = views["setpoint"]
         self._plan = True
 
     def traced_torques(self, slots: object, position: tuple, velocity: tuple) -> list:
@@ -171,22 +171,8 @@ class Posture:
                 f"{self.name}: already bound to robot {self.robot.name!r}; make one per robot."
             )
         model = robot.model
-        known = list(model.names)[1:]
-        q_rows, v_rows = [], []
-        for joint in self.joints:
-            if joint not in known:
-                raise JointNotFoundError(
-                    f"{self.name}: robot {robot.name!r} has no joint {joint!r}. "
-                    f"{suggestion(joint, known, 'joints')}"
-                )
-            data = model.joints[model.getJointId(joint)]
-            if data.nq != 1 or data.nv != 1:
-                raise JointNotFoundError(
-                    f"{self.name}: joint {joint!r} has {data.nv} degrees of freedom; a posture "
-                    "holds revolute and prismatic joints."
-                )
-            q_rows.append(data.idx_q)
-            v_rows.append(data.idx_v)
+        why = "; a posture holds revolute and prismatic joints"
+        q_rows, v_rows = joint_rows(robot, self.joints, self.name, why, strict=True)
         self._q_rows = np.array(q_rows, dtype=np.intp)
         self._v_rows = np.array(v_rows, dtype=np.intp)
         if self.null_space is not None and (
@@ -238,9 +224,10 @@ class Posture:
         if self.setpoint is None:
             self.reset(configuration)
         tau = np.zeros(self.robot.model.nv)
-        tau[self._v_rows] = self.stiffness * (
-            self.setpoint - configuration[self._q_rows]
-        ) - self.damping * np.asarray(velocity, dtype=float)[self._v_rows]
+        tau[self._v_rows] = (
+            self.stiffness * (self.setpoint - configuration[self._q_rows])
+            - self.damping * np.asarray(velocity, dtype=float)[self._v_rows]
+        )
         if self.null_space is not None:
             if snapshot is None:
                 snapshot = Snapshot(self.robot, configuration)
@@ -257,4 +244,3 @@ class Posture:
     def __repr__(self) -> str:
         bound = f", robot={self.robot.name!r}" if self.robot is not None else ""
         return f"Posture(joints={list(self.joints)}{bound})"
-

@@ -54,21 +54,6 @@ class SpringTick:
         solve: A parallel actuator's one-call distribution of the attachment's request, or None.
     """
 
-    __slots__ = (
-        "components",
-        "bunnies",
-        "springs",
-        "core",
-        "efforts",
-        "nv",
-        "n",
-        "rows_end",
-        "tables",
-        "slices",
-        "solve",
-        "fused",
-    )
-
     def __init__(
         self,
         sensor: VirtualActuator,

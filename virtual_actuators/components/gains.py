@@ -1,8 +1,4 @@
-"""Gains in physical units: stiffness and damping from an inertia, a frequency and a ratio.
-
-``k = m omega^2`` and ``d = 2 zeta m omega`` for natural frequency ``omega`` [rad/s] and damping
-ratio ``zeta``: the same values then suit a 2.5 kg quadruped and a 100 kg humanoid alike.
-"""
+"""Gains in physical units: ``k = m omega^2``, ``d = 2 zeta m omega`` from an inertia ``m``."""
 
 from __future__ import annotations
 
@@ -138,14 +134,7 @@ def _configuration(robot: Robot, q: np.ndarray | None, who: str) -> np.ndarray:
 def joint_rows(
     robot: Robot, joints: Sequence[str], who: str, why: str = "", strict: bool = False
 ) -> tuple[list[int], list[int]]:
-    """The configuration and velocity rows of one-degree-of-freedom joints.
-
-    Args:
-        robot: The robot.
-        joints: Joint names.
-        who: The caller, the errors' prefix.
-        why: Said after a joint's degrees of freedom in its error.
-        strict: Refuse also a joint with several configuration entries (a continuous joint).
+    """The configuration and velocity rows of one-degree-of-freedom joints (``who``: caller).
 
     Raises:
         JointNotFoundError: An unknown joint (with close matches) or one with several degrees

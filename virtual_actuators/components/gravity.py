@@ -1,8 +1,4 @@
-"""Gravity compensation: the joint efforts that hold (some of) the robot's links against gravity.
-
-A joint-space term like a [`Posture`][]: added to a [`Controller`][] under a name, its ``g(q)``
-is in every tick's efforts before they are clipped.
-"""
+"""Gravity compensation: the joint efforts ``g(q)`` that hold (some of) the links up."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
-"""A joint-space spring-damper: hold named joints (arms, head, a redundant arm's null space).
+"""A joint-space spring-damper holding named joints (arms, head, a redundant arm's null space).
 
-``tau_j = stiffness_j (setpoint_j - q_j) - damping_j v_j`` [N m or N] on the named joints, zero
-elsewhere; with ``null_space=``, projected by ``(I - J^T (J^T)^+)`` to produce no wrench there.
+``tau_j = k_j (setpoint_j - q_j) - b_j v_j`` [N m or N], projected by ``I - J^T (J^T)^+``.
 """
 
 from __future__ import annotations

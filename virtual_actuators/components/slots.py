@@ -1,7 +1,4 @@
-"""A component's parameters as a compiled plan's slots: arrays it keeps, traced when lowered.
-
-Once a plan keeps them (`bind_slots`) they are views of its registers, written in place.
-"""
+"""A component's parameters as a compiled plan's slots: arrays it keeps, traced when lowered."""
 
 from __future__ import annotations
 

@@ -1,8 +1,4 @@
-"""The seed's walking components (VMC 2001, section 5, Figs. 6 and 7).
-
-Granny walker (height and pitch held up), dogtrack bunny (a set point running ahead at the
-desired speed) and swing-leg linkage (the swing foot placed relative to the body).
-"""
+"""The seed's walking components (VMC 2001, section 5, Figs. 6 and 7)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,4 @@
-"""Events for [`Transition`][]: small factories of callables of the tick's [`Context`][].
-
-A compiled plan lowers them (``lower``); combine them with [`any_of`][] and [`all_of`][].
-"""
+"""Events for [`Transition`][]: factories of callables of the tick's [`Context`][]."""
 
 from __future__ import annotations
 

@@ -45,9 +45,9 @@ class GravityCompensation:
         self._columns = None  # every velocity entry
         if joints is not None:
             names = check_names(joints, "GravityCompensation: joints", JointNotFoundError)
+            entries = [model.joints[resolve_joint(model, n)] for n in names]
             self._columns = np.array(
-                [v for n in names for v in _velocity_columns(model, resolve_joint(model, n))],
-                dtype=np.intp,
+                [v for j in entries for v in range(j.idx_v, j.idx_v + j.nv)], dtype=np.intp
             )
         if links is None:
             self.bodies: tuple[str, ...] = tuple(model.names[1:])
@@ -122,11 +122,6 @@ class GravityCompensation:
     def __repr__(self) -> str:
         what = "all bodies" if self.model is self.robot.model else f"bodies {list(self.bodies)}"
         return f"GravityCompensation(robot={self.robot.name!r}, {what}, {self.mass:.3f} kg)"
-
-
-def _velocity_columns(model: pin.Model, joint: int) -> range:
-    entry = model.joints[joint]
-    return range(entry.idx_v, entry.idx_v + entry.nv)
 
 
 def _body_joint(model: pin.Model, name: str) -> int:

@@ -72,15 +72,19 @@ class Posture:
             self.bind(robot)
 
     def _gains(self, value: object, what: str) -> np.ndarray:
-        gains = as_float_array(value, f"Posture: {what}", "a number or one per joint", copy=True)
-        if gains.ndim == 0:
-            gains = np.full(len(self.joints), float(gains))
-        if gains.shape != (len(self.joints),) or not np.isfinite(gains).all() or (gains < 0).any():
-            raise InvalidInputError(
-                f"Posture: {what} must be a finite number >= 0 or one per joint "
-                f"{list(self.joints)}, got {describe(value)}."
-            )
-        return gains
+        rule = f"a finite number >= 0 or one per joint {list(self.joints)}"
+        return self._per_joint(value, what, "a number or one per joint", rule, non_negative=True)
+
+    def _per_joint(
+        self, value: object, what: str, expected: str, rule: str, non_negative: bool = False
+    ) -> np.ndarray:
+        array = as_float_array(value, f"Posture: {what}", expected, copy=True)
+        if array.ndim == 0:
+            array = np.full(len(self.joints), float(array))
+        bad = array.shape != (len(self.joints),) or not np.isfinite(array).all()
+        if bad or (non_negative and (array < 0).any()):
+            raise InvalidInputError(f"Posture: {what} must be {rule}, got {describe(value)}.")
+        return array
 
     def _setpoint(self, setpoint: object) -> dict[str, float] | np.ndarray | None:
         if setpoint is None:
@@ -99,15 +103,8 @@ class Posture:
             if not all(np.isfinite(list(values.values()))):
                 raise InvalidInputError(f"Posture: setpoint must be finite, got {setpoint}.")
             return values
-        target = as_float_array(setpoint, "Posture: setpoint", "numbers", copy=True)
-        if target.ndim == 0:
-            target = np.full(len(self.joints), float(target))
-        if target.shape != (len(self.joints),) or not np.isfinite(target).all():
-            raise InvalidInputError(
-                f"Posture: setpoint must be finite numbers, one per joint {list(self.joints)}, "
-                f"got {describe(setpoint)}."
-            )
-        return target
+        rule = f"finite numbers, one per joint {list(self.joints)}"
+        return self._per_joint(setpoint, "setpoint", "numbers", rule)
 
     def plan_slots(self) -> dict[str, np.ndarray]:
         """The arrays a compiled plan keeps: stiffness, damping and set point per joint."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -167,9 +168,7 @@ class SpringDamper(Slotted, Component):
         return bent
 
     def _parameters(self) -> str:
-        def fmt(array: np.ndarray) -> str:
-            return np.array2string(array, precision=4, separator=", ")
-
+        fmt = functools.partial(np.array2string, precision=4, separator=", ")
         return (
             f"stiffness={fmt(self._stiffness)}, damping={fmt(self._damping)}, "
             f"setpoint={fmt(self._setpoint)}"

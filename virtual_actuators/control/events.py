@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -118,10 +119,7 @@ class Contact:
     def lower(self, trace: object) -> object:
         """The event as a traced value (each frame's switch a register the tick writes)."""
         combine = logical_and if self.require_all else logical_or
-        result = trace.contact(self.frames[0], required=True)
-        for frame in self.frames[1:]:
-            result = combine(result, trace.contact(frame, required=True))
-        return result
+        return functools.reduce(combine, (trace.contact(f, required=True) for f in self.frames))
 
     def __repr__(self) -> str:
         return f"contact({', '.join(map(repr, self.frames))}, require_all={self.require_all})"
@@ -163,10 +161,7 @@ class Combined:
     def lower(self, trace: object) -> object:
         """The event as a traced value (every event evaluated: they have no side effect)."""
         combine = logical_and if self.require_all else logical_or
-        result = trace.event(self.events[0])
-        for each in self.events[1:]:
-            result = combine(result, trace.event(each))
-        return result
+        return functools.reduce(combine, map(trace.event, self.events))
 
     def __repr__(self) -> str:
         kind = "all_of" if self.require_all else "any_of"

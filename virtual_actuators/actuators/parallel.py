@@ -276,11 +276,9 @@ class ParallelVirtualActuator:
         return solution, not solution.admissible
 
     def snapshot_solve(self, request: Request) -> SnapshotSolve | None:
-        """A checked request's one-call solve on a snapshot, or None (then [`solve_checked`][]).
+        """A checked request's one-call solve on a snapshot (then [`solve_checked`][] if None).
 
-        Returns:
-            The `SnapshotSolve`, or None: no compiled core, or not the compiled partitioned
-            method's request.
+        None without a compiled core, or for a request not of the compiled partitioned method.
         """
         return self.compiled.buffer_solve(
             SnapshotSolve, request, self.reactions, self.axes, self._floating

@@ -50,7 +50,7 @@ class Slotted:
         self._bound = True
 
 
-def slot(name: str, doc: str, check: str = "_per_axis") -> property:
+def slot(name: str, check: str = "_per_axis") -> property:
     """The property of parameter ``name``, set through the method ``check(value, name)``.
 
     Read: its array, or its traced values while a plan traces a hook; set: the plan's slot
@@ -64,4 +64,4 @@ def slot(name: str, doc: str, check: str = "_per_axis") -> property:
         if not self._store_traced(name, value):
             self._assign(f"_{name}", getattr(self, check)(value, name))
 
-    return property(read, write, doc=doc)
+    return property(read, write)

@@ -90,20 +90,18 @@ class SpringDamper(Slotted, Component):
         self.force = force
         self.limit = limit
 
-    stiffness = slot("stiffness", "Spring constants [N/m or N m/rad].", "_non_negative")
-    damping = slot("damping", "Damping constants [N s/m or N m s/rad].", "_non_negative")
-    setpoint = slot(
-        "setpoint", "Spring rest positions [m or rad] (rotational axes: a rotation vector in {O})."
-    )
-    velocity_setpoint = slot(
-        "velocity_setpoint", "Velocities the dampers pull toward [m/s or rad/s]."
-    )
-    force = slot("force", "Constant feed-forward force [N or N m].")
-    limit = slot(
-        "limit",
-        "Saturation of the spring-damper output per axis [N or N m] (``inf``: none).",
-        "_check_limit",
-    )
+    stiffness = slot("stiffness", "_non_negative")
+    """Spring constants [N/m or N m/rad]."""
+    damping = slot("damping", "_non_negative")
+    """Damping constants [N s/m or N m s/rad]."""
+    setpoint = slot("setpoint")
+    """Spring rest positions [m or rad] (rotational axes: a rotation vector in {O})."""
+    velocity_setpoint = slot("velocity_setpoint")
+    """Velocities the dampers pull toward [m/s or rad/s]."""
+    force = slot("force")
+    """Constant feed-forward force [N or N m]."""
+    limit = slot("limit", "_check_limit")
+    """Saturation of the spring-damper output per axis [N or N m] (``inf``: none)."""
 
     def _check_limit(self, value: Vector, what: str) -> np.ndarray:
         array = self._non_negative(value, what, allow_inf=True)

@@ -136,12 +136,10 @@ class SpringTick:
         self.core.tick(*arguments, parameters)
 
     def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
-        """The tick's buffer, or None when the general path must run.
+        """The buffer ``effort (nv), position (n), velocity (n), wrench (n), flag (1.0)``, or None.
 
-        Returns:
-            ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, flag (1.0), or
-            None: other components, a Spring with a law, no velocity, a frame table without
-            the sensor's rows, or the kernel's flag 0.
+        None (the general path runs): other components, a Spring with a law, no velocity, a
+        frame table without the sensor's rows, or the kernel's flag 0.
         """
         return self.run_solve(components, snapshot, time, solve=False)[0]
 

@@ -155,7 +155,7 @@ def test_yielding_the_horizontal_force_keeps_height_and_attitude_exact(solo):
     feet = ["FL_FOOT", "HR_FOOT"]
     body = va.ParallelVirtualActuator(solo, "base_link", feet, "world", contact="point")
     q = _configuration(solo, 7)
-    directions = producible_directions(body, q)
+    directions = producible_directions(body.kinematics, body.problem, q)
     assert np.allclose(directions.producible, body.producible(q))
     assert np.allclose(directions.producible.T @ directions.missing, 0.0, atol=1e-12)
     wrench = np.array([5.0, 2.0, 25.0, 0.4, -0.3, 0.2])

@@ -24,7 +24,7 @@ from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_robot
-from ..vocabulary.axes import parse_axes, resolve_frame
+from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint
 from .parallel_checks import (
     FreeAxes,
@@ -35,7 +35,7 @@ from .parallel_checks import (
     preferred_entries,
     resolve_chains,
 )
-from .producible import producible_basis, yielding_request
+from .producible import give_way, producible_directions
 from .serial import check_tolerance, wrench_array
 
 _PRESCRIBED: tuple[str, ...] = ()  # solve's default free axes (the one empty tuple of CPython)
@@ -112,13 +112,22 @@ class ParallelVirtualActuator:
         )
         #: the contacts as declared, read by the QP and by a controller's yield policy
         self.contacts = declare(
-            self.reactions, self.axes, contact, friction, min_normal, normals,
+            self.reactions,
+            self.axes,
+            contact,
+            friction,
+            min_normal,
+            normals,
             soles,
-        )  # fmt: skip
+        )
         self.problem = DistributionProblem(
-            self.kinematics, self.reactions, self.contacts.contact,
-            unactuated, passive, self.design,
-        )  # fmt: skip
+            self.kinematics,
+            self.reactions,
+            self.contacts.contact,
+            unactuated,
+            passive,
+            self.design,
+        )
         preferred = preferred_entries(self.reactions, self.axes, self.design)
         self.partitioner = PartitionedSolver(self.problem, preferred)
         self.compiled = CompiledDistribution(self.problem, self.partitioner)
@@ -267,11 +276,9 @@ class ParallelVirtualActuator:
         return solution, not solution.admissible
 
     def snapshot_solve(self, request: Request) -> SnapshotSolve | None:
-        """A checked request's one-call solve on a snapshot, or None (then [`solve_checked`][]).
+        """A checked request's one-call solve on a snapshot (then [`solve_checked`][] if None).
 
-        Returns:
-            The `SnapshotSolve`, or None: no compiled core, or not the compiled partitioned
-            method's request.
+        None without a compiled core, or for a request not of the compiled partitioned method.
         """
         return self.compiled.buffer_solve(
             SnapshotSolve, request, self.reactions, self.axes, self._floating
@@ -314,14 +321,27 @@ class ParallelVirtualActuator:
         return tuple(METHODS)
 
     def producible(self, q: np.ndarray | Snapshot) -> np.ndarray:
-        """``(n, r)`` orthonormal basis of the wrenches producible here (see `producible`)."""
-        return producible_basis(self, q)
+        """``(n, r)`` orthonormal basis of the wrenches producible at ``q`` (``r == n``: all).
+
+        Raises:
+            InvalidInputError: A bad ``q`` or a snapshot of another robot.
+        """
+        return producible_directions(self.kinematics, self.problem, q).producible
 
     def give_way(
         self, q: np.ndarray | Snapshot, wrench: np.ndarray, axes: Sequence[str] = ("x", "y")
     ) -> np.ndarray:
-        """``wrench`` made producible by moving it along ``axes`` only (see `producible`)."""
-        return yielding_request(self, q, wrench, axes)
+        """``wrench`` made producible at ``q`` by moving it along ``axes`` only (`give_way`).
+
+        Raises:
+            InvalidAxisError: ``axes`` not among the actuator's axes.
+            InvalidInputError: A bad ``q`` or ``wrench``.
+        """
+        chosen = check_axes_subset(axes, self.axes, "give way axes")
+        wrench = wrench_array(wrench, self.axes)
+        directions = producible_directions(self.kinematics, self.problem, q)
+        yielding = np.eye(self.n)[:, [self.axes.index(a) for a in chosen]]
+        return give_way(directions.producible, wrench, yielding, directions.missing)
 
     def torques(self, q: np.ndarray | Snapshot, forces: np.ndarray) -> np.ndarray:
         """Joint torques ``sum_i J_i^T F_i`` of a given distribution ``forces`` ``(p, n)``.

@@ -3,18 +3,14 @@
 from __future__ import annotations
 
 import weakref
-from collections.abc import Sequence
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
 from .. import core
+from ..distribution.problem import DistributionProblem
+from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
-from ..vocabulary.axes import check_axes_subset
-from .serial import wrench_array
-
-if TYPE_CHECKING:
-    from .parallel import ParallelVirtualActuator
 
 #: Singular values below this fraction of the largest count as zero (the rank decision).
 RANK_TOL = 1e-9
@@ -53,17 +49,17 @@ def _split(matrix: np.ndarray) -> Directions:
 
 
 def producible_directions(
-    actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot
+    kinematics: RelativeKinematics, problem: DistributionProblem, q: np.ndarray | Snapshot
 ) -> Directions:
-    """`producible_basis` and its orthogonal complement (what [`give_way`][] needs).
+    """The wrenches a parallel actuator's chains can produce at ``q``, and the others.
+
+    Forces [N] and moments [N m] about {B}'s origin, in {O}'s axes.
 
     Raises:
         InvalidInputError: A bad ``q`` or a snapshot of another robot.
     """
-    problem = actuator.problem
-    snapshot = actuator.kinematics.snapshot(q)
-    if _points_only(problem):
-        kinematics = actuator.kinematics  # the frames' positions only (no Jacobian)
+    snapshot = kinematics.snapshot(q)
+    if _points_only(problem):  # the frames' positions only (no Jacobian)
         if len(kinematics.reaction_ids) == 2 and _TWO_POINTS is not None:
             found = _TWO_POINTS(snapshot.frame_table, kinematics.frame_rows)
             if found.size:
@@ -79,18 +75,6 @@ def producible_directions(
     allowed = _null_space(np.vstack((natural, hard)))  # chain wrenches meeting every row
     total = np.tile(np.eye(n), p)  # (n, p n): the stacked chain wrenches to their sum
     return _split(total @ allowed)
-
-
-def producible_basis(actuator: ParallelVirtualActuator, q: np.ndarray | Snapshot) -> np.ndarray:
-    """Orthonormal basis ``(n, r)`` of the wrenches the actuator can produce at ``q``.
-
-    Forces [N] and moments [N m] about {B}'s origin, in {O}'s axes; ``r == n`` when every
-    wrench can be produced.
-
-    Raises:
-        InvalidInputError: A bad ``q`` or a snapshot of another robot.
-    """
-    return producible_directions(actuator, q).producible
 
 
 def _points_only(problem: object) -> bool:
@@ -148,7 +132,7 @@ def give_way(
     removed by the orthogonal projection onto that span.
 
     Args:
-        basis: ``(n, r)`` orthonormal producible directions (`producible_basis`).
+        basis: ``(n, r)`` orthonormal producible directions (`producible_directions`).
         wrench: ``(n,)`` request.
         yielding: ``(n, m)`` directions allowed to give way first; None: projection alone.
         missing: ``(n, n - r)`` orthogonal complement of ``basis`` (None: computed).
@@ -181,25 +165,6 @@ def give_way(
     return basis @ (basis.T @ wrench)
 
 
-def yielding_request(
-    actuator: ParallelVirtualActuator,
-    q: np.ndarray | Snapshot,
-    wrench: np.ndarray,
-    axes: Sequence[str] = ("x", "y"),
-) -> np.ndarray:
-    """``wrench`` made producible at ``q`` by giving way along ``axes`` only ([`give_way`][]).
-
-    Raises:
-        InvalidAxisError: ``axes`` not among the actuator's axes.
-        InvalidInputError: A bad ``q`` or ``wrench``.
-    """
-    chosen = check_axes_subset(axes, actuator.axes, "give way axes")
-    wrench = wrench_array(wrench, actuator.axes)
-    directions = producible_directions(actuator, q)
-    yielding = np.eye(len(actuator.axes))[:, [actuator.axes.index(a) for a in chosen]]
-    return give_way(directions.producible, wrench, yielding, directions.missing)
-
-
 def moment_directions(axes: tuple[str, ...]) -> np.ndarray:
     """``(n, m)`` unit columns of the rotational axes among ``axes`` (the default yielding)."""
     rotational = [i for i, axis in enumerate(axes) if axis.startswith("r")]
@@ -211,7 +176,5 @@ __all__ = [
     "Directions",
     "give_way",
     "moment_directions",
-    "producible_basis",
     "producible_directions",
-    "yielding_request",
 ]

@@ -176,4 +176,3 @@ def has_traced_path(component: object) -> bool:
                     return False
                 break
     return True
-

@@ -1,8 +1,4 @@
-"""An energy tank that keeps any component passive.
-
-The injected work ``wrench . velocity * dt`` is drawn from a tank that dissipated work refills;
-checked exactly (floats as dyadic rationals, in integers), so rounding never lets power through.
-"""
+"""An energy tank that keeps any component passive, its work checked exactly (in integers)."""
 
 from __future__ import annotations
 

@@ -1,8 +1,4 @@
-"""Gains in physical units: stiffness and damping from an inertia, a frequency and a ratio.
-
-``k = m omega^2`` and ``d = 2 zeta m omega`` for natural frequency ``omega`` [rad/s] and damping
-ratio ``zeta``: the same values then suit a 2.5 kg quadruped and a 100 kg humanoid alike.
-"""
+"""Gains in physical units: ``k = m omega^2``, ``d = 2 zeta m omega`` from an inertia ``m``."""
 
 from __future__ import annotations
 
@@ -17,7 +13,7 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_number
 from ..vocabulary.axes import parse_axes
 
-__all__ = ["Gains", "body_gains", "gains", "joint_gains"]
+__all__ = ["Gains", "body_gains", "gains", "joint_gains", "joint_rows"]
 
 
 class Gains(NamedTuple):
@@ -81,20 +77,7 @@ def joint_gains(
     """
     model = robot.model
     q = _configuration(robot, q, "joint_gains")
-    known = list(model.names)[1:]
-    columns = []
-    for joint in joints:
-        if joint not in known:
-            raise JointNotFoundError(
-                f"joint_gains: robot {robot.name!r} has no joint {joint!r}. "
-                f"{suggestion(str(joint), known, 'joints')}"
-            )
-        entry = model.joints[model.getJointId(joint)]
-        if entry.nv != 1:
-            raise JointNotFoundError(
-                f"joint_gains: joint {joint!r} has {entry.nv} degrees of freedom."
-            )
-        columns.append(entry.idx_v)
+    _, columns = joint_rows(robot, joints, "joint_gains")
     mass_matrix = pin.crba(model, model.createData(), q)
     return gains(np.diag(mass_matrix)[columns], frequency, damping_ratio)
 
@@ -146,3 +129,31 @@ def _configuration(robot: Robot, q: np.ndarray | None, who: str) -> np.ndarray:
     if q.shape != (model.nq,) or not np.isfinite(q).all():
         raise InvalidInputError(f"{who}: q must be {model.nq} finite numbers.")
     return q
+
+
+def joint_rows(
+    robot: Robot, joints: Sequence[str], who: str, why: str = "", strict: bool = False
+) -> tuple[list[int], list[int]]:
+    """The configuration and velocity rows of one-degree-of-freedom joints (``who``: caller).
+
+    Raises:
+        JointNotFoundError: An unknown joint (with close matches) or one with several degrees
+            of freedom.
+    """
+    model = robot.model
+    known = list(model.names)[1:]
+    q_rows, v_rows = [], []
+    for joint in joints:
+        if joint not in known:
+            raise JointNotFoundError(
+                f"{who}: robot {robot.name!r} has no joint {joint!r}. "
+                f"{suggestion(str(joint), known, 'joints')}"
+            )
+        data = model.joints[model.getJointId(joint)]
+        if data.nv != 1 or (strict and data.nq != 1):
+            raise JointNotFoundError(
+                f"{who}: joint {joint!r} has {data.nv} degrees of freedom{why}."
+            )
+        q_rows.append(data.idx_q)
+        v_rows.append(data.idx_v)
+    return q_rows, v_rows

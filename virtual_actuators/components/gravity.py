@@ -1,8 +1,4 @@
-"""Gravity compensation: the joint efforts that hold (some of) the robot's links against gravity.
-
-A joint-space term like a [`Posture`][]: added to a [`Controller`][] under a name, its ``g(q)``
-is in every tick's efforts before they are clipped.
-"""
+"""Gravity compensation: the joint efforts ``g(q)`` that hold (some of) the links up."""
 
 from __future__ import annotations
 
@@ -49,9 +45,9 @@ class GravityCompensation:
         self._columns = None  # every velocity entry
         if joints is not None:
             names = check_names(joints, "GravityCompensation: joints", JointNotFoundError)
+            entries = [model.joints[resolve_joint(model, n)] for n in names]
             self._columns = np.array(
-                [v for n in names for v in _velocity_columns(model, resolve_joint(model, n))],
-                dtype=np.intp,
+                [v for j in entries for v in range(j.idx_v, j.idx_v + j.nv)], dtype=np.intp
             )
         if links is None:
             self.bodies: tuple[str, ...] = tuple(model.names[1:])
@@ -126,11 +122,6 @@ class GravityCompensation:
     def __repr__(self) -> str:
         what = "all bodies" if self.model is self.robot.model else f"bodies {list(self.bodies)}"
         return f"GravityCompensation(robot={self.robot.name!r}, {what}, {self.mass:.3f} kg)"
-
-
-def _velocity_columns(model: pin.Model, joint: int) -> range:
-    entry = model.joints[joint]
-    return range(entry.idx_v, entry.idx_v + entry.nv)
 
 
 def _body_joint(model: pin.Model, name: str) -> int:

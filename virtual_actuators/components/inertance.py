@@ -1,7 +1,4 @@
-"""A virtual inertance: a force proportional to the relative acceleration, ``-m_v a``.
-
-The acceleration is the sensor velocity's time derivative through a first-order low-pass filter.
-"""
+"""A virtual inertance: ``-m_v a``, ``a`` the low-pass filtered derivative of the velocity."""
 
 from __future__ import annotations
 

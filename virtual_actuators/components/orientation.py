@@ -1,8 +1,6 @@
 """How springs read an orientation: the deflection ``log(R_set R^T)`` on SO(3), in {O}'s axes.
 
-With one rotational axis the deflection is the angle difference wrapped to ``[-pi, pi]``; with
-two, the SO(3) deflection of the vectors completed with zeros. On plain floats and on traced
-values (a compiled plan's ops) alike, to the same bits.
+On plain floats and on traced values (a compiled plan's ops) alike, to the same bits.
 """
 
 from __future__ import annotations

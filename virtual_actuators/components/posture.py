@@ -1,7 +1,6 @@
-"""A joint-space spring-damper: hold named joints (arms, head, a redundant arm's null space).
+"""A joint-space spring-damper holding named joints (arms, head, a redundant arm's null space).
 
-``tau_j = stiffness_j (setpoint_j - q_j) - damping_j v_j`` [N m or N] on the named joints, zero
-elsewhere; with ``null_space=``, projected by ``(I - J^T (J^T)^+)`` to produce no wrench there.
+``tau_j = k_j (setpoint_j - q_j) - b_j v_j`` [N m or N], projected by ``I - J^T (J^T)^+``.
 """
 
 from __future__ import annotations
@@ -14,7 +13,7 @@ from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_robot, describe
-from .gains import Gains
+from .gains import Gains, joint_rows
 
 __all__ = ["Posture"]
 
@@ -73,15 +72,19 @@ class Posture:
             self.bind(robot)
 
     def _gains(self, value: object, what: str) -> np.ndarray:
-        gains = as_float_array(value, f"Posture: {what}", "a number or one per joint", copy=True)
-        if gains.ndim == 0:
-            gains = np.full(len(self.joints), float(gains))
-        if gains.shape != (len(self.joints),) or not np.isfinite(gains).all() or (gains < 0).any():
-            raise InvalidInputError(
-                f"Posture: {what} must be a finite number >= 0 or one per joint "
-                f"{list(self.joints)}, got {describe(value)}."
-            )
-        return gains
+        rule = f"a finite number >= 0 or one per joint {list(self.joints)}"
+        return self._per_joint(value, what, "a number or one per joint", rule, non_negative=True)
+
+    def _per_joint(
+        self, value: object, what: str, expected: str, rule: str, non_negative: bool = False
+    ) -> np.ndarray:
+        array = as_float_array(value, f"Posture: {what}", expected, copy=True)
+        if array.ndim == 0:
+            array = np.full(len(self.joints), float(array))
+        bad = array.shape != (len(self.joints),) or not np.isfinite(array).all()
+        if bad or (non_negative and (array < 0).any()):
+            raise InvalidInputError(f"Posture: {what} must be {rule}, got {describe(value)}.")
+        return array
 
     def _setpoint(self, setpoint: object) -> dict[str, float] | np.ndarray | None:
         if setpoint is None:
@@ -100,15 +103,8 @@ class Posture:
             if not all(np.isfinite(list(values.values()))):
                 raise InvalidInputError(f"Posture: setpoint must be finite, got {setpoint}.")
             return values
-        target = as_float_array(setpoint, "Posture: setpoint", "numbers", copy=True)
-        if target.ndim == 0:
-            target = np.full(len(self.joints), float(target))
-        if target.shape != (len(self.joints),) or not np.isfinite(target).all():
-            raise InvalidInputError(
-                f"Posture: setpoint must be finite numbers, one per joint {list(self.joints)}, "
-                f"got {describe(setpoint)}."
-            )
-        return target
+        rule = f"finite numbers, one per joint {list(self.joints)}"
+        return self._per_joint(setpoint, "setpoint", "numbers", rule)
 
     def plan_slots(self) -> dict[str, np.ndarray]:
         """The arrays a compiled plan keeps: stiffness, damping and set point per joint."""
@@ -118,9 +114,9 @@ class Posture:
 
     def bind_slots(self, views: dict[str, np.ndarray]) -> None:
         """Keep the gains and the set point in a compiled plan's registers (``views``)."""
-        self.stiffness, self.damping, self.setpoint = (
-            views["stiffness"], views["damping"], views["setpoint"]
-        )
+        self.stiffness = views["stiffness"]
+        self.damping = views["damping"]
+        self.setpoint = views["setpoint"]
         self._plan = True
 
     def traced_torques(self, slots: object, position: tuple, velocity: tuple) -> list:
@@ -171,22 +167,8 @@ class Posture:
                 f"{self.name}: already bound to robot {self.robot.name!r}; make one per robot."
             )
         model = robot.model
-        known = list(model.names)[1:]
-        q_rows, v_rows = [], []
-        for joint in self.joints:
-            if joint not in known:
-                raise JointNotFoundError(
-                    f"{self.name}: robot {robot.name!r} has no joint {joint!r}. "
-                    f"{suggestion(joint, known, 'joints')}"
-                )
-            data = model.joints[model.getJointId(joint)]
-            if data.nq != 1 or data.nv != 1:
-                raise JointNotFoundError(
-                    f"{self.name}: joint {joint!r} has {data.nv} degrees of freedom; a posture "
-                    "holds revolute and prismatic joints."
-                )
-            q_rows.append(data.idx_q)
-            v_rows.append(data.idx_v)
+        why = "; a posture holds revolute and prismatic joints"
+        q_rows, v_rows = joint_rows(robot, self.joints, self.name, why, strict=True)
         self._q_rows = np.array(q_rows, dtype=np.intp)
         self._v_rows = np.array(v_rows, dtype=np.intp)
         if self.null_space is not None and (
@@ -238,9 +220,10 @@ class Posture:
         if self.setpoint is None:
             self.reset(configuration)
         tau = np.zeros(self.robot.model.nv)
-        tau[self._v_rows] = self.stiffness * (
-            self.setpoint - configuration[self._q_rows]
-        ) - self.damping * np.asarray(velocity, dtype=float)[self._v_rows]
+        tau[self._v_rows] = (
+            self.stiffness * (self.setpoint - configuration[self._q_rows])
+            - self.damping * np.asarray(velocity, dtype=float)[self._v_rows]
+        )
         if self.null_space is not None:
             if snapshot is None:
                 snapshot = Snapshot(self.robot, configuration)
@@ -257,4 +240,3 @@ class Posture:
     def __repr__(self) -> str:
         bound = f", robot={self.robot.name!r}" if self.robot is not None else ""
         return f"Posture(joints={list(self.joints)}{bound})"
-

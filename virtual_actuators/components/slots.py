@@ -1,7 +1,4 @@
-"""A component's parameters as a compiled plan's slots: arrays it keeps, traced when lowered.
-
-Once a plan keeps them (`bind_slots`) they are views of its registers, written in place.
-"""
+"""A component's parameters as a compiled plan's slots: arrays it keeps, traced when lowered."""
 
 from __future__ import annotations
 
@@ -9,7 +6,7 @@ import numpy as np
 
 from ..vocabulary.traced import TRACING, traced_read, traced_store
 
-__all__ = ["Slotted"]
+__all__ = ["Slotted", "slot"]
 
 
 class Slotted:
@@ -51,3 +48,20 @@ class Slotted:
         for name, view in views.items():
             setattr(self, f"_{name}", view)
         self._bound = True
+
+
+def slot(name: str, check: str = "_per_axis") -> property:
+    """The property of parameter ``name``, set through the method ``check(value, name)``.
+
+    Read: its array, or its traced values while a plan traces a hook; set: the plan's slot
+    while traced, else the checked array (written in place once bound to a plan).
+    """
+
+    def read(self: Slotted) -> np.ndarray | tuple:
+        return self._traced(name)
+
+    def write(self: Slotted, value: object) -> None:
+        if not self._store_traced(name, value):
+            self._assign(f"_{name}", getattr(self, check)(value, name))
+
+    return property(read, write)

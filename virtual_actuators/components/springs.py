@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -11,7 +12,7 @@ from ..vocabulary.scalar import maximum, minimum
 from .base import Component
 from .gains import Gains
 from .orientation import deflection, rotation_axes
-from .slots import Slotted
+from .slots import Slotted, slot
 
 Vector = float | Sequence[float] | np.ndarray
 _FLOAT64 = np.dtype(np.float64)
@@ -28,14 +29,14 @@ def spring_damper(
     k, b = parameters["stiffness"], parameters["damping"]
     v0, f, limit = parameters["velocity_setpoint"], parameters["force"], parameters["limit"]
     return [
-        minimum(maximum(k[i] * bent[i] + b[i] * (v0[i] - velocity[i]), -limit[i]), limit[i])
-        + f[i]
+        minimum(maximum(k[i] * bent[i] + b[i] * (v0[i] - velocity[i]), -limit[i]), limit[i]) + f[i]
         for i in range(len(bent))
     ]
 
 
 class _FloatSlots:
     """A spring-damper's parameters as lists of floats, read by name (`spring_damper`)."""
+
     __slots__ = ("component",)
 
     def __init__(self, component: SpringDamper) -> None:
@@ -89,72 +90,23 @@ class SpringDamper(Slotted, Component):
         self.force = force
         self.limit = limit
 
-    @property
-    def stiffness(self) -> np.ndarray:
-        """Spring constants [N/m or N m/rad]."""
-        return self._traced("stiffness")
+    stiffness = slot("stiffness", "_non_negative")
+    """Spring constants [N/m or N m/rad]."""
+    damping = slot("damping", "_non_negative")
+    """Damping constants [N s/m or N m s/rad]."""
+    setpoint = slot("setpoint")
+    """Spring rest positions [m or rad] (rotational axes: a rotation vector in {O})."""
+    velocity_setpoint = slot("velocity_setpoint")
+    """Velocities the dampers pull toward [m/s or rad/s]."""
+    force = slot("force")
+    """Constant feed-forward force [N or N m]."""
+    limit = slot("limit", "_check_limit")
+    """Saturation of the spring-damper output per axis [N or N m] (``inf``: none)."""
 
-    @stiffness.setter
-    def stiffness(self, value: Vector) -> None:
-        if self._store_traced("stiffness", value):
-            return
-        self._assign("_stiffness", self._non_negative(value, "stiffness"))
-
-    @property
-    def damping(self) -> np.ndarray:
-        """Damping constants [N s/m or N m s/rad]."""
-        return self._traced("damping")
-
-    @damping.setter
-    def damping(self, value: Vector) -> None:
-        if self._store_traced("damping", value):
-            return
-        self._assign("_damping", self._non_negative(value, "damping"))
-
-    @property
-    def setpoint(self) -> np.ndarray:
-        """Spring rest positions [m or rad] (rotational axes: a rotation vector in {O})."""
-        return self._traced("setpoint")
-
-    @setpoint.setter
-    def setpoint(self, value: Vector) -> None:
-        if self._store_traced("setpoint", value):
-            return
-        self._assign("_setpoint", self._per_axis(value, "setpoint"))
-
-    @property
-    def velocity_setpoint(self) -> np.ndarray:
-        """Velocities the dampers pull toward [m/s or rad/s]."""
-        return self._traced("velocity_setpoint")
-
-    @velocity_setpoint.setter
-    def velocity_setpoint(self, value: Vector) -> None:
-        if self._store_traced("velocity_setpoint", value):
-            return
-        self._assign("_velocity_setpoint", self._per_axis(value, "velocity_setpoint"))
-
-    @property
-    def force(self) -> np.ndarray:
-        """Constant feed-forward force [N or N m]."""
-        return self._traced("force")
-
-    @force.setter
-    def force(self, value: Vector) -> None:
-        if self._store_traced("force", value):
-            return
-        self._assign("_force", self._per_axis(value, "force"))
-
-    @property
-    def limit(self) -> np.ndarray:
-        """Saturation of the spring-damper output per axis [N or N m] (``inf``: none)."""
-        return self._traced("limit")
-
-    @limit.setter
-    def limit(self, value: Vector) -> None:
-        if self._store_traced("limit", value):
-            return
-        self._assign("_limit", self._non_negative(value, "limit", allow_inf=True))
-        self._limited = bool(np.isfinite(self._limit).any())
+    def _check_limit(self, value: Vector, what: str) -> np.ndarray:
+        array = self._non_negative(value, what, allow_inf=True)
+        self._limited = bool(np.isfinite(array).any())
+        return array
 
     #: The parameters a compiled plan keeps in its registers, in this order.
     SLOTS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
@@ -194,9 +146,10 @@ class SpringDamper(Slotted, Component):
             and velocity.shape == self._shape
         ):
             return np.array(  # entry by entry on floats: the same bits, faster
-                spring_damper(_FloatSlots(self), position.tolist(), velocity.tolist(),
-                              self._rotations)
-            )  # fmt: skip
+                spring_damper(
+                    _FloatSlots(self), position.tolist(), velocity.tolist(), self._rotations
+                )
+            )
         wrench = self._stiffness * self._deflection(position) + self._damping * (
             self._velocity_setpoint - velocity
         )
@@ -213,9 +166,7 @@ class SpringDamper(Slotted, Component):
         return bent
 
     def _parameters(self) -> str:
-        def fmt(array: np.ndarray) -> str:
-            return np.array2string(array, precision=4, separator=", ")
-
+        fmt = functools.partial(np.array2string, precision=4, separator=", ")
         return (
             f"stiffness={fmt(self._stiffness)}, damping={fmt(self._damping)}, "
             f"setpoint={fmt(self._setpoint)}"

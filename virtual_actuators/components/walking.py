@@ -1,8 +1,4 @@
-"""The seed's walking components (VMC 2001, section 5, Figs. 6 and 7).
-
-Granny walker (height and pitch held up), dogtrack bunny (a set point running ahead at the
-desired speed) and swing-leg linkage (the swing foot placed relative to the body).
-"""
+"""The seed's walking components (VMC 2001, section 5, Figs. 6 and 7)."""
 
 from __future__ import annotations
 
@@ -64,23 +60,16 @@ class GrannyWalker(SpringDamper):
             parsed, stiffness, damping, setpoint=(height, pitch), force=(weight, 0.0), name=name
         )
 
-    @property
-    def height(self) -> float:
-        """Height set point [m]."""
-        return _entry(self._traced("setpoint"), 0)
-
-    @height.setter
-    def height(self, value: float) -> None:
-        self._set_entry(0, value, "height [m]")
-
-    @property
-    def pitch(self) -> float:
-        """Pitch set point [rad]."""
-        return _entry(self._traced("setpoint"), 1)
-
-    @pitch.setter
-    def pitch(self, value: float) -> None:
-        self._set_entry(1, value, "pitch [rad]")
+    height = property(
+        lambda self: _entry(self._traced("setpoint"), 0),
+        lambda self, value: self._set_entry(0, value, "height [m]"),
+    )
+    """Height set point [m]."""
+    pitch = property(
+        lambda self: _entry(self._traced("setpoint"), 1),
+        lambda self, value: self._set_entry(1, value, "pitch [rad]"),
+    )
+    """Pitch set point [rad]."""
 
     def _set_entry(self, index: int, value: float, what: str) -> None:
         if TRACING.get() is not None and traced_store(self, "setpoint", (value,), offset=index):
@@ -127,23 +116,19 @@ class DogtrackBunny(SpringDamper):
     #: The parameters a compiled plan keeps: the spring-damper's and the start.
     SLOTS = (*SpringDamper.SLOTS, "start")
 
-    @property
-    def start_position(self) -> float:
-        """Where the bunny started [m]."""
-        return self._start.item(0)
+    start_position = property(
+        lambda self: self._start.item(0),
+        lambda self, value: self._set_start(0, value, "start_position [m]"),
+    )
+    """Where the bunny started [m]."""
+    start_time = property(
+        lambda self: self._start.item(1),
+        lambda self, value: self._set_start(1, value, "start_time [s]"),
+    )
+    """When the bunny started [s]."""
 
-    @start_position.setter
-    def start_position(self, value: float) -> None:
-        self._start[0] = check_number(value, f"{self.name}: start_position [m]")
-
-    @property
-    def start_time(self) -> float:
-        """When the bunny started [s]."""
-        return self._start.item(1)
-
-    @start_time.setter
-    def start_time(self, value: float) -> None:
-        self._start[1] = check_number(value, f"{self.name}: start_time [s]")
+    def _set_start(self, index: int, value: float, what: str) -> None:
+        self._start[index] = check_number(value, f"{self.name}: {what}")
 
     @property
     def speed(self) -> float:

@@ -102,7 +102,7 @@ class Attachment:
         check_name(name, "Controller.add: name")
         components = check_parts(name, actuator, sensor, components)
         friction, min_normal = check_limit_values(name, friction, min_normal, unilateral)
-        free_axes = check_free(name, robot, actuator, free)
+        free = check_free(name, robot, actuator, free)
         sensor = sensor_of(name, robot, actuator, sensor)
         indices = component_indices(components, actuator.axes)
         weights, yield_axes = check_qp_yield(
@@ -116,12 +116,16 @@ class Attachment:
         if yield_mask is not None:  # the actuator's contacts with these limits
             declared = actuator.contacts
             contacts = declare(
-                actuator.reactions, actuator.axes, declared.contact, friction,
-                min_normal if friction is not None else 0.0, declared.normals, minima=limits,
-            )  # fmt: skip
+                actuator.reactions,
+                actuator.axes,
+                declared.contact,
+                friction,
+                min_normal if friction is not None else 0.0,
+                declared.normals,
+                minima=limits,
+            )
         return cls(
-            name, actuator, sensor, components, free_axes, indices, contacts, yield_mask,
-            method, weights=weights,
+            name, actuator, sensor, components, free, indices, contacts, yield_mask, method, weights
         )
 
     def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:

@@ -25,9 +25,7 @@ _QP_LIMITS = (
 )
 
 
-def check_parts(
-    name: str, actuator: object, sensor: object, components: object
-) -> list[Component]:
+def check_parts(name: str, actuator: object, sensor: object, components: object) -> list[Component]:
     """The actuator's and sensor's kinds; ``components`` as a list of components.
 
     Raises:
@@ -66,15 +64,12 @@ def check_limit_values(
     min_normal = check_number(min_normal, f"{where}: min_normal [N]", minimum=0.0)
     if unilateral is not None and not isinstance(unilateral, Mapping):
         raise InvalidInputError(
-            f"{where}: unilateral must be a dict {{axis: minimum [N]}}, got "
-            f"{describe(unilateral)}."
+            f"{where}: unilateral must be a dict {{axis: minimum [N]}}, got {describe(unilateral)}."
         )
     return friction, min_normal
 
 
-def check_free(
-    name: str, robot: Robot, actuator: Actuator, free: Sequence[str]
-) -> tuple[str, ...]:
+def check_free(name: str, robot: Robot, actuator: Actuator, free: Sequence[str]) -> tuple[str, ...]:
     """The actuator's robot, and the free axes (a parallel actuator's only), in its order.
 
     Raises:

@@ -1,9 +1,4 @@
-"""A spring-damper attachment's sensing and wrench (and a serial one's efforts) in one call.
-
-The compiled core's ``SpringTick`` runs the same operations in the same order as the general
-path; it hands the tick back (flag 0) on a rotational difference outside ``[-pi, pi]`` or a
-non-finite wrench.
-"""
+"""A spring-damper attachment's sensing and wrench (and a serial one's efforts) in one call."""
 
 from __future__ import annotations
 
@@ -53,11 +48,6 @@ class SpringTick:
         efforts: Whether the tick computes ``J^T w`` (the actuator is the sensor).
         solve: A parallel actuator's one-call distribution of the attachment's request, or None.
     """
-
-    __slots__ = (
-        "components", "bunnies", "springs", "core", "efforts", "nv", "n", "rows_end", "tables",
-        "slices", "solve", "fused",
-    )  # fmt: skip
 
     def __init__(
         self,
@@ -123,18 +113,17 @@ class SpringTick:
         spring-dampers of the formula only (at most one rotational axis each) on contiguous
         runs of the axes, when a compiled core is built.
         """
-        if not has("SpringTick"):
-            return None
-        if not components or type(sensor) is not VirtualActuator:
-            return None
         serial = isinstance(actuator, VirtualActuator)
-        if serial and (type(actuator) is not VirtualActuator or actuator is not sensor):
-            return None
-        if not all(isinstance(slot, slice) for slot in slots):
-            return None
-        if not all(_served(component) for component in components):
-            return None
-        if len(sensor.kinematics.reaction_ids) != 1:
+        served = (
+            has("SpringTick")
+            and components
+            and type(sensor) is VirtualActuator
+            and not (serial and (type(actuator) is not VirtualActuator or actuator is not sensor))
+            and all(isinstance(slot, slice) for slot in slots)
+            and all(map(_served, components))
+            and len(sensor.kinematics.reaction_ids) == 1
+        )
+        if not served:
             return None
         return cls(sensor, components, [slot.start for slot in slots], serial, solve)
 
@@ -147,12 +136,10 @@ class SpringTick:
         self.core.tick(*arguments, parameters)
 
     def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
-        """The tick's buffer, or None when the general path must run.
+        """The buffer ``effort (nv), position (n), velocity (n), wrench (n), flag (1.0)``, or None.
 
-        Returns:
-            ``effort (nv)``, ``position (n)``, ``velocity (n)``, ``wrench (n)``, flag (1.0), or
-            None: other components, a Spring with a law, no velocity, a frame table without
-            the sensor's rows, or the kernel's flag 0.
+        None (the general path runs): other components, a Spring with a law, no velocity, a
+        frame table without the sensor's rows, or the kernel's flag 0.
         """
         return self.run_solve(components, snapshot, time, solve=False)[0]
 
@@ -166,17 +153,15 @@ class SpringTick:
             distribution's [`Solution`][virtual_actuators.Solution], bit for bit the one of
             ``solve(snapshot, wrench)``, or None.
         """
-        if components != self.components:
-            return None, None
         v = snapshot.v
-        if v is None:
+        if (
+            components != self.components
+            or v is None
+            or any(getattr(spring, "law", None) is not None for spring in self.springs)
+            or snapshot.frame_table.shape[0] < self.rows_end
+        ):
             return None, None
-        for spring in self.springs:
-            if getattr(spring, "law", None) is not None:
-                return None, None
         jacobian_world, frames = snapshot.jacobian_world, snapshot.frame_table
-        if frames.shape[0] < self.rows_end:
-            return None, None
         for bunny in self.bunnies:  # as its compute_wrench does before the formula
             bunny.setpoint = bunny.position_at(time)
         if len(components) == 1:
@@ -195,4 +180,3 @@ class SpringTick:
             return buffer, self.solve.solution(out, residual, scale, rounding, 1e-6)
         buffer = self.core.tick(jacobian_world, frames, v, parameters)
         return (buffer if buffer[-1] == 1.0 else None), None
-

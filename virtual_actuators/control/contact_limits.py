@@ -116,24 +116,17 @@ def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
     requested = start.requested + alpha * (end.requested - start.requested)
     residual = float(np.linalg.norm(produced - requested))
     limit = start.tolerance + alpha * (end.tolerance - start.tolerance)
-    return Solution(  # positional (a tick's cost): the fields in declaration order
-        start.tau + alpha * (end.tau - start.tau),
-        forces,
-        produced,
-        end.sets,
-        residual,
-        label(end.method, residual <= limit),
-        requested,
-        end.reactions,
-        end.axes,
-        end.free,
-        end.tau_passive,
-        start.base_effort + alpha * (end.base_effort - start.base_effort),
-        end.solver,
-        end.systems,
-        start.compiled and end.compiled,
-        end.active,
-        limit,
+    return dataclasses.replace(
+        end,
+        tau=start.tau + alpha * (end.tau - start.tau),
+        forces=forces,
+        wrench=produced,
+        residual=residual,
+        method=label(end.method, residual <= limit),
+        requested=requested,
+        base_effort=start.base_effort + alpha * (end.base_effort - start.base_effort),
+        compiled=start.compiled and end.compiled,
+        tolerance=limit,
     )
 
 

@@ -181,9 +181,18 @@ class Controller:
         if isinstance(actuator, JointTerm):
             return self._add_term(name, actuator, components)
         attachment = self.attachments[name] = Attachment.declare(
-            self.robot, name, actuator, components, sensor=sensor, free=free,
-            unilateral=unilateral, yield_axes=yield_axes, friction=friction,
-            min_normal=min_normal, method=method, yield_weight=yield_weight,
+            self.robot,
+            name,
+            actuator,
+            components,
+            sensor=sensor,
+            free=free,
+            unilateral=unilateral,
+            yield_axes=yield_axes,
+            friction=friction,
+            min_normal=min_normal,
+            method=method,
+            yield_weight=yield_weight,
             taken={**self.attachments, **self.postures},
         )
         return attachment
@@ -322,8 +331,18 @@ class Controller:
         )
         clipped, held = self.limit_rate(clipped, time)
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
-            clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions,
-            sums.velocities, sums.solutions, sums.failed, names, self.joint_names, sums.failures,
+            clipped,
+            tau,
+            saturated,
+            sums.wrenches,
+            sums.produced,
+            sums.positions,
+            sums.velocities,
+            sums.solutions,
+            sums.failed,
+            names,
+            self.joint_names,
+            sums.failures,
             held,
         )
 

@@ -1,11 +1,10 @@
-"""Events for [`Transition`][]: small factories of callables of the tick's [`Context`][].
-
-A compiled plan lowers them (``lower``); combine them with [`any_of`][] and [`all_of`][].
-"""
+"""Events for [`Transition`][]: factories of callables of the tick's [`Context`][]."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
+from dataclasses import dataclass, field
 
 from ..exceptions import InvalidAxisError, InvalidInputError
 from ..vocabulary.arguments import check_flag, check_name, check_number, describe
@@ -41,13 +40,11 @@ def _events(events: tuple, where: str) -> tuple[Event, ...]:
     return events
 
 
+@dataclass(slots=True, repr=False, eq=False)
 class After:
     """Fires once the current state has lasted ``seconds`` (`after`)."""
 
-    __slots__ = ("seconds",)
-
-    def __init__(self, seconds: float) -> None:
-        self.seconds = seconds
+    seconds: float
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
@@ -61,15 +58,20 @@ class After:
         return f"after({self.seconds:g})"
 
 
+@dataclass(slots=True, repr=False, eq=False)
 class AheadOf:
     """Fires when ``frame`` is more than ``distance`` ahead of ``reference`` (`ahead_of`)."""
 
-    __slots__ = ("frame", "reference", "distance", "axis", "index", "column")
+    frame: str
+    reference: str
+    distance: float
+    axis: str
+    index: int = field(init=False)
+    column: int = field(init=False)  # the position's entry in a frame-table row
 
-    def __init__(self, frame: str, reference: str, distance: float, axis: str) -> None:
-        self.frame, self.reference, self.distance, self.axis = frame, reference, distance, axis
-        self.index = _axis(axis)
-        self.column = POSITION_COLUMNS[axis]  # the position's entry in a frame-table row
+    def __post_init__(self) -> None:
+        self.index = _axis(self.axis)
+        self.column = POSITION_COLUMNS[self.axis]
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
@@ -96,13 +98,12 @@ class AheadOf:
         return f"ahead_of({self.frame!r}, {self.reference!r}, {self.distance:g}, {self.axis!r})"
 
 
+@dataclass(slots=True, repr=False, eq=False)
 class Contact:
     """Fires when the contact switches of ``frames`` are closed, all or any (`contact`)."""
 
-    __slots__ = ("frames", "require_all")
-
-    def __init__(self, frames: tuple[str, ...], require_all: bool) -> None:
-        self.frames, self.require_all = frames, require_all
+    frames: tuple[str, ...]
+    require_all: bool
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
@@ -118,22 +119,17 @@ class Contact:
     def lower(self, trace: object) -> object:
         """The event as a traced value (each frame's switch a register the tick writes)."""
         combine = logical_and if self.require_all else logical_or
-        result = trace.contact(self.frames[0], required=True)
-        for frame in self.frames[1:]:
-            result = combine(result, trace.contact(frame, required=True))
-        return result
+        return functools.reduce(combine, (trace.contact(f, required=True) for f in self.frames))
 
     def __repr__(self) -> str:
         return f"contact({', '.join(map(repr, self.frames))}, require_all={self.require_all})"
 
 
+@dataclass(slots=True, repr=False, eq=False)
 class NoContact:
     """Fires when none of the contact switches of ``frames`` is closed (`no_contact`)."""
 
-    __slots__ = ("frames",)
-
-    def __init__(self, frames: tuple[str, ...]) -> None:
-        self.frames = frames
+    frames: tuple[str, ...]
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
@@ -147,13 +143,12 @@ class NoContact:
         return f"no_contact({', '.join(map(repr, self.frames))})"
 
 
+@dataclass(slots=True, repr=False, eq=False)
 class Combined:
     """Fires when any (or all) of ``events`` fire (`any_of`, `all_of`)."""
 
-    __slots__ = ("events", "require_all")
-
-    def __init__(self, events: tuple[Event, ...], require_all: bool) -> None:
-        self.events, self.require_all = events, require_all
+    events: tuple[Event, ...]
+    require_all: bool
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
@@ -166,10 +161,7 @@ class Combined:
     def lower(self, trace: object) -> object:
         """The event as a traced value (every event evaluated: they have no side effect)."""
         combine = logical_and if self.require_all else logical_or
-        result = trace.event(self.events[0])
-        for each in self.events[1:]:
-            result = combine(result, trace.event(each))
-        return result
+        return functools.reduce(combine, map(trace.event, self.events))
 
     def __repr__(self) -> str:
         kind = "all_of" if self.require_all else "any_of"

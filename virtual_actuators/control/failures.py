@@ -25,6 +25,11 @@ FAILURE_POLICIES = ("raise", "skip", "fallback")
 
 #: What a policy catches; other exceptions (a TypeError from a bug) always propagate.
 CAUGHT = (VirtualActuatorError, ArithmeticError)
+_REASONS = (
+    (SingularConfigurationError, "singular"),
+    (InadmissibleWrenchError, "inadmissible"),
+    (ConstraintError, "constraint"),
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -74,13 +79,7 @@ def reason_of(error: BaseException, wrench: np.ndarray | None) -> str:
     """The `AttachmentFailure.reason` of ``error`` (``wrench`` None: components failed)."""
     if wrench is None:
         return "wrench"
-    if isinstance(error, SingularConfigurationError):
-        return "singular"
-    if isinstance(error, InadmissibleWrenchError):
-        return "inadmissible"
-    if isinstance(error, ConstraintError):
-        return "constraint"
-    return "distribution"
+    return next((reason for kind, reason in _REASONS if isinstance(error, kind)), "distribution")
 
 
 def recover(

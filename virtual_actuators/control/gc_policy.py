@@ -17,9 +17,7 @@ def check_gc_policy(policy: object, where: str) -> str:
         InvalidInputError: Anything else (naming ``where`` and the valid policies).
     """
     if not isinstance(policy, str) or policy not in GC_POLICIES:
-        raise InvalidInputError(
-            f"{where}: gc_policy must be one of {GC_POLICIES}, got {policy!r}."
-        )
+        raise InvalidInputError(f"{where}: gc_policy must be one of {GC_POLICIES}, got {policy!r}.")
     return policy
 
 

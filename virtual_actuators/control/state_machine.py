@@ -1,8 +1,4 @@
-"""A state machine for gaits (VMC 2001, section 5, Fig. 5 and Table 1).
-
-States name the controller attachments they evaluate; transitions fire on events of the tick's
-[`Context`][]. Changing state only swaps which precomputed attachments run.
-"""
+"""A state machine for gaits (VMC 2001, section 5, Fig. 5 and Table 1)."""
 
 from __future__ import annotations
 

@@ -1,8 +1,4 @@
-"""Make what a controller's first tick would build, before that tick (`warm_up`).
-
-Every kernel an attachment's tick uses runs once on results thrown away: no component is
-evaluated, no controller state changes, and the QP's warm start is left alone.
-"""
+"""Make what a controller's first tick would build, before that tick (`warm_up`)."""
 
 from __future__ import annotations
 
@@ -63,9 +59,12 @@ def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attach
     def solve() -> None:
         try:
             actuator.solve(
-                snapshot, np.zeros(actuator.n), attachment.free, method="qp",
+                snapshot,
+                np.zeros(actuator.n),
+                attachment.free,
+                method="qp",
                 weights=attachment.weights,
-            )  # fmt: skip
+            )
         except VirtualActuatorError:
             pass
 

@@ -17,7 +17,6 @@ import numpy as np
 from ...exceptions import SingularConfigurationError
 from ..linalg import safe_inverse, select_columns
 from ..problem import DistributionProblem
-from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
 from ..result import RawSolution
 from ..tolerances import ILL_CONDITIONED
@@ -224,7 +223,7 @@ class PartitionedSolver:
         systems = tuple(
             ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
         )
-        if k + s == m and not structurally_singular(self.problem, keep):
+        if k + s == m and not self.problem.structurally_singular(keep):
             reduced = self._reduce(ev)
             a = reduced.wrench_rows[keep]
             rhs = wrench[keep] - reduced.offset_sum[keep]

@@ -134,7 +134,7 @@ class CompiledDistribution:
             sets = {
                 "MFS": [labels[i] for i in plan.mfs],
                 "RFS": [labels[i] for i in plan.rfs],
-                "CFS": partitioner.cfs_labels(),
+                "CFS": partitioner.labels(partitioner.cfs),
             }
             systems = cfs_systems
             if len(plan.rfs) and plan.gain is None:

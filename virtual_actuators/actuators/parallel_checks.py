@@ -8,7 +8,6 @@ import numpy as np
 
 from ..distribution.methods import METHODS
 from ..distribution.problem import DistributionProblem
-from ..distribution.problem.checks import check_counts
 from ..exceptions import ConstraintError, FrameNotFoundError, InvalidAxisError, InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_sequence, describe
@@ -127,7 +126,7 @@ class FreeAxes:
         if cached is None:
             axes = check_axes_subset(key, self.axes, "free")
             keep = np.array([a not in axes for a in self.axes])
-            check_counts(self.problem, keep)  # declaration-only: checked once per set of free axes
+            self.problem.check_counts(keep)  # declaration-only: checked once per set of free axes
             cached = self._cache[key] = (axes, keep)
         return cached
 

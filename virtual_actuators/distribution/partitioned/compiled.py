@@ -13,7 +13,6 @@ import numpy as np
 from ...core import CORE, has
 from ..methods import Request
 from ..problem import DistributionProblem
-from ..problem.checks import structurally_singular
 from ..result import RawSolution, TickResult
 from . import kernel_tables
 from .buffer_solve import BufferSolve, ConfigurationSolve, PackedMode, SnapshotSolve
@@ -129,13 +128,13 @@ class CompiledDistribution:
             sets = partitioner.reported_sets(keep)
             systems = cfs_systems + (("KKT", k + s, 1),)
             mode = PackedMode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
-        elif k + s == m and not structurally_singular(problem, keep):
+        elif k + s == m and not problem.structurally_singular(keep):
             plan = partitioner.square_plan(keep)
             labels = partitioner.labels()
             sets = {
                 "MFS": [labels[i] for i in plan.mfs],
                 "RFS": [labels[i] for i in plan.rfs],
-                "CFS": partitioner.cfs_labels(),
+                "CFS": partitioner.labels(partitioner.cfs),
             }
             systems = cfs_systems
             if len(plan.rfs) and plan.gain is None:

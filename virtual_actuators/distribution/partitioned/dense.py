@@ -12,7 +12,6 @@ import numpy as np
 from ...exceptions import ConstraintError, SingularConfigurationError
 from ..linalg import backward_tolerance, constrained_min_norm, dependent_rows_at_scale
 from ..problem import DistributionProblem
-from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
 from ..result import RawSolution, no_sets
 from ..tolerances import ILL_CONDITIONED
@@ -59,7 +58,7 @@ class DenseSolver:
         p, n = self.problem.p, self.problem.n
         soft, soft_rhs, hard, hard_rhs = self.system(ev, wrench, keep)
         k = np.vstack((soft, hard))
-        square = k.shape[0] == k.shape[1] and not structurally_singular(self.problem, keep)
+        square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
         if square:
             cond = np.linalg.cond(k)
             if not np.isfinite(cond) or cond > ILL_CONDITIONED:

@@ -17,7 +17,6 @@ import numpy as np
 from ...exceptions import SingularConfigurationError
 from ..linalg import safe_inverse, select_columns
 from ..problem import DistributionProblem
-from ..problem.checks import structurally_singular
 from ..problem.structure import Evaluation
 from ..result import RawSolution
 from ..tolerances import ILL_CONDITIONED
@@ -70,7 +69,7 @@ class PartitionedSolver:
         self.free_entries: list[np.ndarray] = []
         for group, rows in zip(problem.groups, ev.groups, strict=True):
             picks = [
-                self._pick_cfs(rows.rows[j], group.num_constraints, preferred[chain])
+                np.sort(select_columns(rows.rows[j], group.num_constraints, preferred[chain]))
                 for j, chain in enumerate(group.chains)
             ]
             cfs = np.array(picks, dtype=int).reshape(group.size, -1)
@@ -80,27 +79,15 @@ class PartitionedSolver:
         self._reported_sets: dict[tuple, dict] = {}
         self.num_free_entries = sum(g.size * g.num_free for g in problem.groups)
 
-    # -- sets --------------------------------------------------------------------------------
-    @staticmethod
-    def _pick_cfs(rows: np.ndarray, count: int, weights: np.ndarray) -> np.ndarray:
-        return np.sort(select_columns(rows, count, weights))
-
-    def labels(self, free_entries: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
-        """Labels of the reduced unknowns ``f_a``, in the solver's order."""
-        return self._labels(self.free_entries if free_entries is None else free_entries)
-
-    def cfs_labels(self, sets: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
-        """Labels of the Constrained Force Set, chain by chain."""
-        return self._labels(self.cfs if sets is None else sets)
-
-    def _labels(self, entries: list[np.ndarray]) -> list[tuple[str, str]]:
+    def labels(self, entries: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
+        """Labels of the reduced unknowns ``f_a`` (or of ``entries``), in the solver's order."""
+        entries = self.free_entries if entries is None else entries
         out = []
         for group, chosen in zip(self.problem.groups, entries, strict=True):
             for j, chain in enumerate(group.chains):
                 out += [(self.problem.reactions[chain], self.problem.axes[x]) for x in chosen[j]]
         return out
 
-    # -- elimination of the CFS (eq. 12-15) --------------------------------------------------
     def _reduce(self, ev: Evaluation) -> _Reduced:
         problem = self.problem
         n = problem.n
@@ -175,7 +162,7 @@ class PartitionedSolver:
             cfs = cfs.copy()
             for j in bad:
                 weights = self.preferred[group.chains[j]]
-                cfs[j] = self._pick_cfs(rows[j], cfs.shape[1], weights)
+                cfs[j] = np.sort(select_columns(rows[j], cfs.shape[1], weights))
             free = self._complement(cfs)
         chain = self.problem.reactions[self.problem.groups[index].chains[bad[0]]]
         raise SingularConfigurationError(
@@ -190,7 +177,6 @@ class PartitionedSolver:
         np.put_along_axis(mask, cfs, False, axis=1)
         return np.array([np.flatnonzero(m) for m in mask], dtype=int).reshape(cfs.shape[0], -1)
 
-    # -- the reduced system ------------------------------------------------------------------
     def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
         """Distribute ``wrench`` over the chains.
 
@@ -209,22 +195,16 @@ class PartitionedSolver:
         """
         m, s, k = self.num_free_entries, len(ev.hard_rhs), int(keep.sum())
         free_key = keep.tobytes()
+        systems = tuple(
+            ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
+        )
         if k + s < m:
             forces = projected_forces(self.problem, ev, wrench, keep)
             if forces is not None:
                 sets = self.reported_sets(keep)
-                systems = tuple(
-                    ("CFS", g.num_constraints, g.size)
-                    for g in self.problem.groups
-                    if g.num_constraints
-                ) + (("KKT", k + s, 1),)
-                return RawSolution(
-                    forces=forces, method="pseudo-inverse", sets=sets, systems=systems
-                )
-        systems = tuple(
-            ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
-        )
-        if k + s == m and not structurally_singular(self.problem, keep):
+                systems += (("KKT", k + s, 1),)
+                return RawSolution(forces, "pseudo-inverse", sets, systems)
+        if k + s == m and not self.problem.structurally_singular(keep):
             reduced = self._reduce(ev)
             a = reduced.wrench_rows[keep]
             rhs = wrench[keep] - reduced.offset_sum[keep]
@@ -243,13 +223,20 @@ class PartitionedSolver:
         return RawSolution(forces=forces, method="least-squares", sets=sets, systems=systems)
 
     def reported_sets(self, keep: np.ndarray) -> dict[str, list[tuple[str, str]]]:
-        """MFS / RFS / CFS reported for a non-square system (chosen at a generic ``q``)."""
+        """MFS / RFS / CFS of a non-square system at a generic ``q``: the MFS spans the wrench."""
         free_key = keep.tobytes()
         sets = self._reported_sets.get(free_key)
         if sets is None:
-            generic = self._reduce(self._generic)
-            sets = self._report_sets(generic.wrench_rows[keep], generic.hard_rows)
-            self._reported_sets[free_key] = sets
+            a = self._reduce(self._generic).wrench_rows[keep]
+            labels, m = self.labels(), a.shape[1]
+            count = min(a.shape[0], m)
+            mfs = np.sort(select_columns(a, count)) if count else np.array([], dtype=int)
+            rfs = np.setdiff1d(np.arange(m), mfs)
+            sets = self._reported_sets[free_key] = {
+                "MFS": [labels[i] for i in mfs],
+                "RFS": [labels[i] for i in rfs],
+                "CFS": self.labels(self.cfs),
+            }
         return sets
 
     def square_plan(self, keep: np.ndarray) -> SquarePlan:
@@ -326,7 +313,7 @@ class PartitionedSolver:
         sets = {
             "MFS": [labels[i] for i in plan.mfs],
             "RFS": [labels[i] for i in plan.rfs],
-            "CFS": self.cfs_labels(reduced.cfs),
+            "CFS": self.labels(reduced.cfs),
         }
         return f, sets, plan, rfs_solved
 
@@ -341,19 +328,6 @@ class PartitionedSolver:
             if np.any(np.take_along_axis(rows, index, axis=2)):
                 return False
         return True
-
-    def _report_sets(self, a: np.ndarray, h: np.ndarray) -> dict[str, list[tuple[str, str]]]:
-        """MFS / RFS of a non-square system: the MFS spans the wrench rows, the RFS the rest."""
-        labels = self.labels()
-        m = a.shape[1]
-        count = min(a.shape[0], m)
-        mfs = np.sort(select_columns(a, count)) if count else np.array([], dtype=int)
-        rfs = np.setdiff1d(np.arange(m), mfs)
-        return {
-            "MFS": [labels[i] for i in mfs],
-            "RFS": [labels[i] for i in rfs],
-            "CFS": self.cfs_labels(),
-        }
 
     def __repr__(self) -> str:
         return (

@@ -1,8 +1,6 @@
 """The force distribution problem of a parallel virtual actuator (VAC eq. 8-11).
 
-`DistributionProblem` turns a declaration into arrays once; `DistributionProblem.evaluate`
-fills in eq. 11's natural, coupling and design rows at a ``q``. Chains of the same structure
-form a `ChainGroup`, vectorised with numpy.
+The declaration as arrays, once; eq. 11's rows at a ``q``, chain groups vectorised with numpy.
 """
 
 from __future__ import annotations
@@ -69,7 +67,7 @@ class DistributionProblem:
         )
         self.actuated_mask = np.ones(self.model.nv, dtype=bool)
         self.actuated_mask[list(self.limp_v) + list(self.passive_v)] = False
-        #: prescribed axes (``keep.tobytes()``) -> structurally singular (checks.py)
+        #: prescribed axes (``keep.tobytes()``) -> structurally singular
         self.structural: dict[bytes, bool] = {}
         #: limp joints no selected axis loads: their (zero) natural rows are dropped
         self.vacuous_v: tuple[int, ...] = ()
@@ -81,7 +79,6 @@ class DistributionProblem:
         self._build_groups()
         self._build_design(design)
 
-    # -- declaration -----------------------------------------------------------------------
     def _build_groups(self) -> None:
         counts = np.zeros(self.model.nv, dtype=int)
         for columns in self.kinematics.chain_columns:
@@ -98,7 +95,7 @@ class DistributionProblem:
             per_chain.append((columns, np.array(own, dtype=int), ball))
         generic = self.generic_configurations()
         states = [self.kinematics.compute(q) for q in generic]
-        vacuous = vacuous_joints(self, per_chain, states)
+        vacuous = vacuous_joints(per_chain, states, self.axes, self.coupled_v, self.passive_v)
         if vacuous:
             self.vacuous_v = tuple(sorted(vacuous))
             self.coupled_v = [v for v in self.coupled_v if v not in vacuous]
@@ -117,9 +114,7 @@ class DistributionProblem:
         for (k, _, ball, rank), members in keys.items():
             own = np.array([per_chain[i][1] for i in members], dtype=int).reshape(len(members), -1)
             columns = np.array([per_chain[i][0] for i in members], dtype=int).reshape(-1, k)
-            group_signs = np.array(
-                [self.kinematics.chain_signs[i] for i in members], dtype=float
-            ).reshape(-1, k)
+            signs = np.array([self.kinematics.chain_signs[i] for i in members], float)
             own_v = np.take_along_axis(columns, own, axis=1)
             springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
             stiffness = [[s.stiffness if s else 0.0 for s in row] for row in springs]
@@ -127,7 +122,7 @@ class DistributionProblem:
             group = ChainGroup(
                 chains=np.array(members, dtype=int),
                 columns=columns,
-                signs=group_signs,
+                signs=signs.reshape(-1, k),
                 constrained=own,
                 stiffness=np.asarray(stiffness, dtype=float).reshape(own.shape),
                 rest=np.asarray(rest, dtype=float).reshape(own.shape),
@@ -136,17 +131,11 @@ class DistributionProblem:
                 n=self.n,
             )
             self.groups.append(group)
-        springs = [(v, *spec[1:]) for v, spec in self.passive_v.items()]
-        self._springs = tuple(np.array(column) for column in zip(*springs, strict=True))
-        if springs:
-            self._springs = (
-                self._springs[0].astype(int),
-                self._springs[1].astype(float),
-                self._springs[2].astype(float),
-                self._springs[3].astype(int),
-                self._springs[4].astype(int),
-            )
-        check_natural_rows(self, generic)
+        specs = [(v, *s[1:]) for v, s in self.passive_v.items()]
+        kinds = enumerate((int, float, float, int, int))
+        self._springs = tuple(np.array([r[k] for r in specs], dtype=t) for k, t in kinds)
+        rows = self.evaluate(generic[0], check_singular=False).groups
+        check_natural_rows(self.groups, rows, self.reactions, self.joint_name)
 
     def _full_jacobian(
         self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray
@@ -177,16 +166,14 @@ class DistributionProblem:
         """Random valid configurations used to find generic ranks and well-conditioned sets."""
         rng = np.random.default_rng(seed)
         model = self.model
-        q0 = pin.neutral(model)
         lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+        finite = (np.abs(lower) < 1e3) & (np.abs(upper) < 1e3) & (upper > lower)
+        low, high = np.where(finite, lower, 0.0), np.where(finite, upper, 0.0)
         out = []
         for _ in range(count):
-            q = pin.integrate(model, q0, rng.uniform(-0.8, 0.8, model.nv))
-            finite = (np.abs(lower) < 1e3) & (np.abs(upper) < 1e3) & (upper > lower)
-            low, high = np.where(finite, lower, 0.0), np.where(finite, upper, 0.0)
+            q = pin.integrate(model, pin.neutral(model), rng.uniform(-0.8, 0.8, model.nv))
             inside = low + (high - low) * rng.uniform(0.2, 0.8, model.nq)
-            q = np.where(finite, inside, q)
-            out.append(pin.normalize(model, q))
+            out.append(pin.normalize(model, np.where(finite, inside, q)))
         return out
 
     def joint_name(self, v: int) -> str:
@@ -213,9 +200,12 @@ class DistributionProblem:
                 f"natural constraints leave only {total_free} free force entries (sum of d over "
                 f"the chains). Remove {self.num_hard - total_free}."
             )
-        check_hard_rows(self)
+        if self.num_hard:
+            ev = self.evaluate(self.generic_configurations()[1], check_singular=False)
+            natural, natural_rhs = self.block_natural(ev)
+            hard = ev.hard_rows.reshape(self.num_hard, -1)
+            check_hard_rows(natural, natural_rhs, hard, ev.hard_rhs, self.hard_names)
 
-    # -- configuration-dependent -----------------------------------------------------------
     def evaluate(self, state: np.ndarray | Snapshot, check_singular: bool = True) -> Evaluation:
         """Evaluate the natural, coupling and design rows at a snapshot (or a configuration).
 
@@ -332,9 +322,8 @@ class DistributionProblem:
             for i, (columns, signs) in enumerate(
                 zip(self.kinematics.chain_columns, self.kinematics.chain_signs, strict=True)
             ):
-                position = np.searchsorted(columns, wanted)
-                position = np.minimum(position, max(len(columns) - 1, 0))
-                hit = columns[position] == wanted if len(columns) else np.zeros(len(key), bool)
+                position = np.minimum(np.searchsorted(columns, wanted), len(columns) - 1)
+                hit = columns[position] == wanted
                 cached[i, hit] = signs[position[hit]]
             self._sign_cache[key] = cached
         return cached
@@ -367,3 +356,44 @@ class DistributionProblem:
             share = np.einsum("ngk,gn->gk", jac, forces[group.chains]) * group.signs
             tau += np.bincount(group.columns.ravel(), share.ravel(), minlength=self.model.nv)
         return tau
+
+    def structurally_singular(self, keep: np.ndarray) -> bool:
+        """Whether the square system is singular at every (random) configuration for ``keep``.
+
+        E.g. two point feet and a moment about the line between them: least squares then.
+
+        Args:
+            keep: ``(n,)`` bool, the prescribed (not free) axes.
+        """
+        key = keep.tobytes()
+        cached = self.structural.get(key)
+        if cached is None:
+            cached = True
+            n, p = self.n, self.p
+            for q in self.generic_configurations():
+                ev = self.evaluate(q, check_singular=False)
+                natural, _ = self.block_natural(ev)
+                k = np.vstack(
+                    (np.tile(np.eye(n), (1, p))[keep], natural, ev.hard_rows.reshape(-1, p * n))
+                )
+                if k.shape[0] == k.shape[1] and np.linalg.matrix_rank(k) == k.shape[0]:
+                    cached = False
+                    break
+            self.structural[key] = cached
+        return cached
+
+    def check_counts(self, keep: np.ndarray) -> None:
+        """Raise if there are more design/coupling constraints than redundancies for ``keep``.
+
+        Raises:
+            ConstraintError: ``s > sum(d) - (number of prescribed axes)``.
+        """
+        m = sum(g.size * g.num_free for g in self.groups)
+        k, s = int(keep.sum()), self.num_hard
+        if s and s > m - k:
+            names = [a for a, kept in zip(self.axes, keep, strict=True) if kept]
+            raise ConstraintError(
+                f"Too many constraints: {s} design/coupling constraints but only {m - k} "
+                f"redundancies (sum of d = {m} minus the {k} prescribed axes {names}). Remove "
+                f"{s - (m - k)} or leave more axes free."
+            )

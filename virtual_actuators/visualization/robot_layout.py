@@ -121,8 +121,7 @@ def ground_grid(centre: np.ndarray, height: float) -> mg.LineSegments:
     points = np.vstack((along_y, along_x)).reshape(-1, 2) + centre
     vertices = np.column_stack((points, np.full(len(points), height))).T
     return mg.LineSegments(
-        mg.PointsGeometry(vertices.astype(np.float32)),
-        mg.LineBasicMaterial(color=0x9A9A9A),
+        mg.PointsGeometry(vertices.astype(np.float32)), mg.LineBasicMaterial(color=0x9A9A9A)
     )
 
 

@@ -1,8 +1,4 @@
-"""The live window: a MeshCat server fed through a relay process, and fast transform packing.
-
-`LiveWindow` packs the commands (``set_transform`` by a fast path that skips umsgpack),
-queues them, and writes each frame's batch to `relay` in one pipe write.
-"""
+"""The live window: a MeshCat server fed through a relay process, and fast transform packing."""
 
 from __future__ import annotations
 

@@ -1,8 +1,6 @@
 """Recording a run as a MeshCat animation, written into a standalone HTML page.
 
-`AnimationRecording` keeps what changed at each frame; its `command` is a ``set_animation``
-with position, quaternion, scale and visible tracks packed as ``Float32Array``. A node that
-held still gets a copy of its last key before it moves, so it does not drift.
+A node that held still gets a copy of its last key before it moves, so it does not drift.
 """
 
 from __future__ import annotations

@@ -1,9 +1,4 @@
-"""Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page.
-
-Every window mirrors the scene its MeshCat commands build, so that `SceneWindow.static_html`
-writes a standalone page without a server: `OfflineWindow` sends nothing, `CommandRecorder`
-keeps every command, `ForwardingWindow` forwards to any ``send``, `LiveWindow` feeds a server.
-"""
+"""Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
 """Argument types of the command line: a bad value is a usage error (exit 2), never a traceback.
 
-Heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their option is
-given.
+Heavy modules (MuJoCo, the robot catalog) are imported only when their option is given.
 """
 
 from __future__ import annotations

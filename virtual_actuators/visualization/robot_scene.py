@@ -1,8 +1,4 @@
-"""The robot in the MeshCat scene and the drawing primitives that overlays share.
-
-`RobotScene` holds the drawn kinematics, marker sizes, camera, ground and HUD; overlays draw
-with its arrows, wrenches, triads, spans and markers.
-"""
+"""The robot in the MeshCat scene and the drawing primitives that overlays share."""
 
 from __future__ import annotations
 

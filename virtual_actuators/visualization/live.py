@@ -103,14 +103,8 @@ class LiveWindow(SceneWindow):
             encoded = path.encode("utf-8")
             header = _transform_header(path)
             size = len(header) + _DOUBLE.itemsize * 16
-            prefix = _FRAME_PREFIXES[path] = (
-                _LENGTH.pack(13)
-                + b"set_transform"
-                + _LENGTH.pack(len(encoded))
-                + encoded
-                + _LENGTH.pack(size)
-                + header
-            )
+            prefix = _LENGTH.pack(13) + b"set_transform" + _LENGTH.pack(len(encoded)) + encoded
+            prefix = _FRAME_PREFIXES[path] = prefix + _LENGTH.pack(size) + header
         self._batch += prefix + _matrix_bytes(matrix)
         self.sent += 1
 

@@ -118,11 +118,9 @@ class RobotScene:
         self.follow = travels if follow is None else bool(follow)
 
     def _centroid(self) -> np.ndarray:
-        return (
-            np.mean([m.translation for m in self.data.oMi[1:]], axis=0)
-            if len(self.data.oMi) > 1
-            else np.zeros(3)
-        )
+        if len(self.data.oMi) <= 1:
+            return np.zeros(3)
+        return np.mean([m.translation for m in self.data.oMi[1:]], axis=0)
 
     def build(self) -> None:
         """Empty the node, then send the background, the robot's bodies, the ground and camera.

@@ -208,9 +208,9 @@ class CommandRecorder(SceneWindow):
     def visible(self, path: str) -> bool | None:
         """The last ``visible`` property sent to ``path``, or None if never sent."""
         for command in reversed(self.commands):
-            if isinstance(command, mc.SetProperty) and command.key == "visible":
-                if path_of(command) == path:
-                    return bool(command.value)
+            kind = isinstance(command, mc.SetProperty) and command.key == "visible"
+            if kind and path_of(command) == path:
+                return bool(command.value)
         return None
 
     def __repr__(self) -> str:

@@ -1,8 +1,4 @@
-"""The command line's checks before anything runs, each failing as a usage error (exit 2).
-
-The options must agree with the chosen demo, and the optional packages the command needs (its
-extras) must be installed.
-"""
+"""The command line's checks before anything runs (options, extras): usage errors (exit 2)."""
 
 from __future__ import annotations
 

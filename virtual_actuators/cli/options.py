@@ -212,16 +212,10 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
         "rolling) or points 'x:z,x:z,...' in metres with increasing x",
     )
     demo.add_argument(
-        "--json",
-        type=output_path,
-        metavar="PATH",
-        help="walks: write the metrics as JSON",
+        "--json", type=output_path, metavar="PATH", help="walks: write the metrics as JSON"
     )
     demo.add_argument(
-        "--plot",
-        type=output_path,
-        metavar="PATH",
-        help="walks: save a PNG of the run",
+        "--plot", type=output_path, metavar="PATH", help="walks: save a PNG of the run"
     )
     _hexapod_arguments(demo)
     demo.add_argument("--quiet", action="store_true", help="no progress bar")

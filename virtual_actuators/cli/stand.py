@@ -86,16 +86,13 @@ def demo_stand(
     timed = [("minimum-norm", body)]
     if len(feet) == 4 and contact == "point":
         # all x forces equal, y forces equal front and hind, diagonal z sums equal: r = 6
-        design = [
-            va.Equal((feet[0], "x"), (feet[1], "x")),
-            va.Equal((feet[0], "x"), (feet[2], "x")),
-            va.Equal((feet[0], "x"), (feet[3], "x")),
+        design = [va.Equal((feet[0], "x"), (foot, "x")) for foot in feet[1:]]
+        design += [
             va.Equal((feet[0], "y"), (feet[1], "y")),
             va.Equal((feet[2], "y"), (feet[3], "y")),
-            va.Linear(
-                {(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}
-            ),
         ]
+        z = {(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}
+        design.append(va.Linear(z))
         square = va.ParallelVirtualActuator(
             robot, action=body_frame, reactions=feet, reference=body_frame, design=design
         )

@@ -1,7 +1,6 @@
 """Argument types of the command line: a bad value is a usage error (exit 2), never a traceback.
 
-Heavy modules (MuJoCo for terrains, the robot catalog) are imported only when their option is
-given; the output files' types are in `paths`.
+Heavy modules (MuJoCo, the robot catalog) are imported only when their option is given.
 """
 
 from __future__ import annotations
@@ -102,10 +101,7 @@ def walking_speed(text: str) -> float:
 def _ranged(
     what: str, low: float, high: float, unit: str, open_low: bool = False
 ) -> Callable[[str], float]:
-    """The argument type of a finite number in ``[low, high]`` (``(low, high]`` with ``open_low``).
-
-    The type raises `argparse.ArgumentTypeError` for any other text.
-    """
+    """The argument type of `_in_range` (it raises `argparse.ArgumentTypeError`)."""
 
     def parse(text: str) -> float:
         return _in_range(text, what, low, high, unit, open_low)
@@ -136,14 +132,16 @@ def time_window(text: str) -> tuple[float | None, float | None]:
     return start, stop
 
 
-def _whole(text: str, what: str, minimum: int) -> int:
-    """A whole number >= ``minimum``, or a usage error naming ``what``."""
+def _whole(text: str, what: str, minimum: int, maximum: int | None = None, why: str = "") -> int:
+    """A whole number from ``minimum`` to ``maximum`` (``why`` says why), or a usage error."""
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{what} must be a whole number, got {text!r}") from None
     if value < minimum:
         raise argparse.ArgumentTypeError(f"{what} must be >= {minimum}, got {text!r}")
+    if maximum is not None and value > maximum:
+        raise argparse.ArgumentTypeError(f"{what} must be at most {maximum} ({why}), got {text!r}")
     return value
 
 
@@ -265,14 +263,6 @@ def terrain_list(text: str) -> list[str]:
     return names
 
 
-def _bounded_whole(text: str, what: str, maximum: int, why: str) -> int:
-    """A whole number from 1 to ``maximum``, or a usage error naming ``what`` and ``why``."""
-    value = _whole(text, what, 1)
-    if value > maximum:
-        raise argparse.ArgumentTypeError(f"{what} must be at most {maximum} ({why}), got {text!r}")
-    return value
-
-
 def seed_count(text: str) -> int:
     """``sweep --seeds``: starts per cell, 1 to `MAX_SEEDS`.
 
@@ -281,7 +271,7 @@ def seed_count(text: str) -> int:
     """
     from ..demos.sweep import MAX_SEEDS
 
-    return _bounded_whole(text, "seeds", MAX_SEEDS, "every walk of the grid is queued at once")
+    return _whole(text, "seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
 
 
 def worker_count(text: str) -> int:
@@ -290,7 +280,7 @@ def worker_count(text: str) -> int:
     Raises:
         argparse.ArgumentTypeError: Otherwise.
     """
-    return _bounded_whole(text, "workers", MAX_WORKERS, "each worker is a process with MuJoCo")
+    return _whole(text, "workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
 
 
 def _existing_path(text: str) -> bool:

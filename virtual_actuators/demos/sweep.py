@@ -310,20 +310,3 @@ def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure
     per_cell = f"{seeds} seed per cell" if seeds == 1 else f"{seeds} seeds per cell"
     set_heading(figure, f"{walk}: walks that did not fall, of {per_cell}", 10)
     return figure
-
-
-__all__ = [
-    "ENGINES",
-    "MAX_SEEDS",
-    "MAX_WALKS",
-    "SweepCase",
-    "SweepResult",
-    "grid",
-    "parse_range",
-    "draw_success_map",
-    "plot_success_map",
-    "run_case",
-    "run_sweep",
-    "success_map",
-    "write_results",
-]

@@ -26,8 +26,6 @@ GEOMETRY_MODES = ("auto", "urdf", "skeleton")
 #: Side of the grid cells a mesh is decimated on, relative to the robot's typical link length.
 MESH_TOLERANCE = 0.02
 
-_MESH_SUFFIXES = (".dae", ".obj", ".stl")
-
 # skeleton colours
 BASE_COLOR = 0x37474F
 LINK_COLOR = 0x90A4AE
@@ -61,12 +59,8 @@ class Part:
         return f"Part({self.name!r}, joint={self.joint})"
 
 
-def _has_mesh_file(geometry_object: pin.GeometryObject) -> bool:
-    return str(geometry_object.meshPath).lower().endswith(_MESH_SUFFIXES)
-
-
 def _mesh(geometry_object: pin.GeometryObject) -> list[tuple[object, np.ndarray]] | None:
-    """The MeshCat geometry of a mesh file (drawn in the part's colour), or None."""
+    """The MeshCat geometry of a mesh file (in the part's colour), or None for another file."""
     path = str(geometry_object.meshPath)
     loaders = {".stl": mg.StlMeshGeometry, ".obj": mg.ObjMeshGeometry, ".dae": mg.DaeMeshGeometry}
     loader = loaders.get(path[-4:].lower())
@@ -136,19 +130,15 @@ def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = Non
         opacity = float(color[3]) if color.size > 3 else 1.0
         color = desaturate(to_hex(color))
         name = f"visuals/{geometry_object.name}"
+        joint = int(geometry_object.parentJoint)
         mesh = meshes.get(geometry_object) if meshes is not None else None
         if mesh is not None:  # the loaded triangles are scaled already
             placement = geometry_object.placement.homogeneous
-            joint = int(geometry_object.parentJoint)
             parts.append(Part(name, joint, placement, mesh, color, opacity, geometry_object))
             continue
-        if _has_mesh_file(geometry_object):
-            pieces = _mesh(geometry_object)
-        else:
-            pieces = _primitive(geometry_object.geometry)
-        joint = int(geometry_object.parentJoint)
+        pieces = _mesh(geometry_object)
         if pieces is None:  # another geometry: Pinocchio's MeshcatVisualizer loads it
-            pieces = [(None, np.eye(4))]
+            pieces = _primitive(geometry_object.geometry) or [(None, np.eye(4))]
         for k, (geometry, offset) in enumerate(pieces):
             label = name if k == 0 else f"{name}_{k}"
             parts.append(
@@ -157,12 +147,11 @@ def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = Non
     return parts
 
 
-def skeleton_parts(model: pin.Model, data: pin.Data, detail: float, floating: bool) -> list[Part]:
+def skeleton_parts(model: pin.Model, detail: float, floating: bool) -> list[Part]:
     """A sphere per joint, a cylinder to each child and tip frame, a box around a free base.
 
     Args:
         model: The Pinocchio model.
-        data: Its data (unused).
         detail: Typical link length [m]; radii are fractions of it.
         floating: Whether joint 1 is a free-flyer (a base box is drawn around it).
     """
@@ -258,11 +247,9 @@ class RobotBodies:
                     "geometry='skeleton' or 'auto'."
                 )
         if not parts:
-            floating = robot.model.njoints > 1 and (
-                robot.model.joints[1].shortname() == "JointModelFreeFlyer"
-            )
-            data = pin.Data(robot.model)
-            parts = skeleton_parts(robot.model, data, detail, floating)
+            model = robot.model
+            floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
+            parts = skeleton_parts(model, detail, floating)
         self.parts = parts
         self._joints = np.array([p.joint for p in parts], dtype=int)
         self._placements = np.array([p.placement for p in parts]) if parts else np.zeros((0, 4, 4))

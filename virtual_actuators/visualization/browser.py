@@ -14,18 +14,10 @@ from ..exceptions import VirtualActuatorError
 
 # Headless, software WebGL (SwiftShader), and no background connections: on a closed network
 # Chromium otherwise retries Google's hosts at every start.
-CHROMIUM_FLAGS = (
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--hide-scrollbars",
+CHROMIUM_FLAGS = tuple(
+    "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+    "--disable-background-networking --disable-component-update --disable-sync "
+    "--enable-unsafe-swiftshader --use-angle=swiftshader --hide-scrollbars".split()
 )
 
 

@@ -9,17 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = [
-    "OVERLAY_MIN_CHROMA",
-    "ROBOT_MAX_CHROMA",
-    "chroma",
-    "color_distance",
-    "desaturate",
-    "from_lab",
-    "rgb",
-    "to_lab",
-]
-
 #: Largest CIELAB chroma of a robot colour as drawn.
 ROBOT_MAX_CHROMA = 15.0
 #: Smallest CIELAB chroma of an overlay colour of the palette.

@@ -1,8 +1,4 @@
-"""Frame a recording on the robot over the whole run: the box holding its bodies in every frame.
-
-`RunBounds` grows, while recording, with the visible bodies (overlays are left out);
-`framing_commands` shifts the scene and places the camera to fit it.
-"""
+"""Frame a recording on the robot over the whole run: the box holding its bodies in every frame."""
 
 from __future__ import annotations
 

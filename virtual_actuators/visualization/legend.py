@@ -54,14 +54,6 @@ class Palette:
 PALETTE = Palette()
 
 
-def _number(value: float) -> str:
-    return f"{value:.3g}"
-
-
-#: Legend lines without a colour, after the coloured ones: (key, text).
-_NOTES = ("no_limit", "frames")
-
-
 def legend_entries(
     palette: Palette,
     force_scale: float,
@@ -80,8 +72,8 @@ def legend_entries(
     """
     p = palette
     entries = [
-        ("requested_force", p.requested_force, f"force: 1 m = {_number(1 / force_scale)} N"),
-        ("requested_moment", p.requested_moment, f"moment: 1 m = {_number(1 / moment_scale)} N m"),
+        ("requested_force", p.requested_force, f"force: 1 m = {1 / force_scale:.3g} N"),
+        ("requested_moment", p.requested_moment, f"moment: 1 m = {1 / moment_scale:.3g} N m"),
         ("share_force", p.share_force, "chain share at reaction"),
         ("share_moment", p.share_moment, "chain moment at reaction"),
         ("produced", p.produced, "produced (adjusted)"),
@@ -93,7 +85,7 @@ def legend_entries(
         ("effort_negative", p.effort_negative, "effort -"),
         ("saturated", p.saturated, "saturated joint"),
         ("support", p.support, "support foot"),
-        ("no_limit", None, f"no limit: full = {_number(effort_reference)}"),
+        ("no_limit", None, f"no limit: full = {effort_reference:.3g}"),
         ("frames", None, "frames: x y z = red green blue"),
     ]
     return [(color, text) for key, color, text in entries if drawn is None or key in drawn]
@@ -101,11 +93,8 @@ def legend_entries(
 
 def legend_text(entries: list[tuple[int | None, str]]) -> str:
     """The legend as plain text, one entry per line."""
-    lines = []
-    for color, text in entries:
-        swatch = f"#{color:06X}" if color is not None else " " * 7
-        lines.append(f"{swatch}  {text}")
-    return "\n".join(lines)
+    swatches = [(" " * 7 if color is None else f"#{color:06X}", text) for color, text in entries]
+    return "\n".join(f"{swatch}  {text}" for swatch, text in swatches)
 
 
 def legend_html(entries: list[tuple[int | None, str]], title: str = "") -> str:

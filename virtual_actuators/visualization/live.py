@@ -1,8 +1,4 @@
-"""The live window: a MeshCat server fed through a relay process, and fast transform packing.
-
-`LiveWindow` packs the commands (``set_transform`` by a fast path that skips umsgpack),
-queues them, and writes each frame's batch to `relay` in one pipe write.
-"""
+"""The live window: a MeshCat server fed through a relay process, and fast transform packing."""
 
 from __future__ import annotations
 
@@ -107,14 +103,8 @@ class LiveWindow(SceneWindow):
             encoded = path.encode("utf-8")
             header = _transform_header(path)
             size = len(header) + _DOUBLE.itemsize * 16
-            prefix = _FRAME_PREFIXES[path] = (
-                _LENGTH.pack(13)
-                + b"set_transform"
-                + _LENGTH.pack(len(encoded))
-                + encoded
-                + _LENGTH.pack(size)
-                + header
-            )
+            prefix = _LENGTH.pack(13) + b"set_transform" + _LENGTH.pack(len(encoded)) + encoded
+            prefix = _FRAME_PREFIXES[path] = prefix + _LENGTH.pack(size) + header
         self._batch += prefix + _matrix_bytes(matrix)
         self.sent += 1
 

@@ -1,13 +1,12 @@
 """Recording a run as a MeshCat animation, written into a standalone HTML page.
 
-`AnimationRecording` keeps what changed at each frame; its `command` is a ``set_animation``
-with position, quaternion, scale and visible tracks packed as ``Float32Array``. A node that
-held still gets a copy of its last key before it moves, so it does not drift.
+A node that held still gets a copy of its last key before it moves, so it does not drift.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -46,19 +45,19 @@ def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return matrix[:3, 3].copy(), np.asarray(quaternion, dtype=float), scale
 
 
+@dataclass(repr=False)
 class AnimationCommand:
     """A MeshCat ``set_animation`` command with pre-lowered clips.
 
-    Args:
+    Attributes:
         animations: ``[{"path": ..., "clip": {...}}]`` in MeshCat's format.
         play: Start playing when the page loads.
         repetitions: How many times to play.
     """
 
-    def __init__(self, animations: list[dict], play: bool = True, repetitions: int = 1) -> None:
-        self.animations = animations
-        self.play = play
-        self.repetitions = repetitions
+    animations: list[dict]
+    play: bool = True
+    repetitions: int = 1
 
     def lower(self) -> dict:
         """The command as MeshCat's viewer reads it."""

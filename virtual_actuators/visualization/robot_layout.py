@@ -1,10 +1,4 @@
-"""What the robot's model says about drawing it: sizes, planarity, gauges, ground and terrain.
-
-Pure functions of the robot (or the terrain) that `RobotScene` calls once
-when it is set up: the size of every marker relative to a typical link, whether the robot moves
-in the x-z plane (then the camera looks from the side), the actuated joints whose effort gauges
-the overlays draw, the ground grid and the segments of a terrain profile.
-"""
+"""What the robot's model says about drawing it: sizes, planarity, gauges, ground and terrain."""
 
 from __future__ import annotations
 
@@ -20,15 +14,6 @@ from ..models.robot import Robot
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
-
-__all__ = [
-    "EffortJoint",
-    "effort_joints",
-    "ground_grid",
-    "is_planar",
-    "marker_sizes",
-    "terrain_segments",
-]
 
 
 class EffortJoint(NamedTuple):
@@ -121,8 +106,7 @@ def ground_grid(centre: np.ndarray, height: float) -> mg.LineSegments:
     points = np.vstack((along_y, along_x)).reshape(-1, 2) + centre
     vertices = np.column_stack((points, np.full(len(points), height))).T
     return mg.LineSegments(
-        mg.PointsGeometry(vertices.astype(np.float32)),
-        mg.LineBasicMaterial(color=0x9A9A9A),
+        mg.PointsGeometry(vertices.astype(np.float32)), mg.LineBasicMaterial(color=0x9A9A9A)
     )
 
 

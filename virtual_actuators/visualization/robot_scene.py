@@ -1,8 +1,4 @@
-"""The robot in the MeshCat scene and the drawing primitives that overlays share.
-
-`RobotScene` holds the drawn kinematics, marker sizes, camera, ground and HUD; overlays draw
-with its arrows, wrenches, triads, spans and markers.
-"""
+"""The robot in the MeshCat scene and the drawing primitives that overlays share."""
 
 from __future__ import annotations
 
@@ -122,11 +118,9 @@ class RobotScene:
         self.follow = travels if follow is None else bool(follow)
 
     def _centroid(self) -> np.ndarray:
-        return (
-            np.mean([m.translation for m in self.data.oMi[1:]], axis=0)
-            if len(self.data.oMi) > 1
-            else np.zeros(3)
-        )
+        if len(self.data.oMi) <= 1:
+            return np.zeros(3)
+        return np.mean([m.translation for m in self.data.oMi[1:]], axis=0)
 
     def build(self) -> None:
         """Empty the node, then send the background, the robot's bodies, the ground and camera.

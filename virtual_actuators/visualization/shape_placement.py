@@ -39,11 +39,7 @@ def rotation_y_to(direction: Sequence[float] | np.ndarray) -> np.ndarray:
         return np.diag([1.0, -1.0, -1.0])
     k = 1.0 / (1.0 + c)  # Rodrigues with the axis y x d = (z, 0, -x)
     return np.array(
-        [
-            [1.0 - k * x * x, x, -k * x * z],
-            [-x, c, -z],
-            [-k * x * z, z, 1.0 - k * z * z],
-        ]
+        [[1.0 - k * x * x, x, -k * x * z], [-x, c, -z], [-k * x * z, z, 1.0 - k * z * z]]
     )
 
 

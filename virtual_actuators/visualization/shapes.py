@@ -205,10 +205,7 @@ def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.Tri
         circle = np.outer(np.cos(angles), normal) + np.outer(np.sin(angles), binormal)
         rings.append(centre[i] + wire * radius * circle)
     vertices = np.vstack(rings)
-    faces = []
-    for i in range(len(rings) - 1):
-        for k in range(sides):
-            a, b = i * sides + k, i * sides + (k + 1) % sides
-            c, d = a + sides, b + sides
-            faces += [(a, b, d), (a, d, c)]
-    return mg.TriangularMeshGeometry(vertices.astype(np.float32), np.array(faces, dtype=np.uint32))
+    a = (np.arange(len(rings) - 1)[:, None] * sides + np.arange(sides)).ravel()
+    b = a - a % sides + (a + 1) % sides
+    faces = np.column_stack((a, b, b + sides, a, b + sides, a + sides)).reshape(-1, 3)
+    return mg.TriangularMeshGeometry(vertices.astype(np.float32), faces.astype(np.uint32))

@@ -5,27 +5,12 @@ from __future__ import annotations
 import time as wallclock
 from typing import TYPE_CHECKING, Protocol
 
-import numpy as np
-
 from ..control import Controller, ControlOutput
-from ..models.robot import Robot
 from .frame_snapshot import FrameSnapshot
-from .pacing import FramePacer
 
 if TYPE_CHECKING:
-    from ..simulation.terrain import Terrain
-
-
-class Simulation(Protocol):
-    """What `TickUpdater` reads of a simulator (a ``simulation.Simulator``).
-
-    Attributes:
-        time: Simulated time [s].
-        q: Configuration.
-    """
-
-    time: float
-    q: np.ndarray
+    from ..simulation.simulator import Simulator
+    from .viewer import Viewer
 
 
 class Gait(Protocol):
@@ -40,25 +25,6 @@ class Gait(Protocol):
     last: ControlOutput | None
 
 
-class PacedView(Protocol):
-    """What `TickUpdater` uses of a `Viewer` (its ``robot``)."""
-
-    robot: Robot
-
-    def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a live update and a recorded frame are due."""
-
-    def draw(self, frame: FrameSnapshot) -> None:
-        """Draw a frame without sending it."""
-
-    @property
-    def pacer(self) -> FramePacer:
-        """When frames are sent and recorded."""
-
-    def set_terrain(self, terrain: Terrain) -> None:
-        """Draw the ground profile."""
-
-
 class TickUpdater:
     """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
 
@@ -71,7 +37,7 @@ class TickUpdater:
         terrain: Draw the simulator's terrain at the first tick.
     """
 
-    def __init__(self, viewer: PacedView, realtime: bool = False, terrain: bool = True) -> None:
+    def __init__(self, viewer: Viewer, realtime: bool = False, terrain: bool = True) -> None:
         self.viewer = viewer
         self.realtime = realtime
         self.terrain = terrain
@@ -79,7 +45,7 @@ class TickUpdater:
         self._start: float | None = None
         self._sim_start = 0.0
 
-    def __call__(self, simulator: Simulation, gait: Gait) -> None:
+    def __call__(self, simulator: Simulator, gait: Gait) -> None:
         """Update the viewer if due.
 
         Raises:

@@ -1,9 +1,4 @@
-"""Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page.
-
-Every window mirrors the scene its MeshCat commands build, so that `SceneWindow.static_html`
-writes a standalone page without a server: `OfflineWindow` sends nothing, `CommandRecorder`
-keeps every command, `ForwardingWindow` forwards to any ``send``, `LiveWindow` feeds a server.
-"""
+"""Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page."""
 
 from __future__ import annotations
 
@@ -213,9 +208,9 @@ class CommandRecorder(SceneWindow):
     def visible(self, path: str) -> bool | None:
         """The last ``visible`` property sent to ``path``, or None if never sent."""
         for command in reversed(self.commands):
-            if isinstance(command, mc.SetProperty) and command.key == "visible":
-                if path_of(command) == path:
-                    return bool(command.value)
+            kind = isinstance(command, mc.SetProperty) and command.key == "visible"
+            if kind and path_of(command) == path:
+                return bool(command.value)
         return None
 
     def __repr__(self) -> str:

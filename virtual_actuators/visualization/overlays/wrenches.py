@@ -1,9 +1,8 @@
 """Virtual actuators: triads at their frames, the requested, produced and shared wrenches.
 
-A [`Solution`][]'s wrenches are along the reference frame's axes, moments about the action
-frame's origin; each chain's share is drawn at its reaction frame, its moment about that
-frame's origin on the actuator's rotational axes. The produced wrench is drawn when it
-differs from the request: orange when adjusted, red when the request was inadmissible.
+Wrenches are along the reference frame's axes, moments about the action frame's origin; a
+chain's share is drawn at its reaction frame, its moment about that frame's origin. The produced
+wrench is drawn when it differs from the request: orange when adjusted, red when inadmissible.
 """
 
 from __future__ import annotations

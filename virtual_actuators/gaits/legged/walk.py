@@ -1,4 +1,4 @@
-"""Any legged robot walking in MuJoCo: ``demo legged`` and [`run_legged_walk`][].
+"""Any legged robot walking in MuJoCo: ``demo legged``, [`run_legged_walk`][] and its episode.
 
 A fall is the base below half its standing height, tilted beyond 0.8 rad, or a part other than a
 foot touching the ground.
@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.plot_panels import new_figure, save_figure, set_heading
 from ...experiments.recorder import Recorder
@@ -21,20 +22,21 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
+from ..attitude import attitude_and_velocity
 from ..base import Walk, check_distribution, check_speed_bound
-from ..guidance import PlanarState, SinePath, TrackObject
+from ..guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
 from ..push import Push
 from ..registered import ConfiguredResult, WalkRequest
-from ..runner import terrain_points, trace_of
+from ..runner import FALL_PITCH, Episode, allowed_geoms, terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
-from .episode import TRACE_RATE, LeggedEpisode
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
 from .patterns import PATTERNS
 from .speeds import legged_speeds
 from .walker import LeggedWalker
 
+TRACE_RATE = 100.0  # [Hz]
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
 #: The legged walk's own desired speed [m/s], before it is moved into the pattern's range.
@@ -121,6 +123,90 @@ class LeggedResult(ConfiguredResult):
     def trace(self) -> dict[str, list]:
         """The base's ``t, x, y, z, roll, pitch, yaw, vx, vy`` at `TRACE_RATE`, and ``state``."""
         return trace_of(self.log)
+
+
+class LeggedEpisode(Episode):
+    """A legged walk under `drive`."""
+
+    ignore_unactuated = True
+
+    def __init__(
+        self,
+        gait: LeggedWalker,
+        simulator: Simulator,
+        terrain: Terrain,
+        recorder: Recorder,
+        config: LeggedWalkConfig,
+    ) -> None:
+        super().__init__(gait, simulator, terrain, recorder)
+        self.config = config
+        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
+        c, s = math.cos(config.direction), math.sin(config.direction)
+        gait.set_command((config.speed * c, config.speed * s), config.yaw_rate)
+        self.guidance: Guidance | None = None
+        if config.path == "sine":
+            self.guidance = SinePath(config.speed, config.amplitude, config.wavelength)
+        elif config.track:
+            self.guidance = TrackObject(config.speed, config.direction)
+        if self.guidance is not None:
+            q = simulator.q
+            yaw = attitude_and_velocity(q, simulator.v)[0]
+            self.guidance.begin(PlanarState(0.0, float(q[0]), float(q[1]), yaw, 0.0, 0.0))
+        self.pushed = config.push is None
+        model = simulator.mujoco_model
+        #: frames that may touch the ground: those sharing a geometry with a foot
+        self.allowed = frozenset(
+            name
+            for foot in gait.feet
+            for geom in model.frame_geoms.get(foot, ())
+            for name in model.geom_frames[geom]
+        ) | frozenset(gait.feet)
+        #: per geom, 1 when every frame owning it is allowed (the fall test's one call)
+        self.allowed_geoms = allowed_geoms(simulator, self.allowed.__contains__)
+        self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
+        self.yaw_unwrapped = self.yaw_last = 0.0
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
+        """The push when its time comes; the feet's contact switches."""
+        self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
+        if self.guidance is not None:
+            state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
+            self.gait.set_command(*self.guidance.command(state))
+        if not self.pushed and now >= self.config.push.time:
+            self.config.push.apply(self.simulator, self.gait.body_frame)
+            self.pushed = True
+        return self.simulator.contact_switches(self.gait.feet)
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Base low or tilted, or a part other than a foot's link on the ground."""
+        _, pitch, roll, _, _ = self.attitude
+        height = float(q[2] - self.terrain.height(float(q[0])))
+        if height < 0.5 * self.gait.stand_height or max(abs(roll), abs(pitch)) > FALL_PITCH:
+            return True
+        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= allowed
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """One sample of `CHANNELS`."""
+        machine = self.gait.machine
+        yaw, pitch, roll, vx, vy = self.attitude
+        self.yaw_unwrapped += wrap(yaw - self.yaw_last)
+        self.yaw_last = yaw
+        self.recorder.append(
+            state=machine.index[machine.current.name],
+            time=now,
+            x=q[0],
+            y=q[1],
+            z=float(q[2] - self.terrain.height(float(q[0]))),
+            roll=roll,
+            pitch=pitch,
+            yaw=self.yaw_unwrapped,
+            vx=vx,
+            vy=vy,
+            fallen=float(fallen),
+        )
 
 
 def run_legged_walk(

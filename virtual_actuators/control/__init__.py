@@ -3,11 +3,12 @@
 from . import events
 from .controller import Attachment, Controller, ControlOutput, velocity_names
 from .effort_rate import LimitFraction
-from .failures import FAILURE_POLICIES, AttachmentFailure
+from .failures import FAILURE_POLICIES
 from .machine_controller import MachineController
 from .run_loop import RunStats, run
 from .safe_action import SAFE_ACTIONS
 from .state_machine import Context, State, StateMachine, Transition
+from .tick import AttachmentFailure
 from .tick_rate import RATE_LIMIT, TickRate, bound_tick_rate, tick_rate
 
 __all__ = [

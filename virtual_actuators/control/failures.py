@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from ..exceptions import (
@@ -16,9 +13,7 @@ from ..exceptions import (
 )
 from ..kinematics.snapshot import Snapshot
 from .attachment import Attachment
-
-if TYPE_CHECKING:
-    from .tick import TickSums
+from .tick import AttachmentFailure, TickSums
 
 #: The values of ``Controller(on_failure=...)``.
 FAILURE_POLICIES = ("raise", "skip", "fallback")
@@ -30,32 +25,6 @@ _REASONS = (
     (InadmissibleWrenchError, "inadmissible"),
     (ConstraintError, "constraint"),
 )
-
-
-@dataclass(frozen=True, slots=True)
-class AttachmentFailure:
-    """One attachment's failure in a tick and what the controller did.
-
-    Attributes:
-        reason: ``"wrench"`` (the components gave no finite wrench), ``"singular"``,
-            ``"constraint"``, ``"inadmissible"``, ``"distribution"`` or ``"effort"``
-            (non-finite joint efforts).
-        error: The exception's type name, e.g. ``"ConstraintError"``.
-        message: The exception's message.
-        action: ``"skip"`` (zero effort) or ``"fallback"`` (the clipped partitioned
-            least-squares answer).
-        fallback_error: Why the fallback was not used (then ``action`` is ``"skip"``), or None.
-    """
-
-    reason: str
-    error: str
-    message: str
-    action: str
-    fallback_error: str | None = None
-
-    def __str__(self) -> str:
-        text = f"{self.reason} ({self.error}: {self.message}) -> {self.action}"
-        return text if self.fallback_error is None else f"{text} ({self.fallback_error})"
 
 
 def check_policy(on_failure: object, on_singular: object) -> str:

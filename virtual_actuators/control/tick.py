@@ -13,7 +13,32 @@ from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
 from ..vocabulary.arguments import describe
-from .failures import AttachmentFailure
+
+
+@dataclass(frozen=True, slots=True)
+class AttachmentFailure:
+    """One attachment's failure in a tick and what the controller did.
+
+    Attributes:
+        reason: ``"wrench"`` (the components gave no finite wrench), ``"singular"``,
+            ``"constraint"``, ``"inadmissible"``, ``"distribution"`` or ``"effort"``
+            (non-finite joint efforts).
+        error: The exception's type name, e.g. ``"ConstraintError"``.
+        message: The exception's message.
+        action: ``"skip"`` (zero effort) or ``"fallback"`` (the clipped partitioned
+            least-squares answer).
+        fallback_error: Why the fallback was not used (then ``action`` is ``"skip"``), or None.
+    """
+
+    reason: str
+    error: str
+    message: str
+    action: str
+    fallback_error: str | None = None
+
+    def __str__(self) -> str:
+        text = f"{self.reason} ({self.error}: {self.message}) -> {self.action}"
+        return text if self.fallback_error is None else f"{text} ({self.fallback_error})"
 
 
 @dataclass(repr=False, slots=True)

@@ -297,7 +297,11 @@ def _classes_defining(base: type, name: str) -> list[tuple[type, str]]:
 
 def _state_of(gait: object) -> str | None:
     """A gait's state name (None for a controller without a state machine)."""
+    from virtual_actuators.control.plan.compiled import CompiledMachine
+
     try:
+        if isinstance(gait, CompiledMachine):  # the walk's loop calls it directly
+            return gait.machine.state.name
         return str(gait.state)
     except Exception:  # no machine
         return None
@@ -311,7 +315,10 @@ def _walk_once(name: str, seconds: float, options: dict, events: TickEvents | No
 
     controller, cpu, physics, ends = [], [], [], []
     clock = time.perf_counter_ns
-    targets = _classes_defining(Gait, "compute")  # the gaits' compute
+    from virtual_actuators.control.plan.compiled import CompiledMachine
+
+    # the gaits' compute, and the compiled machine's (a walk's loop calls it directly)
+    targets = [*_classes_defining(Gait, "compute"), (CompiledMachine, "compute")]
     gait_probe = _Outermost(targets, cpu=True, events=events)
 
     def on_tick() -> None:  # after every physics step

@@ -56,6 +56,13 @@ class ContactView {
                                    static_cast<std::int64_t>(roles_.size()));
   }
 
+  // The OR of bits[geom] (one int64 per geom) over the robot geoms touching the terrain.
+  std::int64_t touch_mask(const I1& bits) const {
+    require(bits.shape(0) == roles_.size(), "bits must hold one entry per geom");
+    return va::mj::touch_mask(data_, roles_.data(), bits.data(),
+                              static_cast<std::int64_t>(roles_.size()));
+  }
+
   // Per robot-terrain contact on a geom of a group (groups: one per geom, -1 none), in contact
   // order: (group, normal force, tangential force 1, 2) [N] in the contact's frame
   // (mj_contactForce) into out ((>= ncon, 4)); their number. -1 without mj_contactForce.
@@ -109,6 +116,8 @@ void bind_contacts_view(nb::module_& m) {
            "no mj_contactForce).")
       .def("touches_outside", &ContactView::touches_outside, "allowed"_a,
            "Whether a robot geom not allowed (flag 0) touches the terrain.")
+      .def("touch_mask", &ContactView::touch_mask, "bits"_a,
+           "The OR of bits[geom] over the robot geoms touching the terrain (contact switches).")
       .def_prop_ro("ncon", &ContactView::ncon);
 #else
   m.attr("MJ_VERSION") = static_cast<std::int64_t>(0);

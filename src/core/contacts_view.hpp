@@ -56,4 +56,17 @@ inline bool touches_outside(const mjData* d, const std::int8_t* roles, const std
   return false;
 }
 
+// The OR of bits[geom] over the robot geoms touching the terrain in contacts not excluded: the
+// contact switches of up to 63 frames in one pass (bit k set: a geom of frame k touches).
+inline std::int64_t touch_mask(const mjData* d, const std::int8_t* roles, const std::int64_t* bits,
+                               std::int64_t ngeom) {
+  std::int64_t mask = 0;
+  int sign = 0;
+  for (int i = 0; i < d->ncon; ++i) {
+    const int geom = robot_geom(d->contact[i], roles, ngeom, &sign);
+    if (geom >= 0) mask |= bits[geom];
+  }
+  return mask;
+}
+
 }  // namespace va::mj

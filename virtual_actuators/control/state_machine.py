@@ -141,6 +141,11 @@ class StateMachine:
         """The current state."""
         return self._order[int(self._position.item(0))]
 
+    @property
+    def current_index(self) -> int:
+        """The current state's index in `index` (the declaration order)."""
+        return int(self._position.item(0))
+
     @current.setter
     def current(self, state: State) -> None:
         self._position[0] = self.index[state.name]

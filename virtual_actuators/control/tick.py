@@ -79,6 +79,10 @@ class ControlOutput:
         if self.rate_limited is None:
             self.rate_limited = np.zeros(self.tau.shape, dtype=bool)
 
+    def wrench_of(self, name: str) -> np.ndarray | None:
+        """The requested wrench of attachment ``name``, None when it is not active."""
+        return self.wrenches.get(name)
+
     @property
     def saturated_joints(self) -> list[str]:
         """Names of the velocity entries whose effort was clipped."""

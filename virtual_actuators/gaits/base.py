@@ -45,7 +45,6 @@ class Gait:
         self.controller = Controller(robot, clip=True, on_singular="skip")
         self.machine: StateMachine | None = None
         self.wiring: MachineController | None = None
-        self.last: ControlOutput | None = None
 
     def _finish(self, machine: StateMachine) -> None:
         self.machine = machine
@@ -108,8 +107,12 @@ class Gait:
         Returns:
             The [`ControlOutput`][] (its ``tau`` goes to the motors).
         """
-        self.last = self.wiring.compute(q, v, time, contacts)
-        return self.last
+        return self.wiring.compute(q, v, time, contacts)
+
+    @property
+    def last(self) -> ControlOutput | None:
+        """The last tick's output (None before the first)."""
+        return None if self.wiring is None else self.wiring.last
 
     def warm_up(self, q: np.ndarray) -> None:
         """Lower the gait (if it has not been) and warm its controller up, before a timed loop.

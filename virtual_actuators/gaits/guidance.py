@@ -47,7 +47,10 @@ class Guidance:
 
     Attributes:
         start: ``(x, y, yaw)`` of the body at `begin` [m, m, rad].
+        fixed: `command` does not depend on the state (a walk sets it once).
     """
+
+    fixed = False
 
     def __init__(self) -> None:
         self.start = (0.0, 0.0, 0.0)
@@ -76,6 +79,8 @@ class VelocityCommand(Guidance):
     Raises:
         InvalidInputError: A value that is not finite, or a negative speed.
     """
+
+    fixed = True
 
     def __init__(self, speed: float, direction: float = 0.0, yaw_rate: float = 0.0) -> None:
         super().__init__()

@@ -24,6 +24,9 @@ from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
 STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
+RECORD_EVERY = 4  # the log's rows: every this many ticks (250 Hz; the efforts: every tick)
+#: The attachments whose components move the body, in the order the wrench is read from.
+BODY_ATTACHMENTS = ("double", "left_stance", "right_stance")
 
 
 def with_speed(parameters, speed: float | None):
@@ -90,7 +93,7 @@ def _prepare(
     recorder = Recorder(
         STANDARD_CHANNELS,
         state_names=gait.machine.names,
-        capacity=int(duration * 1000) + 16,
+        capacity=int(duration * 1000) // RECORD_EVERY + 16,
         metadata={
             "robot": robot.name,
             "walk": walk.name,
@@ -121,9 +124,10 @@ def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
 
 
 class PlanarEpisode(Episode):
-    """A planar biped's walk under `drive`: every tick recorded (`STANDARD_CHANNELS`)."""
+    """A planar biped's walk under `drive`: `STANDARD_CHANNELS` every `RECORD_EVERY` ticks."""
 
     stance_every = STANCE_SAMPLING
+    record_every = RECORD_EVERY
 
     def __init__(
         self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder
@@ -138,6 +142,7 @@ class PlanarEpisode(Episode):
         self.nominal = gait.nominal_height()  # [m]
         self.has_slope = hasattr(gait, "slope")
         self.ground = 0.0  # [m], the terrain's height under the hip at this tick
+        self._body: dict[tuple[str, ...], str] = {}  # active set -> `_body_attachment`
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
         """The feet's contact switches (and the tick's `ground`)."""
@@ -154,16 +159,20 @@ class PlanarEpisode(Episode):
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
         """One row of `STANDARD_CHANNELS`."""
-        gait, nan = self.gait, math.nan
-        x, z_world, ground = q.item(self.x_index), q.item(self.z_index), self.ground
-        wrench_x, wrench_z, wrench_ry = _body_wrench(output).tolist()
-        double = "double" in output.active
+        gait, nan, ground = self.gait, math.nan, self.ground
+        z_world = q.item(self.z_index)
+        body = self._body.get(output.active)
+        if body is None:  # the attachment whose components move the body, per active set
+            body = self._body[output.active] = _body_attachment(output.active)
+        wrench = output.wrench_of(body) if body else None
+        wrench_x, wrench_z, wrench_ry = (0.0, 0.0, 0.0) if wrench is None else wrench.tolist()
+        double = body == "double"
         set_height, set_pitch = gait.granny.setpoint.tolist()  # [m], [rad]
         bunny = gait.bunny
         self.recorder.append_row(  # one value per STANDARD_CHANNELS entry, in its order
             (
                 now,
-                x,
+                q.item(self.x_index),
                 z_world - ground,
                 z_world,
                 q.item(self.pitch_index),
@@ -178,7 +187,7 @@ class PlanarEpisode(Episode):
                 gait.slope if self.has_slope else nan,
                 float(fallen),
             ),
-            gait.machine.index[gait.machine.current.name],
+            gait.machine.current_index,
         )
 
 
@@ -214,11 +223,6 @@ def _index(robot, joint: str) -> int:
     return model.joints[model.getJointId(joint)].idx_q
 
 
-def _body_wrench(output) -> np.ndarray:
-    """The virtual wrench (x, z, ry) the components ask of the body this tick."""
-    wrenches = output.wrenches  # a property: read once
-    for name in ("double", "left_stance", "right_stance"):
-        wrench = wrenches.get(name)
-        if wrench is not None:
-            return wrench
-    return np.zeros(3)
+def _body_attachment(active: tuple[str, ...]) -> str:
+    """The active attachment the body's wrench is read from ("" when none is)."""
+    return next((name for name in BODY_ATTACHMENTS if name in active), "")

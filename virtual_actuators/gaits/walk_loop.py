@@ -81,7 +81,7 @@ class WalkTicks:
 
     Attributes:
         robot: The gait's robot (the efforts ``va.run`` writes).
-        compute: The tick: the gait's ``compute``.
+        compute: The tick: the compiled machine's ``compute``, else the gait's.
         ticks: Ticks run.
         fall_time: Simulated time of the first fallen tick [s], None if none.
         fall_tick: Index of the first fallen tick, None if none.
@@ -98,7 +98,8 @@ class WalkTicks:
         gait, simulator = episode.gait, episode.simulator
         self.episode, self.gait, self.simulator = episode, gait, simulator
         self.robot = gait.robot
-        self.compute: Callable[..., Any] = gait.compute
+        compiled = gait.compiled  # warmed up by `drive`: its tick, without the two calls above it
+        self.compute: Callable[..., Any] = gait.compute if compiled is None else compiled.compute
         self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
         self._watched = bar is not None or on_tick is not None
         self._record_every = episode.record_every
@@ -134,16 +135,17 @@ class WalkTicks:
         fall_time = self.fall_time
         if fall_time is None and tick % self._stance_every == 0:
             self._sample(self._support())
+        stopping = fall_time is not None and self._stop_on_fall and now > fall_time + 0.5
         if output is not None:  # a tick that passed va.run's checks (q and v too)
             fallen = fall_time is not None or self._fallen(q)
             if fallen and fall_time is None:
                 self.fall_time, self.fall_tick = now, tick - 1
             every = self._record_every
-            if every == 1 or tick % every == 1:
-                self._record(now, q, v, output, fallen)
+            if every == 1 or tick % every == 1 or stopping or self._data.time >= self._end_time:
+                self._record(now, q, v, output, fallen)  # the log ends at the last tick
         if self._watched:
             self._watch(tick, output)
-        if fall_time is not None and self._stop_on_fall and now > fall_time + 0.5:
+        if stopping:
             self._stopping = True
 
     def _watch(self, tick: int, output: Any) -> None:

@@ -72,7 +72,8 @@ class ContactQueries:
         self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
-        self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms
+        self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms (or mask)
+        self._switch_bits: dict[tuple, np.ndarray] = {}  # frames' bit per geom (touch_mask)
         self._touched: tuple[int, ...] = ()
         mm = self.mujoco_model  # per geom id: a terrain geom, a robot geom or neither
         self._geom_roles = [
@@ -196,6 +197,21 @@ class ContactQueries:
                 if len(self._switch_geoms) >= 64:
                     self._switch_geoms.clear()
                 self._switch_geoms[frames] = pairs
+        view = self._contact_view
+        if view is not None and len(pairs) < 63:  # one compiled pass: a bit per frame
+            bits = self._switch_bits.get(pairs)
+            if bits is None:
+                bits = self._switch_bits[pairs] = np.zeros(self.model.ngeom, dtype=np.int64)
+                for k, (_, geoms) in enumerate(pairs):
+                    bits[list(geoms)] |= 1 << k
+            mask = view.touch_mask(bits)
+            out = self._switch_answers.get((pairs, mask))
+            if out is None:
+                out = {frame: bool(mask >> k & 1) for k, (frame, _) in enumerate(pairs)}
+                if len(self._switch_answers) >= 256:
+                    self._switch_answers.clear()
+                self._switch_answers[(pairs, mask)] = out
+            return dict(out)
         self._terrain_contacts()
         key = (pairs, self._touched)
         out = self._switch_answers.get(key)  # the same geoms touching: the same answers

@@ -178,8 +178,7 @@ class CompiledMachine:
                 q, v = q.q, q.v
             if not (
                 q.__class__ is _ARRAY and v.__class__ is _ARRAY and q.dtype is _FLOAT64
-                and v.dtype is _FLOAT64 and q.shape == self._q_shape and v.shape == self._v_shape
-                and time.__class__ is float and q.flags.c_contiguous and v.flags.c_contiguous
+                and v.dtype is _FLOAT64 and time.__class__ is float
             ):  # fmt: skip
                 q, v, time = self._checked(q, v, time)  # the typed errors, or q normalised
             switches = contacts or {}
@@ -187,7 +186,10 @@ class CompiledMachine:
                 self._switch(switches)
             self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
             core, tau = self.core, self._tau
-            outcome = core.tick(q, v, time, tau)
+            try:  # the core checks the sizes (and copies a strided array)
+                outcome = core.tick(q, v, time, tau)
+            except (TypeError, ValueError):
+                outcome = _INVALID
             if outcome == _INVALID:  # what the core does not accept as it is: the Python checks
                 q, v, time = self._checked(q, v, time)
                 self._tick = (q, v, time, switches)

@@ -58,6 +58,18 @@ class PlanOutput:
             cached = self._cache[what] = {name: values[a:b] for name, a, b in spans}
         return cached
 
+    def wrench_of(self, name: str) -> np.ndarray | None:
+        """The requested wrench of attachment ``name`` (a copy), None when it is not active."""
+        cached = self._cache.get("wrench")
+        if cached is not None:
+            return cached.get(name)
+        if name not in self.active:
+            return None
+        entry = self._compiled.entry(name)
+        if not entry.reports:
+            return None
+        return self._compiled.registers[entry.wrench : entry.wrench + entry.n].copy()
+
     @property
     def wrenches(self) -> dict[str, np.ndarray]:
         """Requested wrench per active attachment, on its actuator's axes."""

@@ -38,27 +38,26 @@ class HexapodEpisode(Episode):
         self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)  # yaw, pitch, roll, vx, vy this tick
         self.command = np.zeros(2)
+        if guidance.fixed:  # set once: the state does not change it
+            start = PlanarState(simulator.time, *guidance.start, 0.0, 0.0)
+            self.command, yaw_rate = guidance.command(start)
+            gait.set_command(self.command, yaw_rate)
         self.yaw_unwrapped, self.yaw_last = 0.0, 0.0
-        self._touching: frozenset[str] | None = None  # the last contact set and its switches
-        self._switches: dict[str, bool] = {}
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """Steer the walker along the guidance; the feet's contact switches (a shared dict)."""
+        """Steer the walker along the guidance; the feet's contact switches."""
         self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
-        state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
-        self.command, yaw_rate = self.guidance.command(state)
-        self.gait.set_command(self.command, yaw_rate)
-        touching = self.simulator.touching_frames()  # the same set object for the same contacts
-        if touching is not self._touching:
-            self._touching = touching
-            self._switches = {foot: foot in touching for foot in self.gait.contact_frames}
-        return self._switches
+        if not self.guidance.fixed:
+            state = PlanarState(now, q.item(0), q.item(1), yaw, vx, vy)
+            self.command, yaw_rate = self.guidance.command(state)
+            self.gait.set_command(self.command, yaw_rate)
+        return self.simulator.contact_switches(self.gait.contact_frames)
 
     def fallen(self, q: np.ndarray) -> bool:
         """Body low or tilted, something else than a foot down, or the pendulum leaning."""
         _, pitch, roll, _, _ = self.attitude
         gait, parameters = self.gait, self.gait.parameters
-        height = float(q[2] - self.terrain.height(q[0]))
+        height = q.item(2) - self.terrain.height(q.item(0))
         tilt = max(abs(roll), abs(pitch))
         fallen = has_fallen(self.simulator, height, tilt, parameters.height, self.feet)
         leaning = gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall
@@ -72,35 +71,38 @@ class HexapodEpisode(Episode):
         yaw, pitch, roll, vx, vy = self.attitude
         self.yaw_unwrapped += wrap(yaw - self.yaw_last)
         self.yaw_last = yaw
-        target = self.guidance.target(now) or (np.nan, np.nan)
+        target_x, target_y = self.guidance.target(now) or (math.nan, math.nan)
         wrench = _body_wrench(output)
         axes = rotation(q)
         c, s = math.cos(yaw), math.sin(yaw)
-        self.recorder.append(
-            state=machine.index[machine.current.name],
-            time=now,
-            x=q[0],
-            y=q[1],
-            z=float(q[2] - self.terrain.height(q[0])),
-            roll=roll,
-            pitch=pitch,
-            yaw=self.yaw_unwrapped,
-            vx=vx,
-            vy=vy,
-            vx_heading=c * vx + s * vy,
-            vx_command=float(self.command[0]),
-            yaw_rate=float(axes[2] @ (axes @ v[3:6])),
-            fx=c * wrench[0] + s * wrench[1],
-            pendulum=gait.pendulum_angle if gait.pendulum is not None else np.nan,
-            target_x=target[0],
-            target_y=target[1],
-            fallen=float(fallen),
+        self.recorder.append_row(  # one value per CHANNELS entry, in its order
+            (
+                now,
+                q.item(0),
+                q.item(1),
+                q.item(2) - self.terrain.height(q.item(0)),
+                roll,
+                pitch,
+                self.yaw_unwrapped,
+                vx,
+                vy,
+                c * vx + s * vy,
+                float(self.command[0]),
+                float(axes[2] @ (axes @ v[3:6])),
+                c * wrench.item(0) + s * wrench.item(1),
+                gait.pendulum_angle if gait.pendulum is not None else math.nan,
+                target_x,
+                target_y,
+                float(fallen),
+            ),
+            machine.current_index,
         )
 
 
 def _body_wrench(output) -> np.ndarray:
     """The virtual wrench the body's components ask for this tick (world axes)."""
     for name in ("support_a", "support_b", "support_all"):
-        if name in output.wrenches:
-            return output.wrenches[name]
+        wrench = output.wrench_of(name)
+        if wrench is not None:
+            return wrench
     return np.zeros(6)

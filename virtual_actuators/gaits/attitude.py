@@ -8,7 +8,7 @@ import numpy as np
 
 from ..vocabulary.scalar import asin, atan2, cos, maximum, minimum, select, sin, sqrt
 
-__all__ = ["attitude_and_velocity", "rotation", "rotation_vector_angles", "yaw_pitch_roll"]
+__all__ = ["attitude_and_velocity", "rotation_vector_angles", "yaw_pitch_roll"]
 
 _EPS = 2.220446049250313e-16  # double's machine epsilon
 _TAYLOR = _EPS**0.25  # below this angle Pinocchio's exp3 takes its Taylor expansions
@@ -42,18 +42,6 @@ def rotation_vector_angles(x: object, y: object, z: object) -> tuple:
     r21 = outer * z * y + cross * x
     r22 = outer * z * z + cosine
     return atan2(r10, r00), asin(maximum(-1.0, minimum(1.0, -r20))), atan2(r21, r22)
-
-
-def rotation(q: np.ndarray) -> np.ndarray:
-    """Body rotation from the free-flyer quaternion ``(x, y, z, w)`` of ``q[3:7]``."""
-    x, y, z, w = q[3:7]
-    return np.array(
-        (
-            (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
-            (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
-            (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
-        )
-    )
 
 
 def attitude_and_velocity(

@@ -23,7 +23,7 @@ from .smoothness import loop_smoothness
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
-STANCE_SAMPLING = 4  # stance contact forces are read every this many ticks (250 Hz)
+STANCE_SAMPLING = 10  # stance contact forces are read every this many ticks (100 Hz)
 RECORD_EVERY = 4  # the log's rows: every this many ticks (250 Hz; the efforts: every tick)
 #: The attachments whose components move the body, in the order the wrench is read from.
 BODY_ATTACHMENTS = ("double", "left_stance", "right_stance")
@@ -146,7 +146,8 @@ class PlanarEpisode(Episode):
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
         """The feet's contact switches (and the tick's `ground`)."""
-        self.ground = float(self.terrain.height(q.item(self.x_index)))
+        level = self.level
+        self.ground = float(self.terrain.height(q.item(self.x_index))) if level is None else level
         return self.simulator.contact_switches(self.gait.contact_frames)
 
     def fallen(self, q: np.ndarray) -> bool:

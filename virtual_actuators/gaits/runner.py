@@ -195,6 +195,7 @@ class Episode:
         feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
         base_rate: Where ``v`` holds the base's angular velocity (a free-flyer's ``v[3:6]``,
             body axes), or None.
+        level: The terrain's one height when it is flat [m], else None.
     """
 
     stance_every: int | None = None
@@ -211,6 +212,7 @@ class Episode:
         self.stance = StanceForces(simulator, terrain)
         self.feet = foot_geoms(simulator)
         self.base_rate: slice | None = slice(3, 6) if simulator.robot.floating_base else None
+        self.level: float | None = float(terrain.height(0.0)) if terrain.is_flat else None
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
         """Before the gait computes: steer it if need be; the contact switches it reads."""

@@ -109,6 +109,7 @@ class WalkTicks:
         self._data = simulator.data  # MuJoCo's state: its time read directly (a tick's cost)
         self._end_time = duration - 1e-9
         period = simulator.control_period
+        self._last_stamp = self._end_time - 1.5 * period  # only the last tick's stamp is later
         capacity = max(0, math.ceil((duration - self._data.time) / period)) + 2
         self._efforts = np.empty((capacity, simulator.robot.model.nv))  # [N m or N]
         self._velocities = np.empty_like(self._efforts)
@@ -141,7 +142,7 @@ class WalkTicks:
             if fallen and fall_time is None:
                 self.fall_time, self.fall_tick = now, tick - 1
             every = self._record_every
-            if every == 1 or tick % every == 1 or stopping or self._data.time >= self._end_time:
+            if every == 1 or tick % every == 1 or stopping or now > self._last_stamp:
                 self._record(now, q, v, output, fallen)  # the log ends at the last tick
         if self._watched:
             self._watch(tick, output)

@@ -73,7 +73,7 @@ class ContactQueries:
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
         self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms (or mask)
-        self._switch_bits: dict[tuple, np.ndarray] = {}  # frames' bit per geom (touch_mask)
+        self._switch_masks: dict[tuple, tuple] = {}  # frames -> (bit per geom, answers by mask)
         self._touched: tuple[int, ...] = ()
         mm = self.mujoco_model  # per geom id: a terrain geom, a robot geom or neither
         self._geom_roles = [
@@ -183,6 +183,19 @@ class ContactQueries:
         Raises:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
         """
+        try:
+            fast = self._switch_masks.get(frames) if frames.__class__ is tuple else None
+        except TypeError:  # an unhashable entry: _frame_geoms names it below
+            fast = None
+        if fast is not None:  # frames seen before: one compiled pass, answers per bit mask
+            bits, answers = fast
+            mask = self._contact_view.touch_mask(bits)
+            out = answers.get(mask)
+            if out is None:
+                if len(answers) >= 256:
+                    answers.clear()
+                out = answers[mask] = {frame: bool(mask >> k & 1) for k, frame in enumerate(frames)}
+            return dict(out)
         if frames.__class__ is tuple and not frames:  # no switch asked (the turkey has none)
             return {}
         pairs = None
@@ -197,21 +210,14 @@ class ContactQueries:
                 if len(self._switch_geoms) >= 64:
                     self._switch_geoms.clear()
                 self._switch_geoms[frames] = pairs
-        view = self._contact_view
-        if view is not None and len(pairs) < 63:  # one compiled pass: a bit per frame
-            bits = self._switch_bits.get(pairs)
-            if bits is None:
-                bits = self._switch_bits[pairs] = np.zeros(self.model.ngeom, dtype=np.int64)
-                for k, (_, geoms) in enumerate(pairs):
-                    bits[list(geoms)] |= 1 << k
-            mask = view.touch_mask(bits)
-            out = self._switch_answers.get((pairs, mask))
-            if out is None:
-                out = {frame: bool(mask >> k & 1) for k, (frame, _) in enumerate(pairs)}
-                if len(self._switch_answers) >= 256:
-                    self._switch_answers.clear()
-                self._switch_answers[(pairs, mask)] = out
-            return dict(out)
+        if self._contact_view is not None and len(pairs) < 63 and frames in self._switch_geoms:
+            bits = np.zeros(self.model.ngeom, dtype=np.int64)  # bit k: a geom of frame k
+            for k, (_, geoms) in enumerate(pairs):
+                bits[list(geoms)] |= 1 << k
+            if len(self._switch_masks) >= 64:
+                self._switch_masks.clear()
+            self._switch_masks[frames] = (bits, {})  # its answers: at most 2^k, as touched
+            return self.contact_switches(frames)
         self._terrain_contacts()
         key = (pairs, self._touched)
         out = self._switch_answers.get(key)  # the same geoms touching: the same answers

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from types import MappingProxyType
+
 import numpy as np
 
 __all__ = ["PlanOutput"]
@@ -17,10 +20,11 @@ class PlanOutput:
         held: ``(nv,)`` bool, True where the effort rate limit held the effort back.
     """
 
-    __slots__ = (
-        "_cache", "_compiled", "active", "failed", "failures", "joint_names", "rate_limited",
-        "tau", "tau_requested",
-    )  # fmt: skip
+    __slots__ = ("_cache", "_compiled", "active", "rate_limited", "tau", "tau_requested")
+
+    #: A compiled tick has no failures (a failing tick is the Python machine's).
+    failed: Mapping[str, str] = MappingProxyType({})
+    failures: Mapping[str, object] = MappingProxyType({})
 
     def __init__(
         self, compiled: object, active: tuple[str, ...], tau: np.ndarray, held: np.ndarray
@@ -29,11 +33,13 @@ class PlanOutput:
         self.active = active
         self.tau = tau
         self.tau_requested = compiled.requested.copy()
-        self.joint_names = compiled.joint_names
-        self.failed: dict[str, str] = {}
-        self.failures: dict = {}
         self.rate_limited = held
         self._cache: dict[str, dict] = {}
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """Names of the velocity entries."""
+        return self._compiled.joint_names
 
     @property
     def saturated(self) -> np.ndarray:

@@ -10,7 +10,7 @@ from ...control.controller import ControlOutput
 from ...experiments.recorder import Recorder
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..attitude import attitude_and_velocity, rotation
+from ..attitude import attitude_and_velocity
 from ..guidance import Guidance, PlanarState, wrap
 from ..runner import Episode, has_fallen
 from .walker import HexapodWalker
@@ -37,6 +37,8 @@ class HexapodEpisode(Episode):
         self.guidance = guidance
         self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)  # yaw, pitch, roll, vx, vy this tick
+        self.nominal = gait.parameters.height  # [m]
+        self.pendulum_fall = gait.parameters.pendulum_fall  # [rad]
         self.command = np.zeros(2)
         if guidance.fixed:  # set once: the state does not change it
             start = PlanarState(simulator.time, *guidance.start, 0.0, 0.0)
@@ -56,12 +58,13 @@ class HexapodEpisode(Episode):
     def fallen(self, q: np.ndarray) -> bool:
         """Body low or tilted, something else than a foot down, or the pendulum leaning."""
         _, pitch, roll, _, _ = self.attitude
-        gait, parameters = self.gait, self.gait.parameters
-        height = q.item(2) - self.terrain.height(q.item(0))
+        level = self.level
+        height = q.item(2) - (self.terrain.height(q.item(0)) if level is None else level)
         tilt = max(abs(roll), abs(pitch))
-        fallen = has_fallen(self.simulator, height, tilt, parameters.height, self.feet)
-        leaning = gait.pendulum is not None and abs(gait.pendulum_angle) > parameters.pendulum_fall
-        return fallen or leaning
+        if has_fallen(self.simulator, height, tilt, self.nominal, self.feet):
+            return True
+        gait = self.gait
+        return gait.pendulum is not None and abs(gait.pendulum_angle) > self.pendulum_fall
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
@@ -73,14 +76,15 @@ class HexapodEpisode(Episode):
         self.yaw_last = yaw
         target_x, target_y = self.guidance.target(now) or (math.nan, math.nan)
         wrench = _body_wrench(output)
-        axes = rotation(q)
+        x, y, z, w = q[3:7].tolist()  # the body's world z rate: row z of its rotation . omega
+        row_z = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
         c, s = math.cos(yaw), math.sin(yaw)
         self.recorder.append_row(  # one value per CHANNELS entry, in its order
             (
                 now,
                 q.item(0),
                 q.item(1),
-                q.item(2) - self.terrain.height(q.item(0)),
+                q.item(2) - (self.terrain.height(q.item(0)) if self.level is None else self.level),
                 roll,
                 pitch,
                 self.yaw_unwrapped,
@@ -88,7 +92,7 @@ class HexapodEpisode(Episode):
                 vy,
                 c * vx + s * vy,
                 float(self.command[0]),
-                float(axes[2] @ (axes @ v[3:6])),
+                sum(r * rate for r, rate in zip(row_z, v[3:6].tolist(), strict=True)),
                 c * wrench.item(0) + s * wrench.item(1),
                 gait.pendulum_angle if gait.pendulum is not None else math.nan,
                 target_x,

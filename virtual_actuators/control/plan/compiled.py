@@ -102,7 +102,6 @@ class CompiledMachine:
         self.pieces = lowering.pieces
         self._contacts = [(f, r, required) for f, (r, required) in lowering.contacts.items()]
         self._tau = np.zeros(tree.nv)
-        self._q_shape, self._v_shape = (tree.nq,), (tree.nv,)
         self._free = np.zeros(tree.nv, dtype=bool)  # no entry held by the rate limit
         self._free.flags.writeable = False
         self._limit_rate = controller.limit_rate

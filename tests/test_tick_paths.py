@@ -15,6 +15,7 @@ import virtual_actuators as va
 from virtual_actuators.actuators.serial import wrench_array
 from virtual_actuators.components.walking import GrannyWalker
 from virtual_actuators.exceptions import InvalidInputError
+from virtual_actuators.gaits.planar_walk import RECORD_EVERY
 from virtual_actuators.kinematics.snapshot import Snapshot
 from virtual_actuators.simulation import Simulator
 from virtual_actuators.simulation.actuation import torques_to_ctrl
@@ -261,7 +262,9 @@ def test_walk_rows_land_in_their_channels():
 
     log = run_walk("turkey-walk", duration=0.4, progress=False, terrain="flat:0.1").log
     time = log["time"]
-    assert np.allclose(np.diff(time), 1e-3)
+    steps = np.diff(time)  # a row every RECORD_EVERY ticks of 1 ms, and the last tick's
+    assert np.allclose(steps[:-1], RECORD_EVERY * 1e-3) and 0 < steps[-1] <= RECORD_EVERY * 1e-3
+    assert time[-1] == pytest.approx(0.399)
     assert np.allclose(log["z_world"] - log["z"], 0.1)  # ground height
     assert np.allclose(np.gradient(log["x"], time)[5:-5], log["xdot"][5:-5], atol=0.02)
     assert not log["fallen"].any()

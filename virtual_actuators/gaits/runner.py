@@ -82,7 +82,7 @@ class WalkResult:
     """What a walk produced.
 
     Attributes:
-        log: Every control tick.
+        log: The walk's rows: every few ticks (250 Hz planar, 100 Hz others) and the last.
         metrics: The summary (``metrics.to_dict()`` is the JSON).
         gait: The gait (its state machine history included).
         simulator: The simulator in its final state.

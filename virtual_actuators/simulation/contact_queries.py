@@ -69,11 +69,9 @@ class ContactQueries:
         self._contacts: list[tuple[int, int, float]] = []
         self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
         self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
-        self._switch_geoms: dict[tuple[str, ...], tuple[tuple[str, frozenset[int]], ...]] = {}
         self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
         self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
-        self._switch_answers: dict[tuple, dict[str, bool]] = {}  # by frames and geoms (or mask)
-        self._switch_masks: dict[tuple, tuple] = {}  # frames -> (bit per geom, answers by mask)
+        self._switch_sets: dict[tuple[str, ...], tuple] = {}  # contact_switches, by frames
         self._touched: tuple[int, ...] = ()
         mm = self.mujoco_model  # per geom id: a terrain geom, a robot geom or neither
         self._geom_roles = [
@@ -183,52 +181,47 @@ class ContactQueries:
         Raises:
             FrameNotFoundError: If a frame is not the robot's (with the closest names).
         """
+        key = frames if frames.__class__ is tuple else tuple(frames)
         try:
-            fast = self._switch_masks.get(frames) if frames.__class__ is tuple else None
+            entry = self._switch_sets.get(key)
         except TypeError:  # an unhashable entry: _frame_geoms names it below
-            fast = None
-        if fast is not None:  # frames seen before: one compiled pass, answers per bit mask
-            bits, answers = fast
+            entry = None
+        if entry is None:
+            entry = self._switch_set(key)
+        bits, py_bits, answers = entry
+        if bits is not None:  # one compiled pass over MuJoCo's contact list
             mask = self._contact_view.touch_mask(bits)
-            out = answers.get(mask)
-            if out is None:
-                if len(answers) >= 256:
-                    answers.clear()
-                out = answers[mask] = {frame: bool(mask >> k & 1) for k, frame in enumerate(frames)}
-            return dict(out)
-        if frames.__class__ is tuple and not frames:  # no switch asked (the turkey has none)
-            return {}
-        pairs = None
-        if isinstance(frames, tuple):
-            try:
-                pairs = self._switch_geoms.get(frames)
-            except TypeError:  # an unhashable entry: _frame_geoms names it below
-                pass
-        if pairs is None:  # checked (unknown frames raise) and cached per tuple of names
-            pairs = tuple((frame, self._frame_geoms(frame)) for frame in frames)
-            if isinstance(frames, tuple) and all(isinstance(frame, str) for frame in frames):
-                if len(self._switch_geoms) >= 64:
-                    self._switch_geoms.clear()
-                self._switch_geoms[frames] = pairs
-        if self._contact_view is not None and len(pairs) < 63 and frames in self._switch_geoms:
-            bits = np.zeros(self.model.ngeom, dtype=np.int64)  # bit k: a geom of frame k
-            for k, (_, geoms) in enumerate(pairs):
-                bits[list(geoms)] |= 1 << k
-            if len(self._switch_masks) >= 64:
-                self._switch_masks.clear()
-            self._switch_masks[frames] = (bits, {})  # its answers: at most 2^k, as touched
-            return self.contact_switches(frames)
-        self._terrain_contacts()
-        key = (pairs, self._touched)
-        out = self._switch_answers.get(key)  # the same geoms touching: the same answers
+        else:
+            self._terrain_contacts()
+            mask = 0
+            for geom in self._touched:
+                mask |= py_bits[geom]
+        out = answers.get(mask)  # the same frames touching: the same answers
         if out is None:
-            touched = set(self._touched)
-            out = {frame: not geoms.isdisjoint(touched) for frame, geoms in pairs}
-            if len(self._switch_answers) >= 256:
-                self._switch_answers.clear()
-            self._switch_answers[key] = out
-        self._switches.update(out)  # in_contact's cache (reset by _terrain_contacts)
+            if len(answers) >= 256:
+                answers.clear()
+            out = answers[mask] = {frame: bool(mask >> k & 1) for k, frame in enumerate(key)}
         return dict(out)
+
+    def _switch_set(self, frames: tuple) -> tuple:
+        """Per geom, the bit mask of the frames it belongs to (bit k: frame k); cached by names.
+
+        Returns:
+            ``(int64 bits for the core or None, the same bits as Python ints, answers by mask)``.
+
+        Raises:
+            FrameNotFoundError: If a frame is not the robot's (with the closest names).
+        """
+        py_bits = [0] * self.model.ngeom
+        for k, frame in enumerate(frames):
+            for geom in self._frame_geoms(frame):
+                py_bits[geom] |= 1 << k
+        fits = self._contact_view is not None and len(frames) < 63
+        entry = (np.array(py_bits, dtype=np.int64) if fits else None, py_bits, {})
+        if len(self._switch_sets) >= 64:
+            self._switch_sets.clear()
+        self._switch_sets[frames] = entry  # the frames are names: _frame_geoms checked them
+        return entry
 
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, world axes [N], shape ``(3,)``.

@@ -229,8 +229,8 @@ class ParallelVirtualActuator:
         weights: Mapping[str, float] | Sequence[float] | np.ndarray | None,
     ) -> Solution:
         """[`solve`][] past its one-call path (``strict``, ``tol``, ``compiled`` checked)."""
-        plain = not isinstance(q, Snapshot)
-        state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
+        plain, kinematics = not isinstance(q, Snapshot), self.kinematics
+        state = kinematics.tree.check_configuration(q) if plain else kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
         request = self.plan(free, method, compiled, weights)
         tick = None

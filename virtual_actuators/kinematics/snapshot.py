@@ -12,9 +12,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .buffer_layout import buffer_layout
 from .kernels import center_of_mass_of, velocity_of_point
-from .tree import KinematicTree, tree_of
+from .tree import BufferLayout, KinematicTree, buffer_layout, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
 _local = threading.local()
@@ -97,9 +96,9 @@ class Snapshot:
             checked = tree.check_velocity(v)
             v = checked.copy() if checked is v or checked.base is not None else checked
         self.v = v
-        self.backend = "compiled" if backend == "auto" and tree.compiled else backend
-        if self.backend == "auto":
-            self.backend = "pinocchio"
+        if backend == "auto":
+            backend = "compiled" if tree.compiled else "pinocchio"
+        self.backend = backend
         self._joints = None
         self._jacobian = None
         self._frames = None
@@ -113,13 +112,10 @@ class Snapshot:
     # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            buffer, layout, self._rows = self.tree.core_pass(self.q, self.v)
-            self._buffer, self._layout = buffer, layout  # the rest cut on first read
-            self._frames = buffer[layout.frames].reshape(layout.frames_shape)
-            self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+            self._take(*self.tree.core_pass(self.q, self.v))
             return
         model = self.tree.model
-        data = self.tree.thread_data()
+        data = thread_data(model)
         pin.computeJointJacobians(model, data, self.q)
         pin.updateFramePlacements(model, data)
         self._jacobian = np.array(data.J).reshape(6, model.nv)  # (6,) when nv is 1
@@ -133,6 +129,12 @@ class Snapshot:
         self._frames, self._rows = frames, rows
         oMi = data.oMi
         self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
+
+    def _take(self, buffer: np.ndarray, layout: BufferLayout, rows: dict[int, int]) -> None:
+        """Keep the core's pass ``buffer``: frames and Jacobian now, the rest cut on first read."""
+        self._buffer, self._layout, self._rows = buffer, layout, rows
+        self._frames = buffer[layout.frames].reshape(layout.frames_shape)
+        self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
 
     def _joint_table(self) -> np.ndarray:
         """``(njoints, 12)`` joint placements (the pass runs first if it has not)."""
@@ -315,10 +317,7 @@ class Snapshot:
         """
         snapshot = cls(robot, q, v)
         tree = snapshot.tree
-        layout = buffer_layout(None, tree.njoints, tree.nv, len(rows))
-        snapshot._buffer, snapshot._layout, snapshot._rows = buffer, layout, rows
-        snapshot._frames = buffer[layout.frames].reshape(layout.frames_shape)
-        snapshot._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+        snapshot._take(buffer, buffer_layout(None, tree.njoints, tree.nv, len(rows)), rows)
         return snapshot
 
     def __repr__(self) -> str:

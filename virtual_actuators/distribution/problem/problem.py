@@ -12,7 +12,8 @@ import pinocchio as pin
 
 from ...contacts.kinds import ball_axes, parse_contacts
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ...kinematics.relative import KinematicState, RelativeKinematics, skew
+from ...kinematics.kernels import skew
+from ...kinematics.relative import KinematicState, RelativeKinematics
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.axes import AXES
 from ...vocabulary.constraints import DesignConstraint

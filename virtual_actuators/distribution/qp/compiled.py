@@ -1,12 +1,15 @@
 """The QP distribution's per-tick matrices through the compiled core: tables built once.
 
 It applies when the core is built, every chain's columns ``[J_i, ball_i]`` are independent and
-no hard row depends on the configuration; otherwise the QP builds its rows with numpy.
+no hard row depends on the configuration; otherwise the QP builds its rows with numpy. The core's
+reduced QP (``src/core/qp.hpp``) is in the chains' free coordinates: per chain
+``F_i = x0_i + N_i z_i``, ``N_i`` orthonormal.
 """
 
 from __future__ import annotations
 
 import threading
+from typing import NamedTuple
 
 import numpy as np
 
@@ -14,15 +17,30 @@ from ...core import CORE, has
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
-from .buffer import HEADER, Answer, views
+
+#: entries of the per-chain integer table's header: its columns, own constrained joints, ball axes
+HEADER = 3
+
+
+class Answer(NamedTuple):
+    """The core's read-out of a solved reduced QP: the tick's buffer and norms, the active rows."""
+
+    out: np.ndarray
+    residual: float
+    scale: float
+    rounding: float
+    active: np.ndarray
 
 
 class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
     Attributes:
-        buffer: The flat buffer the core's ``QP.reduced`` writes.
-        layout: Offsets and sizes of the arrays in it.
+        buffer: The flat buffer the core's ``QP.reduced`` writes: the null-space bases ``N``
+            ``(p n, d)``, the particular forces ``x0`` ``(p n,)``, ``equality`` ``(s + k, d)``,
+            ``equality_rhs``, ``inequality`` ``(m, d)``, ``lows``, ``uppers``, the torque map
+            ``(nv, d)``, the torques of ``x0`` and the springs' torques (``nv`` each).
+        layout: The ten arrays' offsets, then ``d``, ``s + k``, ``m`` and ``s``.
         kept: ``(k,)`` indices of the prescribed axes.
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
             sides and bounds), ``equality`` with the ``design_rows`` design rows first.
@@ -34,15 +52,17 @@ class Workspace:
         rows_eq = design + len(kept)
         sizes = (p_n * free, p_n, rows_eq * free, rows_eq, rows_in * free, rows_in, rows_in,
                  nv * free, nv, nv)  # fmt: skip
-        offsets = np.concatenate(([0], np.cumsum(sizes)))
+        offsets = np.concatenate(([0], np.cumsum(sizes))).tolist()
         self.layout = np.array([*offsets[:-1], free, rows_eq, rows_in, design], dtype=np.int64)
         self.buffer = np.zeros(int(offsets[-1]))
         self.kept = kept
         self.design_rows = design
         self.pn, self.nv = p_n, nv
-        arrays = views(self.buffer, self.layout, p_n, nv)
-        self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
-        self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
+        equality, self.equality_rhs, inequality, self.lows, self.uppers = (
+            self.buffer[offsets[i] : offsets[i + 1]] for i in range(2, 7)
+        )
+        self.equality = equality.reshape((rows_eq, free))
+        self.inequality = inequality.reshape((rows_in, free))
         self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
         self.scale = 1.0
 

@@ -10,10 +10,12 @@ import numpy as np
 
 from ..contacts import declare
 from ..distribution.methods import METHODS, Backend, Request, dispatch
-from ..distribution.partitioned.buffer_solve import ConfigurationSolve, SnapshotSolve
-from ..distribution.partitioned.compiled import CompiledDistribution
-from ..distribution.partitioned.dense import DenseSolver
-from ..distribution.partitioned.numeric import NumpyBackend
+from ..distribution.partitioned.compiled import (
+    CompiledDistribution,
+    ConfigurationSolve,
+    SnapshotSolve,
+)
+from ..distribution.partitioned.numeric import DenseSolver, NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.declaration import check_passive
@@ -256,7 +258,11 @@ class ParallelVirtualActuator:
             request = self.plan()
         except VirtualActuatorError:  # too many constraints: the general path raises it
             return None
-        return self.compiled.configuration_solve(request, self.reactions, self.axes, self._floating)
+        if self.kinematics.tree.core_tree is None:
+            return None
+        return self.compiled.buffer_solve(
+            ConfigurationSolve, request, self.reactions, self.axes, self._floating
+        )
 
     def solve_checked(
         self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6

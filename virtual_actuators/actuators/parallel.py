@@ -21,22 +21,14 @@ from ..distribution.problem import DistributionProblem
 from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.result import Solution, inadmissible
-from ..exceptions import JointNotFoundError, VirtualActuatorError
+from ..exceptions import InvalidInputError, JointNotFoundError, VirtualActuatorError
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.arguments import check_flag, check_names, check_robot
+from ..vocabulary.arguments import check_flag, check_names, check_robot, check_sequence, describe
 from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint
-from .parallel_checks import (
-    FreeAxes,
-    check_design,
-    check_forces,
-    check_method,
-    check_reactions,
-    preferred_entries,
-    resolve_chains,
-)
+from .parallel_checks import FreeAxes, check_forces, preferred_entries, resolve_chains
 from .producible import give_way, producible_directions
 from .serial import check_tolerance, wrench_array
 
@@ -102,13 +94,13 @@ class ParallelVirtualActuator:
         check_robot(robot, "ParallelVirtualActuator")
         self.robot = robot
         self.action, self.reference = action, reference
-        self.reactions = check_reactions(reactions)
+        self.reactions, action_id, reaction_ids = resolve_chains(robot, action, reactions)
         self.axes = parse_axes(axes)
         model = robot.model
-        action_id, reaction_ids = resolve_chains(robot, action, self.reactions)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
         passive = check_passive(passive)
-        self.design = check_design(design)
+        kinds = "design constraints (va.Equal, va.Linear, va.EqualTorque)"
+        self.design = tuple(check_sequence(design, "design", kinds, single=DesignConstraint))
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
@@ -306,7 +298,10 @@ class ParallelVirtualActuator:
             ConstraintError: Too many constraints for those free axes.
         """
         free, keep = self._free_axes.check(free)
-        check_method(method)
+        if not isinstance(method, str) or method not in METHODS:
+            raise InvalidInputError(
+                f"method must be one of {list(METHODS)}, got {describe(method)}."
+            )
         if weights is not None:
             weights = check_weights(weights, self.axes)
         return Request(method, free, keep, compiled, weights)

@@ -115,6 +115,7 @@ class CompiledQPMatrices:
         self.rows_in = rows_in
         self._local = threading.local()
         kin = problem.kinematics
+        self._max_row = int(kin.frame_rows.max())
         #: whether the compiled path can build this declaration's ticks
         self.applicable = (
             has("QP")
@@ -122,42 +123,35 @@ class CompiledQPMatrices:
             and not problem.coupled_v
             and not len(problem.torque_pairs)
         )
-        self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
-        self.frame_rows = kin.frame_rows
-        self._max_row = int(self.frame_rows.max())
+        #: the compiled core's QP (these tables, copied into C++), or None: the numpy path
+        self.core = None
+        if not self.applicable:
+            return
+        # per chain: HEADER counts, then its velocity columns, its own constrained joints'
+        # positions among them and its ball axes, in blocks of widths K, C and 3
         width_k = max(len(c) for c in kin.chain_columns)
         width_c = max(g.constrained.shape[1] for g in problem.groups)
-        header = HEADER
-        ints = np.zeros((problem.p, header + width_k + width_c + 3), dtype=np.int64)
+        ints = np.zeros((problem.p, HEADER + width_k + width_c + 3), dtype=np.int64)
         signs = np.zeros((problem.p, width_k))
+        at = (HEADER, HEADER + width_k, HEADER + width_k + width_c)
         for group in problem.groups:
             k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
             for j, chain in enumerate(group.chains):
-                ints[chain, :header] = (k, c, nb)
-                ints[chain, header : header + k] = group.columns[j]
-                ints[chain, header + width_k : header + width_k + c] = group.constrained[j]
-                ints[chain, header + width_k + width_c : header + width_k + width_c + nb] = (
-                    group.ball_axes
-                )
+                ints[chain, :HEADER] = (k, c, nb)
+                ints[chain, at[0] : at[0] + k] = group.columns[j]
+                ints[chain, at[1] : at[1] + c] = group.constrained[j]
+                ints[chain, at[2] : at[2] + nb] = group.ball_axes
                 signs[chain, :k] = group.signs[j]
-        self.chain_ints, self.chain_signs = ints, signs
-        self.springs = spring_table(problem)
-        self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
-        self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
-        self.normals_world = np.ascontiguousarray(normals_world, dtype=float)
-        self.frame_normals = np.asarray(frame_normals, dtype=np.int64)
-        self.settings = np.array([*np.asarray(cone, dtype=float), static_scale])
-        self.soles = np.ascontiguousarray(soles, dtype=float)
-        self.limited_v = np.asarray(limited_v, dtype=np.int64)
-        self.limits = np.asarray(limits, dtype=float)
-        #: the compiled core's QP (these tables, owned in C++), or None: the numpy path
-        self.core = None
-        if self.applicable:
-            self.core = CORE.QP(
-                self.axis_rows, self.frame_rows, self.chain_ints, self.chain_signs,
-                self.springs, self.const_rows, self.const_rhs, self.normals_world,
-                self.frame_normals, self.settings, self.soles, self.limited_v, self.limits,
-            )  # fmt: skip
+        self.core = CORE.QP(
+            np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
+            spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),
+            np.ascontiguousarray(problem.constant_rhs, dtype=float),
+            np.ascontiguousarray(normals_world, dtype=float),
+            np.asarray(frame_normals, dtype=np.int64),
+            np.array([*np.asarray(cone, dtype=float), static_scale]),
+            np.ascontiguousarray(soles, dtype=float), np.asarray(limited_v, dtype=np.int64),
+            np.asarray(limits, dtype=float),
+        )  # fmt: skip
 
     def workspace(self, keep: np.ndarray) -> Workspace:
         """This thread's workspace for these prescribed axes (made once)."""
@@ -171,7 +165,7 @@ class CompiledQPMatrices:
             free = sum(g.size * (g.columns.shape[1] - g.constrained.shape[1])
                        for g in problem.groups)  # fmt: skip
             workspace = cache[key] = Workspace(
-                problem.p * problem.n, problem.model.nv, free, len(self.const_rhs),
+                problem.p * problem.n, problem.model.nv, free, len(problem.constant_rhs),
                 np.flatnonzero(keep).astype(np.int64), self.rows_in,
             )  # fmt: skip
         return workspace

@@ -100,19 +100,11 @@ def close_tick(
 ) -> TickResult:
     """The tail of a numpy solve: efforts, produced and requested wrenches, residual, norms.
 
-    Args:
-        raw: The solver's answer, its forces scaled by ``factor`` (the returned ``raw`` holds
-            them unscaled).
-        wrench: ``(n,)`` the request (unscaled).
-        keep: ``(n,)`` bool, the prescribed axes.
-        torques: ``(p, n)`` forces -> ``(nv,)`` joint torques ``sum_i J_i^T F_i``.
-        actuated: ``(nv,)`` bool, the joints that get a torque.
-        passive: ``(nv,)`` torques of the passive springs.
-        factor: The power of two the solve's right-hand sides were multiplied by.
-        accuracy: Added to the rounding (a solver's own accuracy, e.g. the QP's).
-
-    Returns:
-        The `TickResult` (``compiled`` False), its norms taken on the scaled forces.
+    ``raw``'s forces are scaled by ``factor`` (the power of two the solve's right-hand sides were
+    multiplied by; the returned ``raw`` holds them unscaled), ``wrench`` is not; ``torques`` maps
+    ``(p, n)`` forces to ``sum_i J_i^T F_i``, ``actuated`` masks the joints that get a torque,
+    ``passive`` holds the springs' torques and ``accuracy`` (a solver's own, e.g. the QP's) is
+    added to the rounding. The norms are taken on the scaled forces; ``compiled`` is False.
     """
     forces_scaled = raw.forces
     raw = dataclasses.replace(raw, forces=forces_scaled / factor)
@@ -215,13 +207,7 @@ class Solution:
     ) -> Solution:
         """The solution of a backend's ``tick``, labelled by the one admissibility rule.
 
-        Args:
-            tick: What the backend returned.
-            tol: Relative tolerance of the request (``solve(..., tol=)``).
-            reactions: The actuator's reaction frames.
-            axes: Its axes.
-            free: The axes left to the solver.
-            floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
+        ``tol``: ``solve(..., tol=)``; ``floating``: ``base_effort`` is ``tau[:6]``.
         """
         raw, tau = tick.raw, tick.tau
         limit = tolerance(tol, tick.scale, tick.rounding)

@@ -238,14 +238,7 @@ class RelativeKinematics:
         return frames
 
     def compute(self, state: np.ndarray | Snapshot) -> KinematicState:
-        """Return the Jacobian rows in {O} and the frames' placements at a snapshot (or ``q``).
-
-        Args:
-            state: A [`Snapshot`][], or a configuration ``(model.nq,)``.
-
-        Returns:
-            The `KinematicState`.
-        """
+        """The `KinematicState` (Jacobian rows in {O}, placements) at a [`Snapshot`][] or ``q``."""
         snapshot = self.snapshot(state)
         frames = self._frames(snapshot, self._rows_end)
         position_b = frames[self._row_b, 9:]
@@ -261,13 +254,9 @@ class RelativeKinematics:
         )
 
     def rotations(self, state: np.ndarray | Snapshot) -> tuple[np.ndarray, np.ndarray]:
-        """World orientations of {O} and of every {A_i}, without any Jacobian.
+        """World orientations ``(rotation_o (3, 3), rotation_a (p, 3, 3))``, without any Jacobian.
 
-        Args:
-            state: A [`Snapshot`][] or a configuration ``(model.nq,)``.
-
-        Returns:
-            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views: do not modify).
+        ``state``: a [`Snapshot`][] or ``q``; the rotations are views (do not modify).
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.
@@ -276,14 +265,9 @@ class RelativeKinematics:
         return frames[self._row_o, :9].reshape(3, 3), frames[self._rows_a, :9].reshape(-1, 3, 3)
 
     def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> Sensed:
-        """A serial actuator's reading in one compiled call: Jacobian, position, velocity.
+        """Chain 0's `Sensed` reading in one compiled call (``jacobian @ v`` too if ``velocity``).
 
-        Args:
-            state: A [`Snapshot`][] (with ``v`` if ``velocity``) or ``q``.
-            velocity: Also compute ``jacobian @ v``.
-
-        Returns:
-            The `Sensed` reading of chain 0.
+        ``state``: a [`Snapshot`][] (with ``v`` if ``velocity``) or ``q``.
 
         Raises:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.

@@ -109,7 +109,6 @@ class Snapshot:
         self._frame_velocities: np.ndarray | None = None  # (rows, 3): the table's, with v
         self._buffer = self._layout = None  # the core's pass: joints and velocities cut lazily
 
-    # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
             self._take(*self.tree.core_pass(self.q, self.v))
@@ -215,7 +214,6 @@ class Snapshot:
             )
         return int(frame)
 
-    # -- reads -----------------------------------------------------------------------------
     def placement(self, frame: int | str) -> tuple[np.ndarray, np.ndarray]:
         """``(rotation (3, 3), position (3,))`` of a frame in the world (views: do not modify).
 
@@ -303,14 +301,10 @@ class Snapshot:
     def of_pass(
         cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray, rows: dict[int, int]
     ) -> Snapshot:
-        """The snapshot of a pass the compiled core made already (a compiled plan's tick).
+        """The snapshot of a pass at ``q``, ``v`` the compiled core made already (a plan's tick).
 
-        Args:
-            robot: The robot.
-            q: The configuration the pass is of.
-            v: Its velocity.
-            buffer: The core's pass: joints, Jacobian, ``len(rows)`` frames, their velocities.
-            rows: Frame id -> row of the pass's frame table.
+        ``buffer``: joints, Jacobian, ``len(rows)`` frames and their velocities; ``rows``: frame
+        id -> row of the pass's frame table.
 
         Raises:
             InvalidInputError: A bad ``q`` or ``v``.

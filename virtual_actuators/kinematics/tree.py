@@ -146,7 +146,6 @@ class KinematicTree:
             self._names[name] = frame_id
         return frame_id
 
-    # -- frames --------------------------------------------------------------------------
     def require(self, frame_ids: Iterable[int]) -> None:
         """Have the kernel compute these frames' placements at every tick (declaration time)."""
         with self._lock:
@@ -196,7 +195,6 @@ class KinematicTree:
             self._frame_columns[frame_id] = columns
         return columns
 
-    # -- kernel ----------------------------------------------------------------------------
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
     ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:
@@ -211,16 +209,10 @@ class KinematicTree:
             layout = self._layout = buffer_layout(core_tree, self.njoints, self.nv, core_tree.nf)
         return buffer, layout, rows
 
-    # -- argument checks -------------------------------------------------------------------
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
-        """Return ``q`` as a float array after checking its shape, values and unit norms.
+        """``q`` ``(model.nq,)`` as float64, its shape, values and unit norms checked.
 
-        Args:
-            q: Configuration, shape ``(model.nq,)``.
-
-        Returns:
-            ``q`` as float64; quaternions and (cos, sin) pairs within 1e-3 of unit norm are
-            normalised (in a copy).
+        Quaternions and (cos, sin) pairs within 1e-3 of unit norm are normalised (in a copy).
 
         Raises:
             InvalidInputError: Wrong shape, NaN or inf, or a quaternion far from unit norm.

@@ -63,16 +63,7 @@ def null_space_form(problem: DistributionProblem, ev: Evaluation) -> NullSpaceFo
 def least_norm_forces(
     problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
 ) -> np.ndarray:
-    """Least ``sum ||F_i||^2`` with every exact row met and the request as close as possible.
-
-    Args:
-        problem: The declaration's structure.
-        ev: Evaluation at the current configuration.
-        wrench: ``(n,)`` requested wrench.
-        keep: ``(n,)`` bool, the prescribed axes.
-
-    Returns:
-        ``(p, n)`` chain wrenches.
+    """``(p, n)`` forces of least ``sum ||F_i||^2``, exact rows met, the request as close as can be.
 
     Raises:
         SingularConfigurationError: A chain's natural rows are degenerate here.

@@ -63,16 +63,10 @@ def solve_numpy(
     keep: np.ndarray,
     hand_on: bool = False,
 ) -> TickResult | None:
-    """Distribute ``wrench`` with a numpy solver (partitioned or dense) at a snapshot.
+    """Distribute ``wrench`` with ``problem``'s `PartitionedSolver` or `DenseSolver` at a snapshot.
 
-    Args:
-        problem: The declaration-time problem.
-        solver: A `PartitionedSolver` or `DenseSolver` of that problem.
-        snapshot: The tick's [`Snapshot`][].
-        wrench: ``(n,)`` finite request.
-        keep: ``(n,)`` bool, the prescribed axes.
-        hand_on: Return None, for the method's next backend, when ``solver`` raises
-            [`SingularConfigurationError`][] or misses an exact row by more than ``CONSTRAINT_TOL``.
+    ``hand_on``: return None, for the method's next backend, when ``solver`` raises
+    [`SingularConfigurationError`][] or misses an exact row by more than ``CONSTRAINT_TOL``.
 
     Returns:
         The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.

@@ -197,19 +197,10 @@ class CompiledQPMatrices:
     ) -> Answer | None:
         """The core's ``again`` on this tick: the answer on the last certified active set, or None.
 
-        Args:
-            snapshot: The tick's [`Snapshot`][], or a checked configuration (with ``tree``).
-            wrench: ``(n,)`` requested wrench.
-            keep: ``(n,)`` bool, the prescribed axes.
-            workspace: This thread's workspace for them (`workspace`).
-            weights: The request rows' weights.
-            guess: The inequalities' multipliers of the last certified answer (replaced in
-                place by this answer's when it is certified).
-            tree: None, or the core's ``Tree`` when ``snapshot`` is a configuration.
-
-        Returns:
-            The `Answer`; None when the exact step did not certify the active set, the matrices
-            need the numpy path or the snapshot lacks a frame.
+        ``snapshot`` is a configuration when ``tree`` is the core's ``Tree``; ``workspace`` is this
+        thread's for ``keep``; ``guess``, the last certified answer's inequality multipliers, is
+        replaced in place by this answer's when it is certified. None: the exact step did not
+        certify the active set, the matrices need the numpy path or the snapshot lacks a frame.
         """
         out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
         active = workspace.active

@@ -216,14 +216,9 @@ class ProxStages:
         """The request exactly with the least norm, else the closest wrench (scaled rows).
 
         The last certified active set is tried first, then DAQP (with the core), then ProxQP.
-
-        Args:
-            path: The workspaces' family (``"free"`` or ``"forces"``).
-            rows: The equality and inequality rows.
-            miss: ``miss(x, rows)``, the largest violation of the first ``rows`` equality rows and
-                the inequalities.
-            weights: The request rows' weights in the closest-wrench stage.
-            budget: Charged with ProxQP's iterations.
+        ``path`` names the workspaces' family (``"free"`` or ``"forces"``); ``miss(x, rows)`` is
+        the largest violation of the first ``rows`` equality rows and the inequalities;
+        ``weights`` weigh the request rows in the closest-wrench stage; ``budget`` is charged.
 
         Returns:
             A `StageAnswer`, or None when no ``x`` meets the rows.

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -34,6 +35,12 @@ BUDGET_EXHAUSTED = "iteration budget exhausted"
 #: DAQP in the compiled core (stage 1 from cold; the closest wrench), or None: ProxQP alone.
 DAQP_LEAST_NORM = core.kernel("daqp_least_norm", None)
 DAQP_CLOSEST = core.kernel("daqp_closest", None)
+
+
+@functools.cache
+def _identity(size: int) -> np.ndarray:
+    """``np.eye(size)``, made once per size (ProxQP copies it)."""
+    return np.eye(size)
 
 
 @dataclass(slots=True)
@@ -112,17 +119,10 @@ class ProxStages:
         self._row_names = row_names
         self._reactions = reactions
         self._local = threading.local()
-        self._identities: dict[int, np.ndarray] = {}
 
     def reset(self) -> None:
         """Drop this thread's workspaces: the next solve starts cold."""
         self._local.__dict__.clear()
-
-    def _identity(self, size: int) -> np.ndarray:
-        identity = self._identities.get(size)
-        if identity is None:
-            identity = self._identities[size] = np.eye(size)
-        return identity
 
     def exact_slot(self, path: str, size: int, equalities: int, inequalities: int) -> ProxSlot:
         """This thread's workspace of stage 1 for a family and sizes (made on first use)."""
@@ -247,7 +247,7 @@ class ProxStages:
             elif flag == DAQP_INFEASIBLE:  # no x meets the request: the closest wrench
                 slot.active = None
                 return self._closest_on_daqp(path, rows, miss, weights, budget)
-        identity = (self._identity(size), np.zeros(size))
+        identity = (_identity(size), np.zeros(size))
         results = self._run(
             key, identity, equality, equality_rhs, rows,
             lambda x: miss(x, len(equality_rhs)), budget,
@@ -364,7 +364,7 @@ class ProxStages:
         tight = np.vstack((equality, rows.inequality[held]))
         bounds = tight[len(equality_rhs) :] @ answer
         reached = self._run(
-            (path, "reached", size, len(tight), len(rows.lows)), (self._identity(size),
+            (path, "reached", size, len(tight), len(rows.lows)), (_identity(size),
             np.zeros(size)), tight, np.concatenate((equality_rhs, bounds)), rows,
             lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip

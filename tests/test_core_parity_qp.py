@@ -27,7 +27,7 @@ from virtual_actuators.core import CORE
 from virtual_actuators.distribution.qp import compiled, exact, stages
 from virtual_actuators.distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
 from virtual_actuators.gaits.registry import run_walk
-from virtual_actuators.kinematics import relative, sensor_kernels
+from virtual_actuators.kinematics import relative
 from virtual_actuators.vocabulary.axes import AXES
 
 pytestmark = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
@@ -213,7 +213,7 @@ def test_the_virtual_sensor_equals_numpy_on_every_branch():
         v = rng.normal(size=nv) if k % 3 else np.zeros(0)
         rows = np.array([1, 3, 2], dtype=np.int64)
         arguments = (jacobian, frames, v, axis_rows, rows, columns, signs)
-        reference = sensor_kernels.relative_sensor(*arguments)
+        reference = relative.relative_sensor(*arguments)
         assert _close(CORE.relative_sensor(*arguments), reference, _sensor_scale(arguments))
 
 
@@ -242,7 +242,7 @@ def test_walking_sensor_readings_equal_numpy(monkeypatch):
     run_walk("turkey-walk", duration=0.2, progress=False, stop_on_fall=False)
     assert len(calls) > 100
     for arguments in calls:
-        reference = sensor_kernels.relative_sensor(*arguments)
+        reference = relative.relative_sensor(*arguments)
         assert _close(CORE.relative_sensor(*arguments), reference, _sensor_scale(arguments))
 
 

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from virtual_actuators.kinematics.sensor_kernels import rotation_log
+from virtual_actuators.kinematics.relative import rotation_log
 
 unit = st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3).filter(
     lambda v: np.linalg.norm(v) > 1e-3

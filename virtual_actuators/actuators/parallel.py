@@ -10,31 +10,25 @@ import numpy as np
 
 from ..contacts import declare
 from ..distribution.methods import METHODS, Backend, Request, dispatch
-from ..distribution.partitioned.buffer_solve import ConfigurationSolve, SnapshotSolve
-from ..distribution.partitioned.compiled import CompiledDistribution
-from ..distribution.partitioned.dense import DenseSolver
-from ..distribution.partitioned.numeric import NumpyBackend
+from ..distribution.partitioned.compiled import (
+    CompiledDistribution,
+    ConfigurationSolve,
+    SnapshotSolve,
+)
+from ..distribution.partitioned.numeric import DenseSolver, NumpyBackend
 from ..distribution.partitioned.reference import PartitionedSolver
 from ..distribution.problem import DistributionProblem
 from ..distribution.problem.declaration import check_passive
 from ..distribution.qp import ContactLimits, QPDistribution, check_weights
 from ..distribution.result import Solution, inadmissible
-from ..exceptions import JointNotFoundError, VirtualActuatorError
+from ..exceptions import InvalidInputError, JointNotFoundError, VirtualActuatorError
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
-from ..vocabulary.arguments import check_flag, check_names, check_robot
+from ..vocabulary.arguments import check_flag, check_names, check_robot, check_sequence, describe
 from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint
-from .parallel_checks import (
-    FreeAxes,
-    check_design,
-    check_forces,
-    check_method,
-    check_reactions,
-    preferred_entries,
-    resolve_chains,
-)
+from .parallel_checks import FreeAxes, check_forces, preferred_entries, resolve_chains
 from .producible import give_way, producible_directions
 from .serial import check_tolerance, wrench_array
 
@@ -100,13 +94,13 @@ class ParallelVirtualActuator:
         check_robot(robot, "ParallelVirtualActuator")
         self.robot = robot
         self.action, self.reference = action, reference
-        self.reactions = check_reactions(reactions)
+        self.reactions, action_id, reaction_ids = resolve_chains(robot, action, reactions)
         self.axes = parse_axes(axes)
         model = robot.model
-        action_id, reaction_ids = resolve_chains(robot, action, self.reactions)
         unactuated = check_names(unactuated, "unactuated", JointNotFoundError, ordered=False)
         passive = check_passive(passive)
-        self.design = check_design(design)
+        kinds = "design constraints (va.Equal, va.Linear, va.EqualTorque)"
+        self.design = tuple(check_sequence(design, "design", kinds, single=DesignConstraint))
         self.kinematics = RelativeKinematics(
             robot, action_id, reaction_ids, resolve_frame(model, reference, "reference"), self.axes
         )
@@ -229,8 +223,8 @@ class ParallelVirtualActuator:
         weights: Mapping[str, float] | Sequence[float] | np.ndarray | None,
     ) -> Solution:
         """[`solve`][] past its one-call path (``strict``, ``tol``, ``compiled`` checked)."""
-        plain = not isinstance(q, Snapshot)
-        state = self.kinematics.check_configuration(q) if plain else self.kinematics.snapshot(q)
+        plain, kinematics = not isinstance(q, Snapshot), self.kinematics
+        state = kinematics.tree.check_configuration(q) if plain else kinematics.snapshot(q)
         wrench = wrench_array(wrench, self.axes)
         request = self.plan(free, method, compiled, weights)
         tick = None
@@ -256,7 +250,11 @@ class ParallelVirtualActuator:
             request = self.plan()
         except VirtualActuatorError:  # too many constraints: the general path raises it
             return None
-        return self.compiled.configuration_solve(request, self.reactions, self.axes, self._floating)
+        if self.kinematics.tree.core_tree is None:
+            return None
+        return self.compiled.buffer_solve(
+            ConfigurationSolve, request, self.reactions, self.axes, self._floating
+        )
 
     def solve_checked(
         self, snapshot: Snapshot, wrench: np.ndarray, request: Request, tol: float = 1e-6
@@ -300,7 +298,10 @@ class ParallelVirtualActuator:
             ConstraintError: Too many constraints for those free axes.
         """
         free, keep = self._free_axes.check(free)
-        check_method(method)
+        if not isinstance(method, str) or method not in METHODS:
+            raise InvalidInputError(
+                f"method must be one of {list(METHODS)}, got {describe(method)}."
+            )
         if weights is not None:
             weights = check_weights(weights, self.axes)
         return Request(method, free, keep, compiled, weights)

@@ -6,37 +6,28 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..distribution.methods import METHODS
 from ..distribution.problem import DistributionProblem
 from ..exceptions import ConstraintError, FrameNotFoundError, InvalidAxisError, InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.arguments import as_float_array, check_names, check_sequence, describe
+from ..vocabulary.arguments import as_float_array, check_names, describe
 from ..vocabulary.axes import check_axes_subset, resolve_frame
 from ..vocabulary.constraints import DesignConstraint, Equal, Linear
 
 
-def check_reactions(reactions: Sequence[str]) -> tuple[str, ...]:
-    """The reaction frames' names, checked (resolved in the model by `resolve_chains`).
+def resolve_chains(
+    robot: Robot, action: str, reactions: Sequence[str]
+) -> tuple[tuple[str, ...], int, list[int]]:
+    """The reaction frames' names, checked, and the frame ids of the action and reaction frames.
 
     Raises:
-        FrameNotFoundError: A name is not a str.
-        ConstraintError: No reaction frame, or a repeated one.
+        FrameNotFoundError: A name is not a str or not in the model.
+        ConstraintError: No reaction frame, a repeated one, or the action frame among them.
     """
     reactions = check_names(reactions, "reactions", FrameNotFoundError)
     if not reactions:
         raise ConstraintError("A parallel virtual actuator needs at least one reaction frame.")
     if len(set(reactions)) != len(reactions):
         raise ConstraintError(f"Reaction frames repeat: {reactions}.")
-    return reactions
-
-
-def resolve_chains(robot: Robot, action: str, reactions: tuple[str, ...]) -> tuple[int, list[int]]:
-    """The frame ids of the action frame and of the reaction frames.
-
-    Raises:
-        FrameNotFoundError: A frame name is not in the model.
-        ConstraintError: The action frame is among the reactions.
-    """
     model = robot.model
     action_id = resolve_frame(model, action, "action")
     reaction_ids = [resolve_frame(model, r, "reaction") for r in reactions]
@@ -44,23 +35,7 @@ def resolve_chains(robot: Robot, action: str, reactions: tuple[str, ...]) -> tup
         raise ConstraintError(
             f"The action frame {action!r} is also a reaction frame; they must differ."
         )
-    return action_id, reaction_ids
-
-
-def check_design(design: Sequence[DesignConstraint]) -> tuple[DesignConstraint, ...]:
-    """The design constraints as a tuple (one constraint for a tuple of it).
-
-    Raises:
-        InvalidInputError: ``design`` is not a collection of design constraints.
-    """
-    return tuple(
-        check_sequence(
-            design,
-            "design",
-            "design constraints (va.Equal, va.Linear, va.EqualTorque)",
-            single=DesignConstraint,
-        )
-    )
+    return reactions, action_id, reaction_ids
 
 
 def preferred_entries(
@@ -73,16 +48,6 @@ def preferred_entries(
             for reaction, axis in constraint.labels():
                 preferred[reactions.index(reaction), axes.index(axis)] = 1e-3
     return preferred
-
-
-def check_method(method: str) -> None:
-    """Check that ``method`` is one of `METHODS`.
-
-    Raises:
-        InvalidInputError: It is not.
-    """
-    if not isinstance(method, str) or method not in METHODS:
-        raise InvalidInputError(f"method must be one of {list(METHODS)}, got {describe(method)}.")
 
 
 def check_forces(forces: object, p: int, n: int) -> np.ndarray:
@@ -136,10 +101,7 @@ class FreeAxes:
 
 __all__ = [
     "FreeAxes",
-    "check_design",
     "check_forces",
-    "check_method",
-    "check_reactions",
     "preferred_entries",
     "resolve_chains",
 ]

@@ -155,7 +155,7 @@ class VirtualActuator:
             return self.jacobian(snapshot) @ snapshot.v
         if v is None:
             raise InvalidInputError("velocity(q, v) needs a velocity v.")
-        v = self.kinematics.check_velocity(v)
+        v = self.kinematics.tree.check_velocity(v)
         return self.jacobian(state) @ v
 
     def torques(self, state: np.ndarray | Snapshot, wrench: np.ndarray) -> np.ndarray:

@@ -10,13 +10,10 @@ from .tolerances import DEPENDENT_TOL, RCOND, TINY
 
 
 def stable_norm(x: np.ndarray) -> float:
-    """Euclidean norm without overflow or underflow at any magnitude (scaled by the peak).
-
-    Args:
-        x: Array of any shape.
+    """``||x||_2`` of an array of any shape, scaled by its peak: no over- or underflow.
 
     Returns:
-        ``||x||_2`` (inf or NaN only if ``x`` holds them).
+        The norm (inf or NaN only if ``x`` holds them).
     """
     peak = float(np.abs(x).max(initial=0.0))
     if peak == 0.0 or not math.isfinite(peak):
@@ -50,16 +47,10 @@ def backward_tolerance(
 
 
 def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = None) -> np.ndarray:
-    """Pick ``count`` well-conditioned columns of ``matrix`` (greedy pivoted Gram-Schmidt, as QR).
+    """Indices of ``count <= cols`` well-conditioned columns, in the order picked (pivoted QR).
 
-    Args:
-        matrix: ``(rows, cols)`` array.
-        count: How many columns to pick (``<= cols``).
-        weights: Optional ``(cols,)`` positive factors; a column with a small weight is picked
-            only when the others cannot do.
-
-    Returns:
-        The picked column indices, in the order picked.
+    ``weights``: ``(cols,)`` positive factors; a column of small weight is picked only when the
+    others cannot do.
     """
     work = np.array(matrix, dtype=float, copy=True)
     if weights is not None:
@@ -81,15 +72,7 @@ def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = 
 
 
 def dependent_rows(matrix: np.ndarray, tol: float = DEPENDENT_TOL) -> list[int]:
-    """Return the indices of rows that are linear combinations of the rows before them.
-
-    Args:
-        matrix: ``(rows, cols)`` array.
-        tol: Relative tolerance on a row's norm after projection (scaled by its own norm).
-
-    Returns:
-        The dependent row indices, in order.
-    """
+    """Indices of the rows that depend on the ones before (``tol``: relative to each row's norm)."""
     basis: list[np.ndarray] = []
     dependent = []
     for i, row in enumerate(np.asarray(matrix, dtype=float)):
@@ -116,30 +99,11 @@ def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = RCOND) -> bool:
     return bool(s[-1] <= rcond * s[0])
 
 
-def condition_estimate(matrices: np.ndarray, inverses: np.ndarray) -> np.ndarray:
-    """Cheap condition numbers ``||A||_inf ||A^-1||_inf`` of stacked square matrices.
-
-    Args:
-        matrices: ``(..., k, k)`` matrices.
-        inverses: Their inverses, same shape.
-
-    Returns:
-        ``(...)`` condition estimates (inf where an inverse is not finite).
-    """
-    norm = np.abs(matrices).sum(axis=-1).max(axis=-1, initial=0.0)  # 0 x 0: condition 0
-    norm_inv = np.abs(inverses).sum(axis=-1).max(axis=-1, initial=0.0)
-    estimate = norm * norm_inv
-    return np.where(np.isfinite(estimate), estimate, np.inf)
-
-
 def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Invert stacked square matrices, returning inf condition for exactly singular ones.
-
-    Args:
-        matrices: ``(..., k, k)`` matrices.
+    """Inverses of stacked ``(..., k, k)`` matrices and their condition ``||A||_inf ||A^-1||_inf``.
 
     Returns:
-        ``(inverses, condition_estimates)``; singular entries get NaN inverses and inf condition.
+        ``(inverses, conditions)``: NaN inverses and inf condition where one is singular.
     """
     try:
         inverses = np.linalg.inv(matrices)
@@ -153,19 +117,15 @@ def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                 flat_out[i] = np.linalg.inv(m)
             except np.linalg.LinAlgError:
                 flat_out[i] = np.nan
-    return inverses, condition_estimate(matrices, inverses)
+    norm = np.abs(matrices).sum(axis=-1).max(axis=-1, initial=0.0)  # 0 x 0: condition 0
+    estimate = norm * np.abs(inverses).sum(axis=-1).max(axis=-1, initial=0.0)
+    return inverses, np.where(np.isfinite(estimate), estimate, np.inf)
 
 
 def scaled_condition(matrix: np.ndarray, inverse: np.ndarray, row_scale: np.ndarray) -> float:
-    """Condition ``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` of ``A`` with ``D = diag(row_scale)``.
+    """Condition ``max(||D^-1 A||_inf, 1) ||A^-1 D||_inf`` of ``A`` (``inverse`` its inverse).
 
-    Args:
-        matrix: ``(k, k)``.
-        inverse: Its inverse.
-        row_scale: ``(k,)`` positive sizes of the rows before a reduction.
-
-    Returns:
-        The estimate (inf when it is not finite).
+    ``D = diag(row_scale)``: the rows' positive sizes before a reduction; inf if not finite.
     """
     scaled = float(np.abs(matrix / row_scale[:, None]).sum(axis=1).max(initial=0.0))
     scaled_inverse = float(np.abs(inverse * row_scale[None, :]).sum(axis=1).max(initial=0.0))

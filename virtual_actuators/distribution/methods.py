@@ -53,16 +53,7 @@ METHODS: dict[str, tuple[str, ...]] = {
 def dispatch(
     backends: Mapping[str, Backend], snapshot: object, wrench: np.ndarray, request: Request
 ) -> TickResult:
-    """Solve with the request's method: its backends in order, until one answers.
-
-    Args:
-        backends: The actuator's backends by name (every name `METHODS` lists).
-        snapshot: The tick's [`Snapshot`][].
-        wrench: ``(n,)`` finite request.
-        request: The checked request.
-
-    Returns:
-        The first backend's answer that is not None.
+    """The first answer of the request's method's backends (by name in ``backends``), in order.
 
     Raises:
         SingularConfigurationError: No distribution can be solved at this configuration.

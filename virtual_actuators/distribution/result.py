@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 
@@ -26,7 +25,7 @@ class RawSolution:
     forces: np.ndarray
     method: str
     #: MFS / RFS / CFS labels; empty lists for the solvers that build no partition (dense, QP)
-    sets: dict[str, list[tuple[str, str]]] = field(default_factory=lambda: no_sets())
+    sets: dict[str, list[tuple[str, str]]] = field(default_factory=no_sets)
     #: linear systems inverted at this solve: ``(what, size, how many)``
     systems: tuple[tuple[str, int, int], ...] = ()
     #: the algorithm that produced it (``"dense"`` when the partitioned one could not decide)
@@ -35,26 +34,15 @@ class RawSolution:
     active: tuple[str, ...] = ()
 
 
-class BufferSlices(NamedTuple):
-    """Where a compiled distribution's output buffer holds each part, in this order."""
+def buffer_slices(p: int, n: int, nv: int) -> tuple[slice, ...]:
+    """The parts of a compiled distribution's output buffer, ``p`` chains on ``n`` axes.
 
-    forces: slice  #: ``p n`` entries, chain by chain
-    tau: slice  #: ``nv``
-    passive: slice  #: the springs' torques, ``nv``
-    produced: slice  #: ``n``
-    requested: slice  #: ``n``
-
-
-def buffer_slices(p: int, n: int, nv: int) -> BufferSlices:
-    """The parts of the output buffer of a distribution of ``p`` chains on ``n`` axes."""
-    pn = p * n
-    return BufferSlices(
-        slice(0, pn),
-        slice(pn, pn + nv),
-        slice(pn + nv, pn + 2 * nv),
-        slice(pn + 2 * nv, pn + 2 * nv + n),
-        slice(pn + 2 * nv + n, pn + 2 * nv + 2 * n),
-    )
+    Returns:
+        The slices of the forces (``p n``, chain by chain), ``tau`` (``nv``), the springs'
+        torques (``nv``), the produced and the requested wrench (``n`` each).
+    """
+    a, b, c, d = p * n, p * n + nv, p * n + 2 * nv, p * n + 2 * nv + n
+    return slice(0, a), slice(a, b), slice(b, c), slice(c, d), slice(d, d + n)
 
 
 @dataclass(slots=True)
@@ -112,19 +100,11 @@ def close_tick(
 ) -> TickResult:
     """The tail of a numpy solve: efforts, produced and requested wrenches, residual, norms.
 
-    Args:
-        raw: The solver's answer, its forces scaled by ``factor`` (the returned ``raw`` holds
-            them unscaled).
-        wrench: ``(n,)`` the request (unscaled).
-        keep: ``(n,)`` bool, the prescribed axes.
-        torques: ``(p, n)`` forces -> ``(nv,)`` joint torques ``sum_i J_i^T F_i``.
-        actuated: ``(nv,)`` bool, the joints that get a torque.
-        passive: ``(nv,)`` torques of the passive springs.
-        factor: The power of two the solve's right-hand sides were multiplied by.
-        accuracy: Added to the rounding (a solver's own accuracy, e.g. the QP's).
-
-    Returns:
-        The `TickResult` (``compiled`` False), its norms taken on the scaled forces.
+    ``raw``'s forces are scaled by ``factor`` (the power of two the solve's right-hand sides were
+    multiplied by; the returned ``raw`` holds them unscaled), ``wrench`` is not; ``torques`` maps
+    ``(p, n)`` forces to ``sum_i J_i^T F_i``, ``actuated`` masks the joints that get a torque,
+    ``passive`` holds the springs' torques and ``accuracy`` (a solver's own, e.g. the QP's) is
+    added to the rounding. The norms are taken on the scaled forces; ``compiled`` is False.
     """
     forces_scaled = raw.forces
     raw = dataclasses.replace(raw, forces=forces_scaled / factor)
@@ -227,13 +207,7 @@ class Solution:
     ) -> Solution:
         """The solution of a backend's ``tick``, labelled by the one admissibility rule.
 
-        Args:
-            tick: What the backend returned.
-            tol: Relative tolerance of the request (``solve(..., tol=)``).
-            reactions: The actuator's reaction frames.
-            axes: Its axes.
-            free: The axes left to the solver.
-            floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
+        ``tol``: ``solve(..., tol=)``; ``floating``: ``base_effort`` is ``tau[:6]``.
         """
         raw, tau = tick.raw, tick.tau
         limit = tolerance(tol, tick.scale, tick.rounding)

@@ -1,6 +1,6 @@
-"""Every threshold of the force distribution, once (the compiled kernels use the same values).
+"""Every threshold of the numpy force distribution, once (``src/core`` mirrors them).
 
-Solver budgets (iteration counts) stay with their solver (`qp.stages`, `qp.exact`, `qp.conflict`).
+Solver budgets (iteration counts) stay with their solver (`qp.stages`, `qp.exact`).
 """
 
 from __future__ import annotations
@@ -21,9 +21,6 @@ CONSTRAINT_TOL = 1e-10
 #: A chain is singular when its smallest needed singular value is below this fraction of its
 #: largest (SingularConfigurationError)
 SINGULAR_TOL = 1e-9
-
-#: The compiled path hands a tick to numpy when a chain's worst singular-value ratio is below this
-NEAR_SINGULAR = 1e-7
 
 #: Relative singular-value cut-off of the rank decisions (least norm, dense, pseudo-inverse)
 RCOND = 1e-10
@@ -71,7 +68,3 @@ EXACT_TOL = 1e-11
 #: A row that cannot hold is named when its bound moves by at least this share of the largest
 #: shift (the least squared shift that lets the rows hold together).
 CONFLICT_SHARE = 1e-6
-
-#: The compiled QP hands a tick to numpy when a pivot of a chain's elimination falls below this
-#: fraction of the chain's largest column
-RANK_TOL = 1e-7

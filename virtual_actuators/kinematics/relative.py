@@ -7,6 +7,7 @@ pair "+wrench on {B}, -wrench on {A_i}".
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -14,11 +15,90 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from .. import core
 from ..exceptions import InvalidInputError
 from ..vocabulary.axes import AXES, axis_rows
-from .sensor_kernels import sensor
 from .snapshot import Snapshot
 from .tree import tree_of
+
+
+def to_reference(rotation_o: np.ndarray, position_b: np.ndarray) -> np.ndarray:
+    """``(6, 6)``: world twists to {B}'s origin in {O}: ``R_O^T (v - skew(p_B) w), R_O^T w``."""
+    x, y, z = position_b
+    transform = np.zeros((6, 6))
+    transform[:3, :3] = transform[3:, 3:] = rotation_o.T
+    transform[:3, 3:] = rotation_o.T @ np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
+    return transform
+
+
+def rotation_log(rotation: np.ndarray) -> np.ndarray:
+    """Rotation vector ``log(R)`` of a 3x3 rotation matrix [rad] (angle in ``[0, pi]``).
+
+    Near ``pi`` the axis comes from the symmetric part, its sign from the skew part; near 0 a
+    series keeps full precision.
+    """
+    cosine = min(max(0.5 * (np.trace(rotation) - 1.0), -1.0), 1.0)
+    theta = math.acos(cosine)
+    skew_part = np.array(  # vee(R - R^T) = 2 sin(theta) axis
+        (rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0],
+         rotation[1, 0] - rotation[0, 1])
+    )  # fmt: skip
+    if theta < 1e-4:
+        return 0.5 * (1.0 + theta * theta / 6.0) * skew_part  # theta / (2 sin theta)
+    if math.pi - theta > 1e-3:
+        return 0.5 * theta / math.sin(theta) * skew_part
+    # near pi: (R + R^T) / 2 - cos I = (1 - cos) a a^T; take the largest diagonal entry
+    k = int(np.argmax(np.diag(rotation)))
+    scale = 1.0 - cosine
+    a_k = math.sqrt(max(rotation[k, k] - cosine, 0.0) / scale)
+    axis = 0.5 * (rotation[k] + rotation[:, k]) / (scale * a_k)
+    axis[k] = a_k
+    return (-theta if axis @ skew_part < 0.0 else theta) * axis
+
+
+def relative_sensor(
+    jacobian_world: np.ndarray,
+    frames: np.ndarray,
+    v: np.ndarray,
+    axis_rows: np.ndarray,
+    rows: np.ndarray,
+    columns: np.ndarray,
+    signs: np.ndarray,
+) -> np.ndarray:
+    """A serial actuator's Jacobian, position and velocity of {B} relative to {A} in {O}.
+
+    Args:
+        jacobian_world: ``(6, nv)`` world joint Jacobian.
+        frames: ``(nf, 12)`` frame placements (rotation row by row, translation).
+        v: ``(nv,)`` velocity (empty: no velocity).
+        axis_rows: ``(n,)`` rows of the selected axes among ``x y z rx ry rz``.
+        rows: ``(3,)`` rows of {B}, {O} and {A} in ``frames``.
+        columns: velocity indices of the chain between {A} and {B}.
+        signs: their +1 / -1.
+
+    Returns:
+        One buffer: ``jacobian (n, nv)``, ``position (n,)`` (translations ``R_O^T (p_B - p_A)``,
+        rotations ``R_O^T R_A log(R_A^T R_B)``) and ``velocity (n,)`` (zero without ``v``).
+    """
+    b, o, a = (int(row) for row in rows)
+    n, nv = axis_rows.shape[0], jacobian_world.shape[1]
+    rotation_b, rotation_o, rotation_a = (frames[i, :9].reshape(3, 3) for i in (b, o, a))
+    transform = to_reference(rotation_o, frames[b, 9:12])
+    buffer = np.zeros(n * nv + 2 * n)
+    jacobian = buffer[: n * nv].reshape(n, nv)
+    jacobian[:, columns] = (transform[axis_rows] @ jacobian_world[:, columns]) * signs
+    if v.shape[0]:
+        buffer[n * nv + n :] = jacobian @ v
+    pose = np.zeros(6)
+    pose[:3] = rotation_o.T @ (frames[b, 9:12] - frames[a, 9:12])
+    if axis_rows[n - 1] >= 3:  # a rotation axis: log of R_A^T R_B, expressed in {O}
+        pose[3:] = rotation_o.T @ (rotation_a @ rotation_log(rotation_a.T @ rotation_b))
+    buffer[n * nv : n * nv + n] = pose[axis_rows]
+    return buffer
+
+
+#: `relative_sensor` as the library calls it: the compiled core's when it is built.
+sensor = core.kernel("relative_sensor", relative_sensor)
 
 
 @dataclass(frozen=True)
@@ -83,9 +163,8 @@ class RelativeKinematics:
         reference_id: int,
         axes: Sequence[str],
     ) -> None:
-        model = robot.model
+        model = self.model = robot.model
         self.robot = robot
-        self.model = model
         self.tree = tree_of(robot)
         self.action_id = int(action_id)
         self.reaction_ids = np.array(reaction_ids, dtype=int)
@@ -102,20 +181,17 @@ class RelativeKinematics:
         self.frame_rows = np.array([self._row_b, self._row_o, *self._rows_a.tolist()], np.int64)
         self._axis_rows = np.asarray(self.rows, dtype=np.int64)
         #: Rows of {O} then of every {A_i} in the snapshot's frame table (compiled readers).
-        self.orientation_rows = np.array([self._row_o, *self._rows_a.tolist()], dtype=np.int64)
+        self.orientation_rows = self.frame_rows[1:]
         self.orientation_rows_end = int(self.orientation_rows.max()) + 1  # table rows read
-        self._rows_end = max(self.orientation_rows_end, self._row_b + 1)  # compute() reads
-        self._sensor_rows = np.array([self._row_b, self._row_o, self._rows_a[0]], dtype=np.int64)
+        self._rows_end = int(self.frame_rows.max()) + 1  # compute() reads
+        self._sensor_rows = self.frame_rows[:3].copy()
         self._sensor_rows_end = int(self._sensor_rows.max()) + 1  # frame rows the sensor reads
-        action_joint = model.frames[self.action_id].parentJoint
+        joint_b, reactions = model.frames[self.action_id].parentJoint, self.reaction_ids.tolist()
         #: per chain, velocity indices between {A_i} and {B}, and +1 on {B}'s side of the
         #: path, -1 on {A_i}'s side (shared ancestors and other branches cancel)
-        self.chain_columns: list[np.ndarray] = []
-        self.chain_signs: list[np.ndarray] = []
-        for r in self.reaction_ids:
-            columns, signs = self._path(model, action_joint, model.frames[int(r)].parentJoint)
-            self.chain_columns.append(columns)
-            self.chain_signs.append(signs)
+        paths = [self._path(model, joint_b, model.frames[r].parentJoint) for r in reactions]
+        self.chain_columns: list[np.ndarray] = [columns for columns, _ in paths]
+        self.chain_signs: list[np.ndarray] = [signs for _, signs in paths]
 
     @staticmethod
     def _path(model: pin.Model, joint_b: int, joint_a: int) -> tuple[np.ndarray, np.ndarray]:
@@ -148,38 +224,28 @@ class RelativeKinematics:
             return state
         return Snapshot(self.robot, state)
 
-    def check_configuration(self, q: np.ndarray) -> np.ndarray:
-        """Return ``q`` checked (see `KinematicTree.check_configuration`)."""
-        return self.tree.check_configuration(q)
-
-    def check_velocity(self, v: np.ndarray) -> np.ndarray:
-        """Return ``v`` checked (see `KinematicTree.check_velocity`)."""
-        return self.tree.check_velocity(v)
+    def _frames(self, snapshot: Snapshot, end: int) -> np.ndarray:
+        """The snapshot's frame table; this actuator's rows alone if it has fewer than ``end``."""
+        frames = snapshot.frame_table
+        if frames.shape[0] >= end:
+            return frames
+        rows = {self._row_b: self.action_id, self._row_o: self.reference_id}
+        rows.update(zip(self._rows_a.tolist(), self.reaction_ids.tolist(), strict=True))
+        frames = np.zeros((max(rows) + 1, 12))
+        for row, frame_id in rows.items():
+            rotation, position = snapshot.placement(frame_id)
+            frames[row, :9], frames[row, 9:] = rotation.ravel(), position
+        return frames
 
     def compute(self, state: np.ndarray | Snapshot) -> KinematicState:
-        """Return the Jacobian rows in {O} and the frames' placements at a snapshot (or ``q``).
-
-        Args:
-            state: A [`Snapshot`][], or a configuration ``(model.nq,)``.
-
-        Returns:
-            The `KinematicState`.
-        """
+        """The `KinematicState` (Jacobian rows in {O}, placements) at a [`Snapshot`][] or ``q``."""
         snapshot = self.snapshot(state)
-        jacobian_world = snapshot.jacobian_world
-        frames = snapshot.frame_table
-        if frames.shape[0] < self._rows_end:
-            frames = self._frames_of(snapshot)  # frames required after that snapshot ran
+        frames = self._frames(snapshot, self._rows_end)
         position_b = frames[self._row_b, 9:]
         rotation_o = frames[self._row_o, :9].reshape(3, 3)
-        # the point at {B}'s origin moves at v + w x p_B = v - skew(p_B) w: one (n, 6) map
-        x, y, z = position_b
-        transform = np.zeros((6, 6))
-        transform[:3, :3] = transform[3:, 3:] = rotation_o.T
-        transform[:3, 3:] = rotation_o.T @ np.array(((0.0, z, -y), (-z, 0.0, x), (y, -x, 0.0)))
         reactions = frames[self._rows_a]
         return KinematicState(
-            jacobian_o=transform[self.rows] @ jacobian_world,
+            jacobian_o=to_reference(rotation_o, position_b)[self.rows] @ snapshot.jacobian_world,
             rotation_o=rotation_o,
             position_b=position_b,
             position_a=reactions[:, 9:],
@@ -188,44 +254,29 @@ class RelativeKinematics:
         )
 
     def rotations(self, state: np.ndarray | Snapshot) -> tuple[np.ndarray, np.ndarray]:
-        """World orientations of {O} and of every {A_i}, without any Jacobian.
+        """World orientations ``(rotation_o (3, 3), rotation_a (p, 3, 3))``, without any Jacobian.
 
-        Args:
-            state: A [`Snapshot`][] or a configuration ``(model.nq,)``.
-
-        Returns:
-            ``(rotation_o (3, 3), rotation_a (p, 3, 3))`` (views: do not modify).
+        ``state``: a [`Snapshot`][] or ``q``; the rotations are views (do not modify).
 
         Raises:
             InvalidInputError: A bad ``q``, or a snapshot of another robot.
         """
-        snapshot = self.snapshot(state)
-        frames = snapshot.frame_table
-        if frames.shape[0] < self.orientation_rows_end:
-            frames = self._frames_of(snapshot)
+        frames = self._frames(self.snapshot(state), self.orientation_rows_end)
         return frames[self._row_o, :9].reshape(3, 3), frames[self._rows_a, :9].reshape(-1, 3, 3)
 
     def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> Sensed:
-        """A serial actuator's reading in one compiled call: Jacobian, position, velocity.
+        """Chain 0's `Sensed` reading in one compiled call (``jacobian @ v`` too if ``velocity``).
 
-        Args:
-            state: A [`Snapshot`][] (with ``v`` if ``velocity``) or ``q``.
-            velocity: Also compute ``jacobian @ v``.
-
-        Returns:
-            The `Sensed` reading of chain 0.
+        ``state``: a [`Snapshot`][] (with ``v`` if ``velocity``) or ``q``.
 
         Raises:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
         """
         snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
-        frames = snapshot.frame_table
-        if frames.shape[0] < self._sensor_rows_end:
-            frames = self._frames_of(snapshot)
         buffer = sensor(
             jacobian_world,
-            frames,
+            self._frames(snapshot, self._sensor_rows_end),
             snapshot.v if velocity else _NO_VELOCITY,
             self._axis_rows,
             self._sensor_rows,
@@ -237,15 +288,6 @@ class RelativeKinematics:
         position = buffer[n * nv : n * nv + n]
         return Sensed(jacobian, position, buffer[n * nv + n :] if velocity else None)
 
-    def _frames_of(self, snapshot: Snapshot) -> np.ndarray:
-        rows = {self._row_b: self.action_id, self._row_o: self.reference_id}
-        rows.update(zip(self._rows_a.tolist(), self.reaction_ids.tolist(), strict=True))
-        frames = np.zeros((max(rows) + 1, 12))
-        for row, frame_id in rows.items():
-            rotation, position = snapshot.placement(frame_id)
-            frames[row, :9], frames[row, 9:] = rotation.ravel(), position
-        return frames
-
     def __repr__(self) -> str:
         names = [self.model.frames[int(r)].name for r in self.reaction_ids]
         return (
@@ -255,15 +297,13 @@ class RelativeKinematics:
         )
 
 
-def skew(vector: np.ndarray) -> np.ndarray:
-    """Return the ``(..., 3, 3)`` cross-product matrices of ``(..., 3)`` vectors."""
-    vector = np.asarray(vector)
-    out = np.zeros(vector.shape[:-1] + (3, 3))
-    x, y, z = vector[..., 0], vector[..., 1], vector[..., 2]
-    out[..., 0, 1], out[..., 0, 2] = -z, y
-    out[..., 1, 0], out[..., 1, 2] = z, -x
-    out[..., 2, 0], out[..., 2, 1] = -y, x
-    return out
-
-
-__all__ = ["AXES", "KinematicState", "RelativeKinematics", "Sensed", "skew"]
+__all__ = [
+    "AXES",
+    "KinematicState",
+    "RelativeKinematics",
+    "Sensed",
+    "relative_sensor",
+    "rotation_log",
+    "sensor",
+    "to_reference",
+]

@@ -12,9 +12,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .buffer_layout import buffer_layout
 from .kernels import center_of_mass_of, velocity_of_point
-from .tree import KinematicTree, tree_of
+from .tree import BufferLayout, KinematicTree, buffer_layout, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
 _local = threading.local()
@@ -97,9 +96,9 @@ class Snapshot:
             checked = tree.check_velocity(v)
             v = checked.copy() if checked is v or checked.base is not None else checked
         self.v = v
-        self.backend = "compiled" if backend == "auto" and tree.compiled else backend
-        if self.backend == "auto":
-            self.backend = "pinocchio"
+        if backend == "auto":
+            backend = "compiled" if tree.compiled else "pinocchio"
+        self.backend = backend
         self._joints = None
         self._jacobian = None
         self._frames = None
@@ -110,16 +109,12 @@ class Snapshot:
         self._frame_velocities: np.ndarray | None = None  # (rows, 3): the table's, with v
         self._buffer = self._layout = None  # the core's pass: joints and velocities cut lazily
 
-    # -- computation -----------------------------------------------------------------------
     def _run(self) -> None:
         if self.backend == "compiled":
-            buffer, layout, self._rows = self.tree.core_pass(self.q, self.v)
-            self._buffer, self._layout = buffer, layout  # the rest cut on first read
-            self._frames = buffer[layout.frames].reshape(layout.frames_shape)
-            self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+            self._take(*self.tree.core_pass(self.q, self.v))
             return
         model = self.tree.model
-        data = self.tree.thread_data()
+        data = thread_data(model)
         pin.computeJointJacobians(model, data, self.q)
         pin.updateFramePlacements(model, data)
         self._jacobian = np.array(data.J).reshape(6, model.nv)  # (6,) when nv is 1
@@ -133,6 +128,12 @@ class Snapshot:
         self._frames, self._rows = frames, rows
         oMi = data.oMi
         self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
+
+    def _take(self, buffer: np.ndarray, layout: BufferLayout, rows: dict[int, int]) -> None:
+        """Keep the core's pass ``buffer``: frames and Jacobian now, the rest cut on first read."""
+        self._buffer, self._layout, self._rows = buffer, layout, rows
+        self._frames = buffer[layout.frames].reshape(layout.frames_shape)
+        self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
 
     def _joint_table(self) -> np.ndarray:
         """``(njoints, 12)`` joint placements (the pass runs first if it has not)."""
@@ -213,7 +214,6 @@ class Snapshot:
             )
         return int(frame)
 
-    # -- reads -----------------------------------------------------------------------------
     def placement(self, frame: int | str) -> tuple[np.ndarray, np.ndarray]:
         """``(rotation (3, 3), position (3,))`` of a frame in the world (views: do not modify).
 
@@ -301,24 +301,17 @@ class Snapshot:
     def of_pass(
         cls, robot: object, q: np.ndarray, v: np.ndarray, buffer: np.ndarray, rows: dict[int, int]
     ) -> Snapshot:
-        """The snapshot of a pass the compiled core made already (a compiled plan's tick).
+        """The snapshot of a pass at ``q``, ``v`` the compiled core made already (a plan's tick).
 
-        Args:
-            robot: The robot.
-            q: The configuration the pass is of.
-            v: Its velocity.
-            buffer: The core's pass: joints, Jacobian, ``len(rows)`` frames, their velocities.
-            rows: Frame id -> row of the pass's frame table.
+        ``buffer``: joints, Jacobian, ``len(rows)`` frames and their velocities; ``rows``: frame
+        id -> row of the pass's frame table.
 
         Raises:
             InvalidInputError: A bad ``q`` or ``v``.
         """
         snapshot = cls(robot, q, v)
         tree = snapshot.tree
-        layout = buffer_layout(None, tree.njoints, tree.nv, len(rows))
-        snapshot._buffer, snapshot._layout, snapshot._rows = buffer, layout, rows
-        snapshot._frames = buffer[layout.frames].reshape(layout.frames_shape)
-        snapshot._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+        snapshot._take(buffer, buffer_layout(None, tree.njoints, tree.nv, len(rows)), rows)
         return snapshot
 
     def __repr__(self) -> str:

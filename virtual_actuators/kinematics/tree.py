@@ -1,10 +1,10 @@
-"""Declaration-time tables of a robot's kinematic tree: one `KinematicTree` per robot."""
+"""A robot's kinematic tree, its tables made once (`KinematicTree`), and its pass's buffer."""
 
 from __future__ import annotations
 
-import math
 import threading
 from collections.abc import Iterable
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -14,12 +14,75 @@ from ..core import CORE
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array
 from ..vocabulary.axes import resolve_frame
-from . import kernels
-from .buffer_layout import BufferLayout, Kinematics, buffer_layout
-from .joint_tables import JointTables, placement_row, read_joints
+from .kernels import JointTables, finite, placement_row, read_joints
 
 #: finiteness and unit norms of q in one compiled pass (the core's), or None: numpy's checks
 _UNIT_NORM_ERROR = core.kernel("unit_norm_error", None)
+
+
+class Kinematics(NamedTuple):
+    """What one pass of the compiled kernel computes (views of one buffer: do not modify).
+
+    Attributes:
+        joints: ``(njoints, 12)`` joint placements in the world (rotation row by row, position).
+        jacobian: ``(6, nv)`` world joint Jacobian (Pinocchio's ``data.J``).
+        frames: ``(rows, 12)`` placements of the frames computed at every tick.
+        velocities: ``(rows, 3)`` linear velocities of their origins, or None without ``v``.
+        rows: Frame id -> row of ``frames``.
+    """
+
+    joints: np.ndarray
+    jacobian: np.ndarray
+    frames: np.ndarray
+    velocities: np.ndarray | None
+    rows: dict[int, int]
+
+
+class BufferLayout(NamedTuple):
+    """Where the parts of one pass lie in the kernel's buffer, for one frame table.
+
+    Attributes:
+        core_tree: The compiled core's ``Tree`` it describes.
+        joints: Slice of the joint placements, ``joints_shape`` ``(njoints, 12)`` once reshaped.
+        joints_shape: ``(njoints, 12)``.
+        jacobian: Slice of the world joint Jacobian.
+        jacobian_shape: ``(6, nv)``.
+        frames: Slice of the frame placements; the frames' velocities follow it (with ``v``).
+        frames_shape: ``(rows, 12)``.
+    """
+
+    core_tree: object
+    joints: slice
+    joints_shape: tuple[int, int]
+    jacobian: slice
+    jacobian_shape: tuple[int, int]
+    frames: slice
+    frames_shape: tuple[int, int]
+
+    def velocities(self, buffer: np.ndarray) -> np.ndarray | None:
+        """The ``(rows, 3)`` frame velocities of ``buffer``, or None (a pass without ``v``)."""
+        end = self.frames.stop
+        return buffer[end:].reshape(self.frames_shape[0], 3) if buffer.shape[0] > end else None
+
+    def cut(self, buffer: np.ndarray, rows: dict[int, int]) -> Kinematics:
+        """The `Kinematics` of ``buffer`` (views of it), with frame rows ``rows``."""
+        return Kinematics(
+            buffer[self.joints].reshape(self.joints_shape),
+            buffer[self.jacobian].reshape(self.jacobian_shape),
+            buffer[self.frames].reshape(self.frames_shape),
+            self.velocities(buffer),
+            rows,
+        )
+
+
+def buffer_layout(core_tree: object, njoints: int, nv: int, nf: int) -> BufferLayout:
+    """The `BufferLayout` of a pass of ``core_tree`` (None: any) with ``nf`` frame rows."""
+    at = njoints * 12
+    jacobian_end = at + 6 * nv
+    return BufferLayout(
+        core_tree, slice(0, at), (njoints, 12), slice(at, jacobian_end), (6, nv),
+        slice(jacobian_end, jacobian_end + nf * 12), (nf, 12),
+    )  # fmt: skip
 
 
 class KinematicTree:
@@ -54,7 +117,6 @@ class KinematicTree:
             np.arange(len(unit_slices)), [b - a for a, b in unit_slices]
         ).astype(int)
         self._lock = threading.Lock()
-        self._local = threading.local()  # one pinocchio.Data per thread (the Pinocchio backend)
         #: frame id -> row in the kernel's frame output; replaced (never mutated) on growth
         self._frames: tuple[dict[int, int], np.ndarray, np.ndarray] = (
             {},
@@ -63,7 +125,6 @@ class KinematicTree:
         )
         #: the compiled core's tables (C++), rebuilt with the frame table; None: Pinocchio
         self.core_tree = self._core_tree(*self._frames[1:])
-        self._support: dict[int, np.ndarray] = {}
         #: the core's buffer layout of its current frame table (replaced, never mutated)
         self._layout: BufferLayout | None = None
         self._frame_columns: dict[int, np.ndarray] = {}
@@ -85,7 +146,6 @@ class KinematicTree:
             self._names[name] = frame_id
         return frame_id
 
-    # -- frames --------------------------------------------------------------------------
     def require(self, frame_ids: Iterable[int]) -> None:
         """Have the kernel compute these frames' placements at every tick (declaration time)."""
         with self._lock:
@@ -129,26 +189,12 @@ class KinematicTree:
         """Velocity indices that move frame ``frame_id`` (its parent joint's support)."""
         columns = self._frame_columns.get(frame_id)
         if columns is None:
-            joint_id = self.model.frames[frame_id].parentJoint
-            columns = self._frame_columns[frame_id] = self.support_columns(joint_id)
-        return columns
-
-    def support_columns(self, joint_id: int) -> np.ndarray:
-        """Velocity indices of the joints from the root to ``joint_id`` (its support)."""
-        columns = self._support.get(joint_id)
-        if columns is None:
             model = self.model
-            columns = np.concatenate(
-                [
-                    np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv)
-                    for j in list(model.supports[joint_id])[1:]
-                ]
-                or [np.zeros(0, dtype=int)]
-            ).astype(int)
-            self._support[joint_id] = columns
+            joints = [model.joints[j] for j in model.supports[model.frames[frame_id].parentJoint]]
+            columns = np.array([i for j in joints[1:] for i in range(j.idx_v, j.idx_v + j.nv)], int)
+            self._frame_columns[frame_id] = columns
         return columns
 
-    # -- kernel ----------------------------------------------------------------------------
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
     ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:
@@ -163,23 +209,10 @@ class KinematicTree:
             layout = self._layout = buffer_layout(core_tree, self.njoints, self.nv, core_tree.nf)
         return buffer, layout, rows
 
-    def thread_data(self) -> pin.Data:
-        """The ``pinocchio.Data`` of this tree's model for the calling thread (made once)."""
-        data = getattr(self._local, "data", None)
-        if data is None:
-            data = self._local.data = pin.Data(self.model)
-        return data
-
-    # -- argument checks -------------------------------------------------------------------
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
-        """Return ``q`` as a float array after checking its shape, values and unit norms.
+        """``q`` ``(model.nq,)`` as float64, its shape, values and unit norms checked.
 
-        Args:
-            q: Configuration, shape ``(model.nq,)``.
-
-        Returns:
-            ``q`` as float64; quaternions and (cos, sin) pairs within 1e-3 of unit norm are
-            normalised (in a copy).
+        Quaternions and (cos, sin) pairs within 1e-3 of unit norm are normalised (in a copy).
 
         Raises:
             InvalidInputError: Wrong shape, NaN or inf, or a quaternion far from unit norm.
@@ -199,11 +232,6 @@ class KinematicTree:
             bad = np.flatnonzero(~np.isfinite(q)).tolist()
             raise InvalidInputError(f"Configuration q has NaN or inf at indices {bad}.")
         if self.unit_slices:
-            if len(self.unit_slices) == 1:
-                unit = self.unit_slices[0]
-                norm = math.sqrt(q[unit] @ q[unit])
-                if abs(norm - 1.0) <= 1e-12:
-                    return q
             values = q[self._unit_index]
             norms = np.sqrt(np.bincount(self._unit_groups, weights=values * values))
             error = np.abs(norms - 1.0)
@@ -233,7 +261,7 @@ class KinematicTree:
                 f"Velocity v has shape {v.shape}; model {self.model.name!r} needs ({self.nv},) "
                 "(model.nv)."
             )
-        if not kernels.finite(v):
+        if not finite(v):
             raise InvalidInputError("Velocity v has NaN or inf entries.")
         return v
 
@@ -269,4 +297,4 @@ def tree_of(robot: object) -> KinematicTree:
     return tree
 
 
-__all__ = ["BufferLayout", "JointTables", "KinematicTree", "Kinematics", "tree_of"]
+__all__ = ["BufferLayout", "JointTables", "KinematicTree", "Kinematics", "buffer_layout", "tree_of"]

@@ -1,6 +1,7 @@
 """The real-time path of a parallel actuator's solve: tables built once, one compiled call a tick.
 
-Without the core, or when the core hands a tick back, `PartitionedSolver` decides with numpy.
+Without the core, or when the core hands a tick back, `PartitionedSolver` decides with numpy. A
+`BufferSolve` builds a request's [`Solution`][] straight from the core's output buffer.
 """
 
 from __future__ import annotations
@@ -13,10 +14,11 @@ import numpy as np
 from ...core import CORE, has
 from ..methods import Request
 from ..problem import DistributionProblem
-from ..result import RawSolution, TickResult
-from . import kernel_tables
-from .buffer_solve import BufferSolve, ConfigurationSolve, PackedMode, SnapshotSolve
+from ..result import RawSolution, Solution, TickResult, buffer_slices, label, tolerance
 from .reference import PartitionedSolver
+
+#: entries of the chain table's per-chain header
+HEADER = 7
 
 
 def spring_table(problem: DistributionProblem) -> np.ndarray:
@@ -34,10 +36,112 @@ def spring_table(problem: DistributionProblem) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class _Tables:
-    chain_ints: np.ndarray
-    chain_signs: np.ndarray
-    layout: np.ndarray
+class PackedMode:
+    """The packed tables of one set of prescribed axes (``CompiledDistribution.mode_for``)."""
+
+    mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
+    keep: np.ndarray  # int64 mask
+    plan: np.ndarray
+    sets: dict
+    systems: tuple
+    method: str
+    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
+    core: object = None  # the compiled core's Distribution of these tables, or None
+
+
+class BufferSolve:
+    """A request's [`Solution`][] built from the compiled core's output buffer (thread-safe).
+
+    The same [`Solution`][], bit for bit, as [`Solution.from_tick`][] of the general path's tick.
+
+    Args:
+        distribution: The actuator's `CompiledDistribution`.
+        mode: The request's packed tables (with the core's ``Distribution``).
+        names: The actuator's reaction frames and axes, the request's free axes.
+        floating: Whether the robot has a floating base (``base_effort``: ``tau[:6]``).
+    """
+
+    def __init__(
+        self,
+        distribution: CompiledDistribution,
+        mode: PackedMode,
+        names: tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]],
+        floating: bool,
+    ) -> None:
+        self._core = mode.core
+        #: the mode's packed tables (the core's Distribution arguments)
+        self.packed = mode.packed
+        self._kinematics = distribution.problem.kinematics.tree  # its core_tree grows with frames
+        self._max_row = distribution.max_row
+        self._shape = distribution.shape
+        self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
+        self._names = names
+        self._floating = floating
+        #: forces, tau, the springs' torques, produced, requested: the buffer's slices
+        self._forces, self._tau, self._passive, self._produced, self._requested = buffer_slices(
+            *self._shape, distribution.problem.model.nv
+        )
+
+    def solution(
+        self, out: np.ndarray, residual: float, scale: float, rounding: float, tol: float
+    ) -> Solution:
+        """The [`Solution`][] of the core's buffer ``out`` and norms, with tolerance ``tol``."""
+        tau = out[self._tau]
+        limit = tolerance(tol, scale, rounding)
+        reactions, axes, free = self._names
+        return Solution(  # positional, as Solution.from_tick builds it
+            tau,
+            out[self._forces].reshape(self._shape),
+            out[self._produced],
+            self._sets,
+            residual,
+            label(self._method, residual <= limit),
+            out[self._requested],
+            reactions,
+            axes,
+            free,
+            out[self._passive],
+            tau[:6].copy() if self._floating else np.zeros(0),
+            "partitioned",
+            self._systems,
+            True,
+            (),
+            limit,
+        )
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(shape={self._shape}, method={self._method!r})"
+
+
+class ConfigurationSolve(BufferSolve):
+    """One request's solve from unchecked ``q`` and wrench: the core checks them, in one call."""
+
+    def __call__(self, q: object, wrench: object, tol: float) -> Solution | None:
+        """The solution of ``wrench`` at ``q`` (tolerance ``tol``), or None for the general path."""
+        out, residual, scale, rounding, status, _, _ = self._core.checked_tick(
+            self._kinematics.core_tree, q, wrench
+        )
+        if status:
+            return None
+        return self.solution(out, residual, scale, rounding, tol)
+
+
+class SnapshotSolve(BufferSolve):
+    """One request's solve on a computed snapshot: the core's one call, then the solution."""
+
+    def __call__(self, snapshot: object, wrench: np.ndarray, tol: float = 1e-6) -> Solution | None:
+        """The solution of ``wrench`` at ``snapshot`` (tolerance ``tol``), or None."""
+        if not snapshot.computed:
+            return None
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self._max_row:
+            return None
+        out, residual, scale, rounding, status, _, _ = self._core.solve(
+            snapshot.jacobian_world, frames, snapshot.q, wrench
+        )
+        if status:
+            return None
+        return self.solution(out, residual, scale, rounding, tol)
 
 
 class CompiledDistribution:
@@ -70,101 +174,83 @@ class CompiledDistribution:
             if b >= 0:
                 signs[t, 1] = problem.signs_at([b])[:, 0]
         self.torque_signs = signs
-        #: the chain tables: the partitioner's sets never change after its __init__
-        self._tables = self._build_tables()
         self._modes: dict[bytes, PackedMode] = {}
-
-    def _build_tables(self) -> _Tables:
-        problem, partitioner = self.problem, self.partitioner
-        p = problem.p
-        kin = problem.kinematics
+        # the chain tables (the partitioner's sets never change after its __init__): per chain
+        # a header of HEADER (its columns, own constrained joints, ball axes, rank, natural rows,
+        # free entries, start of its free entries in the reduced unknowns), then its velocity
+        # columns, the positions of its constrained joints among them, its ball axes (0-2), its
+        # CFS and its free entries, in blocks of widths K, C, 3, L, D (``layout``: K, C, L, D)
+        groups = problem.groups
         width_k = max(len(c) for c in kin.chain_columns)
-        width_c = max(g.constrained.shape[1] for g in problem.groups)
-        width_l = max(g.num_constraints for g in problem.groups)
-        width_d = max(g.num_free for g in problem.groups)
-        header = kernel_tables.HEADER
-        ints = np.zeros((p, header + width_k + width_c + 3 + width_l + width_d), dtype=np.int64)
-        chain_signs = np.zeros((p, width_k))
+        width_c = max(g.constrained.shape[1] for g in groups)
+        width_l = max(g.num_constraints for g in groups)
+        width_d = max(g.num_free for g in groups)
+        self.layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
+        self.chain_ints = np.zeros((problem.p, HEADER + int(self.layout.sum()) + 3), np.int64)
+        self.chain_signs = np.zeros((problem.p, width_k))
+        at = np.cumsum([HEADER, width_k, width_c, 3, width_l]).tolist()  # each block's start
         start = 0
-        for group, cfs, free in zip(
-            problem.groups, partitioner.cfs, partitioner.free_entries, strict=True
-        ):
+        for group, cfs, free in zip(groups, partitioner.cfs, partitioner.free_entries, strict=True):
+            k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
             for j, chain in enumerate(group.chains):
-                k = group.columns.shape[1]
-                c = group.constrained.shape[1]
-                nb = len(group.ball_axes)
-                row = ints[chain]
-                row[:header] = (k, c, nb, group.rank, group.num_constraints, group.num_free, start)
+                row = self.chain_ints[chain]
+                row[:HEADER] = (k, c, nb, group.rank, group.num_constraints, group.num_free, start)
                 start += group.num_free
-                at = header
-                row[at : at + k] = group.columns[j]
-                chain_signs[chain, :k] = group.signs[j]
-                at += width_k
-                row[at : at + c] = group.constrained[j]
-                at += width_c
-                row[at : at + nb] = group.ball_axes
-                at += 3
-                row[at : at + group.num_constraints] = cfs[j]
-                at += width_l
-                row[at : at + group.num_free] = free[j]
-        layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
-        return _Tables(ints, chain_signs, layout)
+                row[at[0] : at[0] + k] = group.columns[j]
+                row[at[1] : at[1] + c] = group.constrained[j]
+                row[at[2] : at[2] + nb] = group.ball_axes
+                row[at[3] : at[3] + group.num_constraints] = cfs[j]
+                row[at[4] : at[4] + group.num_free] = free[j]
+                self.chain_signs[chain, :k] = group.signs[j]
 
     def mode_for(self, keep: np.ndarray) -> PackedMode:
         """The packed tables of the set of prescribed axes ``keep`` (built on first use)."""
         mode = self._modes.get(keep.tobytes())
-        if mode is None:  # once per set of free axes (two threads may both build it: same mode)
-            mode = self._mode(keep)
-        return mode
-
-    def _mode(self, keep: np.ndarray) -> PackedMode:
+        if mode is not None:  # once per set of free axes (two threads may both build it: same)
+            return mode
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
-        keep_int = keep.astype(np.int64)
-        cfs_systems = tuple(
-            ("CFS", g.num_constraints, g.size) for g in problem.groups if g.num_constraints
-        )
+        keep_int, systems = keep.astype(np.int64), partitioner.cfs_systems
         if k + s < m:
+            systems += (("KKT", k + s, 1),)
             sets = partitioner.reported_sets(keep)
-            systems = cfs_systems + (("KKT", k + s, 1),)
             mode = PackedMode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
         elif k + s == m and not problem.structurally_singular(keep):
             plan = partitioner.square_plan(keep)
-            labels = partitioner.labels()
-            sets = {
-                "MFS": [labels[i] for i in plan.mfs],
-                "RFS": [labels[i] for i in plan.rfs],
-                "CFS": partitioner.labels(partitioner.cfs),
-            }
-            systems = cfs_systems
             if len(plan.rfs) and plan.gain is None:
                 systems += (("RFS", len(plan.rfs), 1),)
             systems += (("MFS", len(plan.mfs), 1),)
             order = np.concatenate((plan.rfs, plan.mfs)).astype(np.int64)
+            sets = partitioner.sets(plan.mfs, plan.rfs)
             mode = PackedMode(1, keep_int, order, sets, systems, "partitioned")
         else:
             mode = PackedMode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
         if mode.mode >= 0:
-            tables = self._tables
-            packed = kernel_tables.pack_arguments(
-                mode.mode,
-                mode.keep,
-                self.axis_rows,
-                self.frame_rows,
-                tables.chain_ints,
-                tables.chain_signs,
-                self.springs,
-                self.const_rows,
-                self.const_rhs,
-                self.torque_rows,
-                self.torque_signs,
-                mode.plan,
-                tables.layout,
-            )
+            packed = self._pack(mode.mode, keep_int, mode.plan)
             core = CORE.Distribution(*packed, problem.model.nv) if has("Distribution") else None
             mode = dataclasses.replace(mode, packed=packed, core=core)
         self._modes[keep.tobytes()] = mode
         return mode
+
+    def _pack(self, mode: int, keep: np.ndarray, plan: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``Distribution``'s declaration-time arguments as one integer and one float array.
+
+        The integers: a header (``mode``, n, p, the chain table's width, torque rows, plan length,
+        chain columns, velocity indices, constant rows), then ``keep`` (1 at prescribed axes),
+        the axis rows, the frame rows ({B}, {O}, each {A_i}), the chain table, the torque rows
+        (joint a, joint b or -1, kind: 0 a shared limp or passive joint, ahead of the constant
+        rows, 1 equal torques, after them), ``plan`` (mode 1: the RFS then the MFS) and the
+        layout; the floats: the chain signs, the `spring_table`, the constant design rows and
+        right-hand sides, the torque rows' chain signs at joints a and b.
+        """
+        ints = (keep, self.axis_rows, self.frame_rows, self.chain_ints, self.torque_rows, plan,
+                self.layout)  # fmt: skip
+        header = [mode, len(keep), *self.chain_ints.shape, len(self.torque_rows), len(plan),
+                  self.chain_signs.shape[1], len(self.springs), len(self.const_rows)]  # fmt: skip
+        floats = (self.chain_signs, self.springs, self.const_rows, self.const_rhs,
+                  self.torque_signs)  # fmt: skip
+        ints = [np.array(header, np.int64), *(np.ravel(a).astype(np.int64) for a in ints)]
+        return np.concatenate(ints), np.concatenate([np.ravel(a).astype(float) for a in floats])
 
     def solve_configuration(
         self, q: np.ndarray, wrench: np.ndarray, request: Request
@@ -177,14 +263,6 @@ class CompiledDistribution:
         if core is None or tree is None or tree.nf <= self.max_row:
             return None
         return self._tick(mode, core.tick(tree, q, wrench))
-
-    def configuration_solve(
-        self, request: Request, reactions: tuple[str, ...], axes: tuple[str, ...], floating: bool
-    ) -> ConfigurationSolve | None:
-        """The `ConfigurationSolve` of a checked request, or None without the core."""
-        if self.problem.kinematics.tree.core_tree is None:
-            return None
-        return self.buffer_solve(ConfigurationSolve, request, reactions, axes, floating)
 
     def buffer_solve(
         self,
@@ -200,9 +278,7 @@ class CompiledDistribution:
         mode = self.mode_for(request.keep)
         if mode.core is None:
             return None
-        tree, nv = self.problem.kinematics.tree, self.problem.model.nv
-        return kind(mode, tree, self.max_row, self.shape, nv, reactions, axes, request.free,
-                    floating)  # fmt: skip
+        return kind(self, mode, (reactions, axes, request.free), floating)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
@@ -210,24 +286,16 @@ class CompiledDistribution:
         Returns:
             The tick's result (``tau`` zero at limp and passive joints), or None.
         """
-        if not request.compiled:
+        mode = self.mode_for(request.keep) if request.compiled else None
+        if mode is None or mode.core is None:  # no compiled core or mode: the numpy path
             return None
-        mode = self.mode_for(request.keep)
-        if mode.mode < 0:
-            return None
-        tick = None
-        core = mode.core
-        if core is not None and not snapshot.computed and snapshot.backend == "compiled":
-            tree = snapshot.tree.core_tree  # a snapshot of q alone: kinematics + distribution
-            if tree.nf > self.max_row:
-                tick = core.tick(tree, snapshot.q, wrench)
-        if tick is None:
-            frames = snapshot.frame_table
-            if frames.shape[0] <= self.max_row:
-                return None  # frames required after this snapshot ran: the numpy path reads them
-            if core is None:
-                return None  # no compiled core: the numpy path
-            tick = core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
+        tree = snapshot.tree.core_tree
+        if not snapshot.computed and snapshot.backend == "compiled" and tree.nf > self.max_row:
+            return self._tick(mode, mode.core.tick(tree, snapshot.q, wrench))  # q alone: both
+        frames = snapshot.frame_table
+        if frames.shape[0] <= self.max_row:
+            return None  # frames required after this snapshot ran: the numpy path reads them
+        tick = mode.core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
         return self._tick(mode, tick)
 
     def _tick(self, mode: PackedMode, tick: tuple) -> TickResult | None:
@@ -243,4 +311,11 @@ class CompiledDistribution:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
 
 
-__all__ = ["BufferSolve", "CompiledDistribution", "ConfigurationSolve", "SnapshotSolve"]
+__all__ = [
+    "BufferSolve",
+    "CompiledDistribution",
+    "ConfigurationSolve",
+    "PackedMode",
+    "SnapshotSolve",
+    "spring_table",
+]

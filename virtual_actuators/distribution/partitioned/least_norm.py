@@ -7,8 +7,6 @@ imply here is dropped, one that contradicts them raises [`ConstraintError`][].
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ...exceptions import ConstraintError, SingularConfigurationError
@@ -18,22 +16,14 @@ from ..problem.structure import Evaluation
 from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
 
 
-@dataclass
-class NullSpaceForm:
-    """Every chain's admissible wrenches ``F_i = F0_i + N_i y_i`` at one configuration.
+def null_space_form(
+    problem: DistributionProblem, ev: Evaluation
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """Every chain's admissible wrenches ``F_i = F0_i + N_i y_i``: its natural rows by an SVD.
 
-    Attributes:
-        bases: Per chain group, ``(g, n, d)`` orthonormal bases ``N_i`` of the null space of the
-            natural rows.
-        particular: ``(p, n)`` the least-norm solutions ``F0_i`` of the natural rows.
-    """
-
-    bases: list[np.ndarray]
-    particular: np.ndarray
-
-
-def null_space_form(problem: DistributionProblem, ev: Evaluation) -> NullSpaceForm:
-    """Solve each chain's natural constraints by an SVD.
+    Returns:
+        ``(bases, particular)``: per chain group the ``(g, n, d)`` orthonormal bases ``N_i`` of
+        the natural rows' null space, and the ``(p, n)`` least-norm solutions ``F0_i``.
 
     Raises:
         SingularConfigurationError: A chain's natural rows are degenerate here (their smallest
@@ -57,50 +47,41 @@ def null_space_form(problem: DistributionProblem, ev: Evaluation) -> NullSpaceFo
         bases.append(vt[:, l_:, :].transpose(0, 2, 1))
         coefficients = np.einsum("gji,gj->gi", u, rows.rhs) / s
         particular[group.chains] = np.einsum("gin,gi->gn", vt[:, :l_, :], coefficients)
-    return NullSpaceForm(bases=bases, particular=particular)
+    return bases, particular
 
 
 def least_norm_forces(
     problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
 ) -> np.ndarray:
-    """Least ``sum ||F_i||^2`` with every exact row met and the request as close as possible.
-
-    Args:
-        problem: The declaration's structure.
-        ev: Evaluation at the current configuration.
-        wrench: ``(n,)`` requested wrench.
-        keep: ``(n,)`` bool, the prescribed axes.
-
-    Returns:
-        ``(p, n)`` chain wrenches.
+    """``(p, n)`` forces of least ``sum ||F_i||^2``, exact rows met, the request as close as can be.
 
     Raises:
         SingularConfigurationError: A chain's natural rows are degenerate here.
         ConstraintError: The design and coupling rows contradict each other or the natural
             ones at this configuration.
     """
-    form = null_space_form(problem, ev)
+    bases, particular = null_space_form(problem, ev)
     n, p, k = problem.n, problem.p, int(keep.sum())
     hard = ev.hard_rows  # (s, p, n)
     soft_blocks, hard_blocks = [], []
-    for group, basis in zip(problem.groups, form.bases, strict=True):
+    for group, basis in zip(problem.groups, bases, strict=True):
         g, d = group.size, basis.shape[2]
         soft_blocks.append(basis[:, keep, :].transpose(1, 0, 2).reshape(k, g * d))
         block = np.einsum("spn,pnd->spd", hard[:, group.chains, :], basis)
         hard_blocks.append(block.reshape(hard.shape[0], g * d))
     soft = np.hstack(soft_blocks)
-    soft_rhs = wrench[keep] - form.particular[:, keep].sum(axis=0)
+    soft_rhs = wrench[keep] - particular[:, keep].sum(axis=0)
     # each hard row measured against its own size before the elimination
     norms = np.sqrt(np.einsum("spn,spn->s", hard, hard))
     norms = np.where(norms > 0.0, norms, 1.0)
     hard_y = np.hstack(hard_blocks) / norms[:, None]
-    hard_rhs = (ev.hard_rhs - np.einsum("spn,pn->s", hard, form.particular)) / norms
+    hard_rhs = (ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)) / norms
     y, _ = constrained_min_norm(
         hard_y, hard_rhs, soft, soft_rhs, RCOND, hard_scale=1.0, soft_scale=float(np.sqrt(p))
     )
-    forces = form.particular.copy()
+    forces = particular.copy()
     start = 0
-    for group, basis in zip(problem.groups, form.bases, strict=True):
+    for group, basis in zip(problem.groups, bases, strict=True):
         g, d = group.size, basis.shape[2]
         local = y[start : start + g * d].reshape(g, d)
         forces[group.chains] += np.einsum("gnd,gd->gn", basis, local)
@@ -166,4 +147,4 @@ def projected_forces(
     return forces
 
 
-__all__ = ["NullSpaceForm", "least_norm_forces", "null_space_form", "projected_forces"]
+__all__ = ["least_norm_forces", "null_space_form", "projected_forces"]

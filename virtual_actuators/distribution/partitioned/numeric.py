@@ -1,6 +1,8 @@
 """The numpy path of a parallel actuator's solve: any solver, any magnitude, typed errors only.
 
 The right-hand sides are scaled by a power of two first: the same bits, no over- or underflow.
+`DenseSolver`, the dense constraint system of VAC eq. 10-11 over all ``p n`` entries, is the
+benchmarks' baseline and the partitioned solver's oracle, with the same semantics.
 """
 
 from __future__ import annotations
@@ -10,13 +12,18 @@ import functools
 
 import numpy as np
 
-from ...exceptions import SingularConfigurationError
-from ..linalg import power_of_two_scale
+from ...exceptions import ConstraintError, SingularConfigurationError
+from ..linalg import (
+    backward_tolerance,
+    constrained_min_norm,
+    dependent_rows_at_scale,
+    power_of_two_scale,
+)
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..result import TickResult, close_tick
-from ..tolerances import CONSTRAINT_TOL
+from ..result import RawSolution, TickResult, close_tick, no_sets
+from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED
 
 
 def _scaled(ev: Evaluation, factor: float) -> Evaluation:
@@ -56,16 +63,10 @@ def solve_numpy(
     keep: np.ndarray,
     hand_on: bool = False,
 ) -> TickResult | None:
-    """Distribute ``wrench`` with a numpy solver (partitioned or dense) at a snapshot.
+    """Distribute ``wrench`` with ``problem``'s `PartitionedSolver` or `DenseSolver` at a snapshot.
 
-    Args:
-        problem: The declaration-time problem.
-        solver: A `PartitionedSolver` or `DenseSolver` of that problem.
-        snapshot: The tick's [`Snapshot`][].
-        wrench: ``(n,)`` finite request.
-        keep: ``(n,)`` bool, the prescribed axes.
-        hand_on: Return None, for the method's next backend, when ``solver`` raises
-            [`SingularConfigurationError`][] or misses an exact row by more than ``CONSTRAINT_TOL``.
+    ``hand_on``: return None, for the method's next backend, when ``solver`` raises
+    [`SingularConfigurationError`][] or misses an exact row by more than ``CONSTRAINT_TOL``.
 
     Returns:
         The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.
@@ -95,6 +96,61 @@ def solve_numpy(
     return close_tick(raw, wrench, keep, torques, problem.actuated_mask, ev.passive_torque, factor)
 
 
+class DenseSolver:
+    """Solve eq. 10-11 densely (``problem``: the declaration-time structure)."""
+
+    def __init__(self, problem: DistributionProblem) -> None:
+        self.problem = problem
+
+    def solve(self, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray) -> RawSolution:
+        """Distribute ``wrench``; see `PartitionedSolver.solve` for the arguments.
+
+        Raises:
+            SingularConfigurationError: The square system is singular at this configuration.
+            ConstraintError: The constraints contradict each other at this configuration.
+        """
+        p, n = self.problem.p, self.problem.n
+        # K's rows: the prescribed axes of sum_i F_i (soft), the natural then design rows (hard)
+        soft, soft_rhs = np.tile(np.eye(n), (1, p))[keep], wrench[keep]
+        natural, natural_rhs = self.problem.block_natural(ev)
+        hard = np.vstack((natural, ev.hard_rows.reshape(-1, p * n)))
+        hard_rhs = np.concatenate((natural_rhs, ev.hard_rhs))
+        k = np.vstack((soft, hard))
+        square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
+        if square:
+            cond = np.linalg.cond(k)
+            if not np.isfinite(cond) or cond > ILL_CONDITIONED:
+                if not dependent_rows_at_scale(hard):
+                    raise SingularConfigurationError(
+                        f"The {k.shape[0]} x {k.shape[1]} constraint matrix K (eq. 10) is "
+                        f"singular at this configuration (condition {cond:.1e})."
+                    )
+                square = False  # exact rows implied by the others here: the minimum norm
+        if square:
+            x = np.linalg.solve(k, np.concatenate((soft_rhs, hard_rhs)))
+            method = "partitioned"
+        else:
+            x, hard_residual = constrained_min_norm(hard, hard_rhs, soft, soft_rhs)
+            if hard_residual > backward_tolerance(hard, x, hard_rhs):
+                names = ", ".join(["natural constraints", *self.problem.hard_names])
+                raise ConstraintError(
+                    f"The constraints ({names}) contradict each other at this configuration "
+                    f"(residual {hard_residual:.2e}); a passive spring or limp joint that no "
+                    "selected axis loads cannot be balanced."
+                )
+            method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
+        return RawSolution(
+            forces=x.reshape(p, n),
+            method=method,
+            sets=no_sets(),
+            systems=(("dense", k.shape[1], 1),),
+            solver="dense",
+        )
+
+    def __repr__(self) -> str:
+        return f"DenseSolver(p={self.problem.p}, n={self.problem.n})"
+
+
 class NumpyBackend:
     """A numpy solver as a backend: ``"reference"`` (partitioned) or ``"dense"``.
 
@@ -117,4 +173,4 @@ class NumpyBackend:
         return solve_numpy(self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on)
 
 
-__all__ = ["NumpyBackend", "solve_numpy"]
+__all__ = ["DenseSolver", "NumpyBackend", "solve_numpy"]

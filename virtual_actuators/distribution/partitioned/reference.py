@@ -15,13 +15,55 @@ from typing import NamedTuple
 import numpy as np
 
 from ...exceptions import SingularConfigurationError
-from ..linalg import safe_inverse, select_columns
+from ..linalg import safe_inverse, scaled_condition, select_columns
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
 from ..result import RawSolution
 from ..tolerances import ILL_CONDITIONED
 from .least_norm import least_norm_forces, projected_forces
-from .square import SquarePlan, plan_square, rfs_gain
+
+
+@dataclass
+class SquarePlan:
+    """Cached RFS/MFS choice for a square reduced system and one set of free axes."""
+
+    rfs: np.ndarray
+    mfs: np.ndarray
+    gain: np.ndarray | None = None  # -H_r^-1 H_m when the hard rows are constant
+    rfs_inverse: np.ndarray | None = None  # H_r^-1 when the hard rows are constant
+
+
+def plan_square(h: np.ndarray, m: int, constant: bool = True) -> SquarePlan:
+    """The RFS (``s`` columns of the hard rows ``h`` by pivoted QR) and the MFS (the rest).
+
+    Args:
+        h: ``(s, m)`` reduced hard rows.
+        m: Number of reduced unknowns.
+        constant: The hard rows do not depend on the configuration: factor the gain once.
+    """
+    s = h.shape[0]
+    rfs = np.sort(select_columns(h, s)) if s else np.array([], dtype=int)
+    mfs = np.setdiff1d(np.arange(m), rfs)
+    plan = SquarePlan(rfs=rfs, mfs=mfs)
+    if s and constant:
+        inverse, cond = safe_inverse(h[:, rfs])
+        if cond < ILL_CONDITIONED:
+            plan.gain = -inverse @ h[:, mfs]
+            plan.rfs_inverse = inverse
+    return plan
+
+
+def rfs_gain(
+    h: np.ndarray, h_rhs: np.ndarray, plan: SquarePlan, scale: np.ndarray
+) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """``(gain, bias)`` of ``f_r = gain f_m + bias`` here; ``(None, None)``: ill-conditioned."""
+    block = h[:, plan.rfs]
+    inverse, cond = safe_inverse(block)
+    if cond > ILL_CONDITIONED or not scale.all():
+        return None, None
+    if scaled_condition(block, inverse, scale) > ILL_CONDITIONED:
+        return None, None
+    return -inverse @ h[:, plan.mfs], inverse @ h_rhs
 
 
 @dataclass
@@ -78,6 +120,21 @@ class PartitionedSolver:
         self._plans: dict[tuple, SquarePlan] = {}
         self._reported_sets: dict[tuple, dict] = {}
         self.num_free_entries = sum(g.size * g.num_free for g in problem.groups)
+        #: the ``systems`` every solve inverts: each group's CFS blocks
+        self.cfs_systems = tuple(
+            ("CFS", g.num_constraints, g.size) for g in problem.groups if g.num_constraints
+        )
+
+    def sets(
+        self, mfs: np.ndarray, rfs: np.ndarray, free: list | None = None, cfs: list | None = None
+    ) -> dict[str, list[tuple[str, str]]]:
+        """The MFS and RFS (indices of the reduced unknowns ``free``) and the CFS, labelled."""
+        labels = self.labels(free)
+        return {
+            "MFS": [labels[i] for i in mfs],
+            "RFS": [labels[i] for i in rfs],
+            "CFS": self.labels(self.cfs if cfs is None else cfs),
+        }
 
     def labels(self, entries: list[np.ndarray] | None = None) -> list[tuple[str, str]]:
         """Labels of the reduced unknowns ``f_a`` (or of ``entries``), in the solver's order."""
@@ -195,9 +252,7 @@ class PartitionedSolver:
         """
         m, s, k = self.num_free_entries, len(ev.hard_rhs), int(keep.sum())
         free_key = keep.tobytes()
-        systems = tuple(
-            ("CFS", g.num_constraints, g.size) for g in self.problem.groups if g.num_constraints
-        )
+        systems = self.cfs_systems
         if k + s < m:
             forces = projected_forces(self.problem, ev, wrench, keep)
             if forces is not None:
@@ -228,15 +283,10 @@ class PartitionedSolver:
         sets = self._reported_sets.get(free_key)
         if sets is None:
             a = self._reduce(self._generic).wrench_rows[keep]
-            labels, m = self.labels(), a.shape[1]
-            count = min(a.shape[0], m)
+            count = min(a.shape)
             mfs = np.sort(select_columns(a, count)) if count else np.array([], dtype=int)
-            rfs = np.setdiff1d(np.arange(m), mfs)
-            sets = self._reported_sets[free_key] = {
-                "MFS": [labels[i] for i in mfs],
-                "RFS": [labels[i] for i in rfs],
-                "CFS": self.labels(self.cfs),
-            }
+            rfs = np.setdiff1d(np.arange(a.shape[1]), mfs)
+            sets = self._reported_sets[free_key] = self.sets(mfs, rfs)
         return sets
 
     def square_plan(self, keep: np.ndarray) -> SquarePlan:
@@ -309,13 +359,7 @@ class PartitionedSolver:
         f[plan.mfs] = inverse @ mfs_rhs
         if len(plan.rfs):
             f[plan.rfs] = gain @ f[plan.mfs] + bias
-        labels = self.labels(reduced.free)
-        sets = {
-            "MFS": [labels[i] for i in plan.mfs],
-            "RFS": [labels[i] for i in plan.rfs],
-            "CFS": self.labels(reduced.cfs),
-        }
-        return f, sets, plan, rfs_solved
+        return f, self.sets(plan.mfs, plan.rfs, reduced.free, reduced.cfs), plan, rfs_solved
 
     def _hard_rows_constant(self) -> bool:
         """Hard rows are constant if they are declaration-only and avoid every CFS entry."""

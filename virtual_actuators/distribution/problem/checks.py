@@ -26,12 +26,9 @@ def vacuous_joints(
     Such a joint's Jacobian column on the selected axes is below ``VACUOUS_TOL`` times the chain's
     largest at every generic configuration.
 
-    Args:
-        per_chain: ``(columns, own constrained joints, ball axes)`` of every chain.
-        states: Kinematic states at the generic configurations.
-        axes: The selected axes.
-        coupled_v: Velocity indices of limp or passive joints shared by several chains.
-        passive_v: The passive joints' springs by velocity index.
+    ``per_chain``: ``(columns, own constrained joints, ball axes)`` of every chain; ``states``
+    at the generic configurations; ``coupled_v``: the limp or passive joints shared by several
+    chains; ``passive_v``: the springs by velocity index.
 
     Raises:
         ConstraintError: A passive joint with nonzero stiffness that no selected axis loads.
@@ -71,11 +68,7 @@ def check_natural_rows(
 ) -> None:
     """Reject a chain whose natural constraints are redundant at a generic configuration.
 
-    Args:
-        groups: The chain groups.
-        rows: Their natural rows at a generic configuration.
-        reactions: The reaction frames' names.
-        joint_name: The name of the joint owning a velocity index.
+    ``rows``: the groups' natural rows there; ``joint_name``: a velocity index's joint.
 
     Raises:
         ConstraintError: One natural row repeats what the chain's others impose.
@@ -111,12 +104,8 @@ def check_hard_rows(
 ) -> None:
     """Reject hard rows that are implied by, or contradict, the natural ones and each other.
 
-    Args:
-        natural: The dense natural rows over all ``p n`` force entries.
-        natural_rhs: Their right-hand sides.
-        hard: ``(s, p n)`` the coupling and design rows.
-        hard_rhs: ``(s,)`` their right-hand sides.
-        hard_names: A readable name per hard row.
+    ``natural``: the dense natural rows over all ``p n`` force entries; ``hard``: ``(s, p n)``
+    the coupling and design rows, one name each in ``hard_names``.
 
     Raises:
         ConstraintError: A design constraint implied by, or contradicting, the others.

@@ -117,30 +117,20 @@ def parse_joints(
 ) -> tuple[dict[int, str], dict[int, Spring]]:
     """Limp joints ``{v: name}`` and passive springs ``{v: Spring}``.
 
+    ``unactuated`` is a tuple of names, ``passive`` checked by `check_passive`.
+
     Raises:
         JointNotFoundError: A joint that is unknown or on no chain.
-        ConstraintError: Bad spring parameters, a multi-dof passive joint, or one both limp
-            and passive.
+        ConstraintError: A multi-dof passive joint, or one both limp and passive.
     """
-    if isinstance(unactuated, str):
-        unactuated = [unactuated]
     limp: dict[int, str] = {}
     for name in unactuated:
         _, vs = joint_columns(kinematics, reactions, name, "unactuated joint")
-        for v in vs:
-            limp[int(v)] = name
+        limp.update(dict.fromkeys(vs.tolist(), name))
     springs: dict[int, Spring] = {}
-    for name, params in dict(passive).items():
+    for name, (stiffness, rest) in passive.items():
         joint_id, vs = joint_columns(kinematics, reactions, name, "passive joint")
         joint = kinematics.model.joints[joint_id]
-        try:
-            stiffness, rest = (float(x) for x in params)
-        except (TypeError, ValueError):
-            raise ConstraintError(
-                f"passive[{name!r}] must be (stiffness, rest_angle), got {params!r}."
-            ) from None
-        if not (np.isfinite(stiffness) and np.isfinite(rest)):
-            raise ConstraintError(f"passive[{name!r}] has a NaN or inf value: {params!r}.")
         if joint.nv != 1 or joint.nq not in (1, 2):
             raise ConstraintError(
                 f"passive joint {name!r} has {joint.nv} degrees of freedom; passive springs "
@@ -197,36 +187,34 @@ def design_rows(
         InvalidAxisError: A label naming an axis the actuator does not have.
         JointNotFoundError: An EqualTorque joint that is unknown or on no chain.
     """
-    design = list(design)
+    p, n = len(reactions), len(axes)
     constant_rows, constant_rhs, torque_pairs = [], [], []
     constant_names, torque_names = [], []
     for constraint in design:
-        if isinstance(constraint, Equal):
-            row = np.zeros((len(reactions), len(axes)))
-            (ia, xa), (ib, xb) = (
-                label_index(lbl, constraint, reactions, axes)
-                for lbl in (constraint.a, constraint.b)
-            )
-            if (ia, xa) == (ib, xb):
-                raise ConstraintError(f"{constraint!r} equates an entry with itself.")
-            row[ia, xa] += 1.0
-            row[ib, xb] -= 1.0
+        if isinstance(constraint, (Equal, Linear)):
+            row, rhs = np.zeros((p, n)), 0.0
+            if isinstance(constraint, Equal):
+                (ia, xa), (ib, xb) = (
+                    label_index(lbl, constraint, reactions, axes)
+                    for lbl in (constraint.a, constraint.b)
+                )
+                if (ia, xa) == (ib, xb):
+                    raise ConstraintError(f"{constraint!r} equates an entry with itself.")
+                row[ia, xa] += 1.0
+                row[ib, xb] -= 1.0
+            else:
+                if not constraint.coefficients:
+                    raise ConstraintError(f"{constraint!r} has no coefficient.")
+                for label, coeff in constraint.coefficients.items():
+                    i, x = label_index(label, constraint, reactions, axes)
+                    if not np.isfinite(coeff):
+                        raise ConstraintError(f"{constraint!r} has a NaN or inf coefficient.")
+                    row[i, x] += float(coeff)
+                if not np.isfinite(constraint.rhs):
+                    raise ConstraintError(f"{constraint!r} has a NaN or inf rhs.")
+                rhs = float(constraint.rhs)
             constant_rows.append(row)
-            constant_rhs.append(0.0)
-            constant_names.append(repr(constraint))
-        elif isinstance(constraint, Linear):
-            row = np.zeros((len(reactions), len(axes)))
-            if not constraint.coefficients:
-                raise ConstraintError(f"{constraint!r} has no coefficient.")
-            for label, coeff in constraint.coefficients.items():
-                i, x = label_index(label, constraint, reactions, axes)
-                if not np.isfinite(coeff):
-                    raise ConstraintError(f"{constraint!r} has a NaN or inf coefficient.")
-                row[i, x] += float(coeff)
-            if not np.isfinite(constraint.rhs):
-                raise ConstraintError(f"{constraint!r} has a NaN or inf rhs.")
-            constant_rows.append(row)
-            constant_rhs.append(float(constraint.rhs))
+            constant_rhs.append(rhs)
             constant_names.append(repr(constraint))
         elif isinstance(constraint, EqualTorque):
             vs = []
@@ -247,7 +235,6 @@ def design_rows(
                 f"Unknown design constraint {constraint!r}; use va.Equal, va.Linear or "
                 "va.EqualTorque."
             )
-    p, n = len(reactions), len(axes)
     return DesignRows(
         constant_rows=np.array(constant_rows).reshape(-1, p, n),
         constant_rhs=np.array(constant_rhs, dtype=float),

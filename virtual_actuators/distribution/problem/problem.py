@@ -12,7 +12,8 @@ import pinocchio as pin
 
 from ...contacts.kinds import ball_axes, parse_contacts
 from ...exceptions import ConstraintError, SingularConfigurationError
-from ...kinematics.relative import KinematicState, RelativeKinematics, skew
+from ...kinematics.kernels import skew
+from ...kinematics.relative import KinematicState, RelativeKinematics
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.axes import AXES
 from ...vocabulary.constraints import DesignConstraint
@@ -140,9 +141,9 @@ class DistributionProblem:
     def _full_jacobian(
         self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray
     ) -> np.ndarray:
+        """A chain's ``[J_i, ball_i]`` at ``state``."""
         jac = state.jacobian_o[:, columns] * self.kinematics.chain_signs[chain]
-        balls = self._ball_columns(state.offsets_o()[chain : chain + 1], ball)[0]
-        return np.hstack((jac, balls))
+        return np.hstack((jac, self._ball_columns(state.offsets_o()[chain : chain + 1], ball)[0]))
 
     def _ball_columns(self, offsets_o: np.ndarray, ball: np.ndarray) -> np.ndarray:
         """``(g, n, len(ball))`` twists of {B} for rotations about {O}'s axes at each {A_i}.
@@ -178,11 +179,7 @@ class DistributionProblem:
 
     def joint_name(self, v: int) -> str:
         """Name of the joint that owns velocity index ``v``."""
-        for j in range(1, self.model.njoints):
-            joint = self.model.joints[j]
-            if joint.idx_v <= v < joint.idx_v + joint.nv:
-                return self.model.names[j]
-        raise IndexError(v)
+        return self.model.names[int(self.kinematics.tree.joint_tables.velocity_joint[v])]
 
     def _build_design(self, design: Sequence[DesignConstraint]) -> None:
         rows = design_rows(design, self.kinematics, self.reactions, self.axes)

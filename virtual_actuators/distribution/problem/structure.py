@@ -33,7 +33,7 @@ class ChainGroup:
         ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
             contact, restricted to the selected axes; empty for a flat contact.
         rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
-        cfs: ``(g, l)`` entries of ``F_i`` in the Constrained Force Set (chosen by the partitioner).
+        n: the number of selected axes.
     """
 
     chains: np.ndarray

@@ -1,12 +1,15 @@
 """The QP distribution's per-tick matrices through the compiled core: tables built once.
 
 It applies when the core is built, every chain's columns ``[J_i, ball_i]`` are independent and
-no hard row depends on the configuration; otherwise the QP builds its rows with numpy.
+no hard row depends on the configuration; otherwise the QP builds its rows with numpy. The core's
+reduced QP (``src/core/qp.hpp``) is in the chains' free coordinates: per chain
+``F_i = x0_i + N_i z_i``, ``N_i`` orthonormal.
 """
 
 from __future__ import annotations
 
 import threading
+from typing import NamedTuple
 
 import numpy as np
 
@@ -14,15 +17,30 @@ from ...core import CORE, has
 from ..partitioned.compiled import spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
-from .buffer import HEADER, Answer, views
+
+#: entries of the per-chain integer table's header: its columns, own constrained joints, ball axes
+HEADER = 3
+
+
+class Answer(NamedTuple):
+    """The core's read-out of a solved reduced QP: the tick's buffer and norms, the active rows."""
+
+    out: np.ndarray
+    residual: float
+    scale: float
+    rounding: float
+    active: np.ndarray
 
 
 class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
     Attributes:
-        buffer: The flat buffer the core's ``QP.reduced`` writes.
-        layout: Offsets and sizes of the arrays in it.
+        buffer: The flat buffer the core's ``QP.reduced`` writes: the null-space bases ``N``
+            ``(p n, d)``, the particular forces ``x0`` ``(p n,)``, ``equality`` ``(s + k, d)``,
+            ``equality_rhs``, ``inequality`` ``(m, d)``, ``lows``, ``uppers``, the torque map
+            ``(nv, d)``, the torques of ``x0`` and the springs' torques (``nv`` each).
+        layout: The ten arrays' offsets, then ``d``, ``s + k``, ``m`` and ``s``.
         kept: ``(k,)`` indices of the prescribed axes.
         equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
             sides and bounds), ``equality`` with the ``design_rows`` design rows first.
@@ -34,15 +52,17 @@ class Workspace:
         rows_eq = design + len(kept)
         sizes = (p_n * free, p_n, rows_eq * free, rows_eq, rows_in * free, rows_in, rows_in,
                  nv * free, nv, nv)  # fmt: skip
-        offsets = np.concatenate(([0], np.cumsum(sizes)))
+        offsets = np.concatenate(([0], np.cumsum(sizes))).tolist()
         self.layout = np.array([*offsets[:-1], free, rows_eq, rows_in, design], dtype=np.int64)
         self.buffer = np.zeros(int(offsets[-1]))
         self.kept = kept
         self.design_rows = design
         self.pn, self.nv = p_n, nv
-        arrays = views(self.buffer, self.layout, p_n, nv)
-        self.equality, self.equality_rhs = arrays.equality, arrays.equality_rhs
-        self.inequality, self.lows, self.uppers = arrays.inequality, arrays.lows, arrays.uppers
+        equality, self.equality_rhs, inequality, self.lows, self.uppers = (
+            self.buffer[offsets[i] : offsets[i + 1]] for i in range(2, 7)
+        )
+        self.equality = equality.reshape((rows_eq, free))
+        self.inequality = inequality.reshape((rows_in, free))
         self.active = np.empty(rows_in, dtype=np.int64)  # the read-out's active rows
         self.scale = 1.0
 
@@ -95,6 +115,7 @@ class CompiledQPMatrices:
         self.rows_in = rows_in
         self._local = threading.local()
         kin = problem.kinematics
+        self._max_row = int(kin.frame_rows.max())
         #: whether the compiled path can build this declaration's ticks
         self.applicable = (
             has("QP")
@@ -102,42 +123,35 @@ class CompiledQPMatrices:
             and not problem.coupled_v
             and not len(problem.torque_pairs)
         )
-        self.axis_rows = np.asarray(kin.rows, dtype=np.int64)
-        self.frame_rows = kin.frame_rows
-        self._max_row = int(self.frame_rows.max())
+        #: the compiled core's QP (these tables, copied into C++), or None: the numpy path
+        self.core = None
+        if not self.applicable:
+            return
+        # per chain: HEADER counts, then its velocity columns, its own constrained joints'
+        # positions among them and its ball axes, in blocks of widths K, C and 3
         width_k = max(len(c) for c in kin.chain_columns)
         width_c = max(g.constrained.shape[1] for g in problem.groups)
-        header = HEADER
-        ints = np.zeros((problem.p, header + width_k + width_c + 3), dtype=np.int64)
+        ints = np.zeros((problem.p, HEADER + width_k + width_c + 3), dtype=np.int64)
         signs = np.zeros((problem.p, width_k))
+        at = (HEADER, HEADER + width_k, HEADER + width_k + width_c)
         for group in problem.groups:
             k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
             for j, chain in enumerate(group.chains):
-                ints[chain, :header] = (k, c, nb)
-                ints[chain, header : header + k] = group.columns[j]
-                ints[chain, header + width_k : header + width_k + c] = group.constrained[j]
-                ints[chain, header + width_k + width_c : header + width_k + width_c + nb] = (
-                    group.ball_axes
-                )
+                ints[chain, :HEADER] = (k, c, nb)
+                ints[chain, at[0] : at[0] + k] = group.columns[j]
+                ints[chain, at[1] : at[1] + c] = group.constrained[j]
+                ints[chain, at[2] : at[2] + nb] = group.ball_axes
                 signs[chain, :k] = group.signs[j]
-        self.chain_ints, self.chain_signs = ints, signs
-        self.springs = spring_table(problem)
-        self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
-        self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
-        self.normals_world = np.ascontiguousarray(normals_world, dtype=float)
-        self.frame_normals = np.asarray(frame_normals, dtype=np.int64)
-        self.settings = np.array([*np.asarray(cone, dtype=float), static_scale])
-        self.soles = np.ascontiguousarray(soles, dtype=float)
-        self.limited_v = np.asarray(limited_v, dtype=np.int64)
-        self.limits = np.asarray(limits, dtype=float)
-        #: the compiled core's QP (these tables, owned in C++), or None: the numpy path
-        self.core = None
-        if self.applicable:
-            self.core = CORE.QP(
-                self.axis_rows, self.frame_rows, self.chain_ints, self.chain_signs,
-                self.springs, self.const_rows, self.const_rhs, self.normals_world,
-                self.frame_normals, self.settings, self.soles, self.limited_v, self.limits,
-            )  # fmt: skip
+        self.core = CORE.QP(
+            np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
+            spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),
+            np.ascontiguousarray(problem.constant_rhs, dtype=float),
+            np.ascontiguousarray(normals_world, dtype=float),
+            np.asarray(frame_normals, dtype=np.int64),
+            np.array([*np.asarray(cone, dtype=float), static_scale]),
+            np.ascontiguousarray(soles, dtype=float), np.asarray(limited_v, dtype=np.int64),
+            np.asarray(limits, dtype=float),
+        )  # fmt: skip
 
     def workspace(self, keep: np.ndarray) -> Workspace:
         """This thread's workspace for these prescribed axes (made once)."""
@@ -151,7 +165,7 @@ class CompiledQPMatrices:
             free = sum(g.size * (g.columns.shape[1] - g.constrained.shape[1])
                        for g in problem.groups)  # fmt: skip
             workspace = cache[key] = Workspace(
-                problem.p * problem.n, problem.model.nv, free, len(self.const_rhs),
+                problem.p * problem.n, problem.model.nv, free, len(problem.constant_rhs),
                 np.flatnonzero(keep).astype(np.int64), self.rows_in,
             )  # fmt: skip
         return workspace
@@ -183,19 +197,10 @@ class CompiledQPMatrices:
     ) -> Answer | None:
         """The core's ``again`` on this tick: the answer on the last certified active set, or None.
 
-        Args:
-            snapshot: The tick's [`Snapshot`][], or a checked configuration (with ``tree``).
-            wrench: ``(n,)`` requested wrench.
-            keep: ``(n,)`` bool, the prescribed axes.
-            workspace: This thread's workspace for them (`workspace`).
-            weights: The request rows' weights.
-            guess: The inequalities' multipliers of the last certified answer (replaced in
-                place by this answer's when it is certified).
-            tree: None, or the core's ``Tree`` when ``snapshot`` is a configuration.
-
-        Returns:
-            The `Answer`; None when the exact step did not certify the active set, the matrices
-            need the numpy path or the snapshot lacks a frame.
+        ``snapshot`` is a configuration when ``tree`` is the core's ``Tree``; ``workspace`` is this
+        thread's for ``keep``; ``guess``, the last certified answer's inequality multipliers, is
+        replaced in place by this answer's when it is certified. None: the exact step did not
+        certify the active set, the matrices need the numpy path or the snapshot lacks a frame.
         """
         out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
         active = workspace.active

@@ -56,11 +56,6 @@ class ContactLimits:
         """The inequality rows' names, in the order both paths build the rows."""
         return self._row_names
 
-    @property
-    def any(self) -> bool:
-        """Whether there is at least one inequality."""
-        return bool(self._row_names)
-
     def rows(self, state: object, torque_map: np.ndarray) -> Constraint:
         """``lows <= G x <= uppers`` over ``x = forces.ravel()``, with a name per row.
 

@@ -8,20 +8,91 @@ core, and an exact step on the active set (docs/concepts.md, "Contacts as inequa
 from __future__ import annotations
 
 import threading
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...exceptions import ConstraintError, InvalidInputError
+from ...exceptions import ConstraintError, InvalidAxisError, InvalidInputError
+from ...vocabulary.arguments import describe
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
-from .buffer import Answer
-from .compiled import CompiledQPMatrices
+from .compiled import Answer, CompiledQPMatrices
 from .limits import ContactLimits, kinds, torque_map
-from .stage_types import Budget, PlanTables, StageRows
-from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, ProxStages
-from .weights import check_weights
+from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, Budget, ProxStages, StageRows
+
+
+def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -> np.ndarray:
+    """``weights`` as a read-only ``(n,)`` array of finite numbers > 0 over ``axes``.
+
+    Args:
+        weights: ``{axis: weight}`` (the axes not named keep 1), or ``n`` numbers over ``axes``.
+        axes: The actuator's axes.
+        what: The argument's name, for messages.
+
+    Raises:
+        InvalidAxisError: A key of the dict is not one of ``axes``.
+        InvalidInputError: A weight that is not a finite number > 0 (the message names its
+            axis), an array of the wrong length, or neither a dict nor a sequence.
+    """
+    axes = tuple(axes)
+    if isinstance(weights, Mapping):
+        out = np.ones(len(axes))
+        for axis, value in weights.items():
+            if not isinstance(axis, str) or axis not in axes:
+                raise InvalidAxisError(
+                    f"{what} names axis {axis!r}, not one of this actuator's axes {axes}."
+                )
+            out[axes.index(axis)] = _weight(value, f"{what}[{axis!r}]")
+    elif isinstance(weights, np.ndarray) or (
+        isinstance(weights, Iterable) and not isinstance(weights, (str, bytes))
+    ):
+        try:
+            out = np.array(weights, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            out = None
+        if out is None or out.shape != (len(axes),):
+            raise InvalidInputError(
+                f"{what} must be {len(axes)} numbers > 0 (one per axis {axes}) or a dict "
+                f"{{axis: weight}}, got {describe(weights)}."
+            )
+        bad = ~((out > 0.0) & (out < np.inf))  # NaN fails both
+        if bad.any():
+            axis = axes[int(np.argmax(bad))]
+            raise InvalidInputError(
+                f"{what}[{axis!r}] must be a finite number > 0, got {out[axes.index(axis)]!r}."
+            )
+    else:
+        raise InvalidInputError(
+            f"{what} must be a dict {{axis: weight > 0}} or {len(axes)} numbers > 0 over the "
+            f"axes {axes}, got {describe(weights)}."
+        )
+    out.setflags(write=False)
+    return out
+
+
+def _weight(value: object, what: str) -> float:
+    """One weight: a real number, finite and > 0."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InvalidInputError(f"{what} must be a finite number > 0, got {describe(value)}.")
+    number = float(value)
+    if not 0.0 < number < np.inf:
+        raise InvalidInputError(f"{what} must be a finite number > 0, got {number!r}.")
+    return number
+
+
+class PlanTables(NamedTuple):
+    """What a compiled plan runs a request with on the last certified active set."""
+
+    core: Any  # the core's ``QP``
+    workspace: Any  # this thread's workspace (its buffer the core's scratch)
+    keep: np.ndarray  # the kept request rows, 0/1 integers
+    weights: np.ndarray  # the kept rows' weights
+    tolerances: np.ndarray  # (active, exact, accuracy)
+    slot: Any  # the slot whose ``active`` is the warm start
+
 
 
 class QPDistribution:
@@ -284,12 +355,9 @@ class QPDistribution:
         """``(k, p n)``: the rows summing the chains' forces on the prescribed axes."""
         select = self._selects.get(keep.tobytes())
         if select is None:
-            p, n = self.problem.p, self.problem.n
-            select = np.zeros((int(keep.sum()), p * n))
-            for r, axis in enumerate(np.flatnonzero(keep)):
-                select[r, axis::n] = 1.0
+            select = np.tile(np.eye(self.problem.n), (1, self.problem.p))[keep]
             self._selects[keep.tobytes()] = select
         return select
 
 
-__all__ = ["ContactLimits", "QPDistribution", "torque_map"]
+__all__ = ["ContactLimits", "PlanTables", "QPDistribution", "check_weights", "torque_map"]

@@ -2,21 +2,25 @@
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from ... import core
-from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, EPS_ABS, FEASIBILITY_TOL
-from .conflict import CONFLICT_MAX_ITER, conflict_error, least_shift_problem
+from ...exceptions import ConstraintError
+from ..tolerances import ACTIVE_TOL, CLOSEST_EPS_ABS, CONFLICT_SHARE, EPS_ABS, FEASIBILITY_TOL
 from .exact import exact_answer
-from .stage_types import Budget, ProxSlot, StageAnswer, StageRows
 
 #: ProxQP (outer) iterations of one solve, all stages together
 ITERATION_BUDGET = 300
 #: Stage 1's ProxQP iterations, at most (and half the budget)
 EXACT_MAX_ITER = 120
+#: The conflict check's ProxQP iterations, at most; it runs only when twice as many are left
+CONFLICT_MAX_ITER = 40
 #: DAQP's active-set iterations of a stage, at most
 DAQP_MAX_ITER = 200
 #: DAQP's exit flag of a problem with no feasible point.
@@ -33,6 +37,74 @@ DAQP_LEAST_NORM = core.kernel("daqp_least_norm", None)
 DAQP_CLOSEST = core.kernel("daqp_closest", None)
 
 
+@functools.cache
+def _identity(size: int) -> np.ndarray:
+    """``np.eye(size)``, made once per size (ProxQP copies it)."""
+    return np.eye(size)
+
+
+@dataclass(slots=True)
+class Budget:
+    """ProxQP (outer) iterations one solve has left (``left``), all stages together."""
+
+    left: int
+
+    def charge(self, used: int) -> None:
+        """Take ``used`` iterations off (never below zero)."""
+        self.left -= min(used, self.left)
+
+
+@dataclass(slots=True)
+class ProxSlot:
+    """One ProxQP workspace of this thread.
+
+    Attributes:
+        qp: The ``proxqp.dense.QP`` (None until ProxQP first runs on this slot).
+        fresh: True until a solve succeeded (and after a failure): start from ``init``.
+        active: The inequalities' multipliers of the last certified answer, or None.
+    """
+
+    qp: object = None
+    fresh: bool = True
+    active: np.ndarray | None = None
+
+
+class StageRows(NamedTuple):
+    """The scaled rows of one solve, shared by its stages.
+
+    Attributes:
+        equality: The ``design`` rows that always hold, then the request's rows.
+        equality_rhs: Their right-hand sides (the request's part is rewritten in place by the
+            closest-wrench stages).
+        design: How many of ``equality``'s rows always hold.
+        inequality: The inequality rows.
+        lows: Their lower bounds.
+        uppers: Their upper bounds.
+    """
+
+    equality: np.ndarray
+    equality_rhs: np.ndarray
+    design: int
+    inequality: np.ndarray
+    lows: np.ndarray
+    uppers: np.ndarray
+
+
+class StageAnswer(NamedTuple):
+    """What `ProxStages.solve` hands back.
+
+    Attributes:
+        x: The answer (scaled).
+        multipliers: The inequalities' multipliers.
+        exhausted: The budget ran out before the last stage converged (``x`` is then the
+            feasible point of least weighted miss found).
+    """
+
+    x: np.ndarray
+    multipliers: np.ndarray
+    exhausted: bool
+
+
 class ProxStages:
     """This thread's ProxQP workspaces of one distribution, and the stages run on them.
 
@@ -47,17 +119,10 @@ class ProxStages:
         self._row_names = row_names
         self._reactions = reactions
         self._local = threading.local()
-        self._identities: dict[int, np.ndarray] = {}
 
     def reset(self) -> None:
         """Drop this thread's workspaces: the next solve starts cold."""
         self._local.__dict__.clear()
-
-    def _identity(self, size: int) -> np.ndarray:
-        identity = self._identities.get(size)
-        if identity is None:
-            identity = self._identities[size] = np.eye(size)
-        return identity
 
     def exact_slot(self, path: str, size: int, equalities: int, inequalities: int) -> ProxSlot:
         """This thread's workspace of stage 1 for a family and sizes (made on first use)."""
@@ -69,7 +134,7 @@ class ProxStages:
             cache = self._local.qps = {}
         slot = cache.get(key)
         if slot is None:  # its ProxQP workspace is made when ProxQP first runs (_workspace)
-            slot = cache[key] = ProxSlot(None)
+            slot = cache[key] = ProxSlot()
         return slot
 
     def _workspace(self, key: tuple) -> object:
@@ -151,14 +216,9 @@ class ProxStages:
         """The request exactly with the least norm, else the closest wrench (scaled rows).
 
         The last certified active set is tried first, then DAQP (with the core), then ProxQP.
-
-        Args:
-            path: The workspaces' family (``"free"`` or ``"forces"``).
-            rows: The equality and inequality rows.
-            miss: ``miss(x, rows)``, the largest violation of the first ``rows`` equality rows and
-                the inequalities.
-            weights: The request rows' weights in the closest-wrench stage.
-            budget: Charged with ProxQP's iterations.
+        ``path`` names the workspaces' family (``"free"`` or ``"forces"``); ``miss(x, rows)`` is
+        the largest violation of the first ``rows`` equality rows and the inequalities;
+        ``weights`` weigh the request rows in the closest-wrench stage; ``budget`` is charged.
 
         Returns:
             A `StageAnswer`, or None when no ``x`` meets the rows.
@@ -187,7 +247,7 @@ class ProxStages:
             elif flag == DAQP_INFEASIBLE:  # no x meets the request: the closest wrench
                 slot.active = None
                 return self._closest_on_daqp(path, rows, miss, weights, budget)
-        identity = (self._identity(size), np.zeros(size))
+        identity = (_identity(size), np.zeros(size))
         results = self._run(
             key, identity, equality, equality_rhs, rows,
             lambda x: miss(x, len(equality_rhs)), budget,
@@ -202,8 +262,6 @@ class ProxStages:
         certified, x, z = self._exact(rows, weights, last.x, last.z, False)
         if certified:
             return StageAnswer(x, z, False)
-        if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
-            self._check_conflict(path, rows, size, budget)
         return self._closest(path, rows, miss, weights, budget, last)
 
     def _closest_on_daqp(
@@ -224,32 +282,41 @@ class ProxStages:
             certified, x, z = self._exact(rows, weights, x, guess, False)
             if certified:
                 return StageAnswer(x, z, False)
-        if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
-            self._check_conflict(path, rows, rows.equality.shape[1], budget)
         return self._closest(path, rows, miss, weights, budget, None)
 
-    def _check_conflict(self, path: str, rows: StageRows, size: int, budget: Budget) -> None:
+    def _check_conflict(self, path: str, rows: StageRows, budget: Budget) -> None:
         """Raise the named conflict when the rows other than the request cannot hold.
 
+        The least squared shift ``s`` of the bounds that lets the rows hold with the design
+        equalities, ``min |s|^2`` subject to ``D x = d``, ``lows <= C x + s <= uppers``, is 0 when
+        they are consistent, else a Farkas certificate: the rows it moves cannot hold together.
+
         Raises:
-            ConstraintError: The least shift of the bounds that lets them hold is not zero.
+            ConstraintError: That shift is not zero (the rows it moves, furthest off first).
         """
-        design = rows.design
-        objective, shifted_eq, shifted_in = least_shift_problem(
-            rows.equality[:design], rows.inequality
-        )
-        shifted_rows = StageRows(
-            shifted_eq, rows.equality_rhs[:design], design, shifted_in, rows.lows, rows.uppers
-        )
+        design, size, m = rows.design, rows.equality.shape[1], len(rows.lows)
+        hessian = np.zeros((size + m, size + m))
+        hessian[size:, size:] = np.eye(m)
+        equality = np.hstack((rows.equality[:design], np.zeros((design, m))))
+        shifted_rows = rows._replace(inequality=np.hstack((rows.inequality, np.eye(m))))
         shifted = self._run(
-            (path, "conflict", len(objective[1]), design, len(rows.lows)), objective, shifted_eq,
+            (path, "conflict", size + m, design, m), (hessian, np.zeros(size + m)), equality,
             rows.equality_rhs[:design], shifted_rows, lambda x: 0.0, budget,
         )  # fmt: skip
-        if shifted is not None and shifted.info.status == self._proxqp.QPSolverOutput.PROXQP_SOLVED:
-            error = conflict_error(shifted.x[size:], self._row_names, self._reactions,
-                                   FEASIBILITY_TOL)  # fmt: skip
-            if error is not None:
-                raise error
+        if shifted is None or shifted.info.status != self._proxqp.QPSolverOutput.PROXQP_SOLVED:
+            return
+        shift = np.abs(shifted.x[size:])
+        largest = float(shift.max(initial=0.0))
+        if largest > FEASIBILITY_TOL:
+            moved = np.flatnonzero(shift >= CONFLICT_SHARE * largest)
+            rank = np.round(shift[moved] / largest, 6)  # equal shifts (a symmetric robot): in order
+            names = [self._row_names[i] for i in moved[np.argsort(-rank, kind="stable")]]
+            raise ConstraintError(
+                f"No distribution over the chains to {list(self._reactions)} meets every "
+                "constraint at this configuration, whatever the request: these inequalities "
+                "cannot hold together with the natural and design equalities (furthest off first;"
+                f" relax one of them): {'; '.join(names)}."
+            )
 
     def _closest(
         self, path, rows: StageRows, miss, weights, budget: Budget, last
@@ -257,7 +324,12 @@ class ProxStages:
         """Stages 2 and 3: the closest reachable wrench, then its least force norm.
 
         ``last``: stage 1's results (None when stage 1 did not run in ProxQP).
+
+        Raises:
+            ConstraintError: The rows other than the request cannot hold together (named).
         """
+        if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
+            self._check_conflict(path, rows, budget)
         equality, equality_rhs, design = rows.equality, rows.equality_rhs, rows.design
         size = equality.shape[1]
         request, target = equality[design:], equality_rhs[design:].copy()
@@ -292,7 +364,7 @@ class ProxStages:
         tight = np.vstack((equality, rows.inequality[held]))
         bounds = tight[len(equality_rhs) :] @ answer
         reached = self._run(
-            (path, "reached", size, len(tight), len(rows.lows)), (self._identity(size),
+            (path, "reached", size, len(tight), len(rows.lows)), (_identity(size),
             np.zeros(size)), tight, np.concatenate((equality_rhs, bounds)), rows,
             lambda x: miss(x, len(equality_rhs)), budget,
         )  # fmt: skip
@@ -306,11 +378,16 @@ class ProxStages:
 
 __all__ = [
     "BUDGET_EXHAUSTED",
+    "CONFLICT_MAX_ITER",
     "DAQP_CLOSEST_EPS",
     "DAQP_INFEASIBLE",
     "DAQP_MAX_ITER",
     "EXACT_MAX_ITER",
     "ITERATION_BUDGET",
     "MAX_ITER_IN",
+    "Budget",
+    "ProxSlot",
     "ProxStages",
+    "StageAnswer",
+    "StageRows",
 ]

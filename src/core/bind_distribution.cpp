@@ -17,7 +17,7 @@ nb::tuple distributed(Owned out, const va::Distributed& d) {
   return nb::make_tuple(out, d.residual, d.scale, d.rounding, d.status, d.worst, d.worst_chain);
 }
 
-// The packed tables of one distribution mode (kernel_tables.pack_arguments), owned.
+// The packed tables of one distribution mode (partitioned.compiled), owned.
 class Distribution {
  public:
   Distribution(const I1& ints, const F1& floats, std::int64_t nv)

@@ -158,7 +158,7 @@ void bind_qp(nb::module_& m) {
            "soles"_a, "limited_v"_a, "limits"_a)
       .def("reduced", &QP::reduced, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a, "kept"_a,
            "buffer"_a.noconvert(), "layout"_a,
-           "qp.kernels.reduced_qp into buffer: (status, worst ratio, scale).")
+           "The reduced QP into buffer: (status, worst ratio, scale).")
       .def("again", &QP::again, "jacobian_world"_a, "frames"_a, "q"_a, "wrench"_a, "kept"_a,
            "buffer"_a.noconvert(), "layout"_a, "keep"_a, "weights"_a, "guess"_a.noconvert(),
            "active_tol"_a, "exact_tol"_a, "accuracy"_a, "out"_a.noconvert(), "active"_a.noconvert(),

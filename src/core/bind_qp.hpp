@@ -148,7 +148,7 @@ class QP {
     T.limits = limits_.data();
   }
 
-  // qp.kernels.reduced_qp into the workspace: (status, worst ratio, scale).
+  // The reduced QP into the workspace: (status, worst ratio, scale).
   nb::tuple reduced(const F2& jacobian_world, const F2& frames, const F1& q, const F1& wrench,
                     const I1& kept, MF1 buffer, const I1& layout) const {
     check_snapshot(jacobian_world, frames);

@@ -1,5 +1,5 @@
 // One tick of the compiled force distribution on the packed tables of
-// virtual_actuators.distribution.partitioned (kernel_tables.py), into the buffer that
+// virtual_actuators.distribution.partitioned (compiled.py), into the buffer that
 // result.TickResult reads; the numpy PartitionedSolver is its oracle (tests/test_core_parity.py;
 // no FMA contraction: CMakeLists.txt).
 //

@@ -1,6 +1,6 @@
 // The kinematics kernels: forward kinematics (joint and frame placements, the world Jacobian,
 // the frames' velocities), unit_norm_error, all_finite, point_velocity, on the tables of
-// virtual_actuators.kinematics.joint_tables, into the buffer buffer_layout.py describes.
+// virtual_actuators.kinematics.kernels, into the buffer kinematics.tree.BufferLayout describes.
 // Pinocchio is their oracle (tests/test_realtime.py); the compiler must not contract a*b+c into
 // an FMA (CMakeLists.txt sets -ffp-contract=off), so the bits do not depend on the machine.
 // Plain pointers and std::vector, no Python: usable from a C++ controller.
@@ -22,7 +22,7 @@ enum JointKind : std::int64_t {
 };
 
 // Row-major views of the declaration's tables (their meaning: virtual_actuators.kinematics
-// .joint_tables.read_joints).
+// .kernels.read_joints).
 struct TreeTables {
   const std::int64_t* joint_ints;      // (njoints, 3): parent, kind, idx_q
   const double* joint_floats;          // (njoints, 27)

@@ -1,7 +1,7 @@
 // One tick of the QP distribution in the chains' free coordinates: the reduced QP's matrices
 // (the natural rows eliminated), the answer's violation and read-out, and the tick on the last
-// certified active set, into the buffer layout of virtual_actuators.distribution.qp.buffer. The
-// numpy QP (all rows as equalities) is its oracle (tests/test_qp_paths.py).
+// certified active set, into the buffer of virtual_actuators.distribution.qp.compiled.Workspace.
+// The numpy QP (all rows as equalities) is its oracle (tests/test_qp_paths.py).
 #pragma once
 
 #include <cmath>
@@ -15,7 +15,7 @@
 
 namespace va {
 
-// qp.kernels: columns of the per-chain integer table, entries of the layout.
+// Columns of the per-chain integer table, entries of the layout (qp.compiled).
 constexpr std::int64_t QP_K_COLS = 0, QP_C_CON = 1, QP_NB_BALL = 2, QP_HEADER = 3, QP_LAYOUT = 14;
 constexpr double QP_INFINITY = 1e20;  // tolerances.INFINITY
 constexpr double RANK_TOL = 1e-7;
@@ -42,7 +42,7 @@ struct QPTables {
   }
 };
 
-// The arrays of reduced_qp in its buffer (qp.kernels.views).
+// The arrays of reduced_qp in its buffer (qp.compiled.Workspace's views).
 struct QPViews {
   double *basis, *x0, *equality, *equality_rhs, *inequality, *lows, *uppers, *tmap, *tau0, *passive;
   std::int64_t free, rows_eq, m_in, design;
@@ -84,7 +84,6 @@ struct Reduced {
 
 // Modified Gram-Schmidt, twice, on columns[:count] (rows of n entries) in place; R into r.
 // Returns the smallest pivot over the largest column norm (0 when a column vanishes).
-// qp.kernels._orthonormalise.
 inline double orthonormalise(Arr& columns, std::int64_t count, Arr& r) {
   const std::int64_t n = columns.d1;
   double largest = 0.0;
@@ -114,7 +113,7 @@ inline double orthonormalise(Arr& columns, std::int64_t count, Arr& r) {
   return worst;
 }
 
-// One tick's QP in free coordinates (qp.kernels.reduced_qp): jacobian_world (6, nv), frames
+// One tick's QP in free coordinates (QP.reduced): jacobian_world (6, nv), frames
 // (nf, 12), q, wrench (n), kept (nk) the prescribed axes; buffer (size) at layout, overwritten.
 inline Reduced reduced_qp(const double* jacobian_world, const double* frames, const double* q,
                           const double* wrench, const std::int64_t* kept, std::int64_t nk,

@@ -1,5 +1,5 @@
 // The packed declaration of a distribution mode
-// (virtual_actuators.distribution.partitioned.kernel_tables.pack_arguments), read as views.
+// (virtual_actuators.distribution.partitioned.compiled), read as views.
 #pragma once
 
 #include <algorithm>

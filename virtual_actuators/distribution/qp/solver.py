@@ -322,7 +322,8 @@ class QPDistribution:
         )
 
         equality_rhs = equality_rhs / scale
-        lows, uppers = np.maximum(lows / scale, -INFINITY), np.minimum(uppers / scale, INFINITY)
+        with np.errstate(over="ignore"):  # an open bound over a tiny scale: clipped to INFINITY
+            lows, uppers = np.maximum(lows / scale, -INFINITY), np.minimum(uppers / scale, INFINITY)
 
         def miss(x: np.ndarray, rows: int) -> float:
             slack = float(np.abs(equality[:rows] @ x - equality_rhs[:rows]).max(initial=0.0))

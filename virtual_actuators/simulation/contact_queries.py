@@ -100,25 +100,8 @@ class ContactQueries:
             geoms = self._owned_geoms[frame] = frozenset(owned)
         return geoms
 
-    def _geoms_for_forces(self, frame: str) -> frozenset[int]:
-        """`_frame_geoms`, which must not be empty for a force.
-
-        Raises:
-            FrameNotFoundError: No such frame, or neither it nor its body has geometry.
-        """
-        geoms = self._frame_geoms(frame)
-        if not geoms:
-            with_geometry = sorted({names[0] for names in self.mujoco_model.geom_frames.values()})
-            raise FrameNotFoundError(
-                f"Frame {frame!r} of robot {self.mujoco_model.robot.name!r} has no collision "
-                "geometry, nor has the link it is attached to: no terrain force can act on it. "
-                f"Frames with geometry: {with_geometry[:12]}"
-                f"{' ...' if len(with_geometry) > 12 else ''}."
-            )
-        return geoms
-
-    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
-        """The active robot-terrain contacts (of ``frame``'s geoms), scanned once per state.
+    def _terrain_contacts(self) -> list[tuple[int, int, float]]:
+        """The active robot-terrain contacts, scanned once per state.
 
         Returns:
             ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when the
@@ -131,10 +114,7 @@ class ContactQueries:
             self._contacts_time = key
             self._switches = {}
             self._touching = None
-        if frame is None:
-            return self._contacts
-        geoms = self._frame_geoms(frame)
-        return [hit for hit in self._contacts if hit[1] in geoms]
+        return self._contacts
 
     def _scan_contacts(self) -> list[tuple[int, int, float]]:
         """The robot-terrain contacts of MuJoCo's list that are not excluded."""
@@ -171,7 +151,8 @@ class ContactQueries:
             switch = self._switches.get(frame)
             if switch is not None:
                 return switch
-        switch = bool(self._terrain_contacts(frame))
+        self._terrain_contacts()
+        switch = not self._frame_geoms(frame).isdisjoint(self._touched)
         self._switches[frame] = switch  # a known frame (unknown ones raised above)
         return switch
 
@@ -232,13 +213,7 @@ class ContactQueries:
             FrameNotFoundError: If the robot has no such frame (with the closest names), or
                 neither the frame nor its link has geometry.
         """
-        self._geoms_for_forces(frame)
-        total = np.zeros(3)
-        for i, _, sign in self._terrain_contacts(frame):
-            mujoco.mj_contactForce(self.model, self.data, i, self._force)
-            axes = self.data.contact.frame[i].reshape(3, 3)  # rows: normal, tangent 1, tangent 2
-            total += sign * (axes.T @ self._force[:3])
-        return total
+        return self.contact_forces((frame,))[0]
 
     def contact_forces(self, frames: Sequence[str]) -> np.ndarray:
         """[`contact_force`][] of several frames in one pass: ``(len(frames), 3)`` [N].
@@ -253,9 +228,18 @@ class ContactQueries:
         except TypeError:  # an unhashable entry: _frame_geoms names it below
             rows_of = None
         if rows_of is None:  # geom -> the rows of the frames that own it, once per frame list
-            rows_of = {}
+            rows_of, mm = {}, self.mujoco_model
             for k, frame in enumerate(key):
-                for geom in self._geoms_for_forces(frame):
+                geoms = self._frame_geoms(frame)
+                if not geoms:
+                    with_geometry = sorted({names[0] for names in mm.geom_frames.values()})
+                    raise FrameNotFoundError(
+                        f"Frame {frame!r} of robot {mm.robot.name!r} has no collision geometry, "
+                        "nor has the link it is attached to: no terrain force can act on it. "
+                        f"Frames with geometry: {with_geometry[:12]}"
+                        f"{' ...' if len(with_geometry) > 12 else ''}."
+                    )
+                for geom in geoms:
                     rows_of.setdefault(geom, []).append(k)
             self._force_rows[key] = rows_of  # every entry a known frame name: hashable
         out = np.zeros((len(key), 3))

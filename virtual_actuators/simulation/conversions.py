@@ -17,7 +17,6 @@ from virtual_actuators.simulation.model import MujocoModel
 __all__ = [
     "configuration_from_mujoco",
     "configuration_to_mujoco",
-    "direct_gathers",
     "finite_vector",
     "gathers",
     "state_velocity",
@@ -39,21 +38,13 @@ class Gathers:
     actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
     actuator: np.ndarray  # its MuJoCo actuator id
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
-    direct_q: np.ndarray | None = None  # q = qpos[direct_q] when every joint is reordered
-    direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
+    # q = qpos[direct_q] when every joint is a hinge, slide, ball or free joint at its
+    # parent's origin; v = qvel[direct_v] when no joint is free
+    direct_q: np.ndarray | None = None
+    direct_v: np.ndarray | None = None
     gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
     direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
     unactuated: tuple[int, ...] = ()  # unactuated_v as ints
-
-
-def direct_gathers(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """``(direct_q, direct_v)``: ``q = qpos[direct_q]``, ``v = qvel[direct_v]``, or None.
-
-    ``direct_q`` exists when every joint is a hinge, a slide, a ball or a free joint at its
-    parent's origin, ``direct_v`` when no joint is free.
-    """
-    maps = gathers(mm)
-    return maps.direct_q, maps.direct_v
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -195,7 +186,7 @@ def _quat_xyzw(rotation: np.ndarray) -> np.ndarray:
     return q if q[3] >= 0.0 else -q
 
 
-def _free_pose(mm: MujocoModel, joint, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _free_pose(joint, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """World rotation and position of a free-flyer's body from the Pinocchio ``q``."""
     position = q[joint.idx_q : joint.idx_q + 3]
     rotation = _rotation_xyzw(q[joint.idx_q + 3 : joint.idx_q + 7])
@@ -214,10 +205,9 @@ def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
     for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
         if joint.kind == "free":
-            rotation, position = _free_pose(mm, joint, q)
-            x, y, z, w = _quat_xyzw(rotation)
-            if joint.placement.isIdentity():  # keep the caller's quaternion exactly
-                x, y, z, w = q[i + 3 : i + 7]
+            rotation, position = _free_pose(joint, q)
+            identity = joint.placement.isIdentity()  # then keep the caller's quaternion exactly
+            x, y, z, w = q[i + 3 : i + 7] if identity else _quat_xyzw(rotation)
             qpos[a : a + 3] = position
             qpos[a + 3 : a + 7] = (w, x, y, z)
         elif joint.kind == "ball":
@@ -276,7 +266,7 @@ def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndar
     for joint in mm.joints:
         d, i = joint.dof_adr, joint.idx_v
         if joint.kind == "free":
-            rotation, _ = _free_pose(mm, joint, q)
+            rotation, _ = _free_pose(joint, q)
             qvel[d : d + 3] = rotation @ v[i : i + 3]
             qvel[d + 3 : d + 6] = v[i + 3 : i + 6]
         else:

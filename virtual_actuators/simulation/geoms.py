@@ -14,9 +14,9 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from virtual_actuators.exceptions import RobotDescriptionError, notice
+from virtual_actuators.exceptions import notice
 from virtual_actuators.models.collada import collada_arrays
-from virtual_actuators.models.robot import Robot
+from virtual_actuators.models.robot import Robot, read_geometry
 from virtual_actuators.simulation.ground import (
     ROBOT_BITS,
     ROBOT_SELF_BITS,
@@ -61,26 +61,6 @@ def quat_wxyz(rotation: np.ndarray) -> np.ndarray:
     """MuJoCo quaternion ``(w, x, y, z)`` of a rotation matrix."""
     quat = pin.Quaternion(np.asarray(rotation, dtype=float)).coeffs()  # (x, y, z, w)
     return np.array([quat[3], quat[0], quat[1], quat[2]])
-
-
-def _geometry_model(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
-    """Read the robot's collision or visual geometry with Pinocchio.
-
-    Raises:
-        RobotDescriptionError: If Pinocchio cannot read it (a missing mesh, say).
-    """
-    model = robot.model
-    dirs = list(robot.package_dirs)
-    try:
-        if robot.urdf_path is not None:
-            return pin.buildGeomFromUrdf(model, str(robot.urdf_path), kind, package_dirs=dirs)
-        if robot.urdf_string is not None:
-            return pin.buildGeomFromUrdfString(model, robot.urdf_string, kind, package_dirs=dirs)
-    except Exception as exc:
-        raise RobotDescriptionError(
-            f"Pinocchio cannot read the geometry of robot {robot.name!r}: {exc}"
-        ) from exc
-    return pin.GeometryModel()
 
 
 class _Shape(NamedTuple):
@@ -183,8 +163,7 @@ def add_geometry(
     added = Added({}, [], [])
     if collisions == "none":
         return added
-    kind = pin.GeometryType.VISUAL if collisions == "visual" else pin.GeometryType.COLLISION
-    geometry = _geometry_model(robot, kind)
+    geometry = read_geometry(robot, visual=collisions == "visual")
     model = robot.model
     contype, conaffinity = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
     frames = _frames_in_joints(model)

@@ -21,7 +21,6 @@ from virtual_actuators.simulation.contact_queries import ContactQueries
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
-    direct_gathers,
     gathers,
     state_velocity,
     velocity_to_mujoco,
@@ -48,9 +47,9 @@ def _substeps(control_rate: float, timestep: float) -> int:
         InvalidInputError: If ``control_rate`` or ``timestep`` is not a positive number, or the
             control period is not a whole number of time steps.
     """
-    if not (isinstance(control_rate, (int, float)) and math.isfinite(control_rate)):
-        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
-    if control_rate <= 0:
+    if not (
+        isinstance(control_rate, (int, float)) and math.isfinite(control_rate) and control_rate > 0
+    ):
         raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
         raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
@@ -146,9 +145,9 @@ class Simulator(ContactQueries):
         self._init_contact_queries()
         # the state read every tick: MuJoCo's arrays (views) and the gathers that convert them
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
-        self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
-        self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         maps = gathers(self.mujoco_model)
+        self._direct_q, self._direct_v = maps.direct_q, maps.direct_v
+        self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         self._free_v = None  # (gather, free joints' rows) of the core's read of v, or None
         if _STATE_VELOCITY is not None and self._direct_v is None and maps.gather_v is not None:
             rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]

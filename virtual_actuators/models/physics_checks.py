@@ -11,7 +11,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-__all__ = ["INERTIA_KEYS", "physics_problems"]
+__all__ = ["INERTIA_KEYS", "parse_floats", "physics_problems"]
 
 #: The six entries of a URDF ``<inertia>``.
 INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
@@ -21,7 +21,7 @@ _INERTIA_RTOL = 1e-6
 _INERTIA_ATOL = 1e-9
 
 
-def _floats(text: str | None, count: int) -> list[float] | None:
+def parse_floats(text: str | None, count: int) -> list[float] | None:
     """``count`` numbers from an attribute (None when absent or malformed)."""
     try:
         values = [float(x) for x in (text or "").split()]
@@ -40,7 +40,7 @@ def _link_problems(link: ET.Element) -> tuple[list[str], list[str]]:
     name = link.get("name")
     mass = inertial.find("mass")
     text = None if mass is None else mass.get("value")
-    value = _floats(text, 1)
+    value = parse_floats(text, 1)
     if value is not None and not (math.isfinite(value[0]) and value[0] >= 0.0):
         fatal.append(
             f"link {name!r} has <mass value={text!r}/>; a mass must be a finite number >= 0 kg "
@@ -88,7 +88,7 @@ def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
     name, kind = joint.get("name"), joint.get("type")
     axis = joint.find("axis")
     if axis is not None and kind in ("revolute", "continuous", "prismatic", "planar"):
-        xyz = _floats(axis.get("xyz"), 3)
+        xyz = parse_floats(axis.get("xyz"), 3)
         if xyz is not None and not (all(map(math.isfinite, xyz)) and any(xyz)):
             fatal.append(
                 f"joint {name!r} ({kind}) has <axis xyz={axis.get('xyz')!r}/>; its axis must be "
@@ -96,7 +96,7 @@ def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
             )
     limit = joint.find("limit")
     if limit is not None and kind in ("revolute", "prismatic"):
-        bounds = {key: _floats(limit.get(key, "0"), 1) for key in ("lower", "upper")}
+        bounds = {key: parse_floats(limit.get(key, "0"), 1) for key in ("lower", "upper")}
         lower, upper = bounds["lower"], bounds["upper"]
         nan = [f"{key}={limit.get(key)!r}" for key, v in bounds.items() if v and math.isnan(v[0])]
         if nan:

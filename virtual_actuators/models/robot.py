@@ -8,7 +8,13 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InvalidInputError, JointNotFoundError, RobotDescriptionError, suggestion
+from ..exceptions import (
+    FrameNotFoundError,
+    InvalidInputError,
+    JointNotFoundError,
+    RobotDescriptionError,
+    suggestion,
+)
 from ..vocabulary.arguments import as_float_array, check_number
 
 
@@ -162,6 +168,20 @@ def _set_data(self: Robot, value: pin.Data | None) -> None:
 
 # ``data`` is created lazily: the dataclass's __init__ assigns through this property
 Robot.data = property(_get_data, _set_data, doc="Pinocchio data of ``model`` (created lazily).")
+
+
+def frame_id(robot: Robot, frame: str) -> int:
+    """The id of frame ``frame`` of ``robot``.
+
+    Raises:
+        FrameNotFoundError: If the robot has no such frame (with the closest names).
+    """
+    if not isinstance(frame, str) or not robot.model.existFrame(frame):
+        raise FrameNotFoundError(
+            f"Robot {robot.name!r} has no frame {frame!r}. "
+            f"{suggestion(str(frame), robot.frame_names, 'frames')}"
+        )
+    return int(robot.model.getFrameId(frame))
 
 
 def read_geometry(robot: Robot, visual: bool = False) -> pin.GeometryModel:

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import FrameNotFoundError, suggestion
-from .robot import Robot, read_geometry
+from ..exceptions import FrameNotFoundError
+from .robot import Robot, frame_id, read_geometry
 
 #: Points within this height of a foot's lowest point make up its sole [m].
 SOLE_THICKNESS = 0.005
@@ -57,13 +57,7 @@ def find_sole(robot: Robot, foot: str) -> Sole:
             geometry.
         RobotDescriptionError: Pinocchio cannot read the geometry.
     """
-    model = robot.model
-    if not isinstance(foot, str) or not model.existFrame(foot):
-        raise FrameNotFoundError(
-            f"Robot {robot.name!r} has no frame {foot!r}. "
-            f"{suggestion(str(foot), robot.frame_names, 'frames')}"
-        )
-    frame = model.frames[model.getFrameId(foot)]
+    frame = robot.model.frames[frame_id(robot, foot)]
     frame_in_joint = frame.placement
     points = [
         frame_in_joint.actInv(obj.placement.act(point))

@@ -7,15 +7,10 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
-    FrameNotFoundError,
-    InvalidInputError,
-    SingularConfigurationError,
-    suggestion,
-)
+from ..exceptions import InvalidInputError, SingularConfigurationError
 from ..vocabulary.arguments import check_number
 from .feet import find_feet
-from .robot import Robot
+from .robot import Robot, frame_id
 
 #: Hip-to-foot height of the generated pose, as a fraction of the all-zero pose's.
 HEIGHT_RATIO = 0.9
@@ -62,7 +57,7 @@ def standing_pose(
     model = robot.model
     if feet is None:
         feet = find_feet(robot).feet
-    ids = [_frame_id(robot, foot) for foot in feet]
+    ids = [frame_id(robot, foot) for foot in feet]
     shift = np.zeros(2)  # of the feet, to bring the centre of mass over their middle
     for _ in range(3):
         q = pin.neutral(model)
@@ -74,20 +69,6 @@ def standing_pose(
         shift += robot.center_of_mass(q)[:2] - middle
     q[2] -= min(float(data.oMf[foot].translation[2]) for foot in ids)
     return q
-
-
-def _frame_id(robot: Robot, frame: str) -> int:
-    """The id of frame ``frame``.
-
-    Raises:
-        FrameNotFoundError: No such frame (with close matches).
-    """
-    if not robot.model.existFrame(frame):
-        raise FrameNotFoundError(
-            f"Robot {robot.name!r} has no frame {frame!r}. "
-            f"{suggestion(frame, robot.frame_names, 'frames')}"
-        )
-    return int(robot.model.getFrameId(frame))
 
 
 def leg_joints(model: pin.Model, foot: int) -> list[int]:

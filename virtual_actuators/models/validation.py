@@ -9,10 +9,9 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from collections import Counter
 from pathlib import Path
-from typing import Any, NamedTuple
 
 from virtual_actuators.exceptions import RobotDescriptionError, suggestion
-from virtual_actuators.models.physics_checks import INERTIA_KEYS
+from virtual_actuators.models.physics_checks import INERTIA_KEYS, parse_floats
 
 __all__ = ["listed", "parse_xml", "validate_urdf"]
 
@@ -60,7 +59,7 @@ def validate_urdf(path: Path, text: str) -> ET.Element:
     root = parse_xml(path, text)
     problems = _element_problems(root)
     if not problems:
-        problems = _number_problems(root) or _xml_tree_problems(root)
+        problems = _number_problems(root) or _tree_problems(root)
     if not problems:
         problems = _yourdfpy_problems(path)
     if problems:
@@ -107,13 +106,6 @@ def _element_problems(root: ET.Element) -> list[str]:
     return problems
 
 
-class _Limit(NamedTuple):
-    """A joint's ``<limit>``: its effort and velocity bounds (None when absent)."""
-
-    effort: str | None
-    velocity: str | None
-
-
 #: Numeric attributes of URDF elements (path from a link or joint, attribute, how many numbers).
 _NUMBERS = {
     "joint": [
@@ -146,38 +138,13 @@ def _number_problems(root: ET.Element) -> list[str]:
                     if text is None:
                         continue
                     words = text.split()
-                    bad = [word for word in words if not _is_number(word)]
+                    bad = [word for word in words if parse_floats(word, 1) is None]
                     if bad or len(words) != count:
                         what = f"{bad[0]!r} is not a number" if bad else f"needs {count} numbers"
                         problems.append(
                             f"{label} has <{path.split('/')[-1]} {attribute}={text!r}>: {what}"
                         )
     return problems
-
-
-def _is_number(word: str) -> bool:
-    try:
-        float(word)
-    except ValueError:
-        return False
-    return True
-
-
-def _xml_tree_problems(root: ET.Element) -> list[str]:
-    """`_tree_problems` on the links and joints read from the XML."""
-    joints = []
-    for joint in root.findall("joint"):
-        limit = joint.find("limit")
-        joints.append(
-            (
-                joint.get("name", ""),
-                joint.get("type", ""),
-                joint.find("parent").get("link", ""),  # type: ignore[union-attr]
-                joint.find("child").get("link", ""),  # type: ignore[union-attr]
-                None if limit is None else _Limit(limit.get("effort"), limit.get("velocity")),
-            )
-        )
-    return _tree_problems([link.get("name", "") for link in root.findall("link")], joints)
 
 
 def _yourdfpy_problems(path: Path) -> list[str]:
@@ -203,39 +170,32 @@ def _yourdfpy_problems(path: Path) -> list[str]:
     except Exception as exc:  # yourdfpy raises ValueError, KeyError... on malformed values
         return [f"yourdfpy cannot parse it: {type(exc).__name__}: {exc}"]
 
-    robot = urdf.robot
-    problems = _tree_problems(
-        [link.name for link in robot.links],
-        [
-            (joint.name, joint.type, joint.parent, joint.child, joint.limit)
-            for joint in robot.joints
-        ],
-    )
     try:
         urdf.validate()
-        errors = list(urdf.errors)
+        errors = [str(error) for error in urdf.errors]
     except Exception as exc:
         errors = [f"{type(exc).__name__}: {exc}"]
-    for error in errors:
-        message = str(error)
-        # urdfdom (hence Pinocchio) reads a missing lower/upper bound as 0, and limit problems
-        # are reported above with the joint's name.
-        if "<limit>" in message or "'lower'" in message or "'upper'" in message:
-            continue
-        if message not in problems:
-            problems.append(message)
-    return problems
+    # urdfdom (hence Pinocchio) reads a missing lower/upper bound as 0, and `_tree_problems`
+    # reports the limit problems with the joint's name.
+    limits = ("<limit>", "'lower'", "'upper'")
+    return list(dict.fromkeys(e for e in errors if not any(word in e for word in limits)))
 
 
-def _tree_problems(links: list[str], joints: list[tuple[str, str, str, str, Any]]) -> list[str]:
+def _tree_problems(root: ET.Element) -> list[str]:
     """Check that links and joints form one tree and that joints have the limits they need."""
-    problems = []
+    links = [link.get("name", "") for link in root.findall("link")]
     link_set = set(links)
-    for name in sorted(link for link, count in Counter(links).items() if count > 1):
-        problems.append(f"link {name!r} is declared more than once")
+    problems = [
+        f"link {name!r} is declared more than once"
+        for name in sorted(link for link, count in Counter(links).items() if count > 1)
+    ]
     parent_of: dict[str, str] = {}
+    parent_link: dict[str, str] = {}
     joint_names: set[str] = set()
-    for name, kind, parent, child, limit in joints:
+    for joint in root.findall("joint"):
+        name, kind, limit = joint.get("name", ""), joint.get("type", ""), joint.find("limit")
+        parent = joint.find("parent").get("link", "")  # type: ignore[union-attr]
+        child = joint.find("child").get("link", "")  # type: ignore[union-attr]
         if name in joint_names:
             problems.append(f"joint {name!r} is declared more than once")
         joint_names.add(name)
@@ -250,12 +210,12 @@ def _tree_problems(links: list[str], joints: list[tuple[str, str, str, str, Any]
                 f"link {child!r} is the child of two joints ({parent_of[child]!r} and {name!r})"
             )
         parent_of.setdefault(child, name)
+        parent_link[child] = parent
         if kind in ("revolute", "prismatic") and limit is None:
             problems.append(f"joint {name!r} ({kind}) has no <limit> element")
-        elif limit is not None and (limit.effort is None or limit.velocity is None):
+        elif limit is not None and None in (limit.get("effort"), limit.get("velocity")):
             problems.append(f"the <limit> of joint {name!r} needs 'effort' and 'velocity'")
     roots = [link for link in dict.fromkeys(links) if link not in parent_of]
-    parent_link = {child: parent for _, _, parent, child, _ in joints}
     looped = []
     for link in dict.fromkeys(links):
         seen = {link}

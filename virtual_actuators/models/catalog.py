@@ -221,11 +221,7 @@ def shown_name(name_or_path: object, limit: int = 80) -> str:
 
 
 def _expand_user(path: Path, name_or_path: object) -> Path:
-    """``path`` with its leading ``~`` or ``~user`` expanded.
-
-    Raises:
-        RobotNotFoundError: If the user or the home folder is unknown.
-    """
+    """``path`` with its leading ``~`` or ``~user`` expanded (an unknown one: not found)."""
     try:
         return path.expanduser()
     except RuntimeError as exc:  # ~nosuchuser, or no HOME and no password entry

@@ -144,22 +144,13 @@ def _load_path(path: Path, floating_base: bool | None) -> Robot:
 def _load_urdf(
     name: str, path: Path, floating_base: bool | None, package_dirs: list[str], validate: bool
 ) -> Robot:
-    """Build the robot of one URDF file.
-
-    `physics_problems` always runs first (strictly, except for curated example-robot-data
-    files); `validate_urdf` runs before Pinocchio when ``validate``, else only to explain a file
-    Pinocchio rejects.
-
-    Raises:
-        RobotDescriptionError: If the file cannot be read, is not well-formed XML, describes an
-            impossible robot, fails the structural checks, or Pinocchio cannot build a model.
-    """
+    """Build the robot of one URDF file (`validate_urdf` first, or to explain a rejection)."""
     path = path.resolve()
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotDescriptionError(f"Cannot read the URDF file {path}: {exc}") from exc
-    root = parse_xml(path, text)
+    root = parse_xml(path, text)  # the physics checks always; strict but on curated files
     problems, tolerated = physics_problems(root, strict=not is_curated(path))
     if problems:
         raise RobotDescriptionError(f"{path} describes an impossible robot:{listed(problems)}")

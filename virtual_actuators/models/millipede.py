@@ -77,11 +77,7 @@ def _cylinder_inertia(mass: float, radius: float, length: float) -> tuple[float,
 
 
 def _check_legs(legs: object) -> int:
-    """``legs`` as an int.
-
-    Raises:
-        InvalidInputError: If it is not an integer in ``1..MAX_LEGS``.
-    """
+    """``legs`` as an int, checked to be in ``1..MAX_LEGS``."""
     if isinstance(legs, bool) or not isinstance(legs, numbers.Integral):
         raise InvalidInputError(
             f"millipede(legs=...) needs an integer number of legs >= 1, got {legs!r} "
@@ -95,24 +91,6 @@ def _check_legs(legs: object) -> int:
             f"0.5 s and 50 MiB, and the memory grows faster than the legs), got {legs}."
         )
     return int(legs)
-
-
-def _add_body(robot: ET.Element, length: float, width: float, height: float, mass: float) -> None:
-    """Append the box-shaped ``body`` link, centred on its frame, lying along ``x``."""
-    body = ET.SubElement(robot, "link", name="body")
-    _add_inertial(
-        body,
-        mass,
-        (0.0, 0.0, 0.0),
-        (
-            mass * (width**2 + height**2) / 12.0,
-            mass * (length**2 + height**2) / 12.0,
-            mass * (length**2 + width**2) / 12.0,
-        ),
-    )
-    _add_geometry(
-        body, "body", (0.0, 0.0, 0.0), "box", collision=True, size=_vec(length, width, height)
-    )
 
 
 def millipede_urdf(
@@ -155,7 +133,13 @@ def millipede_urdf(
     robot = ET.Element("robot", name="millipede")
     for material, rgba in (("body", "0.45 0.3 0.15 1"), ("leg", "0.2 0.2 0.2 1")):
         ET.SubElement(ET.SubElement(robot, "material", name=material), "color", rgba=rgba)
-    _add_body(robot, pairs * spacing, body_width, body_height, pairs * body_mass_per_pair)
+    length, mass = pairs * spacing, pairs * body_mass_per_pair
+    body = ET.SubElement(robot, "link", name="body")  # a box along x, centred on its frame
+    x2, y2, z2 = length**2, body_width**2, body_height**2
+    inertia = (mass * (y2 + z2) / 12.0, mass * (x2 + z2) / 12.0, mass * (x2 + y2) / 12.0)
+    _add_inertial(body, mass, (0.0, 0.0, 0.0), inertia)
+    box = _vec(length, body_width, body_height)
+    _add_geometry(body, "body", (0.0, 0.0, 0.0), "box", collision=True, size=box)
     limit = {"effort": _fmt(effort), "velocity": _fmt(velocity)}
     sphere = 0.4 * FOOT_MASS * FOOT_RADIUS**2
     for i in range(1, legs + 1):  # thigh, shin and foot links, then the three joints

@@ -89,11 +89,7 @@ def upper_joints(robot: Robot, feet: Sequence[str]) -> list[str]:
 
 
 def _fold_leg(robot: Robot, q: np.ndarray, foot: int, ratio: float, shift: np.ndarray) -> None:
-    """Move one leg's joints in ``q`` so its foot reaches the folded target (damped IK).
-
-    Raises:
-        SingularConfigurationError: The leg has no joints or misses its target.
-    """
+    """Move one leg's joints in ``q`` so its foot reaches the folded target (damped IK)."""
     model = robot.model
     name = model.frames[foot].name
     joints = leg_joints(model, foot)

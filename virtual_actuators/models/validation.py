@@ -148,10 +148,7 @@ def _number_problems(root: ET.Element) -> list[str]:
 
 
 def _yourdfpy_problems(path: Path) -> list[str]:
-    """Parse the URDF with yourdfpy (no meshes, no scene graph) and list what is wrong.
-
-    Returns no problem when yourdfpy is not installed (it is optional: the ``urdf`` extra).
-    """
+    """What yourdfpy (optional: the ``urdf`` extra) finds wrong, reading no mesh."""
     try:
         import yourdfpy  # half a second to import (trimesh)
     except ModuleNotFoundError as error:

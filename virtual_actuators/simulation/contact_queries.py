@@ -84,11 +84,7 @@ class ContactQueries:
         self._force_rows_out = np.zeros((64, 4))
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
-        """The robot geoms of ``frame``, or of its body when it owns none (cached).
-
-        Raises:
-            FrameNotFoundError: If the robot has no such frame (with the closest names).
-        """
+        """The robot geoms of ``frame``, or of its body when it owns none (cached); checked."""
         geoms = self._owned_geoms.get(frame) if isinstance(frame, str) else None
         if geoms is None:
             mm = self.mujoco_model
@@ -101,11 +97,9 @@ class ContactQueries:
         return geoms
 
     def _terrain_contacts(self) -> list[tuple[int, int, float]]:
-        """The active robot-terrain contacts, scanned once per state.
+        """``(index in data.contact, robot geom, sign)`` per robot-terrain contact, once a state.
 
-        Returns:
-            ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when the
-            robot geom is the second geom (MuJoCo's force acts on it along the normal), else -1.
+        ``sign`` is +1 when the robot geom is the second (MuJoCo's force acts on it), else -1.
         """
         key = (self.data.time, self.data.ncon)
         if self._contacts_time != key:
@@ -185,13 +179,9 @@ class ContactQueries:
         return dict(out)
 
     def _switch_set(self, frames: tuple) -> tuple:
-        """Per geom, the bit mask of the frames it belongs to (bit k: frame k); cached by names.
+        """``(int64 bits for the core or None, Python int bits, answers by mask)``, cached.
 
-        Returns:
-            ``(int64 bits for the core or None, the same bits as Python ints, answers by mask)``.
-
-        Raises:
-            FrameNotFoundError: If a frame is not the robot's (with the closest names).
+        Bit k of a geom's mask: it belongs to frame k.
         """
         py_bits = [0] * self.model.ngeom
         for k, frame in enumerate(frames):

@@ -96,12 +96,6 @@ _PRIMITIVES = {
 }
 
 
-def _primitive(shape: object) -> _Shape | None:
-    """The MuJoCo primitive of a coal shape, or None for an unsupported one."""
-    entry = _PRIMITIVES.get(type(shape).__name__)
-    return None if entry is None else _Shape(entry[0], entry[1](shape))
-
-
 def _mesh(
     spec: mujoco.MjSpec, obj: pin.GeometryObject, meshes: dict[tuple[str, tuple], str | None]
 ) -> _Shape | None:
@@ -110,28 +104,21 @@ def _mesh(
     scale = tuple(float(s) for s in obj.meshScale)
     key = (str(path), scale)
     if key not in meshes:
-        meshes[key] = _add_mesh(spec, path, scale, f"mesh_{len(meshes)}_{path.stem}")
+        name, mesh = f"mesh_{len(meshes)}_{path.stem}", None
+        if _readable_mesh(path):
+            mesh = spec.add_mesh(name=name, file=str(path), scale=list(scale))
+        elif path.suffix.lower() == ".dae" and (arrays := collada_arrays(str(path))) is not None:
+            vertices, triangles = arrays
+            mesh = spec.add_mesh(
+                name=name,
+                uservert=(vertices * np.asarray(scale)).reshape(-1).tolist(),
+                userface=triangles.reshape(-1).tolist(),
+            )
+        if mesh is not None:  # inertias come from Pinocchio: a surface one compiles for any mesh
+            mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+        meshes[key] = None if mesh is None else name
     name = meshes[key]
     return None if name is None else _Shape(mujoco.mjtGeom.mjGEOM_MESH, mesh=name)
-
-
-def _add_mesh(spec: mujoco.MjSpec, path: Path, scale: tuple, name: str) -> str | None:
-    """Add the mesh file ``path`` to ``spec`` as ``name``; None if it cannot be read."""
-    if _readable_mesh(path):
-        mesh = spec.add_mesh(name=name, file=str(path), scale=list(scale))
-    elif path.suffix.lower() == ".dae" and (arrays := collada_arrays(str(path))) is not None:
-        vertices, triangles = arrays
-        mesh = spec.add_mesh(
-            name=name,
-            uservert=(vertices * np.asarray(scale)).reshape(-1).tolist(),
-            userface=triangles.reshape(-1).tolist(),
-        )
-    else:
-        return None
-    # Mesh inertia is unused (inertias come from Pinocchio); a surface inertia compiles even for
-    # open or flat meshes.
-    mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-    return name
 
 
 def _bounding_box(obj: pin.GeometryObject) -> _Shape | None:
@@ -173,7 +160,11 @@ def add_geometry(
         is_mesh = type(obj.geometry).__name__.startswith(("BVHModel", "Convex"))
         if is_mesh and collisions == "primitives":
             continue  # meshes are left out on purpose
-        shape = _mesh(spec, obj, meshes) if is_mesh else _primitive(obj.geometry)
+        if is_mesh:
+            shape = _mesh(spec, obj, meshes)
+        else:
+            entry = _PRIMITIVES.get(type(obj.geometry).__name__)
+            shape = None if entry is None else _Shape(entry[0], entry[1](obj.geometry))
         if shape is None:
             shape = _bounding_box(obj)
             (added.skipped if shape is None else added.approximated).append(obj.name)

@@ -243,12 +243,7 @@ def build_mujoco_model(
 
 
 def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) -> Terrain:
-    """The terrain (level ground when None), after checking the options.
-
-    Raises:
-        InvalidInputError: If ``timestep`` is not positive, ``collisions`` not one of
-            `COLLISION_CHOICES` or ``terrain`` not a [`Terrain`][].
-    """
+    """The terrain (level ground when None), after checking the options."""
     if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
         raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
     if collisions not in COLLISION_CHOICES:

@@ -41,12 +41,7 @@ _STATE_VELOCITY = kernel("state_velocity", None)
 
 
 def _substeps(control_rate: float, timestep: float) -> int:
-    """The number of physics steps in one control period.
-
-    Raises:
-        InvalidInputError: If ``control_rate`` or ``timestep`` is not a positive number, or the
-            control period is not a whole number of time steps.
-    """
+    """The number of physics steps in one control period (checked to be whole)."""
     if not (
         isinstance(control_rate, (int, float)) and math.isfinite(control_rate) and control_rate > 0
     ):

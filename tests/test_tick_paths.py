@@ -18,10 +18,10 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.gaits.planar_walk import RECORD_EVERY
 from virtual_actuators.kinematics.snapshot import Snapshot
 from virtual_actuators.simulation import Simulator
-from virtual_actuators.simulation.actuation import torques_to_ctrl
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     gathers,
+    torques_to_ctrl,
     velocity_from_mujoco,
 )
 from virtual_actuators.simulation.terrain import Terrain

@@ -10,7 +10,7 @@ import time as wallclock
 
 import numpy as np
 
-from .actuation import torques_to_ctrl
+from .conversions import torques_to_ctrl
 from .simulator import Simulator
 
 _perf_counter = wallclock.perf_counter

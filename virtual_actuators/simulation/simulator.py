@@ -16,13 +16,14 @@ import numpy as np
 from virtual_actuators.core import kernel
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.actuation import ctrl_writer, torques_to_ctrl
 from virtual_actuators.simulation.contact_queries import ContactQueries
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
+    ctrl_writer,
     gathers,
     state_velocity,
+    torques_to_ctrl,
     velocity_to_mujoco,
 )
 from virtual_actuators.simulation.ground import ground_clearance

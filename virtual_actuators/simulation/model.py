@@ -6,7 +6,6 @@ same mechanism; every index map is computed by joint name, never by assuming the
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -40,6 +39,7 @@ from virtual_actuators.simulation.joints import (
     joint_kind,
 )
 from virtual_actuators.simulation.terrain import Terrain
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["ContactParameters", "JointMap", "MujocoModel", "build_mujoco_model"]
 
@@ -244,8 +244,7 @@ def build_mujoco_model(
 
 def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) -> Terrain:
     """The terrain (level ground when None), after checking the options."""
-    if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
-        raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
+    check_number(timestep, "timestep [s]", positive=True)
     if collisions not in COLLISION_CHOICES:
         raise InvalidInputError(
             f"collisions must be one of {', '.join(map(repr, COLLISION_CHOICES))}, "

@@ -6,7 +6,6 @@ Pinocchio frame name.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -34,6 +33,7 @@ from virtual_actuators.simulation.model import (
     build_mujoco_model,
 )
 from virtual_actuators.simulation.terrain import Terrain
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["Simulator"]
 
@@ -43,14 +43,10 @@ _STATE_VELOCITY = kernel("state_velocity", None)
 
 def _substeps(control_rate: float, timestep: float) -> int:
     """The number of physics steps in one control period (checked to be whole)."""
-    if not (
-        isinstance(control_rate, (int, float)) and math.isfinite(control_rate) and control_rate > 0
-    ):
-        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
-    if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
-        raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
-    period = 1.0 / float(control_rate)
-    ratio = period / float(timestep)
+    control_rate = check_number(control_rate, "control_rate [Hz]", positive=True)
+    timestep = check_number(timestep, "timestep [s]", positive=True)
+    period = 1.0 / control_rate
+    ratio = period / timestep
     substeps = round(ratio)
     if substeps < 1 or abs(ratio - substeps) > 1e-9 * max(1.0, ratio):
         raise InvalidInputError(
@@ -283,11 +279,10 @@ class Simulator(ContactQueries):
             raise InvalidInputError(
                 f"force_world must be 3 finite numbers [N], got {force_world!r}."
             )
-        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
-            raise InvalidInputError(f"duration must be a positive number of seconds: {duration!r}.")
+        duration = check_number(duration, "duration [s]", positive=True)
         if body == 0:
             raise InvalidInputError(f"Frame {frame!r} is fixed to the world: it cannot be pushed.")
-        end = self.time + float(duration) - 0.5 * self.model.opt.timestep
+        end = self.time + duration - 0.5 * self.model.opt.timestep
         self._pushes.append(_Push(body, mm.frame_sites[frame], force, end))
         self._apply_pushes()
 

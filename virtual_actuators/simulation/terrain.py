@@ -13,6 +13,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError, suggestion
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["Terrain"]
 
@@ -135,16 +136,13 @@ class Terrain:
                 f"{_pair(array[i + 1])} does not come after point {i} {_pair(array[i])} "
                 "(a vertical step is not a valid profile)."
             )
-        if not (isinstance(width, (int, float)) and math.isfinite(width) and width > 0.0):
-            raise InvalidInputError(
-                f"Terrain width must be a positive number of metres: {width!r}."
-            )
+        width = check_number(width, "Terrain width [m]", positive=True)
         array.setflags(write=False)
         self._points = array
         # plain floats for height() at one number (the control loop's query)
         self._xs, self._zs = array[:, 0].tolist(), array[:, 1].tolist()
         self.name = str(name)
-        self.width = float(width)
+        self.width = width
 
     @classmethod
     def flat(cls, height: float = 0.0, *, width: float = DEFAULT_WIDTH) -> Terrain:

@@ -15,7 +15,7 @@ import pinocchio as pin
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.vocabulary.arguments import check_number
+from virtual_actuators.vocabulary.arguments import check_flag, check_number
 
 __all__ = ["MAX_LEGS", "millipede"]
 
@@ -209,13 +209,8 @@ def millipede(
         TypeError: If an unknown keyword is passed in ``dimensions``.
     """
     legs = _check_legs(legs)
-    if not isinstance(floating_base, bool):
-        raise InvalidInputError(f"floating_base must be True or False, got {floating_base!r}.")
-    if (
-        isinstance(knee_angle, bool)
-        or not isinstance(knee_angle, numbers.Real)
-        or not 0.0 < knee_angle < 0.5 * math.pi
-    ):
+    floating_base = check_flag(floating_base, "floating_base")
+    if not check_number(knee_angle, "knee_angle [rad]", positive=True) < 0.5 * math.pi:
         raise InvalidInputError(f"knee_angle must be a number in (0, pi/2), got {knee_angle!r}.")
     urdf = millipede_urdf(legs, **dimensions)
     leg_length = float(dimensions.get("leg_length", DEFAULT_LEG_LENGTH))

@@ -133,7 +133,6 @@ class Simulator(ContactQueries):
         self.substeps = substeps
         self._pushes: list[_Push] = []
         self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
-        self._pushing = False  # whether _applied holds anything
         self._init_contact_queries()
         # the state read every tick: MuJoCo's arrays (views) and the gathers that convert them
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
@@ -196,7 +195,6 @@ class Simulator(ContactQueries):
         self.data.qvel[:] = qvel
         self._pushes.clear()
         self._applied[:] = 0.0
-        self._pushing = False
         mujoco.mj_forward(self.model, self.data)
         self._contacts_time = None  # ContactQueries scans again
 
@@ -248,7 +246,7 @@ class Simulator(ContactQueries):
         if write is None or not write(tau, ignore_unactuated):  # the general path says why
             ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
             self._ctrl[:] = ctrl
-        if not self._pushes and not self._pushing:
+        if not self._pushes:  # then _applied is zero
             mujoco.mj_step(self.model, self.data, nstep=self.substeps)
             return
         for _ in range(self.substeps):
@@ -289,7 +287,7 @@ class Simulator(ContactQueries):
     def _apply_pushes(self) -> None:
         """Write the active pushes into ``xfrc_applied`` (removing the ones that ended)."""
         data, applied = self.data, self._applied
-        if self._pushing:  # else our share is zero already
+        if self._pushes:  # else our share is zero already
             data.xfrc_applied[:] -= applied
             applied[:] = 0.0
         now = float(data.time)
@@ -301,7 +299,6 @@ class Simulator(ContactQueries):
             applied[push.body, 3:] += (y * fz - z * fy, z * fx - x * fz, x * fy - y * fx)
         if pushes:
             data.xfrc_applied[:] += applied
-        self._pushing = bool(pushes)
 
     def __repr__(self) -> str:
         return (

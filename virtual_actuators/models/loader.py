@@ -39,9 +39,8 @@ from virtual_actuators.models.catalog import (
     urdf_in_folder,
 )
 from virtual_actuators.models.millipede import millipede
-from virtual_actuators.models.physics_checks import physics_problems
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.models.validation import listed, parse_xml, validate_urdf
+from virtual_actuators.models.validation import listed, parse_xml, physics_problems, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
@@ -78,7 +77,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
         RobotNotFoundError: If the file does not exist or the file system refuses to look it up,
             or no robot has this name (the message lists the closest names and aliases).
         RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF,
-            describes an impossible robot (see `physics_checks`; the message names each
+            describes an impossible robot (see `physics_problems`; the message names each
             offending link or joint, its value and what is valid), or Pinocchio cannot build a
             model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or

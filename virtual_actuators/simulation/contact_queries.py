@@ -161,8 +161,16 @@ class ContactQueries:
             entry = self._switch_sets.get(key)
         except TypeError:  # an unhashable entry: _frame_geoms names it below
             entry = None
-        if entry is None:
-            entry = self._switch_set(key)
+        if entry is None:  # per geom, bit k set when it belongs to frame k; answers by mask
+            py_bits = [0] * self.model.ngeom
+            for k, frame in enumerate(key):
+                for geom in self._frame_geoms(frame):
+                    py_bits[geom] |= 1 << k
+            fits = self._contact_view is not None and len(key) < 63
+            entry = (np.array(py_bits, dtype=np.int64) if fits else None, py_bits, {})
+            if len(self._switch_sets) >= 64:
+                self._switch_sets.clear()
+            self._switch_sets[key] = entry  # the frames are names: _frame_geoms checked them
         bits, py_bits, answers = entry
         if bits is not None:  # one compiled pass over MuJoCo's contact list
             mask = self._contact_view.touch_mask(bits)
@@ -177,22 +185,6 @@ class ContactQueries:
                 answers.clear()
             out = answers[mask] = {frame: bool(mask >> k & 1) for k, frame in enumerate(key)}
         return dict(out)
-
-    def _switch_set(self, frames: tuple) -> tuple:
-        """``(int64 bits for the core or None, Python int bits, answers by mask)``, cached.
-
-        Bit k of a geom's mask: it belongs to frame k.
-        """
-        py_bits = [0] * self.model.ngeom
-        for k, frame in enumerate(frames):
-            for geom in self._frame_geoms(frame):
-                py_bits[geom] |= 1 << k
-        fits = self._contact_view is not None and len(frames) < 63
-        entry = (np.array(py_bits, dtype=np.int64) if fits else None, py_bits, {})
-        if len(self._switch_sets) >= 64:
-            self._switch_sets.clear()
-        self._switch_sets[frames] = entry  # the frames are names: _frame_geoms checked them
-        return entry
 
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, world axes [N], shape ``(3,)``.

@@ -153,7 +153,10 @@ def add_geometry(
     geometry = read_geometry(robot, visual=collisions == "visual")
     model = robot.model
     contype, conaffinity = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
-    frames = _frames_in_joints(model)
+    frames: dict[str, tuple[int, np.ndarray]] = {}  # parent joint and origin of each frame name
+    for frame in model.frames:  # but movable joints' frames
+        if frame.name not in frames and frame.type != pin.FrameType.JOINT:
+            frames[frame.name] = (frame.parentJoint, np.array(frame.placement.translation))
     meshes: dict[tuple[str, tuple[float, ...]], str | None] = {}
     used = set()
     for obj in geometry.geometryObjects:
@@ -190,13 +193,16 @@ def add_geometry(
         set_contact(geom, contact, contype, conaffinity)
         geom.group = ROBOT_GROUP
         geom.rgba = [0.6, 0.6, 0.65, 1.0]
-        added.owners[name] = _owners(model, obj, shape, placement, frames)
-    _tell(robot, added)
-    return added
-
-
-def _tell(robot: Robot, added: Added) -> None:
-    """One `notice` line for the meshes approximated, one for the geometries left out."""
+        parent = model.frames[obj.parentFrame].name
+        inside = [
+            frame
+            for frame, (joint, point) in frames.items()
+            if joint == obj.parentJoint
+            and frame != parent
+            and shape.size is not None
+            and _inside(shape.geom_type, shape.size, placement.actInv(point))
+        ]
+        added.owners[name] = (parent, *inside)  # its parent frame, then the frames inside it
     for names, what in (
         (added.approximated, "simulated as bounding boxes, the meshes that neither MuJoCo (OBJ, "
          "binary STL) nor the Collada reader reads"),
@@ -205,26 +211,7 @@ def _tell(robot: Robot, added: Added) -> None:
     ):  # fmt: skip
         if names:
             notice(f"Robot {robot.name!r}: {what} ({len(names)}): {', '.join(names)}")
-
-
-def _owners(
-    model: pin.Model,
-    obj: pin.GeometryObject,
-    shape: _Shape,
-    placement: pin.SE3,
-    frames: dict[str, tuple[int, np.ndarray]],
-) -> tuple[str, ...]:
-    """The frames owning a geom at ``placement`` (joint frame): its parent, then those inside."""
-    parent = model.frames[obj.parentFrame].name
-    located = [
-        frame
-        for frame, (joint, point) in frames.items()
-        if joint == obj.parentJoint
-        and frame != parent
-        and shape.size is not None
-        and _inside(shape.geom_type, shape.size, placement.actInv(point))
-    ]
-    return (parent, *located)
+    return added
 
 
 def _readable_mesh(path: Path) -> bool:
@@ -244,15 +231,6 @@ def _readable_mesh(path: Path) -> bool:
         return False
     faces = int.from_bytes(header[80:84], "little")
     return size == 84 + 50 * faces and 1 <= faces <= MAX_STL_FACES  # ASCII STL is not read
-
-
-def _frames_in_joints(model: pin.Model) -> dict[str, tuple[int, np.ndarray]]:
-    """Parent joint and origin (joint frame) of each frame name but movable joints' frames."""
-    out: dict[str, tuple[int, np.ndarray]] = {}
-    for frame in model.frames:
-        if frame.name not in out and frame.type != pin.FrameType.JOINT:
-            out[frame.name] = (frame.parentJoint, np.array(frame.placement.translation))
-    return out
 
 
 def _inside(geom_type: mujoco.mjtGeom, size: list[float], point: np.ndarray) -> bool:

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from virtual_actuators.core import CORE, has
 from virtual_actuators.exceptions import InvalidInputError
@@ -160,13 +161,7 @@ def finite_vector(value: object, size: int, what: str) -> np.ndarray:
 def _rotation_xyzw(quat: np.ndarray) -> np.ndarray:
     """Rotation matrix of a quaternion ``(x, y, z, w)`` (normalised first)."""
     x, y, z, w = quat / np.linalg.norm(quat)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    return pin.Quaternion(w, x, y, z).toRotationMatrix()
 
 
 def _quat_xyzw(rotation: np.ndarray) -> np.ndarray:

@@ -160,9 +160,9 @@ def ground_clearance(
     ``data`` must hold the geoms' placements; distances beyond `CLEARANCE_RANGE` count as it.
     """
     terrain = tuple(terrain)
-    clearance = CLEARANCE_RANGE
-    for geom in robot_geoms:
-        for ground in terrain:
-            distance = mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None)
-            clearance = min(clearance, float(distance))
-    return clearance
+    distances = (
+        float(mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None))
+        for geom in robot_geoms
+        for ground in terrain
+    )
+    return min((CLEARANCE_RANGE, *distances))

@@ -187,10 +187,9 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             mj_joint.axis = axis
             lower = float(model.lowerPositionLimit[joint.idx_q])
             upper = float(model.upperPositionLimit[joint.idx_q])
-            if kind != "continuous" and math.isfinite(lower) and math.isfinite(upper):
-                if lower < upper:
-                    mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
-                    mj_joint.range = [lower, upper]
+            if kind != "continuous" and -math.inf < lower < upper < math.inf:
+                mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+                mj_joint.range = [lower, upper]
         bodies.append(body)
     return bodies
 

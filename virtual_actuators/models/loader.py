@@ -161,10 +161,8 @@ def _load_urdf(
         floating_base = guess_floating_base(root, path.stem)
 
     try:
-        if floating_base:
-            model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-        else:
-            model = pin.buildModelFromUrdf(str(path))
+        root_joint = (pin.JointModelFreeFlyer(),) if floating_base else ()
+        model = pin.buildModelFromUrdf(str(path), *root_joint)
     except Exception as exc:  # Pinocchio raises ValueError or RuntimeError on URDFs it rejects
         if not validate:
             validate_urdf(path, text)  # raises with a precise message when it finds the problem

@@ -215,10 +215,7 @@ def millipede(
     urdf = millipede_urdf(legs, **dimensions)
     leg_length = float(dimensions.get("leg_length", DEFAULT_LEG_LENGTH))
 
-    if floating_base:
-        model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
-    else:
-        model = pin.buildModelFromXML(urdf)
+    model = pin.buildModelFromXML(urdf, *((pin.JointModelFreeFlyer(),) if floating_base else ()))
     model.name = "millipede"
 
     standing = pin.neutral(model)

@@ -70,10 +70,25 @@ def _add_geometry(
             ET.SubElement(element, "material", name=tag)
 
 
-def _cylinder_inertia(mass: float, radius: float, length: float) -> tuple[float, float, float]:
-    """Principal inertia of a solid cylinder along ``z`` about its centre of mass."""
-    transverse = mass * (3.0 * radius**2 + length**2) / 12.0
-    return (transverse, transverse, 0.5 * mass * radius**2)
+def _add_joint(
+    robot: ET.Element,
+    name: str,
+    kind: str,
+    parent: str,
+    child: str,
+    xyz: tuple[float, float, float],
+    limit: dict[str, str] | None = None,
+    axis: str = "",
+) -> None:
+    """Append a joint; a moving one (with a ``limit``) gets its axis, limits and damping."""
+    joint = ET.SubElement(robot, "joint", name=name, type=kind)
+    ET.SubElement(joint, "parent", link=parent)
+    ET.SubElement(joint, "child", link=child)
+    ET.SubElement(joint, "origin", xyz=_vec(*xyz), rpy="0 0 0")
+    if limit is not None:
+        ET.SubElement(joint, "axis", xyz=axis)
+        ET.SubElement(joint, "limit", **limit)
+        ET.SubElement(joint, "dynamics", damping="0.01", friction="0.0")
 
 
 def _check_legs(legs: object) -> int:
@@ -145,36 +160,25 @@ def millipede_urdf(
     for i in range(1, legs + 1):  # thigh, shin and foot links, then the three joints
         side = 1.0 if i % 2 == 1 else -1.0
         mount = (0.5 * (pairs - 1) * spacing - (i - 1) // 2 * spacing, side * 0.5 * body_width, 0.0)
-        for link_name, mass in ((f"thigh_{i}", thigh_mass), (f"shin_{i}", shin_mass)):
+        thigh = (0.0, side * 0.5 * leg_length, 0.0), (0.5 * math.pi, 0.0, 0.0), 1  # along y
+        shin = (0.0, 0.0, -0.5 * leg_length), (0.0, 0.0, 0.0), 2  # along z
+        cylinders = ((f"thigh_{i}", thigh_mass, thigh), (f"shin_{i}", shin_mass, shin))
+        for link_name, mass, (centre, rpy, axial) in cylinders:  # solid, inertia about the COM
+            inertia = [mass * (3.0 * leg_radius**2 + leg_length**2) / 12.0] * 3
+            inertia[axial] = 0.5 * mass * leg_radius**2
             link = ET.SubElement(robot, "link", name=link_name)
-            is_thigh = link_name.startswith("thigh")
-            centre = (0.0, side * 0.5 * leg_length, 0.0) if is_thigh else (0, 0, -0.5 * leg_length)
-            inertia = _cylinder_inertia(mass, leg_radius, leg_length)
-            if is_thigh:  # cylinder along y: swap the axial and a transverse moment
-                inertia = (inertia[0], inertia[2], inertia[1])
-            _add_inertial(link, mass, centre, inertia)
-            rpy = (0.5 * math.pi, 0.0, 0.0) if is_thigh else (0.0, 0.0, 0.0)
+            _add_inertial(link, mass, centre, tuple(inertia))
             _add_geometry(link, "leg", centre, "cylinder", collision=False, rpy=rpy,
                           radius=_fmt(leg_radius), length=_fmt(leg_length))  # fmt: skip
         foot = ET.SubElement(robot, "link", name=f"foot_{i}")
         _add_inertial(foot, FOOT_MASS, (0.0, 0.0, 0.0), (sphere, sphere, sphere))
         _add_geometry(foot, "leg", (0, 0, 0), "sphere", collision=True, radius=_fmt(FOOT_RADIUS))
-        chain = (
-            (f"hip_{i}", "revolute", "body", f"thigh_{i}", mount, (-1.0, 1.0), "0 0 1"),
-            (f"knee_{i}", "revolute", f"thigh_{i}", f"shin_{i}", (0, side * leg_length, 0),
-             (-2.0, 2.0), "1 0 0"),
-            (f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length), None, ""),
-        )  # fmt: skip
-        for name, kind, parent, child, xyz, bounds, axis in chain:
-            joint = ET.SubElement(robot, "joint", name=name, type=kind)
-            ET.SubElement(joint, "parent", link=parent)
-            ET.SubElement(joint, "child", link=child)
-            ET.SubElement(joint, "origin", xyz=_vec(*xyz), rpy="0 0 0")
-            if bounds is not None:
-                ET.SubElement(joint, "axis", xyz=axis)
-                bounds_text = {"lower": _fmt(bounds[0]), "upper": _fmt(bounds[1])}
-                ET.SubElement(joint, "limit", **bounds_text, **limit)
-                ET.SubElement(joint, "dynamics", damping="0.01", friction="0.0")
+        hip, knee = {"lower": "-1.0", "upper": "1.0"}, {"lower": "-2.0", "upper": "2.0"}
+        _add_joint(robot, f"hip_{i}", "revolute", "body", f"thigh_{i}", mount,
+                   {**hip, **limit}, "0 0 1")  # fmt: skip
+        _add_joint(robot, f"knee_{i}", "revolute", f"thigh_{i}", f"shin_{i}",
+                   (0, side * leg_length, 0), {**knee, **limit}, "1 0 0")  # fmt: skip
+        _add_joint(robot, f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length))
     ET.indent(robot)
     return ET.tostring(robot, encoding="unicode", xml_declaration=True) + "\n"
 

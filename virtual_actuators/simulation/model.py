@@ -196,15 +196,7 @@ def build_mujoco_model(
         InvalidInputError: If ``actuated`` names a joint with other than one degree of freedom,
             or ``timestep`` or ``collisions`` is invalid.
     """
-    check_number(timestep, "timestep [s]", positive=True)
-    if collisions not in COLLISION_CHOICES:
-        raise InvalidInputError(
-            f"collisions must be one of {', '.join(map(repr, COLLISION_CHOICES))}, "
-            f"got {collisions!r}."
-        )
-    terrain = Terrain.flat() if terrain is None else terrain
-    if not isinstance(terrain, Terrain):
-        raise InvalidInputError(f"terrain must be a Terrain, got {type(terrain).__name__}.")
+    terrain = _checked_options(timestep, collisions, terrain)
     contact = ContactParameters() if contact is None else contact
     model = robot.model
     kinds = [joint_kind(model, j) for j in range(1, model.njoints)]
@@ -224,13 +216,7 @@ def build_mujoco_model(
             f"MuJoCo cannot compile the model of robot {robot.name!r}: {exc}"
         ) from exc
 
-    geom_frames: dict[int, tuple[str, ...]] = {}
-    frame_geoms: dict[str, list[int]] = {}
-    for geom_name, owners in geometry.owners.items():
-        gid = _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, geom_name)
-        geom_frames[gid] = owners
-        for owner in owners:
-            frame_geoms.setdefault(owner, []).append(gid)
+    geom_frames, frame_geoms = _geom_maps(compiled, geometry.owners)
     return MujocoModel(
         robot=robot,
         terrain=terrain,
@@ -244,7 +230,7 @@ def build_mujoco_model(
             for j in range(model.njoints)
         ),
         geom_frames=MappingProxyType(geom_frames),
-        frame_geoms=MappingProxyType({k: tuple(v) for k, v in frame_geoms.items()}),
+        frame_geoms=MappingProxyType(frame_geoms),
         frame_sites=MappingProxyType(
             {frame: _id(compiled, mujoco.mjtObj.mjOBJ_SITE, site) for frame, site in sites.items()}
         ),
@@ -254,6 +240,20 @@ def build_mujoco_model(
         skipped_geometries=tuple(geometry.skipped),
         approximated_geometries=tuple(geometry.approximated),
     )
+
+
+def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) -> Terrain:
+    """The terrain (level ground when None), after checking the options."""
+    check_number(timestep, "timestep [s]", positive=True)
+    if collisions not in COLLISION_CHOICES:
+        raise InvalidInputError(
+            f"collisions must be one of {', '.join(map(repr, COLLISION_CHOICES))}, "
+            f"got {collisions!r}."
+        )
+    terrain = Terrain.flat() if terrain is None else terrain
+    if not isinstance(terrain, Terrain):
+        raise InvalidInputError(f"terrain must be a Terrain, got {type(terrain).__name__}.")
+    return terrain
 
 
 def _id(compiled: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
@@ -310,3 +310,17 @@ def _joint_maps(
             )
         )
     return tuple(joints)
+
+
+def _geom_maps(
+    compiled: mujoco.MjModel, geom_parents: dict[str, tuple[str, ...]]
+) -> tuple[dict[int, tuple[str, ...]], dict[str, tuple[int, ...]]]:
+    """Geom id -> owning frames, and frame -> its geom ids."""
+    geom_frames: dict[int, tuple[str, ...]] = {}
+    frame_geoms: dict[str, list[int]] = {}
+    for geom_name, owners in geom_parents.items():
+        gid = _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, geom_name)
+        geom_frames[gid] = owners
+        for owner in owners:
+            frame_geoms.setdefault(owner, []).append(gid)
+    return geom_frames, {k: tuple(v) for k, v in frame_geoms.items()}

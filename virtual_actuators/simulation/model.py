@@ -274,11 +274,7 @@ def _new_spec(robot: Robot, timestep: float, contact: ContactParameters) -> mujo
     spec.option.timestep = float(timestep)
     spec.option.gravity = np.array(robot.model.gravity.linear, dtype=float)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.cone = (
-        mujoco.mjtCone.mjCONE_ELLIPTIC
-        if contact.cone == "elliptic"
-        else mujoco.mjtCone.mjCONE_PYRAMIDAL
-    )
+    spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{contact.cone.upper()}")  # checked name
     return spec
 
 

@@ -145,7 +145,8 @@ def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
         np.testing.assert_array_equal(configuration_from_mujoco(mm, qpos), q)
     if maps.direct_v is not None:
         v = np.zeros(mm.robot.model.nv)
-        v[maps.copy_v] = qvel[maps.copy_qvel]
+        for joint in mm.joints:  # no free joint
+            v[joint.idx_v : joint.idx_v + joint.nv] = qvel[joint.dof_adr : joint.dof_adr + joint.nv]
         np.testing.assert_array_equal(velocity_from_mujoco(mm, qpos, qvel), v)
     tau = np.zeros(mm.robot.model.nv)
     tau[maps.actuated_v] = rng.normal(size=len(maps.actuated_v))

@@ -40,8 +40,6 @@ class Gathers:
 
     copy_q: np.ndarray  # Pinocchio q indices of hinge and slide joints
     copy_qpos: np.ndarray  # their MuJoCo qpos indices
-    copy_v: np.ndarray  # Pinocchio v indices of every non-free joint's dofs
-    copy_qvel: np.ndarray  # their MuJoCo qvel indices
     special: tuple  # JointMap of the free, ball and continuous joints
     free: tuple  # JointMap of the free joints
     actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
@@ -85,15 +83,14 @@ def gathers(mm: MujocoModel) -> Gathers:
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
         return cached
-    copy_q, copy_qpos, copy_v, copy_qvel, unactuated = [], [], [], [], []
+    copy_q, copy_qpos, all_v, all_qvel, unactuated = [], [], [], [], []
     actuated_v, actuator = [], []
     for joint in mm.joints:
         if joint.kind in ("hinge", "slide"):
             copy_q.append(joint.idx_q)
             copy_qpos.append(joint.qpos_adr)
-        if joint.kind != "free":
-            copy_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
-            copy_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
+        all_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
+        all_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
         if joint.actuator is not None:
             actuated_v.append(joint.idx_v)
             actuator.append(joint.actuator)
@@ -101,24 +98,19 @@ def gathers(mm: MujocoModel) -> Gathers:
             unactuated.extend(range(joint.idx_v, joint.idx_v + joint.nv))
     index = lambda values: np.array(values, dtype=np.intp)  # noqa: E731
     free = tuple(j for j in mm.joints if j.kind == "free")
+    gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)
     maps = Gathers(
         copy_q=index(copy_q),
         copy_qpos=index(copy_qpos),
-        copy_v=index(copy_v),
-        copy_qvel=index(copy_qvel),
         special=tuple(j for j in mm.joints if j.kind in ("free", "ball", "continuous")),
         free=free,
         actuated_v=index(actuated_v),
         actuator=index(actuator),
         unactuated_v=index(unactuated),
         direct_q=_direct_q(mm),
-        direct_v=None if free else _direct(copy_v, copy_qvel, mm.robot.model.nv),
+        direct_v=None if free else gather_v,
         direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
-        gather_v=_direct(
-            [i for j in mm.joints for i in range(j.idx_v, j.idx_v + j.nv)],
-            [d for j in mm.joints for d in range(j.dof_adr, j.dof_adr + j.nv)],
-            mm.robot.model.nv,
-        ),
+        gather_v=gather_v,
         unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields

@@ -20,6 +20,7 @@ from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
     ctrl_writer,
+    finite_vector,
     gathers,
     state_velocity,
     torques_to_ctrl,
@@ -272,11 +273,7 @@ class Simulator(ContactQueries):
         """
         mm = self.mujoco_model
         body = mm.frame_body(frame)
-        force = np.array(force_world, dtype=float).reshape(-1)
-        if force.shape != (3,) or not np.all(np.isfinite(force)):
-            raise InvalidInputError(
-                f"force_world must be 3 finite numbers [N], got {force_world!r}."
-            )
+        force = finite_vector(force_world, 3, "force_world [N]").copy()  # the caller's is free
         duration = check_number(duration, "duration [s]", positive=True)
         if body == 0:
             raise InvalidInputError(f"Frame {frame!r} is fixed to the world: it cannot be pushed.")

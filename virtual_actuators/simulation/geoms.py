@@ -227,9 +227,7 @@ def _readable_mesh(path: Path) -> bool:
         size = path.stat().st_size
     except OSError:
         return False
-    if len(header) < 84:
-        return False
-    faces = int.from_bytes(header[80:84], "little")
+    faces = int.from_bytes(header[80:84], "little")  # a short file: its size cannot match
     return size == 84 + 50 * faces and 1 <= faces <= MAX_STL_FACES  # ASCII STL is not read
 
 

@@ -103,9 +103,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
 def add_actuators(spec: mujoco.MjSpec, model: pin.Model, actuated_names: list[str]) -> None:
     """Add one ``motor`` (gear 1, range ``+-effortLimit`` if finite and positive) per joint."""
     for name in actuated_names:
-        jid = model.getJointId(name)
-        joint = model.joints[jid]
-        effort = float(model.effortLimit[joint.idx_v])
+        effort = float(model.effortLimit[model.joints[model.getJointId(name)].idx_v])
         actuator = spec.add_actuator(name=name, target=name)
         actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
         actuator.gear[0] = 1.0

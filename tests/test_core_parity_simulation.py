@@ -19,9 +19,8 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.core import CORE
 from virtual_actuators.gaits.registry import run_walk
-from virtual_actuators.simulation import Simulator, actuation
-from virtual_actuators.simulation.actuation import UNACTUATED_TOLERANCE, torques_to_ctrl
-from virtual_actuators.simulation.conversions import gathers
+from virtual_actuators.simulation import Simulator, conversions
+from virtual_actuators.simulation.conversions import UNACTUATED_TOLERANCE, gathers, torques_to_ctrl
 
 core = pytest.mark.skipif(CORE is None, reason="virtual_actuators._core is not built")
 
@@ -48,7 +47,7 @@ def _compare(tau, direct, unactuated, tolerance, ctrl) -> int:
 @core
 def test_the_walks_efforts_are_written_bit_identically(monkeypatch):
     calls = []
-    original = actuation.ctrl_writer
+    original = conversions.ctrl_writer
 
     def recording(mm, ctrl):
         maps = gathers(mm)

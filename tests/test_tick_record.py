@@ -12,7 +12,7 @@ import pytest
 from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.gaits.balance.walk import run_balance
 from virtual_actuators.gaits.registry import WALKS, run_walk
-from virtual_actuators.simulation.actuation import torques_to_ctrl
+from virtual_actuators.simulation.conversions import torques_to_ctrl
 
 KEYS = ("effort_oscillation", "effort_oscillation_joint", "effort_change_rms",
         "base_rate_alternation", "base_rate_oscillation_radps")  # fmt: skip

@@ -55,9 +55,7 @@ def list_robots(include_aliases: bool = False) -> list[str]:
     The generated ``millipede``, the robots of `local_dirs` and every loadable example-robot-data
     URDF (its empty xacro stubs left out); with ``include_aliases``, the `aliases` too.
     """
-    names = {"millipede", *example_robot_data().robots}
-    for folder in local_dirs():
-        names.update(_local_names(folder))
+    names = {"millipede", *example_robot_data().robots, *_local_names()}
     if include_aliases:
         names.update(aliases())
     return sorted(names)
@@ -66,9 +64,7 @@ def list_robots(include_aliases: bool = False) -> list[str]:
 def aliases() -> dict[str, str]:
     """``{alias: name}`` of the `ALIASES` shipped by example-robot-data and not shadowed."""
     index = example_robot_data()
-    shadowing = {"millipede", *index.robots, *index.broken}
-    for folder in local_dirs():
-        shadowing.update(_local_names(folder))
+    shadowing = {"millipede", *index.robots, *index.broken, *_local_names()}
     return {
         alias: target
         for alias, target in ALIASES.items()
@@ -196,18 +192,17 @@ def find_local(folder: Path, name: str) -> Path | None:
     return next((path for path in candidates if _is_file(path)), None)
 
 
-def _local_names(folder: Path) -> list[str]:
-    """Names of the robots in one robots folder (none when it cannot be listed)."""
-    try:
-        entries = list(folder.iterdir()) if folder.is_dir() else []
-    except (OSError, ValueError):  # a name too long, a folder that cannot be read
-        return []
-    names = (
-        entry.name if entry.is_dir() else entry.stem
-        for entry in entries
-        if entry.is_dir() or entry.suffix == ".urdf"
-    )
-    return [name for name in names if find_local(folder, name) is not None]
+def _local_names() -> set[str]:
+    """Names of the robots in the `local_dirs` (none in a folder that cannot be listed)."""
+    names = set()
+    for folder in local_dirs():
+        try:
+            entries = list(folder.iterdir()) if folder.is_dir() else []
+        except (OSError, ValueError):  # a name too long, a folder that cannot be read
+            continue
+        stems = (entry.name if entry.is_dir() else entry.stem for entry in entries)
+        names.update(name for name in stems if find_local(folder, name) is not None)
+    return names
 
 
 def shown_name(name_or_path: object, limit: int = 80) -> str:
@@ -221,11 +216,7 @@ def shown_name(name_or_path: object, limit: int = 80) -> str:
 
 
 def _expand_user(path: Path, name_or_path: object) -> Path:
-    """``path`` with its leading ``~`` or ``~user`` expanded.
-
-    Raises:
-        RobotNotFoundError: If the user or the home folder is unknown.
-    """
+    """``path`` with its leading ``~`` or ``~user`` expanded (an unknown one: not found)."""
     try:
         return path.expanduser()
     except RuntimeError as exc:  # ~nosuchuser, or no HOME and no password entry

@@ -39,9 +39,8 @@ from virtual_actuators.models.catalog import (
     urdf_in_folder,
 )
 from virtual_actuators.models.millipede import millipede
-from virtual_actuators.models.physics_checks import physics_problems
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.models.validation import listed, parse_xml, validate_urdf
+from virtual_actuators.models.validation import listed, parse_xml, physics_problems, validate_urdf
 
 __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
@@ -78,7 +77,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
         RobotNotFoundError: If the file does not exist or the file system refuses to look it up,
             or no robot has this name (the message lists the closest names and aliases).
         RobotDescriptionError: If the URDF is not well-formed XML, is not a valid URDF,
-            describes an impossible robot (see `physics_checks`; the message names each
+            describes an impossible robot (see `physics_problems`; the message names each
             offending link or joint, its value and what is valid), or Pinocchio cannot build a
             model from it.
         InvalidInputError: If ``name_or_path`` is neither a string nor a path, or is empty, or
@@ -144,22 +143,13 @@ def _load_path(path: Path, floating_base: bool | None) -> Robot:
 def _load_urdf(
     name: str, path: Path, floating_base: bool | None, package_dirs: list[str], validate: bool
 ) -> Robot:
-    """Build the robot of one URDF file.
-
-    `physics_problems` always runs first (strictly, except for curated example-robot-data
-    files); `validate_urdf` runs before Pinocchio when ``validate``, else only to explain a file
-    Pinocchio rejects.
-
-    Raises:
-        RobotDescriptionError: If the file cannot be read, is not well-formed XML, describes an
-            impossible robot, fails the structural checks, or Pinocchio cannot build a model.
-    """
+    """Build the robot of one URDF file (`validate_urdf` first, or to explain a rejection)."""
     path = path.resolve()
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotDescriptionError(f"Cannot read the URDF file {path}: {exc}") from exc
-    root = parse_xml(path, text)
+    root = parse_xml(path, text)  # the physics checks always; strict but on curated files
     problems, tolerated = physics_problems(root, strict=not is_curated(path))
     if problems:
         raise RobotDescriptionError(f"{path} describes an impossible robot:{listed(problems)}")
@@ -171,10 +161,8 @@ def _load_urdf(
         floating_base = guess_floating_base(root, path.stem)
 
     try:
-        if floating_base:
-            model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-        else:
-            model = pin.buildModelFromUrdf(str(path))
+        root_joint = (pin.JointModelFreeFlyer(),) if floating_base else ()
+        model = pin.buildModelFromUrdf(str(path), *root_joint)
     except Exception as exc:  # Pinocchio raises ValueError or RuntimeError on URDFs it rejects
         if not validate:
             validate_urdf(path, text)  # raises with a precise message when it finds the problem

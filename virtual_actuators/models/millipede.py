@@ -9,13 +9,13 @@ from __future__ import annotations
 import math
 import numbers
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
+from virtual_actuators.vocabulary.arguments import check_flag, check_number
 
 __all__ = ["MAX_LEGS", "millipede"]
 
@@ -70,18 +70,29 @@ def _add_geometry(
             ET.SubElement(element, "material", name=tag)
 
 
-def _cylinder_inertia(mass: float, radius: float, length: float) -> tuple[float, float, float]:
-    """Principal inertia of a solid cylinder along ``z`` about its centre of mass."""
-    transverse = mass * (3.0 * radius**2 + length**2) / 12.0
-    return (transverse, transverse, 0.5 * mass * radius**2)
+def _add_joint(
+    robot: ET.Element,
+    name: str,
+    kind: str,
+    parent: str,
+    child: str,
+    xyz: tuple[float, float, float],
+    limit: dict[str, str] | None = None,
+    axis: str = "",
+) -> None:
+    """Append a joint; a moving one (with a ``limit``) gets its axis, limits and damping."""
+    joint = ET.SubElement(robot, "joint", name=name, type=kind)
+    ET.SubElement(joint, "parent", link=parent)
+    ET.SubElement(joint, "child", link=child)
+    ET.SubElement(joint, "origin", xyz=_vec(*xyz), rpy="0 0 0")
+    if limit is not None:
+        ET.SubElement(joint, "axis", xyz=axis)
+        ET.SubElement(joint, "limit", **limit)
+        ET.SubElement(joint, "dynamics", damping="0.01", friction="0.0")
 
 
 def _check_legs(legs: object) -> int:
-    """``legs`` as an int.
-
-    Raises:
-        InvalidInputError: If it is not an integer in ``1..MAX_LEGS``.
-    """
+    """``legs`` as an int, checked to be in ``1..MAX_LEGS``."""
     if isinstance(legs, bool) or not isinstance(legs, numbers.Integral):
         raise InvalidInputError(
             f"millipede(legs=...) needs an integer number of legs >= 1, got {legs!r} "
@@ -95,107 +106,6 @@ def _check_legs(legs: object) -> int:
             f"0.5 s and 50 MiB, and the memory grows faster than the legs), got {legs}."
         )
     return int(legs)
-
-
-def _check_positive(**values: float) -> None:
-    """Check that every value is a finite number > 0.
-
-    Raises:
-        InvalidInputError: If one is not.
-    """
-    for name, value in values.items():
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, numbers.Real)
-            or not math.isfinite(value)
-            or value <= 0
-        ):
-            raise InvalidInputError(
-                f"millipede({name}=...) must be a finite number > 0, got {value!r}."
-            )
-
-
-@dataclass(frozen=True, slots=True)
-class _LegDesign:
-    """The dimensions every leg of one millipede shares (see [`millipede_urdf`][])."""
-
-    pairs: int
-    spacing: float
-    body_width: float
-    leg_length: float
-    thigh_mass: float
-    shin_mass: float
-    leg_radius: float
-    limit: dict[str, str]  # the joints' effort and velocity limits, formatted
-
-
-def _add_body(robot: ET.Element, length: float, width: float, height: float, mass: float) -> None:
-    """Append the box-shaped ``body`` link, centred on its frame, lying along ``x``."""
-    body = ET.SubElement(robot, "link", name="body")
-    _add_inertial(
-        body,
-        mass,
-        (0.0, 0.0, 0.0),
-        (
-            mass * (width**2 + height**2) / 12.0,
-            mass * (length**2 + height**2) / 12.0,
-            mass * (length**2 + width**2) / 12.0,
-        ),
-    )
-    _add_geometry(
-        body, "body", (0.0, 0.0, 0.0), "box", collision=True, size=_vec(length, width, height)
-    )
-
-
-def _add_leg(robot: ET.Element, i: int, design: _LegDesign) -> None:
-    """Append leg ``i`` (1-based): its thigh, shin and foot links, then its three joints."""
-    leg_length = design.leg_length
-    pair = (i - 1) // 2
-    side = 1.0 if i % 2 == 1 else -1.0
-    mount = (
-        0.5 * (design.pairs - 1) * design.spacing - pair * design.spacing,
-        side * 0.5 * design.body_width,
-        0.0,
-    )
-    for link_name, mass in ((f"thigh_{i}", design.thigh_mass), (f"shin_{i}", design.shin_mass)):
-        link = ET.SubElement(robot, "link", name=link_name)
-        is_thigh = link_name.startswith("thigh")
-        centre = (0.0, side * 0.5 * leg_length, 0.0) if is_thigh else (0.0, 0.0, -0.5 * leg_length)
-        inertia = _cylinder_inertia(mass, design.leg_radius, leg_length)
-        if is_thigh:  # cylinder along y: swap the axial and a transverse moment
-            inertia = (inertia[0], inertia[2], inertia[1])
-        _add_inertial(link, mass, centre, inertia)
-        _add_geometry(
-            link,
-            "leg",
-            centre,
-            "cylinder",
-            collision=False,
-            rpy=(0.5 * math.pi, 0.0, 0.0) if is_thigh else (0.0, 0.0, 0.0),
-            radius=_fmt(design.leg_radius),
-            length=_fmt(leg_length),
-        )
-    foot = ET.SubElement(robot, "link", name=f"foot_{i}")
-    sphere = 0.4 * FOOT_MASS * FOOT_RADIUS**2
-    _add_inertial(foot, FOOT_MASS, (0.0, 0.0, 0.0), (sphere, sphere, sphere))
-    _add_geometry(foot, "leg", (0.0, 0.0, 0.0), "sphere", collision=True, radius=_fmt(FOOT_RADIUS))
-    knee = (0, side * leg_length, 0)
-    chain = (
-        (f"hip_{i}", "revolute", "body", f"thigh_{i}", mount, (-1.0, 1.0), "0 0 1"),
-        (f"knee_{i}", "revolute", f"thigh_{i}", f"shin_{i}", knee, (-2.0, 2.0), "1 0 0"),
-        (f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length), None, ""),
-    )
-    for name, kind, parent, child, xyz, bounds, axis in chain:
-        joint = ET.SubElement(robot, "joint", name=name, type=kind)
-        ET.SubElement(joint, "parent", link=parent)
-        ET.SubElement(joint, "child", link=child)
-        ET.SubElement(joint, "origin", xyz=_vec(*xyz), rpy="0 0 0")
-        if bounds is not None:
-            ET.SubElement(joint, "axis", xyz=axis)
-            ET.SubElement(
-                joint, "limit", lower=_fmt(bounds[0]), upper=_fmt(bounds[1]), **design.limit
-            )
-            ET.SubElement(joint, "dynamics", damping="0.01", friction="0.0")
 
 
 def millipede_urdf(
@@ -232,35 +142,43 @@ def millipede_urdf(
             dimension, mass or limit is not a finite positive number.
     """
     legs = _check_legs(legs)
-    _check_positive(
-        spacing=spacing,
-        body_width=body_width,
-        body_height=body_height,
-        leg_length=leg_length,
-        body_mass_per_pair=body_mass_per_pair,
-        thigh_mass=thigh_mass,
-        shin_mass=shin_mass,
-        leg_radius=leg_radius,
-        effort=effort,
-        velocity=velocity,
-    )
+    for name, value in list(locals().items())[1:]:  # the dimensions, masses and limits
+        check_number(value, f"millipede({name}=...)", positive=True)
     pairs = (legs + 1) // 2
     robot = ET.Element("robot", name="millipede")
     for material, rgba in (("body", "0.45 0.3 0.15 1"), ("leg", "0.2 0.2 0.2 1")):
         ET.SubElement(ET.SubElement(robot, "material", name=material), "color", rgba=rgba)
-    _add_body(robot, pairs * spacing, body_width, body_height, pairs * body_mass_per_pair)
-    design = _LegDesign(
-        pairs=pairs,
-        spacing=spacing,
-        body_width=body_width,
-        leg_length=leg_length,
-        thigh_mass=thigh_mass,
-        shin_mass=shin_mass,
-        leg_radius=leg_radius,
-        limit={"effort": _fmt(effort), "velocity": _fmt(velocity)},
-    )
-    for i in range(1, legs + 1):
-        _add_leg(robot, i, design)
+    length, mass = pairs * spacing, pairs * body_mass_per_pair
+    body = ET.SubElement(robot, "link", name="body")  # a box along x, centred on its frame
+    x2, y2, z2 = length**2, body_width**2, body_height**2
+    inertia = (mass * (y2 + z2) / 12.0, mass * (x2 + z2) / 12.0, mass * (x2 + y2) / 12.0)
+    _add_inertial(body, mass, (0.0, 0.0, 0.0), inertia)
+    box = _vec(length, body_width, body_height)
+    _add_geometry(body, "body", (0.0, 0.0, 0.0), "box", collision=True, size=box)
+    limit = {"effort": _fmt(effort), "velocity": _fmt(velocity)}
+    sphere = 0.4 * FOOT_MASS * FOOT_RADIUS**2
+    for i in range(1, legs + 1):  # thigh, shin and foot links, then the three joints
+        side = 1.0 if i % 2 == 1 else -1.0
+        mount = (0.5 * (pairs - 1) * spacing - (i - 1) // 2 * spacing, side * 0.5 * body_width, 0.0)
+        thigh = (0.0, side * 0.5 * leg_length, 0.0), (0.5 * math.pi, 0.0, 0.0), 1  # along y
+        shin = (0.0, 0.0, -0.5 * leg_length), (0.0, 0.0, 0.0), 2  # along z
+        cylinders = ((f"thigh_{i}", thigh_mass, thigh), (f"shin_{i}", shin_mass, shin))
+        for link_name, mass, (centre, rpy, axial) in cylinders:  # solid, inertia about the COM
+            inertia = [mass * (3.0 * leg_radius**2 + leg_length**2) / 12.0] * 3
+            inertia[axial] = 0.5 * mass * leg_radius**2
+            link = ET.SubElement(robot, "link", name=link_name)
+            _add_inertial(link, mass, centre, tuple(inertia))
+            _add_geometry(link, "leg", centre, "cylinder", collision=False, rpy=rpy,
+                          radius=_fmt(leg_radius), length=_fmt(leg_length))  # fmt: skip
+        foot = ET.SubElement(robot, "link", name=f"foot_{i}")
+        _add_inertial(foot, FOOT_MASS, (0.0, 0.0, 0.0), (sphere, sphere, sphere))
+        _add_geometry(foot, "leg", (0, 0, 0), "sphere", collision=True, radius=_fmt(FOOT_RADIUS))
+        hip, knee = {"lower": "-1.0", "upper": "1.0"}, {"lower": "-2.0", "upper": "2.0"}
+        _add_joint(robot, f"hip_{i}", "revolute", "body", f"thigh_{i}", mount,
+                   {**hip, **limit}, "0 0 1")  # fmt: skip
+        _add_joint(robot, f"knee_{i}", "revolute", f"thigh_{i}", f"shin_{i}",
+                   (0, side * leg_length, 0), {**knee, **limit}, "1 0 0")  # fmt: skip
+        _add_joint(robot, f"foot_{i}_joint", "fixed", f"shin_{i}", f"foot_{i}", (0, 0, -leg_length))
     ET.indent(robot)
     return ET.tostring(robot, encoding="unicode", xml_declaration=True) + "\n"
 
@@ -295,21 +213,13 @@ def millipede(
         TypeError: If an unknown keyword is passed in ``dimensions``.
     """
     legs = _check_legs(legs)
-    if not isinstance(floating_base, bool):
-        raise InvalidInputError(f"floating_base must be True or False, got {floating_base!r}.")
-    if (
-        isinstance(knee_angle, bool)
-        or not isinstance(knee_angle, numbers.Real)
-        or not 0.0 < knee_angle < 0.5 * math.pi
-    ):
+    floating_base = check_flag(floating_base, "floating_base")
+    if not check_number(knee_angle, "knee_angle [rad]", positive=True) < 0.5 * math.pi:
         raise InvalidInputError(f"knee_angle must be a number in (0, pi/2), got {knee_angle!r}.")
     urdf = millipede_urdf(legs, **dimensions)
     leg_length = float(dimensions.get("leg_length", DEFAULT_LEG_LENGTH))
 
-    if floating_base:
-        model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
-    else:
-        model = pin.buildModelFromXML(urdf)
+    model = pin.buildModelFromXML(urdf, *((pin.JointModelFreeFlyer(),) if floating_base else ()))
     model.name = "millipede"
 
     standing = pin.neutral(model)

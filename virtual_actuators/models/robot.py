@@ -8,7 +8,13 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
+from ..exceptions import (
+    FrameNotFoundError,
+    InvalidInputError,
+    JointNotFoundError,
+    RobotDescriptionError,
+    suggestion,
+)
 from ..vocabulary.arguments import as_float_array, check_number
 
 
@@ -162,3 +168,43 @@ def _set_data(self: Robot, value: pin.Data | None) -> None:
 
 # ``data`` is created lazily: the dataclass's __init__ assigns through this property
 Robot.data = property(_get_data, _set_data, doc="Pinocchio data of ``model`` (created lazily).")
+
+
+def frame_id(robot: Robot, frame: str) -> int:
+    """The id of frame ``frame`` of ``robot``.
+
+    Raises:
+        FrameNotFoundError: If the robot has no such frame (with the closest names).
+    """
+    if not isinstance(frame, str) or not robot.model.existFrame(frame):
+        raise FrameNotFoundError(
+            f"Robot {robot.name!r} has no frame {frame!r}. "
+            f"{suggestion(str(frame), robot.frame_names, 'frames')}"
+        )
+    return int(robot.model.getFrameId(frame))
+
+
+def read_geometry(robot: Robot, visual: bool = False) -> pin.GeometryModel:
+    """The robot's collision (or visual) geometry read by Pinocchio, cached on the robot.
+
+    Raises:
+        RobotDescriptionError: If Pinocchio cannot read it (a missing mesh, say).
+    """
+    what = "visual" if visual else "collision"
+    geometry = robot.caches.get(f"{what}_geometry")
+    if geometry is None:
+        kind = pin.GeometryType.VISUAL if visual else pin.GeometryType.COLLISION
+        model, dirs = robot.model, {"package_dirs": list(robot.package_dirs)}
+        try:
+            if robot.urdf_path is not None:
+                geometry = pin.buildGeomFromUrdf(model, str(robot.urdf_path), kind, **dirs)
+            elif robot.urdf_string is not None:
+                geometry = pin.buildGeomFromUrdfString(model, robot.urdf_string, kind, **dirs)
+            else:
+                geometry = pin.GeometryModel()
+        except Exception as exc:
+            raise RobotDescriptionError(
+                f"Pinocchio cannot read the {what} geometry of robot {robot.name!r}: {exc}"
+            ) from exc
+        robot.caches[f"{what}_geometry"] = geometry
+    return geometry

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import FrameNotFoundError, RobotDescriptionError, suggestion
-from .robot import Robot
+from ..exceptions import FrameNotFoundError
+from .robot import Robot, frame_id, read_geometry
 
 #: Points within this height of a foot's lowest point make up its sole [m].
 SOLE_THICKNESS = 0.005
@@ -57,17 +57,11 @@ def find_sole(robot: Robot, foot: str) -> Sole:
             geometry.
         RobotDescriptionError: Pinocchio cannot read the geometry.
     """
-    model = robot.model
-    if not isinstance(foot, str) or not model.existFrame(foot):
-        raise FrameNotFoundError(
-            f"Robot {robot.name!r} has no frame {foot!r}. "
-            f"{suggestion(str(foot), robot.frame_names, 'frames')}"
-        )
-    frame = model.frames[model.getFrameId(foot)]
+    frame = robot.model.frames[frame_id(robot, foot)]
     frame_in_joint = frame.placement
     points = [
         frame_in_joint.actInv(obj.placement.act(point))
-        for obj in _geometry(robot).geometryObjects
+        for obj in read_geometry(robot).geometryObjects
         if obj.parentJoint == frame.parentJoint
         for point in _points(obj, frame_in_joint)
     ]
@@ -82,32 +76,6 @@ def find_sole(robot: Robot, foot: str) -> Sole:
     low, high = sole.min(axis=0), sole.max(axis=0)
     halves = np.maximum(np.minimum(high, -low), 0.0)
     return Sole(*halves.tolist(), tuple(low.tolist()), tuple(high.tolist()), lowest)
-
-
-def _geometry(robot: Robot) -> pin.GeometryModel:
-    """The robot's collision geometry (cached on the robot).
-
-    Raises:
-        RobotDescriptionError: Pinocchio cannot read it.
-    """
-    geometry = robot.caches.get("collision_geometry")
-    if geometry is None:
-        kind, dirs = pin.GeometryType.COLLISION, list(robot.package_dirs)
-        try:
-            if robot.urdf_path is not None:
-                geometry = pin.buildGeomFromUrdf(
-                    robot.model, str(robot.urdf_path), kind, package_dirs=dirs
-                )
-            else:
-                geometry = pin.buildGeomFromUrdfString(
-                    robot.model, robot.urdf_string or "", kind, package_dirs=dirs
-                )
-        except Exception as exc:
-            raise RobotDescriptionError(
-                f"Pinocchio cannot read the collision geometry of robot {robot.name!r}: {exc}"
-            ) from exc
-        robot.caches["collision_geometry"] = geometry
-    return geometry
 
 
 def _points(obj: pin.GeometryObject, frame: pin.SE3) -> list[np.ndarray]:

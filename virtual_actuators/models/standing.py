@@ -7,15 +7,10 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import (
-    FrameNotFoundError,
-    InvalidInputError,
-    SingularConfigurationError,
-    suggestion,
-)
+from ..exceptions import InvalidInputError, SingularConfigurationError
 from ..vocabulary.arguments import check_number
 from .feet import find_feet
-from .robot import Robot
+from .robot import Robot, frame_id
 
 #: Hip-to-foot height of the generated pose, as a fraction of the all-zero pose's.
 HEIGHT_RATIO = 0.9
@@ -62,7 +57,7 @@ def standing_pose(
     model = robot.model
     if feet is None:
         feet = find_feet(robot).feet
-    ids = [_frame_id(robot, foot) for foot in feet]
+    ids = [frame_id(robot, foot) for foot in feet]
     shift = np.zeros(2)  # of the feet, to bring the centre of mass over their middle
     for _ in range(3):
         q = pin.neutral(model)
@@ -74,20 +69,6 @@ def standing_pose(
         shift += robot.center_of_mass(q)[:2] - middle
     q[2] -= min(float(data.oMf[foot].translation[2]) for foot in ids)
     return q
-
-
-def _frame_id(robot: Robot, frame: str) -> int:
-    """The id of frame ``frame``.
-
-    Raises:
-        FrameNotFoundError: No such frame (with close matches).
-    """
-    if not robot.model.existFrame(frame):
-        raise FrameNotFoundError(
-            f"Robot {robot.name!r} has no frame {frame!r}. "
-            f"{suggestion(frame, robot.frame_names, 'frames')}"
-        )
-    return int(robot.model.getFrameId(frame))
 
 
 def leg_joints(model: pin.Model, foot: int) -> list[int]:
@@ -108,11 +89,7 @@ def upper_joints(robot: Robot, feet: Sequence[str]) -> list[str]:
 
 
 def _fold_leg(robot: Robot, q: np.ndarray, foot: int, ratio: float, shift: np.ndarray) -> None:
-    """Move one leg's joints in ``q`` so its foot reaches the folded target (damped IK).
-
-    Raises:
-        SingularConfigurationError: The leg has no joints or misses its target.
-    """
+    """Move one leg's joints in ``q`` so its foot reaches the folded target (damped IK)."""
     model = robot.model
     name = model.frames[foot].name
     joints = leg_joints(model, foot)
@@ -130,56 +107,35 @@ def _fold_leg(robot: Robot, q: np.ndarray, foot: int, ratio: float, shift: np.nd
     target[2] = hip[2] - ratio * (hip[2] - start.translation[2])
     target[:2] += shift
     orient = len(joints) >= 6
+    # each joint starts at its range's middle within +-_FOLD (a symmetric range at the fold),
+    # else at its bound nearest 0
+    low, high = np.maximum(lower, -_FOLD), np.minimum(upper, _FOLD)
+    middle = 0.5 * (low + high)
     miss = np.inf
     for fold in (0.0, _FOLD, -_FOLD):  # legs straight at zero fold one way, then the other
-        q[rows] = _folded_start(lower, upper, fold)
-        miss = _reach(model, q, foot, start.rotation, target, orient, (rows, columns))
+        folded = np.where(np.abs(middle) < 1e-9, fold, middle)
+        q[rows] = np.clip(np.where(low <= high, folded, 0.0), lower, upper)
+        ik = model.createData()
+        for _ in range(200):  # damped least squares on the leg's joints
+            pin.framesForwardKinematics(model, ik, q)
+            here = ik.oMf[foot]
+            rotation_error = pin.log3(start.rotation @ here.rotation.T)
+            error = np.concatenate((target - here.translation, rotation_error))
+            if not orient:
+                error = error[:3]
+            if np.linalg.norm(error) < 1e-9:
+                break
+            jacobian = pin.computeFrameJacobian(
+                model, ik, q, foot, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+            )[: len(error), columns]
+            step = jacobian.T @ np.linalg.solve(
+                jacobian @ jacobian.T + 1e-6 * np.eye(len(error)), error
+            )
+            q[rows] = np.clip(q[rows] + np.clip(step, -0.2, 0.2), lower, upper)
+        miss = float(np.linalg.norm(error[:3]))
         if miss < 1e-4 * max(1.0, abs(hip[2] - target[2])):
             return
     raise SingularConfigurationError(
         f"standing_pose: the leg of foot {name!r} cannot reach {target.round(3).tolist()} "
         f"within its joint limits (left {miss:.3g} m away)."
     )
-
-
-def _reach(
-    model: pin.Model,
-    q: np.ndarray,
-    foot: int,
-    rotation: np.ndarray,
-    target: np.ndarray,
-    orient: bool,
-    indices: tuple[list[int], list[int]],
-) -> float:
-    """Damped least squares on one leg's joints (in place in ``q``); the position miss [m]."""
-    rows, columns = indices
-    lower, upper = model.lowerPositionLimit[rows], model.upperPositionLimit[rows]
-    data = model.createData()
-    error = np.full(3, np.inf)
-    for _ in range(200):
-        pin.framesForwardKinematics(model, data, q)
-        here = data.oMf[foot]
-        error = np.concatenate((target - here.translation, pin.log3(rotation @ here.rotation.T)))
-        if not orient:
-            error = error[:3]
-        if np.linalg.norm(error) < 1e-9:
-            break
-        jacobian = pin.computeFrameJacobian(
-            model, data, q, foot, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-        )[: len(error), columns]
-        step = jacobian.T @ np.linalg.solve(
-            jacobian @ jacobian.T + 1e-6 * np.eye(len(error)), error
-        )
-        q[rows] = np.clip(q[rows] + np.clip(step, -0.2, 0.2), lower, upper)
-    return float(np.linalg.norm(error[:3]))
-
-
-def _folded_start(lower: np.ndarray, upper: np.ndarray, fold: float) -> np.ndarray:
-    """Each joint's start: its range's middle within ``+-_FOLD``, else its bound nearest 0.
-
-    A symmetric range (middle zero) starts at ``fold``.
-    """
-    low, high = np.maximum(lower, -_FOLD), np.minimum(upper, _FOLD)
-    middle = 0.5 * (low + high)
-    middle = np.where(np.abs(middle) < 1e-9, fold, middle)
-    return np.clip(np.where(low <= high, middle, 0.0), lower, upper)

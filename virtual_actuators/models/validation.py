@@ -1,20 +1,155 @@
 """Check a URDF's XML before Pinocchio reads it, with messages that say what is wrong.
 
 The optional ``yourdfpy`` (the ``urdf`` extra) validates as well when installed; it never
-loads meshes. Pinocchio's own parser remains the final check.
+loads meshes. Pinocchio's own parser remains the final check. `physics_problems` finds what
+Pinocchio would load silently but no robot can be (it loads a NaN mass as 0); the list is on
+the "Robots" reference page.
 """
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from collections import Counter
 from pathlib import Path
-from typing import Any, NamedTuple
+
+import numpy as np
 
 from virtual_actuators.exceptions import RobotDescriptionError, suggestion
-from virtual_actuators.models.physics_checks import INERTIA_KEYS
 
-__all__ = ["listed", "parse_xml", "validate_urdf"]
+__all__ = ["INERTIA_KEYS", "listed", "parse_xml", "physics_problems", "validate_urdf"]
+
+#: The six entries of a URDF ``<inertia>``.
+INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+#: Round-off allowed on moments of inertia (URDF files print about six significant digits):
+#: relative to the largest principal moment, and [kg m^2].
+_INERTIA_RTOL = 1e-6
+_INERTIA_ATOL = 1e-9
+
+
+def _floats(text: str | None, count: int) -> list[float] | None:
+    """``count`` numbers from an attribute (None when absent or malformed)."""
+    try:
+        values = [float(x) for x in (text or "").split()]
+    except ValueError:
+        return None
+    return values if len(values) == count else None
+
+
+def _link_problems(link: ET.Element) -> tuple[list[str], list[str]]:
+    """Problems of one link's ``<inertial>``: (always fatal, fatal unless curated)."""
+    fatal: list[str] = []
+    lenient: list[str] = []
+    inertial = link.find("inertial")
+    if inertial is None:
+        return fatal, lenient
+    name = link.get("name")
+    mass = inertial.find("mass")
+    text = None if mass is None else mass.get("value")
+    value = _floats(text, 1)
+    if value is not None and not (math.isfinite(value[0]) and value[0] >= 0.0):
+        fatal.append(
+            f"link {name!r} has <mass value={text!r}/>; a mass must be a finite number >= 0 kg "
+            "(0 is fine for a massless link)"
+        )
+    inertia = inertial.find("inertia")
+    if inertia is None:
+        return fatal, lenient
+    texts = {key: inertia.get(key, "0") for key in INERTIA_KEYS}
+    try:
+        values = {key: float(text) for key, text in texts.items()}
+    except ValueError:
+        return fatal, lenient  # malformed numbers: yourdfpy (or Pinocchio) reports them
+    bad = [f"{key}={texts[key]!r}" for key, number in values.items() if not math.isfinite(number)]
+    if bad:
+        fatal.append(
+            f"link {name!r} has a non-finite inertia ({', '.join(bad)}); ixx, ixy, ixz, iyy, iyz "
+            "and izz must be finite numbers in kg m^2"
+        )
+        return fatal, lenient
+    xx, xy, xz, yy, yz, zz = (values[key] for key in INERTIA_KEYS)
+    matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    eigenvalues = np.linalg.eigvalsh(matrix)
+    tolerance = max(_INERTIA_ATOL, _INERTIA_RTOL * max(abs(eigenvalues[0]), abs(eigenvalues[-1])))
+    negative = [f"{key}={texts[key]}" for key in ("ixx", "iyy", "izz") if values[key] < -tolerance]
+    if negative:
+        fatal.append(
+            f"link {name!r} has a negative moment of inertia ({', '.join(negative)} kg m^2); "
+            "ixx, iyy and izz must be >= 0"
+        )
+    elif eigenvalues[0] < -tolerance:
+        shown = " ".join(f"{key}={texts[key]}" for key in INERTIA_KEYS)
+        lenient.append(
+            f"link {name!r} has an inertia that is not positive semi-definite ({shown}: "
+            f"smallest principal moment {eigenvalues[0]:.3g} kg m^2); the products of inertia "
+            "are too large for the moments: a valid inertia has principal moments >= 0"
+        )
+    return fatal, lenient
+
+
+def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
+    """Problems of one joint: (always fatal, fatal unless curated)."""
+    fatal: list[str] = []
+    lenient: list[str] = []
+    name, kind = joint.get("name"), joint.get("type")
+    axis = joint.find("axis")
+    if axis is not None and kind in ("revolute", "continuous", "prismatic", "planar"):
+        xyz = _floats(axis.get("xyz"), 3)
+        if xyz is not None and not (all(map(math.isfinite, xyz)) and any(xyz)):
+            fatal.append(
+                f"joint {name!r} ({kind}) has <axis xyz={axis.get('xyz')!r}/>; its axis must be "
+                "a finite, nonzero vector such as '0 0 1' (only fixed joints may have a zero axis)"
+            )
+    limit = joint.find("limit")
+    if limit is not None and kind in ("revolute", "prismatic"):
+        bounds = {key: _floats(limit.get(key, "0"), 1) for key in ("lower", "upper")}
+        lower, upper = bounds["lower"], bounds["upper"]
+        nan = [f"{key}={limit.get(key)!r}" for key, v in bounds.items() if v and math.isnan(v[0])]
+        if nan:
+            fatal.append(
+                f"joint {name!r} has a limit that is not a number ({', '.join(nan)}); lower and "
+                "upper must be numbers with lower <= upper"
+            )
+        elif lower is not None and upper is not None and lower[0] > upper[0]:
+            missing = [key for key in ("lower", "upper") if limit.get(key) is None]
+            note = f" (a missing {' and '.join(missing)} reads as 0)" if missing else ""
+            fatal.append(
+                f"joint {name!r} has limits lower={lower[0]:g} > upper={upper[0]:g}{note}; the "
+                "lower limit must be <= the upper one (swap them; lower == upper is fine)"
+            )
+    mimic = joint.find("mimic")
+    if mimic is not None:
+        leader = mimic.get("joint")
+        lenient.append(
+            f"joint {name!r} mimics joint {leader!r} (<mimic joint={leader!r}/>): mimic joints "
+            "are not supported (Pinocchio would load it as an independent joint); remove the "
+            "<mimic> tag, and if the two joints must share the effort, declare the design "
+            f"constraint EqualTorque({name!r}, {leader!r}) on the actuator"
+        )
+    return fatal, lenient
+
+
+def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], list[str]]:
+    """What Pinocchio would load silently but no robot can be.
+
+    Args:
+        root: The ``<robot>`` element.
+        strict: False for the curated example-robot-data files: their mimic joints and
+            inertias that are not positive semi-definite are then tolerated.
+
+    Returns:
+        The problems that forbid loading, and those tolerated (empty when ``strict``).
+    """
+    problems: list[str] = []
+    tolerated: list[str] = []
+    checks = [(_link_problems, link) for link in root.findall("link")]
+    checks += [(_joint_problems, joint) for joint in root.findall("joint")]
+    for check, element in checks:
+        fatal, lenient = check(element)
+        problems += fatal
+        (problems if strict else tolerated).extend(lenient)
+    return problems, tolerated
+
 
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _MAX_PROBLEMS = 10
@@ -60,7 +195,7 @@ def validate_urdf(path: Path, text: str) -> ET.Element:
     root = parse_xml(path, text)
     problems = _element_problems(root)
     if not problems:
-        problems = _number_problems(root) or _xml_tree_problems(root)
+        problems = _number_problems(root) or _tree_problems(root)
     if not problems:
         problems = _yourdfpy_problems(path)
     if problems:
@@ -107,13 +242,6 @@ def _element_problems(root: ET.Element) -> list[str]:
     return problems
 
 
-class _Limit(NamedTuple):
-    """A joint's ``<limit>``: its effort and velocity bounds (None when absent)."""
-
-    effort: str | None
-    velocity: str | None
-
-
 #: Numeric attributes of URDF elements (path from a link or joint, attribute, how many numbers).
 _NUMBERS = {
     "joint": [
@@ -146,7 +274,7 @@ def _number_problems(root: ET.Element) -> list[str]:
                     if text is None:
                         continue
                     words = text.split()
-                    bad = [word for word in words if not _is_number(word)]
+                    bad = [word for word in words if _floats(word, 1) is None]
                     if bad or len(words) != count:
                         what = f"{bad[0]!r} is not a number" if bad else f"needs {count} numbers"
                         problems.append(
@@ -155,36 +283,8 @@ def _number_problems(root: ET.Element) -> list[str]:
     return problems
 
 
-def _is_number(word: str) -> bool:
-    try:
-        float(word)
-    except ValueError:
-        return False
-    return True
-
-
-def _xml_tree_problems(root: ET.Element) -> list[str]:
-    """`_tree_problems` on the links and joints read from the XML."""
-    joints = []
-    for joint in root.findall("joint"):
-        limit = joint.find("limit")
-        joints.append(
-            (
-                joint.get("name", ""),
-                joint.get("type", ""),
-                joint.find("parent").get("link", ""),  # type: ignore[union-attr]
-                joint.find("child").get("link", ""),  # type: ignore[union-attr]
-                None if limit is None else _Limit(limit.get("effort"), limit.get("velocity")),
-            )
-        )
-    return _tree_problems([link.get("name", "") for link in root.findall("link")], joints)
-
-
 def _yourdfpy_problems(path: Path) -> list[str]:
-    """Parse the URDF with yourdfpy (no meshes, no scene graph) and list what is wrong.
-
-    Returns no problem when yourdfpy is not installed (it is optional: the ``urdf`` extra).
-    """
+    """What yourdfpy (optional: the ``urdf`` extra) finds wrong, reading no mesh."""
     try:
         import yourdfpy  # half a second to import (trimesh)
     except ModuleNotFoundError as error:
@@ -203,39 +303,32 @@ def _yourdfpy_problems(path: Path) -> list[str]:
     except Exception as exc:  # yourdfpy raises ValueError, KeyError... on malformed values
         return [f"yourdfpy cannot parse it: {type(exc).__name__}: {exc}"]
 
-    robot = urdf.robot
-    problems = _tree_problems(
-        [link.name for link in robot.links],
-        [
-            (joint.name, joint.type, joint.parent, joint.child, joint.limit)
-            for joint in robot.joints
-        ],
-    )
     try:
         urdf.validate()
-        errors = list(urdf.errors)
+        errors = [str(error) for error in urdf.errors]
     except Exception as exc:
         errors = [f"{type(exc).__name__}: {exc}"]
-    for error in errors:
-        message = str(error)
-        # urdfdom (hence Pinocchio) reads a missing lower/upper bound as 0, and limit problems
-        # are reported above with the joint's name.
-        if "<limit>" in message or "'lower'" in message or "'upper'" in message:
-            continue
-        if message not in problems:
-            problems.append(message)
-    return problems
+    # urdfdom (hence Pinocchio) reads a missing lower/upper bound as 0, and `_tree_problems`
+    # reports the limit problems with the joint's name.
+    limits = ("<limit>", "'lower'", "'upper'")
+    return list(dict.fromkeys(e for e in errors if not any(word in e for word in limits)))
 
 
-def _tree_problems(links: list[str], joints: list[tuple[str, str, str, str, Any]]) -> list[str]:
+def _tree_problems(root: ET.Element) -> list[str]:
     """Check that links and joints form one tree and that joints have the limits they need."""
-    problems = []
+    links = [link.get("name", "") for link in root.findall("link")]
     link_set = set(links)
-    for name in sorted(link for link, count in Counter(links).items() if count > 1):
-        problems.append(f"link {name!r} is declared more than once")
+    problems = [
+        f"link {name!r} is declared more than once"
+        for name in sorted(link for link, count in Counter(links).items() if count > 1)
+    ]
     parent_of: dict[str, str] = {}
+    parent_link: dict[str, str] = {}
     joint_names: set[str] = set()
-    for name, kind, parent, child, limit in joints:
+    for joint in root.findall("joint"):
+        name, kind, limit = joint.get("name", ""), joint.get("type", ""), joint.find("limit")
+        parent = joint.find("parent").get("link", "")  # type: ignore[union-attr]
+        child = joint.find("child").get("link", "")  # type: ignore[union-attr]
         if name in joint_names:
             problems.append(f"joint {name!r} is declared more than once")
         joint_names.add(name)
@@ -250,12 +343,12 @@ def _tree_problems(links: list[str], joints: list[tuple[str, str, str, str, Any]
                 f"link {child!r} is the child of two joints ({parent_of[child]!r} and {name!r})"
             )
         parent_of.setdefault(child, name)
+        parent_link[child] = parent
         if kind in ("revolute", "prismatic") and limit is None:
             problems.append(f"joint {name!r} ({kind}) has no <limit> element")
-        elif limit is not None and (limit.effort is None or limit.velocity is None):
+        elif limit is not None and None in (limit.get("effort"), limit.get("velocity")):
             problems.append(f"the <limit> of joint {name!r} needs 'effort' and 'velocity'")
     roots = [link for link in dict.fromkeys(links) if link not in parent_of]
-    parent_link = {child: parent for _, _, parent, child, _ in joints}
     looped = []
     for link in dict.fromkeys(links):
         seen = {link}

@@ -4,10 +4,11 @@ from ..exceptions import import_optional
 
 import_optional("mujoco", "sim", "MuJoCo simulation (virtual_actuators.simulation)")
 
-from .actuation import ctrl_to_torques, torques_to_ctrl  # noqa: E402
 from .conversions import (  # noqa: E402
     configuration_from_mujoco,
     configuration_to_mujoco,
+    ctrl_to_torques,
+    torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
 )

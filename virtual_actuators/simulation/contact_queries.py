@@ -84,11 +84,7 @@ class ContactQueries:
         self._force_rows_out = np.zeros((64, 4))
 
     def _frame_geoms(self, frame: str) -> frozenset[int]:
-        """The robot geoms of ``frame``, or of its body when it owns none (cached).
-
-        Raises:
-            FrameNotFoundError: If the robot has no such frame (with the closest names).
-        """
+        """The robot geoms of ``frame``, or of its body when it owns none (cached); checked."""
         geoms = self._owned_geoms.get(frame) if isinstance(frame, str) else None
         if geoms is None:
             mm = self.mujoco_model
@@ -100,29 +96,10 @@ class ContactQueries:
             geoms = self._owned_geoms[frame] = frozenset(owned)
         return geoms
 
-    def _geoms_for_forces(self, frame: str) -> frozenset[int]:
-        """`_frame_geoms`, which must not be empty for a force.
+    def _terrain_contacts(self) -> list[tuple[int, int, float]]:
+        """``(index in data.contact, robot geom, sign)`` per robot-terrain contact, once a state.
 
-        Raises:
-            FrameNotFoundError: No such frame, or neither it nor its body has geometry.
-        """
-        geoms = self._frame_geoms(frame)
-        if not geoms:
-            with_geometry = sorted({names[0] for names in self.mujoco_model.geom_frames.values()})
-            raise FrameNotFoundError(
-                f"Frame {frame!r} of robot {self.mujoco_model.robot.name!r} has no collision "
-                "geometry, nor has the link it is attached to: no terrain force can act on it. "
-                f"Frames with geometry: {with_geometry[:12]}"
-                f"{' ...' if len(with_geometry) > 12 else ''}."
-            )
-        return geoms
-
-    def _terrain_contacts(self, frame: str | None = None) -> list[tuple[int, int, float]]:
-        """The active robot-terrain contacts (of ``frame``'s geoms), scanned once per state.
-
-        Returns:
-            ``(index in data.contact, robot geom id, sign)`` per contact; ``sign`` is +1 when the
-            robot geom is the second geom (MuJoCo's force acts on it along the normal), else -1.
+        ``sign`` is +1 when the robot geom is the second (MuJoCo's force acts on it), else -1.
         """
         key = (self.data.time, self.data.ncon)
         if self._contacts_time != key:
@@ -131,10 +108,7 @@ class ContactQueries:
             self._contacts_time = key
             self._switches = {}
             self._touching = None
-        if frame is None:
-            return self._contacts
-        geoms = self._frame_geoms(frame)
-        return [hit for hit in self._contacts if hit[1] in geoms]
+        return self._contacts
 
     def _scan_contacts(self) -> list[tuple[int, int, float]]:
         """The robot-terrain contacts of MuJoCo's list that are not excluded."""
@@ -171,7 +145,8 @@ class ContactQueries:
             switch = self._switches.get(frame)
             if switch is not None:
                 return switch
-        switch = bool(self._terrain_contacts(frame))
+        self._terrain_contacts()
+        switch = not self._frame_geoms(frame).isdisjoint(self._touched)
         self._switches[frame] = switch  # a known frame (unknown ones raised above)
         return switch
 
@@ -186,8 +161,16 @@ class ContactQueries:
             entry = self._switch_sets.get(key)
         except TypeError:  # an unhashable entry: _frame_geoms names it below
             entry = None
-        if entry is None:
-            entry = self._switch_set(key)
+        if entry is None:  # per geom, bit k set when it belongs to frame k; answers by mask
+            py_bits = [0] * self.model.ngeom
+            for k, frame in enumerate(key):
+                for geom in self._frame_geoms(frame):
+                    py_bits[geom] |= 1 << k
+            fits = self._contact_view is not None and len(key) < 63
+            entry = (np.array(py_bits, dtype=np.int64) if fits else None, py_bits, {})
+            if len(self._switch_sets) >= 64:
+                self._switch_sets.clear()
+            self._switch_sets[key] = entry  # the frames are names: _frame_geoms checked them
         bits, py_bits, answers = entry
         if bits is not None:  # one compiled pass over MuJoCo's contact list
             mask = self._contact_view.touch_mask(bits)
@@ -203,26 +186,6 @@ class ContactQueries:
             out = answers[mask] = {frame: bool(mask >> k & 1) for k, frame in enumerate(key)}
         return dict(out)
 
-    def _switch_set(self, frames: tuple) -> tuple:
-        """Per geom, the bit mask of the frames it belongs to (bit k: frame k); cached by names.
-
-        Returns:
-            ``(int64 bits for the core or None, the same bits as Python ints, answers by mask)``.
-
-        Raises:
-            FrameNotFoundError: If a frame is not the robot's (with the closest names).
-        """
-        py_bits = [0] * self.model.ngeom
-        for k, frame in enumerate(frames):
-            for geom in self._frame_geoms(frame):
-                py_bits[geom] |= 1 << k
-        fits = self._contact_view is not None and len(frames) < 63
-        entry = (np.array(py_bits, dtype=np.int64) if fits else None, py_bits, {})
-        if len(self._switch_sets) >= 64:
-            self._switch_sets.clear()
-        self._switch_sets[frames] = entry  # the frames are names: _frame_geoms checked them
-        return entry
-
     def contact_force(self, frame: str) -> np.ndarray:
         """Total force of the terrain on a frame's geoms, world axes [N], shape ``(3,)``.
 
@@ -232,13 +195,7 @@ class ContactQueries:
             FrameNotFoundError: If the robot has no such frame (with the closest names), or
                 neither the frame nor its link has geometry.
         """
-        self._geoms_for_forces(frame)
-        total = np.zeros(3)
-        for i, _, sign in self._terrain_contacts(frame):
-            mujoco.mj_contactForce(self.model, self.data, i, self._force)
-            axes = self.data.contact.frame[i].reshape(3, 3)  # rows: normal, tangent 1, tangent 2
-            total += sign * (axes.T @ self._force[:3])
-        return total
+        return self.contact_forces((frame,))[0]
 
     def contact_forces(self, frames: Sequence[str]) -> np.ndarray:
         """[`contact_force`][] of several frames in one pass: ``(len(frames), 3)`` [N].
@@ -253,9 +210,18 @@ class ContactQueries:
         except TypeError:  # an unhashable entry: _frame_geoms names it below
             rows_of = None
         if rows_of is None:  # geom -> the rows of the frames that own it, once per frame list
-            rows_of = {}
+            rows_of, mm = {}, self.mujoco_model
             for k, frame in enumerate(key):
-                for geom in self._geoms_for_forces(frame):
+                geoms = self._frame_geoms(frame)
+                if not geoms:
+                    with_geometry = sorted({names[0] for names in mm.geom_frames.values()})
+                    raise FrameNotFoundError(
+                        f"Frame {frame!r} of robot {mm.robot.name!r} has no collision geometry, "
+                        "nor has the link it is attached to: no terrain force can act on it. "
+                        f"Frames with geometry: {with_geometry[:12]}"
+                        f"{' ...' if len(with_geometry) > 12 else ''}."
+                    )
+                for geom in geoms:
                     rows_of.setdefault(geom, []).append(k)
             self._force_rows[key] = rows_of  # every entry a known frame name: hashable
         out = np.zeros((len(key), 3))

@@ -1,26 +1,34 @@
 """Convert configurations, velocities and torques between Pinocchio and MuJoCo conventions.
 
-Every conversion goes joint by joint through the index maps of a [`MujocoModel`][].
+Every conversion goes joint by joint through the index maps of a [`MujocoModel`][]. Every
+actuated joint has one ``motor`` actuator of gear 1 named after it, so a control is the
+joint's effort; a free-flyer and passive joints have no actuator.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
+from virtual_actuators.core import CORE, has
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.kinematics.kernels import finite
 from virtual_actuators.simulation.model import MujocoModel
 
 __all__ = [
+    "UNACTUATED_TOLERANCE",
     "configuration_from_mujoco",
     "configuration_to_mujoco",
-    "direct_gathers",
+    "ctrl_to_torques",
+    "ctrl_writer",
     "finite_vector",
     "gathers",
     "state_velocity",
+    "torques_to_ctrl",
     "velocity_from_mujoco",
     "velocity_to_mujoco",
 ]
@@ -32,28 +40,16 @@ class Gathers:
 
     copy_q: np.ndarray  # Pinocchio q indices of hinge and slide joints
     copy_qpos: np.ndarray  # their MuJoCo qpos indices
-    copy_v: np.ndarray  # Pinocchio v indices of every non-free joint's dofs
-    copy_qvel: np.ndarray  # their MuJoCo qvel indices
     special: tuple  # JointMap of the free, ball and continuous joints
     free: tuple  # JointMap of the free joints
     actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
     actuator: np.ndarray  # its MuJoCo actuator id
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
-    direct_q: np.ndarray | None = None  # q = qpos[direct_q] when every joint is reordered
+    direct_q: np.ndarray | None = None  # q = qpos[direct_q]: see _direct_q
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
     gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
     direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
     unactuated: tuple[int, ...] = ()  # unactuated_v as ints
-
-
-def direct_gathers(mm: MujocoModel) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """``(direct_q, direct_v)``: ``q = qpos[direct_q]``, ``v = qvel[direct_v]``, or None.
-
-    ``direct_q`` exists when every joint is a hinge, a slide, a ball or a free joint at its
-    parent's origin, ``direct_v`` when no joint is free.
-    """
-    maps = gathers(mm)
-    return maps.direct_q, maps.direct_v
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -66,7 +62,7 @@ def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | Non
 
 
 def _direct_q(mm: MujocoModel) -> np.ndarray | None:
-    """``direct_q``, or None when a joint is continuous or an offset free joint."""
+    """``direct_q`` if every joint is a hinge, slide, ball or free joint at its parent's origin."""
     target, source = [], []
     for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
@@ -87,41 +83,34 @@ def gathers(mm: MujocoModel) -> Gathers:
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
         return cached
-    copy_q, copy_qpos, copy_v, copy_qvel, unactuated = [], [], [], [], []
+    copy_q, copy_qpos, all_v, all_qvel, unactuated = [], [], [], [], []
     actuated_v, actuator = [], []
     for joint in mm.joints:
         if joint.kind in ("hinge", "slide"):
             copy_q.append(joint.idx_q)
             copy_qpos.append(joint.qpos_adr)
-        if joint.kind != "free":
-            copy_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
-            copy_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
+        all_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
+        all_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
         if joint.actuator is not None:
             actuated_v.append(joint.idx_v)
             actuator.append(joint.actuator)
         else:
             unactuated.extend(range(joint.idx_v, joint.idx_v + joint.nv))
     index = lambda values: np.array(values, dtype=np.intp)  # noqa: E731
+    free = tuple(j for j in mm.joints if j.kind == "free")
+    gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)
     maps = Gathers(
         copy_q=index(copy_q),
         copy_qpos=index(copy_qpos),
-        copy_v=index(copy_v),
-        copy_qvel=index(copy_qvel),
         special=tuple(j for j in mm.joints if j.kind in ("free", "ball", "continuous")),
-        free=tuple(j for j in mm.joints if j.kind == "free"),
+        free=free,
         actuated_v=index(actuated_v),
         actuator=index(actuator),
         unactuated_v=index(unactuated),
         direct_q=_direct_q(mm),
-        direct_v=None
-        if any(j.kind == "free" for j in mm.joints)
-        else _direct(copy_v, copy_qvel, mm.robot.model.nv),
+        direct_v=None if free else gather_v,
         direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
-        gather_v=_direct(
-            [i for j in mm.joints for i in range(j.idx_v, j.idx_v + j.nv)],
-            [d for j in mm.joints for d in range(j.dof_adr, j.dof_adr + j.nv)],
-            mm.robot.model.nv,
-        ),
+        gather_v=gather_v,
         unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
@@ -164,13 +153,7 @@ def finite_vector(value: object, size: int, what: str) -> np.ndarray:
 def _rotation_xyzw(quat: np.ndarray) -> np.ndarray:
     """Rotation matrix of a quaternion ``(x, y, z, w)`` (normalised first)."""
     x, y, z, w = quat / np.linalg.norm(quat)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    return pin.Quaternion(w, x, y, z).toRotationMatrix()
 
 
 def _quat_xyzw(rotation: np.ndarray) -> np.ndarray:
@@ -195,7 +178,7 @@ def _quat_xyzw(rotation: np.ndarray) -> np.ndarray:
     return q if q[3] >= 0.0 else -q
 
 
-def _free_pose(mm: MujocoModel, joint, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _free_pose(joint, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """World rotation and position of a free-flyer's body from the Pinocchio ``q``."""
     position = q[joint.idx_q : joint.idx_q + 3]
     rotation = _rotation_xyzw(q[joint.idx_q + 3 : joint.idx_q + 7])
@@ -214,10 +197,9 @@ def configuration_to_mujoco(mm: MujocoModel, q: np.ndarray) -> np.ndarray:
     for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
         if joint.kind == "free":
-            rotation, position = _free_pose(mm, joint, q)
-            x, y, z, w = _quat_xyzw(rotation)
-            if joint.placement.isIdentity():  # keep the caller's quaternion exactly
-                x, y, z, w = q[i + 3 : i + 7]
+            rotation, position = _free_pose(joint, q)
+            identity = joint.placement.isIdentity()  # then keep the caller's quaternion exactly
+            x, y, z, w = q[i + 3 : i + 7] if identity else _quat_xyzw(rotation)
             qpos[a : a + 3] = position
             qpos[a + 3 : a + 7] = (w, x, y, z)
         elif joint.kind == "ball":
@@ -276,7 +258,7 @@ def velocity_to_mujoco(mm: MujocoModel, q: np.ndarray, v: np.ndarray) -> np.ndar
     for joint in mm.joints:
         d, i = joint.dof_adr, joint.idx_v
         if joint.kind == "free":
-            rotation, _ = _free_pose(mm, joint, q)
+            rotation, _ = _free_pose(joint, q)
             qvel[d : d + 3] = rotation @ v[i : i + 3]
             qvel[d + 3 : d + 6] = v[i + 3 : i + 6]
         else:
@@ -318,3 +300,86 @@ def _rotate_back(quat_wxyz: list[float], vector: list[float]) -> tuple[float, fl
         2.0 * (x * y - w * z) * a + (1.0 - 2.0 * (x * x + z * z)) * b + 2.0 * (y * z + w * x) * c,
         2.0 * (x * z + w * y) * a + 2.0 * (y * z - w * x) * b + (1.0 - 2.0 * (x * x + y * y)) * c,
     )
+
+
+#: Largest effort [N m or N] tolerated on an unactuated degree of freedom.
+UNACTUATED_TOLERANCE = 1e-9
+
+
+def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool], bool] | None:
+    """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``): one compiled call.
+
+    ``write(tau, ignore_unactuated)`` writes what `torques_to_ctrl` returns and returns True, or
+    writes nothing and returns False (`torques_to_ctrl` then says why).
+
+    Returns:
+        The writer; None without the compiled core or when a motor drives no single joint.
+    """
+    maps = gathers(mm)
+    if not has("efforts_to_ctrl") or maps.direct_ctrl is None:
+        return None
+    kernel, direct, unactuated = CORE.efforts_to_ctrl, maps.direct_ctrl, maps.unactuated_v
+    none = unactuated[:0]
+    shape = (mm.robot.model.nv,)
+
+    def write(tau: np.ndarray, ignore_unactuated: bool) -> bool:
+        if tau.__class__ is not np.ndarray or tau.shape != shape:
+            return False
+        checked = none if ignore_unactuated else unactuated
+        return kernel(tau, direct, checked, UNACTUATED_TOLERANCE, ctrl) == 0
+
+    return write
+
+
+def torques_to_ctrl(
+    mm: MujocoModel, tau: np.ndarray, *, ignore_unactuated: bool = False
+) -> np.ndarray:
+    """The actuators' controls ``(mj_model.nu,)`` for joint efforts ``tau`` (not clipped).
+
+    Args:
+        mm: The MuJoCo model and its maps.
+        tau: Joint efforts [N m or N], shape ``(model.nv,)``, Pinocchio velocity order.
+        ignore_unactuated: Drop efforts on unactuated degrees of freedom instead of raising.
+
+    Raises:
+        InvalidInputError: If ``tau`` has the wrong size or non-finite entries, or (unless
+            ``ignore_unactuated``) asks for more than 1e-9 on a degree of freedom that no
+            actuator drives (the message names the joint).
+    """
+    tau = finite_vector(tau, mm.robot.model.nv, "tau")
+    maps = gathers(mm)
+    if maps.direct_ctrl is not None:  # every motor drives one joint: one gather
+        ctrl = tau[maps.direct_ctrl]
+    else:
+        ctrl = np.zeros(mm.model.nu)
+        ctrl[maps.actuator] = tau[maps.actuated_v]
+    if ignore_unactuated or not maps.unactuated:
+        return ctrl
+    if len(maps.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
+        efforts = tau[maps.unactuated_v].tolist()
+        if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
+            return ctrl
+    elif np.abs(tau[maps.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
+        return ctrl
+    for joint in mm.joints:
+        effort = tau[joint.idx_v : joint.idx_v + joint.nv]
+        if joint.actuator is None and np.any(np.abs(effort) > UNACTUATED_TOLERANCE):
+            raise InvalidInputError(
+                f"tau asks for {effort.tolist()} on joint {joint.name!r}, which no actuator "
+                f"drives (actuated joints: {', '.join(mm.actuated) or 'none'}); pass "
+                "ignore_unactuated=True to drop it."
+            )
+    return ctrl
+
+
+def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
+    """Joint efforts ``(model.nv,)`` of actuator controls ``ctrl``, 0 where unactuated.
+
+    Raises:
+        InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
+    """
+    ctrl = finite_vector(ctrl, mm.model.nu, "ctrl")
+    maps = gathers(mm)
+    tau = np.zeros(mm.robot.model.nv)
+    tau[maps.actuated_v] = ctrl[maps.actuator]
+    return tau

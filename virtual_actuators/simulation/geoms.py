@@ -14,9 +14,9 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from virtual_actuators.exceptions import RobotDescriptionError, notice
+from virtual_actuators.exceptions import notice
 from virtual_actuators.models.collada import collada_arrays
-from virtual_actuators.models.robot import Robot
+from virtual_actuators.models.robot import Robot, read_geometry
 from virtual_actuators.simulation.ground import (
     ROBOT_BITS,
     ROBOT_SELF_BITS,
@@ -63,26 +63,6 @@ def quat_wxyz(rotation: np.ndarray) -> np.ndarray:
     return np.array([quat[3], quat[0], quat[1], quat[2]])
 
 
-def _geometry_model(robot: Robot, kind: pin.GeometryType) -> pin.GeometryModel:
-    """Read the robot's collision or visual geometry with Pinocchio.
-
-    Raises:
-        RobotDescriptionError: If Pinocchio cannot read it (a missing mesh, say).
-    """
-    model = robot.model
-    dirs = list(robot.package_dirs)
-    try:
-        if robot.urdf_path is not None:
-            return pin.buildGeomFromUrdf(model, str(robot.urdf_path), kind, package_dirs=dirs)
-        if robot.urdf_string is not None:
-            return pin.buildGeomFromUrdfString(model, robot.urdf_string, kind, package_dirs=dirs)
-    except Exception as exc:
-        raise RobotDescriptionError(
-            f"Pinocchio cannot read the geometry of robot {robot.name!r}: {exc}"
-        ) from exc
-    return pin.GeometryModel()
-
-
 class _Shape(NamedTuple):
     """A MuJoCo geom type with its size or mesh name, and a bounding box's ``centre``."""
 
@@ -116,12 +96,6 @@ _PRIMITIVES = {
 }
 
 
-def _primitive(shape: object) -> _Shape | None:
-    """The MuJoCo primitive of a coal shape, or None for an unsupported one."""
-    entry = _PRIMITIVES.get(type(shape).__name__)
-    return None if entry is None else _Shape(entry[0], entry[1](shape))
-
-
 def _mesh(
     spec: mujoco.MjSpec, obj: pin.GeometryObject, meshes: dict[tuple[str, tuple], str | None]
 ) -> _Shape | None:
@@ -130,28 +104,21 @@ def _mesh(
     scale = tuple(float(s) for s in obj.meshScale)
     key = (str(path), scale)
     if key not in meshes:
-        meshes[key] = _add_mesh(spec, path, scale, f"mesh_{len(meshes)}_{path.stem}")
+        name, mesh = f"mesh_{len(meshes)}_{path.stem}", None
+        if _readable_mesh(path):
+            mesh = spec.add_mesh(name=name, file=str(path), scale=list(scale))
+        elif path.suffix.lower() == ".dae" and (arrays := collada_arrays(str(path))) is not None:
+            vertices, triangles = arrays
+            mesh = spec.add_mesh(
+                name=name,
+                uservert=(vertices * np.asarray(scale)).reshape(-1).tolist(),
+                userface=triangles.reshape(-1).tolist(),
+            )
+        if mesh is not None:  # inertias come from Pinocchio: a surface one compiles for any mesh
+            mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+        meshes[key] = None if mesh is None else name
     name = meshes[key]
     return None if name is None else _Shape(mujoco.mjtGeom.mjGEOM_MESH, mesh=name)
-
-
-def _add_mesh(spec: mujoco.MjSpec, path: Path, scale: tuple, name: str) -> str | None:
-    """Add the mesh file ``path`` to ``spec`` as ``name``; None if it cannot be read."""
-    if _readable_mesh(path):
-        mesh = spec.add_mesh(name=name, file=str(path), scale=list(scale))
-    elif path.suffix.lower() == ".dae" and (arrays := collada_arrays(str(path))) is not None:
-        vertices, triangles = arrays
-        mesh = spec.add_mesh(
-            name=name,
-            uservert=(vertices * np.asarray(scale)).reshape(-1).tolist(),
-            userface=triangles.reshape(-1).tolist(),
-        )
-    else:
-        return None
-    # Mesh inertia is unused (inertias come from Pinocchio); a surface inertia compiles even for
-    # open or flat meshes.
-    mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-    return name
 
 
 def _bounding_box(obj: pin.GeometryObject) -> _Shape | None:
@@ -183,18 +150,24 @@ def add_geometry(
     added = Added({}, [], [])
     if collisions == "none":
         return added
-    kind = pin.GeometryType.VISUAL if collisions == "visual" else pin.GeometryType.COLLISION
-    geometry = _geometry_model(robot, kind)
+    geometry = read_geometry(robot, visual=collisions == "visual")
     model = robot.model
     contype, conaffinity = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
-    frames = _frames_in_joints(model)
+    frames: dict[str, tuple[int, np.ndarray]] = {}  # parent joint and origin of each frame name
+    for frame in model.frames:  # but movable joints' frames
+        if frame.name not in frames and frame.type != pin.FrameType.JOINT:
+            frames[frame.name] = (frame.parentJoint, np.array(frame.placement.translation))
     meshes: dict[tuple[str, tuple[float, ...]], str | None] = {}
     used = set()
     for obj in geometry.geometryObjects:
         is_mesh = type(obj.geometry).__name__.startswith(("BVHModel", "Convex"))
         if is_mesh and collisions == "primitives":
             continue  # meshes are left out on purpose
-        shape = _mesh(spec, obj, meshes) if is_mesh else _primitive(obj.geometry)
+        if is_mesh:
+            shape = _mesh(spec, obj, meshes)
+        else:
+            entry = _PRIMITIVES.get(type(obj.geometry).__name__)
+            shape = None if entry is None else _Shape(entry[0], entry[1](obj.geometry))
         if shape is None:
             shape = _bounding_box(obj)
             (added.skipped if shape is None else added.approximated).append(obj.name)
@@ -220,13 +193,16 @@ def add_geometry(
         set_contact(geom, contact, contype, conaffinity)
         geom.group = ROBOT_GROUP
         geom.rgba = [0.6, 0.6, 0.65, 1.0]
-        added.owners[name] = _owners(model, obj, shape, placement, frames)
-    _tell(robot, added)
-    return added
-
-
-def _tell(robot: Robot, added: Added) -> None:
-    """One `notice` line for the meshes approximated, one for the geometries left out."""
+        parent = model.frames[obj.parentFrame].name
+        inside = [
+            frame
+            for frame, (joint, point) in frames.items()
+            if joint == obj.parentJoint
+            and frame != parent
+            and shape.size is not None
+            and _inside(shape.geom_type, shape.size, placement.actInv(point))
+        ]
+        added.owners[name] = (parent, *inside)  # its parent frame, then the frames inside it
     for names, what in (
         (added.approximated, "simulated as bounding boxes, the meshes that neither MuJoCo (OBJ, "
          "binary STL) nor the Collada reader reads"),
@@ -235,26 +211,7 @@ def _tell(robot: Robot, added: Added) -> None:
     ):  # fmt: skip
         if names:
             notice(f"Robot {robot.name!r}: {what} ({len(names)}): {', '.join(names)}")
-
-
-def _owners(
-    model: pin.Model,
-    obj: pin.GeometryObject,
-    shape: _Shape,
-    placement: pin.SE3,
-    frames: dict[str, tuple[int, np.ndarray]],
-) -> tuple[str, ...]:
-    """The frames owning a geom at ``placement`` (joint frame): its parent, then those inside."""
-    parent = model.frames[obj.parentFrame].name
-    located = [
-        frame
-        for frame, (joint, point) in frames.items()
-        if joint == obj.parentJoint
-        and frame != parent
-        and shape.size is not None
-        and _inside(shape.geom_type, shape.size, placement.actInv(point))
-    ]
-    return (parent, *located)
+    return added
 
 
 def _readable_mesh(path: Path) -> bool:
@@ -270,19 +227,8 @@ def _readable_mesh(path: Path) -> bool:
         size = path.stat().st_size
     except OSError:
         return False
-    if len(header) < 84:
-        return False
-    faces = int.from_bytes(header[80:84], "little")
+    faces = int.from_bytes(header[80:84], "little")  # a short file: its size cannot match
     return size == 84 + 50 * faces and 1 <= faces <= MAX_STL_FACES  # ASCII STL is not read
-
-
-def _frames_in_joints(model: pin.Model) -> dict[str, tuple[int, np.ndarray]]:
-    """Parent joint and origin (joint frame) of each frame name but movable joints' frames."""
-    out: dict[str, tuple[int, np.ndarray]] = {}
-    for frame in model.frames:
-        if frame.name not in out and frame.type != pin.FrameType.JOINT:
-            out[frame.name] = (frame.parentJoint, np.array(frame.placement.translation))
-    return out
 
 
 def _inside(geom_type: mujoco.mjtGeom, size: list[float], point: np.ndarray) -> bool:

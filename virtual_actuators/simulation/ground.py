@@ -15,6 +15,7 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.terrain import Terrain
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = [
     "CLEARANCE_RANGE",
@@ -86,12 +87,8 @@ class ContactParameters:
             raise InvalidInputError(f"condim must be 1, 3, 4 or 6, got {self.condim!r}.")
         if self.cone not in ("pyramidal", "elliptic"):
             raise InvalidInputError(f"cone must be 'pyramidal' or 'elliptic', got {self.cone!r}.")
-        values = (self.friction, self.torsional_friction, self.rolling_friction, self.margin)
-        if not all(math.isfinite(v) and v >= 0.0 for v in values):
-            raise InvalidInputError(
-                "friction, torsional_friction, rolling_friction and margin must be finite and "
-                f">= 0, got {values}."
-            )
+        for name in ("friction", "torsional_friction", "rolling_friction", "margin"):
+            check_number(getattr(self, name), f"ContactParameters: {name}", minimum=0.0)
         if len(self.solref) != 2 or len(self.solimp) != 5:
             raise InvalidInputError("solref needs 2 values and solimp 5 values.")
 
@@ -160,9 +157,9 @@ def ground_clearance(
     ``data`` must hold the geoms' placements; distances beyond `CLEARANCE_RANGE` count as it.
     """
     terrain = tuple(terrain)
-    clearance = CLEARANCE_RANGE
-    for geom in robot_geoms:
-        for ground in terrain:
-            distance = mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None)
-            clearance = min(clearance, float(distance))
-    return clearance
+    distances = (
+        float(mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None))
+        for geom in robot_geoms
+        for ground in terrain
+    )
+    return min((CLEARANCE_RANGE, *distances))

@@ -6,14 +6,12 @@ final zero steps once more unless ``write_final=hardware.hold_effort`` takes it.
 
 from __future__ import annotations
 
-import time as wallclock
+from time import perf_counter
 
 import numpy as np
 
-from .actuation import torques_to_ctrl
+from .conversions import torques_to_ctrl
 from .simulator import Simulator
-
-_perf_counter = wallclock.perf_counter
 
 
 class MujocoHardware:
@@ -50,9 +48,9 @@ class MujocoHardware:
             InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
                 on an unactuated degree of freedom without ``ignore_unactuated``.
         """
-        start = _perf_counter()
+        start = perf_counter()
         self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
-        self.physics_time += _perf_counter() - start
+        self.physics_time += perf_counter() - start
         self.efforts_written += 1
 
     def hold_effort(self, tau: np.ndarray) -> None:

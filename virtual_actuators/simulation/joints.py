@@ -79,8 +79,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
     """Names of the actuated joints in Pinocchio order (see [`build_mujoco_model`][])."""
     model = robot.model
     names = list(model.names)[1:]
-    one_dof = {name for name, kind in zip(names, kinds, strict=True) if kind != "free"}
-    one_dof = {name for name in one_dof if model.joints[model.getJointId(name)].nv == 1}
+    one_dof = {n for n, kind in zip(names, kinds, strict=True) if kind not in ("free", "ball")}
     if actuated is None:
         passive = set(robot.passive_joints)
         return [name for name in names if name in one_dof and name not in passive]
@@ -104,9 +103,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
 def add_actuators(spec: mujoco.MjSpec, model: pin.Model, actuated_names: list[str]) -> None:
     """Add one ``motor`` (gear 1, range ``+-effortLimit`` if finite and positive) per joint."""
     for name in actuated_names:
-        jid = model.getJointId(name)
-        joint = model.joints[jid]
-        effort = float(model.effortLimit[joint.idx_v])
+        effort = float(model.effortLimit[model.joints[model.getJointId(name)].idx_v])
         actuator = spec.add_actuator(name=name, target=name)
         actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
         actuator.gear[0] = 1.0
@@ -160,8 +157,11 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
         body.explicitinertial = True
         body.mass = float(inertia.mass)
         body.ipos = np.array(inertia.lever, dtype=float)
-        moments, axes = _principal_inertia(np.asarray(inertia.inertia, dtype=float))
-        body.inertia = moments
+        matrix = np.asarray(inertia.inertia, dtype=float)
+        moments, axes = np.linalg.eigh((matrix + matrix.T) / 2.0)  # principal moments and axes
+        if np.linalg.det(axes) < 0.0:  # a rotation
+            axes[:, 2] = -axes[:, 2]
+        body.inertia = np.maximum(moments, 0.0)  # a negative moment clamped to 0
         body.iquat = quat_wxyz(axes)
         name = model.names[j]
         if kind == "free":
@@ -185,10 +185,9 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             mj_joint.axis = axis
             lower = float(model.lowerPositionLimit[joint.idx_q])
             upper = float(model.upperPositionLimit[joint.idx_q])
-            if kind != "continuous" and math.isfinite(lower) and math.isfinite(upper):
-                if lower < upper:
-                    mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
-                    mj_joint.range = [lower, upper]
+            if kind != "continuous" and -math.inf < lower < upper < math.inf:
+                mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+                mj_joint.range = [lower, upper]
         bodies.append(body)
     return bodies
 
@@ -202,14 +201,6 @@ def _set_damping(joint: mujoco.MjsJoint, damping: float) -> None:
         values = np.zeros(np.shape(current))
         values[0] = damping
         joint.damping = values
-
-
-def _principal_inertia(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Principal moments (negative ones clamped to 0) and axes (a rotation) of an inertia."""
-    moments, axes = np.linalg.eigh((inertia + inertia.T) / 2.0)
-    if np.linalg.det(axes) < 0.0:
-        axes[:, 2] = -axes[:, 2]
-    return np.maximum(moments, 0.0), axes
 
 
 def balance_inertias(spec: mujoco.MjSpec, robot: Robot) -> None:

@@ -6,7 +6,6 @@ same mechanism; every index map is computed by joint name, never by assuming the
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -40,6 +39,7 @@ from virtual_actuators.simulation.joints import (
     joint_kind,
 )
 from virtual_actuators.simulation.terrain import Terrain
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["ContactParameters", "JointMap", "MujocoModel", "build_mujoco_model"]
 
@@ -243,14 +243,8 @@ def build_mujoco_model(
 
 
 def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) -> Terrain:
-    """The terrain (level ground when None), after checking the options.
-
-    Raises:
-        InvalidInputError: If ``timestep`` is not positive, ``collisions`` not one of
-            `COLLISION_CHOICES` or ``terrain`` not a [`Terrain`][].
-    """
-    if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
-        raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
+    """The terrain (level ground when None), after checking the options."""
+    check_number(timestep, "timestep [s]", positive=True)
     if collisions not in COLLISION_CHOICES:
         raise InvalidInputError(
             f"collisions must be one of {', '.join(map(repr, COLLISION_CHOICES))}, "
@@ -280,11 +274,7 @@ def _new_spec(robot: Robot, timestep: float, contact: ContactParameters) -> mujo
     spec.option.timestep = float(timestep)
     spec.option.gravity = np.array(robot.model.gravity.linear, dtype=float)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.cone = (
-        mujoco.mjtCone.mjCONE_ELLIPTIC
-        if contact.cone == "elliptic"
-        else mujoco.mjtCone.mjCONE_PYRAMIDAL
-    )
+    spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{contact.cone.upper()}")  # checked name
     return spec
 
 

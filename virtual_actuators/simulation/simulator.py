@@ -6,7 +6,6 @@ Pinocchio frame name.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -16,14 +15,15 @@ import numpy as np
 from virtual_actuators.core import kernel
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
-from virtual_actuators.simulation.actuation import ctrl_writer, torques_to_ctrl
 from virtual_actuators.simulation.contact_queries import ContactQueries
 from virtual_actuators.simulation.conversions import (
     configuration_from_mujoco,
     configuration_to_mujoco,
-    direct_gathers,
+    ctrl_writer,
+    finite_vector,
     gathers,
     state_velocity,
+    torques_to_ctrl,
     velocity_to_mujoco,
 )
 from virtual_actuators.simulation.ground import ground_clearance
@@ -34,6 +34,7 @@ from virtual_actuators.simulation.model import (
     build_mujoco_model,
 )
 from virtual_actuators.simulation.terrain import Terrain
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["Simulator"]
 
@@ -42,20 +43,11 @@ _STATE_VELOCITY = kernel("state_velocity", None)
 
 
 def _substeps(control_rate: float, timestep: float) -> int:
-    """The number of physics steps in one control period.
-
-    Raises:
-        InvalidInputError: If ``control_rate`` or ``timestep`` is not a positive number, or the
-            control period is not a whole number of time steps.
-    """
-    if not (isinstance(control_rate, (int, float)) and math.isfinite(control_rate)):
-        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
-    if control_rate <= 0:
-        raise InvalidInputError(f"control_rate must be a positive number of Hz: {control_rate!r}.")
-    if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and timestep > 0):
-        raise InvalidInputError(f"timestep must be a positive number of seconds: {timestep!r}.")
-    period = 1.0 / float(control_rate)
-    ratio = period / float(timestep)
+    """The number of physics steps in one control period (checked to be whole)."""
+    control_rate = check_number(control_rate, "control_rate [Hz]", positive=True)
+    timestep = check_number(timestep, "timestep [s]", positive=True)
+    period = 1.0 / control_rate
+    ratio = period / timestep
     substeps = round(ratio)
     if substeps < 1 or abs(ratio - substeps) > 1e-9 * max(1.0, ratio):
         raise InvalidInputError(
@@ -142,13 +134,12 @@ class Simulator(ContactQueries):
         self.substeps = substeps
         self._pushes: list[_Push] = []
         self._applied = np.zeros((self.model.nbody, 6))  # our share of xfrc_applied
-        self._pushing = False  # whether _applied holds anything
         self._init_contact_queries()
         # the state read every tick: MuJoCo's arrays (views) and the gathers that convert them
         self._qpos, self._qvel, self._ctrl = self.data.qpos, self.data.qvel, self.data.ctrl
-        self._direct_q, self._direct_v = direct_gathers(self.mujoco_model)
-        self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         maps = gathers(self.mujoco_model)
+        self._direct_q, self._direct_v = maps.direct_q, maps.direct_v
+        self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         self._free_v = None  # (gather, free joints' rows) of the core's read of v, or None
         if _STATE_VELOCITY is not None and self._direct_v is None and maps.gather_v is not None:
             rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]
@@ -205,7 +196,6 @@ class Simulator(ContactQueries):
         self.data.qvel[:] = qvel
         self._pushes.clear()
         self._applied[:] = 0.0
-        self._pushing = False
         mujoco.mj_forward(self.model, self.data)
         self._contacts_time = None  # ContactQueries scans again
 
@@ -257,7 +247,7 @@ class Simulator(ContactQueries):
         if write is None or not write(tau, ignore_unactuated):  # the general path says why
             ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
             self._ctrl[:] = ctrl
-        if not self._pushes and not self._pushing:
+        if not self._pushes:  # then _applied is zero
             mujoco.mj_step(self.model, self.data, nstep=self.substeps)
             return
         for _ in range(self.substeps):
@@ -283,23 +273,18 @@ class Simulator(ContactQueries):
         """
         mm = self.mujoco_model
         body = mm.frame_body(frame)
-        force = np.array(force_world, dtype=float).reshape(-1)
-        if force.shape != (3,) or not np.all(np.isfinite(force)):
-            raise InvalidInputError(
-                f"force_world must be 3 finite numbers [N], got {force_world!r}."
-            )
-        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
-            raise InvalidInputError(f"duration must be a positive number of seconds: {duration!r}.")
+        force = finite_vector(force_world, 3, "force_world [N]").copy()  # the caller's is free
+        duration = check_number(duration, "duration [s]", positive=True)
         if body == 0:
             raise InvalidInputError(f"Frame {frame!r} is fixed to the world: it cannot be pushed.")
-        end = self.time + float(duration) - 0.5 * self.model.opt.timestep
+        end = self.time + duration - 0.5 * self.model.opt.timestep
         self._pushes.append(_Push(body, mm.frame_sites[frame], force, end))
         self._apply_pushes()
 
     def _apply_pushes(self) -> None:
         """Write the active pushes into ``xfrc_applied`` (removing the ones that ended)."""
         data, applied = self.data, self._applied
-        if self._pushing:  # else our share is zero already
+        if self._pushes:  # else our share is zero already
             data.xfrc_applied[:] -= applied
             applied[:] = 0.0
         now = float(data.time)
@@ -311,7 +296,6 @@ class Simulator(ContactQueries):
             applied[push.body, 3:] += (y * fz - z * fy, z * fx - x * fz, x * fy - y * fx)
         if pushes:
             data.xfrc_applied[:] += applied
-        self._pushing = bool(pushes)
 
     def __repr__(self) -> str:
         return (

@@ -13,13 +13,14 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError, suggestion
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["Terrain"]
 
 #: Length of the level ground that every built-in profile starts with [m].
 LEVEL_START = 2.0
 
-# Built-in profiles: (horizontal lengths [m], slopes [deg]) of the segments after LEVEL_START m
+# Built-in profiles: (horizontal length [m], slope [deg]) of the segments after LEVEL_START m
 # of level ground starting at x = 0; the height starts at 0.
 PROFILES: dict[str, tuple[tuple[float, float], ...]] = {
     name: tuple((length, float(slope)) for length, slope in zip(lengths, slopes, strict=True))
@@ -44,78 +45,16 @@ VALID_SPECS = (
 )
 
 
-def profile_points(segments: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Points ``(x, z)`` [m] of a built-in profile: (0, 0), (LEVEL_START, 0), one per segment.
-
-    Args:
-        segments: ``(horizontal length [m], slope [deg])`` per segment, as in `PROFILES`.
-    """
-    points = [(0.0, 0.0), (LEVEL_START, 0.0)]
-    x, z = LEVEL_START, 0.0
-    for length, slope_deg in segments:
-        x += length
-        z += length * math.tan(math.radians(slope_deg))
-        points.append((round(x, 12), z))
-    return points
-
-
-def flat_height(text: str, spec: str) -> float:
-    """The height [m] of a ``"flat:HEIGHT"`` spec.
-
-    Args:
-        text: The stripped spec, starting with ``"flat:"``.
-        spec: The spec as given (quoted in the error).
-
-    Raises:
-        InvalidInputError: If ``HEIGHT`` is not a finite number.
-    """
-    height = text.removeprefix("flat:").strip()
-    try:
-        value = float(height)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
-        raise InvalidInputError(
-            f"Bad terrain height {height!r} in {spec!r}: 'flat:HEIGHT' needs a finite "
-            f"number of metres; {VALID_SPECS}."
-        )
-    return value
-
-
-def parse_points(text: str, spec: str) -> list[list[float]]:
-    """The points ``[x, z]`` [m] of an ``"x:z,x:z,..."`` spec, in the order given.
-
-    Args:
-        text: The stripped spec.
-        spec: The spec as given (quoted in the error).
-
-    Raises:
-        InvalidInputError: If a token is not two finite numbers ``x:z`` (the message quotes
-            it, and suggests a built-in name for a word).
-    """
-    points = []
-    for token in text.split(","):
-        parts = token.split(":")
-        values: list[float] = []
-        if len(parts) == 2:
-            try:
-                values = [float(part) for part in parts]
-            except ValueError:
-                values = []
-        if len(values) != 2 or not all(math.isfinite(v) for v in values):
-            hint = ""
-            if ":" not in token and token.strip():
-                hint = " " + suggestion(token.strip(), BUILTIN_NAMES, "terrains")
-            raise InvalidInputError(
-                f"Bad terrain token {token.strip()!r} in {spec!r}: expected a point 'x:z' "
-                f"with two finite numbers in metres; {VALID_SPECS}.{hint}"
-            )
-        points.append(values)
-    return points
-
-
 #: Default width of the terrain boxes along y in MuJoCo [m].
 DEFAULT_WIDTH = 2.0
+
+
+def _number(text: str) -> float:
+    """``float(text)``, NaN when it is not a number."""
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
 
 
 def _interp(x: float, xs: list[float], zs: list[float]) -> float:
@@ -197,16 +136,13 @@ class Terrain:
                 f"{_pair(array[i + 1])} does not come after point {i} {_pair(array[i])} "
                 "(a vertical step is not a valid profile)."
             )
-        if not (isinstance(width, (int, float)) and math.isfinite(width) and width > 0.0):
-            raise InvalidInputError(
-                f"Terrain width must be a positive number of metres: {width!r}."
-            )
+        width = check_number(width, "Terrain width [m]", positive=True)
         array.setflags(write=False)
         self._points = array
         # plain floats for height() at one number (the control loop's query)
         self._xs, self._zs = array[:, 0].tolist(), array[:, 1].tolist()
         self.name = str(name)
-        self.width = float(width)
+        self.width = width
 
     @classmethod
     def flat(cls, height: float = 0.0, *, width: float = DEFAULT_WIDTH) -> Terrain:
@@ -241,7 +177,13 @@ class Terrain:
         if name not in PROFILES:
             hint = suggestion(str(name), BUILTIN_NAMES, "terrains")
             raise InvalidInputError(f"No built-in terrain named {name!r}. {hint}")
-        return cls(profile_points(PROFILES[name]), name=name, width=width)
+        points = [(0.0, 0.0), (LEVEL_START, 0.0)]
+        x, z = LEVEL_START, 0.0
+        for length, slope_deg in PROFILES[name]:
+            x += length
+            z += length * math.tan(math.radians(slope_deg))
+            points.append((round(x, 12), z))
+        return cls(points, name=name, width=width)
 
     @staticmethod
     def names() -> tuple[str, ...]:
@@ -266,8 +208,28 @@ class Terrain:
         if text in BUILTIN_NAMES:
             return cls.builtin(text, width=width)
         if text.startswith("flat:"):
-            return cls.flat(flat_height(text, spec), width=width)
-        return cls(parse_points(text, spec), name="custom", width=width)
+            height = text.removeprefix("flat:").strip()
+            value = _number(height)
+            if not math.isfinite(value):
+                raise InvalidInputError(
+                    f"Bad terrain height {height!r} in {spec!r}: 'flat:HEIGHT' needs a finite "
+                    f"number of metres; {VALID_SPECS}."
+                )
+            return cls.flat(value, width=width)
+        points = []
+        for token in text.split(","):
+            parts = token.split(":")
+            values = [_number(part) for part in parts] if len(parts) == 2 else []
+            if len(values) != 2 or not all(math.isfinite(v) for v in values):
+                hint = ""
+                if ":" not in token and token.strip():
+                    hint = " " + suggestion(token.strip(), BUILTIN_NAMES, "terrains")
+                raise InvalidInputError(
+                    f"Bad terrain token {token.strip()!r} in {spec!r}: expected a point 'x:z' "
+                    f"with two finite numbers in metres; {VALID_SPECS}.{hint}"
+                )
+            points.append(values)
+        return cls(points, name="custom", width=width)
 
     @property
     def points(self) -> np.ndarray:

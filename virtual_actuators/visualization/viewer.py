@@ -20,15 +20,13 @@ from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from .bodies import RobotBodies, typical_link_length
 from .frame_snapshot import Actuator, FrameSnapshot
-from .framing import framing_commands
 from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
-from .pacing import FramePacer
+from .pacing import FramePacer, TickUpdater, framing_commands
 from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
-from .ticks import TickUpdater
 from .windows import ForwardingWindow, SceneWindow
 
 if TYPE_CHECKING:

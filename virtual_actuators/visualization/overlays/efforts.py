@@ -12,8 +12,7 @@ import numpy as np
 from ...exceptions import InvalidInputError
 from ..frame_snapshot import FrameSnapshot
 from ..robot_scene import RobotScene, safe
-from ..shape_placement import translation
-from ..shapes import material
+from ..shapes import material, translation
 from .base import Overlay
 
 

@@ -9,16 +9,6 @@ from collections.abc import Iterable, Sequence
 
 from virtual_actuators.exceptions import InvalidInputError, closest_names
 
-__all__ = [
-    "STANDARD_CHANNELS",
-    "STATE_CHANNEL",
-    "UNITS",
-    "check_names",
-    "default_step_states",
-    "resolve_step_states",
-    "unknown_name",
-]
-
 #: Units of the standard channels, for labels.
 UNITS: dict[str, str] = {
     "time": "s",

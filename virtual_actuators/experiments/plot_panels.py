@@ -22,25 +22,6 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.walk_log import WalkLog
 
-__all__ = [
-    "ACTUAL_STYLE",
-    "DESIRED_SPEED",
-    "FORCE_STYLE",
-    "MAX_FULL_LINES",
-    "SETPOINT_STYLE",
-    "body_height_world",
-    "draw_series",
-    "fit_text",
-    "draw_state_panel",
-    "fall_marks",
-    "key_marks",
-    "new_figure",
-    "not_recorded",
-    "mark_states",
-    "save_figure",
-    "set_heading",
-    "terrain_panel",
-]
 
 ACTUAL_STYLE = {"color": "C0", "lw": 1.2}
 SETPOINT_STYLE = {"color": "C3", "lw": 1.1, "ls": "--"}

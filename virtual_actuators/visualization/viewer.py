@@ -6,7 +6,6 @@ drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,6 +17,7 @@ from ..control import Controller, ControlOutput, State
 from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
+from ..vocabulary.arguments import check_number
 from .bodies import RobotBodies, typical_link_length
 from .frame_snapshot import Actuator, FrameSnapshot
 from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
@@ -31,17 +31,6 @@ from .windows import ForwardingWindow, SceneWindow
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
-
-
-def _positive(value: float, what: str) -> float:
-    """``value`` as a float.
-
-    Raises:
-        InvalidInputError: It is not a positive finite number.
-    """
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-        raise InvalidInputError(f"{what} must be a positive number, got {value!r}.")
-    return float(value)
 
 
 def _forward(name: str, doc: str, settable: bool = False) -> property:
@@ -125,9 +114,10 @@ class Viewer:
     ) -> None:
         if not isinstance(robot, Robot):
             raise InvalidInputError(f"Viewer needs a virtual_actuators.Robot, got {robot!r}.")
-        scales = [_positive(force_scale, "force_scale"), _positive(moment_scale, "moment_scale")]
-        scales.append(_positive(effort_reference, "effort_reference"))
-        rate_hz = _positive(rate_hz, "rate_hz")
+        scales = {"force_scale": force_scale, "moment_scale": moment_scale}
+        scales["effort_reference"] = effort_reference
+        scales = [check_number(value, what, positive=True) for what, value in scales.items()]
+        rate_hz = check_number(rate_hz, "rate_hz", positive=True)
         if camera not in ("auto", "side", "iso", None):
             raise InvalidInputError(
                 f"camera must be 'auto', 'side', 'iso' or None, got {camera!r}."

@@ -13,6 +13,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..demos.sweep import MAX_SEEDS
+
 if TYPE_CHECKING:
     from ..gaits.push import Push
 
@@ -134,26 +136,30 @@ def time_window(text: str) -> tuple[float | None, float | None]:
     return start, stop
 
 
-def _whole(text: str, what: str, minimum: int, maximum: int | None = None, why: str = "") -> int:
-    """A whole number from ``minimum`` to ``maximum`` (``why`` says why), or a usage error."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{what} must be a whole number, got {text!r}") from None
-    if value < minimum:
-        raise argparse.ArgumentTypeError(f"{what} must be >= {minimum}, got {text!r}")
-    if maximum is not None and value > maximum:
-        raise argparse.ArgumentTypeError(f"{what} must be at most {maximum} ({why}), got {text!r}")
-    return value
+def _whole(what: str, low: int, high: int | None = None, why: str = "") -> Callable[[str], int]:
+    """The argument type of a whole number from ``low`` to ``high`` (``why`` says why)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{what} must be a whole number, got {text!r}"
+            ) from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{what} must be >= {low}, got {text!r}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(f"{what} must be at most {high} ({why}), got {text!r}")
+        return value
+
+    return parse
 
 
-def seed(text: str) -> int:
-    """``--seed``: a non-negative integer.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _whole(text, "seed", 0)
+#: ``--seed`` (a non-negative integer), ``sweep --seeds`` (starts per cell, 1 to `MAX_SEEDS`)
+#: and ``sweep --workers`` (the process pool's size, 1 to `MAX_WORKERS`).
+seed = _whole("seed", 0)
+seed_count = _whole("seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
+worker_count = _whole("workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
 
 
 def terrain_spec(text: str) -> str:
@@ -263,26 +269,6 @@ def terrain_list(text: str) -> list[str]:
     for name in names:
         terrain_spec(name)
     return names
-
-
-def seed_count(text: str) -> int:
-    """``sweep --seeds``: starts per cell, 1 to `MAX_SEEDS`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    from ..demos.sweep import MAX_SEEDS
-
-    return _whole(text, "seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
-
-
-def worker_count(text: str) -> int:
-    """``sweep --workers``: process pool size, 1 to `MAX_WORKERS`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _whole(text, "workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
 
 
 def _existing_path(text: str) -> bool:

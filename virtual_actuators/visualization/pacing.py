@@ -11,7 +11,6 @@ from meshcat.commands import SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
 from ..control import Controller, ControlOutput
-from .frame_snapshot import FrameSnapshot
 from .recording import AnimationRecording
 from .scene import Scene
 from .shapes import translation
@@ -141,11 +140,7 @@ class FramePacer:
         self.bounds = RunBounds()
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a live update and a recorded frame are due.
-
-        Args:
-            time: Simulated time [s] (recordings are paced by it), or None for wall time.
-        """
+        """``(live, record)``: whether a live update and a recorded frame are due (`Viewer.due`)."""
         live = (
             self.window.live
             and wallclock.perf_counter() - self.last_live >= 1.0 / self.rate_hz
@@ -268,21 +263,16 @@ class TickUpdater:
             ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)
             if ahead > 0.005:
                 wallclock.sleep(ahead)
-        live, record = viewer.due(sim_time)
-        if not (live or record):
-            return
+        if not any(viewer.due(sim_time)):
+            return  # (the state and q are read only for a frame that is due)
         machine = getattr(gait, "machine", None)
-        frame = FrameSnapshot.build(
-            viewer.robot.model.nq,
-            viewer.robot.name,
+        self.updates += viewer.maybe_show(
             simulator.q,
             controller=gait.controller if gait.last is not None else None,
             output=gait.last,
             state=machine.current if machine is not None else None,
+            time=sim_time,
         )
-        viewer.draw(frame)
-        viewer.pacer.publish(live, record, sim_time)
-        self.updates += 1
 
     def __repr__(self) -> str:
         return (

@@ -33,14 +33,14 @@ if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
 
 
-def _forward(name: str, doc: str, settable: bool = False) -> property:
-    """A property of the viewer that reads (and writes) its robot scene's attribute."""
+def _forward(name: str, doc: str, settable: bool = False, owner: str = "robot_scene") -> property:
+    """A property of the viewer that reads (and writes) its robot scene's (or pacer's) attribute."""
 
     def get(self: Viewer) -> object:
-        return getattr(self.robot_scene, name)
+        return getattr(getattr(self, owner), name)
 
     def put(self: Viewer, value: object) -> None:
-        setattr(self.robot_scene, name, value)
+        setattr(getattr(self, owner), name, value)
 
     return property(get, put if settable else None, doc=doc)
 
@@ -93,6 +93,7 @@ class Viewer:
     sizes = _forward("sizes", "Sizes of arrows and markers [m].")
     planar = _forward("planar", "Whether the robot moves in the x-z plane.")
     follow = _forward("follow", "Whether the view follows the robot.", settable=True)
+    rate_hz = _forward("rate_hz", "Live updates per wall-clock second.", True, owner="pacer")
 
     def __init__(
         self,
@@ -148,15 +149,6 @@ class Viewer:
             print(f"MeshCat viewer of {robot.name}: {self.url}")
         if open:
             self.window.open()
-
-    @property
-    def rate_hz(self) -> float:
-        """Live updates per wall-clock second."""
-        return self.pacer.rate_hz
-
-    @rate_hz.setter
-    def rate_hz(self, value: float) -> None:
-        self.pacer.rate_hz = value
 
     @property
     def url(self) -> str | None:

@@ -9,22 +9,6 @@ from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS
 from .views import wants_viewer
 
 
-def registered_walks(parser: argparse.ArgumentParser) -> dict:
-    """The walk registry, imported now (it brings MuJoCo).
-
-    Raises:
-        SystemExit: With code 2 and a usage message naming the extra (``sim``) when MuJoCo is
-            missing.
-    """
-    from ..exceptions import MissingDependencyError
-
-    try:
-        from ..gaits.registry import WALKS
-    except MissingDependencyError as error:
-        parser.error(str(error))
-    return WALKS
-
-
 def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
     """Refuse options that the chosen demo would ignore (a usage error, exit 2)."""
     if args.name == "stand":
@@ -47,7 +31,13 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
 
 
 def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
-    walks = registered_walks(parser)
+    """Refuse a walk's options that it does not take, or that do not fit its range or run."""
+    from ..exceptions import MissingDependencyError
+
+    try:  # the walk registry brings MuJoCo: a usage error naming the extra without it
+        from ..gaits.registry import WALKS as walks
+    except MissingDependencyError as error:
+        parser.error(str(error))
     walk = walks[args.name]
     for dest, option in WALK_OWN_OPTIONS:
         if dest not in walk.options and getattr(args, dest) not in (None, False):

@@ -9,14 +9,11 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import time
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
-
-if TYPE_CHECKING:
-    from ..examples import Example
 
 from .usage_errors import OptionError, blame, writing
 from .views import finish_viewer, make_viewer, pause, print_solution, show_static, wants_viewer
@@ -30,7 +27,10 @@ def demo_walk(args: argparse.Namespace) -> int:
     from ..models.loader import load_robot
 
     walk = WALKS[args.name]
-    options = walk_options(args, walk.options)
+    options = {name: getattr(args, name) for name in walk.options}  # the walk's own, if given
+    options = {name: value for name, value in options.items() if value not in (None, False)}
+    if "direction" in options:
+        options["direction"] = math.radians(options["direction"])  # --direction is in degrees
     if "robot" in walk.options:
         legged_robot(args, walk.robot)  # a robot that cannot walk: a usage error, before the run
     viewer = on_tick = None
@@ -96,17 +96,6 @@ def legged_robot(args: argparse.Namespace, default: str):
             "legged robot, whose base floats (the robots command lists them)"
         )
     return loaded
-
-
-def walk_options(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, object]:
-    """The walk's own options that were given (``--direction`` in degrees becomes radians)."""
-    import math
-
-    options = {name: getattr(args, name) for name in names}
-    options = {name: value for name, value in options.items() if value not in (None, False)}
-    if "direction" in options:
-        options["direction"] = math.radians(options["direction"])
-    return options
 
 
 def sweep_command(args: argparse.Namespace) -> int:
@@ -198,14 +187,6 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
             parser.error(f"argument --plot: the results table beside it: {error}")
 
 
-def example_view(args: argparse.Namespace, example: Example) -> None:
-    """Show an example's configuration and solution (``--viz`` / ``--record``)."""
-    if not wants_viewer(args):
-        return
-    solution = example.solution
-    show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
-
-
 def run(args: argparse.Namespace) -> int:
     """Run the parsed command; returns the exit code (1: a walk ended with the robot fallen).
 
@@ -221,7 +202,9 @@ def run(args: argparse.Namespace) -> int:
     if args.command == "example":
         from ..examples import EXAMPLES
 
-        example_view(args, EXAMPLES[args.name]())
+        example = EXAMPLES[args.name]()
+        solution = example.solution
+        show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
     elif args.command == "sweep":
         return sweep_command(args)
     elif args.command == "robots":

@@ -27,33 +27,6 @@ CAMERA_FOV_DEG = 75.0
 FRAMED = ("robot/",)
 
 
-class RunBounds:
-    """Bounding box of what the recorded frames show, in the view's coordinates [m].
-
-    Attributes:
-        low: Smallest ``x y z`` of a visible node's origin over the frames (None: no frame).
-        high: Largest ``x y z``.
-    """
-
-    def __init__(self) -> None:
-        self.low: np.ndarray | None = None
-        self.high: np.ndarray | None = None
-
-    def add(self, scene: Scene) -> None:
-        """Grow the box with the robot's visible bodies in their current pose."""
-        points = visible_points(scene, FRAMED)
-        if len(points) == 0:
-            return
-        low, high = points.min(axis=0), points.max(axis=0)
-        self.low = low if self.low is None else np.minimum(self.low, low)
-        self.high = high if self.high is None else np.maximum(self.high, high)
-
-    def __repr__(self) -> str:
-        if self.low is None:
-            return "RunBounds(empty)"
-        return f"RunBounds(low={np.round(self.low, 3)}, high={np.round(self.high, 3)})"
-
-
 def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
     """Origins ``(n, 3)`` of the placed nodes, none of whose parents is hidden, in view axes.
 
@@ -88,11 +61,13 @@ CAMERA_PATH = MeshcatPath(("Cameras", "default", "rotated", "<object>"))
 SCENES_PATH = MeshcatPath(("meshcat",))
 
 
-def framing_commands(bounds: RunBounds, view: np.ndarray, margin: float) -> list[object]:
+def framing_commands(
+    bounds: tuple[np.ndarray, np.ndarray] | None, view: np.ndarray, margin: float
+) -> list[object]:
     """Commands that centre the run's box on the origin and fit a sphere around it in view.
 
     Args:
-        bounds: The run's box.
+        bounds: The run's box ``(low, high)`` (None: no frame).
         view: Unit vector from the target to the camera (world axes).
         margin: Added around the box [m].
 
@@ -100,10 +75,11 @@ def framing_commands(bounds: RunBounds, view: np.ndarray, margin: float) -> list
         ``SetTransform`` of ``/meshcat`` and ``SetProperty`` of the camera's position (none
         for an empty box).
     """
-    if bounds.low is None or bounds.high is None:
+    if bounds is None:
         return []
-    centre = (bounds.low + bounds.high) / 2.0
-    radius = 0.5 * float(np.linalg.norm(bounds.high - bounds.low)) + margin
+    low, high = bounds
+    centre = (low + high) / 2.0
+    radius = 0.5 * float(np.linalg.norm(high - low)) + margin
     distance = max(0.8, radius / math.sin(math.radians(CAMERA_FOV_DEG) / 2.0))
     offset = view * distance  # world axes; three.js is y-up
     local = [float(offset[0]), float(offset[2]), float(-offset[1])]
@@ -125,7 +101,8 @@ class FramePacer:
         last_live: Wall-clock time of the last live update (``perf_counter``).
         recording: The running recording, or None.
         last_recording: The last recording stopped, or None.
-        bounds: Box of everything shown in the frames of the (last) recording.
+        bounds: ``(low, high)`` corners of the box holding the robot's visible bodies in every
+            frame of the (last) recording, in the view's coordinates [m] (None: no frame).
     """
 
     def __init__(self, window: SceneWindow, scene: Scene, rate_hz: float) -> None:
@@ -137,7 +114,7 @@ class FramePacer:
         self.last_recording: AnimationRecording | None = None
         self._record_start = 0.0
         self._next_record = -math.inf
-        self.bounds = RunBounds()
+        self.bounds: tuple[np.ndarray, np.ndarray] | None = None
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
         """``(live, record)``: whether a live update and a recorded frame are due (`Viewer.due`)."""
@@ -173,7 +150,7 @@ class FramePacer:
             InvalidInputError: ``fps`` is not a positive number.
         """
         self.recording = AnimationRecording(fps)
-        self.bounds = RunBounds()
+        self.bounds = None
         self._record_start = wallclock.perf_counter()
         self._next_record = -math.inf
 
@@ -191,7 +168,12 @@ class FramePacer:
         if recording.times and time <= recording.times[-1]:
             return  # the same instant again (a paused simulation): keep the first frame
         recording.add(time, dict(self.scene.matrices), dict(self.scene.visible))
-        self.bounds.add(self.scene)
+        points = visible_points(self.scene, FRAMED)
+        if len(points):  # grow the box with the robot's visible bodies in this frame
+            low, high = points.min(axis=0), points.max(axis=0)
+            if self.bounds is not None:
+                low, high = np.minimum(self.bounds[0], low), np.maximum(self.bounds[1], high)
+            self.bounds = low, high
         self._next_record = time + 1.0 / recording.fps
 
     def page(self, title: str, overlay: str, framing: list[object] = ()) -> str:

@@ -83,20 +83,18 @@ class WalkLog:
             state = np.full(n, -1, dtype=np.int64)
         if state.ndim != 1 or state.shape[0] != n:
             raise InvalidInputError(f"state: expected shape ({n},), got {state.shape}.")
-        if state.size and not np.issubdtype(state.dtype, np.integer):
-            if not np.all(np.isfinite(state)) or np.any(state != np.round(state)):
-                raise InvalidInputError(
-                    "state: values must be integers (indices into state_names)."
-                )
+        if not np.issubdtype(state.dtype, np.integer) and not (
+            np.all(np.isfinite(state)) and np.all(state == np.round(state))
+        ):
+            raise InvalidInputError("state: values must be integers (indices into state_names).")
         state = state.astype(np.int64)
-        if self.state_names and state.size:
-            bad = (state < -1) | (state >= len(self.state_names))
-            if np.any(bad):
-                i = int(np.argmax(bad))
-                raise InvalidInputError(
-                    f"state: {int(state[i])} at tick {i} is not an index into state_names "
-                    f"(0..{len(self.state_names) - 1}, or -1 for unknown)."
-                )
+        bad = (state < -1) | (state >= len(self.state_names))
+        if self.state_names and np.any(bad):
+            i = int(np.argmax(bad))
+            raise InvalidInputError(
+                f"state: {int(state[i])} at tick {i} is not an index into state_names "
+                f"(0..{len(self.state_names) - 1}, or -1 for unknown)."
+            )
         self.state = state
         if not isinstance(self.metadata, Mapping):
             raise InvalidInputError(f"metadata must be a dict, got {type(self.metadata).__name__}.")

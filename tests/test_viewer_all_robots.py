@@ -17,7 +17,7 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.visualization import PALETTE, CommandRecorder, Viewer
-from virtual_actuators.visualization.colors import color_distance
+from virtual_actuators.visualization.legend import color_distance
 
 ROOT = "/meshcat/virtual_actuators"
 NAMES = va.list_robots()

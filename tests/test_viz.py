@@ -24,7 +24,7 @@ import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.gaits.hexapod.body import HeadingDamper
 from virtual_actuators.visualization import PALETTE, CommandRecorder, OfflineWindow, Viewer
-from virtual_actuators.visualization.colors import (
+from virtual_actuators.visualization.legend import (
     OVERLAY_MIN_CHROMA,
     ROBOT_MAX_CHROMA,
     chroma,
@@ -32,7 +32,7 @@ from virtual_actuators.visualization.colors import (
     to_lab,
 )
 from virtual_actuators.visualization.live import pack_transform
-from virtual_actuators.visualization.shape_placement import (
+from virtual_actuators.visualization.shapes import (
     HEAD_SPACING,
     arrow_matrices,
     rotation_y_to,

@@ -3,26 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from typing import NamedTuple
 
 from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS
 from .views import wants_viewer
-
-
-def registered_walks(parser: argparse.ArgumentParser) -> dict:
-    """The walk registry, imported now (it brings MuJoCo).
-
-    Raises:
-        SystemExit: With code 2 and a usage message naming the extra (``sim``) when MuJoCo is
-            missing.
-    """
-    from ..exceptions import MissingDependencyError
-
-    try:
-        from ..gaits.registry import WALKS
-    except MissingDependencyError as error:
-        parser.error(str(error))
-    return WALKS
 
 
 def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
@@ -47,7 +30,13 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
 
 
 def _check_walk_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
-    walks = registered_walks(parser)
+    """Refuse a walk's options that it does not take, or that do not fit its range or run."""
+    from ..exceptions import MissingDependencyError
+
+    try:  # the walk registry brings MuJoCo: a usage error naming the extra without it
+        from ..gaits.registry import WALKS as walks
+    except MissingDependencyError as error:
+        parser.error(str(error))
     walk = walks[args.name]
     for dest, option in WALK_OWN_OPTIONS:
         if dest not in walk.options and getattr(args, dest) not in (None, False):
@@ -101,32 +90,28 @@ def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk
         parser.error(f"argument --speed: {error}")
 
 
-class Need(NamedTuple):
-    """An optional package a command needs: its module, the extra that installs it, and why."""
+def needed_packages(args: argparse.Namespace) -> list[tuple[str, str, str]]:
+    """The optional packages the parsed command line will import, in the order it imports them.
 
-    module: str
-    extra: str
-    feature: str
-
-
-def needed_packages(args: argparse.Namespace) -> list[Need]:
-    """The optional packages the parsed command line will import, in the order it imports them."""
+    Returns:
+        ``(module, the extra that installs it, what needs it)`` of each.
+    """
     walks = args.command == "sweep" or (args.command == "demo" and args.name != "stand")
     needs = []
     if walks:
-        needs.append(Need("mujoco", "sim", "MuJoCo simulation (the walks and sweeps)"))
+        needs.append(("mujoco", "sim", "MuJoCo simulation (the walks and sweeps)"))
         if not args.quiet:
-            needs.append(Need("tqdm", "sim", "The progress bar (--quiet runs without it)"))
+            needs.append(("tqdm", "sim", "The progress bar (--quiet runs without it)"))
     if getattr(args, "plot", None):
-        needs.append(Need("matplotlib", "plots", "The plot (--plot)"))
+        needs.append(("matplotlib", "plots", "The plot (--plot)"))
     if wants_viewer(args):
-        needs.append(Need("meshcat", "viz", "The MeshCat viewer (--viz, --record)"))
+        needs.append(("meshcat", "viz", "The MeshCat viewer (--viz, --record)"))
     engine = getattr(args, "engine", None)
     if engine == "dask":
         engine_dask = "The Dask engine (--engine dask)"
-        needs += [Need(name, "dask", engine_dask) for name in ("dask", "distributed")]
+        needs += [(name, "dask", engine_dask) for name in ("dask", "distributed")]
     elif engine == "ray":
-        needs.append(Need("ray", "ray", "The Ray engine (--engine ray)"))
+        needs.append(("ray", "ray", "The Ray engine (--engine ray)"))
     return needs
 
 
@@ -141,6 +126,6 @@ def check_installed(args: argparse.Namespace, parser: argparse.ArgumentParser) -
 
     for need in needed_packages(args):
         try:
-            import_optional(need.module, need.extra, need.feature)
+            import_optional(*need)
         except MissingDependencyError as error:
             parser.error(str(error))

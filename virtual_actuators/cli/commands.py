@@ -1,16 +1,22 @@
-"""What the command line runs: the demos, the worked examples, the viewer around them."""
+"""What the command line runs: the demos, the worked examples, the viewer around them.
+
+``demo stand``: any legged robot standing, its body actuator and force distribution. Feet come
+from `find_feet` or ``--feet``: three or more are point contacts, two (a biped) flat ones; the
+robot stands in its `standing_pose`.
+"""
 
 from __future__ import annotations
 
 import argparse
 import contextlib
-from typing import TYPE_CHECKING
+import math
+import time
+from collections.abc import Sequence
 
-if TYPE_CHECKING:
-    from ..examples import Example
+import numpy as np
 
 from .usage_errors import OptionError, blame, writing
-from .views import finish_viewer, make_viewer, pause, show_static, wants_viewer
+from .views import finish_viewer, make_viewer, pause, print_solution, show_static, wants_viewer
 
 
 def demo_walk(args: argparse.Namespace) -> int:
@@ -21,7 +27,10 @@ def demo_walk(args: argparse.Namespace) -> int:
     from ..models.loader import load_robot
 
     walk = WALKS[args.name]
-    options = walk_options(args, walk.options)
+    options = {name: getattr(args, name) for name in walk.options}  # the walk's own, if given
+    options = {name: value for name, value in options.items() if value not in (None, False)}
+    if "direction" in options:
+        options["direction"] = math.radians(options["direction"])  # --direction is in degrees
     if "robot" in walk.options:
         legged_robot(args, walk.robot)  # a robot that cannot walk: a usage error, before the run
     viewer = on_tick = None
@@ -75,7 +84,6 @@ def legged_robot(args: argparse.Namespace, default: str):
             with no feet or with a fixed base; or a frame of ``--feet`` is not in the robot.
     """
     from ..exceptions import RobotDescriptionError, RobotNotFoundError
-    from .stand import stand_robot
 
     feet = getattr(args, "feet", None)
     described = (RobotNotFoundError, RobotDescriptionError)
@@ -88,17 +96,6 @@ def legged_robot(args: argparse.Namespace, default: str):
             "legged robot, whose base floats (the robots command lists them)"
         )
     return loaded
-
-
-def walk_options(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, object]:
-    """The walk's own options that were given (``--direction`` in degrees becomes radians)."""
-    import math
-
-    options = {name: getattr(args, name) for name in names}
-    options = {name: value for name, value in options.items() if value not in (None, False)}
-    if "direction" in options:
-        options["direction"] = math.radians(options["direction"])
-    return options
 
 
 def sweep_command(args: argparse.Namespace) -> int:
@@ -180,7 +177,7 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
     Raises:
         SystemExit: With code 2 when it cannot be written (names the path and the reason).
     """
-    from .paths import output_path
+    from .types import output_path
 
     out, option = results_path(args)
     if out is not None and option == "--plot":
@@ -188,14 +185,6 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
             output_path(out)
         except argparse.ArgumentTypeError as error:
             parser.error(f"argument --plot: the results table beside it: {error}")
-
-
-def example_view(args: argparse.Namespace, example: Example) -> None:
-    """Show an example's configuration and solution (``--viz`` / ``--record``)."""
-    if not wants_viewer(args):
-        return
-    solution = example.solution
-    show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -207,15 +196,15 @@ def run(args: argparse.Namespace) -> int:
     """
     if args.command == "demo":
         if args.name == "stand":
-            from .stand import demo_stand
-
             demo_stand(legged_robot(args, "solo12"), args=args)
             return 0
         return demo_walk(args)
     if args.command == "example":
         from ..examples import EXAMPLES
 
-        example_view(args, EXAMPLES[args.name]())
+        example = EXAMPLES[args.name]()
+        solution = example.solution
+        show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
     elif args.command == "sweep":
         return sweep_command(args)
     elif args.command == "robots":
@@ -223,3 +212,98 @@ def run(args: argparse.Namespace) -> int:
 
         print(robot_table(describe_robots()))
     return 0
+
+
+def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
+    """Load the robot of ``demo stand`` and find its body and feet.
+
+    Args:
+        name: A robot name, alias or URDF path for [`load_robot`][].
+        feet: Foot frame names (None: found on the robot).
+
+    Returns:
+        ``(robot, body frame, foot frames)``.
+
+    Raises:
+        RobotNotFoundError: If no robot has this name or path.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If it has no feet (an arm, a hand: the message says so), or a frame
+            given in ``feet`` is not in the model.
+    """
+    import virtual_actuators as va
+    from virtual_actuators.models.feet import body_frame, find_feet
+    from virtual_actuators.vocabulary.axes import resolve_frame
+
+    robot = va.load_robot(name)
+    if feet is None:
+        found = find_feet(robot)
+        return robot, found.body, list(found.feet)
+    for frame in feet:
+        resolve_frame(robot.model, frame, "foot")
+    return robot, body_frame(robot.model, robot.floating_base), list(feet)
+
+
+def demo_stand(
+    robot: object = "solo12",
+    repeat: int = 2000,
+    args: argparse.Namespace | None = None,
+    feet: Sequence[str] | None = None,
+) -> None:
+    """Print a legged robot's body actuator distribution (and show it with ``--viz``).
+
+    Args:
+        robot: A name or path, or ``(robot, body, feet)`` from `stand_robot`.
+        repeat: Solves per timing.
+        args: The parsed command line (for the viewer options), or None.
+        feet: Foot frames when ``robot`` is a name (None: found on the robot).
+
+    Raises:
+        RobotNotFoundError: If ``robot`` is a name that no robot has.
+        RobotDescriptionError: If its URDF cannot be loaded.
+        FrameNotFoundError: If it has no feet.
+        SingularConfigurationError: If its standing pose has a straight leg, or a leg cannot
+            reach the pose built for it.
+    """
+    import virtual_actuators as va
+    from virtual_actuators.models.standing import standing_pose
+
+    robot, body_frame, feet = robot if isinstance(robot, tuple) else stand_robot(robot, feet)
+    q = standing_pose(robot, feet) if robot.floating_base else robot.neutral()
+    weight = robot.mass * 9.81  # [N]
+    contact = "point" if len(feet) >= 3 else "flat"
+    print(
+        f"{robot}  mass {robot.mass:.2f} kg; body {body_frame!r} on {len(feet)} feet "
+        f"({', '.join(feet)}), {contact} contacts"
+    )
+    body = va.ParallelVirtualActuator(
+        robot, action=body_frame, reactions=feet, reference=body_frame, contact=contact
+    )
+    wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])  # [N, N m] in the body frame
+    sol = body.solve(q, wrench)
+    print_solution("body actuator (minimum-norm distribution)", robot, body, q, wrench, sol)
+    shown, actuator = sol, body
+    timed = [("minimum-norm", body)]
+    if len(feet) == 4 and contact == "point":
+        # all x forces equal, y forces equal front and hind, diagonal z sums equal: r = 6
+        design = [va.Equal((feet[0], "x"), (foot, "x")) for foot in feet[1:]]
+        design += [
+            va.Equal((feet[0], "y"), (feet[1], "y")),
+            va.Equal((feet[2], "y"), (feet[3], "y")),
+        ]
+        z = {(feet[0], "z"): 1, (feet[3], "z"): 1, (feet[1], "z"): -1, (feet[2], "z"): -1}
+        design.append(va.Linear(z))
+        square = va.ParallelVirtualActuator(
+            robot, action=body_frame, reactions=feet, reference=body_frame, design=design
+        )
+        shown, actuator = square.solve(q, wrench), square
+        title = "with six design constraints (square, partitioned)"
+        print_solution(title, robot, square, q, wrench, shown)
+        timed.append(("partitioned", square))
+    for name, timed_actuator in timed:
+        start = time.perf_counter()
+        for _ in range(repeat):
+            timed_actuator.solve(q, wrench)
+        elapsed = (time.perf_counter() - start) / repeat * 1e6
+        print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
+    if args is not None:
+        show_static(args, robot, q, shown, actuator, wrench)

@@ -6,13 +6,14 @@ import argparse
 import re
 from collections.abc import Iterable
 
-from .paths import figure_path, output_path
 from .types import (
     MAX_DURATION,
     MIN_DURATION,
     amplitude,
     direction_degrees,
+    figure_path,
     frame_list,
+    output_path,
     positive_seconds,
     push_spec,
     robot_name,

@@ -1,15 +1,19 @@
 """Argument types of the command line: a bad value is a usage error (exit 2), never a traceback.
 
-Heavy modules (MuJoCo, the robot catalog) are imported only when their option is given.
+Heavy modules (MuJoCo, the robot catalog) are imported only when their option is given; output
+files are tried before the run, not after it.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+from ..demos.sweep import MAX_SEEDS
 
 if TYPE_CHECKING:
     from ..gaits.push import Push
@@ -132,26 +136,30 @@ def time_window(text: str) -> tuple[float | None, float | None]:
     return start, stop
 
 
-def _whole(text: str, what: str, minimum: int, maximum: int | None = None, why: str = "") -> int:
-    """A whole number from ``minimum`` to ``maximum`` (``why`` says why), or a usage error."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{what} must be a whole number, got {text!r}") from None
-    if value < minimum:
-        raise argparse.ArgumentTypeError(f"{what} must be >= {minimum}, got {text!r}")
-    if maximum is not None and value > maximum:
-        raise argparse.ArgumentTypeError(f"{what} must be at most {maximum} ({why}), got {text!r}")
-    return value
+def _whole(what: str, low: int, high: int | None = None, why: str = "") -> Callable[[str], int]:
+    """The argument type of a whole number from ``low`` to ``high`` (``why`` says why)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{what} must be a whole number, got {text!r}"
+            ) from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{what} must be >= {low}, got {text!r}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(f"{what} must be at most {high} ({why}), got {text!r}")
+        return value
+
+    return parse
 
 
-def seed(text: str) -> int:
-    """``--seed``: a non-negative integer.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _whole(text, "seed", 0)
+#: ``--seed`` (a non-negative integer), ``sweep --seeds`` (starts per cell, 1 to `MAX_SEEDS`)
+#: and ``sweep --workers`` (the process pool's size, 1 to `MAX_WORKERS`).
+seed = _whole("seed", 0)
+seed_count = _whole("seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
+worker_count = _whole("workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
 
 
 def terrain_spec(text: str) -> str:
@@ -263,26 +271,6 @@ def terrain_list(text: str) -> list[str]:
     return names
 
 
-def seed_count(text: str) -> int:
-    """``sweep --seeds``: starts per cell, 1 to `MAX_SEEDS`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    from ..demos.sweep import MAX_SEEDS
-
-    return _whole(text, "seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
-
-
-def worker_count(text: str) -> int:
-    """``sweep --workers``: process pool size, 1 to `MAX_WORKERS`.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
-    return _whole(text, "workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
-
-
 def _existing_path(text: str) -> bool:
     """Whether ``text`` names an existing file or folder (False for anything unusable)."""
     try:
@@ -290,3 +278,81 @@ def _existing_path(text: str) -> bool:
         return path.is_file() or path.is_dir()
     except (OSError, RuntimeError, ValueError):  # ~nosuchuser, a name too long, a NUL byte
         return False
+
+
+def output_path(text: str) -> str:
+    """An output file that can be written now, opened as the run will at its end.
+
+    Raises:
+        argparse.ArgumentTypeError: If the path is empty or a folder, its folder does not
+            exist, or it cannot be created, opened for writing or written (``/dev/full``, a
+            file under ``/proc``, a read-only file system, permission denied).
+    """
+    try:
+        path = Path(text)
+        if not text.strip():
+            raise argparse.ArgumentTypeError("expected a file path, got an empty string")
+        if path.is_dir():
+            raise argparse.ArgumentTypeError(f"{text!r} is a folder; give a file path in it")
+        if not path.parent.is_dir():
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not a file path in an existing folder "
+                f"(no folder {str(path.parent)!r})"
+            )
+        if not os.access(path if path.exists() else path.parent, os.W_OK):
+            raise argparse.ArgumentTypeError(f"{text!r} cannot be written (permission denied)")
+    except (OSError, RuntimeError, ValueError) as error:  # a name too long, a NUL byte...
+        raise argparse.ArgumentTypeError(
+            f"{text[:80]!r} is not a usable file path ({error})"
+        ) from None
+    try:
+        _try_writing(path)
+    except OSError as error:
+        reason = error.strerror or str(error)
+        raise argparse.ArgumentTypeError(f"{text[:80]!r} cannot be written ({reason})") from None
+    return text
+
+
+def figure_path(text: str) -> str:
+    """``sweep --plot``: an `output_path` whose suffix is an image format matplotlib writes.
+
+    Raises:
+        argparse.ArgumentTypeError: An unknown suffix (matplotlib picks the format by it), a
+            path that `output_path` refuses, or matplotlib is not installed (the message
+            names its extra).
+    """
+    from ..exceptions import MissingDependencyError, import_optional
+
+    try:
+        import_optional("matplotlib", "plots", "The plot")
+    except MissingDependencyError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = sorted(FigureCanvasBase.get_supported_filetypes())
+    suffix = Path(text).suffix.lower().removeprefix(".")
+    if suffix not in formats:
+        raise argparse.ArgumentTypeError(
+            f"{text[:80]!r}: its suffix names the image format, one of "
+            f"{', '.join('.' + name for name in formats)}"
+        )
+    return output_path(text)
+
+
+def _try_writing(path: Path) -> None:
+    """Give ``path`` an empty write, as the run will at its end, and leave it as it was.
+
+    An existing file is opened for appending (never truncated); a new one is removed again.
+
+    Raises:
+        OSError: If the file cannot be created, opened for writing or written.
+    """
+    existed = path.exists()
+    flags = os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
+    descriptor = os.open(path, flags | (0 if existed else os.O_CREAT), 0o666)
+    try:
+        os.write(descriptor, b"")
+    finally:
+        os.close(descriptor)
+        if not existed:  # through a dangling symbolic link, the file created is its target
+            Path(os.path.realpath(path)).unlink(missing_ok=True)

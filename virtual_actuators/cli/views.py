@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 from collections.abc import Sequence
@@ -61,15 +62,6 @@ def _nice_scale(force: float, length: float) -> float:
     return 1.0 / (step * exponent)
 
 
-def _robot_extent(robot, q: np.ndarray) -> float:
-    import pinocchio as pin
-
-    data = pin.Data(robot.model)
-    pin.framesForwardKinematics(robot.model, data, q)
-    points = np.array([f.translation for f in data.oMf])
-    return max(0.3, float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))))
-
-
 def make_viewer(args: argparse.Namespace, robot, **options):
     """A live viewer (``--viz``) or an offline one for ``--record`` only, or None."""
     if not wants_viewer(args):
@@ -88,10 +80,8 @@ def interactive() -> bool:
 def pause(message: str) -> None:
     """Wait for Enter when a person is at the terminal; return at once in scripts."""
     if interactive():
-        try:
+        with contextlib.suppress(EOFError):
             input(message)
-        except EOFError:
-            pass
 
 
 def finish_viewer(args: argparse.Namespace, viewer) -> None:
@@ -148,7 +138,12 @@ def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) 
         return
     linear = [i for i, a in enumerate(solution.axes) if a in ("x", "y", "z")]
     force = float(np.linalg.norm(solution.forces[:, linear].sum(axis=0)))
-    extent = _robot_extent(robot, q)
+    import pinocchio as pin
+
+    data = pin.Data(robot.model)
+    pin.framesForwardKinematics(robot.model, data, q)
+    points = np.array([f.translation for f in data.oMf])
+    extent = max(0.3, float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))))
     viewer = make_viewer(args, robot, force_scale=_nice_scale(force, 0.6 * extent))
     viewer.show(q, solution, actuator=actuator)
     finish_viewer(args, viewer)

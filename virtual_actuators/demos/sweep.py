@@ -10,7 +10,7 @@ import csv
 import json
 import math
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -172,30 +172,33 @@ def run_sweep(
     whole = isinstance(workers, int) and not isinstance(workers, bool)
     if workers is not None and not (whole and workers >= 1):
         raise InvalidInputError(f"workers must be an int >= 1, got {workers!r}.")
-    done = on_result or (lambda result: None)
+    engines = {"process": _run_processes, "dask": _run_dask, "ray": _run_ray}
     results: dict[int, SweepResult] = {}
-    if engine == "process":
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        count = workers or os.cpu_count() or 1
-        pool = ProcessPoolExecutor(max_workers=min(count, max(len(cases), 1)))
-        try:
-            futures = {pool.submit(run_case, case): i for i, case in enumerate(cases)}
-            for future in as_completed(futures):
-                results[futures[future]] = future.result()
-                done(results[futures[future]])
-        except BaseException:  # Ctrl-C or a crashed worker: drop the queued walks at once
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
-        pool.shutdown()
-    elif engine == "dask":
-        results = _run_dask(cases, done)
-    else:
-        results = _run_ray(cases, done)
+    for i, result in engines[engine](cases, workers):
+        results[i] = result
+        if on_result is not None:
+            on_result(result)
     return [results[i] for i in range(len(cases))]
 
 
-def _run_dask(cases, done) -> dict[int, SweepResult]:
+def _run_processes(cases, workers) -> Iterator[tuple[int, SweepResult]]:
+    """``(index, result)`` of each case as it arrives from a process pool."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    count = workers or os.cpu_count() or 1
+    pool = ProcessPoolExecutor(max_workers=min(count, max(len(cases), 1)))
+    try:
+        futures = {pool.submit(run_case, case): i for i, case in enumerate(cases)}
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    except BaseException:  # Ctrl-C or a crashed worker: drop the queued walks at once
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
+
+
+def _run_dask(cases, workers) -> Iterator[tuple[int, SweepResult]]:
+    """As `_run_processes`, on ``DASK_SCHEDULER_ADDRESS`` or a local cluster."""
     for package in ("dask", "distributed"):
         import_optional(package, "dask", "engine='dask' (dask.distributed)")
     from dask.distributed import Client, LocalCluster, as_completed
@@ -206,34 +209,28 @@ def _run_dask(cases, done) -> dict[int, SweepResult]:
         with Client(address or cluster) as client:
             futures = client.map(run_case, cases, pure=False)
             index = {future.key: i for i, future in enumerate(futures)}
-            results = {}
             for future in as_completed(futures):
-                results[index[future.key]] = future.result()
-                done(results[index[future.key]])
+                yield index[future.key], future.result()
     finally:
         if cluster is not None:
             cluster.close()
-    return results
 
 
-def _run_ray(cases, done) -> dict[int, SweepResult]:
+def _run_ray(cases, workers) -> Iterator[tuple[int, SweepResult]]:
+    """As `_run_processes`, on Ray (``RAY_ADDRESS`` when set)."""
     ray = import_optional("ray", "ray", "engine='ray'")
     started = not ray.is_initialized()
     ray.init(ignore_reinit_error=True, include_dashboard=False)
     try:
         remote = ray.remote(run_case)
         pending = {remote.remote(case): i for i, case in enumerate(cases)}
-        results = {}
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for reference in ready:
-                i = pending.pop(reference)
-                results[i] = ray.get(reference)
-                done(results[i])
+                yield pending.pop(reference), ray.get(reference)
     finally:
         if started:
             ray.shutdown()
-    return results
 
 
 def write_results(results: Iterable[SweepResult], path: str | Path) -> Path:

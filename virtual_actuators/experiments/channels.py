@@ -9,16 +9,6 @@ from collections.abc import Iterable, Sequence
 
 from virtual_actuators.exceptions import InvalidInputError, closest_names
 
-__all__ = [
-    "STANDARD_CHANNELS",
-    "STATE_CHANNEL",
-    "UNITS",
-    "check_names",
-    "default_step_states",
-    "resolve_step_states",
-    "unknown_name",
-]
-
 #: Units of the standard channels, for labels.
 UNITS: dict[str, str] = {
     "time": "s",
@@ -85,20 +75,28 @@ def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
 
 
 def resolve_step_states(
-    state_names: Sequence[str], metadata: dict, step_states: Iterable[str] | None = None
+    state_names: Sequence[str],
+    metadata: dict,
+    step_states: Iterable[str] | None = None,
+    key: str = "step_states",
 ) -> tuple[str, ...]:
-    """The step states: ``step_states``, else ``metadata["step_states"]``, else the guess.
+    """The step states: ``step_states``, else ``metadata[key]``, else the guess from the names.
+
+    ``key`` is ``"step_states"`` (guessed by `default_step_states`) or
+    ``"double_support_states"`` (guessed as the names that contain ``double``).
 
     Raises:
         InvalidInputError: If a given name is not a state of the log (the message names it and
             lists the valid ones).
     """
-    source = "step_states"
+    source = key
     if step_states is None:
-        step_states = metadata.get("step_states")
-        source = "metadata['step_states']"
+        step_states = metadata.get(key)
+        source = f"metadata[{key!r}]"
     if step_states is None:
-        return default_step_states(state_names)
+        if key == "step_states":
+            return default_step_states(state_names)
+        return tuple(s for s in state_names if "double" in s.lower())
     if isinstance(step_states, str):
         step_states = (step_states,)
     names = tuple(str(s) for s in step_states)

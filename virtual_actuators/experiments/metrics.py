@@ -16,6 +16,7 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.channels import resolve_step_states
 from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.experiments.walk_log import WalkLog
+from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["WalkMetrics", "compute_metrics", "write_json"]
 
@@ -123,39 +124,14 @@ def _nanmax_abs(values: np.ndarray) -> float | None:
     return float(np.max(np.abs(finite))) if finite.size else None
 
 
-def _positive_or_none(value: Any, what: str) -> float | None:
-    if value is None:
-        return None
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"{what}: expected a number, got {value!r}.") from None
-    if not math.isfinite(number) or number <= 0:
-        raise InvalidInputError(f"{what}: expected a positive finite number, got {value!r}.")
-    return number
-
-
-def _checked_startup(log: WalkLog, startup_s: float) -> float:
-    """``startup_s`` as a float, after checking it and the log.
-
-    Raises:
-        InvalidInputError: If the log is not a ``WalkLog`` of two ticks or more with an ``x``
-            channel, or ``startup_s`` is not a finite number >= 0.
-    """
+def _check_log(log: WalkLog) -> None:
+    """Refuse anything but a `WalkLog` of two ticks or more with an ``x`` channel."""
     if not isinstance(log, WalkLog):
         raise InvalidInputError(f"log: expected a WalkLog, got {type(log).__name__}.")
     n = len(log)
     if n < 2:
         raise InvalidInputError(f"log: an empty run ({n} tick{'s' * (n != 1)}); need at least 2.")
-    if "x" not in log.data:
-        log.channel("x")  # raises, listing the channels the log has
-    try:
-        startup_s = float(startup_s)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"startup_s: expected a number, got {startup_s!r}.") from None
-    if not math.isfinite(startup_s) or startup_s < 0:
-        raise InvalidInputError(f"startup_s: expected a finite number >= 0, got {startup_s!r}.")
-    return startup_s
+    log.channel("x")  # raises, listing the channels the log has
 
 
 def _fall(log: WalkLog) -> tuple[bool, float | None, int]:
@@ -257,11 +233,12 @@ def compute_metrics(
         InvalidInputError: If the log has fewer than two ticks or no ``x`` channel, or an
             argument is invalid (the message names it).
     """
-    startup_s = _checked_startup(log, startup_s)
-    wall = _positive_or_none(
-        wall_time_s if wall_time_s is not None else log.metadata.get("wall_time_s"),
-        "wall_time_s" if wall_time_s is not None else "metadata['wall_time_s']",
-    )
+    _check_log(log)
+    startup_s = check_number(startup_s, "startup_s", minimum=0.0)
+    wall, what = wall_time_s, "wall_time_s"
+    if wall is None:
+        wall, what = log.metadata.get("wall_time_s"), "metadata['wall_time_s']"
+    wall = None if wall is None else check_number(wall, what, positive=True)
 
     t, x = log.time, log["x"]
     duration = float(t[-1] - t[0])

@@ -22,25 +22,6 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.walk_log import WalkLog
 
-__all__ = [
-    "ACTUAL_STYLE",
-    "DESIRED_SPEED",
-    "FORCE_STYLE",
-    "MAX_FULL_LINES",
-    "SETPOINT_STYLE",
-    "body_height_world",
-    "draw_series",
-    "fit_text",
-    "draw_state_panel",
-    "fall_marks",
-    "key_marks",
-    "new_figure",
-    "not_recorded",
-    "mark_states",
-    "save_figure",
-    "set_heading",
-    "terrain_panel",
-]
 
 ACTUAL_STYLE = {"color": "C0", "lw": 1.2}
 SETPOINT_STYLE = {"color": "C3", "lw": 1.1, "ls": "--"}
@@ -181,24 +162,13 @@ def draw_state_panel(ax: Axes, xs: np.ndarray, log: WalkLog) -> None:
     ax.set_ylim(min(ticks) - 0.5, max(ticks) + 0.5)
 
 
-def _double_support_states(log: WalkLog) -> tuple[str, ...]:
-    names = log.metadata.get("double_support_states")
-    if names is None:
-        return tuple(s for s in log.state_names if "double" in s.lower())
-    if isinstance(names, str):
-        names = (names,)
-    names = tuple(str(s) for s in names)
-    for name in names:
-        log.state_index(name)  # raises on an unknown state, listing the valid ones
-    return names
-
-
 def mark_states(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog) -> None:
     """Mark step-state entries (dash-dot) and double-support entries (dotted) on every axis."""
-    steps = resolve_step_states(log.state_names, log.metadata)
+    keys = ("step_states", "double_support_states")
+    steps, double = (resolve_step_states(log.state_names, log.metadata, key=k) for k in keys)
     marks = (
         (log.entries(steps), "dashdot", STEP_LABEL, "0.3"),
-        (log.entries(_double_support_states(log)), "dotted", DOUBLE_LABEL, "0.6"),
+        (log.entries(double), "dotted", DOUBLE_LABEL, "0.6"),
     )
     count = sum(ticks.size for ticks, *_ in marks)
     # Full-height lines while they stay apart; beyond that they would hatch the panels solid:

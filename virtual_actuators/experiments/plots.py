@@ -178,6 +178,15 @@ def _window_note(log: WalkLog, *, against_x: bool) -> str:
     return note
 
 
+#: The force panels: ``(channel, label, draw_series options)``.
+_FORCES = [
+    ("fx", "Fx [N]", {"style": FORCE_STYLE}),
+    ("fz", "Fz [N]", {"style": FORCE_STYLE}),
+    ("m_pitch", "M_pitch [N m]", {"style": FORCE_STYLE}),
+]
+_DESIRED = {"setpoint": "xdot_setpoint", "setpoint_style": DESIRED_SPEED}
+
+
 def _time_layout(
     log: WalkLog, terrain: np.ndarray | None, stride: slice, dpi: float
 ) -> tuple[Figure, list[Axes], np.ndarray]:
@@ -190,23 +199,15 @@ def _time_layout(
     left = [first] + [fig.add_subplot(grid[r, 0], sharex=first) for r in range(1, 4)]
     right = [fig.add_subplot(grid[r, 1], sharex=first) for r in range(4)]
     axes = left + right
-    draw_series(left[0], t, log, "x", "x [m]", setpoint="x_setpoint", stride=stride)
-    draw_series(left[1], t, log, "z", "hip height z [m]", setpoint="z_setpoint", stride=stride)
-    draw_series(left[2], t, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
-    draw_series(
-        left[3],
-        t,
-        log,
-        "xdot",
-        "xdot [m/s]",
-        setpoint="xdot_setpoint",
-        setpoint_style=DESIRED_SPEED,
-        setpoint_label="bunny (desired)",
-        stride=stride,
-    )
-    draw_series(right[0], t, log, "fx", "Fx [N]", style=FORCE_STYLE, stride=stride)
-    draw_series(right[1], t, log, "fz", "Fz [N]", style=FORCE_STYLE, stride=stride)
-    draw_series(right[2], t, log, "m_pitch", "M_pitch [N m]", style=FORCE_STYLE, stride=stride)
+    panels = [
+        ("x", "x [m]", {"setpoint": "x_setpoint"}),
+        ("z", "hip height z [m]", {"setpoint": "z_setpoint"}),
+        ("pitch", "pitch [rad]", {"setpoint": "pitch_setpoint"}),
+        ("xdot", "xdot [m/s]", {**_DESIRED, "setpoint_label": "bunny (desired)"}),
+        *_FORCES,
+    ]
+    for ax, (name, label, options) in zip(left + right, panels, strict=False):
+        draw_series(ax, t, log, name, label, stride=stride, **options)
     draw_state_panel(right[3], t, log)
     for ax in (left[3], right[3]):
         ax.set_xlabel("time [s]")
@@ -250,25 +251,17 @@ def _terrain_layout(
     terrain_panel(top, terrain, x, body_height_world(log, terrain), xlim=_x_range(x, terrain))
     left = [fig.add_subplot(left_grid[r, 0], sharex=top) for r in range(1, 5)]
     right = [fig.add_subplot(right_grid[r, 0], sharex=top) for r in range(4)]
-    draw_series(left[0], x, log, "global_slope", "global slope [rad]", stride=stride)
-    draw_series(
-        left[1], x, log, "z", "height above terrain [m]", setpoint="z_setpoint", stride=stride
-    )
-    draw_series(
-        left[2],
-        x,
-        log,
-        "xdot",
-        "xdot [m/s]",
-        setpoint="xdot_setpoint",
-        setpoint_style=DESIRED_SPEED,
-        setpoint_label="desired",
-        stride=stride,
-    )
-    draw_series(left[3], x, log, "pitch", "pitch [rad]", setpoint="pitch_setpoint", stride=stride)
-    draw_series(right[0], x, log, "fz", "Fz [N]", style=FORCE_STYLE, stride=stride)
-    draw_series(right[1], x, log, "fx", "Fx [N]", style=FORCE_STYLE, stride=stride)
-    draw_series(right[2], x, log, "m_pitch", "M_pitch [N m]", style=FORCE_STYLE, stride=stride)
+    panels = [
+        ("global_slope", "global slope [rad]", {}),
+        ("z", "height above terrain [m]", {"setpoint": "z_setpoint"}),
+        ("xdot", "xdot [m/s]", {**_DESIRED, "setpoint_label": "desired"}),
+        ("pitch", "pitch [rad]", {"setpoint": "pitch_setpoint"}),
+        _FORCES[1],
+        _FORCES[0],
+        _FORCES[2],
+    ]
+    for ax, (name, label, options) in zip(left + right, panels, strict=False):
+        draw_series(ax, x, log, name, label, stride=stride, **options)
     draw_state_panel(right[3], x, log)
     for ax in [top, *left[:3], *right[:3]]:
         ax.tick_params(labelbottom=False)

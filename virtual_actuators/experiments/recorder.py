@@ -138,6 +138,10 @@ class Recorder:
         Raises:
             InvalidInputError: If a channel or state is unknown (nothing is recorded then).
         """
+        if state is not None and (
+            type(state) is not int or state < -1 or state >= len(self._state_names) > 0
+        ):
+            state = self._state_value(state)
         n = self._n
         if n == self._buffer.shape[0]:
             self._grow()
@@ -153,12 +157,6 @@ class Recorder:
             row[:] = np.nan
             raise InvalidInputError(f"channel {name!r}: cannot record {value!r} ({err}).") from None
         if state is not None:
-            if type(state) is not int or state < -1 or state >= len(self._state_names) > 0:
-                try:
-                    state = self._state_value(state)
-                except InvalidInputError:
-                    row[:] = np.nan
-                    raise
             self._state[n] = state
         self._n = n + 1
 

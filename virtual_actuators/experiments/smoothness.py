@@ -23,15 +23,6 @@ PERCENTILE = 75.0
 #: changes it by ``|dw/dt| dt`` and does not reverse three times in a row).
 RATE_FLOOR_RADPS = 0.01
 
-__all__ = [
-    "PERCENTILE",
-    "RATE_FLOOR_RADPS",
-    "SKIP_S",
-    "EffortSmoothness",
-    "SmoothnessFigures",
-    "effort_smoothness",
-]
-
 
 @dataclass(frozen=True, kw_only=True)
 class SmoothnessFigures:

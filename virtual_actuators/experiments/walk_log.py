@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -18,9 +19,12 @@ from virtual_actuators.experiments.channels import (
     check_names,
     unknown_name,
 )
-from virtual_actuators.experiments.walk_log_io import StoredLog, read_npz, write_npz
 
 __all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog", "check_terrain_points"]
+
+#: Version of the ``.npz`` layout, and the prefix of its entries that hold metadata arrays.
+NPZ_FORMAT = 1
+META_ARRAY_PREFIX = "meta_array__"
 
 
 @dataclass(eq=False)
@@ -51,25 +55,21 @@ class WalkLog:
         if "time" not in names:
             given = ", ".join(repr(n) for n in names)
             raise InvalidInputError(f"data: a 'time' channel is required; channels given: {given}.")
-        n = None
         data: dict[str, np.ndarray] = {}
         for name in names:
             try:
-                array = np.array(self.data[name], dtype=np.float64)
+                array = data[name] = np.array(self.data[name], dtype=np.float64)
             except (TypeError, ValueError) as err:
                 raise InvalidInputError(f"channel {name!r}: not numeric ({err}).") from None
             if array.ndim != 1:
                 raise InvalidInputError(
                     f"channel {name!r}: expected a 1-D array, shape {array.shape}."
                 )
-            if n is None:
-                n = array.shape[0]
-            elif array.shape[0] != n:
+            n = len(data[names[0]])
+            if len(array) != n:
                 raise InvalidInputError(
-                    f"channel {name!r}: {array.shape[0]} samples, but {names[0]!r} has {n}."
+                    f"channel {name!r}: {len(array)} samples, but {names[0]!r} has {n}."
                 )
-            data[name] = array
-        n = n or 0
         time = data["time"]
         if not np.all(np.isfinite(time)):
             raise InvalidInputError(f"channel 'time': non-finite value at tick {_first_bad(time)}.")
@@ -83,20 +83,18 @@ class WalkLog:
             state = np.full(n, -1, dtype=np.int64)
         if state.ndim != 1 or state.shape[0] != n:
             raise InvalidInputError(f"state: expected shape ({n},), got {state.shape}.")
-        if state.size and not np.issubdtype(state.dtype, np.integer):
-            if not np.all(np.isfinite(state)) or np.any(state != np.round(state)):
-                raise InvalidInputError(
-                    "state: values must be integers (indices into state_names)."
-                )
+        if not np.issubdtype(state.dtype, np.integer) and not (
+            np.all(np.isfinite(state)) and np.all(state == np.round(state))
+        ):
+            raise InvalidInputError("state: values must be integers (indices into state_names).")
         state = state.astype(np.int64)
-        if self.state_names and state.size:
-            bad = (state < -1) | (state >= len(self.state_names))
-            if np.any(bad):
-                i = int(np.argmax(bad))
-                raise InvalidInputError(
-                    f"state: {int(state[i])} at tick {i} is not an index into state_names "
-                    f"(0..{len(self.state_names) - 1}, or -1 for unknown)."
-                )
+        bad = (state < -1) | (state >= len(self.state_names))
+        if self.state_names and np.any(bad):
+            i = int(np.argmax(bad))
+            raise InvalidInputError(
+                f"state: {int(state[i])} at tick {i} is not an index into state_names "
+                f"(0..{len(self.state_names) - 1}, or -1 for unknown)."
+            )
         self.state = state
         if not isinstance(self.metadata, Mapping):
             raise InvalidInputError(f"metadata must be a dict, got {type(self.metadata).__name__}.")
@@ -256,7 +254,37 @@ class WalkLog:
         Raises:
             InvalidInputError: If a metadata value cannot be stored (the message names its key).
         """
-        return write_npz(StoredLog(self.data, self.state, self.state_names, self.metadata), path)
+        path = Path(path)
+        arrays: dict[str, np.ndarray] = {}
+        plain: dict[str, Any] = {}
+        for key, value in self.metadata.items():
+            if not isinstance(key, str):
+                raise InvalidInputError(f"metadata: keys must be str, got {key!r}.")
+            if isinstance(value, np.ndarray):
+                if value.dtype == object:
+                    raise InvalidInputError(f"metadata[{key!r}]: object arrays cannot be saved.")
+                arrays[META_ARRAY_PREFIX + key] = value
+                continue
+            try:
+                json.dumps(value, default=_json_default)
+            except (TypeError, ValueError) as err:
+                raise InvalidInputError(f"metadata[{key!r}]: cannot be saved ({err}).") from None
+            plain[key] = value
+        names = tuple(self.data)
+        matrix = np.column_stack(list(self.data.values()))  # (0, channels) for no tick
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("wb") as f:
+            np.savez_compressed(
+                f,
+                format=np.asarray(NPZ_FORMAT),
+                channels=np.asarray(names, dtype=str),
+                data=matrix,
+                state=self.state,
+                state_names=np.asarray(self.state_names, dtype=str),
+                metadata_json=np.asarray(json.dumps(plain, default=_json_default)),
+                **arrays,
+            )
+        return path
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike[str]) -> WalkLog:
@@ -265,8 +293,25 @@ class WalkLog:
         Raises:
             InvalidInputError: If the file is not a walk log.
         """
-        stored = read_npz(path)
-        return cls(stored.data, stored.state, stored.state_names, stored.metadata)
+        path = Path(path)
+        with np.load(path, allow_pickle=False) as npz:
+            missing = [k for k in ("channels", "data", "state") if k not in npz.files]
+            if missing:
+                raise InvalidInputError(f"{path}: not a walk log (no {', '.join(missing)}).")
+            names = [str(n) for n in npz["channels"]]
+            matrix = npz["data"]
+            metadata = json.loads(str(npz["metadata_json"])) if "metadata_json" in npz else {}
+            for key in npz.files:
+                if key.startswith(META_ARRAY_PREFIX):
+                    metadata[key.removeprefix(META_ARRAY_PREFIX)] = npz[key]
+            state_names = tuple(str(s) for s in npz["state_names"]) if "state_names" in npz else ()
+            state = npz["state"]
+        if matrix.ndim != 2 or matrix.shape[1] != len(names):
+            raise InvalidInputError(
+                f"{path}: 'data' has shape {matrix.shape}, expected (n, {len(names)})."
+            )
+        data = {n: np.ascontiguousarray(matrix[:, j]) for j, n in enumerate(names)}
+        return cls(data, state, state_names, metadata)
 
 
 def _first_bad(array: np.ndarray) -> int:
@@ -296,3 +341,16 @@ def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
     if not np.all(np.isfinite(array)):
         raise InvalidInputError(f"{what}: non-finite value in row {_first_bad(array) // 2}.")
     return array
+
+
+def _json_default(value: Any) -> Any:
+    """Convert NumPy values, sets and paths for `json.dumps`."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, set | frozenset):
+        return sorted(value, key=str)
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")

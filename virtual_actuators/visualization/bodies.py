@@ -16,10 +16,9 @@ import pinocchio as pin
 
 from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
-from .colors import desaturate, rgb
+from .legend import desaturate, rgb
 from .meshes import MeshCache, TriangleMesh
-from .shape_placement import span_matrix, translation, y_to_z
-from .shapes import Cone, Placed, material, to_hex
+from .shapes import Cone, Placed, material, span_matrix, to_hex, translation, y_to_z
 
 GEOMETRY_MODES = ("auto", "urdf", "skeleton")
 

@@ -23,13 +23,9 @@ def reactions_of(actuator: Actuator) -> tuple[str, ...]:
         InvalidInputError: The actuator has neither.
     """
     reactions = getattr(actuator, "reactions", None)
+    reactions = getattr(actuator, "reaction", None) if reactions is None else reactions
     if reactions is None:
-        reaction = getattr(actuator, "reaction", None)
-        if reaction is None:
-            raise InvalidInputError(
-                f"actuator {actuator!r} has neither reactions nor reaction frames."
-            )
-        return (reaction,)
+        raise InvalidInputError(f"actuator {actuator!r} has neither reactions nor reaction frames.")
     return (reactions,) if isinstance(reactions, str) else tuple(reactions)
 
 
@@ -173,12 +169,11 @@ def _check_request(
     Raises:
         InvalidInputError: See `FrameSnapshot.build`.
     """
-    for attribute in ("action", "reference", "axes"):
-        if not hasattr(actuator, attribute):
-            raise InvalidInputError(
-                f"actuator must be a virtual actuator (with action, reference and axes), "
-                f"got {actuator!r}."
-            )
+    if not all(hasattr(actuator, attribute) for attribute in ("action", "reference", "axes")):
+        raise InvalidInputError(
+            f"actuator must be a virtual actuator (with action, reference and axes), "
+            f"got {actuator!r}."
+        )
     axes = tuple(actuator.axes)
     reactions = reactions_of(actuator)
     if solution is not None:

@@ -1,16 +1,92 @@
-"""When a drawn frame is sent live (at most ``rate_hz``, none while the server lags), recorded."""
+"""When a frame is sent live and recorded, how a recording is framed, and `TickUpdater`."""
 
 from __future__ import annotations
 
 import math
 import time as wallclock
+from typing import TYPE_CHECKING, Protocol
 
-from meshcat.commands import SetProperty
+import numpy as np
+from meshcat.commands import SetProperty, SetTransform
+from meshcat.path import Path as MeshcatPath
 
-from .framing import RunBounds
+from ..control import Controller, ControlOutput
 from .recording import AnimationRecording
 from .scene import Scene
+from .shapes import translation
 from .windows import SceneWindow
+
+if TYPE_CHECKING:
+    from ..simulation.simulator import Simulator
+    from .viewer import Viewer
+
+#: Vertical field of view of MeshCat's default camera [deg].
+CAMERA_FOV_DEG = 75.0
+
+#: What a recording is framed on: the robot's bodies.
+FRAMED = ("robot/",)
+
+
+def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
+    """Origins ``(n, 3)`` of the placed nodes, none of whose parents is hidden, in view axes.
+
+    Args:
+        scene: The scene.
+        under: Only the nodes whose names start so.
+    """
+    matrices, visible = scene.matrices, scene.visible
+    root = matrices.get("", np.eye(4))
+    composed: dict[str, np.ndarray | None] = {"": root}
+
+    def pose(name: str) -> np.ndarray | None:
+        if name in composed:
+            return composed[name]
+        parent, _, _ = name.rpartition("/")
+        above = pose(parent)
+        if above is None or visible.get(name) is False:
+            result = None
+        else:
+            own = matrices.get(name)
+            result = above if own is None else above @ own
+        composed[name] = result
+        return result
+
+    poses = [pose(name) for name in matrices if name and name.startswith(under)]
+    points = [matrix[:3, 3] for matrix in poses if matrix is not None]
+    return np.array(points) if points else np.zeros((0, 3))
+
+
+#: MeshCat's camera object, and the node above every drawn scene (shifted to centre the run).
+CAMERA_PATH = MeshcatPath(("Cameras", "default", "rotated", "<object>"))
+SCENES_PATH = MeshcatPath(("meshcat",))
+
+
+def framing_commands(
+    bounds: tuple[np.ndarray, np.ndarray] | None, view: np.ndarray, margin: float
+) -> list[object]:
+    """Commands that centre the run's box on the origin and fit a sphere around it in view.
+
+    Args:
+        bounds: The run's box ``(low, high)`` (None: no frame).
+        view: Unit vector from the target to the camera (world axes).
+        margin: Added around the box [m].
+
+    Returns:
+        ``SetTransform`` of ``/meshcat`` and ``SetProperty`` of the camera's position (none
+        for an empty box).
+    """
+    if bounds is None:
+        return []
+    low, high = bounds
+    centre = (low + high) / 2.0
+    radius = 0.5 * float(np.linalg.norm(high - low)) + margin
+    distance = max(0.8, radius / math.sin(math.radians(CAMERA_FOV_DEG) / 2.0))
+    offset = view * distance  # world axes; three.js is y-up
+    local = [float(offset[0]), float(offset[2]), float(-offset[1])]
+    return [
+        SetTransform(translation(-centre), SCENES_PATH),
+        SetProperty("position", local, CAMERA_PATH),
+    ]
 
 
 class FramePacer:
@@ -25,7 +101,8 @@ class FramePacer:
         last_live: Wall-clock time of the last live update (``perf_counter``).
         recording: The running recording, or None.
         last_recording: The last recording stopped, or None.
-        bounds: Box of everything shown in the frames of the (last) recording.
+        bounds: ``(low, high)`` corners of the box holding the robot's visible bodies in every
+            frame of the (last) recording, in the view's coordinates [m] (None: no frame).
     """
 
     def __init__(self, window: SceneWindow, scene: Scene, rate_hz: float) -> None:
@@ -37,14 +114,10 @@ class FramePacer:
         self.last_recording: AnimationRecording | None = None
         self._record_start = 0.0
         self._next_record = -math.inf
-        self.bounds = RunBounds()
+        self.bounds: tuple[np.ndarray, np.ndarray] | None = None
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a live update and a recorded frame are due.
-
-        Args:
-            time: Simulated time [s] (recordings are paced by it), or None for wall time.
-        """
+        """``(live, record)``: whether a live update and a recorded frame are due (`Viewer.due`)."""
         live = (
             self.window.live
             and wallclock.perf_counter() - self.last_live >= 1.0 / self.rate_hz
@@ -77,7 +150,7 @@ class FramePacer:
             InvalidInputError: ``fps`` is not a positive number.
         """
         self.recording = AnimationRecording(fps)
-        self.bounds = RunBounds()
+        self.bounds = None
         self._record_start = wallclock.perf_counter()
         self._next_record = -math.inf
 
@@ -95,7 +168,12 @@ class FramePacer:
         if recording.times and time <= recording.times[-1]:
             return  # the same instant again (a paused simulation): keep the first frame
         recording.add(time, dict(self.scene.matrices), dict(self.scene.visible))
-        self.bounds.add(self.scene)
+        points = visible_points(self.scene, FRAMED)
+        if len(points):  # grow the box with the robot's visible bodies in this frame
+            low, high = points.min(axis=0), points.max(axis=0)
+            if self.bounds is not None:
+                low, high = np.minimum(self.bounds[0], low), np.maximum(self.bounds[1], high)
+            self.bounds = low, high
         self._next_record = time + 1.0 / recording.fps
 
     def page(self, title: str, overlay: str, framing: list[object] = ()) -> str:
@@ -116,3 +194,70 @@ class FramePacer:
     def __repr__(self) -> str:
         recording = f", recording {self.recording.frames} frames" if self.recording else ""
         return f"FramePacer(rate_hz={self.rate_hz:g}{recording})"
+
+
+class Gait(Protocol):
+    """What `TickUpdater` reads of a gait (its ``machine`` too, if it has one).
+
+    Attributes:
+        controller: The gait's controller.
+        last: Its output of the last tick, or None before the first.
+    """
+
+    controller: Controller
+    last: ControlOutput | None
+
+
+class TickUpdater:
+    """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
+
+    When one is due, it draws the simulator's ``q`` with the gait's controller, last output
+    and state.
+
+    Args:
+        viewer: The viewer.
+        realtime: Sleep so that simulated time does not run ahead of wall-clock time.
+        terrain: Draw the simulator's terrain at the first tick.
+    """
+
+    def __init__(self, viewer: Viewer, realtime: bool = False, terrain: bool = True) -> None:
+        self.viewer = viewer
+        self.realtime = realtime
+        self.terrain = terrain
+        self.updates = 0
+        self._start: float | None = None
+        self._sim_start = 0.0
+
+    def __call__(self, simulator: Simulator, gait: Gait) -> None:
+        """Update the viewer if due.
+
+        Raises:
+            InvalidInputError: The simulator's ``q`` or the gait's output does not fit.
+            FrameNotFoundError: A frame the gait names is not in the viewer's robot.
+        """
+        viewer = self.viewer
+        sim_time = simulator.time
+        if self._start is None:
+            self._start, self._sim_start = wallclock.perf_counter(), sim_time
+            if self.terrain and getattr(simulator, "terrain", None) is not None:
+                viewer.set_terrain(simulator.terrain)
+        if self.realtime:
+            ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)
+            if ahead > 0.005:
+                wallclock.sleep(ahead)
+        if not any(viewer.due(sim_time)):
+            return  # (the state and q are read only for a frame that is due)
+        machine = getattr(gait, "machine", None)
+        self.updates += viewer.maybe_show(
+            simulator.q,
+            controller=gait.controller if gait.last is not None else None,
+            output=gait.last,
+            state=machine.current if machine is not None else None,
+            time=sim_time,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"TickUpdater({self.viewer.robot.name!r}, realtime={self.realtime}, "
+            f"updates={self.updates})"
+        )

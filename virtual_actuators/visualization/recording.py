@@ -5,7 +5,6 @@ A node that held still gets a copy of its last key before it moves, so it does n
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -13,6 +12,7 @@ import pinocchio as pin
 import umsgpack
 
 from ..exceptions import InvalidInputError
+from ..vocabulary.arguments import check_number
 
 FLOAT32_ARRAY = 0x17  # MeshCat / msgpack-lite extension code of a Float32Array
 
@@ -83,9 +83,7 @@ class AnimationRecording:
     """
 
     def __init__(self, fps: float = 30.0) -> None:
-        if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-            raise InvalidInputError(f"fps must be a positive number, got {fps!r}.")
-        self.fps = float(fps)
+        self.fps = check_number(fps, "fps", positive=True)
         self.times: list[float] = []
         self._matrices: dict[str, list[tuple[int, np.ndarray]]] = {}
         self._visible: dict[str, list[tuple[int, bool]]] = {}

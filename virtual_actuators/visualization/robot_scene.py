@@ -15,8 +15,16 @@ from .bodies import RobotBodies, typical_link_length
 from .legend import Palette
 from .robot_layout import effort_joints, ground_grid, is_planar, marker_sizes, terrain_segments
 from .scene import Scene
-from .shape_placement import arrow_matrices, frame_on_plane, span_matrix, terrain_boxes, translation
-from .shapes import Cone, material, triad_parts
+from .shapes import (
+    Cone,
+    arrow_matrices,
+    frame_on_plane,
+    material,
+    span_matrix,
+    terrain_boxes,
+    translation,
+    triad_parts,
+)
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain

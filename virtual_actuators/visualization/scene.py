@@ -14,7 +14,7 @@ class Scene:
     """The nodes under one prefix of a MeshCat visualizer.
 
     Args:
-        vis: The ``meshcat.Visualizer`` (its root path is ``/meshcat``).
+        vis: The ``meshcat.Visualizer`` of a `SceneWindow` (its root path is ``/meshcat``).
         prefix: Node under which everything is drawn.
 
     Attributes:
@@ -104,13 +104,7 @@ class Scene:
             The number of commands sent.
         """
         sent = 0
-        window = self.vis.window
-        send_transform = getattr(window, "send_transform", None)
-        if send_transform is None:  # a plain MeshCat window
-
-            def send_transform(path: str, matrix: np.ndarray) -> None:
-                self.vis[path].set_transform(matrix)
-
+        window = self.vis.window  # a SceneWindow (the viewer wraps any other in one)
         for name, matrix in self.matrices.items():
             previous = self._sent.get(name)
             if previous is matrix:
@@ -118,16 +112,14 @@ class Scene:
             self._sent[name] = matrix
             if previous is not None and np.array_equal(previous, matrix):
                 continue  # placed again where it was (a frame that does not move)
-            send_transform(self.path(name), matrix)
+            window.send_transform(self.path(name), matrix)
             sent += 1
         for name, visible in self.visible.items():
             if self._sent_visible.get(name) != visible:
                 self.node(name).set_property("visible", visible)
                 self._sent_visible[name] = visible
                 sent += 1
-        commit = getattr(window, "commit", None)
-        if commit is not None:
-            commit()  # windows that batch (the live window) send the frame now
+        window.commit()  # windows that batch (the live window) send the frame now
         return sent
 
     def __repr__(self) -> str:

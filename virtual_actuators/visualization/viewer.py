@@ -6,7 +6,6 @@ drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,42 +17,30 @@ from ..control import Controller, ControlOutput, State
 from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
+from ..vocabulary.arguments import check_number
 from .bodies import RobotBodies, typical_link_length
 from .frame_snapshot import Actuator, FrameSnapshot
-from .framing import framing_commands
 from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
-from .pacing import FramePacer
+from .pacing import FramePacer, TickUpdater, framing_commands
 from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
-from .ticks import TickUpdater
 from .windows import ForwardingWindow, SceneWindow
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
 
 
-def _positive(value: float, what: str) -> float:
-    """``value`` as a float.
-
-    Raises:
-        InvalidInputError: It is not a positive finite number.
-    """
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-        raise InvalidInputError(f"{what} must be a positive number, got {value!r}.")
-    return float(value)
-
-
-def _forward(name: str, doc: str, settable: bool = False) -> property:
-    """A property of the viewer that reads (and writes) its robot scene's attribute."""
+def _forward(name: str, doc: str, settable: bool = False, owner: str = "robot_scene") -> property:
+    """A property of the viewer that reads (and writes) its robot scene's (or pacer's) attribute."""
 
     def get(self: Viewer) -> object:
-        return getattr(self.robot_scene, name)
+        return getattr(getattr(self, owner), name)
 
     def put(self: Viewer, value: object) -> None:
-        setattr(self.robot_scene, name, value)
+        setattr(getattr(self, owner), name, value)
 
     return property(get, put if settable else None, doc=doc)
 
@@ -106,6 +93,7 @@ class Viewer:
     sizes = _forward("sizes", "Sizes of arrows and markers [m].")
     planar = _forward("planar", "Whether the robot moves in the x-z plane.")
     follow = _forward("follow", "Whether the view follows the robot.", settable=True)
+    rate_hz = _forward("rate_hz", "Live updates per wall-clock second.", True, owner="pacer")
 
     def __init__(
         self,
@@ -127,9 +115,10 @@ class Viewer:
     ) -> None:
         if not isinstance(robot, Robot):
             raise InvalidInputError(f"Viewer needs a virtual_actuators.Robot, got {robot!r}.")
-        scales = [_positive(force_scale, "force_scale"), _positive(moment_scale, "moment_scale")]
-        scales.append(_positive(effort_reference, "effort_reference"))
-        rate_hz = _positive(rate_hz, "rate_hz")
+        scales = {"force_scale": force_scale, "moment_scale": moment_scale}
+        scales["effort_reference"] = effort_reference
+        scales = [check_number(value, what, positive=True) for what, value in scales.items()]
+        rate_hz = check_number(rate_hz, "rate_hz", positive=True)
         if camera not in ("auto", "side", "iso", None):
             raise InvalidInputError(
                 f"camera must be 'auto', 'side', 'iso' or None, got {camera!r}."
@@ -160,15 +149,6 @@ class Viewer:
             print(f"MeshCat viewer of {robot.name}: {self.url}")
         if open:
             self.window.open()
-
-    @property
-    def rate_hz(self) -> float:
-        """Live updates per wall-clock second."""
-        return self.pacer.rate_hz
-
-    @rate_hz.setter
-    def rate_hz(self, value: float) -> None:
-        self.pacer.rate_hz = value
 
     @property
     def url(self) -> str | None:

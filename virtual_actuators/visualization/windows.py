@@ -5,8 +5,10 @@ from __future__ import annotations
 import base64
 import html
 import threading
+from dataclasses import dataclass, field
 from pathlib import Path
 
+import meshcat
 import meshcat.commands as mc
 import numpy as np
 import umsgpack
@@ -23,18 +25,13 @@ def path_of(command: object) -> str:
     return path.lower() if hasattr(path, "lower") and not isinstance(path, str) else str(path)
 
 
+@dataclass(slots=True)
 class _Node:
-    __slots__ = ("object", "properties", "transform")
+    """One node of the mirrored scene: its object, properties and transform."""
 
-    def __init__(self) -> None:
-        self.object = None
-        self.properties: dict[str, object] = {}
-        self.transform = None
-
-
-def pack(command: object) -> bytes:
-    """MessagePack bytes of a MeshCat command (what the server and the browser decode)."""
-    return umsgpack.packb(command.lower())
+    object: object = None
+    properties: dict[str, object] = field(default_factory=dict)
+    transform: np.ndarray | None = None
 
 
 class SceneWindow:
@@ -146,8 +143,46 @@ class SceneWindow:
             title: Page title.
             overlay: HTML placed over the 3D view (a legend).
         """
-        blobs = [pack(c) for c in [*self.scene_commands(), *extra]]
-        return page(blobs, title=title, overlay=overlay)
+        script = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
+        bundle = script.read_text(encoding="utf-8").replace("</script", "<\\/script")
+        packed = (umsgpack.packb(c.lower()) for c in [*self.scene_commands(), *extra])
+        commands = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in packed)
+        return f"""<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<title>{html.escape(title)}</title>
+<style>
+body {{ margin: 0; }}
+#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+#va-overlay {{ position: absolute; left: 8px; bottom: 8px; font: 12px sans-serif;
+  background: rgba(255, 255, 255, 0.85); padding: 6px 10px; border-radius: 4px;
+  max-width: 45vw; }}
+#va-overlay .sw {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px;
+  vertical-align: middle; border: 1px solid #444; }}
+</style>
+</head>
+<body>
+<div id="meshcat-pane"></div>
+{overlay}
+<script>
+{bundle}
+</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+var commands = [
+{commands}
+];
+for (var i = 0; i < commands.length; i++) {{
+  var text = atob(commands[i]);
+  var bytes = new Uint8Array(text.length);
+  for (var k = 0; k < text.length; k++) {{ bytes[k] = text.charCodeAt(k); }}
+  viewer.handle_command_bytearray(bytes);
+}}
+</script>
+</body>
+</html>
+"""
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({len(self._nodes)} nodes)"
@@ -243,54 +278,3 @@ class ForwardingWindow(SceneWindow):
 
     def __repr__(self) -> str:
         return f"ForwardingWindow({self.target!r})"
-
-
-def page(blobs: list[bytes], title: str = "MeshCat", overlay: str = "") -> str:
-    """A standalone HTML page: MeshCat's viewer inlined, then ``blobs`` (MessagePack) decoded.
-
-    Args:
-        blobs: MessagePack commands.
-        title: Page title.
-        overlay: HTML shown over the view.
-    """
-    import meshcat
-
-    script = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
-    bundle = script.read_text(encoding="utf-8").replace("</script", "<\\/script")
-    commands = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in blobs)
-    return f"""<!DOCTYPE html>
-<html>
-<head>
-<meta charset="utf-8">
-<title>{html.escape(title)}</title>
-<style>
-body {{ margin: 0; }}
-#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
-#va-overlay {{ position: absolute; left: 8px; bottom: 8px; font: 12px sans-serif;
-  background: rgba(255, 255, 255, 0.85); padding: 6px 10px; border-radius: 4px;
-  max-width: 45vw; }}
-#va-overlay .sw {{ display: inline-block; width: 12px; height: 12px; margin-right: 6px;
-  vertical-align: middle; border: 1px solid #444; }}
-</style>
-</head>
-<body>
-<div id="meshcat-pane"></div>
-{overlay}
-<script>
-{bundle}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-var commands = [
-{commands}
-];
-for (var i = 0; i < commands.length; i++) {{
-  var text = atob(commands[i]);
-  var bytes = new Uint8Array(text.length);
-  for (var k = 0; k < text.length; k++) {{ bytes[k] = text.charCodeAt(k); }}
-  viewer.handle_command_bytearray(bytes);
-}}
-</script>
-</body>
-</html>
-"""

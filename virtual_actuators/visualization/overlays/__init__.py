@@ -1,11 +1,8 @@
 """What is drawn over the robot, one `Overlay` per kind of thing (`Viewer.add_overlay` adds one)."""
 
 from .base import Overlay
-from .components import ComponentOverlay
-from .efforts import EffortOverlay
-from .hud import LegendOverlay, StateOverlay
-from .support import SupportOverlay
-from .wrenches import WrenchOverlay
+from .markers import EffortOverlay, LegendOverlay, StateOverlay, SupportOverlay
+from .wrenches import ComponentOverlay, WrenchOverlay
 
 
 def default_overlays(legend: bool = True) -> list[Overlay]:

@@ -180,6 +180,10 @@ def _own_privates(tree: ast.AST) -> set[str]:
     return {name for name in names if name.startswith("_")}
 
 
+#: A NamedTuple's public methods (their underscore only keeps them apart from the fields)
+NAMED_TUPLE_API = {"_replace", "_asdict", "_fields", "_make", "_field_defaults"}
+
+
 def _parameter_privates(text: str) -> set[str]:
     """``parameter._attr`` reads (``self`` and ``cls`` aside) of an attribute the module never
     defines: another module's object's private state, reached through an argument."""
@@ -198,7 +202,7 @@ def _parameter_privates(text: str) -> set[str]:
                 and node.value.id in names
                 and node.attr.startswith("_")
                 and not node.attr.startswith("__")
-                and node.attr not in own
+                and node.attr not in own | NAMED_TUPLE_API
             ):
                 found.add(f"{node.value.id}.{node.attr}")
     return found
@@ -289,3 +293,42 @@ def test_no_long_tuple_crosses_modules():
         for name in _long_tuples(ast.parse(text))
     }
     assert sorted(long) == [], f"return a NamedTuple or a dataclass instead: {long}"
+
+
+def _imports(path: str, source: str, modules: set[str]) -> set[str]:
+    """The package's modules that ``path`` imports (``TYPE_CHECKING`` imports included)."""
+    name = "virtual_actuators." + path.removesuffix(".py").replace("/", ".")
+    package = name.removesuffix(".__init__") if path.endswith("__init__.py") else name
+    package = package if path.endswith("__init__.py") else package.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            base = package.split(".")[: len(package.split(".")) - node.level + 1]
+            target = ".".join(base + [node.module]) if node.level and node.module else None
+            target = target or (".".join(base) if node.level else node.module)
+            names = [target, *(f"{target}.{alias.name}" for alias in node.names)]
+        elif isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        else:
+            continue
+        found.update(n for n in names if n in modules)
+    return found
+
+
+def test_no_import_circle():
+    """No two modules import each other, even indirectly (packages' ``__init__`` aside)."""
+    sources = _modules()
+    module_of = {
+        "virtual_actuators." + path.removesuffix(".py").replace("/", "."): path for path in sources
+    }
+    modules = {name for name, path in module_of.items() if not path.endswith("__init__.py")}
+    graph = {name: _imports(module_of[name], sources[module_of[name]], modules) for name in modules}
+    circles = []
+    for start in sorted(modules):  # a module that reaches itself again is on a circle
+        seen, frontier = set(), set(graph[start])
+        while frontier:
+            seen |= frontier
+            frontier = {n for m in frontier for n in graph[m]} - seen
+        if start in seen:
+            circles.append(start)
+    assert not circles, f"modules on an import circle: {circles}"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -34,15 +35,20 @@ class RawSolution:
     active: tuple[str, ...] = ()
 
 
-def buffer_slices(p: int, n: int, nv: int) -> tuple[slice, ...]:
-    """The parts of a compiled distribution's output buffer, ``p`` chains on ``n`` axes.
+class BufferSlices(NamedTuple):
+    """Where a compiled distribution's output buffer holds each part, in this order."""
 
-    Returns:
-        The slices of the forces (``p n``, chain by chain), ``tau`` (``nv``), the springs'
-        torques (``nv``), the produced and the requested wrench (``n`` each).
-    """
+    forces: slice  #: ``p n`` entries, chain by chain
+    tau: slice  #: ``nv``
+    passive: slice  #: the springs' torques, ``nv``
+    produced: slice  #: ``n``
+    requested: slice  #: ``n``
+
+
+def buffer_slices(p: int, n: int, nv: int) -> BufferSlices:
+    """The parts of the output buffer of a distribution of ``p`` chains on ``n`` axes."""
     a, b, c, d = p * n, p * n + nv, p * n + 2 * nv, p * n + 2 * nv + n
-    return slice(0, a), slice(a, b), slice(b, c), slice(c, d), slice(d, d + n)
+    return BufferSlices(slice(0, a), slice(a, b), slice(b, c), slice(c, d), slice(d, d + n))
 
 
 @dataclass(slots=True)

@@ -18,7 +18,6 @@ from .windows import SceneWindow
 
 if TYPE_CHECKING:
     from ..simulation.simulator import Simulator
-    from .viewer import Viewer
 
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0
@@ -208,6 +207,21 @@ class Gait(Protocol):
     last: ControlOutput | None
 
 
+class Drawing(Protocol):
+    """What `TickUpdater` calls of a [`Viewer`][virtual_actuators.visualization.Viewer]."""
+
+    robot: object
+
+    def due(self, time: float | None = None) -> tuple[bool, bool]:
+        """``(live, record)``: whether a frame is due."""
+
+    def set_terrain(self, terrain: object) -> None:
+        """Draw the ground."""
+
+    def maybe_show(self, q: np.ndarray, **frame: object) -> bool:
+        """Draw ``q`` (and the frame's extras) if a frame is due; whether one was drawn."""
+
+
 class TickUpdater:
     """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
 
@@ -220,7 +234,7 @@ class TickUpdater:
         terrain: Draw the simulator's terrain at the first tick.
     """
 
-    def __init__(self, viewer: Viewer, realtime: bool = False, terrain: bool = True) -> None:
+    def __init__(self, viewer: Drawing, realtime: bool = False, terrain: bool = True) -> None:
         self.viewer = viewer
         self.realtime = realtime
         self.terrain = terrain

@@ -14,12 +14,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ...core import CORE, has
-from ..partitioned.compiled import spring_table
+from ..partitioned.compiled import chain_table, spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
-
-#: entries of the per-chain integer table's header: its columns, own constrained joints, ball axes
-HEADER = 3
 
 
 class Answer(NamedTuple):
@@ -127,21 +124,7 @@ class CompiledQPMatrices:
         self.core = None
         if not self.applicable:
             return
-        # per chain: HEADER counts, then its velocity columns, its own constrained joints'
-        # positions among them and its ball axes, in blocks of widths K, C and 3
-        width_k = max(len(c) for c in kin.chain_columns)
-        width_c = max(g.constrained.shape[1] for g in problem.groups)
-        ints = np.zeros((problem.p, HEADER + width_k + width_c + 3), dtype=np.int64)
-        signs = np.zeros((problem.p, width_k))
-        at = (HEADER, HEADER + width_k, HEADER + width_k + width_c)
-        for group in problem.groups:
-            k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
-            for j, chain in enumerate(group.chains):
-                ints[chain, :HEADER] = (k, c, nb)
-                ints[chain, at[0] : at[0] + k] = group.columns[j]
-                ints[chain, at[1] : at[1] + c] = group.constrained[j]
-                ints[chain, at[2] : at[2] + nb] = group.ball_axes
-                signs[chain, :k] = group.signs[j]
+        ints, signs, _ = chain_table(problem)
         self.core = CORE.QP(
             np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
             spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),

@@ -187,25 +187,20 @@ class CompiledQPMatrices:
         """
         out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
         active = workspace.active
+        tail = (workspace.kept, workspace.buffer, workspace.layout, keep, weights, guess,
+                ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active)  # fmt: skip
         if tree is not None:
             if tree.nf <= self._max_row:
                 return None
-            count, norms = self.core.again_tick(
-                tree, snapshot, wrench, workspace.kept, workspace.buffer, workspace.layout, keep,
-                weights, guess, ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
-            )  # fmt: skip
-            return None if count < 0 else Answer(out, *norms, active[:count].copy())
-        frames = snapshot.frame_table  # the snapshot's arrays straight in (a tick's cost)
-        if frames.shape[0] <= self._max_row:
-            return None
-        count, norms = self.core.again(
-            snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept,
-            workspace.buffer, workspace.layout, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
-            EPS_ABS, out, active,
-        )  # fmt: skip
-        if count < 0:
-            return None
-        return Answer(out, *norms, active[:count].copy())
+            count, norms = self.core.again_tick(tree, snapshot, wrench, *tail)
+        else:
+            frames = snapshot.frame_table  # the snapshot's arrays straight in (a tick's cost)
+            if frames.shape[0] <= self._max_row:
+                return None
+            count, norms = self.core.again(
+                snapshot.jacobian_world, frames, snapshot.q, wrench, *tail
+            )
+        return None if count < 0 else Answer(out, *norms, active[:count].copy())
 
 
 __all__ = ["CompiledQPMatrices", "Workspace"]

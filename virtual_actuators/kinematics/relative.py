@@ -16,7 +16,7 @@ import pinocchio as pin
 
 from .. import core
 from ..exceptions import InvalidInputError
-from ..vocabulary.axes import AXES, axis_rows
+from ..vocabulary.axes import axis_rows
 from .snapshot import Snapshot
 from .tree import tree_of
 
@@ -288,7 +288,6 @@ class RelativeKinematics:
 
 
 __all__ = [
-    "AXES",
     "KinematicState",
     "RelativeKinematics",
     "relative_sensor",

@@ -116,17 +116,11 @@ class DistributionProblem:
             own = np.array([per_chain[i][1] for i in members], dtype=int).reshape(len(members), -1)
             columns = np.array([per_chain[i][0] for i in members], dtype=int).reshape(-1, k)
             signs = np.array([self.kinematics.chain_signs[i] for i in members], float)
-            own_v = np.take_along_axis(columns, own, axis=1)
-            springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
-            stiffness = [[s.stiffness if s else 0.0 for s in row] for row in springs]
-            rest = [[s.rest if s else 0.0 for s in row] for row in springs]
             group = ChainGroup(
                 chains=np.array(members, dtype=int),
                 columns=columns,
                 signs=signs.reshape(-1, k),
                 constrained=own,
-                stiffness=np.asarray(stiffness, dtype=float).reshape(own.shape),
-                rest=np.asarray(rest, dtype=float).reshape(own.shape),
                 ball_axes=np.array(ball, dtype=int),
                 rank=rank,
                 n=self.n,

@@ -32,16 +32,11 @@ class Answer(NamedTuple):
 class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
-    Attributes:
-        buffer: The flat buffer the core's ``QP.reduced`` writes: the null-space bases ``N``
-            ``(p n, d)``, the particular forces ``x0`` ``(p n,)``, ``equality`` ``(s + k, d)``,
-            ``equality_rhs``, ``inequality`` ``(m, d)``, ``lows``, ``uppers``, the torque map
-            ``(nv, d)``, the torques of ``x0`` and the springs' torques (``nv`` each).
-        layout: The ten arrays' offsets, then ``d``, ``s + k``, ``m`` and ``s``.
-        kept: ``(k,)`` indices of the prescribed axes.
-        equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
-            sides and bounds), ``equality`` with the ``design_rows`` design rows first.
-        design_rows: How many design rows.
+    ``buffer``, written by the core's ``QP.reduced``, holds the null-space bases ``N`` ``(p n,
+    d)``, the particular forces ``x0`` ``(p n,)``, the QP's rows (``equality`` ``(s + k, d)``,
+    its ``design_rows`` design rows first, ``equality_rhs``, ``inequality`` ``(m, d)``, ``lows``,
+    ``uppers``: right-hand sides and bounds scaled), the torque map ``(nv, d)``, the torques of
+    ``x0`` and the springs' torques; ``layout``: their offsets, then ``d``, ``s + k``, ``m``, ``s``.
     """
 
     def __init__(self, p_n: int, nv: int, free: int, design: int, kept: np.ndarray,

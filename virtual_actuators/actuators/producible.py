@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import core
 from ..distribution.problem import DistributionProblem
+from ..kinematics.kernels import skew
 from ..kinematics.relative import RelativeKinematics
 from ..kinematics.snapshot import Snapshot
 
@@ -109,11 +110,7 @@ def _point_columns(offsets: np.ndarray) -> np.ndarray:
     ``offsets`` ``(p, 3)`` go from each contact to {B}, in {O} [m].
     """
     count = len(offsets)
-    x, y, z = offsets[:, 0], offsets[:, 1], offsets[:, 2]
-    moments = np.zeros((count, 3, 3))  # -skew(d): the moment (-d) x f about {B}
-    moments[:, 0, 1], moments[:, 0, 2] = z, -y
-    moments[:, 1, 0], moments[:, 1, 2] = -z, x
-    moments[:, 2, 0], moments[:, 2, 1] = y, -x
+    moments = skew(-offsets)  # the moment (-d) x f about {B}
     columns = np.empty((6, 3 * count))
     columns[:3] = np.tile(np.eye(3), count)
     columns[3:] = moments.transpose(1, 0, 2).reshape(3, 3 * count)

@@ -134,7 +134,7 @@ class VirtualActuator:
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
         """
-        return self.kinematics.sense(state).position
+        return self.kinematics.sense(state)[1]
 
     def jacobian(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """``(len(axes), nv)``: twist of {B} relative to {A} at {B}'s origin, in {O}.
@@ -142,7 +142,7 @@ class VirtualActuator:
         Raises:
             InvalidInputError: Bad ``q``, or a snapshot of another robot.
         """
-        return self.kinematics.sense(state).jacobian
+        return self.kinematics.sense(state)[0]
 
     def velocity(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> np.ndarray:
         """Virtual sensor: ``jacobian(q) @ v`` [m/s, rad/s] (angular velocity on rotations).

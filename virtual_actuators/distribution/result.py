@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 
@@ -33,22 +32,6 @@ class RawSolution:
     solver: str = "partitioned"
     #: the QP's active inequalities, by name (empty for the other solvers)
     active: tuple[str, ...] = ()
-
-
-class BufferSlices(NamedTuple):
-    """Where a compiled distribution's output buffer holds each part, in this order."""
-
-    forces: slice  #: ``p n`` entries, chain by chain
-    tau: slice  #: ``nv``
-    passive: slice  #: the springs' torques, ``nv``
-    produced: slice  #: ``n``
-    requested: slice  #: ``n``
-
-
-def buffer_slices(p: int, n: int, nv: int) -> BufferSlices:
-    """The parts of the output buffer of a distribution of ``p`` chains on ``n`` axes."""
-    a, b, c, d = p * n, p * n + nv, p * n + 2 * nv, p * n + 2 * nv + n
-    return BufferSlices(slice(0, a), slice(a, b), slice(b, c), slice(c, d), slice(d, d + n))
 
 
 @dataclass(slots=True)
@@ -87,11 +70,16 @@ class TickResult:
         rounding: float,
         compiled: bool = True,
     ) -> TickResult:
-        """The tick of a kernel's output buffer ``out`` (its parts as views: `buffer_slices`)."""
-        p, n = raw.forces.shape
-        nv = (out.shape[0] - p * n - 2 * n) // 2
-        _, tau, passive, produced, requested = (out[part] for part in buffer_slices(p, n, nv))
-        return cls(raw, tau, passive, produced, requested, residual, scale, rounding, compiled)
+        """The tick of a kernel's output buffer ``out`` (views of it).
+
+        ``out``: the forces (``p n``, chain by chain), ``tau`` (``nv``), the springs' torques
+        (``nv``), the produced and the requested wrench (``n`` each).
+        """
+        a, n = raw.forces.size, raw.forces.shape[1]
+        nv = (out.shape[0] - a - 2 * n) // 2
+        b, c = a + nv, a + 2 * nv
+        return cls(raw, out[a:b], out[b:c], out[c : c + n], out[c + n :], residual, scale,
+                   rounding, compiled)  # fmt: skip
 
 
 def close_tick(
@@ -124,11 +112,6 @@ def close_tick(
     requested = np.where(keep, wrench, produced)
     scale = max(request, output)
     return TickResult(raw, tau, passive, produced, requested, residual, scale, rounding)
-
-
-def tolerance(tol: float, scale: float, rounding: float) -> float:
-    """The residual up to which a request counts as produced: ``tol * scale + rounding``."""
-    return tol * scale + rounding
 
 
 def label(method: str, admissible: bool) -> str:
@@ -216,7 +199,7 @@ class Solution:
         ``tol``: ``solve(..., tol=)``; ``floating``: ``base_effort`` is ``tau[:6]``.
         """
         raw, tau = tick.raw, tick.tau
-        limit = tolerance(tol, tick.scale, tick.rounding)
+        limit = tol * tick.scale + tick.rounding
         return cls(  # positional (a tick's cost): the fields in declaration order
             tau,
             raw.forces,

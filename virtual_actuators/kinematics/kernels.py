@@ -146,12 +146,6 @@ velocity_of_point = core.kernel("point_velocity", point_velocity)
 center_of_mass_of = core.kernel("center_of_mass", center_of_mass)
 
 __all__ = [
-    "FREE_FLYER",
-    "KINDS",
-    "PRISMATIC",
-    "REVOLUTE",
-    "REVOLUTE_UNBOUNDED",
-    "SPHERICAL",
     "JointTables",
     "all_finite",
     "center_of_mass",

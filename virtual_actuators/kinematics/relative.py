@@ -10,14 +10,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from .. import core
 from ..exceptions import InvalidInputError
-from ..vocabulary.axes import AXES, axis_rows
+from ..vocabulary.axes import axis_rows
 from .snapshot import Snapshot
 from .tree import tree_of
 
@@ -128,20 +127,6 @@ class KinematicState:
 
 
 _NO_VELOCITY = np.zeros(0)
-
-
-class Sensed(NamedTuple):
-    """A serial actuator's reading (`RelativeKinematics.sense`).
-
-    Attributes:
-        jacobian: ``(n, nv)`` twist of {B} relative to {A} at {B}'s origin, in {O}.
-        position: ``(n,)`` pose of {B} relative to {A} on the selected axes.
-        velocity: ``(n,)`` ``jacobian @ v``, or None when not asked for.
-    """
-
-    jacobian: np.ndarray
-    position: np.ndarray
-    velocity: np.ndarray | None
 
 
 class RelativeKinematics:
@@ -264,10 +249,15 @@ class RelativeKinematics:
         frames = self._frames(self.snapshot(state), self.orientation_rows_end)
         return frames[self._row_o, :9].reshape(3, 3), frames[self._rows_a, :9].reshape(-1, 3, 3)
 
-    def sense(self, state: np.ndarray | Snapshot, velocity: bool = False) -> Sensed:
-        """Chain 0's `Sensed` reading in one compiled call (``jacobian @ v`` too if ``velocity``).
+    def sense(
+        self, state: np.ndarray | Snapshot, velocity: bool = False
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """Chain 0's reading in one compiled call, at a [`Snapshot`][] (with ``v``) or ``q``.
 
-        ``state``: a [`Snapshot`][] (with ``v`` if ``velocity``) or ``q``.
+        Returns:
+            ``(jacobian, position, velocity)``: the ``(n, nv)`` twist of {B} relative to {A} at
+            {B}'s origin in {O}, the ``(n,)`` pose of {B} relative to {A} on the selected axes,
+            and ``jacobian @ v`` if ``velocity`` (else None).
 
         Raises:
             InvalidInputError: A bad ``q``, a snapshot of another robot, or no velocity.
@@ -286,7 +276,7 @@ class RelativeKinematics:
         n, nv = self._axis_rows.shape[0], jacobian_world.shape[1]
         jacobian = buffer[: n * nv].reshape(n, nv)
         position = buffer[n * nv : n * nv + n]
-        return Sensed(jacobian, position, buffer[n * nv + n :] if velocity else None)
+        return jacobian, position, buffer[n * nv + n :] if velocity else None
 
     def __repr__(self) -> str:
         names = [self.model.frames[int(r)].name for r in self.reaction_ids]
@@ -298,10 +288,8 @@ class RelativeKinematics:
 
 
 __all__ = [
-    "AXES",
     "KinematicState",
     "RelativeKinematics",
-    "Sensed",
     "relative_sensor",
     "rotation_log",
     "sensor",

@@ -259,18 +259,13 @@ class Snapshot:
         """
         if self.v is None:
             raise InvalidInputError("frame_velocity needs a snapshot built with v.")
-        row = self.named_row(frame)
-        table = self._velocity_table() if row >= 0 else None
-        if table is not None:  # the compiled pass computed it
-            return table[row].copy()
         frame_id = self._frame_id(frame)
         if self._frames is None:
             self._run()
         table = self._velocity_table()  # the compiled pass computed the table's
-        if table is not None:
-            row = self._rows.get(frame_id)
-            if row is not None:
-                return table[row].copy()
+        row = None if table is None else self._rows.get(frame_id)
+        if row is not None:
+            return table[row].copy()
         velocities = self._velocities
         if velocities is None:
             velocities = self._velocities = {}

@@ -14,28 +14,10 @@ from ..core import CORE
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array
 from ..vocabulary.axes import resolve_frame
-from .kernels import JointTables, finite, placement_row, read_joints
+from .kernels import finite, placement_row, read_joints
 
 #: finiteness and unit norms of q in one compiled pass (the core's), or None: numpy's checks
 _UNIT_NORM_ERROR = core.kernel("unit_norm_error", None)
-
-
-class Kinematics(NamedTuple):
-    """What one pass of the compiled kernel computes (views of one buffer: do not modify).
-
-    Attributes:
-        joints: ``(njoints, 12)`` joint placements in the world (rotation row by row, position).
-        jacobian: ``(6, nv)`` world joint Jacobian (Pinocchio's ``data.J``).
-        frames: ``(rows, 12)`` placements of the frames computed at every tick.
-        velocities: ``(rows, 3)`` linear velocities of their origins, or None without ``v``.
-        rows: Frame id -> row of ``frames``.
-    """
-
-    joints: np.ndarray
-    jacobian: np.ndarray
-    frames: np.ndarray
-    velocities: np.ndarray | None
-    rows: dict[int, int]
 
 
 class BufferLayout(NamedTuple):
@@ -63,16 +45,6 @@ class BufferLayout(NamedTuple):
         """The ``(rows, 3)`` frame velocities of ``buffer``, or None (a pass without ``v``)."""
         end = self.frames.stop
         return buffer[end:].reshape(self.frames_shape[0], 3) if buffer.shape[0] > end else None
-
-    def cut(self, buffer: np.ndarray, rows: dict[int, int]) -> Kinematics:
-        """The `Kinematics` of ``buffer`` (views of it), with frame rows ``rows``."""
-        return Kinematics(
-            buffer[self.joints].reshape(self.joints_shape),
-            buffer[self.jacobian].reshape(self.jacobian_shape),
-            buffer[self.frames].reshape(self.frames_shape),
-            self.velocities(buffer),
-            rows,
-        )
 
 
 def buffer_layout(core_tree: object, njoints: int, nv: int, nf: int) -> BufferLayout:
@@ -104,12 +76,12 @@ class KinematicTree:
     def __init__(self, model: pin.Model) -> None:
         self.model = model
         self.nq, self.nv, self.njoints = model.nq, model.nv, model.njoints
-        tables, self.unsupported, unit_slices = read_joints(model)
+        #: the kernel's joint tables (its arguments after ``q`` and ``v``)
+        self.joint_tables, self.unsupported, unit_slices = read_joints(model)
         self.compiled = core.has("Tree") and not self.unsupported
         self.masses = np.array([inertia.mass for inertia in model.inertias], dtype=float)
         self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
         self.mass = float(self.masses.sum())
-        self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace = tables
         self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)
         self._unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
         self._unit_index = np.array([i for a, b in unit_slices for i in range(a, b)], dtype=int)
@@ -168,17 +140,7 @@ class KinematicTree:
         """The compiled core's ``Tree`` for this frame table, or None."""
         if not self.compiled:
             return None
-        return CORE.Tree(
-            self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace, parents,
-            floats, self._unit_bounds,
-        )  # fmt: skip
-
-    @property
-    def joint_tables(self) -> JointTables:
-        """The kernel's joint tables (its arguments after ``q`` and ``v``)."""
-        return JointTables(
-            self._joint_ints, self._joint_floats, self._velocity_joint, self._subspace
-        )
+        return CORE.Tree(*self.joint_tables, parents, floats, self._unit_bounds)
 
     @property
     def frame_tables(self) -> tuple[dict[int, int], np.ndarray, np.ndarray]:
@@ -297,4 +259,4 @@ def tree_of(robot: object) -> KinematicTree:
     return tree
 
 
-__all__ = ["BufferLayout", "JointTables", "KinematicTree", "Kinematics", "buffer_layout", "tree_of"]
+__all__ = ["BufferLayout", "KinematicTree", "buffer_layout", "tree_of"]

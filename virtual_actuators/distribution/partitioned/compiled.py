@@ -14,11 +14,43 @@ import numpy as np
 from ...core import CORE, has
 from ..methods import Request
 from ..problem import DistributionProblem
-from ..result import RawSolution, Solution, TickResult, buffer_slices, label, tolerance
+from ..result import RawSolution, Solution, TickResult
 from .reference import PartitionedSolver
 
-#: entries of the chain table's per-chain header
-HEADER = 7
+
+def chain_table(
+    problem: DistributionProblem, partitioner: PartitionedSolver | None = None
+) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """The kernels' per-chain integer table, the chains' signs and the table's block widths.
+
+    Per chain a header (its columns, own constrained joints and ball axes; with ``partitioner``
+    also its rank, natural rows, free entries and the start of those among the reduced unknowns),
+    then its velocity columns, the positions of its constrained joints among them, its ball axes
+    (0-2) and, with ``partitioner``, its CFS and its free entries: blocks of ``widths``.
+    """
+    groups, header = problem.groups, 3 if partitioner is None else 7
+    widths = [max(len(c) for c in problem.kinematics.chain_columns),
+              max(g.constrained.shape[1] for g in groups), 3]  # fmt: skip
+    if partitioner is not None:
+        widths += [max(g.num_constraints for g in groups), max(g.num_free for g in groups)]
+    ints = np.zeros((problem.p, header + sum(widths)), np.int64)
+    signs = np.zeros((problem.p, widths[0]))
+    at = np.cumsum([header, *widths[:-1]]).tolist()  # each block's start
+    start = 0
+    for index, group in enumerate(groups):
+        k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
+        for j, chain in enumerate(group.chains):
+            head = [k, c, nb]
+            blocks = [group.columns[j], group.constrained[j], group.ball_axes]
+            if partitioner is not None:
+                head += [group.rank, group.num_constraints, group.num_free, start]
+                blocks += [partitioner.cfs[index][j], partitioner.free_entries[index][j]]
+                start += group.num_free
+            ints[chain, :header] = head
+            for begin, block in zip(at, blocks, strict=True):
+                ints[chain, begin : begin + len(block)] = block
+            signs[chain, :k] = group.signs[j]
+    return ints, signs, widths
 
 
 def spring_table(problem: DistributionProblem) -> np.ndarray:
@@ -52,7 +84,7 @@ class PackedMode:
 class BufferSolve:
     """A request's [`Solution`][] built from the compiled core's output buffer (thread-safe).
 
-    The same [`Solution`][], bit for bit, as [`Solution.from_tick`][] of the general path's tick.
+    Built by [`Solution.from_tick`][] from the tick the general path would return.
 
     Args:
         distribution: The actuator's `CompiledDistribution`.
@@ -72,45 +104,20 @@ class BufferSolve:
         #: the mode's packed tables (the core's Distribution arguments)
         self.packed = mode.packed
         self._kinematics = distribution.problem.kinematics.tree  # its core_tree grows with frames
+        self._distribution, self._mode = distribution, mode
         self._max_row = distribution.max_row
-        self._shape = distribution.shape
-        self._method, self._sets, self._systems = mode.method, mode.sets, mode.systems
-        self._names = names
-        self._floating = floating
-        #: forces, tau, the springs' torques, produced, requested: the buffer's slices
-        self._forces, self._tau, self._passive, self._produced, self._requested = buffer_slices(
-            *self._shape, distribution.problem.model.nv
-        )
+        self._names, self._floating = names, floating
 
     def solution(
         self, out: np.ndarray, residual: float, scale: float, rounding: float, tol: float
     ) -> Solution:
         """The [`Solution`][] of the core's buffer ``out`` and norms, with tolerance ``tol``."""
-        tau = out[self._tau]
-        limit = tolerance(tol, scale, rounding)
-        reactions, axes, free = self._names
-        return Solution(  # positional, as Solution.from_tick builds it
-            tau,
-            out[self._forces].reshape(self._shape),
-            out[self._produced],
-            self._sets,
-            residual,
-            label(self._method, residual <= limit),
-            out[self._requested],
-            reactions,
-            axes,
-            free,
-            out[self._passive],
-            tau[:6].copy() if self._floating else np.zeros(0),
-            "partitioned",
-            self._systems,
-            True,
-            (),
-            limit,
-        )
+        tick = self._distribution.tick_result(self._mode, (out, residual, scale, rounding, 0))
+        return Solution.from_tick(tick, tol, *self._names, self._floating)
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}(shape={self._shape}, method={self._method!r})"
+        shape, method = self._distribution.shape, self._mode.method
+        return f"{type(self).__name__}(shape={shape}, method={method!r})"
 
 
 class ConfigurationSolve(BufferSolve):
@@ -121,9 +128,7 @@ class ConfigurationSolve(BufferSolve):
         out, residual, scale, rounding, status, _, _ = self._core.checked_tick(
             self._kinematics.core_tree, q, wrench
         )
-        if status:
-            return None
-        return self.solution(out, residual, scale, rounding, tol)
+        return None if status else self.solution(out, residual, scale, rounding, tol)
 
 
 class SnapshotSolve(BufferSolve):
@@ -139,9 +144,7 @@ class SnapshotSolve(BufferSolve):
         out, residual, scale, rounding, status, _, _ = self._core.solve(
             snapshot.jacobian_world, frames, snapshot.q, wrench
         )
-        if status:
-            return None
-        return self.solution(out, residual, scale, rounding, tol)
+        return None if status else self.solution(out, residual, scale, rounding, tol)
 
 
 class CompiledDistribution:
@@ -168,40 +171,14 @@ class CompiledDistribution:
         torque = [(v, -1, 0) for v in problem.coupled_v]
         torque += [(int(a), int(b), 1) for a, b in problem.torque_pairs]
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
-        signs = np.zeros((len(torque), 2, problem.p))
-        for t, (a, b, _) in enumerate(torque):
-            signs[t, 0] = problem.signs_at([a])[:, 0]
-            if b >= 0:
-                signs[t, 1] = problem.signs_at([b])[:, 0]
-        self.torque_signs = signs
+        # the chain signs at joints a and b (none at b = -1)
+        at_a, at_b = (problem.signs_at(self.torque_rows[:, i]).T for i in (0, 1))
+        self.torque_signs = np.stack((at_a, at_b), axis=1)
         self._modes: dict[bytes, PackedMode] = {}
-        # the chain tables (the partitioner's sets never change after its __init__): per chain
-        # a header of HEADER (its columns, own constrained joints, ball axes, rank, natural rows,
-        # free entries, start of its free entries in the reduced unknowns), then its velocity
-        # columns, the positions of its constrained joints among them, its ball axes (0-2), its
-        # CFS and its free entries, in blocks of widths K, C, 3, L, D (``layout``: K, C, L, D)
-        groups = problem.groups
-        width_k = max(len(c) for c in kin.chain_columns)
-        width_c = max(g.constrained.shape[1] for g in groups)
-        width_l = max(g.num_constraints for g in groups)
-        width_d = max(g.num_free for g in groups)
-        self.layout = np.array([width_k, width_c, width_l, width_d], dtype=np.int64)
-        self.chain_ints = np.zeros((problem.p, HEADER + int(self.layout.sum()) + 3), np.int64)
-        self.chain_signs = np.zeros((problem.p, width_k))
-        at = np.cumsum([HEADER, width_k, width_c, 3, width_l]).tolist()  # each block's start
-        start = 0
-        for group, cfs, free in zip(groups, partitioner.cfs, partitioner.free_entries, strict=True):
-            k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
-            for j, chain in enumerate(group.chains):
-                row = self.chain_ints[chain]
-                row[:HEADER] = (k, c, nb, group.rank, group.num_constraints, group.num_free, start)
-                start += group.num_free
-                row[at[0] : at[0] + k] = group.columns[j]
-                row[at[1] : at[1] + c] = group.constrained[j]
-                row[at[2] : at[2] + nb] = group.ball_axes
-                row[at[3] : at[3] + group.num_constraints] = cfs[j]
-                row[at[4] : at[4] + group.num_free] = free[j]
-                self.chain_signs[chain, :k] = group.signs[j]
+        # the chain tables (the partitioner's sets never change after its __init__)
+        self.chain_ints, self.chain_signs, widths = chain_table(problem, partitioner)
+        #: the chain table's block widths but the ball axes': K, C, L, D
+        self.layout = np.array(widths[:2] + widths[3:], dtype=np.int64)
 
     def mode_for(self, keep: np.ndarray) -> PackedMode:
         """The packed tables of the set of prescribed axes ``keep`` (built on first use)."""
@@ -262,7 +239,7 @@ class CompiledDistribution:
         core, tree = mode.core, self.problem.kinematics.tree.core_tree
         if core is None or tree is None or tree.nf <= self.max_row:
             return None
-        return self._tick(mode, core.tick(tree, q, wrench))
+        return self.tick_result(mode, core.tick(tree, q, wrench))
 
     def buffer_solve(
         self,
@@ -291,14 +268,14 @@ class CompiledDistribution:
             return None
         tree = snapshot.tree.core_tree
         if not snapshot.computed and snapshot.backend == "compiled" and tree.nf > self.max_row:
-            return self._tick(mode, mode.core.tick(tree, snapshot.q, wrench))  # q alone: both
+            return self.tick_result(mode, mode.core.tick(tree, snapshot.q, wrench))  # q alone: both
         frames = snapshot.frame_table
         if frames.shape[0] <= self.max_row:
             return None  # frames required after this snapshot ran: the numpy path reads them
         tick = mode.core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
-        return self._tick(mode, tick)
+        return self.tick_result(mode, tick)
 
-    def _tick(self, mode: PackedMode, tick: tuple) -> TickResult | None:
+    def tick_result(self, mode: PackedMode, tick: tuple) -> TickResult | None:
         """The `TickResult` of the core's ``tick`` or ``solve`` output, or None if handed on."""
         out, residual, scale, rounding, status = tick[:5]
         if status:

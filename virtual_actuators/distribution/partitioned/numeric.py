@@ -55,47 +55,6 @@ def constraint_error(problem: DistributionProblem, ev: Evaluation, forces: np.nd
     return worst
 
 
-def solve_numpy(
-    problem: DistributionProblem,
-    solver: object,
-    snapshot: object,
-    wrench: np.ndarray,
-    keep: np.ndarray,
-    hand_on: bool = False,
-) -> TickResult | None:
-    """Distribute ``wrench`` with ``problem``'s `PartitionedSolver` or `DenseSolver` at a snapshot.
-
-    ``hand_on``: return None, for the method's next backend, when ``solver`` raises
-    [`SingularConfigurationError`][] or misses an exact row by more than ``CONSTRAINT_TOL``.
-
-    Returns:
-        The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.
-
-    Raises:
-        SingularConfigurationError: No distribution can be solved at this configuration.
-        ConstraintError: The constraints contradict each other at this configuration.
-    """
-    ev = problem.evaluate(snapshot)
-    factor = power_of_two_scale(wrench, ev.passive_torque, ev.hard_rhs)
-    scaled = _scaled(ev, factor)
-    try:
-        raw = solver.solve(scaled, wrench * factor, keep)
-    except SingularConfigurationError:
-        # the closed form cannot decide: the dense reference does (or raises the same error)
-        if hand_on:
-            return None
-        raise
-    except np.linalg.LinAlgError as error:  # LAPACK gave up: as singular as it gets
-        raise SingularConfigurationError(
-            f"The force distribution of the chains to {list(problem.reactions)} cannot be "
-            f"computed at this configuration (linear algebra failed: {error})."
-        ) from error
-    if hand_on and constraint_error(problem, scaled, raw.forces) > CONSTRAINT_TOL:
-        return None  # an ill-conditioned elimination lost an exact row: the dense one keeps it
-    torques = functools.partial(problem.torques, ev.state.jacobian_o)
-    return close_tick(raw, wrench, keep, torques, problem.actuated_mask, ev.passive_torque, factor)
-
-
 class DenseSolver:
     """Solve eq. 10-11 densely (``problem``: the declaration-time structure)."""
 
@@ -157,20 +116,45 @@ class NumpyBackend:
     Args:
         problem: The declaration-time problem.
         solver: The partitioned or dense solver of that problem.
-        hand_on: Hand the ticks ``solver`` cannot decide to the next backend (`solve_numpy`).
+        hand_on: Return None, for the method's next backend, when ``solver`` raises
+            [`SingularConfigurationError`][] or misses an exact row by more than
+            ``CONSTRAINT_TOL``.
     """
 
     def __init__(self, problem: DistributionProblem, solver: object, hand_on: bool = False):
         self.problem, self.solver, self.hand_on = problem, solver, hand_on
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """`solve_numpy` with this backend's solver.
+        """Distribute ``wrench`` with this backend's solver at a snapshot.
+
+        Returns:
+            The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
             ConstraintError: The constraints contradict each other at this configuration.
         """
-        return solve_numpy(self.problem, self.solver, snapshot, wrench, request.keep, self.hand_on)
+        problem, keep = self.problem, request.keep
+        ev = problem.evaluate(snapshot)
+        factor = power_of_two_scale(wrench, ev.passive_torque, ev.hard_rhs)
+        scaled = _scaled(ev, factor)
+        try:
+            raw = self.solver.solve(scaled, wrench * factor, keep)
+        except SingularConfigurationError:
+            # the closed form cannot decide: the dense reference does (or raises the same error)
+            if self.hand_on:
+                return None
+            raise
+        except np.linalg.LinAlgError as error:  # LAPACK gave up: as singular as it gets
+            raise SingularConfigurationError(
+                f"The force distribution of the chains to {list(problem.reactions)} cannot be "
+                f"computed at this configuration (linear algebra failed: {error})."
+            ) from error
+        if self.hand_on and constraint_error(problem, scaled, raw.forces) > CONSTRAINT_TOL:
+            return None  # an ill-conditioned elimination lost an exact row: the dense one keeps it
+        torques = functools.partial(problem.torques, ev.state.jacobian_o)
+        actuated, passive = problem.actuated_mask, ev.passive_torque
+        return close_tick(raw, wrench, keep, torques, actuated, passive, factor)
 
 
-__all__ = ["DenseSolver", "NumpyBackend", "solve_numpy"]
+__all__ = ["DenseSolver", "NumpyBackend"]

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -13,25 +12,6 @@ from ...kinematics.relative import RelativeKinematics
 from ...vocabulary.arguments import check_name, check_number, describe
 from ...vocabulary.axes import resolve_joint
 from ...vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
-
-
-@dataclass
-class DesignRows:
-    """The design constraints as rows.
-
-    Attributes:
-        constant_rows: ``(s0, p, n)`` rows over the chains' forces (``Equal``, ``Linear``).
-        constant_rhs: ``(s0,)`` their right-hand sides.
-        torque_pairs: ``(s1, 2)`` velocity indices of ``EqualTorque`` joint pairs.
-        constant_names: A readable name per constant row.
-        torque_names: A readable name per torque pair.
-    """
-
-    constant_rows: np.ndarray
-    constant_rhs: np.ndarray
-    torque_pairs: np.ndarray
-    constant_names: list[str]
-    torque_names: list[str]
 
 
 def joint_columns(
@@ -178,8 +158,13 @@ def design_rows(
     kinematics: RelativeKinematics,
     reactions: Sequence[str],
     axes: Sequence[str],
-) -> DesignRows:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str], list[str]]:
     """The rows of the design constraints: constant rows over the forces, equal-torque pairs.
+
+    Returns:
+        ``(s0, p, n)`` constant rows over the chains' forces (``Equal``, ``Linear``), their
+        ``(s0,)`` right-hand sides, ``(s1, 2)`` velocity indices of ``EqualTorque`` joint pairs,
+        and a readable name per constant row and per torque pair.
 
     Raises:
         ConstraintError: A malformed constraint (self-equality, no coefficient, NaN, a
@@ -235,17 +220,16 @@ def design_rows(
                 f"Unknown design constraint {constraint!r}; use va.Equal, va.Linear or "
                 "va.EqualTorque."
             )
-    return DesignRows(
-        constant_rows=np.array(constant_rows).reshape(-1, p, n),
-        constant_rhs=np.array(constant_rhs, dtype=float),
-        torque_pairs=np.array(torque_pairs, dtype=int).reshape(-1, 2),
-        constant_names=constant_names,
-        torque_names=torque_names,
+    return (
+        np.array(constant_rows).reshape(-1, p, n),
+        np.array(constant_rhs, dtype=float),
+        np.array(torque_pairs, dtype=int).reshape(-1, 2),
+        constant_names,
+        torque_names,
     )
 
 
 __all__ = [
-    "DesignRows",
     "Spring",
     "check_passive",
     "design_rows",

@@ -116,17 +116,11 @@ class DistributionProblem:
             own = np.array([per_chain[i][1] for i in members], dtype=int).reshape(len(members), -1)
             columns = np.array([per_chain[i][0] for i in members], dtype=int).reshape(-1, k)
             signs = np.array([self.kinematics.chain_signs[i] for i in members], float)
-            own_v = np.take_along_axis(columns, own, axis=1)
-            springs = [[self.passive_v.get(int(v)) for v in row] for row in own_v]
-            stiffness = [[s.stiffness if s else 0.0 for s in row] for row in springs]
-            rest = [[s.rest if s else 0.0 for s in row] for row in springs]
             group = ChainGroup(
                 chains=np.array(members, dtype=int),
                 columns=columns,
                 signs=signs.reshape(-1, k),
                 constrained=own,
-                stiffness=np.asarray(stiffness, dtype=float).reshape(own.shape),
-                rest=np.asarray(rest, dtype=float).reshape(own.shape),
                 ball_axes=np.array(ball, dtype=int),
                 rank=rank,
                 n=self.n,
@@ -183,20 +177,13 @@ class DistributionProblem:
 
     def _build_design(self, design: Sequence[DesignConstraint]) -> None:
         rows = design_rows(design, self.kinematics, self.reactions, self.axes)
-        self.constant_rows, self.constant_rhs = rows.constant_rows, rows.constant_rhs
-        self.torque_pairs = rows.torque_pairs
+        self.constant_rows, self.constant_rhs, self.torque_pairs = rows[:3]
         coupled_names = [f"torque of shared joint {self.joint_name(v)!r}" for v in self.coupled_v]
-        self.hard_names = coupled_names + rows.constant_names + rows.torque_names
+        self.hard_names = coupled_names + rows[3] + rows[4]
         self.num_hard = len(self.hard_names)
         #: True when no hard row depends on the configuration
-        self.constant_hard = not self.coupled_v and not len(rows.torque_pairs)
-        total_free = sum(g.size * g.num_free for g in self.groups)
-        if self.num_hard > total_free:
-            raise ConstraintError(
-                f"Too many constraints: {self.num_hard} design/coupling constraints but the "
-                f"natural constraints leave only {total_free} free force entries (sum of d over "
-                f"the chains). Remove {self.num_hard - total_free}."
-            )
+        self.constant_hard = not self.coupled_v and not len(self.torque_pairs)
+        self.check_counts(np.zeros(self.n, dtype=bool))
         if self.num_hard:
             ev = self.evaluate(self.generic_configurations()[1], check_singular=False)
             natural, natural_rhs = self.block_natural(ev)
@@ -389,8 +376,9 @@ class DistributionProblem:
         k, s = int(keep.sum()), self.num_hard
         if s and s > m - k:
             names = [a for a, kept in zip(self.axes, keep, strict=True) if kept]
+            prescribed = f" minus the {k} prescribed axes {names}" if k else ""
             raise ConstraintError(
                 f"Too many constraints: {s} design/coupling constraints but only {m - k} "
-                f"redundancies (sum of d = {m} minus the {k} prescribed axes {names}). Remove "
-                f"{s - (m - k)} or leave more axes free."
+                f"redundancies (sum of d over the chains = {m}{prescribed}). Remove "
+                f"{s - (m - k)}{' or leave more axes free' if k else ''}."
             )

@@ -28,8 +28,6 @@ class ChainGroup:
         signs: ``(g, k)`` +1 / -1: on {B}'s or {A}'s side of the path.
         constrained: ``(g, c)`` positions (into ``columns``) of limp or passive joints that belong
             to this chain only.
-        stiffness: ``(g, c)`` spring stiffness of those joints (0 for a limp joint) [N m/rad].
-        rest: ``(g, c)`` spring rest angles [rad].
         ball_axes: rotational axes (0, 1, 2 for rx, ry, rz) of the virtual ball joint at a point
             contact, restricted to the selected axes; empty for a flat contact.
         rank: generic rank of the full chain Jacobian ``[J_i, ball_i]`` on the selected axes.
@@ -40,8 +38,6 @@ class ChainGroup:
     columns: np.ndarray
     signs: np.ndarray
     constrained: np.ndarray
-    stiffness: np.ndarray
-    rest: np.ndarray
     ball_axes: np.ndarray
     rank: int
     n: int

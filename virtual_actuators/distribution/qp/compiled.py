@@ -14,12 +14,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ...core import CORE, has
-from ..partitioned.compiled import spring_table
+from ..partitioned.compiled import chain_table, spring_table
 from ..problem import DistributionProblem
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL
-
-#: entries of the per-chain integer table's header: its columns, own constrained joints, ball axes
-HEADER = 3
 
 
 class Answer(NamedTuple):
@@ -35,16 +32,11 @@ class Answer(NamedTuple):
 class Workspace:
     """One thread's buffer for one set of prescribed axes, and its arrays (views, reused).
 
-    Attributes:
-        buffer: The flat buffer the core's ``QP.reduced`` writes: the null-space bases ``N``
-            ``(p n, d)``, the particular forces ``x0`` ``(p n,)``, ``equality`` ``(s + k, d)``,
-            ``equality_rhs``, ``inequality`` ``(m, d)``, ``lows``, ``uppers``, the torque map
-            ``(nv, d)``, the torques of ``x0`` and the springs' torques (``nv`` each).
-        layout: The ten arrays' offsets, then ``d``, ``s + k``, ``m`` and ``s``.
-        kept: ``(k,)`` indices of the prescribed axes.
-        equality, equality_rhs, inequality, lows, uppers: The QP's rows (scaled right-hand
-            sides and bounds), ``equality`` with the ``design_rows`` design rows first.
-        design_rows: How many design rows.
+    ``buffer``, written by the core's ``QP.reduced``, holds the null-space bases ``N`` ``(p n,
+    d)``, the particular forces ``x0`` ``(p n,)``, the QP's rows (``equality`` ``(s + k, d)``,
+    its ``design_rows`` design rows first, ``equality_rhs``, ``inequality`` ``(m, d)``, ``lows``,
+    ``uppers``: right-hand sides and bounds scaled), the torque map ``(nv, d)``, the torques of
+    ``x0`` and the springs' torques; ``layout``: their offsets, then ``d``, ``s + k``, ``m``, ``s``.
     """
 
     def __init__(self, p_n: int, nv: int, free: int, design: int, kept: np.ndarray,
@@ -127,21 +119,7 @@ class CompiledQPMatrices:
         self.core = None
         if not self.applicable:
             return
-        # per chain: HEADER counts, then its velocity columns, its own constrained joints'
-        # positions among them and its ball axes, in blocks of widths K, C and 3
-        width_k = max(len(c) for c in kin.chain_columns)
-        width_c = max(g.constrained.shape[1] for g in problem.groups)
-        ints = np.zeros((problem.p, HEADER + width_k + width_c + 3), dtype=np.int64)
-        signs = np.zeros((problem.p, width_k))
-        at = (HEADER, HEADER + width_k, HEADER + width_k + width_c)
-        for group in problem.groups:
-            k, c, nb = group.columns.shape[1], group.constrained.shape[1], len(group.ball_axes)
-            for j, chain in enumerate(group.chains):
-                ints[chain, :HEADER] = (k, c, nb)
-                ints[chain, at[0] : at[0] + k] = group.columns[j]
-                ints[chain, at[1] : at[1] + c] = group.constrained[j]
-                ints[chain, at[2] : at[2] + nb] = group.ball_axes
-                signs[chain, :k] = group.signs[j]
+        ints, signs, _ = chain_table(problem)
         self.core = CORE.QP(
             np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
             spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),
@@ -204,25 +182,20 @@ class CompiledQPMatrices:
         """
         out = np.zeros(workspace.pn + 2 * workspace.nv + 2 * len(wrench))  # the tick's own
         active = workspace.active
+        tail = (workspace.kept, workspace.buffer, workspace.layout, keep, weights, guess,
+                ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active)  # fmt: skip
         if tree is not None:
             if tree.nf <= self._max_row:
                 return None
-            count, norms = self.core.again_tick(
-                tree, snapshot, wrench, workspace.kept, workspace.buffer, workspace.layout, keep,
-                weights, guess, ACTIVE_TOL, EXACT_TOL, EPS_ABS, out, active,
-            )  # fmt: skip
-            return None if count < 0 else Answer(out, *norms, active[:count].copy())
-        frames = snapshot.frame_table  # the snapshot's arrays straight in (a tick's cost)
-        if frames.shape[0] <= self._max_row:
-            return None
-        count, norms = self.core.again(
-            snapshot.jacobian_world, frames, snapshot.q, wrench, workspace.kept,
-            workspace.buffer, workspace.layout, keep, weights, guess, ACTIVE_TOL, EXACT_TOL,
-            EPS_ABS, out, active,
-        )  # fmt: skip
-        if count < 0:
-            return None
-        return Answer(out, *norms, active[:count].copy())
+            count, norms = self.core.again_tick(tree, snapshot, wrench, *tail)
+        else:
+            frames = snapshot.frame_table  # the snapshot's arrays straight in (a tick's cost)
+            if frames.shape[0] <= self._max_row:
+                return None
+            count, norms = self.core.again(
+                snapshot.jacobian_world, frames, snapshot.q, wrench, *tail
+            )
+        return None if count < 0 else Answer(out, *norms, active[:count].copy())
 
 
 __all__ = ["CompiledQPMatrices", "Workspace"]

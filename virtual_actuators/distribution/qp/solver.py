@@ -14,7 +14,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ...exceptions import ConstraintError, InvalidAxisError, InvalidInputError
-from ...vocabulary.arguments import describe
+from ...vocabulary.arguments import check_number, describe
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..result import RawSolution, TickResult, close_tick
@@ -45,7 +45,7 @@ def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -
                 raise InvalidAxisError(
                     f"{what} names axis {axis!r}, not one of this actuator's axes {axes}."
                 )
-            out[axes.index(axis)] = _weight(value, f"{what}[{axis!r}]")
+            out[axes.index(axis)] = check_number(value, f"{what}[{axis!r}]", positive=True)
     elif isinstance(weights, np.ndarray) or (
         isinstance(weights, Iterable) and not isinstance(weights, (str, bytes))
     ):
@@ -73,16 +73,6 @@ def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -
     return out
 
 
-def _weight(value: object, what: str) -> float:
-    """One weight: a real number, finite and > 0."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InvalidInputError(f"{what} must be a finite number > 0, got {describe(value)}.")
-    number = float(value)
-    if not 0.0 < number < np.inf:
-        raise InvalidInputError(f"{what} must be a finite number > 0, got {number!r}.")
-    return number
-
-
 class PlanTables(NamedTuple):
     """What a compiled plan runs a request with on the last certified active set."""
 
@@ -92,7 +82,6 @@ class PlanTables(NamedTuple):
     weights: np.ndarray  # the kept rows' weights
     tolerances: np.ndarray  # (active, exact, accuracy)
     slot: Any  # the slot whose ``active`` is the warm start
-
 
 
 class QPDistribution:

@@ -56,34 +56,18 @@ class Budget:
 
 @dataclass(slots=True)
 class ProxSlot:
-    """One ProxQP workspace of this thread.
+    """One ProxQP workspace of this thread."""
 
-    Attributes:
-        qp: The ``proxqp.dense.QP`` (None until ProxQP first runs on this slot).
-        fresh: True until a solve succeeded (and after a failure): start from ``init``.
-        active: The inequalities' multipliers of the last certified answer, or None.
-    """
-
-    qp: object = None
-    fresh: bool = True
-    active: np.ndarray | None = None
+    qp: object = None  # the proxqp.dense.QP, made when ProxQP first runs on this slot
+    fresh: bool = True  # until a solve succeeded (and after a failure): start from init
+    active: np.ndarray | None = None  # the last certified answer's inequality multipliers
 
 
 class StageRows(NamedTuple):
-    """The scaled rows of one solve, shared by its stages.
+    """The scaled rows of one solve, shared by its stages."""
 
-    Attributes:
-        equality: The ``design`` rows that always hold, then the request's rows.
-        equality_rhs: Their right-hand sides (the request's part is rewritten in place by the
-            closest-wrench stages).
-        design: How many of ``equality``'s rows always hold.
-        inequality: The inequality rows.
-        lows: Their lower bounds.
-        uppers: Their upper bounds.
-    """
-
-    equality: np.ndarray
-    equality_rhs: np.ndarray
+    equality: np.ndarray  # the ``design`` rows that always hold, then the request's rows
+    equality_rhs: np.ndarray  # the request's part rewritten in place by the closest stages
     design: int
     inequality: np.ndarray
     lows: np.ndarray
@@ -91,18 +75,11 @@ class StageRows(NamedTuple):
 
 
 class StageAnswer(NamedTuple):
-    """What `ProxStages.solve` hands back.
-
-    Attributes:
-        x: The answer (scaled).
-        multipliers: The inequalities' multipliers.
-        exhausted: The budget ran out before the last stage converged (``x`` is then the
-            feasible point of least weighted miss found).
-    """
+    """What `ProxStages.solve` hands back: the (scaled) answer, its inequality multipliers."""
 
     x: np.ndarray
     multipliers: np.ndarray
-    exhausted: bool
+    exhausted: bool  # the budget ran out first (x: the feasible point of least miss found)
 
 
 class ProxStages:
@@ -376,18 +353,5 @@ class ProxStages:
         return exact(reached.x, guess, reached.info.status != converged or not solved)
 
 
-__all__ = [
-    "BUDGET_EXHAUSTED",
-    "CONFLICT_MAX_ITER",
-    "DAQP_CLOSEST_EPS",
-    "DAQP_INFEASIBLE",
-    "DAQP_MAX_ITER",
-    "EXACT_MAX_ITER",
-    "ITERATION_BUDGET",
-    "MAX_ITER_IN",
-    "Budget",
-    "ProxSlot",
-    "ProxStages",
-    "StageAnswer",
-    "StageRows",
-]
+__all__ = ["BUDGET_EXHAUSTED", "CONFLICT_MAX_ITER", "EXACT_MAX_ITER", "ITERATION_BUDGET",
+           "Budget", "ProxStages", "StageRows"]  # fmt: skip

@@ -14,6 +14,16 @@ from ...vocabulary.axes import resolve_joint
 from ...vocabulary.constraints import DesignConstraint, Equal, EqualTorque, Label, Linear
 
 
+class DesignRows(NamedTuple):
+    """The design constraints as rows."""
+
+    constant_rows: np.ndarray  #: ``(s0, p, n)`` rows over the forces (``Equal``, ``Linear``)
+    constant_rhs: np.ndarray  #: ``(s0,)`` their right-hand sides
+    torque_pairs: np.ndarray  #: ``(s1, 2)`` velocity indices of ``EqualTorque`` joint pairs
+    constant_names: list[str]  #: a readable name per constant row
+    torque_names: list[str]  #: a readable name per torque pair
+
+
 def joint_columns(
     kinematics: RelativeKinematics, reactions: Sequence[str], name: str, role: str
 ) -> tuple[int, np.ndarray]:
@@ -158,13 +168,8 @@ def design_rows(
     kinematics: RelativeKinematics,
     reactions: Sequence[str],
     axes: Sequence[str],
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str], list[str]]:
+) -> DesignRows:
     """The rows of the design constraints: constant rows over the forces, equal-torque pairs.
-
-    Returns:
-        ``(s0, p, n)`` constant rows over the chains' forces (``Equal``, ``Linear``), their
-        ``(s0,)`` right-hand sides, ``(s1, 2)`` velocity indices of ``EqualTorque`` joint pairs,
-        and a readable name per constant row and per torque pair.
 
     Raises:
         ConstraintError: A malformed constraint (self-equality, no coefficient, NaN, a
@@ -220,7 +225,7 @@ def design_rows(
                 f"Unknown design constraint {constraint!r}; use va.Equal, va.Linear or "
                 "va.EqualTorque."
             )
-    return (
+    return DesignRows(
         np.array(constant_rows).reshape(-1, p, n),
         np.array(constant_rhs, dtype=float),
         np.array(torque_pairs, dtype=int).reshape(-1, 2),

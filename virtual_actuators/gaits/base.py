@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..components.slots import slot
 from ..control.context import Context
 from ..control.controller import Controller, ControlOutput
 from ..control.machine_controller import MachineController
@@ -20,6 +21,58 @@ from ..models.robot import Robot
 from ..vocabulary.scalar import logical_and
 from ..vocabulary.traced import lowerable
 from .planar import SIDES
+
+
+def as_floats(values: object) -> tuple:
+    """A tick's vector as a tuple: a traced one as it is, an array's entries as floats."""
+    if isinstance(values, tuple):
+        return values
+    return tuple(np.asarray(values, dtype=float).tolist())
+
+
+def checked_numbers(
+    value: object, count: int, what: str, gains: bool = False, finite: bool = True
+) -> np.ndarray:
+    """``value`` as ``count`` numbers, never NaN (finite if ``finite``, >= 0 for ``gains``).
+
+    Raises:
+        InvalidInputError: Not ``count`` such numbers (the message starts with ``what``).
+    """
+    try:
+        array = np.array(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        array = np.full(count + 1, np.nan)
+    bad = array.shape != (count,) or np.isnan(array).any() or (gains and (array < 0.0).any())
+    if bad or (finite and not np.isfinite(array).all()):
+        kind = ("finite numbers" if finite else "numbers") + (" >= 0" if gains else "")
+        raise InvalidInputError(f"{what} must be {count} {kind}, got {value!r}.")
+    return array
+
+
+class SizedSlots:
+    """A slotted component's mixin: slot ``name`` holds ``SIZES[name]`` numbers.
+
+    Attributes:
+        SIZES: The numbers per slot.
+        GAINS: The slots whose numbers are >= 0.
+        FINITE: Whether the numbers must be finite (else only not NaN).
+    """
+
+    SIZES: Mapping[str, int] = {}
+    GAINS: tuple[str, ...] = ()
+    FINITE = True
+
+    def _sized(self, value: object, name: str) -> np.ndarray:
+        """`checked_numbers` of slot ``name``."""
+        size, gains = self.SIZES[name], name in self.GAINS
+        return checked_numbers(value, size, f"{self.name}: {name}", gains, self.FINITE)
+
+
+def sized_slot(name: str, doc: str, scalar: bool = False) -> property:
+    """The property of a `SizedSlots` slot (``scalar``: its one number read as a float)."""
+    vector = slot(name, "_sized")
+    read = (lambda self: vector.fget(self)[0]) if scalar else vector.fget
+    return property(read, vector.fset, doc=doc)
 
 
 class Gait:

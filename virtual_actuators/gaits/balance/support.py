@@ -7,8 +7,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from ...components.springs import SpringDamper
-from ...exceptions import InvalidInputError
 from ...vocabulary.scalar import clip, maximum, select, sqrt
+from ..base import SizedSlots, sized_slot
 
 __all__ = ["SupportedSpring", "support_limited"]
 
@@ -25,7 +25,7 @@ def support_limited(
     Args:
         wrench: ``(6,)`` force and moment on the body, world axes, about its origin [N, N m].
         lever: The body's origin minus the support's centre, world axes [m].
-        reach: The support's half extents along world x and y, margins taken [m].
+        reach: The support's half extents along world x, y, margins taken [m].
         friction: Largest horizontal over vertical force [-].
         moment_weight: The moments' weight against the forces' in the shared change [-].
 
@@ -54,7 +54,7 @@ def support_limited(
     return [fx, fy, fz, mx, my, mz]
 
 
-class SupportedSpring(SpringDamper):
+class SupportedSpring(SizedSlots, SpringDamper):
     """The body's spring-damper, its request kept within what the support can produce.
 
     Args:
@@ -64,7 +64,9 @@ class SupportedSpring(SpringDamper):
         name: Label used in reports.
     """
 
-    SLOTS = (*SpringDamper.SLOTS, "lever", "reach", "friction", "moment_weight")
+    SIZES = {"lever": 3, "reach": 2, "friction": 1, "moment_weight": 1}
+    SLOTS = (*SpringDamper.SLOTS, *SIZES)
+    FINITE = False  # the reach and the friction are unbounded until the first tick
 
     def __init__(
         self, axes: Sequence[str], stiffness: object, damping: object, name: str | None = None
@@ -75,49 +77,12 @@ class SupportedSpring(SpringDamper):
         self.friction = np.inf
         self.moment_weight = 1.0
 
-    def _parameter(self, name: str, value: object, size: int) -> None:
-        if self._store_traced(name, value):
-            return
-        array = np.array(value, dtype=float).reshape(-1)
-        if array.shape != (size,) or np.isnan(array).any():
-            raise InvalidInputError(f"{self.name}: {name} must be {size} numbers, got {value!r}.")
-        self._assign(f"_{name}", array)
-
-    @property
-    def lever(self) -> np.ndarray:
-        """The body's origin minus the support's centre, world axes [m]."""
-        return self._traced("lever")
-
-    @lever.setter
-    def lever(self, value: object) -> None:
-        self._parameter("lever", value, 3)
-
-    @property
-    def reach(self) -> np.ndarray:
-        """The support's half extents along world x and y, margins taken [m]."""
-        return self._traced("reach")
-
-    @reach.setter
-    def reach(self, value: object) -> None:
-        self._parameter("reach", value, 2)
-
-    @property
-    def friction(self) -> float:
-        """Largest horizontal over vertical force [-]."""
-        return self._traced("friction")[0]
-
-    @friction.setter
-    def friction(self, value: object) -> None:
-        self._parameter("friction", value, 1)
-
-    @property
-    def moment_weight(self) -> float:
-        """The moments' weight against the forces' in the shared change [-]."""
-        return self._traced("moment_weight")[0]
-
-    @moment_weight.setter
-    def moment_weight(self, value: object) -> None:
-        self._parameter("moment_weight", value, 1)
+    lever = sized_slot("lever", "The body's origin minus the support's centre, world axes [m].")
+    reach = sized_slot("reach", "The support's half extents along world x, y, margins taken [m].")
+    friction = sized_slot("friction", "Largest horizontal over vertical force [-].", scalar=True)
+    moment_weight = sized_slot(
+        "moment_weight", "The moments' weight against the forces' [-].", scalar=True
+    )
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """The spring-damper's wrench, then limited (`support_limited`)."""

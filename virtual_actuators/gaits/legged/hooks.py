@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from ...control.state_machine import Context
 from ...vocabulary.scalar import (
     atan2,
@@ -21,6 +19,7 @@ from ...vocabulary.scalar import (
     sin,
 )
 from ...vocabulary.traced import lowerable
+from ..base import as_floats
 from .body import missing_direction
 from .footholds import swing_setpoint
 from .parameters import GRAVITY
@@ -57,7 +56,7 @@ class WalkerHooks:
     def _enter_swing(self, context: Context) -> None:
         """The swing starts where each foot of the group is: its set point there, at rest."""
         for foot in self._swinging[context.state]:
-            position = _floats(context.frame_position(foot))
+            position = as_floats(context.frame_position(foot))
             setattr(self.memory, f"foot_{self.feet.index(foot)}", (*position, *position, 0.0,
                     0.0, 0.0))  # fmt: skip
 
@@ -66,13 +65,13 @@ class WalkerHooks:
         """Body set points, the direction the support cannot produce, and the swing feet."""
         state, memory, body = context.state, self.memory, self.body
         rotation, origin = context.placement(self.body_frame)
-        rotation, origin = [_floats(row) for row in rotation], _floats(origin)
-        linear = _floats(context.frame_velocity(self.body_frame))
-        spin = _floats(context.v[3:6])
+        rotation, origin = [as_floats(row) for row in rotation], as_floats(origin)
+        linear = as_floats(context.frame_velocity(self.body_frame))
+        spin = as_floats(context.v[3:6])
         if self._to_body is not None:
             spin = tuple(dot(row, spin) for row in self._to_body.tolist())
         angular = tuple(dot(row, spin) for row in rotation)  # world axes [rad/s]
-        com = _floats(context.center_of_mass())
+        com = as_floats(context.center_of_mass())
         yaw = atan2(rotation[1][0], rotation[0][0])
         c, s = cos(yaw), sin(yaw)
         dt = self._ramp(context.time, state != "stand")
@@ -83,7 +82,7 @@ class WalkerHooks:
         ground = sum((context.frame_coordinate(foot, "z") for foot in support), 0.0) / len(support)
         body.height = ground + self.stand_height
         if self.parameters.give_way and len(support) == 2:
-            first, second = (_floats(context.frame_position(foot)) for foot in support)
+            first, second = (as_floats(context.frame_position(foot)) for foot in support)
             body.missing = missing_direction(origin, first, second)
         else:  # three feet or more produce every wrench (one: the distribution yields)
             body.missing = (0.0,) * 6
@@ -144,7 +143,7 @@ class WalkerHooks:
             moved, setpoints = swing_setpoint(state, self._nominal[k], body, motion, dt,
                                               self._shape)  # fmt: skip
             down = logical_and(late, context.contacts.get(foot, False))
-            position = _floats(context.frame_position(foot))
+            position = as_floats(context.frame_position(foot))
             offset = tuple(position[i] - origin[i] for i in range(3))
             turning = cross(angular, offset)
             held = (*offset, *(-linear[i] - turning[i] for i in range(3)))
@@ -154,10 +153,3 @@ class WalkerHooks:
             setattr(memory, field, tuple(select(down, a, b) for a, b in zip(state, moved,
                     strict=True)))  # fmt: skip
         memory.swung_at = time
-
-
-def _floats(values: object) -> tuple:
-    """A vector as a tuple: a traced one as it is, an array's entries as floats."""
-    if isinstance(values, tuple):
-        return values
-    return tuple(np.asarray(values, dtype=float).tolist())

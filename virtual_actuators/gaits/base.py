@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -21,6 +21,10 @@ from ..models.robot import Robot
 from ..vocabulary.scalar import logical_and
 from ..vocabulary.traced import lowerable
 from .planar import SIDES
+
+if TYPE_CHECKING:
+    from ..simulation.simulator import Simulator
+    from ..simulation.terrain import Terrain
 
 
 def as_floats(values: object) -> tuple:
@@ -247,8 +251,7 @@ class Walk:
     Attributes:
         name: Demo name on the command line.
         robot: Robot name for [`load_robot`][].
-        run: ``run(request)`` with the resolved
-            [`WalkRequest`][virtual_actuators.gaits.registered.WalkRequest]; returns the result.
+        run: ``run(request)`` with the resolved `WalkRequest`; returns the result.
         parameters: The gait's parameters dataclass.
         terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
@@ -328,3 +331,59 @@ class Walk:
                 f"to {high:g} m/s, got {speed:g} m/s: give a speed in that range, or "
                 f"{forced_by} to run it anyway."
             )
+
+
+@dataclass(frozen=True, slots=True)
+class WalkRequest:
+    """One walk's run as ``run_walk`` resolved it (what `Walk.run` receives).
+
+    Attributes:
+        walk: The walk.
+        duration: Simulated time [s].
+        speed: Desired speed [m/s], as given (None: the walk's default).
+        terrain: A [`Terrain`][] or its spec (the walk's when none was given).
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step, or None.
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+        seed: None for the walk's nominal start; an int varies it.
+        parameters: The gait's parameters (a ``walk.parameters``), or None for the gait's.
+        distribution: ``"partitioned"`` or ``"qp"`` as given, or None.
+        options: The walk's own options (``walk.options``).
+    """
+
+    walk: Walk
+    duration: float
+    speed: float | None
+    terrain: str | Terrain
+    progress: bool
+    on_tick: Callable[[Simulator, Gait], None] | None
+    stop_on_fall: bool
+    seed: int | None
+    parameters: object | None
+    distribution: str | None
+    options: Mapping[str, Any]
+
+    @property
+    def loop(self) -> tuple[bool, Callable[[Simulator, Gait], None] | None, bool]:
+        """``(progress, on_tick, stop_on_fall)``: the loop's arguments, in a walk's order."""
+        return self.progress, self.on_tick, self.stop_on_fall
+
+    def configured(self, config: type, speed: float | None = None) -> tuple[Any, object | None]:
+        """A walk's configuration dataclass built from the request, and the parameters.
+
+        ``speed`` replaces the request's (None: the request's); the distribution is the given
+        one, else the parameters', else ``"qp"``.
+
+        Raises:
+            InvalidInputError: What ``config`` raises (a bad option, speed or distribution).
+        """
+        parameters, distribution = self.parameters, self.distribution
+        if distribution is None:
+            distribution = "qp" if parameters is None else parameters.distribution
+        elif parameters is not None:
+            parameters = replace(parameters, distribution=distribution)
+        built = config(
+            speed=self.speed if speed is None else speed, terrain=self.terrain,
+            duration=self.duration, seed=self.seed, distribution=distribution, **self.options,
+        )  # fmt: skip
+        return built, parameters

@@ -16,8 +16,7 @@ from ..experiments.walk_log import STANDARD_CHANNELS
 from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-from .base import Gait, Walk, check_distribution, check_speed_bound
-from .registered import WalkRequest
+from .base import Gait, Walk, WalkRequest, check_distribution, check_speed_bound
 from .runner import Episode, WalkResult, has_fallen, terrain_points
 from .smoothness import loop_smoothness
 from .walk_loop import drive

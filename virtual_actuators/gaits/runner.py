@@ -7,8 +7,9 @@ A walk prepares an `Episode`; [`drive`][virtual_actuators.gaits.walk_loop.drive]
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -112,7 +113,37 @@ class WalkResult:
         return self.metrics.to_dict()
 
     def __repr__(self) -> str:
-        return f"WalkResult({self.metrics.summary()})"
+        return f"{type(self).__name__}({self.metrics.summary()})"
+
+
+@dataclass
+class ConfiguredResult(WalkResult):
+    """A walk's result with its configuration and tick count (its ``trace()`` the walk's own).
+
+    Attributes:
+        config: What was walked.
+        ticks: Control ticks run.
+    """
+
+    config: Any = None
+    ticks: int = 0
+
+    def trace(self) -> dict[str, list]:
+        """Equal-length lists of the walk's trace."""
+        raise NotImplementedError
+
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, the summary figures, ``ticks``, ``config``, ``trace``."""
+        figures, config = asdict(self.metrics), asdict(self.config)
+        return {**figures, "ticks": self.ticks, "config": config, "trace": self.trace()}
 
 
 #: The base's channels of a JSON trace (``demo legged``, ``demo balance``).

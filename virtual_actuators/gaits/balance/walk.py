@@ -25,9 +25,8 @@ from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
-from ..base import Walk
+from ..base import Walk, WalkRequest
 from ..push import Push
-from ..registered import WalkRequest
 from ..runner import (
     FALL_PITCH,
     Episode,
@@ -127,9 +126,6 @@ class BalanceResult(WalkResult):
     def to_json(self) -> dict[str, Any]:
         """The figures and ``trace``."""
         return {**self.metrics.to_dict(), "trace": self.trace()}
-
-    def __repr__(self) -> str:
-        return f"BalanceResult({self.metrics.summary()})"
 
 
 class BalanceEpisode(Episode):
@@ -263,7 +259,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
 
 
 def run_request(request: WalkRequest) -> BalanceResult:
-    """``balance`` as `run_registered` starts it (``speed`` is not used).
+    """``balance`` as `run_walk` starts it (``speed`` is not used).
 
     Raises:
         InvalidInputError: A distribution other than ``"qp"``; a bad push, terrain or duration.

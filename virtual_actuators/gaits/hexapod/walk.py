@@ -21,10 +21,9 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, check_distribution, check_speed_bound
+from ..base import Walk, WalkRequest, check_distribution, check_speed_bound
 from ..guidance import Guidance, PlanarState, SinePath, TrackObject, VelocityCommand
-from ..registered import ConfiguredResult, WalkRequest
-from ..runner import TRACE_CHANNELS, terrain_points, trace_of
+from ..runner import TRACE_CHANNELS, ConfiguredResult, terrain_points, trace_of
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .episode import TRACE_RATE, HexapodEpisode
@@ -246,7 +245,7 @@ def _with_timing(
 
 
 def run_request(request: WalkRequest) -> HexapodResult:
-    """The hexapod's walk as `run_registered` starts it (`Walk.run`).
+    """The hexapod's walk as `run_walk` starts it (`Walk.run`).
 
     Raises:
         InvalidInputError: A bad configuration.

@@ -23,11 +23,17 @@ from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
-from ..base import Walk, check_distribution, check_speed_bound
+from ..base import Walk, WalkRequest, check_distribution, check_speed_bound
 from ..guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
 from ..push import Push
-from ..registered import ConfiguredResult, WalkRequest
-from ..runner import FALL_PITCH, Episode, allowed_geoms, terrain_points, trace_of
+from ..runner import (
+    FALL_PITCH,
+    ConfiguredResult,
+    Episode,
+    allowed_geoms,
+    terrain_points,
+    trace_of,
+)  # fmt: skip
 from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .metrics import LeggedMetrics, legged_metrics
@@ -306,7 +312,7 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
 
 
 def run_request(request: WalkRequest) -> LeggedResult:
-    """The legged walk as `run_registered` starts it (`Walk.run`).
+    """The legged walk as `run_walk` starts it (`Walk.run`).
 
     Raises:
         InvalidInputError: A bad configuration.

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -255,13 +257,13 @@ class Walk:
         parameters: The gait's parameters dataclass.
         terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
-        plot: Draws a result: ``plot(result, path, window)`` returns the path written.
+        draw: A result's matplotlib figure: ``draw(result, window)`` (see `plot`).
         description: One line for the command-line help.
         make_gait: Builds the gait from robot, desired speed and parameters (None: ``run`` does).
         push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
         push_time: [s].
         options: The walk's own keyword options of ``run`` (and command-line options).
-        plot_window: Whether ``plot`` draws a time window (``--window``).
+        plot_window: Whether ``draw`` draws a time window (``--window``).
         force_scale: Viewer arrow length per newton [m/N].
         viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
         speeds: The supported desired speeds ``(low, high)`` [m/s] (None: takes no speed).
@@ -276,7 +278,7 @@ class Walk:
     parameters: type
     terrain: str
     duration: float
-    plot: Callable[..., Any]
+    draw: Callable[..., Any]
     description: str
     make_gait: Callable[..., Gait] | None = None
     push: float = 0.0
@@ -288,6 +290,16 @@ class Walk:
     speeds: tuple[float, float] | None = None
     speeds_for: Callable[..., tuple[float, float]] | None = None
     nominal_speed: float | Callable[..., float] | None = None
+
+    def plot(self, result: Any, path: str | os.PathLike[str], window: Any = None) -> Path:
+        """Draw ``result`` (`draw`; ``window``: ``(t0, t1)`` simulated seconds or None) to a PNG.
+
+        Returns:
+            The path written.
+        """
+        from ..experiments.plot_panels import save_figure
+
+        return save_figure(self.draw(result, window), path)
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""

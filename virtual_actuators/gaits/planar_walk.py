@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -18,7 +17,6 @@ from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, WalkRequest, check_distribution, check_speed_bound
 from .runner import Episode, WalkResult, has_fallen, terrain_points
-from .smoothness import loop_smoothness
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
@@ -59,16 +57,10 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
     log = episode.recorder.to_log()
     metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
     normal_min, ratio_max = episode.stance.figures()
-    smoothness = loop_smoothness(episode.simulator, end)
     metrics = dataclasses.replace(
-        metrics,
-        stance_normal_min_n=normal_min,
-        stance_friction_ratio_max=ratio_max,
-        **smoothness.metrics_fields(),
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
     )
-    return WalkResult(
-        log, metrics, episode.gait, episode.simulator, end.wall, loop=end, smoothness=smoothness
-    )
+    return episode.finish(end, log, metrics)
 
 
 def _prepare(
@@ -191,24 +183,13 @@ class PlanarEpisode(Episode):
         )
 
 
-def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:
-    """Draw a planar walk like the seed's Fig. 9 (level ground) or Fig. 15 (slopes).
+def draw_planar_walk(result: WalkResult, window=None):
+    """A planar walk like the seed's Fig. 9 (level ground) or Fig. 15 (slopes), a figure.
 
     Args:
         result: The walk.
-        path: The image to write.
         window: ``(t0, t1)`` simulated seconds to draw (either may be None), or None for all.
-
-    Returns:
-        The path written.
     """
-    from ..experiments.plot_panels import save_figure
-
-    return save_figure(draw_planar_walk(result, window), path)
-
-
-def draw_planar_walk(result: WalkResult, window=None):
-    """The matplotlib figure `plot_planar_walk` saves."""
     from ..experiments.plots import draw_walk
 
     log = result.log

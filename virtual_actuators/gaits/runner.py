@@ -9,17 +9,18 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from ..control.controller import ControlOutput
+from ..control.effort_limits import urdf_effort_limits
 from ..control.run_loop import RunStats
 from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics
 from ..experiments.recorder import Recorder
-from ..experiments.smoothness import EffortSmoothness
+from ..experiments.smoothness import EffortSmoothness, effort_smoothness
 from ..experiments.walk_log import WalkLog
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
@@ -61,6 +62,13 @@ class LoopEnd:
     def base_rates(self) -> np.ndarray | None:
         """``(ticks, axes)`` the base's angular velocity at every tick [rad/s], or None."""
         return None if self.base_rate is None else self.velocities[:, self.base_rate]
+
+    def realtime_factors(self, simulated: float) -> dict[str, float | None]:
+        """``realtime_factor`` and ``physics_realtime_factor`` (None: not timed) of the loop."""
+        return {
+            "realtime_factor": simulated / self.wall if self.wall > 0 else None,
+            "physics_realtime_factor": simulated / self.physics if self.physics > 0 else None,
+        }
 
 
 class WalkFigures(NamedTuple):
@@ -258,3 +266,45 @@ class Episode:
     ) -> None:
         """Record a tick (every `record_every` ticks)."""
         raise NotImplementedError
+
+    def finish(
+        self, end: LoopEnd, log: WalkLog, metrics: Any, result: type = WalkResult, **fields: Any
+    ) -> Any:
+        """The finished run's ``result`` (with ``fields``), its metrics with `loop_smoothness`."""
+        smoothness = loop_smoothness(self.simulator, end)
+        metrics = replace(metrics, **smoothness.metrics_fields())
+        return result(
+            log, metrics, self.gait, self.simulator, end.wall, loop=end, smoothness=smoothness,
+            **fields,
+        )  # fmt: skip
+
+
+def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:
+    """The effort limits of the motors the simulation drives, and every degree of freedom's joint.
+
+    Returns:
+        ``(limits, names)``: ``(nv,)`` the URDF's effort limits of the actuated joints [N m or
+        N] (``inf`` elsewhere), and ``nv`` joint names.
+    """
+    model, actuated = simulator.robot.model, set(simulator.mujoco_model.actuated)
+    limits, names = urdf_effort_limits(simulator.robot), [""] * model.nv
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        dofs = slice(joint.idx_v, joint.idx_v + joint.nv)
+        names[dofs] = [model.names[j]] * joint.nv
+        if model.names[j] not in actuated:
+            limits[dofs] = np.inf
+    return limits, names
+
+
+def loop_smoothness(simulator: Simulator, end: LoopEnd) -> EffortSmoothness:
+    """`effort_smoothness` of a loop's ticks before its fall, on the motors `motor_limits` gives.
+
+    Raises:
+        InvalidInputError: Non-finite efforts or base rates in the record.
+    """
+    limits, names = motor_limits(simulator)
+    until = end.ticks if end.fall_tick is None else end.fall_tick
+    rates = None if end.base_rates is None else end.base_rates[:until]
+    efforts = end.efforts[:until]
+    return effort_smoothness(efforts, limits, rates, time_step=end.time_step, names=names)

@@ -2,17 +2,15 @@
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ...experiments.plot_panels import FORCE_STYLE, new_figure, save_figure, set_heading
+from ...experiments.plot_panels import FORCE_STYLE, new_figure, set_heading
 from ...experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["draw_balance_log", "plot_balance_log"]
+__all__ = ["draw_balance_log"]
 
 PANELS = (
     (("x", "y"), "drift [m]", True),
@@ -22,17 +20,8 @@ PANELS = (
 )
 
 
-def plot_balance_log(log: WalkLog, path: str | os.PathLike[str], summary: str = "") -> Path:
-    """Draw the body's drift, height, roll and pitch, and horizontal velocity to a PNG.
-
-    Returns:
-        The path written.
-    """
-    return save_figure(draw_balance_log(log, summary), path)
-
-
 def draw_balance_log(log: WalkLog, summary: str = "") -> Figure:
-    """The figure `plot_balance_log` saves, with ``summary`` as its title."""
+    """The body's drift, height, roll and pitch, and horizontal velocity, ``summary`` its title."""
     figure = new_figure(8.0, 8.0, dpi=110)
     axes = figure.subplots(len(PANELS), 1, sharex=True)
     t = log.time

@@ -9,8 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, replace
-from pathlib import Path
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -36,7 +35,6 @@ from ..runner import (
     number,
     trace_of,
 )
-from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .balancer import Balancer
 from .parameters import BalanceParameters
@@ -228,10 +226,8 @@ def run_balance(
     episode = BalanceEpisode(gait, simulator, terrain, recorder, push)
     end = drive(episode, duration, progress, on_tick, stop_on_fall)
     log = recorder.to_log()
-    metrics = _metrics(episode, log, end.fall_time, simulator.time / end.wall if end.wall else None)
-    smoothness = loop_smoothness(simulator, end)
-    metrics = replace(metrics, **smoothness.metrics_fields())
-    return BalanceResult(log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness)
+    realtime = end.realtime_factors(simulator.time)["realtime_factor"]
+    return episode.finish(end, log, _metrics(episode, log, end.fall_time, realtime), BalanceResult)
 
 
 def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetrics:
@@ -274,22 +270,11 @@ def run_request(request: WalkRequest) -> BalanceResult:
     )  # fmt: skip
 
 
-def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
-    """Draw a balance run (`plot_balance_log`)."""
-    from .plots import plot_balance_log
-
-    return plot_balance_log(result.log, path, summary=result.metrics.summary())
-
-
-def draw_balance(result: BalanceResult) -> Any:
-    """The matplotlib figure `plot_balance` saves."""
+def draw_balance(result: BalanceResult, window: None = None) -> Any:
+    """A balance run's figure (`draw_balance_log`, titled by its summary)."""
     from .plots import draw_balance_log
 
     return draw_balance_log(result.log, summary=result.metrics.summary())
-
-
-def _viewer_robot(robot: str = "talos", **options: Any) -> Robot:
-    return load_robot(robot)
 
 
 WALK = Walk(
@@ -299,10 +284,10 @@ WALK = Walk(
     parameters=BalanceParameters,
     terrain="flat",
     duration=5.0,
-    plot=plot_balance,
+    draw=draw_balance,
     description="Any legged robot standing on the contact QP, pushed, without stepping",
     options=("robot", "push"),
     force_scale=1 / 400,
-    viewer_robot=_viewer_robot,
+    viewer_robot=lambda robot="talos", **_: load_robot(robot),
 )
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ...models.robot import Robot
 from ..base import Gait, Walk
-from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
+from ..planar_walk import draw_planar_walk, run_planar_walk, with_speed
 from .parameters import FlamingoParameters
 from .walker import FlamingoWalker
 
@@ -23,7 +23,7 @@ WALK = Walk(
     parameters=FlamingoParameters,
     terrain="profile-one",
     duration=40.0,
-    plot=plot_planar_walk,
+    draw=draw_planar_walk,
     description="Spring Flamingo walks blind over unknown slopes (VMC section 6)",
     make_gait=make_gait,
     push=10.0,

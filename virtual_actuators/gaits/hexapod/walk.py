@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -24,7 +23,6 @@ from ...simulation.terrain import Terrain
 from ..base import Walk, WalkRequest, check_distribution, check_speed_bound
 from ..guidance import Guidance, PlanarState, SinePath, TrackObject, VelocityCommand
 from ..runner import TRACE_CHANNELS, ConfiguredResult, terrain_points, trace_of
-from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
@@ -176,26 +174,14 @@ def run_hexapod_walk(
     parameters = parameters or HexapodParameters(distribution=config.distribution)
     episode = _prepare(config, parameters)
     end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
-    gait, simulator, guidance = episode.gait, episode.simulator, episode.guidance
+    gait, guidance = episode.gait, episode.guidance
     episode.recorder.metadata["command_path"] = command_path(config, guidance)
     log = episode.recorder.to_log()
     steps = gait.machine.steps_into(gait.step_states)
-    normal_min, ratio_max = episode.stance.figures()
-    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, normal_min, ratio_max)
-    metrics = _with_timing(metrics, simulator.time, end.wall, end.physics)
-    smoothness = loop_smoothness(simulator, end)
-    metrics = replace(metrics, **smoothness.metrics_fields())
-    return HexapodResult(
-        log,
-        metrics,
-        gait,
-        simulator,
-        end.wall,
-        loop=end,
-        smoothness=smoothness,
-        config=config,
-        ticks=end.ticks,
-    )
+    stance = episode.stance.figures()
+    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, *stance)
+    metrics = replace(metrics, **end.realtime_factors(episode.simulator.time))
+    return episode.finish(end, log, metrics, HexapodResult, config=config, ticks=end.ticks)
 
 
 def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> HexapodEpisode:
@@ -234,16 +220,6 @@ def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> Hexapo
     return HexapodEpisode(gait, simulator, terrain, recorder, guidance)
 
 
-def _with_timing(
-    metrics: HexapodMetrics, simulated: float, wall: float, physics: float
-) -> HexapodMetrics:
-    return replace(
-        metrics,
-        realtime_factor=simulated / wall if wall > 0 else None,
-        physics_realtime_factor=simulated / physics if physics > 0 else None,
-    )
-
-
 def run_request(request: WalkRequest) -> HexapodResult:
     """The hexapod's walk as `run_walk` starts it (`Walk.run`).
 
@@ -255,22 +231,11 @@ def run_request(request: WalkRequest) -> HexapodResult:
     return run_hexapod_walk(config, parameters, *request.loop)
 
 
-def plot_hexapod_walk(result: HexapodResult, path: str, window: None = None) -> Path:
-    """Draw a hexapod walk (`plot_hexapod`)."""
-    from .plots import plot_hexapod
-
-    return plot_hexapod(result.log, path, summary=result.metrics.summary())
-
-
-def draw_hexapod_walk(result: HexapodResult) -> Any:
-    """The matplotlib figure `plot_hexapod_walk` saves."""
+def draw_hexapod_walk(result: HexapodResult, window: None = None) -> Any:
+    """A hexapod walk's figure (`draw_hexapod`, with its summary)."""
     from .plots import draw_hexapod
 
     return draw_hexapod(result.log, summary=result.metrics.summary())
-
-
-def _viewer_robot(pendulum: bool = False, **options: Any) -> Robot:
-    return hexapod_robot(pendulum)
 
 
 def hexapod_speed(pendulum: bool = False, track: bool = False, **options: Any) -> float:
@@ -292,12 +257,12 @@ WALK = Walk(
     parameters=HexapodParameters,
     terrain="flat",
     duration=10.0,
-    plot=plot_hexapod_walk,
+    draw=draw_hexapod_walk,
     description="The 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
     "tracking an object (VAC section 4)",
     options=("direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track"),
     force_scale=1 / 100,
-    viewer_robot=_viewer_robot,
+    viewer_robot=lambda pendulum=False, **_: hexapod_robot(pendulum),
     speeds_for=hexapod_speeds,
     nominal_speed=hexapod_speed,
 )

@@ -9,17 +9,15 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
-from ...experiments.plot_panels import new_figure, save_figure, set_heading
+from ...experiments.plot_panels import new_figure, set_heading
 from ...experiments.recorder import Recorder
 from ...models.loader import load_robot
-from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
@@ -34,7 +32,6 @@ from ..runner import (
     terrain_points,
     trace_of,
 )  # fmt: skip
-from ..smoothness import loop_smoothness
 from ..walk_loop import drive
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
@@ -274,19 +271,11 @@ def run_legged_walk(
         metrics = replace(
             metrics, direction_error_rad=None, heading_drift_rad=None, bearing_error_max_rad=error
         )
-    smoothness = loop_smoothness(simulator, end)
     metrics = replace(
-        metrics,
-        stance_normal_min_n=normal_min,
-        stance_friction_ratio_max=ratio_max,
-        realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
-        physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
-        **smoothness.metrics_fields(),
-    )
-    return LeggedResult(
-        log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness, config=config,
-        ticks=end.ticks,
-    )
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max,
+        **end.realtime_factors(simulator.time),
+    )  # fmt: skip
+    return episode.finish(end, log, metrics, LeggedResult, config=config, ticks=end.ticks)
 
 
 def sine_error(guidance: SinePath, trace: dict[str, list]) -> float:
@@ -321,13 +310,8 @@ def run_request(request: WalkRequest) -> LeggedResult:
     return run_legged_walk(config, parameters, *request.loop)
 
 
-def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
-    """Draw the path and the attitude of a legged walk (a PNG, no pyplot)."""
-    return save_figure(draw_legged_walk(result), path)
-
-
-def draw_legged_walk(result: LeggedResult) -> Any:
-    """The matplotlib figure `plot_legged_walk` saves, titled by the robot, gait and summary."""
+def draw_legged_walk(result: LeggedResult, window: None = None) -> Any:
+    """The path and the attitude of a legged walk, titled by the robot, gait and summary."""
     trace = result.trace()
     figure = new_figure(8.0, 7.0, dpi=100)
     top, bottom = figure.subplots(2, 1)
@@ -343,10 +327,6 @@ def draw_legged_walk(result: LeggedResult) -> Any:
     return figure
 
 
-def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:
-    return load_robot(robot)
-
-
 WALK = Walk(
     name="legged",
     robot="solo12",
@@ -354,7 +334,7 @@ WALK = Walk(
     parameters=LeggedParameters,
     terrain="flat",
     duration=4.0,
-    plot=plot_legged_walk,
+    draw=draw_legged_walk,
     description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "
     "the public gait layer",
     options=(
@@ -362,7 +342,7 @@ WALK = Walk(
         "wavelength", "track",
     ),
     force_scale=1 / 250,
-    viewer_robot=_viewer_robot,
+    viewer_robot=lambda robot="solo12", **_: load_robot(robot),
     speeds_for=legged_speeds,
     nominal_speed=NOMINAL_SPEED,
 )

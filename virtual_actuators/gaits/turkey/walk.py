@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ...models.robot import Robot
 from ..base import Gait, Walk
-from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
+from ..planar_walk import draw_planar_walk, run_planar_walk, with_speed
 from .parameters import TurkeyParameters
 from .walker import TurkeyWalker
 
@@ -24,7 +24,7 @@ WALK = Walk(
     parameters=TurkeyParameters,
     terrain="flat",
     duration=20.0,
-    plot=plot_planar_walk,
+    draw=draw_planar_walk,
     description="Spring Turkey walks on level ground (VMC section 5, Table 1)",
     make_gait=make_gait,
     push=15.0,

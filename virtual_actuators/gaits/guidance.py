@@ -8,6 +8,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import InvalidInputError
+from .base import check_distribution, check_speed_bound
+
+#: The paths a walk's configuration may ask for (see `check_path`).
+PATHS = ("line", "sine")
 
 
 @dataclass(frozen=True)
@@ -205,3 +209,47 @@ class TrackObject(Guidance):
         bearing_rate = (rx * wy - ry * wx) / distance2
         yaw_rate = bearing_rate + self.gain * self.bearing_error(state)
         return self.walk.velocity, yaw_rate
+
+
+def check_path(config: object) -> None:
+    """Refuse a walk's configuration whose motion does not hold together.
+
+    ``config`` has ``speed``, ``direction``, ``yaw_rate``, ``duration``, ``path``,
+    ``amplitude``, ``wavelength``, ``track`` and ``distribution`` (see `path_guidance`).
+
+    Raises:
+        InvalidInputError: A value not finite, a speed outside ``[0, MAX_SPEED]``, a duration
+            <= 0, a path not in `PATHS`, a sine without a speed and a wavelength > 0 or with a
+            yaw rate or tracking, tracking with a yaw rate, or an unknown distribution.
+    """
+    c = config
+    for name in ("speed", "direction", "yaw_rate", "duration", "amplitude", "wavelength"):
+        value = getattr(c, name)
+        if not (isinstance(value, (int, float)) and math.isfinite(value)):
+            raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
+    check_speed_bound(c.speed)
+    if c.duration <= 0.0:
+        raise InvalidInputError(f"duration must be > 0 s, got {c.duration}.")
+    if c.path not in PATHS:
+        raise InvalidInputError(f"path must be one of {PATHS}, got {c.path!r}.")
+    if c.path == "sine" and (c.speed <= 0.0 or c.wavelength <= 0.0):
+        raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
+    if c.path == "sine" and (c.track or c.yaw_rate != 0.0):
+        raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
+    if c.track and c.yaw_rate != 0.0:
+        raise InvalidInputError("tracking sets the yaw rate itself: leave yaw_rate at 0.")
+    check_distribution(c.distribution)
+
+
+def path_guidance(config: object) -> Guidance:
+    """The guidance of a configuration `check_path` accepted.
+
+    A sine ``path`` is a `SinePath`; ``track`` a `TrackObject`; else a `VelocityCommand` of
+    ``speed`` along ``direction`` at ``yaw_rate`` (a circle of radius ``speed / yaw_rate``).
+    """
+    c = config
+    if c.path == "sine":
+        return SinePath(c.speed, c.amplitude, c.wavelength)
+    if c.track:
+        return TrackObject(c.speed, c.direction)
+    return VelocityCommand(c.speed, c.direction, c.yaw_rate)

@@ -24,10 +24,13 @@ from ..experiments.smoothness import EffortSmoothness, effort_smoothness
 from ..experiments.walk_log import WalkLog
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
+from .attitude import attitude_and_velocity
 from .base import Gait
+from .guidance import Guidance, PlanarState, wrap
 
 FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]
+TRACE_RATE = 100.0  # [Hz] the floating-base walks' log
 
 
 @dataclass(slots=True)
@@ -257,6 +260,11 @@ class Episode:
         """Before the gait computes: steer it if need be; the contact switches it reads."""
         raise NotImplementedError
 
+    def height(self, q: np.ndarray) -> float:
+        """The floating base's height above the terrain under it [m]."""
+        level = self.level
+        return q.item(2) - (float(self.terrain.height(q.item(0))) if level is None else level)
+
     def fallen(self, q: np.ndarray) -> bool:
         """Whether the robot has fallen (asked until it first has)."""
         raise NotImplementedError
@@ -277,6 +285,65 @@ class Episode:
             log, metrics, self.gait, self.simulator, end.wall, loop=end, smoothness=smoothness,
             **fields,
         )  # fmt: skip
+
+
+class FloatingEpisode(Episode):
+    """A floating base's walk at `TRACE_RATE`, steered by a guidance through ``set_command``.
+
+    Args:
+        gait: The gait (with ``set_command(velocity, yaw_rate)``).
+        simulator: The simulation, reset.
+        terrain: The terrain.
+        recorder: Where `record` writes.
+        guidance: What steers the gait (begun here, at the base's start pose).
+
+    Attributes:
+        guidance: The guidance; a fixed one sets the command once, here.
+        command: The heading-frame velocity last commanded [m/s].
+        attitude: This tick's yaw, pitch, roll [rad] and world x, y velocity [m/s].
+        nominal: The gait's nominal height [m] (half of it: fallen).
+    """
+
+    ignore_unactuated = True
+
+    def __init__(
+        self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder,
+        guidance: Guidance,
+    ) -> None:  # fmt: skip
+        super().__init__(gait, simulator, terrain, recorder)
+        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        q = simulator.q
+        self.attitude = attitude_and_velocity(q, simulator.v)
+        self.guidance, self.nominal = guidance, gait.nominal_height()
+        guidance.begin(PlanarState(0.0, q.item(0), q.item(1), self.attitude[0], 0.0, 0.0))
+        self.command = np.zeros(2)
+        if guidance.fixed:  # set once: the state does not change it
+            start = PlanarState(simulator.time, *guidance.start, 0.0, 0.0)
+            self.command, yaw_rate = guidance.command(start)
+            gait.set_command(self.command, yaw_rate)
+        self._yaw = self._yaw_last = 0.0
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
+        """Steer the gait along the guidance; the feet's contact switches."""
+        self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
+        if not self.guidance.fixed:
+            state = PlanarState(now, q.item(0), q.item(1), yaw, vx, vy)
+            self.command, yaw_rate = self.guidance.command(state)
+            self.gait.set_command(self.command, yaw_rate)
+        return self.simulator.contact_switches(self.gait.contact_frames)
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Base low or tilted, or something else than a foot down (`has_fallen`)."""
+        _, pitch, roll, _, _ = self.attitude
+        tilt = max(abs(roll), abs(pitch))
+        return has_fallen(self.simulator, self.height(q), tilt, self.nominal, self.feet)
+
+    def unwrapped_yaw(self) -> float:
+        """This tick's yaw, continuous since the start (once per recorded row) [rad]."""
+        yaw = self.attitude[0]
+        self._yaw += wrap(yaw - self._yaw_last)
+        self._yaw_last = yaw
+        return self._yaw
 
 
 def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:

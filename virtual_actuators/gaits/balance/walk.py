@@ -27,19 +27,19 @@ from ..attitude import attitude_and_velocity
 from ..base import Walk, WalkRequest
 from ..push import Push
 from ..runner import (
-    FALL_PITCH,
+    TRACE_RATE,
     Episode,
     WalkFigures,
     WalkResult,
     allowed_geoms,
+    has_fallen,
     number,
     trace_of,
-)
+)  # fmt: skip
 from ..walk_loop import drive
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
-TRACE_RATE = 100.0  # [Hz]
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min", "fallen")
 #: The first seconds, while the robot settles on the ground, are left out of the contact figures.
 SETTLE_TIME = 0.1
@@ -127,21 +127,26 @@ class BalanceResult(WalkResult):
 
 
 class BalanceEpisode(Episode):
-    """A balance run under `drive`: push, judge, record."""
+    """A balance run under `drive`: push, judge, record `CHANNELS` at `TRACE_RATE`.
+
+    Attributes:
+        start: The configuration at the start.
+        stand_height: The base's height above the terrain at the start [m].
+    """
 
     def __init__(
         self, gait: Balancer, simulator: Simulator, terrain: Terrain, recorder: Recorder,
         push: Push | None,
-    ) -> None:
+    ) -> None:  # fmt: skip
         super().__init__(gait, simulator, terrain, recorder)
         self.push, self.pushed = push, push is None
         self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
         self.start = simulator.q.copy()
-        self.height = float(self.start[2] - terrain.height(self.start[0]))
+        self.stand_height = self.height(self.start)
         model = gait.robot.model
         joints = {model.frames[model.getFrameId(f)].parentJoint for f in gait.contacts}
-        self.feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
-        self.allowed_geoms = allowed_geoms(simulator, self.feet.__contains__)
+        feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
+        self.feet = allowed_geoms(simulator, feet.__contains__)
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> None:
@@ -153,12 +158,10 @@ class BalanceEpisode(Episode):
         return None
 
     def fallen(self, q: np.ndarray) -> bool:
-        """Tilted, low, or touching the ground with something else than a foot."""
+        """Tilted, low, or touching the ground with something else than a foot (`has_fallen`)."""
         _, pitch, roll, _, _ = self.attitude
-        height = float(q[2] - self.terrain.height(q[0]))
-        if height < 0.5 * self.height or math.hypot(roll, pitch) > FALL_PITCH:
-            return True
-        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= feet
+        tilt = math.hypot(roll, pitch)
+        return has_fallen(self.simulator, self.height(q), tilt, self.stand_height, self.feet)
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
@@ -166,11 +169,8 @@ class BalanceEpisode(Episode):
         """One sample of `CHANNELS`."""
         yaw, pitch, roll, vx, vy = self.attitude
         normal = float(self.simulator.contact_forces(self.gait.contacts)[:, 2].min())
-        self.recorder.append(
-            state=0, time=now, x=q[0], y=q[1], z=float(q[2] - self.terrain.height(q[0])),
-            roll=roll, pitch=pitch, yaw=yaw, vx=vx, vy=vy, normal_min=normal,
-            fallen=float(fallen),
-        )
+        row = (now, q.item(0), q.item(1), self.height(q), roll, pitch, yaw, vx, vy, normal)
+        self.recorder.append_row((*row, float(fallen)), 0)
 
 
 def run_balance(
@@ -248,7 +248,7 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
         max_tilt_rad=float(tilt.max()),
         max_drift_m=float(drift.max()),
         final_drift_m=float(drift[-1]),
-        height_error_m=float(log["z"][last].mean() - episode.height),
+        height_error_m=float(log["z"][last].mean() - episode.stand_height),
         stance_normal_min_n=float(settled.min()) if len(settled) else math.nan,
         implausible_limits=tuple(implausible_effort_limits(gait.robot)),
     )

@@ -169,6 +169,26 @@ def trace_of(log: WalkLog, extra: tuple[str, ...] = ()) -> dict[str, list]:
     return trace
 
 
+def summary_line(metrics: Any, parts: list[str], labelled: tuple, after: tuple = ()) -> str:
+    """``parts``, the ``(label, value)`` measured, ``after``, the fall, real time, smoothness.
+
+    ``metrics`` has ``fell``, ``fall_time_s``, ``realtime_factor``, ``physics_realtime_factor``
+    and ``smoothness_summary()``.
+    """
+    parts += [f"{label} {value:z.3f}" for label, value in labelled if value is not None]
+    parts += after
+    if metrics.fell:
+        parts.append(f"FELL at {metrics.fall_time_s:z.2f} s")
+    if metrics.realtime_factor is not None:
+        parts.append(
+            f"{metrics.realtime_factor:z.2f}x real time (MuJoCo alone "
+            f"{metrics.physics_realtime_factor:z.1f}x)"
+        )
+    if smoothness := metrics.smoothness_summary():
+        parts.append(smoothness)
+    return ", ".join(parts)
+
+
 def terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
     """Terrain vertices for plots: at least two, covering the walk's likely reach."""
     points = np.asarray(terrain.points, dtype=float)

@@ -236,16 +236,6 @@ def check_distribution(distribution: object) -> bool:
     return distribution == "qp"
 
 
-def describe_options(options: Mapping[str, Any]) -> str:
-    """`` (robot 'go2', gait 'pace', track)`` for the options given, or ``""``."""
-    named = [
-        key if value is True else f"{key} {value!r}"
-        for key, value in options.items()
-        if value not in (None, False)
-    ]
-    return f" ({', '.join(named)})" if named else ""
-
-
 @dataclass(frozen=True, slots=True)
 class Walk:
     """How to run one of the walks (a gait folder's registration, see ``WALKS``).
@@ -259,7 +249,7 @@ class Walk:
         duration: Default simulated time [s].
         draw: A result's matplotlib figure: ``draw(result, window)`` (see `plot`).
         description: One line for the command-line help.
-        make_gait: Builds the gait from robot, desired speed and parameters (None: ``run`` does).
+        gait: The gait's class, which a planar walk builds (None: ``run`` builds the gait).
         push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
         push_time: [s].
         options: The walk's own keyword options of ``run`` (and command-line options).
@@ -280,7 +270,7 @@ class Walk:
     duration: float
     draw: Callable[..., Any]
     description: str
-    make_gait: Callable[..., Gait] | None = None
+    gait: type[Gait] | None = None
     push: float = 0.0
     push_time: float = 0.0
     options: tuple[str, ...] = ()
@@ -338,8 +328,10 @@ class Walk:
             return  # None: the walk's default; not a number: the walk's own check refuses it
         low, high = supported
         if not low - 1e-9 <= speed <= high + 1e-9:
-            raise InvalidInputError(
-                f"{self.name}{describe_options(options)} walks at desired speeds from {low:g} "
+            given = {k: v for k, v in options.items() if v not in (None, False)}
+            named = ", ".join(k if v is True else f"{k} {v!r}" for k, v in given.items())
+            raise InvalidInputError(  # named: " (robot 'go2', gait 'pace', track)" or ""
+                f"{self.name}{f' ({named})' if named else ''} walks at desired speeds from {low:g} "
                 f"to {high:g} m/s, got {speed:g} m/s: give a speed in that range, or "
                 f"{forced_by} to run it anyway."
             )
@@ -380,22 +372,23 @@ class WalkRequest:
         """``(progress, on_tick, stop_on_fall)``: the loop's arguments, in a walk's order."""
         return self.progress, self.on_tick, self.stop_on_fall
 
-    def configured(self, config: type, speed: float | None = None) -> tuple[Any, object | None]:
-        """A walk's configuration dataclass built from the request, and the parameters.
+    def run_with(self, run: Callable[..., Any], config: type) -> Any:
+        """``run(config, parameters, *loop)``, ``config`` a walk's dataclass built from the request.
 
-        ``speed`` replaces the request's (None: the request's); the distribution is the given
-        one, else the parameters', else ``"qp"``.
+        The speed is the given one, else `Walk.default_speed`; the distribution the given one
+        (into the parameters too), else the parameters', else ``"qp"``.
 
         Raises:
-            InvalidInputError: What ``config`` raises (a bad option, speed or distribution).
+            InvalidInputError: What ``config`` or ``run`` raises (a bad option, speed, ...).
         """
         parameters, distribution = self.parameters, self.distribution
         if distribution is None:
             distribution = "qp" if parameters is None else parameters.distribution
         elif parameters is not None:
             parameters = replace(parameters, distribution=distribution)
+        speed = self.walk.default_speed(**self.options) if self.speed is None else self.speed
         built = config(
-            speed=self.speed if speed is None else speed, terrain=self.terrain,
-            duration=self.duration, seed=self.seed, distribution=distribution, **self.options,
+            speed=speed, terrain=self.terrain, duration=self.duration, seed=self.seed,
+            distribution=distribution, **self.options,
         )  # fmt: skip
-        return built, parameters
+        return run(built, parameters, *self.loop)

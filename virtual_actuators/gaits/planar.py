@@ -133,14 +133,13 @@ class GrannyConstants(Protocol):
     weight: float | None
 
 
-def biped_weight(robot: Robot, weight: float | None) -> float:
-    """The z feed-forward [N]: ``weight``, or the robot's mass times g when None."""
-    return robot.mass * 9.81 if weight is None else weight
+def granny_walker(parameters: GrannyConstants, height: float, robot: Robot) -> GrannyWalker:
+    """The body's spring-dampers on height and pitch, the weight fed forward on z.
 
-
-def granny_walker(parameters: GrannyConstants, height: float, weight: float) -> GrannyWalker:
-    """The body's spring-dampers on height and pitch, with ``weight`` [N] fed forward on z."""
+    The weight is ``parameters.weight``, or the robot's mass times g when None [N].
+    """
     p = parameters
+    weight = robot.mass * 9.81 if p.weight is None else p.weight
     return GrannyWalker(
         height,
         stiffness=(p.stiffness_z, p.stiffness_pitch),

@@ -26,11 +26,6 @@ RECORD_EVERY = 4  # the log's rows: every this many ticks (250 Hz; the efforts: 
 BODY_ATTACHMENTS = ("double", "left_stance", "right_stance")
 
 
-def with_speed(parameters, speed: float | None):
-    """``parameters`` with ``speed`` (unchanged for None)."""
-    return parameters if speed is None else dataclasses.replace(parameters, speed=speed)
-
-
 def run_planar_walk(request: WalkRequest) -> WalkResult:
     """Simulate a planar biped's walk and measure it (a `Walk`'s ``run``).
 
@@ -71,10 +66,13 @@ def _prepare(
     seed: int | None,
     parameters: object | None,
 ) -> PlanarEpisode:
-    """The robot, its gait, the terrain, the simulator (reset and pushed) and the recorder."""
+    """The robot, its gait (at ``speed`` if given), the terrain, the simulator and the recorder."""
     terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     robot = load_robot(walk.robot)
-    gait = walk.make_gait(robot, speed, parameters)
+    parameters = parameters or walk.parameters()
+    if speed is not None:
+        parameters = dataclasses.replace(parameters, speed=speed)
+    gait = walk.gait(robot, parameters, initial="double_support")
     simulator = Simulator(robot, terrain_model)
     q0 = gait.initial_configuration()
     q0[_index(robot, "boom_z")] += float(terrain_model.height(0.0))

@@ -113,7 +113,11 @@ class Balancer(Gait):
         damping = np.concatenate((move.damping[:3], tilt.damping[3:]))
         about_feet = parameters.tilt_about_feet
         if about_feet or (about_feet is None and not self.flat):  # the inertia about the feet
-            height = float(robot.center_of_mass(q0)[2] - _lowest(robot, self.contacts, q0))
+            data = robot.model.createData()
+            pin.framesForwardKinematics(robot.model, data, q0)
+            ids = (robot.model.getFrameId(frame) for frame in self.contacts)
+            lowest = min(float(data.oMf[i].translation[2]) for i in ids)  # [m]
+            height = float(robot.center_of_mass(q0)[2] - lowest)
             pendulum = gains(robot.mass * height**2, parameters.tilt_frequency, damping_ratio)
             stiffness[3:5] += pendulum.stiffness
             damping[3:5] += pendulum.damping
@@ -199,10 +203,3 @@ class Balancer(Gait):
         self.spring.setpoint = sensor.position(snapshot)
         self.controller.reset(self.machine.current.active, snapshot, 0.0)
 
-
-def _lowest(robot: Robot, frames: tuple[str, ...], q: np.ndarray) -> float:
-    """The lowest of some frames' heights at ``q`` [m]."""
-    model = robot.model
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, q)
-    return min(float(data.oMf[model.getFrameId(frame)].translation[2]) for frame in frames)

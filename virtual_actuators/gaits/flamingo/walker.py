@@ -21,7 +21,6 @@ from ..planar import (
     PLANAR_AXES,
     SIDES,
     biped_states,
-    biped_weight,
     declare_biped,
     granny_walker,
     lift_profile,
@@ -71,14 +70,13 @@ class FlamingoWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or FlamingoParameters()
-        weight = biped_weight(robot, p.weight)  # [N]
         self.memory = Memory(
             slope=0.0, slope_origin=(0.0, 0.0), hip_height=p.hip_height(0.0), height_time=0.0,
             front=0.0, swing_start=(0.0, 0.0), swing_target_x=0.0, swing_started=0.0,
             swing_hip_x=0.0,
         )  # fmt: skip
-        self.granny = granny_walker(p, self.hip_height, weight)
-        self.granny.limit = ((1.0 - p.min_lift) * weight, np.inf)
+        self.granny = granny_walker(p, self.hip_height, robot)
+        self.granny.limit = ((1.0 - p.min_lift) * self.granny.force[0], np.inf)  # [N]
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, PLANAR_AXES)
         self._declare_actuators()

@@ -20,7 +20,7 @@ from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, WalkRequest
+from ..base import Walk
 from ..guidance import Guidance, SinePath, TrackObject, check_path, path_guidance
 from ..runner import (
     TRACE_CHANNELS,
@@ -249,17 +249,6 @@ class HexapodEpisode(FloatingEpisode):
         )
 
 
-def run_request(request: WalkRequest) -> HexapodResult:
-    """The hexapod's walk as `run_walk` starts it (`Walk.run`).
-
-    Raises:
-        InvalidInputError: A bad configuration.
-    """
-    default = request.walk.default_speed(**request.options) if request.speed is None else None
-    config, parameters = request.configured(HexapodWalkConfig, default)
-    return run_hexapod_walk(config, parameters, *request.loop)
-
-
 def draw_hexapod_walk(result: HexapodResult, window: None = None) -> Any:
     """A hexapod walk's figure (`draw_hexapod`, with its summary)."""
     from .plots import draw_hexapod
@@ -267,22 +256,10 @@ def draw_hexapod_walk(result: HexapodResult, window: None = None) -> Any:
     return draw_hexapod(result.log, summary=result.metrics.summary())
 
 
-def hexapod_speed(pendulum: bool = False, track: bool = False, **options: Any) -> float:
-    """The hexapod's own desired speed [m/s]: slower with the pendulum or tracking."""
-    return 0.2 if (pendulum or track) else 0.4
-
-
-def hexapod_speeds(
-    pendulum: bool = False, track: bool = False, **options: Any
-) -> tuple[float, float]:
-    """The supported desired speeds [m/s]: slower with the pendulum or tracking (measured)."""
-    return (0.1, 0.4) if (pendulum or track) else (0.1, 1.0)
-
-
 WALK = Walk(
     name="hexapod-walk",
     robot="hexapod",
-    run=run_request,
+    run=lambda request: request.run_with(run_hexapod_walk, HexapodWalkConfig),
     parameters=HexapodParameters,
     terrain="flat",
     duration=10.0,
@@ -292,6 +269,7 @@ WALK = Walk(
     options=("direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track"),
     force_scale=1 / 100,
     viewer_robot=lambda pendulum=False, **_: hexapod_robot(pendulum),
-    speeds_for=hexapod_speeds,
-    nominal_speed=hexapod_speed,
+    # the supported speeds (measured) and the own one [m/s]: slower with the pendulum or tracking
+    speeds_for=lambda pendulum=False, track=False, **_: (0.1, 0.4 if pendulum or track else 1.0),
+    nominal_speed=lambda pendulum=False, track=False, **_: 0.2 if pendulum or track else 0.4,
 )

@@ -240,15 +240,6 @@ class HexapodWalker(Gait):
             down = logical_and(down, switches.get(f"foot_{i}", 0.0))
         return logical_or(phase >= 1.0, down)
 
-    def _balance(self, context: Context, pitch: object, pitch_rate: object) -> None:
-        """The pendulum's LQR: the planar damper's force along the heading."""
-        iq, iv = self._pendulum_index
-        memory = self.memory
-        memory.pendulum = angle = context.q[iq] + pitch
-        rate = context.v[iv] + pitch_rate
-        error = (angle, rate, memory.body_velocity[0] - memory.setpoint[0])
-        self.planar.force = (-dot(self._gain, error), 0.0)
-
     def _body_state(self, context: Context) -> object:
         """Update the heading inputs, measured velocity and pendulum; the body's height [m]."""
         memory, p = self.memory, self.parameters
@@ -289,10 +280,14 @@ class HexapodWalker(Gait):
         self.planar.velocity = (sx, sy)
         self.planar.yaw = yaw
         self.attitude.yaw_rate = yaw_rate
-        if self._pendulum_index is not None:  # free-flyer angular velocity: body axes
-            omega = (velocity[3], velocity[4], velocity[5])
+        if self._pendulum_index is not None:  # the LQR: the planar damper's force along the heading
+            omega = (velocity[3], velocity[4], velocity[5])  # the free flyer's, body axes
             world = [dot(row, omega) for row in r[:2]]
-            self._balance(context, pitch, -s * world[0] + c * world[1])
+            iq, iv = self._pendulum_index
+            memory.pendulum = angle = context.q[iq] + pitch
+            rate = context.v[iv] + (-s * world[0] + c * world[1])
+            error = (angle, rate, memory.body_velocity[0] - memory.setpoint[0])
+            self.planar.force = (-dot(self._gain, error), 0.0)
         return position[2]
 
     def _feet(self, context: Context) -> list:

@@ -17,9 +17,10 @@ from ...exceptions import InvalidInputError
 from ...experiments.plot_panels import new_figure, set_heading
 from ...experiments.recorder import Recorder
 from ...models.loader import load_robot
+from ...models.names import ALIASES
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, WalkRequest
+from ..base import Walk
 from ..guidance import PlanarState, SinePath, TrackObject, check_path, path_guidance
 from ..push import Push
 from ..runner import (
@@ -34,7 +35,6 @@ from ..walk_loop import drive
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
 from .patterns import PATTERNS
-from .speeds import legged_speeds
 from .walker import LeggedWalker
 
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
@@ -42,7 +42,38 @@ CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 #: The legged walk's own desired speed [m/s], before it is moved into the pattern's range.
 NOMINAL_SPEED = 0.4
 
-__all__ = ["LeggedResult", "LeggedWalkConfig", "bearing_error", "run_legged_walk", "sine_error"]
+#: The supported desired speeds ``{pattern: {robot (file stem) or None: (low, high)}}`` [m/s],
+#: measured (each range's ends walk 4 s on flat ground); another robot gets the ``None`` entry,
+#: and the trot has none (an unmeasured robot trots at any speed).
+LEGGED_SPEEDS: dict[str, dict[str | None, tuple[float, float]]] = {
+    "trot": {
+        "go2": (0.1, 1.5),
+        "solo12": (0.1, 0.8),
+        "anymal": (0.1, 1.0),
+        "anymal_c": (0.1, 1.0),
+        "hyq_no_sensors": (0.1, 1.0),
+    },
+    "pace": {None: (0.1, 0.4)},
+    "walk": {"hexapod": (0.05, 0.3), None: (0.05, 0.2)},
+    "tripod": {None: (0.1, 0.8)},
+}
+
+
+def legged_speeds(
+    robot: str = "solo12", gait: str = "trot", **options: Any
+) -> tuple[float, float] | None:
+    """The supported desired speeds ``(low, high)`` [m/s] of ``robot`` walking ``gait``, or None.
+
+    An unknown pattern gets the trot's (the walk itself refuses it).
+    """
+    table = LEGGED_SPEEDS.get(gait, LEGGED_SPEEDS["trot"])
+    name = ALIASES.get(str(robot), str(robot))
+    return table.get(name, table.get(None))
+
+__all__ = [
+    "LEGGED_SPEEDS", "LeggedResult", "LeggedWalkConfig", "bearing_error", "legged_speeds",
+    "run_legged_walk", "sine_error",
+]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -232,16 +263,6 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
     )
 
 
-def run_request(request: WalkRequest) -> LeggedResult:
-    """The legged walk as `run_walk` starts it (`Walk.run`).
-
-    Raises:
-        InvalidInputError: A bad configuration.
-    """
-    config, parameters = request.configured(LeggedWalkConfig)
-    return run_legged_walk(config, parameters, *request.loop)
-
-
 def draw_legged_walk(result: LeggedResult, window: None = None) -> Any:
     """The path and the attitude of a legged walk, titled by the robot, gait and summary."""
     trace = result.trace()
@@ -262,7 +283,7 @@ def draw_legged_walk(result: LeggedResult, window: None = None) -> Any:
 WALK = Walk(
     name="legged",
     robot="solo12",
-    run=run_request,
+    run=lambda request: request.run_with(run_legged_walk, LeggedWalkConfig),
     parameters=LeggedParameters,
     terrain="flat",
     duration=4.0,

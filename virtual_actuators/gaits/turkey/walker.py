@@ -14,7 +14,6 @@ from ..base import Gait, check_distribution
 from ..planar import (
     SIDES,
     biped_states,
-    biped_weight,
     declare_biped,
     granny_walker,
     lift_profile,
@@ -49,8 +48,7 @@ class TurkeyWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or TurkeyParameters()
-        weight = biped_weight(robot, p.weight)  # [N]
-        self.granny = granny_walker(p, p.height, weight)
+        self.granny = granny_walker(p, p.height, robot)
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, ("x", "z"))
         self._declare_actuators()

@@ -12,17 +12,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..components.slots import slot
-from ..control.context import Context
 from ..control.controller import Controller, ControlOutput
 from ..control.machine_controller import MachineController
 from ..control.plan.compiled import CompiledMachine
-from ..control.state_machine import Event, StateMachine
+from ..control.state_machine import StateMachine
 from ..control.tick_rate import TickRate, bound_tick_rate
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.scalar import logical_and
-from ..vocabulary.traced import lowerable
-from .planar import SIDES
 
 if TYPE_CHECKING:
     from ..simulation.simulator import Simulator
@@ -114,18 +110,6 @@ class Gait:
         states = [(state.active, state.support) for state in self.machine.states]
         q = self.initial_configuration()
         return bound_tick_rate(self.controller, q, states, 1.0 / control_rate)
-
-    def _front_is(self, side: str, event: Event) -> Event:
-        """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""
-        index = float(SIDES.index(side))
-
-        @lowerable
-        def front_is(context: Context) -> object:
-            if isinstance(context, Context):
-                return self.memory.front == index and event(context)
-            return logical_and(self.memory.front == index, context.event(event))
-
-        return front_is
 
     def initial_configuration(self) -> np.ndarray:
         """Where a simulation of this gait starts (default: the robot's standing pose)."""

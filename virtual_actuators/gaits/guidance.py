@@ -41,9 +41,10 @@ def wrap(angle: float) -> float:
 
 
 def _finite(what: str, **values: float) -> None:
+    """Refuse a value that is not a finite number (the message starts with ``what``)."""
     for name, value in values.items():
         if not (isinstance(value, (int, float)) and math.isfinite(value)):
-            raise InvalidInputError(f"{what}: {name} must be a finite number, got {value!r}.")
+            raise InvalidInputError(f"{what}{name} must be a finite number, got {value!r}.")
 
 
 class Guidance:
@@ -88,7 +89,7 @@ class VelocityCommand(Guidance):
 
     def __init__(self, speed: float, direction: float = 0.0, yaw_rate: float = 0.0) -> None:
         super().__init__()
-        _finite("VelocityCommand", speed=speed, direction=direction, yaw_rate=yaw_rate)
+        _finite("VelocityCommand: ", speed=speed, direction=direction, yaw_rate=yaw_rate)
         if speed < 0.0:
             raise InvalidInputError(f"VelocityCommand: speed must be >= 0, got {speed}.")
         self.velocity = speed * np.array((math.cos(direction), math.sin(direction)))
@@ -122,7 +123,7 @@ class SinePath(Guidance):
         heading_gain: float = 4.0,
     ) -> None:
         super().__init__()
-        _finite("SinePath", speed=speed, amplitude=amplitude, wavelength=wavelength)
+        _finite("SinePath: ", speed=speed, amplitude=amplitude, wavelength=wavelength)
         if speed <= 0.0 or wavelength <= 0.0:
             raise InvalidInputError(
                 f"SinePath: speed and wavelength must be > 0, got {speed}, {wavelength}."
@@ -181,7 +182,7 @@ class TrackObject(Guidance):
         gain: float = 6.0,
     ) -> None:
         super().__init__()
-        _finite("TrackObject", radius=radius, angular_speed=angular_speed, gain=gain)
+        _finite("TrackObject: ", radius=radius, angular_speed=angular_speed, gain=gain)
         if radius <= 0.0:
             raise InvalidInputError(f"TrackObject: radius must be > 0, got {radius}.")
         self.walk = VelocityCommand(speed, direction)
@@ -223,10 +224,8 @@ def check_path(config: object) -> None:
             yaw rate or tracking, tracking with a yaw rate, or an unknown distribution.
     """
     c = config
-    for name in ("speed", "direction", "yaw_rate", "duration", "amplitude", "wavelength"):
-        value = getattr(c, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value)):
-            raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
+    names = ("speed", "direction", "yaw_rate", "duration", "amplitude", "wavelength")
+    _finite("", **{name: getattr(c, name) for name in names})
     check_speed_bound(c.speed)
     if c.duration <= 0.0:
         raise InvalidInputError(f"duration must be > 0 s, got {c.duration}.")

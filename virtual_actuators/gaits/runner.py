@@ -129,7 +129,7 @@ class WalkResult:
 
 @dataclass
 class ConfiguredResult(WalkResult):
-    """A walk's result with its configuration and tick count (its ``trace()`` the walk's own).
+    """A walk's result with its configuration and tick count.
 
     Attributes:
         config: What was walked.
@@ -140,8 +140,8 @@ class ConfiguredResult(WalkResult):
     ticks: int = 0
 
     def trace(self) -> dict[str, list]:
-        """Equal-length lists of the walk's trace."""
-        raise NotImplementedError
+        """Equal-length lists of the walk's trace (here `trace_of` the log)."""
+        return trace_of(self.log)
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates (the distance is the straight line from start to end)."""

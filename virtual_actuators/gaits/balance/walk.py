@@ -10,14 +10,16 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
+from ...experiments.plot_panels import FORCE_STYLE, new_figure, set_heading
 from ...experiments.recorder import Recorder
 from ...experiments.smoothness import SmoothnessFigures
+from ...experiments.walk_log import WalkLog
 from ...models.efforts import implausible_effort_limits
 from ...models.loader import load_robot
 from ...models.robot import Robot
@@ -40,11 +42,17 @@ from ..walk_loop import drive
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min", "fallen")
 #: The first seconds, while the robot settles on the ground, are left out of the contact figures.
 SETTLE_TIME = 0.1
 
-__all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "run_balance"]
+__all__ = [
+    "CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "draw_balance_log",
+    "run_balance",
+]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -270,10 +278,35 @@ def run_request(request: WalkRequest) -> BalanceResult:
     )  # fmt: skip
 
 
-def draw_balance(result: BalanceResult, window: None = None) -> Any:
-    """A balance run's figure (`draw_balance_log`, titled by its summary)."""
-    from .plots import draw_balance_log
+PANELS = (
+    (("x", "y"), "drift [m]", True),
+    (("z",), "height [m]", False),
+    (("roll", "pitch"), "tilt [rad]", False),
+    (("vx", "vy"), "velocity [m/s]", False),
+)
 
+
+def draw_balance_log(log: WalkLog, summary: str = "") -> Figure:
+    """The body's drift, height, roll and pitch, and horizontal velocity, ``summary`` its title."""
+    figure = new_figure(8.0, 8.0, dpi=110)
+    axes = figure.subplots(len(PANELS), 1, sharex=True)
+    t = log.time
+    for ax, (names, label, relative) in zip(axes, PANELS, strict=True):
+        for k, name in enumerate(names):
+            values = log[name] - log[name][0] if relative else log[name]
+            style = FORCE_STYLE if k else {"color": "C0", "lw": 1.2}
+            ax.plot(t, values, label=name, **style)
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.legend(loc="upper right", fontsize=7)
+    axes[-1].set_xlabel("time [s]")
+    if summary:
+        set_heading(figure, summary, fontsize=9)
+    return figure
+
+
+def draw_balance(result: BalanceResult, window: None = None) -> Figure:
+    """A balance run's figure (`draw_balance_log`, titled by its summary)."""
     return draw_balance_log(result.log, summary=result.metrics.summary())
 
 

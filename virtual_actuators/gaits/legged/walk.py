@@ -135,10 +135,6 @@ class LeggedResult(ConfiguredResult):
     gait: LeggedWalker
     config: LeggedWalkConfig = field(default_factory=LeggedWalkConfig)
 
-    def trace(self) -> dict[str, list]:
-        """The base's ``t, x, y, z, roll, pitch, yaw, vx, vy`` at `TRACE_RATE`, and ``state``."""
-        return trace_of(self.log)
-
 
 class LeggedEpisode(FloatingEpisode):
     """A legged walk under `drive`: the push, `CHANNELS` at `TRACE_RATE`.

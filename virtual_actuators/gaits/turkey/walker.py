@@ -10,9 +10,10 @@ from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ...vocabulary.scalar import maximum, minimum, select
 from ...vocabulary.traced import lowerable
-from ..base import Gait, check_distribution
+from ..base import check_distribution
 from ..planar import (
     SIDES,
+    PlanarBiped,
     biped_states,
     declare_biped,
     granny_walker,
@@ -24,7 +25,7 @@ from ..planar import (
 from .parameters import TurkeyParameters
 
 
-class TurkeyWalker(Gait):
+class TurkeyWalker(PlanarBiped):
     """Spring Turkey's turkey walking on level ground (VMC section 5, Table 1).
 
     Args:
@@ -38,7 +39,6 @@ class TurkeyWalker(Gait):
         JointNotFoundError: The robot lacks the joints above.
     """
 
-    step_states = ("left_support", "right_support")
 
     def __init__(
         self,
@@ -54,11 +54,6 @@ class TurkeyWalker(Gait):
         self._declare_actuators()
         self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
-
-    @property
-    def front(self) -> str:
-        """The foot ahead in double support (``"left"`` or ``"right"``)."""
-        return SIDES[int(self.memory.front)]
 
     @property
     def ground(self) -> float:

@@ -16,16 +16,12 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import requires_core
+from oracles import requires_core, yaw_pitch_roll
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.control.state_machine import Context
-from virtual_actuators.gaits.attitude import (
-    attitude_and_velocity,
-    rotation_vector_angles,
-    yaw_pitch_roll,
-)
+from virtual_actuators.gaits.attitude import attitude_and_velocity, rotation_vector_angles
 from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import HeadingAttitude, HeadingDamper
 from virtual_actuators.gaits.hexapod.footholds import behind

@@ -210,9 +210,9 @@ def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
 def test_heading_angles_are_those_of_pinocchios_exp3():
     """The body model's angles from the rotation vector: the same bits as from ``pin.exp3``."""
     import pinocchio as pin
+    from oracles import yaw_pitch_roll
 
     from virtual_actuators.gaits.attitude import rotation_vector_angles as heading_angles
-    from virtual_actuators.gaits.attitude import yaw_pitch_roll
 
     rng = np.random.default_rng(5)
     vectors = [rng.normal(size=3) * scale for scale in (1e-9, 1e-5, 1e-3, 0.3, 1.0, 3.0)]

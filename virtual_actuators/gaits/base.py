@@ -240,8 +240,8 @@ class Walk:
         plot_window: Whether ``draw`` draws a time window (``--window``).
         force_scale: Viewer arrow length per newton [m/N].
         viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
-        speeds: The supported desired speeds ``(low, high)`` [m/s] (None: takes no speed).
-        speeds_for: The supported speeds from the walk's options (None: `speeds`).
+        speeds: The supported desired speeds ``(low, high)`` [m/s], or a function of the options
+            returning them (None: the walk takes no speed).
         nominal_speed: The gait's own desired speed [m/s], or a function of the options
             returning it (None: the walk takes no speed).
     """
@@ -261,8 +261,7 @@ class Walk:
     plot_window: bool = False
     force_scale: float = 1 / 250
     viewer_robot: Callable[..., Robot] | None = None
-    speeds: tuple[float, float] | None = None
-    speeds_for: Callable[..., tuple[float, float]] | None = None
+    speeds: tuple[float, float] | Callable[..., tuple[float, float] | None] | None = None
     nominal_speed: float | Callable[..., float] | None = None
 
     def plot(self, result: Any, path: str | os.PathLike[str], window: Any = None) -> Path:
@@ -277,7 +276,7 @@ class Walk:
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""
-        return self.speeds if self.speeds_for is None else self.speeds_for(**options)
+        return self.speeds(**options) if callable(self.speeds) else self.speeds
 
     def default_speed(self, **options: Any) -> float | None:
         """The desired speed [m/s] of a run given none: `nominal_speed` clipped to `speed_range`.

@@ -270,6 +270,6 @@ WALK = Walk(
     force_scale=1 / 100,
     viewer_robot=lambda pendulum=False, **_: hexapod_robot(pendulum),
     # the supported speeds (measured) and the own one [m/s]: slower with the pendulum or tracking
-    speeds_for=lambda pendulum=False, track=False, **_: (0.1, 0.4 if pendulum or track else 1.0),
+    speeds=lambda pendulum=False, track=False, **_: (0.1, 0.4 if pendulum or track else 1.0),
     nominal_speed=lambda pendulum=False, track=False, **_: 0.2 if pendulum or track else 0.4,
 )

@@ -146,12 +146,8 @@ class BodyModel(SizedSlots, Slotted, Component):
         )
         self._mass = float(mass)
         self.gains = gains
-        self.height = 0.0
-        self.velocity = (0.0, 0.0)
-        self.acceleration = (0.0, 0.0)
-        self.yaw_rate = 0.0
-        self.lever = (0.0, 0.0, 0.0)
-        self.missing = (0.0,) * 6
+        for name, size in self.SIZES.items():  # every set point at zero
+            setattr(self, name, (0.0,) * size)
 
     @property
     def gains(self) -> LeggedGains:

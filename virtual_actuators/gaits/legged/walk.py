@@ -292,6 +292,6 @@ WALK = Walk(
     ),
     force_scale=1 / 250,
     viewer_robot=lambda robot="solo12", **_: load_robot(robot),
-    speeds_for=legged_speeds,
+    speeds=legged_speeds,
     nominal_speed=NOMINAL_SPEED,
 )

@@ -66,7 +66,11 @@ def _prepare(
     seed: int | None,
     parameters: object | None,
 ) -> PlanarEpisode:
-    """The robot, its gait (at ``speed`` if given), the terrain, the simulator and the recorder."""
+    """The robot, its gait (at ``speed`` if given), the terrain, the simulator and the recorder.
+
+    Raises:
+        InvalidInputError: ``seed`` is neither None nor an int.
+    """
     terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     robot = load_robot(walk.robot)
     parameters = parameters or walk.parameters()
@@ -77,7 +81,12 @@ def _prepare(
     q0 = gait.initial_configuration()
     q0[_index(robot, "boom_z")] += float(terrain_model.height(0.0))
     simulator.reset(q0)
-    push, push_time = _push(walk, seed)
+    push, push_time = walk.push, walk.push_time  # [N], [s], varied by a seed
+    if seed is not None:
+        if isinstance(seed, bool) or not isinstance(seed, int | np.integer):
+            raise InvalidInputError(f"seed must be an int or None, got {seed!r}.")
+        force_scale, time_scale = np.random.default_rng(int(seed)).uniform(0.7, 1.3, size=2)
+        push, push_time = push * float(force_scale), push_time * float(time_scale)
     simulator.push(np.array([push, 0.0, 0.0]), frame="body", duration=push_time)
     recorder = Recorder(
         STANDARD_CHANNELS,
@@ -95,21 +104,6 @@ def _prepare(
         },
     )
     return PlanarEpisode(gait, simulator, terrain_model, recorder)
-
-
-def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
-    """The start-up push ``(force [N], duration [s])``, varied by ``seed``.
-
-    Raises:
-        InvalidInputError: ``seed`` is neither None nor an int.
-    """
-    push, push_time = walk.push, walk.push_time  # [N], [s]
-    if seed is not None:
-        if isinstance(seed, bool) or not isinstance(seed, int | np.integer):
-            raise InvalidInputError(f"seed must be an int or None, got {seed!r}.")
-        force_scale, time_scale = np.random.default_rng(int(seed)).uniform(0.7, 1.3, size=2)
-        push, push_time = push * float(force_scale), push_time * float(time_scale)
-    return push, push_time
 
 
 class PlanarEpisode(Episode):

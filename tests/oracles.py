@@ -8,6 +8,7 @@ a bug in the library cannot hide in the reference.
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 import pinocchio as pin
@@ -68,6 +69,12 @@ def full_wrench(axes, wrench) -> np.ndarray:
     for axis, value in zip(axes, wrench, strict=True):
         out[AXES.index(axis)] = value
     return out
+
+
+def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
+    """Z-Y-X angles of a rotation matrix ``R = Rz(yaw) Ry(pitch) Rx(roll)`` [rad]."""
+    (r00, _, _), (r10, _, _), (r20, r21, r22) = np.asarray(rotation, dtype=float).tolist()
+    return math.atan2(r10, r00), math.asin(max(-1.0, min(1.0, -r20))), math.atan2(r21, r22)
 
 
 def axis_rows(axes) -> list[int]:

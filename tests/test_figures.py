@@ -27,7 +27,7 @@ from virtual_actuators.experiments.plot_panels import (
 from virtual_actuators.experiments.plots import draw_terrain, draw_walk
 from virtual_actuators.experiments.recorder import Recorder
 from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
-from virtual_actuators.gaits.balance.plots import draw_balance_log
+from virtual_actuators.gaits.balance.walk import draw_balance_log
 from virtual_actuators.gaits.hexapod.plots import draw_hexapod
 
 STATES = ("double_support", "left_support", "left_support_2", "right_support", "right_support_2")

@@ -16,16 +16,12 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from oracles import requires_core
+from oracles import requires_core, yaw_pitch_roll
 
 import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.control.state_machine import Context
-from virtual_actuators.gaits.attitude import (
-    attitude_and_velocity,
-    rotation_vector_angles,
-    yaw_pitch_roll,
-)
+from virtual_actuators.gaits.attitude import attitude_and_velocity, rotation_vector_angles
 from virtual_actuators.gaits.hexapod import HexapodWalker
 from virtual_actuators.gaits.hexapod.body import HeadingAttitude, HeadingDamper
 from virtual_actuators.gaits.hexapod.footholds import behind
@@ -146,23 +142,6 @@ def test_heading_components_match_world_springs_at_zero_yaw_and_turn_with_the_he
     c, s = math.cos(0.9), math.sin(0.9)
     world = np.array([c * 0.3 - s * 0.1, s * 0.3 + c * 0.1])  # exactly the commanded velocity
     assert damper.compute_wrench(np.zeros(2), world, 0.0) == pytest.approx([0.0, 0.0], abs=1e-12)
-
-
-def test_heading_components_float_paths_give_the_array_paths_bits():
-    """The controller's float path of both heading components: the same bits as the arrays."""
-    rng = np.random.default_rng(3)
-    attitude = HeadingAttitude((30.0, 40.0), (1.0, 2.0, 8.0))
-    damper = HeadingDamper((80.0, 60.0))
-    for _ in range(200):
-        attitude.roll, attitude.pitch, attitude.yaw_rate = rng.normal(scale=0.3, size=3)
-        rotation, omega = rng.normal(size=3), rng.normal(size=3)
-        floats = attitude.compute_wrench_floats(rotation.tolist(), omega.tolist(), 0.0)
-        assert np.array_equal(floats, attitude.compute_wrench(rotation, omega, 0.0))
-        damper.yaw = float(rng.uniform(-4.0, 4.0))
-        damper.velocity, damper.force = rng.normal(size=2), rng.normal(scale=5.0, size=2)
-        velocity = rng.normal(size=2)
-        floats = damper.compute_wrench_floats([0.0, 0.0], velocity.tolist(), 0.0)
-        assert np.array_equal(floats, damper.compute_wrench(np.zeros(2), velocity, 0.0))
 
 
 def test_rotation_vector_angles_are_those_of_pinocchios_exp3():

@@ -180,7 +180,7 @@ def _swing_oracle(start, nominal, body, motion, shape):
 @pytest.mark.parametrize("elapsed", [0.0, 0.07, 0.16, 0.25, 0.3])
 def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
     """The set points against the definitions, one tick then the next (the rate)."""
-    from virtual_actuators.gaits.legged.footholds import swing_setpoint
+    from virtual_actuators.gaits.legged.hooks import swing_setpoint
 
     rng = np.random.default_rng(3)
     shape = (0.25, 0.4, 0.12, 0.1, 0.05, 0.4, 0.004, 0.02)  # touchdown at 0.25 s
@@ -210,9 +210,9 @@ def test_swing_set_points_follow_the_foothold_and_the_curve(elapsed):
 def test_heading_angles_are_those_of_pinocchios_exp3():
     """The body model's angles from the rotation vector: the same bits as from ``pin.exp3``."""
     import pinocchio as pin
+    from oracles import yaw_pitch_roll
 
     from virtual_actuators.gaits.attitude import rotation_vector_angles as heading_angles
-    from virtual_actuators.gaits.attitude import yaw_pitch_roll
 
     rng = np.random.default_rng(5)
     vectors = [rng.normal(size=3) * scale for scale in (1e-9, 1e-5, 1e-3, 0.3, 1.0, 3.0)]

@@ -11,8 +11,7 @@ import pytest
 from virtual_actuators import InvalidInputError
 from virtual_actuators.__main__ import main
 from virtual_actuators.gaits.legged.patterns import PATTERNS
-from virtual_actuators.gaits.legged.speeds import LEGGED_SPEEDS
-from virtual_actuators.gaits.legged.walk import LeggedWalkConfig
+from virtual_actuators.gaits.legged.walk import LEGGED_SPEEDS, LeggedWalkConfig
 from virtual_actuators.gaits.registry import WALKS, run_walk
 
 

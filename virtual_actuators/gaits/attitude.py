@@ -8,26 +8,17 @@ import numpy as np
 
 from ..vocabulary.scalar import asin, atan2, cos, maximum, minimum, select, sin, sqrt
 
-__all__ = ["attitude_and_velocity", "rotation_vector_angles", "yaw_pitch_roll"]
+__all__ = ["attitude_and_velocity", "rotation_vector_angles"]
 
 _EPS = 2.220446049250313e-16  # double's machine epsilon
 _TAYLOR = _EPS**0.25  # below this angle Pinocchio's exp3 takes its Taylor expansions
 
 
-def yaw_pitch_roll(rotation: np.ndarray) -> tuple[float, float, float]:
-    """Z-Y-X angles of a rotation matrix ``R = Rz(yaw) Ry(pitch) Rx(roll)`` [rad]."""
-    (r00, _, _), (r10, _, _), (r20, r21, r22) = np.asarray(rotation, dtype=float).tolist()
-    yaw = math.atan2(r10, r00)
-    pitch = math.asin(max(-1.0, min(1.0, -r20)))
-    roll = math.atan2(r21, r22)
-    return yaw, pitch, roll
-
-
 def rotation_vector_angles(x: object, y: object, z: object) -> tuple:
-    """`yaw_pitch_roll` of the rotation vector ``(x, y, z)`` [rad], on floats or traced values.
+    """Yaw, pitch, roll (Z-Y-X) of the rotation vector ``(x, y, z)`` [rad], floats or traced.
 
-    ``pinocchio.exp3``'s operations in its order, so the same bits as
-    ``yaw_pitch_roll(pin.exp3(v))``.
+    ``pinocchio.exp3``'s operations in its order, so the same bits as the angles of
+    ``pin.exp3(v)`` (``R = Rz(yaw) Ry(pitch) Rx(roll)``).
     """
     t2 = x * x + y * y + z * z + _EPS * _EPS
     t = sqrt(t2)

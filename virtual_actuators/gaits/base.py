@@ -3,23 +3,78 @@
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..control.context import Context
+from ..components.slots import slot
 from ..control.controller import Controller, ControlOutput
 from ..control.machine_controller import MachineController
 from ..control.plan.compiled import CompiledMachine
-from ..control.state_machine import Event, StateMachine
+from ..control.state_machine import StateMachine
 from ..control.tick_rate import TickRate, bound_tick_rate
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.scalar import logical_and
-from ..vocabulary.traced import lowerable
-from .planar import SIDES
+
+if TYPE_CHECKING:
+    from ..simulation.simulator import Simulator
+    from ..simulation.terrain import Terrain
+
+
+def as_floats(values: object) -> tuple:
+    """A tick's vector as a tuple: a traced one as it is, an array's entries as floats."""
+    if isinstance(values, tuple):
+        return values
+    return tuple(np.asarray(values, dtype=float).tolist())
+
+
+def checked_numbers(
+    value: object, count: int, what: str, gains: bool = False, finite: bool = True
+) -> np.ndarray:
+    """``value`` as ``count`` numbers, never NaN (finite if ``finite``, >= 0 for ``gains``).
+
+    Raises:
+        InvalidInputError: Not ``count`` such numbers (the message starts with ``what``).
+    """
+    try:
+        array = np.array(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        array = np.full(count + 1, np.nan)
+    bad = array.shape != (count,) or np.isnan(array).any() or (gains and (array < 0.0).any())
+    if bad or (finite and not np.isfinite(array).all()):
+        kind = ("finite numbers" if finite else "numbers") + (" >= 0" if gains else "")
+        raise InvalidInputError(f"{what} must be {count} {kind}, got {value!r}.")
+    return array
+
+
+class SizedSlots:
+    """A slotted component's mixin: slot ``name`` holds ``SIZES[name]`` numbers.
+
+    Attributes:
+        SIZES: The numbers per slot.
+        GAINS: The slots whose numbers are >= 0.
+        FINITE: Whether the numbers must be finite (else only not NaN).
+    """
+
+    SIZES: Mapping[str, int] = {}
+    GAINS: tuple[str, ...] = ()
+    FINITE = True
+
+    def _sized(self, value: object, name: str) -> np.ndarray:
+        """`checked_numbers` of slot ``name``."""
+        size, gains = self.SIZES[name], name in self.GAINS
+        return checked_numbers(value, size, f"{self.name}: {name}", gains, self.FINITE)
+
+
+def sized_slot(name: str, doc: str, scalar: bool = False) -> property:
+    """The property of a `SizedSlots` slot (``scalar``: its one number read as a float)."""
+    vector = slot(name, "_sized")
+    read = (lambda self: vector.fget(self)[0]) if scalar else vector.fget
+    return property(read, vector.fset, doc=doc)
 
 
 class Gait:
@@ -55,18 +110,6 @@ class Gait:
         states = [(state.active, state.support) for state in self.machine.states]
         q = self.initial_configuration()
         return bound_tick_rate(self.controller, q, states, 1.0 / control_rate)
-
-    def _front_is(self, side: str, event: Event) -> Event:
-        """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""
-        index = float(SIDES.index(side))
-
-        @lowerable
-        def front_is(context: Context) -> object:
-            if isinstance(context, Context):
-                return self.memory.front == index and event(context)
-            return logical_and(self.memory.front == index, context.event(event))
-
-        return front_is
 
     def initial_configuration(self) -> np.ndarray:
         """Where a simulation of this gait starts (default: the robot's standing pose)."""
@@ -177,16 +220,6 @@ def check_distribution(distribution: object) -> bool:
     return distribution == "qp"
 
 
-def describe_options(options: Mapping[str, Any]) -> str:
-    """`` (robot 'go2', gait 'pace', track)`` for the options given, or ``""``."""
-    named = [
-        key if value is True else f"{key} {value!r}"
-        for key, value in options.items()
-        if value not in (None, False)
-    ]
-    return f" ({', '.join(named)})" if named else ""
-
-
 @dataclass(frozen=True, slots=True)
 class Walk:
     """How to run one of the walks (a gait folder's registration, see ``WALKS``).
@@ -194,22 +227,21 @@ class Walk:
     Attributes:
         name: Demo name on the command line.
         robot: Robot name for [`load_robot`][].
-        run: ``run(request)`` with the resolved
-            [`WalkRequest`][virtual_actuators.gaits.registered.WalkRequest]; returns the result.
+        run: ``run(request)`` with the resolved `WalkRequest`; returns the result.
         parameters: The gait's parameters dataclass.
         terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
-        plot: Draws a result: ``plot(result, path, window)`` returns the path written.
+        draw: A result's matplotlib figure: ``draw(result, window)`` (see `plot`).
         description: One line for the command-line help.
-        make_gait: Builds the gait from robot, desired speed and parameters (None: ``run`` does).
+        gait: The gait's class, which a planar walk builds (None: ``run`` builds the gait).
         push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
         push_time: [s].
         options: The walk's own keyword options of ``run`` (and command-line options).
-        plot_window: Whether ``plot`` draws a time window (``--window``).
+        plot_window: Whether ``draw`` draws a time window (``--window``).
         force_scale: Viewer arrow length per newton [m/N].
         viewer_robot: Loads the robot the viewer draws from the options (None: ``robot``).
-        speeds: The supported desired speeds ``(low, high)`` [m/s] (None: takes no speed).
-        speeds_for: The supported speeds from the walk's options (None: `speeds`).
+        speeds: The supported desired speeds ``(low, high)`` [m/s], or a function of the options
+            returning them (None: the walk takes no speed).
         nominal_speed: The gait's own desired speed [m/s], or a function of the options
             returning it (None: the walk takes no speed).
     """
@@ -220,22 +252,31 @@ class Walk:
     parameters: type
     terrain: str
     duration: float
-    plot: Callable[..., Any]
+    draw: Callable[..., Any]
     description: str
-    make_gait: Callable[..., Gait] | None = None
+    gait: type[Gait] | None = None
     push: float = 0.0
     push_time: float = 0.0
     options: tuple[str, ...] = ()
     plot_window: bool = False
     force_scale: float = 1 / 250
     viewer_robot: Callable[..., Robot] | None = None
-    speeds: tuple[float, float] | None = None
-    speeds_for: Callable[..., tuple[float, float]] | None = None
+    speeds: tuple[float, float] | Callable[..., tuple[float, float] | None] | None = None
     nominal_speed: float | Callable[..., float] | None = None
+
+    def plot(self, result: Any, path: str | os.PathLike[str], window: Any = None) -> Path:
+        """Draw ``result`` (`draw`; ``window``: ``(t0, t1)`` simulated seconds or None) to a PNG.
+
+        Returns:
+            The path written.
+        """
+        from ..experiments.plot_panels import save_figure
+
+        return save_figure(self.draw(result, window), path)
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""
-        return self.speeds if self.speeds_for is None else self.speeds_for(**options)
+        return self.speeds(**options) if callable(self.speeds) else self.speeds
 
     def default_speed(self, **options: Any) -> float | None:
         """The desired speed [m/s] of a run given none: `nominal_speed` clipped to `speed_range`.
@@ -270,8 +311,67 @@ class Walk:
             return  # None: the walk's default; not a number: the walk's own check refuses it
         low, high = supported
         if not low - 1e-9 <= speed <= high + 1e-9:
-            raise InvalidInputError(
-                f"{self.name}{describe_options(options)} walks at desired speeds from {low:g} "
+            given = {k: v for k, v in options.items() if v not in (None, False)}
+            named = ", ".join(k if v is True else f"{k} {v!r}" for k, v in given.items())
+            raise InvalidInputError(  # named: " (robot 'go2', gait 'pace', track)" or ""
+                f"{self.name}{f' ({named})' if named else ''} walks at desired speeds from {low:g} "
                 f"to {high:g} m/s, got {speed:g} m/s: give a speed in that range, or "
                 f"{forced_by} to run it anyway."
             )
+
+
+@dataclass(frozen=True, slots=True)
+class WalkRequest:
+    """One walk's run as ``run_walk`` resolved it (what `Walk.run` receives).
+
+    Attributes:
+        walk: The walk.
+        duration: Simulated time [s].
+        speed: Desired speed [m/s], as given (None: the walk's default).
+        terrain: A [`Terrain`][] or its spec (the walk's when none was given).
+        progress: Show a tqdm progress bar.
+        on_tick: Called after every physics step, or None.
+        stop_on_fall: End the run 0.5 s after the first fallen tick.
+        seed: None for the walk's nominal start; an int varies it.
+        parameters: The gait's parameters (a ``walk.parameters``), or None for the gait's.
+        distribution: ``"partitioned"`` or ``"qp"`` as given, or None.
+        options: The walk's own options (``walk.options``).
+    """
+
+    walk: Walk
+    duration: float
+    speed: float | None
+    terrain: str | Terrain
+    progress: bool
+    on_tick: Callable[[Simulator, Gait], None] | None
+    stop_on_fall: bool
+    seed: int | None
+    parameters: object | None
+    distribution: str | None
+    options: Mapping[str, Any]
+
+    @property
+    def loop(self) -> tuple[bool, Callable[[Simulator, Gait], None] | None, bool]:
+        """``(progress, on_tick, stop_on_fall)``: the loop's arguments, in a walk's order."""
+        return self.progress, self.on_tick, self.stop_on_fall
+
+    def run_with(self, run: Callable[..., Any], config: type) -> Any:
+        """``run(config, parameters, *loop)``, ``config`` a walk's dataclass built from the request.
+
+        The speed is the given one, else `Walk.default_speed`; the distribution the given one
+        (into the parameters too), else the parameters', else ``"qp"``.
+
+        Raises:
+            InvalidInputError: What ``config`` or ``run`` raises (a bad option, speed, ...).
+        """
+        parameters, distribution = self.parameters, self.distribution
+        if distribution is None:
+            distribution = "qp" if parameters is None else parameters.distribution
+        elif parameters is not None:
+            parameters = replace(parameters, distribution=distribution)
+        speed = self.walk.default_speed(**self.options) if self.speed is None else self.speed
+        built = config(
+            speed=speed, terrain=self.terrain, duration=self.duration, seed=self.seed,
+            distribution=distribution, **self.options,
+        )  # fmt: skip
+        return run(built, parameters, *self.loop)

@@ -8,6 +8,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import InvalidInputError
+from .base import check_distribution, check_speed_bound
+
+#: The paths a walk's configuration may ask for (see `check_path`).
+PATHS = ("line", "sine")
 
 
 @dataclass(frozen=True)
@@ -37,9 +41,10 @@ def wrap(angle: float) -> float:
 
 
 def _finite(what: str, **values: float) -> None:
+    """Refuse a value that is not a finite number (the message starts with ``what``)."""
     for name, value in values.items():
         if not (isinstance(value, (int, float)) and math.isfinite(value)):
-            raise InvalidInputError(f"{what}: {name} must be a finite number, got {value!r}.")
+            raise InvalidInputError(f"{what}{name} must be a finite number, got {value!r}.")
 
 
 class Guidance:
@@ -84,7 +89,7 @@ class VelocityCommand(Guidance):
 
     def __init__(self, speed: float, direction: float = 0.0, yaw_rate: float = 0.0) -> None:
         super().__init__()
-        _finite("VelocityCommand", speed=speed, direction=direction, yaw_rate=yaw_rate)
+        _finite("VelocityCommand: ", speed=speed, direction=direction, yaw_rate=yaw_rate)
         if speed < 0.0:
             raise InvalidInputError(f"VelocityCommand: speed must be >= 0, got {speed}.")
         self.velocity = speed * np.array((math.cos(direction), math.sin(direction)))
@@ -118,7 +123,7 @@ class SinePath(Guidance):
         heading_gain: float = 4.0,
     ) -> None:
         super().__init__()
-        _finite("SinePath", speed=speed, amplitude=amplitude, wavelength=wavelength)
+        _finite("SinePath: ", speed=speed, amplitude=amplitude, wavelength=wavelength)
         if speed <= 0.0 or wavelength <= 0.0:
             raise InvalidInputError(
                 f"SinePath: speed and wavelength must be > 0, got {speed}, {wavelength}."
@@ -177,7 +182,7 @@ class TrackObject(Guidance):
         gain: float = 6.0,
     ) -> None:
         super().__init__()
-        _finite("TrackObject", radius=radius, angular_speed=angular_speed, gain=gain)
+        _finite("TrackObject: ", radius=radius, angular_speed=angular_speed, gain=gain)
         if radius <= 0.0:
             raise InvalidInputError(f"TrackObject: radius must be > 0, got {radius}.")
         self.walk = VelocityCommand(speed, direction)
@@ -205,3 +210,45 @@ class TrackObject(Guidance):
         bearing_rate = (rx * wy - ry * wx) / distance2
         yaw_rate = bearing_rate + self.gain * self.bearing_error(state)
         return self.walk.velocity, yaw_rate
+
+
+def check_path(config: object) -> None:
+    """Refuse a walk's configuration whose motion does not hold together.
+
+    ``config`` has ``speed``, ``direction``, ``yaw_rate``, ``duration``, ``path``,
+    ``amplitude``, ``wavelength``, ``track`` and ``distribution`` (see `path_guidance`).
+
+    Raises:
+        InvalidInputError: A value not finite, a speed outside ``[0, MAX_SPEED]``, a duration
+            <= 0, a path not in `PATHS`, a sine without a speed and a wavelength > 0 or with a
+            yaw rate or tracking, tracking with a yaw rate, or an unknown distribution.
+    """
+    c = config
+    names = ("speed", "direction", "yaw_rate", "duration", "amplitude", "wavelength")
+    _finite("", **{name: getattr(c, name) for name in names})
+    check_speed_bound(c.speed)
+    if c.duration <= 0.0:
+        raise InvalidInputError(f"duration must be > 0 s, got {c.duration}.")
+    if c.path not in PATHS:
+        raise InvalidInputError(f"path must be one of {PATHS}, got {c.path!r}.")
+    if c.path == "sine" and (c.speed <= 0.0 or c.wavelength <= 0.0):
+        raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
+    if c.path == "sine" and (c.track or c.yaw_rate != 0.0):
+        raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
+    if c.track and c.yaw_rate != 0.0:
+        raise InvalidInputError("tracking sets the yaw rate itself: leave yaw_rate at 0.")
+    check_distribution(c.distribution)
+
+
+def path_guidance(config: object) -> Guidance:
+    """The guidance of a configuration `check_path` accepted.
+
+    A sine ``path`` is a `SinePath`; ``track`` a `TrackObject`; else a `VelocityCommand` of
+    ``speed`` along ``direction`` at ``yaw_rate`` (a circle of radius ``speed / yaw_rate``).
+    """
+    c = config
+    if c.path == "sine":
+        return SinePath(c.speed, c.amplitude, c.wavelength)
+    if c.track:
+        return TrackObject(c.speed, c.direction)
+    return VelocityCommand(c.speed, c.direction, c.yaw_rate)

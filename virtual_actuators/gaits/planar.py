@@ -13,12 +13,13 @@ from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component
 from ..components.walking import GrannyWalker, SwingLegLinkage
 from ..control.controller import Controller
-from ..control.state_machine import Context, State
+from ..control.state_machine import Context, Event, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.axes import resolve_frame, resolve_joint
-from ..vocabulary.scalar import cos, maximum, minimum, select, sin
-from ..vocabulary.traced import Sym
+from ..vocabulary.scalar import cos, logical_and, maximum, minimum, select, sin
+from ..vocabulary.traced import Sym, lowerable
+from .base import Gait
 
 SIDES = ("left", "right")
 PLANAR_AXES = ("x", "z", "ry")
@@ -133,14 +134,13 @@ class GrannyConstants(Protocol):
     weight: float | None
 
 
-def biped_weight(robot: Robot, weight: float | None) -> float:
-    """The z feed-forward [N]: ``weight``, or the robot's mass times g when None."""
-    return robot.mass * 9.81 if weight is None else weight
+def granny_walker(parameters: GrannyConstants, height: float, robot: Robot) -> GrannyWalker:
+    """The body's spring-dampers on height and pitch, the weight fed forward on z.
 
-
-def granny_walker(parameters: GrannyConstants, height: float, weight: float) -> GrannyWalker:
-    """The body's spring-dampers on height and pitch, with ``weight`` [N] fed forward on z."""
+    The weight is ``parameters.weight``, or the robot's mass times g when None [N].
+    """
     p = parameters
+    weight = robot.mass * 9.81 if p.weight is None else p.weight
     return GrannyWalker(
         height,
         stiffness=(p.stiffness_z, p.stiffness_pitch),
@@ -200,6 +200,29 @@ def declare_biped(
         axes = swing[side].axes
         actuator = VirtualActuator(robot, f"{side}_foot", "body", "world", axes)
         controller.add(f"{side}_swing", actuator, [swing[side]])
+
+
+class PlanarBiped(Gait):
+    """A planar biped's gait on `biped_states`, its front foot in ``memory.front`` (0: left)."""
+
+    step_states = ("left_support", "right_support")
+
+    @property
+    def front(self) -> str:
+        """The foot ahead in double support (``"left"`` or ``"right"``)."""
+        return SIDES[int(self.memory.front)]
+
+    def _front_is(self, side: str, event: Event) -> Event:
+        """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""
+        index = float(SIDES.index(side))
+
+        @lowerable
+        def front_is(context: Context) -> object:
+            if isinstance(context, Context):
+                return self.memory.front == index and event(context)
+            return logical_and(self.memory.front == index, context.event(event))
+
+        return front_is
 
 
 Hook = Callable[[Context], None]

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -16,10 +15,8 @@ from ..experiments.walk_log import STANDARD_CHANNELS
 from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
-from .base import Gait, Walk, check_distribution, check_speed_bound
-from .registered import WalkRequest
+from .base import Gait, Walk, WalkRequest, check_distribution, check_speed_bound
 from .runner import Episode, WalkResult, has_fallen, terrain_points
-from .smoothness import loop_smoothness
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
@@ -27,11 +24,6 @@ STANCE_SAMPLING = 10  # stance contact forces are read every this many ticks (10
 RECORD_EVERY = 4  # the log's rows: every this many ticks (250 Hz; the efforts: every tick)
 #: The attachments whose components move the body, in the order the wrench is read from.
 BODY_ATTACHMENTS = ("double", "left_stance", "right_stance")
-
-
-def with_speed(parameters, speed: float | None):
-    """``parameters`` with ``speed`` (unchanged for None)."""
-    return parameters if speed is None else dataclasses.replace(parameters, speed=speed)
 
 
 def run_planar_walk(request: WalkRequest) -> WalkResult:
@@ -60,16 +52,10 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
     log = episode.recorder.to_log()
     metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
     normal_min, ratio_max = episode.stance.figures()
-    smoothness = loop_smoothness(episode.simulator, end)
     metrics = dataclasses.replace(
-        metrics,
-        stance_normal_min_n=normal_min,
-        stance_friction_ratio_max=ratio_max,
-        **smoothness.metrics_fields(),
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
     )
-    return WalkResult(
-        log, metrics, episode.gait, episode.simulator, end.wall, loop=end, smoothness=smoothness
-    )
+    return episode.finish(end, log, metrics)
 
 
 def _prepare(
@@ -80,15 +66,27 @@ def _prepare(
     seed: int | None,
     parameters: object | None,
 ) -> PlanarEpisode:
-    """The robot, its gait, the terrain, the simulator (reset and pushed) and the recorder."""
+    """The robot, its gait (at ``speed`` if given), the terrain, the simulator and the recorder.
+
+    Raises:
+        InvalidInputError: ``seed`` is neither None nor an int.
+    """
     terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
     robot = load_robot(walk.robot)
-    gait = walk.make_gait(robot, speed, parameters)
+    parameters = parameters or walk.parameters()
+    if speed is not None:
+        parameters = dataclasses.replace(parameters, speed=speed)
+    gait = walk.gait(robot, parameters, initial="double_support")
     simulator = Simulator(robot, terrain_model)
     q0 = gait.initial_configuration()
     q0[_index(robot, "boom_z")] += float(terrain_model.height(0.0))
     simulator.reset(q0)
-    push, push_time = _push(walk, seed)
+    push, push_time = walk.push, walk.push_time  # [N], [s], varied by a seed
+    if seed is not None:
+        if isinstance(seed, bool) or not isinstance(seed, int | np.integer):
+            raise InvalidInputError(f"seed must be an int or None, got {seed!r}.")
+        force_scale, time_scale = np.random.default_rng(int(seed)).uniform(0.7, 1.3, size=2)
+        push, push_time = push * float(force_scale), push_time * float(time_scale)
     simulator.push(np.array([push, 0.0, 0.0]), frame="body", duration=push_time)
     recorder = Recorder(
         STANDARD_CHANNELS,
@@ -106,21 +104,6 @@ def _prepare(
         },
     )
     return PlanarEpisode(gait, simulator, terrain_model, recorder)
-
-
-def _push(walk: Walk, seed: int | None) -> tuple[float, float]:
-    """The start-up push ``(force [N], duration [s])``, varied by ``seed``.
-
-    Raises:
-        InvalidInputError: ``seed`` is neither None nor an int.
-    """
-    push, push_time = walk.push, walk.push_time  # [N], [s]
-    if seed is not None:
-        if isinstance(seed, bool) or not isinstance(seed, int | np.integer):
-            raise InvalidInputError(f"seed must be an int or None, got {seed!r}.")
-        force_scale, time_scale = np.random.default_rng(int(seed)).uniform(0.7, 1.3, size=2)
-        push, push_time = push * float(force_scale), push_time * float(time_scale)
-    return push, push_time
 
 
 class PlanarEpisode(Episode):
@@ -192,24 +175,13 @@ class PlanarEpisode(Episode):
         )
 
 
-def plot_planar_walk(result: WalkResult, path: str | Path, window=None) -> Path:
-    """Draw a planar walk like the seed's Fig. 9 (level ground) or Fig. 15 (slopes).
+def draw_planar_walk(result: WalkResult, window=None):
+    """A planar walk like the seed's Fig. 9 (level ground) or Fig. 15 (slopes), a figure.
 
     Args:
         result: The walk.
-        path: The image to write.
         window: ``(t0, t1)`` simulated seconds to draw (either may be None), or None for all.
-
-    Returns:
-        The path written.
     """
-    from ..experiments.plot_panels import save_figure
-
-    return save_figure(draw_planar_walk(result, window), path)
-
-
-def draw_planar_walk(result: WalkResult, window=None):
-    """The matplotlib figure `plot_planar_walk` saves."""
     from ..experiments.plots import draw_walk
 
     log = result.log

@@ -10,11 +10,10 @@ from ..exceptions import InvalidInputError, suggestion
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .balance.walk import WALK as BALANCE
-from .base import Gait, Walk
+from .base import Gait, Walk, WalkRequest
 from .flamingo.walk import WALK as FLAMINGO
 from .hexapod.walk import WALK as HEXAPOD
 from .legged.walk import WALK as LEGGED
-from .registered import WalkRequest, run_registered
 from .turkey.walk import WALK as TURKEY
 
 #: The walks by name, in the command line's order.
@@ -67,8 +66,8 @@ def run_walk(
 
     Raises:
         InvalidInputError: Unknown walk or option, bad duration, speed, terrain, seed,
-            parameters or distribution; a speed outside the walk's supported range (naming
-            it) without ``force_speed``.
+            parameters (not a ``WALKS[name].parameters``) or distribution; a speed outside the
+            walk's supported range (naming it) without ``force_speed``.
     """
     walk = find_walk(name)
     duration = walk.duration if duration is None else float(duration)
@@ -80,11 +79,15 @@ def run_walk(
         raise InvalidInputError(f"{name} takes no option {unknown[0]!r} (its options: {known}).")
     if not force_speed:
         walk.check_speed(speed, **options)
-    request = WalkRequest(
+    if parameters is not None and not isinstance(parameters, walk.parameters):
+        raise InvalidInputError(
+            f"{walk.name}: parameters must be a {walk.parameters.__name__}, got "
+            f"{type(parameters).__name__}."
+        )
+    return walk.run(WalkRequest(
         walk, duration, speed, walk.terrain if terrain is None else terrain, progress, on_tick,
         stop_on_fall, seed, parameters, distribution, options,
-    )  # fmt: skip
-    return run_registered(request)
+    ))  # fmt: skip
 
 
 __all__ = ["WALKS", "Walk", "find_walk", "run_walk"]

@@ -7,25 +7,30 @@ A walk prepares an `Episode`; [`drive`][virtual_actuators.gaits.walk_loop.drive]
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from ..control.controller import ControlOutput
+from ..control.effort_limits import urdf_effort_limits
 from ..control.run_loop import RunStats
 from ..experiments.contact_stats import StanceForces
 from ..experiments.metrics import WalkMetrics
 from ..experiments.recorder import Recorder
-from ..experiments.smoothness import EffortSmoothness
+from ..experiments.smoothness import EffortSmoothness, effort_smoothness
 from ..experiments.walk_log import WalkLog
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
+from .attitude import attitude_and_velocity
 from .base import Gait
+from .guidance import Guidance, PlanarState, wrap
 
 FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]
+TRACE_RATE = 100.0  # [Hz] the floating-base walks' log
 
 
 @dataclass(slots=True)
@@ -60,6 +65,13 @@ class LoopEnd:
     def base_rates(self) -> np.ndarray | None:
         """``(ticks, axes)`` the base's angular velocity at every tick [rad/s], or None."""
         return None if self.base_rate is None else self.velocities[:, self.base_rate]
+
+    def realtime_factors(self, simulated: float) -> dict[str, float | None]:
+        """``realtime_factor`` and ``physics_realtime_factor`` (None: not timed) of the loop."""
+        return {
+            "realtime_factor": simulated / self.wall if self.wall > 0 else None,
+            "physics_realtime_factor": simulated / self.physics if self.physics > 0 else None,
+        }
 
 
 class WalkFigures(NamedTuple):
@@ -112,7 +124,37 @@ class WalkResult:
         return self.metrics.to_dict()
 
     def __repr__(self) -> str:
-        return f"WalkResult({self.metrics.summary()})"
+        return f"{type(self).__name__}({self.metrics.summary()})"
+
+
+@dataclass
+class ConfiguredResult(WalkResult):
+    """A walk's result with its configuration and tick count.
+
+    Attributes:
+        config: What was walked.
+        ticks: Control ticks run.
+    """
+
+    config: Any = None
+    ticks: int = 0
+
+    def trace(self) -> dict[str, list]:
+        """Equal-length lists of the walk's trace (here `trace_of` the log)."""
+        return trace_of(self.log)
+
+    def figures(self) -> WalkFigures:
+        """What a sweep tabulates (the distance is the straight line from start to end)."""
+        m, x, y = self.metrics, self.log["x"], self.log["y"]
+        distance = math.hypot(x[-1] - x[0], y[-1] - y[0]) if len(x) else math.nan
+        return WalkFigures(
+            bool(m.fell), number(m.fall_time_s), distance, number(m.speed_mps), int(m.steps)
+        )
+
+    def to_json(self) -> dict[str, Any]:
+        """``fell``, ``realtime_factor``, the summary figures, ``ticks``, ``config``, ``trace``."""
+        figures, config = asdict(self.metrics), asdict(self.config)
+        return {**figures, "ticks": self.ticks, "config": config, "trace": self.trace()}
 
 
 #: The base's channels of a JSON trace (``demo legged``, ``demo balance``).
@@ -125,6 +167,26 @@ def trace_of(log: WalkLog, extra: tuple[str, ...] = ()) -> dict[str, list]:
     trace.update({name: log[name].tolist() for name in extra})
     trace["state"] = [log.state_names[i] for i in log.state]
     return trace
+
+
+def summary_line(metrics: Any, parts: list[str], labelled: tuple, after: tuple = ()) -> str:
+    """``parts``, the ``(label, value)`` measured, ``after``, the fall, real time, smoothness.
+
+    ``metrics`` has ``fell``, ``fall_time_s``, ``realtime_factor``, ``physics_realtime_factor``
+    and ``smoothness_summary()``.
+    """
+    parts += [f"{label} {value:z.3f}" for label, value in labelled if value is not None]
+    parts += after
+    if metrics.fell:
+        parts.append(f"FELL at {metrics.fall_time_s:z.2f} s")
+    if metrics.realtime_factor is not None:
+        parts.append(
+            f"{metrics.realtime_factor:z.2f}x real time (MuJoCo alone "
+            f"{metrics.physics_realtime_factor:z.1f}x)"
+        )
+    if smoothness := metrics.smoothness_summary():
+        parts.append(smoothness)
+    return ", ".join(parts)
 
 
 def terrain_points(terrain: Terrain, duration: float) -> np.ndarray:
@@ -218,6 +280,11 @@ class Episode:
         """Before the gait computes: steer it if need be; the contact switches it reads."""
         raise NotImplementedError
 
+    def height(self, q: np.ndarray) -> float:
+        """The floating base's height above the terrain under it [m]."""
+        level = self.level
+        return q.item(2) - (float(self.terrain.height(q.item(0))) if level is None else level)
+
     def fallen(self, q: np.ndarray) -> bool:
         """Whether the robot has fallen (asked until it first has)."""
         raise NotImplementedError
@@ -227,3 +294,104 @@ class Episode:
     ) -> None:
         """Record a tick (every `record_every` ticks)."""
         raise NotImplementedError
+
+    def finish(
+        self, end: LoopEnd, log: WalkLog, metrics: Any, result: type = WalkResult, **fields: Any
+    ) -> Any:
+        """The finished run's ``result`` (with ``fields``), its metrics with `loop_smoothness`."""
+        smoothness = loop_smoothness(self.simulator, end)
+        metrics = replace(metrics, **smoothness.metrics_fields())
+        return result(
+            log, metrics, self.gait, self.simulator, end.wall, loop=end, smoothness=smoothness,
+            **fields,
+        )  # fmt: skip
+
+
+class FloatingEpisode(Episode):
+    """A floating base's walk at `TRACE_RATE`, steered by a guidance through ``set_command``.
+
+    Args:
+        gait: The gait (with ``set_command(velocity, yaw_rate)``).
+        simulator: The simulation, reset.
+        terrain: The terrain.
+        recorder: Where `record` writes.
+        guidance: What steers the gait (begun here, at the base's start pose).
+
+    Attributes:
+        guidance: The guidance; a fixed one sets the command once, here.
+        command: The heading-frame velocity last commanded [m/s].
+        attitude: This tick's yaw, pitch, roll [rad] and world x, y velocity [m/s].
+        nominal: The gait's nominal height [m] (half of it: fallen).
+    """
+
+    ignore_unactuated = True
+
+    def __init__(
+        self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder,
+        guidance: Guidance,
+    ) -> None:  # fmt: skip
+        super().__init__(gait, simulator, terrain, recorder)
+        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+        q = simulator.q
+        self.attitude = attitude_and_velocity(q, simulator.v)
+        self.guidance, self.nominal = guidance, gait.nominal_height()
+        guidance.begin(PlanarState(0.0, q.item(0), q.item(1), self.attitude[0], 0.0, 0.0))
+        self.command = np.zeros(2)
+        if guidance.fixed:  # set once: the state does not change it
+            start = PlanarState(simulator.time, *guidance.start, 0.0, 0.0)
+            self.command, yaw_rate = guidance.command(start)
+            gait.set_command(self.command, yaw_rate)
+        self._yaw = self._yaw_last = 0.0
+
+    def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
+        """Steer the gait along the guidance; the feet's contact switches."""
+        self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
+        if not self.guidance.fixed:
+            state = PlanarState(now, q.item(0), q.item(1), yaw, vx, vy)
+            self.command, yaw_rate = self.guidance.command(state)
+            self.gait.set_command(self.command, yaw_rate)
+        return self.simulator.contact_switches(self.gait.contact_frames)
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """Base low or tilted, or something else than a foot down (`has_fallen`)."""
+        _, pitch, roll, _, _ = self.attitude
+        tilt = max(abs(roll), abs(pitch))
+        return has_fallen(self.simulator, self.height(q), tilt, self.nominal, self.feet)
+
+    def unwrapped_yaw(self) -> float:
+        """This tick's yaw, continuous since the start (once per recorded row) [rad]."""
+        yaw = self.attitude[0]
+        self._yaw += wrap(yaw - self._yaw_last)
+        self._yaw_last = yaw
+        return self._yaw
+
+
+def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:
+    """The effort limits of the motors the simulation drives, and every degree of freedom's joint.
+
+    Returns:
+        ``(limits, names)``: ``(nv,)`` the URDF's effort limits of the actuated joints [N m or
+        N] (``inf`` elsewhere), and ``nv`` joint names.
+    """
+    model, actuated = simulator.robot.model, set(simulator.mujoco_model.actuated)
+    limits, names = urdf_effort_limits(simulator.robot), [""] * model.nv
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        dofs = slice(joint.idx_v, joint.idx_v + joint.nv)
+        names[dofs] = [model.names[j]] * joint.nv
+        if model.names[j] not in actuated:
+            limits[dofs] = np.inf
+    return limits, names
+
+
+def loop_smoothness(simulator: Simulator, end: LoopEnd) -> EffortSmoothness:
+    """`effort_smoothness` of a loop's ticks before its fall, on the motors `motor_limits` gives.
+
+    Raises:
+        InvalidInputError: Non-finite efforts or base rates in the record.
+    """
+    limits, names = motor_limits(simulator)
+    until = end.ticks if end.fall_tick is None else end.fall_tick
+    rates = None if end.base_rates is None else end.base_rates[:until]
+    efforts = end.efforts[:until]
+    return effort_smoothness(efforts, limits, rates, time_step=end.time_step, names=names)

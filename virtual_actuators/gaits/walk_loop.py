@@ -101,7 +101,6 @@ class WalkTicks:
         compiled = gait.compiled  # warmed up by `drive`: its tick, without the two calls above it
         self.compute: Callable[..., Any] = gait.compute if compiled is None else compiled.compute
         self._bar, self._on_tick, self._stop_on_fall = bar, on_tick, stop_on_fall
-        self._watched = bar is not None or on_tick is not None
         self._record_every = episode.record_every
         self._stance_every = episode.stance_every or episode.record_every
         self._sample, self._support = episode.stance.sample, gait.support_contacts
@@ -144,17 +143,12 @@ class WalkTicks:
             every = self._record_every
             if every == 1 or tick % every == 1 or stopping or now > self._last_stamp:
                 self._record(now, q, v, output, fallen)  # the log ends at the last tick
-        if self._watched:
-            self._watch(tick, output)
-        if stopping:
-            self._stopping = True
-
-    def _watch(self, tick: int, output: Any) -> None:
-        """``on_tick`` and the progress bar."""
         if self._on_tick is not None:
             self._on_tick(self.simulator, self.gait)
         if self._bar is not None and tick % 100 == 0:
             self._bar.set(self.simulator.time)
+        if stopping:
+            self._stopping = True
 
     def end(self, stats: RunStats, physics: float) -> LoopEnd:
         """The `LoopEnd` of the run ``stats`` describes (``physics``: seconds stepping)."""

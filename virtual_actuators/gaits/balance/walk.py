@@ -9,45 +9,50 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, replace
-from pathlib import Path
-from typing import Any
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
+from ...experiments.plot_panels import FORCE_STYLE, new_figure, set_heading
 from ...experiments.recorder import Recorder
 from ...experiments.smoothness import SmoothnessFigures
+from ...experiments.walk_log import WalkLog
 from ...models.efforts import implausible_effort_limits
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..attitude import attitude_and_velocity
-from ..base import Walk
+from ..base import Walk, WalkRequest
 from ..push import Push
-from ..registered import WalkRequest
 from ..runner import (
-    FALL_PITCH,
+    TRACE_RATE,
     Episode,
     WalkFigures,
     WalkResult,
     allowed_geoms,
+    has_fallen,
     number,
     trace_of,
-)
-from ..smoothness import loop_smoothness
+)  # fmt: skip
 from ..walk_loop import drive
 from .balancer import Balancer
 from .parameters import BalanceParameters
 
-TRACE_RATE = 100.0  # [Hz]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_min", "fallen")
 #: The first seconds, while the robot settles on the ground, are left out of the contact figures.
 SETTLE_TIME = 0.1
 
-__all__ = ["CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "run_balance"]
+__all__ = [
+    "CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "draw_balance_log",
+    "run_balance",
+]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -128,26 +133,28 @@ class BalanceResult(WalkResult):
         """The figures and ``trace``."""
         return {**self.metrics.to_dict(), "trace": self.trace()}
 
-    def __repr__(self) -> str:
-        return f"BalanceResult({self.metrics.summary()})"
-
 
 class BalanceEpisode(Episode):
-    """A balance run under `drive`: push, judge, record."""
+    """A balance run under `drive`: push, judge, record `CHANNELS` at `TRACE_RATE`.
+
+    Attributes:
+        start: The configuration at the start.
+        stand_height: The base's height above the terrain at the start [m].
+    """
 
     def __init__(
         self, gait: Balancer, simulator: Simulator, terrain: Terrain, recorder: Recorder,
         push: Push | None,
-    ) -> None:
+    ) -> None:  # fmt: skip
         super().__init__(gait, simulator, terrain, recorder)
         self.push, self.pushed = push, push is None
         self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
         self.start = simulator.q.copy()
-        self.height = float(self.start[2] - terrain.height(self.start[0]))
+        self.stand_height = self.height(self.start)
         model = gait.robot.model
         joints = {model.frames[model.getFrameId(f)].parentJoint for f in gait.contacts}
-        self.feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
-        self.allowed_geoms = allowed_geoms(simulator, self.feet.__contains__)
+        feet = frozenset(f.name for f in model.frames if f.parentJoint in joints)
+        self.feet = allowed_geoms(simulator, feet.__contains__)
         self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> None:
@@ -159,12 +166,10 @@ class BalanceEpisode(Episode):
         return None
 
     def fallen(self, q: np.ndarray) -> bool:
-        """Tilted, low, or touching the ground with something else than a foot."""
+        """Tilted, low, or touching the ground with something else than a foot (`has_fallen`)."""
         _, pitch, roll, _, _ = self.attitude
-        height = float(q[2] - self.terrain.height(q[0]))
-        if height < 0.5 * self.height or math.hypot(roll, pitch) > FALL_PITCH:
-            return True
-        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= feet
+        tilt = math.hypot(roll, pitch)
+        return has_fallen(self.simulator, self.height(q), tilt, self.stand_height, self.feet)
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
@@ -172,11 +177,8 @@ class BalanceEpisode(Episode):
         """One sample of `CHANNELS`."""
         yaw, pitch, roll, vx, vy = self.attitude
         normal = float(self.simulator.contact_forces(self.gait.contacts)[:, 2].min())
-        self.recorder.append(
-            state=0, time=now, x=q[0], y=q[1], z=float(q[2] - self.terrain.height(q[0])),
-            roll=roll, pitch=pitch, yaw=yaw, vx=vx, vy=vy, normal_min=normal,
-            fallen=float(fallen),
-        )
+        row = (now, q.item(0), q.item(1), self.height(q), roll, pitch, yaw, vx, vy, normal)
+        self.recorder.append_row((*row, float(fallen)), 0)
 
 
 def run_balance(
@@ -232,10 +234,8 @@ def run_balance(
     episode = BalanceEpisode(gait, simulator, terrain, recorder, push)
     end = drive(episode, duration, progress, on_tick, stop_on_fall)
     log = recorder.to_log()
-    metrics = _metrics(episode, log, end.fall_time, simulator.time / end.wall if end.wall else None)
-    smoothness = loop_smoothness(simulator, end)
-    metrics = replace(metrics, **smoothness.metrics_fields())
-    return BalanceResult(log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness)
+    realtime = end.realtime_factors(simulator.time)["realtime_factor"]
+    return episode.finish(end, log, _metrics(episode, log, end.fall_time, realtime), BalanceResult)
 
 
 def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetrics:
@@ -256,14 +256,14 @@ def _metrics(episode: BalanceEpisode, log, fall_time, realtime) -> BalanceMetric
         max_tilt_rad=float(tilt.max()),
         max_drift_m=float(drift.max()),
         final_drift_m=float(drift[-1]),
-        height_error_m=float(log["z"][last].mean() - episode.height),
+        height_error_m=float(log["z"][last].mean() - episode.stand_height),
         stance_normal_min_n=float(settled.min()) if len(settled) else math.nan,
         implausible_limits=tuple(implausible_effort_limits(gait.robot)),
     )
 
 
 def run_request(request: WalkRequest) -> BalanceResult:
-    """``balance`` as `run_registered` starts it (``speed`` is not used).
+    """``balance`` as `run_walk` starts it (``speed`` is not used).
 
     Raises:
         InvalidInputError: A distribution other than ``"qp"``; a bad push, terrain or duration.
@@ -278,22 +278,36 @@ def run_request(request: WalkRequest) -> BalanceResult:
     )  # fmt: skip
 
 
-def plot_balance(result: BalanceResult, path: str, window: None = None) -> Path:
-    """Draw a balance run (`plot_balance_log`)."""
-    from .plots import plot_balance_log
+PANELS = (
+    (("x", "y"), "drift [m]", True),
+    (("z",), "height [m]", False),
+    (("roll", "pitch"), "tilt [rad]", False),
+    (("vx", "vy"), "velocity [m/s]", False),
+)
 
-    return plot_balance_log(result.log, path, summary=result.metrics.summary())
+
+def draw_balance_log(log: WalkLog, summary: str = "") -> Figure:
+    """The body's drift, height, roll and pitch, and horizontal velocity, ``summary`` its title."""
+    figure = new_figure(8.0, 8.0, dpi=110)
+    axes = figure.subplots(len(PANELS), 1, sharex=True)
+    t = log.time
+    for ax, (names, label, relative) in zip(axes, PANELS, strict=True):
+        for k, name in enumerate(names):
+            values = log[name] - log[name][0] if relative else log[name]
+            style = FORCE_STYLE if k else {"color": "C0", "lw": 1.2}
+            ax.plot(t, values, label=name, **style)
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.legend(loc="upper right", fontsize=7)
+    axes[-1].set_xlabel("time [s]")
+    if summary:
+        set_heading(figure, summary, fontsize=9)
+    return figure
 
 
-def draw_balance(result: BalanceResult) -> Any:
-    """The matplotlib figure `plot_balance` saves."""
-    from .plots import draw_balance_log
-
+def draw_balance(result: BalanceResult, window: None = None) -> Figure:
+    """A balance run's figure (`draw_balance_log`, titled by its summary)."""
     return draw_balance_log(result.log, summary=result.metrics.summary())
-
-
-def _viewer_robot(robot: str = "talos", **options: Any) -> Robot:
-    return load_robot(robot)
 
 
 WALK = Walk(
@@ -303,10 +317,10 @@ WALK = Walk(
     parameters=BalanceParameters,
     terrain="flat",
     duration=5.0,
-    plot=plot_balance,
+    draw=draw_balance,
     description="Any legged robot standing on the contact QP, pushed, without stepping",
     options=("robot", "push"),
     force_scale=1 / 400,
-    viewer_robot=_viewer_robot,
+    viewer_robot=lambda robot="talos", **_: load_robot(robot),
 )
 

@@ -2,19 +2,10 @@
 
 from __future__ import annotations
 
-from ...models.robot import Robot
-from ..base import Gait, Walk
-from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
+from ..base import Walk
+from ..planar_walk import draw_planar_walk, run_planar_walk
 from .parameters import FlamingoParameters
 from .walker import FlamingoWalker
-
-
-def make_gait(
-    robot: Robot, speed: float | None, parameters: FlamingoParameters | None = None
-) -> Gait:
-    """The walker at ``speed`` (None: the parameters')."""
-    return FlamingoWalker(robot, with_speed(parameters or FlamingoParameters(), speed))
-
 
 WALK = Walk(
     name="flamingo-slopes",
@@ -23,9 +14,9 @@ WALK = Walk(
     parameters=FlamingoParameters,
     terrain="profile-one",
     duration=40.0,
-    plot=plot_planar_walk,
+    draw=draw_planar_walk,
     description="Spring Flamingo walks blind over unknown slopes (VMC section 6)",
-    make_gait=make_gait,
+    gait=FlamingoWalker,
     push=10.0,
     push_time=0.2,
     plot_window=True,

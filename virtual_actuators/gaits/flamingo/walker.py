@@ -16,12 +16,12 @@ from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ...vocabulary.scalar import atan2, clip, logical_and, logical_or, maximum, minimum, select, tan
 from ...vocabulary.traced import lowerable
-from ..base import Gait, check_distribution
+from ..base import check_distribution
 from ..planar import (
     PLANAR_AXES,
     SIDES,
+    PlanarBiped,
     biped_states,
-    biped_weight,
     declare_biped,
     granny_walker,
     lift_profile,
@@ -32,17 +32,11 @@ from ..planar import (
 )
 from .parameters import FlamingoParameters
 
-
-def _sides(state: str) -> tuple[str, str]:
-    """``(stance, swing)`` of a single-support state named ``"<stance side>_..."``."""
-    stance = state.split("_")[0]
-    return stance, other(stance)
+#: Per single-support state: ``(stance side, swing side)``.
+_SIDES = {f"{side}_support{end}": (side, other(side)) for side in SIDES for end in ("", "_2")}
 
 
-_SIDES = {f"{side}_support{end}": _sides(f"{side}_support") for side in SIDES for end in ("", "_2")}
-
-
-class FlamingoWalker(Gait):
+class FlamingoWalker(PlanarBiped):
     """Spring Flamingo's blind slope walking (VMC section 6).
 
     States: ``double_support``; ``SIDE_support`` (single support on SIDE, the other leg swings);
@@ -59,7 +53,6 @@ class FlamingoWalker(Gait):
         JointNotFoundError: The robot lacks the joints above.
     """
 
-    step_states = ("left_support", "right_support")
     contact_frames = ("left_heel", "left_toe", "right_heel", "right_toe")
     foot_contacts = {f"{side}_foot": (f"{side}_heel", f"{side}_toe") for side in SIDES}
 
@@ -71,14 +64,13 @@ class FlamingoWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or FlamingoParameters()
-        weight = biped_weight(robot, p.weight)  # [N]
         self.memory = Memory(
             slope=0.0, slope_origin=(0.0, 0.0), hip_height=p.hip_height(0.0), height_time=0.0,
             front=0.0, swing_start=(0.0, 0.0), swing_target_x=0.0, swing_started=0.0,
             swing_hip_x=0.0,
         )  # fmt: skip
-        self.granny = granny_walker(p, self.hip_height, weight)
-        self.granny.limit = ((1.0 - p.min_lift) * weight, np.inf)
+        self.granny = granny_walker(p, self.hip_height, robot)
+        self.granny.limit = ((1.0 - p.min_lift) * self.granny.force[0], np.inf)  # [N]
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, PLANAR_AXES)
         self._declare_actuators()
@@ -98,11 +90,6 @@ class FlamingoWalker(Gait):
     def hip_height(self) -> float:
         """The hip height set point above the global slope [m]."""
         return self.memory.hip_height
-
-    @property
-    def front(self) -> str:
-        """The foot ahead in double support (``"left"`` or ``"right"``)."""
-        return SIDES[int(self.memory.front)]
 
     def _declare_actuators(self) -> None:
         """``double`` on both flat feet over limp ankles, ``SIDE_stance``, ``SIDE_swing``."""
@@ -255,7 +242,7 @@ class FlamingoWalker(Gait):
 
     @lowerable
     def _enter_single(self, context: Context) -> None:
-        stance, swing = _SIDES.get(context.state) or _sides(context.state)
+        stance, swing = _SIDES[context.state]
         memory, p = self.memory, self.parameters
         memory.swing_started = context.time  # support_2 continues the same swing
         ankle_x, _, ankle_z = context.frame_position(f"{swing}_foot")
@@ -274,7 +261,7 @@ class FlamingoWalker(Gait):
     @lowerable
     def _update_single(self, context: Context) -> None:
         p, memory = self.parameters, self.memory
-        stance, swing = _SIDES.get(context.state) or _sides(context.state)
+        stance, swing = _SIDES[context.state]
         self._update_height(context)
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")

@@ -12,9 +12,9 @@ import numpy as np
 
 from ...components.base import Component
 from ...components.slots import Slotted
-from ...exceptions import InvalidInputError
 from ...vocabulary.scalar import cos, sin
 from ..attitude import rotation_vector_angles
+from ..base import SizedSlots, sized_slot
 
 
 def heading_moment(
@@ -67,17 +67,10 @@ def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> lis
     return [c * fx - s * fy, s * fx + c * fy]
 
 
-class _Heading(Slotted, Component):
-    """What both heading components share: their slots as validated parameters."""
+class _Heading(SizedSlots, Slotted, Component):
+    """What both heading components share: their slots, checked, and read as floats."""
 
-    def _set(self, name: str, value: object, count: int, gains: bool = False) -> None:
-        """Set slot ``name`` (``count`` finite numbers, >= 0 for ``gains``) or trace it.
-
-        Raises:
-            InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
-        """
-        if not self._store_traced(name, value):
-            self._assign(f"_{name}", _numbers(value, count, f"{self.name}: {name}", gains))
+    GAINS = ("stiffness", "damping")
 
     def _floats(self) -> dict[str, list[float]]:
         return {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
@@ -101,65 +94,26 @@ class HeadingAttitude(_Heading):
         InvalidInputError: A gain that is not a finite number >= 0, or not 2 (3) of them.
     """
 
-    SLOTS = ("stiffness", "damping", "roll", "pitch", "yaw_rate")
+    SIZES = {"stiffness": 2, "damping": 3, "roll": 1, "pitch": 1, "yaw_rate": 1}
+    SLOTS = tuple(SIZES)
 
     def __init__(
         self, stiffness: Sequence[float], damping: Sequence[float], name: str | None = None
     ) -> None:
         super().__init__(("rx", "ry", "rz"), name)
-        self._set("stiffness", stiffness, 2, gains=True)
-        self._set("damping", damping, 3, gains=True)
-        self.roll = 0.0
-        self.pitch = 0.0
-        self.yaw_rate = 0.0
+        self.stiffness, self.damping = stiffness, damping
+        self.roll = self.pitch = self.yaw_rate = 0.0
 
-    @property
-    def stiffness(self) -> np.ndarray:
-        """``(roll, pitch)`` [N m/rad]."""
-        return self._traced("stiffness")
-
-    @property
-    def damping(self) -> np.ndarray:
-        """``(roll, pitch, yaw)`` [N m s/rad]."""
-        return self._traced("damping")
-
-    @property
-    def roll(self) -> float:
-        """Roll set point [rad]."""
-        return self._traced("roll")[0]
-
-    @roll.setter
-    def roll(self, value: float) -> None:
-        self._set("roll", value, 1)
-
-    @property
-    def pitch(self) -> float:
-        """Pitch set point [rad]."""
-        return self._traced("pitch")[0]
-
-    @pitch.setter
-    def pitch(self, value: float) -> None:
-        self._set("pitch", value, 1)
-
-    @property
-    def yaw_rate(self) -> float:
-        """Yaw rate set point [rad/s]."""
-        return self._traced("yaw_rate")[0]
-
-    @yaw_rate.setter
-    def yaw_rate(self, value: float) -> None:
-        self._set("yaw_rate", value, 1)
+    stiffness = sized_slot("stiffness", "``(roll, pitch)`` [N m/rad].")
+    damping = sized_slot("damping", "``(roll, pitch, yaw)`` [N m s/rad].")
+    roll = sized_slot("roll", "Roll set point [rad].", scalar=True)
+    pitch = sized_slot("pitch", "Pitch set point [rad].", scalar=True)
+    yaw_rate = sized_slot("yaw_rate", "Yaw rate set point [rad/s].", scalar=True)
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Moment on the body in world axes from its rotation vector and angular velocity."""
         position, velocity = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
         return np.array(heading_moment(self._floats(), position.tolist(), velocity.tolist()))
-
-    def compute_wrench_floats(
-        self, position: list[float], velocity: list[float], time: float
-    ) -> list[float]:
-        """`compute_wrench` on plain floats."""
-        return heading_moment(self._floats(), position, velocity)
 
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
         """`heading_moment` on a plan's traced slots and readings."""
@@ -180,79 +134,25 @@ class HeadingDamper(_Heading):
         InvalidInputError: A damping that is not a finite number >= 0, or not two of them.
     """
 
-    SLOTS = ("damping", "yaw", "velocity", "force")
+    SIZES = {"damping": 2, "yaw": 1, "velocity": 2, "force": 2}
+    SLOTS = tuple(SIZES)
 
     def __init__(self, damping: Sequence[float], name: str | None = None) -> None:
         super().__init__(("x", "y"), name)
         self.damping = damping
         self.yaw = 0.0
-        self.velocity = (0.0, 0.0)
-        self.force = (0.0, 0.0)
+        self.velocity = self.force = (0.0, 0.0)
 
-    @property
-    def damping(self) -> np.ndarray:
-        """``(along, across)`` the heading [N s/m]."""
-        return self._traced("damping")
-
-    @damping.setter
-    def damping(self, value: Sequence[float]) -> None:
-        self._set("damping", value, 2, gains=True)
-
-    @property
-    def yaw(self) -> float:
-        """Heading of the body [rad]."""
-        return self._traced("yaw")[0]
-
-    @yaw.setter
-    def yaw(self, value: float) -> None:
-        self._set("yaw", value, 1)
-
-    @property
-    def velocity(self) -> np.ndarray:
-        """Commanded body velocity in the heading frame ``(vx, vy)`` [m/s]."""
-        return self._traced("velocity")
-
-    @velocity.setter
-    def velocity(self, value: Sequence[float]) -> None:
-        self._set("velocity", value, 2)
-
-    @property
-    def force(self) -> np.ndarray:
-        """Extra force in the heading frame ``(fx, fy)`` [N]."""
-        return self._traced("force")
-
-    @force.setter
-    def force(self, value: Sequence[float]) -> None:
-        self._set("force", value, 2)
+    damping = sized_slot("damping", "``(along, across)`` the heading [N s/m].")
+    yaw = sized_slot("yaw", "Heading of the body [rad].", scalar=True)
+    velocity = sized_slot("velocity", "Commanded body velocity in the heading frame [m/s].")
+    force = sized_slot("force", "Extra force in the heading frame ``(fx, fy)`` [N].")
 
     def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
         """Force on the body in world axes."""
         floats = np.asarray(velocity, dtype=float).tolist()
         return np.array(heading_force(self._floats(), floats))
 
-    def compute_wrench_floats(
-        self, position: list[float], velocity: list[float], time: float
-    ) -> list[float]:
-        """`compute_wrench` on plain floats."""
-        return heading_force(self._floats(), velocity)
-
     def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
         """`heading_force` on a plan's traced slots and reading."""
         return heading_force(slots, velocity)
-
-
-def _numbers(values: object, count: int, what: str, gains: bool) -> np.ndarray:
-    """``values`` as ``count`` finite numbers (>= 0 for ``gains``).
-
-    Raises:
-        InvalidInputError: Not ``count`` finite numbers (>= 0 for gains).
-    """
-    bound = " >= 0" if gains else ""
-    try:
-        array = np.array(values, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"{what} must be {count} numbers{bound}, got {values!r}.") from None
-    negative = gains and np.any(array < 0.0)
-    if array.shape != (count,) or not np.all(np.isfinite(array)) or negative:
-        raise InvalidInputError(f"{what} must be {count} finite numbers{bound}, got {values!r}.")
-    return array

@@ -24,8 +24,7 @@ from .pendulum import GRAVITY
 Pair = tuple
 
 __all__ = [
-    "behind", "ground_velocity", "landing", "strides", "support_plane", "swing_targets",
-    "tripod_setpoints",
+    "behind", "ground_velocity", "landing", "strides", "support_plane", "tripod_setpoints",
 ]  # fmt: skip
 
 
@@ -140,33 +139,6 @@ def support_plane(stance: Sequence[Sequence], previous: tuple) -> tuple:
     return tuple(select(flat, new, old) for new, old in zip(plane, previous, strict=True))
 
 
-def swing_targets(
-    starts: Sequence[Sequence],
-    places: Sequence[Pair],
-    plane: tuple,
-    reach: object,
-    rest: object,
-    up: object,
-) -> list:
-    """Where the swing feet are carried this tick, body axes [m].
-
-    Args:
-        starts: The feet's lift-off points ``(x, y, z)``.
-        places: Their landing places ``(x, y)``.
-        plane: The ground plane ``(a, b, c)`` (`support_plane`).
-        reach: How far along from lift-off to landing, 0 to 1.
-        rest: How much of the lift-off height above the plane is left, 1 to 0.
-        up: The lift above the plane [m].
-    """
-    a, b, c = plane
-    targets = []
-    for (sx, sy, sz), (lx, ly) in zip(starts, places, strict=True):
-        x, y = sx + (lx - sx) * reach, sy + (ly - sy) * reach
-        above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
-        targets.append((x, y, a * x + b * y + c + rest * above + up))
-    return targets
-
-
 def tripod_setpoints(
     parameters: HexapodParameters,
     feet: Sequence[Sequence],
@@ -178,6 +150,9 @@ def tripod_setpoints(
     previous: dict,
 ) -> dict:
     """The tripod's per-tick update: ground plane, lag, phase, landing, swing set points.
+
+    The swing feet go from lift-off to landing by ``smoothstep(1.25 phase)``, above the plane by
+    what is left of their lift-off height plus the lift.
 
     Args:
         parameters: The gait's constants.
@@ -210,20 +185,21 @@ def tripod_setpoints(
         (ax, ay),
     )  # fmt: skip
     lift_off, last, rates = previous["lift_off"], previous["targets"], previous["rates"]
-    starts = [lift_off[3 * k : 3 * k + 3] for k in range(3)]
-    targets = swing_targets(starts, places, plane, reach, rest, up)
-    moved = dt > 0.0
+    (a, b, c), targets = plane, []
+    for k, (lx, ly) in enumerate(places):  # the swing feet carried from lift-off to landing
+        sx, sy, sz = lift_off[3 * k : 3 * k + 3]
+        x, y = sx + (lx - sx) * reach, sy + (ly - sy) * reach
+        above = sz - (a * sx + b * sy + c)  # lift-off height above the plane [m]
+        targets += (x, y, a * x + b * y + c + rest * above + up)
+    moved = dt > 0.0  # the set points' velocity low-pass filtered
     blend = select(moved, minimum(1.0, dt / p.velocity_filter), 0.0)
     step = select(moved, dt, 1.0)
-    new_targets, new_rates = [], []
-    for k, target in enumerate(targets):
-        for i, value in enumerate(target):
-            rate = rates[3 * k + i]
-            change = blend * ((value - last[3 * k + i]) / step - rate)
-            new_rates.append(select(moved, rate + change, rate))
-            new_targets.append(value)
+    new_rates = tuple(
+        select(moved, rate + blend * ((value - old) / step - rate), rate)
+        for value, old, rate in zip(targets, last, rates, strict=True)
+    )
     return {
         "plane": plane, "phase": phase, "lift_off": tuple(lift_off), "ground": ground,
-        "targets": tuple(new_targets), "rates": tuple(new_rates),
+        "targets": tuple(targets), "rates": new_rates,
     }  # fmt: skip
 

@@ -12,6 +12,7 @@ from ...exceptions import InvalidInputError
 from ...experiments.smoothness import SmoothnessFigures
 from ...experiments.walk_log import WalkLog
 from ..guidance import Guidance, SinePath, TrackObject, VelocityCommand, wrap
+from ..runner import summary_line
 
 __all__ = ["STARTUP", "TRACK_SETTLE", "HexapodMetrics", "compute_hexapod_metrics"]
 
@@ -58,31 +59,31 @@ class HexapodMetrics(SmoothnessFigures):
     steps: int
     speed_mps: float | None
     speed_command_mps: float
-    direction_error_rad: float | None
-    heading_drift_rad: float | None
-    roll_max_rad: float | None
-    pitch_max_rad: float | None
-    yaw_rate_radps: float | None
-    circle_radius_m: float | None
-    circle_radius_command_m: float | None
-    path_error_max_m: float | None
-    pendulum_peak_rad: float | None
-    pendulum_rms_rad: float | None
-    vx_second_half_mps: float | None
-    vx_min_early_mps: float | None
-    bearing_error_max_rad: float | None
-    bearing_error_rms_rad: float | None
-    stance_normal_min_n: float | None
-    stance_friction_ratio_max: float | None
-    realtime_factor: float | None
-    physics_realtime_factor: float | None
+    direction_error_rad: float | None = None
+    heading_drift_rad: float | None = None
+    roll_max_rad: float | None = None
+    pitch_max_rad: float | None = None
+    yaw_rate_radps: float | None = None
+    circle_radius_m: float | None = None
+    circle_radius_command_m: float | None = None
+    path_error_max_m: float | None = None
+    pendulum_peak_rad: float | None = None
+    pendulum_rms_rad: float | None = None
+    vx_second_half_mps: float | None = None
+    vx_min_early_mps: float | None = None
+    bearing_error_max_rad: float | None = None
+    bearing_error_rms_rad: float | None = None
+    stance_normal_min_n: float | None = None
+    stance_friction_ratio_max: float | None = None
+    realtime_factor: float | None = None
+    physics_realtime_factor: float | None = None
 
     def summary(self) -> str:
         """One line for the terminal."""
         parts = [f"{self.duration_s:z.1f} s, {self.steps} steps"]
         if self.speed_mps is not None:
             parts.append(f"speed {self.speed_mps:z.2f} m/s (set {self.speed_command_mps:z.2f})")
-        for label, value in (
+        labelled = (
             ("direction error", self.direction_error_rad),
             ("heading drift", self.heading_drift_rad),
             ("circle radius", self.circle_radius_m),
@@ -90,19 +91,8 @@ class HexapodMetrics(SmoothnessFigures):
             ("pendulum peak", self.pendulum_peak_rad),
             ("pendulum rms", self.pendulum_rms_rad),
             ("bearing error max", self.bearing_error_max_rad),
-        ):
-            if value is not None:
-                parts.append(f"{label} {value:z.3f}")
-        if self.fell:
-            parts.append(f"FELL at {self.fall_time_s:z.2f} s")
-        if self.realtime_factor is not None:
-            parts.append(
-                f"{self.realtime_factor:z.2f}x real time (MuJoCo alone "
-                f"{self.physics_realtime_factor:z.1f}x)"
-            )
-        if smoothness := self.smoothness_summary():
-            parts.append(smoothness)
-        return ", ".join(parts)
+        )
+        return summary_line(self, parts, labelled)
 
 
 def _circle_fit(x: np.ndarray, y: np.ndarray) -> float:
@@ -110,22 +100,6 @@ def _circle_fit(x: np.ndarray, y: np.ndarray) -> float:
     a = np.c_[x, y, np.ones_like(x)]
     (cx2, cy2, c), *_ = np.linalg.lstsq(a, x * x + y * y, rcond=None)
     return float(math.sqrt(max(c + 0.25 * (cx2 * cx2 + cy2 * cy2), 0.0)))
-
-
-#: The figures only some runs measure (None otherwise)
-OPTIONAL_FIGURES = (
-    "direction_error_rad",
-    "heading_drift_rad",
-    "circle_radius_m",
-    "circle_radius_command_m",
-    "path_error_max_m",
-    "pendulum_peak_rad",
-    "pendulum_rms_rad",
-    "vx_second_half_mps",
-    "vx_min_early_mps",
-    "bearing_error_max_rad",
-    "bearing_error_rms_rad",
-)
 
 
 def _command(guidance: Guidance) -> tuple[float, float, float]:
@@ -204,7 +178,7 @@ def compute_hexapod_metrics(
     track = isinstance(guidance, TrackObject)
     speed_command, direction, yaw_rate_command = _command(guidance)
     straight = isinstance(guidance, VelocityCommand) and yaw_rate_command == 0.0
-    figures: dict[str, Any] = dict.fromkeys(OPTIONAL_FIGURES)
+    figures: dict[str, Any] = {}  # what this run measures (the others: None)
     speed = None
     if span > 0.0:
         displacement = math.hypot(xw[-1] - xw[0], yw[-1] - yw[0])
@@ -236,7 +210,5 @@ def compute_hexapod_metrics(
         yaw_rate_radps=float(np.mean(log["yaw_rate"][window])),
         stance_normal_min_n=stance_normal_min,
         stance_friction_ratio_max=stance_ratio_max,
-        realtime_factor=None,
-        physics_realtime_factor=None,
         **figures,
     )

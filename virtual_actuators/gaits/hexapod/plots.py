@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-import os
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -18,48 +16,16 @@ from ...experiments.plots import (
     draw_series,
     draw_state_panel,
     new_figure,
-    save_figure,
 )
 from ...experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["draw_hexapod", "plot_hexapod"]
+__all__ = ["draw_hexapod"]
 
 _LAYOUTS = ("auto", "pendulum", "path")
 ARROW_PERIOD = 0.5  # [s] between heading arrows
-
-
-def plot_hexapod(
-    log: WalkLog,
-    path: str | os.PathLike[str],
-    *,
-    layout: str = "auto",
-    title: str | None = None,
-    summary: str | None = None,
-    dpi: float = 120,
-) -> Path:
-    """Plot a hexapod walk and save a PNG.
-
-    Args:
-        log: The run's log (``HexapodResult.log``).
-        path: Destination PNG; parents are created.
-        layout: ``"pendulum"`` (Fig. 6: angle, x velocity, virtual x force, state against
-            time), ``"path"`` (the x-y path with heading arrows) or ``"auto"`` (pendulum if any).
-        title: Figure title (default from the metadata).
-        summary: A line under the title (e.g. ``HexapodMetrics.summary()``).
-        dpi: Resolution.
-
-    Returns:
-        The path written.
-
-    Raises:
-        InvalidInputError: An unknown layout, an empty log, or ``"pendulum"`` for a log without
-            pendulum angles.
-    """
-    figure = draw_hexapod(log, layout=layout, title=title, summary=summary, dpi=dpi)
-    return save_figure(figure, path)
 
 
 def draw_hexapod(
@@ -70,13 +36,19 @@ def draw_hexapod(
     summary: str | None = None,
     dpi: float = 120,
 ) -> Figure:
-    """The figure `plot_hexapod` saves (same arguments but the path), not yet drawn.
+    """A hexapod walk's figure on an Agg canvas of its own, not yet drawn.
 
-    Returns:
-        A matplotlib figure on an Agg canvas of its own.
+    Args:
+        log: The run's log (``HexapodResult.log``).
+        layout: ``"pendulum"`` (Fig. 6: angle, x velocity, virtual x force, state against
+            time), ``"path"`` (the x-y path with heading arrows) or ``"auto"`` (pendulum if any).
+        title: Figure title (default from the metadata).
+        summary: A line under the title (e.g. ``HexapodMetrics.summary()``).
+        dpi: Resolution.
 
     Raises:
-        InvalidInputError: As `plot_hexapod`.
+        InvalidInputError: An unknown layout, an empty log, or ``"pendulum"`` for a log without
+            pendulum angles.
     """
     if layout not in _LAYOUTS:
         raise InvalidInputError(f"layout: {layout!r} is not one of {', '.join(_LAYOUTS)}.")

@@ -9,34 +9,36 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ...exceptions import InvalidInputError
+from ...control.controller import ControlOutput
 from ...experiments.recorder import Recorder
 from ...models.catalog import robots_dir
 from ...models.loader import load_robot
 from ...models.robot import Robot
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..base import Walk, check_distribution, check_speed_bound
-from ..guidance import Guidance, PlanarState, SinePath, TrackObject, VelocityCommand
-from ..registered import ConfiguredResult, WalkRequest
-from ..runner import TRACE_CHANNELS, terrain_points, trace_of
-from ..smoothness import loop_smoothness
+from ..base import Walk
+from ..guidance import Guidance, SinePath, TrackObject, check_path, path_guidance
+from ..runner import (
+    TRACE_CHANNELS,
+    TRACE_RATE,
+    ConfiguredResult,
+    FloatingEpisode,
+    terrain_points,
+    trace_of,
+)  # fmt: skip
 from ..walk_loop import drive
-from .episode import TRACE_RATE, HexapodEpisode
 from .metrics import HexapodMetrics, compute_hexapod_metrics
 from .parameters import HexapodParameters
 from .walker import HexapodWalker
 
 _OWN_CHANNELS = ("vx_heading", "vx_command", "yaw_rate", "fx", "pendulum", "target_x", "target_y")
 CHANNELS = ("time", *TRACE_CHANNELS, *_OWN_CHANNELS, "fallen")
-
-
-PATHS = ("line", "sine")
+#: The attachments whose components move the body, in the order its wrench is read from.
+BODY_ATTACHMENTS = ("support_a", "support_b", "support_all")
 
 
 @dataclass(frozen=True)
@@ -56,6 +58,9 @@ class HexapodWalkConfig:
         duration: Simulated time [s].
         seed: Random initial disturbance (body velocity, pendulum angle); None for none.
         distribution: ``"qp"`` or ``"partitioned"``.
+
+    Raises:
+        InvalidInputError: Values that do not hold together (`check_path`).
     """
 
     speed: float = 0.4
@@ -72,31 +77,7 @@ class HexapodWalkConfig:
     distribution: str = "qp"
 
     def __post_init__(self) -> None:
-        numbers = {k: getattr(self, k) for k in ("speed", "direction", "yaw_rate", "duration")}
-        numbers.update(amplitude=self.amplitude, wavelength=self.wavelength)
-        for name, value in numbers.items():
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
-        check_speed_bound(self.speed)
-        if self.duration <= 0.0:
-            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
-        if self.path not in PATHS:
-            raise InvalidInputError(f"path must be one of {PATHS}, got {self.path!r}.")
-        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0):
-            raise InvalidInputError("path 'sine' needs a speed > 0 and a wavelength > 0.")
-        check_distribution(self.distribution)
-        if self.path == "sine" and (self.track or self.yaw_rate != 0.0):
-            raise InvalidInputError("path 'sine' holds the heading: no yaw rate and no tracking.")
-        if self.track and self.yaw_rate != 0.0:
-            raise InvalidInputError("tracking sets the yaw rate itself: leave yaw_rate at 0.")
-
-    def guidance(self) -> Guidance:
-        """The guidance for this configuration."""
-        if self.path == "sine":
-            return SinePath(self.speed, self.amplitude, self.wavelength)
-        if self.track:
-            return TrackObject(self.speed, self.direction)
-        return VelocityCommand(self.speed, self.direction, self.yaw_rate)
+        check_path(self)
 
 
 def command_path(config: HexapodWalkConfig, guidance: Guidance) -> np.ndarray:
@@ -177,26 +158,14 @@ def run_hexapod_walk(
     parameters = parameters or HexapodParameters(distribution=config.distribution)
     episode = _prepare(config, parameters)
     end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
-    gait, simulator, guidance = episode.gait, episode.simulator, episode.guidance
+    gait, guidance = episode.gait, episode.guidance
     episode.recorder.metadata["command_path"] = command_path(config, guidance)
     log = episode.recorder.to_log()
     steps = gait.machine.steps_into(gait.step_states)
-    normal_min, ratio_max = episode.stance.figures()
-    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, normal_min, ratio_max)
-    metrics = _with_timing(metrics, simulator.time, end.wall, end.physics)
-    smoothness = loop_smoothness(simulator, end)
-    metrics = replace(metrics, **smoothness.metrics_fields())
-    return HexapodResult(
-        log,
-        metrics,
-        gait,
-        simulator,
-        end.wall,
-        loop=end,
-        smoothness=smoothness,
-        config=config,
-        ticks=end.ticks,
-    )
+    stance = episode.stance.figures()
+    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, *stance)
+    metrics = replace(metrics, **end.realtime_factors(episode.simulator.time))
+    return episode.finish(end, log, metrics, HexapodResult, config=config, ticks=end.ticks)
 
 
 def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> HexapodEpisode:
@@ -214,8 +183,6 @@ def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> Hexapo
         if config.pendulum:
             q0[-1] = rng.uniform(-0.01, 0.01)
     simulator.reset(q0, v0)
-    guidance = config.guidance()
-    guidance.begin(PlanarState(0.0, float(q0[0]), float(q0[1]), 0.0, 0.0, 0.0))
     recorder = Recorder(
         CHANNELS,
         state_names=gait.machine.names,
@@ -232,73 +199,77 @@ def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> Hexapo
             "config": asdict(config),
         },
     )
-    return HexapodEpisode(gait, simulator, terrain, recorder, guidance)
+    return HexapodEpisode(gait, simulator, terrain, recorder, path_guidance(config))
 
 
-def _with_timing(
-    metrics: HexapodMetrics, simulated: float, wall: float, physics: float
-) -> HexapodMetrics:
-    return replace(
-        metrics,
-        realtime_factor=simulated / wall if wall > 0 else None,
-        physics_realtime_factor=simulated / physics if physics > 0 else None,
-    )
+class HexapodEpisode(FloatingEpisode):
+    """The hexapod's walk under `drive`: `CHANNELS` at `TRACE_RATE`, the pendulum's fall."""
+
+    def fallen(self, q: np.ndarray) -> bool:
+        """`FloatingEpisode.fallen`, or the pendulum leaning beyond its fall angle."""
+        if super().fallen(q):
+            return True
+        fall, gait = self.gait.parameters.pendulum_fall, self.gait
+        return gait.pendulum is not None and abs(gait.pendulum_angle) > fall
+
+    def record(
+        self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
+    ) -> None:
+        """One sample of `CHANNELS`."""
+        gait = self.gait
+        yaw, pitch, roll, vx, vy = self.attitude
+        target_x, target_y = self.guidance.target(now) or (math.nan, math.nan)
+        wrench = next(
+            (w for w in map(output.wrench_of, BODY_ATTACHMENTS) if w is not None), np.zeros(6)
+        )
+        x, y, z, w = q[3:7].tolist()  # the body's world z rate: row z of its rotation . omega
+        row_z = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
+        c, s = math.cos(yaw), math.sin(yaw)
+        self.recorder.append_row(  # one value per CHANNELS entry, in its order
+            (
+                now,
+                q.item(0),
+                q.item(1),
+                self.height(q),
+                roll,
+                pitch,
+                self.unwrapped_yaw(),
+                vx,
+                vy,
+                c * vx + s * vy,
+                float(self.command[0]),
+                sum(r * rate for r, rate in zip(row_z, v[3:6].tolist(), strict=True)),
+                c * wrench.item(0) + s * wrench.item(1),
+                gait.pendulum_angle if gait.pendulum is not None else math.nan,
+                target_x,
+                target_y,
+                float(fallen),
+            ),
+            gait.machine.current_index,
+        )
 
 
-def run_request(request: WalkRequest) -> HexapodResult:
-    """The hexapod's walk as `run_registered` starts it (`Walk.run`).
-
-    Raises:
-        InvalidInputError: A bad configuration.
-    """
-    default = request.walk.default_speed(**request.options) if request.speed is None else None
-    config, parameters = request.configured(HexapodWalkConfig, default)
-    return run_hexapod_walk(config, parameters, *request.loop)
-
-
-def plot_hexapod_walk(result: HexapodResult, path: str, window: None = None) -> Path:
-    """Draw a hexapod walk (`plot_hexapod`)."""
-    from .plots import plot_hexapod
-
-    return plot_hexapod(result.log, path, summary=result.metrics.summary())
-
-
-def draw_hexapod_walk(result: HexapodResult) -> Any:
-    """The matplotlib figure `plot_hexapod_walk` saves."""
+def draw_hexapod_walk(result: HexapodResult, window: None = None) -> Any:
+    """A hexapod walk's figure (`draw_hexapod`, with its summary)."""
     from .plots import draw_hexapod
 
     return draw_hexapod(result.log, summary=result.metrics.summary())
 
 
-def _viewer_robot(pendulum: bool = False, **options: Any) -> Robot:
-    return hexapod_robot(pendulum)
-
-
-def hexapod_speed(pendulum: bool = False, track: bool = False, **options: Any) -> float:
-    """The hexapod's own desired speed [m/s]: slower with the pendulum or tracking."""
-    return 0.2 if (pendulum or track) else 0.4
-
-
-def hexapod_speeds(
-    pendulum: bool = False, track: bool = False, **options: Any
-) -> tuple[float, float]:
-    """The supported desired speeds [m/s]: slower with the pendulum or tracking (measured)."""
-    return (0.1, 0.4) if (pendulum or track) else (0.1, 1.0)
-
-
 WALK = Walk(
     name="hexapod-walk",
     robot="hexapod",
-    run=run_request,
+    run=lambda request: request.run_with(run_hexapod_walk, HexapodWalkConfig),
     parameters=HexapodParameters,
     terrain="flat",
     duration=10.0,
-    plot=plot_hexapod_walk,
+    draw=draw_hexapod_walk,
     description="The 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
     "tracking an object (VAC section 4)",
     options=("direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track"),
     force_scale=1 / 100,
-    viewer_robot=_viewer_robot,
-    speeds_for=hexapod_speeds,
-    nominal_speed=hexapod_speed,
+    viewer_robot=lambda pendulum=False, **_: hexapod_robot(pendulum),
+    # the supported speeds (measured) and the own one [m/s]: slower with the pendulum or tracking
+    speeds=lambda pendulum=False, track=False, **_: (0.1, 0.4 if pendulum or track else 1.0),
+    nominal_speed=lambda pendulum=False, track=False, **_: 0.2 if pendulum or track else 0.4,
 )

@@ -31,7 +31,7 @@ from ...vocabulary.scalar import (
     sin,
 )  # fmt: skip
 from ...vocabulary.traced import lowerable
-from ..base import Gait
+from ..base import Gait, as_floats
 from .body import HeadingAttitude, HeadingDamper
 from .footholds import ground_velocity, tripod_setpoints
 from .parameters import HexapodParameters
@@ -45,31 +45,65 @@ PENDULUM_JOINT = "pendulum_joint"
 __all__ = ["LEGS", "TRIPODS", "HexapodWalker"]
 
 
-def _floats(value: object) -> object:
-    """A tick's read as floats: a numpy array's entries, traced tuples as they are."""
-    return value.tolist() if isinstance(value, np.ndarray) else value
-
-
 #: ``memory.support``: 0.0 for tripod a, 1.0 for b.
 SUPPORT = ("a", "b")
 
 
-def walker_memory(ground: float) -> Memory:
-    """The walker's memory at rest, its ground plane at height ``ground`` (body axes) [m]."""
-    zeros = (0.0, 0.0)
-    return Memory(
-        command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
-        filtered=zeros, filter_time=0.0, target_time=0.0, plane=(0.0, 0.0, ground), phase=0.0,
-        ground=0.0, support=0.0, lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9,
-        pendulum=0.0,
-    )  # fmt: skip
+class HexapodWalker(Gait):
+    """The hexapod's tripod gait with the seed's three inputs.
 
+    Args:
+        robot: ``hexapod`` or ``hexapod_pendulum`` (frames ``body``, ``foot_1`` ... ``foot_6``;
+            a ``pendulum_joint`` about the body's y axis is balanced).
+        parameters: Gait variables and component constants.
 
-class WalkerState:
-    """The walker's inputs and state, read from and written to its ``memory`` (a mixin)."""
+    Attributes:
+        memory: What the gait carries from tick to tick (a compiled plan's registers).
+        pendulum: The pendulum's linear model, or None without a pendulum.
+        gain: The pendulum's LQR gain ``(1, 3)``, or None.
 
-    memory: Memory
+    Raises:
+        FrameNotFoundError: The robot lacks the frames above.
+        InvalidInputError: Bad parameters.
+    """
+
+    step_states = ("tripod_a", "tripod_b")
+    contact_frames = tuple(f"foot_{i}" for i in LEGS)
     _command = (0.0, 0.0, 0.0)  # the command last written into the memory
+
+    def __init__(self, robot: Robot, parameters: HexapodParameters | None = None) -> None:
+        super().__init__(robot)
+        self.parameters = p = parameters or HexapodParameters()
+        model = robot.model
+        weight = robot.mass * 9.81  # [N]
+        self.height = SpringDamper(
+            ("z",), p.stiffness_z, p.damping_z, setpoint=p.height, force=weight, name="height"
+        )
+        self.attitude = HeadingAttitude(p.stiffness_attitude, p.damping_attitude, name="attitude")
+        self.planar = HeadingDamper(p.damping_xy, name="planar")
+        self.swing = {
+            i: SpringDamper(("x", "y", "z"), p.swing_stiffness, p.swing_damping, name=f"swing_{i}")
+            for i in LEGS
+        }
+        self._declare_actuators()
+        self._standing()
+        zeros, ground = (0.0, 0.0), float(self.nominal[:, 2].mean())  # the ground, body axes [m]
+        self.memory = Memory(
+            command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
+            filtered=zeros, filter_time=0.0, target_time=0.0, plane=(0.0, 0.0, ground), phase=0.0,
+            ground=0.0, support=0.0, lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9,
+            pendulum=0.0,
+        )  # fmt: skip
+        self.pendulum: PendulumModel | None = None
+        self.gain: np.ndarray | None = None
+        self._pendulum_index: tuple[int, int] | None = None
+        if model.existJointName(PENDULUM_JOINT):
+            self.pendulum, self.gain, self._pendulum_index = pendulum_lqr(
+                model, PENDULUM_JOINT, p.pendulum_weights, p.pendulum_effort
+            )
+            self._gain = tuple(self.gain[0].tolist())
+            self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x: the LQR's
+        self._finish(self._machine(p.double_support_time))
 
     def set_command(self, velocity: tuple[float, float] | np.ndarray, yaw_rate: float) -> None:
         """Set the body velocity ``(vx, vy)`` in the heading frame [m/s] and the yaw rate [rad/s].
@@ -124,56 +158,6 @@ class WalkerState:
     def pendulum_angle(self) -> float:
         """The pendulum's angle from the vertical, in the heading x-z plane [rad]."""
         return self.memory.pendulum
-
-
-class HexapodWalker(WalkerState, Gait):
-    """The hexapod's tripod gait with the seed's three inputs.
-
-    Args:
-        robot: ``hexapod`` or ``hexapod_pendulum`` (frames ``body``, ``foot_1`` ... ``foot_6``;
-            a ``pendulum_joint`` about the body's y axis is balanced).
-        parameters: Gait variables and component constants.
-
-    Attributes:
-        memory: What the gait carries from tick to tick (a compiled plan's registers).
-        pendulum: The pendulum's linear model, or None without a pendulum.
-        gain: The pendulum's LQR gain ``(1, 3)``, or None.
-
-    Raises:
-        FrameNotFoundError: The robot lacks the frames above.
-        InvalidInputError: Bad parameters.
-    """
-
-    step_states = ("tripod_a", "tripod_b")
-    contact_frames = tuple(f"foot_{i}" for i in LEGS)
-
-    def __init__(self, robot: Robot, parameters: HexapodParameters | None = None) -> None:
-        super().__init__(robot)
-        self.parameters = p = parameters or HexapodParameters()
-        model = robot.model
-        weight = robot.mass * 9.81  # [N]
-        self.height = SpringDamper(
-            ("z",), p.stiffness_z, p.damping_z, setpoint=p.height, force=weight, name="height"
-        )
-        self.attitude = HeadingAttitude(p.stiffness_attitude, p.damping_attitude, name="attitude")
-        self.planar = HeadingDamper(p.damping_xy, name="planar")
-        self.swing = {
-            i: SpringDamper(("x", "y", "z"), p.swing_stiffness, p.swing_damping, name=f"swing_{i}")
-            for i in LEGS
-        }
-        self._declare_actuators()
-        self._standing()
-        self.memory = walker_memory(float(self.nominal[:, 2].mean()))
-        self.pendulum: PendulumModel | None = None
-        self.gain: np.ndarray | None = None
-        self._pendulum_index: tuple[int, int] | None = None
-        if model.existJointName(PENDULUM_JOINT):
-            self.pendulum, self.gain, self._pendulum_index = pendulum_lqr(
-                model, PENDULUM_JOINT, p.pendulum_weights, p.pendulum_effort
-            )
-            self._gain = tuple(self.gain[0].tolist())
-            self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x: the LQR's
-        self._finish(self._machine(p.double_support_time))
 
     def _declare_actuators(self) -> None:
         """``support_a``, ``support_b``, ``support_all`` (point feet) and ``swing_1`` ... ``6``."""
@@ -256,20 +240,11 @@ class HexapodWalker(WalkerState, Gait):
             down = logical_and(down, switches.get(f"foot_{i}", 0.0))
         return logical_or(phase >= 1.0, down)
 
-    def _balance(self, context: Context, pitch: object, pitch_rate: object) -> None:
-        """The pendulum's LQR: the planar damper's force along the heading."""
-        iq, iv = self._pendulum_index
-        memory = self.memory
-        memory.pendulum = angle = context.q[iq] + pitch
-        rate = context.v[iv] + pitch_rate
-        error = (angle, rate, memory.body_velocity[0] - memory.setpoint[0])
-        self.planar.force = (-dot(self._gain, error), 0.0)
-
     def _body_state(self, context: Context) -> object:
         """Update the heading inputs, measured velocity and pendulum; the body's height [m]."""
         memory, p = self.memory, self.parameters
-        r = _floats(context.frame_rotation("body"))
-        position = _floats(context.frame_position("body"))
+        r = as_floats(context.frame_rotation("body"))
+        position = as_floats(context.frame_position("body"))
         yaw = atan2(r[1][0], r[0][0])
         pitch = asin(maximum(-1.0, minimum(1.0, -r[2][0])))
         c, s = cos(yaw), sin(yaw)
@@ -279,7 +254,7 @@ class HexapodWalker(WalkerState, Gait):
             world_x = r[0][0] * u + r[0][1] * v + r[0][2] * w
             world_y = r[1][0] * u + r[1][1] * v + r[1][2] * w
         else:
-            world_x, world_y, _ = _floats(context.frame_velocity("body"))
+            world_x, world_y, _ = as_floats(context.frame_velocity("body"))
         vx, vy = c * world_x + s * world_y, -s * world_x + c * world_y  # heading frame
         memory.body_velocity = (vx, vy)
         now = context.time
@@ -305,19 +280,23 @@ class HexapodWalker(WalkerState, Gait):
         self.planar.velocity = (sx, sy)
         self.planar.yaw = yaw
         self.attitude.yaw_rate = yaw_rate
-        if self._pendulum_index is not None:  # free-flyer angular velocity: body axes
-            omega = (velocity[3], velocity[4], velocity[5])
+        if self._pendulum_index is not None:  # the LQR: the planar damper's force along the heading
+            omega = (velocity[3], velocity[4], velocity[5])  # the free flyer's, body axes
             world = [dot(row, omega) for row in r[:2]]
-            self._balance(context, pitch, -s * world[0] + c * world[1])
+            iq, iv = self._pendulum_index
+            memory.pendulum = angle = context.q[iq] + pitch
+            rate = context.v[iv] + (-s * world[0] + c * world[1])
+            error = (angle, rate, memory.body_velocity[0] - memory.setpoint[0])
+            self.planar.force = (-dot(self._gain, error), 0.0)
         return position[2]
 
     def _feet(self, context: Context) -> list:
         """The six feet relative to the body, body axes: ``(foot - body) @ rotation`` [m]."""
-        r = _floats(context.frame_rotation("body"))
-        bx, by, bz = _floats(context.frame_position("body"))
+        r = as_floats(context.frame_rotation("body"))
+        bx, by, bz = as_floats(context.frame_position("body"))
         feet = []
         for i in LEGS:
-            x, y, z = _floats(context.frame_position(f"foot_{i}"))
+            x, y, z = as_floats(context.frame_position(f"foot_{i}"))
             dx, dy, dz = x - bx, y - by, z - bz
             feet.append(tuple(dx * r[0][j] + dy * r[1][j] + dz * r[2][j] for j in range(3)))
         return feet

@@ -14,10 +14,10 @@ import numpy as np
 from ...components.base import Component
 from ...components.gains import Gains
 from ...components.slots import Slotted
-from ...exceptions import InvalidInputError
 from ...vocabulary.axes import check_axes_subset
 from ...vocabulary.scalar import cos, dot, maximum, select, sin, sqrt
 from ..attitude import rotation_vector_angles
+from ..base import SizedSlots, sized_slot
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
@@ -110,7 +110,7 @@ def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tupl
     return tuple(select(apart, value / norm, 0.0) for value in values)
 
 
-class BodyModel(Slotted, Component):
+class BodyModel(SizedSlots, Slotted, Component):
     """Height, roll and pitch springs, x, y and yaw dampers, in the heading frame.
 
     The weight is carried at the centre of mass; x and y add the mass times the set point's
@@ -130,7 +130,8 @@ class BodyModel(Slotted, Component):
         InvalidAxisError: A yielding axis that is not one of `AXES`.
     """
 
-    SLOTS = ("packed", "height", "velocity", "acceleration", "yaw_rate", "lever", "missing")
+    SIZES = {"height": 1, "velocity": 2, "acceleration": 2, "yaw_rate": 1, "lever": 3, "missing": 6}
+    SLOTS = ("packed", *SIZES)
 
     def __init__(
         self,
@@ -145,12 +146,8 @@ class BodyModel(Slotted, Component):
         )
         self._mass = float(mass)
         self.gains = gains
-        self.height = 0.0
-        self.velocity = (0.0, 0.0)
-        self.acceleration = (0.0, 0.0)
-        self.yaw_rate = 0.0
-        self.lever = (0.0, 0.0, 0.0)
-        self.missing = (0.0,) * 6
+        for name, size in self.SIZES.items():  # every set point at zero
+            setattr(self, name, (0.0,) * size)
 
     @property
     def gains(self) -> LeggedGains:
@@ -180,49 +177,12 @@ class BodyModel(Slotted, Component):
             *g.damping_attitude, mass, mass * GRAVITY,
         )))  # fmt: skip
 
-    def _set(self, name: str, value: object, size: int) -> None:
-        """Set slot ``name`` to ``size`` values (checked unless traced).
-
-        Raises:
-            InvalidInputError: Not ``size`` finite numbers.
-        """
-        if self._store_traced(name, value):
-            return
-        array = np.array(value, dtype=float).reshape(-1)
-        if array.shape != (size,) or not np.isfinite(array).all():
-            raise InvalidInputError(f"{self.name}: {name} must be {size} finite numbers.")
-        self._assign(f"_{name}", array)
-
-    height = property(
-        lambda self: self._traced("height")[0],
-        lambda self, value: self._set("height", value, 1),
-        doc="Height set point of the body's origin [m].",
-    )
-    velocity = property(
-        lambda self: self._traced("velocity"),
-        lambda self, value: self._set("velocity", value, 2),
-        doc="Velocity set point in the heading frame [m/s].",
-    )
-    acceleration = property(
-        lambda self: self._traced("acceleration"),
-        lambda self, value: self._set("acceleration", value, 2),
-        doc="The velocity set point's rate, heading frame [m/s^2].",
-    )
-    yaw_rate = property(
-        lambda self: self._traced("yaw_rate")[0],
-        lambda self, value: self._set("yaw_rate", value, 1),
-        doc="Yaw rate set point [rad/s].",
-    )
-    lever = property(
-        lambda self: self._traced("lever"),
-        lambda self, value: self._set("lever", value, 3),
-        doc="Centre of mass minus the body's origin, world axes [m].",
-    )
-    missing = property(
-        lambda self: self._traced("missing"),
-        lambda self, value: self._set("missing", value, 6),
-        doc="The unit wrench the support cannot produce, or zeros.",
-    )
+    height = sized_slot("height", "Height set point of the body's origin [m].", scalar=True)
+    velocity = sized_slot("velocity", "Velocity set point in the heading frame [m/s].")
+    acceleration = sized_slot("acceleration", "The velocity set point's rate [m/s^2].")
+    yaw_rate = sized_slot("yaw_rate", "Yaw rate set point [rad/s].", scalar=True)
+    lever = sized_slot("lever", "Centre of mass minus the body's origin, world axes [m].")
+    missing = sized_slot("missing", "The unit wrench the support cannot produce, or zeros.")
 
     def linear_gains(self) -> Gains:
         """Stiffness and damping on `AXES` (the heading frame's, world axes when level)."""

@@ -1,10 +1,9 @@
-"""The legged walker's per-tick half: its hooks and its touchdown events, all lowerable."""
+"""The legged walker's per-tick half: its hooks, its touchdown events and its swing curve."""
 
 from __future__ import annotations
 
 import math
-
-import numpy as np
+from collections.abc import Sequence
 
 from ...control.state_machine import Context
 from ...vocabulary.scalar import (
@@ -21,11 +20,12 @@ from ...vocabulary.scalar import (
     sin,
 )
 from ...vocabulary.traced import lowerable
+from ..base import as_floats
+from ..planar import lift_profile, smoothstep
 from .body import missing_direction
-from .footholds import swing_setpoint
 from .parameters import GRAVITY
 
-__all__ = ["WalkerHooks"]
+__all__ = ["WalkerHooks", "swing_setpoint"]
 
 
 class WalkerHooks:
@@ -57,7 +57,7 @@ class WalkerHooks:
     def _enter_swing(self, context: Context) -> None:
         """The swing starts where each foot of the group is: its set point there, at rest."""
         for foot in self._swinging[context.state]:
-            position = _floats(context.frame_position(foot))
+            position = as_floats(context.frame_position(foot))
             setattr(self.memory, f"foot_{self.feet.index(foot)}", (*position, *position, 0.0,
                     0.0, 0.0))  # fmt: skip
 
@@ -66,13 +66,13 @@ class WalkerHooks:
         """Body set points, the direction the support cannot produce, and the swing feet."""
         state, memory, body = context.state, self.memory, self.body
         rotation, origin = context.placement(self.body_frame)
-        rotation, origin = [_floats(row) for row in rotation], _floats(origin)
-        linear = _floats(context.frame_velocity(self.body_frame))
-        spin = _floats(context.v[3:6])
+        rotation, origin = [as_floats(row) for row in rotation], as_floats(origin)
+        linear = as_floats(context.frame_velocity(self.body_frame))
+        spin = as_floats(context.v[3:6])
         if self._to_body is not None:
             spin = tuple(dot(row, spin) for row in self._to_body.tolist())
         angular = tuple(dot(row, spin) for row in rotation)  # world axes [rad/s]
-        com = _floats(context.center_of_mass())
+        com = as_floats(context.center_of_mass())
         yaw = atan2(rotation[1][0], rotation[0][0])
         c, s = cos(yaw), sin(yaw)
         dt = self._ramp(context.time, state != "stand")
@@ -83,7 +83,7 @@ class WalkerHooks:
         ground = sum((context.frame_coordinate(foot, "z") for foot in support), 0.0) / len(support)
         body.height = ground + self.stand_height
         if self.parameters.give_way and len(support) == 2:
-            first, second = (_floats(context.frame_position(foot)) for foot in support)
+            first, second = (as_floats(context.frame_position(foot)) for foot in support)
             body.missing = missing_direction(origin, first, second)
         else:  # three feet or more produce every wrench (one: the distribution yields)
             body.missing = (0.0,) * 6
@@ -144,7 +144,7 @@ class WalkerHooks:
             moved, setpoints = swing_setpoint(state, self._nominal[k], body, motion, dt,
                                               self._shape)  # fmt: skip
             down = logical_and(late, context.contacts.get(foot, False))
-            position = _floats(context.frame_position(foot))
+            position = as_floats(context.frame_position(foot))
             offset = tuple(position[i] - origin[i] for i in range(3))
             turning = cross(angular, offset)
             held = (*offset, *(-linear[i] - turning[i] for i in range(3)))
@@ -156,8 +156,70 @@ class WalkerHooks:
         memory.swung_at = time
 
 
-def _floats(values: object) -> tuple:
-    """A vector as a tuple: a traced one as it is, an array's entries as floats."""
-    if isinstance(values, tuple):
-        return values
-    return tuple(np.asarray(values, dtype=float).tolist())
+def swing_setpoint(
+    state: Sequence,
+    nominal: Sequence[float],
+    body: Sequence,
+    motion: Sequence,
+    dt: object,
+    shape: Sequence[float],
+) -> tuple[tuple, tuple]:
+    """One swinging foot's next state and its spring's set points, relative to the body.
+
+    The foothold, about the centre of mass predicted for touchdown and in the heading then: the
+    nominal place turned by half a stance's yaw, moved by half a stance's travel and the capture
+    time's velocity error, within ``reach`` of the nominal place; ``depth`` below the ground. The
+    set point goes there by a smooth step arriving at 80 % of the swing horizontally, a smooth
+    step between the two heights plus ``lift`` times `lift_profile` vertically; its velocity is
+    low-pass filtered. Floats or traced values.
+
+    Args:
+        state: ``(9,)`` lift-off point, last set point, its velocity [m, m/s], world.
+        nominal: ``(2,)`` the foot's nominal place relative to the centre of mass, heading
+            frame [m].
+        body: ``(12,)`` centre of mass, body origin, velocity, angular velocity, world.
+        motion: ``(8,)`` ``vx, vy, ex, ey`` (set velocity and its error, heading frame) [m/s],
+            yaw rate set point [rad/s], yaw [rad], time in the swing [s], ground height [m].
+        dt: Time since the last set points [s] (not positive: the velocity is kept).
+        shape: ``(8,)`` swing time, stance time, capture time (``sqrt(h / g)``), reach, lift,
+            lift peak (a phase), touchdown depth, rate filter [s, s, s, m, m, -, m, s].
+
+    Returns:
+        ``(state, setpoints)``: the new ``(9,)`` state, and ``(6,)`` the set point and its
+        velocity relative to the body, world axes.
+    """
+    vx, vy, ex, ey, yaw_rate, yaw, elapsed, ground = motion
+    swing_time, stance_time, capture, reach, lift, peak, depth, rate_filter = shape
+    phase = elapsed / swing_time
+    remaining = maximum(0.0, swing_time - elapsed)
+    heading = yaw + yaw_rate * remaining
+    c, s = cos(heading), sin(heading)
+    cy, sy = cos(yaw), sin(yaw)
+    centre_x = body[0] + remaining * (cy * vx - sy * vy)  # the centre of mass at touchdown
+    centre_y = body[1] + remaining * (sy * vx + cy * vy)
+    depth = depth * (1.0 + 4.0 * maximum(0.0, phase - 1.0))
+    moving = dt > 0.0
+    blend = select(moving, minimum(1.0, dt / rate_filter), 0.0)
+    step = select(moving, dt, 1.0)  # the divisor where it is used
+    (x, y), half = nominal, 0.5 * stance_time
+    angle = yaw_rate * half
+    turn_c, turn_s = cos(angle), sin(angle)
+    dx = turn_c * x - turn_s * y - x + vx * half + capture * ex
+    dy = turn_s * x + turn_c * y - y + vy * half + capture * ey
+    scale = minimum(1.0, reach / maximum(hypot(dx, dy), 1e-12))
+    x, y = x + scale * dx, y + scale * dy  # the foothold
+    goal = (centre_x + c * x - s * y, centre_y + s * x + c * y, ground - depth)
+    along = smoothstep(minimum(1.0, 1.25 * phase))
+    target = (
+        state[0] + (goal[0] - state[0]) * along, state[1] + (goal[1] - state[1]) * along,
+        state[2] + (goal[2] - state[2]) * smoothstep(phase) + lift * lift_profile(phase, peak),
+    )  # fmt: skip
+    rate = tuple(
+        select(moving, state[6 + i] + blend * ((target[i] - state[3 + i]) / step - state[6 + i]),
+               state[6 + i])
+        for i in range(3)
+    )  # fmt: skip
+    offset = tuple(target[i] - body[3 + i] for i in range(3))
+    spin = cross(body[9:12], offset)
+    relative = tuple(rate[i] - body[6 + i] - spin[i] for i in range(3))
+    return (*state[:3], *target, *rate), (*offset, *relative)

@@ -9,6 +9,7 @@ import numpy as np
 
 from ...experiments.smoothness import SmoothnessFigures
 from ..guidance import wrap
+from ..runner import summary_line
 
 __all__ = ["LeggedMetrics", "legged_metrics"]
 
@@ -66,30 +67,17 @@ class LeggedMetrics(SmoothnessFigures):
             f"{self.duration_s:z.1f} s, {self.steps} steps",
             f"speed {self.speed_mps:z.2f} m/s (set {self.speed_command_mps:z.2f})",
         ]
-        for label, value in (
+        labelled = (
             ("direction error", self.direction_error_rad),
             ("heading drift", self.heading_drift_rad),
             ("roll max", self.roll_max_rad),
             ("pitch max", self.pitch_max_rad),
             ("path error", self.path_error_max_m),
             ("bearing error max", self.bearing_error_max_rad),
-        ):
-            if value is not None:
-                parts.append(f"{label} {value:z.3f}")
-        if self.yaw_rate_command_radps:
-            parts.append(
-                f"yaw rate {self.yaw_rate_radps:z.2f} (set {self.yaw_rate_command_radps:z.2f})"
-            )
-        if self.fell:
-            parts.append(f"FELL at {self.fall_time_s:z.2f} s")
-        if self.realtime_factor is not None:
-            parts.append(
-                f"{self.realtime_factor:z.2f}x real time (MuJoCo alone "
-                f"{self.physics_realtime_factor:z.1f}x)"
-            )
-        if smoothness := self.smoothness_summary():
-            parts.append(smoothness)
-        return ", ".join(parts)
+        )
+        yaw_rate, command = self.yaw_rate_radps, self.yaw_rate_command_radps
+        turn = (f"yaw rate {yaw_rate:z.2f} (set {command:z.2f})",) if command else ()
+        return summary_line(self, parts, labelled, turn)
 
 
 def legged_metrics(

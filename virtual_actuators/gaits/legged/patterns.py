@@ -111,26 +111,18 @@ def sides(feet: Sequence[str], positions: np.ndarray) -> tuple[list[str], list[s
     return left, right
 
 
-#: What each named pattern needs: ``(feet on each side: fewest, most or None)``.
-NEEDS: dict[str, tuple[int, int | None]] = {
-    "trot": (2, 2),
-    "pace": (1, None),
-    "walk": (0, None),
-    "tripod": (3, None),
-}
-
-#: `NEEDS` in words, for the messages.
-_NEEDS_TEXT = {
-    "trot": "two feet on each side",
-    "pace": "a foot on each side at least",
-    "walk": "two feet or more",
-    "tripod": "three feet or more on each side",
+#: What each named pattern needs: ``(feet on each side: fewest, most or None; in words)``.
+NEEDS: dict[str, tuple[int, int | None, str]] = {
+    "trot": (2, 2, "two feet on each side"),
+    "pace": (1, None, "a foot on each side at least"),
+    "walk": (0, None, "two feet or more"),
+    "tripod": (3, None, "three feet or more on each side"),
 }
 
 
 def fits(name: str, left: Sequence[str], right: Sequence[str]) -> bool:
     """Whether pattern ``name`` (one of `PATTERNS`) fits these feet on the left and right."""
-    fewest, most = NEEDS[name]
+    fewest, most, _ = NEEDS[name]
     return len(left) + len(right) >= 2 and all(
         fewest <= len(side) and (most is None or len(side) <= most) for side in (left, right)
     )
@@ -159,9 +151,9 @@ def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> Gait
         raise InvalidInputError(f"Unknown gait pattern {name!r}; choose one of {PATTERNS}.")
     left, right = sides(feet, positions)
     if not fits(name, left, right):
-        valid = [other for other in PATTERNS if fits(other, left, right)]
+        valid = fitting_patterns(feet, positions)
         raise GaitPatternError(
-            f"Gait {name!r} needs {_NEEDS_TEXT[name]}; these feet stand {len(left)} on the left "
+            f"Gait {name!r} needs {NEEDS[name][2]}; these feet stand {len(left)} on the left "
             f"({', '.join(left) or 'none'}) and {len(right)} on the right "
             f"({', '.join(right) or 'none'}): the gaits that fit them are "
             f"{', '.join(valid) or 'none'} (or give the swing groups with npod())."

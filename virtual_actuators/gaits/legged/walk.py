@@ -6,43 +6,74 @@ foot touching the ground.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
-from ...experiments.plot_panels import new_figure, save_figure, set_heading
+from ...experiments.plot_panels import new_figure, set_heading
 from ...experiments.recorder import Recorder
 from ...models.loader import load_robot
-from ...models.robot import Robot
+from ...models.names import ALIASES
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
-from ..attitude import attitude_and_velocity
-from ..base import Walk, check_distribution, check_speed_bound
-from ..guidance import Guidance, PlanarState, SinePath, TrackObject, wrap
+from ..base import Walk
+from ..guidance import PlanarState, SinePath, TrackObject, check_path, path_guidance
 from ..push import Push
-from ..registered import ConfiguredResult, WalkRequest
-from ..runner import FALL_PITCH, Episode, allowed_geoms, terrain_points, trace_of
-from ..smoothness import loop_smoothness
+from ..runner import (
+    TRACE_RATE,
+    ConfiguredResult,
+    FloatingEpisode,
+    allowed_geoms,
+    terrain_points,
+    trace_of,
+)  # fmt: skip
 from ..walk_loop import drive
 from .metrics import LeggedMetrics, legged_metrics
 from .parameters import LeggedParameters
 from .patterns import PATTERNS
-from .speeds import legged_speeds
 from .walker import LeggedWalker
 
-TRACE_RATE = 100.0  # [Hz]
 CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "fallen")
 
 #: The legged walk's own desired speed [m/s], before it is moved into the pattern's range.
 NOMINAL_SPEED = 0.4
 
-__all__ = ["LeggedResult", "LeggedWalkConfig", "bearing_error", "run_legged_walk", "sine_error"]
+#: The supported desired speeds ``{pattern: {robot (file stem) or None: (low, high)}}`` [m/s],
+#: measured (each range's ends walk 4 s on flat ground); another robot gets the ``None`` entry,
+#: and the trot has none (an unmeasured robot trots at any speed).
+LEGGED_SPEEDS: dict[str, dict[str | None, tuple[float, float]]] = {
+    "trot": {
+        "go2": (0.1, 1.5),
+        "solo12": (0.1, 0.8),
+        "anymal": (0.1, 1.0),
+        "anymal_c": (0.1, 1.0),
+        "hyq_no_sensors": (0.1, 1.0),
+    },
+    "pace": {None: (0.1, 0.4)},
+    "walk": {"hexapod": (0.05, 0.3), None: (0.05, 0.2)},
+    "tripod": {None: (0.1, 0.8)},
+}
+
+
+def legged_speeds(
+    robot: str = "solo12", gait: str = "trot", **options: Any
+) -> tuple[float, float] | None:
+    """The supported desired speeds ``(low, high)`` [m/s] of ``robot`` walking ``gait``, or None.
+
+    An unknown pattern gets the trot's (the walk itself refuses it).
+    """
+    table = LEGGED_SPEEDS.get(gait, LEGGED_SPEEDS["trot"])
+    name = ALIASES.get(str(robot), str(robot))
+    return table.get(name, table.get(None))
+
+__all__ = [
+    "LEGGED_SPEEDS", "LeggedResult", "LeggedWalkConfig", "bearing_error", "legged_speeds",
+    "run_legged_walk", "sine_error",
+]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -67,7 +98,7 @@ class LeggedWalkConfig:
         seed: An int draws the initial base velocity (up to 0.05 m/s, 0.1 rad/s per axis).
 
     Raises:
-        InvalidInputError: A value out of its range.
+        InvalidInputError: A value out of its range (`check_path`), or an unknown gait.
     """
 
     robot: str = "solo12"
@@ -89,27 +120,11 @@ class LeggedWalkConfig:
     def __post_init__(self) -> None:
         if self.speed is None:
             object.__setattr__(self, "speed", WALK.default_speed(robot=self.robot, gait=self.gait))
-        for name in ("speed", "direction", "yaw_rate", "duration"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                raise InvalidInputError(f"{name} must be a finite number, got {value!r}.")
-        check_speed_bound(self.speed)
-        if self.duration <= 0.0:
-            raise InvalidInputError(f"duration must be > 0 s, got {self.duration}.")
-        if self.path not in ("line", "sine"):
-            raise InvalidInputError(f"path must be 'line' or 'sine', got {self.path!r}.")
-        if self.path == "sine" and (self.speed <= 0.0 or self.wavelength <= 0.0 or self.yaw_rate):
-            raise InvalidInputError(
-                "path 'sine' needs a speed > 0 and a wavelength > 0, and holds the heading "
-                "(no yaw rate)."
-            )
-        if self.track and (self.path != "line" or self.yaw_rate):
-            raise InvalidInputError("track sets the yaw rate itself: a line path, no yaw rate.")
+        check_path(self)
         if self.gait not in PATTERNS:
             raise InvalidInputError(f"gait must be one of {PATTERNS}, got {self.gait!r}.")
         if self.push is not None:
             object.__setattr__(self, "push", Push.of(self.push))
-        check_distribution(self.distribution)
 
 
 @dataclass
@@ -120,93 +135,40 @@ class LeggedResult(ConfiguredResult):
     gait: LeggedWalker
     config: LeggedWalkConfig = field(default_factory=LeggedWalkConfig)
 
-    def trace(self) -> dict[str, list]:
-        """The base's ``t, x, y, z, roll, pitch, yaw, vx, vy`` at `TRACE_RATE`, and ``state``."""
-        return trace_of(self.log)
 
+class LeggedEpisode(FloatingEpisode):
+    """A legged walk under `drive`: the push, `CHANNELS` at `TRACE_RATE`.
 
-class LeggedEpisode(Episode):
-    """A legged walk under `drive`."""
-
-    ignore_unactuated = True
+    Attributes:
+        allowed: The frames that may touch the ground: the feet, those sharing a geometry with one.
+    """
 
     def __init__(
-        self,
-        gait: LeggedWalker,
-        simulator: Simulator,
-        terrain: Terrain,
-        recorder: Recorder,
+        self, gait: LeggedWalker, simulator: Simulator, terrain: Terrain, recorder: Recorder,
         config: LeggedWalkConfig,
-    ) -> None:
-        super().__init__(gait, simulator, terrain, recorder)
-        self.config = config
-        self.record_every = max(1, round(1.0 / (TRACE_RATE * simulator.control_period)))
+    ) -> None:  # fmt: skip
+        super().__init__(gait, simulator, terrain, recorder, path_guidance(config))
+        self.config, self.pushed = config, config.push is None
         self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
-        c, s = math.cos(config.direction), math.sin(config.direction)
-        gait.set_command((config.speed * c, config.speed * s), config.yaw_rate)
-        self.guidance: Guidance | None = None
-        if config.path == "sine":
-            self.guidance = SinePath(config.speed, config.amplitude, config.wavelength)
-        elif config.track:
-            self.guidance = TrackObject(config.speed, config.direction)
-        if self.guidance is not None:
-            q = simulator.q
-            yaw = attitude_and_velocity(q, simulator.v)[0]
-            self.guidance.begin(PlanarState(0.0, float(q[0]), float(q[1]), yaw, 0.0, 0.0))
-        self.pushed = config.push is None
         model = simulator.mujoco_model
-        #: frames that may touch the ground: those sharing a geometry with a foot
-        self.allowed = frozenset(
-            name
-            for foot in gait.feet
-            for geom in model.frame_geoms.get(foot, ())
-            for name in model.geom_frames[geom]
-        ) | frozenset(gait.feet)
-        #: per geom, 1 when every frame owning it is allowed (the fall test's one call)
-        self.allowed_geoms = allowed_geoms(simulator, self.allowed.__contains__)
-        self.attitude = (0.0, 0.0, 0.0, 0.0, 0.0)
-        self.yaw_unwrapped = self.yaw_last = 0.0
+        geoms = [geom for foot in gait.feet for geom in model.frame_geoms.get(foot, ())]
+        self.allowed = frozenset(gait.feet).union(*(model.geom_frames[geom] for geom in geoms))
+        self.feet = allowed_geoms(simulator, self.allowed.__contains__)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
-        """The push when its time comes; the feet's contact switches."""
-        self.attitude = yaw, _, _, vx, vy = attitude_and_velocity(q, v)
-        if self.guidance is not None:
-            state = PlanarState(now, float(q[0]), float(q[1]), yaw, vx, vy)
-            self.gait.set_command(*self.guidance.command(state))
+        """The push when its time comes, then `FloatingEpisode.sense`."""
         if not self.pushed and now >= self.config.push.time:
             self.config.push.apply(self.simulator, self.gait.body_frame)
             self.pushed = True
-        return self.simulator.contact_switches(self.gait.feet)
-
-    def fallen(self, q: np.ndarray) -> bool:
-        """Base low or tilted, or a part other than a foot's link on the ground."""
-        _, pitch, roll, _, _ = self.attitude
-        height = float(q[2] - self.terrain.height(float(q[0])))
-        if height < 0.5 * self.gait.stand_height or max(abs(roll), abs(pitch)) > FALL_PITCH:
-            return True
-        return self.simulator.touches_outside(self.allowed_geoms)  # touching_frames <= allowed
+        return super().sense(q, v, now)
 
     def record(
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
         """One sample of `CHANNELS`."""
-        machine = self.gait.machine
         yaw, pitch, roll, vx, vy = self.attitude
-        self.yaw_unwrapped += wrap(yaw - self.yaw_last)
-        self.yaw_last = yaw
-        self.recorder.append(
-            state=machine.index[machine.current.name],
-            time=now,
-            x=q[0],
-            y=q[1],
-            z=float(q[2] - self.terrain.height(float(q[0]))),
-            roll=roll,
-            pitch=pitch,
-            yaw=self.yaw_unwrapped,
-            vx=vx,
-            vy=vy,
-            fallen=float(fallen),
-        )
+        row = (now, q.item(0), q.item(1), self.height(q), roll, pitch, self.unwrapped_yaw(), vx, vy)
+        self.recorder.append_row((*row, float(fallen)), self.gait.machine.current_index)
 
 
 def run_legged_walk(
@@ -268,19 +230,11 @@ def run_legged_walk(
         metrics = replace(
             metrics, direction_error_rad=None, heading_drift_rad=None, bearing_error_max_rad=error
         )
-    smoothness = loop_smoothness(simulator, end)
     metrics = replace(
-        metrics,
-        stance_normal_min_n=normal_min,
-        stance_friction_ratio_max=ratio_max,
-        realtime_factor=simulator.time / end.wall if end.wall > 0 else None,
-        physics_realtime_factor=simulator.time / end.physics if end.physics > 0 else None,
-        **smoothness.metrics_fields(),
-    )
-    return LeggedResult(
-        log, metrics, gait, simulator, end.wall, loop=end, smoothness=smoothness, config=config,
-        ticks=end.ticks,
-    )
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max,
+        **end.realtime_factors(simulator.time),
+    )  # fmt: skip
+    return episode.finish(end, log, metrics, LeggedResult, config=config, ticks=end.ticks)
 
 
 def sine_error(guidance: SinePath, trace: dict[str, list]) -> float:
@@ -305,23 +259,8 @@ def bearing_error(guidance: TrackObject, trace: dict[str, list], settle: float =
     )
 
 
-def run_request(request: WalkRequest) -> LeggedResult:
-    """The legged walk as `run_registered` starts it (`Walk.run`).
-
-    Raises:
-        InvalidInputError: A bad configuration.
-    """
-    config, parameters = request.configured(LeggedWalkConfig)
-    return run_legged_walk(config, parameters, *request.loop)
-
-
-def plot_legged_walk(result: LeggedResult, path: str, window: None = None) -> Path:
-    """Draw the path and the attitude of a legged walk (a PNG, no pyplot)."""
-    return save_figure(draw_legged_walk(result), path)
-
-
-def draw_legged_walk(result: LeggedResult) -> Any:
-    """The matplotlib figure `plot_legged_walk` saves, titled by the robot, gait and summary."""
+def draw_legged_walk(result: LeggedResult, window: None = None) -> Any:
+    """The path and the attitude of a legged walk, titled by the robot, gait and summary."""
     trace = result.trace()
     figure = new_figure(8.0, 7.0, dpi=100)
     top, bottom = figure.subplots(2, 1)
@@ -337,18 +276,14 @@ def draw_legged_walk(result: LeggedResult) -> Any:
     return figure
 
 
-def _viewer_robot(robot: str = "solo12", **options: Any) -> Robot:
-    return load_robot(robot)
-
-
 WALK = Walk(
     name="legged",
     robot="solo12",
-    run=run_request,
+    run=lambda request: request.run_with(run_legged_walk, LeggedWalkConfig),
     parameters=LeggedParameters,
     terrain="flat",
     duration=4.0,
-    plot=plot_legged_walk,
+    draw=draw_legged_walk,
     description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "
     "the public gait layer",
     options=(
@@ -356,7 +291,7 @@ WALK = Walk(
         "wavelength", "track",
     ),
     force_scale=1 / 250,
-    viewer_robot=_viewer_robot,
-    speeds_for=legged_speeds,
+    viewer_robot=lambda robot="solo12", **_: load_robot(robot),
+    speeds=legged_speeds,
     nominal_speed=NOMINAL_SPEED,
 )

@@ -2,20 +2,10 @@
 
 from __future__ import annotations
 
-from ...models.robot import Robot
-from ..base import Gait, Walk
-from ..planar_walk import plot_planar_walk, run_planar_walk, with_speed
+from ..base import Walk
+from ..planar_walk import draw_planar_walk, run_planar_walk
 from .parameters import TurkeyParameters
 from .walker import TurkeyWalker
-
-
-def make_gait(
-    robot: Robot, speed: float | None, parameters: TurkeyParameters | None = None
-) -> Gait:
-    """The walker, started in double support, at ``speed`` (None: the parameters')."""
-    parameters = with_speed(parameters or TurkeyParameters(), speed)
-    return TurkeyWalker(robot, parameters, initial="double_support")
-
 
 WALK = Walk(
     name="turkey-walk",
@@ -24,9 +14,9 @@ WALK = Walk(
     parameters=TurkeyParameters,
     terrain="flat",
     duration=20.0,
-    plot=plot_planar_walk,
+    draw=draw_planar_walk,
     description="Spring Turkey walks on level ground (VMC section 5, Table 1)",
-    make_gait=make_gait,
+    gait=TurkeyWalker,
     push=15.0,
     push_time=0.2,
     plot_window=True,

@@ -10,11 +10,11 @@ from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ...vocabulary.scalar import maximum, minimum, select
 from ...vocabulary.traced import lowerable
-from ..base import Gait, check_distribution
+from ..base import check_distribution
 from ..planar import (
     SIDES,
+    PlanarBiped,
     biped_states,
-    biped_weight,
     declare_biped,
     granny_walker,
     lift_profile,
@@ -25,7 +25,7 @@ from ..planar import (
 from .parameters import TurkeyParameters
 
 
-class TurkeyWalker(Gait):
+class TurkeyWalker(PlanarBiped):
     """Spring Turkey's turkey walking on level ground (VMC section 5, Table 1).
 
     Args:
@@ -39,7 +39,6 @@ class TurkeyWalker(Gait):
         JointNotFoundError: The robot lacks the joints above.
     """
 
-    step_states = ("left_support", "right_support")
 
     def __init__(
         self,
@@ -49,18 +48,12 @@ class TurkeyWalker(Gait):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or TurkeyParameters()
-        weight = biped_weight(robot, p.weight)  # [N]
-        self.granny = granny_walker(p, p.height, weight)
+        self.granny = granny_walker(p, p.height, robot)
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, ("x", "z"))
         self._declare_actuators()
         self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
-
-    @property
-    def front(self) -> str:
-        """The foot ahead in double support (``"left"`` or ``"right"``)."""
-        return SIDES[int(self.memory.front)]
 
     @property
     def ground(self) -> float:

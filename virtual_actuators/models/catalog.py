@@ -109,12 +109,10 @@ def example_robot_data() -> _Index:
     """
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
+        folder = Path(str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots")))
     except importlib.metadata.PackageNotFoundError:
-        return _Index(None, MappingProxyType({}), MappingProxyType({}))
-    folder = Path(
-        str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots"))
-    ).resolve()
-    if not folder.is_dir():
+        folder = None
+    if folder is None or not (folder := folder.resolve()).is_dir():
         return _Index(None, MappingProxyType({}), MappingProxyType({}))
 
     robots: dict[str, Path] = {}

@@ -137,16 +137,10 @@ def _flamingo_leg(robot: va.Robot, q: np.ndarray, side: str) -> tuple[float, flo
     model = robot.model
     data = pin.Data(model)
     pin.framesForwardKinematics(model, data, q)
-
-    def angle(joint: str) -> float:
-        return float(q[model.joints[model.getJointId(joint)].idx_q])
-
-    def position(joint: str) -> np.ndarray:
-        return data.oMi[model.getJointId(joint)].translation
-
-    shin = float(np.linalg.norm((position(f"{side}_knee") - position(f"{side}_ankle"))[[0, 2]]))
-    thigh = float(np.linalg.norm((position(f"{side}_hip") - position(f"{side}_knee"))[[0, 2]]))
-    return angle(f"{side}_ankle"), angle(f"{side}_knee"), shin, thigh
+    hip, knee, ankle = (model.getJointId(f"{side}_{part}") for part in ("hip", "knee", "ankle"))
+    hip_xz, knee_xz, ankle_xz = (data.oMi[j].translation[[0, 2]] for j in (hip, knee, ankle))
+    shin, thigh = (float(np.linalg.norm(d)) for d in (knee_xz - ankle_xz, hip_xz - knee_xz))
+    return float(q[model.joints[ankle].idx_q]), float(q[model.joints[knee].idx_q]), shin, thigh
 
 
 def single_leg_closed_form(a: float, k: float, l1: float, l2: float, fz: float, fry: float):

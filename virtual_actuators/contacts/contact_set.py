@@ -59,11 +59,6 @@ class ContactSet:
         return dict(zip(self.reactions, self.kinds, strict=True))
 
     @property
-    def any(self) -> bool:
-        """Whether there is at least one row."""
-        return bool(self.names)
-
-    @property
     def sole_rows(self) -> bool:
         """Whether the soles give rows (they need moment axes)."""
         return flat.active(self.soles, self.axes)

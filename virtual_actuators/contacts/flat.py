@@ -102,9 +102,8 @@ def rows(
 def entries(axes: Sequence[str], chain: int, p: int) -> Entries:
     """Where chain ``chain``'s force and moment entries sit in ``x = forces.ravel()``."""
     n = len(axes)
-    (force, force_components), (moment, moment_components) = (
-        force_entries(axes), moment_entries(axes)
-    )
+    force, force_components = force_entries(axes)
+    moment, moment_components = moment_entries(axes)
     return Entries(
         chain * n + np.array(force, dtype=int), chain * n + np.array(moment, dtype=int),
         force_components, moment_components, p * n,

@@ -109,12 +109,10 @@ def example_robot_data() -> _Index:
     """
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
+        folder = Path(str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots")))
     except importlib.metadata.PackageNotFoundError:
-        return _Index(None, MappingProxyType({}), MappingProxyType({}))
-    folder = Path(
-        str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots"))
-    ).resolve()
-    if not folder.is_dir():
+        folder = None
+    if folder is None or not (folder := folder.resolve()).is_dir():
         return _Index(None, MappingProxyType({}), MappingProxyType({}))
 
     robots: dict[str, Path] = {}
@@ -157,17 +155,9 @@ def local_dirs() -> list[Path]:
     ``<prefix>/share/virtual_actuators/robots``.
     """
     extra = os.environ.get(ROBOTS_PATH_ENV, "")
-    folders = [_expanded(Path(entry)) for entry in extra.split(os.pathsep) if entry.strip()]
+    folders = [_expand_user(Path(entry)) for entry in extra.split(os.pathsep) if entry.strip()]
     installed = Path(sysconfig.get_path("data")) / "share" / "virtual_actuators" / "robots"
     return [*folders, robots_dir, installed]
-
-
-def _expanded(path: Path) -> Path:
-    """``path`` with a leading ``~`` or ``~user`` expanded, or as it is when impossible."""
-    try:
-        return path.expanduser()
-    except RuntimeError:  # no such user, no home folder: a folder that does not exist
-        return path
 
 
 def _is_file(path: Path) -> bool:
@@ -215,11 +205,13 @@ def shown_name(name_or_path: object, limit: int = 80) -> str:
     return f"{text[: limit - 3]}... ({len(name_or_path)} characters)"
 
 
-def _expand_user(path: Path, name_or_path: object) -> Path:
-    """``path`` with its leading ``~`` or ``~user`` expanded (an unknown one: not found)."""
+def _expand_user(path: Path, name_or_path: object = None) -> Path:
+    """``path`` with ``~user`` expanded; an unknown user: kept, or not found for a load_robot."""
     try:
         return path.expanduser()
     except RuntimeError as exc:  # ~nosuchuser, or no HOME and no password entry
+        if name_or_path is None:
+            return path
         raise RobotNotFoundError(
             f"load_robot(name_or_path={shown_name(name_or_path)}): no URDF file there, "
             f"{path.parts[0]!r} names no known home folder ({exc}). Pass a robot name or the "
@@ -294,7 +286,5 @@ def urdf_in_folder(folder: Path) -> Path:
 
 def is_curated(path: Path) -> bool:
     """Whether ``path`` (resolved) is one of the URDF files shipped by example-robot-data."""
-    index = example_robot_data()
-    if index.share is None:
-        return False
-    return path.is_relative_to(index.share / "example-robot-data" / "robots")
+    share = example_robot_data().share
+    return share is not None and path.is_relative_to(share / "example-robot-data" / "robots")

@@ -248,8 +248,8 @@ DEFAULT_POSE_NAMES = ("standing", "half_sitting", "straight_standing", "default"
 
 def find_srdf(urdf: Path) -> Path | None:
     """The SRDF of a URDF (same stem, else the longest stem prefix), or None."""
-    folders = [urdf.parent, urdf.parent / "srdf", urdf.parent.parent / "srdf"]
-    folders = [folder for folder in folders if folder.is_dir()]
+    near = (urdf.parent, urdf.parent / "srdf", urdf.parent.parent / "srdf")
+    folders = [folder for folder in near if folder.is_dir()]
     for folder in folders:
         exact = folder / f"{urdf.stem}.srdf"
         if exact.is_file():

@@ -10,7 +10,6 @@ import math
 import numbers
 import xml.etree.ElementTree as ET
 
-import numpy as np
 import pinocchio as pin
 
 from virtual_actuators.exceptions import InvalidInputError
@@ -28,14 +27,9 @@ DEFAULT_LEG_LENGTH = 0.10
 MAX_LEGS = 2000
 
 
-def _fmt(value: float) -> str:
-    """A number for the URDF, without losing precision."""
-    return repr(float(value))
-
-
 def _vec(*values: float) -> str:
-    """A space-separated vector for a URDF attribute."""
-    return " ".join(_fmt(v) for v in values)
+    """Numbers for a URDF attribute, space-separated, without losing precision."""
+    return " ".join(repr(float(v)) for v in values)
 
 
 def _add_inertial(
@@ -44,10 +38,10 @@ def _add_inertial(
     """Append an ``<inertial>`` with a diagonal inertia (about the centre of mass) to ``link``."""
     inertial = ET.SubElement(link, "inertial")
     ET.SubElement(inertial, "origin", xyz=_vec(*com), rpy="0 0 0")
-    ET.SubElement(inertial, "mass", value=_fmt(mass))
+    ET.SubElement(inertial, "mass", value=_vec(mass))
     ixx, iyy, izz = diag
     ET.SubElement(
-        inertial, "inertia", ixx=_fmt(ixx), ixy="0", ixz="0", iyy=_fmt(iyy), iyz="0", izz=_fmt(izz)
+        inertial, "inertia", ixx=_vec(ixx), ixy="0", ixz="0", iyy=_vec(iyy), iyz="0", izz=_vec(izz)
     )
 
 
@@ -155,7 +149,7 @@ def millipede_urdf(
     _add_inertial(body, mass, (0.0, 0.0, 0.0), inertia)
     box = _vec(length, body_width, body_height)
     _add_geometry(body, "body", (0.0, 0.0, 0.0), "box", collision=True, size=box)
-    limit = {"effort": _fmt(effort), "velocity": _fmt(velocity)}
+    limit = {"effort": _vec(effort), "velocity": _vec(velocity)}
     sphere = 0.4 * FOOT_MASS * FOOT_RADIUS**2
     for i in range(1, legs + 1):  # thigh, shin and foot links, then the three joints
         side = 1.0 if i % 2 == 1 else -1.0
@@ -169,10 +163,10 @@ def millipede_urdf(
             link = ET.SubElement(robot, "link", name=link_name)
             _add_inertial(link, mass, centre, tuple(inertia))
             _add_geometry(link, "leg", centre, "cylinder", collision=False, rpy=rpy,
-                          radius=_fmt(leg_radius), length=_fmt(leg_length))  # fmt: skip
+                          radius=_vec(leg_radius), length=_vec(leg_length))  # fmt: skip
         foot = ET.SubElement(robot, "link", name=f"foot_{i}")
         _add_inertial(foot, FOOT_MASS, (0.0, 0.0, 0.0), (sphere, sphere, sphere))
-        _add_geometry(foot, "leg", (0, 0, 0), "sphere", collision=True, radius=_fmt(FOOT_RADIUS))
+        _add_geometry(foot, "leg", (0, 0, 0), "sphere", collision=True, radius=_vec(FOOT_RADIUS))
         hip, knee = {"lower": "-1.0", "upper": "1.0"}, {"lower": "-2.0", "upper": "2.0"}
         _add_joint(robot, f"hip_{i}", "revolute", "body", f"thigh_{i}", mount,
                    {**hip, **limit}, "0 0 1")  # fmt: skip
@@ -229,15 +223,12 @@ def millipede(
         standing[idx_q[model.getJointId(f"knee_{i}")]] = side * knee_angle
     if floating_base:
         standing[2] = leg_length * math.cos(knee_angle)
-    standing = np.asarray(standing, dtype=float)
     model.referenceConfigurations["standing"] = standing
 
     return Robot(
         name="millipede",
         model=model,
-        urdf_path=None,
         urdf_string=urdf,
-        package_dirs=[],
         floating_base=floating_base,
         reference_configurations={"standing": standing.copy()},
         default_pose="standing",

@@ -142,10 +142,8 @@ def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], 
     """
     problems: list[str] = []
     tolerated: list[str] = []
-    checks = [(_link_problems, link) for link in root.findall("link")]
-    checks += [(_joint_problems, joint) for joint in root.findall("joint")]
-    for check, element in checks:
-        fatal, lenient = check(element)
+    links, joints = root.findall("link"), root.findall("joint")
+    for fatal, lenient in [*map(_link_problems, links), *map(_joint_problems, joints)]:
         problems += fatal
         (problems if strict else tolerated).extend(lenient)
     return problems, tolerated

@@ -38,8 +38,7 @@ class MujocoHardware:
 
     def read_state(self) -> tuple[np.ndarray, np.ndarray, float]:
         """``(q, v, time)`` of the simulation (Pinocchio conventions, seconds)."""
-        simulator = self.simulator
-        return simulator.q, simulator.v, float(self._data.time)
+        return self.simulator.q, self.simulator.v, float(self._data.time)
 
     def write_effort(self, tau: np.ndarray) -> None:
         """Hold ``tau`` for one control period (see ``ignore_unactuated``).

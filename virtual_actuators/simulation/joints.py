@@ -120,17 +120,13 @@ def add_actuators(spec: mujoco.MjSpec, model: pin.Model, actuated_names: list[st
 def _body_names(robot: Robot) -> list[str]:
     """A unique MuJoCo body name per Pinocchio joint: its child link, else the joint name."""
     model = robot.model
-    names = ["world"]
-    used = {"world"}
+    links: dict[int, str] = {}  # each joint's first child link
+    for frame in model.frames:
+        if frame.type == pin.FrameType.BODY:
+            links.setdefault(frame.parentJoint, frame.name)
+    names, used = ["world"], {"world"}
     for j in range(1, model.njoints):
-        link = next(
-            (
-                frame.name
-                for frame in model.frames
-                if frame.parentJoint == j and frame.type == pin.FrameType.BODY
-            ),
-            model.names[j],
-        )
+        link = links.get(j, model.names[j])
         name = link if link not in used else model.names[j]
         while name in used:
             name += "_"

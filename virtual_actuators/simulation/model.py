@@ -312,11 +312,10 @@ def _geom_maps(
     compiled: mujoco.MjModel, geom_parents: dict[str, tuple[str, ...]]
 ) -> tuple[dict[int, tuple[str, ...]], dict[str, tuple[int, ...]]]:
     """Geom id -> owning frames, and frame -> its geom ids."""
-    geom_frames: dict[int, tuple[str, ...]] = {}
+    kind = mujoco.mjtObj.mjOBJ_GEOM
+    geom_frames = {_id(compiled, kind, name): owners for name, owners in geom_parents.items()}
     frame_geoms: dict[str, list[int]] = {}
-    for geom_name, owners in geom_parents.items():
-        gid = _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, geom_name)
-        geom_frames[gid] = owners
+    for gid, owners in geom_frames.items():
         for owner in owners:
             frame_geoms.setdefault(owner, []).append(gid)
     return geom_frames, {k: tuple(v) for k, v in frame_geoms.items()}

@@ -146,8 +146,6 @@ class Simulator(ContactQueries):
             self._free_v = (maps.gather_v.astype(np.int64), np.array(rows, np.int64).reshape(-1, 3))
         self.reset()
 
-    # -- state -----------------------------------------------------------------------------------
-
     @property
     def time(self) -> float:
         """Simulation time [s]."""
@@ -227,8 +225,6 @@ class Simulator(ContactQueries):
         placed = np.array(q, dtype=float)
         placed[2] -= clearance
         return placed
-
-    # -- stepping --------------------------------------------------------------------------------
 
     def step(self, tau: np.ndarray, *, ignore_unactuated: bool = False) -> None:
         """Advance one control period with the joint efforts ``tau`` held.

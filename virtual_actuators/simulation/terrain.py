@@ -261,11 +261,9 @@ class Terrain:
         Between two segments, the slope of the one after; level (0) outside the points. A float for
         a number, else an array like ``x``.
         """
-        xs = self._points[:, 0]
-        positions = np.asarray(x, dtype=float)
         angles = np.concatenate(([0.0], self.slopes, [0.0]))
-        index = np.searchsorted(xs, positions, side="right")  # 0 before, n after the points
-        result = angles[index]
+        index = np.searchsorted(self._points[:, 0], np.asarray(x, dtype=float), side="right")
+        result = angles[index]  # index 0 before the points, n after them
         return float(result) if np.ndim(x) == 0 else result
 
     def segments(self, run: float = 50.0) -> list[tuple[tuple[float, float], tuple[float, float]]]:

@@ -18,10 +18,9 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
-from .attachment_tick import run_attachment
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
-from .failures import check_policy, drop_non_finite
+from .failures import check_policy, drop_non_finite, run_attachment
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 from .warm_up import warm_up
 

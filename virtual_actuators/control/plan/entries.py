@@ -9,7 +9,7 @@ from ...components.base import Component, has_traced_path
 from ...components.gravity import GravityCompensation
 from ...distribution.result import Solution
 from ...exceptions import TraceError
-from ..attachment_tick import run_attachment
+from ..failures import run_attachment
 from ..tick import TickSums
 from .builder import Program
 from .lower import (

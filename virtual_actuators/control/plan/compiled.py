@@ -11,33 +11,23 @@ from collections.abc import Mapping
 import numpy as np
 
 from ...core import CORE, has
-from ...exceptions import ConcurrentUseError, InvalidInputError, TraceError
+from ...exceptions import ConcurrentUseError, InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.arguments import check_number
 from ..context import Context
 from ..tick import ControlOutput
+from .builder import MACHINE
 from .entries import Attached, Entry, Term
 from .lower import Lowering
 from .output import PlanOutput
 
-__all__ = ["CompiledMachine", "compile_machine"]
+__all__ = ["CompiledMachine"]
 
 _FLOAT64, _ARRAY = np.dtype(np.float64), np.ndarray
 _TICKED, _ENTERED, _FAILED, _INVALID = (
     (CORE.PLAN_TICKED, CORE.PLAN_ENTERED, CORE.PLAN_FAILED, CORE.PLAN_INVALID)
     if has("PLAN_INVALID") else (0, 1, 2, 3)
 )  # fmt: skip
-
-
-def compile_machine(machine: object) -> CompiledMachine:
-    """The compiled machine of ``machine``.
-
-    Raises:
-        TraceError: The compiled core is not built, or the robot's joints are not the core's.
-    """
-    if not has("PlanMachine"):
-        raise TraceError("the compiled core is not built: the machine runs in Python.")
-    return CompiledMachine(machine)
 
 
 class CompiledMachine:
@@ -51,6 +41,9 @@ class CompiledMachine:
         machine: As given.
         pieces: ``(what, why)`` of each piece that runs in Python.
         registers: The plan's registers (a view of the core's).
+
+    Raises:
+        TraceError: The compiled core is not built, or the robot's joints are not the core's.
     """
 
     def __init__(self, machine: object) -> None:
@@ -60,10 +53,11 @@ class CompiledMachine:
         self.joint_names = controller.joint_names
         lowering = self.lowering = Lowering(machine)
         lowering.runtime = self
-        lowering.machine_slots()
-        self._names = [*controller.attachments, *controller.postures]
+        # the machine's state (index, entered at, started) in registers MACHINE.. MACHINE+2
+        lowering.owners.append((machine.machine, {"position": (MACHINE, 3)}))
         used = {name for state in machine.machine.states for name in state.active}
-        self._index = {name: i for i, name in enumerate(n for n in self._names if n in used)}
+        names = [n for n in (*controller.attachments, *controller.postures) if n in used]
+        self._index = {name: i for i, name in enumerate(names)}
         self._entries = [self._lower_entry(name) for name in self._index]
         states = [self._lower_state(state) for state in machine.machine.states]
         tree = lowering.tree
@@ -98,7 +92,7 @@ class CompiledMachine:
             else:
                 owner.bind_slots(views)
         for entry in self._entries:
-            entry.bind(self.core, self.registers)
+            entry.bind(self.core)
         self.pieces = lowering.pieces
         self._contacts = [(f, r, required) for f, (r, required) in lowering.contacts.items()]
         self._tau = np.zeros(tree.nv)

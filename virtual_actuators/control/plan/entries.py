@@ -36,10 +36,9 @@ class Entry:
     def __init__(self, compiled: object, name: str, n: int) -> None:
         self.compiled, self.name, self.n = compiled, name, n
         builder = compiled.lowering.builder
-        self.position = builder.allocate(n, 0.0, f"{name}.position")
-        self.velocity = builder.allocate(n, 0.0, f"{name}.velocity")
-        self.wrench = builder.allocate(n, 0.0, f"{name}.wrench")
-        self.produced = builder.allocate(n, 0.0, f"{name}.produced")
+        self.position, self.velocity, self.wrench, self.produced = (
+            builder.allocate(n) for _ in range(4)
+        )
         self.programs: list[int] = []
         self.resets: list[int] = []
         self.mapping = SERIAL
@@ -76,7 +75,7 @@ class Entry:
                 )  # fmt: skip
 
             try:
-                programs = [lowering.trace(what, wrench).index, lowering.trace(what, reset).index]
+                programs = [lowering.trace(wrench).index, lowering.trace(reset).index]
                 self.programs.append(programs[0])
                 self.resets.append(programs[1])
                 return
@@ -85,31 +84,24 @@ class Entry:
                 reason = str(error)
         else:
             reason = "a Python component (no traced formula)"
-        python = lowering.python(what, reason, self._python_wrench(component, axes))
-        self.programs.append(python.index)
+        at = np.array(axes)
+
+        def python_wrench() -> None:
+            registers, time = self.compiled.registers, self.compiled.time
+            position, velocity = registers[self.position + at], registers[self.velocity + at]
+            wrench = np.asarray(component.compute_wrench(position, velocity, time), dtype=float)
+            registers[self.wrench + at] += wrench.reshape(-1)
+
+        self.programs.append(lowering.python(what, reason, python_wrench).index)
         if type(component).reset is not Component.reset:
-            piece = lowering.python(f"{what}: reset", reason, self._python_reset(component, axes))
+
+            def python_reset() -> None:
+                component.reset(self.compiled.registers[self.position + at], self.compiled.time)
+
+            piece = lowering.python(f"{what}: reset", reason, python_reset)
             self.resets.append(piece.index)
 
-    def _python_wrench(self, component: object, axes: list[int]):
-        def run() -> None:
-            registers, compiled = self.compiled.registers, self.compiled
-            position = registers[self.position + np.array(axes)]
-            velocity = registers[self.velocity + np.array(axes)]
-            time = compiled.time
-            wrench = np.asarray(component.compute_wrench(position, velocity, time), dtype=float)
-            registers[self.wrench + np.array(axes)] += wrench.reshape(-1)
-
-        return run
-
-    def _python_reset(self, component: object, axes: list[int]):
-        def run() -> None:
-            registers = self.compiled.registers
-            component.reset(registers[self.position + np.array(axes)], self.compiled.time)
-
-        return run
-
-    def bind(self, core: object, registers: np.ndarray) -> None:
+    def bind(self, core: object) -> None:
         """Take up the core's buffers of this entry (its efforts) once the machine is built."""
         self.efforts = core.efforts(self.core_index)
         self._core = core
@@ -255,8 +247,8 @@ class Term(Entry):
             def reset(program: Program) -> None:
                 term.traced_reset(Slots(program, layout), self.read(self.position, program))
 
-            self.programs.append(lowering.trace(f"{name}", torques).index)
-            self.resets.append(lowering.trace(f"{name} reset", reset).index)
+            self.programs.append(lowering.trace(torques).index)
+            self.resets.append(lowering.trace(reset).index)
         else:
             self.efforts_program = lowering.python(name, why, self._python_torques).index
 

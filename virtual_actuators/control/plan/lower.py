@@ -15,7 +15,7 @@ from ...components.posture import Posture
 from ...exceptions import TraceError
 from ...kinematics.tree import tree_of
 from ...vocabulary.traced import TRACING, Tracing, is_lowerable
-from .builder import MACHINE, PlanBuilder, Program
+from .builder import PlanBuilder, Program
 from .memory import Memory
 from .trace import TraceContext
 
@@ -83,7 +83,7 @@ class Lowering:
         """The register the tick writes ``frame``'s contact switch into."""
         entry = self.contacts.get(frame)
         if entry is None:
-            register = self.builder.allocate(1, 0.0, f"contact {frame}")
+            register = self.builder.allocate(1)
             entry = self.contacts[frame] = [register, False]
         entry[1] = entry[1] or required
         return entry[0]
@@ -121,7 +121,7 @@ class Lowering:
                 self.keep(value, value.plan_slots())
 
     # -- programs -----------------------------------------------------------------------------
-    def trace(self, what: str, body: Callable[[Program], None]) -> Program:
+    def trace(self, body: Callable[[Program], None]) -> Program:
         """A program made by ``body`` under tracing (the plan's slots readable and writable).
 
         Raises:
@@ -151,7 +151,7 @@ class Lowering:
         if is_lowerable(hook):
             self.keep_memories(hook)
             try:
-                return self.trace(what, lambda p: hook(TraceContext(self, p, state))).index
+                return self.trace(lambda p: hook(TraceContext(self, p, state))).index
             except TraceError as error:
                 self.builder.programs.pop()  # the failed trace's program
                 reason = str(error)
@@ -171,7 +171,7 @@ class Lowering:
                 program.store(result, TraceContext(self, program, state).event(event))
 
             try:
-                return self.trace(what, body).index, result
+                return self.trace(body).index, result
             except TraceError as error:
                 self.builder.programs.pop()
                 reason = str(error)
@@ -182,10 +182,6 @@ class Lowering:
             self.runtime.registers[result] = 1.0 if event(self.runtime.context()) else 0.0
 
         return self.python(what, reason, run).index, result
-
-    def machine_slots(self) -> None:
-        """The machine's state (index, entered at, started) in registers MACHINE.. MACHINE+2."""
-        self.owners.append((self.machine.machine, {"position": (MACHINE, 3)}))
 
 
 def attachment_kind(attachment: object) -> str | None:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 from ...exceptions import TraceError
 from ...vocabulary.scalar import atan2
 from ...vocabulary.traced import Sym, is_lowerable
@@ -32,8 +30,8 @@ class _Switches:
 class _Entries:
     """``q`` or ``v`` as traced values by index."""
 
-    def __init__(self, program: Program, read: Callable[[int], Sym], size: int) -> None:
-        self._read, self._size, self._cache = read, size, {}
+    def __init__(self, program: Program, op: str, size: int) -> None:
+        self._program, self._op, self._size, self._cache = program, op, size, {}
 
     def __getitem__(self, index: int | slice) -> Sym | tuple:
         if isinstance(index, slice):
@@ -44,7 +42,7 @@ class _Entries:
             raise TraceError(f"index {index} outside ({self._size},).")
         cached = self._cache.get(index)
         if cached is None:
-            cached = self._cache[index] = self._read(index)
+            cached = self._cache[index] = self._program.emit(self._op, index)
         return cached
 
     def __len__(self) -> int:
@@ -69,19 +67,20 @@ class TraceContext:
         self._frames: dict[tuple[int, int], Sym] = {}
         self._com: tuple | None = None
         model = lowering.robot.model
-        self.q = _Entries(program, program.q, model.nq)
-        self.v = _Entries(program, program.v, model.nv)
+        self.q = _Entries(program, "q", model.nq)
+        self.v = _Entries(program, "v", model.nv)
         self.contacts = _Switches(self)
         self.time = program.read(TIME)
         self.time_in_state = program.read(TIME_IN_STATE)
 
     # -- frames -------------------------------------------------------------------------------
     def _entry(self, frame: str, column: int) -> Sym:
+        """Entry ``column`` (0-8 the rotation row by row, 9-11 the position) of a frame's row."""
         row = self._lowering.row(frame)
         key = (row, column)
         entry = self._frames.get(key)
         if entry is None:
-            entry = self._frames[key] = self.program.frame(row, column)
+            entry = self._frames[key] = self.program.emit("frame", row, column)
         return entry
 
     def frame_coordinate(self, frame: str, axis: str) -> Sym:
@@ -103,7 +102,7 @@ class TraceContext:
     def frame_velocity(self, frame: str) -> tuple:
         """Linear velocity of a frame's origin in world axes [m/s]."""
         row = self._lowering.row(frame)
-        return tuple(self.program.frame_velocity(row, axis) for axis in range(3))
+        return tuple(self.program.emit("frame_velocity", row, axis) for axis in range(3))
 
     def frame_pitch(self, frame: str) -> Sym:
         """Rotation of a frame about the world y axis [rad] (planar robots in x-z)."""

@@ -209,6 +209,3 @@ class _Allowance:
             if self.admits(_dot(forces, values)):
                 return forces
         return [0.0] * len(forces)
-
-
-__all__ = ["EnergyTank"]

@@ -129,6 +129,3 @@ def _body_joint(model: pin.Model, name: str) -> int:
     if name in list(model.names)[1:]:
         return resolve_joint(model, name)
     return int(model.frames[resolve_frame(model, name, "link")].parentJoint)
-
-
-__all__ = ["GravityCompensation"]

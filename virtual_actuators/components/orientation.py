@@ -95,11 +95,3 @@ def deflection(
     for i, k in enumerate(which, start):
         out[i] = turn[k]
     return out
-
-
-__all__ = [
-    "RotationAxes",
-    "deflection",
-    "rotation_axes",
-    "rotation_deflection",
-]

@@ -15,8 +15,6 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_robot, describe
 from .gains import Gains, joint_rows
 
-__all__ = ["Posture"]
-
 
 class Posture:
     """Joint-space spring-damper on named one-degree-of-freedom joints.

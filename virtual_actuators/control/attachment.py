@@ -15,7 +15,6 @@ from ..kinematics.kernels import finite
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_name, describe
 from .attachment_checks import (
-    YIELD_WEIGHT,
     Actuator,
     check_contact_limits,
     check_free,
@@ -170,6 +169,3 @@ def _as_slice(index: np.ndarray) -> slice | np.ndarray:
     if index.size and np.array_equal(index, np.arange(index[0], index[0] + index.size)):
         return slice(int(index[0]), int(index[0]) + index.size)
     return index
-
-
-__all__ = ["YIELD_WEIGHT", "Actuator", "Attachment"]

@@ -219,17 +219,3 @@ def check_method(name: str, actuator: Actuator, method: object, limited: bool) -
     if method == "qp" and limited:
         raise InvalidInputError(f"Attachment {name!r}: {_QP_LIMITS}")
     return str(method)
-
-
-__all__ = [
-    "YIELD_WEIGHT",
-    "Actuator",
-    "check_contact_limits",
-    "check_free",
-    "check_limit_values",
-    "check_method",
-    "check_parts",
-    "check_qp_yield",
-    "component_indices",
-    "sensor_of",
-]

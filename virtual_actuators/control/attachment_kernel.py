@@ -15,8 +15,6 @@ from ..distribution.partitioned.compiled import BufferSolve
 from ..distribution.result import Solution
 from ..kinematics.snapshot import Snapshot
 
-__all__ = ["SpringTick"]
-
 #: The wrenches that are the spring-damper formula itself (the bunny moves its set point first)
 _FORMULA = (
     SpringDamper.compute_wrench,

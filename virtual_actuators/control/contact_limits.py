@@ -128,13 +128,3 @@ def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
         compiled=start.compiled and end.compiled,
         tolerance=limit,
     )
-
-
-__all__ = [
-    "constraint_rows",
-    "enforce_unilateral",
-    "interpolate",
-    "largest_scale",
-    "least_margin",
-    "ratio_test",
-]

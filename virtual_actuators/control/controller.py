@@ -350,6 +350,3 @@ class Controller:
             f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
             f"clip={self.clip})"
         )
-
-
-__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]

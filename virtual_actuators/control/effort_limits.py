@@ -52,6 +52,3 @@ def clip_efforts(
         tau = np.minimum(np.maximum(requested, lower), upper)
         return tau, tau != requested  # clipped exactly where the request exceeds a limit
     return requested.copy(), np.abs(requested) > upper
-
-
-__all__ = ["check_effort_limits", "clip_efforts", "urdf_effort_limits"]

@@ -10,8 +10,6 @@ import numpy as np
 from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
 from ..vocabulary.arguments import as_float_array, check_number
 
-__all__ = ["EffortRateLimit", "LimitFraction", "effort_rates"]
-
 
 @dataclass(frozen=True)
 class LimitFraction:

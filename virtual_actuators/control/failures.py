@@ -194,6 +194,3 @@ def drop_non_finite(controller: object, snapshot: Snapshot, sums: TickSums) -> n
             solutions[name], produced[name] = solution, solution.wrench
             tau += effort
     return tau
-
-
-__all__ = ["FAILURE_POLICIES", "check_policy", "drop_non_finite", "run_attachment"]

@@ -176,6 +176,3 @@ class MachineController:
 
     def __repr__(self) -> str:
         return f"MachineController(state={self.machine.current.name!r}, {self.controller!r})"
-
-
-__all__ = ["MachineController"]

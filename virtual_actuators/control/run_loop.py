@@ -286,6 +286,3 @@ def _end_safe(
         if ending is None:
             raise
         ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
-
-
-__all__ = ["AfterTick", "RunStats", "run"]

@@ -11,8 +11,6 @@ from ..exceptions import InvalidInputError, suggestion
 from ..vocabulary.arguments import check_name, check_names, check_sequence, describe
 from .context import Context, Event, check_context
 
-__all__ = ["Context", "Event", "State", "StateMachine", "Transition"]
-
 
 @dataclass(repr=False)
 class State:

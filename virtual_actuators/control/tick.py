@@ -231,9 +231,3 @@ def _bad_limp(limp: object, nv: int) -> InvalidInputError:
     expected = f"velocity indices, integers in [0, {nv}) (see Controller.joint_indices)"
     shown = limp if isinstance(limp, list) else describe(limp)
     return InvalidInputError(f"limp must be {expected}, got {shown}.")
-
-
-__all__ = [
-    "NO_LIMP", "ControlOutput", "TickSums", "active_names", "check_limp", "tick_snapshot",
-    "velocity_names",
-]  # fmt: skip

@@ -19,8 +19,6 @@ from ..kinematics.snapshot import Snapshot
 from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import resolve_frame
 
-__all__ = ["RATE_LIMIT", "TickRate", "bound_tick_rate", "tick_rate"]
-
 #: The largest per-tick rate a state's derived gains may reach (module docstring).
 RATE_LIMIT = 0.5
 

@@ -84,6 +84,3 @@ def warm_up_driven(controller: object, robot: Robot) -> None:
         if callable(getattr(owner, "warm_up", None)) and model is robot.model:  # a gait too
             owner.warm_up(robot.neutral())
             return
-
-
-__all__ = ["warm_up", "warm_up_driven"]

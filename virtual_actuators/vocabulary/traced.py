@@ -12,11 +12,6 @@ from collections.abc import Callable, Iterable, Sequence
 
 from ..exceptions import TraceError
 
-__all__ = [
-    "TRACING", "Sym", "TraceError", "Tracing", "is_lowerable", "is_traced", "lowerable",
-    "traced_read", "traced_store", "vector",
-]  # fmt: skip
-
 
 def _operator(name: str, swapped: bool = False) -> Callable[[Sym, object], Sym]:
     """The method that appends the binary op ``name`` (``swapped``: the operands reversed)."""

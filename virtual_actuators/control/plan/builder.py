@@ -11,8 +11,6 @@ import numpy as np
 from ...core import CORE
 from ...vocabulary.traced import Sym, TraceError
 
-__all__ = ["MACHINE", "TIME", "TIME_IN_STATE", "PlanBuilder", "Program"]
-
 #: Registers every plan has: the tick's time and the time spent in the current state [s], then
 #: the machine's state (its index, when it was entered [s], whether it started), from MACHINE.
 TIME, TIME_IN_STATE, MACHINE = 0, 1, 2

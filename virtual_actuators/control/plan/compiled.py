@@ -21,8 +21,6 @@ from .entries import Attached, Entry, Term
 from .lower import Lowering
 from .output import PlanOutput
 
-__all__ = ["CompiledMachine"]
-
 _FLOAT64, _ARRAY = np.dtype(np.float64), np.ndarray
 _TICKED, _ENTERED, _FAILED, _INVALID = (
     (CORE.PLAN_TICKED, CORE.PLAN_ENTERED, CORE.PLAN_FAILED, CORE.PLAN_INVALID)

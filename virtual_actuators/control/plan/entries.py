@@ -25,8 +25,6 @@ from .lower import (
     term_kind,
 )
 
-__all__ = ["Attached", "Entry", "Term"]
-
 
 class Entry:
     """One lowered attachment or joint-space term: its registers and how the core runs it."""

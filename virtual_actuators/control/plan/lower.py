@@ -19,8 +19,6 @@ from .builder import PlanBuilder, Program
 from .memory import Memory
 from .trace import TraceContext
 
-__all__ = ["Lowering", "Slots"]
-
 #: How an attachment's wrench becomes efforts (plan_machine.hpp's Mapping).
 SERIAL, PARTITIONED, JOINTS, PYTHON, SOLVER, GRAVITY = 0, 1, 2, 3, 4, 5
 

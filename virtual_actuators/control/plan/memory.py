@@ -10,8 +10,6 @@ import numpy as np
 from ...exceptions import InvalidInputError
 from ...vocabulary.traced import TRACING, is_traced
 
-__all__ = ["Memory"]
-
 
 class Memory:
     """Named floats and tuples of floats a gait carries from tick to tick.

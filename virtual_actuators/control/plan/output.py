@@ -7,8 +7,6 @@ from types import MappingProxyType
 
 import numpy as np
 
-__all__ = ["PlanOutput"]
-
 
 class PlanOutput:
     """One compiled tick's output (see the module docstring).

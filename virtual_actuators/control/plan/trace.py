@@ -8,8 +8,6 @@ from ...vocabulary.traced import Sym, is_lowerable
 from ..context import POSITION_COLUMNS
 from .builder import TIME, TIME_IN_STATE, Program
 
-__all__ = ["TraceContext"]
-
 
 class _Switches:
     """The contact switches as traced values: ``get(frame, default)`` and ``[frame]``."""

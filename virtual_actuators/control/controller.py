@@ -177,8 +177,16 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
             JointNotFoundError: A posture's joint that the robot lacks (with close matches).
         """
-        if isinstance(actuator, JointTerm):
-            return self._add_term(name, actuator, components)
+        if isinstance(actuator, JointTerm):  # bound to the robot under ``name``
+            kind = type(actuator).__name__
+            if not isinstance(name, str) or name in self.attachments or name in self.postures:
+                raise InvalidInputError(
+                    f"{kind} {name!r}: the name must be a str not taken by another attachment."
+                )
+            if components not in ((), None, []):
+                raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
+            self.postures[name] = actuator.bind(self.robot)
+            return actuator
         attachment = self.attachments[name] = Attachment.declare(
             self.robot,
             name,
@@ -195,18 +203,6 @@ class Controller:
             taken={**self.attachments, **self.postures},
         )
         return attachment
-
-    def _add_term(self, name: object, term: JointTerm, components: object) -> JointTerm:
-        """Bind a joint-space term to the robot under ``name`` (see `add`)."""
-        kind = type(term).__name__
-        if not isinstance(name, str) or name in self.attachments or name in self.postures:
-            raise InvalidInputError(
-                f"{kind} {name!r}: the name must be a str not taken by another attachment."
-            )
-        if components not in ((), None, []):
-            raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
-        self.postures[name] = term.bind(self.robot)
-        return term
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
         """Velocity indices (a read-only integer array) of joints given by name, or one name.

@@ -69,9 +69,7 @@ class Context:
             )
         if snapshot is None:
             snapshot = Snapshot(robot, q, v)
-        elif not known and (
-            not isinstance(snapshot, Snapshot) or snapshot.tree.model is not robot.model
-        ):
+        elif not known:  # not a Snapshot, or one of another robot
             raise InvalidInputError(
                 f"Context: snapshot must be a va.Snapshot of the context's robot or None, got "
                 f"{describe(snapshot)}."

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import threading
 
 import numpy as np
@@ -57,16 +58,9 @@ def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attach
     """A QP solve on a new thread: its kernels load, this thread's warm start is untouched."""
 
     def solve() -> None:
-        try:
-            actuator.solve(
-                snapshot,
-                np.zeros(actuator.n),
-                attachment.free,
-                method="qp",
-                weights=attachment.weights,
-            )
-        except VirtualActuatorError:
-            pass
+        with contextlib.suppress(VirtualActuatorError):
+            zero = np.zeros(actuator.n)
+            actuator.solve(snapshot, zero, attachment.free, method="qp", weights=attachment.weights)
 
     worker = threading.Thread(target=solve, name="va-warm-up")
     worker.start()

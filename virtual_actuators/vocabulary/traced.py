@@ -108,12 +108,9 @@ def vector(values: Iterable[object]) -> tuple:
 
 
 class Tracing:
-    """What a hook being traced writes to and reads from: the program and the plan's slots.
+    """What a traced hook writes to: its ``program``, the plan's ``slots`` (of each owner kept).
 
-    Attributes:
-        program: The program the ops go to.
-        slots: ``id(owner) -> {name: (register, size)}``: the slots of each object the plan
-            keeps (a component's parameters, a gait's `Memory`).
+    ``slots``: ``id(owner) -> {name: (register, size)}`` (parameters, a gait's `Memory`).
     """
 
     def __init__(self, program: object, slots: dict[int, dict[str, tuple[int, int]]]) -> None:

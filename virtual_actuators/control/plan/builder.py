@@ -72,12 +72,7 @@ class PlanBuilder:
 
 
 class Program:
-    """Ops appended in order; a traced value is the register an op writes.
-
-    Args:
-        builder: The plan's registers.
-        index: The program's id.
-    """
+    """Ops appended in order (``index``: its id); a traced value is the register an op writes."""
 
     def __init__(self, builder: PlanBuilder, index: int) -> None:
         self.builder = builder

@@ -24,11 +24,7 @@ SERIAL, PARTITIONED, JOINTS, PYTHON, SOLVER, GRAVITY = 0, 1, 2, 3, 4, 5
 
 
 class Slots:
-    """One owner's slots as a traced component reads and writes them.
-
-    ``slots[name]`` reads (a tuple of traced values, copies of the registers now);
-    ``slots.store(name, values)`` writes.
-    """
+    """One owner's slots: ``slots[name]`` reads (traced copies), ``slots.store(name, v)`` writes."""
 
     def __init__(self, program: Program, layout: dict[str, tuple[int, int]]) -> None:
         self._program, self._layout = program, layout

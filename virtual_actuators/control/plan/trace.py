@@ -48,12 +48,9 @@ class _Entries:
 
 
 class TraceContext:
-    """The traced reads of a tick's [`Context`][virtual_actuators.Context].
+    """The traced reads of a tick's [`Context`][virtual_actuators.Context] for ``state``'s hooks.
 
-    Args:
-        lowering: The plan being lowered (its frame rows and contact registers).
-        program: The program the reads go to.
-        state: The state whose hooks or exits are traced.
+    The reads go to ``program``; ``lowering`` has the plan's frame rows and contact registers.
     """
 
     def __init__(self, lowering: object, program: Program, state: str) -> None:

@@ -179,9 +179,7 @@ def _posture_entries(name: str, posture: object, model: pin.Model) -> list[_Entr
     gains = getattr(posture, "linear_gains", lambda: None)()
     if gains is None:  # gravity compensation: no gain
         return []
-    rows = np.zeros((len(posture.joints), model.nv))
-    for row, joint in enumerate(posture.joints):
-        rows[row, model.joints[model.getJointId(joint)].idx_v] = 1.0
+    rows = np.eye(model.nv)[[model.joints[model.getJointId(j)].idx_v for j in posture.joints]]
     labels = tuple(f"{name}.{joint}" for joint in posture.joints)
     return [_Entry(posture, labels, rows, gains)]
 
@@ -210,19 +208,15 @@ def _mobility(robot: object, q: np.ndarray, held: list[tuple[str, str]]) -> np.n
     return inverse - coupling @ np.linalg.pinv(held_rows @ coupling, rcond=1e-10) @ coupling.T
 
 
-def _rate_matrix(entries: list[_Entry], mobility: np.ndarray, period: float) -> np.ndarray:
-    rows = np.vstack([entry.rows for entry in entries])
-    gain = np.concatenate([e.gains.damping + period * e.gains.stiffness for e in entries])
-    root = np.sqrt(period * gain)
-    matrix = root[:, None] * (rows @ mobility @ rows.T) * root[None, :]
-    return 0.5 * (matrix + matrix.T)
-
-
 def _rate(entries: list[_Entry], mobility: np.ndarray, period: float) -> TickRate:
     labels = tuple(label for entry in entries for label in entry.labels)
     if not entries:
         return TickRate(0.0, period, labels, np.zeros(0))
-    values, vectors = np.linalg.eigh(_rate_matrix(entries, mobility, period))
+    rows = np.vstack([entry.rows for entry in entries])
+    gain = np.concatenate([e.gains.damping + period * e.gains.stiffness for e in entries])
+    root = np.sqrt(period * gain)
+    matrix = root[:, None] * (rows @ mobility @ rows.T) * root[None, :]
+    values, vectors = np.linalg.eigh(0.5 * (matrix + matrix.T))
     share = vectors[:, -1] ** 2
     return TickRate(max(float(values[-1]), 0.0), period, labels, share / max(share.sum(), 1e-300))
 

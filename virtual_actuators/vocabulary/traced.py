@@ -8,7 +8,7 @@ call) raises `TraceError` and stays a Python callback.
 from __future__ import annotations
 
 import contextvars
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 
 from ..exceptions import TraceError
 
@@ -100,11 +100,6 @@ def is_traced(*values: object) -> bool:
         if isinstance(value, (tuple, list)) and any(isinstance(v, Sym) for v in value):
             return True
     return False
-
-
-def vector(values: Iterable[object]) -> tuple:
-    """``values`` as a tuple (floats and `Sym` alike): the plan's vectors are tuples."""
-    return tuple(values)
 
 
 class Tracing:

@@ -57,7 +57,13 @@ class CompiledMachine:
         used = {name for state in machine.machine.states for name in state.active}
         names = [n for n in (*controller.attachments, *controller.postures) if n in used]
         self._index = {name: i for i, name in enumerate(names)}
-        self._entries = [self._lower_entry(name) for name in self._index]
+        postures, attachments = controller.postures, controller.attachments
+        self._entries = [
+            Term(self, n, postures[n], lowering)
+            if n in postures
+            else Attached(self, n, attachments[n], lowering)
+            for n in self._index
+        ]
         states = [self._lower_state(state) for state in machine.machine.states]
         tree = lowering.tree
         self._rows = dict(tree.frame_tables[0])  # the plan's frame table, final now
@@ -79,8 +85,7 @@ class CompiledMachine:
         for index, (_, _, _, _, exits) in enumerate(states):
             for program, result, target in exits:
                 self.core.add_exit(index, program, result, target)
-        names = machine.machine.names
-        self.core.set_initial(names.index(machine.machine.initial))
+        self.core.set_initial(machine.machine.index[machine.machine.initial])
         self.core.set_callbacks(list(lowering.callbacks))
         self.registers = self.core.registers()
         self.requested = self.core.requested()  # the last tick's unclipped sum (a view)
@@ -102,17 +107,9 @@ class CompiledMachine:
         self._tick: tuple | None = None  # (q, v, time, contacts) of the tick running
         self._snapshot: Snapshot | None = None
         self._context: Context | None = None
-        self.last: ControlOutput | None = None
         self._lock = threading.Lock()  # one tick at a time: the registers are one run's state
 
     # -- lowering -------------------------------------------------------------------------
-    def _lower_entry(self, name: str) -> Entry:
-        controller, lowering = self.machine.controller, self.lowering
-        term = controller.postures.get(name)
-        if term is not None:
-            return Term(self, name, term, lowering)
-        return Attached(self, name, controller.attachments[name], lowering)
-
     def _lower_state(self, state: object) -> tuple:
         lowering, machine = self.lowering, self.machine.machine
         attachments = np.array([self._index[name] for name in state.active], dtype=np.int64)
@@ -188,15 +185,13 @@ class CompiledMachine:
                 outcome = core.tick(q, v, time, tau)
             machine = self.machine
             if outcome == _FAILED:  # the Python tick decides (the failure policy), same state
-                output = machine.compute_in_python(self.snapshot(), None, time, contacts)
-                self.last = output
-                return output
+                return machine.compute_in_python(self.snapshot(), None, time, contacts)
             state = machine.machine.current
             if outcome == _ENTERED:
                 machine.machine.history.append((time, state.name))
             tau, held = self._limit_rate(tau.copy(), time)
             output = PlanOutput(self, state.active, tau, self._free if held is None else held)
-            self.last = machine.last = output
+            machine.last = output
             return output
         finally:
             self._lock.release()

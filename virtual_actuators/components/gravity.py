@@ -60,7 +60,6 @@ class GravityCompensation:
             for j in range(model.njoints):
                 if j not in joints:
                     self.model.inertias[j] = pin.Inertia.Zero()
-        self._floating = bool(robot.floating_base)
 
     @property
     def columns(self) -> np.ndarray:

@@ -212,11 +212,9 @@ class Controller:
             JointNotFoundError: A name is not a joint of the model (with close matches).
         """
         model = self.robot.model
-        out = []
-        for joint in check_names(joints, "joints", JointNotFoundError, ordered=False):
-            joint_model = model.joints[resolve_joint(model, joint)]
-            out.extend(range(joint_model.idx_v, joint_model.idx_v + joint_model.nv))
-        index = np.array(out, dtype=np.intp)
+        names = check_names(joints, "joints", JointNotFoundError, ordered=False)
+        found = [model.joints[resolve_joint(model, joint)] for joint in names]
+        index = np.array([i for j in found for i in range(j.idx_v, j.idx_v + j.nv)], dtype=np.intp)
         index.flags.writeable = False
         return index
 

@@ -15,13 +15,11 @@ def urdf_effort_limits(robot: Robot) -> np.ndarray:
     A 1-dof joint's positive finite ``effortLimit``; ``inf`` elsewhere.
     """
     model = robot.model
+    effort = np.asarray(model.effortLimit, dtype=float)
+    one_dof = [model.joints[j].idx_v for j in range(1, model.njoints) if model.joints[j].nv == 1]
+    usable = [i for i in one_dof if np.isfinite(effort[i]) and effort[i] > 0.0]
     limits = np.full(model.nv, np.inf)
-    for joint_id in range(1, model.njoints):
-        joint = model.joints[joint_id]
-        if joint.nv == 1:
-            limit = float(model.effortLimit[joint.idx_v])
-            if np.isfinite(limit) and limit > 0.0:
-                limits[joint.idx_v] = limit
+    limits[usable] = effort[usable]
     return limits
 
 

@@ -57,9 +57,7 @@ class Lowering:
     """
 
     def __init__(self, machine: object) -> None:
-        self.machine = machine
-        self.controller = machine.controller
-        self.robot = self.controller.robot
+        self.robot = machine.controller.robot
         self.tree = tree_of(self.robot)
         self.builder = PlanBuilder()
         self.pieces: list[tuple[str, str]] = []
@@ -77,10 +75,9 @@ class Lowering:
 
     def contact_register(self, frame: str, required: bool) -> int:
         """The register the tick writes ``frame``'s contact switch into."""
-        entry = self.contacts.get(frame)
-        if entry is None:
-            register = self.builder.allocate(1)
-            entry = self.contacts[frame] = [register, False]
+        if frame not in self.contacts:
+            self.contacts[frame] = [self.builder.allocate(1), False]
+        entry = self.contacts[frame]
         entry[1] = entry[1] or required
         return entry[0]
 

@@ -2,29 +2,17 @@
 
 from __future__ import annotations
 
-from collections.abc import Container, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..actuators import VirtualActuator
 from ..components.base import Component
-from ..contacts import ContactSet, declare
+from ..contacts import ContactSet
 from ..exceptions import InvalidInputError
 from ..kinematics.kernels import finite
-from ..models.robot import Robot
-from ..vocabulary.arguments import check_name, describe
-from .attachment_checks import (
-    Actuator,
-    check_contact_limits,
-    check_free,
-    check_limit_values,
-    check_method,
-    check_parts,
-    check_qp_yield,
-    component_indices,
-    sensor_of,
-)
+from ..vocabulary.arguments import describe
+from .attachment_checks import Actuator
 from .attachment_kernel import SpringTick
 
 
@@ -70,61 +58,6 @@ class Attachment:
         #: the spring-dampers' one-call sensing and wrench (and efforts or solve), or None
         self.spring_tick = SpringTick.of(
             self.actuator, self.sensor, self.components, self.slots, self.snapshot_solve
-        )
-
-    @classmethod
-    def declare(
-        cls,
-        robot: Robot,
-        name: str,
-        actuator: Actuator,
-        components: Sequence[Component] = (),
-        *,
-        sensor: VirtualActuator | None = None,
-        free: Sequence[str] = (),
-        unilateral: Mapping[str, float] | None = None,
-        yield_axes: Sequence[str] = (),
-        friction: float | None = None,
-        min_normal: float = 0.0,
-        method: str = "partitioned",
-        yield_weight: float | None = None,
-        taken: Container[str] = (),
-    ) -> Attachment:
-        """An attachment from what [`Controller.add`][] is given, every argument checked.
-
-        ``taken`` holds the names already used in the controller.
-
-        Raises:
-            InvalidInputError: As [`Controller.add`][].
-            InvalidAxisError: As [`Controller.add`][].
-        """
-        check_name(name, "Controller.add: name")
-        components = check_parts(name, actuator, sensor, components)
-        friction, min_normal = check_limit_values(name, friction, min_normal, unilateral)
-        free = check_free(name, robot, actuator, free)
-        sensor = sensor_of(name, robot, actuator, sensor)
-        indices = component_indices(components, actuator.axes)
-        weights, yield_axes = check_qp_yield(
-            name, actuator, method, unilateral, yield_axes, friction, yield_weight
-        )
-        limits, yield_mask = check_contact_limits(name, actuator, unilateral, yield_axes, friction)
-        if name in taken:
-            raise InvalidInputError(f"An attachment named {name!r} already exists.")
-        method = check_method(name, actuator, method, bool(limits) or friction is not None)
-        contacts = None
-        if yield_mask is not None:  # the actuator's contacts with these limits
-            declared = actuator.contacts
-            contacts = declare(
-                actuator.reactions,
-                actuator.axes,
-                declared.contact,
-                friction,
-                min_normal if friction is not None else 0.0,
-                declared.normals,
-                minima=limits,
-            )
-        return cls(
-            name, actuator, sensor, components, free, indices, contacts, yield_mask, method, weights
         )
 
     def wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Container, Mapping, Sequence
 
 import numpy as np
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component
+from ..contacts import declare
 from ..distribution.qp import check_weights
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
-from ..vocabulary.arguments import check_number, check_sequence, describe
+from ..vocabulary.arguments import check_name, check_number, check_sequence, describe
 from ..vocabulary.axes import WORLD, check_axes_subset
 
 Actuator = VirtualActuator | ParallelVirtualActuator
@@ -25,13 +26,65 @@ _QP_LIMITS = (
 )
 
 
-def check_parts(name: str, actuator: object, sensor: object, components: object) -> list[Component]:
-    """The actuator's and sensor's kinds; ``components`` as a list of components.
+def attachment_fields(
+    robot: Robot,
+    name: str,
+    actuator: Actuator,
+    components: Sequence[Component],
+    sensor: VirtualActuator | None,
+    free: Sequence[str],
+    unilateral: Mapping[str, float] | None,
+    yield_axes: Sequence[str],
+    friction: float | None,
+    min_normal: float,
+    method: str,
+    yield_weight: float | None,
+    taken: Container[str],
+) -> dict[str, object]:
+    """An [`Attachment`][virtual_actuators.control.attachment.Attachment]'s fields, checked.
+
+    ``taken`` holds the names already used in the controller.
 
     Raises:
-        InvalidInputError: The actuator or sensor is not a virtual actuator (a sensor: serial,
-            or None), or a component is not a [`Component`][].
+        InvalidInputError: As [`Controller.add`][].
+        InvalidAxisError: As [`Controller.add`][].
     """
+    check_name(name, "Controller.add: name")
+    components = _parts(name, actuator, sensor, components)
+    friction, min_normal = _limit_values(name, friction, min_normal, unilateral)
+    free = _free(name, robot, actuator, free)
+    sensor = _sensor(name, robot, actuator, sensor)
+    indices = []
+    for component in components:  # each component's axes among the actuator's
+        check_axes_subset(component.axes, actuator.axes, f"{component.name} axes")
+        indices.append(np.array([actuator.axes.index(a) for a in component.axes]))
+    weights, yield_axes = _qp_yield(
+        name, actuator, method, unilateral, yield_axes, friction, yield_weight
+    )
+    limits, yield_mask = _contact_limits(name, actuator, unilateral, yield_axes, friction)
+    if name in taken:
+        raise InvalidInputError(f"An attachment named {name!r} already exists.")
+    method = _method(name, actuator, method, bool(limits) or friction is not None)
+    contacts = None
+    if yield_mask is not None:  # the actuator's contacts with these limits
+        declared = actuator.contacts
+        contacts = declare(
+            actuator.reactions,
+            actuator.axes,
+            declared.contact,
+            friction,
+            min_normal if friction is not None else 0.0,
+            declared.normals,
+            minima=limits,
+        )
+    return dict(
+        name=name, actuator=actuator, sensor=sensor, components=components, free=free,
+        indices=indices, contacts=contacts, yield_mask=yield_mask, method=method, weights=weights,
+    )  # fmt: skip
+
+
+def _parts(name: str, actuator: object, sensor: object, components: object) -> list[Component]:
+    """The actuator's and sensor's kinds; ``components`` as a list of components."""
     where = f"Attachment {name!r}"
     if not isinstance(actuator, (VirtualActuator, ParallelVirtualActuator)):
         raise InvalidInputError(
@@ -49,15 +102,10 @@ def check_parts(name: str, actuator: object, sensor: object, components: object)
     )
 
 
-def check_limit_values(
+def _limit_values(
     name: str, friction: object, min_normal: object, unilateral: object
 ) -> tuple[float | None, float]:
-    """``(friction, min_normal)`` checked, and ``unilateral``'s kind (a dict or None).
-
-    Raises:
-        InvalidInputError: ``friction`` not None or a finite number > 0, ``min_normal`` not a
-            finite number >= 0, or ``unilateral`` not a dict.
-    """
+    """``(friction, min_normal)`` checked, and ``unilateral``'s kind (a dict or None)."""
     where = f"Attachment {name!r}"
     if friction is not None:
         friction = check_number(friction, f"{where}: friction", positive=True)
@@ -69,13 +117,8 @@ def check_limit_values(
     return friction, min_normal
 
 
-def check_free(name: str, robot: Robot, actuator: Actuator, free: Sequence[str]) -> tuple[str, ...]:
-    """The actuator's robot, and the free axes (a parallel actuator's only), in its order.
-
-    Raises:
-        InvalidInputError: The actuator is for another robot, or free axes on a serial one.
-        InvalidAxisError: ``free`` names an axis the actuator lacks.
-    """
+def _free(name: str, robot: Robot, actuator: Actuator, free: Sequence[str]) -> tuple[str, ...]:
+    """The actuator's robot, and the free axes (a parallel actuator's only), in its order."""
     if actuator.robot.model is not robot.model:
         raise InvalidInputError(f"Attachment {name!r}: the actuator is for another robot.")
     free_axes = check_axes_subset(free, actuator.axes, "free")
@@ -87,15 +130,10 @@ def check_free(name: str, robot: Robot, actuator: Actuator, free: Sequence[str])
     return free_axes
 
 
-def sensor_of(
+def _sensor(
     name: str, robot: Robot, actuator: Actuator, sensor: VirtualActuator | None
 ) -> VirtualActuator:
-    """The attachment's sensor: ``sensor``, else a serial actuator itself, else world to {B}.
-
-    Raises:
-        InvalidInputError: The sensor is for another robot, or its axes differ from the
-            actuator's.
-    """
+    """The attachment's sensor: ``sensor``, else a serial actuator itself, else world to {B}."""
     if sensor is None:
         if isinstance(actuator, VirtualActuator):
             sensor = actuator
@@ -113,33 +151,14 @@ def sensor_of(
     return sensor
 
 
-def component_indices(components: list[Component], axes: tuple[str, ...]) -> list[np.ndarray]:
-    """For each component, the indices of its axes among the actuator's ``axes``.
-
-    Raises:
-        InvalidAxisError: A component acts on an axis the actuator does not have.
-    """
-    indices = []
-    for component in components:
-        check_axes_subset(component.axes, axes, f"{component.name} axes")
-        indices.append(np.array([axes.index(a) for a in component.axes]))
-    return indices
-
-
-def check_contact_limits(
+def _contact_limits(
     name: str,
     actuator: Actuator,
     unilateral: Mapping[str, float] | None,
     yield_axes: Sequence[str],
     friction: float | None,
 ) -> tuple[dict[int, float], np.ndarray | None]:
-    """An attachment's contact limits as ``({axis index: minimum}, yield mask or None)``.
-
-    Raises:
-        InvalidInputError: Limits without yield axes or the reverse, limits on a serial
-            actuator, a cone without force axes, or a minimum that is not a finite number.
-        InvalidAxisError: ``unilateral`` or ``yield_axes`` name an axis the actuator lacks.
-    """
+    """An attachment's contact limits as ``({axis index: minimum}, yield mask or None)``."""
     where = f"Attachment {name!r}"
     limits: dict[int, float] = {}
     yield_mask = None
@@ -164,7 +183,7 @@ def check_contact_limits(
     return limits, yield_mask
 
 
-def check_qp_yield(
+def _qp_yield(
     name: str,
     actuator: Actuator,
     method: object,
@@ -173,17 +192,10 @@ def check_qp_yield(
     friction: float | None,
     yield_weight: float | None,
 ) -> tuple[np.ndarray | None, Sequence[str]]:
-    """``method="qp"``: the closest-wrench weights that make ``yield_axes`` give way first.
+    """``(weights, yield axes left to the scaling rule)``: the QP's yield weights, or none.
 
-    Returns:
-        ``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` on a parallel
-        actuator, ``(n,)`` weights (None without yield axes) and ``()``; otherwise
-        ``(None, yield_axes)``.
-
-    Raises:
-        InvalidInputError: With ``method="qp"``, ``unilateral`` or ``friction`` given;
-            ``yield_weight`` without ``method="qp"`` or not a finite number > 0.
-        InvalidAxisError: ``yield_axes`` names an axis the actuator lacks.
+    With ``method="qp"`` on a parallel actuator, ``(n,)`` weights that make ``yield_axes`` give
+    way first (None without yield axes) and ``()``; otherwise ``(None, yield_axes)``.
     """
     if method != "qp" or not isinstance(actuator, ParallelVirtualActuator):
         if yield_weight is not None:
@@ -201,13 +213,8 @@ def check_qp_yield(
     return check_weights(dict.fromkeys(yielded, weight), actuator.axes), ()
 
 
-def check_method(name: str, actuator: Actuator, method: object, limited: bool) -> str:
-    """``method`` checked against the actuator's solvers (a serial one has none).
-
-    Raises:
-        InvalidInputError: A method the actuator does not have, or ``method="qp"`` with the
-            attachment's own contact limits (``limited``).
-    """
+def _method(name: str, actuator: Actuator, method: object, limited: bool) -> str:
+    """``method`` checked against the actuator's solvers (a serial one has none)."""
     if method == "partitioned":
         return method
     methods = list(getattr(actuator, "methods", ()))

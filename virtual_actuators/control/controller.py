@@ -17,7 +17,8 @@ from ..kinematics.tree import tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
-from .attachment import Actuator, Attachment
+from .attachment import Attachment
+from .attachment_checks import Actuator, attachment_fields
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
 from .failures import check_policy, drop_non_finite, run_attachment
@@ -187,21 +188,11 @@ class Controller:
                 raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
             self.postures[name] = actuator.bind(self.robot)
             return actuator
-        attachment = self.attachments[name] = Attachment.declare(
-            self.robot,
-            name,
-            actuator,
-            components,
-            sensor=sensor,
-            free=free,
-            unilateral=unilateral,
-            yield_axes=yield_axes,
-            friction=friction,
-            min_normal=min_normal,
-            method=method,
-            yield_weight=yield_weight,
-            taken={**self.attachments, **self.postures},
-        )
+        fields = attachment_fields(
+            self.robot, name, actuator, components, sensor, free, unilateral, yield_axes,
+            friction, min_normal, method, yield_weight, {**self.attachments, **self.postures},
+        )  # fmt: skip
+        attachment = self.attachments[name] = Attachment(**fields)
         return attachment
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:

@@ -144,7 +144,14 @@ def run(
             ending = error
             raise
         finally:  # whatever ended the loop (Ctrl-C included): motors to zero
-            _end_safe(settings.write_final, settings.tree.nv, ending)
+            try:
+                settings.write_final(np.zeros(settings.tree.nv))
+            except Exception as write_error:  # raised unless it would hide what ended the loop
+                if ending is None:
+                    raise
+                ending.add_note(
+                    f"run(): the final zero effort could not be written either: {write_error!r}"
+                )
             stats.wall_time = clock.perf_counter() - start
     return stats
 
@@ -270,19 +277,3 @@ class _Tick:
         if tau is None:
             return None, q, v, stamp, None, "bad effort"
         return tau, q, v, stamp, output, None
-
-
-def _end_safe(
-    write_effort: Callable[[np.ndarray], None], nv: int, ending: BaseException | None
-) -> None:
-    """Write zero effort; if that fails while ``ending`` propagates, note it on ``ending``.
-
-    Raises:
-        Exception: The write's error when nothing else is propagating.
-    """
-    try:
-        write_effort(np.zeros(nv))
-    except Exception as error:
-        if ending is None:
-            raise
-        ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")

@@ -63,7 +63,15 @@ def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]
         InvalidAxisError: For axes that are not a str or an ordered collection of str (None, a
             number, a set, a dict, bytes), an unknown, repeated or out-of-order axis, or no axis.
     """
-    axes = _axis_tuple(axes, what)
+    if isinstance(axes, str):
+        axes = (str(axes),)
+    elif isinstance(axes, (bytes, Mapping, Set)) or not isinstance(axes, Iterable):
+        raise InvalidAxisError(
+            f"{what} must be an axis name or an ordered sequence of axis names from {AXES}, "
+            f"got {describe(axes)}."
+        )
+    else:  # entries that are str become plain str
+        axes = tuple(str(a) if isinstance(a, str) else a for a in axes)
     if not axes:
         raise InvalidAxisError(f"At least one axis is needed in {what}; valid axes are {AXES}.")
     for axis in axes:
@@ -81,18 +89,6 @@ def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]
             f"{what} {axes} are out of order: give them in the order {AXES}, i.e. {expected}."
         )
     return axes
-
-
-def _axis_tuple(axes: object, what: str) -> tuple:
-    """``axes`` as a tuple (a str is one axis); entries that are str become plain str."""
-    if isinstance(axes, str):
-        return (str(axes),)
-    if isinstance(axes, (bytes, Mapping, Set)) or not isinstance(axes, Iterable):
-        raise InvalidAxisError(
-            f"{what} must be an axis name or an ordered sequence of axis names from {AXES}, "
-            f"got {describe(axes)}."
-        )
-    return tuple(str(a) if isinstance(a, str) else a for a in axes)
 
 
 def axis_rows(axes: Sequence[str]) -> np.ndarray:

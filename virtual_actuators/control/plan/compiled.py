@@ -170,9 +170,14 @@ class CompiledMachine:
                 and v.dtype is _FLOAT64 and time.__class__ is float
             ):  # fmt: skip
                 q, v, time = self._checked(q, v, time)  # the typed errors, or q normalised
-            switches = contacts or {}
-            if self._contacts:
-                self._switch(switches)
+            switches, registers = contacts or {}, self.registers
+            for frame, register, required in self._contacts:  # the switches into the registers
+                closed = switches.get(frame)
+                if closed is None and required:
+                    raise InvalidInputError(
+                        f"No contact switch for {frame!r}: the machine's events read it."
+                    )
+                registers[register] = 1.0 if closed else 0.0
             self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
             core, tau = self.core, self._tau
             try:  # the core checks the sizes (and copies a strided array)
@@ -195,17 +200,6 @@ class CompiledMachine:
             return output
         finally:
             self._lock.release()
-
-    def _switch(self, switches: Mapping[str, bool]) -> None:
-        """The contact switches into the plan's registers."""
-        registers = self.registers
-        for frame, register, required in self._contacts:
-            closed = switches.get(frame)
-            if closed is None and required:
-                raise InvalidInputError(
-                    f"No contact switch for {frame!r}: the machine's events read it."
-                )
-            registers[register] = 1.0 if closed else 0.0
 
     def _checked(self, q: object, v: object, time: object) -> tuple:
         """``(q, v, time)`` as the Python checks take them (raising their typed errors)."""

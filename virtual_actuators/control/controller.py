@@ -17,8 +17,7 @@ from ..kinematics.tree import tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
-from .attachment import Attachment
-from .attachment_checks import Actuator, attachment_fields
+from .attachment import Actuator, Attachment
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
 from .failures import check_policy, drop_non_finite, run_attachment
@@ -188,11 +187,10 @@ class Controller:
                 raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
             self.postures[name] = actuator.bind(self.robot)
             return actuator
-        fields = attachment_fields(
+        attachment = self.attachments[name] = Attachment.declare(
             self.robot, name, actuator, components, sensor, free, unilateral, yield_axes,
             friction, min_normal, method, yield_weight, {**self.attachments, **self.postures},
         )  # fmt: skip
-        attachment = self.attachments[name] = Attachment(**fields)
         return attachment
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:

@@ -2,27 +2,29 @@
 
 from __future__ import annotations
 
+import contextlib
+import threading
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ..actuators import VirtualActuator
+from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component
 from ..components.gravity import GravityCompensation
 from ..components.posture import Posture
-from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
-from ..kinematics.kernels import finite
-from ..kinematics.snapshot import Snapshot
+from ..exceptions import InvalidInputError, JointNotFoundError, VirtualActuatorError, suggestion
+from ..kinematics.kernels import finite, velocity_of_point
+from ..kinematics.snapshot import Snapshot, thread_data
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
+from .contact_limits import largest_scale, least_margin
 from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
 from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
 from .failures import check_policy, drop_non_finite, run_attachment
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
-from .warm_up import warm_up
 
 #: What ``Controller.add`` keeps as a joint-space term (``torques(snapshot)`` each tick)
 JointTerm = Posture | GravityCompensation
@@ -237,7 +239,37 @@ class Controller:
         Raises:
             InvalidInputError: A bad ``q``.
         """
-        warm_up(self, q)
+        robot = self.robot
+        snapshot = Snapshot(robot, q, np.zeros(robot.model.nv))
+        thread_data(robot.model)
+        if robot.mass > 0.0:
+            robot.center_of_mass(snapshot.q)
+        # a frame's velocity outside the tick's table (a frame first named mid-run)
+        no_columns = np.zeros(0, dtype=np.int64)
+        velocity_of_point(snapshot.jacobian_world, snapshot.v, no_columns, 0.0, 0.0, 0.0)
+        for attachment in self.attachments.values():
+            kinematics = attachment.sensor.kinematics
+            kinematics.sense(snapshot, velocity=True)
+            snapshot.frame_velocity(kinematics.action_id)
+            if attachment.spring_tick is not None:  # the spring-dampers' one-call tick
+                attachment.spring_tick.warm_up(snapshot)
+            actuator = attachment.actuator
+            if not isinstance(actuator, ParallelVirtualActuator):
+                continue
+            try:
+                if attachment.method == "qp":
+                    _on_own_thread(actuator, snapshot, attachment)
+                    if attachment.plan is not None and actuator.qp.matrices.applicable:
+                        actuator.qp.matrices.workspace(attachment.plan.keep)  # this thread's
+                    continue
+                solution = actuator.solve(
+                    snapshot, np.zeros(actuator.n), attachment.free, method=attachment.method
+                )
+            except VirtualActuatorError:  # singular at q, say: the kernels load on the first tick
+                continue
+            if attachment.yield_mask is not None:
+                least_margin(attachment, snapshot, solution.forces)
+                largest_scale(attachment, snapshot, solution.forces, solution.forces)
 
     def _get(self, name: str) -> Attachment:
         try:
@@ -333,3 +365,16 @@ class Controller:
             f"Controller(robot={self.robot.name!r}, attachments={list(self.attachments)}, "
             f"clip={self.clip})"
         )
+
+
+def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attachment) -> None:
+    """A QP solve on a new thread: its kernels load, this thread's warm start is untouched."""
+
+    def solve() -> None:
+        with contextlib.suppress(VirtualActuatorError):
+            zero = np.zeros(actuator.n)
+            actuator.solve(snapshot, zero, attachment.free, method="qp", weights=attachment.weights)
+
+    worker = threading.Thread(target=solve, name="va-warm-up")
+    worker.start()
+    worker.join()

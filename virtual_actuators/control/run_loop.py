@@ -25,7 +25,6 @@ from .safe_action import (
     check_run,
     check_state,
 )
-from .warm_up import warm_up_driven
 
 State = tuple[np.ndarray, np.ndarray, float]
 
@@ -209,6 +208,19 @@ def _loop(
             deadline = done  # no catching up
         elif realtime:
             clock.sleep(max(min(deadline, end) - perf_counter(), 0.0))
+
+
+def warm_up_driven(controller: object, robot: Robot) -> None:
+    """Warm up what a loop drives before its clock starts (``va.run``'s first step).
+
+    [`Controller.warm_up`][] at the robot's neutral configuration, on ``controller`` or the
+    ``controller`` it drives (a gait, a tracker), when it controls ``robot``.
+    """
+    for owner in (controller, getattr(controller, "controller", None)):
+        model = getattr(getattr(owner, "robot", None), "model", None)
+        if callable(getattr(owner, "warm_up", None)) and model is robot.model:  # a gait too
+            owner.warm_up(robot.neutral())
+            return
 
 
 class _Tick:

@@ -20,10 +20,16 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
-from .contact_limits import largest_scale, least_margin
-from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
-from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
-from .failures import check_policy, drop_non_finite, run_attachment
+from .effort_limits import (
+    EffortRateLimit,
+    LimitFraction,
+    RateSpec,
+    check_effort_limits,
+    clip_efforts,
+    effort_rates,
+    urdf_effort_limits,
+)
+from .failures import check_policy, drop_non_finite, largest_scale, least_margin, run_attachment
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
 
 #: What ``Controller.add`` keeps as a joint-space term (``torques(snapshot)`` each tick)
@@ -44,7 +50,7 @@ class Controller:
             `ControlOutput.failures`.
         effort_rate_limit: Largest change of effort per second after the clip [N m/s]: a
             number, ``(nv,)``, ``{joint: rate}``, a
-            [`LimitFraction`][virtual_actuators.control.effort_rate.LimitFraction], or None.
+            [`LimitFraction`][virtual_actuators.LimitFraction], or None.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, a bad

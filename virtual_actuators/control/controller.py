@@ -351,20 +351,9 @@ class Controller:
         )
         clipped, held = self.limit_rate(clipped, time)
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
-            clipped,
-            tau,
-            saturated,
-            sums.wrenches,
-            sums.produced,
-            sums.positions,
-            sums.velocities,
-            sums.solutions,
-            sums.failed,
-            names,
-            self.joint_names,
-            sums.failures,
-            held,
-        )
+            clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions, sums.velocities,
+            sums.solutions, sums.failed, names, self.joint_names, sums.failures, held,
+        )  # fmt: skip
 
     def __repr__(self) -> str:
         return (

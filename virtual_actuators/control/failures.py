@@ -89,8 +89,11 @@ def run_attachment(
     except CAUGHT as error:
         if on_failure == "raise":
             raise
+        reason = "wrench" if wrench is None else next(  # no wrench: the components failed
+            (why for kind, why in _REASONS if isinstance(error, kind)), "distribution"
+        )
         solution, effort = recover(
-            on_failure, attachment, snapshot, wrench, reason_of(error, wrench), error, limits, sums
+            on_failure, attachment, snapshot, wrench, reason, error, limits, sums
         )
         if effort is None:
             return
@@ -115,13 +118,6 @@ def check_policy(on_failure: object, on_singular: object) -> str:
             f"on_failure={on_failure!r} and on_singular={on_singular!r}."
         )
     return on_failure or on_singular or "raise"
-
-
-def reason_of(error: BaseException, wrench: np.ndarray | None) -> str:
-    """The `AttachmentFailure.reason` of ``error`` (``wrench`` None: components failed)."""
-    if wrench is None:
-        return "wrench"
-    return next((reason for kind, reason in _REASONS if isinstance(error, kind)), "distribution")
 
 
 def recover(

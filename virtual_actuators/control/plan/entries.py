@@ -99,6 +99,14 @@ class Entry:
             piece = lowering.python(f"{what}: reset", reason, python_reset)
             self.resets.append(piece.index)
 
+    def add_to(self, core: object, term: bool, rows, frames, columns, signs, q_rows) -> None:
+        """Declare the entry's sensor rows (or joints), registers and programs to the core."""
+        self.core_index = core.add_attachment(
+            term, rows, frames, columns, signs, q_rows, self.position, self.velocity, self.wrench,
+            self.produced, np.array(self.programs, dtype=np.int64),
+            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
+        )  # fmt: skip
+
     def bind(self, core: object) -> None:
         """Take up the core's buffers of this entry (its efforts) once the machine is built."""
         self.efforts = core.efforts(self.core_index)
@@ -176,14 +184,11 @@ class Attached(Entry):
     def declare(self, core: object) -> None:
         """Declare the attachment to the core: its sensor, programs and distribution."""
         kinematics = self.attachment.sensor.kinematics
-        rows = kinematics.frame_rows[:3].copy()
-        self.core_index = core.add_attachment(
-            False, np.asarray(kinematics.rows, dtype=np.int64), np.asarray(rows, dtype=np.int64),
+        self.add_to(
+            core, False, np.asarray(kinematics.rows, dtype=np.int64),
+            np.array(kinematics.frame_rows[:3], dtype=np.int64),
             np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float),
-            np.zeros(0, dtype=np.int64), self.position, self.velocity, self.wrench,
-            self.produced, np.array(self.programs, dtype=np.int64),
-            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
+            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float), np.zeros(0, np.int64),
         )  # fmt: skip
         if self.mapping == SOLVER:
             core_qp, work, keep, weights, tolerances, slot = self.qp.plan_tables(
@@ -255,13 +260,9 @@ class Term(Entry):
 
     def declare(self, core: object) -> None:
         """Declare the term to the core: its joints and programs."""
-        self.core_index = core.add_attachment(
-            True, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
-            np.asarray(self.columns, dtype=np.int64), np.zeros(0),
-            np.asarray(self.q_rows, dtype=np.int64), self.position, self.velocity, self.wrench,
-            self.produced, np.array(self.programs, dtype=np.int64),
-            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
-        )  # fmt: skip
+        none = np.zeros(0, dtype=np.int64)
+        columns = np.asarray(self.columns, dtype=np.int64)
+        self.add_to(core, True, none, none, columns, np.zeros(0), np.asarray(self.q_rows, np.int64))
         if self.mapping == GRAVITY:
             inertias = self.term.model.inertias
             core.set_gravity(

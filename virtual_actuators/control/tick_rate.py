@@ -158,8 +158,13 @@ def _state(
     snapshot = Snapshot(robot, q)
     entries, kinds = [], {}
     for name in names:
-        if name in controller.postures:
-            entries.extend(_posture_entries(name, controller.postures[name], model))
+        if name in controller.postures:  # a gravity compensation has no gains
+            posture = controller.postures[name]
+            gains = getattr(posture, "linear_gains", lambda: None)()
+            if gains is not None:
+                joints = posture.joints
+                rows = np.eye(model.nv)[[model.joints[model.getJointId(j)].idx_v for j in joints]]
+                entries.append(_Entry(posture, tuple(f"{name}.{j}" for j in joints), rows, gains))
             continue
         if name not in controller.attachments:
             raise InvalidInputError(f"tick_rate: the controller has no attachment {name!r}.")
@@ -173,15 +178,6 @@ def _state(
                 labels = tuple(f"{name}.{attachment.actuator.axes[i]}" for i in index)
                 entries.append(_Entry(component, labels, rows[index], gains))
     return entries, _mobility(robot, q, [(frame, kinds.get(frame, "point")) for frame in support])
-
-
-def _posture_entries(name: str, posture: object, model: pin.Model) -> list[_Entry]:
-    gains = getattr(posture, "linear_gains", lambda: None)()
-    if gains is None:  # gravity compensation: no gain
-        return []
-    rows = np.eye(model.nv)[[model.joints[model.getJointId(j)].idx_v for j in posture.joints]]
-    labels = tuple(f"{name}.{joint}" for joint in posture.joints)
-    return [_Entry(posture, labels, rows, gains)]
 
 
 def _mobility(robot: object, q: np.ndarray, held: list[tuple[str, str]]) -> np.ndarray:
@@ -199,9 +195,8 @@ def _mobility(robot: object, q: np.ndarray, held: list[tuple[str, str]]) -> np.n
     pin.updateFramePlacements(model, data)
     rows = []
     for frame, kind in held:
-        jacobian = pin.getFrameJacobian(
-            model, data, resolve_frame(model, frame, "support frame"), pin.LOCAL_WORLD_ALIGNED
-        )
+        frame_id = resolve_frame(model, frame, "support frame")
+        jacobian = pin.getFrameJacobian(model, data, frame_id, pin.LOCAL_WORLD_ALIGNED)
         rows.append(jacobian if kind == "flat" else jacobian[:3])
     held_rows = np.vstack(rows)
     coupling = inverse @ held_rows.T

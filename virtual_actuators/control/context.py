@@ -208,16 +208,3 @@ class Context:
 
 
 Event = Callable[[Context], bool]
-
-
-def check_context(context: object) -> None:
-    """Refuse anything but a [`Context`][virtual_actuators.Context].
-
-    Raises:
-        InvalidInputError: ``context`` is not a `Context`.
-    """
-    if not isinstance(context, Context):
-        raise InvalidInputError(
-            f"context must be a va.Context (the tick's state, time and contacts), got "
-            f"{describe(context)}."
-        )

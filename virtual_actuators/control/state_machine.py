@@ -9,7 +9,16 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
 from ..vocabulary.arguments import check_name, check_names, check_sequence, describe
-from .context import Context, Event, check_context
+from .context import Context, Event
+
+
+def _check_context(context: object) -> None:
+    """Refuse anything but a [`Context`][virtual_actuators.Context] (an InvalidInputError)."""
+    if not isinstance(context, Context):
+        raise InvalidInputError(
+            f"context must be a va.Context (the tick's state, time and contacts), got "
+            f"{describe(context)}."
+        )
 
 
 @dataclass(repr=False)
@@ -192,7 +201,7 @@ class StateMachine:
         Raises:
             InvalidInputError: ``context`` is not a [`Context`][], or an unknown state.
         """
-        check_context(context)
+        _check_context(context)
         if state is not None:
             self._check(state, "start: state")
         self.history.clear()
@@ -216,7 +225,7 @@ class StateMachine:
             InvalidInputError: ``context`` is not a [`Context`][].
         """
         if context.__class__ is not Context:  # the tick's case skips the check
-            check_context(context)
+            _check_context(context)
         if not self.started:
             self.start(context)
         context.state = name = self.current.name

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import struct
 from collections.abc import Sequence
 
 import numpy as np
@@ -34,7 +33,7 @@ class PlanBuilder:
         self.codes = dict(table)  # the core's op codes by name
         self.registers: list[float] = [0.0] * 5  # TIME, TIME_IN_STATE, the machine's 3
         self.programs: list[Program] = []
-        self._constants: dict[bytes, int] = {}
+        self._constants: dict[str, int] = {}
 
     def allocate(self, size: int, initial: float | Sequence[float] = 0.0) -> int:
         """``size`` new registers (their first index) set to ``initial``, one or ``size`` values."""
@@ -46,7 +45,7 @@ class PlanBuilder:
     def constant(self, value: float) -> int:
         """The register holding ``value`` (one per distinct bit pattern)."""
         value = float(value)
-        key = struct.pack("<d", value)
+        key = value.hex()  # one register per bit pattern (NaN is refused before)
         index = self._constants.get(key)
         if index is None:
             index = self._constants[key] = self.allocate(1, value)

@@ -314,11 +314,8 @@ class PlanOutput:
         """The distribution's solution per active parallel attachment."""
         cached = self._cache.get("solutions")
         if cached is None:
-            cached = self._cache["solutions"] = {}
-            for name in self.active:
-                solution = self._compiled.entry(name).solved_solution()
-                if solution is not None:
-                    cached[name] = solution
+            solved = ((name, self._compiled.entry(name).solved_solution()) for name in self.active)
+            cached = self._cache["solutions"] = {n: s for n, s in solved if s is not None}
         return cached
 
     @property

@@ -200,10 +200,10 @@ def attachment_kind(attachment: object) -> str | None:
 
 def term_kind(term: object) -> str | None:
     """Why a joint-space term is a Python piece, or None (the core runs it)."""
-    if isinstance(term, Posture) and term.null_space is None:
-        return None
-    if isinstance(term, GravityCompensation):
-        return None  # the core's generalized gravity (mapping GRAVITY)
+    if isinstance(term, GravityCompensation) or (
+        isinstance(term, Posture) and term.null_space is None
+    ):
+        return None  # a gravity compensation: the core's generalized gravity (mapping GRAVITY)
     return "a posture projected on a null space"
 
 

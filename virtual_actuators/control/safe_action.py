@@ -159,12 +159,12 @@ class RunSettings:
     safe: SafeAction  # what a failed tick sends
     tree: KinematicTree  # the robot's kinematic tree (the readings' checks)
     robot: Robot  # the robot whose efforts are written
-    read_state: Callable
-    write_effort: Callable
-    should_stop: Callable | None
-    sense: Callable | None
-    after_tick: Callable | None
-    write_final: Callable  # the final zero effort's writer (default: write_effort)
+    read_state: Callable[[], tuple]
+    write_effort: Callable[[np.ndarray], None]
+    should_stop: Callable[[], bool] | None
+    sense: Callable[[np.ndarray, np.ndarray, float], object] | None
+    after_tick: Callable[..., object] | None  # run_loop's AfterTick
+    write_final: Callable[[np.ndarray], None]  # the final zero effort's (default: write_effort)
 
 
 def check_run(

@@ -7,7 +7,7 @@ import pytest
 
 import virtual_actuators as va
 from virtual_actuators.components.energy_tank import EnergyTank
-from virtual_actuators.components.inertance import Inertance
+from virtual_actuators.components.springs import Inertance
 
 
 class Pump(va.Component):

@@ -19,7 +19,7 @@ from oracles import requires_core, robot
 import virtual_actuators as va
 from virtual_actuators.components import ConstantForce
 from virtual_actuators.control import Controller
-from virtual_actuators.control.contact_limits import (
+from virtual_actuators.control.failures import (
     constraint_rows,
     enforce_unilateral,
     interpolate,

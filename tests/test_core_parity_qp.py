@@ -22,7 +22,7 @@ from oracles import random_configuration
 
 import virtual_actuators as va
 from virtual_actuators.contacts import contact_set
-from virtual_actuators.control import contact_limits
+from virtual_actuators.control import failures as contact_limits
 from virtual_actuators.core import CORE
 from virtual_actuators.distribution.qp import compiled, exact, stages
 from virtual_actuators.distribution.tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL

@@ -1,4 +1,4 @@
-"""The controller's optional effort rate limit (control.effort_rate): a safety net for motors."""
+"""The controller's optional effort rate limit (control.effort_limits): a safety net for motors."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
-from virtual_actuators.control.effort_rate import LimitFraction
+from virtual_actuators.control.effort_limits import LimitFraction
 
 PERIOD = 1e-3  # [s]
 

@@ -49,9 +49,9 @@ def _turkey(event=None, component=None):
 
 
 def _compiled(machine):
-    from virtual_actuators.control.plan.compiled import compile_machine
+    from virtual_actuators.control.plan.compiled import CompiledMachine
 
-    return compile_machine(machine)
+    return CompiledMachine(machine)
 
 
 def _run_both(build, ticks=1200, contacts=None):

@@ -3,9 +3,8 @@
 from .base import Component
 from .energy_tank import EnergyTank
 from .gravity import GravityCompensation
-from .inertance import Inertance
 from .posture import Posture
-from .springs import ConstantForce, Damper, Spring, SpringDamper
+from .springs import ConstantForce, Damper, Inertance, Spring, SpringDamper
 from .walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 
 __all__ = [

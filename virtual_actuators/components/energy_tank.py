@@ -141,12 +141,6 @@ def _times(value: Dyadic, factor: float) -> Dyadic:
     return value[0] * n, value[1] + k
 
 
-def _exceeds(a: Dyadic, b: Dyadic) -> bool:
-    """Whether ``a > b`` exactly."""
-    low = min(a[1], b[1])
-    return a[0] << (a[1] - low) > b[0] << (b[1] - low)
-
-
 def _to_float(n: int, k: int) -> float:
     """``n * 2**k`` as a float (to rounding): an infinity past the float range, 0 below it."""
     shift = max(abs(n).bit_length() - 62, 0)  # 62 bits round to a float's 53
@@ -176,7 +170,9 @@ class _Allowance:
         """Whether a power [W] is within the allowance (exactly)."""
         if self.energy == 0.0:
             return power[0] <= 0
-        return not _exceeds(_times(power, self.dt), _dyadic(self.energy))
+        (work, k), (energy, j) = _times(power, self.dt), _dyadic(self.energy)
+        low = min(k, j)
+        return work << (k - low) <= energy << (j - low)
 
     def enforce(self, forces: list[float], values: list[float]) -> list[float]:
         """``forces`` less the least multiple of the velocity found that `admits` them.
@@ -209,6 +205,3 @@ class _Allowance:
             if self.admits(_dot(forces, values)):
                 return forces
         return [0.0] * len(forces)
-
-
-__all__ = ["EnergyTank"]

@@ -13,8 +13,6 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_number
 from ..vocabulary.axes import parse_axes
 
-__all__ = ["Gains", "body_gains", "gains", "joint_gains", "joint_rows"]
-
 
 class Gains(NamedTuple):
     """Stiffness and damping, one entry per axis or joint.

@@ -60,7 +60,6 @@ class GravityCompensation:
             for j in range(model.njoints):
                 if j not in joints:
                     self.model.inertias[j] = pin.Inertia.Zero()
-        self._floating = bool(robot.floating_base)
 
     @property
     def columns(self) -> np.ndarray:
@@ -129,6 +128,3 @@ def _body_joint(model: pin.Model, name: str) -> int:
     if name in list(model.names)[1:]:
         return resolve_joint(model, name)
     return int(model.frames[resolve_frame(model, name, "link")].parentJoint)
-
-
-__all__ = ["GravityCompensation"]

@@ -18,13 +18,7 @@ _TAU = math.tau
 
 @dataclass(frozen=True)
 class RotationAxes:
-    """Where a component's rotational axes sit among its axes.
-
-    Attributes:
-        start: Index of the first rotational axis (translations come first).
-        which: For each rotational axis, its entry of a rotation vector (0, 1, 2 for ``rx, ry,
-            rz``).
-    """
+    """The first rotational axis's index, and each one's rotation-vector entry (0-2: rx, ry, rz)."""
 
     start: int
     which: tuple[int, ...]
@@ -95,11 +89,3 @@ def deflection(
     for i, k in enumerate(which, start):
         out[i] = turn[k]
     return out
-
-
-__all__ = [
-    "RotationAxes",
-    "deflection",
-    "rotation_axes",
-    "rotation_deflection",
-]

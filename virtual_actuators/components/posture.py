@@ -15,8 +15,6 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import as_float_array, check_names, check_robot, describe
 from .gains import Gains, joint_rows
 
-__all__ = ["Posture"]
-
 
 class Posture:
     """Joint-space spring-damper on named one-degree-of-freedom joints.
@@ -60,8 +58,8 @@ class Posture:
             raise InvalidInputError(f"Posture: joints names a joint twice: {list(names)}.")
         self.joints: tuple[str, ...] = tuple(names)
         self.name = name or "Posture"
-        self.stiffness = self._gains(stiffness, "stiffness")
-        self.damping = self._gains(damping, "damping")
+        self.stiffness = self._per_joint(stiffness, "stiffness", non_negative=True)
+        self.damping = self._per_joint(damping, "damping", non_negative=True)
         self._targets = self._setpoint(setpoint)
         self.setpoint: np.ndarray | None = None  # [rad or m], once bound and reset
         self.null_space = null_space
@@ -71,14 +69,11 @@ class Posture:
         if robot is not None:
             self.bind(robot)
 
-    def _gains(self, value: object, what: str) -> np.ndarray:
-        rule = f"a finite number >= 0 or one per joint {list(self.joints)}"
-        return self._per_joint(value, what, "a number or one per joint", rule, non_negative=True)
-
-    def _per_joint(
-        self, value: object, what: str, expected: str, rule: str, non_negative: bool = False
-    ) -> np.ndarray:
-        array = as_float_array(value, f"Posture: {what}", expected, copy=True)
+    def _per_joint(self, value: object, what: str, non_negative: bool = False) -> np.ndarray:
+        """``value``: a finite number (>= 0 if ``non_negative``) or one per joint, as an array."""
+        bound = " >= 0" if non_negative else ""
+        rule = f"a finite number{bound} or one per joint {list(self.joints)}"
+        array = as_float_array(value, f"Posture: {what}", rule, copy=True)
         if array.ndim == 0:
             array = np.full(len(self.joints), float(array))
         bad = array.shape != (len(self.joints),) or not np.isfinite(array).all()
@@ -103,8 +98,7 @@ class Posture:
             if not all(np.isfinite(list(values.values()))):
                 raise InvalidInputError(f"Posture: setpoint must be finite, got {setpoint}.")
             return values
-        rule = f"finite numbers, one per joint {list(self.joints)}"
-        return self._per_joint(setpoint, "setpoint", "numbers", rule)
+        return self._per_joint(setpoint, "setpoint")
 
     def plan_slots(self) -> dict[str, np.ndarray]:
         """The arrays a compiled plan keeps: stiffness, damping and set point per joint."""
@@ -147,7 +141,7 @@ class Posture:
         Raises:
             InvalidInputError: ``factor`` is not one number >= 0 per joint.
         """
-        factor = self._gains(factor, "gain factor")
+        factor = self._per_joint(factor, "gain factor", non_negative=True)
         self.stiffness = self.stiffness * factor
         self.damping = self.damping * factor
 

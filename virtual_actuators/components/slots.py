@@ -6,8 +6,6 @@ import numpy as np
 
 from ..vocabulary.traced import TRACING, traced_read, traced_store
 
-__all__ = ["Slotted", "slot"]
-
 
 class Slotted:
     """The slots half of a component (a mixin): `SLOTS` arrays held as ``_name``."""

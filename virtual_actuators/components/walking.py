@@ -137,8 +137,7 @@ class DogtrackBunny(SpringDamper):
 
     @speed.setter
     def speed(self, value: float) -> None:
-        value = check_number(value, f"{self.name}: speed [m/s]")
-        self.velocity_setpoint = value
+        self.velocity_setpoint = check_number(value, f"{self.name}: speed [m/s]")
 
     def position_at(self, time: float) -> float:
         """Where the bunny is at ``time`` [m]."""

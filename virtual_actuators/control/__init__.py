@@ -2,7 +2,7 @@
 
 from . import events
 from .controller import Attachment, Controller, ControlOutput, velocity_names
-from .effort_rate import LimitFraction
+from .effort_limits import LimitFraction
 from .failures import FAILURE_POLICIES
 from .machine_controller import MachineController
 from .run_loop import RunStats, run

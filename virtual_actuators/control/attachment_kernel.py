@@ -15,18 +15,14 @@ from ..distribution.partitioned.compiled import BufferSolve
 from ..distribution.result import Solution
 from ..kinematics.snapshot import Snapshot
 
-__all__ = ["SpringTick"]
-
 #: The wrenches that are the spring-damper formula itself (the bunny moves its set point first)
 _FORMULA = (
     SpringDamper.compute_wrench,
     Spring.compute_wrench,
     DogtrackBunny.compute_wrench,
 )
-#: The parameter tables' rows, in the core's order.
-PARAMETERS = ("stiffness", "damping", "setpoint", "velocity_setpoint", "force", "limit")
-#: A spring-damper's six parameter arrays in one call (a tick's cost)
-_read_parameters = attrgetter(*(f"_{name}" for name in PARAMETERS))
+#: A spring-damper's six parameter arrays (the core's rows, in its order) in one call
+_read_parameters = attrgetter(*(f"_{name}" for name in SpringDamper.SLOTS))
 
 
 def _served(component: object) -> bool:
@@ -41,12 +37,9 @@ def _served(component: object) -> bool:
 class SpringTick:
     """The one-call sensing and wrench of an attachment of spring-dampers (and serial efforts).
 
-    Args:
-        sensor: The serial actuator the components read.
-        components: The spring-dampers, in the attachment's order.
-        starts: Each component's first axis among the sensor's (its axes a contiguous run).
-        efforts: Whether the tick computes ``J^T w`` (the actuator is the sensor).
-        solve: A parallel actuator's one-call distribution of the attachment's request, or None.
+    ``starts``: each component's first axis (its axes a contiguous run); ``efforts``: the tick
+    computes ``J^T w`` (the actuator is the sensor); ``solve``: a parallel actuator's one-call
+    distribution, or None.
     """
 
     def __init__(
@@ -135,23 +128,17 @@ class SpringTick:
         arguments = (snapshot.jacobian_world, snapshot.frame_table, snapshot.v)
         self.core.tick(*arguments, parameters)
 
-    def run(self, components: list, snapshot: Snapshot, time: float) -> np.ndarray | None:
-        """The buffer ``effort (nv), position (n), velocity (n), wrench (n), flag (1.0)``, or None.
-
-        None (the general path runs): other components, a Spring with a law, no velocity, a
-        frame table without the sensor's rows, or the kernel's flag 0.
-        """
-        return self.run_solve(components, snapshot, time, solve=False)[0]
-
     def run_solve(
         self, components: list, snapshot: Snapshot, time: float, solve: bool = True
     ) -> tuple[np.ndarray | None, Solution | None]:
-        """`run`, and with a distribution (``solve``) its solution, in one compiled call.
+        """The tick, and with a distribution (``solve``) its solution, in one compiled call.
 
         Returns:
-            ``(buffer, solution)``: `run`'s buffer (None: the general path runs), and the
-            distribution's [`Solution`][virtual_actuators.Solution], bit for bit the one of
-            ``solve(snapshot, wrench)``, or None.
+            ``(buffer, solution)``: the buffer ``effort (nv), position (n), velocity (n), wrench
+            (n), flag (1.0)``, or None (the general path runs: other components, a Spring with
+            a law, no velocity, a frame table without the sensor's rows, or the kernel's flag
+            0); the distribution's [`Solution`][virtual_actuators.Solution], bit for bit the
+            one of ``solve(snapshot, wrench)``, or None.
         """
         v = snapshot.v
         if (

@@ -69,9 +69,7 @@ class Context:
             )
         if snapshot is None:
             snapshot = Snapshot(robot, q, v)
-        elif not known and (
-            not isinstance(snapshot, Snapshot) or snapshot.tree.model is not robot.model
-        ):
+        elif not known:  # not a Snapshot, or one of another robot
             raise InvalidInputError(
                 f"Context: snapshot must be a va.Snapshot of the context's robot or None, got "
                 f"{describe(snapshot)}."
@@ -210,16 +208,3 @@ class Context:
 
 
 Event = Callable[[Context], bool]
-
-
-def check_context(context: object) -> None:
-    """Refuse anything but a [`Context`][virtual_actuators.Context].
-
-    Raises:
-        InvalidInputError: ``context`` is not a `Context`.
-    """
-    if not isinstance(context, Context):
-        raise InvalidInputError(
-            f"context must be a va.Context (the tick's state, time and contacts), got "
-            f"{describe(context)}."
-        )

@@ -2,28 +2,35 @@
 
 from __future__ import annotations
 
+import contextlib
+import threading
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ..actuators import VirtualActuator
+from ..actuators import ParallelVirtualActuator, VirtualActuator
 from ..components.base import Component
 from ..components.gravity import GravityCompensation
 from ..components.posture import Posture
-from ..exceptions import InvalidInputError, JointNotFoundError, suggestion
-from ..kinematics.kernels import finite
-from ..kinematics.snapshot import Snapshot
+from ..exceptions import InvalidInputError, JointNotFoundError, VirtualActuatorError, suggestion
+from ..kinematics.kernels import finite, velocity_of_point
+from ..kinematics.snapshot import Snapshot, thread_data
 from ..kinematics.tree import tree_of
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_number, check_robot
 from ..vocabulary.axes import resolve_joint
 from .attachment import Actuator, Attachment
-from .attachment_tick import run_attachment
-from .effort_limits import check_effort_limits, clip_efforts, urdf_effort_limits
-from .effort_rate import EffortRateLimit, LimitFraction, RateSpec, effort_rates
-from .failures import check_policy, drop_non_finite
+from .effort_limits import (
+    EffortRateLimit,
+    LimitFraction,
+    RateSpec,
+    check_effort_limits,
+    clip_efforts,
+    effort_rates,
+    urdf_effort_limits,
+)
+from .failures import check_policy, drop_non_finite, largest_scale, least_margin, run_attachment
 from .tick import ControlOutput, TickSums, active_names, check_limp, tick_snapshot, velocity_names
-from .warm_up import warm_up
 
 #: What ``Controller.add`` keeps as a joint-space term (``torques(snapshot)`` each tick)
 JointTerm = Posture | GravityCompensation
@@ -43,7 +50,7 @@ class Controller:
             `ControlOutput.failures`.
         effort_rate_limit: Largest change of effort per second after the clip [N m/s]: a
             number, ``(nv,)``, ``{joint: rate}``, a
-            [`LimitFraction`][virtual_actuators.control.effort_rate.LimitFraction], or None.
+            [`LimitFraction`][virtual_actuators.LimitFraction], or None.
 
     Raises:
         InvalidInputError: ``robot`` is not a robot, ``clip`` is not a bool, a bad
@@ -178,36 +185,21 @@ class Controller:
                 ``free``, ``unilateral`` or ``yield_axes`` are not axes it has.
             JointNotFoundError: A posture's joint that the robot lacks (with close matches).
         """
-        if isinstance(actuator, JointTerm):
-            return self._add_term(name, actuator, components)
+        if isinstance(actuator, JointTerm):  # bound to the robot under ``name``
+            kind = type(actuator).__name__
+            if not isinstance(name, str) or name in self.attachments or name in self.postures:
+                raise InvalidInputError(
+                    f"{kind} {name!r}: the name must be a str not taken by another attachment."
+                )
+            if components not in ((), None, []):
+                raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
+            self.postures[name] = actuator.bind(self.robot)
+            return actuator
         attachment = self.attachments[name] = Attachment.declare(
-            self.robot,
-            name,
-            actuator,
-            components,
-            sensor=sensor,
-            free=free,
-            unilateral=unilateral,
-            yield_axes=yield_axes,
-            friction=friction,
-            min_normal=min_normal,
-            method=method,
-            yield_weight=yield_weight,
-            taken={**self.attachments, **self.postures},
-        )
+            self.robot, name, actuator, components, sensor, free, unilateral, yield_axes,
+            friction, min_normal, method, yield_weight, {**self.attachments, **self.postures},
+        )  # fmt: skip
         return attachment
-
-    def _add_term(self, name: object, term: JointTerm, components: object) -> JointTerm:
-        """Bind a joint-space term to the robot under ``name`` (see `add`)."""
-        kind = type(term).__name__
-        if not isinstance(name, str) or name in self.attachments or name in self.postures:
-            raise InvalidInputError(
-                f"{kind} {name!r}: the name must be a str not taken by another attachment."
-            )
-        if components not in ((), None, []):
-            raise InvalidInputError(f"{kind} {name!r} takes no components: it is one.")
-        self.postures[name] = term.bind(self.robot)
-        return term
 
     def joint_indices(self, joints: Iterable[str]) -> np.ndarray:
         """Velocity indices (a read-only integer array) of joints given by name, or one name.
@@ -217,11 +209,9 @@ class Controller:
             JointNotFoundError: A name is not a joint of the model (with close matches).
         """
         model = self.robot.model
-        out = []
-        for joint in check_names(joints, "joints", JointNotFoundError, ordered=False):
-            joint_model = model.joints[resolve_joint(model, joint)]
-            out.extend(range(joint_model.idx_v, joint_model.idx_v + joint_model.nv))
-        index = np.array(out, dtype=np.intp)
+        names = check_names(joints, "joints", JointNotFoundError, ordered=False)
+        found = [model.joints[resolve_joint(model, joint)] for joint in names]
+        index = np.array([i for j in found for i in range(j.idx_v, j.idx_v + j.nv)], dtype=np.intp)
         index.flags.writeable = False
         return index
 
@@ -255,7 +245,37 @@ class Controller:
         Raises:
             InvalidInputError: A bad ``q``.
         """
-        warm_up(self, q)
+        robot = self.robot
+        snapshot = Snapshot(robot, q, np.zeros(robot.model.nv))
+        thread_data(robot.model)
+        if robot.mass > 0.0:
+            robot.center_of_mass(snapshot.q)
+        # a frame's velocity outside the tick's table (a frame first named mid-run)
+        no_columns = np.zeros(0, dtype=np.int64)
+        velocity_of_point(snapshot.jacobian_world, snapshot.v, no_columns, 0.0, 0.0, 0.0)
+        for attachment in self.attachments.values():
+            kinematics = attachment.sensor.kinematics
+            kinematics.sense(snapshot, velocity=True)
+            snapshot.frame_velocity(kinematics.action_id)
+            if attachment.spring_tick is not None:  # the spring-dampers' one-call tick
+                attachment.spring_tick.warm_up(snapshot)
+            actuator = attachment.actuator
+            if not isinstance(actuator, ParallelVirtualActuator):
+                continue
+            try:
+                if attachment.method == "qp":
+                    _on_own_thread(actuator, snapshot, attachment)
+                    if attachment.plan is not None and actuator.qp.matrices.applicable:
+                        actuator.qp.matrices.workspace(attachment.plan.keep)  # this thread's
+                    continue
+                solution = actuator.solve(
+                    snapshot, np.zeros(actuator.n), attachment.free, method=attachment.method
+                )
+            except VirtualActuatorError:  # singular at q, say: the kernels load on the first tick
+                continue
+            if attachment.yield_mask is not None:
+                least_margin(attachment, snapshot, solution.forces)
+                largest_scale(attachment, snapshot, solution.forces, solution.forces)
 
     def _get(self, name: str) -> Attachment:
         try:
@@ -331,20 +351,9 @@ class Controller:
         )
         clipped, held = self.limit_rate(clipped, time)
         return ControlOutput(  # positional (a tick's cost): the fields in declaration order
-            clipped,
-            tau,
-            saturated,
-            sums.wrenches,
-            sums.produced,
-            sums.positions,
-            sums.velocities,
-            sums.solutions,
-            sums.failed,
-            names,
-            self.joint_names,
-            sums.failures,
-            held,
-        )
+            clipped, tau, saturated, sums.wrenches, sums.produced, sums.positions, sums.velocities,
+            sums.solutions, sums.failed, names, self.joint_names, sums.failures, held,
+        )  # fmt: skip
 
     def __repr__(self) -> str:
         return (
@@ -353,4 +362,14 @@ class Controller:
         )
 
 
-__all__ = ["Attachment", "ControlOutput", "Controller", "velocity_names"]
+def _on_own_thread(actuator: ParallelVirtualActuator, snapshot: Snapshot, attachment) -> None:
+    """A QP solve on a new thread: its kernels load, this thread's warm start is untouched."""
+
+    def solve() -> None:
+        with contextlib.suppress(VirtualActuatorError):
+            zero = np.zeros(actuator.n)
+            actuator.solve(snapshot, zero, attachment.free, method="qp", weights=attachment.weights)
+
+    worker = threading.Thread(target=solve, name="va-warm-up")
+    worker.start()
+    worker.join()

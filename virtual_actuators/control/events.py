@@ -12,13 +12,12 @@ from ..vocabulary.axes import AXES
 from ..vocabulary.scalar import logical_and, logical_not, logical_or
 from .context import POSITION_COLUMNS, Context, Event, table_entry
 
-_AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 
-
-def _axis(axis: str) -> int:
-    if not isinstance(axis, str) or axis not in _AXIS_INDEX:
+def _column(axis: str) -> int:
+    """The frame-table column of the position along world ``axis`` (x, y or z)."""
+    if not isinstance(axis, str) or axis not in POSITION_COLUMNS:
         raise InvalidAxisError(f"Event axis must be one of x, y, z (of {AXES}), got {axis!r}.")
-    return _AXIS_INDEX[axis]
+    return POSITION_COLUMNS[axis]
 
 
 def _frames(frames: tuple, where: str) -> tuple[str, ...]:
@@ -66,12 +65,10 @@ class AheadOf:
     reference: str
     distance: float
     axis: str
-    index: int = field(init=False)
-    column: int = field(init=False)  # the position's entry in a frame-table row
+    column: int = field(init=False)  # the position's entry in a frame-table row (9 + axis)
 
     def __post_init__(self) -> None:
-        self.index = _axis(self.axis)
-        self.column = POSITION_COLUMNS[self.axis]
+        self.column = _column(self.axis)
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
@@ -80,7 +77,7 @@ class AheadOf:
         reference_position = table_entry(snapshot, self.reference, self.column)
         if position is not None and reference_position is not None:
             return position - reference_position > self.distance
-        index = self.index
+        index = self.column - 9
         return (
             context.frame_position(self.frame)[index]
             - context.frame_position(self.reference)[index]

@@ -73,6 +73,3 @@ class LoopCollector:
                 gc.unfreeze()
             if self._enabled:
                 gc.enable()
-
-
-__all__ = ["GC_POLICIES", "LoopCollector", "check_gc_policy"]

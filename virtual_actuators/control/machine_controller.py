@@ -16,7 +16,7 @@ from ..kinematics.snapshot import Snapshot
 from ..models.robot import Robot
 from ..vocabulary.arguments import describe
 from .controller import Controller, ControlOutput
-from .plan.compiled import CompiledMachine, compile_machine
+from .plan.compiled import CompiledMachine
 from .state_machine import Context, State, StateMachine
 from .tick import active_names
 
@@ -139,7 +139,7 @@ class MachineController:
         if not has("PlanMachine") or os.environ.get("VA_PLAN") == "0":
             return self
         try:
-            return compile_machine(self)
+            return CompiledMachine(self)
         except TraceError:
             return self
 
@@ -176,6 +176,3 @@ class MachineController:
 
     def __repr__(self) -> str:
         return f"MachineController(state={self.machine.current.name!r}, {self.controller!r})"
-
-
-__all__ = ["MachineController"]

@@ -17,15 +17,14 @@ import numpy as np
 from ..core import kernel
 from ..models.robot import Robot
 from .gc_policy import LoopCollector, check_gc_policy
-from .run_settings import MIN_RATE_HZ, RunSettings, check_callback, check_run
 from .safe_action import (
     DEFAULT_DAMPING,
     DEFAULT_HOLD_TIME,
+    RunSettings,
     check_effort,
-    check_reading,
+    check_run,
     check_state,
 )
-from .warm_up import warm_up_driven
 
 State = tuple[np.ndarray, np.ndarray, float]
 
@@ -131,33 +130,27 @@ def run(
     """
     settings = check_run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
-        should_stop, robot, safe_action, damping, hold_time,
+        should_stop, robot, safe_action, damping, hold_time, sense, after_tick, write_final,
     )  # fmt: skip
-    check_callback(sense, "sense")
-    check_callback(after_tick, "after_tick")
-    check_callback(write_final, "write_final")
     collector = LoopCollector(check_gc_policy(gc_policy, "run()"))
     warm_up_driven(controller, settings.robot)
-    hooks = _Hooks(
-        read_state, write_effort, should_stop, sense, after_tick, write_final or write_effort
-    )
-    return _run_checked(controller, hooks, settings, collector)
-
-
-def _run_checked(
-    controller: object, hooks: _Hooks, settings: RunSettings, collector: LoopCollector
-) -> RunStats:
-    """[`run`][] on checked arguments, its controller warmed up: the loop, then zero effort."""
     stats, ending = RunStats(), None
     with collector:
         start = clock.perf_counter()
         try:
-            _loop(controller, hooks, settings, stats, start, collector)
+            _loop(controller, settings, stats, start, collector)
         except BaseException as error:
             ending = error
             raise
         finally:  # whatever ended the loop (Ctrl-C included): motors to zero
-            _end_safe(hooks.write_final, settings.tree.nv, ending)
+            try:
+                settings.write_final(np.zeros(settings.tree.nv))
+            except Exception as write_error:  # raised unless it would hide what ended the loop
+                if ending is None:
+                    raise
+                ending.add_note(
+                    f"run(): the final zero effort could not be written either: {write_error!r}"
+                )
             stats.wall_time = clock.perf_counter() - start
     return stats
 
@@ -166,33 +159,19 @@ def _run_checked(
 AfterTick = Callable[[np.ndarray | None, np.ndarray | None, float, object, np.ndarray], object]
 
 
-@dataclass(frozen=True, slots=True)
-class _Hooks:
-    """[`run`][]'s callbacks."""
-
-    read_state: Callable[[], State]
-    write_effort: Callable[[np.ndarray], None]
-    should_stop: Callable[[], bool] | None
-    sense: Callable[[np.ndarray, np.ndarray, float], object] | None
-    after_tick: AfterTick | None
-    write_final: Callable[[np.ndarray], None]
-
-
 def _loop(
-    controller: object,
-    hooks: _Hooks,
-    settings: RunSettings,
-    stats: RunStats,
-    start: float,
-    collector: LoopCollector,
+    controller: object, settings: RunSettings, stats: RunStats, start: float, gc: LoopCollector
 ) -> None:
     """Tick until the end: read, compute or fail, write, ``after_tick``, collect, sleep."""
     end = math.inf if settings.duration is None else start + settings.duration - 1e-12
     deadline, period, realtime, safe = start, settings.period, settings.realtime, settings.safe
-    should_stop, write_effort, after_tick = hooks.should_stop, hooks.write_effort, hooks.after_tick
+    should_stop, write_effort, after_tick = (
+        settings.should_stop, settings.write_effort, settings.after_tick
+    )
     perf_counter, append = clock.perf_counter, stats.tick_times.append
-    between_ticks = collector.between_ticks if collector.active else None
-    tick = _Tick(controller, hooks, settings)
+    between_ticks = gc.between_ticks if gc.active else None
+    failures_seen = stats.attachment_failures
+    tick = _Tick(controller, settings)
     hold = safe.action == "hold"
     while True:
         now = perf_counter()
@@ -205,8 +184,10 @@ def _loop(
             else:
                 safe.failed_ticks = 0
             failures = getattr(output, "failures", None)
-            if failures:
-                _count_attachment_failures(stats, failures)
+            for name, failure in failures.items() if failures else ():
+                why, action = getattr(failure, "reason", "?"), getattr(failure, "action", "?")
+                key = f"{name}: {why} -> {action}"
+                failures_seen[key] = failures_seen.get(key, 0) + 1
         else:
             tau = safe.effort(v)
             stats.failed_ticks += 1
@@ -229,6 +210,19 @@ def _loop(
             clock.sleep(max(min(deadline, end) - perf_counter(), 0.0))
 
 
+def warm_up_driven(controller: object, robot: Robot) -> None:
+    """Warm up what a loop drives before its clock starts (``va.run``'s first step).
+
+    [`Controller.warm_up`][] at the robot's neutral configuration, on ``controller`` or the
+    ``controller`` it drives (a gait, a tracker), when it controls ``robot``.
+    """
+    for owner in (controller, getattr(controller, "controller", None)):
+        model = getattr(getattr(owner, "robot", None), "model", None)
+        if callable(getattr(owner, "warm_up", None)) and model is robot.model:  # a gait too
+            owner.warm_up(robot.neutral())
+            return
+
+
 class _Tick:
     """One tick: ``(efforts, q, v, stamp, output, None)``, or None efforts and a reason last.
 
@@ -240,9 +234,10 @@ class _Tick:
         "stale_after", "tree", "v_shape",
     )  # fmt: skip
 
-    def __init__(self, controller: object, hooks: _Hooks, settings: RunSettings) -> None:
-        self.compute, self.read_state = controller.compute, hooks.read_state
-        self.sense = hooks.sense
+    def __init__(self, controller: object, settings: RunSettings) -> None:
+        self.compute, self.read_state, self.sense = (
+            controller.compute, settings.read_state, settings.sense
+        )
         tree = self.tree = settings.tree
         self.nv, self.stale_after = tree.nv, settings.stale_after
         self.last, self.fresh = None, 0.0  # the newest stamp read, and when it came [s]
@@ -255,12 +250,14 @@ class _Tick:
             reading = self.read_state()
         except Exception as error:  # a driver's failure: this tick sends the safe action
             return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
-        if reading.__class__ is tuple and len(reading) == 3 and reading[2].__class__ is float:
-            q, v, stamp = reading  # the usual reading, unpacked as check_reading would
-        else:
-            q, v, stamp, reason = check_reading(reading)
-            if reason is not None:
-                return None, None, None, stamp, None, reason
+        try:  # a (q, v, stamp) reading; q and v are checked below
+            q, v, stamp = reading
+            if stamp.__class__ is not float:
+                if isinstance(stamp, (str, bytes)):
+                    raise TypeError
+                stamp = float(stamp)
+        except (TypeError, ValueError, OverflowError):
+            return None, None, None, math.nan, None, "malformed reading"
         if not math.isfinite(stamp):
             return None, None, None, stamp, None, "non-finite"  # a bad clock: never the reference
         if self.last is None or stamp > self.last:
@@ -292,29 +289,3 @@ class _Tick:
         if tau is None:
             return None, q, v, stamp, None, "bad effort"
         return tau, q, v, stamp, output, None
-
-
-def _end_safe(
-    write_effort: Callable[[np.ndarray], None], nv: int, ending: BaseException | None
-) -> None:
-    """Write zero effort; if that fails while ``ending`` propagates, note it on ``ending``.
-
-    Raises:
-        Exception: The write's error when nothing else is propagating.
-    """
-    try:
-        write_effort(np.zeros(nv))
-    except Exception as error:
-        if ending is None:
-            raise
-        ending.add_note(f"run(): the final zero effort could not be written either: {error!r}")
-
-
-def _count_attachment_failures(stats: RunStats, failures: dict) -> None:
-    """Count a controller output's failure records (``ControlOutput.failures``)."""
-    for name, failure in failures.items():
-        key = f"{name}: {getattr(failure, 'reason', '?')} -> {getattr(failure, 'action', '?')}"
-        stats.attachment_failures[key] = stats.attachment_failures.get(key, 0) + 1
-
-
-__all__ = ["MIN_RATE_HZ", "AfterTick", "RunStats", "run"]

@@ -1,17 +1,18 @@
-"""What ``va.run`` checks each tick, and the effort a failed tick sends (`SafeAction`)."""
+"""``va.run``'s checks (its arguments, each tick's reading and effort) and its `SafeAction`."""
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..kinematics.kernels import finite
-from ..kinematics.tree import KinematicTree
+from ..kinematics.tree import KinematicTree, tree_of
 from ..models.robot import Robot
-from ..vocabulary.arguments import as_float_array, check_number, describe
+from ..vocabulary.arguments import as_float_array, check_flag, check_number, check_robot, describe
 from .effort_limits import urdf_effort_limits
 
 #: The values of ``run(safe_action=...)``.
@@ -41,27 +42,6 @@ def _vector(value: object, size: int) -> np.ndarray | None:
     return array if array.shape == (size,) else None
 
 
-class Reading(NamedTuple):
-    """A driver's ``(q, v, stamp)`` reading, unpacked (`check_reading`)."""
-
-    q: object  # the configuration as read (checked by check_state)
-    v: object  # the velocity as read
-    stamp: float  # the time stamp as a float (NaN when malformed)
-    reason: str | None  # "malformed reading" (then q and v are None), else None
-
-
-def check_reading(reading: object) -> Reading:
-    """Unpack a ``(q, v, stamp)`` reading; the arrays are checked by `check_state`."""
-    try:
-        q, v, stamp = reading
-        if isinstance(stamp, (str, bytes)):
-            raise TypeError
-        stamp = float(stamp)
-    except (TypeError, ValueError, OverflowError):
-        return Reading(None, None, math.nan, "malformed reading")
-    return Reading(q, v, stamp, None)
-
-
 def check_state(
     q: object, v: object, tree: KinematicTree
 ) -> tuple[np.ndarray | None, np.ndarray | None, str | None]:
@@ -71,17 +51,9 @@ def check_state(
         ``(q, v, None)`` (near-unit quaternions normalised), or ``(None, None, reason)``:
         ``"malformed reading"``, ``"non-finite"`` or ``"non-unit quaternion"`` (1e-3 off).
     """
-    nq, nv = tree.nq, tree.nv
-    if (  # a driver's contiguous float64 vectors of the right sizes, as they are (every tick's)
-        q.__class__ is _ARRAY and v.__class__ is _ARRAY and q.dtype is _FLOAT
-        and v.dtype is _FLOAT and q.shape == (nq,) and v.shape == (nv,)
-        and q.flags.c_contiguous and v.flags.c_contiguous
-    ):  # fmt: skip
-        q_array, v_array = q, v
-    else:
-        q_array, v_array = _vector(q, nq), _vector(v, nv)
-        if q_array is None or v_array is None:
-            return None, None, "malformed reading"
+    q_array, v_array = _vector(q, tree.nq), _vector(v, tree.nv)  # contiguous float64 as they are
+    if q_array is None or v_array is None:
+        return None, None, "malformed reading"
     if not finite(v_array):
         return None, None, "non-finite"
     if not tree.unit_slices:  # no norm to check
@@ -172,7 +144,117 @@ class SafeAction:
         return np.zeros(self.nv)
 
 
-__all__ = [
-    "DEFAULT_DAMPING", "DEFAULT_HOLD_TIME", "SAFE_ACTIONS", "Reading", "SafeAction",
-    "check_effort", "check_reading", "check_state",
-]  # fmt: skip
+#: The slowest rate ``run`` accepts [Hz] (a period of at most 1000 s).
+MIN_RATE_HZ = 1e-3
+
+
+@dataclass(frozen=True, slots=True)
+class RunSettings:
+    """[`run`][]'s checked arguments."""
+
+    period: float  # time between two ticks [s]
+    duration: float | None  # wall-clock time of the loop [s]
+    stale_after: float  # a reading whose stamp did not advance this long is stale [s]
+    realtime: bool  # whether the loop sleeps to hold the rate
+    safe: SafeAction  # what a failed tick sends
+    tree: KinematicTree  # the robot's kinematic tree (the readings' checks)
+    robot: Robot  # the robot whose efforts are written
+    read_state: Callable[[], tuple]
+    write_effort: Callable[[np.ndarray], None]
+    should_stop: Callable[[], bool] | None
+    sense: Callable[[np.ndarray, np.ndarray, float], object] | None
+    after_tick: Callable[..., object] | None  # run_loop's AfterTick
+    write_final: Callable[[np.ndarray], None]  # the final zero effort's (default: write_effort)
+
+
+def check_run(
+    controller: object,
+    read_state: object,
+    write_effort: object,
+    rate_hz: object,
+    duration: object,
+    stale_after: object,
+    realtime: object,
+    should_stop: object,
+    robot: object,
+    safe_action: object,
+    damping: object,
+    hold_time: object,
+    sense: object,
+    after_tick: object,
+    write_final: object,
+) -> RunSettings:
+    """[`run`][]'s arguments checked.
+
+    Raises:
+        InvalidInputError: The first bad argument, in the order of ``run``'s ``Raises:``.
+    """
+    rate_hz = check_number(rate_hz, "run(): rate_hz [Hz]", minimum=0.0)
+    if rate_hz < MIN_RATE_HZ:
+        raise InvalidInputError(
+            f"run(): rate_hz must be >= {MIN_RATE_HZ:g} Hz (a period of at most "
+            f"{1.0 / MIN_RATE_HZ:g} s), got {rate_hz!r}."
+        )
+    period = 1.0 / rate_hz
+    stale_after = 3.0 * period if stale_after is None else stale_after
+    stale_after = check_number(stale_after, "run(): stale_after [s]", minimum=0.0)
+    realtime = check_flag(realtime, "run(): realtime")
+    check_callback(should_stop, "should_stop", "(returning True to stop)")
+    if duration is not None:
+        duration = check_number(duration, "run(): duration [s]", minimum=0.0)
+    elif should_stop is None:
+        raise InvalidInputError("run(): give a duration or a should_stop callable.")
+    if not callable(getattr(controller, "compute", None)):
+        raise InvalidInputError(
+            f"run(): controller needs a compute(q, v, time) method, got {describe(controller)}."
+        )
+    for what, callback in (("read_state", read_state), ("write_effort", write_effort)):
+        if not callable(callback):
+            raise InvalidInputError(f"run(): {what} must be callable, got {describe(callback)}.")
+    robot = robot_of(controller, robot)
+    hold_time = check_number(hold_time, "run(): hold_time [s]", minimum=0.0)
+    safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
+    for what, hook in ("sense", sense), ("after_tick", after_tick), ("write_final", write_final):
+        check_callback(hook, what)
+    return RunSettings(
+        period, duration, stale_after, realtime, safe, tree_of(robot), robot, read_state,
+        write_effort, should_stop, sense, after_tick, write_final or write_effort,
+    )  # fmt: skip
+
+
+def check_callback(callback: object, what: str, returning: str = "") -> None:
+    """Refuse an optional callback of ``run`` that is neither None nor callable.
+
+    Raises:
+        InvalidInputError: ``callback`` is not callable (naming ``what``).
+    """
+    if callback is not None and not callable(callback):
+        raise InvalidInputError(
+            f"run(): {what} must be callable{f' {returning}' if returning else ''} or None, "
+            f"got {describe(callback)}."
+        )
+
+
+def robot_of(controller: object, robot: object) -> Robot:
+    """The robot whose efforts ``run`` writes: ``robot``, else ``controller.robot``.
+
+    Raises:
+        InvalidInputError: Neither is a robot, or ``robot`` is not the controller's.
+    """
+    own = getattr(controller, "robot", None)
+    if robot is None:
+        if own is None:
+            raise InvalidInputError(
+                "run(): the efforts' size and order come from the robot: give robot=..., or a "
+                f"controller with a robot attribute (a va.Controller, a gait); "
+                f"{describe(controller)} has none."
+            )
+        check_robot(own, "run(): controller.robot")
+        return own
+    check_robot(robot, "run()")
+    if own is not None and getattr(own, "model", None) is not robot.model:
+        raise InvalidInputError(
+            f"run(): robot is {getattr(robot, 'name', '?')!r} but the controller's robot is "
+            f"{getattr(own, 'name', describe(own))!r}; leave robot out to use the controller's."
+        )
+    return robot

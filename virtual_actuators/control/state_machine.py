@@ -9,9 +9,16 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, suggestion
 from ..vocabulary.arguments import check_name, check_names, check_sequence, describe
-from .context import Context, Event, check_context
+from .context import Context, Event
 
-__all__ = ["Context", "Event", "State", "StateMachine", "Transition"]
+
+def _check_context(context: object) -> None:
+    """Refuse anything but a [`Context`][virtual_actuators.Context] (an InvalidInputError)."""
+    if not isinstance(context, Context):
+        raise InvalidInputError(
+            f"context must be a va.Context (the tick's state, time and contacts), got "
+            f"{describe(context)}."
+        )
 
 
 @dataclass(repr=False)
@@ -128,8 +135,8 @@ class StateMachine:
         for transition in self.transitions:
             for end in (transition.source, transition.target):
                 self._check(end, f"transition {transition}")
-            exit_ = (transition.event, self._states[transition.target])
-            self._exits[transition.source].append(exit_)
+            target = self._states[transition.target]
+            self._exits[transition.source].append((transition.event, target))
         self._check(self.initial, "initial")
         self._order = list(self._states.values())
         #: the state's index, when it was entered [s], whether it started (1.0): an array a
@@ -146,27 +153,15 @@ class StateMachine:
         """The current state's index in `index` (the declaration order)."""
         return int(self._position.item(0))
 
-    @current.setter
-    def current(self, state: State) -> None:
-        self._position[0] = self.index[state.name]
-
     @property
     def entered_at(self) -> float:
         """When the current state was entered [s]."""
         return self._position.item(1)
 
-    @entered_at.setter
-    def entered_at(self, time: float) -> None:
-        self._position[1] = time
-
     @property
     def started(self) -> bool:
         """Whether the machine has entered its first state."""
         return self._position.item(2) != 0.0
-
-    @started.setter
-    def started(self, started: bool) -> None:
-        self._position[2] = 1.0 if started else 0.0
 
     def bind_position(self, view: np.ndarray) -> None:
         """Keep the machine's state in ``view`` (3 floats of a compiled plan's registers)."""
@@ -206,17 +201,16 @@ class StateMachine:
         Raises:
             InvalidInputError: ``context`` is not a [`Context`][], or an unknown state.
         """
-        check_context(context)
+        _check_context(context)
         if state is not None:
             self._check(state, "start: state")
         self.history.clear()
-        self.started = True
+        self._position[2] = 1.0  # started
         self._enter(self.state(state or self.initial), context)
         return self.current
 
     def _enter(self, state: State, context: Context) -> None:
-        self.current = state
-        self.entered_at = context.time
+        self._position[:2] = self.index[state.name], context.time  # current, entered_at
         self.history.append((context.time, state.name))
         context.state, context.time_in_state = state.name, 0.0
         if state.on_enter is not None:
@@ -231,7 +225,7 @@ class StateMachine:
             InvalidInputError: ``context`` is not a [`Context`][].
         """
         if context.__class__ is not Context:  # the tick's case skips the check
-            check_context(context)
+            _check_context(context)
         if not self.started:
             self.start(context)
         context.state = name = self.current.name

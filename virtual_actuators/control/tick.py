@@ -12,7 +12,7 @@ from ..exceptions import InvalidInputError
 from ..kinematics.snapshot import Snapshot
 from ..kinematics.tree import KinematicTree
 from ..models.robot import Robot
-from ..vocabulary.arguments import describe
+from ..vocabulary.arguments import check_names, describe
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,24 +103,19 @@ class ControlOutput:
         )
 
 
+@dataclass(slots=True)
 class TickSums:
     """One tick's results per attachment ([`ControlOutput`][]'s dicts), the sum and its parts."""
 
-    __slots__ = (
-        "tau", "wrenches", "produced", "positions", "velocities", "solutions", "failed",
-        "failures", "parts",
-    )
-
-    def __init__(self) -> None:
-        self.tau: np.ndarray | None = None
-        self.wrenches: dict[str, np.ndarray] = {}
-        self.produced: dict[str, np.ndarray] = {}
-        self.positions: dict[str, np.ndarray] = {}
-        self.velocities: dict[str, np.ndarray] = {}
-        self.solutions: dict[str, Solution] = {}
-        self.failed: dict[str, str] = {}
-        self.failures: dict[str, AttachmentFailure] = {}
-        self.parts: list[tuple[str, np.ndarray]] = []
+    tau: np.ndarray | None = None
+    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
+    produced: dict[str, np.ndarray] = field(default_factory=dict)
+    positions: dict[str, np.ndarray] = field(default_factory=dict)
+    velocities: dict[str, np.ndarray] = field(default_factory=dict)
+    solutions: dict[str, Solution] = field(default_factory=dict)
+    failed: dict[str, str] = field(default_factory=dict)
+    failures: dict[str, AttachmentFailure] = field(default_factory=dict)
+    parts: list[tuple[str, np.ndarray]] = field(default_factory=list)
 
     def add(self, name: str, effort: np.ndarray, fresh: bool) -> None:
         """Add an attachment's efforts (``fresh``: an array of its own, kept as the first sum)."""
@@ -134,11 +129,11 @@ class TickSums:
 def velocity_names(robot: Robot) -> tuple[str, ...]:
     """Name of every velocity entry: the joint's name, with ``[i]`` for multi-dof joints."""
     model = robot.model
-    names: list[str] = []
-    for joint_id in range(1, model.njoints):
-        name, nv = model.names[joint_id], model.joints[joint_id].nv
-        names.extend([name] if nv == 1 else [f"{name}[{i}]" for i in range(nv)])
-    return tuple(names)
+    return tuple(
+        name if nv == 1 else f"{name}[{i}]"
+        for name, nv in ((model.names[j], model.joints[j].nv) for j in range(1, model.njoints))
+        for i in range(nv)
+    )
 
 
 #: No limp joints.
@@ -152,21 +147,7 @@ def active_names(active: Iterable[str] | str) -> tuple[str, ...]:
         InvalidInputError: Not a name or a collection of names, an entry that is not a str,
             or a name repeated.
     """
-    names = (active,) if isinstance(active, str) else None
-    if names is None and not isinstance(active, (bytes, Mapping)):
-        try:
-            names = tuple(active)
-        except TypeError:
-            pass
-    if names is None:
-        raise InvalidInputError(
-            f"active must be a sequence of attachment names (or one name), got {describe(active)}."
-        )
-    for i, name in enumerate(names):
-        if not isinstance(name, str):
-            raise InvalidInputError(
-                f"active[{i}] must be an attachment name (str), got {describe(name)}."
-            )
+    names = check_names(active, "active", ordered=False)
     if len(set(names)) != len(names):
         raise InvalidInputError(f"active names an attachment twice: {names}.")
     return names
@@ -231,9 +212,3 @@ def _bad_limp(limp: object, nv: int) -> InvalidInputError:
     expected = f"velocity indices, integers in [0, {nv}) (see Controller.joint_indices)"
     shown = limp if isinstance(limp, list) else describe(limp)
     return InvalidInputError(f"limp must be {expected}, got {shown}.")
-
-
-__all__ = [
-    "NO_LIMP", "ControlOutput", "TickSums", "active_names", "check_limp", "tick_snapshot",
-    "velocity_names",
-]  # fmt: skip

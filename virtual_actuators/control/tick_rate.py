@@ -19,8 +19,6 @@ from ..kinematics.snapshot import Snapshot
 from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import resolve_frame
 
-__all__ = ["RATE_LIMIT", "TickRate", "bound_tick_rate", "tick_rate"]
-
 #: The largest per-tick rate a state's derived gains may reach (module docstring).
 RATE_LIMIT = 0.5
 
@@ -160,8 +158,13 @@ def _state(
     snapshot = Snapshot(robot, q)
     entries, kinds = [], {}
     for name in names:
-        if name in controller.postures:
-            entries.extend(_posture_entries(name, controller.postures[name], model))
+        if name in controller.postures:  # a gravity compensation has no gains
+            posture = controller.postures[name]
+            gains = getattr(posture, "linear_gains", lambda: None)()
+            if gains is not None:
+                joints = posture.joints
+                rows = np.eye(model.nv)[[model.joints[model.getJointId(j)].idx_v for j in joints]]
+                entries.append(_Entry(posture, tuple(f"{name}.{j}" for j in joints), rows, gains))
             continue
         if name not in controller.attachments:
             raise InvalidInputError(f"tick_rate: the controller has no attachment {name!r}.")
@@ -175,17 +178,6 @@ def _state(
                 labels = tuple(f"{name}.{attachment.actuator.axes[i]}" for i in index)
                 entries.append(_Entry(component, labels, rows[index], gains))
     return entries, _mobility(robot, q, [(frame, kinds.get(frame, "point")) for frame in support])
-
-
-def _posture_entries(name: str, posture: object, model: pin.Model) -> list[_Entry]:
-    gains = getattr(posture, "linear_gains", lambda: None)()
-    if gains is None:  # gravity compensation: no gain
-        return []
-    rows = np.zeros((len(posture.joints), model.nv))
-    for row, joint in enumerate(posture.joints):
-        rows[row, model.joints[model.getJointId(joint)].idx_v] = 1.0
-    labels = tuple(f"{name}.{joint}" for joint in posture.joints)
-    return [_Entry(posture, labels, rows, gains)]
 
 
 def _mobility(robot: object, q: np.ndarray, held: list[tuple[str, str]]) -> np.ndarray:
@@ -203,28 +195,23 @@ def _mobility(robot: object, q: np.ndarray, held: list[tuple[str, str]]) -> np.n
     pin.updateFramePlacements(model, data)
     rows = []
     for frame, kind in held:
-        jacobian = pin.getFrameJacobian(
-            model, data, resolve_frame(model, frame, "support frame"), pin.LOCAL_WORLD_ALIGNED
-        )
+        frame_id = resolve_frame(model, frame, "support frame")
+        jacobian = pin.getFrameJacobian(model, data, frame_id, pin.LOCAL_WORLD_ALIGNED)
         rows.append(jacobian if kind == "flat" else jacobian[:3])
     held_rows = np.vstack(rows)
     coupling = inverse @ held_rows.T
     return inverse - coupling @ np.linalg.pinv(held_rows @ coupling, rcond=1e-10) @ coupling.T
 
 
-def _rate_matrix(entries: list[_Entry], mobility: np.ndarray, period: float) -> np.ndarray:
-    rows = np.vstack([entry.rows for entry in entries])
-    gain = np.concatenate([e.gains.damping + period * e.gains.stiffness for e in entries])
-    root = np.sqrt(period * gain)
-    matrix = root[:, None] * (rows @ mobility @ rows.T) * root[None, :]
-    return 0.5 * (matrix + matrix.T)
-
-
 def _rate(entries: list[_Entry], mobility: np.ndarray, period: float) -> TickRate:
     labels = tuple(label for entry in entries for label in entry.labels)
     if not entries:
         return TickRate(0.0, period, labels, np.zeros(0))
-    values, vectors = np.linalg.eigh(_rate_matrix(entries, mobility, period))
+    rows = np.vstack([entry.rows for entry in entries])
+    gain = np.concatenate([e.gains.damping + period * e.gains.stiffness for e in entries])
+    root = np.sqrt(period * gain)
+    matrix = root[:, None] * (rows @ mobility @ rows.T) * root[None, :]
+    values, vectors = np.linalg.eigh(0.5 * (matrix + matrix.T))
     share = vectors[:, -1] ** 2
     return TickRate(max(float(values[-1]), 0.0), period, labels, share / max(share.sum(), 1e-300))
 

@@ -28,14 +28,10 @@ def check_sequence(
     kind: type | tuple[type, ...] | None = None,
     single: type | tuple[type, ...] | None = None,
 ) -> Sequence:
-    """Return ``value`` as a sequence (a tuple unless it already is one).
+    """Return ``value`` (named ``what``) as a sequence (a tuple unless it already is one).
 
-    Args:
-        value: The argument.
-        what: Its name, for messages.
-        label: What its entries are, for messages (e.g. ``"va.Component"``).
-        kind: When given, every entry must be an instance of it.
-        single: When ``value`` is an instance of it, it stands alone: ``(value,)``.
+    Every entry must be a ``kind`` (``label`` in messages, e.g. ``"va.Component"``) if given; a
+    ``value`` that is a ``single`` stands alone: ``(value,)``.
 
     Raises:
         InvalidInputError: ``value`` is a str, bytes, a mapping or not iterable, or an entry is
@@ -91,13 +87,10 @@ def check_names(
     error: type[VirtualActuatorError] = InvalidInputError,
     ordered: bool = True,
 ) -> tuple[str, ...]:
-    """Return a name or a collection of names as a tuple of str.
+    """Return a name or a collection of names (``what``) as a tuple of str.
 
-    Args:
-        value: One name (a str) or an iterable of names.
-        what: The argument's name, for messages.
-        error: The exception raised for a bad entry.
-        ordered: Reject sets (their order is arbitrary).
+    ``error`` is raised for an entry that is not a str; ``ordered`` rejects sets (their order is
+    arbitrary).
 
     Raises:
         InvalidInputError: ``value`` is None, a number, a dict, bytes (or a set if ``ordered``).
@@ -136,15 +129,10 @@ def check_number(
     allow_inf: bool = False,
     error: type[VirtualActuatorError] = InvalidInputError,
 ) -> float:
-    """Return ``value`` as a float after checking that it is a real number in range.
+    """Return ``value`` (named ``what``) as a float, checked to be a real number in range.
 
-    Args:
-        value: The argument: an int or a float (numpy scalars included).
-        what: The argument's name, for messages.
-        minimum: Smallest valid value (inclusive), if any.
-        positive: Require ``value > 0``.
-        allow_inf: Accept ``inf`` (never NaN).
-        error: The exception raised.
+    ``minimum`` is inclusive; ``positive`` requires ``value > 0``; ``allow_inf`` accepts ``inf``
+    (never NaN).
 
     Raises:
         VirtualActuatorError: ``error`` (by default [`InvalidInputError`][]) for a bool, a
@@ -182,11 +170,8 @@ def check_flag(value: object, what: str) -> bool:
 def as_float_array(value: object, what: str, expected: str, copy: bool = False) -> np.ndarray:
     """Return an array-like of real numbers as float64 (the slow path of per-tick arguments).
 
-    Args:
-        value: The argument (a number, a list, a tuple, an array of ints or floats).
-        what: The argument's name, for messages.
-        expected: What would be valid, e.g. ``"an array of 6 floats"``.
-        copy: Never return ``value`` itself or a view of it.
+    ``what`` names the argument and ``expected`` what is valid in messages; ``copy``: never
+    ``value`` itself or a view of it.
 
     Raises:
         InvalidInputError: None, a str, a dict, a set, ragged nesting, or entries that are

@@ -22,10 +22,7 @@ WORLD = "world"
 def resolve_frame(model: pin.Model, name: str, role: str = "frame") -> int:
     """Return the Pinocchio frame id of ``name`` (``"world"`` is the universe frame).
 
-    Args:
-        model: The Pinocchio model.
-        name: Frame name in the model (a link, a joint or a fixed frame), or ``"world"``.
-        role: What the frame is for, for the message (``"action"``, ...).
+    ``role`` says what the frame is for in the message (``"action"``, ...).
 
     Raises:
         FrameNotFoundError: If no frame has that name; the message lists the closest names.
@@ -60,17 +57,21 @@ def resolve_joint(model: pin.Model, name: str, role: str = "joint") -> int:
 
 
 def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]:
-    """Check that ``axes`` is a non-empty ordered subset of [`AXES`][]; return it as a tuple.
-
-    Args:
-        axes: Axis names, e.g. ``("x", "z", "ry")``, or one name such as ``"z"``.
-        what: The argument's name, for messages.
+    """Check that ``axes`` (or one axis name) is a non-empty ordered subset of [`AXES`][].
 
     Raises:
         InvalidAxisError: For axes that are not a str or an ordered collection of str (None, a
             number, a set, a dict, bytes), an unknown, repeated or out-of-order axis, or no axis.
     """
-    axes = _axis_tuple(axes, what)
+    if isinstance(axes, str):
+        axes = (str(axes),)
+    elif isinstance(axes, (bytes, Mapping, Set)) or not isinstance(axes, Iterable):
+        raise InvalidAxisError(
+            f"{what} must be an axis name or an ordered sequence of axis names from {AXES}, "
+            f"got {describe(axes)}."
+        )
+    else:  # entries that are str become plain str
+        axes = tuple(str(a) if isinstance(a, str) else a for a in axes)
     if not axes:
         raise InvalidAxisError(f"At least one axis is needed in {what}; valid axes are {AXES}.")
     for axis in axes:
@@ -90,30 +91,13 @@ def parse_axes(axes: Iterable[str] | str, what: str = "axes") -> tuple[str, ...]
     return axes
 
 
-def _axis_tuple(axes: object, what: str) -> tuple:
-    """``axes`` as a tuple (a str is one axis); entries that are str become plain str."""
-    if isinstance(axes, str):
-        return (str(axes),)
-    if isinstance(axes, (bytes, Mapping, Set)) or not isinstance(axes, Iterable):
-        raise InvalidAxisError(
-            f"{what} must be an axis name or an ordered sequence of axis names from {AXES}, "
-            f"got {describe(axes)}."
-        )
-    return tuple(str(a) if isinstance(a, str) else a for a in axes)
-
-
 def axis_rows(axes: Sequence[str]) -> np.ndarray:
     """Return the indices of ``axes`` among the six rows ``x y z rx ry rz`` of a spatial vector."""
     return np.array([AXES.index(a) for a in axes], dtype=int)
 
 
 def check_axes_subset(requested: Iterable[str], axes: Sequence[str], what: str) -> tuple[str, ...]:
-    """Check that every axis in ``requested`` is one of ``axes``; return them in ``axes``' order.
-
-    Args:
-        requested: Axis names given by the user (e.g. ``free=("x",)``), or one name.
-        axes: The actuator's axes.
-        what: The argument's name, for messages.
+    """Check that every axis in ``requested`` (or one name) is one of ``axes``; in their order.
 
     Raises:
         InvalidAxisError: If ``requested`` is not a str or a collection of str, or an axis is

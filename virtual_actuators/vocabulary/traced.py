@@ -8,14 +8,9 @@ call) raises `TraceError` and stays a Python callback.
 from __future__ import annotations
 
 import contextvars
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 
 from ..exceptions import TraceError
-
-__all__ = [
-    "TRACING", "Sym", "TraceError", "Tracing", "is_lowerable", "is_traced", "lowerable",
-    "traced_read", "traced_store", "vector",
-]  # fmt: skip
 
 
 def _operator(name: str, swapped: bool = False) -> Callable[[Sym, object], Sym]:
@@ -107,18 +102,10 @@ def is_traced(*values: object) -> bool:
     return False
 
 
-def vector(values: Iterable[object]) -> tuple:
-    """``values`` as a tuple (floats and `Sym` alike): the plan's vectors are tuples."""
-    return tuple(values)
-
-
 class Tracing:
-    """What a hook being traced writes to and reads from: the program and the plan's slots.
+    """What a traced hook writes to: its ``program``, the plan's ``slots`` (of each owner kept).
 
-    Attributes:
-        program: The program the ops go to.
-        slots: ``id(owner) -> {name: (register, size)}``: the slots of each object the plan
-            keeps (a component's parameters, a gait's `Memory`).
+    ``slots``: ``id(owner) -> {name: (register, size)}`` (parameters, a gait's `Memory`).
     """
 
     def __init__(self, program: object, slots: dict[int, dict[str, tuple[int, int]]]) -> None:

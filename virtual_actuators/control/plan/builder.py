@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import struct
 from collections.abc import Sequence
 
 import numpy as np
@@ -11,23 +10,9 @@ import numpy as np
 from ...core import CORE
 from ...vocabulary.traced import Sym, TraceError
 
-__all__ = ["MACHINE", "TIME", "TIME_IN_STATE", "PlanBuilder", "Program"]
-
 #: Registers every plan has: the tick's time and the time spent in the current state [s], then
 #: the machine's state (its index, when it was entered [s], whether it started), from MACHINE.
 TIME, TIME_IN_STATE, MACHINE = 0, 1, 2
-
-
-def opcodes() -> dict[str, int]:
-    """The core's op codes by name (``_core.PLAN_OPS``).
-
-    Raises:
-        TraceError: The compiled core is not built (or lacks the plan).
-    """
-    table = getattr(CORE, "PLAN_OPS", None)
-    if table is None:
-        raise TraceError("the compiled core is not built (or has no plan): nothing to lower to.")
-    return dict(table)
 
 
 class PlanBuilder:
@@ -36,33 +21,31 @@ class PlanBuilder:
     Attributes:
         registers: Initial value of every register.
         programs: The programs, in the order they were made (their index is their id).
-        names: Register base -> name, for the declared slots (reports, views).
+
+    Raises:
+        TraceError: The compiled core is not built (or has no plan, ``_core.PLAN_OPS``).
     """
 
     def __init__(self) -> None:
-        self.codes = opcodes()
+        table = getattr(CORE, "PLAN_OPS", None)
+        if table is None:
+            raise TraceError("the compiled core is not built (or has no plan): nothing to lower.")
+        self.codes = dict(table)  # the core's op codes by name
         self.registers: list[float] = [0.0] * 5  # TIME, TIME_IN_STATE, the machine's 3
         self.programs: list[Program] = []
-        self.names: dict[str, tuple[int, int]] = {
-            "time": (TIME, 1), "time_in_state": (TIME_IN_STATE, 1), "machine": (MACHINE, 3),
-        }  # fmt: skip
-        self._constants: dict[bytes, int] = {}
+        self._constants: dict[str, int] = {}
 
-    def allocate(self, size: int, initial: float | Sequence[float] = 0.0, name: str = "") -> int:
-        """``size`` new registers (their first index), set to ``initial``."""
+    def allocate(self, size: int, initial: float | Sequence[float] = 0.0) -> int:
+        """``size`` new registers (their first index) set to ``initial``, one or ``size`` values."""
         base = len(self.registers)
-        values = [initial] * size if isinstance(initial, (int, float)) else list(initial)
-        if len(values) != size:
-            raise TraceError(f"register block {name!r}: {len(values)} values for {size} slots.")
+        values = [initial] * size if isinstance(initial, (int, float)) else initial
         self.registers.extend(float(v) for v in values)
-        if name:
-            self.names[name] = (base, size)
         return base
 
     def constant(self, value: float) -> int:
         """The register holding ``value`` (one per distinct bit pattern)."""
         value = float(value)
-        key = struct.pack("<d", value)
+        key = value.hex()  # one register per bit pattern (NaN is refused before)
         index = self._constants.get(key)
         if index is None:
             index = self._constants[key] = self.allocate(1, value)
@@ -88,12 +71,7 @@ class PlanBuilder:
 
 
 class Program:
-    """Ops appended in order; a traced value is the register an op writes.
-
-    Args:
-        builder: The plan's registers.
-        index: The program's id.
-    """
+    """Ops appended in order (``index``: its id); a traced value is the register an op writes."""
 
     def __init__(self, builder: PlanBuilder, index: int) -> None:
         self.builder = builder
@@ -145,24 +123,8 @@ class Program:
         """Write ``value`` into register ``register`` (a declared slot)."""
         self.ops.append((self.builder.codes["store"], register, self.register(value), 0, 0))
 
-    def frame(self, row: int, column: int) -> Sym:
-        """Entry ``column`` (0-8 rotation row by row, 9-11 position) of frame-table ``row``."""
-        return self.emit("frame", row, column)
-
-    def frame_velocity(self, row: int, axis: int) -> Sym:
-        """World linear velocity ``axis`` of frame-table ``row``'s origin [m/s]."""
-        return self.emit("frame_velocity", row, axis)
-
     def center_of_mass(self) -> tuple[Sym, Sym, Sym]:
         """The robot's centre of mass in the world [m], three registers one op writes."""
         out = self.builder.allocate(3)
         self.ops.append((self.builder.codes["center_of_mass"], out, 0, 0, 0))
         return Sym(self, out), Sym(self, out + 1), Sym(self, out + 2)
-
-    def q(self, index: int) -> Sym:
-        """``q[index]``."""
-        return self.emit("q", index)
-
-    def v(self, index: int) -> Sym:
-        """``v[index]``."""
-        return self.emit("v", index)

@@ -1,43 +1,32 @@
 """The compiled machine: a lowered MachineController run by the core, one call a tick.
 
-The Python pieces run from inside the core's tick, on its snapshot and context (built on use).
+The Python pieces run from inside the core's tick, on its snapshot and context (built on use);
+a tick's [`PlanOutput`][] is read from the plan's registers on demand.
 """
 
 from __future__ import annotations
 
 import threading
 from collections.abc import Mapping
+from types import MappingProxyType
 
 import numpy as np
 
 from ...core import CORE, has
-from ...exceptions import ConcurrentUseError, InvalidInputError, TraceError
+from ...exceptions import ConcurrentUseError, InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...vocabulary.arguments import check_number
 from ..context import Context
 from ..tick import ControlOutput
+from .builder import MACHINE
 from .entries import Attached, Entry, Term
 from .lower import Lowering
-from .output import PlanOutput
-
-__all__ = ["CompiledMachine", "compile_machine"]
 
 _FLOAT64, _ARRAY = np.dtype(np.float64), np.ndarray
 _TICKED, _ENTERED, _FAILED, _INVALID = (
     (CORE.PLAN_TICKED, CORE.PLAN_ENTERED, CORE.PLAN_FAILED, CORE.PLAN_INVALID)
     if has("PLAN_INVALID") else (0, 1, 2, 3)
 )  # fmt: skip
-
-
-def compile_machine(machine: object) -> CompiledMachine:
-    """The compiled machine of ``machine``.
-
-    Raises:
-        TraceError: The compiled core is not built, or the robot's joints are not the core's.
-    """
-    if not has("PlanMachine"):
-        raise TraceError("the compiled core is not built: the machine runs in Python.")
-    return CompiledMachine(machine)
 
 
 class CompiledMachine:
@@ -51,6 +40,9 @@ class CompiledMachine:
         machine: As given.
         pieces: ``(what, why)`` of each piece that runs in Python.
         registers: The plan's registers (a view of the core's).
+
+    Raises:
+        TraceError: The compiled core is not built, or the robot's joints are not the core's.
     """
 
     def __init__(self, machine: object) -> None:
@@ -60,11 +52,18 @@ class CompiledMachine:
         self.joint_names = controller.joint_names
         lowering = self.lowering = Lowering(machine)
         lowering.runtime = self
-        lowering.machine_slots()
-        self._names = [*controller.attachments, *controller.postures]
+        # the machine's state (index, entered at, started) in registers MACHINE.. MACHINE+2
+        lowering.owners.append((machine.machine, {"position": (MACHINE, 3)}))
         used = {name for state in machine.machine.states for name in state.active}
-        self._index = {name: i for i, name in enumerate(n for n in self._names if n in used)}
-        self._entries = [self._lower_entry(name) for name in self._index]
+        names = [n for n in (*controller.attachments, *controller.postures) if n in used]
+        self._index = {name: i for i, name in enumerate(names)}
+        postures, attachments = controller.postures, controller.attachments
+        self._entries = [
+            Term(self, n, postures[n], lowering)
+            if n in postures
+            else Attached(self, n, attachments[n], lowering)
+            for n in self._index
+        ]
         states = [self._lower_state(state) for state in machine.machine.states]
         tree = lowering.tree
         self._rows = dict(tree.frame_tables[0])  # the plan's frame table, final now
@@ -86,8 +85,7 @@ class CompiledMachine:
         for index, (_, _, _, _, exits) in enumerate(states):
             for program, result, target in exits:
                 self.core.add_exit(index, program, result, target)
-        names = machine.machine.names
-        self.core.set_initial(names.index(machine.machine.initial))
+        self.core.set_initial(machine.machine.index[machine.machine.initial])
         self.core.set_callbacks(list(lowering.callbacks))
         self.registers = self.core.registers()
         self.requested = self.core.requested()  # the last tick's unclipped sum (a view)
@@ -98,7 +96,7 @@ class CompiledMachine:
             else:
                 owner.bind_slots(views)
         for entry in self._entries:
-            entry.bind(self.core, self.registers)
+            entry.bind(self.core)
         self.pieces = lowering.pieces
         self._contacts = [(f, r, required) for f, (r, required) in lowering.contacts.items()]
         self._tau = np.zeros(tree.nv)
@@ -109,17 +107,9 @@ class CompiledMachine:
         self._tick: tuple | None = None  # (q, v, time, contacts) of the tick running
         self._snapshot: Snapshot | None = None
         self._context: Context | None = None
-        self.last: ControlOutput | None = None
         self._lock = threading.Lock()  # one tick at a time: the registers are one run's state
 
     # -- lowering -------------------------------------------------------------------------
-    def _lower_entry(self, name: str) -> Entry:
-        controller, lowering = self.machine.controller, self.lowering
-        term = controller.postures.get(name)
-        if term is not None:
-            return Term(self, name, term, lowering)
-        return Attached(self, name, controller.attachments[name], lowering)
-
     def _lower_state(self, state: object) -> tuple:
         lowering, machine = self.lowering, self.machine.machine
         attachments = np.array([self._index[name] for name in state.active], dtype=np.int64)
@@ -180,9 +170,14 @@ class CompiledMachine:
                 and v.dtype is _FLOAT64 and time.__class__ is float
             ):  # fmt: skip
                 q, v, time = self._checked(q, v, time)  # the typed errors, or q normalised
-            switches = contacts or {}
-            if self._contacts:
-                self._switch(switches)
+            switches, registers = contacts or {}, self.registers
+            for frame, register, required in self._contacts:  # the switches into the registers
+                closed = switches.get(frame)
+                if closed is None and required:
+                    raise InvalidInputError(
+                        f"No contact switch for {frame!r}: the machine's events read it."
+                    )
+                registers[register] = 1.0 if closed else 0.0
             self._tick, self._snapshot, self._context = (q, v, time, switches), None, None
             core, tau = self.core, self._tau
             try:  # the core checks the sizes (and copies a strided array)
@@ -195,29 +190,16 @@ class CompiledMachine:
                 outcome = core.tick(q, v, time, tau)
             machine = self.machine
             if outcome == _FAILED:  # the Python tick decides (the failure policy), same state
-                output = machine.compute_in_python(self.snapshot(), None, time, contacts)
-                self.last = output
-                return output
+                return machine.compute_in_python(self.snapshot(), None, time, contacts)
             state = machine.machine.current
             if outcome == _ENTERED:
                 machine.machine.history.append((time, state.name))
             tau, held = self._limit_rate(tau.copy(), time)
             output = PlanOutput(self, state.active, tau, self._free if held is None else held)
-            self.last = machine.last = output
+            machine.last = output
             return output
         finally:
             self._lock.release()
-
-    def _switch(self, switches: Mapping[str, bool]) -> None:
-        """The contact switches into the plan's registers."""
-        registers = self.registers
-        for frame, register, required in self._contacts:
-            closed = switches.get(frame)
-            if closed is None and required:
-                raise InvalidInputError(
-                    f"No contact switch for {frame!r}: the machine's events read it."
-                )
-            registers[register] = 1.0 if closed else 0.0
 
     def _checked(self, q: object, v: object, time: object) -> tuple:
         """``(q, v, time)`` as the Python checks take them (raising their typed errors)."""
@@ -238,4 +220,116 @@ class CompiledMachine:
         return (
             f"CompiledMachine(state={self.machine.machine.current.name!r}, "
             f"{len(self.pieces)} Python pieces)"
+        )
+
+
+class PlanOutput:
+    """One compiled tick's output (see the module docstring).
+
+    Args:
+        compiled: The compiled machine.
+        active: The names evaluated this tick.
+        tau: The tick's efforts after the limp joints and the clip [N m or N].
+        held: ``(nv,)`` bool, True where the effort rate limit held the effort back.
+    """
+
+    __slots__ = ("_cache", "_compiled", "active", "rate_limited", "tau", "tau_requested")
+
+    #: A compiled tick has no failures (a failing tick is the Python machine's).
+    failed: Mapping[str, str] = MappingProxyType({})
+    failures: Mapping[str, object] = MappingProxyType({})
+
+    def __init__(
+        self, compiled: object, active: tuple[str, ...], tau: np.ndarray, held: np.ndarray
+    ) -> None:
+        self._compiled = compiled
+        self.active = active
+        self.tau = tau
+        self.tau_requested = compiled.requested.copy()
+        self.rate_limited = held
+        self._cache: dict[str, dict] = {}
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """Names of the velocity entries."""
+        return self._compiled.joint_names
+
+    @property
+    def saturated(self) -> np.ndarray:
+        """``(nv,)`` True where the request exceeds the effort limit."""
+        limits = self._compiled.machine.controller.effort_limits
+        return np.abs(self.tau_requested) > limits
+
+    def _readings(self, what: str) -> dict[str, np.ndarray]:
+        cached = self._cache.get(what)
+        if cached is None:
+            compiled, key = self._compiled, (self.active, what)
+            layout = compiled.layouts.get(key)
+            if layout is None:  # each reading's span in one gather, once per active set
+                entries = [(name, compiled.entry(name)) for name in self.active]
+                entries = [(n, e) for n, e in entries if e.reports]  # a term has no wrench
+                index = [getattr(e, what) + i for _, e in entries for i in range(e.n)]
+                bounds = np.cumsum([0] + [e.n for _, e in entries]).tolist()
+                spans = [(n, bounds[k], bounds[k + 1]) for k, (n, _) in enumerate(entries)]
+                layout = compiled.layouts[key] = (np.array(index, dtype=np.intp), spans)
+            index, spans = layout
+            values = compiled.registers.take(index)  # a copy: the next tick leaves it alone
+            cached = self._cache[what] = {name: values[a:b] for name, a, b in spans}
+        return cached
+
+    def wrench_of(self, name: str) -> np.ndarray | None:
+        """The requested wrench of attachment ``name`` (a copy), None when it is not active."""
+        cached = self._cache.get("wrench")
+        if cached is not None:
+            return cached.get(name)
+        if name not in self.active:
+            return None
+        entry = self._compiled.entry(name)
+        if not entry.reports:
+            return None
+        return self._compiled.registers[entry.wrench : entry.wrench + entry.n].copy()
+
+    @property
+    def wrenches(self) -> dict[str, np.ndarray]:
+        """Requested wrench per active attachment, on its actuator's axes."""
+        return self._readings("wrench")
+
+    @property
+    def produced(self) -> dict[str, np.ndarray]:
+        """Wrench produced per active attachment."""
+        return self._readings("produced")
+
+    @property
+    def positions(self) -> dict[str, np.ndarray]:
+        """Sensor position per active attachment [m, rad]."""
+        return self._readings("position")
+
+    @property
+    def velocities(self) -> dict[str, np.ndarray]:
+        """Sensor velocity per active attachment [m/s, rad/s]."""
+        return self._readings("velocity")
+
+    @property
+    def solutions(self) -> dict:
+        """The distribution's solution per active parallel attachment."""
+        cached = self._cache.get("solutions")
+        if cached is None:
+            solved = ((name, self._compiled.entry(name).solved_solution()) for name in self.active)
+            cached = self._cache["solutions"] = {n: s for n, s in solved if s is not None}
+        return cached
+
+    @property
+    def saturated_joints(self) -> list[str]:
+        """Names of the velocity entries whose effort was clipped."""
+        return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
+
+    @property
+    def rate_limited_joints(self) -> list[str]:
+        """Names of the velocity entries the effort rate limit held back."""
+        return [self.joint_names[i] for i in np.flatnonzero(self.rate_limited)]
+
+    def __repr__(self) -> str:
+        return (
+            f"PlanOutput(active={self.active}, |tau|={np.linalg.norm(self.tau):.3g}, "
+            f"saturated={self.saturated_joints})"
         )

@@ -9,7 +9,7 @@ from ...components.base import Component, has_traced_path
 from ...components.gravity import GravityCompensation
 from ...distribution.result import Solution
 from ...exceptions import TraceError
-from ..attachment_tick import run_attachment
+from ..failures import run_attachment
 from ..tick import TickSums
 from .builder import Program
 from .lower import (
@@ -25,8 +25,6 @@ from .lower import (
     term_kind,
 )
 
-__all__ = ["Attached", "Entry", "Term"]
-
 
 class Entry:
     """One lowered attachment or joint-space term: its registers and how the core runs it."""
@@ -36,10 +34,9 @@ class Entry:
     def __init__(self, compiled: object, name: str, n: int) -> None:
         self.compiled, self.name, self.n = compiled, name, n
         builder = compiled.lowering.builder
-        self.position = builder.allocate(n, 0.0, f"{name}.position")
-        self.velocity = builder.allocate(n, 0.0, f"{name}.velocity")
-        self.wrench = builder.allocate(n, 0.0, f"{name}.wrench")
-        self.produced = builder.allocate(n, 0.0, f"{name}.produced")
+        self.position, self.velocity, self.wrench, self.produced = (
+            builder.allocate(n) for _ in range(4)
+        )
         self.programs: list[int] = []
         self.resets: list[int] = []
         self.mapping = SERIAL
@@ -76,7 +73,7 @@ class Entry:
                 )  # fmt: skip
 
             try:
-                programs = [lowering.trace(what, wrench).index, lowering.trace(what, reset).index]
+                programs = [lowering.trace(wrench).index, lowering.trace(reset).index]
                 self.programs.append(programs[0])
                 self.resets.append(programs[1])
                 return
@@ -85,31 +82,32 @@ class Entry:
                 reason = str(error)
         else:
             reason = "a Python component (no traced formula)"
-        python = lowering.python(what, reason, self._python_wrench(component, axes))
-        self.programs.append(python.index)
+        at = np.array(axes)
+
+        def python_wrench() -> None:
+            registers, time = self.compiled.registers, self.compiled.time
+            position, velocity = registers[self.position + at], registers[self.velocity + at]
+            wrench = np.asarray(component.compute_wrench(position, velocity, time), dtype=float)
+            registers[self.wrench + at] += wrench.reshape(-1)
+
+        self.programs.append(lowering.python(what, reason, python_wrench).index)
         if type(component).reset is not Component.reset:
-            piece = lowering.python(f"{what}: reset", reason, self._python_reset(component, axes))
+
+            def python_reset() -> None:
+                component.reset(self.compiled.registers[self.position + at], self.compiled.time)
+
+            piece = lowering.python(f"{what}: reset", reason, python_reset)
             self.resets.append(piece.index)
 
-    def _python_wrench(self, component: object, axes: list[int]):
-        def run() -> None:
-            registers, compiled = self.compiled.registers, self.compiled
-            position = registers[self.position + np.array(axes)]
-            velocity = registers[self.velocity + np.array(axes)]
-            time = compiled.time
-            wrench = np.asarray(component.compute_wrench(position, velocity, time), dtype=float)
-            registers[self.wrench + np.array(axes)] += wrench.reshape(-1)
+    def add_to(self, core: object, term: bool, rows, frames, columns, signs, q_rows) -> None:
+        """Declare the entry's sensor rows (or joints), registers and programs to the core."""
+        self.core_index = core.add_attachment(
+            term, rows, frames, columns, signs, q_rows, self.position, self.velocity, self.wrench,
+            self.produced, np.array(self.programs, dtype=np.int64),
+            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
+        )  # fmt: skip
 
-        return run
-
-    def _python_reset(self, component: object, axes: list[int]):
-        def run() -> None:
-            registers = self.compiled.registers
-            component.reset(registers[self.position + np.array(axes)], self.compiled.time)
-
-        return run
-
-    def bind(self, core: object, registers: np.ndarray) -> None:
+    def bind(self, core: object) -> None:
         """Take up the core's buffers of this entry (its efforts) once the machine is built."""
         self.efforts = core.efforts(self.core_index)
         self._core = core
@@ -186,14 +184,11 @@ class Attached(Entry):
     def declare(self, core: object) -> None:
         """Declare the attachment to the core: its sensor, programs and distribution."""
         kinematics = self.attachment.sensor.kinematics
-        rows = kinematics.frame_rows[:3].copy()
-        self.core_index = core.add_attachment(
-            False, np.asarray(kinematics.rows, dtype=np.int64), np.asarray(rows, dtype=np.int64),
+        self.add_to(
+            core, False, np.asarray(kinematics.rows, dtype=np.int64),
+            np.array(kinematics.frame_rows[:3], dtype=np.int64),
             np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float),
-            np.zeros(0, dtype=np.int64), self.position, self.velocity, self.wrench,
-            self.produced, np.array(self.programs, dtype=np.int64),
-            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
+            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float), np.zeros(0, np.int64),
         )  # fmt: skip
         if self.mapping == SOLVER:
             core_qp, work, keep, weights, tolerances, slot = self.qp.plan_tables(
@@ -255,8 +250,8 @@ class Term(Entry):
             def reset(program: Program) -> None:
                 term.traced_reset(Slots(program, layout), self.read(self.position, program))
 
-            self.programs.append(lowering.trace(f"{name}", torques).index)
-            self.resets.append(lowering.trace(f"{name} reset", reset).index)
+            self.programs.append(lowering.trace(torques).index)
+            self.resets.append(lowering.trace(reset).index)
         else:
             self.efforts_program = lowering.python(name, why, self._python_torques).index
 
@@ -265,13 +260,9 @@ class Term(Entry):
 
     def declare(self, core: object) -> None:
         """Declare the term to the core: its joints and programs."""
-        self.core_index = core.add_attachment(
-            True, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
-            np.asarray(self.columns, dtype=np.int64), np.zeros(0),
-            np.asarray(self.q_rows, dtype=np.int64), self.position, self.velocity, self.wrench,
-            self.produced, np.array(self.programs, dtype=np.int64),
-            np.array(self.resets, dtype=np.int64), self.mapping, self.efforts_program,
-        )  # fmt: skip
+        none = np.zeros(0, dtype=np.int64)
+        columns = np.asarray(self.columns, dtype=np.int64)
+        self.add_to(core, True, none, none, columns, np.zeros(0), np.asarray(self.q_rows, np.int64))
         if self.mapping == GRAVITY:
             inertias = self.term.model.inertias
             core.set_gravity(

@@ -1,6 +1,7 @@
 """Lowering: a StateMachine and a Controller become one compiled machine's data.
 
-What is traced, what runs as a Python piece and why: docs/reference/control.md.
+A traced hook or event sees a [`TraceContext`][] (the tick's context as traced ops). What is
+traced, what runs as a Python piece and why: docs/reference/control.md.
 """
 
 from __future__ import annotations
@@ -14,23 +15,18 @@ from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
 from ...exceptions import TraceError
 from ...kinematics.tree import tree_of
-from ...vocabulary.traced import TRACING, Tracing, is_lowerable
-from .builder import MACHINE, PlanBuilder, Program
+from ...vocabulary.scalar import atan2
+from ...vocabulary.traced import TRACING, Sym, Tracing, is_lowerable
+from ..context import POSITION_COLUMNS
+from .builder import TIME, TIME_IN_STATE, PlanBuilder, Program
 from .memory import Memory
-from .trace import TraceContext
-
-__all__ = ["Lowering", "Slots"]
 
 #: How an attachment's wrench becomes efforts (plan_machine.hpp's Mapping).
 SERIAL, PARTITIONED, JOINTS, PYTHON, SOLVER, GRAVITY = 0, 1, 2, 3, 4, 5
 
 
 class Slots:
-    """One owner's slots as a traced component reads and writes them.
-
-    ``slots[name]`` reads (a tuple of traced values, copies of the registers now);
-    ``slots.store(name, values)`` writes.
-    """
+    """One owner's slots: ``slots[name]`` reads (traced copies), ``slots.store(name, v)`` writes."""
 
     def __init__(self, program: Program, layout: dict[str, tuple[int, int]]) -> None:
         self._program, self._layout = program, layout
@@ -61,9 +57,7 @@ class Lowering:
     """
 
     def __init__(self, machine: object) -> None:
-        self.machine = machine
-        self.controller = machine.controller
-        self.robot = self.controller.robot
+        self.robot = machine.controller.robot
         self.tree = tree_of(self.robot)
         self.builder = PlanBuilder()
         self.pieces: list[tuple[str, str]] = []
@@ -81,10 +75,9 @@ class Lowering:
 
     def contact_register(self, frame: str, required: bool) -> int:
         """The register the tick writes ``frame``'s contact switch into."""
-        entry = self.contacts.get(frame)
-        if entry is None:
-            register = self.builder.allocate(1, 0.0, f"contact {frame}")
-            entry = self.contacts[frame] = [register, False]
+        if frame not in self.contacts:
+            self.contacts[frame] = [self.builder.allocate(1), False]
+        entry = self.contacts[frame]
         entry[1] = entry[1] or required
         return entry[0]
 
@@ -121,7 +114,7 @@ class Lowering:
                 self.keep(value, value.plan_slots())
 
     # -- programs -----------------------------------------------------------------------------
-    def trace(self, what: str, body: Callable[[Program], None]) -> Program:
+    def trace(self, body: Callable[[Program], None]) -> Program:
         """A program made by ``body`` under tracing (the plan's slots readable and writable).
 
         Raises:
@@ -151,7 +144,7 @@ class Lowering:
         if is_lowerable(hook):
             self.keep_memories(hook)
             try:
-                return self.trace(what, lambda p: hook(TraceContext(self, p, state))).index
+                return self.trace(lambda p: hook(TraceContext(self, p, state))).index
             except TraceError as error:
                 self.builder.programs.pop()  # the failed trace's program
                 reason = str(error)
@@ -171,7 +164,7 @@ class Lowering:
                 program.store(result, TraceContext(self, program, state).event(event))
 
             try:
-                return self.trace(what, body).index, result
+                return self.trace(body).index, result
             except TraceError as error:
                 self.builder.programs.pop()
                 reason = str(error)
@@ -182,10 +175,6 @@ class Lowering:
             self.runtime.registers[result] = 1.0 if event(self.runtime.context()) else 0.0
 
         return self.python(what, reason, run).index, result
-
-    def machine_slots(self) -> None:
-        """The machine's state (index, entered at, started) in registers MACHINE.. MACHINE+2."""
-        self.owners.append((self.machine.machine, {"position": (MACHINE, 3)}))
 
 
 def attachment_kind(attachment: object) -> str | None:
@@ -211,8 +200,137 @@ def attachment_kind(attachment: object) -> str | None:
 
 def term_kind(term: object) -> str | None:
     """Why a joint-space term is a Python piece, or None (the core runs it)."""
-    if isinstance(term, Posture) and term.null_space is None:
-        return None
-    if isinstance(term, GravityCompensation):
-        return None  # the core's generalized gravity (mapping GRAVITY)
+    if isinstance(term, GravityCompensation) or (
+        isinstance(term, Posture) and term.null_space is None
+    ):
+        return None  # a gravity compensation: the core's generalized gravity (mapping GRAVITY)
     return "a posture projected on a null space"
+
+
+class _Switches:
+    """The contact switches as traced values: ``get(frame, default)`` and ``[frame]``."""
+
+    def __init__(self, trace: TraceContext) -> None:
+        self._trace = trace
+
+    def get(self, frame: str, default: object = None) -> Sym:
+        return self._trace.contact(frame, required=False)
+
+    def __getitem__(self, frame: str) -> Sym:
+        return self._trace.contact(frame, required=True)
+
+    def __bool__(self) -> bool:
+        return True  # a plan always has its switches (every frame a hook reads has one)
+
+
+class _Entries:
+    """``q`` or ``v`` as traced values by index."""
+
+    def __init__(self, program: Program, op: str, size: int) -> None:
+        self._program, self._op, self._size, self._cache = program, op, size, {}
+
+    def __getitem__(self, index: int | slice) -> Sym | tuple:
+        if isinstance(index, slice):
+            return tuple(self[i] for i in range(*index.indices(self._size)))
+        if index < 0:
+            index += self._size
+        if not 0 <= index < self._size:
+            raise TraceError(f"index {index} outside ({self._size},).")
+        cached = self._cache.get(index)
+        if cached is None:
+            cached = self._cache[index] = self._program.emit(self._op, index)
+        return cached
+
+    def __len__(self) -> int:
+        return self._size
+
+
+class TraceContext:
+    """The traced reads of a tick's [`Context`][virtual_actuators.Context] for ``state``'s hooks.
+
+    The reads go to ``program``; ``lowering`` has the plan's frame rows and contact registers.
+    """
+
+    def __init__(self, lowering: object, program: Program, state: str) -> None:
+        self._lowering = lowering
+        self.program = program
+        self.state = state
+        self.robot = lowering.robot
+        self.snapshot = self  # the snapshot's reads are the context's
+        self._frames: dict[tuple[int, int], Sym] = {}
+        self._com: tuple | None = None
+        model = lowering.robot.model
+        self.q = _Entries(program, "q", model.nq)
+        self.v = _Entries(program, "v", model.nv)
+        self.contacts = _Switches(self)
+        self.time = program.read(TIME)
+        self.time_in_state = program.read(TIME_IN_STATE)
+
+    # -- frames -------------------------------------------------------------------------------
+    def _entry(self, frame: str, column: int) -> Sym:
+        """Entry ``column`` (0-8 the rotation row by row, 9-11 the position) of a frame's row."""
+        row = self._lowering.row(frame)
+        key = (row, column)
+        entry = self._frames.get(key)
+        if entry is None:
+            entry = self._frames[key] = self.program.emit("frame", row, column)
+        return entry
+
+    def frame_coordinate(self, frame: str, axis: str) -> Sym:
+        """One world coordinate of a frame's origin [m]."""
+        return self._entry(frame, POSITION_COLUMNS[axis])
+
+    def frame_position(self, frame: str) -> tuple:
+        """World position of a frame [m]."""
+        return tuple(self._entry(frame, 9 + i) for i in range(3))
+
+    def frame_rotation(self, frame: str) -> tuple:
+        """World orientation of a frame, rows of a rotation matrix."""
+        return tuple(tuple(self._entry(frame, 3 * r + c) for c in range(3)) for r in range(3))
+
+    def placement(self, frame: str) -> tuple:
+        """``(rotation, position)`` of a frame in the world."""
+        return self.frame_rotation(frame), self.frame_position(frame)
+
+    def frame_velocity(self, frame: str) -> tuple:
+        """Linear velocity of a frame's origin in world axes [m/s]."""
+        row = self._lowering.row(frame)
+        return tuple(self.program.emit("frame_velocity", row, axis) for axis in range(3))
+
+    def frame_pitch(self, frame: str) -> Sym:
+        """Rotation of a frame about the world y axis [rad] (planar robots in x-z)."""
+        return atan2(self._entry(frame, 2), self._entry(frame, 0))
+
+    # -- switches and events ------------------------------------------------------------------
+    def contact(self, frame: str, required: bool = True) -> Sym:
+        """The contact switch of ``frame`` (1.0 closed, 0.0 open), a register the tick writes."""
+        return self.program.read(self._lowering.contact_register(frame, required))
+
+    def in_contact(self, frame: str) -> Sym:
+        """The contact switch of ``frame``."""
+        return self.contact(frame, required=True)
+
+    def event(self, event: object) -> object:
+        """An event's value: lowered (an event object), traced (a `lowerable` predicate).
+
+        Raises:
+            TraceError: A predicate that is not lowerable (the caller makes it a Python piece).
+        """
+        lower = getattr(event, "lower", None)
+        if lower is not None:
+            return lower(self)
+        if is_lowerable(event):
+            return event(self)
+        raise TraceError(f"the event {event!r} is Python (not marked lowerable).")
+
+    def center_of_mass(self) -> tuple:
+        """The robot's centre of mass in the world [m] (one op, read once per trace).
+
+        Raises:
+            TraceError: The robot has no mass (the Python tick raises its typed error).
+        """
+        if self._com is None:
+            if not self._lowering.tree.mass > 0.0:
+                raise TraceError("the robot has no mass: no centre of mass.")
+            self._com = self.program.center_of_mass()
+        return self._com

@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
 
 from ...exceptions import InvalidInputError
+from ...vocabulary.arguments import check_number
 from ...vocabulary.traced import TRACING, is_traced
-
-__all__ = ["Memory"]
 
 
 class Memory:
@@ -83,11 +81,5 @@ class Memory:
 
 
 def _finite(entries: tuple, name: str) -> list[float]:
-    values = []
-    for entry in entries:
-        if isinstance(entry, bool) or not isinstance(entry, (int, float, np.floating)):
-            raise InvalidInputError(f"Memory.{name} must hold floats, got {entry!r}.")
-        if not math.isfinite(float(entry)):
-            raise InvalidInputError(f"Memory.{name} must be finite, got {entry!r}.")
-        values.append(float(entry))
-    return values
+    """``entries`` as floats, each a finite real number (a bool is not one)."""
+    return [check_number(entry, f"Memory.{name}") for entry in entries]

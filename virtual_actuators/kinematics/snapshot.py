@@ -56,22 +56,8 @@ class Snapshot:
         >>> solution = body.solve(snapshot, wrench)
     """
 
-    __slots__ = (
-        "robot",
-        "tree",
-        "q",
-        "v",
-        "backend",
-        "_joints",
-        "_jacobian",
-        "_frames",
-        "_rows",
-        "_extra",
-        "_velocities",
-        "_frame_velocities",
-        "_buffer",
-        "_layout",
-    )
+    __slots__ = ("robot", "tree", "q", "v", "backend", "_joints", "_jacobian", "_frames", "_rows",
+                 "_extra", "_velocities", "_frame_velocities", "_buffer", "_layout")  # fmt: skip
 
     def __init__(
         self, robot: object, q: np.ndarray, v: np.ndarray | None = None, backend: str = "auto"

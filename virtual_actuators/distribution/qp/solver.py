@@ -114,7 +114,7 @@ class QPDistribution:
         self.weights = check_weights({} if weights is None else weights, problem.axes)
         self._local = threading.local()
         #: this thread's ProxQP workspaces and the stages run on them
-        self.stages = ProxStages(proxqp, limits.row_names(), problem.reactions)
+        self.stages = ProxStages(proxqp, limits.row_names, problem.reactions)
         #: ProxQP iterations one solve may use, all stages together
         self.iteration_budget = ITERATION_BUDGET
         #: per set of prescribed axes: the rows summing the chains' forces on them
@@ -128,7 +128,7 @@ class QPDistribution:
         )
         self.matrices = CompiledQPMatrices(
             problem, **limits.tables, static_scale=self._static_scale,
-            rows_in=len(limits.row_names()),
+            rows_in=len(limits.row_names),
         )  # fmt: skip
 
     @property
@@ -142,7 +142,7 @@ class QPDistribution:
         self.stages.reset()
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
-        names = self.limits.row_names()
+        names = self.limits.row_names
         if exhausted:
             return ConstraintError(
                 f"No distribution over the chains to {list(self.problem.reactions)} meeting "
@@ -262,7 +262,7 @@ class QPDistribution:
         key = answer.active.tobytes()
         active = self._active_names.get(key)
         if active is None:
-            names = self.limits.row_names()
+            names = self.limits.row_names
             active = tuple([names[i] for i in answer.active.tolist()])
             if len(self._active_names) >= 256:
                 self._active_names.clear()
@@ -326,7 +326,7 @@ class QPDistribution:
         results = self.stages.solve("forces", rows, miss, weights, budget)
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)
-        names = self.limits.row_names()
+        names = self.limits.row_names
         x = results.x * scale
         active = tuple(names[i] for i in np.flatnonzero(np.abs(results.multipliers) > ACTIVE_TOL))
         active += (BUDGET_EXHAUSTED,) if results.exhausted else ()

@@ -236,11 +236,7 @@ class DistributionProblem:
         passive: np.ndarray,
         check_singular: bool,
     ) -> GroupRows:
-        """One group's natural rows and right-hand sides (eq. 11) at a configuration.
-
-        Raises:
-            SingularConfigurationError: ``check_singular`` and a chain's Jacobian loses rank.
-        """
+        """One group's natural rows and right-hand sides (eq. 11) at a configuration."""
         jacobians = jac[:, group.columns].transpose(1, 0, 2) * group.signs[:, None, :]
         balls = self._ball_columns(offsets[group.chains], group.ball_axes)
         full = np.concatenate((jacobians, balls), axis=2)

@@ -12,7 +12,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .kernels import center_of_mass_of, velocity_of_point
+from .kernels import center_of_mass_of, placement_row, velocity_of_point
 from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
@@ -105,15 +105,11 @@ class Snapshot:
         pin.updateFramePlacements(model, data)
         self._jacobian = np.array(data.J).reshape(6, model.nv)  # (6,) when nv is 1
         rows, _, _ = self.tree.frame_tables
-        oMf = data.oMf
         frames = np.empty((len(rows), 12))
         for frame_id, row in rows.items():
-            placement = oMf[frame_id]
-            frames[row, :9] = placement.rotation.ravel()
-            frames[row, 9:] = placement.translation
+            frames[row] = placement_row(data.oMf[frame_id])
         self._frames, self._rows = frames, rows
-        oMi = data.oMi
-        self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
+        self._joints = np.array([placement_row(m) for m in data.oMi])
 
     def _take(self, buffer: np.ndarray, frames: int, rows: dict[int, int]) -> None:
         """Keep the core's pass ``buffer``: Jacobian and frames now, the rest cut on first read."""

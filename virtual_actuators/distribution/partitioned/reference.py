@@ -172,15 +172,12 @@ class PartitionedSolver:
             offsets.append(offset)
             offset_sum += offset.sum(axis=0)
             wrench_blocks.append(transform.transpose(1, 0, 2).reshape(n, g * d))
-            if len(hard_rhs):
-                hard = ev.hard_rows[:, group.chains, :]
-                hard_block = np.einsum("spn,pnd->spd", hard, transform)
-                hard_blocks.append(hard_block.reshape(hard.shape[0], g * d))
-                hard_rhs -= np.einsum("spn,pn->s", hard, offset)
-                size = np.abs(transform).max(axis=(1, 2), initial=0.0)  # (g,) max |T_i|
-                hard_scale += np.einsum("spn,p->s", np.abs(hard), size)
-            else:
-                hard_blocks.append(np.zeros((0, g * d)))
+            hard = ev.hard_rows[:, group.chains, :]
+            hard_block = np.einsum("spn,pnd->spd", hard, transform)
+            hard_blocks.append(hard_block.reshape(hard.shape[0], g * d))
+            hard_rhs -= np.einsum("spn,pn->s", hard, offset)
+            size = np.abs(transform).max(axis=(1, 2), initial=0.0)  # (g,) max |T_i|
+            hard_scale += np.einsum("spn,p->s", np.abs(hard), size)
         return _Reduced(
             transforms=transforms,
             offsets=offsets,

@@ -28,7 +28,7 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import check_flag, check_names, check_robot, check_sequence, describe
 from ..vocabulary.axes import check_axes_subset, parse_axes, resolve_frame
 from ..vocabulary.constraints import DesignConstraint
-from .parallel_checks import FreeAxes, check_forces, preferred_entries, resolve_chains
+from .parallel_checks import check_forces, check_free, preferred_entries, resolve_chains
 from .producible import give_way, producible_directions
 from .serial import check_tolerance, wrench_array
 
@@ -128,7 +128,7 @@ class ParallelVirtualActuator:
         self.dense = DenseSolver(self.problem)
         self.contact_limits = ContactLimits(self.problem, self.contacts, torque_limits)
         self.qp = QPDistribution(self.problem, self.contact_limits, weights)
-        self._free_axes = FreeAxes(self.axes, self.problem)
+        self._free_sets: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}  # by free axes
         self._floating = model.nv >= 6 and model.joints[1].shortname() == "JointModelFreeFlyer"
 
     @property
@@ -297,7 +297,7 @@ class ParallelVirtualActuator:
             InvalidInputError: Unknown ``method``, or bad ``weights``.
             ConstraintError: Too many constraints for those free axes.
         """
-        free, keep = self._free_axes.check(free)
+        free, keep = check_free(free, self.axes, self.problem, self._free_sets)
         if not isinstance(method, str) or method not in METHODS:
             raise InvalidInputError(
                 f"method must be one of {list(METHODS)}, got {describe(method)}."

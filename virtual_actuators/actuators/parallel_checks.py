@@ -65,43 +65,29 @@ def check_forces(forces: object, p: int, n: int) -> np.ndarray:
     return forces
 
 
-class FreeAxes:
-    """The checked free axes of a request and the mask of its prescribed axes, kept by set."""
+def check_free(
+    free: Sequence[str], axes: tuple[str, ...], problem: DistributionProblem, checked: dict
+) -> tuple[tuple[str, ...], np.ndarray]:
+    """``(free axes, keep)`` of ``free``, ``keep`` True at the others; kept in ``checked``.
 
-    def __init__(self, axes: tuple[str, ...], problem: DistributionProblem) -> None:
-        self.axes = axes
-        self.problem = problem
-        self._cache: dict[tuple, tuple[tuple[str, ...], np.ndarray]] = {}
-
-    def check(self, free: Sequence[str]) -> tuple[tuple[str, ...], np.ndarray]:
-        """``(free axes, keep)`` of ``free``: the axes checked, ``keep`` True at the others.
-
-        Raises:
-            InvalidAxisError: ``free`` is not a collection of the actuator's axes.
-            ConstraintError: Too many constraints for those free axes.
-        """
-        try:
-            key = (free,) if isinstance(free, str) else tuple(free)
-            cached = self._cache.get(key)
-        except TypeError:  # not iterable, or unhashable entries
-            raise InvalidAxisError(
-                f"free must be an axis name or a sequence of axis names among this actuator's "
-                f"axes {self.axes}, got {describe(free)}."
-            ) from None
-        if cached is None:
-            axes = check_axes_subset(key, self.axes, "free")
-            keep = np.array([a not in axes for a in self.axes])
-            self.problem.check_counts(keep)  # declaration-only: checked once per set of free axes
-            cached = self._cache[key] = (axes, keep)
-        return cached
-
-    def __repr__(self) -> str:
-        return f"FreeAxes(axes={self.axes}, sets={len(self._cache)})"
+    Raises:
+        InvalidAxisError: ``free`` is not a collection of the actuator's axes.
+        ConstraintError: Too many constraints for those free axes.
+    """
+    try:
+        key = (free,) if isinstance(free, str) else tuple(free)
+        cached = checked.get(key)
+    except TypeError:  # not iterable, or unhashable entries
+        raise InvalidAxisError(
+            f"free must be an axis name or a sequence of axis names among this actuator's "
+            f"axes {axes}, got {describe(free)}."
+        ) from None
+    if cached is None:
+        free_axes = check_axes_subset(key, axes, "free")
+        keep = np.array([a not in free_axes for a in axes])
+        problem.check_counts(keep)  # declaration-only: checked once per set of free axes
+        cached = checked[key] = (free_axes, keep)
+    return cached
 
 
-__all__ = [
-    "FreeAxes",
-    "check_forces",
-    "preferred_entries",
-    "resolve_chains",
-]
+__all__ = ["check_forces", "check_free", "preferred_entries", "resolve_chains"]

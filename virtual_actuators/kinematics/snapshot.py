@@ -12,8 +12,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import FrameNotFoundError, InvalidInputError
-from .kernels import center_of_mass_of, velocity_of_point
-from .tree import BufferLayout, KinematicTree, buffer_layout, tree_of
+from .kernels import center_of_mass_of, placement_row, velocity_of_point
+from .tree import KinematicTree, tree_of
 
 _BACKENDS = ("auto", "compiled", "pinocchio")
 _local = threading.local()
@@ -56,22 +56,8 @@ class Snapshot:
         >>> solution = body.solve(snapshot, wrench)
     """
 
-    __slots__ = (
-        "robot",
-        "tree",
-        "q",
-        "v",
-        "backend",
-        "_joints",
-        "_jacobian",
-        "_frames",
-        "_rows",
-        "_extra",
-        "_velocities",
-        "_frame_velocities",
-        "_buffer",
-        "_layout",
-    )
+    __slots__ = ("robot", "tree", "q", "v", "backend", "_joints", "_jacobian", "_frames", "_rows",
+                 "_extra", "_velocities", "_frame_velocities", "_buffer")  # fmt: skip
 
     def __init__(
         self, robot: object, q: np.ndarray, v: np.ndarray | None = None, backend: str = "auto"
@@ -107,7 +93,7 @@ class Snapshot:
         self._extra: dict[int, tuple[np.ndarray, np.ndarray]] | None = None
         self._velocities: dict[int, np.ndarray] | None = None
         self._frame_velocities: np.ndarray | None = None  # (rows, 3): the table's, with v
-        self._buffer = self._layout = None  # the core's pass: joints and velocities cut lazily
+        self._buffer = None  # the core's pass: joints and velocities cut from it lazily
 
     def _run(self) -> None:
         if self.backend == "compiled":
@@ -119,21 +105,18 @@ class Snapshot:
         pin.updateFramePlacements(model, data)
         self._jacobian = np.array(data.J).reshape(6, model.nv)  # (6,) when nv is 1
         rows, _, _ = self.tree.frame_tables
-        oMf = data.oMf
         frames = np.empty((len(rows), 12))
         for frame_id, row in rows.items():
-            placement = oMf[frame_id]
-            frames[row, :9] = placement.rotation.ravel()
-            frames[row, 9:] = placement.translation
+            frames[row] = placement_row(data.oMf[frame_id])
         self._frames, self._rows = frames, rows
-        oMi = data.oMi
-        self._joints = np.array([np.concatenate((m.rotation.ravel(), m.translation)) for m in oMi])
+        self._joints = np.array([placement_row(m) for m in data.oMi])
 
-    def _take(self, buffer: np.ndarray, layout: BufferLayout, rows: dict[int, int]) -> None:
-        """Keep the core's pass ``buffer``: frames and Jacobian now, the rest cut on first read."""
-        self._buffer, self._layout, self._rows = buffer, layout, rows
-        self._frames = buffer[layout.frames].reshape(layout.frames_shape)
-        self._jacobian = buffer[layout.jacobian].reshape(layout.jacobian_shape)
+    def _take(self, buffer: np.ndarray, frames: int, rows: dict[int, int]) -> None:
+        """Keep the core's pass ``buffer``: Jacobian and frames now, the rest cut on first read."""
+        at, nv = 12 * self.tree.njoints, self.tree.nv
+        self._buffer, self._rows = buffer, rows
+        self._jacobian = buffer[at : at + 6 * nv].reshape(6, nv)
+        self._frames = buffer[at + 6 * nv : at + 6 * nv + 12 * frames].reshape(frames, 12)
 
     def _joint_table(self) -> np.ndarray:
         """``(njoints, 12)`` joint placements (the pass runs first if it has not)."""
@@ -143,15 +126,16 @@ class Snapshot:
                 self._run()
             joints = self._joints
             if joints is None:  # the core's pass: cut from its buffer on first use
-                layout = self._layout
-                joints = self._joints = self._buffer[layout.joints].reshape(layout.joints_shape)
+                joints = self._joints = self._buffer[: 12 * self.tree.njoints].reshape(-1, 12)
         return joints
 
     def _velocity_table(self) -> np.ndarray | None:
         """``(rows, 3)`` the table's frame velocities, or None (after the pass; without ``v``)."""
         table = self._frame_velocities
         if table is None and self._buffer is not None:  # cut on first use
-            table = self._frame_velocities = self._layout.velocities(self._buffer)
+            start = 12 * self.tree.njoints + 6 * self.tree.nv + self._frames.size
+            if self._buffer.shape[0] > start:
+                table = self._frame_velocities = self._buffer[start:].reshape(-1, 3)
         return table
 
     @property
@@ -305,8 +289,7 @@ class Snapshot:
             InvalidInputError: A bad ``q`` or ``v``.
         """
         snapshot = cls(robot, q, v)
-        tree = snapshot.tree
-        snapshot._take(buffer, buffer_layout(None, tree.njoints, tree.nv, len(rows)), rows)
+        snapshot._take(buffer, len(rows), rows)
         return snapshot
 
     def __repr__(self) -> str:

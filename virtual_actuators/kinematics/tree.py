@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Iterable
-from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -18,43 +17,6 @@ from .kernels import finite, placement_row, read_joints
 
 #: finiteness and unit norms of q in one compiled pass (the core's), or None: numpy's checks
 _UNIT_NORM_ERROR = core.kernel("unit_norm_error", None)
-
-
-class BufferLayout(NamedTuple):
-    """Where the parts of one pass lie in the kernel's buffer, for one frame table.
-
-    Attributes:
-        core_tree: The compiled core's ``Tree`` it describes.
-        joints: Slice of the joint placements, ``joints_shape`` ``(njoints, 12)`` once reshaped.
-        joints_shape: ``(njoints, 12)``.
-        jacobian: Slice of the world joint Jacobian.
-        jacobian_shape: ``(6, nv)``.
-        frames: Slice of the frame placements; the frames' velocities follow it (with ``v``).
-        frames_shape: ``(rows, 12)``.
-    """
-
-    core_tree: object
-    joints: slice
-    joints_shape: tuple[int, int]
-    jacobian: slice
-    jacobian_shape: tuple[int, int]
-    frames: slice
-    frames_shape: tuple[int, int]
-
-    def velocities(self, buffer: np.ndarray) -> np.ndarray | None:
-        """The ``(rows, 3)`` frame velocities of ``buffer``, or None (a pass without ``v``)."""
-        end = self.frames.stop
-        return buffer[end:].reshape(self.frames_shape[0], 3) if buffer.shape[0] > end else None
-
-
-def buffer_layout(core_tree: object, njoints: int, nv: int, nf: int) -> BufferLayout:
-    """The `BufferLayout` of a pass of ``core_tree`` (None: any) with ``nf`` frame rows."""
-    at = njoints * 12
-    jacobian_end = at + 6 * nv
-    return BufferLayout(
-        core_tree, slice(0, at), (njoints, 12), slice(at, jacobian_end), (6, nv),
-        slice(jacobian_end, jacobian_end + nf * 12), (nf, 12),
-    )  # fmt: skip
 
 
 class KinematicTree:
@@ -97,8 +59,6 @@ class KinematicTree:
         )
         #: the compiled core's tables (C++), rebuilt with the frame table; None: Pinocchio
         self.core_tree = self._core_tree(*self._frames[1:])
-        #: the core's buffer layout of its current frame table (replaced, never mutated)
-        self._layout: BufferLayout | None = None
         self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
         #: frame name -> its row in the kernel's frame output (rows never move once given)
@@ -159,17 +119,17 @@ class KinematicTree:
 
     def core_pass(
         self, q: np.ndarray, v: np.ndarray | None = None
-    ) -> tuple[np.ndarray, BufferLayout, dict[int, int]] | None:
-        """The core's pass at checked ``q`` (and ``v``): ``(buffer, layout, rows)``, or None."""
+    ) -> tuple[np.ndarray, int, dict[int, int]] | None:
+        """The core's pass at checked ``q`` (and ``v``): ``(buffer, its frames, rows)``, or None.
+
+        ``buffer``: the joint placements, the world Jacobian, the frames' placements, then
+        (with ``v``) their velocities; ``rows``: frame id -> row, the buffer's first rows.
+        """
         rows = self._frames[0]  # before the tree: its frame table may have grown since
         core_tree = self.core_tree
         if core_tree is None:
             return None
-        buffer = core_tree.compute(q, v)
-        layout = self._layout
-        if layout is None or layout.core_tree is not core_tree:  # a new frame table
-            layout = self._layout = buffer_layout(core_tree, self.njoints, self.nv, core_tree.nf)
-        return buffer, layout, rows
+        return core_tree.compute(q, v), core_tree.nf, rows
 
     def check_configuration(self, q: np.ndarray) -> np.ndarray:
         """``q`` ``(model.nq,)`` as float64, its shape, values and unit norms checked.
@@ -259,4 +219,4 @@ def tree_of(robot: object) -> KinematicTree:
     return tree
 
 
-__all__ = ["BufferLayout", "KinematicTree", "buffer_layout", "tree_of"]
+__all__ = ["KinematicTree", "tree_of"]

@@ -72,8 +72,6 @@ class PackedMode:
     """The packed tables of one set of prescribed axes (``CompiledDistribution.mode_for``)."""
 
     mode: int  # 0 minimum norm, 1 partitioned, -1 numpy path
-    keep: np.ndarray  # int64 mask
-    plan: np.ndarray
     sets: dict
     systems: tuple
     method: str
@@ -187,23 +185,21 @@ class CompiledDistribution:
             return mode
         problem, partitioner = self.problem, self.partitioner
         m, s, k = partitioner.num_free_entries, problem.num_hard, int(keep.sum())
-        keep_int, systems = keep.astype(np.int64), partitioner.cfs_systems
+        systems, plan = partitioner.cfs_systems, np.zeros(0, np.int64)
         if k + s < m:
             systems += (("KKT", k + s, 1),)
-            sets = partitioner.reported_sets(keep)
-            mode = PackedMode(0, keep_int, np.zeros(0, np.int64), sets, systems, "pseudo-inverse")
+            mode = PackedMode(0, partitioner.reported_sets(keep), systems, "pseudo-inverse")
         elif k + s == m and not problem.structurally_singular(keep):
-            plan = partitioner.square_plan(keep)
-            if len(plan.rfs) and plan.gain is None:
-                systems += (("RFS", len(plan.rfs), 1),)
-            systems += (("MFS", len(plan.mfs), 1),)
-            order = np.concatenate((plan.rfs, plan.mfs)).astype(np.int64)
-            sets = partitioner.sets(plan.mfs, plan.rfs)
-            mode = PackedMode(1, keep_int, order, sets, systems, "partitioned")
+            square = partitioner.square_plan(keep)
+            if len(square.rfs) and square.gain is None:
+                systems += (("RFS", len(square.rfs), 1),)
+            systems += (("MFS", len(square.mfs), 1),)
+            plan = np.concatenate((square.rfs, square.mfs)).astype(np.int64)
+            mode = PackedMode(1, partitioner.sets(square.mfs, square.rfs), systems, "partitioned")
         else:
-            mode = PackedMode(-1, keep_int, np.zeros(0, np.int64), {}, (), "")
+            mode = PackedMode(-1, {}, (), "")
         if mode.mode >= 0:
-            packed = self._pack(mode.mode, keep_int, mode.plan)
+            packed = self._pack(mode.mode, keep.astype(np.int64), plan)
             core = CORE.Distribution(*packed, problem.model.nv) if has("Distribution") else None
             mode = dataclasses.replace(mode, packed=packed, core=core)
         self._modes[keep.tobytes()] = mode

@@ -16,27 +16,26 @@ from ..problem.structure import Evaluation
 from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
 
 
-def null_space_form(
-    problem: DistributionProblem, ev: Evaluation
-) -> tuple[list[np.ndarray], np.ndarray]:
-    """Every chain's admissible wrenches ``F_i = F0_i + N_i y_i``: its natural rows by an SVD.
-
-    Returns:
-        ``(bases, particular)``: per chain group the ``(g, n, d)`` orthonormal bases ``N_i`` of
-        the natural rows' null space, and the ``(p, n)`` least-norm solutions ``F0_i``.
+def least_norm_forces(
+    problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
+) -> np.ndarray:
+    """``(p, n)`` forces of least ``sum ||F_i||^2``, exact rows met, the request as close as can be.
 
     Raises:
         SingularConfigurationError: A chain's natural rows are degenerate here (their smallest
             singular value below ``DEGENERATE`` times the largest).
+        ConstraintError: The design and coupling rows contradict each other or the natural
+            ones at this configuration.
     """
-    bases = []
-    particular = np.zeros((problem.p, problem.n))
+    n, p, k = problem.n, problem.p, int(keep.sum())
+    bases = []  # per group the (g, n, d) orthonormal bases N_i of the natural rows' null space
+    particular = np.zeros((p, n))  # the least-norm solutions F0_i of the natural rows
     for group, rows in zip(problem.groups, ev.groups, strict=True):
-        g_rows, l_ = rows.rows, group.num_constraints
+        l_ = group.num_constraints
         if not l_:
-            bases.append(np.broadcast_to(np.eye(problem.n), (group.size, problem.n, problem.n)))
+            bases.append(np.broadcast_to(np.eye(n), (group.size, n, n)))
             continue
-        u, s, vt = np.linalg.svd(g_rows, full_matrices=True)
+        u, s, vt = np.linalg.svd(rows.rows, full_matrices=True)
         bad = np.flatnonzero(~(s[:, -1] > DEGENERATE * s[:, 0]))
         if len(bad):
             chain = problem.reactions[group.chains[bad[0]]]
@@ -47,21 +46,6 @@ def null_space_form(
         bases.append(vt[:, l_:, :].transpose(0, 2, 1))
         coefficients = np.einsum("gji,gj->gi", u, rows.rhs) / s
         particular[group.chains] = np.einsum("gin,gi->gn", vt[:, :l_, :], coefficients)
-    return bases, particular
-
-
-def least_norm_forces(
-    problem: DistributionProblem, ev: Evaluation, wrench: np.ndarray, keep: np.ndarray
-) -> np.ndarray:
-    """``(p, n)`` forces of least ``sum ||F_i||^2``, exact rows met, the request as close as can be.
-
-    Raises:
-        SingularConfigurationError: A chain's natural rows are degenerate here.
-        ConstraintError: The design and coupling rows contradict each other or the natural
-            ones at this configuration.
-    """
-    bases, particular = null_space_form(problem, ev)
-    n, p, k = problem.n, problem.p, int(keep.sum())
     hard = ev.hard_rows  # (s, p, n)
     soft_blocks, hard_blocks = [], []
     for group, basis in zip(problem.groups, bases, strict=True):
@@ -147,4 +131,4 @@ def projected_forces(
     return forces
 
 
-__all__ = ["least_norm_forces", "null_space_form", "projected_forces"]
+__all__ = ["least_norm_forces", "projected_forces"]

@@ -172,15 +172,12 @@ class PartitionedSolver:
             offsets.append(offset)
             offset_sum += offset.sum(axis=0)
             wrench_blocks.append(transform.transpose(1, 0, 2).reshape(n, g * d))
-            if len(hard_rhs):
-                hard = ev.hard_rows[:, group.chains, :]
-                hard_block = np.einsum("spn,pnd->spd", hard, transform)
-                hard_blocks.append(hard_block.reshape(hard.shape[0], g * d))
-                hard_rhs -= np.einsum("spn,pn->s", hard, offset)
-                size = np.abs(transform).max(axis=(1, 2), initial=0.0)  # (g,) max |T_i|
-                hard_scale += np.einsum("spn,p->s", np.abs(hard), size)
-            else:
-                hard_blocks.append(np.zeros((0, g * d)))
+            hard = ev.hard_rows[:, group.chains, :]
+            hard_block = np.einsum("spn,pnd->spd", hard, transform)
+            hard_blocks.append(hard_block.reshape(hard.shape[0], g * d))
+            hard_rhs -= np.einsum("spn,pn->s", hard, offset)
+            size = np.abs(transform).max(axis=(1, 2), initial=0.0)  # (g,) max |T_i|
+            hard_scale += np.einsum("spn,p->s", np.abs(hard), size)
         return _Reduced(
             transforms=transforms,
             offsets=offsets,
@@ -251,7 +248,6 @@ class PartitionedSolver:
                 contradict each other at this configuration.
         """
         m, s, k = self.num_free_entries, len(ev.hard_rhs), int(keep.sum())
-        free_key = keep.tobytes()
         systems = self.cfs_systems
         if k + s < m:
             forces = projected_forces(self.problem, ev, wrench, keep)
@@ -263,7 +259,7 @@ class PartitionedSolver:
             reduced = self._reduce(ev)
             a = reduced.wrench_rows[keep]
             rhs = wrench[keep] - reduced.offset_sum[keep]
-            square = self._solve_square(reduced, a, rhs, free_key)
+            square = self._solve_square(reduced, a, rhs, keep)
             if square is not None:  # None: the hard rows are dependent here
                 f, sets, plan, rfs_solved = square
                 if rfs_solved:
@@ -312,23 +308,16 @@ class PartitionedSolver:
         return forces
 
     def _solve_square(
-        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, free_key: bytes
+        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, keep: np.ndarray
     ) -> tuple[np.ndarray, dict, SquarePlan, bool] | None:
-        """Eliminate the RFS, solve for the MFS (eq. 16-18).
+        """``(f, sets, plan, RFS inverted here)`` by eq. 16-18; None: hard rows dependent here.
 
-        The declaration's plan is used unless its design block is ill-conditioned here (judged by
-        `scaled_condition`); then a plan picked here serves this call only.
-
-        Returns:
-            ``(f, sets, plan used, whether an RFS block was inverted here)``, or None when the hard
-            rows are dependent here.
-
-        Raises:
-            SingularConfigurationError: The MFS system is singular.
+        The declaration's plan serves unless its design block is ill-conditioned here (judged by
+        `scaled_condition`): then a plan picked here serves this call only.
         """
         h, h_rhs = reduced.hard_rows, reduced.hard_rhs
         m = a.shape[1]
-        plan = self.square_plan(np.frombuffer(free_key, dtype=bool))
+        plan = self.square_plan(keep)
         rfs_solved = False
         if len(plan.rfs):
             if plan.gain is not None and not reduced.repicked:

@@ -36,8 +36,7 @@ def joint_columns(
     joint = kinematics.model.joints[joint_id]
     vs = np.arange(joint.idx_v, joint.idx_v + joint.nv)
     on_chains = np.zeros(kinematics.model.nv, dtype=bool)
-    for columns in kinematics.chain_columns:
-        on_chains[columns] = True
+    on_chains[np.concatenate(kinematics.chain_columns)] = True
     if not np.any(on_chains[vs]):
         chain_joints = sorted(
             {
@@ -135,21 +134,12 @@ def parse_joints(
 def label_index(
     label: Label, constraint: DesignConstraint, reactions: Sequence[str], axes: Sequence[str]
 ) -> tuple[int, int]:
-    """``(chain, axis)`` indices of a design label ``(reaction_frame, axis)``.
+    """``(chain, axis)`` indices of a design label (a pair of str, checked by the constraint).
 
     Raises:
-        ConstraintError: Not a pair of names, or an unknown reaction frame.
+        ConstraintError: An unknown reaction frame.
         InvalidAxisError: An axis the actuator does not have.
     """
-    if not (
-        isinstance(label, tuple | list)
-        and len(label) == 2
-        and all(isinstance(x, str) for x in label)
-    ):
-        raise ConstraintError(
-            f"{constraint!r}: a label is a pair (reaction_frame, axis) such as "
-            f"('FL_FOOT', 'x'), got {label!r}."
-        )
     reaction, axis = label
     if reaction not in reactions:
         raise ConstraintError(

@@ -20,7 +20,7 @@ from ...vocabulary.constraints import DesignConstraint
 from ..tolerances import JACOBIAN_FLOOR, SINGULAR_TOL, TINY
 from .checks import check_hard_rows, check_natural_rows, vacuous_joints
 from .declaration import design_rows, parse_joints
-from .structure import ChainGroup, Evaluation, GroupRows, structural_rank
+from .structure import ChainGroup, Evaluation, GroupRows
 
 
 class DistributionProblem:
@@ -72,7 +72,10 @@ class DistributionProblem:
         self.structural: dict[bytes, bool] = {}
         #: limp joints no selected axis loads: their (zero) natural rows are dropped
         self.vacuous_v: tuple[int, ...] = ()
-        self._sign_cache: dict[tuple[int, ...], np.ndarray] = {}
+        #: ``(p, nv + 1)`` chain signs by velocity index, 0 off the chain (and at index -1)
+        self._signs = np.zeros((self.p, self.model.nv + 1))
+        for i, signs in enumerate(kinematics.chain_signs):
+            self._signs[i, kinematics.chain_columns[i]] = signs
         self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
@@ -104,10 +107,7 @@ class DistributionProblem:
                 (cols, np.array([j for j in own if int(cols[j]) not in vacuous], dtype=int), ball)
                 for cols, own, ball in per_chain
             ]
-        ranks = [
-            max(structural_rank(self._full_jacobian(s, i, columns, ball)) for s in states)
-            for i, (columns, _, ball) in enumerate(per_chain)
-        ]
+        ranks = [self._rank(states, i, cols, ball) for i, (cols, _, ball) in enumerate(per_chain)]
         keys: dict[tuple, list[int]] = {}
         for i, (columns, own, ball) in enumerate(per_chain):
             keys.setdefault((len(columns), len(own), tuple(ball), ranks[i]), []).append(i)
@@ -132,12 +132,14 @@ class DistributionProblem:
         rows = self.evaluate(generic[0], check_singular=False).groups
         check_natural_rows(self.groups, rows, self.reactions, self.joint_name)
 
-    def _full_jacobian(
-        self, state: KinematicState, chain: int, columns: np.ndarray, ball: np.ndarray
-    ) -> np.ndarray:
-        """A chain's ``[J_i, ball_i]`` at ``state``."""
-        jac = state.jacobian_o[:, columns] * self.kinematics.chain_signs[chain]
-        return np.hstack((jac, self._ball_columns(state.offsets_o()[chain : chain + 1], ball)[0]))
+    def _rank(
+        self, states: list[KinematicState], chain: int, columns: np.ndarray, ball: np.ndarray
+    ) -> int:
+        """A chain's generic rank: of ``[J_i, ball_i]``, singular values over ``SINGULAR_TOL``."""
+        jacobians = [s.jacobian_o[:, columns] * self.kinematics.chain_signs[chain] for s in states]
+        balls = [self._ball_columns(s.offsets_o()[chain : chain + 1], ball)[0] for s in states]
+        s = np.linalg.svd(np.concatenate((jacobians, balls), axis=2), compute_uv=False)
+        return int((s > SINGULAR_TOL * s[:, :1]).sum(axis=1).max())
 
     def _ball_columns(self, offsets_o: np.ndarray, ball: np.ndarray) -> np.ndarray:
         """``(g, n, len(ball))`` twists of {B} for rotations about {O}'s axes at each {A_i}.
@@ -234,11 +236,7 @@ class DistributionProblem:
         passive: np.ndarray,
         check_singular: bool,
     ) -> GroupRows:
-        """One group's natural rows and right-hand sides (eq. 11) at a configuration.
-
-        Raises:
-            SingularConfigurationError: ``check_singular`` and a chain's Jacobian loses rank.
-        """
+        """One group's natural rows and right-hand sides (eq. 11) at a configuration."""
         jacobians = jac[:, group.columns].transpose(1, 0, 2) * group.signs[:, None, :]
         balls = self._ball_columns(offsets[group.chains], group.ball_axes)
         full = np.concatenate((jacobians, balls), axis=2)
@@ -297,20 +295,8 @@ class DistributionProblem:
         return hard_rows[0], hard_rhs[0]
 
     def signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
-        """``(p, len(velocity_indices))`` chain signs at those columns (cached per set)."""
-        key = tuple(int(v) for v in velocity_indices)
-        cached = self._sign_cache.get(key)
-        if cached is None:
-            cached = np.zeros((self.p, len(key)))
-            wanted = np.array(key, dtype=int)
-            for i, (columns, signs) in enumerate(
-                zip(self.kinematics.chain_columns, self.kinematics.chain_signs, strict=True)
-            ):
-                position = np.minimum(np.searchsorted(columns, wanted), len(columns) - 1)
-                hit = columns[position] == wanted
-                cached[i, hit] = signs[position[hit]]
-            self._sign_cache[key] = cached
-        return cached
+        """``(p, len(velocity_indices))`` chain signs at those columns (0 at index -1)."""
+        return self._signs[:, velocity_indices]
 
     def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
         """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""

@@ -7,15 +7,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...kinematics.relative import KinematicState
-from ..tolerances import SINGULAR_TOL
-
-
-def structural_rank(jacobian: np.ndarray) -> int:
-    """A chain's generic Jacobian rank: singular values above ``SINGULAR_TOL`` of the largest."""
-    s = np.linalg.svd(jacobian, compute_uv=False)
-    if not s.size or s[0] == 0.0:
-        return 0
-    return int(np.sum(s > SINGULAR_TOL * s[0]))
 
 
 @dataclass
@@ -92,4 +83,4 @@ class Evaluation:
     passive_torque: np.ndarray
 
 
-__all__ = ["ChainGroup", "Evaluation", "GroupRows", "structural_rank"]
+__all__ = ["ChainGroup", "Evaluation", "GroupRows"]

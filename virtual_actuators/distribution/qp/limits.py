@@ -29,32 +29,21 @@ class ContactLimits:
         contacts: ContactSet,
         torque_limits: bool | Sequence[float] | np.ndarray,
     ) -> None:
-        self.problem = problem
         self.contacts = contacts
-        self.friction, self.min_normal = contacts.friction, contacts.min_normal
-        self.normal_row = contacts.normal_row
+        self.min_normal, self.normal_row = contacts.min_normal, contacts.normal_row
         on_chain = np.zeros(problem.model.nv, dtype=bool)
-        for columns in problem.kinematics.chain_columns:
-            on_chain[columns] = True
-        self.torque_limits = TorqueLimits(
-            problem.model, torque_limits, on_chain, problem.actuated_mask
-        )
-        self.limited_v = self.torque_limits.limited_v
-        self.limits = self.torque_limits.limits
+        on_chain[np.concatenate(problem.kinematics.chain_columns)] = True
+        limits = TorqueLimits(problem.model, torque_limits, on_chain, problem.actuated_mask)
+        self.torque_limits = limits
         #: the declaration's tables for the compiled path
-        self.tables = {
-            **contacts.tables(), "limited_v": self.limited_v, "limits": self.limits,
-        }  # fmt: skip
-        self._row_names = [*contacts.names, *self.torque_limits.names(problem.joint_name)]
+        self.tables = {**contacts.tables(), "limited_v": limits.limited_v, "limits": limits.limits}
+        #: the inequality rows' names, in the order both paths build the rows
+        self.row_names = [*contacts.names, *limits.names(problem.joint_name)]
 
     @property
     def frame_normals(self) -> np.ndarray:
         """``(p,)`` whether each contact normal is its reaction frame's z axis."""
         return self.contacts.normals.frame
-
-    def row_names(self) -> list[str]:
-        """The inequality rows' names, in the order both paths build the rows."""
-        return self._row_names
 
     def rows(self, state: object, torque_map: np.ndarray) -> Constraint:
         """``lows <= G x <= uppers`` over ``x = forces.ravel()``, with a name per row.
@@ -65,17 +54,17 @@ class ContactLimits:
         """
         offsets = state.offsets_o() if self.contacts.sole_rows else None
         one_sided = self.contacts.rows(state.rotation_o, state.rotation_a, offsets)
-        if not self.limited_v.size:
+        if not self.torque_limits.limited_v.size:
             if not one_sided.names:
                 return one_sided
             uppers = np.full(len(one_sided.lows), INFINITY)
-            return Constraint(one_sided.G, one_sided.lows, uppers, self._row_names)
+            return Constraint(one_sided.G, one_sided.lows, uppers, self.row_names)
         rows, low, upper = self.torque_limits.rows(torque_map)  # two-sided
         return Constraint(
             np.vstack((one_sided.G, rows)),
             np.concatenate((one_sided.lows, low)),
             np.concatenate((np.full(len(one_sided.lows), INFINITY), upper)),
-            self._row_names,
+            self.row_names,
         )
 
 

@@ -8,13 +8,13 @@ core, and an exact step on the active set (docs/concepts.md, "Contacts as inequa
 from __future__ import annotations
 
 import threading
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from ...exceptions import ConstraintError, InvalidAxisError, InvalidInputError
-from ...vocabulary.arguments import check_number, describe
+from ...vocabulary.arguments import as_float_array, check_number, describe
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..result import RawSolution, TickResult, close_tick
@@ -24,51 +24,32 @@ from .limits import ContactLimits, kinds, torque_map
 from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, Budget, ProxStages, StageRows
 
 
-def check_weights(weights: object, axes: Sequence[str], what: str = "weights") -> np.ndarray:
+def check_weights(weights: object, axes: Sequence[str]) -> np.ndarray:
     """``weights`` as a read-only ``(n,)`` array of finite numbers > 0 over ``axes``.
 
     Args:
         weights: ``{axis: weight}`` (the axes not named keep 1), or ``n`` numbers over ``axes``.
         axes: The actuator's axes.
-        what: The argument's name, for messages.
 
     Raises:
         InvalidAxisError: A key of the dict is not one of ``axes``.
         InvalidInputError: A weight that is not a finite number > 0 (the message names its
-            axis), an array of the wrong length, or neither a dict nor a sequence.
+            axis), an array of the wrong length, or neither a dict nor numbers.
     """
     axes = tuple(axes)
-    if isinstance(weights, Mapping):
-        out = np.ones(len(axes))
-        for axis, value in weights.items():
-            if not isinstance(axis, str) or axis not in axes:
-                raise InvalidAxisError(
-                    f"{what} names axis {axis!r}, not one of this actuator's axes {axes}."
-                )
-            out[axes.index(axis)] = check_number(value, f"{what}[{axis!r}]", positive=True)
-    elif isinstance(weights, np.ndarray) or (
-        isinstance(weights, Iterable) and not isinstance(weights, (str, bytes))
-    ):
-        try:
-            out = np.array(weights, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            out = None
-        if out is None or out.shape != (len(axes),):
-            raise InvalidInputError(
-                f"{what} must be {len(axes)} numbers > 0 (one per axis {axes}) or a dict "
-                f"{{axis: weight}}, got {describe(weights)}."
+    if not isinstance(weights, Mapping):  # n numbers: checked by axis as a dict's values
+        expected = f"{len(axes)} numbers > 0 (one per axis {axes}) or a dict {{axis: weight}}"
+        values = as_float_array(weights, "weights", expected).reshape(-1)
+        if values.shape != (len(axes),):
+            raise InvalidInputError(f"weights must be {expected}, got {describe(weights)}.")
+        weights = dict(zip(axes, values.tolist(), strict=True))
+    out = np.ones(len(axes))
+    for axis, value in weights.items():
+        if not isinstance(axis, str) or axis not in axes:
+            raise InvalidAxisError(
+                f"weights names axis {axis!r}, not one of this actuator's axes {axes}."
             )
-        bad = ~((out > 0.0) & (out < np.inf))  # NaN fails both
-        if bad.any():
-            axis = axes[int(np.argmax(bad))]
-            raise InvalidInputError(
-                f"{what}[{axis!r}] must be a finite number > 0, got {out[axes.index(axis)]!r}."
-            )
-    else:
-        raise InvalidInputError(
-            f"{what} must be a dict {{axis: weight > 0}} or {len(axes)} numbers > 0 over the "
-            f"axes {axes}, got {describe(weights)}."
-        )
+        out[axes.index(axis)] = check_number(value, f"weights[{axis!r}]", positive=True)
     out.setflags(write=False)
     return out
 
@@ -114,7 +95,7 @@ class QPDistribution:
         self.weights = check_weights({} if weights is None else weights, problem.axes)
         self._local = threading.local()
         #: this thread's ProxQP workspaces and the stages run on them
-        self.stages = ProxStages(proxqp, limits.row_names(), problem.reactions)
+        self.stages = ProxStages(proxqp, limits.row_names, problem.reactions)
         #: ProxQP iterations one solve may use, all stages together
         self.iteration_budget = ITERATION_BUDGET
         #: per set of prescribed axes: the rows summing the chains' forces on them
@@ -128,7 +109,7 @@ class QPDistribution:
         )
         self.matrices = CompiledQPMatrices(
             problem, **limits.tables, static_scale=self._static_scale,
-            rows_in=len(limits.row_names()),
+            rows_in=len(limits.row_names),
         )  # fmt: skip
 
     @property
@@ -142,7 +123,7 @@ class QPDistribution:
         self.stages.reset()
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
-        names = self.limits.row_names()
+        names = self.limits.row_names
         if exhausted:
             return ConstraintError(
                 f"No distribution over the chains to {list(self.problem.reactions)} meeting "
@@ -262,7 +243,7 @@ class QPDistribution:
         key = answer.active.tobytes()
         active = self._active_names.get(key)
         if active is None:
-            names = self.limits.row_names()
+            names = self.limits.row_names
             active = tuple([names[i] for i in answer.active.tolist()])
             if len(self._active_names) >= 256:
                 self._active_names.clear()
@@ -284,11 +265,7 @@ class QPDistribution:
         weights: np.ndarray,
         budget: Budget,
     ) -> TickResult:
-        """`solve` with numpy over all ``p n`` force entries, natural rows as equalities.
-
-        Raises:
-            ConstraintError: No distribution meets the rows, or none was found within the budget.
-        """
+        """`solve` with numpy over all ``p n`` force entries, natural rows as equalities."""
         if budget.left == 0:
             raise self._refuse(exhausted=True)
         problem = self.problem
@@ -326,7 +303,7 @@ class QPDistribution:
         results = self.stages.solve("forces", rows, miss, weights, budget)
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)
-        names = self.limits.row_names()
+        names = self.limits.row_names
         x = results.x * scale
         active = tuple(names[i] for i in np.flatnonzero(np.abs(results.multipliers) > ACTIVE_TOL))
         active += (BUDGET_EXHAUSTED,) if results.exhausted else ()

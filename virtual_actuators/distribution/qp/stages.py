@@ -244,11 +244,7 @@ class ProxStages:
     def _closest_on_daqp(
         self, path: str, rows: StageRows, miss: Callable, weights, budget: Budget
     ) -> StageAnswer | None:
-        """The closest wrench of a request DAQP found infeasible, regularised (`DAQP_CLOSEST_EPS`).
-
-        Raises:
-            ConstraintError: The rows other than the request cannot hold together (named).
-        """
+        """The closest wrench of a request DAQP found infeasible, by `DAQP_CLOSEST_EPS`."""
         flag = 0  # no request row (every axis free): only the other rows, which cannot hold
         if rows.design < len(rows.equality_rhs):
             flag, x, guess, _ = DAQP_CLOSEST(
@@ -267,9 +263,6 @@ class ProxStages:
         The least squared shift ``s`` of the bounds that lets the rows hold with the design
         equalities, ``min |s|^2`` subject to ``D x = d``, ``lows <= C x + s <= uppers``, is 0 when
         they are consistent, else a Farkas certificate: the rows it moves cannot hold together.
-
-        Raises:
-            ConstraintError: That shift is not zero (the rows it moves, furthest off first).
         """
         design, size, m = rows.design, rows.equality.shape[1], len(rows.lows)
         hessian = np.zeros((size + m, size + m))
@@ -301,9 +294,6 @@ class ProxStages:
         """Stages 2 and 3: the closest reachable wrench, then its least force norm.
 
         ``last``: stage 1's results (None when stage 1 did not run in ProxQP).
-
-        Raises:
-            ConstraintError: The rows other than the request cannot hold together (named).
         """
         if budget.left >= 2 * CONFLICT_MAX_ITER:  # rows that cannot hold, whatever the request
             self._check_conflict(path, rows, budget)

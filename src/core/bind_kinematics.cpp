@@ -53,7 +53,7 @@ void bind_kinematics(nb::module_& m) {
            "frame_parents"_a, "frame_floats"_a, "unit_bounds"_a)
       .def("compute", &Tree::compute, "q"_a, "v"_a = nb::none(),
            "Joint placements, world joint Jacobian, frame placements (and velocities) in one "
-           "buffer (kinematics.tree.BufferLayout).")
+           "buffer (kinematics.tree.KinematicTree.core_pass).")
       .def("size", &Tree::size, "with_velocity"_a, "Length of compute()'s buffer.")
       .def_prop_ro("nf", &Tree::nf, "Number of frames compute() places.")
       .def_prop_ro("nq", &Tree::nq, "Length of the configurations the tree accepts.");

@@ -1,6 +1,6 @@
 // The kinematics kernels: forward kinematics (joint and frame placements, the world Jacobian,
 // the frames' velocities), unit_norm_error, all_finite, point_velocity, on the tables of
-// virtual_actuators.kinematics.kernels, into the buffer kinematics.tree.BufferLayout describes.
+// virtual_actuators.kinematics.kernels, into the buffer KinematicTree.core_pass describes.
 // Pinocchio is their oracle (tests/test_realtime.py); the compiler must not contract a*b+c into
 // an FMA (CMakeLists.txt sets -ffp-contract=off), so the bits do not depend on the machine.
 // Plain pointers and std::vector, no Python: usable from a C++ controller.

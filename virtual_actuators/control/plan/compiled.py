@@ -318,15 +318,8 @@ class PlanOutput:
             cached = self._cache["solutions"] = {n: s for n, s in solved if s is not None}
         return cached
 
-    @property
-    def saturated_joints(self) -> list[str]:
-        """Names of the velocity entries whose effort was clipped."""
-        return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
-
-    @property
-    def rate_limited_joints(self) -> list[str]:
-        """Names of the velocity entries the effort rate limit held back."""
-        return [self.joint_names[i] for i in np.flatnonzero(self.rate_limited)]
+    saturated_joints = ControlOutput.saturated_joints  # read the same fields by name
+    rate_limited_joints = ControlOutput.rate_limited_joints
 
     def __repr__(self) -> str:
         return (

@@ -36,18 +36,6 @@ def spring_damper(
     ]
 
 
-class _FloatSlots:
-    """A spring-damper's parameters as lists of floats, read by name (`spring_damper`)."""
-
-    __slots__ = ("component",)
-
-    def __init__(self, component: SpringDamper) -> None:
-        self.component = component
-
-    def __getitem__(self, name: str) -> list[float]:  # noqa: D105
-        return getattr(self.component, f"_{name}").tolist()
-
-
 class SpringDamper(Slotted, Component):
     """A spring and a damper in parallel on each axis, plus an optional constant force.
 
@@ -147,10 +135,9 @@ class SpringDamper(Slotted, Component):
             and position.shape == self._shape
             and velocity.shape == self._shape
         ):
+            floats = {name: getattr(self, f"_{name}").tolist() for name in SpringDamper.SLOTS}
             return np.array(  # entry by entry on floats: the same bits, faster
-                spring_damper(
-                    _FloatSlots(self), position.tolist(), velocity.tolist(), self._rotations
-                )
+                spring_damper(floats, position.tolist(), velocity.tolist(), self._rotations)
             )
         wrench = self._stiffness * self._deflection(position) + self._damping * (
             self._velocity_setpoint - velocity

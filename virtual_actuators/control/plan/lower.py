@@ -136,45 +136,46 @@ class Lowering:
         program.ops.append((self.builder.codes["call"], 0, len(self.callbacks) - 1, 0, 0))
         return program
 
+    def piece(self, what: str, body: Callable | None, why: str, run: Callable[[], object]) -> int:
+        """The program ``body`` traces, else the piece ``run`` (``why``, or the trace's error)."""
+        if body is not None:
+            try:
+                return self.trace(body).index
+            except TraceError as error:
+                self.builder.programs.pop()  # the failed trace's program
+                why = str(error)
+        return self.python(what, why, run).index
+
     def hook(self, state: str, kind: str, hook: Callable | None) -> int:
         """The program of a state's ``on_enter`` or ``on_update`` hook (-1 for none)."""
         if hook is None:
             return -1
-        what = f"state {state!r}: {kind}"
-        if is_lowerable(hook):
+        traced = is_lowerable(hook)
+        if traced:
             self.keep_memories(hook)
-            try:
-                return self.trace(lambda p: hook(TraceContext(self, p, state))).index
-            except TraceError as error:
-                self.builder.programs.pop()  # the failed trace's program
-                reason = str(error)
-        else:
-            reason = "a Python hook (not marked lowerable)"
-        return self.python(what, reason, lambda: hook(self.runtime.context())).index
+
+        def body(program: Program) -> None:
+            hook(TraceContext(self, program, state))
+
+        what, why = f"state {state!r}: {kind}", "a Python hook (not marked lowerable)"
+        return self.piece(what, body if traced else None, why, lambda: hook(self.runtime.context()))
 
     def exit(self, state: str, event: object) -> tuple[int, int]:
         """``(program, result register)`` of one of a state's exits."""
         result = self.builder.allocate(1)
-        what = f"state {state!r}: the event {event!r}"
-        if hasattr(event, "lower") or is_lowerable(event):
-            if is_lowerable(event):
-                self.keep_memories(event)
+        if is_lowerable(event):
+            self.keep_memories(event)
 
-            def body(program: Program) -> None:
-                program.store(result, TraceContext(self, program, state).event(event))
-
-            try:
-                return self.trace(body).index, result
-            except TraceError as error:
-                self.builder.programs.pop()
-                reason = str(error)
-        else:
-            reason = "a Python event (a lambda or a function not marked lowerable)"
+        def body(program: Program) -> None:
+            program.store(result, TraceContext(self, program, state).event(event))
 
         def run() -> None:
             self.runtime.registers[result] = 1.0 if event(self.runtime.context()) else 0.0
 
-        return self.python(what, reason, run).index, result
+        traced = hasattr(event, "lower") or is_lowerable(event)
+        what = f"state {state!r}: the event {event!r}"
+        why = "a Python event (a lambda or a function not marked lowerable)"
+        return self.piece(what, body if traced else None, why, run), result
 
 
 def attachment_kind(attachment: object) -> str | None:

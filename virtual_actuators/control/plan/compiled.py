@@ -109,7 +109,6 @@ class CompiledMachine:
         self._context: Context | None = None
         self._lock = threading.Lock()  # one tick at a time: the registers are one run's state
 
-    # -- lowering -------------------------------------------------------------------------
     def _lower_state(self, state: object) -> tuple:
         lowering, machine = self.lowering, self.machine.machine
         attachments = np.array([self._index[name] for name in state.active], dtype=np.int64)
@@ -122,7 +121,6 @@ class CompiledMachine:
             exits.append((program, result, machine.index[target.name]))
         return attachments, limp, enter, update, exits
 
-    # -- the tick -------------------------------------------------------------------------
     def snapshot(self) -> Snapshot:
         """The snapshot of the tick running (for the Python pieces), built on first use."""
         if self._snapshot is None:

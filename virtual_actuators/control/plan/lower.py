@@ -67,7 +67,6 @@ class Lowering:
         self.owners: list[tuple[object, dict[str, tuple[int, int]]]] = []
         self.runtime = None  # the CompiledMachine, once built (the pieces read its views)
 
-    # -- what the plan keeps ------------------------------------------------------------------
     def row(self, frame: str) -> int:
         """The frame table's row of ``frame`` (added to the table if need be)."""
         self.tree.frame_id(frame)
@@ -113,7 +112,6 @@ class Lowering:
             if isinstance(value, Memory):
                 self.keep(value, value.plan_slots())
 
-    # -- programs -----------------------------------------------------------------------------
     def trace(self, body: Callable[[Program], None]) -> Program:
         """A program made by ``body`` under tracing (the plan's slots readable and writable).
 
@@ -267,7 +265,6 @@ class TraceContext:
         self.time = program.read(TIME)
         self.time_in_state = program.read(TIME_IN_STATE)
 
-    # -- frames -------------------------------------------------------------------------------
     def _entry(self, frame: str, column: int) -> Sym:
         """Entry ``column`` (0-8 the rotation row by row, 9-11 the position) of a frame's row."""
         row = self._lowering.row(frame)
@@ -302,7 +299,6 @@ class TraceContext:
         """Rotation of a frame about the world y axis [rad] (planar robots in x-z)."""
         return atan2(self._entry(frame, 2), self._entry(frame, 0))
 
-    # -- switches and events ------------------------------------------------------------------
     def contact(self, frame: str, required: bool = True) -> Sym:
         """The contact switch of ``frame`` (1.0 closed, 0.0 open), a register the tick writes."""
         return self.program.read(self._lowering.contact_register(frame, required))

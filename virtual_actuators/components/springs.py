@@ -105,12 +105,6 @@ class SpringDamper(Slotted, Component):
         """The wrench of `spring_damper` on traced parameters and readings (a plan's ops)."""
         return spring_damper(slots, position, velocity, self._rotations)
 
-    def _non_negative(self, value: Vector, what: str, allow_inf: bool = False) -> np.ndarray:
-        array = self._per_axis(value, what, allow_inf)
-        if np.any(array < 0.0):
-            raise InvalidInputError(f"{self.name}: {what} must be >= 0, got {array}.")
-        return array
-
     def linear_gains(self) -> Gains:
         """The stiffness and damping per axis."""
         return Gains(self._stiffness.copy(), self._damping.copy())
@@ -311,9 +305,7 @@ class Inertance(Component):
         name: str | None = None,
     ) -> None:
         super().__init__(axes, name)
-        self.inertance = self._per_axis(inertance, "inertance")
-        if np.any(self.inertance < 0.0):
-            raise InvalidInputError(f"{self.name}: inertance must be >= 0, got {self.inertance}.")
+        self.inertance = self._non_negative(inertance, "inertance")
         self.time_constant = check_number(
             time_constant, f"{self.name}: time_constant [s]", minimum=0.0
         )

@@ -287,14 +287,25 @@ class PlanOutput:
             return None
         return self._compiled.registers[entry.wrench : entry.wrench + entry.n].copy()
 
-    wrenches = property(lambda self: self._readings("wrench"))
-    """Requested wrench per active attachment, on its actuator's axes."""
-    produced = property(lambda self: self._readings("produced"))
-    """Wrench produced per active attachment."""
-    positions = property(lambda self: self._readings("position"))
-    """Sensor position per active attachment [m, rad]."""
-    velocities = property(lambda self: self._readings("velocity"))
-    """Sensor velocity per active attachment [m/s, rad/s]."""
+    @property
+    def wrenches(self) -> dict[str, np.ndarray]:
+        """Requested wrench per active attachment, on its actuator's axes."""
+        return self._readings("wrench")
+
+    @property
+    def produced(self) -> dict[str, np.ndarray]:
+        """Wrench produced per active attachment."""
+        return self._readings("produced")
+
+    @property
+    def positions(self) -> dict[str, np.ndarray]:
+        """Sensor position per active attachment [m, rad]."""
+        return self._readings("position")
+
+    @property
+    def velocities(self) -> dict[str, np.ndarray]:
+        """Sensor velocity per active attachment [m/s, rad/s]."""
+        return self._readings("velocity")
 
     @property
     def solutions(self) -> dict:

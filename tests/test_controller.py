@@ -577,7 +577,7 @@ def test_singular_parallel_attachment_raises_by_default():
     rob, controller, q, _ = _singular_setup("raise")
     with pytest.raises(va.SingularConfigurationError):
         controller.compute(q, np.zeros(rob.model.nv))
-    assert Controller(rob).on_singular == "raise"
+    assert Controller(rob).on_failure == "raise"
 
 
 # -- errors ------------------------------------------------------------------------------------

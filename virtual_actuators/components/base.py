@@ -128,6 +128,13 @@ class Component(ABC):
             raise InvalidInputError(f"{self.name}: {what} must be finite, got {array}.")
         return array
 
+    def _non_negative(self, value: object, what: str, allow_inf: bool = False) -> np.ndarray:
+        """`_per_axis`, each entry >= 0 (an InvalidInputError naming ``what`` otherwise)."""
+        array = self._per_axis(value, what, allow_inf)
+        if np.any(array < 0.0):
+            raise InvalidInputError(f"{self.name}: {what} must be >= 0, got {array}.")
+        return array
+
     def _per_axis_fast(self, value: object, allow_inf: bool) -> np.ndarray | None:
         """`_per_axis` for the values a gait assigns every tick, or None for the rest.
 

@@ -25,8 +25,6 @@ def table_entry(snapshot: Snapshot, frame: object, column: int) -> float | None:
 class Context:
     """What events see at one tick: state, time, contacts and frame positions on demand.
 
-    Frame reads go through the tick's [`Snapshot`][] (no kinematics of their own).
-
     Args:
         robot: The robot (frame names are resolved against its model).
         q: Configuration ``(nq,)``.
@@ -36,11 +34,17 @@ class Context:
         time_in_state: Seconds since the current state was entered [s].
         snapshot: The tick's snapshot of ``(q, v)``; built from ``q`` and ``v`` when None.
 
+    Attributes:
+        frame_position: ``frame_position(frame)``, the world position of a frame [m].
+        frame_rotation: ``frame_rotation(frame)``, its world orientation (a 3x3 rotation).
+        frame_velocity: ``frame_velocity(frame)``, its origin's linear velocity in world axes
+            [m/s]. The three are the tick's [`Snapshot`][]'s reads, no kinematics of their own
+            (an unknown frame raises its FrameNotFoundError, with close matches).
+
     Raises:
         InvalidInputError: ``robot`` is not a robot; ``time`` or ``time_in_state`` is not a
-            finite number; ``contacts`` is not a dict; ``snapshot`` is not a
-            [`Snapshot`][] of ``robot``; bad ``q`` or ``v`` (when no
-            snapshot is given).
+            finite number; ``contacts`` is not a dict; ``snapshot`` is not a [`Snapshot`][] of
+            ``robot``; bad ``q`` or ``v`` (when no snapshot is given).
     """
 
     def __init__(
@@ -81,7 +85,7 @@ class Context:
     ) -> None:
         self.robot = robot
         self.snapshot = snapshot
-        # the snapshot's reads directly (a tick's cost: no second call per read)
+        # the snapshot's reads themselves (a tick's cost: no second call per read)
         self.frame_position = snapshot.frame_position
         self.frame_velocity = snapshot.frame_velocity
         self.frame_rotation = snapshot.frame_rotation
@@ -112,22 +116,6 @@ class Context:
         context = cls.__new__(cls)
         context._fill(robot, snapshot, time, {} if contacts is None else contacts.copy(), 0.0)
         return context
-
-    def frame_position(self, frame: str) -> np.ndarray:
-        """World position of a frame [m] (from the tick's snapshot).
-
-        Raises:
-            FrameNotFoundError: Unknown frame (with close matches).
-        """
-        return self.snapshot.frame_position(frame)
-
-    def frame_rotation(self, frame: str) -> np.ndarray:
-        """World orientation of a frame, a 3x3 rotation matrix.
-
-        Raises:
-            FrameNotFoundError: Unknown frame (with close matches).
-        """
-        return self.snapshot.frame_rotation(frame)
 
     def placement(self, frame: str) -> tuple[np.ndarray, np.ndarray]:
         """``(rotation, position)`` of a frame in the world (views of the tick's snapshot).
@@ -178,14 +166,6 @@ class Context:
         if value is not None:
             return value
         return self.frame_position(frame).item(column - 9)
-
-    def frame_velocity(self, frame: str) -> np.ndarray:
-        """Linear velocity of a frame's origin in world axes [m/s].
-
-        Raises:
-            FrameNotFoundError: Unknown frame (with close matches).
-        """
-        return self.snapshot.frame_velocity(frame)
 
     def in_contact(self, frame: str) -> bool:
         """The contact switch of ``frame``.

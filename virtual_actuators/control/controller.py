@@ -81,11 +81,6 @@ class Controller:
         self.effort_rate_limit = effort_rate_limit
 
     @property
-    def on_singular(self) -> str:
-        """The failure policy (alias of `on_failure`)."""
-        return self.on_failure
-
-    @property
     def effort_limits(self) -> np.ndarray:
         """``(nv,)`` effort limits [N m or N], ``inf`` where unlimited; assign to change.
 

@@ -297,20 +297,15 @@ def interpolate(start: Solution, end: Solution, alpha: float) -> Solution:
     Exact for distributions affine in the request (every method but ``"qp"``); the residual is
     that of the interpolated request, labelled by ``Solution.admissible``'s rule.
     """
-    forces = start.forces + alpha * (end.forces - start.forces)
-    produced = start.wrench + alpha * (end.wrench - start.wrench)
-    requested = start.requested + alpha * (end.requested - start.requested)
-    residual = float(np.linalg.norm(produced - requested))
-    limit = start.tolerance + alpha * (end.tolerance - start.tolerance)
+    mixed = {
+        field: getattr(start, field) + alpha * (getattr(end, field) - getattr(start, field))
+        for field in ("tau", "forces", "wrench", "requested", "base_effort", "tolerance")
+    }
+    residual = float(np.linalg.norm(mixed["wrench"] - mixed["requested"]))
     return dataclasses.replace(
         end,
-        tau=start.tau + alpha * (end.tau - start.tau),
-        forces=forces,
-        wrench=produced,
+        **mixed,
         residual=residual,
-        method=label(end.method, residual <= limit),
-        requested=requested,
-        base_effort=start.base_effort + alpha * (end.base_effort - start.base_effort),
+        method=label(end.method, residual <= mixed["tolerance"]),
         compiled=start.compiled and end.compiled,
-        tolerance=limit,
     )

@@ -12,7 +12,6 @@ import pinocchio as pin
 from ..exceptions import InvalidInputError, VirtualActuatorError
 
 
-# -- argument checks ---------------------------------------------------------------------------
 def describe(value: object, limit: int = 60) -> str:
     """``"<type> <repr>"`` of a user's argument for error messages, the repr on one short line."""
     text = " ".join(repr(value).split())

@@ -46,28 +46,22 @@ sqrt = _unary("sqrt", math.sqrt)
 exp = _unary("exp", math.exp)
 
 
-def atan2(y: object, x: object) -> object:
-    """``math.atan2(y, x)``, or its op."""
-    program = _program(y, x)
-    return math.atan2(y, x) if program is None else program.binary("atan2", y, x)
+def _binary(name: str, function):
+    def apply(a: object, b: object) -> object:
+        program = _program(a, b)
+        return function(a, b) if program is None else program.binary(name, a, b)
+
+    apply.__name__ = name
+    apply.__doc__ = f"``{name}(a, b)`` of two floats, or its op on traced values."
+    return apply
 
 
-def hypot(x: object, y: object) -> object:
-    """``math.hypot(x, y)`` of two numbers, or its op (CPython's algorithm: the same bits)."""
-    program = _program(x, y)
-    return math.hypot(x, y) if program is None else program.binary("hypot", x, y)
-
-
-def minimum(a: object, b: object) -> object:
-    """Python's ``min(a, b)``: ``b if b < a else a``, or its op."""
-    program = _program(a, b)
-    return min(a, b) if program is None else program.binary("min", a, b)
-
-
-def maximum(a: object, b: object) -> object:
-    """Python's ``max(a, b)``: ``b if b > a else a``, or its op."""
-    program = _program(a, b)
-    return max(a, b) if program is None else program.binary("max", a, b)
+atan2 = _binary("atan2", math.atan2)  # math.atan2(y, x)
+hypot = _binary("hypot", math.hypot)  # CPython's algorithm: the same bits
+minimum = _binary("min", min)  # Python's min(a, b): b if b < a else a
+maximum = _binary("max", max)  # Python's max(a, b): b if b > a else a
+logical_and = _binary("and", lambda a, b: bool(a) and bool(b))  # both evaluated; 1.0 or 0.0
+logical_or = _binary("or", lambda a, b: bool(a) or bool(b))  # when traced
 
 
 def clip(x: object, low: object, high: object) -> object:
@@ -86,18 +80,6 @@ def select(condition: object, a: object, b: object) -> object:
 def logical_not(a: object) -> object:
     """``not a`` (1.0 or 0.0 when traced)."""
     return (not a) if not isinstance(a, Sym) else a.program.unary("not", a)
-
-
-def logical_and(a: object, b: object) -> object:
-    """``a and b`` evaluated both ways (1.0 or 0.0 when traced)."""
-    program = _program(a, b)
-    return bool(a) and bool(b) if program is None else program.binary("and", a, b)
-
-
-def logical_or(a: object, b: object) -> object:
-    """``a or b`` evaluated both ways (1.0 or 0.0 when traced)."""
-    program = _program(a, b)
-    return bool(a) or bool(b) if program is None else program.binary("or", a, b)
 
 
 def dot(a: Sequence, b: Sequence) -> object:

@@ -109,7 +109,6 @@ class CompiledMachine:
         self._context: Context | None = None
         self._lock = threading.Lock()  # one tick at a time: the registers are one run's state
 
-    # -- lowering -------------------------------------------------------------------------
     def _lower_state(self, state: object) -> tuple:
         lowering, machine = self.lowering, self.machine.machine
         attachments = np.array([self._index[name] for name in state.active], dtype=np.int64)
@@ -122,7 +121,6 @@ class CompiledMachine:
             exits.append((program, result, machine.index[target.name]))
         return attachments, limp, enter, update, exits
 
-    # -- the tick -------------------------------------------------------------------------
     def snapshot(self) -> Snapshot:
         """The snapshot of the tick running (for the Python pieces), built on first use."""
         if self._snapshot is None:
@@ -318,15 +316,8 @@ class PlanOutput:
             cached = self._cache["solutions"] = {n: s for n, s in solved if s is not None}
         return cached
 
-    @property
-    def saturated_joints(self) -> list[str]:
-        """Names of the velocity entries whose effort was clipped."""
-        return [self.joint_names[i] for i in np.flatnonzero(self.saturated)]
-
-    @property
-    def rate_limited_joints(self) -> list[str]:
-        """Names of the velocity entries the effort rate limit held back."""
-        return [self.joint_names[i] for i in np.flatnonzero(self.rate_limited)]
+    saturated_joints = ControlOutput.saturated_joints  # read the same fields by name
+    rate_limited_joints = ControlOutput.rate_limited_joints
 
     def __repr__(self) -> str:
         return (

@@ -67,7 +67,6 @@ class Lowering:
         self.owners: list[tuple[object, dict[str, tuple[int, int]]]] = []
         self.runtime = None  # the CompiledMachine, once built (the pieces read its views)
 
-    # -- what the plan keeps ------------------------------------------------------------------
     def row(self, frame: str) -> int:
         """The frame table's row of ``frame`` (added to the table if need be)."""
         self.tree.frame_id(frame)
@@ -113,7 +112,6 @@ class Lowering:
             if isinstance(value, Memory):
                 self.keep(value, value.plan_slots())
 
-    # -- programs -----------------------------------------------------------------------------
     def trace(self, body: Callable[[Program], None]) -> Program:
         """A program made by ``body`` under tracing (the plan's slots readable and writable).
 
@@ -136,45 +134,46 @@ class Lowering:
         program.ops.append((self.builder.codes["call"], 0, len(self.callbacks) - 1, 0, 0))
         return program
 
+    def piece(self, what: str, body: Callable | None, why: str, run: Callable[[], object]) -> int:
+        """The program ``body`` traces, else the piece ``run`` (``why``, or the trace's error)."""
+        if body is not None:
+            try:
+                return self.trace(body).index
+            except TraceError as error:
+                self.builder.programs.pop()  # the failed trace's program
+                why = str(error)
+        return self.python(what, why, run).index
+
     def hook(self, state: str, kind: str, hook: Callable | None) -> int:
         """The program of a state's ``on_enter`` or ``on_update`` hook (-1 for none)."""
         if hook is None:
             return -1
-        what = f"state {state!r}: {kind}"
-        if is_lowerable(hook):
+        traced = is_lowerable(hook)
+        if traced:
             self.keep_memories(hook)
-            try:
-                return self.trace(lambda p: hook(TraceContext(self, p, state))).index
-            except TraceError as error:
-                self.builder.programs.pop()  # the failed trace's program
-                reason = str(error)
-        else:
-            reason = "a Python hook (not marked lowerable)"
-        return self.python(what, reason, lambda: hook(self.runtime.context())).index
+
+        def body(program: Program) -> None:
+            hook(TraceContext(self, program, state))
+
+        what, why = f"state {state!r}: {kind}", "a Python hook (not marked lowerable)"
+        return self.piece(what, body if traced else None, why, lambda: hook(self.runtime.context()))
 
     def exit(self, state: str, event: object) -> tuple[int, int]:
         """``(program, result register)`` of one of a state's exits."""
         result = self.builder.allocate(1)
-        what = f"state {state!r}: the event {event!r}"
-        if hasattr(event, "lower") or is_lowerable(event):
-            if is_lowerable(event):
-                self.keep_memories(event)
+        if is_lowerable(event):
+            self.keep_memories(event)
 
-            def body(program: Program) -> None:
-                program.store(result, TraceContext(self, program, state).event(event))
-
-            try:
-                return self.trace(body).index, result
-            except TraceError as error:
-                self.builder.programs.pop()
-                reason = str(error)
-        else:
-            reason = "a Python event (a lambda or a function not marked lowerable)"
+        def body(program: Program) -> None:
+            program.store(result, TraceContext(self, program, state).event(event))
 
         def run() -> None:
             self.runtime.registers[result] = 1.0 if event(self.runtime.context()) else 0.0
 
-        return self.python(what, reason, run).index, result
+        traced = hasattr(event, "lower") or is_lowerable(event)
+        what = f"state {state!r}: the event {event!r}"
+        why = "a Python event (a lambda or a function not marked lowerable)"
+        return self.piece(what, body if traced else None, why, run), result
 
 
 def attachment_kind(attachment: object) -> str | None:
@@ -266,7 +265,6 @@ class TraceContext:
         self.time = program.read(TIME)
         self.time_in_state = program.read(TIME_IN_STATE)
 
-    # -- frames -------------------------------------------------------------------------------
     def _entry(self, frame: str, column: int) -> Sym:
         """Entry ``column`` (0-8 the rotation row by row, 9-11 the position) of a frame's row."""
         row = self._lowering.row(frame)
@@ -301,7 +299,6 @@ class TraceContext:
         """Rotation of a frame about the world y axis [rad] (planar robots in x-z)."""
         return atan2(self._entry(frame, 2), self._entry(frame, 0))
 
-    # -- switches and events ------------------------------------------------------------------
     def contact(self, frame: str, required: bool = True) -> Sym:
         """The contact switch of ``frame`` (1.0 closed, 0.0 open), a register the tick writes."""
         return self.program.read(self._lowering.contact_register(frame, required))

@@ -6,9 +6,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ...exceptions import InvalidInputError
+from ...exceptions import InvalidInputError, TraceError
 from ...vocabulary.arguments import check_number
-from ...vocabulary.traced import TRACING, is_traced
+from ...vocabulary.traced import TRACING, traced_store
 
 
 class Memory:
@@ -53,14 +53,12 @@ class Memory:
         entries = tuple(value) if many else (value,)
         if len(entries) != size:
             raise InvalidInputError(f"Memory.{name} holds {size} values, got {len(entries)}.")
-        tracing = TRACING.get()
-        where = None if tracing is None else tracing.slot(self, "values")
-        if where is not None:
-            for i, entry in enumerate(entries):
-                tracing.program.store(where[0] + offset + i, entry)
-            return
-        if is_traced(*entries):
-            raise InvalidInputError(f"Memory.{name}: a traced value outside a plan's trace.")
+        try:  # a traced hook writes the plan's registers
+            if traced_store(self, "values", entries, offset):
+                return
+        except TraceError:  # a traced value, and no trace keeping this memory
+            message = f"Memory.{name}: a traced value outside a plan's trace."
+            raise InvalidInputError(message) from None
         self._values[offset : offset + size] = _finite(entries, name)
 
     @property

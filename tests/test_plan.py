@@ -18,7 +18,7 @@ pytestmark = pytest.mark.skipif(
 )
 
 
-def _turkey(event=None, component=None):
+def _turkey(event=None, component=None, bunny=va.DogtrackBunny):
     """The docs' turkey machine (tutorials/bipeds.md): double support, then a right swing."""
     robot = va.load_robot("spring_turkey")
     double = va.ParallelVirtualActuator(
@@ -27,7 +27,7 @@ def _turkey(event=None, component=None):
     )  # fmt: skip
     swing = va.VirtualActuator(robot, "right_foot", "body", "world", ("x", "z"))
     granny = va.GrannyWalker(height=0.54, stiffness=(1500, 200), damping=(150, 20), weight=98.1)
-    bunny = va.DogtrackBunny(speed=0.5, damping=80)
+    bunny = bunny(speed=0.5, damping=80)
     controller = va.Controller(robot)
     controller.add("double", double, [granny, bunny], unilateral={"z": 10.0}, yield_axes=("x",))
     swinging = [va.SwingLegLinkage((400, 600), (20, 25))]
@@ -113,6 +113,30 @@ def test_a_users_component_is_a_python_piece():
     worst, compiled = _run_both(lambda: _turkey(component=_Drag))
     assert worst < 1e-12
     assert any("Drag" in what for what, _ in compiled.pieces)
+
+
+class _ClampedBunny(va.DogtrackBunny):
+    """A bunny whose formula traces but whose reset holds a Python ``if`` (a Python piece)."""
+
+    def reset(self, position, time):
+        super().reset(max(float(np.asarray(position).reshape(-1)[0]), -1.0), time)
+
+    def traced_reset(self, slots, position, time):
+        if position[0] > -1.0:  # a Python `if` on a traced value: a TraceError
+            slots.store("start", (position[0], time))
+
+
+def test_a_component_whose_reset_cannot_trace_leaves_no_program_behind():
+    """Its formula's traced program goes with the failed reset's: two Python pieces instead."""
+    plain = _compiled(_turkey()[1])
+    clamped = _compiled(_turkey(bunny=_ClampedBunny)[1])
+    pieces = [what for what, _ in clamped.pieces]
+    assert pieces == ["double: _ClampedBunny", "double: _ClampedBunny: reset"]
+    programs = clamped.lowering.builder.programs
+    assert len(programs) == len(plain.lowering.builder.programs)  # no orphan of the formula
+    assert [p.index for p in programs] == list(range(len(programs)))
+    worst, _ = _run_both(lambda: _turkey(bunny=_ClampedBunny))  # and it ticks as in Python
+    assert worst < 1e-12
 
 
 def test_the_plan_keeps_the_components_parameters_one_owner():

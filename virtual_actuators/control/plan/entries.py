@@ -72,13 +72,14 @@ class Entry:
                     program.read(0),
                 )  # fmt: skip
 
+            start = len(lowering.builder.programs)
             try:
                 programs = [lowering.trace(wrench).index, lowering.trace(reset).index]
                 self.programs.append(programs[0])
                 self.resets.append(programs[1])
                 return
-            except TraceError as error:
-                del lowering.builder.programs[len(lowering.builder.programs) - 1 :]
+            except TraceError as error:  # both traces' programs go (the wrench's, if it traced)
+                del lowering.builder.programs[start:]
                 reason = str(error)
         else:
             reason = "a Python component (no traced formula)"

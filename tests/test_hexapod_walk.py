@@ -194,7 +194,7 @@ def test_the_walker_is_lowered_whole_and_reads_its_command_from_the_plan(pendulu
     v = np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)
     gait.compute(q, v, 0.01)  # the set point moves toward the command, acceleration-limited
-    vx, vy = gait.velocity_setpoint.tolist()
+    vx, vy = gait.memory.setpoint
     step = gait.parameters.acceleration * 0.01
     assert math.hypot(vx, vy) == pytest.approx(step) and vx > 0.0 > vy
 

@@ -99,7 +99,6 @@ class WalkResult:
         gait: The gait (its state machine history included).
         simulator: The simulator in its final state.
         wall_time: Wall-clock seconds of the loop.
-        extra: Anything a caller attaches.
         loop: How the loop ended, with every tick's efforts and base rates (`LoopEnd`).
         smoothness: Its `loop_smoothness`.
     """
@@ -109,7 +108,6 @@ class WalkResult:
     gait: Gait
     simulator: Simulator
     wall_time: float
-    extra: dict = field(default_factory=dict)
     loop: LoopEnd | None = None
     smoothness: EffortSmoothness | None = None
 

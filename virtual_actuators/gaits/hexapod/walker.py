@@ -132,11 +132,6 @@ class HexapodWalker(Gait):
         return self.memory.command[2]
 
     @property
-    def velocity_setpoint(self) -> np.ndarray:
-        """The command, acceleration-limited [m/s]."""
-        return np.array(self.memory.setpoint)
-
-    @property
     def phase(self) -> float:
         """Swing progress, 0 to 1."""
         return self.memory.phase

@@ -51,6 +51,21 @@ def checked_numbers(
     return array
 
 
+def checked_command(velocity: object, yaw_rate: object) -> tuple[float, float, float]:
+    """A ``set_command``'s ``(vx, vy, yaw_rate)`` as floats.
+
+    Raises:
+        InvalidInputError: Values that are not finite.
+    """
+    vx, vy = (float(v) for v in velocity)
+    command = (vx, vy, float(yaw_rate))
+    if not all(map(math.isfinite, command)):
+        raise InvalidInputError(
+            f"set_command: velocity and yaw rate must be finite, got {velocity}, {command[2]}."
+        )
+    return command
+
+
 class SizedSlots:
     """A slotted component's mixin: slot ``name`` holds ``SIZES[name]`` numbers.
 

@@ -5,8 +5,6 @@ States ``tripod_a``, ``double_b``, ``tripod_b``, ``double_a``; the hexapod tutor
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
@@ -14,7 +12,6 @@ from ...components.springs import SpringDamper
 from ...control import events
 from ...control.plan.memory import Memory
 from ...control.state_machine import Context, State, StateMachine, Transition
-from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.robot import Robot
 from ...vocabulary.scalar import (
@@ -31,7 +28,7 @@ from ...vocabulary.scalar import (
     sin,
 )  # fmt: skip
 from ...vocabulary.traced import lowerable
-from ..base import Gait, as_floats
+from ..base import Gait, as_floats, checked_command
 from .body import HeadingAttitude, HeadingDamper
 from .footholds import ground_velocity, tripod_setpoints
 from .parameters import HexapodParameters
@@ -111,13 +108,7 @@ class HexapodWalker(Gait):
         Raises:
             InvalidInputError: Values that are not finite.
         """
-        vx, vy = velocity
-        vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
-        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
-            raise InvalidInputError(
-                f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
-            )
-        command = (vx, vy, yaw_rate)
+        command = checked_command(velocity, yaw_rate)
         if command != self._command:  # the same command is not written again (a tick's cost)
             self.memory.command = self._command = command
 

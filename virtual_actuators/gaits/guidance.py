@@ -47,6 +47,21 @@ def _finite(what: str, **values: float) -> None:
             raise InvalidInputError(f"{what}{name} must be a finite number, got {value!r}.")
 
 
+def checked_command(velocity: object, yaw_rate: object) -> tuple[float, float, float]:
+    """A ``set_command``'s ``(vx, vy, yaw_rate)`` as floats.
+
+    Raises:
+        InvalidInputError: Values that are not finite.
+    """
+    vx, vy = (float(v) for v in velocity)
+    command = (vx, vy, float(yaw_rate))
+    if not all(map(math.isfinite, command)):
+        raise InvalidInputError(
+            f"set_command: velocity and yaw rate must be finite, got {velocity}, {command[2]}."
+        )
+    return command
+
+
 class Guidance:
     """Computes the walker's inputs from the body's state (subclasses implement `command`).
 

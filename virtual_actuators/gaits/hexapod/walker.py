@@ -28,7 +28,8 @@ from ...vocabulary.scalar import (
     sin,
 )  # fmt: skip
 from ...vocabulary.traced import lowerable
-from ..base import Gait, as_floats, checked_command
+from ..base import Gait, as_floats
+from ..guidance import checked_command
 from .body import HeadingAttitude, HeadingDamper
 from .footholds import ground_velocity, tripod_setpoints
 from .parameters import HexapodParameters

@@ -23,7 +23,8 @@ from ...kinematics.snapshot import Snapshot
 from ...models.feet import find_feet
 from ...models.robot import Robot
 from ...models.standing import standing_pose, upper_joints
-from ..base import Gait, checked_command
+from ..base import Gait
+from ..guidance import checked_command
 from .body import BodyModel
 from .hooks import WalkerHooks
 from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass

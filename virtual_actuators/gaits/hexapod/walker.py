@@ -43,10 +43,6 @@ PENDULUM_JOINT = "pendulum_joint"
 __all__ = ["LEGS", "TRIPODS", "HexapodWalker"]
 
 
-#: ``memory.support``: 0.0 for tripod a, 1.0 for b.
-SUPPORT = ("a", "b")
-
-
 class HexapodWalker(Gait):
     """The hexapod's tripod gait with the seed's three inputs.
 
@@ -89,8 +85,7 @@ class HexapodWalker(Gait):
         self.memory = Memory(
             command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
             filtered=zeros, filter_time=0.0, target_time=0.0, plane=(0.0, 0.0, ground), phase=0.0,
-            ground=0.0, support=0.0, lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9,
-            pendulum=0.0,
+            lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9, pendulum=0.0,
         )  # fmt: skip
         self.pendulum: PendulumModel | None = None
         self.gain: np.ndarray | None = None
@@ -122,24 +117,6 @@ class HexapodWalker(Gait):
     def yaw_rate(self) -> float:
         """Commanded yaw rate [rad/s]."""
         return self.memory.command[2]
-
-    @property
-    def phase(self) -> float:
-        """Swing progress, 0 to 1."""
-        return self.memory.phase
-
-    @phase.setter
-    def phase(self, value: float) -> None:
-        self.memory.phase = value
-
-    @property
-    def support(self) -> str:
-        """The support tripod of the last stance (``"a"`` or ``"b"``)."""
-        return SUPPORT[int(self.memory.support)]
-
-    @support.setter
-    def support(self, value: str) -> None:
-        self.memory.support = float(SUPPORT.index(value))
 
     @property
     def pendulum_angle(self) -> float:
@@ -297,7 +274,6 @@ class HexapodWalker(Gait):
         """The swing tripod lifts off: its feet, and their velocity relative to the body."""
         support = context.state[-1]
         memory = self.memory
-        memory.support = float(SUPPORT.index(support))
         self._body_state(context)
         feet = self._feet(context)
         rows = self._rows[OTHER[support]]
@@ -330,7 +306,6 @@ class HexapodWalker(Gait):
         )
         memory.target_time = now
         memory.plane, memory.phase = update["plane"], update["phase"]
-        memory.ground = update["ground"]
         memory.targets, memory.rates = targets, rates = update["targets"], update["rates"]
         self.height.setpoint = update["ground"] + p.height
         for k, i in enumerate(TRIPODS[OTHER[support]]):

@@ -53,13 +53,13 @@ def checked_command(velocity: object, yaw_rate: object) -> tuple[float, float, f
     Raises:
         InvalidInputError: Values that are not finite.
     """
-    vx, vy = (float(v) for v in velocity)
-    command = (vx, vy, float(yaw_rate))
-    if not all(map(math.isfinite, command)):
+    vx, vy = velocity
+    vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
+    if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
         raise InvalidInputError(
-            f"set_command: velocity and yaw rate must be finite, got {velocity}, {command[2]}."
+            f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
         )
-    return command
+    return vx, vy, yaw_rate
 
 
 class Guidance:

@@ -159,16 +159,6 @@ class BodyModel(SlotFormula, SizedSlots, Slotted, Component):
         self._legged = gains
         self._pack()
 
-    @property
-    def mass(self) -> float:
-        """The robot's mass [kg]."""
-        return self._mass
-
-    @mass.setter
-    def mass(self, mass: float) -> None:
-        self._mass = float(mass)
-        self._pack()
-
     def _pack(self) -> None:
         """The gains as `body_wrench` reads them (slot ``packed``)."""
         g, mass = self._legged, self._mass

@@ -194,7 +194,7 @@ def test_the_walker_is_lowered_whole_and_reads_its_command_from_the_plan(pendulu
     v = np.zeros(robot.model.nv)
     gait.compute(q, v, 0.0)
     gait.compute(q, v, 0.01)  # the set point moves toward the command, acceleration-limited
-    vx, vy = gait.velocity_setpoint.tolist()
+    vx, vy = gait.memory.setpoint
     step = gait.parameters.acceleration * 0.01
     assert math.hypot(vx, vy) == pytest.approx(step) and vx > 0.0 > vy
 
@@ -211,7 +211,7 @@ def test_stance_ends_when_the_swing_tripod_is_down_or_a_step_is_done():
     down = {f"foot_{i}": True for i in range(1, 7)}  # tripod a's stance: 2, 4 and 6 swing
 
     def over(phase: float, contacts: dict[str, bool] | None) -> bool:
-        gait.phase = phase
+        gait.memory.phase = phase
         context = Context(robot, q, v, 0.0, contacts)
         context.state = "tripod_a"
         return gait._stance_over(context)
@@ -225,7 +225,6 @@ def test_stance_ends_when_the_swing_tripod_is_down_or_a_step_is_done():
 
 def test_support_feet_are_read_from_their_nominal_places_along_their_motion():
     gait = HexapodWalker(hexapod_robot())
-    gait.support = "a"
     p = gait.parameters
     # walking along +x: the feet move backward relative to the body; half a step behind = 0.5
     speed = np.full(3, 0.5)

@@ -25,7 +25,6 @@ def test_trot_swings_diagonal_pairs_in_turn():
     assert set(pattern.swinging(0.1)) == {"LF", "RH"}
     assert set(pattern.swinging(0.6)) == {"RF", "LH"}
     assert set(pattern.swinging(1.1)) == {"LF", "RH"}  # the cycle repeats
-    assert pattern.duty_factor() == 0.5
 
 
 def test_pace_swings_one_side_then_the_other():
@@ -38,7 +37,6 @@ def test_walk_lifts_one_foot_at_a_time_in_the_lateral_sequence():
     assert pattern.groups() == (("LH",), ("LF",), ("RH",), ("RF",))
     order = [pattern.swinging(k / 4 + 0.01) for k in range(4)]
     assert order == [("LH",), ("LF",), ("RH",), ("RF",)]
-    assert pattern.duty_factor() == 0.75
 
 
 def test_tripod_alternates_along_each_side_and_across():

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -68,6 +68,24 @@ class SizedSlots:
         """`checked_numbers` of slot ``name``."""
         size, gains = self.SIZES[name], name in self.GAINS
         return checked_numbers(value, size, f"{self.name}: {name}", gains, self.FINITE)
+
+
+class SlotFormula:
+    """A slotted component's mixin: one `_formula` is both its float and its traced wrench."""
+
+    def _formula(self, slots: Mapping, position: Sequence, velocity: Sequence) -> list:
+        """The wrench on the slots (floats or a plan's registers) and the readings."""
+        raise NotImplementedError
+
+    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
+        """`_formula` on the slots' and the readings' floats."""
+        slots = {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
+        position = np.asarray(position, dtype=float).tolist()
+        return np.array(self._formula(slots, position, np.asarray(velocity, float).tolist()))
+
+    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
+        """`_formula` on a plan's traced slots and readings."""
+        return self._formula(slots, position, velocity)
 
 
 def sized_slot(name: str, doc: str, scalar: bool = False) -> property:

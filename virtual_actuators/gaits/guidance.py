@@ -47,6 +47,21 @@ def _finite(what: str, **values: float) -> None:
             raise InvalidInputError(f"{what}{name} must be a finite number, got {value!r}.")
 
 
+def checked_command(velocity: object, yaw_rate: object) -> tuple[float, float, float]:
+    """A ``set_command``'s ``(vx, vy, yaw_rate)`` as floats.
+
+    Raises:
+        InvalidInputError: Values that are not finite.
+    """
+    vx, vy = velocity
+    vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
+    if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
+        raise InvalidInputError(
+            f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
+        )
+    return vx, vy, yaw_rate
+
+
 class Guidance:
     """Computes the walker's inputs from the body's state (subclasses implement `command`).
 

@@ -207,11 +207,6 @@ class PlanarBiped(Gait):
 
     step_states = ("left_support", "right_support")
 
-    @property
-    def front(self) -> str:
-        """The foot ahead in double support (``"left"`` or ``"right"``)."""
-        return SIDES[int(self.memory.front)]
-
     def _front_is(self, side: str, event: Event) -> Event:
         """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""
         index = float(SIDES.index(side))

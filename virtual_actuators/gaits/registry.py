@@ -20,17 +20,6 @@ from .turkey.walk import WALK as TURKEY
 WALKS: dict[str, Walk] = {walk.name: walk for walk in (TURKEY, FLAMINGO, HEXAPOD, LEGGED, BALANCE)}
 
 
-def find_walk(name: str) -> Walk:
-    """The walk called ``name``.
-
-    Raises:
-        InvalidInputError: No such walk (with the closest names).
-    """
-    if name not in WALKS:
-        raise InvalidInputError(f"Unknown walk {name!r}. {suggestion(name, WALKS, 'walks')}")
-    return WALKS[name]
-
-
 def run_walk(
     name: str,
     duration: float | None = None,
@@ -69,7 +58,9 @@ def run_walk(
             parameters (not a ``WALKS[name].parameters``) or distribution; a speed outside the
             walk's supported range (naming it) without ``force_speed``.
     """
-    walk = find_walk(name)
+    if name not in WALKS:
+        raise InvalidInputError(f"Unknown walk {name!r}. {suggestion(name, WALKS, 'walks')}")
+    walk = WALKS[name]
     duration = walk.duration if duration is None else float(duration)
     if not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError(f"duration must be a positive number of seconds, got {duration}.")
@@ -90,4 +81,4 @@ def run_walk(
     ))  # fmt: skip
 
 
-__all__ = ["WALKS", "Walk", "find_walk", "run_walk"]
+__all__ = ["WALKS", "Walk", "run_walk"]

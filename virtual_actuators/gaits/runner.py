@@ -99,7 +99,6 @@ class WalkResult:
         gait: The gait (its state machine history included).
         simulator: The simulator in its final state.
         wall_time: Wall-clock seconds of the loop.
-        extra: Anything a caller attaches.
         loop: How the loop ended, with every tick's efforts and base rates (`LoopEnd`).
         smoothness: Its `loop_smoothness`.
     """
@@ -109,7 +108,6 @@ class WalkResult:
     gait: Gait
     simulator: Simulator
     wall_time: float
-    extra: dict = field(default_factory=dict)
     loop: LoopEnd | None = None
     smoothness: EffortSmoothness | None = None
 
@@ -358,20 +356,25 @@ class FloatingEpisode(Episode):
         tilt = max(abs(roll), abs(pitch))
         return has_fallen(self.simulator, self.height(q), tilt, self.nominal, self.feet)
 
-    def unwrapped_yaw(self) -> float:
-        """This tick's yaw, continuous since the start (once per recorded row) [rad]."""
-        yaw = self.attitude[0]
+    def trace_row(self, now: float, q: np.ndarray) -> tuple:
+        """``time`` and `TRACE_CHANNELS` of this tick, the yaw continuous since the start.
+
+        Called once per recorded row (it unwraps the yaw).
+        """
+        yaw, pitch, roll, vx, vy = self.attitude
         self._yaw += wrap(yaw - self._yaw_last)
         self._yaw_last = yaw
-        return self._yaw
+        return now, q.item(0), q.item(1), self.height(q), roll, pitch, self._yaw, vx, vy
 
 
-def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:
-    """The effort limits of the motors the simulation drives, and every degree of freedom's joint.
+def loop_smoothness(simulator: Simulator, end: LoopEnd) -> EffortSmoothness:
+    """`effort_smoothness` of a loop's ticks before its fall, on the motors the simulation drives.
 
-    Returns:
-        ``(limits, names)``: ``(nv,)`` the URDF's effort limits of the actuated joints [N m or
-        N] (``inf`` elsewhere), and ``nv`` joint names.
+    Each degree of freedom is named by its joint; the limits are the URDF's effort limits of the
+    actuated joints [N m or N] (``inf`` elsewhere).
+
+    Raises:
+        InvalidInputError: Non-finite efforts or base rates in the record.
     """
     model, actuated = simulator.robot.model, set(simulator.mujoco_model.actuated)
     limits, names = urdf_effort_limits(simulator.robot), [""] * model.nv
@@ -381,16 +384,6 @@ def motor_limits(simulator: Simulator) -> tuple[np.ndarray, list[str]]:
         names[dofs] = [model.names[j]] * joint.nv
         if model.names[j] not in actuated:
             limits[dofs] = np.inf
-    return limits, names
-
-
-def loop_smoothness(simulator: Simulator, end: LoopEnd) -> EffortSmoothness:
-    """`effort_smoothness` of a loop's ticks before its fall, on the motors `motor_limits` gives.
-
-    Raises:
-        InvalidInputError: Non-finite efforts or base rates in the record.
-    """
-    limits, names = motor_limits(simulator)
     until = end.ticks if end.fall_tick is None else end.fall_tick
     rates = None if end.base_rates is None else end.base_rates[:until]
     efforts = end.efforts[:until]

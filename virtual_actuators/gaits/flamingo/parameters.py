@@ -99,20 +99,16 @@ class FlamingoParameters:
         seed = {"step_length": 0.28, "swing_time": 0.4, "push_speed": 0.3, "stance_slope": False}
         return cls(**{**seed, **changes})
 
-    def height_limit(self, slope: float) -> float:
-        """Hip height limit above the global slope, the smaller of eq. 15 and eq. 16 [m].
+    def hip_height(self, slope: float) -> float:
+        """Hip height set point ``k_height * h_limit`` above the global slope [m].
 
-        Eq. 15: the back leg at the transition plane, ``r = s_l - l_t`` behind the hip:
-        ``sqrt(L^2 - r^2) - r tan(beta)``. Eq. 16: the swing leg touching down ``r1 = s_l / 2``
-        ahead of the hip: ``sqrt(L^2 - r1^2) + r1 tan(beta)``.
+        ``h_limit`` is the smaller of eq. 15, the back leg at the transition plane ``r = s_l -
+        l_t`` behind the hip: ``sqrt(L^2 - r^2) - r tan(beta)``, and eq. 16, the swing leg
+        touching down ``r1 = s_l / 2`` ahead of the hip: ``sqrt(L^2 - r1^2) + r1 tan(beta)``.
         """
         length = self.leg_length
         r = self.step_length - self.transition_distance
         r1 = 0.5 * self.step_length
         upslope = math.sqrt(length**2 - r**2) - r * tan(slope)
         downslope = math.sqrt(length**2 - r1**2) + r1 * tan(slope)
-        return minimum(upslope, downslope)
-
-    def hip_height(self, slope: float) -> float:
-        """Hip height set point ``k_height * h_limit`` above the global slope [m]."""
-        return self.k_height * self.height_limit(slope)
+        return self.k_height * minimum(upslope, downslope)

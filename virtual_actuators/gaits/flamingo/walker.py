@@ -82,11 +82,6 @@ class FlamingoWalker(PlanarBiped):
         return self.memory.slope
 
     @property
-    def slope_origin(self) -> np.ndarray:
-        """A point ``(x, z)`` of the global slope line [m]."""
-        return np.array(self.memory.slope_origin)
-
-    @property
     def hip_height(self) -> float:
         """The hip height set point above the global slope [m]."""
         return self.memory.hip_height

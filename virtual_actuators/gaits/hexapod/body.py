@@ -8,13 +8,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-import numpy as np
-
 from ...components.base import Component
 from ...components.slots import Slotted
 from ...vocabulary.scalar import cos, sin
 from ..attitude import rotation_vector_angles
-from ..base import SizedSlots, sized_slot
+from ..base import SizedSlots, SlotFormula, sized_slot
 
 
 def heading_moment(
@@ -67,13 +65,10 @@ def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> lis
     return [c * fx - s * fy, s * fx + c * fy]
 
 
-class _Heading(SizedSlots, Slotted, Component):
-    """What both heading components share: their slots, checked, and read as floats."""
+class _Heading(SlotFormula, SizedSlots, Slotted, Component):
+    """What both heading components share: their slots, checked, and one formula."""
 
     GAINS = ("stiffness", "damping")
-
-    def _floats(self) -> dict[str, list[float]]:
-        return {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
 
 
 class HeadingAttitude(_Heading):
@@ -110,13 +105,8 @@ class HeadingAttitude(_Heading):
     pitch = sized_slot("pitch", "Pitch set point [rad].", scalar=True)
     yaw_rate = sized_slot("yaw_rate", "Yaw rate set point [rad/s].", scalar=True)
 
-    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """Moment on the body in world axes from its rotation vector and angular velocity."""
-        position, velocity = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
-        return np.array(heading_moment(self._floats(), position.tolist(), velocity.tolist()))
-
-    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """`heading_moment` on a plan's traced slots and readings."""
+    def _formula(self, slots: Mapping, position: Sequence, velocity: Sequence) -> list:
+        """`heading_moment`: from the body's rotation vector and angular velocity."""
         return heading_moment(slots, position, velocity)
 
 
@@ -148,11 +138,6 @@ class HeadingDamper(_Heading):
     velocity = sized_slot("velocity", "Commanded body velocity in the heading frame [m/s].")
     force = sized_slot("force", "Extra force in the heading frame ``(fx, fy)`` [N].")
 
-    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """Force on the body in world axes."""
-        floats = np.asarray(velocity, dtype=float).tolist()
-        return np.array(heading_force(self._floats(), floats))
-
-    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """`heading_force` on a plan's traced slots and reading."""
+    def _formula(self, slots: Mapping, position: Sequence, velocity: Sequence) -> list:
+        """`heading_force`: from the body's velocity."""
         return heading_force(slots, velocity)

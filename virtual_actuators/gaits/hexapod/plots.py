@@ -56,7 +56,7 @@ def draw_hexapod(
         raise InvalidInputError(
             "log: expected a WalkLog of a hexapod walk with two samples or more."
         )
-    has_pendulum = log.has("pendulum") and bool(np.any(np.isfinite(log["pendulum"])))
+    has_pendulum = log.has("pendulum") and _finite(log["pendulum"])
     if layout == "auto":
         layout = "pendulum" if has_pendulum else "path"
     if layout == "pendulum" and not has_pendulum:
@@ -93,10 +93,11 @@ def _path_figure(log: WalkLog, dpi: float) -> Figure:
     ax = fig.subplots()
     x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
     command = log.metadata.get("command_path")
+    tracked = log.has("target_x") and _finite(log["target_x"])
     if command is not None and len(command):
         command = np.asarray(command, dtype=float)
         style = {**SETPOINT_STYLE, "color": "0.35"}
-        label = "object's path" if log.has("target_x") and _finite(log["target_x"]) else "command"
+        label = "object's path" if tracked else "command"
         ax.plot(command[:, 0], command[:, 1], label=label, **style)
     ax.plot(x, y, label="body", **ACTUAL_STYLE)
     step = max(1, round(ARROW_PERIOD / max(float(np.median(np.diff(t))), 1e-6)))
@@ -106,7 +107,7 @@ def _path_figure(log: WalkLog, dpi: float) -> Figure:
     u, v = np.cos(yaw[marks]) * length, np.sin(yaw[marks]) * length
     arrows = {"angles": "xy", "scale_units": "xy", "scale": 1.0, "width": 0.004, "color": "C1"}
     ax.quiver(x[marks], y[marks], u, v, label="heading", **arrows)
-    if log.has("target_x") and _finite(log["target_x"]):
+    if tracked:
         ax.plot(
             log["target_x"][marks], log["target_y"][marks], "o", ms=3, color="C3", label="object"
         )

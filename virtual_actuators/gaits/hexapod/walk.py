@@ -217,7 +217,7 @@ class HexapodEpisode(FloatingEpisode):
     ) -> None:
         """One sample of `CHANNELS`."""
         gait = self.gait
-        yaw, pitch, roll, vx, vy = self.attitude
+        yaw, _, _, vx, vy = self.attitude
         target_x, target_y = self.guidance.target(now) or (math.nan, math.nan)
         wrench = next(
             (w for w in map(output.wrench_of, BODY_ATTACHMENTS) if w is not None), np.zeros(6)
@@ -225,28 +225,17 @@ class HexapodEpisode(FloatingEpisode):
         x, y, z, w = q[3:7].tolist()  # the body's world z rate: row z of its rotation . omega
         row_z = 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)
         c, s = math.cos(yaw), math.sin(yaw)
-        self.recorder.append_row(  # one value per CHANNELS entry, in its order
-            (
-                now,
-                q.item(0),
-                q.item(1),
-                self.height(q),
-                roll,
-                pitch,
-                self.unwrapped_yaw(),
-                vx,
-                vy,
-                c * vx + s * vy,
-                float(self.command[0]),
-                sum(r * rate for r, rate in zip(row_z, v[3:6].tolist(), strict=True)),
-                c * wrench.item(0) + s * wrench.item(1),
-                gait.pendulum_angle if gait.pendulum is not None else math.nan,
-                target_x,
-                target_y,
-                float(fallen),
-            ),
-            gait.machine.current_index,
+        base = self.trace_row(now, q)
+        own = (  # _OWN_CHANNELS, in its order
+            c * vx + s * vy,
+            float(self.command[0]),
+            sum(r * rate for r, rate in zip(row_z, v[3:6].tolist(), strict=True)),
+            c * wrench.item(0) + s * wrench.item(1),
+            gait.pendulum_angle if gait.pendulum is not None else math.nan,
+            target_x,
+            target_y,
         )
+        self.recorder.append_row((*base, *own, float(fallen)), gait.machine.current_index)
 
 
 def draw_hexapod_walk(result: HexapodResult, window: None = None) -> Any:

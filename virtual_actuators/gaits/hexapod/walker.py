@@ -5,8 +5,6 @@ States ``tripod_a``, ``double_b``, ``tripod_b``, ``double_a``; the hexapod tutor
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...actuators import ParallelVirtualActuator, VirtualActuator
@@ -14,7 +12,6 @@ from ...components.springs import SpringDamper
 from ...control import events
 from ...control.plan.memory import Memory
 from ...control.state_machine import Context, State, StateMachine, Transition
-from ...exceptions import InvalidInputError
 from ...kinematics.snapshot import Snapshot
 from ...models.robot import Robot
 from ...vocabulary.scalar import (
@@ -32,6 +29,7 @@ from ...vocabulary.scalar import (
 )  # fmt: skip
 from ...vocabulary.traced import lowerable
 from ..base import Gait, as_floats
+from ..guidance import checked_command
 from .body import HeadingAttitude, HeadingDamper
 from .footholds import ground_velocity, tripod_setpoints
 from .parameters import HexapodParameters
@@ -43,10 +41,6 @@ OTHER = {"a": "b", "b": "a"}
 PENDULUM_JOINT = "pendulum_joint"
 
 __all__ = ["LEGS", "TRIPODS", "HexapodWalker"]
-
-
-#: ``memory.support``: 0.0 for tripod a, 1.0 for b.
-SUPPORT = ("a", "b")
 
 
 class HexapodWalker(Gait):
@@ -91,8 +85,7 @@ class HexapodWalker(Gait):
         self.memory = Memory(
             command=(0.0, 0.0, 0.0), setpoint=zeros, acceleration=zeros, body_velocity=zeros,
             filtered=zeros, filter_time=0.0, target_time=0.0, plane=(0.0, 0.0, ground), phase=0.0,
-            ground=0.0, support=0.0, lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9,
-            pendulum=0.0,
+            lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9, pendulum=0.0,
         )  # fmt: skip
         self.pendulum: PendulumModel | None = None
         self.gain: np.ndarray | None = None
@@ -111,13 +104,7 @@ class HexapodWalker(Gait):
         Raises:
             InvalidInputError: Values that are not finite.
         """
-        vx, vy = velocity
-        vx, vy, yaw_rate = float(vx), float(vy), float(yaw_rate)
-        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(yaw_rate)):
-            raise InvalidInputError(
-                f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
-            )
-        command = (vx, vy, yaw_rate)
+        command = checked_command(velocity, yaw_rate)
         if command != self._command:  # the same command is not written again (a tick's cost)
             self.memory.command = self._command = command
 
@@ -130,29 +117,6 @@ class HexapodWalker(Gait):
     def yaw_rate(self) -> float:
         """Commanded yaw rate [rad/s]."""
         return self.memory.command[2]
-
-    @property
-    def velocity_setpoint(self) -> np.ndarray:
-        """The command, acceleration-limited [m/s]."""
-        return np.array(self.memory.setpoint)
-
-    @property
-    def phase(self) -> float:
-        """Swing progress, 0 to 1."""
-        return self.memory.phase
-
-    @phase.setter
-    def phase(self, value: float) -> None:
-        self.memory.phase = value
-
-    @property
-    def support(self) -> str:
-        """The support tripod of the last stance (``"a"`` or ``"b"``)."""
-        return SUPPORT[int(self.memory.support)]
-
-    @support.setter
-    def support(self, value: str) -> None:
-        self.memory.support = float(SUPPORT.index(value))
 
     @property
     def pendulum_angle(self) -> float:
@@ -310,7 +274,6 @@ class HexapodWalker(Gait):
         """The swing tripod lifts off: its feet, and their velocity relative to the body."""
         support = context.state[-1]
         memory = self.memory
-        memory.support = float(SUPPORT.index(support))
         self._body_state(context)
         feet = self._feet(context)
         rows = self._rows[OTHER[support]]
@@ -343,7 +306,6 @@ class HexapodWalker(Gait):
         )
         memory.target_time = now
         memory.plane, memory.phase = update["plane"], update["phase"]
-        memory.ground = update["ground"]
         memory.targets, memory.rates = targets, rates = update["targets"], update["rates"]
         self.height.setpoint = update["ground"] + p.height
         for k, i in enumerate(TRIPODS[OTHER[support]]):

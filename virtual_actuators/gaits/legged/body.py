@@ -17,7 +17,7 @@ from ...components.slots import Slotted
 from ...vocabulary.axes import check_axes_subset
 from ...vocabulary.scalar import cos, dot, maximum, select, sin, sqrt
 from ..attitude import rotation_vector_angles
-from ..base import SizedSlots, sized_slot
+from ..base import SizedSlots, SlotFormula, sized_slot
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
@@ -110,7 +110,7 @@ def missing_direction(body: Sequence, first: Sequence, second: Sequence) -> tupl
     return tuple(select(apart, value / norm, 0.0) for value in values)
 
 
-class BodyModel(SizedSlots, Slotted, Component):
+class BodyModel(SlotFormula, SizedSlots, Slotted, Component):
     """Height, roll and pitch springs, x, y and yaw dampers, in the heading frame.
 
     The weight is carried at the centre of mass; x and y add the mass times the set point's
@@ -159,16 +159,6 @@ class BodyModel(SizedSlots, Slotted, Component):
         self._legged = gains
         self._pack()
 
-    @property
-    def mass(self) -> float:
-        """The robot's mass [kg]."""
-        return self._mass
-
-    @mass.setter
-    def mass(self, mass: float) -> None:
-        self._mass = float(mass)
-        self._pack()
-
     def _pack(self) -> None:
         """The gains as `body_wrench` reads them (slot ``packed``)."""
         g, mass = self._legged, self._mass
@@ -211,16 +201,6 @@ class BodyModel(SizedSlots, Slotted, Component):
         setpoints = (height, *slots["velocity"], *slots["acceleration"], yaw_rate, *lever[:2])
         wrench = body_wrench(slots["packed"], setpoints, position, velocity)
         return give_way(wrench, slots["missing"], self.yielding)
-
-    def compute_wrench(self, position: np.ndarray, velocity: np.ndarray, time: float) -> np.ndarray:
-        """The wrench on the body, world axes (given way where the support cannot produce it)."""
-        slots = {name: getattr(self, f"_{name}").tolist() for name in self.SLOTS}
-        position = np.asarray(position, dtype=float).tolist()
-        return np.array(self._formula(slots, position, np.asarray(velocity, float).tolist()))
-
-    def traced_wrench(self, slots, position: tuple, velocity: tuple, time: object) -> list:
-        """The same wrench as a compiled plan's ops (``slots``: the plan's registers)."""
-        return self._formula(slots, position, velocity)
 
 
 __all__ = [

@@ -78,10 +78,6 @@ class GaitPattern:
         groups = self.groups()
         return groups[int((phase % 1.0) * len(groups)) % len(groups)]
 
-    def duty_factor(self) -> float:
-        """Fraction of the cycle a foot stands (double supports left out)."""
-        return 1.0 - 1.0 / len(self.groups())
-
 
 def npod(groups: Sequence[Sequence[str]], name: str = "n-pod") -> GaitPattern:
     """A pattern whose groups swing in the order given, one equal slot each.

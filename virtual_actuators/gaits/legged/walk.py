@@ -166,9 +166,8 @@ class LeggedEpisode(FloatingEpisode):
         self, now: float, q: np.ndarray, v: np.ndarray, output: ControlOutput, fallen: bool
     ) -> None:
         """One sample of `CHANNELS`."""
-        yaw, pitch, roll, vx, vy = self.attitude
-        row = (now, q.item(0), q.item(1), self.height(q), roll, pitch, self.unwrapped_yaw(), vx, vy)
-        self.recorder.append_row((*row, float(fallen)), self.gait.machine.current_index)
+        row = (*self.trace_row(now, q), float(fallen))
+        self.recorder.append_row(row, self.gait.machine.current_index)
 
 
 def run_legged_walk(

@@ -24,6 +24,7 @@ from ...models.feet import find_feet
 from ...models.robot import Robot
 from ...models.standing import standing_pose, upper_joints
 from ..base import Gait
+from ..guidance import checked_command
 from .body import BodyModel
 from .hooks import WalkerHooks
 from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
@@ -223,12 +224,7 @@ class LeggedWalker(WalkerHooks, Gait):
         Raises:
             InvalidInputError: Values that are not finite.
         """
-        vx, vy = (float(v) for v in velocity)
-        yaw_rate = float(yaw_rate)
-        if not all(math.isfinite(v) for v in (vx, vy, yaw_rate)):
-            raise InvalidInputError(
-                f"set_command: velocity and yaw rate must be finite, got {velocity}, {yaw_rate}."
-            )
+        vx, vy, yaw_rate = checked_command(velocity, yaw_rate)
         self.memory.command, self.memory.yaw_command = (vx, vy), yaw_rate
 
     @property

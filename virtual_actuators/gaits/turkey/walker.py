@@ -55,11 +55,6 @@ class TurkeyWalker(PlanarBiped):
         self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
 
-    @property
-    def ground(self) -> float:
-        """The ground height estimate under the stance foot [m]."""
-        return self.memory.ground
-
     def _declare_actuators(self) -> None:
         """``double`` on both point feet (matched hip torques), ``SIDE_stance``, ``SIDE_swing``."""
         p = self.parameters

@@ -135,16 +135,6 @@ class AnimationRecording:
             track.append((k, bool(shown)))
             self._last_visible[name] = shown
 
-    def matrix_track(self, name: str) -> list[tuple[float, np.ndarray]]:
-        """``(time from the first frame [s], matrix)`` keys of a node (for inspection)."""
-        start = self.times[0] if self.times else 0.0
-        return [(self.times[k] - start, m) for k, m in self._matrices.get(name, [])]
-
-    def visible_track(self, name: str) -> list[tuple[float, bool]]:
-        """``(time from the first frame [s], visible)`` keys of a dynamic node."""
-        start = self.times[0] if self.times else 0.0
-        return [(self.times[k] - start, v) for k, v in self._visible.get(name, [])]
-
     def command(self, path_of, play: bool = True) -> AnimationCommand:
         """The ``set_animation`` command of the recording, one clip per node.
 

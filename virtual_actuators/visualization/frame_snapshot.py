@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
@@ -27,6 +28,18 @@ def reactions_of(actuator: Actuator) -> tuple[str, ...]:
     if reactions is None:
         raise InvalidInputError(f"actuator {actuator!r} has neither reactions nor reaction frames.")
     return (reactions,) if isinstance(reactions, str) else tuple(reactions)
+
+
+class FrameExtras(TypedDict, total=False):
+    """The keyword arguments of `Viewer.show` and `Viewer.maybe_show` (described there)."""
+
+    actuator: Actuator | None
+    wrench: np.ndarray | None
+    controller: Controller | None
+    output: ControlOutput | None
+    state: State | str | None
+    support: Iterable[str]
+    time: float | None
 
 
 @dataclass(frozen=True, repr=False)

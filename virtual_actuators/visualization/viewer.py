@@ -6,20 +6,18 @@ drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Unpack
 
 import meshcat
 import numpy as np
 
-from ..control import Controller, ControlOutput, State
 from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_number
 from .bodies import RobotBodies, typical_link_length
-from .frame_snapshot import Actuator, FrameSnapshot
+from .frame_snapshot import FrameExtras, FrameSnapshot
 from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
@@ -268,17 +266,7 @@ class Viewer:
             self.scene.sync()
 
     def show(
-        self,
-        q: np.ndarray,
-        solution: Solution | None = None,
-        *,
-        actuator: Actuator | None = None,
-        wrench: np.ndarray | None = None,
-        controller: Controller | None = None,
-        output: ControlOutput | None = None,
-        state: State | str | None = None,
-        support: Iterable[str] = (),
-        time: float | None = None,
+        self, q: np.ndarray, solution: Solution | None = None, **extras: Unpack[FrameExtras]
     ) -> None:
         """Draw one frame and send it (and record it while recording).
 
@@ -302,23 +290,11 @@ class Viewer:
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
         """
-        self.draw(
-            self._frame(q, solution, actuator, wrench, controller, output, state, support, time)
-        )
-        self.pacer.publish(self.window.live, self.pacer.recording is not None, time)
+        self.draw(FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras))
+        self.pacer.publish(self.window.live, self.pacer.recording is not None, extras.get("time"))
 
     def maybe_show(
-        self,
-        q: np.ndarray,
-        solution: Solution | None = None,
-        *,
-        actuator: Actuator | None = None,
-        wrench: np.ndarray | None = None,
-        controller: Controller | None = None,
-        output: ControlOutput | None = None,
-        state: State | str | None = None,
-        support: Iterable[str] = (),
-        time: float | None = None,
+        self, q: np.ndarray, solution: Solution | None = None, **extras: Unpack[FrameExtras]
     ) -> bool:
         """`show` (same arguments), only when a live update or a recorded frame is due.
 
@@ -331,20 +307,12 @@ class Viewer:
             InvalidInputError: See `show`.
             FrameNotFoundError: See `show`.
         """
-        live, record = self.due(time)
+        live, record = self.due(extras.get("time"))
         if not (live or record):
             return False
-        self.draw(
-            self._frame(q, solution, actuator, wrench, controller, output, state, support, time)
-        )
-        self.pacer.publish(live, record, time)
+        self.draw(FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras))
+        self.pacer.publish(live, record, extras.get("time"))
         return True
-
-    def _frame(self, q: np.ndarray, solution: Solution | None, *fields: object) -> FrameSnapshot:
-        """`FrameSnapshot.build` of `show`'s arguments, given in its order."""
-        names = ("actuator", "wrench", "controller", "output", "state", "support", "time")
-        options = dict(zip(names, fields, strict=True))
-        return FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **options)
 
     def draw(self, frame: FrameSnapshot) -> None:
         """Draw a frame into the scene without sending it.

@@ -10,6 +10,7 @@ import argparse
 import math
 import os
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -91,8 +92,7 @@ def walking_speed(text: str) -> float:
     Raises:
         argparse.ArgumentTypeError: Otherwise (beyond `MAX_SPEED`, saying why).
     """
-    value = _number(text, "speed")
-    if value > MAX_SPEED:
+    if _number(text, "speed") > MAX_SPEED:
         raise argparse.ArgumentTypeError(
             f"speed must be in (0, {MAX_SPEED:g}] m/s, got {text!r}: {MAX_SPEED:g} m/s bounds "
             "every walk's desired speed, and --force-speed does not lift it (it lifts only a "
@@ -102,23 +102,14 @@ def walking_speed(text: str) -> float:
     return _in_range(text, "speed", 0.0, MAX_SPEED, "m/s", open_low=True)
 
 
-def _ranged(
-    what: str, low: float, high: float, unit: str, open_low: bool = False
-) -> Callable[[str], float]:
-    """The argument type of `_in_range` (it raises `argparse.ArgumentTypeError`)."""
-
-    def parse(text: str) -> float:
-        return _in_range(text, what, low, high, unit, open_low)
-
-    return parse
-
-
 #: ``--direction`` relative to the heading [deg], ``--yaw-rate`` [rad/s] and the sine path's
 #: ``--amplitude`` and ``--wavelength`` [m].
-direction_degrees = _ranged("direction", -360.0, 360.0, "degrees")
-yaw_rate = _ranged("yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
-amplitude = _ranged("amplitude", 0.0, MAX_AMPLITUDE, "m")
-wavelength = _ranged("wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
+direction_degrees = partial(_in_range, what="direction", low=-360.0, high=360.0, unit="degrees")
+yaw_rate = partial(_in_range, what="yaw rate", low=-MAX_YAW_RATE, high=MAX_YAW_RATE, unit="rad/s")
+amplitude = partial(_in_range, what="amplitude", low=0.0, high=MAX_AMPLITUDE, unit="m")
+wavelength = partial(
+    _in_range, what="wavelength", low=0.0, high=MAX_WAVELENGTH, unit="m", open_low=True
+)
 
 
 def time_window(text: str) -> tuple[float | None, float | None]:

@@ -237,17 +237,6 @@ class Viewer:
         overlay.setup(self.robot_scene)
         return overlay
 
-    def remove_overlay(self, overlay: Overlay) -> None:
-        """Stop drawing ``overlay`` and delete its nodes.
-
-        Raises:
-            InvalidInputError: ``overlay`` is not one of this viewer's.
-        """
-        if overlay not in self.overlays:
-            raise InvalidInputError(f"{overlay!r} is not one of this viewer's overlays.")
-        self.overlays.remove(overlay)
-        overlay.clear(self.robot_scene)
-
     def set_terrain(
         self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
     ) -> None:

@@ -27,8 +27,6 @@ from .base import Overlay
 class WrenchOverlay(Overlay):
     """The actuator of a frame (with its solution or wrench) and the controller's attachments."""
 
-    roots = ("frames", "wrench")
-
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Draw ``frame.actuator`` and every attachment of ``frame.output`` that has a wrench.
 
@@ -151,8 +149,6 @@ def parameter(component: Component, attribute: str, size: int) -> np.ndarray:
 
 class ComponentOverlay(Overlay):
     """The components of every attachment of the frame's controller output."""
-
-    roots = ("components",)
 
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Draw the components of ``frame.attachments()``.

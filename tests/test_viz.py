@@ -388,7 +388,7 @@ def test_effort_gauges_show_saturation():
     rec = CommandRecorder()
     viewer = Viewer(rob, window=rec)
     viewer.show(q, sol, actuator=body)
-    radius = viewer.sizes["effort"]
+    radius = viewer.robot_scene.sizes["effort"]
     model = rob.model
     saturated = 0
     for j in range(2, model.njoints):  # after the free-flyer
@@ -692,7 +692,7 @@ def test_reprs_and_the_lazy_viz_module(solo_view):
     assert "CommandRecorder(" in repr(solo_view.rec)
     assert "urdf" in repr(solo_view.viewer.bodies)
     assert "Scene(" in repr(solo_view.viewer.scene)
-    assert "Palette(" in repr(solo_view.viewer.palette)
+    assert "Palette(" in repr(solo_view.viewer.robot_scene.palette)
     assert "#1E88E5" in solo_view.viewer.legend() and "N" in solo_view.viewer.legend()
 
 
@@ -826,7 +826,7 @@ def test_a_robot_with_a_single_joint_is_drawn_with_its_effort_gauge(tmp_path):
     assert rob.model.nv == 1
     rec = CommandRecorder()
     viewer = Viewer(rob, window=rec)
-    assert viewer.planar  # a hinge about y moves in the x-z plane
+    assert viewer.robot_scene.planar  # a hinge about y moves in the x-z plane
     tip = va.VirtualActuator(rob, "tip", "base", "world", ("x",))
     controller = va.Controller(rob)
     controller.add("tip", tip, [va.Spring(("x",), 40.0, setpoint=0.1)])
@@ -903,7 +903,8 @@ def test_a_velocity_damper_is_drawn_on_the_body_wherever_it_walked():
     rod = sent.last_transform(rec, f"{ROOT}/components/planar/0/damper/rod")
     start = housing[:3, 3] - housing[:3, 1] / 2  # the housing's closed end
     np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2, action, atol=1e-12)
-    assert np.linalg.norm(start - action) <= viewer.extent  # on the robot, not 3.6 m away
+    extent = viewer.robot_scene.extent
+    assert np.linalg.norm(start - action) <= extent  # on the robot, not 3.6 m away
     assert abs(start[2] - action[2]) < 1e-12  # along the damper's x axis
 
 

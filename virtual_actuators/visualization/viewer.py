@@ -31,18 +31,6 @@ if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
 
 
-def _forward(name: str, doc: str, settable: bool = False, owner: str = "robot_scene") -> property:
-    """A property of the viewer that reads (and writes) its robot scene's (or pacer's) attribute."""
-
-    def get(self: Viewer) -> object:
-        return getattr(getattr(self, owner), name)
-
-    def put(self: Viewer, value: object) -> None:
-        setattr(getattr(self, owner), name, value)
-
-    return property(get, put if settable else None, doc=doc)
-
-
 class Viewer:
     """Show a robot and its virtual actuators in MeshCat.
 
@@ -67,7 +55,8 @@ class Viewer:
         palette: Colours.
 
     Attributes:
-        robot_scene: The robot's geometry, kinematics and drawing primitives.
+        robot_scene: The robot's geometry, kinematics and drawing primitives (its scales,
+            sizes and ``data`` at the last configuration drawn).
         scene: Its MeshCat nodes.
         overlays: What is drawn over the robot, in drawing order.
         window: Where the scene is sent.
@@ -80,18 +69,6 @@ class Viewer:
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
         VirtualActuatorError: The MeshCat server cannot be started or reached.
     """
-
-    palette = _forward("palette", "Colours.", settable=True)
-    force_scale = _forward("force_scale", "Arrow length per newton [m/N].", settable=True)
-    moment_scale = _forward("moment_scale", "Arrow length per N m [m/(N m)].", settable=True)
-    effort_reference = _forward("effort_reference", "Full gauge without a limit.", settable=True)
-    data = _forward("data", "Pinocchio data at the last configuration drawn.")
-    extent = _forward("extent", "Size of the robot [m].")
-    detail = _forward("detail", "Typical link length [m].")
-    sizes = _forward("sizes", "Sizes of arrows and markers [m].")
-    planar = _forward("planar", "Whether the robot moves in the x-z plane.")
-    follow = _forward("follow", "Whether the view follows the robot.", settable=True)
-    rate_hz = _forward("rate_hz", "Live updates per wall-clock second.", True, owner="pacer")
 
     def __init__(
         self,
@@ -325,10 +302,10 @@ class Viewer:
         return TickUpdater(self, realtime=realtime, terrain=terrain)
 
     def __repr__(self) -> str:
-        running = self.pacer.recording
+        running, scene = self.pacer.recording, self.robot_scene
         recording = f", recording {running.frames} frames" if running else ""
         return (
             f"Viewer(robot={self.robot.name!r}, url={self.url!r}, geometry={self.bodies.kind!r}, "
-            f"force_scale={self.force_scale:g} m/N, moment_scale={self.moment_scale:g} m/(N m)"
+            f"force_scale={scene.force_scale:g} m/N, moment_scale={scene.moment_scale:g} m/(N m)"
             f"{recording})"
         )

@@ -252,15 +252,15 @@ def body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:
 def terrain_panel(
     ax: Axes,
     terrain: np.ndarray,
-    body_x: np.ndarray | None,
+    body_x: np.ndarray,
     body_z: np.ndarray | None,
     *,
-    xlim: tuple[float, float] | None = None,
+    xlim: tuple[float, float],
 ) -> None:
-    """Draw the terrain profile (filled) and the body path above it."""
+    """Draw the terrain profile (filled) over ``xlim`` and the body path above it."""
     order = np.argsort(terrain[:, 0], kind="stable")
     tx, tz = terrain[order, 0], terrain[order, 1]
-    lo, hi = xlim if xlim is not None else (float(tx[0]), float(tx[-1]))
+    lo, hi = xlim
     inside = (tx >= lo) & (tx <= hi)
     visible = np.concatenate((tz[inside], np.interp([lo, hi], tx, tz)))
     tops = [float(np.max(visible))]
@@ -270,7 +270,7 @@ def terrain_panel(
     pad = 0.08 * max(top - bottom, 0.1)
     ax.fill_between(tx, tz, bottom - 2 * pad, color="0.85", lw=0)
     ax.plot(tx, tz, color="0.3", lw=1.2, label="terrain")
-    if body_x is not None and body_z is not None:
+    if body_z is not None:
         ax.plot(body_x, body_z, label="body (hip) path", **ACTUAL_STYLE)
         ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
     ax.set_xlim(lo, hi)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -33,7 +32,7 @@ from virtual_actuators.experiments.plot_panels import (
     terrain_panel,
 )
 from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
-from virtual_actuators.experiments.walk_log import WalkLog, check_terrain_points
+from virtual_actuators.experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -41,7 +40,7 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.metrics import WalkMetrics
 
-__all__ = ["draw_terrain", "draw_walk", "plot_terrain", "plot_walk"]
+__all__ = ["draw_walk", "plot_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
 
@@ -268,84 +267,3 @@ def _terrain_layout(
     for ax in (left[3], right[3]):
         ax.set_xlabel("x [m] (body position)")
     return fig, [top, *left, *right], x
-
-
-def plot_terrain(
-    points: np.ndarray | Sequence[Sequence[float]],
-    path: str | os.PathLike[str],
-    *,
-    body_x: np.ndarray | None = None,
-    body_z: np.ndarray | None = None,
-    title: str | None = None,
-    dpi: float = 120,
-) -> Path:
-    """Plot a terrain profile (and optionally a body path above it) and save a PNG.
-
-    Segments are labelled with their slope in degrees when there are at most 30 of them.
-
-    Args:
-        points: ``(n, 2)`` terrain vertices ``(x, z)`` [m].
-        path: Destination PNG; parents are created.
-        body_x: Optional ``(k,)`` body x path [m].
-        body_z: Optional ``(k,)`` body world height along the path [m].
-        title: Figure title.
-        dpi: Resolution of the PNG.
-
-    Returns:
-        The path written.
-
-    Raises:
-        InvalidInputError: If ``points`` is not an ``(n >= 2, 2)`` finite array, or only one of
-            ``body_x`` and ``body_z`` is given, or they differ in length.
-    """
-    figure = draw_terrain(points, body_x=body_x, body_z=body_z, title=title, dpi=dpi)
-    return save_figure(figure, path)
-
-
-def draw_terrain(
-    points: np.ndarray | Sequence[Sequence[float]],
-    *,
-    body_x: np.ndarray | None = None,
-    body_z: np.ndarray | None = None,
-    title: str | None = None,
-    dpi: float = 120,
-) -> Figure:
-    """The figure `plot_terrain` saves (same arguments but the path), on an Agg canvas.
-
-    Raises:
-        InvalidInputError: As `plot_terrain`.
-    """
-    terrain = check_terrain_points(points, "points")
-    if (body_x is None) != (body_z is None):
-        raise InvalidInputError("body_x, body_z: give both or neither.")
-    if body_x is not None:
-        body_x = np.asarray(body_x, dtype=float)
-        body_z = np.asarray(body_z, dtype=float)
-        if body_x.shape != body_z.shape or body_x.ndim != 1:
-            raise InvalidInputError(
-                f"body_x, body_z: expected two (k,) arrays, got {body_x.shape} and {body_z.shape}."
-            )
-    fig = new_figure(12, 3.8, dpi)
-    ax = fig.add_subplot()
-    terrain_panel(ax, terrain, body_x, body_z)
-    order = np.argsort(terrain[:, 0], kind="stable")
-    tx, tz = terrain[order, 0], terrain[order, 1]
-    if len(tx) <= 31:
-        for i in range(len(tx) - 1):
-            dx = tx[i + 1] - tx[i]
-            if dx <= 0:
-                continue
-            degrees = math.degrees(math.atan2(tz[i + 1] - tz[i], dx))
-            ax.annotate(
-                f"{degrees:+.0f}°",
-                ((tx[i] + tx[i + 1]) / 2, (tz[i] + tz[i + 1]) / 2),
-                xytext=(0, -12),
-                textcoords="offset points",
-                ha="center",
-                fontsize=7,
-                color="0.25",
-            )
-    ax.set_xlabel("x [m]")
-    if title:
-        set_heading(fig, title, fontsize=11)
-    return fig

@@ -134,7 +134,7 @@ def sweep_command(args: argparse.Namespace) -> int:
     for i, terrain in enumerate(terrains_):
         cells = " ".join(f"{value:>6.0%}" if value == value else "     -" for value in rate[i])
         print(f"{terrain:{width}}  {cells}")
-    out, option = results_path(args)
+    out, option = _results_path(args)
     if out is None:
         print("results: not written (--out PATH.csv or PATH.json writes them)")
     else:
@@ -151,12 +151,8 @@ def sweep_command(args: argparse.Namespace) -> int:
     return 1 if any(r.fell for r in results) else 0
 
 
-def results_path(args: argparse.Namespace) -> tuple[str | None, str]:
-    """Where ``sweep`` writes its results: ``--out``, else a ``.csv`` beside ``--plot``, else None.
-
-    Returns:
-        ``(path or None, "--out" or "--plot")``.
-    """
+def _results_path(args: argparse.Namespace) -> tuple[str | None, str]:
+    """``(path or None, option)`` of the results: ``--out``, else a ``.csv`` beside ``--plot``."""
     if args.out:
         return args.out, "--out"
     if args.plot:
@@ -174,7 +170,7 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
     """
     from .types import output_path
 
-    out, option = results_path(args)
+    out, option = _results_path(args)
     if out is not None and option == "--plot":
         try:
             output_path(out)

@@ -92,7 +92,7 @@ class FrameSnapshot:
                 axes, an output without its controller or naming unknown attachments, a state
                 that is neither a State nor a name.
         """
-        q = check_q(q, nq, robot_name)
+        q = _check_q(q, nq, robot_name)
         if solution is not None or actuator is not None:
             if actuator is None:
                 raise InvalidInputError(
@@ -157,12 +157,8 @@ class FrameSnapshot:
         return f"FrameSnapshot({', '.join(parts)})"
 
 
-def check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
-    """``q`` as a finite float array of shape ``(nq,)``.
-
-    Raises:
-        InvalidInputError: ``q`` is not numbers, has another shape, or NaN or inf entries.
-    """
+def _check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
+    """``q`` as a finite float array of shape ``(nq,)`` (else an InvalidInputError)."""
     try:
         q = np.asarray(q, dtype=float)
     except (TypeError, ValueError):

@@ -26,12 +26,8 @@ def _track(name: str, kind: str, times: np.ndarray, values: object) -> dict:
     return {"name": name, "type": kind, "times": _float32(times), "values": values}
 
 
-def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Split ``[R diag(s) | p]`` (``s`` positive) into position, quaternion ``(x, y, z, w)``, scale.
-
-    Returns:
-        ``(p (3,), quaternion (4,), s (3,))``.
-    """
+def _decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``[R diag(s) | p]`` (``s`` positive) as ``p (3,)``, quaternion ``(x, y, z, w)``, ``s``."""
     linear = matrix[:3, :3]
     scale = np.linalg.norm(linear, axis=0)
     safe = np.where(scale > 1e-12, scale, 1.0)
@@ -149,7 +145,7 @@ class AnimationRecording:
             if len(keys) < 2:
                 continue  # never moved while recording: its static transform is enough
             times = frame_times[[k for k, _ in keys]]
-            columns = zip(*(decompose(m) for _, m in keys), strict=True)
+            columns = zip(*(_decompose(m) for _, m in keys), strict=True)
             positions, quaternions, scales = (np.array(column) for column in columns)
             for i in range(1, len(quaternions)):  # continuous signs for interpolation
                 if quaternions[i] @ quaternions[i - 1] < 0:

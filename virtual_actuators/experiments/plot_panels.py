@@ -104,16 +104,8 @@ def set_heading(fig: Figure, text: str, fontsize: float = 10) -> None:
 
 def not_recorded(ax: Axes, name: str) -> None:
     """Write "NAME: not recorded" in the middle of an empty panel."""
-    ax.text(
-        0.5,
-        0.5,
-        f"{name}: not recorded",
-        transform=ax.transAxes,
-        ha="center",
-        va="center",
-        color="0.5",
-        fontsize=8,
-    )
+    note = {"ha": "center", "va": "center", "color": "0.5", "fontsize": 8}
+    ax.text(0.5, 0.5, f"{name}: not recorded", transform=ax.transAxes, **note)
 
 
 def draw_series(
@@ -229,15 +221,8 @@ def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool
         if span:
             ax.axvspan(xs[i], xs[-1], color="red", alpha=0.08, lw=0)
         ax.axvline(xs[i], color="red", lw=1.0, alpha=0.7, label=FALL_LABEL)
-    axes[0].text(
-        xs[i],
-        1.0,
-        " fell",
-        color="red",
-        fontsize=8,
-        va="bottom",
-        transform=axes[0].get_xaxis_transform(),
-    )
+    above = axes[0].get_xaxis_transform()  # x in data, y in axes units
+    axes[0].text(xs[i], 1.0, " fell", color="red", fontsize=8, va="bottom", transform=above)
 
 
 def body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:

@@ -693,7 +693,8 @@ def test_reprs_and_the_lazy_viz_module(solo_view):
     assert "urdf" in repr(solo_view.viewer.bodies)
     assert "Scene(" in repr(solo_view.viewer.scene)
     assert "Palette(" in repr(solo_view.viewer.robot_scene.palette)
-    assert "#1E88E5" in solo_view.viewer.legend() and "N" in solo_view.viewer.legend()
+    colors, texts = zip(*solo_view.viewer.legend_entries(), strict=True)
+    assert 0x1E88E5 in colors and any(" N" in text for text in texts)
 
 
 # -- palette, legend, dashpots, framing, one-joint robots ------------------------------------
@@ -756,14 +757,14 @@ def legend_keys(viewer: Viewer) -> set[str]:
         "saturated": "saturated", "support": "support", "frames:": "frames",
         "no limit": "no_limit", "(adjusted)": "produced", "(inadmissible)": "inadmissible",
     }  # fmt: skip
-    text = viewer.legend()
+    text = "\n".join(text for _, text in viewer.legend_entries())
     return {key for word, key in words.items() if word in text}
 
 
 def test_the_legend_lists_only_what_is_drawn(turkey_control):
     rob, q = rotated_solo12()
     viewer = Viewer(rob, window=CommandRecorder())
-    assert viewer.legend() == ""  # nothing drawn over the robot yet
+    assert viewer.legend_entries() == []  # nothing drawn over the robot yet
     body = va.VirtualActuator(rob, "base_link", "FL_FOOT", "world", ("z",))
     viewer.show(q, actuator=body, wrench=np.array([20.0]))
     assert legend_keys(viewer) == {"requested_force", "share_force", "frames"}

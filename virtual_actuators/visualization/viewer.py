@@ -18,7 +18,7 @@ from ..models.robot import Robot
 from ..vocabulary.arguments import check_number
 from .bodies import RobotBodies, typical_link_length
 from .frame_snapshot import FrameExtras, FrameSnapshot
-from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
+from .legend import PALETTE, Palette, legend_entries, legend_html
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
 from .pacing import FramePacer, TickUpdater, framing_commands
@@ -191,13 +191,7 @@ class Viewer:
 
     def legend_entries(self) -> list[tuple[int | None, str]]:
         """The legend as ``(colour or None, text)`` pairs: what has been drawn so far."""
-        scene = self.robot_scene
-        scales = scene.force_scale, scene.moment_scale, scene.effort_reference
-        return legend_entries(scene.palette, *scales, scene.drawn)
-
-    def legend(self) -> str:
-        """The legend as plain text (colours as ``#RRGGBB``)."""
-        return legend_text(self.legend_entries())
+        return legend_entries(self.robot_scene, self.robot_scene.drawn)
 
     def add_overlay(self, overlay: Overlay) -> Overlay:
         """Draw ``overlay`` in every following frame, after the others (its `setup` runs now).

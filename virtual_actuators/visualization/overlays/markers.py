@@ -115,8 +115,7 @@ class LegendOverlay(Overlay):
     @staticmethod
     def layout(scene: RobotScene, drawn: frozenset[str]) -> None:
         """Draw the legend's lines and colour swatches for the ``drawn`` keys."""
-        scales = scene.force_scale, scene.moment_scale, scene.effort_reference
-        entries = legend_entries(scene.palette, *scales, drawn)
+        entries = legend_entries(scene, drawn)
         size = min(1.5, max(0.35, 0.75 * scene.extent))
         spacing = 0.105 * size
         left = -(0.6 * scene.extent + 0.5 * size)

@@ -146,13 +146,9 @@ def draw_walk(
         )
     if layout == "terrain" or terrain is not None:
         log.channel("x")  # raises, listing the channels, when the body x is missing
-    step = max(1, math.ceil(len(log) / max(int(max_points), 2)))
-    stride = slice(None, None, step)
-
-    if layout == "time":
-        fig, axes, xs = _time_layout(log, terrain, stride, dpi)
-    else:
-        fig, axes, xs = _terrain_layout(log, terrain, stride, dpi)
+    stride = slice(None, None, max(1, math.ceil(len(log) / max(int(max_points), 2))))
+    draw = _time_layout if layout == "time" else _terrain_layout
+    fig, axes, xs = draw(log, terrain, stride, dpi)
     if state_lines:
         mark_states(axes, xs, log)
     fall_marks(axes, xs, log, span=layout == "time")

@@ -351,20 +351,17 @@ def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.Tri
     )
     centre = np.vstack(([0.0, -0.5, 0.0], [radius, -0.5 + lead, 0.0], centre[1:], [0.0, 0.5, 0.0]))
     sides = 6
-    rings = []
-    for i in range(len(centre)):
-        tangent = centre[min(i + 1, len(centre) - 1)] - centre[max(i - 1, 0)]
-        tangent /= np.linalg.norm(tangent)
-        normal = np.cross(tangent, [0.0, 1.0, 0.0])
-        if np.linalg.norm(normal) < 1e-9:
-            normal = np.array([1.0, 0.0, 0.0])
-        normal /= np.linalg.norm(normal)
-        binormal = np.cross(tangent, normal)
-        angles = 2 * np.pi * np.arange(sides) / sides
-        circle = np.outer(np.cos(angles), normal) + np.outer(np.sin(angles), binormal)
-        rings.append(centre[i] + wire * radius * circle)
-    vertices = np.vstack(rings)
-    a = (np.arange(len(rings) - 1)[:, None] * sides + np.arange(sides)).ravel()
+    k = np.arange(len(centre))
+    tangent = centre[np.minimum(k + 1, k[-1])] - centre[np.maximum(k - 1, 0)]
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    normal = np.cross(tangent, [0.0, 1.0, 0.0])
+    normal[np.linalg.norm(normal, axis=1) < 1e-9] = [1.0, 0.0, 0.0]
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    binormal = np.cross(tangent, normal)
+    angles = 2 * np.pi * np.arange(sides) / sides
+    circle = np.cos(angles)[:, None] * normal[:, None] + np.sin(angles)[:, None] * binormal[:, None]
+    vertices = (centre[:, None] + wire * radius * circle).reshape(-1, 3)  # a ring per point
+    a = (np.arange(len(centre) - 1)[:, None] * sides + np.arange(sides)).ravel()
     b = a - a % sides + (a + 1) % sides
     faces = np.column_stack((a, b, b + sides, a, b + sides, a + sides)).reshape(-1, 3)
     return mg.TriangularMeshGeometry(vertices.astype(np.float32), faces.astype(np.uint32))

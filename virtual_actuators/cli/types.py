@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -127,30 +126,28 @@ def time_window(text: str) -> tuple[float | None, float | None]:
     return start, stop
 
 
-def _whole(what: str, low: int, high: int | None = None, why: str = "") -> Callable[[str], int]:
-    """The argument type of a whole number from ``low`` to ``high`` (``why`` says why)."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{what} must be a whole number, got {text!r}"
-            ) from None
-        if value < low:
-            raise argparse.ArgumentTypeError(f"{what} must be >= {low}, got {text!r}")
-        if high is not None and value > high:
-            raise argparse.ArgumentTypeError(f"{what} must be at most {high} ({why}), got {text!r}")
-        return value
-
-    return parse
+def _whole(text: str, what: str, low: int, high: int | None = None, why: str = "") -> int:
+    """A whole number from ``low`` to ``high`` (``why`` says why), or a usage error."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{what} must be a whole number, got {text!r}") from None
+    if value < low:
+        raise argparse.ArgumentTypeError(f"{what} must be >= {low}, got {text!r}")
+    if high is not None and value > high:
+        raise argparse.ArgumentTypeError(f"{what} must be at most {high} ({why}), got {text!r}")
+    return value
 
 
 #: ``--seed`` (a non-negative integer), ``sweep --seeds`` (starts per cell, 1 to `MAX_SEEDS`)
 #: and ``sweep --workers`` (the process pool's size, 1 to `MAX_WORKERS`).
-seed = _whole("seed", 0)
-seed_count = _whole("seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
-worker_count = _whole("workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
+seed = partial(_whole, what="seed", low=0)
+seed_count = partial(
+    _whole, what="seeds", low=1, high=MAX_SEEDS, why="every walk of the grid is queued at once"
+)
+worker_count = partial(
+    _whole, what="workers", low=1, high=MAX_WORKERS, why="each worker is a process with MuJoCo"
+)
 
 
 def terrain_spec(text: str) -> str:

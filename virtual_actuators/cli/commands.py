@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import itertools
 import math
 import time
 from collections.abc import Sequence
@@ -116,18 +117,10 @@ def sweep_command(args: argparse.Namespace) -> int:
         f"{args.seeds} seeds, engine {args.engine}"
     )
     bar = None if args.quiet else Progress(len(cases), unit="walks", description=args.walk)
-    done = []
-
-    def arrived(result) -> None:
-        done.append(result)
-        if bar is not None:
-            bar.set(len(done))
-
-    try:
+    with bar or contextlib.nullcontext():
+        done = itertools.count(1)
+        arrived = None if bar is None else lambda _: bar.set(next(done))
         results = run_sweep(cases, engine=args.engine, workers=args.workers, on_result=arrived)
-    finally:
-        if bar is not None:
-            bar.close()
     speeds_, terrains_, rate = success_map(results)
     width = max(len(t) for t in terrains_)
     print(f"{'':{width}}  " + " ".join(f"{s:>6g}" for s in speeds_) + "   (speed [m/s])")

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict, Unpack
 
 import numpy as np
 
@@ -59,28 +59,31 @@ def _default_title(log: WalkLog) -> str:
 
 
 def _as_log(log: WalkLog | str | os.PathLike[str]) -> WalkLog:
-    if isinstance(log, WalkLog):
-        out = log
-    elif isinstance(log, str | os.PathLike):
-        out = WalkLog.load_npz(log)
-    else:
+    if isinstance(log, str | os.PathLike):
+        log = WalkLog.load_npz(log)
+    elif not isinstance(log, WalkLog):
         raise InvalidInputError(f"log: expected a WalkLog or an .npz path, got {log!r}.")
-    if len(out) < 2:
-        raise InvalidInputError(f"log: an empty run ({len(out)} ticks); need at least 2 to plot.")
-    return out
+    if len(log) < 2:
+        raise InvalidInputError(f"log: an empty run ({len(log)} ticks); need at least 2 to plot.")
+    return log
+
+
+class WalkPlotOptions(TypedDict, total=False):
+    """The keyword arguments of `plot_walk` and `draw_walk` (described at `plot_walk`)."""
+
+    title: str | None
+    layout: str
+    metrics: WalkMetrics | None
+    state_lines: bool
+    dpi: float
+    max_points: int
+    window: tuple[float | None, float | None] | None
 
 
 def plot_walk(
     log: WalkLog | str | os.PathLike[str],
     path: str | os.PathLike[str],
-    *,
-    title: str | None = None,
-    layout: str = "auto",
-    metrics: WalkMetrics | None = None,
-    state_lines: bool = True,
-    dpi: float = 120,
-    max_points: int = 20000,
-    window: tuple[float | None, float | None] | None = None,
+    **options: Unpack[WalkPlotOptions],
 ) -> Path:
     """Plot a walking run in the style of the seed's Fig. 9 or Fig. 15/16 and save a PNG.
 
@@ -103,17 +106,7 @@ def plot_walk(
         InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
             unknown, the terrain points are malformed or the window holds no tick.
     """
-    figure = draw_walk(
-        log,
-        title=title,
-        layout=layout,
-        metrics=metrics,
-        state_lines=state_lines,
-        dpi=dpi,
-        max_points=max_points,
-        window=window,
-    )
-    return save_figure(figure, path)
+    return save_figure(draw_walk(log, **options), path)
 
 
 def draw_walk(

@@ -141,20 +141,17 @@ class FrameSnapshot:
         ]
 
     def __repr__(self) -> str:
-        parts = [f"q=({len(self.q)},)"]
-        if self.actuator is not None:
-            parts.append(f"actuator={type(self.actuator).__name__} on {self.actuator.action!r}")
-        if self.solution is not None:
-            parts.append("solution")
-        if self.output is not None:
-            parts.append(f"active={tuple(getattr(self.output, 'active', ()))}")
-        if self.state is not None:
-            parts.append(f"state={self.state!r}")
-        if self.support:
-            parts.append(f"support={self.support}")
-        if self.time is not None:
-            parts.append(f"time={self.time:g}")
-        return f"FrameSnapshot({', '.join(parts)})"
+        actuator, output = self.actuator, self.output
+        parts = [
+            f"q=({len(self.q)},)",
+            actuator is not None and f"actuator={type(actuator).__name__} on {actuator.action!r}",
+            self.solution is not None and "solution",
+            output is not None and f"active={tuple(getattr(output, 'active', ()))}",
+            self.state is not None and f"state={self.state!r}",
+            bool(self.support) and f"support={self.support}",
+            self.time is not None and f"time={self.time:g}",
+        ]
+        return f"FrameSnapshot({', '.join(part for part in parts if part)})"
 
 
 def _check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:

@@ -39,11 +39,7 @@ MAX_WORKERS = 256
 
 
 def _number(text: str, what: str) -> float:
-    """A finite float from ``text`` (``what`` names it in messages).
-
-    Raises:
-        argparse.ArgumentTypeError: If ``text`` is not a number, or is NaN or infinite.
-    """
+    """A finite float from ``text`` (``what`` names it in messages), or a usage error."""
     try:
         value = float(text)
     except ValueError:
@@ -71,11 +67,7 @@ def positive_seconds(text: str) -> float:
 
 
 def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low: bool = False):
-    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
+    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error."""
     value = _number(text, what)
     if not ((low < value if open_low else low <= value) and value <= high):
         bracket = "(" if open_low else "["
@@ -328,13 +320,7 @@ def figure_path(text: str) -> str:
 
 
 def _try_writing(path: Path) -> None:
-    """Give ``path`` an empty write, as the run will at its end, and leave it as it was.
-
-    An existing file is opened for appending (never truncated); a new one is removed again.
-
-    Raises:
-        OSError: If the file cannot be created, opened for writing or written.
-    """
+    """An empty write to ``path``, appended (never truncated); a file it created is removed."""
     existed = path.exists()
     flags = os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
     descriptor = os.open(path, flags | (0 if existed else os.O_CREAT), 0o666)

@@ -186,11 +186,7 @@ def effort_smoothness(
 
 
 def _checked(value: object, what: str, expected: str, ndim: int) -> np.ndarray:
-    """``value`` as a finite float array of ``ndim`` dimensions.
-
-    Raises:
-        InvalidInputError: Not such an array.
-    """
+    """``value`` as a finite float array of ``ndim`` dimensions, else an InvalidInputError."""
     array = as_float_array(value, what, expected)
     if array.ndim != ndim or not np.isfinite(array).all():
         shown = f"shape {array.shape}" if array.ndim != ndim else "non-finite entries"
@@ -216,11 +212,7 @@ def _percentiles(values: np.ndarray) -> np.ndarray:
 def _rate_figures(
     base_rates: object | None, ticks: int, start: int, floor: float
 ) -> tuple[float | None, float | None]:
-    """The base rate's alternation (fraction of ticks) and oscillation [rad/s], worst axis.
-
-    Raises:
-        InvalidInputError: ``base_rates`` not ``(ticks, 1 to 3)`` finite numbers.
-    """
+    """The base rate's alternation (fraction of ticks) and oscillation [rad/s], worst axis."""
     if base_rates is None:
         return None, None
     expected = f"a ({ticks}, axes) array of finite base rates (1 to 3 axes)"

@@ -170,11 +170,7 @@ def _check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
 def _check_request(
     actuator: Actuator, solution: Solution | None, wrench: np.ndarray | None
 ) -> np.ndarray | None:
-    """Check an actuator with its solution or wrench; return the wrench as floats (or None).
-
-    Raises:
-        InvalidInputError: See `FrameSnapshot.build`.
-    """
+    """Check an actuator with its solution or wrench; return the wrench as floats (or None)."""
     if not all(hasattr(actuator, attribute) for attribute in ("action", "reference", "axes")):
         raise InvalidInputError(
             f"actuator must be a virtual actuator (with action, reference and axes), "
@@ -202,11 +198,7 @@ def _check_request(
 
 
 def _check_output(controller: Controller, output: ControlOutput) -> None:
-    """Check that the output's active attachments (and postures) are the controller's.
-
-    Raises:
-        InvalidInputError: ``controller`` has no attachments, or ``output`` names one it lacks.
-    """
+    """Check that the output's active attachments (and postures) are the controller's."""
     attachments = getattr(controller, "attachments", None)
     if attachments is None:
         raise InvalidInputError(f"controller must be a Controller, got {controller!r}.")

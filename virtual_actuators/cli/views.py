@@ -6,14 +6,13 @@ import argparse
 import contextlib
 import os
 import sys
-from collections.abc import Sequence
 
 import numpy as np
 
 from .usage_errors import writing
 
 
-def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
+def _joint_table(robot, tau: np.ndarray) -> str:
     """Each joint's effort, a row per degree of freedom, the names' column fitting the longest."""
     model = robot.model
     rows = []
@@ -23,11 +22,10 @@ def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
             continue
         for k in range(joint.nv):
             name = model.names[j] + (f"[{k}]" if joint.nv > 1 else "")
-            note = "  (limp)" if model.names[j] in limp else ""
-            rows.append((name, tau[joint.idx_v + k], note))
-    width = max([len("joint"), *(len(name) for name, _, _ in rows)]) + 2
+            rows.append((name, tau[joint.idx_v + k]))
+    width = max([len("joint"), *(len(name) for name, _ in rows)]) + 2
     lines = [f"{'joint':<{width}}{'effort [N m]':>14}"]
-    lines += [f"{name:<{width}}{effort:>z14.4f}{note}" for name, effort, note in rows]
+    lines += [f"{name:<{width}}{effort:>z14.4f}" for name, effort in rows]
     return "\n".join(lines)
 
 

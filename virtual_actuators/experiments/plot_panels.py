@@ -54,16 +54,16 @@ def new_figure(width: float, height: float, dpi: float = 100) -> Figure:
     return fig
 
 
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = None) -> Path:
-    """Save ``fig`` as a PNG at ``path`` (parents created; at the figure's dpi by default)."""
+def save_figure(fig: Figure, path: str | os.PathLike[str]) -> Path:
+    """Save ``fig`` as a PNG at ``path`` at the figure's dpi (parents created)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=fig.dpi if dpi is None else dpi, format="png")
+    fig.savefig(path, dpi=fig.dpi, format="png")
     return path
 
 
-def fit_text(fig: Figure, text: str, fontsize: float, share: float = 0.96) -> str:
-    """Break ``text`` into lines no wider than ``share`` of the figure's width.
+def fit_text(fig: Figure, text: str, fontsize: float) -> str:
+    """Break ``text`` into lines no wider than 96 % of the figure's width.
 
     Lines break after a comma where they can (metric summaries are comma-separated clauses),
     else between words; existing line breaks are kept.
@@ -72,7 +72,7 @@ def fit_text(fig: Figure, text: str, fontsize: float, share: float = 0.96) -> st
 
     probe = Text(0, 0, "", fontsize=fontsize, figure=fig)
     renderer = fig.canvas.get_renderer()
-    limit = share * fig.bbox.width
+    limit = 0.96 * fig.bbox.width
 
     def fits(line: str) -> bool:
         probe.set_text(line)

@@ -43,17 +43,13 @@ def _decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 @dataclass(repr=False)
 class AnimationCommand:
-    """A MeshCat ``set_animation`` command with pre-lowered clips.
+    """A MeshCat ``set_animation`` command with pre-lowered clips, played once on loading.
 
     Attributes:
         animations: ``[{"path": ..., "clip": {...}}]`` in MeshCat's format.
-        play: Start playing when the page loads.
-        repetitions: How many times to play.
     """
 
     animations: list[dict]
-    play: bool = True
-    repetitions: int = 1
 
     def lower(self) -> dict:
         """The command as MeshCat's viewer reads it."""
@@ -61,7 +57,7 @@ class AnimationCommand:
             "type": "set_animation",
             "path": "",
             "animations": self.animations,
-            "options": {"play": self.play, "repetitions": self.repetitions},
+            "options": {"play": True, "repetitions": 1},
         }
 
     def __repr__(self) -> str:
@@ -131,12 +127,11 @@ class AnimationRecording:
             track.append((k, bool(shown)))
             self._last_visible[name] = shown
 
-    def command(self, path_of, play: bool = True) -> AnimationCommand:
+    def command(self, path_of) -> AnimationCommand:
         """The ``set_animation`` command of the recording, one clip per node.
 
         Args:
             path_of: Maps a node name to its MeshCat path.
-            play: Start playing when loaded.
         """
         start = self.times[0] if self.times else 0.0
         frame_times = (np.array(self.times) - start) * self.fps  # in frames, as MeshCat counts
@@ -165,7 +160,7 @@ class AnimationRecording:
             {"path": path_of(name), "clip": {"fps": self.fps, "name": "default", "tracks": tracks}}
             for name, tracks in clips.items()
         ]
-        return AnimationCommand(animations, play=play)
+        return AnimationCommand(animations)
 
     def __repr__(self) -> str:
         return (

@@ -112,12 +112,11 @@ def arrow_matrices(
     return out
 
 
-def frame_on_plane(normal: np.ndarray, up: Sequence[float] = (0.0, 0.0, 1.0)) -> np.ndarray:
-    """Rotation whose z axis is ``normal`` and whose y axis is as close as possible to ``up``."""
-    up = np.asarray(up, dtype=float)
+def frame_on_plane(normal: np.ndarray) -> np.ndarray:
+    """Rotation whose z axis is ``normal`` and whose y axis is as close as possible to world z."""
     z = np.asarray(normal, dtype=float)
     z = z / np.linalg.norm(z)
-    x = np.cross(up, z)
+    x = np.cross(np.array([0.0, 0.0, 1.0]), z)
     if np.linalg.norm(x) < 1e-9:
         x = np.cross(np.array([0.0, 1.0, 0.0]), z)
     x /= np.linalg.norm(x)

@@ -676,7 +676,7 @@ def test_bad_inputs_raise_typed_errors_naming_the_argument(solo_view):
         Viewer(solo_view.robot, window=CommandRecorder(), force_scale=0.0)
     with pytest.raises(va.InvalidInputError, match="geometry"):
         Viewer(solo_view.robot, window=CommandRecorder(), geometry="meshes")
-    with pytest.raises(va.InvalidInputError, match="send"):
+    with pytest.raises(va.InvalidInputError, match="window must be None or a SceneWindow"):
         Viewer(solo_view.robot, window=object())
     with pytest.raises(va.InvalidInputError, match="Robot"):
         Viewer("solo12", window=CommandRecorder())

@@ -25,7 +25,7 @@ from .pacing import FramePacer, TickUpdater, framing_commands
 from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
-from .windows import ForwardingWindow, SceneWindow
+from .windows import SceneWindow
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
@@ -37,8 +37,7 @@ class Viewer:
     Args:
         robot: The robot.
         window: None starts a MeshCat server (or connects to ``zmq_url``) and prints its URL;
-            a `CommandRecorder` or `OfflineWindow` draws without a server; any other object
-            with ``send(command)`` (MeshCat's ``ViewerWindow``) is forwarded to.
+            a `CommandRecorder` or `OfflineWindow` (a `SceneWindow`) draws without a server.
         open: Open the URL in a web browser.
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
@@ -64,8 +63,8 @@ class Viewer:
 
     Raises:
         InvalidInputError: ``robot`` is not a [`Robot`][], a scale or the rate is not a
-            positive number, ``geometry`` or ``camera`` is unknown, or ``window`` has no
-            ``send`` method.
+            positive number, ``geometry`` or ``camera`` is unknown, or ``window`` is neither
+            None nor a `SceneWindow`.
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
         VirtualActuatorError: The MeshCat server cannot be started or reached.
     """
@@ -74,7 +73,7 @@ class Viewer:
         self,
         robot: Robot,
         *,
-        window: SceneWindow | object | None = None,
+        window: SceneWindow | None = None,
         open: bool = False,
         force_scale: float = 0.01,
         moment_scale: float = 0.05,
@@ -100,14 +99,13 @@ class Viewer:
             )
         if not isinstance(prefix, str) or not prefix.strip("/"):
             raise InvalidInputError(f"prefix must be a non-empty node name, got {prefix!r}.")
+        if window is not None and not isinstance(window, SceneWindow):
+            raise InvalidInputError(f"window must be None or a SceneWindow, got {window!r}.")
         self.robot = robot
         self.model = robot.model
         self.bodies = RobotBodies(robot, geometry, typical_link_length(self.model))
         started = window is None
-        if window is None:
-            window = LiveWindow(zmq_url)
-        elif not isinstance(window, SceneWindow):
-            window = ForwardingWindow(window)
+        window = LiveWindow(zmq_url) if started else window
         self.window: SceneWindow = window
         self.vis = meshcat.Visualizer(window=window)
         self.scene = Scene(self.vis, prefix)

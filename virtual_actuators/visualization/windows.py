@@ -14,8 +14,6 @@ import numpy as np
 import umsgpack
 from meshcat.path import Path as MeshcatPath
 
-from ..exceptions import InvalidInputError
-
 
 def path_of(command: object) -> str:
     """The path of a MeshCat command, as a string."""
@@ -212,31 +210,3 @@ class CommandRecorder(SceneWindow):
 
     def __repr__(self) -> str:
         return f"CommandRecorder({len(self.commands)} commands, {len(self._nodes)} nodes)"
-
-
-class ForwardingWindow(SceneWindow):
-    """Mirror the scene, then forward every command to another window.
-
-    Args:
-        target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``).
-        live: Whether the target shows commands as they come.
-
-    Raises:
-        InvalidInputError: ``target`` has no ``send`` method.
-    """
-
-    def __init__(self, target: object, live: bool = True) -> None:
-        super().__init__()
-        if not callable(getattr(target, "send", None)):
-            raise InvalidInputError(
-                f"window must have a send(command) method (a MeshCat window), got {target!r}."
-            )
-        self.target = target
-        self.live = live
-        self.web_url = getattr(target, "web_url", None)
-
-    def _deliver(self, command: object) -> None:
-        self.target.send(command)
-
-    def __repr__(self) -> str:
-        return f"ForwardingWindow({self.target!r})"

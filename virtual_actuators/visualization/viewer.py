@@ -38,17 +38,11 @@ class Viewer:
         robot: The robot.
         window: None starts a MeshCat server (or connects to ``zmq_url``) and prints its URL;
             a `CommandRecorder` or `OfflineWindow` (a `SceneWindow`) draws without a server.
-        open: Open the URL in a web browser.
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
         effort_reference: Full gauge at joints without a URDF effort limit [N m or N].
         zmq_url: URL of a running ``meshcat-server`` to use instead of starting one.
-        prefix: MeshCat node under which everything is drawn (re-created empty).
         geometry: ``"auto"`` (URDF visuals if any, else a skeleton), ``"urdf"``, ``"skeleton"``.
-        camera: ``"auto"`` (``"side"`` for a robot moving in the x-z plane, else ``"iso"``),
-            ``"side"``, ``"iso"`` or None (MeshCat's default).
-        follow: Keep a travelling robot at the centre of the view (None: when it has a
-            floating base or a prismatic first joint).
         legend: Draw the legend in the scene.
         rate_hz: Live updates per wall-clock second of `maybe_show` and `tick_callback`.
         palette: Colours.
@@ -63,7 +57,7 @@ class Viewer:
 
     Raises:
         InvalidInputError: ``robot`` is not a [`Robot`][], a scale or the rate is not a
-            positive number, ``geometry`` or ``camera`` is unknown, or ``window`` is neither
+            positive number, ``geometry`` is unknown, or ``window`` is neither
             None nor a `SceneWindow`.
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
         VirtualActuatorError: The MeshCat server cannot be started or reached.
@@ -74,15 +68,11 @@ class Viewer:
         robot: Robot,
         *,
         window: SceneWindow | None = None,
-        open: bool = False,
         force_scale: float = 0.01,
         moment_scale: float = 0.05,
         effort_reference: float = 10.0,
         zmq_url: str | None = None,
-        prefix: str = "virtual_actuators",
         geometry: str = "auto",
-        camera: str | None = "auto",
-        follow: bool | None = None,
         legend: bool = True,
         rate_hz: float = 30.0,
         palette: Palette = PALETTE,
@@ -93,12 +83,6 @@ class Viewer:
         scales["effort_reference"] = effort_reference
         scales = [check_number(value, what, positive=True) for what, value in scales.items()]
         rate_hz = check_number(rate_hz, "rate_hz", positive=True)
-        if camera not in ("auto", "side", "iso", None):
-            raise InvalidInputError(
-                f"camera must be 'auto', 'side', 'iso' or None, got {camera!r}."
-            )
-        if not isinstance(prefix, str) or not prefix.strip("/"):
-            raise InvalidInputError(f"prefix must be a non-empty node name, got {prefix!r}.")
         if window is not None and not isinstance(window, SceneWindow):
             raise InvalidInputError(f"window must be None or a SceneWindow, got {window!r}.")
         self.robot = robot
@@ -108,10 +92,8 @@ class Viewer:
         window = LiveWindow(zmq_url) if started else window
         self.window: SceneWindow = window
         self.vis = meshcat.Visualizer(window=window)
-        self.scene = Scene(self.vis, prefix)
-        self.robot_scene = RobotScene(
-            robot, self.bodies, self.scene, palette, *scales, camera=camera, follow=follow
-        )
+        self.scene = Scene(self.vis, "virtual_actuators")
+        self.robot_scene = RobotScene(robot, self.bodies, self.scene, palette, *scales)
         self.overlays: list[Overlay] = default_overlays(legend)
         self.pacer = FramePacer(window, self.scene, rate_hz)
         self.robot_scene.build()
@@ -120,8 +102,6 @@ class Viewer:
         self.show(robot.neutral())
         if started:
             print(f"MeshCat viewer of {robot.name}: {self.url}")
-        if open:
-            self.window.open()
 
     @property
     def url(self) -> str | None:

@@ -53,14 +53,6 @@ class SceneWindow:
         self._mirror(command)
         self._deliver(command)
 
-    def open(self) -> SceneWindow:
-        """Open the live viewer in a browser, if there is one."""
-        if self.web_url:
-            import webbrowser
-
-            webbrowser.open(self.web_url, new=2)
-        return self
-
     def send_transform(self, path: str, matrix: np.ndarray) -> None:
         """Fast path of ``send(SetTransform(matrix, path))`` for a path given as a string."""
         self._node(path).transform = matrix

@@ -226,13 +226,11 @@ class TickUpdater:
     Args:
         viewer: The viewer.
         realtime: Sleep so that simulated time does not run ahead of wall-clock time.
-        terrain: Draw the simulator's terrain at the first tick.
     """
 
-    def __init__(self, viewer: Drawing, realtime: bool = False, terrain: bool = True) -> None:
+    def __init__(self, viewer: Drawing, realtime: bool = False) -> None:
         self.viewer = viewer
         self.realtime = realtime
-        self.terrain = terrain
         self.updates = 0
         self._start: float | None = None
         self._sim_start = 0.0
@@ -248,7 +246,7 @@ class TickUpdater:
         sim_time = simulator.time
         if self._start is None:
             self._start, self._sim_start = wallclock.perf_counter(), sim_time
-            if self.terrain and getattr(simulator, "terrain", None) is not None:
+            if getattr(simulator, "terrain", None) is not None:  # drawn at the first tick
                 viewer.set_terrain(simulator.terrain)
         if self.realtime:
             ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)

@@ -147,16 +147,13 @@ class RobotScene:
         local = [float(offset[0]), float(offset[2]), float(-offset[1])]  # three.js is y-up
         nodes.set_property("/Cameras/default/rotated/<object>", "position", local)
 
-    def set_terrain(
-        self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
-    ) -> None:
-        """Draw a planar ground profile instead of the grid (`Viewer.set_terrain`).
+    def set_terrain(self, terrain: Terrain | np.ndarray, run: float) -> None:
+        """Draw a planar ground profile, the terrain's ``width`` (else 1 m) wide, for the grid.
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
         """
-        if width is None:
-            width = float(getattr(terrain, "width", 1.0))
+        width = float(getattr(terrain, "width", 1.0))
         segments = terrain_segments(terrain, run)
         self.nodes.remove("terrain")
         for k, (lengths, matrix) in enumerate(terrain_boxes(segments, width)):
@@ -258,7 +255,6 @@ class RobotScene:
         axes: tuple[str, ...],
         values: np.ndarray,
         colors: tuple[int, int],
-        thin: float = 1.0,
     ) -> tuple[bool, bool]:
         """A force arrow and a double-headed moment arrow of a wrench on ``axes``.
 
@@ -269,8 +265,8 @@ class RobotScene:
         scaled_force = rotation @ force * self.force_scale
         scaled_moment = rotation @ moment * self.moment_scale
         return (
-            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1, thin),
-            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2, thin),
+            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1),
+            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2),
         )
 
     def triad(self, role: str, frame: str) -> None:

@@ -189,13 +189,11 @@ class Cone(mg.Geometry):
     Args:
         height: Length along y [m].
         radius: Radius of the base [m].
-        radial_segments: Facets around the axis.
     """
 
-    def __init__(self, height: float, radius: float, radial_segments: int = 24) -> None:
+    def __init__(self, height: float, radius: float) -> None:
         super().__init__()
         self.height, self.radius = float(height), float(radius)
-        self.radial_segments = radial_segments
 
     def lower(self, object_data: object) -> dict:
         """The three.js ``ConeGeometry`` JSON."""
@@ -204,7 +202,7 @@ class Cone(mg.Geometry):
             "type": "ConeGeometry",
             "radius": self.radius,
             "height": self.height,
-            "radialSegments": self.radial_segments,
+            "radialSegments": 24,
             "heightSegments": 1,
             "openEnded": False,
         }
@@ -245,13 +243,12 @@ class TextTexture(mg.Texture):
 
     Args:
         text: The line of text.
-        font_size: Font size in canvas pixels (the canvas is 256 pixels wide).
-        font_face: CSS font family.
+        font_size: Font size in canvas pixels (the canvas is 256 pixels wide), sans-serif.
     """
 
-    def __init__(self, text: str, font_size: int = 28, font_face: str = "sans-serif") -> None:
+    def __init__(self, text: str, font_size: int = 28) -> None:
         super().__init__()
-        self.text, self.font_size, self.font_face = str(text), int(font_size), str(font_face)
+        self.text, self.font_size = str(text), int(font_size)
 
     def lower(self, object_data: object) -> dict:
         """The ``_text`` texture JSON of MeshCat's viewer."""
@@ -260,7 +257,7 @@ class TextTexture(mg.Texture):
             "type": "_text",
             "text": self.text,
             "font_size": self.font_size,
-            "font_face": self.font_face,
+            "font_face": "sans-serif",
         }
 
     def __repr__(self) -> str:
@@ -327,17 +324,16 @@ def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
     return parts
 
 
-def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.TriangularMeshGeometry:
-    """A helical spring of unit length along y (from -0.5 to 0.5) around the y axis.
+def coil_mesh(radius: float = 1.0) -> mg.TriangularMeshGeometry:
+    """A helical spring of 7 coils of unit length along y (from -0.5 to 0.5) around the y axis.
 
     Args:
-        turns: Number of coils.
-        radius: Coil radius (the placement's x and z scale it) [m].
-        wire: Wire radius, relative to the coil radius.
+        radius: Coil radius (the placement's x and z scale it; the wire's is 0.08 of it) [m].
 
     Returns:
         A triangle mesh (a tube swept along the helix, straight leads at both ends).
     """
+    turns, wire = 7, 0.08
     samples = turns * 16
     lead = 0.08
     t = np.linspace(0.0, 1.0, samples + 1)

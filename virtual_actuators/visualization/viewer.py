@@ -186,20 +186,17 @@ class Viewer:
         overlay.setup(self.robot_scene)
         return overlay
 
-    def set_terrain(
-        self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
-    ) -> None:
+    def set_terrain(self, terrain: Terrain | np.ndarray, run: float = 30.0) -> None:
         """Draw a planar ground profile (a [`Terrain`][]).
 
         Args:
             terrain: A terrain or an ``(n, 2)`` array of ``(x, z)`` points [m].
-            width: Extent of the ground along y [m] (None: the terrain's ``width``, else 1 m).
             run: Level ground drawn before the first and after the last point [m].
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
         """
-        self.robot_scene.set_terrain(terrain, width, run)
+        self.robot_scene.set_terrain(terrain, run)
         if self.window.live:
             self.scene.sync()
 
@@ -264,14 +261,13 @@ class Viewer:
             overlay.draw(self.robot_scene, frame)
         self.scene.end_frame()
 
-    def tick_callback(self, realtime: bool = False, terrain: bool = True) -> TickUpdater:
+    def tick_callback(self, realtime: bool = False) -> TickUpdater:
         """An ``on_tick(simulator, gait)`` for `run_walk`.
 
         Args:
             realtime: Sleep so that simulated time does not run ahead of wall-clock time.
-            terrain: Draw the simulator's terrain at the first tick.
         """
-        return TickUpdater(self, realtime=realtime, terrain=terrain)
+        return TickUpdater(self, realtime=realtime)
 
     def __repr__(self) -> str:
         running, scene = self.pacer.recording, self.robot_scene

@@ -23,9 +23,16 @@ import pytest
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.channels import default_step_states
 from virtual_actuators.experiments.metrics import WalkMetrics, compute_metrics, write_json
-from virtual_actuators.experiments.plots import plot_walk
+from virtual_actuators.experiments.plot_panels import save_figure
+from virtual_actuators.experiments.plots import draw_walk
 from virtual_actuators.experiments.recorder import Recorder
 from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
+
+
+def plot_walk(log, path, **options):
+    """draw_walk's figure saved as a PNG at ``path`` (as the walks' --plot does)."""
+    return save_figure(draw_walk(log, **options), path)
+
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 STATES = ("double_support", "left_support", "left_support_2", "right_support", "right_support_2")

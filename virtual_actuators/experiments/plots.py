@@ -8,14 +8,13 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
-from typing import TYPE_CHECKING, TypedDict, Unpack
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 
-# ACTUAL_STYLE and SETPOINT_STYLE: re-exported for hexapod_plots until it moves (issue 25, G2)
+# ACTUAL_STYLE, SETPOINT_STYLE, save_figure: re-exported for hexapod_plots until it moves (issue 25)
 from virtual_actuators.experiments.plot_panels import ACTUAL_STYLE as ACTUAL_STYLE
 from virtual_actuators.experiments.plot_panels import (
     DESIRED_SPEED,
@@ -27,11 +26,11 @@ from virtual_actuators.experiments.plot_panels import (
     key_marks,
     mark_states,
     new_figure,
-    save_figure,
     set_heading,
     terrain_panel,
 )
 from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
+from virtual_actuators.experiments.plot_panels import save_figure as save_figure
 from virtual_actuators.experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
@@ -40,7 +39,7 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.metrics import WalkMetrics
 
-__all__ = ["draw_walk", "plot_walk"]
+__all__ = ["draw_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
 
@@ -68,47 +67,6 @@ def _as_log(log: WalkLog | str | os.PathLike[str]) -> WalkLog:
     return log
 
 
-class WalkPlotOptions(TypedDict, total=False):
-    """The keyword arguments of `plot_walk` and `draw_walk` (described at `plot_walk`)."""
-
-    title: str | None
-    layout: str
-    metrics: WalkMetrics | None
-    state_lines: bool
-    dpi: float
-    max_points: int
-    window: tuple[float | None, float | None] | None
-
-
-def plot_walk(
-    log: WalkLog | str | os.PathLike[str],
-    path: str | os.PathLike[str],
-    **options: Unpack[WalkPlotOptions],
-) -> Path:
-    """Plot a walking run in the style of the seed's Fig. 9 or Fig. 15/16 and save a PNG.
-
-    Args:
-        log: The run, or the path of a log saved with `WalkLog.save_npz`.
-        path: Destination PNG; parents are created.
-        title: Figure title; default from the metadata (robot, terrain, speed set point).
-        layout: ``"time"`` (Fig. 9), ``"terrain"`` (Fig. 15/16, against x; needs terrain points)
-            or ``"auto"`` (``"terrain"`` when the log has terrain points).
-        metrics: When given, its `summary` is added under the title.
-        state_lines: Mark entries into step and double-support states with vertical lines.
-        dpi: Resolution of the PNG.
-        max_points: Continuous channels are decimated to about this many points.
-        window: ``(start, stop)`` simulated seconds to plot (either may be None).
-
-    Returns:
-        The path written.
-
-    Raises:
-        InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
-            unknown, the terrain points are malformed or the window holds no tick.
-    """
-    return save_figure(draw_walk(log, **options), path)
-
-
 def draw_walk(
     log: WalkLog | str | os.PathLike[str],
     *,
@@ -120,10 +78,24 @@ def draw_walk(
     max_points: int = 20000,
     window: tuple[float | None, float | None] | None = None,
 ) -> Figure:
-    """The figure `plot_walk` saves (same arguments but the path), on an Agg canvas of its own.
+    """A walking run in the style of the seed's Fig. 9 or Fig. 15/16, on an Agg canvas of its own.
+
+    Save it with `save_figure` (a PNG).
+
+    Args:
+        log: The run, or the path of a log saved with `WalkLog.save_npz`.
+        title: Figure title; default from the metadata (robot, terrain, speed set point).
+        layout: ``"time"`` (Fig. 9), ``"terrain"`` (Fig. 15/16, against x; needs terrain points)
+            or ``"auto"`` (``"terrain"`` when the log has terrain points).
+        metrics: When given, its `summary` is added under the title.
+        state_lines: Mark entries into step and double-support states with vertical lines.
+        dpi: Resolution of the figure.
+        max_points: Continuous channels are decimated to about this many points.
+        window: ``(start, stop)`` simulated seconds to plot (either may be None).
 
     Raises:
-        InvalidInputError: As `plot_walk`.
+        InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
+            unknown, the terrain points are malformed or the window holds no tick.
     """
     log = _as_log(log)
     if window is not None:

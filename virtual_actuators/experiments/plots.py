@@ -166,13 +166,7 @@ def _time_layout(
         ("xdot", "xdot [m/s]", {**_DESIRED, "setpoint_label": "bunny (desired)"}),
         *_FORCES,
     ]
-    for ax, (name, label, options) in zip(left + right, panels, strict=False):
-        draw_series(ax, t, log, name, label, stride=stride, **options)
-    draw_state_panel(right[3], t, log)
-    for ax in (left[3], right[3]):
-        ax.set_xlabel("time [s]")
-    for ax in left[:3] + right[:3]:
-        ax.tick_params(labelbottom=False)
+    _draw_panels(left, right, t, log, panels, stride, "time [s]")
     first.set_xlim(float(t[0]), float(t[-1]))
     if terrain is not None:
         x = log["x"]
@@ -186,6 +180,25 @@ def _time_layout(
             draw_series(ax_s, x, log, "global_slope", "global slope [rad]", stride=stride)
             ax_s.set_xlabel("x [m]")
     return fig, axes, t
+
+
+def _draw_panels(
+    left: list[Axes],
+    right: list[Axes],
+    xs: np.ndarray,
+    log: WalkLog,
+    panels: list[tuple[str, str, dict]],
+    stride: slice,
+    xlabel: str,
+) -> None:
+    """The series down the left column then the right, the state last; x labelled at the foot."""
+    for ax, (name, label, options) in zip(left + right, panels, strict=False):
+        draw_series(ax, xs, log, name, label, stride=stride, **options)
+    draw_state_panel(right[3], xs, log)
+    for ax in left[:3] + right[:3]:
+        ax.tick_params(labelbottom=False)
+    for ax in (left[3], right[3]):
+        ax.set_xlabel(xlabel)
 
 
 def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
@@ -220,11 +233,6 @@ def _terrain_layout(
         _FORCES[0],
         _FORCES[2],
     ]
-    for ax, (name, label, options) in zip(left + right, panels, strict=False):
-        draw_series(ax, x, log, name, label, stride=stride, **options)
-    draw_state_panel(right[3], x, log)
-    for ax in [top, *left[:3], *right[:3]]:
-        ax.tick_params(labelbottom=False)
-    for ax in (left[3], right[3]):
-        ax.set_xlabel("x [m] (body position)")
+    top.tick_params(labelbottom=False)
+    _draw_panels(left, right, x, log, panels, stride, "x [m] (body position)")
     return fig, [top, *left, *right], x

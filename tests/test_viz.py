@@ -557,7 +557,7 @@ def test_recording_writes_a_standalone_animated_page(tmp_path):
         state = "double_support" if k < 6 else "left_support"
         viewer.show(q, state=state, time=k / 30)
         positions.append(placements(rob, q).oMf[rob.model.getFrameId("body")].translation.copy())
-    assert viewer.recording and "12 frames" in repr(viewer)
+    assert viewer.pacer.recording is not None and "12 frames" in repr(viewer)
     path = viewer.save_html(str(tmp_path / "run.html"))
     page = open(path, encoding="utf-8").read()
     assert "MeshCat.Viewer" in page and len(page) > 500_000  # the viewer bundle is inlined

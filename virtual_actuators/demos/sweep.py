@@ -288,10 +288,8 @@ def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure
     axes.set_yticks(range(len(terrains)), terrains)
     axes.set_xlabel("desired speed [m/s]")
     axes.set_ylabel("terrain")
-    for i in range(len(terrains)):
-        for j in range(len(speeds)):
-            if rate[i, j] == rate[i, j]:
-                axes.text(j, i, f"{rate[i, j]:.0%}", ha="center", va="center", fontsize=8)
+    for i, j in zip(*np.nonzero(np.isfinite(rate)), strict=True):  # cells that ran, row by row
+        axes.text(j, i, f"{rate[i, j]:.0%}", ha="center", va="center", fontsize=8)
     bar = figure.colorbar(image, ax=axes, fraction=0.05, format=PercentFormatter(1.0))
     bar.set_label("walks that did not fall", fontsize=8)
     per_cell = f"{seeds} seed per cell" if seeds == 1 else f"{seeds} seeds per cell"

@@ -108,11 +108,6 @@ class Viewer:
         """URL of the live viewer (None without a server)."""
         return self.window.web_url
 
-    @property
-    def recording(self) -> bool:
-        """Whether frames are being recorded."""
-        return self.pacer.recording is not None
-
     def due(self, time: float | None = None) -> tuple[bool, bool]:
         """``(live, record)``: whether a live update and a recorded frame are due.
 

@@ -70,16 +70,13 @@ def make_viewer(args: argparse.Namespace, robot, **options):
     return Viewer(robot, window=window, **options)
 
 
-def interactive() -> bool:
-    """Whether a person is at a terminal (standard input is one)."""
-    return sys.stdin is not None and sys.stdin.isatty()
-
-
-def pause(message: str) -> None:
-    """Wait for Enter when a person is at the terminal; return at once in scripts."""
-    if interactive():
-        with contextlib.suppress(EOFError):
-            input(message)
+def pause(message: str) -> bool:
+    """Wait for Enter when a person is at the terminal (True); return at once in scripts."""
+    if sys.stdin is None or not sys.stdin.isatty():
+        return False
+    with contextlib.suppress(EOFError):
+        input(message)
+    return True
 
 
 def finish_viewer(args: argparse.Namespace, viewer) -> None:
@@ -112,9 +109,7 @@ def serve() -> None:
     except ValueError:  # not the main thread: only Ctrl-C
         previous = None
     try:
-        if interactive():
-            pause("viewer: serving (URL above); press Enter (or Ctrl-C) to stop it. ")
-        else:
+        if not pause("viewer: serving (URL above); press Enter (or Ctrl-C) to stop it. "):
             print(
                 f"viewer: serving (URL above) until interrupted (Ctrl-C, or kill {os.getpid()}); "
                 "no terminal to press Enter in",

@@ -61,9 +61,7 @@ def _nice_scale(force: float, length: float) -> float:
 
 
 def make_viewer(args: argparse.Namespace, robot, **options):
-    """A live viewer (``--viz``) or an offline one for ``--record`` only, or None."""
-    if not wants_viewer(args):
-        return None
+    """A live viewer (``--viz``) or an offline one for ``--record`` only (callers ask first)."""
     from ..viz import OfflineWindow, Viewer
 
     window = None if args.viz else OfflineWindow()

@@ -220,7 +220,7 @@ class Viewer:
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
         """
-        self.draw(FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras))
+        self._draw(q, solution, extras)
         self.pacer.publish(self.window.live, self.pacer.recording is not None, extras.get("time"))
 
     def maybe_show(
@@ -240,17 +240,13 @@ class Viewer:
         live, record = self.due(extras.get("time"))
         if not (live or record):
             return False
-        self.draw(FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras))
+        self._draw(q, solution, extras)
         self.pacer.publish(live, record, extras.get("time"))
         return True
 
-    def draw(self, frame: FrameSnapshot) -> None:
-        """Draw a frame into the scene without sending it.
-
-        Raises:
-            InvalidInputError: The frame's efforts do not fit the robot.
-            FrameNotFoundError: A frame it names is not in the robot.
-        """
+    def _draw(self, q: np.ndarray, solution: Solution | None, extras: FrameExtras) -> None:
+        """Check a frame (`FrameSnapshot.build`) and draw it into the scene without sending it."""
+        frame = FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras)
         self.robot_scene.pose(frame.q)
         for overlay in self.overlays:
             overlay.draw(self.robot_scene, frame)

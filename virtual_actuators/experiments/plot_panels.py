@@ -211,9 +211,7 @@ def key_marks(fig: Figure, ax: Axes) -> None:
 
 def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool) -> None:
     """Shade (or mark with a line) everything from the first fallen tick on."""
-    if not log.has("fallen"):
-        return
-    fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
+    fallen = log.has("fallen") and np.nan_to_num(log["fallen"], nan=0.0) > 0.5
     if not np.any(fallen):
         return
     i = int(np.argmax(fallen))

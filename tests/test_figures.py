@@ -24,7 +24,7 @@ from virtual_actuators.experiments.plot_panels import (
     fit_text,
     new_figure,
 )
-from virtual_actuators.experiments.plots import draw_terrain, draw_walk
+from virtual_actuators.experiments.plots import draw_walk
 from virtual_actuators.experiments.recorder import Recorder
 from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
 from virtual_actuators.gaits.balance.walk import draw_balance_log
@@ -128,13 +128,6 @@ def test_a_long_title_and_summary_wrap_inside_the_figure():
     log = recorded_walk(3.0)
     figure = draw_walk(log, layout="time", title="a title " * 40, dpi=80)
     assert_figure_fits(figure)
-
-
-@pytest.mark.parametrize("body", [False, True])
-def test_terrain_figure_fits(body):
-    x = np.linspace(0.0, 8.0, 50)
-    path = {"body_x": x, "body_z": np.interp(x, PROFILE[:, 0], PROFILE[:, 1]) + 0.7} if body else {}
-    assert_figure_fits(draw_terrain(PROFILE, title="profile-one " * 12, **path))
 
 
 def sweep_results(speeds, terrains, seeds) -> list[SweepResult]:

@@ -7,9 +7,20 @@ import pytest
 from matplotlib.collections import LineCollection
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.plot_panels import MAX_FULL_LINES, mark_states, new_figure
-from virtual_actuators.experiments.plots import plot_walk
+from virtual_actuators.experiments.plot_panels import (
+    MAX_FULL_LINES,
+    mark_states,
+    new_figure,
+    save_figure,
+)
+from virtual_actuators.experiments.plots import draw_walk
 from virtual_actuators.experiments.walk_log import WalkLog
+
+
+def plot_walk(log, path, **options):
+    """draw_walk's figure saved as a PNG at ``path`` (as the walks' --plot does)."""
+    return save_figure(draw_walk(log, **options), path)
+
 
 STATES = ("double_support", "left_support", "right_support")
 

@@ -23,9 +23,16 @@ import pytest
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.channels import default_step_states
 from virtual_actuators.experiments.metrics import WalkMetrics, compute_metrics, write_json
-from virtual_actuators.experiments.plots import plot_terrain, plot_walk
+from virtual_actuators.experiments.plot_panels import save_figure
+from virtual_actuators.experiments.plots import draw_walk
 from virtual_actuators.experiments.recorder import Recorder
 from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
+
+
+def plot_walk(log, path, **options):
+    """draw_walk's figure saved as a PNG at ``path`` (as the walks' --plot does)."""
+    return save_figure(draw_walk(log, **options), path)
+
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 STATES = ("double_support", "left_support", "left_support_2", "right_support", "right_support_2")
@@ -427,14 +434,6 @@ def test_plot_walk_sparse_logs_and_errors(tmp_path):
     bad = WalkLog.from_arrays(time=t, x=t, metadata={"terrain_points": [[0.0, 0.0]]})
     with pytest.raises(InvalidInputError, match="terrain_points"):
         plot_walk(bad, tmp_path / "x.png")
-
-
-def test_plot_terrain(tmp_path):
-    x = np.linspace(0.0, 11.0, 200)
-    body = np.interp(x, PROFILE[:, 0], PROFILE[:, 1]) + 0.74
-    assert_png(plot_terrain(PROFILE, tmp_path / "terrain.png", body_x=x, body_z=body))
-    with pytest.raises(InvalidInputError, match="points"):
-        plot_terrain(np.zeros((3, 3)), tmp_path / "t.png")
 
 
 def test_importing_plots_does_not_import_matplotlib():

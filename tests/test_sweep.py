@@ -69,11 +69,12 @@ def test_two_workers_table_and_map(tmp_path):
 
 def test_a_walk_that_crashes_is_recorded_not_raised(monkeypatch):
     from virtual_actuators.demos import sweep
+    from virtual_actuators.gaits import registry
 
     def broken(*args, **kwargs):
         raise RuntimeError("a bug in a gait")
 
-    monkeypatch.setattr(sweep, "run_walk", broken)
+    monkeypatch.setattr(registry, "run_walk", broken)
     result = sweep.run_case(grid("turkey-walk", [0.5], ["flat"], 1)[0])
     assert result.fell and "RuntimeError: a bug in a gait" in result.error
     with pytest.raises(va.InvalidInputError, match="workers"):

@@ -14,6 +14,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
+import scene_commands as sent
 
 import virtual_actuators as va
 from virtual_actuators.visualization import PALETTE, CommandRecorder, Viewer
@@ -69,7 +70,7 @@ def test_the_viewer_draws_every_robot(name):
         assert shown(rec, "components/tip/0/damper/piston")
     colors = {
         material["color"]
-        for path, obj in rec.objects().items()
+        for path, obj in sent.objects(rec).items()
         if f"{ROOT}/robot/" in path
         for material in obj.get("materials", [])
     }
@@ -82,5 +83,5 @@ def test_the_viewer_draws_every_robot(name):
 def shown(rec: CommandRecorder, name: str) -> bool:
     """Whether a node has objects and is visible (objects start visible until hidden)."""
     path = f"{ROOT}/{name}"
-    created = any(p == path or p.startswith(path + "/") for p in rec.objects())
-    return created and rec.visible(path) is not False
+    created = any(p == path or p.startswith(path + "/") for p in sent.objects(rec))
+    return created and sent.visible(rec, path) is not False

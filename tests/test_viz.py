@@ -16,6 +16,7 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 import pytest
+import scene_commands as sent
 import umsgpack
 from meshcat.commands import SetTransform
 from meshcat.path import Path as MeshcatPath
@@ -60,24 +61,24 @@ def frame_pose(rob: va.Robot, data: pin.Data, name: str) -> pin.SE3:
 
 def arrow(rec: CommandRecorder, name: str) -> tuple[np.ndarray, np.ndarray]:
     """``(tail, tip)`` of an arrow from its last shaft and head transforms and head geometry."""
-    shaft = rec.last_transform(f"{ROOT}/{name}/shaft")
-    head = rec.last_transform(f"{ROOT}/{name}/head0")
+    shaft = sent.last_transform(rec, f"{ROOT}/{name}/shaft")
+    head = sent.last_transform(rec, f"{ROOT}/{name}/head0")
     assert shaft is not None and head is not None, name
-    height = rec.objects()[f"{ROOT}/{name}/head0"]["geometries"][0]["height"]
+    height = sent.objects(rec)[f"{ROOT}/{name}/head0"]["geometries"][0]["height"]
     tail = shaft[:3, 3] - shaft[:3, 1] / 2.0  # unit cylinder centred on its node
     tip = head[:3, 3] + head[:3, 1] * height / 2.0  # cone apex at +height/2
     return tail, tip
 
 
 def color_of(rec: CommandRecorder, path: str) -> int:
-    return rec.objects()[path]["materials"][0]["color"]
+    return sent.objects(rec)[path]["materials"][0]["color"]
 
 
 def shown(rec: CommandRecorder, name: str) -> bool:
     """Whether a dynamic node is visible: objects start visible until a property hides them."""
     path = f"{ROOT}/{name}"
-    created = any(p == path or p.startswith(path + "/") for p in rec.objects())
-    return created and rec.visible(path) is not False
+    created = any(p == path or p.startswith(path + "/") for p in sent.objects(rec))
+    return created and sent.visible(rec, path) is not False
 
 
 def rotated_solo12() -> tuple[va.Robot, np.ndarray]:
@@ -95,7 +96,7 @@ def solo_view():
     sol = body.solve(q, wrench)
     rec = CommandRecorder()
     viewer = Viewer(rob, window=rec, force_scale=0.02, moment_scale=0.3)
-    rec.clear()
+    rec.commands.clear()
     viewer.show(q, sol, actuator=body)
     return SimpleNamespace(robot=rob, q=q, body=body, sol=sol, rec=rec, viewer=viewer)
 
@@ -167,7 +168,7 @@ def test_robot_meshes_and_their_placements(solo_view):
     for k, geometry_object in enumerate(geometry.geometryObjects):
         path = f"{ROOT}/robot/visuals/{geometry_object.name}"
         expected = geometry_data.oMg[k].homogeneous @ np.diag([*geometry_object.meshScale, 1])
-        np.testing.assert_allclose(rec.last_transform(path), expected, atol=1e-12)
+        np.testing.assert_allclose(sent.last_transform(rec, path), expected, atol=1e-12)
     meshes = [p for p in solo_view.viewer.window._nodes if "/robot/visuals/" in p]
     assert len(meshes) == geometry.ngeoms == 17
 
@@ -183,7 +184,7 @@ def test_requested_force_and_moment_arrows_follow_the_wrench(solo_view):
     tail, tip = arrow(rec, "wrench/actuator/requested/moment")
     np.testing.assert_allclose(tail, base.translation, atol=1e-12)
     np.testing.assert_allclose(tip - tail, rotation @ sol.requested[3:] * 0.3, atol=1e-12)
-    assert rec.last_transform(f"{ROOT}/wrench/actuator/requested/moment/head1") is not None
+    assert sent.last_transform(rec, f"{ROOT}/wrench/actuator/requested/moment/head1") is not None
     assert color_of(rec, f"{ROOT}/wrench/actuator/requested/force/shaft") == 0x1E88E5
 
 
@@ -211,7 +212,7 @@ def test_triads_sit_on_the_action_reaction_and_reference_frames(solo_view):
     for role, frame in [("action", "base_link"), ("reference", "base_link")] + [
         ("reaction", foot) for foot in FEET
     ]:
-        matrix = rec.last_transform(f"{ROOT}/frames/{role}/{frame}")
+        matrix = sent.last_transform(rec, f"{ROOT}/frames/{role}/{frame}")
         np.testing.assert_allclose(matrix, frame_pose(rob, data, frame).homogeneous, atol=1e-12)
         assert shown(rec, f"frames/{role}/{frame}")
 
@@ -261,10 +262,10 @@ def test_an_inadmissible_request_shows_the_produced_wrench_in_red():
     assert color_of(rec, f"{ROOT}/wrench/actuator/inadmissible/force/shaft") == 0xE53935
     assert shown(rec, "wrench/actuator/inadmissible/force")
     # the same actuator asked for something it can do: the red arrow goes away
-    rec.clear()
+    rec.commands.clear()
     viewer.show(q, body.solve(q, np.array([5.0, 0.0, 120.0])), actuator=body)
-    assert rec.visible(f"{ROOT}/wrench/actuator/inadmissible/force") is False
-    assert rec.visible(f"{ROOT}/wrench/actuator/requested/force") is not False
+    assert sent.visible(rec, f"{ROOT}/wrench/actuator/inadmissible/force") is False
+    assert sent.visible(rec, f"{ROOT}/wrench/actuator/requested/force") is not False
 
 
 def test_a_serial_actuator_draws_its_wrench_and_the_share_at_its_reaction():
@@ -322,21 +323,21 @@ def test_springs_dampers_and_set_points_between_their_frames(turkey_control):
     )  # fmt: skip
     body = frame_pose(tc.robot, placements(tc.robot, tc.q), "body").translation
     # granny walker: a spring-damper from the ground below the body up to the body (z only)
-    spring = rec.last_transform(f"{ROOT}/components/double/0/spring")
+    spring = sent.last_transform(rec, f"{ROOT}/components/double/0/spring")
     np.testing.assert_allclose(spring[:3, 1], [0.0, 0.0, body[2]], atol=1e-12)
     offset = spring[:3, 3] - (body + [body[0], body[1], 0.0]) / 2
     assert abs(offset[2]) < 1e-12 and np.linalg.norm(offset) > 0  # side by side with the damper
-    marker = rec.last_transform(f"{ROOT}/components/double/0/setpoint")
+    marker = sent.last_transform(rec, f"{ROOT}/components/double/0/setpoint")
     np.testing.assert_allclose(marker[:3, 3], [body[0], body[1], 0.6], atol=1e-12)
-    housing = rec.last_transform(f"{ROOT}/components/double/0/damper/housing")
-    rod = rec.last_transform(f"{ROOT}/components/double/0/damper/rod")
+    housing = sent.last_transform(rec, f"{ROOT}/components/double/0/damper/housing")
+    rod = sent.last_transform(rec, f"{ROOT}/components/double/0/damper/rod")
     np.testing.assert_allclose(
         housing[:3, 3] + offset, [body[0], body[1], 0.3 * body[2]], atol=1e-12
     )
     np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2 + offset, body, atol=1e-12)
     # dogtrack bunny (a damper only): from the bunny, 20 cm behind x = 0, to the body
-    rod = rec.last_transform(f"{ROOT}/components/double/1/damper/rod")
-    housing = rec.last_transform(f"{ROOT}/components/double/1/damper/housing")
+    rod = sent.last_transform(rec, f"{ROOT}/components/double/1/damper/rod")
+    housing = sent.last_transform(rec, f"{ROOT}/components/double/1/damper/housing")
     np.testing.assert_allclose(
         housing[:3, 3] - housing[:3, 1] / 2, [-0.2, body[1], body[2]], atol=1e-12
     )
@@ -360,7 +361,7 @@ def test_a_state_change_hides_what_the_new_state_does_not_use(turkey_control):
         "support/right_foot",
         "hud/state/double_support",
     ):
-        assert rec.visible(f"{ROOT}/{hidden}") is False, hidden
+        assert sent.visible(rec, f"{ROOT}/{hidden}") is False, hidden
     for name in ("wrench/stance/requested/force", "components/swing/0/spring", "support/left_foot"):
         assert shown(rec, name), name
     assert shown(rec, "hud/state/left_support")
@@ -387,7 +388,7 @@ def test_effort_gauges_show_saturation():
     rec = CommandRecorder()
     viewer = Viewer(rob, window=rec)
     viewer.show(q, sol, actuator=body)
-    radius = viewer.sizes["effort"]
+    radius = viewer.robot_scene.sizes["effort"]
     model = rob.model
     saturated = 0
     for j in range(2, model.njoints):  # after the free-flyer
@@ -398,7 +399,7 @@ def test_effort_gauges_show_saturation():
         assert shown(rec, f"efforts/{name}/saturated") == over, name
         if abs(tau) > 1e-9:
             sign = "positive" if tau > 0 else "negative"
-            ball = rec.last_transform(f"{ROOT}/efforts/{name}/{sign}/ball")
+            ball = sent.last_transform(rec, f"{ROOT}/efforts/{name}/{sign}/ball")
             assert ball[0, 0] == pytest.approx(radius * min(1.0, abs(tau) / limit), rel=1e-12)
             assert not shown(rec, f"efforts/{name}/{'negative' if tau > 0 else 'positive'}")
     assert 0 < saturated < 18  # some joints over the limit, others not
@@ -410,7 +411,7 @@ def test_effort_gauges_show_saturation():
     )
     viewer.show(q, controller=SimpleNamespace(attachments={}), output=output)
     assert shown(rec, "efforts/knee_1/saturated")
-    assert rec.visible(f"{ROOT}/efforts/hip1_1/saturated") is False
+    assert sent.visible(rec, f"{ROOT}/efforts/hip1_1/saturated") is False
 
 
 def test_support_highlight_follows_the_frames():
@@ -421,11 +422,11 @@ def test_support_highlight_follows_the_frames():
     viewer.show(q, support=["FL_FOOT", "HR_FOOT"])
     data = placements(rob, q)
     for foot in ("FL_FOOT", "HR_FOOT"):
-        matrix = rec.last_transform(f"{ROOT}/support/{foot}")
+        matrix = sent.last_transform(rec, f"{ROOT}/support/{foot}")
         np.testing.assert_allclose(matrix[:3, 3], frame_pose(rob, data, foot).translation)
         assert shown(rec, f"support/{foot}")
     viewer.show(q, support=["FL_FOOT"])
-    assert rec.visible(f"{ROOT}/support/HR_FOOT") is False
+    assert sent.visible(rec, f"{ROOT}/support/HR_FOOT") is False
     assert shown(rec, "support/FL_FOOT")
 
 
@@ -437,7 +438,7 @@ def test_urdf_primitives_are_drawn_with_their_colours():
     rec = CommandRecorder()
     viewer = Viewer(rob, window=rec, legend=False)
     assert viewer.bodies.kind == "urdf"
-    objects = {p: o for p, o in rec.objects().items() if "/robot/visuals/" in p}
+    objects = {p: o for p, o in sent.objects(rec).items() if "/robot/visuals/" in p}
     kinds = sorted(o["geometries"][0]["type"] for o in objects.values())
     assert kinds.count("BoxGeometry") == 1
     assert kinds.count("SphereGeometry") == 12 and kinds.count("CylinderGeometry") == 12
@@ -448,7 +449,7 @@ def test_urdf_primitives_are_drawn_with_their_colours():
     for k, geometry_object in enumerate(geometry.geometryObjects):
         path = f"{ROOT}/robot/visuals/{geometry_object.name}"
         np.testing.assert_allclose(
-            rec.last_transform(path), geometry_data.oMg[k].homogeneous, atol=1e-12
+            sent.last_transform(rec, path), geometry_data.oMg[k].homogeneous, atol=1e-12
         )
         red, green, blue = (int(round(c * 255)) for c in geometry_object.meshColor[:3])
         urdf_color = (red << 16) | (green << 8) | blue
@@ -481,9 +482,9 @@ def test_a_urdf_without_visuals_gets_a_skeleton(tmp_path):
     model = rob.model
     for j in range(1, model.njoints):
         name = model.names[j]
-        sphere = rec.last_transform(f"{ROOT}/robot/skeleton/joint_{name}")
+        sphere = sent.last_transform(rec, f"{ROOT}/robot/skeleton/joint_{name}")
         np.testing.assert_allclose(sphere, data.oMi[j].homogeneous, atol=1e-12)
-    link = rec.last_transform(f"{ROOT}/robot/skeleton/link_left_ankle")  # knee to ankle
+    link = sent.last_transform(rec, f"{ROOT}/robot/skeleton/link_left_ankle")  # knee to ankle
     np.testing.assert_allclose(
         link @ [0, -0.5, 0, 1],
         [*data.oMi[model.getJointId("left_knee")].translation, 1],
@@ -494,7 +495,7 @@ def test_a_urdf_without_visuals_gets_a_skeleton(tmp_path):
         [*data.oMi[model.getJointId("left_ankle")].translation, 1],
         atol=1e-12,
     )
-    heel = rec.last_transform(f"{ROOT}/robot/skeleton/tip_left_heel")
+    heel = sent.last_transform(rec, f"{ROOT}/robot/skeleton/tip_left_heel")
     np.testing.assert_allclose(
         heel[:3, 3], data.oMf[model.getFrameId("left_heel")].translation, atol=1e-12
     )
@@ -503,7 +504,7 @@ def test_a_urdf_without_visuals_gets_a_skeleton(tmp_path):
 def test_skeleton_on_request_boxes_a_floating_base():
     rec = CommandRecorder()
     viewer = Viewer(robot("hexapod"), window=rec, geometry="skeleton", legend=False)
-    objects = rec.objects()
+    objects = sent.objects(rec)
     assert f"{ROOT}/robot/skeleton/base" in objects
     assert objects[f"{ROOT}/robot/skeleton/base"]["geometries"][0]["type"] == "BoxGeometry"
     assert not any("/robot/visuals/" in p for p in objects)
@@ -517,12 +518,12 @@ def test_terrain_slabs_follow_the_ground_profile():
     rec = CommandRecorder()
     viewer = Viewer(robot("spring_turkey"), window=rec, legend=False)
     viewer.set_terrain(terrain, run=10.0)
-    slabs = sorted(p for p in rec.objects() if "/terrain/slab_" in p)
+    slabs = sorted(p for p in sent.objects(rec) if "/terrain/slab_" in p)
     segments = terrain.segments(10.0)
     assert len(slabs) == len(segments) == 5
     for path, ((x0, z0), (x1, z1)) in zip(slabs, segments, strict=True):
-        box = rec.objects()[path]["geometries"][0]
-        matrix = rec.last_transform(path)
+        box = sent.objects(rec)[path]["geometries"][0]
+        matrix = sent.last_transform(rec, path)
         start, end = np.array([x0, 0.0, z0]), np.array([x1, 0.0, z1])
         assert box["width"] == pytest.approx(np.linalg.norm(end - start))
         assert box["height"] == pytest.approx(1.5)  # along y: the terrain's width
@@ -530,7 +531,7 @@ def test_terrain_slabs_follow_the_ground_profile():
         normal = matrix[:3, 2]
         np.testing.assert_allclose(top[:3] + 1e-3 * normal, (start + end) / 2, atol=1e-12)
         np.testing.assert_allclose(matrix[:3, 0], (end - start) / np.linalg.norm(end - start))
-    assert rec.visible(f"{ROOT}/ground") is False  # the terrain replaces the grid
+    assert sent.visible(rec, f"{ROOT}/ground") is False  # the terrain replaces the grid
 
 
 # -- recording -------------------------------------------------------------------------------
@@ -556,7 +557,7 @@ def test_recording_writes_a_standalone_animated_page(tmp_path):
         state = "double_support" if k < 6 else "left_support"
         viewer.show(q, state=state, time=k / 30)
         positions.append(placements(rob, q).oMf[rob.model.getFrameId("body")].translation.copy())
-    assert viewer.recording and "12 frames" in repr(viewer)
+    assert viewer.pacer.recording is not None and "12 frames" in repr(viewer)
     path = viewer.save_html(str(tmp_path / "run.html"))
     page = open(path, encoding="utf-8").read()
     assert "MeshCat.Viewer" in page and len(page) > 500_000  # the viewer bundle is inlined
@@ -599,12 +600,12 @@ def test_throttled_updates_and_the_on_tick_adapter(turkey_control):
         last=tc.outputs["double_support"],
         machine=SimpleNamespace(current=tc.states["double_support"]),
     )
-    sent = len(rec.paths("set_transform"))
+    before = len(sent.transform_paths(rec))
     for tick in range(1000):  # 1 s of 1 kHz ticks: 10 recorded frames, no live update
         updater(SimpleNamespace(time=tick * 1e-3, q=tc.q, terrain=None), gait)
     assert updater.updates == 10 and viewer.pacer.recording.frames == 10
     np.testing.assert_allclose(viewer.pacer.recording.times, np.arange(10) * 0.1, atol=1e-12)
-    assert len(rec.paths("set_transform")) == sent  # recorded frames are not sent live
+    assert len(sent.transform_paths(rec)) == before  # recorded frames are not sent live
 
 
 def test_a_new_overlay_is_one_small_class(solo_view):
@@ -612,8 +613,6 @@ def test_a_new_overlay_is_one_small_class(solo_view):
 
     class ActionMarker(Overlay):
         """A ball at the drawn actuator's action frame."""
-
-        roots = ("marker",)
 
         def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
             if frame.actuator is not None:
@@ -625,15 +624,12 @@ def test_a_new_overlay_is_one_small_class(solo_view):
     viewer = Viewer(rob, window=rec, legend=False)
     overlay = viewer.add_overlay(ActionMarker())
     viewer.show(q, sol, actuator=body)
-    ball = rec.last_transform(f"{ROOT}/marker/ball")
+    ball = sent.last_transform(rec, f"{ROOT}/marker/ball")
     base = frame_pose(rob, placements(rob, q), "base_link").translation
     np.testing.assert_allclose(ball[:3, 3], base, atol=1e-12)
     assert shown(rec, "marker/ball") and "ActionMarker(" in repr(overlay)
     viewer.show(q)  # nothing to mark: hidden like every dynamic node not drawn
-    assert rec.visible(f"{ROOT}/marker/ball") is False
-    viewer.remove_overlay(overlay)
-    assert rec.lowered()[-1] == {"type": "delete", "path": f"{ROOT}/marker"}
-    assert overlay not in viewer.overlays
+    assert sent.visible(rec, f"{ROOT}/marker/ball") is False
     with pytest.raises(va.InvalidInputError, match="Overlay"):
         viewer.add_overlay(object())
 
@@ -680,7 +676,7 @@ def test_bad_inputs_raise_typed_errors_naming_the_argument(solo_view):
         Viewer(solo_view.robot, window=CommandRecorder(), force_scale=0.0)
     with pytest.raises(va.InvalidInputError, match="geometry"):
         Viewer(solo_view.robot, window=CommandRecorder(), geometry="meshes")
-    with pytest.raises(va.InvalidInputError, match="send"):
+    with pytest.raises(va.InvalidInputError, match="window must be None or a SceneWindow"):
         Viewer(solo_view.robot, window=object())
     with pytest.raises(va.InvalidInputError, match="Robot"):
         Viewer("solo12", window=CommandRecorder())
@@ -696,8 +692,9 @@ def test_reprs_and_the_lazy_viz_module(solo_view):
     assert "CommandRecorder(" in repr(solo_view.rec)
     assert "urdf" in repr(solo_view.viewer.bodies)
     assert "Scene(" in repr(solo_view.viewer.scene)
-    assert "Palette(" in repr(solo_view.viewer.palette)
-    assert "#1E88E5" in solo_view.viewer.legend() and "N" in solo_view.viewer.legend()
+    assert "Palette(" in repr(solo_view.viewer.robot_scene.palette)
+    colors, texts = zip(*solo_view.viewer.legend_entries(), strict=True)
+    assert 0x1E88E5 in colors and any(" N" in text for text in texts)
 
 
 # -- palette, legend, dashpots, framing, one-joint robots ------------------------------------
@@ -731,7 +728,7 @@ def robot_colors(rec: CommandRecorder) -> list[int]:
     """Colours of every object drawn for the robot (URDF visuals or skeleton)."""
     return [
         material["color"]
-        for path, obj in rec.objects().items()
+        for path, obj in sent.objects(rec).items()
         if f"{ROOT}/robot/" in path
         for material in obj.get("materials", [])
         if "color" in material
@@ -760,18 +757,18 @@ def legend_keys(viewer: Viewer) -> set[str]:
         "saturated": "saturated", "support": "support", "frames:": "frames",
         "no limit": "no_limit", "(adjusted)": "produced", "(inadmissible)": "inadmissible",
     }  # fmt: skip
-    text = viewer.legend()
+    text = "\n".join(text for _, text in viewer.legend_entries())
     return {key for word, key in words.items() if word in text}
 
 
 def test_the_legend_lists_only_what_is_drawn(turkey_control):
     rob, q = rotated_solo12()
     viewer = Viewer(rob, window=CommandRecorder())
-    assert viewer.legend() == ""  # nothing drawn over the robot yet
+    assert viewer.legend_entries() == []  # nothing drawn over the robot yet
     body = va.VirtualActuator(rob, "base_link", "FL_FOOT", "world", ("z",))
     viewer.show(q, actuator=body, wrench=np.array([20.0]))
     assert legend_keys(viewer) == {"requested_force", "share_force", "frames"}
-    scene_lines = [p for p in viewer.window.objects() if "/hud/legend/line_" in p]
+    scene_lines = [p for p in sent.objects(viewer.window) if "/hud/legend/line_" in p]
     assert len(scene_lines) == 2 * 3  # the legend in the scene has the same lines (two faces)
     tc = turkey_control
     viewer = Viewer(tc.robot, window=CommandRecorder())
@@ -793,13 +790,14 @@ def test_dampers_are_dashpots_distinct_from_springs_and_legs(turkey_control):
     viewer = Viewer(tc.robot, window=rec)
     viewer.show(tc.q, controller=tc.controller, output=tc.outputs["double_support"])
     damper = f"{ROOT}/components/double/1/damper"
-    parts = {name: rec.last_transform(f"{damper}/{name}") for name in ("housing", "cap", "piston")}
-    parts["rod"] = rec.last_transform(f"{damper}/rod")
+    names = ("housing", "cap", "piston")
+    parts = {name: sent.last_transform(rec, f"{damper}/{name}") for name in names}
+    parts["rod"] = sent.last_transform(rec, f"{damper}/rod")
     radius = {
-        name: rec.objects()[f"{damper}/{name}"]["geometries"][0]["radiusTop"] for name in parts
+        name: sent.objects(rec)[f"{damper}/{name}"]["geometries"][0]["radiusTop"] for name in parts
     }
     assert radius["rod"] < radius["piston"] < radius["housing"] == radius["cap"]
-    housing = rec.objects()[f"{damper}/housing"]["materials"][0]
+    housing = sent.objects(rec)[f"{damper}/housing"]["materials"][0]
     assert housing["opacity"] < 1.0 and housing["transparent"]  # the piston shows through
     # the piston sits inside the housing, on the rod, between the cap and the open end
     axis = parts["housing"][:3, 1] / np.linalg.norm(parts["housing"][:3, 1])
@@ -809,7 +807,7 @@ def test_dampers_are_dashpots_distinct_from_springs_and_legs(turkey_control):
     assert 0 < along["cap"] < along["piston"] < length
     rod_start = parts["rod"][:3, 3] - parts["rod"][:3, 1] / 2
     np.testing.assert_allclose((rod_start - start) @ axis, along["piston"] * 0 + 0.75 * length)
-    assert not any("damper" in p for p in rec.objects() if "/robot/" in p)
+    assert not any("damper" in p for p in sent.objects(rec) if "/robot/" in p)
 
 
 def test_a_robot_with_a_single_joint_is_drawn_with_its_effort_gauge(tmp_path):
@@ -829,7 +827,7 @@ def test_a_robot_with_a_single_joint_is_drawn_with_its_effort_gauge(tmp_path):
     assert rob.model.nv == 1
     rec = CommandRecorder()
     viewer = Viewer(rob, window=rec)
-    assert viewer.planar  # a hinge about y moves in the x-z plane
+    assert viewer.robot_scene.planar  # a hinge about y moves in the x-z plane
     tip = va.VirtualActuator(rob, "tip", "base", "world", ("x",))
     controller = va.Controller(rob)
     controller.add("tip", tip, [va.Spring(("x",), 40.0, setpoint=0.1)])
@@ -902,11 +900,12 @@ def test_a_velocity_damper_is_drawn_on_the_body_wherever_it_walked():
     viewer = Viewer(rob, window=rec)
     viewer.show(q, controller=controller, output=output)
     action = frame_pose(rob, placements(rob, q), "body").translation
-    housing = rec.last_transform(f"{ROOT}/components/planar/0/damper/housing")
-    rod = rec.last_transform(f"{ROOT}/components/planar/0/damper/rod")
+    housing = sent.last_transform(rec, f"{ROOT}/components/planar/0/damper/housing")
+    rod = sent.last_transform(rec, f"{ROOT}/components/planar/0/damper/rod")
     start = housing[:3, 3] - housing[:3, 1] / 2  # the housing's closed end
     np.testing.assert_allclose(rod[:3, 3] + rod[:3, 1] / 2, action, atol=1e-12)
-    assert np.linalg.norm(start - action) <= viewer.extent  # on the robot, not 3.6 m away
+    extent = viewer.robot_scene.extent
+    assert np.linalg.norm(start - action) <= extent  # on the robot, not 3.6 m away
     assert abs(start[2] - action[2]) < 1e-12  # along the damper's x axis
 
 

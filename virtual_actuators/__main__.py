@@ -8,8 +8,7 @@ from collections.abc import Sequence
 from .cli.checks import check_demo_options, check_installed
 from .cli.commands import check_results_path, run
 from .cli.options import EXAMPLE_NAMES, attach_values, build_parser
-from .cli.streams import tolerate_closed_pipes
-from .cli.usage_errors import OptionError
+from .cli.usage_errors import OptionError, tolerate_closed_pipes
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -49,9 +48,7 @@ def _main(arguments: list[str]) -> int:
 
     try:
         return run(args)
-    except OptionError as error:  # a value that only failed when used: a usage error, exit 2
-        command_parser.error(str(error))
-    except VirtualActuatorError as error:  # caused by the arguments: a usage error, exit 2
+    except (OptionError, VirtualActuatorError) as error:  # caused by the arguments: exit 2
         command_parser.error(str(error))
     return 2  # (error() exits)
 

@@ -90,12 +90,8 @@ def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk
         parser.error(f"argument --speed: {error}")
 
 
-def needed_packages(args: argparse.Namespace) -> list[tuple[str, str, str]]:
-    """The optional packages the parsed command line will import, in the order it imports them.
-
-    Returns:
-        ``(module, the extra that installs it, what needs it)`` of each.
-    """
+def _needed_packages(args: argparse.Namespace) -> list[tuple[str, str, str]]:
+    """``(module, its extra, what needs it)`` of each optional package the command imports."""
     walks = args.command == "sweep" or (args.command == "demo" and args.name != "stand")
     needs = []
     if walks:
@@ -124,7 +120,7 @@ def check_installed(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     """
     from ..exceptions import MissingDependencyError, import_optional
 
-    for need in needed_packages(args):
+    for need in _needed_packages(args):
         try:
             import_optional(*need)
         except MissingDependencyError as error:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import itertools
 import math
 import time
 from collections.abc import Sequence
@@ -17,6 +18,9 @@ import numpy as np
 
 from .usage_errors import OptionError, blame, writing
 from .views import finish_viewer, make_viewer, pause, print_solution, show_static, wants_viewer
+
+#: Solves per timing of ``demo stand``.
+STAND_SOLVES = 2000
 
 
 def demo_walk(args: argparse.Namespace) -> int:
@@ -32,7 +36,7 @@ def demo_walk(args: argparse.Namespace) -> int:
     if "direction" in options:
         options["direction"] = math.radians(options["direction"])  # --direction is in degrees
     if "robot" in walk.options:
-        legged_robot(args, walk.robot)  # a robot that cannot walk: a usage error, before the run
+        _legged_robot(args, walk.robot)  # a robot that cannot walk: a usage error, before the run
     viewer = on_tick = None
     if wants_viewer(args):
         robot = (walk.viewer_robot or (lambda **_: load_robot(walk.robot)))(**options)
@@ -73,22 +77,14 @@ def demo_walk(args: argparse.Namespace) -> int:
     return 1 if metrics.fell else 0
 
 
-def legged_robot(args: argparse.Namespace, default: str):
-    """The legged robot of ``--robot`` (else ``default``), its body and feet (``--feet`` or found).
-
-    Returns:
-        ``(robot, body frame, foot frames)``.
-
-    Raises:
-        OptionError: ``--robot`` names no robot, a description that cannot be loaded, a robot
-            with no feet or with a fixed base; or a frame of ``--feet`` is not in the robot.
-    """
+def _legged_robot(args: argparse.Namespace, default: str):
+    """``(robot, body, feet)`` of ``--robot`` (else ``default``) and ``--feet``, or OptionError."""
     from ..exceptions import RobotDescriptionError, RobotNotFoundError
 
     feet = getattr(args, "feet", None)
     described = (RobotNotFoundError, RobotDescriptionError)
     with blame("--feet" if feet else "--robot"), blame("--robot", only=described):
-        loaded = stand_robot(default if args.robot is None else args.robot, feet)
+        loaded = _stand_robot(default if args.robot is None else args.robot, feet)
     robot = loaded[0]
     if not robot.floating_base:
         raise OptionError(
@@ -121,25 +117,17 @@ def sweep_command(args: argparse.Namespace) -> int:
         f"{args.seeds} seeds, engine {args.engine}"
     )
     bar = None if args.quiet else Progress(len(cases), unit="walks", description=args.walk)
-    done = []
-
-    def arrived(result) -> None:
-        done.append(result)
-        if bar is not None:
-            bar.set(len(done))
-
-    try:
+    with bar or contextlib.nullcontext():
+        done = itertools.count(1)
+        arrived = None if bar is None else lambda _: bar.set(next(done))
         results = run_sweep(cases, engine=args.engine, workers=args.workers, on_result=arrived)
-    finally:
-        if bar is not None:
-            bar.close()
     speeds_, terrains_, rate = success_map(results)
     width = max(len(t) for t in terrains_)
     print(f"{'':{width}}  " + " ".join(f"{s:>6g}" for s in speeds_) + "   (speed [m/s])")
     for i, terrain in enumerate(terrains_):
         cells = " ".join(f"{value:>6.0%}" if value == value else "     -" for value in rate[i])
         print(f"{terrain:{width}}  {cells}")
-    out, option = results_path(args)
+    out, option = _results_path(args)
     if out is None:
         print("results: not written (--out PATH.csv or PATH.json writes them)")
     else:
@@ -156,12 +144,8 @@ def sweep_command(args: argparse.Namespace) -> int:
     return 1 if any(r.fell for r in results) else 0
 
 
-def results_path(args: argparse.Namespace) -> tuple[str | None, str]:
-    """Where ``sweep`` writes its results: ``--out``, else a ``.csv`` beside ``--plot``, else None.
-
-    Returns:
-        ``(path or None, "--out" or "--plot")``.
-    """
+def _results_path(args: argparse.Namespace) -> tuple[str | None, str]:
+    """``(path or None, option)`` of the results: ``--out``, else a ``.csv`` beside ``--plot``."""
     if args.out:
         return args.out, "--out"
     if args.plot:
@@ -179,7 +163,7 @@ def check_results_path(args: argparse.Namespace, parser: argparse.ArgumentParser
     """
     from .types import output_path
 
-    out, option = results_path(args)
+    out, option = _results_path(args)
     if out is not None and option == "--plot":
         try:
             output_path(out)
@@ -196,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
     """
     if args.command == "demo":
         if args.name == "stand":
-            demo_stand(legged_robot(args, "solo12"), args=args)
+            _demo_stand(_legged_robot(args, "solo12"), args)
             return 0
         return demo_walk(args)
     if args.command == "example":
@@ -214,22 +198,8 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
-    """Load the robot of ``demo stand`` and find its body and feet.
-
-    Args:
-        name: A robot name, alias or URDF path for [`load_robot`][].
-        feet: Foot frame names (None: found on the robot).
-
-    Returns:
-        ``(robot, body frame, foot frames)``.
-
-    Raises:
-        RobotNotFoundError: If no robot has this name or path.
-        RobotDescriptionError: If its URDF cannot be loaded.
-        FrameNotFoundError: If it has no feet (an arm, a hand: the message says so), or a frame
-            given in ``feet`` is not in the model.
-    """
+def _stand_robot(name: str, feet: Sequence[str] | None):
+    """``(robot, body frame, foot frames)`` of a loaded robot (``feet`` None: found on it)."""
     import virtual_actuators as va
     from virtual_actuators.models.feet import body_frame, find_feet
     from virtual_actuators.vocabulary.axes import resolve_frame
@@ -243,32 +213,13 @@ def stand_robot(name: str = "solo12", feet: Sequence[str] | None = None):
     return robot, body_frame(robot.model, robot.floating_base), list(feet)
 
 
-def demo_stand(
-    robot: object = "solo12",
-    repeat: int = 2000,
-    args: argparse.Namespace | None = None,
-    feet: Sequence[str] | None = None,
-) -> None:
-    """Print a legged robot's body actuator distribution (and show it with ``--viz``).
-
-    Args:
-        robot: A name or path, or ``(robot, body, feet)`` from `stand_robot`.
-        repeat: Solves per timing.
-        args: The parsed command line (for the viewer options), or None.
-        feet: Foot frames when ``robot`` is a name (None: found on the robot).
-
-    Raises:
-        RobotNotFoundError: If ``robot`` is a name that no robot has.
-        RobotDescriptionError: If its URDF cannot be loaded.
-        FrameNotFoundError: If it has no feet.
-        SingularConfigurationError: If its standing pose has a straight leg, or a leg cannot
-            reach the pose built for it.
-    """
+def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
+    """Print ``(robot, body, feet)``'s body actuator distribution (and show it with ``--viz``)."""
     import virtual_actuators as va
     from virtual_actuators.models.standing import standing_pose
 
-    robot, body_frame, feet = robot if isinstance(robot, tuple) else stand_robot(robot, feet)
-    q = standing_pose(robot, feet) if robot.floating_base else robot.neutral()
+    robot, body_frame, feet = loaded
+    q = standing_pose(robot, feet)  # _legged_robot refused a fixed base
     weight = robot.mass * 9.81  # [N]
     contact = "point" if len(feet) >= 3 else "flat"
     print(
@@ -301,9 +252,8 @@ def demo_stand(
         timed.append(("partitioned", square))
     for name, timed_actuator in timed:
         start = time.perf_counter()
-        for _ in range(repeat):
+        for _ in range(STAND_SOLVES):
             timed_actuator.solve(q, wrench)
-        elapsed = (time.perf_counter() - start) / repeat * 1e6
+        elapsed = (time.perf_counter() - start) / STAND_SOLVES * 1e6
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
-    if args is not None:
-        show_static(args, robot, q, shown, actuator, wrench)
+    show_static(args, robot, q, shown, actuator, wrench)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
-from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -39,11 +39,7 @@ MAX_WORKERS = 256
 
 
 def _number(text: str, what: str) -> float:
-    """A finite float from ``text`` (``what`` names it in messages).
-
-    Raises:
-        argparse.ArgumentTypeError: If ``text`` is not a number, or is NaN or infinite.
-    """
+    """A finite float from ``text`` (``what`` names it in messages), or a usage error."""
     try:
         value = float(text)
     except ValueError:
@@ -71,11 +67,7 @@ def positive_seconds(text: str) -> float:
 
 
 def _in_range(text: str, what: str, low: float, high: float, unit: str, open_low: bool = False):
-    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error.
-
-    Raises:
-        argparse.ArgumentTypeError: Otherwise.
-    """
+    """A finite number in ``[low, high]`` (``(low, high]`` with ``open_low``), or a usage error."""
     value = _number(text, what)
     if not ((low < value if open_low else low <= value) and value <= high):
         bracket = "(" if open_low else "["
@@ -91,8 +83,7 @@ def walking_speed(text: str) -> float:
     Raises:
         argparse.ArgumentTypeError: Otherwise (beyond `MAX_SPEED`, saying why).
     """
-    value = _number(text, "speed")
-    if value > MAX_SPEED:
+    if _number(text, "speed") > MAX_SPEED:
         raise argparse.ArgumentTypeError(
             f"speed must be in (0, {MAX_SPEED:g}] m/s, got {text!r}: {MAX_SPEED:g} m/s bounds "
             "every walk's desired speed, and --force-speed does not lift it (it lifts only a "
@@ -102,23 +93,14 @@ def walking_speed(text: str) -> float:
     return _in_range(text, "speed", 0.0, MAX_SPEED, "m/s", open_low=True)
 
 
-def _ranged(
-    what: str, low: float, high: float, unit: str, open_low: bool = False
-) -> Callable[[str], float]:
-    """The argument type of `_in_range` (it raises `argparse.ArgumentTypeError`)."""
-
-    def parse(text: str) -> float:
-        return _in_range(text, what, low, high, unit, open_low)
-
-    return parse
-
-
 #: ``--direction`` relative to the heading [deg], ``--yaw-rate`` [rad/s] and the sine path's
 #: ``--amplitude`` and ``--wavelength`` [m].
-direction_degrees = _ranged("direction", -360.0, 360.0, "degrees")
-yaw_rate = _ranged("yaw rate", -MAX_YAW_RATE, MAX_YAW_RATE, "rad/s")
-amplitude = _ranged("amplitude", 0.0, MAX_AMPLITUDE, "m")
-wavelength = _ranged("wavelength", 0.0, MAX_WAVELENGTH, "m", open_low=True)
+direction_degrees = partial(_in_range, what="direction", low=-360.0, high=360.0, unit="degrees")
+yaw_rate = partial(_in_range, what="yaw rate", low=-MAX_YAW_RATE, high=MAX_YAW_RATE, unit="rad/s")
+amplitude = partial(_in_range, what="amplitude", low=0.0, high=MAX_AMPLITUDE, unit="m")
+wavelength = partial(
+    _in_range, what="wavelength", low=0.0, high=MAX_WAVELENGTH, unit="m", open_low=True
+)
 
 
 def time_window(text: str) -> tuple[float | None, float | None]:
@@ -136,30 +118,28 @@ def time_window(text: str) -> tuple[float | None, float | None]:
     return start, stop
 
 
-def _whole(what: str, low: int, high: int | None = None, why: str = "") -> Callable[[str], int]:
-    """The argument type of a whole number from ``low`` to ``high`` (``why`` says why)."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{what} must be a whole number, got {text!r}"
-            ) from None
-        if value < low:
-            raise argparse.ArgumentTypeError(f"{what} must be >= {low}, got {text!r}")
-        if high is not None and value > high:
-            raise argparse.ArgumentTypeError(f"{what} must be at most {high} ({why}), got {text!r}")
-        return value
-
-    return parse
+def _whole(text: str, what: str, low: int, high: int | None = None, why: str = "") -> int:
+    """A whole number from ``low`` to ``high`` (``why`` says why), or a usage error."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{what} must be a whole number, got {text!r}") from None
+    if value < low:
+        raise argparse.ArgumentTypeError(f"{what} must be >= {low}, got {text!r}")
+    if high is not None and value > high:
+        raise argparse.ArgumentTypeError(f"{what} must be at most {high} ({why}), got {text!r}")
+    return value
 
 
 #: ``--seed`` (a non-negative integer), ``sweep --seeds`` (starts per cell, 1 to `MAX_SEEDS`)
 #: and ``sweep --workers`` (the process pool's size, 1 to `MAX_WORKERS`).
-seed = _whole("seed", 0)
-seed_count = _whole("seeds", 1, MAX_SEEDS, "every walk of the grid is queued at once")
-worker_count = _whole("workers", 1, MAX_WORKERS, "each worker is a process with MuJoCo")
+seed = partial(_whole, what="seed", low=0)
+seed_count = partial(
+    _whole, what="seeds", low=1, high=MAX_SEEDS, why="every walk of the grid is queued at once"
+)
+worker_count = partial(
+    _whole, what="workers", low=1, high=MAX_WORKERS, why="each worker is a process with MuJoCo"
+)
 
 
 def terrain_spec(text: str) -> str:
@@ -340,13 +320,7 @@ def figure_path(text: str) -> str:
 
 
 def _try_writing(path: Path) -> None:
-    """Give ``path`` an empty write, as the run will at its end, and leave it as it was.
-
-    An existing file is opened for appending (never truncated); a new one is removed again.
-
-    Raises:
-        OSError: If the file cannot be created, opened for writing or written.
-    """
+    """An empty write to ``path``, appended (never truncated); a file it created is removed."""
     existed = path.exists()
     flags = os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
     descriptor = os.open(path, flags | (0 if existed else os.O_CREAT), 0o666)

@@ -6,14 +6,13 @@ import argparse
 import contextlib
 import os
 import sys
-from collections.abc import Sequence
 
 import numpy as np
 
 from .usage_errors import writing
 
 
-def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
+def _joint_table(robot, tau: np.ndarray) -> str:
     """Each joint's effort, a row per degree of freedom, the names' column fitting the longest."""
     model = robot.model
     rows = []
@@ -23,11 +22,10 @@ def _joint_table(robot, tau: np.ndarray, limp: Sequence[str] = ()) -> str:
             continue
         for k in range(joint.nv):
             name = model.names[j] + (f"[{k}]" if joint.nv > 1 else "")
-            note = "  (limp)" if model.names[j] in limp else ""
-            rows.append((name, tau[joint.idx_v + k], note))
-    width = max([len("joint"), *(len(name) for name, _, _ in rows)]) + 2
+            rows.append((name, tau[joint.idx_v + k]))
+    width = max([len("joint"), *(len(name) for name, _ in rows)]) + 2
     lines = [f"{'joint':<{width}}{'effort [N m]':>14}"]
-    lines += [f"{name:<{width}}{effort:>z14.4f}{note}" for name, effort, note in rows]
+    lines += [f"{name:<{width}}{effort:>z14.4f}" for name, effort in rows]
     return "\n".join(lines)
 
 
@@ -63,25 +61,20 @@ def _nice_scale(force: float, length: float) -> float:
 
 
 def make_viewer(args: argparse.Namespace, robot, **options):
-    """A live viewer (``--viz``) or an offline one for ``--record`` only, or None."""
-    if not wants_viewer(args):
-        return None
+    """A live viewer (``--viz``) or an offline one for ``--record`` only (callers ask first)."""
     from ..viz import OfflineWindow, Viewer
 
     window = None if args.viz else OfflineWindow()
     return Viewer(robot, window=window, **options)
 
 
-def interactive() -> bool:
-    """Whether a person is at a terminal (standard input is one)."""
-    return sys.stdin is not None and sys.stdin.isatty()
-
-
-def pause(message: str) -> None:
-    """Wait for Enter when a person is at the terminal; return at once in scripts."""
-    if interactive():
-        with contextlib.suppress(EOFError):
-            input(message)
+def pause(message: str) -> bool:
+    """Wait for Enter when a person is at the terminal (True); return at once in scripts."""
+    if sys.stdin is None or not sys.stdin.isatty():
+        return False
+    with contextlib.suppress(EOFError):
+        input(message)
+    return True
 
 
 def finish_viewer(args: argparse.Namespace, viewer) -> None:
@@ -114,9 +107,7 @@ def serve() -> None:
     except ValueError:  # not the main thread: only Ctrl-C
         previous = None
     try:
-        if interactive():
-            pause("viewer: serving (URL above); press Enter (or Ctrl-C) to stop it. ")
-        else:
+        if not pause("viewer: serving (URL above); press Enter (or Ctrl-C) to stop it. "):
             print(
                 f"viewer: serving (URL above) until interrupted (Ctrl-C, or kill {os.getpid()}); "
                 "no terminal to press Enter in",

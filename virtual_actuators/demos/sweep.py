@@ -13,7 +13,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -118,26 +118,16 @@ def grid(
     ]
 
 
-def run_walk(name: str, **options: Any) -> Any:
-    """`virtual_actuators.gaits.registry.run_walk`, imported when first run (MuJoCo).
-
-    Raises:
-        InvalidInputError: As the registry's ``run_walk``.
-        MissingDependencyError: MuJoCo is not installed (the extra ``sim``).
-    """
-    from ..gaits.registry import run_walk as run
-
-    return run(name, **options)
-
-
 def run_case(case: SweepCase) -> SweepResult:
     """Run one walk (in a worker); a library error is recorded, not raised."""
     from ..exceptions import VirtualActuatorError
 
     cell = (case.walk, case.speed, case.terrain, case.seed)
-    options = {"duration": case.duration, "speed": case.speed, "terrain": case.terrain}
+    options = dict(duration=case.duration, speed=case.speed, terrain=case.terrain, seed=case.seed)
     try:  # force_speed: a sweep maps where the walk holds, inside its range or not
-        result = run_walk(case.walk, progress=False, seed=case.seed, force_speed=True, **options)
+        from ..gaits import registry  # MuJoCo, imported in the worker
+
+        result = registry.run_walk(case.walk, progress=False, force_speed=True, **options)
     except Exception as error:  # recorded in the table: one broken walk never loses the sweep
         typed = isinstance(error, VirtualActuatorError)
         message = str(error) if typed else f"{type(error).__name__}: {error}"
@@ -298,10 +288,8 @@ def draw_success_map(results: Sequence[SweepResult], dpi: float = 120) -> Figure
     axes.set_yticks(range(len(terrains)), terrains)
     axes.set_xlabel("desired speed [m/s]")
     axes.set_ylabel("terrain")
-    for i in range(len(terrains)):
-        for j in range(len(speeds)):
-            if rate[i, j] == rate[i, j]:
-                axes.text(j, i, f"{rate[i, j]:.0%}", ha="center", va="center", fontsize=8)
+    for i, j in zip(*np.nonzero(np.isfinite(rate)), strict=True):  # cells that ran, row by row
+        axes.text(j, i, f"{rate[i, j]:.0%}", ha="center", va="center", fontsize=8)
     bar = figure.colorbar(image, ax=axes, fraction=0.05, format=PercentFormatter(1.0))
     bar.set_label("walks that did not fall", fontsize=8)
     per_cell = f"{seeds} seed per cell" if seeds == 1 else f"{seeds} seeds per cell"

@@ -100,11 +100,7 @@ class StanceForces:
 
 
 def _owners(simulator: Simulator, settled: tuple[tuple[str, ...], ...]) -> np.ndarray:
-    """Per geom, the index of the settled foot that owns it (-1: none; the first foot wins).
-
-    Raises:
-        FrameNotFoundError: A foot names a frame the robot lacks.
-    """
+    """Per geom, the index of the settled foot that owns it (-1: none; the first foot wins)."""
     mm = simulator.mujoco_model
     for frame in {frame for foot in settled for frame in foot}:
         mm.check_frame(frame)

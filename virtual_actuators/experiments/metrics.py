@@ -187,11 +187,7 @@ def _tracking(log: WalkLog, window: np.ndarray, name: str) -> tuple[float | None
 
 
 def _speed_setpoint(log: WalkLog, window: np.ndarray) -> float | None:
-    """The desired speed: the metadata's, else the median bunny speed in the window.
-
-    Raises:
-        InvalidInputError: If ``metadata["speed_setpoint_mps"]`` is not a number.
-    """
+    """The desired speed: the metadata's (checked), else the median bunny speed in the window."""
     setpoint = log.metadata.get("speed_setpoint_mps")
     if setpoint is not None:
         try:

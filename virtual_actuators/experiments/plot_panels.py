@@ -54,16 +54,16 @@ def new_figure(width: float, height: float, dpi: float = 100) -> Figure:
     return fig
 
 
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = None) -> Path:
-    """Save ``fig`` as a PNG at ``path`` (parents created; at the figure's dpi by default)."""
+def save_figure(fig: Figure, path: str | os.PathLike[str]) -> Path:
+    """Save ``fig`` as a PNG at ``path`` at the figure's dpi (parents created)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=fig.dpi if dpi is None else dpi, format="png")
+    fig.savefig(path, dpi=fig.dpi, format="png")
     return path
 
 
-def fit_text(fig: Figure, text: str, fontsize: float, share: float = 0.96) -> str:
-    """Break ``text`` into lines no wider than ``share`` of the figure's width.
+def fit_text(fig: Figure, text: str, fontsize: float) -> str:
+    """Break ``text`` into lines no wider than 96 % of the figure's width.
 
     Lines break after a comma where they can (metric summaries are comma-separated clauses),
     else between words; existing line breaks are kept.
@@ -72,7 +72,7 @@ def fit_text(fig: Figure, text: str, fontsize: float, share: float = 0.96) -> st
 
     probe = Text(0, 0, "", fontsize=fontsize, figure=fig)
     renderer = fig.canvas.get_renderer()
-    limit = share * fig.bbox.width
+    limit = 0.96 * fig.bbox.width
 
     def fits(line: str) -> bool:
         probe.set_text(line)
@@ -104,16 +104,8 @@ def set_heading(fig: Figure, text: str, fontsize: float = 10) -> None:
 
 def not_recorded(ax: Axes, name: str) -> None:
     """Write "NAME: not recorded" in the middle of an empty panel."""
-    ax.text(
-        0.5,
-        0.5,
-        f"{name}: not recorded",
-        transform=ax.transAxes,
-        ha="center",
-        va="center",
-        color="0.5",
-        fontsize=8,
-    )
+    note = {"ha": "center", "va": "center", "color": "0.5", "fontsize": 8}
+    ax.text(0.5, 0.5, f"{name}: not recorded", transform=ax.transAxes, **note)
 
 
 def draw_series(
@@ -219,9 +211,7 @@ def key_marks(fig: Figure, ax: Axes) -> None:
 
 def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool) -> None:
     """Shade (or mark with a line) everything from the first fallen tick on."""
-    if not log.has("fallen"):
-        return
-    fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
+    fallen = log.has("fallen") and np.nan_to_num(log["fallen"], nan=0.0) > 0.5
     if not np.any(fallen):
         return
     i = int(np.argmax(fallen))
@@ -229,15 +219,8 @@ def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool
         if span:
             ax.axvspan(xs[i], xs[-1], color="red", alpha=0.08, lw=0)
         ax.axvline(xs[i], color="red", lw=1.0, alpha=0.7, label=FALL_LABEL)
-    axes[0].text(
-        xs[i],
-        1.0,
-        " fell",
-        color="red",
-        fontsize=8,
-        va="bottom",
-        transform=axes[0].get_xaxis_transform(),
-    )
+    above = axes[0].get_xaxis_transform()  # x in data, y in axes units
+    axes[0].text(xs[i], 1.0, " fell", color="red", fontsize=8, va="bottom", transform=above)
 
 
 def body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:
@@ -252,15 +235,15 @@ def body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:
 def terrain_panel(
     ax: Axes,
     terrain: np.ndarray,
-    body_x: np.ndarray | None,
+    body_x: np.ndarray,
     body_z: np.ndarray | None,
     *,
-    xlim: tuple[float, float] | None = None,
+    xlim: tuple[float, float],
 ) -> None:
-    """Draw the terrain profile (filled) and the body path above it."""
+    """Draw the terrain profile (filled) over ``xlim`` and the body path above it."""
     order = np.argsort(terrain[:, 0], kind="stable")
     tx, tz = terrain[order, 0], terrain[order, 1]
-    lo, hi = xlim if xlim is not None else (float(tx[0]), float(tx[-1]))
+    lo, hi = xlim
     inside = (tx >= lo) & (tx <= hi)
     visible = np.concatenate((tz[inside], np.interp([lo, hi], tx, tz)))
     tops = [float(np.max(visible))]
@@ -270,7 +253,7 @@ def terrain_panel(
     pad = 0.08 * max(top - bottom, 0.1)
     ax.fill_between(tx, tz, bottom - 2 * pad, color="0.85", lw=0)
     ax.plot(tx, tz, color="0.3", lw=1.2, label="terrain")
-    if body_x is not None and body_z is not None:
+    if body_z is not None:
         ax.plot(body_x, body_z, label="body (hip) path", **ACTUAL_STYLE)
         ax.legend(loc="upper right", fontsize=7, framealpha=0.7)
     ax.set_xlim(lo, hi)

@@ -8,15 +8,13 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 
-# ACTUAL_STYLE and SETPOINT_STYLE: re-exported for hexapod_plots until it moves (issue 25, G2)
+# ACTUAL_STYLE, SETPOINT_STYLE, save_figure: re-exported for hexapod_plots until it moves (issue 25)
 from virtual_actuators.experiments.plot_panels import ACTUAL_STYLE as ACTUAL_STYLE
 from virtual_actuators.experiments.plot_panels import (
     DESIRED_SPEED,
@@ -28,12 +26,12 @@ from virtual_actuators.experiments.plot_panels import (
     key_marks,
     mark_states,
     new_figure,
-    save_figure,
     set_heading,
     terrain_panel,
 )
 from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
-from virtual_actuators.experiments.walk_log import WalkLog, check_terrain_points
+from virtual_actuators.experiments.plot_panels import save_figure as save_figure
+from virtual_actuators.experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -41,7 +39,7 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.metrics import WalkMetrics
 
-__all__ = ["draw_terrain", "draw_walk", "plot_terrain", "plot_walk"]
+__all__ = ["draw_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
 
@@ -60,61 +58,13 @@ def _default_title(log: WalkLog) -> str:
 
 
 def _as_log(log: WalkLog | str | os.PathLike[str]) -> WalkLog:
-    if isinstance(log, WalkLog):
-        out = log
-    elif isinstance(log, str | os.PathLike):
-        out = WalkLog.load_npz(log)
-    else:
+    if isinstance(log, str | os.PathLike):
+        log = WalkLog.load_npz(log)
+    elif not isinstance(log, WalkLog):
         raise InvalidInputError(f"log: expected a WalkLog or an .npz path, got {log!r}.")
-    if len(out) < 2:
-        raise InvalidInputError(f"log: an empty run ({len(out)} ticks); need at least 2 to plot.")
-    return out
-
-
-def plot_walk(
-    log: WalkLog | str | os.PathLike[str],
-    path: str | os.PathLike[str],
-    *,
-    title: str | None = None,
-    layout: str = "auto",
-    metrics: WalkMetrics | None = None,
-    state_lines: bool = True,
-    dpi: float = 120,
-    max_points: int = 20000,
-    window: tuple[float | None, float | None] | None = None,
-) -> Path:
-    """Plot a walking run in the style of the seed's Fig. 9 or Fig. 15/16 and save a PNG.
-
-    Args:
-        log: The run, or the path of a log saved with `WalkLog.save_npz`.
-        path: Destination PNG; parents are created.
-        title: Figure title; default from the metadata (robot, terrain, speed set point).
-        layout: ``"time"`` (Fig. 9), ``"terrain"`` (Fig. 15/16, against x; needs terrain points)
-            or ``"auto"`` (``"terrain"`` when the log has terrain points).
-        metrics: When given, its `summary` is added under the title.
-        state_lines: Mark entries into step and double-support states with vertical lines.
-        dpi: Resolution of the PNG.
-        max_points: Continuous channels are decimated to about this many points.
-        window: ``(start, stop)`` simulated seconds to plot (either may be None).
-
-    Returns:
-        The path written.
-
-    Raises:
-        InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
-            unknown, the terrain points are malformed or the window holds no tick.
-    """
-    figure = draw_walk(
-        log,
-        title=title,
-        layout=layout,
-        metrics=metrics,
-        state_lines=state_lines,
-        dpi=dpi,
-        max_points=max_points,
-        window=window,
-    )
-    return save_figure(figure, path)
+    if len(log) < 2:
+        raise InvalidInputError(f"log: an empty run ({len(log)} ticks); need at least 2 to plot.")
+    return log
 
 
 def draw_walk(
@@ -128,10 +78,24 @@ def draw_walk(
     max_points: int = 20000,
     window: tuple[float | None, float | None] | None = None,
 ) -> Figure:
-    """The figure `plot_walk` saves (same arguments but the path), on an Agg canvas of its own.
+    """A walking run in the style of the seed's Fig. 9 or Fig. 15/16, on an Agg canvas of its own.
+
+    Save it with `save_figure` (a PNG).
+
+    Args:
+        log: The run, or the path of a log saved with `WalkLog.save_npz`.
+        title: Figure title; default from the metadata (robot, terrain, speed set point).
+        layout: ``"time"`` (Fig. 9), ``"terrain"`` (Fig. 15/16, against x; needs terrain points)
+            or ``"auto"`` (``"terrain"`` when the log has terrain points).
+        metrics: When given, its `summary` is added under the title.
+        state_lines: Mark entries into step and double-support states with vertical lines.
+        dpi: Resolution of the figure.
+        max_points: Continuous channels are decimated to about this many points.
+        window: ``(start, stop)`` simulated seconds to plot (either may be None).
 
     Raises:
-        InvalidInputError: As `plot_walk`.
+        InvalidInputError: If the log is empty, lacks ``x`` (terrain layout), the layout is
+            unknown, the terrain points are malformed or the window holds no tick.
     """
     log = _as_log(log)
     if window is not None:
@@ -147,13 +111,9 @@ def draw_walk(
         )
     if layout == "terrain" or terrain is not None:
         log.channel("x")  # raises, listing the channels, when the body x is missing
-    step = max(1, math.ceil(len(log) / max(int(max_points), 2)))
-    stride = slice(None, None, step)
-
-    if layout == "time":
-        fig, axes, xs = _time_layout(log, terrain, stride, dpi)
-    else:
-        fig, axes, xs = _terrain_layout(log, terrain, stride, dpi)
+    stride = slice(None, None, max(1, math.ceil(len(log) / max(int(max_points), 2))))
+    draw = _time_layout if layout == "time" else _terrain_layout
+    fig, axes, xs = draw(log, terrain, stride, dpi)
     if state_lines:
         mark_states(axes, xs, log)
     fall_marks(axes, xs, log, span=layout == "time")
@@ -206,13 +166,7 @@ def _time_layout(
         ("xdot", "xdot [m/s]", {**_DESIRED, "setpoint_label": "bunny (desired)"}),
         *_FORCES,
     ]
-    for ax, (name, label, options) in zip(left + right, panels, strict=False):
-        draw_series(ax, t, log, name, label, stride=stride, **options)
-    draw_state_panel(right[3], t, log)
-    for ax in (left[3], right[3]):
-        ax.set_xlabel("time [s]")
-    for ax in left[:3] + right[:3]:
-        ax.tick_params(labelbottom=False)
+    _draw_panels(left, right, t, log, panels, stride, "time [s]")
     first.set_xlim(float(t[0]), float(t[-1]))
     if terrain is not None:
         x = log["x"]
@@ -226,6 +180,25 @@ def _time_layout(
             draw_series(ax_s, x, log, "global_slope", "global slope [rad]", stride=stride)
             ax_s.set_xlabel("x [m]")
     return fig, axes, t
+
+
+def _draw_panels(
+    left: list[Axes],
+    right: list[Axes],
+    xs: np.ndarray,
+    log: WalkLog,
+    panels: list[tuple[str, str, dict]],
+    stride: slice,
+    xlabel: str,
+) -> None:
+    """The series down the left column then the right, the state last; x labelled at the foot."""
+    for ax, (name, label, options) in zip(left + right, panels, strict=False):
+        draw_series(ax, xs, log, name, label, stride=stride, **options)
+    draw_state_panel(right[3], xs, log)
+    for ax in left[:3] + right[:3]:
+        ax.tick_params(labelbottom=False)
+    for ax in (left[3], right[3]):
+        ax.set_xlabel(xlabel)
 
 
 def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
@@ -260,92 +233,6 @@ def _terrain_layout(
         _FORCES[0],
         _FORCES[2],
     ]
-    for ax, (name, label, options) in zip(left + right, panels, strict=False):
-        draw_series(ax, x, log, name, label, stride=stride, **options)
-    draw_state_panel(right[3], x, log)
-    for ax in [top, *left[:3], *right[:3]]:
-        ax.tick_params(labelbottom=False)
-    for ax in (left[3], right[3]):
-        ax.set_xlabel("x [m] (body position)")
+    top.tick_params(labelbottom=False)
+    _draw_panels(left, right, x, log, panels, stride, "x [m] (body position)")
     return fig, [top, *left, *right], x
-
-
-def plot_terrain(
-    points: np.ndarray | Sequence[Sequence[float]],
-    path: str | os.PathLike[str],
-    *,
-    body_x: np.ndarray | None = None,
-    body_z: np.ndarray | None = None,
-    title: str | None = None,
-    dpi: float = 120,
-) -> Path:
-    """Plot a terrain profile (and optionally a body path above it) and save a PNG.
-
-    Segments are labelled with their slope in degrees when there are at most 30 of them.
-
-    Args:
-        points: ``(n, 2)`` terrain vertices ``(x, z)`` [m].
-        path: Destination PNG; parents are created.
-        body_x: Optional ``(k,)`` body x path [m].
-        body_z: Optional ``(k,)`` body world height along the path [m].
-        title: Figure title.
-        dpi: Resolution of the PNG.
-
-    Returns:
-        The path written.
-
-    Raises:
-        InvalidInputError: If ``points`` is not an ``(n >= 2, 2)`` finite array, or only one of
-            ``body_x`` and ``body_z`` is given, or they differ in length.
-    """
-    figure = draw_terrain(points, body_x=body_x, body_z=body_z, title=title, dpi=dpi)
-    return save_figure(figure, path)
-
-
-def draw_terrain(
-    points: np.ndarray | Sequence[Sequence[float]],
-    *,
-    body_x: np.ndarray | None = None,
-    body_z: np.ndarray | None = None,
-    title: str | None = None,
-    dpi: float = 120,
-) -> Figure:
-    """The figure `plot_terrain` saves (same arguments but the path), on an Agg canvas.
-
-    Raises:
-        InvalidInputError: As `plot_terrain`.
-    """
-    terrain = check_terrain_points(points, "points")
-    if (body_x is None) != (body_z is None):
-        raise InvalidInputError("body_x, body_z: give both or neither.")
-    if body_x is not None:
-        body_x = np.asarray(body_x, dtype=float)
-        body_z = np.asarray(body_z, dtype=float)
-        if body_x.shape != body_z.shape or body_x.ndim != 1:
-            raise InvalidInputError(
-                f"body_x, body_z: expected two (k,) arrays, got {body_x.shape} and {body_z.shape}."
-            )
-    fig = new_figure(12, 3.8, dpi)
-    ax = fig.add_subplot()
-    terrain_panel(ax, terrain, body_x, body_z)
-    order = np.argsort(terrain[:, 0], kind="stable")
-    tx, tz = terrain[order, 0], terrain[order, 1]
-    if len(tx) <= 31:
-        for i in range(len(tx) - 1):
-            dx = tx[i + 1] - tx[i]
-            if dx <= 0:
-                continue
-            degrees = math.degrees(math.atan2(tz[i + 1] - tz[i], dx))
-            ax.annotate(
-                f"{degrees:+.0f}°",
-                ((tx[i] + tx[i + 1]) / 2, (tz[i] + tz[i + 1]) / 2),
-                xytext=(0, -12),
-                textcoords="offset points",
-                ha="center",
-                fontsize=7,
-                color="0.25",
-            )
-    ax.set_xlabel("x [m]")
-    if title:
-        set_heading(fig, title, fontsize=11)
-    return fig

@@ -107,10 +107,17 @@ class Recorder:
         """Rows currently allocated."""
         return int(self._buffer.shape[0])
 
-    def _grow(self) -> None:
-        old = self._buffer.shape[0]
-        self._buffer = np.vstack((self._buffer, np.full((old, self._nchan), np.nan)))
-        self._state = np.concatenate((self._state, np.full(old, -1, dtype=np.int64)))
+    def _next_row(self, state: int | str | None) -> tuple[int, int]:
+        """The next row's index (the buffers doubled when full) and its checked state."""
+        if state is None:
+            state = -1
+        elif type(state) is not int or state < -1 or state >= len(self._state_names) > 0:
+            state = self._state_value(state)
+        n = self._n
+        if n == self._buffer.shape[0]:
+            self._buffer = np.vstack((self._buffer, np.full((n, self._nchan), np.nan)))
+            self._state = np.concatenate((self._state, np.full(n, -1, dtype=np.int64)))
+        return n, state
 
     def _state_value(self, state: int | str) -> int:
         if isinstance(state, str):
@@ -138,13 +145,7 @@ class Recorder:
         Raises:
             InvalidInputError: If a channel or state is unknown (nothing is recorded then).
         """
-        if state is not None and (
-            type(state) is not int or state < -1 or state >= len(self._state_names) > 0
-        ):
-            state = self._state_value(state)
-        n = self._n
-        if n == self._buffer.shape[0]:
-            self._grow()
+        n, state = self._next_row(state)
         row = self._buffer[n]
         index = self._index
         try:
@@ -156,9 +157,7 @@ class Recorder:
         except (TypeError, ValueError) as err:
             row[:] = np.nan
             raise InvalidInputError(f"channel {name!r}: cannot record {value!r} ({err}).") from None
-        if state is not None:
-            self._state[n] = state
-        self._n = n + 1
+        self._state[n], self._n = state, n + 1
 
     def append_row(self, row: Sequence[float] | np.ndarray, state: int | str | None = None) -> None:
         """Record one tick from a full row of values in `channels` order.
@@ -179,21 +178,13 @@ class Recorder:
                 f"row: expected {self._nchan} values ({', '.join(self._channels)}), got "
                 f"{'a scalar' if length < 0 else length}."
             )
-        if state is not None and (
-            type(state) is not int or state < -1 or state >= len(self._state_names) > 0
-        ):
-            state = self._state_value(state)
-        n = self._n
-        if n == self._buffer.shape[0]:
-            self._grow()
+        n, state = self._next_row(state)
         try:
             self._buffer[n] = row
         except (TypeError, ValueError) as err:
             self._buffer[n] = np.nan
             raise InvalidInputError(f"row: cannot record {row!r} ({err}).") from None
-        if state is not None:
-            self._state[n] = state
-        self._n = n + 1
+        self._state[n], self._n = state, n + 1
 
     def to_log(self) -> WalkLog:
         """The rows recorded so far as a `WalkLog` (copies; recording may go on).

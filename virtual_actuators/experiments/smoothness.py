@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -116,10 +116,7 @@ class EffortSmoothness:
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-able dict (tuples as lists)."""
-        return {
-            f.name: list(value) if isinstance(value := getattr(self, f.name), tuple) else value
-            for f in fields(self)
-        }
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
 
 
 def effort_smoothness(
@@ -189,11 +186,7 @@ def effort_smoothness(
 
 
 def _checked(value: object, what: str, expected: str, ndim: int) -> np.ndarray:
-    """``value`` as a finite float array of ``ndim`` dimensions.
-
-    Raises:
-        InvalidInputError: Not such an array.
-    """
+    """``value`` as a finite float array of ``ndim`` dimensions, else an InvalidInputError."""
     array = as_float_array(value, what, expected)
     if array.ndim != ndim or not np.isfinite(array).all():
         shown = f"shape {array.shape}" if array.ndim != ndim else "non-finite entries"
@@ -219,11 +212,7 @@ def _percentiles(values: np.ndarray) -> np.ndarray:
 def _rate_figures(
     base_rates: object | None, ticks: int, start: int, floor: float
 ) -> tuple[float | None, float | None]:
-    """The base rate's alternation (fraction of ticks) and oscillation [rad/s], worst axis.
-
-    Raises:
-        InvalidInputError: ``base_rates`` not ``(ticks, 1 to 3)`` finite numbers.
-    """
+    """The base rate's alternation (fraction of ticks) and oscillation [rad/s], worst axis."""
     if base_rates is None:
         return None, None
     expected = f"a ({ticks}, axes) array of finite base rates (1 to 3 axes)"

@@ -20,7 +20,7 @@ from virtual_actuators.experiments.channels import (
     unknown_name,
 )
 
-__all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog", "check_terrain_points"]
+__all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog"]
 
 #: Version of the ``.npz`` layout, and the prefix of its entries that hold metadata arrays.
 NPZ_FORMAT = 1
@@ -237,10 +237,22 @@ class WalkLog:
         Raises:
             InvalidInputError: If the metadata entry is not an ``(n >= 2, 2)`` finite array.
         """
-        points = self.metadata.get("terrain_points")
+        points, what = self.metadata.get("terrain_points"), "metadata['terrain_points']"
         if points is None:
             return None
-        return check_terrain_points(points, "metadata['terrain_points']")
+        try:
+            array = np.asarray(points, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"{what}: expected an (n, 2) array of (x, z), got {points!r}."
+            ) from None
+        if array.ndim != 2 or array.shape[1] != 2 or array.shape[0] < 2:
+            raise InvalidInputError(
+                f"{what}: expected an (n >= 2, 2) array of (x, z), got {array.shape}."
+            )
+        if not np.all(np.isfinite(array)):
+            raise InvalidInputError(f"{what}: non-finite value in row {_first_bad(array) // 2}.")
+        return array
 
     def save_npz(self, path: str | os.PathLike[str]) -> Path:
         """Write the log to ``path`` (as given, parents created) as a compressed ``.npz``.
@@ -316,31 +328,6 @@ class WalkLog:
 
 def _first_bad(array: np.ndarray) -> int:
     return int(np.argmax(~np.isfinite(array)))
-
-
-def check_terrain_points(points: object, what: str = "points") -> np.ndarray:
-    """Terrain vertices ``points`` as an ``(n >= 2, 2)`` float64 array of ``(x, z)``.
-
-    Args:
-        points: The vertices, array-like.
-        what: Name of the argument, for messages.
-
-    Raises:
-        InvalidInputError: If the shape is wrong or a value is not finite.
-    """
-    try:
-        array = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InvalidInputError(
-            f"{what}: expected an (n, 2) array of (x, z), got {points!r}."
-        ) from None
-    if array.ndim != 2 or array.shape[1] != 2 or array.shape[0] < 2:
-        raise InvalidInputError(
-            f"{what}: expected an (n >= 2, 2) array of (x, z), got {array.shape}."
-        )
-    if not np.all(np.isfinite(array)):
-        raise InvalidInputError(f"{what}: non-finite value in row {_first_bad(array) // 2}.")
-    return array
 
 
 def _json_default(value: Any) -> Any:

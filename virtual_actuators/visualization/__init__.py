@@ -18,13 +18,12 @@ from .overlays import Overlay  # noqa: E402
 from .recording import AnimationRecording  # noqa: E402
 from .robot_scene import RobotScene  # noqa: E402
 from .viewer import TickUpdater, Viewer  # noqa: E402
-from .windows import CommandRecorder, ForwardingWindow, OfflineWindow, SceneWindow  # noqa: E402
+from .windows import CommandRecorder, OfflineWindow, SceneWindow  # noqa: E402
 
 __all__ = [
     "PALETTE",
     "AnimationRecording",
     "CommandRecorder",
-    "ForwardingWindow",
     "FrameSnapshot",
     "LiveWindow",
     "OfflineWindow",

@@ -114,13 +114,8 @@ def visual_model(robot: Robot) -> pin.GeometryModel | None:
     return None
 
 
-def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = None) -> list[Part]:
-    """Parts for the URDF's visual geometry objects, in their desaturated URDF colours.
-
-    Args:
-        geometry_model: The visual geometry.
-        meshes: Decimates the mesh files (None: the files are sent as they are).
-    """
+def _urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache) -> list[Part]:
+    """Parts for the URDF's visual geometry objects, in their desaturated URDF colours."""
     parts = []
     for geometry_object in geometry_model.geometryObjects:
         scale = np.diag([*np.asarray(geometry_object.meshScale, dtype=float), 1.0])
@@ -130,7 +125,7 @@ def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = Non
         color = desaturate(to_hex(color))
         name = f"visuals/{geometry_object.name}"
         joint = int(geometry_object.parentJoint)
-        mesh = meshes.get(geometry_object) if meshes is not None else None
+        mesh = meshes.get(geometry_object)
         if mesh is not None:  # the loaded triangles are scaled already
             placement = geometry_object.placement.homogeneous
             parts.append(Part(name, joint, placement, mesh, color, opacity, geometry_object))
@@ -146,14 +141,8 @@ def urdf_parts(geometry_model: pin.GeometryModel, meshes: MeshCache | None = Non
     return parts
 
 
-def skeleton_parts(model: pin.Model, detail: float, floating: bool) -> list[Part]:
-    """A sphere per joint, a cylinder to each child and tip frame, a box around a free base.
-
-    Args:
-        model: The Pinocchio model.
-        detail: Typical link length [m]; radii are fractions of it.
-        floating: Whether joint 1 is a free-flyer (a base box is drawn around it).
-    """
+def _skeleton_parts(model: pin.Model, detail: float, floating: bool) -> list[Part]:
+    """A sphere per joint, a cylinder to each child and tip frame, a box around a free base."""
     link_radius = min(0.03, max(0.003, 0.07 * detail))
     joint_radius = 1.6 * link_radius
     parts: list[Part] = []
@@ -238,7 +227,7 @@ class RobotBodies:
                     raise
                 warnings.warn(f"{error}; drawing a skeleton instead.", stacklevel=3)
             if self.visual_model is not None and self.visual_model.ngeoms > 0:
-                parts = urdf_parts(self.visual_model, MeshCache(MESH_TOLERANCE * detail))
+                parts = _urdf_parts(self.visual_model, MeshCache(MESH_TOLERANCE * detail))
                 self.kind = "urdf"
             elif geometry == "urdf":
                 raise RobotDescriptionError(
@@ -248,7 +237,7 @@ class RobotBodies:
         if not parts:
             model = robot.model
             floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
-            parts = skeleton_parts(model, detail, floating)
+            parts = _skeleton_parts(model, detail, floating)
         self.parts = parts
         self._joints = np.array([p.joint for p in parts], dtype=int)
         self._placements = np.array([p.placement for p in parts]) if parts else np.zeros((0, 4, 4))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
@@ -27,6 +28,18 @@ def reactions_of(actuator: Actuator) -> tuple[str, ...]:
     if reactions is None:
         raise InvalidInputError(f"actuator {actuator!r} has neither reactions nor reaction frames.")
     return (reactions,) if isinstance(reactions, str) else tuple(reactions)
+
+
+class FrameExtras(TypedDict, total=False):
+    """The keyword arguments of `Viewer.show` and `Viewer.maybe_show` (described there)."""
+
+    actuator: Actuator | None
+    wrench: np.ndarray | None
+    controller: Controller | None
+    output: ControlOutput | None
+    state: State | str | None
+    support: Iterable[str]
+    time: float | None
 
 
 @dataclass(frozen=True, repr=False)
@@ -79,7 +92,7 @@ class FrameSnapshot:
                 axes, an output without its controller or naming unknown attachments, a state
                 that is neither a State nor a name.
         """
-        q = check_q(q, nq, robot_name)
+        q = _check_q(q, nq, robot_name)
         if solution is not None or actuator is not None:
             if actuator is None:
                 raise InvalidInputError(
@@ -128,28 +141,21 @@ class FrameSnapshot:
         ]
 
     def __repr__(self) -> str:
-        parts = [f"q=({len(self.q)},)"]
-        if self.actuator is not None:
-            parts.append(f"actuator={type(self.actuator).__name__} on {self.actuator.action!r}")
-        if self.solution is not None:
-            parts.append("solution")
-        if self.output is not None:
-            parts.append(f"active={tuple(getattr(self.output, 'active', ()))}")
-        if self.state is not None:
-            parts.append(f"state={self.state!r}")
-        if self.support:
-            parts.append(f"support={self.support}")
-        if self.time is not None:
-            parts.append(f"time={self.time:g}")
-        return f"FrameSnapshot({', '.join(parts)})"
+        actuator, output = self.actuator, self.output
+        parts = [
+            f"q=({len(self.q)},)",
+            actuator is not None and f"actuator={type(actuator).__name__} on {actuator.action!r}",
+            self.solution is not None and "solution",
+            output is not None and f"active={tuple(getattr(output, 'active', ()))}",
+            self.state is not None and f"state={self.state!r}",
+            bool(self.support) and f"support={self.support}",
+            self.time is not None and f"time={self.time:g}",
+        ]
+        return f"FrameSnapshot({', '.join(part for part in parts if part)})"
 
 
-def check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
-    """``q`` as a finite float array of shape ``(nq,)``.
-
-    Raises:
-        InvalidInputError: ``q`` is not numbers, has another shape, or NaN or inf entries.
-    """
+def _check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
+    """``q`` as a finite float array of shape ``(nq,)`` (else an InvalidInputError)."""
     try:
         q = np.asarray(q, dtype=float)
     except (TypeError, ValueError):
@@ -164,11 +170,7 @@ def check_q(q: np.ndarray, nq: int, robot_name: str) -> np.ndarray:
 def _check_request(
     actuator: Actuator, solution: Solution | None, wrench: np.ndarray | None
 ) -> np.ndarray | None:
-    """Check an actuator with its solution or wrench; return the wrench as floats (or None).
-
-    Raises:
-        InvalidInputError: See `FrameSnapshot.build`.
-    """
+    """Check an actuator with its solution or wrench; return the wrench as floats (or None)."""
     if not all(hasattr(actuator, attribute) for attribute in ("action", "reference", "axes")):
         raise InvalidInputError(
             f"actuator must be a virtual actuator (with action, reference and axes), "
@@ -196,11 +198,7 @@ def _check_request(
 
 
 def _check_output(controller: Controller, output: ControlOutput) -> None:
-    """Check that the output's active attachments (and postures) are the controller's.
-
-    Raises:
-        InvalidInputError: ``controller`` has no attachments, or ``output`` names one it lacks.
-    """
+    """Check that the output's active attachments (and postures) are the controller's."""
     attachments = getattr(controller, "attachments", None)
     if attachments is None:
         raise InvalidInputError(f"controller must be a Controller, got {controller!r}.")

@@ -119,22 +119,17 @@ PALETTE = Palette()
 
 
 def legend_entries(
-    palette: Palette,
-    force_scale: float,
-    moment_scale: float,
-    effort_reference: float,
-    drawn: Collection[str] | None = None,
+    scene: object, drawn: Collection[str] | None = None
 ) -> list[tuple[int | None, str]]:
     """The legend as ``(colour or None, short line)`` pairs.
 
     Args:
-        palette: The colours.
-        force_scale: Arrow length per newton [m/N].
-        moment_scale: Arrow length per newton-metre [m/(N m)].
-        effort_reference: Effort shown as a full gauge at joints without a limit [N m or N].
+        scene: Has the ``palette``, ``force_scale`` [m/N], ``moment_scale`` [m/(N m)] and
+            ``effort_reference`` (a full gauge without a limit) of a `RobotScene`.
         drawn: Keys drawn: `Palette` fields, ``"no_limit"``, ``"frames"`` (None: all).
     """
-    p = palette
+    p, force_scale, moment_scale = scene.palette, scene.force_scale, scene.moment_scale
+    effort_reference = scene.effort_reference
     entries = [
         ("requested_force", p.requested_force, f"force: 1 m = {1 / force_scale:.3g} N"),
         ("requested_moment", p.requested_moment, f"moment: 1 m = {1 / moment_scale:.3g} N m"),
@@ -153,12 +148,6 @@ def legend_entries(
         ("frames", None, "frames: x y z = red green blue"),
     ]
     return [(color, text) for key, color, text in entries if drawn is None or key in drawn]
-
-
-def legend_text(entries: list[tuple[int | None, str]]) -> str:
-    """The legend as plain text, one entry per line."""
-    swatches = [(" " * 7 if color is None else f"#{color:06X}", text) for color, text in entries]
-    return "\n".join(f"{swatch}  {text}" for swatch, text in swatches)
 
 
 def legend_html(entries: list[tuple[int | None, str]], title: str = "") -> str:

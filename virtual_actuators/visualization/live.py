@@ -16,18 +16,21 @@ import umsgpack
 from ..exceptions import VirtualActuatorError
 from .windows import SceneWindow, path_of
 
+#: Seconds to wait for an existing server's answer, and the unanswered commands above which
+#: the window is congested.
+ANSWER_TIMEOUT = 5.0
+MAX_BACKLOG = 600
+
 
 class LiveWindow(SceneWindow):
     """A MeshCat server, fed through a relay process that never makes the caller wait.
 
     `commit` writes a frame's packed commands to the relay in one pipe write; with more than
-    ``max_backlog`` commands unanswered the window is `congested` and live frames are skipped.
+    `MAX_BACKLOG` commands unanswered the window is `congested` and live frames are skipped.
 
     Args:
         zmq_url: ZMQ URL of a running MeshCat server (``meshcat-server`` prints it); None
             starts a server as a subprocess (it stops with this process).
-        timeout: Seconds to wait for an existing server's answer.
-        max_backlog: Unanswered commands above which the window is congested.
 
     Raises:
         VirtualActuatorError: No server answers at ``zmq_url``, or the server or the relay
@@ -36,9 +39,7 @@ class LiveWindow(SceneWindow):
 
     live = True
 
-    def __init__(
-        self, zmq_url: str | None = None, timeout: float = 5.0, max_backlog: int = 600
-    ) -> None:
+    def __init__(self, zmq_url: str | None = None) -> None:
         super().__init__()
         import zmq
 
@@ -52,9 +53,8 @@ class LiveWindow(SceneWindow):
             except Exception as error:  # noqa: BLE001 - any start-up failure, reported typed
                 raise VirtualActuatorError(f"Could not start a MeshCat server: {error}") from error
         else:
-            web_url = self._ask(zmq_url, b"url", timeout).decode("utf-8")
+            web_url = self._ask(zmq_url, b"url", ANSWER_TIMEOUT).decode("utf-8")
         self.zmq_url, self.web_url = zmq_url, web_url
-        self.max_backlog = int(max_backlog)
         self.sent = 0
         self.answered = 0
         self._batch = bytearray()
@@ -142,8 +142,8 @@ class LiveWindow(SceneWindow):
 
     @property
     def congested(self) -> bool:
-        """Whether the server lags by more than ``max_backlog`` commands."""
-        return self.backlog > self.max_backlog
+        """Whether the server lags by more than `MAX_BACKLOG` commands."""
+        return self.backlog > MAX_BACKLOG
 
     def flush(self, timeout: float | None = 10.0) -> bool:
         """Send what is queued and wait until the server answered everything.

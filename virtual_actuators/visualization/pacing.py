@@ -26,13 +26,8 @@ CAMERA_FOV_DEG = 75.0
 FRAMED = ("robot/",)
 
 
-def visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
-    """Origins ``(n, 3)`` of the placed nodes, none of whose parents is hidden, in view axes.
-
-    Args:
-        scene: The scene.
-        under: Only the nodes whose names start so.
-    """
+def _visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
+    """Origins ``(n, 3)`` of the placed nodes named ``under...`` with no hidden parent."""
     matrices, visible = scene.matrices, scene.visible
     root = matrices.get("", np.eye(4))
     composed: dict[str, np.ndarray | None] = {"": root}
@@ -167,7 +162,7 @@ class FramePacer:
         if recording.times and time <= recording.times[-1]:
             return  # the same instant again (a paused simulation): keep the first frame
         recording.add(time, dict(self.scene.matrices), dict(self.scene.visible))
-        points = visible_points(self.scene, FRAMED)
+        points = _visible_points(self.scene, FRAMED)
         if len(points):  # grow the box with the robot's visible bodies in this frame
             low, high = points.min(axis=0), points.max(axis=0)
             if self.bounds is not None:
@@ -231,13 +226,11 @@ class TickUpdater:
     Args:
         viewer: The viewer.
         realtime: Sleep so that simulated time does not run ahead of wall-clock time.
-        terrain: Draw the simulator's terrain at the first tick.
     """
 
-    def __init__(self, viewer: Drawing, realtime: bool = False, terrain: bool = True) -> None:
+    def __init__(self, viewer: Drawing, realtime: bool = False) -> None:
         self.viewer = viewer
         self.realtime = realtime
-        self.terrain = terrain
         self.updates = 0
         self._start: float | None = None
         self._sim_start = 0.0
@@ -253,7 +246,7 @@ class TickUpdater:
         sim_time = simulator.time
         if self._start is None:
             self._start, self._sim_start = wallclock.perf_counter(), sim_time
-            if self.terrain and getattr(simulator, "terrain", None) is not None:
+            if getattr(simulator, "terrain", None) is not None:  # drawn at the first tick
                 viewer.set_terrain(simulator.terrain)
         if self.realtime:
             ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)

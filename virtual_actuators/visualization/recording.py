@@ -26,12 +26,8 @@ def _track(name: str, kind: str, times: np.ndarray, values: object) -> dict:
     return {"name": name, "type": kind, "times": _float32(times), "values": values}
 
 
-def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Split ``[R diag(s) | p]`` (``s`` positive) into position, quaternion ``(x, y, z, w)``, scale.
-
-    Returns:
-        ``(p (3,), quaternion (4,), s (3,))``.
-    """
+def _decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``[R diag(s) | p]`` (``s`` positive) as ``p (3,)``, quaternion ``(x, y, z, w)``, ``s``."""
     linear = matrix[:3, :3]
     scale = np.linalg.norm(linear, axis=0)
     safe = np.where(scale > 1e-12, scale, 1.0)
@@ -47,17 +43,13 @@ def decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 @dataclass(repr=False)
 class AnimationCommand:
-    """A MeshCat ``set_animation`` command with pre-lowered clips.
+    """A MeshCat ``set_animation`` command with pre-lowered clips, played once on loading.
 
     Attributes:
         animations: ``[{"path": ..., "clip": {...}}]`` in MeshCat's format.
-        play: Start playing when the page loads.
-        repetitions: How many times to play.
     """
 
     animations: list[dict]
-    play: bool = True
-    repetitions: int = 1
 
     def lower(self) -> dict:
         """The command as MeshCat's viewer reads it."""
@@ -65,7 +57,7 @@ class AnimationCommand:
             "type": "set_animation",
             "path": "",
             "animations": self.animations,
-            "options": {"play": self.play, "repetitions": self.repetitions},
+            "options": {"play": True, "repetitions": 1},
         }
 
     def __repr__(self) -> str:
@@ -135,22 +127,11 @@ class AnimationRecording:
             track.append((k, bool(shown)))
             self._last_visible[name] = shown
 
-    def matrix_track(self, name: str) -> list[tuple[float, np.ndarray]]:
-        """``(time from the first frame [s], matrix)`` keys of a node (for inspection)."""
-        start = self.times[0] if self.times else 0.0
-        return [(self.times[k] - start, m) for k, m in self._matrices.get(name, [])]
-
-    def visible_track(self, name: str) -> list[tuple[float, bool]]:
-        """``(time from the first frame [s], visible)`` keys of a dynamic node."""
-        start = self.times[0] if self.times else 0.0
-        return [(self.times[k] - start, v) for k, v in self._visible.get(name, [])]
-
-    def command(self, path_of, play: bool = True) -> AnimationCommand:
+    def command(self, path_of) -> AnimationCommand:
         """The ``set_animation`` command of the recording, one clip per node.
 
         Args:
             path_of: Maps a node name to its MeshCat path.
-            play: Start playing when loaded.
         """
         start = self.times[0] if self.times else 0.0
         frame_times = (np.array(self.times) - start) * self.fps  # in frames, as MeshCat counts
@@ -159,7 +140,7 @@ class AnimationRecording:
             if len(keys) < 2:
                 continue  # never moved while recording: its static transform is enough
             times = frame_times[[k for k, _ in keys]]
-            columns = zip(*(decompose(m) for _, m in keys), strict=True)
+            columns = zip(*(_decompose(m) for _, m in keys), strict=True)
             positions, quaternions, scales = (np.array(column) for column in columns)
             for i in range(1, len(quaternions)):  # continuous signs for interpolation
                 if quaternions[i] @ quaternions[i - 1] < 0:
@@ -179,7 +160,7 @@ class AnimationRecording:
             {"path": path_of(name), "clip": {"fps": self.fps, "name": "default", "tracks": tracks}}
             for name, tracks in clips.items()
         ]
-        return AnimationCommand(animations, play=play)
+        return AnimationCommand(animations)
 
     def __repr__(self) -> str:
         return (

@@ -59,17 +59,16 @@ class RobotScene:
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
         effort_reference: Full gauge at joints without an effort limit [N m or N].
-        camera: ``"auto"``, ``"side"``, ``"iso"`` or None.
-        follow: Keep a travelling robot at the centre of the view (None: when it can travel).
 
     Attributes:
         data: Pinocchio data at the last configuration drawn (`pose`).
         extent: Size of the robot at its neutral configuration [m].
         detail: Typical link length, the unit of every marker's size [m].
         sizes: Sizes of shafts, heads, gauges, coils [m].
-        view: Unit vector from the robot's centre to the camera (world axes).
+        view: Unit vector from the robot's centre to the camera (world axes): from the side
+            for a planar robot, else from an oblique (iso) direction.
         planar: Whether every joint moves in the x-z plane.
-        follow: Whether the view follows the robot.
+        follow: Whether the view follows the robot (one with a free or prismatic root joint).
         effort_joints: An `EffortJoint` per actuated 1-dof joint.
         drawn: Keys of what has been drawn so far, which the legend lists (see `mark`).
     """
@@ -83,8 +82,6 @@ class RobotScene:
         force_scale: float,
         moment_scale: float,
         effort_reference: float,
-        camera: str | None = "auto",
-        follow: bool | None = None,
     ) -> None:
         self.robot = robot
         self.model = robot.model
@@ -102,28 +99,26 @@ class RobotScene:
         q0 = robot.neutral()
         pin.forwardKinematics(self.model, self.data, q0)
         pin.updateFramePlacements(self.model, self.data)
-        self._sizes(camera, follow)
+        self._sizes()
         self.effort_joints = effort_joints(robot, self.data, q0)
 
-    def _sizes(self, camera: str | None, follow: bool | None) -> None:
+    def _sizes(self) -> None:
         model, data = self.model, self.data
         points = np.array([f.translation for f in data.oMf] + [m.translation for m in data.oMi])
         low, high = points.min(axis=0), points.max(axis=0)
         self.extent = max(0.3, float(np.linalg.norm(high - low)))
         self.detail = min(typical_link_length(model), 0.5 * self.extent)
         self._target0 = (low + high) / 2.0
-        floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
+        first = model.joints[1].shortname() if model.njoints > 1 else ""
+        floating = first == "JointModelFreeFlyer"
         self._ground = float(low[2]) if floating else 0.0  # feet of a free robot, else z = 0
         self._centroid0 = self._centroid()
         self.sizes = marker_sizes(self.detail)
         self.planar = is_planar(model, data)
-        mode = camera if camera != "auto" else ("side" if self.planar else "iso")
-        self._camera_mode = mode
-        direction = _CAMERA_SIDE if mode == "side" else _CAMERA_ISO
+        self._camera_mode = "side" if self.planar else "iso"
+        direction = _CAMERA_SIDE if self.planar else _CAMERA_ISO
         self.view = direction / np.linalg.norm(direction)  # from the target to the camera
-        first = model.joints[1].shortname() if model.njoints > 1 else ""
-        travels = first == "JointModelFreeFlyer" or first.startswith("JointModelP")
-        self.follow = travels if follow is None else bool(follow)
+        self.follow = floating or first.startswith("JointModelP")  # a robot that travels
 
     def _centroid(self) -> np.ndarray:
         if len(self.data.oMi) <= 1:
@@ -147,23 +142,18 @@ class RobotScene:
         nodes.set_property("/Grid", "visible", False)
         nodes.set_property("/Axes", "visible", False)
         nodes.create("ground/grid", ground_grid(self._target0[:2], self._ground))
-        if self._camera_mode is None:
-            return
         distance = max(0.8, 1.5 * self.extent)
         offset = self.view * distance  # from the robot's centre to the camera, world axes
         local = [float(offset[0]), float(offset[2]), float(-offset[1])]  # three.js is y-up
         nodes.set_property("/Cameras/default/rotated/<object>", "position", local)
 
-    def set_terrain(
-        self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
-    ) -> None:
-        """Draw a planar ground profile instead of the grid (`Viewer.set_terrain`).
+    def set_terrain(self, terrain: Terrain | np.ndarray, run: float) -> None:
+        """Draw a planar ground profile, the terrain's ``width`` (else 1 m) wide, for the grid.
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
         """
-        if width is None:
-            width = float(getattr(terrain, "width", 1.0))
+        width = float(getattr(terrain, "width", 1.0))
         segments = terrain_segments(terrain, run)
         self.nodes.remove("terrain")
         for k, (lengths, matrix) in enumerate(terrain_boxes(segments, width)):
@@ -265,7 +255,6 @@ class RobotScene:
         axes: tuple[str, ...],
         values: np.ndarray,
         colors: tuple[int, int],
-        thin: float = 1.0,
     ) -> tuple[bool, bool]:
         """A force arrow and a double-headed moment arrow of a wrench on ``axes``.
 
@@ -276,8 +265,8 @@ class RobotScene:
         scaled_force = rotation @ force * self.force_scale
         scaled_moment = rotation @ moment * self.moment_scale
         return (
-            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1, thin),
-            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2, thin),
+            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1),
+            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2),
         )
 
     def triad(self, role: str, frame: str) -> None:

@@ -97,14 +97,9 @@ class Scene:
             self.visible[name] = name in used
         self._used = set()
 
-    def sync(self) -> int:
-        """Send the transforms and visibilities that changed since the last sync, then commit.
-
-        Returns:
-            The number of commands sent.
-        """
-        sent = 0
-        window = self.vis.window  # a SceneWindow (the viewer wraps any other in one)
+    def sync(self) -> None:
+        """Send the transforms and visibilities that changed since the last sync, then commit."""
+        window = self.vis.window  # a SceneWindow
         for name, matrix in self.matrices.items():
             previous = self._sent.get(name)
             if previous is matrix:
@@ -113,14 +108,11 @@ class Scene:
             if previous is not None and np.array_equal(previous, matrix):
                 continue  # placed again where it was (a frame that does not move)
             window.send_transform(self.path(name), matrix)
-            sent += 1
         for name, visible in self.visible.items():
             if self._sent_visible.get(name) != visible:
                 self.node(name).set_property("visible", visible)
                 self._sent_visible[name] = visible
-                sent += 1
         window.commit()  # windows that batch (the live window) send the frame now
-        return sent
 
     def __repr__(self) -> str:
         return (

@@ -112,12 +112,11 @@ def arrow_matrices(
     return out
 
 
-def frame_on_plane(normal: np.ndarray, up: Sequence[float] = (0.0, 0.0, 1.0)) -> np.ndarray:
-    """Rotation whose z axis is ``normal`` and whose y axis is as close as possible to ``up``."""
-    up = np.asarray(up, dtype=float)
+def frame_on_plane(normal: np.ndarray) -> np.ndarray:
+    """Rotation whose z axis is ``normal`` and whose y axis is as close as possible to world z."""
     z = np.asarray(normal, dtype=float)
     z = z / np.linalg.norm(z)
-    x = np.cross(up, z)
+    x = np.cross(np.array([0.0, 0.0, 1.0]), z)
     if np.linalg.norm(x) < 1e-9:
         x = np.cross(np.array([0.0, 1.0, 0.0]), z)
     x /= np.linalg.norm(x)
@@ -190,13 +189,11 @@ class Cone(mg.Geometry):
     Args:
         height: Length along y [m].
         radius: Radius of the base [m].
-        radial_segments: Facets around the axis.
     """
 
-    def __init__(self, height: float, radius: float, radial_segments: int = 24) -> None:
+    def __init__(self, height: float, radius: float) -> None:
         super().__init__()
         self.height, self.radius = float(height), float(radius)
-        self.radial_segments = radial_segments
 
     def lower(self, object_data: object) -> dict:
         """The three.js ``ConeGeometry`` JSON."""
@@ -205,7 +202,7 @@ class Cone(mg.Geometry):
             "type": "ConeGeometry",
             "radius": self.radius,
             "height": self.height,
-            "radialSegments": self.radial_segments,
+            "radialSegments": 24,
             "heightSegments": 1,
             "openEnded": False,
         }
@@ -246,13 +243,12 @@ class TextTexture(mg.Texture):
 
     Args:
         text: The line of text.
-        font_size: Font size in canvas pixels (the canvas is 256 pixels wide).
-        font_face: CSS font family.
+        font_size: Font size in canvas pixels (the canvas is 256 pixels wide), sans-serif.
     """
 
-    def __init__(self, text: str, font_size: int = 28, font_face: str = "sans-serif") -> None:
+    def __init__(self, text: str, font_size: int = 28) -> None:
         super().__init__()
-        self.text, self.font_size, self.font_face = str(text), int(font_size), str(font_face)
+        self.text, self.font_size = str(text), int(font_size)
 
     def lower(self, object_data: object) -> dict:
         """The ``_text`` texture JSON of MeshCat's viewer."""
@@ -261,7 +257,7 @@ class TextTexture(mg.Texture):
             "type": "_text",
             "text": self.text,
             "font_size": self.font_size,
-            "font_face": self.font_face,
+            "font_face": "sans-serif",
         }
 
     def __repr__(self) -> str:
@@ -328,17 +324,16 @@ def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
     return parts
 
 
-def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.TriangularMeshGeometry:
-    """A helical spring of unit length along y (from -0.5 to 0.5) around the y axis.
+def coil_mesh(radius: float = 1.0) -> mg.TriangularMeshGeometry:
+    """A helical spring of 7 coils of unit length along y (from -0.5 to 0.5) around the y axis.
 
     Args:
-        turns: Number of coils.
-        radius: Coil radius (the placement's x and z scale it) [m].
-        wire: Wire radius, relative to the coil radius.
+        radius: Coil radius (the placement's x and z scale it; the wire's is 0.08 of it) [m].
 
     Returns:
         A triangle mesh (a tube swept along the helix, straight leads at both ends).
     """
+    turns, wire = 7, 0.08
     samples = turns * 16
     lead = 0.08
     t = np.linspace(0.0, 1.0, samples + 1)
@@ -351,20 +346,17 @@ def coil_mesh(turns: int = 7, radius: float = 1.0, wire: float = 0.08) -> mg.Tri
     )
     centre = np.vstack(([0.0, -0.5, 0.0], [radius, -0.5 + lead, 0.0], centre[1:], [0.0, 0.5, 0.0]))
     sides = 6
-    rings = []
-    for i in range(len(centre)):
-        tangent = centre[min(i + 1, len(centre) - 1)] - centre[max(i - 1, 0)]
-        tangent /= np.linalg.norm(tangent)
-        normal = np.cross(tangent, [0.0, 1.0, 0.0])
-        if np.linalg.norm(normal) < 1e-9:
-            normal = np.array([1.0, 0.0, 0.0])
-        normal /= np.linalg.norm(normal)
-        binormal = np.cross(tangent, normal)
-        angles = 2 * np.pi * np.arange(sides) / sides
-        circle = np.outer(np.cos(angles), normal) + np.outer(np.sin(angles), binormal)
-        rings.append(centre[i] + wire * radius * circle)
-    vertices = np.vstack(rings)
-    a = (np.arange(len(rings) - 1)[:, None] * sides + np.arange(sides)).ravel()
+    k = np.arange(len(centre))
+    tangent = centre[np.minimum(k + 1, k[-1])] - centre[np.maximum(k - 1, 0)]
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    normal = np.cross(tangent, [0.0, 1.0, 0.0])
+    normal[np.linalg.norm(normal, axis=1) < 1e-9] = [1.0, 0.0, 0.0]
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    binormal = np.cross(tangent, normal)
+    angles = 2 * np.pi * np.arange(sides) / sides
+    circle = np.cos(angles)[:, None] * normal[:, None] + np.sin(angles)[:, None] * binormal[:, None]
+    vertices = (centre[:, None] + wire * radius * circle).reshape(-1, 3)  # a ring per point
+    a = (np.arange(len(centre) - 1)[:, None] * sides + np.arange(sides)).ravel()
     b = a - a % sides + (a + 1) % sides
     faces = np.column_stack((a, b, b + sides, a, b + sides, a + sides)).reshape(-1, 3)
     return mg.TriangularMeshGeometry(vertices.astype(np.float32), faces.astype(np.uint32))

@@ -6,43 +6,29 @@ drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Unpack
 
 import meshcat
 import numpy as np
 
-from ..control import Controller, ControlOutput, State
 from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.arguments import check_number
 from .bodies import RobotBodies, typical_link_length
-from .frame_snapshot import Actuator, FrameSnapshot
-from .legend import PALETTE, Palette, legend_entries, legend_html, legend_text
+from .frame_snapshot import FrameExtras, FrameSnapshot
+from .legend import PALETTE, Palette, legend_entries, legend_html
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
 from .pacing import FramePacer, TickUpdater, framing_commands
 from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
-from .windows import ForwardingWindow, SceneWindow
+from .windows import SceneWindow
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
-
-
-def _forward(name: str, doc: str, settable: bool = False, owner: str = "robot_scene") -> property:
-    """A property of the viewer that reads (and writes) its robot scene's (or pacer's) attribute."""
-
-    def get(self: Viewer) -> object:
-        return getattr(getattr(self, owner), name)
-
-    def put(self: Viewer, value: object) -> None:
-        setattr(getattr(self, owner), name, value)
-
-    return property(get, put if settable else None, doc=doc)
 
 
 class Viewer:
@@ -51,25 +37,19 @@ class Viewer:
     Args:
         robot: The robot.
         window: None starts a MeshCat server (or connects to ``zmq_url``) and prints its URL;
-            a `CommandRecorder` or `OfflineWindow` draws without a server; any other object
-            with ``send(command)`` (MeshCat's ``ViewerWindow``) is forwarded to.
-        open: Open the URL in a web browser.
+            a `CommandRecorder` or `OfflineWindow` (a `SceneWindow`) draws without a server.
         force_scale: Arrow length per newton [m/N].
         moment_scale: Arrow length per newton-metre [m/(N m)].
         effort_reference: Full gauge at joints without a URDF effort limit [N m or N].
         zmq_url: URL of a running ``meshcat-server`` to use instead of starting one.
-        prefix: MeshCat node under which everything is drawn (re-created empty).
         geometry: ``"auto"`` (URDF visuals if any, else a skeleton), ``"urdf"``, ``"skeleton"``.
-        camera: ``"auto"`` (``"side"`` for a robot moving in the x-z plane, else ``"iso"``),
-            ``"side"``, ``"iso"`` or None (MeshCat's default).
-        follow: Keep a travelling robot at the centre of the view (None: when it has a
-            floating base or a prismatic first joint).
         legend: Draw the legend in the scene.
         rate_hz: Live updates per wall-clock second of `maybe_show` and `tick_callback`.
         palette: Colours.
 
     Attributes:
-        robot_scene: The robot's geometry, kinematics and drawing primitives.
+        robot_scene: The robot's geometry, kinematics and drawing primitives (its scales,
+            sizes and ``data`` at the last configuration drawn).
         scene: Its MeshCat nodes.
         overlays: What is drawn over the robot, in drawing order.
         window: Where the scene is sent.
@@ -77,38 +57,22 @@ class Viewer:
 
     Raises:
         InvalidInputError: ``robot`` is not a [`Robot`][], a scale or the rate is not a
-            positive number, ``geometry`` or ``camera`` is unknown, or ``window`` has no
-            ``send`` method.
+            positive number, ``geometry`` is unknown, or ``window`` is neither
+            None nor a `SceneWindow`.
         RobotDescriptionError: ``geometry="urdf"`` for a robot without visual geometry.
         VirtualActuatorError: The MeshCat server cannot be started or reached.
     """
-
-    palette = _forward("palette", "Colours.", settable=True)
-    force_scale = _forward("force_scale", "Arrow length per newton [m/N].", settable=True)
-    moment_scale = _forward("moment_scale", "Arrow length per N m [m/(N m)].", settable=True)
-    effort_reference = _forward("effort_reference", "Full gauge without a limit.", settable=True)
-    data = _forward("data", "Pinocchio data at the last configuration drawn.")
-    extent = _forward("extent", "Size of the robot [m].")
-    detail = _forward("detail", "Typical link length [m].")
-    sizes = _forward("sizes", "Sizes of arrows and markers [m].")
-    planar = _forward("planar", "Whether the robot moves in the x-z plane.")
-    follow = _forward("follow", "Whether the view follows the robot.", settable=True)
-    rate_hz = _forward("rate_hz", "Live updates per wall-clock second.", True, owner="pacer")
 
     def __init__(
         self,
         robot: Robot,
         *,
-        window: SceneWindow | object | None = None,
-        open: bool = False,
+        window: SceneWindow | None = None,
         force_scale: float = 0.01,
         moment_scale: float = 0.05,
         effort_reference: float = 10.0,
         zmq_url: str | None = None,
-        prefix: str = "virtual_actuators",
         geometry: str = "auto",
-        camera: str | None = "auto",
-        follow: bool | None = None,
         legend: bool = True,
         rate_hz: float = 30.0,
         palette: Palette = PALETTE,
@@ -119,26 +83,17 @@ class Viewer:
         scales["effort_reference"] = effort_reference
         scales = [check_number(value, what, positive=True) for what, value in scales.items()]
         rate_hz = check_number(rate_hz, "rate_hz", positive=True)
-        if camera not in ("auto", "side", "iso", None):
-            raise InvalidInputError(
-                f"camera must be 'auto', 'side', 'iso' or None, got {camera!r}."
-            )
-        if not isinstance(prefix, str) or not prefix.strip("/"):
-            raise InvalidInputError(f"prefix must be a non-empty node name, got {prefix!r}.")
+        if window is not None and not isinstance(window, SceneWindow):
+            raise InvalidInputError(f"window must be None or a SceneWindow, got {window!r}.")
         self.robot = robot
         self.model = robot.model
         self.bodies = RobotBodies(robot, geometry, typical_link_length(self.model))
         started = window is None
-        if window is None:
-            window = LiveWindow(zmq_url)
-        elif not isinstance(window, SceneWindow):
-            window = ForwardingWindow(window)
+        window = LiveWindow(zmq_url) if started else window
         self.window: SceneWindow = window
         self.vis = meshcat.Visualizer(window=window)
-        self.scene = Scene(self.vis, prefix)
-        self.robot_scene = RobotScene(
-            robot, self.bodies, self.scene, palette, *scales, camera=camera, follow=follow
-        )
+        self.scene = Scene(self.vis, "virtual_actuators")
+        self.robot_scene = RobotScene(robot, self.bodies, self.scene, palette, *scales)
         self.overlays: list[Overlay] = default_overlays(legend)
         self.pacer = FramePacer(window, self.scene, rate_hz)
         self.robot_scene.build()
@@ -147,18 +102,11 @@ class Viewer:
         self.show(robot.neutral())
         if started:
             print(f"MeshCat viewer of {robot.name}: {self.url}")
-        if open:
-            self.window.open()
 
     @property
     def url(self) -> str | None:
         """URL of the live viewer (None without a server)."""
         return self.window.web_url
-
-    @property
-    def recording(self) -> bool:
-        """Whether frames are being recorded."""
-        return self.pacer.recording is not None
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
         """``(live, record)``: whether a live update and a recorded frame are due.
@@ -216,13 +164,7 @@ class Viewer:
 
     def legend_entries(self) -> list[tuple[int | None, str]]:
         """The legend as ``(colour or None, text)`` pairs: what has been drawn so far."""
-        scene = self.robot_scene
-        scales = scene.force_scale, scene.moment_scale, scene.effort_reference
-        return legend_entries(scene.palette, *scales, scene.drawn)
-
-    def legend(self) -> str:
-        """The legend as plain text (colours as ``#RRGGBB``)."""
-        return legend_text(self.legend_entries())
+        return legend_entries(self.robot_scene, self.robot_scene.drawn)
 
     def add_overlay(self, overlay: Overlay) -> Overlay:
         """Draw ``overlay`` in every following frame, after the others (its `setup` runs now).
@@ -239,46 +181,22 @@ class Viewer:
         overlay.setup(self.robot_scene)
         return overlay
 
-    def remove_overlay(self, overlay: Overlay) -> None:
-        """Stop drawing ``overlay`` and delete its nodes.
-
-        Raises:
-            InvalidInputError: ``overlay`` is not one of this viewer's.
-        """
-        if overlay not in self.overlays:
-            raise InvalidInputError(f"{overlay!r} is not one of this viewer's overlays.")
-        self.overlays.remove(overlay)
-        overlay.clear(self.robot_scene)
-
-    def set_terrain(
-        self, terrain: Terrain | np.ndarray, width: float | None = None, run: float = 30.0
-    ) -> None:
+    def set_terrain(self, terrain: Terrain | np.ndarray, run: float = 30.0) -> None:
         """Draw a planar ground profile (a [`Terrain`][]).
 
         Args:
             terrain: A terrain or an ``(n, 2)`` array of ``(x, z)`` points [m].
-            width: Extent of the ground along y [m] (None: the terrain's ``width``, else 1 m).
             run: Level ground drawn before the first and after the last point [m].
 
         Raises:
             InvalidInputError: The points are not an ``(n, 2)`` finite array.
         """
-        self.robot_scene.set_terrain(terrain, width, run)
+        self.robot_scene.set_terrain(terrain, run)
         if self.window.live:
             self.scene.sync()
 
     def show(
-        self,
-        q: np.ndarray,
-        solution: Solution | None = None,
-        *,
-        actuator: Actuator | None = None,
-        wrench: np.ndarray | None = None,
-        controller: Controller | None = None,
-        output: ControlOutput | None = None,
-        state: State | str | None = None,
-        support: Iterable[str] = (),
-        time: float | None = None,
+        self, q: np.ndarray, solution: Solution | None = None, **extras: Unpack[FrameExtras]
     ) -> None:
         """Draw one frame and send it (and record it while recording).
 
@@ -302,23 +220,11 @@ class Viewer:
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
         """
-        self.draw(
-            self._frame(q, solution, actuator, wrench, controller, output, state, support, time)
-        )
-        self.pacer.publish(self.window.live, self.pacer.recording is not None, time)
+        self._draw(q, solution, extras)
+        self.pacer.publish(self.window.live, self.pacer.recording is not None, extras.get("time"))
 
     def maybe_show(
-        self,
-        q: np.ndarray,
-        solution: Solution | None = None,
-        *,
-        actuator: Actuator | None = None,
-        wrench: np.ndarray | None = None,
-        controller: Controller | None = None,
-        output: ControlOutput | None = None,
-        state: State | str | None = None,
-        support: Iterable[str] = (),
-        time: float | None = None,
+        self, q: np.ndarray, solution: Solution | None = None, **extras: Unpack[FrameExtras]
     ) -> bool:
         """`show` (same arguments), only when a live update or a recorded frame is due.
 
@@ -331,47 +237,34 @@ class Viewer:
             InvalidInputError: See `show`.
             FrameNotFoundError: See `show`.
         """
-        live, record = self.due(time)
+        live, record = self.due(extras.get("time"))
         if not (live or record):
             return False
-        self.draw(
-            self._frame(q, solution, actuator, wrench, controller, output, state, support, time)
-        )
-        self.pacer.publish(live, record, time)
+        self._draw(q, solution, extras)
+        self.pacer.publish(live, record, extras.get("time"))
         return True
 
-    def _frame(self, q: np.ndarray, solution: Solution | None, *fields: object) -> FrameSnapshot:
-        """`FrameSnapshot.build` of `show`'s arguments, given in its order."""
-        names = ("actuator", "wrench", "controller", "output", "state", "support", "time")
-        options = dict(zip(names, fields, strict=True))
-        return FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **options)
-
-    def draw(self, frame: FrameSnapshot) -> None:
-        """Draw a frame into the scene without sending it.
-
-        Raises:
-            InvalidInputError: The frame's efforts do not fit the robot.
-            FrameNotFoundError: A frame it names is not in the robot.
-        """
+    def _draw(self, q: np.ndarray, solution: Solution | None, extras: FrameExtras) -> None:
+        """Check a frame (`FrameSnapshot.build`) and draw it into the scene without sending it."""
+        frame = FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras)
         self.robot_scene.pose(frame.q)
         for overlay in self.overlays:
             overlay.draw(self.robot_scene, frame)
         self.scene.end_frame()
 
-    def tick_callback(self, realtime: bool = False, terrain: bool = True) -> TickUpdater:
+    def tick_callback(self, realtime: bool = False) -> TickUpdater:
         """An ``on_tick(simulator, gait)`` for `run_walk`.
 
         Args:
             realtime: Sleep so that simulated time does not run ahead of wall-clock time.
-            terrain: Draw the simulator's terrain at the first tick.
         """
-        return TickUpdater(self, realtime=realtime, terrain=terrain)
+        return TickUpdater(self, realtime=realtime)
 
     def __repr__(self) -> str:
-        running = self.pacer.recording
+        running, scene = self.pacer.recording, self.robot_scene
         recording = f", recording {running.frames} frames" if running else ""
         return (
             f"Viewer(robot={self.robot.name!r}, url={self.url!r}, geometry={self.bodies.kind!r}, "
-            f"force_scale={self.force_scale:g} m/N, moment_scale={self.moment_scale:g} m/(N m)"
+            f"force_scale={scene.force_scale:g} m/N, moment_scale={scene.moment_scale:g} m/(N m)"
             f"{recording})"
         )

@@ -14,8 +14,6 @@ import numpy as np
 import umsgpack
 from meshcat.path import Path as MeshcatPath
 
-from ..exceptions import InvalidInputError
-
 
 def path_of(command: object) -> str:
     """The path of a MeshCat command, as a string."""
@@ -54,14 +52,6 @@ class SceneWindow:
         """Apply a MeshCat command to the mirror and deliver it."""
         self._mirror(command)
         self._deliver(command)
-
-    def open(self) -> SceneWindow:
-        """Open the live viewer in a browser, if there is one."""
-        if self.web_url:
-            import webbrowser
-
-            webbrowser.open(self.web_url, new=2)
-        return self
 
     def send_transform(self, path: str, matrix: np.ndarray) -> None:
         """Fast path of ``send(SetTransform(matrix, path))`` for a path given as a string."""
@@ -195,7 +185,7 @@ class OfflineWindow(SceneWindow):
 
 
 class CommandRecorder(SceneWindow):
-    """Keeps every command in order, for tests and inspection; stands for a live viewer.
+    """Keeps every command in order (for tests and inspection); stands for a live viewer.
 
     Attributes:
         commands: Every command received, as MeshCat command objects.
@@ -210,71 +200,5 @@ class CommandRecorder(SceneWindow):
     def _deliver(self, command: object) -> None:
         self.commands.append(command)
 
-    def clear(self) -> None:
-        """Forget the recorded commands (the mirror stays)."""
-        self.commands.clear()
-
-    def lowered(self) -> list[dict]:
-        """Every command as the dict MeshCat sends (``type``, ``path``, ...)."""
-        return [c.lower() for c in self.commands]
-
-    def paths(self, kind: str | None = None) -> list[str]:
-        """Paths of the recorded commands, optionally of one type (``"set_transform"``, ...)."""
-        names = {"set_transform": mc.SetTransform, "set_object": mc.SetObject}
-        names |= {"set_property": mc.SetProperty, "delete": mc.Delete}
-        kinds = object if kind is None else names.get(kind, type(None))
-        return [path_of(c) for c in self.commands if isinstance(c, kinds)]
-
-    def last_transform(self, path: str):
-        """The last matrix sent to ``path`` (a ``(4, 4)`` array), or None."""
-        for command in reversed(self.commands):
-            if isinstance(command, mc.SetTransform) and path_of(command) == path:
-                return command.matrix
-        return None
-
-    def objects(self) -> dict[str, dict]:
-        """The lowered object of every ``set_object`` command, by path (last one wins)."""
-        out = {}
-        for command in self.commands:
-            if isinstance(command, mc.SetObject):
-                out[path_of(command)] = command.object.lower()
-        return out
-
-    def visible(self, path: str) -> bool | None:
-        """The last ``visible`` property sent to ``path``, or None if never sent."""
-        for command in reversed(self.commands):
-            kind = isinstance(command, mc.SetProperty) and command.key == "visible"
-            if kind and path_of(command) == path:
-                return bool(command.value)
-        return None
-
     def __repr__(self) -> str:
         return f"CommandRecorder({len(self.commands)} commands, {len(self._nodes)} nodes)"
-
-
-class ForwardingWindow(SceneWindow):
-    """Mirror the scene, then forward every command to another window.
-
-    Args:
-        target: Any object with ``send(command)`` (MeshCat's ``ViewerWindow``).
-        live: Whether the target shows commands as they come.
-
-    Raises:
-        InvalidInputError: ``target`` has no ``send`` method.
-    """
-
-    def __init__(self, target: object, live: bool = True) -> None:
-        super().__init__()
-        if not callable(getattr(target, "send", None)):
-            raise InvalidInputError(
-                f"window must have a send(command) method (a MeshCat window), got {target!r}."
-            )
-        self.target = target
-        self.live = live
-        self.web_url = getattr(target, "web_url", None)
-
-    def _deliver(self, command: object) -> None:
-        self.target.send(command)
-
-    def __repr__(self) -> str:
-        return f"ForwardingWindow({self.target!r})"

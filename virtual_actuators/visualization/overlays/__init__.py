@@ -11,14 +11,8 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     Args:
         legend: Add the legend, last (it lists what the others drew).
     """
-    overlays: list[Overlay] = [
-        WrenchOverlay(),
-        ComponentOverlay(),
-        EffortOverlay(),
-        StateOverlay(),
-        SupportOverlay(),
-    ]
-    return [*overlays, LegendOverlay()] if legend else overlays
+    kinds = [WrenchOverlay, ComponentOverlay, EffortOverlay, StateOverlay, SupportOverlay]
+    return [kind() for kind in (kinds + [LegendOverlay] if legend else kinds)]
 
 
 __all__ = [

@@ -12,13 +12,7 @@ from ..robot_scene import RobotScene
 
 
 class Overlay(ABC):
-    """Something drawn over the robot: subclass it and implement `draw`.
-
-    Attributes:
-        roots: Nodes under which the overlay draws (under the viewer's prefix).
-    """
-
-    roots: tuple[str, ...] = ()
+    """Something drawn over the robot: subclass it and implement `draw`."""
 
     def setup(self, scene: RobotScene) -> None:  # noqa: B027 - optional hook
         """Draw what never changes, once, when the overlay joins a viewer (nothing by default)."""
@@ -27,10 +21,5 @@ class Overlay(ABC):
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Draw one frame: place and ``use`` the overlay's nodes (``scene`` is at ``frame.q``)."""
 
-    def clear(self, scene: RobotScene) -> None:
-        """Delete every node of the overlay (it is created anew if drawn again)."""
-        for root in self.roots:
-            scene.nodes.remove(root)
-
     def __repr__(self) -> str:
-        return f"{type(self).__name__}(roots={self.roots})"
+        return f"{type(self).__name__}()"

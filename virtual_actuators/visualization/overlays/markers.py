@@ -22,8 +22,6 @@ from .base import Overlay
 class EffortOverlay(Overlay):
     """Effort gauges of the frame's joint efforts (a controller's output, else a solution's)."""
 
-    roots = ("efforts",)
-
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Draw a gauge per actuated joint when the frame has efforts.
 
@@ -80,8 +78,6 @@ class EffortOverlay(Overlay):
 class SupportOverlay(Overlay):
     """A marker at each of ``frame.support``."""
 
-    roots = ("support",)
-
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Mark the support frames.
 
@@ -104,8 +100,6 @@ class SupportOverlay(Overlay):
 class LegendOverlay(Overlay):
     """The legend of colours and scales at the robot's left: only what has been drawn."""
 
-    roots = ("hud/legend",)
-
     def __init__(self) -> None:
         self._shown: frozenset[str] | None = None
 
@@ -121,8 +115,7 @@ class LegendOverlay(Overlay):
     @staticmethod
     def layout(scene: RobotScene, drawn: frozenset[str]) -> None:
         """Draw the legend's lines and colour swatches for the ``drawn`` keys."""
-        scales = scene.force_scale, scene.moment_scale, scene.effort_reference
-        entries = legend_entries(scene.palette, *scales, drawn)
+        entries = legend_entries(scene, drawn)
         size = min(1.5, max(0.35, 0.75 * scene.extent))
         spacing = 0.105 * size
         left = -(0.6 * scene.extent + 0.5 * size)
@@ -142,8 +135,6 @@ class LegendOverlay(Overlay):
 
 class StateOverlay(Overlay):
     """The name of the gait's state, at the robot's upper right (inside its box's height)."""
-
-    roots = ("hud/state",)
 
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Show ``frame.state`` (each name is created once, then shown or hidden)."""

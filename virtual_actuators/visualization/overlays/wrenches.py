@@ -27,8 +27,6 @@ from .base import Overlay
 class WrenchOverlay(Overlay):
     """The actuator of a frame (with its solution or wrench) and the controller's attachments."""
 
-    roots = ("frames", "wrench")
-
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Draw ``frame.actuator`` and every attachment of ``frame.output`` that has a wrench.
 
@@ -39,13 +37,13 @@ class WrenchOverlay(Overlay):
         if actuator is not None:
             if solution is not None:
                 answer = solution.requested, solution.wrench, solution.forces
-                self.draw_actuator(scene, "actuator", actuator, *answer, not solution.admissible)
+                self._draw_actuator(scene, "actuator", actuator, *answer, not solution.admissible)
             elif frame.wrench is None:
-                self.draw_actuator(scene, "actuator", actuator, None, None, None, False)
+                self._draw_actuator(scene, "actuator", actuator, None, None, None, False)
             else:
                 wrench = frame.wrench
                 forces = wrench[None, :] if len(reactions_of(actuator)) == 1 else None
-                self.draw_actuator(scene, "actuator", actuator, wrench, wrench, forces, False)
+                self._draw_actuator(scene, "actuator", actuator, wrench, wrench, forces, False)
         if frame.output is None:
             return
         output = frame.output
@@ -57,12 +55,12 @@ class WrenchOverlay(Overlay):
                 forces, inadmissible = solution.forces, not solution.admissible
             else:  # a serial actuator: one chain carries the whole wrench
                 forces, inadmissible = produced[None, :], False
-            self.draw_actuator(
+            self._draw_actuator(
                 scene, name, attachment.actuator, requested, produced, forces, inadmissible
             )
 
     @staticmethod
-    def draw_actuator(
+    def _draw_actuator(
         scene: RobotScene,
         key: str,
         actuator: Actuator,
@@ -71,20 +69,7 @@ class WrenchOverlay(Overlay):
         forces: np.ndarray | None,
         inadmissible: bool,
     ) -> None:
-        """Triads of the actuator's frames, then its wrenches under ``wrench/<key>``.
-
-        Args:
-            scene: The robot's scene.
-            key: Name of the actuator in the scene.
-            actuator: The actuator.
-            requested: Requested wrench on its axes (None: the triads only).
-            produced: Produced wrench (drawn when it differs from the request).
-            forces: ``(chains, axes)`` share of each chain (None: not drawn).
-            inadmissible: Whether the request was inadmissible.
-
-        Raises:
-            FrameNotFoundError: A frame of the actuator is not in the robot.
-        """
+        """Triads of the frames, then the requested, produced and chains' wrenches (None: none)."""
         data, palette = scene.data, scene.palette
         axes = tuple(actuator.axes)
         reactions = reactions_of(actuator)
@@ -152,8 +137,6 @@ def parameter(component: Component, attribute: str, size: int) -> np.ndarray:
 class ComponentOverlay(Overlay):
     """The components of every attachment of the frame's controller output."""
 
-    roots = ("components",)
-
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
         """Draw the components of ``frame.attachments()``.
 
@@ -161,15 +144,11 @@ class ComponentOverlay(Overlay):
             FrameNotFoundError: A sensor frame is not in the robot.
         """
         for key, attachment in frame.attachments():
-            self.draw_attachment(scene, key, attachment)
+            self._draw_attachment(scene, key, attachment)
 
     @staticmethod
-    def draw_attachment(scene: RobotScene, key: str, attachment: Attachment) -> None:
-        """Draw the components of one attachment under ``components/<key>``.
-
-        Raises:
-            FrameNotFoundError: A sensor frame is not in the robot.
-        """
+    def _draw_attachment(scene: RobotScene, key: str, attachment: Attachment) -> None:
+        """Draw the components of one attachment under ``components/<key>``."""
         sensor = attachment.sensor
         data, palette, sizes = scene.data, scene.palette, scene.sizes
         action = data.oMf[scene.frame(sensor.action, "action")].translation

@@ -156,7 +156,7 @@ def _load_urdf(
     for problem in tolerated:
         _logger.debug("%s (tolerated in a curated example-robot-data file): %s", path, problem)
     if validate:
-        validate_urdf(path, text)
+        validate_urdf(path, root)
     if floating_base is None:
         floating_base = guess_floating_base(root, path.stem)
 
@@ -165,7 +165,7 @@ def _load_urdf(
         model = pin.buildModelFromUrdf(str(path), *root_joint)
     except Exception as exc:  # Pinocchio raises ValueError or RuntimeError on URDFs it rejects
         if not validate:
-            validate_urdf(path, text)  # raises with a precise message when it finds the problem
+            validate_urdf(path, root)  # raises with a precise message when it finds the problem
         raise RobotDescriptionError(
             f"Pinocchio could not build a model from {path}: {exc}"
         ) from exc

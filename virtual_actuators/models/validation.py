@@ -183,14 +183,13 @@ def listed(problems: list[str]) -> str:
     return "".join(f"\n  - {problem}" for problem in shown) + tail
 
 
-def validate_urdf(path: Path, text: str) -> ET.Element:
-    """Check a URDF thoroughly and return its root element.
+def validate_urdf(path: Path, root: ET.Element) -> None:
+    """Check a URDF thoroughly, its XML parsed by `parse_xml` into ``root``.
 
     Raises:
-        RobotDescriptionError: If the file is not well-formed XML or not a valid URDF; the message
-            names the file and lists what is wrong.
+        RobotDescriptionError: If it is not a valid URDF; the message names the file and lists
+            what is wrong.
     """
-    root = parse_xml(path, text)
     problems = _element_problems(root)
     if not problems:
         problems = _number_problems(root) or _tree_problems(root)
@@ -198,7 +197,6 @@ def validate_urdf(path: Path, text: str) -> ET.Element:
         problems = _yourdfpy_problems(path)
     if problems:
         raise RobotDescriptionError(f"{path} is not a valid URDF:{listed(problems)}")
-    return root
 
 
 def _element_problems(root: ET.Element) -> list[str]:

@@ -239,14 +239,14 @@ def _local_names() -> set[str]:
     return names
 
 
-def shown_name(name_or_path: object, limit: int = 80) -> str:
-    """The repr of a name or path for messages, shortened to about ``limit`` characters."""
+def shown_name(name_or_path: object) -> str:
+    """The repr of a name or path for messages, shortened to about 80 characters."""
     if isinstance(name_or_path, os.PathLike):
         name_or_path = os.fspath(name_or_path)
     text = repr(name_or_path)
-    if len(text) <= limit:
+    if len(text) <= 80:
         return text
-    return f"{text[: limit - 3]}... ({len(name_or_path)} characters)"
+    return f"{text[:77]}... ({len(name_or_path)} characters)"
 
 
 def _expand_user(path: Path, name_or_path: object = None) -> Path:

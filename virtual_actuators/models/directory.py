@@ -16,7 +16,7 @@ from virtual_actuators.models.catalog import aliases, example_robot_data, list_r
 from virtual_actuators.models.loader import load_robot
 from virtual_actuators.models.robot import Robot
 
-__all__ = ["KINDS", "RobotInfo", "describe_robots", "find_feet", "robot_table"]
+__all__ = ["KINDS", "RobotInfo", "describe_robots", "robot_table"]
 
 #: Kind and maker of the robots in each example-robot-data description folder.
 KINDS: dict[str, tuple[str, str]] = {
@@ -113,7 +113,7 @@ class RobotInfo:
         return ", ".join(parts)
 
 
-def find_feet(robot: Robot) -> tuple[str, ...]:
+def _foot_frames(robot: Robot) -> tuple[str, ...]:
     """The frames named like a foot, one per joint: the farthest from it, a link's first."""
     model = robot.model
     best: dict[int, tuple[float, int, str]] = {}
@@ -145,7 +145,7 @@ def _describe(name: str) -> RobotInfo:
         source = "example-robot-data"
     elif robot.urdf_path is not None:
         source = str(robot.urdf_path.parent)
-    feet = find_feet(robot)
+    feet = _foot_frames(robot)
     model = robot.model
     dof = model.nv - (6 if robot.floating_base else 0) - len(robot.passive_joints)
     if not kind and feet:

@@ -1,9 +1,7 @@
 """Check a URDF's XML before Pinocchio reads it, with messages that say what is wrong.
 
-The optional ``yourdfpy`` (the ``urdf`` extra) validates as well when installed; it never
-loads meshes. Pinocchio's own parser remains the final check. `physics_problems` finds what
-Pinocchio would load silently but no robot can be (it loads a NaN mass as 0); the list is on
-the "Robots" reference page.
+The optional ``yourdfpy`` (the ``urdf`` extra) checks as well when installed; Pinocchio's own
+parser remains the final check. The checks are listed on the "Robots" reference page.
 """
 
 from __future__ import annotations
@@ -130,7 +128,7 @@ def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
 
 
 def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], list[str]]:
-    """What Pinocchio would load silently but no robot can be.
+    """What Pinocchio would load silently but no robot can be (it loads a NaN mass as 0).
 
     Args:
         root: The ``<robot>`` element.

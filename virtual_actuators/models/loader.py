@@ -46,12 +46,10 @@ __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
 _logger = logging.getLogger(__name__)
 
-# The words that make guess_floating_base float a robot's base.
-_LEG_WORDS = frozenset(
+# The words of legs and of flying robots, which make guess_floating_base float a robot's base.
+_FLOATING_WORDS = frozenset(
     "foot feet sole soles toe toes ankle ankles leg legs knee knees hip hips thigh thighs "
-    "shin shins shank shanks calf calves".split()
-)
-_FLYING_WORDS = frozenset(
+    "shin shins shank shanks calf calves "
     "flying quadrotor quadcopter multirotor hexarotor hexacopter octocopter drone uav "
     "rotor rotors propeller propellers".split()
 )
@@ -220,11 +218,11 @@ def _load_module_robot(name: str, init: Path, floating_base: bool | None) -> Rob
     return robot
 
 
-def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
+def guess_floating_base(root: ET.Element, stem: str) -> bool:
     """Guess whether a URDF describes a legged or flying robot (``floating_base=None``).
 
     The base floats when a word of a link or joint name, the robot's name or ``stem`` is a leg
-    or flying word (`_LEG_WORDS`, `_FLYING_WORDS`); names split into words at ``_``, digits and
+    or flying word (`_FLOATING_WORDS`); names split into words at ``_``, digits and
     camel-case humps. A URDF whose root link is ``world`` is fixed.
 
     Args:
@@ -239,7 +237,7 @@ def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
         return False
     names = [*links, *(joint.get("name", "") for joint in joints), root.get("name", ""), stem]
     words = {word.lower() for name in names for word in _WORD.findall(name)}
-    return bool(words & (_LEG_WORDS | _FLYING_WORDS))
+    return bool(words & _FLOATING_WORDS)
 
 
 #: Group states of the SRDF that [`Robot.neutral`][] prefers, best first.

@@ -287,13 +287,8 @@ def _yourdfpy_problems(path: Path) -> list[str]:
         return []
 
     try:
-        urdf = yourdfpy.URDF.load(
-            str(path),
-            build_scene_graph=False,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-        )
+        # the collision scene graph and meshes are not built by default (yourdfpy >= 0.0.56)
+        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
     except Exception as exc:  # yourdfpy raises ValueError, KeyError... on malformed values
         return [f"yourdfpy cannot parse it: {type(exc).__name__}: {exc}"]
 

@@ -13,8 +13,8 @@ import pytest
 import virtual_actuators as va
 from virtual_actuators.exceptions import closest_names, edit_distance
 from virtual_actuators.models import catalog
-from virtual_actuators.models.directory import describe_robot, describe_robots, robot_table
-from virtual_actuators.models.names import ALIASES
+from virtual_actuators.models.catalog import ALIASES
+from virtual_actuators.models.directory import describe_robots, robot_table
 
 AVAILABLE = catalog.aliases()
 
@@ -150,18 +150,16 @@ def test_a_name_close_to_nothing_lists_known_robots():
 
 
 def test_descriptions_of_well_known_robots():
-    solo = describe_robot("solo12")
+    solo, talos, ur5, hexapod = describe_robots(["solo12", "talos", "ur5_robot", "hexapod"])
     assert (solo.kind, solo.dof, solo.legs, solo.floating_base) == ("quadruped", 12, 4, True)
     assert solo.feet == ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
-    talos = describe_robot("talos")
     assert talos.kind == "humanoid" and talos.legs == 2 and "talos" in talos.aliases
     assert talos.feet == ("left_sole_link", "right_sole_link")
     robot = va.load_robot("talos")
     assert talos.dof == robot.model.nv - 6 - len(robot.passive_joints)
-    ur5 = describe_robot("ur5_robot")
     assert (ur5.kind, ur5.dof, ur5.legs, ur5.feet) == ("arm", 6, None, ())
     assert ur5.aliases == ("ur5",)
-    hexapod = describe_robot("hexapod")  # the project's robot: kind read from its feet
+    # the project's robot: kind read from its feet
     assert (hexapod.kind, hexapod.legs, hexapod.dof) == ("hexapod", 6, 18)
 
 

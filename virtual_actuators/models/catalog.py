@@ -1,4 +1,4 @@
-"""Find robots by name: the project's robot folders, example-robot-data, or a path.
+"""Find robots by name or common name: the project's robot folders, example-robot-data, or a path.
 
 The order in which names are resolved is on the "Robots" reference page.
 """
@@ -16,9 +16,9 @@ from types import MappingProxyType
 from typing import NamedTuple
 
 from virtual_actuators.exceptions import InvalidInputError, RobotNotFoundError, closest_names
-from virtual_actuators.models.names import ALIASES
 
 __all__ = [
+    "ALIASES",
     "ROBOTS_PATH_ENV",
     "aliases",
     "as_path",
@@ -47,6 +47,50 @@ _DUPLICATE_NAMES = {
 }
 
 _PATH_SUFFIXES = (".urdf", ".xml", ".xacro")
+
+#: Common name -> example-robot-data file stem (the choices: the "Robots" reference page): the
+#: variant ``example_robot_data.load`` picks; never shadowing a file stem, and a local robot
+#: named like an alias wins over it.
+ALIASES: Mapping[str, str] = MappingProxyType(
+    {
+        # PAL Robotics TALOS (example_robot_data.load names)
+        "talos": "talos_reduced",
+        "talos_box": "talos_reduced_box",
+        "talos_full": "talos_full_v2",
+        "talos_full_box": "talos_full_v2_box",
+        "talos_arm": "talos_left_arm",
+        # Universal Robots arms
+        "ur3_limited": "ur3_joint_limited_robot",
+        "ur5": "ur5_robot",
+        "ur5_limited": "ur5_joint_limited_robot",
+        "ur10": "ur10_robot",
+        "ur10_limited": "ur10_joint_limited_robot",
+        # legged robots
+        "hyq": "hyq_no_sensors",
+        "solo8": "solo",
+        "anymal_b": "anymal",
+        "anymal_kinova": "anymal-kinova",
+        "b1_z1": "b1-z1",
+        "g1": "g1_29dof_rev_1_0",
+        "g1_with_hand": "g1_29dof_with_hand_rev_1_0",
+        "alexander": "alexander_v1.lowerBodyOnly",
+        "alex": "alex_nub_hands",
+        # arms and hands
+        "franka": "panda",
+        "franka_panda": "panda",
+        "xarm": "xarm7",
+        "so_arm_100": "so100",
+        "so_arm_101": "so101",
+        "allegro": "allegro_right_hand",
+        "allegro_hand": "allegro_right_hand",
+        "asr_twodof": "TwoDofs",
+        # flying robots
+        "hector": "quadrotor_base",
+        "quadrotor": "quadrotor_base",
+        "borinot": "borinot_flying_arm_2",
+        "hextilt": "hextilt_flying_arm_5",
+    }
+)
 
 
 def list_robots(include_aliases: bool = False) -> list[str]:
@@ -195,14 +239,14 @@ def _local_names() -> set[str]:
     return names
 
 
-def shown_name(name_or_path: object, limit: int = 80) -> str:
-    """The repr of a name or path for messages, shortened to about ``limit`` characters."""
+def shown_name(name_or_path: object) -> str:
+    """The repr of a name or path for messages, shortened to about 80 characters."""
     if isinstance(name_or_path, os.PathLike):
         name_or_path = os.fspath(name_or_path)
     text = repr(name_or_path)
-    if len(text) <= limit:
+    if len(text) <= 80:
         return text
-    return f"{text[: limit - 3]}... ({len(name_or_path)} characters)"
+    return f"{text[:77]}... ({len(name_or_path)} characters)"
 
 
 def _expand_user(path: Path, name_or_path: object = None) -> Path:

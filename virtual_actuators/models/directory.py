@@ -16,7 +16,7 @@ from virtual_actuators.models.catalog import aliases, example_robot_data, list_r
 from virtual_actuators.models.loader import load_robot
 from virtual_actuators.models.robot import Robot
 
-__all__ = ["KINDS", "RobotInfo", "describe_robot", "describe_robots", "find_feet", "robot_table"]
+__all__ = ["KINDS", "RobotInfo", "describe_robots", "robot_table"]
 
 #: Kind and maker of the robots in each example-robot-data description folder.
 KINDS: dict[str, tuple[str, str]] = {
@@ -113,7 +113,7 @@ class RobotInfo:
         return ", ".join(parts)
 
 
-def find_feet(robot: Robot) -> tuple[str, ...]:
+def _foot_frames(robot: Robot) -> tuple[str, ...]:
     """The frames named like a foot, one per joint: the farthest from it, a link's first."""
     model = robot.model
     best: dict[int, tuple[float, int, str]] = {}
@@ -130,13 +130,8 @@ def find_feet(robot: Robot) -> tuple[str, ...]:
     return tuple(best[joint][2] for joint in sorted(best))
 
 
-def describe_robot(name: str) -> RobotInfo:
-    """Load robot ``name`` (a name of [`list_robots`][] or an alias) and describe it.
-
-    Raises:
-        RobotNotFoundError: No robot has this name.
-        RobotDescriptionError: The robot cannot be loaded.
-    """
+def _describe(name: str) -> RobotInfo:
+    """Load robot ``name`` and describe it."""
     targets = aliases()
     stem = targets.get(name, name)
     robot = load_robot(name)
@@ -150,7 +145,7 @@ def describe_robot(name: str) -> RobotInfo:
         source = "example-robot-data"
     elif robot.urdf_path is not None:
         source = str(robot.urdf_path.parent)
-    feet = find_feet(robot)
+    feet = _foot_frames(robot)
     model = robot.model
     dof = model.nv - (6 if robot.floating_base else 0) - len(robot.passive_joints)
     if not kind and feet:
@@ -182,7 +177,7 @@ def describe_robots(names: Iterable[str] | None = None) -> list[RobotInfo]:
         RobotNotFoundError: A name is not known.
         RobotDescriptionError: A robot cannot be loaded.
     """
-    return [describe_robot(name) for name in (list_robots() if names is None else names)]
+    return [_describe(name) for name in (list_robots() if names is None else names)]
 
 
 def robot_table(infos: Iterable[RobotInfo]) -> str:

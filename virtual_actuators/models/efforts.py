@@ -85,5 +85,4 @@ def set_effort_limits(robot: Robot, limits: float | Mapping[str, float]) -> None
                 f"set_effort_limits: joint {name!r} has {joint.nv} degrees of freedom."
             )
         what = f"set_effort_limits: limits[{name!r}]"
-        value = check_number(limit, what, positive=True, allow_inf=True)
-        model.effortLimit[joint.idx_v] = value
+        model.effortLimit[joint.idx_v] = check_number(limit, what, positive=True, allow_inf=True)

@@ -62,7 +62,7 @@ def find_feet(robot: Robot) -> Feet:
             message says what was looked for.
     """
     model = robot.model
-    body = body_frame(model, bool(getattr(robot, "floating_base", False)))
+    body = body_frame(model, robot.floating_base)
     feet = _srdf_feet(robot, model)
     source = "srdf"
     if len(feet) < 2:
@@ -101,8 +101,7 @@ def body_frame(model: pin.Model, floating: bool) -> str:
 
 def _srdf_feet(robot: Robot, model: pin.Model) -> list[str]:
     """Links of the SRDF's foot-like ``<end_effector>`` entries that are frames of the model."""
-    path = getattr(robot, "urdf_path", None)
-    srdf = find_srdf(Path(path)) if path else None
+    srdf = find_srdf(Path(robot.urdf_path)) if robot.urdf_path else None
     if srdf is None:
         return []
     try:
@@ -139,11 +138,10 @@ def _named_feet(model: pin.Model) -> list[str]:
 
 def collision_links(robot: Robot) -> frozenset[str]:
     """Names of the URDF links that have ``<collision>`` geometry (empty without URDF text)."""
-    text = getattr(robot, "urdf_string", None)
-    if not text:
+    if not robot.urdf_string:
         return frozenset()
     try:
-        root = ET.fromstring(text)
+        root = ET.fromstring(robot.urdf_string)
     except ET.ParseError:
         return frozenset()
     return frozenset(
@@ -170,7 +168,7 @@ def structural_feet(robot: Robot) -> list[str]:
         return []
     data = model.createData()
     pin.framesForwardKinematics(model, data, robot.neutral())
-    body = model.getFrameId(body_frame(model, bool(robot.floating_base)))
+    body = model.getFrameId(body_frame(model, robot.floating_base))
     heights = {i: float(data.oMf[i].translation[2] - data.oMf[body].translation[2]) for i in distal}
     lowest = min(heights.values())
     if not lowest < 0.0:

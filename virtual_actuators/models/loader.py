@@ -23,21 +23,8 @@ from virtual_actuators.exceptions import (
     RobotNotFoundError,
     VirtualActuatorError,
 )
-from virtual_actuators.models.catalog import (
-    ROBOTS_PATH_ENV,
-    aliases,
-    as_path,
-    example_robot_data,
-    find_local,
-    is_curated,
-    list_robots,
-    local_dirs,
-    package_dirs_for,
-    robots_dir,
-    shown_name,
-    suggest_robots,
-    urdf_in_folder,
-)
+from virtual_actuators.models import catalog
+from virtual_actuators.models.catalog import ROBOTS_PATH_ENV, list_robots, robots_dir
 from virtual_actuators.models.millipede import millipede
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.models.validation import listed, parse_xml, physics_problems, validate_urdf
@@ -46,12 +33,10 @@ __all__ = ["ROBOTS_PATH_ENV", "list_robots", "load_robot", "robots_dir"]
 
 _logger = logging.getLogger(__name__)
 
-# The words that make guess_floating_base float a robot's base.
-_LEG_WORDS = frozenset(
+# The words of legs and of flying robots, which make guess_floating_base float a robot's base.
+_FLOATING_WORDS = frozenset(
     "foot feet sole soles toe toes ankle ankles leg legs knee knees hip hips thigh thighs "
-    "shin shins shank shanks calf calves".split()
-)
-_FLYING_WORDS = frozenset(
+    "shin shins shank shanks calf calves "
     "flying quadrotor quadcopter multirotor hexarotor hexacopter octocopter drone uav "
     "rotor rotors propeller propellers".split()
 )
@@ -87,7 +72,7 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
         raise InvalidInputError(
             f"floating_base must be True, False or None, got {floating_base!r}."
         )
-    path = as_path(name_or_path)
+    path = catalog.as_path(name_or_path)
     if path is not None:
         return _load_path(path, floating_base)
 
@@ -95,26 +80,28 @@ def load_robot(name_or_path: str | os.PathLike[str], floating_base: bool | None 
     if name == "millipede":
         return millipede(100, floating_base=True if floating_base is None else floating_base)
 
-    for folder in local_dirs():
-        found = find_local(folder, name)
+    for folder in catalog.local_dirs():
+        found = catalog.find_local(folder, name)
         if found is not None and found.name == "__init__.py":
             return _load_module_robot(name, found, floating_base)
         if found is not None:
             found = found.resolve()
-            return _load_urdf(name, found, floating_base, package_dirs_for(found), validate=False)
+            return _load_urdf(
+                name, found, floating_base, catalog.package_dirs_for(found), validate=False
+            )
 
-    index = example_robot_data()
+    index = catalog.example_robot_data()
     if name in index.broken:
         raise RobotDescriptionError(
             f"example-robot-data ships {name}.urdf but it cannot be loaded: {index.broken[name]}."
         )
-    stem = name if name in index.robots else aliases().get(name)
+    stem = name if name in index.robots else catalog.aliases().get(name)
     if stem is not None:
         share = [str(index.share)] if index.share is not None else []
         return _load_urdf(name, index.robots[stem], floating_base, share, validate=False)
     raise RobotNotFoundError(
-        f"No robot named {shown_name(name)}. {suggest_robots(name)} Pass a path to load any "
-        "other URDF file."
+        f"No robot named {catalog.shown_name(name)}. {catalog.suggest_robots(name)} Pass a path "
+        "to load any other URDF file."
     )
 
 
@@ -125,18 +112,18 @@ def _load_path(path: Path, floating_base: bool | None) -> Robot:
             where = "" if path.is_absolute() else f" (absolute path {path.absolute()})"
             raise RobotNotFoundError(f"No URDF file at {path}{where}.")
         if path.is_dir():
-            path = urdf_in_folder(path)
+            path = catalog.urdf_in_folder(path)
     except OSError as exc:  # a name too long for the file system, a folder that cannot be read
         raise RobotNotFoundError(
-            f"load_robot(name_or_path={shown_name(path)}): no URDF file can be read there "
-            f"({exc.strerror or exc})."
+            f"load_robot(name_or_path={catalog.shown_name(path)}): no URDF file can be read "
+            f"there ({exc.strerror or exc})."
         ) from None
     if path.suffix.lower() == ".xacro":
         raise RobotDescriptionError(
             f"{path} is a xacro file: expand it into a URDF first (xacro {path.name} > robot.urdf)."
         )
     return _load_urdf(
-        path.stem, path, floating_base, package_dirs_for(path.resolve()), validate=True
+        path.stem, path, floating_base, catalog.package_dirs_for(path.resolve()), validate=True
     )
 
 
@@ -150,13 +137,13 @@ def _load_urdf(
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotDescriptionError(f"Cannot read the URDF file {path}: {exc}") from exc
     root = parse_xml(path, text)  # the physics checks always; strict but on curated files
-    problems, tolerated = physics_problems(root, strict=not is_curated(path))
+    problems, tolerated = physics_problems(root, strict=not catalog.is_curated(path))
     if problems:
         raise RobotDescriptionError(f"{path} describes an impossible robot:{listed(problems)}")
     for problem in tolerated:
         _logger.debug("%s (tolerated in a curated example-robot-data file): %s", path, problem)
     if validate:
-        validate_urdf(path, text)
+        validate_urdf(path, root)
     if floating_base is None:
         floating_base = guess_floating_base(root, path.stem)
 
@@ -165,7 +152,7 @@ def _load_urdf(
         model = pin.buildModelFromUrdf(str(path), *root_joint)
     except Exception as exc:  # Pinocchio raises ValueError or RuntimeError on URDFs it rejects
         if not validate:
-            validate_urdf(path, text)  # raises with a precise message when it finds the problem
+            validate_urdf(path, root)  # raises with a precise message when it finds the problem
         raise RobotDescriptionError(
             f"Pinocchio could not build a model from {path}: {exc}"
         ) from exc
@@ -220,11 +207,11 @@ def _load_module_robot(name: str, init: Path, floating_base: bool | None) -> Rob
     return robot
 
 
-def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
+def guess_floating_base(root: ET.Element, stem: str) -> bool:
     """Guess whether a URDF describes a legged or flying robot (``floating_base=None``).
 
     The base floats when a word of a link or joint name, the robot's name or ``stem`` is a leg
-    or flying word (`_LEG_WORDS`, `_FLYING_WORDS`); names split into words at ``_``, digits and
+    or flying word (`_FLOATING_WORDS`); names split into words at ``_``, digits and
     camel-case humps. A URDF whose root link is ``world`` is fixed.
 
     Args:
@@ -239,7 +226,7 @@ def guess_floating_base(root: ET.Element, stem: str = "") -> bool:
         return False
     names = [*links, *(joint.get("name", "") for joint in joints), root.get("name", ""), stem]
     words = {word.lower() for name in names for word in _WORD.findall(name)}
-    return bool(words & (_LEG_WORDS | _FLYING_WORDS))
+    return bool(words & _FLOATING_WORDS)
 
 
 #: Group states of the SRDF that [`Robot.neutral`][] prefers, best first.

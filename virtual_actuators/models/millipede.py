@@ -1,8 +1,4 @@
-"""A generated many-legged robot: the millipede of the seed (000_..., section 2.5.1).
-
-The URDF is built in code with `xml.etree.ElementTree` and loaded with Pinocchio; the feet
-carry a tiny mass so that simulators that reject massless bodies load them.
-"""
+"""A generated many-legged robot: the millipede of the seed (000_..., section 2.5.1)."""
 
 from __future__ import annotations
 
@@ -18,7 +14,8 @@ from virtual_actuators.vocabulary.arguments import check_flag, check_number
 
 __all__ = ["MAX_LEGS", "millipede"]
 
-#: Mass (kg) and sphere radius (m) of each point foot: tiny but not zero.
+#: Mass (kg) and sphere radius (m) of each point foot: tiny, but not zero for the simulators
+#: that reject massless bodies.
 FOOT_MASS = 1e-3
 FOOT_RADIUS = 0.005
 #: Default length (m) of each thigh and each shin.

@@ -97,6 +97,6 @@ def _points(obj: pin.GeometryObject, frame: pin.SE3) -> list[np.ndarray]:
         r, h = float(shape.radius), float(shape.halfLength)
         return [np.array([r * np.cos(a), r * np.sin(a), z]) for a in angles for z in (-h, h)]
     if kind.startswith(("BVHModel", "Convex")):
-        vertices = shape.vertices() if callable(shape.vertices) else shape.vertices
-        return list(np.asarray(vertices, dtype=float) * np.asarray(obj.meshScale, dtype=float))
+        vertices = np.asarray(shape.vertices(), dtype=float)
+        return list(vertices * np.asarray(obj.meshScale, dtype=float))
     return []

@@ -25,7 +25,6 @@ def standing_pose(
     robot: Robot,
     feet: Sequence[str] | None = None,
     height_ratio: float = HEIGHT_RATIO,
-    use_srdf: bool = True,
 ) -> np.ndarray:
     """A standing configuration: the SRDF's, else one built from the legs.
 
@@ -38,7 +37,6 @@ def standing_pose(
         robot: A floating-base legged robot.
         feet: Foot frames (default: [`find_feet`][]).
         height_ratio: Hip-to-foot height as a fraction of the all-zero pose's, in (0.3, 1].
-        use_srdf: Return the SRDF's standing pose when the robot has one.
 
     Raises:
         InvalidInputError: A fixed-base robot, or ``height_ratio`` out of range.
@@ -52,7 +50,7 @@ def standing_pose(
         raise InvalidInputError(
             f"standing_pose: height_ratio must be in (0.3, 1], got {height_ratio}."
         )
-    if use_srdf and robot.default_pose is not None:
+    if robot.default_pose is not None:
         return robot.neutral()
     model = robot.model
     if feet is None:

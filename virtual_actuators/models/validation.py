@@ -1,9 +1,7 @@
 """Check a URDF's XML before Pinocchio reads it, with messages that say what is wrong.
 
-The optional ``yourdfpy`` (the ``urdf`` extra) validates as well when installed; it never
-loads meshes. Pinocchio's own parser remains the final check. `physics_problems` finds what
-Pinocchio would load silently but no robot can be (it loads a NaN mass as 0); the list is on
-the "Robots" reference page.
+The optional ``yourdfpy`` (the ``urdf`` extra) checks as well when installed; Pinocchio's own
+parser remains the final check. The checks are listed on the "Robots" reference page.
 """
 
 from __future__ import annotations
@@ -130,7 +128,7 @@ def _joint_problems(joint: ET.Element) -> tuple[list[str], list[str]]:
 
 
 def physics_problems(root: ET.Element, strict: bool = True) -> tuple[list[str], list[str]]:
-    """What Pinocchio would load silently but no robot can be.
+    """What Pinocchio would load silently but no robot can be (it loads a NaN mass as 0).
 
     Args:
         root: The ``<robot>`` element.
@@ -183,14 +181,13 @@ def listed(problems: list[str]) -> str:
     return "".join(f"\n  - {problem}" for problem in shown) + tail
 
 
-def validate_urdf(path: Path, text: str) -> ET.Element:
-    """Check a URDF thoroughly and return its root element.
+def validate_urdf(path: Path, root: ET.Element) -> None:
+    """Check a URDF thoroughly, its XML parsed by `parse_xml` into ``root``.
 
     Raises:
-        RobotDescriptionError: If the file is not well-formed XML or not a valid URDF; the message
-            names the file and lists what is wrong.
+        RobotDescriptionError: If it is not a valid URDF; the message names the file and lists
+            what is wrong.
     """
-    root = parse_xml(path, text)
     problems = _element_problems(root)
     if not problems:
         problems = _number_problems(root) or _tree_problems(root)
@@ -198,7 +195,6 @@ def validate_urdf(path: Path, text: str) -> ET.Element:
         problems = _yourdfpy_problems(path)
     if problems:
         raise RobotDescriptionError(f"{path} is not a valid URDF:{listed(problems)}")
-    return root
 
 
 def _element_problems(root: ET.Element) -> list[str]:
@@ -291,13 +287,8 @@ def _yourdfpy_problems(path: Path) -> list[str]:
         return []
 
     try:
-        urdf = yourdfpy.URDF.load(
-            str(path),
-            build_scene_graph=False,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-        )
+        # the collision scene graph and meshes are not built by default (yourdfpy >= 0.0.56)
+        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
     except Exception as exc:  # yourdfpy raises ValueError, KeyError... on malformed values
         return [f"yourdfpy cannot parse it: {type(exc).__name__}: {exc}"]
 

@@ -16,8 +16,8 @@ from ...control.controller import ControlOutput
 from ...exceptions import InvalidInputError
 from ...experiments.plot_panels import new_figure, set_heading
 from ...experiments.recorder import Recorder
+from ...models.catalog import ALIASES
 from ...models.loader import load_robot
-from ...models.names import ALIASES
 from ...simulation.simulator import Simulator
 from ...simulation.terrain import Terrain
 from ..base import Walk

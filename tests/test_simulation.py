@@ -513,8 +513,8 @@ def test_builtin_terrains():
     assert np.max(np.abs(np.degrees(Terrain.builtin("rolling").slopes))) <= 10.0 + 1e-9
 
 
-def test_terrain_from_points():
-    terrain = Terrain.from_points([(1.0, 0.0), (2.0, 0.5), (4.0, 0.5), (5.0, 0.0)])
+def test_terrain_through_points():
+    terrain = Terrain([(1.0, 0.0), (2.0, 0.5), (4.0, 0.5), (5.0, 0.0)])
     assert terrain.height(0.0) == 0.0 and terrain.height(10.0) == 0.0
     assert terrain.height(1.5) == pytest.approx(0.25)
     assert terrain.height(3.0) == pytest.approx(0.5)
@@ -530,11 +530,11 @@ def test_terrain_from_points():
 
 def test_terrain_errors():
     with pytest.raises(va.InvalidInputError, match=r"point 2 \(1\.0, 0\.3\)"):
-        Terrain.from_points([(0.0, 0.0), (1.0, 0.0), (1.0, 0.3)])
+        Terrain([(0.0, 0.0), (1.0, 0.0), (1.0, 0.3)])
     with pytest.raises(va.InvalidInputError, match="shape"):
-        Terrain.from_points([])
+        Terrain([])
     with pytest.raises(va.InvalidInputError, match="not finite"):
-        Terrain.from_points([(0.0, math.nan)])
+        Terrain([(0.0, math.nan)])
     with pytest.raises(va.InvalidInputError, match="'2:abc'.*profile-one"):
         Terrain.parse("0:0,2:abc")
     with pytest.raises(va.InvalidInputError, match="'hilly'.*profile-one"):

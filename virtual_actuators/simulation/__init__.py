@@ -12,9 +12,8 @@ from .conversions import (  # noqa: E402
     velocity_from_mujoco,
     velocity_to_mujoco,
 )
-from .hardware import MujocoHardware  # noqa: E402
 from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model  # noqa: E402
-from .simulator import Simulator  # noqa: E402
+from .simulator import MujocoHardware, Simulator  # noqa: E402
 from .terrain import Terrain  # noqa: E402
 
 __all__ = [

@@ -19,20 +19,6 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.kinematics.kernels import finite
 from virtual_actuators.simulation.model import MujocoModel
 
-__all__ = [
-    "UNACTUATED_TOLERANCE",
-    "configuration_from_mujoco",
-    "configuration_to_mujoco",
-    "ctrl_to_torques",
-    "ctrl_writer",
-    "finite_vector",
-    "gathers",
-    "state_velocity",
-    "torques_to_ctrl",
-    "velocity_from_mujoco",
-    "velocity_to_mujoco",
-]
-
 
 @dataclass(frozen=True)
 class Gathers:

@@ -25,20 +25,6 @@ from virtual_actuators.simulation.ground import (
     set_contact,
 )
 
-__all__ = [
-    "COLLISION_CHOICES",
-    "MAX_STL_FACES",
-    "MIN_BOX_HALF_SIZE",
-    "MESH_FORMATS",
-    "ROBOT_GROUP",
-    "SITE_GROUP",
-    "Added",
-    "Collisions",
-    "add_geometry",
-    "add_sites",
-    "quat_wxyz",
-]
-
 #: Mesh formats MuJoCo reads (STL in binary form only); Collada is read here and handed over.
 MESH_FORMATS = (".stl", ".obj")
 

@@ -17,21 +17,6 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = [
-    "CLEARANCE_RANGE",
-    "ROBOT_BITS",
-    "ROBOT_SELF_BITS",
-    "TERRAIN_BITS",
-    "TERRAIN_GROUP",
-    "TERRAIN_PREFIX",
-    "TERRAIN_RUN",
-    "TERRAIN_THICKNESS",
-    "ContactParameters",
-    "add_terrain",
-    "ground_clearance",
-    "set_contact",
-]
-
 #: Farthest distance between the robot and the terrain that `ground_clearance` measures [m].
 CLEARANCE_RANGE = 100.0
 

@@ -19,16 +19,6 @@ from virtual_actuators.exceptions import (
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.geoms import quat_wxyz
 
-__all__ = [
-    "BOUND_INERTIA",
-    "BOUND_MASS",
-    "actuated_joints",
-    "add_actuators",
-    "add_bodies",
-    "balance_inertias",
-    "joint_kind",
-]
-
 #: Lower bounds that let massless moving bodies compile [kg] and [kg m^2]; real links are far
 #: heavier, so these change nothing for them.
 BOUND_MASS = 1e-6

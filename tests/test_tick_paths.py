@@ -133,8 +133,7 @@ def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
     qvel = rng.normal(size=simulator.model.nv)
     if maps.direct_q is not None:  # the joint-by-joint map, written out here
         q = np.zeros(mm.robot.model.nq)
-        q[maps.copy_q] = qpos[maps.copy_qpos]
-        for joint in maps.special:
+        for joint in mm.joints:
             a, i = joint.qpos_adr, joint.idx_q
             if joint.kind == "free":  # a direct gather only when the placement is the identity
                 assert joint.placement.isIdentity()
@@ -142,6 +141,9 @@ def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
                 q[i + 3 : i + 7] = qpos[[a + 4, a + 5, a + 6, a + 3]]  # wxyz -> xyzw
             elif joint.kind == "ball":
                 q[i : i + 4] = qpos[[a + 1, a + 2, a + 3, a]]
+            else:  # a direct gather has no continuous joint
+                assert joint.kind in ("hinge", "slide")
+                q[i] = qpos[a]
         np.testing.assert_array_equal(configuration_from_mujoco(mm, qpos), q)
     if maps.direct_v is not None:
         v = np.zeros(mm.robot.model.nv)
@@ -153,12 +155,12 @@ def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
     ctrl = np.zeros(simulator.model.nu)
     ctrl[maps.actuator] = tau[maps.actuated_v]
     np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
-    if maps.unactuated:
-        tau[maps.unactuated[0]] = 1e-6  # more than the tolerance on an unactuated dof
+    if maps.unactuated_v.size:
+        tau[maps.unactuated_v[0]] = 1e-6  # more than the tolerance on an unactuated dof
         with pytest.raises(InvalidInputError, match="no actuator"):
             torques_to_ctrl(mm, tau)
         np.testing.assert_array_equal(torques_to_ctrl(mm, tau, ignore_unactuated=True), ctrl)
-        tau[maps.unactuated[0]] = 1e-10  # within it
+        tau[maps.unactuated_v[0]] = 1e-10  # within it
         np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
 
 

@@ -24,9 +24,6 @@ from virtual_actuators.simulation.model import MujocoModel
 class Gathers:
     """Index arrays of one model's copy-through joints, built once."""
 
-    copy_q: np.ndarray  # Pinocchio q indices of hinge and slide joints
-    copy_qpos: np.ndarray  # their MuJoCo qpos indices
-    special: tuple  # JointMap of the free, ball and continuous joints
     free: tuple  # JointMap of the free joints
     actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
     actuator: np.ndarray  # its MuJoCo actuator id
@@ -35,7 +32,6 @@ class Gathers:
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
     gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
     direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
-    unactuated: tuple[int, ...] = ()  # unactuated_v as ints
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -69,12 +65,8 @@ def gathers(mm: MujocoModel) -> Gathers:
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
         return cached
-    copy_q, copy_qpos, all_v, all_qvel, unactuated = [], [], [], [], []
-    actuated_v, actuator = [], []
+    all_v, all_qvel, unactuated, actuated_v, actuator = [], [], [], [], []
     for joint in mm.joints:
-        if joint.kind in ("hinge", "slide"):
-            copy_q.append(joint.idx_q)
-            copy_qpos.append(joint.qpos_adr)
         all_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
         all_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
         if joint.actuator is not None:
@@ -86,9 +78,6 @@ def gathers(mm: MujocoModel) -> Gathers:
     free = tuple(j for j in mm.joints if j.kind == "free")
     gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)
     maps = Gathers(
-        copy_q=index(copy_q),
-        copy_qpos=index(copy_qpos),
-        special=tuple(j for j in mm.joints if j.kind in ("free", "ball", "continuous")),
         free=free,
         actuated_v=index(actuated_v),
         actuator=index(actuator),
@@ -97,7 +86,6 @@ def gathers(mm: MujocoModel) -> Gathers:
         direct_v=None if free else gather_v,
         direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
         gather_v=gather_v,
-        unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
     return maps
@@ -209,8 +197,7 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
     if maps.direct_q is not None:  # every joint's q is its qpos reordered: one gather
         return qpos[maps.direct_q]
     q = np.zeros(mm.robot.model.nq)
-    q[maps.copy_q] = qpos[maps.copy_qpos]
-    for joint in maps.special:
+    for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
         if joint.kind == "free":
             w, x, y, z = qpos[a + 3 : a + 7]
@@ -226,9 +213,11 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
         elif joint.kind == "ball":
             w, x, y, z = qpos[a : a + 4]
             q[i : i + 4] = (x, y, z, w)
-        else:  # continuous
+        elif joint.kind == "continuous":
             angle = float(qpos[a])
             q[i : i + 2] = (math.cos(angle), math.sin(angle))
+        else:
+            q[i] = qpos[a]
     return q
 
 
@@ -339,13 +328,7 @@ def torques_to_ctrl(
     else:
         ctrl = np.zeros(mm.model.nu)
         ctrl[maps.actuator] = tau[maps.actuated_v]
-    if ignore_unactuated or not maps.unactuated:
-        return ctrl
-    if len(maps.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
-        efforts = tau[maps.unactuated_v].tolist()
-        if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
-            return ctrl
-    elif np.abs(tau[maps.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
+    if ignore_unactuated or np.all(np.abs(tau[maps.unactuated_v]) <= UNACTUATED_TOLERANCE):
         return ctrl
     for joint in mm.joints:
         effort = tau[joint.idx_v : joint.idx_v + joint.nv]

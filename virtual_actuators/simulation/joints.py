@@ -94,17 +94,9 @@ def add_actuators(spec: mujoco.MjSpec, model: pin.Model, actuated_names: list[st
     """Add one ``motor`` (gear 1, range ``+-effortLimit`` if finite and positive) per joint."""
     for name in actuated_names:
         effort = float(model.effortLimit[model.joints[model.getJointId(name)].idx_v])
-        actuator = spec.add_actuator(name=name, target=name)
-        actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
-        actuator.gear[0] = 1.0
-        actuator.gainprm[0] = 1.0
-        actuator.biastype = mujoco.mjtBias.mjBIAS_NONE
-        actuator.dyntype = mujoco.mjtDyn.mjDYN_NONE
-        if math.isfinite(effort) and effort > 0.0:
-            actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        actuator = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        if math.isfinite(effort) and effort > 0.0:  # limited by autolimits
             actuator.ctrlrange = [-effort, effort]
-        else:
-            actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
 
 
 def _body_names(robot: Robot) -> list[str]:
@@ -159,7 +151,6 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
         _set_damping(mj_joint, float(model.damping[v]))
         mj_joint.frictionloss = float(model.friction[v])
         mj_joint.armature = float(model.armature[v])
-        mj_joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
         if kind == "ball":
             mj_joint.type = mujoco.mjtJoint.mjJNT_BALL
         else:
@@ -172,8 +163,7 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             lower = float(model.lowerPositionLimit[joint.idx_q])
             upper = float(model.upperPositionLimit[joint.idx_q])
             if kind != "continuous" and -math.inf < lower < upper < math.inf:
-                mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
-                mj_joint.range = [lower, upper]
+                mj_joint.range = [lower, upper]  # limited by autolimits
         bodies.append(body)
     return bodies
 

@@ -25,7 +25,6 @@ from virtual_actuators.simulation import (
     build_mujoco_model,
     configuration_from_mujoco,
     configuration_to_mujoco,
-    ctrl_to_torques,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
@@ -441,7 +440,7 @@ def test_torques_to_ctrl():
     for k, name in enumerate(["left_hip", "left_knee", "right_hip", "right_knee"]):
         act = mujoco.mj_name2id(mm.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
         assert ctrl[act] == k + 1.0
-    assert np.array_equal(ctrl_to_torques(mm, ctrl), tau)
+    assert sorted(ctrl.tolist()) == [1.0, 2.0, 3.0, 4.0]  # the efforts, nothing else
     tau[model.joints[model.getJointId("boom_pitch")].idx_v] = 0.5
     with pytest.raises(va.InvalidInputError, match="'boom_pitch'"):
         torques_to_ctrl(mm, tau)

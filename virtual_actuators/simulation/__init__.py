@@ -7,7 +7,6 @@ import_optional("mujoco", "sim", "MuJoCo simulation (virtual_actuators.simulatio
 from .conversions import (  # noqa: E402
     configuration_from_mujoco,
     configuration_to_mujoco,
-    ctrl_to_torques,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
@@ -26,7 +25,6 @@ __all__ = [
     "build_mujoco_model",
     "configuration_from_mujoco",
     "configuration_to_mujoco",
-    "ctrl_to_torques",
     "torques_to_ctrl",
     "velocity_from_mujoco",
     "velocity_to_mujoco",

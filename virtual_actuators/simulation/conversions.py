@@ -339,16 +339,3 @@ def torques_to_ctrl(
                 "ignore_unactuated=True to drop it."
             )
     return ctrl
-
-
-def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
-    """Joint efforts ``(model.nv,)`` of actuator controls ``ctrl``, 0 where unactuated.
-
-    Raises:
-        InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
-    """
-    ctrl = finite_vector(ctrl, mm.model.nu, "ctrl")
-    maps = gathers(mm)
-    tau = np.zeros(mm.robot.model.nv)
-    tau[maps.actuated_v] = ctrl[maps.actuator]
-    return tau

@@ -52,12 +52,10 @@ class JointMap:
         name: Joint name (the same in Pinocchio and MuJoCo).
         kind: ``"free"``, ``"ball"``, ``"hinge"``, ``"continuous"`` (a hinge whose Pinocchio
             ``q`` is ``(cos, sin)``) or ``"slide"``.
-        pin_id: Pinocchio joint index.
         idx_q: First index in Pinocchio's ``q``.
         nq: Entries in Pinocchio's ``q``.
         idx_v: First index in Pinocchio's ``v``.
         nv: Entries in ``v`` (degrees of freedom).
-        mj_id: MuJoCo joint id.
         qpos_adr: First index in MuJoCo's ``qpos``.
         dof_adr: First index in MuJoCo's ``qvel``.
         actuator: MuJoCo actuator id, or None for an unactuated joint.
@@ -66,12 +64,10 @@ class JointMap:
 
     name: str
     kind: str
-    pin_id: int
     idx_q: int
     nq: int
     idx_v: int
     nv: int
-    mj_id: int
     qpos_adr: int
     dof_adr: int
     actuator: int | None
@@ -85,7 +81,6 @@ class MujocoModel:
     Attributes:
         robot: The robot it was built from.
         terrain: The terrain.
-        spec: The MjSpec it was compiled from.
         model: The compiled MuJoCo model.
         contact: The contact parameters used.
         joints: One `JointMap` per Pinocchio joint (universe excluded), Pinocchio order.
@@ -103,7 +98,6 @@ class MujocoModel:
 
     robot: Robot
     terrain: Terrain
-    spec: mujoco.MjSpec
     model: mujoco.MjModel
     contact: ContactParameters
     joints: tuple[JointMap, ...]
@@ -220,7 +214,6 @@ def build_mujoco_model(
     return MujocoModel(
         robot=robot,
         terrain=terrain,
-        spec=spec,
         model=compiled,
         contact=contact,
         joints=_joint_maps(compiled, model, kinds, actuated_names),
@@ -290,12 +283,10 @@ def _joint_maps(
             JointMap(
                 name=name,
                 kind=kind,
-                pin_id=j,
                 idx_q=joint.idx_q,
                 nq=joint.nq,
                 idx_v=joint.idx_v,
                 nv=joint.nv,
-                mj_id=mj_id,
                 qpos_adr=int(compiled.jnt_qposadr[mj_id]),
                 dof_adr=int(compiled.jnt_dofadr[mj_id]),
                 actuator=_id(compiled, mujoco.mjtObj.mjOBJ_ACTUATOR, name)

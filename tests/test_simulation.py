@@ -419,7 +419,7 @@ def test_free_flyer_velocity_frames():
     assert np.allclose(v[3:6], [0.0, 0.0, 0.5], atol=1e-12)
     # MuJoCo's own body velocity agrees with Pinocchio's at the base origin
     mujoco.mj_forward(mm.model, data)
-    body = mm.joint_bodies[1]
+    body = int(mm.model.jnt_bodyid[_mj_joint(mm.model, "root_joint")[0]])
     vel = np.zeros(6)
     mujoco.mj_objectVelocity(mm.model, data, mujoco.mjtObj.mjOBJ_BODY, body, vel, 0)
     data_pin = rob.model.createData()

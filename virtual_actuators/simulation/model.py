@@ -85,7 +85,6 @@ class MujocoModel:
         contact: The contact parameters used.
         joints: One `JointMap` per Pinocchio joint (universe excluded), Pinocchio order.
         actuated: Names of the actuated joints, Pinocchio order.
-        joint_bodies: MuJoCo body id of each Pinocchio joint index (0: the world body).
         geom_frames: For each robot geom id, the frames that own it: its parent frame, then every
             frame on the same joint whose origin lies on or inside it.
         frame_geoms: For each frame name, the ids of the robot geoms it owns.
@@ -102,7 +101,6 @@ class MujocoModel:
     contact: ContactParameters
     joints: tuple[JointMap, ...]
     actuated: tuple[str, ...]
-    joint_bodies: tuple[int, ...]
     geom_frames: Mapping[int, tuple[str, ...]]
     frame_geoms: Mapping[str, tuple[int, ...]]
     frame_sites: Mapping[str, int]
@@ -218,10 +216,6 @@ def build_mujoco_model(
         contact=contact,
         joints=_joint_maps(compiled, model, kinds, actuated_names),
         actuated=tuple(actuated_names),
-        joint_bodies=tuple(
-            0 if j == 0 else _id(compiled, mujoco.mjtObj.mjOBJ_BODY, bodies[j].name)
-            for j in range(model.njoints)
-        ),
         geom_frames=MappingProxyType(geom_frames),
         frame_geoms=MappingProxyType(frame_geoms),
         frame_sites=MappingProxyType(

@@ -150,10 +150,12 @@ def test_conversion_gathers_equal_the_joint_by_joint_maps(robot):
         for joint in mm.joints:  # no free joint
             v[joint.idx_v : joint.idx_v + joint.nv] = qvel[joint.dof_adr : joint.dof_adr + joint.nv]
         np.testing.assert_array_equal(velocity_from_mujoco(mm, qpos, qvel), v)
+    actuated = [joint for joint in mm.joints if joint.actuator is not None]
+    actuated_v = [joint.idx_v for joint in actuated]
     tau = np.zeros(mm.robot.model.nv)
-    tau[maps.actuated_v] = rng.normal(size=len(maps.actuated_v))
+    tau[actuated_v] = rng.normal(size=len(actuated_v))
     ctrl = np.zeros(simulator.model.nu)
-    ctrl[maps.actuator] = tau[maps.actuated_v]
+    ctrl[[joint.actuator for joint in actuated]] = tau[actuated_v]
     np.testing.assert_array_equal(torques_to_ctrl(mm, tau), ctrl)
     if maps.unactuated_v.size:
         tau[maps.unactuated_v[0]] = 1e-6  # more than the tolerance on an unactuated dof

@@ -22,16 +22,14 @@ from virtual_actuators.simulation.model import MujocoModel
 
 @dataclass(frozen=True)
 class Gathers:
-    """Index arrays of one model's copy-through joints, built once."""
+    """Index arrays of one model's conversions, built once."""
 
     free: tuple  # JointMap of the free joints
-    actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
-    actuator: np.ndarray  # its MuJoCo actuator id
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
+    gather_v: np.ndarray  # qvel[gather_v]: v but the free joints' linear parts
+    direct_ctrl: np.ndarray  # ctrl = tau[direct_ctrl] (one motor per actuated joint)
     direct_q: np.ndarray | None = None  # q = qpos[direct_q]: see _direct_q
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
-    gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
-    direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -74,18 +72,15 @@ def gathers(mm: MujocoModel) -> Gathers:
             actuator.append(joint.actuator)
         else:
             unactuated.extend(range(joint.idx_v, joint.idx_v + joint.nv))
-    index = lambda values: np.array(values, dtype=np.intp)  # noqa: E731
     free = tuple(j for j in mm.joints if j.kind == "free")
-    gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)
+    gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)  # the joints cover v: never None
     maps = Gathers(
         free=free,
-        actuated_v=index(actuated_v),
-        actuator=index(actuator),
-        unactuated_v=index(unactuated),
+        unactuated_v=np.array(unactuated, dtype=np.intp),
+        gather_v=gather_v,
+        direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
         direct_q=_direct_q(mm),
         direct_v=None if free else gather_v,
-        direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
-        gather_v=gather_v,
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
     return maps
@@ -288,10 +283,10 @@ def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool
     writes nothing and returns False (`torques_to_ctrl` then says why).
 
     Returns:
-        The writer; None without the compiled core or when a motor drives no single joint.
+        The writer; None without the compiled core.
     """
     maps = gathers(mm)
-    if not has("efforts_to_ctrl") or maps.direct_ctrl is None:
+    if not has("efforts_to_ctrl"):
         return None
     kernel, direct, unactuated = CORE.efforts_to_ctrl, maps.direct_ctrl, maps.unactuated_v
     none = unactuated[:0]
@@ -323,11 +318,7 @@ def torques_to_ctrl(
     """
     tau = finite_vector(tau, mm.robot.model.nv, "tau")
     maps = gathers(mm)
-    if maps.direct_ctrl is not None:  # every motor drives one joint: one gather
-        ctrl = tau[maps.direct_ctrl]
-    else:
-        ctrl = np.zeros(mm.model.nu)
-        ctrl[maps.actuator] = tau[maps.actuated_v]
+    ctrl = tau[maps.direct_ctrl]
     if ignore_unactuated or np.all(np.abs(tau[maps.unactuated_v]) <= UNACTUATED_TOLERANCE):
         return ctrl
     for joint in mm.joints:

@@ -142,7 +142,7 @@ class Simulator(ContactQueries):
         self._direct_q, self._direct_v = maps.direct_q, maps.direct_v
         self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         self._free_v = None  # (gather, free joints' rows) of the core's read of v, or None
-        if _STATE_VELOCITY is not None and self._direct_v is None and maps.gather_v is not None:
+        if _STATE_VELOCITY is not None and self._direct_v is None:
             rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]
             self._free_v = (maps.gather_v.astype(np.int64), np.array(rows, np.int64).reshape(-1, 3))
         self.reset()

@@ -6,7 +6,6 @@ A flat terrain is one plane, a profile one box per segment.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -16,9 +15,6 @@ import numpy as np
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
-
-#: Farthest distance between the robot and the terrain that `ground_clearance` measures [m].
-CLEARANCE_RANGE = 100.0
 
 #: Thickness of the terrain boxes, perpendicular to the surface [m].
 TERRAIN_THICKNESS = 0.2
@@ -132,19 +128,3 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
         geom.rgba = [0.45, 0.5, 0.45, 1.0] if i % 2 else [0.5, 0.55, 0.5, 1.0]
         names.append(geom.name)
     return names
-
-
-def ground_clearance(
-    model: mujoco.MjModel, data: mujoco.MjData, robot_geoms: Iterable[int], terrain: Iterable[int]
-) -> float:
-    """Least signed distance [m] between the robot's geoms and the terrain's (< 0: inside).
-
-    ``data`` must hold the geoms' placements; distances beyond `CLEARANCE_RANGE` count as it.
-    """
-    terrain = tuple(terrain)
-    distances = (
-        float(mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None))
-        for geom in robot_geoms
-        for ground in terrain
-    )
-    return min((CLEARANCE_RANGE, *distances))

@@ -219,11 +219,9 @@ def build_mujoco_model(
         geom_frames=MappingProxyType(geom_frames),
         frame_geoms=MappingProxyType(frame_geoms),
         frame_sites=MappingProxyType(
-            {frame: _id(compiled, mujoco.mjtObj.mjOBJ_SITE, site) for frame, site in sites.items()}
+            {frame: compiled.site(site).id for frame, site in sites.items()}
         ),
-        terrain_geoms=frozenset(
-            _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, name) for name in terrain_names
-        ),
+        terrain_geoms=frozenset(compiled.geom(name).id for name in terrain_names),
         skipped_geometries=tuple(geometry.skipped),
         approximated_geometries=tuple(geometry.approximated),
     )
@@ -241,11 +239,6 @@ def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) 
     if not isinstance(terrain, Terrain):
         raise InvalidInputError(f"terrain must be a Terrain, got {type(terrain).__name__}.")
     return terrain
-
-
-def _id(compiled: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
-    """The id of a named object of the compiled model (-1 when there is none)."""
-    return mujoco.mj_name2id(compiled, kind, name)
 
 
 def _new_spec(robot: Robot, timestep: float, contact: ContactParameters) -> mujoco.MjSpec:
@@ -271,8 +264,7 @@ def _joint_maps(
     joints = []
     for j, kind in enumerate(kinds, start=1):
         name = model.names[j]
-        joint = model.joints[j]
-        mj_id = _id(compiled, mujoco.mjtObj.mjOBJ_JOINT, name)
+        joint, mj_joint = model.joints[j], compiled.joint(name)
         joints.append(
             JointMap(
                 name=name,
@@ -281,11 +273,9 @@ def _joint_maps(
                 nq=joint.nq,
                 idx_v=joint.idx_v,
                 nv=joint.nv,
-                qpos_adr=int(compiled.jnt_qposadr[mj_id]),
-                dof_adr=int(compiled.jnt_dofadr[mj_id]),
-                actuator=_id(compiled, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
-                if name in actuated
-                else None,
+                qpos_adr=int(mj_joint.qposadr[0]),
+                dof_adr=int(mj_joint.dofadr[0]),
+                actuator=compiled.actuator(name).id if name in actuated else None,
                 placement=model.jointPlacements[j].copy(),
             )
         )
@@ -296,8 +286,7 @@ def _geom_maps(
     compiled: mujoco.MjModel, geom_parents: dict[str, tuple[str, ...]]
 ) -> tuple[dict[int, tuple[str, ...]], dict[str, tuple[int, ...]]]:
     """Geom id -> owning frames, and frame -> its geom ids."""
-    kind = mujoco.mjtObj.mjOBJ_GEOM
-    geom_frames = {_id(compiled, kind, name): owners for name, owners in geom_parents.items()}
+    geom_frames = {compiled.geom(name).id: owners for name, owners in geom_parents.items()}
     frame_geoms: dict[str, list[int]] = {}
     for gid, owners in geom_frames.items():
         for owner in owners:

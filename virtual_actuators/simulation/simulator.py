@@ -27,7 +27,6 @@ from virtual_actuators.simulation.conversions import (
     torques_to_ctrl,
     velocity_to_mujoco,
 )
-from virtual_actuators.simulation.ground import ground_clearance
 from virtual_actuators.simulation.model import (
     Collisions,
     ContactParameters,
@@ -38,6 +37,9 @@ from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["MujocoHardware", "Simulator"]
+
+#: Farthest distance between the robot and the terrain that `Simulator.on_ground` measures [m].
+CLEARANCE_RANGE = 100.0
 
 #: ``v`` of MuJoCo's state with a free joint: the core's one call (None: `state_velocity`).
 _STATE_VELOCITY = kernel("state_velocity", None)
@@ -222,9 +224,13 @@ class Simulator(ContactQueries):
         scratch = mujoco.MjData(self.model)
         scratch.qpos[:] = configuration_to_mujoco(mm, q)
         mujoco.mj_kinematics(self.model, scratch)
-        clearance = ground_clearance(self.model, scratch, mm.geom_frames, mm.terrain_geoms)
+        distances = (  # < 0: inside; beyond CLEARANCE_RANGE counts as it
+            mujoco.mj_geomDistance(self.model, scratch, geom, ground, CLEARANCE_RANGE, None)
+            for geom in mm.geom_frames
+            for ground in mm.terrain_geoms
+        )
         placed = np.array(q, dtype=float)
-        placed[2] -= clearance
+        placed[2] -= min((CLEARANCE_RANGE, *distances))
         return placed
 
     def step(self, tau: np.ndarray, *, ignore_unactuated: bool = False) -> None:

@@ -406,7 +406,7 @@ def test_free_flyer_velocity_frames():
     data = mujoco.MjData(mm.model)
     q = rob.neutral()
     q[3:7] = [0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)]  # yaw +90 degrees
-    root = mm.joint("root_joint")
+    root = next(joint for joint in mm.joints if joint.name == "root_joint")
     data.qpos[:] = configuration_to_mujoco(mm, q)
     assert np.allclose(
         data.qpos[root.qpos_adr + 3 : root.qpos_adr + 7],

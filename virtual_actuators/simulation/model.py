@@ -17,7 +17,6 @@ import pinocchio as pin
 from virtual_actuators.exceptions import (
     FrameNotFoundError,
     InvalidInputError,
-    JointNotFoundError,
     RobotDescriptionError,
     suggestion,
 )
@@ -107,20 +106,6 @@ class MujocoModel:
     terrain_geoms: frozenset[int]
     skipped_geometries: tuple[str, ...] = field(default=())
     approximated_geometries: tuple[str, ...] = field(default=())
-
-    def joint(self, name: str) -> JointMap:
-        """The map of the joint called ``name``.
-
-        Raises:
-            JointNotFoundError: If the robot has no such joint (with the closest names).
-        """
-        for entry in self.joints:
-            if entry.name == name:
-                return entry
-        raise JointNotFoundError(
-            f"Robot {self.robot.name!r} has no joint {name!r}. "
-            + suggestion(name, [j.name for j in self.joints], "joints")
-        )
 
     def check_frame(self, frame: str) -> None:
         """Check that ``frame`` names a frame of the robot.

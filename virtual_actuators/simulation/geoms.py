@@ -138,7 +138,7 @@ def add_geometry(
         return added
     geometry = read_geometry(robot, visual=collisions == "visual")
     model = robot.model
-    contype, conaffinity = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
+    bits = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
     frames: dict[str, tuple[int, np.ndarray]] = {}  # parent joint and origin of each frame name
     for frame in model.frames:  # but movable joints' frames
         if frame.name not in frames and frame.type != pin.FrameType.JOINT:
@@ -176,7 +176,7 @@ def add_geometry(
             geom.size = np.array(shape.size, dtype=float)
         if shape.mesh is not None:
             geom.meshname = shape.mesh
-        set_contact(geom, contact, contype, conaffinity)
+        set_contact(geom, contact, bits)
         geom.group = ROBOT_GROUP
         geom.rgba = [0.6, 0.6, 0.65, 1.0]
         parent = model.frames[obj.parentFrame].name

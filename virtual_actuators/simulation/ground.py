@@ -74,12 +74,9 @@ class ContactParameters:
             raise InvalidInputError("solref needs 2 values and solimp 5 values.")
 
 
-def set_contact(
-    geom: mujoco.MjsGeom, contact: ContactParameters, contype: int, conaffinity: int
-) -> None:
-    """Give a geom the settings of ``contact`` and its collision bits."""
-    geom.contype = contype
-    geom.conaffinity = conaffinity
+def set_contact(geom: mujoco.MjsGeom, contact: ContactParameters, bits: tuple[int, int]) -> None:
+    """Give a geom the settings of ``contact`` and its collision bits (contype, conaffinity)."""
+    geom.contype, geom.conaffinity = bits
     geom.condim = contact.condim
     geom.friction = [contact.friction, contact.torsional_friction, contact.rolling_friction]
     geom.solref = list(contact.solref)
@@ -90,7 +87,6 @@ def set_contact(
 def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameters) -> list[str]:
     """Add the terrain geoms to the world body; return their names."""
     world = spec.worldbody
-    contype, conaffinity = TERRAIN_BITS
     names = []
     if terrain.is_flat:
         height = float(terrain.points[0, 1])
@@ -100,7 +96,7 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
             pos=[0.0, 0.0, height],
             size=[0.0, 0.0, 0.05],
         )
-        set_contact(geom, contact, contype, conaffinity)
+        set_contact(geom, contact, TERRAIN_BITS)
         geom.group = TERRAIN_GROUP
         geom.rgba = [0.45, 0.5, 0.45, 1.0]
         return [geom.name]
@@ -110,9 +106,8 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
         length = math.hypot(dx, dz)
         angle = math.atan2(dz, dx)  # slope, uphill positive
         normal = np.array([-math.sin(angle), 0.0, math.cos(angle)])
-        centre = np.array([(x0 + x1) / 2.0, 0.0, (z0 + z1) / 2.0]) - normal * (
-            TERRAIN_THICKNESS / 2.0
-        )
+        centre = np.array([(x0 + x1) / 2.0, 0.0, (z0 + z1) / 2.0])
+        centre -= normal * (TERRAIN_THICKNESS / 2.0)  # the box's top face on the segment
         label = "run_in" if i == 0 else "run_out" if i == len(segments) - 1 else f"segment_{i - 1}"
         # A rotation by -angle about y takes the box's x axis onto the segment direction.
         quat = [math.cos(-angle / 2.0), 0.0, math.sin(-angle / 2.0), 0.0]
@@ -123,7 +118,7 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
             quat=quat,
             size=[length / 2.0, terrain.width / 2.0, TERRAIN_THICKNESS / 2.0],
         )
-        set_contact(geom, contact, contype, conaffinity)
+        set_contact(geom, contact, TERRAIN_BITS)
         geom.group = TERRAIN_GROUP
         geom.rgba = [0.45, 0.5, 0.45, 1.0] if i % 2 else [0.5, 0.55, 0.5, 1.0]
         names.append(geom.name)

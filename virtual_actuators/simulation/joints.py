@@ -73,9 +73,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
     if actuated is None:
         passive = set(robot.passive_joints)
         return [name for name in names if name in one_dof and name not in passive]
-    if isinstance(actuated, str):
-        actuated = [actuated]
-    requested = list(actuated)
+    requested = [actuated] if isinstance(actuated, str) else list(actuated)
     for name in requested:
         if name not in names:
             raise JointNotFoundError(

@@ -184,12 +184,11 @@ class Simulator(ContactQueries):
         Raises:
             InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
         """
-        pin_model = self.robot.model
         if q is None:
             q = self.robot.neutral()
             if self.robot.floating_base and self.mujoco_model.geom_frames:
                 q = self.on_ground(q)
-        v = np.zeros(pin_model.nv) if v is None else v
+        v = np.zeros(self.robot.model.nv) if v is None else v
         qpos = configuration_to_mujoco(self.mujoco_model, q)
         qvel = velocity_to_mujoco(self.mujoco_model, q, v)
         mujoco.mj_resetData(self.model, self.data)
@@ -293,10 +292,9 @@ class Simulator(ContactQueries):
         now = float(data.time)
         pushes = self._pushes = [push for push in self._pushes if now < push.end]
         for push in pushes:
-            x, y, z = (data.site_xpos[push.site] - data.xipos[push.body]).tolist()  # lever [m]
-            fx, fy, fz = push.force.tolist()  # [N]
+            lever = data.site_xpos[push.site] - data.xipos[push.body]  # [m]
             applied[push.body, :3] += push.force
-            applied[push.body, 3:] += (y * fz - z * fy, z * fx - x * fz, x * fy - y * fx)
+            applied[push.body, 3:] += np.cross(lever, push.force)
         if pushes:
             data.xfrc_applied[:] += applied
 

@@ -35,7 +35,7 @@ MIN_BOX_HALF_SIZE = 5e-4
 MAX_STL_FACES = 200_000
 
 #: Geom groups of the robot geoms and of the frame sites (MuJoCo's visualiser shows groups
-#: 0-2 by default).
+#: 0-2 by default; the terrain stays in group 0).
 ROBOT_GROUP = 3
 SITE_GROUP = 4
 
@@ -248,6 +248,5 @@ def add_sites(spec: mujoco.MjSpec, robot: Robot, bodies: list[mujoco.MjsBody]) -
             pos=np.array(placement.translation, dtype=float),
             quat=quat_wxyz(placement.rotation),
         )
-        site.size = [0.005, 0.005, 0.005]
         site.group = SITE_GROUP
     return sites

@@ -25,9 +25,6 @@ TERRAIN_RUN = 50.0
 #: Prefix of the names of the terrain geoms.
 TERRAIN_PREFIX = "terrain_"
 
-#: Geom group of the terrain (MuJoCo's visualiser shows groups 0-2 by default).
-TERRAIN_GROUP = 0
-
 
 # Collision bits: robot geoms (contype 2, conaffinity 1) touch the terrain (contype 1,
 # conaffinity 2) but not each other unless self-collisions are enabled (both 3).
@@ -97,7 +94,6 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
             size=[0.0, 0.0, 0.05],
         )
         set_contact(geom, contact, TERRAIN_BITS)
-        geom.group = TERRAIN_GROUP
         geom.rgba = [0.45, 0.5, 0.45, 1.0]
         return [geom.name]
     segments = terrain.segments(TERRAIN_RUN)
@@ -119,7 +115,6 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
             size=[length / 2.0, terrain.width / 2.0, TERRAIN_THICKNESS / 2.0],
         )
         set_contact(geom, contact, TERRAIN_BITS)
-        geom.group = TERRAIN_GROUP
         geom.rgba = [0.45, 0.5, 0.45, 1.0] if i % 2 else [0.5, 0.55, 0.5, 1.0]
         names.append(geom.name)
     return names

@@ -231,7 +231,6 @@ def _new_spec(robot: Robot, timestep: float, contact: ContactParameters) -> mujo
     spec = mujoco.MjSpec()
     spec.modelname = robot.name
     spec.compiler.degree = False
-    spec.compiler.fusestatic = False
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     spec.compiler.boundmass = BOUND_MASS
     spec.compiler.boundinertia = BOUND_INERTIA

@@ -94,9 +94,6 @@ def finite_vector(value: object, size: int, what: str) -> np.ndarray:
         size: Its required number of entries.
         what: Its name, for the error message.
 
-    Returns:
-        The float64 vector.
-
     Raises:
         InvalidInputError: If ``value`` is not ``size`` finite numbers.
     """
@@ -277,13 +274,10 @@ UNACTUATED_TOLERANCE = 1e-9
 
 
 def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool], bool] | None:
-    """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``): one compiled call.
+    """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``); None without the core.
 
     ``write(tau, ignore_unactuated)`` writes what `torques_to_ctrl` returns and returns True, or
-    writes nothing and returns False (`torques_to_ctrl` then says why).
-
-    Returns:
-        The writer; None without the compiled core.
+    writes nothing and returns False (`torques_to_ctrl` then says why): one compiled call.
     """
     maps = gathers(mm)
     if not has("efforts_to_ctrl"):

@@ -18,9 +18,8 @@ from virtual_actuators.exceptions import (
     FrameNotFoundError,
     InvalidInputError,
     RobotDescriptionError,
-    suggestion,
 )
-from virtual_actuators.models.robot import Robot
+from virtual_actuators.models.robot import Robot, frame_id
 from virtual_actuators.simulation.geoms import (
     COLLISION_CHOICES,
     Collisions,
@@ -118,11 +117,8 @@ class MujocoModel:
                 f"A frame is named by a str, got {frame!r} ({type(frame).__name__}); robot "
                 f"{self.robot.name!r} has frames such as {self.robot.frame_names[:4]}."
             )
-        if frame not in self.frame_sites:
-            raise FrameNotFoundError(
-                f"Robot {self.robot.name!r} has no frame {frame!r}. "
-                + suggestion(str(frame), self.robot.frame_names, "frames")
-            )
+        if frame not in self.frame_sites:  # every frame name has a site
+            frame_id(self.robot, frame)  # raises the FrameNotFoundError with the closest names
 
     def frame_body(self, frame: str) -> int:
         """MuJoCo body id that carries the frame ``frame``.

@@ -213,12 +213,9 @@ class ContactQueries:
                     rows_of.setdefault(geom, []).append(k)
             self._force_rows[key] = rows_of  # every entry a known frame name: hashable
         out = np.zeros((len(key), 3))
-        contacts = self._terrain_contacts()
-        if not contacts:
-            return out
         data, force = self.data, self._force
         axes_all = data.contact.frame  # (ncon, 9): normal, tangent 1, tangent 2 (rows)
-        for i, geom, sign in contacts:
+        for i, geom, sign in self._terrain_contacts():
             rows = rows_of.get(geom)
             if rows:
                 mujoco.mj_contactForce(self.model, data, i, force)

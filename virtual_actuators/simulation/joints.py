@@ -139,10 +139,10 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             axes[:, 2] = -axes[:, 2]
         body.inertia = np.maximum(moments, 0.0)  # a negative moment clamped to 0
         body.iquat = quat_wxyz(axes)
+        bodies.append(body)
         name = model.names[j]
         if kind == "free":
             body.add_freejoint(name=name)
-            bodies.append(body)
             continue
         mj_joint = body.add_joint(name=name)
         v = joint.idx_v
@@ -162,7 +162,6 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             upper = float(model.upperPositionLimit[joint.idx_q])
             if kind != "continuous" and -math.inf < lower < upper < math.inf:
                 mj_joint.range = [lower, upper]  # limited by autolimits
-        bodies.append(body)
     return bodies
 
 

@@ -264,10 +264,6 @@ class ContactQueries:
 
     def touching_terrain(self) -> set[str]:
         """Names of the frames whose geoms touch the terrain (each geom's owners)."""
-        return set(self.touching_frames())
-
-    def touching_frames(self) -> frozenset[str]:
-        """[`touching_terrain`][] as a frozenset."""
         self._terrain_contacts()
         owners = self.mujoco_model.geom_frames
-        return frozenset(name for geom in self._touched for name in owners[geom])
+        return {name for geom in self._touched for name in owners[geom]}

@@ -1,8 +1,6 @@
 """Convert configurations, velocities and torques between Pinocchio and MuJoCo conventions.
 
-Every conversion goes joint by joint through the index maps of a [`MujocoModel`][]. Every
-actuated joint has one ``motor`` actuator of gear 1 named after it, so a control is the
-joint's effort; a free-flyer and passive joints have no actuator.
+Each actuated joint has one ``motor`` of gear 1 named after it: a control is the joint's effort.
 """
 
 from __future__ import annotations

@@ -1,8 +1,4 @@
-"""The robot's geoms and sites in the MuJoCo model, from the geometry Pinocchio reads.
-
-A mesh neither MuJoCo nor the Collada reader reads becomes its bounding box, and a shape with
-neither a counterpart nor a finite bounding box is left out, each told in a `notice`.
-"""
+"""The robot's geoms and sites in the MuJoCo model, from the geometry Pinocchio reads."""
 
 from __future__ import annotations
 

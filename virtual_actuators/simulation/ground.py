@@ -1,7 +1,4 @@
-"""The terrain geoms of the MuJoCo model, and the contact settings of every geom.
-
-A flat terrain is one plane, a profile one box per segment.
-"""
+"""The terrain geoms of the MuJoCo model, and the contact settings of every geom."""
 
 from __future__ import annotations
 
@@ -82,7 +79,7 @@ def set_contact(geom: mujoco.MjsGeom, contact: ContactParameters, bits: tuple[in
 
 
 def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameters) -> list[str]:
-    """Add the terrain geoms to the world body; return their names."""
+    """Add the terrain to the world body (a plane, or a box per segment); return the geom names."""
     world = spec.worldbody
     names = []
     if terrain.is_flat:

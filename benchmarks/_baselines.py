@@ -484,7 +484,6 @@ def instrumented_walk(
         "in_contact": (Simulator, "in_contact"),
         "touching_terrain": (Simulator, "touching_terrain"),
         "contact_switches": (Simulator, "contact_switches"),
-        "touching_frames": (Simulator, "touching_frames"),
     }
     targets["compiled.compute"] = (CompiledMachine, "compute")  # a compiled plan's tick
     with WalkProbe(targets, tick="simulator.step") as probe:
@@ -513,7 +512,7 @@ def instrumented_walk(
     for label, values in parts.items():
         mean = float(np.mean(values)) if values.size else float("nan")
         breakdown[label.strip()] = {**summarize(values), "mean_us": mean, "label": label}
-    queries = ("in_contact", "touching_terrain", "contact_switches", "touching_frames")
+    queries = ("in_contact", "touching_terrain", "contact_switches")
     contacts = sum(np.sum(probe.per_tick(k)) for k in queries)
     breakdown["rest"]["contact_queries_mean_us"] = float(contacts / max(ticks, 1))
     simulated, period = float(result.simulator.time), result.simulator.control_period

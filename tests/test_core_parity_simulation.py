@@ -105,7 +105,7 @@ def test_step_writes_what_torques_to_ctrl_returns(name):
     robot = va.load_robot(name)
     simulator = Simulator(robot)
     mm, nv = simulator.mujoco_model, robot.model.nv
-    unactuated = list(gathers(mm).unactuated)
+    unactuated = gathers(mm).unactuated_v.tolist()
     rng = np.random.default_rng(2)
     for _ in range(20):
         tau = rng.normal(size=nv)

@@ -95,7 +95,7 @@ def test_contact_scan_equals_the_definition(name):
 
 @pytest.mark.parametrize("name", ["spring_flamingo", "spring_turkey", "hexapod"])
 @pytest.mark.parametrize("view", [True, False])
-def test_fall_contact_test_equals_the_touching_frames_names(name, view):
+def test_fall_contact_test_equals_the_touching_terrain_names(name, view):
     robot = va.load_robot(name)
     simulator = Simulator(robot, Terrain.builtin("profile-one"))
     if not view:
@@ -106,7 +106,7 @@ def test_fall_contact_test_equals_the_touching_frames_names(name, view):
     answers = set()
     for _ in range(400):  # falling limp: feet first, then knees and body
         simulator.step(np.zeros(robot.model.nv))
-        frames = simulator.touching_frames()
+        frames = simulator.touching_terrain()
         expected = not all(any(word in frame for word in FOOT_WORDS) for frame in frames)
         assert simulator.touches_outside(feet) == expected
         answers.add(expected)

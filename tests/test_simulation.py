@@ -25,7 +25,6 @@ from virtual_actuators.simulation import (
     build_mujoco_model,
     configuration_from_mujoco,
     configuration_to_mujoco,
-    ctrl_to_torques,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
@@ -407,7 +406,7 @@ def test_free_flyer_velocity_frames():
     data = mujoco.MjData(mm.model)
     q = rob.neutral()
     q[3:7] = [0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)]  # yaw +90 degrees
-    root = mm.joint("root_joint")
+    root = next(joint for joint in mm.joints if joint.name == "root_joint")
     data.qpos[:] = configuration_to_mujoco(mm, q)
     assert np.allclose(
         data.qpos[root.qpos_adr + 3 : root.qpos_adr + 7],
@@ -420,7 +419,7 @@ def test_free_flyer_velocity_frames():
     assert np.allclose(v[3:6], [0.0, 0.0, 0.5], atol=1e-12)
     # MuJoCo's own body velocity agrees with Pinocchio's at the base origin
     mujoco.mj_forward(mm.model, data)
-    body = mm.joint_bodies[1]
+    body = int(mm.model.jnt_bodyid[_mj_joint(mm.model, "root_joint")[0]])
     vel = np.zeros(6)
     mujoco.mj_objectVelocity(mm.model, data, mujoco.mjtObj.mjOBJ_BODY, body, vel, 0)
     data_pin = rob.model.createData()
@@ -441,7 +440,7 @@ def test_torques_to_ctrl():
     for k, name in enumerate(["left_hip", "left_knee", "right_hip", "right_knee"]):
         act = mujoco.mj_name2id(mm.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
         assert ctrl[act] == k + 1.0
-    assert np.array_equal(ctrl_to_torques(mm, ctrl), tau)
+    assert sorted(ctrl.tolist()) == [1.0, 2.0, 3.0, 4.0]  # the efforts, nothing else
     tau[model.joints[model.getJointId("boom_pitch")].idx_v] = 0.5
     with pytest.raises(va.InvalidInputError, match="'boom_pitch'"):
         torques_to_ctrl(mm, tau)
@@ -513,8 +512,8 @@ def test_builtin_terrains():
     assert np.max(np.abs(np.degrees(Terrain.builtin("rolling").slopes))) <= 10.0 + 1e-9
 
 
-def test_terrain_from_points():
-    terrain = Terrain.from_points([(1.0, 0.0), (2.0, 0.5), (4.0, 0.5), (5.0, 0.0)])
+def test_terrain_through_points():
+    terrain = Terrain([(1.0, 0.0), (2.0, 0.5), (4.0, 0.5), (5.0, 0.0)])
     assert terrain.height(0.0) == 0.0 and terrain.height(10.0) == 0.0
     assert terrain.height(1.5) == pytest.approx(0.25)
     assert terrain.height(3.0) == pytest.approx(0.5)
@@ -530,11 +529,11 @@ def test_terrain_from_points():
 
 def test_terrain_errors():
     with pytest.raises(va.InvalidInputError, match=r"point 2 \(1\.0, 0\.3\)"):
-        Terrain.from_points([(0.0, 0.0), (1.0, 0.0), (1.0, 0.3)])
+        Terrain([(0.0, 0.0), (1.0, 0.0), (1.0, 0.3)])
     with pytest.raises(va.InvalidInputError, match="shape"):
-        Terrain.from_points([])
+        Terrain([])
     with pytest.raises(va.InvalidInputError, match="not finite"):
-        Terrain.from_points([(0.0, math.nan)])
+        Terrain([(0.0, math.nan)])
     with pytest.raises(va.InvalidInputError, match="'2:abc'.*profile-one"):
         Terrain.parse("0:0,2:abc")
     with pytest.raises(va.InvalidInputError, match="'hilly'.*profile-one"):

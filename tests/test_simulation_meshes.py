@@ -52,12 +52,12 @@ def test_hyqs_trunk_touches_the_floor_and_counts_as_a_fall():
     q = simulator.on_ground(q)
     q[2] -= 0.002  # [m] into the floor: in contact
     simulator.reset(q)
-    assert "trunk" in simulator.touching_frames()
+    assert "trunk" in simulator.touching_terrain()
     assert simulator.touches_outside(foot_geoms(simulator))  # the fall test sees it
     lowest = float(simulator.q[2])
     for _ in range(300):  # 0.3 s without torques: it rests on its trunk, not through the floor
         simulator.step(np.zeros(robot.model.nv), ignore_unactuated=True)
-    assert "trunk" in simulator.touching_frames()
+    assert "trunk" in simulator.touching_terrain()
     assert abs(float(simulator.q[2]) - lowest) < 0.02
 
 

@@ -514,7 +514,7 @@ def test_skeleton_on_request_boxes_a_floating_base():
 def test_terrain_slabs_follow_the_ground_profile():
     from virtual_actuators.simulation import Terrain
 
-    terrain = Terrain.from_points([(0.0, 0.0), (2.0, 0.0), (3.0, 0.5), (4.0, 0.5)], width=1.5)
+    terrain = Terrain([(0.0, 0.0), (2.0, 0.0), (3.0, 0.5), (4.0, 0.5)], width=1.5)
     rec = CommandRecorder()
     viewer = Viewer(robot("spring_turkey"), window=rec, legend=False)
     viewer.set_terrain(terrain, run=10.0)

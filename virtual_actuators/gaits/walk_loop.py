@@ -14,8 +14,7 @@ import numpy as np
 from ..control.gc_policy import check_gc_policy
 from ..control.run_loop import RunStats, run
 from ..experiments.progress import Progress
-from ..simulation.hardware import MujocoHardware
-from ..simulation.simulator import Simulator
+from ..simulation.simulator import MujocoHardware, Simulator
 from .base import Gait
 from .runner import Episode, LoopEnd
 

@@ -7,14 +7,12 @@ import_optional("mujoco", "sim", "MuJoCo simulation (virtual_actuators.simulatio
 from .conversions import (  # noqa: E402
     configuration_from_mujoco,
     configuration_to_mujoco,
-    ctrl_to_torques,
     torques_to_ctrl,
     velocity_from_mujoco,
     velocity_to_mujoco,
 )
-from .hardware import MujocoHardware  # noqa: E402
 from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model  # noqa: E402
-from .simulator import Simulator  # noqa: E402
+from .simulator import MujocoHardware, Simulator  # noqa: E402
 from .terrain import Terrain  # noqa: E402
 
 __all__ = [
@@ -27,7 +25,6 @@ __all__ = [
     "build_mujoco_model",
     "configuration_from_mujoco",
     "configuration_to_mujoco",
-    "ctrl_to_torques",
     "torques_to_ctrl",
     "velocity_from_mujoco",
     "velocity_to_mujoco",

@@ -68,9 +68,6 @@ class ContactQueries:
         self._force_rows: dict[tuple[str, ...], dict[int, list[int]]] = {}  # contact_forces
         self._contacts: list[tuple[int, int, float]] = []
         self._contacts_time: tuple[float, int] | None = None  # (time, ncon) of _contacts
-        self._switches: dict[str, bool] = {}  # in_contact answers at _contacts_time
-        self._touching: frozenset[str] | None = None  # touching_terrain at _contacts_time
-        self._touching_sets: dict[tuple[int, ...], frozenset[str]] = {}  # by touching geoms
         self._switch_sets: dict[tuple[str, ...], tuple] = {}  # contact_switches, by frames
         self._touched: tuple[int, ...] = ()
         mm = self.mujoco_model  # per geom id: a terrain geom, a robot geom or neither
@@ -106,8 +103,6 @@ class ContactQueries:
             self._contacts = self._scan_contacts()
             self._touched = tuple([hit[1] for hit in self._contacts])  # robot geoms touching
             self._contacts_time = key
-            self._switches = {}
-            self._touching = None
         return self._contacts
 
     def _scan_contacts(self) -> list[tuple[int, int, float]]:
@@ -140,15 +135,8 @@ class ContactQueries:
         Raises:
             FrameNotFoundError: If the robot has no such frame (with the closest names).
         """
-        data = self.data
-        if isinstance(frame, str) and self._contacts_time == (data.time, data.ncon):  # cached
-            switch = self._switches.get(frame)
-            if switch is not None:
-                return switch
         self._terrain_contacts()
-        switch = not self._frame_geoms(frame).isdisjoint(self._touched)
-        self._switches[frame] = switch  # a known frame (unknown ones raised above)
-        return switch
+        return not self._frame_geoms(frame).isdisjoint(self._touched)
 
     def contact_switches(self, frames: Sequence[str]) -> dict[str, bool]:
         """``{frame: in contact}`` for several frames, in one pass (as [`in_contact`][]).
@@ -225,12 +213,9 @@ class ContactQueries:
                     rows_of.setdefault(geom, []).append(k)
             self._force_rows[key] = rows_of  # every entry a known frame name: hashable
         out = np.zeros((len(key), 3))
-        contacts = self._terrain_contacts()
-        if not contacts:
-            return out
         data, force = self.data, self._force
         axes_all = data.contact.frame  # (ncon, 9): normal, tangent 1, tangent 2 (rows)
-        for i, geom, sign in contacts:
+        for i, geom, sign in self._terrain_contacts():
             rows = rows_of.get(geom)
             if rows:
                 mujoco.mj_contactForce(self.model, data, i, force)
@@ -279,20 +264,6 @@ class ContactQueries:
 
     def touching_terrain(self) -> set[str]:
         """Names of the frames whose geoms touch the terrain (each geom's owners)."""
-        return set(self.touching_frames())
-
-    def touching_frames(self) -> frozenset[str]:
-        """[`touching_terrain`][] as a frozenset, once per physics state (not copied)."""
         self._terrain_contacts()
-        touching = self._touching
-        if touching is None:  # once per physics state; the same geoms give the same set object
-            geoms = self._touched
-            touching = self._touching_sets.get(geoms)
-            if touching is None:
-                owners = self.mujoco_model.geom_frames
-                touching = frozenset(name for geom in geoms for name in owners[geom])
-                if len(self._touching_sets) >= 256:
-                    self._touching_sets.clear()
-                self._touching_sets[geoms] = touching
-            self._touching = touching
-        return touching
+        owners = self.mujoco_model.geom_frames
+        return {name for geom in self._touched for name in owners[geom]}

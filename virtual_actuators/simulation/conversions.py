@@ -1,8 +1,6 @@
 """Convert configurations, velocities and torques between Pinocchio and MuJoCo conventions.
 
-Every conversion goes joint by joint through the index maps of a [`MujocoModel`][]. Every
-actuated joint has one ``motor`` actuator of gear 1 named after it, so a control is the
-joint's effort; a free-flyer and passive joints have no actuator.
+Each actuated joint has one ``motor`` of gear 1 named after it: a control is the joint's effort.
 """
 
 from __future__ import annotations
@@ -19,37 +17,17 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.kinematics.kernels import finite
 from virtual_actuators.simulation.model import MujocoModel
 
-__all__ = [
-    "UNACTUATED_TOLERANCE",
-    "configuration_from_mujoco",
-    "configuration_to_mujoco",
-    "ctrl_to_torques",
-    "ctrl_writer",
-    "finite_vector",
-    "gathers",
-    "state_velocity",
-    "torques_to_ctrl",
-    "velocity_from_mujoco",
-    "velocity_to_mujoco",
-]
-
 
 @dataclass(frozen=True)
 class Gathers:
-    """Index arrays of one model's copy-through joints, built once."""
+    """Index arrays of one model's conversions, built once."""
 
-    copy_q: np.ndarray  # Pinocchio q indices of hinge and slide joints
-    copy_qpos: np.ndarray  # their MuJoCo qpos indices
-    special: tuple  # JointMap of the free, ball and continuous joints
     free: tuple  # JointMap of the free joints
-    actuated_v: np.ndarray  # Pinocchio v index of each actuated joint
-    actuator: np.ndarray  # its MuJoCo actuator id
     unactuated_v: np.ndarray  # Pinocchio v indices no actuator drives
+    gather_v: np.ndarray  # qvel[gather_v]: v but the free joints' linear parts
+    direct_ctrl: np.ndarray  # ctrl = tau[direct_ctrl] (one motor per actuated joint)
     direct_q: np.ndarray | None = None  # q = qpos[direct_q]: see _direct_q
     direct_v: np.ndarray | None = None  # v = qvel[direct_v] when no joint is free
-    gather_v: np.ndarray | None = None  # qvel[gather_v]: v but the free joints' linear parts
-    direct_ctrl: np.ndarray | None = None  # ctrl = tau[direct_ctrl] when every motor is mapped
-    unactuated: tuple[int, ...] = ()  # unactuated_v as ints
 
 
 def _direct(target: list[int], source: list[int], size: int) -> np.ndarray | None:
@@ -83,12 +61,8 @@ def gathers(mm: MujocoModel) -> Gathers:
     cached = mm.__dict__.get("_gathers")
     if cached is not None:
         return cached
-    copy_q, copy_qpos, all_v, all_qvel, unactuated = [], [], [], [], []
-    actuated_v, actuator = [], []
+    all_v, all_qvel, unactuated, actuated_v, actuator = [], [], [], [], []
     for joint in mm.joints:
-        if joint.kind in ("hinge", "slide"):
-            copy_q.append(joint.idx_q)
-            copy_qpos.append(joint.qpos_adr)
         all_v.extend(range(joint.idx_v, joint.idx_v + joint.nv))
         all_qvel.extend(range(joint.dof_adr, joint.dof_adr + joint.nv))
         if joint.actuator is not None:
@@ -96,22 +70,15 @@ def gathers(mm: MujocoModel) -> Gathers:
             actuator.append(joint.actuator)
         else:
             unactuated.extend(range(joint.idx_v, joint.idx_v + joint.nv))
-    index = lambda values: np.array(values, dtype=np.intp)  # noqa: E731
     free = tuple(j for j in mm.joints if j.kind == "free")
-    gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)
+    gather_v = _direct(all_v, all_qvel, mm.robot.model.nv)  # the joints cover v: never None
     maps = Gathers(
-        copy_q=index(copy_q),
-        copy_qpos=index(copy_qpos),
-        special=tuple(j for j in mm.joints if j.kind in ("free", "ball", "continuous")),
         free=free,
-        actuated_v=index(actuated_v),
-        actuator=index(actuator),
-        unactuated_v=index(unactuated),
+        unactuated_v=np.array(unactuated, dtype=np.intp),
+        gather_v=gather_v,
+        direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
         direct_q=_direct_q(mm),
         direct_v=None if free else gather_v,
-        direct_ctrl=_direct(actuator, actuated_v, mm.model.nu),
-        gather_v=gather_v,
-        unactuated=tuple(unactuated),
     )
     mm.__dict__["_gathers"] = maps  # frozen dataclass: cache beside its fields
     return maps
@@ -124,9 +91,6 @@ def finite_vector(value: object, size: int, what: str) -> np.ndarray:
         value: The vector, any array-like.
         size: Its required number of entries.
         what: Its name, for the error message.
-
-    Returns:
-        The float64 vector.
 
     Raises:
         InvalidInputError: If ``value`` is not ``size`` finite numbers.
@@ -223,8 +187,7 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
     if maps.direct_q is not None:  # every joint's q is its qpos reordered: one gather
         return qpos[maps.direct_q]
     q = np.zeros(mm.robot.model.nq)
-    q[maps.copy_q] = qpos[maps.copy_qpos]
-    for joint in maps.special:
+    for joint in mm.joints:
         a, i = joint.qpos_adr, joint.idx_q
         if joint.kind == "free":
             w, x, y, z = qpos[a + 3 : a + 7]
@@ -240,9 +203,11 @@ def configuration_from_mujoco(mm: MujocoModel, qpos: np.ndarray) -> np.ndarray:
         elif joint.kind == "ball":
             w, x, y, z = qpos[a : a + 4]
             q[i : i + 4] = (x, y, z, w)
-        else:  # continuous
+        elif joint.kind == "continuous":
             angle = float(qpos[a])
             q[i : i + 2] = (math.cos(angle), math.sin(angle))
+        else:
+            q[i] = qpos[a]
     return q
 
 
@@ -307,16 +272,13 @@ UNACTUATED_TOLERANCE = 1e-9
 
 
 def ctrl_writer(mm: MujocoModel, ctrl: np.ndarray) -> Callable[[np.ndarray, bool], bool] | None:
-    """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``): one compiled call.
+    """A per-tick writer of efforts into ``ctrl`` (MuJoCo's ``data.ctrl``); None without the core.
 
     ``write(tau, ignore_unactuated)`` writes what `torques_to_ctrl` returns and returns True, or
-    writes nothing and returns False (`torques_to_ctrl` then says why).
-
-    Returns:
-        The writer; None without the compiled core or when a motor drives no single joint.
+    writes nothing and returns False (`torques_to_ctrl` then says why): one compiled call.
     """
     maps = gathers(mm)
-    if not has("efforts_to_ctrl") or maps.direct_ctrl is None:
+    if not has("efforts_to_ctrl"):
         return None
     kernel, direct, unactuated = CORE.efforts_to_ctrl, maps.direct_ctrl, maps.unactuated_v
     none = unactuated[:0]
@@ -348,18 +310,8 @@ def torques_to_ctrl(
     """
     tau = finite_vector(tau, mm.robot.model.nv, "tau")
     maps = gathers(mm)
-    if maps.direct_ctrl is not None:  # every motor drives one joint: one gather
-        ctrl = tau[maps.direct_ctrl]
-    else:
-        ctrl = np.zeros(mm.model.nu)
-        ctrl[maps.actuator] = tau[maps.actuated_v]
-    if ignore_unactuated or not maps.unactuated:
-        return ctrl
-    if len(maps.unactuated) <= 8:  # a few entries: plain floats (tau is finite)
-        efforts = tau[maps.unactuated_v].tolist()
-        if max(efforts) <= UNACTUATED_TOLERANCE and min(efforts) >= -UNACTUATED_TOLERANCE:
-            return ctrl
-    elif np.abs(tau[maps.unactuated_v]).max() <= UNACTUATED_TOLERANCE:
+    ctrl = tau[maps.direct_ctrl]
+    if ignore_unactuated or np.all(np.abs(tau[maps.unactuated_v]) <= UNACTUATED_TOLERANCE):
         return ctrl
     for joint in mm.joints:
         effort = tau[joint.idx_v : joint.idx_v + joint.nv]
@@ -370,16 +322,3 @@ def torques_to_ctrl(
                 "ignore_unactuated=True to drop it."
             )
     return ctrl
-
-
-def ctrl_to_torques(mm: MujocoModel, ctrl: np.ndarray) -> np.ndarray:
-    """Joint efforts ``(model.nv,)`` of actuator controls ``ctrl``, 0 where unactuated.
-
-    Raises:
-        InvalidInputError: If ``ctrl`` has the wrong size or non-finite entries.
-    """
-    ctrl = finite_vector(ctrl, mm.model.nu, "ctrl")
-    maps = gathers(mm)
-    tau = np.zeros(mm.robot.model.nv)
-    tau[maps.actuated_v] = ctrl[maps.actuator]
-    return tau

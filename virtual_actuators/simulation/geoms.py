@@ -1,8 +1,4 @@
-"""The robot's geoms and sites in the MuJoCo model, from the geometry Pinocchio reads.
-
-A mesh neither MuJoCo nor the Collada reader reads becomes its bounding box, and a shape with
-neither a counterpart nor a finite bounding box is left out, each told in a `notice`.
-"""
+"""The robot's geoms and sites in the MuJoCo model, from the geometry Pinocchio reads."""
 
 from __future__ import annotations
 
@@ -25,20 +21,6 @@ from virtual_actuators.simulation.ground import (
     set_contact,
 )
 
-__all__ = [
-    "COLLISION_CHOICES",
-    "MAX_STL_FACES",
-    "MIN_BOX_HALF_SIZE",
-    "MESH_FORMATS",
-    "ROBOT_GROUP",
-    "SITE_GROUP",
-    "Added",
-    "Collisions",
-    "add_geometry",
-    "add_sites",
-    "quat_wxyz",
-]
-
 #: Mesh formats MuJoCo reads (STL in binary form only); Collada is read here and handed over.
 MESH_FORMATS = (".stl", ".obj")
 
@@ -49,7 +31,7 @@ MIN_BOX_HALF_SIZE = 5e-4
 MAX_STL_FACES = 200_000
 
 #: Geom groups of the robot geoms and of the frame sites (MuJoCo's visualiser shows groups
-#: 0-2 by default).
+#: 0-2 by default; the terrain stays in group 0).
 ROBOT_GROUP = 3
 SITE_GROUP = 4
 
@@ -152,7 +134,7 @@ def add_geometry(
         return added
     geometry = read_geometry(robot, visual=collisions == "visual")
     model = robot.model
-    contype, conaffinity = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
+    bits = ROBOT_SELF_BITS if contact.self_collisions else ROBOT_BITS
     frames: dict[str, tuple[int, np.ndarray]] = {}  # parent joint and origin of each frame name
     for frame in model.frames:  # but movable joints' frames
         if frame.name not in frames and frame.type != pin.FrameType.JOINT:
@@ -190,7 +172,7 @@ def add_geometry(
             geom.size = np.array(shape.size, dtype=float)
         if shape.mesh is not None:
             geom.meshname = shape.mesh
-        set_contact(geom, contact, contype, conaffinity)
+        set_contact(geom, contact, bits)
         geom.group = ROBOT_GROUP
         geom.rgba = [0.6, 0.6, 0.65, 1.0]
         parent = model.frames[obj.parentFrame].name
@@ -262,6 +244,5 @@ def add_sites(spec: mujoco.MjSpec, robot: Robot, bodies: list[mujoco.MjsBody]) -
             pos=np.array(placement.translation, dtype=float),
             quat=quat_wxyz(placement.rotation),
         )
-        site.size = [0.005, 0.005, 0.005]
         site.group = SITE_GROUP
     return sites

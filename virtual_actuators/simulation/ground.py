@@ -1,12 +1,8 @@
-"""The terrain geoms of the MuJoCo model, and the contact settings of every geom.
-
-A flat terrain is one plane, a profile one box per segment.
-"""
+"""The terrain geoms of the MuJoCo model, and the contact settings of every geom."""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -17,24 +13,6 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = [
-    "CLEARANCE_RANGE",
-    "ROBOT_BITS",
-    "ROBOT_SELF_BITS",
-    "TERRAIN_BITS",
-    "TERRAIN_GROUP",
-    "TERRAIN_PREFIX",
-    "TERRAIN_RUN",
-    "TERRAIN_THICKNESS",
-    "ContactParameters",
-    "add_terrain",
-    "ground_clearance",
-    "set_contact",
-]
-
-#: Farthest distance between the robot and the terrain that `ground_clearance` measures [m].
-CLEARANCE_RANGE = 100.0
-
 #: Thickness of the terrain boxes, perpendicular to the surface [m].
 TERRAIN_THICKNESS = 0.2
 
@@ -43,9 +21,6 @@ TERRAIN_RUN = 50.0
 
 #: Prefix of the names of the terrain geoms.
 TERRAIN_PREFIX = "terrain_"
-
-#: Geom group of the terrain (MuJoCo's visualiser shows groups 0-2 by default).
-TERRAIN_GROUP = 0
 
 
 # Collision bits: robot geoms (contype 2, conaffinity 1) touch the terrain (contype 1,
@@ -93,12 +68,9 @@ class ContactParameters:
             raise InvalidInputError("solref needs 2 values and solimp 5 values.")
 
 
-def set_contact(
-    geom: mujoco.MjsGeom, contact: ContactParameters, contype: int, conaffinity: int
-) -> None:
-    """Give a geom the settings of ``contact`` and its collision bits."""
-    geom.contype = contype
-    geom.conaffinity = conaffinity
+def set_contact(geom: mujoco.MjsGeom, contact: ContactParameters, bits: tuple[int, int]) -> None:
+    """Give a geom the settings of ``contact`` and its collision bits (contype, conaffinity)."""
+    geom.contype, geom.conaffinity = bits
     geom.condim = contact.condim
     geom.friction = [contact.friction, contact.torsional_friction, contact.rolling_friction]
     geom.solref = list(contact.solref)
@@ -107,9 +79,8 @@ def set_contact(
 
 
 def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameters) -> list[str]:
-    """Add the terrain geoms to the world body; return their names."""
+    """Add the terrain to the world body (a plane, or a box per segment); return the geom names."""
     world = spec.worldbody
-    contype, conaffinity = TERRAIN_BITS
     names = []
     if terrain.is_flat:
         height = float(terrain.points[0, 1])
@@ -119,8 +90,7 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
             pos=[0.0, 0.0, height],
             size=[0.0, 0.0, 0.05],
         )
-        set_contact(geom, contact, contype, conaffinity)
-        geom.group = TERRAIN_GROUP
+        set_contact(geom, contact, TERRAIN_BITS)
         geom.rgba = [0.45, 0.5, 0.45, 1.0]
         return [geom.name]
     segments = terrain.segments(TERRAIN_RUN)
@@ -129,9 +99,8 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
         length = math.hypot(dx, dz)
         angle = math.atan2(dz, dx)  # slope, uphill positive
         normal = np.array([-math.sin(angle), 0.0, math.cos(angle)])
-        centre = np.array([(x0 + x1) / 2.0, 0.0, (z0 + z1) / 2.0]) - normal * (
-            TERRAIN_THICKNESS / 2.0
-        )
+        centre = np.array([(x0 + x1) / 2.0, 0.0, (z0 + z1) / 2.0])
+        centre -= normal * (TERRAIN_THICKNESS / 2.0)  # the box's top face on the segment
         label = "run_in" if i == 0 else "run_out" if i == len(segments) - 1 else f"segment_{i - 1}"
         # A rotation by -angle about y takes the box's x axis onto the segment direction.
         quat = [math.cos(-angle / 2.0), 0.0, math.sin(-angle / 2.0), 0.0]
@@ -142,24 +111,7 @@ def add_terrain(spec: mujoco.MjSpec, terrain: Terrain, contact: ContactParameter
             quat=quat,
             size=[length / 2.0, terrain.width / 2.0, TERRAIN_THICKNESS / 2.0],
         )
-        set_contact(geom, contact, contype, conaffinity)
-        geom.group = TERRAIN_GROUP
+        set_contact(geom, contact, TERRAIN_BITS)
         geom.rgba = [0.45, 0.5, 0.45, 1.0] if i % 2 else [0.5, 0.55, 0.5, 1.0]
         names.append(geom.name)
     return names
-
-
-def ground_clearance(
-    model: mujoco.MjModel, data: mujoco.MjData, robot_geoms: Iterable[int], terrain: Iterable[int]
-) -> float:
-    """Least signed distance [m] between the robot's geoms and the terrain's (< 0: inside).
-
-    ``data`` must hold the geoms' placements; distances beyond `CLEARANCE_RANGE` count as it.
-    """
-    terrain = tuple(terrain)
-    distances = (
-        float(mujoco.mj_geomDistance(model, data, geom, ground, CLEARANCE_RANGE, None))
-        for geom in robot_geoms
-        for ground in terrain
-    )
-    return min((CLEARANCE_RANGE, *distances))

@@ -19,16 +19,6 @@ from virtual_actuators.exceptions import (
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.geoms import quat_wxyz
 
-__all__ = [
-    "BOUND_INERTIA",
-    "BOUND_MASS",
-    "actuated_joints",
-    "add_actuators",
-    "add_bodies",
-    "balance_inertias",
-    "joint_kind",
-]
-
 #: Lower bounds that let massless moving bodies compile [kg] and [kg m^2]; real links are far
 #: heavier, so these change nothing for them.
 BOUND_MASS = 1e-6
@@ -83,9 +73,7 @@ def actuated_joints(robot: Robot, kinds: list[str], actuated: Iterable[str] | No
     if actuated is None:
         passive = set(robot.passive_joints)
         return [name for name in names if name in one_dof and name not in passive]
-    if isinstance(actuated, str):
-        actuated = [actuated]
-    requested = list(actuated)
+    requested = [actuated] if isinstance(actuated, str) else list(actuated)
     for name in requested:
         if name not in names:
             raise JointNotFoundError(
@@ -104,17 +92,9 @@ def add_actuators(spec: mujoco.MjSpec, model: pin.Model, actuated_names: list[st
     """Add one ``motor`` (gear 1, range ``+-effortLimit`` if finite and positive) per joint."""
     for name in actuated_names:
         effort = float(model.effortLimit[model.joints[model.getJointId(name)].idx_v])
-        actuator = spec.add_actuator(name=name, target=name)
-        actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
-        actuator.gear[0] = 1.0
-        actuator.gainprm[0] = 1.0
-        actuator.biastype = mujoco.mjtBias.mjBIAS_NONE
-        actuator.dyntype = mujoco.mjtDyn.mjDYN_NONE
-        if math.isfinite(effort) and effort > 0.0:
-            actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        actuator = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        if math.isfinite(effort) and effort > 0.0:  # limited by autolimits
             actuator.ctrlrange = [-effort, effort]
-        else:
-            actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
 
 
 def _body_names(robot: Robot) -> list[str]:
@@ -159,17 +139,16 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             axes[:, 2] = -axes[:, 2]
         body.inertia = np.maximum(moments, 0.0)  # a negative moment clamped to 0
         body.iquat = quat_wxyz(axes)
+        bodies.append(body)
         name = model.names[j]
         if kind == "free":
             body.add_freejoint(name=name)
-            bodies.append(body)
             continue
         mj_joint = body.add_joint(name=name)
         v = joint.idx_v
         _set_damping(mj_joint, float(model.damping[v]))
         mj_joint.frictionloss = float(model.friction[v])
         mj_joint.armature = float(model.armature[v])
-        mj_joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
         if kind == "ball":
             mj_joint.type = mujoco.mjtJoint.mjJNT_BALL
         else:
@@ -182,9 +161,7 @@ def add_bodies(spec: mujoco.MjSpec, robot: Robot, kinds: list[str]) -> list[mujo
             lower = float(model.lowerPositionLimit[joint.idx_q])
             upper = float(model.upperPositionLimit[joint.idx_q])
             if kind != "continuous" and -math.inf < lower < upper < math.inf:
-                mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
-                mj_joint.range = [lower, upper]
-        bodies.append(body)
+                mj_joint.range = [lower, upper]  # limited by autolimits
     return bodies
 
 

@@ -17,11 +17,9 @@ import pinocchio as pin
 from virtual_actuators.exceptions import (
     FrameNotFoundError,
     InvalidInputError,
-    JointNotFoundError,
     RobotDescriptionError,
-    suggestion,
 )
-from virtual_actuators.models.robot import Robot
+from virtual_actuators.models.robot import Robot, frame_id
 from virtual_actuators.simulation.geoms import (
     COLLISION_CHOICES,
     Collisions,
@@ -52,12 +50,10 @@ class JointMap:
         name: Joint name (the same in Pinocchio and MuJoCo).
         kind: ``"free"``, ``"ball"``, ``"hinge"``, ``"continuous"`` (a hinge whose Pinocchio
             ``q`` is ``(cos, sin)``) or ``"slide"``.
-        pin_id: Pinocchio joint index.
         idx_q: First index in Pinocchio's ``q``.
         nq: Entries in Pinocchio's ``q``.
         idx_v: First index in Pinocchio's ``v``.
         nv: Entries in ``v`` (degrees of freedom).
-        mj_id: MuJoCo joint id.
         qpos_adr: First index in MuJoCo's ``qpos``.
         dof_adr: First index in MuJoCo's ``qvel``.
         actuator: MuJoCo actuator id, or None for an unactuated joint.
@@ -66,12 +62,10 @@ class JointMap:
 
     name: str
     kind: str
-    pin_id: int
     idx_q: int
     nq: int
     idx_v: int
     nv: int
-    mj_id: int
     qpos_adr: int
     dof_adr: int
     actuator: int | None
@@ -85,12 +79,10 @@ class MujocoModel:
     Attributes:
         robot: The robot it was built from.
         terrain: The terrain.
-        spec: The MjSpec it was compiled from.
         model: The compiled MuJoCo model.
         contact: The contact parameters used.
         joints: One `JointMap` per Pinocchio joint (universe excluded), Pinocchio order.
         actuated: Names of the actuated joints, Pinocchio order.
-        joint_bodies: MuJoCo body id of each Pinocchio joint index (0: the world body).
         geom_frames: For each robot geom id, the frames that own it: its parent frame, then every
             frame on the same joint whose origin lies on or inside it.
         frame_geoms: For each frame name, the ids of the robot geoms it owns.
@@ -103,32 +95,16 @@ class MujocoModel:
 
     robot: Robot
     terrain: Terrain
-    spec: mujoco.MjSpec
     model: mujoco.MjModel
     contact: ContactParameters
     joints: tuple[JointMap, ...]
     actuated: tuple[str, ...]
-    joint_bodies: tuple[int, ...]
     geom_frames: Mapping[int, tuple[str, ...]]
     frame_geoms: Mapping[str, tuple[int, ...]]
     frame_sites: Mapping[str, int]
     terrain_geoms: frozenset[int]
     skipped_geometries: tuple[str, ...] = field(default=())
     approximated_geometries: tuple[str, ...] = field(default=())
-
-    def joint(self, name: str) -> JointMap:
-        """The map of the joint called ``name``.
-
-        Raises:
-            JointNotFoundError: If the robot has no such joint (with the closest names).
-        """
-        for entry in self.joints:
-            if entry.name == name:
-                return entry
-        raise JointNotFoundError(
-            f"Robot {self.robot.name!r} has no joint {name!r}. "
-            + suggestion(name, [j.name for j in self.joints], "joints")
-        )
 
     def check_frame(self, frame: str) -> None:
         """Check that ``frame`` names a frame of the robot.
@@ -141,11 +117,8 @@ class MujocoModel:
                 f"A frame is named by a str, got {frame!r} ({type(frame).__name__}); robot "
                 f"{self.robot.name!r} has frames such as {self.robot.frame_names[:4]}."
             )
-        if frame not in self.frame_sites:
-            raise FrameNotFoundError(
-                f"Robot {self.robot.name!r} has no frame {frame!r}. "
-                + suggestion(str(frame), self.robot.frame_names, "frames")
-            )
+        if frame not in self.frame_sites:  # every frame name has a site
+            frame_id(self.robot, frame)  # raises the FrameNotFoundError with the closest names
 
     def frame_body(self, frame: str) -> int:
         """MuJoCo body id that carries the frame ``frame``.
@@ -220,23 +193,16 @@ def build_mujoco_model(
     return MujocoModel(
         robot=robot,
         terrain=terrain,
-        spec=spec,
         model=compiled,
         contact=contact,
         joints=_joint_maps(compiled, model, kinds, actuated_names),
         actuated=tuple(actuated_names),
-        joint_bodies=tuple(
-            0 if j == 0 else _id(compiled, mujoco.mjtObj.mjOBJ_BODY, bodies[j].name)
-            for j in range(model.njoints)
-        ),
         geom_frames=MappingProxyType(geom_frames),
         frame_geoms=MappingProxyType(frame_geoms),
         frame_sites=MappingProxyType(
-            {frame: _id(compiled, mujoco.mjtObj.mjOBJ_SITE, site) for frame, site in sites.items()}
+            {frame: compiled.site(site).id for frame, site in sites.items()}
         ),
-        terrain_geoms=frozenset(
-            _id(compiled, mujoco.mjtObj.mjOBJ_GEOM, name) for name in terrain_names
-        ),
+        terrain_geoms=frozenset(compiled.geom(name).id for name in terrain_names),
         skipped_geometries=tuple(geometry.skipped),
         approximated_geometries=tuple(geometry.approximated),
     )
@@ -256,18 +222,11 @@ def _checked_options(timestep: float, collisions: str, terrain: Terrain | None) 
     return terrain
 
 
-def _id(compiled: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
-    """The id of a named object of the compiled model (-1 when there is none)."""
-    return mujoco.mj_name2id(compiled, kind, name)
-
-
 def _new_spec(robot: Robot, timestep: float, contact: ContactParameters) -> mujoco.MjSpec:
     """An empty MjSpec with the compiler settings and the options (step, gravity, cone)."""
     spec = mujoco.MjSpec()
     spec.modelname = robot.name
     spec.compiler.degree = False
-    spec.compiler.autolimits = False
-    spec.compiler.fusestatic = False
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     spec.compiler.boundmass = BOUND_MASS
     spec.compiler.boundinertia = BOUND_INERTIA
@@ -285,23 +244,18 @@ def _joint_maps(
     joints = []
     for j, kind in enumerate(kinds, start=1):
         name = model.names[j]
-        joint = model.joints[j]
-        mj_id = _id(compiled, mujoco.mjtObj.mjOBJ_JOINT, name)
+        joint, mj_joint = model.joints[j], compiled.joint(name)
         joints.append(
             JointMap(
                 name=name,
                 kind=kind,
-                pin_id=j,
                 idx_q=joint.idx_q,
                 nq=joint.nq,
                 idx_v=joint.idx_v,
                 nv=joint.nv,
-                mj_id=mj_id,
-                qpos_adr=int(compiled.jnt_qposadr[mj_id]),
-                dof_adr=int(compiled.jnt_dofadr[mj_id]),
-                actuator=_id(compiled, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
-                if name in actuated
-                else None,
+                qpos_adr=int(mj_joint.qposadr[0]),
+                dof_adr=int(mj_joint.dofadr[0]),
+                actuator=compiled.actuator(name).id if name in actuated else None,
                 placement=model.jointPlacements[j].copy(),
             )
         )
@@ -312,8 +266,7 @@ def _geom_maps(
     compiled: mujoco.MjModel, geom_parents: dict[str, tuple[str, ...]]
 ) -> tuple[dict[int, tuple[str, ...]], dict[str, tuple[int, ...]]]:
     """Geom id -> owning frames, and frame -> its geom ids."""
-    kind = mujoco.mjtObj.mjOBJ_GEOM
-    geom_frames = {_id(compiled, kind, name): owners for name, owners in geom_parents.items()}
+    geom_frames = {compiled.geom(name).id: owners for name, owners in geom_parents.items()}
     frame_geoms: dict[str, list[int]] = {}
     for gid, owners in geom_frames.items():
         for owner in owners:

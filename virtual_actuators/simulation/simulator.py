@@ -1,13 +1,14 @@
 """Simulate a loaded robot with MuJoCo: torques in, Pinocchio-convention state out.
 
 [`Simulator`][] steps one control period at a time with the efforts held; contacts are queried by
-Pinocchio frame name.
+Pinocchio frame name. [`MujocoHardware`][] puts it behind a hardware loop's two callbacks.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from time import perf_counter
 
 import mujoco
 import numpy as np
@@ -26,7 +27,6 @@ from virtual_actuators.simulation.conversions import (
     torques_to_ctrl,
     velocity_to_mujoco,
 )
-from virtual_actuators.simulation.ground import ground_clearance
 from virtual_actuators.simulation.model import (
     Collisions,
     ContactParameters,
@@ -36,7 +36,10 @@ from virtual_actuators.simulation.model import (
 from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = ["Simulator"]
+__all__ = ["MujocoHardware", "Simulator"]
+
+#: Farthest distance between the robot and the terrain that `Simulator.on_ground` measures [m].
+CLEARANCE_RANGE = 100.0
 
 #: ``v`` of MuJoCo's state with a free joint: the core's one call (None: `state_velocity`).
 _STATE_VELOCITY = kernel("state_velocity", None)
@@ -141,7 +144,7 @@ class Simulator(ContactQueries):
         self._direct_q, self._direct_v = maps.direct_q, maps.direct_v
         self._write_ctrl = ctrl_writer(self.mujoco_model, self._ctrl)  # None: the general path
         self._free_v = None  # (gather, free joints' rows) of the core's read of v, or None
-        if _STATE_VELOCITY is not None and self._direct_v is None and maps.gather_v is not None:
+        if _STATE_VELOCITY is not None and self._direct_v is None:
             rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]
             self._free_v = (maps.gather_v.astype(np.int64), np.array(rows, np.int64).reshape(-1, 3))
         self.reset()
@@ -181,12 +184,11 @@ class Simulator(ContactQueries):
         Raises:
             InvalidInputError: If ``q`` or ``v`` has the wrong size or non-finite entries.
         """
-        pin_model = self.robot.model
         if q is None:
             q = self.robot.neutral()
             if self.robot.floating_base and self.mujoco_model.geom_frames:
                 q = self.on_ground(q)
-        v = np.zeros(pin_model.nv) if v is None else v
+        v = np.zeros(self.robot.model.nv) if v is None else v
         qpos = configuration_to_mujoco(self.mujoco_model, q)
         qvel = velocity_to_mujoco(self.mujoco_model, q, v)
         mujoco.mj_resetData(self.model, self.data)
@@ -221,9 +223,13 @@ class Simulator(ContactQueries):
         scratch = mujoco.MjData(self.model)
         scratch.qpos[:] = configuration_to_mujoco(mm, q)
         mujoco.mj_kinematics(self.model, scratch)
-        clearance = ground_clearance(self.model, scratch, mm.geom_frames, mm.terrain_geoms)
+        distances = (  # < 0: inside; beyond CLEARANCE_RANGE counts as it
+            mujoco.mj_geomDistance(self.model, scratch, geom, ground, CLEARANCE_RANGE, None)
+            for geom in mm.geom_frames
+            for ground in mm.terrain_geoms
+        )
         placed = np.array(q, dtype=float)
-        placed[2] -= clearance
+        placed[2] -= min((CLEARANCE_RANGE, *distances))
         return placed
 
     def step(self, tau: np.ndarray, *, ignore_unactuated: bool = False) -> None:
@@ -286,10 +292,9 @@ class Simulator(ContactQueries):
         now = float(data.time)
         pushes = self._pushes = [push for push in self._pushes if now < push.end]
         for push in pushes:
-            x, y, z = (data.site_xpos[push.site] - data.xipos[push.body]).tolist()  # lever [m]
-            fx, fy, fz = push.force.tolist()  # [N]
+            lever = data.site_xpos[push.site] - data.xipos[push.body]  # [m]
             applied[push.body, :3] += push.force
-            applied[push.body, 3:] += (y * fz - z * fy, z * fx - x * fz, x * fy - y * fx)
+            applied[push.body, 3:] += np.cross(lever, push.force)
         if pushes:
             data.xfrc_applied[:] += applied
 
@@ -299,3 +304,59 @@ class Simulator(ContactQueries):
             f"dt={self.model.opt.timestep:g} s x {self.substeps} per control period, "
             f"{self.model.nu} actuators)"
         )
+
+
+class MujocoHardware:
+    """A [`Simulator`][] behind the two callbacks of a hardware control loop.
+
+    ``write_effort`` holds the efforts for one control period and steps the physics; ``va.run``'s
+    final zero steps once more unless ``write_final=hardware.hold_effort`` takes it.
+
+    Args:
+        simulator: The simulation that plays the robot.
+        ignore_unactuated: Drop efforts on degrees of freedom no actuator drives (False: an
+            error of `write_effort`, as [`Simulator.step`][] raises it).
+
+    Attributes:
+        simulator: As given.
+        ignore_unactuated: As given.
+        efforts_written: Calls of `write_effort` and `hold_effort` (the final zero included).
+        physics_time: Wall-clock time spent in the physics steps [s].
+    """
+
+    def __init__(self, simulator: Simulator, *, ignore_unactuated: bool = True) -> None:
+        self.simulator = simulator
+        self.ignore_unactuated = bool(ignore_unactuated)
+        self.efforts_written = 0
+        self.physics_time = 0.0
+        self._data = simulator.data
+
+    def read_state(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """``(q, v, time)`` of the simulation (Pinocchio conventions, seconds)."""
+        return self.simulator.q, self.simulator.v, float(self._data.time)
+
+    def write_effort(self, tau: np.ndarray) -> None:
+        """Hold ``tau`` for one control period (see ``ignore_unactuated``).
+
+        Raises:
+            InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
+                on an unactuated degree of freedom without ``ignore_unactuated``.
+        """
+        start = perf_counter()
+        self.simulator.step(tau, ignore_unactuated=self.ignore_unactuated)
+        self.physics_time += perf_counter() - start
+        self.efforts_written += 1
+
+    def hold_effort(self, tau: np.ndarray) -> None:
+        """Set the efforts MuJoCo holds (its controls) without stepping: a loop's final zero.
+
+        Raises:
+            InvalidInputError: ``tau`` of the wrong size or with non-finite entries; an effort
+                on an unactuated degree of freedom without ``ignore_unactuated``.
+        """
+        model = self.simulator.mujoco_model
+        self._data.ctrl[:] = torques_to_ctrl(model, tau, ignore_unactuated=self.ignore_unactuated)
+        self.efforts_written += 1
+
+    def __repr__(self) -> str:
+        return f"MujocoHardware({self.simulator!r})"

@@ -86,7 +86,7 @@ def _pair(point: np.ndarray) -> str:
 class Terrain:
     """A piecewise-linear height profile ``z(x)`` [m] along world x, flat outside its points.
 
-    Build one with [`flat`][], [`from_points`][], [`builtin`][] or [`parse`][].
+    Build one from its points, or with [`flat`][], [`builtin`][] or [`parse`][].
 
     Attributes:
         name: A label (the built-in name, ``"flat"``, or ``"custom"``).
@@ -100,7 +100,7 @@ class Terrain:
         name: str = "custom",
         width: float = DEFAULT_WIDTH,
     ) -> None:
-        """Create a terrain from its points (prefer the named constructors).
+        """Create a terrain named ``name`` through its points.
 
         Args:
             points: Points ``(x, z)`` [m], at least one, ``x`` strictly increasing.
@@ -152,18 +152,6 @@ class Terrain:
             InvalidInputError: If ``height`` is not a finite number.
         """
         return cls([(0.0, height)], name="flat", width=width)
-
-    @classmethod
-    def from_points(
-        cls, points: Iterable[Sequence[float]], *, width: float = DEFAULT_WIDTH
-    ) -> Terrain:
-        """A terrain named ``"custom"`` through ``points`` ``(x, z)`` [m].
-
-        Raises:
-            InvalidInputError: If the points are empty, not pairs of finite numbers, or their
-                ``x`` does not strictly increase (the message names the offending point).
-        """
-        return cls(points, name="custom", width=width)
 
     @classmethod
     def builtin(cls, name: str, *, width: float = DEFAULT_WIDTH) -> Terrain:

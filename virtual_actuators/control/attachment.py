@@ -279,11 +279,7 @@ def _qp_yield(
     friction: float | None,
     yield_weight: float | None,
 ) -> tuple[np.ndarray | None, Sequence[str]]:
-    """``(weights, yield axes left to the scaling rule)``: the QP's yield weights, or none.
-
-    With ``method="qp"`` on a parallel actuator, ``(n,)`` weights that make ``yield_axes`` give
-    way first (None without yield axes) and ``()``; otherwise ``(None, yield_axes)``.
-    """
+    """``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` the QP's weights."""
     if method != "qp" or not isinstance(actuator, ParallelVirtualActuator):
         if yield_weight is not None:
             raise InvalidInputError(

@@ -197,10 +197,7 @@ def drop_non_finite(controller: object, snapshot: Snapshot, sums: TickSums) -> n
 
 
 def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray) -> float | None:
-    """Smallest margin ``G @ forces.ravel() - lows`` of the attachment's contact rows.
-
-    One compiled call, or None (no core, sole rows, or frames the table lacks).
-    """
+    """Smallest margin ``G @ forces.ravel() - lows`` of the contact rows (compiled), or None."""
     frames = _frame_table(attachment, snapshot)
     if frames is None:
         return None
@@ -235,10 +232,7 @@ def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndar
 def largest_scale(
     attachment: Attachment, snapshot: Snapshot, full: np.ndarray, base: np.ndarray
 ) -> float:
-    """The largest ``alpha`` in ``[0, 1]`` for which the shares meet the contact rows.
-
-    The shares are ``base + alpha (full - base)``; 0 when no ``alpha`` meets them.
-    """
+    """The largest ``alpha`` in ``[0, 1]`` (or 0) with ``base + alpha (full - base)`` feasible."""
     frames = _frame_table(attachment, snapshot)
     if frames is None:
         rows, lows = constraint_rows(attachment, snapshot)
@@ -248,10 +242,7 @@ def largest_scale(
 
 
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:
-    """The largest ``alpha`` in ``[0, 1]`` with ``at_base + alpha (at_full - at_base) >= lows``.
-
-    0 when no ``alpha`` meets them all.
-    """
+    """The largest alpha in [0, 1] (or 0) with ``at_base + alpha (at_full - at_base) >= lows``."""
     slope = at_full - at_base
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = (lows - at_base) / slope

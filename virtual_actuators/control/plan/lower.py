@@ -10,7 +10,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ...actuators import ParallelVirtualActuator, VirtualActuator
+from ...actuators import VirtualActuator
 from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
 from ...exceptions import TraceError
@@ -183,18 +183,16 @@ def attachment_kind(attachment: object) -> str | None:
         if type(actuator) is not VirtualActuator or actuator is not attachment.sensor:
             return "a serial actuator read through another sensor"
         return None
-    if isinstance(actuator, ParallelVirtualActuator):
-        if attachment.method == "qp":
-            qp = actuator.backends.get("qp")
-            if attachment.yield_mask is not None or qp is None:
-                return "a QP with a yield policy"
-            return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
-        if attachment.snapshot_solve is None:
-            return f"a {attachment.method!r} distribution (the controller's)"
-        if attachment.yield_mask is not None and attachment.margins is None:
-            return "a yield policy on sole rows"
-        return None
-    return "an actuator of another kind"
+    if attachment.method == "qp":  # a parallel actuator (Controller.add refuses other kinds)
+        qp = actuator.backends.get("qp")
+        if attachment.yield_mask is not None or qp is None:
+            return "a QP with a yield policy"
+        return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
+    if attachment.snapshot_solve is None:
+        return f"a {attachment.method!r} distribution (the controller's)"
+    if attachment.yield_mask is not None and attachment.margins is None:
+        return "a yield policy on sole rows"
+    return None
 
 
 def term_kind(term: object) -> str | None:

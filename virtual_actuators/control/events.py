@@ -88,12 +88,9 @@ class Contact:
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
-        switches = context.contacts  # all(...) / any(...) without a generator (per tick)
-        wanted = self.require_all
+        wanted = self.require_all  # all(...) / any(...) without a generator (per tick)
         for frame in self.frames:
-            switch = switches.get(frame)
-            closed = context.in_contact(frame) if switch is None else switch
-            if bool(closed) != wanted:
+            if context.in_contact(frame) != wanted:
                 return not wanted
         return wanted
 

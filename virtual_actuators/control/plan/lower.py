@@ -301,9 +301,7 @@ class TraceContext:
         """The contact switch of ``frame`` (1.0 closed, 0.0 open), a register the tick writes."""
         return self.program.read(self._lowering.contact_register(frame, required))
 
-    def in_contact(self, frame: str) -> Sym:
-        """The contact switch of ``frame``."""
-        return self.contact(frame, required=True)
+    in_contact = contact  # a required switch
 
     def event(self, event: object) -> object:
         """An event's value: lowered (an event object), traced (a `lowerable` predicate).

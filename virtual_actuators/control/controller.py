@@ -91,8 +91,7 @@ class Controller:
 
     @effort_limits.setter
     def effort_limits(self, limits: object) -> None:
-        limits = check_effort_limits(limits, self.robot.model.nv)
-        self._lower_limits, self._upper_limits = limits
+        self._lower_limits, self._upper_limits = check_effort_limits(limits, self.robot.model.nv)
         if isinstance(self._rate_spec, LimitFraction):  # its rates follow the limits
             self.effort_rate_limit = self._rate_spec
 

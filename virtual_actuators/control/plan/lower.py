@@ -93,11 +93,7 @@ class Lowering:
         return layout
 
     def keep_memories(self, function: object) -> None:
-        """Keep every `Memory` a hook can reach.
-
-        Its owner's attributes (a method's), the variables it closes over and the globals it
-        names (a function's).
-        """
+        """Keep every `Memory` a hook reaches: its owner's attributes, closure and globals."""
         owner = getattr(function, "__self__", None)
         values = list(vars(owner).values()) if hasattr(owner, "__dict__") else []
         plain = getattr(function, "__func__", function)

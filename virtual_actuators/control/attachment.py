@@ -23,10 +23,6 @@ Actuator = VirtualActuator | ParallelVirtualActuator
 #: ``Controller.add(method="qp", yield_axes=...)``: the yield axes' weight in the QP's
 #: closest wrench (the other axes weigh 1), so an infeasible request gives way on them first
 YIELD_WEIGHT = 1e-3
-_QP_LIMITS = (
-    "with method='qp' the contact limits are the actuator's own (friction, min_normal, "
-    "torque_limits); leave out unilateral and friction."
-)
 
 
 @dataclass(repr=False)
@@ -98,7 +94,7 @@ class Attachment:
         limits, yield_mask = _contact_limits(name, actuator, unilateral, yield_axes, friction)
         if name in taken:
             raise InvalidInputError(f"An attachment named {name!r} already exists.")
-        method = _method(name, actuator, method, bool(limits) or friction is not None)
+        method = _method(name, actuator, method)
         contacts = None
         if yield_mask is not None:  # the actuator's contacts with these limits
             declared = actuator.contacts
@@ -283,11 +279,7 @@ def _qp_yield(
     friction: float | None,
     yield_weight: float | None,
 ) -> tuple[np.ndarray | None, Sequence[str]]:
-    """``(weights, yield axes left to the scaling rule)``: the QP's yield weights, or none.
-
-    With ``method="qp"`` on a parallel actuator, ``(n,)`` weights that make ``yield_axes`` give
-    way first (None without yield axes) and ``()``; otherwise ``(None, yield_axes)``.
-    """
+    """``(weights, yield axes left to the scaling rule)``: with ``method="qp"`` the QP's weights."""
     if method != "qp" or not isinstance(actuator, ParallelVirtualActuator):
         if yield_weight is not None:
             raise InvalidInputError(
@@ -295,7 +287,10 @@ def _qp_yield(
             )
         return None, yield_axes
     if unilateral or friction is not None:
-        raise InvalidInputError(f"Attachment {name!r}: {_QP_LIMITS}")
+        raise InvalidInputError(
+            f"Attachment {name!r}: with method='qp' the contact limits are the actuator's own "
+            "(friction, min_normal, torque_limits); leave out unilateral and friction."
+        )
     yielded = check_axes_subset(yield_axes, actuator.axes, "yield_axes")
     weight = YIELD_WEIGHT if yield_weight is None else yield_weight
     weight = check_number(weight, f"Attachment {name!r}: yield_weight", positive=True)
@@ -304,7 +299,7 @@ def _qp_yield(
     return check_weights(dict.fromkeys(yielded, weight), actuator.axes), ()
 
 
-def _method(name: str, actuator: Actuator, method: object, limited: bool) -> str:
+def _method(name: str, actuator: Actuator, method: object) -> str:
     """``method`` checked against the actuator's solvers (a serial one has none)."""
     if method == "partitioned":
         return method
@@ -314,6 +309,4 @@ def _method(name: str, actuator: Actuator, method: object, limited: bool) -> str
             f"Attachment {name!r}: method must be one of {methods or ['partitioned']} for "
             f"this actuator, got {describe(method)}."
         )
-    if method == "qp" and limited:
-        raise InvalidInputError(f"Attachment {name!r}: {_QP_LIMITS}")
     return str(method)

@@ -100,12 +100,7 @@ class SpringTick:
         slots: list,
         solve: BufferSolve | None = None,
     ) -> SpringTick | None:
-        """The tick for an attachment it serves, else None.
-
-        It serves a serial actuator that is its own sensor, or a parallel actuator, with
-        spring-dampers of the formula only (at most one rotational axis each) on contiguous
-        runs of the axes, when a compiled core is built.
-        """
+        """The tick for an attachment of spring-dampers of the formula it serves, else None."""
         serial = isinstance(actuator, VirtualActuator)
         served = (
             has("SpringTick")
@@ -135,10 +130,9 @@ class SpringTick:
 
         Returns:
             ``(buffer, solution)``: the buffer ``effort (nv), position (n), velocity (n), wrench
-            (n), flag (1.0)``, or None (the general path runs: other components, a Spring with
-            a law, no velocity, a frame table without the sensor's rows, or the kernel's flag
-            0); the distribution's [`Solution`][virtual_actuators.Solution], bit for bit the
-            one of ``solve(snapshot, wrench)``, or None.
+            (n), flag (1.0)``, or None (the general path runs); the distribution's
+            [`Solution`][virtual_actuators.Solution], bit for bit the one of
+            ``solve(snapshot, wrench)``, or None.
         """
         v = snapshot.v
         if (

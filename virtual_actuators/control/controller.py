@@ -91,8 +91,7 @@ class Controller:
 
     @effort_limits.setter
     def effort_limits(self, limits: object) -> None:
-        limits = check_effort_limits(limits, self.robot.model.nv)
-        self._lower_limits, self._upper_limits = limits
+        self._lower_limits, self._upper_limits = check_effort_limits(limits, self.robot.model.nv)
         if isinstance(self._rate_spec, LimitFraction):  # its rates follow the limits
             self.effort_rate_limit = self._rate_spec
 
@@ -325,7 +324,7 @@ class Controller:
         postures = self.postures
         sums = TickSums()
         attachments = self.attachments
-        on_failure, limits = self.on_failure, (self._lower_limits, self._upper_limits)
+        on_failure, limits = self.on_failure, self._upper_limits
         for name in names:
             if postures and name in postures:  # a joint-space term
                 sums.add(name, postures[name].torques(snapshot), fresh=True)
@@ -333,7 +332,7 @@ class Controller:
                 attachment = attachments.get(name) if name.__class__ is str else None
                 if attachment is None:
                     attachment = self._get(name)  # raises, naming the known attachments
-                run_attachment(name, attachment, snapshot, time, sums, on_failure, limits)
+                run_attachment(attachment, snapshot, time, sums, on_failure, limits)
         tau = sums.tau
         if tau is not None and not finite(tau):
             tau = drop_non_finite(self, snapshot, sums)

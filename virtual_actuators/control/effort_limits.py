@@ -13,10 +13,7 @@ from ..vocabulary.arguments import as_float_array, check_number
 
 
 def urdf_effort_limits(robot: Robot) -> np.ndarray:
-    """``(nv,)`` effort limits of the URDF [N m or N], ``inf`` where unlimited.
-
-    A 1-dof joint's positive finite ``effortLimit``; ``inf`` elsewhere.
-    """
+    """``(nv,)`` a 1-dof joint's positive finite URDF ``effortLimit`` [N m, N], else ``inf``."""
     model = robot.model
     effort = np.asarray(model.effortLimit, dtype=float)
     one_dof = [model.joints[j].idx_v for j in range(1, model.njoints) if model.joints[j].nv == 1]

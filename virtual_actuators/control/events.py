@@ -4,20 +4,19 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..exceptions import InvalidAxisError, InvalidInputError
 from ..vocabulary.arguments import check_flag, check_name, check_number, describe
 from ..vocabulary.axes import AXES
 from ..vocabulary.scalar import logical_and, logical_not, logical_or
-from .context import POSITION_COLUMNS, Context, Event, table_entry
+from .context import POSITION_COLUMNS, Context, Event
 
 
-def _column(axis: str) -> int:
-    """The frame-table column of the position along world ``axis`` (x, y or z)."""
+def _check_axis(axis: str) -> None:
+    """Refuse an ``axis`` that is not a world axis x, y or z (an InvalidAxisError)."""
     if not isinstance(axis, str) or axis not in POSITION_COLUMNS:
         raise InvalidAxisError(f"Event axis must be one of x, y, z (of {AXES}), got {axis!r}.")
-    return POSITION_COLUMNS[axis]
 
 
 def _frames(frames: tuple, where: str) -> tuple[str, ...]:
@@ -46,12 +45,10 @@ class After:
     seconds: float
 
     def __call__(self, context: Context) -> bool:
-        """Whether the event fires at this tick."""
+        """Whether the event fires at this tick (a traced value on a lowering's context)."""
         return context.time_in_state >= self.seconds
 
-    def lower(self, trace: object) -> object:
-        """The event as a traced value (``trace``: the lowering's context)."""
-        return trace.time_in_state >= self.seconds
+    lower = __call__  # the same read traces
 
     def __repr__(self) -> str:
         return f"after({self.seconds:g})"
@@ -65,31 +62,18 @@ class AheadOf:
     reference: str
     distance: float
     axis: str
-    column: int = field(init=False)  # the position's entry in a frame-table row (9 + axis)
 
     def __post_init__(self) -> None:
-        self.column = _column(self.axis)
+        _check_axis(self.axis)
 
     def __call__(self, context: Context) -> bool:
-        """Whether the event fires at this tick."""
-        snapshot = context.snapshot  # tabled frames: two entries of the table (a tick's cost)
-        position = table_entry(snapshot, self.frame, self.column)
-        reference_position = table_entry(snapshot, self.reference, self.column)
-        if position is not None and reference_position is not None:
-            return position - reference_position > self.distance
-        index = self.column - 9
-        return (
-            context.frame_position(self.frame)[index]
-            - context.frame_position(self.reference)[index]
-            > self.distance
-        )
-
-    def lower(self, trace: object) -> object:
-        """The event as a traced value."""
-        difference = trace.frame_coordinate(self.frame, self.axis) - trace.frame_coordinate(
+        """Whether the event fires at this tick (a traced value on a lowering's context)."""
+        difference = context.frame_coordinate(self.frame, self.axis) - context.frame_coordinate(
             self.reference, self.axis
         )
         return difference > self.distance
+
+    lower = __call__  # the same reads trace
 
     def __repr__(self) -> str:
         return f"ahead_of({self.frame!r}, {self.reference!r}, {self.distance:g}, {self.axis!r})"
@@ -104,12 +88,9 @@ class Contact:
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick."""
-        switches = context.contacts  # all(...) / any(...) without a generator (per tick)
-        wanted = self.require_all
+        wanted = self.require_all  # all(...) / any(...) without a generator (per tick)
         for frame in self.frames:
-            switch = switches.get(frame)
-            closed = context.in_contact(frame) if switch is None else switch
-            if bool(closed) != wanted:
+            if context.in_contact(frame) != wanted:
                 return not wanted
         return wanted
 

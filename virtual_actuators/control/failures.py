@@ -36,22 +36,21 @@ _REASONS = (
 
 
 def run_attachment(
-    name: str,
     attachment: Attachment,
     snapshot: Snapshot,
     time: float,
     sums: TickSums,
     on_failure: str,
-    limits: tuple[np.ndarray, np.ndarray],
+    limits: np.ndarray,
 ) -> None:
     """Sense, sum the components, map to efforts (or recover from a failure) into ``sums``.
 
-    ``limits`` are the controller's ``(lower, upper)`` effort limits (for ``"fallback"``).
+    ``limits`` are the controller's effort limits (for ``"fallback"``).
 
     Raises:
         VirtualActuatorError: With ``on_failure="raise"``, the attachment's failure.
     """
-    spring, wrench, solution = attachment.spring_tick, None, None
+    name, spring, wrench, solution = attachment.name, attachment.spring_tick, None, None
     try:
         if spring is not None:  # and a parallel actuator's distribution, in one call
             buffer, solution = spring.run_solve(attachment.components, snapshot, time)
@@ -127,7 +126,7 @@ def recover(
     wrench: np.ndarray | None,
     reason: str,
     error: BaseException,
-    limits: tuple[np.ndarray, np.ndarray],
+    limits: np.ndarray,
     sums: TickSums,
 ) -> tuple[object | None, np.ndarray | None]:
     """Apply ``policy`` (``"skip"`` or ``"fallback"``) to one attachment's failure.
@@ -152,7 +151,7 @@ def recover(
                 request = actuator.plan(attachment.free, "partitioned")
                 solution = actuator.solve_checked(snapshot, wrench, request)[0]
                 if np.isfinite(solution.tau).all():
-                    tau = np.minimum(np.maximum(solution.tau, limits[0]), limits[1])
+                    tau = np.minimum(np.maximum(solution.tau, -limits), limits)
                     sums.failures[name] = AttachmentFailure(reason, error_name, message, "fallback")
                     return solution, tau
                 why = "fallback failed: non-finite efforts"
@@ -172,8 +171,7 @@ def drop_non_finite(controller: object, snapshot: Snapshot, sums: TickSums) -> n
     Raises:
         InvalidInputError: With ``on_failure="raise"``, naming the first such attachment.
     """
-    tau = np.zeros(controller.robot.model.nv)
-    limits = (-controller.effort_limits, controller.effort_limits)
+    tau, limits = np.zeros(controller.robot.model.nv), controller.effort_limits
     wrenches, produced, solutions = sums.wrenches, sums.produced, sums.solutions
     policy = controller.on_failure
     for name, effort in sums.parts:
@@ -199,10 +197,7 @@ def drop_non_finite(controller: object, snapshot: Snapshot, sums: TickSums) -> n
 
 
 def least_margin(attachment: Attachment, snapshot: Snapshot, forces: np.ndarray) -> float | None:
-    """Smallest margin ``G @ forces.ravel() - lows`` of the attachment's contact rows.
-
-    One compiled call, or None (no core, sole rows, or frames the table lacks).
-    """
+    """Smallest margin ``G @ forces.ravel() - lows`` of the contact rows (compiled), or None."""
     frames = _frame_table(attachment, snapshot)
     if frames is None:
         return None
@@ -237,10 +232,7 @@ def constraint_rows(attachment: Attachment, snapshot: Snapshot) -> tuple[np.ndar
 def largest_scale(
     attachment: Attachment, snapshot: Snapshot, full: np.ndarray, base: np.ndarray
 ) -> float:
-    """The largest ``alpha`` in ``[0, 1]`` for which the shares meet the contact rows.
-
-    The shares are ``base + alpha (full - base)``; 0 when no ``alpha`` meets them.
-    """
+    """The largest ``alpha`` in ``[0, 1]`` (or 0) with ``base + alpha (full - base)`` feasible."""
     frames = _frame_table(attachment, snapshot)
     if frames is None:
         rows, lows = constraint_rows(attachment, snapshot)
@@ -250,10 +242,7 @@ def largest_scale(
 
 
 def ratio_test(at_full: np.ndarray, at_base: np.ndarray, lows: np.ndarray) -> float:
-    """The largest ``alpha`` in ``[0, 1]`` with ``at_base + alpha (at_full - at_base) >= lows``.
-
-    0 when no ``alpha`` meets them all.
-    """
+    """The largest alpha in [0, 1] (or 0) with ``at_base + alpha (at_full - at_base) >= lows``."""
     slope = at_full - at_base
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = (lows - at_base) / slope

@@ -170,16 +170,12 @@ def tick_snapshot(
         raise InvalidInputError(
             "compute() needs a snapshot of this controller's robot built with v."
         )
-    if v is not None and v is not q.v:  # v must equal the snapshot's velocity (never ignored)
-        try:
-            same = np.array_equal(np.asarray(v), q.v)
-        except (TypeError, ValueError):
-            same = False
-        if not same:
-            raise InvalidInputError(
-                "compute(snapshot, v): v differs from the velocity the snapshot was built with; "
-                "omit v (the snapshot's is used) or build the snapshot with this v."
-            )
+    # v must equal the snapshot's velocity (never ignored; array_equal is False on a non-array)
+    if v is not None and v is not q.v and not np.array_equal(v, q.v):
+        raise InvalidInputError(
+            "compute(snapshot, v): v differs from the velocity the snapshot was built with; "
+            "omit v (the snapshot's is used) or build the snapshot with this v."
+        )
     return q
 
 

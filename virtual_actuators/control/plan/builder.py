@@ -88,14 +88,11 @@ class Program:
             if value.program.builder is not self.builder:
                 raise TraceError("a traced value of another plan.")
             return value.index
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            if isinstance(value, np.floating | np.integer):
-                value = float(value)
-            else:
-                raise TraceError(f"a {type(value).__name__} where the plan needs a number.")
-        if math.isnan(float(value)):
+        if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+            raise TraceError(f"a {type(value).__name__} where the plan needs a number.")
+        if math.isnan(value):
             raise TraceError("NaN in a declaration constant.")
-        return self.builder.constant(float(value))
+        return self.builder.constant(value)
 
     def emit(self, name: str, a: int = 0, b: int = 0, c: int = 0) -> Sym:
         """Append op ``name`` on registers (or immediates) ``a, b, c``; its result."""

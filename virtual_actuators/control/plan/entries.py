@@ -149,10 +149,9 @@ class Attached(Entry):
         registers = compiled.registers
         sums = TickSums()
         wrench = registers[self.wrench : self.wrench + self.n].copy()
-        limits = controller.effort_limits
         run_attachment(
-            self.name, _Fixed(attachment, wrench), compiled.snapshot(), compiled.time, sums,
-            controller.on_failure, (-limits, limits),
+            _Fixed(attachment, wrench), compiled.snapshot(), compiled.time, sums,
+            controller.on_failure, controller.effort_limits,
         )  # fmt: skip
         self.efforts[:] = 0.0 if sums.tau is None else sums.tau
         produced = sums.produced.get(self.name)

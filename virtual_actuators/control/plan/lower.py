@@ -10,7 +10,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ...actuators import ParallelVirtualActuator, VirtualActuator
+from ...actuators import VirtualActuator
 from ...components.gravity import GravityCompensation
 from ...components.posture import Posture
 from ...exceptions import TraceError
@@ -93,11 +93,7 @@ class Lowering:
         return layout
 
     def keep_memories(self, function: object) -> None:
-        """Keep every `Memory` a hook can reach.
-
-        Its owner's attributes (a method's), the variables it closes over and the globals it
-        names (a function's).
-        """
+        """Keep every `Memory` a hook reaches: its owner's attributes, closure and globals."""
         owner = getattr(function, "__self__", None)
         values = list(vars(owner).values()) if hasattr(owner, "__dict__") else []
         plain = getattr(function, "__func__", function)
@@ -183,18 +179,16 @@ def attachment_kind(attachment: object) -> str | None:
         if type(actuator) is not VirtualActuator or actuator is not attachment.sensor:
             return "a serial actuator read through another sensor"
         return None
-    if isinstance(actuator, ParallelVirtualActuator):
-        if attachment.method == "qp":
-            qp = actuator.backends.get("qp")
-            if attachment.yield_mask is not None or qp is None:
-                return "a QP with a yield policy"
-            return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
-        if attachment.snapshot_solve is None:
-            return f"a {attachment.method!r} distribution (the controller's)"
-        if attachment.yield_mask is not None and attachment.margins is None:
-            return "a yield policy on sole rows"
-        return None
-    return "an actuator of another kind"
+    if attachment.method == "qp":  # a parallel actuator (Controller.add refuses other kinds)
+        qp = actuator.backends.get("qp")
+        if attachment.yield_mask is not None or qp is None:
+            return "a QP with a yield policy"
+        return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
+    if attachment.snapshot_solve is None:
+        return f"a {attachment.method!r} distribution (the controller's)"
+    if attachment.yield_mask is not None and attachment.margins is None:
+        return "a yield policy on sole rows"
+    return None
 
 
 def term_kind(term: object) -> str | None:
@@ -303,9 +297,7 @@ class TraceContext:
         """The contact switch of ``frame`` (1.0 closed, 0.0 open), a register the tick writes."""
         return self.program.read(self._lowering.contact_register(frame, required))
 
-    def in_contact(self, frame: str) -> Sym:
-        """The contact switch of ``frame``."""
-        return self.contact(frame, required=True)
+    in_contact = contact  # a required switch
 
     def event(self, event: object) -> object:
         """An event's value: lowered (an event object), traced (a `lowerable` predicate).

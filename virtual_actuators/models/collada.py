@@ -17,8 +17,7 @@ __all__ = ["collada_arrays"]
 def collada_arrays(path: str) -> tuple[np.ndarray, np.ndarray] | None:
     """Vertices and triangles of a Collada file's scene, placed by its nodes, in metres.
 
-    Reads the ``<triangles>`` and ``<polylist>`` (fans) the scene's nodes
-    instantiate, placed by their transforms, times the file's unit (not its up axis, as MeshCat).
+    Reads ``<triangles>`` and ``<polylist>`` (as fans); the up axis is ignored, as by MeshCat.
 
     Returns:
         ``(vertices, triangles)``, or None for a file this reader does not cover.

@@ -210,13 +210,10 @@ def _load_module_robot(name: str, init: Path, floating_base: bool | None) -> Rob
 def guess_floating_base(root: ET.Element, stem: str) -> bool:
     """Guess whether a URDF describes a legged or flying robot (``floating_base=None``).
 
-    The base floats when a word of a link or joint name, the robot's name or ``stem`` is a leg
-    or flying word (`_FLOATING_WORDS`); names split into words at ``_``, digits and
-    camel-case humps. A URDF whose root link is ``world`` is fixed.
-
-    Args:
-        root: The ``<robot>`` element of the URDF.
-        stem: The URDF file stem, whose words count as well.
+    The base floats when a word of a link or joint name of ``root`` (the ``<robot>`` element),
+    the robot's name or the file stem ``stem`` is a leg or flying word (`_FLOATING_WORDS`);
+    names split into words at ``_``, digits and camel-case humps. A URDF whose root link is
+    ``world`` is fixed.
     """
     links = [link.get("name", "") for link in root.iter("link")]
     joints = root.findall("joint")

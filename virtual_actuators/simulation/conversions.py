@@ -87,10 +87,7 @@ def gathers(mm: MujocoModel) -> Gathers:
 def finite_vector(value: object, size: int, what: str) -> np.ndarray:
     """A finite float64 vector of ``size`` entries (a fitting array is not copied).
 
-    Args:
-        value: The vector, any array-like.
-        size: Its required number of entries.
-        what: Its name, for the error message.
+    ``value`` may be any array-like; ``what`` names it in the error message.
 
     Raises:
         InvalidInputError: If ``value`` is not ``size`` finite numbers.

@@ -211,11 +211,7 @@ def _loop(
 
 
 def warm_up_driven(controller: object, robot: Robot) -> None:
-    """Warm up what a loop drives before its clock starts (``va.run``'s first step).
-
-    [`Controller.warm_up`][] at the robot's neutral configuration, on ``controller`` or the
-    ``controller`` it drives (a gait, a tracker), when it controls ``robot``.
-    """
+    """Warm up what a loop drives before its clock starts (``va.run``'s first step)."""
     for owner in (controller, getattr(controller, "controller", None)):
         model = getattr(getattr(owner, "robot", None), "model", None)
         if callable(getattr(owner, "warm_up", None)) and model is robot.model:  # a gait too

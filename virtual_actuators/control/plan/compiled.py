@@ -37,7 +37,6 @@ class CompiledMachine:
             are bound to the plan's registers: they read and write them from now on).
 
     Attributes:
-        machine: As given.
         pieces: ``(what, why)`` of each piece that runs in Python.
         registers: The plan's registers (a view of the core's).
 
@@ -147,9 +146,6 @@ class CompiledMachine:
     ) -> ControlOutput:
         """One tick: [`MachineController.compute`][virtual_actuators.MachineController.compute].
 
-        One machine carries one run's state (its registers): a call while another thread's is
-        running raises.
-
         Raises:
             InvalidInputError: Bad ``q``, ``v``, ``time`` or ``contacts``, or a contact switch
                 an event reads that ``contacts`` lacks.
@@ -225,7 +221,6 @@ class PlanOutput:
     """One compiled tick's output (see the module docstring).
 
     Args:
-        compiled: The compiled machine.
         active: The names evaluated this tick.
         tau: The tick's efforts after the limp joints and the clip [N m or N].
         held: ``(nv,)`` bool, True where the effort rate limit held the effort back.

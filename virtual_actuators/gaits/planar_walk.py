@@ -1,4 +1,4 @@
-"""The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes."""
+"""The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes (two walks)."""
 
 from __future__ import annotations
 
@@ -16,7 +16,9 @@ from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, WalkRequest, check_distribution, check_speed_bound
+from .flamingo import FlamingoParameters, FlamingoWalker
 from .runner import Episode, WalkResult, has_fallen, terrain_points
+from .turkey import TurkeyParameters, TurkeyWalker
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
@@ -199,3 +201,38 @@ def _index(robot, joint: str) -> int:
 def _body_attachment(active: tuple[str, ...]) -> str:
     """The active attachment the body's wrench is read from ("" when none is)."""
     return next((name for name in BODY_ATTACHMENTS if name in active), "")
+
+
+TURKEY = Walk(
+    name="turkey-walk",
+    robot="spring_turkey",
+    run=run_planar_walk,
+    parameters=TurkeyParameters,
+    terrain="flat",
+    duration=20.0,
+    draw=draw_planar_walk,
+    description="Spring Turkey walks on level ground (VMC section 5, Table 1)",
+    gait=TurkeyWalker,
+    push=15.0,
+    push_time=0.2,
+    plot_window=True,
+    nominal_speed=TurkeyParameters.speed,
+    speeds=(0.3, 0.6),
+)
+
+FLAMINGO = Walk(
+    name="flamingo-slopes",
+    robot="spring_flamingo",
+    run=run_planar_walk,
+    parameters=FlamingoParameters,
+    terrain="profile-one",
+    duration=40.0,
+    draw=draw_planar_walk,
+    description="Spring Flamingo walks blind over unknown slopes (VMC section 6)",
+    gait=FlamingoWalker,
+    push=10.0,
+    push_time=0.2,
+    plot_window=True,
+    nominal_speed=FlamingoParameters.speed,
+    speeds=(0.3, 0.5),
+)

@@ -19,8 +19,6 @@ from ..simulation.simulator import Simulator
 from .base import Gait
 from .runner import Episode, LoopEnd
 
-__all__ = ["WalkTicks", "drive"]
-
 
 def drive(
     episode: Episode,

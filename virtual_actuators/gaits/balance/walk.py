@@ -49,11 +49,6 @@ CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_m
 #: The first seconds, while the robot settles on the ground, are left out of the contact figures.
 SETTLE_TIME = 0.1
 
-__all__ = [
-    "CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "draw_balance_log",
-    "run_balance",
-]  # fmt: skip
-
 
 @dataclass(frozen=True)
 class BalanceMetrics(SmoothnessFigures):
@@ -323,4 +318,3 @@ WALK = Walk(
     force_scale=1 / 400,
     viewer_robot=lambda robot="talos", **_: load_robot(robot),
 )
-

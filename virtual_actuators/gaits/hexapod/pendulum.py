@@ -13,8 +13,6 @@ from ...exceptions import InvalidInputError
 
 GRAVITY = 9.81  # [m/s^2]
 
-__all__ = ["GRAVITY", "PendulumModel", "lqr_gain", "pendulum_lqr", "pendulum_model"]
-
 
 @dataclass(frozen=True)
 class PendulumModel:

@@ -22,8 +22,6 @@ from ...experiments.walk_log import WalkLog
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["draw_hexapod"]
-
 _LAYOUTS = ("auto", "pendulum", "path")
 ARROW_PERIOD = 0.5  # [s] between heading arrows
 

@@ -70,11 +70,6 @@ def legged_speeds(
     name = ALIASES.get(str(robot), str(robot))
     return table.get(name, table.get(None))
 
-__all__ = [
-    "LEGGED_SPEEDS", "LeggedResult", "LeggedWalkConfig", "bearing_error", "legged_speeds",
-    "run_legged_walk", "sine_error",
-]  # fmt: skip
-
 
 @dataclass(frozen=True)
 class LeggedWalkConfig:
@@ -149,7 +144,6 @@ class LeggedEpisode(FloatingEpisode):
     ) -> None:  # fmt: skip
         super().__init__(gait, simulator, terrain, recorder, path_guidance(config))
         self.config, self.pushed = config, config.push is None
-        self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
         model = simulator.mujoco_model
         geoms = [geom for foot in gait.feet for geom in model.frame_geoms.get(foot, ())]
         self.allowed = frozenset(gait.feet).union(*(model.geom_frames[geom] for geom in geoms))

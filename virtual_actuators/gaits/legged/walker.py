@@ -30,8 +30,6 @@ from .hooks import WalkerHooks
 from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
 from .patterns import GaitPattern, named_pattern
 
-__all__ = ["RATE_FILTER", "LeggedWalker"]
-
 #: Time constant of the low-pass filter on the swing set points' velocity [s].
 RATE_FILTER = 0.02
 

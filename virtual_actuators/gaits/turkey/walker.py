@@ -39,7 +39,6 @@ class TurkeyWalker(PlanarBiped):
         JointNotFoundError: The robot lacks the joints above.
     """
 
-
     def __init__(
         self,
         robot: Robot,

@@ -32,25 +32,6 @@ def as_floats(values: object) -> tuple:
     return tuple(np.asarray(values, dtype=float).tolist())
 
 
-def checked_numbers(
-    value: object, count: int, what: str, gains: bool = False, finite: bool = True
-) -> np.ndarray:
-    """``value`` as ``count`` numbers, never NaN (finite if ``finite``, >= 0 for ``gains``).
-
-    Raises:
-        InvalidInputError: Not ``count`` such numbers (the message starts with ``what``).
-    """
-    try:
-        array = np.array(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        array = np.full(count + 1, np.nan)
-    bad = array.shape != (count,) or np.isnan(array).any() or (gains and (array < 0.0).any())
-    if bad or (finite and not np.isfinite(array).all()):
-        kind = ("finite numbers" if finite else "numbers") + (" >= 0" if gains else "")
-        raise InvalidInputError(f"{what} must be {count} {kind}, got {value!r}.")
-    return array
-
-
 class SizedSlots:
     """A slotted component's mixin: slot ``name`` holds ``SIZES[name]`` numbers.
 
@@ -65,9 +46,21 @@ class SizedSlots:
     FINITE = True
 
     def _sized(self, value: object, name: str) -> np.ndarray:
-        """`checked_numbers` of slot ``name``."""
-        size, gains = self.SIZES[name], name in self.GAINS
-        return checked_numbers(value, size, f"{self.name}: {name}", gains, self.FINITE)
+        """``value`` as slot ``name``'s numbers, never NaN (see the class).
+
+        Raises:
+            InvalidInputError: Not ``SIZES[name]`` such numbers (naming the component and slot).
+        """
+        count, gains, finite = self.SIZES[name], name in self.GAINS, self.FINITE
+        try:
+            array = np.array(value, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            array = np.full(count + 1, np.nan)
+        bad = array.shape != (count,) or np.isnan(array).any() or (gains and (array < 0.0).any())
+        if bad or (finite and not np.isfinite(array).all()):
+            kind = ("finite numbers" if finite else "numbers") + (" >= 0" if gains else "")
+            raise InvalidInputError(f"{self.name}: {name} must be {count} {kind}, got {value!r}.")
+        return array
 
 
 class SlotFormula:

@@ -81,7 +81,6 @@ def planar_standing_configuration(
     robot: Robot,
     height: float,
     feet: Mapping[str, float],
-    foot_frame: str = "{side}_foot",
     ground: float = 0.0,
 ) -> np.ndarray:
     """A standing configuration of a planar biped on a boom at a given hip height.
@@ -89,9 +88,8 @@ def planar_standing_configuration(
     Args:
         robot: A planar biped with joints ``boom_x``, ``boom_z``, ``boom_pitch``,
             ``SIDE_hip``, ``SIDE_knee`` (and optionally ``SIDE_ankle``, set so the foot is flat).
-        height: Hip height above the foot frames [m].
+        height: Hip height above the foot frames (``SIDE_foot``, ankle or point foot) [m].
         feet: Foot frame x relative to the hip, per side, e.g. ``{"left": 0.1, "right": -0.1}``.
-        foot_frame: Name pattern of the frame at the end of the shin (ankle or point foot).
         ground: Height of the foot frames [m].
 
     Returns:
@@ -114,7 +112,7 @@ def planar_standing_configuration(
     for side, dx in feet.items():
         hip = data.oMi[resolve_joint(model, f"{side}_hip")].translation
         knee = data.oMi[resolve_joint(model, f"{side}_knee")].translation
-        end = data.oMf[resolve_frame(model, foot_frame.format(side=side), "foot")].translation
+        end = data.oMf[resolve_frame(model, f"{side}_foot", "foot")].translation
         thigh, shin = np.linalg.norm(knee - hip), np.linalg.norm(end - knee)
         hip_angle, knee_angle = planar_leg_ik(dx, -height, thigh, shin)
         q[index(f"{side}_hip")], q[index(f"{side}_knee")] = hip_angle, knee_angle

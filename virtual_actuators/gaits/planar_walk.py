@@ -41,43 +41,19 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
         InvalidInputError: Bad speed, terrain, seed or distribution.
     """
     walk, speed, parameters = request.walk, request.speed, request.parameters
-    distribution, duration = request.distribution, request.duration
+    duration, terrain, seed = request.duration, request.terrain, request.seed
     if speed is not None:
         check_speed_bound(speed, zero=False)
     if speed is None and parameters is None:
         speed = walk.default_speed()
-    if distribution is not None:
-        check_distribution(distribution)
-        parameters = dataclasses.replace(parameters or walk.parameters(), distribution=distribution)
-    episode = _prepare(walk, duration, speed, request.terrain, request.seed, parameters)
-    end = drive(episode, duration, *request.loop)
-    log = episode.recorder.to_log()
-    metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
-    normal_min, ratio_max = episode.stance.figures()
-    metrics = dataclasses.replace(
-        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
-    )
-    return episode.finish(end, log, metrics)
-
-
-def _prepare(
-    walk: Walk,
-    duration: float,
-    speed: float | None,
-    terrain: str | Terrain,
-    seed: int | None,
-    parameters: object | None,
-) -> PlanarEpisode:
-    """The robot, its gait (at ``speed`` if given), the terrain, the simulator and the recorder.
-
-    Raises:
-        InvalidInputError: ``seed`` is neither None nor an int.
-    """
-    terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
-    robot = load_robot(walk.robot)
     parameters = parameters or walk.parameters()
+    if request.distribution is not None:
+        check_distribution(request.distribution)
+        parameters = dataclasses.replace(parameters, distribution=request.distribution)
     if speed is not None:
         parameters = dataclasses.replace(parameters, speed=speed)
+    terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
+    robot = load_robot(walk.robot)
     gait = walk.gait(robot, parameters, initial="double_support")
     simulator = Simulator(robot, terrain_model)
     q0 = gait.initial_configuration()
@@ -105,7 +81,15 @@ def _prepare(
             "double_support_states": ["double_support"],
         },
     )
-    return PlanarEpisode(gait, simulator, terrain_model, recorder)
+    episode = PlanarEpisode(gait, simulator, terrain_model, recorder)
+    end = drive(episode, duration, *request.loop)
+    log = recorder.to_log()
+    metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
+    normal_min, ratio_max = episode.stance.figures()
+    metrics = dataclasses.replace(
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
+    )
+    return episode.finish(end, log, metrics)
 
 
 class PlanarEpisode(Episode):

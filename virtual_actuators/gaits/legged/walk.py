@@ -283,7 +283,6 @@ WALK = Walk(
         "robot", "gait", "feet", "direction", "yaw_rate", "push", "path", "amplitude",
         "wavelength", "track",
     ),
-    force_scale=1 / 250,
     viewer_robot=lambda robot="solo12", **_: load_robot(robot),
     speeds=legged_speeds,
     nominal_speed=NOMINAL_SPEED,

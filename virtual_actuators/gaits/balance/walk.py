@@ -158,7 +158,6 @@ class BalanceEpisode(Episode):
             self.push.apply(self.simulator, self.gait.body, self.gait.parameters.push_duration)
             self.pushed = True
         self.attitude = attitude_and_velocity(q, v)
-        return None
 
     def fallen(self, q: np.ndarray) -> bool:
         """Tilted, low, or touching the ground with something else than a foot (`has_fallen`)."""

@@ -132,11 +132,7 @@ class LeggedResult(ConfiguredResult):
 
 
 class LeggedEpisode(FloatingEpisode):
-    """A legged walk under `drive`: the push, `CHANNELS` at `TRACE_RATE`.
-
-    Attributes:
-        allowed: The frames that may touch the ground: the feet, those sharing a geometry with one.
-    """
+    """A legged walk under `drive`: the push, `CHANNELS` at `TRACE_RATE`."""
 
     def __init__(
         self, gait: LeggedWalker, simulator: Simulator, terrain: Terrain, recorder: Recorder,
@@ -146,8 +142,9 @@ class LeggedEpisode(FloatingEpisode):
         self.config, self.pushed = config, config.push is None
         model = simulator.mujoco_model
         geoms = [geom for foot in gait.feet for geom in model.frame_geoms.get(foot, ())]
-        self.allowed = frozenset(gait.feet).union(*(model.geom_frames[geom] for geom in geoms))
-        self.feet = allowed_geoms(simulator, self.allowed.__contains__)
+        # the frames that may touch the ground: the feet, those sharing a geometry with one
+        allowed = frozenset(gait.feet).union(*(model.geom_frames[geom] for geom in geoms))
+        self.feet = allowed_geoms(simulator, allowed.__contains__)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
         """The push when its time comes, then `FloatingEpisode.sense`."""

@@ -99,7 +99,6 @@ class Gait:
         step_states: States whose entries count as steps (single support).
         contact_frames: Frames whose contact switches the gait reads.
         foot_contacts: Contact frames per support frame (see `support_contacts`).
-        last: The last [`ControlOutput`][].
     """
 
     step_states: tuple[str, ...] = ()
@@ -240,10 +239,10 @@ class Walk:
         robot: Robot name for [`load_robot`][].
         run: ``run(request)`` with the resolved `WalkRequest`; returns the result.
         parameters: The gait's parameters dataclass.
-        terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
         draw: A result's matplotlib figure: ``draw(result, window)`` (see `plot`).
         description: One line for the command-line help.
+        terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         gait: The gait's class, which a planar walk builds (None: ``run`` builds the gait).
         push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
         push_time: [s].
@@ -261,10 +260,10 @@ class Walk:
     robot: str
     run: Callable[..., Any]
     parameters: type
-    terrain: str
     duration: float
     draw: Callable[..., Any]
     description: str
+    terrain: str = "flat"
     gait: type[Gait] | None = None
     push: float = 0.0
     push_time: float = 0.0

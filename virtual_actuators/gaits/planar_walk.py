@@ -192,7 +192,6 @@ TURKEY = Walk(
     robot="spring_turkey",
     run=run_planar_walk,
     parameters=TurkeyParameters,
-    terrain="flat",
     duration=20.0,
     draw=draw_planar_walk,
     description="Spring Turkey walks on level ground (VMC section 5, Table 1)",

@@ -309,7 +309,6 @@ WALK = Walk(
     robot="talos",
     run=run_request,
     parameters=BalanceParameters,
-    terrain="flat",
     duration=5.0,
     draw=draw_balance,
     description="Any legged robot standing on the contact QP, pushed, without stepping",

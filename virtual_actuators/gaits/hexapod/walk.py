@@ -245,7 +245,6 @@ WALK = Walk(
     robot="hexapod",
     run=lambda request: request.run_with(run_hexapod_walk, HexapodWalkConfig),
     parameters=HexapodParameters,
-    terrain="flat",
     duration=10.0,
     draw=draw_hexapod_walk,
     description="The 1996 hexapod's tripod gait on commanded paths, with a pendulum or "

@@ -271,7 +271,6 @@ WALK = Walk(
     robot="solo12",
     run=lambda request: request.run_with(run_legged_walk, LeggedWalkConfig),
     parameters=LeggedParameters,
-    terrain="flat",
     duration=4.0,
     draw=draw_legged_walk,
     description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "

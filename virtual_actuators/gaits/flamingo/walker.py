@@ -22,7 +22,6 @@ from ..planar import (
     SIDES,
     PlanarBiped,
     biped_states,
-    declare_biped,
     granny_walker,
     lift_profile,
     other,
@@ -97,8 +96,7 @@ class FlamingoWalker(PlanarBiped):
         }
         limits = {"friction": p.friction, "min_normal": p.min_normal_force}
         rule = {"method": "qp"} if qp else limits
-        body = [self.granny, self.bunny]
-        declare_biped(self.controller, body, self.swing, "flat", double, rule, ankles=True)
+        self._declare("flat", double, rule, ankles=True)
 
     def _machine(self, initial: str) -> StateMachine:
         """Double support, single support and its landing per side (section 6.2)."""

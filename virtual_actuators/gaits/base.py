@@ -46,7 +46,7 @@ class SizedSlots:
     FINITE = True
 
     def _sized(self, value: object, name: str) -> np.ndarray:
-        """``value`` as slot ``name``'s numbers, never NaN (see the class).
+        """``value`` as slot ``name``'s numbers, never NaN (finite if `FINITE`, >= 0 in `GAINS`).
 
         Raises:
             InvalidInputError: Not ``SIZES[name]`` such numbers (naming the component and slot).

@@ -2,7 +2,8 @@
 
 from .base import Gait
 from .flamingo import FlamingoParameters, FlamingoWalker
-from .hexapod import HexapodParameters, HexapodWalker, SinePath, TrackObject, VelocityCommand
+from .guidance import SinePath, TrackObject, VelocityCommand
+from .hexapod import HexapodParameters, HexapodWalker
 from .turkey import TurkeyParameters, TurkeyWalker
 
 __all__ = [

@@ -8,8 +8,6 @@ import numpy as np
 
 from ..vocabulary.scalar import asin, atan2, cos, maximum, minimum, select, sin, sqrt
 
-__all__ = ["attitude_and_velocity", "rotation_vector_angles"]
-
 _EPS = 2.220446049250313e-16  # double's machine epsilon
 _TAYLOR = _EPS**0.25  # below this angle Pinocchio's exp3 takes its Taylor expansions
 

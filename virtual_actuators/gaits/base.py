@@ -32,25 +32,6 @@ def as_floats(values: object) -> tuple:
     return tuple(np.asarray(values, dtype=float).tolist())
 
 
-def checked_numbers(
-    value: object, count: int, what: str, gains: bool = False, finite: bool = True
-) -> np.ndarray:
-    """``value`` as ``count`` numbers, never NaN (finite if ``finite``, >= 0 for ``gains``).
-
-    Raises:
-        InvalidInputError: Not ``count`` such numbers (the message starts with ``what``).
-    """
-    try:
-        array = np.array(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        array = np.full(count + 1, np.nan)
-    bad = array.shape != (count,) or np.isnan(array).any() or (gains and (array < 0.0).any())
-    if bad or (finite and not np.isfinite(array).all()):
-        kind = ("finite numbers" if finite else "numbers") + (" >= 0" if gains else "")
-        raise InvalidInputError(f"{what} must be {count} {kind}, got {value!r}.")
-    return array
-
-
 class SizedSlots:
     """A slotted component's mixin: slot ``name`` holds ``SIZES[name]`` numbers.
 
@@ -65,9 +46,21 @@ class SizedSlots:
     FINITE = True
 
     def _sized(self, value: object, name: str) -> np.ndarray:
-        """`checked_numbers` of slot ``name``."""
-        size, gains = self.SIZES[name], name in self.GAINS
-        return checked_numbers(value, size, f"{self.name}: {name}", gains, self.FINITE)
+        """``value`` as slot ``name``'s numbers, never NaN (finite if `FINITE`, >= 0 in `GAINS`).
+
+        Raises:
+            InvalidInputError: Not ``SIZES[name]`` such numbers (naming the component and slot).
+        """
+        count, gains, finite = self.SIZES[name], name in self.GAINS, self.FINITE
+        try:
+            array = np.array(value, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            array = np.full(count + 1, np.nan)
+        bad = array.shape != (count,) or np.isnan(array).any() or (gains and (array < 0.0).any())
+        if bad or (finite and not np.isfinite(array).all()):
+            kind = ("finite numbers" if finite else "numbers") + (" >= 0" if gains else "")
+            raise InvalidInputError(f"{self.name}: {name} must be {count} {kind}, got {value!r}.")
+        return array
 
 
 class SlotFormula:
@@ -106,7 +99,6 @@ class Gait:
         step_states: States whose entries count as steps (single support).
         contact_frames: Frames whose contact switches the gait reads.
         foot_contacts: Contact frames per support frame (see `support_contacts`).
-        last: The last [`ControlOutput`][].
     """
 
     step_states: tuple[str, ...] = ()
@@ -247,10 +239,10 @@ class Walk:
         robot: Robot name for [`load_robot`][].
         run: ``run(request)`` with the resolved `WalkRequest`; returns the result.
         parameters: The gait's parameters dataclass.
-        terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         duration: Default simulated time [s].
         draw: A result's matplotlib figure: ``draw(result, window)`` (see `plot`).
         description: One line for the command-line help.
+        terrain: Default terrain (a [`parse`][virtual_actuators.simulation.Terrain.parse] spec).
         gait: The gait's class, which a planar walk builds (None: ``run`` builds the gait).
         push: Start-up push on the body: force along x [N] for ``push_time`` seconds.
         push_time: [s].
@@ -268,10 +260,10 @@ class Walk:
     robot: str
     run: Callable[..., Any]
     parameters: type
-    terrain: str
     duration: float
     draw: Callable[..., Any]
     description: str
+    terrain: str = "flat"
     gait: type[Gait] | None = None
     push: float = 0.0
     push_time: float = 0.0

@@ -10,9 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.base import Component
 from ..components.walking import GrannyWalker, SwingLegLinkage
-from ..control.controller import Controller
 from ..control.state_machine import Context, Event, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
@@ -81,7 +79,6 @@ def planar_standing_configuration(
     robot: Robot,
     height: float,
     feet: Mapping[str, float],
-    foot_frame: str = "{side}_foot",
     ground: float = 0.0,
 ) -> np.ndarray:
     """A standing configuration of a planar biped on a boom at a given hip height.
@@ -89,9 +86,8 @@ def planar_standing_configuration(
     Args:
         robot: A planar biped with joints ``boom_x``, ``boom_z``, ``boom_pitch``,
             ``SIDE_hip``, ``SIDE_knee`` (and optionally ``SIDE_ankle``, set so the foot is flat).
-        height: Hip height above the foot frames [m].
+        height: Hip height above the foot frames (``SIDE_foot``, ankle or point foot) [m].
         feet: Foot frame x relative to the hip, per side, e.g. ``{"left": 0.1, "right": -0.1}``.
-        foot_frame: Name pattern of the frame at the end of the shin (ankle or point foot).
         ground: Height of the foot frames [m].
 
     Returns:
@@ -114,7 +110,7 @@ def planar_standing_configuration(
     for side, dx in feet.items():
         hip = data.oMi[resolve_joint(model, f"{side}_hip")].translation
         knee = data.oMi[resolve_joint(model, f"{side}_knee")].translation
-        end = data.oMf[resolve_frame(model, foot_frame.format(side=side), "foot")].translation
+        end = data.oMf[resolve_frame(model, f"{side}_foot", "foot")].translation
         thigh, shin = np.linalg.norm(knee - hip), np.linalg.norm(end - knee)
         hip_angle, knee_angle = planar_leg_ik(dx, -height, thigh, shin)
         q[index(f"{side}_hip")], q[index(f"{side}_knee")] = hip_angle, knee_angle
@@ -160,52 +156,41 @@ def swing_linkages(
     }
 
 
-def declare_biped(
-    controller: Controller,
-    body: Sequence[Component],
-    swing: Mapping[str, SwingLegLinkage],
-    contact: str,
-    double: Mapping[str, Any],
-    rule: Mapping[str, Any],
-    ankles: bool = False,
-) -> None:
-    """Add ``double`` (both feet, x yielding), ``SIDE_stance`` (x free) and ``SIDE_swing``.
-
-    Args:
-        controller: The gait's controller (its robot is the biped).
-        body: The double support's components, the granny walker first.
-        swing: Swing-leg linkage per side.
-        contact: The feet's contact kind (``"point"`` or ``"flat"``).
-        double: Further arguments of the double support's ``ParallelVirtualActuator``.
-        rule: Further arguments of ``controller.add`` for the double support.
-        ankles: The ankles (``SIDE_ankle``) are unactuated in support.
-
-    Raises:
-        FrameNotFoundError: The robot lacks ``body`` or ``SIDE_foot``.
-        JointNotFoundError: The robot lacks a joint named above.
-    """
-    robot = controller.robot
-
-    def support(sides: Sequence[str]) -> ParallelVirtualActuator:
-        feet = [f"{side}_foot" for side in sides]
-        limp = {"unactuated": [f"{side}_ankle" for side in sides]} if ankles else {}
-        extra = double if len(sides) == 2 else {}
-        return ParallelVirtualActuator(
-            robot, "body", feet, "world", PLANAR_AXES, contact=contact, **limp, **extra
-        )
-
-    controller.add("double", support(SIDES), body, yield_axes=("x",), **rule)
-    for side in SIDES:
-        controller.add(f"{side}_stance", support((side,)), [body[0]], free=("x",))
-        axes = swing[side].axes
-        actuator = VirtualActuator(robot, f"{side}_foot", "body", "world", axes)
-        controller.add(f"{side}_swing", actuator, [swing[side]])
-
-
 class PlanarBiped(Gait):
     """A planar biped's gait on `biped_states`, its front foot in ``memory.front`` (0: left)."""
 
     step_states = ("left_support", "right_support")
+
+    def _declare(
+        self, contact: str, double: Mapping[str, Any], rule: Mapping[str, Any], ankles: bool = False
+    ) -> None:
+        """Add ``double`` (both feet, x yielding), ``SIDE_stance`` (x free) and ``SIDE_swing``.
+
+        The double support carries the granny walker and the bunny, a stance the granny walker;
+        ``contact`` is the feet's kind, ``double`` and ``rule`` further arguments of the double
+        support's actuator and of its ``controller.add``; ``ankles``: limp in support.
+
+        Raises:
+            FrameNotFoundError: The robot lacks ``body`` or ``SIDE_foot``.
+            JointNotFoundError: The robot lacks a joint named above.
+        """
+        robot, controller, swing = self.robot, self.controller, self.swing
+        body = [self.granny, self.bunny]
+
+        def support(sides: Sequence[str]) -> ParallelVirtualActuator:
+            feet = [f"{side}_foot" for side in sides]
+            limp = {"unactuated": [f"{side}_ankle" for side in sides]} if ankles else {}
+            extra = double if len(sides) == 2 else {}
+            return ParallelVirtualActuator(
+                robot, "body", feet, "world", PLANAR_AXES, contact=contact, **limp, **extra
+            )
+
+        controller.add("double", support(SIDES), body, yield_axes=("x",), **rule)
+        for side in SIDES:
+            controller.add(f"{side}_stance", support((side,)), [body[0]], free=("x",))
+            axes = swing[side].axes
+            actuator = VirtualActuator(robot, f"{side}_foot", "body", "world", axes)
+            controller.add(f"{side}_swing", actuator, [swing[side]])
 
     def _front_is(self, side: str, event: Event) -> Event:
         """``event``, but only while ``side`` is the front foot (``self.memory.front``: 0 left)."""

@@ -1,4 +1,4 @@
-"""The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes."""
+"""The planar bipeds' walk in MuJoCo: turkey walking and blind walking over slopes (two walks)."""
 
 from __future__ import annotations
 
@@ -16,7 +16,9 @@ from ..models.loader import load_robot
 from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .base import Gait, Walk, WalkRequest, check_distribution, check_speed_bound
+from .flamingo import FlamingoParameters, FlamingoWalker
 from .runner import Episode, WalkResult, has_fallen, terrain_points
+from .turkey import TurkeyParameters, TurkeyWalker
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
@@ -39,43 +41,19 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
         InvalidInputError: Bad speed, terrain, seed or distribution.
     """
     walk, speed, parameters = request.walk, request.speed, request.parameters
-    distribution, duration = request.distribution, request.duration
+    duration, terrain, seed = request.duration, request.terrain, request.seed
     if speed is not None:
         check_speed_bound(speed, zero=False)
     if speed is None and parameters is None:
         speed = walk.default_speed()
-    if distribution is not None:
-        check_distribution(distribution)
-        parameters = dataclasses.replace(parameters or walk.parameters(), distribution=distribution)
-    episode = _prepare(walk, duration, speed, request.terrain, request.seed, parameters)
-    end = drive(episode, duration, *request.loop)
-    log = episode.recorder.to_log()
-    metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
-    normal_min, ratio_max = episode.stance.figures()
-    metrics = dataclasses.replace(
-        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
-    )
-    return episode.finish(end, log, metrics)
-
-
-def _prepare(
-    walk: Walk,
-    duration: float,
-    speed: float | None,
-    terrain: str | Terrain,
-    seed: int | None,
-    parameters: object | None,
-) -> PlanarEpisode:
-    """The robot, its gait (at ``speed`` if given), the terrain, the simulator and the recorder.
-
-    Raises:
-        InvalidInputError: ``seed`` is neither None nor an int.
-    """
-    terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
-    robot = load_robot(walk.robot)
     parameters = parameters or walk.parameters()
+    if request.distribution is not None:
+        check_distribution(request.distribution)
+        parameters = dataclasses.replace(parameters, distribution=request.distribution)
     if speed is not None:
         parameters = dataclasses.replace(parameters, speed=speed)
+    terrain_model = terrain if isinstance(terrain, Terrain) else Terrain.parse(terrain)
+    robot = load_robot(walk.robot)
     gait = walk.gait(robot, parameters, initial="double_support")
     simulator = Simulator(robot, terrain_model)
     q0 = gait.initial_configuration()
@@ -103,7 +81,15 @@ def _prepare(
             "double_support_states": ["double_support"],
         },
     )
-    return PlanarEpisode(gait, simulator, terrain_model, recorder)
+    episode = PlanarEpisode(gait, simulator, terrain_model, recorder)
+    end = drive(episode, duration, *request.loop)
+    log = recorder.to_log()
+    metrics = compute_metrics(log, startup_s=STARTUP, wall_time_s=end.wall)
+    normal_min, ratio_max = episode.stance.figures()
+    metrics = dataclasses.replace(
+        metrics, stance_normal_min_n=normal_min, stance_friction_ratio_max=ratio_max
+    )
+    return episode.finish(end, log, metrics)
 
 
 class PlanarEpisode(Episode):
@@ -199,3 +185,37 @@ def _index(robot, joint: str) -> int:
 def _body_attachment(active: tuple[str, ...]) -> str:
     """The active attachment the body's wrench is read from ("" when none is)."""
     return next((name for name in BODY_ATTACHMENTS if name in active), "")
+
+
+TURKEY = Walk(
+    name="turkey-walk",
+    robot="spring_turkey",
+    run=run_planar_walk,
+    parameters=TurkeyParameters,
+    duration=20.0,
+    draw=draw_planar_walk,
+    description="Spring Turkey walks on level ground (VMC section 5, Table 1)",
+    gait=TurkeyWalker,
+    push=15.0,
+    push_time=0.2,
+    plot_window=True,
+    nominal_speed=TurkeyParameters.speed,
+    speeds=(0.3, 0.6),
+)
+
+FLAMINGO = Walk(
+    name="flamingo-slopes",
+    robot="spring_flamingo",
+    run=run_planar_walk,
+    parameters=FlamingoParameters,
+    terrain="profile-one",
+    duration=40.0,
+    draw=draw_planar_walk,
+    description="Spring Flamingo walks blind over unknown slopes (VMC section 6)",
+    gait=FlamingoWalker,
+    push=10.0,
+    push_time=0.2,
+    plot_window=True,
+    nominal_speed=FlamingoParameters.speed,
+    speeds=(0.3, 0.5),
+)

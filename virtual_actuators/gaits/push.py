@@ -13,8 +13,6 @@ if TYPE_CHECKING:  # no MuJoCo import for the command line's parsing
 #: How long a push lasts unless told otherwise [s].
 PUSH_DURATION = 0.1
 
-__all__ = ["PUSH_DURATION", "Push"]
-
 
 class Push(NamedTuple):
     """A push on the body: ``force`` newtons from ``time`` seconds along ``direction`` degrees.

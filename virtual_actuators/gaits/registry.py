@@ -1,4 +1,4 @@
-"""The walk registry: every gait folder's ``walk.py`` registers one `Walk`."""
+"""The walk registry: the `Walk` of every gait (the bipeds' in ``planar_walk.py``)."""
 
 from __future__ import annotations
 
@@ -11,10 +11,9 @@ from ..simulation.simulator import Simulator
 from ..simulation.terrain import Terrain
 from .balance.walk import WALK as BALANCE
 from .base import Gait, Walk, WalkRequest
-from .flamingo.walk import WALK as FLAMINGO
 from .hexapod.walk import WALK as HEXAPOD
 from .legged.walk import WALK as LEGGED
-from .turkey.walk import WALK as TURKEY
+from .planar_walk import FLAMINGO, TURKEY
 
 #: The walks by name, in the command line's order.
 WALKS: dict[str, Walk] = {walk.name: walk for walk in (TURKEY, FLAMINGO, HEXAPOD, LEGGED, BALANCE)}
@@ -79,6 +78,3 @@ def run_walk(
         walk, duration, speed, walk.terrain if terrain is None else terrain, progress, on_tick,
         stop_on_fall, seed, parameters, distribution, options,
     ))  # fmt: skip
-
-
-__all__ = ["WALKS", "Walk", "run_walk"]

@@ -11,14 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from ..control.gc_policy import check_gc_policy
 from ..control.run_loop import RunStats, run
 from ..experiments.progress import Progress
 from ..simulation.simulator import MujocoHardware, Simulator
 from .base import Gait
 from .runner import Episode, LoopEnd
-
-__all__ = ["WalkTicks", "drive"]
 
 
 def drive(
@@ -27,13 +24,13 @@ def drive(
     progress: bool = True,
     on_tick: Callable[[Simulator, Gait], None] | None = None,
     stop_on_fall: bool = True,
-    gc_policy: str = "between-ticks",
 ) -> LoopEnd:
     """Run an episode's closed loop for ``duration`` simulated seconds, on [`run`][].
 
-    A failed tick sends zero effort (counted in ``LoopEnd.run``); the final zero effort sets
-    MuJoCo's controls without stepping (`MujocoHardware.hold_effort`), so the log and the
-    simulator end at the last control tick.
+    No garbage collection inside a tick (``va.run``'s default ``gc_policy``). A failed tick
+    sends zero effort (counted in ``LoopEnd.run``); the final zero effort sets MuJoCo's controls
+    without stepping (`MujocoHardware.hold_effort`), so the log and the simulator end at the
+    last control tick.
 
     Args:
         episode: The prepared walk.
@@ -41,16 +38,10 @@ def drive(
         progress: Show a tqdm progress bar.
         on_tick: Called after every physics step (e.g. a viewer's throttled update).
         stop_on_fall: End the run 0.5 s after the first fallen tick.
-        gc_policy: ``"between-ticks"`` or ``"python"`` (see
-            [`gc_policy`][virtual_actuators.control.gc_policy]).
 
     Returns:
         The `LoopEnd` (the recorder's metadata gets ``wall_time_s``).
-
-    Raises:
-        InvalidInputError: An unknown ``gc_policy``.
     """
-    check_gc_policy(gc_policy, "drive()")
     simulator = episode.simulator
     bar = Progress(duration) if progress else None
     episode.gait.warm_up(simulator.q)  # lowered, kernels loaded before the clock starts
@@ -59,7 +50,7 @@ def drive(
     stats = run(
         ticks, hardware.read_state, hardware.write_effort, 1.0 / simulator.control_period,
         realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
-        after_tick=ticks.after_tick, gc_policy=gc_policy, write_final=hardware.hold_effort,
+        after_tick=ticks.after_tick, write_final=hardware.hold_effort,
     )  # fmt: skip
     if bar is not None:
         bar.close(simulator.time)

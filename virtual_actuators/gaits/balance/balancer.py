@@ -33,8 +33,6 @@ from .parameters import BalanceParameters
 #: Axes of the body actuator, world-aligned.
 BODY_AXES = ("x", "y", "z", "rx", "ry", "rz")
 
-__all__ = ["BODY_AXES", "Balancer", "SupportedSpring", "support_limited"]
-
 
 def support_limited(
     wrench: Sequence, lever: Sequence, reach: Sequence, friction: object, moment_weight: object
@@ -294,4 +292,3 @@ class Balancer(Gait):
         snapshot = Snapshot(self.robot, q)
         self.spring.setpoint = sensor.position(snapshot)
         self.controller.reset(self.machine.current.active, snapshot, 0.0)
-

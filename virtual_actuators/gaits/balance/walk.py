@@ -49,11 +49,6 @@ CHANNELS = ("time", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "normal_m
 #: The first seconds, while the robot settles on the ground, are left out of the contact figures.
 SETTLE_TIME = 0.1
 
-__all__ = [
-    "CHANNELS", "TRACE_RATE", "BalanceMetrics", "BalanceResult", "Push", "draw_balance_log",
-    "run_balance",
-]  # fmt: skip
-
 
 @dataclass(frozen=True)
 class BalanceMetrics(SmoothnessFigures):
@@ -163,7 +158,6 @@ class BalanceEpisode(Episode):
             self.push.apply(self.simulator, self.gait.body, self.gait.parameters.push_duration)
             self.pushed = True
         self.attitude = attitude_and_velocity(q, v)
-        return None
 
     def fallen(self, q: np.ndarray) -> bool:
         """Tilted, low, or touching the ground with something else than a foot (`has_fallen`)."""
@@ -315,7 +309,6 @@ WALK = Walk(
     robot="talos",
     run=run_request,
     parameters=BalanceParameters,
-    terrain="flat",
     duration=5.0,
     draw=draw_balance,
     description="Any legged robot standing on the contact QP, pushed, without stepping",
@@ -323,4 +316,3 @@ WALK = Walk(
     force_scale=1 / 400,
     viewer_robot=lambda robot="talos", **_: load_robot(robot),
 )
-

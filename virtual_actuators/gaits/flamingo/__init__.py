@@ -1,4 +1,4 @@
-"""Blind slope walking (VMC section 6): Spring Flamingo over unknown slopes and its walk."""
+"""Blind slope walking (VMC section 6): Spring Flamingo over unknown slopes."""
 
 from .parameters import FlamingoParameters
 from .walker import FlamingoWalker

@@ -22,7 +22,6 @@ from ..planar import (
     SIDES,
     PlanarBiped,
     biped_states,
-    declare_biped,
     granny_walker,
     lift_profile,
     other,
@@ -69,7 +68,7 @@ class FlamingoWalker(PlanarBiped):
             front=0.0, swing_start=(0.0, 0.0), swing_target_x=0.0, swing_started=0.0,
             swing_hip_x=0.0,
         )  # fmt: skip
-        self.granny = granny_walker(p, self.hip_height, robot)
+        self.granny = granny_walker(p, self.memory.hip_height, robot)
         self.granny.limit = ((1.0 - p.min_lift) * self.granny.force[0], np.inf)  # [N]
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping)
         self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, PLANAR_AXES)
@@ -80,11 +79,6 @@ class FlamingoWalker(PlanarBiped):
     def slope(self) -> float:
         """The global slope estimate [rad]."""
         return self.memory.slope
-
-    @property
-    def hip_height(self) -> float:
-        """The hip height set point above the global slope [m]."""
-        return self.memory.hip_height
 
     def _declare_actuators(self) -> None:
         """``double`` on both flat feet over limp ankles, ``SIDE_stance``, ``SIDE_swing``."""
@@ -102,8 +96,7 @@ class FlamingoWalker(PlanarBiped):
         }
         limits = {"friction": p.friction, "min_normal": p.min_normal_force}
         rule = {"method": "qp"} if qp else limits
-        body = [self.granny, self.bunny]
-        declare_biped(self.controller, body, self.swing, "flat", double, rule, ankles=True)
+        self._declare("flat", double, rule, ankles=True)
 
     def _machine(self, initial: str) -> StateMachine:
         """Double support, single support and its landing per side (section 6.2)."""

@@ -15,56 +15,6 @@ from ..attitude import rotation_vector_angles
 from ..base import SizedSlots, SlotFormula, sized_slot
 
 
-def heading_moment(
-    parameters: Mapping[str, Sequence], position: Sequence, velocity: Sequence
-) -> list:
-    """`HeadingAttitude`'s moment, world axes, on floats or traced values alike.
-
-    Args:
-        parameters: The component's slots by name, each a sequence of values.
-        position: The body's rotation vector in the world.
-        velocity: Its angular velocity, world axes [rad/s].
-
-    Returns:
-        ``[mx, my, mz]`` [N m].
-    """
-    yaw, pitch, roll = rotation_vector_angles(*position)
-    c, s = cos(yaw), sin(yaw)
-    v0, v1, v2 = velocity
-    wx = c * v0 + s * v1  # angular velocity in the heading frame
-    wy = -s * v0 + c * v1
-    k0, k1 = parameters["stiffness"]
-    b0, b1, b2 = parameters["damping"]
-    (roll_d,), (pitch_d,), (rate_d,) = (parameters[n] for n in ("roll", "pitch", "yaw_rate"))
-    mx = k0 * (roll_d - roll) - b0 * wx
-    my = k1 * (pitch_d - pitch) - b1 * wy
-    mz = b2 * (rate_d - v2)
-    return [c * mx - s * my, s * mx + c * my, mz]
-
-
-def heading_force(parameters: Mapping[str, Sequence], velocity: Sequence) -> list:
-    """`HeadingDamper`'s force, world axes, on floats or traced values alike.
-
-    Args:
-        parameters: The component's slots by name.
-        velocity: The body's velocity along world x and y [m/s].
-
-    Returns:
-        ``[fx, fy]`` [N].
-    """
-    (yaw,) = parameters["yaw"]
-    c, s = cos(yaw), sin(yaw)
-    v0, v1 = velocity
-    vx = c * v0 + s * v1
-    vy = -s * v0 + c * v1
-    d0, d1 = parameters["damping"]
-    cx, cy = parameters["velocity"]
-    f0, f1 = parameters["force"]
-    fx = d0 * (cx - vx) + f0
-    fy = d1 * (cy - vy) + f1
-    return [c * fx - s * fy, s * fx + c * fy]
-
-
 class _Heading(SlotFormula, SizedSlots, Slotted, Component):
     """What both heading components share: their slots, checked, and one formula."""
 
@@ -106,8 +56,19 @@ class HeadingAttitude(_Heading):
     yaw_rate = sized_slot("yaw_rate", "Yaw rate set point [rad/s].", scalar=True)
 
     def _formula(self, slots: Mapping, position: Sequence, velocity: Sequence) -> list:
-        """`heading_moment`: from the body's rotation vector and angular velocity."""
-        return heading_moment(slots, position, velocity)
+        """The moment, world axes, from the body's rotation vector and angular velocity."""
+        yaw, pitch, roll = rotation_vector_angles(*position)
+        c, s = cos(yaw), sin(yaw)
+        v0, v1, v2 = velocity
+        wx = c * v0 + s * v1  # angular velocity in the heading frame
+        wy = -s * v0 + c * v1
+        k0, k1 = slots["stiffness"]
+        b0, b1, b2 = slots["damping"]
+        (roll_d,), (pitch_d,), (rate_d,) = (slots[n] for n in ("roll", "pitch", "yaw_rate"))
+        mx = k0 * (roll_d - roll) - b0 * wx
+        my = k1 * (pitch_d - pitch) - b1 * wy
+        mz = b2 * (rate_d - v2)
+        return [c * mx - s * my, s * mx + c * my, mz]
 
 
 class HeadingDamper(_Heading):
@@ -139,5 +100,15 @@ class HeadingDamper(_Heading):
     force = sized_slot("force", "Extra force in the heading frame ``(fx, fy)`` [N].")
 
     def _formula(self, slots: Mapping, position: Sequence, velocity: Sequence) -> list:
-        """`heading_force`: from the body's velocity."""
-        return heading_force(slots, velocity)
+        """The force, world axes, from the body's velocity along world x and y."""
+        (yaw,) = slots["yaw"]
+        c, s = cos(yaw), sin(yaw)
+        v0, v1 = velocity
+        vx = c * v0 + s * v1
+        vy = -s * v0 + c * v1
+        d0, d1 = slots["damping"]
+        cx, cy = slots["velocity"]
+        f0, f1 = slots["force"]
+        fx = d0 * (cx - vx) + f0
+        fy = d1 * (cy - vy) + f1
+        return [c * fx - s * fy, s * fx + c * fy]

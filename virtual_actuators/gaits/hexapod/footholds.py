@@ -23,10 +23,6 @@ from .pendulum import GRAVITY
 
 Pair = tuple
 
-__all__ = [
-    "behind", "ground_velocity", "landing", "strides", "support_plane", "tripod_setpoints",
-]  # fmt: skip
-
 
 def ground_velocity(velocity: Pair, yaw_rate: object, nominal: Sequence[Sequence]) -> list:
     """Velocity over the ground of the nominal foot points, body axes [m/s].
@@ -202,4 +198,3 @@ def tripod_setpoints(
         "plane": plane, "phase": phase, "lift_off": tuple(lift_off), "ground": ground,
         "targets": tuple(targets), "rates": new_rates,
     }  # fmt: skip
-

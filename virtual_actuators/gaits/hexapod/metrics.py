@@ -14,8 +14,6 @@ from ...experiments.walk_log import WalkLog
 from ..guidance import Guidance, SinePath, TrackObject, VelocityCommand, wrap
 from ..runner import summary_line
 
-__all__ = ["STARTUP", "TRACK_SETTLE", "HexapodMetrics", "compute_hexapod_metrics"]
-
 STARTUP = 1.0  # [s] speed, direction and path figures ignore the first second
 TRACK_SETTLE = 3.0  # [s] bearing errors are judged after this
 

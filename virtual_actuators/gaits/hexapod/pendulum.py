@@ -13,8 +13,6 @@ from ...exceptions import InvalidInputError
 
 GRAVITY = 9.81  # [m/s^2]
 
-__all__ = ["GRAVITY", "PendulumModel", "lqr_gain", "pendulum_lqr", "pendulum_model"]
-
 
 @dataclass(frozen=True)
 class PendulumModel:
@@ -26,18 +24,10 @@ class PendulumModel:
     Attributes:
         a: ``(3, 3)``.
         b: ``(3, 1)``.
-        body_mass: Mass moved by the virtual force, the pendulum excluded [kg].
-        mass: Pendulum mass [kg].
-        com: Pivot to the pendulum's centre of mass [m].
-        inertia: Pendulum inertia about the pivot [kg m^2].
     """
 
     a: np.ndarray
     b: np.ndarray
-    body_mass: float
-    mass: float
-    com: float
-    inertia: float
 
 
 def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) -> PendulumModel:
@@ -74,7 +64,7 @@ def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) ->
     a[1, 0] = inverse[1, 1] * mass * GRAVITY * com
     a[2, 0] = inverse[0, 1] * mass * GRAVITY * com
     b = np.array([[0.0], [inverse[1, 0]], [inverse[0, 0]]])
-    return PendulumModel(a, b, float(body_mass), float(mass), float(com), float(inertia))
+    return PendulumModel(a, b)
 
 
 def lqr_gain(a: np.ndarray, b: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:

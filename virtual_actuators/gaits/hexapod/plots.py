@@ -22,29 +22,18 @@ from ...experiments.walk_log import WalkLog
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["draw_hexapod"]
-
 _LAYOUTS = ("auto", "pendulum", "path")
 ARROW_PERIOD = 0.5  # [s] between heading arrows
 
 
-def draw_hexapod(
-    log: WalkLog,
-    *,
-    layout: str = "auto",
-    title: str | None = None,
-    summary: str | None = None,
-    dpi: float = 120,
-) -> Figure:
+def draw_hexapod(log: WalkLog, *, layout: str = "auto", summary: str | None = None) -> Figure:
     """A hexapod walk's figure on an Agg canvas of its own, not yet drawn.
 
     Args:
         log: The run's log (``HexapodResult.log``).
         layout: ``"pendulum"`` (Fig. 6: angle, x velocity, virtual x force, state against
             time), ``"path"`` (the x-y path with heading arrows) or ``"auto"`` (pendulum if any).
-        title: Figure title (default from the metadata).
-        summary: A line under the title (e.g. ``HexapodMetrics.summary()``).
-        dpi: Resolution.
+        summary: A line under the metadata's title (e.g. ``HexapodMetrics.summary()``).
 
     Raises:
         InvalidInputError: An unknown layout, an empty log, or ``"pendulum"`` for a log without
@@ -61,9 +50,9 @@ def draw_hexapod(
         layout = "pendulum" if has_pendulum else "path"
     if layout == "pendulum" and not has_pendulum:
         raise InvalidInputError("layout 'pendulum' needs a log with pendulum angles.")
-    fig = _pendulum_figure(log, dpi) if layout == "pendulum" else _path_figure(log, dpi)
+    fig = _pendulum_figure(log) if layout == "pendulum" else _path_figure(log)
     config = log.metadata.get("config", {})
-    heading = title or (
+    heading = (
         f"hexapod-walk: {log.metadata.get('robot', 'hexapod')}, "
         f"{config.get('speed', float('nan')):.2f} m/s on {log.metadata.get('terrain', 'flat')}"
     )
@@ -73,8 +62,8 @@ def draw_hexapod(
     return fig
 
 
-def _pendulum_figure(log: WalkLog, dpi: float) -> Figure:
-    fig = new_figure(8.0, 8.0, dpi)
+def _pendulum_figure(log: WalkLog) -> Figure:
+    fig = new_figure(8.0, 8.0, 120)
     axes = fig.subplots(4, 1, sharex=True)
     t = log.time
     draw_series(axes[0], t, log, "pendulum", "pendulum [rad]")
@@ -88,8 +77,8 @@ def _pendulum_figure(log: WalkLog, dpi: float) -> Figure:
     return fig
 
 
-def _path_figure(log: WalkLog, dpi: float) -> Figure:
-    fig = new_figure(7.5, 7.0, dpi)
+def _path_figure(log: WalkLog) -> Figure:
+    fig = new_figure(7.5, 7.0, 120)
     ax = fig.subplots()
     x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
     command = log.metadata.get("command_path")

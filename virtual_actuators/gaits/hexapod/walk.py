@@ -156,20 +156,6 @@ def run_hexapod_walk(
     """
     config = config or HexapodWalkConfig()
     parameters = parameters or HexapodParameters(distribution=config.distribution)
-    episode = _prepare(config, parameters)
-    end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
-    gait, guidance = episode.gait, episode.guidance
-    episode.recorder.metadata["command_path"] = command_path(config, guidance)
-    log = episode.recorder.to_log()
-    steps = gait.machine.steps_into(gait.step_states)
-    stance = episode.stance.figures()
-    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, *stance)
-    metrics = replace(metrics, **end.realtime_factors(episode.simulator.time))
-    return episode.finish(end, log, metrics, HexapodResult, config=config, ticks=end.ticks)
-
-
-def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> HexapodEpisode:
-    """The robot, its walker, the terrain, the simulator (reset, disturbed), the recorder."""
     terrain = Terrain.parse(config.terrain)
     robot = hexapod_robot(config.pendulum)
     gait = HexapodWalker(robot, parameters)
@@ -199,7 +185,16 @@ def _prepare(config: HexapodWalkConfig, parameters: HexapodParameters) -> Hexapo
             "config": asdict(config),
         },
     )
-    return HexapodEpisode(gait, simulator, terrain, recorder, path_guidance(config))
+    guidance = path_guidance(config)
+    episode = HexapodEpisode(gait, simulator, terrain, recorder, guidance)
+    end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
+    recorder.metadata["command_path"] = command_path(config, guidance)
+    log = recorder.to_log()
+    steps = gait.machine.steps_into(gait.step_states)
+    stance = episode.stance.figures()
+    metrics = compute_hexapod_metrics(log, guidance, steps, end.fall_time, *stance)
+    metrics = replace(metrics, **end.realtime_factors(simulator.time))
+    return episode.finish(end, log, metrics, HexapodResult, config=config, ticks=end.ticks)
 
 
 class HexapodEpisode(FloatingEpisode):
@@ -250,7 +245,6 @@ WALK = Walk(
     robot="hexapod",
     run=lambda request: request.run_with(run_hexapod_walk, HexapodWalkConfig),
     parameters=HexapodParameters,
-    terrain="flat",
     duration=10.0,
     draw=draw_hexapod_walk,
     description="The 1996 hexapod's tripod gait on commanded paths, with a pendulum or "

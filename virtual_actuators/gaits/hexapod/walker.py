@@ -40,8 +40,6 @@ TRIPODS = {"a": (1, 3, 5), "b": (2, 4, 6)}
 OTHER = {"a": "b", "b": "a"}
 PENDULUM_JOINT = "pendulum_joint"
 
-__all__ = ["LEGS", "TRIPODS", "HexapodWalker"]
-
 
 class HexapodWalker(Gait):
     """The hexapod's tripod gait with the seed's three inputs.

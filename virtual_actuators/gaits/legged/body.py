@@ -11,6 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ...actuators.producible import RANK_TOL
 from ...components.base import Component
 from ...components.gains import Gains
 from ...components.slots import Slotted
@@ -21,10 +22,6 @@ from ..base import SizedSlots, SlotFormula, sized_slot
 from .parameters import GRAVITY, LeggedGains
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
-
-
-#: Two contacts closer than this fraction of their distance to the body count as one point.
-RANK_TOL = 1e-9
 
 
 def body_wrench(
@@ -201,8 +198,3 @@ class BodyModel(SlotFormula, SizedSlots, Slotted, Component):
         setpoints = (height, *slots["velocity"], *slots["acceleration"], yaw_rate, *lever[:2])
         wrench = body_wrench(slots["packed"], setpoints, position, velocity)
         return give_way(wrench, slots["missing"], self.yielding)
-
-
-__all__ = [
-    "AXES", "BodyModel", "body_wrench", "give_way", "missing_direction",
-]  # fmt: skip

@@ -25,8 +25,6 @@ from ..planar import lift_profile, smoothstep
 from .body import missing_direction
 from .parameters import GRAVITY
 
-__all__ = ["WalkerHooks", "swing_setpoint"]
-
 
 class WalkerHooks:
     """The hooks and events of [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker]."""

@@ -11,8 +11,6 @@ from ...experiments.smoothness import SmoothnessFigures
 from ..guidance import wrap
 from ..runner import summary_line
 
-__all__ = ["LeggedMetrics", "legged_metrics"]
-
 
 @dataclass(frozen=True)
 class LeggedMetrics(SmoothnessFigures):

@@ -157,6 +157,3 @@ def leg_mass(robot: Robot, frame: str) -> float:
         total += float(model.inertias[joint].mass)
         joint = model.parents[joint]
     return total
-
-
-__all__ = ["GRAVITY", "LeggedGains", "LeggedParameters", "derive_gains", "leg_mass"]

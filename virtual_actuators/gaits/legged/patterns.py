@@ -161,17 +161,3 @@ def named_pattern(name: str, feet: Sequence[str], positions: np.ndarray) -> Gait
         pace = npod([left, right], name)
         return GaitPattern(name, pace.offsets, PACE_SWING_TIME, PACE_WIDTH)
     return npod([[f] for f in left[::-1] + right[::-1]], name)
-
-
-__all__ = [
-    "NEEDS",
-    "PACE_SWING_TIME",
-    "PACE_WIDTH",
-    "PATTERNS",
-    "GaitPattern",
-    "fits",
-    "fitting_patterns",
-    "named_pattern",
-    "npod",
-    "sides",
-]

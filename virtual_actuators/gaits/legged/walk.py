@@ -70,11 +70,6 @@ def legged_speeds(
     name = ALIASES.get(str(robot), str(robot))
     return table.get(name, table.get(None))
 
-__all__ = [
-    "LEGGED_SPEEDS", "LeggedResult", "LeggedWalkConfig", "bearing_error", "legged_speeds",
-    "run_legged_walk", "sine_error",
-]  # fmt: skip
-
 
 @dataclass(frozen=True)
 class LeggedWalkConfig:
@@ -137,11 +132,7 @@ class LeggedResult(ConfiguredResult):
 
 
 class LeggedEpisode(FloatingEpisode):
-    """A legged walk under `drive`: the push, `CHANNELS` at `TRACE_RATE`.
-
-    Attributes:
-        allowed: The frames that may touch the ground: the feet, those sharing a geometry with one.
-    """
+    """A legged walk under `drive`: the push, `CHANNELS` at `TRACE_RATE`."""
 
     def __init__(
         self, gait: LeggedWalker, simulator: Simulator, terrain: Terrain, recorder: Recorder,
@@ -149,11 +140,11 @@ class LeggedEpisode(FloatingEpisode):
     ) -> None:  # fmt: skip
         super().__init__(gait, simulator, terrain, recorder, path_guidance(config))
         self.config, self.pushed = config, config.push is None
-        self.stance_every = self.record_every  # MuJoCo's stance forces at the trace's rate
         model = simulator.mujoco_model
         geoms = [geom for foot in gait.feet for geom in model.frame_geoms.get(foot, ())]
-        self.allowed = frozenset(gait.feet).union(*(model.geom_frames[geom] for geom in geoms))
-        self.feet = allowed_geoms(simulator, self.allowed.__contains__)
+        # the frames that may touch the ground: the feet, those sharing a geometry with one
+        allowed = frozenset(gait.feet).union(*(model.geom_frames[geom] for geom in geoms))
+        self.feet = allowed_geoms(simulator, allowed.__contains__)
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
         """The push when its time comes, then `FloatingEpisode.sense`."""
@@ -280,7 +271,6 @@ WALK = Walk(
     robot="solo12",
     run=lambda request: request.run_with(run_legged_walk, LeggedWalkConfig),
     parameters=LeggedParameters,
-    terrain="flat",
     duration=4.0,
     draw=draw_legged_walk,
     description="Any legged robot (a name or a URDF path) trotting, pacing or walking with "
@@ -289,7 +279,6 @@ WALK = Walk(
         "robot", "gait", "feet", "direction", "yaw_rate", "push", "path", "amplitude",
         "wavelength", "track",
     ),
-    force_scale=1 / 250,
     viewer_robot=lambda robot="solo12", **_: load_robot(robot),
     speeds=legged_speeds,
     nominal_speed=NOMINAL_SPEED,

@@ -30,8 +30,6 @@ from .hooks import WalkerHooks
 from .parameters import GRAVITY, LeggedParameters, derive_gains, leg_mass
 from .patterns import GaitPattern, named_pattern
 
-__all__ = ["RATE_FILTER", "LeggedWalker"]
-
 #: Time constant of the low-pass filter on the swing set points' velocity [s].
 RATE_FILTER = 0.02
 
@@ -48,14 +46,12 @@ class LeggedWalker(WalkerHooks, Gait):
 
     Attributes:
         feet: The foot frames.
-        pattern: The [`GaitPattern`][].
         groups: Its swing groups, in cycle order.
         gains: The physical gains as derived (`LeggedGains`), before the control rate's bound.
         tick_rates: Each state's per-tick rate of its derived gains before that bound.
         nominal: ``(len(feet), 2)`` the stance relative to the centre of mass, heading frame.
         stand_height: The body's origin above its feet when standing [m].
         swing_time: [s].
-        stance_time: How long a foot stands per cycle [s].
         memory: What the walker carries from tick to tick (a [`Memory`][virtual_actuators.Memory]).
 
     Raises:
@@ -89,13 +85,12 @@ class LeggedWalker(WalkerHooks, Gait):
             raise InvalidInputError(
                 f"LeggedWalker: the pattern's feet {pattern.feet} are not the walker's {self.feet}."
             )
-        self.pattern = pattern
         self.groups = pattern.groups()
         self.nominal = self.nominal * np.array((1.0, pattern.width))
         scale = self.gains.time_scale
         self.swing_time = (pattern.swing_time if p.swing_time is None else p.swing_time) * scale
         self.double_time = p.double_support_time * scale
-        self.stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
+        stance_time = len(self.groups) * (self.swing_time + self.double_time) - self.swing_time
         #: per foot k ``foot_k``: its lift-off point, last set point and its velocity [m, m/s]
         self.memory = Memory(
             command=(0.0, 0.0), yaw_command=0.0, setpoint=(0.0, 0.0), error_integral=(0.0, 0.0),
@@ -104,7 +99,7 @@ class LeggedWalker(WalkerHooks, Gait):
         )  # fmt: skip
         self._declare()
         g = self.gains
-        self._shape = (self.swing_time, self.stance_time, g.time_scale * p.placement_gain,
+        self._shape = (self.swing_time, stance_time, g.time_scale * p.placement_gain,
                        p.reach * g.height, p.lift * g.height, p.lift_peak,
                        p.touchdown_depth * g.height, RATE_FILTER)  # fmt: skip
         self._nominal = tuple(tuple(row) for row in self.nominal.tolist())

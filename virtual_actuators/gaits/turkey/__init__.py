@@ -1,4 +1,4 @@
-"""Turkey walking (VMC section 5): Spring Turkey's level-ground gait and its walk."""
+"""Turkey walking (VMC section 5): Spring Turkey's level-ground gait."""
 
 from .parameters import TurkeyParameters
 from .walker import TurkeyWalker

@@ -15,7 +15,6 @@ from ..planar import (
     SIDES,
     PlanarBiped,
     biped_states,
-    declare_biped,
     granny_walker,
     lift_profile,
     other,
@@ -38,7 +37,6 @@ class TurkeyWalker(PlanarBiped):
         FrameNotFoundError: The robot lacks the frames above.
         JointNotFoundError: The robot lacks the joints above.
     """
-
 
     def __init__(
         self,
@@ -64,7 +62,7 @@ class TurkeyWalker(PlanarBiped):
             **({"friction": p.friction, "min_normal": p.min_normal_force} if qp else {}),
         }
         rule = {"method": "qp"} if qp else {"unilateral": {"z": p.min_normal_force}}
-        declare_biped(self.controller, [self.granny, self.bunny], self.swing, "point", double, rule)
+        self._declare("point", double, rule)
 
     def _machine(self, initial: str) -> StateMachine:
         """Table 1: double support, then single support and its buffer per side."""

@@ -195,6 +195,3 @@ class VirtualActuator:
             f"VirtualActuator(action={self.action!r}, reaction={self.reaction!r}, "
             f"reference={self.reference!r}, axes={self.axes})"
         )
-
-
-__all__ = ["SensorReading", "VirtualActuator", "check_tolerance", "wrench_array"]

@@ -86,6 +86,3 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         ),
         axis=-1,
     )
-
-
-__all__ = ["Constraint", "Contact", "Entries", "cross", "force_entries", "moment_entries"]

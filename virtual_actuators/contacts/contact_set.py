@@ -209,6 +209,3 @@ def declare(
         reactions, axes, kinds, normals, friction, min_normal, soles, minima, cone, normal_row,
         tuple(names), np.array(lows, dtype=float),
     )  # fmt: skip
-
-
-__all__ = ["CompiledMargins", "ContactSet", "declare"]

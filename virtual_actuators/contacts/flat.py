@@ -186,20 +186,3 @@ def table(soles: Mapping[int, tuple[float, float]], p: int) -> np.ndarray:
     for i, sole in soles.items():
         out[i] = (1.0, *sole)
     return out
-
-
-__all__ = [
-    "MAX_ROWS",
-    "ROWS",
-    "active",
-    "ball_axes",
-    "block",
-    "contact_rows",
-    "declared_names",
-    "entries",
-    "names",
-    "parameters",
-    "parse_soles",
-    "rows",
-    "table",
-]

@@ -43,6 +43,3 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
 def ball_axes(kind: str, rotation_axes: np.ndarray) -> np.ndarray:
     """The selected rotational axes (0-2) about which a contact of ``kind`` transmits no moment."""
     return KINDS[kind].ball_axes(rotation_axes)
-
-
-__all__ = ["KINDS", "ball_axes", "parse_contacts"]

@@ -104,15 +104,3 @@ def contact_rows(
     lows[:with_normal] = contact.min_normal
     row_names = names(contact.reaction, contact.friction, contact.min_normal, with_normal)
     return Constraint(G, lows, np.full(len(lows), np.inf), row_names)
-
-
-__all__ = [
-    "MAX_ROWS",
-    "ball_axes",
-    "contact_rows",
-    "faces",
-    "names",
-    "normal_row",
-    "parameters",
-    "pyramid",
-]

@@ -15,7 +15,7 @@ import pinocchio as pin
 import pytest
 
 from virtual_actuators.contacts.constraint import Contact
-from virtual_actuators.contacts.kinds import KINDS
+from virtual_actuators.contacts.contact_set import KINDS
 
 SPATIAL = ("x", "y", "z", "rx", "ry", "rz")
 AXES_SETS = [SPATIAL, ("x", "z", "ry"), ("z", "rx", "ry"), ("x", "y", "z")]

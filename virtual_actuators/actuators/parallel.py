@@ -106,21 +106,10 @@ class ParallelVirtualActuator:
         )
         #: the contacts as declared, read by the QP and by a controller's yield policy
         self.contacts = declare(
-            self.reactions,
-            self.axes,
-            contact,
-            friction,
-            min_normal,
-            normals,
-            soles,
+            self.reactions, self.axes, contact, friction, min_normal, normals, soles
         )
         self.problem = DistributionProblem(
-            self.kinematics,
-            self.reactions,
-            self.contacts.contact,
-            unactuated,
-            passive,
-            self.design,
+            self.kinematics, self.reactions, self.contacts.contact, unactuated, passive, self.design
         )
         preferred = preferred_entries(self.reactions, self.axes, self.design)
         self.partitioner = PartitionedSolver(self.problem, preferred)

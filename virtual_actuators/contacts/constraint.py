@@ -32,7 +32,7 @@ class Constraint:
 
 
 class Contact(NamedTuple):
-    """One contact as declared: what a kind's rows (``contact_rows``, ``kernel_rows``) read."""
+    """One contact as declared: what the core's point-contact row reads (`point.parameters`)."""
 
     #: the reaction frame's name (the rows' names)
     reaction: str

@@ -11,16 +11,35 @@ are checked against these numpy rows in ``test_core_parity_qp.py`` (the margins)
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from virtual_actuators.contacts import flat, point
-from virtual_actuators.contacts.constraint import Constraint, Contact, force_entries
+from virtual_actuators.contacts.constraint import Constraint, force_entries
 from virtual_actuators.contacts.contact_set import KINDS
 
 SPATIAL = ("x", "y", "z", "rx", "ry", "rz")
 AXES_SETS = [SPATIAL, ("x", "z", "ry"), ("z", "rx", "ry"), ("x", "y", "z")]
+
+
+class Contact(NamedTuple):
+    """One contact as declared, what its rows read."""
+
+    #: the reaction frame's name (the rows' names)
+    reaction: str
+    #: friction coefficient ``mu``, or None for no pyramid faces
+    friction: float | None
+    #: least normal force [N]
+    min_normal: float
+    #: ``(3,)`` unit contact normal in the world (unless ``frame_normal``)
+    normal: np.ndarray
+    #: whether the normal is the reaction frame's z axis, read every tick
+    frame_normal: bool
+    #: ``(half_length, half_width)`` [m] of a flat contact's sole
+    sole: tuple[float, float]
 
 
 def _world_wrench(wrench: np.ndarray, axes, rotation_o: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -16,7 +16,7 @@ from ..exceptions import ConstraintError
 from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import AXES
 from . import flat, point
-from .constraint import Constraint, Contact, force_entries
+from .constraint import Constraint, force_entries
 from .declare import Normals, check_contact, parse_normals
 
 #: the contact kinds, by the name ``contact=`` gives them (docs/contributing.md: adding a kind)
@@ -159,13 +159,9 @@ class ContactSet:
         """The core's margins' tables (None with sole rows: build `rows` then)."""
         if self.sole_rows:
             return None
-        contacts = [
-            Contact(reaction, self.friction, self.min_normal, normal, bool(frame), None)
-            for reaction, normal, frame in zip(
-                self.reactions, self.normals.world, self.normals.frame, strict=True
-            )
-        ]
-        points = np.array([point.parameters(contact) for contact in contacts])
+        points = point.parameters(
+            self.friction, self.min_normal, self.normals.frame, self.normals.world
+        )
         return CompiledMargins(
             points if self.cone else points[:0],
             np.array([AXES.index(a) for a in self.axes], dtype=np.int64),
@@ -177,7 +173,7 @@ class ContactSet:
 class CompiledMargins(NamedTuple):
     """A `ContactSet`'s tables for the core's margins (see `ContactSet.compiled`)."""
 
-    #: ``(p, k)`` each contact's :func:`~.point.parameters` row (no row: no pyramid)
+    #: ``(p, k)`` the contacts' `point.parameters` rows (no row: no pyramid)
     points: np.ndarray
     #: ``(n,)`` the component (0-5) of each axis
     axis_rows: np.ndarray

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .constraint import Contact, cross
+from .constraint import cross
 
 
 def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
@@ -64,9 +64,12 @@ def normal_row(friction: float | None, min_normal: float) -> bool:
     return friction is None or min_normal > 0.0
 
 
-def parameters(contact: Contact) -> np.ndarray:
-    """The core's row: friction (< 0: none), least normal force, normal row, frame normal, n."""
-    friction = -1.0 if contact.friction is None else contact.friction
-    with_normal = normal_row(contact.friction, contact.min_normal)
-    flags = (float(with_normal), float(contact.frame_normal))
-    return np.array([friction, contact.min_normal, *flags, *contact.normal], dtype=float)
+def parameters(
+    friction: float | None, min_normal: float, frame_normals: np.ndarray, normals_world: np.ndarray
+) -> np.ndarray:
+    """``(p, 7)`` the core's rows: friction (< 0: none), min normal, normal row, frame normal, n."""
+    with_normal = float(normal_row(friction, min_normal))
+    head = np.tile(
+        (-1.0 if friction is None else friction, min_normal, with_normal), (len(frame_normals), 1)
+    )
+    return np.column_stack((head, frame_normals, normals_world))

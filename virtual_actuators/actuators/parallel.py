@@ -222,13 +222,11 @@ class ParallelVirtualActuator:
             tick = solver.solve_configuration(state, wrench, request)
         if tick is None:
             snapshot = Snapshot(self.robot, state) if plain else state
-            solution, missed = self.solve_checked(snapshot, wrench, request, tol)
-        else:
-            solution = Solution.from_tick(
-                tick, tol, self.reactions, self.axes, request.free, self._floating
-            )
-            missed = not solution.admissible
-        if strict and missed:
+            tick = dispatch(self.backends, snapshot, wrench, request)
+        solution = Solution.from_tick(
+            tick, tol, self.reactions, self.axes, request.free, self._floating
+        )
+        if strict and not solution.admissible:
             raise inadmissible(wrench, self.axes, solution)
         return solution
 

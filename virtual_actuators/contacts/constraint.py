@@ -25,11 +25,6 @@ class Constraint:
     uppers: np.ndarray
     names: Sequence[str]
 
-    @staticmethod
-    def empty(width: int) -> Constraint:
-        """No row over ``width`` entries."""
-        return Constraint(np.zeros((0, width)), np.zeros(0), np.zeros(0), [])
-
 
 def force_entries(axes: Sequence[str]) -> tuple[list[int], list[int]]:
     """The positions of the force axes among ``axes``, and which of x, y, z each is (0-2)."""

@@ -140,9 +140,7 @@ class ContactSet:
             blocks.append(
                 flat.block(self.soles, self.friction, rotation_o, rotation_a, offsets_o, self.axes)
             )
-        if not blocks:
-            return Constraint.empty(p * n)
-        G = np.vstack(blocks)
+        G = np.vstack(blocks) if blocks else np.zeros((0, p * n))  # no row: no block, no low
         return Constraint(G, self.lows, np.full(len(self.lows), np.inf), self.names)
 
     def tables(self) -> dict[str, np.ndarray]:

@@ -8,7 +8,7 @@ import pytest
 from oracles import external_forces, rnea_torques, zero_gravity_model
 
 from virtual_actuators import examples
-from virtual_actuators.__main__ import EXAMPLE_NAMES
+from virtual_actuators.cli.options import EXAMPLE_NAMES
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 from .cli.checks import check_demo_options, check_installed
 from .cli.commands import check_results_path, run
-from .cli.options import EXAMPLE_NAMES, attach_values, build_parser
+from .cli.options import attach_values, build_parser
 from .cli.usage_errors import OptionError, tolerate_closed_pipes
 
 
@@ -51,9 +51,6 @@ def _main(arguments: list[str]) -> int:
     except (OptionError, VirtualActuatorError) as error:  # caused by the arguments: exit 2
         command_parser.error(str(error))
     return 2  # (error() exits)
-
-
-__all__ = ["EXAMPLE_NAMES", "build_parser", "main"]
 
 
 if __name__ == "__main__":

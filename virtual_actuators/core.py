@@ -58,6 +58,3 @@ def kernel(name: str, fallback: _Kernel) -> _Kernel:
         AttributeError: The core is built but has no ``name`` (a build older than the package).
     """
     return fallback if CORE is None else getattr(CORE, name)
-
-
-__all__ = ["CORE", "CoreMissingWarning", "has", "kernel"]

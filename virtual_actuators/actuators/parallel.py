@@ -106,21 +106,10 @@ class ParallelVirtualActuator:
         )
         #: the contacts as declared, read by the QP and by a controller's yield policy
         self.contacts = declare(
-            self.reactions,
-            self.axes,
-            contact,
-            friction,
-            min_normal,
-            normals,
-            soles,
+            self.reactions, self.axes, contact, friction, min_normal, normals, soles
         )
         self.problem = DistributionProblem(
-            self.kinematics,
-            self.reactions,
-            self.contacts.contact,
-            unactuated,
-            passive,
-            self.design,
+            self.kinematics, self.reactions, self.contacts.contact, unactuated, passive, self.design
         )
         preferred = preferred_entries(self.reactions, self.axes, self.design)
         self.partitioner = PartitionedSolver(self.problem, preferred)
@@ -233,13 +222,11 @@ class ParallelVirtualActuator:
             tick = solver.solve_configuration(state, wrench, request)
         if tick is None:
             snapshot = Snapshot(self.robot, state) if plain else state
-            solution, missed = self.solve_checked(snapshot, wrench, request, tol)
-        else:
-            solution = Solution.from_tick(
-                tick, tol, self.reactions, self.axes, request.free, self._floating
-            )
-            missed = not solution.admissible
-        if strict and missed:
+            tick = dispatch(self.backends, snapshot, wrench, request)
+        solution = Solution.from_tick(
+            tick, tol, self.reactions, self.axes, request.free, self._floating
+        )
+        if strict and not solution.admissible:
             raise inadmissible(wrench, self.axes, solution)
         return solution
 

@@ -88,6 +88,3 @@ def check_free(
         problem.check_counts(keep)  # declaration-only: checked once per set of free axes
         cached = checked[key] = (free_axes, keep)
     return cached
-
-
-__all__ = ["check_forces", "check_free", "preferred_entries", "resolve_chains"]

@@ -166,12 +166,3 @@ def moment_directions(axes: tuple[str, ...]) -> np.ndarray:
     """``(n, m)`` unit columns of the rotational axes among ``axes`` (the default yielding)."""
     rotational = [i for i, axis in enumerate(axes) if axis.startswith("r")]
     return np.eye(len(axes))[:, rotational]
-
-
-__all__ = [
-    "RANK_TOL",
-    "Directions",
-    "give_way",
-    "moment_directions",
-    "producible_directions",
-]

@@ -101,11 +101,7 @@ class VirtualActuator:
                 "between two different frames."
             )
         self.kinematics = RelativeKinematics(
-            robot,
-            action_id,
-            [reaction_id],
-            resolve_frame(model, reference, "reference"),
-            self.axes,
+            robot, action_id, [reaction_id], resolve_frame(model, reference, "reference"), self.axes
         )
 
     def read(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> SensorReading:
@@ -195,6 +191,3 @@ class VirtualActuator:
             f"VirtualActuator(action={self.action!r}, reaction={self.reaction!r}, "
             f"reference={self.reference!r}, axes={self.axes})"
         )
-
-
-__all__ = ["SensorReading", "VirtualActuator", "check_tolerance", "wrench_array"]

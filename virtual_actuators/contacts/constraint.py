@@ -25,28 +25,6 @@ class Constraint:
     uppers: np.ndarray
     names: Sequence[str]
 
-    @staticmethod
-    def empty(width: int) -> Constraint:
-        """No row over ``width`` entries."""
-        return Constraint(np.zeros((0, width)), np.zeros(0), np.zeros(0), [])
-
-
-class Contact(NamedTuple):
-    """One contact as declared: what a kind's rows (``contact_rows``, ``kernel_rows``) read."""
-
-    #: the reaction frame's name (the rows' names)
-    reaction: str
-    #: friction coefficient ``mu``, or None for no pyramid faces
-    friction: float | None
-    #: least normal force [N]
-    min_normal: float
-    #: ``(3,)`` unit contact normal in the world (unless ``frame_normal``)
-    normal: np.ndarray
-    #: whether the normal is the reaction frame's z axis, read every tick
-    frame_normal: bool
-    #: ``(half_length, half_width)`` [m] of a flat contact's sole, or None
-    sole: tuple[float, float] | None
-
 
 def force_entries(axes: Sequence[str]) -> tuple[list[int], list[int]]:
     """The positions of the force axes among ``axes``, and which of x, y, z each is (0-2)."""
@@ -86,6 +64,3 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         ),
         axis=-1,
     )
-
-
-__all__ = ["Constraint", "Contact", "Entries", "cross", "force_entries", "moment_entries"]

@@ -12,12 +12,47 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..exceptions import ConstraintError
 from ..vocabulary.arguments import check_number
 from ..vocabulary.axes import AXES
 from . import flat, point
-from .constraint import Constraint, Contact, force_entries
+from .constraint import Constraint, force_entries
 from .declare import Normals, check_contact, parse_normals
-from .kinds import parse_contacts
+
+#: the contact kinds, by the name ``contact=`` gives them (docs/contributing.md: adding a kind)
+KINDS = {"point": point, "flat": flat}
+
+
+def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -> tuple[str, ...]:
+    """Each reaction's contact kind, ``"point"`` or ``"flat"``.
+
+    Raises:
+        ConstraintError: An unknown kind, or a key that is not a reaction frame.
+    """
+    if isinstance(contact, str):
+        if contact not in KINDS:
+            raise ConstraintError(
+                f"contact must be one of {list(KINDS)} or a dict; got {contact!r}."
+            )
+        return (contact,) * len(reactions)
+    unknown = set(contact) - set(reactions)
+    if unknown:
+        raise ConstraintError(
+            f"contact names {sorted(unknown)} which are not reaction frames; "
+            f"reactions are {list(reactions)}."
+        )
+    out = []
+    for name in reactions:
+        kind = contact.get(name, "point")
+        if kind not in KINDS:
+            raise ConstraintError(f"contact[{name!r}] must be one of {list(KINDS)}, got {kind!r}.")
+        out.append(kind)
+    return tuple(out)
+
+
+def ball_axes(kind: str, rotation_axes: np.ndarray) -> np.ndarray:
+    """The selected rotational axes (0-2) about which a contact of ``kind`` transmits no moment."""
+    return KINDS[kind].ball_axes(rotation_axes)
 
 
 @dataclass(frozen=True, slots=True)
@@ -105,9 +140,7 @@ class ContactSet:
             blocks.append(
                 flat.block(self.soles, self.friction, rotation_o, rotation_a, offsets_o, self.axes)
             )
-        if not blocks:
-            return Constraint.empty(p * n)
-        G = np.vstack(blocks)
+        G = np.vstack(blocks) if blocks else np.zeros((0, p * n))  # no row: no block, no low
         return Constraint(G, self.lows, np.full(len(self.lows), np.inf), self.names)
 
     def tables(self) -> dict[str, np.ndarray]:
@@ -124,13 +157,9 @@ class ContactSet:
         """The core's margins' tables (None with sole rows: build `rows` then)."""
         if self.sole_rows:
             return None
-        contacts = [
-            Contact(reaction, self.friction, self.min_normal, normal, bool(frame), None)
-            for reaction, normal, frame in zip(
-                self.reactions, self.normals.world, self.normals.frame, strict=True
-            )
-        ]
-        points = np.array([point.parameters(contact) for contact in contacts])
+        points = point.parameters(
+            self.friction, self.min_normal, self.normals.frame, self.normals.world
+        )
         return CompiledMargins(
             points if self.cone else points[:0],
             np.array([AXES.index(a) for a in self.axes], dtype=np.int64),
@@ -142,7 +171,7 @@ class ContactSet:
 class CompiledMargins(NamedTuple):
     """A `ContactSet`'s tables for the core's margins (see `ContactSet.compiled`)."""
 
-    #: ``(p, k)`` each contact's :func:`~.point.parameters` row (no row: no pyramid)
+    #: ``(p, k)`` the contacts' `point.parameters` rows (no row: no pyramid)
     points: np.ndarray
     #: ``(n,)`` the component (0-5) of each axis
     axis_rows: np.ndarray
@@ -209,6 +238,3 @@ def declare(
         reactions, axes, kinds, normals, friction, min_normal, soles, minima, cone, normal_row,
         tuple(names), np.array(lows, dtype=float),
     )  # fmt: skip
-
-
-__all__ = ["CompiledMargins", "ContactSet", "declare"]

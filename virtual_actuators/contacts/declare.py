@@ -102,6 +102,3 @@ def parse_normals(
             )
         world[index] = vector / size
     return Normals(world, frame)
-
-
-__all__ = ["FRAME", "FRAMES", "Normals", "check_contact", "parse_normals", "reaction_index"]

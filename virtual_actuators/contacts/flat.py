@@ -14,13 +14,8 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array
-from .constraint import Constraint, Contact, Entries, cross, force_entries, moment_entries
+from .constraint import Entries, cross, force_entries, moment_entries
 from .declare import reaction_index
-
-#: rows per sole: each of three moments bounded on both sides
-ROWS = 6
-#: the most rows of one contact (its sole's; the pyramid is the point kind's, at every contact)
-MAX_ROWS = ROWS
 
 
 def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
@@ -152,54 +147,9 @@ def block(
     ])  # fmt: skip
 
 
-def parameters(contact: Contact) -> np.ndarray:
-    """The float row the compiled core reads: friction (< 0 none), 1, the sole's halves."""
-    friction = -1.0 if contact.friction is None else contact.friction
-    return np.array([friction, 1.0, *contact.sole], dtype=float)
-
-
-def contact_rows(
-    contact: Contact,
-    frame_world: np.ndarray,
-    rotation_o: np.ndarray,
-    offset_o: np.ndarray,
-    axes: Sequence[str],
-) -> Constraint:
-    """The sole's rows ``>= 0`` over its chain's wrench ``F_i`` (``n`` entries, in {O}).
-
-    Args:
-        contact: The declaration (with its ``sole``).
-        frame_world: ``(3, 3)`` the reaction frame's rotation in the world.
-        rotation_o: ``(3, 3)`` {O}'s rotation in the world.
-        offset_o: ``(3,)`` from the reaction frame's origin to {B}'s, in {O}.
-        axes: The actuator's axes.
-    """
-    G = rows(contact.sole, contact.friction, rotation_o.T @ frame_world, offset_o,
-             entries(axes, 0, 1))  # fmt: skip
-    row_names = names(contact.reaction, contact.sole, contact.friction)
-    return Constraint(G, np.zeros(ROWS), np.full(ROWS, np.inf), row_names)
-
-
 def table(soles: Mapping[int, tuple[float, float]], p: int) -> np.ndarray:
     """``(p, 3)`` the compiled path's table: 1 for a sole, its half length and half width."""
     out = np.zeros((p, 3))
     for i, sole in soles.items():
         out[i] = (1.0, *sole)
     return out
-
-
-__all__ = [
-    "MAX_ROWS",
-    "ROWS",
-    "active",
-    "ball_axes",
-    "block",
-    "contact_rows",
-    "declared_names",
-    "entries",
-    "names",
-    "parameters",
-    "parse_soles",
-    "rows",
-    "table",
-]

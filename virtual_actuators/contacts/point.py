@@ -7,14 +7,9 @@ world x, y when the normal is near x) and turned into {O}.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 import numpy as np
 
-from .constraint import Constraint, Contact, cross, force_entries
-
-#: the most rows of one contact: the least normal force and four faces
-MAX_ROWS = 5
+from .constraint import cross
 
 
 def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
@@ -69,50 +64,12 @@ def normal_row(friction: float | None, min_normal: float) -> bool:
     return friction is None or min_normal > 0.0
 
 
-def parameters(contact: Contact) -> np.ndarray:
-    """The core's row: friction (< 0: none), least normal force, normal row, frame normal, n."""
-    friction = -1.0 if contact.friction is None else contact.friction
-    with_normal = normal_row(contact.friction, contact.min_normal)
-    flags = (float(with_normal), float(contact.frame_normal))
-    return np.array([friction, contact.min_normal, *flags, *contact.normal], dtype=float)
-
-
-def contact_rows(
-    contact: Contact,
-    frame_world: np.ndarray,
-    rotation_o: np.ndarray,
-    offset_o: np.ndarray,
-    axes: Sequence[str],
-) -> Constraint:
-    """The contact's rows ``>= lows`` over its chain's force ``F_i`` (``n`` entries, in {O}).
-
-    Args:
-        contact: The declaration.
-        frame_world: ``(3, 3)`` the reaction frame's rotation in the world.
-        rotation_o: ``(3, 3)`` {O}'s rotation in the world.
-        offset_o: ``(3,)`` from the reaction frame's origin to {B}'s, in {O} (unused).
-        axes: The actuator's axes.
-    """
-    normal = frame_world[:, 2] if contact.frame_normal else np.asarray(contact.normal, float)
-    with_normal = normal_row(contact.friction, contact.min_normal)
-    vectors = pyramid(normal[None], (normal @ rotation_o)[None], rotation_o, contact.friction,
-                      with_normal)[0]  # fmt: skip
-    positions, components = force_entries(axes)
-    G = np.zeros((len(vectors), len(axes)))
-    G[:, positions] = vectors[:, components]
-    lows = np.zeros(len(vectors))
-    lows[:with_normal] = contact.min_normal
-    row_names = names(contact.reaction, contact.friction, contact.min_normal, with_normal)
-    return Constraint(G, lows, np.full(len(lows), np.inf), row_names)
-
-
-__all__ = [
-    "MAX_ROWS",
-    "ball_axes",
-    "contact_rows",
-    "faces",
-    "names",
-    "normal_row",
-    "parameters",
-    "pyramid",
-]
+def parameters(
+    friction: float | None, min_normal: float, frame_normals: np.ndarray, normals_world: np.ndarray
+) -> np.ndarray:
+    """``(p, 7)`` the core's rows: friction (< 0: none), min normal, normal row, frame normal, n."""
+    with_normal = float(normal_row(friction, min_normal))
+    head = np.tile(
+        (-1.0 if friction is None else friction, min_normal, with_normal), (len(frame_normals), 1)
+    )
+    return np.column_stack((head, frame_normals, normals_world))

@@ -64,6 +64,3 @@ class TorqueLimits:
     def rows(self, torque_map: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(G, lows, uppers)``: ``-limit <= tau <= limit`` with ``tau = torque_map x``."""
         return torque_map[self.limited_v], -self.limits, self.limits
-
-
-__all__ = ["UNLIMITED", "TorqueLimits"]

@@ -144,16 +144,3 @@ finite = core.kernel("all_finite", all_finite)
 velocity_of_point = core.kernel("point_velocity", point_velocity)
 #: `center_of_mass` as the library calls it.
 center_of_mass_of = core.kernel("center_of_mass", center_of_mass)
-
-__all__ = [
-    "JointTables",
-    "all_finite",
-    "center_of_mass",
-    "center_of_mass_of",
-    "finite",
-    "placement_row",
-    "point_velocity",
-    "read_joints",
-    "skew",
-    "velocity_of_point",
-]

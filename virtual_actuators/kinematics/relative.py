@@ -285,13 +285,3 @@ class RelativeKinematics:
             f"reactions={names}, reference={self.model.frames[self.reference_id].name!r}, "
             f"axes={self.axes})"
         )
-
-
-__all__ = [
-    "KinematicState",
-    "RelativeKinematics",
-    "relative_sensor",
-    "rotation_log",
-    "sensor",
-    "to_reference",
-]

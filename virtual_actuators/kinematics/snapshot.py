@@ -298,6 +298,3 @@ class Snapshot:
             f"Snapshot(robot={getattr(self.robot, 'name', '?')!r}, backend={self.backend!r}, "
             f"velocity={'yes' if self.v is not None else 'no'}, {done})"
         )
-
-
-__all__ = ["Snapshot", "thread_data"]

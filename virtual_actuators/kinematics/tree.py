@@ -217,6 +217,3 @@ def tree_of(robot: object) -> KinematicTree:
         if tree is None:
             tree = caches["kinematic_tree"] = KinematicTree(robot.model)
     return tree
-
-
-__all__ = ["KinematicTree", "tree_of"]

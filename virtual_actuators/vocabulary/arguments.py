@@ -12,11 +12,11 @@ import pinocchio as pin
 from ..exceptions import InvalidInputError, VirtualActuatorError
 
 
-def describe(value: object, limit: int = 60) -> str:
+def describe(value: object) -> str:
     """``"<type> <repr>"`` of a user's argument for error messages, the repr on one short line."""
     text = " ".join(repr(value).split())
-    if len(text) > limit:
-        text = text[: limit - 3] + "..."
+    if len(text) > 60:
+        text = text[:57] + "..."
     return f"{type(value).__name__} {text}"
 
 

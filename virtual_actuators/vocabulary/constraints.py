@@ -105,7 +105,6 @@ class Linear(DesignConstraint):
     rhs: float = 0.0
 
     def __post_init__(self) -> None:
-        # Types are checked here; values (no coefficient, NaN, inf) when an actuator is declared.
         if not isinstance(self.coefficients, Mapping):
             raise ConstraintError(
                 "Linear: coefficients must be a dict {(reaction_frame, axis): coefficient}, got "

@@ -10,7 +10,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pinocchio as pin
 
-from ...contacts.kinds import ball_axes, parse_contacts
+from ...contacts.contact_set import ball_axes, parse_contacts
 from ...exceptions import ConstraintError, SingularConfigurationError
 from ...kinematics.kernels import skew
 from ...kinematics.relative import KinematicState, RelativeKinematics

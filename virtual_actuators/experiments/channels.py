@@ -1,6 +1,6 @@
-"""What a walk log holds: the standard channels and their units, the states that are steps.
+"""What a walk log holds: the standard channels, the states that are steps.
 
-The channels and metadata keys are described on the "Command line" page.
+The channels, their units and the metadata keys are described on the "Command line" page.
 """
 
 from __future__ import annotations
@@ -9,27 +9,11 @@ from collections.abc import Iterable, Sequence
 
 from virtual_actuators.exceptions import InvalidInputError, closest_names
 
-#: Units of the standard channels, for labels.
-UNITS: dict[str, str] = {
-    "time": "s",
-    "x": "m",
-    "z": "m",
-    "z_world": "m",
-    "pitch": "rad",
-    "xdot": "m/s",
-    "x_setpoint": "m",
-    "z_setpoint": "m",
-    "pitch_setpoint": "rad",
-    "xdot_setpoint": "m/s",
-    "fx": "N",
-    "fz": "N",
-    "m_pitch": "N m",
-    "global_slope": "rad",
-    "fallen": "",
-}
-
 #: The float channels recorded by the walking demos (the discrete ``state`` is always recorded).
-STANDARD_CHANNELS: tuple[str, ...] = tuple(UNITS)
+STANDARD_CHANNELS: tuple[str, ...] = tuple(
+    "time x z z_world pitch xdot x_setpoint z_setpoint pitch_setpoint xdot_setpoint fx fz m_pitch "
+    "global_slope fallen".split()
+)
 
 STATE_CHANNEL = "state"
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 
-# ACTUAL_STYLE, SETPOINT_STYLE, save_figure: re-exported for hexapod_plots until it moves (issue 25)
+# ACTUAL_STYLE, SETPOINT_STYLE: re-exported for gaits.hexapod.plots until it moves (issue 25)
 from virtual_actuators.experiments.plot_panels import ACTUAL_STYLE as ACTUAL_STYLE
 from virtual_actuators.experiments.plot_panels import (
     DESIRED_SPEED,
@@ -30,7 +30,6 @@ from virtual_actuators.experiments.plot_panels import (
     terrain_panel,
 )
 from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
-from virtual_actuators.experiments.plot_panels import save_figure as save_figure
 from virtual_actuators.experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:

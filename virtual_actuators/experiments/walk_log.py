@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -15,12 +15,11 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.experiments.channels import (
     STANDARD_CHANNELS,
     STATE_CHANNEL,
-    UNITS,
     check_names,
     unknown_name,
 )
 
-__all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog"]
+__all__ = ["STANDARD_CHANNELS", "WalkLog"]
 
 #: Version of the ``.npz`` layout, and the prefix of its entries that hold metadata arrays.
 NPZ_FORMAT = 1
@@ -31,7 +30,7 @@ META_ARRAY_PREFIX = "meta_array__"
 class WalkLog:
     """A recorded run: one float array per channel, the discrete state, and metadata.
 
-    Build one with `Recorder.to_log`, `from_arrays` or `load_npz`.
+    Build one with `Recorder.to_log` or `load_npz`, or from whole arrays.
 
     Attributes:
         data: Channel name -> ``(n,)`` float64 array; ``"time"`` [s] is required, finite and
@@ -100,33 +99,6 @@ class WalkLog:
             raise InvalidInputError(f"metadata must be a dict, got {type(self.metadata).__name__}.")
         self.metadata = dict(self.metadata)
 
-    @classmethod
-    def from_arrays(
-        cls,
-        *,
-        state: Sequence[int] | np.ndarray | None = None,
-        state_names: Sequence[str] = (),
-        metadata: Mapping[str, Any] | None = None,
-        **channels: Sequence[float] | np.ndarray,
-    ) -> WalkLog:
-        """Build a log from whole arrays.
-
-        Args:
-            state: ``(n,)`` state indices; all -1 (unknown) when omitted.
-            state_names: Names of the states.
-            metadata: Run description.
-            **channels: Channel name -> ``(n,)`` values; ``time`` is required.
-
-        Raises:
-            InvalidInputError: If a channel is missing, misshapen or inconsistent.
-        """
-        return cls(
-            data=dict(channels),
-            state=np.zeros(0, dtype=np.int64) if state is None else np.asarray(state),
-            state_names=tuple(state_names),
-            metadata=dict(metadata or {}),
-        )
-
     def __len__(self) -> int:
         return int(self.data["time"].shape[0])
 
@@ -152,11 +124,6 @@ class WalkLog:
     def time(self) -> np.ndarray:
         """``(n,)`` time of each tick [s]."""
         return self.data["time"]
-
-    @property
-    def duration(self) -> float:
-        """Time from the first to the last tick [s] (0 for fewer than two ticks)."""
-        return float(self.time[-1] - self.time[0]) if len(self) > 1 else 0.0
 
     def channel(self, name: str) -> np.ndarray:
         """The ``(n,)`` array of channel ``name`` (``"state"``: the state indices).

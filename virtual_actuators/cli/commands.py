@@ -12,7 +12,6 @@ import contextlib
 import itertools
 import math
 import time
-from collections.abc import Sequence
 
 import numpy as np
 
@@ -80,18 +79,27 @@ def demo_walk(args: argparse.Namespace) -> int:
 def _legged_robot(args: argparse.Namespace, default: str):
     """``(robot, body, feet)`` of ``--robot`` (else ``default``) and ``--feet``, or OptionError."""
     from ..exceptions import RobotDescriptionError, RobotNotFoundError
+    from ..models.feet import body_frame, find_feet
+    from ..models.loader import load_robot
+    from ..vocabulary.axes import resolve_frame
 
-    feet = getattr(args, "feet", None)
+    feet = args.feet
     described = (RobotNotFoundError, RobotDescriptionError)
     with blame("--feet" if feet else "--robot"), blame("--robot", only=described):
-        loaded = _stand_robot(default if args.robot is None else args.robot, feet)
-    robot = loaded[0]
+        robot = load_robot(default if args.robot is None else args.robot)
+        if feet is None:
+            found = find_feet(robot)
+            body, feet = found.body, list(found.feet)
+        else:
+            for frame in feet:
+                resolve_frame(robot.model, frame, "foot")
+            body, feet = body_frame(robot.model, robot.floating_base), list(feet)
     if not robot.floating_base:
         raise OptionError(
             f"argument --robot: robot {robot.name!r} has a fixed base: {args.name} needs a "
             "legged robot, whose base floats (the robots command lists them)"
         )
-    return loaded
+    return robot, body, feet
 
 
 def sweep_command(args: argparse.Namespace) -> int:
@@ -196,21 +204,6 @@ def run(args: argparse.Namespace) -> int:
 
         print(robot_table(describe_robots()))
     return 0
-
-
-def _stand_robot(name: str, feet: Sequence[str] | None):
-    """``(robot, body frame, foot frames)`` of a loaded robot (``feet`` None: found on it)."""
-    import virtual_actuators as va
-    from virtual_actuators.models.feet import body_frame, find_feet
-    from virtual_actuators.vocabulary.axes import resolve_frame
-
-    robot = va.load_robot(name)
-    if feet is None:
-        found = find_feet(robot)
-        return robot, found.body, list(found.feet)
-    for frame in feet:
-        resolve_frame(robot.model, frame, "foot")
-    return robot, body_frame(robot.model, robot.floating_base), list(feet)
 
 
 def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:

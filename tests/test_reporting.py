@@ -21,12 +21,11 @@ import numpy as np
 import pytest
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.channels import default_step_states
 from virtual_actuators.experiments.metrics import WalkMetrics, compute_metrics, write_json
 from virtual_actuators.experiments.plot_panels import save_figure
 from virtual_actuators.experiments.plots import draw_walk
 from virtual_actuators.experiments.recorder import Recorder
-from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
+from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog, default_step_states
 
 
 def log_from_arrays(*, state=None, state_names=(), metadata=None, **channels) -> WalkLog:

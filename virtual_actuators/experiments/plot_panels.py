@@ -14,13 +14,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from virtual_actuators.exceptions import import_optional
-from virtual_actuators.experiments.channels import resolve_step_states
+from virtual_actuators.experiments.walk_log import WalkLog, resolve_step_states
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-
-    from virtual_actuators.experiments.walk_log import WalkLog
 
 
 ACTUAL_STYLE = {"color": "C0", "lw": 1.2}

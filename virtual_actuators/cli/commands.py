@@ -188,7 +188,7 @@ def run(args: argparse.Namespace) -> int:
     """
     if args.command == "demo":
         if args.name == "stand":
-            _demo_stand(_legged_robot(args, "solo12"), args)
+            _demo_stand(args)
             return 0
         return demo_walk(args)
     if args.command == "example":
@@ -206,12 +206,12 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
-    """Print ``(robot, body, feet)``'s body actuator distribution (and show it with ``--viz``)."""
+def _demo_stand(args: argparse.Namespace) -> None:
+    """Print the body actuator distribution of ``--robot`` (and show it with ``--viz``)."""
     import virtual_actuators as va
     from virtual_actuators.models.standing import standing_pose
 
-    robot, body_frame, feet = loaded
+    robot, body_frame, feet = _legged_robot(args, "solo12")
     q = standing_pose(robot, feet)  # _legged_robot refused a fixed base
     weight = robot.mass * 9.81  # [N]
     contact = "point" if len(feet) >= 3 else "flat"
@@ -224,7 +224,7 @@ def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
     )
     wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])  # [N, N m] in the body frame
     sol = body.solve(q, wrench)
-    print_solution("body actuator (minimum-norm distribution)", robot, body, q, wrench, sol)
+    print_solution("body actuator (minimum-norm distribution)", robot, body, sol)
     shown, actuator = sol, body
     timed = [("minimum-norm", body)]
     if len(feet) == 4 and contact == "point":
@@ -240,8 +240,7 @@ def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
             robot, action=body_frame, reactions=feet, reference=body_frame, design=design
         )
         shown, actuator = square.solve(q, wrench), square
-        title = "with six design constraints (square, partitioned)"
-        print_solution(title, robot, square, q, wrench, shown)
+        print_solution("with six design constraints (square, partitioned)", robot, square, shown)
         timed.append(("partitioned", square))
     for name, timed_actuator in timed:
         start = time.perf_counter()

@@ -88,7 +88,6 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
 
 
 def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
-    hexapod = "hexapod-walk: "
     demo.add_argument(
         "--direction",
         type=direction_degrees,
@@ -126,7 +125,7 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--pendulum",
         action="store_true",
-        help=hexapod + "balance a 0.30 m, 0.18 kg pendulum on the back with an LQR",
+        help="hexapod-walk: balance a 0.30 m, 0.18 kg pendulum on the back with an LQR",
     )
     demo.add_argument(
         "--track",

@@ -29,7 +29,7 @@ def _joint_table(robot, tau: np.ndarray) -> str:
     return "\n".join(lines)
 
 
-def print_solution(title: str, robot, body, q, wrench, sol) -> None:
+def print_solution(title: str, robot, body, sol) -> None:
     """Print a parallel actuator's sizes, partition, per-chain forces and joint efforts."""
     print(f"\n== {title}")
     sizes = body.sizes()

@@ -15,8 +15,9 @@ import time
 
 import numpy as np
 
+from .options import wants_viewer
 from .usage_errors import OptionError, blame, writing
-from .views import finish_viewer, make_viewer, pause, print_solution, show_static, wants_viewer
+from .views import finish_viewer, make_viewer, pause, print_solution, show_static
 
 #: Solves per timing of ``demo stand``.
 STAND_SOLVES = 2000
@@ -195,8 +196,7 @@ def run(args: argparse.Namespace) -> int:
         from ..examples import EXAMPLES
 
         example = EXAMPLES[args.name]()
-        solution = example.solution
-        show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
+        show_static(args, example.robot, example.q, example.solution, example.actuator)
     elif args.command == "sweep":
         return sweep_command(args)
     elif args.command == "robots":
@@ -248,4 +248,4 @@ def _demo_stand(args: argparse.Namespace) -> None:
             timed_actuator.solve(q, wrench)
         elapsed = (time.perf_counter() - start) / STAND_SOLVES * 1e6
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
-    show_static(args, robot, q, shown, actuator, wrench)
+    show_static(args, robot, q, shown, actuator)

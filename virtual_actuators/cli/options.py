@@ -167,6 +167,11 @@ def _robot_arguments(demo: argparse.ArgumentParser) -> None:
     )
 
 
+def wants_viewer(args: argparse.Namespace) -> bool:
+    """Whether the command asked for a viewer (``--viz`` or ``--record``)."""
+    return bool(getattr(args, "viz", False) or getattr(args, "record", None))
+
+
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
     """The parser of ``python -m virtual_actuators`` and its subcommands' parsers by name.
 

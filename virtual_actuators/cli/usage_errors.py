@@ -15,7 +15,7 @@ import sys
 from collections.abc import Iterator
 from typing import TextIO
 
-from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS
+from .options import STAND_OPTIONS, WALK_DEMOS, WALK_OPTIONS, WALK_OWN_OPTIONS, wants_viewer
 
 
 class OptionError(Exception):
@@ -195,8 +195,6 @@ def _check_speed(args: argparse.Namespace, parser: argparse.ArgumentParser, walk
 
 def _needed_packages(args: argparse.Namespace) -> list[tuple[str, str, str]]:
     """``(module, its extra, what needs it)`` of each optional package the command imports."""
-    from .views import wants_viewer
-
     walks = args.command == "sweep" or (args.command == "demo" and args.name != "stand")
     needs = []
     if walks:

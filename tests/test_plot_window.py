@@ -29,12 +29,14 @@ def _walk(seconds: float, step: float = 0.4) -> WalkLog:
     t = np.arange(0.0, seconds, 1e-3)
     phase = np.mod(t, 2 * step) / step  # 0..2
     state = np.where(np.mod(phase, 1.0) < 0.2, 0, np.where(phase < 1.0, 1, 2))
-    return WalkLog.from_arrays(
-        time=t,
-        x=0.5 * t,
-        z=0.7 + 0.01 * np.sin(t),
-        pitch=0.0 * t,
-        xdot=0.5 + 0.0 * t,
+    return WalkLog(
+        data={
+            "time": t,
+            "x": 0.5 * t,
+            "z": 0.7 + 0.01 * np.sin(t),
+            "pitch": 0.0 * t,
+            "xdot": 0.5 + 0.0 * t,
+        },
         state=state,
         state_names=STATES,
         metadata={"step_states": ["left_support", "right_support"]},

@@ -21,12 +21,17 @@ import numpy as np
 import pytest
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.channels import default_step_states
 from virtual_actuators.experiments.metrics import WalkMetrics, compute_metrics, write_json
 from virtual_actuators.experiments.plot_panels import save_figure
 from virtual_actuators.experiments.plots import draw_walk
 from virtual_actuators.experiments.recorder import Recorder
-from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog
+from virtual_actuators.experiments.walk_log import STANDARD_CHANNELS, WalkLog, default_step_states
+
+
+def log_from_arrays(*, state=None, state_names=(), metadata=None, **channels) -> WalkLog:
+    """A WalkLog of whole arrays (``state`` None: all unknown)."""
+    state = np.zeros(0, dtype=np.int64) if state is None else np.asarray(state)
+    return WalkLog(dict(channels), state, tuple(state_names), dict(metadata or {}))
 
 
 def plot_walk(log, path, **options):
@@ -56,7 +61,7 @@ def turkey_log(duration: float = 6.0, dt: float = 0.002) -> WalkLog:
     t = np.arange(0.0, duration + dt / 2, dt)
     w = 2 * np.pi / 0.5
     x = 0.5 * t + 0.01 * np.sin(w * t)
-    return WalkLog.from_arrays(
+    return log_from_arrays(
         time=t,
         x=x,
         z=0.54 + 0.012 * np.sin(w * t),
@@ -97,7 +102,7 @@ def flamingo_log(duration: float = 28.0, dt: float = 0.01) -> WalkLog:
     slope = np.arctan(np.gradient(ground, x))
     height = 0.74 - 0.1 * slope
     z = height + 0.015 * np.sin(w * t)
-    return WalkLog.from_arrays(
+    return log_from_arrays(
         time=t,
         x=x,
         z=z,
@@ -129,7 +134,7 @@ def ramp_log(duration: float = 10.0, dt: float = 0.01, **extra: np.ndarray) -> W
     t = np.arange(round(duration / dt) + 1) * dt
     channels = {"time": t, "x": 0.5 * t, "xdot": np.full_like(t, 0.5)}
     channels.update({k: v(t) if callable(v) else v for k, v in extra.items()})
-    return WalkLog.from_arrays(**channels)
+    return log_from_arrays(**channels)
 
 
 # -- recorder ----------------------------------------------------------------------------------
@@ -198,13 +203,13 @@ def test_recorder_validates_channels_and_states():
 
 def test_walklog_validates_arrays():
     with pytest.raises(InvalidInputError, match="channel 'x': 2 samples"):
-        WalkLog.from_arrays(time=[0.0, 1.0, 2.0], x=[0.0, 1.0])
+        log_from_arrays(time=[0.0, 1.0, 2.0], x=[0.0, 1.0])
     with pytest.raises(InvalidInputError, match="'time' channel is required"):
-        WalkLog.from_arrays(x=[0.0, 1.0])
+        log_from_arrays(x=[0.0, 1.0])
     with pytest.raises(InvalidInputError, match="'time': decreases at tick 2"):
-        WalkLog.from_arrays(time=[0.0, 1.0, 0.5])
+        log_from_arrays(time=[0.0, 1.0, 0.5])
     with pytest.raises(InvalidInputError, match="state: 5 at tick 1"):
-        WalkLog.from_arrays(time=[0.0, 1.0], state=[0, 5], state_names=("a", "b"))
+        log_from_arrays(time=[0.0, 1.0], state=[0, 5], state_names=("a", "b"))
 
 
 def test_npz_round_trip(tmp_path):
@@ -238,7 +243,7 @@ def test_npz_round_trip(tmp_path):
 
 
 def test_npz_rejects_unstorable_metadata_and_foreign_files(tmp_path):
-    log = WalkLog.from_arrays(time=[0.0, 1.0], metadata={"callback": print})
+    log = log_from_arrays(time=[0.0, 1.0], metadata={"callback": print})
     with pytest.raises(InvalidInputError, match="metadata\\['callback'\\]"):
         log.save_npz(tmp_path / "bad.npz")
     np.savez(tmp_path / "other.npz", a=np.zeros(3))
@@ -343,7 +348,7 @@ def test_steps_counted_from_state_entries():
     assert m.height_dev_m == pytest.approx(0.012, abs=1e-4)
     assert m.pitch_max_abs_rad == pytest.approx(0.06, abs=1e-4)
     # The same answer from the default guess, and with explicit names.
-    bare = WalkLog.from_arrays(state=log.state, state_names=STATES, time=log.time, x=log["x"])
+    bare = log_from_arrays(state=log.state, state_names=STATES, time=log.time, x=log["x"])
     assert default_step_states(STATES) == STEP_STATES
     assert compute_metrics(bare).steps == 12
     assert compute_metrics(bare, step_states=["double_support"]).steps == 12
@@ -353,11 +358,11 @@ def test_steps_counted_from_state_entries():
 
 def test_metrics_reject_empty_runs_and_bad_arguments():
     with pytest.raises(InvalidInputError, match="empty run"):
-        compute_metrics(WalkLog.from_arrays(time=[], x=[]))
+        compute_metrics(log_from_arrays(time=[], x=[]))
     with pytest.raises(InvalidInputError, match="empty run"):
         compute_metrics(Recorder(("time", "x")).to_log())
     with pytest.raises(InvalidInputError, match="'x'"):
-        compute_metrics(WalkLog.from_arrays(time=[0.0, 1.0], z=[0.5, 0.5]))
+        compute_metrics(log_from_arrays(time=[0.0, 1.0], z=[0.5, 0.5]))
     with pytest.raises(InvalidInputError, match="startup_s"):
         compute_metrics(ramp_log(), startup_s=-1.0)
     with pytest.raises(InvalidInputError, match="wall_time_s"):
@@ -423,15 +428,15 @@ def test_plot_walk_flamingo_on_terrain(tmp_path):
 def test_plot_walk_sparse_logs_and_errors(tmp_path):
     t = np.linspace(0.0, 2.0, 201)
     fallen = (t > 1.5).astype(float)
-    sparse = WalkLog.from_arrays(time=t, x=0.3 * t, fallen=fallen)
+    sparse = log_from_arrays(time=t, x=0.3 * t, fallen=fallen)
     assert_png(plot_walk(sparse, tmp_path / "sparse.png", dpi=60), min_bytes=1_000)
     with pytest.raises(InvalidInputError, match="layout"):
         plot_walk(sparse, tmp_path / "x.png", layout="fig9")
     with pytest.raises(InvalidInputError, match="terrain_points"):
         plot_walk(sparse, tmp_path / "x.png", layout="terrain")
     with pytest.raises(InvalidInputError, match="empty run"):
-        plot_walk(WalkLog.from_arrays(time=[0.0]), tmp_path / "x.png")
-    bad = WalkLog.from_arrays(time=t, x=t, metadata={"terrain_points": [[0.0, 0.0]]})
+        plot_walk(log_from_arrays(time=[0.0]), tmp_path / "x.png")
+    bad = log_from_arrays(time=t, x=t, metadata={"terrain_points": [[0.0, 0.0]]})
     with pytest.raises(InvalidInputError, match="terrain_points"):
         plot_walk(bad, tmp_path / "x.png")
 

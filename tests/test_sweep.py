@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import csv
 import json
 
@@ -9,9 +10,9 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
+from virtual_actuators.cli.types import value_range
 from virtual_actuators.demos.sweep import (
     grid,
-    parse_range,
     plot_success_map,
     run_case,
     run_sweep,
@@ -20,13 +21,13 @@ from virtual_actuators.demos.sweep import (
 )
 
 
-def test_parse_range():
-    assert parse_range("0.3:0.6:0.05") == pytest.approx([0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6])
-    assert parse_range("0.4,0.5") == [0.4, 0.5]
-    assert parse_range("0.5") == [0.5]
+def test_value_range():
+    assert value_range("0.3:0.6:0.05") == pytest.approx([0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6])
+    assert value_range("0.4,0.5") == [0.4, 0.5]
+    assert value_range("0.5") == [0.5]
     for bad in ("a:b:c", "0.3:0.6:0", "0:1e6:1e-3", "", "nan"):
-        with pytest.raises(va.InvalidInputError):
-            parse_range(bad)
+        with pytest.raises(argparse.ArgumentTypeError):
+            value_range(bad)
 
 
 def test_grid_and_errors():

@@ -5,10 +5,14 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
-from .cli.checks import check_demo_options, check_installed
 from .cli.commands import check_results_path, run
 from .cli.options import attach_values, build_parser
-from .cli.usage_errors import OptionError, tolerate_closed_pipes
+from .cli.usage_errors import (
+    OptionError,
+    check_demo_options,
+    check_installed,
+    tolerate_closed_pipes,
+)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -12,12 +12,12 @@ import contextlib
 import itertools
 import math
 import time
-from collections.abc import Sequence
 
 import numpy as np
 
+from .options import wants_viewer
 from .usage_errors import OptionError, blame, writing
-from .views import finish_viewer, make_viewer, pause, print_solution, show_static, wants_viewer
+from .views import finish_viewer, make_viewer, pause, print_solution, show_static
 
 #: Solves per timing of ``demo stand``.
 STAND_SOLVES = 2000
@@ -80,18 +80,27 @@ def demo_walk(args: argparse.Namespace) -> int:
 def _legged_robot(args: argparse.Namespace, default: str):
     """``(robot, body, feet)`` of ``--robot`` (else ``default``) and ``--feet``, or OptionError."""
     from ..exceptions import RobotDescriptionError, RobotNotFoundError
+    from ..models.feet import body_frame, find_feet
+    from ..models.loader import load_robot
+    from ..vocabulary.axes import resolve_frame
 
-    feet = getattr(args, "feet", None)
+    feet = args.feet
     described = (RobotNotFoundError, RobotDescriptionError)
     with blame("--feet" if feet else "--robot"), blame("--robot", only=described):
-        loaded = _stand_robot(default if args.robot is None else args.robot, feet)
-    robot = loaded[0]
+        robot = load_robot(default if args.robot is None else args.robot)
+        if feet is None:
+            found = find_feet(robot)
+            body, feet = found.body, list(found.feet)
+        else:
+            for frame in feet:
+                resolve_frame(robot.model, frame, "foot")
+            body, feet = body_frame(robot.model, robot.floating_base), list(feet)
     if not robot.floating_base:
         raise OptionError(
             f"argument --robot: robot {robot.name!r} has a fixed base: {args.name} needs a "
             "legged robot, whose base floats (the robots command lists them)"
         )
-    return loaded
+    return robot, body, feet
 
 
 def sweep_command(args: argparse.Namespace) -> int:
@@ -180,15 +189,14 @@ def run(args: argparse.Namespace) -> int:
     """
     if args.command == "demo":
         if args.name == "stand":
-            _demo_stand(_legged_robot(args, "solo12"), args)
+            _demo_stand(args)
             return 0
         return demo_walk(args)
     if args.command == "example":
         from ..examples import EXAMPLES
 
         example = EXAMPLES[args.name]()
-        solution = example.solution
-        show_static(args, example.robot, example.q, solution, example.actuator, solution.requested)
+        show_static(args, example.robot, example.q, example.solution, example.actuator)
     elif args.command == "sweep":
         return sweep_command(args)
     elif args.command == "robots":
@@ -198,27 +206,12 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _stand_robot(name: str, feet: Sequence[str] | None):
-    """``(robot, body frame, foot frames)`` of a loaded robot (``feet`` None: found on it)."""
-    import virtual_actuators as va
-    from virtual_actuators.models.feet import body_frame, find_feet
-    from virtual_actuators.vocabulary.axes import resolve_frame
-
-    robot = va.load_robot(name)
-    if feet is None:
-        found = find_feet(robot)
-        return robot, found.body, list(found.feet)
-    for frame in feet:
-        resolve_frame(robot.model, frame, "foot")
-    return robot, body_frame(robot.model, robot.floating_base), list(feet)
-
-
-def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
-    """Print ``(robot, body, feet)``'s body actuator distribution (and show it with ``--viz``)."""
+def _demo_stand(args: argparse.Namespace) -> None:
+    """Print the body actuator distribution of ``--robot`` (and show it with ``--viz``)."""
     import virtual_actuators as va
     from virtual_actuators.models.standing import standing_pose
 
-    robot, body_frame, feet = loaded
+    robot, body_frame, feet = _legged_robot(args, "solo12")
     q = standing_pose(robot, feet)  # _legged_robot refused a fixed base
     weight = robot.mass * 9.81  # [N]
     contact = "point" if len(feet) >= 3 else "flat"
@@ -231,7 +224,7 @@ def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
     )
     wrench = np.array([2.0, 0.0, weight, 0.1, -0.2, 0.05])  # [N, N m] in the body frame
     sol = body.solve(q, wrench)
-    print_solution("body actuator (minimum-norm distribution)", robot, body, q, wrench, sol)
+    print_solution("body actuator (minimum-norm distribution)", robot, body, sol)
     shown, actuator = sol, body
     timed = [("minimum-norm", body)]
     if len(feet) == 4 and contact == "point":
@@ -247,8 +240,7 @@ def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
             robot, action=body_frame, reactions=feet, reference=body_frame, design=design
         )
         shown, actuator = square.solve(q, wrench), square
-        title = "with six design constraints (square, partitioned)"
-        print_solution(title, robot, square, q, wrench, shown)
+        print_solution("with six design constraints (square, partitioned)", robot, square, shown)
         timed.append(("partitioned", square))
     for name, timed_actuator in timed:
         start = time.perf_counter()
@@ -256,4 +248,4 @@ def _demo_stand(loaded: tuple, args: argparse.Namespace) -> None:
             timed_actuator.solve(q, wrench)
         elapsed = (time.perf_counter() - start) / STAND_SOLVES * 1e6
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
-    show_static(args, robot, q, shown, actuator, wrench)
+    show_static(args, robot, q, shown, actuator)

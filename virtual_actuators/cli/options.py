@@ -88,7 +88,6 @@ def _viewer_arguments(parser: argparse.ArgumentParser, walks: bool = False) -> N
 
 
 def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
-    hexapod = "hexapod-walk: "
     demo.add_argument(
         "--direction",
         type=direction_degrees,
@@ -126,7 +125,7 @@ def _hexapod_arguments(demo: argparse.ArgumentParser) -> None:
     demo.add_argument(
         "--pendulum",
         action="store_true",
-        help=hexapod + "balance a 0.30 m, 0.18 kg pendulum on the back with an LQR",
+        help="hexapod-walk: balance a 0.30 m, 0.18 kg pendulum on the back with an LQR",
     )
     demo.add_argument(
         "--track",
@@ -166,6 +165,11 @@ def _robot_arguments(demo: argparse.ArgumentParser) -> None:
         metavar="FRAME,FRAME,...",
         help="stand, legged: the foot frames (when the robot's own cannot be found)",
     )
+
+
+def wants_viewer(args: argparse.Namespace) -> bool:
+    """Whether the command asked for a viewer (``--viz`` or ``--record``)."""
+    return bool(getattr(args, "viz", False) or getattr(args, "record", None))
 
 
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:

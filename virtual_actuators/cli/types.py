@@ -222,18 +222,32 @@ def frame_list(text: str) -> tuple[str, ...]:
 
 
 def value_range(text: str) -> list[float]:
-    """``sweep --speed``: ``START:STOP:STEP`` (stop included) or ``a,b,c``.
+    """``sweep --speed``: ``START:STOP:STEP`` (stop included) or ``a,b,c`` (or ``0.5``).
 
     Raises:
-        argparse.ArgumentTypeError: Otherwise (with the reason).
+        argparse.ArgumentTypeError: Not numbers, a step <= 0, more than 1000 values, or a value
+            that is not a `walking_speed`.
     """
-    from ..demos.sweep import parse_range
-    from ..exceptions import VirtualActuatorError
-
     try:
-        values = parse_range(text)
-    except VirtualActuatorError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
+        if ":" in text:
+            start, stop, step = (float(part) for part in text.split(":"))
+            if not (step > 0 and math.isfinite(start) and math.isfinite(stop)):
+                raise ValueError("step must be > 0")
+            if stop < start:
+                raise ValueError("stop is below start")
+            span = (stop - start) / step
+            if not math.isfinite(span) or span > 1000:
+                raise ValueError("more than 1000 values")
+            count = math.floor(span + 1e-9) + 1
+            values = [round(start + k * step, 10) for k in range(max(count, 0))]
+        else:
+            values = [float(part) for part in text.split(",")]
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(
+            f"expected START:STOP:STEP or comma-separated numbers, got {text!r} ({error})."
+        ) from None
+    if not values or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"no finite values in {text!r}.")
     for value in values:
         walking_speed(repr(value))
     return values

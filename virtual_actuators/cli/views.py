@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 
+from .options import wants_viewer
 from .usage_errors import writing
 
 
@@ -29,7 +30,7 @@ def _joint_table(robot, tau: np.ndarray) -> str:
     return "\n".join(lines)
 
 
-def print_solution(title: str, robot, body, q, wrench, sol) -> None:
+def print_solution(title: str, robot, body, sol) -> None:
     """Print a parallel actuator's sizes, partition, per-chain forces and joint efforts."""
     print(f"\n== {title}")
     sizes = body.sizes()
@@ -45,11 +46,6 @@ def print_solution(title: str, robot, body, q, wrench, sol) -> None:
     print(sol.table())
     print("\njoint efforts:")
     print(_joint_table(robot, sol.tau))
-
-
-def wants_viewer(args: argparse.Namespace) -> bool:
-    """Whether the command asked for a viewer (``--viz`` or ``--record``)."""
-    return bool(getattr(args, "viz", False) or getattr(args, "record", None))
 
 
 def _nice_scale(force: float, length: float) -> float:
@@ -123,7 +119,7 @@ def serve() -> None:
     print("viewer: stopped")
 
 
-def show_static(args: argparse.Namespace, robot, q, solution, actuator, wrench) -> None:
+def show_static(args: argparse.Namespace, robot, q, solution, actuator) -> None:
     """Show one configuration with an actuator's distribution (``--viz`` / ``--record``)."""
     if not wants_viewer(args):
         return

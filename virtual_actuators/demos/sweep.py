@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 import os
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass
@@ -54,35 +53,6 @@ class SweepResult:
     steps: int
     realtime_factor: float
     error: str = ""
-
-
-def parse_range(text: str) -> list[float]:
-    """``"0.3:0.6:0.05"`` (start:stop:step, stop included) or ``"0.3,0.4"`` or ``"0.5"``.
-
-    Raises:
-        InvalidInputError: Not numbers, a step <= 0, or more than 1000 values.
-    """
-    try:
-        if ":" in text:
-            start, stop, step = (float(part) for part in text.split(":"))
-            if not (step > 0 and math.isfinite(start) and math.isfinite(stop)):
-                raise ValueError("step must be > 0")
-            if stop < start:
-                raise ValueError("stop is below start")
-            span = (stop - start) / step
-            if not math.isfinite(span) or span > 1000:
-                raise ValueError("more than 1000 values")
-            count = math.floor(span + 1e-9) + 1
-            values = [round(start + k * step, 10) for k in range(max(count, 0))]
-        else:
-            values = [float(part) for part in text.split(",")]
-    except ValueError as error:
-        raise InvalidInputError(
-            f"expected START:STOP:STEP or comma-separated numbers, got {text!r} ({error})."
-        ) from None
-    if not values or not all(math.isfinite(v) for v in values):
-        raise InvalidInputError(f"no finite values in {text!r}.")
-    return values
 
 
 def grid(

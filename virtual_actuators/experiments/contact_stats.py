@@ -1,8 +1,6 @@
 """Are the feet in support pushing and not sliding? Measured on MuJoCo's contact forces.
 
-Each supporting foot's contacts are split in their own frames into normal forces and
-tangential magnitudes; a foot's friction ratio is ``sum |f_t| / sum f_n``. A foot is read from
-`SETTLE_TIME` after it enters support (a touchdown is an impact).
+The figures are defined on the "Command line" page (a walk's stance figures).
 """
 
 from __future__ import annotations

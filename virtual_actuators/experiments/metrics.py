@@ -13,9 +13,8 @@ from typing import Any
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.channels import resolve_step_states
 from virtual_actuators.experiments.smoothness import SmoothnessFigures
-from virtual_actuators.experiments.walk_log import WalkLog
+from virtual_actuators.experiments.walk_log import WalkLog, resolve_step_states
 from virtual_actuators.vocabulary.arguments import check_number
 
 __all__ = ["WalkMetrics", "compute_metrics", "write_json"]

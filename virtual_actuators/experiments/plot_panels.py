@@ -14,13 +14,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from virtual_actuators.exceptions import import_optional
-from virtual_actuators.experiments.channels import resolve_step_states
+from virtual_actuators.experiments.walk_log import WalkLog, resolve_step_states
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-
-    from virtual_actuators.experiments.walk_log import WalkLog
 
 
 ACTUAL_STYLE = {"color": "C0", "lw": 1.2}
@@ -232,18 +230,12 @@ def body_height_world(log: WalkLog, terrain: np.ndarray) -> np.ndarray | None:
     return None
 
 
-def terrain_panel(
-    ax: Axes,
-    terrain: np.ndarray,
-    body_x: np.ndarray,
-    body_z: np.ndarray | None,
-    *,
-    xlim: tuple[float, float],
-) -> None:
-    """Draw the terrain profile (filled) over ``xlim`` and the body path above it."""
+def terrain_panel(ax: Axes, log: WalkLog, terrain: np.ndarray) -> None:
+    """Draw the terrain profile (filled) over the walked x range and the body path above it."""
+    body_x, body_z = log["x"], body_height_world(log, terrain)
+    lo, hi = _x_range(body_x, terrain)
     order = np.argsort(terrain[:, 0], kind="stable")
     tx, tz = terrain[order, 0], terrain[order, 1]
-    lo, hi = xlim
     inside = (tx >= lo) & (tx <= hi)
     visible = np.concatenate((tz[inside], np.interp([lo, hi], tx, tz)))
     tops = [float(np.max(visible))]
@@ -260,3 +252,13 @@ def terrain_panel(
     ax.set_ylim(bottom - pad, top + pad)
     ax.set_ylabel("world z [m]")
     ax.grid(True, lw=0.4, alpha=0.5)
+
+
+def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
+    """The walked x range with a small margin (the terrain's range if x is not finite)."""
+    finite = x[np.isfinite(x)]
+    if finite.size == 0:
+        return float(np.min(terrain[:, 0])), float(np.max(terrain[:, 0]))
+    lo, hi = float(np.min(finite)), float(np.max(finite))
+    pad = 0.03 * max(hi - lo, 0.1)
+    return lo - pad, hi + pad

@@ -14,12 +14,11 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
 
-# ACTUAL_STYLE, SETPOINT_STYLE, save_figure: re-exported for hexapod_plots until it moves (issue 25)
+# ACTUAL_STYLE, SETPOINT_STYLE: re-exported for gaits.hexapod.plots until it moves (issue 25)
 from virtual_actuators.experiments.plot_panels import ACTUAL_STYLE as ACTUAL_STYLE
 from virtual_actuators.experiments.plot_panels import (
     DESIRED_SPEED,
     FORCE_STYLE,
-    body_height_world,
     draw_series,
     draw_state_panel,
     fall_marks,
@@ -30,7 +29,6 @@ from virtual_actuators.experiments.plot_panels import (
     terrain_panel,
 )
 from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
-from virtual_actuators.experiments.plot_panels import save_figure as save_figure
 from virtual_actuators.experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
@@ -169,15 +167,13 @@ def _time_layout(
     _draw_panels(left, right, t, log, panels, stride, "time [s]")
     first.set_xlim(float(t[0]), float(t[-1]))
     if terrain is not None:
-        x = log["x"]
-        xlim = _x_range(x, terrain)
         has_slope = log.has("global_slope")
         ax_t = fig.add_subplot(grid[4, 0] if has_slope else grid[4, :])
-        terrain_panel(ax_t, terrain, x, body_height_world(log, terrain), xlim=xlim)
+        terrain_panel(ax_t, log, terrain)
         ax_t.set_xlabel("x [m]")
         if has_slope:
             ax_s = fig.add_subplot(grid[4, 1], sharex=ax_t)
-            draw_series(ax_s, x, log, "global_slope", "global slope [rad]", stride=stride)
+            draw_series(ax_s, log["x"], log, "global_slope", "global slope [rad]", stride=stride)
             ax_s.set_xlabel("x [m]")
     return fig, axes, t
 
@@ -201,16 +197,6 @@ def _draw_panels(
         ax.set_xlabel(xlabel)
 
 
-def _x_range(x: np.ndarray, terrain: np.ndarray) -> tuple[float, float]:
-    """The walked x range with a small margin (the terrain's range if x is not finite)."""
-    finite = x[np.isfinite(x)]
-    if finite.size == 0:
-        return float(np.min(terrain[:, 0])), float(np.max(terrain[:, 0]))
-    lo, hi = float(np.min(finite)), float(np.max(finite))
-    pad = 0.03 * max(hi - lo, 0.1)
-    return lo - pad, hi + pad
-
-
 def _terrain_layout(
     log: WalkLog, terrain: np.ndarray, stride: slice, dpi: float
 ) -> tuple[Figure, list[Axes], np.ndarray]:
@@ -221,7 +207,7 @@ def _terrain_layout(
     right_grid = columns[0, 1].subgridspec(4, 1)
     x = log["x"]
     top = fig.add_subplot(left_grid[0, 0])
-    terrain_panel(top, terrain, x, body_height_world(log, terrain), xlim=_x_range(x, terrain))
+    terrain_panel(top, log, terrain)
     left = [fig.add_subplot(left_grid[r, 0], sharex=top) for r in range(1, 5)]
     right = [fig.add_subplot(right_grid[r, 0], sharex=top) for r in range(4)]
     panels = [

@@ -9,13 +9,13 @@ from typing import Any
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.channels import (
+from virtual_actuators.experiments.walk_log import (
     STANDARD_CHANNELS,
     STATE_CHANNEL,
+    WalkLog,
     check_names,
     unknown_name,
 )
-from virtual_actuators.experiments.walk_log import WalkLog
 
 
 class Recorder:
@@ -81,7 +81,7 @@ class Recorder:
         self._buffer = np.full((int(capacity), self._nchan), np.nan)
         self._state = np.full(int(capacity), -1, dtype=np.int64)
         self._n = 0
-        #: Run description (see the module docstring for the standard keys); copied by to_log.
+        #: Run description (standard keys on the "Command line" page); copied by to_log.
         self.metadata: dict[str, Any] = dict(metadata or {})
 
     def __len__(self) -> int:

@@ -1,4 +1,8 @@
-"""A recorded walking run (`WalkLog`): channels, states, metadata, ``.npz`` storage."""
+"""A recorded walking run (`WalkLog`): channels, states, metadata, ``.npz`` storage.
+
+The standard channels, their units and the metadata keys are described on the "Command line"
+page.
+"""
 
 from __future__ import annotations
 
@@ -11,34 +15,111 @@ from typing import Any
 
 import numpy as np
 
-from virtual_actuators.exceptions import InvalidInputError
-from virtual_actuators.experiments.channels import (
-    STANDARD_CHANNELS,
-    STATE_CHANNEL,
-    UNITS,
-    check_names,
-    unknown_name,
-)
+from virtual_actuators.exceptions import InvalidInputError, closest_names
 
-__all__ = ["STANDARD_CHANNELS", "UNITS", "WalkLog"]
+__all__ = ["STANDARD_CHANNELS", "WalkLog"]
 
 #: Version of the ``.npz`` layout, and the prefix of its entries that hold metadata arrays.
 NPZ_FORMAT = 1
 META_ARRAY_PREFIX = "meta_array__"
 
 
+#: The float channels recorded by the walking demos (the discrete ``state`` is always recorded).
+STANDARD_CHANNELS: tuple[str, ...] = tuple(
+    "time x z z_world pitch xdot x_setpoint z_setpoint pitch_setpoint xdot_setpoint fx fz m_pitch "
+    "global_slope fallen".split()
+)
+
+STATE_CHANNEL = "state"
+
+
+def unknown_name(name: object, valid: Sequence[str], what: str) -> InvalidInputError:
+    """The error for a name that is not one of ``valid`` (naming it and the valid ones)."""
+    listed = ", ".join(repr(v) for v in valid)
+    hint = closest_names(str(name), valid, n=3)
+    did_you_mean = f" Did you mean {', '.join(repr(h) for h in hint)}?" if hint else ""
+    return InvalidInputError(f"Unknown {what} {name!r}; valid {what}s: {listed}.{did_you_mean}")
+
+
+def check_names(names: Iterable[object], what: str) -> tuple[str, ...]:
+    """``names`` as a tuple of non-empty unique strings.
+
+    Raises:
+        InvalidInputError: Naming the first bad name.
+    """
+    out: list[str] = []
+    for name in names:
+        if not isinstance(name, str) or not name:
+            raise InvalidInputError(f"{what}: every name must be a non-empty str, got {name!r}.")
+        if name in out:
+            raise InvalidInputError(f"{what}: {name!r} is given twice.")
+        out.append(name)
+    return tuple(out)
+
+
+def default_step_states(state_names: Iterable[str]) -> tuple[str, ...]:
+    """Guess the single-support states from their names.
+
+    A name counts when it contains ``single``, or ``support`` but neither ``double`` nor a final
+    ``2`` (the seed's buffer states "Left Support 2" follow a step, they do not start one).
+    """
+    out = []
+    for name in state_names:
+        low = name.lower()
+        if "single" in low or (
+            "support" in low and "double" not in low and not low.rstrip().endswith("2")
+        ):
+            out.append(name)
+    return tuple(out)
+
+
+def resolve_step_states(
+    state_names: Sequence[str],
+    metadata: dict,
+    step_states: Iterable[str] | None = None,
+    key: str = "step_states",
+) -> tuple[str, ...]:
+    """The step states: ``step_states``, else ``metadata[key]``, else the guess from the names.
+
+    ``key`` is ``"step_states"`` (guessed by `default_step_states`) or
+    ``"double_support_states"`` (guessed as the names that contain ``double``).
+
+    Raises:
+        InvalidInputError: If a given name is not a state of the log (the message names it and
+            lists the valid ones).
+    """
+    source = key
+    if step_states is None:
+        step_states = metadata.get(key)
+        source = f"metadata[{key!r}]"
+    if step_states is None:
+        if key == "step_states":
+            return default_step_states(state_names)
+        return tuple(s for s in state_names if "double" in s.lower())
+    if isinstance(step_states, str):
+        step_states = (step_states,)
+    names = tuple(str(s) for s in step_states)
+    for name in names:
+        if name not in state_names:
+            listed = ", ".join(repr(s) for s in state_names) or "none"
+            raise InvalidInputError(
+                f"{source}: {name!r} is not a state of the log; valid states: {listed}."
+            )
+    return names
+
+
 @dataclass(eq=False)
 class WalkLog:
     """A recorded run: one float array per channel, the discrete state, and metadata.
 
-    Build one with `Recorder.to_log`, `from_arrays` or `load_npz`.
+    Build one with `Recorder.to_log` or `load_npz`, or from whole arrays.
 
     Attributes:
         data: Channel name -> ``(n,)`` float64 array; ``"time"`` [s] is required, finite and
             non-decreasing.
         state: ``(n,)`` int64 index into ``state_names`` per tick; -1 when unknown.
         state_names: Names of the discrete states.
-        metadata: Run description (standard keys in `channels`).
+        metadata: Run description (standard keys on the "Command line" page).
     """
 
     data: dict[str, np.ndarray]
@@ -100,33 +181,6 @@ class WalkLog:
             raise InvalidInputError(f"metadata must be a dict, got {type(self.metadata).__name__}.")
         self.metadata = dict(self.metadata)
 
-    @classmethod
-    def from_arrays(
-        cls,
-        *,
-        state: Sequence[int] | np.ndarray | None = None,
-        state_names: Sequence[str] = (),
-        metadata: Mapping[str, Any] | None = None,
-        **channels: Sequence[float] | np.ndarray,
-    ) -> WalkLog:
-        """Build a log from whole arrays.
-
-        Args:
-            state: ``(n,)`` state indices; all -1 (unknown) when omitted.
-            state_names: Names of the states.
-            metadata: Run description.
-            **channels: Channel name -> ``(n,)`` values; ``time`` is required.
-
-        Raises:
-            InvalidInputError: If a channel is missing, misshapen or inconsistent.
-        """
-        return cls(
-            data=dict(channels),
-            state=np.zeros(0, dtype=np.int64) if state is None else np.asarray(state),
-            state_names=tuple(state_names),
-            metadata=dict(metadata or {}),
-        )
-
     def __len__(self) -> int:
         return int(self.data["time"].shape[0])
 
@@ -152,11 +206,6 @@ class WalkLog:
     def time(self) -> np.ndarray:
         """``(n,)`` time of each tick [s]."""
         return self.data["time"]
-
-    @property
-    def duration(self) -> float:
-        """Time from the first to the last tick [s] (0 for fewer than two ticks)."""
-        return float(self.time[-1] - self.time[0]) if len(self) > 1 else 0.0
 
     def channel(self, name: str) -> np.ndarray:
         """The ``(n,)`` array of channel ``name`` (``"state"``: the state indices).

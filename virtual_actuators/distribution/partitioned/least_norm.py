@@ -13,7 +13,7 @@ from ...exceptions import ConstraintError, SingularConfigurationError
 from ..linalg import backward_tolerance, constrained_min_norm, safe_inverse, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
+from ..tolerances import DEGENERATE, ILL_CONDITIONED
 
 
 def least_norm_forces(
@@ -61,15 +61,9 @@ def least_norm_forces(
     hard_y = np.hstack(hard_blocks) / norms[:, None]
     hard_rhs = (ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)) / norms
     y, _ = constrained_min_norm(
-        hard_y, hard_rhs, soft, soft_rhs, RCOND, hard_scale=1.0, soft_scale=float(np.sqrt(p))
+        hard_y, hard_rhs, soft, soft_rhs, hard_scale=1.0, soft_scale=float(np.sqrt(p))
     )
-    forces = particular.copy()
-    start = 0
-    for group, basis in zip(problem.groups, bases, strict=True):
-        g, d = group.size, basis.shape[2]
-        local = y[start : start + g * d].reshape(g, d)
-        forces[group.chains] += np.einsum("gnd,gd->gn", basis, local)
-        start += g * d
+    forces = problem.forces(bases, y, particular)
     if hard.shape[0]:
         rows = hard.reshape(hard.shape[0], p * n)
         residual = stable_norm(rows @ forces.ravel() - ev.hard_rhs)

@@ -70,7 +70,7 @@ class DenseSolver:
         """
         p, n = self.problem.p, self.problem.n
         # K's rows: the prescribed axes of sum_i F_i (soft), the natural then design rows (hard)
-        soft, soft_rhs = np.tile(np.eye(n), (1, p))[keep], wrench[keep]
+        soft, soft_rhs = self.problem.sum_rows(keep), wrench[keep]
         natural, natural_rhs = self.problem.block_natural(ev)
         hard = np.vstack((natural, ev.hard_rows.reshape(-1, p * n)))
         hard_rhs = np.concatenate((natural_rhs, ev.hard_rhs))

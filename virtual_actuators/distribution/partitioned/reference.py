@@ -71,7 +71,7 @@ class _Reduced:
     """The reduced system at one configuration (after eliminating the CFS)."""
 
     transforms: list[np.ndarray]  # per group (g, n, d): F_i = T_i f_ia + w_i
-    offsets: list[np.ndarray]  # per group (g, n)
+    offsets: np.ndarray  # (p, n) the w_i
     wrench_rows: np.ndarray  # (n, m)
     hard_rows: np.ndarray  # (s, m)
     hard_rhs: np.ndarray  # (s,)
@@ -148,7 +148,8 @@ class PartitionedSolver:
     def _reduce(self, ev: Evaluation) -> _Reduced:
         problem = self.problem
         n = problem.n
-        transforms, offsets, wrench_blocks, hard_blocks = [], [], [], []
+        transforms, wrench_blocks, hard_blocks = [], [], []
+        offsets = np.zeros((problem.p, n))
         used_cfs, used_free = [], []
         hard_rhs = ev.hard_rhs.copy()
         offset_sum = np.zeros(n)
@@ -169,7 +170,7 @@ class PartitionedSolver:
             used_free.append(free)
             transform[chains, free, np.arange(d)[None, :]] = 1.0
             transforms.append(transform)
-            offsets.append(offset)
+            offsets[group.chains] = offset
             offset_sum += offset.sum(axis=0)
             wrench_blocks.append(transform.transpose(1, 0, 2).reshape(n, g * d))
             hard = ev.hard_rows[:, group.chains, :]
@@ -265,7 +266,7 @@ class PartitionedSolver:
                 if rfs_solved:
                     systems += (("RFS", len(plan.rfs), 1),)
                 systems += (("MFS", len(plan.mfs), 1),)
-                forces = self._forces(reduced, f)
+                forces = self.problem.forces(reduced.transforms, f, reduced.offsets)
                 return RawSolution(forces=forces, method="partitioned", sets=sets, systems=systems)
         # constraints exact, the request as close as possible, then the least norm
         forces = least_norm_forces(self.problem, ev, wrench, keep)
@@ -294,18 +295,6 @@ class PartitionedSolver:
             plan = plan_square(hard_rows, self.num_free_entries, self._hard_rows_constant())
             self._plans[free_key] = plan
         return plan
-
-    def _forces(self, reduced: _Reduced, f: np.ndarray) -> np.ndarray:
-        forces = np.empty((self.problem.p, self.problem.n))
-        start = 0
-        for group, transform, offset in zip(
-            self.problem.groups, reduced.transforms, reduced.offsets, strict=True
-        ):
-            g, d = group.size, group.num_free
-            local = f[start : start + g * d].reshape(g, d)
-            forces[group.chains] = np.einsum("gnd,gd->gn", transform, local) + offset
-            start += g * d
-        return forces
 
     def _solve_square(
         self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, keep: np.ndarray

@@ -219,14 +219,7 @@ class DistributionProblem:
             self._group_rows(group, jac, offsets, passive, check_singular) for group in self.groups
         ]
         hard_rows, hard_rhs = self._hard_rows(jac, passive)
-        return Evaluation(
-            q=q,
-            state=state,
-            groups=groups,
-            hard_rows=hard_rows,
-            hard_rhs=hard_rhs,
-            passive_torque=passive,
-        )
+        return Evaluation(state, groups, hard_rows, hard_rhs, passive)
 
     def _group_rows(
         self,
@@ -294,6 +287,10 @@ class DistributionProblem:
             return np.concatenate(hard_rows, axis=0), np.concatenate(hard_rhs)
         return hard_rows[0], hard_rhs[0]
 
+    def sum_rows(self, keep: np.ndarray) -> np.ndarray:
+        """``(k, p n)``: the rows summing the chains' forces on the prescribed axes ``keep``."""
+        return np.tile(np.eye(self.n), (1, self.p))[keep]
+
     def signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
         """``(p, len(velocity_indices))`` chain signs at those columns (0 at index -1)."""
         return self._signs[:, velocity_indices]
@@ -311,6 +308,17 @@ class DistributionProblem:
                 rhs[row : row + l_] = rows.rhs[j]
                 row += l_
         return matrix, rhs
+
+    def forces(self, bases: list[np.ndarray], y: np.ndarray, offset: np.ndarray) -> np.ndarray:
+        """``(p, n)`` forces ``F_i = offset_i + B_i y_i``: ``bases`` per group ``(g, n, d)``."""
+        forces = offset.copy()
+        start = 0
+        for group, basis in zip(self.groups, bases, strict=True):
+            g, d = group.size, group.num_free
+            local = y[start : start + g * d].reshape(g, d)
+            forces[group.chains] += np.einsum("gnd,gd->gn", basis, local)
+            start += g * d
+        return forces
 
     def torques(self, jacobian_o: np.ndarray, forces: np.ndarray) -> np.ndarray:
         """Total joint torques ``sum_i J_i^T F_i`` of a distribution ``forces`` ``(p, n)``.
@@ -343,9 +351,7 @@ class DistributionProblem:
             for q in self.generic_configurations():
                 ev = self.evaluate(q, check_singular=False)
                 natural, _ = self.block_natural(ev)
-                k = np.vstack(
-                    (np.tile(np.eye(n), (1, p))[keep], natural, ev.hard_rows.reshape(-1, p * n))
-                )
+                k = np.vstack((self.sum_rows(keep), natural, ev.hard_rows.reshape(-1, p * n)))
                 if k.shape[0] == k.shape[1] and np.linalg.matrix_rank(k) == k.shape[0]:
                     cached = False
                     break

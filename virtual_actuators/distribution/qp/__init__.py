@@ -1,6 +1,6 @@
 """The contact-aware distribution as a quadratic program (``solve(..., method="qp")``)."""
 
-from .limits import ContactLimits, torque_map
+from .limits import ContactLimits
 from .solver import QPDistribution, check_weights
 from .stages import BUDGET_EXHAUSTED, CONFLICT_MAX_ITER, EXACT_MAX_ITER, ITERATION_BUDGET
 
@@ -12,5 +12,4 @@ __all__ = [
     "ContactLimits",
     "QPDistribution",
     "check_weights",
-    "torque_map",
 ]

@@ -30,7 +30,6 @@ class ContactLimits:
         torque_limits: bool | Sequence[float] | np.ndarray,
     ) -> None:
         self.contacts = contacts
-        self.min_normal, self.normal_row = contacts.min_normal, contacts.normal_row
         on_chain = np.zeros(problem.model.nv, dtype=bool)
         on_chain[np.concatenate(problem.kinematics.chain_columns)] = True
         limits = TorqueLimits(problem.model, torque_limits, on_chain, problem.actuated_mask)
@@ -39,11 +38,6 @@ class ContactLimits:
         self.tables = {**contacts.tables(), "limited_v": limits.limited_v, "limits": limits.limits}
         #: the inequality rows' names, in the order both paths build the rows
         self.row_names = [*contacts.names, *limits.names(problem.joint_name)]
-
-    @property
-    def frame_normals(self) -> np.ndarray:
-        """``(p,)`` whether each contact normal is its reaction frame's z axis."""
-        return self.contacts.normals.frame
 
     def rows(self, state: object, torque_map: np.ndarray) -> Constraint:
         """``lows <= G x <= uppers`` over ``x = forces.ravel()``, with a name per row.

@@ -98,13 +98,11 @@ class QPDistribution:
         self.stages = ProxStages(proxqp, limits.row_names, problem.reactions)
         #: ProxQP iterations one solve may use, all stages together
         self.iteration_budget = ITERATION_BUDGET
-        #: per set of prescribed axes: the rows summing the chains' forces on them
-        self._selects: dict[bytes, np.ndarray] = {}
         #: the active rows' names by their indices' bytes (the sets recur tick after tick)
         self._active_names: dict[bytes, tuple[str, ...]] = {}
         #: the scale's static part: the least normal force and constant right-hand sides
         self._static_scale = max(
-            limits.min_normal if limits.normal_row else 0.0,
+            limits.contacts.min_normal if limits.contacts.normal_row else 0.0,
             float(np.abs(problem.constant_rhs).max(initial=0.0)),
         )
         self.matrices = CompiledQPMatrices(
@@ -231,9 +229,8 @@ class QPDistribution:
         hot = getattr(self._local, "workspace", None)  # for the last prescribed axes
         if hot is None or hot[0] is not keep:
             work = self.matrices.workspace(keep)
-            slot = self.stages.exact_slot(
-                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
-            )
+            sizes = (work.equality.shape[1], len(work.equality_rhs), len(work.lows))
+            slot = self.stages.slot(("free", "exact", *sizes))
             hot = self._local.workspace = (keep, work, slot)
         return hot[1], hot[2]
 
@@ -273,7 +270,7 @@ class QPDistribution:
         ev = problem.evaluate(snapshot, check_singular=False)
         natural, natural_rhs = problem.block_natural(ev)
         hard = ev.hard_rows.reshape(len(ev.hard_rhs), p * n)
-        select = self._select(keep)
+        select = problem.sum_rows(keep)
         equality = np.vstack((natural, hard, select))
         equality_rhs = np.concatenate((natural_rhs, ev.hard_rhs, wrench[keep]))
         tmap = torque_map(problem, ev.state.jacobian_o)
@@ -317,14 +314,6 @@ class QPDistribution:
             ev.passive_torque,
             accuracy=EPS_ABS * 10 * scale,
         )
-
-    def _select(self, keep: np.ndarray) -> np.ndarray:
-        """``(k, p n)``: the rows summing the chains' forces on the prescribed axes."""
-        select = self._selects.get(keep.tobytes())
-        if select is None:
-            select = np.tile(np.eye(self.problem.n), (1, self.problem.p))[keep]
-            self._selects[keep.tobytes()] = select
-        return select
 
 
 __all__ = ["ContactLimits", "PlanTables", "QPDistribution", "check_weights", "torque_map"]

@@ -101,11 +101,8 @@ class ProxStages:
         """Drop this thread's workspaces: the next solve starts cold."""
         self._local.__dict__.clear()
 
-    def exact_slot(self, path: str, size: int, equalities: int, inequalities: int) -> ProxSlot:
-        """This thread's workspace of stage 1 for a family and sizes (made on first use)."""
-        return self._slot((path, "exact", size, equalities, inequalities))
-
-    def _slot(self, key: tuple) -> ProxSlot:
+    def slot(self, key: tuple) -> ProxSlot:
+        """This thread's workspace of ``key`` (family, stage, sizes), made on first use."""
         cache = getattr(self._local, "qps", None)
         if cache is None:
             cache = self._local.qps = {}
@@ -116,7 +113,7 @@ class ProxStages:
 
     def _workspace(self, key: tuple) -> object:
         """The ``proxqp.dense.QP`` of a slot, made on first use (most ticks never run ProxQP)."""
-        slot = self._slot(key)
+        slot = self.slot(key)
         if slot.qp is None:
             qp = self._proxqp.dense.QP(*key[2:])
             qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
@@ -141,7 +138,7 @@ class ProxStages:
         rows ``x`` must meet; ``budget`` is charged.
         """
         proxqp = self._proxqp
-        slot = self._slot(key)
+        slot = self.slot(key)
         qp, fresh = self._workspace(key), slot.fresh
         warm = key[1] == "exact"
         qp.settings.max_iter = min(EXACT_MAX_ITER, (budget.left + 1) // 2) if warm else budget.left
@@ -206,7 +203,7 @@ class ProxStages:
         equality, equality_rhs = rows.equality, rows.equality_rhs
         size = equality.shape[1]
         key = (path, "exact", size, len(equality_rhs), len(rows.lows))
-        slot = self.exact_slot(*key[:1], *key[2:])
+        slot = self.slot(key)
         if slot.active is not None:  # the last answer's active set, certified again
             certified, x, z = self._exact(rows, weights, None, slot.active, True)
             if certified:

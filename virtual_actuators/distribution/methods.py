@@ -65,6 +65,3 @@ def dispatch(
         if tick is not None:
             return tick
     raise RuntimeError(f"No backend of method {request.method!r} answered.")
-
-
-__all__ = ["METHODS", "Backend", "Request", "dispatch"]

@@ -282,13 +282,3 @@ class CompiledDistribution:
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
-
-
-__all__ = [
-    "BufferSolve",
-    "CompiledDistribution",
-    "ConfigurationSolve",
-    "PackedMode",
-    "SnapshotSolve",
-    "spring_table",
-]

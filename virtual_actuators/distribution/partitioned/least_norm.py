@@ -123,6 +123,3 @@ def projected_forces(
     if len(ev.hard_rhs):
         forces += np.einsum("psm,s->pm", hp, multipliers[k:])
     return forces
-
-
-__all__ = ["least_norm_forces", "projected_forces"]

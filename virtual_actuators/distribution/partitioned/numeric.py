@@ -155,6 +155,3 @@ class NumpyBackend:
         torques = functools.partial(problem.torques, ev.state.jacobian_o)
         actuated, passive = problem.actuated_mask, ev.passive_torque
         return close_tick(raw, wrench, keep, torques, actuated, passive, factor)
-
-
-__all__ = ["DenseSolver", "NumpyBackend"]

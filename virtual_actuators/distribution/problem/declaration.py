@@ -222,13 +222,3 @@ def design_rows(
         constant_names,
         torque_names,
     )
-
-
-__all__ = [
-    "Spring",
-    "check_passive",
-    "design_rows",
-    "joint_columns",
-    "label_index",
-    "parse_joints",
-]

@@ -79,6 +79,3 @@ class Evaluation:
     hard_rows: np.ndarray
     hard_rhs: np.ndarray
     passive_torque: np.ndarray
-
-
-__all__ = ["ChainGroup", "Evaluation", "GroupRows"]

@@ -196,6 +196,3 @@ class CompiledQPMatrices:
                 snapshot.jacobian_world, frames, snapshot.q, wrench, *tail
             )
         return None if count < 0 else Answer(out, *norms, active[:count].copy())
-
-
-__all__ = ["CompiledQPMatrices", "Workspace"]

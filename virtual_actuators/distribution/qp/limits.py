@@ -78,6 +78,3 @@ def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarr
         share = jacobian_o[:, columns].transpose(1, 2, 0) * group.signs[:, :, None]  # (g, k, n)
         matrix[columns[:, :, None], targets] += share
     return matrix
-
-
-__all__ = ["ContactLimits", "kinds", "torque_map"]

@@ -314,6 +314,3 @@ class QPDistribution:
             ev.passive_torque,
             accuracy=EPS_ABS * 10 * scale,
         )
-
-
-__all__ = ["ContactLimits", "PlanTables", "QPDistribution", "check_weights", "torque_map"]

@@ -338,7 +338,3 @@ class ProxStages:
         guess = reached.z.copy()
         guess[held] = multipliers[held]
         return exact(reached.x, guess, reached.info.status != converged or not solved)
-
-
-__all__ = ["BUDGET_EXHAUSTED", "CONFLICT_MAX_ITER", "EXACT_MAX_ITER", "ITERATION_BUDGET",
-           "Budget", "ProxStages", "StageRows"]  # fmt: skip

@@ -170,7 +170,7 @@ class CompiledDistribution:
         torque += [(int(a), int(b), 1) for a, b in problem.torque_pairs]
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
         # the chain signs at joints a and b (none at b = -1)
-        at_a, at_b = (problem.signs_at(self.torque_rows[:, i]).T for i in (0, 1))
+        at_a, at_b = (problem.signs[:, self.torque_rows[:, i]].T for i in (0, 1))
         self.torque_signs = np.stack((at_a, at_b), axis=1)
         self._modes: dict[bytes, PackedMode] = {}
         # the chain tables (the partitioner's sets never change after its __init__)

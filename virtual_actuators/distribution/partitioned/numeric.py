@@ -22,7 +22,7 @@ from ..linalg import (
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..result import RawSolution, TickResult, close_tick, no_sets
+from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED
 
 
@@ -101,7 +101,6 @@ class DenseSolver:
         return RawSolution(
             forces=x.reshape(p, n),
             method=method,
-            sets=no_sets(),
             systems=(("dense", k.shape[1], 1),),
             solver="dense",
         )

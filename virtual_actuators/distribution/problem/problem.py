@@ -73,9 +73,9 @@ class DistributionProblem:
         #: limp joints no selected axis loads: their (zero) natural rows are dropped
         self.vacuous_v: tuple[int, ...] = ()
         #: ``(p, nv + 1)`` chain signs by velocity index, 0 off the chain (and at index -1)
-        self._signs = np.zeros((self.p, self.model.nv + 1))
+        self.signs = np.zeros((self.p, self.model.nv + 1))
         for i, signs in enumerate(kinematics.chain_signs):
-            self._signs[i, kinematics.chain_columns[i]] = signs
+            self.signs[i, kinematics.chain_columns[i]] = signs
         self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
@@ -271,18 +271,17 @@ class DistributionProblem:
 
     def _hard_rows(self, jac: np.ndarray, passive: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(s, p, n)`` coupling and design rows over the chains' forces, and their rhs."""
+
+        def torque(v: Sequence[int] | np.ndarray) -> np.ndarray:  # each joint's torque row
+            return np.einsum("ps,ns->spn", self.signs[:, v], jac[:, v])
+
         hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
         if self.coupled_v:
-            cv = self.coupled_v
-            hard_rows.insert(0, np.einsum("ps,ns->spn", self.signs_at(cv), jac[:, cv]))
-            hard_rhs.insert(0, passive[cv])
+            hard_rows.insert(0, torque(self.coupled_v))
+            hard_rhs.insert(0, passive[self.coupled_v])
         if len(self.torque_pairs):
-            va, vb = self.torque_pairs[:, 0], self.torque_pairs[:, 1]
-            hard_rows.append(
-                np.einsum("ps,ns->spn", self.signs_at(va), jac[:, va])
-                - np.einsum("ps,ns->spn", self.signs_at(vb), jac[:, vb])
-            )
-            hard_rhs.append(np.zeros(len(va)))
+            hard_rows.append(torque(self.torque_pairs[:, 0]) - torque(self.torque_pairs[:, 1]))
+            hard_rhs.append(np.zeros(len(self.torque_pairs)))
         if len(hard_rows) > 1:
             return np.concatenate(hard_rows, axis=0), np.concatenate(hard_rhs)
         return hard_rows[0], hard_rhs[0]
@@ -290,10 +289,6 @@ class DistributionProblem:
     def sum_rows(self, keep: np.ndarray) -> np.ndarray:
         """``(k, p n)``: the rows summing the chains' forces on the prescribed axes ``keep``."""
         return np.tile(np.eye(self.n), (1, self.p))[keep]
-
-    def signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
-        """``(p, len(velocity_indices))`` chain signs at those columns (0 at index -1)."""
-        return self._signs[:, velocity_indices]
 
     def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
         """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""

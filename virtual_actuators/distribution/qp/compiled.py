@@ -1,8 +1,6 @@
 """The QP distribution's per-tick matrices through the compiled core: tables built once.
 
-It applies when the core is built, every chain's columns ``[J_i, ball_i]`` are independent and
-no hard row depends on the configuration; otherwise the QP builds its rows with numpy. The core's
-reduced QP (``src/core/qp.hpp``) is in the chains' free coordinates: per chain
+The core's reduced QP (``src/core/qp.hpp``) is in the chains' free coordinates: per chain
 ``F_i = x0_i + N_i z_i``, ``N_i`` orthonormal.
 """
 
@@ -108,7 +106,8 @@ class CompiledQPMatrices:
         self._local = threading.local()
         kin = problem.kinematics
         self._max_row = int(kin.frame_rows.max())
-        #: whether the compiled path can build this declaration's ticks
+        #: whether the compiled path can build this declaration's ticks: with the core, every
+        #: chain's columns ``[J_i, ball_i]`` independent and no configuration-dependent hard row
         self.applicable = (
             has("QP")
             and all(g.rank == g.columns.shape[1] + len(g.ball_axes) for g in problem.groups)

@@ -153,11 +153,9 @@ class QPDistribution:
         """
         keep = request.keep
         weights = self._weights(request)
-        tried = request.compiled and self.matrices.applicable
-        if tried:  # most ticks of a walk: the last certified active set, one compiled call
+        if request.compiled and self.matrices.applicable:  # most ticks: one compiled call
             tick = self._again(snapshot, wrench, keep, weights)
             if tick is not None:
-                self._local.iterations = 0
                 return tick
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
@@ -167,7 +165,7 @@ class QPDistribution:
 
     def plan_tables(self, request: Request) -> PlanTables | None:
         """The tables a compiled plan runs ``request`` with, or None without a compiled path."""
-        if not request.compiled or self.matrices.core is None or not self.matrices.applicable:
+        if not request.compiled or self.matrices.core is None:  # None unless applicable
             return None
         work, slot = self._hot(request.keep)
         tolerances = np.array([ACTIVE_TOL, EXACT_TOL, EPS_ABS])
@@ -193,10 +191,7 @@ class QPDistribution:
         tree = self.problem.kinematics.tree.core_tree
         if not request.compiled or self.matrices.core is None or tree is None:
             return None
-        tick = self._again(q, wrench, request.keep, self._weights(request), tree)
-        if tick is not None:
-            self._local.iterations = 0
-        return tick
+        return self._again(q, wrench, request.keep, self._weights(request), tree)
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """`solve` once `_again` answered None."""
@@ -214,7 +209,7 @@ class QPDistribution:
         return self._tick(answer, results.exhausted)
 
     def _again(self, snapshot, wrench, keep, weights, tree=None) -> TickResult | None:
-        """The tick on the last certified active set, in one compiled call, or None.
+        """The tick on the last certified active set, in one compiled call (no ProxQP), or None.
 
         ``snapshot`` is a checked configuration when ``tree`` is the core's ``Tree``.
         """
@@ -222,7 +217,10 @@ class QPDistribution:
         if slot.active is None:
             return None
         answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active, tree)
-        return None if answer is None else self._tick(answer, False)
+        if answer is None:
+            return None
+        self._local.iterations = 0
+        return self._tick(answer, False)
 
     def _hot(self, keep: np.ndarray) -> tuple:
         """This thread's workspace for ``keep`` and the stage-1 slot of the same sizes."""

@@ -71,9 +71,7 @@ class DenseSolver:
         p, n = self.problem.p, self.problem.n
         # K's rows: the prescribed axes of sum_i F_i (soft), the natural then design rows (hard)
         soft, soft_rhs = self.problem.sum_rows(keep), wrench[keep]
-        natural, natural_rhs = self.problem.block_natural(ev)
-        hard = np.vstack((natural, ev.hard_rows.reshape(-1, p * n)))
-        hard_rhs = np.concatenate((natural_rhs, ev.hard_rhs))
+        hard, hard_rhs = self.problem.exact_rows(ev)
         k = np.vstack((soft, hard))
         square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
         if square:

@@ -188,9 +188,7 @@ class DistributionProblem:
         self.check_counts(np.zeros(self.n, dtype=bool))
         if self.num_hard:
             ev = self.evaluate(self.generic_configurations()[1], check_singular=False)
-            natural, natural_rhs = self.block_natural(ev)
-            hard = ev.hard_rows.reshape(self.num_hard, -1)
-            check_hard_rows(natural, natural_rhs, hard, ev.hard_rhs, self.hard_names)
+            check_hard_rows(*self.exact_rows(ev), self.hard_names)
 
     def evaluate(self, state: np.ndarray | Snapshot, check_singular: bool = True) -> Evaluation:
         """Evaluate the natural, coupling and design rows at a snapshot (or a configuration).
@@ -304,6 +302,12 @@ class DistributionProblem:
                 row += l_
         return matrix, rhs
 
+    def exact_rows(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
+        """Every exact row over all ``p n`` force entries: the natural, then the hard rows."""
+        natural, natural_rhs = self.block_natural(ev)
+        hard = ev.hard_rows.reshape(-1, self.p * self.n)
+        return np.vstack((natural, hard)), np.concatenate((natural_rhs, ev.hard_rhs))
+
     def forces(self, bases: list[np.ndarray], y: np.ndarray, offset: np.ndarray) -> np.ndarray:
         """``(p, n)`` forces ``F_i = offset_i + B_i y_i``: ``bases`` per group ``(g, n, d)``."""
         forces = offset.copy()
@@ -342,11 +346,9 @@ class DistributionProblem:
         cached = self.structural.get(key)
         if cached is None:
             cached = True
-            n, p = self.n, self.p
             for q in self.generic_configurations():
                 ev = self.evaluate(q, check_singular=False)
-                natural, _ = self.block_natural(ev)
-                k = np.vstack((self.sum_rows(keep), natural, ev.hard_rows.reshape(-1, p * n)))
+                k = np.vstack((self.sum_rows(keep), self.exact_rows(ev)[0]))
                 if k.shape[0] == k.shape[1] and np.linalg.matrix_rank(k) == k.shape[0]:
                     cached = False
                     break

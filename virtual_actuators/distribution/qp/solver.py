@@ -266,11 +266,10 @@ class QPDistribution:
         problem = self.problem
         p, n = problem.p, problem.n
         ev = problem.evaluate(snapshot, check_singular=False)
-        natural, natural_rhs = problem.block_natural(ev)
-        hard = ev.hard_rows.reshape(len(ev.hard_rhs), p * n)
+        exact, exact_rhs = problem.exact_rows(ev)
         select = problem.sum_rows(keep)
-        equality = np.vstack((natural, hard, select))
-        equality_rhs = np.concatenate((natural_rhs, ev.hard_rhs, wrench[keep]))
+        equality = np.vstack((exact, select))
+        equality_rhs = np.concatenate((exact_rhs, wrench[keep]))
         tmap = torque_map(problem, ev.state.jacobian_o)
         limits = self.limits.rows(ev.state, tmap)
         inequality, lows, uppers = limits.G, limits.lows, limits.uppers

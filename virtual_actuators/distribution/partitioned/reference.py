@@ -3,8 +3,7 @@
 Per chain the natural constraints are solved for the Constrained Force Set (eq. 12-13); the
 reduced system (eq. 14) is square (RFS eliminated, one MFS solve: eq. 16-18), has fewer design
 constraints (the least-norm KKT solve: "pseudo-inverse") or more rows (`least_norm`:
-"least-squares"). Design rows that the natural constraints imply here are dropped; a block that
-is ill-conditioned here is re-picked for this call only.
+"least-squares").
 """
 
 from __future__ import annotations
@@ -314,11 +313,10 @@ class PartitionedSolver:
                 gain, bias = plan.gain, plan.rfs_inverse @ h_rhs
             else:
                 rfs_solved = True
-                scale = reduced.hard_scale
-                gain, bias = rfs_gain(h, h_rhs, plan, scale)
+                gain, bias = rfs_gain(h, h_rhs, plan, reduced.hard_scale)
                 if gain is None:
                     plan = plan_square(h, m, constant=False)
-                    gain, bias = rfs_gain(h, h_rhs, plan, scale)
+                    gain, bias = rfs_gain(h, h_rhs, plan, reduced.hard_scale)
                     if gain is None:
                         return None
             a_r = a[:, plan.rfs]

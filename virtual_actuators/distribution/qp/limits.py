@@ -48,11 +48,6 @@ class ContactLimits:
         """
         offsets = state.offsets_o() if self.contacts.sole_rows else None
         one_sided = self.contacts.rows(state.rotation_o, state.rotation_a, offsets)
-        if not self.torque_limits.limited_v.size:
-            if not one_sided.names:
-                return one_sided
-            uppers = np.full(len(one_sided.lows), INFINITY)
-            return Constraint(one_sided.G, one_sided.lows, uppers, self.row_names)
         rows, low, upper = self.torque_limits.rows(torque_map)  # two-sided
         return Constraint(
             np.vstack((one_sided.G, rows)),

@@ -1,8 +1,7 @@
 """Contact-aware distribution as a lexicographic quadratic program (``solve(q, w, method="qp")``).
 
-Friction pyramids, centres of pressure inside the soles and torque limits as inequalities; the
-request exactly with the least force norm, else the closest wrench; ProxQP, DAQP in the compiled
-core, and an exact step on the active set (docs/concepts.md, "Contacts as inequalities").
+The request exactly with the least force norm, else the closest wrench, under the inequalities
+of `limits` (docs/concepts.md, "Contacts as inequalities").
 """
 
 from __future__ import annotations

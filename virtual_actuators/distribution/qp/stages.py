@@ -103,9 +103,7 @@ class ProxStages:
 
     def slot(self, key: tuple) -> ProxSlot:
         """This thread's workspace of ``key`` (family, stage, sizes), made on first use."""
-        cache = getattr(self._local, "qps", None)
-        if cache is None:
-            cache = self._local.qps = {}
+        cache = self._local.__dict__.setdefault("qps", {})
         slot = cache.get(key)
         if slot is None:  # its ProxQP workspace is made when ProxQP first runs (_workspace)
             slot = cache[key] = ProxSlot()
@@ -232,7 +230,7 @@ class ProxStages:
             slot.active = z if certified else None
             return StageAnswer(x, z, False)
         # stage 1's last iterate mostly names the closest answer's active set already
-        last = self._local.qps[key].qp.results
+        last = slot.qp.results
         certified, x, z = self._exact(rows, weights, last.x, last.z, False)
         if certified:
             return StageAnswer(x, z, False)

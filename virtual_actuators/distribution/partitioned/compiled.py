@@ -254,11 +254,7 @@ class CompiledDistribution:
         return kind(self, mode, (reactions, axes, request.free), floating)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
-
-        Returns:
-            The tick's result (``tau`` zero at limp and passive joints), or None.
-        """
+        """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path."""
         mode = self.mode_for(request.keep) if request.compiled else None
         if mode is None or mode.core is None:  # no compiled core or mode: the numpy path
             return None

@@ -122,10 +122,7 @@ class NumpyBackend:
         self.problem, self.solver, self.hand_on = problem, solver, hand_on
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """Distribute ``wrench`` with this backend's solver at a snapshot.
-
-        Returns:
-            The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.
+        """Distribute ``wrench`` with this backend's solver at a snapshot (None: see ``hand_on``).
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.

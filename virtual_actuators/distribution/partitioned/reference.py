@@ -239,9 +239,6 @@ class PartitionedSolver:
             wrench: ``(n,)`` requested wrench (entries of free axes are ignored).
             keep: ``(n,)`` bool, the axes whose wrench is prescribed (not free).
 
-        Returns:
-            The distribution and the method used.
-
         Raises:
             SingularConfigurationError: The square system is singular at this configuration.
             ConstraintError: Too many constraints for the free axes, or constraints that

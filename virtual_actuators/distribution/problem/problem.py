@@ -197,9 +197,6 @@ class DistributionProblem:
             state: A [`Snapshot`][] of the robot, or ``q``.
             check_singular: Raise when a chain's full Jacobian loses rank.
 
-        Returns:
-            The `Evaluation`.
-
         Raises:
             SingularConfigurationError: A chain's Jacobian is singular at ``q``.
             InvalidInputError: A bad ``q`` or a snapshot of another robot.

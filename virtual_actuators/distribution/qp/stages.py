@@ -142,20 +142,15 @@ class ProxStages:
         qp.settings.max_iter = min(EXACT_MAX_ITER, (budget.left + 1) // 2) if warm else budget.left
         if key[1] == "conflict":
             qp.settings.max_iter = min(CONFLICT_MAX_ITER, budget.left)
-        inequality, lows, uppers = rows.inequality, rows.lows, rows.uppers
+        bounded = (rows.inequality, rows.lows, rows.uppers)
         if fresh or not warm:
             qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
+            precondition = key[1] != "closest"
             qp.init(
-                *objective,
-                equality,
-                equality_rhs,
-                inequality,
-                lows,
-                uppers,
-                compute_preconditioner=key[1] != "closest",
+                *objective, equality, equality_rhs, *bounded, compute_preconditioner=precondition
             )
         else:  # the objective (I, 0) never changes
-            qp.update(None, None, equality, equality_rhs, inequality, lows, uppers)
+            qp.update(None, None, equality, equality_rhs, *bounded)
         qp.solve()
         results = qp.results
         budget.charge(results.info.iter_ext)

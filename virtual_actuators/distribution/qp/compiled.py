@@ -78,26 +78,21 @@ class CompiledQPMatrices:
 
     Args:
         problem: The distribution problem.
-        normals_world: ``(p, 3)`` unit contact normals in the world.
-        frame_normals: ``(p,)`` 1 where the normal is the reaction frame's z axis (each tick).
-        cone: ``(3,)``: friction (< 0 for none), least normal force [N], 1 to keep the normal
-            row (0: no pyramid rows at all when friction < 0).
+        tables: `ContactLimits.tables`: ``normals_world`` ``(p, 3)`` unit contact normals in the
+            world; ``frame_normals`` ``(p,)`` 1 where the normal is the reaction frame's z axis
+            (each tick); ``cone`` ``(3,)``: friction (< 0 for none), least normal force [N], 1 to
+            keep the normal row (0: no pyramid rows at all when friction < 0); ``soles``
+            ``(p, 3)``: 1 for a sole, its half length and half width [m]; ``limited_v`` ``(t,)``
+            velocity indices of the torque-limited joints and ``limits`` ``(t,)`` their limits
+            [N m, N].
         static_scale: The declaration's part of the tick's scale.
         rows_in: Number of inequality rows.
-        soles: ``(p, 3)``: 1 for a sole, its half length and half width [m].
-        limited_v: ``(t,)`` velocity indices of the torque-limited joints.
-        limits: ``(t,)`` their limits [N m, N].
     """
 
     def __init__(
         self,
         problem: DistributionProblem,
-        normals_world: np.ndarray,
-        frame_normals: np.ndarray,
-        cone: np.ndarray,
-        soles: np.ndarray,
-        limited_v: np.ndarray,
-        limits: np.ndarray,
+        tables: dict[str, np.ndarray],
         static_scale: float,
         rows_in: int,
     ) -> None:
@@ -123,11 +118,12 @@ class CompiledQPMatrices:
             np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
             spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),
             np.ascontiguousarray(problem.constant_rhs, dtype=float),
-            np.ascontiguousarray(normals_world, dtype=float),
-            np.asarray(frame_normals, dtype=np.int64),
-            np.array([*np.asarray(cone, dtype=float), static_scale]),
-            np.ascontiguousarray(soles, dtype=float), np.asarray(limited_v, dtype=np.int64),
-            np.asarray(limits, dtype=float),
+            np.ascontiguousarray(tables["normals_world"], dtype=float),
+            np.asarray(tables["frame_normals"], dtype=np.int64),
+            np.array([*np.asarray(tables["cone"], dtype=float), static_scale]),
+            np.ascontiguousarray(tables["soles"], dtype=float),
+            np.asarray(tables["limited_v"], dtype=np.int64),
+            np.asarray(tables["limits"], dtype=float),
         )  # fmt: skip
 
     def workspace(self, keep: np.ndarray) -> Workspace:

@@ -169,9 +169,8 @@ class QPDistribution:
             float(np.abs(problem.constant_rhs).max(initial=0.0)),
         )
         self.matrices = CompiledQPMatrices(
-            problem, **limits.tables, static_scale=self._static_scale,
-            rows_in=len(limits.row_names),
-        )  # fmt: skip
+            problem, limits.tables, self._static_scale, len(limits.row_names)
+        )
 
     @property
     def iterations(self) -> int:

@@ -329,8 +329,7 @@ class QPDistribution:
         p, n = problem.p, problem.n
         ev = problem.evaluate(snapshot, check_singular=False)
         exact, exact_rhs = problem.exact_rows(ev)
-        select = problem.sum_rows(keep)
-        equality = np.vstack((exact, select))
+        equality = np.vstack((exact, problem.sum_rows(keep)))
         equality_rhs = np.concatenate((exact_rhs, wrench[keep]))
         tmap = torque_map(problem, ev.state.jacobian_o)
         limits = self.limits.rows(ev.state, tmap)
@@ -354,8 +353,7 @@ class QPDistribution:
                 slack = max(slack, float(np.max(lows - values)), float(np.max(values - uppers)))
             return slack if np.all(np.isfinite(x)) else np.inf
 
-        rows = StageRows(equality, equality_rhs, len(equality_rhs) - len(select), inequality,
-                         lows, uppers)  # fmt: skip
+        rows = StageRows(equality, equality_rhs, len(exact_rhs), inequality, lows, uppers)
         results = self.stages.solve("forces", rows, miss, weights, budget)
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)

@@ -97,10 +97,7 @@ class DenseSolver:
                 )
             method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
         return RawSolution(
-            forces=x.reshape(p, n),
-            method=method,
-            systems=(("dense", k.shape[1], 1),),
-            solver="dense",
+            x.reshape(p, n), method, systems=(("dense", k.shape[1], 1),), solver="dense"
         )
 
     def __repr__(self) -> str:

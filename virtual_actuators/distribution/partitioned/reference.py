@@ -32,17 +32,16 @@ class SquarePlan:
     rfs_inverse: np.ndarray | None = None  # H_r^-1 when the hard rows are constant
 
 
-def plan_square(h: np.ndarray, m: int, constant: bool = True) -> SquarePlan:
+def plan_square(h: np.ndarray, constant: bool) -> SquarePlan:
     """The RFS (``s`` columns of the hard rows ``h`` by pivoted QR) and the MFS (the rest).
 
     Args:
-        h: ``(s, m)`` reduced hard rows.
-        m: Number of reduced unknowns.
+        h: ``(s, m)`` reduced hard rows over the ``m`` reduced unknowns.
         constant: The hard rows do not depend on the configuration: factor the gain once.
     """
     s = h.shape[0]
     rfs = np.sort(select_columns(h, s)) if s else np.array([], dtype=int)
-    mfs = np.setdiff1d(np.arange(m), rfs)
+    mfs = np.setdiff1d(np.arange(h.shape[1]), rfs)
     plan = SquarePlan(rfs=rfs, mfs=mfs)
     if s and constant:
         inverse, cond = safe_inverse(h[:, rfs])
@@ -288,7 +287,7 @@ class PartitionedSolver:
         plan = self._plans.get(free_key)
         if plan is None:
             hard_rows = self._reduce(self._generic).hard_rows
-            plan = plan_square(hard_rows, self.num_free_entries, self._hard_rows_constant())
+            plan = plan_square(hard_rows, self._hard_rows_constant())
             self._plans[free_key] = plan
         return plan
 
@@ -312,7 +311,7 @@ class PartitionedSolver:
                 rfs_solved = True
                 gain, bias = rfs_gain(h, h_rhs, plan, reduced.hard_scale)
                 if gain is None:
-                    plan = plan_square(h, m, constant=False)
+                    plan = plan_square(h, constant=False)
                     gain, bias = rfs_gain(h, h_rhs, plan, reduced.hard_scale)
                     if gain is None:
                         return None

@@ -72,11 +72,10 @@ def check_passive(passive: object) -> dict[str, tuple[float, float]]:
             raise ConstraintError(
                 f"{what} must be (stiffness, rest_angle), two real numbers, got {params!r}."
             )
-        stiffness, rest = (
+        out[name] = tuple(
             check_number(x, f"{what}: {label}", error=ConstraintError)
             for x, label in zip(params, ("stiffness", "rest angle"), strict=True)
         )
-        out[name] = (stiffness, rest)
     return out
 
 

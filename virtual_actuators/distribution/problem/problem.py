@@ -151,8 +151,7 @@ class DistributionProblem:
         if maps is None:
             basis = np.zeros((3, 6, 3))  # d_j -> twist rows x ball axes
             basis[:, :3, :] = -skew(np.eye(3))  # -skew(e_j) for each j
-            constant = np.zeros((6, 3))
-            constant[3:, :] = np.eye(3)
+            constant = np.eye(6, 3, k=-3)  # angular part e_k
             rows = self.kinematics.rows
             linear = basis[:, rows][:, :, ball].reshape(3, -1)
             maps = self._ball_maps[key] = (linear, constant[rows][:, ball].ravel())
@@ -181,7 +180,7 @@ class DistributionProblem:
         rows = design_rows(design, self.kinematics, self.reactions, self.axes)
         self.constant_rows, self.constant_rhs, self.torque_pairs = rows[:3]
         coupled_names = [f"torque of shared joint {self.joint_name(v)!r}" for v in self.coupled_v]
-        self.hard_names = coupled_names + rows[3] + rows[4]
+        self.hard_names = coupled_names + rows.constant_names + rows.torque_names
         self.num_hard = len(self.hard_names)
         #: True when no hard row depends on the configuration
         self.constant_hard = not self.coupled_v and not len(self.torque_pairs)

@@ -307,9 +307,8 @@ class QPDistribution:
             self._active_names[key] = active
         if exhausted:
             active += (BUDGET_EXHAUSTED,)
-        raw = RawSolution(
-            forces=answer.out[: p * n].reshape(p, n), method="qp", solver="qp", active=active
-        )
+        forces = answer.out[: p * n].reshape(p, n)
+        raw = RawSolution(forces, method="qp", solver="qp", active=active)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False
         )

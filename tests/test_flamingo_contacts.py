@@ -32,7 +32,7 @@ def test_flamingo_qp_feet_stay_loaded_and_do_not_slide():
             "flamingo-slopes", terrain=terrain, speed=speed, distribution="qp", progress=False
         )
         double = result.gait.controller.attachments["double"].actuator
-        assert double.contact_limits.frame_normals.all()  # the cones follow the soles
+        assert double.contacts.normals.frame.all()  # the cones follow the soles
         metrics = result.metrics
         assert not metrics.fell, (terrain, speed)
         assert metrics.distance_m > 14.0, (terrain, speed)  # [m] in 40 s: crossed the profile

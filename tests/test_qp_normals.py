@@ -96,7 +96,7 @@ def test_cones_about_the_frames_normals_on_both_paths(name, mu, min_normal, spre
     robot = va.load_robot(name)
     body = _declare(name, friction=mu, min_normal=min_normal, normals="frames")
     assert body.qp.matrices.applicable
-    assert body.contact_limits.frame_normals.all()
+    assert body.contacts.normals.frame.all()
     rng = np.random.default_rng(len(name) + 40)
     tilt = {"talos_reduced": 0.05, "spring_flamingo": 0.3}.get(name, 0.25)
     active = 0
@@ -121,7 +121,7 @@ def test_frame_normals_equal_fixed_normals_at_the_same_configuration():
     rng = np.random.default_rng(3)
     following = {"FL_FOOT": "frame", "HR_FOOT": "frame"}
     body = _declare("solo12", friction=0.5, min_normal=1.0, normals=following)
-    assert list(body.contact_limits.frame_normals) == [True, False, False, True]
+    assert list(body.contacts.normals.frame) == [True, False, False, True]
     for _ in range(15):
         q = _tilted_q(robot, rng, 0.3)
         wrench = _request(robot, rng, 0.4)

@@ -36,14 +36,12 @@ def power_of_two_scale(*arrays: np.ndarray) -> float:
     return math.ldexp(1.0, -math.frexp(peak)[1])
 
 
-def backward_tolerance(
-    rows: np.ndarray, x: np.ndarray, rhs: np.ndarray, relative: float = 1e-8
-) -> float:
-    """Largest ``||rows x - rhs||`` that rounding explains: ``relative (|rhs| + |rows| |x|)``."""
+def backward_tolerance(rows: np.ndarray, x: np.ndarray, rhs: np.ndarray) -> float:
+    """Largest ``||rows x - rhs||`` that rounding explains: ``1e-8 (|rhs| + |rows| |x|)``."""
     size = float(np.abs(rhs).max(initial=0.0))
     if rows.size and x.size:
         size += float(np.abs(rows).sum(axis=1).max()) * float(np.abs(x).max())
-    return relative * size
+    return 1e-8 * size
 
 
 def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = None) -> np.ndarray:
@@ -71,8 +69,8 @@ def select_columns(matrix: np.ndarray, count: int, weights: np.ndarray | None = 
     return np.array(picked, dtype=int)
 
 
-def dependent_rows(matrix: np.ndarray, tol: float = DEPENDENT_TOL) -> list[int]:
-    """Indices of the rows that depend on the ones before (``tol``: relative to each row's norm)."""
+def dependent_rows(matrix: np.ndarray) -> list[int]:
+    """Indices of the rows that depend on the ones before (`DEPENDENT_TOL` of each row's norm)."""
     basis: list[np.ndarray] = []
     dependent = []
     for i, row in enumerate(np.asarray(matrix, dtype=float)):
@@ -81,14 +79,14 @@ def dependent_rows(matrix: np.ndarray, tol: float = DEPENDENT_TOL) -> list[int]:
         for b in basis:
             residual -= (b @ residual) * b
         norm = np.linalg.norm(residual)
-        if scale == 0.0 or norm <= tol * scale:
+        if scale == 0.0 or norm <= DEPENDENT_TOL * scale:
             dependent.append(i)
         else:
             basis.append(residual / norm)
     return dependent
 
 
-def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = RCOND) -> bool:
+def dependent_rows_at_scale(matrix: np.ndarray) -> bool:
     """Whether the rows of ``matrix``, each scaled to unit norm, are linearly dependent."""
     if not matrix.shape[0]:
         return False
@@ -96,7 +94,7 @@ def dependent_rows_at_scale(matrix: np.ndarray, rcond: float = RCOND) -> bool:
     if not norms.all() or matrix.shape[0] > matrix.shape[1]:
         return True
     s = np.linalg.svd(matrix / norms[:, None], compute_uv=False)
-    return bool(s[-1] <= rcond * s[0])
+    return bool(s[-1] <= RCOND * s[0])
 
 
 def safe_inverse(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -138,7 +136,6 @@ def constrained_min_norm(
     hard_rhs: np.ndarray,
     soft: np.ndarray,
     soft_rhs: np.ndarray,
-    rcond: float = RCOND,
     hard_scale: float = 0.0,
     soft_scale: float = 0.0,
 ) -> tuple[np.ndarray, float]:
@@ -149,8 +146,7 @@ def constrained_min_norm(
         hard_rhs: ``(h,)``.
         soft: ``(s, m)`` rows met in the least-squares sense.
         soft_rhs: ``(s,)``.
-        rcond: Relative singular-value cut-off.
-        hard_scale: Singular values of ``hard`` at most ``rcond * max(largest, hard_scale)``
+        hard_scale: Singular values of ``hard`` at most ``RCOND * max(largest, hard_scale)``
             are dropped (the rows' size before a reduction); 0 for the rows' own scale.
         soft_scale: The same floor for the soft rows (in the null space of ``hard``).
 
@@ -160,7 +156,7 @@ def constrained_min_norm(
     m = soft.shape[1] if soft.size else hard.shape[1]
     if hard.shape[0]:
         u, s, vt = np.linalg.svd(hard, full_matrices=True)
-        floor = rcond * max(float(s[0]) if s.size else 0.0, hard_scale, TINY)
+        floor = RCOND * max(float(s[0]) if s.size else 0.0, hard_scale, TINY)
         rank = int(np.sum(s > floor))
         x_h = vt[:rank].T @ ((u[:, :rank].T @ hard_rhs) / s[:rank])
         null = vt[rank:].T
@@ -172,10 +168,10 @@ def constrained_min_norm(
         target = soft_rhs - soft @ x_h
         if soft_scale > 0.0:
             u, s, vt = np.linalg.svd(reduced, full_matrices=False)
-            rank = int(np.sum(s > rcond * max(float(s[0]) if s.size else 0.0, soft_scale)))
+            rank = int(np.sum(s > RCOND * max(float(s[0]) if s.size else 0.0, soft_scale)))
             z = vt[:rank].T @ ((u[:, :rank].T @ target) / s[:rank])
         else:
-            z = np.linalg.lstsq(reduced, target, rcond=rcond)[0]
+            z = np.linalg.lstsq(reduced, target, rcond=RCOND)[0]
         x = x_h + null @ z
     else:
         x = x_h

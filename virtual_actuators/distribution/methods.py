@@ -1,8 +1,4 @@
-"""The solvers of a parallel actuator by name: a checked request, and each method's backends.
-
-Every backend is ``solve(snapshot, wrench, request) -> TickResult | None``; None hands the tick
-to the method's next backend (`METHODS`); the last one always answers, or raises.
-"""
+"""The solvers of a parallel actuator by name: a checked request, and each method's backends."""
 
 from __future__ import annotations
 
@@ -38,7 +34,10 @@ class Backend(Protocol):
     """One way to solve a tick."""
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """The tick's result, or None to hand the tick to the method's next backend."""
+        """The tick's result, or None to hand the tick to the method's next backend.
+
+        The last backend of a method always answers, or raises.
+        """
 
 
 #: Each method's backends, tried in order: the compiled partitioned kernel hands the ticks it
@@ -65,6 +64,3 @@ def dispatch(
         if tick is not None:
             return tick
     raise RuntimeError(f"No backend of method {request.method!r} answered.")
-
-
-__all__ = ["METHODS", "Backend", "Request", "dispatch"]

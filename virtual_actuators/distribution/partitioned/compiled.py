@@ -170,7 +170,7 @@ class CompiledDistribution:
         torque += [(int(a), int(b), 1) for a, b in problem.torque_pairs]
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
         # the chain signs at joints a and b (none at b = -1)
-        at_a, at_b = (problem.signs_at(self.torque_rows[:, i]).T for i in (0, 1))
+        at_a, at_b = (problem.signs[:, self.torque_rows[:, i]].T for i in (0, 1))
         self.torque_signs = np.stack((at_a, at_b), axis=1)
         self._modes: dict[bytes, PackedMode] = {}
         # the chain tables (the partitioner's sets never change after its __init__)
@@ -254,11 +254,7 @@ class CompiledDistribution:
         return kind(self, mode, (reactions, axes, request.free), floating)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path.
-
-        Returns:
-            The tick's result (``tau`` zero at limp and passive joints), or None.
-        """
+        """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path."""
         mode = self.mode_for(request.keep) if request.compiled else None
         if mode is None or mode.core is None:  # no compiled core or mode: the numpy path
             return None
@@ -282,13 +278,3 @@ class CompiledDistribution:
 
     def __repr__(self) -> str:
         return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"
-
-
-__all__ = [
-    "BufferSolve",
-    "CompiledDistribution",
-    "ConfigurationSolve",
-    "PackedMode",
-    "SnapshotSolve",
-    "spring_table",
-]

@@ -13,7 +13,7 @@ from ...exceptions import ConstraintError, SingularConfigurationError
 from ..linalg import backward_tolerance, constrained_min_norm, safe_inverse, stable_norm
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..tolerances import DEGENERATE, ILL_CONDITIONED, RCOND
+from ..tolerances import DEGENERATE, ILL_CONDITIONED
 
 
 def least_norm_forces(
@@ -28,28 +28,27 @@ def least_norm_forces(
             ones at this configuration.
     """
     n, p, k = problem.n, problem.p, int(keep.sum())
+    hard = ev.hard_rows  # (s, p, n)
     bases = []  # per group the (g, n, d) orthonormal bases N_i of the natural rows' null space
     particular = np.zeros((p, n))  # the least-norm solutions F0_i of the natural rows
-    for group, rows in zip(problem.groups, ev.groups, strict=True):
-        l_ = group.num_constraints
-        if not l_:
-            bases.append(np.broadcast_to(np.eye(n), (group.size, n, n)))
-            continue
-        u, s, vt = np.linalg.svd(rows.rows, full_matrices=True)
-        bad = np.flatnonzero(~(s[:, -1] > DEGENERATE * s[:, 0]))
-        if len(bad):
-            chain = problem.reactions[group.chains[bad[0]]]
-            raise SingularConfigurationError(
-                f"The natural constraints of the chain to {chain!r} are degenerate at this "
-                f"configuration (singular values {s[bad[0], -1]:.1e} and {s[bad[0], 0]:.1e})."
-            )
-        bases.append(vt[:, l_:, :].transpose(0, 2, 1))
-        coefficients = np.einsum("gji,gj->gi", u, rows.rhs) / s
-        particular[group.chains] = np.einsum("gin,gi->gn", vt[:, :l_, :], coefficients)
-    hard = ev.hard_rows  # (s, p, n)
     soft_blocks, hard_blocks = [], []
-    for group, basis in zip(problem.groups, bases, strict=True):
-        g, d = group.size, basis.shape[2]
+    for group, rows in zip(problem.groups, ev.groups, strict=True):
+        g, l_, d = group.size, group.num_constraints, group.num_free
+        if not l_:
+            basis = np.broadcast_to(np.eye(n), (g, n, n))
+        else:
+            u, s, vt = np.linalg.svd(rows.rows, full_matrices=True)
+            bad = np.flatnonzero(~(s[:, -1] > DEGENERATE * s[:, 0]))
+            if len(bad):
+                chain = problem.reactions[group.chains[bad[0]]]
+                raise SingularConfigurationError(
+                    f"The natural constraints of the chain to {chain!r} are degenerate at this "
+                    f"configuration (singular values {s[bad[0], -1]:.1e} and {s[bad[0], 0]:.1e})."
+                )
+            basis = vt[:, l_:, :].transpose(0, 2, 1)
+            coefficients = np.einsum("gji,gj->gi", u, rows.rhs) / s
+            particular[group.chains] = np.einsum("gin,gi->gn", vt[:, :l_, :], coefficients)
+        bases.append(basis)
         soft_blocks.append(basis[:, keep, :].transpose(1, 0, 2).reshape(k, g * d))
         block = np.einsum("spn,pnd->spd", hard[:, group.chains, :], basis)
         hard_blocks.append(block.reshape(hard.shape[0], g * d))
@@ -61,15 +60,9 @@ def least_norm_forces(
     hard_y = np.hstack(hard_blocks) / norms[:, None]
     hard_rhs = (ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)) / norms
     y, _ = constrained_min_norm(
-        hard_y, hard_rhs, soft, soft_rhs, RCOND, hard_scale=1.0, soft_scale=float(np.sqrt(p))
+        hard_y, hard_rhs, soft, soft_rhs, hard_scale=1.0, soft_scale=float(np.sqrt(p))
     )
-    forces = particular.copy()
-    start = 0
-    for group, basis in zip(problem.groups, bases, strict=True):
-        g, d = group.size, basis.shape[2]
-        local = y[start : start + g * d].reshape(g, d)
-        forces[group.chains] += np.einsum("gnd,gd->gn", basis, local)
-        start += g * d
+    forces = problem.forces(bases, y, particular)
     if hard.shape[0]:
         rows = hard.reshape(hard.shape[0], p * n)
         residual = stable_norm(rows @ forces.ravel() - ev.hard_rhs)
@@ -93,8 +86,8 @@ def projected_forces(
     None when that system is ill-conditioned (the least-squares path decides).
     """
     n, p = problem.n, problem.p
-    projectors = np.empty((p, n, n))
-    particular = np.empty((p, n))
+    projectors = np.tile(np.eye(n), (p, 1, 1))  # a chain without natural rows: I and 0
+    particular = np.zeros((p, n))
     for group, rows in zip(problem.groups, ev.groups, strict=True):
         g_rows = rows.rows
         if g_rows.shape[1]:
@@ -104,31 +97,22 @@ def projected_forces(
             pseudo = g_rows.transpose(0, 2, 1) @ gram_inv
             projectors[group.chains] = np.eye(n) - pseudo @ g_rows
             particular[group.chains] = (pseudo @ rows.rhs[:, :, None])[:, :, 0]
-        else:
-            projectors[group.chains] = np.eye(n)
-            particular[group.chains] = 0.0
     hard = ev.hard_rows  # (s, p, n)
     kept = projectors[:, keep, :]  # (p, k, n) = S P_i
     top_left = kept[:, :, keep].sum(axis=0)
     target = wrench[keep] - particular[:, keep].sum(axis=0)
-    if len(ev.hard_rhs):
-        hp = np.einsum("spn,pnm->psm", hard, projectors)  # C_i P_i
-        top_right = np.einsum("pkn,spn->ks", kept, hard)
-        bottom_right = np.einsum("psm,tpm->st", hp, hard)
-        kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
-        target = np.concatenate((target, ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)))
-    else:
-        kkt = top_left
+    hard_target = ev.hard_rhs - np.einsum("spn,pn->s", hard, particular)
+    hp = np.einsum("spn,pnm->psm", hard, projectors)  # C_i P_i
+    top_right = np.einsum("pkn,spn->ks", kept, hard)
+    bottom_right = np.einsum("psm,tpm->st", hp, hard)
+    kkt = np.block([[top_left, top_right], [top_right.T, bottom_right]])
     kkt_inverse, cond = safe_inverse(kkt)
     if cond > ILL_CONDITIONED:
         return None
-    multipliers = kkt_inverse @ target
+    multipliers = kkt_inverse @ np.concatenate((target, hard_target))
     k = int(keep.sum())
     # F_i = P_i (S^T lambda_w + C_i^T lambda_h) + G_i^+ t_i
     forces = kept.transpose(0, 2, 1) @ multipliers[:k] + particular
     if len(ev.hard_rhs):
         forces += np.einsum("psm,s->pm", hp, multipliers[k:])
     return forces
-
-
-__all__ = ["least_norm_forces", "projected_forces"]

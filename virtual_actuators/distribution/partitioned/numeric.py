@@ -22,7 +22,7 @@ from ..linalg import (
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..problem.structure import Evaluation
-from ..result import RawSolution, TickResult, close_tick, no_sets
+from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import CONSTRAINT_TOL, ILL_CONDITIONED
 
 
@@ -70,10 +70,8 @@ class DenseSolver:
         """
         p, n = self.problem.p, self.problem.n
         # K's rows: the prescribed axes of sum_i F_i (soft), the natural then design rows (hard)
-        soft, soft_rhs = np.tile(np.eye(n), (1, p))[keep], wrench[keep]
-        natural, natural_rhs = self.problem.block_natural(ev)
-        hard = np.vstack((natural, ev.hard_rows.reshape(-1, p * n)))
-        hard_rhs = np.concatenate((natural_rhs, ev.hard_rhs))
+        soft, soft_rhs = self.problem.sum_rows(keep), wrench[keep]
+        hard, hard_rhs = self.problem.exact_rows(ev)
         k = np.vstack((soft, hard))
         square = k.shape[0] == k.shape[1] and not self.problem.structurally_singular(keep)
         if square:
@@ -99,11 +97,7 @@ class DenseSolver:
                 )
             method = "pseudo-inverse" if k.shape[0] <= k.shape[1] else "least-squares"
         return RawSolution(
-            forces=x.reshape(p, n),
-            method=method,
-            sets=no_sets(),
-            systems=(("dense", k.shape[1], 1),),
-            solver="dense",
+            x.reshape(p, n), method, systems=(("dense", k.shape[1], 1),), solver="dense"
         )
 
     def __repr__(self) -> str:
@@ -125,10 +119,7 @@ class NumpyBackend:
         self.problem, self.solver, self.hand_on = problem, solver, hand_on
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
-        """Distribute ``wrench`` with this backend's solver at a snapshot.
-
-        Returns:
-            The `TickResult` (or None, see ``hand_on``), ``tau`` zero at limp and passive joints.
+        """Distribute ``wrench`` with this backend's solver at a snapshot (None: see ``hand_on``).
 
         Raises:
             SingularConfigurationError: No distribution can be solved at this configuration.
@@ -155,6 +146,3 @@ class NumpyBackend:
         torques = functools.partial(problem.torques, ev.state.jacobian_o)
         actuated, passive = problem.actuated_mask, ev.passive_torque
         return close_tick(raw, wrench, keep, torques, actuated, passive, factor)
-
-
-__all__ = ["DenseSolver", "NumpyBackend"]

@@ -3,8 +3,7 @@
 Per chain the natural constraints are solved for the Constrained Force Set (eq. 12-13); the
 reduced system (eq. 14) is square (RFS eliminated, one MFS solve: eq. 16-18), has fewer design
 constraints (the least-norm KKT solve: "pseudo-inverse") or more rows (`least_norm`:
-"least-squares"). Design rows that the natural constraints imply here are dropped; a block that
-is ill-conditioned here is re-picked for this call only.
+"least-squares").
 """
 
 from __future__ import annotations
@@ -33,17 +32,16 @@ class SquarePlan:
     rfs_inverse: np.ndarray | None = None  # H_r^-1 when the hard rows are constant
 
 
-def plan_square(h: np.ndarray, m: int, constant: bool = True) -> SquarePlan:
+def plan_square(h: np.ndarray, constant: bool) -> SquarePlan:
     """The RFS (``s`` columns of the hard rows ``h`` by pivoted QR) and the MFS (the rest).
 
     Args:
-        h: ``(s, m)`` reduced hard rows.
-        m: Number of reduced unknowns.
+        h: ``(s, m)`` reduced hard rows over the ``m`` reduced unknowns.
         constant: The hard rows do not depend on the configuration: factor the gain once.
     """
     s = h.shape[0]
     rfs = np.sort(select_columns(h, s)) if s else np.array([], dtype=int)
-    mfs = np.setdiff1d(np.arange(m), rfs)
+    mfs = np.setdiff1d(np.arange(h.shape[1]), rfs)
     plan = SquarePlan(rfs=rfs, mfs=mfs)
     if s and constant:
         inverse, cond = safe_inverse(h[:, rfs])
@@ -71,7 +69,7 @@ class _Reduced:
     """The reduced system at one configuration (after eliminating the CFS)."""
 
     transforms: list[np.ndarray]  # per group (g, n, d): F_i = T_i f_ia + w_i
-    offsets: list[np.ndarray]  # per group (g, n)
+    offsets: np.ndarray  # (p, n) the w_i
     wrench_rows: np.ndarray  # (n, m)
     hard_rows: np.ndarray  # (s, m)
     hard_rhs: np.ndarray  # (s,)
@@ -148,7 +146,8 @@ class PartitionedSolver:
     def _reduce(self, ev: Evaluation) -> _Reduced:
         problem = self.problem
         n = problem.n
-        transforms, offsets, wrench_blocks, hard_blocks = [], [], [], []
+        transforms, wrench_blocks, hard_blocks = [], [], []
+        offsets = np.zeros((problem.p, n))
         used_cfs, used_free = [], []
         hard_rhs = ev.hard_rhs.copy()
         offset_sum = np.zeros(n)
@@ -169,7 +168,7 @@ class PartitionedSolver:
             used_free.append(free)
             transform[chains, free, np.arange(d)[None, :]] = 1.0
             transforms.append(transform)
-            offsets.append(offset)
+            offsets[group.chains] = offset
             offset_sum += offset.sum(axis=0)
             wrench_blocks.append(transform.transpose(1, 0, 2).reshape(n, g * d))
             hard = ev.hard_rows[:, group.chains, :]
@@ -239,9 +238,6 @@ class PartitionedSolver:
             wrench: ``(n,)`` requested wrench (entries of free axes are ignored).
             keep: ``(n,)`` bool, the axes whose wrench is prescribed (not free).
 
-        Returns:
-            The distribution and the method used.
-
         Raises:
             SingularConfigurationError: The square system is singular at this configuration.
             ConstraintError: Too many constraints for the free axes, or constraints that
@@ -265,7 +261,7 @@ class PartitionedSolver:
                 if rfs_solved:
                     systems += (("RFS", len(plan.rfs), 1),)
                 systems += (("MFS", len(plan.mfs), 1),)
-                forces = self._forces(reduced, f)
+                forces = self.problem.forces(reduced.transforms, f, reduced.offsets)
                 return RawSolution(forces=forces, method="partitioned", sets=sets, systems=systems)
         # constraints exact, the request as close as possible, then the least norm
         forces = least_norm_forces(self.problem, ev, wrench, keep)
@@ -291,21 +287,9 @@ class PartitionedSolver:
         plan = self._plans.get(free_key)
         if plan is None:
             hard_rows = self._reduce(self._generic).hard_rows
-            plan = plan_square(hard_rows, self.num_free_entries, self._hard_rows_constant())
+            plan = plan_square(hard_rows, self._hard_rows_constant())
             self._plans[free_key] = plan
         return plan
-
-    def _forces(self, reduced: _Reduced, f: np.ndarray) -> np.ndarray:
-        forces = np.empty((self.problem.p, self.problem.n))
-        start = 0
-        for group, transform, offset in zip(
-            self.problem.groups, reduced.transforms, reduced.offsets, strict=True
-        ):
-            g, d = group.size, group.num_free
-            local = f[start : start + g * d].reshape(g, d)
-            forces[group.chains] = np.einsum("gnd,gd->gn", transform, local) + offset
-            start += g * d
-        return forces
 
     def _solve_square(
         self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, keep: np.ndarray
@@ -325,11 +309,10 @@ class PartitionedSolver:
                 gain, bias = plan.gain, plan.rfs_inverse @ h_rhs
             else:
                 rfs_solved = True
-                scale = reduced.hard_scale
-                gain, bias = rfs_gain(h, h_rhs, plan, scale)
+                gain, bias = rfs_gain(h, h_rhs, plan, reduced.hard_scale)
                 if gain is None:
-                    plan = plan_square(h, m, constant=False)
-                    gain, bias = rfs_gain(h, h_rhs, plan, scale)
+                    plan = plan_square(h, constant=False)
+                    gain, bias = rfs_gain(h, h_rhs, plan, reduced.hard_scale)
                     if gain is None:
                         return None
             a_r = a[:, plan.rfs]

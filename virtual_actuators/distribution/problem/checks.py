@@ -95,25 +95,18 @@ def _describe_natural(group: ChainGroup, j: int, row: int, joint_name: Callable[
     return "a direction the chain cannot produce"
 
 
-def check_hard_rows(
-    natural: np.ndarray,
-    natural_rhs: np.ndarray,
-    hard: np.ndarray,
-    hard_rhs: np.ndarray,
-    hard_names: Sequence[str],
-) -> None:
+def check_hard_rows(stacked: np.ndarray, rhs: np.ndarray, hard_names: Sequence[str]) -> None:
     """Reject hard rows that are implied by, or contradict, the natural ones and each other.
 
-    ``natural``: the dense natural rows over all ``p n`` force entries; ``hard``: ``(s, p n)``
-    the coupling and design rows, one name each in ``hard_names``.
+    ``stacked``: the dense natural rows over all ``p n`` force entries, then the coupling and
+    design rows, one name each in ``hard_names``; ``rhs``: their right-hand sides.
 
     Raises:
         ConstraintError: A design constraint implied by, or contradicting, the others.
     """
-    stacked = np.vstack((natural, hard))
-    bad = [i - natural.shape[0] for i in dependent_rows(stacked) if i >= natural.shape[0]]
+    natural = stacked.shape[0] - len(hard_names)
+    bad = [i - natural for i in dependent_rows(stacked) if i >= natural]
     if bad:
-        rhs = np.concatenate((natural_rhs, hard_rhs))
         solution = np.linalg.lstsq(stacked, rhs, rcond=None)[0]
         atol = IMPLIED_TOL * (1 + np.abs(rhs).max())
         consistent = np.allclose(stacked @ solution, rhs, atol=atol)

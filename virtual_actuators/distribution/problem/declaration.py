@@ -72,11 +72,10 @@ def check_passive(passive: object) -> dict[str, tuple[float, float]]:
             raise ConstraintError(
                 f"{what} must be (stiffness, rest_angle), two real numbers, got {params!r}."
             )
-        stiffness, rest = (
+        out[name] = tuple(
             check_number(x, f"{what}: {label}", error=ConstraintError)
             for x, label in zip(params, ("stiffness", "rest angle"), strict=True)
         )
-        out[name] = (stiffness, rest)
     return out
 
 
@@ -222,13 +221,3 @@ def design_rows(
         constant_names,
         torque_names,
     )
-
-
-__all__ = [
-    "Spring",
-    "check_passive",
-    "design_rows",
-    "joint_columns",
-    "label_index",
-    "parse_joints",
-]

@@ -73,9 +73,9 @@ class DistributionProblem:
         #: limp joints no selected axis loads: their (zero) natural rows are dropped
         self.vacuous_v: tuple[int, ...] = ()
         #: ``(p, nv + 1)`` chain signs by velocity index, 0 off the chain (and at index -1)
-        self._signs = np.zeros((self.p, self.model.nv + 1))
+        self.signs = np.zeros((self.p, self.model.nv + 1))
         for i, signs in enumerate(kinematics.chain_signs):
-            self._signs[i, kinematics.chain_columns[i]] = signs
+            self.signs[i, kinematics.chain_columns[i]] = signs
         self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
@@ -151,8 +151,7 @@ class DistributionProblem:
         if maps is None:
             basis = np.zeros((3, 6, 3))  # d_j -> twist rows x ball axes
             basis[:, :3, :] = -skew(np.eye(3))  # -skew(e_j) for each j
-            constant = np.zeros((6, 3))
-            constant[3:, :] = np.eye(3)
+            constant = np.eye(6, 3, k=-3)  # angular part e_k
             rows = self.kinematics.rows
             linear = basis[:, rows][:, :, ball].reshape(3, -1)
             maps = self._ball_maps[key] = (linear, constant[rows][:, ball].ravel())
@@ -181,16 +180,14 @@ class DistributionProblem:
         rows = design_rows(design, self.kinematics, self.reactions, self.axes)
         self.constant_rows, self.constant_rhs, self.torque_pairs = rows[:3]
         coupled_names = [f"torque of shared joint {self.joint_name(v)!r}" for v in self.coupled_v]
-        self.hard_names = coupled_names + rows[3] + rows[4]
+        self.hard_names = coupled_names + rows.constant_names + rows.torque_names
         self.num_hard = len(self.hard_names)
         #: True when no hard row depends on the configuration
         self.constant_hard = not self.coupled_v and not len(self.torque_pairs)
         self.check_counts(np.zeros(self.n, dtype=bool))
         if self.num_hard:
             ev = self.evaluate(self.generic_configurations()[1], check_singular=False)
-            natural, natural_rhs = self.block_natural(ev)
-            hard = ev.hard_rows.reshape(self.num_hard, -1)
-            check_hard_rows(natural, natural_rhs, hard, ev.hard_rhs, self.hard_names)
+            check_hard_rows(*self.exact_rows(ev), self.hard_names)
 
     def evaluate(self, state: np.ndarray | Snapshot, check_singular: bool = True) -> Evaluation:
         """Evaluate the natural, coupling and design rows at a snapshot (or a configuration).
@@ -198,9 +195,6 @@ class DistributionProblem:
         Args:
             state: A [`Snapshot`][] of the robot, or ``q``.
             check_singular: Raise when a chain's full Jacobian loses rank.
-
-        Returns:
-            The `Evaluation`.
 
         Raises:
             SingularConfigurationError: A chain's Jacobian is singular at ``q``.
@@ -219,14 +213,7 @@ class DistributionProblem:
             self._group_rows(group, jac, offsets, passive, check_singular) for group in self.groups
         ]
         hard_rows, hard_rhs = self._hard_rows(jac, passive)
-        return Evaluation(
-            q=q,
-            state=state,
-            groups=groups,
-            hard_rows=hard_rows,
-            hard_rhs=hard_rhs,
-            passive_torque=passive,
-        )
+        return Evaluation(state, groups, hard_rows, hard_rhs, passive)
 
     def _group_rows(
         self,
@@ -278,25 +265,24 @@ class DistributionProblem:
 
     def _hard_rows(self, jac: np.ndarray, passive: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(s, p, n)`` coupling and design rows over the chains' forces, and their rhs."""
+
+        def torque(v: Sequence[int] | np.ndarray) -> np.ndarray:  # each joint's torque row
+            return np.einsum("ps,ns->spn", self.signs[:, v], jac[:, v])
+
         hard_rows, hard_rhs = [self.constant_rows], [self.constant_rhs]
         if self.coupled_v:
-            cv = self.coupled_v
-            hard_rows.insert(0, np.einsum("ps,ns->spn", self.signs_at(cv), jac[:, cv]))
-            hard_rhs.insert(0, passive[cv])
+            hard_rows.insert(0, torque(self.coupled_v))
+            hard_rhs.insert(0, passive[self.coupled_v])
         if len(self.torque_pairs):
-            va, vb = self.torque_pairs[:, 0], self.torque_pairs[:, 1]
-            hard_rows.append(
-                np.einsum("ps,ns->spn", self.signs_at(va), jac[:, va])
-                - np.einsum("ps,ns->spn", self.signs_at(vb), jac[:, vb])
-            )
-            hard_rhs.append(np.zeros(len(va)))
+            hard_rows.append(torque(self.torque_pairs[:, 0]) - torque(self.torque_pairs[:, 1]))
+            hard_rhs.append(np.zeros(len(self.torque_pairs)))
         if len(hard_rows) > 1:
             return np.concatenate(hard_rows, axis=0), np.concatenate(hard_rhs)
         return hard_rows[0], hard_rhs[0]
 
-    def signs_at(self, velocity_indices: Sequence[int] | np.ndarray) -> np.ndarray:
-        """``(p, len(velocity_indices))`` chain signs at those columns (0 at index -1)."""
-        return self._signs[:, velocity_indices]
+    def sum_rows(self, keep: np.ndarray) -> np.ndarray:
+        """``(k, p n)``: the rows summing the chains' forces on the prescribed axes ``keep``."""
+        return np.tile(np.eye(self.n), (1, self.p))[keep]
 
     def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
         """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""
@@ -311,6 +297,23 @@ class DistributionProblem:
                 rhs[row : row + l_] = rows.rhs[j]
                 row += l_
         return matrix, rhs
+
+    def exact_rows(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
+        """Every exact row over all ``p n`` force entries: the natural, then the hard rows."""
+        natural, natural_rhs = self.block_natural(ev)
+        hard = ev.hard_rows.reshape(-1, self.p * self.n)
+        return np.vstack((natural, hard)), np.concatenate((natural_rhs, ev.hard_rhs))
+
+    def forces(self, bases: list[np.ndarray], y: np.ndarray, offset: np.ndarray) -> np.ndarray:
+        """``(p, n)`` forces ``F_i = offset_i + B_i y_i``: ``bases`` per group ``(g, n, d)``."""
+        forces = offset.copy()
+        start = 0
+        for group, basis in zip(self.groups, bases, strict=True):
+            g, d = group.size, group.num_free
+            local = y[start : start + g * d].reshape(g, d)
+            forces[group.chains] += np.einsum("gnd,gd->gn", basis, local)
+            start += g * d
+        return forces
 
     def torques(self, jacobian_o: np.ndarray, forces: np.ndarray) -> np.ndarray:
         """Total joint torques ``sum_i J_i^T F_i`` of a distribution ``forces`` ``(p, n)``.
@@ -339,13 +342,9 @@ class DistributionProblem:
         cached = self.structural.get(key)
         if cached is None:
             cached = True
-            n, p = self.n, self.p
             for q in self.generic_configurations():
                 ev = self.evaluate(q, check_singular=False)
-                natural, _ = self.block_natural(ev)
-                k = np.vstack(
-                    (np.tile(np.eye(n), (1, p))[keep], natural, ev.hard_rows.reshape(-1, p * n))
-                )
+                k = np.vstack((self.sum_rows(keep), self.exact_rows(ev)[0]))
                 if k.shape[0] == k.shape[1] and np.linalg.matrix_rank(k) == k.shape[0]:
                     cached = False
                     break

@@ -67,7 +67,6 @@ class Evaluation:
     """Everything configuration-dependent that the solvers need at one ``q``.
 
     Attributes:
-        q: The configuration.
         state: Kinematic state (Jacobian rows in {O}, frame placements).
         groups: Natural-constraint rows per chain group.
         hard_rows: ``(s, p, n)`` coupling and design rows over all chains' wrenches.
@@ -75,12 +74,8 @@ class Evaluation:
         passive_torque: ``(nv,)`` torques of passive springs at ``q`` [N m].
     """
 
-    q: np.ndarray
     state: KinematicState
     groups: list[GroupRows]
     hard_rows: np.ndarray
     hard_rhs: np.ndarray
     passive_torque: np.ndarray
-
-
-__all__ = ["ChainGroup", "Evaluation", "GroupRows"]

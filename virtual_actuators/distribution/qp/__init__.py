@@ -1,7 +1,6 @@
 """The contact-aware distribution as a quadratic program (``solve(..., method="qp")``)."""
 
-from .limits import ContactLimits, torque_map
-from .solver import QPDistribution, check_weights
+from .solver import ContactLimits, QPDistribution, check_weights
 from .stages import BUDGET_EXHAUSTED, CONFLICT_MAX_ITER, EXACT_MAX_ITER, ITERATION_BUDGET
 
 __all__ = [
@@ -12,5 +11,4 @@ __all__ = [
     "ContactLimits",
     "QPDistribution",
     "check_weights",
-    "torque_map",
 ]

@@ -1,8 +1,6 @@
 """The QP distribution's per-tick matrices through the compiled core: tables built once.
 
-It applies when the core is built, every chain's columns ``[J_i, ball_i]`` are independent and
-no hard row depends on the configuration; otherwise the QP builds its rows with numpy. The core's
-reduced QP (``src/core/qp.hpp``) is in the chains' free coordinates: per chain
+The core's reduced QP (``src/core/qp.hpp``) is in the chains' free coordinates: per chain
 ``F_i = x0_i + N_i z_i``, ``N_i`` orthonormal.
 """
 
@@ -80,26 +78,21 @@ class CompiledQPMatrices:
 
     Args:
         problem: The distribution problem.
-        normals_world: ``(p, 3)`` unit contact normals in the world.
-        frame_normals: ``(p,)`` 1 where the normal is the reaction frame's z axis (each tick).
-        cone: ``(3,)``: friction (< 0 for none), least normal force [N], 1 to keep the normal
-            row (0: no pyramid rows at all when friction < 0).
+        tables: `ContactLimits.tables`: ``normals_world`` ``(p, 3)`` unit contact normals in the
+            world; ``frame_normals`` ``(p,)`` 1 where the normal is the reaction frame's z axis
+            (each tick); ``cone`` ``(3,)``: friction (< 0 for none), least normal force [N], 1 to
+            keep the normal row (0: no pyramid rows at all when friction < 0); ``soles``
+            ``(p, 3)``: 1 for a sole, its half length and half width [m]; ``limited_v`` ``(t,)``
+            velocity indices of the torque-limited joints and ``limits`` ``(t,)`` their limits
+            [N m, N].
         static_scale: The declaration's part of the tick's scale.
         rows_in: Number of inequality rows.
-        soles: ``(p, 3)``: 1 for a sole, its half length and half width [m].
-        limited_v: ``(t,)`` velocity indices of the torque-limited joints.
-        limits: ``(t,)`` their limits [N m, N].
     """
 
     def __init__(
         self,
         problem: DistributionProblem,
-        normals_world: np.ndarray,
-        frame_normals: np.ndarray,
-        cone: np.ndarray,
-        soles: np.ndarray,
-        limited_v: np.ndarray,
-        limits: np.ndarray,
+        tables: dict[str, np.ndarray],
         static_scale: float,
         rows_in: int,
     ) -> None:
@@ -108,7 +101,8 @@ class CompiledQPMatrices:
         self._local = threading.local()
         kin = problem.kinematics
         self._max_row = int(kin.frame_rows.max())
-        #: whether the compiled path can build this declaration's ticks
+        #: whether the compiled path can build this declaration's ticks: with the core, every
+        #: chain's columns ``[J_i, ball_i]`` independent and no configuration-dependent hard row
         self.applicable = (
             has("QP")
             and all(g.rank == g.columns.shape[1] + len(g.ball_axes) for g in problem.groups)
@@ -124,11 +118,12 @@ class CompiledQPMatrices:
             np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
             spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),
             np.ascontiguousarray(problem.constant_rhs, dtype=float),
-            np.ascontiguousarray(normals_world, dtype=float),
-            np.asarray(frame_normals, dtype=np.int64),
-            np.array([*np.asarray(cone, dtype=float), static_scale]),
-            np.ascontiguousarray(soles, dtype=float), np.asarray(limited_v, dtype=np.int64),
-            np.asarray(limits, dtype=float),
+            np.ascontiguousarray(tables["normals_world"], dtype=float),
+            np.asarray(tables["frame_normals"], dtype=np.int64),
+            np.array([*np.asarray(tables["cone"], dtype=float), static_scale]),
+            np.ascontiguousarray(tables["soles"], dtype=float),
+            np.asarray(tables["limited_v"], dtype=np.int64),
+            np.asarray(tables["limits"], dtype=float),
         )  # fmt: skip
 
     def workspace(self, keep: np.ndarray) -> Workspace:
@@ -196,6 +191,3 @@ class CompiledQPMatrices:
                 snapshot.jacobian_world, frames, snapshot.q, wrench, *tail
             )
         return None if count < 0 else Answer(out, *norms, active[:count].copy())
-
-
-__all__ = ["CompiledQPMatrices", "Workspace"]

@@ -259,6 +259,3 @@ def exact_answer(
         active_tol, EXACT_TOL, EXACT_STEPS,
     )  # fmt: skip
     return (True, exact_x, z) if ok else (False, x, guess)
-
-
-__all__ = ["EXACT_STEPS", "exact_answer", "exact_step"]

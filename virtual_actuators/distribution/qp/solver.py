@@ -1,8 +1,7 @@
 """Contact-aware distribution as a lexicographic quadratic program (``solve(q, w, method="qp")``).
 
-Friction pyramids, centres of pressure inside the soles and torque limits as inequalities; the
-request exactly with the least force norm, else the closest wrench; ProxQP, DAQP in the compiled
-core, and an exact step on the active set (docs/concepts.md, "Contacts as inequalities").
+The request exactly with the least force norm, else the closest wrench, under the inequalities
+(the contacts' rows and the torque limits, named; docs/concepts.md, "Contacts as inequalities").
 """
 
 from __future__ import annotations
@@ -13,6 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from ...contacts import Constraint, ContactSet, TorqueLimits
 from ...exceptions import ConstraintError, InvalidAxisError, InvalidInputError
 from ...vocabulary.arguments import as_float_array, check_number, describe
 from ..methods import Request
@@ -20,8 +20,71 @@ from ..problem import DistributionProblem
 from ..result import RawSolution, TickResult, close_tick
 from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
 from .compiled import Answer, CompiledQPMatrices
-from .limits import ContactLimits, kinds, torque_map
 from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, Budget, ProxStages, StageRows
+
+
+class ContactLimits:
+    """The inequalities of a parallel actuator's QP: its contacts' rows, then torque limits.
+
+    Args:
+        problem: The distribution problem.
+        contacts: The actuator's contacts (`declare`).
+        torque_limits: False (none), True (URDF effort limits) or ``(nv,)`` limits [N m, N].
+
+    Raises:
+        InvalidInputError: Bad torque limits.
+    """
+
+    def __init__(
+        self,
+        problem: DistributionProblem,
+        contacts: ContactSet,
+        torque_limits: bool | Sequence[float] | np.ndarray,
+    ) -> None:
+        self.contacts = contacts
+        on_chain = np.zeros(problem.model.nv, dtype=bool)
+        on_chain[np.concatenate(problem.kinematics.chain_columns)] = True
+        limits = TorqueLimits(problem.model, torque_limits, on_chain, problem.actuated_mask)
+        self.torque_limits = limits
+        #: the declaration's tables for the compiled path
+        self.tables = {**contacts.tables(), "limited_v": limits.limited_v, "limits": limits.limits}
+        #: the inequality rows' names, in the order both paths build the rows
+        self.row_names = [*contacts.names, *limits.names(problem.joint_name)]
+
+    def rows(self, state: object, torque_map: np.ndarray) -> Constraint:
+        """``lows <= G x <= uppers`` over ``x = forces.ravel()``, with a name per row.
+
+        Args:
+            state: The tick's kinematic state (rotations, offsets, Jacobian rows in {O}).
+            torque_map: ``(nv, p n)`` joint torques of ``x``.
+        """
+        offsets = state.offsets_o() if self.contacts.sole_rows else None
+        one_sided = self.contacts.rows(state.rotation_o, state.rotation_a, offsets)
+        rows, low, upper = self.torque_limits.rows(torque_map)  # two-sided
+        return Constraint(
+            np.vstack((one_sided.G, rows)),
+            np.concatenate((one_sided.lows, low)),
+            np.concatenate((np.full(len(one_sided.lows), INFINITY), upper)),
+            self.row_names,
+        )
+
+
+def kinds(names: Sequence[str]) -> list[str]:
+    """The kinds of inequality among row names: friction, normal, moment, torque."""
+    words = ("friction", "normal", "moment", "torque")
+    return [word for name in names for word in words if word in name] or ["none"]
+
+
+def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarray:
+    """``(nv, p n)``: the joint torques ``sum_i J_i^T F_i`` as a matrix over ``F.ravel()``."""
+    p, n = problem.p, problem.n
+    matrix = np.zeros((problem.model.nv, p * n))
+    for group in problem.groups:
+        columns = group.columns  # (g, k): each chain's velocity columns
+        targets = group.chains[:, None, None] * n + np.arange(n)[None, None, :]
+        share = jacobian_o[:, columns].transpose(1, 2, 0) * group.signs[:, :, None]  # (g, k, n)
+        matrix[columns[:, :, None], targets] += share
+    return matrix
 
 
 def check_weights(weights: object, axes: Sequence[str]) -> np.ndarray:
@@ -98,19 +161,16 @@ class QPDistribution:
         self.stages = ProxStages(proxqp, limits.row_names, problem.reactions)
         #: ProxQP iterations one solve may use, all stages together
         self.iteration_budget = ITERATION_BUDGET
-        #: per set of prescribed axes: the rows summing the chains' forces on them
-        self._selects: dict[bytes, np.ndarray] = {}
         #: the active rows' names by their indices' bytes (the sets recur tick after tick)
         self._active_names: dict[bytes, tuple[str, ...]] = {}
         #: the scale's static part: the least normal force and constant right-hand sides
         self._static_scale = max(
-            limits.min_normal if limits.normal_row else 0.0,
+            limits.contacts.min_normal if limits.contacts.normal_row else 0.0,
             float(np.abs(problem.constant_rhs).max(initial=0.0)),
         )
         self.matrices = CompiledQPMatrices(
-            problem, **limits.tables, static_scale=self._static_scale,
-            rows_in=len(limits.row_names),
-        )  # fmt: skip
+            problem, limits.tables, self._static_scale, len(limits.row_names)
+        )
 
     @property
     def iterations(self) -> int:
@@ -155,11 +215,9 @@ class QPDistribution:
         """
         keep = request.keep
         weights = self._weights(request)
-        tried = request.compiled and self.matrices.applicable
-        if tried:  # most ticks of a walk: the last certified active set, one compiled call
+        if request.compiled and self.matrices.applicable:  # most ticks: one compiled call
             tick = self._again(snapshot, wrench, keep, weights)
             if tick is not None:
-                self._local.iterations = 0
                 return tick
         budget = Budget(max(int(self.iteration_budget), 1))
         try:
@@ -169,7 +227,7 @@ class QPDistribution:
 
     def plan_tables(self, request: Request) -> PlanTables | None:
         """The tables a compiled plan runs ``request`` with, or None without a compiled path."""
-        if not request.compiled or self.matrices.core is None or not self.matrices.applicable:
+        if not request.compiled or self.matrices.core is None:  # None unless applicable
             return None
         work, slot = self._hot(request.keep)
         tolerances = np.array([ACTIVE_TOL, EXACT_TOL, EPS_ABS])
@@ -195,10 +253,7 @@ class QPDistribution:
         tree = self.problem.kinematics.tree.core_tree
         if not request.compiled or self.matrices.core is None or tree is None:
             return None
-        tick = self._again(q, wrench, request.keep, self._weights(request), tree)
-        if tick is not None:
-            self._local.iterations = 0
-        return tick
+        return self._again(q, wrench, request.keep, self._weights(request), tree)
 
     def _solve(self, snapshot, wrench, keep, compiled, weights, budget):
         """`solve` once `_again` answered None."""
@@ -216,7 +271,7 @@ class QPDistribution:
         return self._tick(answer, results.exhausted)
 
     def _again(self, snapshot, wrench, keep, weights, tree=None) -> TickResult | None:
-        """The tick on the last certified active set, in one compiled call, or None.
+        """The tick on the last certified active set, in one compiled call (no ProxQP), or None.
 
         ``snapshot`` is a checked configuration when ``tree`` is the core's ``Tree``.
         """
@@ -224,16 +279,18 @@ class QPDistribution:
         if slot.active is None:
             return None
         answer = self.matrices.again(snapshot, wrench, keep, work, weights, slot.active, tree)
-        return None if answer is None else self._tick(answer, False)
+        if answer is None:
+            return None
+        self._local.iterations = 0
+        return self._tick(answer, False)
 
     def _hot(self, keep: np.ndarray) -> tuple:
         """This thread's workspace for ``keep`` and the stage-1 slot of the same sizes."""
         hot = getattr(self._local, "workspace", None)  # for the last prescribed axes
         if hot is None or hot[0] is not keep:
             work = self.matrices.workspace(keep)
-            slot = self.stages.exact_slot(
-                "free", work.equality.shape[1], len(work.equality_rhs), len(work.lows)
-            )
+            sizes = (work.equality.shape[1], len(work.equality_rhs), len(work.lows))
+            slot = self.stages.slot(("free", "exact", *sizes))
             hot = self._local.workspace = (keep, work, slot)
         return hot[1], hot[2]
 
@@ -250,9 +307,8 @@ class QPDistribution:
             self._active_names[key] = active
         if exhausted:
             active += (BUDGET_EXHAUSTED,)
-        raw = RawSolution(
-            forces=answer.out[: p * n].reshape(p, n), method="qp", solver="qp", active=active
-        )
+        forces = answer.out[: p * n].reshape(p, n)
+        raw = RawSolution(forces, method="qp", solver="qp", active=active)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False
         )
@@ -271,11 +327,9 @@ class QPDistribution:
         problem = self.problem
         p, n = problem.p, problem.n
         ev = problem.evaluate(snapshot, check_singular=False)
-        natural, natural_rhs = problem.block_natural(ev)
-        hard = ev.hard_rows.reshape(len(ev.hard_rhs), p * n)
-        select = self._select(keep)
-        equality = np.vstack((natural, hard, select))
-        equality_rhs = np.concatenate((natural_rhs, ev.hard_rhs, wrench[keep]))
+        exact, exact_rhs = problem.exact_rows(ev)
+        equality = np.vstack((exact, problem.sum_rows(keep)))
+        equality_rhs = np.concatenate((exact_rhs, wrench[keep]))
         tmap = torque_map(problem, ev.state.jacobian_o)
         limits = self.limits.rows(ev.state, tmap)
         inequality, lows, uppers = limits.G, limits.lows, limits.uppers
@@ -298,8 +352,7 @@ class QPDistribution:
                 slack = max(slack, float(np.max(lows - values)), float(np.max(values - uppers)))
             return slack if np.all(np.isfinite(x)) else np.inf
 
-        rows = StageRows(equality, equality_rhs, len(equality_rhs) - len(select), inequality,
-                         lows, uppers)  # fmt: skip
+        rows = StageRows(equality, equality_rhs, len(exact_rhs), inequality, lows, uppers)
         results = self.stages.solve("forces", rows, miss, weights, budget)
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)
@@ -317,14 +370,3 @@ class QPDistribution:
             ev.passive_torque,
             accuracy=EPS_ABS * 10 * scale,
         )
-
-    def _select(self, keep: np.ndarray) -> np.ndarray:
-        """``(k, p n)``: the rows summing the chains' forces on the prescribed axes."""
-        select = self._selects.get(keep.tobytes())
-        if select is None:
-            select = np.tile(np.eye(self.problem.n), (1, self.problem.p))[keep]
-            self._selects[keep.tobytes()] = select
-        return select
-
-
-__all__ = ["ContactLimits", "PlanTables", "QPDistribution", "check_weights", "torque_map"]

@@ -101,14 +101,9 @@ class ProxStages:
         """Drop this thread's workspaces: the next solve starts cold."""
         self._local.__dict__.clear()
 
-    def exact_slot(self, path: str, size: int, equalities: int, inequalities: int) -> ProxSlot:
-        """This thread's workspace of stage 1 for a family and sizes (made on first use)."""
-        return self._slot((path, "exact", size, equalities, inequalities))
-
-    def _slot(self, key: tuple) -> ProxSlot:
-        cache = getattr(self._local, "qps", None)
-        if cache is None:
-            cache = self._local.qps = {}
+    def slot(self, key: tuple) -> ProxSlot:
+        """This thread's workspace of ``key`` (family, stage, sizes), made on first use."""
+        cache = self._local.__dict__.setdefault("qps", {})
         slot = cache.get(key)
         if slot is None:  # its ProxQP workspace is made when ProxQP first runs (_workspace)
             slot = cache[key] = ProxSlot()
@@ -116,7 +111,7 @@ class ProxStages:
 
     def _workspace(self, key: tuple) -> object:
         """The ``proxqp.dense.QP`` of a slot, made on first use (most ticks never run ProxQP)."""
-        slot = self._slot(key)
+        slot = self.slot(key)
         if slot.qp is None:
             qp = self._proxqp.dense.QP(*key[2:])
             qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
@@ -141,26 +136,21 @@ class ProxStages:
         rows ``x`` must meet; ``budget`` is charged.
         """
         proxqp = self._proxqp
-        slot = self._slot(key)
+        slot = self.slot(key)
         qp, fresh = self._workspace(key), slot.fresh
         warm = key[1] == "exact"
         qp.settings.max_iter = min(EXACT_MAX_ITER, (budget.left + 1) // 2) if warm else budget.left
         if key[1] == "conflict":
             qp.settings.max_iter = min(CONFLICT_MAX_ITER, budget.left)
-        inequality, lows, uppers = rows.inequality, rows.lows, rows.uppers
+        bounded = (rows.inequality, rows.lows, rows.uppers)
         if fresh or not warm:
             qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
+            precondition = key[1] != "closest"
             qp.init(
-                *objective,
-                equality,
-                equality_rhs,
-                inequality,
-                lows,
-                uppers,
-                compute_preconditioner=key[1] != "closest",
+                *objective, equality, equality_rhs, *bounded, compute_preconditioner=precondition
             )
         else:  # the objective (I, 0) never changes
-            qp.update(None, None, equality, equality_rhs, inequality, lows, uppers)
+            qp.update(None, None, equality, equality_rhs, *bounded)
         qp.solve()
         results = qp.results
         budget.charge(results.info.iter_ext)
@@ -206,7 +196,7 @@ class ProxStages:
         equality, equality_rhs = rows.equality, rows.equality_rhs
         size = equality.shape[1]
         key = (path, "exact", size, len(equality_rhs), len(rows.lows))
-        slot = self.exact_slot(*key[:1], *key[2:])
+        slot = self.slot(key)
         if slot.active is not None:  # the last answer's active set, certified again
             certified, x, z = self._exact(rows, weights, None, slot.active, True)
             if certified:
@@ -235,7 +225,7 @@ class ProxStages:
             slot.active = z if certified else None
             return StageAnswer(x, z, False)
         # stage 1's last iterate mostly names the closest answer's active set already
-        last = self._local.qps[key].qp.results
+        last = slot.qp.results
         certified, x, z = self._exact(rows, weights, last.x, last.z, False)
         if certified:
             return StageAnswer(x, z, False)
@@ -341,7 +331,3 @@ class ProxStages:
         guess = reached.z.copy()
         guess[held] = multipliers[held]
         return exact(reached.x, guess, reached.info.status != converged or not solved)
-
-
-__all__ = ["BUDGET_EXHAUSTED", "CONFLICT_MAX_ITER", "EXACT_MAX_ITER", "ITERATION_BUDGET",
-           "Budget", "ProxStages", "StageRows"]  # fmt: skip

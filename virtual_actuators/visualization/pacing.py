@@ -1,23 +1,18 @@
-"""When a frame is sent live and recorded, how a recording is framed, and `TickUpdater`."""
+"""When a frame is sent live and recorded, and how a recording is framed."""
 
 from __future__ import annotations
 
 import math
 import time as wallclock
-from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from meshcat.commands import SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
-from ..control import Controller, ControlOutput
 from .recording import AnimationRecording
 from .scene import Scene
 from .shapes import translation
 from .windows import SceneWindow
-
-if TYPE_CHECKING:
-    from ..simulation.simulator import Simulator
 
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0
@@ -188,83 +183,3 @@ class FramePacer:
     def __repr__(self) -> str:
         recording = f", recording {self.recording.frames} frames" if self.recording else ""
         return f"FramePacer(rate_hz={self.rate_hz:g}{recording})"
-
-
-class Gait(Protocol):
-    """What `TickUpdater` reads of a gait (its ``machine`` too, if it has one).
-
-    Attributes:
-        controller: The gait's controller.
-        last: Its output of the last tick, or None before the first.
-    """
-
-    controller: Controller
-    last: ControlOutput | None
-
-
-class Drawing(Protocol):
-    """What `TickUpdater` calls of a [`Viewer`][virtual_actuators.visualization.Viewer]."""
-
-    robot: object
-
-    def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a frame is due."""
-
-    def set_terrain(self, terrain: object) -> None:
-        """Draw the ground."""
-
-    def maybe_show(self, q: np.ndarray, **frame: object) -> bool:
-        """Draw ``q`` (and the frame's extras) if a frame is due; whether one was drawn."""
-
-
-class TickUpdater:
-    """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
-
-    When one is due, it draws the simulator's ``q`` with the gait's controller, last output
-    and state.
-
-    Args:
-        viewer: The viewer.
-        realtime: Sleep so that simulated time does not run ahead of wall-clock time.
-    """
-
-    def __init__(self, viewer: Drawing, realtime: bool = False) -> None:
-        self.viewer = viewer
-        self.realtime = realtime
-        self.updates = 0
-        self._start: float | None = None
-        self._sim_start = 0.0
-
-    def __call__(self, simulator: Simulator, gait: Gait) -> None:
-        """Update the viewer if due.
-
-        Raises:
-            InvalidInputError: The simulator's ``q`` or the gait's output does not fit.
-            FrameNotFoundError: A frame the gait names is not in the viewer's robot.
-        """
-        viewer = self.viewer
-        sim_time = simulator.time
-        if self._start is None:
-            self._start, self._sim_start = wallclock.perf_counter(), sim_time
-            if getattr(simulator, "terrain", None) is not None:  # drawn at the first tick
-                viewer.set_terrain(simulator.terrain)
-        if self.realtime:
-            ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)
-            if ahead > 0.005:
-                wallclock.sleep(ahead)
-        if not any(viewer.due(sim_time)):
-            return  # (the state and q are read only for a frame that is due)
-        machine = getattr(gait, "machine", None)
-        self.updates += viewer.maybe_show(
-            simulator.q,
-            controller=gait.controller if gait.last is not None else None,
-            output=gait.last,
-            state=machine.current if machine is not None else None,
-            time=sim_time,
-        )
-
-    def __repr__(self) -> str:
-        return (
-            f"TickUpdater({self.viewer.robot.name!r}, realtime={self.realtime}, "
-            f"updates={self.updates})"
-        )

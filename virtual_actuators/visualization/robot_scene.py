@@ -16,10 +16,11 @@ from .legend import Palette
 from .robot_layout import effort_joints, ground_grid, is_planar, marker_sizes, terrain_segments
 from .scene import Scene
 from .shapes import (
-    Cone,
     arrow_matrices,
+    cone,
     frame_on_plane,
     material,
+    placement,
     span_matrix,
     terrain_boxes,
     translation,
@@ -165,10 +166,7 @@ class RobotScene:
     def hud_matrix(self, offset_right: float, offset_up: float) -> np.ndarray:
         """Placement in the HUD plane (facing the camera), beside the robot's centre."""
         rotation = self.hud_rotation
-        matrix = np.eye(4)
-        matrix[:3, :3] = rotation
-        matrix[:3, 3] = rotation[:, 0] * offset_right + rotation[:, 1] * offset_up
-        return matrix
+        return placement(rotation, rotation[:, 0] * offset_right + rotation[:, 1] * offset_up)
 
     def pose(self, q: np.ndarray) -> None:
         """Forward kinematics at ``q`` (checked by the caller); place the bodies and the view."""
@@ -238,7 +236,7 @@ class RobotScene:
             nodes.create(f"{name}/shaft", mg.Cylinder(1.0, self.sizes["shaft"] * thin), mat)
             for k in range(heads):
                 nodes.create(
-                    f"{name}/head{k}", Cone(head_length, self.sizes["head_radius"] * thin), mat
+                    f"{name}/head{k}", cone(head_length, self.sizes["head_radius"] * thin), mat
                 )
             nodes.declare(name)
         nodes.use(name)

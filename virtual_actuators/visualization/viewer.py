@@ -6,12 +6,14 @@ drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 
 from __future__ import annotations
 
+import time as wallclock
 from pathlib import Path
-from typing import TYPE_CHECKING, Unpack
+from typing import TYPE_CHECKING, Protocol, Unpack
 
 import meshcat
 import numpy as np
 
+from ..control import Controller, ControlOutput
 from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
@@ -21,13 +23,14 @@ from .frame_snapshot import FrameExtras, FrameSnapshot
 from .legend import PALETTE, Palette, legend_entries, legend_html
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
-from .pacing import FramePacer, TickUpdater, framing_commands
+from .pacing import FramePacer, framing_commands
 from .recording import AnimationRecording
 from .robot_scene import RobotScene
 from .scene import Scene
 from .windows import SceneWindow
 
 if TYPE_CHECKING:
+    from ..simulation.simulator import Simulator
     from ..simulation.terrain import Terrain
 
 
@@ -267,4 +270,69 @@ class Viewer:
             f"Viewer(robot={self.robot.name!r}, url={self.url!r}, geometry={self.bodies.kind!r}, "
             f"force_scale={scene.force_scale:g} m/N, moment_scale={scene.moment_scale:g} m/(N m)"
             f"{recording})"
+        )
+
+
+class Gait(Protocol):
+    """What `TickUpdater` reads of a gait (its ``machine`` too, if it has one).
+
+    Attributes:
+        controller: The gait's controller.
+        last: Its output of the last tick, or None before the first.
+    """
+
+    controller: Controller
+    last: ControlOutput | None
+
+
+class TickUpdater:
+    """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
+
+    When one is due, it draws the simulator's ``q`` with the gait's controller, last output
+    and state.
+
+    Args:
+        viewer: The viewer.
+        realtime: Sleep so that simulated time does not run ahead of wall-clock time.
+    """
+
+    def __init__(self, viewer: Viewer, realtime: bool = False) -> None:
+        self.viewer = viewer
+        self.realtime = realtime
+        self.updates = 0
+        self._start: float | None = None
+        self._sim_start = 0.0
+
+    def __call__(self, simulator: Simulator, gait: Gait) -> None:
+        """Update the viewer if due.
+
+        Raises:
+            InvalidInputError: The simulator's ``q`` or the gait's output does not fit.
+            FrameNotFoundError: A frame the gait names is not in the viewer's robot.
+        """
+        viewer = self.viewer
+        sim_time = simulator.time
+        if self._start is None:
+            self._start, self._sim_start = wallclock.perf_counter(), sim_time
+            if getattr(simulator, "terrain", None) is not None:  # drawn at the first tick
+                viewer.set_terrain(simulator.terrain)
+        if self.realtime:
+            ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)
+            if ahead > 0.005:
+                wallclock.sleep(ahead)
+        if not any(viewer.due(sim_time)):
+            return  # (the state and q are read only for a frame that is due)
+        machine = getattr(gait, "machine", None)
+        self.updates += viewer.maybe_show(
+            simulator.q,
+            controller=gait.controller if gait.last is not None else None,
+            output=gait.last,
+            state=machine.current if machine is not None else None,
+            time=sim_time,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"TickUpdater({self.viewer.robot.name!r}, realtime={self.realtime}, "
+            f"updates={self.updates})"
         )

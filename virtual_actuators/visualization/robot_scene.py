@@ -221,18 +221,21 @@ class RobotScene:
         name: str,
         origin: np.ndarray,
         vector: np.ndarray,
-        color: int,
+        key: str,
         heads: int,
         thin: float = 1.0,
-    ) -> bool:
-        """Show the dynamic arrow ``name`` from ``origin`` along ``vector`` (False if zero)."""
+    ) -> None:
+        """Show the dynamic arrow ``name`` from ``origin`` along ``vector`` unless it is zero.
+
+        It has the colour of the `Palette` field ``key``, which it `mark`s when drawn.
+        """
         head_length = self.sizes["head_length"] * thin
         matrices = arrow_matrices(origin, vector, head_length, heads)
         if matrices is None:
-            return False
+            return
         nodes = self.nodes
         if not nodes.has(f"{name}/shaft"):
-            mat = material(color)
+            mat = material(getattr(self.palette, key))
             nodes.create(f"{name}/shaft", mg.Cylinder(1.0, self.sizes["shaft"] * thin), mat)
             for k in range(heads):
                 nodes.create(
@@ -243,7 +246,7 @@ class RobotScene:
         nodes.place(f"{name}/shaft", matrices[0])
         for k in range(heads):
             nodes.place(f"{name}/head{k}", matrices[k + 1])
-        return True
+        self.drawn.add(key)
 
     def wrench(
         self,
@@ -252,20 +255,12 @@ class RobotScene:
         rotation: np.ndarray,
         axes: tuple[str, ...],
         values: np.ndarray,
-        colors: tuple[int, int],
-    ) -> tuple[bool, bool]:
-        """A force arrow and a double-headed moment arrow of a wrench on ``axes``.
-
-        Returns:
-            Whether the force and the moment arrows were drawn (not zero).
-        """
+        keys: tuple[str, str],
+    ) -> None:
+        """A force arrow and a double-headed moment arrow of a wrench on ``axes`` (see `arrow`)."""
         force, moment = self.split(axes, values)
-        scaled_force = rotation @ force * self.force_scale
-        scaled_moment = rotation @ moment * self.moment_scale
-        return (
-            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1),
-            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2),
-        )
+        self.arrow(f"{name}/force", origin, rotation @ force * self.force_scale, keys[0], 1)
+        self.arrow(f"{name}/moment", origin, rotation @ moment * self.moment_scale, keys[1], 2)
 
     def triad(self, role: str, frame: str) -> None:
         """Show the axes of ``frame``, sized by its role (`TRIAD_LENGTHS`).
@@ -293,18 +288,14 @@ class RobotScene:
         geometry_factory: Callable[[], object],
         color: int,
         opacity: float = 1.0,
-    ) -> bool:
+    ) -> None:
         """Show the dynamic unit shape ``name`` stretched from ``start`` to ``end``."""
         matrix = span_matrix(start, end)
-        if matrix is None:
-            return False
-        if not self.nodes.has(name):
+        if matrix is not None:
             extra = {"depthWrite": False} if opacity < 1.0 else {}
-            self.nodes.create(name, geometry_factory(), material(color, opacity, **extra))
-            self.nodes.declare(name)
-        self.nodes.use(name)
-        self.nodes.place(name, matrix)
-        return True
+            self._show(
+                name, lambda: (geometry_factory(), material(color, opacity, **extra)), matrix
+            )
 
     def marker(
         self, name: str, make: Callable[[], tuple[object, object]], position: np.ndarray
@@ -313,12 +304,16 @@ class RobotScene:
 
         ``make()`` gives its ``(geometry, material)`` once, when it is created.
         """
+        self._show(name, make, translation(position))
+
+    def _show(self, name: str, make: Callable[[], tuple[object, object]], matrix: np.ndarray):
+        """Show the dynamic object ``name`` at ``matrix``, made by ``make()`` the first time."""
         nodes = self.nodes
         if not nodes.has(name):
             nodes.create(name, *make())
             nodes.declare(name)
         nodes.use(name)
-        nodes.place(name, translation(position))
+        nodes.place(name, matrix)
 
     def __repr__(self) -> str:
         return (

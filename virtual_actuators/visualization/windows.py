@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import html
-import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,7 +45,6 @@ class SceneWindow:
 
     def __init__(self) -> None:
         self._nodes: dict[str, _Node] = {}
-        self._lock = threading.Lock()
 
     def send(self, command: object) -> None:
         """Apply a MeshCat command to the mirror and deliver it."""
@@ -96,25 +94,21 @@ class SceneWindow:
     def _node(self, path: str) -> _Node:
         node = self._nodes.get(path)
         if node is None:
-            with self._lock:
-                node = self._nodes.setdefault(path, _Node())
+            node = self._nodes[path] = _Node()
         return node
 
     def _delete(self, path: str) -> None:
-        with self._lock:
-            if path in ("", "/"):
-                self._nodes.clear()
-                return
-            prefix = path.rstrip("/") + "/"
-            for key in [k for k in self._nodes if k == path or k.startswith(prefix)]:
-                del self._nodes[key]
+        if path in ("", "/"):
+            self._nodes.clear()
+            return
+        prefix = path.rstrip("/") + "/"
+        for key in [k for k in self._nodes if k == path or k.startswith(prefix)]:
+            del self._nodes[key]
 
     def scene_commands(self) -> list[object]:
         """The commands that rebuild the current scene: objects, properties, then transforms."""
-        with self._lock:
-            nodes = list(self._nodes.items())
         out = []
-        for path, node in nodes:
+        for path, node in self._nodes.items():
             if node.object is not None:
                 out.append(node.object)
             out.extend(node.properties.values())

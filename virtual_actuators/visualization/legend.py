@@ -50,24 +50,13 @@ def from_lab(lab: np.ndarray) -> int:
     return (r << 16) | (g << 8) | b
 
 
-def chroma(color: int) -> float:
-    """CIELAB chroma ``sqrt(a^2 + b^2)`` of a colour (0 for greys)."""
-    _, a, b = to_lab(color)
-    return float(np.hypot(a, b))
-
-
-def color_distance(first: int, second: int) -> float:
-    """CIE76 Delta E between two colours (Euclidean distance in CIELAB)."""
-    return float(np.linalg.norm(to_lab(first) - to_lab(second)))
-
-
-def desaturate(color: int, max_chroma: float = ROBOT_MAX_CHROMA) -> int:
-    """The colour with its chroma limited to ``max_chroma`` (+1.5 for 8-bit rounding), same hue."""
+def desaturate(color: int) -> int:
+    """The colour with its chroma cut to `ROBOT_MAX_CHROMA` (+1.5: 8-bit rounding), same hue."""
     lab = to_lab(color)
     current = float(np.hypot(lab[1], lab[2]))
-    if current <= max_chroma:
+    if current <= ROBOT_MAX_CHROMA:
         return color
-    lab[1:] *= max_chroma / current
+    lab[1:] *= ROBOT_MAX_CHROMA / current
     return from_lab(lab)
 
 

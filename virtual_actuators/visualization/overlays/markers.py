@@ -1,9 +1,7 @@
-"""Markers at the robot's joints and feet, and text beside it facing the camera.
+"""Effort gauges at the joints, support feet, and the legend and state name facing the camera.
 
-Effort gauges: a sphere of radius ``|tau| / limit`` inside a shell (the effort limit, else
-``effort_reference``) that turns red when the joint saturates, on the camera's side of the joint,
-along its axis. Support feet: a translucent sphere at each support frame. The legend (only what
-has been drawn) and the gait's state name.
+A gauge is a sphere of radius ``|tau| / limit`` inside a shell (the effort limit, else
+``effort_reference``), on the camera's side of the joint along its axis.
 """
 
 from __future__ import annotations

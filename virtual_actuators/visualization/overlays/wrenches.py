@@ -1,12 +1,9 @@
-"""Virtual actuators and their components, from the frames of the controller's attachments.
+"""Virtual actuators (triads, wrench arrows) and their components (coils, dashpots, set points).
 
-Triads at the actuators' frames; the requested, produced and shared wrenches along the reference
-frame's axes, moments about the action frame's origin (a chain's share at its reaction frame,
-its moment about that frame's origin); the produced wrench when it differs from the request,
-orange when adjusted, red when inadmissible. Components: springs (coils), dampers (dashpots) and
-set points (spheres) from the reaction-side anchor to the action frame, on their translational
-axes; a damper alone ends on its set point or, without one, lies `VELOCITY_DAMPER_LENGTH` robot
-sizes along its first axis.
+Wrenches are drawn on the reference frame's axes, moments about the action frame's origin (a
+chain's share about its reaction frame's). Components run from the reaction-side anchor to the
+action frame on their translational axes; a damper alone ends on its set point or, without one,
+lies `VELOCITY_DAMPER_LENGTH` robot sizes along its first axis.
 """
 
 from __future__ import annotations

@@ -1,7 +1,11 @@
-"""The robot in the MeshCat scene and the drawing primitives that overlays share."""
+"""The robot in the MeshCat scene, the drawing primitives that overlays share, and `Overlay`.
+
+An overlay draws what is there; the dynamic nodes it does not ``use`` in a frame are hidden.
+"""
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -29,6 +33,7 @@ from .shapes import (
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
+    from .frame_snapshot import FrameSnapshot
 
 #: Roles of the frames drawn as triads, with their length relative to a typical link.
 TRIAD_LENGTHS = {"action": 0.5, "reaction": 0.3, "reference": 0.65, "frame": 0.4}
@@ -320,3 +325,17 @@ class RobotScene:
             f"RobotScene({self.robot.name!r}, {self.bodies.kind}, extent={self.extent:.3g} m, "
             f"camera={self._camera_mode!r}, follow={self.follow})"
         )
+
+
+class Overlay(ABC):
+    """Something drawn over the robot: subclass it and implement `draw`."""
+
+    def setup(self, scene: RobotScene) -> None:  # noqa: B027 - optional hook
+        """Draw what never changes, once, when the overlay joins a viewer (nothing by default)."""
+
+    @abstractmethod
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Draw one frame: place and ``use`` the overlay's nodes (``scene`` is at ``frame.q``)."""
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}()"

@@ -1,6 +1,6 @@
 """What is drawn over the robot, one `Overlay` per kind of thing (`Viewer.add_overlay` adds one)."""
 
-from .base import Overlay
+from ..robot_scene import Overlay
 from .markers import EffortOverlay, LegendOverlay, StateOverlay, SupportOverlay
 from .wrenches import ComponentOverlay, WrenchOverlay
 

@@ -12,9 +12,8 @@ import numpy as np
 from ...exceptions import InvalidInputError
 from ..frame_snapshot import FrameSnapshot
 from ..legend import legend_entries
-from ..robot_scene import RobotScene, safe
+from ..robot_scene import Overlay, RobotScene, safe
 from ..shapes import material, text_faces, translation
-from .base import Overlay
 
 
 class EffortOverlay(Overlay):

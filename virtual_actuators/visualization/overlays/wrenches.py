@@ -16,9 +16,8 @@ import numpy as np
 from ...components.base import Component
 from ...control import Attachment
 from ..frame_snapshot import Actuator, FrameSnapshot, reactions_of
-from ..robot_scene import RobotScene, cross, safe
+from ..robot_scene import Overlay, RobotScene, cross, safe
 from ..shapes import coil_mesh, material
-from .base import Overlay
 
 
 class WrenchOverlay(Overlay):

@@ -17,31 +17,11 @@ from .windows import SceneWindow
 #: Vertical field of view of MeshCat's default camera [deg].
 CAMERA_FOV_DEG = 75.0
 
-#: What a recording is framed on: the robot's bodies.
-FRAMED = ("robot/",)
 
-
-def _visible_points(scene: Scene, under: tuple[str, ...]) -> np.ndarray:
-    """Origins ``(n, 3)`` of the placed nodes named ``under...`` with no hidden parent."""
-    matrices, visible = scene.matrices, scene.visible
-    root = matrices.get("", np.eye(4))
-    composed: dict[str, np.ndarray | None] = {"": root}
-
-    def pose(name: str) -> np.ndarray | None:
-        if name in composed:
-            return composed[name]
-        parent, _, _ = name.rpartition("/")
-        above = pose(parent)
-        if above is None or visible.get(name) is False:
-            result = None
-        else:
-            own = matrices.get(name)
-            result = above if own is None else above @ own
-        composed[name] = result
-        return result
-
-    poses = [pose(name) for name in matrices if name and name.startswith(under)]
-    points = [matrix[:3, 3] for matrix in poses if matrix is not None]
+def _body_points(scene: Scene) -> np.ndarray:
+    """Origins ``(n, 3)`` of the robot's bodies (``robot/...``, never hidden) in the view."""
+    root = scene.matrices.get("", np.eye(4))
+    points = [(root @ m)[:3, 3] for name, m in scene.matrices.items() if name.startswith("robot/")]
     return np.array(points) if points else np.zeros((0, 3))
 
 
@@ -157,28 +137,13 @@ class FramePacer:
         if recording.times and time <= recording.times[-1]:
             return  # the same instant again (a paused simulation): keep the first frame
         recording.add(time, dict(self.scene.matrices), dict(self.scene.visible))
-        points = _visible_points(self.scene, FRAMED)
+        points = _body_points(self.scene)
         if len(points):  # grow the box with the robot's visible bodies in this frame
             low, high = points.min(axis=0), points.max(axis=0)
             if self.bounds is not None:
                 low, high = np.minimum(self.bounds[0], low), np.maximum(self.bounds[1], high)
             self.bounds = low, high
         self._next_record = time + 1.0 / recording.fps
-
-    def page(self, title: str, overlay: str, framing: list[object] = ()) -> str:
-        """A standalone page of the scene, animated with the (last) recording if there is one.
-
-        Args:
-            title: Page title.
-            overlay: HTML over the view (the legend; the scene's own is hidden).
-            framing: Commands that frame the recording (camera, offset), applied with it.
-        """
-        self.scene.sync()
-        recording = self.recording or self.last_recording
-        extra: list[object] = [SetProperty("visible", False, self.scene.node("hud/legend").path)]
-        if recording is not None and recording.frames >= 2:
-            extra += [*framing, recording.command(self.scene.path)]
-        return self.window.static_html(extra, title=title, overlay=overlay)
 
     def __repr__(self) -> str:
         recording = f", recording {self.recording.frames} frames" if self.recording else ""

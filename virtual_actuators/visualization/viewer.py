@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Protocol, Unpack
 
 import meshcat
 import numpy as np
+from meshcat.commands import SetProperty
 
 from ..control import Controller, ControlOutput
 from ..distribution.result import Solution
@@ -91,19 +92,17 @@ class Viewer:
         self.robot = robot
         self.model = robot.model
         self.bodies = RobotBodies(robot, geometry, typical_link_length(self.model))
-        started = window is None
-        window = LiveWindow(zmq_url) if started else window
-        self.window: SceneWindow = window
-        self.vis = meshcat.Visualizer(window=window)
+        self.window: SceneWindow = LiveWindow(zmq_url) if window is None else window
+        self.vis = meshcat.Visualizer(window=self.window)
         self.scene = Scene(self.vis, "virtual_actuators")
         self.robot_scene = RobotScene(robot, self.bodies, self.scene, palette, *scales)
         self.overlays: list[Overlay] = default_overlays(legend)
-        self.pacer = FramePacer(window, self.scene, rate_hz)
+        self.pacer = FramePacer(self.window, self.scene, rate_hz)
         self.robot_scene.build()
         for overlay in self.overlays:
             overlay.setup(self.robot_scene)
         self.show(robot.neutral())
-        if started:
+        if window is None:
             print(f"MeshCat viewer of {robot.name}: {self.url}")
 
     @property
@@ -141,9 +140,15 @@ class Viewer:
         A recording is framed on the robot over the whole run.
         """
         title = title or f"virtual_actuators: {self.robot.name}"
-        scene = self.robot_scene
-        framing = framing_commands(self.pacer.bounds, scene.view, 0.75 * scene.detail)
-        return self.pacer.page(title, legend_html(self.legend_entries(), title), framing)
+        overlay = legend_html(self.legend_entries(), title)  # the scene's own legend is hidden
+        scene, pacer = self.robot_scene, self.pacer
+        self.scene.sync()
+        extra: list[object] = [SetProperty("visible", False, self.scene.node("hud/legend").path)]
+        recording = pacer.recording or pacer.last_recording
+        if recording is not None and recording.frames >= 2:
+            extra += framing_commands(pacer.bounds, scene.view, 0.75 * scene.detail)
+            extra.append(recording.command(self.scene.path))
+        return self.window.static_html(extra, title=title, overlay=overlay)
 
     def save_html(self, path: str, title: str | None = None) -> str:
         """Write `static_html` (the whole recorded run, if any) to ``path``; return the path.
@@ -223,8 +228,7 @@ class Viewer:
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
         """
-        self._draw(q, solution, extras)
-        self.pacer.publish(self.window.live, self.pacer.recording is not None, extras.get("time"))
+        self._draw(q, solution, extras, self.window.live, self.pacer.recording is not None)
 
     def maybe_show(
         self, q: np.ndarray, solution: Solution | None = None, **extras: Unpack[FrameExtras]
@@ -243,17 +247,24 @@ class Viewer:
         live, record = self.due(extras.get("time"))
         if not (live or record):
             return False
-        self._draw(q, solution, extras)
-        self.pacer.publish(live, record, extras.get("time"))
+        self._draw(q, solution, extras, live, record)
         return True
 
-    def _draw(self, q: np.ndarray, solution: Solution | None, extras: FrameExtras) -> None:
-        """Check a frame (`FrameSnapshot.build`) and draw it into the scene without sending it."""
+    def _draw(
+        self,
+        q: np.ndarray,
+        solution: Solution | None,
+        extras: FrameExtras,
+        live: bool,
+        record: bool,
+    ) -> None:
+        """Check a frame (`FrameSnapshot.build`), draw it, then send and/or record it."""
         frame = FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras)
         self.robot_scene.pose(frame.q)
         for overlay in self.overlays:
             overlay.draw(self.robot_scene, frame)
         self.scene.end_frame()
+        self.pacer.publish(live, record, frame.time)
 
     def tick_callback(self, realtime: bool = False) -> TickUpdater:
         """An ``on_tick(simulator, gait)`` for `run_walk`.

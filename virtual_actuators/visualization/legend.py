@@ -107,15 +107,13 @@ class Palette:
 PALETTE = Palette()
 
 
-def legend_entries(
-    scene: object, drawn: Collection[str] | None = None
-) -> list[tuple[int | None, str]]:
+def legend_entries(scene: object, drawn: Collection[str]) -> list[tuple[int | None, str]]:
     """The legend as ``(colour or None, short line)`` pairs.
 
     Args:
         scene: Has the ``palette``, ``force_scale`` [m/N], ``moment_scale`` [m/(N m)] and
             ``effort_reference`` (a full gauge without a limit) of a `RobotScene`.
-        drawn: Keys drawn: `Palette` fields, ``"no_limit"``, ``"frames"`` (None: all).
+        drawn: Keys drawn: `Palette` fields, ``"no_limit"``, ``"frames"``.
     """
     p, force_scale, moment_scale = scene.palette, scene.force_scale, scene.moment_scale
     effort_reference = scene.effort_reference
@@ -136,7 +134,7 @@ def legend_entries(
         ("no_limit", None, f"no limit: full = {effort_reference:.3g}"),
         ("frames", None, "frames: x y z = red green blue"),
     ]
-    return [(color, text) for key, color, text in entries if drawn is None or key in drawn]
+    return [(color, text) for key, color, text in entries if key in drawn]
 
 
 def legend_html(entries: list[tuple[int | None, str]], title: str = "") -> str:

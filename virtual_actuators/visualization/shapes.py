@@ -133,21 +133,18 @@ def y_to_z() -> np.ndarray:
 
 
 def terrain_boxes(
-    segments: Sequence[tuple[tuple[float, float], tuple[float, float]]],
-    width: float,
-    thickness: float = 0.05,
+    segments: Sequence[tuple[tuple[float, float], tuple[float, float]]], width: float
 ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Boxes whose top faces follow a planar ground profile.
+    """Slabs 5 cm thick whose top faces follow a planar ground profile.
 
     Args:
         segments: ``((x0, z0), (x1, z1))`` pieces of the profile in the x-z plane [m].
         width: Extent along y [m].
-        thickness: Thickness of the slabs [m].
 
     Returns:
         ``(lengths (3,), placement (4, 4))`` per segment, for a ``Box(lengths)``.
     """
-    out = []
+    out, thickness = [], 0.05
     for (x0, z0), (x1, z1) in segments:
         dx, dz = x1 - x0, z1 - z0
         length = math.hypot(dx, dz)

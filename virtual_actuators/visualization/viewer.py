@@ -24,8 +24,7 @@ from .frame_snapshot import FrameExtras, FrameSnapshot
 from .legend import PALETTE, Palette, legend_entries, legend_html
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
-from .pacing import FramePacer, framing_commands
-from .recording import AnimationRecording
+from .recording import AnimationRecording, FramePacer, framing_commands
 from .robot_scene import RobotScene
 from .scene import Scene
 from .windows import SceneWindow

@@ -188,11 +188,8 @@ _COUNT = struct.Struct(">Q")
 
 
 def _transform_header(path: str) -> bytes:
-    header = _TRANSFORM_HEADERS.get(path)
-    if header is None:
-        header = umsgpack.packb({"type": "set_transform", "path": path, "matrix": []})[:-1]
-        header = _TRANSFORM_HEADERS[path] = header + b"\xdc\x00\x10"  # an array of 16
-    return header
+    header = umsgpack.packb({"type": "set_transform", "path": path, "matrix": []})[:-1]
+    return header + b"\xdc\x00\x10"  # an array of 16
 
 
 def _matrix_bytes(matrix: np.ndarray) -> bytes:
@@ -209,5 +206,4 @@ def pack_transform(path: str, matrix: np.ndarray) -> bytes:
 _DOUBLE = np.dtype([("marker", "u1"), ("value", ">f8")])
 _MATRIX_BUFFER = np.zeros(16, dtype=_DOUBLE)
 _MATRIX_BUFFER["marker"] = 0xCB  # msgpack float 64
-_TRANSFORM_HEADERS: dict[str, bytes] = {}
 _FRAME_PREFIXES: dict[str, bytes] = {}

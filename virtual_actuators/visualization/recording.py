@@ -17,9 +17,8 @@ from meshcat.path import Path as MeshcatPath
 
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import check_number
-from .scene import Scene
 from .shapes import translation
-from .windows import SceneWindow
+from .windows import Scene, SceneWindow
 
 FLOAT32_ARRAY = 0x17  # MeshCat / msgpack-lite extension code of a Float32Array
 

@@ -18,7 +18,6 @@ from ..vocabulary.axes import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .legend import Palette
 from .robot_layout import effort_joints, ground_grid, is_planar, marker_sizes, terrain_segments
-from .scene import Scene
 from .shapes import (
     arrow_matrices,
     cone,
@@ -30,6 +29,7 @@ from .shapes import (
     translation,
     triad_parts,
 )
+from .windows import Scene
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
@@ -98,7 +98,6 @@ class RobotScene:
         self.force_scale = force_scale
         self.moment_scale = moment_scale
         self.effort_reference = effort_reference
-        self.hud_rotation = np.eye(3)
         self.drawn: set[str] = set()
         self._frame_ids: dict[tuple[str, str], int] = {}
         self._axis_index: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
@@ -121,9 +120,9 @@ class RobotScene:
         self._centroid0 = self._centroid()
         self.sizes = marker_sizes(self.detail)
         self.planar = is_planar(model, data)
-        self._camera_mode = "side" if self.planar else "iso"
         direction = _CAMERA_SIDE if self.planar else _CAMERA_ISO
         self.view = direction / np.linalg.norm(direction)  # from the target to the camera
+        self.hud_rotation = frame_on_plane(np.array([self.view[0], self.view[1], 0.0]))
         self.follow = floating or first.startswith("JointModelP")  # a robot that travels
 
     def _centroid(self) -> np.ndarray:
@@ -143,7 +142,6 @@ class RobotScene:
         nodes.set_property("/Background", "bottom_color", [0.78, 0.8, 0.84])
         self.bodies.create(nodes, "robot")
         nodes.place("", translation(-self._target0))
-        self.hud_rotation = frame_on_plane(np.array([self.view[0], self.view[1], 0.0]))
         nodes.place("hud", translation(self._target0))
         nodes.set_property("/Grid", "visible", False)
         nodes.set_property("/Axes", "visible", False)
@@ -323,7 +321,7 @@ class RobotScene:
     def __repr__(self) -> str:
         return (
             f"RobotScene({self.robot.name!r}, {self.bodies.kind}, extent={self.extent:.3g} m, "
-            f"camera={self._camera_mode!r}, follow={self.follow})"
+            f"camera={'side' if self.planar else 'iso'!r}, follow={self.follow})"
         )
 
 

@@ -26,8 +26,7 @@ from .live import LiveWindow
 from .overlays import Overlay, default_overlays
 from .recording import AnimationRecording, FramePacer, framing_commands
 from .robot_scene import RobotScene
-from .scene import Scene
-from .windows import SceneWindow
+from .windows import Scene, SceneWindow
 
 if TYPE_CHECKING:
     from ..simulation.simulator import Simulator

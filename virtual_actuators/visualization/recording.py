@@ -247,7 +247,11 @@ class FramePacer:
         self.bounds: tuple[np.ndarray, np.ndarray] | None = None
 
     def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a live update and a recorded frame are due (`Viewer.due`)."""
+        """``(live, record)``: whether a live update and a recorded frame are due.
+
+        Args:
+            time: Simulated time [s] (recordings are paced by it), or None for wall time.
+        """
         live = (
             self.window.live
             and wallclock.perf_counter() - self.last_live >= 1.0 / self.rate_hz
@@ -286,9 +290,8 @@ class FramePacer:
 
     def stop_recording(self) -> AnimationRecording | None:
         """Stop recording; return the recording (None if none was running)."""
-        recording, self.recording = self.recording, None
-        self.last_recording = recording
-        return recording
+        self.last_recording, self.recording = self.recording, None
+        return self.last_recording
 
     def _record(self, time: float | None) -> None:
         recording = self.recording

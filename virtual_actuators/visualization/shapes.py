@@ -262,9 +262,7 @@ def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
     """
     parts = []
     for index, (axis, color) in enumerate(zip("xyz", (0xE53935, 0x2E9E3E, 0x1E5BD8), strict=True)):
-        direction = np.zeros(3)
-        direction[index] = 1.0
-        matrix = span_matrix(np.zeros(3), direction * length)  # unit cylinder, stretched
+        matrix = span_matrix(np.zeros(3), np.eye(3)[index] * length)  # unit cylinder, stretched
         parts.append((axis, Placed(mg.Cylinder(1.0, radius), matrix), color))
     return parts
 

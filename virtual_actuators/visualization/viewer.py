@@ -108,14 +108,6 @@ class Viewer:
         """URL of the live viewer (None without a server)."""
         return self.window.web_url
 
-    def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a live update and a recorded frame are due.
-
-        Args:
-            time: Simulated time [s] (recordings are paced by it), or None for wall time.
-        """
-        return self.pacer.due(time)
-
     def start_recording(self, fps: float = 30.0) -> None:
         """Record every following `show` (and due `maybe_show`) as animation frames.
 
@@ -242,7 +234,7 @@ class Viewer:
             InvalidInputError: See `show`.
             FrameNotFoundError: See `show`.
         """
-        live, record = self.due(extras.get("time"))
+        live, record = self.pacer.due(extras.get("time"))
         if not (live or record):
             return False
         self._draw(q, solution, extras, live, record)
@@ -329,7 +321,7 @@ class TickUpdater:
             ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)
             if ahead > 0.005:
                 wallclock.sleep(ahead)
-        if not any(viewer.due(sim_time)):
+        if not any(viewer.pacer.due(sim_time)):
             return  # (the state and q are read only for a frame that is due)
         machine = getattr(gait, "machine", None)
         self.updates += viewer.maybe_show(

@@ -178,9 +178,7 @@ for (var i = 0; i < commands.length; i++) {{
 
 
 class OfflineWindow(SceneWindow):
-    """A window with no viewer: only the mirror (for HTML recordings without a server)."""
-
-    live = False
+    """A window with no viewer (not ``live``): only the mirror, for HTML pages without a server."""
 
 
 class CommandRecorder(SceneWindow):

@@ -266,8 +266,6 @@ class RobotBodies:
 
     def matrices(self, data: pin.Data) -> np.ndarray:
         """World matrices ``(len(parts), 4, 4)`` after forward kinematics in ``data``."""
-        if not self.parts:
-            return self._placements
         frames = np.array([m.homogeneous for m in data.oMi])
         return frames[self._joints] @ self._placements
 

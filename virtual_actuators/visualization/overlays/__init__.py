@@ -14,14 +14,3 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     kinds = [WrenchOverlay, ComponentOverlay, EffortOverlay, StateOverlay, SupportOverlay]
     return [kind() for kind in (kinds + [LegendOverlay] if legend else kinds)]
 
-
-__all__ = [
-    "ComponentOverlay",
-    "EffortOverlay",
-    "LegendOverlay",
-    "Overlay",
-    "StateOverlay",
-    "SupportOverlay",
-    "WrenchOverlay",
-    "default_overlays",
-]

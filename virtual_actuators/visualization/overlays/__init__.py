@@ -13,4 +13,3 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     """
     kinds = [WrenchOverlay, ComponentOverlay, EffortOverlay, StateOverlay, SupportOverlay]
     return [kind() for kind in (kinds + [LegendOverlay] if legend else kinds)]
-

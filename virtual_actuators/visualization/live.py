@@ -55,8 +55,7 @@ class LiveWindow(SceneWindow):
         else:
             web_url = self._ask(zmq_url, b"url", ANSWER_TIMEOUT).decode("utf-8")
         self.zmq_url, self.web_url = zmq_url, web_url
-        self.sent = 0
-        self.answered = 0
+        self.sent = self.answered = 0
         self._batch = bytearray()
         self._acks = b""
         relay = Path(__file__).with_name("relay.py")

@@ -179,13 +179,6 @@ class AnimationRecording:
 CAMERA_FOV_DEG = 75.0
 
 
-def _body_points(scene: Scene) -> np.ndarray:
-    """Origins ``(n, 3)`` of the robot's bodies (``robot/...``, never hidden) in the view."""
-    root = scene.matrices.get("", np.eye(4))
-    points = [(root @ m)[:3, 3] for name, m in scene.matrices.items() if name.startswith("robot/")]
-    return np.array(points) if points else np.zeros((0, 3))
-
-
 #: MeshCat's camera object, and the node above every drawn scene (shifted to centre the run).
 CAMERA_PATH = MeshcatPath(("Cameras", "default", "rotated", "<object>"))
 SCENES_PATH = MeshcatPath(("meshcat",))
@@ -300,10 +293,12 @@ class FramePacer:
         time = float(time)
         if recording.times and time <= recording.times[-1]:
             return  # the same instant again (a paused simulation): keep the first frame
-        recording.add(time, dict(self.scene.matrices), dict(self.scene.visible))
-        points = _body_points(self.scene)
-        if len(points):  # grow the box with the robot's visible bodies in this frame
-            low, high = points.min(axis=0), points.max(axis=0)
+        matrices = self.scene.matrices
+        recording.add(time, dict(matrices), dict(self.scene.visible))
+        root = matrices.get("", np.eye(4))  # the view's shift; the bodies are never hidden
+        points = [(root @ m)[:3, 3] for name, m in matrices.items() if name.startswith("robot/")]
+        if points:  # grow the box with the origins of the robot's bodies in this frame
+            low, high = np.min(points, axis=0), np.max(points, axis=0)
             if self.bounds is not None:
                 low, high = np.minimum(self.bounds[0], low), np.maximum(self.bounds[1], high)
             self.bounds = low, high

@@ -40,10 +40,8 @@ class WrenchOverlay(Overlay):
                 wrench = frame.wrench
                 forces = wrench[None, :] if len(reactions_of(actuator)) == 1 else None
                 self._draw_actuator(scene, "actuator", actuator, wrench, wrench, forces, False)
-        if frame.output is None:
-            return
         output = frame.output
-        for name, attachment in frame.attachments():
+        for name, attachment in frame.attachments():  # none without an output
             solution = output.solutions.get(name)
             requested = np.asarray(output.wrenches[name], dtype=float)
             produced = np.asarray(output.produced.get(name, requested), dtype=float)

@@ -11,6 +11,7 @@ Without Chromium the tests are skipped, except under CI (``CI`` set), where they
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from pathlib import Path
 
@@ -20,9 +21,15 @@ from matplotlib import image as mpimg
 
 import virtual_actuators as va
 from virtual_actuators.visualization import PALETTE, OfflineWindow
-from virtual_actuators.visualization.browser import find_chromium, screenshot
 
-CHROMIUM = find_chromium()
+# the README screenshots' script renders the pages (Chromium, headless)
+TAKE_PY = Path(__file__).resolve().parents[1] / "robots" / "screenshots" / "take.py"
+_spec = importlib.util.spec_from_file_location("take", TAKE_PY)
+take = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(take)
+screenshot = take.screenshot
+
+CHROMIUM = take.find_chromium()
 if CHROMIUM is None and os.environ.get("CI"):
     pytest.fail("CI must provide Debian's chromium for the browser tests", pytrace=False)
 pytestmark = [

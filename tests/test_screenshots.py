@@ -17,8 +17,6 @@ import pytest
 pytest.importorskip("meshcat")
 from matplotlib import image as mpimg  # noqa: E402
 
-from virtual_actuators.visualization.browser import find_chromium  # noqa: E402
-
 FOLDER = Path(__file__).resolve().parents[1] / "robots" / "screenshots"
 
 
@@ -75,7 +73,7 @@ def test_the_readme_shows_every_screenshot_the_script_takes():
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(find_chromium() is None, reason="chromium is not installed")
+@pytest.mark.skipif(TAKE.find_chromium() is None, reason="chromium is not installed")
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_the_committed_screenshot_is_what_the_script_renders(name, tmp_path):
     rendered = pixels(TAKE.render(TAKE.draw(*SCENES[name]), tmp_path)) / 255.0

@@ -15,10 +15,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import scene_commands as sent
+from lab_colors import color_distance
 
 import virtual_actuators as va
 from virtual_actuators.visualization import PALETTE, CommandRecorder, Viewer
-from virtual_actuators.visualization.legend import color_distance
 
 ROOT = "/meshcat/virtual_actuators"
 NAMES = va.list_robots()

@@ -18,6 +18,7 @@ import pinocchio as pin
 import pytest
 import scene_commands as sent
 import umsgpack
+from lab_colors import chroma, color_distance
 from meshcat.commands import SetTransform
 from meshcat.path import Path as MeshcatPath
 
@@ -25,13 +26,7 @@ import virtual_actuators as va
 from virtual_actuators.__main__ import main
 from virtual_actuators.gaits.hexapod.body import HeadingDamper
 from virtual_actuators.visualization import PALETTE, CommandRecorder, OfflineWindow, Viewer
-from virtual_actuators.visualization.legend import (
-    OVERLAY_MIN_CHROMA,
-    ROBOT_MAX_CHROMA,
-    chroma,
-    color_distance,
-    to_lab,
-)
+from virtual_actuators.visualization.legend import OVERLAY_MIN_CHROMA, ROBOT_MAX_CHROMA, to_lab
 from virtual_actuators.visualization.live import pack_transform
 from virtual_actuators.visualization.shapes import (
     HEAD_SPACING,

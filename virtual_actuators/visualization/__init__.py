@@ -1,10 +1,4 @@
-"""MeshCat visualization of robots, virtual actuators, components and joint efforts.
-
-``viewer = Viewer(robot)`` starts a MeshCat server and prints its URL; ``viewer.show(q,
-solution, actuator=...)`` or ``viewer.show(q, controller=..., output=..., state=...)`` draws a
-frame; ``viewer.start_recording()`` then ``viewer.save_html("run.html")`` writes a standalone
-animated page.
-"""
+"""MeshCat visualization of robots, virtual actuators, components and joint efforts (`Viewer`)."""
 
 from ..exceptions import import_optional
 

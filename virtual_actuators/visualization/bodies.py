@@ -18,7 +18,7 @@ from ..exceptions import InvalidInputError, RobotDescriptionError
 from ..models.robot import Robot
 from .legend import desaturate, rgb
 from .meshes import MeshCache, TriangleMesh
-from .shapes import Cone, Placed, material, span_matrix, to_hex, translation, y_to_z
+from .shapes import Placed, cone, material, span_matrix, to_hex, translation, y_to_z
 
 GEOMETRY_MODES = ("auto", "urdf", "skeleton")
 
@@ -84,7 +84,7 @@ def _primitive(shape: object) -> list[tuple[object, np.ndarray]] | None:
     if kind == "Cylinder":
         return [(Placed(mg.Cylinder(2.0 * shape.halfLength, shape.radius), y_to_z()), np.eye(4))]
     if kind == "Cone":
-        return [(Placed(Cone(2.0 * shape.halfLength, shape.radius), y_to_z()), np.eye(4))]
+        return [(Placed(cone(2.0 * shape.halfLength, shape.radius), y_to_z()), np.eye(4))]
     if kind == "Capsule":
         half, radius = float(shape.halfLength), float(shape.radius)
         return [
@@ -266,8 +266,6 @@ class RobotBodies:
 
     def matrices(self, data: pin.Data) -> np.ndarray:
         """World matrices ``(len(parts), 4, 4)`` after forward kinematics in ``data``."""
-        if not self.parts:
-            return self._placements
         frames = np.array([m.homogeneous for m in data.oMi])
         return frames[self._joints] @ self._placements
 

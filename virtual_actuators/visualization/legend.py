@@ -50,24 +50,13 @@ def from_lab(lab: np.ndarray) -> int:
     return (r << 16) | (g << 8) | b
 
 
-def chroma(color: int) -> float:
-    """CIELAB chroma ``sqrt(a^2 + b^2)`` of a colour (0 for greys)."""
-    _, a, b = to_lab(color)
-    return float(np.hypot(a, b))
-
-
-def color_distance(first: int, second: int) -> float:
-    """CIE76 Delta E between two colours (Euclidean distance in CIELAB)."""
-    return float(np.linalg.norm(to_lab(first) - to_lab(second)))
-
-
-def desaturate(color: int, max_chroma: float = ROBOT_MAX_CHROMA) -> int:
-    """The colour with its chroma limited to ``max_chroma`` (+1.5 for 8-bit rounding), same hue."""
+def desaturate(color: int) -> int:
+    """The colour with its chroma cut to `ROBOT_MAX_CHROMA` (+1.5: 8-bit rounding), same hue."""
     lab = to_lab(color)
     current = float(np.hypot(lab[1], lab[2]))
-    if current <= max_chroma:
+    if current <= ROBOT_MAX_CHROMA:
         return color
-    lab[1:] *= max_chroma / current
+    lab[1:] *= ROBOT_MAX_CHROMA / current
     return from_lab(lab)
 
 
@@ -118,15 +107,13 @@ class Palette:
 PALETTE = Palette()
 
 
-def legend_entries(
-    scene: object, drawn: Collection[str] | None = None
-) -> list[tuple[int | None, str]]:
+def legend_entries(scene: object, drawn: Collection[str]) -> list[tuple[int | None, str]]:
     """The legend as ``(colour or None, short line)`` pairs.
 
     Args:
         scene: Has the ``palette``, ``force_scale`` [m/N], ``moment_scale`` [m/(N m)] and
             ``effort_reference`` (a full gauge without a limit) of a `RobotScene`.
-        drawn: Keys drawn: `Palette` fields, ``"no_limit"``, ``"frames"`` (None: all).
+        drawn: Keys drawn: `Palette` fields, ``"no_limit"``, ``"frames"``.
     """
     p, force_scale, moment_scale = scene.palette, scene.force_scale, scene.moment_scale
     effort_reference = scene.effort_reference
@@ -147,7 +134,7 @@ def legend_entries(
         ("no_limit", None, f"no limit: full = {effort_reference:.3g}"),
         ("frames", None, "frames: x y z = red green blue"),
     ]
-    return [(color, text) for key, color, text in entries if drawn is None or key in drawn]
+    return [(color, text) for key, color, text in entries if key in drawn]
 
 
 def legend_html(entries: list[tuple[int | None, str]], title: str = "") -> str:

@@ -55,8 +55,7 @@ class LiveWindow(SceneWindow):
         else:
             web_url = self._ask(zmq_url, b"url", ANSWER_TIMEOUT).decode("utf-8")
         self.zmq_url, self.web_url = zmq_url, web_url
-        self.sent = 0
-        self.answered = 0
+        self.sent = self.answered = 0
         self._batch = bytearray()
         self._acks = b""
         relay = Path(__file__).with_name("relay.py")
@@ -188,11 +187,8 @@ _COUNT = struct.Struct(">Q")
 
 
 def _transform_header(path: str) -> bytes:
-    header = _TRANSFORM_HEADERS.get(path)
-    if header is None:
-        header = umsgpack.packb({"type": "set_transform", "path": path, "matrix": []})[:-1]
-        header = _TRANSFORM_HEADERS[path] = header + b"\xdc\x00\x10"  # an array of 16
-    return header
+    header = umsgpack.packb({"type": "set_transform", "path": path, "matrix": []})[:-1]
+    return header + b"\xdc\x00\x10"  # an array of 16
 
 
 def _matrix_bytes(matrix: np.ndarray) -> bytes:
@@ -209,5 +205,4 @@ def pack_transform(path: str, matrix: np.ndarray) -> bytes:
 _DOUBLE = np.dtype([("marker", "u1"), ("value", ">f8")])
 _MATRIX_BUFFER = np.zeros(16, dtype=_DOUBLE)
 _MATRIX_BUFFER["marker"] = 0xCB  # msgpack float 64
-_TRANSFORM_HEADERS: dict[str, bytes] = {}
 _FRAME_PREFIXES: dict[str, bytes] = {}

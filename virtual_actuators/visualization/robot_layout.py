@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -132,8 +133,5 @@ def terrain_segments(
         raise InvalidInputError(
             f"terrain must be a Terrain or (n, 2) finite (x, z) points, got {terrain!r}."
         )
-    first, last = points[0], points[-1]
-    segments = [((first[0] - run, first[1]), tuple(first))]
-    segments += [(tuple(a), tuple(b)) for a, b in zip(points[:-1], points[1:], strict=True)]
-    segments += [(tuple(last), (last[0] + run, last[1]))]
-    return segments
+    (x0, z0), (x1, z1) = points[0], points[-1]
+    return list(itertools.pairwise([(x0 - run, z0), *map(tuple, points), (x1 + run, z1)]))

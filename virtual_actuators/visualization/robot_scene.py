@@ -1,7 +1,11 @@
-"""The robot in the MeshCat scene and the drawing primitives that overlays share."""
+"""The robot in the MeshCat scene, the drawing primitives that overlays share, and `Overlay`.
+
+An overlay draws what is there; the dynamic nodes it does not ``use`` in a frame are hidden.
+"""
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -14,20 +18,22 @@ from ..vocabulary.axes import AXES, resolve_frame
 from .bodies import RobotBodies, typical_link_length
 from .legend import Palette
 from .robot_layout import effort_joints, ground_grid, is_planar, marker_sizes, terrain_segments
-from .scene import Scene
 from .shapes import (
-    Cone,
     arrow_matrices,
+    cone,
     frame_on_plane,
     material,
+    placement,
     span_matrix,
     terrain_boxes,
     translation,
     triad_parts,
 )
+from .windows import Scene
 
 if TYPE_CHECKING:
     from ..simulation.terrain import Terrain
+    from .frame_snapshot import FrameSnapshot
 
 #: Roles of the frames drawn as triads, with their length relative to a typical link.
 TRIAD_LENGTHS = {"action": 0.5, "reaction": 0.3, "reference": 0.65, "frame": 0.4}
@@ -92,7 +98,6 @@ class RobotScene:
         self.force_scale = force_scale
         self.moment_scale = moment_scale
         self.effort_reference = effort_reference
-        self.hud_rotation = np.eye(3)
         self.drawn: set[str] = set()
         self._frame_ids: dict[tuple[str, str], int] = {}
         self._axis_index: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
@@ -115,9 +120,9 @@ class RobotScene:
         self._centroid0 = self._centroid()
         self.sizes = marker_sizes(self.detail)
         self.planar = is_planar(model, data)
-        self._camera_mode = "side" if self.planar else "iso"
         direction = _CAMERA_SIDE if self.planar else _CAMERA_ISO
         self.view = direction / np.linalg.norm(direction)  # from the target to the camera
+        self.hud_rotation = frame_on_plane(np.array([self.view[0], self.view[1], 0.0]))
         self.follow = floating or first.startswith("JointModelP")  # a robot that travels
 
     def _centroid(self) -> np.ndarray:
@@ -137,7 +142,6 @@ class RobotScene:
         nodes.set_property("/Background", "bottom_color", [0.78, 0.8, 0.84])
         self.bodies.create(nodes, "robot")
         nodes.place("", translation(-self._target0))
-        self.hud_rotation = frame_on_plane(np.array([self.view[0], self.view[1], 0.0]))
         nodes.place("hud", translation(self._target0))
         nodes.set_property("/Grid", "visible", False)
         nodes.set_property("/Axes", "visible", False)
@@ -165,10 +169,7 @@ class RobotScene:
     def hud_matrix(self, offset_right: float, offset_up: float) -> np.ndarray:
         """Placement in the HUD plane (facing the camera), beside the robot's centre."""
         rotation = self.hud_rotation
-        matrix = np.eye(4)
-        matrix[:3, :3] = rotation
-        matrix[:3, 3] = rotation[:, 0] * offset_right + rotation[:, 1] * offset_up
-        return matrix
+        return placement(rotation, rotation[:, 0] * offset_right + rotation[:, 1] * offset_up)
 
     def pose(self, q: np.ndarray) -> None:
         """Forward kinematics at ``q`` (checked by the caller); place the bodies and the view."""
@@ -223,29 +224,32 @@ class RobotScene:
         name: str,
         origin: np.ndarray,
         vector: np.ndarray,
-        color: int,
+        key: str,
         heads: int,
         thin: float = 1.0,
-    ) -> bool:
-        """Show the dynamic arrow ``name`` from ``origin`` along ``vector`` (False if zero)."""
+    ) -> None:
+        """Show the dynamic arrow ``name`` from ``origin`` along ``vector`` unless it is zero.
+
+        It has the colour of the `Palette` field ``key``, which it `mark`s when drawn.
+        """
         head_length = self.sizes["head_length"] * thin
         matrices = arrow_matrices(origin, vector, head_length, heads)
         if matrices is None:
-            return False
+            return
         nodes = self.nodes
         if not nodes.has(f"{name}/shaft"):
-            mat = material(color)
+            mat = material(getattr(self.palette, key))
             nodes.create(f"{name}/shaft", mg.Cylinder(1.0, self.sizes["shaft"] * thin), mat)
             for k in range(heads):
                 nodes.create(
-                    f"{name}/head{k}", Cone(head_length, self.sizes["head_radius"] * thin), mat
+                    f"{name}/head{k}", cone(head_length, self.sizes["head_radius"] * thin), mat
                 )
             nodes.declare(name)
         nodes.use(name)
         nodes.place(f"{name}/shaft", matrices[0])
         for k in range(heads):
             nodes.place(f"{name}/head{k}", matrices[k + 1])
-        return True
+        self.drawn.add(key)
 
     def wrench(
         self,
@@ -254,20 +258,12 @@ class RobotScene:
         rotation: np.ndarray,
         axes: tuple[str, ...],
         values: np.ndarray,
-        colors: tuple[int, int],
-    ) -> tuple[bool, bool]:
-        """A force arrow and a double-headed moment arrow of a wrench on ``axes``.
-
-        Returns:
-            Whether the force and the moment arrows were drawn (not zero).
-        """
+        keys: tuple[str, str],
+    ) -> None:
+        """A force arrow and a double-headed moment arrow of a wrench on ``axes`` (see `arrow`)."""
         force, moment = self.split(axes, values)
-        scaled_force = rotation @ force * self.force_scale
-        scaled_moment = rotation @ moment * self.moment_scale
-        return (
-            self.arrow(f"{name}/force", origin, scaled_force, colors[0], 1),
-            self.arrow(f"{name}/moment", origin, scaled_moment, colors[1], 2),
-        )
+        self.arrow(f"{name}/force", origin, rotation @ force * self.force_scale, keys[0], 1)
+        self.arrow(f"{name}/moment", origin, rotation @ moment * self.moment_scale, keys[1], 2)
 
     def triad(self, role: str, frame: str) -> None:
         """Show the axes of ``frame``, sized by its role (`TRIAD_LENGTHS`).
@@ -295,18 +291,14 @@ class RobotScene:
         geometry_factory: Callable[[], object],
         color: int,
         opacity: float = 1.0,
-    ) -> bool:
+    ) -> None:
         """Show the dynamic unit shape ``name`` stretched from ``start`` to ``end``."""
         matrix = span_matrix(start, end)
-        if matrix is None:
-            return False
-        if not self.nodes.has(name):
+        if matrix is not None:
             extra = {"depthWrite": False} if opacity < 1.0 else {}
-            self.nodes.create(name, geometry_factory(), material(color, opacity, **extra))
-            self.nodes.declare(name)
-        self.nodes.use(name)
-        self.nodes.place(name, matrix)
-        return True
+            self._show(
+                name, lambda: (geometry_factory(), material(color, opacity, **extra)), matrix
+            )
 
     def marker(
         self, name: str, make: Callable[[], tuple[object, object]], position: np.ndarray
@@ -315,15 +307,33 @@ class RobotScene:
 
         ``make()`` gives its ``(geometry, material)`` once, when it is created.
         """
+        self._show(name, make, translation(position))
+
+    def _show(self, name: str, make: Callable[[], tuple[object, object]], matrix: np.ndarray):
+        """Show the dynamic object ``name`` at ``matrix``, made by ``make()`` the first time."""
         nodes = self.nodes
         if not nodes.has(name):
             nodes.create(name, *make())
             nodes.declare(name)
         nodes.use(name)
-        nodes.place(name, translation(position))
+        nodes.place(name, matrix)
 
     def __repr__(self) -> str:
         return (
             f"RobotScene({self.robot.name!r}, {self.bodies.kind}, extent={self.extent:.3g} m, "
-            f"camera={self._camera_mode!r}, follow={self.follow})"
+            f"camera={'side' if self.planar else 'iso'!r}, follow={self.follow})"
         )
+
+
+class Overlay(ABC):
+    """Something drawn over the robot: subclass it and implement `draw`."""
+
+    def setup(self, scene: RobotScene) -> None:  # noqa: B027 - optional hook
+        """Draw what never changes, once, when the overlay joins a viewer (nothing by default)."""
+
+    @abstractmethod
+    def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
+        """Draw one frame: place and ``use`` the overlay's nodes (``scene`` is at ``frame.q``)."""
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}()"

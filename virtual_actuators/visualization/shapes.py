@@ -1,7 +1,7 @@
 """Shapes for the MeshCat scene: materials, the geometries MeshCat 0.3.2 lacks, their placements.
 
-`Cone`, `Plane` and `TextTexture` are in three.js r132's JSON format; `Placed` gives a geometry a
-fixed offset in its node. three.js builds cylinders and cones along their local y axis, so an
+`ThreeGeometry` is in three.js r132's JSON format; `Placed` gives a geometry a fixed offset in
+its node. three.js builds cylinders and cones along their local y axis, so an
 elongated shape is drawn with ``[R diag(1, length, 1) | centre]``, ``R`` turning y onto its
 direction.
 """
@@ -64,10 +64,7 @@ def span_matrix(start: np.ndarray, end: np.ndarray, rotation: np.ndarray | None 
     if length < MIN_LENGTH:
         return None
     rot = rotation_y_to(delta) if rotation is None else rotation
-    matrix = np.eye(4)
-    matrix[:3, :3] = rot * [1.0, length, 1.0]
-    matrix[:3, 3] = 0.5 * (start + end)
-    return matrix
+    return placement(rot * [1.0, length, 1.0], 0.5 * (start + end))
 
 
 def arrow_matrices(
@@ -99,17 +96,10 @@ def arrow_matrices(
     shaft_length = length - head
     tip = origin + vector
     shaft = span_matrix(origin, origin + direction * shaft_length, rot)
-    if shaft is None:  # a degenerate shaft (cannot happen for heads >= 1): keep a zero-length one
-        shaft = np.eye(4)
-        shaft[:3, :3] = rot @ np.diag([1.0, 0.0, 1.0])
-        shaft[:3, 3] = origin
-    out = [shaft]
-    for k in range(heads):
-        matrix = np.eye(4)
-        matrix[:3, :3] = rot * scale
-        matrix[:3, 3] = tip - direction * head * (0.5 + HEAD_SPACING * k)
-        out.append(matrix)
-    return out
+    if shaft is None:  # shorter than MIN_LENGTH (an arrow of a few MIN_LENGTH): a zero-length one
+        shaft = placement(rot @ np.diag([1.0, 0.0, 1.0]), origin)
+    centres = [tip - direction * head * (0.5 + HEAD_SPACING * k) for k in range(heads)]
+    return [shaft, *(placement(rot * scale, centre) for centre in centres)]
 
 
 def frame_on_plane(normal: np.ndarray) -> np.ndarray:
@@ -124,38 +114,37 @@ def frame_on_plane(normal: np.ndarray) -> np.ndarray:
     return np.column_stack((x, y, z))
 
 
-def translation(position: np.ndarray, scale: float = 1.0) -> np.ndarray:
-    """``(4, 4)`` matrix of a uniform scale then a translation."""
+def placement(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
+    """``(4, 4)`` matrix ``[rotation | position]`` (the ``(3, 3)`` block may hold a scale too)."""
     matrix = np.eye(4)
-    if scale != 1.0:
-        matrix[0, 0] = matrix[1, 1] = matrix[2, 2] = scale
+    matrix[:3, :3] = rotation
     matrix[:3, 3] = position
     return matrix
 
 
+def translation(position: np.ndarray, scale: float = 1.0) -> np.ndarray:
+    """``(4, 4)`` matrix of a uniform scale then a translation."""
+    return placement(np.eye(3) * scale, position)
+
+
 def y_to_z() -> np.ndarray:
     """``(4, 4)`` rotation turning three.js's y-aligned shapes onto z (URDF cylinders)."""
-    matrix = np.eye(4)
-    matrix[:3, :3] = rotation_y_to([0.0, 0.0, 1.0])
-    return matrix
+    return placement(rotation_y_to([0.0, 0.0, 1.0]), np.zeros(3))
 
 
 def terrain_boxes(
-    segments: Sequence[tuple[tuple[float, float], tuple[float, float]]],
-    width: float,
-    thickness: float = 0.05,
+    segments: Sequence[tuple[tuple[float, float], tuple[float, float]]], width: float
 ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Boxes whose top faces follow a planar ground profile.
+    """Slabs 5 cm thick whose top faces follow a planar ground profile.
 
     Args:
         segments: ``((x0, z0), (x1, z1))`` pieces of the profile in the x-z plane [m].
         width: Extent along y [m].
-        thickness: Thickness of the slabs [m].
 
     Returns:
         ``(lengths (3,), placement (4, 4))`` per segment, for a ``Box(lengths)``.
     """
-    out = []
+    out, thickness = [], 0.05
     for (x0, z0), (x1, z1) in segments:
         dx, dz = x1 - x0, z1 - z0
         length = math.hypot(dx, dz)
@@ -165,10 +154,7 @@ def terrain_boxes(
         c, s = math.cos(angle), math.sin(angle)
         rot = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
         centre = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2]) - rot[:, 2] * (thickness / 2 + 1e-3)
-        matrix = np.eye(4)
-        matrix[:3, :3] = rot
-        matrix[:3, 3] = centre
-        out.append((np.array([length, width, thickness]), matrix))
+        out.append((np.array([length, width, thickness]), placement(rot, centre)))
     return out
 
 
@@ -183,85 +169,41 @@ def material(color: int, opacity: float = 1.0, **properties: object) -> mg.MeshP
     return mg.MeshPhongMaterial(color=int(color), opacity=float(opacity), **properties)
 
 
-class Cone(mg.Geometry):
+class ThreeGeometry(mg.Geometry):
+    """A three.js r132 geometry that MeshCat 0.3.2 lacks, given by its JSON type and fields.
+
+    Args:
+        kind: The three.js type (``"ConeGeometry"``, ``"PlaneGeometry"``).
+        fields: Its parameters, as three.js names them.
+    """
+
+    def __init__(self, kind: str, **fields: object) -> None:
+        super().__init__()
+        self.kind, self.fields = kind, fields
+
+    def lower(self, object_data: object) -> dict:
+        """The geometry's three.js JSON."""
+        return {"uuid": self.uuid, "type": self.kind, **self.fields}
+
+    def __repr__(self) -> str:
+        return f"ThreeGeometry({self.kind!r}, {self.fields})"
+
+
+def cone(height: float, radius: float) -> ThreeGeometry:
     """A cone along the local y axis, centred on the origin, apex at ``+height / 2``.
 
     Args:
         height: Length along y [m].
         radius: Radius of the base [m].
     """
-
-    def __init__(self, height: float, radius: float) -> None:
-        super().__init__()
-        self.height, self.radius = float(height), float(radius)
-
-    def lower(self, object_data: object) -> dict:
-        """The three.js ``ConeGeometry`` JSON."""
-        return {
-            "uuid": self.uuid,
-            "type": "ConeGeometry",
-            "radius": self.radius,
-            "height": self.height,
-            "radialSegments": 24,
-            "heightSegments": 1,
-            "openEnded": False,
-        }
-
-    def __repr__(self) -> str:
-        return f"Cone(height={self.height:g}, radius={self.radius:g})"
-
-
-class Plane(mg.Geometry):
-    """A rectangle in the local x-y plane, centred on the origin, facing +z.
-
-    Args:
-        width: Size along x [m].
-        height: Size along y [m].
-    """
-
-    def __init__(self, width: float, height: float) -> None:
-        super().__init__()
-        self.width, self.height = float(width), float(height)
-
-    def lower(self, object_data: object) -> dict:
-        """The three.js ``PlaneGeometry`` JSON."""
-        return {
-            "uuid": self.uuid,
-            "type": "PlaneGeometry",
-            "width": self.width,
-            "height": self.height,
-            "widthSegments": 1,
-            "heightSegments": 1,
-        }
-
-    def __repr__(self) -> str:
-        return f"Plane(width={self.width:g}, height={self.height:g})"
-
-
-class TextTexture(mg.Texture):
-    """One line of black text, centred on a 256 x 256 transparent canvas (MeshCat's ``_text``).
-
-    Args:
-        text: The line of text.
-        font_size: Font size in canvas pixels (the canvas is 256 pixels wide), sans-serif.
-    """
-
-    def __init__(self, text: str, font_size: int = 28) -> None:
-        super().__init__()
-        self.text, self.font_size = str(text), int(font_size)
-
-    def lower(self, object_data: object) -> dict:
-        """The ``_text`` texture JSON of MeshCat's viewer."""
-        return {
-            "uuid": self.uuid,
-            "type": "_text",
-            "text": self.text,
-            "font_size": self.font_size,
-            "font_face": "sans-serif",
-        }
-
-    def __repr__(self) -> str:
-        return f"TextTexture({self.text!r}, font_size={self.font_size})"
+    return ThreeGeometry(
+        "ConeGeometry",
+        radius=float(radius),
+        height=float(height),
+        radialSegments=24,
+        heightSegments=1,
+        openEnded=False,
+    )
 
 
 class Placed(mg.Geometry):
@@ -299,13 +241,16 @@ def text_faces(text: str, size: float, font_size: int = 28) -> list[tuple[str, m
     Returns:
         ``(name, mesh)`` for the front and the back plane.
     """
-    texture = TextTexture(text, font_size=font_size)
+    texture = mg.GenericTexture(  # MeshCat's: the line centred on a 256 x 256 transparent canvas
+        {"type": "_text", "text": str(text), "font_size": int(font_size), "font_face": "sans-serif"}
+    )
     front_side = 0  # three.js FrontSide
     material = mg.MeshBasicMaterial(map=texture, alphaTest=0.5, side=front_side)
     half_turn = np.diag([-1.0, 1.0, -1.0, 1.0])  # about +y: x -> -x, z -> -z
+    planes = [ThreeGeometry("PlaneGeometry", width=size, height=size) for _ in range(2)]
     return [
-        ("front", mg.Mesh(Plane(size, size), material)),
-        ("back", mg.Mesh(Placed(Plane(size, size), half_turn), material)),
+        ("front", mg.Mesh(planes[0], material)),
+        ("back", mg.Mesh(Placed(planes[1], half_turn), material)),
     ]
 
 
@@ -317,9 +262,7 @@ def triad_parts(length: float, radius: float) -> list[tuple[str, Placed, int]]:
     """
     parts = []
     for index, (axis, color) in enumerate(zip("xyz", (0xE53935, 0x2E9E3E, 0x1E5BD8), strict=True)):
-        direction = np.zeros(3)
-        direction[index] = 1.0
-        matrix = span_matrix(np.zeros(3), direction * length)  # unit cylinder, stretched
+        matrix = span_matrix(np.zeros(3), np.eye(3)[index] * length)  # unit cylinder, stretched
         parts.append((axis, Placed(mg.Cylinder(1.0, radius), matrix), color))
     return parts
 

@@ -6,12 +6,15 @@ drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
 
 from __future__ import annotations
 
+import time as wallclock
 from pathlib import Path
-from typing import TYPE_CHECKING, Unpack
+from typing import TYPE_CHECKING, Protocol, Unpack
 
 import meshcat
 import numpy as np
+from meshcat.commands import SetProperty
 
+from ..control import Controller, ControlOutput
 from ..distribution.result import Solution
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
@@ -21,13 +24,12 @@ from .frame_snapshot import FrameExtras, FrameSnapshot
 from .legend import PALETTE, Palette, legend_entries, legend_html
 from .live import LiveWindow
 from .overlays import Overlay, default_overlays
-from .pacing import FramePacer, TickUpdater, framing_commands
-from .recording import AnimationRecording
+from .recording import AnimationRecording, FramePacer, framing_commands
 from .robot_scene import RobotScene
-from .scene import Scene
-from .windows import SceneWindow
+from .windows import Scene, SceneWindow
 
 if TYPE_CHECKING:
+    from ..simulation.simulator import Simulator
     from ..simulation.terrain import Terrain
 
 
@@ -88,33 +90,23 @@ class Viewer:
         self.robot = robot
         self.model = robot.model
         self.bodies = RobotBodies(robot, geometry, typical_link_length(self.model))
-        started = window is None
-        window = LiveWindow(zmq_url) if started else window
-        self.window: SceneWindow = window
-        self.vis = meshcat.Visualizer(window=window)
+        self.window: SceneWindow = LiveWindow(zmq_url) if window is None else window
+        self.vis = meshcat.Visualizer(window=self.window)
         self.scene = Scene(self.vis, "virtual_actuators")
         self.robot_scene = RobotScene(robot, self.bodies, self.scene, palette, *scales)
         self.overlays: list[Overlay] = default_overlays(legend)
-        self.pacer = FramePacer(window, self.scene, rate_hz)
+        self.pacer = FramePacer(self.window, self.scene, rate_hz)
         self.robot_scene.build()
         for overlay in self.overlays:
             overlay.setup(self.robot_scene)
         self.show(robot.neutral())
-        if started:
+        if window is None:
             print(f"MeshCat viewer of {robot.name}: {self.url}")
 
     @property
     def url(self) -> str | None:
         """URL of the live viewer (None without a server)."""
         return self.window.web_url
-
-    def due(self, time: float | None = None) -> tuple[bool, bool]:
-        """``(live, record)``: whether a live update and a recorded frame are due.
-
-        Args:
-            time: Simulated time [s] (recordings are paced by it), or None for wall time.
-        """
-        return self.pacer.due(time)
 
     def start_recording(self, fps: float = 30.0) -> None:
         """Record every following `show` (and due `maybe_show`) as animation frames.
@@ -138,9 +130,15 @@ class Viewer:
         A recording is framed on the robot over the whole run.
         """
         title = title or f"virtual_actuators: {self.robot.name}"
-        scene = self.robot_scene
-        framing = framing_commands(self.pacer.bounds, scene.view, 0.75 * scene.detail)
-        return self.pacer.page(title, legend_html(self.legend_entries(), title), framing)
+        overlay = legend_html(self.legend_entries(), title)  # the scene's own legend is hidden
+        scene, pacer = self.robot_scene, self.pacer
+        self.scene.sync()
+        extra: list[object] = [SetProperty("visible", False, self.scene.node("hud/legend").path)]
+        recording = pacer.recording or pacer.last_recording
+        if recording is not None and recording.frames >= 2:
+            extra += framing_commands(pacer.bounds, scene.view, 0.75 * scene.detail)
+            extra.append(recording.command(self.scene.path))
+        return self.window.static_html(extra, title=title, overlay=overlay)
 
     def save_html(self, path: str, title: str | None = None) -> str:
         """Write `static_html` (the whole recorded run, if any) to ``path``; return the path.
@@ -220,8 +218,7 @@ class Viewer:
             FrameNotFoundError: A frame (action, reaction, reference, support) is not in the
                 viewer's robot.
         """
-        self._draw(q, solution, extras)
-        self.pacer.publish(self.window.live, self.pacer.recording is not None, extras.get("time"))
+        self._draw(q, solution, extras, self.window.live, self.pacer.recording is not None)
 
     def maybe_show(
         self, q: np.ndarray, solution: Solution | None = None, **extras: Unpack[FrameExtras]
@@ -237,20 +234,27 @@ class Viewer:
             InvalidInputError: See `show`.
             FrameNotFoundError: See `show`.
         """
-        live, record = self.due(extras.get("time"))
+        live, record = self.pacer.due(extras.get("time"))
         if not (live or record):
             return False
-        self._draw(q, solution, extras)
-        self.pacer.publish(live, record, extras.get("time"))
+        self._draw(q, solution, extras, live, record)
         return True
 
-    def _draw(self, q: np.ndarray, solution: Solution | None, extras: FrameExtras) -> None:
-        """Check a frame (`FrameSnapshot.build`) and draw it into the scene without sending it."""
+    def _draw(
+        self,
+        q: np.ndarray,
+        solution: Solution | None,
+        extras: FrameExtras,
+        live: bool,
+        record: bool,
+    ) -> None:
+        """Check a frame (`FrameSnapshot.build`), draw it, then send and/or record it."""
         frame = FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras)
         self.robot_scene.pose(frame.q)
         for overlay in self.overlays:
             overlay.draw(self.robot_scene, frame)
         self.scene.end_frame()
+        self.pacer.publish(live, record, frame.time)
 
     def tick_callback(self, realtime: bool = False) -> TickUpdater:
         """An ``on_tick(simulator, gait)`` for `run_walk`.
@@ -267,4 +271,69 @@ class Viewer:
             f"Viewer(robot={self.robot.name!r}, url={self.url!r}, geometry={self.bodies.kind!r}, "
             f"force_scale={scene.force_scale:g} m/N, moment_scale={scene.moment_scale:g} m/(N m)"
             f"{recording})"
+        )
+
+
+class Gait(Protocol):
+    """What `TickUpdater` reads of a gait (its ``machine`` too, if it has one).
+
+    Attributes:
+        controller: The gait's controller.
+        last: Its output of the last tick, or None before the first.
+    """
+
+    controller: Controller
+    last: ControlOutput | None
+
+
+class TickUpdater:
+    """``on_tick(simulator, gait)`` adapter: throttled live updates and recorded frames.
+
+    When one is due, it draws the simulator's ``q`` with the gait's controller, last output
+    and state.
+
+    Args:
+        viewer: The viewer.
+        realtime: Sleep so that simulated time does not run ahead of wall-clock time.
+    """
+
+    def __init__(self, viewer: Viewer, realtime: bool = False) -> None:
+        self.viewer = viewer
+        self.realtime = realtime
+        self.updates = 0
+        self._start: float | None = None
+        self._sim_start = 0.0
+
+    def __call__(self, simulator: Simulator, gait: Gait) -> None:
+        """Update the viewer if due.
+
+        Raises:
+            InvalidInputError: The simulator's ``q`` or the gait's output does not fit.
+            FrameNotFoundError: A frame the gait names is not in the viewer's robot.
+        """
+        viewer = self.viewer
+        sim_time = simulator.time
+        if self._start is None:
+            self._start, self._sim_start = wallclock.perf_counter(), sim_time
+            if getattr(simulator, "terrain", None) is not None:  # drawn at the first tick
+                viewer.set_terrain(simulator.terrain)
+        if self.realtime:
+            ahead = (sim_time - self._sim_start) - (wallclock.perf_counter() - self._start)
+            if ahead > 0.005:
+                wallclock.sleep(ahead)
+        if not any(viewer.pacer.due(sim_time)):
+            return  # (the state and q are read only for a frame that is due)
+        machine = getattr(gait, "machine", None)
+        self.updates += viewer.maybe_show(
+            simulator.q,
+            controller=gait.controller if gait.last is not None else None,
+            output=gait.last,
+            state=machine.current if machine is not None else None,
+            time=sim_time,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"TickUpdater({self.viewer.robot.name!r}, realtime={self.realtime}, "
+            f"updates={self.updates})"
         )

@@ -1,10 +1,14 @@
-"""Where the scene's commands go: a MeshCat server, a recorder, or nowhere but the HTML page."""
+"""The viewer's MeshCat nodes (`Scene`) and where their commands go (a `SceneWindow`).
+
+Objects are created once; each frame places nodes (`Scene.place`) and shows dynamic ones
+(`Scene.use`), `Scene.end_frame` hides the dynamic ones not used, and `Scene.sync` sends only
+what changed, to a MeshCat server, a recorder, or nowhere but the HTML page.
+"""
 
 from __future__ import annotations
 
 import base64
 import html
-import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,7 +50,6 @@ class SceneWindow:
 
     def __init__(self) -> None:
         self._nodes: dict[str, _Node] = {}
-        self._lock = threading.Lock()
 
     def send(self, command: object) -> None:
         """Apply a MeshCat command to the mirror and deliver it."""
@@ -96,25 +99,21 @@ class SceneWindow:
     def _node(self, path: str) -> _Node:
         node = self._nodes.get(path)
         if node is None:
-            with self._lock:
-                node = self._nodes.setdefault(path, _Node())
+            node = self._nodes[path] = _Node()
         return node
 
     def _delete(self, path: str) -> None:
-        with self._lock:
-            if path in ("", "/"):
-                self._nodes.clear()
-                return
-            prefix = path.rstrip("/") + "/"
-            for key in [k for k in self._nodes if k == path or k.startswith(prefix)]:
-                del self._nodes[key]
+        if path in ("", "/"):
+            self._nodes.clear()
+            return
+        prefix = path.rstrip("/") + "/"
+        for key in [k for k in self._nodes if k == path or k.startswith(prefix)]:
+            del self._nodes[key]
 
     def scene_commands(self) -> list[object]:
         """The commands that rebuild the current scene: objects, properties, then transforms."""
-        with self._lock:
-            nodes = list(self._nodes.items())
         out = []
-        for path, node in nodes:
+        for path, node in self._nodes.items():
             if node.object is not None:
                 out.append(node.object)
             out.extend(node.properties.values())
@@ -179,9 +178,7 @@ for (var i = 0; i < commands.length; i++) {{
 
 
 class OfflineWindow(SceneWindow):
-    """A window with no viewer: only the mirror (for HTML recordings without a server)."""
-
-    live = False
+    """A window with no viewer (not ``live``): only the mirror, for HTML pages without a server."""
 
 
 class CommandRecorder(SceneWindow):
@@ -202,3 +199,114 @@ class CommandRecorder(SceneWindow):
 
     def __repr__(self) -> str:
         return f"CommandRecorder({len(self.commands)} commands, {len(self._nodes)} nodes)"
+
+
+class Scene:
+    """The nodes under one prefix of a MeshCat visualizer.
+
+    Args:
+        vis: The ``meshcat.Visualizer`` of a `SceneWindow` (its root path is ``/meshcat``).
+        prefix: Node under which everything is drawn.
+
+    Attributes:
+        matrices: Current world matrix of each placed node.
+        visible: Current visibility of each dynamic node.
+    """
+
+    def __init__(self, vis: object, prefix: str) -> None:
+        self.vis = vis
+        self.prefix = prefix.strip("/")
+        self._views: dict[str, object] = {}
+        self._paths: dict[str, str] = {}
+        self._created: set[str] = set()
+        self.matrices: dict[str, np.ndarray] = {}
+        self._sent: dict[str, np.ndarray] = {}
+        self._dynamic: set[str] = set()
+        self.visible: dict[str, bool] = {}
+        self._sent_visible: dict[str, bool] = {}
+        self._used: set[str] = set()
+
+    def node(self, name: str) -> object:
+        """The MeshCat view of a node (``/absolute`` names are outside the prefix)."""
+        view = self._views.get(name)
+        if view is None:  # no empty path element: MeshCat restarts the path at the root on one
+            key = name if name.startswith("/") else "/".join(p for p in (self.prefix, name) if p)
+            view = self._views[name] = self.vis[key]
+        return view
+
+    def path(self, name: str) -> str:
+        """The node's full MeshCat path (``/meshcat/<prefix>/<name>``)."""
+        path = self._paths.get(name)
+        if path is None:
+            path = self._paths[name] = self.node(name).path.lower()
+        return path
+
+    def has(self, name: str) -> bool:
+        """Whether an object was created at ``name``."""
+        return name in self._created
+
+    def create(self, name: str, geometry: object, material: object = None) -> None:
+        """Send the object at ``name`` once (later calls with the same name do nothing)."""
+        if name in self._created:
+            return
+        self._created.add(name)
+        self.node(name).set_object(geometry, material)
+
+    def remove(self, name: str) -> None:
+        """Delete the node ``name`` and everything under it (objects are created anew later)."""
+        self.node(name).delete()
+        inside = name.rstrip("/") + "/"
+        for store in (self._created, self._dynamic):
+            store.difference_update({n for n in store if n == name or n.startswith(inside)})
+        for store in (self.matrices, self._sent, self.visible, self._sent_visible):
+            for key in [n for n in store if n == name or n.startswith(inside)]:
+                del store[key]
+
+    def declare(self, name: str) -> None:
+        """Make ``name`` dynamic: hidden in every frame that does not `use` it."""
+        if name not in self._dynamic:
+            self._dynamic.add(name)
+            self.visible.setdefault(name, False)
+            self._sent_visible.setdefault(name, True)  # three.js objects start visible
+
+    def use(self, name: str) -> None:
+        """Show the dynamic node ``name`` in this frame."""
+        self._used.add(name)
+
+    def place(self, name: str, matrix: np.ndarray) -> None:
+        """Set the world matrix of ``name`` for this frame (sent at the next `sync`)."""
+        self.matrices[name] = matrix
+
+    def set_property(self, name: str, key: str, value: object) -> None:
+        """Send a static property now (the background's colours, the camera)."""
+        self.node(name).set_property(key, value)
+
+    def end_frame(self) -> None:
+        """Fix the visibility of every dynamic node for this frame."""
+        used = self._used
+        for name in self._dynamic:
+            self.visible[name] = name in used
+        self._used = set()
+
+    def sync(self) -> None:
+        """Send the transforms and visibilities that changed since the last sync, then commit."""
+        window = self.vis.window  # a SceneWindow
+        for name, matrix in self.matrices.items():
+            previous = self._sent.get(name)
+            if previous is matrix:
+                continue
+            self._sent[name] = matrix
+            if previous is not None and np.array_equal(previous, matrix):
+                continue  # placed again where it was (a frame that does not move)
+            window.send_transform(self.path(name), matrix)
+        for name, visible in self.visible.items():
+            if self._sent_visible.get(name) != visible:
+                self.node(name).set_property("visible", visible)
+                self._sent_visible[name] = visible
+        window.commit()  # windows that batch (the live window) send the frame now
+
+    def __repr__(self) -> str:
+        return (
+            f"Scene(prefix={self.prefix!r}, {len(self._created)} objects, "
+            f"{len(self.matrices)} placed, {len(self._dynamic)} dynamic)"
+        )

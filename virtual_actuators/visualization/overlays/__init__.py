@@ -1,6 +1,6 @@
 """What is drawn over the robot, one `Overlay` per kind of thing (`Viewer.add_overlay` adds one)."""
 
-from .base import Overlay
+from ..robot_scene import Overlay
 from .markers import EffortOverlay, LegendOverlay, StateOverlay, SupportOverlay
 from .wrenches import ComponentOverlay, WrenchOverlay
 
@@ -13,15 +13,3 @@ def default_overlays(legend: bool = True) -> list[Overlay]:
     """
     kinds = [WrenchOverlay, ComponentOverlay, EffortOverlay, StateOverlay, SupportOverlay]
     return [kind() for kind in (kinds + [LegendOverlay] if legend else kinds)]
-
-
-__all__ = [
-    "ComponentOverlay",
-    "EffortOverlay",
-    "LegendOverlay",
-    "Overlay",
-    "StateOverlay",
-    "SupportOverlay",
-    "WrenchOverlay",
-    "default_overlays",
-]

@@ -1,9 +1,7 @@
-"""Markers at the robot's joints and feet, and text beside it facing the camera.
+"""Effort gauges at the joints, support feet, and the legend and state name facing the camera.
 
-Effort gauges: a sphere of radius ``|tau| / limit`` inside a shell (the effort limit, else
-``effort_reference``) that turns red when the joint saturates, on the camera's side of the joint,
-along its axis. Support feet: a translucent sphere at each support frame. The legend (only what
-has been drawn) and the gait's state name.
+A gauge is a sphere of radius ``|tau| / limit`` inside a shell (the effort limit, else
+``effort_reference``), on the camera's side of the joint along its axis.
 """
 
 from __future__ import annotations
@@ -14,9 +12,8 @@ import numpy as np
 from ...exceptions import InvalidInputError
 from ..frame_snapshot import FrameSnapshot
 from ..legend import legend_entries
-from ..robot_scene import RobotScene, safe
+from ..robot_scene import Overlay, RobotScene, safe
 from ..shapes import material, text_faces, translation
-from .base import Overlay
 
 
 class EffortOverlay(Overlay):
@@ -104,24 +101,17 @@ class LegendOverlay(Overlay):
         self._shown: frozenset[str] | None = None
 
     def draw(self, scene: RobotScene, frame: FrameSnapshot) -> None:
-        """Lay the legend out again if the set of drawn things has grown."""
+        """Lay the legend's lines and colour swatches out again if what was drawn has grown."""
         drawn = frozenset(scene.drawn)
         if drawn == self._shown:
             return
-        self._shown = drawn
-        scene.nodes.remove("hud/legend")
-        self.layout(scene, drawn)
-
-    @staticmethod
-    def layout(scene: RobotScene, drawn: frozenset[str]) -> None:
-        """Draw the legend's lines and colour swatches for the ``drawn`` keys."""
-        entries = legend_entries(scene, drawn)
+        self._shown, nodes = drawn, scene.nodes
+        nodes.remove("hud/legend")
         size = min(1.5, max(0.35, 0.75 * scene.extent))
         spacing = 0.105 * size
         left = -(0.6 * scene.extent + 0.5 * size)
         top = 0.5 * scene.extent
-        nodes = scene.nodes
-        for k, (color, text) in enumerate(entries):
+        for k, (color, text) in enumerate(legend_entries(scene, drawn)):
             up = top - k * spacing
             name = f"hud/legend/line_{k:02d}"
             for face, mesh in text_faces(text, size, font_size=24):

@@ -1,12 +1,9 @@
-"""Virtual actuators and their components, from the frames of the controller's attachments.
+"""Virtual actuators (triads, wrench arrows) and their components (coils, dashpots, set points).
 
-Triads at the actuators' frames; the requested, produced and shared wrenches along the reference
-frame's axes, moments about the action frame's origin (a chain's share at its reaction frame,
-its moment about that frame's origin); the produced wrench when it differs from the request,
-orange when adjusted, red when inadmissible. Components: springs (coils), dampers (dashpots) and
-set points (spheres) from the reaction-side anchor to the action frame, on their translational
-axes; a damper alone ends on its set point or, without one, lies `VELOCITY_DAMPER_LENGTH` robot
-sizes along its first axis.
+Wrenches are drawn on the reference frame's axes, moments about the action frame's origin (a
+chain's share about its reaction frame's). Components run from the reaction-side anchor to the
+action frame on their translational axes; a damper alone ends on its set point or, without one,
+lies `VELOCITY_DAMPER_LENGTH` robot sizes along its first axis.
 """
 
 from __future__ import annotations
@@ -19,9 +16,8 @@ import numpy as np
 from ...components.base import Component
 from ...control import Attachment
 from ..frame_snapshot import Actuator, FrameSnapshot, reactions_of
-from ..robot_scene import RobotScene, cross, safe
+from ..robot_scene import Overlay, RobotScene, cross, safe
 from ..shapes import coil_mesh, material
-from .base import Overlay
 
 
 class WrenchOverlay(Overlay):
@@ -44,10 +40,8 @@ class WrenchOverlay(Overlay):
                 wrench = frame.wrench
                 forces = wrench[None, :] if len(reactions_of(actuator)) == 1 else None
                 self._draw_actuator(scene, "actuator", actuator, wrench, wrench, forces, False)
-        if frame.output is None:
-            return
         output = frame.output
-        for name, attachment in frame.attachments():
+        for name, attachment in frame.attachments():  # none without an output
             solution = output.solutions.get(name)
             requested = np.asarray(output.wrenches[name], dtype=float)
             produced = np.asarray(output.produced.get(name, requested), dtype=float)
@@ -70,7 +64,7 @@ class WrenchOverlay(Overlay):
         inadmissible: bool,
     ) -> None:
         """Triads of the frames, then the requested, produced and chains' wrenches (None: none)."""
-        data, palette = scene.data, scene.palette
+        data = scene.data
         axes = tuple(actuator.axes)
         reactions = reactions_of(actuator)
         action_id = scene.frame(actuator.action, "action")
@@ -85,22 +79,13 @@ class WrenchOverlay(Overlay):
         origin = data.oMf[action_id].translation
         rotation = data.oMf[reference_id].rotation
         name = f"wrench/{safe(key)}"
-        colors = (palette.requested_force, palette.requested_moment)
-        force_drawn, moment_drawn = scene.wrench(
-            f"{name}/requested", origin, rotation, axes, requested, colors
-        )
-        if force_drawn:
-            scene.mark("requested_force")
-        if moment_drawn:
-            scene.mark("requested_moment")
+        keys = ("requested_force", "requested_moment")
+        scene.wrench(f"{name}/requested", origin, rotation, axes, requested, keys)
         if produced is not None:
             scale = max(1.0, float(np.max(np.abs(requested))))
             if inadmissible or not np.allclose(produced, requested, rtol=0.0, atol=1e-6 * scale):
                 kind = "inadmissible" if inadmissible else "produced"
-                colors = (getattr(palette, kind),) * 2
-                drawn = scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, colors)
-                if any(drawn):
-                    scene.mark(kind)
+                scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, (kind, kind))
         if forces is None:
             return
         mask = scene.rotational_mask(axes)
@@ -111,12 +96,9 @@ class WrenchOverlay(Overlay):
             moment_w = rotation @ moment + cross(origin - at, force_w)  # about the reaction
             moment_w = rotation @ (mask * (rotation.T @ moment_w))  # on the actuator's axes
             share_name = f"{name}/share/{safe(reaction)}"
-            force_arrow = force_w * scene.force_scale
-            if scene.arrow(f"{share_name}/force", at, force_arrow, palette.share_force, 1, 0.75):
-                scene.mark("share_force")
-            moment_arrow = moment_w * scene.moment_scale
-            if scene.arrow(f"{share_name}/moment", at, moment_arrow, palette.share_moment, 2, 0.75):
-                scene.mark("share_moment")
+            force_arrow, moment_arrow = force_w * scene.force_scale, moment_w * scene.moment_scale
+            scene.arrow(f"{share_name}/force", at, force_arrow, "share_force", 1, 0.75)
+            scene.arrow(f"{share_name}/moment", at, moment_arrow, "share_moment", 2, 0.75)
 
 
 #: Length of a velocity damper's dashpot, relative to the robot's size.

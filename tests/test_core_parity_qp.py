@@ -4,7 +4,7 @@ The exact step on an active set (``_core.exact_step``) against the same step in 
 (``qp.exact.exact_step``, the fallback without the core), on the arguments of real
 ``method="qp"`` solves: solo12's point feet with friction (feasible and infeasible requests, a
 least normal force, torque limits), talos' soles, the hexapod, nearly dependent request rows,
-and walking ticks of the legged trot (solo12) and of talos' balance. The serial actuators'
+and walking ticks of the legged trot and pace (solo12) and of talos' balance. The serial actuators'
 virtual sensor (``_core.relative_sensor``) against its numpy twin on every branch of the
 rotation's log; the controller's contact margins (``contact_least_margin``,
 ``contact_largest_scale``) against the numpy rows of the same `ContactSet`. The answers of the
@@ -103,8 +103,9 @@ def _close(ours: np.ndarray, theirs: np.ndarray, scale: float) -> bool:
     return ours.shape == theirs.shape and bool(np.all(np.abs(ours - theirs) <= 1e-12 * scale))
 
 
-def _check(recorder: Recorder) -> dict[str, int]:
-    """Every recorded exact step through the core and through Python: the same answer."""
+def _check(recorder: Recorder, signs: bool = False) -> dict[str, int]:
+    """Every recorded exact step through the core and through Python: the same answer (with
+    ``signs``, the multipliers' signs alone: the active set they hand on)."""
     for arguments in recorder.steps:  # exact_answer's: rows, x, guess, exact, active_tol
         rows, (guess, certify, active_tol) = arguments[:7], arguments[8:]
         step = (*rows, guess, certify, active_tol, EXACT_TOL, exact.EXACT_STEPS)
@@ -113,7 +114,11 @@ def _check(recorder: Recorder) -> dict[str, int]:
         assert ok == ok_c
         if ok:
             scale = max(1.0, np.abs(x).max(), np.abs(rows[1]).max())
-            assert _close(x_c, x, scale) and _close(z_c, z, max(scale, np.abs(z).max()))
+            assert _close(x_c, x, scale)
+            if signs:
+                np.testing.assert_array_equal(np.sign(z_c), np.sign(z))
+            else:
+                assert _close(z_c, z, max(scale, np.abs(z).max()))
     return recorder.counts()
 
 
@@ -175,14 +180,18 @@ def test_nearly_dependent_request_rows_in_both_exact_steps(recorder):
     assert counts["exact"] > 0 and counts["again"] > 0
 
 
-@pytest.mark.parametrize(("walk", "options"), [
-    ("legged", {"robot": "solo12", "gait": "trot"}),
-    ("balance", {}),
+@pytest.mark.parametrize(("walk", "options", "signs"), [
+    ("legged", {"robot": "solo12", "gait": "trot"}, False),
+    # tick 266: an intermediate active set of the closest wrench with |x| ~ 1e6, its rows met
+    # to round-off (Python's rounding passed the check, the core's did not: ProxQP answered);
+    # its closest-wrench multipliers (~1e3) agree to 1e-11 of their size, their signs exactly
+    ("legged", {"robot": "solo12", "gait": "pace", "distribution": "qp"}, True),
+    ("balance", {}, False),
 ])  # fmt: skip
-def test_walking_qp_ticks_exact_steps_equal_python(walk, options, recorder, monkeypatch):
+def test_walking_qp_ticks_exact_steps_equal_python(walk, options, signs, recorder, monkeypatch):
     monkeypatch.setenv("VA_PLAN", "0")  # the gaits' Python ticks, where the QP kernels are called
     run_walk(walk, duration=0.4, progress=False, stop_on_fall=False, **options)
-    counts = _check(recorder)
+    counts = _check(recorder, signs)
     assert counts["again"] + counts["ticks"] > 100 and counts["exact"] > 0
 
 

@@ -13,6 +13,9 @@ import numpy as np
 import pytest
 
 import virtual_actuators as va
+from virtual_actuators.core import CORE
+from virtual_actuators.distribution.qp import stages
+from virtual_actuators.gaits.registry import run_walk
 
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 SIX = ("x", "y", "z", "rx", "ry", "rz")
@@ -215,3 +218,25 @@ def test_dense_fallback_when_no_cfs_is_well_conditioned(solo):
     assert reference.solver == "dense" and np.all(np.isfinite(reference.forces))
     # through the public path, a regular configuration stays partitioned
     assert body.solve(q, np.array([0.0, 0.0, 20.0, 0.0, 0.0, 0.0])).solver == "partitioned"
+
+
+@pytest.mark.skipif(CORE is None, reason="without the core ProxQP solves every stage (no DAQP)")
+def test_pace_walk_on_the_qp_is_the_same_bits_after_another_walk(monkeypatch):
+    """solo12's pace on the QP: every tick certified by DAQP or the exact step, never ProxQP's
+    last iterate (its AVX builds round by where the heap put their buffers: an iterate it stops
+    on differed between processes and after other walks, from tick 266). Run after a trot, the
+    pace is the same bits."""
+    runs = []
+    original = stages.ProxStages._run
+
+    def counting(self, key, *arguments):
+        runs.append(key)
+        return original(self, key, *arguments)
+
+    monkeypatch.setattr(stages.ProxStages, "_run", counting)
+    walk = {"robot": "solo12", "duration": 0.3, "progress": False, "distribution": "qp"}
+    first = run_walk("legged", gait="pace", **walk)
+    run_walk("legged", gait="trot", **walk)
+    again = run_walk("legged", gait="pace", **walk)
+    assert runs == []
+    np.testing.assert_array_equal(first.loop.efforts, again.loop.efforts)

@@ -290,14 +290,17 @@ inline bool exact_step(const ExactRows& R, const double* guess, bool exact, doub
         enter_side = 1;
       }
     }
-    if (!consistent) break;
-    if (enter < 0) {
-      for (std::int64_t r = 0; r < m; ++r)
-        if (side[r] != 0)
-          z[r] = static_cast<double>(side[r]) * (std::abs(fit[k + r]) + std::abs(norm[k + r]));
-      return true;
+    // a violated row enters before the rows are checked: on an active set that still misses
+    // rows x can be large, its rows met only to round-off of |x|; the answer is checked below
+    if (enter >= 0) {
+      side[enter] = enter_side;
+      continue;
     }
-    side[enter] = enter_side;
+    if (!consistent) break;
+    for (std::int64_t r = 0; r < m; ++r)
+      if (side[r] != 0)
+        z[r] = static_cast<double>(side[r]) * (std::abs(fit[k + r]) + std::abs(norm[k + r]));
+    return true;
   }
   return false;
 }

@@ -218,21 +218,24 @@ def exact_step(
         if m and wrong.max() > -np.inf:
             side[int(np.argmax(wrong))] = 0
             continue
-        # every row: design rows (and dropped ones) and active rows to tol, the request to tol
-        # when exact, the other inequalities inside their bounds (the most violated enters)
+        # the most violated inequality enters first: on an active set that still misses rows x
+        # can be large, its rows met only to round-off of |x| (checked on the answer below)
         values = rows @ x
-        held = np.abs(values[:k] - equality_rhs)[checked] <= tol
-        bound = np.abs(values[k:] - bounds)[side != 0] <= tol
-        if not (np.all(held) and np.all(bound)):
-            break
         below = np.where(side == 0, lows - values[k:], -np.inf)
         above = np.where(side == 0, values[k:] - uppers, -np.inf)
         violation = np.fmax(below, above)
         violation = np.where(violation > tol, violation, -np.inf)
-        if not m or violation.max() == -np.inf:
-            return True, x, side * (np.abs(fit[k:]) + np.abs(norm[k:]))
-        enter = int(np.argmax(violation))
-        side[enter] = -1 if below[enter] > tol else 1
+        if m and violation.max() > -np.inf:
+            enter = int(np.argmax(violation))
+            side[enter] = -1 if below[enter] > tol else 1
+            continue
+        # every row: design rows (and dropped ones) and active rows to tol, the request to tol
+        # when exact, the other inequalities inside their bounds
+        held = np.abs(values[:k] - equality_rhs)[checked] <= tol
+        bound = np.abs(values[k:] - bounds)[side != 0] <= tol
+        if not (np.all(held) and np.all(bound)):
+            break
+        return True, x, side * (np.abs(fit[k:]) + np.abs(norm[k:]))
     return False, x, np.zeros(m)
 
 

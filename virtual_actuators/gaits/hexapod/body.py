@@ -15,13 +15,7 @@ from ..attitude import rotation_vector_angles
 from ..base import SizedSlots, SlotFormula, sized_slot
 
 
-class _Heading(SlotFormula, SizedSlots, Slotted, Component):
-    """What both heading components share: their slots, checked, and one formula."""
-
-    GAINS = ("stiffness", "damping")
-
-
-class HeadingAttitude(_Heading):
+class HeadingAttitude(SlotFormula, SizedSlots, Slotted, Component):
     """Roll and pitch spring-dampers about the heading axes, and a yaw-rate damper.
 
     Reads the body's rotation vector and angular velocity in the world; returns, in world axes::
@@ -41,6 +35,7 @@ class HeadingAttitude(_Heading):
 
     SIZES = {"stiffness": 2, "damping": 3, "roll": 1, "pitch": 1, "yaw_rate": 1}
     SLOTS = tuple(SIZES)
+    GAINS = ("stiffness", "damping")
 
     def __init__(
         self, stiffness: Sequence[float], damping: Sequence[float], name: str | None = None
@@ -71,7 +66,7 @@ class HeadingAttitude(_Heading):
         return [c * mx - s * my, s * mx + c * my, mz]
 
 
-class HeadingDamper(_Heading):
+class HeadingDamper(SlotFormula, SizedSlots, Slotted, Component):
     """Dampers toward a velocity given in the heading frame, plus a force in that frame.
 
     Args:
@@ -87,6 +82,7 @@ class HeadingDamper(_Heading):
 
     SIZES = {"damping": 2, "yaw": 1, "velocity": 2, "force": 2}
     SLOTS = tuple(SIZES)
+    GAINS = ("damping",)
 
     def __init__(self, damping: Sequence[float], name: str | None = None) -> None:
         super().__init__(("x", "y"), name)

@@ -143,8 +143,8 @@ def tripod_setpoints(
     nominal: Sequence[Sequence],
     motion: Sequence,
     foot_radius: float,
-    previous: dict,
-) -> dict:
+    previous: object,
+) -> tuple:
     """The tripod's per-tick update: ground plane, lag, phase, landing, swing set points.
 
     The swing feet go from lift-off to landing by ``smoothstep(1.25 phase)``, above the plane by
@@ -159,20 +159,22 @@ def tripod_setpoints(
         motion: Body height [m], low-passed velocity (2), velocity set point (2) [m/s] and its
             acceleration (2) [m/s^2], yaw rate command [rad/s], time in stance, time step [s].
         foot_radius: The feet's radius [m].
-        previous: ``plane`` (3), ``phase``, ``lift_off``, ``targets`` and ``rates`` (9 each).
+        previous: The gait's memory: ``plane`` (3), ``phase``, ``lift_off``, ``targets`` and
+            ``rates`` (9 each).
 
     Returns:
-        The same keys after this tick, and ``ground`` (the ground height under the body [m]).
+        ``(plane, phase, targets, rates)`` after this tick, and ``ground`` (the ground height
+        under the body [m]).
     """
     p = parameters
     height, fx, fy, cx, cy, ax, ay, yaw_rate, elapsed, dt = motion
-    plane = support_plane([feet[r] for r in support], previous["plane"])
+    plane = support_plane([feet[r] for r in support], previous.plane)
     ground = height + plane[2] - foot_radius
     velocities = ground_velocity((fx, fy), yaw_rate, nominal)
     offsets = [(feet[r][0] - nominal[r][0], feet[r][1] - nominal[r][1]) for r in support]
     lag = behind(p, offsets, *zip(*[velocities[r] for r in support], strict=True))
     progress = minimum(maximum(0.5 + lag, elapsed / p.max_stance_time), 1.0)
-    phase = maximum(previous["phase"], progress)  # never decreasing
+    phase = maximum(previous.phase, progress)  # never decreasing
     reach = smoothstep(minimum(1.0, 1.25 * phase))
     rest = 1.0 - smoothstep(phase)  # of the lift-off height above the plane
     up = p.lift * lift_profile(phase, p.lift_peak) - p.touchdown_depth * phase
@@ -180,7 +182,7 @@ def tripod_setpoints(
         p, [velocities[r] for r in swing], [nominal[r] for r in swing], (fx, fy), (cx, cy),
         (ax, ay),
     )  # fmt: skip
-    lift_off, last, rates = previous["lift_off"], previous["targets"], previous["rates"]
+    lift_off, last, rates = previous.lift_off, previous.targets, previous.rates
     (a, b, c), targets = plane, []
     for k, (lx, ly) in enumerate(places):  # the swing feet carried from lift-off to landing
         sx, sy, sz = lift_off[3 * k : 3 * k + 3]
@@ -194,7 +196,4 @@ def tripod_setpoints(
         select(moved, rate + blend * ((value - old) / step - rate), rate)
         for value, old, rate in zip(targets, last, rates, strict=True)
     )
-    return {
-        "plane": plane, "phase": phase, "lift_off": tuple(lift_off), "ground": ground,
-        "targets": tuple(targets), "rates": new_rates,
-    }  # fmt: skip
+    return plane, phase, tuple(targets), new_rates, ground

@@ -52,7 +52,6 @@ class HexapodWalker(Gait):
     Attributes:
         memory: What the gait carries from tick to tick (a compiled plan's registers).
         pendulum: The pendulum's linear model, or None without a pendulum.
-        gain: The pendulum's LQR gain ``(1, 3)``, or None.
 
     Raises:
         FrameNotFoundError: The robot lacks the frames above.
@@ -86,13 +85,12 @@ class HexapodWalker(Gait):
             lift_off=(0.0,) * 9, targets=(0.0,) * 9, rates=(0.0,) * 9, pendulum=0.0,
         )  # fmt: skip
         self.pendulum: PendulumModel | None = None
-        self.gain: np.ndarray | None = None
         self._pendulum_index: tuple[int, int] | None = None
         if model.existJointName(PENDULUM_JOINT):
-            self.pendulum, self.gain, self._pendulum_index = pendulum_lqr(
+            self.pendulum, gain, self._pendulum_index = pendulum_lqr(
                 model, PENDULUM_JOINT, p.pendulum_weights, p.pendulum_effort
             )
-            self._gain = tuple(self.gain[0].tolist())
+            self._gain = tuple(gain[0].tolist())  # the LQR's (1, 3) gain
             self.planar.damping = np.array((0.0, self.planar.damping[1]))  # x: the LQR's
         self._finish(self._machine(p.double_support_time))
 
@@ -294,18 +292,13 @@ class HexapodWalker(Gait):
         now = context.time
         motion = (height, *memory.filtered, *memory.setpoint, *memory.acceleration,
                   memory.command[2], context.time_in_state, now - memory.target_time)  # fmt: skip
-        previous = {
-            "plane": memory.plane, "phase": memory.phase, "lift_off": memory.lift_off,
-            "targets": memory.targets, "rates": memory.rates,
-        }  # fmt: skip
         rows = self._rows[support], self._rows[OTHER[support]]
-        update = tripod_setpoints(
-            p, self._feet(context), *rows, self._nominal, motion, self.foot_radius, previous
+        plane, phase, targets, rates, ground = tripod_setpoints(
+            p, self._feet(context), *rows, self._nominal, motion, self.foot_radius, memory
         )
         memory.target_time = now
-        memory.plane, memory.phase = update["plane"], update["phase"]
-        memory.targets, memory.rates = targets, rates = update["targets"], update["rates"]
-        self.height.setpoint = update["ground"] + p.height
+        memory.plane, memory.phase, memory.targets, memory.rates = plane, phase, targets, rates
+        self.height.setpoint = ground + p.height
         for k, i in enumerate(TRIPODS[OTHER[support]]):
             self.swing[i].setpoint = targets[3 * k : 3 * k + 3]
             self.swing[i].velocity_setpoint = rates[3 * k : 3 * k + 3]

@@ -153,12 +153,8 @@ class BodyModel(SlotFormula, SizedSlots, Slotted, Component):
 
     @gains.setter
     def gains(self, gains: LeggedGains) -> None:
-        self._legged = gains
-        self._pack()
-
-    def _pack(self) -> None:
-        """The gains as `body_wrench` reads them (slot ``packed``)."""
-        g, mass = self._legged, self._mass
+        self._legged = g = gains
+        mass = self._mass  # slot ``packed``: the gains as `body_wrench` reads them
         self._assign("_packed", np.array((
             *g.damping_xy, g.stiffness_z, g.damping_z, *g.stiffness_attitude,
             *g.damping_attitude, mass, mass * GRAVITY,

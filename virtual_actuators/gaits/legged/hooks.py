@@ -30,26 +30,22 @@ class WalkerHooks:
     """The hooks and events of [`LeggedWalker`][virtual_actuators.gaits.legged.LeggedWalker]."""
 
     def _landing(self, group: tuple[str, ...]) -> object:
-        """The event that ends the swing of ``group`` (`_landed`), lowerable."""
+        """The lowerable event ending ``group``'s swing: its feet down late enough, or too long."""
 
         @lowerable
         def landed(context: Context) -> object:
-            return self._landed(context, group)
+            elapsed, p = context.time_in_state, self.parameters
+            too_long = elapsed >= p.max_swing * self.swing_time
+            contacts = context.contacts
+            if not contacts:  # no switches (a traced context always has them)
+                return logical_or(too_long, elapsed >= self.swing_time)
+            down = elapsed >= p.touchdown_phase * self.swing_time
+            for foot in group:
+                down = logical_and(down, contacts.get(foot, False))
+            return logical_or(too_long, down)
 
         landed.__qualname__ = f"landed({'+'.join(group)})"
         return landed
-
-    def _landed(self, context: Context, group: tuple[str, ...]) -> object:
-        """The group's feet all touch down late enough in the swing, or the swing is too long."""
-        elapsed, p = context.time_in_state, self.parameters
-        too_long = elapsed >= p.max_swing * self.swing_time
-        contacts = context.contacts
-        if not contacts:  # no switches (a traced context always has them)
-            return logical_or(too_long, elapsed >= self.swing_time)
-        down = elapsed >= p.touchdown_phase * self.swing_time
-        for foot in group:
-            down = logical_and(down, contacts.get(foot, False))
-        return logical_or(too_long, down)
 
     @lowerable
     def _enter_swing(self, context: Context) -> None:

@@ -151,7 +151,6 @@ class LeggedWalker(WalkerHooks, Gait):
         else:
             yielding = p.give_way or ("x", "y")  # the scaling rule needs axes to scale
             point, rule = {}, {"unilateral": {"z": min_normal}, "yield_axes": yielding}
-        self.supports: dict[str, ParallelVirtualActuator] = {}
         sets = {
             f"support_{k}": [f for f in self.feet if f not in group]
             for k, group in enumerate(self.groups)
@@ -161,7 +160,6 @@ class LeggedWalker(WalkerHooks, Gait):
             actuator = ParallelVirtualActuator(
                 robot, self.body_frame, feet, "world", contact="point", **point
             )
-            self.supports[name] = actuator
             c.add(name, actuator, [self.body], **rule)
         upper = upper_joints(robot, self.feet)  # an arm, a head: held where they stand
         self._posture: tuple[str, ...] = ("posture", "upper_gravity") if upper else ()

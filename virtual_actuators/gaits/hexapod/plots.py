@@ -8,14 +8,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ...experiments.plot_panels import set_heading
-from ...experiments.plots import (
+from ...experiments.plot_panels import (
     ACTUAL_STYLE,
     FORCE_STYLE,
     SETPOINT_STYLE,
     draw_series,
     draw_state_panel,
     new_figure,
+    set_heading,
 )
 from ...experiments.walk_log import WalkLog
 

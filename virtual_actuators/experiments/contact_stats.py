@@ -17,8 +17,6 @@ NORMAL_FLOOR = 1.0
 #: A foot is read from this long after it enters support (the touchdown impact) [s].
 SETTLE_TIME = 0.02
 
-__all__ = ["NORMAL_FLOOR", "SETTLE_TIME", "StanceForces"]
-
 
 class StanceForces:
     """Least normal force and largest friction ratio of the supporting feet over a run.

@@ -17,8 +17,6 @@ from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.experiments.walk_log import WalkLog, resolve_step_states
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = ["WalkMetrics", "compute_metrics", "write_json"]
-
 
 @dataclass(frozen=True)
 class WalkMetrics(SmoothnessFigures):

@@ -33,7 +33,6 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.metrics import WalkMetrics
 
-__all__ = ["draw_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
 

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...exceptions import InvalidInputError
+from ...experiments.metrics import first_fall
 from ...experiments.plot_panels import (
     ACTUAL_STYLE,
     FORCE_STYLE,
@@ -100,9 +101,8 @@ def _path_figure(log: WalkLog) -> Figure:
         ax.plot(
             log["target_x"][marks], log["target_y"][marks], "o", ms=3, color="C3", label="object"
         )
-    fallen = log["fallen"] > 0.5 if log.has("fallen") else np.zeros(len(t), bool)
-    if np.any(fallen):
-        first = int(np.argmax(fallen))
+    fell, _, first = first_fall(log)
+    if fell:
         ax.plot(x[first], y[first], "x", color="red", ms=10, mew=2, label="fell")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")

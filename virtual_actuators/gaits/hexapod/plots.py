@@ -46,7 +46,7 @@ def draw_hexapod(log: WalkLog, *, layout: str = "auto", summary: str | None = No
         raise InvalidInputError(
             "log: expected a WalkLog of a hexapod walk with two samples or more."
         )
-    has_pendulum = log.has("pendulum") and _finite(log["pendulum"])
+    has_pendulum = log.has("pendulum")
     if layout == "auto":
         layout = "pendulum" if has_pendulum else "path"
     if layout == "pendulum" and not has_pendulum:
@@ -83,7 +83,7 @@ def _path_figure(log: WalkLog) -> Figure:
     ax = fig.subplots()
     x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
     command = log.metadata.get("command_path")
-    tracked = log.has("target_x") and _finite(log["target_x"])
+    tracked = log.has("target_x")
     if command is not None and len(command):
         command = np.asarray(command, dtype=float)
         style = {**SETPOINT_STYLE, "color": "0.35"}
@@ -112,7 +112,3 @@ def _path_figure(log: WalkLog) -> Figure:
     span = math.hypot(float(np.ptp(x)), float(np.ptp(y)))
     ax.set_title(f"path: {span:.2f} m across, {t[-1] - t[0]:.1f} s", fontsize=9)
     return fig
-
-
-def _finite(values: np.ndarray) -> bool:
-    return bool(np.any(np.isfinite(values)))

@@ -157,7 +157,7 @@ class _ReferenceSettle:
 
 def test_stance_bookkeeping_equals_the_definition():
     robot = va.load_robot("spring_flamingo")
-    stance = StanceForces(Simulator(robot), Terrain.parse("flat"))
+    stance = StanceForces(Simulator(robot))
     reference = _ReferenceSettle()
     left, right = ("left_heel", "left_toe"), ("right_heel", "right_toe")
     rng = np.random.default_rng(5)

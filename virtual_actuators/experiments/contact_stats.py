@@ -11,14 +11,11 @@ from collections.abc import Iterable
 import numpy as np
 
 from ..simulation.simulator import Simulator
-from ..simulation.terrain import Terrain
 
 #: Friction ratios are taken where the normal force is at least this [N].
 NORMAL_FLOOR = 1.0
 #: A foot is read from this long after it enters support (the touchdown impact) [s].
 SETTLE_TIME = 0.02
-
-__all__ = ["NORMAL_FLOOR", "SETTLE_TIME", "StanceForces"]
 
 
 class StanceForces:
@@ -26,7 +23,6 @@ class StanceForces:
 
     Args:
         simulator: The simulation (MuJoCo's contacts and their forces).
-        terrain: The terrain (kept for the callers).
 
     Attributes:
         normal_min: Least normal force of a supporting foot so far [N] (inf before a sample).
@@ -34,8 +30,8 @@ class StanceForces:
         samples: Foot readings taken.
     """
 
-    def __init__(self, simulator: Simulator, terrain: Terrain) -> None:
-        self.simulator, self.terrain = simulator, terrain
+    def __init__(self, simulator: Simulator) -> None:
+        self.simulator = simulator
         self.normal_min = math.inf
         self.ratio_max = 0.0
         self.samples = 0

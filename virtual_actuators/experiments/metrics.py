@@ -17,8 +17,6 @@ from virtual_actuators.experiments.smoothness import SmoothnessFigures
 from virtual_actuators.experiments.walk_log import WalkLog, resolve_step_states
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = ["WalkMetrics", "compute_metrics", "write_json"]
-
 
 @dataclass(frozen=True)
 class WalkMetrics(SmoothnessFigures):
@@ -133,8 +131,8 @@ def _check_log(log: WalkLog) -> None:
     log.channel("x")  # raises, listing the channels the log has
 
 
-def _fall(log: WalkLog) -> tuple[bool, float | None, int]:
-    """Whether the robot fell, when, and the end of the walking ticks (the first fallen tick)."""
+def first_fall(log: WalkLog) -> tuple[bool, float | None, int]:
+    """Whether a tick has ``fallen`` above 0.5, the first one's time and index (or ``len(log)``)."""
     if "fallen" in log.data:
         fallen = np.nan_to_num(log["fallen"], nan=0.0) > 0.5
         if np.any(fallen):
@@ -237,7 +235,7 @@ def compute_metrics(
 
     t, x = log.time, log["x"]
     duration = float(t[-1] - t[0])
-    fell, fall_time, end = _fall(log)
+    fell, fall_time, end = first_fall(log)
 
     window = _window(t, end, startup_s)
     finite_x = np.flatnonzero(np.isfinite(x))

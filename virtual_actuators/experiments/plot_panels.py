@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from virtual_actuators.exceptions import import_optional
+from virtual_actuators.experiments.metrics import first_fall
 from virtual_actuators.experiments.walk_log import WalkLog, resolve_step_states
 
 if TYPE_CHECKING:
@@ -209,10 +210,9 @@ def key_marks(fig: Figure, ax: Axes) -> None:
 
 def fall_marks(axes: Sequence[Axes], xs: np.ndarray, log: WalkLog, *, span: bool) -> None:
     """Shade (or mark with a line) everything from the first fallen tick on."""
-    fallen = log.has("fallen") and np.nan_to_num(log["fallen"], nan=0.0) > 0.5
-    if not np.any(fallen):
+    fell, _, i = first_fall(log)
+    if not fell:
         return
-    i = int(np.argmax(fallen))
     for ax in axes:
         if span:
             ax.axvspan(xs[i], xs[-1], color="red", alpha=0.08, lw=0)

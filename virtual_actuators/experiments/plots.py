@@ -13,9 +13,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError
-
-# ACTUAL_STYLE, SETPOINT_STYLE: re-exported for gaits.hexapod.plots until it moves (issue 25)
-from virtual_actuators.experiments.plot_panels import ACTUAL_STYLE as ACTUAL_STYLE
 from virtual_actuators.experiments.plot_panels import (
     DESIRED_SPEED,
     FORCE_STYLE,
@@ -28,7 +25,6 @@ from virtual_actuators.experiments.plot_panels import (
     set_heading,
     terrain_panel,
 )
-from virtual_actuators.experiments.plot_panels import SETPOINT_STYLE as SETPOINT_STYLE
 from virtual_actuators.experiments.walk_log import WalkLog
 
 if TYPE_CHECKING:
@@ -37,7 +33,6 @@ if TYPE_CHECKING:
 
     from virtual_actuators.experiments.metrics import WalkMetrics
 
-__all__ = ["draw_walk"]
 
 _LAYOUTS = ("auto", "time", "terrain")
 

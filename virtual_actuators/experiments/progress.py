@@ -9,8 +9,6 @@ import sys
 
 from ..exceptions import import_optional
 
-__all__ = ["Progress"]
-
 
 class Progress:
     """A tqdm bar over a known total, on stderr, redrawn at most ten times a second.

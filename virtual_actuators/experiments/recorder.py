@@ -199,6 +199,3 @@ class Recorder:
             state_names=self._state_names,
             metadata=copy.deepcopy(self.metadata),
         )
-
-
-__all__ = ["Recorder"]

@@ -17,8 +17,6 @@ import numpy as np
 
 from virtual_actuators.exceptions import InvalidInputError, closest_names
 
-__all__ = ["STANDARD_CHANNELS", "WalkLog"]
-
 #: Version of the ``.npz`` layout, and the prefix of its entries that hold metadata arrays.
 NPZ_FORMAT = 1
 META_ARRAY_PREFIX = "meta_array__"

@@ -269,7 +269,7 @@ class Episode:
         self.simulator = simulator
         self.terrain = terrain
         self.recorder = recorder
-        self.stance = StanceForces(simulator, terrain)
+        self.stance = StanceForces(simulator)
         self.feet = foot_geoms(simulator)
         self.base_rate: slice | None = slice(3, 6) if simulator.robot.floating_base else None
         self.level: float | None = float(terrain.height(0.0)) if terrain.is_flat else None

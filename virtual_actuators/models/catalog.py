@@ -17,23 +17,6 @@ from typing import NamedTuple
 
 from virtual_actuators.exceptions import InvalidInputError, RobotNotFoundError, closest_names
 
-__all__ = [
-    "ALIASES",
-    "ROBOTS_PATH_ENV",
-    "aliases",
-    "as_path",
-    "example_robot_data",
-    "find_local",
-    "is_curated",
-    "list_robots",
-    "local_dirs",
-    "package_dirs_for",
-    "robots_dir",
-    "shown_name",
-    "suggest_robots",
-    "urdf_in_folder",
-]
-
 #: The repository's top-level folder of robot descriptions.
 robots_dir: Path = Path(__file__).resolve().parents[2] / "robots"
 

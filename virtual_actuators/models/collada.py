@@ -11,8 +11,6 @@ import xml.etree.ElementTree as ElementTree
 
 import numpy as np
 
-__all__ = ["collada_arrays"]
-
 
 def collada_arrays(path: str) -> tuple[np.ndarray, np.ndarray] | None:
     """Vertices and triangles of a Collada file's scene, placed by its nodes, in metres.

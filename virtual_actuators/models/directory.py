@@ -16,8 +16,6 @@ from virtual_actuators.models.catalog import aliases, example_robot_data, list_r
 from virtual_actuators.models.loader import load_robot
 from virtual_actuators.models.robot import Robot
 
-__all__ = ["KINDS", "RobotInfo", "describe_robots", "robot_table"]
-
 #: Kind and maker of the robots in each example-robot-data description folder.
 KINDS: dict[str, tuple[str, str]] = {
     "a1_description": ("quadruped", "Unitree A1"),

@@ -23,17 +23,6 @@ FOOT_WORDS = ("foot", "feet", "sole", "toe", "ankle")
 #: lowest one's depth below the body at the standing pose (arms hang higher than the feet).
 FOOT_DEPTH_FRACTION = 0.25
 
-__all__ = [
-    "BODY_NAMES",
-    "FOOT_DEPTH_FRACTION",
-    "FOOT_WORDS",
-    "Feet",
-    "body_frame",
-    "collision_links",
-    "find_feet",
-    "structural_feet",
-]
-
 
 @dataclass(frozen=True)
 class Feet:

@@ -12,8 +12,6 @@ from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.vocabulary.arguments import check_flag, check_number
 
-__all__ = ["MAX_LEGS", "millipede"]
-
 #: Mass (kg) and sphere radius (m) of each point foot: tiny, but not zero for the simulators
 #: that reject massless bodies.
 FOOT_MASS = 1e-3

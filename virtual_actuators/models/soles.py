@@ -13,8 +13,6 @@ from .robot import Robot, frame_id, read_geometry
 #: Points within this height of a foot's lowest point make up its sole [m].
 SOLE_THICKNESS = 0.005
 
-__all__ = ["SOLE_THICKNESS", "Sole", "find_sole"]
-
 
 @dataclass(frozen=True, slots=True)
 class Sole:

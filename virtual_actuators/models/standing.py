@@ -18,8 +18,6 @@ HEIGHT_RATIO = 0.9
 #: Initial fold of each leg joint [rad], towards the larger side of its range near zero.
 _FOLD = 0.3
 
-__all__ = ["HEIGHT_RATIO", "leg_joints", "standing_pose", "upper_joints"]
-
 
 def standing_pose(
     robot: Robot,

@@ -15,8 +15,6 @@ import numpy as np
 
 from virtual_actuators.exceptions import RobotDescriptionError, suggestion
 
-__all__ = ["INERTIA_KEYS", "listed", "parse_xml", "physics_problems", "validate_urdf"]
-
 #: The six entries of a URDF ``<inertia>``.
 INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 #: Round-off allowed on moments of inertia (URDF files print about six significant digits):

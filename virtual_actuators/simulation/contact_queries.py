@@ -18,8 +18,6 @@ from virtual_actuators.core import CORE
 from virtual_actuators.exceptions import FrameNotFoundError
 from virtual_actuators.simulation.model import MujocoModel
 
-__all__ = ["ContactQueries"]
-
 #: Roles of a geom in the contact scan (0: neither; a terrain geom is never the robot's).
 _TERRAIN, _ROBOT = 1, 2
 

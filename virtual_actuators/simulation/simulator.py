@@ -36,8 +36,6 @@ from virtual_actuators.simulation.model import (
 from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = ["MujocoHardware", "Simulator"]
-
 #: Farthest distance between the robot and the terrain that `Simulator.on_ground` measures [m].
 CLEARANCE_RANGE = 100.0
 

@@ -15,8 +15,6 @@ import numpy as np
 from virtual_actuators.exceptions import InvalidInputError, suggestion
 from virtual_actuators.vocabulary.arguments import check_number
 
-__all__ = ["Terrain"]
-
 #: Length of the level ground that every built-in profile starts with [m].
 LEVEL_START = 2.0
 

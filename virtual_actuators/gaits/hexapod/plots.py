@@ -8,14 +8,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...exceptions import InvalidInputError
-from ...experiments.plot_panels import set_heading
-from ...experiments.plots import (
+from ...experiments.metrics import first_fall
+from ...experiments.plot_panels import (
     ACTUAL_STYLE,
     FORCE_STYLE,
     SETPOINT_STYLE,
     draw_series,
     draw_state_panel,
     new_figure,
+    set_heading,
 )
 from ...experiments.walk_log import WalkLog
 
@@ -45,7 +46,7 @@ def draw_hexapod(log: WalkLog, *, layout: str = "auto", summary: str | None = No
         raise InvalidInputError(
             "log: expected a WalkLog of a hexapod walk with two samples or more."
         )
-    has_pendulum = log.has("pendulum") and _finite(log["pendulum"])
+    has_pendulum = log.has("pendulum")
     if layout == "auto":
         layout = "pendulum" if has_pendulum else "path"
     if layout == "pendulum" and not has_pendulum:
@@ -82,7 +83,7 @@ def _path_figure(log: WalkLog) -> Figure:
     ax = fig.subplots()
     x, y, yaw, t = log["x"], log["y"], log["yaw"], log.time
     command = log.metadata.get("command_path")
-    tracked = log.has("target_x") and _finite(log["target_x"])
+    tracked = log.has("target_x")
     if command is not None and len(command):
         command = np.asarray(command, dtype=float)
         style = {**SETPOINT_STYLE, "color": "0.35"}
@@ -100,9 +101,8 @@ def _path_figure(log: WalkLog) -> Figure:
         ax.plot(
             log["target_x"][marks], log["target_y"][marks], "o", ms=3, color="C3", label="object"
         )
-    fallen = log["fallen"] > 0.5 if log.has("fallen") else np.zeros(len(t), bool)
-    if np.any(fallen):
-        first = int(np.argmax(fallen))
+    fell, _, first = first_fall(log)
+    if fell:
         ax.plot(x[first], y[first], "x", color="red", ms=10, mew=2, label="fell")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
@@ -112,7 +112,3 @@ def _path_figure(log: WalkLog) -> Figure:
     span = math.hypot(float(np.ptp(x)), float(np.ptp(y)))
     ax.set_title(f"path: {span:.2f} m across, {t[-1] - t[0]:.1f} s", fontsize=9)
     return fig
-
-
-def _finite(values: np.ndarray) -> bool:
-    return bool(np.any(np.isfinite(values)))

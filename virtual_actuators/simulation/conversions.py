@@ -118,24 +118,8 @@ def _rotation_xyzw(quat: np.ndarray) -> np.ndarray:
 
 
 def _quat_xyzw(rotation: np.ndarray) -> np.ndarray:
-    """Unit quaternion ``(x, y, z, w)`` with ``w >= 0`` of a rotation matrix."""
-    m = rotation
-    trace = np.trace(m)
-    if trace > 0.0:
-        s = 2.0 * np.sqrt(1.0 + trace)
-        q = np.array(
-            [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
-        )
-    else:
-        i = int(np.argmax(np.diag(m)))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * np.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
-        q = np.zeros(4)
-        q[i] = s / 4.0
-        q[j] = (m[j, i] + m[i, j]) / s
-        q[k] = (m[k, i] + m[i, k]) / s
-        q[3] = (m[k, j] - m[j, k]) / s
-    q /= np.linalg.norm(q)
+    """Unit quaternion ``(x, y, z, w)`` with ``w >= 0`` of a rotation matrix (Pinocchio's)."""
+    q = np.array(pin.Quaternion(rotation).normalized().coeffs())
     return q if q[3] >= 0.0 else -q
 
 

@@ -1,7 +1,8 @@
-"""The contacts of one parallel actuator as declared: one frozen `ContactSet`, built by `declare`.
+"""The contacts of one parallel actuator as declared (kinds, normals): a frozen `ContactSet`.
 
-The QP and the controller's yield policy read the same rows from it (`ContactSet.rows`);
-`CompiledMargins` are the tables of the core's evaluation of them.
+`declare` builds it, every argument checked. The QP and the controller's yield policy read the
+same rows from it (`ContactSet.rows`); `CompiledMargins` are the tables of the core's evaluation
+of them.
 """
 
 from __future__ import annotations
@@ -12,12 +13,92 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..exceptions import ConstraintError
-from ..vocabulary.arguments import check_number
+from ..exceptions import ConstraintError, InvalidInputError
+from ..vocabulary.arguments import as_float_array, check_name, check_number, describe
 from ..vocabulary.axes import AXES
 from . import flat, point
-from .constraint import Constraint, force_entries
-from .declare import Normals, check_contact, parse_normals
+from .constraint import Constraint, force_entries, reaction_index
+
+#: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
+FRAME = "frame"
+#: ``normals`` value: every contact's normal is its reaction frame's z axis.
+FRAMES = "frames"
+
+
+class Normals(NamedTuple):
+    """The contact normals of ``p`` reactions, as declared."""
+
+    #: ``(p, 3)`` unit normals in the world (world z unless declared; ignored where ``frame``)
+    world: np.ndarray
+    #: ``(p,)`` whether each normal is its reaction frame's z axis (read every tick)
+    frame: np.ndarray
+
+
+def check_contact(contact: object) -> str | dict[str, object]:
+    """``contact`` as ``"point"``, ``"flat"`` or a dict keyed by reaction names (str).
+
+    Raises:
+        ConstraintError: Neither a string nor a mapping, or a key that is not a name.
+    """
+    if isinstance(contact, str):
+        return contact
+    if not isinstance(contact, Mapping):
+        raise ConstraintError(
+            "contact must be 'point', 'flat' or a dict {reaction_frame: 'point' | 'flat'}, "
+            f"got {describe(contact)}."
+        )
+    for name in contact:
+        check_name(name, "contact: a key (a reaction frame name)", ConstraintError)
+    return dict(contact)
+
+
+def parse_normals(
+    normals: Mapping[str, Sequence[float] | str] | str | None, reactions: Sequence[str]
+) -> Normals:
+    """The contact normals: world z by default, a world vector or ``"frame"`` by reaction.
+
+    Args:
+        normals: None (world z), ``"frames"`` (every reaction frame's z axis) or a mapping by
+            reaction frame of a nonzero world 3-vector (normalised) or ``"frame"``.
+        reactions: The reaction frames' names.
+
+    Raises:
+        InvalidInputError: Another string, a zero or non-finite vector, an unknown reaction.
+    """
+    world = np.tile([0.0, 0.0, 1.0], (len(reactions), 1))
+    frame = np.zeros(len(reactions), dtype=bool)
+    if isinstance(normals, str):
+        if normals != FRAMES:
+            raise InvalidInputError(
+                f"normals must be {FRAMES!r} (every reaction frame's z axis) or a mapping "
+                f"by reaction frame, got {normals!r}."
+            )
+        normals = dict.fromkeys(reactions, FRAME)
+    elif normals is not None and not isinstance(normals, Mapping):
+        raise InvalidInputError(
+            f"normals must be None, {FRAMES!r} or a mapping by reaction frame, got {normals!r}."
+        )
+    for name, normal in dict(normals or {}).items():
+        index = reaction_index(name, reactions, "normals")
+        if isinstance(normal, str):
+            if normal != FRAME:
+                raise InvalidInputError(
+                    f"normals[{name!r}] must be {FRAME!r} (the frame's z axis) or a nonzero "
+                    f"3-vector (world frame), got {normal!r}."
+                )
+            frame[index] = True
+            continue
+        valid = f"a nonzero 3-vector (world frame) or {FRAME!r}"
+        vector = as_float_array(normal, f"normals[{name!r}]", valid).reshape(-1)
+        size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
+        if not size or not np.isfinite(size):
+            raise InvalidInputError(
+                f"normals[{name!r}] must be a nonzero 3-vector (world frame) or {FRAME!r}, "
+                f"got {normal!r}."
+            )
+        world[index] = vector / size
+    return Normals(world, frame)
+
 
 #: the contact kinds, by the name ``contact=`` gives them (docs/contributing.md: adding a kind)
 KINDS = {"point": point, "flat": flat}

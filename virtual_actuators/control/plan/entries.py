@@ -183,13 +183,8 @@ class Attached(Entry):
 
     def declare(self, core: object) -> None:
         """Declare the attachment to the core: its sensor, programs and distribution."""
-        kinematics = self.attachment.sensor.kinematics
-        self.add_to(
-            core, False, np.asarray(kinematics.rows, dtype=np.int64),
-            np.array(kinematics.frame_rows[:3], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float), np.zeros(0, np.int64),
-        )  # fmt: skip
+        tables = self.attachment.sensor.kinematics.sensor_tables
+        self.add_to(core, False, *tables, np.zeros(0, np.int64))
         if self.mapping == SOLVER:
             core_qp, work, keep, weights, tolerances, slot = self.qp.plan_tables(
                 self.attachment.plan

@@ -163,7 +163,7 @@ def _state(
             gains = getattr(posture, "linear_gains", lambda: None)()
             if gains is not None:
                 joints = posture.joints
-                rows = np.eye(model.nv)[[model.joints[model.getJointId(j)].idx_v for j in joints]]
+                rows = np.eye(model.nv)[posture.v_rows]
                 entries.append(_Entry(posture, tuple(f"{name}.{j}" for j in joints), rows, gains))
             continue
         if name not in controller.attachments:

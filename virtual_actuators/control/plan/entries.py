@@ -217,18 +217,14 @@ class Term(Entry):
     reports = False
 
     def __init__(self, compiled: object, name: str, term, lowering: Lowering):
-        model = compiled.robot.model
         if isinstance(term, GravityCompensation):  # the core's generalized gravity
             columns = term.columns.tolist()
             super().__init__(compiled, name, len(columns))
             self.term, self.columns, self.q_rows = term, columns, [0] * len(columns)
             self.mapping = GRAVITY
             return
-        joints = getattr(term, "joints", ())
-        super().__init__(compiled, name, max(len(joints), 1))
-        self.term = term
-        self.columns = [model.joints[model.getJointId(j)].idx_v for j in joints] or [0]
-        self.q_rows = [model.joints[model.getJointId(j)].idx_q for j in joints] or [0]
+        super().__init__(compiled, name, len(term.joints))  # a posture, bound to the robot
+        self.term, self.columns, self.q_rows = term, term.v_rows.tolist(), term.q_rows.tolist()
         why = term_kind(term)
         self.mapping = JOINTS if why is None else PYTHON
         if why is None:

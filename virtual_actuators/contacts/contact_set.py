@@ -34,24 +34,6 @@ class Normals(NamedTuple):
     frame: np.ndarray
 
 
-def check_contact(contact: object) -> str | dict[str, object]:
-    """``contact`` as ``"point"``, ``"flat"`` or a dict keyed by reaction names (str).
-
-    Raises:
-        ConstraintError: Neither a string nor a mapping, or a key that is not a name.
-    """
-    if isinstance(contact, str):
-        return contact
-    if not isinstance(contact, Mapping):
-        raise ConstraintError(
-            "contact must be 'point', 'flat' or a dict {reaction_frame: 'point' | 'flat'}, "
-            f"got {describe(contact)}."
-        )
-    for name in contact:
-        check_name(name, "contact: a key (a reaction frame name)", ConstraintError)
-    return dict(contact)
-
-
 def parse_normals(
     normals: Mapping[str, Sequence[float] | str] | str | None, reactions: Sequence[str]
 ) -> Normals:
@@ -105,10 +87,11 @@ KINDS = {"point": point, "flat": flat}
 
 
 def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -> tuple[str, ...]:
-    """Each reaction's contact kind, ``"point"`` or ``"flat"``.
+    """Each reaction's contact kind, ``"point"`` or ``"flat"``, from one kind or a dict by name.
 
     Raises:
-        ConstraintError: An unknown kind, or a key that is not a reaction frame.
+        ConstraintError: Neither a string nor a mapping, an unknown kind, or a key that is not
+            a name or not a reaction frame.
     """
     if isinstance(contact, str):
         if contact not in KINDS:
@@ -116,6 +99,13 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
                 f"contact must be one of {list(KINDS)} or a dict; got {contact!r}."
             )
         return (contact,) * len(reactions)
+    if not isinstance(contact, Mapping):
+        raise ConstraintError(
+            "contact must be 'point', 'flat' or a dict {reaction_frame: 'point' | 'flat'}, "
+            f"got {describe(contact)}."
+        )
+    for name in contact:
+        check_name(name, "contact: a key (a reaction frame name)", ConstraintError)
     unknown = set(contact) - set(reactions)
     if unknown:
         raise ConstraintError(
@@ -293,7 +283,7 @@ def declare(
         friction = check_number(friction, "friction", positive=True)
     min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
     reactions, axes = tuple(reactions), tuple(axes)
-    kinds = parse_contacts(check_contact(contact), reactions)
+    kinds = parse_contacts(contact, reactions)
     if not isinstance(normals, Normals):
         normals = parse_normals(normals, reactions)
     soles = flat.parse_soles(soles, reactions, kinds)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...actuators import ParallelVirtualActuator
+from ...actuators import ParallelVirtualActuator, VirtualActuator
 from ...components.base import Component, has_traced_path
 from ...components.gravity import GravityCompensation
 from ...distribution.result import Solution
@@ -12,18 +12,26 @@ from ...exceptions import TraceError
 from ..failures import run_attachment
 from ..tick import TickSums
 from .builder import Program
-from .lower import (
-    GRAVITY,
-    JOINTS,
-    PARTITIONED,
-    PYTHON,
-    SERIAL,
-    SOLVER,
-    Lowering,
-    Slots,
-    attachment_kind,
-    term_kind,
-)
+from .lower import GRAVITY, JOINTS, PARTITIONED, PYTHON, SERIAL, SOLVER, Lowering, Slots
+
+
+def attachment_kind(attachment: object) -> str | None:
+    """Why an attachment's distribution is a Python piece, or None (the core maps it)."""
+    actuator = attachment.actuator
+    if isinstance(actuator, VirtualActuator):
+        if type(actuator) is not VirtualActuator or actuator is not attachment.sensor:
+            return "a serial actuator read through another sensor"
+        return None
+    if attachment.method == "qp":  # a parallel actuator (Controller.add refuses other kinds)
+        qp = actuator.backends.get("qp")
+        if attachment.yield_mask is not None or qp is None:
+            return "a QP with a yield policy"
+        return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
+    if attachment.snapshot_solve is None:
+        return f"a {attachment.method!r} distribution (the controller's)"
+    if attachment.yield_mask is not None and attachment.margins is None:
+        return "a yield policy on sole rows"
+    return None
 
 
 class Entry:
@@ -225,7 +233,7 @@ class Term(Entry):
             return
         super().__init__(compiled, name, len(term.joints))  # a posture, bound to the robot
         self.term, self.columns, self.q_rows = term, term.v_rows.tolist(), term.q_rows.tolist()
-        why = term_kind(term)
+        why = None if term.null_space is None else "a posture projected on a null space"
         self.mapping = JOINTS if why is None else PYTHON
         if why is None:
             layout = lowering.keep(term, term.plan_slots())

@@ -45,7 +45,8 @@ class KinematicTree:
         self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
         self.mass = float(self.masses.sum())
         self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)
-        self._unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
+        #: ``(k, 2)`` the ``(start, stop)`` of each slice of unit norm (the kernels' argument)
+        self.unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
         self._unit_index = np.array([i for a, b in unit_slices for i in range(a, b)], dtype=int)
         self._unit_groups = np.repeat(
             np.arange(len(unit_slices)), [b - a for a, b in unit_slices]
@@ -101,7 +102,7 @@ class KinematicTree:
         """The compiled core's ``Tree`` for this frame table, or None."""
         if not self.compiled:
             return None
-        return CORE.Tree(*self.joint_tables, parents, floats, self._unit_bounds)
+        return CORE.Tree(*self.joint_tables, parents, floats, self.unit_bounds)
 
     def frame_columns(self, frame_id: int) -> np.ndarray:
         """Velocity indices that move frame ``frame_id`` (its parent joint's support)."""
@@ -143,7 +144,7 @@ class KinematicTree:
                 f"({self.nq},) (model.nq)."
             )
         if _UNIT_NORM_ERROR is not None:  # finiteness and unit norms in one compiled pass
-            error = _UNIT_NORM_ERROR(q, self._unit_bounds)
+            error = _UNIT_NORM_ERROR(q, self.unit_bounds)
             if 0.0 <= error <= 1e-12:
                 return q
         if not np.isfinite(q).all():

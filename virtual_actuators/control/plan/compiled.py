@@ -69,10 +69,10 @@ class CompiledMachine:
         registers, ops, bounds = lowering.builder.assemble()
         _, parents, floats = tree.frame_tables
         limits = controller.effort_limits if controller.clip else np.full(tree.nv, np.inf)
+        limits = np.asarray(limits, dtype=float)
         self.core = CORE.PlanMachine(
             *tree.joint_tables, parents, np.ascontiguousarray(floats).reshape(-1, 12), tree.nq,
-            registers, ops, bounds, -np.asarray(limits, dtype=float), np.asarray(limits, float),
-            np.array([(s.start, s.stop) for s in tree.unit_slices], np.int64).reshape(-1, 2),
+            registers, ops, bounds, -limits, limits, tree.unit_bounds,
         )  # fmt: skip
         self.core.set_masses(tree.masses, np.ascontiguousarray(tree.levers))
         for entry in self._entries:

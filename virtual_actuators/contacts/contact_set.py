@@ -298,10 +298,10 @@ def declare(
         names += [f"{reaction}: {axes[axis]} >= {minimum:g}" for reaction in reactions]
         lows += [minimum] * len(reactions)
     if cone:
-        faces = point.faces(friction, normal_row)
         for reaction in reactions:
-            names += point.names(reaction, friction, min_normal, normal_row)
-            lows += [min_normal] * normal_row + [0.0] * (faces - normal_row)
+            rows = point.names(reaction, friction, min_normal, normal_row)
+            names += rows
+            lows += [min_normal] * normal_row + [0.0] * (len(rows) - normal_row)
     sole_names = flat.declared_names(soles, reactions, friction, axes)
     names += sole_names
     lows += [0.0] * len(sole_names)

@@ -65,7 +65,8 @@ class Posture:
         self.null_space = null_space
         self.robot: Robot | None = None
         self._plan = False  # the gains and set point are a compiled plan's registers
-        self._q_rows = self._v_rows = np.zeros(0, dtype=np.intp)
+        #: the joints' configuration and velocity indices, once bound
+        self.q_rows = self.v_rows = np.zeros(0, dtype=np.intp)
         if robot is not None:
             self.bind(robot)
 
@@ -163,8 +164,8 @@ class Posture:
         model = robot.model
         why = "; a posture holds revolute and prismatic joints"
         q_rows, v_rows = joint_rows(robot, self.joints, self.name, why, strict=True)
-        self._q_rows = np.array(q_rows, dtype=np.intp)
-        self._v_rows = np.array(v_rows, dtype=np.intp)
+        self.q_rows = np.array(q_rows, dtype=np.intp)
+        self.v_rows = np.array(v_rows, dtype=np.intp)
         if self.null_space is not None and (
             getattr(self.null_space, "robot", None) is None
             or self.null_space.robot.model is not model
@@ -187,7 +188,7 @@ class Posture:
         """
         self._check_bound()
         configuration = q.q if isinstance(q, Snapshot) else np.asarray(q, dtype=float)
-        current = configuration[self._q_rows].tolist()
+        current = configuration[self.q_rows].tolist()
         setpoint = np.array(self._targets_at(current))
         if self._plan:  # a compiled plan keeps it: written in place
             self.setpoint[:] = setpoint
@@ -214,9 +215,9 @@ class Posture:
         if self.setpoint is None:
             self.reset(configuration)
         tau = np.zeros(self.robot.model.nv)
-        tau[self._v_rows] = (
-            self.stiffness * (self.setpoint - configuration[self._q_rows])
-            - self.damping * np.asarray(velocity, dtype=float)[self._v_rows]
+        tau[self.v_rows] = (
+            self.stiffness * (self.setpoint - configuration[self.q_rows])
+            - self.damping * np.asarray(velocity, dtype=float)[self.v_rows]
         )
         if self.null_space is not None:
             if snapshot is None:

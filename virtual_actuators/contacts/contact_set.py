@@ -1,7 +1,8 @@
-"""The contacts of one parallel actuator as declared: one frozen `ContactSet`, built by `declare`.
+"""The contacts of one parallel actuator as declared (kinds, normals): a frozen `ContactSet`.
 
-The QP and the controller's yield policy read the same rows from it (`ContactSet.rows`);
-`CompiledMargins` are the tables of the core's evaluation of them.
+`declare` builds it, every argument checked. The QP and the controller's yield policy read the
+same rows from it (`ContactSet.rows`); `CompiledMargins` are the tables of the core's evaluation
+of them.
 """
 
 from __future__ import annotations
@@ -12,22 +13,85 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..exceptions import ConstraintError
-from ..vocabulary.arguments import check_number
+from ..exceptions import ConstraintError, InvalidInputError
+from ..vocabulary.arguments import as_float_array, check_name, check_number, describe
 from ..vocabulary.axes import AXES
 from . import flat, point
-from .constraint import Constraint, force_entries
-from .declare import Normals, check_contact, parse_normals
+from .constraint import Constraint, force_entries, reaction_index
+
+#: ``normals[reaction]`` value: the contact normal is the reaction frame's own z axis.
+FRAME = "frame"
+#: ``normals`` value: every contact's normal is its reaction frame's z axis.
+FRAMES = "frames"
+
+
+class Normals(NamedTuple):
+    """The contact normals of ``p`` reactions, as declared."""
+
+    #: ``(p, 3)`` unit normals in the world (world z unless declared; ignored where ``frame``)
+    world: np.ndarray
+    #: ``(p,)`` whether each normal is its reaction frame's z axis (read every tick)
+    frame: np.ndarray
+
+
+def parse_normals(
+    normals: Mapping[str, Sequence[float] | str] | str | None, reactions: Sequence[str]
+) -> Normals:
+    """The contact normals: world z by default, a world vector or ``"frame"`` by reaction.
+
+    Args:
+        normals: None (world z), ``"frames"`` (every reaction frame's z axis) or a mapping by
+            reaction frame of a nonzero world 3-vector (normalised) or ``"frame"``.
+        reactions: The reaction frames' names.
+
+    Raises:
+        InvalidInputError: Another string, a zero or non-finite vector, an unknown reaction.
+    """
+    world = np.tile([0.0, 0.0, 1.0], (len(reactions), 1))
+    frame = np.zeros(len(reactions), dtype=bool)
+    if isinstance(normals, str):
+        if normals != FRAMES:
+            raise InvalidInputError(
+                f"normals must be {FRAMES!r} (every reaction frame's z axis) or a mapping "
+                f"by reaction frame, got {normals!r}."
+            )
+        normals = dict.fromkeys(reactions, FRAME)
+    elif normals is not None and not isinstance(normals, Mapping):
+        raise InvalidInputError(
+            f"normals must be None, {FRAMES!r} or a mapping by reaction frame, got {normals!r}."
+        )
+    for name, normal in dict(normals or {}).items():
+        index = reaction_index(name, reactions, "normals")
+        if isinstance(normal, str):
+            if normal != FRAME:
+                raise InvalidInputError(
+                    f"normals[{name!r}] must be {FRAME!r} (the frame's z axis) or a nonzero "
+                    f"3-vector (world frame), got {normal!r}."
+                )
+            frame[index] = True
+            continue
+        valid = f"a nonzero 3-vector (world frame) or {FRAME!r}"
+        vector = as_float_array(normal, f"normals[{name!r}]", valid).reshape(-1)
+        size = float(np.linalg.norm(vector)) if vector.shape == (3,) else 0.0
+        if not size or not np.isfinite(size):
+            raise InvalidInputError(
+                f"normals[{name!r}] must be a nonzero 3-vector (world frame) or {FRAME!r}, "
+                f"got {normal!r}."
+            )
+        world[index] = vector / size
+    return Normals(world, frame)
+
 
 #: the contact kinds, by the name ``contact=`` gives them (docs/contributing.md: adding a kind)
 KINDS = {"point": point, "flat": flat}
 
 
 def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -> tuple[str, ...]:
-    """Each reaction's contact kind, ``"point"`` or ``"flat"``.
+    """Each reaction's contact kind, ``"point"`` or ``"flat"``, from one kind or a dict by name.
 
     Raises:
-        ConstraintError: An unknown kind, or a key that is not a reaction frame.
+        ConstraintError: Neither a string nor a mapping, an unknown kind, or a key that is not
+            a name or not a reaction frame.
     """
     if isinstance(contact, str):
         if contact not in KINDS:
@@ -35,6 +99,13 @@ def parse_contacts(contact: str | Mapping[str, str], reactions: Sequence[str]) -
                 f"contact must be one of {list(KINDS)} or a dict; got {contact!r}."
             )
         return (contact,) * len(reactions)
+    if not isinstance(contact, Mapping):
+        raise ConstraintError(
+            "contact must be 'point', 'flat' or a dict {reaction_frame: 'point' | 'flat'}, "
+            f"got {describe(contact)}."
+        )
+    for name in contact:
+        check_name(name, "contact: a key (a reaction frame name)", ConstraintError)
     unknown = set(contact) - set(reactions)
     if unknown:
         raise ConstraintError(
@@ -212,7 +283,7 @@ def declare(
         friction = check_number(friction, "friction", positive=True)
     min_normal = check_number(min_normal, "min_normal [N]", minimum=0.0)
     reactions, axes = tuple(reactions), tuple(axes)
-    kinds = parse_contacts(check_contact(contact), reactions)
+    kinds = parse_contacts(contact, reactions)
     if not isinstance(normals, Normals):
         normals = parse_normals(normals, reactions)
     soles = flat.parse_soles(soles, reactions, kinds)
@@ -227,10 +298,10 @@ def declare(
         names += [f"{reaction}: {axes[axis]} >= {minimum:g}" for reaction in reactions]
         lows += [minimum] * len(reactions)
     if cone:
-        faces = point.faces(friction, normal_row)
         for reaction in reactions:
-            names += point.names(reaction, friction, min_normal, normal_row)
-            lows += [min_normal] * normal_row + [0.0] * (faces - normal_row)
+            rows = point.names(reaction, friction, min_normal, normal_row)
+            names += rows
+            lows += [min_normal] * normal_row + [0.0] * (len(rows) - normal_row)
     sole_names = flat.declared_names(soles, reactions, friction, axes)
     names += sole_names
     lows += [0.0] * len(sole_names)

@@ -14,8 +14,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..vocabulary.arguments import as_float_array
-from .constraint import Entries, cross, force_entries, moment_entries
-from .declare import reaction_index
+from .constraint import Entries, cross, force_entries, moment_entries, reaction_index
 
 
 def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:

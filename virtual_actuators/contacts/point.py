@@ -17,11 +17,6 @@ def ball_axes(rotation_axes: np.ndarray) -> np.ndarray:
     return rotation_axes
 
 
-def faces(friction: float | None, normal_row: bool) -> int:
-    """How many rows a contact's pyramid has."""
-    return int(normal_row) + (4 if friction is not None else 0)
-
-
 def names(reaction: str, friction: float | None, min_normal: float, normal_row: bool) -> list[str]:
     """The pyramid's row names of one contact, in the order `pyramid` builds them."""
     out = [f"{reaction}: normal >= {min_normal:g} N"] if normal_row else []

@@ -74,13 +74,9 @@ class SpringTick:
             targets += range(start, start + size)
             rotations += [int(turning is not None and k == turning.start) for k in range(size)]
         summed = not (len(components) == 1 and starts[0] == 0 and len(targets) == self.n)
-        rows = kinematics.frame_rows[:3].copy()  # {B}, {O}, {A}
-        self.rows_end = int(rows.max()) + 1
+        self.rows_end = kinematics.sensor_rows_end
         self.tables = (
-            np.asarray(kinematics.rows, dtype=np.int64),
-            rows,
-            np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float),
+            *kinematics.sensor_tables,
             np.array(targets, dtype=np.int64),
             np.array(rotations, dtype=np.int64),
             int(summed),

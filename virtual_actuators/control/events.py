@@ -13,12 +13,6 @@ from ..vocabulary.scalar import logical_and, logical_not, logical_or
 from .context import POSITION_COLUMNS, Context, Event
 
 
-def _check_axis(axis: str) -> None:
-    """Refuse an ``axis`` that is not a world axis x, y or z (an InvalidAxisError)."""
-    if not isinstance(axis, str) or axis not in POSITION_COLUMNS:
-        raise InvalidAxisError(f"Event axis must be one of x, y, z (of {AXES}), got {axis!r}.")
-
-
 def _frames(frames: tuple, where: str) -> tuple[str, ...]:
     if not frames:
         raise InvalidInputError(f"{where} needs at least one frame name.")
@@ -64,7 +58,9 @@ class AheadOf:
     axis: str
 
     def __post_init__(self) -> None:
-        _check_axis(self.axis)
+        axis = self.axis  # a world axis x, y or z
+        if not isinstance(axis, str) or axis not in POSITION_COLUMNS:
+            raise InvalidAxisError(f"Event axis must be one of x, y, z (of {AXES}), got {axis!r}.")
 
     def __call__(self, context: Context) -> bool:
         """Whether the event fires at this tick (a traced value on a lowering's context)."""

@@ -34,6 +34,7 @@ class MachineController:
         controller: As given.
         machine: As given.
         last: The last [`ControlOutput`][] (None before the first tick).
+        limp: The velocity indices each state leaves limp (its ``limp`` joints), by name.
 
     Raises:
         InvalidInputError: ``controller`` or ``machine`` of the wrong kind, or a state naming
@@ -65,7 +66,7 @@ class MachineController:
         self.controller = controller
         self.machine = machine
         self.last: ControlOutput | None = None
-        self._limp = {s.name: controller.joint_indices(s.limp) for s in machine.states}
+        self.limp = {s.name: controller.joint_indices(s.limp) for s in machine.states}
         # the tick: the compiled machine, this object (Python), or None (not lowered yet)
         self._tick: CompiledMachine | MachineController | None = None if compiled else self
 
@@ -83,10 +84,6 @@ class MachineController:
     def state(self) -> State:
         """The current state."""
         return self.machine.current
-
-    def limp_indices(self, state: str) -> np.ndarray:
-        """The velocity indices a state leaves limp (its ``limp`` joints)."""
-        return self._limp[state]
 
     def compute(
         self,
@@ -170,7 +167,7 @@ class MachineController:
         if len(machine.history) != before:
             controller.reset(state.active, snapshot, time)
         self.last = controller.compute_checked(
-            snapshot, context.time, state.active, self._limp[state.name]
+            snapshot, context.time, state.active, self.limp[state.name]
         )
         return self.last
 

@@ -238,8 +238,7 @@ class _Tick:
         self.nv, self.stale_after = tree.nv, settings.stale_after
         self.last, self.fresh = None, 0.0  # the newest stamp read, and when it came [s]
         self.q_shape, self.v_shape = (tree.nq,), (tree.nv,)
-        bounds = [(unit.start, unit.stop) for unit in tree.unit_slices]
-        self.bounds = np.array(bounds, np.int64).reshape(-1, 2)
+        self.bounds = tree.unit_bounds
 
     def __call__(self, now: float) -> tuple:
         try:

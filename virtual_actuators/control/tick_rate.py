@@ -162,9 +162,8 @@ def _state(
             posture = controller.postures[name]
             gains = getattr(posture, "linear_gains", lambda: None)()
             if gains is not None:
-                joints = posture.joints
-                rows = np.eye(model.nv)[[model.joints[model.getJointId(j)].idx_v for j in joints]]
-                entries.append(_Entry(posture, tuple(f"{name}.{j}" for j in joints), rows, gains))
+                labels = tuple(f"{name}.{j}" for j in posture.joints)
+                entries.append(_Entry(posture, labels, np.eye(model.nv)[posture.v_rows], gains))
             continue
         if name not in controller.attachments:
             raise InvalidInputError(f"tick_rate: the controller has no attachment {name!r}.")

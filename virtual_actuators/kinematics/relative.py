@@ -164,19 +164,23 @@ class RelativeKinematics:
         self._rows_a = np.array([frame_rows[int(r)] for r in self.reaction_ids], dtype=int)
         #: Rows of {B}, {O}, then every {A_i} in the snapshot's frame table (compiled readers).
         self.frame_rows = np.array([self._row_b, self._row_o, *self._rows_a.tolist()], np.int64)
-        self._axis_rows = np.asarray(self.rows, dtype=np.int64)
         #: Rows of {O} then of every {A_i} in the snapshot's frame table (compiled readers).
         self.orientation_rows = self.frame_rows[1:]
         self.orientation_rows_end = int(self.orientation_rows.max()) + 1  # table rows read
         self._rows_end = int(self.frame_rows.max()) + 1  # compute() reads
-        self._sensor_rows = self.frame_rows[:3].copy()
-        self._sensor_rows_end = int(self._sensor_rows.max()) + 1  # frame rows the sensor reads
         joint_b, reactions = model.frames[self.action_id].parentJoint, self.reaction_ids.tolist()
         #: per chain, velocity indices between {A_i} and {B}, and +1 on {B}'s side of the
         #: path, -1 on {A_i}'s side (shared ancestors and other branches cancel)
         paths = [self._path(model, joint_b, model.frames[r].parentJoint) for r in reactions]
         self.chain_columns: list[np.ndarray] = [columns for columns, _ in paths]
         self.chain_signs: list[np.ndarray] = [signs for _, signs in paths]
+        #: Chain 0's sensor tables (`sensor`'s arguments after ``v``): the axes' rows, the rows
+        #: of {B}, {O} and {A} in the frame table, the chain's velocity indices and signs.
+        self.sensor_tables = (
+            np.asarray(self.rows, dtype=np.int64), self.frame_rows[:3].copy(),
+            self.chain_columns[0], self.chain_signs[0],
+        )  # fmt: skip
+        self.sensor_rows_end = int(self.frame_rows[:3].max()) + 1  # frame rows the sensor reads
 
     @staticmethod
     def _path(model: pin.Model, joint_b: int, joint_a: int) -> tuple[np.ndarray, np.ndarray]:
@@ -264,16 +268,10 @@ class RelativeKinematics:
         """
         snapshot = self.snapshot(state, need_velocity=velocity)
         jacobian_world = snapshot.jacobian_world
-        buffer = sensor(
-            jacobian_world,
-            self._frames(snapshot, self._sensor_rows_end),
-            snapshot.v if velocity else _NO_VELOCITY,
-            self._axis_rows,
-            self._sensor_rows,
-            self.chain_columns[0],
-            self.chain_signs[0],
-        )
-        n, nv = self._axis_rows.shape[0], jacobian_world.shape[1]
+        frames = self._frames(snapshot, self.sensor_rows_end)
+        v = snapshot.v if velocity else _NO_VELOCITY
+        buffer = sensor(jacobian_world, frames, v, *self.sensor_tables)
+        n, nv = len(self.axes), jacobian_world.shape[1]
         jacobian = buffer[: n * nv].reshape(n, nv)
         position = buffer[n * nv : n * nv + n]
         return jacobian, position, buffer[n * nv + n :] if velocity else None

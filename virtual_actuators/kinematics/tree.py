@@ -45,20 +45,22 @@ class KinematicTree:
         self.levers = np.array([inertia.lever for inertia in model.inertias], dtype=float)
         self.mass = float(self.masses.sum())
         self.unit_slices = tuple(slice(a, b) for a, b in unit_slices)
-        self._unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
+        #: ``(k, 2)`` the ``(start, stop)`` of each slice of unit norm (the kernels' argument)
+        self.unit_bounds = np.array(unit_slices, dtype=np.int64).reshape(-1, 2)
         self._unit_index = np.array([i for a, b in unit_slices for i in range(a, b)], dtype=int)
         self._unit_groups = np.repeat(
             np.arange(len(unit_slices)), [b - a for a, b in unit_slices]
         ).astype(int)
         self._lock = threading.Lock()
-        #: frame id -> row in the kernel's frame output; replaced (never mutated) on growth
-        self._frames: tuple[dict[int, int], np.ndarray, np.ndarray] = (
+        #: ``(rows, parents, placements)`` of the frames computed at every tick (``rows``: frame
+        #: id -> row in the kernel's frame output); replaced (never mutated) on growth
+        self.frame_tables: tuple[dict[int, int], np.ndarray, np.ndarray] = (
             {},
             np.zeros(0, dtype=np.int64),
             np.zeros((0, 12)),
         )
         #: the compiled core's tables (C++), rebuilt with the frame table; None: Pinocchio
-        self.core_tree = self._core_tree(*self._frames[1:])
+        self.core_tree = self._core_tree(*self.frame_tables[1:])
         self._frame_columns: dict[int, np.ndarray] = {}
         self._names: dict[str, int] = {}
         #: frame name -> its row in the kernel's frame output (rows never move once given)
@@ -74,14 +76,14 @@ class KinematicTree:
         if frame_id is None:
             frame_id = resolve_frame(self.model, name)
             self.require([frame_id])
-            self.name_rows[name] = self._frames[0][frame_id]
+            self.name_rows[name] = self.frame_tables[0][frame_id]
             self._names[name] = frame_id
         return frame_id
 
     def require(self, frame_ids: Iterable[int]) -> None:
         """Have the kernel compute these frames' placements at every tick (declaration time)."""
         with self._lock:
-            rows, parents, floats = self._frames
+            rows, parents, floats = self.frame_tables
             new = [int(f) for f in frame_ids if int(f) not in rows]
             if not new:
                 return
@@ -94,18 +96,13 @@ class KinematicTree:
             floats = floats.reshape(-1, 12)
             # the core's tree first: a reader that gets the new rows gets a tree with them
             self.core_tree = self._core_tree(parents, floats)
-            self._frames = (rows, parents, floats)
+            self.frame_tables = (rows, parents, floats)
 
     def _core_tree(self, parents: np.ndarray, floats: np.ndarray) -> object | None:
         """The compiled core's ``Tree`` for this frame table, or None."""
         if not self.compiled:
             return None
-        return CORE.Tree(*self.joint_tables, parents, floats, self._unit_bounds)
-
-    @property
-    def frame_tables(self) -> tuple[dict[int, int], np.ndarray, np.ndarray]:
-        """``(rows, parents, placements)`` of the frames computed at every tick."""
-        return self._frames
+        return CORE.Tree(*self.joint_tables, parents, floats, self.unit_bounds)
 
     def frame_columns(self, frame_id: int) -> np.ndarray:
         """Velocity indices that move frame ``frame_id`` (its parent joint's support)."""
@@ -125,7 +122,7 @@ class KinematicTree:
         ``buffer``: the joint placements, the world Jacobian, the frames' placements, then
         (with ``v``) their velocities; ``rows``: frame id -> row, the buffer's first rows.
         """
-        rows = self._frames[0]  # before the tree: its frame table may have grown since
+        rows = self.frame_tables[0]  # before the tree: its frame table may have grown since
         core_tree = self.core_tree
         if core_tree is None:
             return None
@@ -147,7 +144,7 @@ class KinematicTree:
                 f"({self.nq},) (model.nq)."
             )
         if _UNIT_NORM_ERROR is not None:  # finiteness and unit norms in one compiled pass
-            error = _UNIT_NORM_ERROR(q, self._unit_bounds)
+            error = _UNIT_NORM_ERROR(q, self.unit_bounds)
             if 0.0 <= error <= 1e-12:
                 return q
         if not np.isfinite(q).all():
@@ -191,7 +188,7 @@ class KinematicTree:
         backend = "compiled" if self.compiled else "pinocchio"
         return (
             f"KinematicTree(model={self.model.name!r}, njoints={self.njoints}, nv={self.nv}, "
-            f"backend={backend!r}, frames per tick={len(self._frames[0])})"
+            f"backend={backend!r}, frames per tick={len(self.frame_tables[0])})"
         )
 
 

@@ -67,14 +67,12 @@ class CompiledMachine:
         tree = lowering.tree
         self._rows = dict(tree.frame_tables[0])  # the plan's frame table, final now
         registers, ops, bounds = lowering.builder.assemble()
-        joints = tree.joint_tables
         _, parents, floats = tree.frame_tables
         limits = controller.effort_limits if controller.clip else np.full(tree.nv, np.inf)
+        limits = np.asarray(limits, dtype=float)
         self.core = CORE.PlanMachine(
-            joints.joint_ints, joints.joint_floats, joints.velocity_joint, joints.velocity_subspace,
-            parents, np.ascontiguousarray(floats).reshape(-1, 12), tree.nq, registers, ops,
-            bounds, -np.asarray(limits, dtype=float), np.asarray(limits, dtype=float),
-            np.array([(s.start, s.stop) for s in tree.unit_slices], np.int64).reshape(-1, 2),
+            *tree.joint_tables, parents, np.ascontiguousarray(floats).reshape(-1, 12), tree.nq,
+            registers, ops, bounds, -limits, limits, tree.unit_bounds,
         )  # fmt: skip
         self.core.set_masses(tree.masses, np.ascontiguousarray(tree.levers))
         for entry in self._entries:
@@ -111,7 +109,7 @@ class CompiledMachine:
     def _lower_state(self, state: object) -> tuple:
         lowering, machine = self.lowering, self.machine.machine
         attachments = np.array([self._index[name] for name in state.active], dtype=np.int64)
-        limp = np.asarray(self.machine.limp_indices(state.name), dtype=np.int64)
+        limp = np.asarray(self.machine.limp[state.name], dtype=np.int64)
         enter = lowering.hook(state.name, "on_enter", state.on_enter)
         update = lowering.hook(state.name, "on_update", state.on_update)
         exits = []

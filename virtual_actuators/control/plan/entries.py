@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...actuators import ParallelVirtualActuator
+from ...actuators import ParallelVirtualActuator, VirtualActuator
 from ...components.base import Component, has_traced_path
 from ...components.gravity import GravityCompensation
 from ...distribution.result import Solution
@@ -12,18 +12,26 @@ from ...exceptions import TraceError
 from ..failures import run_attachment
 from ..tick import TickSums
 from .builder import Program
-from .lower import (
-    GRAVITY,
-    JOINTS,
-    PARTITIONED,
-    PYTHON,
-    SERIAL,
-    SOLVER,
-    Lowering,
-    Slots,
-    attachment_kind,
-    term_kind,
-)
+from .lower import GRAVITY, JOINTS, PARTITIONED, PYTHON, SERIAL, SOLVER, Lowering, Slots
+
+
+def attachment_kind(attachment: object) -> str | None:
+    """Why an attachment's distribution is a Python piece, or None (the core maps it)."""
+    actuator = attachment.actuator
+    if isinstance(actuator, VirtualActuator):
+        if type(actuator) is not VirtualActuator or actuator is not attachment.sensor:
+            return "a serial actuator read through another sensor"
+        return None
+    if attachment.method == "qp":  # a parallel actuator (Controller.add refuses other kinds)
+        qp = actuator.backends.get("qp")
+        if attachment.yield_mask is not None or qp is None:
+            return "a QP with a yield policy"
+        return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
+    if attachment.snapshot_solve is None:
+        return f"a {attachment.method!r} distribution (the controller's)"
+    if attachment.yield_mask is not None and attachment.margins is None:
+        return "a yield policy on sole rows"
+    return None
 
 
 class Entry:
@@ -183,13 +191,8 @@ class Attached(Entry):
 
     def declare(self, core: object) -> None:
         """Declare the attachment to the core: its sensor, programs and distribution."""
-        kinematics = self.attachment.sensor.kinematics
-        self.add_to(
-            core, False, np.asarray(kinematics.rows, dtype=np.int64),
-            np.array(kinematics.frame_rows[:3], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_columns[0], dtype=np.int64),
-            np.ascontiguousarray(kinematics.chain_signs[0], dtype=float), np.zeros(0, np.int64),
-        )  # fmt: skip
+        tables = self.attachment.sensor.kinematics.sensor_tables
+        self.add_to(core, False, *tables, np.zeros(0, np.int64))
         if self.mapping == SOLVER:
             core_qp, work, keep, weights, tolerances, slot = self.qp.plan_tables(
                 self.attachment.plan
@@ -222,19 +225,15 @@ class Term(Entry):
     reports = False
 
     def __init__(self, compiled: object, name: str, term, lowering: Lowering):
-        model = compiled.robot.model
         if isinstance(term, GravityCompensation):  # the core's generalized gravity
             columns = term.columns.tolist()
             super().__init__(compiled, name, len(columns))
             self.term, self.columns, self.q_rows = term, columns, [0] * len(columns)
             self.mapping = GRAVITY
             return
-        joints = getattr(term, "joints", ())
-        super().__init__(compiled, name, max(len(joints), 1))
-        self.term = term
-        self.columns = [model.joints[model.getJointId(j)].idx_v for j in joints] or [0]
-        self.q_rows = [model.joints[model.getJointId(j)].idx_q for j in joints] or [0]
-        why = term_kind(term)
+        super().__init__(compiled, name, len(term.joints))  # a posture, bound to the robot
+        self.term, self.columns, self.q_rows = term, term.v_rows.tolist(), term.q_rows.tolist()
+        why = None if term.null_space is None else "a posture projected on a null space"
         self.mapping = JOINTS if why is None else PYTHON
         if why is None:
             layout = lowering.keep(term, term.plan_slots())

@@ -10,9 +10,6 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ...actuators import VirtualActuator
-from ...components.gravity import GravityCompensation
-from ...components.posture import Posture
 from ...exceptions import TraceError
 from ...kinematics.tree import tree_of
 from ...vocabulary.scalar import atan2
@@ -170,34 +167,6 @@ class Lowering:
         what = f"state {state!r}: the event {event!r}"
         why = "a Python event (a lambda or a function not marked lowerable)"
         return self.piece(what, body if traced else None, why, run), result
-
-
-def attachment_kind(attachment: object) -> str | None:
-    """Why an attachment's distribution is a Python piece, or None (the core maps it)."""
-    actuator = attachment.actuator
-    if isinstance(actuator, VirtualActuator):
-        if type(actuator) is not VirtualActuator or actuator is not attachment.sensor:
-            return "a serial actuator read through another sensor"
-        return None
-    if attachment.method == "qp":  # a parallel actuator (Controller.add refuses other kinds)
-        qp = actuator.backends.get("qp")
-        if attachment.yield_mask is not None or qp is None:
-            return "a QP with a yield policy"
-        return None if qp.plan_tables(attachment.plan) is not None else "a numpy QP"
-    if attachment.snapshot_solve is None:
-        return f"a {attachment.method!r} distribution (the controller's)"
-    if attachment.yield_mask is not None and attachment.margins is None:
-        return "a yield policy on sole rows"
-    return None
-
-
-def term_kind(term: object) -> str | None:
-    """Why a joint-space term is a Python piece, or None (the core runs it)."""
-    if isinstance(term, GravityCompensation) or (
-        isinstance(term, Posture) and term.null_space is None
-    ):
-        return None  # a gravity compensation: the core's generalized gravity (mapping GRAVITY)
-    return "a posture projected on a null space"
 
 
 class _Switches:

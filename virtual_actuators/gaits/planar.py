@@ -28,6 +28,10 @@ def other(side: str) -> str:
     return "right" if side == "left" else "left"
 
 
+#: Per single-support state (``SIDE_support``, ``SIDE_support_2``): ``(stance side, swing side)``.
+SINGLE = {f"{side}_support{end}": (side, other(side)) for side in SIDES for end in ("", "_2")}
+
+
 def smoothstep(s: float) -> float:
     """``3 s^2 - 2 s^3`` on [0, 1], clipped: a set point that starts and ends at rest."""
     s = minimum(maximum(s, 0.0), 1.0)

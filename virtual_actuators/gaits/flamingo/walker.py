@@ -20,6 +20,7 @@ from ..base import check_distribution
 from ..planar import (
     PLANAR_AXES,
     SIDES,
+    SINGLE,
     PlanarBiped,
     biped_states,
     granny_walker,
@@ -30,9 +31,6 @@ from ..planar import (
     swing_linkages,
 )
 from .parameters import FlamingoParameters
-
-#: Per single-support state: ``(stance side, swing side)``.
-_SIDES = {f"{side}_support{end}": (side, other(side)) for side in SIDES for end in ("", "_2")}
 
 
 class FlamingoWalker(PlanarBiped):
@@ -113,48 +111,19 @@ class FlamingoWalker(PlanarBiped):
         )
         transitions = []
         for side in SIDES:
-            swing_side = other(side)
-            swing_switches = (f"{swing_side}_heel", f"{swing_side}_toe")
-            swing_ahead = events.ahead_of(f"{swing_side}_foot", f"{side}_foot", 0.0)
+            single, landing, swing = f"{side}_support", f"{side}_support_2", other(side)
+            switches = (f"{swing}_heel", f"{swing}_toe")
+            down, early = events.contact(*switches), events.contact(*switches, require_all=False)
+            ahead = events.ahead_of(f"{swing}_foot", f"{side}_foot", 0.0)
+            hip_over = events.ahead_of("body", f"{side}_foot", -p.transition_distance)
+            start = self._front_is(side, events.all_of(hip_over, self._can_vault(side)))
+            landed = events.all_of(down, events.after(0.5 * p.swing_time), ahead)
+            lands_early = events.all_of(early, events.after(0.3 * p.swing_time), ahead)
             transitions += [
-                Transition(
-                    "double_support",
-                    f"{side}_support",
-                    self._front_is(
-                        side,
-                        events.all_of(
-                            events.ahead_of("body", f"{side}_foot", -p.transition_distance),
-                            self._can_vault(side),
-                        ),
-                    ),
-                    f"hip within l_t of the {side} ankle",
-                ),
-                Transition(
-                    f"{side}_support",
-                    "double_support",
-                    events.all_of(
-                        events.contact(*swing_switches),
-                        events.after(0.5 * p.swing_time),
-                        swing_ahead,
-                    ),
-                    f"{swing_side} heel and toe down",
-                ),
-                Transition(
-                    f"{side}_support",
-                    f"{side}_support_2",
-                    events.all_of(
-                        events.contact(*swing_switches, require_all=False),
-                        events.after(0.3 * p.swing_time),
-                        swing_ahead,
-                    ),
-                    f"{swing_side} foot lands early",
-                ),
-                Transition(
-                    f"{side}_support_2",
-                    "double_support",
-                    events.contact(*swing_switches),
-                    f"{swing_side} heel and toe down",
-                ),
+                Transition("double_support", single, start, f"hip within l_t of the {side} ankle"),
+                Transition(single, "double_support", landed, f"{swing} heel and toe down"),
+                Transition(single, landing, lands_early, f"{swing} foot lands early"),
+                Transition(landing, "double_support", down, f"{swing} heel and toe down"),
             ]
         return StateMachine(states, transitions, initial)
 
@@ -230,7 +199,7 @@ class FlamingoWalker(PlanarBiped):
 
     @lowerable
     def _enter_single(self, context: Context) -> None:
-        stance, swing = _SIDES[context.state]
+        stance, swing = SINGLE[context.state]
         memory, p = self.memory, self.parameters
         memory.swing_started = context.time  # support_2 continues the same swing
         ankle_x, _, ankle_z = context.frame_position(f"{swing}_foot")
@@ -249,7 +218,7 @@ class FlamingoWalker(PlanarBiped):
     @lowerable
     def _update_single(self, context: Context) -> None:
         p, memory = self.parameters, self.memory
-        stance, swing = _SIDES[context.state]
+        stance, swing = SINGLE[context.state]
         self._update_height(context)
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")

@@ -13,6 +13,7 @@ from ...vocabulary.traced import lowerable
 from ..base import check_distribution
 from ..planar import (
     SIDES,
+    SINGLE,
     PlanarBiped,
     biped_states,
     granny_walker,
@@ -75,25 +76,14 @@ class TurkeyWalker(PlanarBiped):
         )
         transitions = []
         for side in SIDES:
+            single, buffer, foot = f"{side}_support", f"{side}_support_2", f"{side}_foot"
+            over = self._front_is(side, events.ahead_of("body", foot, p.over_distance))
+            away = events.ahead_of("body", foot, p.away_distance)
+            delay = events.after(p.buffer_delay)
             transitions += [
-                Transition(
-                    "double_support",
-                    f"{side}_support",
-                    self._front_is(side, events.ahead_of("body", f"{side}_foot", p.over_distance)),
-                    f"body nearly over {side} foot",
-                ),
-                Transition(
-                    f"{side}_support",
-                    f"{side}_support_2",
-                    events.ahead_of("body", f"{side}_foot", p.away_distance),
-                    f"body away from {side} foot",
-                ),
-                Transition(
-                    f"{side}_support_2",
-                    "double_support",
-                    events.after(p.buffer_delay),
-                    f"delay after {side} support 2",
-                ),
+                Transition("double_support", single, over, f"body nearly over {side} foot"),
+                Transition(single, buffer, away, f"body away from {side} foot"),
+                Transition(buffer, "double_support", delay, f"delay after {side} support 2"),
             ]
         return StateMachine(states, transitions, initial)
 
@@ -111,11 +101,11 @@ class TurkeyWalker(PlanarBiped):
 
     @lowerable
     def _update_double(self, context: Context) -> None:
-        self._update_ground(context, _FEET)
+        self._update_ground(context, ("left_foot", "right_foot"))
 
     @lowerable
     def _enter_single(self, context: Context) -> None:
-        stance, swing, _, _ = _SINGLE[context.state]
+        stance, swing = SINGLE[context.state]
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
         memory = self.memory
@@ -127,14 +117,14 @@ class TurkeyWalker(PlanarBiped):
     @lowerable
     def _update_single(self, context: Context) -> None:
         p = self.parameters
-        _, swing, stance_foot, buffer = _SINGLE[context.state]
-        self._update_ground(context, stance_foot)
-        if buffer:
+        stance, swing = SINGLE[context.state]
+        self._update_ground(context, (f"{stance}_foot",))
+        if context.state.endswith("_2"):  # the buffer: the swing leg limp
             return
         memory = self.memory
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
-        progress = body_x - coordinate(stance_foot[0], "x")
+        progress = body_x - coordinate(f"{stance}_foot", "x")
         start, (start_x, _) = memory.progress_start, memory.swing_start
         span = maximum(p.away_distance - start, 1e-3)
         phase = minimum(maximum((progress - start) / span, 0.0), 1.0)
@@ -142,13 +132,3 @@ class TurkeyWalker(PlanarBiped):
         foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
         z_rel = memory.ground + p.foot_radius + foot_height - body_z
         self.swing[swing].place((x_rel, z_rel))
-
-
-#: Both feet (double support's ground estimate).
-_FEET = tuple(f"{side}_foot" for side in SIDES)
-#: Per single-support state: stance side, swing side, ``(stance foot,)``, whether the buffer.
-_SINGLE = {
-    f"{side}_support{end}": (side, other(side), (f"{side}_foot",), end == "_2")
-    for side in SIDES
-    for end in ("", "_2")
-}

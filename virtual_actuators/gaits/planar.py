@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.walking import GrannyWalker, SwingLegLinkage
+from ..components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ..control.state_machine import Context, Event, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
@@ -123,47 +123,31 @@ def planar_standing_configuration(
     return q
 
 
-class GrannyConstants(Protocol):
-    """The granny walker's constants, as both bipeds' parameters carry them."""
-
-    pitch: float
-    stiffness_z: float
-    damping_z: float
-    stiffness_pitch: float
-    damping_pitch: float
-    weight: float | None
-
-
-def granny_walker(parameters: GrannyConstants, height: float, robot: Robot) -> GrannyWalker:
-    """The body's spring-dampers on height and pitch, the weight fed forward on z.
-
-    The weight is ``parameters.weight``, or the robot's mass times g when None [N].
-    """
-    p = parameters
-    weight = robot.mass * 9.81 if p.weight is None else p.weight
-    return GrannyWalker(
-        height,
-        stiffness=(p.stiffness_z, p.stiffness_pitch),
-        damping=(p.damping_z, p.damping_pitch),
-        pitch=p.pitch,
-        weight=weight,
-    )
-
-
-def swing_linkages(
-    stiffness: Sequence[float], damping: Sequence[float], axes: Sequence[str]
-) -> dict[str, SwingLegLinkage]:
-    """One swing-leg linkage per side, named ``SIDE_swing_linkage``."""
-    return {
-        side: SwingLegLinkage(stiffness, damping, axes=axes, name=f"{side}_swing_linkage")
-        for side in SIDES
-    }
-
-
 class PlanarBiped(Gait):
     """A planar biped's gait on `biped_states`, its front foot in ``memory.front`` (0: left)."""
 
     step_states = ("left_support", "right_support")
+
+    def _components(self, height: float, axes: Sequence[str], **bunny: Any) -> None:
+        """The granny walker, the dogtrack bunny and a ``SIDE_swing_linkage`` per side.
+
+        The granny walker holds ``height`` and ``parameters.pitch``, the weight fed forward on z
+        (``parameters.weight``, or the robot's mass times g when None [N]); ``bunny``: further
+        arguments of the bunny; ``axes``: the swing linkages'.
+        """
+        p = self.parameters
+        weight = self.robot.mass * 9.81 if p.weight is None else p.weight
+        stiffness, damping = (p.stiffness_z, p.stiffness_pitch), (p.damping_z, p.damping_pitch)
+        self.granny = GrannyWalker(
+            height, stiffness=stiffness, damping=damping, pitch=p.pitch, weight=weight
+        )
+        self.bunny = DogtrackBunny(p.speed, p.bunny_damping, **bunny)
+        self.swing = {
+            side: SwingLegLinkage(
+                p.swing_stiffness, p.swing_damping, axes=axes, name=f"{side}_swing_linkage"
+            )
+            for side in SIDES
+        }
 
     def _declare(
         self, contact: str, double: Mapping[str, Any], rule: Mapping[str, Any], ankles: bool = False

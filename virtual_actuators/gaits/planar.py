@@ -17,7 +17,7 @@ from ..models.robot import Robot
 from ..vocabulary.axes import resolve_frame, resolve_joint
 from ..vocabulary.scalar import cos, logical_and, maximum, minimum, select, sin
 from ..vocabulary.traced import Sym, lowerable
-from .base import Gait
+from .base import Gait, check_distribution
 
 SIDES = ("left", "right")
 PLANAR_AXES = ("x", "z", "ry")
@@ -150,19 +150,28 @@ class PlanarBiped(Gait):
         }
 
     def _declare(
-        self, contact: str, double: Mapping[str, Any], rule: Mapping[str, Any], ankles: bool = False
+        self,
+        contact: str,
+        double: Mapping[str, Any],
+        cones: Mapping[str, Any],
+        partitioned: Mapping[str, Any],
+        ankles: bool = False,
     ) -> None:
         """Add ``double`` (both feet, x yielding), ``SIDE_stance`` (x free) and ``SIDE_swing``.
 
         The double support carries the granny walker and the bunny, a stance the granny walker;
-        ``contact`` is the feet's kind, ``double`` and ``rule`` further arguments of the double
-        support's actuator and of its ``controller.add``; ``ankles``: limp in support.
+        ``contact`` is the feet's kind, ``double`` further arguments of the double support's
+        actuator, ``cones`` more of them on the QP (``parameters.distribution``), ``partitioned``
+        the arguments of its ``controller.add`` off the QP; ``ankles``: limp in support.
 
         Raises:
+            InvalidInputError: ``parameters.distribution`` is not one of `DISTRIBUTIONS`.
             FrameNotFoundError: The robot lacks ``body`` or ``SIDE_foot``.
             JointNotFoundError: The robot lacks a joint named above.
         """
         robot, controller, swing = self.robot, self.controller, self.swing
+        qp = check_distribution(self.parameters.distribution)
+        double, rule = ({**double, **cones}, {"method": "qp"}) if qp else (double, partitioned)
         body = [self.granny, self.bunny]
 
         def support(sides: Sequence[str]) -> ParallelVirtualActuator:

@@ -18,7 +18,6 @@ from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ...vocabulary.scalar import atan2, clip, logical_and, logical_or, maximum, minimum, select, tan
 from ...vocabulary.traced import lowerable
-from ..base import check_distribution
 from ..planar import (
     PLANAR_AXES,
     SIDES,
@@ -173,31 +172,23 @@ class FlamingoWalker(PlanarBiped):
         )  # fmt: skip
         self._components(self.memory.hip_height, PLANAR_AXES)
         self.granny.limit = ((1.0 - p.min_lift) * self.granny.force[0], np.inf)  # [N]
-        self._declare_actuators()
+        double = {  # flat feet over limp ankles
+            "design": [EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
+            "normals": "frames" if p.sole_normals else None,
+        }
+        cones = {
+            "friction": p.friction if p.qp_friction is None else p.qp_friction,
+            "min_normal": p.min_normal_force if p.qp_min_normal_force is None
+            else p.qp_min_normal_force,
+        }  # fmt: skip
+        limits = {"friction": p.friction, "min_normal": p.min_normal_force}
+        self._declare("flat", double, cones, limits, ankles=True)
         self._finish(self._machine(initial))
 
     @property
     def slope(self) -> float:
         """The global slope estimate [rad]."""
         return self.memory.slope
-
-    def _declare_actuators(self) -> None:
-        """``double`` on both flat feet over limp ankles, ``SIDE_stance``, ``SIDE_swing``."""
-        p = self.parameters
-        qp = check_distribution(p.distribution)
-        cones = {
-            "friction": p.friction if p.qp_friction is None else p.qp_friction,
-            "min_normal": p.min_normal_force if p.qp_min_normal_force is None
-            else p.qp_min_normal_force,
-            "normals": "frames" if p.sole_normals else None,
-        }  # fmt: skip
-        double = {
-            "design": [EqualTorque("left_hip", "right_hip")] if p.equal_hip_torques else [],
-            **(cones if qp else {"normals": cones["normals"]}),  # the controller's cones too
-        }
-        limits = {"friction": p.friction, "min_normal": p.min_normal_force}
-        rule = {"method": "qp"} if qp else limits
-        self._declare("flat", double, rule, ankles=True)
 
     def _machine(self, initial: str) -> StateMachine:
         """Double support, single support and its landing per side (section 6.2)."""

@@ -11,7 +11,6 @@ from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ...vocabulary.scalar import maximum, minimum, select
 from ...vocabulary.traced import lowerable
-from ..base import check_distribution
 from ..planar import (
     SIDES,
     SINGLE,
@@ -103,20 +102,11 @@ class TurkeyWalker(PlanarBiped):
         super().__init__(robot)
         self.parameters = p = parameters or TurkeyParameters()
         self._components(p.height, ("x", "z"), limit=p.bunny_limit)
-        self._declare_actuators()
+        cones = {"friction": p.friction, "min_normal": p.min_normal_force}
+        hips = {"design": [EqualTorque("left_hip", "right_hip")]}  # point feet, matched hip torques
+        self._declare("point", hips, cones, {"unilateral": {"z": p.min_normal_force}})
         self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
-
-    def _declare_actuators(self) -> None:
-        """``double`` on both point feet (matched hip torques), ``SIDE_stance``, ``SIDE_swing``."""
-        p = self.parameters
-        qp = check_distribution(p.distribution)
-        double = {
-            "design": [EqualTorque("left_hip", "right_hip")],
-            **({"friction": p.friction, "min_normal": p.min_normal_force} if qp else {}),
-        }
-        rule = {"method": "qp"} if qp else {"unilateral": {"z": p.min_normal_force}}
-        self._declare("point", double, rule)
 
     def _machine(self, initial: str) -> StateMachine:
         """Table 1: double support, then single support and its buffer per side."""

@@ -39,8 +39,7 @@ from ..runner import (
     trace_of,
 )  # fmt: skip
 from ..walk_loop import drive
-from .balancer import Balancer
-from .parameters import BalanceParameters
+from .balancer import BalanceParameters, Balancer
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -223,33 +223,26 @@ def biped_states(
     Returns:
         The five states, in that order.
     """
-    states = [
-        State(
-            "double_support",
-            ("double",),
-            ("left_foot", "right_foot"),
-            limp=limp.get("double_support", ()),
-            on_enter=double[0],
-            on_update=double[1],
-        )
-    ]
+    enter, update = single
+    states = [_state("double_support", ("double",), SIDES, limp, *double)]
     for side in SIDES:
         stance, swing = f"{side}_stance", f"{other(side)}_swing"
+        landing = (stance, swing) if landing_swings else (stance,)
         states += [
-            State(
-                f"{side}_support",
-                (stance, swing),
-                (f"{side}_foot",),
-                limp=limp.get(f"{side}_support", ()),
-                on_enter=single[0],
-                on_update=single[1],
-            ),
-            State(
-                f"{side}_support_2",
-                (stance, swing) if landing_swings else (stance,),
-                (f"{side}_foot",),
-                limp=limp.get(f"{side}_support_2", ()),
-                on_update=single[1],
-            ),
+            _state(f"{side}_support", (stance, swing), (side,), limp, enter, update),
+            _state(f"{side}_support_2", landing, (side,), limp, None, update),
         ]
     return states
+
+
+def _state(
+    name: str,
+    active: tuple[str, ...],
+    sides: Sequence[str],
+    limp: Mapping[str, tuple[str, ...]],
+    enter: Hook | None,
+    update: Hook,
+) -> State:
+    """State ``name`` on the feet of ``sides``, limp on ``limp.get(name, ())``."""
+    feet = tuple(f"{side}_foot" for side in sides)
+    return State(name, active, feet, limp=limp.get(name, ()), on_enter=enter, on_update=update)

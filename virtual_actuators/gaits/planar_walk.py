@@ -22,7 +22,6 @@ from .turkey import TurkeyParameters, TurkeyWalker
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
-STANCE_SAMPLING = 10  # stance contact forces are read every this many ticks (100 Hz)
 RECORD_EVERY = 4  # the log's rows: every this many ticks (250 Hz; the efforts: every tick)
 #: The attachments whose components move the body, in the order the wrench is read from.
 BODY_ATTACHMENTS = ("double", "left_stance", "right_stance")
@@ -95,7 +94,7 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
 class PlanarEpisode(Episode):
     """A planar biped's walk under `drive`: `STANDARD_CHANNELS` every `RECORD_EVERY` ticks."""
 
-    stance_every = STANCE_SAMPLING
+    stance_every = 10  # the stance contact forces at 100 Hz
     record_every = RECORD_EVERY
 
     def __init__(

@@ -1,9 +1,4 @@
-"""Standing balance for any legged robot: the body on its feet, the rest held by a posture.
-
-One state, ``stand``: the body's spring-damper on the contact QP (flat soles for two feet, point
-feet for more; the rotations give way first), its request kept within what the support can
-produce (`SupportedSpring`), a posture off the legs, gravity compensation.
-"""
+"""Standing balance for any legged robot: the body on its feet, the rest held by a posture."""
 
 from __future__ import annotations
 
@@ -208,11 +203,11 @@ class Balancer(Gait):
         super().__init__(robot)
         self.contact_frames = self.contacts
         self.soles = soles or {}
+        self._weight = robot.mass * 9.81  # [N]
         self.spring = self._body(soles)
         active = ["body", *self._posture(feet), "gravity"]
         self.gravity = GravityCompensation(robot)
         self.controller.add("gravity", self.gravity)  # in the sum, before the clip
-        self._weight = robot.mass * 9.81  # [N]
         signs = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
         self._corners = tuple(  # each support frame's sole corners (x, y) in its own axes [m]
             tuple((sx * hx, sy * hy) for sx, sy in signs)
@@ -228,7 +223,6 @@ class Balancer(Gait):
     def _body(self, soles: dict[str, tuple[float, float]] | None) -> SupportedSpring:
         """The body actuator on the contact QP with its spring-damper; returns the spring."""
         robot, parameters = self.robot, self.parameters
-        weight = robot.mass * 9.81
         actuator = ParallelVirtualActuator(
             robot,
             self.body,
@@ -237,7 +231,7 @@ class Balancer(Gait):
             BODY_AXES,
             contact="flat" if self.flat else "point",
             friction=parameters.friction,
-            min_normal=parameters.min_normal * weight / len(self.contacts),
+            min_normal=parameters.min_normal * self._weight / len(self.contacts),
             torque_limits=True,
             soles=soles,
             weights={"rx": parameters.yield_weight, "ry": parameters.yield_weight},

@@ -1,9 +1,4 @@
-"""``demo balance``: any legged robot standing in MuJoCo, pushed, without stepping.
-
-A push ``N@T[:DEG]`` is ``N`` newtons on the body for ``push_duration`` from ``T`` along ``DEG``
-degrees in the ground plane; a fall is a tilt beyond `FALL_PITCH`, half the starting height or a
-touch of anything but a foot.
-"""
+"""``demo balance``: any legged robot standing in MuJoCo, pushed (`Push`), without stepping."""
 
 from __future__ import annotations
 

@@ -97,9 +97,7 @@ class BalanceMetrics(SmoothnessFigures):
 
     def to_dict(self) -> dict[str, Any]:
         """The figures as a JSON-able dict."""
-        data = asdict(self)
-        data["feet"], data["implausible_limits"] = list(self.feet), list(self.implausible_limits)
-        return data
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
 
 
 @dataclass

@@ -132,8 +132,7 @@ class TurkeyWalker(PlanarBiped):
 
     def _update_ground(self, context: Context, feet: tuple[str, ...]) -> None:
         heights = [context.frame_coordinate(foot, "z") for foot in feet]
-        memory = self.memory
-        memory.ground = ground = sum(heights) / len(heights) - self.parameters.foot_radius
+        self.memory.ground = ground = sum(heights) / len(heights) - self.parameters.foot_radius
         self.granny.height = ground + self.parameters.height
 
     @lowerable

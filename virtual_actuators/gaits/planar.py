@@ -142,11 +142,9 @@ class PlanarBiped(Gait):
             height, stiffness=stiffness, damping=damping, pitch=p.pitch, weight=weight
         )
         self.bunny = DogtrackBunny(p.speed, p.bunny_damping, **bunny)
+        gains = p.swing_stiffness, p.swing_damping
         self.swing = {
-            side: SwingLegLinkage(
-                p.swing_stiffness, p.swing_damping, axes=axes, name=f"{side}_swing_linkage"
-            )
-            for side in SIDES
+            side: SwingLegLinkage(*gains, axes=axes, name=f"{side}_swing_linkage") for side in SIDES
         }
 
     def _declare(

@@ -150,11 +150,10 @@ class TurkeyWalker(PlanarBiped):
         stance, swing = SINGLE[context.state]
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
-        memory = self.memory
-        memory.swing_start = (
+        self.memory.swing_start = (
             coordinate(f"{swing}_foot", "x") - body_x, coordinate(f"{swing}_foot", "z") - body_z
         )
-        memory.progress_start = body_x - coordinate(f"{stance}_foot", "x")
+        self.memory.progress_start = body_x - coordinate(f"{stance}_foot", "x")
 
     @lowerable
     def _update_single(self, context: Context) -> None:

@@ -253,7 +253,7 @@ class FlamingoWalker(PlanarBiped):
         target = self.slope_height(context.frame_coordinate("body", "x")) + memory.hip_height
         step = p.height_rate * maximum(context.time - memory.height_time, 0.0)
         current = self.granny.height
-        self.granny.height = current + minimum(maximum(target - current, -step), step)
+        self.granny.height = current + clip(target - current, -step, step)
         memory.height_time = context.time
         xdot = context.frame_velocity("body")[0]
         self.granny.velocity_setpoint = (xdot * tan(memory.slope), 0.0)
@@ -326,10 +326,8 @@ class FlamingoWalker(PlanarBiped):
         if p.step_gain:
             # longer steps when too fast, shorter when too slow (Raibert-like)
             xdot = context.frame_velocity("body")[0]
-            target_x = target_x + minimum(
-                maximum(p.step_gain * (xdot - p.speed), -0.4 * p.step_length),
-                0.6 * p.step_length,
-            )
+            step = p.step_length
+            target_x = target_x + clip(p.step_gain * (xdot - p.speed), -0.4 * step, 0.6 * step)
         x_target = start_x + (target_x - start_x) * (smoothstep(reach))
         surface = self.slope_height(x_target)
         start_height = start_z - self.slope_height(start_x)

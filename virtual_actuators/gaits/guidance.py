@@ -71,9 +71,7 @@ class Guidance:
     """
 
     fixed = False
-
-    def __init__(self) -> None:
-        self.start = (0.0, 0.0, 0.0)
+    start = (0.0, 0.0, 0.0)
 
     def begin(self, state: PlanarState) -> None:
         """Remember where the body starts (called once before the first tick)."""
@@ -103,7 +101,6 @@ class VelocityCommand(Guidance):
     fixed = True
 
     def __init__(self, speed: float, direction: float = 0.0, yaw_rate: float = 0.0) -> None:
-        super().__init__()
         _finite("VelocityCommand: ", speed=speed, direction=direction, yaw_rate=yaw_rate)
         if speed < 0.0:
             raise InvalidInputError(f"VelocityCommand: speed must be >= 0, got {speed}.")
@@ -137,7 +134,6 @@ class SinePath(Guidance):
         lateral_gain: float = 3.0,
         heading_gain: float = 4.0,
     ) -> None:
-        super().__init__()
         _finite("SinePath: ", speed=speed, amplitude=amplitude, wavelength=wavelength)
         if speed <= 0.0 or wavelength <= 0.0:
             raise InvalidInputError(
@@ -196,7 +192,6 @@ class TrackObject(Guidance):
         angular_speed: float = 0.25,
         gain: float = 6.0,
     ) -> None:
-        super().__init__()
         _finite("TrackObject: ", radius=radius, angular_speed=angular_speed, gain=gain)
         if radius <= 0.0:
             raise InvalidInputError(f"TrackObject: radius must be > 0, got {radius}.")

@@ -4,20 +4,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
 from ..actuators import ParallelVirtualActuator, VirtualActuator
-from ..components.walking import GrannyWalker, SwingLegLinkage
+from ..components.walking import DogtrackBunny, GrannyWalker, SwingLegLinkage
 from ..control.state_machine import Context, Event, State
 from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from ..vocabulary.axes import resolve_frame, resolve_joint
 from ..vocabulary.scalar import cos, logical_and, maximum, minimum, select, sin
 from ..vocabulary.traced import Sym, lowerable
-from .base import Gait
+from .base import Gait, check_distribution
 
 SIDES = ("left", "right")
 PLANAR_AXES = ("x", "z", "ry")
@@ -26,6 +26,10 @@ PLANAR_AXES = ("x", "z", "ry")
 def other(side: str) -> str:
     """The other leg."""
     return "right" if side == "left" else "left"
+
+
+#: Per single-support state (``SIDE_support``, ``SIDE_support_2``): ``(stance side, swing side)``.
+SINGLE = {f"{side}_support{end}": (side, other(side)) for side in SIDES for end in ("", "_2")}
 
 
 def smoothstep(s: float) -> float:
@@ -119,62 +123,53 @@ def planar_standing_configuration(
     return q
 
 
-class GrannyConstants(Protocol):
-    """The granny walker's constants, as both bipeds' parameters carry them."""
-
-    pitch: float
-    stiffness_z: float
-    damping_z: float
-    stiffness_pitch: float
-    damping_pitch: float
-    weight: float | None
-
-
-def granny_walker(parameters: GrannyConstants, height: float, robot: Robot) -> GrannyWalker:
-    """The body's spring-dampers on height and pitch, the weight fed forward on z.
-
-    The weight is ``parameters.weight``, or the robot's mass times g when None [N].
-    """
-    p = parameters
-    weight = robot.mass * 9.81 if p.weight is None else p.weight
-    return GrannyWalker(
-        height,
-        stiffness=(p.stiffness_z, p.stiffness_pitch),
-        damping=(p.damping_z, p.damping_pitch),
-        pitch=p.pitch,
-        weight=weight,
-    )
-
-
-def swing_linkages(
-    stiffness: Sequence[float], damping: Sequence[float], axes: Sequence[str]
-) -> dict[str, SwingLegLinkage]:
-    """One swing-leg linkage per side, named ``SIDE_swing_linkage``."""
-    return {
-        side: SwingLegLinkage(stiffness, damping, axes=axes, name=f"{side}_swing_linkage")
-        for side in SIDES
-    }
-
-
 class PlanarBiped(Gait):
     """A planar biped's gait on `biped_states`, its front foot in ``memory.front`` (0: left)."""
 
     step_states = ("left_support", "right_support")
 
+    def _components(self, height: float, axes: Sequence[str], **bunny: Any) -> None:
+        """The granny walker, the dogtrack bunny and a ``SIDE_swing_linkage`` per side.
+
+        The granny walker holds ``height`` and ``parameters.pitch``, the weight fed forward on z
+        (``parameters.weight``, or the robot's mass times g when None [N]); ``bunny``: further
+        arguments of the bunny; ``axes``: the swing linkages'.
+        """
+        p = self.parameters
+        weight = self.robot.mass * 9.81 if p.weight is None else p.weight
+        stiffness, damping = (p.stiffness_z, p.stiffness_pitch), (p.damping_z, p.damping_pitch)
+        self.granny = GrannyWalker(
+            height, stiffness=stiffness, damping=damping, pitch=p.pitch, weight=weight
+        )
+        self.bunny = DogtrackBunny(p.speed, p.bunny_damping, **bunny)
+        gains = p.swing_stiffness, p.swing_damping
+        self.swing = {
+            side: SwingLegLinkage(*gains, axes=axes, name=f"{side}_swing_linkage") for side in SIDES
+        }
+
     def _declare(
-        self, contact: str, double: Mapping[str, Any], rule: Mapping[str, Any], ankles: bool = False
+        self,
+        contact: str,
+        double: Mapping[str, Any],
+        cones: Mapping[str, Any],
+        partitioned: Mapping[str, Any],
+        ankles: bool = False,
     ) -> None:
         """Add ``double`` (both feet, x yielding), ``SIDE_stance`` (x free) and ``SIDE_swing``.
 
         The double support carries the granny walker and the bunny, a stance the granny walker;
-        ``contact`` is the feet's kind, ``double`` and ``rule`` further arguments of the double
-        support's actuator and of its ``controller.add``; ``ankles``: limp in support.
+        ``contact`` is the feet's kind, ``double`` further arguments of the double support's
+        actuator, ``cones`` more of them on the QP (``parameters.distribution``), ``partitioned``
+        the arguments of its ``controller.add`` off the QP; ``ankles``: limp in support.
 
         Raises:
+            InvalidInputError: ``parameters.distribution`` is not one of `DISTRIBUTIONS`.
             FrameNotFoundError: The robot lacks ``body`` or ``SIDE_foot``.
             JointNotFoundError: The robot lacks a joint named above.
         """
         robot, controller, swing = self.robot, self.controller, self.swing
+        qp = check_distribution(self.parameters.distribution)
+        double, rule = ({**double, **cones}, {"method": "qp"}) if qp else (double, partitioned)
         body = [self.granny, self.bunny]
 
         def support(sides: Sequence[str]) -> ParallelVirtualActuator:
@@ -226,33 +221,26 @@ def biped_states(
     Returns:
         The five states, in that order.
     """
-    states = [
-        State(
-            "double_support",
-            ("double",),
-            ("left_foot", "right_foot"),
-            limp=limp.get("double_support", ()),
-            on_enter=double[0],
-            on_update=double[1],
-        )
-    ]
+    enter, update = single
+    states = [_state("double_support", ("double",), SIDES, limp, *double)]
     for side in SIDES:
         stance, swing = f"{side}_stance", f"{other(side)}_swing"
+        landing = (stance, swing) if landing_swings else (stance,)
         states += [
-            State(
-                f"{side}_support",
-                (stance, swing),
-                (f"{side}_foot",),
-                limp=limp.get(f"{side}_support", ()),
-                on_enter=single[0],
-                on_update=single[1],
-            ),
-            State(
-                f"{side}_support_2",
-                (stance, swing) if landing_swings else (stance,),
-                (f"{side}_foot",),
-                limp=limp.get(f"{side}_support_2", ()),
-                on_update=single[1],
-            ),
+            _state(f"{side}_support", (stance, swing), (side,), limp, enter, update),
+            _state(f"{side}_support_2", landing, (side,), limp, None, update),
         ]
     return states
+
+
+def _state(
+    name: str,
+    active: tuple[str, ...],
+    sides: Sequence[str],
+    limp: Mapping[str, tuple[str, ...]],
+    enter: Hook | None,
+    update: Hook,
+) -> State:
+    """State ``name`` on the feet of ``sides``, limp on ``limp.get(name, ())``."""
+    feet = tuple(f"{side}_foot" for side in sides)
+    return State(name, active, feet, limp=limp.get(name, ()), on_enter=enter, on_update=update)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -22,7 +23,6 @@ from .turkey import TurkeyParameters, TurkeyWalker
 from .walk_loop import drive
 
 STARTUP = 2.0  # [s] metrics ignore the first seconds (start-up)
-STANCE_SAMPLING = 10  # stance contact forces are read every this many ticks (100 Hz)
 RECORD_EVERY = 4  # the log's rows: every this many ticks (250 Hz; the efforts: every tick)
 #: The attachments whose components move the body, in the order the wrench is read from.
 BODY_ATTACHMENTS = ("double", "left_stance", "right_stance")
@@ -95,7 +95,7 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
 class PlanarEpisode(Episode):
     """A planar biped's walk under `drive`: `STANDARD_CHANNELS` every `RECORD_EVERY` ticks."""
 
-    stance_every = STANCE_SAMPLING
+    stance_every = 10  # the stance contact forces at 100 Hz
     record_every = RECORD_EVERY
 
     def __init__(
@@ -111,7 +111,6 @@ class PlanarEpisode(Episode):
         self.nominal = gait.nominal_height()  # [m]
         self.has_slope = hasattr(gait, "slope")
         self.ground = 0.0  # [m], the terrain's height under the hip at this tick
-        self._body: dict[tuple[str, ...], str] = {}  # active set -> `_body_attachment`
 
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> dict[str, bool]:
         """The feet's contact switches (and the tick's `ground`)."""
@@ -131,9 +130,7 @@ class PlanarEpisode(Episode):
         """One row of `STANDARD_CHANNELS`."""
         gait, nan, ground = self.gait, math.nan, self.ground
         z_world = q.item(self.z_index)
-        body = self._body.get(output.active)
-        if body is None:  # the attachment whose components move the body, per active set
-            body = self._body[output.active] = _body_attachment(output.active)
+        body = _body_attachment(output.active)
         wrench = output.wrench_of(body) if body else None
         wrench_x, wrench_z, wrench_ry = (0.0, 0.0, 0.0) if wrench is None else wrench.tolist()
         double = body == "double"
@@ -182,40 +179,38 @@ def _index(robot, joint: str) -> int:
     return model.joints[model.getJointId(joint)].idx_q
 
 
+@functools.cache
 def _body_attachment(active: tuple[str, ...]) -> str:
     """The active attachment the body's wrench is read from ("" when none is)."""
     return next((name for name in BODY_ATTACHMENTS if name in active), "")
 
 
+#: What both planar walks share: this module runs and draws them, a 0.2 s push starts them.
+_PLANAR = {"run": run_planar_walk, "draw": draw_planar_walk, "push_time": 0.2, "plot_window": True}
+
 TURKEY = Walk(
     name="turkey-walk",
     robot="spring_turkey",
-    run=run_planar_walk,
     parameters=TurkeyParameters,
     duration=20.0,
-    draw=draw_planar_walk,
     description="Spring Turkey walks on level ground (VMC section 5, Table 1)",
     gait=TurkeyWalker,
     push=15.0,
-    push_time=0.2,
-    plot_window=True,
     nominal_speed=TurkeyParameters.speed,
     speeds=(0.3, 0.6),
+    **_PLANAR,
 )
 
 FLAMINGO = Walk(
     name="flamingo-slopes",
     robot="spring_flamingo",
-    run=run_planar_walk,
     parameters=FlamingoParameters,
     terrain="profile-one",
     duration=40.0,
-    draw=draw_planar_walk,
     description="Spring Flamingo walks blind over unknown slopes (VMC section 6)",
     gait=FlamingoWalker,
     push=10.0,
-    push_time=0.2,
-    plot_window=True,
     nominal_speed=FlamingoParameters.speed,
     speeds=(0.3, 0.5),
+    **_PLANAR,
 )

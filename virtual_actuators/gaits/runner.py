@@ -209,9 +209,7 @@ def has_fallen(
         nominal: Nominal hip height [m].
         feet: The geoms allowed to touch, `foot_geoms` (an episode's ``feet``).
     """
-    if height < 0.5 * nominal or abs(pitch) > FALL_PITCH:
-        return True
-    return simulator.touches_outside(feet)
+    return height < 0.5 * nominal or abs(pitch) > FALL_PITCH or simulator.touches_outside(feet)
 
 
 def allowed_geoms(simulator: Simulator, allowed: Callable[[str], bool]) -> np.ndarray:

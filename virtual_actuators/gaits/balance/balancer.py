@@ -1,13 +1,10 @@
-"""Standing balance for any legged robot: the body on its feet, the rest held by a posture.
-
-One state, ``stand``: the body's spring-damper on the contact QP (flat soles for two feet, point
-feet for more; the rotations give way first), its request kept within what the support can
-produce (`SupportedSpring`), a posture off the legs, gravity compensation.
-"""
+"""Standing balance for any legged robot: the body on its feet, the rest held by a posture."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -28,7 +25,51 @@ from ...vocabulary.axes import resolve_frame
 from ...vocabulary.scalar import clip, maximum, minimum, select, sqrt
 from ...vocabulary.traced import lowerable
 from ..base import Gait, SizedSlots, sized_slot
-from .parameters import BalanceParameters
+
+
+@dataclass(frozen=True)
+class BalanceParameters:
+    """Constants of [`Balancer`][]: frequencies and damping ratios, not raw gains.
+
+    Every stiffness and damping comes from the robot's own inertia
+    ([`gains`][virtual_actuators.components.gains]), so the same figures hold any robot.
+
+    Attributes:
+        body_frequency: Natural frequency of the body's translations [rad/s].
+        tilt_frequency: Natural frequency of the body's rotations [rad/s].
+        tilt_about_feet: Roll and pitch gains from the inertia about the feet instead of the
+            centroidal inertia; None: on point feet, not on flat soles.
+        body_damping: Damping ratio of the body's translations and rotations.
+        posture_frequency: Natural frequency of the posture's joints [rad/s].
+        posture_damping: Damping ratio of the posture.
+        friction: Friction coefficient of the contact QP's cones.
+        sole_margin: Fraction of each sole that the centre of pressure may use.
+        support_margin: Fraction of the support's half extents that the body's request's
+            centre of pressure may use.
+        min_normal: Least normal force of a contact, as a fraction of its share of the weight.
+        yield_weight: Weight of the body's moments against its horizontal forces when both give
+            way (smaller: the body tilts more and drifts less).
+        height_ratio: Hip-to-foot height of a generated standing pose
+            ([`standing_pose`][virtual_actuators.models.standing.standing_pose]).
+        push_duration: How long a ``--push`` lasts [s].
+        control_rate: The controller's rate [Hz], which bounds the gains.
+    """
+
+    body_frequency: float = 2.0 * math.pi * 1.0
+    tilt_frequency: float = 2.0 * math.pi * 1.5
+    tilt_about_feet: bool | None = None
+    body_damping: float = 1.0
+    posture_frequency: float = 2.0 * math.pi * 3.0
+    posture_damping: float = 1.0
+    friction: float = 0.6
+    sole_margin: float = 0.9
+    support_margin: float = 0.9
+    min_normal: float = 0.05
+    yield_weight: float = 1.0
+    height_ratio: float = 0.9
+    push_duration: float = 0.1
+    control_rate: float = 1000.0
+
 
 #: Axes of the body actuator, world-aligned.
 BODY_AXES = ("x", "y", "z", "rx", "ry", "rz")
@@ -162,11 +203,11 @@ class Balancer(Gait):
         super().__init__(robot)
         self.contact_frames = self.contacts
         self.soles = soles or {}
+        self._weight = robot.mass * 9.81  # [N]
         self.spring = self._body(soles)
         active = ["body", *self._posture(feet), "gravity"]
         self.gravity = GravityCompensation(robot)
         self.controller.add("gravity", self.gravity)  # in the sum, before the clip
-        self._weight = robot.mass * 9.81  # [N]
         signs = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
         self._corners = tuple(  # each support frame's sole corners (x, y) in its own axes [m]
             tuple((sx * hx, sy * hy) for sx, sy in signs)
@@ -182,7 +223,6 @@ class Balancer(Gait):
     def _body(self, soles: dict[str, tuple[float, float]] | None) -> SupportedSpring:
         """The body actuator on the contact QP with its spring-damper; returns the spring."""
         robot, parameters = self.robot, self.parameters
-        weight = robot.mass * 9.81
         actuator = ParallelVirtualActuator(
             robot,
             self.body,
@@ -191,7 +231,7 @@ class Balancer(Gait):
             BODY_AXES,
             contact="flat" if self.flat else "point",
             friction=parameters.friction,
-            min_normal=parameters.min_normal * weight / len(self.contacts),
+            min_normal=parameters.min_normal * self._weight / len(self.contacts),
             torque_limits=True,
             soles=soles,
             weights={"rx": parameters.yield_weight, "ry": parameters.yield_weight},

@@ -1,9 +1,4 @@
-"""``demo balance``: any legged robot standing in MuJoCo, pushed, without stepping.
-
-A push ``N@T[:DEG]`` is ``N`` newtons on the body for ``push_duration`` from ``T`` along ``DEG``
-degrees in the ground plane; a fall is a tilt beyond `FALL_PITCH`, half the starting height or a
-touch of anything but a foot.
-"""
+"""``demo balance``: any legged robot standing in MuJoCo, pushed (`Push`), without stepping."""
 
 from __future__ import annotations
 
@@ -39,8 +34,7 @@ from ..runner import (
     trace_of,
 )  # fmt: skip
 from ..walk_loop import drive
-from .balancer import Balancer
-from .parameters import BalanceParameters
+from .balancer import BalanceParameters, Balancer
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -103,9 +97,7 @@ class BalanceMetrics(SmoothnessFigures):
 
     def to_dict(self) -> dict[str, Any]:
         """The figures as a JSON-able dict."""
-        data = asdict(self)
-        data["feet"], data["implausible_limits"] = list(self.feet), list(self.implausible_limits)
-        return data
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
 
 
 @dataclass

@@ -1,6 +1,5 @@
 """Blind slope walking (VMC section 6): Spring Flamingo over unknown slopes."""
 
-from .parameters import FlamingoParameters
-from .walker import FlamingoWalker
+from .walker import FlamingoParameters, FlamingoWalker
 
 __all__ = ["FlamingoParameters", "FlamingoWalker"]

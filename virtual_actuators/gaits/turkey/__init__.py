@@ -1,6 +1,5 @@
 """Turkey walking (VMC section 5): Spring Turkey's level-ground gait."""
 
-from .parameters import TurkeyParameters
-from .walker import TurkeyWalker
+from .walker import TurkeyParameters, TurkeyWalker
 
 __all__ = ["TurkeyParameters", "TurkeyWalker"]

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from ...components.walking import DogtrackBunny
+from dataclasses import dataclass
+
 from ...control import events
 from ...control.plan.memory import Memory
 from ...control.state_machine import Context, StateMachine, Transition
@@ -10,18 +11,72 @@ from ...models.robot import Robot
 from ...vocabulary.constraints import EqualTorque
 from ...vocabulary.scalar import maximum, minimum, select
 from ...vocabulary.traced import lowerable
-from ..base import check_distribution
 from ..planar import (
     SIDES,
+    SINGLE,
     PlanarBiped,
     biped_states,
-    granny_walker,
     lift_profile,
     other,
     smoothstep,
-    swing_linkages,
 )
-from .parameters import TurkeyParameters
+
+
+@dataclass
+class TurkeyParameters:
+    """Gait variables and virtual component constants of turkey walking (SI units).
+
+    Attributes:
+        speed: Dogtrack bunny speed [m/s].
+        height: Granny walker height set point, hip above the ground [m].
+        pitch: Granny walker pitch set point [rad].
+        stiffness_z: [N/m].
+        damping_z: [N s/m].
+        stiffness_pitch: [N m/rad].
+        damping_pitch: [N m s/rad].
+        bunny_damping: Dogtrack bunny damper [N s/m].
+        bunny_limit: Largest bunny force [N].
+        min_normal_force: Least normal force of each foot in double support [N].
+        weight: Feed-forward on z [N]; None: total mass times g.
+        over_distance: "Body nearly over the foot": body x minus front foot x above this [m].
+        away_distance: "Body away from the stance foot": body x minus stance foot x above this
+            [m].
+        swing_reach: Swing foot x relative to the body at the end of the swing [m].
+        lift: Swing foot lift above the ground [m].
+        lift_peak: Phase of the swing (0 to 1) at which the foot is highest.
+        swing_stiffness: Swing-leg linkage springs (x, z) [N/m].
+        swing_damping: Swing-leg linkage dampers (x, z) [N s/m].
+        touchdown_depth: How far below the ground the swing set point ends [m].
+        buffer_delay: Time the swing leg stays limp in the buffer states [s].
+        foot_radius: Height of the foot frame above the ground when in contact [m].
+        distribution: ``"partitioned"`` (the seed's matched hip torques) or ``"qp"`` (the same
+            with friction pyramids and least normal forces as inequalities).
+        friction: Friction coefficient assumed by ``distribution="qp"``.
+    """
+
+    speed: float = 0.5
+    height: float = 0.54
+    pitch: float = 0.0
+    stiffness_z: float = 1500.0
+    damping_z: float = 150.0
+    stiffness_pitch: float = 200.0
+    damping_pitch: float = 20.0
+    bunny_damping: float = 80.0
+    bunny_limit: float = 60.0
+    min_normal_force: float = 10.0
+    weight: float | None = None
+    over_distance: float = -0.075
+    away_distance: float = 0.075
+    swing_reach: float = 0.19
+    lift: float = 0.05
+    lift_peak: float = 0.35
+    swing_stiffness: tuple[float, float] = (400.0, 600.0)
+    swing_damping: tuple[float, float] = (20.0, 25.0)
+    touchdown_depth: float = 0.02
+    buffer_delay: float = 0.04
+    foot_radius: float = 0.02
+    distribution: str = "partitioned"
+    friction: float = 0.6
 
 
 class TurkeyWalker(PlanarBiped):
@@ -46,23 +101,12 @@ class TurkeyWalker(PlanarBiped):
     ) -> None:
         super().__init__(robot)
         self.parameters = p = parameters or TurkeyParameters()
-        self.granny = granny_walker(p, p.height, robot)
-        self.bunny = DogtrackBunny(p.speed, p.bunny_damping, limit=p.bunny_limit)
-        self.swing = swing_linkages(p.swing_stiffness, p.swing_damping, ("x", "z"))
-        self._declare_actuators()
+        self._components(p.height, ("x", "z"), limit=p.bunny_limit)
+        cones = {"friction": p.friction, "min_normal": p.min_normal_force}
+        hips = {"design": [EqualTorque("left_hip", "right_hip")]}  # point feet, matched hip torques
+        self._declare("point", hips, cones, {"unilateral": {"z": p.min_normal_force}})
         self.memory = Memory(front=0.0, swing_start=(0.0, 0.0), progress_start=0.0, ground=0.0)
         self._finish(self._machine(initial))
-
-    def _declare_actuators(self) -> None:
-        """``double`` on both point feet (matched hip torques), ``SIDE_stance``, ``SIDE_swing``."""
-        p = self.parameters
-        qp = check_distribution(p.distribution)
-        double = {
-            "design": [EqualTorque("left_hip", "right_hip")],
-            **({"friction": p.friction, "min_normal": p.min_normal_force} if qp else {}),
-        }
-        rule = {"method": "qp"} if qp else {"unilateral": {"z": p.min_normal_force}}
-        self._declare("point", double, rule)
 
     def _machine(self, initial: str) -> StateMachine:
         """Table 1: double support, then single support and its buffer per side."""
@@ -75,32 +119,20 @@ class TurkeyWalker(PlanarBiped):
         )
         transitions = []
         for side in SIDES:
+            single, buffer, foot = f"{side}_support", f"{side}_support_2", f"{side}_foot"
+            over = self._front_is(side, events.ahead_of("body", foot, p.over_distance))
+            away = events.ahead_of("body", foot, p.away_distance)
+            delay = events.after(p.buffer_delay)
             transitions += [
-                Transition(
-                    "double_support",
-                    f"{side}_support",
-                    self._front_is(side, events.ahead_of("body", f"{side}_foot", p.over_distance)),
-                    f"body nearly over {side} foot",
-                ),
-                Transition(
-                    f"{side}_support",
-                    f"{side}_support_2",
-                    events.ahead_of("body", f"{side}_foot", p.away_distance),
-                    f"body away from {side} foot",
-                ),
-                Transition(
-                    f"{side}_support_2",
-                    "double_support",
-                    events.after(p.buffer_delay),
-                    f"delay after {side} support 2",
-                ),
+                Transition("double_support", single, over, f"body nearly over {side} foot"),
+                Transition(single, buffer, away, f"body away from {side} foot"),
+                Transition(buffer, "double_support", delay, f"delay after {side} support 2"),
             ]
         return StateMachine(states, transitions, initial)
 
     def _update_ground(self, context: Context, feet: tuple[str, ...]) -> None:
         heights = [context.frame_coordinate(foot, "z") for foot in feet]
-        memory = self.memory
-        memory.ground = ground = sum(heights) / len(heights) - self.parameters.foot_radius
+        self.memory.ground = ground = sum(heights) / len(heights) - self.parameters.foot_radius
         self.granny.height = ground + self.parameters.height
 
     @lowerable
@@ -111,30 +143,29 @@ class TurkeyWalker(PlanarBiped):
 
     @lowerable
     def _update_double(self, context: Context) -> None:
-        self._update_ground(context, _FEET)
+        self._update_ground(context, ("left_foot", "right_foot"))
 
     @lowerable
     def _enter_single(self, context: Context) -> None:
-        stance, swing, _, _ = _SINGLE[context.state]
+        stance, swing = SINGLE[context.state]
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
-        memory = self.memory
-        memory.swing_start = (
+        self.memory.swing_start = (
             coordinate(f"{swing}_foot", "x") - body_x, coordinate(f"{swing}_foot", "z") - body_z
         )
-        memory.progress_start = body_x - coordinate(f"{stance}_foot", "x")
+        self.memory.progress_start = body_x - coordinate(f"{stance}_foot", "x")
 
     @lowerable
     def _update_single(self, context: Context) -> None:
         p = self.parameters
-        _, swing, stance_foot, buffer = _SINGLE[context.state]
-        self._update_ground(context, stance_foot)
-        if buffer:
+        stance, swing = SINGLE[context.state]
+        self._update_ground(context, (f"{stance}_foot",))
+        if context.state.endswith("_2"):  # the buffer: the swing leg limp
             return
         memory = self.memory
         coordinate = context.frame_coordinate
         body_x, body_z = coordinate("body", "x"), coordinate("body", "z")
-        progress = body_x - coordinate(stance_foot[0], "x")
+        progress = body_x - coordinate(f"{stance}_foot", "x")
         start, (start_x, _) = memory.progress_start, memory.swing_start
         span = maximum(p.away_distance - start, 1e-3)
         phase = minimum(maximum((progress - start) / span, 0.0), 1.0)
@@ -142,13 +173,3 @@ class TurkeyWalker(PlanarBiped):
         foot_height = lift_profile(phase, p.lift_peak) * p.lift - p.touchdown_depth * phase
         z_rel = memory.ground + p.foot_radius + foot_height - body_z
         self.swing[swing].place((x_rel, z_rel))
-
-
-#: Both feet (double support's ground estimate).
-_FEET = tuple(f"{side}_foot" for side in SIDES)
-#: Per single-support state: stance side, swing side, ``(stance foot,)``, whether the buffer.
-_SINGLE = {
-    f"{side}_support{end}": (side, other(side), (f"{side}_foot",), end == "_2")
-    for side in SIDES
-    for end in ("", "_2")
-}

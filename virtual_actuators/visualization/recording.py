@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 import time as wallclock
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -45,29 +44,6 @@ def _decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             rotation = u @ np.diag([1.0, 1.0, -1.0]) @ vt
     quaternion = pin.Quaternion(rotation).coeffs()  # x, y, z, w
     return matrix[:3, 3].copy(), np.asarray(quaternion, dtype=float), scale
-
-
-@dataclass(repr=False)
-class AnimationCommand:
-    """A MeshCat ``set_animation`` command with pre-lowered clips, played once on loading.
-
-    Attributes:
-        animations: ``[{"path": ..., "clip": {...}}]`` in MeshCat's format.
-    """
-
-    animations: list[dict]
-
-    def lower(self) -> dict:
-        """The command as MeshCat's viewer reads it."""
-        return {
-            "type": "set_animation",
-            "path": "",
-            "animations": self.animations,
-            "options": {"play": True, "repetitions": 1},
-        }
-
-    def __repr__(self) -> str:
-        return f"AnimationCommand({len(self.animations)} clips)"
 
 
 class AnimationRecording:
@@ -133,8 +109,10 @@ class AnimationRecording:
             track.append((k, bool(shown)))
             self._last_visible[name] = shown
 
-    def command(self, path_of) -> AnimationCommand:
-        """The ``set_animation`` command of the recording, one clip per node.
+    def command(self, path_of) -> dict:
+        """The ``set_animation`` command of the recording, one clip per node, played once.
+
+        It comes lowered, as MeshCat's viewer reads it.
 
         Args:
             path_of: Maps a node name to its MeshCat path.
@@ -166,7 +144,8 @@ class AnimationRecording:
             {"path": path_of(name), "clip": {"fps": self.fps, "name": "default", "tracks": tracks}}
             for name, tracks in clips.items()
         ]
-        return AnimationCommand(animations)
+        options = {"play": True, "repetitions": 1}
+        return {"type": "set_animation", "path": "", "animations": animations, "options": options}
 
     def __repr__(self) -> str:
         return (

@@ -128,13 +128,15 @@ class SceneWindow:
         """A self-contained HTML page (it opens offline) of the scene, then ``extra`` commands.
 
         Args:
-            extra: Commands applied after the scene (e.g. a ``set_animation``).
+            extra: Commands (or lowered ones, dicts) applied after the scene (e.g. a
+                ``set_animation``).
             title: Page title.
             overlay: HTML placed over the 3D view (a legend).
         """
         script = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
         bundle = script.read_text(encoding="utf-8").replace("</script", "<\\/script")
-        packed = (umsgpack.packb(c.lower()) for c in [*self.scene_commands(), *extra])
+        every = [*self.scene_commands(), *extra]
+        packed = (umsgpack.packb(c if isinstance(c, dict) else c.lower()) for c in every)
         commands = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in packed)
         return f"""<!DOCTYPE html>
 <html>

@@ -61,8 +61,6 @@ class AnimationRecording:
         self.times: list[float] = []
         self._matrices: dict[str, list[tuple[int, np.ndarray]]] = {}
         self._visible: dict[str, list[tuple[int, bool]]] = {}
-        self._last_matrix: dict[str, np.ndarray] = {}
-        self._last_visible: dict[str, bool] = {}
 
     @property
     def frames(self) -> int:
@@ -92,22 +90,19 @@ class AnimationRecording:
         k = len(self.times)
         self.times.append(time)
         for name, matrix in matrices.items():
-            previous = self._last_matrix.get(name)
-            if previous is matrix:
-                continue
             track = self._matrices.setdefault(name, [])
-            if track and track[-1][0] < k - 1:
-                track.append((k - 1, previous))  # hold still until this frame
-            track.append((k, matrix))
-            self._last_matrix[name] = matrix
-        for name, shown in visible.items():
-            if self._last_visible.get(name) == shown:
+            if track and track[-1][1] is matrix:
                 continue
+            if track and track[-1][0] < k - 1:
+                track.append((k - 1, track[-1][1]))  # hold still until this frame
+            track.append((k, matrix))
+        for name, shown in visible.items():
             track = self._visible.setdefault(name, [])
+            if track and track[-1][1] == shown:
+                continue
             if not track and k > 0 and shown:
                 track.append((0, False))  # appeared after the start
             track.append((k, bool(shown)))
-            self._last_visible[name] = shown
 
     def command(self, path_of) -> dict:
         """The ``set_animation`` command of the recording, one clip per node, played once.

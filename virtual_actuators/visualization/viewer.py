@@ -1,8 +1,4 @@
-"""The MeshCat viewer: a robot, its virtual actuators and what the controller does with them.
-
-`Viewer.show` draws the robot at ``q`` (`RobotScene`) and its overlays over it; objects not
-drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
-"""
+"""The MeshCat viewer: a robot, its virtual actuators and what the controller does with them."""
 
 from __future__ import annotations
 

@@ -1,9 +1,4 @@
-"""The viewer's MeshCat nodes (`Scene`) and where their commands go (a `SceneWindow`).
-
-Objects are created once; each frame places nodes (`Scene.place`) and shows dynamic ones
-(`Scene.use`), `Scene.end_frame` hides the dynamic ones not used, and `Scene.sync` sends only
-what changed, to a MeshCat server, a recorder, or nowhere but the HTML page.
-"""
+"""The viewer's MeshCat nodes (`Scene`) and where their commands go (a `SceneWindow`)."""
 
 from __future__ import annotations
 

@@ -78,18 +78,13 @@ class SceneWindow:
             self._node(path_of(command)).transform = command.matrix
         elif isinstance(command, mc.SetProperty):
             self._node(path_of(command)).properties[command.key] = command
-        elif isinstance(command, mc.SetObject):
-            node = self._node(path_of(command))
-            node.object, node.properties = command, {}
         elif isinstance(command, mc.Delete):
             self._delete(path_of(command))
         elif isinstance(command, (mc.SetAnimation, mc.CaptureImage)):
             pass  # animations belong to a page, not to the scene tree
-        else:  # other objects with a set_object lowering (Pinocchio's Collada meshes)
-            data = command.lower()
-            if data.get("type") == "set_object":
-                node = self._node(str(data.get("path", "")))
-                node.object, node.properties = command, {}
+        elif isinstance(command, mc.SetObject) or command.lower().get("type") == "set_object":
+            node = self._node(path_of(command))  # (the second kind: Pinocchio's Collada meshes)
+            node.object, node.properties = command, {}
 
     def _node(self, path: str) -> _Node:
         node = self._nodes.get(path)

@@ -27,7 +27,7 @@ from virtual_actuators.__main__ import main
 from virtual_actuators.gaits.hexapod.body import HeadingDamper
 from virtual_actuators.visualization import PALETTE, CommandRecorder, OfflineWindow, Viewer
 from virtual_actuators.visualization.legend import OVERLAY_MIN_CHROMA, ROBOT_MAX_CHROMA, to_lab
-from virtual_actuators.visualization.live import pack_transform
+from virtual_actuators.visualization.live import _matrix_bytes, _transform_header
 from virtual_actuators.visualization.shapes import (
     HEAD_SPACING,
     arrow_matrices,
@@ -145,7 +145,8 @@ def test_fast_transform_packing_equals_meshcat_packing():
     matrix = np.arange(16.0).reshape(4, 4) / 7.0
     path = "/meshcat/virtual_actuators/robot/visuals/body_0"
     expected = SetTransform(matrix, MeshcatPath(tuple(path.split("/")[1:]))).lower()
-    assert umsgpack.unpackb(pack_transform(path, matrix)) == expected
+    packed = _transform_header(path) + _matrix_bytes(matrix)  # what LiveWindow sends
+    assert umsgpack.unpackb(packed) == expected
 
 
 # -- a quadruped with meshes: wrench arrows against the solution -----------------------------

@@ -197,11 +197,6 @@ def _matrix_bytes(matrix: np.ndarray) -> bytes:
     return buffer.tobytes()
 
 
-def pack_transform(path: str, matrix: np.ndarray) -> bytes:
-    """``umsgpack.packb(SetTransform(matrix, path).lower())``, about ten times faster."""
-    return _transform_header(path) + _matrix_bytes(np.asarray(matrix, dtype=float))
-
-
 _DOUBLE = np.dtype([("marker", "u1"), ("value", ">f8")])
 _MATRIX_BUFFER = np.zeros(16, dtype=_DOUBLE)
 _MATRIX_BUFFER["marker"] = 0xCB  # msgpack float 64

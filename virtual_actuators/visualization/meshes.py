@@ -1,8 +1,4 @@
-"""The URDF's mesh files as decimated triangle meshes, sent as binary arrays (small pages).
-
-Triangles come from coal (Collada ones from `collada_arrays`), are decimated by vertex
-clustering (`decimate`) and sent as `TriangleMesh`; `MeshCache` decimates each file once.
-"""
+"""The URDF's mesh files as decimated triangle meshes, sent as binary arrays (small pages)."""
 
 from __future__ import annotations
 

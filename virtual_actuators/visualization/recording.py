@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 import time as wallclock
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -47,29 +46,6 @@ def _decompose(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return matrix[:3, 3].copy(), np.asarray(quaternion, dtype=float), scale
 
 
-@dataclass(repr=False)
-class AnimationCommand:
-    """A MeshCat ``set_animation`` command with pre-lowered clips, played once on loading.
-
-    Attributes:
-        animations: ``[{"path": ..., "clip": {...}}]`` in MeshCat's format.
-    """
-
-    animations: list[dict]
-
-    def lower(self) -> dict:
-        """The command as MeshCat's viewer reads it."""
-        return {
-            "type": "set_animation",
-            "path": "",
-            "animations": self.animations,
-            "options": {"play": True, "repetitions": 1},
-        }
-
-    def __repr__(self) -> str:
-        return f"AnimationCommand({len(self.animations)} clips)"
-
-
 class AnimationRecording:
     """Frames of the scene, kept as per-node changes.
 
@@ -85,8 +61,6 @@ class AnimationRecording:
         self.times: list[float] = []
         self._matrices: dict[str, list[tuple[int, np.ndarray]]] = {}
         self._visible: dict[str, list[tuple[int, bool]]] = {}
-        self._last_matrix: dict[str, np.ndarray] = {}
-        self._last_visible: dict[str, bool] = {}
 
     @property
     def frames(self) -> int:
@@ -116,25 +90,24 @@ class AnimationRecording:
         k = len(self.times)
         self.times.append(time)
         for name, matrix in matrices.items():
-            previous = self._last_matrix.get(name)
-            if previous is matrix:
-                continue
             track = self._matrices.setdefault(name, [])
-            if track and track[-1][0] < k - 1:
-                track.append((k - 1, previous))  # hold still until this frame
-            track.append((k, matrix))
-            self._last_matrix[name] = matrix
-        for name, shown in visible.items():
-            if self._last_visible.get(name) == shown:
+            if track and track[-1][1] is matrix:
                 continue
+            if track and track[-1][0] < k - 1:
+                track.append((k - 1, track[-1][1]))  # hold still until this frame
+            track.append((k, matrix))
+        for name, shown in visible.items():
             track = self._visible.setdefault(name, [])
+            if track and track[-1][1] == shown:
+                continue
             if not track and k > 0 and shown:
                 track.append((0, False))  # appeared after the start
             track.append((k, bool(shown)))
-            self._last_visible[name] = shown
 
-    def command(self, path_of) -> AnimationCommand:
-        """The ``set_animation`` command of the recording, one clip per node.
+    def command(self, path_of) -> dict:
+        """The ``set_animation`` command of the recording, one clip per node, played once.
+
+        It comes lowered, as MeshCat's viewer reads it.
 
         Args:
             path_of: Maps a node name to its MeshCat path.
@@ -166,7 +139,8 @@ class AnimationRecording:
             {"path": path_of(name), "clip": {"fps": self.fps, "name": "default", "tracks": tracks}}
             for name, tracks in clips.items()
         ]
-        return AnimationCommand(animations)
+        options = {"play": True, "repetitions": 1}
+        return {"type": "set_animation", "path": "", "animations": animations, "options": options}
 
     def __repr__(self) -> str:
         return (

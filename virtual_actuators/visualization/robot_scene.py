@@ -100,7 +100,7 @@ class RobotScene:
         self.effort_reference = effort_reference
         self.drawn: set[str] = set()
         self._frame_ids: dict[tuple[str, str], int] = {}
-        self._axis_index: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
+        self._axis_rows: dict[tuple[str, ...], np.ndarray] = {}
         q0 = robot.neutral()
         pin.forwardKinematics(self.model, self.data, q0)
         pin.updateFramePlacements(self.model, self.data)
@@ -202,22 +202,12 @@ class RobotScene:
 
     def split(self, axes: tuple[str, ...], values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Force and moment 3-vectors (reference axes) of a wrench on ``axes``."""
+        rows = self._axis_rows.get(axes)
+        if rows is None:
+            rows = self._axis_rows[axes] = np.array([AXES.index(a) for a in axes], dtype=int)
         full = np.zeros(6)
-        full[self._axis_rows(axes)[0]] = values
+        full[rows] = values
         return full[:3], full[3:]
-
-    def rotational_mask(self, axes: tuple[str, ...]) -> np.ndarray:
-        """1 on the rotational axes among ``axes``, 0 elsewhere (a 3-vector)."""
-        return self._axis_rows(axes)[1]
-
-    def _axis_rows(self, axes: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
-        index = self._axis_index.get(axes)
-        if index is None:
-            rows = np.array([AXES.index(a) for a in axes], dtype=int)
-            rotational = np.zeros(3)
-            rotational[[r - 3 for r in rows if r >= 3]] = 1.0
-            index = self._axis_index[axes] = (rows, rotational)
-        return index
 
     def arrow(
         self,

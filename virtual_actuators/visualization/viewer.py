@@ -1,8 +1,4 @@
-"""The MeshCat viewer: a robot, its virtual actuators and what the controller does with them.
-
-`Viewer.show` draws the robot at ``q`` (`RobotScene`) and its overlays over it; objects not
-drawn in a frame are hidden, so switched-off attachments leave no stale arrows.
-"""
+"""The MeshCat viewer: a robot, its virtual actuators and what the controller does with them."""
 
 from __future__ import annotations
 
@@ -88,8 +84,7 @@ class Viewer:
         if window is not None and not isinstance(window, SceneWindow):
             raise InvalidInputError(f"window must be None or a SceneWindow, got {window!r}.")
         self.robot = robot
-        self.model = robot.model
-        self.bodies = RobotBodies(robot, geometry, typical_link_length(self.model))
+        self.bodies = RobotBodies(robot, geometry, typical_link_length(robot.model))
         self.window: SceneWindow = LiveWindow(zmq_url) if window is None else window
         self.vis = meshcat.Visualizer(window=self.window)
         self.scene = Scene(self.vis, "virtual_actuators")
@@ -249,7 +244,7 @@ class Viewer:
         record: bool,
     ) -> None:
         """Check a frame (`FrameSnapshot.build`), draw it, then send and/or record it."""
-        frame = FrameSnapshot.build(self.model.nq, self.robot.name, q, solution, **extras)
+        frame = FrameSnapshot.build(self.robot.model.nq, self.robot.name, q, solution, **extras)
         self.robot_scene.pose(frame.q)
         for overlay in self.overlays:
             overlay.draw(self.robot_scene, frame)

@@ -1,9 +1,4 @@
-"""The viewer's MeshCat nodes (`Scene`) and where their commands go (a `SceneWindow`).
-
-Objects are created once; each frame places nodes (`Scene.place`) and shows dynamic ones
-(`Scene.use`), `Scene.end_frame` hides the dynamic ones not used, and `Scene.sync` sends only
-what changed, to a MeshCat server, a recorder, or nowhere but the HTML page.
-"""
+"""The viewer's MeshCat nodes (`Scene`) and where their commands go (a `SceneWindow`)."""
 
 from __future__ import annotations
 
@@ -83,18 +78,13 @@ class SceneWindow:
             self._node(path_of(command)).transform = command.matrix
         elif isinstance(command, mc.SetProperty):
             self._node(path_of(command)).properties[command.key] = command
-        elif isinstance(command, mc.SetObject):
-            node = self._node(path_of(command))
-            node.object, node.properties = command, {}
         elif isinstance(command, mc.Delete):
             self._delete(path_of(command))
         elif isinstance(command, (mc.SetAnimation, mc.CaptureImage)):
             pass  # animations belong to a page, not to the scene tree
-        else:  # other objects with a set_object lowering (Pinocchio's Collada meshes)
-            data = command.lower()
-            if data.get("type") == "set_object":
-                node = self._node(str(data.get("path", "")))
-                node.object, node.properties = command, {}
+        elif isinstance(command, mc.SetObject) or command.lower().get("type") == "set_object":
+            node = self._node(path_of(command))  # (the second kind: Pinocchio's Collada meshes)
+            node.object, node.properties = command, {}
 
     def _node(self, path: str) -> _Node:
         node = self._nodes.get(path)
@@ -128,13 +118,15 @@ class SceneWindow:
         """A self-contained HTML page (it opens offline) of the scene, then ``extra`` commands.
 
         Args:
-            extra: Commands applied after the scene (e.g. a ``set_animation``).
+            extra: Commands (or lowered ones, dicts) applied after the scene (e.g. a
+                ``set_animation``).
             title: Page title.
             overlay: HTML placed over the 3D view (a legend).
         """
         script = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
         bundle = script.read_text(encoding="utf-8").replace("</script", "<\\/script")
-        packed = (umsgpack.packb(c.lower()) for c in [*self.scene_commands(), *extra])
+        every = [*self.scene_commands(), *extra]
+        packed = (umsgpack.packb(c if isinstance(c, dict) else c.lower()) for c in every)
         commands = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in packed)
         return f"""<!DOCTYPE html>
 <html>

@@ -34,11 +34,10 @@ class WrenchOverlay(Overlay):
             if solution is not None:
                 answer = solution.requested, solution.wrench, solution.forces
                 self._draw_actuator(scene, "actuator", actuator, *answer, not solution.admissible)
-            elif frame.wrench is None:
-                self._draw_actuator(scene, "actuator", actuator, None, None, None, False)
-            else:
+            else:  # a wrench without a solution is produced as requested; None: frames only
                 wrench = frame.wrench
-                forces = wrench[None, :] if len(reactions_of(actuator)) == 1 else None
+                one_chain = wrench is not None and len(reactions_of(actuator)) == 1
+                forces = wrench[None, :] if one_chain else None
                 self._draw_actuator(scene, "actuator", actuator, wrench, wrench, forces, False)
         output = frame.output
         for name, attachment in frame.attachments():  # none without an output
@@ -88,7 +87,7 @@ class WrenchOverlay(Overlay):
                 scene.wrench(f"{name}/{kind}", origin, rotation, axes, produced, (kind, kind))
         if forces is None:
             return
-        mask = scene.rotational_mask(axes)
+        _, mask = scene.split(axes, np.ones(len(axes)))  # 1 on the rotational axes of ``axes``
         for reaction, reaction_id, share in zip(reactions, reaction_ids, forces, strict=True):
             force, moment = scene.split(axes, share)
             force_w = rotation @ force

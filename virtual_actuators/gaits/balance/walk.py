@@ -306,5 +306,6 @@ WALK = Walk(
     description="Any legged robot standing on the contact QP, pushed, without stepping",
     options=("robot", "push"),
     force_scale=1 / 400,
-    viewer_robot=lambda robot="talos", **_: load_robot(robot),
+    # the robot with the sole-centre frames the balancer adds (its contacts), as the run has it
+    viewer_robot=lambda robot="talos", **_: Balancer(load_robot(robot)).robot,
 )

@@ -229,13 +229,10 @@ class CompiledDistribution:
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
         """Kinematics and distribution of a checked configuration in one call, or None."""
-        if not request.compiled or request.method != "partitioned":
+        mode, tree = self._core_mode(request), self.problem.kinematics.tree.core_tree
+        if mode is None or tree is None or tree.nf <= self.max_row:
             return None
-        mode = self.mode_for(request.keep)
-        core, tree = mode.core, self.problem.kinematics.tree.core_tree
-        if core is None or tree is None or tree.nf <= self.max_row:
-            return None
-        return self.tick_result(mode, core.tick(tree, q, wrench))
+        return self.tick_result(mode, mode.core.tick(tree, q, wrench))
 
     def buffer_solve(
         self,
@@ -246,17 +243,13 @@ class CompiledDistribution:
         floating: bool,
     ) -> BufferSolve | None:
         """A `BufferSolve` of ``kind`` for a checked request, or None off the compiled path."""
-        if not request.compiled or request.method != "partitioned":
-            return None
-        mode = self.mode_for(request.keep)
-        if mode.core is None:
-            return None
-        return kind(self, mode, (reactions, axes, request.free), floating)
+        mode = self._core_mode(request)
+        return None if mode is None else kind(self, mode, (reactions, axes, request.free), floating)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path."""
-        mode = self.mode_for(request.keep) if request.compiled else None
-        if mode is None or mode.core is None:  # no compiled core or mode: the numpy path
+        mode = self._core_mode(request)
+        if mode is None:  # the numpy path
             return None
         tree = snapshot.tree.core_tree
         if not snapshot.computed and snapshot.backend == "compiled" and tree.nf > self.max_row:
@@ -267,6 +260,13 @@ class CompiledDistribution:
         tick = mode.core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
         return self.tick_result(mode, tick)
 
+    def _core_mode(self, request: Request) -> PackedMode | None:
+        """The request's packed tables if the core solves it (compiled, partitioned), else None."""
+        if not request.compiled or request.method != "partitioned":
+            return None
+        mode = self.mode_for(request.keep)
+        return None if mode.core is None else mode
+
     def tick_result(self, mode: PackedMode, tick: tuple) -> TickResult | None:
         """The `TickResult` of the core's ``tick`` or ``solve`` output, or None if handed on."""
         out, residual, scale, rounding, status = tick[:5]
@@ -275,6 +275,3 @@ class CompiledDistribution:
         forces = out[: self.shape[0] * self.shape[1]].reshape(self.shape)
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
-
-    def __repr__(self) -> str:
-        return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

@@ -344,9 +344,3 @@ class PartitionedSolver:
             if np.any(np.take_along_axis(rows, index, axis=2)):
                 return False
         return True
-
-    def __repr__(self) -> str:
-        return (
-            f"PartitionedSolver(p={self.problem.p}, n={self.problem.n}, "
-            f"CFS={sum(c.size for c in self.cfs)}, free entries={self.num_free_entries})"
-        )

@@ -165,8 +165,14 @@ class CompiledQPMatrices:
         return workspace
 
     def again(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
-        weights: np.ndarray, guess: np.ndarray, tree: object = None,
+        self,
+        snapshot: object,
+        wrench: np.ndarray,
+        keep: np.ndarray,
+        workspace: Workspace,
+        weights: np.ndarray,
+        guess: np.ndarray,
+        tree: object = None,
     ) -> Answer | None:
         """The core's ``again`` on this tick: the answer on the last certified active set, or None.
 

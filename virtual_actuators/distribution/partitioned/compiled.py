@@ -6,7 +6,6 @@ Without the core, or when the core hands a tick back, `PartitionedSolver` decide
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,8 +74,8 @@ class PackedMode:
     sets: dict
     systems: tuple
     method: str
-    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
-    core: object = None  # the compiled core's Distribution of these tables, or None
+    packed: tuple  # (ints, floats): the kernel's declaration-time arguments, () for mode -1
+    core: object  # the compiled core's Distribution of these tables, or None
 
 
 class BufferSolve:
@@ -188,21 +187,21 @@ class CompiledDistribution:
         systems, plan = partitioner.cfs_systems, np.zeros(0, np.int64)
         if k + s < m:
             systems += (("KKT", k + s, 1),)
-            mode = PackedMode(0, partitioner.reported_sets(keep), systems, "pseudo-inverse")
+            code, sets, method = 0, partitioner.reported_sets(keep), "pseudo-inverse"
         elif k + s == m and not problem.structurally_singular(keep):
             square = partitioner.square_plan(keep)
             if len(square.rfs) and square.gain is None:
                 systems += (("RFS", len(square.rfs), 1),)
             systems += (("MFS", len(square.mfs), 1),)
             plan = np.concatenate((square.rfs, square.mfs)).astype(np.int64)
-            mode = PackedMode(1, partitioner.sets(square.mfs, square.rfs), systems, "partitioned")
+            code, sets, method = 1, partitioner.sets(square.mfs, square.rfs), "partitioned"
         else:
-            mode = PackedMode(-1, {}, (), "")
-        if mode.mode >= 0:
-            packed = self._pack(mode.mode, keep.astype(np.int64), plan)
+            code, sets, systems, method = -1, {}, (), ""
+        packed, core = (), None
+        if code >= 0:
+            packed = self._pack(code, keep.astype(np.int64), plan)
             core = CORE.Distribution(*packed, problem.model.nv) if has("Distribution") else None
-            mode = dataclasses.replace(mode, packed=packed, core=core)
-        self._modes[keep.tobytes()] = mode
+        mode = self._modes[keep.tobytes()] = PackedMode(code, sets, systems, method, packed, core)
         return mode
 
     def _pack(self, mode: int, keep: np.ndarray, plan: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

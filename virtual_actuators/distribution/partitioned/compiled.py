@@ -189,7 +189,7 @@ class CompiledDistribution:
             systems += (("KKT", k + s, 1),)
             code, sets, method = 0, partitioner.reported_sets(keep), "pseudo-inverse"
         elif k + s == m and not problem.structurally_singular(keep):
-            square = partitioner.square_plan(keep)
+            square = partitioner.square_plan
             if len(square.rfs) and square.gain is None:
                 systems += (("RFS", len(square.rfs), 1),)
             systems += (("MFS", len(square.mfs), 1),)

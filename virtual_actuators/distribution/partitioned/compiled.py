@@ -163,8 +163,6 @@ class CompiledDistribution:
         #: the shape of the forces, ``(p, n)``
         self.shape = (problem.p, len(self.axis_rows))
         self.springs = spring_table(problem)
-        self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
-        self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
         torque = [(v, -1, 0) for v in problem.coupled_v]
         torque += [(int(a), int(b), 1) for a, b in problem.torque_pairs]
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
@@ -217,10 +215,10 @@ class CompiledDistribution:
         """
         ints = (keep, self.axis_rows, self.frame_rows, self.chain_ints, self.torque_rows, plan,
                 self.layout)  # fmt: skip
+        rows, rhs = self.problem.constant_rows, self.problem.constant_rhs
         header = [mode, len(keep), *self.chain_ints.shape, len(self.torque_rows), len(plan),
-                  self.chain_signs.shape[1], len(self.springs), len(self.const_rows)]  # fmt: skip
-        floats = (self.chain_signs, self.springs, self.const_rows, self.const_rhs,
-                  self.torque_signs)  # fmt: skip
+                  self.chain_signs.shape[1], len(self.springs), len(rows)]  # fmt: skip
+        floats = (self.chain_signs, self.springs, rows, rhs, self.torque_signs)
         ints = [np.array(header, np.int64), *(np.ravel(a).astype(np.int64) for a in ints)]
         return np.concatenate(ints), np.concatenate([np.ravel(a).astype(float) for a in floats])
 

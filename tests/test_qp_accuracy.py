@@ -28,7 +28,7 @@ from proxsuite import proxqp
 
 import virtual_actuators as va
 from virtual_actuators.core import CORE
-from virtual_actuators.distribution.qp import CONFLICT_MAX_ITER, EXACT_MAX_ITER
+from virtual_actuators.distribution.qp.stages import CONFLICT_MAX_ITER, EXACT_MAX_ITER
 
 SIX = ("x", "y", "z", "rx", "ry", "rz")
 SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]

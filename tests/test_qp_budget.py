@@ -18,11 +18,11 @@ from test_qp import _check_cone, _check_torques
 
 import virtual_actuators as va
 from virtual_actuators.core import CORE
-from virtual_actuators.distribution.qp import (
+from virtual_actuators.distribution.qp import stages
+from virtual_actuators.distribution.qp.stages import (
     BUDGET_EXHAUSTED,
     EXACT_MAX_ITER,
     ITERATION_BUDGET,
-    stages,
 )
 
 Q = np.array([

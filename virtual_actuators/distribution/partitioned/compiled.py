@@ -6,7 +6,6 @@ Without the core, or when the core hands a tick back, `PartitionedSolver` decide
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,8 +74,8 @@ class PackedMode:
     sets: dict
     systems: tuple
     method: str
-    packed: tuple = ()  # (ints, floats): the kernel's declaration-time arguments
-    core: object = None  # the compiled core's Distribution of these tables, or None
+    packed: tuple  # (ints, floats): the kernel's declaration-time arguments, () for mode -1
+    core: object  # the compiled core's Distribution of these tables, or None
 
 
 class BufferSolve:
@@ -164,8 +163,6 @@ class CompiledDistribution:
         #: the shape of the forces, ``(p, n)``
         self.shape = (problem.p, len(self.axis_rows))
         self.springs = spring_table(problem)
-        self.const_rows = np.ascontiguousarray(problem.constant_rows, dtype=float)
-        self.const_rhs = np.ascontiguousarray(problem.constant_rhs, dtype=float)
         torque = [(v, -1, 0) for v in problem.coupled_v]
         torque += [(int(a), int(b), 1) for a, b in problem.torque_pairs]
         self.torque_rows = np.array(torque, dtype=np.int64).reshape(-1, 3)
@@ -188,21 +185,21 @@ class CompiledDistribution:
         systems, plan = partitioner.cfs_systems, np.zeros(0, np.int64)
         if k + s < m:
             systems += (("KKT", k + s, 1),)
-            mode = PackedMode(0, partitioner.reported_sets(keep), systems, "pseudo-inverse")
+            code, sets, method = 0, partitioner.reported_sets(keep), "pseudo-inverse"
         elif k + s == m and not problem.structurally_singular(keep):
-            square = partitioner.square_plan(keep)
+            square = partitioner.square_plan
             if len(square.rfs) and square.gain is None:
                 systems += (("RFS", len(square.rfs), 1),)
             systems += (("MFS", len(square.mfs), 1),)
             plan = np.concatenate((square.rfs, square.mfs)).astype(np.int64)
-            mode = PackedMode(1, partitioner.sets(square.mfs, square.rfs), systems, "partitioned")
+            code, sets, method = 1, partitioner.sets(square.mfs, square.rfs), "partitioned"
         else:
-            mode = PackedMode(-1, {}, (), "")
-        if mode.mode >= 0:
-            packed = self._pack(mode.mode, keep.astype(np.int64), plan)
+            code, sets, systems, method = -1, {}, (), ""
+        packed, core = (), None
+        if code >= 0:
+            packed = self._pack(code, keep.astype(np.int64), plan)
             core = CORE.Distribution(*packed, problem.model.nv) if has("Distribution") else None
-            mode = dataclasses.replace(mode, packed=packed, core=core)
-        self._modes[keep.tobytes()] = mode
+        mode = self._modes[keep.tobytes()] = PackedMode(code, sets, systems, method, packed, core)
         return mode
 
     def _pack(self, mode: int, keep: np.ndarray, plan: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -218,10 +215,10 @@ class CompiledDistribution:
         """
         ints = (keep, self.axis_rows, self.frame_rows, self.chain_ints, self.torque_rows, plan,
                 self.layout)  # fmt: skip
+        rows, rhs = self.problem.constant_rows, self.problem.constant_rhs
         header = [mode, len(keep), *self.chain_ints.shape, len(self.torque_rows), len(plan),
-                  self.chain_signs.shape[1], len(self.springs), len(self.const_rows)]  # fmt: skip
-        floats = (self.chain_signs, self.springs, self.const_rows, self.const_rhs,
-                  self.torque_signs)  # fmt: skip
+                  self.chain_signs.shape[1], len(self.springs), len(rows)]  # fmt: skip
+        floats = (self.chain_signs, self.springs, rows, rhs, self.torque_signs)
         ints = [np.array(header, np.int64), *(np.ravel(a).astype(np.int64) for a in ints)]
         return np.concatenate(ints), np.concatenate([np.ravel(a).astype(float) for a in floats])
 
@@ -229,13 +226,10 @@ class CompiledDistribution:
         self, q: np.ndarray, wrench: np.ndarray, request: Request
     ) -> TickResult | None:
         """Kinematics and distribution of a checked configuration in one call, or None."""
-        if not request.compiled or request.method != "partitioned":
+        mode, tree = self._core_mode(request), self.problem.kinematics.tree.core_tree
+        if mode is None or tree is None or tree.nf <= self.max_row:
             return None
-        mode = self.mode_for(request.keep)
-        core, tree = mode.core, self.problem.kinematics.tree.core_tree
-        if core is None or tree is None or tree.nf <= self.max_row:
-            return None
-        return self.tick_result(mode, core.tick(tree, q, wrench))
+        return self.tick_result(mode, mode.core.tick(tree, q, wrench))
 
     def buffer_solve(
         self,
@@ -246,17 +240,13 @@ class CompiledDistribution:
         floating: bool,
     ) -> BufferSolve | None:
         """A `BufferSolve` of ``kind`` for a checked request, or None off the compiled path."""
-        if not request.compiled or request.method != "partitioned":
-            return None
-        mode = self.mode_for(request.keep)
-        if mode.core is None:
-            return None
-        return kind(self, mode, (reactions, axes, request.free), floating)
+        mode = self._core_mode(request)
+        return None if mode is None else kind(self, mode, (reactions, axes, request.free), floating)
 
     def solve(self, snapshot: object, wrench: np.ndarray, request: Request) -> TickResult | None:
         """Distribute ``wrench`` at a snapshot, or None to hand the tick to the numpy path."""
-        mode = self.mode_for(request.keep) if request.compiled else None
-        if mode is None or mode.core is None:  # no compiled core or mode: the numpy path
+        mode = self._core_mode(request)
+        if mode is None:  # the numpy path
             return None
         tree = snapshot.tree.core_tree
         if not snapshot.computed and snapshot.backend == "compiled" and tree.nf > self.max_row:
@@ -267,6 +257,13 @@ class CompiledDistribution:
         tick = mode.core.solve(snapshot.jacobian_world, frames, snapshot.q, wrench)
         return self.tick_result(mode, tick)
 
+    def _core_mode(self, request: Request) -> PackedMode | None:
+        """The request's packed tables if the core solves it (compiled, partitioned), else None."""
+        if not request.compiled or request.method != "partitioned":
+            return None
+        mode = self.mode_for(request.keep)
+        return None if mode.core is None else mode
+
     def tick_result(self, mode: PackedMode, tick: tuple) -> TickResult | None:
         """The `TickResult` of the core's ``tick`` or ``solve`` output, or None if handed on."""
         out, residual, scale, rounding, status = tick[:5]
@@ -275,6 +272,3 @@ class CompiledDistribution:
         forces = out[: self.shape[0] * self.shape[1]].reshape(self.shape)
         raw = RawSolution(forces, mode.method, mode.sets, mode.systems)
         return TickResult.from_buffer(raw, out, residual, scale, rounding, compiled=True)
-
-    def __repr__(self) -> str:
-        return f"CompiledDistribution(p={self.problem.p}, n={self.problem.n})"

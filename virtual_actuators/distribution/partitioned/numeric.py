@@ -100,9 +100,6 @@ class DenseSolver:
             x.reshape(p, n), method, systems=(("dense", k.shape[1], 1),), solver="dense"
         )
 
-    def __repr__(self) -> str:
-        return f"DenseSolver(p={self.problem.p}, n={self.problem.n})"
-
 
 class NumpyBackend:
     """A numpy solver as a backend: ``"reference"`` (partitioned) or ``"dense"``.

@@ -8,6 +8,7 @@ constraints (the least-norm KKT solve: "pseudo-inverse") or more rows (`least_no
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -115,7 +116,6 @@ class PartitionedSolver:
             cfs = np.array(picks, dtype=int).reshape(group.size, -1)
             self.cfs.append(cfs)  # fixed from here on: a re-pick serves one call only
             self.free_entries.append(self._complement(cfs))
-        self._plans: dict[tuple, SquarePlan] = {}
         self._reported_sets: dict[tuple, dict] = {}
         self.num_free_entries = sum(g.size * g.num_free for g in problem.groups)
         #: the ``systems`` every solve inverts: each group's CFS blocks
@@ -255,7 +255,7 @@ class PartitionedSolver:
             reduced = self._reduce(ev)
             a = reduced.wrench_rows[keep]
             rhs = wrench[keep] - reduced.offset_sum[keep]
-            square = self._solve_square(reduced, a, rhs, keep)
+            square = self._solve_square(reduced, a, rhs)
             if square is not None:  # None: the hard rows are dependent here
                 f, sets, plan, rfs_solved = square
                 if rfs_solved:
@@ -281,18 +281,13 @@ class PartitionedSolver:
             sets = self._reported_sets[free_key] = self.sets(mfs, rfs)
         return sets
 
-    def square_plan(self, keep: np.ndarray) -> SquarePlan:
-        """The RFS / MFS choice of the square system for these prescribed axes (cached)."""
-        free_key = keep.tobytes()
-        plan = self._plans.get(free_key)
-        if plan is None:
-            hard_rows = self._reduce(self._generic).hard_rows
-            plan = plan_square(hard_rows, self._hard_rows_constant())
-            self._plans[free_key] = plan
-        return plan
+    @functools.cached_property
+    def square_plan(self) -> SquarePlan:
+        """The RFS / MFS choice of the square system (the hard rows', whatever the free axes)."""
+        return plan_square(self._reduce(self._generic).hard_rows, self._hard_rows_constant())
 
     def _solve_square(
-        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray, keep: np.ndarray
+        self, reduced: _Reduced, a: np.ndarray, rhs: np.ndarray
     ) -> tuple[np.ndarray, dict, SquarePlan, bool] | None:
         """``(f, sets, plan, RFS inverted here)`` by eq. 16-18; None: hard rows dependent here.
 
@@ -301,7 +296,7 @@ class PartitionedSolver:
         """
         h, h_rhs = reduced.hard_rows, reduced.hard_rhs
         m = a.shape[1]
-        plan = self.square_plan(keep)
+        plan = self.square_plan
         rfs_solved = False
         if len(plan.rfs):
             if plan.gain is not None and not reduced.repicked:
@@ -344,9 +339,3 @@ class PartitionedSolver:
             if np.any(np.take_along_axis(rows, index, axis=2)):
                 return False
         return True
-
-    def __repr__(self) -> str:
-        return (
-            f"PartitionedSolver(p={self.problem.p}, n={self.problem.n}, "
-            f"CFS={sum(c.size for c in self.cfs)}, free entries={self.num_free_entries})"
-        )

@@ -276,9 +276,7 @@ class DistributionProblem:
         if len(self.torque_pairs):
             hard_rows.append(torque(self.torque_pairs[:, 0]) - torque(self.torque_pairs[:, 1]))
             hard_rhs.append(np.zeros(len(self.torque_pairs)))
-        if len(hard_rows) > 1:
-            return np.concatenate(hard_rows, axis=0), np.concatenate(hard_rhs)
-        return hard_rows[0], hard_rhs[0]
+        return np.concatenate(hard_rows, axis=0), np.concatenate(hard_rhs)
 
     def sum_rows(self, keep: np.ndarray) -> np.ndarray:
         """``(k, p n)``: the rows summing the chains' forces on the prescribed axes ``keep``."""

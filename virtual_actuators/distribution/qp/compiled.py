@@ -116,8 +116,7 @@ class CompiledQPMatrices:
         ints, signs, _ = chain_table(problem)
         self.core = CORE.QP(
             np.asarray(kin.rows, dtype=np.int64), kin.frame_rows, ints, signs,
-            spring_table(problem), np.ascontiguousarray(problem.constant_rows, dtype=float),
-            np.ascontiguousarray(problem.constant_rhs, dtype=float),
+            spring_table(problem), problem.constant_rows, problem.constant_rhs,
             np.ascontiguousarray(tables["normals_world"], dtype=float),
             np.asarray(tables["frame_normals"], dtype=np.int64),
             np.array([*np.asarray(tables["cone"], dtype=float), static_scale]),
@@ -165,8 +164,14 @@ class CompiledQPMatrices:
         return workspace
 
     def again(
-        self, snapshot: object, wrench: np.ndarray, keep: np.ndarray, workspace: Workspace,
-        weights: np.ndarray, guess: np.ndarray, tree: object = None,
+        self,
+        snapshot: object,
+        wrench: np.ndarray,
+        keep: np.ndarray,
+        workspace: Workspace,
+        weights: np.ndarray,
+        guess: np.ndarray,
+        tree: object = None,
     ) -> Answer | None:
         """The core's ``again`` on this tick: the answer on the last certified active set, or None.
 

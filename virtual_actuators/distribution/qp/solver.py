@@ -18,7 +18,7 @@ from ...vocabulary.arguments import as_float_array, check_number, describe
 from ..methods import Request
 from ..problem import DistributionProblem
 from ..result import RawSolution, TickResult, close_tick
-from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY
+from ..tolerances import ACTIVE_TOL, EPS_ABS, EXACT_TOL, INFINITY, TINY
 from .compiled import Answer, CompiledQPMatrices
 from .stages import BUDGET_EXHAUSTED, ITERATION_BUDGET, Budget, ProxStages, StageRows
 
@@ -67,12 +67,6 @@ class ContactLimits:
             np.concatenate((np.full(len(one_sided.lows), INFINITY), upper)),
             self.row_names,
         )
-
-
-def kinds(names: Sequence[str]) -> list[str]:
-    """The kinds of inequality among row names: friction, normal, moment, torque."""
-    words = ("friction", "normal", "moment", "torque")
-    return [word for name in names for word in words if word in name] or ["none"]
 
 
 def torque_map(problem: DistributionProblem, jacobian_o: np.ndarray) -> np.ndarray:
@@ -138,27 +132,20 @@ class QPDistribution:
             the axes); None for 1 on every axis.
 
     Raises:
-        InvalidInputError: proxsuite is not installed; bad ``weights``.
+        InvalidInputError: Bad ``weights``.
         InvalidAxisError: ``weights`` names an axis the actuator lacks.
     """
 
     def __init__(
         self, problem: DistributionProblem, limits: ContactLimits, weights: object = None
     ) -> None:
-        try:
-            from proxsuite import proxqp
-        except ImportError as error:  # pragma: no cover - proxsuite is a dependency
-            raise InvalidInputError(
-                "method='qp' needs proxsuite (pip install proxsuite)."
-            ) from error
-        self._proxqp = proxqp
         self.problem = problem
         self.limits = limits
         #: the closest-wrench stage's weight per axis (read-only)
         self.weights = check_weights({} if weights is None else weights, problem.axes)
         self._local = threading.local()
         #: this thread's ProxQP workspaces and the stages run on them
-        self.stages = ProxStages(proxqp, limits.row_names, problem.reactions)
+        self.stages = ProxStages(limits.row_names, problem.reactions)
         #: ProxQP iterations one solve may use, all stages together
         self.iteration_budget = ITERATION_BUDGET
         #: the active rows' names by their indices' bytes (the sets recur tick after tick)
@@ -183,17 +170,18 @@ class QPDistribution:
         self.stages.reset()
 
     def _refuse(self, exhausted: bool = False) -> ConstraintError:
-        names = self.limits.row_names
         if exhausted:
             return ConstraintError(
                 f"No distribution over the chains to {list(self.problem.reactions)} meeting "
                 f"every constraint was found within the iteration budget "
                 f"({self.iteration_budget} ProxQP iterations; raise `qp.iteration_budget`)."
             )
+        words = ("friction", "normal", "moment", "torque")  # the kinds of inequality
+        kinds = {word for name in self.limits.row_names for word in words if word in name}
         return ConstraintError(
             f"No distribution over the chains to {list(self.problem.reactions)} meets every "
             "constraint at this configuration: the natural and design equalities and the "
-            f"inequalities ({', '.join(sorted(set(kinds(names))))}) cannot all hold (e.g. "
+            f"inequalities ({', '.join(sorted(kinds or ['none']))}) cannot all hold (e.g. "
             "min_normal with tight torque limits)."
         )
 
@@ -297,21 +285,24 @@ class QPDistribution:
     def _tick(self, answer: Answer, exhausted: bool) -> TickResult:
         """The `TickResult` of a read-out answer (``exhausted``: the budget ran out)."""
         p, n = self.problem.p, self.problem.n
-        key = answer.active.tobytes()
-        active = self._active_names.get(key)
-        if active is None:
-            names = self.limits.row_names
-            active = tuple([names[i] for i in answer.active.tolist()])
-            if len(self._active_names) >= 256:
-                self._active_names.clear()
-            self._active_names[key] = active
-        if exhausted:
-            active += (BUDGET_EXHAUSTED,)
         forces = answer.out[: p * n].reshape(p, n)
+        active = self._active(answer.active, exhausted)
         raw = RawSolution(forces, method="qp", solver="qp", active=active)
         return TickResult.from_buffer(
             raw, answer.out, answer.residual, answer.scale, answer.rounding, compiled=False
         )
+
+    def _active(self, rows: np.ndarray, exhausted: bool) -> tuple[str, ...]:
+        """The names of the active inequality ``rows``, then `BUDGET_EXHAUSTED` if ``exhausted``."""
+        key = rows.tobytes()
+        active = self._active_names.get(key)
+        if active is None:
+            names = self.limits.row_names
+            active = tuple([names[i] for i in rows.tolist()])
+            if len(self._active_names) >= 256:
+                self._active_names.clear()
+            self._active_names[key] = active
+        return (*active, BUDGET_EXHAUSTED) if exhausted else active
 
     def _solve_numpy(
         self,
@@ -338,7 +329,7 @@ class QPDistribution:
             float(np.abs(wrench[keep]).max(initial=0.0)),
             float(np.abs(ev.passive_torque).max(initial=0.0)),
             self._static_scale,
-            1e-300,
+            TINY,
         )
 
         equality_rhs = equality_rhs / scale
@@ -356,11 +347,10 @@ class QPDistribution:
         results = self.stages.solve("forces", rows, miss, weights, budget)
         if results is None:
             raise self._refuse(exhausted=budget.left == 0)
-        names = self.limits.row_names
         x = results.x * scale
-        active = tuple(names[i] for i in np.flatnonzero(np.abs(results.multipliers) > ACTIVE_TOL))
-        active += (BUDGET_EXHAUSTED,) if results.exhausted else ()
-        raw = RawSolution(forces=x.reshape(p, n), method="qp", solver="qp", active=active)
+        rows = np.flatnonzero(np.abs(results.multipliers) > ACTIVE_TOL)
+        active = self._active(rows, results.exhausted)
+        raw = RawSolution(x.reshape(p, n), method="qp", solver="qp", active=active)
         return close_tick(
             raw,
             wrench,

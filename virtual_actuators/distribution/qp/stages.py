@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from proxsuite import proxqp
 
 from ... import core
 from ...exceptions import ConstraintError
@@ -86,13 +87,11 @@ class ProxStages:
     """This thread's ProxQP workspaces of one distribution, and the stages run on them.
 
     Args:
-        proxqp: proxsuite's ``proxqp`` module.
         row_names: The inequalities' names (for the conflict error).
         reactions: The reaction frames' names (for the conflict error).
     """
 
-    def __init__(self, proxqp: object, row_names: Sequence[str], reactions: Sequence[str]):
-        self._proxqp = proxqp
+    def __init__(self, row_names: Sequence[str], reactions: Sequence[str]):
         self._row_names = row_names
         self._reactions = reactions
         self._local = threading.local()
@@ -113,7 +112,7 @@ class ProxStages:
         """The ``proxqp.dense.QP`` of a slot, made on first use (most ticks never run ProxQP)."""
         slot = self.slot(key)
         if slot.qp is None:
-            qp = self._proxqp.dense.QP(*key[2:])
+            qp = proxqp.dense.QP(*key[2:])
             qp.settings.eps_abs = EPS_ABS if key[1] == "exact" else CLOSEST_EPS_ABS
             qp.settings.eps_rel = 0.0
             qp.settings.max_iter_in = MAX_ITER_IN
@@ -135,7 +134,6 @@ class ProxStages:
         (warm, ProxQP can stop with inactive rows held). ``miss(x)`` is the largest violation of the
         rows ``x`` must meet; ``budget`` is charged.
         """
-        proxqp = self._proxqp
         slot = self.slot(key)
         qp, fresh = self._workspace(key), slot.fresh
         warm = key[1] == "exact"
@@ -263,7 +261,7 @@ class ProxStages:
             (path, "conflict", size + m, design, m), (hessian, np.zeros(size + m)), equality,
             rows.equality_rhs[:design], shifted_rows, lambda x: 0.0, budget,
         )  # fmt: skip
-        if shifted is None or shifted.info.status != self._proxqp.QPSolverOutput.PROXQP_SOLVED:
+        if shifted is None or shifted.info.status != proxqp.QPSolverOutput.PROXQP_SOLVED:
             return
         shift = np.abs(shifted.x[size:])
         largest = float(shift.max(initial=0.0))
@@ -291,7 +289,7 @@ class ProxStages:
         size = equality.shape[1]
         request, target = equality[design:], equality_rhs[design:].copy()
         weighted = request * weights[:, None]
-        converged = self._proxqp.QPSolverOutput.PROXQP_SOLVED
+        converged = proxqp.QPSolverOutput.PROXQP_SOLVED
 
         def exact(x: np.ndarray, guess: np.ndarray, exhausted: bool) -> StageAnswer:
             """The exact closest answer on the active set ``guess`` names, else ``x``."""

@@ -6,15 +6,13 @@ from its model; degrees of freedom are ``nv`` without a free-flyer's 6 and the p
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-import pinocchio as pin
-
+from virtual_actuators.exceptions import FrameNotFoundError
 from virtual_actuators.models.catalog import aliases, example_robot_data, list_robots
+from virtual_actuators.models.feet import find_feet
 from virtual_actuators.models.loader import load_robot
-from virtual_actuators.models.robot import Robot
 
 #: Kind and maker of the robots in each example-robot-data description folder.
 KINDS: dict[str, tuple[str, str]] = {
@@ -66,8 +64,6 @@ _STEM_KINDS = {
 }
 
 _LEGS = {"quadruped": 4, "legged manipulator": 4, "centaur": 4, "biped": 2, "humanoid": 2}
-_FOOT = re.compile(r"foot|feet|sole|toe", re.IGNORECASE)
-_NOT_FOOT = re.compile(r"footprint|imu|sensor|_ft|adapter|dh_frame|virtual", re.IGNORECASE)
 
 
 @dataclass(frozen=True)
@@ -82,7 +78,7 @@ class RobotInfo:
         dof: Actuated degrees of freedom.
         floating_base: Whether it loads with a free-flyer root joint.
         legs: Number of legs (from its kind, else from its feet), or None.
-        feet: Its foot frames, one per leg where found.
+        feet: Its foot frames as `find_feet` finds them (the walkers' and the balancer's), or none.
         source: ``example-robot-data``, ``generated`` or the folder it comes from.
     """
 
@@ -111,23 +107,6 @@ class RobotInfo:
         return ", ".join(parts)
 
 
-def _foot_frames(robot: Robot) -> tuple[str, ...]:
-    """The frames named like a foot, one per joint: the farthest from it, a link's first."""
-    model = robot.model
-    best: dict[int, tuple[float, int, str]] = {}
-    for frame in model.frames:
-        if not _FOOT.search(frame.name) or _NOT_FOOT.search(frame.name):
-            continue
-        if frame.type not in (pin.FrameType.BODY, pin.FrameType.OP_FRAME):
-            continue
-        joint = int(frame.parentJoint)
-        distance = float(frame.placement.translation @ frame.placement.translation)
-        key = (round(distance, 12), frame.type == pin.FrameType.BODY, frame.name)
-        if joint > 0 and (joint not in best or key[:2] > best[joint][:2]):
-            best[joint] = key
-    return tuple(best[joint][2] for joint in sorted(best))
-
-
 def _describe(name: str) -> RobotInfo:
     """Load robot ``name`` and describe it."""
     targets = aliases()
@@ -143,7 +122,10 @@ def _describe(name: str) -> RobotInfo:
         source = "example-robot-data"
     elif robot.urdf_path is not None:
         source = str(robot.urdf_path.parent)
-    feet = _foot_frames(robot)
+    try:  # the feet the walkers and the balancer find (`find_feet`), if it has any
+        feet = find_feet(robot).feet
+    except FrameNotFoundError:
+        feet = ()
     model = robot.model
     dof = model.nv - (6 if robot.floating_base else 0) - len(robot.passive_joints)
     if not kind and feet:

@@ -93,9 +93,6 @@ def import_optional(module: str, extra: str, feature: str) -> ModuleType:
         extra: The extra of ``virtual_actuators`` that installs it (``"viz"``, ``"sim"``...).
         feature: What needs it, for the message (``"The MeshCat viewer"``).
 
-    Returns:
-        The module.
-
     Raises:
         MissingDependencyError: If the module's top-level package is not installed (the message
             gives `install_command`). Other import errors propagate unchanged.

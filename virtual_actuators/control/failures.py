@@ -263,7 +263,7 @@ def enforce_unilateral(
     margin = least_margin(attachment, q, solution.forces)
     if margin is not None and margin >= -1e-9:  # the usual tick: nothing to scale
         return solution
-    if margin is None:  # no compiled conditions: the rows in numpy
+    if margin is None:  # no compiled conditions: the rows in numpy, built once
         rows, lows = constraint_rows(attachment, q)
         at_full = rows @ solution.forces.ravel()
         if np.all(at_full >= lows - 1e-9):
@@ -271,7 +271,10 @@ def enforce_unilateral(
     base = np.where(attachment.yield_mask, 0.0, wrench)
     request = dataclasses.replace(attachment.plan, weights=None)  # the declaration's weights
     fallback = attachment.actuator.solve_checked(q, base, request)[0]
-    alpha = largest_scale(attachment, q, solution.forces, fallback.forces)
+    if margin is None:
+        alpha = ratio_test(at_full, rows @ fallback.forces.ravel(), lows)
+    else:
+        alpha = largest_scale(attachment, q, solution.forces, fallback.forces)
     if alpha <= 0.0:
         return fallback
     return interpolate(fallback, solution, alpha)

@@ -34,9 +34,6 @@ def run_planar_walk(request: WalkRequest) -> WalkResult:
     ``speed`` defaults to ``parameters.speed``, else `Walk.default_speed`; ``seed`` scales the
     start-up push's force and duration by factors drawn in [0.7, 1.3].
 
-    Returns:
-        The `WalkResult`.
-
     Raises:
         InvalidInputError: Bad speed, terrain, seed or distribution.
     """

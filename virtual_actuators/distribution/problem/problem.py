@@ -77,6 +77,7 @@ class DistributionProblem:
         for i, signs in enumerate(kinematics.chain_signs):
             self.signs[i, kinematics.chain_columns[i]] = signs
         self._ball_maps: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        self._sum_rows: dict[bytes, np.ndarray] = {}
         self.constant_rows = np.zeros((0, self.p, self.n))
         self.constant_rhs = np.zeros(0)
         self.torque_pairs = np.zeros((0, 2), dtype=int)
@@ -280,7 +281,10 @@ class DistributionProblem:
 
     def sum_rows(self, keep: np.ndarray) -> np.ndarray:
         """``(k, p n)``: the rows summing the chains' forces on the prescribed axes ``keep``."""
-        return np.tile(np.eye(self.n), (1, self.p))[keep]
+        key = keep.tobytes()
+        if key not in self._sum_rows:  # the sets of axes recur tick after tick
+            self._sum_rows[key] = np.tile(np.eye(self.n), (1, self.p))[keep]
+        return self._sum_rows[key]
 
     def block_natural(self, ev: Evaluation) -> tuple[np.ndarray, np.ndarray]:
         """Dense block-diagonal natural-constraint matrix over all ``p n`` force entries."""

@@ -41,9 +41,6 @@ def pendulum_model(body_mass: float, mass: float, com: float, inertia: float) ->
         com: ``l`` [m].
         inertia: ``I`` [kg m^2], at least ``m l^2``.
 
-    Returns:
-        The `PendulumModel`.
-
     Raises:
         InvalidInputError: A value that is not a positive finite number, or ``I < m l^2``.
     """

@@ -736,7 +736,7 @@ def test_read_equals_position_velocity_jacobian(name, action, reaction, referenc
         np.testing.assert_allclose(reading.velocity, actuator.velocity(q, v), rtol=0, atol=1e-13)
         np.testing.assert_allclose(reading.jacobian, actuator.jacobian(q), rtol=0, atol=1e-14)
         assert reading.jacobian.shape == (len(axes), rob.model.nv)
-    assert repr(reading).startswith("SensorReading(position=")
+    assert repr(reading).startswith("ActuatorReading(position=")
 
 
 def test_read_validates_inputs():

@@ -4,7 +4,8 @@ Declare virtual actuators between frames of a robot, distribute their wrenches o
 chains with the extended Partitioned Actuator Set method, and map them to joint efforts.
 """
 
-from .actuators import ParallelVirtualActuator, SensorReading, VirtualActuator
+from . import estimation
+from .actuators import ActuatorReading, ParallelVirtualActuator, VirtualActuator
 from .components import (
     Component,
     ConstantForce,
@@ -36,6 +37,7 @@ from .control import (
 )
 from .control.plan.memory import Memory
 from .distribution.result import Solution
+from .estimation import SensorReading
 from .exceptions import (
     ConcurrentUseError,
     ConstraintError,
@@ -100,7 +102,7 @@ __all__ = [
     "Memory",
     "Posture",
     "RunStats",
-    "SensorReading",
+    "ActuatorReading",
     "Spring",
     "SpringDamper",
     "State",

@@ -43,7 +43,7 @@ def check_tolerance(tol: object) -> float:
 
 
 @dataclass(frozen=True, repr=False)
-class SensorReading:
+class ActuatorReading:
     """One reading of a serial actuator's virtual sensor.
 
     Attributes:
@@ -59,7 +59,7 @@ class SensorReading:
     jacobian: np.ndarray
 
     def __repr__(self) -> str:
-        return f"SensorReading(position={self.position}, velocity={self.velocity})"
+        return f"ActuatorReading(position={self.position}, velocity={self.velocity})"
 
 
 class VirtualActuator:
@@ -104,7 +104,7 @@ class VirtualActuator:
             robot, action_id, [reaction_id], resolve_frame(model, reference, "reference"), self.axes
         )
 
-    def read(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> SensorReading:
+    def read(self, state: np.ndarray | Snapshot, v: np.ndarray | None = None) -> ActuatorReading:
         """Read the virtual sensor: position, velocity and Jacobian from one kinematics pass.
 
         Args:
@@ -120,7 +120,7 @@ class VirtualActuator:
                 raise InvalidInputError("read(q, v) needs a velocity v (or a Snapshot with v).")
             state = Snapshot(self.robot, state, v)
         jacobian, position, velocity = self.kinematics.sense(state, velocity=True)
-        return SensorReading(position=position, velocity=velocity, jacobian=jacobian)
+        return ActuatorReading(position=position, velocity=velocity, jacobian=jacobian)
 
     def position(self, state: np.ndarray | Snapshot) -> np.ndarray:
         """Virtual sensor: pose of {B} relative to {A} in {O}, on the selected axes.

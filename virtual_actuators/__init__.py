@@ -103,6 +103,8 @@ __all__ = [
     "Posture",
     "RunStats",
     "ActuatorReading",
+    "SensorReading",
+    "estimation",
     "Spring",
     "SpringDamper",
     "State",

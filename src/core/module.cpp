@@ -22,6 +22,7 @@ void bind_gait(nb::module_& m);
 void bind_simulation(nb::module_& m);
 void bind_contacts_view(nb::module_& m);
 void bind_plan(nb::module_& m);
+void bind_estimator(nb::module_& m);
 }  // namespace va::py
 
 NB_MODULE(_core, m) {
@@ -41,4 +42,5 @@ NB_MODULE(_core, m) {
   va::py::bind_simulation(m);
   va::py::bind_contacts_view(m);
   va::py::bind_plan(m);
+  va::py::bind_estimator(m);
 }

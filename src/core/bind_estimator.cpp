@@ -1,0 +1,136 @@
+// The legged state estimator's binding (legged_estimator.hpp): LeggedFilter, built once per
+// estimator by virtual_actuators.estimation.LeggedEstimator, updated once per reading.
+#include <cstdint>
+#include <memory>
+
+#include "bind_common.hpp"
+#include "bind_kinematics.hpp"
+#include "legged_estimator.hpp"
+
+namespace va::py {
+namespace {
+
+constexpr std::int64_t TUNING_SIZE = 25;
+
+va::EstimatorTuning tuning_of(const F1& v) {
+  require(length(v) == TUNING_SIZE, "tuning must have 25 entries");
+  const double* t = v.data();
+  va::EstimatorTuning out{};
+  out.attitude = {t[0], t[1], t[2], t[3], t[4], t[5]};
+  out.leg = {t[6], t[7], t[8], t[9], t[10], t[11], t[12], t[13], t[14]};
+  out.contact = {t[15], t[16], t[17], t[18], t[19], t[20]};
+  out.tilt_sigma = t[21];
+  out.yaw_sigma = t[22];
+  out.bias_sigma = t[23];
+  out.level_ground = t[24] != 0.0;
+  return out;
+}
+
+class LeggedFilter {
+ public:
+  LeggedFilter(const Tree& tree, const I1& foot_rows, std::int64_t imu_row, const I1& leg_offsets,
+               const I1& leg_columns, const I1& gravity_columns, const F1& masses, const F2& levers,
+               const F1& radii, const F1& gravity, double weight_per_foot, const F1& tuning) {
+    const va::TreeTables& t = tree.tree()->tables();
+    const std::int64_t nf = len(foot_rows);
+    require(nf >= 1 && nf <= 64, "foot_rows must have 1 to 64 entries");
+    for (std::int64_t f = 0; f < nf; ++f)
+      require(foot_rows.data()[f] >= 0 && foot_rows.data()[f] < t.nf, "foot_rows out of range");
+    require(imu_row >= 0 && imu_row < t.nf, "imu_row out of range");
+    require(len(leg_offsets) == nf + 1 && leg_offsets.data()[0] == 0 &&
+                leg_offsets.data()[nf] == len(leg_columns),
+            "leg_offsets must be (nf + 1,) offsets into leg_columns");
+    for (std::int64_t k = 0; k < len(leg_columns); ++k)
+      require(leg_columns.data()[k] >= 0 && leg_columns.data()[k] < t.nv,
+              "leg_columns out of range");
+    for (std::int64_t k = 0; k < len(gravity_columns); ++k)
+      require(gravity_columns.data()[k] >= 0 && gravity_columns.data()[k] < t.nv,
+              "gravity_columns out of range");
+    require(length(masses) == t.njoints && levers.shape(0) == static_cast<size_t>(t.njoints) &&
+                levers.shape(1) == 3,
+            "masses must be (njoints,), levers (njoints, 3)");
+    require(length(gravity) == 3 && weight_per_foot > 0.0, "gravity (3,), weight_per_foot > 0");
+    va::EstimatorTables tables;
+    tables.tree = tree.tree();
+    tables.foot_rows = copy<std::int64_t>(foot_rows);
+    tables.imu_row = imu_row;
+    tables.leg_offsets = copy<std::int64_t>(leg_offsets);
+    tables.leg_columns = copy<std::int64_t>(leg_columns);
+    tables.gravity_columns = copy<std::int64_t>(gravity_columns);
+    tables.masses = copy<double>(masses);
+    tables.levers = copy<double>(levers);
+    require(length(radii) == nf, "radii must be (nf,)");
+    tables.radii = copy<double>(radii);
+    for (int i = 0; i < 3; ++i) tables.gravity[i] = gravity.data()[i];
+    tables.weight_per_foot = weight_per_foot;
+    nq_ = tree.nq();
+    nv_ = t.nv;
+    core_ = std::make_unique<va::LeggedEstimatorCore>(std::move(tables), tuning_of(tuning));
+  }
+
+  void reset(const F1& q_local, const F1& position, const F2& rotation, const F1& velocity) {
+    require(length(q_local) == nq_, "q_local must be (nq,)");
+    require(length(position) == 3 && length(velocity) == 3, "position, velocity must be (3,)");
+    require(rotation.shape(0) == 3 && rotation.shape(1) == 3, "rotation must be (3, 3)");
+    va::so3::Mat3 r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r[i][j] = rotation.data()[3 * i + j];
+    core_->reset(q_local.data(), position.data(), r, velocity.data());
+  }
+
+  bool update(const F1& q_local, const F1& v_local, const F1& gyro, const F1& accel, const F1& tau,
+              double time) {
+    require(length(q_local) == nq_ && length(v_local) == nv_ && length(tau) == nv_,
+            "q_local (nq,), v_local and tau (nv,)");
+    require(length(gyro) == 3 && length(accel) == 3, "gyro, accel must be (3,)");
+    nb::gil_scoped_release release;
+    return core_->update(q_local.data(), v_local.data(), gyro.data(), accel.data(), tau.data(),
+                         time);
+  }
+
+  // position (3), quaternion x y z w (4), velocity in world axes (3), angular velocity in base
+  // axes (3), gyro bias (3), then per foot: probability, in contact (0/1), normal force [N],
+  // then the (6, 6) covariance of position and velocity.
+  Owned result() const {
+    const va::EstimatorState& s = core_->state();
+    const std::int64_t nf = core_->feet(), n = s.leg.n;
+    const auto size = static_cast<std::size_t>(16 + 3 * nf + 36);
+    std::unique_ptr<double[]> out(new double[size]);
+    double* o = out.get();
+    for (int i = 0; i < 3; ++i) o[i] = s.leg.x[i];
+    va::so3::to_quaternion(s.attitude.rotation, o + 3);
+    for (int i = 0; i < 3; ++i) o[7 + i] = s.leg.x[3 + i], o[10 + i] = s.rate[i];
+    for (int i = 0; i < 3; ++i) o[13 + i] = s.attitude.bias[i];
+    for (std::int64_t f = 0; f < nf; ++f) {
+      o[16 + f] = s.probability[f];
+      o[16 + nf + f] = s.in_contact[f] ? 1.0 : 0.0;
+      o[16 + 2 * nf + f] = s.normal_force[f];
+    }
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) o[16 + 3 * nf + 6 * i + j] = s.leg.P[i * n + j];
+    return owned(std::move(out), size);
+  }
+
+ private:
+  std::unique_ptr<va::LeggedEstimatorCore> core_;
+  std::int64_t nq_ = 0, nv_ = 0;
+};
+
+}  // namespace
+
+void bind_estimator(nb::module_& m) {
+  nb::class_<LeggedFilter>(m, "LeggedFilter",
+                           "estimation.LeggedEstimator's filter: orientation, position, velocity "
+                           "and contacts from an IMU, encoders and efforts.")
+      .def(nb::init<const Tree&, const I1&, std::int64_t, const I1&, const I1&, const I1&,
+                    const F1&, const F2&, const F1&, const F1&, double, const F1&>(),
+           "tree"_a, "foot_rows"_a, "imu_row"_a, "leg_offsets"_a, "leg_columns"_a,
+           "gravity_columns"_a, "masses"_a, "levers"_a, "radii"_a, "gravity"_a, "weight_per_foot"_a,
+           "tuning"_a)
+      .def("reset", &LeggedFilter::reset, "q_local"_a, "position"_a, "rotation"_a, "velocity"_a)
+      .def("update", &LeggedFilter::update, "q_local"_a, "v_local"_a, "gyro"_a, "accel"_a, "tau"_a,
+           "time"_a)
+      .def("result", &LeggedFilter::result);
+}
+
+}  // namespace va::py

@@ -1,0 +1,131 @@
+// The Kalman filter's measurement update on a dense state (attitude_filter.hpp, leg_filter.hpp):
+// one block of m <= 6 measurements z = H x + noise with a full m x m noise covariance R.
+//   S = H P H^T + R,  K = P H^T S^-1,  x <- x + K (z - H x),  P <- (I - K H) P (I - K H)^T + K R
+//   K^T
+// (Joseph's form: P stays symmetric and positive for any gain), in plain loops.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+namespace va::kalman {
+
+constexpr int MAX_BLOCK = 6;
+
+// Invert the symmetric positive m x m matrix s (row-major) into inv by Cholesky; false when it
+// is not positive definite.
+inline bool invert_spd(const double* s, int m, double* inv) {
+  double l[MAX_BLOCK * MAX_BLOCK] = {};
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double sum = s[i * m + j];
+      for (int k = 0; k < j; ++k) sum -= l[i * m + k] * l[j * m + k];
+      if (i == j) {
+        if (!(sum > 0.0)) return false;
+        l[i * m + i] = std::sqrt(sum);
+      } else {
+        l[i * m + j] = sum / l[j * m + j];
+      }
+    }
+  double linv[MAX_BLOCK * MAX_BLOCK] = {};  // L^-1, lower triangular
+  for (int i = 0; i < m; ++i) {
+    linv[i * m + i] = 1.0 / l[i * m + i];
+    for (int j = 0; j < i; ++j) {
+      double sum = 0.0;
+      for (int k = j; k < i; ++k) sum -= l[i * m + k] * linv[k * m + j];
+      linv[i * m + j] = sum / l[i * m + i];
+    }
+  }
+  for (int i = 0; i < m; ++i)  // S^-1 = L^-T L^-1
+    for (int j = 0; j < m; ++j) {
+      double sum = 0.0;
+      for (int k = i > j ? i : j; k < m; ++k) sum += linv[k * m + i] * linv[k * m + j];
+      inv[i * m + j] = sum;
+    }
+  return true;
+}
+
+// One block update of (x, P) (n states, P row-major n x n) by the residual y = z - H x (m),
+// H (m x n) and R (m x m), both row-major. scratch: 2 n m + 2 m doubles. Returns false (and
+// leaves x, P as they were) when S is not positive definite. The squared Mahalanobis distance
+// y^T S^-1 y goes to *distance when it is given.
+inline bool update(double* x, double* P, std::int64_t n, const double* H, const double* R, int m,
+                   const double* y, double* scratch, double* distance = nullptr) {
+  double* pht = scratch;       // P H^T (n x m)
+  double* gain = pht + n * m;  // K (n x m)
+  double* kh = gain + n * m;   // 2 m doubles: one row of P1 H^T and of K R
+  double s[MAX_BLOCK * MAX_BLOCK], sinv[MAX_BLOCK * MAX_BLOCK];
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int a = 0; a < m; ++a) {
+      double sum = 0.0;
+      const double* h = H + a * n;
+      const double* p = P + i * n;
+      for (std::int64_t k = 0; k < n; ++k)
+        if (h[k] != 0.0) sum += p[k] * h[k];
+      pht[i * m + a] = sum;
+    }
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) {
+      double sum = R[a * m + b];
+      const double* h = H + a * n;
+      for (std::int64_t k = 0; k < n; ++k)
+        if (h[k] != 0.0) sum += h[k] * pht[k * m + b];
+      s[a * m + b] = sum;
+    }
+  for (int a = 0; a < m; ++a)  // symmetric to rounding
+    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
+  if (!invert_spd(s, m, sinv)) return false;
+  if (distance != nullptr) {
+    double d = 0.0;
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) d += y[a] * sinv[a * m + b] * y[b];
+    *distance = d;
+  }
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int a = 0; a < m; ++a) {
+      double sum = 0.0;
+      for (int b = 0; b < m; ++b) sum += pht[i * m + b] * sinv[b * m + a];
+      gain[i * m + a] = sum;
+    }
+  for (std::int64_t i = 0; i < n; ++i) {
+    double dx = 0.0;
+    for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
+    x[i] += dx;
+  }
+  // Joseph's form: P <- A P A^T + K R K^T with A = I - K H; A P = P - K (H P) = P - K pht^T.
+  // First P1 = P - K pht^T (n x n, in place; pht holds the old P H^T).
+  for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t j = 0; j < n; ++j) {
+      double sum = 0.0;
+      for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
+      P[i * n + j] -= sum;
+    }
+  // Then P1 A^T = P1 - (P1 H^T) K^T, and + K R K^T.
+  for (std::int64_t i = 0; i < n; ++i) {
+    double* p1ht = kh;  // row i of P1 H^T (m)
+    for (int a = 0; a < m; ++a) {
+      double sum = 0.0;
+      const double* h = H + a * n;
+      for (std::int64_t k = 0; k < n; ++k)
+        if (h[k] != 0.0) sum += P[i * n + k] * h[k];
+      p1ht[a] = sum;
+    }
+    double* kr = kh + m;  // row i of K R (m)
+    for (int a = 0; a < m; ++a) {
+      double sum = 0.0;
+      for (int b = 0; b < m; ++b) sum += gain[i * m + b] * R[b * m + a];
+      kr[a] = sum;
+    }
+    for (std::int64_t j = 0; j < n; ++j) {
+      double sum = 0.0;
+      for (int a = 0; a < m; ++a) sum += (kr[a] - p1ht[a]) * gain[j * m + a];
+      P[i * n + j] += sum;
+    }
+  }
+  for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t j = 0; j < i; ++j)
+      P[i * n + j] = P[j * n + i] = 0.5 * (P[i * n + j] + P[j * n + i]);
+  return true;
+}
+
+}  // namespace va::kalman

@@ -1,0 +1,277 @@
+"""The base state of a legged robot from its IMU, its encoders and its efforts."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from .. import core
+from ..exceptions import (
+    FrameNotFoundError,
+    InvalidInputError,
+    MissingDependencyError,
+    RobotDescriptionError,
+    suggestion,
+)
+from ..kinematics.tree import tree_of
+from ..models.feet import find_feet
+from ..models.robot import Robot
+from ..models.soles import find_sole
+from .estimate import Estimate
+from .reading import SensorReading
+from .tuning import EstimatorTuning
+
+
+def contact_depth(robot: Robot, foot: str) -> float:
+    """How far below the foot frame its sole lies [m] (a rounded foot's radius), else 0."""
+    try:
+        return max(0.0, -find_sole(robot, foot).height)
+    except (FrameNotFoundError, RobotDescriptionError):
+        return 0.0
+
+
+class LeggedEstimator:
+    """Orientation, position, velocity and contacts of a legged robot's floating base.
+
+    An error-state filter on the orientation (gyro, accelerometer, stance feet) and a linear
+    Kalman filter on the base's position and velocity and the feet's positions (accelerometer,
+    leg kinematics), with each foot's contact from its leg's efforts and its speed; the update
+    runs in the compiled core. The equations and what drifts: the estimation page of the docs.
+
+    Args:
+        robot: A floating-base robot whose joints are all 1-DoF (revolute or prismatic).
+        feet: The foot frames; None: those ``demo legged`` finds (`find_feet`).
+        imu: The frame the IMU is fixed to, on the base's body; None: the base's body frame.
+        tuning: The filter's noise figures and thresholds; None: `EstimatorTuning()` (the
+            library's simulated MEMS IMU and encoders).
+
+    Raises:
+        InvalidInputError: The robot has a fixed base or a joint that is not 1-DoF, or the IMU
+            frame is not on the base's body.
+        FrameNotFoundError: A foot or the IMU frame is not a frame of the robot (with the
+            closest names), or the robot has no feet to find.
+        MissingDependencyError: The compiled core is not available (``VA_CORE=0`` or a source
+            tree without a build): the estimator runs only there.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        feet: Sequence[str] | None = None,
+        imu: str | None = None,
+        *,
+        tuning: EstimatorTuning | None = None,
+    ) -> None:
+        model = robot.model
+        if not robot.floating_base:
+            raise InvalidInputError(
+                f"LeggedEstimator needs a floating-base robot; {robot.name!r} has a fixed base "
+                "(its state is its encoders)."
+            )
+        if not core.has("LeggedFilter"):
+            raise MissingDependencyError(
+                "LeggedEstimator runs in the compiled core, which is not loaded (VA_CORE=0, or "
+                "a source tree without a build): reinstall with `pip install -e .`."
+            )
+        self.tuning = EstimatorTuning() if tuning is None else tuning
+        if not isinstance(self.tuning, EstimatorTuning):
+            raise InvalidInputError("tuning must be an EstimatorTuning.")
+        found = find_feet(robot) if feet is None or imu is None else None
+        self.feet = tuple(found.feet if feet is None else feet)
+        self.imu = found.body if imu is None else imu
+        if not self.feet or not all(isinstance(foot, str) for foot in self.feet):
+            raise InvalidInputError("feet must be a non-empty sequence of frame names.")
+        if len(set(self.feet)) != len(self.feet):
+            raise InvalidInputError(f"feet names a frame twice: {list(self.feet)}.")
+        self.robot = robot
+        tree = tree_of(robot)
+        foot_ids = [tree.frame_id(foot) for foot in self.feet]
+        imu_id = tree.frame_id(self.imu)
+        if model.frames[imu_id].parentJoint != 1:
+            raise InvalidInputError(
+                f"imu frame {self.imu!r} is not on the floating base's body (it moves with "
+                f"joint {model.names[model.frames[imu_id].parentJoint]!r})."
+            )
+        rows = tree.frame_tables[0]
+        joints = [model.joints[j] for j in range(2, model.njoints)]
+        wide = [model.names[j] for j, joint in enumerate(joints, 2) if joint.nq != 1]
+        if wide:
+            raise InvalidInputError(
+                f"LeggedEstimator takes 1-DoF joints only; {wide} are not (continuous, "
+                "spherical or planar joints have no single encoder reading)."
+            )
+        #: the encoders' joints, each with its index in q and in v
+        self.joint_names = tuple(model.names[j] for j in range(2, model.njoints))
+        self._index_q = {name: model.joints[j].idx_q for j, name in enumerate(model.names)}
+        self._index_v = {name: model.joints[j].idx_v for j, name in enumerate(model.names)}
+        legs = [np.array([c for c in tree.frame_columns(f) if c >= 6], dtype=np.int64)
+                for f in foot_ids]  # fmt: skip
+        offsets = np.cumsum([0] + [len(leg) for leg in legs]).astype(np.int64)
+        columns = np.concatenate(legs) if legs else np.zeros(0, np.int64)
+        gravity = np.array(model.gravity.linear, dtype=float)
+        self._filter = core.CORE.LeggedFilter(
+            tree.core_tree,
+            np.array([rows[f] for f in foot_ids], dtype=np.int64),
+            int(rows[imu_id]),
+            offsets,
+            columns,
+            np.unique(columns).astype(np.int64),
+            tree.masses,
+            np.ascontiguousarray(tree.levers),
+            np.array([contact_depth(robot, foot) for foot in self.feet]),
+            gravity,
+            tree.mass * float(np.linalg.norm(gravity)) / len(self.feet),
+            self.tuning.packed(),
+        )
+        self._tree = tree
+        self._lock = threading.Lock()
+        self._maps: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
+        self._time: float | None = None
+        self._started = False
+        self._q_local = np.zeros(model.nq)
+        self._q_local[6] = 1.0
+        self._v_local = np.zeros(model.nv)
+        self.last: Estimate | None = None
+
+    def reset(self, q: np.ndarray, v: np.ndarray | None = None) -> None:
+        """Start again from a known state (e.g. the robot standing on level ground).
+
+        Args:
+            q: ``(nq,)`` configuration (Pinocchio's conventions).
+            v: ``(nv,)`` velocity (the free flyer's in its own axes); None: at rest.
+
+        Raises:
+            InvalidInputError: ``q`` or ``v`` has the wrong shape or non-finite entries.
+        """
+        q = self._tree.check_configuration(q)
+        v = np.zeros(self.robot.model.nv) if v is None else self._tree.check_velocity(v)
+        with self._lock:
+            self._reset(q, v)
+
+    def _reset(self, q: np.ndarray, v: np.ndarray) -> None:
+        rotation = pin.Quaternion(q[6], q[3], q[4], q[5]).normalized().toRotationMatrix()
+        q_local = q.copy()
+        q_local[:7] = (0, 0, 0, 0, 0, 0, 1)
+        self._filter.reset(q_local, q[:3].copy(), np.ascontiguousarray(rotation), rotation @ v[:3])
+        self._time = None
+        self._started = True
+
+    def _map(self, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
+        """The indices in q and v of a reading's joints (checked once per list of names)."""
+        cached = self._maps.get(names)
+        if cached is not None:
+            return cached
+        for name in names:
+            if name not in self.joint_names:
+                raise InvalidInputError(
+                    f"SensorReading.joint_names has {name!r}, not a 1-DoF joint of "
+                    f"{self.robot.name!r}. " + suggestion(name, self.joint_names, "joints")
+                )
+        missing = [name for name in self.joint_names if name not in names]
+        if missing:
+            raise InvalidInputError(
+                f"SensorReading.joint_names lacks {missing}: the estimator needs every joint."
+            )
+        cached = (
+            np.array([self._index_q[name] for name in names], dtype=np.int64),
+            np.array([self._index_v[name] for name in names], dtype=np.int64),
+        )
+        self._maps[names] = cached
+        return cached
+
+    def update(self, reading: SensorReading, tau: np.ndarray | None = None) -> Estimate:
+        """Take one reading: the estimate at its time.
+
+        Without a [`reset`][virtual_actuators.estimation.LeggedEstimator.reset] first, the
+        estimator starts at the first reading: base at the world's origin over its feet (on
+        level ground at height 0), level, heading along x, at rest.
+
+        Args:
+            reading: What the robot measured.
+            tau: ``(nv,)`` the efforts commanded for the last period; None: the reading's
+                ``joint_effort``.
+
+        Returns:
+            The estimate at ``reading.time``.
+
+        Raises:
+            InvalidInputError: ``reading`` is not a `SensorReading`, names a joint the robot
+                does not have or lacks one, its time does not advance, ``tau`` has the wrong
+                shape or non-finite entries, or its numbers would make the estimate non-finite.
+                The estimator is then exactly as it was.
+        """
+        if not isinstance(reading, SensorReading):
+            raise InvalidInputError(
+                f"update takes a SensorReading, not {type(reading).__name__}."
+            )
+        index_q, index_v = self._map(reading.joint_names)
+        nv = self.robot.model.nv
+        if tau is None:
+            tau_full = np.zeros(nv)
+            tau_full[index_v] = reading.joint_effort
+        else:
+            tau_full = self._tree.check_velocity(tau)
+            if tau_full is tau:
+                tau_full = tau_full.copy()
+        with self._lock:
+            if self._time is not None and not reading.time > self._time:
+                raise InvalidInputError(
+                    f"SensorReading.time {reading.time} does not advance (the last reading was "
+                    f"at {self._time})."
+                )
+            q_local, v_local = self._q_local.copy(), self._v_local.copy()
+            q_local[index_q] = reading.joint_position
+            v_local[index_v] = reading.joint_velocity
+            if not self._started:
+                self._start(q_local, reading)
+            ok = self._filter.update(
+                q_local, v_local, reading.gyro, reading.accelerometer, tau_full, reading.time
+            )
+            if not ok:
+                raise InvalidInputError(
+                    f"SensorReading at t={reading.time} would make the estimate non-finite "
+                    "(its numbers are far out of any robot's range); the estimator is unchanged."
+                )
+            self._time = reading.time
+            self.last = self._estimate(self._filter.result(), reading, q_local, v_local)
+            return self.last
+
+    def _start(self, q_local: np.ndarray, reading: SensorReading) -> None:
+        """Reset from a first reading: level (tilt from gravity), heading x, over the feet."""
+        up = reading.accelerometer / max(float(np.linalg.norm(reading.accelerometer)), 1e-9)
+        rotation = pin.Quaternion.FromTwoVectors(up, np.array([0.0, 0.0, 1.0])).toRotationMatrix()
+        data = pin.Data(self.robot.model)
+        pin.framesForwardKinematics(self.robot.model, data, q_local)
+        heights = [(rotation @ data.oMf[self._tree.frame_id(f)].translation)[2] for f in self.feet]
+        q = q_local.copy()
+        q[:3] = (0.0, 0.0, -float(np.mean(heights)))
+        q[3:7] = pin.Quaternion(rotation).coeffs()
+        self._reset(q, np.zeros(self.robot.model.nv))
+
+    def _estimate(
+        self, out: np.ndarray, reading: SensorReading, q_local: np.ndarray, v_local: np.ndarray
+    ) -> Estimate:
+        nf = len(self.feet)
+        q = q_local
+        q[:7] = out[:7]
+        rotation = pin.Quaternion(out[6], out[3], out[4], out[5]).toRotationMatrix()
+        v = v_local
+        v[:3] = rotation.T @ out[7:10]
+        v[3:6] = out[10:13]
+        probability = out[16 : 16 + nf]
+        closed = out[16 + nf : 16 + 2 * nf]
+        covariance = out[16 + 3 * nf :].reshape(6, 6)
+        return Estimate(
+            time=reading.time,
+            q=q,
+            v=v,
+            contact={foot: float(p) for foot, p in zip(self.feet, probability, strict=True)},
+            in_contact={foot: bool(c) for foot, c in zip(self.feet, closed, strict=True)},
+            covariance=covariance,
+        )
+
+    def __repr__(self) -> str:
+        return f"LeggedEstimator({self.robot.name!r}, feet={list(self.feet)}, imu={self.imu!r})"

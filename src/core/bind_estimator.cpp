@@ -10,19 +10,19 @@
 namespace va::py {
 namespace {
 
-constexpr std::int64_t TUNING_SIZE = 25;
+constexpr std::int64_t TUNING_SIZE = 27;
 
 va::EstimatorTuning tuning_of(const F1& v) {
-  require(length(v) == TUNING_SIZE, "tuning must have 25 entries");
+  require(length(v) == TUNING_SIZE, "tuning must have 27 entries");
   const double* t = v.data();
   va::EstimatorTuning out{};
   out.attitude = {t[0], t[1], t[2], t[3], t[4], t[5]};
   out.leg = {t[6], t[7], t[8], t[9], t[10], t[11], t[12], t[13], t[14]};
-  out.contact = {t[15], t[16], t[17], t[18], t[19], t[20]};
-  out.tilt_sigma = t[21];
-  out.yaw_sigma = t[22];
-  out.bias_sigma = t[23];
-  out.level_ground = t[24] != 0.0;
+  out.contact = {t[15], t[16], t[17], t[18], t[19], t[20], t[21], t[22]};
+  out.tilt_sigma = t[23];
+  out.yaw_sigma = t[24];
+  out.bias_sigma = t[25];
+  out.level_ground = t[26] != 0.0;
   return out;
 }
 
@@ -30,7 +30,7 @@ class LeggedFilter {
  public:
   LeggedFilter(const Tree& tree, const I1& foot_rows, std::int64_t imu_row, const I1& leg_offsets,
                const I1& leg_columns, const I1& gravity_columns, const F1& masses, const F2& levers,
-               const F1& radii, const F1& gravity, double weight_per_foot, const F1& tuning) {
+               const F2& spheres, const F1& gravity, double weight_per_foot, const F1& tuning) {
     const va::TreeTables& t = tree.tree()->tables();
     const std::int64_t nf = len(foot_rows);
     require(nf >= 1 && nf <= 64, "foot_rows must have 1 to 64 entries");
@@ -59,8 +59,9 @@ class LeggedFilter {
     tables.gravity_columns = copy<std::int64_t>(gravity_columns);
     tables.masses = copy<double>(masses);
     tables.levers = copy<double>(levers);
-    require(length(radii) == nf, "radii must be (nf,)");
-    tables.radii = copy<double>(radii);
+    require(spheres.shape(0) == static_cast<size_t>(nf) && spheres.shape(1) == 4,
+            "spheres must be (nf, 4)");
+    tables.spheres = copy<double>(spheres);
     for (int i = 0; i < 3; ++i) tables.gravity[i] = gravity.data()[i];
     tables.weight_per_foot = weight_per_foot;
     nq_ = tree.nq();
@@ -123,10 +124,10 @@ void bind_estimator(nb::module_& m) {
                            "estimation.LeggedEstimator's filter: orientation, position, velocity "
                            "and contacts from an IMU, encoders and efforts.")
       .def(nb::init<const Tree&, const I1&, std::int64_t, const I1&, const I1&, const I1&,
-                    const F1&, const F2&, const F1&, const F1&, double, const F1&>(),
+                    const F1&, const F2&, const F2&, const F1&, double, const F1&>(),
            "tree"_a, "foot_rows"_a, "imu_row"_a, "leg_offsets"_a, "leg_columns"_a,
-           "gravity_columns"_a, "masses"_a, "levers"_a, "radii"_a, "gravity"_a, "weight_per_foot"_a,
-           "tuning"_a)
+           "gravity_columns"_a, "masses"_a, "levers"_a, "spheres"_a, "gravity"_a,
+           "weight_per_foot"_a, "tuning"_a)
       .def("reset", &LeggedFilter::reset, "q_local"_a, "position"_a, "rotation"_a, "velocity"_a)
       .def("update", &LeggedFilter::update, "q_local"_a, "v_local"_a, "gyro"_a, "accel"_a, "tau"_a,
            "time"_a)

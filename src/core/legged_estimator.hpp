@@ -34,6 +34,7 @@ struct ContactTuning {
   double force_low, force_high;      // fractions of the weight per foot: p_force 0 -> 1
   double still_speed, moving_speed;  // [m/s] the foot's speed: p_still 1 -> 0
   double on, off;                    // hysteresis on the probability
+  double low_height, high_height;    // [m] on level ground, a foot this low may be in contact
 };
 
 struct EstimatorTuning {
@@ -53,9 +54,10 @@ struct EstimatorTables {
   std::vector<std::int64_t> leg_columns;      // velocity indices of each foot's leg joints
   std::vector<std::int64_t> gravity_columns;  // every leg column once
   std::vector<double> masses, levers;         // (njoints), (njoints, 3)
-  std::vector<double> radii;                  // (nf) rounded feet: the contact point's depth [m]
-  double gravity[3];                          // world [m/s^2]
-  double weight_per_foot;                     // [N]
+  std::vector<double>
+      spheres;             // (nf, 4) each foot's rounded sole: centre in the foot frame, radius
+  double gravity[3];       // world [m/s^2]
+  double weight_per_foot;  // [N]
 };
 
 struct EstimatorState {
@@ -93,8 +95,17 @@ class LeggedEstimatorCore {
     std::vector<double> feet_world(static_cast<size_t>(3 * nf));
     for (std::int64_t f = 0; f < nf; ++f) {
       double world[3];
-      so3::apply(r, frame(t_.foot_rows[f]) + 9, world);
-      world[2] -= t_.radii[f];
+      double point[3];
+      const double* foot = frame(t_.foot_rows[f]);
+      const so3::Mat3 foot_rotation = {
+          {foot[0], foot[1], foot[2]}, {foot[3], foot[4], foot[5]}, {foot[6], foot[7], foot[8]}};
+      double down[3], centre[3];
+      const double minus_z[3] = {0.0, 0.0, -1.0};
+      so3::apply_transposed(r, minus_z, down);
+      so3::apply(foot_rotation, t_.spheres.data() + 4 * f, centre);
+      for (int i = 0; i < 3; ++i)
+        point[i] = foot[9 + i] + centre[i] + t_.spheres[4 * f + 3] * down[i];
+      so3::apply(r, point, world);
       for (int i = 0; i < 3; ++i) feet_world[3 * f + i] = p[i] + world[i];
     }
     for (int i = 0; i < 3; ++i) s_.accel[i] = 0.0, s_.velocity[i] = v_world[i];
@@ -176,7 +187,14 @@ class LeggedEstimatorCore {
       const double p_force = ramp((force_world[2] - low) / (high - low));
       const double p_still =
           ramp((c.moving_speed - so3::norm(foot_velocity)) / (c.moving_speed - c.still_speed));
-      const double p = p_force * p_still;
+      double p_low = 0.0;  // on level ground: a still foot at its level stands on it
+      if (tuning_.level_ground) {
+        double offset_world[3];
+        so3::apply(s.attitude.rotation, r, offset_world);
+        const double height = s.leg.x[2] + offset_world[2] - s.leg.level[f];
+        p_low = ramp((c.high_height - height) / (c.high_height - c.low_height));
+      }
+      const double p = p_still * (p_force > p_low ? p_force : p_low);
       s.probability[f] = p;
       if (s.in_contact[f] && p < c.off) s.in_contact[f] = 0;
       if (!s.in_contact[f] && p > c.on) s.in_contact[f] = 1;
@@ -259,20 +277,26 @@ class LeggedEstimatorCore {
     return finite(s);
   }
 
-  // Foot f's contact point (base axes): for a rounded foot of radius rho the lowest point,
-  // r_f + rho down, and the rate of the foot's material point there, r_f' + w_f x rho down
-  // (w_f the foot's angular velocity from the leg's joints): zero in the world when it rolls.
+  // Foot f's contact point (base axes): for a sole rounded as a sphere (centre c in the foot
+  // frame, radius rho) its lowest point r_f + R_f c + rho down, and the rate of the foot's
+  // material point there, r_f' + w_f x (R_f c + rho down) (w_f the foot's angular velocity from
+  // the leg's joints): zero in the world when the foot rolls without slipping.
   void contact_point(std::int64_t f, const double* down, const double* jacobian, std::int64_t nv,
                      const double* v, double* r, double* rate) const {
-    const double* origin = frame(t_.foot_rows[f]) + 9;
+    const double* foot = frame(t_.foot_rows[f]);
+    const double* origin = foot + 9;
     const double* origin_rate = frame_velocity(t_.foot_rows[f]);
-    const double rho = t_.radii[f];
+    const double* sphere = t_.spheres.data() + 4 * f;
+    const double rho = sphere[3];
     double w[3] = {0.0, 0.0, 0.0};
     for (std::int64_t k = t_.leg_offsets[f]; k < t_.leg_offsets[f + 1]; ++k) {
       const std::int64_t col = t_.leg_columns[k];
       for (int i = 0; i < 3; ++i) w[i] += jacobian[(3 + i) * nv + col] * v[col];
     }
-    const double lever[3] = {rho * down[0], rho * down[1], rho * down[2]};
+    double lever[3];
+    for (int i = 0; i < 3; ++i)
+      lever[i] = foot[3 * i] * sphere[0] + foot[3 * i + 1] * sphere[1] +
+                 foot[3 * i + 2] * sphere[2] + rho * down[i];
     double wl[3];
     so3::cross(w, lever, wl);
     for (int i = 0; i < 3; ++i) r[i] = origin[i] + lever[i], rate[i] = origin_rate[i] + wl[i];

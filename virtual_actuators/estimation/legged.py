@@ -18,19 +18,41 @@ from ..exceptions import (
 )
 from ..kinematics.tree import tree_of
 from ..models.feet import find_feet
-from ..models.robot import Robot
+from ..models.robot import Robot, frame_id, read_geometry
 from ..models.soles import find_sole
 from .estimate import Estimate
 from .reading import SensorReading
 from .tuning import EstimatorTuning
 
 
-def contact_depth(robot: Robot, foot: str) -> float:
-    """How far below the foot frame its sole lies [m] (a rounded foot's radius), else 0."""
+#: A collision sphere this close to a foot frame is its sole [m].
+SOLE_SPHERE_REACH = 0.05
+
+
+def sole_sphere(robot: Robot, foot: str) -> tuple[float, float, float, float]:
+    """A foot's sole as a sphere: its centre in the foot frame [m] and its radius [m].
+
+    The collision sphere of the foot's link nearest to the frame (within `SOLE_SPHERE_REACH`);
+    else a rounded sole under the frame (``find_sole``'s depth as the radius, centre at the
+    frame: a point foot's mesh); else the frame itself (radius 0: a flat sole's frame lies on it).
+    """
+    frame = robot.model.frames[frame_id(robot, foot)]
+    spheres = [
+        (float(np.linalg.norm(centre)), tuple(map(float, centre)), float(obj.geometry.radius))
+        for obj in read_geometry(robot).geometryObjects
+        if obj.parentJoint == frame.parentJoint and type(obj.geometry).__name__ == "Sphere"
+        for centre in [frame.placement.actInv(obj.placement).translation]
+    ]
+    near = [sphere for sphere in spheres if sphere[0] <= SOLE_SPHERE_REACH]
+    if near:
+        _, centre, radius = min(near)
+        return (*centre, radius)
     try:
-        return max(0.0, -find_sole(robot, foot).height)
+        sole = find_sole(robot, foot)
     except (FrameNotFoundError, RobotDescriptionError):
-        return 0.0
+        return (0.0, 0.0, 0.0, 0.0)
+    small = max(sole.half_length, sole.half_width) < 2.0 * abs(sole.height)
+    return (0.0, 0.0, 0.0, max(0.0, -sole.height) if small else 0.0)
 
 
 class LeggedEstimator:
@@ -121,7 +143,7 @@ class LeggedEstimator:
             np.unique(columns).astype(np.int64),
             tree.masses,
             np.ascontiguousarray(tree.levers),
-            np.array([contact_depth(robot, foot) for foot in self.feet]),
+            np.array([sole_sphere(robot, foot) for foot in self.feet]),
             gravity,
             tree.mass * float(np.linalg.norm(gravity)) / len(self.feet),
             self.tuning.packed(),

@@ -54,6 +54,9 @@ class EstimatorTuning:
         moving_speed: ... faster than this, it is not [m/s].
         contact_on: Probability above which a foot comes into contact (hysteresis).
         contact_off: Probability below which it leaves.
+        contact_low_height: On level ground, a still foot this close to its level is taken to
+            stand on it whatever its efforts say (a touchdown before the gait expects it) [m].
+        contact_high_height: ... and not above this [m].
         tilt_sigma: Roll and pitch deviation at reset [rad].
         yaw_sigma: Yaw deviation at reset [rad].
         level_ground: Whether stance feet stand at their height at reset (flat ground): it makes
@@ -81,6 +84,8 @@ class EstimatorTuning:
     moving_speed: float = 0.6
     contact_on: float = 0.6
     contact_off: float = 0.4
+    contact_low_height: float = 0.005
+    contact_high_height: float = 0.015
     tilt_sigma: float = 0.01
     yaw_sigma: float = 1e-3
     level_ground: bool = True
@@ -100,6 +105,10 @@ class EstimatorTuning:
                 )
         if not self.force_low < self.force_high:
             raise InvalidInputError("EstimatorTuning: force_low must be below force_high.")
+        if not self.contact_low_height < self.contact_high_height:
+            raise InvalidInputError(
+                "EstimatorTuning: contact_low_height must be below contact_high_height."
+            )
         if not self.still_speed < self.moving_speed:
             raise InvalidInputError("EstimatorTuning: still_speed must be below moving_speed.")
         if not 0 < self.contact_off <= self.contact_on < 1:
@@ -108,7 +117,7 @@ class EstimatorTuning:
             )
 
     def packed(self) -> np.ndarray:
-        """The 25 numbers of the compiled filter, in its order."""
+        """The 27 numbers of the compiled filter, in its order."""
         t = self
         return np.array(
             [
@@ -118,7 +127,7 @@ class EstimatorTuning:
                 t.encoder_velocity_noise, t.gyro_noise, t.kinematics_noise,
                 t.foot_velocity_noise, t.foot_height_noise,
                 t.force_low, t.force_high, t.still_speed, t.moving_speed, t.contact_on,
-                t.contact_off,
+                t.contact_off, t.contact_low_height, t.contact_high_height,
                 t.tilt_sigma, t.yaw_sigma, t.gyro_bias_sigma, float(t.level_ground),
             ],
             dtype=float,

@@ -7,6 +7,7 @@ always ends by writing zero effort; the contract is in docs/reference/control.md
 from __future__ import annotations
 
 import math
+import re
 import time as clock
 from collections import deque
 from collections.abc import Callable
@@ -15,6 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import kernel
+from ..estimation.reading import SensorReading
+from ..exceptions import InvalidInputError
 from ..models.robot import Robot
 from .gc_policy import LoopCollector, check_gc_policy
 from .safe_action import (
@@ -31,6 +34,9 @@ State = tuple[np.ndarray, np.ndarray, float]
 _ARRAY, _FLOAT = np.ndarray, np.dtype(np.float64)  # the classes of a driver's usual arrays
 #: ``(q, v, bounds)``: the unit-norm error of ``q``, -1 if ``q`` or ``v`` is not finite.
 _READING_ERROR = kernel("reading_error", None)
+
+#: The field a rejected SensorReading's message names first.
+_FIELD = re.compile(r"SensorReading(?:\.(\w+)| at)")
 
 #: Tick durations kept for the statistics (the last ones: memory stays bounded on long runs).
 TICK_HISTORY = 100_000
@@ -92,6 +98,7 @@ def run(
     sense: Callable[[np.ndarray, np.ndarray, float], object] | None = None,
     after_tick: AfterTick | None = None,
     write_final: Callable[[np.ndarray], None] | None = None,
+    estimator: object | None = None,
 ) -> RunStats:
     """Run ``controller`` at ``rate_hz`` until ``duration`` elapses or ``should_stop()``.
 
@@ -115,6 +122,12 @@ def run(
         after_tick: ``after_tick(q, v, stamp, output, tau)`` after each write (``q``, ``v``
             None when the reading failed, ``output`` None on a failed tick).
         write_final: Writes the final zero effort (default: ``write_effort``).
+        estimator: A state estimator (``update(reading, tau)`` returning an object with
+            ``q``, ``v`` and ``time``, such as ``va.estimation.LeggedEstimator``): ``read_state``
+            may then return a [`SensorReading`][virtual_actuators.SensorReading],
+            which the loop gives to ``estimator.update`` with the last effort written before
+            the controller computes on the estimate. A reading it rejects fails the tick
+            (reason ``"bad sensor reading: FIELD"``) and leaves it as it was.
 
     Returns:
         The [`RunStats`][].
@@ -123,7 +136,8 @@ def run(
         InvalidInputError: A bad rate, duration, stale time, ``realtime``, ``safe_action``,
             ``damping``, ``hold_time`` or ``gc_policy``; a controller without ``compute``;
             callbacks that are not callable; neither ``duration`` nor ``should_stop``; no
-            robot (neither ``robot`` nor ``controller.robot``) or not the controller's.
+            robot (neither ``robot`` nor ``controller.robot``) or not the controller's; an
+            ``estimator`` without ``update``.
         KeyboardInterrupt: Ctrl-C, re-raised after the final zero effort (so are the errors
             of ``write_effort``, ``should_stop`` and ``after_tick``, and exceptions that are
             not `Exception`; if the final write fails too, a note on the error says so).
@@ -132,13 +146,17 @@ def run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time, sense, after_tick, write_final,
     )  # fmt: skip
+    if estimator is not None and not callable(getattr(estimator, "update", None)):
+        raise InvalidInputError(
+            f"estimator must have update(reading, tau), got {type(estimator).__name__}."
+        )
     collector = LoopCollector(check_gc_policy(gc_policy, "run()"))
     warm_up_driven(controller, settings.robot)
     stats, ending = RunStats(), None
     with collector:
         start = clock.perf_counter()
         try:
-            _loop(controller, settings, stats, start, collector)
+            _loop(controller, settings, stats, start, collector, estimator)
         except BaseException as error:
             ending = error
             raise
@@ -160,8 +178,9 @@ AfterTick = Callable[[np.ndarray | None, np.ndarray | None, float, object, np.nd
 
 
 def _loop(
-    controller: object, settings: RunSettings, stats: RunStats, start: float, gc: LoopCollector
-) -> None:
+    controller: object, settings: RunSettings, stats: RunStats, start: float, gc: LoopCollector,
+    estimator: object | None = None,
+) -> None:  # fmt: skip
     """Tick until the end: read, compute or fail, write, ``after_tick``, collect, sleep."""
     end = math.inf if settings.duration is None else start + settings.duration - 1e-12
     deadline, period, realtime, safe = start, settings.period, settings.realtime, settings.safe
@@ -171,7 +190,7 @@ def _loop(
     perf_counter, append = clock.perf_counter, stats.tick_times.append
     between_ticks = gc.between_ticks if gc.active else None
     failures_seen = stats.attachment_failures
-    tick = _Tick(controller, settings)
+    tick = _Tick(controller, settings, estimator)
     hold = safe.action == "hold"
     while True:
         now = perf_counter()
@@ -195,6 +214,7 @@ def _loop(
             if not tau.any():
                 stats.zero_ticks += 1
         write_effort(tau)
+        tick.last_tau = tau
         done = perf_counter()
         stats.ticks += 1
         append(done - now)
@@ -226,11 +246,13 @@ class _Tick:
     """
 
     __slots__ = (
-        "bounds", "compute", "fresh", "last", "nv", "q_shape", "read_state", "sense",
-        "stale_after", "tree", "v_shape",
+        "bounds", "compute", "estimator", "fresh", "last", "last_tau", "nv", "q_shape",
+        "read_state", "sense", "stale_after", "tree", "v_shape",
     )  # fmt: skip
 
-    def __init__(self, controller: object, settings: RunSettings) -> None:
+    def __init__(
+        self, controller: object, settings: RunSettings, estimator: object | None = None
+    ) -> None:
         self.compute, self.read_state, self.sense = (
             controller.compute, settings.read_state, settings.sense
         )
@@ -239,12 +261,22 @@ class _Tick:
         self.last, self.fresh = None, 0.0  # the newest stamp read, and when it came [s]
         self.q_shape, self.v_shape = (tree.nq,), (tree.nv,)
         self.bounds = tree.unit_bounds
+        self.estimator, self.last_tau = estimator, np.zeros(tree.nv)
 
     def __call__(self, now: float) -> tuple:
         try:
             reading = self.read_state()
         except Exception as error:  # a driver's failure: this tick sends the safe action
             return None, None, None, math.nan, None, f"read error: {type(error).__name__}"
+        if self.estimator is not None and isinstance(reading, SensorReading):
+            try:
+                estimate = self.estimator.update(reading, self.last_tau)
+            except InvalidInputError as error:  # the estimator as it was: the safe action
+                named = _FIELD.match(str(error))
+                return None, None, None, math.nan, None, (
+                    f"bad sensor reading: {named.group(1) if named else 'estimate'}"
+                )
+            reading = (estimate.q, estimate.v, estimate.time)
         try:  # a (q, v, stamp) reading; q and v are checked below
             q, v, stamp = reading
             if stamp.__class__ is not float:

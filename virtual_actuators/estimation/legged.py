@@ -24,7 +24,6 @@ from .estimate import Estimate
 from .reading import SensorReading
 from .tuning import EstimatorTuning
 
-
 #: A collision sphere this close to a foot frame is its sole [m].
 SOLE_SPHERE_REACH = 0.05
 

@@ -62,6 +62,8 @@ def demo_walk(args: argparse.Namespace) -> int:
         )
     metrics = result.metrics
     print(metrics.summary())
+    if result.estimation is not None:
+        print(result.estimation.summary().summary())
     if args.json:
         data = result.to_json()
         label = "trace" if "trace" in data else "metrics"
@@ -248,4 +250,22 @@ def _demo_stand(args: argparse.Namespace) -> None:
             timed_actuator.solve(q, wrench)
         elapsed = (time.perf_counter() - start) / STAND_SOLVES * 1e6
         print(f"\nsolve time ({name}): {elapsed:.1f} us per call (mean of one run)")
+    if args.estimator:
+        _stand_on_estimate(args, robot.name if args.robot is None else args.robot, feet)
     show_static(args, robot, q, shown, actuator)
+
+
+def _stand_on_estimate(args: argparse.Namespace, robot: str, feet: tuple[str, ...]) -> None:
+    """``demo stand --estimator``: the robot standing in MuJoCo on the estimate (no push)."""
+    from ..demos import run_walk
+    from ..experiments.metrics import write_json
+
+    result = run_walk(
+        "balance", duration=args.duration, progress=not args.quiet, robot=robot, estimator=True
+    )
+    print(f"\nstanding on the estimate: {result.metrics.summary()}")
+    print(result.estimation.summary().summary())
+    if args.json:
+        with writing("--json", args.json):
+            path = write_json(result.to_json(), args.json)
+        print(f"trace: {path}")

@@ -47,11 +47,12 @@ WALK_OPTIONS = _options(
 
 #: Options of ``demo`` that only some walks use: a walk takes those in its ``Walk.options``.
 WALK_OWN_OPTIONS = _options(
-    "direction yaw_rate path amplitude wavelength pendulum track robot feet gait push"
+    "direction yaw_rate path amplitude wavelength pendulum track robot feet gait push estimator"
 )
 
-#: Options of ``demo stand`` (also walk options of ``legged``).
-STAND_OPTIONS = ("robot", "feet")
+#: Options of ``demo stand`` (also walk options of ``legged``); ``duration`` and ``json`` with
+#: ``estimator`` only (the closed loop standing on the estimate).
+STAND_OPTIONS = ("robot", "feet", "estimator", "duration", "json")
 
 
 #: What ``python -m virtual_actuators --help`` says first.
@@ -221,6 +222,12 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     )
     demo.add_argument(
         "--plot", type=output_path, metavar="PATH", help="walks: save a PNG of the run"
+    )
+    demo.add_argument(
+        "--estimator",
+        action="store_true",
+        help="legged, balance, stand, hexapod-walk: the controller reads only the simulated "
+        "sensors (MEMS IMU, encoders) through the state estimator; the truth only scores it",
     )
     _hexapod_arguments(demo)
     demo.add_argument("--quiet", action="store_true", help="no progress bar")

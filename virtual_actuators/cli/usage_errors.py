@@ -119,6 +119,11 @@ def check_demo_options(args: argparse.Namespace, parser: argparse.ArgumentParser
                 parser.error(
                     f"argument {option}: only the walks ({', '.join(WALK_DEMOS)}) use it, not stand"
                 )
+        for dest in ("duration", "json"):
+            if getattr(args, dest) is not None and not args.estimator:
+                parser.error(
+                    f"argument --{dest}: stand runs a closed loop only with --estimator; give it"
+                )
     else:
         _check_walk_options(args, parser)
     if args.name == "balance" and args.speed is not None:

@@ -17,7 +17,9 @@ import numpy as np
 from ..control.controller import ControlOutput
 from ..control.effort_limits import urdf_effort_limits
 from ..control.run_loop import RunStats
+from ..estimation.legged import LeggedEstimator
 from ..experiments.contact_stats import StanceForces
+from ..experiments.estimation_score import EstimationScore
 from ..experiments.metrics import WalkMetrics
 from ..experiments.recorder import Recorder
 from ..experiments.smoothness import EffortSmoothness, effort_smoothness
@@ -101,6 +103,7 @@ class WalkResult:
         wall_time: Wall-clock seconds of the loop.
         loop: How the loop ended, with every tick's efforts and base rates (`LoopEnd`).
         smoothness: Its `loop_smoothness`.
+        estimation: The estimator's score when the walk ran on the estimate, else None.
     """
 
     log: WalkLog
@@ -110,6 +113,16 @@ class WalkResult:
     wall_time: float
     loop: LoopEnd | None = None
     smoothness: EffortSmoothness | None = None
+    estimation: EstimationScore | None = None
+
+    def estimation_json(self) -> dict[str, Any]:
+        """``estimate`` (the estimated base's trace) and ``estimation`` (its score), or {}."""
+        if self.estimation is None:
+            return {}
+        return {
+            "estimate": self.estimation.trace(),
+            "estimation": self.estimation.summary().to_dict(),
+        }
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates."""
@@ -152,7 +165,10 @@ class ConfiguredResult(WalkResult):
     def to_json(self) -> dict[str, Any]:
         """``fell``, ``realtime_factor``, the summary figures, ``ticks``, ``config``, ``trace``."""
         figures, config = asdict(self.metrics), asdict(self.config)
-        return {**figures, "ticks": self.ticks, "config": config, "trace": self.trace()}
+        return {
+            **figures, "ticks": self.ticks, "config": config, "trace": self.trace(),
+            **self.estimation_json(),
+        }  # fmt: skip
 
 
 #: The base's channels of a JSON trace (``demo legged``, ``demo balance``).
@@ -251,6 +267,7 @@ class Episode:
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
         feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
+        estimation: With `use_estimator`, what scores the estimator the gait reads.
         base_rate: Where ``v`` holds the base's angular velocity (a free-flyer's ``v[3:6]``,
             body axes), or None.
         level: The terrain's one height when it is flat [m], else None.
@@ -259,6 +276,7 @@ class Episode:
     stance_every: int | None = None
     record_every = 1
     ignore_unactuated = False
+    estimation: EstimationScore | None = None
 
     def __init__(
         self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder
@@ -275,6 +293,34 @@ class Episode:
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
         """Before the gait computes: steer it if need be; the contact switches it reads."""
         raise NotImplementedError
+
+    def use_estimator(self, feet: tuple[str, ...] | None = None) -> LeggedEstimator:
+        """Run the gait on a `LeggedEstimator` fed by the simulator's sensors (not its state).
+
+        The estimator starts from the simulator's state now; the truth only scores it.
+
+        Args:
+            feet: The estimator's feet (None: the gait's contact frames, else found).
+        """
+        robot = self.simulator.robot
+        feet = feet or tuple(self.gait.contact_frames) or None
+        estimator = LeggedEstimator(robot, feet=feet)
+        estimator.reset(self.simulator.q, self.simulator.v)
+        self.estimation = EstimationScore(estimator, self.simulator, self.record_every)
+        return estimator
+
+    def contact_switches(self) -> Mapping[str, bool]:
+        """The gait's contact switches: MuJoCo's, or the estimator's ``in_contact``."""
+        frames = self.gait.contact_frames
+        if self.estimation is None:
+            return self.simulator.contact_switches(frames)
+        estimate = self.estimation.estimator.last
+        contact = {} if estimate is None else estimate.in_contact
+        return {frame: contact.get(frame, True) for frame in frames}
+
+    def observe_truth(self, q: np.ndarray, v: np.ndarray) -> None:
+        """The true state after a tick on the estimate: what the fall test and the log read."""
+        self.attitude = attitude_and_velocity(q, v)
 
     def height(self, q: np.ndarray) -> float:
         """The floating base's height above the terrain under it [m]."""
@@ -299,7 +345,7 @@ class Episode:
         metrics = replace(metrics, **smoothness.metrics_fields())
         return result(
             log, metrics, self.gait, self.simulator, end.wall, loop=end, smoothness=smoothness,
-            **fields,
+            estimation=self.estimation, **fields,
         )  # fmt: skip
 
 
@@ -346,7 +392,7 @@ class FloatingEpisode(Episode):
             state = PlanarState(now, q.item(0), q.item(1), yaw, vx, vy)
             self.command, yaw_rate = self.guidance.command(state)
             self.gait.set_command(self.command, yaw_rate)
-        return self.simulator.contact_switches(self.gait.contact_frames)
+        return self.contact_switches()
 
     def fallen(self, q: np.ndarray) -> bool:
         """Base low or tilted, or something else than a foot down (`has_fallen`)."""

@@ -47,10 +47,13 @@ def drive(
     episode.gait.warm_up(simulator.q)  # lowered, kernels loaded before the clock starts
     ticks = WalkTicks(episode, duration, bar, on_tick, stop_on_fall)
     hardware = MujocoHardware(simulator, ignore_unactuated=episode.ignore_unactuated)
+    estimation = episode.estimation  # on the estimate: the sensors, never the state
+    read = hardware.read_state if estimation is None else hardware.read_sensors
     stats = run(
-        ticks, hardware.read_state, hardware.write_effort, 1.0 / simulator.control_period,
+        ticks, read, hardware.write_effort, 1.0 / simulator.control_period,
         realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
         after_tick=ticks.after_tick, write_final=hardware.hold_effort,
+        estimator=None if estimation is None else estimation.estimator,
     )  # fmt: skip
     if bar is not None:
         bar.close(simulator.time)
@@ -122,6 +125,11 @@ class WalkTicks:
             self._velocities[tick] = math.nan if v is None else v
         self._efforts[tick] = tau
         self.ticks = tick = tick + 1
+        estimation = self.episode.estimation
+        if estimation is not None and output is not None:  # scored; the rest reads the truth
+            estimation.tick()
+            q, v = self.simulator.q, self.simulator.v
+            self.episode.observe_truth(q, v)
         fall_time = self.fall_time
         if fall_time is None and tick % self._stance_every == 0:
             self._sample(self._support())

@@ -12,6 +12,7 @@ from .conversions import (  # noqa: E402
     velocity_to_mujoco,
 )
 from .model import ContactParameters, JointMap, MujocoModel, build_mujoco_model  # noqa: E402
+from .sensors import SensorModel  # noqa: E402
 from .simulator import MujocoHardware, Simulator  # noqa: E402
 from .terrain import Terrain  # noqa: E402
 
@@ -20,6 +21,7 @@ __all__ = [
     "JointMap",
     "MujocoHardware",
     "MujocoModel",
+    "SensorModel",
     "Simulator",
     "Terrain",
     "build_mujoco_model",

@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from virtual_actuators.core import kernel
+from virtual_actuators.estimation.reading import SensorReading
 from virtual_actuators.exceptions import InvalidInputError
 from virtual_actuators.models.robot import Robot
 from virtual_actuators.simulation.contact_queries import ContactQueries
@@ -33,6 +34,7 @@ from virtual_actuators.simulation.model import (
     MujocoModel,
     build_mujoco_model,
 )
+from virtual_actuators.simulation.sensors import SensorModel, Sensors
 from virtual_actuators.simulation.terrain import Terrain
 from virtual_actuators.vocabulary.arguments import check_number
 
@@ -102,6 +104,7 @@ class Simulator(ContactQueries):
         actuated: Iterable[str] | None = None,
         contact: ContactParameters | None = None,
         collisions: Collisions = "collision",
+        sensors: SensorModel | None = None,
     ) -> None:
         """Build the MuJoCo model and reset to the robot's standing pose at rest.
 
@@ -115,12 +118,15 @@ class Simulator(ContactQueries):
                 ``robot.passive_joints``; see [`build_mujoco_model`][]).
             contact: Contact parameters (defaults in [`ContactParameters`][]).
             collisions: Which robot geometry collides (see ``build_mujoco_model``).
+            sensors: What `read_sensors` reads and its noise; None: `SensorModel()` (a MEMS
+                IMU on the floating base, encoders, no contact switches).
 
         Raises:
             InvalidInputError: If ``control_rate`` is not positive or its period is not a whole
                 number of time steps, or an argument of ``build_mujoco_model`` is invalid.
             RobotDescriptionError: If the robot cannot be turned into a MuJoCo model.
             JointNotFoundError: If ``actuated`` names an unknown joint.
+            FrameNotFoundError: If ``sensors`` names an unknown IMU or contact frame.
         """
         substeps = _substeps(control_rate, timestep)
         self.mujoco_model: MujocoModel = build_mujoco_model(
@@ -145,6 +151,7 @@ class Simulator(ContactQueries):
         if _STATE_VELOCITY is not None and self._direct_v is None:
             rows = [(j.qpos_adr, j.dof_adr, j.idx_v) for j in maps.free]
             self._free_v = (maps.gather_v.astype(np.int64), np.array(rows, np.int64).reshape(-1, 3))
+        self.sensors = Sensors(SensorModel() if sensors is None else sensors, self)
         self.reset()
 
     @property
@@ -196,6 +203,11 @@ class Simulator(ContactQueries):
         self._applied[:] = 0.0
         mujoco.mj_forward(self.model, self.data)
         self._contacts_time = None  # ContactQueries scans again
+        self.sensors.reset()
+
+    def read_sensors(self) -> SensorReading:
+        """What the robot's sensors read now (the `SensorModel`'s IMU, encoders, switches)."""
+        return self.sensors.read()
 
     def on_ground(self, q: np.ndarray) -> np.ndarray:
         """``q`` with the floating base moved vertically so the lowest geometry touches the terrain.
@@ -247,6 +259,7 @@ class Simulator(ContactQueries):
         if write is None or not write(tau, ignore_unactuated):  # the general path says why
             ctrl = torques_to_ctrl(self.mujoco_model, tau, ignore_unactuated=ignore_unactuated)
             self._ctrl[:] = ctrl
+        self.sensors.applied(tau)  # checked above
         if not self._pushes:  # then _applied is zero
             mujoco.mj_step(self.model, self.data, nstep=self.substeps)
             return
@@ -332,6 +345,10 @@ class MujocoHardware:
     def read_state(self) -> tuple[np.ndarray, np.ndarray, float]:
         """``(q, v, time)`` of the simulation (Pinocchio conventions, seconds)."""
         return self.simulator.q, self.simulator.v, float(self._data.time)
+
+    def read_sensors(self) -> SensorReading:
+        """What the simulated robot's sensors read (`Simulator.read_sensors`)."""
+        return self.simulator.read_sensors()
 
     def write_effort(self, tau: np.ndarray) -> None:
         """Hold ``tau`` for one control period (see ``ignore_unactuated``).

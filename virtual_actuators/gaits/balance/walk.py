@@ -118,7 +118,7 @@ class BalanceResult(WalkResult):
 
     def to_json(self) -> dict[str, Any]:
         """The figures and ``trace``."""
-        return {**self.metrics.to_dict(), "trace": self.trace()}
+        return {**self.metrics.to_dict(), "trace": self.trace(), **self.estimation_json()}
 
 
 class BalanceEpisode(Episode):
@@ -177,6 +177,7 @@ def run_balance(
     on_tick: Callable[[Simulator, Balancer], None] | None = None,
     stop_on_fall: bool = True,
     seed: int | None = None,
+    estimator: bool = False,
 ) -> BalanceResult:
     """Simulate a legged robot standing (and pushed) and measure it.
 
@@ -190,6 +191,7 @@ def run_balance(
         on_tick: Called after every physics step (a viewer).
         stop_on_fall: End the run 0.5 s after a fall.
         seed: Without ``push``, draws one of a tenth of the weight, at 0.5 to 1 s, any direction.
+        estimator: Stand on a `LeggedEstimator` fed by the simulated sensors.
 
     Returns:
         The `BalanceResult`.
@@ -218,6 +220,8 @@ def run_balance(
         metadata={"robot": robot.name, "walk": "balance", "push": push and list(push)},
     )
     episode = BalanceEpisode(gait, simulator, terrain, recorder, push)
+    if estimator:
+        episode.use_estimator(tuple(gait.feet))
     end = drive(episode, duration, progress, on_tick, stop_on_fall)
     log = recorder.to_log()
     realtime = end.realtime_factors(simulator.time)["realtime_factor"]
@@ -261,6 +265,7 @@ def run_request(request: WalkRequest) -> BalanceResult:
     return run_balance(
         options.get("robot", request.walk.robot), request.duration, options.get("push"),
         request.terrain, request.parameters, *request.loop, request.seed,
+        options.get("estimator", False),
     )  # fmt: skip
 
 
@@ -304,7 +309,7 @@ WALK = Walk(
     duration=5.0,
     draw=draw_balance,
     description="Any legged robot standing on the contact QP, pushed, without stepping",
-    options=("robot", "push"),
+    options=("robot", "push", "estimator"),
     force_scale=1 / 400,
     # the robot with the sole-centre frames the balancer adds (its contacts), as the run has it
     viewer_robot=lambda robot="talos", **_: Balancer(load_robot(robot)).robot,

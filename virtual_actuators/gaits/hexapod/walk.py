@@ -58,6 +58,7 @@ class HexapodWalkConfig:
         duration: Simulated time [s].
         seed: Random initial disturbance (body velocity, pendulum angle); None for none.
         distribution: ``"qp"`` or ``"partitioned"``.
+        estimator: Walk on a `LeggedEstimator` fed by the simulated sensors.
 
     Raises:
         InvalidInputError: Values that do not hold together (`check_path`).
@@ -75,6 +76,7 @@ class HexapodWalkConfig:
     duration: float = 10.0
     seed: int | None = None
     distribution: str = "qp"
+    estimator: bool = False
 
     def __post_init__(self) -> None:
         check_path(self)
@@ -187,6 +189,8 @@ def run_hexapod_walk(
     )
     guidance = path_guidance(config)
     episode = HexapodEpisode(gait, simulator, terrain, recorder, guidance)
+    if config.estimator:
+        episode.use_estimator()
     end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
     recorder.metadata["command_path"] = command_path(config, guidance)
     log = recorder.to_log()
@@ -249,7 +253,10 @@ WALK = Walk(
     draw=draw_hexapod_walk,
     description="The 1996 hexapod's tripod gait on commanded paths, with a pendulum or "
     "tracking an object (VAC section 4)",
-    options=("direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track"),
+    options=(
+        "direction", "yaw_rate", "path", "amplitude", "wavelength", "pendulum", "track",
+        "estimator",
+    ),
     force_scale=1 / 100,
     viewer_robot=lambda pendulum=False, **_: hexapod_robot(pendulum),
     # the supported speeds (measured) and the own one [m/s]: slower with the pendulum or tracking

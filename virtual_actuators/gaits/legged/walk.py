@@ -91,6 +91,8 @@ class LeggedWalkConfig:
         duration: Simulated time [s].
         distribution: ``"qp"`` or ``"partitioned"``.
         seed: An int draws the initial base velocity (up to 0.05 m/s, 0.1 rad/s per axis).
+        estimator: Walk on a `LeggedEstimator` fed by the simulated sensors (MEMS IMU,
+            encoders) instead of the simulator's state; the truth only scores it.
 
     Raises:
         InvalidInputError: A value out of its range (`check_path`), or an unknown gait.
@@ -111,6 +113,7 @@ class LeggedWalkConfig:
     duration: float = 4.0
     distribution: str = "qp"
     seed: int | None = None
+    estimator: bool = False
 
     def __post_init__(self) -> None:
         if self.speed is None:
@@ -205,6 +208,8 @@ def run_legged_walk(
                   "terrain_points": terrain_points(terrain, config.duration)},
     )
     episode = LeggedEpisode(gait, simulator, terrain, recorder, config)
+    if config.estimator:
+        episode.use_estimator(tuple(gait.feet))
     end = drive(episode, config.duration, progress, on_tick, stop_on_fall)
     log = recorder.to_log()
     steps = gait.machine.steps_into(gait.step_states)
@@ -277,7 +282,7 @@ WALK = Walk(
     "the public gait layer",
     options=(
         "robot", "gait", "feet", "direction", "yaw_rate", "push", "path", "amplitude",
-        "wavelength", "track",
+        "wavelength", "track", "estimator",
     ),
     viewer_robot=lambda robot="solo12", **_: load_robot(robot),
     speeds=legged_speeds,

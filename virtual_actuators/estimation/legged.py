@@ -54,6 +54,23 @@ def sole_sphere(robot: Robot, foot: str) -> tuple[float, float, float, float]:
     return (0.0, 0.0, 0.0, max(0.0, -sole.height) if small else 0.0)
 
 
+#: Readings beyond these are no IMU's (the largest MEMS ranges: 2000 deg/s, 50 g).
+GYRO_RANGE = 35.0  # [rad/s]
+ACCEL_RANGE = 500.0  # [m/s^2]
+
+
+def _check_range(reading: SensorReading) -> None:
+    for field, value, limit, unit in (
+        ("gyro", reading.gyro, GYRO_RANGE, "rad/s"),
+        ("accelerometer", reading.accelerometer, ACCEL_RANGE, "m/s^2"),
+    ):
+        if np.abs(value).max() > limit:
+            raise InvalidInputError(
+                f"SensorReading.{field} {value.tolist()} is beyond any IMU's range "
+                f"(+-{limit:g} {unit})."
+            )
+
+
 class LeggedEstimator:
     """Orientation, position, velocity and contacts of a legged robot's floating base.
 
@@ -220,7 +237,8 @@ class LeggedEstimator:
 
         Raises:
             InvalidInputError: ``reading`` is not a `SensorReading`, names a joint the robot
-                does not have or lacks one, its time does not advance, ``tau`` has the wrong
+                does not have or lacks one, its IMU reads beyond any IMU's range
+                (`GYRO_RANGE`, `ACCEL_RANGE`), its time does not advance, ``tau`` has the wrong
                 shape or non-finite entries, or its numbers would make the estimate non-finite.
                 The estimator is then exactly as it was.
         """
@@ -229,14 +247,21 @@ class LeggedEstimator:
                 f"update takes a SensorReading, not {type(reading).__name__}."
             )
         index_q, index_v = self._map(reading.joint_names)
+        _check_range(reading)
         nv = self.robot.model.nv
         if tau is None:
             tau_full = np.zeros(nv)
             tau_full[index_v] = reading.joint_effort
         else:
-            tau_full = self._tree.check_velocity(tau)
-            if tau_full is tau:
-                tau_full = tau_full.copy()
+            try:
+                tau_full = np.array(tau, dtype=float)
+            except (TypeError, ValueError):
+                raise InvalidInputError("tau must be an array of numbers [N m or N].") from None
+            if tau_full.shape != (nv,) or not np.isfinite(tau_full).all():
+                raise InvalidInputError(
+                    f"tau must be ({nv},) finite efforts (model.nv), got shape {tau_full.shape}"
+                    + ("" if tau_full.shape != (nv,) else " with non-finite entries") + "."
+                )
         with self._lock:
             if self._time is not None and not reading.time > self._time:
                 raise InvalidInputError(

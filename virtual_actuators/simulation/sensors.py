@@ -133,6 +133,14 @@ class Sensors:
                 )
         self.imu = imu
         self._site = int(simulator.mujoco_model.frame_sites[imu])
+        frame = pin_model.frames[pin_model.getFrameId(imu)]
+        #: on a floating base's body: the IMU's axes in the free flyer's (the gyro from the
+        #: state, which MuJoCo's own velocities lag by a physics step); else None
+        self._base_rotation = (
+            frame.placement.rotation.copy()
+            if robot.floating_base and frame.parentJoint == 1
+            else None
+        )
         joints = [
             j for j in range(1, pin_model.njoints)
             if pin_model.joints[j].nq == 1 and pin_model.joints[j].nv == 1
@@ -159,14 +167,20 @@ class Sensors:
         """One reading now, noise added."""
         sim, m, rng = self.simulator, self.model, self._rng
         mj_model, data = sim.model, sim.data
-        velocity = np.zeros(6)
-        mujoco.mj_objectVelocity(mj_model, data, mujoco.mjtObj.mjOBJ_SITE, self._site, velocity, 1)
+        q, v = sim.q, sim.v
+        if self._base_rotation is not None:
+            rate_imu = self._base_rotation.T @ v[3:6]  # [rad/s]
+        else:  # a body further down the tree: MuJoCo's velocity of its site
+            velocity = np.zeros(6)
+            mujoco.mj_objectVelocity(
+                mj_model, data, mujoco.mjtObj.mjOBJ_SITE, self._site, velocity, 1
+            )
+            rate_imu = velocity[:3]
         mujoco.mj_rnePostConstraint(mj_model, data)  # cacc: what mj_objectAcceleration reads
         acceleration = np.zeros(6)  # includes -gravity: the specific force an accelerometer feels
         mujoco.mj_objectAcceleration(
             mj_model, data, mujoco.mjtObj.mjOBJ_SITE, self._site, acceleration, 1
         )
-        q, v = sim.q, sim.v
         n = len(self.joint_names)
         contacts = None
         if m.contacts is not None:
@@ -177,7 +191,7 @@ class Sensors:
             joint_position=q[self._iq] + rng.normal(0.0, 1.0, n) * m.encoder_noise,
             joint_velocity=v[self._iv] + rng.normal(0.0, 1.0, n) * m.encoder_velocity_noise,
             joint_effort=self._effort.copy(),
-            gyro=velocity[:3] + self.gyro_bias + rng.normal(0.0, 1.0, 3) * m.gyro_noise,
+            gyro=rate_imu + self.gyro_bias + rng.normal(0.0, 1.0, 3) * m.gyro_noise,
             accelerometer=acceleration[3:]
             + self.accel_bias
             + rng.normal(0.0, 1.0, 3) * m.accel_noise,

@@ -10,18 +10,19 @@
 namespace va::py {
 namespace {
 
-constexpr std::int64_t TUNING_SIZE = 27;
+constexpr std::int64_t TUNING_SIZE = 30;
 
 va::EstimatorTuning tuning_of(const F1& v) {
-  require(length(v) == TUNING_SIZE, "tuning must have 27 entries");
+  require(length(v) == TUNING_SIZE, "tuning must have 30 entries");
   const double* t = v.data();
   va::EstimatorTuning out{};
-  out.attitude = {t[0], t[1], t[2], t[3], t[4], t[5]};
+  out.attitude = {t[0], t[1], t[2], t[3], t[4], t[5], t[27], t[28]};
   out.leg = {t[6], t[7], t[8], t[9], t[10], t[11], t[12], t[13], t[14]};
   out.contact = {t[15], t[16], t[17], t[18], t[19], t[20], t[21], t[22]};
   out.tilt_sigma = t[23];
   out.yaw_sigma = t[24];
   out.bias_sigma = t[25];
+  out.accel_bias_sigma = t[29];
   out.level_ground = t[26] != 0.0;
   return out;
 }

@@ -41,7 +41,7 @@ struct EstimatorTuning {
   AttitudeNoise attitude;
   LegNoise leg;
   ContactTuning contact;
-  double tilt_sigma, yaw_sigma, bias_sigma;  // at reset [rad, rad, rad/s]
+  double tilt_sigma, yaw_sigma, bias_sigma, accel_bias_sigma;  // at reset [rad, rad, rad/s, m/s^2]
   bool level_ground;
 };
 
@@ -109,7 +109,8 @@ class LeggedEstimatorCore {
       for (int i = 0; i < 3; ++i) feet_world[3 * f + i] = p[i] + world[i];
     }
     for (int i = 0; i < 3; ++i) s_.accel[i] = 0.0, s_.velocity[i] = v_world[i];
-    s_.attitude.reset(r, tuning_.tilt_sigma, tuning_.yaw_sigma, tuning_.bias_sigma);
+    s_.attitude.reset(r, tuning_.tilt_sigma, tuning_.yaw_sigma, tuning_.bias_sigma,
+                      tuning_.accel_bias_sigma);
     s_.leg.reset(p, v_world, feet_world.data(), 1e-6, 1e-3, tuning_.leg.kinematics);
     for (std::int64_t f = 0; f < nf; ++f) s_.probability[f] = 1.0, s_.in_contact[f] = 1;
     s_.started = false;
@@ -146,7 +147,7 @@ class LeggedEstimatorCore {
         {imu[0], imu[1], imu[2]}, {imu[3], imu[4], imu[5]}, {imu[6], imu[7], imu[8]}};
     double w_m[3], f_m[3], w[3], wr[3], wwr[3];
     so3::apply(r_bi, gyro_imu, w_m);
-    so3::apply(r_bi, accel_imu, f_m);
+    so3::apply(r_bi, accel_imu, f_m);  // f_m's bias c^ comes off where it is used
     s.attitude.rate(w_m, w);
     so3::cross(w, imu + 9, wr);
     so3::cross(w, wr, wwr);
@@ -214,14 +215,17 @@ class LeggedEstimatorCore {
         rr[i] = rates[3 * f + i] - rates[3 * first + i];
       }
       s.attitude.update_stance(w_m, r, rr, tuning_.attitude);
+      if (tuning_.level_ground)
+        s.attitude.update_level(r, s.leg.level[f] - s.leg.level[first], tuning_.attitude);
     }
     s.attitude.rate(w_m, w);
     // 4. position and velocity
     bool stance[64];
     for (std::int64_t f = 0; f < nf && f < 64; ++f) stance[f] = s.in_contact[f] != 0;
     if (dt > 0.0) {
-      double accel_world[3];
-      so3::apply(s.attitude.rotation, f_m, accel_world);
+      double accel_world[3], f[3];
+      s.attitude.force(f_m, f);
+      so3::apply(s.attitude.rotation, f, accel_world);
       for (int i = 0; i < 3; ++i) accel_world[i] += t_.gravity[i];
       s.leg.predict(accel_world, dt, stance, tuning_.leg);
     }
@@ -241,7 +245,8 @@ class LeggedEstimatorCore {
           double sum =
               n.encoder * n.encoder * jjt[3 * i + j] + (i == j ? n.kinematics * n.kinematics : 0.0);
           for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) sum += rx[i][a] * s.attitude.P[6 * a + b] * rx[j][b];
+            for (int b = 0; b < 3; ++b)
+              sum += rx[i][a] * s.attitude.P[ATTITUDE_STATES * a + b] * rx[j][b];
           base[3 * i + j] = sum;
         }
       rotate_covariance(rot, base, cov);

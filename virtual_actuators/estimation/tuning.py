@@ -60,7 +60,14 @@ class EstimatorTuning:
         tilt_sigma: Roll and pitch deviation at reset [rad].
         yaw_sigma: Yaw deviation at reset [rad].
         level_ground: Whether stance feet stand at their height at reset (flat ground): it makes
-            the height observable; on slopes and steps turn it off and the height drifts slowly.
+            the height observable and tells the tilt from the accelerometer's bias; on slopes
+            and steps turn it off (the height then drifts slowly, the bias tilts the estimate
+            by about bias / g).
+        accel_bias_walk: The accelerometer bias's random walk [m/s^2/sqrt(s)].
+        level_noise: Two stance feet's height difference on level ground (the ground's
+            unevenness, the legs' errors) [m].
+        accel_bias_sigma: Prior deviation of the accelerometer bias at reset [m/s^2] (the
+            ADIS16448's turn-on bias, 20 mg).
     """
 
     gyro_noise: float = GYRO_NOISE_1KHZ
@@ -89,6 +96,9 @@ class EstimatorTuning:
     tilt_sigma: float = 0.01
     yaw_sigma: float = 1e-3
     level_ground: bool = True
+    accel_bias_walk: float = 1e-3
+    level_noise: float = 0.005
+    accel_bias_sigma: float = 20e-3 * 9.8
 
     def __post_init__(self) -> None:
         for field in fields(self):
@@ -117,7 +127,7 @@ class EstimatorTuning:
             )
 
     def packed(self) -> np.ndarray:
-        """The 27 numbers of the compiled filter, in its order."""
+        """The 30 numbers of the compiled filter, in its order."""
         t = self
         return np.array(
             [
@@ -129,6 +139,7 @@ class EstimatorTuning:
                 t.force_low, t.force_high, t.still_speed, t.moving_speed, t.contact_on,
                 t.contact_off, t.contact_low_height, t.contact_high_height,
                 t.tilt_sigma, t.yaw_sigma, t.gyro_bias_sigma, float(t.level_ground),
+                t.accel_bias_walk, t.level_noise, t.accel_bias_sigma,
             ],
             dtype=float,
         )  # fmt: skip

@@ -278,8 +278,9 @@ class LeggedEstimator:
             )
             if not ok:
                 raise InvalidInputError(
-                    f"SensorReading at t={reading.time} would make the estimate non-finite or its covariance "
-                    "not positive (numbers out of any robot's range); the estimator is unchanged."
+                    f"SensorReading at t={reading.time} would make the estimate non-finite or "
+                    "its covariance not positive (numbers out of any robot's range); the "
+                    "estimator is unchanged."
                 )
             self._time = reading.time
             self.last = self._estimate(self._filter.result(), reading, q_local, v_local)

@@ -10,10 +10,10 @@
 namespace va::py {
 namespace {
 
-constexpr std::int64_t TUNING_SIZE = 30;
+constexpr std::int64_t TUNING_SIZE = 31;
 
 va::EstimatorTuning tuning_of(const F1& v) {
-  require(length(v) == TUNING_SIZE, "tuning must have 30 entries");
+  require(length(v) == TUNING_SIZE, "tuning must have 31 entries");
   const double* t = v.data();
   va::EstimatorTuning out{};
   out.attitude = {t[0], t[1], t[2], t[3], t[4], t[5], t[27], t[28]};
@@ -23,6 +23,7 @@ va::EstimatorTuning tuning_of(const F1& v) {
   out.yaw_sigma = t[24];
   out.bias_sigma = t[25];
   out.accel_bias_sigma = t[29];
+  out.output_rate_time = t[30];
   out.level_ground = t[26] != 0.0;
   return out;
 }
@@ -92,11 +93,12 @@ class LeggedFilter {
 
   // position (3), quaternion x y z w (4), velocity in world axes (3), angular velocity in base
   // axes (3), gyro bias (3), then per foot: probability, in contact (0/1), normal force [N],
-  // then the (6, 6) covariance of position and velocity.
+  // then the (6, 6) covariance of position and velocity, then the (nv) low-passed rates (the
+  // base's angular velocity at 3:6, the joints' from 6).
   Owned result() const {
     const va::EstimatorState& s = core_->state();
     const std::int64_t nf = core_->feet(), n = s.leg.n;
-    const auto size = static_cast<std::size_t>(16 + 3 * nf + 36);
+    const auto size = static_cast<std::size_t>(16 + 3 * nf + 36 + nv_);
     std::unique_ptr<double[]> out(new double[size]);
     double* o = out.get();
     for (int i = 0; i < 3; ++i) o[i] = s.leg.x[i];
@@ -110,6 +112,7 @@ class LeggedFilter {
     }
     for (int i = 0; i < 6; ++i)
       for (int j = 0; j < 6; ++j) o[16 + 3 * nf + 6 * i + j] = s.leg.P[i * n + j];
+    for (std::int64_t k = 0; k < nv_; ++k) o[16 + 3 * nf + 36 + k] = s.rates[k];
     return owned(std::move(out), size);
   }
 

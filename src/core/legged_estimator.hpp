@@ -43,6 +43,7 @@ struct EstimatorTuning {
   ContactTuning contact;
   double tilt_sigma, yaw_sigma, bias_sigma, accel_bias_sigma;  // at reset [rad, rad, rad/s, m/s^2]
   bool level_ground;
+  double output_rate_time;  // [s] the low-pass of the rates the estimate gives (0: none)
 };
 
 // Static tables of one robot (fixed at construction).
@@ -66,6 +67,7 @@ struct EstimatorState {
   std::vector<double> probability, normal_force;
   std::vector<char> in_contact;
   double time = 0.0, rate[3] = {0.0, 0.0, 0.0};
+  std::vector<double> rates;  // (nv) the estimate's base angular velocity (3:6), joint rates
   double accel[3] = {0.0, 0.0, 0.0}, velocity[3] = {0.0, 0.0, 0.0};  // world, for the tilt
   bool started = false;
 };
@@ -78,6 +80,7 @@ class LeggedEstimatorCore {
     s_.leg.resize(nf);
     s_.probability.assign(static_cast<size_t>(nf), 1.0);
     s_.normal_force.assign(static_cast<size_t>(nf), 0.0);
+    s_.rates.assign(static_cast<size_t>(t_.tree->tables().nv), 0.0);
     s_.in_contact.assign(static_cast<size_t>(nf), 1);
     buffer_.resize(static_cast<size_t>(t_.tree->size(true)));
     subtree_.resize(static_cast<size_t>(4 * t_.tree->tables().njoints));
@@ -279,6 +282,13 @@ class LeggedEstimatorCore {
     s.time = time;
     s.started = true;
     for (int i = 0; i < 3; ++i) s.rate[i] = w[i];
+    // what the controller reads of the rates: low-passed (the gyro's and encoders' white noise)
+    const double tau_f = tuning_.output_rate_time;
+    const double blend = tau_f <= 0.0 || dt <= 0.0 ? 1.0 : dt / (dt + tau_f);  // first: 1
+    for (std::int64_t k = 3; k < nv; ++k) {
+      const double raw = k < 6 ? w[k - 3] : v_local[k];
+      s.rates[k] += blend * (raw - s.rates[k]);
+    }
     return finite(s);
   }
 

@@ -307,10 +307,10 @@ class LeggedEstimator:
         rotation = pin.Quaternion(out[6], out[3], out[4], out[5]).toRotationMatrix()
         v = v_local
         v[:3] = rotation.T @ out[7:10]
-        v[3:6] = out[10:13]
+        v[3:] = out[16 + 3 * nf + 36 :][3:]  # low-passed: output_rate_time
         probability = out[16 : 16 + nf]
         closed = out[16 + nf : 16 + 2 * nf]
-        covariance = out[16 + 3 * nf :].reshape(6, 6)
+        covariance = out[16 + 3 * nf : 16 + 3 * nf + 36].reshape(6, 6)
         return Estimate(
             time=reading.time,
             q=q,

@@ -66,6 +66,10 @@ class EstimatorTuning:
         accel_bias_walk: The accelerometer bias's random walk [m/s^2/sqrt(s)].
         level_noise: Two stance feet's height difference on level ground (the ground's
             unevenness, the legs' errors) [m].
+        output_rate_time: Time constant of the first-order low-pass on the rates the estimate
+            gives the controller (the base's angular velocity, the joints' velocities) [s]: the
+            gyro's and encoders' white noise, which a controller's damping would pass to the
+            motors, down by about sqrt(dt / (2 T)); 0: the raw rates.
         accel_bias_sigma: Prior deviation of the accelerometer bias at reset [m/s^2] (the
             ADIS16448's turn-on bias, 20 mg).
     """
@@ -99,6 +103,7 @@ class EstimatorTuning:
     accel_bias_walk: float = 1e-3
     level_noise: float = 0.005
     accel_bias_sigma: float = 20e-3 * 9.8
+    output_rate_time: float = 0.005
 
     def __post_init__(self) -> None:
         for field in fields(self):
@@ -127,7 +132,7 @@ class EstimatorTuning:
             )
 
     def packed(self) -> np.ndarray:
-        """The 30 numbers of the compiled filter, in its order."""
+        """The 31 numbers of the compiled filter, in its order."""
         t = self
         return np.array(
             [
@@ -139,7 +144,7 @@ class EstimatorTuning:
                 t.force_low, t.force_high, t.still_speed, t.moving_speed, t.contact_on,
                 t.contact_off, t.contact_low_height, t.contact_high_height,
                 t.tilt_sigma, t.yaw_sigma, t.gyro_bias_sigma, float(t.level_ground),
-                t.accel_bias_walk, t.level_noise, t.accel_bias_sigma,
+                t.accel_bias_walk, t.level_noise, t.accel_bias_sigma, t.output_rate_time,
             ],
             dtype=float,
         )  # fmt: skip

@@ -74,6 +74,8 @@ def demo_walk(args: argparse.Namespace) -> int:
         with writing("--plot", args.plot):
             path = walk.plot(result, args.plot, args.window)
         print(f"plot: {path}")
+        if result.estimation is not None:
+            print(f"estimate plot: {path.with_name(path.stem + '-estimate.png')}")
     if viewer is not None:
         finish_viewer(args, viewer)
     return 1 if metrics.fell else 0

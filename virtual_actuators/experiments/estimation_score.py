@@ -4,12 +4,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from ..estimation.legged import LeggedEstimator
 from ..simulation.simulator import Simulator
+from .plot_panels import new_figure, set_heading
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 #: The estimate's channels in a walk's JSON (world frame, estimated base).
 ESTIMATE_CHANNELS = ("t", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vz")
@@ -69,6 +74,8 @@ class EstimationScore:
     def __init__(self, estimator: LeggedEstimator, simulator: Simulator, record_every: int) -> None:
         self.estimator, self.simulator, self.record_every = estimator, simulator, record_every
         self.rows: list[tuple[float, ...]] = []
+        #: the truth at the rows' ticks: t, x, y, z, vx, vy, vz (world)
+        self.truth_rows: list[tuple[float, ...]] = []
         self._ticks = self._agree = self._late = 0
         self._velocity_sq = self._height_sq = 0.0
         self._yaw_error = 0.0
@@ -96,6 +103,7 @@ class EstimationScore:
         if (self._ticks - 1) % self.record_every == 0:
             roll, pitch, yaw = pin.rpy.matrixToRpy(rotation)
             self.rows.append((estimate.time, *estimate.q[:3], roll, pitch, yaw, *velocity))
+            self.truth_rows.append((estimate.time, *q_true[:3], *velocity_true))
 
     def trace(self) -> dict[str, list[float]]:
         """``ESTIMATE_CHANNELS`` as equal-length lists (the yaw continuous)."""
@@ -113,3 +121,22 @@ class EstimationScore:
             position_drift_m=self._position_error,
             contact_agreement=self._agree / ticks if ticks else math.nan,
         )
+
+
+def draw_estimate(score: EstimationScore, title: str = "") -> Figure:
+    """The estimated against the true base: horizontal velocity and height over time."""
+    figure = new_figure(8.0, 6.0, dpi=110)
+    axes = figure.subplots(3, 1, sharex=True)
+    estimate = np.array(score.rows).reshape(-1, len(ESTIMATE_CHANNELS))
+    truth = np.array(score.truth_rows).reshape(-1, 7)
+    panels = ((4, 7, "vx [m/s]"), (5, 8, "vy [m/s]"), (3, 3, "height z [m]"))
+    for ax, (true_column, estimate_column, label) in zip(axes, panels, strict=True):
+        ax.plot(truth[:, 0], truth[:, true_column], color="0.2", lw=1.2, label="true")
+        ax.plot(estimate[:, 0], estimate[:, estimate_column], color="C1", lw=1.0,
+                label="estimate")  # fmt: skip
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.legend(loc="upper right", fontsize=7)
+    axes[-1].set_xlabel("time [s]")
+    set_heading(figure, title or score.summary().summary(), fontsize=8)
+    return figure

@@ -277,12 +277,20 @@ class Walk:
     def plot(self, result: Any, path: str | os.PathLike[str], window: Any = None) -> Path:
         """Draw ``result`` (`draw`; ``window``: ``(t0, t1)`` simulated seconds or None) to a PNG.
 
+        A walk on the estimate also gets ``STEM-estimate.png`` beside it: the estimated against
+        the true velocity and height (`draw_estimate`).
+
         Returns:
-            The path written.
+            The path written (the walk's figure).
         """
+        from ..experiments.estimation_score import draw_estimate
         from ..experiments.plot_panels import save_figure
 
-        return save_figure(self.draw(result, window), path)
+        path = save_figure(self.draw(result, window), path)
+        estimation = getattr(result, "estimation", None)
+        if estimation is not None:
+            save_figure(draw_estimate(estimation), path.with_name(f"{path.stem}-estimate.png"))
+        return path
 
     def speed_range(self, **options: Any) -> tuple[float, float] | None:
         """The supported desired speeds ``(low, high)`` [m/s] with these options, or None."""

@@ -47,6 +47,7 @@ import json
 import sys
 import time
 import traceback
+from collections.abc import Callable
 from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
@@ -651,6 +652,57 @@ def figure_cold_start(cfg: Settings) -> Figure:
     return Figure(rows, raw, notes, list(rows))
 
 
+# -- figure 9: the state estimator beside the controller's tick ---------------------------------
+
+
+def _go2_trot_record(ticks: int) -> tuple[list, list]:
+    """go2 trotting at 0.8 m/s on the truth: every tick's (q, v, t, contacts) and sensor reading."""
+    from virtual_actuators.simulation import SensorModel, Simulator
+
+    robot = va.load_robot("go2")
+    walker = va.LeggedWalker(robot, pattern="trot")
+    walker.set_command((0.8, 0.0), yaw_rate=0.0)
+    simulator = Simulator(robot, sensors=SensorModel(seed=9))
+    simulator.reset(simulator.on_ground(walker.initial_configuration()))
+    states, readings = [], []
+    for _ in range(ticks):
+        contacts = simulator.contact_switches(walker.feet)
+        state = (simulator.q, simulator.v, simulator.time, contacts)
+        tau = walker.compute(*state).tau
+        simulator.step(tau, ignore_unactuated=True)
+        states.append(state)
+        readings.append((simulator.read_sensors(), tau))
+    return states, readings
+
+
+def _in_order(fn: Callable[..., object], inputs: list) -> Callable[[], object]:
+    """A no-argument call of ``fn`` on the next input, in order (time must advance)."""
+    feed = iter(inputs)
+    return lambda: fn(*next(feed))
+
+
+def figure_estimator(cfg: Settings) -> Figure:
+    """9. The legged estimator's update vs the controller's tick, same run (go2 trot)."""
+    warmup = 20
+    ticks = cfg.repeat + warmup + 8
+    states, readings = _go2_trot_record(ticks)
+    robot = va.load_robot("go2")
+    walker = va.LeggedWalker(robot, pattern="trot")  # replays the recorded walk's states
+    walker.set_command((0.8, 0.0), yaw_rate=0.0)
+    estimator = va.estimation.LeggedEstimator(robot, feet=walker.feet)
+    estimator.reset(states[0][0], states[0][1])
+    cases = {
+        "update": (_in_order(estimator.update, readings), cfg.repeat),
+        "tick": (_in_order(walker.compute, states), cfg.repeat),
+    }
+    stats = measure(cases, cfg.rounds, warmup=warmup)
+    ratio = ratio_of(stats["update"], stats["tick"])
+    ours, base = us(stats["update"]), us(stats["tick"])
+    figure = "9  go2 estimator update vs the walker's tick"
+    rows = [row(figure, ours, base, ratio, "< 0.2x", ratio < 0.2)]
+    return Figure(rows, stats, [], [])
+
+
 # -- main ---------------------------------------------------------------------------------------
 
 FIGURES = {
@@ -662,6 +714,7 @@ FIGURES = {
     "6": figure_walks,
     "7": figure_worst_case,
     "8": figure_cold_start,
+    "9": figure_estimator,
 }
 
 

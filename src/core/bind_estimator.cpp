@@ -1,7 +1,9 @@
 // The legged state estimator's binding (legged_estimator.hpp): LeggedFilter, built once per
 // estimator by virtual_actuators.estimation.LeggedEstimator, updated once per reading.
+#include <cmath>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "bind_common.hpp"
 #include "bind_kinematics.hpp"
@@ -91,6 +93,71 @@ class LeggedFilter {
                          time);
   }
 
+  // One reading in the reading's own order: joints scattered into q and v by index_q and
+  // index_v (from LeggedEstimator's name map), tau (nv) or, empty, effort scattered by index_v.
+  // 0: updated; 1: the gyro beyond gyro_range; 2: the accelerometer beyond accel_range; 3: tau
+  // not finite; 4: the estimate would not be finite (or its covariance not positive). Only 0
+  // changes the filter.
+  int update_reading(const F1& position, const F1& velocity, const F1& effort, const I1& index_q,
+                     const I1& index_v, const F1& gyro, const F1& accel, const F1& tau, double time,
+                     double gyro_range, double accel_range) {
+    const std::int64_t n = length(position);
+    require(length(velocity) == n && length(effort) == n && len(index_q) == n && len(index_v) == n,
+            "position, velocity, effort, index_q and index_v must have one entry per joint");
+    require(length(gyro) == 3 && length(accel) == 3, "gyro, accel must be (3,)");
+    require(length(tau) == 0 || length(tau) == nv_, "tau must be (nv,) or empty");
+    for (std::int64_t k = 0; k < n; ++k)
+      require(index_q.data()[k] >= 7 && index_q.data()[k] < nq_ && index_v.data()[k] >= 6 &&
+                  index_v.data()[k] < nv_,
+              "index_q, index_v out of range");
+    for (int i = 0; i < 3; ++i) {
+      if (!(std::abs(gyro.data()[i]) <= gyro_range)) return 1;
+      if (!(std::abs(accel.data()[i]) <= accel_range)) return 2;
+    }
+    q_.assign(static_cast<size_t>(nq_), 0.0);
+    v_.assign(static_cast<size_t>(nv_), 0.0);
+    tau_.assign(static_cast<size_t>(nv_), 0.0);
+    q_[6] = 1.0;
+    for (std::int64_t k = 0; k < n; ++k) {
+      q_[index_q.data()[k]] = position.data()[k];
+      v_[index_v.data()[k]] = velocity.data()[k];
+    }
+    if (length(tau) == 0) {
+      for (std::int64_t k = 0; k < n; ++k) tau_[index_v.data()[k]] = effort.data()[k];
+    } else {
+      for (std::int64_t k = 0; k < nv_; ++k) tau_[k] = tau.data()[k];
+      if (!va::all_finite(tau_.data(), nv_)) return 3;
+    }
+    nb::gil_scoped_release release;
+    return core_->update(q_.data(), v_.data(), gyro.data(), accel.data(), tau_.data(), time) ? 0
+                                                                                             : 4;
+  }
+
+  // The estimate in Pinocchio's conventions: q (nq), v (nv: the base's velocity in its axes,
+  // the low-passed rates), then per foot the probability and in contact (0/1), then the (6, 6)
+  // covariance of position and velocity (world axes).
+  Owned estimate() const {
+    const va::EstimatorState& s = core_->state();
+    const std::int64_t nf = core_->feet(), n = s.leg.n;
+    const auto size = static_cast<std::size_t>(nq_ + nv_ + 2 * nf + 36);
+    std::unique_ptr<double[]> out(new double[size]);
+    double* o = out.get();
+    for (std::int64_t k = 0; k < nq_; ++k) o[k] = q_[k];
+    for (int i = 0; i < 3; ++i) o[i] = s.leg.x[i];
+    va::so3::to_quaternion(s.attitude.rotation, o + 3);
+    double* v = o + nq_;
+    va::so3::apply_transposed(s.attitude.rotation, s.leg.x.data() + 3, v);
+    for (std::int64_t k = 3; k < nv_; ++k) v[k] = s.rates[k];
+    double* feet = v + nv_;
+    for (std::int64_t f = 0; f < nf; ++f) {
+      feet[f] = s.probability[f];
+      feet[nf + f] = s.in_contact[f] ? 1.0 : 0.0;
+    }
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) feet[2 * nf + 6 * i + j] = s.leg.P[i * n + j];
+    return owned(std::move(out), size);
+  }
+
   // position (3), quaternion x y z w (4), velocity in world axes (3), angular velocity in base
   // axes (3), gyro bias (3), then per foot: probability, in contact (0/1), normal force [N],
   // then the (6, 6) covariance of position and velocity, then the (nv) low-passed rates (the
@@ -119,6 +186,7 @@ class LeggedFilter {
  private:
   std::unique_ptr<va::LeggedEstimatorCore> core_;
   std::int64_t nq_ = 0, nv_ = 0;
+  std::vector<double> q_, v_, tau_;  // the last reading's joints, scattered
 };
 
 }  // namespace
@@ -135,6 +203,10 @@ void bind_estimator(nb::module_& m) {
       .def("reset", &LeggedFilter::reset, "q_local"_a, "position"_a, "rotation"_a, "velocity"_a)
       .def("update", &LeggedFilter::update, "q_local"_a, "v_local"_a, "gyro"_a, "accel"_a, "tau"_a,
            "time"_a)
+      .def("update_reading", &LeggedFilter::update_reading, "position"_a, "velocity"_a, "effort"_a,
+           "index_q"_a, "index_v"_a, "gyro"_a, "accel"_a, "tau"_a, "time"_a, "gyro_range"_a,
+           "accel_range"_a)
+      .def("estimate", &LeggedFilter::estimate)
       .def("result", &LeggedFilter::result);
 }
 

@@ -2,7 +2,8 @@
 // one block of m <= 6 measurements z = H x + noise with a full m x m noise covariance R.
 //   S = H P H^T + R,  K = P H^T S^-1,  x <- x + K (z - H x),  P <- (I - K H) P (I - K H)^T + K R
 //   K^T
-// (Joseph's form: P stays symmetric and positive for any gain), in plain loops.
+// with the optimal gain P <- P - K S K^T = P - K (P H^T)^T, kept exactly symmetric (the upper
+// triangle computed, mirrored), in plain loops.
 #pragma once
 
 #include <cmath>
@@ -46,14 +47,13 @@ inline bool invert_spd(const double* s, int m, double* inv) {
 }
 
 // One block update of (x, P) (n states, P row-major n x n) by the residual y = z - H x (m),
-// H (m x n) and R (m x m), both row-major. scratch: 2 n m + 2 m doubles. Returns false (and
+// H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns false (and
 // leaves x, P as they were) when S is not positive definite. The squared Mahalanobis distance
 // y^T S^-1 y goes to *distance when it is given.
 inline bool update(double* x, double* P, std::int64_t n, const double* H, const double* R, int m,
                    const double* y, double* scratch, double* distance = nullptr) {
   double* pht = scratch;       // P H^T (n x m)
   double* gain = pht + n * m;  // K (n x m)
-  double* kh = gain + n * m;   // 2 m doubles: one row of P1 H^T and of K R
   double s[MAX_BLOCK * MAX_BLOCK], sinv[MAX_BLOCK * MAX_BLOCK];
   for (std::int64_t i = 0; i < n; ++i)
     for (int a = 0; a < m; ++a) {
@@ -92,39 +92,14 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
     for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
     x[i] += dx;
   }
-  // Joseph's form: P <- A P A^T + K R K^T with A = I - K H; A P = P - K (H P) = P - K pht^T.
-  // First P1 = P - K pht^T (n x n, in place; pht holds the old P H^T).
+  // P <- P - K (P H^T)^T, the upper triangle, mirrored (P stays symmetric).
   for (std::int64_t i = 0; i < n; ++i)
-    for (std::int64_t j = 0; j < n; ++j) {
+    for (std::int64_t j = i; j < n; ++j) {
       double sum = 0.0;
       for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
       P[i * n + j] -= sum;
+      P[j * n + i] = P[i * n + j];
     }
-  // Then P1 A^T = P1 - (P1 H^T) K^T, and + K R K^T.
-  for (std::int64_t i = 0; i < n; ++i) {
-    double* p1ht = kh;  // row i of P1 H^T (m)
-    for (int a = 0; a < m; ++a) {
-      double sum = 0.0;
-      const double* h = H + a * n;
-      for (std::int64_t k = 0; k < n; ++k)
-        if (h[k] != 0.0) sum += P[i * n + k] * h[k];
-      p1ht[a] = sum;
-    }
-    double* kr = kh + m;  // row i of K R (m)
-    for (int a = 0; a < m; ++a) {
-      double sum = 0.0;
-      for (int b = 0; b < m; ++b) sum += gain[i * m + b] * R[b * m + a];
-      kr[a] = sum;
-    }
-    for (std::int64_t j = 0; j < n; ++j) {
-      double sum = 0.0;
-      for (int a = 0; a < m; ++a) sum += (kr[a] - p1ht[a]) * gain[j * m + a];
-      P[i * n + j] += sum;
-    }
-  }
-  for (std::int64_t i = 0; i < n; ++i)
-    for (std::int64_t j = 0; j < i; ++j)
-      P[i * n + j] = P[j * n + i] = 0.5 * (P[i * n + j] + P[j * n + i]);
   return true;
 }
 

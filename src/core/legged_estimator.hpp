@@ -85,6 +85,9 @@ class LeggedEstimatorCore {
     buffer_.resize(static_cast<size_t>(t_.tree->size(true)));
     subtree_.resize(static_cast<size_t>(4 * t_.tree->tables().njoints));
     gravity_tau_.resize(static_cast<size_t>(t_.tree->tables().nv));
+    offsets_.resize(static_cast<size_t>(3 * nf));
+    rates_.resize(static_cast<size_t>(3 * nf));
+    leg_jjt_.resize(static_cast<size_t>(9 * nf));
   }
 
   std::int64_t feet() const { return static_cast<std::int64_t>(t_.foot_rows.size()); }
@@ -124,9 +127,9 @@ class LeggedEstimatorCore {
   // state unchanged) when the result would not be finite.
   bool update(const double* q_local, const double* v_local, const double* gyro_imu,
               const double* accel_imu, const double* tau, double time) {
-    EstimatorState next = s_;
-    if (!step(next, q_local, v_local, gyro_imu, accel_imu, tau, time)) return false;
-    s_ = std::move(next);
+    next_ = s_;  // copy-assigned into the same storage: no allocation after the first
+    if (!step(next_, q_local, v_local, gyro_imu, accel_imu, tau, time)) return false;
+    std::swap(s_, next_);
     return true;
   }
 
@@ -167,8 +170,9 @@ class LeggedEstimatorCore {
                         gravity_base, t_.gravity_columns.data(),
                         static_cast<std::int64_t>(t_.gravity_columns.size()), subtree_.data(),
                         gravity_tau_.data());
-    std::vector<double> offsets(static_cast<size_t>(3 * nf)), rates(static_cast<size_t>(3 * nf));
-    std::vector<double> leg_jjt(static_cast<size_t>(9 * nf));
+    std::vector<double>& offsets = offsets_;  // (nf, 3) each: contact points, rates, J J^T
+    std::vector<double>& rates = rates_;
+    std::vector<double>& leg_jjt = leg_jjt_;
     const ContactTuning& c = tuning_.contact;
     double down[3];  // the world's -z in base axes
     const double minus_z[3] = {0.0, 0.0, -1.0};
@@ -387,8 +391,8 @@ class LeggedEstimatorCore {
 
   EstimatorTables t_;
   EstimatorTuning tuning_;
-  EstimatorState s_;
-  std::vector<double> buffer_, subtree_, gravity_tau_;
+  EstimatorState s_, next_;
+  std::vector<double> buffer_, subtree_, gravity_tau_, offsets_, rates_, leg_jjt_;
 };
 
 }  // namespace va

@@ -59,16 +59,16 @@ GYRO_RANGE = 35.0  # [rad/s]
 ACCEL_RANGE = 500.0  # [m/s^2]
 
 
-def _check_range(reading: SensorReading) -> None:
-    for field, value, limit, unit in (
-        ("gyro", reading.gyro, GYRO_RANGE, "rad/s"),
-        ("accelerometer", reading.accelerometer, ACCEL_RANGE, "m/s^2"),
-    ):
-        if np.abs(value).max() > limit:
-            raise InvalidInputError(
-                f"SensorReading.{field} {value.tolist()} is beyond any IMU's range "
-                f"(+-{limit:g} {unit})."
-            )
+_NO_TAU = np.zeros(0)  # update's tau=None: the reading's joint_effort
+#: Why the compiled filter refused a reading (its update_reading's codes).
+_REJECTED = {
+    1: "SensorReading.gyro {reading.gyro} is beyond any IMU's range (+-35 rad/s).",
+    2: "SensorReading.accelerometer {reading.accelerometer} is beyond any IMU's range "
+    "(+-500 m/s^2).",
+    3: "tau holds non-finite entries: every effort must be finite.",
+    4: "SensorReading at t={reading.time} would make the estimate non-finite or its covariance "
+    "not positive (numbers out of any robot's range); the estimator is unchanged.",
+}
 
 
 class LeggedEstimator:
@@ -169,9 +169,6 @@ class LeggedEstimator:
         self._maps: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
         self._time: float | None = None
         self._started = False
-        self._q_local = np.zeros(model.nq)
-        self._q_local[6] = 1.0
-        self._v_local = np.zeros(model.nv)
         self.last: Estimate | None = None
 
     def reset(self, q: np.ndarray, v: np.ndarray | None = None) -> None:
@@ -247,47 +244,40 @@ class LeggedEstimator:
                 f"update takes a SensorReading, not {type(reading).__name__}."
             )
         index_q, index_v = self._map(reading.joint_names)
-        _check_range(reading)
-        nv = self.robot.model.nv
         if tau is None:
-            tau_full = np.zeros(nv)
-            tau_full[index_v] = reading.joint_effort
-        else:
+            tau = _NO_TAU
+        elif not (isinstance(tau, np.ndarray) and tau.dtype == np.float64 and tau.ndim == 1):
             try:
-                tau_full = np.array(tau, dtype=float)
+                tau = np.ascontiguousarray(tau, dtype=float)
             except (TypeError, ValueError):
                 raise InvalidInputError("tau must be an array of numbers [N m or N].") from None
-            if tau_full.shape != (nv,) or not np.isfinite(tau_full).all():
-                raise InvalidInputError(
-                    f"tau must be ({nv},) finite efforts (model.nv), got shape {tau_full.shape}"
-                    + ("" if tau_full.shape != (nv,) else " with non-finite entries") + "."
-                )
+        nv = self.robot.model.nv
+        if tau.shape != (nv,) and tau is not _NO_TAU:
+            raise InvalidInputError(f"tau must be ({nv},) efforts (model.nv), got {tau.shape}.")
         with self._lock:
             if self._time is not None and not reading.time > self._time:
                 raise InvalidInputError(
                     f"SensorReading.time {reading.time} does not advance (the last reading was "
                     f"at {self._time})."
                 )
-            q_local, v_local = self._q_local.copy(), self._v_local.copy()
-            q_local[index_q] = reading.joint_position
-            v_local[index_v] = reading.joint_velocity
             if not self._started:
-                self._start(q_local, reading)
-            ok = self._filter.update(
-                q_local, v_local, reading.gyro, reading.accelerometer, tau_full, reading.time
-            )
-            if not ok:
-                raise InvalidInputError(
-                    f"SensorReading at t={reading.time} would make the estimate non-finite or "
-                    "its covariance not positive (numbers out of any robot's range); the "
-                    "estimator is unchanged."
-                )
+                self._start(reading, index_q)
+            code = self._filter.update_reading(
+                reading.joint_position, reading.joint_velocity, reading.joint_effort, index_q,
+                index_v, reading.gyro, reading.accelerometer, np.ascontiguousarray(tau),
+                reading.time, GYRO_RANGE, ACCEL_RANGE,
+            )  # fmt: skip
+            if code:
+                raise InvalidInputError(_REJECTED[code].format(reading=reading))
             self._time = reading.time
-            self.last = self._estimate(self._filter.result(), reading, q_local, v_local)
+            self.last = self._estimate(self._filter.estimate(), reading.time)
             return self.last
 
-    def _start(self, q_local: np.ndarray, reading: SensorReading) -> None:
+    def _start(self, reading: SensorReading, index_q: np.ndarray) -> None:
         """Reset from a first reading: level (tilt from gravity), heading x, over the feet."""
+        q_local = self.robot.neutral()
+        q_local[:7] = (0, 0, 0, 0, 0, 0, 1)
+        q_local[index_q] = reading.joint_position
         up = reading.accelerometer / max(float(np.linalg.norm(reading.accelerometer)), 1e-9)
         rotation = pin.Quaternion.FromTwoVectors(up, np.array([0.0, 0.0, 1.0])).toRotationMatrix()
         data = pin.Data(self.robot.model)
@@ -298,26 +288,16 @@ class LeggedEstimator:
         q[3:7] = pin.Quaternion(rotation).coeffs()
         self._reset(q, np.zeros(self.robot.model.nv))
 
-    def _estimate(
-        self, out: np.ndarray, reading: SensorReading, q_local: np.ndarray, v_local: np.ndarray
-    ) -> Estimate:
-        nf = len(self.feet)
-        q = q_local
-        q[:7] = out[:7]
-        rotation = pin.Quaternion(out[6], out[3], out[4], out[5]).toRotationMatrix()
-        v = v_local
-        v[:3] = rotation.T @ out[7:10]
-        v[3:] = out[16 + 3 * nf + 36 :][3:]  # low-passed: output_rate_time
-        probability = out[16 : 16 + nf]
-        closed = out[16 + nf : 16 + 2 * nf]
-        covariance = out[16 + 3 * nf : 16 + 3 * nf + 36].reshape(6, 6)
+    def _estimate(self, out: np.ndarray, time: float) -> Estimate:
+        nq, nv, nf = self.robot.model.nq, self.robot.model.nv, len(self.feet)
+        feet = out[nq + nv :]
         return Estimate(
-            time=reading.time,
-            q=q,
-            v=v,
-            contact={foot: float(p) for foot, p in zip(self.feet, probability, strict=True)},
-            in_contact={foot: bool(c) for foot, c in zip(self.feet, closed, strict=True)},
-            covariance=covariance,
+            time=time,
+            q=out[:nq],
+            v=out[nq : nq + nv],
+            contact=dict(zip(self.feet, feet[:nf].tolist(), strict=True)),
+            in_contact=dict(zip(self.feet, (feet[nf : 2 * nf] > 0.5).tolist(), strict=True)),
+            covariance=feet[2 * nf :].reshape(6, 6),
         )
 
     def __repr__(self) -> str:

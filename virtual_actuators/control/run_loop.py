@@ -122,12 +122,10 @@ def run(
         after_tick: ``after_tick(q, v, stamp, output, tau)`` after each write (``q``, ``v``
             None when the reading failed, ``output`` None on a failed tick).
         write_final: Writes the final zero effort (default: ``write_effort``).
-        estimator: A state estimator (``update(reading, tau)`` returning an object with
-            ``q``, ``v`` and ``time``, such as ``va.estimation.LeggedEstimator``): ``read_state``
-            may then return a [`SensorReading`][virtual_actuators.SensorReading],
-            which the loop gives to ``estimator.update`` with the last effort written before
-            the controller computes on the estimate. A reading it rejects fails the tick
-            (reason ``"bad sensor reading: FIELD"``) and leaves it as it was.
+        estimator: ``update(reading, tau)`` returning ``q``, ``v``, ``time`` (a
+            ``va.estimation.LeggedEstimator``): a [`SensorReading`][virtual_actuators.SensorReading]
+            from ``read_state`` goes through it, with the last effort written, before the
+            controller; one it rejects fails the tick (``"bad sensor reading: FIELD"``).
 
     Returns:
         The [`RunStats`][].
@@ -145,32 +143,36 @@ def run(
     settings = check_run(
         controller, read_state, write_effort, rate_hz, duration, stale_after, realtime,
         should_stop, robot, safe_action, damping, hold_time, sense, after_tick, write_final,
+        estimator,
     )  # fmt: skip
-    if estimator is not None and not callable(getattr(estimator, "update", None)):
-        raise InvalidInputError(
-            f"estimator must have update(reading, tau), got {type(estimator).__name__}."
-        )
     collector = LoopCollector(check_gc_policy(gc_policy, "run()"))
     warm_up_driven(controller, settings.robot)
-    stats, ending = RunStats(), None
+    stats = RunStats()
     with collector:
-        start = clock.perf_counter()
-        try:
-            _loop(controller, settings, stats, start, collector, estimator)
-        except BaseException as error:
-            ending = error
-            raise
-        finally:  # whatever ended the loop (Ctrl-C included): motors to zero
-            try:
-                settings.write_final(np.zeros(settings.tree.nv))
-            except Exception as write_error:  # raised unless it would hide what ended the loop
-                if ending is None:
-                    raise
-                ending.add_note(
-                    f"run(): the final zero effort could not be written either: {write_error!r}"
-                )
-            stats.wall_time = clock.perf_counter() - start
+        _loop_then_zero(controller, settings, stats, collector)
     return stats
+
+
+def _loop_then_zero(
+    controller: object, settings: RunSettings, stats: RunStats, collector: LoopCollector
+) -> None:
+    """`_loop`, then the final zero effort whatever ended it (Ctrl-C included)."""
+    start, ending = clock.perf_counter(), None
+    try:
+        _loop(controller, settings, stats, start, collector)
+    except BaseException as error:
+        ending = error
+        raise
+    finally:  # whatever ended the loop (Ctrl-C included): motors to zero
+        try:
+            settings.write_final(np.zeros(settings.tree.nv))
+        except Exception as write_error:  # raised unless it would hide what ended the loop
+            if ending is None:
+                raise
+            ending.add_note(
+                f"run(): the final zero effort could not be written either: {write_error!r}"
+            )
+        stats.wall_time = clock.perf_counter() - start
 
 
 #: ``run``'s ``after_tick(q, v, stamp, output, tau)``.
@@ -178,9 +180,8 @@ AfterTick = Callable[[np.ndarray | None, np.ndarray | None, float, object, np.nd
 
 
 def _loop(
-    controller: object, settings: RunSettings, stats: RunStats, start: float, gc: LoopCollector,
-    estimator: object | None = None,
-) -> None:  # fmt: skip
+    controller: object, settings: RunSettings, stats: RunStats, start: float, gc: LoopCollector
+) -> None:
     """Tick until the end: read, compute or fail, write, ``after_tick``, collect, sleep."""
     end = math.inf if settings.duration is None else start + settings.duration - 1e-12
     deadline, period, realtime, safe = start, settings.period, settings.realtime, settings.safe
@@ -190,7 +191,7 @@ def _loop(
     perf_counter, append = clock.perf_counter, stats.tick_times.append
     between_ticks = gc.between_ticks if gc.active else None
     failures_seen = stats.attachment_failures
-    tick = _Tick(controller, settings, estimator)
+    tick = _Tick(controller, settings)
     hold = safe.action == "hold"
     while True:
         now = perf_counter()
@@ -250,9 +251,7 @@ class _Tick:
         "read_state", "sense", "stale_after", "tree", "v_shape",
     )  # fmt: skip
 
-    def __init__(
-        self, controller: object, settings: RunSettings, estimator: object | None = None
-    ) -> None:
+    def __init__(self, controller: object, settings: RunSettings) -> None:
         self.compute, self.read_state, self.sense = (
             controller.compute, settings.read_state, settings.sense
         )
@@ -261,7 +260,7 @@ class _Tick:
         self.last, self.fresh = None, 0.0  # the newest stamp read, and when it came [s]
         self.q_shape, self.v_shape = (tree.nq,), (tree.nv,)
         self.bounds = tree.unit_bounds
-        self.estimator, self.last_tau = estimator, np.zeros(tree.nv)
+        self.estimator, self.last_tau = settings.estimator, np.zeros(tree.nv)
 
     def __call__(self, now: float) -> tuple:
         try:

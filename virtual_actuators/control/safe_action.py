@@ -165,6 +165,7 @@ class RunSettings:
     sense: Callable[[np.ndarray, np.ndarray, float], object] | None
     after_tick: Callable[..., object] | None  # run_loop's AfterTick
     write_final: Callable[[np.ndarray], None]  # the final zero effort's (default: write_effort)
+    estimator: object | None = None  # update(reading, tau) before the controller, or None
 
 
 def check_run(
@@ -183,6 +184,7 @@ def check_run(
     sense: object,
     after_tick: object,
     write_final: object,
+    estimator: object = None,
 ) -> RunSettings:
     """[`run`][]'s arguments checked.
 
@@ -216,9 +218,13 @@ def check_run(
     safe = SafeAction(robot, safe_action, damping, math.floor(hold_time * rate_hz + 1e-9))
     for what, hook in ("sense", sense), ("after_tick", after_tick), ("write_final", write_final):
         check_callback(hook, what)
+    if estimator is not None and not callable(getattr(estimator, "update", None)):
+        raise InvalidInputError(
+            f"run(): estimator needs an update(reading, tau) method, got {describe(estimator)}."
+        )
     return RunSettings(
         period, duration, stale_after, realtime, safe, tree_of(robot), robot, read_state,
-        write_effort, should_stop, sense, after_tick, write_final or write_effort,
+        write_effort, should_stop, sense, after_tick, write_final or write_effort, estimator,
     )  # fmt: skip
 
 

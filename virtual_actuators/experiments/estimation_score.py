@@ -111,6 +111,10 @@ class EstimationScore:
         rows[:, 6] = np.unwrap(rows[:, 6])
         return {name: rows[:, k].tolist() for k, name in enumerate(ESTIMATE_CHANNELS)}
 
+    def to_json(self) -> dict[str, object]:
+        """``estimate`` (the estimated base's `trace`) and ``estimation`` (the `summary`)."""
+        return {"estimate": self.trace(), "estimation": self.summary().to_dict()}
+
     def summary(self) -> EstimationSummary:
         """The run's `EstimationSummary` (NaN where no tick was scored)."""
         ticks, late = self._ticks, self._late

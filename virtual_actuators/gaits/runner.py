@@ -17,7 +17,6 @@ import numpy as np
 from ..control.controller import ControlOutput
 from ..control.effort_limits import urdf_effort_limits
 from ..control.run_loop import RunStats
-from ..estimation.legged import LeggedEstimator
 from ..experiments.contact_stats import StanceForces
 from ..experiments.estimation_score import EstimationScore
 from ..experiments.metrics import WalkMetrics
@@ -29,6 +28,7 @@ from ..simulation.terrain import Terrain
 from .attitude import attitude_and_velocity
 from .base import Gait
 from .guidance import Guidance, PlanarState, wrap
+from .on_estimate import OnEstimate
 
 FOOT_WORDS = ("foot", "heel", "toe")
 FALL_PITCH = 0.8  # [rad]
@@ -117,12 +117,7 @@ class WalkResult:
 
     def estimation_json(self) -> dict[str, Any]:
         """``estimate`` (the estimated base's trace) and ``estimation`` (its score), or {}."""
-        if self.estimation is None:
-            return {}
-        return {
-            "estimate": self.estimation.trace(),
-            "estimation": self.estimation.summary().to_dict(),
-        }
+        return {} if self.estimation is None else self.estimation.to_json()
 
     def figures(self) -> WalkFigures:
         """What a sweep tabulates."""
@@ -165,10 +160,8 @@ class ConfiguredResult(WalkResult):
     def to_json(self) -> dict[str, Any]:
         """``fell``, ``realtime_factor``, the summary figures, ``ticks``, ``config``, ``trace``."""
         figures, config = asdict(self.metrics), asdict(self.config)
-        return {
-            **figures, "ticks": self.ticks, "config": config, "trace": self.trace(),
-            **self.estimation_json(),
-        }  # fmt: skip
+        trace = {"trace": self.trace(), **self.estimation_json()}
+        return {**figures, "ticks": self.ticks, "config": config, **trace}
 
 
 #: The base's channels of a JSON trace (``demo legged``, ``demo balance``).
@@ -249,7 +242,7 @@ def _is_foot(frame: str) -> bool:
     return any(word in frame for word in FOOT_WORDS)
 
 
-class Episode:
+class Episode(OnEstimate):
     """One walk being run: what `drive` steps, and the walk's own hooks.
 
     A walk subclasses it with `sense`, `fallen` and `record`.
@@ -267,7 +260,6 @@ class Episode:
         ignore_unactuated: Passed to [`Simulator.step`][].
         stance: The stance forces read so far.
         feet: The geoms allowed to touch the ground, `foot_geoms` (for `has_fallen`).
-        estimation: With `use_estimator`, what scores the estimator the gait reads.
         base_rate: Where ``v`` holds the base's angular velocity (a free-flyer's ``v[3:6]``,
             body axes), or None.
         level: The terrain's one height when it is flat [m], else None.
@@ -276,7 +268,6 @@ class Episode:
     stance_every: int | None = None
     record_every = 1
     ignore_unactuated = False
-    estimation: EstimationScore | None = None
 
     def __init__(
         self, gait: Gait, simulator: Simulator, terrain: Terrain, recorder: Recorder
@@ -293,34 +284,6 @@ class Episode:
     def sense(self, q: np.ndarray, v: np.ndarray, now: float) -> Mapping[str, bool]:
         """Before the gait computes: steer it if need be; the contact switches it reads."""
         raise NotImplementedError
-
-    def use_estimator(self, feet: tuple[str, ...] | None = None) -> LeggedEstimator:
-        """Run the gait on a `LeggedEstimator` fed by the simulator's sensors (not its state).
-
-        The estimator starts from the simulator's state now; the truth only scores it.
-
-        Args:
-            feet: The estimator's feet (None: the gait's contact frames, else found).
-        """
-        robot = self.simulator.robot
-        feet = feet or tuple(self.gait.contact_frames) or None
-        estimator = LeggedEstimator(robot, feet=feet)
-        estimator.reset(self.simulator.q, self.simulator.v)
-        self.estimation = EstimationScore(estimator, self.simulator, self.record_every)
-        return estimator
-
-    def contact_switches(self) -> Mapping[str, bool]:
-        """The gait's contact switches: MuJoCo's, or the estimator's ``in_contact``."""
-        frames = self.gait.contact_frames
-        if self.estimation is None:
-            return self.simulator.contact_switches(frames)
-        estimate = self.estimation.estimator.last
-        contact = {} if estimate is None else estimate.in_contact
-        return {frame: contact.get(frame, True) for frame in frames}
-
-    def observe_truth(self, q: np.ndarray, v: np.ndarray) -> None:
-        """The true state after a tick on the estimate: what the fall test and the log read."""
-        self.attitude = attitude_and_velocity(q, v)
 
     def height(self, q: np.ndarray) -> float:
         """The floating base's height above the terrain under it [m]."""

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import mujoco
 import numpy as np
@@ -23,8 +23,25 @@ from ..estimation.tuning import ACCEL_NOISE_1KHZ, GYRO_BIAS_SIGMA, GYRO_NOISE_1K
 from ..exceptions import FrameNotFoundError, InvalidInputError, suggestion
 from ..models.feet import body_frame
 
-if TYPE_CHECKING:
-    from .simulator import Simulator
+
+class Simulated(Protocol):
+    """What `Sensors` reads of a simulator (`Simulator`, which holds the sensors)."""
+
+    robot: object
+    mujoco_model: object
+    model: mujoco.MjModel
+    data: mujoco.MjData
+
+    @property
+    def q(self) -> np.ndarray: ...  # noqa: D102
+
+    @property
+    def v(self) -> np.ndarray: ...  # noqa: D102
+
+    @property
+    def time(self) -> float: ...  # noqa: D102
+
+    def in_contact(self, frame: str) -> bool: ...  # noqa: D102
 
 #: The ADIS16448's turn-on accelerometer bias (rotors_simulator: 20 mg) [m/s^2].
 ACCEL_BIAS_SIGMA = 20e-3 * 9.8
@@ -119,7 +136,7 @@ class Sensors:
             closest names).
     """
 
-    def __init__(self, model: SensorModel, simulator: Simulator) -> None:
+    def __init__(self, model: SensorModel, simulator: Simulated) -> None:
         robot = simulator.robot
         pin_model = robot.model
         self.model, self.simulator = model, simulator

@@ -231,3 +231,29 @@ def _holding_efforts(robot, q):
     """The efforts that hold the robot on its feet: gravity compensation on the legs."""
     tau = pin.computeGeneralizedGravity(robot.model, robot.model.createData(), q)
     return tau
+
+
+def test_va_run_computes_on_the_estimate_and_fails_a_bad_reading_by_its_field():
+    """va.run with an estimator: readings in, the walker on the estimate; a repeated time fails."""
+    from virtual_actuators.simulation import MujocoHardware
+
+    robot = va.load_robot("go2")
+    walker = va.LeggedWalker(robot, pattern="trot")
+    sim = Simulator(robot)
+    sim.reset(sim.on_ground(walker.initial_configuration()))
+    hardware = MujocoHardware(sim)
+    estimator = va.estimation.LeggedEstimator(robot, feet=walker.feet)
+    estimator.reset(sim.q)
+    readings = []
+
+    def read():
+        readings.append(hardware.read_sensors() if len(readings) % 50 != 49 else readings[-1])
+        return readings[-1]
+
+    stats = va.run(
+        walker, read, hardware.write_effort, realtime=False, estimator=estimator,
+        sense=lambda q, v, t: estimator.last.in_contact, should_stop=lambda: len(readings) >= 400,
+    )  # fmt: skip
+    assert stats.reasons == {"bad sensor reading: time": 8}
+    assert stats.ticks == 400 and estimator.last.time == max(r.time for r in readings)
+    assert abs(estimator.last.q[2] - sim.q[2]) < 5e-3  # standing on its estimate

@@ -103,4 +103,46 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
   return true;
 }
 
+// The same update for rows of H with at most two nonzero entries each: row a is
+// coef[2a] x[index[2a]] + coef[2a + 1] x[index[2a + 1]] (a coefficient 0 for one entry), as the
+// position filter's measurements are (leg_filter.hpp); scratch: 2 n m doubles.
+inline bool update_sparse(double* x, double* P, std::int64_t n, const std::int64_t* index,
+                          const double* coef, const double* R, int m, const double* y,
+                          double* scratch) {
+  double* pht = scratch;       // P H^T (n x m)
+  double* gain = pht + n * m;  // K (n x m)
+  double s[MAX_BLOCK * MAX_BLOCK], sinv[MAX_BLOCK * MAX_BLOCK];
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double* p = P + i * n;
+    for (int a = 0; a < m; ++a)
+      pht[i * m + a] = p[index[2 * a]] * coef[2 * a] + p[index[2 * a + 1]] * coef[2 * a + 1];
+  }
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b)
+      s[a * m + b] = R[a * m + b] + coef[2 * a] * pht[index[2 * a] * m + b] +
+                     coef[2 * a + 1] * pht[index[2 * a + 1] * m + b];
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
+  if (!invert_spd(s, m, sinv)) return false;
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int a = 0; a < m; ++a) {
+      double sum = 0.0;
+      for (int b = 0; b < m; ++b) sum += pht[i * m + b] * sinv[b * m + a];
+      gain[i * m + a] = sum;
+    }
+  for (std::int64_t i = 0; i < n; ++i) {
+    double dx = 0.0;
+    for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
+    x[i] += dx;
+  }
+  for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t j = i; j < n; ++j) {
+      double sum = 0.0;
+      for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
+      P[i * n + j] -= sum;
+      P[j * n + i] = P[i * n + j];
+    }
+  return true;
+}
+
 }  // namespace va::kalman

@@ -85,40 +85,35 @@ struct LegFilter {
 
   // Foot f's position from the base, world axes (offset = R^ r_f), with its 3x3 noise.
   bool update_position(std::int64_t f, const double* offset, const double* covariance) {
-    std::vector<double>& H = rows(3);
-    double y[3];
+    std::int64_t index[6];
+    double coef[6], y[3];
     for (int i = 0; i < 3; ++i) {
-      H[i * n + 6 + 3 * f + i] = 1.0;
-      H[i * n + i] = -1.0;
+      index[2 * i] = 6 + 3 * f + i, coef[2 * i] = 1.0;
+      index[2 * i + 1] = i, coef[2 * i + 1] = -1.0;
       y[i] = offset[i] - (x[6 + 3 * f + i] - x[i]);
     }
-    return kalman::update(x.data(), P.data(), n, H.data(), covariance, 3, y, scratch.data());
+    return kalman::update_sparse(x.data(), P.data(), n, index, coef, covariance, 3, y,
+                                 scratch.data());
   }
 
   // The base's velocity from a stance foot, world axes, with its 3x3 noise.
   bool update_velocity(const double* velocity, const double* covariance) {
-    std::vector<double>& H = rows(3);
-    double y[3];
+    std::int64_t index[6];
+    double coef[6], y[3];
     for (int i = 0; i < 3; ++i) {
-      H[i * n + 3 + i] = 1.0;
+      index[2 * i] = index[2 * i + 1] = 3 + i, coef[2 * i] = 1.0, coef[2 * i + 1] = 0.0;
       y[i] = velocity[i] - x[3 + i];
     }
-    return kalman::update(x.data(), P.data(), n, H.data(), covariance, 3, y, scratch.data());
+    return kalman::update_sparse(x.data(), P.data(), n, index, coef, covariance, 3, y,
+                                 scratch.data());
   }
 
   // A stance foot's height at its level.
   bool update_height(std::int64_t f, double sigma) {
-    std::vector<double>& H = rows(1);
-    H[6 + 3 * f + 2] = 1.0;
+    const std::int64_t index[2] = {6 + 3 * f + 2, 6 + 3 * f + 2};
+    const double coef[2] = {1.0, 0.0};
     const double y = level[f] - x[6 + 3 * f + 2], r = sigma * sigma;
-    return kalman::update(x.data(), P.data(), n, H.data(), &r, 1, &y, scratch.data());
-  }
-
- private:
-  std::vector<double> h_;
-  std::vector<double>& rows(int m) {
-    h_.assign(static_cast<size_t>(m * n), 0.0);
-    return h_;
+    return kalman::update_sparse(x.data(), P.data(), n, index, coef, &r, 1, &y, scratch.data());
   }
 };
 

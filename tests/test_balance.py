@@ -93,7 +93,7 @@ def test_push_parsing():
 
 
 def test_registered_and_on_the_command_line(tmp_path):
-    assert "balance" in WALKS and WALKS["balance"].options == ("robot", "push")
+    assert "balance" in WALKS and WALKS["balance"].options == ("robot", "push", "estimator")
     out = tmp_path / "balance.json"
     command = [sys.executable, "-m", "virtual_actuators", "demo", "balance", "--robot",
                "solo12", "--duration", "1", "--push", "150@0.3:90", "--quiet", "--json", str(out)]

@@ -151,3 +151,19 @@ def test_ideal_accelerometer_in_free_fall_and_at_rest():
     sim.reset(q0)
     mujoco.mj_forward(sim.model, sim.data)
     np.testing.assert_allclose(sim.read_sensors().accelerometer, 0.0, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["demo", "turkey-walk", "--estimator"], "--estimator: only the stand demo and"),
+        (["demo", "stand", "--duration", "2"], "--duration: stand runs a closed loop only with"),
+    ],
+)
+def test_estimator_options_are_usage_errors_where_they_do_not_apply(argv, message, capsys):
+    from virtual_actuators.__main__ import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main([*argv, "--quiet"])
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err

@@ -46,15 +46,43 @@ inline bool invert_spd(const double* s, int m, double* inv) {
   return true;
 }
 
+// The update once P H^T (pht, n x m) and S = H P H^T + R (s, m x m) are known: K = pht S^-1,
+// x += K y, P -= K pht^T (the upper triangle, mirrored: P stays symmetric). gain: n m doubles.
+// False (x, P untouched) when S is not positive definite.
+inline bool apply_gain(double* x, double* P, std::int64_t n, const double* pht, double* s, int m,
+                       const double* y, double* gain) {
+  double sinv[MAX_BLOCK * MAX_BLOCK];
+  for (int a = 0; a < m; ++a)  // symmetric to rounding
+    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
+  if (!invert_spd(s, m, sinv)) return false;
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int a = 0; a < m; ++a) {
+      double sum = 0.0;
+      for (int b = 0; b < m; ++b) sum += pht[i * m + b] * sinv[b * m + a];
+      gain[i * m + a] = sum;
+    }
+  for (std::int64_t i = 0; i < n; ++i) {
+    double dx = 0.0;
+    for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
+    x[i] += dx;
+  }
+  for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t j = i; j < n; ++j) {
+      double sum = 0.0;
+      for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
+      P[i * n + j] -= sum;
+      P[j * n + i] = P[i * n + j];
+    }
+  return true;
+}
+
 // One block update of (x, P) (n states, P row-major n x n) by the residual y = z - H x (m),
-// H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns false (and
-// leaves x, P as they were) when S is not positive definite. The squared Mahalanobis distance
-// y^T S^-1 y goes to *distance when it is given.
+// H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns false (and leaves
+// x, P as they were) when S is not positive definite.
 inline bool update(double* x, double* P, std::int64_t n, const double* H, const double* R, int m,
-                   const double* y, double* scratch, double* distance = nullptr) {
-  double* pht = scratch;       // P H^T (n x m)
-  double* gain = pht + n * m;  // K (n x m)
-  double s[MAX_BLOCK * MAX_BLOCK], sinv[MAX_BLOCK * MAX_BLOCK];
+                   const double* y, double* scratch) {
+  double* pht = scratch;  // P H^T (n x m)
+  double s[MAX_BLOCK * MAX_BLOCK];
   for (std::int64_t i = 0; i < n; ++i)
     for (int a = 0; a < m; ++a) {
       double sum = 0.0;
@@ -72,35 +100,7 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
         if (h[k] != 0.0) sum += h[k] * pht[k * m + b];
       s[a * m + b] = sum;
     }
-  for (int a = 0; a < m; ++a)  // symmetric to rounding
-    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
-  if (!invert_spd(s, m, sinv)) return false;
-  if (distance != nullptr) {
-    double d = 0.0;
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) d += y[a] * sinv[a * m + b] * y[b];
-    *distance = d;
-  }
-  for (std::int64_t i = 0; i < n; ++i)
-    for (int a = 0; a < m; ++a) {
-      double sum = 0.0;
-      for (int b = 0; b < m; ++b) sum += pht[i * m + b] * sinv[b * m + a];
-      gain[i * m + a] = sum;
-    }
-  for (std::int64_t i = 0; i < n; ++i) {
-    double dx = 0.0;
-    for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
-    x[i] += dx;
-  }
-  // P <- P - K (P H^T)^T, the upper triangle, mirrored (P stays symmetric).
-  for (std::int64_t i = 0; i < n; ++i)
-    for (std::int64_t j = i; j < n; ++j) {
-      double sum = 0.0;
-      for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
-      P[i * n + j] -= sum;
-      P[j * n + i] = P[i * n + j];
-    }
-  return true;
+  return apply_gain(x, P, n, pht, s, m, y, pht + n * m);
 }
 
 // The same update for rows of H with at most two nonzero entries each: row a is
@@ -109,9 +109,8 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
 inline bool update_sparse(double* x, double* P, std::int64_t n, const std::int64_t* index,
                           const double* coef, const double* R, int m, const double* y,
                           double* scratch) {
-  double* pht = scratch;       // P H^T (n x m)
-  double* gain = pht + n * m;  // K (n x m)
-  double s[MAX_BLOCK * MAX_BLOCK], sinv[MAX_BLOCK * MAX_BLOCK];
+  double* pht = scratch;  // P H^T (n x m)
+  double s[MAX_BLOCK * MAX_BLOCK];
   for (std::int64_t i = 0; i < n; ++i) {
     const double* p = P + i * n;
     for (int a = 0; a < m; ++a)
@@ -121,28 +120,7 @@ inline bool update_sparse(double* x, double* P, std::int64_t n, const std::int64
     for (int b = 0; b < m; ++b)
       s[a * m + b] = R[a * m + b] + coef[2 * a] * pht[index[2 * a] * m + b] +
                      coef[2 * a + 1] * pht[index[2 * a + 1] * m + b];
-  for (int a = 0; a < m; ++a)
-    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
-  if (!invert_spd(s, m, sinv)) return false;
-  for (std::int64_t i = 0; i < n; ++i)
-    for (int a = 0; a < m; ++a) {
-      double sum = 0.0;
-      for (int b = 0; b < m; ++b) sum += pht[i * m + b] * sinv[b * m + a];
-      gain[i * m + a] = sum;
-    }
-  for (std::int64_t i = 0; i < n; ++i) {
-    double dx = 0.0;
-    for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
-    x[i] += dx;
-  }
-  for (std::int64_t i = 0; i < n; ++i)
-    for (std::int64_t j = i; j < n; ++j) {
-      double sum = 0.0;
-      for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
-      P[i * n + j] -= sum;
-      P[j * n + i] = P[i * n + j];
-    }
-  return true;
+  return apply_gain(x, P, n, pht, s, m, y, pht + n * m);
 }
 
 }  // namespace va::kalman

@@ -195,14 +195,19 @@ class LeggedEstimatorCore {
       const double p_force = ramp((force_world[2] - low) / (high - low));
       const double p_still =
           ramp((c.moving_speed - so3::norm(foot_velocity)) / (c.moving_speed - c.still_speed));
-      double p_low = 0.0;  // on level ground: a still foot at its level stands on it
+      // on level ground: a still foot at its level stands on it, one far above it does not
+      // (a swing pushing its foot down looks like a ground pushing it up)
+      double p_low = 0.0, p_near = 1.0;
       if (tuning_.level_ground) {
         double offset_world[3];
         so3::apply(s.attitude.rotation, r, offset_world);
         const double height = s.leg.x[2] + offset_world[2] - s.leg.level[f];
-        p_low = ramp((c.high_height - height) / (c.high_height - c.low_height));
+        const double span = c.high_height - c.low_height;
+        p_low = ramp((c.high_height - height) / span);
+        p_near = ramp((c.high_height + span - height) / span);
       }
-      const double p = p_still * (p_force > p_low ? p_force : p_low);
+      const double p_pushed = p_force * p_near;
+      const double p = p_still * (p_pushed > p_low ? p_pushed : p_low);
       s.probability[f] = p;
       if (s.in_contact[f] && p < c.off) s.in_contact[f] = 0;
       if (!s.in_contact[f] && p > c.on) s.in_contact[f] = 1;

@@ -34,6 +34,8 @@ interleaved, in blocks, over the same round-robin set of configurations):
    command is launched the same way, timed until its progress bar first moves. Beside each, the
    same in a new process reading the cache the cold one wrote (``_cold_start.py``). ``--quick``
    runs the warm ones only.
+9. the legged state estimator: ``LeggedEstimator.update`` on go2's readings of a 0.8 m/s trot
+   (the simulated MEMS sensors) vs the walker's tick on the same walk's states, interleaved.
 
 After the table, the rows of issue 27's table (each beside its same-run baseline and the issue's
 goal) are printed again on their own. Figure 2 uses friction 0.7 as the issue does (0.6 before

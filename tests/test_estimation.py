@@ -257,3 +257,21 @@ def test_va_run_computes_on_the_estimate_and_fails_a_bad_reading_by_its_field():
     assert stats.reasons == {"bad sensor reading: time": 8}
     assert stats.ticks == 400 and estimator.last.time == max(r.time for r in readings)
     assert abs(estimator.last.q[2] - sim.q[2]) < 5e-3  # standing on its estimate
+
+
+def test_contact_switches_take_precedence_over_the_estimate():
+    """A reading's switch on a foot is its contact; the feet without one are estimated."""
+    robot, _, q0, readings, _ = _standing_readings(60, seed=2)
+    estimator = va.estimation.LeggedEstimator(robot)
+    estimator.reset(q0)
+    foot, other = estimator.feet[0], estimator.feet[1]
+    for reading in readings:
+        switched = va.SensorReading(
+            time=reading.time, joint_names=reading.joint_names,
+            joint_position=reading.joint_position, joint_velocity=reading.joint_velocity,
+            joint_effort=reading.joint_effort, gyro=reading.gyro,
+            accelerometer=reading.accelerometer, contacts={foot: False, "not_a_foot": True},
+        )  # fmt: skip
+        estimate = estimator.update(switched)
+    assert estimate.in_contact[foot] is False and estimate.contact[foot] == 0.0
+    assert estimate.in_contact[other] is True  # standing: its efforts and stillness say so

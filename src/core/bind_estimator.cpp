@@ -94,18 +94,21 @@ class LeggedFilter {
   }
 
   // One reading in the reading's own order: joints scattered into q and v by index_q and
-  // index_v (from LeggedEstimator's name map), tau (nv) or, empty, effort scattered by index_v.
+  // index_v (from LeggedEstimator's name map), tau (nv) or, empty, effort scattered by index_v;
+  // switches (nf: 1 closed, 0 open, -1 none) or empty.
   // 0: updated; 1: the gyro beyond gyro_range; 2: the accelerometer beyond accel_range; 3: tau
   // not finite; 4: the estimate would not be finite (or its covariance not positive). Only 0
   // changes the filter.
   int update_reading(const F1& position, const F1& velocity, const F1& effort, const I1& index_q,
                      const I1& index_v, const F1& gyro, const F1& accel, const F1& tau, double time,
-                     double gyro_range, double accel_range) {
+                     double gyro_range, double accel_range, const F1& switches) {
     const std::int64_t n = length(position);
     require(length(velocity) == n && length(effort) == n && len(index_q) == n && len(index_v) == n,
             "position, velocity, effort, index_q and index_v must have one entry per joint");
     require(length(gyro) == 3 && length(accel) == 3, "gyro, accel must be (3,)");
     require(length(tau) == 0 || length(tau) == nv_, "tau must be (nv,) or empty");
+    require(length(switches) == 0 || length(switches) == core_->feet(),
+            "switches must be (nf,) or empty");
     for (std::int64_t k = 0; k < n; ++k)
       require(index_q.data()[k] >= 7 && index_q.data()[k] < nq_ && index_v.data()[k] >= 6 &&
                   index_v.data()[k] < nv_,
@@ -129,8 +132,10 @@ class LeggedFilter {
       if (!va::all_finite(tau_.data(), nv_)) return 3;
     }
     nb::gil_scoped_release release;
-    return core_->update(q_.data(), v_.data(), gyro.data(), accel.data(), tau_.data(), time) ? 0
-                                                                                             : 4;
+    const double* closed = length(switches) ? switches.data() : nullptr;
+    const bool ok =
+        core_->update(q_.data(), v_.data(), gyro.data(), accel.data(), tau_.data(), time, closed);
+    return ok ? 0 : 4;
   }
 
   // The estimate in Pinocchio's conventions: q (nq), v (nv: the base's velocity in its axes,
@@ -205,7 +210,7 @@ void bind_estimator(nb::module_& m) {
            "time"_a)
       .def("update_reading", &LeggedFilter::update_reading, "position"_a, "velocity"_a, "effort"_a,
            "index_q"_a, "index_v"_a, "gyro"_a, "accel"_a, "tau"_a, "time"_a, "gyro_range"_a,
-           "accel_range"_a)
+           "accel_range"_a, "switches"_a)
       .def("estimate", &LeggedFilter::estimate)
       .def("result", &LeggedFilter::result);
 }

@@ -125,9 +125,13 @@ class LeggedEstimatorCore {
   // One reading: q_local (nq, the base at the origin), v_local (nv, the base at rest), gyro and
   // accelerometer in the IMU's axes, tau (nv) the applied efforts, time [s]. False (and the
   // state unchanged) when the result would not be finite.
+  // switches: (nf) a contact switch per foot, 1 closed, 0 open, -1 none (the estimate's own
+  // contact); nullptr: no switches.
   bool update(const double* q_local, const double* v_local, const double* gyro_imu,
-              const double* accel_imu, const double* tau, double time) {
+              const double* accel_imu, const double* tau, double time,
+              const double* switches = nullptr) {
     next_ = s_;  // copy-assigned into the same storage: no allocation after the first
+    switches_ = switches;
     if (!step(next_, q_local, v_local, gyro_imu, accel_imu, tau, time)) return false;
     std::swap(s_, next_);
     return true;
@@ -208,6 +212,11 @@ class LeggedEstimatorCore {
       }
       const double p_pushed = p_force * p_near;
       const double p = p_still * (p_pushed > p_low ? p_pushed : p_low);
+      if (switches_ != nullptr && switches_[f] >= 0.0) {  // a switch says it: no hysteresis
+        s.probability[f] = switches_[f] > 0.5 ? 1.0 : 0.0;
+        s.in_contact[f] = switches_[f] > 0.5;
+        continue;
+      }
       s.probability[f] = p;
       if (s.in_contact[f] && p < c.off) s.in_contact[f] = 0;
       if (!s.in_contact[f] && p > c.on) s.in_contact[f] = 1;
@@ -397,6 +406,7 @@ class LeggedEstimatorCore {
   EstimatorTables t_;
   EstimatorTuning tuning_;
   EstimatorState s_, next_;
+  const double* switches_ = nullptr;  // this update's contact switches, or nullptr
   std::vector<double> buffer_, subtree_, gravity_tau_, offsets_, rates_, leg_jjt_;
 };
 

@@ -59,7 +59,7 @@ GYRO_RANGE = 35.0  # [rad/s]
 ACCEL_RANGE = 500.0  # [m/s^2]
 
 
-_NO_TAU = np.zeros(0)  # update's tau=None: the reading's joint_effort
+_NO_TAU = np.zeros(0)  # update's tau=None (the reading's joint_effort); no switches
 #: Why the compiled filter refused a reading (its update_reading's codes).
 _REJECTED = {
     1: "SensorReading.gyro {reading.gyro} is beyond any IMU's range (+-35 rad/s).",
@@ -220,6 +220,9 @@ class LeggedEstimator:
     def update(self, reading: SensorReading, tau: np.ndarray | None = None) -> Estimate:
         """Take one reading: the estimate at its time.
 
+        A foot the reading's ``contacts`` name takes the switch's word for its contact; the
+        others are estimated from their legs' efforts and their speed.
+
         Without a [`reset`][virtual_actuators.estimation.LeggedEstimator.reset] first, the
         estimator starts at the first reading: base at the world's origin over its feet (on
         level ground at height 0), level, heading along x, at rest.
@@ -265,13 +268,19 @@ class LeggedEstimator:
             code = self._filter.update_reading(
                 reading.joint_position, reading.joint_velocity, reading.joint_effort, index_q,
                 index_v, reading.gyro, reading.accelerometer, np.ascontiguousarray(tau),
-                reading.time, GYRO_RANGE, ACCEL_RANGE,
+                reading.time, GYRO_RANGE, ACCEL_RANGE, self._switches(reading.contacts),
             )  # fmt: skip
             if code:
                 raise InvalidInputError(_REJECTED[code].format(reading=reading))
             self._time = reading.time
             self.last = self._estimate(self._filter.estimate(), reading.time)
             return self.last
+
+    def _switches(self, contacts: dict[str, bool] | None) -> np.ndarray:
+        """The reading's contact switches on the feet: 1 closed, 0 open, -1 none."""
+        if not contacts:
+            return _NO_TAU
+        return np.array([float(contacts[f]) if f in contacts else -1.0 for f in self.feet])
 
     def _start(self, reading: SensorReading, index_q: np.ndarray) -> None:
         """Reset from a first reading: level (tilt from gravity), heading x, over the feet."""

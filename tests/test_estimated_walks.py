@@ -90,3 +90,18 @@ def test_demo_stand_on_the_estimate_writes_both_traces(tmp_path):
     ), yaw=0.01)  # fmt: skip
     assert data["estimation"]["position_drift_m"] < 0.01
     assert np.abs(np.array(estimate["z"]) - np.array(trace["z"][: len(estimate["z"])])).max() < 0.01
+
+
+def test_the_estimate_tutorial_program_trots():
+    """docs/tutorials/estimate.md's program, run for 2 s instead of 4: the estimate keeps up."""
+    import re
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[1] / "docs" / "tutorials" / "estimate.md"
+    program = re.findall(r"```python\n(.*?)```", page.read_text(), re.S)[0]
+    assert "DURATION = 4.0" in program
+    scope: dict = {}
+    exec(program.replace("DURATION = 4.0", "DURATION = 2.0"), scope)  # noqa: S102
+    simulator, estimate = scope["simulator"], scope["estimate"]
+    assert simulator.q[0] > 0.6
+    assert abs(estimate.q[0] - simulator.q[0]) < 0.05 and abs(estimate.q[2] - simulator.q[2]) < 0.01

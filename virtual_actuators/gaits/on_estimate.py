@@ -7,6 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..estimation.legged import LeggedEstimator
+from ..estimation.tuning import EstimatorTuning
 from ..experiments.estimation_score import EstimationScore
 from .attitude import attitude_and_velocity
 
@@ -23,14 +24,16 @@ class OnEstimate:
     def use_estimator(self, feet: tuple[str, ...] | None = None) -> LeggedEstimator:
         """Run the gait on a `LeggedEstimator` fed by the simulator's sensors (not its state).
 
-        The estimator starts from the simulator's state now; the truth only scores it.
+        The estimator starts from the simulator's state now; the truth only scores it. On a
+        terrain that is not flat it does not assume level ground (``level_ground=False``).
 
         Args:
             feet: The estimator's feet (None: the gait's contact frames, else found).
         """
         robot = self.simulator.robot
         feet = feet or tuple(self.gait.contact_frames) or None
-        estimator = LeggedEstimator(robot, feet=feet)
+        tuning = EstimatorTuning(level_ground=self.level is not None)  # Episode.level: flat's
+        estimator = LeggedEstimator(robot, feet=feet, tuning=tuning)
         estimator.reset(self.simulator.q, self.simulator.v)
         self.estimation = EstimationScore(estimator, self.simulator, self.record_every)
         return estimator

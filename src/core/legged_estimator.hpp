@@ -23,6 +23,7 @@
 #include "gravity.hpp"
 #include "kinematics.hpp"
 #include "leg_filter.hpp"
+#include "leg_force.hpp"
 #include "so3.hpp"
 
 namespace va {
@@ -186,7 +187,9 @@ class LeggedEstimatorCore {
       const double* r = offsets.data() + 3 * f;
       const double* rr = rates.data() + 3 * f;
       double force[3];
-      leg_force(f, r, jacobian, nv, tau, force, leg_jjt.data() + 9 * f);
+      leg_force(t_.leg_columns.data() + t_.leg_offsets[f],
+                t_.leg_offsets[f + 1] - t_.leg_offsets[f], r, jacobian, nv, gravity_tau_.data(),
+                tau, force, leg_jjt.data() + 9 * f);
       double force_world[3];
       so3::apply(s.attitude.rotation, force, force_world);
       s.normal_force[f] = force_world[2];
@@ -333,60 +336,6 @@ class LeggedEstimatorCore {
     double wl[3];
     so3::cross(w, lever, wl);
     for (int i = 0; i < 3; ++i) r[i] = origin[i] + lever[i], rate[i] = origin_rate[i] + wl[i];
-  }
-
-  static double ramp(double x) { return x <= 0.0 ? 0.0 : x >= 1.0 ? 1.0 : x * x * (3.0 - 2.0 * x); }
-
-  static void rotate_covariance(const so3::Mat3 r, const double* base, double* out) {
-    double rb[9] = {};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) rb[3 * i + j] += r[i][k] * base[3 * k + j];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        double sum = 0.0;
-        for (int k = 0; k < 3; ++k) sum += rb[3 * i + k] * r[j][k];
-        out[3 * i + j] = sum;
-      }
-  }
-
-  // The force of the ground on foot f (base axes) that the leg's efforts hold quasi-statically:
-  // J f = J (g - tau) / (J J^T + eps I) with J (3 x k) the foot point's Jacobian on the leg's
-  // joints; jjt (3 x 3) gets J J^T (the encoders' noise map of leg_filter.hpp).
-  void leg_force(std::int64_t f, const double* r, const double* jacobian, std::int64_t nv,
-                 const double* tau, double* force, double* jjt) const {
-    double jr[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < 9; ++i) jjt[i] = 0.0;
-    for (std::int64_t k = t_.leg_offsets[f]; k < t_.leg_offsets[f + 1]; ++k) {
-      const std::int64_t col = t_.leg_columns[k];
-      const double lin[3] = {jacobian[col], jacobian[nv + col], jacobian[2 * nv + col]};
-      const double ang[3] = {jacobian[3 * nv + col], jacobian[4 * nv + col],
-                             jacobian[5 * nv + col]};
-      double point[3];
-      so3::cross(ang, r, point);
-      for (int i = 0; i < 3; ++i) point[i] += lin[i];
-      const double e = gravity_tau_[col] - tau[col];
-      for (int i = 0; i < 3; ++i) {
-        jr[i] += point[i] * e;
-        for (int j = 0; j < 3; ++j) jjt[3 * i + j] += point[i] * point[j];
-      }
-    }
-    double a[9], inv[9];
-    const double eps = 1e-6 * (jjt[0] + jjt[4] + jjt[8]) + 1e-12;
-    for (int i = 0; i < 9; ++i) a[i] = jjt[i] + (i % 4 == 0 ? eps : 0.0);
-    const double det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) +
-                       a[2] * (a[3] * a[7] - a[4] * a[6]);
-    inv[0] = (a[4] * a[8] - a[5] * a[7]) / det;
-    inv[1] = (a[2] * a[7] - a[1] * a[8]) / det;
-    inv[2] = (a[1] * a[5] - a[2] * a[4]) / det;
-    inv[3] = (a[5] * a[6] - a[3] * a[8]) / det;
-    inv[4] = (a[0] * a[8] - a[2] * a[6]) / det;
-    inv[5] = (a[2] * a[3] - a[0] * a[5]) / det;
-    inv[6] = (a[3] * a[7] - a[4] * a[6]) / det;
-    inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
-    inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
-    for (int i = 0; i < 3; ++i)
-      force[i] = inv[3 * i] * jr[0] + inv[3 * i + 1] * jr[1] + inv[3 * i + 2] * jr[2];
   }
 
   static bool finite(const EstimatorState& s) {

@@ -300,12 +300,14 @@ class LeggedEstimator:
     def _estimate(self, out: np.ndarray, time: float) -> Estimate:
         nq, nv, nf = self.robot.model.nq, self.robot.model.nv, len(self.feet)
         feet = out[nq + nv :]
+        flags = feet[: 2 * nf].tolist()  # probabilities, then in contact (0 or 1)
+        names = self.feet
         return Estimate(
             time=time,
             q=out[:nq],
             v=out[nq : nq + nv],
-            contact=dict(zip(self.feet, feet[:nf].tolist(), strict=True)),
-            in_contact=dict(zip(self.feet, (feet[nf : 2 * nf] > 0.5).tolist(), strict=True)),
+            contact=dict(zip(names, flags[:nf])),  # noqa: B905 - both nf long
+            in_contact={foot: flag > 0.5 for foot, flag in zip(names, flags[nf:])},  # noqa: B905
             covariance=feet[2 * nf :].reshape(6, 6),
         )
 

@@ -83,16 +83,6 @@ class LeggedFilter {
     core_->reset(q_local.data(), position.data(), r, velocity.data());
   }
 
-  bool update(const F1& q_local, const F1& v_local, const F1& gyro, const F1& accel, const F1& tau,
-              double time) {
-    require(length(q_local) == nq_ && length(v_local) == nv_ && length(tau) == nv_,
-            "q_local (nq,), v_local and tau (nv,)");
-    require(length(gyro) == 3 && length(accel) == 3, "gyro, accel must be (3,)");
-    nb::gil_scoped_release release;
-    return core_->update(q_local.data(), v_local.data(), gyro.data(), accel.data(), tau.data(),
-                         time);
-  }
-
   // One reading in the reading's own order: joints scattered into q and v by index_q and
   // index_v (from LeggedEstimator's name map), tau (nv) or, empty, effort scattered by index_v;
   // switches (nf: 1 closed, 0 open, -1 none) or empty.
@@ -163,31 +153,6 @@ class LeggedFilter {
     return owned(std::move(out), size);
   }
 
-  // position (3), quaternion x y z w (4), velocity in world axes (3), angular velocity in base
-  // axes (3), gyro bias (3), then per foot: probability, in contact (0/1), normal force [N],
-  // then the (6, 6) covariance of position and velocity, then the (nv) low-passed rates (the
-  // base's angular velocity at 3:6, the joints' from 6).
-  Owned result() const {
-    const va::EstimatorState& s = core_->state();
-    const std::int64_t nf = core_->feet(), n = s.leg.n;
-    const auto size = static_cast<std::size_t>(16 + 3 * nf + 36 + nv_);
-    std::unique_ptr<double[]> out(new double[size]);
-    double* o = out.get();
-    for (int i = 0; i < 3; ++i) o[i] = s.leg.x[i];
-    va::so3::to_quaternion(s.attitude.rotation, o + 3);
-    for (int i = 0; i < 3; ++i) o[7 + i] = s.leg.x[3 + i], o[10 + i] = s.rate[i];
-    for (int i = 0; i < 3; ++i) o[13 + i] = s.attitude.bias[i];
-    for (std::int64_t f = 0; f < nf; ++f) {
-      o[16 + f] = s.probability[f];
-      o[16 + nf + f] = s.in_contact[f] ? 1.0 : 0.0;
-      o[16 + 2 * nf + f] = s.normal_force[f];
-    }
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j) o[16 + 3 * nf + 6 * i + j] = s.leg.P[i * n + j];
-    for (std::int64_t k = 0; k < nv_; ++k) o[16 + 3 * nf + 36 + k] = s.rates[k];
-    return owned(std::move(out), size);
-  }
-
  private:
   std::unique_ptr<va::LeggedEstimatorCore> core_;
   std::int64_t nq_ = 0, nv_ = 0;
@@ -206,13 +171,10 @@ void bind_estimator(nb::module_& m) {
            "gravity_columns"_a, "masses"_a, "levers"_a, "spheres"_a, "gravity"_a,
            "weight_per_foot"_a, "tuning"_a)
       .def("reset", &LeggedFilter::reset, "q_local"_a, "position"_a, "rotation"_a, "velocity"_a)
-      .def("update", &LeggedFilter::update, "q_local"_a, "v_local"_a, "gyro"_a, "accel"_a, "tau"_a,
-           "time"_a)
       .def("update_reading", &LeggedFilter::update_reading, "position"_a, "velocity"_a, "effort"_a,
            "index_q"_a, "index_v"_a, "gyro"_a, "accel"_a, "tau"_a, "time"_a, "gyro_range"_a,
            "accel_range"_a, "switches"_a)
-      .def("estimate", &LeggedFilter::estimate)
-      .def("result", &LeggedFilter::result);
+      .def("estimate", &LeggedFilter::estimate);
 }
 
 }  // namespace va::py

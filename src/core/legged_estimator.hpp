@@ -65,9 +65,9 @@ struct EstimatorTables {
 struct EstimatorState {
   AttitudeFilter attitude;
   LegFilter leg;
-  std::vector<double> probability, normal_force;
+  std::vector<double> probability;
   std::vector<char> in_contact;
-  double time = 0.0, rate[3] = {0.0, 0.0, 0.0};
+  double time = 0.0;
   std::vector<double> rates;  // (nv) the estimate's base angular velocity (3:6), joint rates
   double accel[3] = {0.0, 0.0, 0.0}, velocity[3] = {0.0, 0.0, 0.0};  // world, for the tilt
   bool started = false;
@@ -80,7 +80,6 @@ class LeggedEstimatorCore {
     const auto nf = static_cast<std::int64_t>(t_.foot_rows.size());
     s_.leg.resize(nf);
     s_.probability.assign(static_cast<size_t>(nf), 1.0);
-    s_.normal_force.assign(static_cast<size_t>(nf), 0.0);
     s_.rates.assign(static_cast<size_t>(t_.tree->tables().nv), 0.0);
     s_.in_contact.assign(static_cast<size_t>(nf), 1);
     buffer_.resize(static_cast<size_t>(t_.tree->size(true)));
@@ -192,7 +191,6 @@ class LeggedEstimatorCore {
                 tau, force, leg_jjt.data() + 9 * f);
       double force_world[3];
       so3::apply(s.attitude.rotation, force, force_world);
-      s.normal_force[f] = force_world[2];
       double moving[3], foot_velocity[3];
       so3::cross(w, r, moving);
       for (int i = 0; i < 3; ++i) moving[i] += rr[i];
@@ -302,7 +300,6 @@ class LeggedEstimatorCore {
     for (int i = 0; i < 3; ++i) s.velocity[i] = s.leg.x[3 + i];
     s.time = time;
     s.started = true;
-    for (int i = 0; i < 3; ++i) s.rate[i] = w[i];
     // what the controller reads of the rates: low-passed (the gyro's and encoders' white noise)
     const double tau_f = tuning_.output_rate_time;
     const double blend = tau_f <= 0.0 || dt <= 0.0 ? 1.0 : dt / (dt + tau_f);  // first: 1
@@ -342,10 +339,12 @@ class LeggedEstimatorCore {
     for (const double e : s.attitude.P)
       if (!std::isfinite(e)) return false;
     for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(s.attitude.bias[i]) || !std::isfinite(s.rate[i])) return false;
+      if (!std::isfinite(s.attitude.bias[i])) return false;
     for (const double e : s.leg.x)
       if (!std::isfinite(e)) return false;
     for (const double e : s.leg.P)
+      if (!std::isfinite(e)) return false;
+    for (const double e : s.rates)
       if (!std::isfinite(e)) return false;
     for (const double e : s.probability)
       if (!std::isfinite(e)) return false;

@@ -9,57 +9,21 @@ import numpy as np
 import pinocchio as pin
 
 from .. import core
-from ..exceptions import (
-    FrameNotFoundError,
-    InvalidInputError,
-    MissingDependencyError,
-    RobotDescriptionError,
-    suggestion,
-)
+from ..exceptions import InvalidInputError, MissingDependencyError, suggestion
 from ..kinematics.tree import tree_of
 from ..models.feet import find_feet
-from ..models.robot import Robot, frame_id, read_geometry
-from ..models.soles import find_sole
+from ..models.robot import Robot
+from ..models.soles import sole_sphere
 from .estimate import Estimate
 from .reading import SensorReading
 from .tuning import EstimatorTuning
-
-#: A collision sphere this close to a foot frame is its sole [m].
-SOLE_SPHERE_REACH = 0.05
-
-
-def sole_sphere(robot: Robot, foot: str) -> tuple[float, float, float, float]:
-    """A foot's sole as a sphere: its centre in the foot frame [m] and its radius [m].
-
-    The collision sphere of the foot's link nearest to the frame (within `SOLE_SPHERE_REACH`);
-    else a rounded sole under the frame (``find_sole``'s depth as the radius, centre at the
-    frame: a point foot's mesh); else the frame itself (radius 0: a flat sole's frame lies on it).
-    """
-    frame = robot.model.frames[frame_id(robot, foot)]
-    spheres = [
-        (float(np.linalg.norm(centre)), tuple(map(float, centre)), float(obj.geometry.radius))
-        for obj in read_geometry(robot).geometryObjects
-        if obj.parentJoint == frame.parentJoint and type(obj.geometry).__name__ == "Sphere"
-        for centre in [frame.placement.actInv(obj.placement).translation]
-    ]
-    near = [sphere for sphere in spheres if sphere[0] <= SOLE_SPHERE_REACH]
-    if near:
-        _, centre, radius = min(near)
-        return (*centre, radius)
-    try:
-        sole = find_sole(robot, foot)
-    except (FrameNotFoundError, RobotDescriptionError):
-        return (0.0, 0.0, 0.0, 0.0)
-    small = max(sole.half_length, sole.half_width) < 2.0 * abs(sole.height)
-    return (0.0, 0.0, 0.0, max(0.0, -sole.height) if small else 0.0)
-
 
 #: Readings beyond these are no IMU's (the largest MEMS ranges: 2000 deg/s, 50 g).
 GYRO_RANGE = 35.0  # [rad/s]
 ACCEL_RANGE = 500.0  # [m/s^2]
 
 
-_NO_TAU = np.zeros(0)  # update's tau=None (the reading's joint_effort); no switches
+_EMPTY = np.zeros(0)  # to the core: no tau (the reading's joint_effort), no switches
 #: Why the compiled filter refused a reading (its update_reading's codes).
 _REJECTED = {
     1: "SensorReading.gyro {reading.gyro} is beyond any IMU's range (+-35 rad/s).",
@@ -248,14 +212,14 @@ class LeggedEstimator:
             )
         index_q, index_v = self._map(reading.joint_names)
         if tau is None:
-            tau = _NO_TAU
+            tau = _EMPTY
         elif not (isinstance(tau, np.ndarray) and tau.dtype == np.float64 and tau.ndim == 1):
             try:
                 tau = np.ascontiguousarray(tau, dtype=float)
             except (TypeError, ValueError):
                 raise InvalidInputError("tau must be an array of numbers [N m or N].") from None
         nv = self.robot.model.nv
-        if tau.shape != (nv,) and tau is not _NO_TAU:
+        if tau.shape != (nv,) and tau is not _EMPTY:
             raise InvalidInputError(f"tau must be ({nv},) efforts (model.nv), got {tau.shape}.")
         with self._lock:
             if self._time is not None and not reading.time > self._time:
@@ -279,7 +243,7 @@ class LeggedEstimator:
     def _switches(self, contacts: dict[str, bool] | None) -> np.ndarray:
         """The reading's contact switches on the feet: 1 closed, 0 open, -1 none."""
         if not contacts:
-            return _NO_TAU
+            return _EMPTY
         return np.array([float(contacts[f]) if f in contacts else -1.0 for f in self.feet])
 
     def _start(self, reading: SensorReading, index_q: np.ndarray) -> None:

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import FrameNotFoundError
+from ..exceptions import FrameNotFoundError, RobotDescriptionError
 from .robot import Robot, frame_id, read_geometry
 
 #: Points within this height of a foot's lowest point make up its sole [m].
@@ -98,3 +99,42 @@ def _points(obj: pin.GeometryObject, frame: pin.SE3) -> list[np.ndarray]:
         vertices = np.asarray(shape.vertices(), dtype=float)
         return list(vertices * np.asarray(obj.meshScale, dtype=float))
     return []
+
+
+class SoleSphere(NamedTuple):
+    """A rounded sole: its sphere's centre in the foot frame and its radius [m]."""
+
+    x: float
+    y: float
+    z: float
+    radius: float
+
+
+#: A collision sphere this close to a foot frame is its sole [m].
+SOLE_SPHERE_REACH = 0.05
+
+
+def sole_sphere(robot: Robot, foot: str) -> SoleSphere:
+    """A foot's sole as a sphere: its centre in the foot frame [m] and its radius [m].
+
+    The collision sphere of the foot's link nearest to the frame (within `SOLE_SPHERE_REACH`);
+    else a rounded sole under the frame (``find_sole``'s depth as the radius, centre at the
+    frame: a point foot's mesh); else the frame itself (radius 0: a flat sole's frame lies on it).
+    """
+    frame = robot.model.frames[frame_id(robot, foot)]
+    spheres = [
+        (float(np.linalg.norm(centre)), tuple(map(float, centre)), float(obj.geometry.radius))
+        for obj in read_geometry(robot).geometryObjects
+        if obj.parentJoint == frame.parentJoint and type(obj.geometry).__name__ == "Sphere"
+        for centre in [frame.placement.actInv(obj.placement).translation]
+    ]
+    near = [sphere for sphere in spheres if sphere[0] <= SOLE_SPHERE_REACH]
+    if near:
+        _, centre, radius = min(near)
+        return SoleSphere(*centre, radius)
+    try:
+        sole = find_sole(robot, foot)
+    except (FrameNotFoundError, RobotDescriptionError):
+        return SoleSphere(0.0, 0.0, 0.0, 0.0)
+    small = max(sole.half_length, sole.half_width) < 2.0 * abs(sole.height)
+    return SoleSphere(0.0, 0.0, 0.0, max(0.0, -sole.height) if small else 0.0)

@@ -193,6 +193,19 @@ def test_estimate_follows_pinocchio_conventions_at_rest():
     np.testing.assert_allclose(estimate.covariance, estimate.covariance.T)
 
 
+def test_compiled_filter_reads_back_its_reset_before_any_reading():
+    """The core's estimate right after a reset is the reset state (it once read unset joints)."""
+    robot = va.load_robot("go2")
+    estimator = va.estimation.LeggedEstimator(robot)
+    q = robot.neutral()
+    q[:3] = (0.1, -0.2, 0.3)
+    q[7:] += 0.05
+    estimator.reset(q)
+    out = estimator._filter.estimate()
+    np.testing.assert_allclose(out[: robot.model.nq], q, atol=1e-15)
+    np.testing.assert_array_equal(out[robot.model.nq : robot.model.nq + robot.model.nv], 0.0)
+
+
 def test_covariance_matches_a_monte_carlo_spread():
     """Over many noise draws, the spread of the velocity and height errors is the covariance's."""
     robot, sim, q0, _, states = _standing_readings(1, seed=0, noisy=False)

@@ -70,6 +70,8 @@ class LeggedFilter {
     tables.weight_per_foot = weight_per_foot;
     nq_ = tree.nq();
     nv_ = t.nv;
+    q_.assign(static_cast<size_t>(nq_), 0.0);  // estimate() before any reading: the joints at 0
+    q_[6] = 1.0;
     core_ = std::make_unique<va::LeggedEstimatorCore>(std::move(tables), tuning_of(tuning));
   }
 
@@ -81,6 +83,7 @@ class LeggedFilter {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) r[i][j] = rotation.data()[3 * i + j];
     core_->reset(q_local.data(), position.data(), r, velocity.data());
+    q_.assign(q_local.data(), q_local.data() + nq_);
   }
 
   // One reading in the reading's own order: joints scattered into q and v by index_q and

@@ -1,5 +1,5 @@
 // The Kalman filter's measurement update on a dense state (attitude_filter.hpp, leg_filter.hpp):
-// one block of m <= 6 measurements z = H x + noise with a full m x m noise covariance R.
+// one block of m <= 7 measurements z = H x + noise with a full m x m noise covariance R.
 //   S = H P H^T + R,  K = P H^T S^-1,  x <- x + K (z - H x),  P <- (I - K H) P (I - K H)^T + K R
 //   K^T
 // with the optimal gain P <- P - K S K^T = P - K (P H^T)^T, kept exactly symmetric (the upper
@@ -11,7 +11,7 @@
 
 namespace va::kalman {
 
-constexpr int MAX_BLOCK = 6;
+constexpr int MAX_BLOCK = 7;
 
 // Invert the symmetric positive m x m matrix s (row-major) into inv by Cholesky; false when it
 // is not positive definite.
@@ -46,61 +46,68 @@ inline bool invert_spd(const double* s, int m, double* inv) {
   return true;
 }
 
-// The update once P H^T (pht, n x m) and S = H P H^T + R (s, m x m) are known: K = pht S^-1,
-// x += K y, P -= K pht^T (the upper triangle, mirrored: P stays symmetric). gain: n m doubles.
-// False (x, P untouched) when S is not positive definite.
-inline bool apply_gain(double* x, double* P, std::int64_t n, const double* pht, double* s, int m,
+// The update once H P (hp, m x n: row a is (P h_a)^T, P symmetric) and S = H P H^T + R (s,
+// m x m) are known: K^T = S^-1 hp, x += K y, P -= K hp (the upper triangle, mirrored: P stays
+// symmetric). Every inner loop runs along a row of n (contiguous). gain: m n doubles. False
+// (x, P untouched) when S is not positive definite.
+inline bool apply_gain(double* x, double* P, std::int64_t n, const double* hp, double* s, int m,
                        const double* y, double* gain) {
   double sinv[MAX_BLOCK * MAX_BLOCK];
   for (int a = 0; a < m; ++a)  // symmetric to rounding
     for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
   if (!invert_spd(s, m, sinv)) return false;
-  for (std::int64_t i = 0; i < n; ++i)
-    for (int a = 0; a < m; ++a) {
-      double sum = 0.0;
-      for (int b = 0; b < m; ++b) sum += pht[i * m + b] * sinv[b * m + a];
-      gain[i * m + a] = sum;
+  for (std::int64_t k = 0; k < m * n; ++k) gain[k] = 0.0;
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) {
+      const double c = sinv[a * m + b];
+      const double* h = hp + b * n;
+      double* g = gain + a * n;
+      for (std::int64_t i = 0; i < n; ++i) g[i] += c * h[i];
     }
+  for (int a = 0; a < m; ++a) {
+    const double* g = gain + a * n;
+    for (std::int64_t i = 0; i < n; ++i) x[i] += g[i] * y[a];
+  }
   for (std::int64_t i = 0; i < n; ++i) {
-    double dx = 0.0;
-    for (int a = 0; a < m; ++a) dx += gain[i * m + a] * y[a];
-    x[i] += dx;
+    double* row = P + i * n;
+    for (int a = 0; a < m; ++a) {
+      const double g = gain[a * n + i];
+      const double* h = hp + a * n;
+      for (std::int64_t j = i; j < n; ++j) row[j] -= g * h[j];
+    }
   }
   for (std::int64_t i = 0; i < n; ++i)
-    for (std::int64_t j = i; j < n; ++j) {
-      double sum = 0.0;
-      for (int a = 0; a < m; ++a) sum += gain[i * m + a] * pht[j * m + a];
-      P[i * n + j] -= sum;
-      P[j * n + i] = P[i * n + j];
-    }
+    for (std::int64_t j = i + 1; j < n; ++j) P[j * n + i] = P[i * n + j];
   return true;
 }
 
-// One block update of (x, P) (n states, P row-major n x n) by the residual y = z - H x (m),
-// H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns false (and leaves
-// x, P as they were) when S is not positive definite.
+// One block update of (x, P) (n states, P row-major n x n, symmetric) by the residual
+// y = z - H x (m), H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns
+// false (and leaves x, P as they were) when S is not positive definite.
 inline bool update(double* x, double* P, std::int64_t n, const double* H, const double* R, int m,
                    const double* y, double* scratch) {
-  double* pht = scratch;  // P H^T (n x m)
+  double* hp = scratch;  // H P (m x n)
   double s[MAX_BLOCK * MAX_BLOCK];
-  for (std::int64_t i = 0; i < n; ++i)
-    for (int a = 0; a < m; ++a) {
-      double sum = 0.0;
-      const double* h = H + a * n;
-      const double* p = P + i * n;
-      for (std::int64_t k = 0; k < n; ++k)
-        if (h[k] != 0.0) sum += p[k] * h[k];
-      pht[i * m + a] = sum;
+  for (std::int64_t k = 0; k < m * n; ++k) hp[k] = 0.0;
+  for (int a = 0; a < m; ++a) {
+    const double* h = H + a * n;
+    double* out = hp + a * n;
+    for (std::int64_t k = 0; k < n; ++k) {
+      if (h[k] == 0.0) continue;
+      const double* p = P + k * n;
+      for (std::int64_t i = 0; i < n; ++i) out[i] += h[k] * p[i];
     }
+  }
   for (int a = 0; a < m; ++a)
     for (int b = 0; b < m; ++b) {
       double sum = R[a * m + b];
       const double* h = H + a * n;
+      const double* p = hp + b * n;
       for (std::int64_t k = 0; k < n; ++k)
-        if (h[k] != 0.0) sum += h[k] * pht[k * m + b];
+        if (h[k] != 0.0) sum += h[k] * p[k];
       s[a * m + b] = sum;
     }
-  return apply_gain(x, P, n, pht, s, m, y, pht + n * m);
+  return apply_gain(x, P, n, hp, s, m, y, hp + n * m);
 }
 
 // The same update for rows of H with at most two nonzero entries each: row a is
@@ -109,18 +116,22 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
 inline bool update_sparse(double* x, double* P, std::int64_t n, const std::int64_t* index,
                           const double* coef, const double* R, int m, const double* y,
                           double* scratch) {
-  double* pht = scratch;  // P H^T (n x m)
+  double* hp = scratch;  // H P (m x n): rows of P (symmetric) combined
   double s[MAX_BLOCK * MAX_BLOCK];
-  for (std::int64_t i = 0; i < n; ++i) {
-    const double* p = P + i * n;
-    for (int a = 0; a < m; ++a)
-      pht[i * m + a] = p[index[2 * a]] * coef[2 * a] + p[index[2 * a + 1]] * coef[2 * a + 1];
+  for (int a = 0; a < m; ++a) {
+    const double c0 = coef[2 * a], c1 = coef[2 * a + 1];
+    const double* p0 = P + index[2 * a] * n;
+    const double* p1 = P + index[2 * a + 1] * n;
+    double* out = hp + a * n;
+    for (std::int64_t i = 0; i < n; ++i) out[i] = c0 * p0[i] + c1 * p1[i];
   }
   for (int a = 0; a < m; ++a)
-    for (int b = 0; b < m; ++b)
-      s[a * m + b] = R[a * m + b] + coef[2 * a] * pht[index[2 * a] * m + b] +
-                     coef[2 * a + 1] * pht[index[2 * a + 1] * m + b];
-  return apply_gain(x, P, n, pht, s, m, y, pht + n * m);
+    for (int b = 0; b < m; ++b) {
+      const double* p = hp + b * n;
+      s[a * m + b] =
+          R[a * m + b] + coef[2 * a] * p[index[2 * a]] + coef[2 * a + 1] * p[index[2 * a + 1]];
+    }
+  return apply_gain(x, P, n, hp, s, m, y, hp + n * m);
 }
 
 }  // namespace va::kalman

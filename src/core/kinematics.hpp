@@ -183,10 +183,15 @@ inline double unit_norm_error(const double* q, std::int64_t nq, const std::int64
 }
 
 // Whether every entry is finite (no NaN, no infinity).
+// (e * 0 is 0 for a finite e and NaN for an infinite or NaN one: four sums of them, branch-free,
+// tell in a quarter of the latency of a test per entry.)
 inline bool all_finite(const double* values, std::int64_t count) {
-  for (std::int64_t i = 0; i < count; ++i)
-    if (!std::isfinite(values[i])) return false;
-  return true;
+  double zero[4] = {0.0, 0.0, 0.0, 0.0};
+  std::int64_t i = 0;
+  for (; i + 4 <= count; i += 4)
+    for (int k = 0; k < 4; ++k) zero[k] += values[i + k] * 0.0;
+  for (; i < count; ++i) zero[0] += values[i] * 0.0;
+  return zero[0] + zero[1] + zero[2] + zero[3] == 0.0;
 }
 
 // Linear velocity in world axes of the point (x, y, z) fixed to a body moved by the velocity

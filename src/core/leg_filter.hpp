@@ -45,7 +45,7 @@ struct LegFilter {
     x.assign(static_cast<size_t>(n), 0.0);
     P.assign(static_cast<size_t>(n * n), 0.0);
     level.assign(static_cast<size_t>(feet), 0.0);
-    scratch.assign(static_cast<size_t>(2 * n * 3 + 6 + 3 * n), 0.0);
+    scratch.assign(static_cast<size_t>(2 * n * kalman::MAX_BLOCK), 0.0);
   }
 
   // Start at base position p, velocity v (world) and feet positions feet (nf x 3, world),
@@ -83,37 +83,43 @@ struct LegFilter {
     }
   }
 
-  // Foot f's position from the base, world axes (offset = R^ r_f), with its 3x3 noise.
-  bool update_position(std::int64_t f, const double* offset, const double* covariance) {
-    std::int64_t index[6];
-    double coef[6], y[3];
-    for (int i = 0; i < 3; ++i) {
-      index[2 * i] = 6 + 3 * f + i, coef[2 * i] = 1.0;
-      index[2 * i + 1] = i, coef[2 * i + 1] = -1.0;
-      y[i] = offset[i] - (x[6 + 3 * f + i] - x[i]);
+  // Foot f's measurements in one block: its position from the base, world axes (offset =
+  // R^ r_f) with its 3x3 noise; in stance also the base's velocity it gives (velocity, world
+  // axes, nullptr: none) with its 3x3 noise, and its height at its level (height_sigma [m],
+  // <= 0: none). The noises are independent: one block is the sequence of three updates.
+  bool update_foot(std::int64_t f, const double* offset, const double* position_covariance,
+                   const double* velocity, const double* velocity_covariance, double height_sigma) {
+    std::int64_t index[2 * kalman::MAX_BLOCK];
+    double coef[2 * kalman::MAX_BLOCK], y[kalman::MAX_BLOCK];
+    double R[kalman::MAX_BLOCK * kalman::MAX_BLOCK] = {};
+    int m = 0;
+    for (int i = 0; i < 3; ++i, ++m) {  // s_f - p = offset
+      index[2 * m] = 6 + 3 * f + i, coef[2 * m] = 1.0;
+      index[2 * m + 1] = i, coef[2 * m + 1] = -1.0;
+      y[m] = offset[i] - (x[6 + 3 * f + i] - x[i]);
     }
-    return kalman::update_sparse(x.data(), P.data(), n, index, coef, covariance, 3, y,
-                                 scratch.data());
-  }
-
-  // The base's velocity from a stance foot, world axes, with its 3x3 noise.
-  bool update_velocity(const double* velocity, const double* covariance) {
-    std::int64_t index[6];
-    double coef[6], y[3];
-    for (int i = 0; i < 3; ++i) {
-      index[2 * i] = index[2 * i + 1] = 3 + i, coef[2 * i] = 1.0, coef[2 * i + 1] = 0.0;
-      y[i] = velocity[i] - x[3 + i];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) R[i * kalman::MAX_BLOCK + j] = position_covariance[3 * i + j];
+    if (velocity != nullptr) {
+      for (int i = 0; i < 3; ++i, ++m) {  // v = velocity
+        index[2 * m] = index[2 * m + 1] = 3 + i, coef[2 * m] = 1.0, coef[2 * m + 1] = 0.0;
+        y[m] = velocity[i] - x[3 + i];
+      }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          R[(3 + i) * kalman::MAX_BLOCK + 3 + j] = velocity_covariance[3 * i + j];
     }
-    return kalman::update_sparse(x.data(), P.data(), n, index, coef, covariance, 3, y,
-                                 scratch.data());
-  }
-
-  // A stance foot's height at its level.
-  bool update_height(std::int64_t f, double sigma) {
-    const std::int64_t index[2] = {6 + 3 * f + 2, 6 + 3 * f + 2};
-    const double coef[2] = {1.0, 0.0};
-    const double y = level[f] - x[6 + 3 * f + 2], r = sigma * sigma;
-    return kalman::update_sparse(x.data(), P.data(), n, index, coef, &r, 1, &y, scratch.data());
+    if (height_sigma > 0.0) {  // s_f,z = level
+      const std::int64_t k = 6 + 3 * f + 2;
+      index[2 * m] = index[2 * m + 1] = k, coef[2 * m] = 1.0, coef[2 * m + 1] = 0.0;
+      y[m] = level[f] - x[k];
+      R[m * kalman::MAX_BLOCK + m] = height_sigma * height_sigma;
+      ++m;
+    }
+    double packed[kalman::MAX_BLOCK * kalman::MAX_BLOCK];  // R as m x m
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) packed[a * m + b] = R[a * kalman::MAX_BLOCK + b];
+    return kalman::update_sparse(x.data(), P.data(), n, index, coef, packed, m, y, scratch.data());
   }
 };
 

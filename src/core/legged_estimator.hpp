@@ -272,9 +272,11 @@ class LeggedEstimatorCore {
           base[3 * i + j] = sum;
         }
       rotate_covariance(rot, base, cov);
-      if (!s.leg.update_position(f, offset_world, cov)) return false;
-      if (!stance[f]) continue;
-      double moving[3], velocity[3];
+      if (!stance[f]) {
+        if (!s.leg.update_foot(f, offset_world, cov, nullptr, nullptr, 0.0)) return false;
+        continue;
+      }
+      double moving[3], velocity[3], velocity_cov[9];
       so3::cross(w, r, moving);
       for (int i = 0; i < 3; ++i) moving[i] += rates[3 * f + i];
       so3::apply(rot, moving, velocity);
@@ -286,9 +288,10 @@ class LeggedEstimatorCore {
           for (int a = 0; a < 3; ++a) sum += n.gyro * n.gyro * rx[i][a] * rx[j][a];
           base[3 * i + j] = sum;
         }
-      rotate_covariance(rot, base, cov);
-      if (!s.leg.update_velocity(velocity, cov)) return false;
-      if (tuning_.level_ground && !s.leg.update_height(f, n.height)) return false;
+      rotate_covariance(rot, base, velocity_cov);
+      if (!s.leg.update_foot(f, offset_world, cov, velocity, velocity_cov,
+                             tuning_.level_ground ? n.height : 0.0))
+        return false;
     }
     if (dt > 0.0) {  // the base's acceleration for the next tilt update, low-passed
       const double blend = dt / (dt + ACCEL_TIME);
@@ -336,19 +339,15 @@ class LeggedEstimatorCore {
   }
 
   static bool finite(const EstimatorState& s) {
-    for (const double e : s.attitude.P)
-      if (!std::isfinite(e)) return false;
-    for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(s.attitude.bias[i])) return false;
-    for (const double e : s.leg.x)
-      if (!std::isfinite(e)) return false;
-    for (const double e : s.leg.P)
-      if (!std::isfinite(e)) return false;
-    for (const double e : s.rates)
-      if (!std::isfinite(e)) return false;
-    for (const double e : s.probability)
-      if (!std::isfinite(e)) return false;
-    return true;
+    const auto count = [](const std::vector<double>& v) {
+      return static_cast<std::int64_t>(v.size());
+    };
+    return all_finite(s.attitude.P, ATTITUDE_STATES * ATTITUDE_STATES) &&
+           all_finite(s.attitude.bias, 3) && all_finite(s.attitude.accel_bias, 3) &&
+           all_finite(s.leg.x.data(), count(s.leg.x)) &&
+           all_finite(s.leg.P.data(), count(s.leg.P)) &&
+           all_finite(s.rates.data(), count(s.rates)) &&
+           all_finite(s.probability.data(), count(s.probability));
   }
 
   EstimatorTables t_;

@@ -129,6 +129,9 @@ class LeggedEstimator:
             self.tuning.packed(),
         )
         self._tree = tree
+        nq, nv, nf = model.nq, model.nv, len(self.feet)
+        #: the core's estimate: q, v, probabilities, in contact, covariance (ends of each)
+        self._ends = (nq, nq + nv, nq + nv + nf, nq + nv + 2 * nf)
         self._lock = threading.Lock()
         self._maps: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
         self._time: float | None = None
@@ -218,7 +221,7 @@ class LeggedEstimator:
                 tau = np.ascontiguousarray(tau, dtype=float)
             except (TypeError, ValueError):
                 raise InvalidInputError("tau must be an array of numbers [N m or N].") from None
-        nv = self.robot.model.nv
+        nv = self._ends[1] - self._ends[0]
         if tau.shape != (nv,) and tau is not _EMPTY:
             raise InvalidInputError(f"tau must be ({nv},) efforts (model.nv), got {tau.shape}.")
         with self._lock:
@@ -262,17 +265,16 @@ class LeggedEstimator:
         self._reset(q, np.zeros(self.robot.model.nv))
 
     def _estimate(self, out: np.ndarray, time: float) -> Estimate:
-        nq, nv, nf = self.robot.model.nq, self.robot.model.nv, len(self.feet)
-        feet = out[nq + nv :]
-        flags = feet[: 2 * nf].tolist()  # probabilities, then in contact (0 or 1)
-        names = self.feet
+        q_end, v_end, contact_end, flags_end = self._ends
+        flags = out[v_end:flags_end].tolist()  # probabilities, then in contact (0 or 1)
+        names, nf = self.feet, contact_end - v_end
         return Estimate(
             time=time,
-            q=out[:nq],
-            v=out[nq : nq + nv],
+            q=out[:q_end],
+            v=out[q_end:v_end],
             contact=dict(zip(names, flags[:nf])),  # noqa: B905 - both nf long
             in_contact={foot: flag > 0.5 for foot, flag in zip(names, flags[nf:])},  # noqa: B905
-            covariance=feet[2 * nf :].reshape(6, 6),
+            covariance=out[flags_end:].reshape(6, 6),
         )
 
     def __repr__(self) -> str:

@@ -15,7 +15,9 @@
 // - the stance feet's rate: two feet i, j that do not move in the world keep R (r_i - r_j)
 //   constant, so (w_m - b) x r + r' = 0 for r = r_i - r_j, r' its rate from the joints (base
 //   axes): y = (w_m - b^) x r + r' = db x r = -[r]x db + noise. The gyro's bias, yaw's
-//   included, is observable whenever two feet stand apart.
+//   included, is observable whenever two feet stand apart. A pair whose residual is beyond
+//   STANCE_GATE (a foot taken for standing while it lifts, lands or slips) is skipped: the
+//   few such ticks per step otherwise steer the bias.
 // - level feet (on level ground): two stance feet at the same level have z^T R r = 0, so
 //   y = -z^T R^ r = -z^T R^ [r]x dtheta + noise. With gravity it separates the tilt from the
 //   accelerometer's bias, which gravity alone cannot tell apart.
@@ -40,6 +42,8 @@ struct AttitudeNoise {
 };
 
 constexpr int ATTITUDE_STATES = 9;
+// The stance pairs' outlier gate: chi-square, 3 degrees of freedom, 1 in 1000 [-].
+constexpr double STANCE_GATE = 16.27;
 
 struct AttitudeFilter {
   so3::Mat3 rotation;                           // R^ (world <- base)
@@ -145,7 +149,7 @@ struct AttitudeFilter {
       R[4 * i] = variance;
       y[i] = wr[i] + r_rate[i];
     }
-    return correct(H, R, y, 3);
+    return correct(H, R, y, 3, STANCE_GATE);
   }
 
   // The tilt from two stance feet r = r_i - r_j apart (base axes) whose levels differ by rise
@@ -168,10 +172,10 @@ struct AttitudeFilter {
 
  private:
   // The error-state update, then the error injected into R^, b^ and c^ (and reset to zero).
-  bool correct(const double* H, const double* R, const double* y, int m) {
+  bool correct(const double* H, const double* R, const double* y, int m, double gate = INFINITY) {
     constexpr int N = ATTITUDE_STATES;
     double dx[N] = {}, scratch[2 * N * 3 + 6];
-    if (!kalman::update(dx, P, N, H, R, m, y, scratch)) return false;
+    if (!kalman::update(dx, P, N, H, R, m, y, scratch, gate)) return false;
     so3::rotate_body(rotation, dx);
     for (int i = 0; i < 3; ++i) bias[i] += dx[3 + i], accel_bias[i] += dx[6 + i];
     return true;

@@ -49,13 +49,20 @@ inline bool invert_spd(const double* s, int m, double* inv) {
 // The update once H P (hp, m x n: row a is (P h_a)^T, P symmetric) and S = H P H^T + R (s,
 // m x m) are known: K^T = S^-1 hp, x += K y, P -= K hp (the upper triangle, mirrored: P stays
 // symmetric). Every inner loop runs along a row of n (contiguous). gain: m n doubles. False
-// (x, P untouched) when S is not positive definite.
+// (x, P untouched) when S is not positive definite. A residual whose squared Mahalanobis
+// distance y^T S^-1 y exceeds gate is an outlier: skipped (x, P untouched), true.
 inline bool apply_gain(double* x, double* P, std::int64_t n, const double* hp, double* s, int m,
-                       const double* y, double* gain) {
+                       const double* y, double* gain, double gate = INFINITY) {
   double sinv[MAX_BLOCK * MAX_BLOCK];
   for (int a = 0; a < m; ++a)  // symmetric to rounding
     for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
   if (!invert_spd(s, m, sinv)) return false;
+  if (gate < INFINITY) {
+    double distance = 0.0;
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) distance += y[a] * sinv[a * m + b] * y[b];
+    if (distance > gate) return true;
+  }
   for (std::int64_t k = 0; k < m * n; ++k) gain[k] = 0.0;
   for (int a = 0; a < m; ++a)
     for (int b = 0; b < m; ++b) {
@@ -83,9 +90,10 @@ inline bool apply_gain(double* x, double* P, std::int64_t n, const double* hp, d
 
 // One block update of (x, P) (n states, P row-major n x n, symmetric) by the residual
 // y = z - H x (m), H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns
-// false (and leaves x, P as they were) when S is not positive definite.
+// false (and leaves x, P as they were) when S is not positive definite; a residual beyond gate
+// (apply_gain) is skipped.
 inline bool update(double* x, double* P, std::int64_t n, const double* H, const double* R, int m,
-                   const double* y, double* scratch) {
+                   const double* y, double* scratch, double gate = INFINITY) {
   double* hp = scratch;  // H P (m x n)
   double s[MAX_BLOCK * MAX_BLOCK];
   for (std::int64_t k = 0; k < m * n; ++k) hp[k] = 0.0;
@@ -107,7 +115,7 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
         if (h[k] != 0.0) sum += h[k] * p[k];
       s[a * m + b] = sum;
     }
-  return apply_gain(x, P, n, hp, s, m, y, hp + n * m);
+  return apply_gain(x, P, n, hp, s, m, y, hp + n * m, gate);
 }
 
 // The same update for rows of H with at most two nonzero entries each: row a is

@@ -303,12 +303,17 @@ class LeggedEstimatorCore {
     for (int i = 0; i < 3; ++i) s.velocity[i] = s.leg.x[3 + i];
     s.time = time;
     s.started = true;
-    // what the controller reads of the rates: low-passed (the gyro's and encoders' white noise)
+    // what the controller reads of the rates: low-passed against the sensors' white noise
+    // (the gyro's, the encoders'), but never more than three of its deviations from the
+    // reading, so that the lag stays small where the rates jump (a leg's damping acting late on
+    // a foot's impact bounces it)
     const double tau_f = tuning_.output_rate_time;
     const double blend = tau_f <= 0.0 || dt <= 0.0 ? 1.0 : dt / (dt + tau_f);  // first: 1
     for (std::int64_t k = 3; k < nv; ++k) {
       const double raw = k < 6 ? w[k - 3] : v_local[k];
-      s.rates[k] += blend * (raw - s.rates[k]);
+      const double band = 3.0 * (k < 6 ? tuning_.leg.gyro : tuning_.leg.encoder_rate);
+      const double lag = (1.0 - blend) * (s.rates[k] - raw);
+      s.rates[k] = raw + (lag > band ? band : lag < -band ? -band : lag);
     }
     return finite(s);
   }

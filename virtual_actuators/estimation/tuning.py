@@ -80,7 +80,7 @@ class EstimatorTuning:
     accel_noise: float = ACCEL_NOISE_1KHZ
     tilt_acceleration: float = 1.0
     gravity_gate: float = 2.0
-    stance_rate_noise: float = 0.02
+    stance_rate_noise: float = 0.005
     velocity_process_noise: float = 0.3
     foot_slip: float = 0.005
     foot_swing: float = 2.0

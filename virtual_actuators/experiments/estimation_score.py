@@ -82,7 +82,11 @@ class EstimationScore:
         self._position_error = 0.0
 
     def tick(self) -> None:
-        """Score the estimator's newest estimate against the simulator's state now."""
+        """Score the estimator's newest estimate against the simulator's state now.
+
+        Call it between the reading and the next physics step: the truth then is the state
+        the reading measured.
+        """
         estimate = self.estimator.last
         if estimate is None:
             return

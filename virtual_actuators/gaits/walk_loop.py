@@ -51,7 +51,8 @@ def drive(
     read = hardware.read_state if estimation is None else hardware.read_sensors
     stats = run(
         ticks, read, hardware.write_effort, 1.0 / simulator.control_period,
-        realtime=False, should_stop=ticks.should_stop, sense=episode.sense,
+        realtime=False, should_stop=ticks.should_stop,
+        sense=episode.sense if estimation is None else ticks.score_then_sense,
         after_tick=ticks.after_tick, write_final=hardware.hold_effort,
         estimator=None if estimation is None else estimation.estimator,
     )  # fmt: skip
@@ -108,6 +109,11 @@ class WalkTicks:
         self.ticks, self.fall_time, self.fall_tick = 0, None, None
         self._stopping = False
 
+    def score_then_sense(self, q: np.ndarray, v: np.ndarray, now: float) -> object:
+        """On the estimate: score it against the truth at its reading's time, then sense."""
+        self.episode.estimation.tick()
+        return self.episode.sense(q, v, now)
+
     def should_stop(self) -> bool:
         """Whether the simulated time is up, or the fall was 0.5 s ago (``stop_on_fall``)."""
         return self._stopping or self._data.time >= self._end_time
@@ -125,9 +131,7 @@ class WalkTicks:
             self._velocities[tick] = math.nan if v is None else v
         self._efforts[tick] = tau
         self.ticks = tick = tick + 1
-        estimation = self.episode.estimation
-        if estimation is not None and output is not None:  # scored; the rest reads the truth
-            estimation.tick()
+        if self.episode.estimation is not None and output is not None:  # the rest: the truth
             q, v = self.simulator.q, self.simulator.v
             self.episode.observe_truth(q, v)
         fall_time = self.fall_time

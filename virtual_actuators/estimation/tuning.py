@@ -36,7 +36,9 @@ class EstimatorTuning:
             [m/s^2] (larger: a slower, smoother tilt).
         gravity_gate: Accelerometer readings whose norm is farther than this from gravity's are
             not used for the tilt [m/s^2].
-        stance_rate_noise: Noise of the rate between two stance feet from the joints [m/s].
+        stance_rate_noise: Noise of the rate between two stance feet from the joints [m/s]:
+            how much they are trusted on the gyro's bias (yaw's included); a pair whose
+            residual is a chi-square outlier (1 in 1000) is skipped.
         velocity_process_noise: The world acceleration's noise in the position filter: the
             accelerometer's and what the orientation misses of gravity [m/s^2].
         foot_slip: A stance foot's random walk in the world [m/sqrt(s)].
@@ -69,7 +71,9 @@ class EstimatorTuning:
         output_rate_time: Time constant of the first-order low-pass on the rates the estimate
             gives the controller (the base's angular velocity, the joints' velocities) [s]: the
             gyro's and encoders' white noise, which a controller's damping would pass to the
-            motors, down by about sqrt(dt / (2 T)); 0: the raw rates.
+            motors, down by about sqrt(dt / (2 T)); 0: the raw rates. The filtered rate never
+            strays more than three noise deviations (``gyro_noise``, ``encoder_velocity_noise``)
+            from the reading, so that it follows a jump (a foot's impact) without lag.
         accel_bias_sigma: Prior deviation of the accelerometer bias at reset [m/s^2] (the
             ADIS16448's turn-on bias, 20 mg).
     """

@@ -81,29 +81,35 @@ struct AttitudeFilter {
     for (int i = 0; i < 3; ++i) step[i] = -w[i] * dt;
     so3::Mat3 e;  // Exp(-w dt)
     so3::exp(step, e);
-    double F[N * N] = {};
-    for (int i = 0; i < N; ++i) F[(N + 1) * i] = 1.0;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) F[N * i + j] = e[i][j];
-      F[N * i + 3 + i] = -dt;
+    // F = [[E, -dt I, 0], [0, I, 0], [0, 0, I]] (E = Exp(-w dt)): only the rows of dtheta
+    // change, T = E P_theta,: - dt P_b,: (3 x N); then P_theta,theta = T_:,theta E^T - dt T_:,b
+    // and P_theta,(b, c) = T_:,(b, c) (mirrored); the (b, c) blocks stay.
+    double t[3][N];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < N; ++j) {
+        double sum = -dt * P[N * (3 + i) + j];
+        for (int k = 0; k < 3; ++k) sum += e[i][k] * P[N * k + j];
+        t[i][j] = sum;
+      }
+    double block[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double sum = -dt * t[i][3 + j];
+        for (int k = 0; k < 3; ++k) sum += t[i][k] * e[j][k];
+        block[i][j] = sum;
+      }
+    for (int i = 0; i < 3; ++i) {  // in place: every entry written was read above
+      for (int j = 0; j < 3; ++j) P[N * i + j] = 0.5 * (block[i][j] + block[j][i]);
+      for (int j = 3; j < N; ++j) P[N * i + j] = P[N * j + i] = t[i][j];
     }
-    double fp[N * N] = {}, next[N * N] = {};
-    for (int i = 0; i < N; ++i)
-      for (int k = 0; k < N; ++k)
-        if (F[N * i + k] != 0.0)
-          for (int j = 0; j < N; ++j) fp[N * i + j] += F[N * i + k] * P[N * k + j];
-    for (int i = 0; i < N; ++i)
-      for (int j = 0; j < N; ++j)
-        for (int k = 0; k < N; ++k) next[N * i + j] += fp[N * i + k] * F[N * j + k];
     const double qa = noise.gyro * noise.gyro * dt * dt;
     const double qb = noise.bias_walk * noise.bias_walk * dt;
     const double qc = noise.accel_bias_walk * noise.accel_bias_walk * dt;
     for (int i = 0; i < 3; ++i) {
-      next[(N + 1) * i] += qa;
-      next[(N + 1) * (i + 3)] += qb;
-      next[(N + 1) * (i + 6)] += qc;
+      P[(N + 1) * i] += qa;
+      P[(N + 1) * (i + 3)] += qb;
+      P[(N + 1) * (i + 6)] += qc;
     }
-    for (int i = 0; i < N * N; ++i) P[i] = next[i];
     for (int i = 0; i < 3; ++i) step[i] = w[i] * dt;
     so3::rotate_body(rotation, step);
   }

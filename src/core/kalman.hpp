@@ -13,10 +13,9 @@ namespace va::kalman {
 
 constexpr int MAX_BLOCK = 7;
 
-// Invert the symmetric positive m x m matrix s (row-major) into inv by Cholesky; false when it
-// is not positive definite.
-inline bool invert_spd(const double* s, int m, double* inv) {
-  double l[MAX_BLOCK * MAX_BLOCK] = {};
+// The Cholesky factor L (lower, row-major m x m) of the symmetric m x m matrix s: s = L L^T;
+// false when s is not positive definite.
+inline bool cholesky(const double* s, int m, double* l) {
   for (int i = 0; i < m; ++i)
     for (int j = 0; j <= i; ++j) {
       double sum = s[i * m + j];
@@ -28,68 +27,80 @@ inline bool invert_spd(const double* s, int m, double* inv) {
         l[i * m + j] = sum / l[j * m + j];
       }
     }
-  double linv[MAX_BLOCK * MAX_BLOCK] = {};  // L^-1, lower triangular
-  for (int i = 0; i < m; ++i) {
-    linv[i * m + i] = 1.0 / l[i * m + i];
-    for (int j = 0; j < i; ++j) {
-      double sum = 0.0;
-      for (int k = j; k < i; ++k) sum -= l[i * m + k] * linv[k * m + j];
-      linv[i * m + j] = sum / l[i * m + i];
-    }
-  }
-  for (int i = 0; i < m; ++i)  // S^-1 = L^-T L^-1
-    for (int j = 0; j < m; ++j) {
-      double sum = 0.0;
-      for (int k = i > j ? i : j; k < m; ++k) sum += linv[k * m + i] * linv[k * m + j];
-      inv[i * m + j] = sum;
-    }
   return true;
 }
 
-// The update once H P (hp, m x n: row a is (P h_a)^T, P symmetric) and S = H P H^T + R (s,
-// m x m) are known: K^T = S^-1 hp, x += K y, P -= K hp (the upper triangle, mirrored: P stays
-// symmetric). Every inner loop runs along a row of n (contiguous). gain: m n doubles. False
-// (x, P untouched) when S is not positive definite. A residual whose squared Mahalanobis
-// distance y^T S^-1 y exceeds gate is an outlier: skipped (x, P untouched), true.
-inline bool apply_gain(double* x, double* P, std::int64_t n, const double* hp, double* s, int m,
-                       const double* y, double* gain, double gate = INFINITY) {
-  double sinv[MAX_BLOCK * MAX_BLOCK];
-  for (int a = 0; a < m; ++a)  // symmetric to rounding
-    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
-  if (!invert_spd(s, m, sinv)) return false;
-  if (gate < INFINITY) {
-    double distance = 0.0;
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) distance += y[a] * sinv[a * m + b] * y[b];
-    if (distance > gate) return true;
-  }
-  for (std::int64_t k = 0; k < m * n; ++k) gain[k] = 0.0;
-  for (int a = 0; a < m; ++a)
-    for (int b = 0; b < m; ++b) {
-      const double c = sinv[a * m + b];
-      const double* h = hp + b * n;
-      double* g = gain + a * n;
-      for (std::int64_t i = 0; i < n; ++i) g[i] += c * h[i];
+// The correction of a block of M <= MAX_BLOCK measurements, whitened by S = L L^T (l: M x M):
+// hp (M x n, H P) becomes W = L^-1 H P column by column, x += W^T z, then P -= W^T W, each
+// entry of the upper triangle once, mirrored (P stays exactly symmetric). M known to the
+// compiler: its loops unrolled.
+template <int M>
+inline void correct_block(double* x, double* P, std::int64_t n, double* hp, const double* l,
+                          const double* z) {
+  double inverse[M];
+#pragma GCC unroll 8
+  for (int a = 0; a < M; ++a) inverse[a] = 1.0 / l[a * M + a];
+  for (std::int64_t i = 0; i < n; ++i) {
+    double column[M], dx = 0.0;
+#pragma GCC unroll 8
+    for (int a = 0; a < M; ++a) {
+      double value = hp[a * n + i];
+#pragma GCC unroll 8
+      for (int b = 0; b < a; ++b) value -= l[a * M + b] * column[b];
+      column[a] = value * inverse[a];
+      hp[a * n + i] = column[a];
+      dx += column[a] * z[a];
     }
-  for (int a = 0; a < m; ++a) {
-    const double* g = gain + a * n;
-    for (std::int64_t i = 0; i < n; ++i) x[i] += g[i] * y[a];
+    x[i] += dx;
   }
   for (std::int64_t i = 0; i < n; ++i) {
+    double wi[M];
+#pragma GCC unroll 8
+    for (int a = 0; a < M; ++a) wi[a] = hp[a * n + i];
     double* row = P + i * n;
-    for (int a = 0; a < m; ++a) {
-      const double g = gain[a * n + i];
-      const double* h = hp + a * n;
-      for (std::int64_t j = i; j < n; ++j) row[j] -= g * h[j];
+    for (std::int64_t j = i; j < n; ++j) {
+      double sum = 0.0;
+#pragma GCC unroll 8
+      for (int a = 0; a < M; ++a) sum += wi[a] * hp[a * n + j];
+      row[j] -= sum;
+      P[j * n + i] = row[j];
     }
   }
-  for (std::int64_t i = 0; i < n; ++i)
-    for (std::int64_t j = i + 1; j < n; ++j) P[j * n + i] = P[i * n + j];
+}
+
+// The update once H P (hp, m x n: row a is (P h_a)^T, P symmetric) and S = H P H^T + R (s,
+// m x m) are known, whitened by S = L L^T: W = L^-1 H P (in hp's place), z = L^-1 y, then
+// x += W^T z and P -= W^T W (= K S K^T; correct_block). False (x, P untouched) when S is not
+// positive definite. A residual whose squared Mahalanobis distance y^T S^-1 y = |z|^2 exceeds
+// gate is an outlier: skipped (x, P untouched), true.
+inline bool apply_gain(double* x, double* P, std::int64_t n, double* hp, double* s, int m,
+                       const double* y, double gate = INFINITY) {
+  double l[MAX_BLOCK * MAX_BLOCK], z[MAX_BLOCK];
+  for (int a = 0; a < m; ++a)  // symmetric to rounding
+    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
+  if (!cholesky(s, m, l)) return false;
+  double distance = 0.0;
+  for (int a = 0; a < m; ++a) {  // z = L^-1 y
+    double value = y[a];
+    for (int b = 0; b < a; ++b) value -= l[a * m + b] * z[b];
+    z[a] = value / l[a * m + a];
+    distance += z[a] * z[a];
+  }
+  if (distance > gate) return true;
+  switch (m) {
+    case 1: correct_block<1>(x, P, n, hp, l, z); break;
+    case 2: correct_block<2>(x, P, n, hp, l, z); break;
+    case 3: correct_block<3>(x, P, n, hp, l, z); break;
+    case 4: correct_block<4>(x, P, n, hp, l, z); break;
+    case 5: correct_block<5>(x, P, n, hp, l, z); break;
+    case 6: correct_block<6>(x, P, n, hp, l, z); break;
+    default: correct_block<MAX_BLOCK>(x, P, n, hp, l, z); break;
+  }
   return true;
 }
 
 // One block update of (x, P) (n states, P row-major n x n, symmetric) by the residual
-// y = z - H x (m), H (m x n) and R (m x m), both row-major. scratch: 2 n m doubles. Returns
+// y = z - H x (m), H (m x n) and R (m x m), both row-major. scratch: n m doubles. Returns
 // false (and leaves x, P as they were) when S is not positive definite; a residual beyond gate
 // (apply_gain) is skipped.
 inline bool update(double* x, double* P, std::int64_t n, const double* H, const double* R, int m,
@@ -115,12 +126,12 @@ inline bool update(double* x, double* P, std::int64_t n, const double* H, const 
         if (h[k] != 0.0) sum += h[k] * p[k];
       s[a * m + b] = sum;
     }
-  return apply_gain(x, P, n, hp, s, m, y, hp + n * m, gate);
+  return apply_gain(x, P, n, hp, s, m, y, gate);
 }
 
 // The same update for rows of H with at most two nonzero entries each: row a is
 // coef[2a] x[index[2a]] + coef[2a + 1] x[index[2a + 1]] (a coefficient 0 for one entry), as the
-// position filter's measurements are (leg_filter.hpp); scratch: 2 n m doubles.
+// position filter's measurements are (leg_filter.hpp); scratch: n m doubles.
 inline bool update_sparse(double* x, double* P, std::int64_t n, const std::int64_t* index,
                           const double* coef, const double* R, int m, const double* y,
                           double* scratch) {
@@ -139,7 +150,7 @@ inline bool update_sparse(double* x, double* P, std::int64_t n, const std::int64
       s[a * m + b] =
           R[a * m + b] + coef[2 * a] * p[index[2 * a]] + coef[2 * a + 1] * p[index[2 * a + 1]];
     }
-  return apply_gain(x, P, n, hp, s, m, y, hp + n * m);
+  return apply_gain(x, P, n, hp, s, m, y);
 }
 
 }  // namespace va::kalman

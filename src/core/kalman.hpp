@@ -63,9 +63,10 @@ inline void correct_block(double* x, double* P, std::int64_t n, double* hp, cons
 #pragma GCC unroll 8
       for (int a = 0; a < M; ++a) sum += wi[a] * hp[a * n + j];
       row[j] -= sum;
-      P[j * n + i] = row[j];
     }
   }
+  for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t j = i + 1; j < n; ++j) P[j * n + i] = P[i * n + j];
 }
 
 // The update once H P (hp, m x n: row a is (P h_a)^T, P symmetric) and S = H P H^T + R (s,
@@ -73,30 +74,36 @@ inline void correct_block(double* x, double* P, std::int64_t n, double* hp, cons
 // x += W^T z and P -= W^T W (= K S K^T; correct_block). False (x, P untouched) when S is not
 // positive definite. A residual whose squared Mahalanobis distance y^T S^-1 y = |z|^2 exceeds
 // gate is an outlier: skipped (x, P untouched), true.
-inline bool apply_gain(double* x, double* P, std::int64_t n, double* hp, double* s, int m,
-                       const double* y, double gate = INFINITY) {
-  double l[MAX_BLOCK * MAX_BLOCK], z[MAX_BLOCK];
-  for (int a = 0; a < m; ++a)  // symmetric to rounding
-    for (int b = 0; b < a; ++b) s[a * m + b] = s[b * m + a] = 0.5 * (s[a * m + b] + s[b * m + a]);
-  if (!cholesky(s, m, l)) return false;
+template <int M>
+inline bool apply_block(double* x, double* P, std::int64_t n, double* hp, double* s,
+                        const double* y, double gate) {
+  double l[M * M], z[M];
+  for (int a = 0; a < M; ++a)  // symmetric to rounding
+    for (int b = 0; b < a; ++b) s[a * M + b] = s[b * M + a] = 0.5 * (s[a * M + b] + s[b * M + a]);
+  if (!cholesky(s, M, l)) return false;
   double distance = 0.0;
-  for (int a = 0; a < m; ++a) {  // z = L^-1 y
+  for (int a = 0; a < M; ++a) {  // z = L^-1 y
     double value = y[a];
-    for (int b = 0; b < a; ++b) value -= l[a * m + b] * z[b];
-    z[a] = value / l[a * m + a];
+    for (int b = 0; b < a; ++b) value -= l[a * M + b] * z[b];
+    z[a] = value / l[a * M + a];
     distance += z[a] * z[a];
   }
   if (distance > gate) return true;
-  switch (m) {
-    case 1: correct_block<1>(x, P, n, hp, l, z); break;
-    case 2: correct_block<2>(x, P, n, hp, l, z); break;
-    case 3: correct_block<3>(x, P, n, hp, l, z); break;
-    case 4: correct_block<4>(x, P, n, hp, l, z); break;
-    case 5: correct_block<5>(x, P, n, hp, l, z); break;
-    case 6: correct_block<6>(x, P, n, hp, l, z); break;
-    default: correct_block<MAX_BLOCK>(x, P, n, hp, l, z); break;
-  }
+  correct_block<M>(x, P, n, hp, l, z);
   return true;
+}
+
+inline bool apply_gain(double* x, double* P, std::int64_t n, double* hp, double* s, int m,
+                       const double* y, double gate = INFINITY) {
+  switch (m) {  // the block's size known to the compiler
+    case 1: return apply_block<1>(x, P, n, hp, s, y, gate);
+    case 2: return apply_block<2>(x, P, n, hp, s, y, gate);
+    case 3: return apply_block<3>(x, P, n, hp, s, y, gate);
+    case 4: return apply_block<4>(x, P, n, hp, s, y, gate);
+    case 5: return apply_block<5>(x, P, n, hp, s, y, gate);
+    case 6: return apply_block<6>(x, P, n, hp, s, y, gate);
+    default: return apply_block<MAX_BLOCK>(x, P, n, hp, s, y, gate);
+  }
 }
 
 // One block update of (x, P) (n states, P row-major n x n, symmetric) by the residual

@@ -134,6 +134,10 @@ class LeggedEstimator:
         self._ends = (nq, nq + nv, nq + nv + nf, nq + nv + 2 * nf)
         self._lock = threading.Lock()
         self._maps: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
+        #: the last list of names and its indices (a reader passes the same tuple each time)
+        self._last_map: tuple[tuple[str, ...] | None, tuple[np.ndarray, np.ndarray]] = (
+            None, (_EMPTY, _EMPTY)
+        )
         self._time: float | None = None
         self._started = False
         self.last: Estimate | None = None
@@ -163,8 +167,12 @@ class LeggedEstimator:
 
     def _map(self, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
         """The indices in q and v of a reading's joints (checked once per list of names)."""
+        last_names, last_map = self._last_map  # one attribute: read and written whole (threads)
+        if names is last_names:  # a reader's own tuple, reading after reading
+            return last_map
         cached = self._maps.get(names)
         if cached is not None:
+            self._last_map = (names, cached)
             return cached
         for name in names:
             if name not in self.joint_names:
@@ -182,6 +190,7 @@ class LeggedEstimator:
             np.array([self._index_v[name] for name in names], dtype=np.int64),
         )
         self._maps[names] = cached
+        self._last_map = (names, cached)
         return cached
 
     def update(self, reading: SensorReading, tau: np.ndarray | None = None) -> Estimate:

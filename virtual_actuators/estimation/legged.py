@@ -10,7 +10,7 @@ import pinocchio as pin
 
 from .. import core
 from ..exceptions import InvalidInputError, MissingDependencyError, suggestion
-from ..kinematics.tree import tree_of
+from ..kinematics.tree import KinematicTree, tree_of
 from ..models.feet import find_feet
 from ..models.robot import Robot
 from ..models.soles import sole_sphere
@@ -33,6 +33,33 @@ _REJECTED = {
     4: "SensorReading at t={reading.time} would make the estimate non-finite or its covariance "
     "not positive (numbers out of any robot's range); the estimator is unchanged.",
 }
+
+
+def _compiled_filter(
+    robot: Robot, tree: KinematicTree, feet: tuple[str, ...], foot_ids: list[int], imu_id: int,
+    tuning: EstimatorTuning,
+) -> object:  # fmt: skip
+    """The core's filter for these feet and IMU: each leg's velocity columns, its sole, weights."""
+    rows = tree.frame_tables[0]
+    legs = [np.array([c for c in tree.frame_columns(f) if c >= 6], dtype=np.int64)
+            for f in foot_ids]  # fmt: skip
+    offsets = np.cumsum([0] + [len(leg) for leg in legs]).astype(np.int64)
+    columns = np.concatenate(legs) if legs else np.zeros(0, np.int64)
+    gravity = np.array(robot.model.gravity.linear, dtype=float)
+    return core.CORE.LeggedFilter(
+        tree.core_tree,
+        np.array([rows[f] for f in foot_ids], dtype=np.int64),
+        int(rows[imu_id]),
+        offsets,
+        columns,
+        np.unique(columns).astype(np.int64),
+        tree.masses,
+        np.ascontiguousarray(tree.levers),
+        np.array([sole_sphere(robot, foot) for foot in feet]),
+        gravity,
+        tree.mass * float(np.linalg.norm(gravity)) / len(feet),
+        tuning.packed(),
+    )
 
 
 class LeggedEstimator:
@@ -97,7 +124,6 @@ class LeggedEstimator:
                 f"imu frame {self.imu!r} is not on the floating base's body (it moves with "
                 f"joint {model.names[model.frames[imu_id].parentJoint]!r})."
             )
-        rows = tree.frame_tables[0]
         joints = [model.joints[j] for j in range(2, model.njoints)]
         wide = [model.names[j] for j, joint in enumerate(joints, 2) if joint.nq != 1]
         if wide:
@@ -109,25 +135,7 @@ class LeggedEstimator:
         self.joint_names = tuple(model.names[j] for j in range(2, model.njoints))
         self._index_q = {name: model.joints[j].idx_q for j, name in enumerate(model.names)}
         self._index_v = {name: model.joints[j].idx_v for j, name in enumerate(model.names)}
-        legs = [np.array([c for c in tree.frame_columns(f) if c >= 6], dtype=np.int64)
-                for f in foot_ids]  # fmt: skip
-        offsets = np.cumsum([0] + [len(leg) for leg in legs]).astype(np.int64)
-        columns = np.concatenate(legs) if legs else np.zeros(0, np.int64)
-        gravity = np.array(model.gravity.linear, dtype=float)
-        self._filter = core.CORE.LeggedFilter(
-            tree.core_tree,
-            np.array([rows[f] for f in foot_ids], dtype=np.int64),
-            int(rows[imu_id]),
-            offsets,
-            columns,
-            np.unique(columns).astype(np.int64),
-            tree.masses,
-            np.ascontiguousarray(tree.levers),
-            np.array([sole_sphere(robot, foot) for foot in self.feet]),
-            gravity,
-            tree.mass * float(np.linalg.norm(gravity)) / len(self.feet),
-            self.tuning.packed(),
-        )
+        self._filter = _compiled_filter(robot, tree, self.feet, foot_ids, imu_id, self.tuning)
         self._tree = tree
         nq, nv, nf = model.nq, model.nv, len(self.feet)
         #: the core's estimate: q, v, probabilities, in contact, covariance (ends of each)

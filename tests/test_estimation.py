@@ -201,9 +201,11 @@ def test_compiled_filter_reads_back_its_reset_before_any_reading():
     q[:3] = (0.1, -0.2, 0.3)
     q[7:] += 0.05
     estimator.reset(q)
-    out = estimator._filter.estimate()
-    np.testing.assert_allclose(out[: robot.model.nq], q, atol=1e-15)
-    np.testing.assert_array_equal(out[robot.model.nq : robot.model.nq + robot.model.nv], 0.0)
+    q_out, v_out, contact, in_contact, covariance = estimator._filter.estimate()
+    np.testing.assert_allclose(q_out, q, atol=1e-15)
+    np.testing.assert_array_equal(v_out, 0.0)
+    assert list(contact) == list(estimator.feet) and all(in_contact.values())
+    assert covariance.shape == (6, 6)
 
 
 def test_covariance_matches_a_monte_carlo_spread():

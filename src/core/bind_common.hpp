@@ -31,6 +31,7 @@ using B1 = nb::ndarray<const bool, nb::numpy, nb::ndim<1>, nb::c_contig, nb::dev
 using MF1 = nb::ndarray<double, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using MI1 = nb::ndarray<std::int64_t, nb::numpy, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Owned = nb::ndarray<nb::numpy, double, nb::ndim<1>>;
+using Owned2 = nb::ndarray<nb::numpy, double, nb::ndim<2>>;
 // Any array (Distribution.checked_tick casts its arguments without converting them).
 using Any = nb::ndarray<nb::ro, nb::device::cpu>;
 

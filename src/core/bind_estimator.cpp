@@ -1,8 +1,12 @@
 // The legged state estimator's binding (legged_estimator.hpp): LeggedFilter, built once per
 // estimator by virtual_actuators.estimation.LeggedEstimator, updated once per reading.
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "bind_common.hpp"
@@ -131,35 +135,48 @@ class LeggedFilter {
     return ok ? 0 : 4;
   }
 
-  // The estimate in Pinocchio's conventions: q (nq), v (nv: the base's velocity in its axes,
-  // the low-passed rates), then per foot the probability and in contact (0/1), then the (6, 6)
-  // covariance of position and velocity (world axes).
-  Owned estimate() const {
+  // The estimate in Pinocchio's conventions: (q (nq), v (nv: the base's velocity in its axes,
+  // the low-passed rates), {foot: probability}, {foot: in contact}, the (6, 6) covariance of
+  // position and velocity (world axes)); the feet by the names given to set_feet.
+  nb::tuple estimate() const {
     const va::EstimatorState& s = core_->state();
     const std::int64_t nf = core_->feet(), n = s.leg.n;
-    const auto size = static_cast<std::size_t>(nq_ + nv_ + 2 * nf + 36);
-    std::unique_ptr<double[]> out(new double[size]);
-    double* o = out.get();
-    for (std::int64_t k = 0; k < nq_; ++k) o[k] = q_[k];
-    for (int i = 0; i < 3; ++i) o[i] = s.leg.x[i];
-    va::so3::to_quaternion(s.attitude.rotation, o + 3);
-    double* v = o + nq_;
-    va::so3::apply_transposed(s.attitude.rotation, s.leg.x.data() + 3, v);
+    std::unique_ptr<double[]> q(new double[static_cast<std::size_t>(nq_)]);
+    std::unique_ptr<double[]> v(new double[static_cast<std::size_t>(nv_)]);
+    std::unique_ptr<double[]> covariance(new double[36]);
+    for (std::int64_t k = 0; k < nq_; ++k) q[k] = q_[k];
+    for (int i = 0; i < 3; ++i) q[i] = s.leg.x[i];
+    va::so3::to_quaternion(s.attitude.rotation, q.get() + 3);
+    va::so3::apply_transposed(s.attitude.rotation, s.leg.x.data() + 3, v.get());
     for (std::int64_t k = 3; k < nv_; ++k) v[k] = s.rates[k];
-    double* feet = v + nv_;
-    for (std::int64_t f = 0; f < nf; ++f) {
-      feet[f] = s.probability[f];
-      feet[nf + f] = s.in_contact[f] ? 1.0 : 0.0;
-    }
     for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j) feet[2 * nf + 6 * i + j] = s.leg.P[i * n + j];
-    return owned(std::move(out), size);
+      for (int j = 0; j < 6; ++j) covariance[6 * i + j] = s.leg.P[i * n + j];
+    nb::dict contact, in_contact;
+    for (std::int64_t f = 0; f < nf && f < static_cast<std::int64_t>(feet_.size()); ++f) {
+      contact[feet_[f]] = s.probability[f];
+      in_contact[feet_[f]] = static_cast<bool>(s.in_contact[f]);
+    }
+    double* raw = covariance.release();
+    nb::capsule owner(raw, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+    Owned2 square(raw, {6, 6}, owner);
+    return nb::make_tuple(owned(std::move(q), static_cast<std::size_t>(nq_)),
+                          owned(std::move(v), static_cast<std::size_t>(nv_)), contact, in_contact,
+                          square);
+  }
+
+  // The feet's names, in the order of foot_rows: the keys of estimate's dicts.
+  void set_feet(const std::vector<std::string>& names) {
+    require(static_cast<std::int64_t>(names.size()) == core_->feet(),
+            "set_feet needs one name per foot");
+    feet_.clear();
+    for (const std::string& name : names) feet_.push_back(nb::str(name.c_str()));
   }
 
  private:
   std::unique_ptr<va::LeggedEstimatorCore> core_;
   std::int64_t nq_ = 0, nv_ = 0;
   std::vector<double> q_, v_, tau_;  // the last reading's joints, scattered
+  std::vector<nb::str> feet_;        // the feet's names (set_feet)
 };
 
 }  // namespace
@@ -177,7 +194,8 @@ void bind_estimator(nb::module_& m) {
       .def("update_reading", &LeggedFilter::update_reading, "position"_a, "velocity"_a, "effort"_a,
            "index_q"_a, "index_v"_a, "gyro"_a, "accel"_a, "tau"_a, "time"_a, "gyro_range"_a,
            "accel_range"_a, "switches"_a)
-      .def("estimate", &LeggedFilter::estimate);
+      .def("estimate", &LeggedFilter::estimate)
+      .def("set_feet", &LeggedFilter::set_feet, "names"_a);
 }
 
 }  // namespace va::py

@@ -136,10 +136,9 @@ class LeggedEstimator:
         self._index_q = {name: model.joints[j].idx_q for j, name in enumerate(model.names)}
         self._index_v = {name: model.joints[j].idx_v for j, name in enumerate(model.names)}
         self._filter = _compiled_filter(robot, tree, self.feet, foot_ids, imu_id, self.tuning)
+        self._filter.set_feet(list(self.feet))
         self._tree = tree
-        nq, nv, nf = model.nq, model.nv, len(self.feet)
-        #: the core's estimate: q, v, probabilities, in contact, covariance (ends of each)
-        self._ends = (nq, nq + nv, nq + nv + nf, nq + nv + 2 * nf)
+        self._nv = model.nv
         self._lock = threading.Lock()
         self._maps: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
         #: the last list of names and its indices (a reader passes the same tuple each time)
@@ -238,7 +237,7 @@ class LeggedEstimator:
                 tau = np.ascontiguousarray(tau, dtype=float)
             except (TypeError, ValueError):
                 raise InvalidInputError("tau must be an array of numbers [N m or N].") from None
-        nv = self._ends[1] - self._ends[0]
+        nv = self._nv
         if tau.shape != (nv,) and tau is not _EMPTY:
             raise InvalidInputError(f"tau must be ({nv},) efforts (model.nv), got {tau.shape}.")
         with self._lock:
@@ -257,7 +256,8 @@ class LeggedEstimator:
             if code:
                 raise InvalidInputError(_REJECTED[code].format(reading=reading))
             self._time = reading.time
-            self.last = self._estimate(self._filter.estimate(), reading.time)
+            q, v, contact, in_contact, covariance = self._filter.estimate()
+            self.last = Estimate(reading.time, q, v, contact, in_contact, covariance)
             return self.last
 
     def _switches(self, contacts: dict[str, bool] | None) -> np.ndarray:
@@ -280,19 +280,6 @@ class LeggedEstimator:
         q[:3] = (0.0, 0.0, -float(np.mean(heights)))
         q[3:7] = pin.Quaternion(rotation).coeffs()
         self._reset(q, np.zeros(self.robot.model.nv))
-
-    def _estimate(self, out: np.ndarray, time: float) -> Estimate:
-        q_end, v_end, contact_end, flags_end = self._ends
-        flags = out[v_end:flags_end].tolist()  # probabilities, then in contact (0 or 1)
-        names, nf = self.feet, contact_end - v_end
-        return Estimate(
-            time=time,
-            q=out[:q_end],
-            v=out[q_end:v_end],
-            contact=dict(zip(names, flags[:nf])),  # noqa: B905 - both nf long
-            in_contact={foot: flag > 0.5 for foot, flag in zip(names, flags[nf:])},  # noqa: B905
-            covariance=out[flags_end:].reshape(6, 6),
-        )
 
     def __repr__(self) -> str:
         return f"LeggedEstimator({self.robot.name!r}, feet={list(self.feet)}, imu={self.imu!r})"

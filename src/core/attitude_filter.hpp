@@ -180,7 +180,7 @@ struct AttitudeFilter {
   // The error-state update, then the error injected into R^, b^ and c^ (and reset to zero).
   bool correct(const double* H, const double* R, const double* y, int m, double gate = INFINITY) {
     constexpr int N = ATTITUDE_STATES;
-    double dx[N] = {}, scratch[2 * N * 3 + 6];
+    double dx[N] = {}, scratch[N * 3];
     if (!kalman::update(dx, P, N, H, R, m, y, scratch, gate)) return false;
     so3::rotate_body(rotation, dx);
     for (int i = 0; i < 3; ++i) bias[i] += dx[3 + i], accel_bias[i] += dx[6 + i];

@@ -38,10 +38,13 @@ class LeggedFilter {
  public:
   LeggedFilter(const Tree& tree, const I1& foot_rows, std::int64_t imu_row, const I1& leg_offsets,
                const I1& leg_columns, const I1& gravity_columns, const F1& masses, const F2& levers,
-               const F2& spheres, const F1& gravity, double weight_per_foot, const F1& tuning) {
+               const F2& spheres, const F1& gravity, double weight_per_foot, const F1& tuning,
+               const std::vector<std::string>& feet) {
     const va::TreeTables& t = tree.tree()->tables();
     const std::int64_t nf = len(foot_rows);
     require(nf >= 1 && nf <= 64, "foot_rows must have 1 to 64 entries");
+    require(static_cast<std::int64_t>(feet.size()) == nf, "feet must name every foot row");
+    for (const std::string& name : feet) feet_.push_back(nb::str(name.c_str()));
     for (std::int64_t f = 0; f < nf; ++f)
       require(foot_rows.data()[f] >= 0 && foot_rows.data()[f] < t.nf, "foot_rows out of range");
     require(imu_row >= 0 && imu_row < t.nf, "imu_row out of range");
@@ -137,7 +140,7 @@ class LeggedFilter {
 
   // The estimate in Pinocchio's conventions: (q (nq), v (nv: the base's velocity in its axes,
   // the low-passed rates), {foot: probability}, {foot: in contact}, the (6, 6) covariance of
-  // position and velocity (world axes)); the feet by the names given to set_feet.
+  // position and velocity (world axes)); the feet by their names.
   nb::tuple estimate() const {
     const va::EstimatorState& s = core_->state();
     const std::int64_t nf = core_->feet(), n = s.leg.n;
@@ -152,7 +155,7 @@ class LeggedFilter {
     for (int i = 0; i < 6; ++i)
       for (int j = 0; j < 6; ++j) covariance[6 * i + j] = s.leg.P[i * n + j];
     nb::dict contact, in_contact;
-    for (std::int64_t f = 0; f < nf && f < static_cast<std::int64_t>(feet_.size()); ++f) {
+    for (std::int64_t f = 0; f < nf; ++f) {
       contact[feet_[f]] = s.probability[f];
       in_contact[feet_[f]] = static_cast<bool>(s.in_contact[f]);
     }
@@ -164,19 +167,11 @@ class LeggedFilter {
                           square);
   }
 
-  // The feet's names, in the order of foot_rows: the keys of estimate's dicts.
-  void set_feet(const std::vector<std::string>& names) {
-    require(static_cast<std::int64_t>(names.size()) == core_->feet(),
-            "set_feet needs one name per foot");
-    feet_.clear();
-    for (const std::string& name : names) feet_.push_back(nb::str(name.c_str()));
-  }
-
  private:
   std::unique_ptr<va::LeggedEstimatorCore> core_;
   std::int64_t nq_ = 0, nv_ = 0;
   std::vector<double> q_, v_, tau_;  // the last reading's joints, scattered
-  std::vector<nb::str> feet_;        // the feet's names (set_feet)
+  std::vector<nb::str> feet_;        // the feet's names: the keys of estimate's dicts
 };
 
 }  // namespace
@@ -186,16 +181,16 @@ void bind_estimator(nb::module_& m) {
                            "estimation.LeggedEstimator's filter: orientation, position, velocity "
                            "and contacts from an IMU, encoders and efforts.")
       .def(nb::init<const Tree&, const I1&, std::int64_t, const I1&, const I1&, const I1&,
-                    const F1&, const F2&, const F2&, const F1&, double, const F1&>(),
+                    const F1&, const F2&, const F2&, const F1&, double, const F1&,
+                    const std::vector<std::string>&>(),
            "tree"_a, "foot_rows"_a, "imu_row"_a, "leg_offsets"_a, "leg_columns"_a,
            "gravity_columns"_a, "masses"_a, "levers"_a, "spheres"_a, "gravity"_a,
-           "weight_per_foot"_a, "tuning"_a)
+           "weight_per_foot"_a, "tuning"_a, "feet"_a)
       .def("reset", &LeggedFilter::reset, "q_local"_a, "position"_a, "rotation"_a, "velocity"_a)
       .def("update_reading", &LeggedFilter::update_reading, "position"_a, "velocity"_a, "effort"_a,
            "index_q"_a, "index_v"_a, "gyro"_a, "accel"_a, "tau"_a, "time"_a, "gyro_range"_a,
            "accel_range"_a, "switches"_a)
-      .def("estimate", &LeggedFilter::estimate)
-      .def("set_feet", &LeggedFilter::set_feet, "names"_a);
+      .def("estimate", &LeggedFilter::estimate);
 }
 
 }  // namespace va::py

@@ -1,9 +1,9 @@
 // The Kalman filter's measurement update on a dense state (attitude_filter.hpp, leg_filter.hpp):
 // one block of m <= 7 measurements z = H x + noise with a full m x m noise covariance R.
-//   S = H P H^T + R,  K = P H^T S^-1,  x <- x + K (z - H x),  P <- (I - K H) P (I - K H)^T + K R
-//   K^T
-// with the optimal gain P <- P - K S K^T = P - K (P H^T)^T, kept exactly symmetric (the upper
-// triangle computed, mirrored), in plain loops.
+//   S = H P H^T + R,  K = P H^T S^-1,  x <- x + K (z - H x),  P <- P - K S K^T,
+// computed whitened by the Cholesky factor S = L L^T: W = L^-1 H P, z = L^-1 (z - H x),
+// x <- x + W^T z, P <- P - W^T W (no inverse, no gain), P kept exactly symmetric (the upper
+// triangle computed, mirrored).
 #pragma once
 
 #include <cmath>

@@ -45,7 +45,7 @@ struct LegFilter {
     x.assign(static_cast<size_t>(n), 0.0);
     P.assign(static_cast<size_t>(n * n), 0.0);
     level.assign(static_cast<size_t>(feet), 0.0);
-    scratch.assign(static_cast<size_t>(2 * n * kalman::MAX_BLOCK), 0.0);
+    scratch.assign(static_cast<size_t>(n * kalman::MAX_BLOCK), 0.0);
   }
 
   // Start at base position p, velocity v (world) and feet positions feet (nf x 3, world),
@@ -89,37 +89,31 @@ struct LegFilter {
   // <= 0: none). The noises are independent: one block is the sequence of three updates.
   bool update_foot(std::int64_t f, const double* offset, const double* position_covariance,
                    const double* velocity, const double* velocity_covariance, double height_sigma) {
+    const int m = 3 + (velocity != nullptr ? 3 : 0) + (height_sigma > 0.0 ? 1 : 0);
     std::int64_t index[2 * kalman::MAX_BLOCK];
     double coef[2 * kalman::MAX_BLOCK], y[kalman::MAX_BLOCK];
-    double R[kalman::MAX_BLOCK * kalman::MAX_BLOCK] = {};
-    int m = 0;
-    for (int i = 0; i < 3; ++i, ++m) {  // s_f - p = offset
-      index[2 * m] = 6 + 3 * f + i, coef[2 * m] = 1.0;
-      index[2 * m + 1] = i, coef[2 * m + 1] = -1.0;
-      y[m] = offset[i] - (x[6 + 3 * f + i] - x[i]);
+    double R[kalman::MAX_BLOCK * kalman::MAX_BLOCK] = {};  // m x m, block-diagonal
+    for (int i = 0; i < 3; ++i) {                          // s_f - p = offset
+      index[2 * i] = 6 + 3 * f + i, coef[2 * i] = 1.0;
+      index[2 * i + 1] = i, coef[2 * i + 1] = -1.0;
+      y[i] = offset[i] - (x[6 + 3 * f + i] - x[i]);
+      for (int j = 0; j < 3; ++j) R[i * m + j] = position_covariance[3 * i + j];
     }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) R[i * kalman::MAX_BLOCK + j] = position_covariance[3 * i + j];
+    int row = 3;
     if (velocity != nullptr) {
-      for (int i = 0; i < 3; ++i, ++m) {  // v = velocity
-        index[2 * m] = index[2 * m + 1] = 3 + i, coef[2 * m] = 1.0, coef[2 * m + 1] = 0.0;
-        y[m] = velocity[i] - x[3 + i];
+      for (int i = 0; i < 3; ++i, ++row) {  // v = velocity
+        index[2 * row] = index[2 * row + 1] = 3 + i, coef[2 * row] = 1.0, coef[2 * row + 1] = 0.0;
+        y[row] = velocity[i] - x[3 + i];
+        for (int j = 0; j < 3; ++j) R[row * m + 3 + j] = velocity_covariance[3 * i + j];
       }
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          R[(3 + i) * kalman::MAX_BLOCK + 3 + j] = velocity_covariance[3 * i + j];
     }
     if (height_sigma > 0.0) {  // s_f,z = level
       const std::int64_t k = 6 + 3 * f + 2;
-      index[2 * m] = index[2 * m + 1] = k, coef[2 * m] = 1.0, coef[2 * m + 1] = 0.0;
-      y[m] = level[f] - x[k];
-      R[m * kalman::MAX_BLOCK + m] = height_sigma * height_sigma;
-      ++m;
+      index[2 * row] = index[2 * row + 1] = k, coef[2 * row] = 1.0, coef[2 * row + 1] = 0.0;
+      y[row] = level[f] - x[k];
+      R[row * m + row] = height_sigma * height_sigma;
     }
-    double packed[kalman::MAX_BLOCK * kalman::MAX_BLOCK];  // R as m x m
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) packed[a * m + b] = R[a * kalman::MAX_BLOCK + b];
-    return kalman::update_sparse(x.data(), P.data(), n, index, coef, packed, m, y, scratch.data());
+    return kalman::update_sparse(x.data(), P.data(), n, index, coef, R, m, y, scratch.data());
   }
 };
 

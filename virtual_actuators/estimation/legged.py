@@ -59,6 +59,7 @@ def _compiled_filter(
         gravity,
         tree.mass * float(np.linalg.norm(gravity)) / len(feet),
         tuning.packed(),
+        list(feet),
     )
 
 
@@ -136,7 +137,6 @@ class LeggedEstimator:
         self._index_q = {name: model.joints[j].idx_q for j, name in enumerate(model.names)}
         self._index_v = {name: model.joints[j].idx_v for j, name in enumerate(model.names)}
         self._filter = _compiled_filter(robot, tree, self.feet, foot_ids, imu_id, self.tuning)
-        self._filter.set_feet(list(self.feet))
         self._tree = tree
         self._nv = model.nv
         self._lock = threading.Lock()
